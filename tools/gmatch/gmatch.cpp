@@ -1,0 +1,466 @@
+#include "gmatch/gmatch.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numeric>
+#include <set>
+#include <thread>
+
+#include "canopy/common/error.h"
+
+namespace canopy::gmatch {
+namespace {
+
+using formats::Segment;
+using formats::SegmentGraph;
+using formats::Vec3;
+
+constexpr double kTwoOverPi = 2.0 / M_PI;
+// Scores closer than this are ties (broken by segment id / search order): keeps the result
+// independent of rounding noise, e.g. after rotating the object.
+constexpr double kTieQuantum = 1e-10;
+
+double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
+double distance(const Vec3& a, const Vec3& b) {
+  const Vec3 d{a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+  return norm(d);
+}
+
+Vec3 unit(const Vec3& a) {
+  const double n = norm(a);
+  return {a[0] / n, a[1] / n, a[2] / n};
+}
+
+// Angle between two unit normals: [0, pi] signed, [0, pi/2] axial.
+double normal_angle(const Vec3& a, const Vec3& b, NormalSign sign) {
+  double c = dot(a, b);
+  if (sign == NormalSign::kAxial) c = std::fabs(c);
+  return std::acos(std::clamp(c, -1.0, 1.0));
+}
+
+// Eq. 6.9.
+double relative_difference(double a, double b) {
+  const double m = std::max(a, b);
+  return m > 0 ? std::fabs(a - b) / m : 0.0;
+}
+
+// x^e, exact for the common e = 1.
+double power(double x, double e) {
+  if (e == 1.0) return x;
+  if (e == 0.0) return 1.0;
+  return std::pow(x, e);
+}
+
+std::int64_t quantize(double merit) { return std::llround(merit / kTieQuantum); }
+
+// Eq. 6.1, 6.3-6.6.
+double unary_error(const Segment& s, const Segment& m, const Params& p) {
+  const double ratio = std::min(s.area, m.area) / std::max(s.area, m.area);
+  const double da = -std::log(ratio) / std::log1p(p.area_factor);
+  const double dt = p.thickness_weight * std::fabs(s.thickness - m.thickness);
+  const double de_arg = 1.0 - std::fabs(s.elongation - m.elongation);
+  const double de = de_arg > 0 ? -p.elongation_weight * std::log(de_arg)
+                               : std::numeric_limits<double>::infinity();
+  const double du2 = da * da + dt * dt + de * de;
+  return 1.0 - std::exp(-du2);
+}
+
+struct Child {
+  int model = -1;  // model segment index, -1 = NULL
+  double unary = 0, sum_o = 0, sum_d = 0;  // this pair's E_U and its pairwise sums
+  double merit = 0;                         // larger is better
+  std::int64_t key = 0;                     // quantized merit
+};
+
+// One object-to-model search (thesis §6.2): depth-first over the object's segments in area
+// order, each level assigning a model segment or NULL, recursing on the B best children.
+class Matcher {
+ public:
+  Matcher(const SegmentGraph& object, const SegmentGraph& model, const Params& p)
+      : p_(p) {
+    // Object segments by area (largest first), ties by id; at most X.
+    std::vector<const Segment*> obj;
+    for (const auto& s : object.segments) obj.push_back(&s);
+    std::sort(obj.begin(), obj.end(), [](const Segment* a, const Segment* b) {
+      if (a->area != b->area) return a->area > b->area;
+      return a->segment_id < b->segment_id;
+    });
+    if (static_cast<int>(obj.size()) > p.max_segments) obj.resize(p.max_segments);
+    obj_ = obj;
+    // Model segments by id: the tie-break order of branches.
+    for (const auto& s : model.segments) mod_.push_back(&s);
+    std::sort(mod_.begin(), mod_.end(),
+              [](const Segment* a, const Segment* b) { return a->segment_id < b->segment_id; });
+    x_ = static_cast<int>(obj_.size());
+    m_ = static_cast<int>(mod_.size());
+
+    std::vector<Vec3> on(x_), mn(m_);
+    for (int k = 0; k < x_; ++k) on[k] = unit(obj_[k]->normal);
+    for (int j = 0; j < m_; ++j) mn[j] = unit(mod_[j]->normal);
+
+    unary_.assign(static_cast<size_t>(x_) * m_, 0);
+    alpha_.assign(static_cast<size_t>(x_) * m_, 0);
+    for (int k = 0; k < x_; ++k) {
+      for (int j = 0; j < m_; ++j) {
+        unary_[k * m_ + j] = unary_error(*obj_[k], *mod_[j], p);
+        alpha_[k * m_ + j] = normal_angle(on[k], mn[j], p.normals);
+      }
+    }
+    ang_s_.assign(static_cast<size_t>(x_) * x_, 0);
+    dist_s_.assign(static_cast<size_t>(x_) * x_, 0);
+    for (int a = 0; a < x_; ++a) {
+      for (int b = 0; b < x_; ++b) {
+        ang_s_[a * x_ + b] = normal_angle(on[a], on[b], p.normals);
+        dist_s_[a * x_ + b] = distance(obj_[a]->centroid, obj_[b]->centroid);
+      }
+    }
+    ang_m_.assign(static_cast<size_t>(m_) * m_, 0);
+    dist_m_.assign(static_cast<size_t>(m_) * m_, 0);
+    for (int a = 0; a < m_; ++a) {
+      for (int b = 0; b < m_; ++b) {
+        ang_m_[a * m_ + b] = normal_angle(mn[a], mn[b], p.normals);
+        dist_m_[a * m_ + b] = distance(mod_[a]->centroid, mod_[b]->centroid);
+      }
+    }
+    // Coverage references: all model area (thesis C_A) and the area of the model's X
+    // largest segments (bounded form: a self-match covers it exactly).
+    by_area_.resize(m_);
+    std::iota(by_area_.begin(), by_area_.end(), 0);
+    std::stable_sort(by_area_.begin(), by_area_.end(),
+                     [&](int a, int b) { return mod_[a]->area > mod_[b]->area; });
+    for (int j = 0; j < m_; ++j) area_total_ += mod_[j]->area;
+    for (int i = 0; i < std::min(m_, p.max_segments); ++i) area_ref_ += mod_[by_area_[i]]->area;
+
+    used_.assign(m_, 0);
+    assign_.assign(x_, -1);
+    children_.resize(x_);
+    for (auto& c : children_) c.reserve(m_ + 1);
+  }
+
+  formats::ModelScore solve(SearchStats* stats) {
+    // The all-NULL match is the fallback when no leaf is reached (max_nodes); it is not a
+    // starting incumbent because the printed thesis form would score it perfectly.
+    best_assign_.assign(x_, -1);
+    best_key_ = std::numeric_limits<std::int64_t>::min();
+    if (x_ > 0) {
+      top_key_ = p_.error == ErrorForm::kBounded ? quantize(1.0) : quantize(0.0);
+      descend(0, 0, 0, 0, 0, 0);
+    }
+    if (stats) {
+      stats->nodes = nodes_;
+      stats->leaves = leaves_;
+      stats->truncated = truncated_;
+    }
+    return report();
+  }
+
+ private:
+  double eo_pair(int k, int j, int k2, int j2) const {
+    if (p_.orientation == OrientationForm::kRelative) {
+      return kTwoOverPi * std::fabs(ang_s_[k * x_ + k2] - ang_m_[j * m_ + j2]);
+    }
+    return kTwoOverPi * std::fabs(alpha_[k * m_ + j] - alpha_[k2 * m_ + j2]);
+  }
+  double ed_pair(int k, int j, int k2, int j2) const {
+    return relative_difference(dist_s_[k * x_ + k2], dist_m_[j * m_ + j2]);
+  }
+  // In the bounded form each pairwise term enters its mean clipped to [0, 1].
+  double clip(double e) const { return p_.error == ErrorForm::kBounded ? std::min(1.0, e) : e; }
+
+  // Merit of a (partial) match: the score S (bounded) or -E (thesis); larger is better.
+  // depth = object segments assigned so far (x of Eq. 6.12), nm = non-NULL pairs among them.
+  double merit(double sum_u, double sum_o, double sum_d, int nm, int depth, double area) const {
+    if (p_.error == ErrorForm::kBounded) {
+      const double pairs = 0.5 * nm * (nm - 1);
+      const double eu = nm > 0 ? sum_u / nm : 0;
+      const double eo = pairs > 0 ? sum_o / pairs : 0;
+      const double ed = pairs > 0 ? sum_d / pairs : 0;
+      const double cov = area_ref_ > 0 ? std::min(1.0, area / area_ref_) : 0;
+      return power(1 - eu, p_.exp_unary) * power(1 - eo, p_.exp_orientation) *
+             power(1 - ed, p_.exp_distance) * power(cov, p_.exp_area);
+    }
+    return -thesis_error(sum_u, sum_o, sum_d, depth, area);
+  }
+
+  // Eq. 6.12 with Eq. 6.2, 6.8, 6.10 (double sums over ordered pairs) and Eq. 6.11 on model
+  // areas (a NULL match contributes model area 0).
+  double thesis_error(double sum_u, double sum_o, double sum_d, int depth, double area) const {
+    if (depth == 0) return 0;
+    const double ca = std::min(1.0, std::fabs(1.0 - area / area_total_));
+    return power(sum_u, p_.exp_unary) * power(2 * sum_o, p_.exp_orientation) *
+           power(2 * sum_d, p_.exp_distance) * power(ca, p_.exp_area) / depth;
+  }
+
+  // Upper bound of the score of any completion of a partial match (bounded form): future
+  // pairs only add non-negative error terms, and at most `remaining` more model segments,
+  // at best the largest unused ones, can be covered.
+  double upper_bound(double sum_u, double sum_o, double sum_d, int nm, int remaining,
+                     double area) const {
+    const int n = nm + remaining;
+    const double pairs = 0.5 * n * (n - 1);
+    const double eu = n > 0 ? sum_u / n : 0;
+    const double eo = pairs > 0 ? sum_o / pairs : 0;
+    const double ed = pairs > 0 ? sum_d / pairs : 0;
+    double extra = 0;
+    int taken = 0;
+    for (int i = 0; i < m_ && taken < remaining; ++i) {
+      if (!used_[by_area_[i]]) {
+        extra += mod_[by_area_[i]]->area;
+        ++taken;
+      }
+    }
+    const double cov = area_ref_ > 0 ? std::min(1.0, (area + extra) / area_ref_) : 0;
+    return power(1 - eu, p_.exp_unary) * power(1 - eo, p_.exp_orientation) *
+           power(1 - ed, p_.exp_distance) * power(cov, p_.exp_area);
+  }
+
+  void descend(int depth, double sum_u, double sum_o, double sum_d, int nm, double area) {
+    if (best_key_ >= top_key_) return;  // nothing can beat a perfect match
+    if (depth == x_) {
+      ++leaves_;
+      const std::int64_t key = quantize(merit(sum_u, sum_o, sum_d, nm, depth, area));
+      if (key > best_key_) {
+        best_key_ = key;
+        best_assign_ = assign_;
+      }
+      return;
+    }
+    if (p_.max_nodes > 0 && nodes_ >= p_.max_nodes) {
+      truncated_ = true;
+      return;
+    }
+    ++nodes_;
+
+    // Evaluate every child: each unused model segment that survives pruning, and NULL.
+    auto& kids = children_[depth];
+    kids.clear();
+    const int k = depth;
+    for (int j = 0; j < m_; ++j) {
+      if (used_[j]) continue;
+      const double eu = unary_[k * m_ + j];
+      if (eu > p_.unary_threshold) continue;
+      double so = 0, sd = 0;
+      bool ok = true;
+      for (int i = 0; i < nm && ok; ++i) {
+        const int k2 = matched_k_[i], j2 = assign_[k2];
+        const double eo = eo_pair(k, j, k2, j2);
+        const double ed = ed_pair(k, j, k2, j2);
+        if (eo > p_.orientation_threshold || ed > p_.distance_threshold) ok = false;
+        so += clip(eo);
+        sd += clip(ed);
+      }
+      if (!ok) continue;
+      Child c;
+      c.model = j;
+      c.unary = eu;
+      c.sum_o = so;
+      c.sum_d = sd;
+      c.merit = merit(sum_u + eu, sum_o + so, sum_d + sd, nm + 1, depth + 1, area + mod_[j]->area);
+      c.key = quantize(c.merit);
+      kids.push_back(c);
+    }
+    Child null_child;
+    null_child.merit = merit(sum_u, sum_o, sum_d, nm, depth + 1, area);
+    null_child.key = quantize(null_child.merit);
+    kids.push_back(null_child);
+    // Best first; ties by model segment id, NULL last among equals.
+    std::stable_sort(kids.begin(), kids.end(), [](const Child& a, const Child& b) {
+      if (a.key != b.key) return a.key > b.key;
+      if ((a.model < 0) != (b.model < 0)) return b.model < 0;
+      return a.model < b.model;
+    });
+    if (static_cast<int>(kids.size()) > p_.branches) kids.resize(p_.branches);
+
+    const int remaining = x_ - depth - 1;
+    // Iterate over a copy index: deeper levels use their own child buffers.
+    for (size_t c = 0; c < kids.size(); ++c) {
+      const Child kid = kids[c];
+      const bool real = kid.model >= 0;
+      const double su = sum_u + kid.unary, so = sum_o + kid.sum_o, sd = sum_d + kid.sum_d;
+      const int nm2 = nm + (real ? 1 : 0);
+      const double area2 = area + (real ? mod_[kid.model]->area : 0);
+      if (real) used_[kid.model] = 1;
+      bool skip = false;
+      if (p_.bound && p_.error == ErrorForm::kBounded) {
+        const double ub = upper_bound(su, so, sd, nm2, remaining, area2);
+        skip = quantize(ub) <= best_key_;
+      }
+      if (!skip) {
+        assign_[k] = kid.model;
+        if (real) matched_k_.push_back(k);
+        descend(depth + 1, su, so, sd, nm2, area2);
+        if (real) matched_k_.pop_back();
+        assign_[k] = -1;
+      }
+      if (real) used_[kid.model] = 0;
+      if (best_key_ >= top_key_ || truncated_) return;
+    }
+  }
+
+  formats::ModelScore report() const {
+    formats::ModelScore ms;
+    double sum_u = 0, sum_o = 0, sum_d = 0, area = 0;
+    int nm = 0;
+    for (int k = 0; k < x_; ++k) {
+      formats::SegmentPair pair;
+      pair.object_segment = obj_[k]->segment_id;
+      const int j = best_assign_[k];
+      if (j >= 0) {
+        pair.model_segment = mod_[j]->segment_id;
+        pair.unary_error = unary_[k * m_ + j];
+        sum_u += pair.unary_error;
+        area += mod_[j]->area;
+        for (int k2 = 0; k2 < k; ++k2) {
+          const int j2 = best_assign_[k2];
+          if (j2 < 0) continue;
+          sum_o += clip(eo_pair(k, j, k2, j2));
+          sum_d += clip(ed_pair(k, j, k2, j2));
+        }
+        ++nm;
+      }
+      ms.pairs.push_back(pair);
+    }
+    if (p_.error == ErrorForm::kBounded) {
+      const double pairs = 0.5 * nm * (nm - 1);
+      ms.error_unary = nm > 0 ? sum_u / nm : 0;
+      ms.error_orientation = pairs > 0 ? sum_o / pairs : 0;
+      ms.error_distance = pairs > 0 ? sum_d / pairs : 0;
+      ms.error_coverage = 1 - (area_ref_ > 0 ? std::min(1.0, area / area_ref_) : 0);
+      ms.score = merit(sum_u, sum_o, sum_d, nm, x_, area);
+      ms.error_total = 1 - ms.score;
+    } else {
+      ms.error_unary = sum_u;
+      ms.error_orientation = 2 * sum_o;
+      ms.error_distance = 2 * sum_d;
+      ms.error_coverage = std::min(1.0, std::fabs(1.0 - area / area_total_));
+      ms.error_total = thesis_error(sum_u, sum_o, sum_d, x_, area);
+      ms.score = std::clamp(1 - ms.error_total, 0.0, 1.0);
+    }
+    return ms;
+  }
+
+  const Params& p_;
+  std::vector<const Segment*> obj_, mod_;
+  int x_ = 0, m_ = 0;
+  std::vector<double> unary_, alpha_, ang_s_, dist_s_, ang_m_, dist_m_;
+  std::vector<int> by_area_;
+  double area_total_ = 0, area_ref_ = 0;
+
+  std::vector<char> used_;
+  std::vector<int> assign_, matched_k_, best_assign_;
+  std::vector<std::vector<Child>> children_;
+  std::int64_t best_key_ = 0, top_key_ = 0;
+  std::int64_t nodes_ = 0, leaves_ = 0;
+  bool truncated_ = false;
+};
+
+bool finite3(const Vec3& v) {
+  return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+}
+
+}  // namespace
+
+void validate(const Params& p) {
+  using common::UsageError;
+  if (p.max_segments < 1) throw UsageError("--max-segments must be >= 1");
+  if (p.branches < 1) throw UsageError("--branches must be >= 1");
+  if (!(p.area_factor > 0)) throw UsageError("--area-factor must be > 0");
+  if (!(p.thickness_weight >= 0)) throw UsageError("--thickness-weight must be >= 0");
+  if (!(p.elongation_weight >= 0)) throw UsageError("--elongation-weight must be >= 0");
+  if (!(p.unary_threshold >= 0)) throw UsageError("--unary-threshold must be >= 0");
+  if (!(p.orientation_threshold >= 0)) throw UsageError("--orientation-threshold must be >= 0");
+  if (!(p.distance_threshold >= 0)) throw UsageError("--distance-threshold must be >= 0");
+  for (double e : {p.exp_unary, p.exp_orientation, p.exp_distance, p.exp_area}) {
+    if (!(e >= 0) || !std::isfinite(e)) throw UsageError("error exponents must be finite and >= 0");
+  }
+  if (p.max_nodes < 0) throw UsageError("--max-nodes must be >= 0 (0 = unlimited)");
+}
+
+void validate_graph(const SegmentGraph& g, const std::string& name) {
+  using common::DataError;
+  if (g.segments.empty()) throw DataError(name, "segment graph has no segments");
+  std::set<int> ids;
+  for (const auto& s : g.segments) {
+    const std::string who = "segment " + std::to_string(s.segment_id) + ": ";
+    if (!ids.insert(s.segment_id).second) throw DataError(name, who + "duplicate segment_id");
+    if (!std::isfinite(s.area) || s.area <= 0) throw DataError(name, who + "area must be > 0");
+    if (!(s.thickness >= 0 && s.thickness <= 1)) {
+      throw DataError(name, who + "thickness must be in [0, 1]");
+    }
+    if (!(s.elongation >= 0 && s.elongation <= 1)) {
+      throw DataError(name, who + "elongation must be in [0, 1]");
+    }
+    if (!finite3(s.centroid)) throw DataError(name, who + "centroid is not finite");
+    if (!finite3(s.normal) || !(norm(s.normal) > 1e-9)) {
+      throw DataError(name, who + "normal is zero or not finite");
+    }
+  }
+}
+
+formats::ModelScore match_model(const SegmentGraph& object, const Model& model,
+                                const Params& params, SearchStats* stats) {
+  Matcher matcher(object, model.graph, params);
+  formats::ModelScore ms = matcher.solve(stats);
+  ms.model = model.name;
+  return ms;
+}
+
+double entropy(const std::vector<double>& scores) {
+  if (scores.empty()) return 0;
+  double total = 0;
+  for (double s : scores) total += std::max(0.0, s);
+  if (!(total > 0)) return std::log2(static_cast<double>(scores.size()));
+  double h = 0;
+  for (double s : scores) {
+    const double q = std::max(0.0, s) / total;
+    if (q > 0) h -= q * std::log2(q);
+  }
+  return std::max(0.0, h);
+}
+
+Out run(const In& in, const Params& params, int threads) {
+  validate(params);
+  const auto& models = *in.models;
+  Out out;
+  out.result.error_form = to_string(params.error);
+  std::vector<formats::ModelScore> scores(models.size());
+  out.stats.resize(models.size());
+  const int n = static_cast<int>(models.size());
+  const int workers = std::max(1, std::min(threads, n));
+  auto work = [&](int w) {
+    for (int i = w; i < n; i += workers) {
+      scores[i] = match_model(*in.object, models[i], params, &out.stats[i]);
+    }
+  };
+  if (workers == 1) {
+    work(0);
+  } else {
+    std::vector<std::thread> pool;
+    for (int w = 0; w < workers; ++w) pool.emplace_back(work, w);
+    for (auto& t : pool) t.join();
+  }
+  std::stable_sort(scores.begin(), scores.end(),
+                   [](const formats::ModelScore& a, const formats::ModelScore& b) {
+                     if (a.score != b.score) return a.score > b.score;
+                     return a.model < b.model;
+                   });
+  std::vector<double> s;
+  for (size_t i = 0; i < scores.size(); ++i) {
+    scores[i].rank = static_cast<int>(i) + 1;
+    s.push_back(scores[i].score);
+  }
+  out.result.entropy = entropy(s);
+  out.result.models = std::move(scores);
+  return out;
+}
+
+const char* to_string(OrientationForm form) {
+  return form == OrientationForm::kRelative ? "relative" : "thesis";
+}
+const char* to_string(NormalSign sign) { return sign == NormalSign::kAxial ? "axial" : "signed"; }
+const char* to_string(ErrorForm form) { return form == ErrorForm::kBounded ? "bounded" : "thesis"; }
+
+}  // namespace canopy::gmatch

@@ -1,0 +1,108 @@
+// gmatch: inexact, incomplete, depth-first tree matching of an object's segment graph against
+// every model of a modelbase (thesis ch. 6, PIPELINE.md §7), ranking the models by score and
+// reporting the entropy of the scores (Eq. 6.14-6.15).
+//
+// Inputs: segment graphs as read by canopy::formats (areas m^2, centroids m, unit normals,
+// thickness and elongation in [0, 1]). The logic does no I/O except read_modelbase().
+// Decisions where the thesis is silent or inconsistent: docs/decisions/gmatch.md.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "canopy/formats/json_io.h"
+
+namespace canopy::gmatch {
+
+// How the pairwise orientation error E_O compares normals.
+enum class OrientationForm {
+  kRelative,  // (2/pi) |angle(n_si, n_sj) - angle(n_mi, n_mj)|: invariant to heading/position
+  kThesis,    // Eq. 6.7 as printed: (2/pi) |acos(n_si.n_mi) - acos(n_sj.n_mj)|
+};
+
+// Whether a normal's sign carries information.
+enum class NormalSign {
+  kAxial,   // n and -n are the same axis: angles use |cos|, in [0, pi/2]
+  kSigned,  // angles use cos, in [0, pi]
+};
+
+// How the four error terms are combined into the total error E (score S = 1 - E).
+enum class ErrorForm {
+  kBounded,  // S = (1-mean E_U)^eu (1-mean E_O)^eo (1-mean E_D)^ed (coverage)^ea, in [0, 1]
+  kThesis,   // Eq. 6.12 as printed: E = (1/x) C_U^eu C_O^eo C_D^ed C_A^ea; S = max(0, 1 - E)
+};
+
+struct Params {
+  int max_segments = 15;          // X: object segments considered (largest area first)
+  int branches = 5;               // B: best branches recursed on per tree node
+  double area_factor = 1.0;       // f_a (Eq. 6.4): 100 f_a % area change = one distance unit
+  double thickness_weight = 10;   // w_t (Eq. 6.5)
+  double elongation_weight = 1;   // w_e (Eq. 6.6)
+  double unary_threshold = 0.6;        // prune a branch when E_U > this
+  double orientation_threshold = 0.3;  // prune when any pairwise E_O > this
+  double distance_threshold = 0.3;     // prune when any pairwise d_R > this
+  double exp_unary = 1, exp_orientation = 1, exp_distance = 1, exp_area = 1;  // e_u..e_a
+  OrientationForm orientation = OrientationForm::kRelative;
+  NormalSign normals = NormalSign::kAxial;
+  ErrorForm error = ErrorForm::kBounded;
+  // Branch and bound (bounded form only): skip a subtree whose score upper bound cannot beat
+  // the best complete match found so far. It never changes the result, only the time.
+  bool bound = true;
+  // Tree nodes expanded per model before the search stops with the best match so far
+  // (0 = unlimited). A safety valve against exponential blow-up.
+  std::int64_t max_nodes = 0;
+};
+
+// Throws common::UsageError when a parameter is out of range.
+void validate(const Params& params);
+
+// Throws common::DataError(name, ...) when a graph cannot be matched: no segments, duplicate
+// segment ids, non-finite or non-positive areas, thickness/elongation outside [0, 1],
+// zero or non-finite normals, non-finite centroids.
+void validate_graph(const formats::SegmentGraph& graph, const std::string& name);
+
+struct Model {
+  std::string name;  // file stem
+  formats::SegmentGraph graph;
+};
+
+struct SearchStats {
+  std::int64_t nodes = 0;    // tree nodes expanded (children evaluated)
+  std::int64_t leaves = 0;   // complete assignments scored
+  bool truncated = false;    // max_nodes reached
+};
+
+// Matches one object graph against one model graph. The returned ModelScore has rank 0
+// (ranks are assigned by run()). Pairs are listed in match order (object area, largest first).
+formats::ModelScore match_model(const formats::SegmentGraph& object, const Model& model,
+                                const Params& params, SearchStats* stats = nullptr);
+
+// Entropy in bits of scores normalised to a distribution (Eq. 6.14-6.15): 0 when one score
+// is non-zero, log2 N when all N are equal (including all zero: no information at all).
+double entropy(const std::vector<double>& scores);
+
+struct In {
+  const formats::SegmentGraph* object = nullptr;
+  const std::vector<Model>* models = nullptr;
+};
+
+struct Out {
+  formats::MatchResult result;        // models ranked, entropy, error_form (no provenance)
+  std::vector<SearchStats> stats;     // per model, in modelbase order
+};
+
+// Matches the object against every model (models in parallel when threads > 1; the result
+// does not depend on the thread count), ranks by score (ties: model name), computes entropy.
+Out run(const In& in, const Params& params, int threads = 1);
+
+// Reads every "<model>.json" in `dir`, sorted by file name; other entries are ignored.
+// Throws DataError naming the directory (missing, not a directory, no models) or the file
+// (malformed, or rejected by validate_graph).
+std::vector<Model> read_modelbase(const std::string& dir);
+
+const char* to_string(OrientationForm form);
+const char* to_string(NormalSign sign);
+const char* to_string(ErrorForm form);
+
+}  // namespace canopy::gmatch
