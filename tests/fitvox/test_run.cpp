@@ -17,9 +17,9 @@ namespace {
 using Key = std::array<std::int32_t, 3>;
 
 Key voxel_of(const Vector3d& q, double h) {
-  return {static_cast<std::int32_t>(std::floor(q.x() / h)),
-          static_cast<std::int32_t>(std::floor(q.y() / h)),
-          static_cast<std::int32_t>(std::floor(q.z() / h))};
+  return {static_cast<std::int32_t>(std::floor(q.x() / h + 0.5)),
+          static_cast<std::int32_t>(std::floor(q.y() / h + 0.5)),
+          static_cast<std::int32_t>(std::floor(q.z() / h + 0.5))};
 }
 
 // Points uniformly on the horizontal square [x0, x0+size]² at height z, density per m².
@@ -91,8 +91,8 @@ TEST_CASE("partition: every point in exactly one voxel neighbourhood", "[run][pa
 TEST_CASE("sample point is the input point nearest the voxel centre", "[run]") {
   common::Rng rng(22);
   fitvox::Scan scan;
-  add_floor(&scan, 0, 0.128, 0.06, 20000, 3, rng);  // exactly one voxel
-  scan.points.push_back({0.064, 0.064, 0.064});     // exactly at the centre
+  add_floor(&scan, -0.064, 0.128, 0.01, 20000, 3, rng);  // exactly voxel (0, 0, 0)
+  scan.points.push_back({0, 0, 0});                       // exactly at its centre
   scan.sensor.push_back(Vector3d::UnitZ());
   scan.labels.push_back(1);
   const auto r = fitvox::run(scan, fitvox::Params{}, true);
@@ -111,8 +111,8 @@ TEST_CASE("sparse voxels are rejected at the min-points threshold", "[run][spars
     fitvox::Scan scan;
     // k points on a tilted plane inside voxel (0,0,0)
     for (int i = 0; i < k; ++i) {
-      const double x = rng.uniform(0.01, 0.12), y = rng.uniform(0.01, 0.12);
-      scan.points.push_back({x, y, 0.03 + 0.3 * x + 0.2 * y});
+      const double x = rng.uniform(-0.055, 0.055), y = rng.uniform(-0.055, 0.055);
+      scan.points.push_back({x, y, 0.3 * x + 0.2 * y});
       scan.sensor.push_back(Vector3d::UnitZ());
     }
     const auto r = fitvox::run(scan, p);
@@ -124,9 +124,9 @@ TEST_CASE("sparse voxels are rejected at the min-points threshold", "[run][spars
 TEST_CASE("random scatter is rejected, surfaces kept", "[run][scatter]") {
   common::Rng rng(24);
   fitvox::Scan scan;
-  add_floor(&scan, 0, 1.024, 0.06, 20000, 3, rng);  // 64 planar voxels
+  add_floor(&scan, -0.064, 1.024, 0.06, 20000, 3, rng);  // 64 planar voxels
   for (int i = 0; i < 10; ++i) {                    // 10 scatter voxels above it, 200 pts each
-    add_scatter(&scan, Vector3d(0.128 * i, 0, 1.024), 0.128, 200, 2, rng);
+    add_scatter(&scan, Vector3d(0.128 * i - 0.064, -0.064, 1.024 - 0.064), 0.128, 200, 2, rng);
   }
   for (double noise : {-1.0, 0.0}) {  // adaptive and fixed bound
     fitvox::Params p;
@@ -145,7 +145,7 @@ TEST_CASE("normals face the sensor that saw the sample point", "[run][orientatio
   for (int trial = 0; trial < 20; ++trial) {
     fitvox::Scan scan;
     const Vector3d n = random_unit(rng);
-    const Vector3d c(0.064, 0.064, 0.064);  // a voxel centre
+    const Vector3d c(0, 0, 0);  // a voxel centre
     const auto pts = plane_patch(c, n, 0.04, 200, rng);
     const Vector3d sensor = (rng.uniform() < 0.5 ? 1.0 : -1.0) * (n + 0.3 * random_unit(rng)).normalized();
     for (const auto& q : pts) {
@@ -161,7 +161,7 @@ TEST_CASE("normals face the sensor that saw the sample point", "[run][orientatio
   }
   SECTION("without sensor directions: toward +z") {
     fitvox::Scan scan;
-    scan.points = plane_patch(Vector3d(0.064, 0.064, 0.064), Vector3d(0.3, 0, -1).normalized(), 0.04, 200, rng);
+    scan.points = plane_patch(Vector3d(0, 0, 0), Vector3d(0.3, 0, -1).normalized(), 0.04, 200, rng);
     const auto r = fitvox::run(scan, fitvox::Params{});
     REQUIRE(r.samples.size() == 1);
     CHECK(r.samples[0].fit.normal.z() > 0);
@@ -172,7 +172,7 @@ TEST_CASE("normals face the sensor that saw the sample point", "[run][orientatio
 TEST_CASE("majority label and purity", "[run][labels]") {
   common::Rng rng(26);
   fitvox::Scan scan;
-  add_floor(&scan, 0, 0.128, 0.06, 20000, 1, rng);
+  add_floor(&scan, -0.064, 0.128, 0.02, 20000, 1, rng);
   const std::size_t n1 = scan.points.size();
   for (std::size_t i = 0; i < n1 / 3; ++i) scan.labels[i] = 2;
   const auto r = fitvox::run(scan, fitvox::Params{});
@@ -184,7 +184,7 @@ TEST_CASE("majority label and purity", "[run][labels]") {
 TEST_CASE("voxel index overflow is an error", "[run][overflow]") {
   common::Rng rng(27);
   fitvox::Scan scan;
-  add_floor(&scan, 0, 0.5, 0.06, 20000, 3, rng);
+  add_floor(&scan, -0.064, 0.512, 0.02, 20000, 3, rng);
   SECTION("coordinate beyond 2^31 voxels") {
     scan.points.push_back({3e8, 0, 0});  // 2.3e9 voxels of 128 mm
     scan.sensor.push_back(Vector3d::UnitZ());
@@ -215,7 +215,7 @@ TEST_CASE("voxel index overflow is an error", "[run][overflow]") {
 TEST_CASE("grid anchored at the origin: result independent of the bounding box", "[run][grid]") {
   common::Rng rng(28);
   fitvox::Scan scan;
-  add_floor(&scan, 0, 0.512, 0.06, 20000, 3, rng);
+  add_floor(&scan, -0.064, 0.512, 0.02, 20000, 3, rng);
   const auto a = fitvox::run(scan, fitvox::Params{});
   scan.points.push_back({-7.3, 5.1, 2.2});  // a far point moves the bounding box
   scan.sensor.push_back(Vector3d::UnitZ());
@@ -263,7 +263,7 @@ TEST_CASE("adaptive RMS bound follows the noise; the fixed thesis bound does not
   common::Rng rng(30);
   for (double sigma : {0.004, 0.016, 0.032}) {
     fitvox::Scan scan;
-    add_floor(&scan, 0, 1.024, 0.06, 20000, 3, rng);  // 64 voxels, ~330 points each
+    add_floor(&scan, -0.064, 1.024, 0.0, 20000, 3, rng);  // 64 voxels, ~330 points each
     add_noise(&scan.points, sigma, rng);
     fitvox::Params p;
     const auto adaptive = fitvox::run(scan, p);

@@ -199,7 +199,9 @@ Result run(const Scan& scan, const Params& params, bool keep_all) {
   result.stats.points = n;
   if (n == 0) return result;
 
-  // Voxel indices on the grid anchored at the world origin.
+  // Voxel indices on the grid whose voxel centres are the lattice points (i h, j h, k h): fixed,
+  // independent of the data, and the ground plane z = 0 runs through the middle of a voxel
+  // layer instead of along a voxel face (see docs/decisions/fitvox.md).
   const double h = params.voxel;
   constexpr double kLimit = 2147483647.0;  // |index| must fit an int32
   std::vector<std::array<std::int32_t, 3>> index(n);
@@ -209,7 +211,7 @@ Result run(const Scan& scan, const Params& params, bool keep_all) {
   for (std::size_t i = 0; i < n; ++i) {
     for (int d = 0; d < 3; ++d) {
       const double c = scan.points[i](d);
-      const double q = std::floor(c / h);
+      const double q = std::floor(c / h + 0.5);
       if (!std::isfinite(c)) {
         throw Error("point " + std::to_string(i) + ": non-finite coordinate");
       }
@@ -277,8 +279,7 @@ Result run(const Scan& scan, const Params& params, bool keep_all) {
       Sample& s = all[r];
       const std::uint32_t i0 = order[vr.begin];
       s.voxel = index[i0];
-      const Vector3d centre((index[i0][0] + 0.5) * h, (index[i0][1] + 0.5) * h,
-                            (index[i0][2] + 0.5) * h);
+      const Vector3d centre(index[i0][0] * h, index[i0][1] * h, index[i0][2] * h);
       pts.clear();
       std::size_t best = 0;
       double best_d = std::numeric_limits<double>::infinity();

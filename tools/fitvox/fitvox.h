@@ -1,9 +1,9 @@
 // fitvox: local surface fits in cubic voxels (thesis ch. 3, spec PIPELINE.md §4).
 //
-// The points are partitioned into cubic voxels of edge `voxel` on a grid anchored at the world
-// origin (voxel (i, j, k) = [i h, (i+1) h) x [j h, (j+1) h) x [k h, (k+1) h)), so every point
-// belongs to exactly one neighbourhood and the result does not depend on the cloud's bounding
-// box. Per voxel: PCA frame (u, v, w = largest, middle, smallest eigenvector, right-handed),
+// The points are partitioned into cubic voxels of edge h = `voxel` on a fixed grid whose voxel
+// centres are the points (i h, j h, k h): voxel (i, j, k) = [(i-1/2) h, (i+1/2) h) x ... ,
+// i = floor(x / h + 1/2). Every point belongs to exactly one neighbourhood, the result does not
+// depend on the cloud's bounding box, and the ground plane z = 0 lies mid-layer. Per voxel: PCA frame (u, v, w = largest, middle, smallest eigenvector, right-handed),
 // least-squares biquadratic w = a0 u² + a1 uv + a2 v² + a3 u + a4 v + a5 in coordinates about
 // the sample point p (the input point nearest the voxel centre), RMS residual along w.
 // A voxel is kept when it has at least `min_points` points, its points determine the fit and
