@@ -1,0 +1,181 @@
+// rangetrace: simulated airborne range scans with POV-Ray (thesis ch. 2, PIPELINE.md §3).
+//
+// Stock POV-Ray has no range output, so every view is rendered twice with emissive textures
+// applied outermost (after every transform): pass 0 colours each hit by its world x, y, z
+// (16-bit PPM, gamma 1, no antialiasing, no dithering), pass 1 by its ground-truth label.
+// Each pixel decodes to one point; points outside the crop box are dropped.
+//
+// Frames: the world frame is right-handed, z up, ground z = 0, metres. POV-Ray's frame is
+// left-handed, y up. pov_frame() is the only place that converts between the two.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "canopy/formats/point_cloud.h"
+
+namespace canopy::rangetrace {
+
+// The one conversion between the world frame (right-handed, z up) and POV-Ray's frame
+// (left-handed, y up): it swaps y and z, which also flips handedness. It is its own inverse.
+Eigen::Vector3d pov_frame(const Eigen::Vector3d& v);
+
+// ---------------------------------------------------------------- scenes
+
+// One camera: the unit vector from the target toward the sensor, from its azimuth (about +z,
+// counter-clockwise from the vehicle's long axis) and elevation above the ground plane.
+struct View {
+  double azimuth = 0;    // rad, relative to the vehicle heading
+  double elevation = 0;  // rad, in (0, pi/2)
+};
+
+// A scene recipe: the views and the foliage. Text format (one "key = value" per line, '#'
+// starts a comment, lengths and angles take units as on the command line):
+//   foliage_count = 500        foliage_radius = 100mm
+//   foliage_band = 2m          foliage_square = 12.2m
+//   views = circle N ELEV            N views evenly spaced on a circle, azimuth 0 first
+//   views = flyby N ELEV START       two straight passes of N views, one in front of the
+//                                    nose (x > 0) and one behind the tail, from bearing
+//                                    START off the long axis to -START
+//   views = dodecahedron             the vertices of a dodecahedron with one face up that
+//                                    lie above the ground (10)
+//   view = AZIMUTH ELEVATION         one explicit view
+// `views`/`view` lines append in file order.
+struct SceneRecipe {
+  std::string name;
+  int foliage_count = 0;
+  double foliage_radius = 0.1;   // m
+  double foliage_band = 2.0;     // m, height of the band above the vehicle's top
+  double foliage_square = 12.2;  // m, side of the square, centred on the vehicle
+  std::vector<View> views;
+};
+
+// Parses a recipe; `name` is used in errors ("<name>: line 3: ...") and as the scene name.
+SceneRecipe parse_scene(const std::string& text, const std::string& name);
+// A built-in name (circle, flyby, unoccluded: share/scenes/<name>.scene) or a recipe path.
+SceneRecipe load_scene(const std::string& name_or_path);
+
+std::vector<View> circle_views(int count, double elevation);
+std::vector<View> flyby_views(int per_pass, double elevation, double start_bearing);
+std::vector<View> dodecahedron_views();
+
+// A thin disc of foliage, world frame.
+struct Disc {
+  Eigen::Vector3d centre;
+  Eigen::Vector3d normal;  // unit
+  double radius = 0;
+};
+
+// The vehicle as placed in the world: heading (rad, about +z from +x) and ground position.
+struct Pose {
+  double heading = 0;
+  Eigen::Vector2d position = Eigen::Vector2d::Zero();
+};
+
+// `count` discs with centres uniform in the square of side `square` centred on the vehicle
+// (aligned with its heading) and heights uniform in [top, top + band]; normals uniform on the
+// sphere. Drawn from Rng(derive_seed(seed, "foliage")): portable and reproducible.
+std::vector<Disc> make_foliage(const SceneRecipe& scene, const Pose& pose, double top,
+                               std::uint64_t seed);
+
+// ---------------------------------------------------------------- models
+
+// POV-Ray code declaring `Vehicle` (one object, ground at y = 0, metres, no textures: an
+// inner texture would override the range coding).
+struct Model {
+  std::string name;
+  std::string include_dir;   // passed to POV-Ray with +L ("" = the include is written inline)
+  std::string include_file;  // file name inside include_dir
+  std::string inline_code;   // used when include_dir is empty (converted meshes)
+};
+
+struct MeshImport {
+  double scale = 1.0;  // file units -> metres (mm 0.001, cm 0.01, m 1)
+  bool z_up = true;    // file frame: z up (right-handed) or y up (right-handed, x right)
+};
+
+// Built-in name (share/models/<name>.inc), a POV-Ray include (.inc/.pov) declaring Vehicle, or
+// a mesh file (.ply/.obj/.stl) converted to a POV-Ray mesh2.
+Model load_model(const std::string& spec, const MeshImport& import);
+// Mesh triangles (world-frame vertices in metres) -> POV-Ray code declaring Vehicle.
+std::string mesh_to_pov(const std::vector<Eigen::Vector3d>& vertices,
+                        const std::vector<std::array<int, 3>>& faces);
+extern const char* const kBuiltinModels[5];
+
+// ---------------------------------------------------------------- rendering
+
+struct Params {
+  int size = 512;             // image width = height (pixels)
+  double spacing = 0.030;     // pixel spacing on the image plane (m): field = size * spacing
+  double crop_length = 10.0;  // crop box along the vehicle's long axis (m)
+  double crop_width = 4.0;    // across (m)
+  double crop_height = 4.0;   // vertical (m); the box is centred on the vehicle's bounding box
+  Pose pose;
+  std::uint64_t seed = 1;
+  int threads = 2;            // concurrent POV-Ray processes
+  std::string povray = "povray";
+};
+
+// The vehicle's bounding box in the world after placement (from POV-Ray's min/max_extent).
+struct Placement {
+  Eigen::Vector3d model_min, model_max;  // world frame, as declared in the model
+  Eigen::Affine3d transform;             // model -> world (centre on ground, heading, position)
+  Eigen::Vector3d centre;                // placed bounding-box centre
+  double top = 0;                        // placed height (m)
+};
+Placement place(const Eigen::Vector3d& model_min, const Eigen::Vector3d& model_max,
+                const Pose& pose);
+
+// Box in which colours encode coordinates: the crop box's axis-aligned bounds plus a margin.
+struct Encoding {
+  Eigen::Vector3d lo, span;
+};
+Encoding encoding_for(const Placement& placement, const Params& params);
+
+// The POV-Ray scene of all views: frame 2k renders view k's coordinates, frame 2k+1 its
+// labels. `picture` > 0 instead renders a shaded picture (1: view 0 of the scene, 2: the model
+// alone from an oblique perspective).
+std::string scene_pov(const Model& model, const Placement& placement, const Encoding& enc,
+                      const std::vector<View>& views, const std::vector<Disc>& foliage,
+                      const Params& params, int picture = 0);
+// Unit vector from the target toward the sensor of a view, world frame.
+Eigen::Vector3d view_direction(const View& view, const Pose& pose);
+
+// 16-bit RGB image (row-major, 3 samples per pixel).
+struct Image16 {
+  int width = 0, height = 0;
+  std::vector<std::uint16_t> rgb;
+};
+// Parses a binary PPM (P6, maxval 255 or 65535).
+Image16 parse_ppm(const std::string& bytes, const std::string& name);
+
+// Appends the decoded, cropped points of one view to the scan columns.
+struct ScanColumns {
+  std::vector<Eigen::Vector3f> points;
+  std::vector<Eigen::Vector3f> sensor;
+  std::vector<std::int32_t> view_idx;
+  std::vector<std::uint32_t> label;
+};
+void decode_view(const Image16& coords, const Image16& labels, const Encoding& enc,
+                 const Placement& placement, const Params& params, const Eigen::Vector3d& toward,
+                 int view_idx, ScanColumns* out);
+// True when p lies in the crop box (oriented with the heading, centred on the vehicle).
+bool in_crop(const Eigen::Vector3d& p, const Placement& placement, const Params& params);
+
+// ---------------------------------------------------------------- running POV-Ray
+
+// Renders the range scan: parses the model's extents, places it, renders every view in
+// parallel, decodes and crops. Throws Error with POV-Ray's own message when it fails.
+formats::PointCloud run(const Model& model, const SceneRecipe& scene, const Params& params);
+
+// Renders a shaded picture (8-bit PNG bytes): with a scene, its view `view_idx` with foliage;
+// without (scene == nullptr), the model alone on the ground from an oblique perspective.
+std::string render_picture(const Model& model, const SceneRecipe* scene, int view_idx,
+                           const Params& params);
+
+}  // namespace canopy::rangetrace

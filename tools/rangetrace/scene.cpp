@@ -1,0 +1,201 @@
+// Scene recipes, camera views and seeded foliage (no I/O except load_scene).
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "canopy/common/atomic_file.h"
+#include "canopy/common/error.h"
+#include "canopy/common/rng.h"
+#include "canopy/common/units.h"
+#include "rangetrace/rangetrace.h"
+
+namespace canopy::rangetrace {
+
+using common::DataError;
+
+Eigen::Vector3d pov_frame(const Eigen::Vector3d& v) { return {v.x(), v.z(), v.y()}; }
+
+std::vector<View> circle_views(int count, double elevation) {
+  std::vector<View> views;
+  for (int k = 0; k < count; ++k) views.push_back({2 * M_PI * k / count, elevation});
+  return views;
+}
+
+std::vector<View> flyby_views(int per_pass, double elevation, double start_bearing) {
+  // Camera ground tracks are the lines x = +1 (in front of the nose) and x = -1 (behind the
+  // tail), in units of the track's distance from the vehicle; views are evenly spaced along
+  // each line between bearings +-start off the long axis.
+  std::vector<View> views;
+  const double half = std::tan(start_bearing);
+  for (int pass = 0; pass < 2; ++pass) {
+    const double x = pass == 0 ? 1.0 : -1.0;
+    for (int k = 0; k < per_pass; ++k) {
+      const double t = per_pass == 1 ? 0.0 : 1.0 - 2.0 * k / (per_pass - 1);
+      const double y = pass == 0 ? half * t : -half * t;
+      views.push_back({std::atan2(y, x), elevation});
+    }
+  }
+  return views;
+}
+
+std::vector<View> dodecahedron_views() {
+  // Standard dodecahedron vertices, rotated so that the face with normal (0, 1, phi) points up
+  // (+z), then about z so that the first upper vertex lies at azimuth 0.
+  const double p = (1 + std::sqrt(5.0)) / 2, q = 1 / p;
+  std::vector<Eigen::Vector3d> v;
+  for (int i = 0; i < 8; ++i) v.emplace_back(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1);
+  for (int i = 0; i < 4; ++i) {
+    const double a = i & 1 ? 1 : -1, b = i & 2 ? 1 : -1;
+    v.emplace_back(0, a * q, b * p);
+    v.emplace_back(a * q, b * p, 0);
+    v.emplace_back(a * p, 0, b * q);
+  }
+  const Eigen::Vector3d up = Eigen::Vector3d(0, 1, p).normalized();
+  const Eigen::Matrix3d r =
+      Eigen::Quaterniond::FromTwoVectors(up, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  std::vector<View> views;
+  for (const auto& vertex : v) {
+    const Eigen::Vector3d d = (r * vertex).normalized();
+    if (d.z() > 1e-9) views.push_back({std::atan2(d.y(), d.x()), std::asin(d.z())});
+  }
+  // Deterministic order: upper ring first, then by azimuth; azimuths relative to the first.
+  std::sort(views.begin(), views.end(), [](const View& a, const View& b) {
+    if (std::abs(a.elevation - b.elevation) > 1e-6) return a.elevation > b.elevation;
+    return a.azimuth < b.azimuth;
+  });
+  const double a0 = views.front().azimuth;
+  for (auto& w : views) {
+    w.azimuth = std::remainder(w.azimuth - a0, 2 * M_PI);
+    if (std::abs(w.azimuth) < 1e-12) w.azimuth = 0;
+  }
+  std::sort(views.begin(), views.end(), [](const View& a, const View& b) {
+    if (std::abs(a.elevation - b.elevation) > 1e-6) return a.elevation > b.elevation;
+    const double aa = a.azimuth < -1e-9 ? a.azimuth + 2 * M_PI : a.azimuth;
+    const double bb = b.azimuth < -1e-9 ? b.azimuth + 2 * M_PI : b.azimuth;
+    return aa < bb;
+  });
+  return views;
+}
+
+namespace {
+
+std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t\r");
+  if (b == std::string::npos) return "";
+  return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
+}
+
+}  // namespace
+
+SceneRecipe parse_scene(const std::string& text, const std::string& name) {
+  SceneRecipe scene;
+  scene.name = name;
+  std::istringstream in(text);
+  std::string line;
+  int line_no = 0;
+  auto fail = [&](const std::string& why) {
+    throw DataError(name, "line " + std::to_string(line_no) + ": " + why);
+  };
+  while (std::getline(in, line)) {
+    ++line_no;
+    const auto hash = line.find('#');
+    if (hash != std::string::npos) line.resize(hash);
+    line = trim(line);
+    if (line.empty()) continue;
+    const auto eq = line.find('=');
+    if (eq == std::string::npos) fail("expected 'key = value', got '" + line + "'");
+    const std::string key = trim(line.substr(0, eq));
+    std::istringstream value(trim(line.substr(eq + 1)));
+    std::vector<std::string> words;
+    for (std::string w; value >> w;) words.push_back(w);
+    if (words.empty()) fail("key '" + key + "' has no value");
+    try {
+      auto number = [&](std::size_t i) {
+        if (i >= words.size()) fail("'" + key + "' needs more values");
+        std::size_t used = 0;
+        const int n = std::stoi(words[i], &used);
+        if (used != words[i].size() || n < 1) fail("'" + words[i] + "' is not a count >= 1");
+        return n;
+      };
+      auto angle = [&](std::size_t i) {
+        if (i >= words.size()) fail("'" + key + "' needs more values");
+        return common::parse_angle(words[i]);
+      };
+      if (key == "foliage_count") {
+        scene.foliage_count = words[0] == "0" ? 0 : number(0);
+      } else if (key == "foliage_radius") {
+        scene.foliage_radius = common::parse_length(words[0]);
+      } else if (key == "foliage_band") {
+        scene.foliage_band = common::parse_length(words[0]);
+      } else if (key == "foliage_square") {
+        scene.foliage_square = common::parse_length(words[0]);
+      } else if (key == "views") {
+        std::vector<View> add;
+        if (words[0] == "circle" && words.size() == 3) {
+          add = circle_views(number(1), angle(2));
+        } else if (words[0] == "flyby" && words.size() == 4) {
+          add = flyby_views(number(1), angle(2), angle(3));
+        } else if (words[0] == "dodecahedron" && words.size() == 1) {
+          add = dodecahedron_views();
+        } else {
+          fail("views: expected 'circle N ELEV', 'flyby N ELEV START' or 'dodecahedron'");
+        }
+        scene.views.insert(scene.views.end(), add.begin(), add.end());
+      } else if (key == "view") {
+        if (words.size() != 2) fail("view: expected 'AZIMUTH ELEVATION'");
+        scene.views.push_back({angle(0), angle(1)});
+      } else {
+        fail("unknown key '" + key + "'");
+      }
+    } catch (const common::UsageError& e) {
+      fail(e.what());
+    } catch (const std::logic_error&) {
+      fail("malformed value in '" + line + "'");
+    }
+  }
+  for (const auto& v : scene.views) {
+    if (!(v.elevation > 0 && v.elevation < M_PI / 2)) {
+      throw DataError(name, "view elevation must lie strictly between 0 and 90 degrees");
+    }
+  }
+  if (scene.views.empty()) throw DataError(name, "no views (add 'views = ...' lines)");
+  if (!(scene.foliage_radius > 0) || !(scene.foliage_band >= 0) || !(scene.foliage_square > 0)) {
+    throw DataError(name, "foliage radius and square must be > 0, band >= 0");
+  }
+  return scene;
+}
+
+SceneRecipe load_scene(const std::string& name_or_path) {
+  for (const char* builtin : {"circle", "flyby", "unoccluded"}) {
+    if (name_or_path == builtin) {
+      const std::string path = std::string(CANOPY_SHARE_DIR) + "/scenes/" + builtin + ".scene";
+      SceneRecipe s = parse_scene(common::read_file(path), path);
+      s.name = builtin;
+      return s;
+    }
+  }
+  return parse_scene(common::read_file(name_or_path), name_or_path);
+}
+
+std::vector<Disc> make_foliage(const SceneRecipe& scene, const Pose& pose, double top,
+                               std::uint64_t seed) {
+  common::Rng rng(common::derive_seed(seed, "foliage"));
+  const double c = std::cos(pose.heading), s = std::sin(pose.heading);
+  const double half = scene.foliage_square / 2;
+  std::vector<Disc> discs;
+  discs.reserve(static_cast<std::size_t>(scene.foliage_count));
+  for (int i = 0; i < scene.foliage_count; ++i) {
+    const double u = rng.uniform(-half, half), v = rng.uniform(-half, half);
+    const double z = top + scene.foliage_band * rng.uniform();
+    Eigen::Vector3d n;
+    do {
+      n = Eigen::Vector3d(rng.normal(), rng.normal(), rng.normal());
+    } while (n.norm() < 1e-9);
+    discs.push_back({Eigen::Vector3d(pose.position.x() + c * u - s * v,
+                                     pose.position.y() + s * u + c * v, z),
+                     n.normalized(), scene.foliage_radius});
+  }
+  return discs;
+}
+
+}  // namespace canopy::rangetrace
