@@ -3,6 +3,7 @@
 #include <string>
 
 #include "canopy/common/cli.h"
+#include "canopy/common/error.h"
 #include "canopy/common/log.h"
 #include "canopy/formats/json_io.h"
 #include "gmatch/gmatch.h"
@@ -39,7 +40,8 @@ int main(int argc, char** argv) {
   tool.add("--error", &error, "bounded: S = product of (1 - mean errors) and coverage; "
            "thesis: Eq. 6.12 as printed")->check(CLI::IsMember({"bounded", "thesis"}));
   tool.add("--max-nodes", &p.max_nodes, "tree nodes expanded per model before stopping (0 = no limit)");
-  tool.add_flag("--no-bound", &no_bound, "disable branch and bound (same result, slower)");
+  tool.add_flag("--no-bound", &no_bound, "disable branch and bound (same result, slower)")
+      ->default_str("false");
 
   return tool.run(argc, argv, [&] {
     p.orientation = orientation == "thesis" ? gm::OrientationForm::kThesis : gm::OrientationForm::kRelative;
