@@ -49,7 +49,7 @@ void report(const char* scene, double true_sigma, const Scan& scan, std::uint64_
     auto pct = [](std::size_t a, std::size_t b) { return b ? 100.0 * a / b : 0.0; };
     std::printf("| %s | %s | %zu | %.2f | %.1f-%.1f | %.1f%% (%zu/%zu) | %.1f%% (%zu/%zu) | %.1f%% | %.1f%% | %.1f%% |\n",
                 scene, pol.name, scan.points.size(), r.stats.sigma_estimated * 1e3,
-                r.stats.rms_bound_min * 1e3, r.stats.rms_bound_max * 1e3, pct(kept[1], dense[1]),
+                r.stats.rms_bound_at_max_points * 1e3, r.stats.rms_bound_at_min_points * 1e3, pct(kept[1], dense[1]),
                 kept[1], dense[1], pct(kept[2], dense[2]), kept[2], dense[2],
                 pct(kept[3], dense[3]), pct(kept[1], all[1]), pct(kept[2], all[2]));
   }

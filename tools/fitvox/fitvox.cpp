@@ -365,8 +365,8 @@ Result run(const Scan& scan, const Params& params, bool keep_all) {
         }
     }
   }
-  result.stats.rms_bound_min = rms_bound(params, sigma, largest);
-  result.stats.rms_bound_max = rms_bound(params, sigma, static_cast<std::size_t>(params.min_points));
+  result.stats.rms_bound_at_max_points = rms_bound(params, sigma, largest);
+  result.stats.rms_bound_at_min_points = rms_bound(params, sigma, static_cast<std::size_t>(params.min_points));
   result.samples.reserve(result.stats.kept);
   for (const Sample& s : all) {
     if (s.fit.verdict == Verdict::kKept) result.samples.push_back(s);

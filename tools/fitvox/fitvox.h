@@ -83,8 +83,8 @@ struct Stats {
   std::size_t too_few = 0, degenerate = 0, too_rough = 0, kept = 0, plane_fallback = 0;
   double sigma = 0;          // noise level used to widen the bound (estimated or given), m
   double sigma_estimated = 0;// the scan's own estimate (m), computed even when not used
-  double rms_bound_min = 0;  // bound for the largest voxel ... (m)
-  double rms_bound_max = 0;  // ... and for a voxel of min_points points (m)
+  double rms_bound_at_max_points = 0;  // RMS bound for the most populated voxel (m)
+  double rms_bound_at_min_points = 0;  // RMS bound for a voxel of min_points points (m)
 };
 
 struct Result {

@@ -17,7 +17,7 @@ int main(int argc, char** argv) {
   std::string in = "-", out = "-", noise = "auto";
   tool.add_input(&in, "scan PCD (x y z [sensor_x sensor_y sensor_z] [label])");
   tool.add_output(&out, "samples PCD");
-  tool.add_length("--voxel", &p.voxel, "voxel edge; grid anchored at the world origin");
+  tool.add_length("--voxel", &p.voxel, "voxel edge; voxel centres at multiples of it from the world origin");
   tool.add("--min-points", &p.min_points, "reject voxels with fewer points (>= 6)");
   tool.add_length("--max-rms", &p.max_rms, "RMS fit-error bound for noiseless data");
   tool.add("--noise", &noise, "noise sigma that widens the RMS bound: 'auto' = estimate from "
@@ -46,8 +46,8 @@ int main(int argc, char** argv) {
     const fitvox::Stats& s = r.stats;
     char buf[160];
     std::snprintf(buf, sizeof buf, "sigma %s %.2f mm, RMS bound %.2f-%.2f mm",
-                  p.noise < 0 ? "estimated" : "given", s.sigma * 1e3, s.rms_bound_min * 1e3,
-                  s.rms_bound_max * 1e3);
+                  p.noise < 0 ? "estimated" : "given", s.sigma * 1e3, s.rms_bound_at_max_points * 1e3,
+                  s.rms_bound_at_min_points * 1e3);
     fit.done("kept " + std::to_string(s.kept) + " of " + std::to_string(s.voxels) +
              " voxels (too few points " + std::to_string(s.too_few) + ", undetermined " +
              std::to_string(s.degenerate) + ", too rough " + std::to_string(s.too_rough) +
