@@ -54,7 +54,10 @@ double power(double x, double e) {
   return std::pow(x, e);
 }
 
-std::int64_t quantize(double merit) { return std::llround(merit / kTieQuantum); }
+// Clamped so that extreme printed-form errors (large exponents) cannot overflow int64.
+std::int64_t quantize(double merit) {
+  return std::llround(std::clamp(merit, -1e8, 1e8) / kTieQuantum);
+}
 
 // Eq. 6.1, 6.3-6.6.
 double unary_error(const Segment& s, const Segment& m, const Params& p) {
