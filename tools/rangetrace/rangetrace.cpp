@@ -158,6 +158,11 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> model_extent(const Model& model, con
 
 }  // namespace
 
+std::pair<Eigen::Vector3d, Eigen::Vector3d> model_bounds(const Model& model, const Params& params) {
+  TempDir tmp;
+  return model_extent(model, params, tmp);
+}
+
 formats::PointCloud run(const Model& model, const SceneRecipe& scene, const Params& params) {
   if (params.size < 1 || !(params.spacing > 0)) throw common::UsageError("--size and --spacing must be > 0");
   TempDir tmp;

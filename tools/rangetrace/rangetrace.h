@@ -15,6 +15,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "canopy/formats/point_cloud.h"
@@ -168,6 +169,9 @@ void decode_view(const Image16& coords, const Image16& labels, const Encoding& e
 bool in_crop(const Eigen::Vector3d& p, const Placement& placement, const Params& params);
 
 // ---------------------------------------------------------------- running POV-Ray
+
+// The model's bounding box as declared (world frame, m), from POV-Ray's min/max_extent.
+std::pair<Eigen::Vector3d, Eigen::Vector3d> model_bounds(const Model& model, const Params& params);
 
 // Renders the range scan: parses the model's extents, places it, renders every view in
 // parallel, decodes and crops. Throws Error with POV-Ray's own message when it fails.

@@ -1,0 +1,22 @@
+#include "addnoise/addnoise.h"
+
+#include "canopy/common/rng.h"
+
+namespace canopy::addnoise {
+
+formats::PointCloud run(const formats::PointCloud& scan, const Params& params) {
+  formats::PointCloud out = scan;
+  if (params.sigma == 0.0) return out;
+  common::Rng rng(common::derive_seed(params.seed, "addnoise"));
+  auto& x = out.col("x");
+  auto& y = out.col("y");
+  auto& z = out.col("z");
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    x[i] += params.sigma * rng.normal();
+    y[i] += params.sigma * rng.normal();
+    z[i] += params.sigma * rng.normal();
+  }
+  return out;
+}
+
+}  // namespace canopy::addnoise

@@ -1,0 +1,21 @@
+// addnoise: isotropic Gaussian noise on the point coordinates of a scan (thesis ch. 2:
+// sigma in {0, 2, 4, 8, 16, 32} mm). Only x, y, z change; every other field and the row order
+// are kept. The noise is drawn from Rng(derive_seed(seed, "addnoise")), three normals per point
+// in row order, so the same scan, sigma and seed give the same output on every platform.
+#pragma once
+
+#include <cstdint>
+
+#include "canopy/formats/point_cloud.h"
+
+namespace canopy::addnoise {
+
+struct Params {
+  double sigma = 0.0;      // standard deviation per axis (m), >= 0; 0 = exact copy
+  std::uint64_t seed = 1;
+};
+
+// Requires fields x, y, z (throws std::out_of_range naming the field otherwise).
+formats::PointCloud run(const formats::PointCloud& scan, const Params& params);
+
+}  // namespace canopy::addnoise

@@ -1,0 +1,37 @@
+// addnoise: scan PCD -> scan PCD with isotropic Gaussian noise on x, y, z.
+#include <string>
+
+#include "addnoise/addnoise.h"
+#include "canopy/common/cli.h"
+#include "canopy/common/error.h"
+#include "canopy/common/log.h"
+#include "canopy/common/units.h"
+#include "canopy/formats/pcd.h"
+
+using namespace canopy;
+
+int main(int argc, char** argv) {
+  common::Tool tool("addnoise", "Isotropic Gaussian noise on the coordinates of a scan; every "
+                                "other field is kept (thesis ch. 2).", true);
+  addnoise::Params p;
+  std::string in = "-", out = "-";
+  tool.add_input(&in, "scan PCD (x y z and any other fields)");
+  tool.add_output(&out, "noisy scan PCD");
+  tool.add_length("--sigma", &p.sigma, "standard deviation per axis (0 = exact copy)");
+  return tool.run(argc, argv, [&] {
+    if (!(p.sigma >= 0)) throw common::UsageError("--sigma must be >= 0");
+    p.seed = tool.seed();
+    common::log::Phase read("read");
+    const formats::PointCloud scan = formats::read_pcd(in);
+    scan.require({"x", "y", "z"}, common::display_name(in), "is this a point cloud?");
+    read.done(std::to_string(scan.size()) + " points");
+    formats::PointCloud noisy = addnoise::run(scan, p);
+    noisy.comments.push_back("addnoise (canopy) " CANOPY_VERSION);
+    for (const auto& [name, value] : tool.parameters()) {
+      noisy.comments.push_back("parameter " + name + " = " + value);
+    }
+    formats::write_pcd(noisy, out);
+    common::log::info("wrote " + std::to_string(noisy.size()) + " points, sigma " +
+                      common::format_length(p.sigma) + ", to " + common::display_name(out, true));
+  });
+}
