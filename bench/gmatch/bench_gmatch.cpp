@@ -45,8 +45,9 @@ void measure(const char* label, const Setup& s, const std::vector<gm::Model>& mo
     for (int rep = 0; rep < 3; ++rep) {
       const auto t0 = std::chrono::steady_clock::now();
       out = gm::run({&scene, &models}, p, 1);
-      ms = std::min(ms, std::chrono::duration<double, std::milli>(
-                            std::chrono::steady_clock::now() - t0).count());
+      ms = std::min(
+          ms,
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }
     total += ms;
     worst = std::max(worst, ms);
@@ -67,11 +68,13 @@ void measure(const char* label, const Setup& s, const std::vector<gm::Model>& mo
 
 int main() {
   const Setup s = make_setup(4);
-  std::printf("%zu scenes, best of 3 runs each (4 per model; models of 20/30/40/50/60 segments; occlusion 20%%, 2 "
-              "splits, 5 clutter segments, noise, random heading), 1 thread\n",
-              s.scenes.size());
-  std::printf("%-28s %4s %3s %3s %10s %10s %12s %6s %7s\n", "case", "M", "X", "B",
-              "ms/scene", "max ms", "nodes/match", "trunc", "rank-1");
+  std::printf(
+      "%zu scenes, best of 3 runs each (4 per model; models of 20/30/40/50/60 segments; occlusion "
+      "20%%, 2 "
+      "splits, 5 clutter segments, noise, random heading), 1 thread\n",
+      s.scenes.size());
+  std::printf("%-28s %4s %3s %3s %10s %10s %12s %6s %7s\n", "case", "M", "X", "B", "ms/scene",
+              "max ms", "nodes/match", "trunc", "rank-1");
   gm::Params p;
   for (int m : {1, 5, 10, 20, 40}) {
     std::vector<gm::Model> models;

@@ -12,8 +12,9 @@ namespace cm = canopy::common;
 namespace gm = canopy::gmatch;
 
 int main(int argc, char** argv) {
-  cm::Tool tool("gmatch", "Inexact partial graph matching of a segment graph against a modelbase "
-                          "(thesis ch. 6). Writes a canopy.match_result JSON ranking every model.");
+  cm::Tool tool("gmatch",
+                "Inexact partial graph matching of a segment graph against a modelbase "
+                "(thesis ch. 6). Writes a canopy.match_result JSON ranking every model.");
   gm::Params p;
   std::string in = "-", out = "-", modelbase, orientation = "relative", normals = "axial",
               error = "bounded";
@@ -27,24 +28,31 @@ int main(int argc, char** argv) {
   tool.add("--thickness-weight", &p.thickness_weight, "w_t: weight of the thickness difference");
   tool.add("--elongation-weight", &p.elongation_weight, "w_e: weight of the elongation term");
   tool.add("--unary-threshold", &p.unary_threshold, "prune a pair when E_U exceeds this [0,1]");
-  tool.add("--orientation-threshold", &p.orientation_threshold, "prune when a pairwise E_O exceeds this");
+  tool.add("--orientation-threshold", &p.orientation_threshold,
+           "prune when a pairwise E_O exceeds this");
   tool.add("--distance-threshold", &p.distance_threshold, "prune when a pairwise d_R exceeds this");
   tool.add("--exp-unary", &p.exp_unary, "e_u: exponent of the unary term (>=0)");
   tool.add("--exp-orientation", &p.exp_orientation, "e_o: exponent of the orientation term");
   tool.add("--exp-distance", &p.exp_distance, "e_d: exponent of the centroid-distance term");
   tool.add("--exp-area", &p.exp_area, "e_a: exponent of the area-coverage term");
-  tool.add("--orientation", &orientation, "relative: angle(n_si,n_sj) vs angle(n_mi,n_mj), "
-           "heading-invariant; thesis: Eq. 6.7 as printed")->check(CLI::IsMember({"relative", "thesis"}));
+  tool.add("--orientation", &orientation,
+           "relative: angle(n_si,n_sj) vs angle(n_mi,n_mj), "
+           "heading-invariant; thesis: Eq. 6.7 as printed")
+      ->check(CLI::IsMember({"relative", "thesis"}));
   tool.add("--normals", &normals, "axial: n and -n are the same; signed: normal signs count")
       ->check(CLI::IsMember({"axial", "signed"}));
-  tool.add("--error", &error, "bounded: S = product of (1 - mean errors) and coverage; "
-           "thesis: Eq. 6.12 as printed")->check(CLI::IsMember({"bounded", "thesis"}));
-  tool.add("--max-nodes", &p.max_nodes, "tree nodes expanded per model before stopping (0 = no limit)");
+  tool.add("--error", &error,
+           "bounded: S = product of (1 - mean errors) and coverage; "
+           "thesis: Eq. 6.12 as printed")
+      ->check(CLI::IsMember({"bounded", "thesis"}));
+  tool.add("--max-nodes", &p.max_nodes,
+           "tree nodes expanded per model before stopping (0 = no limit)");
   tool.add_flag("--no-bound", &no_bound, "disable branch and bound (same result, slower)")
       ->default_str("false");
 
   return tool.run(argc, argv, [&] {
-    p.orientation = orientation == "thesis" ? gm::OrientationForm::kThesis : gm::OrientationForm::kRelative;
+    p.orientation =
+        orientation == "thesis" ? gm::OrientationForm::kThesis : gm::OrientationForm::kRelative;
     p.normals = normals == "signed" ? gm::NormalSign::kSigned : gm::NormalSign::kAxial;
     p.error = error == "thesis" ? gm::ErrorForm::kThesis : gm::ErrorForm::kBounded;
     p.bound = !no_bound;
@@ -61,10 +69,10 @@ int main(int argc, char** argv) {
       nodes += s.nodes;
       truncated += s.truncated ? 1 : 0;
     }
-    phase.done(std::to_string(object.segments.size()) + " object segments against " +
-               std::to_string(models.size()) + " models, " + std::to_string(nodes) +
-               " tree nodes" + (truncated ? ", " + std::to_string(truncated) +
-                                                " searches stopped at --max-nodes" : ""));
+    phase.done(
+        std::to_string(object.segments.size()) + " object segments against " +
+        std::to_string(models.size()) + " models, " + std::to_string(nodes) + " tree nodes" +
+        (truncated ? ", " + std::to_string(truncated) + " searches stopped at --max-nodes" : ""));
 
     auto& r = result.result;
     r.provenance = {"gmatch", CANOPY_VERSION, tool.parameters(), {in, modelbase}};
