@@ -1,0 +1,168 @@
+#include "ncut/affinity.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+
+namespace canopy::ncut {
+namespace {
+
+// The printed Eq. 5.11 is evaluated in millimetres (see Exponent::kLinear).
+constexpr double kThesisUnitsPerMetre = 1000.0;
+
+std::uint64_t mix64(std::uint64_t z) {
+  z += 0x9E3779B97F4A7C15ULL;
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+  return z ^ (z >> 31);
+}
+
+// Uniform [0, 1) from (seed, i, j), i < j: the same pair gets the same draw whatever the
+// traversal order or thread count.
+double pair_uniform(std::uint64_t seed, int i, int j) {
+  const std::uint64_t key = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(i)) << 32) |
+                            static_cast<std::uint32_t>(j);
+  return static_cast<double>(mix64(mix64(seed) ^ key) >> 11) * 0x1.0p-53;
+}
+
+}  // namespace
+
+double anisotropic_distance(const Eigen::Vector3d& pi, const Eigen::Vector3d& ni,
+                            const Eigen::Vector3d& pj, double anisotropy) {
+  const Eigen::Vector3d v = pi - pj;
+  const double a = v.dot(ni);
+  const double t2 = std::max(0.0, (v - a * ni).squaredNorm());
+  return std::sqrt(anisotropy * a * a + t2 / anisotropy);
+}
+
+ThesisAffinity::ThesisAffinity(const SurfacePoints& points, const ThesisAffinityParams& params)
+    : pts_(points), prm_(params) {}
+
+double ThesisAffinity::exponent_of(double theta, double d) const {
+  const double s2 = 2 * prm_.sigma_n * prm_.sigma_n;
+  if (prm_.exponent == Exponent::kSquared) {
+    return theta * theta / s2 + d * d / (2 * prm_.radius * prm_.radius);
+  }
+  const double r_units = prm_.radius * kThesisUnitsPerMetre;
+  return theta / s2 + d * kThesisUnitsPerMetre / (2 * r_units * r_units);
+}
+
+double ThesisAffinity::one_sided(int i, int j) const {
+  const double c = std::clamp(pts_.n[i].dot(pts_.n[j]), -1.0, 1.0);
+  const double d = anisotropic_distance(pts_.p[i], pts_.n[i], pts_.p[j], prm_.anisotropy);
+  return std::exp(-exponent_of(std::acos(c), d));
+}
+
+double ThesisAffinity::operator()(int i, int j) const {
+  // The normal term is symmetric, so min(a_ij, a_ji) takes the larger one-sided distance.
+  const double c = std::clamp(pts_.n[i].dot(pts_.n[j]), -1.0, 1.0);
+  const double d = std::max(anisotropic_distance(pts_.p[i], pts_.n[i], pts_.p[j], prm_.anisotropy),
+                            anisotropic_distance(pts_.p[j], pts_.n[j], pts_.p[i], prm_.anisotropy));
+  return std::exp(-exponent_of(std::acos(c), d));
+}
+
+std::string ThesisAffinity::name() const {
+  return prm_.exponent == Exponent::kSquared ? "thesis-5.11-squared" : "thesis-5.11-linear";
+}
+
+Graph build_affinity_graph(const SurfacePoints& points,
+                           const std::vector<std::array<int, 2>>& mesh_edges,
+                           const Affinity& affinity, const SparsifyParams& prm,
+                           GraphStats* stats) {
+  const int n = static_cast<int>(points.p.size());
+  GraphStats st;
+  st.mesh_edges = mesh_edges.size();
+
+  // Mesh adjacency, rows ascending, for the "always keep" rule.
+  std::vector<std::vector<int>> adj(n);
+  for (const auto& e : mesh_edges) {
+    adj[e[0]].push_back(e[1]);
+    adj[e[1]].push_back(e[0]);
+  }
+  for (auto& row : adj) std::sort(row.begin(), row.end());
+  auto is_mesh_edge = [&](int i, int j) {
+    return std::binary_search(adj[i].begin(), adj[i].end(), j);
+  };
+
+  // Uniform grid of cell = radius; vertices sorted by cell key for range lookups.
+  const double cell = prm.radius;
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(0);
+  if (n > 0) {
+    lo = points.p[0];
+    for (const auto& p : points.p) lo = lo.cwiseMin(p);
+  }
+  // Cell coordinates start at 1 so that every neighbour cell is >= 0 and keys never alias.
+  constexpr std::int64_t kSpan = 1 << 20;
+  auto cell_of = [&](const Eigen::Vector3d& p) {
+    std::array<std::int64_t, 3> c{};
+    for (int k = 0; k < 3; ++k) {
+      const double f = std::floor((p[k] - lo[k]) / cell) + 1;
+      if (!(f < kSpan - 2)) {
+        throw std::runtime_error("point set extent exceeds 2^20 affinity radii");
+      }
+      c[k] = static_cast<std::int64_t>(f);
+    }
+    return c;
+  };
+  auto key_of = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
+    return (x * kSpan + y) * kSpan + z;
+  };
+  std::vector<std::pair<std::int64_t, int>> order(n);
+  for (int i = 0; i < n; ++i) {
+    const auto c = cell_of(points.p[i]);
+    order[i] = {key_of(c[0], c[1], c[2]), i};
+  }
+  std::sort(order.begin(), order.end());
+
+  const double r2 = prm.radius * prm.radius;
+  const double dense2 = prm.dense_radius * prm.dense_radius;
+  std::vector<Edge> edges;
+  for (int i = 0; i < n; ++i) {
+    const auto c = cell_of(points.p[i]);
+    for (std::int64_t dx = -1; dx <= 1; ++dx) {
+      for (std::int64_t dy = -1; dy <= 1; ++dy) {
+        for (std::int64_t dz = -1; dz <= 1; ++dz) {
+          const std::int64_t key = key_of(c[0] + dx, c[1] + dy, c[2] + dz);
+          auto it = std::lower_bound(order.begin(), order.end(), std::make_pair(key, i + 1));
+          for (; it != order.end() && it->first == key; ++it) {
+            const int j = it->second;  // j > i by construction
+            const double dist2 = (points.p[i] - points.p[j]).squaredNorm();
+            if (dist2 > r2) continue;
+            ++st.pairs_within_radius;
+            const bool mesh = prm.keep_mesh_edges && is_mesh_edge(i, j);
+            if (!mesh && dist2 > dense2 && pair_uniform(prm.seed, i, j) >= prm.keep_fraction) {
+              ++st.dropped_random;
+              continue;
+            }
+            const double a = affinity(i, j);
+            if (!mesh && a < prm.min_affinity) {
+              ++st.dropped_small;
+              continue;
+            }
+            if (mesh && (a < prm.min_affinity ||
+                         (dist2 > dense2 && pair_uniform(prm.seed, i, j) >= prm.keep_fraction))) {
+              ++st.mesh_edges_forced;
+            }
+            edges.push_back({i, j, a});
+          }
+        }
+      }
+    }
+  }
+  // Mesh edges longer than the radius were not visited above.
+  if (prm.keep_mesh_edges) {
+    for (const auto& e : mesh_edges) {
+      if ((points.p[e[0]] - points.p[e[1]]).squaredNorm() > r2) {
+        edges.push_back({e[0], e[1], affinity(e[0], e[1])});
+        ++st.mesh_edges_forced;
+      }
+    }
+  }
+  Graph g(n, edges);
+  st.edges = g.edge_count();
+  if (stats) *stats = st;
+  return g;
+}
+
+}  // namespace canopy::ncut
