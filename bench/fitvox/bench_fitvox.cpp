@@ -1,6 +1,6 @@
 // Times fitvox::run (single thread) against PCL's VoxelGrid + NormalEstimation on the same
 // points, in the same process. Input: a scan PCD, or the synthetic vehicle scene (synth_scan.h)
-// subsampled to --points N (default 250000).
+// (sigma 8 mm), either subsampled to --points N (default 250000; 0 = all points).
 //
 //   fitvox_bench [--points N] [--repeat R] [scan.pcd]
 #include <pcl/features/normal_3d.h>
@@ -47,26 +47,27 @@ int main(int argc, char** argv) {
       file = argv[i];
     }
   }
-  canopy::fitvox::Scan scan;
+  canopy::fitvox::Scan full;
   if (!file.empty()) {
-    scan = canopy::fitvox::scan_from_cloud(canopy::formats::read_pcd(file), file, nullptr);
+    full = canopy::fitvox::scan_from_cloud(canopy::formats::read_pcd(file), file, nullptr);
   } else {
     fitvox_bench::SceneOptions o;
     o.sigma = 0.008;
-    canopy::fitvox::Scan full = fitvox_bench::synth_scan(o);
-    // deterministic subsample (partial Fisher-Yates) to `want` points, kept in input order
-    canopy::common::Rng rng(7);
-    std::vector<std::size_t> idx(full.points.size());
-    for (std::size_t i = 0; i < idx.size(); ++i) idx[i] = i;
-    const std::size_t n = std::min(want, idx.size());
-    for (std::size_t i = 0; i < n; ++i) std::swap(idx[i], idx[i + rng.below(idx.size() - i)]);
-    idx.resize(n);
-    std::sort(idx.begin(), idx.end());
-    for (std::size_t i : idx) {
-      scan.points.push_back(full.points[i]);
-      scan.sensor.push_back(full.sensor[i]);
-      scan.labels.push_back(full.labels[i]);
-    }
+    full = fitvox_bench::synth_scan(o);
+  }
+  // deterministic subsample (partial Fisher-Yates) to `want` points (0 = all), input order kept
+  canopy::common::Rng rng(7);
+  std::vector<std::size_t> idx(full.points.size());
+  for (std::size_t i = 0; i < idx.size(); ++i) idx[i] = i;
+  const std::size_t n = want == 0 ? idx.size() : std::min(want, idx.size());
+  for (std::size_t i = 0; i < n; ++i) std::swap(idx[i], idx[i + rng.below(idx.size() - i)]);
+  idx.resize(n);
+  std::sort(idx.begin(), idx.end());
+  canopy::fitvox::Scan scan;
+  for (std::size_t i : idx) {
+    scan.points.push_back(full.points[i]);
+    if (!full.sensor.empty()) scan.sensor.push_back(full.sensor[i]);
+    if (!full.labels.empty()) scan.labels.push_back(full.labels[i]);
   }
   canopy::fitvox::Params p;
   p.threads = 1;
@@ -108,7 +109,8 @@ int main(int argc, char** argv) {
     down_n = down->size();
   }
   const double f = median(tf), v = median(tv), nrm = median(tn);
-  std::printf("points %zu (%s)\n", scan.points.size(), file.empty() ? "synthetic tank scene, sigma 8 mm" : file.c_str());
+  std::printf("points %zu of %zu (%s)\n", scan.points.size(), full.points.size(),
+              file.empty() ? "synthetic tank scene, sigma 8 mm" : file.c_str());
   std::printf("fitvox::run            %.4f s  (%zu voxels, %zu kept; median of %d)\n", f, voxels, kept, repeat);
   std::printf("PCL VoxelGrid          %.4f s  (%zu centroids)\n", v, down_n);
   std::printf("PCL NormalEstimation   %.4f s  (radius 64 mm on the full cloud, incl. k-d tree)\n", nrm);
