@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <deque>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,7 @@ class PointCloud {
 
   bool has(const std::string& name) const;
   // Adds a zero-filled column, or returns the existing one (its type is then changed to `type`).
+  // References to columns stay valid while further columns are added.
   std::vector<double>& add(const std::string& name, FieldType type = kFloat32);
   // Column access; throws std::out_of_range naming the field when missing (readers and tools
   // turn that into a DataError naming the file, see require()).
@@ -60,7 +62,7 @@ class PointCloud {
   std::size_t size_ = 0;
   std::vector<std::string> names_;
   std::vector<FieldType> types_;
-  std::vector<std::vector<double>> data_;
+  std::deque<std::vector<double>> data_;  // deque: add() never invalidates earlier columns
 };
 
 }  // namespace canopy::formats
