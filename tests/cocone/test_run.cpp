@@ -1,0 +1,108 @@
+// run(): samples PointCloud -> Mesh (field pass-through, order, orientation, empty result).
+#include <catch2/catch.hpp>
+
+#include <Eigen/Geometry>
+#include <cmath>
+
+#include "canopy/common/error.h"
+#include "canopy/common/log.h"
+#include "cocone/cocone.h"
+#include "mesh_checks.h"
+
+namespace cc = canopy::cocone;
+namespace fm = canopy::formats;
+
+namespace {
+
+// Fibonacci sphere (near-uniform spacing) of radius r centred at (0, 0, zc), with outward
+// normals and a per-row tag field.
+fm::PointCloud ball(int n, double r, double zc) {
+  fm::PointCloud c;
+  c.resize(n);
+  c.add("x");
+  c.add("y");
+  c.add("z");
+  c.add("normal_x");
+  c.add("normal_y");
+  c.add("normal_z");
+  c.add("tag", fm::kUint32);
+  // Columns are added first: add() may move existing columns.
+  auto& x = c.col("x");
+  auto& y = c.col("y");
+  auto& z = c.col("z");
+  auto& nx = c.col("normal_x");
+  auto& ny = c.col("normal_y");
+  auto& nz = c.col("normal_z");
+  auto& tag = c.col("tag");
+  const double golden = cc::kPi * (3 - std::sqrt(5.0));
+  for (int i = 0; i < n; ++i) {
+    const double w = 1 - 2 * (i + 0.5) / n, s = std::sqrt(1 - w * w), a = golden * i;
+    nx[i] = s * std::cos(a);
+    ny[i] = s * std::sin(a);
+    nz[i] = w;
+    x[i] = r * nx[i];
+    y[i] = r * ny[i];
+    z[i] = zc + r * nz[i];
+    tag[i] = 1000 + i;
+  }
+  return c;
+}
+
+struct Quiet {
+  Quiet() { canopy::common::log::set_level(canopy::common::log::Level::kQuiet); }
+};
+const Quiet quiet;
+
+}  // namespace
+
+TEST_CASE("raw mesh keeps every sample row and closes the ball") {
+  const auto c = ball(1500, 1.0, 1.5);
+  cc::Params p;
+  p.postprocess = false;
+  const auto m = cc::run(c, p);
+  CHECK(m.vertices.size() == c.size());
+  CHECK(m.vertices.names() == c.names());
+  CHECK(m.vertices.col("tag") == c.col("tag"));
+  CHECK(m.faces.size() == 2 * c.size() - 4);
+  CHECK(cocone_test::topology(m.faces).euler() == 2);
+}
+
+TEST_CASE("post-processed mesh: surviving rows in input order, every field, faces follow normals") {
+  const auto c = ball(1500, 1.0, 1.5);
+  const auto m = cc::run(c, cc::Params{});
+  REQUIRE(m.faces.size() > 0);
+  CHECK(m.vertices.names() == c.names());
+  const auto& tag = m.vertices.col("tag");
+  const auto& z = m.vertices.col("z");
+  for (std::size_t i = 0; i < m.vertices.size(); ++i) {
+    const auto row = static_cast<std::size_t>(tag[i]) - 1000;
+    CHECK(z[i] == c.col("z")[row]);
+    CHECK(z[i] >= 0.3);
+    if (i > 0) CHECK(tag[i] > tag[i - 1]);
+  }
+  const auto& x = m.vertices.col("x");
+  const auto& y = m.vertices.col("y");
+  const auto& nx = m.vertices.col("normal_x");
+  const auto& ny = m.vertices.col("normal_y");
+  const auto& nz = m.vertices.col("normal_z");
+  std::size_t agree = 0;
+  for (const auto& f : m.faces) {
+    Eigen::Vector3d p[3], n = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 3; ++k) {
+      p[k] = {x[f[k]], y[f[k]], z[f[k]]};
+      n += Eigen::Vector3d(nx[f[k]], ny[f[k]], nz[f[k]]);
+    }
+    agree += (p[1] - p[0]).cross(p[2] - p[0]).dot(n) > 0;
+  }
+  CHECK(agree == m.faces.size());
+  // Every vertex is used (orphans removed).
+  CHECK(cocone_test::topology(m.faces).vertices == m.vertices.size());
+}
+
+TEST_CASE("a mesh with no face left is an error") {
+  const auto c = ball(500, 0.1, 0.0);  // entirely below 300 mm
+  CHECK_THROWS_WITH(cc::run(c, cc::Params{}), Catch::Matchers::Contains("no triangle left"));
+  cc::Params raw;
+  raw.postprocess = false;
+  CHECK(cc::run(c, raw).faces.size() == 2 * 500 - 4);
+}
