@@ -102,8 +102,9 @@ TEST_CASE("circle, flyby and dodecahedron views") {
   REQUIRE(f.size() == 20);
   CHECK(f[0].azimuth == Approx(45 * kDeg));
   CHECK(f[9].azimuth == Approx(-45 * kDeg));
-  CHECK(std::abs(std::remainder(f[10].azimuth - 135 * kDeg, 2 * M_PI)) < 1e-9);
-  CHECK(std::abs(std::remainder(f[19].azimuth + 135 * kDeg, 2 * M_PI)) < 1e-9);
+  // Behind the tail: from 45 deg off the rear axis on the right to 45 deg on the left.
+  CHECK(std::abs(std::remainder(f[10].azimuth + 135 * kDeg, 2 * M_PI)) < 1e-9);
+  CHECK(std::abs(std::remainder(f[19].azimuth - 135 * kDeg, 2 * M_PI)) < 1e-9);
   // Straight ground tracks: tan(bearing) evenly spaced in the front pass.
   for (int k = 1; k < 10; ++k) {
     CHECK(std::tan(f[k - 1].azimuth) - std::tan(f[k].azimuth) == Approx(2.0 / 9));
@@ -274,8 +275,9 @@ TEST_CASE("plane and box decode to within 0.5 mm at right-handed z-up coordinate
   CHECK(ground > 1000);
   CHECK(bump > 20);
   // Sensor vectors: the unit direction of the view toward its sensor.
+  const SceneRecipe scene = two_views(0);
   for (std::size_t i = 0; i < h.p.size(); i += 97) {
-    const View& v = two_views(0).views[h.view[i]];
+    const View& v = scene.views[h.view[i]];
     const Vector3d want(std::cos(v.elevation) * std::cos(v.azimuth),
                         std::cos(v.elevation) * std::sin(v.azimuth), std::sin(v.elevation));
     CHECK((h.sensor[i] - want).norm() < 1e-6);

@@ -77,8 +77,11 @@ std::string povray_message(const std::string& log) {
     }
   }
   if (first == lines.size()) first = lines.size() > 8 ? lines.size() - 8 : 0;
+  // A wrapped line continues with a leading space: start at the beginning of the message.
+  while (first > 0 && lines[first].rfind(' ', 0) == 0) --first;
   std::string msg;
   for (std::size_t i = first; i < lines.size(); ++i) {
+    if (lines[i].find_first_not_of(' ') == std::string::npos) continue;
     if (!msg.empty()) msg += lines[i].rfind(' ', 0) == 0 ? "" : "\n  ";
     msg += lines[i];
   }

@@ -39,7 +39,7 @@ std::vector<View> flyby_views(int per_pass, double elevation, double start_beari
 }
 
 std::vector<View> dodecahedron_views() {
-  // Standard dodecahedron vertices, rotated so that the face with normal (0, 1, phi) points up
+  // Standard dodecahedron vertices, rotated so that the face with normal (0, phi, 1) points up
   // (+z), then about z so that the first upper vertex lies at azimuth 0.
   const double p = (1 + std::sqrt(5.0)) / 2, q = 1 / p;
   std::vector<Eigen::Vector3d> v;
@@ -50,7 +50,7 @@ std::vector<View> dodecahedron_views() {
     v.emplace_back(a * q, b * p, 0);
     v.emplace_back(a * p, 0, b * q);
   }
-  const Eigen::Vector3d up = Eigen::Vector3d(0, 1, p).normalized();
+  const Eigen::Vector3d up = Eigen::Vector3d(0, p, 1).normalized();
   const Eigen::Matrix3d r =
       Eigen::Quaterniond::FromTwoVectors(up, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   std::vector<View> views;
