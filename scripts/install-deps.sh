@@ -6,7 +6,7 @@ packages=(
   build-essential cmake pkg-config
   libeigen3-dev libcgal-dev libpcl-dev libvtk9-dev libspectra-dev
   nlohmann-json3-dev libcli11-dev catch2 libpng-dev
-  povray
+  povray time xvfb xauth
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -1,0 +1,82 @@
+#include <catch2/catch.hpp>
+
+#include "canopy/common/error.h"
+#include "report/report.h"
+
+using namespace canopy;
+
+namespace {
+
+formats::Segment seg(int id, double area, int label) {
+  formats::Segment s;
+  s.segment_id = id;
+  s.area = area;
+  s.label = label;
+  return s;
+}
+
+// A trial whose correct model ranks `rank` among two models.
+report::Case make_case(const std::string& object, int noise, int rank) {
+  report::Case c;
+  c.object = object;
+  c.scene = "circle";
+  c.noise_mm = noise;
+  formats::ModelScore right{object, rank == 1 ? 0.9 : 0.4, rank, 0, 0, 0, 0, 0, {}};
+  formats::ModelScore wrong{"other", rank == 1 ? 0.4 : 0.9, rank == 1 ? 2 : 1, 0, 0, 0, 0, 0, {}};
+  c.match.models = rank == 1 ? std::vector<formats::ModelScore>{right, wrong}
+                             : std::vector<formats::ModelScore>{wrong, right};
+  c.match.entropy = 0.5;
+  return c;
+}
+
+}  // namespace
+
+TEST_CASE("diagnosis counts target segments, area and spurious share against the model") {
+  formats::SegmentGraph model;
+  model.segments = {seg(0, 4.0, 1), seg(1, 2.0, 1), seg(2, 2.0, 1)};  // 3 segments, 8 m^2
+  report::Case c = make_case("sedan", 0, 2);
+  // 5 target segments with 4 m^2 (over-segmented, half the area) and one 1 m^2 foliage segment.
+  c.segments.segments = {seg(0, 1.0, 1), seg(1, 1.0, 2), seg(2, 1.0, 1), seg(3, 0.5, 1),
+                         seg(4, 0.5, 1), seg(5, 1.0, 1)};
+  report::Params p;
+  const auto d = report::diagnose(c, &model, p);
+  CHECK(d.target_segments == 5);
+  CHECK(d.model_segments == 3);
+  CHECK(d.target_area == Approx(4.0));
+  CHECK(d.model_area == Approx(8.0));
+  CHECK(d.spurious_segments == 1);
+  CHECK(d.spurious_area_share == Approx(1.0 / 5.0));
+  CHECK(d.over_segmented);        // 5 > 1.5 x 3
+  CHECK(d.missing_area);          // 4 < 0.6 x 8
+  CHECK_FALSE(d.spurious);        // 0.2 is not above 0.2
+  CHECK(d.correct_rank == 2);
+  CHECK(d.best_model == "other");
+  p.max_segments = 1;  // only the largest segment (a target one, first of the 1 m^2 ties) examined
+  CHECK(report::diagnose(c, &model, p).spurious_segments == 0);
+}
+
+TEST_CASE("recognition rates per object and overall, with the thesis beside them") {
+  report::Inputs in;
+  in.objects = {"sedan", "tank"};
+  in.scenes = {"circle"};
+  in.noises = {0, 8};
+  in.cases = {make_case("sedan", 0, 1), make_case("sedan", 8, 1), make_case("tank", 0, 1),
+              make_case("tank", 8, 3)};
+  in.thesis = report::parse_thesis_csv(
+      "object,scene,noise_mm,score,rank,entropy\nsedan,circle,0,0.641,1,1.64\ntank,circle,0,0.603,2,2.26\n",
+      "t.csv");
+  const auto out = report::run(in, report::Params{});
+  CHECK(out.markdown.find("| sedan | 100% (2/2) | 100% | 100% (1/1) |") != std::string::npos);
+  CHECK(out.markdown.find("| tank | 50% (1/2) | 50% | 0% (0/1) |") != std::string::npos);
+  CHECK(out.markdown.find("**75%** (3/4)") != std::string::npos);
+  CHECK(out.markdown.find("1 trials did not rank the correct model first") != std::string::npos);
+  // scores.csv: one line per trial with the correct model's score and rank.
+  CHECK(out.scores_csv == "object,scene,noise_mm,score,rank,entropy\n"
+                          "sedan,circle,0,0.9000,1,0.5000\nsedan,circle,8,0.9000,1,0.5000\n"
+                          "tank,circle,0,0.9000,1,0.5000\ntank,circle,8,0.4000,3,0.5000\n");
+}
+
+TEST_CASE("a malformed thesis table names the file") {
+  CHECK_THROWS_AS(report::parse_thesis_csv("h\na,b,c\n", "bad.csv"), common::DataError);
+  CHECK_THROWS_WITH(report::parse_thesis_csv("h\na,b,1,x,1,2\n", "bad.csv"), Catch::Contains("bad.csv"));
+}

@@ -1,0 +1,124 @@
+// report: reads the experiment's artifacts (out/...) and writes results/report.md and CSVs.
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "canopy/common/atomic_file.h"
+#include "canopy/common/cli.h"
+#include "canopy/common/error.h"
+#include "canopy/common/log.h"
+#include "canopy/formats/pcd.h"
+#include "report/report.h"
+
+using namespace canopy;
+
+namespace {
+
+std::vector<std::string> words(const std::string& s) {
+  std::istringstream ss(s);
+  std::vector<std::string> out;
+  for (std::string w; ss >> w;) out.push_back(w);
+  return out;
+}
+
+bool exists(const std::string& p) {
+  struct stat st {};
+  return stat(p.c_str(), &st) == 0;
+}
+
+// scripts/stage.sh writes "<seconds> <peak KiB>" next to each artifact.
+report::StageTime read_time(const std::string& artifact) {
+  report::StageTime t;
+  std::ifstream in(artifact + ".time");
+  double kib = 0;
+  if (in >> t.seconds >> kib) {
+    t.peak_mb = kib / 1024.0;
+    t.present = true;
+  }
+  return t;
+}
+
+// Number of views of a rendering: 1 + the largest view_idx of its scan.
+int count_views(const std::string& scan) {
+  if (!exists(scan)) return 0;
+  const formats::PointCloud c = formats::read_pcd(scan);
+  if (!c.has("view_idx")) return 0;
+  double m = -1;
+  for (double v : c.col("view_idx")) m = std::max(m, v);
+  return static_cast<int>(m) + 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  common::Tool tool("report", "Write the experiment report (Markdown + CSV) from out/ artifacts.");
+  std::string out_dir = "out", results = "results", objects, scenes, noises;
+  std::string thesis = std::string(CANOPY_SHARE_DIR) + "/thesis/results.csv";
+  report::Params p;
+  tool.add("--out", &out_dir, "experiment artifact directory");
+  tool.add("--results", &results, "directory for report.md, cases.csv, scores.csv, times.csv");
+  tool.add("--objects", &objects, "objects (space separated)")->required();
+  tool.add("--scenes", &scenes, "scenes (space separated)")->required();
+  tool.add("--noises", &noises, "noise levels in mm (space separated)")->required();
+  tool.add("--thesis", &thesis, "the thesis's results table (CSV)");
+  tool.add("--max-segments", &p.max_segments, "largest object segments examined for spurious area");
+  tool.add("--overseg-ratio", &p.overseg_ratio, "over-segmented when target segments exceed this x model's");
+  tool.add("--missing-area-ratio", &p.missing_area_ratio, "missing area when target area is below this x model's");
+  tool.add("--spurious-share", &p.spurious_share, "spurious when non-target area share exceeds this");
+  return tool.run(argc, argv, [&] {
+    common::log::Phase phase("read");
+    report::Inputs in;
+    in.objects = words(objects);
+    in.scenes = words(scenes);
+    for (const auto& n : words(noises)) {
+      try {
+        in.noises.push_back(std::stoi(n));
+      } catch (const std::exception&) {
+        throw common::UsageError("--noises: '" + n + "' is not an integer");
+      }
+    }
+    if (in.objects.empty() || in.scenes.empty() || in.noises.empty()) {
+      throw common::UsageError("--objects, --scenes and --noises must each name at least one");
+    }
+    in.thesis = report::parse_thesis_csv(common::read_file(thesis), thesis);
+    for (const auto& o : in.objects) {
+      const std::string mb = out_dir + "/modelbase/" + o + ".json";
+      if (exists(mb)) in.models[o] = formats::read_segment_graph(mb);
+      for (const auto& s : in.scenes) {
+        in.render_times[o + "/" + s] = read_time(out_dir + "/" + o + "/" + s + "/scan.pcd");
+        for (int n : in.noises) {
+          report::Case c;
+          c.object = o;
+          c.scene = s;
+          c.noise_mm = n;
+          const std::string dir = out_dir + "/" + o + "/" + s + "/noise-" + std::to_string(n);
+          c.match = formats::read_match_result(dir + "/match.json");
+          c.segments = formats::read_segment_graph(dir + "/segments.json");
+          c.times["addnoise"] = read_time(dir + "/scan.pcd");
+          c.times["fitvox"] = read_time(dir + "/samples.pcd");
+          c.times["cocone"] = read_time(dir + "/mesh.ply");
+          c.times["ncut"] = read_time(dir + "/segments.json");
+          c.times["gmatch"] = read_time(dir + "/match.json");
+          in.cases.push_back(std::move(c));
+        }
+      }
+    }
+    for (const auto& s : in.scenes) {
+      in.render_views[s] = count_views(out_dir + "/" + in.objects.front() + "/" + s + "/scan.pcd");
+    }
+    for (const auto& s : in.scenes) in.figures.push_back("figures/grid-" + s + ".png");
+    in.figures.push_back("figures/scores.png");
+    for (const auto& o : in.objects) in.figures.push_back("pictures/" + o + ".png");
+    in.figures.push_back("pictures/tank-circle.png");
+    phase.done(std::to_string(in.cases.size()) + " trials, " + std::to_string(in.models.size()) + " models");
+    const report::Output r = report::run(in, p);
+    common::write_file_atomic(results + "/cases.csv", r.cases_csv);
+    common::write_file_atomic(results + "/scores.csv", r.scores_csv);
+    common::write_file_atomic(results + "/times.csv", r.times_csv);
+    common::write_file_atomic(results + "/report.md", r.markdown);
+    common::log::info("wrote " + results + "/report.md");
+  });
+}
