@@ -1,0 +1,152 @@
+// tile_grid: PNG tiles in a labelled grid. Text is rasterised by VTK's FreeType text renderer
+// on the CPU (no OpenGL, no X display).
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkStdString.h>
+#include <vtkTextProperty.h>
+#include <vtkTextRenderer.h>
+
+#include <algorithm>
+
+#include "canopy/common/error.h"
+#include "figures/figures.h"
+
+namespace canopy::figures {
+namespace {
+
+// Text rasterised to an RGBA bitmap, rows top to bottom.
+struct Text {
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> rgba;
+};
+
+Text rasterise(const std::string& text, int size, bool bold) {
+  Text out;
+  if (text.empty()) return out;
+  vtkTextRenderer* renderer = vtkTextRenderer::GetInstance();
+  if (renderer == nullptr) throw common::Error("VTK has no text renderer (RenderingFreeType missing)");
+  vtkNew<vtkTextProperty> prop;
+  prop->SetFontFamilyToArial();
+  prop->SetFontSize(size);
+  prop->SetBold(bold);
+  prop->SetColor(0, 0, 0);
+  prop->SetJustificationToLeft();
+  prop->SetVerticalJustificationToBottom();
+  vtkNew<vtkImageData> image;
+  int dims[2] = {0, 0};
+  if (!renderer->RenderString(prop, vtkStdString(text), image, dims, 72)) {
+    throw common::Error("cannot render the text '" + text + "'");
+  }
+  int extent[6];
+  image->GetExtent(extent);
+  const int w = extent[1] - extent[0] + 1, h = extent[3] - extent[2] + 1;
+  if (w <= 0 || h <= 0 || image->GetNumberOfScalarComponents() != 4) return out;
+  out.width = std::min(w, dims[0] > 0 ? dims[0] : w);
+  out.height = std::min(h, dims[1] > 0 ? dims[1] : h);
+  out.rgba.resize(4 * static_cast<std::size_t>(out.width) * out.height);
+  const auto* src = static_cast<const unsigned char*>(image->GetScalarPointer());
+  for (int y = 0; y < out.height; ++y) {  // VTK row 0 is the bottom
+    for (int x = 0; x < out.width; ++x) {
+      const unsigned char* p = src + 4 * (static_cast<std::size_t>(y) * w + x);
+      std::copy(p, p + 4, &out.rgba[4 * (static_cast<std::size_t>(out.height - 1 - y) * out.width + x)]);
+    }
+  }
+  return out;
+}
+
+// Alpha-blends text onto the image with its top-left corner at (x0, y0), clipped.
+void draw(Image& image, const Text& text, int x0, int y0) {
+  for (int y = 0; y < text.height; ++y) {
+    for (int x = 0; x < text.width; ++x) {
+      const int px = x0 + x, py = y0 + y;
+      if (px < 0 || py < 0 || px >= image.width || py >= image.height) continue;
+      const std::uint8_t* t = &text.rgba[4 * (static_cast<std::size_t>(y) * text.width + x)];
+      std::uint8_t* q = image.at(px, py);
+      for (int k = 0; k < 3; ++k) q[k] = static_cast<std::uint8_t>((t[k] * t[3] + q[k] * (255 - t[3]) + 127) / 255);
+    }
+  }
+}
+
+void fill(Image& image, int x0, int y0, int w, int h, std::array<std::uint8_t, 3> c) {
+  for (int y = std::max(0, y0); y < std::min(image.height, y0 + h); ++y) {
+    for (int x = std::max(0, x0); x < std::min(image.width, x0 + w); ++x) {
+      std::copy(c.begin(), c.end(), image.at(x, y));
+    }
+  }
+}
+
+// Copies the tile centred into the cell at (x0, y0) of size w x h, clipped to the cell.
+void blit(Image& image, const Image& tile, int x0, int y0, int w, int h) {
+  const int dx = (w - tile.width) / 2, dy = (h - tile.height) / 2;
+  for (int y = 0; y < tile.height; ++y) {
+    const int cy = y + dy;
+    if (cy < 0 || cy >= h) continue;
+    for (int x = 0; x < tile.width; ++x) {
+      const int cx = x + dx;
+      if (cx < 0 || cx >= w) continue;
+      std::copy(tile.at(x, y), tile.at(x, y) + 3, image.at(x0 + cx, y0 + cy));
+    }
+  }
+}
+
+}  // namespace
+
+Image tile_grid(const std::vector<std::optional<Image>>& cells, const GridParams& params) {
+  if (params.cols < 1) throw common::UsageError("--cols must be at least 1");
+  if (cells.empty()) throw common::UsageError("no cells to tile");
+  const int cols = params.cols;
+  const int rows = static_cast<int>((cells.size() + cols - 1) / cols);
+  if (!params.row_labels.empty() && static_cast<int>(params.row_labels.size()) != rows) {
+    throw common::UsageError(std::to_string(params.row_labels.size()) + " row labels for " +
+                             std::to_string(rows) + " rows (" + std::to_string(cells.size()) +
+                             " cells in " + std::to_string(cols) + " columns)");
+  }
+  if (!params.col_labels.empty() && static_cast<int>(params.col_labels.size()) != cols) {
+    throw common::UsageError(std::to_string(params.col_labels.size()) + " column labels for " +
+                             std::to_string(cols) + " columns");
+  }
+  const auto first = std::find_if(cells.begin(), cells.end(), [](const auto& c) { return c.has_value(); });
+  if (first == cells.end()) throw common::Error("every cell is missing: no image to tile");
+  const int cw = (*first)->width, ch = (*first)->height;
+  const int gap = std::max(0, params.gap), pad = std::max(4, params.font_size / 2);
+
+  std::vector<Text> row_text, col_text;
+  int left = 0, top = 0;
+  for (const auto& s : params.row_labels) {
+    row_text.push_back(rasterise(s, params.font_size, true));
+    left = std::max(left, row_text.back().width + 2 * pad);
+  }
+  for (const auto& s : params.col_labels) {
+    col_text.push_back(rasterise(s, params.font_size, true));
+    top = std::max(top, col_text.back().height + pad);
+  }
+  const Text title = rasterise(params.title, params.font_size + 4, true);
+  const int title_h = params.title.empty() ? 0 : title.height + pad;
+  top += title_h;
+
+  Image out(left + cols * cw + (cols + 1) * gap, top + rows * ch + (rows + 1) * gap);
+  if (!params.title.empty()) draw(out, title, (out.width - title.width) / 2, pad / 2);
+  for (int c = 0; c < static_cast<int>(col_text.size()); ++c) {
+    const int x = left + gap + c * (cw + gap) + (cw - col_text[c].width) / 2;
+    draw(out, col_text[c], x, top - col_text[c].height - pad / 2);
+  }
+  for (int r = 0; r < static_cast<int>(row_text.size()); ++r) {
+    const int y = top + gap + r * (ch + gap) + (ch - row_text[r].height) / 2;
+    draw(out, row_text[r], left - pad - row_text[r].width, y);
+  }
+  const Text failed = rasterise("failed", params.font_size, false);
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    const int r = static_cast<int>(i) / cols, c = static_cast<int>(i) % cols;
+    const int x0 = left + gap + c * (cw + gap), y0 = top + gap + r * (ch + gap);
+    if (cells[i]) {
+      blit(out, *cells[i], x0, y0, cw, ch);
+    } else {
+      fill(out, x0, y0, cw, ch, {232, 232, 232});
+      draw(out, failed, x0 + (cw - failed.width) / 2, y0 + (ch - failed.height) / 2);
+    }
+  }
+  return out;
+}
+
+}  // namespace canopy::figures

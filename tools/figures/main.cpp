@@ -1,0 +1,158 @@
+// figures: the experiment's pictures as PNG (VTK, off-screen). Subcommands:
+//   figures mesh -i segments.ply -o seg.png          a coloured segmentation, shaded
+//   figures grid -o grid.png --cols 6 a.png b.png .. tiles in a labelled grid ('-' = failed)
+//   figures plot -i scores.csv -o plot.png           score of the correct model vs noise
+// mesh and plot need an X display: run under `xvfb-run -a` on a headless machine.
+#include <sys/stat.h>
+
+#include <string>
+#include <vector>
+
+#include "canopy/common/atomic_file.h"
+#include "canopy/common/cli.h"
+#include "canopy/common/error.h"
+#include "canopy/common/log.h"
+#include "canopy/common/units.h"
+#include "figures/figures.h"
+
+using namespace canopy;
+
+namespace {
+
+CLI::Option* length(CLI::App* app, const std::string& flags, double* metres, const std::string& help) {
+  auto* opt = app->add_option_function<std::string>(
+      flags, [metres](const std::string& t) { *metres = common::parse_length(t); },
+      help + " (length: 10m, 400cm; bare = m)");
+  return opt->default_str(common::format_length(*metres))->type_name("LENGTH");
+}
+
+void check_size(int w, int h) {
+  if (w < 16 || h < 16 || w > 8192 || h > 8192) {
+    throw common::UsageError("--width/--height must be within [16, 8192] pixels");
+  }
+}
+
+bool exists(const std::string& path) {
+  struct stat st {};
+  return stat(path.c_str(), &st) == 0;
+}
+
+std::string size_text(const figures::Image& im) {
+  return std::to_string(im.width) + "x" + std::to_string(im.height);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  common::Tool tool("figures", "Renders the experiment's figures to PNG with VTK: a segmentation "
+                               "mesh (mesh), a labelled grid of PNGs (grid), scores against noise "
+                               "(plot). mesh and plot need an X display (use xvfb-run -a).");
+  CLI::App& app = tool.app();
+  app.require_subcommand(1);
+  app.fallthrough();  // -q, -v, --config also after the subcommand
+
+  figures::MeshView mv;
+  std::string mesh_in, mesh_out, framing = "box";
+  CLI::App* mesh = app.add_subcommand("mesh", "render a coloured segmentation PLY (ncut --colored)");
+  mesh->add_option("-i,--input", mesh_in, "mesh PLY (x y z, [red green blue], faces)")->required();
+  mesh->add_option("-o,--output", mesh_out, "PNG to write")->required();
+  mesh->add_option("--width", mv.width, "image width in pixels")->capture_default_str();
+  mesh->add_option("--height", mv.height, "image height in pixels")->capture_default_str();
+  mesh->add_option("--elevation", mv.elevation_deg, "camera elevation above the ground (deg)")
+      ->capture_default_str();
+  mesh->add_option("--azimuth", mv.azimuth_deg, "camera azimuth from +x (front) toward +y (left), deg")
+      ->capture_default_str();
+  mesh->add_option("--framing", framing, "'box': fixed box (same camera for every mesh); "
+                                         "'bounds': the mesh's bounding box")
+      ->capture_default_str();
+  length(mesh, "--box-length", &mv.box[0], "fixed box along x, centred on the origin");
+  length(mesh, "--box-width", &mv.box[1], "fixed box along y, centred on the origin");
+  length(mesh, "--box-height", &mv.box[2], "fixed box along z, from the ground z = 0");
+
+  figures::GridParams gp;
+  std::string grid_out, row_labels, col_labels;
+  std::vector<std::string> cells;
+  CLI::App* grid = app.add_subcommand("grid", "tile PNGs row by row into a labelled grid; a cell "
+                                              "given as '-' or as a missing file is drawn 'failed'");
+  grid->add_option("-o,--output", grid_out, "PNG to write")->required();
+  grid->add_option("--cols", gp.cols, "cells per row")->required();
+  grid->add_option("--labels-row", row_labels, "comma-separated row labels (one per row)");
+  grid->add_option("--labels-col", col_labels, "comma-separated column labels (one per column)");
+  grid->add_option("--title", gp.title, "title line above the grid");
+  grid->add_option("--font-size", gp.font_size, "label size in pixels")->capture_default_str();
+  grid->add_option("--gap", gp.gap, "pixels between cells")->capture_default_str();
+  grid->add_option("cells", cells, "PNG files, row by row ('-' = failed cell)")->required();
+
+  figures::PlotParams pp;
+  std::string plot_in, plot_out;
+  CLI::App* plot = app.add_subcommand("plot", "plot the correct model's score against noise, one "
+                                              "panel per scene, one line per object");
+  plot->add_option("-i,--input", plot_in, "scores CSV (object,scene,noise_mm,score,rank,entropy)")
+      ->required();
+  plot->add_option("-o,--output", plot_out, "PNG to write")->required();
+  plot->add_option("--width", pp.width, "image width in pixels")->capture_default_str();
+  plot->add_option("--height", pp.height, "image height in pixels")->capture_default_str();
+
+  return tool.run(argc, argv, [&] {
+    if (mesh->parsed()) {
+      check_size(mv.width, mv.height);
+      if (!(mv.elevation_deg > -90 && mv.elevation_deg < 90)) {
+        throw common::UsageError("--elevation must be within (-90, 90) degrees");
+      }
+      if (framing != "box" && framing != "bounds") throw common::UsageError("--framing: 'box' or 'bounds'");
+      if (!(mv.box[0] > 0 && mv.box[1] > 0 && mv.box[2] > 0)) {
+        throw common::UsageError("--box-length/--box-width/--box-height must be positive");
+      }
+      mv.framing = framing == "box" ? figures::Framing::kBox : figures::Framing::kBounds;
+      common::log::Phase read("read");
+      const formats::Mesh m = formats::read_ply(mesh_in);
+      read.done(std::to_string(m.vertices.size()) + " vertices, " + std::to_string(m.faces.size()) + " faces");
+      common::log::Phase render("render");
+      const figures::Image image = figures::render_mesh(m, mv, common::display_name(mesh_in));
+      figures::write_png(image, mesh_out);
+      render.done("wrote " + size_text(image) + " " + common::display_name(mesh_out, true));
+    } else if (grid->parsed()) {
+      if (gp.cols < 1) throw common::UsageError("--cols must be at least 1");
+      if (gp.font_size < 4 || gp.font_size > 200) throw common::UsageError("--font-size: 4..200");
+      if (gp.gap < 0 || gp.gap > 1000) throw common::UsageError("--gap: 0..1000");
+      auto split = [](const std::string& s) {
+        std::vector<std::string> out;
+        if (s.empty()) return out;
+        std::size_t start = 0;
+        for (;;) {
+          const std::size_t comma = s.find(',', start);
+          out.push_back(s.substr(start, comma - start));
+          if (comma == std::string::npos) break;
+          start = comma + 1;
+        }
+        return out;
+      };
+      gp.row_labels = split(row_labels);
+      gp.col_labels = split(col_labels);
+      common::log::Phase phase("grid");
+      std::vector<std::optional<figures::Image>> images;
+      int failed = 0;
+      for (const auto& path : cells) {
+        if (path == "-" || !exists(path)) {
+          if (path != "-") common::log::warn(path + ": missing; drawn as a failed cell");
+          images.emplace_back(std::nullopt);
+          ++failed;
+        } else {
+          images.emplace_back(figures::read_png(path));
+        }
+      }
+      const figures::Image image = figures::tile_grid(images, gp);
+      figures::write_png(image, grid_out);
+      phase.done("wrote " + size_text(image) + " " + common::display_name(grid_out, true) + ": " +
+                 std::to_string(cells.size()) + " cells, " + std::to_string(failed) + " failed");
+    } else if (plot->parsed()) {
+      check_size(pp.width, pp.height);
+      common::log::Phase phase("plot");
+      const auto rows = figures::parse_scores_csv(common::read_file(plot_in), common::display_name(plot_in));
+      const figures::Image image = figures::plot_scores(rows, pp, common::display_name(plot_in));
+      figures::write_png(image, plot_out);
+      phase.done("wrote " + size_text(image) + " " + common::display_name(plot_out, true) + " from " +
+                 std::to_string(rows.size()) + " rows");
+    }
+  });
+}

@@ -1,0 +1,256 @@
+// parse_scores_csv and plot_scores (vtkChartMatrix of vtkChartXY, one chart per scene).
+#include <vtkAxis.h>
+#include <vtkChart.h>
+#include <vtkChartLegend.h>
+#include <vtkChartMatrix.h>
+#include <vtkChartXY.h>
+#include <vtkContextScene.h>
+#include <vtkContextView.h>
+#include <vtkDoubleArray.h>
+#include <vtkFloatArray.h>
+#include <vtkNew.h>
+#include <vtkPen.h>
+#include <vtkPlot.h>
+#include <vtkPlotPoints.h>
+#include <vtkRenderWindow.h>
+#include <vtkRenderer.h>
+#include <vtkStringArray.h>
+#include <vtkTable.h>
+#include <vtkTextProperty.h>
+#include <vtkVector.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <map>
+#include <sstream>
+
+#include "canopy/common/error.h"
+#include "figures/figures.h"
+#include "figures/vtk_image.h"
+
+namespace canopy::figures {
+namespace {
+
+std::string trim(const std::string& s) {
+  std::size_t b = 0, e = s.size();
+  while (b < e && (s[b] == ' ' || s[b] == '\t' || s[b] == '\r')) ++b;
+  while (e > b && (s[e - 1] == ' ' || s[e - 1] == '\t' || s[e - 1] == '\r')) --e;
+  std::string t = s.substr(b, e - b);
+  if (t.size() >= 2 && t.front() == '"' && t.back() == '"') t = t.substr(1, t.size() - 2);
+  return t;
+}
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> out;
+  std::string field;
+  bool quoted = false;
+  for (char c : line) {
+    if (c == '"') quoted = !quoted;
+    if (c == ',' && !quoted) {
+      out.push_back(trim(field));
+      field.clear();
+    } else {
+      field += c;
+    }
+  }
+  out.push_back(trim(field));
+  return out;
+}
+
+bool missing(const std::string& s) {
+  std::string l = s;
+  std::transform(l.begin(), l.end(), l.begin(), [](unsigned char c) { return std::tolower(c); });
+  return l.empty() || l == "nan" || l == "na" || l == "-";
+}
+
+double number(const std::string& s, const std::string& name, int line, const std::string& column) {
+  if (missing(s)) return std::numeric_limits<double>::quiet_NaN();
+  std::size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(s, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != s.size()) {
+    throw common::DataError(name, "line " + std::to_string(line) + ": " + column + " '" + s +
+                                      "' is not a number");
+  }
+  return v;
+}
+
+// A distinct colour per object (ColorBrewer Dark2, then Set1).
+const unsigned char kPalette[][3] = {{27, 158, 119}, {217, 95, 2},  {117, 112, 179}, {231, 41, 138},
+                                     {102, 166, 30}, {230, 171, 2}, {166, 118, 29},  {102, 102, 102},
+                                     {228, 26, 28},  {55, 126, 184}};
+
+}  // namespace
+
+std::vector<ScoreRow> parse_scores_csv(const std::string& text, const std::string& name) {
+  std::istringstream in(text);
+  std::string line;
+  int number_of_line = 0;
+  std::map<std::string, std::size_t> column;
+  std::vector<ScoreRow> rows;
+  while (std::getline(in, line)) {
+    ++number_of_line;
+    if (trim(line).empty() || trim(line)[0] == '#') continue;
+    const auto fields = split(line);
+    if (column.empty()) {
+      for (std::size_t i = 0; i < fields.size(); ++i) column.emplace(fields[i], i);
+      for (const char* need : {"object", "scene", "noise_mm", "score"}) {
+        if (!column.count(need)) {
+          throw common::DataError(name, std::string("header lacks the column '") + need +
+                                            "' (want object,scene,noise_mm,score,rank,entropy)");
+        }
+      }
+      continue;
+    }
+    auto get = [&](const char* key) -> std::string {
+      const auto it = column.find(key);
+      if (it == column.end()) return "";
+      if (it->second >= fields.size()) {
+        throw common::DataError(name, "line " + std::to_string(number_of_line) + ": " +
+                                          std::to_string(fields.size()) + " fields, no '" + key + "'");
+      }
+      return fields[it->second];
+    };
+    ScoreRow r;
+    r.object = get("object");
+    r.scene = get("scene");
+    if (r.object.empty() || r.scene.empty()) {
+      throw common::DataError(name, "line " + std::to_string(number_of_line) + ": empty object or scene");
+    }
+    r.noise_mm = number(get("noise_mm"), name, number_of_line, "noise_mm");
+    if (!std::isfinite(r.noise_mm)) {
+      throw common::DataError(name, "line " + std::to_string(number_of_line) + ": noise_mm missing");
+    }
+    r.score = number(get("score"), name, number_of_line, "score");
+    const double rank = number(get("rank"), name, number_of_line, "rank");
+    r.rank = std::isfinite(rank) ? static_cast<int>(std::lround(rank)) : 0;
+    r.entropy = number(get("entropy"), name, number_of_line, "entropy");
+    rows.push_back(r);
+  }
+  if (column.empty()) throw common::DataError(name, "empty file: no header line");
+  return rows;
+}
+
+Image plot_scores(const std::vector<ScoreRow>& rows, const PlotParams& params, const std::string& name) {
+  // Axes of the figure, in order of first appearance (noise levels sorted).
+  std::vector<std::string> scenes, objects;
+  std::vector<double> levels;
+  double top = 1, bottom = 0;
+  bool any = false;
+  for (const auto& r : rows) {
+    if (!std::isfinite(r.score)) continue;
+    any = true;
+    if (std::find(scenes.begin(), scenes.end(), r.scene) == scenes.end()) scenes.push_back(r.scene);
+    if (std::find(objects.begin(), objects.end(), r.object) == objects.end()) objects.push_back(r.object);
+    if (std::find(levels.begin(), levels.end(), r.noise_mm) == levels.end()) levels.push_back(r.noise_mm);
+    top = std::max(top, r.score);
+    bottom = std::min(bottom, r.score);
+  }
+  if (!any) throw common::DataError(name, "no row has a score: nothing to plot");
+  std::sort(levels.begin(), levels.end());
+  require_display();
+
+  vtkNew<vtkContextView> view;
+  view->GetRenderWindow()->SetOffScreenRendering(1);
+  view->GetRenderWindow()->SetMultiSamples(0);
+  view->GetRenderWindow()->SetSize(params.width, params.height);
+  view->GetRenderer()->SetBackground(1, 1, 1);
+  vtkNew<vtkChartMatrix> matrix;
+  matrix->SetSize(vtkVector2i(static_cast<int>(scenes.size()), 1));
+  matrix->SetGutter(vtkVector2f(30, 30));
+  matrix->SetBorders(40, 40, 20, 20);
+  view->GetScene()->AddItem(matrix);
+
+  vtkNew<vtkDoubleArray> ticks;
+  vtkNew<vtkStringArray> tick_labels;
+  for (std::size_t i = 0; i < levels.size(); ++i) {
+    ticks->InsertNextValue(static_cast<double>(i));
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", levels[i]);
+    tick_labels->InsertNextValue(buf);
+  }
+  auto position = [&](double noise) {
+    return static_cast<float>(std::find(levels.begin(), levels.end(), noise) - levels.begin());
+  };
+
+  for (std::size_t s = 0; s < scenes.size(); ++s) {
+    auto* chart = vtkChartXY::SafeDownCast(matrix->GetChart(vtkVector2i(static_cast<int>(s), 0)));
+    if (chart == nullptr) throw common::Error("VTK chart matrix did not create an XY chart");
+    chart->SetTitle("scene: " + scenes[s]);
+    chart->GetTitleProperties()->SetFontSize(16);
+    chart->GetTitleProperties()->SetBold(true);
+    vtkAxis* x = chart->GetAxis(vtkAxis::BOTTOM);
+    x->SetTitle("noise (mm)");
+    x->SetBehavior(vtkAxis::FIXED);
+    x->SetRange(-0.25, static_cast<double>(levels.size()) - 0.75);
+    x->SetCustomTickPositions(ticks, tick_labels);
+    x->SetGridVisible(false);
+    vtkAxis* y = chart->GetAxis(vtkAxis::LEFT);
+    y->SetTitle("score of the correct model");
+    y->SetBehavior(vtkAxis::FIXED);
+    y->SetRange(bottom, top * 1.02);
+    vtkNew<vtkTable> failures_table;
+    vtkNew<vtkFloatArray> fx, fy;
+    fx->SetName("noise");
+    fy->SetName("rank > 1");
+    failures_table->AddColumn(fx);
+    failures_table->AddColumn(fy);
+    for (std::size_t o = 0; o < objects.size(); ++o) {
+      std::vector<std::pair<float, float>> points;
+      for (const auto& r : rows) {
+        if (r.scene != scenes[s] || r.object != objects[o] || !std::isfinite(r.score)) continue;
+        points.emplace_back(position(r.noise_mm), static_cast<float>(r.score));
+        if (r.rank > 1) {
+          fx->InsertNextValue(points.back().first);
+          fy->InsertNextValue(points.back().second);
+        }
+      }
+      if (points.empty()) continue;
+      std::stable_sort(points.begin(), points.end(),
+                       [](const auto& a, const auto& b) { return a.first < b.first; });
+      vtkNew<vtkTable> table;
+      vtkNew<vtkFloatArray> px, py;
+      px->SetName("noise");
+      py->SetName(objects[o].c_str());
+      table->AddColumn(px);
+      table->AddColumn(py);
+      table->SetNumberOfRows(static_cast<vtkIdType>(points.size()));
+      for (std::size_t i = 0; i < points.size(); ++i) {
+        table->SetValue(static_cast<vtkIdType>(i), 0, points[i].first);
+        table->SetValue(static_cast<vtkIdType>(i), 1, points[i].second);
+      }
+      vtkPlot* line = chart->AddPlot(vtkChart::LINE);
+      line->SetInputData(table, 0, 1);
+      const auto& c = kPalette[o % (sizeof kPalette / sizeof kPalette[0])];
+      line->SetColor(c[0], c[1], c[2], 255);
+      line->SetWidth(2.5);
+      line->SetLabel(objects[o]);
+      if (auto* pp = vtkPlotPoints::SafeDownCast(line)) {
+        pp->SetMarkerStyle(vtkPlotPoints::CIRCLE);
+        pp->SetMarkerSize(7);
+      }
+    }
+    if (fx->GetNumberOfTuples() > 0) {
+      vtkPlot* marks = chart->AddPlot(vtkChart::POINTS);
+      marks->SetInputData(failures_table, 0, 1);
+      marks->SetColor(0, 0, 0, 255);
+      marks->SetLabel("not rank 1");
+      if (auto* pp = vtkPlotPoints::SafeDownCast(marks)) {
+        pp->SetMarkerStyle(vtkPlotPoints::CROSS);
+        pp->SetMarkerSize(14);
+      }
+    }
+    chart->SetShowLegend(true);
+    chart->GetLegend()->SetHorizontalAlignment(vtkChartLegend::RIGHT);
+    chart->GetLegend()->SetVerticalAlignment(vtkChartLegend::TOP);
+  }
+  return detail::capture(view->GetRenderWindow(), name);
+}
+
+}  // namespace canopy::figures
