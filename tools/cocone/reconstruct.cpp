@@ -2,9 +2,8 @@
 //
 // CGAL is used for three things only: the Delaunay triangulation, the circumcentres and the
 // orientation predicate. Right after the triangulation is built, its cells are copied into
-// flat arrays indexed by a canonical cell id (cells sorted by their vertex ids), so that
-// every later step is independent of CGAL's internal storage order: same samples, same
-// output bytes.
+// flat arrays indexed by cell id; vertex ids follow the lexicographic order of the points, so
+// the result does not depend on the order of the input rows: same samples, same output bytes.
 //
 // Steps (shared spec ALGORITHMS.md §A): poles -> cocone test per Delaunay facet (closed-form
 // polar-cone test) -> Dey–Giesen flatness (co-polygon width vs negative-pole height, normal
@@ -72,40 +71,19 @@ struct Facet {
 
 V3 to_v3(const Point& p) { return V3(p.x(), p.y(), p.z()); }
 
-double cosine(const V3& a, const V3& b) {
-  const double n = a.norm() * b.norm();
-  return n > 0 ? a.dot(b) / n : 0.0;
-}
-
 Flat build_flat(const Delaunay& dt, std::vector<Delaunay::Cell_handle>& handles) {
-  // Canonical order: cells sorted by their sorted vertex ids (infinite last).
-  struct Key {
-    std::array<int, 4> ids;
-    Delaunay::Cell_handle h;
-  };
-  std::vector<Key> keys;
-  keys.reserve(dt.number_of_cells() + 64);
-  for (auto c = dt.all_cells_begin(); c != dt.all_cells_end(); ++c) {
-    Key key;
-    for (int k = 0; k < 4; ++k) {
-      const auto v = c->vertex(k);
-      key.ids[k] = dt.is_infinite(v) ? std::numeric_limits<int>::max() : v->info();
-    }
-    std::sort(key.ids.begin(), key.ids.end());
-    key.h = c;
-    keys.push_back(key);
-  }
-  std::sort(keys.begin(), keys.end(), [](const Key& a, const Key& b) { return a.ids < b.ids; });
+  // Cell ids follow CGAL's iteration order. That order is a deterministic function of the
+  // insertion sequence (vertex ids are in lexicographic point order and CGAL's spatial sort
+  // seeds its own generator on every call), so ids do not depend on the input row order.
+  handles.clear();
+  handles.reserve(dt.number_of_cells() + 64);
+  for (auto c = dt.all_cells_begin(); c != dt.all_cells_end(); ++c) handles.push_back(c);
   Flat f;
-  f.cells = static_cast<int>(keys.size());
-  handles.resize(keys.size());
-  for (int c = 0; c < f.cells; ++c) {
-    keys[c].h->info() = c;
-    handles[c] = keys[c].h;
-  }
-  f.cv.resize(4 * keys.size());
-  f.nbr.resize(4 * keys.size());
-  f.nbri.resize(4 * keys.size());
+  f.cells = static_cast<int>(handles.size());
+  for (int c = 0; c < f.cells; ++c) handles[c]->info() = c;
+  f.cv.resize(4 * handles.size());
+  f.nbr.resize(4 * handles.size());
+  f.nbri.resize(4 * handles.size());
   for (int c = 0; c < f.cells; ++c) {
     const auto h = handles[c];
     for (int k = 0; k < 4; ++k) {
@@ -235,8 +213,10 @@ void Reconstructor::triangulate() {
   if (dt.number_of_vertices() != p_.size()) {
     throw common::Error("internal: Delaunay merged distinct samples");
   }
+  const double t_dt = phase.seconds();
   std::vector<Delaunay::Cell_handle> handles;
   t_ = build_flat(dt, handles);
+  const double t_flat = phase.seconds();
 
   // Voronoi vertices: robust circumcentres (exact fallback when the double formula is unsafe).
   CGAL::Robust_circumcenter_filtered_traits_3<K> traits;
@@ -255,6 +235,8 @@ void Reconstructor::triangulate() {
     cc_[c] = x;
   }
   st_.cells = finite;
+  common::log::debug("delaunay " + std::to_string(t_dt) + " s, index " + std::to_string(t_flat - t_dt) +
+                     " s, circumcentres " + std::to_string(phase.seconds() - t_flat) + " s");
   phase.done(std::to_string(p_.size()) + " samples, " + std::to_string(finite) + " tetrahedra" +
              (st_.duplicates ? ", " + std::to_string(st_.duplicates) + " duplicate rows merged" : ""));
 }
@@ -334,7 +316,8 @@ void Reconstructor::cocone_tests() {
       facets_.push_back(f);
     }
   }
-  const double tau = std::sin(prm_.cocone_angle);
+  const double tau = std::sin(prm_.cocone_angle);  // cos(pi/2 - theta)
+  const double tau2 = tau * tau;
   const double inf = std::numeric_limits<double>::infinity();
   meets_.assign(facets_.size(), 0);
   width2_.assign(p_.size(), 0.0);
@@ -360,31 +343,32 @@ void Reconstructor::cocone_tests() {
       const int v = f.v[s];
       const V3& nv = axis_[v];
       const V3 q = a - p_[v];
-      const double ca = cosine(q, nv);
-      const double cb = ray ? cosine(d, nv) : cosine(b - p_[v], nv);
-      const bool miss = (ca > tau && cb > tau) || (ca < -tau && cb < -tau);
-      if (!miss) meets_[fi] |= static_cast<std::uint8_t>(1u << s);
+      const V3 r = ray ? d : V3(b - p_[v]);
+      const double qn = q.dot(nv), rn = r.dot(nv);
+      // Side of the cocone band (+1 upper polar cone, -1 lower, 0 inside), without a sqrt:
+      // |cos| > tau  <=>  (x·n)^2 > tau^2 |x|^2.
+      auto side = [tau2](double xn, const V3& x) {
+        if (xn * xn <= tau2 * x.squaredNorm()) return 0;
+        return xn > 0 ? 1 : -1;
+      };
+      const int sa = side(qn, q), sb = side(rn, r);
+      if (!(sa != 0 && sa == sb)) meets_[fi] |= static_cast<std::uint8_t>(1u << s);
+      if (!prm_.boundary_detection) continue;
       // Co-polygon width: farthest crossing of V_p's edges with the plane through p normal to
       // the pole axis; a ray running inside the cocone band makes the cocone unbounded.
-      const double qn = q.dot(nv);
       double w2 = -1.0;
       if (ray) {
-        const double dn = d.dot(nv);
-        if (std::abs(cb) <= tau) {
+        if (sb == 0) {
           w2 = inf;
-        } else if (dn != 0 && -qn / dn >= 0) {
-          w2 = (q + (-qn / dn) * d).squaredNorm();
+        } else if (rn != 0 && -qn / rn >= 0) {
+          w2 = (q + (-qn / rn) * d).squaredNorm();
         }
-      } else {
-        const V3 r = b - p_[v];
-        const double rn = r.dot(nv);
-        if ((qn <= 0 && rn >= 0) || (qn >= 0 && rn <= 0)) {
-          if (qn == rn) {
-            w2 = std::max(q.squaredNorm(), r.squaredNorm());
-          } else {
-            const double t = qn / (qn - rn);
-            w2 = (q + t * (r - q)).squaredNorm();
-          }
+      } else if ((qn <= 0 && rn >= 0) || (qn >= 0 && rn <= 0)) {
+        if (qn == rn) {
+          w2 = std::max(q.squaredNorm(), r.squaredNorm());
+        } else {
+          const double t = qn / (qn - rn);
+          w2 = (q + t * (r - q)).squaredNorm();
         }
       }
       width2_[v] = std::max(width2_[v], w2);
@@ -754,49 +738,47 @@ Surface Reconstructor::finish() {
   }
   const std::size_t nf = faces.size();
   std::vector<std::uint8_t> drop(nf, 0);
-  // Undirected edge table (a < b, face), sorted.
+  // Undirected edge table (a < b, face), sorted once; groups = edges.
   std::vector<std::array<int, 3>> es;
-  auto build_edges = [&] {
-    es.clear();
-    for (std::size_t t = 0; t < nf; ++t) {
-      if (drop[t]) continue;
-      for (int s = 0; s < 3; ++s) {
-        int a = faces[t][s], b = faces[t][(s + 1) % 3];
-        if (a > b) std::swap(a, b);
-        es.push_back({a, b, static_cast<int>(t)});
-      }
+  es.reserve(3 * nf);
+  for (std::size_t t = 0; t < nf; ++t) {
+    for (int s = 0; s < 3; ++s) {
+      int a = faces[t][s], b = faces[t][(s + 1) % 3];
+      if (a > b) std::swap(a, b);
+      es.push_back({a, b, static_cast<int>(t)});
     }
-    std::sort(es.begin(), es.end());
-  };
+  }
+  std::sort(es.begin(), es.end());
+  std::vector<std::size_t> group(1, 0);
+  for (std::size_t k = 1; k <= es.size(); ++k) {
+    if (k == es.size() || es[k][0] != es[k - 1][0] || es[k][1] != es[k - 1][1]) group.push_back(k);
+  }
   // Keep every edge at <= 2 triangles (the first accepted win).
-  build_edges();
   std::size_t nonmanifold = 0;
-  for (std::size_t k = 0; k < es.size();) {
-    std::size_t m = k;
-    while (m < es.size() && es[m][0] == es[k][0] && es[m][1] == es[k][1]) ++m;
-    for (std::size_t q = k; q < m; ++q) {
-      if (q < k + 2) continue;
+  for (std::size_t g = 0; g + 1 < group.size(); ++g) {
+    for (std::size_t q = group[g]; q < group[g + 1]; ++q) {
+      if (q < group[g] + 2) continue;
       const int t = es[q][2];
       if (!drop[t]) ++nonmanifold;
       drop[t] = 1;
     }
-    k = m;
   }
   // Consistent orientation by breadth-first propagation across 2-triangle edges. The walk
   // orients almost everything already; where it met a triangle from its back side (noisy,
   // non-manifold candidate sets) the triangle is flipped here, and a triangle that cannot be
   // made consistent (non-orientable pocket) is dropped.
-  build_edges();
   std::vector<std::array<int, 3>> adj(nf, {-1, -1, -1});  // neighbour across edge (s, s+1)
-  for (std::size_t k = 0; k + 1 < es.size(); ++k) {
-    if (es[k][0] != es[k + 1][0] || es[k][1] != es[k + 1][1]) continue;
-    if (k + 2 < es.size() && es[k + 2][0] == es[k][0] && es[k + 2][1] == es[k][1]) continue;
-    const int t1 = es[k][2], t2 = es[k + 1][2];
+  for (std::size_t g = 0; g + 1 < group.size(); ++g) {
+    int live[2], m = 0;
+    for (std::size_t q = group[g]; q < group[g + 1]; ++q)
+      if (!drop[es[q][2]] && m < 2) live[m++] = es[q][2];
+    if (m != 2) continue;
+    const int t1 = live[0], t2 = live[1];
     for (int s = 0; s < 3; ++s) {
       const int a = faces[t1][s], b = faces[t1][(s + 1) % 3];
-      if (std::min(a, b) == es[k][0] && std::max(a, b) == es[k][1]) adj[t1][s] = t2;
+      if (std::min(a, b) == es[group[g]][0] && std::max(a, b) == es[group[g]][1]) adj[t1][s] = t2;
       const int c = faces[t2][s], d = faces[t2][(s + 1) % 3];
-      if (std::min(c, d) == es[k][0] && std::max(c, d) == es[k][1]) adj[t2][s] = t1;
+      if (std::min(c, d) == es[group[g]][0] && std::max(c, d) == es[group[g]][1]) adj[t2][s] = t1;
     }
   }
   auto has_directed = [&](int t, int a, int b) {
@@ -804,15 +786,14 @@ Surface Reconstructor::finish() {
       if (faces[t][s] == a && faces[t][(s + 1) % 3] == b) return true;
     return false;
   };
-  std::vector<int> comp(nf, -1), visit_rank(nf, -1);
+  std::vector<int> comp(nf, -1);
   std::size_t flipped_faces = 0, conflicts = 0;
-  int ncomp = 0, rank = 0;
+  int ncomp = 0;
   std::vector<int> queue;
   for (std::size_t t0 = 0; t0 < nf; ++t0) {
     if (drop[t0] || comp[t0] >= 0) continue;
     queue.assign(1, static_cast<int>(t0));
     comp[t0] = ncomp;
-    visit_rank[t0] = rank++;
     for (std::size_t head = 0; head < queue.size(); ++head) {
       const int t = queue[head];
       if (drop[t]) continue;
@@ -828,7 +809,6 @@ Surface Reconstructor::finish() {
             ++flipped_faces;
           }
           comp[h] = ncomp;
-          visit_rank[h] = rank++;
           queue.push_back(h);
         } else if (!consistent) {
           drop[h] = 1;  // h was oriented earlier from another side: non-orientable here
@@ -876,13 +856,11 @@ Surface Reconstructor::finish() {
     out.faces.push_back(f);
   }
   out.stats.nonmanifold_dropped = nonmanifold + conflicts;
-  build_edges();
   std::size_t boundary = 0;
-  for (std::size_t k = 0; k < es.size();) {
-    std::size_t m = k;
-    while (m < es.size() && es[m][0] == es[k][0] && es[m][1] == es[k][1]) ++m;
-    boundary += (m - k) == 1;
-    k = m;
+  for (std::size_t g = 0; g + 1 < group.size(); ++g) {
+    int live = 0;
+    for (std::size_t q = group[g]; q < group[g + 1]; ++q) live += !drop[es[q][2]];
+    boundary += live == 1;
   }
   out.stats.boundary_edges = boundary;
   out.stats.faces = out.faces.size();
