@@ -25,8 +25,15 @@ double split_number(const std::string& text, std::string* suffix, const char* wh
   return v;
 }
 
+// Shortest plain decimal (no exponent) that reads back exactly; %g only for extreme values.
 std::string shortest(double v) {
   char buf[64];
+  if (std::fabs(v) < 1e12) {
+    for (int decimals = 0; decimals <= 12; ++decimals) {
+      std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+      if (std::strtod(buf, nullptr) == v) return buf;
+    }
+  }
   for (int prec = 1; prec <= 17; ++prec) {
     std::snprintf(buf, sizeof buf, "%.*g", prec, v);
     if (std::strtod(buf, nullptr) == v) break;

@@ -60,6 +60,9 @@ TEST_CASE("angles parse with units, bare numbers are degrees") {
 TEST_CASE("formatted quantities parse back to the same value") {
   for (double v : {0.128, 0.008, 2.0, 0.512, 12.2}) CHECK(parse_length(format_length(v)) == v);
   CHECK(format_length(0.128) == "128mm");
+  CHECK(format_length(10.0) == "10m");
+  CHECK(format_length(0.03) == "30mm");
+  CHECK(format_length(12.2) == "12.2m");
   CHECK(parse_angle(format_angle(kPi / 8)) == Approx(kPi / 8).epsilon(1e-15));
 }
 
