@@ -66,10 +66,15 @@ struct GridParams {
   std::string title;                    // optional line above the grid
   int gap = 4;                          // pixels between cells
   int font_size = 18;                   // label text size (points at 72 dpi = pixels)
+  // Crop every tile to the union, over all present tiles, of the boxes holding pixels that
+  // differ from the tile's top-left (background) pixel, plus `margin` pixels. One crop for
+  // all tiles keeps the common camera of mesh renders comparable across cells.
+  bool trim = true;
+  int margin = 8;
 };
 
-// Tiles cells row by row. Every cell has the size of the first present image (a differently
-// sized tile is centred and clipped or padded); std::nullopt is drawn as a light grey cell
+// Tiles cells row by row. Every cell has the size of the first present image after trimming
+// (a differently sized tile is centred and clipped or padded); std::nullopt is drawn as a light grey cell
 // marked "failed". Throws UsageError for a label count that does not match, Error when no
 // cell is present.
 Image tile_grid(const std::vector<std::optional<Image>>& cells, const GridParams& params);

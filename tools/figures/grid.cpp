@@ -90,6 +90,38 @@ void blit(Image& image, const Image& tile, int x0, int y0, int w, int h) {
   }
 }
 
+// Union over the present tiles of the boxes of non-background pixels: {x0, y0, x1, y1}
+// (inclusive), in the coordinates of a tile of the first tile's size; nullopt when every
+// tile is plain background.
+std::optional<std::array<int, 4>> content_box(const std::vector<std::optional<Image>>& cells) {
+  std::optional<std::array<int, 4>> box;
+  for (const auto& cell : cells) {
+    if (!cell) continue;
+    const std::uint8_t* bg = cell->at(0, 0);
+    for (int y = 0; y < cell->height; ++y) {
+      for (int x = 0; x < cell->width; ++x) {
+        const std::uint8_t* p = cell->at(x, y);
+        if (p[0] == bg[0] && p[1] == bg[1] && p[2] == bg[2]) continue;
+        if (!box) box = std::array<int, 4>{x, y, x, y};
+        auto& b = *box;
+        b[0] = std::min(b[0], x), b[1] = std::min(b[1], y), b[2] = std::max(b[2], x), b[3] = std::max(b[3], y);
+      }
+    }
+  }
+  return box;
+}
+
+Image crop(const Image& image, int x0, int y0, int w, int h) {
+  Image out(w, h, {image.at(0, 0)[0], image.at(0, 0)[1], image.at(0, 0)[2]});
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      if (x0 + x < 0 || y0 + y < 0 || x0 + x >= image.width || y0 + y >= image.height) continue;
+      std::copy(image.at(x0 + x, y0 + y), image.at(x0 + x, y0 + y) + 3, out.at(x, y));
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 Image tile_grid(const std::vector<std::optional<Image>>& cells, const GridParams& params) {
@@ -108,7 +140,24 @@ Image tile_grid(const std::vector<std::optional<Image>>& cells, const GridParams
   }
   const auto first = std::find_if(cells.begin(), cells.end(), [](const auto& c) { return c.has_value(); });
   if (first == cells.end()) throw common::Error("every cell is missing: no image to tile");
-  const int cw = (*first)->width, ch = (*first)->height;
+  int cw = (*first)->width, ch = (*first)->height;
+  std::vector<std::optional<Image>> trimmed;
+  if (params.trim) {
+    if (const auto box = content_box(cells)) {
+      const int m = std::max(0, params.margin);
+      const int x0 = std::max(0, (*box)[0] - m), y0 = std::max(0, (*box)[1] - m);
+      const int x1 = std::min(cw - 1, (*box)[2] + m), y1 = std::min(ch - 1, (*box)[3] + m);
+      for (const auto& cell : cells) {
+        trimmed.push_back(cell ? std::optional<Image>(crop(*cell, x0 + (cell->width - cw) / 2,
+                                                           y0 + (cell->height - ch) / 2,
+                                                           x1 - x0 + 1, y1 - y0 + 1))
+                               : std::nullopt);
+      }
+      cw = x1 - x0 + 1;
+      ch = y1 - y0 + 1;
+    }
+  }
+  const auto& tiles = trimmed.empty() ? cells : trimmed;
   const int gap = std::max(0, params.gap), pad = std::max(4, params.font_size / 2);
 
   std::vector<Text> row_text, col_text;
@@ -139,8 +188,8 @@ Image tile_grid(const std::vector<std::optional<Image>>& cells, const GridParams
   for (std::size_t i = 0; i < cells.size(); ++i) {
     const int r = static_cast<int>(i) / cols, c = static_cast<int>(i) % cols;
     const int x0 = left + gap + c * (cw + gap), y0 = top + gap + r * (ch + gap);
-    if (cells[i]) {
-      blit(out, *cells[i], x0, y0, cw, ch);
+    if (tiles[i]) {
+      blit(out, *tiles[i], x0, y0, cw, ch);
     } else {
       fill(out, x0, y0, cw, ch, {232, 232, 232});
       draw(out, failed, x0 + (cw - failed.width) / 2, y0 + (ch - failed.height) / 2);

@@ -81,6 +81,9 @@ int main(int argc, char** argv) {
   grid->add_option("--title", gp.title, "title line above the grid");
   grid->add_option("--font-size", gp.font_size, "label size in pixels")->capture_default_str();
   grid->add_option("--gap", gp.gap, "pixels between cells")->capture_default_str();
+  grid->add_flag("--trim,!--no-trim", gp.trim,
+                 "crop all tiles alike to the union of their non-background areas (default on)");
+  grid->add_option("--margin", gp.margin, "pixels kept around the trimmed content")->capture_default_str();
   grid->add_option("cells", cells, "PNG files, row by row ('-' = failed cell)")->required();
 
   figures::PlotParams pp;
@@ -115,6 +118,7 @@ int main(int argc, char** argv) {
       if (gp.cols < 1) throw common::UsageError("--cols must be at least 1");
       if (gp.font_size < 4 || gp.font_size > 200) throw common::UsageError("--font-size: 4..200");
       if (gp.gap < 0 || gp.gap > 1000) throw common::UsageError("--gap: 0..1000");
+      if (gp.margin < 0 || gp.margin > 1000) throw common::UsageError("--margin: 0..1000");
       auto split = [](const std::string& s) {
         std::vector<std::string> out;
         if (s.empty()) return out;

@@ -5,7 +5,7 @@
 #include <vtkChartMatrix.h>
 #include <vtkChartXY.h>
 #include <vtkContextScene.h>
-#include <vtkContextView.h>
+#include <vtkContextActor.h>
 #include <vtkDoubleArray.h>
 #include <vtkFloatArray.h>
 #include <vtkNew.h>
@@ -156,16 +156,24 @@ Image plot_scores(const std::vector<ScoreRow>& rows, const PlotParams& params, c
   std::sort(levels.begin(), levels.end());
   require_display();
 
-  vtkNew<vtkContextView> view;
-  view->GetRenderWindow()->SetOffScreenRendering(1);
-  view->GetRenderWindow()->SetMultiSamples(0);
-  view->GetRenderWindow()->SetSize(params.width, params.height);
-  view->GetRenderer()->SetBackground(1, 1, 1);
+  // A context scene in a plain render window. (vtkContextView would also create an X
+  // interactor, whose Initialize() in Render() crashed in XSync in 3 of 20 runs under Xvfb.)
+  vtkNew<vtkRenderWindow> window;
+  window->SetOffScreenRendering(1);
+  window->SetMultiSamples(0);
+  window->SetSize(params.width, params.height);
+  vtkNew<vtkRenderer> renderer;
+  renderer->SetBackground(1, 1, 1);
+  window->AddRenderer(renderer);
+  vtkNew<vtkContextActor> context;
+  renderer->AddActor(context);
+  vtkContextScene* scene = context->GetScene();
+  scene->SetRenderer(renderer);
   vtkNew<vtkChartMatrix> matrix;
   matrix->SetSize(vtkVector2i(static_cast<int>(scenes.size()), 1));
   matrix->SetGutter(vtkVector2f(30, 30));
   matrix->SetBorders(40, 40, 20, 20);
-  view->GetScene()->AddItem(matrix);
+  scene->AddItem(matrix);
 
   vtkNew<vtkDoubleArray> ticks;
   vtkNew<vtkStringArray> tick_labels;
@@ -246,11 +254,13 @@ Image plot_scores(const std::vector<ScoreRow>& rows, const PlotParams& params, c
         pp->SetMarkerSize(14);
       }
     }
-    chart->SetShowLegend(true);
-    chart->GetLegend()->SetHorizontalAlignment(vtkChartLegend::RIGHT);
-    chart->GetLegend()->SetVerticalAlignment(vtkChartLegend::TOP);
+    // One legend (colours are the same in every panel), bottom left: scores start high at
+    // low noise, so that corner is usually empty.
+    chart->SetShowLegend(s == 0);
+    chart->GetLegend()->SetHorizontalAlignment(vtkChartLegend::LEFT);
+    chart->GetLegend()->SetVerticalAlignment(vtkChartLegend::BOTTOM);
   }
-  return detail::capture(view->GetRenderWindow(), name);
+  return detail::capture(window, name);
 }
 
 }  // namespace canopy::figures
