@@ -55,12 +55,18 @@ Text rasterise(const std::string& text, int size, bool bold) {
   return out;
 }
 
-// Alpha-blends text onto the image with its top-left corner at (x0, y0), clipped.
-void draw(Image& image, const Text& text, int x0, int y0) {
+struct Clip {
+  int x0, y0, x1, y1;  // half-open
+};
+
+// Alpha-blends text onto the image with its top-left corner at (x0, y0), clipped to `clip`.
+void draw(Image& image, const Text& text, int x0, int y0, Clip clip) {
+  clip = {std::max(0, clip.x0), std::max(0, clip.y0), std::min(image.width, clip.x1),
+          std::min(image.height, clip.y1)};
   for (int y = 0; y < text.height; ++y) {
     for (int x = 0; x < text.width; ++x) {
       const int px = x0 + x, py = y0 + y;
-      if (px < 0 || py < 0 || px >= image.width || py >= image.height) continue;
+      if (px < clip.x0 || py < clip.y0 || px >= clip.x1 || py >= clip.y1) continue;
       const std::uint8_t* t = &text.rgba[4 * (static_cast<std::size_t>(y) * text.width + x)];
       std::uint8_t* q = image.at(px, py);
       for (int k = 0; k < 3; ++k) q[k] = static_cast<std::uint8_t>((t[k] * t[3] + q[k] * (255 - t[3]) + 127) / 255);
@@ -175,14 +181,15 @@ Image tile_grid(const std::vector<std::optional<Image>>& cells, const GridParams
   top += title_h;
 
   Image out(left + cols * cw + (cols + 1) * gap, top + rows * ch + (rows + 1) * gap);
-  if (!params.title.empty()) draw(out, title, (out.width - title.width) / 2, pad / 2);
+  const Clip all{0, 0, out.width, out.height};
+  if (!params.title.empty()) draw(out, title, (out.width - title.width) / 2, pad / 2, all);
   for (int c = 0; c < static_cast<int>(col_text.size()); ++c) {
     const int x = left + gap + c * (cw + gap) + (cw - col_text[c].width) / 2;
-    draw(out, col_text[c], x, top - col_text[c].height - pad / 2);
+    draw(out, col_text[c], x, top - col_text[c].height - pad / 2, all);
   }
   for (int r = 0; r < static_cast<int>(row_text.size()); ++r) {
     const int y = top + gap + r * (ch + gap) + (ch - row_text[r].height) / 2;
-    draw(out, row_text[r], left - pad - row_text[r].width, y);
+    draw(out, row_text[r], left - pad - row_text[r].width, y, all);
   }
   const Text failed = rasterise("failed", params.font_size, false);
   for (std::size_t i = 0; i < cells.size(); ++i) {
@@ -192,7 +199,8 @@ Image tile_grid(const std::vector<std::optional<Image>>& cells, const GridParams
       blit(out, *tiles[i], x0, y0, cw, ch);
     } else {
       fill(out, x0, y0, cw, ch, {232, 232, 232});
-      draw(out, failed, x0 + (cw - failed.width) / 2, y0 + (ch - failed.height) / 2);
+      draw(out, failed, x0 + (cw - failed.width) / 2, y0 + (ch - failed.height) / 2,
+           Clip{x0, y0, x0 + cw, y0 + ch});
     }
   }
   return out;
