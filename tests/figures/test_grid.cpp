@@ -151,6 +151,14 @@ TEST_CASE("figures grid: '-' and missing files are failed cells; errors leave no
   CHECK(equal(g.at(2, 2 + 20 + 2), kFailed));            // missing file
   CHECK(equal(g.at(2 + 30 + 2 + 29, 2 + 20 + 2 + 19), kB));
 
+  // Labels: whitespace-separated without commas (Makefile lists), comma-separated otherwise.
+  const std::string two = (dir / "a.png").string() + " - - " + (dir / "b.png").string();
+  CHECK(sh(kBin + " grid --cols 2 --labels-row 'sedan tank' --labels-col '0 mm,2 mm' -o " + out + " " + two,
+           dir / "err", &err) == 0);
+  CHECK(read_png(out).width > g.width);
+  CHECK(sh(kBin + " grid --cols 2 --labels-row 'sedan tank semi' -o " + out + " " + two, dir / "err", &err) == 2);
+  CHECK(sh(kBin + " grid --cols 2 --labels-col '0 mm 2 mm' -o " + out + " " + two, dir / "err", &err) == 2);
+
   fs::remove(out);
   std::ofstream(dir / "bad.png") << "garbage";
   CHECK(sh(kBin + " grid --cols 2 -o " + out + " " + (dir / "a.png").string() + " " +

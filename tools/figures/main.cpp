@@ -5,6 +5,7 @@
 // mesh and plot need an X display: run under `xvfb-run -a` on a headless machine.
 #include <sys/stat.h>
 
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -76,8 +77,8 @@ int main(int argc, char** argv) {
                                               "given as '-' or as a missing file is drawn 'failed'");
   grid->add_option("-o,--output", grid_out, "PNG to write")->required();
   grid->add_option("--cols", gp.cols, "cells per row")->required();
-  grid->add_option("--labels-row", row_labels, "comma-separated row labels (one per row)");
-  grid->add_option("--labels-col", col_labels, "comma-separated column labels (one per column)");
+  grid->add_option("--labels-row", row_labels, "row labels, one per row: comma-separated, or whitespace-separated when without commas");
+  grid->add_option("--labels-col", col_labels, "column labels, one per column (same rule as --labels-row)");
   grid->add_option("--title", gp.title, "title line above the grid");
   grid->add_option("--font-size", gp.font_size, "label size in pixels")->capture_default_str();
   grid->add_option("--gap", gp.gap, "pixels between cells")->capture_default_str();
@@ -119,15 +120,21 @@ int main(int argc, char** argv) {
       if (gp.font_size < 4 || gp.font_size > 200) throw common::UsageError("--font-size: 4..200");
       if (gp.gap < 0 || gp.gap > 1000) throw common::UsageError("--gap: 0..1000");
       if (gp.margin < 0 || gp.margin > 1000) throw common::UsageError("--margin: 0..1000");
+      // Labels: comma-separated ("0 mm,2 mm"); a list without commas is split on whitespace
+      // ("earthmover obj1 sedan", as a Makefile variable expands).
       auto split = [](const std::string& s) {
         std::vector<std::string> out;
-        if (s.empty()) return out;
-        std::size_t start = 0;
-        for (;;) {
-          const std::size_t comma = s.find(',', start);
-          out.push_back(s.substr(start, comma - start));
-          if (comma == std::string::npos) break;
-          start = comma + 1;
+        if (s.find(',') != std::string::npos) {
+          std::size_t start = 0;
+          for (;;) {
+            const std::size_t comma = s.find(',', start);
+            out.push_back(s.substr(start, comma == std::string::npos ? comma : comma - start));
+            if (comma == std::string::npos) break;
+            start = comma + 1;
+          }
+        } else {
+          std::istringstream words(s);
+          for (std::string w; words >> w;) out.push_back(w);
         }
         return out;
       };
