@@ -66,6 +66,6 @@ std::string format_length(double metres) {
   return shortest(metres) + "m";
 }
 
-std::string format_angle(double radians) { return shortest(radians * 180.0 / kPi) + "deg"; }
+std::string format_angle(double radians) { return shortest(radians / kPi * 180.0) + "deg"; }
 
 }  // namespace canopy::common
