@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <string>
 #include <vector>
@@ -201,7 +202,8 @@ void print_run(const char* name, std::size_t n, const Result& r, double seconds)
 int main(int argc, char** argv) {
   common::log::set_tool("ncut_bench");
   common::log::set_level(common::log::Level::kQuiet);
-  bool quick = false, detail = false;
+  bool quick = false, detail = false, big_only = false;
+  int dense_max = CutParams{}.dense_max;
   std::vector<std::string> files;
   for (int k = 1; k < argc; ++k) {
     const std::string a = argv[k];
@@ -222,11 +224,21 @@ int main(int argc, char** argv) {
       formats::write_ply(out, argv[++k]);
       return 0;
     }
-    if (a == "--quick") quick = true;
+    if (a == "--big-only") big_only = true;
+    else if (a == "--dense-max" && k + 1 < argc) dense_max = std::atoi(argv[++k]);
+    else if (a == "--quick") quick = true;
     else if (a == "--detail") detail = true;
     else files.push_back(a);
   }
 
+  if (big_only) {
+    const TestMesh b = big(317);
+    Params p;
+    const double t0 = now();
+    const Result r = run(b.in, p);
+    print_run("height field 10^5", b.in.points.size(), r, now() - t0);
+    return 0;
+  }
   std::printf("== exponent comparison: segments (>= 10 vtx) / parts, purity, coverage ==\n");
   std::printf("%-10s %-8s %-8s | %-30s | %-30s\n", "shape", "pos mm", "nrm deg", "squared",
               "linear");
@@ -292,8 +304,9 @@ int main(int argc, char** argv) {
   }
   if (!quick) {
     const TestMesh b = big(317);
+    Params p;
     const double t0 = now();
-    const Result r = run(b.in, Params{});
+    const Result r = run(b.in, p);
     print_run("height field 10^5", b.in.points.size(), r, now() - t0);
     const Score s = score(b.part, r.segment);
     std::printf("  %d parts, %d segments >= 10 vtx, purity %.3f, coverage %.3f\n", s.parts,
@@ -305,11 +318,22 @@ int main(int argc, char** argv) {
     for (int e = 0; e < 2; ++e) {
       Params p;
       p.affinity.exponent = e == 0 ? Exponent::kSquared : Exponent::kLinear;
+      p.cut.dense_max = dense_max;
       const double t0 = now();
       const Result r = run(in, p);
       std::string name = f.size() > 20 ? "..." + f.substr(f.size() - 17) : f;
       name += e == 0 ? " sq" : " lin";
       print_run(name.c_str(), in.points.size(), r, now() - t0);
+      std::vector<double> areas;
+      int target = 0;
+      for (const auto& sg : r.graph.segments) {
+        areas.push_back(sg.area);
+        target += sg.label == 1 && sg.vertex_count >= 10;
+      }
+      std::sort(areas.rbegin(), areas.rend());
+      std::printf("  %d target segments >= 10 vtx; largest areas m^2:", target);
+      for (std::size_t k = 0; k < areas.size() && k < 10; ++k) std::printf(" %.2f", areas[k]);
+      std::printf("\n");
     }
   }
   return 0;

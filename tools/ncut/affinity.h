@@ -40,7 +40,7 @@ struct ThesisAffinityParams {
   double sigma_n = 0.17453292519943295;  // rad (10 deg)
   double anisotropy = 2.0;               // E >= 1 of Eq. 5.8
   double radius = 0.512;                 // r (m)
-  Exponent exponent = Exponent::kSquared;
+  Exponent exponent = Exponent::kLinear;
 };
 
 // Eq. 5.8 one-sided anisotropic distance from p_i (with normal n_i) to p_j:

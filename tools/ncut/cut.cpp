@@ -173,8 +173,9 @@ EigenResult second_eigenvector(const Graph& g, const CutParams& p, CutStats* sta
 
   Solver first = p.solver;
   if (first == Solver::kAuto) {
-    first = n <= p.dense_max ? Solver::kDense
-            : n >= p.shift_invert_min ? Solver::kShiftInvert : Solver::kLanczos;
+    // Shift-invert, not regular Lanczos: meshes give near-disconnected parts whose N has a
+    // cluster of eigenvalues at 1, where regular mode crawls (docs/decisions/ncut.md).
+    first = n <= p.dense_max ? Solver::kDense : Solver::kShiftInvert;
   }
   if (n < 3) first = Solver::kDense;  // Spectra needs nev < ncv <= n
 

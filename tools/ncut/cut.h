@@ -14,7 +14,7 @@
 namespace canopy::ncut {
 
 enum class Solver {
-  kAuto,         // dense up to dense_max vertices, Lanczos up to shift_invert_min, else shift-invert
+  kAuto,         // dense up to dense_max vertices, else shift-invert
   kDense,        // Eigen::SelfAdjointEigenSolver on the dense N (small graphs only)
   kLanczos,      // Spectra SymEigsSolver on N - 3 z0 z0^T (z0 = trivial eigenvector), regular mode
   kShiftInvert,  // Spectra SymEigsSolver on P (L_sym + eps I)^-1 P, SimplicialLDLT
@@ -27,8 +27,7 @@ struct CutParams {
   double tolerance = 1e-10;    // Spectra's relative Ritz tolerance
   int max_restarts = 1000;     // Spectra's maxit
   int ncv = 20;                // Lanczos basis size
-  int dense_max = 200;         // kAuto: dense solver at or below this size
-  int shift_invert_min = 20000;  // kAuto: shift-invert at or above this size
+  int dense_max = 64;          // kAuto: dense solver at or below this size
   bool fallback = true;        // on non-convergence try other settings/methods before failing
 };
 

@@ -15,7 +15,7 @@ int main(int argc, char** argv) {
   common::Tool tool("ncut", "Segments a mesh into surface patches by recursive two-way "
                             "normalized cuts (thesis ch. 5) and writes the segment graph.", true);
   ncut::Params p;
-  std::string in = "-", out = "-", colored, exponent = "squared", solver = "auto", pca = "surface";
+  std::string in = "-", out = "-", colored, exponent = "linear", solver = "auto", pca = "surface";
   tool.add_input(&in, "mesh PLY (x y z, nx ny nz [computed from faces if absent], [label])");
   tool.add_output(&out, "segment graph JSON");
   tool.add("--colored", &colored, "also write the mesh with 'segment' and red/green/blue fields");
