@@ -80,3 +80,19 @@ TEST_CASE("a malformed thesis table names the file") {
   CHECK_THROWS_AS(report::parse_thesis_csv("h\na,b,c\n", "bad.csv"), common::DataError);
   CHECK_THROWS_WITH(report::parse_thesis_csv("h\na,b,1,x,1,2\n", "bad.csv"), Catch::Contains("bad.csv"));
 }
+
+TEST_CASE("ablation rows give each variant's rank-1 rate per object and overall") {
+  report::Inputs in;
+  in.objects = {"sedan", "tank"};
+  in.scenes = {"circle"};
+  in.noises = {0};
+  in.cases = {make_case("sedan", 0, 1), make_case("tank", 0, 1)};
+  report::Ablation a;
+  a.name = "ncut-squared";
+  a.change = "ncut --exponent squared";
+  a.correct_rank = {{"sedan/circle/0", 1}, {"tank/circle/0", 2}};
+  in.ablations.push_back(a);
+  const auto out = report::run(in, report::Params{});
+  CHECK(out.markdown.find("| **canopy defaults** | | 100% | 100% | **100%** |") != std::string::npos);
+  CHECK(out.markdown.find("| ncut-squared | `ncut --exponent squared` | 100% | 0% | 50% |") != std::string::npos);
+}

@@ -64,6 +64,9 @@ int main(int argc, char** argv) {
   tool.add("--scenes", &scenes, "scenes (space separated)")->required();
   tool.add("--noises", &noises, "noise levels in mm (space separated)")->required();
   tool.add("--thesis", &thesis, "the thesis's results table (CSV)");
+  std::string ablations;
+  tool.add("--ablations", &ablations,
+           "ablation variants, space separated NAME=STAGE+OPTIONS (results in OUT/ablation/NAME/)");
   tool.add("--max-segments", &p.max_segments, "largest object segments examined for spurious area");
   tool.add("--overseg-ratio", &p.overseg_ratio, "over-segmented when target segments exceed this x model's");
   tool.add("--missing-area-ratio", &p.missing_area_ratio, "missing area when target area is below this x model's");
@@ -105,6 +108,28 @@ int main(int argc, char** argv) {
           in.cases.push_back(std::move(c));
         }
       }
+    }
+    for (const auto& spec : words(ablations)) {
+      const auto eq = spec.find('=');
+      report::Ablation a;
+      a.name = spec.substr(0, eq);
+      a.change = eq == std::string::npos ? "" : spec.substr(eq + 1);
+      std::replace(a.change.begin(), a.change.end(), '+', ' ');
+      for (const auto& o : in.objects) {
+        for (const auto& s : in.scenes) {
+          for (int n : in.noises) {
+            const std::string path = out_dir + "/ablation/" + a.name + "/" + o + "/" + s + "/noise-" +
+                                     std::to_string(n) + "/match.json";
+            const formats::MatchResult m = formats::read_match_result(path);
+            int rank = 0;
+            for (const auto& ms : m.models) {
+              if (ms.model == o) rank = ms.rank;
+            }
+            a.correct_rank[o + "/" + s + "/" + std::to_string(n)] = rank;
+          }
+        }
+      }
+      in.ablations.push_back(std::move(a));
     }
     for (const auto& s : in.scenes) {
       in.render_views[s] = count_views(out_dir + "/" + in.objects.front() + "/" + s + "/scan.pcd");

@@ -32,6 +32,13 @@ struct ThesisRow {
   double entropy = 0;
 };
 
+// A variant of the experiment with one project default undone (out/ablation/<name>/).
+struct Ablation {
+  std::string name;
+  std::string change;  // e.g. "ncut --exponent squared"
+  std::map<std::string, int> correct_rank;  // "<object>/<scene>/<noise>" -> rank of the right model
+};
+
 struct Inputs {
   std::vector<std::string> objects, scenes;
   std::vector<int> noises;
@@ -41,6 +48,7 @@ struct Inputs {
   std::map<std::string, int> render_views;               // scene -> views per rendering
   std::map<std::string, ThesisRow> thesis;               // "<object>/<scene>/<noise>" -> row
   std::vector<std::string> figures;                      // figure paths relative to the report
+  std::vector<Ablation> ablations;
 };
 
 struct Params {
