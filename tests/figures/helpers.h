@@ -2,6 +2,8 @@
 // X display is set), hand-built coloured box meshes, pixel classification.
 #pragma once
 
+#include "support/cli.h"
+
 #include <sys/wait.h>
 
 #include <array>
@@ -20,22 +22,9 @@ namespace fs = std::filesystem;
 
 inline const std::string kBin = std::string(CANOPY_BIN_DIR) + "/figures";
 
-inline fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::path(CANOPY_TEST_TMP) / "figures" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+inline fs::path fresh_dir(const std::string& name) { return canopy::test::fresh_dir("figures", name); }
 
-// Runs a shell command; returns the exit status and stderr.
-inline int sh(const std::string& cmd, const fs::path& err_file, std::string* err) {
-  const int status = std::system((cmd + " 2>" + err_file.string()).c_str());
-  std::ifstream f(err_file);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  *err = ss.str();
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
+using canopy::test::sh;
 
 // Prefix for commands that render with OpenGL: none with a display, else xvfb-run -a.
 inline std::string display_prefix() {

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "canopy/common/atomic_file.h"
+#include "support/cli.h"
 #include "canopy/formats/json_io.h"
 #include "graphs.h"
 
@@ -22,22 +23,9 @@ namespace {
 
 const std::string kBin = std::string(CANOPY_BIN_DIR) + "/gmatch";
 
-fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::path(CANOPY_TEST_TMP) / "gmatch" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path fresh_dir(const std::string& name) { return canopy::test::fresh_dir("gmatch", name); }
 
-// Runs a shell command; returns its exit code, stderr in *err.
-int sh(const std::string& cmd, const fs::path& err_file, std::string* err) {
-  const int status = std::system((cmd + " 2>" + err_file.string()).c_str());
-  std::ifstream f(err_file);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  *err = ss.str();
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
+using canopy::test::sh;
 
 fs::path make_modelbase(const fs::path& dir) {
   const fs::path mb = dir / "modelbase";

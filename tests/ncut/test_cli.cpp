@@ -11,6 +11,7 @@
 #include <string>
 
 #include "canopy/common/atomic_file.h"
+#include "support/cli.h"
 #include "canopy/formats/json_io.h"
 #include "canopy/formats/ply.h"
 #include "meshes.h"
@@ -22,21 +23,9 @@ namespace {
 
 const std::string kBin = std::string(CANOPY_BIN_DIR) + "/ncut";
 
-fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::path(CANOPY_TEST_TMP) / "ncut" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path fresh_dir(const std::string& name) { return canopy::test::fresh_dir("ncut", name); }
 
-int sh(const std::string& cmd, const fs::path& err_file, std::string* err) {
-  const int status = std::system((cmd + " 2>" + err_file.string()).c_str());
-  std::ifstream f(err_file);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  *err = ss.str();
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
+using canopy::test::sh;
 
 formats::Mesh to_mesh(const ncut::testing::TestMesh& m, bool normals) {
   formats::Mesh out;

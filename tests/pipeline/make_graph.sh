@@ -7,7 +7,7 @@ src=$1
 fail() { echo "FAIL: $*" >&2; exit 1; }
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 cd "$src" || exit 1
-mk=(make -f Makefile.experiments OBJECTS=sedan SCENES=unoccluded NOISES=0 OUT="$tmp/out"
+mk=(make -f Makefile.experiments OBJECTS=sedan SCENES=unoccluded NOISES=0 ABLATIONS= OUT="$tmp/out"
     RES="$tmp/res" BUILD="$tmp/build" P="$tmp/params")
 
 # Fake binaries must be newer than every source file, artifacts newer than the binaries.
@@ -33,6 +33,14 @@ for f in "$c/scan.pcd" "$c/noise-0/scan.pcd" "$c/noise-0/samples.pcd" "$c/noise-
 done
 
 "${mk[@]}" -q all || fail "make -q all is not clean on a complete tree: $("${mk[@]}" -n all 2>&1 | head -5)"
+
+# A deleted intermediate artifact is rebuilt, not silently skipped, and nothing before it.
+cp -p "$c/noise-0/mesh.ply" "$tmp/mesh.keep" && rm "$c/noise-0/mesh.ply"
+plan=$("${mk[@]}" -n all 2>&1)
+echo "$plan" | grep -q "bin/cocone " || fail "a deleted mesh.ply is not rebuilt"
+if echo "$plan" | grep -q "bin/fitvox "; then fail "fitvox re-planned, but only mesh.ply was deleted"; fi
+mv "$tmp/mesh.keep" "$c/noise-0/mesh.ply"
+"${mk[@]}" -q all || fail "make -q all not clean after restoring mesh.ply"
 
 at $((now - 10)) "$tmp/params/ncut.ini"
 plan=$("${mk[@]}" -n all 2>&1)
