@@ -81,6 +81,21 @@ TEST_CASE("sparsification: radius, random share, threshold, mesh neighbours kept
   }
   CHECK(has(0, 12));  // forced mesh edge beyond r
   CHECK(st.mesh_edges_forced == 1);
+  // Its affinity (90 deg apart, 2 m away) is ~1e-11; the floor keeps it usable.
+  auto weight = [](const Graph& gr, int a, int b) {
+    const int* nb = gr.nbr_begin(a);
+    const double* w = gr.w_begin(a);
+    for (; nb != gr.nbr_end(a); ++nb, ++w) {
+      if (*nb == b) return *w;
+    }
+    return -1.0;
+  };
+  CHECK(aff(0, 12) < 1e-6);
+  CHECK(weight(g, 0, 12) == sp.mesh_edge_floor);
+  CHECK(weight(g, 0, 1) == Approx(aff(0, 1)));  // ordinary edges are not floored
+  SparsifyParams no_floor = sp;
+  no_floor.mesh_edge_floor = 0;
+  CHECK(weight(build_affinity_graph(pts, {{0, 12}}, aff, no_floor, nullptr), 0, 12) == aff(0, 12));
   // Roughly a quarter of the pairs between 175 mm and r survive.
   CHECK(st.dropped_random > 0);
   sp.keep_fraction = 1.0;

@@ -144,7 +144,7 @@ Graph build_affinity_graph(const SurfacePoints& points,
                          (dist2 > dense2 && pair_uniform(prm.seed, i, j) >= prm.keep_fraction))) {
               ++st.mesh_edges_forced;
             }
-            edges.push_back({i, j, a});
+            edges.push_back({i, j, mesh ? std::max(a, prm.mesh_edge_floor) : a});
           }
         }
       }
@@ -154,7 +154,7 @@ Graph build_affinity_graph(const SurfacePoints& points,
   if (prm.keep_mesh_edges) {
     for (const auto& e : mesh_edges) {
       if ((points.p[e[0]] - points.p[e[1]]).squaredNorm() > r2) {
-        edges.push_back({e[0], e[1], affinity(e[0], e[1])});
+        edges.push_back({e[0], e[1], std::max(affinity(e[0], e[1]), prm.mesh_edge_floor)});
         ++st.mesh_edges_forced;
       }
     }

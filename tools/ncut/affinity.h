@@ -70,6 +70,10 @@ struct SparsifyParams {
   double keep_fraction = 0.25;   // that share
   double min_affinity = 0.1;     // affinities below are dropped
   bool keep_mesh_edges = true;   // mesh neighbours are kept whatever their distance/affinity
+  // Forced mesh-neighbour affinities are raised to at least this, so the graph is numerically
+  // connected: weights of 1e-30 across a crease make lambda_2 of L_sym smaller than any usable
+  // shift and the eigensolvers stall (docs/decisions/ncut.md). 0 = keep them as computed.
+  double mesh_edge_floor = 1e-3;
   std::uint64_t seed = 1;        // the random share is a function of (seed, i, j) only
 };
 

@@ -30,6 +30,8 @@ int main(int argc, char** argv) {
   tool.add("--min-affinity", &p.sparsify.min_affinity, "drop affinities below this [0, 1)");
   tool.add("--keep-mesh-edges", &p.sparsify.keep_mesh_edges,
            "always keep the affinities of mesh neighbours (true/false)");
+  tool.add("--mesh-edge-floor", &p.sparsify.mesh_edge_floor,
+           "lower bound of kept mesh-neighbour affinities, for a numerically connected graph [0, 0.1]");
   tool.add("--max-ncut", &p.cut.max_ncut, "split a part only while its best Ncut is below this (> 0)");
   tool.add("--min-segment", &p.cut.min_segment, "no cut leaves fewer vertices on a side (>= 1)");
   tool.add("--solver", &solver, "eigensolver: auto, dense, lanczos, shift-invert");
@@ -44,6 +46,7 @@ int main(int argc, char** argv) {
     const auto& s = p.sparsify;
     if (!(a.sigma_n > 0) || !(a.anisotropy >= 1) || !(a.radius > 0) || !(s.dense_radius >= 0) ||
         !(s.keep_fraction >= 0 && s.keep_fraction <= 1) || !(s.min_affinity >= 0 && s.min_affinity < 1) ||
+        !(s.mesh_edge_floor >= 0 && s.mesh_edge_floor <= 0.1) ||
         !(p.cut.max_ncut > 0) || p.cut.min_segment < 1 || !(p.cut.tolerance > 0 && p.cut.tolerance <= 1e-3) ||
         p.cut.max_restarts < 1 || p.cut.ncv < 3 || (exponent != "squared" && exponent != "linear") ||
         (pca != "surface" && pca != "vertices") ||

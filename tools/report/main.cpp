@@ -120,8 +120,16 @@ int main(int argc, char** argv) {
           for (int n : in.noises) {
             const std::string path = out_dir + "/ablation/" + a.name + "/" + o + "/" + s + "/noise-" +
                                      std::to_string(n) + "/match.json";
-            const formats::MatchResult m = formats::read_match_result(path);
+            // An empty match.json records a stage that failed in this variant (scripts/stage.sh
+            // --record-failure): the trial counts as not recognised (rank 0).
+            const std::string text = common::read_file(path);
             int rank = 0;
+            if (text.empty()) {
+              a.correct_rank[o + "/" + s + "/" + std::to_string(n)] = 0;
+              ++a.failed;
+              continue;
+            }
+            const formats::MatchResult m = formats::parse_match_result(text, path);
             for (const auto& ms : m.models) {
               if (ms.model == o) rank = ms.rank;
             }

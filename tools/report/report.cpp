@@ -229,7 +229,8 @@ Output run(const Inputs& in, const Params& p) {
         all_n += n;
         md << " " << pct(ok, n) << " |";
       }
-      md << " " << pct(all_ok, all_n) << " |\n";
+      md << " " << pct(all_ok, all_n) << (a.failed ? " (" + std::to_string(a.failed) + " failed in a stage)" : "")
+         << " |\n";
     }
     md << "\n";
   }

@@ -37,6 +37,7 @@ struct Ablation {
   std::string name;
   std::string change;  // e.g. "ncut --exponent squared"
   std::map<std::string, int> correct_rank;  // "<object>/<scene>/<noise>" -> rank of the right model
+  int failed = 0;                            // trials where a stage failed (rank 0)
 };
 
 struct Inputs {
