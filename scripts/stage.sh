@@ -3,7 +3,14 @@
 # The tool's stderr goes to ARTIFACT.log; wall seconds and peak memory (KiB) to ARTIFACT.time
 # (read by the report); one progress line is printed. On failure the log tail is shown and
 # the status is passed on (the tool itself never leaves a partial ARTIFACT).
+# stage.sh --record-failure ARTIFACT -- ...: for ablation variants, where a stage failing is a
+# result (e.g. the thesis's fixed RMS bound keeps no voxel at 32 mm): the failure is logged,
+# ARTIFACT is created empty as an explicit "failed" marker, and the status is 0. Later stages
+# fail on the empty input in turn, so the trial's match.json is empty and counts as not
+# recognised.
 set -u
+record=0
+if [ "${1:-}" = "--record-failure" ]; then record=1; shift; fi
 artifact=$1; shift
 [ "${1:-}" = "--" ] && shift
 log="$artifact.log"
