@@ -7,6 +7,7 @@
 #include <fstream>
 #include <string>
 
+#include "support/cli.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/ply.h"
 #include "cocone/cocone.h"
@@ -24,10 +25,7 @@ fs::path tmp_dir() {
   return d;
 }
 
-int sh(const std::string& cmd) {
-  const int rc = std::system(cmd.c_str());
-  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-}
+int sh(const std::string& cmd) { return canopy::test::run(cmd); }
 
 fm::PointCloud ball(int n, double r, double zc) {
   fm::PointCloud c;

@@ -11,6 +11,7 @@
 #include "canopy/common/error.h"
 #include "canopy/formats/json_io.h"
 #include "canopy/formats/pcd.h"
+#include "support/cli.h"
 #include "canopy/formats/ply.h"
 
 using namespace canopy::formats;
@@ -18,16 +19,9 @@ using canopy::common::DataError;
 
 namespace {
 
-std::string tmp_dir(const std::string& name) {
-  const std::string d = std::string(CANOPY_TEST_TMP) + "/" + name;
-  REQUIRE(std::system(("rm -rf '" + d + "' && mkdir -p '" + d + "'").c_str()) == 0);
-  return d;
-}
+std::string tmp_dir(const std::string& name) { return canopy::test::fresh_dir("formats", name).string(); }
 
-bool exists(const std::string& p) {
-  struct stat st {};
-  return stat(p.c_str(), &st) == 0;
-}
+using canopy::test::exists;
 
 PointCloud sample_cloud() {
   PointCloud c;

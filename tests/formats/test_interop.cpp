@@ -15,27 +15,18 @@
 #include <vtkPolyData.h>
 
 #include "canopy/formats/pcd.h"
+#include "support/cli.h"
 #include "canopy/formats/ply.h"
 
 using namespace canopy::formats;
 
 namespace {
 
-std::string tmp_dir(const std::string& name) {
-  const std::string d = std::string(CANOPY_TEST_TMP) + "/" + name;
-  REQUIRE(std::system(("rm -rf '" + d + "' && mkdir -p '" + d + "'").c_str()) == 0);
-  return d;
-}
+std::string tmp_dir(const std::string& name) { return canopy::test::fresh_dir("formats", name).string(); }
 
-int run(const std::string& cmd) {
-  const int st = std::system(cmd.c_str());
-  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
+using canopy::test::run;
 
-bool exists(const std::string& p) {
-  struct stat st {};
-  return stat(p.c_str(), &st) == 0;
-}
+using canopy::test::exists;
 
 pcl::PointCloud<pcl::PointXYZINormal> pcl_cloud() {
   pcl::PointCloud<pcl::PointXYZINormal> c;

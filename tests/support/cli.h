@@ -31,4 +31,12 @@ inline int sh(const std::string& cmd, const std::filesystem::path& err_file, std
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+// Runs a shell command; returns its exit status (-1 if it did not exit normally).
+inline int run(const std::string& cmd) {
+  const int status = std::system(cmd.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+inline bool exists(const std::filesystem::path& p) { return std::filesystem::exists(p); }
+
 }  // namespace canopy::test
