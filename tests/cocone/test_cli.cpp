@@ -7,6 +7,7 @@
 #include <fstream>
 #include <string>
 
+#include "fixtures.h"
 #include "support/cli.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/ply.h"
@@ -27,26 +28,11 @@ fs::path tmp_dir() {
 
 int sh(const std::string& cmd) { return canopy::test::run(cmd); }
 
+// The shared Fibonacci sphere, every sample labelled as target.
 fm::PointCloud ball(int n, double r, double zc) {
-  fm::PointCloud c;
-  c.resize(n);
-  c.add("x");
-  c.add("y");
-  c.add("z");
-  c.add("label", fm::kUint32);
-  // Columns are added first: add() may move existing columns.
-  auto& x = c.col("x");
-  auto& y = c.col("y");
-  auto& z = c.col("z");
-  auto& label = c.col("label");
-  const double golden = canopy::cocone::kPi * (3 - std::sqrt(5.0));
-  for (int i = 0; i < n; ++i) {
-    const double w = 1 - 2 * (i + 0.5) / n, s = std::sqrt(1 - w * w), a = golden * i;
-    x[i] = r * s * std::cos(a);
-    y[i] = r * s * std::sin(a);
-    z[i] = zc + r * w;
-    label[i] = 1;
-  }
+  fm::PointCloud c = cocone_test::fibonacci_ball(n, r, zc);
+  auto& label = c.add("label", fm::kUint32);
+  for (int i = 0; i < n; ++i) label[i] = 1;
   return c;
 }
 

@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
+#include "fixtures.h"
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
 #include "cocone/cocone.h"
@@ -14,37 +15,11 @@ namespace fm = canopy::formats;
 
 namespace {
 
-// Fibonacci sphere (near-uniform spacing) of radius r centred at (0, 0, zc), with outward
-// normals and a per-row tag field.
+// The shared Fibonacci sphere with a per-row tag field.
 fm::PointCloud ball(int n, double r, double zc) {
-  fm::PointCloud c;
-  c.resize(n);
-  c.add("x");
-  c.add("y");
-  c.add("z");
-  c.add("normal_x");
-  c.add("normal_y");
-  c.add("normal_z");
-  c.add("tag", fm::kUint32);
-  // Columns are added first: add() may move existing columns.
-  auto& x = c.col("x");
-  auto& y = c.col("y");
-  auto& z = c.col("z");
-  auto& nx = c.col("normal_x");
-  auto& ny = c.col("normal_y");
-  auto& nz = c.col("normal_z");
-  auto& tag = c.col("tag");
-  const double golden = cc::kPi * (3 - std::sqrt(5.0));
-  for (int i = 0; i < n; ++i) {
-    const double w = 1 - 2 * (i + 0.5) / n, s = std::sqrt(1 - w * w), a = golden * i;
-    nx[i] = s * std::cos(a);
-    ny[i] = s * std::sin(a);
-    nz[i] = w;
-    x[i] = r * nx[i];
-    y[i] = r * ny[i];
-    z[i] = zc + r * nz[i];
-    tag[i] = 1000 + i;
-  }
+  fm::PointCloud c = cocone_test::fibonacci_ball(n, r, zc);
+  auto& tag = c.add("tag", fm::kUint32);
+  for (int i = 0; i < n; ++i) tag[i] = 1000 + i;
   return c;
 }
 

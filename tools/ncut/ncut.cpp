@@ -303,7 +303,6 @@ std::array<std::uint8_t, 3> segment_colour(int segment_id) {
 
 formats::Mesh colored_mesh(const formats::Mesh& mesh, const std::vector<int>& segment) {
   formats::Mesh out = mesh;
-  // Add every column first: add() may move the other columns.
   for (const char* name : {"red", "green", "blue"}) out.vertices.add(name, formats::kUint8);
   out.vertices.add("segment", formats::kInt32);
   auto& seg = out.vertices.col("segment");
