@@ -72,6 +72,61 @@ inline void write_scalar(std::string* out, double v, FieldType type) {
 // Shortest decimal text that reads back to the same value at the type's precision.
 std::string format_value(double v, FieldType type);
 
+// File text made safe for a message: printable ASCII kept, every other byte (NUL, control,
+// non-ASCII) shown as \xNN, cut to `max` bytes with "..." so a message is never cut at a NUL
+// and never holds megabytes of a binary file.
+inline std::string quote(const char* p, std::size_t n, std::size_t max = 40) {
+  std::string out;
+  const std::size_t m = n < max ? n : max;
+  for (std::size_t i = 0; i < m; ++i) {
+    const auto c = static_cast<unsigned char>(p[i]);
+    if (c >= 0x20 && c < 0x7f) {
+      out.push_back(static_cast<char>(c));
+    } else {
+      static const char kHex[] = "0123456789abcdef";
+      out += "\\x";
+      out.push_back(kHex[c >> 4]);
+      out.push_back(kHex[c & 15]);
+    }
+  }
+  if (m < n) out += "...";
+  return out;
+}
+inline std::string quote(const std::string& s, std::size_t max = 40) { return quote(s.data(), s.size(), max); }
+
+// Parses a whole token as a non-negative decimal integer (no sign, no exponent, no spaces).
+// Returns false on anything else or a value above `max`.
+inline bool parse_count(const std::string& text, std::uint64_t max, std::uint64_t* out) {
+  if (text.empty() || text.size() > 20) return false;
+  std::uint64_t v = 0;
+  for (char c : text) {
+    if (c < '0' || c > '9') return false;
+    const auto d = static_cast<std::uint64_t>(c - '0');
+    if (v > (max - d) / 10) return false;
+    v = v * 10 + d;
+  }
+  *out = v;
+  return true;
+}
+
+// What a file looks like from its first bytes, for "this is a ... file" messages: "a PLY
+// file", "a PCD file", "a LAS file", "a JSON document", ...; "" when not recognised.
+inline std::string sniff(const std::string& bytes) {
+  auto starts = [&](const char* m) { return bytes.compare(0, std::strlen(m), m) == 0; };
+  if (starts("ply\n") || starts("ply\r\n")) return "a PLY file";
+  if (starts("LASF")) return "a LAS file";
+  if (starts("# .PCD") || starts("VERSION 0.") || starts("FIELDS ")) return "a PCD file";
+  if (starts("\x89PNG")) return "a PNG image";
+  if (starts("\x1f\x8b")) return "a gzip-compressed file";
+  if (starts("PK\x03\x04")) return "a zip archive";
+  if (starts("solid ")) return "an STL file";
+  std::size_t i = 0;
+  while (i < bytes.size() && (bytes[i] == ' ' || bytes[i] == '\n' || bytes[i] == '\r' || bytes[i] == '\t')) ++i;
+  if (i < bytes.size() && bytes[i] == '{') return "a JSON document";
+  if (starts("v ") || starts("# OBJ") || starts("mtllib ")) return "an OBJ file";
+  return "";
+}
+
 inline bool valid_type(FieldType t) {
   if (t.kind == 'F') return t.size == 4 || t.size == 8;
   if (t.kind == 'U' || t.kind == 'I') return t.size == 1 || t.size == 2 || t.size == 4;

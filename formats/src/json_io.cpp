@@ -1,9 +1,14 @@
 #include "canopy/formats/json_io.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "canopy/common/atomic_file.h"
+#include "binary_io.h"
 #include "canopy/common/error.h"
 
 namespace canopy::formats {
@@ -31,18 +36,87 @@ Json provenance_json(const Provenance& p) {
   return Json{{"tool", p.tool}, {"version", p.version}, {"parameters", params}, {"inputs", p.inputs}};
 }
 
-Provenance provenance_from(const Json& j) {
-  Provenance p;
-  p.tool = j.at("tool").get<std::string>();
-  p.version = j.at("version").get<std::string>();
-  for (const auto& [k, v] : j.at("parameters").items()) p.parameters.emplace_back(k, v.get<std::string>());
-  p.inputs = j.at("inputs").get<std::vector<std::string>>();
-  return p;
+// A malformed value: the reader adds the file name and where ("segments[3].area: ...").
+struct Malformed : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// An integer within [lo, hi]; 3.0, 1e20 or "3" are not accepted (they would be cast silently).
+long long int_from(const Json& j, const std::string& what, long long lo = std::numeric_limits<int>::min(),
+                   long long hi = std::numeric_limits<int>::max()) {
+  long long v = 0;
+  if (j.is_number_unsigned()) {
+    const auto u = j.get<std::uint64_t>();
+    if (u > static_cast<std::uint64_t>(hi)) throw Malformed(what + " " + j.dump() + " is out of range");
+    v = static_cast<long long>(u);
+  } else if (j.is_number_integer()) {
+    v = j.get<std::int64_t>();
+  } else {
+    throw Malformed(what + " must be an integer, not " + j.dump().substr(0, 40));
+  }
+  if (v < lo || v > hi) {
+    throw Malformed(what + " " + j.dump() + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  }
+  return v;
 }
 
-Vec3 vec3_from(const Json& j) {
-  if (!j.is_array() || j.size() != 3) throw std::invalid_argument("expected an array of 3 numbers");
-  return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()};
+int int_at(const Json& obj, const char* key, const std::string& where, long long lo = std::numeric_limits<int>::min()) {
+  return static_cast<int>(int_from(obj.at(key), where + key, lo));
+}
+
+double double_at(const Json& obj, const char* key, const std::string& where) {
+  const Json& j = obj.at(key);
+  if (!j.is_number()) throw Malformed(where + key + " must be a number, not " + j.dump().substr(0, 40));
+  const double v = j.get<double>();
+  if (!std::isfinite(v)) throw Malformed(where + key + " is not finite");
+  return v;
+}
+
+std::string string_at(const Json& obj, const char* key, const std::string& where) {
+  const Json& j = obj.at(key);
+  if (!j.is_string()) throw Malformed(where + key + " must be a string");
+  return j.get<std::string>();
+}
+
+const Json& array_at(const Json& obj, const char* key, const std::string& where) {
+  const Json& j = obj.at(key);
+  if (!j.is_array()) throw Malformed(where + key + " must be an array");
+  return j;
+}
+
+Vec3 vec3_from(const Json& obj, const char* key, const std::string& where) {
+  const Json& j = obj.at(key);
+  if (!j.is_array() || j.size() != 3) throw Malformed(where + key + " must be an array of 3 numbers");
+  Vec3 v{};
+  for (std::size_t i = 0; i < 3; ++i) {
+    if (!j[i].is_number()) throw Malformed(where + key + " must be an array of 3 numbers");
+    v[i] = j[i].get<double>();
+  }
+  return v;
+}
+
+std::string library_text(const std::exception& e) {
+  std::string w = e.what();
+  if (w.rfind("[json.exception.", 0) == 0 && w.find("] ") != std::string::npos) w = w.substr(w.find("] ") + 2);
+  return w;
+}
+
+Provenance provenance_from(const Json& j) {
+  Provenance p;
+  if (!j.is_object()) throw Malformed("provenance must be an object");
+  p.tool = string_at(j, "tool", "provenance.");
+  p.version = string_at(j, "version", "provenance.");
+  const Json& params = j.at("parameters");
+  if (!params.is_object()) throw Malformed("provenance.parameters must be an object");
+  for (const auto& [k, v] : params.items()) {
+    if (!v.is_string()) throw Malformed("provenance.parameters." + k + " must be a string");
+    p.parameters.emplace_back(k, v.get<std::string>());
+  }
+  for (const auto& in : array_at(j, "inputs", "provenance.")) {
+    if (!in.is_string()) throw Malformed("provenance.inputs must be strings");
+    p.inputs.push_back(in.get<std::string>());
+  }
+  return p;
 }
 
 // Parses the document and checks "format" and "version".
@@ -50,16 +124,22 @@ Json open_document(const std::string& text, const std::string& name, const char*
   Json j;
   try {
     j = Json::parse(text);
-  } catch (const Json::parse_error& e) {
-    throw DataError(name, std::string("not valid JSON: ") + e.what());
+  } catch (const Json::exception& e) {  // parse errors, and numbers out of double's range (1e400)
+    const std::string is = detail::sniff(text);
+    if (!is.empty() && is != "a JSON document") throw DataError(name, "this is " + is + ", not a JSON document");
+    throw DataError(name, "not valid JSON: " + detail::quote(library_text(e), 200));
   }
   if (!j.is_object() || !j.contains("format")) throw DataError(name, "no \"format\" key (not a canopy JSON document)");
   if (!j["format"].is_string() || j["format"].get<std::string>() != format) {
-    throw DataError(name, "format is " + j["format"].dump() + ", expected \"" + format + "\"");
+    throw DataError(name, "format is " + detail::quote(j["format"].dump(), 60) + ", expected \"" + format + "\"");
   }
-  if (!j.contains("version") || !j["version"].is_number_integer()) throw DataError(name, "no integer \"version\"");
-  if (j["version"].get<int>() != kVersion) {
-    throw DataError(name, std::string(format) + " version " + j["version"].dump() + " is not supported (this build reads version 1)");
+  if (!j.contains("version") || !(j["version"].is_number_integer() || j["version"].is_number_unsigned())) {
+    throw DataError(name, "no integer \"version\"");
+  }
+  const Json& v = j["version"];
+  if (v.is_number_unsigned() ? v.get<std::uint64_t>() != static_cast<std::uint64_t>(kVersion)
+                             : v.get<std::int64_t>() != kVersion) {
+    throw DataError(name, std::string(format) + " version " + v.dump() + " is not supported (this build reads version 1)");
   }
   return j;
 }
@@ -95,29 +175,54 @@ SegmentGraph parse_segment_graph(const std::string& text, const std::string& nam
   SegmentGraph g;
   try {
     g.provenance = provenance_from(j.at("provenance"));
-    g.mesh = j.at("mesh").get<std::string>();
-    for (const auto& s : j.at("segments")) {
+    g.mesh = string_at(j, "mesh", "");
+    std::set<int> ids;
+    const Json& segs = array_at(j, "segments", "");
+    for (std::size_t k = 0; k < segs.size(); ++k) {
+      const Json& s = segs[k];
+      const std::string w = "segments[" + std::to_string(k) + "].";
+      if (!s.is_object()) throw Malformed(w.substr(0, w.size() - 1) + " must be an object");
       Segment seg;
-      seg.segment_id = s.at("segment_id").get<int>();
-      seg.vertex_count = s.at("vertex_count").get<int>();
-      seg.area = s.at("area").get<double>();
-      seg.radii = vec3_from(s.at("radii"));
-      seg.thickness = s.at("thickness").get<double>();
-      seg.elongation = s.at("elongation").get<double>();
-      seg.centroid = vec3_from(s.at("centroid"));
-      seg.normal = vec3_from(s.at("normal"));
-      seg.label = s.at("label").get<int>();
-      seg.label_purity = s.at("label_purity").get<double>();
-      seg.vertices = s.at("vertices").get<std::vector<int>>();
+      seg.segment_id = int_at(s, "segment_id", w, 0);
+      if (!ids.insert(seg.segment_id).second) {
+        throw Malformed(w + "segment_id " + std::to_string(seg.segment_id) + " appears twice");
+      }
+      seg.vertex_count = int_at(s, "vertex_count", w, 0);
+      seg.area = double_at(s, "area", w);
+      seg.radii = vec3_from(s, "radii", w);
+      seg.thickness = double_at(s, "thickness", w);
+      seg.elongation = double_at(s, "elongation", w);
+      seg.centroid = vec3_from(s, "centroid", w);
+      seg.normal = vec3_from(s, "normal", w);
+      seg.label = int_at(s, "label", w);
+      seg.label_purity = double_at(s, "label_purity", w);
+      const Json& verts = array_at(s, "vertices", w);
+      seg.vertices.reserve(verts.size());
+      for (const auto& v : verts) seg.vertices.push_back(static_cast<int>(int_from(v, w + "vertices[]", 0)));
       g.segments.push_back(std::move(seg));
     }
-    for (const auto& e : j.at("adjacency")) {
-      g.adjacency.push_back({e.at("a").get<int>(), e.at("b").get<int>(), e.at("shared_edges").get<int>()});
+    std::set<std::pair<int, int>> edges;
+    const Json& adj = array_at(j, "adjacency", "");
+    for (std::size_t k = 0; k < adj.size(); ++k) {
+      const Json& e = adj[k];
+      const std::string w = "adjacency[" + std::to_string(k) + "].";
+      if (!e.is_object()) throw Malformed(w.substr(0, w.size() - 1) + " must be an object");
+      const SegmentEdge edge{int_at(e, "a", w, 0), int_at(e, "b", w, 0), int_at(e, "shared_edges", w, 0)};
+      const std::string pair = " (" + std::to_string(edge.a) + ", " + std::to_string(edge.b) + ")";
+      if (edge.a == edge.b) throw Malformed(w.substr(0, w.size() - 1) + " joins segment " + std::to_string(edge.a) + " to itself");
+      if (edge.a > edge.b) throw Malformed(w.substr(0, w.size() - 1) + pair + " needs a < b");
+      for (int id : {edge.a, edge.b}) {
+        if (!ids.count(id)) throw Malformed(w.substr(0, w.size() - 1) + pair + " refers to segment " + std::to_string(id) + ", which is not in segments");
+      }
+      if (!edges.insert({edge.a, edge.b}).second) throw Malformed(w.substr(0, w.size() - 1) + pair + " appears twice");
+      g.adjacency.push_back(edge);
     }
   } catch (const DataError&) {
     throw;
-  } catch (const std::exception& e) {
+  } catch (const Malformed& e) {
     throw DataError(name, std::string("malformed segment graph: ") + e.what());
+  } catch (const std::exception& e) {
+    throw DataError(name, "malformed segment graph: " + detail::quote(library_text(e), 200));
   }
   return g;
 }
@@ -128,6 +233,14 @@ SegmentGraph read_segment_graph(const std::string& path) {
 
 void write_segment_graph(const SegmentGraph& graph, const std::string& path) {
   common::write_file_atomic(path, serialize_segment_graph(graph));
+}
+
+double match_margin(const MatchResult& r) {
+  if (r.models.size() < 2) return std::numeric_limits<double>::quiet_NaN();
+  std::vector<const ModelScore*> by_rank;
+  for (const auto& m : r.models) by_rank.push_back(&m);
+  std::stable_sort(by_rank.begin(), by_rank.end(), [](const ModelScore* a, const ModelScore* b) { return a->rank < b->rank; });
+  return by_rank[0]->score - by_rank[1]->score;
 }
 
 std::string serialize_match_result(const MatchResult& r) {
@@ -150,8 +263,10 @@ std::string serialize_match_result(const MatchResult& r) {
                           {"error_total", finite(m.error_total, "error_total")},
                           {"pairs", pairs}});
   }
+  const double margin = match_margin(r);
   Json j{{"format", kMatchFormat}, {"version", kVersion}, {"provenance", provenance_json(r.provenance)},
          {"object", r.object}, {"error_form", r.error_form}, {"entropy", finite(r.entropy, "entropy")},
+         {"margin", std::isnan(margin) ? Json(nullptr) : Json(finite(margin, "margin"))},
          {"models", models}};
   return dump(j);
 }
@@ -161,32 +276,44 @@ MatchResult parse_match_result(const std::string& text, const std::string& name)
   MatchResult r;
   try {
     r.provenance = provenance_from(j.at("provenance"));
-    r.object = j.at("object").get<std::string>();
-    r.error_form = j.at("error_form").get<std::string>();
-    r.entropy = j.at("entropy").get<double>();
-    for (const auto& m : j.at("models")) {
+    r.object = string_at(j, "object", "");
+    r.error_form = string_at(j, "error_form", "");
+    r.entropy = double_at(j, "entropy", "");
+    const Json& models = array_at(j, "models", "");
+    for (std::size_t k = 0; k < models.size(); ++k) {
+      const Json& m = models[k];
+      const std::string w = "models[" + std::to_string(k) + "].";
+      if (!m.is_object()) throw Malformed(w.substr(0, w.size() - 1) + " must be an object");
       ModelScore s;
-      s.model = m.at("model").get<std::string>();
-      s.score = m.at("score").get<double>();
-      s.rank = m.at("rank").get<int>();
-      s.error_unary = m.at("error_unary").get<double>();
-      s.error_orientation = m.at("error_orientation").get<double>();
-      s.error_distance = m.at("error_distance").get<double>();
-      s.error_coverage = m.at("error_coverage").get<double>();
-      s.error_total = m.at("error_total").get<double>();
-      for (const auto& p : m.at("pairs")) {
+      s.model = string_at(m, "model", w);
+      s.score = double_at(m, "score", w);
+      s.rank = int_at(m, "rank", w, 1);
+      s.error_unary = double_at(m, "error_unary", w);
+      s.error_orientation = double_at(m, "error_orientation", w);
+      s.error_distance = double_at(m, "error_distance", w);
+      s.error_coverage = double_at(m, "error_coverage", w);
+      s.error_total = double_at(m, "error_total", w);
+      const Json& pairs = array_at(m, "pairs", w);
+      for (std::size_t q = 0; q < pairs.size(); ++q) {
+        const Json& p = pairs[q];
+        const std::string pw = w + "pairs[" + std::to_string(q) + "].";
+        if (!p.is_object()) throw Malformed(pw.substr(0, pw.size() - 1) + " must be an object");
         SegmentPair sp;
-        sp.object_segment = p.at("object_segment").get<int>();
-        sp.model_segment = p.at("model_segment").is_null() ? -1 : p.at("model_segment").get<int>();
-        sp.unary_error = p.at("unary_error").get<double>();
+        sp.object_segment = int_at(p, "object_segment", pw, 0);
+        sp.model_segment = p.at("model_segment").is_null() ? -1 : int_at(p, "model_segment", pw, 0);
+        sp.unary_error = double_at(p, "unary_error", pw);
         s.pairs.push_back(sp);
       }
       r.models.push_back(std::move(s));
     }
+    // "margin" is derived from the scores (match_margin); files before it was added lack it.
+    if (j.contains("margin") && !j["margin"].is_null()) double_at(j, "margin", "");
   } catch (const DataError&) {
     throw;
-  } catch (const std::exception& e) {
+  } catch (const Malformed& e) {
     throw DataError(name, std::string("malformed match result: ") + e.what());
+  } catch (const std::exception& e) {
+    throw DataError(name, "malformed match result: " + detail::quote(library_text(e), 200));
   }
   return r;
 }

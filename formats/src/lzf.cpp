@@ -1,5 +1,7 @@
 #include "lzf.h"
 
+#include <algorithm>
+#include <cstdint>
 #include <cstring>
 
 namespace canopy::formats::detail {
@@ -29,6 +31,68 @@ bool lzf_decompress(const unsigned char* in, std::size_t in_size, unsigned char*
     }
   }
   return op == out_size;
+}
+
+}  // namespace canopy::formats::detail
+
+namespace canopy::formats::detail {
+
+// Greedy LZF: a hash of the next 3 bytes finds the last position with the same hash within
+// the 8 KiB window; matches of 3..264 bytes become back-references, the rest literal runs of
+// at most 32 bytes.
+std::vector<unsigned char> lzf_compress(const unsigned char* in, std::size_t in_size) {
+  constexpr std::size_t kHashBits = 14;
+  constexpr std::size_t kNone = static_cast<std::size_t>(-1);
+  constexpr std::size_t kMaxOff = 1 << 13;
+  constexpr std::size_t kMaxLen = 264;
+  std::vector<std::size_t> table(std::size_t{1} << kHashBits, kNone);
+  std::vector<unsigned char> out;
+  out.reserve(in_size + in_size / 32 + 16);
+  std::size_t lit_at = out.size(), lit = 0;
+  out.push_back(0);  // control byte of the current literal run
+  auto literal = [&](unsigned char c) {
+    out.push_back(c);
+    if (++lit == 32) {
+      out[lit_at] = 31;
+      lit = 0;
+      lit_at = out.size();
+      out.push_back(0);
+    }
+  };
+  std::size_t ip = 0;
+  while (ip + 2 < in_size) {
+    const std::uint32_t v = (std::uint32_t{in[ip]} << 16) | (std::uint32_t{in[ip + 1]} << 8) | in[ip + 2];
+    const std::size_t hslot = ((v * 2654435761u) >> (32 - kHashBits)) & ((std::size_t{1} << kHashBits) - 1);
+    const std::size_t ref = table[hslot];
+    table[hslot] = ip;
+    if (ref != kNone && ip - ref - 1 < kMaxOff && in[ref] == in[ip] && in[ref + 1] == in[ip + 1] &&
+        in[ref + 2] == in[ip + 2]) {
+      const std::size_t max_len = std::min(kMaxLen, in_size - ip);
+      std::size_t len = 3;
+      while (len < max_len && in[ref + len] == in[ip + len]) ++len;
+      const std::size_t off = ip - ref - 1;
+      if (lit == 0) out.pop_back();
+      else out[lit_at] = static_cast<unsigned char>(lit - 1);
+      const std::size_t enc = len - 2;
+      if (enc < 7) {
+        out.push_back(static_cast<unsigned char>((off >> 8) + (enc << 5)));
+      } else {
+        out.push_back(static_cast<unsigned char>((off >> 8) + (7 << 5)));
+        out.push_back(static_cast<unsigned char>(enc - 7));
+      }
+      out.push_back(static_cast<unsigned char>(off & 0xff));
+      ip += len;
+      lit = 0;
+      lit_at = out.size();
+      out.push_back(0);
+    } else {
+      literal(in[ip++]);
+    }
+  }
+  while (ip < in_size) literal(in[ip++]);
+  if (lit == 0) out.pop_back();
+  else out[lit_at] = static_cast<unsigned char>(lit - 1);
+  return out;
 }
 
 }  // namespace canopy::formats::detail

@@ -1,10 +1,17 @@
 #include "canopy/formats/pcd.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <sstream>
+#include <cstring>
+#include <limits>
+#include <set>
 
 #include "binary_io.h"
 #include "canopy/common/atomic_file.h"
@@ -15,34 +22,69 @@ namespace canopy::formats {
 namespace {
 
 using common::DataError;
-using detail::read_scalar;
+using detail::quote;
+
+// Sane limits (formats/README.md): scalar columns per point (PCL's largest feature
+// descriptors have a few hundred), header values.
+constexpr std::uint64_t kMaxColumns = 4096;
+constexpr std::uint64_t kMaxDimension = std::numeric_limits<std::int64_t>::max();
 
 struct Header {
   std::vector<std::string> fields;
   std::vector<int> sizes;
   std::vector<char> kinds;
-  std::vector<int> counts;
-  long long width = -1, height = 1, points = -1;
+  std::vector<std::uint64_t> counts;
+  std::uint64_t width = 0, height = 1, points = 0;
+  bool have_width = false, have_points = false;
   std::string data;
   std::vector<std::string> comments;
   std::size_t data_offset = 0;
 };
 
+// Whitespace-separated tokens (space, tab, and any other byte <= ' ' such as NUL or \v).
 std::vector<std::string> split_ws(const std::string& line) {
-  std::istringstream ss(line);
   std::vector<std::string> out;
-  std::string t;
-  while (ss >> t) out.push_back(t);
+  std::size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && static_cast<unsigned char>(line[i]) <= ' ') ++i;
+    const std::size_t s = i;
+    while (i < line.size() && static_cast<unsigned char>(line[i]) > ' ') ++i;
+    if (i > s) out.push_back(line.substr(s, i - s));
+  }
   return out;
 }
 
-long long to_count(const std::string& text, const std::string& name, const std::string& key) {
-  char* end = nullptr;
-  const long long v = std::strtoll(text.c_str(), &end, 10);
-  if (end == text.c_str() || *end != '\0' || v < 0) {
-    throw DataError(name, "header " + key + " '" + text + "' is not a non-negative integer");
+std::uint64_t to_count(const std::string& text, const std::string& name, const std::string& key,
+                       std::uint64_t max = kMaxDimension) {
+  std::uint64_t v = 0;
+  if (!detail::parse_count(text, max, &v)) {
+    throw DataError(name, "header " + key + " '" + quote(text) + "' is not an integer from 0 to " +
+                              std::to_string(max));
   }
   return v;
+}
+
+// Offset just past the DATA line, or npos when `bytes` holds no complete DATA line yet.
+std::size_t header_end(const std::string& bytes) {
+  std::size_t pos = 0;
+  while (pos < bytes.size()) {
+    const std::size_t eol = bytes.find('\n', pos);
+    if (eol == std::string::npos) return std::string::npos;
+    std::size_t s = pos;
+    while (s < eol && (bytes[s] == ' ' || bytes[s] == '\t')) ++s;
+    if (bytes.compare(s, 4, "DATA") == 0 && s + 4 < bytes.size() &&
+        static_cast<unsigned char>(bytes[s + 4]) <= ' ') {
+      return eol + 1;
+    }
+    pos = eol + 1;
+  }
+  return std::string::npos;
+}
+
+[[noreturn]] void not_pcd(const std::string& bytes, const std::string& name, const std::string& what) {
+  const std::string is = detail::sniff(bytes);
+  if (!is.empty() && is != "a PCD file") throw DataError(name, "this is " + is + ", not a PCD file");
+  throw DataError(name, what + " (is this a PCD file?)");
 }
 
 Header parse_header(const std::string& bytes, const std::string& name) {
@@ -50,53 +92,72 @@ Header parse_header(const std::string& bytes, const std::string& name) {
   Header h;
   std::size_t pos = 0;
   bool have_count = false;
+  std::set<std::string> seen;
   while (true) {
-    if (pos >= bytes.size()) throw DataError(name, "PCD header has no DATA line (truncated or not a PCD file)");
+    if (pos >= bytes.size()) not_pcd(bytes, name, "PCD header has no DATA line (truncated?)");
     std::size_t eol = bytes.find('\n', pos);
     if (eol == std::string::npos) eol = bytes.size();
     std::string line = bytes.substr(pos, eol - pos);
     pos = eol + 1;
     if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.empty()) continue;
-    if (line[0] == '#') {
+    if (!line.empty() && line[0] == '#') {
       std::string c = line.substr(1);
       if (!c.empty() && c[0] == ' ') c.erase(0, 1);
       if (c.rfind(".PCD v", 0) != 0) h.comments.push_back(c);
       continue;
     }
     auto tok = split_ws(line);
+    if (tok.empty()) continue;  // blank or whitespace-only line
     const std::string key = tok[0];
     tok.erase(tok.begin());
-    if (key == "VERSION") {
+    static const char* const kKeys[] = {"VERSION", "FIELDS", "COLUMNS", "SIZE", "TYPE", "COUNT",
+                                        "WIDTH", "HEIGHT", "POINTS", "VIEWPOINT", "DATA"};
+    if (std::find_if(std::begin(kKeys), std::end(kKeys), [&](const char* k) { return key == k; }) ==
+        std::end(kKeys)) {
+      not_pcd(bytes, name, "unknown PCD header line '" + quote(line) + "'");
+    }
+    const std::string canon = key == "COLUMNS" ? "FIELDS" : key;
+    if (!seen.insert(canon).second) throw DataError(name, "header line " + canon + " appears twice");
+    auto one = [&]() -> const std::string& {
+      if (tok.size() != 1) throw DataError(name, "header " + key + " needs one value");
+      return tok[0];
+    };
+    if (key == "VERSION" || key == "VIEWPOINT") {
     } else if (key == "FIELDS" || key == "COLUMNS") {
+      if (tok.empty()) throw DataError(name, "header FIELDS lists no fields");
+      if (tok.size() > kMaxColumns) {
+        throw DataError(name, "header FIELDS lists " + std::to_string(tok.size()) + " fields (limit " +
+                                  std::to_string(kMaxColumns) + ")");
+      }
       h.fields = tok;
     } else if (key == "SIZE") {
-      for (auto& t : tok) h.sizes.push_back(static_cast<int>(to_count(t, name, "SIZE")));
+      for (auto& t : tok) h.sizes.push_back(static_cast<int>(to_count(t, name, "SIZE", 8)));
     } else if (key == "TYPE") {
       for (auto& t : tok) {
-        if (t.size() != 1) throw DataError(name, "header TYPE '" + t + "' is not one of F, U, I");
+        if (t != "F" && t != "U" && t != "I") {
+          throw DataError(name, "header TYPE '" + quote(t) + "' is not one of F, U, I");
+        }
         h.kinds.push_back(t[0]);
       }
     } else if (key == "COUNT") {
       have_count = true;
-      for (auto& t : tok) h.counts.push_back(static_cast<int>(to_count(t, name, "COUNT")));
+      for (auto& t : tok) {
+        const auto c = to_count(t, name, "COUNT", kMaxColumns);
+        if (c == 0) throw DataError(name, "header COUNT 0 (every field needs at least one value)");
+        h.counts.push_back(c);
+      }
     } else if (key == "WIDTH") {
-      if (tok.size() != 1) throw DataError(name, "header WIDTH needs one value");
-      h.width = to_count(tok[0], name, "WIDTH");
+      h.width = to_count(one(), name, "WIDTH");
+      h.have_width = true;
     } else if (key == "HEIGHT") {
-      if (tok.size() != 1) throw DataError(name, "header HEIGHT needs one value");
-      h.height = to_count(tok[0], name, "HEIGHT");
+      h.height = to_count(one(), name, "HEIGHT");
     } else if (key == "POINTS") {
-      if (tok.size() != 1) throw DataError(name, "header POINTS needs one value");
-      h.points = to_count(tok[0], name, "POINTS");
-    } else if (key == "VIEWPOINT") {
-    } else if (key == "DATA") {
-      if (tok.size() != 1) throw DataError(name, "header DATA needs one value");
-      h.data = tok[0];
-      h.data_offset = pos;
+      h.points = to_count(one(), name, "POINTS");
+      h.have_points = true;
+    } else {  // DATA
+      h.data = one();
+      h.data_offset = std::min(pos, bytes.size());
       break;
-    } else {
-      throw DataError(name, "unknown PCD header line '" + key + "' (is this a PCD file?)");
     }
   }
   if (h.fields.empty()) throw DataError(name, "PCD header has no FIELDS line");
@@ -108,46 +169,138 @@ Header parse_header(const std::string& bytes, const std::string& name) {
                               std::to_string(h.kinds.size()) + " TYPE and " +
                               std::to_string(h.counts.size()) + " COUNT entries");
   }
+  std::uint64_t columns = 0;
   for (std::size_t i = 0; i < h.fields.size(); ++i) {
     if (!detail::valid_type({h.kinds[i], h.sizes[i]})) {
-      throw DataError(name, "field '" + h.fields[i] + "' has unsupported TYPE " + h.kinds[i] +
+      throw DataError(name, "field '" + quote(h.fields[i]) + "' has unsupported TYPE " + h.kinds[i] +
                                 " SIZE " + std::to_string(h.sizes[i]));
     }
+    columns += h.counts[i];
   }
-  if (h.width < 0) throw DataError(name, "PCD header has no WIDTH");
-  if (h.points < 0) h.points = h.width * h.height;
-  if (h.points != h.width * h.height) {
+  if (columns > kMaxColumns) {
+    throw DataError(name, "header COUNT gives " + std::to_string(columns) + " values per point (limit " +
+                              std::to_string(kMaxColumns) + ")");
+  }
+  if (!h.have_width) throw DataError(name, "PCD header has no WIDTH");
+  std::uint64_t wh = 0;
+  if (__builtin_mul_overflow(h.width, h.height, &wh) || wh > kMaxDimension) {
+    throw DataError(name, "header WIDTH " + std::to_string(h.width) + " x HEIGHT " + std::to_string(h.height) +
+                              " overflows");
+  }
+  if (!h.have_points) h.points = wh;
+  if (h.points != wh) {
     throw DataError(name, "PCD header POINTS " + std::to_string(h.points) + " != WIDTH x HEIGHT " +
-                              std::to_string(h.width * h.height));
+                              std::to_string(wh));
   }
   if (h.data != "ascii" && h.data != "binary" && h.data != "binary_compressed") {
-    throw DataError(name, "unknown DATA type '" + h.data + "' (want ascii, binary or binary_compressed)");
+    throw DataError(name, "unknown DATA type '" + quote(h.data) + "' (want ascii, binary or binary_compressed)");
   }
   return h;
 }
 
-// Column layout: one entry per stored scalar; target < 0 for padding fields.
+// One entry per stored scalar of a point; column < 0 for padding fields ("_").
 struct Slot {
   FieldType type;
   int column;
+  std::size_t offset;  // byte offset in a binary row
 };
 
-std::vector<Slot> make_columns(const Header& h, PointCloud* cloud) {
+struct Layout {
   std::vector<Slot> slots;
+  std::size_t step = 0;  // bytes per point in binary data
+};
+
+Layout make_layout(const Header& h, const std::string& name) {
+  Layout l;
   for (std::size_t f = 0; f < h.fields.size(); ++f) {
     const FieldType t{h.kinds[f], h.sizes[f]};
-    for (int k = 0; k < h.counts[f]; ++k) {
-      if (h.fields[f] == "_") {
-        slots.push_back({t, -1});
-        continue;
-      }
-      const std::string col = h.counts[f] == 1 ? h.fields[f] : h.fields[f] + "_" + std::to_string(k);
-      if (cloud->has(col)) throw DataError("", "duplicate field '" + col + "'");
-      cloud->add(col, t);
-      slots.push_back({t, static_cast<int>(cloud->names().size()) - 1});
+    for (std::uint64_t k = 0; k < h.counts[f]; ++k) {
+      l.slots.push_back({t, h.fields[f] == "_" ? -1 : 0, l.step});
+      l.step += static_cast<std::size_t>(t.size);
     }
   }
-  return slots;
+  (void)name;
+  return l;
+}
+
+// Adds the columns (after the data size was checked against the header) and sizes them.
+std::vector<double*> make_columns(const Header& h, Layout* l, PointCloud* cloud, const std::string& name) {
+  std::set<std::string> names;
+  std::size_t s = 0;
+  for (std::size_t f = 0; f < h.fields.size(); ++f) {
+    for (std::uint64_t k = 0; k < h.counts[f]; ++k, ++s) {
+      if (l->slots[s].column < 0) continue;
+      const std::string col = h.counts[f] == 1 ? h.fields[f] : h.fields[f] + "_" + std::to_string(k);
+      if (!names.insert(col).second) throw DataError(name, "duplicate field '" + quote(col) + "'");
+      cloud->add(col, l->slots[s].type);
+      l->slots[s].column = static_cast<int>(cloud->names().size()) - 1;
+    }
+  }
+  cloud->resize(static_cast<std::size_t>(h.points));
+  std::vector<double*> cols;
+  for (std::size_t c = 0; c < cloud->names().size(); ++c) cols.push_back(cloud->col(c).data());
+  return cols;
+}
+
+std::string too_big(const std::string& what, std::uint64_t n, std::size_t per, std::size_t avail) {
+  return "data truncated: header POINTS " + std::to_string(n) + " needs " + std::to_string(per) + " " + what +
+         " per point, the file holds " + std::to_string(avail) + " bytes of data (truncated file or wrong POINTS)";
+}
+
+// Checks that `n` binary points of `step` bytes fit in `avail` bytes.
+void check_binary_size(std::uint64_t n, std::size_t step, std::size_t avail, const std::string& name) {
+  if (n > avail / step) throw DataError(name, too_big("bytes", n, step, avail));
+}
+
+template <typename T>
+void gather(const unsigned char* src, std::size_t stride, std::size_t n, double* dst) {
+  for (std::size_t i = 0; i < n; ++i) {
+    T v;
+    std::memcpy(&v, src + i * stride, sizeof v);
+    dst[i] = static_cast<double>(v);
+  }
+}
+
+// Decodes `rows` values of one slot, `stride` bytes apart, into dst.
+void gather_slot(const unsigned char* src, std::size_t stride, std::size_t rows, FieldType t, double* dst) {
+  switch (t.kind) {
+    case 'F':
+      if (t.size == 4) gather<float>(src, stride, rows, dst);
+      else gather<double>(src, stride, rows, dst);
+      return;
+    case 'U':
+      if (t.size == 1) gather<std::uint8_t>(src, stride, rows, dst);
+      else if (t.size == 2) gather<std::uint16_t>(src, stride, rows, dst);
+      else gather<std::uint32_t>(src, stride, rows, dst);
+      return;
+    default:
+      if (t.size == 1) gather<std::int8_t>(src, stride, rows, dst);
+      else if (t.size == 2) gather<std::int16_t>(src, stride, rows, dst);
+      else gather<std::int32_t>(src, stride, rows, dst);
+      return;
+  }
+}
+
+// Binary (row-major) points [row0, row0 + rows) from `src`.
+void decode_rows(const unsigned char* src, std::size_t row0, std::size_t rows, const Layout& l,
+                 const std::vector<double*>& cols) {
+  for (const auto& s : l.slots) {
+    if (s.column < 0) continue;
+    gather_slot(src + s.offset, l.step, rows, s.type, cols[static_cast<std::size_t>(s.column)] + row0);
+  }
+}
+
+bool all_zero(const unsigned char* p, std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i) {
+    if (p[i] != 0) return false;
+  }
+  return true;
+}
+
+[[noreturn]] void trailing_data(std::uint64_t n, std::size_t step, const std::string& name) {
+  throw DataError(name, "data longer than the header says: non-zero bytes after the " + std::to_string(n) +
+                            " points of " + std::to_string(step) +
+                            " bytes (wrong POINTS?; zero padding, as PCL writes, is accepted)");
 }
 
 void check_coordinates(const PointCloud& cloud, const std::string& name) {
@@ -163,98 +316,215 @@ void check_coordinates(const PointCloud& cloud, const std::string& name) {
   }
 }
 
-}  // namespace
+bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
 
-PointCloud parse_pcd(const std::string& bytes, const std::string& name) {
-  const Header h = parse_header(bytes, name);
-  PointCloud cloud;
-  std::vector<Slot> slots;
-  try {
-    slots = make_columns(h, &cloud);
-  } catch (const DataError& e) {
-    throw DataError(name, e.cause());
-  }
-  cloud.comments = h.comments;
+void parse_ascii(const std::string& bytes, const Header& h, Layout& l, PointCloud* cloud, const std::string& name) {
+  const char* p = bytes.c_str() + h.data_offset;
+  const char* end = bytes.c_str() + bytes.size();
+  const std::size_t avail = static_cast<std::size_t>(end - p);
+  // Every value takes at least two bytes ("0 ") but the last.
+  const std::size_t per = l.slots.size();
+  if (h.points > 0 && h.points > (avail + 1) / 2 / per) throw DataError(name, too_big("ascii values", h.points, per, avail));
+  const auto cols = make_columns(h, &l, cloud, name);
   const std::size_t n = static_cast<std::size_t>(h.points);
-  cloud.resize(n);
-  std::size_t step = 0;
-  for (const auto& s : slots) step += static_cast<std::size_t>(s.type.size);
-  const auto* data = reinterpret_cast<const unsigned char*>(bytes.data()) + h.data_offset;
-  const std::size_t avail = bytes.size() - std::min(bytes.size(), h.data_offset);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (const auto& s : l.slots) {
+      while (p < end && is_space(*p)) ++p;
+      if (p >= end) {
+        throw DataError(name, "data truncated: header says " + std::to_string(n) +
+                                  " points, ascii data ends in point " + std::to_string(i));
+      }
+      // strtod needs a terminator: bytes.c_str() has one at the end, and a value stops at the
+      // first byte that cannot continue a number.
+      char* q = nullptr;
+      const double v = std::strtod(p, &q);
+      if (q == p || (q < end && !is_space(*q))) {
+        const char* e = p;
+        while (e < end && !is_space(*e)) ++e;
+        throw DataError(name, "point " + std::to_string(i) + ": '" + quote(p, static_cast<std::size_t>(e - p), 16) +
+                                  "' is not a number");
+      }
+      p = q;
+      // A float32 field holds the float nearest to the text, as in binary files.
+      if (s.column >= 0) cols[static_cast<std::size_t>(s.column)][i] = s.type == kFloat32 ? static_cast<float>(v) : v;
+    }
+  }
+  while (p < end && (is_space(*p) || *p == '\0')) ++p;
+  if (p < end) throw DataError(name, "more ascii data than the header's " + std::to_string(n) + " points");
+}
 
+// LZF encodes at most 264 bytes in 3 (a long back-reference), so a block of c bytes decodes
+// to fewer than 89 c bytes: a bound on the allocation before decoding.
+constexpr std::uint64_t kLzfMaxRatio = 89;
+
+void parse_compressed(const std::string& bytes, const Header& h, Layout& l, PointCloud* cloud,
+                      const std::string& name) {
+  const auto* data = reinterpret_cast<const unsigned char*>(bytes.data()) + h.data_offset;
+  const std::size_t avail = bytes.size() - h.data_offset;
+  if (avail < 8) throw DataError(name, "data truncated: binary_compressed block header missing");
+  std::uint32_t csize, usize;
+  std::memcpy(&csize, data, 4);
+  std::memcpy(&usize, data + 4, 4);
+  if (avail - 8 < csize) {
+    throw DataError(name, "data truncated: compressed block of " + std::to_string(csize) +
+                              " bytes, file holds " + std::to_string(avail - 8));
+  }
+  if (h.points > usize / l.step || h.points * l.step != usize) {
+    throw DataError(name, "header POINTS " + std::to_string(h.points) + " x " + std::to_string(l.step) +
+                              " bytes disagrees with the compressed block's size " + std::to_string(usize));
+  }
+  if (usize > kLzfMaxRatio * static_cast<std::uint64_t>(csize) + 1) {
+    throw DataError(name, "data truncated: a compressed block of " + std::to_string(csize) +
+                              " bytes cannot hold the header's POINTS " + std::to_string(h.points));
+  }
+  std::vector<unsigned char> raw(usize);
+  if (usize > 0 && !detail::lzf_decompress(data + 8, csize, raw.data(), usize)) {
+    throw DataError(name, "corrupt binary_compressed data (LZF decompression failed)");
+  }
+  const auto cols = make_columns(h, &l, cloud, name);
+  const std::size_t n = static_cast<std::size_t>(h.points);
+  std::size_t off = 0;  // field-major: all values of slot 0, then slot 1, ...
+  for (const auto& s : l.slots) {
+    const std::size_t sz = static_cast<std::size_t>(s.type.size);
+    if (s.column >= 0) gather_slot(raw.data() + off, sz, n, s.type, cols[static_cast<std::size_t>(s.column)]);
+    off += sz * n;
+  }
+}
+
+PointCloud parse_body(const std::string& bytes, const Header& h, const std::string& name) {
+  PointCloud cloud;
+  cloud.comments = h.comments;
+  Layout l = make_layout(h, name);
   if (h.data == "ascii") {
-    const char* p = bytes.c_str() + h.data_offset;
-    const char* end = bytes.c_str() + bytes.size();
-    for (std::size_t i = 0; i < n; ++i) {
-      for (const auto& s : slots) {
-        while (p < end && (*p == ' ' || *p == '\t' || *p == '\n' || *p == '\r')) ++p;
-        if (p >= end) {
-          throw DataError(name, "data truncated: header says " + std::to_string(n) +
-                                    " points, ascii data ends in point " + std::to_string(i));
-        }
-        char* q = nullptr;
-        const double v = std::strtod(p, &q);
-        if (q == p) throw DataError(name, "point " + std::to_string(i) + ": '" +
-                                              std::string(p, std::min<std::size_t>(12, static_cast<std::size_t>(end - p))) +
-                                              "' is not a number");
-        p = q;
-        if (s.column >= 0) cloud.col(static_cast<std::size_t>(s.column))[i] = v;
-      }
-    }
-    while (p < end && (*p == ' ' || *p == '\t' || *p == '\n' || *p == '\r')) ++p;
-    if (p < end) throw DataError(name, "more ascii data than the header's " + std::to_string(n) + " points");
+    parse_ascii(bytes, h, l, &cloud, name);
   } else if (h.data == "binary") {
-    if (avail < n * step) {
-      throw DataError(name, "data truncated: header says " + std::to_string(n) + " points of " +
-                                std::to_string(step) + " bytes, file holds " + std::to_string(avail) +
-                                " bytes of data");
-    }
-    if (avail > n * step) {
-      throw DataError(name, "data longer than the header says (" + std::to_string(avail) + " bytes for " +
-                                std::to_string(n) + " points of " + std::to_string(step) + " bytes)");
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-      const unsigned char* row = data + i * step;
-      std::size_t off = 0;
-      for (const auto& s : slots) {
-        if (s.column >= 0) cloud.col(static_cast<std::size_t>(s.column))[i] = read_scalar(row + off, s.type);
-        off += static_cast<std::size_t>(s.type.size);
-      }
-    }
-  } else {  // binary_compressed: uint32 compressed size, uint32 raw size, LZF block of SoA data
-    if (avail < 8) throw DataError(name, "data truncated: binary_compressed block header missing");
-    std::uint32_t csize, usize;
-    std::memcpy(&csize, data, 4);
-    std::memcpy(&usize, data + 4, 4);
-    if (avail - 8 < csize) {
-      throw DataError(name, "data truncated: compressed block of " + std::to_string(csize) +
-                                " bytes, file holds " + std::to_string(avail - 8));
-    }
-    if (usize != n * step) {
-      throw DataError(name, "compressed block holds " + std::to_string(usize) + " bytes, header needs " +
-                                std::to_string(n * step));
-    }
-    std::vector<unsigned char> raw(usize);
-    if (n > 0 && !detail::lzf_decompress(data + 8, csize, raw.data(), usize)) {
-      throw DataError(name, "corrupt binary_compressed data (LZF decompression failed)");
-    }
-    std::size_t off = 0;  // field-major: all values of slot 0, then slot 1, ...
-    for (const auto& s : slots) {
-      const std::size_t sz = static_cast<std::size_t>(s.type.size);
-      if (s.column >= 0) {
-        auto& col = cloud.col(static_cast<std::size_t>(s.column));
-        for (std::size_t i = 0; i < n; ++i) col[i] = read_scalar(raw.data() + off + i * sz, s.type);
-      }
-      off += sz * n;
-    }
+    const auto* data = reinterpret_cast<const unsigned char*>(bytes.data()) + h.data_offset;
+    const std::size_t avail = bytes.size() - h.data_offset;
+    check_binary_size(h.points, l.step, avail, name);
+    const std::size_t used = static_cast<std::size_t>(h.points) * l.step;
+    if (!all_zero(data + used, avail - used)) trailing_data(h.points, l.step, name);
+    const auto cols = make_columns(h, &l, &cloud, name);
+    decode_rows(data, 0, static_cast<std::size_t>(h.points), l, cols);
+  } else {
+    parse_compressed(bytes, h, l, &cloud, name);
   }
   check_coordinates(cloud, name);
   return cloud;
 }
 
-PointCloud read_pcd(const std::string& path) { return parse_pcd(common::read_file(path), path); }
+// Reads up to n bytes at the file's current position; fewer only at end of file.
+std::size_t read_some(int fd, void* buf, std::size_t n, const std::string& name) {
+  std::size_t got = 0;
+  auto* p = static_cast<char*>(buf);
+  while (got < n) {
+    const ssize_t r = ::read(fd, p + got, n - got);
+    if (r < 0) {
+      if (errno == EINTR) continue;
+      throw DataError(name, std::string("read error: ") + std::strerror(errno));
+    }
+    if (r == 0) break;
+    got += static_cast<std::size_t>(r);
+  }
+  return got;
+}
 
-std::string serialize_pcd(const PointCloud& cloud) {
+struct Fd {
+  int fd;
+  ~Fd() { ::close(fd); }
+};
+
+}  // namespace
+
+PointCloud parse_pcd(const std::string& bytes, const std::string& name) {
+  return parse_body(bytes, parse_header(bytes, name), name);
+}
+
+// Regular files are read in chunks: binary data is decoded as it arrives (no copy of the
+// whole file in memory), other encodings are read whole and parsed like parse_pcd.
+PointCloud read_pcd(const std::string& path) {
+  if (path == "-") return parse_pcd(common::read_file(path), path);
+  const int raw_fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (raw_fd < 0) return parse_pcd(common::read_file(path), path);  // read_file words the error
+  Fd fd{raw_fd};
+  struct stat st {};
+  if (fstat(fd.fd, &st) != 0 || !S_ISREG(st.st_mode)) return parse_pcd(common::read_file(path), path);
+  const auto file_size = static_cast<std::size_t>(st.st_size);
+
+  std::string head;
+  std::size_t end = std::string::npos;
+  constexpr std::size_t kHeadChunk = 1 << 16;
+  while (end == std::string::npos) {
+    const std::size_t old = head.size();
+    head.resize(old + kHeadChunk);
+    const std::size_t got = read_some(fd.fd, &head[old], kHeadChunk, path);
+    head.resize(old + got);
+    end = header_end(head);
+    if (got == 0) break;
+  }
+  if (end == std::string::npos) return parse_pcd(head, path);  // no DATA line: parse_header says why
+  const Header h = parse_header(head.substr(0, end), path);
+  if (h.data != "binary") {
+    std::string rest(file_size > head.size() ? file_size - head.size() : 0, '\0');
+    rest.resize(read_some(fd.fd, rest.data(), rest.size(), path));
+    head += rest;
+    char extra;
+    while (read_some(fd.fd, &extra, 1, path) == 1) head.push_back(extra);  // file grew meanwhile
+    return parse_body(head, h, path);
+  }
+
+  PointCloud cloud;
+  cloud.comments = h.comments;
+  Layout l = make_layout(h, path);
+  const std::size_t avail = file_size - std::min(file_size, h.data_offset);
+  check_binary_size(h.points, l.step, avail, path);
+  const auto cols = make_columns(h, &l, &cloud, path);
+  const std::size_t n = static_cast<std::size_t>(h.points);
+  // Chunks of whole rows (~1 MiB), starting with the data bytes already read with the header.
+  const std::size_t chunk_rows = std::max<std::size_t>(1, (std::size_t{1} << 20) / l.step);
+  std::vector<unsigned char> buf(chunk_rows * l.step);
+  std::size_t head_pos = h.data_offset, have = 0, row = 0;
+  bool eof = false;
+  auto fill = [&] {
+    const std::size_t take = std::min(head.size() - head_pos, buf.size() - have);
+    std::memcpy(buf.data() + have, head.data() + head_pos, take);
+    head_pos += take;
+    have += take;
+    if (have < buf.size() && !eof) {
+      const std::size_t want = buf.size() - have;
+      const std::size_t got = read_some(fd.fd, buf.data() + have, want, path);
+      eof = got < want;
+      have += got;
+    }
+  };
+  while (row < n) {
+    fill();
+    const std::size_t rows = std::min(have / l.step, n - row);
+    if (rows == 0) break;  // end of file inside a point
+    decode_rows(buf.data(), row, rows, l, cols);
+    row += rows;
+    const std::size_t used = rows * l.step;
+    std::memmove(buf.data(), buf.data() + used, have - used);
+    have -= used;
+  }
+  if (row < n) {
+    throw DataError(path, "data truncated: header says " + std::to_string(n) + " points, the file ends in point " +
+                              std::to_string(row));
+  }
+  // Whatever follows the points must be zero padding (PCL's writer adds up to a page).
+  while (true) {
+    if (!all_zero(buf.data(), have)) trailing_data(h.points, l.step, path);
+    if (eof && head_pos == head.size()) break;
+    have = 0;
+    fill();
+    if (have == 0) break;
+  }
+  check_coordinates(cloud, path);
+  return cloud;
+}
+
+std::string serialize_pcd(const PointCloud& cloud) { return serialize_pcd(cloud, PcdWriteOptions{}); }
+
+std::string serialize_pcd(const PointCloud& cloud, const PcdWriteOptions& options) {
   std::string out = "# .PCD v0.7 - Point Cloud Data file format\n";
   for (const auto& c : cloud.comments) out += "# " + c + "\n";
   std::string fields, sizes, types, counts;
@@ -265,22 +535,56 @@ std::string serialize_pcd(const PointCloud& cloud) {
     types += std::string(" ") + t.kind;
     counts += " 1";
   }
+  const char* data = options.encoding == PcdEncoding::ascii               ? "ascii"
+                     : options.encoding == PcdEncoding::binary_compressed ? "binary_compressed"
+                                                                          : "binary";
   const std::string n = std::to_string(cloud.size());
   out += "VERSION 0.7\nFIELDS" + fields + "\nSIZE" + sizes + "\nTYPE" + types + "\nCOUNT" + counts +
-         "\nWIDTH " + n + "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + n + "\nDATA binary\n";
+         "\nWIDTH " + n + "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + n + "\nDATA " + data + "\n";
   std::size_t step = 0;
   for (const auto& t : cloud.types()) step += static_cast<std::size_t>(t.size);
-  out.reserve(out.size() + step * cloud.size());
   const std::size_t nc = cloud.names().size();
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
-    for (std::size_t c = 0; c < nc; ++c) detail::write_scalar(&out, cloud.col(c)[i], cloud.types()[c]);
+  switch (options.encoding) {
+    case PcdEncoding::binary:
+      out.reserve(out.size() + step * cloud.size());
+      for (std::size_t i = 0; i < cloud.size(); ++i) {
+        for (std::size_t c = 0; c < nc; ++c) detail::write_scalar(&out, cloud.col(c)[i], cloud.types()[c]);
+      }
+      break;
+    case PcdEncoding::ascii:
+      for (std::size_t i = 0; i < cloud.size(); ++i) {
+        for (std::size_t c = 0; c < nc; ++c) {
+          out += detail::format_value(cloud.col(c)[i], cloud.types()[c]);
+          out += c + 1 < nc ? " " : "\n";
+        }
+      }
+      break;
+    case PcdEncoding::binary_compressed: {
+      // PCL's layout: uint32 compressed size, uint32 raw size, LZF block of the field-major data.
+      std::string raw;
+      raw.reserve(step * cloud.size());
+      for (std::size_t c = 0; c < nc; ++c) {
+        for (double v : cloud.col(c)) detail::write_scalar(&raw, v, cloud.types()[c]);
+      }
+      if (raw.size() > std::numeric_limits<std::uint32_t>::max()) {
+        throw common::Error("binary_compressed PCD holds at most 4 GiB of data (" + std::to_string(raw.size()) +
+                            " bytes); write DATA binary");
+      }
+      const auto block = detail::lzf_compress(reinterpret_cast<const unsigned char*>(raw.data()), raw.size());
+      detail::put(&out, static_cast<std::uint32_t>(block.size()));
+      detail::put(&out, static_cast<std::uint32_t>(raw.size()));
+      out.append(reinterpret_cast<const char*>(block.data()), block.size());
+      break;
+    }
   }
   return out;
 }
 
-void write_pcd(const PointCloud& cloud, const std::string& path) {
+void write_pcd(const PointCloud& cloud, const std::string& path) { write_pcd(cloud, path, PcdWriteOptions{}); }
+
+void write_pcd(const PointCloud& cloud, const std::string& path, const PcdWriteOptions& options) {
   check_coordinates(cloud, path == "-" ? "<stdout>" : path);
-  common::write_file_atomic(path, serialize_pcd(cloud));
+  common::write_file_atomic(path, serialize_pcd(cloud, options));
 }
 
 }  // namespace canopy::formats

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
+#include <set>
 #include <sstream>
 
 #include "binary_io.h"
@@ -47,6 +49,9 @@ struct Element {
   std::vector<Property> props;
 };
 
+// Sane limit on the properties of one element (formats/README.md).
+constexpr std::size_t kMaxProperties = 4096;
+
 bool ply_type(const std::string& t, FieldType* out) {
   static const std::pair<const char*, FieldType> kTypes[] = {
       {"char", {'I', 1}},   {"int8", {'I', 1}},   {"uchar", {'U', 1}},   {"uint8", {'U', 1}},
@@ -88,37 +93,97 @@ class Body {
   Body(const std::string& bytes, std::size_t pos, int encoding, const std::string& name)
       : bytes_(bytes), pos_(pos), enc_(encoding), name_(name) {}
 
-  double next(FieldType t) {
+  std::size_t remaining() const { return bytes_.size() - std::min(pos_, bytes_.size()); }
+  std::size_t position() const { return pos_; }
+
+  // The next value, of type t, of property `prop` (for messages).
+  double next(FieldType t, const std::string& prop) {
     if (enc_ == 0) {
       const char* p = bytes_.c_str() + pos_;
       const char* end = bytes_.c_str() + bytes_.size();
-      while (p < end && (*p == ' ' || *p == '\t' || *p == '\n' || *p == '\r')) ++p;
-      if (p >= end) throw DataError(name_, "data truncated (ascii body ends early)");
+      while (p < end && is_space(*p)) ++p;
+      if (p >= end) throw DataError(name_, "data truncated (ascii body ends early, in property '" + detail::quote(prop) + "')");
       char* q = nullptr;
       const double v = std::strtod(p, &q);
-      if (q == p) throw DataError(name_, "'" + std::string(p, std::min<std::size_t>(12, static_cast<std::size_t>(end - p))) + "' is not a number");
+      if (q == p || (q < end && !is_space(*q))) {
+        const char* e = p;
+        while (e < end && !is_space(*e)) ++e;
+        throw DataError(name_, "property '" + detail::quote(prop) + "': '" +
+                                   detail::quote(p, static_cast<std::size_t>(e - p), 16) + "' is not a number");
+      }
+      if (t.kind != 'F') check_int(v, t, prop, p, static_cast<std::size_t>(q - p));
       pos_ = static_cast<std::size_t>(q - bytes_.c_str());
-      return v;
+      return t == kFloat32 ? static_cast<float>(v) : v;  // a float property holds a float
     }
     const std::size_t sz = static_cast<std::size_t>(t.size);
-    if (pos_ + sz > bytes_.size()) throw DataError(name_, "data truncated (binary body ends early)");
+    if (sz > remaining()) {
+      throw DataError(name_, "data truncated (binary body ends early, in property '" + detail::quote(prop) + "')");
+    }
     const double v = detail::read_scalar(reinterpret_cast<const unsigned char*>(bytes_.data()) + pos_, t, enc_ == 2);
     pos_ += sz;
     return v;
   }
 
  private:
+  static bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
+
+  // An ascii value of an integer type must be an integer in the type's range.
+  void check_int(double v, FieldType t, const std::string& prop, const char* text, std::size_t len) const {
+    double lo = 0, hi = 0;
+    if (t.kind == 'U') hi = t.size == 1 ? 255.0 : t.size == 2 ? 65535.0 : 4294967295.0;
+    else if (t.size == 1) { lo = -128; hi = 127; }
+    else if (t.size == 2) { lo = -32768; hi = 32767; }
+    else { lo = -2147483648.0; hi = 2147483647.0; }
+    if (!(v >= lo && v <= hi) || v != std::floor(v)) {
+      throw DataError(name_, "property '" + detail::quote(prop) + "': '" + detail::quote(text, len, 24) +
+                                 "' is not a " + ply_type_name(t) + " (an integer from " + detail::format_value(lo, t) +
+                                 " to " + detail::format_value(hi, t) + ")");
+    }
+  }
+
   const std::string& bytes_;
   std::size_t pos_;
   int enc_;  // 0 ascii, 1 little endian, 2 big endian
   const std::string& name_;
 };
 
+// Length of the next list of property p of element e, checked against the data left.
+std::size_t list_length(Body& body, const Element& e, const Property& p, int encoding, const std::string& name) {
+  const double m = body.next(p.count_type, p.name);
+  if (!(m >= 0)) throw DataError(name, "list " + detail::quote(e.name + "." + p.name) + " has a negative length");
+  const double per = encoding == 0 ? 2.0 : static_cast<double>(p.type.size);
+  if (m * per > static_cast<double>(body.remaining()) + 1.0) {
+    throw DataError(name, "data truncated: a list " + detail::quote(e.name + "." + p.name) + " of " +
+                              detail::format_value(m, kFloat64) + " items does not fit in the " +
+                              std::to_string(body.remaining()) + " bytes left");
+  }
+  return static_cast<std::size_t>(m);
+}
+
+void skip_list(Body& body, const Element& e, const Property& p, int encoding, const std::string& name) {
+  const std::size_t m = list_length(body, e, p, encoding, name);
+  for (std::size_t j = 0; j < m; ++j) body.next(p.type, p.name);
+}
+
+// Fewest bytes one row of an element can take: binary, the scalars and list counts; ascii,
+// two bytes ("0 ") per scalar or list count.
+std::size_t min_row_bytes(const Element& e, int encoding) {
+  std::size_t n = 0;
+  for (const auto& p : e.props) {
+    n += encoding == 0 ? 2 : static_cast<std::size_t>(p.is_list ? p.count_type.size : p.type.size);
+  }
+  return n;
+}
+
 }  // namespace
 
 Mesh parse_ply(const std::string& bytes, const std::string& name) {
   if (bytes.empty()) throw DataError(name, "empty file (not a PLY file)");
-  if (bytes.compare(0, 3, "ply") != 0) throw DataError(name, "not a PLY file (no 'ply' magic)");
+  if (bytes.compare(0, 3, "ply") != 0 || (bytes.size() > 3 && bytes[3] != '\n' && bytes[3] != '\r')) {
+    const std::string is = detail::sniff(bytes);
+    if (!is.empty() && is != "a PLY file") throw DataError(name, "this is " + is + ", not a PLY file");
+    throw DataError(name, "not a PLY file (no 'ply' magic)");
+  }
   std::size_t pos = 0;
   int encoding = -1;
   std::vector<Element> elements;
@@ -143,13 +208,18 @@ Mesh parse_ply(const std::string& bytes, const std::string& name) {
       if (f == "ascii") encoding = 0;
       else if (f == "binary_little_endian") encoding = 1;
       else if (f == "binary_big_endian") encoding = 2;
-      else throw DataError(name, "unknown PLY format '" + f + "'");
+      else throw DataError(name, "unknown PLY format '" + detail::quote(f) + "'");
     } else if (key == "element") {
       Element e;
-      long long count = -1;
-      ss >> e.name >> count;
-      if (e.name.empty() || count < 0) throw DataError(name, "malformed PLY line '" + line + "'");
-      e.count = static_cast<std::size_t>(count);
+      std::string count, extra;
+      ss >> e.name >> count >> extra;
+      std::uint64_t c = 0;
+      if (e.name.empty() || !extra.empty()) throw DataError(name, "malformed PLY line '" + detail::quote(line) + "'");
+      if (!detail::parse_count(count, std::numeric_limits<std::int64_t>::max(), &c)) {
+        throw DataError(name, "element " + detail::quote(e.name) + " count '" + detail::quote(count) +
+                                  "' is not an integer from 0 to 2^63-1");
+      }
+      e.count = static_cast<std::size_t>(c);
       elements.push_back(e);
     } else if (key == "property") {
       if (elements.empty()) throw DataError(name, "PLY property before any element");
@@ -160,22 +230,44 @@ Mesh parse_ply(const std::string& bytes, const std::string& name) {
         std::string ct, it;
         ss >> ct >> it >> p.name;
         if (!ply_type(ct, &p.count_type) || !ply_type(it, &p.type)) {
-          throw DataError(name, "unknown PLY type in '" + line + "'");
+          throw DataError(name, "unknown PLY type in '" + detail::quote(line) + "'");
+        }
+        if (p.count_type.kind == 'F') {
+          throw DataError(name, "list count type '" + detail::quote(ct) + "' is not an integer type");
         }
         p.is_list = true;
       } else {
         ss >> p.name;
-        if (!ply_type(t, &p.type)) throw DataError(name, "unknown PLY type '" + t + "'");
+        if (!ply_type(t, &p.type)) throw DataError(name, "unknown PLY type '" + detail::quote(t) + "'");
       }
-      if (p.name.empty()) throw DataError(name, "malformed PLY line '" + line + "'");
+      if (p.name.empty()) throw DataError(name, "malformed PLY line '" + detail::quote(line) + "'");
+      if (elements.back().props.size() >= kMaxProperties) {
+        throw DataError(name, "element " + detail::quote(elements.back().name) + " has more than " +
+                                  std::to_string(kMaxProperties) + " properties");
+      }
       elements.back().props.push_back(p);
     } else if (key == "end_header") {
       break;
     } else {
-      throw DataError(name, "unknown PLY header line '" + line + "'");
+      throw DataError(name, "unknown PLY header line '" + detail::quote(line) + "'");
     }
   }
   if (encoding < 0) throw DataError(name, "PLY header has no format line");
+  // Bound every allocation by what the body can hold.
+  {
+    const std::size_t body_size = bytes.size() - std::min(pos, bytes.size());
+    std::uint64_t need = 0;
+    for (const auto& e : elements) {
+      std::uint64_t row = min_row_bytes(e, encoding), all = 0;
+      if (encoding == 0 && row > 0) row -= 1;  // the last value of the file needs no separator
+      if (__builtin_mul_overflow(static_cast<std::uint64_t>(e.count), std::max<std::uint64_t>(row, 1), &all) ||
+          __builtin_add_overflow(need, all, &need) || need > body_size + (encoding == 0 ? 1 : 0)) {
+        throw DataError(name, "data truncated: element " + detail::quote(e.name) + " count " + std::to_string(e.count) +
+                                  " needs more than the " + std::to_string(body_size) +
+                                  " bytes of data the file holds (truncated file or wrong count)");
+      }
+    }
+  }
 
   Mesh mesh;
   mesh.vertices.comments = comments;
@@ -183,29 +275,34 @@ Mesh parse_ply(const std::string& bytes, const std::string& name) {
   Body body(bytes, pos, encoding, name);
   for (const auto& e : elements) {
     if (e.name == "vertex") {
+      if (have_vertices) throw DataError(name, "PLY header has two vertex elements");
       have_vertices = true;
       auto& v = mesh.vertices;
       std::vector<int> cols;
+      std::set<std::string> file_names;
+      for (const auto& p : e.props) file_names.insert(p.name);
       for (const auto& p : e.props) {
         if (p.is_list) {
           cols.push_back(-1);
           continue;
         }
-        const std::string col = from_file_name(p.name);
-        if (v.has(col)) throw DataError(name, "duplicate vertex property '" + p.name + "'");
+        std::string col = from_file_name(p.name);
+        // CloudCompare's scalar fields: "scalar_f" is read as f (unless f is there too).
+        if (col.rfind("scalar_", 0) == 0 && col.size() > 7 && !file_names.count(col.substr(7))) col = col.substr(7);
+        if (v.has(col)) throw DataError(name, "duplicate vertex property '" + detail::quote(p.name) + "'");
         v.add(col, p.type);
         cols.push_back(static_cast<int>(v.names().size()) - 1);
       }
       v.resize(e.count);
+      std::vector<double*> dst;
+      for (int c : cols) dst.push_back(c < 0 ? nullptr : v.col(static_cast<std::size_t>(c)).data());
       for (std::size_t i = 0; i < e.count; ++i) {
         for (std::size_t k = 0; k < e.props.size(); ++k) {
           const auto& p = e.props[k];
           if (p.is_list) {
-            const auto m = static_cast<long long>(body.next(p.count_type));
-            for (long long j = 0; j < m; ++j) body.next(p.type);
+            skip_list(body, e, p, encoding, name);
           } else {
-            const double x = body.next(p.type);
-            v.col(static_cast<std::size_t>(cols[k]))[i] = x;
+            dst[k][i] = body.next(p.type, p.name);
           }
         }
       }
@@ -217,32 +314,37 @@ Mesh parse_ply(const std::string& bytes, const std::string& name) {
         }
       }
       if (list_prop < 0 && e.count > 0) throw DataError(name, "face element has no vertex_indices list");
-      mesh.faces.reserve(e.count);
+      if (list_prop >= 0 && e.props[static_cast<std::size_t>(list_prop)].type.kind == 'F') {
+        throw DataError(name, "face vertex indices are of a floating-point type");
+      }
+      mesh.faces.reserve(mesh.faces.size() + e.count);
+      std::vector<std::int32_t> idx;
       for (std::size_t i = 0; i < e.count; ++i) {
         for (std::size_t k = 0; k < e.props.size(); ++k) {
           const auto& p = e.props[k];
-          if (!p.is_list) {
-            body.next(p.type);
+          if (static_cast<int>(k) != list_prop) {
+            if (p.is_list) skip_list(body, e, p, encoding, name);
+            else body.next(p.type, p.name);
             continue;
           }
-          const auto m = static_cast<long long>(body.next(p.count_type));
-          if (m < 0 || m > 1000000) throw DataError(name, "face " + std::to_string(i) + " has a bad vertex count");
-          std::vector<std::int32_t> idx(static_cast<std::size_t>(m));
-          for (auto& x : idx) x = static_cast<std::int32_t>(body.next(p.type));
-          if (static_cast<int>(k) != list_prop) continue;
+          const std::size_t m = list_length(body, e, p, encoding, name);
           if (m < 3) throw DataError(name, "face " + std::to_string(i) + " has fewer than 3 vertices");
-          for (long long j = 1; j + 1 < m; ++j) mesh.faces.push_back({idx[0], idx[static_cast<std::size_t>(j)], idx[static_cast<std::size_t>(j + 1)]});
+          idx.resize(m);
+          for (auto& x : idx) {
+            const double d = body.next(p.type, p.name);
+            if (!(d >= -2147483648.0 && d <= 2147483647.0)) {
+              throw DataError(name, "face " + std::to_string(i) + " refers to vertex " + detail::format_value(d, kFloat64));
+            }
+            x = static_cast<std::int32_t>(d);
+          }
+          for (std::size_t j = 1; j + 1 < m; ++j) mesh.faces.push_back({idx[0], idx[j], idx[j + 1]});
         }
       }
     } else {
       for (std::size_t i = 0; i < e.count; ++i) {
         for (const auto& p : e.props) {
-          if (p.is_list) {
-            const auto m = static_cast<long long>(body.next(p.count_type));
-            for (long long j = 0; j < m; ++j) body.next(p.type);
-          } else {
-            body.next(p.type);
-          }
+          if (p.is_list) skip_list(body, e, p, encoding, name);
+          else body.next(p.type, p.name);
         }
       }
     }
@@ -259,8 +361,12 @@ Mesh parse_ply(const std::string& bytes, const std::string& name) {
     }
   }
   for (const char* c : {"x", "y", "z"}) {
-    for (double x : mesh.vertices.col(c)) {
-      if (!std::isfinite(x)) throw DataError(name, std::string("a vertex has a non-finite ") + c);
+    const auto& col = mesh.vertices.col(c);
+    for (std::size_t i = 0; i < col.size(); ++i) {
+      if (!std::isfinite(col[i])) {
+        throw DataError(name, "vertex " + std::to_string(i) + " has a non-finite " + c +
+                                  " (NaN or infinite coordinates are not accepted)");
+      }
     }
   }
   return mesh;
@@ -269,18 +375,34 @@ Mesh parse_ply(const std::string& bytes, const std::string& name) {
 Mesh read_ply(const std::string& path) { return parse_ply(common::read_file(path), path); }
 
 std::string serialize_ply(const Mesh& mesh, bool ascii) {
+  PlyWriteOptions o;
+  o.ascii = ascii;
+  return serialize_ply(mesh, o);
+}
+
+std::string serialize_ply(const Mesh& mesh, const PlyWriteOptions& options) {
+  const bool ascii = options.ascii;
   const auto& v = mesh.vertices;
   std::vector<FieldType> types = v.types();
   for (std::size_t c = 0; c < types.size(); ++c) {
     const auto& n = v.names()[c];
     if (n == "red" || n == "green" || n == "blue" || n == "alpha") types[c] = kUint8;
+    // uint32 as int (Open3D skips uint properties) whenever every value fits.
+    if (types[c] == kUint32) {
+      const auto& col = v.col(c);
+      if (std::all_of(col.begin(), col.end(), [](double x) { return x >= 0 && x <= 2147483647.0; })) types[c] = kInt32;
+    }
   }
   std::string out = "ply\nformat ";
   out += ascii ? "ascii 1.0\n" : "binary_little_endian 1.0\n";
   for (const auto& c : v.comments) out += "comment " + c + "\n";
   out += "element vertex " + std::to_string(v.size()) + "\n";
+  static const std::set<std::string> kKnown = {"x", "y", "z", "normal_x", "normal_y", "normal_z",
+                                               "red", "green", "blue", "alpha"};
   for (std::size_t c = 0; c < types.size(); ++c) {
-    out += std::string("property ") + ply_type_name(types[c]) + " " + to_file_name(v.names()[c]) + "\n";
+    const std::string& n = v.names()[c];
+    const std::string prefix = options.scalar_prefix && !kKnown.count(n) ? "scalar_" : "";
+    out += std::string("property ") + ply_type_name(types[c]) + " " + prefix + to_file_name(n) + "\n";
   }
   out += "element face " + std::to_string(mesh.faces.size()) + "\n";
   out += "property list uchar int vertex_indices\nend_header\n";
@@ -308,6 +430,12 @@ std::string serialize_ply(const Mesh& mesh, bool ascii) {
 }
 
 void write_ply(const Mesh& mesh, const std::string& path, bool ascii) {
+  PlyWriteOptions o;
+  o.ascii = ascii;
+  write_ply(mesh, path, o);
+}
+
+void write_ply(const Mesh& mesh, const std::string& path, const PlyWriteOptions& options) {
   const auto n = static_cast<std::int64_t>(mesh.vertices.size());
   for (const auto& f : mesh.faces) {
     for (auto i : f) {
@@ -317,7 +445,7 @@ void write_ply(const Mesh& mesh, const std::string& path, bool ascii) {
       }
     }
   }
-  common::write_file_atomic(path, serialize_ply(mesh, ascii));
+  common::write_file_atomic(path, serialize_ply(mesh, options));
 }
 
 }  // namespace canopy::formats

@@ -1,6 +1,8 @@
 // JSON documents of canopy: segment graph (format "canopy.segment_graph", version 1) and
 // match result (format "canopy.match_result", version 1). See formats/README.md.
-// Readers check "format" and "version" and name the file in every error.
+// Readers check "format" and "version", every integer's type and range, that numbers are
+// finite, that segment ids are unique and adjacency edges join two different listed segments
+// (a < b, no duplicates), and name the file and the key in every error.
 #pragma once
 
 #include <array>
@@ -73,6 +75,10 @@ SegmentGraph read_segment_graph(const std::string& path);
 SegmentGraph parse_segment_graph(const std::string& text, const std::string& name);
 void write_segment_graph(const SegmentGraph& graph, const std::string& path);
 std::string serialize_segment_graph(const SegmentGraph& graph);
+
+// Score of the rank-1 model minus that of the rank-2 model (the "margin" key of the file,
+// null there when fewer than two models); NaN when fewer than two models.
+double match_margin(const MatchResult& result);
 
 MatchResult read_match_result(const std::string& path);
 MatchResult parse_match_result(const std::string& text, const std::string& name);

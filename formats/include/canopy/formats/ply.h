@@ -1,6 +1,8 @@
 // PLY triangle meshes and point sets (Stanford format 1.0). See formats/README.md.
 // Reads ascii, binary_little_endian and binary_big_endian; any scalar vertex properties;
-// faces as "vertex_indices" or "vertex_index" lists (polygons are fan-triangulated).
+// faces as "vertex_indices" or "vertex_index" lists (polygons are fan-triangulated);
+// "scalar_<name>" vertex properties (CloudCompare) become column <name>. Element counts and
+// list lengths are checked against the data before anything is allocated.
 // Writes binary_little_endian (or ascii). Vertex property names are the PointCloud field
 // names, except normals: PointCloud normal_x/normal_y/normal_z <-> PLY nx/ny/nz
 // (MeshLab's names), and colours red/green/blue are uchar.
@@ -23,8 +25,18 @@ struct Mesh {
 Mesh read_ply(const std::string& path);
 Mesh parse_ply(const std::string& bytes, const std::string& name);
 
-// Writes atomically. Face indices must be < vertex count (checked).
+struct PlyWriteOptions {
+  bool ascii = false;  // format ascii 1.0 instead of binary_little_endian 1.0
+  // Name every vertex property other than x y z nx ny nz red green blue alpha "scalar_<name>",
+  // so CloudCompare loads them as scalar fields (our reader strips the prefix again).
+  bool scalar_prefix = false;
+};
+
+// Writes atomically. Face indices must be < vertex count (checked). uint32 (U4) columns are
+// written as PLY int when every value fits (Open3D skips uint), otherwise as uint.
 void write_ply(const Mesh& mesh, const std::string& path, bool ascii = false);
+void write_ply(const Mesh& mesh, const std::string& path, const PlyWriteOptions& options);
 std::string serialize_ply(const Mesh& mesh, bool ascii = false);
+std::string serialize_ply(const Mesh& mesh, const PlyWriteOptions& options);
 
 }  // namespace canopy::formats
