@@ -27,7 +27,12 @@ bool lzf_decompress(const unsigned char* in, std::size_t in_size, unsigned char*
       if (ip >= in_size) return false;
       const std::size_t back = ((ctrl & 0x1f) << 8) + in[ip++] + 1;
       if (back > op || op + len > out_size) return false;
-      for (std::size_t k = 0; k < len; ++k, ++op) out[op] = out[op - back];
+      if (back >= len) {  // no overlap: one copy
+        std::memcpy(out + op, out + op - back, len);
+        op += len;
+      } else {
+        for (std::size_t k = 0; k < len; ++k, ++op) out[op] = out[op - back];
+      }
     }
   }
   return op == out_size;

@@ -12,6 +12,7 @@
 #include <cstring>
 #include <limits>
 #include <set>
+#include <type_traits>
 
 #include "binary_io.h"
 #include "canopy/common/atomic_file.h"
@@ -223,8 +224,9 @@ Layout make_layout(const Header& h, const std::string& name) {
   return l;
 }
 
-// Adds the columns (after the data size was checked against the header) and sizes them.
-std::vector<double*> make_columns(const Header& h, Layout* l, PointCloud* cloud, const std::string& name) {
+// Adds the columns (after the data size was checked against the header), empty with room
+// for every point: decoding appends, so no page is written twice.
+std::vector<std::vector<double>*> make_columns(const Header& h, Layout* l, PointCloud* cloud, const std::string& name) {
   std::set<std::string> names;
   std::size_t s = 0;
   for (std::size_t f = 0; f < h.fields.size(); ++f) {
@@ -236,9 +238,11 @@ std::vector<double*> make_columns(const Header& h, Layout* l, PointCloud* cloud,
       l->slots[s].column = static_cast<int>(cloud->names().size()) - 1;
     }
   }
-  cloud->resize(static_cast<std::size_t>(h.points));
-  std::vector<double*> cols;
-  for (std::size_t c = 0; c < cloud->names().size(); ++c) cols.push_back(cloud->col(c).data());
+  std::vector<std::vector<double>*> cols;
+  for (std::size_t c = 0; c < cloud->names().size(); ++c) {
+    cols.push_back(&cloud->col(c));
+    cols.back()->reserve(static_cast<std::size_t>(h.points));
+  }
   return cols;
 }
 
@@ -252,42 +256,47 @@ void check_binary_size(std::uint64_t n, std::size_t step, std::size_t avail, con
   if (n > avail / step) throw DataError(name, too_big("bytes", n, step, avail));
 }
 
+// Appends n values `stride` bytes apart to dst; false when a value is NaN or infinite.
 template <typename T>
-void gather(const unsigned char* src, std::size_t stride, std::size_t n, double* dst) {
+bool gather(const unsigned char* src, std::size_t stride, std::size_t n, std::vector<double>* dst) {
+  const std::size_t old = dst->size();
+  dst->resize(old + n);
+  double* out = dst->data() + old;
+  bool finite = true;
   for (std::size_t i = 0; i < n; ++i) {
     T v;
     std::memcpy(&v, src + i * stride, sizeof v);
-    dst[i] = static_cast<double>(v);
+    out[i] = static_cast<double>(v);
+    if constexpr (std::is_floating_point_v<T>) finite &= std::isfinite(v);
   }
+  return finite;
 }
 
-// Decodes `rows` values of one slot, `stride` bytes apart, into dst.
-void gather_slot(const unsigned char* src, std::size_t stride, std::size_t rows, FieldType t, double* dst) {
+bool gather_slot(const unsigned char* src, std::size_t stride, std::size_t rows, FieldType t, std::vector<double>* dst) {
   switch (t.kind) {
     case 'F':
-      if (t.size == 4) gather<float>(src, stride, rows, dst);
-      else gather<double>(src, stride, rows, dst);
-      return;
+      if (t.size == 4) return gather<float>(src, stride, rows, dst);
+      return gather<double>(src, stride, rows, dst);
     case 'U':
-      if (t.size == 1) gather<std::uint8_t>(src, stride, rows, dst);
-      else if (t.size == 2) gather<std::uint16_t>(src, stride, rows, dst);
-      else gather<std::uint32_t>(src, stride, rows, dst);
-      return;
+      if (t.size == 1) return gather<std::uint8_t>(src, stride, rows, dst);
+      if (t.size == 2) return gather<std::uint16_t>(src, stride, rows, dst);
+      return gather<std::uint32_t>(src, stride, rows, dst);
     default:
-      if (t.size == 1) gather<std::int8_t>(src, stride, rows, dst);
-      else if (t.size == 2) gather<std::int16_t>(src, stride, rows, dst);
-      else gather<std::int32_t>(src, stride, rows, dst);
-      return;
+      if (t.size == 1) return gather<std::int8_t>(src, stride, rows, dst);
+      if (t.size == 2) return gather<std::int16_t>(src, stride, rows, dst);
+      return gather<std::int32_t>(src, stride, rows, dst);
   }
 }
 
-// Binary (row-major) points [row0, row0 + rows) from `src`.
-void decode_rows(const unsigned char* src, std::size_t row0, std::size_t rows, const Layout& l,
-                 const std::vector<double*>& cols) {
+// Appends `rows` binary (row-major) points from `src`; false when a value is not finite.
+bool decode_rows(const unsigned char* src, std::size_t rows, const Layout& l,
+                 const std::vector<std::vector<double>*>& cols) {
+  bool finite = true;
   for (const auto& s : l.slots) {
     if (s.column < 0) continue;
-    gather_slot(src + s.offset, l.step, rows, s.type, cols[static_cast<std::size_t>(s.column)] + row0);
+    finite &= gather_slot(src + s.offset, l.step, rows, s.type, cols[static_cast<std::size_t>(s.column)]);
   }
+  return finite;
 }
 
 bool all_zero(const unsigned char* p, std::size_t n) {
@@ -346,7 +355,7 @@ void parse_ascii(const std::string& bytes, const Header& h, Layout& l, PointClou
       }
       p = q;
       // A float32 field holds the float nearest to the text, as in binary files.
-      if (s.column >= 0) cols[static_cast<std::size_t>(s.column)][i] = s.type == kFloat32 ? static_cast<float>(v) : v;
+      if (s.column >= 0) cols[static_cast<std::size_t>(s.column)]->push_back(s.type == kFloat32 ? static_cast<float>(v) : v);
     }
   }
   while (p < end && (is_space(*p) || *p == '\0')) ++p;
@@ -357,8 +366,8 @@ void parse_ascii(const std::string& bytes, const Header& h, Layout& l, PointClou
 // to fewer than 89 c bytes: a bound on the allocation before decoding.
 constexpr std::uint64_t kLzfMaxRatio = 89;
 
-void parse_compressed(const std::string& bytes, const Header& h, Layout& l, PointCloud* cloud,
-                      const std::string& name) {
+// The decompressed (field-major) data of a binary_compressed body, checked against the header.
+std::vector<unsigned char> decompress(const std::string& bytes, const Header& h, const Layout& l, const std::string& name) {
   const auto* data = reinterpret_cast<const unsigned char*>(bytes.data()) + h.data_offset;
   const std::size_t avail = bytes.size() - h.data_offset;
   if (avail < 8) throw DataError(name, "data truncated: binary_compressed block header missing");
@@ -381,6 +390,11 @@ void parse_compressed(const std::string& bytes, const Header& h, Layout& l, Poin
   if (usize > 0 && !detail::lzf_decompress(data + 8, csize, raw.data(), usize)) {
     throw DataError(name, "corrupt binary_compressed data (LZF decompression failed)");
   }
+  return raw;
+}
+
+void gather_compressed(const std::vector<unsigned char>& raw, const Header& h, Layout& l, PointCloud* cloud,
+                       const std::string& name) {
   const auto cols = make_columns(h, &l, cloud, name);
   const std::size_t n = static_cast<std::size_t>(h.points);
   std::size_t off = 0;  // field-major: all values of slot 0, then slot 1, ...
@@ -404,10 +418,11 @@ PointCloud parse_body(const std::string& bytes, const Header& h, const std::stri
     const std::size_t used = static_cast<std::size_t>(h.points) * l.step;
     if (!all_zero(data + used, avail - used)) trailing_data(h.points, l.step, name);
     const auto cols = make_columns(h, &l, &cloud, name);
-    decode_rows(data, 0, static_cast<std::size_t>(h.points), l, cols);
+    decode_rows(data, static_cast<std::size_t>(h.points), l, cols);
   } else {
-    parse_compressed(bytes, h, l, &cloud, name);
+    gather_compressed(decompress(bytes, h, l, name), h, l, &cloud, name);
   }
+  cloud.resize(static_cast<std::size_t>(h.points));  // sets the size; the columns are full
   check_coordinates(cloud, name);
   return cloud;
 }
@@ -464,12 +479,22 @@ PointCloud read_pcd(const std::string& path) {
   if (end == std::string::npos) return parse_pcd(head, path);  // no DATA line: parse_header says why
   const Header h = parse_header(head.substr(0, end), path);
   if (h.data != "binary") {
-    std::string rest(file_size > head.size() ? file_size - head.size() : 0, '\0');
-    rest.resize(read_some(fd.fd, rest.data(), rest.size(), path));
-    head += rest;
+    const std::size_t old = head.size();
+    head.resize(std::max(old, file_size));
+    head.resize(old + read_some(fd.fd, &head[old], head.size() - old, path));
     char extra;
     while (read_some(fd.fd, &extra, 1, path) == 1) head.push_back(extra);  // file grew meanwhile
-    return parse_body(head, h, path);
+    if (h.data == "ascii") return parse_body(head, h, path);
+    // binary_compressed: the file's bytes are let go before the columns are made.
+    PointCloud cloud;
+    cloud.comments = h.comments;
+    Layout l = make_layout(h, path);
+    std::vector<unsigned char> raw = decompress(head, h, l, path);
+    std::string().swap(head);
+    gather_compressed(raw, h, l, &cloud, path);
+    cloud.resize(static_cast<std::size_t>(h.points));
+    check_coordinates(cloud, path);
+    return cloud;
   }
 
   PointCloud cloud;
@@ -483,7 +508,7 @@ PointCloud read_pcd(const std::string& path) {
   const std::size_t chunk_rows = std::max<std::size_t>(1, (std::size_t{1} << 20) / l.step);
   std::vector<unsigned char> buf(chunk_rows * l.step);
   std::size_t head_pos = h.data_offset, have = 0, row = 0;
-  bool eof = false;
+  bool eof = false, all_finite = true;
   auto fill = [&] {
     const std::size_t take = std::min(head.size() - head_pos, buf.size() - have);
     std::memcpy(buf.data() + have, head.data() + head_pos, take);
@@ -500,7 +525,7 @@ PointCloud read_pcd(const std::string& path) {
     fill();
     const std::size_t rows = std::min(have / l.step, n - row);
     if (rows == 0) break;  // end of file inside a point
-    decode_rows(buf.data(), row, rows, l, cols);
+    all_finite &= decode_rows(buf.data(), rows, l, cols);
     row += rows;
     const std::size_t used = rows * l.step;
     std::memmove(buf.data(), buf.data() + used, have - used);
@@ -518,7 +543,8 @@ PointCloud read_pcd(const std::string& path) {
     fill();
     if (have == 0) break;
   }
-  check_coordinates(cloud, path);
+  cloud.resize(n);  // sets the size; the columns are full
+  if (!all_finite) check_coordinates(cloud, path);  // a NaN or inf somewhere: is it in x, y or z?
   return cloud;
 }
 
