@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages canopy needs, only those missing (fast when all are present).
+# clang and libclang-rt-14-dev (libFuzzer, sanitizer runtimes) build fuzz/.
 # Runs apt-get as root, or through sudo.
 set -euo pipefail
 packages=(
@@ -7,6 +8,7 @@ packages=(
   libeigen3-dev libcgal-dev libpcl-dev libvtk9-dev libspectra-dev
   nlohmann-json3-dev libcli11-dev catch2 libpng-dev
   povray time xvfb xauth
+  clang libclang-rt-14-dev
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -238,6 +238,7 @@ std::vector<std::vector<double>*> make_columns(const Header& h, Layout* l, Point
       l->slots[s].column = static_cast<int>(cloud->names().size()) - 1;
     }
   }
+  if (cloud->names().empty()) throw DataError(name, "PCD header has only padding fields '_'");
   std::vector<std::vector<double>*> cols;
   for (std::size_t c = 0; c < cloud->names().size(); ++c) {
     cols.push_back(&cloud->col(c));

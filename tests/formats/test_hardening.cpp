@@ -397,3 +397,8 @@ TEST_CASE("match result: margin = rank-1 score minus rank-2 score, optional when
   CHECK_THAT(serialize_match_result(r), Contains("\"margin\": null"));
   CHECK(parse_match_result(serialize_match_result(r), "one.json").models.size() == 1);
 }
+
+TEST_CASE("PCD: a header of only padding fields is refused (a cloud without columns cannot be written)") {
+  CHECK_THAT(pcd_error("FIELDS _\nSIZE 1\nTYPE U\nCOUNT 4\nWIDTH 1\nPOINTS 1\nDATA binary\nabcd", "pad.pcd"),
+             Contains("only padding fields"));
+}

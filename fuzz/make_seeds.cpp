@@ -1,0 +1,172 @@
+// Writes the seed corpora of the fuzz targets: <out>/pcd, <out>/ply, <out>/json. Valid files in
+// every encoding our writers produce, and the malformed cases of issue 12 (huge counts,
+// overflowing headers, NUL bytes, ...), built here rather than committed as binaries.
+// Usage: make_seeds <out dir>
+#include <sys/stat.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include "canopy/formats/json_io.h"
+#include "canopy/formats/pcd.h"
+#include "canopy/formats/ply.h"
+
+namespace f = canopy::formats;
+
+namespace {
+
+std::string out_dir;
+
+void put(const std::string& kind, const std::string& name, const std::string& bytes) {
+  mkdir((out_dir + "/" + kind).c_str(), 0755);
+  std::ofstream(out_dir + "/" + kind + "/" + name, std::ios::binary) << bytes;
+}
+
+std::string u32(std::uint32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); }
+
+f::PointCloud cloud() {
+  f::PointCloud c;
+  c.resize(6);
+  c.add("x") = {0, 1, 2, 3, 4, 5};
+  c.add("y") = {0.5, 0.25, 0.125, 1, 1, 1};
+  c.add("z", f::kFloat64) = {1.0 / 3, 2, 2, 2, 2, 2};
+  c.add("view_idx", f::kInt32) = {-1, 0, 1, 1, 1, 1};
+  c.add("label", f::kUint32) = {1, 2, 3, 0, 0, 0};
+  c.add("flag", f::kUint8) = {255, 0, 7, 7, 7, 7};
+  c.add("s", {'I', 2}) = {-300, 300, 0, 0, 0, 0};
+  c.comments = {"seed"};
+  return c;
+}
+
+void pcd_seeds() {
+  const f::PointCloud c = cloud();
+  for (auto [name, enc] : {std::pair<const char*, f::PcdEncoding>{"binary.pcd", f::PcdEncoding::binary},
+                           {"compressed.pcd", f::PcdEncoding::binary_compressed},
+                           {"ascii.pcd", f::PcdEncoding::ascii}}) {
+    f::PcdWriteOptions o;
+    o.encoding = enc;
+    put("pcd", name, f::serialize_pcd(c, o));
+  }
+  const std::string xyz = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n";
+  put("pcd", "count-padding.pcd",
+      "FIELDS x y _ n\nSIZE 4 4 1 2\nTYPE F F U I\nCOUNT 1 1 3 2\nWIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA ascii\n"
+      "1 2 0 0 0 5 6\n3 4 0 0 0 7 8\n");
+  put("pcd", "padded.pcd", f::serialize_pcd(c) + std::string(512, '\0'));
+  put("pcd", "blank-header-line.pcd", "VERSION 0.7\n   \nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
+                                      "WIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA ascii\n1 2 3\n");
+  put("pcd", "count-20000.pcd", "FIELDS x y z f\nSIZE 4 4 4 4\nTYPE F F F F\nCOUNT 1 1 1 20000\nWIDTH 0\nHEIGHT 1\n"
+                                "POINTS 0\nDATA binary\n");
+  const std::string body(36, '\x01');
+  for (const char* n : {"100000000", "4294967295", "9223372036854775807"}) {
+    put("pcd", std::string("points-") + n + ".pcd",
+        xyz + "WIDTH " + n + "\nHEIGHT 1\nPOINTS " + n + "\nDATA binary\n" + body);
+  }
+  put("pcd", "compressed-huge.pcd", "FIELDS x\nSIZE 4\nTYPE F\nCOUNT 1\nWIDTH 1073741823\nHEIGHT 1\n"
+                                    "POINTS 1073741823\nDATA binary_compressed\n" +
+                                        u32(2) + u32(4294967292u) + "\xfc\xff");
+  put("pcd", "wh-overflow.pcd", xyz + "WIDTH 4294967296\nHEIGHT 4294967296\nPOINTS 0\nDATA binary\n");
+  put("pcd", "size-4294967300.pcd", "FIELDS x\nSIZE 4294967300\nTYPE F\nWIDTH 1\nPOINTS 1\nDATA binary\n1234");
+  put("pcd", "x-1e30.pcd", xyz + "WIDTH 3\nHEIGHT 1\nPOINTS 3\nDATA ascii\n1e30 0 0\n0 0 0\n0.1 0 nan\n");
+  put("pcd", "nul.pcd", std::string("VERSION 0.7\nFIE\0LDS x\n", 22));
+}
+
+f::Mesh mesh() {
+  f::Mesh m;
+  m.vertices = cloud();
+  m.vertices.add("normal_z") = {1, 1, 1, 1, 1, 1};
+  m.vertices.add("red", f::kUint8) = {1, 2, 3, 4, 5, 6};
+  m.faces = {{0, 1, 2}, {2, 3, 4}, {3, 4, 5}};
+  return m;
+}
+
+void ply_seeds() {
+  const f::Mesh m = mesh();
+  put("ply", "binary.ply", f::serialize_ply(m));
+  put("ply", "ascii.ply", f::serialize_ply(m, true));
+  f::PlyWriteOptions o;
+  o.scalar_prefix = true;
+  put("ply", "scalar.ply", f::serialize_ply(m, o));
+  std::string be = "ply\nformat binary_big_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                   "property float z\nelement face 1\nproperty list uchar int vertex_index\nelement extra 1\n"
+                   "property list ushort short stuff\nend_header\n";
+  be += std::string(48, '\0') + "\x04" + std::string("\0\0\0\0\0\0\0\x01\0\0\0\x02\0\0\0\x03", 16) +
+        std::string("\0\x02\0\x05\0\x06", 6);
+  put("ply", "big-endian-quad.ply", be);
+  const std::string hdr = "ply\nformat binary_little_endian 1.0\nelement vertex COUNT\nproperty float x\n"
+                          "property float y\nproperty float z\nend_header\n";
+  for (const char* n : {"100000000", "4294967295", "9223372036854775807"}) {
+    std::string h = hdr;
+    h.replace(h.find("COUNT"), 5, n);
+    put("ply", std::string("vertex-") + n + ".ply", h + std::string(36, '\0'));
+  }
+  const std::string tri = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                          "property float z\nelement face FACES\nproperty list uchar int vertex_indices\nend_header\n"
+                          "0 0 0\n1 0 0\n0 1 0\n";
+  std::string face = tri;
+  face.replace(face.find("FACES"), 5, "4294967295");
+  put("ply", "face-4294967295.ply", face);
+  face = tri;
+  face.replace(face.find("FACES"), 5, "1");
+  put("ply", "uchar-259.ply", face + "259 0 1 2\n");
+  put("ply", "nul.ply", std::string("ply\nformat ascii 1.0\nelem\0ent vertex 1\nend_header\n", 47));
+}
+
+void json_seeds() {
+  f::SegmentGraph g;
+  g.provenance = {"ncut", "0.1.0", {{"r", "512mm"}}, {"mesh.ply"}};
+  g.mesh = "mesh.ply";
+  f::Segment s;
+  s.vertex_count = 3;
+  s.area = 1.5;
+  s.radii = {0.7, 0.4, 0.01};
+  s.normal = {0, 0, 1};
+  s.vertices = {0, 1, 2};
+  g.segments.push_back(s);
+  s.segment_id = 1;
+  g.segments.push_back(s);
+  g.adjacency.push_back({0, 1, 3});
+  const std::string graph = f::serialize_segment_graph(g);
+  put("json", "graph.json", graph);
+  auto variant = [&](const std::string& from, const std::string& to) {
+    std::string t = graph;
+    t.replace(t.find(from), from.size(), to);
+    return t;
+  };
+  put("json", "area-1e400.json", variant("\"area\": 1.5", "\"area\": 1e400"));
+  put("json", "version-4294967297.json", variant("\"version\": 1", "\"version\": 4294967297"));
+  put("json", "segment-id-1e20.json", variant("\"segment_id\": 0", "\"segment_id\": 1e20"));
+  put("json", "dangling.json", variant("\"shared_edges\": 3", "\"shared_edges\": 3}, {\"a\": 0, \"b\": 99999, "
+                                                              "\"shared_edges\": 1}, {\"a\": 1, \"b\": 1, \"shared_edges\": 1"));
+  f::MatchResult r;
+  r.provenance = {"gmatch", "0.1.0", {}, {"s.json"}};
+  r.object = "s.json";
+  r.error_form = "bounded";
+  f::ModelScore a;
+  a.model = "sedan";
+  a.score = 0.8;
+  a.rank = 1;
+  a.pairs = {{0, 2, 0.1}, {1, -1, 0}};
+  f::ModelScore b = a;
+  b.model = "tank";
+  b.score = 0.5;
+  b.rank = 2;
+  r.models = {a, b};
+  put("json", "match.json", f::serialize_match_result(r));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: make_seeds <out dir>\n");
+    return 2;
+  }
+  out_dir = argv[1];
+  mkdir(out_dir.c_str(), 0755);
+  pcd_seeds();
+  ply_seeds();
+  json_seeds();
+  return 0;
+}
