@@ -6,7 +6,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
 #include "canopy/common/units.h"
-#include "canopy/formats/pcd.h"
+#include "canopy/formats/points_io.h"
 
 using namespace canopy;
 
@@ -15,14 +15,15 @@ int main(int argc, char** argv) {
                                 "other field is kept (thesis ch. 2).", true);
   addnoise::Params p;
   std::string in = "-", out = "-";
-  tool.add_input(&in, "scan PCD (x y z and any other fields)");
-  tool.add_output(&out, "noisy scan PCD");
+  tool.add_input(&in, "scan: PCD, PLY point set or LAS (x y z and any other fields)");
+  tool.add_output(&out, "noisy scan: .pcd, .ply or .las (- = PCD)");
   tool.add_length("--sigma", &p.sigma, "standard deviation per axis (0 = exact copy)");
   return tool.run(argc, argv, [&] {
+    formats::output_format(out);
     if (!(p.sigma >= 0)) throw common::UsageError("--sigma must be >= 0");
     p.seed = tool.seed();
     common::log::Phase read("read");
-    const formats::PointCloud scan = formats::read_pcd(in);
+    const formats::PointCloud scan = formats::read_points(in, "addnoise");
     scan.require({"x", "y", "z"}, common::display_name(in), "is this a point cloud?");
     read.done(std::to_string(scan.size()) + " points");
     formats::PointCloud noisy = addnoise::run(scan, p);
@@ -30,7 +31,7 @@ int main(int argc, char** argv) {
     for (const auto& [name, value] : tool.parameters()) {
       noisy.comments.push_back("parameter " + name + " = " + value);
     }
-    formats::write_pcd(noisy, out);
+    formats::write_points(noisy, out);
     common::log::info("wrote " + std::to_string(noisy.size()) + " points, sigma " +
                       common::format_length(p.sigma) + ", to " + common::display_name(out, true));
   });

@@ -4,7 +4,7 @@
 #include "canopy/common/cli.h"
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
-#include "canopy/formats/pcd.h"
+#include "canopy/formats/points_io.h"
 #include "canopy/formats/ply.h"
 #include "cocone/cocone.h"
 
@@ -18,7 +18,7 @@ int main(int argc, char** argv) {
   cc::Params p;
   std::string in = "-", out = "-";
   bool raw = false, no_boundary = false, keep_orphans = false;
-  tool.add_input(&in, "samples PCD (fitvox output; needs x y z)");
+  tool.add_input(&in, "samples: PCD, PLY point set or LAS (fitvox output; needs x y z)");
   tool.add_output(&out, "mesh PLY");
   tool.add_angle("--cocone-angle", &p.cocone.cocone_angle, "cocone half-width around the tangent plane (0,90)");
   tool.add_flag("--no-boundary-detection", &no_boundary,
@@ -47,7 +47,7 @@ int main(int argc, char** argv) {
     }
     if (p.post.max_aspect > 0 && p.post.max_aspect < 1) throw cm::UsageError("--max-aspect below 1 removes every facet");
 
-    const canopy::formats::PointCloud samples = canopy::formats::read_pcd(in);
+    const canopy::formats::PointCloud samples = canopy::formats::read_points(in, "cocone");
     samples.require({"x", "y", "z"}, cm::display_name(in), "is this a canopy samples PCD?");
     canopy::formats::Mesh mesh;
     try {

@@ -5,7 +5,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
 #include "canopy/common/units.h"
-#include "canopy/formats/pcd.h"
+#include "canopy/formats/points_io.h"
 #include "fitvox/fitvox.h"
 
 using namespace canopy;
@@ -15,8 +15,8 @@ int main(int argc, char** argv) {
                               "cubic voxels (thesis ch. 3); one sample point per kept voxel.");
   fitvox::Params p;
   std::string in = "-", out = "-", noise = "auto";
-  tool.add_input(&in, "scan PCD (x y z [sensor_x sensor_y sensor_z] [label])");
-  tool.add_output(&out, "samples PCD");
+  tool.add_input(&in, "scan: PCD, PLY point set or LAS (x y z [sensor_x sensor_y sensor_z] [label])");
+  tool.add_output(&out, "samples: .pcd, .ply or .las (- = PCD)");
   tool.add_length("--voxel", &p.voxel, "voxel edge; voxel centres at multiples of it from the world origin");
   tool.add("--min-points", &p.min_points, "reject voxels with fewer points (>= 6)");
   tool.add_length("--max-rms", &p.max_rms, "RMS fit-error bound for noiseless data");
@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   tool.add("--noise-margin", &p.noise_margin,
            "standard deviations of the RMS sampling spread allowed above the noise (>= 0)");
   return tool.run(argc, argv, [&] {
+    formats::output_format(out);
     if (noise != "auto") p.noise = common::parse_length(noise);
     if (!(p.voxel > 0) || p.min_points < 6 || !(p.max_rms >= 0) || !(p.noise >= 0 || noise == "auto") ||
         !(p.noise_margin >= 0)) {
@@ -33,7 +34,7 @@ int main(int argc, char** argv) {
     }
     p.threads = tool.threads();
     common::log::Phase read("read");
-    const formats::PointCloud cloud = formats::read_pcd(in);
+    const formats::PointCloud cloud = formats::read_points(in, "fitvox");
     bool has_sensor = false;
     const fitvox::Scan scan = fitvox::scan_from_cloud(cloud, common::display_name(in), &has_sensor);
     read.done(std::to_string(scan.points.size()) + " points");
@@ -65,7 +66,7 @@ int main(int argc, char** argv) {
     std::snprintf(buf, sizeof buf, "noise_sigma_used %.6g m (estimated %.6g m)", s.sigma,
                   s.sigma_estimated);
     samples.comments.push_back(buf);
-    formats::write_pcd(samples, out);
+    formats::write_points(samples, out);
     common::log::info("wrote " + std::to_string(r.samples.size()) + " samples to " +
                       common::display_name(out, true));
   });

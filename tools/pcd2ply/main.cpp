@@ -4,20 +4,20 @@
 
 #include "canopy/common/cli.h"
 #include "canopy/common/log.h"
-#include "canopy/formats/pcd.h"
+#include "canopy/formats/points_io.h"
 #include "canopy/formats/ply.h"
 
 int main(int argc, char** argv) {
   canopy::common::Tool tool("pcd2ply", "Convert a PCD point cloud to a PLY point set (all fields kept).");
   std::string input = "-", output = "-";
   bool ascii = false;
-  tool.add_input(&input, "PCD cloud");
+  tool.add_input(&input, "point cloud: PCD, LAS or PLY point set");
   tool.add_output(&output, "PLY point set");
   tool.add_flag("--ascii", &ascii, "write ascii PLY instead of binary little endian");
   return tool.run(argc, argv, [&] {
     canopy::common::log::Phase phase("convert");
     canopy::formats::Mesh mesh;
-    mesh.vertices = canopy::formats::read_pcd(input);
+    mesh.vertices = canopy::formats::read_points(input, "pcd2ply");
     mesh.vertices.comments.push_back("pcd2ply (canopy) " CANOPY_VERSION " from " + input);
     canopy::formats::write_ply(mesh, output, ascii);
     phase.done(std::to_string(mesh.vertices.size()) + " points, " +

@@ -1,0 +1,41 @@
+// Point clouds in any format canopy reads: the format of an input is chosen by the file's
+// first bytes (its magic), never by its name; the format of an output by the name's
+// extension. See formats/README.md ("Choosing the format" and "Coordinates").
+//   input : PCD (any header line or '#' first), PLY point set ("ply" and no faces),
+//           LAS ("LASF"; LAZ is refused with how to decompress it). "-" = stdin.
+//   output: .pcd, .ply (point set, no faces), .las (LAS 1.4); "-" = PCD on stdout.
+#pragma once
+
+#include <string>
+
+#include "canopy/formats/point_cloud.h"
+
+namespace canopy::formats {
+
+enum class PointFormat { kPcd, kPly, kLas };
+
+const char* format_name(PointFormat f);
+
+// Reads a point cloud, format by magic. `tool` (e.g. "fitvox") only words the error for a
+// PLY mesh ("mesh.ply: this is a PLY mesh with 812 faces; fitvox reads points ..."). Errors
+// name the file and what it is (LAS, LAZ, PLY mesh, JSON, PNG, gzip, ...); file bytes quoted
+// in messages are escaped, so a NUL cannot cut a message short.
+PointCloud read_points(const std::string& path, const std::string& tool = "");
+PointCloud parse_points(const std::string& bytes, const std::string& name, const std::string& tool = "");
+
+// Output format from the path's extension (case-insensitive); "-" = PCD. Any other name
+// (unknown or no extension, .laz) throws common::UsageError saying which extensions exist:
+// tools call it before their work so a mistyped output costs nothing.
+PointFormat output_format(const std::string& path);
+
+// Writes atomically in the format output_format(path) gives. Coordinates are never silently
+// quantised: see promote_coordinates().
+void write_points(const PointCloud& cloud, const std::string& path);
+
+// Float32 x y z columns are turned into float64 when float32 would move any coordinate by
+// more than kFloat32CoordinateTolerance (that happens beyond ~2 km from the origin, e.g. in
+// UTM or State Plane coordinates). Returns whether any column changed. write_points calls it.
+inline constexpr double kFloat32CoordinateTolerance = 1e-4;  // m
+bool promote_coordinates(PointCloud* cloud);
+
+}  // namespace canopy::formats

@@ -1,0 +1,609 @@
+#include "canopy/formats/las.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <vector>
+
+#include "binary_io.h"
+#include "canopy/common/atomic_file.h"
+#include "canopy/common/error.h"
+
+namespace canopy::formats {
+namespace {
+
+using common::DataError;
+using detail::put;
+
+static_assert(std::numeric_limits<double>::is_iec559, "LAS codec assumes IEEE doubles");
+
+// Minimum point record length of point data formats 0..10 (LAS 1.4 R15, Table 7 ff.).
+constexpr std::size_t kMinRecord[11] = {20, 28, 26, 34, 57, 63, 30, 36, 38, 59, 67};
+// Public header size by minor version (1.0-1.2, 1.3, 1.4).
+constexpr std::size_t kHeader12 = 227, kHeader13 = 235, kHeader14 = 375;
+constexpr std::size_t kVlrHeader = 54, kEvlrHeader = 60, kExtraDescriptor = 192;
+
+template <typename T>
+T get(const unsigned char* p) {
+  T v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+// File text (user ids, names) made safe for a message: stops at NUL, escapes the rest.
+std::string printable(const unsigned char* p, std::size_t n) {
+  std::string out;
+  for (std::size_t i = 0; i < n && p[i] != 0; ++i) {
+    const unsigned char c = p[i];
+    if (c >= 32 && c < 127) {
+      out += static_cast<char>(c);
+    } else {
+      static const char* hex = "0123456789abcdef";
+      out += "\\x";
+      out += hex[c >> 4];
+      out += hex[c & 15];
+    }
+  }
+  return out;
+}
+
+bool has_prefix(const unsigned char* p, std::size_t n, const char* id) {
+  const std::size_t len = std::strlen(id);
+  if (len > n || std::memcmp(p, id, len) != 0) return false;
+  return len == n || p[len] == 0;
+}
+
+std::string laz_message(const std::string& name) {
+  std::string las = name;
+  if (las.size() > 4 && (las.compare(las.size() - 4, 4, ".laz") == 0 || las.compare(las.size() - 4, 4, ".LAZ") == 0)) {
+    las.replace(las.size() - 4, 4, ".las");
+  } else {
+    las = "out.las";
+  }
+  const std::string laz = name == "-" ? "in.laz" : name;
+  return "this is a LAZ file (compressed LAS); canopy cannot read LAZ because Debian 12 has no LAZ "
+         "decoder package. Decompress it on a machine that has one, e.g. `laszip -i " + laz + " -o " +
+         las + "` (LAStools) or `pdal translate " + laz + " " + las + "` (PDAL), and give canopy the .las";
+}
+
+// One Extra Bytes descriptor, resolved to the bytes it covers in each record.
+struct Extra {
+  std::size_t offset = 0;  // from the start of the record
+  int base = 0;            // data type 1..10 of each element
+  int count = 0;           // elements (1..3)
+  double scale[3] = {1, 1, 1}, shift[3] = {0, 0, 0};
+  bool scaled = false;
+  std::vector<std::vector<double>*> cols;
+};
+
+constexpr int kBaseSize[11] = {0, 1, 1, 2, 2, 4, 4, 8, 8, 4, 8};
+
+FieldType base_field_type(int base) {
+  switch (base) {
+    case 1: return kUint8;
+    case 2: return {'I', 1};
+    case 3: return {'U', 2};
+    case 4: return {'I', 2};
+    case 5: return kUint32;
+    case 6: return kInt32;
+    case 9: return kFloat32;
+    default: return kFloat64;  // 7, 8 (64-bit integers, exact to 2^53), 10
+  }
+}
+
+double read_base(const unsigned char* p, int base) {
+  switch (base) {
+    case 1: return p[0];
+    case 2: return get<std::int8_t>(p);
+    case 3: return get<std::uint16_t>(p);
+    case 4: return get<std::int16_t>(p);
+    case 5: return get<std::uint32_t>(p);
+    case 6: return get<std::int32_t>(p);
+    case 7: return static_cast<double>(get<std::uint64_t>(p));
+    case 8: return static_cast<double>(get<std::int64_t>(p));
+    case 9: return get<float>(p);
+    default: return get<double>(p);
+  }
+}
+
+// A column name for an Extra Bytes field: letters, digits and '_' only; unique in `cloud`.
+std::string extra_name(const unsigned char* p, std::size_t n, const PointCloud& cloud, int count, int k) {
+  std::string s;
+  for (std::size_t i = 0; i < n && p[i] != 0; ++i) {
+    const unsigned char c = p[i];
+    s += (std::isalnum(c) || c == '_') && c < 128 ? static_cast<char>(c) : '_';
+  }
+  if (s.empty()) s = "extra";
+  if (count > 1) s += "_" + std::to_string(k);
+  while (cloud.has(s)) s = "extra_" + s;
+  return s;
+}
+
+// Resolves the Extra Bytes VLR payload against the `extra_len` bytes after the standard
+// record of `standard_len` bytes. Descriptors that run past the record or use an unknown data
+// type end the description: the remaining bytes are skipped.
+std::vector<Extra> parse_extra_bytes(const unsigned char* p, std::size_t len, std::size_t standard_len,
+                                     std::size_t extra_len, PointCloud* cloud) {
+  std::vector<Extra> out;
+  std::size_t used = 0;
+  for (std::size_t d = 0; d + kExtraDescriptor <= len; d += kExtraDescriptor) {
+    const unsigned char* q = p + d;
+    const int type = q[2], options = q[3];
+    std::size_t bytes = 0;
+    Extra e;
+    if (type == 0) {
+      bytes = static_cast<std::size_t>(options);  // undocumented bytes: skipped
+    } else if (type <= 30) {
+      e.base = (type - 1) % 10 + 1;
+      e.count = (type - 1) / 10 + 1;
+      bytes = static_cast<std::size_t>(kBaseSize[e.base] * e.count);
+    } else {
+      break;
+    }
+    if (used + bytes > extra_len) break;
+    e.offset = standard_len + used;
+    used += bytes;
+    if (type == 0) continue;
+    const bool has_scale = (options & 8) != 0, has_offset = (options & 16) != 0;
+    for (int k = 0; k < e.count; ++k) {
+      if (has_scale) e.scale[k] = get<double>(q + 112 + 8 * k);
+      if (has_offset) e.shift[k] = get<double>(q + 136 + 8 * k);
+      if (!std::isfinite(e.scale[k]) || !std::isfinite(e.shift[k])) e.scale[k] = 1, e.shift[k] = 0;
+    }
+    e.scaled = has_scale || has_offset;
+    const FieldType t = e.scaled ? kFloat64 : base_field_type(e.base);
+    for (int k = 0; k < e.count; ++k) {
+      e.cols.push_back(&cloud->add(extra_name(q + 4, 32, *cloud, e.count, k), t));
+    }
+    out.push_back(std::move(e));
+  }
+  return out;
+}
+
+}  // namespace
+
+bool is_las(const std::string& bytes) { return bytes.size() >= 4 && bytes.compare(0, 4, "LASF") == 0; }
+
+bool is_laz(const std::string& bytes) {
+  return is_las(bytes) && bytes.size() > 104 && (static_cast<unsigned char>(bytes[104]) & 0xC0) != 0;
+}
+
+PointCloud parse_las(const std::string& bytes, const std::string& name) {
+  const auto* b = reinterpret_cast<const unsigned char*>(bytes.data());
+  const std::size_t size = bytes.size();
+  if (!is_las(bytes)) throw DataError(name, "not a LAS file (no LASF signature)");
+  if (size < kHeader12) {
+    throw DataError(name, "LAS header truncated: file has " + std::to_string(size) + " bytes, a header needs " +
+                              std::to_string(kHeader12));
+  }
+  const int major = b[24], minor = b[25];
+  if (major != 1 || minor > 4) {
+    throw DataError(name, "LAS version " + std::to_string(major) + "." + std::to_string(minor) +
+                              " is not supported (canopy reads LAS 1.0-1.4)");
+  }
+  const int format_byte = b[104];
+  if ((format_byte & 0xC0) != 0) throw DataError(name, laz_message(name));
+  const std::size_t header_size = get<std::uint16_t>(b + 94);
+  const std::size_t need_header = minor >= 4 ? kHeader14 : minor == 3 ? kHeader13 : kHeader12;
+  if (header_size < need_header) {
+    throw DataError(name, "LAS 1." + std::to_string(minor) + " header size " + std::to_string(header_size) +
+                              " is below the " + std::to_string(need_header) + " bytes the version needs");
+  }
+  if (header_size > size) {
+    throw DataError(name, "LAS header size " + std::to_string(header_size) + " is beyond the end of the file (" +
+                              std::to_string(size) + " bytes)");
+  }
+  const std::size_t data_offset = get<std::uint32_t>(b + 96);
+  const std::uint32_t vlr_count = get<std::uint32_t>(b + 100);
+  const int format = format_byte;
+  if (format > 10) throw DataError(name, "unknown LAS point data format " + std::to_string(format) + " (0-10 exist)");
+  const std::size_t record = get<std::uint16_t>(b + 105);
+  if (record < kMinRecord[format]) {
+    throw DataError(name, "point record length " + std::to_string(record) + " is below the " +
+                              std::to_string(kMinRecord[format]) + " bytes of point format " + std::to_string(format));
+  }
+  if (data_offset < header_size) {
+    throw DataError(name, "offset to point data " + std::to_string(data_offset) + " lies inside the " +
+                              std::to_string(header_size) + "-byte header");
+  }
+  if (data_offset > size) {
+    throw DataError(name, "offset to point data " + std::to_string(data_offset) + " is beyond the end of the file (" +
+                              std::to_string(size) + " bytes; truncated?)");
+  }
+  double scale[3], offset[3];
+  for (int d = 0; d < 3; ++d) {
+    scale[d] = get<double>(b + 131 + 8 * d);
+    offset[d] = get<double>(b + 155 + 8 * d);
+    // Every int32 times the scale plus the offset must be a finite double.
+    if (!std::isfinite(scale[d]) || scale[d] == 0 || !std::isfinite(offset[d]) ||
+        !std::isfinite(std::fabs(scale[d]) * 2147483648.0 + std::fabs(offset[d]))) {
+      throw DataError(name, std::string("LAS header ") + "XYZ"[d] + " scale " + detail::format_value(scale[d], kFloat64) +
+                                " / offset " + detail::format_value(offset[d], kFloat64) +
+                                " is not usable (zero, infinite or NaN)");
+    }
+  }
+
+  // Point count: the 64-bit count of LAS 1.4 wins when set; a legacy count that disagrees
+  // with it is a broken header.
+  std::uint64_t n = get<std::uint32_t>(b + 107);
+  if (minor >= 4) {
+    const std::uint64_t n64 = get<std::uint64_t>(b + 247);
+    if (n64 != 0) {
+      if (n != 0 && n != n64) {
+        throw DataError(name, "LAS header point counts disagree: legacy " + std::to_string(n) + ", LAS 1.4 " +
+                                  std::to_string(n64));
+      }
+      n = n64;
+    }
+  }
+  const std::size_t avail = size - data_offset;
+  if (n > avail / record) {
+    if (avail == 0) {
+      n = 0;  // no point records at all (a header copied from another file): an empty cloud
+    } else {
+      throw DataError(name, "point data truncated: header says " + std::to_string(n) + " points of " +
+                                std::to_string(record) + " bytes, the file holds " + std::to_string(avail) +
+                                " bytes after the point data offset");
+    }
+  }
+
+  PointCloud cloud;
+
+  // VLRs: between the header and the point data, every one must fit there.
+  const unsigned char* extra_vlr = nullptr;
+  std::size_t extra_vlr_len = 0;
+  std::size_t pos = header_size;
+  for (std::uint32_t i = 0; i < vlr_count; ++i) {
+    if (data_offset - pos < kVlrHeader) {
+      throw DataError(name, "LAS header says " + std::to_string(vlr_count) + " VLRs but VLR " + std::to_string(i + 1) +
+                                " does not fit before the point data at byte " + std::to_string(data_offset) +
+                                " (broken VLR count or offset)");
+    }
+    const unsigned char* v = b + pos;
+    const std::size_t len = get<std::uint16_t>(v + 20);
+    if (data_offset - pos - kVlrHeader < len) {
+      throw DataError(name, "VLR " + std::to_string(i + 1) + " ('" + printable(v + 2, 16) + "' " +
+                                std::to_string(get<std::uint16_t>(v + 18)) + ") of " + std::to_string(len) +
+                                " bytes runs into the point data at byte " + std::to_string(data_offset));
+    }
+    const std::uint16_t id = get<std::uint16_t>(v + 18);
+    if (has_prefix(v + 2, 16, "LASF_Spec") && id == 4 && extra_vlr == nullptr) {
+      extra_vlr = v + kVlrHeader;
+      extra_vlr_len = len;
+    } else if (has_prefix(v + 2, 16, "canopy") && id == 1) {
+      std::size_t s = 0;
+      const char* t = reinterpret_cast<const char*>(v + kVlrHeader);
+      while (s < len) {
+        std::size_t e = s;
+        while (e < len && t[e] != '\n') ++e;
+        cloud.comments.push_back(printable(v + kVlrHeader + s, e - s));
+        s = e + 1;
+      }
+    } else if (has_prefix(v + 2, 16, "laszip encoded")) {
+      throw DataError(name, laz_message(name));
+    }
+    pos += kVlrHeader + len;
+  }
+
+  // EVLRs (LAS 1.4): after the point data, each within the file. Only Extra Bytes are used.
+  if (minor >= 4) {
+    const std::uint64_t evlr_start = get<std::uint64_t>(b + 235);
+    const std::uint32_t evlr_count = get<std::uint32_t>(b + 243);
+    const std::uint64_t data_end = data_offset + n * record;
+    if (evlr_count > 0) {
+      if (evlr_start < data_end || evlr_start > size) {
+        throw DataError(name, "EVLR start " + std::to_string(evlr_start) + " is not between the end of the point data (" +
+                                  std::to_string(data_end) + ") and the end of the file (" + std::to_string(size) + ")");
+      }
+      std::uint64_t at = evlr_start;
+      for (std::uint32_t i = 0; i < evlr_count; ++i) {
+        if (size - at < kEvlrHeader) {
+          throw DataError(name, "LAS header says " + std::to_string(evlr_count) + " EVLRs but EVLR " + std::to_string(i + 1) +
+                                    " does not fit in the file (truncated or broken count)");
+        }
+        const unsigned char* v = b + at;
+        const std::uint64_t len = get<std::uint64_t>(v + 20);
+        if (size - at - kEvlrHeader < len) {
+          throw DataError(name, "EVLR " + std::to_string(i + 1) + " of " + std::to_string(len) +
+                                    " bytes runs past the end of the file");
+        }
+        if (has_prefix(v + 2, 16, "LASF_Spec") && get<std::uint16_t>(v + 18) == 4 && extra_vlr == nullptr) {
+          extra_vlr = v + kEvlrHeader;
+          extra_vlr_len = static_cast<std::size_t>(len);
+        }
+        at += kEvlrHeader + len;
+      }
+    }
+  }
+
+  // Columns.
+  const bool extended = format >= 6;
+  const bool has_gps = format == 1 || format >= 3;
+  const bool has_rgb = format == 2 || format == 3 || format == 5 || format == 7 || format == 8 || format == 10;
+  const bool has_nir = format == 8 || format == 10;
+  const std::size_t rgb_at = format == 2 ? 20 : format <= 5 ? 28 : 30;
+  const std::size_t gps_at = extended ? 22 : 20;
+  auto& x = cloud.add("x", kFloat64);
+  auto& y = cloud.add("y", kFloat64);
+  auto& z = cloud.add("z", kFloat64);
+  auto& intensity = cloud.add("intensity", {'U', 2});
+  auto& ret = cloud.add("return_number", kUint8);
+  auto& nret = cloud.add("number_of_returns", kUint8);
+  auto& scan_dir = cloud.add("scan_direction_flag", kUint8);
+  auto& edge = cloud.add("edge_of_flight_line", kUint8);
+  auto& cls = cloud.add("classification", kUint8);
+  auto& synthetic = cloud.add("synthetic", kUint8);
+  auto& key_point = cloud.add("key_point", kUint8);
+  auto& withheld = cloud.add("withheld", kUint8);
+  std::vector<double>* overlap = extended ? &cloud.add("overlap", kUint8) : nullptr;
+  std::vector<double>* channel = extended ? &cloud.add("scanner_channel", kUint8) : nullptr;
+  auto& angle = cloud.add("scan_angle", kFloat32);
+  auto& user = cloud.add("user_data", kUint8);
+  auto& source = cloud.add("point_source_id", {'U', 2});
+  std::vector<double>* gps = has_gps ? &cloud.add("gps_time", kFloat64) : nullptr;
+  std::vector<double>* rgb[3] = {nullptr, nullptr, nullptr};
+  if (has_rgb) {
+    rgb[0] = &cloud.add("red", {'U', 2});
+    rgb[1] = &cloud.add("green", {'U', 2});
+    rgb[2] = &cloud.add("blue", {'U', 2});
+  }
+  std::vector<double>* nir = has_nir ? &cloud.add("nir", {'U', 2}) : nullptr;
+  std::vector<Extra> extras;
+  if (extra_vlr != nullptr) {
+    extras = parse_extra_bytes(extra_vlr, extra_vlr_len, kMinRecord[format], record - kMinRecord[format], &cloud);
+  }
+  cloud.resize(static_cast<std::size_t>(n));
+
+  for (std::size_t i = 0; i < n; ++i) {
+    const unsigned char* r = b + data_offset + i * record;
+    x[i] = get<std::int32_t>(r) * scale[0] + offset[0];
+    y[i] = get<std::int32_t>(r + 4) * scale[1] + offset[1];
+    z[i] = get<std::int32_t>(r + 8) * scale[2] + offset[2];
+    intensity[i] = get<std::uint16_t>(r + 12);
+    const unsigned bits = r[14];
+    if (!extended) {
+      ret[i] = bits & 7;
+      nret[i] = (bits >> 3) & 7;
+      scan_dir[i] = (bits >> 6) & 1;
+      edge[i] = (bits >> 7) & 1;
+      const unsigned c = r[15];
+      cls[i] = c & 31;
+      synthetic[i] = (c >> 5) & 1;
+      key_point[i] = (c >> 6) & 1;
+      withheld[i] = (c >> 7) & 1;
+      angle[i] = get<std::int8_t>(r + 16);
+      user[i] = r[17];
+      source[i] = get<std::uint16_t>(r + 18);
+    } else {
+      ret[i] = bits & 15;
+      nret[i] = bits >> 4;
+      const unsigned f = r[15];
+      synthetic[i] = f & 1;
+      key_point[i] = (f >> 1) & 1;
+      withheld[i] = (f >> 2) & 1;
+      (*overlap)[i] = (f >> 3) & 1;
+      (*channel)[i] = (f >> 4) & 3;
+      scan_dir[i] = (f >> 6) & 1;
+      edge[i] = (f >> 7) & 1;
+      cls[i] = r[16];
+      user[i] = r[17];
+      angle[i] = static_cast<float>(get<std::int16_t>(r + 18) * 0.006);
+      source[i] = get<std::uint16_t>(r + 20);
+    }
+    if (gps) (*gps)[i] = get<double>(r + gps_at);
+    if (has_rgb) {
+      for (int k = 0; k < 3; ++k) (*rgb[k])[i] = get<std::uint16_t>(r + rgb_at + 2 * k);
+    }
+    if (nir) (*nir)[i] = get<std::uint16_t>(r + 36);
+    for (const auto& e : extras) {
+      const std::size_t step = static_cast<std::size_t>(kBaseSize[e.base]);
+      for (int k = 0; k < e.count; ++k) {
+        const double raw = read_base(r + e.offset + step * static_cast<std::size_t>(k), e.base);
+        (*e.cols[static_cast<std::size_t>(k)])[i] = e.scaled ? raw * e.scale[k] + e.shift[k] : raw;
+      }
+    }
+  }
+  return cloud;
+}
+
+PointCloud read_las(const std::string& path) { return parse_las(common::read_file(path), path); }
+
+namespace {
+
+// Standard fields of the written point formats (6, 7, 8); every other column but x y z is
+// written as Extra Bytes.
+bool standard_field(const std::string& f, int format) {
+  static const char* base[] = {"intensity", "return_number", "number_of_returns", "scan_direction_flag",
+                               "edge_of_flight_line", "classification", "synthetic", "key_point", "withheld",
+                               "overlap", "scanner_channel", "scan_angle", "user_data", "point_source_id",
+                               "gps_time"};
+  for (const char* s : base) {
+    if (f == s) return true;
+  }
+  if (format >= 7 && (f == "red" || f == "green" || f == "blue")) return true;
+  return format >= 8 && f == "nir";
+}
+
+int extra_type(FieldType t) {
+  if (t.kind == 'U') return t.size == 1 ? 1 : t.size == 2 ? 3 : 5;
+  if (t.kind == 'I') return t.size == 1 ? 2 : t.size == 2 ? 4 : 6;
+  return t.size == 4 ? 9 : 10;
+}
+
+void put_text(std::string* out, const std::string& s, std::size_t n) {
+  std::string t = s.substr(0, n);
+  t.resize(n, '\0');
+  out->append(t);
+}
+
+}  // namespace
+
+std::string serialize_las(const PointCloud& cloud, const std::string& name) {
+  cloud.require({"x", "y", "z"}, name, "LAS needs coordinates");
+  const std::size_t n = cloud.size();
+  const std::vector<double>* xyz[3] = {&cloud.col("x"), &cloud.col("y"), &cloud.col("z")};
+  const bool rgb = cloud.has("red") && cloud.has("green") && cloud.has("blue");
+  const int format = rgb ? (cloud.has("nir") ? 8 : 7) : 6;
+  const std::size_t standard_len = kMinRecord[format];
+
+  // Offset: the middle of the extent rounded to whole metres; every coordinate must land on
+  // the int32 grid of kLasWriteScale steps about it.
+  double lo[3], hi[3], off[3];
+  for (int d = 0; d < 3; ++d) {
+    lo[d] = n ? std::numeric_limits<double>::infinity() : 0;
+    hi[d] = n ? -std::numeric_limits<double>::infinity() : 0;
+    for (double v : *xyz[d]) {
+      if (!std::isfinite(v)) {
+        throw DataError(name, std::string("non-finite ") + "xyz"[d] + " coordinate (NaN or infinite coordinates are not written)");
+      }
+      lo[d] = std::min(lo[d], v);
+      hi[d] = std::max(hi[d], v);
+    }
+    off[d] = std::round(0.5 * lo[d] + 0.5 * hi[d]);
+    const double reach = std::max(off[d] - lo[d], hi[d] - off[d]) / kLasWriteScale;
+    if (!(reach < 2147483647.0)) {
+      throw DataError(name, std::string("the cloud's ") + "xyz"[d] + " extent (" + detail::format_value(hi[d] - lo[d], kFloat64) +
+                                " m) does not fit LAS's 32-bit integer coordinates at " +
+                                detail::format_value(kLasWriteScale, kFloat64) + " m resolution");
+    }
+  }
+
+  // Extra Bytes descriptors.
+  struct Column {
+    const std::vector<double>* data;
+    FieldType type;
+  };
+  std::vector<Column> extras;
+  std::string descriptors;
+  std::size_t record = standard_len;
+  for (std::size_t c = 0; c < cloud.names().size(); ++c) {
+    const std::string& f = cloud.names()[c];
+    if (f == "x" || f == "y" || f == "z" || standard_field(f, format)) continue;
+    if (f.size() > 32) throw DataError(name, "field name '" + f + "' is longer than LAS's 32-character Extra Bytes names");
+    const FieldType t = cloud.types()[c];
+    extras.push_back({&cloud.col(c), t});
+    record += static_cast<std::size_t>(t.size);
+    std::string d(kExtraDescriptor, '\0');
+    d[2] = static_cast<char>(extra_type(t));
+    std::memcpy(&d[4], f.data(), f.size());
+    const std::string desc = "canopy field";
+    std::memcpy(&d[160], desc.data(), desc.size());
+    descriptors += d;
+  }
+  if (record > 65535 || descriptors.size() > 65535) {
+    throw DataError(name, "too many fields for one LAS point record (" + std::to_string(extras.size()) + " extra fields)");
+  }
+  std::string comments;
+  for (const auto& c : cloud.comments) {
+    if (comments.size() + c.size() + 1 > 65535) break;
+    comments += (comments.empty() ? "" : "\n") + c;
+  }
+
+  std::string vlrs;
+  auto add_vlr = [&](const std::string& user, std::uint16_t id, const std::string& desc, const std::string& payload) {
+    put<std::uint16_t>(&vlrs, 0);
+    put_text(&vlrs, user, 16);
+    put<std::uint16_t>(&vlrs, id);
+    put<std::uint16_t>(&vlrs, static_cast<std::uint16_t>(payload.size()));
+    put_text(&vlrs, desc, 32);
+    vlrs += payload;
+  };
+  std::uint32_t vlr_count = 0;
+  if (!extras.empty()) add_vlr("LASF_Spec", 4, "Extra Bytes Record", descriptors), ++vlr_count;
+  if (!comments.empty()) add_vlr("canopy", 1, "comments (provenance)", comments), ++vlr_count;
+
+  // Point records.
+  auto column = [&](const char* f) { return cloud.has(f) ? &cloud.col(f) : nullptr; };
+  const std::vector<double>* intensity = column("intensity");
+  const std::vector<double>* ret = column("return_number");
+  const std::vector<double>* nret = column("number_of_returns");
+  const std::vector<double>* flags[6] = {column("synthetic"), column("key_point"), column("withheld"),
+                                         column("overlap"), column("scan_direction_flag"), column("edge_of_flight_line")};
+  const std::vector<double>* channel = column("scanner_channel");
+  const std::vector<double>* cls = column("classification");
+  const std::vector<double>* user = column("user_data");
+  const std::vector<double>* angle = column("scan_angle");
+  const std::vector<double>* source = column("point_source_id");
+  const std::vector<double>* gps = column("gps_time");
+  const std::vector<double>* colour[3] = {column("red"), column("green"), column("blue")};
+  const std::vector<double>* nir = column("nir");
+  auto at = [](const std::vector<double>* c, std::size_t i, double fallback) { return c ? (*c)[i] : fallback; };
+  using detail::to_int;
+
+  std::string points;
+  points.reserve(n * record);
+  std::uint64_t by_return[15] = {};
+  std::int64_t qmin[3] = {0, 0, 0}, qmax[3] = {0, 0, 0};
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int d = 0; d < 3; ++d) {
+      const auto q = static_cast<std::int32_t>(std::llround(((*xyz[d])[i] - off[d]) / kLasWriteScale));
+      if (i == 0 || q < qmin[d]) qmin[d] = q;
+      if (i == 0 || q > qmax[d]) qmax[d] = q;
+      put<std::int32_t>(&points, q);
+    }
+    put(&points, to_int<std::uint16_t>(at(intensity, i, 0), 0, 65535));
+    const unsigned r = to_int<std::uint8_t>(at(ret, i, 1), 0, 15);
+    const unsigned nr = to_int<std::uint8_t>(at(nret, i, 1), 0, 15);
+    if (r >= 1) ++by_return[r - 1];
+    points += static_cast<char>(r | (nr << 4));
+    unsigned f = 0;
+    for (int k = 0; k < 4; ++k) f |= (at(flags[k], i, 0) != 0 ? 1u : 0u) << k;
+    f |= static_cast<unsigned>(to_int<std::uint8_t>(at(channel, i, 0), 0, 3)) << 4;
+    f |= (at(flags[4], i, 0) != 0 ? 1u : 0u) << 6;
+    f |= (at(flags[5], i, 0) != 0 ? 1u : 0u) << 7;
+    points += static_cast<char>(f);
+    points += static_cast<char>(to_int<std::uint8_t>(at(cls, i, 0), 0, 255));
+    points += static_cast<char>(to_int<std::uint8_t>(at(user, i, 0), 0, 255));
+    put(&points, to_int<std::int16_t>(at(angle, i, 0) / 0.006, -30000, 30000));
+    put(&points, to_int<std::uint16_t>(at(source, i, 0), 0, 65535));
+    put<double>(&points, at(gps, i, 0));
+    if (format >= 7) {
+      for (const auto* c : colour) put(&points, to_int<std::uint16_t>((*c)[i], 0, 65535));
+    }
+    if (format >= 8) put(&points, to_int<std::uint16_t>((*nir)[i], 0, 65535));
+    for (const auto& e : extras) detail::write_scalar(&points, (*e.data)[i], e.type);
+  }
+
+  std::string out;
+  out.reserve(kHeader14 + vlrs.size() + points.size());
+  out += "LASF";
+  put<std::uint16_t>(&out, 0);   // file source id
+  put<std::uint16_t>(&out, 16);  // global encoding: WKT bit (required for point formats 6-10); no CRS given
+  out.append(16, '\0');          // project GUID
+  out += '\1';
+  out += '\4';
+  put_text(&out, "canopy", 32);
+  put_text(&out, "canopy " CANOPY_VERSION, 32);
+  put<std::uint16_t>(&out, 0);  // creation day and year: 0, so that same input -> same bytes
+  put<std::uint16_t>(&out, 0);
+  put<std::uint16_t>(&out, static_cast<std::uint16_t>(kHeader14));
+  put<std::uint32_t>(&out, static_cast<std::uint32_t>(kHeader14 + vlrs.size()));
+  put<std::uint32_t>(&out, vlr_count);
+  out += static_cast<char>(format);
+  put<std::uint16_t>(&out, static_cast<std::uint16_t>(record));
+  put<std::uint32_t>(&out, 0);  // legacy point count and counts by return: 0 for formats 6-10
+  for (int k = 0; k < 5; ++k) put<std::uint32_t>(&out, 0);
+  for (int d = 0; d < 3; ++d) put<double>(&out, kLasWriteScale);
+  for (int d = 0; d < 3; ++d) put<double>(&out, off[d]);
+  for (int d = 0; d < 3; ++d) {
+    put<double>(&out, static_cast<double>(qmax[d]) * kLasWriteScale + off[d]);
+    put<double>(&out, static_cast<double>(qmin[d]) * kLasWriteScale + off[d]);
+  }
+  put<std::uint64_t>(&out, 0);  // waveform data packet record
+  put<std::uint64_t>(&out, 0);  // first EVLR
+  put<std::uint32_t>(&out, 0);  // EVLR count
+  put<std::uint64_t>(&out, n);
+  for (auto c : by_return) put<std::uint64_t>(&out, c);
+  out += vlrs;
+  out += points;
+  return out;
+}
+
+void write_las(const PointCloud& cloud, const std::string& path) {
+  common::write_file_atomic(path, serialize_las(cloud, common::display_name(path, true)));
+}
+
+}  // namespace canopy::formats

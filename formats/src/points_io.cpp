@@ -1,0 +1,181 @@
+#include "canopy/formats/points_io.h"
+
+#include <cctype>
+#include <cmath>
+#include <cstring>
+
+#include "canopy/common/atomic_file.h"
+#include "canopy/common/error.h"
+#include "canopy/formats/las.h"
+#include "canopy/formats/pcd.h"
+#include "canopy/formats/ply.h"
+
+namespace canopy::formats {
+namespace {
+
+using common::DataError;
+
+bool starts_with(const std::string& s, const char* prefix) {
+  return s.compare(0, std::strlen(prefix), prefix) == 0;
+}
+
+// The first bytes of a file, escaped for a message (a NUL or a control byte never cuts it).
+std::string quote_start(const std::string& bytes, std::size_t n = 16) {
+  std::string out;
+  for (std::size_t i = 0; i < bytes.size() && i < n; ++i) {
+    const auto c = static_cast<unsigned char>(bytes[i]);
+    if (c >= 32 && c < 127 && c != '\'' && c != '\\') {
+      out += static_cast<char>(c);
+    } else if (c == '\n') {
+      out += "\\n";
+    } else {
+      static const char* hex = "0123456789abcdef";
+      out += "\\x";
+      out += hex[c >> 4];
+      out += hex[c & 15];
+    }
+  }
+  return out + (bytes.size() > n ? "..." : "");
+}
+
+bool is_ply(const std::string& b) { return starts_with(b, "ply\n") || starts_with(b, "ply\r\n"); }
+
+// PCD: after blank and '#' comment lines, the first line starts with one of PCD's header keys.
+bool is_pcd(const std::string& b) {
+  std::size_t p = 0;
+  while (p < b.size()) {
+    p = b.find_first_not_of(" \t\r\n", p);
+    if (p == std::string::npos) return false;
+    if (b[p] != '#') break;
+    p = b.find('\n', p);
+  }
+  if (p >= b.size()) return false;
+  for (const char* key : {"VERSION", "FIELDS", "COLUMNS", "SIZE", "TYPE", "COUNT", "WIDTH", "HEIGHT",
+                          "VIEWPOINT", "POINTS", "DATA"}) {
+    const std::size_t n = std::strlen(key);
+    if (b.compare(p, n, key) == 0 && (p + n == b.size() || std::isspace(static_cast<unsigned char>(b[p + n])))) {
+      return true;
+    }
+  }
+  return false;
+}
+
+// What a file that is no point cloud canopy reads appears to be, for the error message.
+std::string what_else(const std::string& b) {
+  if (b.empty()) return "empty file";
+  const std::size_t p = b.find_first_not_of(" \t\r\n");
+  if (p != std::string::npos && (b[p] == '{' || b[p] == '[')) {
+    const std::size_t f = b.find("\"format\"");
+    if (f != std::string::npos && f < 4096) {
+      const std::size_t q1 = b.find('"', b.find(':', f) + 1);
+      const std::size_t q2 = q1 == std::string::npos ? q1 : b.find('"', q1 + 1);
+      if (q2 != std::string::npos && q2 - q1 < 64) return "a JSON document (" + quote_start(b.substr(q1 + 1, q2 - q1 - 1), 64) + ")";
+    }
+    return "a JSON document";
+  }
+  if (starts_with(b, "\x89PNG")) return "a PNG image";
+  if (starts_with(b, "\x1f\x8b")) return "a gzip-compressed file (decompress it first)";
+  if (starts_with(b, "PK\x03\x04")) return "a zip archive (unpack it first)";
+  if (starts_with(b, "solid") || (b.size() >= 84 && b.find('\0') < 80)) return "not a point cloud (an STL mesh?)";
+  if (starts_with(b, "v ") || starts_with(b, "# OBJ") || b.find("\nv ") < 4096) return "not a point cloud (an OBJ mesh?)";
+  return "not a point cloud canopy reads";
+}
+
+// Whether column `c` is float32 and float32 moves one of its finite values by more than the
+// tolerance.
+bool float32_loses(const PointCloud& cloud, const char* c) {
+  if (!cloud.has(c) || !(cloud.type(c) == kFloat32)) return false;
+  for (double d : cloud.col(c)) {
+    if (std::isfinite(d) && std::fabs(static_cast<double>(static_cast<float>(d)) - d) > kFloat32CoordinateTolerance) {
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+const char* format_name(PointFormat f) {
+  switch (f) {
+    case PointFormat::kPcd: return "PCD";
+    case PointFormat::kPly: return "PLY";
+    default: return "LAS";
+  }
+}
+
+PointCloud parse_points(const std::string& bytes, const std::string& name, const std::string& tool) {
+  if (is_las(bytes)) return parse_las(bytes, name);
+  if (is_ply(bytes)) {
+    Mesh m = parse_ply(bytes, name);
+    if (!m.faces.empty()) {
+      throw DataError(name, "this is a PLY mesh with " + std::to_string(m.faces.size()) + " faces; " +
+                                (tool.empty() ? std::string("this tool") : tool) +
+                                " reads points (PCD, LAS or a PLY point set without faces)");
+    }
+    return std::move(m.vertices);
+  }
+  if (is_pcd(bytes)) return parse_pcd(bytes, name);
+  throw DataError(name, "this is " + what_else(bytes) + ": no PCD, PLY or LAS signature (the file starts '" +
+                            quote_start(bytes) + "'); " + (tool.empty() ? std::string("canopy") : tool) +
+                            " reads PCD, PLY point sets and LAS");
+}
+
+PointCloud read_points(const std::string& path, const std::string& tool) {
+  return parse_points(common::read_file(path), path, tool);
+}
+
+PointFormat output_format(const std::string& path) {
+  if (path == "-") return PointFormat::kPcd;
+  const std::size_t slash = path.find_last_of('/');
+  const std::size_t dot = path.find_last_of('.');
+  std::string ext;
+  if (dot != std::string::npos && (slash == std::string::npos || dot > slash)) {
+    ext = path.substr(dot + 1);
+    for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  }
+  if (ext == "pcd") return PointFormat::kPcd;
+  if (ext == "ply") return PointFormat::kPly;
+  if (ext == "las") return PointFormat::kLas;
+  if (ext == "laz") {
+    throw common::UsageError("output '" + path + "': canopy cannot write LAZ (Debian 12 has no LAZ encoder); "
+                             "write .las and compress it elsewhere (laszip, pdal translate)");
+  }
+  throw common::UsageError("output '" + path + "': " +
+                           (ext.empty() ? std::string("no extension") : "unknown extension '." + ext + "'") +
+                           "; the point formats are .pcd, .ply and .las (or - for PCD on stdout)");
+}
+
+bool promote_coordinates(PointCloud* cloud) {
+  bool changed = false;
+  for (const char* c : {"x", "y", "z"}) {
+    if (float32_loses(*cloud, c)) {
+      cloud->add(c, kFloat64);  // the existing column: only its type changes
+      changed = true;
+    }
+  }
+  return changed;
+}
+
+void write_points(const PointCloud& cloud, const std::string& path) {
+  const PointFormat f = output_format(path);
+  if (f == PointFormat::kLas) {
+    write_las(cloud, path);
+    return;
+  }
+  Mesh m;  // PLY writes a Mesh; the copy also takes any promotion
+  bool promote = false;
+  for (const char* c : {"x", "y", "z"}) promote = promote || float32_loses(cloud, c);
+  if (f == PointFormat::kPcd && !promote) {
+    write_pcd(cloud, path);
+    return;
+  }
+  m.vertices = cloud;
+  promote_coordinates(&m.vertices);
+  if (f == PointFormat::kPcd) {
+    write_pcd(m.vertices, path);
+  } else {
+    write_ply(m, path);
+  }
+}
+
+}  // namespace canopy::formats
