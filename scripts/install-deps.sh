@@ -7,6 +7,7 @@ packages=(
   libeigen3-dev libcgal-dev libpcl-dev libvtk9-dev libspectra-dev
   nlohmann-json3-dev libcli11-dev catch2 libpng-dev
   povray time xvfb xauth
+  slurmctld slurmd slurm-client munge
 )
 missing=()
 for p in "${packages[@]}"; do
