@@ -37,6 +37,10 @@ cleanup() {
 }
 trap cleanup EXIT
 trap 'exit 130' INT TERM
+# Should this script be killed outright (SIGKILL, e.g. a test timeout), a watchdog outside its
+# process group stops the daemons once the script is gone.
+setsid bash -c 'while kill -0 "$1" 2>/dev/null; do sleep 1; done; "$2" stop "$3" >/dev/null 2>&1; rm -rf "$4"' \
+  watchdog $$ "$src/scripts/slurm/local-cluster.sh" "$cluster" "$tmp" </dev/null >/dev/null 2>&1 &
 
 started=$(date +%s.%N)
 conf=$("$src/scripts/slurm/local-cluster.sh" start "$cluster") || fail "the single-node cluster did not start"
@@ -93,7 +97,7 @@ grep -q '^fitvox: ' "$tmp/slurm/out/sedan/unoccluded/noise-8/samples.pcd.log" ||
   fail "samples.pcd.log does not hold fitvox's INFO lines (written by the job)"
 grep -q '^done  [0-9]*/[0-9]* ' "$tmp/slurm.log" || fail "no N/M progress in the Slurm run's lines"
 # Each stage was a job: the controller's log holds one allocation per stage of the plan.
-stages=$(grep -c '^done  \|^FAIL  ' "$tmp/slurm.log")
+stages=$(grep -c '^\(done\|FAIL\)  [0-9]*/[0-9]* ' "$tmp/slurm.log")
 jobs=$(grep -c 'sched: _slurm_rpc_allocate_resources' "$cluster/log/slurmctld.log")
 [ "$jobs" -ge "$stages" ] || fail "$stages stages but only $jobs Slurm allocations"
 echo "$stages stages ran as $jobs Slurm jobs"
@@ -101,7 +105,8 @@ echo "$stages stages ran as $jobs Slurm jobs"
 # A stage that fails as a Slurm job fails make and names its log; its artifact is not made.
 mkdir -p "$tmp/bad"
 cp -p share/params/*.ini "$tmp/bad/"
-echo "max-rms = -3mm" >>"$tmp/bad/fitvox.ini"
+sed -i "s/^max-rms = .*/max-rms = -3mm/" "$tmp/bad/fitvox.ini"
+grep -q "^max-rms = -3mm" "$tmp/bad/fitvox.ini" || fail "could not make a bad fitvox.ini"
 target="$tmp/slurm/out/sedan/unoccluded/noise-0/samples.pcd"
 rm -f "$target"
 if mk LAUNCH=slurm OUT="$tmp/slurm/out" RES="$tmp/slurm/res" P="$tmp/bad" "$target" >"$tmp/fail.log" 2>&1; then
