@@ -10,7 +10,8 @@
 # Needs root (slurmd launches jobs as the submitting user, which needs root; SlurmUser=root)
 # and Debian's munge, slurmctld, slurmd and slurm-client (scripts/install-deps.sh installs
 # them). No systemd, cgroups or accounting: proctrack/linuxproc, task/none. Two clusters
-# started at once do not collide: each has its own DIR and its own two free TCP ports.
+# started at once do not collide: each has its own DIR and its own two free TCP ports
+# (random, checked against /proc/net/tcp).
 set -euo pipefail
 cmd=${1:-}; dir=${2:-}
 usage() { echo "usage: $0 start|stop DIR" >&2; exit 2; }
@@ -34,10 +35,12 @@ stop() {
   rm -f "$dir/pids"
 }
 
-# A TCP port nobody listens on (the range slurm itself does not use by default).
+# A TCP port nobody uses (from /proc/net/tcp{,6}; iproute2 may be absent), above the ports
+# slurm uses by default.
 free_port() {
   local p used
-  used=$(ss -Htan 2>/dev/null | awk '{print $4}' | sed 's/.*://' | sort -u)
+  used=$(awk 'FNR > 1 { split($2, a, ":"); print a[2] }' /proc/net/tcp /proc/net/tcp6 2>/dev/null |
+         while read -r hex; do echo $((16#$hex)); done | sort -u)
   while :; do
     p=$((20000 + RANDOM % 30000))
     echo "$used" | grep -qx "$p" || { echo "$p"; return; }

@@ -42,11 +42,13 @@ trap 'exit 130' INT TERM
 setsid bash -c 'while kill -0 "$1" 2>/dev/null; do sleep 1; done; "$2" stop "$3" >/dev/null 2>&1; rm -rf "$4"' \
   watchdog $$ "$src/scripts/slurm/local-cluster.sh" "$cluster" "$tmp" </dev/null >/dev/null 2>&1 &
 
-started=$(date +%s.%N)
+now() { date +%s.%N; }
+secs() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.2f", b - a }'; }   # secs START END
+started=$(now)
 conf=$("$src/scripts/slurm/local-cluster.sh" start "$cluster") || fail "the single-node cluster did not start"
 eval "$conf"
 [ "$SLURM_CONF" = "$cluster/slurm.conf" ] || fail "local-cluster.sh printed '$conf'"
-printf 'cluster up in %.2f s (%s)\n' "$(echo "$(date +%s.%N) - $started" | bc)" "$(sinfo -h -o '%N %c CPUs %t')"
+echo "cluster up in $(secs "$started" "$(now)") s ($(sinfo -h -o '%N %c CPUs %t'))"
 
 cd "$src" || exit 1
 # The tools are the suite's build (-o: never rebuilt by this test); stamps go to the temp dir.
@@ -56,16 +58,16 @@ mk() { make -f Makefile.experiments "${slice[@]}" "$@"; }
 
 # Both runs write to the same paths (tools record their input paths in the artifacts'
 # provenance), then move aside.
-t0=$(date +%s.%N)
+t0=$(now)
 mk all -j2 OUT="$tmp/run/out" RES="$tmp/run/res" >"$tmp/local.log" 2>&1 ||
   fail "the local run failed: $(tail -n 15 "$tmp/local.log")"
 mv "$tmp/run" "$tmp/local"
-t1=$(date +%s.%N)
+t1=$(now)
 mk all -j2 LAUNCH=slurm OUT="$tmp/run/out" RES="$tmp/run/res" >"$tmp/slurm.log" 2>&1 ||
   fail "the Slurm run failed: $(tail -n 15 "$tmp/slurm.log")"
 mv "$tmp/run" "$tmp/slurm"
-t2=$(date +%s.%N)
-printf 'local %.1f s, slurm %.1f s (-j2)\n' "$(echo "$t1 - $t0" | bc)" "$(echo "$t2 - $t1" | bc)"
+t2=$(now)
+echo "local $(secs "$t0" "$t1") s, slurm $(secs "$t1" "$t2") s (-j2)"
 
 # Every artifact, byte for byte. Not compared: logs and .time files, times.csv, the wall-time
 # columns of cases.csv (from addnoise_s on) and the "Time per stage" section of report.md, which
@@ -131,7 +133,7 @@ for _ in $(seq 200); do
 done
 [ -n "$running" ] || { kill -TERM -- -"$pg" 2>/dev/null; fail "the rendering job never ran: $(cat "$tmp/intr.log")"; }
 kill -INT -- -"$pg"
-t3=$(date +%s.%N)
+t3=$(now)
 wait "$pg" && fail "make exited 0 after SIGINT"
 left=""
 for _ in $(seq 100); do
@@ -140,6 +142,6 @@ for _ in $(seq 100); do
   sleep 0.05
 done
 [ -z "$left" ] || fail "jobs still in the queue after SIGINT: $left"
-printf 'SIGINT cancelled job %s; queue empty after %.2f s\n' "$running" "$(echo "$(date +%s.%N) - $t3" | bc)"
+echo "SIGINT cancelled job $running; queue empty after $(secs "$t3" "$(now)") s"
 [ ! -e "$tmp/intr/out/sedan/unoccluded/scan.pcd" ] || fail "an interrupted job left its artifact"
 echo "ok: slurm"
