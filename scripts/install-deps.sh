@@ -7,6 +7,8 @@ packages=(
   libeigen3-dev libcgal-dev libpcl-dev libvtk9-dev libspectra-dev
   nlohmann-json3-dev libcli11-dev catch2 libpng-dev
   povray time xvfb xauth
+  # Slurm and munge: for LAUNCH=slurm and its test (tests/pipeline/slurm.sh), which starts
+  # its own single-node cluster in a temp dir; nothing is configured system-wide.
   slurmctld slurmd slurm-client munge
 )
 missing=()

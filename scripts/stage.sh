@@ -17,9 +17,9 @@
 #
 # --record-failure: for ablation variants, where a stage failing is a result (e.g. the
 # thesis's fixed RMS bound keeps no voxel at 32 mm): when the tool itself exits with a status
-# from 1 to 125 (its own error; canopy's tools exit 1 or 2), the failure is logged, ARTIFACT is created empty as an
-# explicit "failed" marker, and the status is 0. Later stages fail on the empty input in turn,
-# so the trial's match.json is empty and counts as not recognised. A tool killed by a signal
+# from 1 to 125 (its own error; canopy's tools exit 1 or 2), the failure is logged, ARTIFACT
+# is created empty as an explicit "failed" marker, and the status is 0. Later stages fail on
+# the empty input in turn, so the trial's match.json is empty and counts as not recognised. A tool killed by a signal
 # (Ctrl-C, SIGTERM, the OOM killer's SIGKILL, a Slurm time limit), a status of 126 or more
 # (could not execute, not found, a signal passed on by a wrapper), or a launch that never ran
 # the tool (srun could not get an allocation) is never a result: it fails make and leaves no
@@ -59,7 +59,7 @@ if [ "$launch" = slurm ]; then
   [ -r "$resources" ] || { echo "stage.sh: error: $resources: cannot read the resources file" >&2; exit 1; }
   for word in "$@"; do
     name=$(basename -- "$word")
-    if grep -q "^\[$name\]" "$resources" 2>/dev/null; then section=$name; break; fi
+    if grep -qxF "[$name]" "$resources" 2>/dev/null; then section=$name; break; fi
   done
 fi
 resource() { local v; v=$(ini_get "$section" "$1"); [ -n "$v" ] || v=$(ini_get default "$1"); echo "$v"; }
