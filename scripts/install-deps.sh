@@ -9,6 +9,9 @@ packages=(
   nlohmann-json3-dev libcli11-dev catch2 libpng-dev
   povray time xvfb xauth
   clang libclang-rt-14-dev
+  # Slurm and munge: for LAUNCH=slurm and its test (tests/pipeline/slurm.sh), which starts
+  # its own single-node cluster in a temp dir; nothing is configured system-wide.
+  slurmctld slurmd slurm-client munge
 )
 missing=()
 for p in "${packages[@]}"; do

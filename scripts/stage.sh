@@ -1,32 +1,135 @@
 #!/usr/bin/env bash
-# stage.sh ARTIFACT -- COMMAND...: runs one experiment stage for make.
-# The tool's stderr goes to ARTIFACT.log; wall seconds and peak memory (KiB) to ARTIFACT.time
-# (read by the report); one progress line is printed. On failure the log tail is shown and
-# the status is passed on (the tool itself never leaves a partial ARTIFACT).
-# stage.sh --record-failure ARTIFACT -- ...: for ablation variants, where a stage failing is a
-# result (e.g. the thesis's fixed RMS bound keeps no voxel at 32 mm): the failure is logged,
-# ARTIFACT is created empty as an explicit "failed" marker, and the status is 0. Later stages
-# fail on the empty input in turn, so the trial's match.json is empty and counts as not
-# recognised.
+# stage.sh [--launch local|slurm] [--record-failure] ARTIFACT -- COMMAND...: runs one
+# experiment stage for make.
+# The tool's stderr (its INFO lines, warnings, errors) goes to ARTIFACT.log; wall seconds and
+# peak memory (KiB) to ARTIFACT.time (read by the report); one progress line is printed,
+# "done  N/M ARTIFACT ..." where M is the number of stages make planned (CANOPY_PROGRESS_TOTAL)
+# and N counts the stages finished so far in this make run (a counter file,
+# CANOPY_PROGRESS, incremented under flock). On failure the log tail is shown and the status
+# is passed on (the tool itself never leaves a partial ARTIFACT).
+#
+# --launch slurm: the command runs as a Slurm job through srun, with the CPUs, memory and
+# time limit of its tool's section in share/resources.ini (the first word of COMMAND whose
+# name has a section there; else [default]). CANOPY_SRUN_FLAGS adds site options (partition,
+# account). ARTIFACT.log, ARTIFACT.time and ARTIFACT itself are written by the job, on the
+# filesystem shared by all nodes; srun passes the exit status on, and Ctrl-C (SIGINT to make's
+# process group) makes srun cancel the job at once (--quit-on-interrupt).
+#
+# --record-failure: for ablation variants, where a stage failing is a result (e.g. the
+# thesis's fixed RMS bound keeps no voxel at 32 mm): when the tool itself exits with a status
+# from 1 to 125 (its own error; canopy's tools exit 1 or 2), the failure is logged, ARTIFACT
+# is created empty as an explicit "failed" marker, and the status is 0. Later stages fail on
+# the empty input in turn, so the trial's match.json is empty and counts as not recognised. A tool killed by a signal
+# (Ctrl-C, SIGTERM, the OOM killer's SIGKILL, a Slurm time limit), a status of 126 or more
+# (could not execute, not found, a signal passed on by a wrapper), or a launch that never ran
+# the tool (srun could not get an allocation) is never a result: it fails make and leaves no
+# ARTIFACT. GNU time's report ("Command terminated by signal 9") tells the cases apart.
 set -u
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+launch=local
 record=0
-if [ "${1:-}" = "--record-failure" ]; then record=1; shift; fi
-artifact=$1; shift
+while :; do
+  case "${1:-}" in
+    --launch) launch=${2:-}; shift 2 ;;
+    --record-failure) record=1; shift ;;
+    *) break ;;
+  esac
+done
+artifact=${1:-}
+[ -n "$artifact" ] || { echo "stage.sh: usage: stage.sh [--launch local|slurm] [--record-failure] ARTIFACT -- COMMAND..." >&2; exit 2; }
+shift
 [ "${1:-}" = "--" ] && shift
+[ $# -gt 0 ] || { echo "stage.sh: $artifact: no command given" >&2; exit 2; }
 log="$artifact.log"
+timing="$artifact.time.tmp"
 mkdir -p "$(dirname "$artifact")"
-if /usr/bin/time -f '%e %M' -o "$artifact.time.tmp" "$@" 2>"$log"; then
-  mv -f "$artifact.time.tmp" "$artifact.time"
-  read -r secs kib <"$artifact.time"
-  printf 'done  %-58s %7.2f s %6d MB\n' "$artifact" "$secs" "$((kib / 1024))"
+
+# resource KEY: the value of KEY in the tool's section of the resources file, else [default].
+resources=${CANOPY_RESOURCES:-$here/../share/resources.ini}
+ini_get() {  # ini_get SECTION KEY
+  awk -v sec="$1" -v key="$2" '
+    /^[ \t]*[#;]/ { next }
+    /^[ \t]*\[/ { s = $0; gsub(/[][ \t]/, "", s); next }
+    s == sec { split($0, kv, "="); k = kv[1]; gsub(/[ \t]/, "", k)
+               if (k == key) { v = substr($0, index($0, "=") + 1); gsub(/^[ \t]+|[ \t]+$/, "", v); print v; exit } }
+  ' "$resources"
+}
+section=default
+if [ "$launch" = slurm ]; then
+  [ -r "$resources" ] || { echo "stage.sh: error: $resources: cannot read the resources file" >&2; exit 1; }
+  for word in "$@"; do
+    name=$(basename -- "$word")
+    if grep -qxF "[$name]" "$resources" 2>/dev/null; then section=$name; break; fi
+  done
+fi
+resource() { local v; v=$(ini_get "$section" "$1"); [ -n "$v" ] || v=$(ini_get default "$1"); echo "$v"; }
+
+run=(/usr/bin/time -f '%e %M' -o "$timing" "$@")
+case "$launch" in
+  local) ;;
+  slurm)
+    cpus=$(resource cpus); mem=$(resource mem); limit=$(resource time)
+    for v in cpus mem limit; do
+      [ -n "${!v}" ] || { echo "stage.sh: error: $resources: no '${v/limit/time}' for [$section] or [default]" >&2; exit 1; }
+    done
+    # shellcheck disable=SC2206  # site flags are words, split on purpose
+    run=(srun --quiet --quit-on-interrupt --input=none --job-name="canopy-$section"
+         --nodes=1 --ntasks=1 --cpus-per-task="$cpus" --mem="$mem" --time="$limit"
+         ${CANOPY_SRUN_FLAGS:-} "${run[@]}") ;;
+  *) echo "stage.sh: error: unknown --launch '$launch' (local or slurm)" >&2; exit 2 ;;
+esac
+
+# progress: "N/M " once the stage is finished (empty when make did not count the plan).
+progress() {
+  local n
+  [ -n "${CANOPY_PROGRESS:-}" ] && [ -n "${CANOPY_PROGRESS_TOTAL:-}" ] || return 0
+  n=$( { flock 9 && printf . >&9 && stat -c %s "$CANOPY_PROGRESS"; } 9>>"$CANOPY_PROGRESS" 2>/dev/null) || return 0
+  printf '%s/%s ' "$n" "$CANOPY_PROGRESS_TOTAL"
+}
+
+rm -f "$timing"
+if "${run[@]}" 2>"$log"; then
+  rc=0
 else
   rc=$?
-  rm -f "$artifact.time.tmp" "$artifact.time"
-  printf 'FAIL  %-58s (exit %d); last lines of %s:\n' "$artifact" "$rc" "$log"
-  tail -n 5 "$log" | sed 's/^/      /'
-  if [ $record -eq 1 ]; then
+fi
+# GNU time's first line says how the tool ended when it did not exit 0.
+how=""
+[ -f "$timing" ] && how=$(head -n 1 "$timing")
+if [ $rc -eq 0 ] && [ -f "$timing" ] && [ "${how#Command}" = "$how" ]; then
+  mv -f "$timing" "$artifact.time"
+  read -r secs kib <"$artifact.time"
+  printf 'done  %s%-58s %7.2f s %6d MB\n' "$(progress)" "$artifact" "$secs" "$((kib / 1024))"
+  exit 0
+fi
+rm -f "$timing" "$artifact.time"
+[ $rc -ne 0 ] || rc=1
+status=""
+case "$how" in
+  "Command exited with non-zero status "*) status=${how##* } ;;
+esac
+# The tool's own failure: a status from 1 to 125. 126 and 127 are "cannot execute" and "not
+# found" (from time or a shell), 128 and more a signal passed on by a wrapper.
+tool_failed=0
+[ -n "$status" ] && [ "$status" -le 125 ] && tool_failed=1
+if [ $tool_failed -eq 1 ]; then
+  why="exit $status"
+elif [ -n "$status" ] && [ "$status" -le 127 ]; then
+  why="exit $status, the command could not run"
+elif [ -n "$status" ]; then
+  why="exit $status, a signal"
+elif [ -n "$how" ]; then
+  why="${how#Command }"   # "terminated by signal 9"
+else
+  why="exit $rc; the tool did not finish"
+fi
+printf 'FAIL  %s%-58s (%s); last lines of %s:\n' "$(progress)" "$artifact" "$why" "$log"
+tail -n 5 "$log" | sed 's/^/      /'
+if [ $record -eq 1 ]; then
+  if [ $tool_failed -eq 1 ]; then
     : >"$artifact" && echo "      recorded as a failed trial (empty $artifact)"
     exit 0
   fi
-  exit "$rc"
+  echo "      not recorded as a failed trial: the tool did not exit by itself"
 fi
+exit "$rc"

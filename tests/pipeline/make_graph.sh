@@ -1,26 +1,50 @@
 #!/usr/bin/env bash
 # The experiment graph rebuilds only what changed: on a complete (fake) artifact tree for one
 # trial, `make -q all` exits 0; after touching share/params/ncut.ini, `make -n` plans ncut and
-# what follows (modelbase, gmatch, report, figures) and nothing before it.
+# what follows (modelbase, gmatch, report, figures) and nothing before it. Exact rebuilds:
+# touching a doc plans nothing; touching a source that relinks a tool to the same bytes plans
+# no stage (content stamps); a tool whose bytes change re-plans its stage and what follows.
+# Runs on a copy of the source tree (its mtimes are changed) with a fake CMake that "builds"
+# a tool by writing $tmp/content/<tool> (default: a fixed text) to the binary.
 set -u
 src=$1
 fail() { echo "FAIL: $*" >&2; exit 1; }
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-cd "$src" || exit 1
+tree="$tmp/src"
+mkdir -p "$tree"
+(cd "$src" && cp -a Makefile.experiments CMakeLists.txt common formats tools scripts share "$tree/") ||
+  fail "cannot copy the source tree"
+cd "$tree" || exit 1
+cat >"$tmp/cmake" <<EOF
+#!/usr/bin/env bash
+# fake cmake --build DIR --target TOOL ...: writes the tool's content to DIR/bin/TOOL.
+[ "\$1" = --build ] || exit 1
+t=\$4
+echo "\$t" >>"$tmp/cmake.calls"
+if [ -f "$tmp/content/\$t" ]; then cat "$tmp/content/\$t"; else echo "binary \$t v1"; fi >"$tmp/build/bin/\$t.new"
+# a real build leaves an unchanged binary alone; only a changed one is replaced
+cmp -s "$tmp/build/bin/\$t.new" "$tmp/build/bin/\$t" && rm "$tmp/build/bin/\$t.new" || mv "$tmp/build/bin/\$t.new" "$tmp/build/bin/\$t"
+EOF
+chmod +x "$tmp/cmake"
 mk=(make -f Makefile.experiments OBJECTS=sedan SCENES=unoccluded NOISES=0 ABLATIONS= OUT="$tmp/out"
-    RES="$tmp/res" BUILD="$tmp/build" P="$tmp/params")
+    RES="$tmp/res" BUILD="$tmp/build" P="$tmp/params" CMAKE="$tmp/cmake")
+tools=(rangetrace addnoise fitvox cocone ncut gmatch report figures)
 
-# Fake binaries must be newer than every source file, artifacts newer than the binaries.
-newest=$(find common formats tools share CMakeLists.txt -type f -printf '%T@\n' | sort -n | tail -1)
-now=$(( $(date +%s) > ${newest%.*} + 100 ? $(date +%s) : ${newest%.*} + 100 ))
+# Sources oldest, then parameters, binaries, their content stamps, and the artifacts in order.
+now=$(date +%s)
 at() { touch -d "@$1" "${@:2}"; }
-mkdir -p "$tmp/build/bin" "$tmp/params" "$tmp/out/sedan/unoccluded/noise-0" "$tmp/out/modelbase" \
-  "$tmp/res/figures" "$tmp/res/pictures"
+find . -type f -exec touch -d "@$((now - 200))" {} +
+mkdir -p "$tmp/build/bin" "$tmp/build/stamps" "$tmp/params" "$tmp/out/sedan/unoccluded/noise-0" \
+  "$tmp/out/modelbase" "$tmp/res/figures" "$tmp/res/pictures" "$tmp/content"
 cp share/params/*.ini "$tmp/params/"
 at $((now - 100)) "$tmp/params/"*.ini
 touch "$tmp/build/.deps-stamp" "$tmp/build/CMakeCache.txt"
-for t in rangetrace addnoise fitvox cocone ncut gmatch report figures; do : >"$tmp/build/bin/$t"; done
+for t in "${tools[@]}"; do
+  echo "binary $t v1" >"$tmp/build/bin/$t"
+  sha256sum <"$tmp/build/bin/$t" | cut -d' ' -f1 >"$tmp/build/stamps/$t.sha"
+done
 at $((now - 90)) "$tmp/build/bin/"*
+at $((now - 88)) "$tmp/build/stamps/"*
 c="$tmp/out/sedan/unoccluded"
 r="$tmp/res"
 i=80
@@ -31,30 +55,87 @@ for f in "$c/scan.pcd" "$c/noise-0/scan.pcd" "$c/noise-0/samples.pcd" "$c/noise-
          "$r/pictures/sedan.png" "$r/pictures/tank-circle.png"; do
   : >"$f"; at $((now - i)) "$f"; i=$((i - 2))
 done
+stages() { grep -c '^scripts/stage.sh ' || true; }
+# plans TOOL: exit 0 when the plan in $plan runs TOOL as a stage.
+plans() { echo "$plan" | grep '^scripts/stage.sh ' | grep -q "$1"; }
 
 "${mk[@]}" -q all || fail "make -q all is not clean on a complete tree: $("${mk[@]}" -n all 2>&1 | head -5)"
 
 # A deleted intermediate artifact is rebuilt, not silently skipped, and nothing before it.
 cp -p "$c/noise-0/mesh.ply" "$tmp/mesh.keep" && rm "$c/noise-0/mesh.ply"
 plan=$("${mk[@]}" -n all 2>&1)
-echo "$plan" | grep -q "bin/cocone " || fail "a deleted mesh.ply is not rebuilt"
-if echo "$plan" | grep -q "bin/fitvox "; then fail "fitvox re-planned, but only mesh.ply was deleted"; fi
+plans "bin/cocone " || fail "a deleted mesh.ply is not rebuilt"
+if plans "bin/fitvox "; then fail "fitvox re-planned, but only mesh.ply was deleted"; fi
 mv "$tmp/mesh.keep" "$c/noise-0/mesh.ply"
 "${mk[@]}" -q all || fail "make -q all not clean after restoring mesh.ply"
 
+# Exact rebuilds. A doc is no source: touching formats/README.md plans nothing, not even a build.
+[ -f formats/README.md ] || fail "formats/README.md missing from the tree"
+touch formats/README.md $(find common tools -name '*.md')
+plan=$("${mk[@]}" -n all 2>&1 | grep -v "Nothing to be done")
+[ -z "$plan" ] || fail "touching formats/README.md plans work: $(echo "$plan" | head -3)"
+[ ! -f "$tmp/cmake.calls" ] || fail "touching a doc rebuilt tools: $(cat "$tmp/cmake.calls")"
+"${mk[@]}" -q all || fail "make -q all not clean after touching a doc"
+
+# A source of every tool changes (as a comment edit in common/ does) and every tool relinks to
+# the same bytes: the tools are rebuilt (also by make -n, which must know), no stage is planned,
+# and the content stamps keep their times.
+stamp_times() { stat -c '%n %Y' "$tmp/build/stamps/"*.sha; }
+before=$(stamp_times)
+cpp=$(find common -name '*.cpp' | head -1)
+[ -n "$cpp" ] || fail "no .cpp in common/"
+echo "// a comment" >>"$cpp"
+plan=$("${mk[@]}" -n all 2>&1)
+[ "$(echo "$plan" | stages)" -eq 0 ] || fail "a same-bytes relink plans stages: $(echo "$plan" | grep stage.sh | head -3)"
+[ "$(sort -u "$tmp/cmake.calls" | wc -l)" -eq ${#tools[@]} ] || fail "not every tool was rebuilt after $cpp changed"
+[ "$(stamp_times)" = "$before" ] || fail "a content stamp was rewritten although no binary changed"
+"${mk[@]}" -q all || fail "make -q all not clean after a same-bytes relink"
+"${mk[@]}" all >"$tmp/run.log" 2>&1 || fail "make all failed after a same-bytes relink: $(tail -3 "$tmp/run.log")"
+if grep -q '^done\|^FAIL' "$tmp/run.log"; then fail "make all ran stages after a same-bytes relink: $(head -3 "$tmp/run.log")"; fi
+
+# fitvox's bytes change: fitvox and every stage after it is planned, nothing before it.
+echo "binary fitvox v2" >"$tmp/content/fitvox"
+echo "// another comment" >>"$(find tools/fitvox -name '*.cpp' | head -1)"
+plan=$("${mk[@]}" -n all 2>&1)
+for later in fitvox cocone ncut gmatch report; do
+  plans "bin/$later " || fail "$later not re-planned after fitvox's binary changed"
+done
+for early in rangetrace addnoise; do
+  if plans "bin/$early "; then fail "$early re-planned, but only fitvox changed"; fi
+done
+[ "$(cat "$tmp/build/stamps/fitvox.sha")" = "$(sha256sum <"$tmp/build/bin/fitvox" | cut -d' ' -f1)" ] ||
+  fail "fitvox's content stamp does not hold the new binary's sha256"
+# Put the old binary back (and its stamp, with the old time) for the checks below.
+rm "$tmp/content/fitvox"
+echo "binary fitvox v1" >"$tmp/build/bin/fitvox"
+sha256sum <"$tmp/build/bin/fitvox" | cut -d' ' -f1 >"$tmp/build/stamps/fitvox.sha"
+at $((now - 88)) "$tmp/build/stamps/fitvox.sha"
+"${mk[@]}" -q all || fail "make -q all not clean after restoring fitvox"
+
+# The Slurm resources are no prerequisite; LAUNCH=slurm only changes how stages are launched.
+touch share/resources.ini
+"${mk[@]}" -q all || fail "touching share/resources.ini made the tree stale"
+rm "$c/noise-0/match.json"
+"${mk[@]}" -n all LAUNCH=slurm 2>&1 | grep -q '^scripts/stage.sh --launch slurm .*bin/gmatch ' ||
+  fail "LAUNCH=slurm does not pass --launch slurm to stage.sh"
+if "${mk[@]}" -n all LAUNCH=bogus >/dev/null 2>&1; then fail "LAUNCH=bogus accepted"; fi
+: >"$c/noise-0/match.json"; at $((now - 66)) "$c/noise-0/match.json"
+"${mk[@]}" -q all || fail "make -q all not clean after restoring match.json"
+
 at $((now - 10)) "$tmp/params/ncut.ini"
 plan=$("${mk[@]}" -n all 2>&1)
-echo "$plan" | grep -q "bin/ncut " || fail "ncut not re-planned after ncut.ini changed"
-echo "$plan" | grep -q "bin/gmatch " || fail "gmatch not re-planned"
-echo "$plan" | grep -q "bin/report " || fail "report not re-planned"
-echo "$plan" | grep -q "figures mesh" || fail "segmentation figure not re-planned"
+plans "bin/ncut " || fail "ncut not re-planned after ncut.ini changed"
+plans "bin/gmatch " || fail "gmatch not re-planned"
+plans "bin/report " || fail "report not re-planned"
+plans "figures mesh" || fail "segmentation figure not re-planned"
 for early in rangetrace addnoise fitvox cocone; do
-  if echo "$plan" | grep -q "bin/$early "; then fail "$early re-planned, but only ncut.ini changed"; fi
+  if plans "bin/$early "; then fail "$early re-planned, but only ncut.ini changed"; fi
 done
 
 at $((now - 5)) "$tmp/params/fitvox.ini"
 plan=$("${mk[@]}" -n all 2>&1)
-echo "$plan" | grep -q "bin/fitvox " || fail "fitvox not re-planned after fitvox.ini changed"
-echo "$plan" | grep -q "bin/cocone " || fail "cocone not re-planned after fitvox.ini changed"
-if echo "$plan" | grep -q "bin/addnoise "; then fail "addnoise re-planned, but only fitvox.ini changed"; fi
+plans "bin/fitvox " || fail "fitvox not re-planned after fitvox.ini changed"
+plans "bin/cocone " || fail "cocone not re-planned after fitvox.ini changed"
+if plans "bin/addnoise "; then fail "addnoise re-planned, but only fitvox.ini changed"; fi
+
 echo "ok: make graph"

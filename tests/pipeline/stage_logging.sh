@@ -1,0 +1,114 @@
+#!/usr/bin/env bash
+# scripts/stage.sh, the wrapper of every experiment stage, with fake tools: the tool's stderr
+# (INFO lines) is kept in <artifact>.log; the progress line shows N/M; --record-failure
+# records the tool's own failure (exit 1) as an empty artifact and status 0, but a tool killed
+# by a signal (SIGKILL, as the OOM killer sends) or a status >= 126 fails with no artifact.
+# Then through make, on a fake tree of the graph: no stage runs its tool with -q; an ablation
+# stage killed by SIGKILL fails make, leaves no artifact and stays out of date; the same stage
+# exiting 1 is recorded; a full run numbers its stages 1/M..M/M with M = the stages planned.
+set -u
+src=$1
+fail() { echo "FAIL: $*" >&2; exit 1; }
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+stage="$src/scripts/stage.sh"
+cd "$tmp" || exit 1
+
+# A fake tool: logs an INFO line, then does what FAKE_MODE says, else writes every output.
+mkdir -p "$tmp/bin"
+cat >"$tmp/bin/fake" <<'EOF'
+#!/usr/bin/env bash
+echo "$(basename "$0"): info: read 3 points" >&2
+case "${FAKE_MODE:-ok}" in
+  fail) echo "$(basename "$0"): error: no voxel passed the tests" >&2; exit 1 ;;
+  kill) kill -KILL $$ ;;
+  137) exit 137 ;;
+esac
+while [ $# -gt 0 ]; do
+  case "$1" in
+    -o|--colored|--picture) echo "made by $(basename "$0")" >"$2"; shift ;;
+    --results) mkdir -p "$2"; for f in report.md cases.csv scores.csv times.csv; do echo x >"$2/$f"; done; shift ;;
+  esac
+  shift
+done
+EOF
+chmod +x "$tmp/bin/fake"
+
+# Success: the INFO line in the log, seconds and KiB in .time, a "done" line.
+out=$("$stage" a/x -- "$tmp/bin/fake" -o a/x) || fail "a successful stage failed: $out"
+[ "$(cat a/x)" = "made by fake" ] || fail "the artifact was not made"
+grep -q "^fake: info: read 3 points" a/x.log || fail "the tool's INFO line is not in the log: $(cat a/x.log)"
+read -r secs kib rest <a/x.time && [ -n "$kib" ] && [ -z "$rest" ] || fail "a/x.time is not 'seconds KiB': $(cat a/x.time)"
+echo "$out" | grep -q "^done  a/x " || fail "no done line: $out"
+
+# The tool's own failure, recorded: status 0, an empty artifact, the log named.
+out=$(FAKE_MODE=fail "$stage" --record-failure a/f -- "$tmp/bin/fake" -o a/f) || fail "a recorded failure did not exit 0"
+[ -f a/f ] && [ ! -s a/f ] || fail "a recorded failure left no empty artifact"
+echo "$out" | grep -q "^FAIL  a/f .*(exit 1); last lines of a/f.log" || fail "the failure line does not name the log: $out"
+echo "$out" | grep -q "recorded as a failed trial" || fail "the record is not reported: $out"
+grep -q "error: no voxel" a/f.log || fail "the error is not in the log"
+# Without --record-failure the same failure is passed on.
+FAKE_MODE=fail "$stage" a/g -- "$tmp/bin/fake" -o a/g >/dev/null && fail "a failure without --record-failure exited 0"
+[ ! -e a/g ] || fail "a failed stage left an artifact"
+
+# Killed by a signal (the OOM killer's SIGKILL): never recorded; non-zero status, no artifact.
+rc=0; out=$(FAKE_MODE=kill "$stage" --record-failure a/k -- "$tmp/bin/fake" -o a/k) || rc=$?
+[ $rc -eq 137 ] || fail "a tool killed by SIGKILL gave status $rc, not 137: $out"
+[ ! -e a/k ] || fail "a tool killed by SIGKILL was recorded as a failed trial (a/k exists)"
+echo "$out" | grep -q "terminated by signal 9.*last lines of a/k.log" || fail "the kill is not reported: $out"
+echo "$out" | grep -q "not recorded" || fail "the output does not say the kill was not recorded: $out"
+# A wrapper passing a signal on (status 128+n) is not recorded either; nor a tool not found.
+rc=0; FAKE_MODE=137 "$stage" --record-failure a/w -- "$tmp/bin/fake" -o a/w >/dev/null || rc=$?
+[ $rc -eq 137 ] && [ ! -e a/w ] || fail "status 137 was recorded (rc $rc)"
+rc=0; "$stage" --record-failure a/n -- "$tmp/bin/no-such-tool" -o a/n >/dev/null || rc=$?
+[ $rc -eq 127 ] && [ ! -e a/n ] || fail "a missing tool was recorded as a failed trial (rc $rc)"
+
+# N/M: three stages, two at once; each N from 1 to 3 exactly once.
+: >"$tmp/progress"
+export CANOPY_PROGRESS="$tmp/progress" CANOPY_PROGRESS_TOTAL=3
+{ "$stage" p/1 -- "$tmp/bin/fake" -o p/1 & "$stage" p/2 -- "$tmp/bin/fake" -o p/2 & wait
+  "$stage" p/3 -- "$tmp/bin/fake" -o p/3; } >"$tmp/p.out"
+[ "$(sed -n 's/^done  \([0-9]*\/3\) .*/\1/p' "$tmp/p.out" | sort | tr '\n' ' ')" = "1/3 2/3 3/3 " ] ||
+  fail "progress is not 1/3 2/3 3/3: $(cat "$tmp/p.out")"
+unset CANOPY_PROGRESS CANOPY_PROGRESS_TOTAL
+
+# ---- through make, on a fake tree: every tool is the fake, artifacts are fresh ------------
+cd "$src" || exit 1
+b="$tmp/build"
+mkdir -p "$b/bin" "$b/stamps"
+touch "$b/.deps-stamp" "$b/CMakeCache.txt"
+newest=$(find common formats tools share CMakeLists.txt -type f -printf '%T@\n' | sort -n | tail -1)
+now=$(( $(date +%s) > ${newest%.*} + 100 ? $(date +%s) : ${newest%.*} + 100 ))
+for t in rangetrace addnoise fitvox cocone ncut gmatch report figures; do
+  cp "$tmp/bin/fake" "$b/bin/$t"
+  sha256sum <"$b/bin/$t" | cut -d' ' -f1 >"$b/stamps/$t.sha"
+done
+touch -d "@$((now - 90))" "$b/bin/"*
+touch -d "@$((now - 80))" "$b/stamps/"*
+mk=(make -f Makefile.experiments OBJECTS=sedan SCENES=unoccluded NOISES=0 ABLATIONS=fitvox-fixed-rms
+    OUT="$tmp/out" RES="$tmp/res" BUILD="$b" DISPLAY=:99)
+"${mk[@]}" -n all | grep '^scripts/stage.sh' | grep -q -- ' -q ' &&
+  fail "a stage still runs its tool with -q: $("${mk[@]}" -n all | grep '^scripts/stage.sh' | grep -- ' -q ' | head -1)"
+
+# A full run: stages numbered 1/M..M/M, M = the stages make -n plans.
+m=$("${mk[@]}" -n all | grep -c '^scripts/stage.sh')
+"${mk[@]}" all -j2 >"$tmp/make.out" 2>&1 || fail "make all on the fake tree failed: $(tail -n 5 "$tmp/make.out")"
+got=$(sed -n 's/^\(done\|FAIL\)  \([0-9]*\)\/\([0-9]*\) .*/\2 \3/p' "$tmp/make.out")
+[ "$(echo "$got" | awk '{print $2}' | sort -u)" = "$m" ] || fail "M is not $m: $(head -n 3 "$tmp/make.out")"
+[ "$(echo "$got" | awk '{print $1}' | sort -n | tr '\n' ' ')" = "$(seq "$m" | tr '\n' ' ')" ] ||
+  fail "N does not run 1..$m once each: $(echo "$got" | awk '{print $1}' | sort -n | tr '\n' ' ')"
+"${mk[@]}" -q all || fail "make -q all not clean after a full run"
+
+# The ablation's fitvox killed by SIGKILL: make fails, names the log, leaves no artifact, and
+# the trial stays out of date (a later make re-runs it).
+abl="$tmp/out/ablation/fitvox-fixed-rms/sedan/unoccluded/noise-0/samples.pcd"
+rm "$abl"
+if FAKE_MODE=kill "${mk[@]}" "$abl" >"$tmp/kill.out" 2>&1; then fail "make succeeded although the stage was killed"; fi
+grep -q "^FAIL  .*samples.pcd .*terminated by signal 9.*last lines of $abl.log" "$tmp/kill.out" ||
+  fail "the killed stage is not reported with its log: $(cat "$tmp/kill.out")"
+[ ! -e "$abl" ] || fail "a killed ablation stage left $abl (recorded as a failed trial)"
+"${mk[@]}" -q "$abl" && fail "after a kill, make -q calls the trial up to date"
+# The same stage failing by itself (exit 1) is a result: recorded, make succeeds, up to date.
+FAKE_MODE=fail "${mk[@]}" "$abl" >"$tmp/fail.out" 2>&1 || fail "a recorded failure failed make: $(cat "$tmp/fail.out")"
+[ -f "$abl" ] && [ ! -s "$abl" ] || fail "the failed trial was not recorded as an empty artifact"
+"${mk[@]}" -q "$abl" || fail "a recorded failed trial is not up to date"
+echo "ok: stage logging"
