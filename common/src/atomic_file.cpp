@@ -366,11 +366,22 @@ void OutputSet::set(const std::string& path, std::string bytes) {
 }
 
 void OutputSet::commit() {
-  std::vector<std::unique_ptr<AtomicOutput>> outs;
-  for (Entry& e : entries_) {
+  for (const Entry& e : entries_) {
     if (!e.has_data) throw std::logic_error("OutputSet::commit: no data for '" + e.path + "'");
-    outs.push_back(std::make_unique<AtomicOutput>(e.path));
-    outs.back()->set_data(std::move(e.data));
+  }
+  // Temporary files are created first; opening a FIFO (which waits for its reader) comes after.
+  auto writes_through = [](const std::string& path) {
+    if (path == "-") return true;
+    struct stat st {};
+    return lstat(resolve_links(path).c_str(), &st) == 0 && !S_ISREG(st.st_mode);
+  };
+  std::vector<std::unique_ptr<AtomicOutput>> outs;
+  for (int pass = 0; pass < 2; ++pass) {
+    for (Entry& e : entries_) {
+      if (writes_through(e.path) != (pass == 1)) continue;
+      outs.push_back(std::make_unique<AtomicOutput>(e.path));
+      outs.back()->set_data(std::move(e.data));
+    }
   }
   // Every temporary file complete first, then what cannot be taken back (FIFO, device, stdout),
   // then the renames, which cannot fail for want of space, with the signals held.
