@@ -34,10 +34,11 @@ std::string share_dir() {
     return env;
   }
   const std::string exe = exe_dir();
-  if (!exe.empty() && is_dir(exe + "/../share/canopy")) return exe + "/../share/canopy";
+  const std::string installed = exe + "/" CANOPY_SHARE_FROM_BIN;
+  if (!exe.empty() && is_dir(installed)) return installed;
   if (is_dir(CANOPY_SHARE_DIR)) return CANOPY_SHARE_DIR;
   throw Error("cannot find canopy's share directory: tried $CANOPY_SHARE (unset), " +
-              (exe.empty() ? std::string("<executable>") : exe) + "/../share/canopy and " +
+              (exe.empty() ? std::string("<executable>") : exe) + "/" CANOPY_SHARE_FROM_BIN " and " +
               CANOPY_SHARE_DIR + "; set CANOPY_SHARE");
 }
 
