@@ -1,5 +1,8 @@
 #include "canopy/common/atomic_file.h"
 
+#include <fcntl.h>
+#include <limits.h>
+#include <pthread.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -7,11 +10,14 @@
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <iostream>
 #include <iterator>
 #include <mutex>
 #include <sstream>
+#include <stdexcept>
 
 #include "canopy/common/error.h"
 
@@ -23,53 +29,97 @@ namespace {
 constexpr int kMaxPending = 32;
 constexpr int kMaxPath = 4096;
 char g_pending[kMaxPending][kMaxPath];
-std::atomic<bool> g_used[kMaxPending];
+std::atomic<bool> g_claimed[kMaxPending];  // slot taken by a thread
+std::atomic<bool> g_used[kMaxPending];     // slot holds a complete path (seen by the handler)
 std::once_flag g_handlers_once;
 std::atomic<unsigned> g_counter{0};
 
-extern "C" void remove_pending_and_reraise(int sig) {
-  for (int i = 0; i < kMaxPending; ++i) {
-    if (g_used[i].load()) unlink(g_pending[i]);
+// The signals after which a pending temporary file is removed.
+constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP, SIGPIPE, SIGXFSZ};
+constexpr int kNumSignals = sizeof kSignals / sizeof kSignals[0];
+struct sigaction g_previous[kNumSignals];
+
+extern "C" void remove_pending_and_reraise(int sig, siginfo_t* info, void* context) {
+  remove_pending_outputs();
+  for (int k = 0; k < kNumSignals; ++k) {
+    if (kSignals[k] != sig) continue;
+    const struct sigaction& prev = g_previous[k];
+    if ((prev.sa_flags & SA_SIGINFO) != 0 && prev.sa_sigaction != nullptr) {
+      prev.sa_sigaction(sig, info, context);  // a handler the program installed before ours
+      return;
+    }
+    if (prev.sa_handler != SIG_DFL && prev.sa_handler != SIG_IGN && prev.sa_handler != nullptr) {
+      prev.sa_handler(sig);
+      return;
+    }
   }
-  std::signal(sig, SIG_DFL);
-  std::raise(sig);
+  struct sigaction dfl {};
+  dfl.sa_handler = SIG_DFL;
+  sigemptyset(&dfl.sa_mask);
+  sigaction(sig, &dfl, nullptr);
+  // The signal is blocked while its handler runs: unblock it so the re-raise terminates now.
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, sig);
+  pthread_sigmask(SIG_UNBLOCK, &set, nullptr);
+  raise(sig);
 }
 
 void install_handlers() {
-  for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGPIPE}) {
+  for (int k = 0; k < kNumSignals; ++k) {
+    struct sigaction old {};
+    sigaction(kSignals[k], nullptr, &old);
+    // An ignored signal stays ignored (nohup, background jobs, `trap '' XFSZ`).
+    if ((old.sa_flags & SA_SIGINFO) == 0 && old.sa_handler == SIG_IGN) continue;
+    g_previous[k] = old;
     struct sigaction sa {};
-    sa.sa_handler = remove_pending_and_reraise;
+    sa.sa_sigaction = remove_pending_and_reraise;
+    sa.sa_flags = SA_SIGINFO;
     sigemptyset(&sa.sa_mask);
-    sigaction(sig, &sa, nullptr);
+    sigaction(kSignals[k], &sa, nullptr);
   }
 }
 
-int register_pending(const std::string& path) {
+void register_pending(const std::string& path) {
   std::call_once(g_handlers_once, install_handlers);
-  if (path.size() >= static_cast<std::size_t>(kMaxPath)) return -1;
+  if (path.size() >= static_cast<std::size_t>(kMaxPath)) return;
   for (int i = 0; i < kMaxPending; ++i) {
-    if (!g_used[i].load()) {
+    bool expected = false;
+    if (g_claimed[i].compare_exchange_strong(expected, true)) {
+      // Complete before the handler may see it.
       std::memcpy(g_pending[i], path.c_str(), path.size() + 1);
       g_used[i].store(true);
-      return i;
+      return;
     }
   }
-  return -1;
 }
 
 void unregister_pending(const std::string& path) {
   for (int i = 0; i < kMaxPending; ++i) {
     if (g_used[i].load() && path == g_pending[i]) {
       g_used[i].store(false);
+      g_claimed[i].store(false);
       return;
     }
   }
 }
 
+std::string dir_of(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  if (slash == std::string::npos) return ".";
+  if (slash == 0) return "/";
+  return path.substr(0, slash);
+}
+
+std::string base_of(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
 std::string temp_name_for(const std::string& path) {
   const auto slash = path.find_last_of('/');
   const std::string dir = slash == std::string::npos ? "" : path.substr(0, slash + 1);
-  const std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
+  const std::string base = base_of(path);
   const auto dot = base.find_last_of('.');
   const std::string stem = dot == std::string::npos || dot == 0 ? base : base.substr(0, dot);
   const std::string ext = dot == std::string::npos || dot == 0 ? "" : base.substr(dot);
@@ -77,62 +127,273 @@ std::string temp_name_for(const std::string& path) {
          std::to_string(g_counter.fetch_add(1)) + ext;
 }
 
+// Follows a chain of symbolic links to the path it finally names (which may not exist:
+// a dangling link names the file it would create). Relative targets are relative to the
+// link's directory.
+std::string resolve_links(const std::string& path) {
+  std::string p = path;
+  for (int hops = 0;; ++hops) {
+    struct stat st {};
+    if (lstat(p.c_str(), &st) != 0 || !S_ISLNK(st.st_mode)) return p;
+    if (hops >= 40) throw DataError(path, "too many levels of symbolic links");
+    std::string target(static_cast<std::size_t>(st.st_size > 0 ? st.st_size : 255) + 1, '\0');
+    ssize_t n;
+    while ((n = readlink(p.c_str(), &target[0], target.size())) >= static_cast<ssize_t>(target.size())) {
+      target.resize(2 * target.size());
+    }
+    if (n <= 0) throw DataError(path, std::string("cannot read symbolic link: ") + std::strerror(errno));
+    target.resize(static_cast<std::size_t>(n));
+    if (target[0] == '/' || p.find('/') == std::string::npos) {
+      p = target;
+    } else {
+      p = p.substr(0, p.find_last_of('/') + 1) + target;
+    }
+  }
+}
+
+// " (the symbolic link points to 'x')" when the link was followed, else "".
+std::string via(const std::string& path, const std::string& target) {
+  return path == target ? "" : " (the symbolic link points to '" + target + "')";
+}
+
+void check_directory(const std::string& path, const std::string& target) {
+  const std::string dir = dir_of(target);
+  struct stat st {};
+  if (stat(dir.c_str(), &st) != 0) {
+    if (errno == ENOENT || errno == ENOTDIR) {
+      throw DataError(path, "directory '" + dir + "' does not exist" + via(path, target));
+    }
+    throw DataError(path, "directory '" + dir + "': " + std::strerror(errno) + via(path, target));
+  }
+  if (!S_ISDIR(st.st_mode)) throw DataError(path, "'" + dir + "' is not a directory" + via(path, target));
+  if (access(dir.c_str(), W_OK | X_OK) != 0) {
+    throw DataError(path, "cannot write in directory '" + dir + "': " + std::strerror(errno) +
+                              via(path, target));
+  }
+}
+
+// Writes all of [data, data + size) to fd; returns 0 or the errno of the failure.
+int write_all(int fd, const char* data, std::size_t size) {
+  while (size > 0) {
+    const ssize_t n = ::write(fd, data, size);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return errno;
+    }
+    if (n == 0) return EIO;
+    data += n;
+    size -= static_cast<std::size_t>(n);
+  }
+  return 0;
+}
+
+// Holds SIGINT, SIGTERM, SIGHUP, SIGPIPE and SIGXFSZ for its lifetime (delivered at the end).
+class HoldSignals {
+ public:
+  HoldSignals() {
+    sigset_t set;
+    sigemptyset(&set);
+    for (int sig : kSignals) sigaddset(&set, sig);
+    pthread_sigmask(SIG_BLOCK, &set, &old_);
+  }
+  ~HoldSignals() { pthread_sigmask(SIG_SETMASK, &old_, nullptr); }
+  HoldSignals(const HoldSignals&) = delete;
+  HoldSignals& operator=(const HoldSignals&) = delete;
+
+ private:
+  sigset_t old_;
+};
+
 }  // namespace
+
+void remove_pending_outputs() noexcept {
+  for (int i = 0; i < kMaxPending; ++i) {
+    if (g_used[i].load()) unlink(g_pending[i]);
+  }
+}
+
+void check_output(const std::string& path) {
+  if (path == "-") return;
+  if (path.empty()) throw UsageError("empty output path");
+  const std::string target = resolve_links(path);
+  struct stat st {};
+  if (lstat(target.c_str(), &st) == 0) {
+    if (S_ISDIR(st.st_mode)) throw DataError(path, "is a directory, not an output file" + via(path, target));
+    if (S_ISSOCK(st.st_mode)) throw DataError(path, "is a socket; canopy cannot write to it" + via(path, target));
+    if (S_ISREG(st.st_mode)) {
+      check_directory(path, target);
+    } else if (access(target.c_str(), W_OK) != 0) {
+      throw DataError(path, std::string("cannot write: ") + std::strerror(errno) + via(path, target));
+    }
+    return;
+  }
+  if (errno != ENOENT && errno != ENOTDIR) {
+    throw DataError(path, std::string("cannot write: ") + std::strerror(errno) + via(path, target));
+  }
+  check_directory(path, target);
+}
+
+std::string output_identity(const std::string& path) {
+  if (path == "-") return "-";
+  const std::string target = resolve_links(path);
+  struct stat st {};
+  if (stat(target.c_str(), &st) == 0) {
+    return "inode " + std::to_string(st.st_dev) + ":" + std::to_string(st.st_ino);
+  }
+  char real[PATH_MAX];
+  if (realpath(dir_of(target).c_str(), real) != nullptr) {
+    return "path " + std::string(real) + "/" + base_of(target);
+  }
+  return "path " + target;
+}
 
 AtomicOutput::AtomicOutput(const std::string& path) : path_(path) {
   if (path_.empty()) throw UsageError("empty output path");
-  if (path_ == "-") return;
+  if (path_ == "-") {
+    mode_ = Mode::kStdout;
+    return;
+  }
+  target_ = resolve_links(path_);
   struct stat st {};
-  if (stat(path_.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) {
-    throw DataError(path_, "is a directory, not an output file");
+  bool replacing = false;
+  if (lstat(target_.c_str(), &st) == 0) {
+    if (S_ISDIR(st.st_mode)) throw DataError(path_, "is a directory, not an output file" + via(path_, target_));
+    if (S_ISSOCK(st.st_mode)) throw DataError(path_, "is a socket; canopy cannot write to it" + via(path_, target_));
+    if (!S_ISREG(st.st_mode)) {
+      // FIFO or device: write through it, never replace it. (Opening a FIFO waits for its reader.)
+      mode_ = Mode::kWriteThrough;
+      fd_ = ::open(target_.c_str(), O_WRONLY | O_NOCTTY | O_CLOEXEC);
+      if (fd_ < 0) {
+        throw DataError(path_, std::string("cannot open for writing: ") + std::strerror(errno) + via(path_, target_));
+      }
+      return;
+    }
+    replacing = true;
   }
-  temp_ = temp_name_for(path_);
+  temp_ = temp_name_for(target_);
   register_pending(temp_);
-  file_ = std::make_unique<std::ofstream>(temp_, std::ios::binary | std::ios::trunc);
-  if (!*file_) {
+  fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+  if (fd_ < 0) {
+    const int err = errno;
     unregister_pending(temp_);
-    throw DataError(path_, std::string("cannot create output: ") + std::strerror(errno));
+    temp_.clear();
+    if (err == ENOENT || err == ENOTDIR) check_directory(path_, target_);  // names the directory
+    throw DataError(path_, std::string("cannot create output: ") + std::strerror(err) + via(path_, target_));
   }
+  // Replacing a file keeps its permission bits (as writing into it would).
+  if (replacing) (void)fchmod(fd_, st.st_mode & 07777);
 }
 
 AtomicOutput::~AtomicOutput() {
-  if (!committed_ && !temp_.empty()) {
-    file_.reset();
-    std::remove(temp_.c_str());
+  if (fd_ >= 0) ::close(fd_);
+  if (mode_ == Mode::kReplace && !committed_ && !temp_.empty()) {
+    ::unlink(temp_.c_str());
     unregister_pending(temp_);
   }
 }
 
-std::ostream& AtomicOutput::stream() {
-  if (path_ == "-") return std::cout;
-  return *file_;
+std::ostream& AtomicOutput::stream() { return buffer_; }
+
+void AtomicOutput::set_data(std::string bytes) {
+  data_ = std::move(bytes);
+  has_data_ = true;
+  buffer_.str(std::string());
+}
+
+void AtomicOutput::stage() {
+  if (staged_) return;
+  const std::string name = display_name(path_, true);
+  std::string buffered;
+  if (!has_data_) buffered = buffer_.str();
+  const std::string& bytes = has_data_ ? data_ : buffered;
+  int err = 0;
+  if (mode_ == Mode::kStdout) {
+    std::cout.flush();
+    std::fflush(stdout);
+    err = write_all(STDOUT_FILENO, bytes.data(), bytes.size());
+  } else {
+    err = write_all(fd_, bytes.data(), bytes.size());
+    if (::close(fd_) != 0 && err == 0) err = errno;
+    fd_ = -1;
+  }
+  if (err != 0) throw DataError(name, std::string("write failed: ") + std::strerror(err));
+  staged_ = true;
+}
+
+void AtomicOutput::publish() {
+  if (committed_) return;
+  stage();
+  if (mode_ == Mode::kReplace) {
+    if (std::rename(temp_.c_str(), target_.c_str()) != 0) {
+      throw DataError(path_, std::string("cannot move output into place: ") + std::strerror(errno));
+    }
+    unregister_pending(temp_);
+  }
+  committed_ = true;
 }
 
 void AtomicOutput::commit() {
-  if (committed_) return;
-  if (path_ == "-") {
-    std::cout.flush();
-    if (!std::cout) throw DataError(path_, "write to standard output failed");
-    committed_ = true;
-    return;
-  }
-  file_->flush();
-  const bool ok = static_cast<bool>(*file_);
-  file_->close();
-  if (!ok || file_->fail()) {
-    throw DataError(path_, "write failed (disk full?)");
-  }
-  if (std::rename(temp_.c_str(), path_.c_str()) != 0) {
-    throw DataError(path_, std::string("cannot move output into place: ") + std::strerror(errno));
-  }
-  unregister_pending(temp_);
-  committed_ = true;
+  stage();
+  publish();
 }
 
 void write_file_atomic(const std::string& path, const std::string& bytes) {
   AtomicOutput out(path);
-  out.stream().write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  out.set_data(bytes);
   out.commit();
+}
+
+void OutputSet::add(const std::string& path, const std::string& option) {
+  check_output(path);
+  const std::string id = output_identity(path);
+  for (const Entry& e : entries_) {
+    if (e.identity != id) continue;
+    if (path == "-") throw UsageError(e.option + " and " + option + " both write to stdout");
+    throw UsageError(e.option + " " + e.path + " and " + option + " " + path + " are the same file");
+  }
+  entries_.push_back({path, option, id, std::string(), false});
+}
+
+void OutputSet::set(const std::string& path, std::string bytes) {
+  for (Entry& e : entries_) {
+    if (e.path == path) {
+      e.data = std::move(bytes);
+      e.has_data = true;
+      return;
+    }
+  }
+  throw std::logic_error("OutputSet::set: '" + path + "' was not added");
+}
+
+void OutputSet::commit() {
+  for (const Entry& e : entries_) {
+    if (!e.has_data) throw std::logic_error("OutputSet::commit: no data for '" + e.path + "'");
+  }
+  // Temporary files are created first; opening a FIFO (which waits for its reader) comes after.
+  auto writes_through = [](const std::string& path) {
+    if (path == "-") return true;
+    struct stat st {};
+    return lstat(resolve_links(path).c_str(), &st) == 0 && !S_ISREG(st.st_mode);
+  };
+  std::vector<std::unique_ptr<AtomicOutput>> outs;
+  for (int pass = 0; pass < 2; ++pass) {
+    for (Entry& e : entries_) {
+      if (writes_through(e.path) != (pass == 1)) continue;
+      outs.push_back(std::make_unique<AtomicOutput>(e.path));
+      outs.back()->set_data(std::move(e.data));
+    }
+  }
+  // Every temporary file complete first, then what cannot be taken back (FIFO, device, stdout),
+  // then the renames, which cannot fail for want of space, with the signals held.
+  for (auto& o : outs) {
+    if (o->mode_ == AtomicOutput::Mode::kReplace) o->stage();
+  }
+  for (auto& o : outs) {
+    if (o->mode_ != AtomicOutput::Mode::kReplace) o->stage();
+  }
+  HoldSignals hold;
+  for (auto& o : outs) o->publish();
+  entries_.clear();
 }
 
 std::string read_file(const std::string& path) {

@@ -4,9 +4,14 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
 #include <iostream>
 #include <new>
+#include <set>
 
+#include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
 #include "canopy/common/units.h"
@@ -25,7 +30,91 @@ bool stdin_has_data() {
 const char* const kStandard[] = {"help", "version", "verbose", "quiet", "config",
                                  "threads", "seed", "input", "output"};
 
+// Edit distance with adjacent transpositions counted as one edit ("--vxoel" -> "--voxel": 1).
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  const std::size_t n = a.size(), m = b.size();
+  std::vector<std::vector<std::size_t>> d(n + 1, std::vector<std::size_t>(m + 1));
+  for (std::size_t i = 0; i <= n; ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= m; ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= n; ++i) {
+    for (std::size_t j = 1; j <= m; ++j) {
+      const std::size_t cost = a[i - 1] == b[j - 1] ? 0 : 1;
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) {
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+      }
+    }
+  }
+  return d[n][m];
+}
+
+// Every option spelling ("--voxel", "-i") of an app and of its parsed subcommands.
+void option_names(const CLI::App* app, std::vector<std::string>* out) {
+  for (const CLI::Option* opt : app->get_options()) {
+    for (const auto& l : opt->get_lnames()) out->push_back("--" + l);
+    for (const auto& s : opt->get_snames()) out->push_back("-" + s);
+  }
+  for (const CLI::App* sub : app->get_subcommands()) option_names(sub, out);
+}
+
+// The closest option to a mistyped one, or "" when none is close: one edit for names up to
+// four letters, two beyond; or the only option the word begins.
+std::string closest_option(const std::string& given, const std::vector<std::string>& names) {
+  std::string best;
+  std::size_t best_d = std::string::npos;
+  const std::string bare = given.substr(given.find_first_not_of('-') == std::string::npos ? 0 : given.find_first_not_of('-'));
+  for (const auto& name : names) {
+    const std::string nb = name.substr(name.find_first_not_of('-'));
+    const std::size_t d = edit_distance(bare, nb);
+    if (d < best_d) best_d = d, best = name;
+  }
+  const std::size_t limit = bare.size() <= 4 ? 1 : 2;
+  if (best_d != std::string::npos && best_d <= limit && best_d < bare.size()) return best;
+  std::string prefixed;
+  int count = 0;
+  for (const auto& name : names) {
+    if (given.size() >= 3 && name.size() > given.size() && name.compare(0, given.size(), given) == 0) {
+      prefixed = name;
+      ++count;
+    }
+  }
+  return count == 1 ? prefixed : "";
+}
+
 }  // namespace
+
+namespace detail {
+
+std::string check_integer(const std::string& text, bool is_signed, long long lo, unsigned long long hi) {
+  std::size_t i = 0;
+  if (!text.empty() && (text[0] == '+' || text[0] == '-')) i = 1;
+  const bool digits = i < text.size() &&
+                      std::all_of(text.begin() + static_cast<long>(i), text.end(),
+                                  [](char c) { return c >= '0' && c <= '9'; });
+  if (!digits) return "'" + text + "' is not a whole decimal number";
+  errno = 0;
+  if (!is_signed) {
+    if (text[0] == '-') return "'" + text + "' is negative; expected a number >= 0";
+    const unsigned long long v = std::strtoull(text.c_str(), nullptr, 10);
+    if (errno == ERANGE || v > hi) return "'" + text + "' is out of range (at most " + std::to_string(hi) + ")";
+    return "";
+  }
+  const long long v = std::strtoll(text.c_str(), nullptr, 10);
+  if (errno == ERANGE || v < lo || (v > 0 && static_cast<unsigned long long>(v) > hi)) {
+    return "'" + text + "' is out of range (" + std::to_string(lo) + " to " + std::to_string(hi) + ")";
+  }
+  return "";
+}
+
+std::string check_real(const std::string& text) {
+  const std::size_t n = decimal_prefix(text);
+  if (n == 0 || n != text.size()) return "'" + text + "' is not a decimal number";
+  const double v = std::strtod(text.c_str(), nullptr);
+  if (!std::isfinite(v)) return "'" + text + "' is out of range";
+  return "";
+}
+
+}  // namespace detail
 
 Tool::Tool(std::string name, std::string description, bool random)
     : name_(std::move(name)), app_(std::move(description), name_), random_(random) {
@@ -39,9 +128,12 @@ Tool::Tool(std::string name, std::string description, bool random)
                          "log only warnings and errors");
   app_.add_option("--threads", threads_, "worker threads")
       ->capture_default_str()
+      ->check(number_check<int>())
       ->check(CLI::Range(1, 256));
   if (random_) {
-    app_.add_option("--seed", seed_, "random seed; same seed, same output")->capture_default_str();
+    app_.add_option("--seed", seed_, "random seed; same seed, same output")
+        ->capture_default_str()
+        ->check(number_check<std::uint64_t>());
   }
   app_.get_formatter()->column_width(34);
 }
@@ -52,12 +144,35 @@ CLI::Option* Tool::add_input(std::string* path, const std::string& what) {
 }
 
 CLI::Option* Tool::add_output(std::string* path, const std::string& what) {
+  outputs_.emplace_back("-o", path);
   return app_.add_option("-o,--output", *path, what + " ('-' = stdout)")->capture_default_str();
 }
 
-CLI::Option* Tool::add_length(const std::string& flags, double* metres, const std::string& help) {
+CLI::Option* Tool::add_output(const std::string& flags, std::string* path, const std::string& help) {
+  CLI::Option* opt = app_.add_option(flags, *path, help)->capture_default_str();
+  outputs_.emplace_back(opt->get_name(), path);
+  return opt;
+}
+
+void Tool::without_threads() {
+  if (CLI::Option* opt = app_.get_option_no_throw("--threads")) app_.remove_option(opt);
+}
+
+CLI::Option* Tool::add_length(const std::string& flags, double* metres, const std::string& help,
+                              double warn_above) {
+  const std::string name = flags.substr(flags.find_last_of(',') == std::string::npos ? 0 : flags.find_last_of(',') + 1);
   auto* opt = app_.add_option_function<std::string>(
-      flags, [metres](const std::string& text) { *metres = parse_length(text); },
+      flags,
+      [metres, warn_above, name](const std::string& text) {
+        *metres = parse_length(text);
+        // Up to 1000 x the bound, where the value read as millimetres would be within it.
+        if (warn_above > 0 && *metres > warn_above && *metres <= 1000 * warn_above) {
+          const bool bare = decimal_prefix(text) == text.size();
+          log::warn(name + " " + text + " is " + format_length(*metres) +
+                    (bare ? " (bare numbers are metres): did you mean " + text + "mm?"
+                          : ", over " + format_length(warn_above) + ": is that intended?"));
+        }
+      },
       help + " (length: 128mm, 12.8cm, 0.128m; bare = m)");
   opt->default_str(format_length(*metres));
   opt->type_name("LENGTH");
@@ -93,6 +208,31 @@ std::vector<std::pair<std::string, std::string>> Tool::parameters() const {
   return out;
 }
 
+// The message for arguments CLI11 could not place: the first one in command-line order.
+std::string Tool::usage_message(int argc, char** argv) const {
+  const std::vector<std::string> extras = app_.remaining(true);
+  std::string first;
+  for (int k = 1; k < argc && first.empty(); ++k) {
+    if (std::find(extras.begin(), extras.end(), argv[k]) != extras.end()) first = argv[k];
+  }
+  if (first.empty() && !extras.empty()) first = extras.front();
+  if (first.size() > 1 && first[0] == '-') {
+    const std::string given = first.substr(0, first.find('='));
+    std::vector<std::string> names;
+    option_names(&app_, &names);
+    const std::string close = closest_option(given, names);
+    return "unknown option '" + given + "'" + (close.empty() ? "" : ": did you mean " + close + "?");
+  }
+  if (input_ != nullptr) {
+    const CLI::Option* in = app_.get_option_no_throw("--input");
+    if (in != nullptr && in->count() > 0) {
+      return "unexpected argument '" + first + "': one input only, given with -i";
+    }
+    return "unexpected argument '" + first + "': use -i " + first;
+  }
+  return "unexpected argument '" + first + "'";
+}
+
 int Tool::run(int argc, char** argv, const std::function<void()>& body) {
   log::set_tool(name_);
   if (argc <= 1 && input_ != nullptr && !stdin_has_data()) {
@@ -101,6 +241,10 @@ int Tool::run(int argc, char** argv, const std::function<void()>& body) {
   }
   try {
     app_.parse(argc, argv);
+  } catch (const CLI::ExtrasError&) {
+    std::cerr << name_ << ": error: " << usage_message(argc, argv) << "\n"
+              << "Run '" << name_ << " --help' for the options.\n";
+    return 2;
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app_.exit(e);  // --help, --version
     std::cerr << name_ << ": error: " << e.what() << "\n"
@@ -113,6 +257,11 @@ int Tool::run(int argc, char** argv, const std::function<void()>& body) {
   try {
     if (input_ != nullptr && *input_ == "-" && isatty(STDIN_FILENO) == 1) {
       throw UsageError("no input: stdin is a terminal; give -i FILE or pipe data in");
+    }
+    // Outputs are checked before any work: a missing directory fails now, not after minutes.
+    OutputSet outputs;
+    for (const auto& [option, path] : outputs_) {
+      if (!path->empty()) outputs.add(*path, option);
     }
     body();
     return 0;

@@ -11,19 +11,18 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// Splits "12.5mm" into 12.5 and "mm". Throws on an empty or non-numeric number part.
+// Splits "12.5mm" into 12.5 and "mm". Throws on an empty or non-decimal number part.
 double split_number(const std::string& text, std::string* suffix, const char* what) {
-  const char* begin = text.c_str();
-  char* end = nullptr;
-  double v = std::strtod(begin, &end);
-  if (end == begin || text.empty()) {
-    throw UsageError("'" + text + "' is not a " + what);
-  }
-  *suffix = std::string(end);
+  const std::size_t n = decimal_prefix(text);
+  if (n == 0) throw UsageError("'" + text + "' is not a " + what);
+  const double v = std::strtod(text.substr(0, n).c_str(), nullptr);
+  *suffix = text.substr(n);
   while (!suffix->empty() && suffix->front() == ' ') suffix->erase(suffix->begin());
   if (!std::isfinite(v)) throw UsageError("'" + text + "' is not a finite " + what);
   return v;
 }
+
+bool is_digit(char c) { return c >= '0' && c <= '9'; }
 
 // Shortest plain decimal (no exponent) that reads back exactly; %g only for extreme values.
 std::string shortest(double v) {
@@ -42,6 +41,29 @@ std::string shortest(double v) {
 }
 
 }  // namespace
+
+std::size_t decimal_prefix(const std::string& text) {
+  std::size_t i = 0;
+  const std::size_t n = text.size();
+  if (i < n && (text[i] == '+' || text[i] == '-')) ++i;
+  std::size_t digits = 0;
+  while (i < n && is_digit(text[i])) ++i, ++digits;
+  if (i < n && text[i] == '.') {
+    ++i;
+    while (i < n && is_digit(text[i])) ++i, ++digits;
+  }
+  if (digits == 0) return 0;
+  // "0x10": the 'x' ends the number at "0", which callers then reject as a unit or trailing text.
+  if (i < n && (text[i] == 'e' || text[i] == 'E')) {
+    std::size_t j = i + 1;
+    if (j < n && (text[j] == '+' || text[j] == '-')) ++j;
+    if (j < n && is_digit(text[j])) {
+      while (j < n && is_digit(text[j])) ++j;
+      i = j;
+    }
+  }
+  return i;
+}
 
 double parse_length(const std::string& text) {
   std::string unit;

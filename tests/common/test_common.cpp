@@ -1,16 +1,28 @@
+#include <dirent.h>
+#include <fcntl.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
+#include <sys/sysmacros.h>
+#include <sys/un.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <catch2/catch.hpp>
+#include <csignal>
 #include <cstdlib>
 #include <cmath>
 #include <cstdio>
-#include <dirent.h>
 #include <fstream>
+#include <iterator>
+#include <sstream>
+#include <vector>
 #include <string>
 
 #include "canopy/common/atomic_file.h"
+#include "canopy/common/cli.h"
 #include "canopy/common/error.h"
 #include "canopy/common/rng.h"
+#include "canopy/common/share.h"
 #include "canopy/common/units.h"
 
 using namespace canopy::common;
@@ -135,4 +147,317 @@ TEST_CASE("reading a missing file or a directory is a DataError naming it") {
   }
   CHECK_THROWS_AS(read_file(dir + "/missing.pcd"), DataError);
   CHECK_THROWS_AS(AtomicOutput(dir), DataError);
+}
+
+// ---- outputs that are not plain files (issue 12) --------------------------------------------
+
+namespace {
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+mode_t lmode(const std::string& path) {
+  struct stat st {};
+  REQUIRE(lstat(path.c_str(), &st) == 0);
+  return st.st_mode;
+}
+
+// A private character device like the machine's (1,3 = null, 1,7 = full); false when this
+// process may not create devices (not root, or a container without CAP_MKNOD).
+bool make_char_device(const std::string& path, unsigned major, unsigned minor) {
+  return mknod(path.c_str(), S_IFCHR | 0666, makedev(major, minor)) == 0;
+}
+
+}  // namespace
+
+TEST_CASE("an existing FIFO output is written through, not replaced") {
+  const std::string dir = make_dir("fifo");
+  const std::string fifo = dir + "/out.pcd";
+  REQUIRE(mkfifo(fifo.c_str(), 0600) == 0);
+  // The reader opens first (non-blocking, so no thread is needed and a writer that never
+  // comes cannot hang the test); the data fits the pipe buffer.
+  const int rd = open(fifo.c_str(), O_RDONLY | O_NONBLOCK);
+  REQUIRE(rd >= 0);
+  const std::string data(5000, 'x');
+  write_file_atomic(fifo, data);
+  std::string got;
+  char buf[8192];
+  for (ssize_t n; (n = read(rd, buf, sizeof buf)) > 0;) got.append(buf, static_cast<std::size_t>(n));
+  close(rd);
+  CHECK(got == data);
+  CHECK(S_ISFIFO(lmode(fifo)));
+  CHECK(count_entries(dir) == 1);  // no temporary file beside it
+}
+
+TEST_CASE("a symbolic link output replaces the file it points to; the link stays") {
+  const std::string dir = make_dir("symlink");
+  REQUIRE(std::system(("mkdir -p '" + dir + "/target'").c_str()) == 0);
+  const std::string target = dir + "/target/real.pcd", link = dir + "/link.pcd";
+  write_file_atomic(target, "old");
+  REQUIRE(chmod(target.c_str(), 0640) == 0);
+  REQUIRE(symlink("target/real.pcd", link.c_str()) == 0);  // relative to the link's directory
+  write_file_atomic(link, "new");
+  CHECK(S_ISLNK(lmode(link)));
+  CHECK(slurp(target) == "new");
+  CHECK((lmode(target) & 07777) == 0640);  // the replaced file keeps its permission bits
+  CHECK(count_entries(dir) == 2);          // link.pcd, target/
+  CHECK(count_entries(dir + "/target") == 1);
+
+  // A chain of links, and a dangling link: the file it names is created (as `>` would).
+  const std::string chain = dir + "/chain.pcd";
+  REQUIRE(symlink("link.pcd", chain.c_str()) == 0);
+  write_file_atomic(chain, "via chain");
+  CHECK(slurp(target) == "via chain");
+  CHECK(S_ISLNK(lmode(chain)));
+  const std::string dangling = dir + "/dangling.pcd";
+  REQUIRE(symlink("target/created.pcd", dangling.c_str()) == 0);
+  write_file_atomic(dangling, "created");
+  CHECK(S_ISLNK(lmode(dangling)));
+  CHECK(slurp(dir + "/target/created.pcd") == "created");
+  // A loop is an error naming the path.
+  const std::string loop = dir + "/loop.pcd";
+  REQUIRE(symlink("loop.pcd", loop.c_str()) == 0);
+  CHECK_THROWS_WITH(write_file_atomic(loop, "x"), Catch::Contains("loop.pcd") && Catch::Contains("symbolic links"));
+}
+
+TEST_CASE("a character device output is written through and keeps its type") {
+  const std::string dir = make_dir("chardev");
+  const std::string null = dir + "/null", full = dir + "/full";
+  if (!make_char_device(null, 1, 3) || !make_char_device(full, 1, 7)) {
+    WARN("cannot create device nodes here (not root): character-device case not run");
+    return;
+  }
+  write_file_atomic(null, "discarded");
+  struct stat st {};
+  REQUIRE(lstat(null.c_str(), &st) == 0);
+  CHECK(S_ISCHR(st.st_mode));
+  CHECK(st.st_rdev == makedev(1, 3));
+  // Writing to a full device is an error naming it; the device stays.
+  CHECK_THROWS_WITH(write_file_atomic(full, std::string(10000, 'x')),
+                    Catch::Contains("full") && Catch::Contains("write failed"));
+  CHECK(S_ISCHR(lmode(full)));
+  CHECK(count_entries(dir) == 2);
+}
+
+TEST_CASE("outputs are checked before the work: missing directory, directory, socket") {
+  const std::string dir = make_dir("check");
+  CHECK_NOTHROW(check_output("-"));
+  CHECK_NOTHROW(check_output(dir + "/new.pcd"));
+  CHECK_THROWS_WITH(check_output(dir + "/nodir/x.pcd"),
+                    Catch::Contains(dir + "/nodir") && Catch::Contains("does not exist"));
+  CHECK_THROWS_AS(check_output(dir + "/nodir/x.pcd"), DataError);
+  CHECK_THROWS_WITH(check_output(dir), Catch::Contains("is a directory"));
+  const std::string sock = dir + "/sock";
+  const int fd = socket(AF_UNIX, SOCK_STREAM, 0);
+  sockaddr_un addr{};
+  addr.sun_family = AF_UNIX;
+  std::snprintf(addr.sun_path, sizeof addr.sun_path, "%s", sock.c_str());
+  if (sock.size() < sizeof addr.sun_path && bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0) {
+    CHECK_THROWS_WITH(check_output(sock), Catch::Contains("socket"));
+    CHECK_THROWS_AS(write_file_atomic(sock, "x"), DataError);
+    struct stat st {};
+    CHECK((lstat(sock.c_str(), &st) == 0 && S_ISSOCK(st.st_mode)));
+  }
+  close(fd);
+}
+
+TEST_CASE("an output set refuses two names of one file") {
+  const std::string dir = make_dir("sameset");
+  REQUIRE(std::system(("mkdir -p '" + dir + "/sub'").c_str()) == 0);
+  {
+    OutputSet set;
+    set.add(dir + "/x.json", "-o");
+    CHECK_THROWS_AS(set.add(dir + "/x.json", "--colored"), UsageError);
+    CHECK_THROWS_AS(set.add(dir + "/./x.json", "--colored"), UsageError);
+    CHECK_THROWS_AS(set.add(dir + "/sub/../x.json", "--colored"), UsageError);
+    CHECK_NOTHROW(set.add(dir + "/y.ply", "--colored"));
+  }
+  REQUIRE(symlink("x.json", (dir + "/alias.json").c_str()) == 0);  // dangling until written
+  {
+    OutputSet set;
+    set.add(dir + "/x.json", "-o");
+    CHECK_THROWS_WITH(set.add(dir + "/alias.json", "--colored"), Catch::Contains("same file"));
+  }
+  write_file_atomic(dir + "/x.json", "{}");
+  {
+    OutputSet set;
+    set.add(dir + "/alias.json", "-o");
+    CHECK_THROWS_AS(set.add(dir + "/x.json", "--colored"), UsageError);
+    set.add("-", "--colored");
+    CHECK_THROWS_WITH(set.add("-", "--other"), Catch::Contains("stdout"));
+  }
+}
+
+TEST_CASE("an output set writes every output or none") {
+  const std::string dir = make_dir("outset");
+  {
+    OutputSet set;
+    set.add(dir + "/a.csv", "--results");
+    set.add(dir + "/b.md", "--results");
+    set.set(dir + "/a.csv", "a");
+    set.set(dir + "/b.md", "b");
+    set.commit();
+  }
+  CHECK(slurp(dir + "/a.csv") == "a");
+  CHECK(slurp(dir + "/b.md") == "b");
+  // The second output cannot be written at commit (its path became a directory after the
+  // check): neither is replaced and no temporary file is left.
+  {
+    OutputSet set;
+    set.add(dir + "/a.csv", "--results");
+    set.add(dir + "/c.md", "--results");
+    REQUIRE(std::system(("mkdir '" + dir + "/c.md'").c_str()) == 0);
+    set.set(dir + "/a.csv", "A");
+    set.set(dir + "/c.md", "C");
+    CHECK_THROWS_AS(set.commit(), DataError);
+  }
+  CHECK(slurp(dir + "/a.csv") == "a");
+  CHECK(count_entries(dir) == 3);  // a.csv, b.md, c.md/
+  // A failing write-through target (a full device) after a complete temporary file: the
+  // regular output is not moved into place either.
+  const std::string full = dir + "/full";
+  if (make_char_device(full, 1, 7)) {
+    OutputSet set;
+    set.add(dir + "/a.csv", "--colored");
+    set.add(full, "-o");
+    set.set(dir + "/a.csv", "AAA");
+    set.set(full, std::string(10000, 'x'));
+    CHECK_THROWS_AS(set.commit(), DataError);
+    CHECK(slurp(dir + "/a.csv") == "a");
+    CHECK(S_ISCHR(lmode(full)));
+    CHECK(count_entries(dir) == 4);
+  }
+}
+
+TEST_CASE("numbers on the command line are decimal only") {
+  CHECK(decimal_prefix("128mm") == 3);
+  CHECK(decimal_prefix("-1.5e-3m") == 7);
+  CHECK(decimal_prefix(".5") == 2);
+  CHECK(decimal_prefix("5.") == 2);
+  CHECK(decimal_prefix("0x10") == 1);
+  CHECK(decimal_prefix("inf") == 0);
+  CHECK(decimal_prefix(" 1") == 0);
+  CHECK(decimal_prefix("1e") == 1);
+  CHECK_THROWS_AS(parse_length("0x10mm"), UsageError);
+  CHECK_THROWS_AS(parse_length("0x1p3"), UsageError);
+  CHECK_THROWS_AS(parse_length("infinity"), UsageError);
+  CHECK_THROWS_AS(parse_length(" 1m"), UsageError);
+  CHECK_THROWS_AS(parse_angle("0x10"), UsageError);
+  CHECK_THROWS_AS(parse_length("1e999"), UsageError);
+  using canopy::common::detail::check_integer;
+  using canopy::common::detail::check_real;
+  const unsigned long long u64 = ~0ULL;
+  CHECK(check_integer("7", false, 0, u64).empty());
+  CHECK(check_integer("18446744073709551615", false, 0, u64).empty());
+  CHECK_FALSE(check_integer("18446744073709551616", false, 0, u64).empty());
+  CHECK_FALSE(check_integer("-1", false, 0, u64).empty());
+  CHECK_FALSE(check_integer("0x10", false, 0, u64).empty());
+  CHECK_FALSE(check_integer("1e3", true, -5, 5).empty());
+  CHECK_FALSE(check_integer("6", true, -5, 5).empty());
+  CHECK(check_integer("-5", true, -5, 5).empty());
+  CHECK(check_real("1e-10").empty());
+  CHECK(check_real("0.8333333333333334").empty());
+  CHECK_FALSE(check_real("nan").empty());
+  CHECK_FALSE(check_real("0x1p3").empty());
+  CHECK_FALSE(check_real("1e400").empty());
+}
+
+TEST_CASE("share_dir: CANOPY_SHARE, else beside the executable, else the source tree") {
+  const char* saved = std::getenv("CANOPY_SHARE");
+  const std::string keep = saved == nullptr ? "" : saved;
+  const std::string dir = make_dir("share");
+  setenv("CANOPY_SHARE", dir.c_str(), 1);
+  CHECK(share_dir() == dir);
+  setenv("CANOPY_SHARE", (dir + "/absent").c_str(), 1);
+  CHECK_THROWS_WITH(share_dir(), Catch::Contains("CANOPY_SHARE") && Catch::Contains("absent"));
+  unsetenv("CANOPY_SHARE");
+  // The test binary sits in build/bin, which has no ../share/canopy: the source tree's share/.
+  CHECK(share_dir() == std::string(CANOPY_SOURCE_DIR) + "/share");
+  if (saved != nullptr) setenv("CANOPY_SHARE", keep.c_str(), 1);
+}
+
+namespace {
+
+// Runs a Tool with the given arguments; returns the exit code, stderr in *err.
+int run_tool(std::vector<std::string> args, std::string* err, bool* ran = nullptr) {
+  Tool tool("demo", "a demo tool", true);
+  std::string in = "-", out = "-";
+  double voxel = 0.128;
+  int count = 3;
+  tool.add_input(&in);
+  tool.add_output(&out);
+  tool.add_length("--voxel", &voxel, "voxel edge", 1.0);
+  tool.add("--min-points", &count, "a count");
+  args.insert(args.begin(), "demo");
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(&a[0]);
+  // stderr captured at the descriptor: errors go through std::cerr, warnings through stdio.
+  const std::string file = std::string(CANOPY_TEST_TMP) + "/run_tool.err";
+  std::fflush(stderr);
+  const int saved = dup(STDERR_FILENO);
+  const int fd = open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  dup2(fd, STDERR_FILENO);
+  close(fd);
+  bool body = false;
+  const int rc = tool.run(static_cast<int>(argv.size()), argv.data(), [&] { body = true; });
+  std::cerr.flush();
+  std::fflush(stderr);
+  dup2(saved, STDERR_FILENO);
+  close(saved);
+  *err = slurp(file);
+  if (ran != nullptr) *ran = body;
+  return rc;
+}
+
+}  // namespace
+
+TEST_CASE("a stray word gets 'use -i', a mistyped option 'did you mean'") {
+  const std::string dir = make_dir("cli");
+  std::string err;
+  CHECK(run_tool({"scan.pcd"}, &err) == 2);
+  CHECK_THAT(err, Catch::Contains("unexpected argument 'scan.pcd': use -i scan.pcd"));
+  CHECK(run_tool({"-i", "a.pcd", "b.pcd"}, &err) == 2);
+  CHECK_THAT(err, Catch::Contains("'b.pcd'") && Catch::Contains("one input"));
+  CHECK(run_tool({"--vxoel", "8mm", "-i", "a.pcd"}, &err) == 2);
+  CHECK_THAT(err, Catch::Contains("unknown option '--vxoel': did you mean --voxel?"));
+  CHECK(run_tool({"--min-point=3", "-i", "a.pcd"}, &err) == 2);
+  CHECK_THAT(err, Catch::Contains("did you mean --min-points?"));
+  CHECK(run_tool({"--vox", "8mm", "-i", "a.pcd"}, &err) == 2);
+  CHECK_THAT(err, Catch::Contains("did you mean --voxel?"));
+  CHECK(run_tool({"--zzzzzz", "-i", "a.pcd"}, &err) == 2);
+  CHECK_THAT(err, Catch::Contains("unknown option '--zzzzzz'") && !Catch::Contains("did you mean"));
+  // Strict numbers: no hex, no sign wrap-around, no overflow.
+  CHECK(run_tool({"--seed", "-1", "-i", "a.pcd"}, &err) == 2);
+  CHECK_THAT(err, Catch::Contains("--seed"));
+  CHECK(run_tool({"--seed", "0x10", "-i", "a.pcd"}, &err) == 2);
+  CHECK(run_tool({"--min-points", "0x10", "-i", "a.pcd"}, &err) == 2);
+  CHECK(run_tool({"--min-points", "99999999999", "-i", "a.pcd"}, &err) == 2);
+  CHECK(run_tool({"--voxel", "0x10mm", "-i", "a.pcd"}, &err) == 2);
+  CHECK(run_tool({"--threads", "010x", "-i", "a.pcd"}, &err) == 2);
+  bool ran = false;
+  CHECK(run_tool({"--seed", "18446744073709551615", "-i", "a.pcd", "-o", dir + "/x"}, &err, &ran) == 0);
+  CHECK(ran);
+}
+
+TEST_CASE("bare lengths over the warning bound draw a warning, not an error") {
+  const std::string dir = make_dir("cli_warn");
+  std::string err;
+  CHECK(run_tool({"--voxel", "8", "-i", "a.pcd", "-o", dir + "/x"}, &err) == 0);
+  CHECK_THAT(err, Catch::Contains("warning") && Catch::Contains("bare numbers are metres") &&
+                      Catch::Contains("did you mean 8mm?"));
+  CHECK(run_tool({"--voxel", "2m", "-i", "a.pcd", "-o", dir + "/x"}, &err) == 0);
+  CHECK_THAT(err, Catch::Contains("warning") && Catch::Contains("over 1m"));
+  CHECK(run_tool({"--voxel", "0.5", "-i", "a.pcd", "-o", dir + "/x"}, &err) == 0);
+  CHECK(err.empty());
+}
+
+TEST_CASE("Tool::run checks the outputs before the body runs") {
+  const std::string dir = make_dir("cli_out");
+  std::string err;
+  bool ran = true;
+  CHECK(run_tool({"-i", "a.pcd", "-o", dir + "/nodir/x.pcd"}, &err, &ran) == 1);
+  CHECK_FALSE(ran);
+  CHECK_THAT(err, Catch::Contains(dir + "/nodir") && Catch::Contains("does not exist"));
 }

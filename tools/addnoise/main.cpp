@@ -13,14 +13,15 @@ using namespace canopy;
 int main(int argc, char** argv) {
   common::Tool tool("addnoise", "Isotropic Gaussian noise on the coordinates of a scan; every "
                                 "other field is kept (thesis ch. 2).", true);
+  tool.without_threads();
   addnoise::Params p;
   std::string in = "-", out = "-";
   tool.add_input(&in, "scan: PCD, PLY point set or LAS (x y z and any other fields)");
   tool.add_output(&out, "noisy scan: .pcd, .ply or .las (- = PCD)");
-  tool.add_length("--sigma", &p.sigma, "standard deviation per axis (0 = exact copy)");
+  tool.add_length("--sigma", &p.sigma, "standard deviation per axis (0 = exact copy)", 1.0);
   return tool.run(argc, argv, [&] {
     formats::output_format(out);
-    if (!(p.sigma >= 0)) throw common::UsageError("--sigma must be >= 0");
+    if (!(p.sigma >= 0 && p.sigma <= 100)) throw common::UsageError("--sigma must be in [0, 100m]");
     p.seed = tool.seed();
     common::log::Phase read("read");
     const formats::PointCloud scan = formats::read_points(in, "addnoise");

@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   cm::Tool tool("cocone", "Surface reconstruction of a sample PCD (thesis ch. 4): Cocone with "
                           "Dey-Giesen boundary detection, then the thesis mesh post-processing. "
                           "Writes a PLY mesh whose vertices are the surviving sample rows.");
+  tool.without_threads();
   cc::Params p;
   std::string in = "-", out = "-";
   bool raw = false, no_boundary = false, keep_orphans = false;
@@ -49,6 +50,15 @@ int main(int argc, char** argv) {
 
     const canopy::formats::PointCloud samples = canopy::formats::read_points(in, "cocone");
     samples.require({"x", "y", "z"}, cm::display_name(in), "is this a canopy samples PCD?");
+    // fitvox's samples carry a normal and the fit of each voxel; a raw scan does not.
+    std::string missing;
+    for (const char* f : {"normal_x", "normal_y", "normal_z", "point_count", "rms"}) {
+      if (!samples.has(f)) missing += std::string(missing.empty() ? "" : " ") + f;
+    }
+    if (!missing.empty()) {
+      cm::log::warn(cm::display_name(in) + ": no " + missing + " fields: these are not fitvox "
+                    "samples (a raw scan? run it through fitvox first: scan -> fitvox -> cocone)");
+    }
     canopy::formats::Mesh mesh;
     try {
       mesh = cc::run(samples, p);

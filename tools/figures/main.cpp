@@ -48,6 +48,7 @@ int main(int argc, char** argv) {
   common::Tool tool("figures", "Renders the experiment's figures to PNG with VTK: a segmentation "
                                "mesh (mesh), a labelled grid of PNGs (grid), scores against noise "
                                "(plot). mesh and plot need an X display (use xvfb-run -a).");
+  tool.without_threads();
   CLI::App& app = tool.app();
   app.require_subcommand(1);
   app.fallthrough();  // -q, -v, --config also after the subcommand
@@ -57,11 +58,17 @@ int main(int argc, char** argv) {
   CLI::App* mesh = app.add_subcommand("mesh", "render a coloured segmentation PLY (ncut --colored)");
   mesh->add_option("-i,--input", mesh_in, "mesh PLY (x y z, [red green blue], faces)")->required();
   mesh->add_option("-o,--output", mesh_out, "PNG to write")->required();
-  mesh->add_option("--width", mv.width, "image width in pixels")->capture_default_str();
-  mesh->add_option("--height", mv.height, "image height in pixels")->capture_default_str();
+  mesh->add_option("--width", mv.width, "image width in pixels")
+      ->check(common::number_check<int>())
+      ->capture_default_str();
+  mesh->add_option("--height", mv.height, "image height in pixels")
+      ->check(common::number_check<int>())
+      ->capture_default_str();
   mesh->add_option("--elevation", mv.elevation_deg, "camera elevation above the ground (deg)")
+      ->check(common::number_check<double>())
       ->capture_default_str();
   mesh->add_option("--azimuth", mv.azimuth_deg, "camera azimuth from +x (front) toward +y (left), deg")
+      ->check(common::number_check<double>())
       ->capture_default_str();
   mesh->add_option("--framing", framing, "'box': fixed box (same camera for every mesh); "
                                          "'bounds': the mesh's bounding box")
@@ -76,15 +83,23 @@ int main(int argc, char** argv) {
   CLI::App* grid = app.add_subcommand("grid", "tile PNGs row by row into a labelled grid; a cell "
                                               "given as '-' or as a missing file is drawn 'failed'");
   grid->add_option("-o,--output", grid_out, "PNG to write")->required();
-  grid->add_option("--cols", gp.cols, "cells per row")->required();
+  grid->add_option("--cols", gp.cols, "cells per row")
+      ->check(common::number_check<int>())
+      ->required();
   grid->add_option("--labels-row", row_labels, "row labels, one per row: comma-separated, or whitespace-separated when without commas");
   grid->add_option("--labels-col", col_labels, "column labels, one per column (same rule as --labels-row)");
   grid->add_option("--title", gp.title, "title line above the grid");
-  grid->add_option("--font-size", gp.font_size, "label size in pixels")->capture_default_str();
-  grid->add_option("--gap", gp.gap, "pixels between cells")->capture_default_str();
+  grid->add_option("--font-size", gp.font_size, "label size in pixels")
+      ->check(common::number_check<int>())
+      ->capture_default_str();
+  grid->add_option("--gap", gp.gap, "pixels between cells")
+      ->check(common::number_check<int>())
+      ->capture_default_str();
   grid->add_flag("--trim,!--no-trim", gp.trim,
                  "crop all tiles alike to the union of their non-background areas (default on)");
-  grid->add_option("--margin", gp.margin, "pixels kept around the trimmed content")->capture_default_str();
+  grid->add_option("--margin", gp.margin, "pixels kept around the trimmed content")
+      ->check(common::number_check<int>())
+      ->capture_default_str();
   grid->add_option("cells", cells, "PNG files, row by row ('-' = failed cell)")->required();
 
   figures::PlotParams pp;
@@ -94,12 +109,17 @@ int main(int argc, char** argv) {
   plot->add_option("-i,--input", plot_in, "scores CSV (object,scene,noise_mm,score,rank,entropy)")
       ->required();
   plot->add_option("-o,--output", plot_out, "PNG to write")->required();
-  plot->add_option("--width", pp.width, "image width in pixels")->capture_default_str();
-  plot->add_option("--height", pp.height, "image height in pixels")->capture_default_str();
+  plot->add_option("--width", pp.width, "image width in pixels")
+      ->check(common::number_check<int>())
+      ->capture_default_str();
+  plot->add_option("--height", pp.height, "image height in pixels")
+      ->check(common::number_check<int>())
+      ->capture_default_str();
 
   return tool.run(argc, argv, [&] {
     if (mesh->parsed()) {
       check_size(mv.width, mv.height);
+      common::check_output(mesh_out);
       if (!(mv.elevation_deg > -90 && mv.elevation_deg < 90)) {
         throw common::UsageError("--elevation must be within (-90, 90) degrees");
       }
@@ -120,6 +140,7 @@ int main(int argc, char** argv) {
       if (gp.font_size < 4 || gp.font_size > 200) throw common::UsageError("--font-size: 4..200");
       if (gp.gap < 0 || gp.gap > 1000) throw common::UsageError("--gap: 0..1000");
       if (gp.margin < 0 || gp.margin > 1000) throw common::UsageError("--margin: 0..1000");
+      common::check_output(grid_out);
       // Labels: comma-separated ("0 mm,2 mm"); a list without commas is split on whitespace
       // ("earthmover obj1 sedan", as a Makefile variable expands).
       auto split = [](const std::string& s) {
@@ -158,6 +179,7 @@ int main(int argc, char** argv) {
                  std::to_string(cells.size()) + " cells, " + std::to_string(failed) + " failed");
     } else if (plot->parsed()) {
       check_size(pp.width, pp.height);
+      common::check_output(plot_out);
       common::log::Phase phase("plot");
       const auto rows = figures::parse_scores_csv(common::read_file(plot_in), common::display_name(plot_in));
       const figures::Image image = figures::plot_scores(rows, pp, common::display_name(plot_in));

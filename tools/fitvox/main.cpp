@@ -17,7 +17,8 @@ int main(int argc, char** argv) {
   std::string in = "-", out = "-", noise = "auto";
   tool.add_input(&in, "scan: PCD, PLY point set or LAS (x y z [sensor_x sensor_y sensor_z] [label])");
   tool.add_output(&out, "samples: .pcd, .ply or .las (- = PCD)");
-  tool.add_length("--voxel", &p.voxel, "voxel edge; voxel centres at multiples of it from the world origin");
+  tool.add_length("--voxel", &p.voxel, "voxel edge; voxel centres at multiples of it from the world origin",
+                  1.0);
   tool.add("--min-points", &p.min_points, "reject voxels with fewer points (>= 6)");
   tool.add_length("--max-rms", &p.max_rms, "RMS fit-error bound for noiseless data");
   tool.add("--noise", &noise, "noise sigma that widens the RMS bound: 'auto' = estimate from "
@@ -27,11 +28,14 @@ int main(int argc, char** argv) {
   return tool.run(argc, argv, [&] {
     formats::output_format(out);
     if (noise != "auto") p.noise = common::parse_length(noise);
-    if (!(p.voxel > 0) || p.min_points < 6 || !(p.max_rms >= 0) || !(p.noise >= 0 || noise == "auto") ||
-        !(p.noise_margin >= 0)) {
-      throw common::UsageError("need --voxel > 0, --min-points >= 6, --max-rms >= 0, "
-                               "--noise auto or >= 0, --noise-margin >= 0");
-    }
+    auto need = [](bool ok, const std::string& rule) {
+      if (!ok) throw common::UsageError(rule);
+    };
+    need(p.voxel >= 1e-3 && p.voxel <= 100, "--voxel must be in [1mm, 100m]");
+    need(p.min_points >= 6, "--min-points must be >= 6");
+    need(p.max_rms >= 0 && p.max_rms <= 100, "--max-rms must be in [0, 100m]");
+    need(noise == "auto" || (p.noise >= 0 && p.noise <= 100), "--noise must be 'auto' or in [0, 100m]");
+    need(p.noise_margin >= 0 && p.noise_margin <= 1e6, "--noise-margin must be in [0, 1e6]");
     p.threads = tool.threads();
     common::log::Phase read("read");
     const formats::PointCloud cloud = formats::read_points(in, "fitvox");

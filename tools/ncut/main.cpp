@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <string>
 
+#include "canopy/common/atomic_file.h"
 #include "canopy/common/cli.h"
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
@@ -18,7 +19,7 @@ int main(int argc, char** argv) {
   std::string in = "-", out = "-", colored, exponent = "linear", solver = "auto", pca = "surface";
   tool.add_input(&in, "mesh PLY (x y z, nx ny nz [computed from faces if absent], [label])");
   tool.add_output(&out, "segment graph JSON");
-  tool.add("--colored", &colored, "also write the mesh with 'segment' and red/green/blue fields");
+  tool.add_output("--colored", &colored, "also write the mesh with 'segment' and red/green/blue fields (PLY)");
   tool.add_angle("--sigma-n", &p.affinity.sigma_n, "normal-angle scale sigma_n of Eq. 5.11 (> 0)");
   tool.add("--anisotropy", &p.affinity.anisotropy, "E of Eq. 5.8: weight of the normal offset (>= 1)");
   tool.add_length("--radius", &p.affinity.radius, "r: distance scale of Eq. 5.11 and affinity cut-off");
@@ -44,15 +45,31 @@ int main(int argc, char** argv) {
   return tool.run(argc, argv, [&] {
     const auto& a = p.affinity;
     const auto& s = p.sparsify;
-    if (!(a.sigma_n > 0) || !(a.anisotropy >= 1) || !(a.radius > 0) || !(s.dense_radius >= 0) ||
-        !(s.keep_fraction >= 0 && s.keep_fraction <= 1) || !(s.min_affinity >= 0 && s.min_affinity < 1) ||
-        !(s.mesh_edge_floor >= 0 && s.mesh_edge_floor <= 0.1) ||
-        !(p.cut.max_ncut > 0) || p.cut.min_segment < 1 || !(p.cut.tolerance > 0 && p.cut.tolerance <= 1e-3) ||
-        p.cut.max_restarts < 1 || p.cut.ncv < 3 || (exponent != "squared" && exponent != "linear") ||
-        (pca != "surface" && pca != "vertices") ||
-        (solver != "auto" && solver != "dense" && solver != "lanczos" && solver != "shift-invert")) {
-      throw common::UsageError("an option is out of range; see --help for each valid range");
-    }
+    // Each option's valid range; lengths beyond [1 mm, 100 m] are not a mesh of a vehicle.
+    auto need = [](bool ok, const std::string& rule) {
+      if (!ok) throw common::UsageError(rule);
+    };
+    const double deg = 3.14159265358979323846 / 180;
+    need(a.sigma_n > 0 && a.sigma_n <= 180 * deg, "--sigma-n must be in (0, 180] deg");
+    need(a.anisotropy >= 1 && a.anisotropy <= 1e6, "--anisotropy must be in [1, 1e6]");
+    need(a.radius >= 1e-3 && a.radius <= 100, "--radius must be in [1mm, 100m]");
+    need(s.dense_radius >= 0 && s.dense_radius <= 100, "--dense-radius must be in [0, 100m]");
+    need(s.keep_fraction >= 0 && s.keep_fraction <= 1, "--keep-fraction must be in [0, 1]");
+    need(s.min_affinity >= 0 && s.min_affinity < 1, "--min-affinity must be in [0, 1)");
+    need(s.mesh_edge_floor >= 0 && s.mesh_edge_floor <= 0.1, "--mesh-edge-floor must be in [0, 0.1]");
+    need(p.cut.max_ncut > 0, "--max-ncut must be > 0");
+    need(p.cut.min_segment >= 1, "--min-segment must be >= 1");
+    need(p.cut.tolerance > 0 && p.cut.tolerance <= 1e-3, "--tolerance must be in (0, 1e-3]");
+    need(p.cut.max_restarts >= 1, "--max-restarts must be >= 1");
+    need(p.cut.ncv >= 3, "--ncv must be >= 3");
+    need(exponent == "squared" || exponent == "linear", "--exponent: 'squared' or 'linear'");
+    need(pca == "surface" || pca == "vertices", "--pca: 'surface' or 'vertices'");
+    need(solver == "auto" || solver == "dense" || solver == "lanczos" || solver == "shift-invert",
+         "--solver: auto, dense, lanczos or shift-invert");
+    // Both outputs are written together at the end, or neither (checked now, before the work).
+    common::OutputSet outputs;
+    outputs.add(out, "-o");
+    if (!colored.empty()) outputs.add(colored, "--colored");
     p.affinity.exponent = exponent == "squared" ? ncut::Exponent::kSquared : ncut::Exponent::kLinear;
     p.pca = pca == "surface" ? ncut::PcaWeighting::kSurface : ncut::PcaWeighting::kVertices;
     p.cut.solver = solver == "dense" ? ncut::Solver::kDense
@@ -97,9 +114,10 @@ int main(int argc, char** argv) {
         cm.vertices.comments.push_back("parameter " + name + " = " + value);
       }
       cm.vertices.comments.push_back("input " + in);
-      formats::write_ply(cm, colored);
+      outputs.set(colored, formats::serialize_ply(cm));
     }
-    formats::write_segment_graph(graph, out);
+    outputs.set(out, formats::serialize_segment_graph(graph));
+    outputs.commit();
     common::log::info("wrote " + std::to_string(graph.segments.size()) + " segments to " +
                       common::display_name(out, true) +
                       (colored.empty() ? "" : " and " + common::display_name(colored, true)));

@@ -9,6 +9,7 @@
 
 int main(int argc, char** argv) {
   canopy::common::Tool tool("pcd2ply", "Convert a PCD point cloud to a PLY point set (all fields kept).");
+  tool.without_threads();
   std::string input = "-", output = "-";
   bool ascii = false;
   tool.add_input(&input, "point cloud: PCD, LAS or PLY point set");

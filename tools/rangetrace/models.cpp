@@ -160,7 +160,7 @@ Model load_model(const std::string& spec, const MeshImport& import) {
   for (const char* builtin : kBuiltinModels) {
     if (spec == builtin) {
       model.name = builtin;
-      model.include_dir = std::string(CANOPY_SHARE_DIR) + "/models";
+      model.include_dir = common::share_dir() + "/models";
       model.include_file = model.name + ".inc";
       return model;
     }

@@ -168,7 +168,7 @@ SceneRecipe parse_scene(const std::string& text, const std::string& name) {
 SceneRecipe load_scene(const std::string& name_or_path) {
   for (const char* builtin : {"circle", "flyby", "unoccluded"}) {
     if (name_or_path == builtin) {
-      const std::string path = std::string(CANOPY_SHARE_DIR) + "/scenes/" + builtin + ".scene";
+      const std::string path = common::share_dir() + "/scenes/" + builtin + ".scene";
       SceneRecipe s = parse_scene(common::read_file(path), path);
       s.name = builtin;
       return s;

@@ -5,11 +5,13 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/cli.h"
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
+#include "canopy/common/share.h"
 #include "canopy/formats/pcd.h"
 #include "report/report.h"
 
@@ -55,15 +57,16 @@ int count_views(const std::string& scan) {
 
 int main(int argc, char** argv) {
   common::Tool tool("report", "Write the experiment report (Markdown + CSV) from out/ artifacts.");
+  tool.without_threads();
   std::string out_dir = "out", results = "results", objects, scenes, noises;
-  std::string thesis = std::string(CANOPY_SHARE_DIR) + "/thesis/results.csv";
+  std::string thesis;  // default: <share>/thesis/results.csv
   report::Params p;
   tool.add("--out", &out_dir, "experiment artifact directory");
   tool.add("--results", &results, "directory for report.md, cases.csv, scores.csv, times.csv");
   tool.add("--objects", &objects, "objects (space separated)")->required();
   tool.add("--scenes", &scenes, "scenes (space separated)")->required();
   tool.add("--noises", &noises, "noise levels in mm (space separated)")->required();
-  tool.add("--thesis", &thesis, "the thesis's results table (CSV)");
+  tool.add("--thesis", &thesis, "the thesis's results table (CSV; default: share/thesis/results.csv)");
   std::string ablations;
   tool.add("--ablations", &ablations,
            "ablation variants, space separated NAME=STAGE+OPTIONS (results in OUT/ablation/NAME/)");
@@ -72,6 +75,11 @@ int main(int argc, char** argv) {
   tool.add("--missing-area-ratio", &p.missing_area_ratio, "missing area when target area is below this x model's");
   tool.add("--spurious-share", &p.spurious_share, "spurious when non-target area share exceeds this");
   return tool.run(argc, argv, [&] {
+    // The four outputs are written together or not at all; their directory is checked now.
+    const std::vector<std::string> names = {"report.md", "cases.csv", "scores.csv", "times.csv"};
+    common::OutputSet outputs;
+    for (const auto& n : names) outputs.add(results + "/" + n, "--results");
+    if (thesis.empty()) thesis = common::share_dir() + "/thesis/results.csv";
     common::log::Phase phase("read");
     report::Inputs in;
     in.objects = words(objects);
@@ -148,10 +156,11 @@ int main(int argc, char** argv) {
     in.figures.push_back("pictures/tank-circle.png");
     phase.done(std::to_string(in.cases.size()) + " trials, " + std::to_string(in.models.size()) + " models");
     const report::Output r = report::run(in, p);
-    common::write_file_atomic(results + "/cases.csv", r.cases_csv);
-    common::write_file_atomic(results + "/scores.csv", r.scores_csv);
-    common::write_file_atomic(results + "/times.csv", r.times_csv);
-    common::write_file_atomic(results + "/report.md", r.markdown);
+    outputs.set(results + "/report.md", r.markdown);
+    outputs.set(results + "/cases.csv", r.cases_csv);
+    outputs.set(results + "/scores.csv", r.scores_csv);
+    outputs.set(results + "/times.csv", r.times_csv);
+    outputs.commit();
     common::log::info("wrote " + results + "/report.md");
   });
 }

@@ -12,20 +12,50 @@
 //     return tool.run(argc, argv, [&] { ... });
 //   }
 //
-// run() parses (usage errors -> exit 2), then calls the body inside the single catch
-// ladder: canopy::common::Error -> its exit code, std::exception -> 1, with
-// "<tool>: error: <message>" on stderr.
+// run() parses (usage errors -> exit 2), checks every output registered with add_output
+// (its directory exists and is writable, no two outputs are the same file: exit 1 / 2), then
+// calls the body inside the single catch ladder: canopy::common::Error -> its exit code,
+// std::exception -> 1, with "<tool>: error: <message>" on stderr.
+//
+// Parsing is strict: numbers are decimal (no hex, octal, inf or nan; integers without a
+// sign where the type is unsigned, within the type's range), a stray word is answered with
+// "use -i <word>", a mistyped option with "did you mean --<option>?".
 #pragma once
 
 #include <CLI/CLI.hpp>
 
 #include <cstdint>
+#include <limits>
 #include <functional>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
 namespace canopy::common {
+
+namespace detail {
+// "" when text is a decimal number of the kind (and range) asked for, else the problem.
+std::string check_integer(const std::string& text, bool is_signed, long long lo, unsigned long long hi);
+std::string check_real(const std::string& text);
+}  // namespace detail
+
+// The validator Tool::add attaches to numeric options (public for options added to
+// subcommands through app()).
+template <typename T>
+CLI::Validator number_check() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        if constexpr (std::is_integral_v<T>) {
+          return detail::check_integer(text, std::is_signed_v<T>,
+                                       static_cast<long long>(std::numeric_limits<T>::min()),
+                                       static_cast<unsigned long long>(std::numeric_limits<T>::max()));
+        } else {
+          return detail::check_real(text);
+        }
+      },
+      "");
+}
 
 class Tool {
  public:
@@ -39,18 +69,27 @@ class Tool {
   CLI::Option* add_input(std::string* path, const std::string& what = "input file");
   // -o/--output (default "-": stdout).
   CLI::Option* add_output(std::string* path, const std::string& what = "output file");
-  // A length option: accepts 128mm / 12.8cm / 0.128m / bare metres; stores metres.
-  CLI::Option* add_length(const std::string& flags, double* metres, const std::string& help);
+  // A further output option (e.g. "--colored"); an empty value means "not written".
+  CLI::Option* add_output(const std::string& flags, std::string* path, const std::string& help);
+  // A length option: accepts 128mm / 12.8cm / 0.128m / bare metres; stores metres. With
+  // warn_above > 0, a value above it (metres) draws a warning ("bare numbers are metres").
+  CLI::Option* add_length(const std::string& flags, double* metres, const std::string& help,
+                          double warn_above = 0);
   // An angle option: accepts 10deg / 0.17rad / bare degrees; stores radians.
   CLI::Option* add_angle(const std::string& flags, double* radians, const std::string& help);
   // Any other option, default shown in --help.
   template <typename T>
   CLI::Option* add(const std::string& flags, T* value, const std::string& help) {
-    return app_.add_option(flags, *value, help)->capture_default_str();
+    CLI::Option* opt = app_.add_option(flags, *value, help)->capture_default_str();
+    if constexpr (std::is_arithmetic_v<T> && !std::is_same_v<T, bool>) opt->check(number_check<T>());
+    return opt;
   }
   CLI::Option* add_flag(const std::string& flags, bool* value, const std::string& help) {
     return app_.add_flag(flags, *value, help);
   }
+
+  // Removes --threads from a tool that does not use it.
+  void without_threads();
 
   int threads() const { return threads_; }
   std::uint64_t seed() const { return seed_; }
@@ -68,6 +107,9 @@ class Tool {
   std::uint64_t seed_ = 1;
   bool uses_stdin_ = false;
   std::string* input_ = nullptr;
+  std::vector<std::pair<std::string, std::string*>> outputs_;  // (option, path)
+  std::string usage_message(int argc, char** argv) const;
 };
+
 
 }  // namespace canopy::common

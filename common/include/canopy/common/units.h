@@ -2,9 +2,15 @@
 // Angles: "10deg", "0.17rad", bare = degrees. Both throw UsageError on malformed text.
 #pragma once
 
+#include <cstddef>
 #include <string>
 
 namespace canopy::common {
+
+// Length of the decimal number at the start of text: [+-]digits[.digits][(e|E)[+-]digits]
+// (digits on at least one side of the point); 0 when there is none. Hexadecimal, "inf",
+// "nan" and leading spaces are not numbers here.
+std::size_t decimal_prefix(const std::string& text);
 
 // Returns metres.
 double parse_length(const std::string& text);
