@@ -60,7 +60,7 @@ start() {
   # munged insists that every client can reach its socket: search (x) rights for all on the
   # directories above it. Only added, never taken away (the parent may be /tmp or a home).
   chmod 711 "$dir"
-  chmod o+x "$(dirname "$dir")" 2>/dev/null || true
+  chmod a+x "$(dirname "$dir")" 2>/dev/null || true
   chmod 755 "$dir/run"
   chmod 700 "$dir/munge"
   mungekey --create --keyfile="$dir/munge/munge.key" --force
