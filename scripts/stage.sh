@@ -68,6 +68,7 @@ run=(/usr/bin/time -f '%e %M' -o "$timing" "$@")
 case "$launch" in
   local) ;;
   slurm)
+    command -v srun >/dev/null || { echo "stage.sh: error: srun not found (Debian package slurm-client)" >&2; exit 1; }
     cpus=$(resource cpus); mem=$(resource mem); limit=$(resource time)
     for v in cpus mem limit; do
       [ -n "${!v}" ] || { echo "stage.sh: error: $resources: no '${v/limit/time}' for [$section] or [default]" >&2; exit 1; }

@@ -57,8 +57,10 @@ start() {
   mkdir -p "$dir" && dir=$(cd "$dir" && pwd)
   [ -f "$dir/pids" ] && err "$dir already has a running cluster ($dir/pids)"
   mkdir -p "$dir/munge" "$dir/run" "$dir/ctld" "$dir/spool" "$dir/log"
-  # munged insists that every client can reach its socket: execute rights on the directories.
-  chmod 711 "$dir" "$(dirname "$dir")" 2>/dev/null || true
+  # munged insists that every client can reach its socket: search (x) rights for all on the
+  # directories above it. Only added, never taken away (the parent may be /tmp or a home).
+  chmod 711 "$dir"
+  chmod a+x "$(dirname "$dir")" 2>/dev/null || true
   chmod 755 "$dir/run"
   chmod 700 "$dir/munge"
   mungekey --create --keyfile="$dir/munge/munge.key" --force
