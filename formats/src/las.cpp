@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <set>
 #include <vector>
 
 #include "binary_io.h"
@@ -25,6 +26,9 @@ constexpr std::size_t kMinRecord[11] = {20, 28, 26, 34, 57, 63, 30, 36, 38, 59, 
 // Public header size by minor version (1.0-1.2, 1.3, 1.4).
 constexpr std::size_t kHeader12 = 227, kHeader13 = 235, kHeader14 = 375;
 constexpr std::size_t kVlrHeader = 54, kEvlrHeader = 60, kExtraDescriptor = 192;
+// Extra Bytes descriptors read (later ones are skipped like undocumented bytes); a normal VLR
+// holds at most 341, an EVLR could hold millions of columns.
+constexpr std::size_t kMaxExtraFields = 1024;
 
 template <typename T>
 T get(const unsigned char* p) {
@@ -109,8 +113,9 @@ double read_base(const unsigned char* p, int base) {
   }
 }
 
-// A column name for an Extra Bytes field: letters, digits and '_' only; unique in `cloud`.
-std::string extra_name(const unsigned char* p, std::size_t n, const PointCloud& cloud, int count, int k) {
+// A column name for an Extra Bytes field: letters, digits and '_' only; not in `used` (the
+// cloud's names so far), which receives it.
+std::string extra_name(const unsigned char* p, std::size_t n, std::set<std::string>* used, int count, int k) {
   std::string s;
   for (std::size_t i = 0; i < n && p[i] != 0; ++i) {
     const unsigned char c = p[i];
@@ -118,7 +123,12 @@ std::string extra_name(const unsigned char* p, std::size_t n, const PointCloud& 
   }
   if (s.empty()) s = "extra";
   if (count > 1) s += "_" + std::to_string(k);
-  while (cloud.has(s)) s = "extra_" + s;
+  if (used->count(s)) {
+    const std::string base = "extra_" + s;
+    s = base;
+    for (int i = 2; used->count(s); ++i) s = base + "_" + std::to_string(i);
+  }
+  used->insert(s);
   return s;
 }
 
@@ -128,8 +138,10 @@ std::string extra_name(const unsigned char* p, std::size_t n, const PointCloud& 
 std::vector<Extra> parse_extra_bytes(const unsigned char* p, std::size_t len, std::size_t standard_len,
                                      std::size_t extra_len, PointCloud* cloud) {
   std::vector<Extra> out;
+  std::set<std::string> names(cloud->names().begin(), cloud->names().end());
   std::size_t used = 0;
-  for (std::size_t d = 0; d + kExtraDescriptor <= len; d += kExtraDescriptor) {
+  const std::size_t max_len = kMaxExtraFields * kExtraDescriptor;  // bounds the column count
+  for (std::size_t d = 0; d + kExtraDescriptor <= std::min(len, max_len); d += kExtraDescriptor) {
     const unsigned char* q = p + d;
     const int type = q[2], options = q[3];
     std::size_t bytes = 0;
@@ -156,7 +168,7 @@ std::vector<Extra> parse_extra_bytes(const unsigned char* p, std::size_t len, st
     e.scaled = has_scale || has_offset;
     const FieldType t = e.scaled ? kFloat64 : base_field_type(e.base);
     for (int k = 0; k < e.count; ++k) {
-      e.cols.push_back(&cloud->add(extra_name(q + 4, 32, *cloud, e.count, k), t));
+      e.cols.push_back(&cloud->add(extra_name(q + 4, 32, &names, e.count, k), t));
     }
     out.push_back(std::move(e));
   }

@@ -1,6 +1,8 @@
 #include "canopy/formats/points_io.h"
 
+#include <algorithm>
 #include <cctype>
+#include <cstdlib>
 #include <cmath>
 #include <cstring>
 
@@ -94,6 +96,24 @@ bool float32_loses(const PointCloud& cloud, const char* c) {
 }
 
 }  // namespace
+
+std::string describe_content(const std::string& bytes) {
+  if (is_laz(bytes)) return "a LAZ file (compressed LAS)";
+  if (is_las(bytes)) return "a LAS file";
+  if (is_ply(bytes)) {
+    const std::size_t end = std::min(bytes.find("end_header"), std::min<std::size_t>(bytes.size(), 1 << 16));
+    const std::size_t f = bytes.find("\nelement face ");
+    if (f != std::string::npos && f < end) {
+      const long long n = std::strtoll(bytes.c_str() + f + 14, nullptr, 10);
+      if (n > 0) return "a PLY mesh (" + std::to_string(n) + " faces)";
+    }
+    return "a PLY point set";
+  }
+  if (is_pcd(bytes)) return "a PCD point cloud";
+  const std::string other = what_else(bytes);
+  if (other.rfind("not a point cloud (", 0) == 0) return other.substr(19, other.size() - 20);  // "an STL mesh?"
+  return other.rfind("not a point cloud", 0) == 0 ? "not a point cloud, mesh or document canopy reads" : other;
+}
 
 const char* format_name(PointFormat f) {
   switch (f) {

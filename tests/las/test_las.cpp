@@ -290,6 +290,38 @@ TEST_CASE("broken LAS headers: clear errors, no allocation beyond the file", "[l
   }
 }
 
+TEST_CASE("LAS Extra Bytes in an EVLR: clashing names made unique, at most 1024 fields", "[las]") {
+  PointCloud c;
+  c.resize(1);
+  for (const char* f : {"x", "y", "z"}) c.add(f, kFloat64)[0] = 1.5;
+  std::string b = serialize_las(c);  // format 6, 30-byte records, no VLR
+  REQUIRE(b.size() == 375 + 30);
+  const std::size_t extra = 2000;
+  set<std::uint16_t>(&b, 105, static_cast<std::uint16_t>(30 + extra));
+  for (std::size_t i = 0; i < extra; ++i) b += static_cast<char>(i % 251);
+  set<std::uint64_t>(&b, 235, b.size());  // first EVLR right after the point
+  set<std::uint32_t>(&b, 243, 1);
+  std::string evlr(60, '\0');
+  std::memcpy(&evlr[2], "LASF_Spec", 9);
+  set<std::uint16_t>(&evlr, 18, 4);
+  set<std::uint64_t>(&evlr, 20, extra * 192);
+  for (std::size_t i = 0; i < extra; ++i) {
+    std::string d(192, '\0');
+    d[2] = 1;  // u8
+    std::memcpy(&d[4], i == 0 ? "x" : "dup", i == 0 ? 1 : 3);
+    evlr += d;
+  }
+  const PointCloud r = parse_las(b + evlr, "evlr.las");
+  REQUIRE(r.size() == 1);
+  CHECK(r.col("extra_x")[0] == 0);  // "x" is taken by the coordinate
+  CHECK(r.col("x")[0] == 1.5);
+  CHECK(r.col("dup")[0] == 1);
+  CHECK(r.col("extra_dup")[0] == 2);
+  CHECK(r.col("extra_dup_2")[0] == 3);
+  CHECK(r.col("extra_dup_1022")[0] == 1023 % 251);
+  CHECK_FALSE(r.has("extra_dup_1023"));  // descriptor 1025 and later: skipped
+}
+
 namespace {
 
 // A cloud in UTM coordinates with canopy's fields: labels, normals, sensor directions.

@@ -100,6 +100,22 @@ TEST_CASE("read_points names what a file is when it is no point cloud", "[points
   CHECK(e.find('\0') == std::string::npos);
 }
 
+TEST_CASE("describe_content names a file for readers that expect something else", "[points_io]") {
+  Mesh m;
+  m.vertices = small_cloud();
+  CHECK(describe_content(serialize_ply(m)) == "a PLY point set");
+  m.faces = {{0, 1, 2}, {0, 2, 3}};
+  CHECK(describe_content(serialize_ply(m)) == "a PLY mesh (2 faces)");
+  CHECK(describe_content(serialize_ply(m, true)) == "a PLY mesh (2 faces)");
+  CHECK(describe_content(serialize_las(small_cloud())) == "a LAS file");
+  CHECK(describe_content(slurp(std::string(CANOPY_SOURCE_DIR) + "/tests/las/data/simple.laz")) ==
+        "a LAZ file (compressed LAS)");
+  CHECK(describe_content(serialize_pcd(small_cloud())) == "a PCD point cloud");
+  CHECK(describe_content("{\"format\": \"canopy.match_result\"}") == "a JSON document (canopy.match_result)");
+  CHECK(describe_content(std::string("\0\0\0", 3)) == "not a point cloud, mesh or document canopy reads");
+  CHECK(describe_content("solid cube\nfacet normal 0 0 1\n") == "an STL mesh?");
+}
+
 TEST_CASE("write_points chooses the format by extension; others are usage errors", "[points_io]") {
   CHECK(output_format("-") == PointFormat::kPcd);
   CHECK(output_format("a/b.pcd") == PointFormat::kPcd);

@@ -23,6 +23,12 @@ const char* format_name(PointFormat f);
 PointCloud read_points(const std::string& path, const std::string& tool = "");
 PointCloud parse_points(const std::string& bytes, const std::string& name, const std::string& tool = "");
 
+// What a file's bytes are, for messages of readers that expect something else (e.g. ncut
+// given a LAS): "a LAS file", "a LAZ file (compressed LAS)", "a PLY mesh (812 faces)",
+// "a PLY point set", "a PCD point cloud", "a JSON document (canopy.segment_graph)",
+// "a PNG image", "empty file", ... Looks only at the first bytes and the PLY header.
+std::string describe_content(const std::string& bytes);
+
 // Output format from the path's extension (case-insensitive); "-" = PCD. Any other name
 // (unknown or no extension, .laz) throws common::UsageError saying which extensions exist:
 // tools call it before their work so a mistyped output costs nothing.
