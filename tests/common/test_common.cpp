@@ -31,7 +31,8 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 std::string make_dir(const std::string& name) {
-  const std::string d = std::string(CANOPY_TEST_TMP) + "/" + name;
+  // Under common/: other test modules own CANOPY_TEST_TMP/<module>/ (tests/cli uses cli/).
+  const std::string d = std::string(CANOPY_TEST_TMP) + "/common/" + name;
   std::string cmd = "rm -rf '" + d + "' && mkdir -p '" + d + "'";
   REQUIRE(std::system(cmd.c_str()) == 0);
   return d;
@@ -394,7 +395,7 @@ int run_tool(std::vector<std::string> args, std::string* err, bool* ran = nullpt
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(&a[0]);
   // stderr captured at the descriptor: errors go through std::cerr, warnings through stdio.
-  const std::string file = std::string(CANOPY_TEST_TMP) + "/run_tool.err";
+  const std::string file = std::string(CANOPY_TEST_TMP) + "/common/run_tool.err";
   std::fflush(stderr);
   const int saved = dup(STDERR_FILENO);
   const int fd = open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
