@@ -156,6 +156,12 @@ std::string via(const std::string& path, const std::string& target) {
   return path == target ? "" : " (the symbolic link points to '" + target + "')";
 }
 
+// Directories and sockets cannot be outputs.
+void check_type(const std::string& path, const std::string& target, mode_t mode) {
+  if (S_ISDIR(mode)) throw DataError(path, "is a directory, not an output file" + via(path, target));
+  if (S_ISSOCK(mode)) throw DataError(path, "is a socket; canopy cannot write to it" + via(path, target));
+}
+
 void check_directory(const std::string& path, const std::string& target) {
   const std::string dir = dir_of(target);
   struct stat st {};
@@ -218,8 +224,7 @@ void check_output(const std::string& path) {
   const std::string target = resolve_links(path);
   struct stat st {};
   if (lstat(target.c_str(), &st) == 0) {
-    if (S_ISDIR(st.st_mode)) throw DataError(path, "is a directory, not an output file" + via(path, target));
-    if (S_ISSOCK(st.st_mode)) throw DataError(path, "is a socket; canopy cannot write to it" + via(path, target));
+    check_type(path, target, st.st_mode);
     if (S_ISREG(st.st_mode)) {
       check_directory(path, target);
     } else if (access(target.c_str(), W_OK) != 0) {
@@ -257,14 +262,14 @@ AtomicOutput::AtomicOutput(const std::string& path) : path_(path) {
   struct stat st {};
   bool replacing = false;
   if (lstat(target_.c_str(), &st) == 0) {
-    if (S_ISDIR(st.st_mode)) throw DataError(path_, "is a directory, not an output file" + via(path_, target_));
-    if (S_ISSOCK(st.st_mode)) throw DataError(path_, "is a socket; canopy cannot write to it" + via(path_, target_));
+    check_type(path_, target_, st.st_mode);
     if (!S_ISREG(st.st_mode)) {
       // FIFO or device: write through it, never replace it. (Opening a FIFO waits for its reader.)
       mode_ = Mode::kWriteThrough;
       fd_ = ::open(target_.c_str(), O_WRONLY | O_NOCTTY | O_CLOEXEC);
       if (fd_ < 0) {
-        throw DataError(path_, std::string("cannot open for writing: ") + std::strerror(errno) + via(path_, target_));
+        throw DataError(path_, std::string("cannot open for writing: ") + std::strerror(errno) +
+                                   via(path_, target_));
       }
       return;
     }
