@@ -31,7 +31,8 @@ constexpr int kMaxPath = 4096;
 char g_pending[kMaxPending][kMaxPath];
 std::atomic<bool> g_claimed[kMaxPending];  // slot taken by a thread
 std::atomic<bool> g_used[kMaxPending];     // slot holds a complete path (seen by the handler)
-std::once_flag g_handlers_once;
+std::mutex g_handlers_mutex;
+volatile sig_atomic_t g_in_handler = 0;
 std::atomic<unsigned> g_counter{0};
 
 // The signals after which a pending temporary file is removed.
@@ -41,7 +42,11 @@ struct sigaction g_previous[kNumSignals];
 
 extern "C" void remove_pending_and_reraise(int sig, siginfo_t* info, void* context) {
   remove_pending_outputs();
-  for (int k = 0; k < kNumSignals; ++k) {
+  // A signal that comes back here through the chained handler (which re-raised it, or
+  // restored us) takes the default action: no loop between two handlers.
+  const bool chain = g_in_handler == 0;
+  g_in_handler = 1;
+  for (int k = 0; chain && k < kNumSignals; ++k) {
     if (kSignals[k] != sig) continue;
     const struct sigaction& prev = g_previous[k];
     if ((prev.sa_flags & SA_SIGINFO) != 0 && prev.sa_sigaction != nullptr) {
@@ -65,13 +70,19 @@ extern "C" void remove_pending_and_reraise(int sig, siginfo_t* info, void* conte
   raise(sig);
 }
 
+// Installs the handler for every signal where it is not the current one; a handler the program
+// installed meanwhile is chained (called after the temporary files are removed). Called for
+// every new temporary file, so a handler installed after the first output does not turn the
+// cleanup off.
 void install_handlers() {
+  const std::lock_guard<std::mutex> lock(g_handlers_mutex);
   for (int k = 0; k < kNumSignals; ++k) {
     struct sigaction old {};
     sigaction(kSignals[k], nullptr, &old);
+    if ((old.sa_flags & SA_SIGINFO) != 0 && old.sa_sigaction == remove_pending_and_reraise) continue;
     // An ignored signal stays ignored (nohup, background jobs, `trap '' XFSZ`).
     if ((old.sa_flags & SA_SIGINFO) == 0 && old.sa_handler == SIG_IGN) continue;
-    g_previous[k] = old;
+    g_previous[k] = old;  // our handler is not installed for this signal: it cannot read this now
     struct sigaction sa {};
     sa.sa_sigaction = remove_pending_and_reraise;
     sa.sa_flags = SA_SIGINFO;
@@ -81,7 +92,7 @@ void install_handlers() {
 }
 
 void register_pending(const std::string& path) {
-  std::call_once(g_handlers_once, install_handlers);
+  install_handlers();
   if (path.size() >= static_cast<std::size_t>(kMaxPath)) return;
   for (int i = 0; i < kMaxPending; ++i) {
     bool expected = false;

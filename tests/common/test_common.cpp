@@ -332,6 +332,34 @@ TEST_CASE("an output set writes every output or none") {
   }
 }
 
+namespace {
+extern "C" void exit_three(int) { _exit(3); }
+}  // namespace
+
+TEST_CASE("a signal removes pending temporary files, also when the program has its own handler") {
+  const std::string dir = make_dir("signal");
+  const pid_t pid = fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    AtomicOutput first(dir + "/first.pcd");
+    // The program installs its own SIGTERM handler after the first output was created (as a
+    // tool that stops its children would); outputs created later still clean up, then call it.
+    struct sigaction sa {};
+    sa.sa_handler = exit_three;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGTERM, &sa, nullptr);
+    AtomicOutput second(dir + "/second.pcd");
+    if (count_entries(dir) != 2) _exit(10);
+    raise(SIGTERM);
+    _exit(11);
+  }
+  int status = 0;
+  REQUIRE(waitpid(pid, &status, 0) == pid);
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 3);  // the program's handler ran
+  CHECK(count_entries(dir) == 0);   // after both temporary files were removed
+}
+
 TEST_CASE("numbers on the command line are decimal only") {
   CHECK(decimal_prefix("128mm") == 3);
   CHECK(decimal_prefix("-1.5e-3m") == 7);
