@@ -360,6 +360,24 @@ TEST_CASE("a signal removes pending temporary files, also when the program has i
   CHECK(count_entries(dir) == 0);   // after both temporary files were removed
 }
 
+TEST_CASE("an ignored signal stays ignored (nohup)") {
+  const std::string dir = make_dir("nohup");
+  const pid_t pid = fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    signal(SIGHUP, SIG_IGN);
+    AtomicOutput out(dir + "/out.pcd");
+    raise(SIGHUP);
+    out.stream() << "done";
+    out.commit();
+    _exit(0);
+  }
+  int status = 0;
+  REQUIRE(waitpid(pid, &status, 0) == pid);
+  CHECK((WIFEXITED(status) && WEXITSTATUS(status) == 0));
+  CHECK(slurp(dir + "/out.pcd") == "done");
+}
+
 TEST_CASE("numbers on the command line are decimal only") {
   CHECK(decimal_prefix("128mm") == 3);
   CHECK(decimal_prefix("-1.5e-3m") == 7);
