@@ -31,7 +31,8 @@ constexpr int kMaxPath = 4096;
 char g_pending[kMaxPending][kMaxPath];
 std::atomic<bool> g_claimed[kMaxPending];  // slot taken by a thread
 std::atomic<bool> g_used[kMaxPending];     // slot holds a complete path (seen by the handler)
-std::once_flag g_handlers_once;
+std::mutex g_handlers_mutex;
+volatile sig_atomic_t g_in_handler = 0;
 std::atomic<unsigned> g_counter{0};
 
 // The signals after which a pending temporary file is removed.
@@ -41,7 +42,11 @@ struct sigaction g_previous[kNumSignals];
 
 extern "C" void remove_pending_and_reraise(int sig, siginfo_t* info, void* context) {
   remove_pending_outputs();
-  for (int k = 0; k < kNumSignals; ++k) {
+  // A signal that comes back here through the chained handler (which re-raised it, or
+  // restored us) takes the default action: no loop between two handlers.
+  const bool chain = g_in_handler == 0;
+  g_in_handler = 1;
+  for (int k = 0; chain && k < kNumSignals; ++k) {
     if (kSignals[k] != sig) continue;
     const struct sigaction& prev = g_previous[k];
     if ((prev.sa_flags & SA_SIGINFO) != 0 && prev.sa_sigaction != nullptr) {
@@ -65,13 +70,19 @@ extern "C" void remove_pending_and_reraise(int sig, siginfo_t* info, void* conte
   raise(sig);
 }
 
+// Installs the handler for every signal where it is not the current one; a handler the program
+// installed meanwhile is chained (called after the temporary files are removed). Called for
+// every new temporary file, so a handler installed after the first output does not turn the
+// cleanup off.
 void install_handlers() {
+  const std::lock_guard<std::mutex> lock(g_handlers_mutex);
   for (int k = 0; k < kNumSignals; ++k) {
     struct sigaction old {};
     sigaction(kSignals[k], nullptr, &old);
+    if ((old.sa_flags & SA_SIGINFO) != 0 && old.sa_sigaction == remove_pending_and_reraise) continue;
     // An ignored signal stays ignored (nohup, background jobs, `trap '' XFSZ`).
     if ((old.sa_flags & SA_SIGINFO) == 0 && old.sa_handler == SIG_IGN) continue;
-    g_previous[k] = old;
+    g_previous[k] = old;  // our handler is not installed for this signal: it cannot read this now
     struct sigaction sa {};
     sa.sa_sigaction = remove_pending_and_reraise;
     sa.sa_flags = SA_SIGINFO;
@@ -81,7 +92,7 @@ void install_handlers() {
 }
 
 void register_pending(const std::string& path) {
-  std::call_once(g_handlers_once, install_handlers);
+  install_handlers();
   if (path.size() >= static_cast<std::size_t>(kMaxPath)) return;
   for (int i = 0; i < kMaxPending; ++i) {
     bool expected = false;
@@ -156,6 +167,12 @@ std::string via(const std::string& path, const std::string& target) {
   return path == target ? "" : " (the symbolic link points to '" + target + "')";
 }
 
+// Directories and sockets cannot be outputs.
+void check_type(const std::string& path, const std::string& target, mode_t mode) {
+  if (S_ISDIR(mode)) throw DataError(path, "is a directory, not an output file" + via(path, target));
+  if (S_ISSOCK(mode)) throw DataError(path, "is a socket; canopy cannot write to it" + via(path, target));
+}
+
 void check_directory(const std::string& path, const std::string& target) {
   const std::string dir = dir_of(target);
   struct stat st {};
@@ -218,8 +235,7 @@ void check_output(const std::string& path) {
   const std::string target = resolve_links(path);
   struct stat st {};
   if (lstat(target.c_str(), &st) == 0) {
-    if (S_ISDIR(st.st_mode)) throw DataError(path, "is a directory, not an output file" + via(path, target));
-    if (S_ISSOCK(st.st_mode)) throw DataError(path, "is a socket; canopy cannot write to it" + via(path, target));
+    check_type(path, target, st.st_mode);
     if (S_ISREG(st.st_mode)) {
       check_directory(path, target);
     } else if (access(target.c_str(), W_OK) != 0) {
@@ -257,14 +273,14 @@ AtomicOutput::AtomicOutput(const std::string& path) : path_(path) {
   struct stat st {};
   bool replacing = false;
   if (lstat(target_.c_str(), &st) == 0) {
-    if (S_ISDIR(st.st_mode)) throw DataError(path_, "is a directory, not an output file" + via(path_, target_));
-    if (S_ISSOCK(st.st_mode)) throw DataError(path_, "is a socket; canopy cannot write to it" + via(path_, target_));
+    check_type(path_, target_, st.st_mode);
     if (!S_ISREG(st.st_mode)) {
       // FIFO or device: write through it, never replace it. (Opening a FIFO waits for its reader.)
       mode_ = Mode::kWriteThrough;
       fd_ = ::open(target_.c_str(), O_WRONLY | O_NOCTTY | O_CLOEXEC);
       if (fd_ < 0) {
-        throw DataError(path_, std::string("cannot open for writing: ") + std::strerror(errno) + via(path_, target_));
+        throw DataError(path_, std::string("cannot open for writing: ") + std::strerror(errno) +
+                                   via(path_, target_));
       }
       return;
     }

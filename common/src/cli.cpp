@@ -62,7 +62,8 @@ void option_names(const CLI::App* app, std::vector<std::string>* out) {
 std::string closest_option(const std::string& given, const std::vector<std::string>& names) {
   std::string best;
   std::size_t best_d = std::string::npos;
-  const std::string bare = given.substr(given.find_first_not_of('-') == std::string::npos ? 0 : given.find_first_not_of('-'));
+  const std::size_t dashes = given.find_first_not_of('-');
+  const std::string bare = dashes == std::string::npos ? given : given.substr(dashes);
   for (const auto& name : names) {
     const std::string nb = name.substr(name.find_first_not_of('-'));
     const std::size_t d = edit_distance(bare, nb);
@@ -96,7 +97,9 @@ std::string check_integer(const std::string& text, bool is_signed, long long lo,
   if (!is_signed) {
     if (text[0] == '-') return "'" + text + "' is negative; expected a number >= 0";
     const unsigned long long v = std::strtoull(text.c_str(), nullptr, 10);
-    if (errno == ERANGE || v > hi) return "'" + text + "' is out of range (at most " + std::to_string(hi) + ")";
+    if (errno == ERANGE || v > hi) {
+      return "'" + text + "' is out of range (at most " + std::to_string(hi) + ")";
+    }
     return "";
   }
   const long long v = std::strtoll(text.c_str(), nullptr, 10);
@@ -160,7 +163,8 @@ void Tool::without_threads() {
 
 CLI::Option* Tool::add_length(const std::string& flags, double* metres, const std::string& help,
                               double warn_above) {
-  const std::string name = flags.substr(flags.find_last_of(',') == std::string::npos ? 0 : flags.find_last_of(',') + 1);
+  const std::size_t comma = flags.find_last_of(',');
+  const std::string name = comma == std::string::npos ? flags : flags.substr(comma + 1);
   auto* opt = app_.add_option_function<std::string>(
       flags,
       [metres, warn_above, name](const std::string& text) {

@@ -31,7 +31,8 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 std::string make_dir(const std::string& name) {
-  const std::string d = std::string(CANOPY_TEST_TMP) + "/" + name;
+  // Under common/: other test modules own CANOPY_TEST_TMP/<module>/ (tests/cli uses cli/).
+  const std::string d = std::string(CANOPY_TEST_TMP) + "/common/" + name;
   std::string cmd = "rm -rf '" + d + "' && mkdir -p '" + d + "'";
   REQUIRE(std::system(cmd.c_str()) == 0);
   return d;
@@ -331,6 +332,52 @@ TEST_CASE("an output set writes every output or none") {
   }
 }
 
+namespace {
+extern "C" void exit_three(int) { _exit(3); }
+}  // namespace
+
+TEST_CASE("a signal removes pending temporary files, also when the program has its own handler") {
+  const std::string dir = make_dir("signal");
+  const pid_t pid = fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    AtomicOutput first(dir + "/first.pcd");
+    // The program installs its own SIGTERM handler after the first output was created (as a
+    // tool that stops its children would); outputs created later still clean up, then call it.
+    struct sigaction sa {};
+    sa.sa_handler = exit_three;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGTERM, &sa, nullptr);
+    AtomicOutput second(dir + "/second.pcd");
+    if (count_entries(dir) != 2) _exit(10);
+    raise(SIGTERM);
+    _exit(11);
+  }
+  int status = 0;
+  REQUIRE(waitpid(pid, &status, 0) == pid);
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 3);  // the program's handler ran
+  CHECK(count_entries(dir) == 0);   // after both temporary files were removed
+}
+
+TEST_CASE("an ignored signal stays ignored (nohup)") {
+  const std::string dir = make_dir("nohup");
+  const pid_t pid = fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    signal(SIGHUP, SIG_IGN);
+    AtomicOutput out(dir + "/out.pcd");
+    raise(SIGHUP);
+    out.stream() << "done";
+    out.commit();
+    _exit(0);
+  }
+  int status = 0;
+  REQUIRE(waitpid(pid, &status, 0) == pid);
+  CHECK((WIFEXITED(status) && WEXITSTATUS(status) == 0));
+  CHECK(slurp(dir + "/out.pcd") == "done");
+}
+
 TEST_CASE("numbers on the command line are decimal only") {
   CHECK(decimal_prefix("128mm") == 3);
   CHECK(decimal_prefix("-1.5e-3m") == 7);
@@ -394,7 +441,7 @@ int run_tool(std::vector<std::string> args, std::string* err, bool* ran = nullpt
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(&a[0]);
   // stderr captured at the descriptor: errors go through std::cerr, warnings through stdio.
-  const std::string file = std::string(CANOPY_TEST_TMP) + "/run_tool.err";
+  const std::string file = std::string(CANOPY_TEST_TMP) + "/common/run_tool.err";
   std::fflush(stderr);
   const int saved = dup(STDERR_FILENO);
   const int fd = open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);

@@ -92,10 +92,10 @@ class OutputSet {
   std::vector<Entry> entries_;
 };
 
-// Removes every temporary output file not yet committed. Async-signal-safe: a tool that
-// installs its own SIGINT/SIGTERM handler calls it there. (AtomicOutput installs a handler
-// that does this and re-raises for SIGINT, SIGTERM, SIGHUP, SIGPIPE and SIGXFSZ unless the
-// signal is ignored, e.g. SIGHUP under nohup; a handler already installed is called after it.)
+// Removes every temporary output file not yet committed. Async-signal-safe. (Each new
+// temporary file (re)installs a handler that does this for SIGINT, SIGTERM, SIGHUP, SIGPIPE
+// and SIGXFSZ unless the signal is ignored, e.g. SIGHUP under nohup, then calls the handler
+// the program had installed, if any, or re-raises with the default action.)
 void remove_pending_outputs() noexcept;
 
 // Reads a whole file ("-" = stdin) into memory. Throws DataError (missing, directory,

@@ -1,8 +1,9 @@
 // The one command-line wrapper every canopy tool uses (CLI11 underneath).
 //
 // Standard options of every tool: -h/--help, --version, -v/--verbose, -q/--quiet,
-// --config FILE (INI, keys = long option names, unknown keys rejected), --threads N,
-// and --seed N for tools that draw random numbers.
+// --config FILE (INI, keys = long option names, unknown keys rejected), --threads N (removed
+// by without_threads() in tools that do not use threads), and --seed N for tools that draw
+// random numbers.
 //
 //   int main(int argc, char** argv) {
 //     canopy::common::Tool tool("fitvox", "Local surface fits in voxels.");
