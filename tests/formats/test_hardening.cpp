@@ -418,3 +418,14 @@ TEST_CASE("ascii writers store integer columns as the binary writer does (rounde
   CHECK(a.col("u8") == b.col("u8"));
   CHECK(a.col("i32") == b.col("i32"));
 }
+
+TEST_CASE("read_pcd: a long header (many comment lines) across read chunks") {
+  const std::string dir = tmp_dir("long_header");
+  PointCloud c = odd_cloud(10);
+  for (int i = 0; i < 20000; ++i) c.comments.push_back("comment line " + std::to_string(i));  // ~400 KB
+  write_pcd(c, dir + "/h.pcd");
+  const PointCloud back = read_pcd(dir + "/h.pcd");
+  check_equal(c, back);
+  CHECK(back.comments.size() == 20000);
+  CHECK(back.comments.back() == "comment line 19999");
+}
