@@ -429,3 +429,9 @@ TEST_CASE("read_pcd: a long header (many comment lines) across read chunks") {
   CHECK(back.comments.size() == 20000);
   CHECK(back.comments.back() == "comment line 19999");
 }
+
+TEST_CASE("JSON: deeply nested values in messages are described, not dumped") {
+  const std::string deep = std::string(30000, '[') + std::string(30000, ']');
+  CHECK_THAT(graph_error("{\"format\": " + deep + "}", "deep.json"), Contains("format is an array"));
+  CHECK_THAT(graph_error(graph("1", deep), "deep-id.json"), Contains("segment_id must be an integer, not an array"));
+}
