@@ -41,6 +41,14 @@ struct Malformed : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A value for a message: scalars as JSON text (cut, NUL-safe); arrays and objects by kind only
+// (dumping a 30 000-deep nested array would recurse 30 000 frames).
+std::string describe(const Json& j) {
+  if (j.is_array()) return "an array";
+  if (j.is_object()) return "an object";
+  return detail::quote(j.dump(), 40);
+}
+
 // An integer within [lo, hi]; 3.0, 1e20 or "3" are not accepted (they would be cast silently).
 long long int_from(const Json& j, const std::string& what, long long lo = std::numeric_limits<int>::min(),
                    long long hi = std::numeric_limits<int>::max()) {
@@ -52,7 +60,7 @@ long long int_from(const Json& j, const std::string& what, long long lo = std::n
   } else if (j.is_number_integer()) {
     v = j.get<std::int64_t>();
   } else {
-    throw Malformed(what + " must be an integer, not " + j.dump().substr(0, 40));
+    throw Malformed(what + " must be an integer, not " + describe(j));
   }
   if (v < lo || v > hi) {
     throw Malformed(what + " " + j.dump() + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
@@ -66,7 +74,7 @@ int int_at(const Json& obj, const char* key, const std::string& where, long long
 
 double double_at(const Json& obj, const char* key, const std::string& where) {
   const Json& j = obj.at(key);
-  if (!j.is_number()) throw Malformed(where + key + " must be a number, not " + j.dump().substr(0, 40));
+  if (!j.is_number()) throw Malformed(where + key + " must be a number, not " + describe(j));
   const double v = j.get<double>();
   if (!std::isfinite(v)) throw Malformed(where + key + " is not finite");
   return v;
@@ -131,7 +139,7 @@ Json open_document(const std::string& text, const std::string& name, const char*
   }
   if (!j.is_object() || !j.contains("format")) throw DataError(name, "no \"format\" key (not a canopy JSON document)");
   if (!j["format"].is_string() || j["format"].get<std::string>() != format) {
-    throw DataError(name, "format is " + detail::quote(j["format"].dump(), 60) + ", expected \"" + format + "\"");
+    throw DataError(name, "format is " + describe(j["format"]) + ", expected \"" + format + "\"");
   }
   if (!j.contains("version") || !(j["version"].is_number_integer() || j["version"].is_number_unsigned())) {
     throw DataError(name, "no integer \"version\"");

@@ -66,11 +66,13 @@ std::uint64_t to_count(const std::string& text, const std::string& name, const s
 }
 
 // Offset just past the DATA line, or npos when `bytes` holds no complete DATA line yet.
-std::size_t header_end(const std::string& bytes) {
-  std::size_t pos = 0;
+// *from: where to resume scanning (the start of the first incomplete line), so reading a long
+// header in chunks stays linear.
+std::size_t header_end(const std::string& bytes, std::size_t* from) {
+  std::size_t pos = *from;
   while (pos < bytes.size()) {
     const std::size_t eol = bytes.find('\n', pos);
-    if (eol == std::string::npos) return std::string::npos;
+    if (eol == std::string::npos) break;
     std::size_t s = pos;
     while (s < eol && (bytes[s] == ' ' || bytes[s] == '\t')) ++s;
     if (bytes.compare(s, 4, "DATA") == 0 && s + 4 < bytes.size() &&
@@ -79,6 +81,7 @@ std::size_t header_end(const std::string& bytes) {
     }
     pos = eol + 1;
   }
+  *from = pos;
   return std::string::npos;
 }
 
@@ -467,14 +470,14 @@ PointCloud read_pcd(const std::string& path) {
   const auto file_size = static_cast<std::size_t>(st.st_size);
 
   std::string head;
-  std::size_t end = std::string::npos;
+  std::size_t end = std::string::npos, scanned = 0;
   constexpr std::size_t kHeadChunk = 1 << 16;
   while (end == std::string::npos) {
     const std::size_t old = head.size();
     head.resize(old + kHeadChunk);
     const std::size_t got = read_some(fd.fd, &head[old], kHeadChunk, path);
     head.resize(old + got);
-    end = header_end(head);
+    end = header_end(head, &scanned);
     if (got == 0) break;
   }
   if (end == std::string::npos) return parse_pcd(head, path);  // no DATA line: parse_header says why
@@ -483,8 +486,12 @@ PointCloud read_pcd(const std::string& path) {
     const std::size_t old = head.size();
     head.resize(std::max(old, file_size));
     head.resize(old + read_some(fd.fd, &head[old], head.size() - old, path));
-    char extra;
-    while (read_some(fd.fd, &extra, 1, path) == 1) head.push_back(extra);  // file grew meanwhile
+    while (true) {  // the file grew since fstat
+      const std::size_t at = head.size();
+      head.resize(at + kHeadChunk);
+      head.resize(at + read_some(fd.fd, &head[at], kHeadChunk, path));
+      if (head.size() == at) break;
+    }
     if (h.data == "ascii") return parse_body(head, h, path);
     // binary_compressed: the file's bytes are let go before the columns are made.
     PointCloud cloud;

@@ -16,9 +16,14 @@ namespace canopy::formats {
 namespace detail {
 
 std::string format_value(double v, FieldType type) {
-  if (type.kind != 'F') {
+  if (type.kind != 'F') {  // the value the binary writer would store: rounded, clamped
+    double lo = 0, hi = 4294967295.0;
+    if (type.kind == 'U') hi = type.size == 1 ? 255.0 : type.size == 2 ? 65535.0 : hi;
+    else if (type.size == 1) lo = -128, hi = 127;
+    else if (type.size == 2) lo = -32768, hi = 32767;
+    else lo = -2147483648.0, hi = 2147483647.0;
     char buf[32];
-    std::snprintf(buf, sizeof buf, "%.0f", v);
+    std::snprintf(buf, sizeof buf, "%.0f", std::isnan(v) ? 0.0 : std::min(hi, std::max(lo, std::nearbyint(v))));
     return buf;
   }
   char buf[64];

@@ -402,3 +402,36 @@ TEST_CASE("PCD: a header of only padding fields is refused (a cloud without colu
   CHECK_THAT(pcd_error("FIELDS _\nSIZE 1\nTYPE U\nCOUNT 4\nWIDTH 1\nPOINTS 1\nDATA binary\nabcd", "pad.pcd"),
              Contains("only padding fields"));
 }
+
+TEST_CASE("ascii writers store integer columns as the binary writer does (rounded, clamped)") {
+  PointCloud c;
+  c.resize(3);
+  c.add("x") = {0, 1, 2};
+  c.add("u8", kUint8) = {300, -5, 2.6};
+  c.add("i32", kInt32) = {1e300, -1e300, std::nan("")};
+  PcdWriteOptions ascii;
+  ascii.encoding = PcdEncoding::ascii;
+  const PointCloud a = parse_pcd(serialize_pcd(c, ascii), "a.pcd");
+  const PointCloud b = parse_pcd(serialize_pcd(c), "b.pcd");
+  CHECK(a.col("u8") == std::vector<double>{255, 0, 3});
+  CHECK(a.col("i32") == std::vector<double>{2147483647.0, -2147483648.0, 0});
+  CHECK(a.col("u8") == b.col("u8"));
+  CHECK(a.col("i32") == b.col("i32"));
+}
+
+TEST_CASE("read_pcd: a long header (many comment lines) across read chunks") {
+  const std::string dir = tmp_dir("long_header");
+  PointCloud c = odd_cloud(10);
+  for (int i = 0; i < 20000; ++i) c.comments.push_back("comment line " + std::to_string(i));  // ~400 KB
+  write_pcd(c, dir + "/h.pcd");
+  const PointCloud back = read_pcd(dir + "/h.pcd");
+  check_equal(c, back);
+  CHECK(back.comments.size() == 20000);
+  CHECK(back.comments.back() == "comment line 19999");
+}
+
+TEST_CASE("JSON: deeply nested values in messages are described, not dumped") {
+  const std::string deep = std::string(30000, '[') + std::string(30000, ']');
+  CHECK_THAT(graph_error("{\"format\": " + deep + "}", "deep.json"), Contains("format is an array"));
+  CHECK_THAT(graph_error(graph("1", deep), "deep-id.json"), Contains("segment_id must be an integer, not an array"));
+}
