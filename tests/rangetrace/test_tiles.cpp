@@ -93,7 +93,8 @@ TEST_CASE("tile recipes: keys, defaults and bounds, errors name the line") {
   REQUIRE(s.tile->looks.size() == 2);
   CHECK(s.tile->looks[0].azimuth == Approx(90 * kDeg));
   CHECK(s.tile->looks[1].elevation == Approx(90 * kDeg));
-  CHECK(s.tile->trees_per_ha == 450);  // the default forest
+  CHECK(s.tile->trees_per_ha == 600);  // the default forest
+  CHECK(s.tile->hide == 2);
 
   auto fails = [](const std::string& text, const std::string& what) {
     CHECK_THROWS_WITH(parse_scene(text, "bad.scene"),
@@ -123,7 +124,7 @@ TEST_CASE("tile: per-instance labels lie inside each posed footprint and nowhere
   write_text(models / "long.inc", box_model(4.0, 2.0, 1.5));
   write_text(models / "short.inc", box_model(3.0, 1.6, 2.0));
   write_text(dir / "hand.scene",
-             "# two vehicles, one tree, one boulder\nextent = 16m 12m\ntrees = 0\nbushes = 0\n"
+             "# two vehicles, one tree, one boulder\nextent = 16m 12m\ntrees = 0\nbushes = 0\nhide = 0\n"
              "vehicle = my\"models/long.inc 4.5 4 30deg\n"
              "vehicle = my\"models/short.inc 11.5 7.5 -70deg\n"
              "tree = broadleaf 9 2.2 12m\nobject = boulder 3 9.5 0\nflight_lines = 1\n"
@@ -182,7 +183,7 @@ TEST_CASE("tile: canopy cover against an opaque disc of known area") {
   const auto dir = test::fresh_dir("rangetrace", "tile_cover");
   write_text(dir / "box.inc", box_model(4.0, 2.0, 1.5));
   write_text(dir / "cover.scene",
-             "extent = 20m 10m\ntrees = 0\nbushes = 0\nvehicle = box.inc 4 5 0\n"
+             "extent = 20m 10m\ntrees = 0\nbushes = 0\nhide = 0\nvehicle = box.inc 4 5 0\n"
              "vehicle = box.inc 10 5 90deg\nvehicle = box.inc 16 5 45deg\n"
              "canopy_disc = 4.3 5.2 6m 0.8m\ncanopy_disc = 10 5 7m 3m\n"
              "canopy_spacing = 10mm\nspacing = 0.25m\nflight_lines = 1\nheadings = 0\nlooks = 90deg\n");
@@ -201,7 +202,7 @@ TEST_CASE("tile: ground points lie on the slope; vehicles pitch and roll with it
   write_text(dir / "box.inc", box_model(4.0, 2.0, 1.5));
   // Ascent toward azimuth 30 deg; vehicle 1 faces uphill (pitch nose up), vehicle 2 across.
   write_text(dir / "slope.scene",
-             "extent = 24m 16m\nterrain = slope 12deg 30deg\ntrees = 0\nbushes = 0\n"
+             "extent = 24m 16m\nterrain = slope 12deg 30deg\ntrees = 0\nbushes = 0\nhide = 0\n"
              "vehicle = box.inc 6 8 30deg\nvehicle = box.inc 17 8 120deg\nspacing = 0.1m\n"
              "flight_lines = 1\nheadings = 90deg\nlooks = 70deg/0 70deg/180deg\ncanopy_spacing = 0.2m\n");
   const SceneRecipe s = load_scene((dir / "slope.scene").string());
@@ -241,7 +242,7 @@ TEST_CASE("tile: ground points lie on the slope; vehicles pitch and roll with it
 }
 
 TEST_CASE("tile: rolling terrain stays within +-2 m and the ground points lie on it") {
-  SceneRecipe s = parse_scene("extent = 14m\nterrain = rolling 2m 10m\ntrees = 0\nbushes = 0\n"
+  SceneRecipe s = parse_scene("extent = 14m\nterrain = rolling 2m 10m\ntrees = 0\nbushes = 0\nhide = 0\n"
                               "flight_lines = 1\nheadings = 0\nlooks = 80deg/0\nspacing = 0.15m\n"
                               "canopy_spacing = 0.3m\n",
                               "rolling.scene");
@@ -307,7 +308,7 @@ TEST_CASE("rangetrace CLI: bad tile recipes exit 1 naming the line, no output") 
 TEST_CASE("rangetrace CLI: a tile scan with truth.json, georeferenced in float64") {
   const auto dir = test::fresh_dir("rangetrace", "tile_cli");
   write_text(dir / "geo.scene",
-             "extent = 12m 10m\ntrees = 0\nbushes = 0\nvehicle = sedan 6 5 10deg\n"
+             "extent = 12m 10m\ntrees = 0\nbushes = 0\nhide = 0\nvehicle = sedan 6 5 10deg\n"
              "origin = 500000 4400000 120\nflight_lines = 1\nheadings = 0\nlooks = 90deg\n"
              "spacing = 0.1m\ncanopy_spacing = 0.1m\n");
   std::string err;

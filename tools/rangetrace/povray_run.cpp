@@ -287,6 +287,15 @@ void run_povray(const Params& params, const std::string& dir, std::vector<std::s
   }
   std::string msg = povray_message(log);
   for (const auto& [from, to] : renames) msg = replace_all(msg, from, to);
+  // An include that leaves a brace open fails only later, in the generated file: say so.
+  std::string includes;
+  for (const auto& [from, to] : renames) {
+    if (from.rfind("model", 0) == 0) includes += (includes.empty() ? "'" : ", '") + to + "'";
+  }
+  if (!includes.empty() && msg.find("rangetrace's generated") != std::string::npos) {
+    msg += "\n  (the error shows after the include: check " + includes +
+           " for an unclosed { or ( and that it declares Vehicle)";
+  }
   throw Error("POV-Ray failed: " + msg);
 }
 

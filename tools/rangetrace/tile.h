@@ -66,9 +66,10 @@ struct TileRecipe {
   double rolling_amplitude = 2;            // m, heights within +-amplitude (<= 2 m)
   double rolling_wavelength = 20;          // m, typical wavelength of the height field
 
-  double trees_per_ha = 450;               // random trees per hectare
+  double trees_per_ha = 600;               // random trees per hectare
   double conifer_share = 0.4;              // share of random trees that are conifers
   double bushes_per_ha = 500;              // random understory bushes per hectare
+  int hide = 2;                            // trees planted beside each vehicle (concealment)
   std::vector<TreeSpec> trees;             // hand-placed trees
   std::vector<CanopyDisc> discs;           // hand-placed opaque canopy discs
 
@@ -198,6 +199,7 @@ struct Tile {
   std::vector<TriMesh> tree_meshes;          // templates: trees and bushes
   std::vector<PlacedTree> trees;
   double top = 0;                            // highest point of anything (m)
+  double canopy_cover = -1;                  // measured: share of the tile hidden from nadir
 };
 
 // Broadleaf, conifer and bush templates (tree height 1 at scale 1 is not used: templates are

@@ -130,7 +130,7 @@ TriMesh broadleaf_template(std::uint64_t seed, double h) {
   TriMesh m;
   m.limb({0, 0, -0.6}, {0, 0, 0.62 * h}, 0.24, 0.11, 7);
   const Vector3d c(0, 0, 0.66 * h);
-  const double rh = 0.2 * h, rv = 0.3 * h;
+  const double rh = 0.23 * h, rv = 0.3 * h;
   auto on_crown = [&](const Vector3d& d, double f) {
     return Vector3d(c.x() + f * rh * d.x(), c.y() + f * rh * d.y(), c.z() + f * rv * d.z());
   };
@@ -151,12 +151,12 @@ TriMesh broadleaf_template(std::uint64_t seed, double h) {
       twigs.emplace_back(from + 0.3 * (to - from), to);
     }
   }
-  // Leaf clusters along the outer parts of the twigs: ~6000 leaves, circumradius 11 cm.
-  const int clusters = 250;
+  // Leaf clusters along the outer parts of the twigs: 6720 leaves, circumradius 14 cm.
+  const int clusters = 280;
   for (int k = 0; k < clusters; ++k) {
     const auto& [s, e] = twigs[rng.below(twigs.size())];
     const Vector3d centre = s + rng.uniform() * (e - s);
-    for (int l = 0; l < 24; ++l) leaf(&m, rng, centre + 0.45 * in_ball(rng), 0.11);
+    for (int l = 0; l < 24; ++l) leaf(&m, rng, centre + 0.5 * in_ball(rng), 0.14);
   }
   return m;
 }
@@ -165,7 +165,7 @@ TriMesh conifer_template(std::uint64_t seed, double h) {
   common::Rng rng(seed);
   TriMesh m;
   m.limb({0, 0, -0.6}, {0, 0, h}, 0.26, 0.03, 7);
-  const double zb = 0.28 * h, rb = 0.14 * h;
+  const double zb = 0.28 * h, rb = 0.16 * h;
   for (double z = zb; z < h - 0.4; z += 0.5) {
     const double reach = rb * (h - z) / (h - zb) + 0.25;
     const int n = 5 + static_cast<int>(rng.below(3));
@@ -178,7 +178,7 @@ TriMesh conifer_template(std::uint64_t seed, double h) {
       // Needle tufts: thin triangles (30 x 8 cm) around points along the branch.
       for (double t = 0.3; t <= 1.0; t += 0.23) {
         const Vector3d centre = s + t * (e - s);
-        for (int l = 0; l < 10; ++l) leaf(&m, rng, centre + 0.18 * in_ball(rng), 0.15, 0.27);
+        for (int l = 0; l < 10; ++l) leaf(&m, rng, centre + 0.2 * in_ball(rng), 0.18, 0.27);
       }
     }
   }
@@ -681,7 +681,7 @@ Tile build_tile(const TileRecipe& recipe, const std::string& name, const Params&
   }
 
   // Trees: four broadleaf and four conifer templates, three bushes; instances rotated and
-  // scaled by +-15%. Trunks keep 1 m from vehicles and clutter, 1.5 m from each other.
+  // scaled by +-15%. Trunks keep 0.6 m from vehicles and clutter, 1.5 m from each other.
   const std::uint64_t tseed = common::derive_seed(params.seed, "tree-templates");
   for (int k = 0; k < 4; ++k) tile.tree_meshes.push_back(broadleaf_template(common::derive_seed(tseed, "b" + std::to_string(k)), 17));
   for (int k = 0; k < 4; ++k) tile.tree_meshes.push_back(conifer_template(common::derive_seed(tseed, "c" + std::to_string(k)), 20));
@@ -698,6 +698,33 @@ Tile build_tile(const TileRecipe& recipe, const std::string& name, const Params&
     tile.trees.push_back(t);
     trunks.emplace_back(s.x, s.y);
   }
+  // Concealment: `hide` trees beside each vehicle, trunks 0.6-2 m out from its long sides.
+  for (const auto& v : tile.vehicles) {
+    const Vector2d f(std::cos(v.pose.heading), std::sin(v.pose.heading)), l(-f.y(), f.x());
+    for (int k = 0; k < recipe.hide; ++k) {
+      for (int attempt = 0; attempt < 50; ++attempt) {
+        const double side = (k % 2 == 0) ? 1 : -1;
+        const Vector2d p = v.pose.anchor.head<2>() + trng.uniform(-0.45, 0.45) * v.size.x() * f +
+                           side * (v.size.y() / 2 + trng.uniform(0.6, 2.0)) * l;
+        const bool conifer = trng.uniform() < recipe.conifer_share;
+        const int variant = static_cast<int>(trng.below(4));
+        const double rot = trng.uniform(0, 2 * M_PI), scale = trng.uniform(0.85, 1.15);
+        bool clear = p.x() >= 0 && p.y() >= 0 && p.x() <= recipe.extent_x && p.y() <= recipe.extent_y;
+        for (const auto& q : taken) clear = clear && distance_to_quad(p, q) >= 0.6;
+        for (const auto& q : trunks) clear = clear && (q - p).norm() >= 1.5;
+        if (!clear) continue;
+        PlacedTree t;
+        t.conifer = conifer;
+        t.template_index = (conifer ? 4 : 0) + variant;
+        t.base = Vector3d(p.x(), p.y(), terrain.height(p.x(), p.y()));
+        t.rotation = rot;
+        t.scale = scale;
+        tile.trees.push_back(t);
+        trunks.push_back(p);
+        break;
+      }
+    }
+  }
   const double area_ha = recipe.extent_x * recipe.extent_y / 1e4;
   const int n_trees = static_cast<int>(std::lround(recipe.trees_per_ha * area_ha));
   for (int k = 0; k < n_trees; ++k) {
@@ -707,7 +734,7 @@ Tile build_tile(const TileRecipe& recipe, const std::string& name, const Params&
       const int variant = static_cast<int>(trng.below(4));
       const double rot = trng.uniform(0, 2 * M_PI), scale = trng.uniform(0.85, 1.15);
       bool clear = true;
-      for (const auto& q : taken) clear = clear && distance_to_quad(p, q) >= 1.0;
+      for (const auto& q : taken) clear = clear && distance_to_quad(p, q) >= 0.6;
       for (const auto& q : trunks) clear = clear && (q - p).norm() >= 1.5;
       if (!clear) continue;
       PlacedTree t;

@@ -18,7 +18,7 @@ namespace {
 
 const std::set<std::string>& tile_keys() {
   static const std::set<std::string> keys = {
-      "extent", "terrain", "trees", "conifer_share", "bushes", "tree", "canopy_disc",
+      "extent", "terrain", "trees", "hide", "conifer_share", "bushes", "tree", "canopy_disc",
       "vehicle", "vehicles", "object", "clutter", "flight_lines", "headings", "looks",
       "altitude", "spacing", "swath_overlap", "canopy_spacing", "origin"};
   return keys;
@@ -112,6 +112,9 @@ void apply_tile_key(TileRecipe* t, const std::string& key, const std::vector<std
       throw UsageError(key + " per hectare must lie in [0, " + std::to_string(int(max)) + "]");
     }
     (key == "trees" ? t->trees_per_ha : t->bushes_per_ha) = v;
+  } else if (key == "hide") {
+    need(w, 1, 1, "hide = TREES_PER_VEHICLE");
+    t->hide = count(w[0], 8);
   } else if (key == "conifer_share") {
     need(w, 1, 1, "conifer_share = FRACTION");
     t->conifer_share = number(w[0]);

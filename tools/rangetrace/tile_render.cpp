@@ -447,6 +447,10 @@ TileScan run_tile(Tile* tile, const Params& params) {
   {
     const Image16 img = image(0);
     for (auto& v : tile->vehicles) v.canopy_cover = footprint_cover(img, views[0], v.footprint);
+    const TileRecipe& r = tile->recipe;
+    tile->canopy_cover = footprint_cover(img, views[0], {Vector2d(0, 0), Vector2d(r.extent_x, 0),
+                                                         Vector2d(r.extent_x, r.extent_y),
+                                                         Vector2d(0, r.extent_y)});
   }
   TileScan scan;
   formats::PointCloud& cloud = scan.cloud;
@@ -487,8 +491,10 @@ TileScan run_tile(Tile* tile, const Params& params) {
   double cover = 0;
   for (const auto& v : tile->vehicles) cover += v.canopy_cover;
   char summary[200];
-  std::snprintf(summary, sizeof summary, "%zu points, mean canopy cover over vehicles %.2f",
-                cloud.size(), tile->vehicles.empty() ? 0.0 : cover / tile->vehicles.size());
+  std::snprintf(summary, sizeof summary,
+                "%zu points; canopy cover %.2f over the tile, %.2f on average over the vehicles",
+                cloud.size(), tile->canopy_cover,
+                tile->vehicles.empty() ? 0.0 : cover / tile->vehicles.size());
   decode.done(summary);
   return scan;
 }
@@ -551,6 +557,7 @@ std::string truth_json(const Tile& tile, const std::vector<std::pair<std::string
   for (const auto& t : tile.trees) (t.bush ? bushes : t.conifer ? conifer : broadleaf)++;
   j["vegetation"] = {{"broadleaf", broadleaf}, {"conifer", conifer}, {"bushes", bushes},
                      {"discs", r.discs.size()}};
+  j["canopy_cover"] = tile.canopy_cover;
   j["canopy_spacing"] = r.canopy_spacing;
   return j.dump(2) + "\n";
 }
