@@ -340,3 +340,50 @@ TEST_CASE("rangetrace CLI: a tile scan with truth.json, georeferenced in float64
                    dir / "err.txt", &err) == 0);
   CHECK(slurp(dir / "geo.png").substr(1, 3) == "PNG");
 }
+
+TEST_CASE("scene recipes: mutated recipes are refused with an Error, never a crash") {
+  // A cheap deterministic fuzz of the recipe parser (the libFuzzer build does not link the
+  // stage libraries): byte flips, insertions and deletions of every built-in and tile recipe.
+  std::vector<std::string> seeds;
+  for (const char* name : {"circle.scene", "flyby.scene", "unoccluded.scene", "forest.scene"}) {
+    seeds.push_back(slurp(std::filesystem::path(CANOPY_SOURCE_DIR) / "share/scenes" / name));
+  }
+  seeds.push_back("extent = 30m 20m\nterrain = rolling 2m 10m\ntree = conifer 3 4 12m\n"
+                  "canopy_disc = 1 2 3m 1m\nobject = fence 5 5 10deg\norigin = 500000 4400000 7\n"
+                  "vehicle = sedan 10 10 0 units=mm up=y\nlooks = 90deg 60deg/45deg\n");
+  const std::string alphabet = "0123456789 =.-e#\n/abcdefghijklmnopqrstuvwxyz,x\t\"";
+  std::uint64_t state = 12345;
+  auto next = [&]() {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return state >> 33;
+  };
+  int refused = 0, accepted = 0;
+  for (int round = 0; round < 3000; ++round) {
+    std::string text = seeds[next() % seeds.size()];
+    const int edits = 1 + static_cast<int>(next() % 4);
+    for (int e = 0; e < edits && !text.empty(); ++e) {
+      const std::size_t at = next() % text.size();
+      const char c = alphabet[next() % alphabet.size()];
+      switch (next() % 3) {
+        case 0: text[at] = c; break;
+        case 1: text.insert(text.begin() + static_cast<long>(at), c); break;
+        default: text.erase(at, 1 + next() % 8); break;
+      }
+    }
+    try {
+      const SceneRecipe s = parse_scene(text, "mutant.scene");
+      ++accepted;
+      CHECK(s.views.size() <= 10000);
+      CHECK(s.foliage_count <= 100000);
+      if (s.tile) {
+        CHECK(s.tile->extent_x <= 100);
+        CHECK(s.tile->random_vehicles <= 200);
+      }
+    } catch (const common::Error& e) {
+      ++refused;
+      CHECK_THAT(std::string(e.what()), Catch::Contains("mutant.scene"));
+    }
+  }
+  CHECK(refused > 100);
+  CHECK(accepted > 100);
+}
