@@ -122,6 +122,7 @@ int main(int argc, char** argv) {
       }
     }
     if (model.empty()) throw common::UsageError("--model is required (except for tile scenes)");
+    if (!truth.empty()) throw common::UsageError("--truth: only tile scenes write a truth.json");
     rangetrace::MeshImport import;
     import.scale = units == "mm" ? 1e-3 : units == "cm" ? 1e-2 : 1.0;
     import.z_up = up == "z";

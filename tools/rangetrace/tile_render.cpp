@@ -506,6 +506,7 @@ std::string truth_json(const Tile& tile, const std::vector<std::pair<std::string
   const TileRecipe& r = tile.recipe;
   const Vector3d o = r.has_origin ? r.origin : Vector3d::Zero();
   const double deg = 180 / M_PI;
+  auto angle = [&](double rad) { return rad * deg + 0.0; };  // + 0.0: no "-0.0"
   auto xyz = [&](const Vector3d& p) { return ordered_json::array({p.x() + o.x(), p.y() + o.y(), p.z() + o.z()}); };
   auto xy = [&](const Vector2d& p) { return ordered_json::array({p.x() + o.x(), p.y() + o.y()}); };
   ordered_json j;
@@ -532,8 +533,8 @@ std::string truth_json(const Tile& tile, const std::vector<std::pair<std::string
     e["model"] = v.model_name;
     e["line"] = v.line;
     e["pose"] = {{"x", v.pose.anchor.x() + o.x()}, {"y", v.pose.anchor.y() + o.y()},
-                 {"z", v.pose.anchor.z() + o.z()}, {"heading", v.pose.heading * deg},
-                 {"pitch", v.pose.pitch * deg}, {"roll", v.pose.roll * deg}};
+                 {"z", v.pose.anchor.z() + o.z()}, {"heading", angle(v.pose.heading)},
+                 {"pitch", angle(v.pose.pitch)}, {"roll", angle(v.pose.roll)}};
     e["size"] = {v.size.x(), v.size.y(), v.size.z()};
     ordered_json fp = ordered_json::array();
     for (const auto& p : v.footprint) fp.push_back(xy(p));
@@ -548,8 +549,8 @@ std::string truth_json(const Tile& tile, const std::vector<std::pair<std::string
     e["kind"] = c.kind;
     const Vector3d centre = c.pose.anchor + c.pose.r * (c.lo + c.size / 2);
     e["box"] = {{"centre", xyz(centre)}, {"size", {c.size.x(), c.size.y(), c.size.z()}},
-                {"heading", c.pose.heading * deg}, {"pitch", c.pose.pitch * deg},
-                {"roll", c.pose.roll * deg}};
+                {"heading", angle(c.pose.heading)}, {"pitch", angle(c.pose.pitch)},
+                {"roll", angle(c.pose.roll)}};
     clutter.push_back(e);
   }
   j["clutter"] = clutter;
