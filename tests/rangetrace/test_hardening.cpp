@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -151,4 +152,59 @@ TEST_CASE("rangetrace CLI: SIGINT and SIGTERM stop POV-Ray at once and leave no 
     CHECK_FALSE(has_temp_dir(tmpdir));
     CHECK_FALSE(test::exists(out));
   }
+}
+
+TEST_CASE("rangetrace CLI: after SIGKILL, POV-Ray dies too and the next run removes the directory") {
+  const auto dir = test::fresh_dir("rangetrace", "sigkill");
+  const std::string tmpdir = (dir / "tmp").string();
+  std::filesystem::create_directories(tmpdir);
+  // A directory of a live process (this test) and one without an owner stay.
+  std::filesystem::create_directories(dir / "tmp" / "rangetrace-live00");
+  write_text(dir / "tmp" / "rangetrace-live00" / "owner", std::to_string(::getpid()) + "\n");
+  std::filesystem::create_directories(dir / "tmp" / "rangetrace-noown0");
+  const pid_t pid = ::fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    ::setenv("TMPDIR", tmpdir.c_str(), 1);
+    const std::string b = bin();
+    ::execl(b.c_str(), b.c_str(), "-q", "--model", "tank", "--scene", "circle", "--size", "1536",
+            "--spacing", "10mm", "-o", (dir / "scan.pcd").c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  std::vector<pid_t> kids;
+  const auto start = std::chrono::steady_clock::now();
+  while (std::chrono::steady_clock::now() - start < std::chrono::seconds(20)) {
+    kids = children_of(pid);
+    if (kids.size() >= 2) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  REQUIRE(kids.size() >= 1);
+  ::kill(pid, SIGKILL);
+  int status = 0;
+  REQUIRE(::waitpid(pid, &status, 0) == pid);
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  for (const pid_t k : kids) {
+    // The children got SIGKILL when their parent died; reparented, they are reaped by init
+    // (or are zombies of a subreaper): none may still be running.
+    std::ifstream st("/proc/" + std::to_string(k) + "/stat");
+    std::string text;
+    std::getline(st, text);
+    const auto paren = text.rfind(')');
+    const char state = paren == std::string::npos || paren + 2 >= text.size() ? 'X' : text[paren + 2];
+    CHECK((state == 'Z' || state == 'X'));
+  }
+  int stale = 0;
+  for (const auto& e : std::filesystem::directory_iterator(tmpdir)) {
+    const auto n = e.path().filename().string();
+    if (n != "rangetrace-live00" && n != "rangetrace-noown0") ++stale;
+  }
+  CHECK(stale == 1);  // the killed run's directory
+  std::string err;
+  REQUIRE(test::sh("TMPDIR=" + q(tmpdir) + " " + bin() + " --model sedan --scene unoccluded --size 8 -o " +
+                       q(dir / "next.pcd"),
+                   dir / "err.txt", &err) == 0);
+  std::vector<std::string> left;
+  for (const auto& e : std::filesystem::directory_iterator(tmpdir)) left.push_back(e.path().filename().string());
+  std::sort(left.begin(), left.end());
+  CHECK(left == std::vector<std::string>{"rangetrace-live00", "rangetrace-noown0"});
 }

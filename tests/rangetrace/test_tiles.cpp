@@ -387,3 +387,50 @@ TEST_CASE("scene recipes: mutated recipes are refused with an Error, never a cra
   CHECK(refused > 100);
   CHECK(accepted > 100);
 }
+
+TEST_CASE("tile: random vehicles are seeded, inside the tile, apart, and stand on rolling ground") {
+  SceneRecipe s = parse_scene("extent = 50m\nterrain = rolling 2m 15m\n"
+                              "vehicles = random 10 from earthmover,obj1,sedan,semi,tank\n"
+                              "clutter = shed 1 container 2 boulder 3\ntrees = 300\n",
+                              "random.scene");
+  const Tile a = build_tile(*s.tile, "random.scene", small_params(21));
+  const Tile b = build_tile(*s.tile, "random.scene", small_params(21));
+  const Tile c = build_tile(*s.tile, "random.scene", small_params(22));
+  REQUIRE(a.vehicles.size() == 10);
+  REQUIRE(a.objects.size() == 6);
+  const TerrainModel terrain(*s.tile, 21);
+  for (std::size_t i = 0; i < a.vehicles.size(); ++i) {
+    const PlacedVehicle& v = a.vehicles[i];
+    CHECK(v.instance == static_cast<int>(i) + 1);
+    CHECK(v.pose.anchor == b.vehicles[i].pose.anchor);
+    for (const auto& p : v.footprint) {
+      CHECK(p.x() >= 1.0);
+      CHECK(p.y() >= 1.0);
+      CHECK(p.x() <= 49.0);
+      CHECK(p.y() <= 49.0);
+    }
+    // No corner of one footprint inside another (2 m apart by construction).
+    for (std::size_t j = 0; j < a.vehicles.size(); ++j) {
+      if (j == i) continue;
+      for (const auto& p : v.footprint) CHECK_FALSE(in_polygon(p, a.vehicles[j].footprint));
+    }
+    // Standing on the ground: the bottom never below it, and touching it somewhere.
+    double lowest_gap = 1e9;
+    for (int u = -2; u <= 2; ++u) {
+      for (int w = -1; w <= 1; ++w) {
+        const Vector3d q = v.pose.anchor + v.pose.r * Vector3d(u / 2.0 * v.size.x() / 2, w * v.size.y() / 2, 0);
+        const double gap = q.z() - terrain.height(q.x(), q.y());
+        CHECK(gap > -1e-9);
+        lowest_gap = std::min(lowest_gap, gap);
+      }
+    }
+    CHECK(lowest_gap < 1e-9);
+    CHECK(std::abs(v.pose.pitch) < 20 * kDeg);
+  }
+  CHECK(a.vehicles[0].pose.anchor != c.vehicles[0].pose.anchor);
+  // Trunks keep clear of the vehicles.
+  for (const auto& t : a.trees) {
+    if (t.bush) continue;
+    for (const auto& v : a.vehicles) CHECK_FALSE(in_polygon(t.base.head<2>(), v.footprint));
+  }
+}

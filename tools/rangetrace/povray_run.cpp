@@ -147,22 +147,54 @@ std::string absolute(const std::string& path) {
   return path;
 }
 
+// Removes the private directories of rangetrace runs that died without cleaning up (SIGKILL,
+// power loss): those whose "owner" file names a process that no longer exists. Directories
+// of live runs, of other users, and without an owner file are left alone.
+void sweep_stale(const std::string& base) {
+  DIR* d = ::opendir(base.c_str());
+  if (d == nullptr) return;
+  std::vector<std::string> stale;
+  while (dirent* e = ::readdir(d)) {
+    const std::string name = e->d_name;
+    if (name.rfind("rangetrace-", 0) != 0) continue;
+    const std::string dir = base + "/" + name;
+    struct stat st {};
+    if (::lstat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode) || st.st_uid != ::getuid()) continue;
+    std::string owner;
+    try {
+      owner = common::read_file(dir + "/owner");
+    } catch (const Error&) {
+      continue;
+    }
+    const long pid = std::strtol(owner.c_str(), nullptr, 10);
+    if (pid > 0 && ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH) stale.push_back(dir);
+  }
+  ::closedir(d);
+  for (const auto& dir : stale) {
+    remove_dir_signal_safe(dir.c_str());
+    common::log::debug("removed the stale " + dir + " of a run that was killed");
+  }
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------- TempDir
 
 TempDir::TempDir() {
   const char* base = std::getenv("TMPDIR");
-  std::string templ = std::string(base && *base ? base : "/tmp") + "/rangetrace-XXXXXX";
+  const std::string base_dir = base && *base ? base : "/tmp";
+  sweep_stale(base_dir);
+  std::string templ = base_dir + "/rangetrace-XXXXXX";
   std::vector<char> buf(templ.begin(), templ.end());
   buf.push_back('\0');
   if (mkdtemp(buf.data()) == nullptr) {
     throw Error("cannot create a temporary directory in " + templ + ": " + std::strerror(errno));
   }
   path_ = buf.data();
-  // common's atomic writer installs its own handlers on first use: have it do so now, so
-  // that ours (installed next) come first and chain to it.
-  common::write_file_atomic(path_ + "/ready", "");
+  // The owner's pid lets a later run remove the directory if this one is killed (SIGKILL).
+  // Writing it also makes common's atomic writer install its signal handlers now, so that
+  // ours (installed next) come first and chain to it.
+  common::write_file_atomic(path_ + "/owner", std::to_string(::getpid()) + "\n");
   std::call_once(g_install_once, install_handlers);
   if (path_.size() < static_cast<std::size_t>(kMaxPath)) {
     sigset_t old;

@@ -14,7 +14,8 @@ namespace canopy::rangetrace {
 // also when the process is stopped by SIGINT, SIGTERM or SIGHUP (the signal handler kills
 // and reaps the running POV-Ray processes, removes the directory, then lets the signal
 // take its default course). POV-Ray children also die with rangetrace on SIGKILL
-// (PR_SET_PDEATHSIG); only the directory then stays behind.
+// (PR_SET_PDEATHSIG); the directory then stays behind until the next run removes it (its
+// "owner" file names a process that no longer exists).
 class TempDir {
  public:
   TempDir();
