@@ -66,7 +66,7 @@ void remove_dir_signal_safe(const char* path) {
   ::rmdir(path);
 }
 
-extern "C" void kill_children_and_clean(int sig) {
+extern "C" void kill_children_and_clean(int sig, siginfo_t* info, void* context) {
   for (auto& c : g_children) {
     const pid_t pid = c.load();
     if (pid > 0) ::kill(pid, SIGKILL);
@@ -79,22 +79,33 @@ extern "C" void kill_children_and_clean(int sig) {
     if (g_dir_used[i].exchange(false)) remove_dir_signal_safe(g_dirs[i]);
   }
   // Chain to the handler that was there before (common's: removes pending outputs and
-  // re-raises), or die of the signal.
+  // re-raises), in either style, or die of the signal.
   for (int k = 0; k < 3; ++k) {
     if (kSignals[k] != sig) continue;
     const auto& prev = g_previous[k];
-    if (!(prev.sa_flags & SA_SIGINFO) && prev.sa_handler != SIG_DFL && prev.sa_handler != SIG_IGN) {
+    if ((prev.sa_flags & SA_SIGINFO) != 0 && prev.sa_sigaction != nullptr) {
+      prev.sa_sigaction(sig, info, context);
+    } else if ((prev.sa_flags & SA_SIGINFO) == 0 && prev.sa_handler != SIG_DFL &&
+               prev.sa_handler != SIG_IGN && prev.sa_handler != nullptr) {
       prev.sa_handler(sig);
     }
   }
-  ::signal(sig, SIG_DFL);
+  struct sigaction dfl {};
+  dfl.sa_handler = SIG_DFL;
+  sigemptyset(&dfl.sa_mask);
+  sigaction(sig, &dfl, nullptr);
+  sigset_t unblock;
+  sigemptyset(&unblock);
+  sigaddset(&unblock, sig);
+  pthread_sigmask(SIG_UNBLOCK, &unblock, nullptr);
   ::raise(sig);
 }
 
 void install_handlers() {
   for (int k = 0; k < 3; ++k) {
     struct sigaction sa {};
-    sa.sa_handler = kill_children_and_clean;
+    sa.sa_sigaction = kill_children_and_clean;
+    sa.sa_flags = SA_SIGINFO;
     sigemptyset(&sa.sa_mask);
     for (int s : kSignals) sigaddset(&sa.sa_mask, s);
     sigaction(kSignals[k], &sa, &g_previous[k]);
