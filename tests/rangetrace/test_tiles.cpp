@@ -94,7 +94,7 @@ TEST_CASE("tile recipes: keys, defaults and bounds, errors name the line") {
   CHECK(s.tile->looks[0].azimuth == Approx(90 * kDeg));
   CHECK(s.tile->looks[1].elevation == Approx(90 * kDeg));
   CHECK(s.tile->trees_per_ha == 600);  // the default forest
-  CHECK(s.tile->hide == 2);
+  CHECK(s.tile->hide == -1);  // 2 with trees, 0 with `trees = 0`
 
   auto fails = [](const std::string& text, const std::string& what) {
     CHECK_THROWS_WITH(parse_scene(text, "bad.scene"),
@@ -333,7 +333,8 @@ TEST_CASE("rangetrace CLI: a tile scan with truth.json, georeferenced in float64
   const std::string truth = slurp(dir / "truth.json");
   CHECK_THAT(truth, Catch::Contains("\"format\": \"canopy.scene_truth\"") &&
                         Catch::Contains("\"model\": \"sedan\"") &&
-                        Catch::Contains("\"canopy_cover\": 0.0") && Catch::Contains("500006"));
+                        Catch::Contains("\"canopy_cover\": 0.0") && Catch::Contains("500006") &&
+                        Catch::Contains("\"view_idx\": 0") && Catch::Contains("\"elevation\": 90.0"));
   // The picture from above, with the footprints drawn.
   REQUIRE(test::sh(bin + " --scene " + (dir / "geo.scene").string() + " --size 64 --picture " +
                        (dir / "geo.png").string(),

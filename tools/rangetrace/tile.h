@@ -69,7 +69,7 @@ struct TileRecipe {
   double trees_per_ha = 600;               // random trees per hectare
   double conifer_share = 0.4;              // share of random trees that are conifers
   double bushes_per_ha = 500;              // random understory bushes per hectare
-  int hide = 2;                            // trees planted beside each vehicle (concealment)
+  int hide = -1;  // trees planted beside each vehicle (concealment); -1: 2 if trees > 0, else 0
   std::vector<TreeSpec> trees;             // hand-placed trees
   std::vector<CanopyDisc> discs;           // hand-placed opaque canopy discs
 

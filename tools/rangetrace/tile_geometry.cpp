@@ -699,9 +699,10 @@ Tile build_tile(const TileRecipe& recipe, const std::string& name, const Params&
     trunks.emplace_back(s.x, s.y);
   }
   // Concealment: `hide` trees beside each vehicle, trunks 0.6-2 m out from its long sides.
+  const int hide = recipe.hide >= 0 ? recipe.hide : recipe.trees_per_ha > 0 ? 2 : 0;
   for (const auto& v : tile.vehicles) {
     const Vector2d f(std::cos(v.pose.heading), std::sin(v.pose.heading)), l(-f.y(), f.x());
-    for (int k = 0; k < recipe.hide; ++k) {
+    for (int k = 0; k < hide; ++k) {
       for (int attempt = 0; attempt < 50; ++attempt) {
         const double side = (k % 2 == 0) ? 1 : -1;
         const Vector2d p = v.pose.anchor.head<2>() + trng.uniform(-0.45, 0.45) * v.size.x() * f +

@@ -560,6 +560,19 @@ std::string truth_json(const Tile& tile, const std::vector<std::pair<std::string
                      {"discs", r.discs.size()}};
   j["canopy_cover"] = tile.canopy_cover;
   j["canopy_spacing"] = r.canopy_spacing;
+  // The images in view_idx order: which pass (heading, flight line) and look each is.
+  ordered_json images = ordered_json::array();
+  const std::vector<TileView> views = tile_views(tile);
+  for (std::size_t k = 0; k < views.size(); ++k) {
+    const TileView& v = views[k];
+    const Look& look = r.looks[v.look_idx];
+    images.push_back({{"view_idx", k}, {"heading", angle(r.headings[v.heading_idx])},
+                      {"flight_line", v.line}, {"elevation", angle(look.elevation)},
+                      {"azimuth", angle(look.azimuth)},
+                      {"toward_sensor", {v.toward.x(), v.toward.y(), v.toward.z()}},
+                      {"swath_area", v.strip_area}});
+  }
+  j["images"] = images;
   return j.dump(2) + "\n";
 }
 
