@@ -1,5 +1,6 @@
-// Running POV-Ray: a private temporary directory (Debian's povray.conf allows reads and writes
-// in "." and /tmp; includes come through +L), parallel processes over the views, decoding.
+// Single-vehicle scans: a private temporary directory (Debian's povray.conf allows reads and
+// writes in "." and /tmp; includes come through +L), parallel processes over the views,
+// decoding.
 #include <dirent.h>
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -18,6 +19,7 @@
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
+#include "rangetrace/povray_run.h"
 #include "rangetrace/rangetrace.h"
 
 namespace canopy::rangetrace {
@@ -26,151 +28,42 @@ using common::Error;
 
 namespace {
 
-// A private directory under $TMPDIR (or /tmp), removed with its files on destruction.
-class TempDir {
- public:
-  TempDir() {
-    const char* base = std::getenv("TMPDIR");
-    std::string templ = std::string(base && *base ? base : "/tmp") + "/rangetrace-XXXXXX";
-    std::vector<char> buf(templ.begin(), templ.end());
-    buf.push_back('\0');
-    if (mkdtemp(buf.data()) == nullptr) {
-      throw Error("cannot create a temporary directory in " + templ + ": " + std::strerror(errno));
-    }
-    path_ = buf.data();
-  }
-  ~TempDir() {
-    for (const auto& f : files()) ::unlink((path_ + "/" + f).c_str());
-    ::rmdir(path_.c_str());
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const std::string& path() const { return path_; }
-  std::vector<std::string> files() const {
-    std::vector<std::string> out;
-    if (DIR* d = ::opendir(path_.c_str())) {
-      while (dirent* e = ::readdir(d)) {
-        const std::string n = e->d_name;
-        if (n != "." && n != "..") out.push_back(n);
-      }
-      ::closedir(d);
-    }
-    std::sort(out.begin(), out.end());
-    return out;
-  }
-
- private:
-  std::string path_;
-};
-
-// POV-Ray's own error lines from its console log: from the first line that mentions an error,
-// with its 80-column wrapping undone.
-std::string povray_message(const std::string& log) {
-  std::istringstream in(log);
-  std::vector<std::string> lines;
-  for (std::string l; std::getline(in, l);) lines.push_back(l);
-  std::size_t first = lines.size();
-  for (std::size_t i = 0; i < lines.size(); ++i) {
-    if (lines[i].find("Error") != std::string::npos || lines[i].find("error") != std::string::npos) {
-      first = i;
-      break;
-    }
-  }
-  if (first == lines.size()) first = lines.size() > 8 ? lines.size() - 8 : 0;
-  // A wrapped line continues with a leading space: start at the beginning of the message.
-  while (first > 0 && lines[first].rfind(' ', 0) == 0) --first;
-  std::string msg;
-  for (std::size_t i = first; i < lines.size(); ++i) {
-    if (lines[i].find_first_not_of(' ') == std::string::npos) continue;
-    if (!msg.empty()) msg += lines[i].rfind(' ', 0) == 0 ? "" : "\n  ";
-    msg += lines[i];
-  }
-  return msg;
+// The model as seen from the private directory (its include staged under a safe name).
+Model staged_model(const Model& model, const Staged& st) {
+  Model m = model;
+  m.include_dir.clear();
+  m.include_file.clear();
+  m.inline_code = st.include_code[0];
+  return m;
 }
 
-// Runs povray with `args` in directory `dir`, console output to `log_name` there.
-// Throws Error with POV-Ray's message when it fails.
-void run_povray(const Params& params, const std::string& dir, std::vector<std::string> args,
-                const std::string& log_name) {
-  args.insert(args.begin(), params.povray);
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  const std::string log_path = dir + "/" + log_name;
-  const pid_t pid = ::fork();
-  if (pid < 0) throw Error(std::string("cannot start POV-Ray: fork: ") + std::strerror(errno));
-  if (pid == 0) {
-    // Child: only async-signal-safe calls until exec.
-    const int fd = ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
-    const int null_fd = ::open("/dev/null", O_RDONLY);
-    if (fd < 0 || null_fd < 0 || ::chdir(dir.c_str()) != 0) ::_exit(126);
-    ::dup2(null_fd, 0);
-    ::dup2(fd, 1);
-    ::dup2(fd, 2);
-    ::execvp(argv[0], argv.data());
-    ::_exit(127);
-  }
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) throw Error(std::string("waitpid: ") + std::strerror(errno));
-  }
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return;
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 127) {
-    throw Error("cannot run POV-Ray '" + params.povray + "' (is the Debian package povray installed?)");
-  }
-  std::string log;
-  try {
-    log = common::read_file(log_path);
-  } catch (const Error&) {
-  }
-  throw Error("POV-Ray failed: " + povray_message(log));
-}
-
-std::vector<std::string> common_args(const Model& model) {
+std::vector<std::string> common_args(const Staged& st) {
   std::vector<std::string> args = {"-D", "-P", "-V", "+WT1"};
-  if (!model.include_dir.empty()) args.push_back("+L" + model.include_dir);
+  args.insert(args.end(), st.args.begin(), st.args.end());
   return args;
 }
 
-// The model's bounding box (world frame) from POV-Ray's min_extent/max_extent.
-std::pair<Eigen::Vector3d, Eigen::Vector3d> model_extent(const Model& model, const Params& params,
-                                                         const TempDir& tmp) {
-  std::string pov = "#version 3.7;\n";
-  pov += model.include_dir.empty() ? model.inline_code : "#include \"" + model.include_file + "\"\n";
-  pov += "#ifndef (Vehicle)\n#error \"the model does not declare Vehicle\"\n#end\n";
-  pov += "#fopen ExtentFile \"extent.txt\" write\n";
-  pov += "#write (ExtentFile, vstr(3, min_extent(Vehicle), \" \", 0, 9), \" \", "
-         "vstr(3, max_extent(Vehicle), \" \", 0, 9), \"\\n\")\n#fclose ExtentFile\n";
-  common::write_file_atomic(tmp.path() + "/extent.pov", pov);
-  auto args = common_args(model);
-  args.insert(args.end(), {"+W1", "+H1", "-F", "+Iextent.pov"});
-  run_povray(params, tmp.path(), args, "extent.log");
-  std::istringstream in(common::read_file(tmp.path() + "/extent.txt"));
-  Eigen::Vector3d lo, hi;
-  if (!(in >> lo.x() >> lo.y() >> lo.z() >> hi.x() >> hi.y() >> hi.z())) {
-    throw Error("cannot read the model's extent from POV-Ray");
-  }
-  if (!(lo.array() < hi.array()).all() || lo.cwiseAbs().maxCoeff() > 1e5 ||
-      hi.cwiseAbs().maxCoeff() > 1e5) {
-    throw Error("model '" + model.name + "': Vehicle is empty, flat or unbounded (extent " +
-                std::to_string(lo.x()) + ".." + std::to_string(hi.x()) + ")");
-  }
-  // pov_frame is a permutation of axes, so it maps the box corners to the box corners.
-  return {pov_frame(lo), pov_frame(hi)};
+std::vector<std::pair<std::string, std::string>> scene_renames(const Staged& st,
+                                                               const std::string& pov) {
+  auto renames = st.renames;
+  renames.emplace_back(pov, "rangetrace's generated " + pov + " (after the model's include)");
+  return renames;
 }
 
 }  // namespace
 
 std::pair<Eigen::Vector3d, Eigen::Vector3d> model_bounds(const Model& model, const Params& params) {
   TempDir tmp;
-  return model_extent(model, params, tmp);
+  return models_extent({model}, params, tmp)[0];
 }
 
 formats::PointCloud run(const Model& model, const SceneRecipe& scene, const Params& params) {
   if (params.size < 1 || !(params.spacing > 0)) throw common::UsageError("--size and --spacing must be > 0");
   TempDir tmp;
   common::log::Phase prep("model");
-  const auto [lo, hi] = model_extent(model, params, tmp);
+  const auto [lo, hi] = models_extent({model}, params, tmp)[0];
+  warn_model_size(model, hi - lo, &params);
+  const Staged st = stage_models({model}, tmp);
   const Placement placement = place(lo, hi, params.pose);
   const Encoding enc = encoding_for(placement, params);
   const std::vector<Disc> foliage = make_foliage(scene, params.pose, placement.top, params.seed);
@@ -181,7 +74,8 @@ formats::PointCloud run(const Model& model, const SceneRecipe& scene, const Para
 
   common::log::Phase render("render");
   common::write_file_atomic(tmp.path() + "/scene.pov",
-                            scene_pov(model, placement, enc, scene.views, foliage, params));
+                            scene_pov(staged_model(model, st), placement, enc, scene.views, foliage,
+                                      params));
   const int views = static_cast<int>(scene.views.size());
   const int workers = std::max(1, std::min(params.threads, views));
   std::vector<std::string> errors(workers);
@@ -190,7 +84,7 @@ formats::PointCloud run(const Model& model, const SceneRecipe& scene, const Para
     // Contiguous blocks of views; frames 2k (coordinates) and 2k+1 (labels) of view k.
     const int first = views * w / workers, last = views * (w + 1) / workers - 1;
     pool.emplace_back([&, w, first, last] {
-      auto args = common_args(model);
+      auto args = common_args(st);
       const std::string size = std::to_string(params.size);
       args.insert(args.end(), {"+W" + size, "+H" + size, "-A", "+FP16", "File_Gamma=1.0",
                                "+Iscene.pov", "+Of.ppm", "+KFI0",
@@ -198,7 +92,8 @@ formats::PointCloud run(const Model& model, const SceneRecipe& scene, const Para
                                "+KF" + std::to_string(2 * views - 1),
                                "+SF" + std::to_string(2 * first), "+EF" + std::to_string(2 * last + 1)});
       try {
-        run_povray(params, tmp.path(), args, "render" + std::to_string(w) + ".log");
+        run_povray(params, tmp.path(), args, "render" + std::to_string(w) + ".log",
+                   scene_renames(st, "scene.pov"));
       } catch (const std::exception& e) {
         errors[w] = e.what();
       }
@@ -253,7 +148,9 @@ formats::PointCloud run(const Model& model, const SceneRecipe& scene, const Para
 std::string render_picture(const Model& model, const SceneRecipe* scene, int view_idx,
                            const Params& params) {
   TempDir tmp;
-  const auto [lo, hi] = model_extent(model, params, tmp);
+  const auto [lo, hi] = models_extent({model}, params, tmp)[0];
+  warn_model_size(model, hi - lo, nullptr);
+  const Staged st = stage_models({model}, tmp);
   const Placement placement = place(lo, hi, params.pose);
   std::vector<View> views = {View{0, 75 * M_PI / 180}};
   std::vector<Disc> foliage;
@@ -266,13 +163,14 @@ std::string render_picture(const Model& model, const SceneRecipe* scene, int vie
     foliage = make_foliage(*scene, params.pose, placement.top, params.seed);
   }
   common::write_file_atomic(tmp.path() + "/picture.pov",
-                            scene_pov(model, placement, encoding_for(placement, params), views,
+                            scene_pov(staged_model(model, st), placement,
+                                      encoding_for(placement, params), views,
                                       foliage, params, scene != nullptr ? 1 : 2));
-  auto args = common_args(model);
+  auto args = common_args(st);
   const std::string size = std::to_string(params.size);
   args.insert(args.end(), {"+W" + size, "+H" + size, "+A0.05", "+R3", "+FN8", "+Ipicture.pov",
                            "+Opicture.png", "+WT" + std::to_string(std::max(1, params.threads))});
-  run_povray(params, tmp.path(), args, "picture.log");
+  run_povray(params, tmp.path(), args, "picture.log", scene_renames(st, "picture.pov"));
   return common::read_file(tmp.path() + "/picture.png");
 }
 

@@ -14,6 +14,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -21,6 +22,8 @@
 #include "canopy/formats/point_cloud.h"
 
 namespace canopy::rangetrace {
+
+struct TileRecipe;  // tile.h
 
 // The one conversion between the world frame (right-handed, z up) and POV-Ray's frame
 // (left-handed, y up): it swaps y and z, which also flips handedness. It is its own inverse.
@@ -46,7 +49,10 @@ struct View {
 //   views = dodecahedron             the vertices of a dodecahedron with one face up that
 //                                    lie above the ground (10)
 //   view = AZIMUTH ELEVATION         one explicit view
-// `views`/`view` lines append in file order.
+// `views`/`view` lines append in file order. Counts are bounded (views <= 1000 per line and
+// 10000 in all, foliage_count <= 100000) with errors naming the line.
+// A recipe using any tile key (tile.h, share/scenes/README.md) is a tile: `tile` is set and
+// the single-vehicle keys above are refused.
 struct SceneRecipe {
   std::string name;
   int foliage_count = 0;
@@ -54,6 +60,7 @@ struct SceneRecipe {
   double foliage_band = 2.0;     // m, height of the band above the vehicle's top
   double foliage_square = 12.2;  // m, side of the square, centred on the vehicle
   std::vector<View> views;
+  std::shared_ptr<TileRecipe> tile;  // set for tile recipes
 };
 
 // Parses a recipe; `name` is used in errors ("<name>: line 3: ...") and as the scene name.

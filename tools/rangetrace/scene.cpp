@@ -8,6 +8,7 @@
 #include "canopy/common/rng.h"
 #include "canopy/common/units.h"
 #include "rangetrace/rangetrace.h"
+#include "rangetrace/tile.h"
 
 namespace canopy::rangetrace {
 
@@ -96,6 +97,8 @@ SceneRecipe parse_scene(const std::string& text, const std::string& name) {
   auto fail = [&](const std::string& why) {
     throw DataError(name, "line " + std::to_string(line_no) + ": " + why);
   };
+  int single_line = 0;  // first single-vehicle key (foliage_*, views, view)
+  int tile_line = 0;    // first tile key
   while (std::getline(in, line)) {
     ++line_no;
     const auto hash = line.find('#');
@@ -110,19 +113,39 @@ SceneRecipe parse_scene(const std::string& text, const std::string& name) {
     for (std::string w; value >> w;) words.push_back(w);
     if (words.empty()) fail("key '" + key + "' has no value");
     try {
-      auto number = [&](std::size_t i) {
+      auto number = [&](std::size_t i, int max) {
         if (i >= words.size()) fail("'" + key + "' needs more values");
         std::size_t used = 0;
-        const int n = std::stoi(words[i], &used);
+        const long n = std::stol(words[i], &used);
         if (used != words[i].size() || n < 1) fail("'" + words[i] + "' is not a count >= 1");
-        return n;
+        if (n > max) fail("'" + key + "': " + words[i] + " exceeds the limit of " + std::to_string(max));
+        return static_cast<int>(n);
       };
+      if (is_tile_key(key)) {
+        if (!scene.tile) scene.tile = std::make_shared<TileRecipe>();
+        if (tile_line == 0) tile_line = line_no;
+        if (single_line != 0) {
+          fail("'" + key + "' is a tile key, but line " + std::to_string(single_line) +
+               " holds a single-vehicle key (foliage_*, views, view): use one kind of recipe");
+        }
+        apply_tile_key(scene.tile.get(), key, words, line_no);
+        continue;
+      }
+      if (key != "foliage_count" && key != "foliage_radius" && key != "foliage_band" &&
+          key != "foliage_square" && key != "views" && key != "view") {
+        fail("unknown key '" + key + "'");
+      }
+      if (single_line == 0) single_line = line_no;
+      if (tile_line != 0) {
+        fail("'" + key + "' is a single-vehicle key, but line " +
+             std::to_string(tile_line) + " made this a tile recipe");
+      }
       auto angle = [&](std::size_t i) {
         if (i >= words.size()) fail("'" + key + "' needs more values");
         return common::parse_angle(words[i]);
       };
       if (key == "foliage_count") {
-        scene.foliage_count = words[0] == "0" ? 0 : number(0);
+        scene.foliage_count = words[0] == "0" ? 0 : number(0, 100000);
       } else if (key == "foliage_radius") {
         scene.foliage_radius = common::parse_length(words[0]);
       } else if (key == "foliage_band") {
@@ -132,16 +155,18 @@ SceneRecipe parse_scene(const std::string& text, const std::string& name) {
       } else if (key == "views") {
         std::vector<View> add;
         if (words[0] == "circle" && words.size() == 3) {
-          add = circle_views(number(1), angle(2));
+          add = circle_views(number(1, 1000), angle(2));
         } else if (words[0] == "flyby" && words.size() == 4) {
-          add = flyby_views(number(1), angle(2), angle(3));
+          add = flyby_views(number(1, 1000), angle(2), angle(3));
         } else if (words[0] == "dodecahedron" && words.size() == 1) {
           add = dodecahedron_views();
         } else {
           fail("views: expected 'circle N ELEV', 'flyby N ELEV START' or 'dodecahedron'");
         }
+        if (scene.views.size() + add.size() > 10000) fail("more than 10000 views");
         scene.views.insert(scene.views.end(), add.begin(), add.end());
       } else if (key == "view") {
+        if (scene.views.size() >= 10000) fail("more than 10000 views");
         if (words.size() != 2) fail("view: expected 'AZIMUTH ELEVATION'");
         scene.views.push_back({angle(0), angle(1)});
       } else {
@@ -152,6 +177,10 @@ SceneRecipe parse_scene(const std::string& text, const std::string& name) {
     } catch (const std::logic_error&) {
       fail("malformed value in '" + line + "'");
     }
+  }
+  if (scene.tile) {
+    check_tile(*scene.tile, name);
+    return scene;
   }
   for (const auto& v : scene.views) {
     if (!(v.elevation > 0 && v.elevation < M_PI / 2)) {
@@ -174,7 +203,12 @@ SceneRecipe load_scene(const std::string& name_or_path) {
       return s;
     }
   }
-  return parse_scene(common::read_file(name_or_path), name_or_path);
+  SceneRecipe s = parse_scene(common::read_file(name_or_path), name_or_path);
+  if (s.tile) {
+    const auto slash = name_or_path.find_last_of('/');
+    s.tile->dir = slash == std::string::npos ? "" : name_or_path.substr(0, slash + 1);
+  }
+  return s;
 }
 
 std::vector<Disc> make_foliage(const SceneRecipe& scene, const Pose& pose, double top,

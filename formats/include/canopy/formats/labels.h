@@ -10,6 +10,7 @@ enum Label : std::uint32_t {
   kLabelTarget = 1,   // the vehicle
   kLabelFoliage = 2,  // leaves (discs)
   kLabelGround = 3,   // the ground plane
+  kLabelClutter = 4,  // objects that are not vehicles (rangetrace tiles: boulders, sheds, ...)
 };
 
 inline const char* label_name(std::uint32_t label) {
@@ -17,6 +18,7 @@ inline const char* label_name(std::uint32_t label) {
     case kLabelTarget: return "target";
     case kLabelFoliage: return "foliage";
     case kLabelGround: return "ground";
+    case kLabelClutter: return "clutter";
     default: return "unknown";
   }
 }

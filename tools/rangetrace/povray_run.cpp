@@ -1,0 +1,405 @@
+// Running POV-Ray: the private directory, signal cleanup, staged includes, child processes.
+#include "rangetrace/povray_run.h"
+
+#include <dirent.h>
+#include <fcntl.h>
+#include <limits.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/stat.h>
+#include <sys/syscall.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <mutex>
+#include <sstream>
+
+#include "canopy/common/atomic_file.h"
+#include "canopy/common/error.h"
+#include "canopy/common/log.h"
+
+namespace canopy::rangetrace {
+
+using common::Error;
+
+namespace {
+
+// ---------------------------------------------------------------- signal cleanup
+// Fixed storage so the handler touches only async-signal-safe memory and calls.
+constexpr int kMaxChildren = 64;
+constexpr int kMaxDirs = 8;
+constexpr int kMaxPath = 4096;
+std::atomic<pid_t> g_children[kMaxChildren];
+char g_dirs[kMaxDirs][kMaxPath];
+std::atomic<bool> g_dir_used[kMaxDirs];
+struct sigaction g_previous[3];
+const int kSignals[3] = {SIGINT, SIGTERM, SIGHUP};
+std::once_flag g_install_once;
+
+// Removes the files of a flat directory, then the directory (getdents64: no malloc).
+void remove_dir_signal_safe(const char* path) {
+  const int fd = ::open(path, O_RDONLY | O_DIRECTORY);
+  if (fd >= 0) {
+    alignas(8) char buf[4096];
+    for (;;) {
+      const long n = ::syscall(SYS_getdents64, fd, buf, sizeof buf);
+      if (n <= 0) break;
+      for (long off = 0; off < n;) {
+        const char* rec = buf + off;
+        unsigned short reclen;
+        std::memcpy(&reclen, rec + 16, sizeof reclen);
+        const char* name = rec + 19;
+        if (!(name[0] == '.' && (name[1] == 0 || (name[1] == '.' && name[2] == 0)))) {
+          ::unlinkat(fd, name, 0);
+        }
+        off += reclen;
+      }
+    }
+    ::close(fd);
+  }
+  ::rmdir(path);
+}
+
+extern "C" void kill_children_and_clean(int sig, siginfo_t* info, void* context) {
+  for (auto& c : g_children) {
+    const pid_t pid = c.load();
+    if (pid > 0) ::kill(pid, SIGKILL);
+  }
+  for (auto& c : g_children) {
+    const pid_t pid = c.exchange(0);
+    if (pid > 0) ::waitpid(pid, nullptr, 0);
+  }
+  for (int i = 0; i < kMaxDirs; ++i) {
+    if (g_dir_used[i].exchange(false)) remove_dir_signal_safe(g_dirs[i]);
+  }
+  // Chain to the handler that was there before (common's: removes pending outputs and
+  // re-raises), in either style, or die of the signal.
+  for (int k = 0; k < 3; ++k) {
+    if (kSignals[k] != sig) continue;
+    const auto& prev = g_previous[k];
+    if ((prev.sa_flags & SA_SIGINFO) != 0 && prev.sa_sigaction != nullptr) {
+      prev.sa_sigaction(sig, info, context);
+    } else if ((prev.sa_flags & SA_SIGINFO) == 0 && prev.sa_handler != SIG_DFL &&
+               prev.sa_handler != SIG_IGN && prev.sa_handler != nullptr) {
+      prev.sa_handler(sig);
+    }
+  }
+  struct sigaction dfl {};
+  dfl.sa_handler = SIG_DFL;
+  sigemptyset(&dfl.sa_mask);
+  sigaction(sig, &dfl, nullptr);
+  sigset_t unblock;
+  sigemptyset(&unblock);
+  sigaddset(&unblock, sig);
+  pthread_sigmask(SIG_UNBLOCK, &unblock, nullptr);
+  ::raise(sig);
+}
+
+void install_handlers() {
+  for (int k = 0; k < 3; ++k) {
+    struct sigaction sa {};
+    sa.sa_sigaction = kill_children_and_clean;
+    sa.sa_flags = SA_SIGINFO;
+    sigemptyset(&sa.sa_mask);
+    for (int s : kSignals) sigaddset(&sa.sa_mask, s);
+    sigaction(kSignals[k], &sa, &g_previous[k]);
+  }
+}
+
+void block_signals(sigset_t* old) {
+  sigset_t set;
+  sigemptyset(&set);
+  for (int s : kSignals) sigaddset(&set, s);
+  pthread_sigmask(SIG_BLOCK, &set, old);
+}
+
+// POV-Ray's own error lines from its console log: from the first line that mentions an error,
+// with its 80-column wrapping undone.
+std::string povray_message(const std::string& log) {
+  std::istringstream in(log);
+  std::vector<std::string> lines;
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  std::size_t first = lines.size();
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    if (lines[i].find("Error") != std::string::npos || lines[i].find("error") != std::string::npos) {
+      first = i;
+      break;
+    }
+  }
+  if (first == lines.size()) first = lines.size() > 8 ? lines.size() - 8 : 0;
+  // A wrapped line continues with a leading space: start at the beginning of the message.
+  while (first > 0 && lines[first].rfind(' ', 0) == 0) --first;
+  std::string msg;
+  for (std::size_t i = first; i < lines.size(); ++i) {
+    if (lines[i].find_first_not_of(' ') == std::string::npos) continue;
+    if (!msg.empty()) msg += lines[i].rfind(' ', 0) == 0 ? "" : "\n  ";
+    msg += lines[i];
+  }
+  return msg;
+}
+
+std::string replace_all(std::string s, const std::string& from, const std::string& to) {
+  if (from.empty()) return s;
+  for (std::size_t pos = 0; (pos = s.find(from, pos)) != std::string::npos; pos += to.size()) {
+    s.replace(pos, from.size(), to);
+  }
+  return s;
+}
+
+std::string absolute(const std::string& path) {
+  char buf[PATH_MAX];
+  if (::realpath(path.c_str(), buf) != nullptr) return buf;
+  return path;
+}
+
+// Removes the private directories of rangetrace runs that died without cleaning up (SIGKILL,
+// power loss): those whose "owner" file names a process that no longer exists. Directories
+// of live runs, of other users, and without an owner file are left alone.
+void sweep_stale(const std::string& base) {
+  DIR* d = ::opendir(base.c_str());
+  if (d == nullptr) return;
+  std::vector<std::string> stale;
+  while (dirent* e = ::readdir(d)) {
+    const std::string name = e->d_name;
+    if (name.rfind("rangetrace-", 0) != 0) continue;
+    const std::string dir = base + "/" + name;
+    struct stat st {};
+    if (::lstat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode) || st.st_uid != ::getuid()) continue;
+    std::string owner;
+    try {
+      owner = common::read_file(dir + "/owner");
+    } catch (const Error&) {
+      continue;
+    }
+    const long pid = std::strtol(owner.c_str(), nullptr, 10);
+    if (pid > 0 && ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH) stale.push_back(dir);
+  }
+  ::closedir(d);
+  for (const auto& dir : stale) {
+    remove_dir_signal_safe(dir.c_str());
+    common::log::debug("removed the stale " + dir + " of a run that was killed");
+  }
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- TempDir
+
+TempDir::TempDir() {
+  const char* base = std::getenv("TMPDIR");
+  const std::string base_dir = base && *base ? base : "/tmp";
+  sweep_stale(base_dir);
+  std::string templ = base_dir + "/rangetrace-XXXXXX";
+  std::vector<char> buf(templ.begin(), templ.end());
+  buf.push_back('\0');
+  if (mkdtemp(buf.data()) == nullptr) {
+    throw Error("cannot create a temporary directory in " + templ + ": " + std::strerror(errno));
+  }
+  path_ = buf.data();
+  // The owner's pid lets a later run remove the directory if this one is killed (SIGKILL).
+  // Writing it also makes common's atomic writer install its signal handlers now, so that
+  // ours (installed next) come first and chain to it.
+  common::write_file_atomic(path_ + "/owner", std::to_string(::getpid()) + "\n");
+  std::call_once(g_install_once, install_handlers);
+  if (path_.size() < static_cast<std::size_t>(kMaxPath)) {
+    sigset_t old;
+    block_signals(&old);
+    for (int i = 0; i < kMaxDirs; ++i) {
+      if (!g_dir_used[i].load()) {
+        std::memcpy(g_dirs[i], path_.c_str(), path_.size() + 1);
+        g_dir_used[i].store(true);
+        slot_ = i;
+        break;
+      }
+    }
+    pthread_sigmask(SIG_SETMASK, &old, nullptr);
+  }
+}
+
+TempDir::~TempDir() {
+  sigset_t old;
+  block_signals(&old);
+  if (slot_ >= 0) g_dir_used[slot_].store(false);
+  for (const auto& f : files()) ::unlink((path_ + "/" + f).c_str());
+  ::rmdir(path_.c_str());
+  pthread_sigmask(SIG_SETMASK, &old, nullptr);
+}
+
+std::vector<std::string> TempDir::files() const {
+  std::vector<std::string> out;
+  if (DIR* d = ::opendir(path_.c_str())) {
+    while (dirent* e = ::readdir(d)) {
+      const std::string n = e->d_name;
+      if (n != "." && n != "..") out.push_back(n);
+    }
+    ::closedir(d);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// ---------------------------------------------------------------- staging and running
+
+Staged stage_models(const std::vector<Model>& models, const TempDir& tmp) {
+  Staged st;
+  for (std::size_t k = 0; k < models.size(); ++k) {
+    const Model& m = models[k];
+    if (m.include_dir.empty()) {
+      st.include_code.push_back(m.inline_code);
+      continue;
+    }
+    const std::string dir = absolute(m.include_dir);
+    const std::string file = dir + "/" + m.include_file;
+    const std::string link_dir = "inc" + std::to_string(k);
+    const std::string link_file = "model" + std::to_string(k) + ".inc";
+    ::unlink((tmp.path() + "/" + link_dir).c_str());  // staged before (extents)
+    ::unlink((tmp.path() + "/" + link_file).c_str());
+    if (::symlink(dir.c_str(), (tmp.path() + "/" + link_dir).c_str()) != 0 ||
+        ::symlink(file.c_str(), (tmp.path() + "/" + link_file).c_str()) != 0) {
+      throw Error("cannot link '" + file + "' into " + tmp.path() + ": " + std::strerror(errno));
+    }
+    st.include_code.push_back("#include \"" + link_file + "\"\n");
+    st.args.push_back("+L" + link_dir);
+    st.renames.emplace_back(link_file, file);
+    st.renames.emplace_back(link_dir + "/", dir + "/");
+  }
+  return st;
+}
+
+void run_povray(const Params& params, const std::string& dir, std::vector<std::string> args,
+                const std::string& log_name,
+                const std::vector<std::pair<std::string, std::string>>& renames) {
+  args.insert(args.begin(), params.povray);
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const std::string log_path = dir + "/" + log_name;
+  // Signals stay blocked from fork until the child's pid is registered, so the cleanup handler
+  // always knows every child; the child restores the mask before exec.
+  sigset_t old;
+  block_signals(&old);
+  const pid_t parent = ::getpid();
+  const pid_t pid = ::fork();
+  if (pid < 0) {
+    pthread_sigmask(SIG_SETMASK, &old, nullptr);
+    throw Error(std::string("cannot start POV-Ray: fork: ") + std::strerror(errno));
+  }
+  if (pid == 0) {
+    // Child: only async-signal-safe calls until exec. It dies with rangetrace (even SIGKILL).
+    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (::getppid() != parent) ::_exit(126);
+    for (int s : kSignals) ::signal(s, SIG_DFL);
+    pthread_sigmask(SIG_SETMASK, &old, nullptr);
+    const int fd = ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    const int null_fd = ::open("/dev/null", O_RDONLY);
+    if (fd < 0 || null_fd < 0 || ::chdir(dir.c_str()) != 0) ::_exit(126);
+    ::dup2(null_fd, 0);
+    ::dup2(fd, 1);
+    ::dup2(fd, 2);
+    ::execvp(argv[0], argv.data());
+    ::_exit(127);
+  }
+  int slot = -1;
+  for (int i = 0; i < kMaxChildren && slot < 0; ++i) {
+    pid_t expected = 0;
+    if (g_children[i].compare_exchange_strong(expected, pid)) slot = i;
+  }
+  pthread_sigmask(SIG_SETMASK, &old, nullptr);
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0) {
+    if (errno != EINTR) {
+      if (slot >= 0) g_children[slot].store(0);
+      throw Error(std::string("waitpid: ") + std::strerror(errno));
+    }
+  }
+  if (slot >= 0) g_children[slot].store(0);
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return;
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 127) {
+    throw Error("cannot run POV-Ray '" + params.povray + "' (is the Debian package povray installed?)");
+  }
+  std::string log;
+  try {
+    log = common::read_file(log_path);
+  } catch (const Error&) {
+  }
+  std::string msg = povray_message(log);
+  for (const auto& [from, to] : renames) msg = replace_all(msg, from, to);
+  // An include that leaves a brace open fails only later, in the generated file: say so.
+  std::string includes;
+  for (const auto& [from, to] : renames) {
+    if (from.rfind("model", 0) == 0) includes += (includes.empty() ? "'" : ", '") + to + "'";
+  }
+  if (!includes.empty() && msg.find("rangetrace's generated") != std::string::npos) {
+    msg += "\n  (the error shows after the include: check " + includes +
+           " for an unclosed { or ( and that it declares Vehicle)";
+  }
+  throw Error("POV-Ray failed: " + msg);
+}
+
+std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> models_extent(
+    const std::vector<Model>& models, const Params& params, const TempDir& tmp) {
+  const Staged st = stage_models(models, tmp);
+  std::string pov = "#version 3.7;\nglobal_settings { assumed_gamma 1.0 }\n";
+  pov += "#fopen ExtentFile \"extent.txt\" write\n";
+  for (std::size_t k = 0; k < models.size(); ++k) {
+    std::string name = models[k].name;
+    for (char& c : name) {
+      if (c == '"' || c == '\\' || static_cast<unsigned char>(c) < 32) c = '_';
+    }
+    pov += "#ifdef (Vehicle) #undef Vehicle #end\n";
+    pov += st.include_code[k];
+    pov += "#ifndef (Vehicle)\n#error \"the model " + name + " does not declare Vehicle\"\n#end\n";
+    pov += "#write (ExtentFile, vstr(3, min_extent(Vehicle), \" \", 0, 9), \" \", "
+           "vstr(3, max_extent(Vehicle), \" \", 0, 9), \"\\n\")\n";
+  }
+  pov += "#fclose ExtentFile\n";
+  common::write_file_atomic(tmp.path() + "/extent.pov", pov);
+  std::vector<std::string> args = {"-D", "-P", "-V", "+WT1"};
+  args.insert(args.end(), st.args.begin(), st.args.end());
+  args.insert(args.end(), {"+W1", "+H1", "-F", "+Iextent.pov"});
+  auto renames = st.renames;
+  renames.emplace_back("extent.pov", "rangetrace's generated extent.pov (after the model's include)");
+  run_povray(params, tmp.path(), args, "extent.log", renames);
+  std::istringstream in(common::read_file(tmp.path() + "/extent.txt"));
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> out;
+  for (const Model& model : models) {
+    Eigen::Vector3d lo, hi;
+    if (!(in >> lo.x() >> lo.y() >> lo.z() >> hi.x() >> hi.y() >> hi.z())) {
+      throw Error("cannot read the model's extent from POV-Ray");
+    }
+    if (!(lo.array() < hi.array()).all() || lo.cwiseAbs().maxCoeff() > 1e5 ||
+        hi.cwiseAbs().maxCoeff() > 1e5) {
+      throw Error("model '" + model.name + "': Vehicle is empty, flat or unbounded (extent " +
+                  std::to_string(lo.x()) + ".." + std::to_string(hi.x()) + ")");
+    }
+    // pov_frame is a permutation of axes, so it maps the box corners to the box corners.
+    out.emplace_back(pov_frame(lo), pov_frame(hi));
+  }
+  return out;
+}
+
+void warn_model_size(const Model& model, const Eigen::Vector3d& size, const Params* crop) {
+  char dims[128];
+  std::snprintf(dims, sizeof dims, "%.3g x %.3g x %.3g m", size.x(), size.y(), size.z());
+  const std::string units = crop ? "--units mm" : "units=mm on its vehicle line";
+  if (size.maxCoeff() > 30) {
+    common::log::warn("model '" + model.name + "' is " + dims +
+                      ", longer than 30 m for a vehicle: did you forget " + units + "?");
+  } else if (crop && (size.x() > crop->crop_length || size.y() > crop->crop_width ||
+                      size.z() > crop->crop_height)) {
+    char box[96];
+    std::snprintf(box, sizeof box, "%.3g x %.3g x %.3g m", crop->crop_length, crop->crop_width,
+                  crop->crop_height);
+    common::log::warn("model '" + model.name + "' is " + dims + ", larger than the crop box (" +
+                      box + "; points outside it are dropped): did you forget " + units +
+                      " or --crop-*?");
+  }
+}
+
+}  // namespace canopy::rangetrace

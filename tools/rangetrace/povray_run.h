@@ -1,0 +1,57 @@
+// Internal: running POV-Ray in a private temporary directory (povray.cpp). Shared by the
+// single-vehicle scenes and the tiles.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "rangetrace/rangetrace.h"
+
+namespace canopy::rangetrace {
+
+// A private directory under $TMPDIR (or /tmp), removed with its files on destruction and
+// also when the process is stopped by SIGINT, SIGTERM or SIGHUP (the signal handler kills
+// and reaps the running POV-Ray processes, removes the directory, then lets the signal
+// take its default course). POV-Ray children also die with rangetrace on SIGKILL
+// (PR_SET_PDEATHSIG); the directory then stays behind until the next run removes it (its
+// "owner" file names a process that no longer exists).
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::string& path() const { return path_; }
+  std::vector<std::string> files() const;
+
+ private:
+  std::string path_;
+  int slot_ = -1;
+};
+
+// Models made reachable to POV-Ray from the private directory under safe names: include k
+// is the symbolic link "model<k>.inc" (to the user's file) and its directory the link
+// "inc<k>" (passed as +Linc<k>), so spaces or quotes in the user's paths never reach the
+// command line or an #include string. POV-Ray messages are mapped back to the real paths.
+struct Staged {
+  std::vector<std::string> include_code;  // per model: POV-Ray code declaring Vehicle
+  std::vector<std::string> args;          // +L options
+  std::vector<std::pair<std::string, std::string>> renames;  // staged name -> real path
+};
+Staged stage_models(const std::vector<Model>& models, const TempDir& tmp);
+
+// Runs povray with `args` in directory `dir`, console output to `log_name` there. Throws
+// Error with POV-Ray's own message (staged names replaced by the real ones) when it fails.
+void run_povray(const Params& params, const std::string& dir, std::vector<std::string> args,
+                const std::string& log_name,
+                const std::vector<std::pair<std::string, std::string>>& renames = {});
+
+// Bounding boxes (world frame) of several models from one POV-Ray parse run.
+std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> models_extent(
+    const std::vector<Model>& models, const Params& params, const TempDir& tmp);
+
+// Warns (before any rendering) when a model is implausibly large for a vehicle.
+void warn_model_size(const Model& model, const Eigen::Vector3d& size, const Params* crop);
+
+}  // namespace canopy::rangetrace

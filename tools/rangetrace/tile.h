@@ -1,0 +1,268 @@
+// rangetrace tiles: a forest tile with terrain, trees, bushes, clutter and any number of
+// vehicles, scanned along flight lines (issue 13; share/scenes/README.md documents the keys).
+//
+// Tile frame: right-handed, z up, metres; the tile is [0, extent_x] x [0, extent_y] and the
+// terrain passes through z = 0 at the tile centre. With `origin = E N H` every output
+// coordinate is shifted by (E, N, H) (written as float64).
+//
+// Rendering differs from the single-vehicle scenes (which keep their two-pass coding so the
+// thesis scans stay byte-identical): one frame per image; every pixel's ray is known from the
+// orthographic camera, so red + green carry the depth along the ray (coarse + fine, 32 bits)
+// and blue the class and vehicle instance.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "canopy/formats/point_cloud.h"
+#include "rangetrace/rangetrace.h"
+
+namespace canopy::rangetrace {
+
+// ---------------------------------------------------------------- recipe
+
+struct VehicleSpec {
+  std::string model;  // built-in name or a path (resolved against the recipe's directory)
+  double x = 0, y = 0, heading = 0;
+  MeshImport import;
+  int line = 0;       // recipe line (errors name it)
+};
+
+struct ObjectSpec {
+  std::string kind;   // boulder, shed, container, fence, logs
+  double x = 0, y = 0, heading = 0;
+  int line = 0;
+};
+
+struct TreeSpec {
+  bool conifer = false;
+  double x = 0, y = 0, height = 16;
+  int line = 0;
+};
+
+// A horizontal opaque disc labelled vegetation (an analytic canopy for tests and checks).
+struct CanopyDisc {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  double radius = 1;
+};
+
+struct Look {
+  double elevation = 75 * M_PI / 180;  // rad, (0, 90 deg]
+  double azimuth = 0;  // rad: direction toward the sensor, relative to the flight heading
+};
+
+enum class Terrain { kFlat, kSlope, kRolling };
+
+struct TileRecipe {
+  double extent_x = 40, extent_y = 40;     // m, each in [5, 100]
+  Terrain terrain = Terrain::kFlat;
+  double slope = 0;                        // rad, <= 15 deg
+  double slope_azimuth = 0;                // rad, direction of steepest ascent
+  double rolling_amplitude = 2;            // m, heights within +-amplitude (<= 2 m)
+  double rolling_wavelength = 20;          // m, typical wavelength of the height field
+
+  double trees_per_ha = 600;               // random trees per hectare
+  double conifer_share = 0.4;              // share of random trees that are conifers
+  double bushes_per_ha = 500;              // random understory bushes per hectare
+  int hide = -1;  // trees planted beside each vehicle (concealment); -1: 2 if trees > 0, else 0
+  std::vector<TreeSpec> trees;             // hand-placed trees
+  std::vector<CanopyDisc> discs;           // hand-placed opaque canopy discs
+
+  std::vector<VehicleSpec> vehicles;       // hand-placed
+  int random_vehicles = 0;                 // `vehicles = random N from a,b`
+  std::vector<std::string> random_models;
+  int random_line = 0;
+
+  std::vector<ObjectSpec> objects;         // hand-placed clutter
+  std::vector<std::pair<std::string, int>> clutter;  // kind -> random count
+  std::vector<int> clutter_lines;
+
+  int flight_lines = 2;
+  std::vector<double> headings = {0, M_PI / 2};  // rad, flight directions (from +x, ccw)
+  std::vector<Look> looks = {{75 * M_PI / 180, 0}, {75 * M_PI / 180, M_PI}};
+  double altitude = 300;                   // m above the tile centre's ground
+  double spacing = 0.08;                   // m, pixel spacing perpendicular to the rays
+  double swath_overlap = 0.2;              // extra swath width, share of the line spacing
+  double canopy_spacing = 0.05;            // m, pixel spacing of the nadir canopy image
+
+  bool has_origin = false;
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // easting, northing, height
+
+  std::string dir;                         // the recipe's directory ("" = current)
+};
+
+// Keys that make a recipe a tile recipe.
+bool is_tile_key(const std::string& key);
+// Applies one tile key (words = the value split at blanks); throws common::UsageError with a
+// message (the caller adds the file and line).
+void apply_tile_key(TileRecipe* tile, const std::string& key, const std::vector<std::string>& words,
+                    int line);
+// Checks ranges after the whole recipe is read (throws DataError naming `name`).
+void check_tile(const TileRecipe& tile, const std::string& name);
+
+// ---------------------------------------------------------------- geometry
+
+enum class Class : std::uint32_t { kGround = 0, kVegetation = 1, kClutter = 2, kVehicle = 3 };
+
+// A triangle mesh in a local frame (world axes, metres).
+struct TriMesh {
+  std::vector<Eigen::Vector3d> v;
+  std::vector<std::array<int, 3>> f;
+  void box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi);
+  // Tapered n-gon prism from a (radius ra) to b (radius rb).
+  void limb(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double ra, double rb, int sides);
+  void triangle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c);
+  void append(const TriMesh& other);
+};
+
+// The terrain: height and its piecewise-linear mesh (rolling) or plane (flat, slope).
+class TerrainModel {
+ public:
+  TerrainModel(const TileRecipe& tile, std::uint64_t seed);
+  double height(double x, double y) const;
+  Eigen::Vector3d normal(double x, double y) const;  // of the plane; of the triangle (rolling)
+  double lo() const { return lo_; }
+  double hi() const { return hi_; }
+  // POV-Ray code of the ground object (no texture).
+  std::string pov() const;
+  bool planar() const { return planar_; }
+
+ private:
+  bool planar_ = true;
+  Eigen::Vector3d plane_n_ = Eigen::Vector3d::UnitZ();
+  double cx_ = 0, cy_ = 0;  // tile centre
+  double x0_ = 0, y0_ = 0, step_ = 1;
+  int nx_ = 0, ny_ = 0;
+  std::vector<double> h_;   // rolling: (nx_+1) x (ny_+1) grid heights
+  double lo_ = 0, hi_ = 0;
+  double grid(int i, int j) const;
+};
+
+// Pose of a rigid object standing on the terrain: rotation R (columns: forward, left, up),
+// translation of its anchor (bottom centre of its bounding box) and the Tait-Bryan angles
+// R = Rz(heading) Ry(pitch) Rx(roll).
+struct Posed {
+  Eigen::Matrix3d r = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d anchor = Eigen::Vector3d::Zero();
+  double heading = 0, pitch = 0, roll = 0;
+  Eigen::Affine3d transform() const;  // local (anchor at origin) -> tile
+};
+// Stands a box of half-length hl and half-width hw (local x, y) on the terrain at (x, y) with
+// `heading`: its up axis follows the plane through the ground under its four corners, raised
+// so that no corner is below the ground.
+Posed stand_on(const TerrainModel& terrain, double x, double y, double heading, double hl,
+               double hw);
+
+struct PlacedVehicle {
+  int instance = 0;         // 1-based
+  std::string model_name;
+  int model_index = 0;      // into Tile::models
+  Eigen::Vector3d size;     // bounding box L x W x H
+  Eigen::Vector3d model_lo; // bounding box as declared by the model (tile axes)
+  Posed pose;
+  std::array<Eigen::Vector2d, 4> footprint;  // top view, counter-clockwise
+  double canopy_cover = -1;  // measured
+  int line = 0;
+};
+
+struct PlacedObject {
+  std::string kind;
+  int template_index = 0;   // into Tile::object_meshes
+  Eigen::Vector3d size;     // local box
+  Eigen::Vector3d lo;       // its low corner (local; the anchor is the local origin)
+  Posed pose;
+};
+
+struct PlacedTree {
+  int template_index = 0;   // into Tile::tree_meshes
+  Eigen::Vector3d base;     // trunk base on the ground
+  double rotation = 0;      // about z
+  double scale = 1;
+  bool bush = false;
+  bool conifer = false;
+};
+
+struct Tile {
+  TileRecipe recipe;
+  std::string name;
+  std::uint64_t seed = 1;
+  std::vector<Model> models;                 // distinct vehicle models
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> model_bounds;  // per model
+  std::vector<PlacedVehicle> vehicles;
+  std::vector<TriMesh> object_meshes;
+  std::vector<PlacedObject> objects;
+  std::vector<TriMesh> tree_meshes;          // templates: trees and bushes
+  std::vector<PlacedTree> trees;
+  double top = 0;                            // highest point of anything (m)
+  double canopy_cover = -1;                  // measured: share of the tile hidden from nadir
+};
+
+// Broadleaf, conifer and bush templates (tree height 1 at scale 1 is not used: templates are
+// full-size, `scale` varies them by +-15%).
+TriMesh broadleaf_template(std::uint64_t seed, double height);
+TriMesh conifer_template(std::uint64_t seed, double height);
+TriMesh bush_template(std::uint64_t seed, double radius);
+TriMesh clutter_mesh(const std::string& kind, std::uint64_t seed);
+extern const char* const kClutterKinds[5];
+
+// POV-Ray text of a mesh as `#declare <name> = mesh2 {...}` (tile axes -> POV-Ray frame).
+std::string mesh_declare(const std::string& name, const TriMesh& mesh);
+
+// Loads the recipe's vehicle models (extents from one POV-Ray parse run) and places
+// everything; throws DataError naming the recipe line for vehicles outside the tile,
+// overlapping vehicles and unreadable model files.
+Tile build_tile(const TileRecipe& recipe, const std::string& name, const Params& params);
+
+// ---------------------------------------------------------------- rendering
+
+// One image: an orthographic camera; pixel (i, j) (column, row from the top) shoots from
+// origin + ((i + .5)/W - .5) right + (.5 - (j + .5)/H) up along -toward.
+struct TileView {
+  Eigen::Vector3d toward;   // unit, from the scene toward the sensor
+  Eigen::Vector3d origin;   // image-plane centre
+  Eigen::Vector3d right, up;  // unit
+  int width = 0, height = 0;
+  double spacing = 0;
+  double depth_lo = 0, depth_span = 0;  // depth along the ray is coded over lo + [0, span]
+  // Points are kept inside this strip (tile coordinates): |(p - strip_centre) . across| <= half.
+  Eigen::Vector2d strip_centre, strip_across;
+  double strip_half = 0;
+  int line = 0, heading_idx = 0, look_idx = 0;  // the pass and look it belongs to
+  double strip_area = 0;    // m^2 of the strip inside the tile
+};
+std::vector<TileView> tile_views(const Tile& tile);
+// The nadir view over the whole tile used to measure canopy cover.
+TileView canopy_view(const Tile& tile);
+
+struct TileScan {
+  formats::PointCloud cloud;
+  std::vector<std::size_t> points_per_view;
+  std::vector<double> area_per_view;
+};
+// Renders every view and the canopy image; fills the vehicles' canopy_cover.
+TileScan run_tile(Tile* tile, const Params& params);
+// truth.json text.
+std::string truth_json(const Tile& tile, const std::vector<std::pair<std::string, std::string>>& params);
+// Shaded nadir picture of the tile with vehicle footprints (red) and clutter boxes (yellow).
+std::string render_tile_picture(const Tile& tile, const Params& params);
+
+// Decodes one depth/label frame into points (tile frame) with class and instance.
+struct TileHits {
+  std::vector<Eigen::Vector3d> p;
+  std::vector<std::uint32_t> cls;
+  std::vector<std::int32_t> instance;
+  std::vector<std::size_t> pixel;
+};
+void decode_tile_view(const Image16& img, const TileView& view, TileHits* out);
+// Fraction of the footprint polygon's pixels (centres inside) whose first hit from nadir is
+// vegetation; `img` is the rendered nadir view.
+double footprint_cover(const Image16& img, const TileView& view,
+                       const std::array<Eigen::Vector2d, 4>& footprint);
+bool in_polygon(const Eigen::Vector2d& p, const std::array<Eigen::Vector2d, 4>& poly);
+
+}  // namespace canopy::rangetrace
