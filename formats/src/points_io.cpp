@@ -145,6 +145,8 @@ PointCloud read_points(const std::string& path, const std::string& tool) {
 }
 
 PointFormat output_format(const std::string& path) {
+  // "-" and a name without an extension (a FIFO such as /dev/fd/63 from `-o >(…)`, a device,
+  // a plain `-o out`) get the default format, PCD, like stdout.
   if (path == "-") return PointFormat::kPcd;
   const std::size_t slash = path.find_last_of('/');
   const std::size_t dot = path.find_last_of('.');
@@ -153,7 +155,7 @@ PointFormat output_format(const std::string& path) {
     ext = path.substr(dot + 1);
     for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   }
-  if (ext == "pcd") return PointFormat::kPcd;
+  if (ext.empty() || ext == "pcd") return PointFormat::kPcd;
   if (ext == "ply") return PointFormat::kPly;
   if (ext == "las") return PointFormat::kLas;
   if (ext == "laz") {
@@ -161,7 +163,7 @@ PointFormat output_format(const std::string& path) {
                              "write .las and compress it elsewhere (laszip, pdal translate)");
   }
   throw common::UsageError("output '" + path + "': " +
-                           (ext.empty() ? std::string("no extension") : "unknown extension '." + ext + "'") +
+                           "unknown extension '." + ext + "'" +
                            "; the point formats are .pcd, .ply and .las (or - for PCD on stdout)");
 }
 

@@ -185,8 +185,11 @@ TEST_CASE("tools: wrong formats are named, unknown output extensions are usage e
   CHECK(sh(bin("fitvox") + " -q -i " + (d / "scan.pcd").string() + " -o " + (d / "samples.txt").string(), err, &e) == 2);
   CHECK(e.find("unknown extension '.txt'") != std::string::npos);
   CHECK_FALSE(fs::exists(d / "samples.txt"));
-  CHECK(sh(bin("addnoise") + " -q -i " + (d / "scan.pcd").string() + " -o " + (d / "noisy").string(), err, &e) == 2);
-  CHECK(e.find("no extension") != std::string::npos);
+  CHECK(sh(bin("addnoise") + " -q -i " + (d / "scan.pcd").string() + " -o " + (d / "noisy.xyz").string(), err, &e) == 2);
+  CHECK(e.find("unknown extension '.xyz'") != std::string::npos);
+  // No extension: PCD, the default (FIFOs and devices have none).
+  REQUIRE(run(bin("addnoise") + " -q -i " + (d / "scan.pcd").string() + " -o " + (d / "noisy").string()) == 0);
+  CHECK(read_points((d / "noisy").string()).size() == read_points((d / "scan.pcd").string()).size());
   // -o samples.ply writes PLY (it wrote PCD before).
   REQUIRE(run(bin("fitvox") + " -q -i " + (d / "scan.pcd").string() + " -o " + (d / "fitvox_samples.ply").string()) == 0);
   const Mesh m = read_ply((d / "fitvox_samples.ply").string());
