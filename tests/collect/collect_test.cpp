@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "canopy/formats/pcd.h"
 #include "collect/collect.h"
@@ -232,4 +233,34 @@ TEST_CASE("collect: a missing or bad verdict is named, nothing is written") {
         R"({"format":"canopy.candidates","version":1,"candidates":[{"id":"../x","transform":[],"length":1,"width":1}]})");
   CHECK(test::sh(cmd, dir / "err.txt", &err) == 1);
   CHECK_THAT(err, Catch::Contains("not a plain name"));
+}
+
+TEST_CASE("collect --plan: candidate ids and transforms as make variables") {
+  const fs::path dir = tile("plan");
+  std::string err;
+  REQUIRE(test::sh(bin() + " -q -i " + (dir / "cands" / "index.json").string() + " --plan " +
+                       (dir / "cands.mk").string(),
+                   dir / "err.txt", &err) == 0);
+  std::ifstream f((dir / "cands.mk").string());
+  std::stringstream ss;
+  ss << f.rdbuf();
+  const std::string mk = ss.str();
+  CHECK_THAT(mk, Catch::Contains("\nTILE_CANDS := c0001 c0002 c0003\n"));
+  // The transform round-trips exactly (17 significant digits).
+  const std::string key = "\nTILE_TRANSFORM_c0001 := ";
+  const auto at = mk.find(key);
+  REQUIRE(at != std::string::npos);
+  std::stringstream line(mk.substr(at + key.size(), mk.find('\n', at + 1) - at - key.size()));
+  std::vector<double> v;
+  for (std::string item; std::getline(line, item, ',');) v.push_back(std::stod(item));
+  REQUIRE(v.size() == 16);
+  CHECK(v[0] == 1);
+  CHECK(v[3] == E + 10);
+  CHECK(v[7] == N + 10);
+  CHECK(v[11] == 100);
+  CHECK(v[15] == 1);
+  CHECK_THAT(mk, Catch::Contains("\nTILE_TRANSFORM_c0003 := "));
+  CHECK(test::sh(bin() + " -q -i " + (dir / "cands" / "index.json").string() + " --plan " +
+                     (dir / "cands.mk").string() + " -o " + (dir / "d.json").string(),
+                 dir / "err.txt", &err) == 2);
 }

@@ -64,4 +64,9 @@ struct Output {
 Output collect(const Index& index, const std::vector<Verdict>& verdicts, const Params& params,
                const nlohmann::ordered_json& provenance);
 
+// The make plan of a tile: the candidate ids and each one's candidate-to-tile transform (16
+// comma-separated numbers, row-major, as verify --transform takes them), as make variables
+// TILE_CANDS and TILE_TRANSFORM_<id> (mk/scenes.mk). Ids are plain names (parse_index).
+std::string plan(const Index& index);
+
 }  // namespace canopy::collect

@@ -50,9 +50,11 @@ int main(int argc, char** argv) {
                                "per candidate -> detections.json (canopy.detections v1) and a GeoJSON of the "
                                "detections' footprints in the tile's coordinates.");
   tool.without_threads();
-  std::string in, out = "-", verdicts, name = "verdict.json", geojson, crs, modelbase;
+  std::string in, out = "-", plan, verdicts, name = "verdict.json", geojson, crs, modelbase;
   tool.add_input(&in, "candidates index.json (canopy.candidates v1)");
   tool.add_output(&out, "detections.json");
+  tool.add_output("--plan", &plan, "instead: write the make plan of the candidates (ids and transforms, "
+                                   "mk/scenes.mk) and stop; needs no verdicts");
   tool.add("--verdicts", &verdicts, "directory holding <id>/<verdict-name> per candidate (default: the index's directory)");
   tool.add("--verdict-name", &name, "file name of each candidate's verdict");
   tool.add_output("--geojson", &geojson, "also write the detections as a GeoJSON FeatureCollection");
@@ -64,6 +66,14 @@ int main(int argc, char** argv) {
     if (in.empty() || in == "-") throw common::UsageError("-i must name the candidates index.json");
     if (!crs.empty() && !std::regex_match(crs, std::regex("EPSG:[0-9]{1,6}"))) {
       throw common::UsageError("--crs must be EPSG:<code>, e.g. EPSG:32633");
+    }
+    if (!plan.empty()) {
+      if (out != "-" || !geojson.empty()) throw common::UsageError("--plan is alone: no -o or --geojson with it");
+      common::check_output(plan);
+      const collect::Index index = collect::parse_index(common::read_file(in), in);
+      common::write_file_atomic(plan, collect::plan(index));
+      common::log::info(std::to_string(index.candidates.size()) + " candidates planned");
+      return;
     }
     if (name.empty() || name.find('/') != std::string::npos) throw common::UsageError("--verdict-name must be a file name");
     common::OutputSet outputs;
