@@ -198,6 +198,23 @@ TEST_CASE("collect: the GeoJSON parses back, rings are closed and counter-clockw
   CHECK(g2["crs"]["properties"]["name"] == "urn:ogc:def:crs:EPSG::25832");
 }
 
+TEST_CASE("collect: an empty verdict is a failed candidate, counted, not a detection") {
+  const fs::path dir = tile("failed");
+  write(dir / "cands" / "c0003" / "verdict.json", "");
+  std::string err;
+  REQUIRE(test::sh(bin() + " -q -i " + (dir / "cands" / "index.json").string() + " -o " +
+                       (dir / "d.json").string(),
+                   dir / "err.txt", &err) == 0);
+  const Json d = read_json(dir / "d.json");
+  CHECK(d["found"] == 1);
+  CHECK(d["none"] == 1);
+  CHECK(d["failed"] == 1);
+  REQUIRE(d["rejected"].size() == 2);
+  CHECK(d["rejected"][0]["reason"] == "none");
+  CHECK(d["rejected"][1]["reason"] == "failed");
+  CHECK(d["rejected"][1]["candidate"] == "c0003");
+}
+
 TEST_CASE("collect: empty index gives empty, valid outputs") {
   const fs::path dir = test::fresh_dir("collect", "empty");
   write(dir / "cands" / "index.json", R"({"format":"canopy.candidates","version":1,"candidates":[]})");
@@ -262,5 +279,15 @@ TEST_CASE("collect --plan: candidate ids and transforms as make variables") {
   CHECK_THAT(mk, Catch::Contains("\nTILE_TRANSFORM_c0003 := "));
   CHECK(test::sh(bin() + " -q -i " + (dir / "cands" / "index.json").string() + " --plan " +
                      (dir / "cands.mk").string() + " -o " + (dir / "d.json").string(),
+                 dir / "err.txt", &err) == 2);
+  REQUIRE(test::sh(bin() + " -q -i " + (dir / "cands" / "index.json").string() + " --plan " +
+                       (dir / "cands.mk").string() + " --plan-key T_a_1",
+                   dir / "err.txt", &err) == 0);
+  std::ifstream g((dir / "cands.mk").string());
+  std::stringstream gs;
+  gs << g.rdbuf();
+  CHECK_THAT(gs.str(), Catch::Contains("\nT_a_1_CANDS := c0001 c0002 c0003\n"));
+  CHECK(test::sh(bin() + " -q -i " + (dir / "cands" / "index.json").string() + " --plan " +
+                     (dir / "cands.mk").string() + " --plan-key 'a b'",
                  dir / "err.txt", &err) == 2);
 }

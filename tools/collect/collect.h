@@ -29,6 +29,7 @@ struct Index {
 
 struct Verdict {
   std::string name;                // file, as given
+  bool failed = false;             // an empty file: the candidate's chain failed (stage.sh --record-failure)
   std::string model;               // "" = none
   std::string cls;                 // "class", when the verdict has one
   double confidence = 0;
@@ -57,7 +58,7 @@ std::array<double, 3> euler_degrees(const Matrix& m);
 struct Output {
   std::string detections;  // canopy.detections v1
   std::string geojson;     // FeatureCollection
-  int found = 0, none = 0;
+  int found = 0, none = 0, failed = 0;
 };
 
 // verdicts[i] belongs to index.candidates[i]. `provenance` is written as is.
@@ -66,7 +67,7 @@ Output collect(const Index& index, const std::vector<Verdict>& verdicts, const P
 
 // The make plan of a tile: the candidate ids and each one's candidate-to-tile transform (16
 // comma-separated numbers, row-major, as verify --transform takes them), as make variables
-// TILE_CANDS and TILE_TRANSFORM_<id> (mk/scenes.mk). Ids are plain names (parse_index).
-std::string plan(const Index& index);
+// <key>_CANDS and <key>_TRANSFORM_<id> (mk/scenes.mk). Ids are plain names (parse_index).
+std::string plan(const Index& index, const std::string& key = "TILE");
 
 }  // namespace canopy::collect

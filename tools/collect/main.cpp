@@ -50,11 +50,12 @@ int main(int argc, char** argv) {
                                "per candidate -> detections.json (canopy.detections v1) and a GeoJSON of the "
                                "detections' footprints in the tile's coordinates.");
   tool.without_threads();
-  std::string in, out = "-", plan, verdicts, name = "verdict.json", geojson, crs, modelbase;
+  std::string in, out = "-", plan, key = "TILE", verdicts, name = "verdict.json", geojson, crs, modelbase;
   tool.add_input(&in, "candidates index.json (canopy.candidates v1)");
   tool.add_output(&out, "detections.json");
   tool.add_output("--plan", &plan, "instead: write the make plan of the candidates (ids and transforms, "
                                    "mk/scenes.mk) and stop; needs no verdicts");
+  tool.add("--plan-key", &key, "prefix of the plan's make variables (<key>_CANDS, <key>_TRANSFORM_<id>)");
   tool.add("--verdicts", &verdicts, "directory holding <id>/<verdict-name> per candidate (default: the index's directory)");
   tool.add("--verdict-name", &name, "file name of each candidate's verdict");
   tool.add_output("--geojson", &geojson, "also write the detections as a GeoJSON FeatureCollection");
@@ -69,9 +70,12 @@ int main(int argc, char** argv) {
     }
     if (!plan.empty()) {
       if (out != "-" || !geojson.empty()) throw common::UsageError("--plan is alone: no -o or --geojson with it");
+      if (!std::regex_match(key, std::regex("[A-Za-z_][A-Za-z0-9_]{0,99}"))) {
+        throw common::UsageError("--plan-key must be a make variable name (letters, digits, _)");
+      }
       common::check_output(plan);
       const collect::Index index = collect::parse_index(common::read_file(in), in);
-      common::write_file_atomic(plan, collect::plan(index));
+      common::write_file_atomic(plan, collect::plan(index, key));
       common::log::info(std::to_string(index.candidates.size()) + " candidates planned");
       return;
     }
@@ -114,6 +118,7 @@ int main(int argc, char** argv) {
     if (!geojson.empty()) outputs.set(geojson, o.geojson);
     outputs.commit();
     common::log::info(std::to_string(index.candidates.size()) + " candidates: " + std::to_string(o.found) +
-                      " vehicles found, " + std::to_string(o.none) + " none");
+                      " vehicles found, " + std::to_string(o.none) + " none" +
+                      (o.failed ? ", " + std::to_string(o.failed) + " failed (empty verdict)" : ""));
   });
 }
