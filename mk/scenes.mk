@@ -1,0 +1,87 @@
+# Whole tiles (issue 16; docs/decisions/scene-experiment.md), included at the end of
+# Makefile.experiments.
+#
+#   make -f Makefile.experiments tile TILE=my.las MODELBASE=out/modelbase OUT=mytile/ -j2
+#        [CRS=EPSG:32633]
+#
+# one user tile -> mytile/detections.json (canopy.detections v1), mytile/detections.geojson,
+# mytile/classes.ply (detect's classification: ground, other, candidate) and per candidate
+# mytile/cands/<id>/{samples.pcd, mesh.ply, segments.json, segments.ply, match.json,
+# verdict.json} (each with its .log and .time). MODELBASE is a directory of <model>.json
+# graphs and <model>.pcd surfaces (`make -f Makefile.experiments verify-modelbase` builds
+# out/modelbase). Every stage runs through $(STAGE), so LAUNCH=slurm launches them as jobs.
+#
+# How the candidates become targets: their number is known only after detect has run, so the
+# tile's makefile is generated. `collect --plan` turns mytile/cands/index.json into
+# mytile/cands.mk (TILE_CANDS := c0001 c0002 ...; TILE_TRANSFORM_<id> := 16 numbers), which
+# this file `-include`s. GNU make first brings every included makefile up to date (running
+# detect and the plan when the tile or a tool changed), then re-reads the makefiles and only
+# then builds the goals, now with one rule chain per candidate: the candidates run in
+# parallel under -j, and a second run redoes only what changed (a changed share/params/
+# <stage>.ini or tool re-runs that stage and what follows; a changed tile re-runs detect and
+# so everything). Because make updates included makefiles even under -n and -q, a dry run
+# (and the N/M progress count, which is a dry run) runs detect when it is out of date.
+#
+# A candidate whose chain fails in a tool's own error (e.g. cocone on a wire-thin object) is
+# recorded as failed (stage.sh --record-failure: an empty artifact, so the later stages fail
+# in turn and its verdict.json is empty); collect counts it under "failed", the tile goes on.
+
+# The tools of this file, unless another fragment already has their build rule.
+scene_tool_has_rule = $(or $(filter $(1),$(TOOLS)),$(and $(filter verify,$(1)),$(filter mk/verify.mk,$(MAKEFILE_LIST))))
+$(foreach t,detect verify collect score,$(if $(call scene_tool_has_rule,$(t)),,$(eval $(call tool_rule,$(t)))))
+# (detect and verify have no parameter file yet; one is used as soon as it exists.)
+scene_config = $(if $(wildcard $(P)/$(1).ini),--config $(P)/$(1).ini)
+
+# tile_rules(KEY, DIR, SCAN, MODELBASE): detect, the plan and the classification.
+define tile_rules
+$(2)/cands/index.json: $(3) $(call tool,detect) $(wildcard $(P)/detect.ini)
+	@$(STAGE) $(2)/detect -- $(BIN)/detect $(call scene_config,detect) -i $(3) -o $(2)/cands
+$(2)/cands.mk: $(2)/cands/index.json $(call tool,collect)
+	@$(STAGE) $$@ -- $(BIN)/collect -i $(2)/cands/index.json --plan $$@ --plan-key $(1)
+$(2)/classes.ply: $(2)/cands/index.json
+	@cp $(2)/cands/classes.ply $(2)/.classes.tmp$$$$.ply && mv $(2)/.classes.tmp$$$$.ply $$@ && echo "done  $$@"
+endef
+
+# cand_rule(DIR, ID, KEY, MODELBASE, SEEDKEY): fitvox | cocone | ncut | gmatch | verify on one
+# candidate (cands/<id>.pcd, written by detect with index.json).
+define cand_rule
+$(1)/cands/$(2)/samples.pcd: $(1)/cands/index.json $(call tool,fitvox) $(P)/fitvox.ini
+	@$(STAGE) --record-failure $$@ -- $(BIN)/fitvox --config $(P)/fitvox.ini -i $(1)/cands/$(2).pcd -o $$@
+$(1)/cands/$(2)/mesh.ply: $(1)/cands/$(2)/samples.pcd $(call tool,cocone) $(P)/cocone.ini
+	@$(STAGE) --record-failure $$@ -- $(BIN)/cocone --config $(P)/cocone.ini -i $$< -o $$@
+$(1)/cands/$(2)/segments.json: $(1)/cands/$(2)/mesh.ply $(call tool,ncut) $(P)/ncut.ini
+	@$(STAGE) --record-failure $$@ -- $(BIN)/ncut --config $(P)/ncut.ini --seed $(call seed,$(5)/$(2)) \
+	  -i $$< -o $$@ --colored $(1)/cands/$(2)/segments.ply
+$(1)/cands/$(2)/match.json: $(1)/cands/$(2)/segments.json $(wildcard $(4)/*.json) $(call tool,gmatch) $(P)/gmatch.ini
+	@$(STAGE) --record-failure $$@ -- $(BIN)/gmatch --config $(P)/gmatch.ini -i $$< --modelbase $(4) -o $$@
+$(1)/cands/$(2)/verdict.json: $(1)/cands/$(2)/match.json $(1)/cands/$(2)/samples.pcd \
+    $(wildcard $(4)/*.json $(4)/*.pcd) $(call tool,verify) $(wildcard $(P)/verify.ini)
+	@$(STAGE) --record-failure $$@ -- $(BIN)/verify $(call scene_config,verify) -i $$< \
+	  --points $(1)/cands/$(2)/samples.pcd --segments $(1)/cands/$(2)/segments.json \
+	  --modelbase $(4) --transform $($(3)_TRANSFORM_$(2)) -o $$@
+endef
+
+# tile_collect(KEY, DIR, MODELBASE): every verdict -> detections.json + GeoJSON.
+define tile_collect
+$(2)/detections.json: $(2)/cands.mk $(foreach c,$($(1)_CANDS),$(2)/cands/$(c)/verdict.json) $(call tool,collect)
+	@$(STAGE) $$@ -- $(BIN)/collect -i $(2)/cands/index.json -o $$@ --geojson $(2)/detections.geojson \
+	  --modelbase $(3) $(if $(CRS),--crs $(CRS))
+endef
+
+.PHONY: tile
+ifneq ($(filter tile,$(MAKECMDGOALS)),)
+$(if $(TILE),,$(error tile: give TILE=<the tile: .las, .pcd or .ply with x y z>))
+$(if $(wildcard $(TILE)),,$(error tile: TILE=$(TILE) does not exist))
+TILE_OUT := $(patsubst %/,%,$(OUT))
+TILE_MB := $(patsubst %/,%,$(MODELBASE))
+$(if $(filter 1,$(words $(TILE_MB))),,$(error tile: give MODELBASE=<directory of <model>.json graphs and <model>.pcd surfaces>))
+$(if $(wildcard $(TILE_MB)/*.json),,$(error tile: MODELBASE=$(TILE_MB) holds no <model>.json graph \
+  (make -f Makefile.experiments verify-modelbase builds out/modelbase)))
+$(if $(filter $(TILE_OUT),. .. /),$(error tile: OUT=$(OUT) must name the tile's own output directory))
+$(if $(CRS),$(if $(shell printf '%s' '$(CRS)' | grep -xE 'EPSG:[0-9]{1,6}'),,$(error tile: CRS=$(CRS) must be EPSG:<code>)))
+$(eval $(call tile_rules,TILE,$(TILE_OUT),$(TILE),$(TILE_MB)))
+-include $(TILE_OUT)/cands.mk
+$(foreach c,$(TILE_CANDS),$(eval $(call cand_rule,$(TILE_OUT),$(c),TILE,$(TILE_MB),$(notdir $(TILE)))))
+$(eval $(call tile_collect,TILE,$(TILE_OUT),$(TILE_MB)))
+tile: $(TILE_OUT)/detections.json $(TILE_OUT)/classes.ply
+endif
