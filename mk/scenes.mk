@@ -85,3 +85,79 @@ $(foreach c,$(TILE_CANDS),$(eval $(call cand_rule,$(TILE_OUT),$(c),TILE,$(TILE_M
 $(eval $(call tile_collect,TILE,$(TILE_OUT),$(TILE_MB)))
 tile: $(TILE_OUT)/detections.json $(TILE_OUT)/classes.ply
 endif
+
+# ---- the scene experiment: SKELETON, NOT YET PART OF `all` ---------------------------------
+#   make -f Makefile.experiments scenes -j2 [SCENE_SEEDS="1 2" SCENE_COVERS=light SCENE_NOISES=0]
+# Seeded tiles x cover level x noise -> detect -> per candidate fitvox | cocone | ncut | gmatch |
+# verify -> collect -> score:
+#   out/scenes/<cover>/tile-<seed>/recipe.scene, scan.pcd, truth.json   rendered once
+#   out/scenes/<cover>/tile-<seed>/noise-<mm>/scan.pcd                    + noise
+#   out/scenes/<cover>/tile-<seed>/noise-<mm>/{cands/, cands.mk, detections.json, .geojson}
+#   results/scenes/score.json, results/scenes/{summary,pr,models,cover_bins,matches}.csv
+# Its rules are read only when `scenes` is a goal: every tile's generated makefile is an
+# included makefile, which make brings up to date before any goal, so reading them for `all`
+# would render and detect every tile even for `make tools`. Wiring it into `all` (and the
+# report's section, the top-view pictures, time per hectare) is left to do; see
+# docs/decisions/scene-experiment.md. Scene modelbase: $(OUT)/modelbase (verify-modelbase).
+SCENE_SEEDS ?= 1 2 3 4
+SCENE_COVERS ?= light medium dense
+SCENE_NOISES ?= 0 8 32
+SCENE_EXTENT ?= 30m
+SCENE_MODELS ?= earthmover,obj1,sedan,semi,tank
+# Cover knobs per level: random trees per hectare and trees planted beside each vehicle.
+SCENE_TREES_light ?= 100
+SCENE_HIDE_light ?= 0
+SCENE_TREES_medium ?= 350
+SCENE_HIDE_medium ?= 1
+SCENE_TREES_dense ?= 700
+SCENE_HIDE_dense ?= 2
+# 3 - 8 vehicles per tile, from the seed.
+scene_vehicles = $(shell echo $$(( 3 + $(call seed,vehicles/$(1)) % 6 )))
+SCENE_DIR := $(OUT)/scenes
+SCENE_TILES := $(foreach c,$(SCENE_COVERS),$(foreach s,$(SCENE_SEEDS),$(SCENE_DIR)/$(c)/tile-$(s)))
+scene_key = S_$(subst -,_,$(subst /,_,$(1)))
+
+# scene_tile_rule(cover, seed): the recipe (rewritten only when its text changes) and the render.
+define scene_tile_rule
+$(SCENE_DIR)/$(1)/tile-$(2)/recipe.scene: FORCE
+	@mkdir -p $$(@D) && printf '%s\n' '# scene experiment tile (mk/scenes.mk): cover $(1), seed $(2)' \
+	  'extent = $(SCENE_EXTENT)' 'terrain = rolling 1m 25m' 'trees = $(SCENE_TREES_$(1))' \
+	  'hide = $(SCENE_HIDE_$(1))' 'bushes = 300' 'vehicles = random $(call scene_vehicles,$(1)/$(2)) from $(SCENE_MODELS)' \
+	  'clutter = boulder 2 container 1 logs 1' 'flight_lines = 2' 'headings = 0deg 90deg' \
+	  'looks = 75deg/0deg 75deg/180deg' >$$@.tmp && { cmp -s $$@.tmp $$@ && rm $$@.tmp || mv $$@.tmp $$@; }
+$(SCENE_DIR)/$(1)/tile-$(2)/scan.pcd: $(SCENE_DIR)/$(1)/tile-$(2)/recipe.scene $(call tool,rangetrace)
+	@$(STAGE) $$@ -- $(BIN)/rangetrace --scene $$< --seed $(call seed,scenes/$(1)/$(2)) --threads 2 \
+	  -o $$@ --truth $(SCENE_DIR)/$(1)/tile-$(2)/truth.json
+$(SCENE_DIR)/$(1)/tile-$(2)/truth.json: $(SCENE_DIR)/$(1)/tile-$(2)/scan.pcd
+endef
+
+# scene_noise_rule(cover, seed, noise): the noisy scan.
+define scene_noise_rule
+$(SCENE_DIR)/$(1)/tile-$(2)/noise-$(3)/scan.pcd: $(SCENE_DIR)/$(1)/tile-$(2)/scan.pcd $(call tool,addnoise) $(P)/addnoise.ini
+	@$(STAGE) $$@ -- $(BIN)/addnoise --config $(P)/addnoise.ini --sigma $(3)mm \
+	  --seed $(call seed,scenes/$(1)/$(2)/$(3)) -i $$< -o $$@
+endef
+
+.PHONY: scenes FORCE
+FORCE:
+ifneq ($(filter scenes,$(MAKECMDGOALS)),)
+SCENE_MB := $(OUT)/modelbase
+SCENE_RUNS := $(foreach t,$(SCENE_TILES),$(foreach n,$(SCENE_NOISES),$(t)/noise-$(n)))
+$(foreach c,$(SCENE_COVERS),$(foreach s,$(SCENE_SEEDS),$(eval $(call scene_tile_rule,$(c),$(s)))))
+$(foreach c,$(SCENE_COVERS),$(foreach s,$(SCENE_SEEDS),$(foreach n,$(SCENE_NOISES),$(eval $(call scene_noise_rule,$(c),$(s),$(n))))))
+$(foreach r,$(SCENE_RUNS),$(eval $(call tile_rules,$(call scene_key,$(r)),$(r),$(r)/scan.pcd,$(SCENE_MB))))
+$(foreach r,$(SCENE_RUNS),$(eval -include $(r)/cands.mk))
+$(foreach r,$(SCENE_RUNS),$(foreach c,$($(call scene_key,$(r))_CANDS),\
+  $(eval $(call cand_rule,$(r),$(c),$(call scene_key,$(r)),$(SCENE_MB),$(r)))))
+$(foreach r,$(SCENE_RUNS),$(eval $(call tile_collect,$(call scene_key,$(r)),$(r),$(SCENE_MB))))
+# The score's manifest: detections truth noise cover (rewritten only when its text changes).
+scene_line = $(1)/detections.json $(patsubst %/,%,$(dir $(1)))/truth.json $(patsubst noise-%,%,$(notdir $(1))) \
+  $(word 2,$(subst /, ,$(patsubst $(OUT)/%,%,$(1))))
+$(SCENE_DIR)/tiles.txt: FORCE
+	@mkdir -p $(@D) && printf '%s\n' $(foreach r,$(SCENE_RUNS),'$(call scene_line,$(r))') >$@.tmp && \
+	  { cmp -s $@.tmp $@ && rm $@.tmp || mv $@.tmp $@; }
+$(RES)/scenes/score.json: $(SCENE_DIR)/tiles.txt $(addsuffix /detections.json,$(SCENE_RUNS)) $(call tool,score)
+	@mkdir -p $(@D)
+	@$(STAGE) $@ -- $(BIN)/score --tiles $(SCENE_DIR)/tiles.txt -o $@ --csv $(RES)/scenes/
+scenes: $(RES)/scenes/score.json
+endif
