@@ -111,8 +111,12 @@ SCENE_TREES_medium ?= 350
 SCENE_HIDE_medium ?= 1
 SCENE_TREES_dense ?= 700
 SCENE_HIDE_dense ?= 2
-# 3 - 8 vehicles per tile, from the seed.
-scene_vehicles = $(shell echo $$(( 3 + $(call seed,vehicles/$(1)) % 6 )))
+# Pixel spacing: the thesis-tuned fitvox (128 mm voxels, >= 32 points) keeps no voxel of a
+# candidate at the recipes' default 80 mm; 30 mm works (tests/pipeline/scene_mini.sh).
+SCENE_SPACING ?= 30mm
+# Vehicles per tile: SCENE_VEHICLES, else 3 - 8 from the seed.
+SCENE_VEHICLES ?=
+scene_vehicles = $(or $(SCENE_VEHICLES),$(shell echo $$(( 3 + $(call seed,vehicles/$(1)) % 6 ))))
 SCENE_DIR := $(OUT)/scenes
 SCENE_TILES := $(foreach c,$(SCENE_COVERS),$(foreach s,$(SCENE_SEEDS),$(SCENE_DIR)/$(c)/tile-$(s)))
 scene_key = S_$(subst -,_,$(subst /,_,$(1)))
@@ -124,7 +128,7 @@ $(SCENE_DIR)/$(1)/tile-$(2)/recipe.scene: FORCE
 	  'extent = $(SCENE_EXTENT)' 'terrain = rolling 1m 25m' 'trees = $(SCENE_TREES_$(1))' \
 	  'hide = $(SCENE_HIDE_$(1))' 'bushes = 300' 'vehicles = random $(call scene_vehicles,$(1)/$(2)) from $(SCENE_MODELS)' \
 	  'clutter = boulder 2 container 1 logs 1' 'flight_lines = 2' 'headings = 0deg 90deg' \
-	  'looks = 75deg/0deg 75deg/180deg' >$$@.tmp && { cmp -s $$@.tmp $$@ && rm $$@.tmp || mv $$@.tmp $$@; }
+	  'looks = 75deg/0deg 75deg/180deg' 'spacing = $(SCENE_SPACING)' >$$@.tmp && { cmp -s $$@.tmp $$@ && rm $$@.tmp || mv $$@.tmp $$@; }
 $(SCENE_DIR)/$(1)/tile-$(2)/scan.pcd: $(SCENE_DIR)/$(1)/tile-$(2)/recipe.scene $(call tool,rangetrace)
 	@$(STAGE) $$@ -- $(BIN)/rangetrace --scene $$< --seed $(call seed,scenes/$(1)/$(2)) --threads 2 \
 	  -o $$@ --truth $(SCENE_DIR)/$(1)/tile-$(2)/truth.json

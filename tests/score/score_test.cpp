@@ -268,6 +268,12 @@ TEST_CASE("score CLI: two tiles by manifest, groups per cover and noise, CSV tab
     INFO(t);
     CHECK(test::exists(dir / (std::string("s_") + t + ".csv")));
   }
+  // A directory as the prefix (make's results/scenes/).
+  std::filesystem::create_directories(dir / "tables");
+  REQUIRE(test::sh(bin + " -q --tiles " + (dir / "tiles.txt").string() + " -o " + (dir / "s2.json").string() +
+                       " --csv " + (dir / "tables").string() + "/",
+                   dir / "err.txt", &err) == 0);
+  CHECK(test::exists(dir / "tables" / "summary.csv"));
   std::ifstream c((dir / "s_summary.csv").string());
   std::string header, row;
   std::getline(c, header);

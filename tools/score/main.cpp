@@ -111,7 +111,7 @@ int main(int argc, char** argv) {
   tool.add("--cover-bins", &bins, "edges of the per-vehicle canopy cover bins, comma-separated");
   tool.add("--flip-threshold", &p.flip_threshold, "heading error (degrees) counted as a flip");
   tool.add_output(&out, "score JSON (canopy.scene_score v1)");
-  tool.add_output("--csv", &csv, "also write the tables as <PREFIX>summary.csv, pr.csv, models.csv, "
+  tool.add("--csv", &csv, "also write the tables as <PREFIX>summary.csv, pr.csv, models.csv, "
                                  "cover_bins.csv, matches.csv");
   return tool.run(argc, argv, [&] {
     if (manifest.empty() == (detections.empty() && truth.empty())) {
