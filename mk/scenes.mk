@@ -5,7 +5,8 @@
 #        [CRS=EPSG:32633]
 #
 # one user tile -> mytile/detections.json (canopy.detections v1), mytile/detections.geojson,
-# mytile/classes.ply (detect's classification: ground, other, candidate) and per candidate
+# mytile/classes.ply (detect's classification: ground, other, candidate), mytile/top.png (the
+# tile from above, highest point per pixel, detection footprints outlined) and per candidate
 # mytile/cands/<id>/{samples.pcd, mesh.ply, segments.json, segments.ply, match.json,
 # verdict.json} (each with its .log and .time). MODELBASE is a directory of <model>.json
 # graphs and <model>.pcd surfaces (`make -f Makefile.experiments verify-modelbase` builds
@@ -28,7 +29,7 @@
 
 # The tools of this file, unless another fragment already has their build rule.
 scene_tool_has_rule = $(or $(filter $(1),$(TOOLS)),$(and $(filter verify,$(1)),$(filter mk/verify.mk,$(MAKEFILE_LIST))))
-$(foreach t,detect verify collect score,$(if $(call scene_tool_has_rule,$(t)),,$(eval $(call tool_rule,$(t)))))
+$(foreach t,detect verify collect score topview,$(if $(call scene_tool_has_rule,$(t)),,$(eval $(call tool_rule,$(t)))))
 # (detect and verify have no parameter file yet; one is used as soon as it exists.)
 scene_config = $(if $(wildcard $(P)/$(1).ini),--config $(P)/$(1).ini)
 
@@ -61,11 +62,14 @@ $(1)/cands/$(2)/verdict.json: $(1)/cands/$(2)/match.json $(1)/cands/$(2)/samples
 	  --modelbase $(4) --transform $($(3)_TRANSFORM_$(2)) -o $$@
 endef
 
-# tile_collect(KEY, DIR, MODELBASE): every verdict -> detections.json + GeoJSON.
+# tile_collect(KEY, DIR, MODELBASE, SCAN): every verdict -> detections.json + GeoJSON, and
+# the top-view picture of the tile with the detections' footprints.
 define tile_collect
 $(2)/detections.json: $(2)/cands.mk $(foreach c,$($(1)_CANDS),$(2)/cands/$(c)/verdict.json) $(call tool,collect)
 	@$(STAGE) $$@ -- $(BIN)/collect -i $(2)/cands/index.json -o $$@ --geojson $(2)/detections.geojson \
 	  --modelbase $(3) $(if $(CRS),--crs $(CRS))
+$(2)/top.png: $(2)/detections.json $(4) $(call tool,topview)
+	@$(STAGE) $$@ -- $(BIN)/topview -i $(4) --detections $(2)/detections.json -o $$@
 endef
 
 .PHONY: tile
@@ -82,8 +86,8 @@ $(if $(CRS),$(if $(shell printf '%s' '$(CRS)' | grep -xE 'EPSG:[0-9]{1,6}'),,$(e
 $(eval $(call tile_rules,TILE,$(TILE_OUT),$(TILE),$(TILE_MB)))
 -include $(TILE_OUT)/cands.mk
 $(foreach c,$(TILE_CANDS),$(eval $(call cand_rule,$(TILE_OUT),$(c),TILE,$(TILE_MB),$(notdir $(TILE)))))
-$(eval $(call tile_collect,TILE,$(TILE_OUT),$(TILE_MB)))
-tile: $(TILE_OUT)/detections.json $(TILE_OUT)/classes.ply
+$(eval $(call tile_collect,TILE,$(TILE_OUT),$(TILE_MB),$(TILE)))
+tile: $(TILE_OUT)/detections.json $(TILE_OUT)/classes.ply $(TILE_OUT)/top.png
 endif
 
 # ---- the scene experiment: SKELETON, NOT YET PART OF `all` ---------------------------------
@@ -93,6 +97,7 @@ endif
 #   out/scenes/<cover>/tile-<seed>/recipe.scene, scan.pcd, truth.json   rendered once
 #   out/scenes/<cover>/tile-<seed>/noise-<mm>/scan.pcd                    + noise
 #   out/scenes/<cover>/tile-<seed>/noise-<mm>/{cands/, cands.mk, detections.json, .geojson}
+#   out/scenes/<cover>/tile-<seed>/noise-<mm>/{top.png, scored.png}        pictures from above
 #   results/scenes/score.json, results/scenes/{summary,pr,models,cover_bins,matches}.csv
 # Its rules are read only when `scenes` is a goal: every tile's generated makefile is an
 # included makefile, which make brings up to date before any goal, so reading them for `all`
@@ -153,7 +158,7 @@ $(foreach r,$(SCENE_RUNS),$(eval $(call tile_rules,$(call scene_key,$(r)),$(r),$
 $(foreach r,$(SCENE_RUNS),$(eval -include $(r)/cands.mk))
 $(foreach r,$(SCENE_RUNS),$(foreach c,$($(call scene_key,$(r))_CANDS),\
   $(eval $(call cand_rule,$(r),$(c),$(call scene_key,$(r)),$(SCENE_MB),$(r)))))
-$(foreach r,$(SCENE_RUNS),$(eval $(call tile_collect,$(call scene_key,$(r)),$(r),$(SCENE_MB))))
+$(foreach r,$(SCENE_RUNS),$(eval $(call tile_collect,$(call scene_key,$(r)),$(r),$(SCENE_MB),$(r)/scan.pcd)))
 # The score's manifest: detections truth noise cover (rewritten only when its text changes).
 scene_line = $(1)/detections.json $(patsubst %/,%,$(dir $(1)))/truth.json $(patsubst noise-%,%,$(notdir $(1))) \
   $(word 2,$(subst /, ,$(patsubst $(OUT)/%,%,$(1))))
@@ -163,5 +168,13 @@ $(SCENE_DIR)/tiles.txt: FORCE
 $(RES)/scenes/score.json: $(SCENE_DIR)/tiles.txt $(addsuffix /detections.json,$(SCENE_RUNS)) $(call tool,score)
 	@mkdir -p $(@D)
 	@$(STAGE) $@ -- $(BIN)/score --tiles $(SCENE_DIR)/tiles.txt -o $@ --csv $(RES)/scenes/
-scenes: $(RES)/scenes/score.json
+# Per run: the tile from above with truth and detections coloured by the score's outcome
+# (right green, wrong model orange, false alarm magenta, missed yellow, found truth white).
+define scene_picture_rule
+$(1)/scored.png: $(RES)/scenes/score.json $(1)/scan.pcd $(call tool,topview)
+	@$(STAGE) $$@ -- $(BIN)/topview -i $(1)/scan.pcd --detections $(1)/detections.json \
+	  --truth $(patsubst %/,%,$(dir $(1)))/truth.json --score $(RES)/scenes/score.json --tile $(2) -o $$@
+endef
+$(foreach i,$(shell seq 1 $(words $(SCENE_RUNS))),$(eval $(call scene_picture_rule,$(word $(i),$(SCENE_RUNS)),$(shell echo $$(( $(i) - 1 ))))))
+scenes: $(RES)/scenes/score.json $(addsuffix /scored.png,$(SCENE_RUNS))
 endif
