@@ -14,7 +14,7 @@ fail() { echo "FAIL: $*" >&2; exit 1; }
 for t in detect verify; do
   [ -f "$src/tools/$t/CMakeLists.txt" ] || { echo "skipped: this tree has no tools/$t"; exit 0; }
 done
-for t in rangetrace fitvox cocone ncut gmatch detect verify collect score; do
+for t in rangetrace fitvox cocone ncut gmatch detect verify collect score topview; do
   [ -x "$bin/$t" ] || fail "$bin/$t is not built"
 done
 command -v jq >/dev/null || fail "jq not found (scripts/install-deps.sh installs it)"
@@ -50,7 +50,7 @@ scene b 'vehicle = tank 6 6 10' 'object = boulder 14 9 0'
 for t in a b; do
   "${mk[@]}" -j2 tile TILE="$tmp/$t.pcd" MODELBASE="$tmp/mb" OUT="$tmp/$t/" CRS=EPSG:32633 >"$tmp/$t.log" 2>&1 \
     || fail "make tile $t failed: $(tail -5 "$tmp/$t.log")"
-  for f in detections.json detections.geojson classes.ply cands/index.json cands.mk; do
+  for f in detections.json detections.geojson classes.ply top.png cands/index.json cands.mk; do
     [ -s "$tmp/$t/$f" ] || fail "tile $t: no $f"
   done
   n=$(jq '.candidates | length' "$tmp/$t/cands/index.json")
