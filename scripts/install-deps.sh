@@ -7,7 +7,7 @@ packages=(
   build-essential cmake pkg-config
   libeigen3-dev libcgal-dev libpcl-dev libvtk9-dev libspectra-dev
   nlohmann-json3-dev libcli11-dev catch2 libpng-dev
-  povray time xvfb xauth
+  povray time xvfb xauth jq
   clang libclang-rt-14-dev
   # Slurm and munge: for LAUNCH=slurm and its test (tests/pipeline/slurm.sh), which starts
   # its own single-node cluster in a temp dir; nothing is configured system-wide.

@@ -1,0 +1,293 @@
+// collect: hand-written candidates index and verdicts at UTM coordinates -> detections.json
+// and GeoJSON, checked against hand-computed poses and footprints.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "canopy/formats/pcd.h"
+#include "collect/collect.h"
+#include "support/cli.h"
+
+using namespace canopy;
+using Json = nlohmann::ordered_json;
+namespace fs = std::filesystem;
+
+namespace {
+
+const double E = 500000.123, N = 5400000.456;  // UTM magnitudes: 1 mm must survive
+const double kPi = 3.14159265358979323846;
+
+Json rows(double heading_deg, double x, double y, double z) {
+  const double c = std::cos(heading_deg * kPi / 180), s = std::sin(heading_deg * kPi / 180);
+  return Json::array({Json::array({c, -s, 0.0, x}), Json::array({s, c, 0.0, y}), Json::array({0.0, 0.0, 1.0, z}),
+                      Json::array({0.0, 0.0, 0.0, 1.0})});
+}
+
+Json flat(double heading_deg, double x, double y, double z) {
+  Json f = Json::array();
+  for (const auto& r : rows(heading_deg, x, y, z)) {
+    for (const auto& v : r) f.push_back(v);
+  }
+  return f;
+}
+
+Json verdict(const char* model, double confidence, const Json& pose, const Json& pose_tile) {
+  return Json{{"format", "canopy.verdict"}, {"version", 1}, {"candidate", "samples.pcd"},
+              {"model", model ? Json(model) : Json(nullptr)}, {"confidence", confidence},
+              {"pose", pose.is_null() ? pose : Json{{"matrix", pose}}},
+              {"pose_tile", pose_tile.is_null() ? pose_tile : Json{{"matrix", pose_tile}}}};
+}
+
+void write(const fs::path& p, const std::string& text) {
+  fs::create_directories(p.parent_path());
+  std::ofstream(p.string()) << text;
+}
+
+Json read_json(const fs::path& p) {
+  std::ifstream f(p.string());
+  return Json::parse(f);
+}
+
+// Three candidates: c0001 a sedan (verify gave pose_tile), c0002 none, c0003 a tank whose
+// verdict has only the candidate-frame pose (collect composes it with the index transform).
+fs::path tile(const std::string& name) {
+  const fs::path dir = test::fresh_dir("collect", name);
+  const fs::path cands = dir / "cands";
+  Json index{{"format", "canopy.candidates"}, {"version", 1}, {"tile", "tile.pcd"},
+             {"candidates",
+              {{{"id", "c0001"}, {"transform", rows(0, E + 10, N + 10, 100)}, {"length", 5.0}, {"width", 2.0}},
+               {{"id", "c0002"}, {"transform", rows(0, E + 5, N + 25, 100)}, {"length", 3.0}, {"width", 2.0}},
+               {{"id", "c0003"}, {"transform", rows(90, E + 20, N + 20, 100)}, {"length", 6.0}, {"width", 3.0}}}}};
+  write(cands / "index.json", index.dump());
+  // c0001: pose_tile heading 30 at (E + 10.25, N + 10.125, 100.5); its candidate pose is
+  // deliberately inconsistent (identity) to show pose_tile is used as given.
+  write(cands / "c0001" / "verdict.json",
+        verdict("sedan", 0.9, flat(0, 0, 0, 0), flat(30, E + 10.25, N + 10.125, 100.5)).dump());
+  write(cands / "c0002" / "verdict.json", verdict(nullptr, 0.7, nullptr, nullptr).dump());
+  // c0003: model -> candidate = Rz(180) + (0.5, 0, 0); candidate -> tile = Rz(90) + (E+20, N+20, 100):
+  // model -> tile = Rz(270) + (E + 20, N + 20.5, 100), heading -90.
+  write(cands / "c0003" / "verdict.json", verdict("tank", 0.8, flat(180, 0.5, 0, 0), nullptr).dump());
+  return dir;
+}
+
+std::string bin() { return std::string(CANOPY_BIN_DIR) + "/collect"; }
+
+}  // namespace
+
+TEST_CASE("euler angles and products of 4 x 4 matrices") {
+  collect::Matrix a{}, b{};
+  const Json ja = flat(90, 1, 2, 3), jb = flat(45, 1, 0, 0);
+  for (int i = 0; i < 16; ++i) {
+    a[i] = ja[i].get<double>();
+    b[i] = jb[i].get<double>();
+  }
+  const collect::Matrix p = collect::multiply(a, b);
+  CHECK(p[3] == Approx(1));  // Rz(90) (1, 0, 0) + (1, 2, 3) = (1, 3, 3)
+  CHECK(p[7] == Approx(3));
+  CHECK(p[11] == Approx(3));
+  CHECK(collect::euler_degrees(p)[0] == Approx(135));
+  CHECK(collect::euler_degrees(a)[1] == Approx(0).margin(1e-12));
+}
+
+TEST_CASE("collect: detections, none counted, poses and footprints at UTM coordinates") {
+  const fs::path dir = tile("basic");
+  // A modelbase sedan surface: vehicle points x in [-2, 2], y in [-1, 1]; a label-2 point far
+  // away that must not widen the box. No tank surface: its footprint is the candidate's.
+  formats::PointCloud mb;
+  auto& x = mb.add("x");
+  auto& y = mb.add("y");
+  auto& z = mb.add("z");
+  auto& l = mb.add("label", formats::kUint32);
+  for (const auto& p : {std::array<double, 4>{-2, -1, 0, 1}, {2, 1, 1.4, 1}, {0.5, 0.2, 0.8, 1}, {50, 50, 0, 2}}) {
+    x.push_back(p[0]);
+    y.push_back(p[1]);
+    z.push_back(p[2]);
+    l.push_back(p[3]);
+  }
+  mb.resize(4);
+  fs::create_directories(dir / "mb");
+  formats::write_pcd(mb, (dir / "mb" / "sedan.pcd").string());
+
+  std::string err;
+  const std::string cmd = bin() + " -q -i " + (dir / "cands" / "index.json").string() + " -o " +
+                          (dir / "detections.json").string() + " --geojson " + (dir / "d.geojson").string() +
+                          " --modelbase " + (dir / "mb").string() + " --crs EPSG:32633";
+  REQUIRE(test::sh(cmd, dir / "err.txt", &err) == 0);
+  const Json d = read_json(dir / "detections.json");
+  CHECK(d["format"] == "canopy.detections");
+  CHECK(d["version"] == 1);
+  CHECK(d["candidates"] == 3);
+  CHECK(d["found"] == 2);
+  CHECK(d["none"] == 1);
+  CHECK(d["crs"] == "EPSG:32633");
+  REQUIRE(d["detections"].size() == 2);
+  REQUIRE(d["rejected"].size() == 1);
+  CHECK(d["rejected"][0]["candidate"] == "c0002");
+
+  const Json& s = d["detections"][0];
+  CHECK(s["candidate"] == "c0001");
+  CHECK(s["model"] == "sedan");
+  CHECK(s["confidence"].get<double>() == Approx(0.9));
+  CHECK(s["pose"]["x"].get<double>() == Approx(E + 10.25).margin(1e-6));
+  CHECK(s["pose"]["y"].get<double>() == Approx(N + 10.125).margin(1e-6));
+  CHECK(s["pose"]["z"].get<double>() == Approx(100.5).margin(1e-9));
+  CHECK(s["pose"]["heading"].get<double>() == Approx(30));
+  CHECK(s["footprint_from"] == "model");
+  // Corner (2, 1) of the model box turned by 30 degrees.
+  const double c30 = std::cos(kPi / 6), s30 = std::sin(kPi / 6);
+  CHECK(s["footprint"][2][0].get<double>() == Approx(E + 10.25 + 2 * c30 - s30).margin(1e-6));
+  CHECK(s["footprint"][2][1].get<double>() == Approx(N + 10.125 + 2 * s30 + c30).margin(1e-6));
+
+  const Json& t = d["detections"][1];
+  CHECK(t["candidate"] == "c0003");
+  CHECK(t["pose"]["x"].get<double>() == Approx(E + 20).margin(1e-6));
+  CHECK(t["pose"]["y"].get<double>() == Approx(N + 20.5).margin(1e-6));
+  CHECK(t["pose"]["heading"].get<double>() == Approx(-90));
+  CHECK(t["footprint_from"] == "candidate");
+  // The 6 x 3 candidate footprint turned by 90 degrees about (E + 20, N + 20), counter-clockwise.
+  const double want[4][2] = {{21.5, 17}, {21.5, 23}, {18.5, 23}, {18.5, 17}};
+  for (int k = 0; k < 4; ++k) {
+    CHECK(t["footprint"][k][0].get<double>() == Approx(E + want[k][0]).margin(1e-6));
+    CHECK(t["footprint"][k][1].get<double>() == Approx(N + want[k][1]).margin(1e-6));
+  }
+}
+
+TEST_CASE("collect: the GeoJSON parses back, rings are closed and counter-clockwise, 1 mm kept") {
+  const fs::path dir = tile("geojson");
+  std::string err;
+  const std::string base = bin() + " -q -i " + (dir / "cands" / "index.json").string() + " -o " +
+                           (dir / "detections.json").string() + " --geojson " + (dir / "d.geojson").string();
+  REQUIRE(test::sh(base, dir / "err.txt", &err) == 0);
+  const Json g = read_json(dir / "d.geojson");
+  const Json d = read_json(dir / "detections.json");
+  CHECK(g["type"] == "FeatureCollection");
+  CHECK_FALSE(g.contains("crs"));  // RFC 7946: no crs member unless --crs is given
+  REQUIRE(g["features"].size() == 2);
+  for (std::size_t f = 0; f < 2; ++f) {
+    const Json& feat = g["features"][f];
+    CHECK(feat["type"] == "Feature");
+    CHECK(feat["geometry"]["type"] == "Polygon");
+    const Json& ring = feat["geometry"]["coordinates"][0];
+    REQUIRE(ring.size() == 5);
+    CHECK(ring[0] == ring[4]);
+    // Shoelace relative to the first corner (products of UTM magnitudes would cancel).
+    const double x0 = ring[0][0].get<double>(), y0 = ring[0][1].get<double>();
+    double area2 = 0;
+    for (int k = 0; k < 4; ++k) {
+      area2 += (ring[k][0].get<double>() - x0) * (ring[k + 1][1].get<double>() - y0) -
+               (ring[k + 1][0].get<double>() - x0) * (ring[k][1].get<double>() - y0);
+    }
+    CHECK(area2 > 0);
+    // Without a modelbase both footprints are the candidates': 5 x 2 and 6 x 3 m.
+    CHECK(area2 / 2 == Approx(f == 0 ? 10 : 18).epsilon(1e-6));
+    // Same numbers as detections.json, and the hand-computed ones to 1 mm.
+    for (int k = 0; k < 4; ++k) CHECK(ring[k] == d["detections"][f]["footprint"][k]);
+    CHECK(feat["properties"]["model"] == d["detections"][f]["model"]);
+  }
+  const Json& r = g["features"][0]["geometry"]["coordinates"][0];
+  CHECK(std::fabs(r[0][0].get<double>() - (E + 7.5)) < 1e-3);
+  CHECK(std::fabs(r[0][1].get<double>() - (N + 9)) < 1e-3);
+  CHECK(std::fabs(r[2][0].get<double>() - (E + 12.5)) < 1e-3);
+  CHECK(std::fabs(r[2][1].get<double>() - (N + 11)) < 1e-3);
+
+  REQUIRE(test::sh(base + " --crs EPSG:25832", dir / "err.txt", &err) == 0);
+  const Json g2 = read_json(dir / "d.geojson");
+  CHECK(g2["crs"]["properties"]["name"] == "urn:ogc:def:crs:EPSG::25832");
+}
+
+TEST_CASE("collect: an empty verdict is a failed candidate, counted, not a detection") {
+  const fs::path dir = tile("failed");
+  write(dir / "cands" / "c0003" / "verdict.json", "");
+  std::string err;
+  REQUIRE(test::sh(bin() + " -q -i " + (dir / "cands" / "index.json").string() + " -o " +
+                       (dir / "d.json").string(),
+                   dir / "err.txt", &err) == 0);
+  const Json d = read_json(dir / "d.json");
+  CHECK(d["found"] == 1);
+  CHECK(d["none"] == 1);
+  CHECK(d["failed"] == 1);
+  REQUIRE(d["rejected"].size() == 2);
+  CHECK(d["rejected"][0]["reason"] == "none");
+  CHECK(d["rejected"][1]["reason"] == "failed");
+  CHECK(d["rejected"][1]["candidate"] == "c0003");
+}
+
+TEST_CASE("collect: empty index gives empty, valid outputs") {
+  const fs::path dir = test::fresh_dir("collect", "empty");
+  write(dir / "cands" / "index.json", R"({"format":"canopy.candidates","version":1,"candidates":[]})");
+  std::string err;
+  REQUIRE(test::sh(bin() + " -q -i " + (dir / "cands" / "index.json").string() + " -o " +
+                       (dir / "d.json").string() + " --geojson " + (dir / "d.geojson").string(),
+                   dir / "err.txt", &err) == 0);
+  CHECK(read_json(dir / "d.json")["detections"].empty());
+  CHECK(read_json(dir / "d.geojson")["features"].empty());
+}
+
+TEST_CASE("collect: a missing or bad verdict is named, nothing is written") {
+  const fs::path dir = tile("bad");
+  fs::remove(dir / "cands" / "c0003" / "verdict.json");
+  const std::string cmd = bin() + " -q -i " + (dir / "cands" / "index.json").string() + " -o " +
+                          (dir / "d.json").string() + " --geojson " + (dir / "d.geojson").string();
+  std::string err;
+  CHECK(test::sh(cmd, dir / "err.txt", &err) == 1);
+  CHECK_THAT(err, Catch::Contains("c0003/verdict.json"));
+  CHECK_FALSE(test::exists(dir / "d.json"));
+  CHECK_FALSE(test::exists(dir / "d.geojson"));
+  write(dir / "cands" / "c0003" / "verdict.json", verdict("tank", 1.5, flat(0, 0, 0, 0), nullptr).dump());
+  CHECK(test::sh(cmd, dir / "err.txt", &err) == 1);
+  CHECK_THAT(err, Catch::Contains("confidence"));
+  Json skew = flat(0, 0, 0, 0);
+  skew[1] = 0.5;  // not a rotation
+  write(dir / "cands" / "c0003" / "verdict.json", verdict("tank", 0.5, skew, nullptr).dump());
+  CHECK(test::sh(cmd, dir / "err.txt", &err) == 1);
+  CHECK_THAT(err, Catch::Contains("not a rotation"));
+  CHECK_FALSE(test::exists(dir / "d.json"));
+  CHECK(test::sh(cmd + " --crs 32633", dir / "err.txt", &err) == 2);
+  write(dir / "cands" / "index.json",
+        R"({"format":"canopy.candidates","version":1,"candidates":[{"id":"../x","transform":[],"length":1,"width":1}]})");
+  CHECK(test::sh(cmd, dir / "err.txt", &err) == 1);
+  CHECK_THAT(err, Catch::Contains("not a plain name"));
+}
+
+TEST_CASE("collect --plan: candidate ids and transforms as make variables") {
+  const fs::path dir = tile("plan");
+  std::string err;
+  REQUIRE(test::sh(bin() + " -q -i " + (dir / "cands" / "index.json").string() + " --plan " +
+                       (dir / "cands.mk").string(),
+                   dir / "err.txt", &err) == 0);
+  std::ifstream f((dir / "cands.mk").string());
+  std::stringstream ss;
+  ss << f.rdbuf();
+  const std::string mk = ss.str();
+  CHECK_THAT(mk, Catch::Contains("\nTILE_CANDS := c0001 c0002 c0003\n"));
+  // The transform round-trips exactly (17 significant digits).
+  const std::string key = "\nTILE_TRANSFORM_c0001 := ";
+  const auto at = mk.find(key);
+  REQUIRE(at != std::string::npos);
+  std::stringstream line(mk.substr(at + key.size(), mk.find('\n', at + 1) - at - key.size()));
+  std::vector<double> v;
+  for (std::string item; std::getline(line, item, ',');) v.push_back(std::stod(item));
+  REQUIRE(v.size() == 16);
+  CHECK(v[0] == 1);
+  CHECK(v[3] == E + 10);
+  CHECK(v[7] == N + 10);
+  CHECK(v[11] == 100);
+  CHECK(v[15] == 1);
+  CHECK_THAT(mk, Catch::Contains("\nTILE_TRANSFORM_c0003 := "));
+  CHECK(test::sh(bin() + " -q -i " + (dir / "cands" / "index.json").string() + " --plan " +
+                     (dir / "cands.mk").string() + " -o " + (dir / "d.json").string(),
+                 dir / "err.txt", &err) == 2);
+  REQUIRE(test::sh(bin() + " -q -i " + (dir / "cands" / "index.json").string() + " --plan " +
+                       (dir / "cands.mk").string() + " --plan-key T_a_1",
+                   dir / "err.txt", &err) == 0);
+  std::ifstream g((dir / "cands.mk").string());
+  std::stringstream gs;
+  gs << g.rdbuf();
+  CHECK_THAT(gs.str(), Catch::Contains("\nT_a_1_CANDS := c0001 c0002 c0003\n"));
+  CHECK(test::sh(bin() + " -q -i " + (dir / "cands" / "index.json").string() + " --plan " +
+                     (dir / "cands.mk").string() + " --plan-key 'a b'",
+                 dir / "err.txt", &err) == 2);
+}

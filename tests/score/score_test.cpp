@@ -1,0 +1,307 @@
+// score: precision, recall and the rest against hand-computed answers on hand-written tiles.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "canopy/common/error.h"
+#include "score/score.h"
+#include "support/cli.h"
+
+using namespace canopy;
+using Json = nlohmann::ordered_json;
+
+namespace {
+
+// A 30 x 30 m tile (0.09 ha): a sedan at (10, 10) heading 30, cover 0.1; a tank at (20, 20)
+// heading 90, cover 0.8. UTM-sized offsets test that nothing loses precision.
+const double E = 500000, N = 5400000;
+
+std::string truth_text() {
+  Json j{{"format", "canopy.scene_truth"}, {"version", 1}, {"extent", {30, 30}},
+         {"vehicles",
+          {{{"instance", 1}, {"model", "sedan"}, {"pose", {{"x", E + 10}, {"y", N + 10}, {"z", 100}, {"heading", 30}, {"pitch", 0}, {"roll", 0}}}, {"canopy_cover", 0.1}},
+           {{"instance", 2}, {"model", "tank"}, {"pose", {{"x", E + 20}, {"y", N + 20}, {"z", 100}, {"heading", 90}, {"pitch", 0}, {"roll", 0}}}, {"canopy_cover", 0.8}}}}};
+  return j.dump();
+}
+
+Json det(const std::string& id, const std::string& model, double conf, double x, double y, double heading) {
+  return Json{{"candidate", id}, {"model", model}, {"confidence", conf},
+              {"pose", {{"x", E + x}, {"y", N + y}, {"z", 100}, {"heading", heading}, {"pitch", 0}, {"roll", 0}}}};
+}
+
+// (A one-element brace list is the element itself in nlohmann's initializer lists.)
+std::string detections_text(Json dets, int none = 0) {
+  if (!dets.is_array()) dets = Json::array({dets});
+  const int candidates = static_cast<int>(dets.size()) + none;
+  return Json{{"format", "canopy.detections"}, {"version", 1}, {"candidates", candidates}, {"none", none},
+              {"detections", dets}}.dump();
+}
+
+Json run(const Json& dets, score::Params p = {}) {
+  score::Tile t;
+  t.truth = score::parse_truth(truth_text(), "truth.json");
+  t.detections = score::parse_detections(detections_text(dets), "detections.json");
+  return score::score({t}, p);
+}
+
+const Json& all(const Json& s) { return s["summary"][0]; }
+
+}  // namespace
+
+TEST_CASE("heading error is modulo 360 and a flip is 180") {
+  CHECK(score::heading_error(30, 32) == Approx(2));
+  CHECK(score::heading_error(-178, 179) == Approx(3));
+  CHECK(score::heading_error(30, 210) == Approx(180));
+  CHECK(score::heading_error(10, 370) == Approx(0).margin(1e-12));
+  CHECK(score::heading_error(0, 720 + 91) == Approx(91));
+}
+
+TEST_CASE("percentile interpolates between order statistics") {
+  CHECK(score::percentile({3, 1, 2}, 50) == Approx(2));
+  CHECK(score::percentile({1, 2}, 50) == Approx(1.5));
+  CHECK(score::percentile({1, 2}, 90) == Approx(1.9));
+  CHECK(score::percentile({1, 2, 3, 4, 5, 6, 7, 8, 9, 10}, 90) == Approx(9.1));
+  CHECK(std::isnan(score::percentile({}, 50)));
+}
+
+TEST_CASE("perfect detections: precision, recall, F1 and identification 1") {
+  // Position errors 0.5 m each (0.3, 0.4) and (0, 0.5); heading errors 2 and 1 degrees.
+  const Json s = run({det("c1", "sedan", 0.9, 10.3, 10.4, 32), det("c2", "tank", 0.8, 20, 20.5, 89)});
+  const Json& a = all(s);
+  CHECK(a["tp"] == 2);
+  CHECK(a["fp"] == 0);
+  CHECK(a["fn"] == 0);
+  CHECK(a["precision"].get<double>() == Approx(1));
+  CHECK(a["recall"].get<double>() == Approx(1));
+  CHECK(a["f1"].get<double>() == Approx(1));
+  CHECK(a["false_alarms_per_ha"].get<double>() == Approx(0));
+  CHECK(a["area_ha"].get<double>() == Approx(0.09));
+  CHECK(a["identification"].get<double>() == Approx(1));
+  CHECK(a["recognition"].get<double>() == Approx(1));
+  CHECK(a["position_error_median_m"].get<double>() == Approx(0.5).epsilon(1e-6));
+  CHECK(a["heading_error_median_deg"].get<double>() == Approx(1.5));
+  CHECK(a["heading_error_p90_deg"].get<double>() == Approx(1.9));
+  CHECK(a["flips"] == 0);
+}
+
+TEST_CASE("one missed vehicle: recall 1/2, F1 2/3") {
+  const Json s = run({det("c1", "sedan", 0.9, 10, 10, 30)});
+  const Json& a = all(s);
+  CHECK(a["tp"] == 1);
+  CHECK(a["fp"] == 0);
+  CHECK(a["fn"] == 1);
+  CHECK(a["precision"].get<double>() == Approx(1));
+  CHECK(a["recall"].get<double>() == Approx(0.5));
+  CHECK(a["f1"].get<double>() == Approx(2.0 / 3));
+  CHECK(a["recognition"].get<double>() == Approx(0.5));
+  // The missed tank is a row of its own; per cover bin the tank (0.8) is missed, the sedan (0.1) found.
+  int missed = 0;
+  for (const auto& r : s["matches"]) {
+    if (r["outcome"] == "missed") {
+      ++missed;
+      CHECK(r["instance"] == 2);
+    }
+  }
+  CHECK(missed == 1);
+  for (const auto& b : s["cover_bins"]) {
+    if (b["cover_lo"] == 0.0) CHECK((b["true"] == 1 && b["detected"] == 1));
+    if (b["cover_lo"] == 0.75) CHECK((b["true"] == 1 && b["detected"] == 0));
+    if (b["cover_lo"] == 0.25 || b["cover_lo"] == 0.5) CHECK(b["true"] == 0);
+  }
+}
+
+TEST_CASE("one false alarm: precision 2/3, 11.1 false alarms per hectare, PR curve") {
+  const Json s = run({det("c1", "sedan", 0.9, 10, 10, 30), det("c2", "tank", 0.8, 20, 20, 90),
+                      det("c3", "semi", 0.95, 5, 25, 0)});
+  const Json& a = all(s);
+  CHECK(a["tp"] == 2);
+  CHECK(a["fp"] == 1);
+  CHECK(a["precision"].get<double>() == Approx(2.0 / 3));
+  CHECK(a["recall"].get<double>() == Approx(1));
+  CHECK(a["f1"].get<double>() == Approx(0.8));
+  CHECK(a["false_alarms_per_ha"].get<double>() == Approx(1 / 0.09));
+  // Thresholds in falling confidence: 0.95 (only the false alarm), 0.9, 0.8.
+  const Json& pr = s["pr"];
+  REQUIRE(pr.size() == 3);
+  CHECK(pr[0]["threshold"] == 0.95);
+  CHECK(pr[0]["precision"].get<double>() == Approx(0));
+  CHECK(pr[0]["recall"].get<double>() == Approx(0));
+  CHECK(pr[1]["precision"].get<double>() == Approx(0.5));
+  CHECK(pr[1]["recall"].get<double>() == Approx(0.5));
+  CHECK(pr[2]["precision"].get<double>() == Approx(2.0 / 3));
+  CHECK(pr[2]["recall"].get<double>() == Approx(1));
+}
+
+TEST_CASE("a duplicate detection: the more confident one matches, the other is a false alarm") {
+  const Json s = run({det("c1", "sedan", 0.7, 10.2, 10, 30), det("c2", "sedan", 0.9, 10.1, 10, 30),
+                      det("c3", "tank", 0.8, 20, 20, 90)});
+  const Json& a = all(s);
+  CHECK(a["tp"] == 2);
+  CHECK(a["fp"] == 1);
+  CHECK(a["precision"].get<double>() == Approx(2.0 / 3));
+  CHECK(a["recall"].get<double>() == Approx(1));
+  for (const auto& r : s["matches"]) {
+    if (r["candidate"] == "c1") CHECK(r["outcome"] == "false_alarm");
+    if (r["candidate"] == "c2") CHECK(r["outcome"] == "right");
+  }
+}
+
+TEST_CASE("a flipped heading is matched and identified but its heading error is 180") {
+  const Json s = run({det("c1", "sedan", 0.9, 10, 10, 210), det("c2", "tank", 0.8, 20, 20, 90)});
+  const Json& a = all(s);
+  CHECK(a["precision"].get<double>() == Approx(1));
+  CHECK(a["recall"].get<double>() == Approx(1));
+  CHECK(a["identification"].get<double>() == Approx(1));
+  CHECK(a["flips"] == 1);
+  CHECK(a["heading_error_median_deg"].get<double>() == Approx(90));  // errors 180 and 0
+  CHECK(a["heading_error_p90_deg"].get<double>() == Approx(162));
+}
+
+TEST_CASE("a wrong model counts as detected, not identified") {
+  const Json s = run({det("c1", "sedan", 0.9, 10, 10, 30), det("c2", "semi", 0.8, 20, 20, 90)});
+  const Json& a = all(s);
+  CHECK(a["precision"].get<double>() == Approx(1));
+  CHECK(a["recall"].get<double>() == Approx(1));
+  CHECK(a["identified"] == 1);
+  CHECK(a["identification"].get<double>() == Approx(0.5));
+  CHECK(a["recognition"].get<double>() == Approx(0.5));
+  // Pose errors only over correctly identified detections: one (0 m, 0 degrees).
+  CHECK(a["heading_error_median_deg"].get<double>() == Approx(0).margin(1e-12));
+  bool tank_row = false;
+  for (const auto& m : s["models"]) {
+    if (m["model"] == "tank" && m["cover"] == "all") {
+      tank_row = true;
+      CHECK(m["matched"] == 1);
+      CHECK(m["identified"] == 0);
+    }
+  }
+  CHECK(tank_row);
+}
+
+TEST_CASE("the match radius is 1.5 m on the horizontal centre distance") {
+  // 1.6 m away: a false alarm and a miss; 1.4 m away: a match.
+  Json s = run({det("c1", "sedan", 0.9, 11.6, 10, 30)});
+  CHECK(all(s)["tp"] == 0);
+  CHECK(all(s)["fp"] == 1);
+  CHECK(all(s)["fn"] == 2);
+  CHECK(all(s)["precision"].get<double>() == Approx(0));
+  CHECK(all(s)["f1"].get<double>() == Approx(0));
+  s = run({det("c1", "sedan", 0.9, 11.4, 10, 30)});
+  CHECK(all(s)["tp"] == 1);
+  score::Params wide;
+  wide.match_radius = 2;
+  s = run({det("c1", "sedan", 0.9, 11.6, 10, 30)}, wide);
+  CHECK(all(s)["tp"] == 1);
+}
+
+TEST_CASE("no detections: precision undefined, recall 0") {
+  const Json s = run(Json::array());
+  CHECK(all(s)["precision"].is_null());
+  CHECK(all(s)["recall"].get<double>() == Approx(0));
+  CHECK(all(s)["f1"].is_null());
+  CHECK(s["pr"].empty());
+}
+
+TEST_CASE("bad documents are refused naming the file and the field") {
+  CHECK_THROWS_WITH(score::parse_truth("{", "t.json"), Catch::Contains("t.json"));
+  CHECK_THROWS_WITH(score::parse_truth(R"({"format":"canopy.detections","version":1})", "t.json"),
+                    Catch::Contains("not a canopy.scene_truth"));
+  CHECK_THROWS_WITH(score::parse_detections(R"({"format":"canopy.detections","version":2})", "d.json"),
+                    Catch::Contains("version 2"));
+  Json bad = Json::parse(detections_text({det("c1", "sedan", 1.5, 10, 10, 30)}));
+  CHECK_THROWS_WITH(score::parse_detections(bad.dump(), "d.json"), Catch::Contains("detections[0].confidence"));
+  bad = Json::parse(detections_text({det("c1", "sedan", 0.5, 10, 10, 30), det("c1", "tank", 0.5, 20, 20, 0)}));
+  CHECK_THROWS_WITH(score::parse_detections(bad.dump(), "d.json"), Catch::Contains("repeats"));
+  Json t = Json::parse(truth_text());
+  t["vehicles"][1]["pose"].erase("heading");
+  CHECK_THROWS_WITH(score::parse_truth(t.dump(), "t.json"), Catch::Contains("vehicles[1].pose: missing \"heading\""));
+}
+
+TEST_CASE("score CLI: two tiles by manifest, groups per cover and noise, CSV tables") {
+  const auto dir = test::fresh_dir("score", "cli");
+  auto write = [&](const std::string& name, const std::string& text) {
+    std::ofstream((dir / name).string()) << text;
+  };
+  write("truth.json", truth_text());
+  // Tile A (light, 0 mm): perfect. Tile B (dense, 8 mm): the tank missed, one false alarm.
+  write("a.json", detections_text({det("c1", "sedan", 0.9, 10, 10, 30), det("c2", "tank", 0.8, 20, 20, 90)}));
+  write("b.json", detections_text({det("c1", "sedan", 0.6, 10, 10, 30), det("c2", "semi", 0.7, 2, 2, 0)}, 1));
+  write("tiles.txt", "# detections truth noise cover\n" + (dir / "a.json").string() + " " +
+                         (dir / "truth.json").string() + " 0 light\n" + (dir / "b.json").string() + " " +
+                         (dir / "truth.json").string() + " 8 dense\n");
+  const std::string bin = std::string(CANOPY_BIN_DIR) + "/score";
+  std::string err;
+  const std::string cmd = bin + " -q --tiles " + (dir / "tiles.txt").string() + " -o " + (dir / "score.json").string() +
+                          " --csv " + (dir / "s_").string();
+  REQUIRE(test::sh(cmd, dir / "err.txt", &err) == 0);
+  std::ifstream f((dir / "score.json").string());
+  const Json s = Json::parse(f);
+  CHECK(s["format"] == "canopy.scene_score");
+  const Json& a = s["summary"][0];
+  CHECK(a["tiles"] == 2);
+  CHECK(a["true"] == 4);
+  CHECK(a["tp"] == 3);
+  CHECK(a["fp"] == 1);
+  CHECK(a["fn"] == 1);
+  CHECK(a["precision"].get<double>() == Approx(0.75));
+  CHECK(a["recall"].get<double>() == Approx(0.75));
+  CHECK(a["candidates"] == 5);
+  CHECK(a["none"] == 1);
+  CHECK(a["false_alarms_per_ha"].get<double>() == Approx(1 / 0.18));
+  // Groups: all, light, dense, 0 mm, 8 mm, light x 0, light x 8 (empty), dense x 0 (empty), dense x 8.
+  REQUIRE(s["summary"].size() == 9);
+  CHECK(s["summary"][1]["cover"] == "light");
+  CHECK(s["summary"][1]["recall"].get<double>() == Approx(1));
+  CHECK(s["summary"][2]["cover"] == "dense");
+  CHECK(s["summary"][2]["recall"].get<double>() == Approx(0.5));
+  CHECK(s["summary"][2]["precision"].get<double>() == Approx(0.5));
+  CHECK(s["summary"][4]["noise_mm"] == 8.0);
+  CHECK(s["summary"][4]["recall"].get<double>() == Approx(0.5));
+  CHECK(s["summary"][6]["tiles"] == 0);
+  CHECK(s["summary"][6]["recall"].is_null());
+  // Cover bins overall: the two sedans (0.1) both found, of the two tanks (0.8) one.
+  CHECK(s["cover_bins"][0]["recall"].get<double>() == Approx(1));
+  CHECK(s["cover_bins"][3]["recall"].get<double>() == Approx(0.5));
+  for (const char* t : {"summary", "pr", "models", "cover_bins", "matches"}) {
+    INFO(t);
+    CHECK(test::exists(dir / (std::string("s_") + t + ".csv")));
+  }
+  // A directory as the prefix (make's results/scenes/).
+  std::filesystem::create_directories(dir / "tables");
+  REQUIRE(test::sh(bin + " -q --tiles " + (dir / "tiles.txt").string() + " -o " + (dir / "s2.json").string() +
+                       " --csv " + (dir / "tables").string() + "/",
+                   dir / "err.txt", &err) == 0);
+  CHECK(test::exists(dir / "tables" / "summary.csv"));
+  std::ifstream c((dir / "s_summary.csv").string());
+  std::string header, row;
+  std::getline(c, header);
+  std::getline(c, row);
+  CHECK(header.rfind("cover,noise_mm,tiles,area_ha,true,", 0) == 0);
+  CHECK(row.rfind("all,all,2,0.18,4,", 0) == 0);
+  // Same inputs, same bytes.
+  std::ifstream f1((dir / "score.json").string());
+  std::stringstream b1, b2;
+  b1 << f1.rdbuf();
+  f1.close();
+  REQUIRE(test::sh(cmd, dir / "err.txt", &err) == 0);
+  std::ifstream f2((dir / "score.json").string());
+  b2 << f2.rdbuf();
+  CHECK(b1.str() == b2.str());
+}
+
+TEST_CASE("score CLI: a bad input names the file and writes nothing") {
+  const auto dir = test::fresh_dir("score", "bad");
+  std::ofstream((dir / "truth.json").string()) << truth_text();
+  std::ofstream((dir / "d.json").string()) << "{\"format\": \"canopy.detections\"";
+  const std::string bin = std::string(CANOPY_BIN_DIR) + "/score";
+  std::string err;
+  CHECK(test::sh(bin + " -q -d " + (dir / "d.json").string() + " -t " + (dir / "truth.json").string() + " -o " +
+                     (dir / "s.json").string(),
+                 dir / "err.txt", &err) == 1);
+  CHECK_THAT(err, Catch::Contains("d.json"));
+  CHECK_FALSE(test::exists(dir / "s.json"));
+  CHECK(test::sh(bin + " -q -d " + (dir / "d.json").string() + " -o " + (dir / "s.json").string(), dir / "err.txt",
+                 &err) == 2);
+}

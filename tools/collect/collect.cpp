@@ -1,0 +1,279 @@
+#include "collect/collect.h"
+
+#include <cmath>
+#include <cstdio>
+#include <regex>
+#include <set>
+#include <stdexcept>
+
+#include "canopy/common/error.h"
+
+namespace canopy::collect {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+struct Malformed : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+const Json& member(const Json& j, const char* key, const std::string& where) {
+  if (!j.is_object() || !j.contains(key)) throw Malformed(where + ": missing \"" + key + "\"");
+  return j.at(key);
+}
+
+double number(const Json& v, const std::string& where) {
+  if (!v.is_number()) throw Malformed(where + " must be a number, not " + v.dump().substr(0, 40));
+  const double d = v.get<double>();
+  if (!std::isfinite(d)) throw Malformed(where + " is not finite");
+  return d;
+}
+
+// A rigid transform: 16 numbers (flat) or 4 rows of 4; the last row 0 0 0 1, the 3 x 3 part a
+// rotation (orthonormal within 1e-6, determinant +1).
+Matrix matrix(const Json& v, const std::string& where) {
+  Matrix m{};
+  if (v.is_array() && v.size() == 4 && v[0].is_array()) {
+    for (int r = 0; r < 4; ++r) {
+      if (!v[r].is_array() || v[r].size() != 4) throw Malformed(where + " must be 4 rows of 4 numbers");
+      for (int c = 0; c < 4; ++c) m[4 * r + c] = number(v[r][c], where);
+    }
+  } else if (v.is_array() && v.size() == 16) {
+    for (int i = 0; i < 16; ++i) m[i] = number(v[i], where);
+  } else {
+    throw Malformed(where + " must be a 4 x 4 matrix (16 numbers or 4 rows of 4)");
+  }
+  if (m[12] != 0 || m[13] != 0 || m[14] != 0 || m[15] != 1) throw Malformed(where + ": last row is not 0 0 0 1");
+  for (int a = 0; a < 3; ++a) {
+    for (int b = 0; b < 3; ++b) {
+      double dot = 0;
+      for (int k = 0; k < 3; ++k) dot += m[4 * k + a] * m[4 * k + b];
+      if (std::fabs(dot - (a == b ? 1 : 0)) > 1e-6) throw Malformed(where + ": the 3 x 3 part is not a rotation");
+    }
+  }
+  const double det = m[0] * (m[5] * m[10] - m[6] * m[9]) - m[1] * (m[4] * m[10] - m[6] * m[8]) +
+                     m[2] * (m[4] * m[9] - m[5] * m[8]);
+  if (det < 0) throw Malformed(where + ": the 3 x 3 part is a reflection");
+  return m;
+}
+
+Json parse_document(const std::string& text, const std::string& name, const char* format) {
+  Json j;
+  try {
+    j = Json::parse(text);
+  } catch (const Json::parse_error& e) {
+    throw common::DataError(name, std::string("not JSON: ") + e.what());
+  }
+  if (!j.is_object() || !j.contains("format") || j["format"] != format) {
+    throw common::DataError(name, std::string("not a ") + format + " document (\"format\" is " +
+                                      (j.is_object() && j.contains("format") ? j["format"].dump() : "missing") + ")");
+  }
+  if (!j.contains("version") || j["version"] != 1) {
+    throw common::DataError(name, std::string(format) + " version " +
+                                      (j.contains("version") ? j["version"].dump() : "missing") +
+                                      " is not supported (this build reads version 1)");
+  }
+  return j;
+}
+
+Corner apply(const Matrix& m, double x, double y) {
+  return {m[0] * x + m[1] * y + m[3], m[4] * x + m[5] * y + m[7]};
+}
+
+double finite(double v) {
+  if (!std::isfinite(v)) throw common::Error("collect: refusing to write a non-finite number");
+  return v;
+}
+
+}  // namespace
+
+Matrix multiply(const Matrix& a, const Matrix& b) {
+  Matrix p{};
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) {
+      double s = 0;
+      for (int k = 0; k < 4; ++k) s += a[4 * r + k] * b[4 * k + c];
+      p[4 * r + c] = s;
+    }
+  }
+  return p;
+}
+
+std::array<double, 3> euler_degrees(const Matrix& m) {
+  const double deg = 180 / M_PI;
+  const double heading = std::atan2(m[4], m[0]);
+  const double pitch = std::asin(std::max(-1.0, std::min(1.0, -m[8])));
+  const double roll = std::atan2(m[9], m[10]);
+  return {heading * deg, pitch * deg, roll * deg};
+}
+
+Index parse_index(const std::string& text, const std::string& name) {
+  const Json j = parse_document(text, name, "canopy.candidates");
+  Index index;
+  index.name = name;
+  try {
+    if (j.contains("tile") && j["tile"].is_string()) index.tile = j["tile"].get<std::string>();
+    const Json& cs = member(j, "candidates", "index");
+    if (!cs.is_array()) throw Malformed("candidates must be an array");
+    std::set<std::string> seen;
+    static const std::regex id_ok("[A-Za-z0-9_.-]{1,64}");
+    for (std::size_t i = 0; i < cs.size(); ++i) {
+      const std::string w = "candidates[" + std::to_string(i) + "]";
+      Candidate c;
+      const Json& id = member(cs[i], "id", w);
+      if (!id.is_string()) throw Malformed(w + ".id must be a string");
+      c.id = id.get<std::string>();
+      // The id names a directory of per-candidate artifacts: no separators, no "..".
+      if (!std::regex_match(c.id, id_ok) || c.id == "." || c.id == "..") {
+        throw Malformed(w + ".id \"" + c.id + "\" is not a plain name (letters, digits, _ . -)");
+      }
+      if (!seen.insert(c.id).second) throw Malformed(w + ".id \"" + c.id + "\" repeats");
+      c.transform = matrix(member(cs[i], "transform", w), w + ".transform");
+      c.length = number(member(cs[i], "length", w), w + ".length");
+      c.width = number(member(cs[i], "width", w), w + ".width");
+      if (c.length < 0 || c.width < 0) throw Malformed(w + ": negative footprint");
+      index.candidates.push_back(c);
+    }
+  } catch (const Malformed& e) {
+    throw common::DataError(name, e.what());
+  }
+  return index;
+}
+
+Verdict parse_verdict(const std::string& text, const std::string& name) {
+  if (text.empty()) {
+    Verdict failed;
+    failed.name = name;
+    failed.failed = true;
+    return failed;
+  }
+  const Json j = parse_document(text, name, "canopy.verdict");
+  Verdict v;
+  v.name = name;
+  try {
+    const Json& model = member(j, "model", "verdict");
+    if (!model.is_null() && !(model.is_string() && !model.get<std::string>().empty())) {
+      throw Malformed("model must be a name or null");
+    }
+    if (model.is_string()) v.model = model.get<std::string>();
+    v.confidence = number(member(j, "confidence", "verdict"), "confidence");
+    if (v.confidence < 0 || v.confidence > 1) throw Malformed("confidence must lie in [0, 1]");
+    if (j.contains("class") && j["class"].is_string()) v.cls = j["class"].get<std::string>();
+    for (const char* key : {"pose", "pose_tile"}) {
+      if (!j.contains(key) || j[key].is_null()) continue;
+      const Matrix m = matrix(member(j[key], "matrix", key), std::string(key) + ".matrix");
+      (std::string(key) == "pose" ? v.pose : v.pose_tile) = m;
+    }
+    if (!v.model.empty() && !v.pose && !v.pose_tile) throw Malformed("a model without a pose");
+  } catch (const Malformed& e) {
+    throw common::DataError(name, e.what());
+  }
+  return v;
+}
+
+std::string plan(const Index& index, const std::string& key) {
+  std::string out = "# generated by collect --plan from " + index.name + "; read by mk/scenes.mk\n" + key + "_CANDS :=";
+  for (const auto& c : index.candidates) out += " " + c.id;
+  out += "\n";
+  for (const auto& c : index.candidates) {
+    out += key + "_TRANSFORM_" + c.id + " :=";
+    for (int i = 0; i < 16; ++i) {
+      char buf[40];
+      std::snprintf(buf, sizeof buf, "%s%.17g", i ? "," : " ", c.transform[i]);
+      out += buf;
+    }
+    out += "\n";
+  }
+  return out;
+}
+
+Output collect(const Index& index, const std::vector<Verdict>& verdicts, const Params& params, const Json& provenance) {
+  if (verdicts.size() != index.candidates.size()) throw common::Error("collect: one verdict per candidate expected");
+  Json dets = Json::array(), rejected = Json::array(), features = Json::array();
+  Output out;
+  for (std::size_t i = 0; i < verdicts.size(); ++i) {
+    const Candidate& c = index.candidates[i];
+    const Verdict& v = verdicts[i];
+    if (v.failed) {
+      ++out.failed;
+      rejected.push_back(Json{{"candidate", c.id}, {"reason", "failed"}, {"confidence", nullptr}, {"verdict", v.name}});
+      continue;
+    }
+    if (v.model.empty()) {
+      ++out.none;
+      rejected.push_back(Json{{"candidate", c.id}, {"reason", "none"}, {"confidence", v.confidence}, {"verdict", v.name}});
+      continue;
+    }
+    ++out.found;
+    // The tile pose: verify's pose_tile when it was given the transform, else composed here.
+    const Matrix m = v.pose_tile ? *v.pose_tile : multiply(c.transform, *v.pose);
+    const auto e = euler_degrees(m);
+    std::vector<Corner> ring;
+    std::string from;
+    const auto box = params.boxes.find(v.model);
+    if (box != params.boxes.end()) {
+      const ModelBox& b = box->second;
+      ring = {apply(m, b.x0, b.y0), apply(m, b.x1, b.y0), apply(m, b.x1, b.y1), apply(m, b.x0, b.y1)};
+      from = "model";
+    } else {
+      const double hl = c.length / 2, hw = c.width / 2;
+      const Matrix& t = c.transform;
+      ring = {apply(t, -hl, -hw), apply(t, hl, -hw), apply(t, hl, hw), apply(t, -hl, hw)};
+      from = "candidate";
+    }
+    // Counter-clockwise seen from above (RFC 7946 exterior rings); the shoelace relative to
+    // the first corner, as products of UTM magnitudes would cancel.
+    double area2 = 0;
+    for (std::size_t k = 0; k < 4; ++k) {
+      const Corner& a = ring[k];
+      const Corner& b = ring[(k + 1) % 4];
+      area2 += (a[0] - ring[0][0]) * (b[1] - ring[0][1]) - (b[0] - ring[0][0]) * (a[1] - ring[0][1]);
+    }
+    if (area2 < 0) std::swap(ring[1], ring[3]);
+    Json fp = Json::array();
+    for (const auto& p : ring) fp.push_back(Json::array({finite(p[0]), finite(p[1])}));
+    Json matrix_json = Json::array();
+    for (double x : m) matrix_json.push_back(finite(x));
+    Json pose{{"x", finite(m[3])}, {"y", finite(m[7])}, {"z", finite(m[11])},
+              {"heading", e[0]}, {"pitch", e[1]}, {"roll", e[2]}, {"matrix", matrix_json}};
+    Json d{{"candidate", c.id}, {"model", v.model}};
+    if (!v.cls.empty()) d["class"] = v.cls;
+    d["confidence"] = v.confidence;
+    d["pose"] = pose;
+    d["footprint"] = fp;
+    d["footprint_from"] = from;
+    d["verdict"] = v.name;
+    dets.push_back(d);
+
+    Json closed = fp;
+    closed.push_back(fp[0]);
+    Json props{{"candidate", c.id}, {"model", v.model}};
+    if (!v.cls.empty()) props["class"] = v.cls;
+    props["confidence"] = v.confidence;
+    props["x"] = m[3];
+    props["y"] = m[7];
+    props["z"] = m[11];
+    props["heading"] = e[0];
+    props["footprint_from"] = from;
+    features.push_back(Json{{"type", "Feature"}, {"id", c.id},
+                            {"geometry", Json{{"type", "Polygon"}, {"coordinates", Json::array({closed})}}},
+                            {"properties", props}});
+  }
+  Json doc{{"format", "canopy.detections"}, {"version", 1}, {"provenance", provenance},
+           {"index", index.name}, {"tile", index.tile},
+           {"crs", params.crs.empty() ? Json(nullptr) : Json(params.crs)},
+           {"candidates", index.candidates.size()}, {"found", out.found}, {"none", out.none}, {"failed", out.failed},
+           {"detections", dets}, {"rejected", rejected}};
+  out.detections = doc.dump(1) + "\n";
+  Json geo{{"type", "FeatureCollection"}, {"name", "canopy detections"}};
+  if (!params.crs.empty()) {
+    // The GeoJSON 2008 "crs" member (RFC 7946 dropped it; GDAL/QGIS still read it).
+    geo["crs"] = Json{{"type", "name"},
+                      {"properties", {{"name", "urn:ogc:def:crs:EPSG::" + params.crs.substr(5)}}}};
+  }
+  geo["features"] = features;
+  out.geojson = geo.dump(1) + "\n";
+  return out;
+}
+
+}  // namespace canopy::collect

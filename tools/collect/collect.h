@@ -1,0 +1,73 @@
+// collect: one tile's candidates index (detect) + per-candidate verdicts (verify) ->
+// detections.json (canopy.detections v1) and a GeoJSON FeatureCollection of the detections in
+// the tile's coordinates (formats/README.md "Detections"; docs/decisions/scene-experiment.md).
+#pragma once
+
+#include <array>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace canopy::collect {
+
+using Matrix = std::array<double, 16>;  // 4 x 4 row-major, float64
+using Corner = std::array<double, 2>;
+
+struct Candidate {
+  std::string id;
+  Matrix transform{};  // candidate frame -> tile frame
+  double length = 0, width = 0;
+};
+
+struct Index {
+  std::string name;  // file, as given
+  std::string tile;  // the tile detect read, as it recorded it
+  std::vector<Candidate> candidates;
+};
+
+struct Verdict {
+  std::string name;                // file, as given
+  bool failed = false;             // an empty file: the candidate's chain failed (stage.sh --record-failure)
+  std::string model;               // "" = none
+  std::string cls;                 // "class", when the verdict has one
+  double confidence = 0;
+  std::optional<Matrix> pose;       // model -> candidate
+  std::optional<Matrix> pose_tile;  // model -> tile
+};
+
+// The top-view rectangle of a model in its own frame: x in [x0, x1], y in [y0, y1].
+struct ModelBox {
+  double x0 = 0, x1 = 0, y0 = 0, y1 = 0;
+};
+
+struct Params {
+  std::string crs;  // "EPSG:<code>" or ""
+  std::map<std::string, ModelBox> boxes;  // by model name; a model without one uses the candidate footprint
+};
+
+Index parse_index(const std::string& text, const std::string& name);
+Verdict parse_verdict(const std::string& text, const std::string& name);
+
+// p = a * b (4 x 4 row-major).
+Matrix multiply(const Matrix& a, const Matrix& b);
+// Heading, pitch, roll in degrees of the rotation of m (R = Rz(heading) Ry(pitch) Rx(roll)).
+std::array<double, 3> euler_degrees(const Matrix& m);
+
+struct Output {
+  std::string detections;  // canopy.detections v1
+  std::string geojson;     // FeatureCollection
+  int found = 0, none = 0, failed = 0;
+};
+
+// verdicts[i] belongs to index.candidates[i]. `provenance` is written as is.
+Output collect(const Index& index, const std::vector<Verdict>& verdicts, const Params& params,
+               const nlohmann::ordered_json& provenance);
+
+// The make plan of a tile: the candidate ids and each one's candidate-to-tile transform (16
+// comma-separated numbers, row-major, as verify --transform takes them), as make variables
+// <key>_CANDS and <key>_TRANSFORM_<id> (mk/scenes.mk). Ids are plain names (parse_index).
+std::string plan(const Index& index, const std::string& key = "TILE");
+
+}  // namespace canopy::collect

@@ -1,0 +1,461 @@
+#include "score/score.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <set>
+#include <stdexcept>
+
+#include "canopy/common/error.h"
+
+namespace canopy::score {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+struct Malformed : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+const Json& member(const Json& j, const char* key, const std::string& where) {
+  if (!j.is_object() || !j.contains(key)) throw Malformed(where + ": missing \"" + key + "\"");
+  return j.at(key);
+}
+
+double number(const Json& j, const char* key, const std::string& where) {
+  const Json& v = member(j, key, where);
+  if (!v.is_number()) throw Malformed(where + "." + key + " must be a number, not " + v.dump().substr(0, 40));
+  const double d = v.get<double>();
+  if (!std::isfinite(d)) throw Malformed(where + "." + key + " is not finite");
+  return d;
+}
+
+std::string text(const Json& j, const char* key, const std::string& where) {
+  const Json& v = member(j, key, where);
+  if (!v.is_string()) throw Malformed(where + "." + key + " must be a string, not " + v.dump().substr(0, 40));
+  return v.get<std::string>();
+}
+
+int count(const Json& j, const char* key, const std::string& where) {
+  const Json& v = member(j, key, where);
+  if (!v.is_number_integer() || v.get<long long>() < 0 || v.get<long long>() > 100000000) {
+    throw Malformed(where + "." + key + " must be a count, not " + v.dump().substr(0, 40));
+  }
+  return v.get<int>();
+}
+
+const Json& array(const Json& j, const char* key, const std::string& where) {
+  const Json& v = member(j, key, where);
+  if (!v.is_array()) throw Malformed(where + "." + key + " must be an array");
+  return v;
+}
+
+Json parse_document(const std::string& text_, const std::string& name, const char* format) {
+  Json j;
+  try {
+    j = Json::parse(text_);
+  } catch (const Json::parse_error& e) {
+    throw common::DataError(name, std::string("not JSON: ") + e.what());
+  }
+  if (!j.is_object() || !j.contains("format") || j["format"] != format) {
+    throw common::DataError(name, std::string("not a ") + format + " document (\"format\" is " +
+                                      (j.is_object() && j.contains("format") ? j["format"].dump() : "missing") + ")");
+  }
+  if (!j.contains("version") || j["version"] != 1) {
+    throw common::DataError(name, std::string(format) + " version " +
+                                      (j.contains("version") ? j["version"].dump() : "missing") +
+                                      " is not supported (this build reads version 1)");
+  }
+  return j;
+}
+
+Json ratio(double a, double b) { return b > 0 ? Json(a / b) : Json(nullptr); }
+Json maybe(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
+
+// Everything measured on one set of tiles.
+struct Tally {
+  int tiles = 0, candidates = 0, none = 0, detections = 0, truths = 0, tp = 0, identified = 0, flips = 0;
+  double area = 0, cover_sum = 0;
+  std::vector<double> position, heading;
+};
+
+}  // namespace
+
+Truth parse_truth(const std::string& text_, const std::string& name) {
+  const Json j = parse_document(text_, name, "canopy.scene_truth");
+  Truth t;
+  t.name = name;
+  try {
+    const Json& extent = array(j, "extent", "truth");
+    if (extent.size() != 2 || !extent[0].is_number() || !extent[1].is_number()) {
+      throw Malformed("extent must be [X, Y]");
+    }
+    t.extent_x = extent[0].get<double>();
+    t.extent_y = extent[1].get<double>();
+    if (!(t.extent_x > 0 && t.extent_y > 0 && std::isfinite(t.extent_x * t.extent_y))) {
+      throw Malformed("extent must be positive");
+    }
+    const Json& vs = array(j, "vehicles", "truth");
+    std::set<int> seen;
+    for (std::size_t i = 0; i < vs.size(); ++i) {
+      const std::string w = "vehicles[" + std::to_string(i) + "]";
+      TrueVehicle v;
+      v.instance = count(vs[i], "instance", w);
+      if (!seen.insert(v.instance).second) throw Malformed(w + ".instance " + std::to_string(v.instance) + " repeats");
+      v.model = text(vs[i], "model", w);
+      const Json& pose = member(vs[i], "pose", w);
+      v.x = number(pose, "x", w + ".pose");
+      v.y = number(pose, "y", w + ".pose");
+      v.z = number(pose, "z", w + ".pose");
+      v.heading = number(pose, "heading", w + ".pose");
+      v.cover = number(vs[i], "canopy_cover", w);
+      if (v.cover < 0 || v.cover > 1) throw Malformed(w + ".canopy_cover must lie in [0, 1]");
+      t.vehicles.push_back(v);
+    }
+  } catch (const Malformed& e) {
+    throw common::DataError(name, e.what());
+  }
+  return t;
+}
+
+Detections parse_detections(const std::string& text_, const std::string& name) {
+  const Json j = parse_document(text_, name, "canopy.detections");
+  Detections d;
+  d.name = name;
+  try {
+    d.candidates = count(j, "candidates", "detections document");
+    d.none = count(j, "none", "detections document");
+    const Json& ds = array(j, "detections", "detections document");
+    std::set<std::string> seen;
+    for (std::size_t i = 0; i < ds.size(); ++i) {
+      const std::string w = "detections[" + std::to_string(i) + "]";
+      Detection e;
+      e.candidate = text(ds[i], "candidate", w);
+      if (!seen.insert(e.candidate).second) throw Malformed(w + ".candidate \"" + e.candidate + "\" repeats");
+      e.model = text(ds[i], "model", w);
+      e.confidence = number(ds[i], "confidence", w);
+      if (e.confidence < 0 || e.confidence > 1) throw Malformed(w + ".confidence must lie in [0, 1]");
+      const Json& pose = member(ds[i], "pose", w);
+      e.x = number(pose, "x", w + ".pose");
+      e.y = number(pose, "y", w + ".pose");
+      e.z = number(pose, "z", w + ".pose");
+      e.heading = number(pose, "heading", w + ".pose");
+      d.detections.push_back(e);
+    }
+    if (d.none + static_cast<int>(d.detections.size()) > d.candidates) {
+      throw Malformed("detections (" + std::to_string(d.detections.size()) + ") + none (" + std::to_string(d.none) +
+                      ") exceed the candidates (" + std::to_string(d.candidates) + ")");
+    }
+  } catch (const Malformed& e) {
+    throw common::DataError(name, e.what());
+  }
+  return d;
+}
+
+TileMatch match_tile(const Detections& det, const Truth& truth, double radius) {
+  const auto& ds = det.detections;
+  TileMatch m;
+  m.order.resize(ds.size());
+  for (std::size_t i = 0; i < ds.size(); ++i) m.order[i] = static_cast<int>(i);
+  std::sort(m.order.begin(), m.order.end(), [&](int a, int b) {
+    if (ds[a].confidence != ds[b].confidence) return ds[a].confidence > ds[b].confidence;
+    return ds[a].candidate < ds[b].candidate;
+  });
+  m.truth_of.assign(ds.size(), -1);
+  m.detection_of.assign(truth.vehicles.size(), -1);
+  for (int d : m.order) {
+    int best = -1;
+    double best_dist = radius;
+    for (std::size_t t = 0; t < truth.vehicles.size(); ++t) {
+      if (m.detection_of[t] >= 0) continue;
+      const double dist = std::hypot(ds[d].x - truth.vehicles[t].x, ds[d].y - truth.vehicles[t].y);
+      if (dist > radius) continue;
+      if (best < 0 || dist < best_dist ||
+          (dist == best_dist && truth.vehicles[t].instance < truth.vehicles[best].instance)) {
+        best = static_cast<int>(t);
+        best_dist = dist;
+      }
+    }
+    if (best >= 0) {
+      m.truth_of[d] = best;
+      m.detection_of[best] = d;
+    }
+  }
+  return m;
+}
+
+double heading_error(double a, double b) {
+  double e = std::fmod(std::fabs(a - b), 360.0);
+  return e > 180 ? 360 - e : e;
+}
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
+  std::sort(v.begin(), v.end());
+  const double pos = p / 100 * static_cast<double>(v.size() - 1);
+  const auto lo = static_cast<std::size_t>(std::floor(pos));
+  const std::size_t hi = std::min(lo + 1, v.size() - 1);
+  return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
+}
+
+Json score(const std::vector<Tile>& tiles, const Params& params) {
+  std::vector<TileMatch> matches;
+  for (const Tile& t : tiles) matches.push_back(match_tile(t.detections, t.truth, params.match_radius));
+
+  auto tally = [&](const std::vector<std::size_t>& which) {
+    Tally s;
+    for (std::size_t i : which) {
+      const Tile& t = tiles[i];
+      const TileMatch& m = matches[i];
+      s.tiles++;
+      s.area += t.truth.extent_x * t.truth.extent_y / 1e4;
+      s.candidates += t.detections.candidates;
+      s.none += t.detections.none;
+      s.detections += static_cast<int>(t.detections.detections.size());
+      s.truths += static_cast<int>(t.truth.vehicles.size());
+      for (const auto& v : t.truth.vehicles) s.cover_sum += v.cover;
+      for (std::size_t d = 0; d < m.truth_of.size(); ++d) {
+        if (m.truth_of[d] < 0) continue;
+        s.tp++;
+        const Detection& det = t.detections.detections[d];
+        const TrueVehicle& tv = t.truth.vehicles[m.truth_of[d]];
+        if (det.model != tv.model) continue;
+        s.identified++;
+        s.position.push_back(std::hypot(det.x - tv.x, det.y - tv.y));
+        const double he = heading_error(det.heading, tv.heading);
+        s.heading.push_back(he);
+        if (he > params.flip_threshold) s.flips++;
+      }
+    }
+    return s;
+  };
+  auto summary = [&](const Tally& s, const Json& cover, const Json& noise) {
+    const int fp = s.detections - s.tp, fn = s.truths - s.tp;
+    const Json precision = ratio(s.tp, s.detections), recall = ratio(s.tp, s.truths);
+    Json f1 = nullptr;
+    if (precision.is_number() && recall.is_number()) {
+      const double p = precision.get<double>(), r = recall.get<double>();
+      f1 = p + r > 0 ? 2 * p * r / (p + r) : 0.0;
+    }
+    return Json{{"cover", cover}, {"noise_mm", noise}, {"tiles", s.tiles}, {"area_ha", s.area},
+                {"true", s.truths}, {"candidates", s.candidates}, {"none", s.none},
+                {"detections", s.detections}, {"tp", s.tp}, {"fp", fp}, {"fn", fn},
+                {"precision", precision}, {"recall", recall}, {"f1", f1},
+                {"false_alarms_per_ha", ratio(fp, s.area)},
+                {"identified", s.identified}, {"identification", ratio(s.identified, s.tp)},
+                {"recognition", ratio(s.identified, s.truths)},
+                {"mean_vehicle_cover", ratio(s.cover_sum, s.truths)},
+                {"position_error_median_m", maybe(percentile(s.position, 50))},
+                {"position_error_p90_m", maybe(percentile(s.position, 90))},
+                {"heading_error_median_deg", maybe(percentile(s.heading, 50))},
+                {"heading_error_p90_deg", maybe(percentile(s.heading, 90))},
+                {"flips", s.flips}};
+  };
+
+  // The groups: all tiles, each cover label, each noise level, each label x noise.
+  std::vector<std::string> covers;
+  std::vector<double> noises;
+  for (const Tile& t : tiles) {
+    if (!t.cover.empty() && std::find(covers.begin(), covers.end(), t.cover) == covers.end()) covers.push_back(t.cover);
+    if (std::isfinite(t.noise_mm) && std::find(noises.begin(), noises.end(), t.noise_mm) == noises.end()) {
+      noises.push_back(t.noise_mm);
+    }
+  }
+  std::sort(noises.begin(), noises.end());
+  auto select = [&](const std::string* cover, const double* noise) {
+    std::vector<std::size_t> which;
+    for (std::size_t i = 0; i < tiles.size(); ++i) {
+      if (cover && tiles[i].cover != *cover) continue;
+      if (noise && tiles[i].noise_mm != *noise) continue;
+      which.push_back(i);
+    }
+    return which;
+  };
+  Json summaries = Json::array();
+  summaries.push_back(summary(tally(select(nullptr, nullptr)), "all", "all"));
+  for (const auto& c : covers) summaries.push_back(summary(tally(select(&c, nullptr)), c, "all"));
+  for (double n : noises) summaries.push_back(summary(tally(select(nullptr, &n)), "all", n));
+  if (!covers.empty() && !noises.empty()) {
+    for (const auto& c : covers) {
+      for (double n : noises) summaries.push_back(summary(tally(select(&c, &n)), c, n));
+    }
+  }
+
+  // Precision-recall over the confidence (all tiles): one point per distinct confidence.
+  struct Ranked {
+    double confidence;
+    std::size_t tile;
+    std::string candidate;
+    bool tp;
+  };
+  std::vector<Ranked> ranked;
+  int truths = 0;
+  for (std::size_t i = 0; i < tiles.size(); ++i) {
+    truths += static_cast<int>(tiles[i].truth.vehicles.size());
+    const auto& ds = tiles[i].detections.detections;
+    for (std::size_t d = 0; d < ds.size(); ++d) {
+      ranked.push_back({ds[d].confidence, i, ds[d].candidate, matches[i].truth_of[d] >= 0});
+    }
+  }
+  std::sort(ranked.begin(), ranked.end(), [](const Ranked& a, const Ranked& b) {
+    if (a.confidence != b.confidence) return a.confidence > b.confidence;
+    if (a.tile != b.tile) return a.tile < b.tile;
+    return a.candidate < b.candidate;
+  });
+  Json pr = Json::array();
+  int tp = 0;
+  for (std::size_t k = 0; k < ranked.size(); ++k) {
+    tp += ranked[k].tp ? 1 : 0;
+    if (k + 1 < ranked.size() && ranked[k + 1].confidence == ranked[k].confidence) continue;
+    const int n = static_cast<int>(k + 1);
+    pr.push_back(Json{{"threshold", ranked[k].confidence}, {"detections", n}, {"tp", tp}, {"fp", n - tp},
+                      {"precision", ratio(tp, n)}, {"recall", ratio(tp, truths)}});
+  }
+
+  // Identification and recognition per true model, over all tiles and per cover label.
+  Json models = Json::array();
+  std::vector<std::string> cover_groups{"all"};
+  cover_groups.insert(cover_groups.end(), covers.begin(), covers.end());
+  for (const auto& c : cover_groups) {
+    std::map<std::string, std::array<int, 3>> per;  // true, matched, identified
+    for (std::size_t i = 0; i < tiles.size(); ++i) {
+      if (c != "all" && tiles[i].cover != c) continue;
+      for (std::size_t t = 0; t < tiles[i].truth.vehicles.size(); ++t) {
+        const TrueVehicle& tv = tiles[i].truth.vehicles[t];
+        auto& a = per[tv.model];
+        a[0]++;
+        const int d = matches[i].detection_of[t];
+        if (d < 0) continue;
+        a[1]++;
+        if (tiles[i].detections.detections[d].model == tv.model) a[2]++;
+      }
+    }
+    for (const auto& [model, a] : per) {
+      models.push_back(Json{{"model", model}, {"cover", c}, {"true", a[0]}, {"matched", a[1]}, {"identified", a[2]},
+                            {"recall", ratio(a[1], a[0])}, {"identification", ratio(a[2], a[1])},
+                            {"recognition", ratio(a[2], a[0])}});
+    }
+  }
+
+  // Recall and recognition against the measured per-vehicle canopy cover, overall and per noise.
+  Json bins = Json::array();
+  const auto& edges = params.cover_bins;
+  std::vector<const double*> noise_groups{nullptr};
+  for (const double& n : noises) noise_groups.push_back(&n);
+  for (const double* n : noise_groups) {
+    for (std::size_t b = 0; b + 1 < edges.size(); ++b) {
+      const bool last = b + 2 == edges.size();
+      int total = 0, detected = 0, recognised = 0;
+      for (std::size_t i = 0; i < tiles.size(); ++i) {
+        if (n && tiles[i].noise_mm != *n) continue;
+        for (std::size_t t = 0; t < tiles[i].truth.vehicles.size(); ++t) {
+          const TrueVehicle& tv = tiles[i].truth.vehicles[t];
+          if (tv.cover < edges[b] || (last ? tv.cover > edges[b + 1] : tv.cover >= edges[b + 1])) continue;
+          total++;
+          const int d = matches[i].detection_of[t];
+          if (d < 0) continue;
+          detected++;
+          if (tiles[i].detections.detections[d].model == tv.model) recognised++;
+        }
+      }
+      bins.push_back(Json{{"cover_lo", edges[b]}, {"cover_hi", edges[b + 1]}, {"noise_mm", n ? Json(*n) : Json("all")},
+                          {"true", total}, {"detected", detected}, {"recognised", recognised},
+                          {"recall", ratio(detected, total)}, {"recognition", ratio(recognised, total)}});
+    }
+  }
+
+  // One row per detection and per missed vehicle (the top-view pictures colour by outcome).
+  Json rows = Json::array();
+  Json tile_list = Json::array();
+  for (std::size_t i = 0; i < tiles.size(); ++i) {
+    const Tile& t = tiles[i];
+    const TileMatch& m = matches[i];
+    int tp_i = 0;
+    for (int d : m.order) {
+      const Detection& det = t.detections.detections[d];
+      Json r{{"tile", i}, {"candidate", det.candidate}, {"model", det.model}, {"confidence", det.confidence},
+             {"x", det.x}, {"y", det.y}, {"heading", det.heading}};
+      if (m.truth_of[d] >= 0) {
+        tp_i++;
+        const TrueVehicle& tv = t.truth.vehicles[m.truth_of[d]];
+        r["outcome"] = det.model == tv.model ? "right" : "wrong";
+        r["instance"] = tv.instance;
+        r["true_model"] = tv.model;
+        r["cover"] = tv.cover;
+        r["distance_m"] = std::hypot(det.x - tv.x, det.y - tv.y);
+        r["heading_error_deg"] = heading_error(det.heading, tv.heading);
+      } else {
+        r["outcome"] = "false_alarm";
+        r["instance"] = nullptr;
+        r["true_model"] = nullptr;
+        r["cover"] = nullptr;
+        r["distance_m"] = nullptr;
+        r["heading_error_deg"] = nullptr;
+      }
+      rows.push_back(std::move(r));
+    }
+    for (std::size_t v = 0; v < t.truth.vehicles.size(); ++v) {
+      if (m.detection_of[v] >= 0) continue;
+      const TrueVehicle& tv = t.truth.vehicles[v];
+      rows.push_back(Json{{"tile", i}, {"candidate", nullptr}, {"model", nullptr}, {"confidence", nullptr},
+                          {"x", tv.x}, {"y", tv.y}, {"heading", tv.heading}, {"outcome", "missed"},
+                          {"instance", tv.instance}, {"true_model", tv.model}, {"cover", tv.cover},
+                          {"distance_m", nullptr}, {"heading_error_deg", nullptr}});
+    }
+    const int n_det = static_cast<int>(t.detections.detections.size());
+    const int n_true = static_cast<int>(t.truth.vehicles.size());
+    tile_list.push_back(Json{{"detections", t.detections.name}, {"truth", t.truth.name},
+                             {"cover", t.cover.empty() ? Json(nullptr) : Json(t.cover)},
+                             {"noise_mm", maybe(t.noise_mm)}, {"area_ha", t.truth.extent_x * t.truth.extent_y / 1e4},
+                             {"true", n_true}, {"tp", tp_i}, {"fp", n_det - tp_i}, {"fn", n_true - tp_i}});
+  }
+
+  return Json{{"format", "canopy.scene_score"},
+              {"version", 1},
+              {"params", Json{{"match_radius_m", params.match_radius}, {"cover_bins", params.cover_bins},
+                              {"flip_threshold_deg", params.flip_threshold}}},
+              {"tiles", tile_list},
+              {"summary", summaries},
+              {"pr", pr},
+              {"models", models},
+              {"cover_bins", bins},
+              {"matches", rows}};
+}
+
+std::string csv(const Json& score, const std::string& table) {
+  if (!score.contains(table) || !score[table].is_array()) throw common::Error("score: no table \"" + table + "\"");
+  const Json& rows = score[table];
+  std::string out;
+  if (rows.empty()) return out;
+  std::vector<std::string> columns;
+  for (const auto& [k, v] : rows[0].items()) columns.push_back(k);
+  for (std::size_t c = 0; c < columns.size(); ++c) out += (c ? "," : "") + columns[c];
+  out += "\n";
+  for (const Json& r : rows) {
+    for (std::size_t c = 0; c < columns.size(); ++c) {
+      if (c) out += ",";
+      const Json& v = r.contains(columns[c]) ? r[columns[c]] : Json(nullptr);
+      if (v.is_null()) continue;
+      if (v.is_string()) {
+        std::string s = v.get<std::string>();
+        if (s.find_first_of(",\"\n") != std::string::npos) {
+          std::string q = "\"";
+          for (char ch : s) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+          s = q + "\"";
+        }
+        out += s;
+      } else if (v.is_number_float()) {
+        char buf[40];
+        std::snprintf(buf, sizeof buf, "%.10g", v.get<double>());
+        out += buf;
+      } else {
+        out += v.dump();
+      }
+    }
+    out += "\n";
+  }
+  return out;
+}
+
+}  // namespace canopy::score

@@ -1,0 +1,90 @@
+// score: detections of whole tiles against their ground truth (issue 16; formats/README.md
+// "Scene scores", docs/decisions/scene-experiment.md).
+//
+// Matching, per tile: detections in order of falling confidence (ties: candidate id), each
+// takes the nearest still unmatched true vehicle whose centre lies within `match_radius`
+// (horizontal distance; ties: the lower instance id); a detection left without one is a false
+// alarm, a true vehicle left without one is missed. So a duplicate detection of one vehicle
+// is a false alarm, and dropping the detections below a threshold never changes the matches
+// above it (the precision-recall curve is one pass over the sorted detections).
+#pragma once
+
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace canopy::score {
+
+struct TrueVehicle {
+  int instance = 0;
+  std::string model;
+  double x = 0, y = 0, z = 0;  // bottom centre of the bounding box, tile coordinates
+  double heading = 0;          // degrees
+  double cover = 0;            // measured canopy cover over its footprint, [0, 1]
+};
+
+struct Truth {
+  std::string name;  // file, as given
+  double extent_x = 0, extent_y = 0;  // m
+  std::vector<TrueVehicle> vehicles;
+};
+
+struct Detection {
+  std::string candidate;
+  std::string model;
+  double confidence = 0;
+  double x = 0, y = 0, z = 0;  // model origin in tile coordinates
+  double heading = 0;          // degrees
+};
+
+struct Detections {
+  std::string name;
+  int candidates = 0;  // candidates verified
+  int none = 0;        // of which answered none
+  std::vector<Detection> detections;
+};
+
+// One tile of an experiment: its detections, truth and the experiment's labels.
+struct Tile {
+  Detections detections;
+  Truth truth;
+  double noise_mm = std::numeric_limits<double>::quiet_NaN();  // NaN = not given
+  std::string cover;  // cover level label ("light", ...), "" = not given
+};
+
+struct Params {
+  double match_radius = 1.5;                              // m
+  std::vector<double> cover_bins{0, 0.25, 0.5, 0.75, 1};  // edges of the per-vehicle cover bins
+  double flip_threshold = 90;                             // heading error (deg) counted as a flip
+};
+
+// Readers: check "format" and "version", name the file and the field in every error
+// (common::DataError, exit code 1).
+Truth parse_truth(const std::string& text, const std::string& name);
+Detections parse_detections(const std::string& text, const std::string& name);
+
+// The pairing of one tile. truth_of[d] = index into truth.vehicles of detection d's match or
+// -1; order = detection indices by falling confidence.
+struct TileMatch {
+  std::vector<int> order;
+  std::vector<int> truth_of;
+  std::vector<int> detection_of;  // per true vehicle, -1 = missed
+};
+TileMatch match_tile(const Detections& det, const Truth& truth, double radius);
+
+// |a - b| modulo 360, in [0, 180]: a 180-degree flip is an error of 180.
+double heading_error(double a_deg, double b_deg);
+
+// Percentile p in [0, 100] of values (linear interpolation between order statistics, the
+// "type 7" definition; the median of an even count is the mean of the middle two). NaN for
+// no values.
+double percentile(std::vector<double> values, double p);
+
+// The whole score: a canopy.scene_score document (without provenance, added by the caller).
+nlohmann::ordered_json score(const std::vector<Tile>& tiles, const Params& params);
+
+// CSV tables of a score document: "summary", "pr", "models", "cover_bins", "matches".
+std::string csv(const nlohmann::ordered_json& score, const std::string& table);
+
+}  // namespace canopy::score
