@@ -99,6 +99,7 @@ int main(int argc, char** argv) {
   tool.add_length("--icp-coarse", &p.icp_coarse, "ICP correspondence distance, first stage");
   tool.add_length("--icp-fine", &p.icp_fine, "ICP correspondence distance, second stage");
   tool.add("--icp-iterations", &p.icp_iterations, "ICP iterations per stage (0 = no ICP)");
+  tool.add("--icp-points", &p.icp_points, "candidate points ICP uses at most (even stride)");
   tool.add_flag("--no-flip", &no_flip, "do not try the 180-degree flip of each start")
       ->default_str("false");
   tool.add("--accept", &p.accept, "answer none when the best score is below this");

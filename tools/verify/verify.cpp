@@ -1,9 +1,11 @@
 #include "verify/verify.h"
 
+#include <pcl/console/print.h>
 #include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 #include <pcl/registration/icp.h>
+#include <pcl/registration/transformation_estimation_point_to_plane_lls.h>
 
 #include <algorithm>
 #include <cmath>
@@ -54,6 +56,25 @@ pcl::PointCloud<pcl::PointNormal>::Ptr to_pcl(const std::vector<Vector3d>& pts,
   }
   return c;
 }
+
+// PCL's point-to-plane linear least squares, guarded: too few correspondences or a singular
+// system (a candidate that is one plane) leave the pose unchanged instead of giving NaN.
+class SafePointToPlane : public pcl::registration::TransformationEstimationPointToPlaneLLS<
+                             pcl::PointNormal, pcl::PointNormal, double> {
+ public:
+  using Base = pcl::registration::TransformationEstimationPointToPlaneLLS<pcl::PointNormal,
+                                                                          pcl::PointNormal, double>;
+  using Base::estimateRigidTransformation;
+  void estimateRigidTransformation(const pcl::PointCloud<pcl::PointNormal>& src,
+                                   const pcl::PointCloud<pcl::PointNormal>& tgt,
+                                   const pcl::Correspondences& corr,
+                                   Matrix4& T) const override {
+    T.setIdentity();
+    if (corr.size() < 6) return;
+    Base::estimateRigidTransformation(src, tgt, corr, T);
+    if (!T.allFinite()) T.setIdentity();
+  }
+};
 
 Isometry3d heading_pose(double theta, const Vector3d& t) {
   Isometry3d T = Isometry3d::Identity();
@@ -135,6 +156,7 @@ void validate(const Params& p) {
   }
   if (!(p.facing > 0 && p.facing <= 1)) throw common::UsageError("--facing must be in (0, 1]");
   if (p.icp_iterations < 0) throw common::UsageError("--icp-iterations must be >= 0");
+  if (p.icp_points < 6) throw common::UsageError("--icp-points must be >= 6");
   if (!(p.accept >= 0 && p.accept <= 1)) throw common::UsageError("--accept must be in [0, 1]");
   if (!std::isfinite(p.min_height) || !std::isfinite(p.conf_bias) ||
       !std::isfinite(p.conf_score) || !std::isfinite(p.conf_margin)) {
@@ -283,10 +305,17 @@ Check Scorer::score(const Surface& model, const Isometry3d& pose) const {
 Isometry3d refine(const Surface& model, const std::vector<Vector3d>& candidate,
                   const Isometry3d& start, const Params& p) {
   if (p.icp_iterations == 0 || candidate.size() < 6) return start;
-  std::vector<Vector3d> zeros(candidate.size(), Vector3d::UnitZ());
-  auto src = to_pcl(candidate, zeros);
+  pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);  // ICP's warnings are expected here
+  // At most icp_points source points, an even stride through the candidate (deterministic).
+  std::vector<Vector3d> sub;
+  const std::size_t stride =
+      (candidate.size() + static_cast<std::size_t>(p.icp_points) - 1) / static_cast<std::size_t>(p.icp_points);
+  for (std::size_t i = 0; i < candidate.size(); i += stride) sub.push_back(candidate[i]);
+  std::vector<Vector3d> zeros(sub.size(), Vector3d::UnitZ());
+  auto src = to_pcl(sub, zeros);
   auto tgt = to_pcl(model.points, model.normals);
   pcl::IterativeClosestPointWithNormals<pcl::PointNormal, pcl::PointNormal, double> icp;
+  icp.setTransformationEstimation(std::make_shared<SafePointToPlane>());
   icp.setInputSource(src);
   icp.setInputTarget(tgt);
   icp.setMaximumIterations(p.icp_iterations);

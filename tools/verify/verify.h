@@ -40,6 +40,7 @@ struct Params {
   double icp_coarse = 0.5;       // ICP max correspondence distance, first stage (m)
   double icp_fine = 0.2;         // second stage (m)
   int icp_iterations = 20;       // per stage
+  int icp_points = 1000;         // candidate points ICP uses at most (even stride)
   bool flip = true;              // try the 180-degree heading flip of every start
   double accept = 0.45;          // answer "none" when the best score is below this
   // confidence = 1 / (1 + exp(-(c0 + c_score * score + c_margin * margin)))
