@@ -5,7 +5,8 @@
 # rangetrace -> addnoise -> fitvox -> cocone -> ncut -> gmatch -> verify into OUTDIR/<line no>/
 # (kept; reruns redo only gmatch and verify) and prints one CSV row per trial:
 # trial,model,scene,noise,heading,x,y,seed,gmatch_top,gmatch_margin,verify_model,confidence,
-# best_score,best_explained,best_violation,true_score,heading_err_deg,pos_err_m,verify_s
+# best_score,best_explained,best_violation,true_score,heading_err_deg,pos_err_m,verify_s,
+# best_model,second_score,true_flipped
 set -u
 bin=$1 out=$2 mb=$3 list=$4
 shift 4
@@ -48,6 +49,7 @@ top = m["models"][0]["model"]
 margin = m["models"][0]["score"] - (m["models"][1]["score"] if len(m["models"]) > 1 else 0)
 hs = v["hypotheses"]
 best = max(hs, key=lambda h: h["score"])
+second = max([h["score"] for h in hs if h is not best] + [0.0])
 true = [h for h in hs if h["model"] == model]
 ts = true[0]["score"] if true else -1
 herr = perr = -1
@@ -60,6 +62,7 @@ if true:
 print(",".join(str(s) for s in [n, model, scene, noise, heading, x, y, seed, top, "%.4f" % margin,
       v["model"] or "none", "%.4f" % v["confidence"], "%.4f" % best["score"], "%.4f" % best["explained"],
       "%.4f" % best["free_space_violation"], "%.4f" % ts, "%.3f" % herr, "%.4f" % perr,
-      "%.3f" % (float(t1) - float(t0))]))
+      "%.3f" % (float(t1) - float(t0)), best["model"], "%.4f" % second,
+      int(true[0]["flipped"]) if true else -1]))
 PY
 done <"$list"

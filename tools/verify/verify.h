@@ -42,9 +42,9 @@ struct Params {
   int icp_iterations = 20;       // per stage
   int icp_points = 1000;         // candidate points ICP uses at most (even stride)
   bool flip = true;              // try the 180-degree heading flip of every start
-  double accept = 0.45;          // answer "none" when the best score is below this
+  double accept = 0.544;         // answer "none" when the best score is below this
   // confidence = 1 / (1 + exp(-(c0 + c_score * score + c_margin * margin)))
-  double conf_bias = -6.0, conf_score = 12.0, conf_margin = 4.0;
+  double conf_bias = -5.365, conf_score = 6.317, conf_margin = 5.573;
 };
 
 // Throws common::UsageError when a parameter is out of range.
