@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # trials.sh BIN OUTDIR MODELBASE LIST: development/calibration trials for verify, never the
 # experiment's. LIST has one trial per line: "<model> <scene> <noise mm> <heading deg> <x> <y> <seed>"
-# (<model> a share/models name, a clutter-verify/<name>.inc path or a mesh). Each trial runs
+# (<model> a share/models name, a clutter-verify/<name>.inc path or a mesh file, whose stem
+# is then the model's name in the modelbase). RANGETRACE_ARGS adds rangetrace options. Each trial runs
 # rangetrace -> addnoise -> fitvox -> cocone -> ncut -> gmatch -> verify into OUTDIR/<line no>/
 # (kept; reruns redo only gmatch and verify) and prints one CSV row per trial:
 # trial,model,scene,noise,heading,x,y,seed,gmatch_top,gmatch_margin,verify_model,confidence,
@@ -24,7 +25,7 @@ while read -r model scene noise heading x y seed; do
   sc=$scene
   [ -f "$src/share/scenes/$scene.scene" ] && sc=$src/share/scenes/$scene.scene
   if [ ! -s "$d/segments.json" ]; then
-    { "$bin/rangetrace" -q --model "$m" --scene "$sc" --heading "${heading}deg" --position "$x,$y" \
+    { "$bin/rangetrace" -q ${RANGETRACE_ARGS:-} --model "$m" --scene "$sc" --heading "${heading}deg" --position "$x,$y" \
         --seed "$seed" --threads 2 -o "$d/raw.pcd" &&
       "$bin/addnoise" -q --sigma "${noise}mm" --seed "$seed" -i "$d/raw.pcd" -o "$d/scan.pcd" &&
       "$bin/fitvox" -q --config "$src/share/params/fitvox.ini" -i "$d/scan.pcd" -o "$d/samples.pcd" &&
@@ -43,6 +44,8 @@ while read -r model scene noise heading x y seed; do
   python3 - "$d" "$n" "$model" "$scene" "$noise" "$heading" "$x" "$y" "$seed" "$t0" "$t1" <<'PY'
 import json, math, sys
 d, n, model, scene, noise, heading, x, y, seed, t0, t1 = sys.argv[1:]
+if "/" in model and not model.startswith("clutter"):  # a mesh file: its stem names the model
+    model = model.rsplit("/", 1)[-1].rsplit(".", 1)[0]
 m = json.load(open(d + "/match.json"))
 v = json.load(open(d + "/verdict.json"))
 top = m["models"][0]["model"]
