@@ -1,7 +1,7 @@
 // verify: check gmatch's top hypotheses against the candidate's points; answer a model with a
 // pose and a confidence, or "none".
 #include <cstdio>
-#include <set>
+#include <optional>
 #include <sstream>
 #include <string>
 
