@@ -61,7 +61,7 @@ TEST_CASE("verify answers the right model with its pose, byte-identical on rerun
   const Case c("ok");
   std::string err;
   REQUIRE(sh(c.cmd(c.dir / "a.json"), c.dir / "err", &err) == 0);
-  REQUIRE(err.find("pickup, confidence") != std::string::npos);
+  REQUIRE(err.find("check: pickup, confidence") != std::string::npos);
   REQUIRE(sh(c.cmd(c.dir / "b.json"), c.dir / "err", &err) == 0);
   REQUIRE(canopy::common::read_file((c.dir / "a.json").string()) ==
           canopy::common::read_file((c.dir / "b.json").string()));

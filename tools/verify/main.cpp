@@ -126,7 +126,7 @@ int main(int argc, char** argv) {
     read.done(std::to_string(candidate.points.size()) + " candidate points, " +
               std::to_string(models.size()) + " hypotheses");
 
-    cm::log::Phase phase("verify");
+    cm::log::Phase phase("check");
     fm::Verdict v = vf::run({&candidate, &graph, &match, &models}, p);
     if (to_tile) {
       v.transform = pose_of(*to_tile);
