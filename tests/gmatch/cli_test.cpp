@@ -4,6 +4,7 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -118,4 +119,29 @@ TEST_CASE("an empty or missing modelbase is an error", "[gmatch][cli]") {
   REQUIRE(sh(head + " --modelbase " + (dir / "nowhere").string(), dir / "err", &err) == 1);
   REQUIRE(sh(head, dir / "err", &err) == 2);  // --modelbase is required
   REQUIRE_FALSE(fs::exists(out));
+}
+
+TEST_CASE("gmatch --format table prints one line per model, named by the input path",
+          "[gmatch][cli]") {
+  const fs::path dir = fresh_dir("table");
+  const fs::path mb = make_modelbase(dir);
+  const fs::path trial = dir / "sedan" / "circle" / "noise-8";
+  fs::create_directories(trial);
+  const fs::path object = trial / "segments.json";
+  canopy::formats::write_segment_graph(transformed(vehicle(), 0.4, 0.0, {1, 2, 0}), object.string());
+  std::string err;
+  const std::string base = kBin + " -i " + object.string() + " --modelbase " + mb.string();
+  REQUIRE(sh(base + " --format table -o " + (dir / "t.txt").string(), dir / "err", &err) == 0);
+  const std::string t = canopy::common::read_file((dir / "t.txt").string());
+  REQUIRE(t.find("# object " + trial.string() + ",") == 0);
+  REQUIRE(t.find("\n1 sedan ") != std::string::npos);
+  REQUIRE(std::count(t.begin(), t.end(), '\n') == 5);  // two header lines + three models
+  REQUIRE(err.find(trial.string() + ": best sedan") != std::string::npos);
+  // The one-sided coverage stays selectable (ablation) and changes the recorded parameters.
+  REQUIRE(sh(base + " --coverage model -o " + (dir / "m.json").string(), dir / "err", &err) == 0);
+  const auto m = canopy::formats::read_match_result((dir / "m.json").string());
+  bool recorded = false;
+  for (const auto& [k, v] : m.provenance.parameters) recorded |= k == "coverage" && v == "model";
+  REQUIRE(recorded);
+  REQUIRE(sh(base + " --coverage neither -o " + (dir / "x.json").string(), dir / "err", &err) == 2);
 }

@@ -1,6 +1,8 @@
 #include "gmatch/gmatch.h"
 
 #include <algorithm>
+#include <cstdio>
+#include <filesystem>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -12,6 +14,12 @@
 
 namespace canopy::gmatch {
 namespace {
+
+std::string fmt3(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.4f", v);
+  return b;
+}
 
 using formats::Segment;
 using formats::SegmentGraph;
@@ -136,6 +144,11 @@ class Matcher {
                      [&](int a, int b) { return mod_[a]->area > mod_[b]->area; });
     for (int j = 0; j < m_; ++j) area_total_ += mod_[j]->area;
     for (int i = 0; i < std::min(m_, p.max_segments); ++i) area_ref_ += mod_[by_area_[i]]->area;
+    // Object side (coverage both): the area of the X object segments considered, and the
+    // suffix sums that bound what the remaining levels can still add.
+    obj_rest_.assign(x_ + 1, 0);
+    for (int k = x_ - 1; k >= 0; --k) obj_rest_[k] = obj_rest_[k + 1] + obj_[k]->area;
+    obj_ref_ = obj_rest_[0];
 
     used_.assign(m_, 0);
     assign_.assign(x_, -1);
@@ -150,7 +163,7 @@ class Matcher {
     best_key_ = std::numeric_limits<std::int64_t>::min();
     if (x_ > 0) {
       top_key_ = p_.error == ErrorForm::kBounded ? quantize(1.0) : quantize(0.0);
-      descend(0, 0, 0, 0, 0, 0);
+      descend(0, 0, 0, 0, 0, 0, 0);
     }
     if (stats) {
       stats->nodes = nodes_;
@@ -175,13 +188,15 @@ class Matcher {
 
   // Merit of a (partial) match: the score S (bounded) or -E (thesis); larger is better.
   // depth = object segments assigned so far (x of Eq. 6.12), nm = non-NULL pairs among them.
-  double merit(double sum_u, double sum_o, double sum_d, int nm, int depth, double area) const {
+  // area = matched model area, area_o = matched object area.
+  double merit(double sum_u, double sum_o, double sum_d, int nm, int depth, double area,
+               double area_o) const {
     if (p_.error == ErrorForm::kBounded) {
       const double pairs = 0.5 * nm * (nm - 1);
       const double eu = nm > 0 ? sum_u / nm : 0;
       const double eo = pairs > 0 ? sum_o / pairs : 0;
       const double ed = pairs > 0 ? sum_d / pairs : 0;
-      const double cov = area_ref_ > 0 ? std::min(1.0, area / area_ref_) : 0;
+      const double cov = coverage(area, area_o);
       return power(1 - eu, p_.exp_unary) * power(1 - eo, p_.exp_orientation) *
              power(1 - ed, p_.exp_distance) * power(cov, p_.exp_area);
     }
@@ -197,11 +212,22 @@ class Matcher {
            power(2 * sum_d, p_.exp_distance) * power(ca, p_.exp_area) / depth;
   }
 
+  // Bounded-form coverage: the model side (matched model area over the model's X largest
+  // segments) and, with Coverage::kBoth, the geometric mean with the object side (matched
+  // object area over the X object segments considered): a small model covering part of a big
+  // object is then short of object area.
+  double coverage(double area, double area_o) const {
+    const double cm = area_ref_ > 0 ? std::min(1.0, area / area_ref_) : 0;
+    if (p_.coverage == Coverage::kModel) return cm;
+    const double co = obj_ref_ > 0 ? std::min(1.0, area_o / obj_ref_) : 0;
+    return std::sqrt(cm * co);
+  }
+
   // Upper bound of the score of any completion of a partial match (bounded form): future
   // pairs only add non-negative error terms, and at most `remaining` more model segments,
   // at best the largest unused ones, can be covered.
   double upper_bound(double sum_u, double sum_o, double sum_d, int nm, int remaining,
-                     double area) const {
+                     double area, double area_o) const {
     const int n = nm + remaining;
     const double pairs = 0.5 * n * (n - 1);
     const double eu = n > 0 ? sum_u / n : 0;
@@ -215,16 +241,18 @@ class Matcher {
         ++taken;
       }
     }
-    const double cov = area_ref_ > 0 ? std::min(1.0, (area + extra) / area_ref_) : 0;
+    // The remaining object levels are the last `remaining` object segments.
+    const double cov = coverage(area + extra, area_o + obj_rest_[x_ - remaining]);
     return power(1 - eu, p_.exp_unary) * power(1 - eo, p_.exp_orientation) *
            power(1 - ed, p_.exp_distance) * power(cov, p_.exp_area);
   }
 
-  void descend(int depth, double sum_u, double sum_o, double sum_d, int nm, double area) {
+  void descend(int depth, double sum_u, double sum_o, double sum_d, int nm, double area,
+               double area_o) {
     if (best_key_ >= top_key_) return;  // nothing can beat a perfect match
     if (depth == x_) {
       ++leaves_;
-      const std::int64_t key = quantize(merit(sum_u, sum_o, sum_d, nm, depth, area));
+      const std::int64_t key = quantize(merit(sum_u, sum_o, sum_d, nm, depth, area, area_o));
       if (key > best_key_) {
         best_key_ = key;
         best_assign_ = assign_;
@@ -261,12 +289,13 @@ class Matcher {
       c.unary = eu;
       c.sum_o = so;
       c.sum_d = sd;
-      c.merit = merit(sum_u + eu, sum_o + so, sum_d + sd, nm + 1, depth + 1, area + mod_[j]->area);
+      c.merit = merit(sum_u + eu, sum_o + so, sum_d + sd, nm + 1, depth + 1, area + mod_[j]->area,
+                      area_o + obj_[k]->area);
       c.key = quantize(c.merit);
       kids.push_back(c);
     }
     Child null_child;
-    null_child.merit = merit(sum_u, sum_o, sum_d, nm, depth + 1, area);
+    null_child.merit = merit(sum_u, sum_o, sum_d, nm, depth + 1, area, area_o);
     null_child.key = quantize(null_child.merit);
     kids.push_back(null_child);
     // Best first; ties by model segment id, NULL last among equals.
@@ -285,16 +314,17 @@ class Matcher {
       const double su = sum_u + kid.unary, so = sum_o + kid.sum_o, sd = sum_d + kid.sum_d;
       const int nm2 = nm + (real ? 1 : 0);
       const double area2 = area + (real ? mod_[kid.model]->area : 0);
+      const double area_o2 = area_o + (real ? obj_[k]->area : 0);
       if (real) used_[kid.model] = 1;
       bool skip = false;
       if (p_.bound && p_.error == ErrorForm::kBounded) {
-        const double ub = upper_bound(su, so, sd, nm2, remaining, area2);
+        const double ub = upper_bound(su, so, sd, nm2, remaining, area2, area_o2);
         skip = quantize(ub) <= best_key_;
       }
       if (!skip) {
         assign_[k] = kid.model;
         if (real) matched_k_.push_back(k);
-        descend(depth + 1, su, so, sd, nm2, area2);
+        descend(depth + 1, su, so, sd, nm2, area2, area_o2);
         if (real) matched_k_.pop_back();
         assign_[k] = -1;
       }
@@ -305,7 +335,7 @@ class Matcher {
 
   formats::ModelScore report() const {
     formats::ModelScore ms;
-    double sum_u = 0, sum_o = 0, sum_d = 0, area = 0;
+    double sum_u = 0, sum_o = 0, sum_d = 0, area = 0, area_o = 0;
     int nm = 0;
     for (int k = 0; k < x_; ++k) {
       formats::SegmentPair pair;
@@ -316,6 +346,7 @@ class Matcher {
         pair.unary_error = unary_[k * m_ + j];
         sum_u += pair.unary_error;
         area += mod_[j]->area;
+        area_o += obj_[k]->area;
         for (int k2 = 0; k2 < k; ++k2) {
           const int j2 = best_assign_[k2];
           if (j2 < 0) continue;
@@ -331,8 +362,8 @@ class Matcher {
       ms.error_unary = nm > 0 ? sum_u / nm : 0;
       ms.error_orientation = pairs > 0 ? sum_o / pairs : 0;
       ms.error_distance = pairs > 0 ? sum_d / pairs : 0;
-      ms.error_coverage = 1 - (area_ref_ > 0 ? std::min(1.0, area / area_ref_) : 0);
-      ms.score = merit(sum_u, sum_o, sum_d, nm, x_, area);
+      ms.error_coverage = 1 - coverage(area, area_o);
+      ms.score = merit(sum_u, sum_o, sum_d, nm, x_, area, area_o);
       ms.error_total = 1 - ms.score;
     } else {
       ms.error_unary = sum_u;
@@ -350,7 +381,8 @@ class Matcher {
   int x_ = 0, m_ = 0;
   std::vector<double> unary_, alpha_, ang_s_, dist_s_, ang_m_, dist_m_;
   std::vector<int> by_area_;
-  double area_total_ = 0, area_ref_ = 0;
+  double area_total_ = 0, area_ref_ = 0, obj_ref_ = 0;
+  std::vector<double> obj_rest_;  // obj_rest_[k] = area of object segments k..x_-1
 
   std::vector<char> used_;
   std::vector<int> assign_, matched_k_, best_assign_;
@@ -465,5 +497,36 @@ const char* to_string(OrientationForm form) {
 }
 const char* to_string(NormalSign sign) { return sign == NormalSign::kAxial ? "axial" : "signed"; }
 const char* to_string(ErrorForm form) { return form == ErrorForm::kBounded ? "bounded" : "thesis"; }
+const char* to_string(Coverage coverage) { return coverage == Coverage::kBoth ? "both" : "model"; }
+
+std::string object_name(const std::string& path) {
+  namespace fs = std::filesystem;
+  if (path == "-" || path.empty()) return "<stdin>";
+  const fs::path p(path);
+  const std::string stem = p.stem().string();
+  // The experiment's generic artifact names say nothing: name the object by its directory.
+  if ((stem == "segments" || stem == "match") && p.has_parent_path()) {
+    return p.parent_path().lexically_normal().string();
+  }
+  return stem;
+}
+
+std::string format_table(const formats::MatchResult& r, const std::string& object) {
+  std::string out = "# object " + object + ", entropy " + fmt3(r.entropy) + " bits, " +
+                    std::to_string(r.models.size()) + " models, error form " + r.error_form + "\n";
+  out += "# rank model score margin error_unary error_orientation error_distance error_coverage "
+         "matched considered\n";
+  for (std::size_t i = 0; i < r.models.size(); ++i) {
+    const auto& m = r.models[i];
+    const double next = i + 1 < r.models.size() ? r.models[i + 1].score : 0.0;
+    int matched = 0;
+    for (const auto& pr : m.pairs) matched += pr.model_segment >= 0 ? 1 : 0;
+    out += std::to_string(m.rank) + " " + m.model + " " + fmt3(m.score) + " " + fmt3(m.score - next) +
+           " " + fmt3(m.error_unary) + " " + fmt3(m.error_orientation) + " " +
+           fmt3(m.error_distance) + " " + fmt3(m.error_coverage) + " " + std::to_string(matched) +
+           " " + std::to_string(m.pairs.size()) + "\n";
+  }
+  return out;
+}
 
 }  // namespace canopy::gmatch

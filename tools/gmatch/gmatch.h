@@ -33,6 +33,12 @@ enum class ErrorForm {
   kThesis,   // Eq. 6.12 as printed: E = (1/x) C_U^eu C_O^eo C_D^ed C_A^ea; S = max(0, 1 - E)
 };
 
+// Which side the bounded form's area coverage counts (docs/decisions/gmatch.md §3).
+enum class Coverage {
+  kBoth,   // sqrt(model side x object side): a small model cannot cover part of a big object
+  kModel,  // matched model area / area of the model's X largest segments (before issue 15)
+};
+
 struct Params {
   int max_segments = 15;          // X: object segments considered (largest area first)
   int branches = 5;               // B: best branches recursed on per tree node
@@ -46,6 +52,7 @@ struct Params {
   OrientationForm orientation = OrientationForm::kRelative;
   NormalSign normals = NormalSign::kAxial;
   ErrorForm error = ErrorForm::kBounded;
+  Coverage coverage = Coverage::kBoth;
   // Branch and bound (bounded form only): skip a subtree whose score upper bound cannot beat
   // the best complete match found so far. It never changes the result, only the time.
   bool bound = true;
@@ -104,5 +111,13 @@ std::vector<Model> read_modelbase(const std::string& dir);
 const char* to_string(OrientationForm form);
 const char* to_string(NormalSign sign);
 const char* to_string(ErrorForm form);
+const char* to_string(Coverage coverage);
+
+// Display name of the object: the file stem, or for the experiment's generic names
+// (segments.json, match.json) the directory holding them ("out/sedan/circle/noise-8").
+std::string object_name(const std::string& path);
+// One line per model (rank, model, score, margin over the next, error terms, matched and
+// considered object segments) under two '#' header lines.
+std::string format_table(const formats::MatchResult& result, const std::string& object);
 
 }  // namespace canopy::gmatch

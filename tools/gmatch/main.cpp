@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <string>
 
+#include "canopy/common/atomic_file.h"
 #include "canopy/common/cli.h"
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
@@ -17,7 +18,7 @@ int main(int argc, char** argv) {
                 "(thesis ch. 6). Writes a canopy.match_result JSON ranking every model.");
   gm::Params p;
   std::string in = "-", out = "-", modelbase, orientation = "relative", normals = "axial",
-              error = "bounded";
+              error = "bounded", coverage = "both", format = "json";
   bool no_bound = false;
   tool.add_input(&in, "object segment graph JSON");
   tool.add_output(&out, "match result JSON");
@@ -45,6 +46,12 @@ int main(int argc, char** argv) {
            "bounded: S = product of (1 - mean errors) and coverage; "
            "thesis: Eq. 6.12 as printed")
       ->check(CLI::IsMember({"bounded", "thesis"}));
+  tool.add("--coverage", &coverage,
+           "bounded form's area coverage: both = model and object side (geometric mean), "
+           "model = model side only (before issue 15)")
+      ->check(CLI::IsMember({"both", "model"}));
+  tool.add("--format", &format, "output: json (canopy.match_result) or table (one line per model)")
+      ->check(CLI::IsMember({"json", "table"}));
   tool.add("--max-nodes", &p.max_nodes,
            "tree nodes expanded per model before stopping (0 = no limit)");
   tool.add_flag("--no-bound", &no_bound, "disable branch and bound (same result, slower)")
@@ -56,6 +63,7 @@ int main(int argc, char** argv) {
     p.normals = normals == "signed" ? gm::NormalSign::kSigned : gm::NormalSign::kAxial;
     p.error = error == "thesis" ? gm::ErrorForm::kThesis : gm::ErrorForm::kBounded;
     p.bound = !no_bound;
+    p.coverage = coverage == "model" ? gm::Coverage::kModel : gm::Coverage::kBoth;
     gm::validate(p);
 
     const auto object = canopy::formats::read_segment_graph(in);
@@ -77,12 +85,17 @@ int main(int argc, char** argv) {
     auto& r = result.result;
     r.provenance = {"gmatch", CANOPY_VERSION, tool.parameters(), {in, modelbase}};
     r.object = in;
-    canopy::formats::write_match_result(r, out);
+    if (format == "table") {
+      cm::write_file_atomic(out, gm::format_table(r, gm::object_name(in)));
+    } else {
+      canopy::formats::write_match_result(r, out);
+    }
 
     const auto& best = r.models.front();
     char line[256];
-    std::snprintf(line, sizeof line, "best %s: score %.3f, entropy %.3f bits over %zu models",
-                  best.model.c_str(), best.score, r.entropy, r.models.size());
+    std::snprintf(line, sizeof line, "%s: best %s: score %.3f, entropy %.3f bits over %zu models",
+                  gm::object_name(in).c_str(), best.model.c_str(), best.score, r.entropy,
+                  r.models.size());
     cm::log::info(line);
   });
 }

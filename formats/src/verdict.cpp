@@ -1,0 +1,183 @@
+#include "canopy/formats/verdict.h"
+
+#include <algorithm>
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "canopy/common/atomic_file.h"
+#include "canopy/common/error.h"
+
+namespace canopy::formats {
+namespace {
+
+using common::DataError;
+using Json = nlohmann::ordered_json;
+
+constexpr const char* kFormat = "canopy.verdict";
+constexpr int kVersion = 1;
+constexpr double kPi = 3.14159265358979323846;
+
+double finite(double v, const char* what) {
+  if (!std::isfinite(v)) throw common::Error(std::string("refusing to write non-finite ") + what);
+  return v;
+}
+
+Json pose_json(const Pose& p) {
+  Json m = Json::array();
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) m.push_back(finite(p.rotation[3 * r + c], "pose"));
+    m.push_back(finite(p.translation[r], "pose"));
+  }
+  for (double v : {0.0, 0.0, 0.0, 1.0}) m.push_back(v);
+  const auto e = euler_degrees(p);
+  return Json{{"matrix", m},
+              {"translation", Json::array({p.translation[0], p.translation[1], p.translation[2]})},
+              {"heading_deg", e[0]}, {"pitch_deg", e[1]}, {"roll_deg", e[2]}};
+}
+
+Pose pose_from(const Json& j) {
+  const auto m = j.at("matrix").get<std::vector<double>>();
+  if (m.size() != 16) throw std::invalid_argument("pose matrix needs 16 numbers");
+  Pose p;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) p.rotation[3 * r + c] = m[4 * r + c];
+    p.translation[r] = m[4 * r + 3];
+  }
+  for (double v : m) {
+    if (!std::isfinite(v)) throw std::invalid_argument("pose matrix has a non-finite number");
+  }
+  return p;
+}
+
+Json optional_pose(const std::optional<Pose>& p) { return p ? pose_json(*p) : Json(nullptr); }
+
+Json hypothesis_json(const Hypothesis& h) {
+  return Json{{"model", h.model},
+              {"gmatch_rank", h.gmatch_rank},
+              {"gmatch_score", finite(h.gmatch_score, "gmatch_score")},
+              {"start", h.start},
+              {"flipped", h.flipped},
+              {"pose", pose_json(h.pose)},
+              {"pose_tile", optional_pose(h.pose_tile)},
+              {"fit_rms", finite(h.fit_rms, "fit_rms")},
+              {"explained", finite(h.explained, "explained")},
+              {"free_space_violation", finite(h.free_space_violation, "free_space_violation")},
+              {"score", finite(h.score, "score")},
+              {"flip_score", finite(h.flip_score, "flip_score")}};
+}
+
+Hypothesis hypothesis_from(const Json& j) {
+  Hypothesis h;
+  h.model = j.at("model").get<std::string>();
+  h.gmatch_rank = j.at("gmatch_rank").get<int>();
+  h.gmatch_score = j.at("gmatch_score").get<double>();
+  h.start = j.at("start").get<std::string>();
+  h.flipped = j.at("flipped").get<bool>();
+  h.pose = pose_from(j.at("pose"));
+  if (!j.at("pose_tile").is_null()) h.pose_tile = pose_from(j.at("pose_tile"));
+  h.fit_rms = j.at("fit_rms").get<double>();
+  h.explained = j.at("explained").get<double>();
+  h.free_space_violation = j.at("free_space_violation").get<double>();
+  h.score = j.at("score").get<double>();
+  h.flip_score = j.at("flip_score").get<double>();
+  return h;
+}
+
+}  // namespace
+
+std::array<double, 3> euler_degrees(const Pose& p) {
+  const auto& R = p.rotation;
+  const double deg = 180.0 / kPi;
+  const double pitch = std::asin(std::max(-1.0, std::min(1.0, -R[6])));
+  const double heading = std::atan2(R[3], R[0]);
+  const double roll = std::atan2(R[7], R[8]);
+  return {heading * deg, pitch * deg, roll * deg};
+}
+
+std::string serialize_verdict(const Verdict& v) {
+  Json provenance = Json::object();
+  Json params = Json::object();
+  for (const auto& [k, val] : v.provenance.parameters) params[k] = val;
+  provenance = Json{{"tool", v.provenance.tool}, {"version", v.provenance.version},
+                    {"parameters", params}, {"inputs", v.provenance.inputs}};
+  Json hyps = Json::array();
+  for (const auto& h : v.hypotheses) hyps.push_back(hypothesis_json(h));
+  if (v.chosen >= static_cast<int>(v.hypotheses.size())) {
+    throw common::Error("verdict: chosen hypothesis index out of range");
+  }
+  const Hypothesis* c = v.chosen >= 0 ? &v.hypotheses[v.chosen] : nullptr;
+  Json j{{"format", kFormat},
+         {"version", kVersion},
+         {"provenance", provenance},
+         {"candidate", v.candidate},
+         {"model", c ? Json(c->model) : Json(nullptr)},
+         {"confidence", finite(v.confidence, "confidence")},
+         {"pose", c ? pose_json(c->pose) : Json(nullptr)},
+         {"pose_tile", c ? optional_pose(c->pose_tile) : Json(nullptr)},
+         {"fit_rms", c ? Json(c->fit_rms) : Json(nullptr)},
+         {"explained", c ? Json(c->explained) : Json(nullptr)},
+         {"free_space_violation", c ? Json(c->free_space_violation) : Json(nullptr)},
+         {"transform", optional_pose(v.transform)},
+         {"chosen", v.chosen},
+         {"hypotheses", hyps}};
+  return j.dump(1) + "\n";
+}
+
+Verdict parse_verdict(const std::string& text, const std::string& name) {
+  Json j;
+  try {
+    j = Json::parse(text);
+  } catch (const Json::parse_error& e) {
+    throw DataError(name, std::string("not valid JSON: ") + e.what());
+  }
+  if (!j.is_object() || !j.contains("format")) {
+    throw DataError(name, "no \"format\" key (not a canopy JSON document)");
+  }
+  if (!j["format"].is_string() || j["format"].get<std::string>() != kFormat) {
+    throw DataError(name, "format is " + j["format"].dump() + ", expected \"" + kFormat + "\"");
+  }
+  if (!j.contains("version") || !j["version"].is_number_integer()) {
+    throw DataError(name, "no integer \"version\"");
+  }
+  if (j["version"].get<long long>() != kVersion) {
+    throw DataError(name, std::string(kFormat) + " version " + j["version"].dump() +
+                              " is not supported (this build reads version 1)");
+  }
+  Verdict v;
+  try {
+    const Json& p = j.at("provenance");
+    v.provenance.tool = p.at("tool").get<std::string>();
+    v.provenance.version = p.at("version").get<std::string>();
+    for (const auto& [k, val] : p.at("parameters").items()) {
+      v.provenance.parameters.emplace_back(k, val.get<std::string>());
+    }
+    v.provenance.inputs = p.at("inputs").get<std::vector<std::string>>();
+    v.candidate = j.at("candidate").get<std::string>();
+    v.model = j.at("model").is_null() ? "" : j.at("model").get<std::string>();
+    v.confidence = j.at("confidence").get<double>();
+    if (!(v.confidence >= 0 && v.confidence <= 1)) throw std::invalid_argument("confidence outside [0, 1]");
+    if (!j.at("transform").is_null()) v.transform = pose_from(j.at("transform"));
+    for (const auto& h : j.at("hypotheses")) v.hypotheses.push_back(hypothesis_from(h));
+    v.chosen = j.at("chosen").get<int>();
+    if (v.chosen < -1 || v.chosen >= static_cast<int>(v.hypotheses.size())) {
+      throw std::invalid_argument("chosen is not -1 or a hypothesis index");
+    }
+    if ((v.chosen >= 0) != !v.model.empty() ||
+        (v.chosen >= 0 && v.hypotheses[v.chosen].model != v.model)) {
+      throw std::invalid_argument("model and chosen disagree");
+    }
+  } catch (const DataError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw DataError(name, std::string("malformed verdict: ") + e.what());
+  }
+  return v;
+}
+
+Verdict read_verdict(const std::string& path) { return parse_verdict(common::read_file(path), path); }
+
+void write_verdict(const Verdict& verdict, const std::string& path) {
+  common::write_file_atomic(path, serialize_verdict(verdict));
+}
+
+}  // namespace canopy::formats

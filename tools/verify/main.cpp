@@ -1,0 +1,152 @@
+// verify: check gmatch's top hypotheses against the candidate's points; answer a model with a
+// pose and a confidence, or "none".
+#include <cstdio>
+#include <optional>
+#include <sstream>
+#include <string>
+
+#include "canopy/common/cli.h"
+#include "canopy/common/error.h"
+#include "canopy/common/log.h"
+#include "canopy/formats/json_io.h"
+#include "canopy/formats/pcd.h"
+#include "canopy/formats/verdict.h"
+#include "verify/verify.h"
+
+namespace cm = canopy::common;
+namespace fm = canopy::formats;
+namespace vf = canopy::verify;
+
+namespace {
+
+// "r00,r01,r02,t0,r10,...,t2[,0,0,0,1]" (12 or 16 numbers, row-major) -> candidate->tile.
+Eigen::Isometry3d parse_transform(const std::string& text) {
+  std::vector<double> v;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    try {
+      std::size_t used = 0;
+      v.push_back(std::stod(item, &used));
+      if (used != item.size()) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      throw cm::UsageError("--transform: '" + item + "' is not a number");
+    }
+  }
+  if (v.size() != 12 && v.size() != 16) {
+    throw cm::UsageError("--transform needs 12 or 16 comma-separated numbers (row-major 3x4 or 4x4)");
+  }
+  Eigen::Matrix4d M = Eigen::Matrix4d::Identity();
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 4; ++c) M(r, c) = v[4 * r + c];
+  }
+  Eigen::Matrix3d R = M.topLeftCorner<3, 3>();
+  if (!M.allFinite() || (R.transpose() * R - Eigen::Matrix3d::Identity()).norm() > 1e-6 ||
+      R.determinant() < 0) {
+    throw cm::UsageError("--transform: the 3x3 part is not a rotation");
+  }
+  return Eigen::Isometry3d(M);
+}
+
+fm::Pose pose_of(const Eigen::Isometry3d& T) {
+  fm::Pose p;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) p.rotation[3 * r + c] = T.linear()(r, c);
+    p.translation[r] = T.translation()(r);
+  }
+  return p;
+}
+
+Eigen::Isometry3d iso_of(const fm::Pose& p) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) T.linear()(r, c) = p.rotation[3 * r + c];
+    T.translation()(r) = p.translation[r];
+  }
+  return T;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  cm::Tool tool("verify",
+                "Checks gmatch's top hypotheses against the candidate's points (pose by segment "
+                "pairs + point-to-plane ICP, explained share and free-space violation); writes "
+                "a canopy.verdict JSON: a model with pose and confidence, or none.");
+  vf::Params p;
+  std::string in = "-", out = "-", points, segments, modelbase, transform;
+  bool no_flip = false;
+  tool.add_input(&in, "gmatch match result JSON");
+  tool.add_output(&out, "verdict JSON");
+  tool.add("--points", &points, "candidate points PCD with normals and sensor directions "
+                                "(fitvox samples)")->required();
+  tool.add("--segments", &segments, "candidate segment graph JSON (the one gmatch matched)")
+      ->required();
+  tool.add("--modelbase", &modelbase, "directory of <model>.json graphs and <model>.pcd surfaces")
+      ->required();
+  tool.add("--transform", &transform,
+           "candidate frame -> tile frame, 12 or 16 numbers row-major (detect's index.json "
+           "transform); adds pose_tile");
+  tool.add("-k,--top-k", &p.top_k, "gmatch hypotheses checked");
+  tool.add_length("--min-height", &p.min_height, "candidate points below this z are ground");
+  tool.add_length("--inlier-distance", &p.inlier_distance,
+                  "point-to-plane distance counted as on the model surface");
+  tool.add_length("--inlier-radius", &p.inlier_radius, "and within this of the nearest model sample");
+  tool.add("--facing", &p.facing, "model surface counts for a view when normal . sensor >= this");
+  tool.add_length("--ray-cell", &p.ray_cell, "cell of the per-view depth buffers");
+  tool.add_length("--occlusion-margin", &p.occlusion_margin,
+                  "a scan point this much nearer the sensor hides model surface");
+  tool.add_length("--icp-coarse", &p.icp_coarse, "ICP correspondence distance, first stage");
+  tool.add_length("--icp-fine", &p.icp_fine, "ICP correspondence distance, second stage");
+  tool.add("--icp-iterations", &p.icp_iterations, "ICP iterations per stage (0 = no ICP)");
+  tool.add("--icp-points", &p.icp_points, "candidate points ICP uses at most (even stride)");
+  tool.add_flag("--no-flip", &no_flip, "do not try the 180-degree flip of each start")
+      ->default_str("false");
+  tool.add("--accept", &p.accept, "answer none when the best score is below this");
+  tool.add("--conf-bias", &p.conf_bias, "confidence logistic: bias");
+  tool.add("--conf-score", &p.conf_score, "confidence logistic: weight of the score");
+  tool.add("--conf-margin", &p.conf_margin, "confidence logistic: weight of the margin over the next model");
+
+  return tool.run(argc, argv, [&] {
+    p.flip = !no_flip;
+    vf::validate(p);
+    std::optional<Eigen::Isometry3d> to_tile;
+    if (!transform.empty()) to_tile = parse_transform(transform);
+
+    cm::log::Phase read("read");
+    const fm::MatchResult match = fm::read_match_result(in);
+    if (match.models.empty()) throw cm::DataError(cm::display_name(in), "match result ranks no model");
+    const fm::SegmentGraph graph = fm::read_segment_graph(segments);
+    const vf::Candidate candidate = vf::candidate_from_cloud(fm::read_pcd(points), points);
+    std::vector<std::string> names;
+    for (int i = 0; i < p.top_k && i < static_cast<int>(match.models.size()); ++i) {
+      names.push_back(match.models[i].model);
+    }
+    const auto models = vf::read_models(modelbase, names, cm::display_name(in));
+    read.done(std::to_string(candidate.points.size()) + " candidate points, " +
+              std::to_string(models.size()) + " hypotheses");
+
+    cm::log::Phase phase("check");
+    fm::Verdict v = vf::run({&candidate, &graph, &match, &models}, p);
+    if (to_tile) {
+      v.transform = pose_of(*to_tile);
+      for (auto& h : v.hypotheses) h.pose_tile = pose_of(*to_tile * iso_of(h.pose));
+    }
+    v.provenance = {"verify", CANOPY_VERSION, tool.parameters(), {in, points, segments, modelbase}};
+    v.candidate = points;
+    char line[256];
+    if (v.chosen >= 0) {
+      const auto& h = v.hypotheses[v.chosen];
+      const auto e = fm::euler_degrees(h.pose);
+      std::snprintf(line, sizeof line,
+                    "%s, confidence %.3f (score %.3f: explained %.3f, free-space violation %.3f, "
+                    "rms %.1f mm, heading %.1f deg)",
+                    v.model.c_str(), v.confidence, h.score, h.explained, h.free_space_violation,
+                    h.fit_rms * 1e3, e[0]);
+    } else {
+      std::snprintf(line, sizeof line, "none, confidence %.3f", v.confidence);
+    }
+    phase.done(line);
+    fm::write_verdict(v, out);
+  });
+}

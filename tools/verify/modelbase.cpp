@@ -1,0 +1,46 @@
+// Reading the modelbase entries a match result names: the only I/O of the verify library.
+#include <exception>
+#include <filesystem>
+#include <system_error>
+
+#include "canopy/common/error.h"
+#include "canopy/formats/pcd.h"
+#include "verify/verify.h"
+
+namespace canopy::verify {
+
+std::vector<Model> read_models(const std::string& dir, const std::vector<std::string>& names,
+                               const std::string& who) {
+  namespace fs = std::filesystem;
+  using common::DataError;
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw DataError(dir, "modelbase directory does not exist");
+  std::vector<Model> models;
+  for (const auto& name : names) {
+    const std::string graph = (fs::path(dir) / (name + ".json")).string();
+    const std::string surface = (fs::path(dir) / (name + ".pcd")).string();
+    if (name.empty() || name.find('/') != std::string::npos || !fs::is_regular_file(graph, ec)) {
+      throw DataError(who, "hypothesis names model '" + name + "', which is not in the modelbase " +
+                               dir + " (no " + graph + ")");
+    }
+    if (!fs::is_regular_file(surface, ec)) {
+      throw DataError(surface, "model '" + name + "' has no surface samples in the modelbase "
+                               "(build it with make -f Makefile.experiments verify-modelbase)");
+    }
+    Model m;
+    m.name = name;
+    try {
+      m.graph = formats::read_segment_graph(graph);
+    } catch (const DataError& e) {
+      if (e.file() == graph) throw;
+      throw DataError(graph, e.what());
+    } catch (const std::exception& e) {
+      throw DataError(graph, e.what());
+    }
+    m.surface = surface_from_cloud(formats::read_pcd(surface), surface);
+    models.push_back(std::move(m));
+  }
+  return models;
+}
+
+}  // namespace canopy::verify

@@ -1,0 +1,487 @@
+#include "verify/verify.h"
+
+#include <pcl/console/print.h>
+#include <pcl/kdtree/kdtree_flann.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+#include <pcl/registration/icp.h>
+#include <pcl/registration/transformation_estimation_point_to_plane_lls.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <unordered_map>
+
+#include "canopy/common/error.h"
+
+namespace canopy::verify {
+namespace {
+
+using Eigen::Isometry3d;
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+constexpr double kPi = 3.14159265358979323846;
+
+std::uint64_t cell_key(double a, double b, double cell) {
+  const auto i = static_cast<std::int64_t>(std::floor(a / cell));
+  const auto j = static_cast<std::int64_t>(std::floor(b / cell));
+  return (static_cast<std::uint64_t>(i + (1LL << 31)) << 32) ^
+         static_cast<std::uint64_t>(j + (1LL << 31));
+}
+
+pcl::PointCloud<pcl::PointXYZ>::Ptr to_pcl(const std::vector<Vector3d>& pts) {
+  pcl::PointCloud<pcl::PointXYZ>::Ptr c(new pcl::PointCloud<pcl::PointXYZ>);
+  c->resize(pts.size());
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    (*c)[i] = pcl::PointXYZ(static_cast<float>(pts[i].x()), static_cast<float>(pts[i].y()),
+                            static_cast<float>(pts[i].z()));
+  }
+  return c;
+}
+
+pcl::PointCloud<pcl::PointNormal>::Ptr to_pcl(const std::vector<Vector3d>& pts,
+                                              const std::vector<Vector3d>& nrm) {
+  pcl::PointCloud<pcl::PointNormal>::Ptr c(new pcl::PointCloud<pcl::PointNormal>);
+  c->resize(pts.size());
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    auto& q = (*c)[i];
+    q.x = static_cast<float>(pts[i].x());
+    q.y = static_cast<float>(pts[i].y());
+    q.z = static_cast<float>(pts[i].z());
+    q.normal_x = static_cast<float>(nrm[i].x());
+    q.normal_y = static_cast<float>(nrm[i].y());
+    q.normal_z = static_cast<float>(nrm[i].z());
+    q.curvature = 0;
+  }
+  return c;
+}
+
+// PCL's point-to-plane linear least squares, guarded: too few correspondences or a singular
+// system (a candidate that is one plane) leave the pose unchanged instead of giving NaN.
+class SafePointToPlane : public pcl::registration::TransformationEstimationPointToPlaneLLS<
+                             pcl::PointNormal, pcl::PointNormal, double> {
+ public:
+  using Base = pcl::registration::TransformationEstimationPointToPlaneLLS<pcl::PointNormal,
+                                                                          pcl::PointNormal, double>;
+  using Base::estimateRigidTransformation;
+  void estimateRigidTransformation(const pcl::PointCloud<pcl::PointNormal>& src,
+                                   const pcl::PointCloud<pcl::PointNormal>& tgt,
+                                   const pcl::Correspondences& corr,
+                                   Matrix4& T) const override {
+    T.setIdentity();
+    if (corr.size() < 6) return;
+    Base::estimateRigidTransformation(src, tgt, corr, T);
+    if (!T.allFinite()) T.setIdentity();
+  }
+};
+
+Isometry3d heading_pose(double theta, const Vector3d& t) {
+  Isometry3d T = Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(theta, Vector3d::UnitZ()).toRotationMatrix();
+  T.translation() = t;
+  return T;
+}
+
+Vector3d mean_of(const std::vector<Vector3d>& pts) {
+  Vector3d m = Vector3d::Zero();
+  for (const auto& p : pts) m += p;
+  return pts.empty() ? m : Vector3d(m / static_cast<double>(pts.size()));
+}
+
+// Angle of the major horizontal principal axis (in (-pi/2, pi/2]).
+double major_axis_angle(const std::vector<Vector3d>& pts, const Vector3d& mean) {
+  double sxx = 0, sxy = 0, syy = 0;
+  for (const auto& p : pts) {
+    const double x = p.x() - mean.x(), y = p.y() - mean.y();
+    sxx += x * x;
+    sxy += x * y;
+    syy += y * y;
+  }
+  return 0.5 * std::atan2(2 * sxy, sxx - syy);
+}
+
+// Rotates a pose by pi about the vertical axis through the posed model's centre `c`.
+Isometry3d flipped(const Isometry3d& pose, const Vector3d& model_centre) {
+  const Vector3d c = pose * model_centre;
+  Isometry3d R = Isometry3d::Identity();
+  R.linear() = Eigen::AngleAxisd(kPi, Vector3d::UnitZ()).toRotationMatrix();
+  R.translation() = c - R.linear() * c;
+  return R * pose;
+}
+
+std::vector<Vector3d> unit_columns(const formats::PointCloud& cloud, const std::string& prefix,
+                                   const std::string& name, const std::string& hint) {
+  cloud.require({prefix + "_x", prefix + "_y", prefix + "_z"}, name, hint);
+  const auto& x = cloud.col(prefix + "_x");
+  const auto& y = cloud.col(prefix + "_y");
+  const auto& z = cloud.col(prefix + "_z");
+  std::vector<Vector3d> v(cloud.size());
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    v[i] = Vector3d(x[i], y[i], z[i]);
+    const double n = v[i].norm();
+    if (!std::isfinite(n) || n < 1e-9) {
+      throw common::DataError(name, "point " + std::to_string(i) + ": " + prefix +
+                                        " vector is zero or not finite");
+    }
+    v[i] /= n;
+  }
+  return v;
+}
+
+std::vector<Vector3d> xyz(const formats::PointCloud& cloud, const std::string& name) {
+  cloud.require({"x", "y", "z"}, name, "is this a point cloud?");
+  const auto& x = cloud.col("x");
+  const auto& y = cloud.col("y");
+  const auto& z = cloud.col("z");
+  std::vector<Vector3d> p(cloud.size());
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    p[i] = Vector3d(x[i], y[i], z[i]);
+    if (!p[i].allFinite()) {
+      throw common::DataError(name, "point " + std::to_string(i) + " has a non-finite coordinate");
+    }
+  }
+  return p;
+}
+
+}  // namespace
+
+void validate(const Params& p) {
+  if (p.top_k < 1) throw common::UsageError("--top-k must be >= 1");
+  if (!(p.inlier_distance > 0) || !(p.inlier_radius > 0) || !(p.ray_cell > 0) ||
+      !(p.occlusion_margin >= 0) || !(p.icp_coarse > 0) || !(p.icp_fine > 0)) {
+    throw common::UsageError(
+        "need --inlier-distance, --inlier-radius, --ray-cell, --icp-coarse, --icp-fine > 0 and "
+        "--occlusion-margin >= 0");
+  }
+  if (!(p.facing > 0 && p.facing <= 1)) throw common::UsageError("--facing must be in (0, 1]");
+  if (p.icp_iterations < 0) throw common::UsageError("--icp-iterations must be >= 0");
+  if (p.icp_points < 6) throw common::UsageError("--icp-points must be >= 6");
+  if (!(p.accept >= 0 && p.accept <= 1)) throw common::UsageError("--accept must be in [0, 1]");
+  if (!std::isfinite(p.min_height) || !std::isfinite(p.conf_bias) ||
+      !std::isfinite(p.conf_score) || !std::isfinite(p.conf_margin)) {
+    throw common::UsageError("--min-height and the confidence coefficients must be finite");
+  }
+}
+
+Candidate candidate_from_cloud(const formats::PointCloud& cloud, const std::string& name) {
+  if (cloud.empty()) throw common::DataError(name, "empty candidate: no points");
+  Candidate c;
+  c.points = xyz(cloud, name);
+  c.normals = unit_columns(cloud, "normal", name,
+                           "verify needs points with normals, e.g. fitvox's samples");
+  c.sensor = unit_columns(cloud, "sensor", name,
+                          "verify needs the direction toward the sensor of every point");
+  return c;
+}
+
+Surface surface_from_cloud(const formats::PointCloud& cloud, const std::string& name,
+                           double min_z) {
+  const auto pts = xyz(cloud, name);
+  const auto nrm = unit_columns(cloud, "normal", name,
+                                "a modelbase surface needs normals, e.g. fitvox's samples");
+  Surface s;
+  const bool labelled = cloud.has("label");
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const bool keep = labelled ? cloud.col("label")[i] == 1 : pts[i].z() > min_z;
+    if (!keep) continue;
+    s.points.push_back(pts[i]);
+    s.normals.push_back(nrm[i]);
+  }
+  if (s.points.empty()) throw common::DataError(name, "no model surface points (label 1 or above ground)");
+  return s;
+}
+
+// ---- scoring ----------------------------------------------------------------------------
+
+struct Scorer::Impl {
+  pcl::KdTreeFLANN<pcl::PointXYZ> all;  // every candidate point (the "seen" test)
+  struct View {
+    Vector3d s, e1, e2;
+    std::unordered_map<std::uint64_t, double> depth;  // max p.s per cell
+  };
+  std::vector<View> views;
+  // Model trees, built on first use and cached by surface address.
+  mutable std::map<const Surface*, std::shared_ptr<pcl::KdTreeFLANN<pcl::PointXYZ>>> models;
+  const pcl::KdTreeFLANN<pcl::PointXYZ>& tree(const Surface& s) const {
+    auto& t = models[&s];
+    if (!t) {
+      t = std::make_shared<pcl::KdTreeFLANN<pcl::PointXYZ>>();
+      t->setInputCloud(to_pcl(s.points));
+    }
+    return *t;
+  }
+};
+
+Scorer::Scorer(const Candidate& c, const Params& p) : c_(c), p_(p), impl_(std::make_shared<Impl>()) {
+  for (const auto& q : c.points) {
+    if (q.z() >= p.min_height) above_.push_back(q);
+  }
+  // Distinct sensor directions (greedy clustering within 2 degrees).
+  const double cos_tol = std::cos(2.0 * kPi / 180.0);
+  for (const auto& s : c.sensor) {
+    bool known = false;
+    for (const auto& v : views_) {
+      if (v.dot(s) >= cos_tol) {
+        known = true;
+        break;
+      }
+    }
+    if (!known && views_.size() < 512) views_.push_back(s);
+  }
+  impl_->all.setInputCloud(to_pcl(c.points));
+  for (const auto& s : views_) {
+    Impl::View v;
+    v.s = s;
+    v.e1 = s.unitOrthogonal();
+    v.e2 = s.cross(v.e1);
+    for (const auto& q : c.points) {
+      const auto key = cell_key(q.dot(v.e1), q.dot(v.e2), p.ray_cell);
+      const double d = q.dot(s);
+      auto it = v.depth.find(key);
+      if (it == v.depth.end()) {
+        v.depth.emplace(key, d);
+      } else if (d > it->second) {
+        it->second = d;
+      }
+    }
+    impl_->views.push_back(std::move(v));
+  }
+}
+
+Check Scorer::score(const Surface& model, const Isometry3d& pose) const {
+  Check r;
+  r.pose = pose;
+  const auto& tree = impl_->tree(model);
+  const Isometry3d inv = pose.inverse();
+  std::vector<int> idx(1);
+  std::vector<float> d2(1);
+  double sum2 = 0;
+  for (const auto& q : above_) {
+    const Vector3d qm = inv * q;
+    pcl::PointXYZ s(static_cast<float>(qm.x()), static_cast<float>(qm.y()), static_cast<float>(qm.z()));
+    if (tree.nearestKSearch(s, 1, idx, d2) < 1) continue;
+    if (d2[0] > p_.inlier_radius * p_.inlier_radius) continue;
+    const double d = model.normals[idx[0]].dot(qm - model.points[idx[0]]);
+    if (std::abs(d) > p_.inlier_distance) continue;
+    ++r.inliers;
+    sum2 += d * d;
+  }
+  r.explained = above_.empty() ? 0 : static_cast<double>(r.inliers) / above_.size();
+  r.fit_rms = r.inliers ? std::sqrt(sum2 / r.inliers) : 0;
+
+  int violations = 0;
+  for (std::size_t i = 0; i < model.points.size(); ++i) {
+    const Vector3d m = pose * model.points[i];
+    const Vector3d n = pose.linear() * model.normals[i];
+    bool expected = false;
+    for (const auto& v : impl_->views) {
+      const double facing = n.dot(v.s);
+      if (facing < p_.facing) continue;
+      const auto it = v.depth.find(cell_key(m.dot(v.e1), m.dot(v.e2), p_.ray_cell));
+      const bool hidden = it != v.depth.end() && it->second > m.dot(v.s) + p_.occlusion_margin;
+      if (!hidden) {
+        expected = true;
+        break;
+      }
+    }
+    if (!expected) continue;
+    ++r.expected;
+    pcl::PointXYZ s(static_cast<float>(m.x()), static_cast<float>(m.y()), static_cast<float>(m.z()));
+    bool seen = false;
+    if (impl_->all.nearestKSearch(s, 1, idx, d2) >= 1 &&
+        d2[0] <= p_.inlier_radius * p_.inlier_radius) {
+      seen = std::abs(n.dot(c_.points[idx[0]] - m)) <= p_.inlier_distance;
+    }
+    if (!seen) ++violations;
+  }
+  r.violation = r.expected ? static_cast<double>(violations) / r.expected : 1.0;
+  r.score = r.explained * (1 - r.violation);
+  return r;
+}
+
+// ---- poses ------------------------------------------------------------------------------
+
+Isometry3d refine(const Surface& model, const std::vector<Vector3d>& candidate,
+                  const Isometry3d& start, const Params& p) {
+  if (p.icp_iterations == 0 || candidate.size() < 6) return start;
+  pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);  // ICP's warnings are expected here
+  // At most icp_points source points, an even stride through the candidate (deterministic).
+  std::vector<Vector3d> sub;
+  const std::size_t stride =
+      (candidate.size() + static_cast<std::size_t>(p.icp_points) - 1) / static_cast<std::size_t>(p.icp_points);
+  for (std::size_t i = 0; i < candidate.size(); i += stride) sub.push_back(candidate[i]);
+  std::vector<Vector3d> zeros(sub.size(), Vector3d::UnitZ());
+  auto src = to_pcl(sub, zeros);
+  auto tgt = to_pcl(model.points, model.normals);
+  pcl::IterativeClosestPointWithNormals<pcl::PointNormal, pcl::PointNormal, double> icp;
+  icp.setTransformationEstimation(std::make_shared<SafePointToPlane>());
+  icp.setInputSource(src);
+  icp.setInputTarget(tgt);
+  icp.setMaximumIterations(p.icp_iterations);
+  icp.setTransformationEpsilon(1e-10);
+  icp.setEuclideanFitnessEpsilon(1e-10);
+  Eigen::Matrix4d guess = start.inverse().matrix();  // candidate -> model
+  pcl::PointCloud<pcl::PointNormal> out;
+  for (double dist : {p.icp_coarse, p.icp_fine}) {
+    icp.setMaxCorrespondenceDistance(dist);
+    icp.align(out, guess);
+    if (!icp.getFinalTransformation().allFinite()) break;
+    guess = icp.getFinalTransformation();
+  }
+  Isometry3d cm(guess);
+  // Re-orthonormalise (float round-off in PCL's estimation).
+  Eigen::JacobiSVD<Matrix3d> svd(cm.linear(), Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Matrix3d R = svd.matrixU() * svd.matrixV().transpose();
+  if (R.determinant() < 0) return start;
+  cm.linear() = R;
+  return cm.inverse();
+}
+
+bool pose_from_pairs(const formats::SegmentGraph& object, const formats::SegmentGraph& model,
+                     const std::vector<formats::SegmentPair>& pairs, Isometry3d* pose) {
+  std::map<int, const formats::Segment*> os, ms;
+  for (const auto& s : object.segments) os[s.segment_id] = &s;
+  for (const auto& s : model.segments) ms[s.segment_id] = &s;
+  std::vector<Vector3d> a, b;  // model, object centroids
+  std::vector<double> w;
+  for (const auto& pr : pairs) {
+    if (pr.model_segment < 0) continue;
+    auto io = os.find(pr.object_segment);
+    auto im = ms.find(pr.model_segment);
+    if (io == os.end() || im == ms.end()) continue;
+    const auto& co = io->second->centroid;
+    const auto& cm = im->second->centroid;
+    a.emplace_back(cm[0], cm[1], cm[2]);
+    b.emplace_back(co[0], co[1], co[2]);
+    w.push_back(std::min(io->second->area, im->second->area));
+  }
+  if (a.size() < 2) return false;
+  double W = 0;
+  Vector3d ma = Vector3d::Zero(), mb = Vector3d::Zero();
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    ma += w[i] * a[i];
+    mb += w[i] * b[i];
+    W += w[i];
+  }
+  if (!(W > 0)) return false;
+  ma /= W;
+  mb /= W;
+  double sxx = 0, sxy = 0, syx = 0, syy = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const Vector3d pa = a[i] - ma, pb = b[i] - mb;
+    sxx += w[i] * pa.x() * pb.x();
+    sxy += w[i] * pa.x() * pb.y();
+    syx += w[i] * pa.y() * pb.x();
+    syy += w[i] * pa.y() * pb.y();
+  }
+  if (std::abs(sxx + syy) + std::abs(sxy - syx) < 1e-12) return false;
+  const double theta = std::atan2(sxy - syx, sxx + syy);
+  const Matrix3d R = Eigen::AngleAxisd(theta, Vector3d::UnitZ()).toRotationMatrix();
+  Vector3d t = mb - R * ma;
+  t.z() = 0;  // both frames stand on the ground
+  *pose = heading_pose(theta, t);
+  return true;
+}
+
+Isometry3d pose_from_axes(const std::vector<Vector3d>& candidate,
+                          const std::vector<Vector3d>& model) {
+  const Vector3d mc = mean_of(candidate), mm = mean_of(model);
+  const double theta = major_axis_angle(candidate, mc) - major_axis_angle(model, mm);
+  const Matrix3d R = Eigen::AngleAxisd(theta, Vector3d::UnitZ()).toRotationMatrix();
+  Vector3d t = mc - R * mm;
+  t.z() = 0;
+  return heading_pose(theta, t);
+}
+
+namespace {
+
+formats::Pose to_pose(const Isometry3d& T) {
+  formats::Pose p;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) p.rotation[3 * r + c] = T.linear()(r, c);
+    p.translation[r] = T.translation()(r);
+  }
+  return p;
+}
+
+double logistic(double x) { return 1.0 / (1.0 + std::exp(-x)); }
+
+}  // namespace
+
+formats::Verdict run(const In& in, const Params& p) {
+  formats::Verdict v;
+  const Scorer scorer(*in.candidate, p);
+  const auto& above = scorer.above_points();
+  const int k = std::min<int>(p.top_k, static_cast<int>(in.match->models.size()));
+  for (int h = 0; h < k; ++h) {
+    const auto& ms = in.match->models[h];
+    const Model* model = nullptr;
+    for (const auto& m : *in.models) {
+      if (m.name == ms.model) model = &m;
+    }
+    if (model == nullptr) throw common::Error("verify: model " + ms.model + " was not loaded");
+    const Vector3d centre = mean_of(model->surface.points);
+    struct Start {
+      std::string name;
+      Isometry3d pose;
+    };
+    std::vector<Start> starts;
+    Isometry3d pp;
+    if (pose_from_pairs(*in.segments, model->graph, ms.pairs, &pp)) starts.push_back({"pairs", pp});
+    starts.push_back({"axes", pose_from_axes(above.empty() ? in.candidate->points : above,
+                                              model->surface.points)});
+    formats::Hypothesis best;
+    best.model = ms.model;
+    best.gmatch_rank = ms.rank;
+    best.gmatch_score = ms.score;
+    bool have = false;
+    for (const auto& s : starts) {
+      const int variants = p.flip ? 2 : 1;
+      Check checks[2];
+      for (int f = 0; f < variants; ++f) {
+        const Isometry3d start = f ? flipped(s.pose, centre) : s.pose;
+        checks[f] = scorer.score(model->surface, refine(model->surface, above, start, p));
+      }
+      for (int f = 0; f < variants; ++f) {
+        const Check& c = checks[f];
+        if (have && !(c.score > best.score)) continue;
+        have = true;
+        best.start = s.name + (f ? "-flipped" : "");
+        best.flipped = f == 1;
+        best.pose = to_pose(c.pose);
+        best.fit_rms = c.fit_rms;
+        best.explained = c.explained;
+        best.free_space_violation = c.violation;
+        best.score = c.score;
+        best.flip_score = variants == 2 ? checks[1 - f].score : 0;
+      }
+    }
+    v.hypotheses.push_back(best);
+  }
+  // Decide: the best score; margin over the best other model.
+  int chosen = -1;
+  for (int i = 0; i < static_cast<int>(v.hypotheses.size()); ++i) {
+    if (chosen < 0 || v.hypotheses[i].score > v.hypotheses[chosen].score) chosen = i;
+  }
+  double second = 0;
+  for (int i = 0; i < static_cast<int>(v.hypotheses.size()); ++i) {
+    if (i != chosen) second = std::max(second, v.hypotheses[i].score);
+  }
+  if (chosen >= 0) {
+    const double s = v.hypotheses[chosen].score;
+    const double pr = logistic(p.conf_bias + p.conf_score * s + p.conf_margin * (s - second));
+    if (s >= p.accept) {
+      v.chosen = chosen;
+      v.model = v.hypotheses[chosen].model;
+      v.confidence = pr;
+    } else {
+      v.confidence = 1 - pr;
+    }
+  } else {
+    v.confidence = 1;
+  }
+  return v;
+}
+
+}  // namespace canopy::verify

@@ -1,0 +1,131 @@
+// verify: checks gmatch's top hypotheses against the candidate's points (the thesis's future
+// work 5, issue 15). For each of the top-k models: a rigid pose from the matched segment pairs
+// (heading + translation; the 180-degree flip and a principal-axis start tried explicitly),
+// refined by PCL point-to-plane ICP (6 DOF, so slopes give pitch/roll); then a two-sided score:
+//   explained  = share of the candidate's points (above the ground cut) lying on the posed
+//                model's surface (point-to-plane distance <= inlier distance);
+//   violation  = share of the posed model's surface that the sensor should have seen (facing
+//                a sensor direction recorded in the scan, no scan point in front of it along
+//                that ray) but where the scan has no point: free-space violation.
+// score = explained * (1 - violation); the best hypothesis is answered when its score passes
+// the acceptance threshold, else "none"; confidence = logistic calibration of the score and
+// its margin over the next model (docs/decisions/verify.md).
+//
+// Frames: the model's frame is the modelbase's (ground z = 0, heading 0); the candidate's is
+// its points' frame (ground z = 0). A pose maps model coordinates to candidate coordinates.
+// The logic does no I/O except read_models().
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "canopy/formats/json_io.h"
+#include "canopy/formats/point_cloud.h"
+#include "canopy/formats/verdict.h"
+
+namespace canopy::verify {
+
+struct Params {
+  int top_k = 3;                 // gmatch hypotheses checked (rank 1..k)
+  double min_height = 0.3;       // candidate points below this z are ground (m; cocone's cut)
+  double inlier_distance = 0.1;  // point-to-plane distance counted as "on the surface" (m)
+  double inlier_radius = 0.25;   // and at most this far from the nearest model sample (m)
+  double facing = 0.5;           // model surface counts for a view when n.s >= this
+  double ray_cell = 0.2;         // cell of the per-view depth buffers (m)
+  double occlusion_margin = 0.15;  // a scan point this much nearer the sensor hides (m)
+  double icp_coarse = 0.5;       // ICP max correspondence distance, first stage (m)
+  double icp_fine = 0.2;         // second stage (m)
+  int icp_iterations = 20;       // per stage
+  int icp_points = 1000;         // candidate points ICP uses at most (even stride)
+  bool flip = true;              // try the 180-degree heading flip of every start
+  double accept = 0.544;         // answer "none" when the best score is below this
+  // confidence = 1 / (1 + exp(-(c0 + c_score * score + c_margin * margin)))
+  double conf_bias = -5.365, conf_score = 6.317, conf_margin = 5.573;
+};
+
+// Throws common::UsageError when a parameter is out of range.
+void validate(const Params& params);
+
+// A point set with unit normals (m, frame of its owner).
+struct Surface {
+  std::vector<Eigen::Vector3d> points, normals;
+};
+
+// The candidate: its points with normals and per-point unit directions toward the sensor.
+struct Candidate {
+  std::vector<Eigen::Vector3d> points, normals, sensor;
+};
+
+// A modelbase entry: the segment graph and the surface samples with normals (model frame).
+struct Model {
+  std::string name;
+  formats::SegmentGraph graph;
+  Surface surface;
+};
+
+// Candidate from a samples PCD: requires x y z, normal_x/y/z and sensor_x/y/z (DataError
+// naming `name` otherwise), non-empty.
+Candidate candidate_from_cloud(const formats::PointCloud& cloud, const std::string& name);
+// Model surface from a samples PCD: normals required; only label 1 (target) rows are kept when
+// a label field exists, else the rows above `min_z`.
+Surface surface_from_cloud(const formats::PointCloud& cloud, const std::string& name,
+                           double min_z = 0.05);
+
+// Reads <dir>/<name>.json and <dir>/<name>.pcd for every name (DataError naming `who` when a
+// model is not in the modelbase, naming the file when a file is malformed).
+std::vector<Model> read_models(const std::string& dir, const std::vector<std::string>& names,
+                               const std::string& who);
+
+// One hypothesis checked at one pose.
+struct Check {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // model -> candidate
+  double explained = 0, violation = 1, score = 0, fit_rms = 0;
+  int inliers = 0, expected = 0;
+};
+
+// Scores a posed model against the candidate (exposed for tests).
+class Scorer {
+ public:
+  Scorer(const Candidate& candidate, const Params& params);
+  Check score(const Surface& model, const Eigen::Isometry3d& pose) const;
+  std::size_t views() const { return views_.size(); }
+  std::size_t above_ground() const { return above_.size(); }
+  const std::vector<Eigen::Vector3d>& above_points() const { return above_; }
+
+ private:
+  struct Impl;
+  const Candidate& c_;
+  Params p_;
+  std::vector<Eigen::Vector3d> above_;
+  std::vector<Eigen::Vector3d> views_;
+  std::shared_ptr<Impl> impl_;
+};
+
+// Refines a pose with point-to-plane ICP (candidate points above ground onto the model).
+Eigen::Isometry3d refine(const Surface& model, const std::vector<Eigen::Vector3d>& candidate,
+                         const Eigen::Isometry3d& start, const Params& params);
+
+// Heading + translation start from matched segment pairs (area-weighted 2-D Procrustes on the
+// centroids); false when fewer than two pairs are matched.
+bool pose_from_pairs(const formats::SegmentGraph& object, const formats::SegmentGraph& model,
+                     const std::vector<formats::SegmentPair>& pairs, Eigen::Isometry3d* pose);
+// Heading + translation start aligning the horizontal principal axes and centroids.
+Eigen::Isometry3d pose_from_axes(const std::vector<Eigen::Vector3d>& candidate,
+                                 const std::vector<Eigen::Vector3d>& model);
+
+struct In {
+  const Candidate* candidate = nullptr;
+  const formats::SegmentGraph* segments = nullptr;
+  const formats::MatchResult* match = nullptr;
+  const std::vector<Model>* models = nullptr;  // at least the top-k hypotheses' models
+};
+
+// Checks the top-k hypotheses and decides. Fills every field of the verdict but provenance,
+// inputs and the tile pose.
+formats::Verdict run(const In& in, const Params& params);
+
+}  // namespace canopy::verify
