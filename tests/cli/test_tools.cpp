@@ -320,6 +320,12 @@ TEST_CASE("report: its four outputs appear together or not at all") {
   CHECK(sh(run + q(d / "nores"), d / "err", &err) == 1);
   CHECK_THAT(err, Catch::Contains("nores"));
   fs::create_directories(d / "res");
+  // Noise levels are whole decimal millimetres ("0x10" used to be read as 0, "8mm" as 8).
+  const std::string other = bin("report") + " -q --out " + q(d / "out") + " --objects sedan --scenes circle ";
+  CHECK(sh(other + "--noises 0x10 --results " + q(d / "res"), d / "err", &err) == 2);
+  CHECK_THAT(err, Catch::Contains("--noises"));
+  CHECK(sh(other + "--noises 0mm --results " + q(d / "res"), d / "err", &err) == 2);
+  CHECK(count_files(d / "res") == 0);
   REQUIRE(sh(run + q(d / "res"), d / "err", &err) == 0);
   CHECK(count_files(d / "res") == 4);
   fs::remove_all(d / "res");
