@@ -112,6 +112,13 @@ TEST_CASE("a stray word is answered with 'use -i', a mistyped option with 'did y
   CHECK_THAT(err, Catch::Contains("did you mean --radius?"));
   CHECK(sh(bin("addnoise") + " --sigam 8mm -i s.pcd", d / "err", &err) == 2);
   CHECK_THAT(err, Catch::Contains("did you mean --sigma?"));
+  // A mistyped option that leaves a required one missing is still named; so is a subcommand.
+  CHECK(sh(bin("gmatch") + " -i a.json --modelbse mb", d / "err", &err) == 2);
+  CHECK_THAT(err, Catch::Contains("did you mean --modelbase?"));
+  CHECK(sh(bin("figures") + " gird -o x.png", d / "err", &err) == 2);
+  CHECK_THAT(err, Catch::Contains("unknown subcommand 'gird': did you mean grid?"));
+  CHECK(sh(bin("figures") + " grid --cosl 2 -o x.png a.png", d / "err", &err) == 2);
+  CHECK_THAT(err, Catch::Contains("did you mean --cols?"));
   // Tools that ignore --threads no longer accept it (fitvox uses it).
   CHECK(sh(bin("addnoise") + " --threads 2 -i s.pcd", d / "err", &err) == 2);
   CHECK(sh(bin("fitvox") + " --help > " + q(d / "help"), d / "err", &err) == 0);
