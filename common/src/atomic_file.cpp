@@ -249,6 +249,13 @@ void check_output(const std::string& path) {
   check_directory(path, target);
 }
 
+bool writes_through(const std::string& path) {
+  if (path == "-") return true;
+  struct stat st {};
+  if (lstat(resolve_links(path).c_str(), &st) != 0) return false;
+  return S_ISFIFO(st.st_mode) || S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode);
+}
+
 std::string output_identity(const std::string& path) {
   if (path == "-") return "-";
   const std::string target = resolve_links(path);
@@ -386,11 +393,6 @@ void OutputSet::commit() {
     if (!e.has_data) throw std::logic_error("OutputSet::commit: no data for '" + e.path + "'");
   }
   // Temporary files are created first; opening a FIFO (which waits for its reader) comes after.
-  auto writes_through = [](const std::string& path) {
-    if (path == "-") return true;
-    struct stat st {};
-    return lstat(resolve_links(path).c_str(), &st) == 0 && !S_ISREG(st.st_mode);
-  };
   std::vector<std::unique_ptr<AtomicOutput>> outs;
   for (int pass = 0; pass < 2; ++pass) {
     for (Entry& e : entries_) {

@@ -9,7 +9,6 @@
 #include <cstdlib>
 #include <iostream>
 #include <new>
-#include <set>
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
@@ -227,6 +226,12 @@ std::string Tool::usage_message(int argc, char** argv) const {
     const std::string close = closest_option(given, names);
     return "unknown option '" + given + "'" + (close.empty() ? "" : ": did you mean " + close + "?");
   }
+  if (!app_.get_subcommands({}).empty()) {
+    std::vector<std::string> subs;
+    for (const CLI::App* sub : app_.get_subcommands({})) subs.push_back(sub->get_name());
+    const std::string close = closest_option(first, subs);
+    if (!close.empty()) return "unknown subcommand '" + first + "': did you mean " + close + "?";
+  }
   if (input_ != nullptr) {
     const CLI::Option* in = app_.get_option_no_throw("--input");
     if (in != nullptr && in->count() > 0) {
@@ -251,6 +256,12 @@ int Tool::run(int argc, char** argv, const std::function<void()>& body) {
     return 2;
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app_.exit(e);  // --help, --version
+    // A mistyped option also makes a required one missing: name the mistyped one.
+    if (!app_.remaining(true).empty()) {
+      std::cerr << name_ << ": error: " << usage_message(argc, argv) << "\n"
+                << "Run '" << name_ << " --help' for the options.\n";
+      return 2;
+    }
     std::cerr << name_ << ": error: " << e.what() << "\n"
               << "Run '" << name_ << " --help' for the options.\n";
     return 2;

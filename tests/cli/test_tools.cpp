@@ -112,6 +112,13 @@ TEST_CASE("a stray word is answered with 'use -i', a mistyped option with 'did y
   CHECK_THAT(err, Catch::Contains("did you mean --radius?"));
   CHECK(sh(bin("addnoise") + " --sigam 8mm -i s.pcd", d / "err", &err) == 2);
   CHECK_THAT(err, Catch::Contains("did you mean --sigma?"));
+  // A mistyped option that leaves a required one missing is still named; so is a subcommand.
+  CHECK(sh(bin("gmatch") + " -i a.json --modelbse mb", d / "err", &err) == 2);
+  CHECK_THAT(err, Catch::Contains("did you mean --modelbase?"));
+  CHECK(sh(bin("figures") + " gird -o x.png", d / "err", &err) == 2);
+  CHECK_THAT(err, Catch::Contains("unknown subcommand 'gird': did you mean grid?"));
+  CHECK(sh(bin("figures") + " grid --cosl 2 -o x.png a.png", d / "err", &err) == 2);
+  CHECK_THAT(err, Catch::Contains("did you mean --cols?"));
   // Tools that ignore --threads no longer accept it (fitvox uses it).
   CHECK(sh(bin("addnoise") + " --threads 2 -i s.pcd", d / "err", &err) == 2);
   CHECK(sh(bin("fitvox") + " --help > " + q(d / "help"), d / "err", &err) == 0);
@@ -121,9 +128,9 @@ TEST_CASE("values out of an option's range are usage errors naming the option, b
   const fs::path d = fresh_dir("cli", "ranges");
   write_patch(d / "scan.pcd");
   write_roof(d / "roof.ply");
-  const std::string scan = " -i " + q(d / "scan.pcd"), out = " -o " + q(d / "out");
+  const std::string scan = " -i " + q(d / "scan.pcd"), out = " -o " + q(d / "out.pcd");
   std::string err;
-  CHECK(sh(bin("ncut") + " --radius 1e-9 -i " + q(d / "roof.ply") + out, d / "err", &err) == 2);
+  CHECK(sh(bin("ncut") + " --radius 1e-9 -i " + q(d / "roof.ply") + " -o " + q(d / "g.json"), d / "err", &err) == 2);
   CHECK_THAT(err, Catch::Contains("--radius"));
   CHECK(sh(bin("fitvox") + " --voxel 1e-300" + scan + out, d / "err", &err) == 2);
   CHECK_THAT(err, Catch::Contains("--voxel"));
@@ -133,10 +140,11 @@ TEST_CASE("values out of an option's range are usage errors naming the option, b
   CHECK(sh(bin("addnoise") + " --sigma 4mm --seed -1" + scan + out, d / "err", &err) == 2);
   CHECK_THAT(err, Catch::Contains("--seed"));
   CHECK(sh(bin("addnoise") + " --sigma 4mm --seed 0x7" + scan + out, d / "err", &err) == 2);
-  CHECK_FALSE(fs::exists(d / "out"));
+  CHECK_FALSE(fs::exists(d / "out.pcd"));
+  CHECK_FALSE(fs::exists(d / "g.json"));
   // The valid neighbours of those values run.
   CHECK(sh(bin("addnoise") + " -q --sigma 4mm --seed 18446744073709551615" + scan + out, d / "err", &err) == 0);
-  CHECK(fs::exists(d / "out"));
+  CHECK(fs::exists(d / "out.pcd"));
 }
 
 TEST_CASE("sanity warnings: lengths over 1 m, cocone given raw points") {
@@ -189,24 +197,25 @@ TEST_CASE("a FIFO and a character device given as -o are written through and kee
   const std::string run = bin("addnoise") + " -q --sigma 0 -i " + q(d / "scan.pcd");
   std::string err;
   REQUIRE(sh(run + " -o " + q(d / "plain.pcd"), d / "err", &err) == 0);
-  REQUIRE(mkfifo((d / "fifo").c_str(), 0600) == 0);
-  CHECK(sh("timeout 10 cat " + q(d / "fifo") + " > " + q(d / "got") + " & " + run + " -o " + q(d / "fifo") + "; wait",
+  REQUIRE(mkfifo((d / "fifo.pcd").c_str(), 0600) == 0);
+  CHECK(sh("timeout 10 cat " + q(d / "fifo.pcd") + " > " + q(d / "got") + " & " + run + " -o " +
+               q(d / "fifo.pcd") + "; wait",
            d / "err", &err) == 0);
   CHECK(slurp(d / "got") == slurp(d / "plain.pcd"));
   struct stat st {};
-  REQUIRE(lstat((d / "fifo").c_str(), &st) == 0);
+  REQUIRE(lstat((d / "fifo.pcd").c_str(), &st) == 0);
   CHECK(S_ISFIFO(st.st_mode));
   fs::create_symlink("plain.pcd", d / "link.pcd");
   CHECK(sh(bin("addnoise") + " -q --sigma 1mm --seed 3 -i " + q(d / "scan.pcd") + " -o " + q(d / "link.pcd"),
            d / "err", &err) == 0);
   CHECK(fs::is_symlink(d / "link.pcd"));
   CHECK(slurp(d / "plain.pcd") != slurp(d / "got"));  // the link's target was replaced
-  if (!make_char_device(d / "null", 1, 3)) {
+  if (!make_char_device(d / "null.pcd", 1, 3)) {
     WARN("cannot create device nodes here (not root): device case not run");
     return;
   }
-  CHECK(sh(run + " -o " + q(d / "null"), d / "err", &err) == 0);
-  CHECK(is_char_device(d / "null"));
+  CHECK(sh(run + " -o " + q(d / "null.pcd"), d / "err", &err) == 0);
+  CHECK(is_char_device(d / "null.pcd"));
 }
 
 TEST_CASE("ncut: -o and --colored naming one file is a usage error") {
@@ -229,17 +238,17 @@ TEST_CASE("ncut: -o and --colored naming one file is a usage error") {
 TEST_CASE("ncut: the coloured PLY is not left when the JSON cannot be written") {
   const fs::path d = fresh_dir("cli", "ncut_atomic");
   write_roof(d / "roof.ply");
-  if (!make_char_device(d / "full", 1, 7)) {
+  if (!make_char_device(d / "full.json", 1, 7)) {
     WARN("cannot create device nodes here (not root): not run");
     return;
   }
   std::string err;
-  CHECK(sh(bin("ncut") + " -q -i " + q(d / "roof.ply") + " -o " + q(d / "full") + " --colored " +
+  CHECK(sh(bin("ncut") + " -q -i " + q(d / "roof.ply") + " -o " + q(d / "full.json") + " --colored " +
                q(d / "c.ply"), d / "err", &err) == 1);
   CHECK_THAT(err, Catch::Contains("write failed"));
   CHECK_FALSE(fs::exists(d / "c.ply"));
-  CHECK(is_char_device(d / "full"));
-  CHECK(count_files(d) == 3);  // roof.ply, full, err: no temporary file
+  CHECK(is_char_device(d / "full.json"));
+  CHECK(count_files(d) == 3);  // roof.ply, full.json, err: no temporary file
 }
 
 TEST_CASE("ncut: SIGINT while committing leaves neither output nor a temporary file") {
@@ -320,6 +329,12 @@ TEST_CASE("report: its four outputs appear together or not at all") {
   CHECK(sh(run + q(d / "nores"), d / "err", &err) == 1);
   CHECK_THAT(err, Catch::Contains("nores"));
   fs::create_directories(d / "res");
+  // Noise levels are whole decimal millimetres ("0x10" used to be read as 0, "8mm" as 8).
+  const std::string other = bin("report") + " -q --out " + q(d / "out") + " --objects sedan --scenes circle ";
+  CHECK(sh(other + "--noises 0x10 --results " + q(d / "res"), d / "err", &err) == 2);
+  CHECK_THAT(err, Catch::Contains("--noises"));
+  CHECK(sh(other + "--noises 0mm --results " + q(d / "res"), d / "err", &err) == 2);
+  CHECK(count_files(d / "res") == 0);
   REQUIRE(sh(run + q(d / "res"), d / "err", &err) == 0);
   CHECK(count_files(d / "res") == 4);
   fs::remove_all(d / "res");

@@ -189,6 +189,9 @@ TEST_CASE("an existing FIFO output is written through, not replaced") {
   close(rd);
   CHECK(got == data);
   CHECK(S_ISFIFO(lmode(fifo)));
+  CHECK(writes_through(fifo));
+  CHECK(writes_through("-"));
+  CHECK_FALSE(writes_through(dir + "/absent.pcd"));
   CHECK(count_entries(dir) == 1);  // no temporary file beside it
 }
 

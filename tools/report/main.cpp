@@ -85,11 +85,10 @@ int main(int argc, char** argv) {
     in.objects = words(objects);
     in.scenes = words(scenes);
     for (const auto& n : words(noises)) {
-      try {
-        in.noises.push_back(std::stoi(n));
-      } catch (const std::exception&) {
-        throw common::UsageError("--noises: '" + n + "' is not an integer");
-      }
+      // Decimal only: std::stoi read "0x10" as 0 and "8mm" as 8.
+      const std::string problem = common::detail::check_integer(n, true, 0, 1000000);
+      if (!problem.empty()) throw common::UsageError("--noises: " + problem + " (noise levels in whole mm)");
+      in.noises.push_back(std::stoi(n));
     }
     if (in.objects.empty() || in.scenes.empty() || in.noises.empty()) {
       throw common::UsageError("--objects, --scenes and --noises must each name at least one");

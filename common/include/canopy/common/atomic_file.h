@@ -67,6 +67,11 @@ void write_file_atomic(const std::string& path, const std::string& bytes);
 // resolve within 40 hops. Throws DataError naming the path and the problem (exit code 1).
 void check_output(const std::string& path);
 
+// True for "-" and for a path that (symbolic links followed) is an existing FIFO or character
+// or block device: an output that is written through, not replaced. Such a path has no
+// meaningful extension (`-o >(wc -c)` is /dev/fd/63): choose its format as for "-".
+bool writes_through(const std::string& path);
+
 // Canonical identity of an output path (symbolic links and "..", "." resolved; an existing
 // file by device and inode), so two spellings of one file compare equal. "-" is "-".
 std::string output_identity(const std::string& path);
