@@ -25,6 +25,8 @@ struct VehicleSpec {
   double x = 0, y = 0, heading = 0;  // tile frame before the offset; heading of the long axis (rad)
   double length = 4.5, width = 1.8, height = 1.5;
   std::uint32_t instance = 1;
+  bool cabin = false;  // false: a box; true: a body to 55% of the height under a cabin
+                       // (60% of the length, 75% of the width) up to the full height
 };
 struct TreeSpec {
   double x = 0, y = 0, crown_radius = 3, crown_base = 5, crown_top = 11, trunk_radius = 0.2;
@@ -190,26 +192,54 @@ class TileBuilder {
     const Eigen::Matrix3d R = vehicle_rotation(s_, v);
     const Eigen::Vector3d c(v.x, v.y, ground_z(s_, v.x, v.y));
     const double d = s_.spacing;
-    auto put = [&](double u, double w, double z) {
+    // (nu, nw): outward normal of a side face in the vehicle frame (0, 0 on tops). A side
+    // facing another vehicle closer than 0.5 m is not seen from the air.
+    auto put = [&](double u, double w, double z, double nu = 0, double nw = 0) {
       const Eigen::Vector3d p = c + R * Eigen::Vector3d(u, w, z);
+      if (nu != 0 || nw != 0) {
+        const Eigen::Vector3d q = p + 0.5 * (R * Eigen::Vector3d(nu, nw, 0));
+        for (const auto& o : s_.vehicles) {
+          if (o.instance != v.instance && in_footprint(o, q.x(), q.y())) return;
+        }
+      }
       if (!hidden(p.x(), p.y(), p.z())) add(p, formats::kLabelTarget, v.instance);
     };
-    const int nl = std::max(1, int(v.length / d)), nw = std::max(1, int(v.width / d)),
-              nh = std::max(1, int(v.height / d));
+    if (!v.cabin) {
+      box(put, 0, v.length, v.width, 0, v.height, true);
+      return;
+    }
+    const double hb = 0.55 * v.height;
+    box(put, 0, v.length, v.width, 0, hb, false);
+    // The body's top outside the cabin.
+    const double lc = 0.6 * v.length, wc = 0.75 * v.width, uc = -0.05 * v.length;
+    const int nl = std::max(1, int(v.length / d)), nw = std::max(1, int(v.width / d));
     for (int a = 0; a < nl; ++a)
-      for (int b = 0; b < nw; ++b)
-        put(-v.length / 2 + (a + rng_.uniform()) * v.length / nl, -v.width / 2 + (b + rng_.uniform()) * v.width / nw, v.height);
+      for (int b = 0; b < nw; ++b) {
+        const double u = -v.length / 2 + (a + rng_.uniform()) * v.length / nl, w = -v.width / 2 + (b + rng_.uniform()) * v.width / nw;
+        if (std::abs(u - uc) > lc / 2 || std::abs(w) > wc / 2) put(u, w, hb);
+      }
+    box(put, uc, lc, wc, hb, v.height, true);
+  }
+  // Box [uc -+ l/2] x [-+ w/2] x [z0, z1]: four sides, and the top when `top`.
+  template <typename Put>
+  void box(Put& put, double uc, double l, double w, double z0, double z1, bool top) {
+    const double d = s_.spacing, h = z1 - z0;
+    const int nl = std::max(1, int(l / d)), nw = std::max(1, int(w / d)), nh = std::max(1, int(h / d));
+    if (top) {
+      for (int a = 0; a < nl; ++a)
+        for (int b = 0; b < nw; ++b) put(uc - l / 2 + (a + rng_.uniform()) * l / nl, -w / 2 + (b + rng_.uniform()) * w / nw, z1);
+    }
     for (int a = 0; a < nl; ++a)
       for (int k = 0; k < nh; ++k) {
-        const double u = -v.length / 2 + (a + rng_.uniform()) * v.length / nl, z = (k + rng_.uniform()) * v.height / nh;
-        put(u, -v.width / 2, z);
-        put(u, v.width / 2, z);
+        const double u = uc - l / 2 + (a + rng_.uniform()) * l / nl, z = z0 + (k + rng_.uniform()) * h / nh;
+        put(u, -w / 2, z, 0, -1);
+        put(u, w / 2, z, 0, 1);
       }
     for (int b = 0; b < nw; ++b)
       for (int k = 0; k < nh; ++k) {
-        const double w = -v.width / 2 + (b + rng_.uniform()) * v.width / nw, z = (k + rng_.uniform()) * v.height / nh;
-        put(-v.length / 2, w, z);
-        put(v.length / 2, w, z);
+        const double ww = -w / 2 + (b + rng_.uniform()) * w / nw, z = z0 + (k + rng_.uniform()) * h / nh;
+        put(uc - l / 2, ww, z, -1, 0);
+        put(uc + l / 2, ww, z, 1, 0);
       }
   }
   // A crown or bush: points on an ellipsoid shell (depth 0.7-1.0 of the radius), between

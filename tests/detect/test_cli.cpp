@@ -9,6 +9,7 @@
 #include <fstream>
 #include <string>
 
+#include "canopy/formats/labels.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/ply.h"
 #include "support/cli.h"
@@ -142,6 +143,21 @@ TEST_CASE("detect: bad output and input") {
     { std::ofstream(dir / "tile.laz", std::ios::binary) << "LASF" << std::string(300, '\0'); }
     CHECK(test::sh(kBin + "/detect -q -i " + q(dir / "tile.laz") + " -o " + q(dir / "out"), dir / "err.txt", &err) == 1);
     CHECK(err.find("tile.laz: LAS/LAZ") != std::string::npos);
+    CHECK(!fs::exists(dir / "out"));
+  }
+  SECTION("a tile of only vegetation (no ground returns)") {
+    detect_test::TileSpec v;
+    v.half_extent = 15;
+    v.trees = {{5, 6, 3.0, 5.0, 11.0, 0.2}, {-8, 2, 2.5, 4.0, 9.0, 0.15}, {0, -7, 4, 6, 12, 0.3}};
+    v.bushes = {{10, -5, 1.0, 0.2, 1.6}, {-5, -12, 1.5, 0.3, 2.5}};
+    formats::PointCloud all = detect_test::make_tile(v);
+    std::vector<std::size_t> keep;
+    for (std::size_t i = 0; i < all.size(); ++i) {
+      if (all.col("label")[i] == formats::kLabelFoliage) keep.push_back(i);
+    }
+    formats::write_pcd(all.select(keep), (dir / "veg.pcd").string());
+    CHECK(test::sh(kBin + "/detect -q -i " + q(dir / "veg.pcd") + " -o " + q(dir / "out"), dir / "err.txt", &err) == 1);
+    CHECK(err.find("veg.pcd: found ground in only") != std::string::npos);
     CHECK(!fs::exists(dir / "out"));
   }
   SECTION("a tile of only ground: zero candidates, exit 0") {

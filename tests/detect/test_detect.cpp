@@ -148,15 +148,17 @@ TEST_CASE("candidate clouds: local frame, ground at z = 0, every input field") {
 }
 
 TEST_CASE("two vehicles side by side give two candidates") {
-  for (const double gap : {0.3, 0.1}) {
+  // Separated by a narrow gap (boxes), or touching (cars: body and cabin).
+  for (const double gap : {0.3, 0.1, 0.0}) {
     INFO("gap " << gap);
     TileSpec s;
     s.seed = 9;
     const double h = 0.35;
     const Eigen::Vector2d across(-std::sin(h), std::cos(h));
     const double off = (1.8 + gap) / 2;
-    s.vehicles = {{across.x() * off, across.y() * off, h, 4.5, 1.8, 1.5, 1},
-                  {-across.x() * off, -across.y() * off, h, 4.6, 1.8, 1.6, 2}};
+    const bool cabin = gap == 0.0;
+    s.vehicles = {{across.x() * off, across.y() * off, h, 4.5, 1.8, 1.5, 1, cabin},
+                  {-across.x() * off, -across.y() * off, h, 4.6, 1.8, 1.6, 2, cabin}};
     const auto tile = detect_test::make_tile(s);
     const detect::Result r = detect::run(tile, detect::Params{}, "pair");
     CHECK(r.candidates.size() == 2);

@@ -353,6 +353,69 @@ Footprint footprint_of(const Context& c, const std::vector<std::uint32_t>& pts) 
   return min_area_rectangle(xy);
 }
 
+// Finer voxel (half the edge): parts of `pts` that only touch come apart. Returns the parts
+// holding at least max(min_points, 10%) of the points when there are two or more of them.
+std::vector<std::vector<std::uint32_t>> finer_parts(const Context& c, const std::vector<std::uint32_t>& pts) {
+  auto parts = cluster_points(pts, c.x, c.y, c.z, c.p.voxel / 2, Clustering::kGrid);
+  const std::size_t big = std::max(c.p.min_points, pts.size() / 10);
+  std::vector<std::vector<std::uint32_t>> kept;
+  for (auto& part : parts) {
+    if (part.size() >= big) kept.push_back(std::move(part));
+  }
+  if (kept.size() < 2) kept.clear();
+  return kept;
+}
+
+// Cut position across `axis` at a clear valley, leaving at least `min_side` on each side; NaN
+// if none. A valley is an empty gap (a slab holding at most 35% of the median slab's points)
+// or a drop of the top surface between two higher parts (the highest
+// point of the bin at least max(0.3 m, 20% of the lower part) below the highest on either
+// side): two car roofs side by side. The deepest valley wins, then the one nearest the middle.
+double valley_cut(const Context& c, const std::vector<std::uint32_t>& pts, const Vector2d& axis, double min_side) {
+  double smin = 1e300, smax = -1e300;
+  std::vector<double> s(pts.size());
+  for (std::size_t n = 0; n < pts.size(); ++n) {
+    s[n] = Vector2d(c.x[pts[n]], c.y[pts[n]]).dot(axis);
+    smin = std::min(smin, s[n]);
+    smax = std::max(smax, s[n]);
+  }
+  // Bins of 0.05 m, widened (up to 0.2 m) until they hold 20 points on average.
+  double bin = 0.05;
+  while (bin < 0.2 && double(pts.size()) * bin / std::max(1e-9, smax - smin) < 20) bin *= 2;
+  const int nb = std::max(1, int(std::ceil((smax - smin) / bin)));
+  std::vector<double> slab(std::size_t(nb), 0.0), top(std::size_t(nb), 0.0);
+  for (std::size_t n = 0; n < pts.size(); ++n) {
+    const int b = std::min(nb - 1, int((s[n] - smin) / bin));
+    slab[std::size_t(b)] += 1;
+    top[std::size_t(b)] = std::max(top[std::size_t(b)], double(c.h[pts[n]]));
+  }
+  std::vector<double> sorted = slab;
+  std::nth_element(sorted.begin(), sorted.begin() + long(sorted.size() / 2), sorted.end());
+  const double median = sorted[sorted.size() / 2];
+  std::vector<double> left(std::size_t(nb), 0.0), right(std::size_t(nb), 0.0);
+  for (int b = 1; b < nb; ++b) left[std::size_t(b)] = std::max(left[std::size_t(b - 1)], top[std::size_t(b - 1)]);
+  for (int b = nb - 2; b >= 0; --b) right[std::size_t(b)] = std::max(right[std::size_t(b + 1)], top[std::size_t(b + 1)]);
+  double best_depth = 0, best_off = 1e300, cut = std::numeric_limits<double>::quiet_NaN();
+  const double mid = 0.5 * (smin + smax);
+  for (int b = 0; b < nb; ++b) {
+    const double centre = smin + (b + 0.5) * bin;
+    if (centre - smin < min_side || smax - centre < min_side) continue;
+    const double lower = std::min(left[std::size_t(b)], right[std::size_t(b)]);
+    const double drop = lower - top[std::size_t(b)];
+    const bool empty = slab[std::size_t(b)] <= 0.35 * median;
+    const bool dip = drop >= std::max(0.3, 0.2 * lower);
+    if (!empty && !dip) continue;
+    const double depth = empty ? lower : drop;
+    const double off = std::abs(centre - mid);
+    if (depth > best_depth + 1e-9 || (std::abs(depth - best_depth) <= 1e-9 && off < best_off)) {
+      best_depth = depth;
+      best_off = off;
+      cut = centre;
+    }
+  }
+  return cut;
+}
+
 void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
   const Params& p = c.p;
   if (pts.size() < p.min_points) {
@@ -367,66 +430,53 @@ void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
     return;
   }
   const bool too_long = o.fp.length > p.max_length, too_wide = o.fp.width > p.max_width;
-  if (!too_long && !too_wide) {
-    o.points = std::move(pts);
-    c.accepted.push_back(std::move(o));
-    return;
-  }
-  if (depth >= kMaxSplitDepth) {
-    ++c.stats.rejected_large;
-    return;
-  }
-  // (a) A finer voxel separates objects that merely touch.
-  {
-    auto parts = cluster_points(pts, c.x, c.y, c.z, p.voxel / 2, Clustering::kGrid);
-    const std::size_t big = std::max(p.min_points, pts.size() / 10);
-    std::vector<std::vector<std::uint32_t>> kept;
-    for (auto& part : parts) {
-      if (part.size() >= big) kept.push_back(std::move(part));
-    }
-    if (kept.size() >= 2) {
+  // Wider than two narrow vehicles, or oversized: objects that only touch come apart with a
+  // finer voxel.
+  const bool two_wide = o.fp.width > 2 * p.min_width + 1.0;
+  if ((too_long || too_wide || two_wide) && depth < kMaxSplitDepth) {
+    auto parts = finer_parts(c, pts);
+    if (!parts.empty()) {
       ++c.stats.splits;
-      for (auto& part : kept) examine(c, std::move(part), depth + 1);
+      for (auto& part : parts) examine(c, std::move(part), depth + 1);
       return;
     }
   }
-  // (b) Cut at the emptiest slice across the oversized axis, not too near either end, with a
-  // mild preference for the middle.
-  const Vector2d a = too_wide ? Vector2d(-o.fp.axis.y(), o.fp.axis.x()) : o.fp.axis;
-  const double min_side = too_wide ? p.min_width : p.min_length;
-  double smin = 1e300, smax = -1e300;
-  std::vector<double> s(pts.size());
-  for (std::size_t n = 0; n < pts.size(); ++n) {
-    s[n] = Vector2d(c.x[pts[n]], c.y[pts[n]]).dot(a);
-    smin = std::min(smin, s[n]);
-    smax = std::max(smax, s[n]);
-  }
-  const double bin = std::min(0.1, p.voxel / 2);
-  const int nb = std::max(1, int(std::ceil((smax - smin) / bin)));
-  std::vector<double> count(std::size_t(nb) + 1, 0.0);
-  for (double v : s) count[std::size_t(std::min(nb, int((v - smin) / bin)))] += 1;
-  double best_score = 1e300, best_cut = 0;
-  const double mid = 0.5 * (smin + smax), half = 0.5 * (smax - smin);
-  for (int b = 1; b < nb; ++b) {
-    const double cut = smin + b * bin;  // boundary between bins b-1 and b
-    if (cut - smin < min_side * 0.8 || smax - cut < min_side * 0.8) continue;
-    const double local = count[std::size_t(b - 1)] + count[std::size_t(b)] +
-                         0.5 * (count[std::size_t(std::max(0, b - 2))] + count[std::size_t(std::min(nb, b + 1))]);
-    const double score = local * (1 + 0.5 * std::abs(cut - mid) / half);
-    if (score < best_score) {
-      best_score = score;
-      best_cut = cut;
+  if (two_wide && !too_long && depth < kMaxSplitDepth) {
+    // Side by side and touching: a valley across the width.
+    const Vector2d a(-o.fp.axis.y(), o.fp.axis.x());
+    const double cut = valley_cut(c, pts, a, p.min_width);
+    if (!std::isnan(cut)) {
+      std::vector<std::uint32_t> lo, hi;
+      for (std::uint32_t q : pts) (Vector2d(c.x[q], c.y[q]).dot(a) < cut ? lo : hi).push_back(q);
+      ++c.stats.splits;
+      examine(c, std::move(lo), depth + 1);
+      examine(c, std::move(hi), depth + 1);
+      return;
     }
   }
-  if (best_score == 1e300) {
-    ++c.stats.rejected_large;
-    return;
+  if (too_long || too_wide) {
+    // Oversized: cut at a clear valley across the oversized axis.
+    if (depth < kMaxSplitDepth) {
+      const Vector2d a = too_wide ? Vector2d(-o.fp.axis.y(), o.fp.axis.x()) : o.fp.axis;
+      const double cut = valley_cut(c, pts, a, too_wide ? p.min_width : p.min_length);
+      if (!std::isnan(cut)) {
+        std::vector<std::uint32_t> lo, hi;
+        for (std::uint32_t q : pts) (Vector2d(c.x[q], c.y[q]).dot(a) < cut ? lo : hi).push_back(q);
+        ++c.stats.splits;
+        examine(c, std::move(lo), depth + 1);
+        examine(c, std::move(hi), depth + 1);
+        return;
+      }
+    }
+    // No clean split: a vehicle with a bush against it stays a candidate (recall first) when
+    // it is at most a quarter beyond the ranges.
+    if (o.fp.length > 1.25 * p.max_length || o.fp.width > 1.25 * p.max_width) {
+      ++c.stats.rejected_large;
+      return;
+    }
   }
-  std::vector<std::uint32_t> left, right;
-  for (std::size_t n = 0; n < pts.size(); ++n) (s[n] < best_cut ? left : right).push_back(pts[n]);
-  ++c.stats.splits;
-  examine(c, std::move(left), depth + 1);
-  examine(c, std::move(right), depth + 1);
+  o.points = std::move(pts);
+  c.accepted.push_back(std::move(o));
 }
 
 }  // namespace
@@ -449,6 +499,7 @@ void Params::validate() const {
   need(max_height > min_object_height, "--max-height must exceed --min-object-height");
   need(margin >= 0, "--margin must be >= 0");
   need(min_points >= 3, "--min-points must be >= 3");
+  need(min_ground_share > 0 && min_ground_share <= 1, "--min-ground-share must be in (0, 1]");
 }
 
 Result run(const formats::PointCloud& tile, const Params& params, const std::string& name) {
@@ -543,7 +594,13 @@ Result run(const formats::PointCloud& tile, const Params& params, const std::str
     is_ground_cell[c] = 1;
   }
   r.stats.ground_cells = ground_minima.size();
-  if (ground_minima.empty()) throw DataError(name, "found no ground (no cell minimum passed the morphological filter)");
+  const double share = double(ground_minima.size()) / double(std::max<std::size_t>(1, minima->size()));
+  if (share < params.min_ground_share) {
+    throw DataError(name, "found ground in only " + fmt("%.1f", 100 * share) + "% of the " +
+                              std::to_string(minima->size()) + " occupied " + fmt("%g", params.cell) +
+                              " m cells (--min-ground-share " + fmt("%g", params.min_ground_share) +
+                              "): no terrain to measure heights from (a tile of only vegetation or objects?)");
+  }
   fill_holes(dtm);
   // Refine: mean z of the points near the first surface, in the ground cells.
   {

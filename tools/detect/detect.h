@@ -14,10 +14,11 @@
 //    grass, not canopy above the tallest vehicle) are clustered: occupied `voxel` cubes,
 //    26-connected (or PCL's Euclidean clustering on the voxel centres, same partition).
 // 4. Vehicle test. Per cluster the minimum-area rectangle of its top view (length ≥ width,
-//    heading of the long axis) and its height. A cluster too long or too wide for a vehicle
-//    is split (re-clustered with half the voxel; failing that, cut at the emptiest slice
-//    across its oversized axis) and the parts are tested again, so two vehicles side by side
-//    or a vehicle against a bush still give separate candidates.
+//    heading of the long axis) and its height. A cluster wider than two narrow vehicles, or
+//    beyond the ranges, is re-clustered with half the voxel (objects that only touch come
+//    apart: two vehicles side by side, a vehicle against a bush); an oversized one that does
+//    not come apart is cut at a clear valley of the point count across its oversized axis,
+//    or kept when at most 25% beyond the ranges (recall first), else rejected.
 // 5. Candidates. Per accepted cluster: a rigid local frame (origin on the DTM at the
 //    footprint centre, z = the normal of the ground plane fitted under the footprint, x = the
 //    long axis); every input point inside the footprint + `margin` and below height + margin,
@@ -45,13 +46,14 @@ struct Params {
   double initial_distance = 0.2;   // PMF height threshold at the smallest window (m)
   double max_distance = 3.0;       // PMF height threshold cap (m)
   double ground_tolerance = 0.2;   // |height| within which a point refines the DTM (m)
+  double min_ground_share = 0.2;   // fewer occupied cells with ground: no terrain, an error
   // Objects.
   double min_object_height = 0.3;  // below this height above ground: ground or grass (m)
   double voxel = 0.2;              // clustering voxel edge (m)
   Clustering clustering = Clustering::kGrid;
   // Vehicle ranges (a 3 m car to a 16 m tractor with trailer, partly hidden).
   double min_length = 2.0, max_length = 17.0;
-  double min_width = 1.0, max_width = 3.2;
+  double min_width = 1.0, max_width = 4.0;  // the tank is 3.54 m over its tracks
   double min_height = 0.8, max_height = 4.5;
   std::size_t min_points = 30;     // fewer points in a cluster: not a candidate
   // Candidates.

@@ -46,6 +46,7 @@ int main(int argc, char** argv) {
   tool.add_length("--initial-distance", &p.initial_distance, "ground-filter height threshold at the smallest window");
   tool.add_length("--max-distance", &p.max_distance, "ground-filter height threshold cap");
   tool.add_length("--ground-tolerance", &p.ground_tolerance, "points this close to the first DTM refine it");
+  tool.add("--min-ground-share", &p.min_ground_share, "fewest occupied cells with ground (share) for a terrain");
   tool.add_length("--min-object-height", &p.min_object_height, "lower: ground or grass");
   tool.add_length("--voxel", &p.voxel, "clustering voxel edge (26-connected voxels form an object)");
   tool.add("--clustering", &clustering, "grid (voxel connected components) or euclidean (PCL, same partition)");
