@@ -345,7 +345,32 @@ struct Context {
   const std::vector<float>& h;
   Stats& stats;
   std::vector<Object> accepted;
+  // 2-D voxel columns (i, j at `voxel`, packed) holding a point just above the band: a
+  // cluster reaching the band's top under them is the bottom of something taller (a crown).
+  std::unordered_map<std::uint64_t, char> above;
 };
+
+std::uint64_t column_key(double x, double y, double v) {
+  const auto i = std::int64_t(std::floor(x / v)) + (std::int64_t(1) << 30);
+  const auto j = std::int64_t(std::floor(y / v)) + (std::int64_t(1) << 30);
+  return (std::uint64_t(i) << 32) | std::uint64_t(j);
+}
+
+// True when most of the cluster's points in the band's top voxel layer have points right
+// above the band over them (within one voxel column): a crown or building cut by the band.
+bool continues_upward(const Context& c, const std::vector<std::uint32_t>& pts) {
+  const double v = c.p.voxel, top = c.p.max_height - v;
+  std::size_t in_top = 0, under = 0;
+  for (std::uint32_t q : pts) {
+    if (c.h[q] < top) continue;
+    ++in_top;
+    bool hit = false;
+    for (int di = -1; di <= 1 && !hit; ++di)
+      for (int dj = -1; dj <= 1 && !hit; ++dj) hit = c.above.count(column_key(c.x[q] + di * v, c.y[q] + dj * v, v)) > 0;
+    under += hit;
+  }
+  return in_top >= 10 && under * 2 >= in_top;
+}
 
 Footprint footprint_of(const Context& c, const std::vector<std::uint32_t>& pts) {
   std::vector<Vector2d> xy(pts.size());
@@ -354,10 +379,11 @@ Footprint footprint_of(const Context& c, const std::vector<std::uint32_t>& pts) 
 }
 
 // Finer voxel (half the edge): parts of `pts` that only touch come apart. Returns the parts
-// holding at least max(min_points, 10%) of the points when there are two or more of them.
-std::vector<std::vector<std::uint32_t>> finer_parts(const Context& c, const std::vector<std::uint32_t>& pts) {
+// holding at least max(min_points, min_share of the points) when there are two or more.
+std::vector<std::vector<std::uint32_t>> finer_parts(const Context& c, const std::vector<std::uint32_t>& pts,
+                                                    double min_share = 0.1) {
   auto parts = cluster_points(pts, c.x, c.y, c.z, c.p.voxel / 2, Clustering::kGrid);
-  const std::size_t big = std::max(c.p.min_points, pts.size() / 10);
+  const std::size_t big = std::max(c.p.min_points, std::size_t(double(pts.size()) * min_share));
   std::vector<std::vector<std::uint32_t>> kept;
   for (auto& part : parts) {
     if (part.size() >= big) kept.push_back(std::move(part));
@@ -427,6 +453,28 @@ void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
   for (std::uint32_t q : pts) o.height = std::max(o.height, double(c.h[q]));
   if (o.fp.length < p.min_length || o.fp.width < p.min_width || o.height < p.min_height) {
     ++c.stats.rejected_small;
+    return;
+  }
+  if (continues_upward(c, pts)) {
+    // A vehicle close under a crown may hang on to its bottom: a finer voxel parts them.
+    auto parts = depth < kMaxSplitDepth ? finer_parts(c, pts, 0.0) : std::vector<std::vector<std::uint32_t>>{};
+    if (parts.empty() && depth < kMaxSplitDepth) {
+      // Or hang on to a trunk: drop the columns under points just above the band and look
+      // at what stays connected.
+      std::vector<std::uint32_t> rest;
+      for (std::uint32_t q : pts) {
+        if (!c.above.count(column_key(c.x[q], c.y[q], c.p.voxel))) rest.push_back(q);
+      }
+      if (rest.size() >= c.p.min_points && rest.size() < pts.size()) {
+        parts = cluster_points(rest, c.x, c.y, c.z, c.p.voxel, Clustering::kGrid);
+      }
+    }
+    if (parts.empty()) {
+      ++c.stats.rejected_canopy;
+      return;
+    }
+    ++c.stats.splits;
+    for (auto& part : parts) examine(c, std::move(part), depth + 1);
     return;
   }
   const bool too_long = o.fp.length > p.max_length, too_wide = o.fp.width > p.max_width;
@@ -643,7 +691,12 @@ Result run(const formats::PointCloud& tile, const Params& params, const std::str
   r.stats.band_points = band.size();
   std::vector<double> hz(n);  // clustering in (x, y, height): the band is a flat slab
   for (std::size_t i = 0; i < n; ++i) hz[i] = r.height[i];
-  Context ctx{params, x, y, hz, r.height, r.stats, {}};
+  Context ctx{params, x, y, hz, r.height, r.stats, {}, {}};
+  for (std::size_t i = 0; i < n; ++i) {
+    if (r.height[i] > params.max_height && r.height[i] <= params.max_height + 2 * params.voxel) {
+      ctx.above.emplace(column_key(x[i], y[i], params.voxel), 1);
+    }
+  }
   {
     auto clusters = cluster_points(band, x, y, hz, params.voxel, params.clustering);
     r.stats.clusters = clusters.size();

@@ -13,7 +13,8 @@
 // 3. Objects. Points between `min_object_height` and `max_height` above ground (not ground or
 //    grass, not canopy above the tallest vehicle) are clustered: occupied `voxel` cubes,
 //    26-connected (or PCL's Euclidean clustering on the voxel centres, same partition).
-// 4. Vehicle test. Per cluster the minimum-area rectangle of its top view (length ≥ width,
+// 4. Vehicle test. A cluster reaching the band's top under points just above the band is the
+//    bottom of a crown or building, not a vehicle. Per cluster the minimum-area rectangle of its top view (length ≥ width,
 //    heading of the long axis) and its height. A cluster wider than two narrow vehicles, or
 //    beyond the ranges, is re-clustered with half the voxel (objects that only touch come
 //    apart: two vehicles side by side, a vehicle against a bush); an oversized one that does
@@ -96,7 +97,7 @@ struct InstanceTruth {
 struct Stats {
   std::size_t points = 0, ground_cells = 0, filled_cells = 0, cells = 0;
   std::size_t ground_points = 0, band_points = 0, clusters = 0, splits = 0;
-  std::size_t rejected_small = 0, rejected_large = 0;
+  std::size_t rejected_small = 0, rejected_large = 0, rejected_canopy = 0;
   double seconds_ground = 0, seconds_objects = 0, seconds_candidates = 0;
 };
 

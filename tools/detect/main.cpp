@@ -81,9 +81,9 @@ int main(int argc, char** argv) {
     char buf[400];
     std::snprintf(buf, sizeof buf,
                   "ground %zu of %zu cells (%.2f s); %zu object points in %zu clusters, %zu splits, "
-                  "rejected %zu small %zu large (%.2f s); %zu candidates (%.2f s)",
+                  "rejected %zu small %zu large %zu canopy bottoms (%.2f s); %zu candidates (%.2f s)",
                   s.ground_cells, s.cells, s.seconds_ground, s.band_points, s.clusters, s.splits,
-                  s.rejected_small, s.rejected_large, s.seconds_objects, r.candidates.size(),
+                  s.rejected_small, s.rejected_large, s.rejected_canopy, s.seconds_objects, r.candidates.size(),
                   s.seconds_candidates);
     work.done(buf);
     if (r.has_truth) {
