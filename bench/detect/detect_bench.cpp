@@ -194,9 +194,9 @@ int recall(int tiles) {
 }
 
 int big_tile(double points, const std::string& path) {
-  // Ground ~ 85% of the points: (2 half / spacing)^2 = 0.85 points on a 100 x 100 m tile.
+  // Ground ~ 46% of the points at medium cover: (2 half / spacing)^2 = 0.46 points.
   const double half = 50;
-  const double spacing = 2 * half / std::sqrt(0.85 * points);
+  const double spacing = 2 * half / std::sqrt(0.46 * points);
   TileSpec s = random_tile(77, 0.45, 0.008, half, 12, spacing);
   const formats::PointCloud tile = detect_test::make_tile(s);
   formats::write_pcd(tile, path);

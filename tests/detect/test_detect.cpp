@@ -266,3 +266,16 @@ TEST_CASE("same tile -> same index") {
   euclid.clustering = detect::Clustering::kEuclidean;
   CHECK(detect::serialize_index(detect::run(tile, euclid, "c"), {}, prov, "t.pcd", "") == a);
 }
+
+TEST_CASE("a tank-wide vehicle (3.54 m, body and turret) is one candidate") {
+  for (const auto terrain : {detect_test::Terrain::kFlat, detect_test::Terrain::kSlope}) {
+    TileSpec s;
+    s.half_extent = 12;
+    s.terrain = terrain;
+    s.seed = 14;
+    s.vehicles = {{1, -2, 0.3, 6.9, 3.54, 2.4, 5, true}};
+    const detect::Result r = detect::run(detect_test::make_tile(s), detect::Params{}, "tank");
+    CHECK(r.candidates.size() == 1);
+    check_poses(s, r);
+  }
+}
