@@ -182,6 +182,16 @@ int recall(int tiles) {
             continue;
           }
           ++covered;
+          std::size_t mine = 0;
+          for (const auto& c : r.candidates) mine += c.truth.instance == v.instance;
+          if (mine > 1) {
+            std::fprintf(stderr, "%zu candidates: seed %llu cover %s noise %.3f vehicle %u (%.1f x %.1f x %.1f):", mine,
+                         (unsigned long long)seed, cv.name, noise, v.instance, v.length, v.width, v.height);
+            for (const auto& c : r.candidates) {
+              if (c.truth.instance == v.instance) std::fprintf(stderr, " [%.1f x %.1f x %.1f, coverage %.2f]", c.length, c.width, c.height, c.truth.coverage);
+            }
+            std::fprintf(stderr, "\n");
+          }
           centre_err.push_back((best->to_tile.block<3, 1>(0, 3) - detect_test::vehicle_centre(s, v)).norm());
           const double cosang = std::abs(best->to_tile.block<3, 1>(0, 0).dot(detect_test::vehicle_rotation(s, v).col(0)));
           heading_err.push_back(std::acos(std::min(1.0, cosang)) * 180 / M_PI);

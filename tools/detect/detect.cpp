@@ -841,21 +841,22 @@ Result run(const formats::PointCloud& tile, const Params& params, const std::str
     }
     if (has_instance) {
       c.has_truth = true;
-      std::map<std::uint32_t, std::size_t> in_crop;
-      for (std::size_t q : rows) {
-        if (const std::uint32_t id = vehicle_instance(q)) ++in_crop[id];
+      // The vehicle with the most points in the object (not merely in the crop around it).
+      std::map<std::uint32_t, std::size_t> in_object;
+      for (std::uint32_t q : o.points) {
+        if (const std::uint32_t id = vehicle_instance(q)) ++in_object[id];
       }
-      for (const auto& [id, cnt] : in_crop) {
-        if (cnt > c.truth.points) {
+      std::size_t best = 0;
+      for (const auto& [id, cnt] : in_object) {
+        if (cnt > best) {
+          best = cnt;
           c.truth.instance = id;
-          c.truth.points = cnt;
         }
       }
       if (c.truth.instance != 0) {
+        for (std::size_t q : rows) c.truth.points += vehicle_instance(q) == c.truth.instance;
         c.truth.coverage = double(c.truth.points) / double(instance_points.at(c.truth.instance));
-        std::size_t same = 0;
-        for (std::uint32_t q : o.points) same += vehicle_instance(q) == c.truth.instance;
-        c.truth.purity = double(same) / double(o.points.size());
+        c.truth.purity = double(best) / double(o.points.size());
       }
     }
     pending.push_back(std::move(pd));

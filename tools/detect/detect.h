@@ -70,7 +70,7 @@ struct Params {
 enum Class : std::uint8_t { kClassGround = 1, kClassOther = 2, kClassCandidate = 3 };
 
 struct Truth {
-  std::uint32_t instance = 0;  // 0 = no labelled vehicle point in the candidate
+  std::uint32_t instance = 0;  // the vehicle with the most points in the object; 0 = none
   std::size_t points = 0;      // that vehicle's points inside the candidate's crop
   double coverage = 0;         // ... as a share of the vehicle's points in the tile
   double purity = 0;           // share of the candidate's object points that are that vehicle
