@@ -39,10 +39,11 @@ int main(int argc, char** argv) {
   std::string in = "-", out, clustering = "grid";
   bool no_classes = false;
   tool.add_input(&in, "tile PCD (x y z, float64 for georeferenced coordinates; any other fields)");
-  tool.add_output(&out, "output directory (created atomically; a previous detect output is replaced)");
+  tool.app().add_option("-o,--output", out, "output directory, required (built beside it and renamed into "
+                                            "place; a previous detect output is replaced)");
   tool.add_length("--cell", &p.cell, "DTM cell");
   tool.add_length("--max-window", &p.max_window, "largest ground-filter window (objects narrower are not ground)");
-  tool.add("--terrain-slope", &p.terrain_slope, "steepest terrain slope the ground filter keeps (rise/run)");
+  tool.add("--terrain-slope", &p.terrain_slope, "ground-filter height threshold growth per metre of window (rise/run)");
   tool.add_length("--initial-distance", &p.initial_distance, "ground-filter height threshold at the smallest window");
   tool.add_length("--max-distance", &p.max_distance, "ground-filter height threshold cap");
   tool.add_length("--ground-tolerance", &p.ground_tolerance, "points this close to the first DTM refine it");
