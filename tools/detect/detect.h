@@ -43,7 +43,7 @@ struct Params {
   // Ground.
   double cell = 0.5;               // DTM cell (m), > 0
   double max_window = 16.0;        // largest PMF window (m): objects narrower than this are not ground
-  double terrain_slope = 0.45;     // PMF threshold growth per metre of window (rise / run), > 0
+  double terrain_slope = 0.35;     // PMF threshold growth per metre of window (rise / run), > 0
   double initial_distance = 0.2;   // PMF height threshold at the smallest window (m)
   double max_distance = 3.0;       // PMF height threshold cap (m)
   double ground_tolerance = 0.2;   // |height| within which a point refines the DTM (m)
