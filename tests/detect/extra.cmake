@@ -1,0 +1,4 @@
+# test_detect runs the chain (rangetrace | fitvox | cocone | ncut | gmatch) on a candidate.
+add_dependencies(${target} rangetrace fitvox cocone ncut gmatch)
+target_link_libraries(${target} PRIVATE nlohmann_json::nlohmann_json)
+target_include_directories(${target} PRIVATE ${CMAKE_SOURCE_DIR}/tests)

@@ -1,0 +1,231 @@
+// The detect binary: output directory, index.json, bad input, and the existing chain on a
+// candidate.
+#include <catch2/catch.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "canopy/formats/labels.h"
+#include "canopy/formats/pcd.h"
+#include "canopy/formats/points_io.h"
+#include "canopy/formats/ply.h"
+#include "support/cli.h"
+#include "synth_tile.h"
+
+using namespace canopy;
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+namespace {
+
+const std::string kBin = CANOPY_BIN_DIR;
+
+std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+
+Json read_json(const fs::path& p) {
+  std::ifstream f(p);
+  return Json::parse(f);
+}
+
+// Nothing but `keep` in dir (no temporary directories left behind).
+std::vector<std::string> entries(const fs::path& dir) {
+  std::vector<std::string> out;
+  for (const auto& e : fs::directory_iterator(dir)) out.push_back(e.path().filename().string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+detect_test::TileSpec small_scene() {
+  detect_test::TileSpec s;
+  s.half_extent = 15;
+  s.seed = 21;
+  s.offset = Eigen::Vector3d(500000, 4400000, 200);
+  s.terrain = detect_test::Terrain::kSlope;
+  s.slope_deg = 8;
+  s.vehicles = {{-5, 3, 0.7, 4.5, 1.8, 1.5, 4}, {6, -4, -0.3, 7.0, 2.4, 2.8, 6}};
+  s.trees = {{0, -9, 3, 5, 10, 0.2}};
+  s.boulders = {{8, 8, 0.6}};
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("detect writes a candidates directory") {
+  const fs::path dir = test::fresh_dir("detect", "cli_ok");
+  const auto s = small_scene();
+  formats::write_pcd(detect_test::make_tile(s), (dir / "tile.pcd").string());
+  std::string err;
+  const fs::path out = dir / "cands";
+  REQUIRE(test::sh(kBin + "/detect -i " + q(dir / "tile.pcd") + " -o " + q(out) + "/", dir / "err.txt", &err) == 0);
+  INFO(err);
+  CHECK(err.find("2 of 2 labelled vehicles covered") != std::string::npos);
+  const Json j = read_json(out / "index.json");
+  CHECK(j["format"] == "canopy.candidates");
+  CHECK(j["version"] == 1);
+  CHECK(j["provenance"]["tool"] == "detect");
+  CHECK(j["tile_points"].get<std::size_t>() > 10000);
+  REQUIRE(j["candidates"].size() == 2);
+  for (const auto& c : j["candidates"]) {
+    const formats::PointCloud cloud = formats::read_pcd((out / c["file"].get<std::string>()).string());
+    CHECK(cloud.size() == c["point_count"].get<std::size_t>());
+    CHECK(cloud.has("instance"));
+    CHECK(cloud.has("sensor_x"));
+    // The transform's translation is the centre, at UTM magnitudes, exact in float64.
+    CHECK(c["transform"][0][3].get<double>() == c["centre"][0].get<double>());
+    CHECK(std::abs(c["centre"][0].get<double>() - 500000) < 15);
+    CHECK(std::abs(c["centre"][1].get<double>() - 4400000) < 15);
+    CHECK(c["truth"]["coverage"].get<double>() > 0.95);
+  }
+  REQUIRE(j["instances"].size() == 2);
+  for (const auto& it : j["instances"]) CHECK(it["candidates"].size() == 1);
+  const formats::Mesh classes = formats::read_ply((out / "classes.ply").string());
+  CHECK(classes.vertices.size() == j["tile_points"].get<std::size_t>());
+  CHECK(classes.vertices.has("class"));
+  CHECK(classes.vertices.has("red"));
+  CHECK(entries(dir) == std::vector<std::string>{"cands", "err.txt", "tile.pcd"});
+
+  SECTION("a re-run replaces the previous output as a whole") {
+    { std::ofstream(out / "stale.txt") << "old"; }
+    REQUIRE(test::sh(kBin + "/detect -q --no-classes -i " + q(dir / "tile.pcd") + " -o " + q(out), dir / "err.txt", &err) == 0);
+    CHECK(!fs::exists(out / "stale.txt"));
+    CHECK(!fs::exists(out / "classes.ply"));
+    CHECK(read_json(out / "index.json")["classes"].is_null());
+    CHECK(entries(dir) == std::vector<std::string>{"cands", "err.txt", "tile.pcd"});
+  }
+}
+
+TEST_CASE("detect: bad output and input") {
+  const fs::path dir = test::fresh_dir("detect", "cli_bad");
+  detect_test::TileSpec s = small_scene();
+  formats::write_pcd(detect_test::make_tile(s), (dir / "tile.pcd").string());
+  std::string err;
+  SECTION("output is an existing file") {
+    { std::ofstream(dir / "file.txt") << "keep me"; }
+    CHECK(test::sh(kBin + "/detect -q -i " + q(dir / "tile.pcd") + " -o " + q(dir / "file.txt"), dir / "err.txt", &err) == 1);
+    CHECK(err.find("not a directory") != std::string::npos);
+    std::ifstream f(dir / "file.txt");
+    std::string text;
+    std::getline(f, text);
+    CHECK(text == "keep me");
+  }
+  SECTION("output is a directory of something else") {
+    fs::create_directories(dir / "mine");
+    { std::ofstream(dir / "mine" / "notes.txt") << "x"; }
+    CHECK(test::sh(kBin + "/detect -q -i " + q(dir / "tile.pcd") + " -o " + q(dir / "mine"), dir / "err.txt", &err) == 1);
+    CHECK(err.find("refusing") != std::string::npos);
+    CHECK(fs::exists(dir / "mine" / "notes.txt"));
+  }
+  SECTION("no output") {
+    CHECK(test::sh(kBin + "/detect -q -i " + q(dir / "tile.pcd"), dir / "err.txt", &err) == 2);
+  }
+  SECTION("an empty tile") {
+    formats::PointCloud empty;
+    empty.add("x", formats::kFloat64);
+    empty.add("y", formats::kFloat64);
+    empty.add("z", formats::kFloat64);
+    formats::write_pcd(empty, (dir / "empty.pcd").string());
+    CHECK(test::sh(kBin + "/detect -q -i " + q(dir / "empty.pcd") + " -o " + q(dir / "out"), dir / "err.txt", &err) == 1);
+    CHECK(err.find("empty.pcd: the tile has no points") != std::string::npos);
+    CHECK(!fs::exists(dir / "out"));
+    CHECK(entries(dir) == std::vector<std::string>{"empty.pcd", "err.txt", "tile.pcd"});
+  }
+  SECTION("float32 coordinates at UTM magnitudes") {
+    s.float64 = false;
+    formats::write_pcd(detect_test::make_tile(s), (dir / "utm32.pcd").string());
+    CHECK(test::sh(kBin + "/detect -q -i " + q(dir / "utm32.pcd") + " -o " + q(dir / "out"), dir / "err.txt", &err) == 1);
+    CHECK(err.find("utm32.pcd: coordinate x is stored as float32") != std::string::npos);
+    CHECK(!fs::exists(dir / "out"));
+  }
+  SECTION("a LAZ file is refused with how to decompress it") {
+    const std::string laz = std::string(CANOPY_SOURCE_DIR) + "/tests/las/data/simple.laz";
+    CHECK(test::sh(kBin + "/detect -q -i " + q(laz) + " -o " + q(dir / "out"), dir / "err.txt", &err) == 1);
+    CHECK(err.find("simple.laz: this is a LAZ file") != std::string::npos);
+    CHECK(!fs::exists(dir / "out"));
+  }
+  SECTION("a LAS tile at UTM coordinates gives the same candidates as the PCD tile") {
+    const formats::PointCloud t = detect_test::make_tile(s);
+    formats::write_pcd(t, (dir / "t.pcd").string());
+    formats::write_points(t, (dir / "t.las").string());
+    REQUIRE(test::sh(kBin + "/detect -q --no-classes -i " + q(dir / "t.pcd") + " -o " + q(dir / "a"), dir / "err.txt", &err) == 0);
+    REQUIRE(test::sh(kBin + "/detect -q --no-classes -i " + q(dir / "t.las") + " -o " + q(dir / "b"), dir / "err.txt", &err) == 0);
+    const auto a = read_json(dir / "a" / "index.json")["candidates"];
+    const auto b = read_json(dir / "b" / "index.json")["candidates"];
+    REQUIRE(a.size() == b.size());
+    REQUIRE(a.size() >= 1);
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      // LAS stores 1 mm integers: centres agree to a few mm.
+      CHECK(std::abs(a[i]["centre"][0].get<double>() - b[i]["centre"][0].get<double>()) < 0.01);
+      CHECK(std::abs(a[i]["centre"][1].get<double>() - b[i]["centre"][1].get<double>()) < 0.01);
+    }
+  }
+  SECTION("a tile of only vegetation (no ground returns)") {
+    detect_test::TileSpec v;
+    v.half_extent = 15;
+    v.trees = {{5, 6, 3.0, 5.0, 11.0, 0.2}, {-8, 2, 2.5, 4.0, 9.0, 0.15}, {0, -7, 4, 6, 12, 0.3}};
+    v.bushes = {{10, -5, 1.0, 0.2, 1.6}, {-5, -12, 1.5, 0.3, 2.5}};
+    formats::PointCloud all = detect_test::make_tile(v);
+    std::vector<std::size_t> keep;
+    for (std::size_t i = 0; i < all.size(); ++i) {
+      if (all.col("label")[i] == formats::kLabelFoliage) keep.push_back(i);
+    }
+    formats::write_pcd(all.select(keep), (dir / "veg.pcd").string());
+    CHECK(test::sh(kBin + "/detect -q -i " + q(dir / "veg.pcd") + " -o " + q(dir / "out"), dir / "err.txt", &err) == 1);
+    CHECK(err.find("veg.pcd: found ground in only") != std::string::npos);
+    CHECK(!fs::exists(dir / "out"));
+  }
+  SECTION("a tile of only ground: zero candidates, exit 0") {
+    detect_test::TileSpec g;
+    g.half_extent = 10;
+    g.noise = 0.008;
+    formats::write_pcd(detect_test::make_tile(g), (dir / "ground.pcd").string());
+    CHECK(test::sh(kBin + "/detect -q -i " + q(dir / "ground.pcd") + " -o " + q(dir / "out"), dir / "err.txt", &err) == 0);
+    CHECK(read_json(dir / "out" / "index.json")["candidates"].empty());
+  }
+}
+
+// A rangetrace sedan (realistic surfaces) posed in a wide ground crop at UTM coordinates, a
+// tree beside it: detect finds it, and fitvox | cocone | ncut | gmatch recognise the candidate
+// against a sedan/tank modelbase built as in the smoke test.
+TEST_CASE("the existing chain runs on a candidate unchanged") {
+  const fs::path dir = test::fresh_dir("detect", "chain");
+  const std::string rt = kBin + "/rangetrace -q --scene unoccluded ";
+  std::string err;
+  REQUIRE(test::sh(rt + "--model sedan --seed 31 --heading 35deg --position 2,-1 --crop-length 24m "
+                        "--crop-width 24m --crop-height 12m -o " + q(dir / "scan.pcd"),
+                   dir / "err.txt", &err) == 0);
+  formats::PointCloud scan = formats::read_pcd((dir / "scan.pcd").string());
+  // To UTM magnitudes in float64.
+  for (const char* a : {"x", "y", "z"}) {
+    auto& col = scan.add(a, formats::kFloat64);
+    const double off = a[0] == 'x' ? 612345.0 : a[0] == 'y' ? 5012345.0 : 350.0;
+    for (double& v : col) v += off;
+  }
+  formats::write_pcd(scan, (dir / "tile.pcd").string());
+  REQUIRE(test::sh(kBin + "/detect -q -i " + q(dir / "tile.pcd") + " -o " + q(dir / "cands"), dir / "err.txt", &err) == 0);
+  const Json j = read_json(dir / "cands" / "index.json");
+  REQUIRE(j["candidates"].size() == 1);
+  const auto& c = j["candidates"][0];
+  CHECK(c["centre"][0].get<double>() == Approx(612345.0 + 2).margin(0.3));
+  CHECK(c["centre"][1].get<double>() == Approx(5012345.0 - 1).margin(0.3));
+  CHECK(c["centre"][2].get<double>() == Approx(350.0).margin(0.05));
+  const double heading = c["heading"].get<double>() * 180 / M_PI;
+  CHECK(std::min(std::abs(heading - 35), std::abs(std::abs(heading - 35) - 180)) < 5);
+
+  fs::create_directories(dir / "mb");
+  for (const std::string m : {"sedan", "tank"}) {
+    REQUIRE(test::sh(rt + "--model " + m + " --seed 11 | " + kBin + "/fitvox -q | " + kBin + "/cocone -q | " + kBin +
+                         "/ncut -q --seed 11 -o " + q(dir / "mb" / (m + ".json")),
+                     dir / "err.txt", &err) == 0);
+  }
+  const fs::path cand = dir / "cands" / c["file"].get<std::string>();
+  REQUIRE(test::sh(kBin + "/fitvox -q -i " + q(cand) + " | " + kBin + "/cocone -q | " + kBin + "/ncut -q --seed 11 | " +
+                       kBin + "/gmatch --modelbase " + q(dir / "mb") + " -o " + q(dir / "match.json"),
+                   dir / "err.txt", &err) == 0);
+  INFO(err);
+  const Json match = read_json(dir / "match.json");
+  CHECK(match["models"][0]["model"] == "sedan");
+}

@@ -1,0 +1,281 @@
+// detect on hand-placed synthetic tiles with known vehicle poses.
+#include <catch2/catch.hpp>
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <string>
+
+#include "canopy/common/error.h"
+#include "detect/detect.h"
+#include "detect/output.h"
+#include "synth_tile.h"
+
+using namespace canopy;
+using detect_test::TileSpec;
+using detect_test::VehicleSpec;
+
+namespace {
+
+// The candidates whose ground truth is vehicle `v`.
+std::vector<const detect::Candidate*> candidates_of(const detect::Result& r, std::uint32_t instance) {
+  std::vector<const detect::Candidate*> out;
+  for (const auto& c : r.candidates) {
+    if (c.has_truth && c.truth.instance == instance) out.push_back(&c);
+  }
+  return out;
+}
+
+// Angle between the candidate's x axis and the vehicle's, folded to [0, 90] degrees.
+double axis_error_deg(const detect::Candidate& c, const Eigen::Matrix3d& R) {
+  const double cosang = std::abs(c.to_tile.block<3, 1>(0, 0).dot(R.col(0)));
+  return std::acos(std::min(1.0, cosang)) * 180 / M_PI;
+}
+
+// Every vehicle: exactly one candidate, centre within 0.3 m, axis within 5 degrees.
+void check_poses(const TileSpec& s, const detect::Result& r) {
+  for (const auto& v : s.vehicles) {
+    INFO("vehicle " << v.instance << " at " << v.x << ", " << v.y << " heading " << v.heading);
+    const auto found = candidates_of(r, v.instance);
+    REQUIRE(found.size() == 1);
+    const detect::Candidate& c = *found[0];
+    const Eigen::Vector3d centre = c.to_tile.block<3, 1>(0, 3);
+    const Eigen::Vector3d truth = detect_test::vehicle_centre(s, v);
+    INFO("candidate " << c.id << " centre " << centre.transpose() << " truth " << truth.transpose()
+                      << " length " << c.length << " width " << c.width << " height " << c.height);
+    CHECK((centre - truth).norm() < 0.3);
+    CHECK(axis_error_deg(c, detect_test::vehicle_rotation(s, v)) < 5.0);
+    CHECK(c.length == Approx(v.length).margin(0.4));
+    CHECK(c.width == Approx(v.width).margin(0.4));
+    CHECK(c.height == Approx(v.height).margin(0.3));
+    CHECK(c.truth.coverage > 0.95);
+    // The transform is rigid.
+    const Eigen::Matrix3d R = c.to_tile.topLeftCorner<3, 3>();
+    CHECK((R.transpose() * R - Eigen::Matrix3d::Identity()).norm() < 1e-9);
+    CHECK(R.determinant() == Approx(1.0));
+  }
+}
+
+TileSpec three_vehicles(detect_test::Terrain terrain) {
+  TileSpec s;
+  s.terrain = terrain;
+  s.seed = 5;
+  s.vehicles = {{-8, -6, 0.5, 4.5, 1.8, 1.5, 7},       // a car
+                {6, -9, -1.1, 8.0, 2.5, 3.0, 8},       // a truck
+                {-2, 9, 2.9, 16.0, 2.5, 4.0, 9}};      // a tractor with trailer (heading ~166 deg)
+  s.trees = {{10, 6, 3.0, 5.0, 11.0, 0.2}, {-14, 2, 2.5, 4.8, 9.0, 0.15}};
+  s.bushes = {{13, -2, 1.0, 0.2, 1.6}};
+  s.boulders = {{-12, -14, 0.7}};
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("flat tile: every vehicle gets one candidate at its pose") {
+  const TileSpec s = three_vehicles(detect_test::Terrain::kFlat);
+  const auto tile = detect_test::make_tile(s);
+  const detect::Result r = detect::run(tile, detect::Params{}, "flat");
+  check_poses(s, r);
+  REQUIRE(r.has_truth);
+  REQUIRE(r.instances.size() == 3);
+  // No candidate in the crowns or on the boulder (too small).
+  for (const auto& c : r.candidates) CHECK(c.truth.instance != 0);
+}
+
+TEST_CASE("15 degree slope: poses in the tilted ground frame") {
+  TileSpec s = three_vehicles(detect_test::Terrain::kSlope);
+  s.slope_deg = 15;
+  const auto tile = detect_test::make_tile(s);
+  const detect::Result r = detect::run(tile, detect::Params{}, "slope");
+  check_poses(s, r);
+  // The candidate frame's z is the ground normal (15 degrees from vertical).
+  for (const auto& c : r.candidates) {
+    const double tilt = std::acos(c.to_tile(2, 2)) * 180 / M_PI;
+    CHECK(tilt == Approx(15.0).margin(1.0));
+  }
+}
+
+TEST_CASE("rolling ground at UTM magnitudes in float64") {
+  TileSpec s = three_vehicles(detect_test::Terrain::kRolling);
+  // A rigid 16 m box does not follow ground that rolls 2 m in 27 m (its ends would float a
+  // metre up): a second car instead.
+  s.vehicles[2] = {-2, 9, 2.9, 3.8, 1.7, 1.4, 9};
+  s.offset = Eigen::Vector3d(500000.25, 4400000.75, 1234.5);
+  s.noise = 0.008;
+  const auto tile = detect_test::make_tile(s);
+  REQUIRE(tile.type("x") == formats::kFloat64);
+  const detect::Result r = detect::run(tile, detect::Params{}, "utm");
+  check_poses(s, r);
+  CHECK(std::abs(r.origin.x() - 500000) < 25);
+  CHECK(std::abs(r.origin.y() - 4400000) < 25);
+}
+
+TEST_CASE("candidate clouds: local frame, ground at z = 0, every input field") {
+  TileSpec s = three_vehicles(detect_test::Terrain::kSlope);
+  const auto tile = detect_test::make_tile(s);
+  const detect::Result r = detect::run(tile, detect::Params{}, "fields");
+  REQUIRE(!r.candidates.empty());
+  for (const auto& c : r.candidates) {
+    for (const auto& f : tile.names()) CHECK(c.cloud.has(f));
+    CHECK(c.cloud.size() > c.object_points);  // the crop includes the ground around it
+    const auto& z = c.cloud.col("z");
+    const auto& label = c.cloud.col("label");
+    const auto& sz = c.cloud.col("sensor_z");
+    const auto& sx = c.cloud.col("sensor_x");
+    std::size_t ground = 0;
+    for (std::size_t i = 0; i < c.cloud.size(); ++i) {
+      if (label[i] == formats::kLabelGround) {
+        ++ground;
+        CHECK(std::abs(z[i]) < 0.05);
+      }
+      // Sensor directions (0, 0, 1) in the tile, rotated into the tilted frame.
+      CHECK(sz[i] == Approx(c.to_tile(2, 2)).margin(1e-6));
+      CHECK(sx[i] == Approx(c.to_tile(2, 0)).margin(1e-6));
+    }
+    CHECK(ground > 50);
+    // Local x is the long axis: the points span more along x than y.
+    double xmax = 0, ymax = 0;
+    const auto& x = c.cloud.col("x");
+    const auto& y = c.cloud.col("y");
+    for (std::size_t i = 0; i < c.cloud.size(); ++i) {
+      if (label[i] != formats::kLabelTarget) continue;
+      xmax = std::max(xmax, std::abs(x[i]));
+      ymax = std::max(ymax, std::abs(y[i]));
+    }
+    CHECK(xmax > ymax);
+    CHECK(xmax == Approx(c.length / 2).margin(0.05));
+  }
+}
+
+TEST_CASE("two vehicles side by side give two candidates") {
+  // Separated by a narrow gap (boxes), or touching (cars: body and cabin).
+  for (const double gap : {0.3, 0.1, 0.0}) {
+    INFO("gap " << gap);
+    TileSpec s;
+    s.seed = 9;
+    const double h = 0.35;
+    const Eigen::Vector2d across(-std::sin(h), std::cos(h));
+    const double off = (1.8 + gap) / 2;
+    const bool cabin = gap == 0.0;
+    s.vehicles = {{across.x() * off, across.y() * off, h, 4.5, 1.8, 1.5, 1, cabin},
+                  {-across.x() * off, -across.y() * off, h, 4.6, 1.8, 1.6, 2, cabin}};
+    const auto tile = detect_test::make_tile(s);
+    const detect::Result r = detect::run(tile, detect::Params{}, "pair");
+    CHECK(r.candidates.size() == 2);
+    check_poses(s, r);
+  }
+}
+
+TEST_CASE("a vehicle under a bush is still a candidate") {
+  TileSpec s;
+  s.seed = 10;
+  s.vehicles = {{0, 0, 0.2, 4.5, 1.8, 1.5, 3}};
+  s.bushes = {{1.5, 0.8, 1.5, 0.3, 2.6}};
+  const auto tile = detect_test::make_tile(s);
+  const detect::Result r = detect::run(tile, detect::Params{}, "bush");
+  const auto found = candidates_of(r, 3);
+  REQUIRE(found.size() == 1);
+  CHECK(found[0]->truth.coverage > 0.9);
+  CHECK((found[0]->to_tile.block<3, 1>(0, 3) - detect_test::vehicle_centre(s, s.vehicles[0])).norm() < 1.5);
+}
+
+TEST_CASE("a tile with no vehicle gives no candidate") {
+  SECTION("trees, bushes, a boulder") {
+    TileSpec s = three_vehicles(detect_test::Terrain::kRolling);
+    s.vehicles.clear();
+    const detect::Result r = detect::run(detect_test::make_tile(s), detect::Params{}, "forest");
+    CHECK(r.candidates.empty());
+    CHECK(r.has_truth);
+    CHECK(r.instances.empty());
+  }
+  SECTION("only ground, sloped") {
+    TileSpec s;
+    s.terrain = detect_test::Terrain::kSlope;
+    s.noise = 0.032;
+    const detect::Result r = detect::run(detect_test::make_tile(s), detect::Params{}, "ground");
+    CHECK(r.candidates.empty());
+    // Every point is ground.
+    for (auto c : r.classes) CHECK(c == detect::kClassGround);
+  }
+}
+
+TEST_CASE("height above ground on a slope") {
+  TileSpec s;
+  s.terrain = detect_test::Terrain::kSlope;
+  s.trees = {{0, 0, 3, 5, 11, 0.2}};
+  s.offset = Eigen::Vector3d(0, 0, 250);
+  const auto tile = detect_test::make_tile(s);
+  const detect::Result r = detect::run(tile, detect::Params{}, "hag");
+  const auto& x = tile.col("x");
+  const auto& y = tile.col("y");
+  const auto& z = tile.col("z");
+  for (std::size_t i = 0; i < tile.size(); i += 7) {
+    const double truth = z[i] - 250 - detect_test::ground_z(s, x[i], y[i]);
+    INFO("point " << x[i] << ", " << y[i] << ", " << z[i] << " label " << tile.col("label")[i]);
+    CHECK(r.height[i] == Approx(truth).margin(0.05));
+  }
+}
+
+TEST_CASE("bad tiles") {
+  SECTION("no points") {
+    formats::PointCloud empty;
+    empty.add("x"); empty.add("y"); empty.add("z");
+    CHECK_THROWS_AS(detect::run(empty, detect::Params{}, "empty.pcd"), common::DataError);
+    CHECK_THROWS_WITH(detect::run(empty, detect::Params{}, "empty.pcd"), Catch::Contains("no points"));
+  }
+  SECTION("no coordinates") {
+    formats::PointCloud c;
+    c.add("intensity");
+    c.resize(3);
+    CHECK_THROWS_AS(detect::run(c, detect::Params{}, "odd.pcd"), common::DataError);
+  }
+  SECTION("float32 coordinates at UTM magnitudes") {
+    TileSpec s;
+    s.half_extent = 5;
+    s.offset = Eigen::Vector3d(500000, 4400000, 100);
+    s.float64 = false;
+    CHECK_THROWS_WITH(detect::run(detect_test::make_tile(s), detect::Params{}, "utm32.pcd"),
+                      Catch::Contains("float32") && Catch::Contains("float64"));
+  }
+  SECTION("an extent too large for the DTM") {
+    formats::PointCloud c;
+    auto& x = c.add("x", formats::kFloat64);
+    c.add("y", formats::kFloat64);
+    c.add("z", formats::kFloat64);
+    c.resize(2);
+    x[1] = 1e6;
+    c.col("y")[1] = 1e6;
+    CHECK_THROWS_WITH(detect::run(c, detect::Params{}, "far.pcd"), Catch::Contains("DTM cells"));
+  }
+  SECTION("bad parameters") {
+    detect::Params p;
+    p.max_width = 0.5;
+    CHECK_THROWS_AS(p.validate(), common::UsageError);
+  }
+}
+
+TEST_CASE("same tile -> same index") {
+  TileSpec s = three_vehicles(detect_test::Terrain::kFlat);
+  s.noise = 0.008;
+  const auto tile = detect_test::make_tile(s);
+  formats::Provenance prov{"detect", "test", {}, {"t.pcd"}};
+  const std::string a = detect::serialize_index(detect::run(tile, {}, "a"), {}, prov, "t.pcd", "");
+  const std::string b = detect::serialize_index(detect::run(tile, {}, "b"), {}, prov, "t.pcd", "");
+  CHECK(a == b);
+  detect::Params euclid;
+  euclid.clustering = detect::Clustering::kEuclidean;
+  CHECK(detect::serialize_index(detect::run(tile, euclid, "c"), {}, prov, "t.pcd", "") == a);
+}
+
+TEST_CASE("a tank-wide vehicle (3.54 m, body and turret) is one candidate") {
+  for (const auto terrain : {detect_test::Terrain::kFlat, detect_test::Terrain::kSlope}) {
+    TileSpec s;
+    s.half_extent = 12;
+    s.terrain = terrain;
+    s.seed = 14;
+    s.vehicles = {{1, -2, 0.3, 6.9, 3.54, 2.4, 5, true}};
+    const detect::Result r = detect::run(detect_test::make_tile(s), detect::Params{}, "tank");
+    CHECK(r.candidates.size() == 1);
+    check_poses(s, r);
+  }
+}

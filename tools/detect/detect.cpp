@@ -1,0 +1,918 @@
+#include "detect/detect.h"
+
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <unordered_map>
+#include <utility>
+
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+#include <pcl/search/kdtree.h>
+#include <pcl/segmentation/extract_clusters.h>
+#include <pcl/segmentation/progressive_morphological_filter.h>
+
+#include "canopy/common/error.h"
+#include "canopy/formats/labels.h"
+
+namespace canopy::detect {
+namespace {
+
+using common::DataError;
+using Eigen::Vector2d;
+using Eigen::Vector3d;
+
+constexpr double kMaxCells = 2e7;           // DTM raster limit (bounded memory)
+constexpr double kFloat32ExactLimit = 131072.0;  // 2^17: float32 steps reach 15.6 mm beyond
+constexpr int kMaxSplitDepth = 6;
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+std::string fmt(const char* f, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
+// ---------------------------------------------------------------------------------------
+// DTM raster
+
+struct Raster {
+  double x0 = 0, y0 = 0, cell = 1;  // lower-left corner (local frame)
+  int nx = 0, ny = 0;
+  std::vector<double> z;            // cell-centre ground height (local frame), row-major (j * nx + i)
+
+  int ix(double x) const { return std::clamp(int(std::floor((x - x0) / cell)), 0, nx - 1); }
+  int iy(double y) const { return std::clamp(int(std::floor((y - y0) / cell)), 0, ny - 1); }
+  std::size_t at(int i, int j) const { return std::size_t(j) * std::size_t(nx) + std::size_t(i); }
+
+  // Bilinear between cell centres.
+  double height(double x, double y) const {
+    const double fx = (x - x0) / cell - 0.5, fy = (y - y0) / cell - 0.5;
+    int i0 = nx > 1 ? std::clamp(int(std::floor(fx)), 0, nx - 2) : 0;
+    int j0 = ny > 1 ? std::clamp(int(std::floor(fy)), 0, ny - 2) : 0;
+    // Linear extrapolation over the outer half cell (points beyond the outermost centres).
+    const double tx = nx > 1 ? std::clamp(fx - i0, -0.5, 1.5) : 0.0;
+    const double ty = ny > 1 ? std::clamp(fy - j0, -0.5, 1.5) : 0.0;
+    const int i1 = std::min(i0 + 1, nx - 1), j1 = std::min(j0 + 1, ny - 1);
+    return (1 - ty) * ((1 - tx) * z[at(i0, j0)] + tx * z[at(i1, j0)]) +
+           ty * ((1 - tx) * z[at(i0, j1)] + tx * z[at(i1, j1)]);
+  }
+};
+
+// Fills the NaN cells breadth-first from the known ones: each newly reached cell takes the
+// mean of its 8-neighbours known before its layer. Returns the number of filled cells.
+std::size_t fill_holes(Raster& r) {
+  std::vector<std::size_t> frontier;
+  std::vector<char> known(r.z.size());
+  for (std::size_t c = 0; c < r.z.size(); ++c) known[c] = !std::isnan(r.z[c]);
+  for (int j = 0; j < r.ny; ++j) {
+    for (int i = 0; i < r.nx; ++i) {
+      if (known[r.at(i, j)]) continue;
+      bool next = false;
+      for (int dj = -1; dj <= 1 && !next; ++dj)
+        for (int di = -1; di <= 1 && !next; ++di) {
+          const int a = i + di, b = j + dj;
+          if (a >= 0 && b >= 0 && a < r.nx && b < r.ny && known[r.at(a, b)]) next = true;
+        }
+      if (next) frontier.push_back(r.at(i, j));
+    }
+  }
+  std::size_t filled = 0;
+  std::vector<char> queued(r.z.size(), 0);
+  for (std::size_t c : frontier) queued[c] = 1;
+  while (!frontier.empty()) {
+    std::vector<double> values(frontier.size());
+    for (std::size_t f = 0; f < frontier.size(); ++f) {
+      const int i = int(frontier[f] % std::size_t(r.nx)), j = int(frontier[f] / std::size_t(r.nx));
+      double sum = 0;
+      int n = 0;
+      for (int dj = -1; dj <= 1; ++dj)
+        for (int di = -1; di <= 1; ++di) {
+          const int a = i + di, b = j + dj;
+          if (a >= 0 && b >= 0 && a < r.nx && b < r.ny && known[r.at(a, b)]) {
+            sum += r.z[r.at(a, b)];
+            ++n;
+          }
+        }
+      values[f] = sum / n;
+    }
+    std::vector<std::size_t> next;
+    for (std::size_t f = 0; f < frontier.size(); ++f) {
+      r.z[frontier[f]] = values[f];
+      known[frontier[f]] = 1;
+      ++filled;
+    }
+    for (std::size_t c : frontier) {
+      const int i = int(c % std::size_t(r.nx)), j = int(c / std::size_t(r.nx));
+      for (int dj = -1; dj <= 1; ++dj)
+        for (int di = -1; di <= 1; ++di) {
+          const int a = i + di, b = j + dj;
+          if (a < 0 || b < 0 || a >= r.nx || b >= r.ny) continue;
+          const std::size_t d = r.at(a, b);
+          if (!known[d] && !queued[d]) {
+            queued[d] = 1;
+            next.push_back(d);
+          }
+        }
+    }
+    frontier.swap(next);
+  }
+  // Harmonic relaxation of the filled cells (Gauss-Seidel on the 4-neighbour Laplacian, the
+  // known cells fixed): planes and slopes continue under a hole instead of flattening.
+  std::vector<std::size_t> holes;
+  for (std::size_t c = 0; c < r.z.size(); ++c) {
+    if (queued[c]) holes.push_back(c);
+  }
+  for (int it = 0; it < 1000 && !holes.empty(); ++it) {
+    double change = 0;
+    for (std::size_t c : holes) {
+      const int i = int(c % std::size_t(r.nx)), j = int(c / std::size_t(r.nx));
+      double sum = 0;
+      int n = 0;
+      if (i > 0) { sum += r.z[c - 1]; ++n; }
+      if (i + 1 < r.nx) { sum += r.z[c + 1]; ++n; }
+      if (j > 0) { sum += r.z[c - std::size_t(r.nx)]; ++n; }
+      if (j + 1 < r.ny) { sum += r.z[c + std::size_t(r.nx)]; ++n; }
+      const double v = sum / n;
+      change = std::max(change, std::abs(v - r.z[c]));
+      r.z[c] = v;
+    }
+    if (change < 1e-4) break;
+  }
+  return filled;
+}
+
+// ---------------------------------------------------------------------------------------
+// Footprints
+
+struct Footprint {
+  Vector2d centre = Vector2d::Zero();  // local frame
+  Vector2d axis = Vector2d::UnitX();   // unit, long side
+  double length = 0, width = 0;
+};
+
+double cross(const Vector2d& o, const Vector2d& a, const Vector2d& b) {
+  return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+}
+
+// Andrew's monotone chain; counter-clockwise, no collinear points.
+std::vector<Vector2d> convex_hull(std::vector<Vector2d> p) {
+  std::sort(p.begin(), p.end(), [](const Vector2d& a, const Vector2d& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  p.erase(std::unique(p.begin(), p.end()), p.end());
+  if (p.size() < 3) return p;
+  std::vector<Vector2d> h(2 * p.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    while (k >= 2 && cross(h[k - 2], h[k - 1], p[i]) <= 0) --k;
+    h[k++] = p[i];
+  }
+  for (std::size_t i = p.size() - 1, t = k + 1; i > 0; --i) {
+    while (k >= t && cross(h[k - 2], h[k - 1], p[i - 1]) <= 0) --k;
+    h[k++] = p[i - 1];
+  }
+  h.resize(k - 1);
+  return h;
+}
+
+// Minimum-area enclosing rectangle: one side lies on a hull edge (Freeman & Shapira 1975).
+Footprint min_area_rectangle(const std::vector<Vector2d>& points) {
+  const std::vector<Vector2d> hull = convex_hull(points);
+  Footprint best;
+  double best_area = std::numeric_limits<double>::infinity();
+  auto consider = [&](const Vector2d& u) {
+    const Vector2d v(-u.y(), u.x());
+    double umin = 1e300, umax = -1e300, vmin = 1e300, vmax = -1e300;
+    for (const auto& q : hull) {
+      umin = std::min(umin, q.dot(u)); umax = std::max(umax, q.dot(u));
+      vmin = std::min(vmin, q.dot(v)); vmax = std::max(vmax, q.dot(v));
+    }
+    const double area = (umax - umin) * (vmax - vmin);
+    if (area < best_area - 1e-12) {
+      best_area = area;
+      const Vector2d c = 0.5 * (umin + umax) * u + 0.5 * (vmin + vmax) * v;
+      best.centre = c;
+      if (umax - umin >= vmax - vmin) {
+        best.axis = u; best.length = umax - umin; best.width = vmax - vmin;
+      } else {
+        best.axis = v; best.length = vmax - vmin; best.width = umax - umin;
+      }
+    }
+  };
+  if (hull.size() < 3) {
+    if (hull.size() == 2 && (hull[1] - hull[0]).norm() > 0) {
+      consider((hull[1] - hull[0]).normalized());
+    } else {
+      consider(Vector2d::UnitX());
+    }
+  } else {
+    for (std::size_t e = 0; e < hull.size(); ++e) {
+      const Vector2d d = hull[(e + 1) % hull.size()] - hull[e];
+      if (d.norm() > 0) consider(d.normalized());
+    }
+  }
+  // Canonical direction: heading in (-pi/2, pi/2].
+  if (best.axis.x() < 0 || (best.axis.x() == 0 && best.axis.y() < 0)) best.axis = -best.axis;
+  return best;
+}
+
+// ---------------------------------------------------------------------------------------
+// Clustering: occupied voxels, 26-connected.
+
+struct UnionFind {
+  std::vector<std::uint32_t> parent;
+  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
+  std::uint32_t find(std::uint32_t a) {
+    while (parent[a] != a) a = parent[a] = parent[parent[a]];
+    return a;
+  }
+  void unite(std::uint32_t a, std::uint32_t b) {
+    a = find(a); b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+};
+
+// Clusters the points `idx` (coordinates in px, py, pz) with voxel edge `v`. Returns the
+// clusters as lists of entries of idx, ordered by their smallest voxel key, points in idx order.
+std::vector<std::vector<std::uint32_t>> cluster_points(const std::vector<std::uint32_t>& idx,
+                                                       const std::vector<double>& px,
+                                                       const std::vector<double>& py,
+                                                       const std::vector<double>& pz, double v,
+                                                       Clustering method) {
+  std::vector<std::vector<std::uint32_t>> out;
+  if (idx.empty()) return out;
+  double xmin = 1e300, ymin = 1e300, zmin = 1e300;
+  for (std::uint32_t p : idx) {
+    xmin = std::min(xmin, px[p]); ymin = std::min(ymin, py[p]); zmin = std::min(zmin, pz[p]);
+  }
+  constexpr std::uint64_t kMask = (1u << 21) - 1;
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(idx.size());
+  for (std::size_t n = 0; n < idx.size(); ++n) {
+    const std::uint32_t p = idx[n];
+    const auto i = std::uint64_t(std::floor((px[p] - xmin) / v)) + 1;
+    const auto j = std::uint64_t(std::floor((py[p] - ymin) / v)) + 1;
+    const auto k = std::uint64_t(std::floor((pz[p] - zmin) / v)) + 1;
+    if (i >= kMask || j >= kMask || k >= kMask) {
+      throw common::Error("detect: object extent too large for the clustering voxel");
+    }
+    keyed[n] = {(i << 42) | (j << 21) | k, std::uint32_t(n)};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<std::uint64_t> keys;
+  std::vector<std::uint32_t> voxel_of(idx.size());
+  for (const auto& [key, n] : keyed) {
+    if (keys.empty() || keys.back() != key) keys.push_back(key);
+    voxel_of[n] = std::uint32_t(keys.size() - 1);
+  }
+  UnionFind uf(keys.size());
+  if (method == Clustering::kGrid) {
+    std::unordered_map<std::uint64_t, std::uint32_t> lookup;
+    lookup.reserve(keys.size() * 2);
+    for (std::size_t u = 0; u < keys.size(); ++u) lookup.emplace(keys[u], std::uint32_t(u));
+    for (std::size_t u = 0; u < keys.size(); ++u) {
+      const std::uint64_t i = keys[u] >> 42, j = (keys[u] >> 21) & kMask, k = keys[u] & kMask;
+      // The 13 forward neighbours (the other 13 see this voxel as theirs).
+      for (int di = 0; di <= 1; ++di)
+        for (int dj = -1; dj <= 1; ++dj)
+          for (int dk = -1; dk <= 1; ++dk) {
+            if (di == 0 && (dj < 0 || (dj == 0 && dk <= 0))) continue;
+            const std::uint64_t key = ((i + di) << 42) | ((j + dj) << 21) | (k + dk);
+            const auto it = lookup.find(key);
+            if (it != lookup.end()) uf.unite(std::uint32_t(u), it->second);
+          }
+    }
+  } else {
+    pcl::PointCloud<pcl::PointXYZ>::Ptr centres(new pcl::PointCloud<pcl::PointXYZ>);
+    centres->resize(keys.size());
+    for (std::size_t u = 0; u < keys.size(); ++u) {
+      (*centres)[u] = pcl::PointXYZ(float(double(keys[u] >> 42) * v), float(double((keys[u] >> 21) & kMask) * v),
+                                    float(double(keys[u] & kMask) * v));
+    }
+    pcl::search::KdTree<pcl::PointXYZ>::Ptr tree(new pcl::search::KdTree<pcl::PointXYZ>);
+    tree->setInputCloud(centres);
+    pcl::EuclideanClusterExtraction<pcl::PointXYZ> ec;
+    ec.setClusterTolerance(float(v * 1.8));  // between sqrt(3) v and 2 v: the 26-neighbourhood
+    ec.setMinClusterSize(1);
+    ec.setMaxClusterSize(std::numeric_limits<int>::max());
+    ec.setSearchMethod(tree);
+    ec.setInputCloud(centres);
+    std::vector<pcl::PointIndices> found;
+    ec.extract(found);
+    for (const auto& c : found) {
+      for (std::size_t m = 1; m < c.indices.size(); ++m) {
+        uf.unite(std::uint32_t(c.indices[0]), std::uint32_t(c.indices[m]));
+      }
+    }
+  }
+  // Root = smallest voxel index of the component (unite keeps the smaller), so ordering by
+  // root orders clusters by their smallest voxel key.
+  std::map<std::uint32_t, std::size_t> cluster_of_root;
+  for (std::size_t u = 0; u < keys.size(); ++u) {
+    const std::uint32_t r = uf.find(std::uint32_t(u));
+    if (!cluster_of_root.count(r)) cluster_of_root.emplace(r, cluster_of_root.size());
+  }
+  out.resize(cluster_of_root.size());
+  for (std::size_t n = 0; n < idx.size(); ++n) {
+    out[cluster_of_root.at(uf.find(voxel_of[n]))].push_back(idx[n]);
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------
+
+struct Object {
+  std::vector<std::uint32_t> points;
+  Footprint fp;
+  double height = 0;
+};
+
+struct Context {
+  const Params& p;
+  const std::vector<double>& x;  // local frame
+  const std::vector<double>& y;
+  const std::vector<double>& z;
+  const std::vector<float>& h;
+  Stats& stats;
+  std::vector<Object> accepted;
+  // 2-D voxel columns (i, j at `voxel`, packed) holding a point just above the band: a
+  // cluster reaching the band's top under them is the bottom of something taller (a crown).
+  std::unordered_map<std::uint64_t, char> above;
+};
+
+std::uint64_t column_key(double x, double y, double v) {
+  const auto i = std::int64_t(std::floor(x / v)) + (std::int64_t(1) << 30);
+  const auto j = std::int64_t(std::floor(y / v)) + (std::int64_t(1) << 30);
+  return (std::uint64_t(i) << 32) | std::uint64_t(j);
+}
+
+// True when most of the cluster's points in the band's top voxel layer have points right
+// above the band over them (within one voxel column): a crown or building cut by the band.
+bool continues_upward(const Context& c, const std::vector<std::uint32_t>& pts) {
+  const double v = c.p.voxel, top = c.p.max_height - v;
+  std::size_t in_top = 0, under = 0;
+  for (std::uint32_t q : pts) {
+    if (c.h[q] < top) continue;
+    ++in_top;
+    bool hit = false;
+    for (int di = -1; di <= 1 && !hit; ++di)
+      for (int dj = -1; dj <= 1 && !hit; ++dj) hit = c.above.count(column_key(c.x[q] + di * v, c.y[q] + dj * v, v)) > 0;
+    under += hit;
+  }
+  return in_top >= 10 && under * 2 >= in_top;
+}
+
+Footprint footprint_of(const Context& c, const std::vector<std::uint32_t>& pts) {
+  std::vector<Vector2d> xy(pts.size());
+  for (std::size_t n = 0; n < pts.size(); ++n) xy[n] = Vector2d(c.x[pts[n]], c.y[pts[n]]);
+  return min_area_rectangle(xy);
+}
+
+// Finer voxel (half the edge): parts of `pts` that only touch come apart. Returns the parts
+// holding at least max(min_points, min_share of the points) when there are two or more.
+std::vector<std::vector<std::uint32_t>> finer_parts(const Context& c, const std::vector<std::uint32_t>& pts,
+                                                    double min_share = 0.1) {
+  auto parts = cluster_points(pts, c.x, c.y, c.z, c.p.voxel / 2, Clustering::kGrid);
+  const std::size_t big = std::max(c.p.min_points, std::size_t(double(pts.size()) * min_share));
+  std::vector<std::vector<std::uint32_t>> kept;
+  for (auto& part : parts) {
+    if (part.size() >= big) kept.push_back(std::move(part));
+  }
+  if (kept.size() < 2) kept.clear();
+  return kept;
+}
+
+// Cut position across `axis` at a clear valley, leaving at least `min_side` on each side; NaN
+// if none. A valley is an empty gap (a slab holding at most 35% of the median slab's points)
+// or a drop of the top surface between two higher parts (the highest
+// point of the bin at least max(0.3 m, 20% of the lower part) below the highest on either
+// side): two car roofs side by side. The deepest valley wins, then the one nearest the middle.
+double valley_cut(const Context& c, const std::vector<std::uint32_t>& pts, const Vector2d& axis, double min_side) {
+  double smin = 1e300, smax = -1e300;
+  std::vector<double> s(pts.size());
+  for (std::size_t n = 0; n < pts.size(); ++n) {
+    s[n] = Vector2d(c.x[pts[n]], c.y[pts[n]]).dot(axis);
+    smin = std::min(smin, s[n]);
+    smax = std::max(smax, s[n]);
+  }
+  // Bins of 0.05 m, widened (up to 0.2 m) until they hold 20 points on average.
+  double bin = 0.05;
+  while (bin < 0.2 && double(pts.size()) * bin / std::max(1e-9, smax - smin) < 20) bin *= 2;
+  const int nb = std::max(1, int(std::ceil((smax - smin) / bin)));
+  std::vector<double> slab(std::size_t(nb), 0.0), top(std::size_t(nb), 0.0);
+  for (std::size_t n = 0; n < pts.size(); ++n) {
+    const int b = std::min(nb - 1, int((s[n] - smin) / bin));
+    slab[std::size_t(b)] += 1;
+    top[std::size_t(b)] = std::max(top[std::size_t(b)], double(c.h[pts[n]]));
+  }
+  std::vector<double> sorted = slab;
+  std::nth_element(sorted.begin(), sorted.begin() + long(sorted.size() / 2), sorted.end());
+  const double median = sorted[sorted.size() / 2];
+  std::vector<double> left(std::size_t(nb), 0.0), right(std::size_t(nb), 0.0);
+  for (int b = 1; b < nb; ++b) left[std::size_t(b)] = std::max(left[std::size_t(b - 1)], top[std::size_t(b - 1)]);
+  for (int b = nb - 2; b >= 0; --b) right[std::size_t(b)] = std::max(right[std::size_t(b + 1)], top[std::size_t(b + 1)]);
+  double best_depth = 0, best_off = 1e300, cut = std::numeric_limits<double>::quiet_NaN();
+  const double mid = 0.5 * (smin + smax);
+  for (int b = 0; b < nb; ++b) {
+    const double centre = smin + (b + 0.5) * bin;
+    if (centre - smin < min_side || smax - centre < min_side) continue;
+    const double lower = std::min(left[std::size_t(b)], right[std::size_t(b)]);
+    const double drop = lower - top[std::size_t(b)];
+    const bool empty = slab[std::size_t(b)] <= 0.35 * median;
+    const bool dip = drop >= std::max(0.3, 0.2 * lower);
+    if (!empty && !dip) continue;
+    const double depth = empty ? lower : drop;
+    const double off = std::abs(centre - mid);
+    if (depth > best_depth + 1e-9 || (std::abs(depth - best_depth) <= 1e-9 && off < best_off)) {
+      best_depth = depth;
+      best_off = off;
+      cut = centre;
+    }
+  }
+  return cut;
+}
+
+void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
+  const Params& p = c.p;
+  if (pts.size() < p.min_points) {
+    ++c.stats.rejected_small;
+    return;
+  }
+  Object o;
+  o.fp = footprint_of(c, pts);
+  for (std::uint32_t q : pts) o.height = std::max(o.height, double(c.h[q]));
+  if (o.fp.length < p.min_length || o.fp.width < p.min_width || o.height < p.min_height) {
+    ++c.stats.rejected_small;
+    return;
+  }
+  if (continues_upward(c, pts)) {
+    // A vehicle close under a crown may hang on to its bottom: a finer voxel parts them.
+    auto parts = depth < kMaxSplitDepth ? finer_parts(c, pts, 0.0) : std::vector<std::vector<std::uint32_t>>{};
+    if (parts.empty() && depth < kMaxSplitDepth) {
+      // Or hang on to a trunk: drop the columns under points just above the band and look
+      // at what stays connected.
+      std::vector<std::uint32_t> rest;
+      for (std::uint32_t q : pts) {
+        if (!c.above.count(column_key(c.x[q], c.y[q], c.p.voxel))) rest.push_back(q);
+      }
+      if (rest.size() >= c.p.min_points && rest.size() < pts.size()) {
+        parts = cluster_points(rest, c.x, c.y, c.z, c.p.voxel, Clustering::kGrid);
+      }
+    }
+    if (parts.empty()) {
+      ++c.stats.rejected_canopy;
+      return;
+    }
+    ++c.stats.splits;
+    for (auto& part : parts) examine(c, std::move(part), depth + 1);
+    return;
+  }
+  const bool too_long = o.fp.length > p.max_length, too_wide = o.fp.width > p.max_width;
+  // Wider than two narrow vehicles, or oversized: objects that only touch come apart with a
+  // finer voxel.
+  const bool two_wide = o.fp.width > 2 * p.min_width + 1.0;
+  if ((too_long || too_wide || two_wide) && depth < kMaxSplitDepth) {
+    auto parts = finer_parts(c, pts);
+    if (!parts.empty()) {
+      ++c.stats.splits;
+      for (auto& part : parts) examine(c, std::move(part), depth + 1);
+      return;
+    }
+  }
+  if (two_wide && !too_long && depth < kMaxSplitDepth) {
+    // Side by side and touching: a valley across the width.
+    const Vector2d a(-o.fp.axis.y(), o.fp.axis.x());
+    const double cut = valley_cut(c, pts, a, p.min_width);
+    if (!std::isnan(cut)) {
+      std::vector<std::uint32_t> lo, hi;
+      for (std::uint32_t q : pts) (Vector2d(c.x[q], c.y[q]).dot(a) < cut ? lo : hi).push_back(q);
+      ++c.stats.splits;
+      examine(c, std::move(lo), depth + 1);
+      examine(c, std::move(hi), depth + 1);
+      return;
+    }
+  }
+  if (too_long || too_wide) {
+    // Oversized: cut at a clear valley across the oversized axis.
+    if (depth < kMaxSplitDepth) {
+      const Vector2d a = too_wide ? Vector2d(-o.fp.axis.y(), o.fp.axis.x()) : o.fp.axis;
+      const double cut = valley_cut(c, pts, a, too_wide ? p.min_width : p.min_length);
+      if (!std::isnan(cut)) {
+        std::vector<std::uint32_t> lo, hi;
+        for (std::uint32_t q : pts) (Vector2d(c.x[q], c.y[q]).dot(a) < cut ? lo : hi).push_back(q);
+        ++c.stats.splits;
+        examine(c, std::move(lo), depth + 1);
+        examine(c, std::move(hi), depth + 1);
+        return;
+      }
+    }
+    // No clean split: a vehicle with a bush against it stays a candidate (recall first) when
+    // it is at most a quarter beyond the ranges.
+    if (o.fp.length > 1.25 * p.max_length || o.fp.width > 1.25 * p.max_width) {
+      ++c.stats.rejected_large;
+      return;
+    }
+  }
+  o.points = std::move(pts);
+  c.accepted.push_back(std::move(o));
+}
+
+}  // namespace
+
+void Params::validate() const {
+  auto need = [](bool ok, const std::string& what) {
+    if (!ok) throw common::UsageError(what);
+  };
+  need(cell > 0 && std::isfinite(cell), "--cell must be > 0");
+  need(max_window > cell, "--max-window must be larger than --cell");
+  need(terrain_slope > 0, "--terrain-slope must be > 0");
+  need(initial_distance >= 0 && max_distance >= initial_distance,
+       "need 0 <= --initial-distance <= --max-distance");
+  need(ground_tolerance > 0, "--ground-tolerance must be > 0");
+  need(voxel > 0, "--voxel must be > 0");
+  need(min_object_height >= 0, "--min-object-height must be >= 0");
+  need(min_length >= 0 && max_length >= min_length, "need 0 <= --min-length <= --max-length");
+  need(min_width >= 0 && max_width >= min_width, "need 0 <= --min-width <= --max-width");
+  need(min_height >= 0 && max_height >= min_height, "need 0 <= --min-height <= --max-height");
+  need(max_height > min_object_height, "--max-height must exceed --min-object-height");
+  need(margin >= 0, "--margin must be >= 0");
+  need(min_points >= 3, "--min-points must be >= 3");
+  need(min_ground_share > 0 && min_ground_share <= 1, "--min-ground-share must be in (0, 1]");
+}
+
+Result run(const formats::PointCloud& tile, const Params& params, const std::string& name) {
+  params.validate();
+  tile.require({"x", "y", "z"}, name, "is this a point cloud?");
+  const std::size_t n = tile.size();
+  if (n == 0) throw DataError(name, "the tile has no points");
+  if (n > std::numeric_limits<std::uint32_t>::max() / 2) throw DataError(name, "more than 2^31 points");
+  Result r;
+  r.stats.points = n;
+  const auto& tx = tile.col("x");
+  const auto& ty = tile.col("y");
+  const auto& tz = tile.col("z");
+
+  // Local frame.
+  Vector3d lo = Vector3d::Constant(1e300), hi = Vector3d::Constant(-1e300);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vector3d q(tx[i], ty[i], tz[i]);
+    if (!q.allFinite()) throw DataError(name, "point " + std::to_string(i) + " has a non-finite coordinate");
+    lo = lo.cwiseMin(q);
+    hi = hi.cwiseMax(q);
+  }
+  for (const char* axis : {"x", "y", "z"}) {
+    const int a = axis[0] - 'x';
+    const double mag = std::max(std::abs(lo[a]), std::abs(hi[a]));
+    if (tile.type(axis) == formats::kFloat32 && mag >= kFloat32ExactLimit) {
+      throw DataError(name, std::string("coordinate ") + axis + " is stored as float32 at magnitudes up to " +
+                                fmt("%.0f", mag) + " m, where float32 steps are " +
+                                fmt("%.3g", std::ldexp(1.0, int(std::floor(std::log2(mag))) - 23)) +
+                                " m: the tile is already quantised; store coordinates as float64 (PCD TYPE F SIZE 8)");
+    }
+  }
+  r.origin = Vector3d(std::floor(0.5 * (lo.x() + hi.x())), std::floor(0.5 * (lo.y() + hi.y())), std::floor(lo.z()));
+  std::vector<double> x(n), y(n), z(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    x[i] = tx[i] - r.origin.x();
+    y[i] = ty[i] - r.origin.y();
+    z[i] = tz[i] - r.origin.z();
+  }
+
+  // Ground.
+  auto t0 = std::chrono::steady_clock::now();
+  Raster dtm;
+  dtm.cell = params.cell;
+  dtm.x0 = lo.x() - r.origin.x();
+  dtm.y0 = lo.y() - r.origin.y();
+  const double nxd = std::floor((hi.x() - lo.x()) / params.cell) + 1;
+  const double nyd = std::floor((hi.y() - lo.y()) / params.cell) + 1;
+  if (nxd * nyd > kMaxCells) {
+    throw DataError(name, "the tile spans " + fmt("%.0f", hi.x() - lo.x()) + " m x " + fmt("%.0f", hi.y() - lo.y()) +
+                              " m: " + fmt("%.3g", nxd * nyd) + " DTM cells of " + fmt("%g", params.cell) +
+                              " m (limit " + fmt("%.0g", kMaxCells) + "); split the tile or raise --cell");
+  }
+  dtm.nx = int(nxd);
+  dtm.ny = int(nyd);
+  const std::size_t cells = std::size_t(dtm.nx) * std::size_t(dtm.ny);
+  r.stats.cells = cells;
+  std::vector<std::uint32_t> lowest(cells, std::numeric_limits<std::uint32_t>::max());
+  std::vector<std::uint32_t> cell_of(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t c = dtm.at(dtm.ix(x[i]), dtm.iy(y[i]));
+    cell_of[i] = std::uint32_t(c);
+    if (lowest[c] == std::numeric_limits<std::uint32_t>::max() || z[i] < z[lowest[c]]) lowest[c] = std::uint32_t(i);
+  }
+  pcl::PointCloud<pcl::PointXYZ>::Ptr minima(new pcl::PointCloud<pcl::PointXYZ>);
+  std::vector<std::size_t> minima_cell;
+  for (std::size_t c = 0; c < cells; ++c) {
+    if (lowest[c] == std::numeric_limits<std::uint32_t>::max()) continue;
+    const std::uint32_t i = lowest[c];
+    minima->push_back(pcl::PointXYZ(float(x[i]), float(y[i]), float(z[i])));
+    minima_cell.push_back(c);
+  }
+  pcl::Indices ground_minima;
+  {
+    pcl::ProgressiveMorphologicalFilter<pcl::PointXYZ> pmf;
+    pmf.setInputCloud(minima);
+    pmf.setCellSize(float(params.cell));
+    pmf.setMaxWindowSize(int(std::ceil(params.max_window / params.cell)) > 0 ? float(params.max_window) : 1.f);
+    // PCL's threshold is slope * (window step in m) * cell + initial distance.
+    pmf.setSlope(float(params.terrain_slope / params.cell));
+    pmf.setInitialDistance(float(params.initial_distance));
+    pmf.setMaxDistance(float(params.max_distance));
+    pmf.setBase(2.0f);
+    pmf.setExponential(true);
+    pmf.extract(ground_minima);
+  }
+  dtm.z.assign(cells, std::numeric_limits<double>::quiet_NaN());
+  std::vector<char> is_ground_cell(cells, 0);
+  for (const auto g : ground_minima) {
+    const std::size_t c = minima_cell[std::size_t(g)];
+    dtm.z[c] = z[lowest[c]];
+    is_ground_cell[c] = 1;
+  }
+  r.stats.ground_cells = ground_minima.size();
+  const double share = double(ground_minima.size()) / double(std::max<std::size_t>(1, minima->size()));
+  if (share < params.min_ground_share) {
+    throw DataError(name, "found ground in only " + fmt("%.1f", 100 * share) + "% of the " +
+                              std::to_string(minima->size()) + " occupied " + fmt("%g", params.cell) +
+                              " m cells (--min-ground-share " + fmt("%g", params.min_ground_share) +
+                              "): no terrain to measure heights from (a tile of only vegetation or objects?)");
+  }
+  fill_holes(dtm);
+  // Refine: mean z of the points near the first surface, in the ground cells.
+  {
+    // The residuals against the first surface are averaged, so a point's position inside its
+    // cell (on a slope) does not bias the cell-centre value.
+    std::vector<double> sum(cells, 0.0);
+    std::vector<std::uint32_t> cnt(cells, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t c = cell_of[i];
+      if (!is_ground_cell[c]) continue;
+      const double d = z[i] - dtm.height(x[i], y[i]);
+      if (std::abs(d) <= params.ground_tolerance) {
+        sum[c] += d;
+        ++cnt[c];
+      }
+    }
+    for (std::size_t c = 0; c < cells; ++c) {
+      dtm.z[c] = is_ground_cell[c] ? dtm.z[c] + (cnt[c] > 0 ? sum[c] / cnt[c] : 0.0)
+                                   : std::numeric_limits<double>::quiet_NaN();
+    }
+    r.stats.filled_cells = fill_holes(dtm);
+  }
+  r.height.resize(n);
+  r.classes.assign(n, kClassOther);
+  for (std::size_t i = 0; i < n; ++i) {
+    r.height[i] = float(z[i] - dtm.height(x[i], y[i]));
+    if (r.height[i] < params.min_object_height) {
+      r.classes[i] = kClassGround;
+      ++r.stats.ground_points;
+    }
+  }
+  r.stats.seconds_ground = seconds_since(t0);
+
+  // Objects.
+  t0 = std::chrono::steady_clock::now();
+  std::vector<std::uint32_t> band;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (r.height[i] >= params.min_object_height && r.height[i] <= params.max_height) band.push_back(std::uint32_t(i));
+  }
+  r.stats.band_points = band.size();
+  std::vector<double> hz(n);  // clustering in (x, y, height): the band is a flat slab
+  for (std::size_t i = 0; i < n; ++i) hz[i] = r.height[i];
+  Context ctx{params, x, y, hz, r.height, r.stats, {}, {}};
+  for (std::size_t i = 0; i < n; ++i) {
+    if (r.height[i] > params.max_height && r.height[i] <= params.max_height + 2 * params.voxel) {
+      ctx.above.emplace(column_key(x[i], y[i], params.voxel), 1);
+    }
+  }
+  {
+    auto clusters = cluster_points(band, x, y, hz, params.voxel, params.clustering);
+    r.stats.clusters = clusters.size();
+    for (auto& cl : clusters) examine(ctx, std::move(cl), 0);
+  }
+  r.stats.seconds_objects = seconds_since(t0);
+
+  // Candidates.
+  t0 = std::chrono::steady_clock::now();
+  // Points bucketed by DTM cell for cropping.
+  std::vector<std::uint32_t> cell_start(cells + 1, 0), cell_points(n);
+  for (std::size_t i = 0; i < n; ++i) ++cell_start[cell_of[i] + 1];
+  for (std::size_t c = 0; c < cells; ++c) cell_start[c + 1] += cell_start[c];
+  {
+    std::vector<std::uint32_t> fill(cell_start.begin(), cell_start.end() - 1);
+    for (std::size_t i = 0; i < n; ++i) cell_points[fill[cell_of[i]]++] = std::uint32_t(i);
+  }
+  const bool has_instance = tile.has(params.instance_field);
+  const bool has_label = tile.has(params.label_field);
+  std::map<std::uint32_t, std::size_t> instance_points;
+  auto vehicle_instance = [&](std::size_t i) -> std::uint32_t {
+    if (!has_instance) return 0;
+    if (has_label && std::uint32_t(tile.col(params.label_field)[i]) != formats::kLabelTarget) return 0;
+    return std::uint32_t(tile.col(params.instance_field)[i]);
+  };
+  if (has_instance) {
+    r.has_truth = true;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (const std::uint32_t id = vehicle_instance(i)) ++instance_points[id];
+    }
+  }
+  struct Pending {
+    Candidate c;
+    Vector3d centre;
+  };
+  std::vector<Pending> pending;
+  const char* dir_fields[][3] = {{"sensor_x", "sensor_y", "sensor_z"}, {"normal_x", "normal_y", "normal_z"}};
+  for (Object& o : ctx.accepted) {
+    for (std::uint32_t q : o.points) r.classes[q] = kClassCandidate;
+    // Ground plane under the footprint (+2 m; ground cells only), least squares z = a dx + b dy + c.
+    const Vector2d u = o.fp.axis, v(-u.y(), u.x());
+    const double hl = 0.5 * o.fp.length + 2.0, hw = 0.5 * o.fp.width + 2.0;
+    Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d atb = Eigen::Vector3d::Zero();
+    const double ext = hl + hw;
+    const int i0 = dtm.ix(o.fp.centre.x() - ext), i1 = dtm.ix(o.fp.centre.x() + ext);
+    const int j0 = dtm.iy(o.fp.centre.y() - ext), j1 = dtm.iy(o.fp.centre.y() + ext);
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i) {
+        const Vector2d cc(dtm.x0 + (i + 0.5) * dtm.cell, dtm.y0 + (j + 0.5) * dtm.cell);
+        const Vector2d d = cc - o.fp.centre;
+        if (std::abs(d.dot(u)) > hl || std::abs(d.dot(v)) > hw || !is_ground_cell[dtm.at(i, j)]) continue;
+        const Eigen::Vector3d row(d.x(), d.y(), 1.0);
+        ata += row * row.transpose();
+        atb += row * dtm.z[dtm.at(i, j)];
+      }
+    Vector3d plane(0, 0, dtm.height(o.fp.centre.x(), o.fp.centre.y()));
+    if (ata(2, 2) >= 3 && std::abs(ata.determinant()) > 1e-9) plane = ata.ldlt().solve(atb);
+    const Vector3d normal = Vector3d(-plane.x(), -plane.y(), 1.0).normalized();
+    Vector3d ax(u.x(), u.y(), 0.0);
+    ax = (ax - ax.dot(normal) * normal).normalized();
+    const Vector3d ay = normal.cross(ax);
+    Eigen::Matrix3d R;
+    R.col(0) = ax;
+    R.col(1) = ay;
+    R.col(2) = normal;
+    Vector3d O(o.fp.centre.x(), o.fp.centre.y(), plane.z());
+    // The footprint again, in the ground plane: on a slope the top view of a tall object is
+    // sheared, and a small axis error is a large width error over a long vehicle.
+    {
+      std::vector<Vector2d> in_plane(o.points.size());
+      for (std::size_t m = 0; m < o.points.size(); ++m) {
+        const Vector3d l = R.transpose() * (Vector3d(x[o.points[m]], y[o.points[m]], z[o.points[m]]) - O);
+        in_plane[m] = l.head<2>();
+      }
+      const Footprint f = min_area_rectangle(in_plane);
+      Vector3d ax2 = R * Vector3d(f.axis.x(), f.axis.y(), 0.0);
+      if (ax2.x() < 0 || (ax2.x() == 0 && ax2.y() < 0)) ax2 = -ax2;
+      R.col(0) = ax2;
+      R.col(1) = normal.cross(ax2);
+    }
+    // Recentre on the object's extent in the tilted frame.
+    double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300, zmax = 0;
+    for (std::uint32_t q : o.points) {
+      const Vector3d l = R.transpose() * (Vector3d(x[q], y[q], z[q]) - O);
+      xmin = std::min(xmin, l.x()); xmax = std::max(xmax, l.x());
+      ymin = std::min(ymin, l.y()); ymax = std::max(ymax, l.y());
+    }
+    O += R * Vector3d(0.5 * (xmin + xmax), 0.5 * (ymin + ymax), 0.0);
+    for (std::uint32_t q : o.points) zmax = std::max(zmax, (R.transpose() * (Vector3d(x[q], y[q], z[q]) - O)).z());
+    Pending pd;
+    Candidate& c = pd.c;
+    c.length = xmax - xmin;
+    c.width = ymax - ymin;
+    c.height = zmax;
+    c.heading = std::atan2(R(1, 0), R(0, 0));
+    c.object_points = o.points.size();
+    c.to_tile.topLeftCorner<3, 3>() = R;
+    c.to_tile.topRightCorner<3, 1>() = O + r.origin;
+    pd.centre = O + r.origin;
+    // Crop.
+    const double cx = 0.5 * c.length + params.margin, cy = 0.5 * c.width + params.margin;
+    const double ctop = c.height + params.margin, cbot = -params.margin;
+    const double reach = cx + cy + params.margin;
+    std::vector<std::size_t> keep;
+    std::vector<Vector3d> local;
+    for (int j = dtm.iy(O.y() - reach); j <= dtm.iy(O.y() + reach); ++j)
+      for (int i = dtm.ix(O.x() - reach); i <= dtm.ix(O.x() + reach); ++i) {
+        const std::size_t cc = dtm.at(i, j);
+        for (std::uint32_t k = cell_start[cc]; k < cell_start[cc + 1]; ++k) {
+          const std::uint32_t q = cell_points[k];
+          const Vector3d l = R.transpose() * (Vector3d(x[q], y[q], z[q]) - O);
+          if (std::abs(l.x()) <= cx && std::abs(l.y()) <= cy && l.z() >= cbot && l.z() <= ctop) {
+            keep.push_back(q);
+            local.push_back(l);
+          }
+        }
+      }
+    std::vector<std::size_t> order(keep.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return keep[a] < keep[b]; });
+    std::vector<std::size_t> rows(keep.size());
+    for (std::size_t m = 0; m < order.size(); ++m) rows[m] = keep[order[m]];
+    c.cloud = tile.select(rows);
+    auto& lx = c.cloud.add("x", formats::kFloat32);
+    auto& ly = c.cloud.add("y", formats::kFloat32);
+    auto& lz = c.cloud.add("z", formats::kFloat32);
+    for (std::size_t m = 0; m < order.size(); ++m) {
+      lx[m] = local[order[m]].x();
+      ly[m] = local[order[m]].y();
+      lz[m] = local[order[m]].z();
+    }
+    for (const auto& f : dir_fields) {
+      if (!(c.cloud.has(f[0]) && c.cloud.has(f[1]) && c.cloud.has(f[2]))) continue;
+      auto& dx = c.cloud.col(f[0]);
+      auto& dy = c.cloud.col(f[1]);
+      auto& dz = c.cloud.col(f[2]);
+      for (std::size_t m = 0; m < c.cloud.size(); ++m) {
+        const Vector3d d = R.transpose() * Vector3d(dx[m], dy[m], dz[m]);
+        dx[m] = d.x(); dy[m] = d.y(); dz[m] = d.z();
+      }
+    }
+    if (has_instance) {
+      c.has_truth = true;
+      // The vehicle with the most points in the object (not merely in the crop around it).
+      std::map<std::uint32_t, std::size_t> in_object;
+      for (std::uint32_t q : o.points) {
+        if (const std::uint32_t id = vehicle_instance(q)) ++in_object[id];
+      }
+      std::size_t best = 0;
+      for (const auto& [id, cnt] : in_object) {
+        if (cnt > best) {
+          best = cnt;
+          c.truth.instance = id;
+        }
+      }
+      if (c.truth.instance != 0) {
+        for (std::size_t q : rows) c.truth.points += vehicle_instance(q) == c.truth.instance;
+        c.truth.coverage = double(c.truth.points) / double(instance_points.at(c.truth.instance));
+        c.truth.purity = double(best) / double(o.points.size());
+      }
+    }
+    pending.push_back(std::move(pd));
+  }
+  std::sort(pending.begin(), pending.end(), [](const Pending& a, const Pending& b) {
+    return a.centre.x() < b.centre.x() || (a.centre.x() == b.centre.x() && a.centre.y() < b.centre.y());
+  });
+  for (std::size_t k = 0; k < pending.size(); ++k) {
+    char id[32];
+    std::snprintf(id, sizeof id, "c%04zu", k + 1);
+    pending[k].c.id = id;
+    r.candidates.push_back(std::move(pending[k].c));
+  }
+  if (has_instance) {
+    for (const auto& [id, cnt] : instance_points) {
+      InstanceTruth it;
+      it.instance = id;
+      it.points = cnt;
+      for (const auto& c : r.candidates) {
+        if (c.truth.instance == id) it.candidates.push_back(c.id);
+      }
+      r.instances.push_back(std::move(it));
+    }
+  }
+  r.stats.seconds_candidates = seconds_since(t0);
+  return r;
+}
+
+formats::PointCloud classification_cloud(const formats::PointCloud& tile, const Result& result) {
+  formats::PointCloud out;
+  const std::size_t n = tile.size();
+  out.resize(n);
+  auto& x = out.add("x", formats::kFloat32);
+  auto& y = out.add("y", formats::kFloat32);
+  auto& z = out.add("z", formats::kFloat32);
+  auto& h = out.add("height", formats::kFloat32);
+  auto& cls = out.add("class", formats::kUint8);
+  auto& red = out.add("red", formats::kUint8);
+  auto& green = out.add("green", formats::kUint8);
+  auto& blue = out.add("blue", formats::kUint8);
+  const auto& tx = tile.col("x");
+  const auto& ty = tile.col("y");
+  const auto& tz = tile.col("z");
+  static const unsigned char kColour[4][3] = {{128, 128, 128}, {150, 110, 60}, {40, 160, 40}, {230, 30, 30}};
+  for (std::size_t i = 0; i < n; ++i) {
+    x[i] = tx[i] - result.origin.x();
+    y[i] = ty[i] - result.origin.y();
+    z[i] = tz[i] - result.origin.z();
+    h[i] = result.height[i];
+    cls[i] = result.classes[i];
+    const auto* col = kColour[std::min<int>(result.classes[i], 3)];
+    red[i] = col[0];
+    green[i] = col[1];
+    blue[i] = col[2];
+  }
+  return out;
+}
+
+}  // namespace canopy::detect

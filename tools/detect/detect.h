@@ -1,0 +1,124 @@
+// detect: vehicle candidates in a whole tile (issue 14).
+//
+// 1. Local frame. The tile's coordinates (float64, possibly UTM magnitudes) are shifted by an
+//    integer-metre origin (the bounding-box centre, lowest z) so every float32 PCL computation
+//    works on small numbers; the origin goes back into every transform in float64.
+// 2. Ground (DTM). The lowest point of every `cell` × `cell` column forms a minimum-elevation
+//    raster; PCL's ProgressiveMorphologicalFilter classifies those minima as ground or not
+//    (Zhang et al. 2003, run on the raster as in the paper); empty and non-ground cells are
+//    filled from their ground neighbours (breadth-first, mean of the filled 8-neighbours);
+//    the ground cells are then refined to the mean z of the points within `ground_tolerance`
+//    of the first surface (the minimum is biased low by noise). Height above ground of every
+//    point = z − bilinear DTM.
+// 3. Objects. Points between `min_object_height` and `max_height` above ground (not ground or
+//    grass, not canopy above the tallest vehicle) are clustered: occupied `voxel` cubes,
+//    26-connected (or PCL's Euclidean clustering on the voxel centres, same partition).
+// 4. Vehicle test. A cluster reaching the band's top under points just above the band is the
+//    bottom of a crown or building, not a vehicle. Per cluster the minimum-area rectangle of its top view (length ≥ width,
+//    heading of the long axis) and its height. A cluster wider than two narrow vehicles, or
+//    beyond the ranges, is re-clustered with half the voxel (objects that only touch come
+//    apart: two vehicles side by side, a vehicle against a bush); an oversized one that does
+//    not come apart is cut at a clear valley of the point count across its oversized axis,
+//    or kept when at most 25% beyond the ranges (recall first), else rejected.
+// 5. Candidates. Per accepted cluster: a rigid local frame (origin on the DTM at the
+//    footprint centre, z = the normal of the ground plane fitted under the footprint, x = the
+//    long axis); every input point inside the footprint + `margin` and below height + margin,
+//    in that frame, with all its fields (sensor/normal directions rotated).
+#pragma once
+
+#include <Eigen/Core>
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "canopy/formats/point_cloud.h"
+
+namespace canopy::detect {
+
+enum class Clustering { kGrid, kEuclidean };
+
+struct Params {
+  // Ground.
+  double cell = 0.5;               // DTM cell (m), > 0
+  double max_window = 16.0;        // largest PMF window (m): objects narrower than this are not ground
+  double terrain_slope = 0.35;     // PMF threshold growth per metre of window (rise / run), > 0
+  double initial_distance = 0.2;   // PMF height threshold at the smallest window (m)
+  double max_distance = 3.0;       // PMF height threshold cap (m)
+  double ground_tolerance = 0.2;   // |height| within which a point refines the DTM (m)
+  double min_ground_share = 0.2;   // fewer occupied cells with ground: no terrain, an error
+  // Objects.
+  double min_object_height = 0.3;  // below this height above ground: ground or grass (m)
+  double voxel = 0.2;              // clustering voxel edge (m)
+  Clustering clustering = Clustering::kGrid;
+  // Vehicle ranges (a 3 m car to a 16 m tractor with trailer, partly hidden).
+  double min_length = 2.0, max_length = 17.0;
+  double min_width = 1.0, max_width = 4.0;  // the tank is 3.54 m over its tracks
+  double min_height = 0.8, max_height = 4.5;
+  std::size_t min_points = 30;     // fewer points in a cluster: not a candidate
+  // Candidates.
+  double margin = 0.5;             // crop margin around the footprint and above the height (m)
+  std::string label_field = "label";       // ground-truth class (formats/labels.h); optional
+  std::string instance_field = "instance"; // ground-truth instance id (0 = none); optional
+
+  // Throws common::UsageError naming the first bad value.
+  void validate() const;
+};
+
+// Classes of the classification output.
+enum Class : std::uint8_t { kClassGround = 1, kClassOther = 2, kClassCandidate = 3 };
+
+struct Truth {
+  std::uint32_t instance = 0;  // the vehicle with the most points in the object; 0 = none
+  std::size_t points = 0;      // that vehicle's points inside the candidate's crop
+  double coverage = 0;         // ... as a share of the vehicle's points in the tile
+  double purity = 0;           // share of the candidate's object points that are that vehicle
+};
+
+struct Candidate {
+  std::string id;                      // "c0001", ...; also the PCD's file stem
+  Eigen::Matrix4d to_tile = Eigen::Matrix4d::Identity();  // local -> tile coordinates (float64)
+  double length = 0, width = 0;        // footprint (m), length >= width
+  double heading = 0;                  // local x axis in the tile's xy plane, from +x toward +y (rad, (-pi/2, pi/2])
+  double height = 0;                   // highest object point above the ground (m)
+  std::size_t object_points = 0;       // points of the cluster
+  formats::PointCloud cloud;           // the crop, local frame, every input field
+  bool has_truth = false;
+  Truth truth;
+};
+
+struct InstanceTruth {
+  std::uint32_t instance = 0;
+  std::size_t points = 0;
+  std::vector<std::string> candidates;  // ids of the candidates whose truth is this instance
+};
+
+struct Stats {
+  std::size_t points = 0, ground_cells = 0, filled_cells = 0, cells = 0;
+  std::size_t ground_points = 0, band_points = 0, clusters = 0, splits = 0;
+  std::size_t rejected_small = 0, rejected_large = 0, rejected_canopy = 0;
+  double seconds_ground = 0, seconds_objects = 0, seconds_candidates = 0;
+};
+
+struct Result {
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // local frame origin in tile coordinates
+  std::vector<float> height;           // per input point: height above the DTM (m)
+  std::vector<std::uint8_t> classes;   // per input point: Class
+  std::vector<Candidate> candidates;   // sorted by footprint centre (x, then y)
+  bool has_truth = false;
+  std::vector<InstanceTruth> instances;  // every labelled vehicle in the tile, by id
+  Stats stats;
+};
+
+// Input: x y z (any type; float64 keeps UTM magnitudes), any other fields. `name` names the
+// tile in errors. Throws common::DataError for a tile it cannot work on (no points,
+// non-finite coordinates, float32 coordinates too large to be exact, an extent too large for
+// the DTM, no ground found). A tile with no vehicle gives zero candidates.
+Result run(const formats::PointCloud& tile, const Params& params, const std::string& name);
+
+// The classification point set: x y z (float32, local frame = tile − origin), height,
+// class, red green blue (ground brown, vegetation/other green, candidate red).
+formats::PointCloud classification_cloud(const formats::PointCloud& tile, const Result& result);
+
+}  // namespace canopy::detect

@@ -1,0 +1,95 @@
+// detect: tile (PCD / PLY points / LAS) -> directory of vehicle candidates (index.json + <id>.pcd + classes.ply).
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include "canopy/common/cli.h"
+#include "canopy/common/error.h"
+#include "canopy/common/log.h"
+#include "canopy/common/units.h"
+#include "canopy/formats/pcd.h"
+#include "canopy/formats/points_io.h"
+#include "detect/detect.h"
+#include "detect/output.h"
+
+using namespace canopy;
+
+namespace {
+
+// Tiles are read by magic: PCD, PLY point set or LAS (LAZ is refused with how to decompress).
+formats::PointCloud read_tile(const std::string& path) { return formats::read_points(path, "detect"); }
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  common::Tool tool("detect", "Vehicle candidates in a whole tile: ground (DTM), objects between "
+                              "the ground and the canopy, footprint and height tests; one local-frame "
+                              "PCD per candidate plus index.json and a classification PLY.");
+  detect::Params p;
+  std::string in = "-", out, clustering = "grid";
+  bool no_classes = false;
+  tool.add_input(&in, "tile: PCD, PLY point set or LAS (x y z, float64 for georeferenced coordinates; any other fields)");
+  tool.app().add_option("-o,--output", out, "output directory, required (built beside it and renamed into "
+                                            "place; a previous detect output is replaced)");
+  tool.add_length("--cell", &p.cell, "DTM cell");
+  tool.add_length("--max-window", &p.max_window, "largest ground-filter window (objects narrower are not ground)");
+  tool.add("--terrain-slope", &p.terrain_slope, "ground-filter height threshold growth per metre of window (rise/run)");
+  tool.add_length("--initial-distance", &p.initial_distance, "ground-filter height threshold at the smallest window");
+  tool.add_length("--max-distance", &p.max_distance, "ground-filter height threshold cap");
+  tool.add_length("--ground-tolerance", &p.ground_tolerance, "points this close to the first DTM refine it");
+  tool.add("--min-ground-share", &p.min_ground_share, "fewest occupied cells with ground (share) for a terrain");
+  tool.add_length("--min-object-height", &p.min_object_height, "lower: ground or grass");
+  tool.add_length("--voxel", &p.voxel, "clustering voxel edge (26-connected voxels form an object)");
+  tool.add("--clustering", &clustering, "grid (voxel connected components) or euclidean (PCL, same partition)");
+  tool.add_length("--min-length", &p.min_length, "shortest vehicle footprint");
+  tool.add_length("--max-length", &p.max_length, "longest vehicle footprint");
+  tool.add_length("--min-width", &p.min_width, "narrowest vehicle footprint");
+  tool.add_length("--max-width", &p.max_width, "widest vehicle footprint");
+  tool.add_length("--min-height", &p.min_height, "lowest vehicle");
+  tool.add_length("--max-height", &p.max_height, "tallest vehicle (higher points are canopy)");
+  tool.add("--min-points", &p.min_points, "fewest points of a candidate object");
+  tool.add_length("--margin", &p.margin, "crop margin around a candidate's footprint and above its height");
+  tool.add("--label-field", &p.label_field, "ground-truth class field (1 = vehicle), if present");
+  tool.add("--instance-field", &p.instance_field, "ground-truth instance field, if present");
+  tool.add_flag("--no-classes", &no_classes, "do not write classes.ply");
+  return tool.run(argc, argv, [&] {
+    if (out.empty() || out == "-") throw common::UsageError("-o/--output must name a directory");
+    if (clustering == "grid") {
+      p.clustering = detect::Clustering::kGrid;
+    } else if (clustering == "euclidean") {
+      p.clustering = detect::Clustering::kEuclidean;
+    } else {
+      throw common::UsageError("--clustering must be grid or euclidean");
+    }
+    p.validate();
+    const std::string name = common::display_name(in);
+    common::log::Phase read("read");
+    const formats::PointCloud tile = read_tile(in);
+    read.done(std::to_string(tile.size()) + " points");
+    common::log::Phase work("detect");
+    const detect::Result r = detect::run(tile, p, name);
+    const detect::Stats& s = r.stats;
+    char buf[400];
+    std::snprintf(buf, sizeof buf,
+                  "ground %zu of %zu cells (%.2f s); %zu object points in %zu clusters, %zu splits, "
+                  "rejected %zu small %zu large %zu canopy bottoms (%.2f s); %zu candidates (%.2f s)",
+                  s.ground_cells, s.cells, s.seconds_ground, s.band_points, s.clusters, s.splits,
+                  s.rejected_small, s.rejected_large, s.rejected_canopy, s.seconds_objects, r.candidates.size(),
+                  s.seconds_candidates);
+    work.done(buf);
+    if (r.has_truth) {
+      std::size_t covered = 0;
+      for (const auto& it : r.instances) covered += !it.candidates.empty();
+      common::log::info("truth: " + std::to_string(covered) + " of " + std::to_string(r.instances.size()) +
+                        " labelled vehicles covered by a candidate");
+    }
+    formats::Provenance prov;
+    prov.tool = "detect";
+    prov.version = CANOPY_VERSION;
+    prov.parameters = tool.parameters();
+    prov.inputs = {in};
+    common::log::Phase write("write");
+    detect::write_output(out, tile, r, p, prov, in, !no_classes);
+    write.done(std::to_string(r.candidates.size()) + " candidates to " + out);
+  });
+}
