@@ -105,6 +105,7 @@ int main(int argc, char** argv) {
           c.times["cocone"] = read_time(dir + "/mesh.ply");
           c.times["ncut"] = read_time(dir + "/segments.json");
           c.times["gmatch"] = read_time(dir + "/match.json");
+          c.areas = report::read_areas(dir + "/areas.json");
           in.cases.push_back(std::move(c));
         }
       }
@@ -151,6 +152,7 @@ int main(int argc, char** argv) {
     common::write_file_atomic(results + "/cases.csv", r.cases_csv);
     common::write_file_atomic(results + "/scores.csv", r.scores_csv);
     common::write_file_atomic(results + "/times.csv", r.times_csv);
+    common::write_file_atomic(results + "/areas.csv", r.areas_csv);
     common::write_file_atomic(results + "/report.md", r.markdown);
     common::log::info("wrote " + results + "/report.md");
   });
