@@ -223,6 +223,7 @@ void resample(const Scan& scan, const Params& params,
     Vector3d c = Vector3d::Zero();
     for (std::size_t j = runs[r].begin; j < runs[r].end; ++j) c += scan.points[order[j]] - s.fit.p;
     c = s.fit.p + c / static_cast<double>(runs[r].end - runs[r].begin);
+    if (!params.from_centroid) c = s.fit.p;
     const std::array<std::int32_t, 3> v0 = run_index[r];
     auto gather = [&](const Vector3d& centre) {
       ball.clear();
@@ -253,7 +254,8 @@ void resample(const Scan& scan, const Params& params,
     gather(q);
     Fit f2 = fit_about(ball, q, s.sensor);
     if (f2.verdict != Verdict::kKept) continue;
-    f2.rms = s.fit.rms;  // the voxel's own residual (the acceptance test's)
+    f2.rms = s.fit.rms;              // the voxel's own residual (the acceptance test's)
+    f2.variation = s.fit.variation;  // and its points' surface variation (Samples contract)
     s.fit = f2;
   }
   if (!(params.merge > 0)) return;

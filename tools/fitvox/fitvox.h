@@ -45,6 +45,7 @@ struct Params {
   // support < 0 = auto: the ball just holds ±3 sigma of the noise, clamp(6 sigma / voxel, 0.5, 1)
   // voxel edges (sigma = the noise level used for the RMS bound, estimated or given).
   bool resample = true;
+  bool from_centroid = false;  // start from the voxel's point centroid (false: its point nearest the centre)
   double support = -1.0;
   double merge = 0.25;
   int threads = 1;  // worker threads for the per-voxel fits (output identical for any count)

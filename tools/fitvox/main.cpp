@@ -27,6 +27,8 @@ int main(int argc, char** argv) {
   tool.add("--resample", &p.resample,
            "sample = voxel point centroid projected onto a surface fitted within --support, "
            "near-duplicates merged (false = the input point nearest the voxel centre, voxel fit)");
+  tool.add("--from-centroid", &p.from_centroid, "resampling starts from the voxel's point centroid (false: "
+                                                "from its point nearest the voxel centre)");
   tool.add("--support", &support, "resampling fit radius in voxel edges (> 0), or 'auto' = 6 x the noise "
                                   "sigma, clamped to 0.5-1 voxel edges");
   tool.add("--merge", &p.merge, "resampled samples closer than this many voxel edges merge (>= 0; 0 = off)");
