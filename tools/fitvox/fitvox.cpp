@@ -203,8 +203,9 @@ void validate(const Scan& scan, const Params& params) {
 
 namespace {
 
-// Resampling of the kept voxels (Params::resample): MLS projection of each voxel's point
-// centroid with a spherical support that ignores voxel faces, then merging of near-duplicates.
+// Resampling of the kept voxels (Params::resample): MLS projection of each voxel's start point
+// (nearest to the centre, or the centroid) with a spherical support that ignores voxel faces,
+// then merging of near-duplicates.
 void resample(const Scan& scan, const Params& params,
               const std::vector<std::array<std::int32_t, 3>>& index,
               const std::vector<std::uint32_t>& order, const std::vector<VoxelRun>& runs,

@@ -34,14 +34,15 @@ struct Params {
   // `noise_margin` standard deviations of its chi-square sampling spread.
   double noise = -1.0;
   double noise_margin = 3.0;
-  // Resampling of the kept voxels (docs/decisions/noise.md). true: the sample is the centroid
-  // of the voxel's points moved onto a surface refitted to every scan point within
-  // `support` x voxel of that centroid (two moving-least-squares steps: fit about the
-  // centroid, project, fit again about the projected point, which carries the frame,
-  // coefficients and normal), and of samples closer than `merge` x voxel the one with more
-  // points is kept. Voxel faces no longer truncate the noise, so a surface lying near a
-  // face no longer yields two parallel layers of samples. false = the thesis: the input
-  // point nearest the voxel centre, fitted with its voxel's points only.
+  // Resampling of the kept voxels (docs/decisions/noise.md). true: the sample is the voxel's
+  // input point nearest its centre (`from_centroid`: the centroid of its points) moved onto a
+  // surface refitted to every scan point within the support radius of it (two moving-least-
+  // squares steps: fit about the start point, project along w, fit again about the projected
+  // point, which carries the frame, coefficients and normal; rms and variation stay the
+  // voxel's own), and of samples closer than `merge` x voxel the one with more points is kept.
+  // Voxel faces no longer truncate the noise, so a surface lying near a face no longer yields
+  // two parallel layers of samples. false = the thesis: the input point nearest the voxel
+  // centre, fitted with its voxel's points only.
   // support < 0 = auto: the ball just holds ±3 sigma of the noise, clamp(6 sigma / voxel, 0.5, 1)
   // voxel edges (sigma = the noise level used for the RMS bound, estimated or given).
   bool resample = true;

@@ -25,8 +25,8 @@ int main(int argc, char** argv) {
   tool.add("--noise-margin", &p.noise_margin,
            "standard deviations of the RMS sampling spread allowed above the noise (>= 0)");
   tool.add("--resample", &p.resample,
-           "sample = voxel point centroid projected onto a surface fitted within --support, "
-           "near-duplicates merged (false = the input point nearest the voxel centre, voxel fit)");
+           "project each sample onto a surface fitted to the scan within --support and merge "
+           "near-duplicates (false = the thesis: the raw input point nearest the voxel centre, voxel fit)");
   tool.add("--from-centroid", &p.from_centroid, "resampling starts from the voxel's point centroid (false: "
                                                 "from its point nearest the voxel centre)");
   tool.add("--support", &support, "resampling fit radius in voxel edges (> 0), or 'auto' = 6 x the noise "
