@@ -315,7 +315,8 @@ Output run(const Inputs& in, const Params& p) {
        << p.max_segments
        << " largest segments that gmatch matches. Ratios of sums over the trials of each noise level; "
           "the last column is the matched area relative to 0 mm on the same object/scene pairs. "
-          "Per trial in `areas.csv`'s source files (`out/.../areas.json`).\n\n"
+          "Per trial: `out/<object>/<scene>/noise-<mm>/areas.json`; this table as CSV: `areas.csv` "
+          "(`figures plot -i areas.csv` draws it).\n\n"
        << "| noise (mm) | trials | visible (m², mean) | samples | mesh | segments | matched | matched vs 0 mm |\n"
        << "|---|---|---|---|---|---|---|---|\n";
     for (const auto& a : area_rows) {
