@@ -1,6 +1,7 @@
 // fitvox::run: voxel partition, rejection rules, orientation, labels, overflow, determinism.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <map>
 
 #include "canopy/common/error.h"
