@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdio>
 #include <unordered_map>
 
 #include "canopy/common/error.h"
@@ -30,11 +29,8 @@ double inv_l1(const Vector3d& n) {
   return l1 > 0 ? 1.0 / std::max(l1, 1.0) : 1.0 / 1.5;
 }
 
-std::string num(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
+// Shortest text that reads back to the same double (formats/README.md).
+std::string num(double v) { return nlohmann::json(v).dump(); }
 
 }  // namespace
 
@@ -117,7 +113,6 @@ double samples_area(const std::vector<Vector3d>& normals, double voxel) {
 
 double mesh_area(const formats::Mesh& mesh, std::uint32_t label) {
   const auto& v = mesh.vertices;
-  v.require({"x", "y", "z"}, "mesh", "is this a mesh?");
   const bool labelled = v.has("label");
   const auto& x = v.col("x");
   const auto& y = v.col("y");

@@ -34,7 +34,8 @@ double visible_area(const std::vector<ScanPoint>& points, double spacing, double
 // A |n|₁ / h² voxels of edge h.
 double samples_area(const std::vector<Eigen::Vector3d>& normals, double voxel);
 
-// Target area of a mesh: each triangle's area times the share of its vertices labelled target.
+// Target area of a mesh (vertices with x y z): each triangle's area times the share of its
+// vertices labelled target (no label field: 0).
 double mesh_area(const formats::Mesh& mesh, std::uint32_t label);
 
 // Target area of segments: Σ area · label_purity over segments labelled `label`; `largest` > 0

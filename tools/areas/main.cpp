@@ -73,7 +73,9 @@ int main(int argc, char** argv) {
                                        "normal_x", "normal_y", "normal_z");
     a.target_samples = normals.size();
     a.samples = areas::samples_area(normals, a.voxel);
-    a.mesh = areas::mesh_area(formats::read_ply(mesh), formats::kLabelTarget);
+    const formats::Mesh m = formats::read_ply(mesh);
+    m.vertices.require({"x", "y", "z", "label"}, common::display_name(mesh), "a labelled cocone mesh is needed");
+    a.mesh = areas::mesh_area(m, formats::kLabelTarget);
     const formats::SegmentGraph g = formats::read_segment_graph(segments);
     a.segments = areas::segments_area(g, formats::kLabelTarget, 0);
     a.matched = areas::segments_area(g, formats::kLabelTarget, a.max_segments);
