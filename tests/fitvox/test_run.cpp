@@ -1,6 +1,7 @@
 // fitvox::run: voxel partition, rejection rules, orientation, labels, overflow, determinism.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <map>
 
 #include "canopy/common/error.h"
@@ -82,20 +83,22 @@ TEST_CASE("partition: every point in exactly one voxel neighbourhood", "[run][pa
     CHECK(voxel_of(scan.points[s.source_index], p.voxel) == key);
   }
   CHECK(total == scan.points.size());
-  CHECK(r.stats.kept + r.stats.too_few + r.stats.degenerate + r.stats.too_rough == r.stats.voxels);
+  CHECK(r.stats.kept + r.stats.too_few + r.stats.degenerate + r.stats.too_rough + r.stats.merged == r.stats.voxels);
   // samples are the kept voxels, in the same (sorted) order
   REQUIRE(r.samples.size() == r.stats.kept);
   for (std::size_t j = 1; j < r.samples.size(); ++j) CHECK(r.samples[j - 1].voxel < r.samples[j].voxel);
 }
 
-TEST_CASE("sample point is the input point nearest the voxel centre", "[run]") {
+TEST_CASE("without resampling the sample point is the input point nearest the voxel centre", "[run]") {
   common::Rng rng(22);
   fitvox::Scan scan;
   add_floor(&scan, -0.064, 0.128, 0.01, 20000, 3, rng);  // exactly voxel (0, 0, 0)
   scan.points.push_back({0, 0, 0});                       // exactly at its centre
   scan.sensor.push_back(Vector3d::UnitZ());
   scan.labels.push_back(1);
-  const auto r = fitvox::run(scan, fitvox::Params{}, true);
+  fitvox::Params p;
+  p.resample = false;
+  const auto r = fitvox::run(scan, p, true);
   REQUIRE(r.samples.size() == 1);
   CHECK(r.samples[0].source_index == scan.points.size() - 1);
   CHECK(r.samples[0].fit.p == scan.points.back());
@@ -275,4 +278,61 @@ TEST_CASE("adaptive RMS bound follows the noise; the fixed thesis bound does not
     const auto fixed = fitvox::run(scan, p);
     if (sigma > 0.008) CHECK(fixed.samples.empty());
   }
+}
+
+TEST_CASE("resampling: the voxel's nearest point or centroid, on the fitted surface", "[run][resample]") {
+  common::Rng rng(24);
+  fitvox::Scan scan;
+  add_floor(&scan, -0.064, 0.128, 0.01, 20000, 3, rng);  // voxel (0, 0, 0) only
+  scan.points.push_back({0, 0, 0.01});  // nearest to the centre
+  scan.sensor.push_back(Vector3d::UnitZ());
+  scan.labels.push_back(3);
+  fitvox::Params centroid;
+  centroid.from_centroid = true;
+  const auto rc = fitvox::run(scan, centroid);
+  REQUIRE(rc.samples.size() == 1);
+  Vector3d c = Vector3d::Zero();
+  for (const auto& q : scan.points) c += q;
+  c /= static_cast<double>(scan.points.size());
+  CHECK((rc.samples[0].fit.p - c).norm() < 1e-9);  // the centroid already lies on the plane
+  const auto r = fitvox::run(scan, fitvox::Params{}, true);
+  REQUIRE(r.samples.size() == 1);
+  CHECK((r.samples[0].fit.p - scan.points.back()).norm() < 1e-9);
+  CHECK(r.samples[0].fit.a[5] == Approx(0).margin(1e-9));
+  CHECK(r.samples[0].fit.normal.dot(Vector3d::UnitZ()) == Approx(1));
+  CHECK(r.stats.support == Approx(0.064));  // noise-free: half a voxel
+}
+
+TEST_CASE("resampling: a noisy plane on a voxel face gives one layer of samples, not two", "[run][resample]") {
+  // z = 64 mm is the face between voxel layers 0 and 1: with sigma = 32 mm both layers hold
+  // enough points, and each layer's fit is biased toward its own side by the truncation.
+  common::Rng rng(25);
+  fitvox::Scan scan;
+  const double sigma = 0.032, size = 1.28;  // 10 x 10 voxel columns
+  for (int i = 0; i < static_cast<int>(size * size * 20000); ++i) {
+    scan.points.push_back({rng.uniform(-0.064, size - 0.064), rng.uniform(-0.064, size - 0.064),
+                           0.064 + sigma * rng.normal()});
+    scan.sensor.push_back(Vector3d::UnitZ());
+  }
+  fitvox::Params thesis;
+  thesis.resample = false;
+  const auto raw = fitvox::run(scan, thesis);
+  const auto res = fitvox::run(scan, fitvox::Params{});
+  auto spread = [](const fitvox::Result& r) {
+    double s2 = 0;
+    for (const auto& s : r.samples) s2 += (s.fit.p.z() - 0.064) * (s.fit.p.z() - 0.064);
+    return std::sqrt(s2 / static_cast<double>(r.samples.size()));
+  };
+  INFO("thesis: " << raw.samples.size() << " samples, z spread " << spread(raw) << "; resampled: "
+                  << res.samples.size() << " samples (" << res.stats.merged << " merged), spread " << spread(res));
+  CHECK(raw.samples.size() > 150);               // two layers over 100 columns
+  CHECK(spread(raw) > 0.02);                      // raw noisy points
+  // One layer on the plane: most stacked pairs merge (a pair whose two nearest points lie more
+  // than 32 mm apart in the plane stays, on the same surface: only denser there).
+  CHECK(res.samples.size() <= 120);
+  CHECK(res.stats.merged >= 80);
+  CHECK(spread(res) < 0.005);                     // on the plane
+  // support = 6 sigma-hat (sigma-hat is low: each voxel sees a truncated half of the noise)
+  CHECK(res.stats.support == Approx(std::clamp(6 * res.stats.sigma, 0.064, 0.128)));
+  CHECK(res.stats.support > 0.1);
 }

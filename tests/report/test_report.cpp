@@ -96,3 +96,49 @@ TEST_CASE("ablation rows give each variant's rank-1 rate per object and overall"
   CHECK(out.markdown.find("| **canopy defaults** | | 100% | 100% | **100%** |") != std::string::npos);
   CHECK(out.markdown.find("| ncut-squared | `ncut --exponent squared` | 100% | 0% | 50% |") != std::string::npos);
 }
+
+TEST_CASE("area table: ratios of sums per noise level and matched area relative to 0 mm") {
+  report::Inputs in;
+  in.objects = {"sedan", "tank"};
+  in.scenes = {"circle"};
+  in.noises = {0, 32};
+  auto with = [](report::Case c, double vis, double smp, double mesh, double segs, double matched) {
+    c.areas = {true, vis, smp, mesh, segs, matched};
+    return c;
+  };
+  // sedan: 10 m² visible; tank: 30 m². tank at 32 mm has no areas.json (left out of its row).
+  in.cases = {with(make_case("sedan", 0, 1), 10, 8, 6, 6, 5), with(make_case("tank", 0, 1), 30, 24, 18, 18, 15),
+              with(make_case("sedan", 32, 1), 10, 9, 4, 4, 2), make_case("tank", 32, 2)};
+  const auto rows = report::summarize_areas(in);
+  REQUIRE(rows.size() == 2);
+  CHECK(rows[0].noise_mm == 0);
+  CHECK(rows[0].trials == 2);
+  CHECK(rows[0].visible == Approx(40));
+  CHECK(rows[0].samples == Approx(32.0 / 40));
+  CHECK(rows[0].mesh == Approx(24.0 / 40));
+  CHECK(rows[0].segments == Approx(24.0 / 40));
+  CHECK(rows[0].matched == Approx(20.0 / 40));
+  CHECK(rows[0].matched_vs_0 == Approx(1.0));
+  CHECK(rows[1].trials == 1);
+  CHECK(rows[1].visible == Approx(10));
+  CHECK(rows[1].samples == Approx(0.9));
+  CHECK(rows[1].mesh == Approx(0.4));
+  CHECK(rows[1].matched == Approx(0.2));
+  CHECK(rows[1].matched_vs_0 == Approx(2.0 / 5.0));  // sedan only: tank has no 32 mm areas
+  CHECK(rows[1].pairs_vs_0 == 1);
+  const auto out = report::run(in, report::Params{});
+  CHECK(out.markdown.find("| 0 | 2 | 20.0 | 80% | 60% | 60% | 50% | 100% |") != std::string::npos);
+  CHECK(out.markdown.find("| 32 | 1 | 10.0 | 90% | 40% | 40% | 20% | 40% |") != std::string::npos);
+  CHECK(out.markdown.find("matched  32 mm |########## 20%") != std::string::npos);
+  CHECK(out.areas_csv.find("mesh,all,32,0.4000,0,0\n") != std::string::npos);
+}
+
+TEST_CASE("no areas.json anywhere: no area section") {
+  report::Inputs in;
+  in.objects = {"sedan"};
+  in.scenes = {"circle"};
+  in.noises = {0};
+  in.cases = {make_case("sedan", 0, 1)};
+  CHECK(report::run(in, report::Params{}).markdown.find("Where the target's area goes") == std::string::npos);
+  CHECK_FALSE(report::read_areas(std::string(CANOPY_TEST_TMP) + "/no-such-dir/areas.json").present);
+}

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <thread>
 #include <utility>
 
@@ -42,11 +43,15 @@ std::string fmt(const char* format, double a, double b = 0, double c = 0) {
 
 Fit fit_neighbourhood(const std::vector<Vector3d>& points, std::size_t p_index,
                       const Vector3d& toward) {
+  if (p_index >= points.size()) return Fit{};
+  return fit_about(points, points[p_index], toward);
+}
+
+Fit fit_about(const std::vector<Vector3d>& points, const Vector3d& p, const Vector3d& toward) {
   Fit f;
   f.verdict = Verdict::kDegenerate;
   const std::size_t k = points.size();
-  if (p_index >= k) return f;
-  f.p = points[p_index];
+  f.p = p;
   if (k < 3) return f;
 
   // Everything relative to p: keeps the digits when coordinates are large.
@@ -178,6 +183,10 @@ void validate(const Scan& scan, const Params& params) {
     throw Error("noise-margin must be >= 0");
   }
   if (params.threads < 1) throw Error("threads must be >= 1");
+  if (!(params.support > 0 || params.support < 0) || !std::isfinite(params.support)) {
+    throw Error("support must be > 0 (voxel edges) or < 0 (auto)");
+  }
+  if (!(params.merge >= 0) || !std::isfinite(params.merge)) throw Error("merge must be >= 0");
   const std::size_t n = scan.points.size();
   if (!scan.sensor.empty() && scan.sensor.size() != n) {
     throw Error("sensor directions: " + std::to_string(scan.sensor.size()) + " for " +
@@ -188,6 +197,111 @@ void validate(const Scan& scan, const Params& params) {
                 " points");
   }
   if (n > std::numeric_limits<std::uint32_t>::max()) throw Error("more than 2^32 points");
+}
+
+}  // namespace
+
+namespace {
+
+// Resampling of the kept voxels (Params::resample): MLS projection of each voxel's start point
+// (nearest to the centre, or the centroid) with a spherical support that ignores voxel faces,
+// then merging of near-duplicates.
+void resample(const Scan& scan, const Params& params,
+              const std::vector<std::array<std::int32_t, 3>>& index,
+              const std::vector<std::uint32_t>& order, const std::vector<VoxelRun>& runs,
+              std::vector<Sample>& all, Stats& stats) {
+  const double h = params.voxel;
+  const double radius = stats.support;
+  const int reach = static_cast<int>(std::ceil(radius / h + 0.5));
+  // Voxel index -> run, for the neighbourhood search (runs are in (i, j, k) order).
+  auto less = [](const std::array<std::int32_t, 3>& a, const std::array<std::int32_t, 3>& b) { return a < b; };
+  std::vector<std::array<std::int32_t, 3>> run_index(runs.size());
+  for (std::size_t r = 0; r < runs.size(); ++r) run_index[r] = index[order[runs[r].begin]];
+  std::vector<Vector3d> ball;
+  for (std::size_t r = 0; r < runs.size(); ++r) {
+    Sample& s = all[r];
+    if (s.fit.verdict != Verdict::kKept) continue;
+    Vector3d c = Vector3d::Zero();
+    for (std::size_t j = runs[r].begin; j < runs[r].end; ++j) c += scan.points[order[j]] - s.fit.p;
+    c = s.fit.p + c / static_cast<double>(runs[r].end - runs[r].begin);
+    if (!params.from_centroid) c = s.fit.p;
+    const std::array<std::int32_t, 3> v0 = run_index[r];
+    auto gather = [&](const Vector3d& centre) {
+      ball.clear();
+      const double r2 = radius * radius;
+      std::array<std::int32_t, 3> lo{}, hi{};
+      for (int d = 0; d < 3; ++d) {
+        lo[d] = static_cast<std::int32_t>(std::max<std::int64_t>(std::int64_t{v0[d]} - reach, INT32_MIN));
+        hi[d] = static_cast<std::int32_t>(std::min<std::int64_t>(std::int64_t{v0[d]} + reach, INT32_MAX));
+      }
+      for (std::int32_t i = lo[0]; i <= hi[0]; ++i) {
+        for (std::int32_t j = lo[1]; j <= hi[1]; ++j) {
+          // Runs of the column (i, j, lo[2]..hi[2]) are contiguous in the sorted order.
+          auto it = std::lower_bound(run_index.begin(), run_index.end(), std::array<std::int32_t, 3>{i, j, lo[2]}, less);
+          for (; it != run_index.end() && (*it)[0] == i && (*it)[1] == j && (*it)[2] <= hi[2]; ++it) {
+            const VoxelRun& vr = runs[static_cast<std::size_t>(it - run_index.begin())];
+            for (std::size_t q = vr.begin; q < vr.end; ++q) {
+              const Vector3d& x = scan.points[order[q]];
+              if ((x - centre).squaredNorm() <= r2) ball.push_back(x);
+            }
+          }
+        }
+      }
+    };
+    gather(c);
+    Fit f1 = fit_about(ball, c, s.sensor);
+    if (f1.verdict != Verdict::kKept) continue;  // keep the voxel's own fit
+    const Vector3d q = c + f1.a[5] * f1.w;
+    gather(q);
+    Fit f2 = fit_about(ball, q, s.sensor);
+    if (f2.verdict != Verdict::kKept) continue;
+    f2.rms = s.fit.rms;              // the voxel's own residual (the acceptance test's)
+    f2.variation = s.fit.variation;  // and its points' surface variation (Samples contract)
+    s.fit = f2;
+  }
+  if (!(params.merge > 0)) return;
+  // Merge: visit kept samples by decreasing point count (ties: grid order); a sample within
+  // merge x voxel of an already accepted one is dropped.
+  std::vector<std::size_t> kept;
+  for (std::size_t r = 0; r < all.size(); ++r) {
+    if (all[r].fit.verdict == Verdict::kKept) kept.push_back(r);
+  }
+  std::stable_sort(kept.begin(), kept.end(),
+                   [&](std::size_t a, std::size_t b) { return all[a].point_count > all[b].point_count; });
+  const double md = params.merge * h;
+  const double cell = std::max(md, 1e-12);
+  auto cell_of = [&](const Vector3d& x) {
+    return std::array<std::int64_t, 3>{static_cast<std::int64_t>(std::floor(x(0) / cell)),
+                                       static_cast<std::int64_t>(std::floor(x(1) / cell)),
+                                       static_cast<std::int64_t>(std::floor(x(2) / cell))};
+  };
+  std::map<std::array<std::int64_t, 3>, std::vector<std::size_t>> accepted;
+  for (std::size_t r : kept) {
+    const Vector3d& x = all[r].fit.p;
+    const auto c0 = cell_of(x);
+    bool near = false;
+    for (int dx = -1; dx <= 1 && !near; ++dx) {
+      for (int dy = -1; dy <= 1 && !near; ++dy) {
+        for (int dz = -1; dz <= 1 && !near; ++dz) {
+          const auto it = accepted.find({c0[0] + dx, c0[1] + dy, c0[2] + dz});
+          if (it == accepted.end()) continue;
+          for (std::size_t o : it->second) {
+            if ((all[o].fit.p - x).norm() < md) {
+              near = true;
+              break;
+            }
+          }
+        }
+      }
+    }
+    if (near) {
+      all[r].fit.verdict = Verdict::kMerged;
+      ++stats.merged;
+      --stats.kept;
+    } else {
+      accepted[c0].push_back(r);
+    }
+  }
 }
 
 }  // namespace
@@ -364,6 +478,10 @@ Result run(const Scan& scan, const Params& params, bool keep_all) {
           if (s.fit.plane_fallback) ++result.stats.plane_fallback;
         }
     }
+  }
+  if (params.resample) {
+    result.stats.support = params.support > 0 ? params.support * h : std::clamp(6 * sigma, h / 2, h);
+    resample(scan, params, index, order, runs, all, result.stats);
   }
   result.stats.rms_bound_at_max_points = rms_bound(params, sigma, largest);
   result.stats.rms_bound_at_min_points = rms_bound(params, sigma, static_cast<std::size_t>(params.min_points));

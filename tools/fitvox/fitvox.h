@@ -34,6 +34,21 @@ struct Params {
   // `noise_margin` standard deviations of its chi-square sampling spread.
   double noise = -1.0;
   double noise_margin = 3.0;
+  // Resampling of the kept voxels (docs/decisions/noise.md). true: the sample is the voxel's
+  // input point nearest its centre (`from_centroid`: the centroid of its points) moved onto a
+  // surface refitted to every scan point within the support radius of it (two moving-least-
+  // squares steps: fit about the start point, project along w, fit again about the projected
+  // point, which carries the frame, coefficients and normal; rms and variation stay the
+  // voxel's own), and of samples closer than `merge` x voxel the one with more points is kept.
+  // Voxel faces no longer truncate the noise, so a surface lying near a face no longer yields
+  // two parallel layers of samples. false = the thesis: the input point nearest the voxel
+  // centre, fitted with its voxel's points only.
+  // support < 0 = auto: the ball just holds ±3 sigma of the noise, clamp(6 sigma / voxel, 0.5, 1)
+  // voxel edges (sigma = the noise level used for the RMS bound, estimated or given).
+  bool resample = true;
+  bool from_centroid = false;  // start from the voxel's point centroid (false: its point nearest the centre)
+  double support = -1.0;
+  double merge = 0.25;
   int threads = 1;  // worker threads for the per-voxel fits (output identical for any count)
 };
 
@@ -45,7 +60,8 @@ struct Scan {
   std::vector<std::uint32_t> labels;    // ground truth; empty = all unknown (0)
 };
 
-enum class Verdict { kKept, kTooFew, kDegenerate, kTooRough };
+// kMerged: kept, but its resampled point lies within Params::merge of a sample with more points.
+enum class Verdict { kKept, kTooFew, kDegenerate, kTooRough, kMerged };
 
 // The fit of one neighbourhood about its sample point p.
 struct Fit {
@@ -67,6 +83,9 @@ struct Fit {
 // than 3 points, coincident or collinear points) or plane_fallback.
 Fit fit_neighbourhood(const std::vector<Eigen::Vector3d>& points, std::size_t p_index,
                       const Eigen::Vector3d& toward);
+// The same fit about an arbitrary origin p (not necessarily one of the points).
+Fit fit_about(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& p,
+              const Eigen::Vector3d& toward);
 
 struct Sample {
   Fit fit;
@@ -81,8 +100,10 @@ struct Sample {
 struct Stats {
   std::size_t points = 0, voxels = 0;
   std::size_t too_few = 0, degenerate = 0, too_rough = 0, kept = 0, plane_fallback = 0;
+  std::size_t merged = 0;    // kept voxels whose resampled point merged into another sample
   double sigma = 0;          // noise level used to widen the bound (estimated or given), m
   double sigma_estimated = 0;// the scan's own estimate (m), computed even when not used
+  double support = 0;        // resampling support radius used (m); 0 = no resampling
   double rms_bound_at_max_points = 0;  // RMS bound for the most populated voxel (m)
   double rms_bound_at_min_points = 0;  // RMS bound for a voxel of min_points points (m)
 };

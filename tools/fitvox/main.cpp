@@ -14,7 +14,7 @@ int main(int argc, char** argv) {
   common::Tool tool("fitvox", "Local surface fits: PCA frame + least-squares biquadratic in "
                               "cubic voxels (thesis ch. 3); one sample point per kept voxel.");
   fitvox::Params p;
-  std::string in = "-", out = "-", noise = "auto";
+  std::string in = "-", out = "-", noise = "auto", support = "auto";
   tool.add_input(&in, "scan: PCD, PLY point set or LAS (x y z [sensor_x sensor_y sensor_z] [label])");
   tool.add_output(&out, "samples: .pcd, .ply or .las (- = PCD)");
   tool.add_length("--voxel", &p.voxel, "voxel edge; voxel centres at multiples of it from the world origin",
@@ -25,8 +25,28 @@ int main(int argc, char** argv) {
                               "the scan's fits, a length = known sigma, 0 = fixed --max-rms");
   tool.add("--noise-margin", &p.noise_margin,
            "standard deviations of the RMS sampling spread allowed above the noise (>= 0)");
+  tool.add("--resample", &p.resample,
+           "project each sample onto a surface fitted to the scan within --support and merge "
+           "near-duplicates (false = the thesis: the raw input point nearest the voxel centre, voxel fit)");
+  tool.add("--from-centroid", &p.from_centroid, "resampling starts from the voxel's point centroid (false: "
+                                                "from its point nearest the voxel centre)");
+  tool.add("--support", &support, "resampling fit radius in voxel edges (> 0), or 'auto' = 6 x the noise "
+                                  "sigma, clamped to 0.5-1 voxel edges");
+  tool.add("--merge", &p.merge, "resampled samples closer than this many voxel edges merge (>= 0; 0 = off)");
   return tool.run(argc, argv, [&] {
     formats::output_format(out);
+    if (support != "auto") {
+      try {
+        std::size_t used = 0;
+        p.support = std::stod(support, &used);
+        if (used != support.size()) throw std::invalid_argument(support);
+      } catch (const std::exception&) {
+        throw common::UsageError("--support: '" + support + "' is neither 'auto' nor a number");
+      }
+    }
+    if (!(p.support > 0 || support == "auto") || !(p.merge >= 0)) {
+      throw common::UsageError("need --support auto or > 0, --merge >= 0");
+    }
     if (noise != "auto") p.noise = common::parse_length(noise);
     auto need = [](bool ok, const std::string& rule) {
       if (!ok) throw common::UsageError(rule);
@@ -50,13 +70,14 @@ int main(int argc, char** argv) {
     const fitvox::Result r = fitvox::run(scan, p);
     const fitvox::Stats& s = r.stats;
     char buf[160];
-    std::snprintf(buf, sizeof buf, "sigma %s %.2f mm, RMS bound %.2f-%.2f mm",
+    std::snprintf(buf, sizeof buf, "sigma %s %.2f mm, RMS bound %.2f-%.2f mm, resampling support %.1f mm",
                   p.noise < 0 ? "estimated" : "given", s.sigma * 1e3, s.rms_bound_at_max_points * 1e3,
-                  s.rms_bound_at_min_points * 1e3);
+                  s.rms_bound_at_min_points * 1e3, s.support * 1e3);
     fit.done("kept " + std::to_string(s.kept) + " of " + std::to_string(s.voxels) +
              " voxels (too few points " + std::to_string(s.too_few) + ", undetermined " +
              std::to_string(s.degenerate) + ", too rough " + std::to_string(s.too_rough) +
-             ", plane fallback " + std::to_string(s.plane_fallback) + "); " + buf);
+             ", plane fallback " + std::to_string(s.plane_fallback) + ", merged " +
+             std::to_string(s.merged) + "); " + buf);
     if (r.samples.empty()) {
       throw common::DataError(common::display_name(in),
                               "no voxel passed the tests (check --voxel, --min-points, --max-rms)");

@@ -5,6 +5,10 @@
 #include <cstdio>
 #include <sstream>
 
+#include <sys/stat.h>
+
+#include "areas/areas.h"
+#include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "canopy/formats/labels.h"
 
@@ -96,6 +100,57 @@ Diagnosis diagnose(const Case& c, const formats::SegmentGraph* model, const Para
   d.missing_area = d.model_area > 0 && d.target_area < p.missing_area_ratio * d.model_area;
   d.spurious = d.spurious_area_share > p.spurious_share;
   return d;
+}
+
+AreaRow read_areas(const std::string& path) {
+  AreaRow r;
+  struct stat st {};
+  if (stat(path.c_str(), &st) != 0) return r;
+  const areas::Areas a = areas::parse(common::read_file(path), path);
+  r.present = true;
+  r.visible = a.visible;
+  r.samples = a.samples;
+  r.mesh = a.mesh;
+  r.segments = a.segments;
+  r.matched = a.matched;
+  return r;
+}
+
+std::vector<AreaSummary> summarize_areas(const Inputs& in) {
+  std::vector<AreaSummary> out;
+  std::map<std::string, double> matched0;  // "<object>/<scene>" -> matched area at 0 mm
+  for (const auto& c : in.cases) {
+    if (c.areas.present && c.noise_mm == 0) matched0[c.object + "/" + c.scene] = c.areas.matched;
+  }
+  for (int n : in.noises) {
+    AreaSummary a;
+    a.noise_mm = n;
+    double samples = 0, mesh = 0, segments = 0, matched = 0, num = 0, den = 0;
+    for (const auto& c : in.cases) {
+      if (c.noise_mm != n || !c.areas.present) continue;
+      ++a.trials;
+      a.visible += c.areas.visible;
+      samples += c.areas.samples;
+      mesh += c.areas.mesh;
+      segments += c.areas.segments;
+      matched += c.areas.matched;
+      const auto it = matched0.find(c.object + "/" + c.scene);
+      if (it != matched0.end()) {
+        num += c.areas.matched;
+        den += it->second;
+        ++a.pairs_vs_0;
+      }
+    }
+    if (a.visible > 0) {
+      a.samples = samples / a.visible;
+      a.mesh = mesh / a.visible;
+      a.segments = segments / a.visible;
+      a.matched = matched / a.visible;
+    }
+    a.matched_vs_0 = den > 0 ? num / den : 0;
+    out.push_back(a);
+  }
+  return out;
 }
 
 Output run(const Inputs& in, const Params& p) {
@@ -233,6 +288,58 @@ Output run(const Inputs& in, const Params& p) {
          << " |\n";
     }
     md << "\n";
+  }
+
+  const auto area_rows = summarize_areas(in);
+  bool any_areas = false;
+  for (const auto& a : area_rows) any_areas = any_areas || a.trials > 0;
+  {
+    std::ostringstream csv;
+    csv << "object,scene,noise_mm,score,rank,entropy\n";
+    for (const char* stage : {"samples", "mesh", "segments", "matched"}) {
+      for (const auto& a : area_rows) {
+        if (a.trials == 0) continue;
+        const double v = std::string(stage) == "samples"    ? a.samples
+                         : std::string(stage) == "mesh"     ? a.mesh
+                         : std::string(stage) == "segments" ? a.segments
+                                                            : a.matched;
+        csv << stage << ",all," << a.noise_mm << ',' << fmt("%.4f", v) << ",0,0\n";
+      }
+    }
+    out.areas_csv = csv.str();
+  }
+  if (any_areas) {
+    md << "## Where the target's area goes\n\nTarget (label 1) surface area per stage as a share of the "
+          "area visible in the noise-free labelled scan (`areas`, docs/decisions/noise.md): what the "
+          "fitvox samples stand for, the cocone mesh, all ncut segments, and the "
+       << p.max_segments
+       << " largest segments that gmatch matches. Ratios of sums over the trials of each noise level; "
+          "the last column is the matched area relative to 0 mm on the same object/scene pairs. "
+          "Per trial: `out/<object>/<scene>/noise-<mm>/areas.json`; this table as CSV: `areas.csv` "
+          "(`figures plot -i areas.csv` draws it).\n\n"
+       << "| noise (mm) | trials | visible (m², mean) | samples | mesh | segments | matched | matched vs 0 mm |\n"
+       << "|---|---|---|---|---|---|---|---|\n";
+    for (const auto& a : area_rows) {
+      if (a.trials == 0) continue;
+      md << "| " << a.noise_mm << " | " << a.trials << " | " << fmt("%.1f", a.visible / a.trials) << " | "
+         << fmt("%.0f%%", 100 * a.samples) << " | " << fmt("%.0f%%", 100 * a.mesh) << " | "
+         << fmt("%.0f%%", 100 * a.segments) << " | " << fmt("%.0f%%", 100 * a.matched) << " | "
+         << (a.pairs_vs_0 > 0 ? fmt("%.0f%%", 100 * a.matched_vs_0) : "–") << " |\n";
+    }
+    // A text plot: one bar per stage and noise level, 2% of the visible area per character.
+    md << "\n```\narea retained (share of the visible target area; # = 2%)\n";
+    for (const char* stage : {"samples", "mesh", "segments", "matched"}) {
+      for (const auto& a : area_rows) {
+        if (a.trials == 0) continue;
+        const std::string st(stage);
+        const double v = st == "samples" ? a.samples : st == "mesh" ? a.mesh : st == "segments" ? a.segments : a.matched;
+        char label[40];
+        std::snprintf(label, sizeof label, "%-8s %2d mm |", stage, a.noise_mm);
+        md << label << std::string(static_cast<std::size_t>(std::lround(std::clamp(v, 0.0, 1.0) * 50)), '#') << ' '
+           << fmt("%.0f%%", 100 * v) << "\n";
+      }
+    }
+    md << "```\n\n";
   }
 
   md << "## Causes of the failures\n\n";

@@ -17,6 +17,16 @@ struct StageTime {
   bool present = false;
 };
 
+// Target surface area at each stage of one trial (tools/areas: OUT/.../noise-<mm>/areas.json), m².
+struct AreaRow {
+  bool present = false;
+  double visible = 0;   // visible in the labelled noise-free scan
+  double samples = 0;   // what the fitvox samples stand for
+  double mesh = 0;      // cocone mesh
+  double segments = 0;  // every ncut segment
+  double matched = 0;   // gmatch's X largest segments
+};
+
 // One trial: an object seen in a scene at a noise level, matched against the modelbase.
 struct Case {
   std::string object, scene;
@@ -24,6 +34,7 @@ struct Case {
   formats::MatchResult match;
   formats::SegmentGraph segments;
   std::map<std::string, StageTime> times;  // stage name -> time (addnoise, fitvox, ...)
+  AreaRow areas;
 };
 
 struct ThesisRow {
@@ -71,9 +82,28 @@ struct Diagnosis {
 
 Diagnosis diagnose(const Case& c, const formats::SegmentGraph* model, const Params& p);
 
+// Area retained per noise level over the trials with areas: ratios of sums (stage area summed
+// over the trials / visible area summed over the same trials), and the matched area relative to
+// the 0 mm matched area of the same object/scene pairs (pairs with both levels only).
+struct AreaSummary {
+  int noise_mm = 0;
+  int trials = 0;
+  double visible = 0;  // m², summed
+  double samples = 0, mesh = 0, segments = 0, matched = 0;  // fractions of visible
+  double matched_vs_0 = 0;  // Σ matched(noise) / Σ matched(0 mm); 0 when no pair has both
+  int pairs_vs_0 = 0;
+};
+std::vector<AreaSummary> summarize_areas(const Inputs& in);
+
+// areas.json of one trial; a missing file gives present = false.
+AreaRow read_areas(const std::string& path);
+
 struct Output {
   std::string markdown;
   std::string cases_csv, scores_csv, times_csv;
+  // Area retained per stage and noise level in scores.csv's layout (object = stage, scene =
+  // "all", score = fraction of the visible area), so `figures plot` draws it.
+  std::string areas_csv;
 };
 
 Output run(const Inputs& in, const Params& p);

@@ -1,0 +1,188 @@
+#include "areas/areas.h"
+
+#include <Eigen/Eigenvalues>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <unordered_map>
+
+#include "canopy/common/error.h"
+
+namespace canopy::areas {
+namespace {
+
+using Eigen::Vector3d;
+using Key = std::array<std::int64_t, 3>;
+
+struct KeyHash {
+  std::size_t operator()(const Key& k) const {
+    std::uint64_t h = 1469598103934665603ull;
+    for (std::int64_t v : k) h = (h ^ static_cast<std::uint64_t>(v)) * 1099511628211ull;
+    return static_cast<std::size_t>(h);
+  }
+};
+
+double inv_l1(const Vector3d& n) {
+  const double l1 = std::abs(n(0)) + std::abs(n(1)) + std::abs(n(2));
+  return l1 > 0 ? 1.0 / std::max(l1, 1.0) : 1.0 / 1.5;
+}
+
+// Shortest text that reads back to the same double (formats/README.md).
+std::string num(double v) { return nlohmann::json(v).dump(); }
+
+}  // namespace
+
+double visible_area(const std::vector<ScanPoint>& points, double spacing, double cell, double min_cos) {
+  if (!(cell > 0) || !std::isfinite(cell)) throw common::Error("cell must be a positive length");
+  if (!(spacing > 0) || !std::isfinite(spacing)) throw common::Error("spacing must be a positive length");
+  if (!(min_cos > 0 && min_cos <= 1)) throw common::Error("min_cos must be in (0, 1]");
+  std::unordered_map<Key, std::vector<std::size_t>, KeyHash> cells;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Vector3d& p = points[i].p;
+    if (!p.allFinite() || !points[i].toward.allFinite()) {
+      throw common::Error("point " + std::to_string(i) + ": non-finite coordinate or direction");
+    }
+    const Key k{static_cast<std::int64_t>(std::floor(p(0) / cell + 0.5)),
+                static_cast<std::int64_t>(std::floor(p(1) / cell + 0.5)),
+                static_cast<std::int64_t>(std::floor(p(2) / cell + 0.5))};
+    cells[k].push_back(i);
+  }
+  // Sum in key order so the result does not depend on the hash table's iteration order.
+  std::vector<Key> keys;
+  keys.reserve(cells.size());
+  for (const auto& kv : cells) keys.push_back(kv.first);
+  std::sort(keys.begin(), keys.end());
+  const double pixel = spacing * spacing;
+  double area = 0;
+  std::vector<Vector3d> nb;
+  std::vector<int> nb_views;
+  for (const Key& k : keys) {
+    const std::vector<std::size_t>& own = cells[k];
+    const Vector3d origin = points[own.front()].p;
+    nb.clear();
+    nb_views.clear();
+    for (int dx = -1; dx <= 1; ++dx) {
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dz = -1; dz <= 1; ++dz) {
+          const auto it = cells.find({k[0] + dx, k[1] + dy, k[2] + dz});
+          if (it == cells.end()) continue;
+          for (std::size_t i : it->second) {
+            nb.push_back(points[i].p - origin);
+            nb_views.push_back(points[i].view);
+          }
+        }
+      }
+    }
+    // Normal of the neighbourhood; none (fewer than 3 points, collinear) -> footprint = pixel.
+    bool has_normal = false;
+    Vector3d n = Vector3d::UnitZ();
+    if (nb.size() >= 3) {
+      Vector3d mean = Vector3d::Zero();
+      for (const Vector3d& q : nb) mean += q;
+      mean /= static_cast<double>(nb.size());
+      Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+      for (const Vector3d& q : nb) cov.noalias() += (q - mean) * (q - mean).transpose();
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
+      const Vector3d ev = es.eigenvalues();
+      if (es.info() == Eigen::Success && ev(2) > 0 && ev(1) > 1e-9 * ev(2)) {
+        n = es.eigenvectors().col(0);
+        has_normal = true;
+      }
+    }
+    // Views that see this part of the surface: those with a point in the neighbourhood.
+    std::sort(nb_views.begin(), nb_views.end());
+    const auto views = static_cast<double>(std::unique(nb_views.begin(), nb_views.end()) - nb_views.begin());
+    double best = 0;
+    for (std::size_t i : own) {
+      const double c = has_normal ? std::max(min_cos, std::abs(n.dot(points[i].toward.normalized()))) : 1.0;
+      best += pixel / c;
+    }
+    best /= views;
+    area += best;
+  }
+  return area;
+}
+
+double samples_area(const std::vector<Vector3d>& normals, double voxel) {
+  double area = 0;
+  for (const Vector3d& n : normals) area += voxel * voxel * inv_l1(n.normalized());
+  return area;
+}
+
+double mesh_area(const formats::Mesh& mesh, std::uint32_t label) {
+  const auto& v = mesh.vertices;
+  const bool labelled = v.has("label");
+  const auto& x = v.col("x");
+  const auto& y = v.col("y");
+  const auto& z = v.col("z");
+  double area = 0;
+  for (const auto& f : mesh.faces) {
+    int hits = 0;
+    for (int j = 0; j < 3; ++j) {
+      hits += labelled && v.col("label")[static_cast<std::size_t>(f[j])] == label;
+    }
+    if (hits == 0) continue;
+    auto P = [&](int j) {
+      const auto i = static_cast<std::size_t>(f[j]);
+      return Vector3d(x[i], y[i], z[i]);
+    };
+    area += 0.5 * (P(1) - P(0)).cross(P(2) - P(0)).norm() * hits / 3.0;
+  }
+  return area;
+}
+
+double segments_area(const formats::SegmentGraph& graph, std::uint32_t label, int largest) {
+  std::vector<const formats::Segment*> segs;
+  for (const auto& s : graph.segments) segs.push_back(&s);
+  std::stable_sort(segs.begin(), segs.end(), [](const formats::Segment* a, const formats::Segment* b) {
+    return a->area != b->area ? a->area > b->area : a->segment_id < b->segment_id;
+  });
+  if (largest > 0 && static_cast<int>(segs.size()) > largest) segs.resize(static_cast<std::size_t>(largest));
+  double area = 0;
+  for (const auto* s : segs) {
+    if (s->label == static_cast<int>(label)) area += s->area * s->label_purity;
+  }
+  return area;
+}
+
+std::string serialize(const Areas& a, const std::vector<std::string>& inputs) {
+  std::string s = "{\"format\": \"canopy.areas\", \"version\": 1,\n \"provenance\": {\"tool\": \"areas\", "
+                  "\"version\": \"" CANOPY_VERSION "\", \"inputs\": [";
+  for (std::size_t i = 0; i < inputs.size(); ++i) {
+    s += (i ? ", " : "") + nlohmann::json(inputs[i]).dump();
+  }
+  s += "]},\n \"spacing\": " + num(a.spacing) + ", \"cell\": " + num(a.cell) + ", \"voxel\": " + num(a.voxel) +
+       ", \"max_segments\": " + std::to_string(a.max_segments) +
+       ",\n \"target_points\": " + std::to_string(a.target_points) +
+       ", \"target_samples\": " + std::to_string(a.target_samples) +
+       ",\n \"visible\": " + num(a.visible) + ", \"samples\": " + num(a.samples) + ", \"mesh\": " + num(a.mesh) +
+       ", \"segments\": " + num(a.segments) + ", \"matched\": " + num(a.matched) + "}\n";
+  return s;
+}
+
+Areas parse(const std::string& text, const std::string& name) {
+  Areas a;
+  try {
+    const nlohmann::json j = nlohmann::json::parse(text);
+    if (j.value("format", "") != "canopy.areas") throw common::DataError(name, "not a canopy.areas document");
+    if (j.value("version", 0) != 1) throw common::DataError(name, "unknown canopy.areas version");
+    a.visible = j.at("visible").get<double>();
+    a.samples = j.at("samples").get<double>();
+    a.mesh = j.at("mesh").get<double>();
+    a.segments = j.at("segments").get<double>();
+    a.matched = j.at("matched").get<double>();
+    a.spacing = j.at("spacing").get<double>();
+    a.cell = j.at("cell").get<double>();
+    a.voxel = j.at("voxel").get<double>();
+    a.max_segments = j.at("max_segments").get<int>();
+    a.target_points = j.at("target_points").get<std::size_t>();
+    a.target_samples = j.at("target_samples").get<std::size_t>();
+  } catch (const nlohmann::json::exception& e) {
+    throw common::DataError(name, std::string("bad canopy.areas document: ") + e.what());
+  }
+  return a;
+}
+
+}  // namespace canopy::areas

@@ -1,0 +1,62 @@
+// areas: where the target's surface area goes through the pipeline (issue 19). For one trial:
+// the target's visible surface (from the labelled noise-free scan), the area its fitvox
+// samples stand for, the target area of the cocone mesh, of the ncut segments, and of the
+// X largest segments (the ones gmatch matches). All in m²; label 1 = target.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "canopy/formats/json_io.h"
+#include "canopy/formats/ply.h"
+#include "canopy/formats/point_cloud.h"
+
+namespace canopy::areas {
+
+// Visible surface area of a scan's points (one orthographic view per view id, pixel spacing
+// `spacing`). Each point stands for its pixel's footprint on the surface, spacing² / |n·d|
+// (d = its direction to the sensor, n = the surface normal: the smallest PCA axis of the
+// points in the 3×3×3 cell neighbourhood on a cubic lattice of edge `cell`; |n·d| floored at
+// `min_cos`). Views overlap, so per cell the area is the largest footprint sum of any one view
+// (the union of the views' coverage is at least that; every view of a cell it sees whole
+// gives the same sum). Exact for planes seen whole; see docs/decisions/noise.md.
+struct ScanPoint {
+  Eigen::Vector3d p, toward;  // position (m), unit direction to the sensor
+  int view = 0;
+};
+double visible_area(const std::vector<ScanPoint>& points, double spacing, double cell, double min_cos = 0.05);
+
+// Area the samples stand for: each sample its voxel's share h² / |n|₁ of a smooth surface
+// (n = the sample's fitted normal): a plane of area A with unit normal n crosses on average
+// A |n|₁ / h² voxels of edge h.
+double samples_area(const std::vector<Eigen::Vector3d>& normals, double voxel);
+
+// Target area of a mesh (vertices with x y z): each triangle's area times the share of its
+// vertices labelled target (no label field: 0).
+double mesh_area(const formats::Mesh& mesh, std::uint32_t label);
+
+// Target area of segments: Σ area · label_purity over segments labelled `label`; `largest` > 0
+// restricts the sum to the `largest` segments by area (all labels compete, ties by id: gmatch's
+// order), 0 = every segment.
+double segments_area(const formats::SegmentGraph& graph, std::uint32_t label, int largest);
+
+struct Areas {
+  double visible = 0;   // target surface in the noise-free scan (visible_area)
+  double samples = 0;   // fitvox target samples
+  double mesh = 0;      // cocone mesh, target triangles
+  double segments = 0;  // ncut, every target segment
+  double matched = 0;   // the `max_segments` largest segments' target area
+  double spacing = 0, cell = 0, voxel = 0;
+  int max_segments = 0;
+  std::size_t target_points = 0, target_samples = 0;
+};
+
+// Text of areas.json ("format": "canopy.areas", "version": 1).
+std::string serialize(const Areas& a, const std::vector<std::string>& inputs);
+// Reads areas.json; errors name the file.
+Areas parse(const std::string& text, const std::string& name);
+
+}  // namespace canopy::areas
