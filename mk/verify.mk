@@ -4,7 +4,7 @@
 #   make -f Makefile.experiments band-modelbase      graphs + surfaces from the band scene
 # A modelbase entry is the graph <model>.json plus its surface samples with normals,
 # <model>.pcd = the unoccluded noise-0 samples (verify keeps the label-1 rows).
-$(eval $(call tool_rule,verify))
+# verify is in TOOLS (Makefile.experiments), which gives it its build rule and stamp.
 
 VERIFY_SURFACES := $(foreach o,$(OBJECTS),$(OUT)/modelbase/$(o).pcd)
 $(OUT)/modelbase/%.pcd: $(OUT)/%/unoccluded/noise-0/samples.pcd
@@ -14,8 +14,8 @@ verify-modelbase: $(MODELBASE) $(VERIFY_SURFACES)
 
 define verify_rule
 $(OUT)/$(1)/$(2)/noise-$(3)/verdict.json: $(OUT)/$(1)/$(2)/noise-$(3)/match.json \
-    $(OUT)/$(1)/$(2)/noise-$(3)/samples.pcd $(MODELBASE) $(VERIFY_SURFACES) $(BIN)/verify $(P)/verify.ini
-	@$(STAGE) $$@ -- $(BIN)/verify -q --config $(P)/verify.ini -i $$< \
+    $(OUT)/$(1)/$(2)/noise-$(3)/samples.pcd $(MODELBASE) $(VERIFY_SURFACES) $(call tool,verify) $(P)/verify.ini
+	@$(STAGE) $$@ -- $(BIN)/verify --config $(P)/verify.ini -i $$< \
 	  --points $(OUT)/$(1)/$(2)/noise-$(3)/samples.pcd --segments $(OUT)/$(1)/$(2)/noise-$(3)/segments.json \
 	  --modelbase $(OUT)/modelbase -o $$@
 endef
@@ -26,8 +26,8 @@ verdicts: $(VERDICTS)
 # The band modelbase (share/scenes/band.scene: the trials' 75-degree elevation all around).
 # rangetrace knows circle/flyby/unoccluded by name; the band recipe is given as a file.
 define band_scene_rule
-$(OUT)/$(1)/band/scan.pcd: $(BIN)/rangetrace $(P)/rangetrace.ini share/models/$(1).inc share/scenes/band.scene
-	@$(STAGE) $$@ -- $(BIN)/rangetrace -q --config $(P)/rangetrace.ini --model $(1) --scene share/scenes/band.scene \
+$(OUT)/$(1)/band/scan.pcd: $(call tool,rangetrace) $(P)/rangetrace.ini share/models/$(1).inc share/scenes/band.scene
+	@$(STAGE) $$@ -- $(BIN)/rangetrace --config $(P)/rangetrace.ini --model $(1) --scene share/scenes/band.scene \
 	  --seed $(call seed,$(1)/band) --threads 2 -o $$@
 endef
 $(foreach o,$(OBJECTS),$(eval $(call band_scene_rule,$(o))))
