@@ -113,6 +113,7 @@ int main(int argc, char** argv) {
           c.times["cocone"] = read_time(dir + "/mesh.ply");
           c.times["ncut"] = read_time(dir + "/segments.json");
           c.times["gmatch"] = read_time(dir + "/match.json");
+          c.times["verify"] = read_time(dir + "/verdict.json");
           c.areas = report::read_areas(dir + "/areas.json");
           // verify's answer: absent = not run; empty = verify failed (scripts/stage.sh
           // --record-failure), counted as a failed trial.
