@@ -319,7 +319,7 @@ void write_experiment(const fs::path& out) {
 
 }  // namespace
 
-TEST_CASE("report: its five outputs appear together or not at all") {
+TEST_CASE("report: its six outputs appear together or not at all") {
   const fs::path d = fresh_dir("cli", "report");
   write_experiment(d / "out");
   const std::string run = bin("report") + " -q --out " + q(d / "out") +
@@ -336,7 +336,7 @@ TEST_CASE("report: its five outputs appear together or not at all") {
   CHECK(sh(other + "--noises 0mm --results " + q(d / "res"), d / "err", &err) == 2);
   CHECK(count_files(d / "res") == 0);
   REQUIRE(sh(run + q(d / "res"), d / "err", &err) == 0);
-  CHECK(count_files(d / "res") == 5);  // report.md and four CSVs
+  CHECK(count_files(d / "res") == 6);  // report.md and five CSVs
   fs::remove_all(d / "res");
   fs::create_directories(d / "res");
   if (!make_char_device(d / "res" / "report.md", 1, 7)) {

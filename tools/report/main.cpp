@@ -62,7 +62,7 @@ int main(int argc, char** argv) {
   std::string thesis;  // default: <share>/thesis/results.csv
   report::Params p;
   tool.add("--out", &out_dir, "experiment artifact directory");
-  tool.add("--results", &results, "directory for report.md, cases.csv, scores.csv, times.csv, areas.csv");
+  tool.add("--results", &results, "directory for report.md, cases.csv, scores.csv, times.csv, areas.csv, verdicts.csv");
   tool.add("--objects", &objects, "objects (space separated)")->required();
   tool.add("--scenes", &scenes, "scenes (space separated)")->required();
   tool.add("--noises", &noises, "noise levels in mm (space separated)")->required();
@@ -75,8 +75,9 @@ int main(int argc, char** argv) {
   tool.add("--missing-area-ratio", &p.missing_area_ratio, "missing area when target area is below this x model's");
   tool.add("--spurious-share", &p.spurious_share, "spurious when non-target area share exceeds this");
   return tool.run(argc, argv, [&] {
-    // The five outputs are written together or not at all; their directory is checked now.
-    const std::vector<std::string> names = {"report.md", "cases.csv", "scores.csv", "times.csv", "areas.csv"};
+    // The six outputs are written together or not at all; their directory is checked now.
+    const std::vector<std::string> names = {"report.md", "cases.csv",  "scores.csv",
+                                            "times.csv", "areas.csv", "verdicts.csv"};
     common::OutputSet outputs;
     for (const auto& n : names) outputs.add(results + "/" + n, "--results");
     if (thesis.empty()) thesis = common::share_dir() + "/thesis/results.csv";
@@ -112,7 +113,20 @@ int main(int argc, char** argv) {
           c.times["cocone"] = read_time(dir + "/mesh.ply");
           c.times["ncut"] = read_time(dir + "/segments.json");
           c.times["gmatch"] = read_time(dir + "/match.json");
+          c.times["verify"] = read_time(dir + "/verdict.json");
           c.areas = report::read_areas(dir + "/areas.json");
+          // verify's answer: absent = not run; empty = verify failed (scripts/stage.sh
+          // --record-failure), counted as a failed trial.
+          const std::string verdict = dir + "/verdict.json";
+          if (exists(verdict)) {
+            const std::string text = common::read_file(verdict);
+            if (text.empty()) {
+              c.verdict_status = report::VerdictStatus::failed;
+            } else {
+              c.verdict = formats::parse_verdict(text, verdict);
+              c.verdict_status = report::VerdictStatus::read;
+            }
+          }
           in.cases.push_back(std::move(c));
         }
       }
@@ -161,6 +175,7 @@ int main(int argc, char** argv) {
     outputs.set(results + "/scores.csv", r.scores_csv);
     outputs.set(results + "/times.csv", r.times_csv);
     outputs.set(results + "/areas.csv", r.areas_csv);
+    outputs.set(results + "/verdicts.csv", r.verdicts_csv);
     outputs.commit();
     common::log::info("wrote " + results + "/report.md");
   });

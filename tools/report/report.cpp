@@ -61,6 +61,182 @@ std::string hms(double seconds) {
 
 }  // namespace
 
+const char* outcome_name(Outcome o) {
+  switch (o) {
+    case Outcome::not_run: return "not_run";
+    case Outcome::failed: return "failed";
+    case Outcome::right: return "right";
+    case Outcome::flipped: return "flipped";
+    case Outcome::wrong_model: return "wrong_model";
+    case Outcome::none: return "none";
+  }
+  return "";
+}
+
+Judgement judge_verdict(const Case& c) {
+  Judgement j;
+  if (!c.match.models.empty()) j.gmatch_model = c.match.models.front().model;
+  j.gmatch_right = j.gmatch_model == c.object;
+  if (c.verdict_status == VerdictStatus::missing) return j;
+  if (c.verdict_status == VerdictStatus::failed) {
+    j.outcome = Outcome::failed;
+    return j;
+  }
+  const formats::Verdict& v = c.verdict;
+  j.confidence = v.confidence;
+  if (v.model.empty()) {
+    j.outcome = Outcome::none;
+    j.answer = "none";
+    return j;
+  }
+  j.answer = v.model;
+  if (v.model != c.object) {
+    j.outcome = Outcome::wrong_model;
+    return j;
+  }
+  j.outcome = Outcome::right;
+  if (v.chosen >= 0 && v.chosen < static_cast<int>(v.hypotheses.size())) {
+    const formats::Pose& pose = v.hypotheses[static_cast<std::size_t>(v.chosen)].pose;
+    j.posed = true;
+    const auto& t = pose.translation;
+    j.position_error = std::sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+    const double h = std::remainder(formats::euler_degrees(pose)[0], 360.0);  // in [-180, 180]
+    j.heading_error = std::fabs(h);
+    if (j.heading_error > 90) j.outcome = Outcome::flipped;
+  }
+  return j;
+}
+
+double percentile(std::vector<double> values, double q) {
+  if (values.empty()) return 0;
+  std::sort(values.begin(), values.end());
+  const double pos = std::clamp(q, 0.0, 1.0) * static_cast<double>(values.size() - 1);
+  const auto i = static_cast<std::size_t>(std::floor(pos));
+  if (i + 1 >= values.size()) return values.back();
+  return values[i] + (pos - static_cast<double>(i)) * (values[i + 1] - values[i]);
+}
+
+VerifySummary summarize_verify(const Inputs& in) {
+  VerifySummary s;
+  const double edges[] = {0, 0.5, 0.7, 0.8, 0.9, 1.0};
+  for (std::size_t b = 0; b + 1 < std::size(edges); ++b) s.reliability.push_back({edges[b], edges[b + 1], 0, 0});
+  std::vector<double> position, heading;
+  for (const auto& c : in.cases) {
+    const Judgement j = judge_verdict(c);
+    s.judgements.push_back(j);
+    if (j.outcome == Outcome::not_run) {
+      ++s.not_run;
+      continue;
+    }
+    for (VerifyTally* t : {&s.all, &s.per_object[c.object], &s.per_noise[c.noise_mm]}) {
+      ++t->trials;
+      t->right += j.outcome == Outcome::right;
+      t->flipped += j.outcome == Outcome::flipped;
+      t->wrong_model += j.outcome == Outcome::wrong_model;
+      t->none += j.outcome == Outcome::none;
+      t->failed += j.outcome == Outcome::failed;
+      t->gmatch_right += j.gmatch_right;
+    }
+    if (j.outcome != Outcome::failed) {
+      for (std::size_t b = 0; b < s.reliability.size(); ++b) {
+        auto& bin = s.reliability[b];
+        const bool last = b + 1 == s.reliability.size();
+        if (j.confidence >= bin.lo && (j.confidence < bin.hi || (last && j.confidence <= bin.hi))) {
+          ++bin.answers;
+          bin.right += j.outcome == Outcome::right;
+          break;
+        }
+      }
+    }
+    if (j.outcome == Outcome::right && j.posed) {
+      position.push_back(j.position_error);
+      heading.push_back(j.heading_error);
+    }
+  }
+  s.posed = static_cast<int>(position.size());
+  s.position_median = percentile(position, 0.5);
+  s.position_p90 = percentile(position, 0.9);
+  s.heading_median = percentile(heading, 0.5);
+  s.heading_p90 = percentile(heading, 0.9);
+  return s;
+}
+
+namespace {
+std::string verify_markdown(const Inputs& in, const VerifySummary& v) {
+  std::ostringstream md;
+  md << "## Verification (`verify`)\n\n";
+  if (v.all.trials == 0) {
+    md << "`verify` was not run on these trials (no `verdict.json`; `make -f Makefile.experiments "
+          "verdicts`).\n\n";
+    return md.str();
+  }
+  md << "`verify` (docs/decisions/verify.md) checks gmatch's hypotheses against the samples and answers "
+        "a model or `none` with a confidence. *right*: the true object; *wrong model*: another model; "
+        "*flipped*: the true object posed 180° about the vertical (counted as wrong); *failed*: verify "
+        "failed (empty `verdict.json`). \"without verify\" is the ablation: gmatch's rank-1 model on the "
+        "same trials.";
+  if (v.not_run > 0) md << " verify was not run on " << v.not_run << " trials (no `verdict.json`); they are left out.";
+  md << " Per trial: `verdicts.csv`.\n\n"
+     << "| | trials | right | wrong model | flipped | none | failed | without verify (gmatch rank 1) |\n"
+     << "|---|---|---|---|---|---|---|---|\n";
+  auto row = [&](const std::string& label, const VerifyTally& t) {
+    md << "| " << label << " | " << t.trials << " | " << pct(t.right, t.trials) << " (" << t.right << ") | "
+       << t.wrong_model << " | " << t.flipped << " | " << t.none << " | " << t.failed << " | "
+       << pct(t.gmatch_right, t.trials) << " (" << t.gmatch_right << ") |\n";
+  };
+  for (const auto& o : in.objects) {
+    const auto it = v.per_object.find(o);
+    if (it != v.per_object.end()) row(o, it->second);
+  }
+  for (int n : in.noises) {
+    const auto it = v.per_noise.find(n);
+    if (it != v.per_noise.end()) row(std::to_string(n) + " mm", it->second);
+  }
+  md << "| **all trials** | " << v.all.trials << " | **" << pct(v.all.right, v.all.trials) << "** ("
+     << v.all.right << ") | " << v.all.wrong_model << " | " << v.all.flipped << " | " << v.all.none << " | "
+     << v.all.failed << " | **" << pct(v.all.gmatch_right, v.all.trials) << "** (" << v.all.gmatch_right
+     << ") |\n\n";
+  md << "Pose of the right answers: every thesis object is rendered at heading 0 at the origin, so the "
+        "true pose is the identity; error = |translation| and |heading| of the chosen hypothesis's pose "
+        "(model → candidate frame). ";
+  if (v.posed == 0) {
+    md << "No right answer carries a pose.\n\n";
+  } else {
+    md << "Over " << v.posed << " right answers: position median " << fmt("%.3f", v.position_median)
+       << " m, 90th percentile " << fmt("%.3f", v.position_p90) << " m; heading median "
+       << fmt("%.2f", v.heading_median) << "°, 90th percentile " << fmt("%.2f", v.heading_p90) << "°.\n\n";
+  }
+  md << "Reliability: answers (a model or `none`) by stated confidence, and the share that was right "
+        "(`none` is never right here: every trial's object is in the modelbase).\n\n"
+     << "| confidence | answers | right |\n|---|---|---|\n";
+  for (std::size_t b = 0; b < v.reliability.size(); ++b) {
+    const auto& bin = v.reliability[b];
+    md << "| " << fmt("%.1f", bin.lo) << "–" << fmt("%.1f", bin.hi) << " | " << bin.answers << " | "
+       << pct(bin.right, bin.answers) << (bin.answers ? " (" + std::to_string(bin.right) + ")" : "") << " |\n";
+  }
+  md << "\n";
+  return md.str();
+}
+
+std::string verdicts_csv(const Inputs& in, const VerifySummary& v) {
+  std::ostringstream csv;
+  csv << "object,scene,noise_mm,answer,confidence,correct,gmatch_rank1,outcome,position_error_m,"
+         "heading_error_deg\n";
+  for (std::size_t i = 0; i < in.cases.size(); ++i) {
+    const Case& c = in.cases[i];
+    const Judgement& j = v.judgements[i];
+    const bool answered = j.outcome != Outcome::not_run && j.outcome != Outcome::failed;
+    csv << c.object << ',' << c.scene << ',' << c.noise_mm << ',' << j.answer << ','
+        << (answered ? fmt("%.4f", j.confidence) : "") << ','
+        << (j.outcome == Outcome::not_run ? "" : j.outcome == Outcome::right ? "1" : "0") << ','
+        << j.gmatch_model << ',' << outcome_name(j.outcome) << ','
+        << (j.posed ? fmt("%.4f", j.position_error) : "") << ',' << (j.posed ? fmt("%.3f", j.heading_error) : "")
+        << '\n';
+  }
+  return csv.str();
+}
+}  // namespace
+
 Diagnosis diagnose(const Case& c, const formats::SegmentGraph* model, const Params& p) {
   Diagnosis d;
   if (const auto* s = find_model(c.match, c.object)) {
@@ -342,6 +518,10 @@ Output run(const Inputs& in, const Params& p) {
     md << "```\n\n";
   }
 
+  const VerifySummary verified = summarize_verify(in);
+  md << verify_markdown(in, verified);
+  out.verdicts_csv = verdicts_csv(in, verified);
+
   md << "## Causes of the failures\n\n";
   if (n_fail == 0) {
     md << "No trial failed.\n\n";
@@ -411,7 +591,7 @@ Output run(const Inputs& in, const Params& p) {
     times_csv << "rangetrace," << render_runs << ',' << fmt("%.3f", render.seconds) << ','
               << fmt("%.3f", render_runs ? render.seconds / render_runs : 0) << ',' << fmt("%.0f", render.peak_mb)
               << '\n';
-    for (const char* s : {"addnoise", "fitvox", "cocone", "ncut", "gmatch"}) {
+    for (const char* s : {"addnoise", "fitvox", "cocone", "ncut", "gmatch", "verify"}) {
       if (std::string(s) == "rangetrace") continue;
       const auto& t = stage_sum[s];
       const int r = stage_runs[s];
@@ -430,7 +610,7 @@ Output run(const Inputs& in, const Params& p) {
           md << th.runs << " | " << th.minutes / 60 << ":" << fmt("%02.0f", th.minutes % 60);
         }
       }
-      if (tool == "addnoise") md << "– | –";
+      if (tool == "addnoise" || tool == "verify") md << "– | –";
       md << " |\n";
     };
     row("Range image generation", "rangetrace", images);
@@ -439,9 +619,11 @@ Output run(const Inputs& in, const Params& p) {
     row("Surface reconstruction", "cocone", 0);
     row("Segmentation", "ncut", 0);
     row("Recognition", "gmatch", 0);
-    double all = 0;
-    for (const auto& [s, t] : stage_sum) all += t.seconds;
-    md << "| **all stages** | | | **" << hms(all) << "** | | | | 11:54 |\n\n";
+    double all = 0;  // the thesis's stages (and addnoise); verify is beyond the thesis, shown after
+    for (const auto& [s, t] : stage_sum) all += s == "verify" ? 0 : t.seconds;
+    md << "| **all stages** | | | **" << hms(all) << "** | | | | 11:54 |\n";
+    if (stage_runs["verify"] > 0) row("Verification (not in the total)", "verify", 0);
+    md << "\n";
   }
 
   if (!in.figures.empty()) {
@@ -449,7 +631,7 @@ Output run(const Inputs& in, const Params& p) {
     for (const auto& f : in.figures) md << "![" << f << "](" << f << ")\n\n";
   }
   md << "## Reproduce\n\n    make -f Makefile.experiments all -j2\n\nArtifacts per trial: "
-        "`out/<object>/<scene>/noise-<mm>/{scan.pcd,samples.pcd,mesh.ply,segments.json,segments.ply,match.json}` "
+        "`out/<object>/<scene>/noise-<mm>/{scan.pcd,samples.pcd,mesh.ply,segments.json,segments.ply,match.json,verdict.json}` "
         "(open the PLY files in MeshLab; `pcd2ply` converts the PCD files). Decisions behind every "
         "default: `docs/decisions.md`.\n";
 

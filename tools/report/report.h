@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "canopy/formats/json_io.h"
+#include "canopy/formats/verdict.h"
 
 namespace canopy::report {
 
@@ -27,6 +28,10 @@ struct AreaRow {
   double matched = 0;   // gmatch's X largest segments
 };
 
+// verify's verdict.json of one trial: absent (verify not run), empty (verify failed; recorded by
+// scripts/stage.sh --record-failure) or read.
+enum class VerdictStatus { missing, failed, read };
+
 // One trial: an object seen in a scene at a noise level, matched against the modelbase.
 struct Case {
   std::string object, scene;
@@ -35,6 +40,8 @@ struct Case {
   formats::SegmentGraph segments;
   std::map<std::string, StageTime> times;  // stage name -> time (addnoise, fitvox, ...)
   AreaRow areas;
+  VerdictStatus verdict_status = VerdictStatus::missing;
+  formats::Verdict verdict;  // when verdict_status == read
 };
 
 struct ThesisRow {
@@ -95,6 +102,56 @@ struct AreaSummary {
 };
 std::vector<AreaSummary> summarize_areas(const Inputs& in);
 
+// verify's answer on one trial judged against the truth (the trial's object). On the thesis
+// trials every object is rendered at heading 0 at the origin (docs/decisions/verify.md §8), so
+// the true model -> candidate pose is the identity: position error = |translation| of the chosen
+// hypothesis's pose, heading error = |heading| wrapped to [0, 180] degrees. A right model whose
+// heading error exceeds 90 degrees is the 180-degree flip and counts as wrong (outcome flipped).
+enum class Outcome { not_run, failed, right, flipped, wrong_model, none };
+const char* outcome_name(Outcome o);
+
+struct Judgement {
+  Outcome outcome = Outcome::not_run;
+  std::string answer;        // model name, "none", or "" (not run / failed)
+  double confidence = 0;     // when answered (right, flipped, wrong_model, none)
+  bool posed = false;        // the answer is the true model and carries a pose
+  double position_error = 0;  // m
+  double heading_error = 0;   // degrees, in [0, 180]
+  bool gmatch_right = false;  // gmatch ranked the true model first (the ablation without verify)
+  std::string gmatch_model;   // gmatch's rank-1 model ("" when it ranked none)
+};
+Judgement judge_verdict(const Case& c);
+
+// Counts over a set of trials with a verdict.json (read or failed).
+struct VerifyTally {
+  int trials = 0, right = 0, flipped = 0, wrong_model = 0, none = 0, failed = 0;
+  int gmatch_right = 0;  // of the same trials
+};
+
+// One reliability bin: confidence in [lo, hi) (the last bin includes 1), over the answers
+// (model or none; failed trials have no confidence).
+struct ReliabilityBin {
+  double lo = 0, hi = 0;
+  int answers = 0, right = 0;
+};
+
+struct VerifySummary {
+  int not_run = 0;                         // trials without verdict.json
+  VerifyTally all;
+  std::map<std::string, VerifyTally> per_object;
+  std::map<int, VerifyTally> per_noise;
+  std::vector<ReliabilityBin> reliability;  // bins 0-0.5, 0.5-0.7, 0.7-0.8, 0.8-0.9, 0.9-1
+  // Pose error of the right answers (median and 90th percentile, linear interpolation between
+  // order statistics).
+  int posed = 0;
+  double position_median = 0, position_p90 = 0, heading_median = 0, heading_p90 = 0;
+  std::vector<Judgement> judgements;       // one per case, in Inputs::cases order
+};
+VerifySummary summarize_verify(const Inputs& in);
+
+// Percentile q in [0, 1] of values (linear interpolation between order statistics); 0 when empty.
+double percentile(std::vector<double> values, double q);
+
 // areas.json of one trial; a missing file gives present = false.
 AreaRow read_areas(const std::string& path);
 
@@ -104,6 +161,8 @@ struct Output {
   // Area retained per stage and noise level in scores.csv's layout (object = stage, scene =
   // "all", score = fraction of the visible area), so `figures plot` draws it.
   std::string areas_csv;
+  // verify's answer per trial: object,scene,noise_mm,answer,confidence,correct,gmatch_rank1,...
+  std::string verdicts_csv;
 };
 
 Output run(const Inputs& in, const Params& p);
