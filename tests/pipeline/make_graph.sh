@@ -12,7 +12,7 @@ fail() { echo "FAIL: $*" >&2; exit 1; }
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 tree="$tmp/src"
 mkdir -p "$tree"
-(cd "$src" && cp -a Makefile.experiments CMakeLists.txt common formats tools scripts share "$tree/") ||
+(cd "$src" && cp -a Makefile.experiments CMakeLists.txt common formats tools scripts share mk "$tree/") ||
   fail "cannot copy the source tree"
 cd "$tree" || exit 1
 cat >"$tmp/cmake" <<EOF
@@ -28,7 +28,7 @@ EOF
 chmod +x "$tmp/cmake"
 mk=(make -f Makefile.experiments OBJECTS=sedan SCENES=unoccluded NOISES=0 ABLATIONS= OUT="$tmp/out"
     RES="$tmp/res" BUILD="$tmp/build" P="$tmp/params" CMAKE="$tmp/cmake")
-tools=(rangetrace addnoise fitvox cocone ncut gmatch report figures)
+tools=(rangetrace addnoise fitvox cocone ncut gmatch verify areas report figures)
 
 # Sources oldest, then parameters, binaries, their content stamps, and the artifacts in order.
 now=$(date +%s)
@@ -50,8 +50,10 @@ r="$tmp/res"
 i=80
 for f in "$c/scan.pcd" "$c/noise-0/scan.pcd" "$c/noise-0/samples.pcd" "$c/noise-0/mesh.ply" \
          "$c/noise-0/segments.json" "$c/noise-0/segments.ply" "$tmp/out/modelbase/sedan.json" \
-         "$c/noise-0/match.json" "$r/report.md" "$r/cases.csv" "$r/scores.csv" "$r/times.csv" \
+         "$tmp/out/modelbase/sedan.pcd" "$c/noise-0/match.json" "$c/noise-0/verdict.json" "$c/noise-0/areas.json" \
+         "$r/report.md" "$r/cases.csv" "$r/scores.csv" "$r/times.csv" "$r/areas.csv" "$r/verdicts.csv" \
          "$r/figures/sedan-unoccluded-0.png" "$r/figures/grid-unoccluded.png" "$r/figures/scores.png" \
+         "$r/figures/areas.png" \
          "$r/pictures/sedan.png" "$r/pictures/tank-circle.png"; do
   : >"$f"; at $((now - i)) "$f"; i=$((i - 2))
 done
@@ -97,7 +99,7 @@ if grep -q '^done\|^FAIL' "$tmp/run.log"; then fail "make all ran stages after a
 echo "binary fitvox v2" >"$tmp/content/fitvox"
 echo "// another comment" >>"$(find tools/fitvox -name '*.cpp' | head -1)"
 plan=$("${mk[@]}" -n all 2>&1)
-for later in fitvox cocone ncut gmatch report; do
+for later in fitvox cocone ncut gmatch verify areas report; do
   plans "bin/$later " || fail "$later not re-planned after fitvox's binary changed"
 done
 for early in rangetrace addnoise; do
@@ -126,6 +128,7 @@ at $((now - 10)) "$tmp/params/ncut.ini"
 plan=$("${mk[@]}" -n all 2>&1)
 plans "bin/ncut " || fail "ncut not re-planned after ncut.ini changed"
 plans "bin/gmatch " || fail "gmatch not re-planned"
+plans "bin/verify " || fail "verify not re-planned"
 plans "bin/report " || fail "report not re-planned"
 plans "figures mesh" || fail "segmentation figure not re-planned"
 for early in rangetrace addnoise fitvox cocone; do

@@ -78,7 +78,7 @@ mkdir -p "$b/bin" "$b/stamps"
 touch "$b/.deps-stamp" "$b/CMakeCache.txt"
 newest=$(find common formats tools share CMakeLists.txt -type f -printf '%T@\n' | sort -n | tail -1)
 now=$(( $(date +%s) > ${newest%.*} + 100 ? $(date +%s) : ${newest%.*} + 100 ))
-for t in rangetrace addnoise fitvox cocone ncut gmatch report figures; do
+for t in rangetrace addnoise fitvox cocone ncut gmatch verify areas report figures; do
   cp "$tmp/bin/fake" "$b/bin/$t"
   sha256sum <"$b/bin/$t" | cut -d' ' -f1 >"$b/stamps/$t.sha"
 done
