@@ -90,6 +90,29 @@ $(eval $(call tile_collect,TILE,$(TILE_OUT),$(TILE_MB),$(TILE)))
 tile: $(TILE_OUT)/detections.json $(TILE_OUT)/classes.ply $(TILE_OUT)/top.png
 endif
 
+# A directory of tiles (a survey campaign):
+#   make -f Makefile.experiments tiles TILES=dir/ MODELBASE=out/modelbase OUT=batch/ -j8 [LAUNCH=slurm]
+# runs the `tile` workflow on every dir/*.las and dir/*.pcd into batch/<name>/ (name = the file
+# name without its extension), one sub-make per tile sharing make's job slots, so tiles and
+# their candidates run in parallel; LAUNCH, CRS and the other variables pass through.
+.PHONY: tiles
+ifneq ($(filter tiles,$(MAKECMDGOALS)),)
+$(if $(TILES),,$(error tiles: give TILES=<directory of .las/.pcd tiles>))
+TILES_FILES := $(sort $(wildcard $(patsubst %/,%,$(TILES))/*.las $(patsubst %/,%,$(TILES))/*.pcd))
+$(if $(TILES_FILES),,$(error tiles: TILES=$(TILES) holds no .las or .pcd file))
+$(if $(filter-out $(words $(TILES_FILES)),$(words $(sort $(basename $(notdir $(TILES_FILES)))))),\
+  $(error tiles: two tiles in $(TILES) have the same name without extension))
+TILES_OUT := $(patsubst %/,%,$(OUT))
+define tiles_rule
+.PHONY: tiles-$(basename $(notdir $(1)))
+tiles-$(basename $(notdir $(1))):
+	+@$$(MAKE) --no-print-directory -f Makefile.experiments tile TILE=$(1) \
+	  OUT=$(TILES_OUT)/$(basename $(notdir $(1))) MODELBASE=$(MODELBASE)
+endef
+$(foreach f,$(TILES_FILES),$(eval $(call tiles_rule,$(f))))
+tiles: $(foreach f,$(TILES_FILES),tiles-$(basename $(notdir $(f))))
+endif
+
 # ---- the scene experiment: SKELETON, NOT YET PART OF `all` ---------------------------------
 #   make -f Makefile.experiments scenes -j2 [SCENE_SEEDS="1 2" SCENE_COVERS=light SCENE_NOISES=0]
 # Seeded tiles x cover level x noise -> detect -> per candidate fitvox | cocone | ncut | gmatch |
