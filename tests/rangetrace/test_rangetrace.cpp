@@ -9,10 +9,12 @@
 #include <fstream>
 #include <string>
 
+#include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "canopy/formats/labels.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/ply.h"
+#include "rangetrace/tile.h"
 #include "rangetrace/rangetrace.h"
 
 using namespace canopy;
@@ -136,6 +138,30 @@ TEST_CASE("built-in scene recipes") {
   const SceneRecipe un = load_scene("unoccluded");
   CHECK(un.views.size() == 10);
   CHECK(un.foliage_count == 0);
+}
+
+TEST_CASE("every recipe of share/scenes is found by its short name") {
+  // A tile recipe by name: the same recipe as by path, named by the short name, and its
+  // directory (against which model paths resolve) is share/scenes/.
+  const SceneRecipe forest = load_scene("forest");
+  REQUIRE(forest.tile);
+  CHECK(forest.name == "forest");
+  CHECK(forest.tile->extent_x == Approx(40));
+  CHECK(forest.tile->random_vehicles == 6);
+  CHECK(forest.tile->spacing == Approx(0.08));
+  CHECK(forest.tile->dir == common::share_dir() + "/scenes/");
+  const SceneRecipe by_path = load_scene(std::string(CANOPY_SOURCE_DIR) + "/share/scenes/forest.scene");
+  REQUIRE(by_path.tile);
+  CHECK(by_path.tile->random_models == forest.tile->random_models);
+  CHECK(by_path.tile->looks.size() == forest.tile->looks.size());
+  // The thesis scenes keep their names; an unknown short name says where it looked.
+  CHECK(load_scene("flyby").name == "flyby");
+  try {
+    load_scene("forst");
+    FAIL("no error");
+  } catch (const common::UsageError& e) {
+    CHECK_THAT(std::string(e.what()), Catch::Contains("'forst'") && Catch::Contains("/scenes/forst.scene"));
+  }
 }
 
 TEST_CASE("scene recipe errors name the file and line") {
