@@ -399,8 +399,8 @@ TEST_CASE("rangetrace CLI: a tile written as .las reads back in float64 with lab
 }
 
 TEST_CASE("scene recipes: mutated recipes are refused with an Error, never a crash") {
-  // A cheap deterministic fuzz of the recipe parser (the libFuzzer build does not link the
-  // stage libraries): byte flips, insertions and deletions of every built-in and tile recipe.
+  // A cheap deterministic fuzz of the recipe parser in the ordinary build (fuzz/fuzz_scene.cpp
+  // is the coverage-guided one): byte flips, insertions and deletions of every recipe.
   std::vector<std::string> seeds;
   for (const char* name : {"circle.scene", "flyby.scene", "unoccluded.scene", "forest.scene"}) {
     seeds.push_back(slurp(std::filesystem::path(CANOPY_SOURCE_DIR) / "share/scenes" / name));
