@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstring>
 #include <sstream>
+#include <stdexcept>
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
@@ -56,7 +57,11 @@ RawMesh read_obj(const std::string& bytes, const std::string& path) {
       for (std::string w; ls >> w;) {
         int idx = 0;
         try {
-          idx = std::stoi(w.substr(0, w.find('/')));
+          // The vertex index is the whole word up to '/': "1.5" or "2x" are not indices.
+          const std::string head = w.substr(0, w.find('/'));
+          std::size_t used = 0;
+          idx = std::stoi(head, &used);
+          if (used != head.size()) throw std::invalid_argument(head);
         } catch (const std::logic_error&) {
           throw DataError(path, "line " + std::to_string(line_no) + ": malformed face index '" + w + "'");
         }
