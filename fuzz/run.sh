@@ -42,6 +42,7 @@ for name in "${targets[@]}"; do
   seeds=()
   [ -d "$build/seeds/$name" ] && seeds+=("$build/seeds/$name")
   [ -d "$root/fuzz/seeds/$name" ] && seeds+=("$root/fuzz/seeds/$name")
+  [ "$name" = scene ] && seeds+=("$root/share/scenes")
   log="$build/fuzz_$name.log"
   if "$build/fuzz_$name" "$corpus" "${seeds[@]}" -max_total_time="$secs" -rss_limit_mb=2048 \
       -malloc_limit_mb=256 -timeout=10 -max_len=65536 -print_final_stats=1 \

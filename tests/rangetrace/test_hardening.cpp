@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -207,4 +208,50 @@ TEST_CASE("rangetrace CLI: after SIGKILL, POV-Ray dies too and the next run remo
   for (const auto& e : std::filesystem::directory_iterator(tmpdir)) left.push_back(e.path().filename().string());
   std::sort(left.begin(), left.end());
   CHECK(left == std::vector<std::string>{"rangetrace-live00", "rangetrace-noown0"});
+}
+
+TEST_CASE("rangetrace CLI: a tile's scan and truth.json are written together or not at all") {
+  // The directory of one output disappears while POV-Ray renders: the other output must not
+  // be written either (an OutputSet commits both after both are complete).
+  for (const bool lose_truth : {true, false}) {
+    INFO("losing the directory of " << (lose_truth ? "truth.json" : "the scan"));
+    const auto dir = test::fresh_dir("rangetrace", lose_truth ? "pair_truth" : "pair_scan");
+    std::filesystem::create_directories(dir / "scan");
+    std::filesystem::create_directories(dir / "truth");
+    write_text(dir / "t.scene",
+               "extent = 12m 10m\ntrees = 0\nbushes = 0\nhide = 0\nvehicle = sedan 6 5 10deg\n"
+               "flight_lines = 1\nheadings = 0\nlooks = 90deg 60deg/0deg\nspacing = 0.02m\n"
+               "canopy_spacing = 0.02m\n");
+    const std::string scan = (dir / "scan" / "tile.las").string();
+    const std::string truth = (dir / "truth" / "truth.json").string();
+    const std::string recipe = (dir / "t.scene").string();
+    const std::string err = (dir / "err.txt").string();
+    const pid_t pid = ::fork();
+    REQUIRE(pid >= 0);
+    if (pid == 0) {
+      if (std::freopen(err.c_str(), "w", stderr) == nullptr) ::_exit(126);
+      const std::string b = bin();
+      ::execl(b.c_str(), b.c_str(), "--scene", recipe.c_str(), "-o", scan.c_str(), "--truth",
+              truth.c_str(), static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+    // Both outputs were checked before POV-Ray started; remove one directory while it runs.
+    const auto start = std::chrono::steady_clock::now();
+    while (children_of(pid).empty() && std::chrono::steady_clock::now() - start < std::chrono::seconds(20)) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    std::filesystem::remove_all(dir / (lose_truth ? "truth" : "scan"));
+    int status = 0;
+    REQUIRE(::waitpid(pid, &status, 0) == pid);
+    REQUIRE(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 1);
+    std::ifstream f(err);
+    const std::string msg((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    CHECK_THAT(msg, Catch::Contains(lose_truth ? "truth.json" : "tile.las"));
+    CHECK_FALSE(msg.find("render:") == std::string::npos);  // it failed after the work
+    CHECK_FALSE(test::exists(scan));
+    CHECK_FALSE(test::exists(truth));
+    if (test::exists(dir / "scan")) CHECK(std::filesystem::is_empty(dir / "scan"));
+    if (test::exists(dir / "truth")) CHECK(std::filesystem::is_empty(dir / "truth"));
+  }
 }

@@ -9,10 +9,12 @@
 #include <fstream>
 #include <string>
 
+#include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "canopy/formats/labels.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/ply.h"
+#include "rangetrace/tile.h"
 #include "rangetrace/rangetrace.h"
 
 using namespace canopy;
@@ -136,6 +138,30 @@ TEST_CASE("built-in scene recipes") {
   const SceneRecipe un = load_scene("unoccluded");
   CHECK(un.views.size() == 10);
   CHECK(un.foliage_count == 0);
+}
+
+TEST_CASE("every recipe of share/scenes is found by its short name") {
+  // A tile recipe by name: the same recipe as by path, named by the short name, and its
+  // directory (against which model paths resolve) is share/scenes/.
+  const SceneRecipe forest = load_scene("forest");
+  REQUIRE(forest.tile);
+  CHECK(forest.name == "forest");
+  CHECK(forest.tile->extent_x == Approx(40));
+  CHECK(forest.tile->random_vehicles == 6);
+  CHECK(forest.tile->spacing == Approx(0.08));
+  CHECK(forest.tile->dir == common::share_dir() + "/scenes/");
+  const SceneRecipe by_path = load_scene(std::string(CANOPY_SOURCE_DIR) + "/share/scenes/forest.scene");
+  REQUIRE(by_path.tile);
+  CHECK(by_path.tile->random_models == forest.tile->random_models);
+  CHECK(by_path.tile->looks.size() == forest.tile->looks.size());
+  // The thesis scenes keep their names; an unknown short name says where it looked.
+  CHECK(load_scene("flyby").name == "flyby");
+  try {
+    load_scene("forst");
+    FAIL("no error");
+  } catch (const common::UsageError& e) {
+    CHECK_THAT(std::string(e.what()), Catch::Contains("'forst'") && Catch::Contains("/scenes/forst.scene"));
+  }
 }
 
 TEST_CASE("scene recipe errors name the file and line") {
@@ -481,4 +507,42 @@ TEST_CASE("rangetrace CLI: failure exits 1 and leaves no output") {
   std::ifstream err(dir + "/bad.err");
   const std::string text((std::istreambuf_iterator<char>(err)), std::istreambuf_iterator<char>());
   CHECK(text.find("Parse Error") != std::string::npos);
+}
+
+TEST_CASE("mesh importer: malformed OBJ/STL/PLY bytes are DataErrors naming the file") {
+  // What `--model x.obj|.stl|.ply` parses before POV-Ray (and fuzz/fuzz_mesh.cpp drives).
+  const MeshImport m;
+  const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  struct Case { std::string bytes, ext, want; };
+  const Case cases[] = {
+      {tri + "f 1.5 2 3\n", "obj", "line 4: malformed face index '1.5'"},
+      {tri + "f 1 2x 3\n", "obj", "line 4: malformed face index '2x'"},
+      {tri + "f 1 2 99999999999\n", "obj", "line 4: malformed face index"},
+      {tri + "f 1 2 0\n", "obj", "line 4: face index out of range"},
+      {tri + "f 1 2 -4\n", "obj", "line 4: face index out of range"},
+      {tri + "f 1 2\n", "obj", "line 4: face with fewer than 3 vertices"},
+      {"v 0 0\n", "obj", "line 1: malformed vertex"},
+      {tri, "obj", "mesh has no faces"},
+      {"solid x\nfacet\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\n", "stl", "facet with fewer than 3"},
+      {"solid x\nvertex 0 0 nan\n", "stl", "malformed 'vertex' line"},
+      {std::string(84, '\0') + "abc", "stl", "neither ASCII STL"},
+      {"ply\nformat ascii 1.0\nelement vertex 1\nproperty float a\nend_header\n1\n", "ply", "field 'x' missing"},
+  };
+  for (const auto& c : cases) {
+    INFO(c.bytes);
+    try {
+      mesh_file_to_pov(c.bytes, "bad." + c.ext, c.ext, m);
+      FAIL("accepted");
+    } catch (const common::DataError& e) {
+      CHECK_THAT(std::string(e.what()), Catch::Contains("bad." + c.ext) && Catch::Contains(c.want));
+    }
+  }
+  // Valid: a quad with v/vt/vn and a relative index -> two triangles; millimetres -> metres.
+  MeshImport mm;
+  mm.scale = 1e-3;
+  const std::string pov = mesh_file_to_pov("v 0 0 0\nv 1000 0 0\nv 1000 2000 0\nv 0 2000 0\nf 1/1/1 2//1 3 -1\n",
+                                           "quad.obj", "obj", mm);
+  CHECK_THAT(pov, Catch::Contains("vertex_vectors { 4") && Catch::Contains("face_indices { 2"));
+  CHECK_THAT(pov, Catch::Contains("<0, 0, 0>,\n    <1, 0, 0>,\n    <1, 0, 2>,\n    <0, 0, 2>"));
+  CHECK_THAT(pov, Catch::Contains("<0, 1, 2>,\n    <0, 2, 3>"));
 }

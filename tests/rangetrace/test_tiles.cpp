@@ -18,6 +18,7 @@
 #include "canopy/common/error.h"
 #include "canopy/formats/labels.h"
 #include "canopy/formats/pcd.h"
+#include "canopy/formats/points_io.h"
 #include "rangetrace/tile.h"
 #include "support/cli.h"
 
@@ -342,9 +343,64 @@ TEST_CASE("rangetrace CLI: a tile scan with truth.json, georeferenced in float64
   CHECK(slurp(dir / "geo.png").substr(1, 3) == "PNG");
 }
 
+TEST_CASE("rangetrace CLI: a tile written as .las reads back in float64 with labels and instances") {
+  // One run to .las, one to .pcd (same seed): the LAS holds the same points to its 1 mm grid,
+  // the same labels and instance ids; only the extension chose the format.
+  const auto dir = test::fresh_dir("rangetrace", "tile_las");
+  write_text(dir / "two.scene",
+             "extent = 16m 10m\ntrees = 0\nbushes = 0\nhide = 0\nvehicle = sedan 4 5 0\n"
+             "vehicle = tank 11.5 5 90deg\norigin = 500000 4400000 120\nflight_lines = 1\n"
+             "headings = 0\nlooks = 90deg\nspacing = 0.1m\ncanopy_spacing = 0.1m\n");
+  const std::string bin = std::string(CANOPY_BIN_DIR) + "/rangetrace";
+  std::string err;
+  for (const char* ext : {"las", "pcd"}) {
+    REQUIRE(test::sh(bin + " --seed 3 --scene " + (dir / "two.scene").string() + " -o " +
+                         (dir / (std::string("two.") + ext)).string(),
+                     dir / "err.txt", &err) == 0);
+  }
+  CHECK(slurp(dir / "two.las").substr(0, 4) == "LASF");
+  const formats::PointCloud las = formats::read_points((dir / "two.las").string());
+  const formats::PointCloud pcd = formats::read_pcd((dir / "two.pcd").string());
+  REQUIRE(las.size() == pcd.size());
+  REQUIRE(las.size() > 1000);
+  CHECK(las.type("x") == formats::kFloat64);
+  REQUIRE(las.has("label"));
+  REQUIRE(las.has("instance"));
+  std::set<double> instances, xs;
+  std::size_t vehicle_points = 0;
+  double worst = 0;
+  for (std::size_t i = 0; i < las.size(); ++i) {
+    for (const char* c : {"x", "y", "z"}) worst = std::max(worst, std::abs(las.col(c)[i] - pcd.col(c)[i]));
+    CHECK(las.col("label")[i] == pcd.col("label")[i]);
+    CHECK(las.col("instance")[i] == pcd.col("instance")[i]);
+    xs.insert(las.col("x")[i]);
+    const bool vehicle = las.col("label")[i] == formats::kLabelTarget;
+    CHECK((las.col("instance")[i] > 0) == vehicle);
+    if (vehicle) {
+      ++vehicle_points;
+      instances.insert(las.col("instance")[i]);
+      // Instance 1 is the sedan at x = 4 m, instance 2 the tank at x = 11.5 m.
+      CHECK(las.col("x")[i] - 500000 < (las.col("instance")[i] == 1 ? 8.0 : 16.0));
+      CHECK(las.col("x")[i] - 500000 > (las.col("instance")[i] == 1 ? 0.0 : 8.0));
+    }
+  }
+  CHECK(worst <= 0.0005 + 1e-9);  // LAS stores 1 mm steps: rounding moves a point by <= 0.5 mm
+  CHECK(xs.size() > 100);         // float32 would leave a handful of distinct eastings
+  CHECK(vehicle_points > 100);
+  CHECK(instances == std::set<double>{1, 2});
+  // An unknown extension is refused before any rendering, exit 2, no output.
+  const int rc = test::sh(bin + " --scene " + (dir / "two.scene").string() + " -o " +
+                              (dir / "two.xyz").string() + " --truth " + (dir / "t.json").string(),
+                          dir / "err.txt", &err);
+  CHECK(rc == 2);
+  CHECK_THAT(err, Catch::Contains("two.xyz") && Catch::Contains(".las"));
+  CHECK_FALSE(err.find("render:") != std::string::npos);
+  CHECK_FALSE(test::exists(dir / "t.json"));
+}
+
 TEST_CASE("scene recipes: mutated recipes are refused with an Error, never a crash") {
-  // A cheap deterministic fuzz of the recipe parser (the libFuzzer build does not link the
-  // stage libraries): byte flips, insertions and deletions of every built-in and tile recipe.
+  // A cheap deterministic fuzz of the recipe parser in the ordinary build (fuzz/fuzz_scene.cpp
+  // is the coverage-guided one): byte flips, insertions and deletions of every recipe.
   std::vector<std::string> seeds;
   for (const char* name : {"circle.scene", "flyby.scene", "unoccluded.scene", "forest.scene"}) {
     seeds.push_back(slurp(std::filesystem::path(CANOPY_SOURCE_DIR) / "share/scenes" / name));

@@ -9,7 +9,10 @@
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
 #include "canopy/common/units.h"
+#include "canopy/formats/las.h"
 #include "canopy/formats/pcd.h"
+#include "canopy/formats/ply.h"
+#include "canopy/formats/points_io.h"
 #include "rangetrace/rangetrace.h"
 #include "rangetrace/tile.h"
 
@@ -17,10 +20,16 @@ using namespace canopy;
 
 namespace {
 
-// The one place a scan is written: by the output's extension once formats offers more than
-// PCD (LAS: formats' write_points), PCD today.
-void write_points(const formats::PointCloud& cloud, const std::string& path) {
-  formats::write_pcd(cloud, path);
+// A tile scan's bytes in the format formats::write_points would write for `path` (by its
+// extension: .pcd, .ply, .las; "-" = PCD), so that the scan and truth.json can be committed
+// together by one OutputSet.
+std::string points_bytes(const formats::PointCloud& cloud, const std::string& path) {
+  const formats::PointFormat f = formats::output_format(path);
+  if (f == formats::PointFormat::kLas) return formats::serialize_las(cloud, common::display_name(path, true));
+  formats::Mesh m;
+  m.vertices = cloud;
+  formats::promote_coordinates(&m.vertices);
+  return f == formats::PointFormat::kPly ? formats::serialize_ply(m) : formats::serialize_pcd(m.vertices);
 }
 
 }  // namespace
@@ -36,10 +45,10 @@ int main(int argc, char** argv) {
   tool.app().add_option("--model", model, "earthmover, obj1, sedan, semi, tank, a POV-Ray include "
                         "declaring Vehicle (.inc/.pov), or a mesh (.ply/.obj/.stl); not with a "
                         "tile scene (its recipe places the vehicles)");
-  tool.add("--scene", &scene, "circle, flyby, unoccluded, a scene recipe file or a tile recipe "
-                              "(share/scenes/README.md; required for scans; for --picture, omit "
+  tool.add("--scene", &scene, "a recipe of share/scenes by name (circle, flyby, unoccluded, "
+                              "forest, ...) or a recipe file (share/scenes/README.md; required for scans; for --picture, omit "
                               "it to show the model alone)");
-  tool.add_output(&out, "scan PCD");
+  tool.add_output(&out, "scan: .pcd, .ply or .las (LAS 1.4) by the extension; '-' = PCD");
   tool.add("--units", &units, "mesh file units: mm, cm or m")->check(CLI::IsMember({"mm", "cm", "m"}));
   tool.add("--up", &up, "mesh file up axis: z or y")->check(CLI::IsMember({"y", "z"}));
   tool.add_angle("--heading", &p.pose.heading, "vehicle heading, counter-clockwise from +x");
@@ -62,6 +71,7 @@ int main(int argc, char** argv) {
         !(p.crop_width > 0) || !(p.crop_height > 0)) {
       throw common::UsageError("need 8 <= --size <= 8192, --spacing > 0 and crop sizes > 0");
     }
+    formats::output_format(out);  // a mistyped extension fails before any rendering
     p.seed = tool.seed();
     p.threads = tool.threads();
     // Options added for tiles are recorded only in tile outputs, so that single-vehicle scans
@@ -80,6 +90,12 @@ int main(int argc, char** argv) {
         if (!model.empty()) {
           throw common::UsageError("--model: the tile scene '" + scene + "' places its own vehicles "
                                    "(vehicle = ... lines)");
+        }
+        // The scan and truth.json are committed together, or neither (checked before the work).
+        common::OutputSet outputs;
+        if (picture.empty()) {
+          outputs.add(out, "-o");
+          if (!truth.empty()) outputs.add(truth, "--truth");
         }
         const rangetrace::Tile tile = rangetrace::build_tile(*s.tile, scene, p);
         if (!picture.empty()) {
@@ -100,14 +116,9 @@ int main(int argc, char** argv) {
                         s.tile->origin.y(), s.tile->origin.z());
           scan.cloud.comments.push_back(buf);
         }
-        // Both outputs are staged before either is committed.
-        std::unique_ptr<common::AtomicOutput> truth_out;
-        if (!truth.empty()) {
-          truth_out = std::make_unique<common::AtomicOutput>(truth);
-          truth_out->stream() << rangetrace::truth_json(rendered, parameters(true));
-        }
-        write_points(scan.cloud, out);
-        if (truth_out) truth_out->commit();
+        outputs.set(out, points_bytes(scan.cloud, out));
+        if (!truth.empty()) outputs.set(truth, rangetrace::truth_json(rendered, parameters(true)));
+        outputs.commit();
         double area = 0;
         for (double a : scan.area_per_view) area += a;
         char dens[200];
@@ -143,7 +154,7 @@ int main(int argc, char** argv) {
     for (const auto& [name, value] : parameters(false)) {
       cloud.comments.push_back("parameter " + name + " = " + value);
     }
-    write_points(cloud, out);
+    formats::write_points(cloud, out);
     common::log::info("wrote " + std::to_string(cloud.size()) + " points (" + m.name + ", " +
                       s.name + ", " + std::to_string(s.views.size()) + " views) to " +
                       common::display_name(out, true));

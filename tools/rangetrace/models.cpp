@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstring>
 #include <sstream>
+#include <stdexcept>
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
@@ -56,7 +57,11 @@ RawMesh read_obj(const std::string& bytes, const std::string& path) {
       for (std::string w; ls >> w;) {
         int idx = 0;
         try {
-          idx = std::stoi(w.substr(0, w.find('/')));
+          // The vertex index is the whole word up to '/': "1.5" or "2x" are not indices.
+          const std::string head = w.substr(0, w.find('/'));
+          std::size_t used = 0;
+          idx = std::stoi(head, &used);
+          if (used != head.size()) throw std::invalid_argument(head);
         } catch (const std::logic_error&) {
           throw DataError(path, "line " + std::to_string(line_no) + ": malformed face index '" + w + "'");
         }
@@ -114,9 +119,9 @@ RawMesh read_stl(const std::string& bytes, const std::string& path) {
   return mesh;
 }
 
-RawMesh read_mesh(const std::string& path, const std::string& ext) {
+RawMesh parse_mesh(const std::string& bytes, const std::string& name, const std::string& ext) {
   if (ext == "ply") {
-    const formats::Mesh m = formats::read_ply(path);
+    const formats::Mesh m = formats::parse_ply(bytes, name);
     RawMesh mesh;
     const auto& x = m.vertices.col("x");
     const auto& y = m.vertices.col("y");
@@ -125,8 +130,7 @@ RawMesh read_mesh(const std::string& path, const std::string& ext) {
     for (const auto& f : m.faces) mesh.faces.push_back({f[0], f[1], f[2]});
     return mesh;
   }
-  const std::string bytes = common::read_file(path);
-  return ext == "obj" ? read_obj(bytes, path) : read_stl(bytes, path);
+  return ext == "obj" ? read_obj(bytes, name) : read_stl(bytes, name);
 }
 
 }  // namespace
@@ -153,6 +157,18 @@ std::string mesh_to_pov(const std::vector<Eigen::Vector3d>& vertices,
   }
   out += "\n  }\n}\n";
   return out;
+}
+
+std::string mesh_file_to_pov(const std::string& bytes, const std::string& name,
+                             const std::string& ext, const MeshImport& import) {
+  RawMesh mesh = parse_mesh(bytes, name, ext);
+  if (mesh.faces.empty()) throw DataError(name, "mesh has no faces");
+  for (auto& v : mesh.vertices) {
+    if (!v.allFinite()) throw DataError(name, "non-finite vertex coordinate");
+    v *= import.scale;
+    if (!import.z_up) v = Eigen::Vector3d(v.x(), -v.z(), v.y());  // y-up right-handed -> z-up
+  }
+  return mesh_to_pov(mesh.vertices, mesh.faces);
 }
 
 Model load_model(const std::string& spec, const MeshImport& import) {
@@ -182,14 +198,7 @@ Model load_model(const std::string& spec, const MeshImport& import) {
     throw common::UsageError("--model '" + spec + "': not a built-in model (" + names +
                              ") nor a .inc/.pov/.ply/.obj/.stl file");
   }
-  RawMesh mesh = read_mesh(spec, ext);
-  if (mesh.faces.empty()) throw DataError(spec, "mesh has no faces");
-  for (auto& v : mesh.vertices) {
-    if (!v.allFinite()) throw DataError(spec, "non-finite vertex coordinate");
-    v *= import.scale;
-    if (!import.z_up) v = Eigen::Vector3d(v.x(), -v.z(), v.y());  // y-up right-handed -> z-up
-  }
-  model.inline_code = mesh_to_pov(mesh.vertices, mesh.faces);
+  model.inline_code = mesh_file_to_pov(common::read_file(spec), spec, ext, import);
   return model;
 }
 

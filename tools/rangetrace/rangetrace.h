@@ -65,7 +65,9 @@ struct SceneRecipe {
 
 // Parses a recipe; `name` is used in errors ("<name>: line 3: ...") and as the scene name.
 SceneRecipe parse_scene(const std::string& text, const std::string& name);
-// A built-in name (circle, flyby, unoccluded: share/scenes/<name>.scene) or a recipe path.
+// A short name (no '/' or '.') of a recipe in share/scenes/ (circle, flyby, unoccluded, forest,
+// ...: share/scenes/<name>.scene, found before a file of that name in the working directory)
+// or a recipe path. An unknown short name that is no file is a UsageError.
 SceneRecipe load_scene(const std::string& name_or_path);
 
 std::vector<View> circle_views(int count, double elevation);
@@ -113,6 +115,10 @@ Model load_model(const std::string& spec, const MeshImport& import);
 // Mesh triangles (world-frame vertices in metres) -> POV-Ray code declaring Vehicle.
 std::string mesh_to_pov(const std::vector<Eigen::Vector3d>& vertices,
                         const std::vector<std::array<int, 3>>& faces);
+// The bytes of a mesh file (ext: "ply", "obj" or "stl", lower case) -> POV-Ray code declaring
+// Vehicle, as load_model does for a mesh path; errors are DataErrors naming `name`.
+std::string mesh_file_to_pov(const std::string& bytes, const std::string& name,
+                             const std::string& ext, const MeshImport& import);
 extern const char* const kBuiltinModels[5];
 
 // ---------------------------------------------------------------- rendering

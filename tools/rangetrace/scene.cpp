@@ -3,6 +3,8 @@
 #include <cmath>
 #include <sstream>
 
+#include <sys/stat.h>
+
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "canopy/common/rng.h"
@@ -195,18 +197,25 @@ SceneRecipe parse_scene(const std::string& text, const std::string& name) {
 }
 
 SceneRecipe load_scene(const std::string& name_or_path) {
-  for (const char* builtin : {"circle", "flyby", "unoccluded"}) {
-    if (name_or_path == builtin) {
-      const std::string path = common::share_dir() + "/scenes/" + builtin + ".scene";
-      SceneRecipe s = parse_scene(common::read_file(path), path);
-      s.name = builtin;
-      return s;
+  // A short name (no '/', no '.') is a recipe of share/scenes/ when one exists by that name:
+  // the thesis scenes (circle, flyby, unoccluded) and tiles such as forest.
+  std::string path = name_or_path;
+  std::string name = name_or_path;
+  if (!name_or_path.empty() && name_or_path.find_first_of("/.") == std::string::npos) {
+    const std::string shared = common::share_dir() + "/scenes/" + name_or_path + ".scene";
+    struct stat st{};
+    if (::stat(shared.c_str(), &st) == 0 && S_ISREG(st.st_mode)) {
+      path = shared;
+    } else if (::stat(name_or_path.c_str(), &st) != 0) {
+      throw common::UsageError("--scene '" + name_or_path + "': no such file, nor a recipe " +
+                               common::share_dir() + "/scenes/" + name_or_path + ".scene");
     }
   }
-  SceneRecipe s = parse_scene(common::read_file(name_or_path), name_or_path);
+  SceneRecipe s = parse_scene(common::read_file(path), path);
+  if (path != name_or_path) s.name = name;
   if (s.tile) {
-    const auto slash = name_or_path.find_last_of('/');
-    s.tile->dir = slash == std::string::npos ? "" : name_or_path.substr(0, slash + 1);
+    const auto slash = path.find_last_of('/');
+    s.tile->dir = slash == std::string::npos ? "" : path.substr(0, slash + 1);
   }
   return s;
 }
