@@ -139,6 +139,7 @@ void json_seeds() {
   put("json", "segment-id-1e20.json", variant("\"segment_id\": 0", "\"segment_id\": 1e20"));
   put("json", "dangling.json", variant("\"shared_edges\": 3", "\"shared_edges\": 3}, {\"a\": 0, \"b\": 99999, "
                                                               "\"shared_edges\": 1}, {\"a\": 1, \"b\": 1, \"shared_edges\": 1"));
+  put("json", "deep.json", "{\"format\": " + std::string(100, '[') + std::string(100, ']') + "}");
   f::MatchResult r;
   r.provenance = {"gmatch", "0.1.0", {}, {"s.json"}};
   r.object = "s.json";

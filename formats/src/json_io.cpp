@@ -129,6 +129,27 @@ Provenance provenance_from(const Json& j) {
 
 // Parses the document and checks "format" and "version".
 Json open_document(const std::string& text, const std::string& name, const char* format) {
+  // canopy documents nest 5 levels; nlohmann copies values recursively (ordered_json's
+  // objects copy their values when they grow), so a 60 KB file of nested brackets would
+  // overflow the stack. Refuse deep nesting before parsing.
+  constexpr int kMaxDepth = 64;
+  int depth = 0;
+  bool in_string = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (c == '\\') ++i;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxDepth) {
+        throw DataError(name, "JSON nested deeper than " + std::to_string(kMaxDepth) + " levels (not a canopy document)");
+      }
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
   Json j;
   try {
     j = Json::parse(text);

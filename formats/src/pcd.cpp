@@ -214,7 +214,7 @@ struct Layout {
   std::size_t step = 0;  // bytes per point in binary data
 };
 
-Layout make_layout(const Header& h, const std::string& name) {
+Layout make_layout(const Header& h) {
   Layout l;
   for (std::size_t f = 0; f < h.fields.size(); ++f) {
     const FieldType t{h.kinds[f], h.sizes[f]};
@@ -223,7 +223,6 @@ Layout make_layout(const Header& h, const std::string& name) {
       l.step += static_cast<std::size_t>(t.size);
     }
   }
-  (void)name;
   return l;
 }
 
@@ -412,7 +411,7 @@ void gather_compressed(const std::vector<unsigned char>& raw, const Header& h, L
 PointCloud parse_body(const std::string& bytes, const Header& h, const std::string& name) {
   PointCloud cloud;
   cloud.comments = h.comments;
-  Layout l = make_layout(h, name);
+  Layout l = make_layout(h);
   if (h.data == "ascii") {
     parse_ascii(bytes, h, l, &cloud, name);
   } else if (h.data == "binary") {
@@ -496,7 +495,7 @@ PointCloud read_pcd(const std::string& path) {
     // binary_compressed: the file's bytes are let go before the columns are made.
     PointCloud cloud;
     cloud.comments = h.comments;
-    Layout l = make_layout(h, path);
+    Layout l = make_layout(h);
     std::vector<unsigned char> raw = decompress(head, h, l, path);
     std::string().swap(head);
     gather_compressed(raw, h, l, &cloud, path);
@@ -507,7 +506,7 @@ PointCloud read_pcd(const std::string& path) {
 
   PointCloud cloud;
   cloud.comments = h.comments;
-  Layout l = make_layout(h, path);
+  Layout l = make_layout(h);
   const std::size_t avail = file_size - std::min(file_size, h.data_offset);
   check_binary_size(h.points, l.step, avail, path);
   const auto cols = make_columns(h, &l, &cloud, path);

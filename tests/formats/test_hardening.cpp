@@ -430,8 +430,16 @@ TEST_CASE("read_pcd: a long header (many comment lines) across read chunks") {
   CHECK(back.comments.back() == "comment line 19999");
 }
 
-TEST_CASE("JSON: deeply nested values in messages are described, not dumped") {
+TEST_CASE("JSON: deep nesting is refused before parsing; nested values in messages are described") {
+  // 30 000 levels used to overflow the stack (nlohmann copies values recursively).
   const std::string deep = std::string(30000, '[') + std::string(30000, ']');
-  CHECK_THAT(graph_error("{\"format\": " + deep + "}", "deep.json"), Contains("format is an array"));
-  CHECK_THAT(graph_error(graph("1", deep), "deep-id.json"), Contains("segment_id must be an integer, not an array"));
+  CHECK_THAT(graph_error("{\"format\": " + deep + "}", "deep.json"), Contains("nested deeper than 64 levels"));
+  CHECK_THAT(graph_error(graph("1", deep), "deep-id.json"), Contains("nested deeper than 64 levels"));
+  // Brackets inside strings do not count.
+  std::string brackets = graph();
+  brackets.replace(brackets.find("\"mesh\": \"mesh.ply\""), 18, "\"mesh\": \"" + std::string(100, '[') + "\\\"\"");
+  CHECK(parse_segment_graph(brackets, "b.json").mesh == std::string(100, '[') + "\"");
+  const std::string shallow = "[[[[[[1]]]]]]";
+  CHECK_THAT(graph_error(graph("1", shallow), "arr-id.json"), Contains("segment_id must be an integer, not an array"));
+  CHECK_THAT(graph_error("{\"format\": " + shallow + "}", "arr.json"), Contains("format is an array"));
 }
