@@ -2,7 +2,8 @@
 # Sanitizer build of canopy (g++, AddressSanitizer + UndefinedBehaviorSanitizer, -O1 -g) in
 # build-asan/, then its tests. Any ASan or UBSan report fails the test that triggered it
 # (UBSan halts on the first error); LeakSanitizer reports from the GL driver under VTK are
-# suppressed by scripts/sanitize.supp.
+# suppressed by scripts/sanitize.supp where the driver's frames are named, and leak checking is
+# off for the VTK-rendering tests where they are not (see below).
 # Usage: scripts/sanitize.sh [ctest -R regex] [build target ...]
 #   scripts/sanitize.sh                      everything
 #   scripts/sanitize.sh test_formats test_formats pcd2ply   the formats tests only
@@ -26,8 +27,18 @@ export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:strict_string_checks=1:dete
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 export LSAN_OPTIONS="suppressions=$root/scripts/sanitize.supp:print_suppressions=0"
 cd build-asan
+# The tests that render with VTK (figures) leak 112 bytes inside the Mesa GL driver, which is
+# unloaded before LeakSanitizer reports, so the report names no library a suppression could
+# match. Those tests run with leak detection off (ASan and UBSan stay on); all others with it.
+vtk='test_figures|cli_contract_figures'
+rc=0
 if [ -n "$regex" ]; then
-  ctest --output-on-failure -R "$regex"
+  ctest --output-on-failure -R "$regex" -E "$vtk" || rc=1
+  if [[ "test_figures cli_contract_figures" =~ $regex ]]; then
+    ASAN_OPTIONS="$ASAN_OPTIONS:detect_leaks=0" ctest --output-on-failure -R "$vtk" || rc=1
+  fi
 else
-  ctest --output-on-failure
+  ctest --output-on-failure -E "$vtk" || rc=1
+  ASAN_OPTIONS="$ASAN_OPTIONS:detect_leaks=0" ctest --output-on-failure -R "$vtk" || rc=1
 fi
+exit $rc
