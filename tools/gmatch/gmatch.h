@@ -103,9 +103,12 @@ struct Out {
 // does not depend on the thread count), ranks by score (ties: model name), computes entropy.
 Out run(const In& in, const Params& params, int threads = 1);
 
+// Largest model graph read_modelbase() accepts (2 000² pairs × 16 bytes = 64 MB of tables).
+inline constexpr std::size_t kMaxModelSegments = 2000;
+
 // Reads every "<model>.json" in `dir`, sorted by file name; other entries are ignored.
 // Throws DataError naming the directory (missing, not a directory, no models) or the file
-// (malformed, or rejected by validate_graph).
+// (malformed, rejected by validate_graph, or over kMaxModelSegments segments).
 std::vector<Model> read_modelbase(const std::string& dir);
 
 const char* to_string(OrientationForm form);

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <exception>
 #include <filesystem>
+#include <string>
 #include <system_error>
 
 #include "canopy/common/error.h"
@@ -41,6 +42,15 @@ std::vector<Model> read_modelbase(const std::string& dir) {
       throw DataError(path, e.what());
     }
     validate_graph(model.graph, path);
+    // The matcher keeps two model-by-model tables (pairwise angles and distances): memory grows
+    // with the square of the segment count (20 000 segments cost 6.3 GB). ncut's models have
+    // tens to a few hundred segments.
+    if (model.graph.segments.size() > kMaxModelSegments) {
+      throw DataError(path, "model graph has " + std::to_string(model.graph.segments.size()) +
+                                " segments; gmatch matches models of at most " +
+                                std::to_string(kMaxModelSegments) +
+                                " (its pairwise tables grow with the square of the count)");
+    }
     models.push_back(std::move(model));
   }
   return models;
