@@ -179,6 +179,10 @@ bool promote_coordinates(PointCloud* cloud) {
 }
 
 void write_points(const PointCloud& cloud, const std::string& path) {
+  write_points(cloud, path, PcdWriteOptions{});
+}
+
+void write_points(const PointCloud& cloud, const std::string& path, const PcdWriteOptions& pcd) {
   const PointFormat f = output_format(path);
   if (f == PointFormat::kLas) {
     write_las(cloud, path);
@@ -188,16 +192,30 @@ void write_points(const PointCloud& cloud, const std::string& path) {
   bool promote = false;
   for (const char* c : {"x", "y", "z"}) promote = promote || float32_loses(cloud, c);
   if (f == PointFormat::kPcd && !promote) {
-    write_pcd(cloud, path);
+    write_pcd(cloud, path, pcd);
     return;
   }
   m.vertices = cloud;
   promote_coordinates(&m.vertices);
   if (f == PointFormat::kPcd) {
-    write_pcd(m.vertices, path);
+    write_pcd(m.vertices, path, pcd);
   } else {
     write_ply(m, path);
   }
+}
+
+PcdWriteOptions parse_pcd_encoding(const std::string& name) {
+  PcdWriteOptions o;
+  if (name == "binary") {
+    o.encoding = PcdEncoding::binary;
+  } else if (name == "binary_compressed") {
+    o.encoding = PcdEncoding::binary_compressed;
+  } else if (name == "ascii") {
+    o.encoding = PcdEncoding::ascii;
+  } else {
+    throw common::UsageError("--pcd-encoding must be binary, binary_compressed or ascii, not '" + name + "'");
+  }
+  return o;
 }
 
 }  // namespace canopy::formats

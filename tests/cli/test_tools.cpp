@@ -124,6 +124,35 @@ TEST_CASE("a stray word is answered with 'use -i', a mistyped option with 'did y
   CHECK(sh(bin("fitvox") + " --help > " + q(d / "help"), d / "err", &err) == 0);
 }
 
+TEST_CASE("--pcd-encoding writes binary_compressed and ascii PCD with the same points") {
+  const fs::path d = fresh_dir("cli", "pcd_encoding");
+  write_patch(d / "scan.pcd");
+  std::string err;
+  for (const std::string tool : {"addnoise", "fitvox"}) {
+    const std::string base = bin(tool) + " -q -i " + q(d / "scan.pcd");
+    REQUIRE(sh(base + " -o " + q(d / (tool + "-b.pcd")), d / "err", &err) == 0);
+    REQUIRE(sh(base + " --pcd-encoding binary_compressed -o " + q(d / (tool + "-c.pcd")), d / "err", &err) == 0);
+    REQUIRE(sh(base + " --pcd-encoding ascii -o " + q(d / (tool + "-a.pcd")), d / "err", &err) == 0);
+    CHECK_THAT(slurp(d / (tool + "-c.pcd")), Catch::Contains("\nDATA binary_compressed\n"));
+    CHECK_THAT(slurp(d / (tool + "-a.pcd")), Catch::Contains("\nDATA ascii\n"));
+    const auto b = canopy::formats::read_pcd((d / (tool + "-b.pcd")).string());
+    for (const std::string v : {"c", "a"}) {
+      const auto o = canopy::formats::read_pcd((d / (tool + "-" + v + ".pcd")).string());
+      REQUIRE(o.size() == b.size());
+      REQUIRE(o.names() == b.names());
+      for (std::size_t c = 0; c < b.names().size(); ++c) {
+        for (std::size_t i = 0; i < b.size(); ++i) {
+          // Ascii prints float32 columns with enough digits to round-trip them.
+          CHECK(static_cast<float>(o.col(c)[i]) == static_cast<float>(b.col(c)[i]));
+        }
+      }
+    }
+    CHECK(sh(base + " --pcd-encoding lzf -o " + q(d / (tool + "-x.pcd")), d / "err", &err) == 2);
+    CHECK_THAT(err, Catch::Contains("--pcd-encoding"));
+    CHECK_FALSE(fs::exists(d / (tool + "-x.pcd")));
+  }
+}
+
 TEST_CASE("values out of an option's range are usage errors naming the option, before any output") {
   const fs::path d = fresh_dir("cli", "ranges");
   write_patch(d / "scan.pcd");

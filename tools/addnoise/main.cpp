@@ -19,8 +19,11 @@ int main(int argc, char** argv) {
   tool.add_input(&in, "scan: PCD, PLY point set or LAS (x y z and any other fields)");
   tool.add_output(&out, "noisy scan: .pcd, .ply or .las (- = PCD)");
   tool.add_length("--sigma", &p.sigma, "standard deviation per axis (0 = exact copy)", 1.0);
+  std::string pcd_encoding = "binary";
+  tool.add("--pcd-encoding", &pcd_encoding, "DATA of a PCD output: binary, binary_compressed (PCL tools' default) or ascii");
   return tool.run(argc, argv, [&] {
     formats::output_format(out);
+    const formats::PcdWriteOptions pcd = formats::parse_pcd_encoding(pcd_encoding);
     if (!(p.sigma >= 0 && p.sigma <= 100)) throw common::UsageError("--sigma must be in [0, 100m]");
     p.seed = tool.seed();
     common::log::Phase read("read");
@@ -32,7 +35,7 @@ int main(int argc, char** argv) {
     for (const auto& [name, value] : tool.parameters()) {
       noisy.comments.push_back("parameter " + name + " = " + value);
     }
-    formats::write_points(noisy, out);
+    formats::write_points(noisy, out, pcd);
     common::log::info("wrote " + std::to_string(noisy.size()) + " points, sigma " +
                       common::format_length(p.sigma) + ", to " + common::display_name(out, true));
   });

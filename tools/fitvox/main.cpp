@@ -20,6 +20,8 @@ int main(int argc, char** argv) {
   tool.add_length("--voxel", &p.voxel, "voxel edge; voxel centres at multiples of it from the world origin",
                   1.0);
   tool.add("--min-points", &p.min_points, "reject voxels with fewer points (>= 6)");
+  std::string pcd_encoding = "binary";
+  tool.add("--pcd-encoding", &pcd_encoding, "DATA of a PCD output: binary, binary_compressed (PCL tools' default) or ascii");
   tool.add_length("--max-rms", &p.max_rms, "RMS fit-error bound for noiseless data");
   tool.add("--noise", &noise, "noise sigma that widens the RMS bound: 'auto' = estimate from "
                               "the scan's fits, a length = known sigma, 0 = fixed --max-rms");
@@ -35,6 +37,7 @@ int main(int argc, char** argv) {
   tool.add("--merge", &p.merge, "resampled samples closer than this many voxel edges merge (>= 0; 0 = off)");
   return tool.run(argc, argv, [&] {
     formats::output_format(out);
+    const formats::PcdWriteOptions pcd = formats::parse_pcd_encoding(pcd_encoding);
     if (support != "auto") {
       try {
         std::size_t used = 0;
@@ -91,7 +94,7 @@ int main(int argc, char** argv) {
     std::snprintf(buf, sizeof buf, "noise_sigma_used %.6g m (estimated %.6g m)", s.sigma,
                   s.sigma_estimated);
     samples.comments.push_back(buf);
-    formats::write_points(samples, out);
+    formats::write_points(samples, out, pcd);
     common::log::info("wrote " + std::to_string(r.samples.size()) + " samples to " +
                       common::display_name(out, true));
   });

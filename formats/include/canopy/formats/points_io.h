@@ -8,6 +8,7 @@
 
 #include <string>
 
+#include "canopy/formats/pcd.h"
 #include "canopy/formats/point_cloud.h"
 
 namespace canopy::formats {
@@ -37,6 +38,10 @@ PointFormat output_format(const std::string& path);
 // Writes atomically in the format output_format(path) gives. Coordinates are never silently
 // quantised: see promote_coordinates().
 void write_points(const PointCloud& cloud, const std::string& path);
+// The same; a PCD output uses `pcd`'s DATA encoding (binary_compressed is PCL tools' default).
+void write_points(const PointCloud& cloud, const std::string& path, const PcdWriteOptions& pcd);
+// "binary" | "binary_compressed" | "ascii" (a tool's --pcd-encoding) -> options; else UsageError.
+PcdWriteOptions parse_pcd_encoding(const std::string& name);
 
 // Float32 x y z columns are turned into float64 when float32 would move any coordinate by
 // more than kFloat32CoordinateTolerance (that happens beyond ~2 km from the origin, e.g. in
