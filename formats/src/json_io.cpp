@@ -1,4 +1,5 @@
 #include "canopy/formats/json_io.h"
+#include "canopy/formats/json_document.h"
 
 #include <algorithm>
 #include <cmath>
@@ -127,50 +128,9 @@ Provenance provenance_from(const Json& j) {
   return p;
 }
 
-// Parses the document and checks "format" and "version".
+// Parses the document and checks "format" and "version" (open_json_document, below).
 Json open_document(const std::string& text, const std::string& name, const char* format) {
-  // canopy documents nest 5 levels; nlohmann copies values recursively (ordered_json's
-  // objects copy their values when they grow), so a 60 KB file of nested brackets would
-  // overflow the stack. Refuse deep nesting before parsing.
-  constexpr int kMaxDepth = 64;
-  int depth = 0;
-  bool in_string = false;
-  for (std::size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    if (in_string) {
-      if (c == '\\') ++i;
-      else if (c == '"') in_string = false;
-    } else if (c == '"') {
-      in_string = true;
-    } else if (c == '[' || c == '{') {
-      if (++depth > kMaxDepth) {
-        throw DataError(name, "JSON nested deeper than " + std::to_string(kMaxDepth) + " levels (not a canopy document)");
-      }
-    } else if (c == ']' || c == '}') {
-      --depth;
-    }
-  }
-  Json j;
-  try {
-    j = Json::parse(text);
-  } catch (const Json::exception& e) {  // parse errors, and numbers out of double's range (1e400)
-    const std::string is = detail::sniff(text);
-    if (!is.empty() && is != "a JSON document") throw DataError(name, "this is " + is + ", not a JSON document");
-    throw DataError(name, "not valid JSON: " + detail::quote(library_text(e), 200));
-  }
-  if (!j.is_object() || !j.contains("format")) throw DataError(name, "no \"format\" key (not a canopy JSON document)");
-  if (!j["format"].is_string() || j["format"].get<std::string>() != format) {
-    throw DataError(name, "format is " + describe(j["format"]) + ", expected \"" + format + "\"");
-  }
-  if (!j.contains("version") || !(j["version"].is_number_integer() || j["version"].is_number_unsigned())) {
-    throw DataError(name, "no integer \"version\"");
-  }
-  const Json& v = j["version"];
-  if (v.is_number_unsigned() ? v.get<std::uint64_t>() != static_cast<std::uint64_t>(kVersion)
-                             : v.get<std::int64_t>() != kVersion) {
-    throw DataError(name, std::string(format) + " version " + v.dump() + " is not supported (this build reads version 1)");
-  }
-  return j;
+  return open_json_document(text, name, format);
 }
 
 std::string dump(const Json& j) { return j.dump(1) + "\n"; }
@@ -353,6 +313,51 @@ MatchResult read_match_result(const std::string& path) {
 
 void write_match_result(const MatchResult& result, const std::string& path) {
   common::write_file_atomic(path, serialize_match_result(result));
+}
+
+Json open_json_document(const std::string& text, const std::string& name, const char* format) {
+  // canopy documents nest 5 levels; nlohmann copies values recursively (ordered_json's
+  // objects copy their values when they grow), so a 60 KB file of nested brackets would
+  // overflow the stack. Refuse deep nesting before parsing.
+  constexpr int kMaxDepth = 64;
+  int depth = 0;
+  bool in_string = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (c == '\\') ++i;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxDepth) {
+        throw DataError(name, "JSON nested deeper than " + std::to_string(kMaxDepth) + " levels (not a canopy document)");
+      }
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+  Json j;
+  try {
+    j = Json::parse(text);
+  } catch (const Json::exception& e) {  // parse errors, and numbers out of double's range (1e400)
+    const std::string is = detail::sniff(text);
+    if (!is.empty() && is != "a JSON document") throw DataError(name, "this is " + is + ", not a JSON document");
+    throw DataError(name, "not valid JSON: " + detail::quote(library_text(e), 200));
+  }
+  if (!j.is_object() || !j.contains("format")) throw DataError(name, "no \"format\" key (not a canopy JSON document)");
+  if (!j["format"].is_string() || j["format"].get<std::string>() != format) {
+    throw DataError(name, "format is " + describe(j["format"]) + ", expected \"" + format + "\"");
+  }
+  if (!j.contains("version") || !(j["version"].is_number_integer() || j["version"].is_number_unsigned())) {
+    throw DataError(name, "no integer \"version\"");
+  }
+  const Json& v = j["version"];
+  if (v.is_number_unsigned() ? v.get<std::uint64_t>() != static_cast<std::uint64_t>(kVersion)
+                             : v.get<std::int64_t>() != kVersion) {
+    throw DataError(name, std::string(format) + " version " + v.dump() + " is not supported (this build reads version 1)");
+  }
+  return j;
 }
 
 }  // namespace canopy::formats

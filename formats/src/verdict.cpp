@@ -1,5 +1,7 @@
 #include "canopy/formats/verdict.h"
 
+#include "canopy/formats/json_document.h"
+
 #include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -124,25 +126,7 @@ std::string serialize_verdict(const Verdict& v) {
 }
 
 Verdict parse_verdict(const std::string& text, const std::string& name) {
-  Json j;
-  try {
-    j = Json::parse(text);
-  } catch (const Json::parse_error& e) {
-    throw DataError(name, std::string("not valid JSON: ") + e.what());
-  }
-  if (!j.is_object() || !j.contains("format")) {
-    throw DataError(name, "no \"format\" key (not a canopy JSON document)");
-  }
-  if (!j["format"].is_string() || j["format"].get<std::string>() != kFormat) {
-    throw DataError(name, "format is " + j["format"].dump() + ", expected \"" + kFormat + "\"");
-  }
-  if (!j.contains("version") || !j["version"].is_number_integer()) {
-    throw DataError(name, "no integer \"version\"");
-  }
-  if (j["version"].get<long long>() != kVersion) {
-    throw DataError(name, std::string(kFormat) + " version " + j["version"].dump() +
-                              " is not supported (this build reads version 1)");
-  }
+  const Json j = open_json_document(text, name, kFormat);
   Verdict v;
   try {
     const Json& p = j.at("provenance");

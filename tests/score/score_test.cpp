@@ -207,7 +207,7 @@ TEST_CASE("no detections: precision undefined, recall 0") {
 TEST_CASE("bad documents are refused naming the file and the field") {
   CHECK_THROWS_WITH(score::parse_truth("{", "t.json"), Catch::Contains("t.json"));
   CHECK_THROWS_WITH(score::parse_truth(R"({"format":"canopy.detections","version":1})", "t.json"),
-                    Catch::Contains("not a canopy.scene_truth"));
+                    Catch::Contains("expected \"canopy.scene_truth\""));
   CHECK_THROWS_WITH(score::parse_detections(R"({"format":"canopy.detections","version":2})", "d.json"),
                     Catch::Contains("version 2"));
   Json bad = Json::parse(detections_text({det("c1", "sedan", 1.5, 10, 10, 30)}));

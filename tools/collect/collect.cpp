@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "canopy/common/error.h"
+#include "canopy/formats/json_document.h"
 
 namespace canopy::collect {
 namespace {
@@ -58,22 +59,7 @@ Matrix matrix(const Json& v, const std::string& where) {
 }
 
 Json parse_document(const std::string& text, const std::string& name, const char* format) {
-  Json j;
-  try {
-    j = Json::parse(text);
-  } catch (const Json::parse_error& e) {
-    throw common::DataError(name, std::string("not JSON: ") + e.what());
-  }
-  if (!j.is_object() || !j.contains("format") || j["format"] != format) {
-    throw common::DataError(name, std::string("not a ") + format + " document (\"format\" is " +
-                                      (j.is_object() && j.contains("format") ? j["format"].dump() : "missing") + ")");
-  }
-  if (!j.contains("version") || j["version"] != 1) {
-    throw common::DataError(name, std::string(format) + " version " +
-                                      (j.contains("version") ? j["version"].dump() : "missing") +
-                                      " is not supported (this build reads version 1)");
-  }
-  return j;
+  return formats::open_json_document(text, name, format);
 }
 
 Corner apply(const Matrix& m, double x, double y) {

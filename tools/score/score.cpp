@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "canopy/common/error.h"
+#include "canopy/formats/json_document.h"
 
 namespace canopy::score {
 namespace {
@@ -52,22 +53,7 @@ const Json& array(const Json& j, const char* key, const std::string& where) {
 }
 
 Json parse_document(const std::string& text_, const std::string& name, const char* format) {
-  Json j;
-  try {
-    j = Json::parse(text_);
-  } catch (const Json::parse_error& e) {
-    throw common::DataError(name, std::string("not JSON: ") + e.what());
-  }
-  if (!j.is_object() || !j.contains("format") || j["format"] != format) {
-    throw common::DataError(name, std::string("not a ") + format + " document (\"format\" is " +
-                                      (j.is_object() && j.contains("format") ? j["format"].dump() : "missing") + ")");
-  }
-  if (!j.contains("version") || j["version"] != 1) {
-    throw common::DataError(name, std::string(format) + " version " +
-                                      (j.contains("version") ? j["version"].dump() : "missing") +
-                                      " is not supported (this build reads version 1)");
-  }
-  return j;
+  return formats::open_json_document(text_, name, format);
 }
 
 Json ratio(double a, double b) { return b > 0 ? Json(a / b) : Json(nullptr); }
