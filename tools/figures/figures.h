@@ -97,6 +97,7 @@ std::vector<ScoreRow> parse_scores_csv(const std::string& text, const std::strin
 struct PlotParams {
   int width = 1200;
   int height = 420;
+  std::string y_title = "score of the correct model";  // e.g. "share of the visible area" for areas.csv
 };
 
 // One panel per scene (in order of first appearance), one line per object (same colour in

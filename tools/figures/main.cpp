@@ -115,6 +115,7 @@ int main(int argc, char** argv) {
   plot->add_option("--height", pp.height, "image height in pixels")
       ->check(common::number_check<int>())
       ->capture_default_str();
+  plot->add_option("--ylabel", pp.y_title, "title of the y axis")->capture_default_str();
 
   return tool.run(argc, argv, [&] {
     if (mesh->parsed()) {

@@ -200,7 +200,7 @@ Image plot_scores(const std::vector<ScoreRow>& rows, const PlotParams& params, c
     x->SetCustomTickPositions(ticks, tick_labels);
     x->SetGridVisible(false);
     vtkAxis* y = chart->GetAxis(vtkAxis::LEFT);
-    y->SetTitle("score of the correct model");
+    y->SetTitle(params.y_title.c_str());
     y->SetBehavior(vtkAxis::FIXED);
     y->SetRange(bottom, top * 1.02);
     vtkNew<vtkTable> failures_table;
