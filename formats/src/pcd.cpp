@@ -315,18 +315,6 @@ bool all_zero(const unsigned char* p, std::size_t n) {
                             " bytes (wrong POINTS?; zero padding, as PCL writes, is accepted)");
 }
 
-void check_coordinates(const PointCloud& cloud, const std::string& name) {
-  for (const char* c : {"x", "y", "z"}) {
-    if (!cloud.has(c)) continue;
-    const auto& v = cloud.col(c);
-    for (std::size_t i = 0; i < v.size(); ++i) {
-      if (!std::isfinite(v[i])) {
-        throw DataError(name, std::string("point ") + std::to_string(i) + " has a non-finite " + c +
-                                  " (NaN or infinite coordinates are not accepted)");
-      }
-    }
-  }
-}
 
 bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
 
@@ -618,6 +606,19 @@ void write_pcd(const PointCloud& cloud, const std::string& path) { write_pcd(clo
 void write_pcd(const PointCloud& cloud, const std::string& path, const PcdWriteOptions& options) {
   check_coordinates(cloud, path == "-" ? "<stdout>" : path);
   common::write_file_atomic(path, serialize_pcd(cloud, options));
+}
+
+void check_coordinates(const PointCloud& cloud, const std::string& name) {
+  for (const char* c : {"x", "y", "z"}) {
+    if (!cloud.has(c)) continue;
+    const auto& v = cloud.col(c);
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      if (!std::isfinite(v[i])) {
+        throw DataError(name, std::string("point ") + std::to_string(i) + " has a non-finite " + c +
+                                  " (NaN or infinite coordinates are not accepted)");
+      }
+    }
+  }
 }
 
 }  // namespace canopy::formats

@@ -182,26 +182,21 @@ void write_points(const PointCloud& cloud, const std::string& path) {
   write_points(cloud, path, PcdWriteOptions{});
 }
 
-void write_points(const PointCloud& cloud, const std::string& path, const PcdWriteOptions& pcd) {
+std::string serialize_points(const PointCloud& cloud, const std::string& path, const PcdWriteOptions& pcd) {
   const PointFormat f = output_format(path);
-  if (f == PointFormat::kLas) {
-    write_las(cloud, path);
-    return;
-  }
-  Mesh m;  // PLY writes a Mesh; the copy also takes any promotion
+  if (f == PointFormat::kLas) return serialize_las(cloud, common::display_name(path, true));
   bool promote = false;
   for (const char* c : {"x", "y", "z"}) promote = promote || float32_loses(cloud, c);
-  if (f == PointFormat::kPcd && !promote) {
-    write_pcd(cloud, path, pcd);
-    return;
-  }
+  if (f == PointFormat::kPcd && !promote) return serialize_pcd(cloud, pcd);
+  Mesh m;  // PLY writes a Mesh; the copy also takes any promotion
   m.vertices = cloud;
   promote_coordinates(&m.vertices);
-  if (f == PointFormat::kPcd) {
-    write_pcd(m.vertices, path, pcd);
-  } else {
-    write_ply(m, path);
-  }
+  return f == PointFormat::kPcd ? serialize_pcd(m.vertices, pcd) : serialize_ply(m);
+}
+
+void write_points(const PointCloud& cloud, const std::string& path, const PcdWriteOptions& pcd) {
+  if (output_format(path) == PointFormat::kPcd) check_coordinates(cloud, path == "-" ? "<stdout>" : path);
+  common::write_file_atomic(path, serialize_points(cloud, path, pcd));
 }
 
 PcdWriteOptions parse_pcd_encoding(const std::string& name) {

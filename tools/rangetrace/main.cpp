@@ -9,30 +9,11 @@
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
 #include "canopy/common/units.h"
-#include "canopy/formats/las.h"
-#include "canopy/formats/pcd.h"
-#include "canopy/formats/ply.h"
 #include "canopy/formats/points_io.h"
 #include "rangetrace/rangetrace.h"
 #include "rangetrace/tile.h"
 
 using namespace canopy;
-
-namespace {
-
-// A tile scan's bytes in the format formats::write_points would write for `path` (by its
-// extension: .pcd, .ply, .las; "-" = PCD), so that the scan and truth.json can be committed
-// together by one OutputSet.
-std::string points_bytes(const formats::PointCloud& cloud, const std::string& path) {
-  const formats::PointFormat f = formats::output_format(path);
-  if (f == formats::PointFormat::kLas) return formats::serialize_las(cloud, common::display_name(path, true));
-  formats::Mesh m;
-  m.vertices = cloud;
-  formats::promote_coordinates(&m.vertices);
-  return f == formats::PointFormat::kPly ? formats::serialize_ply(m) : formats::serialize_pcd(m.vertices);
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   common::Tool tool("rangetrace", "Simulated airborne range scan of a vehicle under foliage, "
@@ -116,7 +97,7 @@ int main(int argc, char** argv) {
                         s.tile->origin.y(), s.tile->origin.z());
           scan.cloud.comments.push_back(buf);
         }
-        outputs.set(out, points_bytes(scan.cloud, out));
+        outputs.set(out, formats::serialize_points(scan.cloud, out));
         if (!truth.empty()) outputs.set(truth, rangetrace::truth_json(rendered, parameters(true)));
         outputs.commit();
         double area = 0;

@@ -24,6 +24,9 @@ struct PcdWriteOptions {
 };
 
 // Writes atomically (temporary file + rename). Rejects NaN/inf coordinates x, y, z.
+// Throws DataError(name) naming the first point whose x, y or z is NaN or infinite (the readers
+// and writers of every point format refuse them).
+void check_coordinates(const PointCloud& cloud, const std::string& name);
 void write_pcd(const PointCloud& cloud, const std::string& path);
 void write_pcd(const PointCloud& cloud, const std::string& path, const PcdWriteOptions& options);
 std::string serialize_pcd(const PointCloud& cloud);

@@ -40,6 +40,10 @@ PointFormat output_format(const std::string& path);
 void write_points(const PointCloud& cloud, const std::string& path);
 // The same; a PCD output uses `pcd`'s DATA encoding (binary_compressed is PCL tools' default).
 void write_points(const PointCloud& cloud, const std::string& path, const PcdWriteOptions& pcd);
+// The bytes write_points writes for `path` (format by its extension, coordinates promoted), for
+// a tool that commits them together with other outputs (common::OutputSet).
+std::string serialize_points(const PointCloud& cloud, const std::string& path,
+                             const PcdWriteOptions& pcd = PcdWriteOptions{});
 // "binary" | "binary_compressed" | "ascii" (a tool's --pcd-encoding) -> options; else UsageError.
 PcdWriteOptions parse_pcd_encoding(const std::string& name);
 
