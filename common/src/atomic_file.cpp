@@ -58,16 +58,7 @@ extern "C" void remove_pending_and_reraise(int sig, siginfo_t* info, void* conte
       return;
     }
   }
-  struct sigaction dfl {};
-  dfl.sa_handler = SIG_DFL;
-  sigemptyset(&dfl.sa_mask);
-  sigaction(sig, &dfl, nullptr);
-  // The signal is blocked while its handler runs: unblock it so the re-raise terminates now.
-  sigset_t set;
-  sigemptyset(&set);
-  sigaddset(&set, sig);
-  pthread_sigmask(SIG_UNBLOCK, &set, nullptr);
-  raise(sig);
+  reraise_with_default_action(sig);
 }
 
 // Installs the handler for every signal where it is not the current one; a handler the program
@@ -222,6 +213,19 @@ class HoldSignals {
 };
 
 }  // namespace
+
+void reraise_with_default_action(int sig) noexcept {
+  struct sigaction dfl {};
+  dfl.sa_handler = SIG_DFL;
+  sigemptyset(&dfl.sa_mask);
+  sigaction(sig, &dfl, nullptr);
+  // The signal is blocked while its handler runs: unblock it so the re-raise terminates now.
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, sig);
+  pthread_sigmask(SIG_UNBLOCK, &set, nullptr);
+  raise(sig);
+}
 
 void remove_pending_outputs() noexcept {
   for (int i = 0; i < kMaxPending; ++i) {

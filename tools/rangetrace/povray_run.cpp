@@ -90,15 +90,7 @@ extern "C" void kill_children_and_clean(int sig, siginfo_t* info, void* context)
       prev.sa_handler(sig);
     }
   }
-  struct sigaction dfl {};
-  dfl.sa_handler = SIG_DFL;
-  sigemptyset(&dfl.sa_mask);
-  sigaction(sig, &dfl, nullptr);
-  sigset_t unblock;
-  sigemptyset(&unblock);
-  sigaddset(&unblock, sig);
-  pthread_sigmask(SIG_UNBLOCK, &unblock, nullptr);
-  ::raise(sig);
+  common::reraise_with_default_action(sig);
 }
 
 void install_handlers() {

@@ -103,6 +103,11 @@ class OutputSet {
 // the program had installed, if any, or re-raises with the default action.)
 void remove_pending_outputs() noexcept;
 
+// The end of a signal handler that cleaned up: restores the signal's default action, unblocks
+// it and raises it again, so the process dies of the signal (status 128 + sig for the shell).
+// Async-signal-safe.
+void reraise_with_default_action(int sig) noexcept;
+
 // Reads a whole file ("-" = stdin) into memory. Throws DataError (missing, directory,
 // unreadable).
 std::string read_file(const std::string& path);
