@@ -698,6 +698,27 @@ Tile build_tile(const TileRecipe& recipe, const std::string& name, const Params&
     tile.trees.push_back(t);
     trunks.emplace_back(s.x, s.y);
   }
+  // A random tree at trunk position p: its kind, variant, rotation and scale are drawn (always,
+  // so the draws do not depend on the outcome), then it is planted when p is `inside` the tile,
+  // 0.6 m clear of every taken footprint and 1.5 m from every trunk.
+  auto place_random_tree = [&](const Vector2d& p, bool inside) {
+    const bool conifer = trng.uniform() < recipe.conifer_share;
+    const int variant = static_cast<int>(trng.below(4));
+    const double rot = trng.uniform(0, 2 * M_PI), scale = trng.uniform(0.85, 1.15);
+    bool clear = inside;
+    for (const auto& q : taken) clear = clear && distance_to_quad(p, q) >= 0.6;
+    for (const auto& q : trunks) clear = clear && (q - p).norm() >= 1.5;
+    if (!clear) return false;
+    PlacedTree t;
+    t.conifer = conifer;
+    t.template_index = (conifer ? 4 : 0) + variant;
+    t.base = Vector3d(p.x(), p.y(), terrain.height(p.x(), p.y()));
+    t.rotation = rot;
+    t.scale = scale;
+    tile.trees.push_back(t);
+    trunks.push_back(p);
+    return true;
+  };
   // Concealment: `hide` trees beside each vehicle, trunks 0.6-2 m out from its long sides.
   const int hide = recipe.hide >= 0 ? recipe.hide : recipe.trees_per_ha > 0 ? 2 : 0;
   for (const auto& v : tile.vehicles) {
@@ -707,22 +728,8 @@ Tile build_tile(const TileRecipe& recipe, const std::string& name, const Params&
         const double side = (k % 2 == 0) ? 1 : -1;
         const Vector2d p = v.pose.anchor.head<2>() + trng.uniform(-0.45, 0.45) * v.size.x() * f +
                            side * (v.size.y() / 2 + trng.uniform(0.6, 2.0)) * l;
-        const bool conifer = trng.uniform() < recipe.conifer_share;
-        const int variant = static_cast<int>(trng.below(4));
-        const double rot = trng.uniform(0, 2 * M_PI), scale = trng.uniform(0.85, 1.15);
-        bool clear = p.x() >= 0 && p.y() >= 0 && p.x() <= recipe.extent_x && p.y() <= recipe.extent_y;
-        for (const auto& q : taken) clear = clear && distance_to_quad(p, q) >= 0.6;
-        for (const auto& q : trunks) clear = clear && (q - p).norm() >= 1.5;
-        if (!clear) continue;
-        PlacedTree t;
-        t.conifer = conifer;
-        t.template_index = (conifer ? 4 : 0) + variant;
-        t.base = Vector3d(p.x(), p.y(), terrain.height(p.x(), p.y()));
-        t.rotation = rot;
-        t.scale = scale;
-        tile.trees.push_back(t);
-        trunks.push_back(p);
-        break;
+        const bool inside = p.x() >= 0 && p.y() >= 0 && p.x() <= recipe.extent_x && p.y() <= recipe.extent_y;
+        if (place_random_tree(p, inside)) break;
       }
     }
   }
@@ -731,22 +738,7 @@ Tile build_tile(const TileRecipe& recipe, const std::string& name, const Params&
   for (int k = 0; k < n_trees; ++k) {
     for (int attempt = 0; attempt < 50; ++attempt) {
       const Vector2d p(trng.uniform(0, recipe.extent_x), trng.uniform(0, recipe.extent_y));
-      const bool conifer = trng.uniform() < recipe.conifer_share;
-      const int variant = static_cast<int>(trng.below(4));
-      const double rot = trng.uniform(0, 2 * M_PI), scale = trng.uniform(0.85, 1.15);
-      bool clear = true;
-      for (const auto& q : taken) clear = clear && distance_to_quad(p, q) >= 0.6;
-      for (const auto& q : trunks) clear = clear && (q - p).norm() >= 1.5;
-      if (!clear) continue;
-      PlacedTree t;
-      t.conifer = conifer;
-      t.template_index = (conifer ? 4 : 0) + variant;
-      t.base = Vector3d(p.x(), p.y(), terrain.height(p.x(), p.y()));
-      t.rotation = rot;
-      t.scale = scale;
-      tile.trees.push_back(t);
-      trunks.push_back(p);
-      break;
+      if (place_random_tree(p, true)) break;
     }
   }
   common::Rng brng(common::derive_seed(params.seed, "bushes"));
