@@ -489,32 +489,27 @@ void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
       return;
     }
   }
+  // Cuts the object at a clear valley across axis `a` (pieces at least `min_part` wide) and
+  // examines both sides; false when there is no such valley.
+  auto split_at_valley = [&](const Vector2d& a, double min_part) {
+    const double cut = valley_cut(c, pts, a, min_part);
+    if (std::isnan(cut)) return false;
+    std::vector<std::uint32_t> lo, hi;
+    for (std::uint32_t q : pts) (Vector2d(c.x[q], c.y[q]).dot(a) < cut ? lo : hi).push_back(q);
+    ++c.stats.splits;
+    examine(c, std::move(lo), depth + 1);
+    examine(c, std::move(hi), depth + 1);
+    return true;
+  };
   if (two_wide && !too_long && depth < kMaxSplitDepth) {
     // Side by side and touching: a valley across the width.
-    const Vector2d a(-o.fp.axis.y(), o.fp.axis.x());
-    const double cut = valley_cut(c, pts, a, p.min_width);
-    if (!std::isnan(cut)) {
-      std::vector<std::uint32_t> lo, hi;
-      for (std::uint32_t q : pts) (Vector2d(c.x[q], c.y[q]).dot(a) < cut ? lo : hi).push_back(q);
-      ++c.stats.splits;
-      examine(c, std::move(lo), depth + 1);
-      examine(c, std::move(hi), depth + 1);
-      return;
-    }
+    if (split_at_valley(Vector2d(-o.fp.axis.y(), o.fp.axis.x()), p.min_width)) return;
   }
   if (too_long || too_wide) {
     // Oversized: cut at a clear valley across the oversized axis.
     if (depth < kMaxSplitDepth) {
       const Vector2d a = too_wide ? Vector2d(-o.fp.axis.y(), o.fp.axis.x()) : o.fp.axis;
-      const double cut = valley_cut(c, pts, a, too_wide ? p.min_width : p.min_length);
-      if (!std::isnan(cut)) {
-        std::vector<std::uint32_t> lo, hi;
-        for (std::uint32_t q : pts) (Vector2d(c.x[q], c.y[q]).dot(a) < cut ? lo : hi).push_back(q);
-        ++c.stats.splits;
-        examine(c, std::move(lo), depth + 1);
-        examine(c, std::move(hi), depth + 1);
-        return;
-      }
+      if (split_at_valley(a, too_wide ? p.min_width : p.min_length)) return;
     }
     // No clean split: a vehicle with a bush against it stays a candidate (recall first) when
     // it is at most a quarter beyond the ranges.
