@@ -128,11 +128,6 @@ Provenance provenance_from(const Json& j) {
   return p;
 }
 
-// Parses the document and checks "format" and "version" (open_json_document, below).
-Json open_document(const std::string& text, const std::string& name, const char* format) {
-  return open_json_document(text, name, format);
-}
-
 std::string dump(const Json& j) { return j.dump(1) + "\n"; }
 
 }  // namespace
@@ -160,7 +155,7 @@ std::string serialize_segment_graph(const SegmentGraph& g) {
 }
 
 SegmentGraph parse_segment_graph(const std::string& text, const std::string& name) {
-  const Json j = open_document(text, name, kGraphFormat);
+  const Json j = open_json_document(text, name, kGraphFormat);
   SegmentGraph g;
   try {
     g.provenance = provenance_from(j.at("provenance"));
@@ -261,7 +256,7 @@ std::string serialize_match_result(const MatchResult& r) {
 }
 
 MatchResult parse_match_result(const std::string& text, const std::string& name) {
-  const Json j = open_document(text, name, kMatchFormat);
+  const Json j = open_json_document(text, name, kMatchFormat);
   MatchResult r;
   try {
     r.provenance = provenance_from(j.at("provenance"));
