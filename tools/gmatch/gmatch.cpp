@@ -412,6 +412,7 @@ void validate(const Params& p) {
     if (!(e >= 0) || !std::isfinite(e)) throw UsageError("error exponents must be finite and >= 0");
   }
   if (p.max_nodes < 0) throw UsageError("--max-nodes must be >= 0 (0 = unlimited)");
+  if (p.prefilter < 0) throw UsageError("--prefilter must be >= 0 (0 = off)");
 }
 
 void validate_graph(const SegmentGraph& g, const std::string& name) {
@@ -461,13 +462,16 @@ Out run(const In& in, const Params& params, int threads) {
   const auto& models = *in.models;
   Out out;
   out.result.error_form = to_string(params.error);
-  std::vector<formats::ModelScore> scores(models.size());
+  const std::vector<int> kept =
+      prefilter(*in.object, models, params.prefilter, params.max_segments);
+  std::vector<formats::ModelScore> scores(kept.size());
   out.stats.resize(models.size());
-  const int n = static_cast<int>(models.size());
+  out.searched = static_cast<int>(kept.size());
+  const int n = static_cast<int>(kept.size());
   const int workers = std::max(1, std::min(threads, n));
   auto work = [&](int w) {
     for (int i = w; i < n; i += workers) {
-      scores[i] = match_model(*in.object, models[i], params, &out.stats[i]);
+      scores[i] = match_model(*in.object, models[kept[i]], params, &out.stats[kept[i]]);
     }
   };
   if (workers == 1) {

@@ -7,6 +7,7 @@
 // Decisions where the thesis is silent or inconsistent: docs/decisions/gmatch.md.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -59,6 +60,10 @@ struct Params {
   // Tree nodes expanded per model before the search stops with the best match so far
   // (0 = unlimited). A safety valve against exponential blow-up.
   std::int64_t max_nodes = 0;
+  // Prefilter (docs/decisions/gmatch.md §9): rank the models by a cheap distance between graph
+  // summaries and run the full search on the K nearest only (0 = off: every model). With
+  // K >= the number of models the result is identical to off.
+  int prefilter = 0;
 };
 
 // Throws common::UsageError when a parameter is out of range.
@@ -89,6 +94,24 @@ formats::ModelScore match_model(const formats::SegmentGraph& object, const Model
 // is non-zero, log2 N when all N are equal (including all zero: no information at all).
 double entropy(const std::vector<double>& scores);
 
+// Cheap, heading-invariant summary of a graph's X largest segments (the ones the search
+// considers): their total area, the area-weighted spread of their centroids along the two
+// horizontal principal axes and the vertical, and the share of their area by normal tilt.
+struct Summary {
+  int segments = 0;                    // segments summarised (min(X, count))
+  double area = 0;                     // m^2
+  std::array<double, 3> spread{};      // m: horizontal major, horizontal minor, vertical
+  std::array<double, 3> tilt{};        // area share with |n_z| < 0.38, < 0.92, >= 0.92
+};
+Summary summarize(const formats::SegmentGraph& graph, int max_segments);
+// Distance between two summaries: |log area ratio| + sum of |log spread ratios| (spreads
+// floored at 5 cm) + L1 distance of the tilt shares. Symmetric, 0 for equal summaries.
+double summary_distance(const Summary& a, const Summary& b);
+// Indices of the k models nearest the object by summary_distance (ties: modelbase order),
+// in modelbase order. k <= 0 or k >= models.size(): every index.
+std::vector<int> prefilter(const formats::SegmentGraph& object, const std::vector<Model>& models,
+                           int k, int max_segments);
+
 struct In {
   const formats::SegmentGraph* object = nullptr;
   const std::vector<Model>* models = nullptr;
@@ -96,10 +119,12 @@ struct In {
 
 struct Out {
   formats::MatchResult result;        // models ranked, entropy, error_form (no provenance)
-  std::vector<SearchStats> stats;     // per model, in modelbase order
+  std::vector<SearchStats> stats;     // per model, in modelbase order (0 when not searched)
+  int searched = 0;                   // models kept by the prefilter (all when it is off)
 };
 
-// Matches the object against every model (models in parallel when threads > 1; the result
+// Matches the object against every model kept by the prefilter (all when params.prefilter is
+// 0 or >= the number of models; only the kept models are ranked and listed), models in parallel when threads > 1; the result
 // does not depend on the thread count), ranks by score (ties: model name), computes entropy.
 Out run(const In& in, const Params& params, int threads = 1);
 

@@ -1,4 +1,5 @@
 // gmatch: rank the models of a modelbase by how well an object's segment graph matches them.
+#include <algorithm>
 #include <cstdio>
 #include <string>
 
@@ -11,6 +12,9 @@
 
 namespace cm = canopy::common;
 namespace gm = canopy::gmatch;
+
+// Measured on a 1000-entry modelbase (docs/decisions/gmatch.md §9).
+constexpr int kDefaultPrefilter = 64;
 
 int main(int argc, char** argv) {
   cm::Tool tool("gmatch",
@@ -54,6 +58,10 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"json", "table"}));
   tool.add("--max-nodes", &p.max_nodes,
            "tree nodes expanded per model before stopping (0 = no limit)");
+  p.prefilter = kDefaultPrefilter;
+  tool.add("--prefilter", &p.prefilter,
+           "full search on the K models nearest by graph summaries only (0 = every model; "
+           "K >= the modelbase size: every model, same output as 0)");
   tool.add_flag("--no-bound", &no_bound, "disable branch and bound (same result, slower)")
       ->default_str("false");
 
@@ -79,11 +87,23 @@ int main(int argc, char** argv) {
     }
     phase.done(
         std::to_string(object.segments.size()) + " object segments against " +
-        std::to_string(models.size()) + " models, " + std::to_string(nodes) + " tree nodes" +
+        (result.searched < static_cast<int>(models.size())
+             ? std::to_string(result.searched) + " of " + std::to_string(models.size()) +
+                   " models (prefilter)"
+             : std::to_string(models.size()) + " models") +
+        ", " + std::to_string(nodes) + " tree nodes" +
         (truncated ? ", " + std::to_string(truncated) + " searches stopped at --max-nodes" : ""));
 
     auto& r = result.result;
-    r.provenance = {"gmatch", CANOPY_VERSION, tool.parameters(), {in, modelbase}};
+    // The prefilter is recorded only when it acted (kept fewer models than the modelbase has):
+    // otherwise the output is exactly that of a run without it, byte for byte.
+    auto parameters = tool.parameters();
+    if (result.searched == static_cast<int>(models.size())) {
+      parameters.erase(std::remove_if(parameters.begin(), parameters.end(),
+                                      [](const auto& kv) { return kv.first == "prefilter"; }),
+                       parameters.end());
+    }
+    r.provenance = {"gmatch", CANOPY_VERSION, parameters, {in, modelbase}};
     r.object = in;
     if (format == "table") {
       cm::write_file_atomic(out, gm::format_table(r, gm::object_name(in)));
