@@ -1,0 +1,436 @@
+#include "baseline/baseline.h"
+
+#include <pcl/console/print.h>
+#include <pcl/features/fpfh.h>
+#include <pcl/features/normal_3d.h>
+#include <pcl/features/vfh.h>
+#include <pcl/filters/voxel_grid.h>
+#include <pcl/kdtree/kdtree_flann.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+#include <pcl/registration/icp.h>
+#include <pcl/registration/sample_consensus_prerejective.h>
+#include <pcl/registration/transformation_estimation_2D.h>
+#include <pcl/search/kdtree.h>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <system_error>
+
+#include "canopy/common/error.h"
+#include "canopy/formats/pcd.h"
+
+namespace canopy::baseline {
+namespace {
+
+using PointN = pcl::PointNormal;
+using CloudN = pcl::PointCloud<PointN>;
+using Features = pcl::PointCloud<pcl::FPFHSignature33>;
+using Vfh = std::array<float, 308>;
+using Planar = pcl::registration::TransformationEstimation2D<PointN, PointN>;
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::vector<Eigen::Vector3f> column3(const formats::PointCloud& cloud, const std::string& prefix,
+                                     const std::string& name, bool unit) {
+  const std::string x = prefix.empty() ? "x" : prefix + "_x";
+  const std::string y = prefix.empty() ? "y" : prefix + "_y";
+  const std::string z = prefix.empty() ? "z" : prefix + "_z";
+  cloud.require({x, y, z}, name,
+                prefix.empty() ? "is this a point cloud?" : "the baseline needs points with normals, "
+                                                            "e.g. fitvox's samples");
+  std::vector<Eigen::Vector3f> v(cloud.size());
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    Eigen::Vector3d d(cloud.col(x)[i], cloud.col(y)[i], cloud.col(z)[i]);
+    if (!d.allFinite() || (unit && !(d.norm() > 1e-9))) {
+      throw common::DataError(name, "point " + std::to_string(i) + ": " +
+                                        (prefix.empty() ? "coordinate" : prefix) +
+                                        (unit ? " is zero or not finite" : " is not finite"));
+    }
+    if (unit) d.normalize();
+    v[i] = d.cast<float>();
+  }
+  return v;
+}
+
+CloudN::Ptr to_pcl(const Cloud& c) {
+  CloudN::Ptr out(new CloudN);
+  out->resize(c.points.size());
+  for (std::size_t i = 0; i < c.points.size(); ++i) {
+    auto& p = (*out)[i];
+    p.getVector3fMap() = c.points[i];
+    p.getNormalVector3fMap() = c.normals.empty() ? Eigen::Vector3f::Zero() : c.normals[i];
+    p.curvature = 0;
+  }
+  return out;
+}
+
+// Voxel-grid downsampling, then PCL normals on the downsampled points (radius), oriented like
+// the input normals (the samples' normals face the sensor) where those exist.
+CloudN::Ptr prepare(const Cloud& c, const Params& p) {
+  CloudN::Ptr in = to_pcl(c);
+  pcl::VoxelGrid<PointN> grid;
+  grid.setInputCloud(in);
+  grid.setLeafSize(p.voxel, p.voxel, p.voxel);
+  CloudN::Ptr down(new CloudN);
+  grid.filter(*down);
+  // The averaged input normals give the orientation; PCL recomputes the direction.
+  pcl::NormalEstimation<PointN, PointN> ne;
+  pcl::search::KdTree<PointN>::Ptr tree(new pcl::search::KdTree<PointN>);
+  ne.setSearchMethod(tree);
+  ne.setRadiusSearch(p.normal_radius);
+  ne.setInputCloud(down);
+  CloudN::Ptr normals(new CloudN);
+  ne.compute(*normals);
+  CloudN::Ptr out(new CloudN);
+  for (std::size_t i = 0; i < down->size(); ++i) {
+    PointN q = (*down)[i];
+    Eigen::Vector3f n = (*normals)[i].getNormalVector3fMap();
+    if (!n.allFinite() || n.norm() < 0.5f) continue;  // too few neighbours for a plane
+    if (n.dot(q.getNormalVector3fMap()) < 0) n = -n;
+    q.getNormalVector3fMap() = n;
+    q.curvature = (*normals)[i].curvature;
+    out->push_back(q);
+  }
+  return out;
+}
+
+Features::Ptr fpfh(const CloudN::Ptr& c, const Params& p) {
+  pcl::FPFHEstimation<PointN, PointN, pcl::FPFHSignature33> est;
+  pcl::search::KdTree<PointN>::Ptr tree(new pcl::search::KdTree<PointN>);
+  est.setSearchMethod(tree);
+  est.setRadiusSearch(p.feature_radius);
+  est.setInputCloud(c);
+  est.setInputNormals(c);
+  Features::Ptr f(new Features);
+  est.compute(*f);
+  return f;
+}
+
+// VFH of a cloud with normals, the viewpoint straight above its centroid: the ground plane is
+// known (z up), so the viewpoint component measures the normals' tilt, the same for the
+// candidate and every model view, and the descriptor does not depend on the heading. Normalised
+// to sum 1.
+Vfh vfh(const std::vector<Eigen::Vector3f>& pts, const std::vector<Eigen::Vector3f>& nrm) {
+  CloudN::Ptr c(new CloudN);
+  Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    PointN p;
+    p.getVector3fMap() = pts[i];
+    p.getNormalVector3fMap() = nrm[i];
+    c->push_back(p);
+    centroid += pts[i];
+  }
+  centroid /= static_cast<float>(pts.size());
+  pcl::VFHEstimation<PointN, PointN, pcl::VFHSignature308> est;
+  pcl::search::KdTree<PointN>::Ptr tree(new pcl::search::KdTree<PointN>);
+  est.setSearchMethod(tree);
+  est.setInputCloud(c);
+  est.setInputNormals(c);
+  est.setViewPoint(centroid.x(), centroid.y(), centroid.z() + 1000.0f);
+  pcl::PointCloud<pcl::VFHSignature308> out;
+  est.compute(out);
+  Vfh h{};
+  double sum = 0;
+  for (int i = 0; i < 308; ++i) sum += out[0].histogram[i];
+  for (int i = 0; i < 308; ++i) h[i] = sum > 0 ? static_cast<float>(out[0].histogram[i] / sum) : 0;
+  return h;
+}
+
+double l1(const Vfh& a, const Vfh& b) {
+  double d = 0;
+  for (int i = 0; i < 308; ++i) d += std::fabs(a[i] - b[i]);
+  return d;
+}
+
+// The model as a sensor on the ring at `azimuth` sees it: points whose normal faces the sensor
+// (back-face culling; self-occlusion is not modelled).
+Cloud view(const Cloud& m, double azimuth, double elevation) {
+  const Eigen::Vector3f s(static_cast<float>(std::cos(elevation) * std::cos(azimuth)),
+                          static_cast<float>(std::cos(elevation) * std::sin(azimuth)),
+                          static_cast<float>(std::sin(elevation)));
+  Cloud out;
+  for (std::size_t i = 0; i < m.points.size(); ++i) {
+    if (m.normals[i].dot(s) > 0.1f) {
+      out.points.push_back(m.points[i]);
+      out.normals.push_back(m.normals[i]);
+    }
+  }
+  return out;
+}
+
+// Share of the points of `a` within `r` of some point of `b` (a k-d tree on b).
+double share_near(const CloudN& a, const pcl::KdTreeFLANN<PointN>& b, double r) {
+  if (a.empty()) return 0;
+  std::vector<int> idx(1);
+  std::vector<float> d2(1);
+  std::size_t n = 0;
+  for (const auto& p : a) {
+    if (b.nearestKSearch(p, 1, idx, d2) > 0 && d2[0] <= r * r) ++n;
+  }
+  return static_cast<double>(n) / static_cast<double>(a.size());
+}
+
+struct Fit {
+  Eigen::Matrix4f pose;
+  double candidate_share = 0, model_share = 0, fitness = 0;
+};
+
+// The fitness of a posed model: sqrt(share of candidate points within r of the posed model x
+// share of posed model points within r of the candidate).
+Fit fit(const CloudN& model, const Eigen::Matrix4f& pose, const CloudN& cand,
+        const pcl::KdTreeFLANN<PointN>& ctree, double r) {
+  Fit f;
+  f.pose = pose;
+  CloudN moved;
+  pcl::transformPointCloud(model, moved, pose);
+  pcl::KdTreeFLANN<PointN> mtree;
+  mtree.setInputCloud(moved.makeShared());
+  f.candidate_share = share_near(cand, mtree, r);
+  f.model_share = share_near(moved, ctree, r);
+  f.fitness = std::sqrt(f.candidate_share * f.model_share);
+  return f;
+}
+
+void rank(std::vector<Entry>& e) {
+  std::stable_sort(e.begin(), e.end(), [](const Entry& a, const Entry& b) {
+    if (a.score != b.score) return a.score > b.score;
+    return a.model < b.model;
+  });
+  for (std::size_t i = 0; i < e.size(); ++i) e[i].rank = static_cast<int>(i) + 1;
+}
+
+Ranking run_vfh(const Cloud& cand, const std::vector<Model>& models, const Params& p) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Ranking r;
+  r.method = "vfh";
+  const Vfh c = vfh(cand.points, cand.normals);
+  for (const auto& m : models) {
+    Entry e;
+    e.model = m.name;
+    e.distance = 1e9;
+    for (int v = 0; v <= p.views; ++v) {
+      const Cloud seen = v < p.views ? view(m.surface, 2 * M_PI * v / p.views, p.view_elevation)
+                                     : m.surface;
+      if (seen.points.size() < 3) continue;
+      const double d = l1(c, vfh(seen.points, seen.normals));
+      if (d < e.distance) {
+        e.distance = d;
+        e.view = v;
+      }
+    }
+    e.score = std::clamp(1.0 - e.distance / 2.0, 0.0, 1.0);
+    r.models.push_back(e);
+  }
+  rank(r.models);
+  r.seconds = seconds_since(t0);
+  return r;
+}
+
+Ranking run_fpfh(const Cloud& cand, const std::vector<Model>& models, const Params& p) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Ranking r;
+  r.method = "fpfh";
+  const CloudN::Ptr c = prepare(cand, p);
+  const Features::Ptr cf = fpfh(c, p);
+  pcl::KdTreeFLANN<PointN> ctree;
+  if (!c->empty()) ctree.setInputCloud(c);
+  for (const auto& m : models) {
+    Entry e;
+    e.model = m.name;
+    const CloudN::Ptr mc = prepare(m.surface, p);
+    if (c->size() >= 3 && mc->size() >= 3) {
+      const Features::Ptr mf = fpfh(mc, p);
+      pcl::SampleConsensusPrerejective<PointN, PointN, pcl::FPFHSignature33> align;
+      align.setInputSource(mc);
+      align.setSourceFeatures(mf);
+      align.setInputTarget(c);
+      align.setTargetFeatures(cf);
+      align.setMaximumIterations(p.ransac_iterations);
+      align.setNumberOfSamples(3);
+      align.setCorrespondenceRandomness(3);
+      align.setSimilarityThreshold(0.8f);
+      align.setMaxCorrespondenceDistance(p.inlier);
+      align.setInlierFraction(0.1f);
+      // Ground vehicles: both frames stand on the ground (z = 0), so the pose is a heading and
+      // a ground translation (x, y, theta), in RANSAC and in ICP.
+      const auto planar = std::make_shared<Planar>();
+      align.setTransformationEstimation(planar);
+      CloudN posed;
+      std::srand(p.seed);  // RANSAC's draws use rand(): one seed per model, repeatable
+      align.align(posed);
+      Eigen::Matrix4f t = align.getFinalTransformation();
+      e.posed = align.hasConverged();
+      if (e.posed) {
+        Fit best = fit(*mc, t, *c, ctree, p.inlier);
+        // ICP, coarse (twice the inlier distance) then fine (half of it); a stage is kept only
+        // when it does not lower the fitness (ICP can slide a symmetric shape off).
+        for (const double dist : {2 * p.inlier, 0.5 * p.inlier}) {
+          if (p.icp_iterations == 0) break;
+          pcl::IterativeClosestPoint<PointN, PointN> icp;
+          icp.setInputSource(mc);
+          icp.setInputTarget(c);
+          icp.setMaxCorrespondenceDistance(dist);
+          icp.setMaximumIterations(p.icp_iterations);
+          icp.setTransformationEstimation(planar);
+          CloudN refined;
+          icp.align(refined, best.pose);
+          if (!icp.hasConverged()) continue;
+          const Fit f = fit(*mc, icp.getFinalTransformation(), *c, ctree, p.inlier);
+          if (f.fitness >= best.fitness) best = f;
+        }
+        e.candidate_share = best.candidate_share;
+        e.model_share = best.model_share;
+        e.fitness = best.fitness;
+        e.pose = best.pose.cast<double>();
+      }
+    }
+    e.score = e.fitness;
+    r.models.push_back(e);
+  }
+  rank(r.models);
+  r.seconds = seconds_since(t0);
+  return r;
+}
+
+}  // namespace
+
+void validate(const Params& p) {
+  using common::UsageError;
+  if (!(p.voxel > 0)) throw UsageError("--voxel must be > 0");
+  if (!(p.normal_radius > 0)) throw UsageError("--normal-radius must be > 0");
+  if (!(p.feature_radius > p.normal_radius)) {
+    throw UsageError("--feature-radius must be larger than --normal-radius (FPFH needs it)");
+  }
+  if (!(p.inlier > 0)) throw UsageError("--inlier must be > 0");
+  if (p.ransac_iterations < 1) throw UsageError("--ransac-iterations must be >= 1");
+  if (p.icp_iterations < 0) throw UsageError("--icp-iterations must be >= 0");
+  if (p.views < 0) throw UsageError("--views must be >= 0");
+}
+
+Cloud candidate_from_cloud(const formats::PointCloud& cloud, const std::string& name,
+                           double min_height) {
+  if (cloud.empty()) throw common::DataError(name, "empty candidate: no points");
+  const auto pts = column3(cloud, "", name, false);
+  const auto nrm = column3(cloud, "normal", name, true);
+  Cloud c;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    if (pts[i].z() < min_height) continue;
+    c.points.push_back(pts[i]);
+    c.normals.push_back(nrm[i]);
+  }
+  if (c.points.size() < 3) {
+    throw common::DataError(name, "fewer than 3 candidate points above the ground cut");
+  }
+  return c;
+}
+
+Cloud model_from_cloud(const formats::PointCloud& cloud, const std::string& name) {
+  const auto pts = column3(cloud, "", name, false);
+  const auto nrm = column3(cloud, "normal", name, true);
+  const bool labelled = cloud.has("label");
+  Cloud c;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    if (labelled ? cloud.col("label")[i] != 1 : pts[i].z() <= 0.05f) continue;
+    c.points.push_back(pts[i]);
+    c.normals.push_back(nrm[i]);
+  }
+  if (c.points.size() < 3) throw common::DataError(name, "fewer than 3 model surface points");
+  return c;
+}
+
+std::vector<Model> read_modelbase(const std::string& dir) {
+  namespace fs = std::filesystem;
+  using common::DataError;
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw DataError(dir, "modelbase directory does not exist");
+  std::vector<std::pair<std::string, std::string>> files;
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    if (entry.path().extension() == ".pcd" && entry.is_regular_file(ec)) {
+      files.emplace_back(entry.path().stem().string(), entry.path().string());
+    }
+  }
+  if (ec) throw DataError(dir, "cannot list modelbase directory: " + ec.message());
+  if (files.empty()) {
+    throw DataError(dir, "modelbase holds no <model>.pcd surfaces (make -f Makefile.experiments "
+                         "verify-modelbase builds them)");
+  }
+  std::sort(files.begin(), files.end());
+  std::vector<Model> models;
+  for (const auto& [name, path] : files) {
+    Model m;
+    m.name = name;
+    try {
+      m.surface = model_from_cloud(formats::read_pcd(path), path);
+    } catch (const DataError& e) {
+      if (e.file() == path) throw;
+      throw DataError(path, e.what());
+    } catch (const std::exception& e) {
+      throw DataError(path, e.what());
+    }
+    models.push_back(std::move(m));
+  }
+  return models;
+}
+
+Result run(const Cloud& candidate, const std::vector<Model>& models, const Params& params,
+           const std::string& methods) {
+  validate(params);
+  pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);  // ICP's warnings are expected here
+  Result r;
+  r.candidate_points = static_cast<int>(candidate.points.size());
+  if (methods == "both" || methods == "vfh") r.methods.push_back(run_vfh(candidate, models, params));
+  if (methods == "both" || methods == "fpfh") {
+    r.methods.push_back(run_fpfh(candidate, models, params));
+  }
+  return r;
+}
+
+std::string serialize(const Result& result, const std::string& object,
+                      const std::vector<std::pair<std::string, std::string>>& parameters,
+                      const std::vector<std::string>& inputs) {
+  using Json = nlohmann::ordered_json;
+  Json params = Json::object();
+  for (const auto& [k, v] : parameters) params[k] = v;
+  Json methods = Json::array();
+  for (const auto& m : result.methods) {
+    Json models = Json::array();
+    for (const auto& e : m.models) {
+      Json j{{"rank", e.rank}, {"model", e.model}, {"score", e.score}};
+      if (m.method == "vfh") {
+        j["distance"] = e.distance;
+        j["view"] = e.view;
+      } else {
+        j["fitness"] = e.fitness;
+        j["candidate_share"] = e.candidate_share;
+        j["model_share"] = e.model_share;
+        if (e.posed) {
+          Json pose = Json::array();
+          for (int row = 0; row < 4; ++row) {
+            for (int col = 0; col < 4; ++col) pose.push_back(e.pose(row, col));
+          }
+          j["pose"] = pose;
+        } else {
+          j["pose"] = nullptr;
+        }
+      }
+      models.push_back(j);
+    }
+    methods.push_back(Json{{"method", m.method}, {"models", models}});
+  }
+  Json j{{"format", "canopy.baseline"},
+         {"version", 1},
+         {"provenance",
+          {{"tool", "baseline"}, {"version", CANOPY_VERSION}, {"parameters", params}, {"inputs", inputs}}},
+         {"object", object},
+         {"candidate_points", result.candidate_points},
+         {"methods", methods}};
+  return j.dump(1) + "\n";
+}
+
+}  // namespace canopy::baseline

@@ -1,0 +1,96 @@
+// baseline: a recogniser built from PCL's descriptors (issue 17), run on the same inputs as
+// canopy (a candidate's points; the modelbase's <model>.pcd surfaces) so that canopy's
+// numbers have something to stand beside.
+//
+//   global: VFH (Rusu et al. 2010; viewpoint straight above: heading-invariant) of the candidate
+//           against the VFH of each model seen from a ring of sensor positions (back-face
+//           culled views) plus the whole surface; nearest neighbour (L1 on the normalised
+//           histograms) per model. (PCL's ESF reseeds rand() from the clock: not repeatable.)
+//   local:  FPFH (Rusu et al. 2009) correspondences, RANSAC with pre-rejection
+//           (pcl::SampleConsensusPrerejective, the SAC-IA successor), then ICP, both estimating
+//           a ground pose (x, y, heading: PCL's TransformationEstimation2D); ranked by the
+//           fitness sqrt(share of candidate points on the posed model x share of model points
+//           on the candidate).
+//
+// Frames: as verify's (docs/decisions/verify.md): the model's is the modelbase's (ground z = 0,
+// heading 0), the candidate's is its points' frame (ground z = 0). A pose maps model
+// coordinates to candidate coordinates. Decisions and parameters: docs/decisions/baseline.md.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <array>
+#include <string>
+#include <vector>
+
+#include "canopy/formats/point_cloud.h"
+
+namespace canopy::baseline {
+
+struct Params {
+  double min_height = 0.3;         // candidate points below this z are ground (m; cocone's cut)
+  double voxel = 0.2;              // downsampling leaf before the local descriptors (m)
+  double normal_radius = 0.4;      // PCL normal estimation radius of the downsampled clouds (m)
+  double feature_radius = 0.75;    // FPFH radius (m)
+  double inlier = 0.25;            // RANSAC inlier / fitness distance (m)
+  int ransac_iterations = 4000;    // RANSAC iterations per model
+  int icp_iterations = 30;         // ICP iterations per model (0 = none)
+  int views = 8;                   // VFH model views on the ring (plus the whole surface)
+  double view_elevation = 1.309;   // elevation of the ring (rad; 75 deg, the trials' sensor)
+  unsigned seed = 1;               // RANSAC's random draws
+};
+
+void validate(const Params& params);  // throws common::UsageError
+
+struct Cloud {
+  std::vector<Eigen::Vector3f> points;
+  std::vector<Eigen::Vector3f> normals;  // unit; empty when unknown
+};
+
+// Candidate: every row at or above min_height (no labels are used: they are ground truth).
+Cloud candidate_from_cloud(const formats::PointCloud& cloud, const std::string& name,
+                           double min_height);
+// Model surface: label-1 rows when a label field exists, else rows above 5 cm; normals required.
+Cloud model_from_cloud(const formats::PointCloud& cloud, const std::string& name);
+
+struct Model {
+  std::string name;
+  Cloud surface;
+};
+
+// Reads every <model>.pcd of `dir`, sorted by name. DataError naming the directory or file.
+std::vector<Model> read_modelbase(const std::string& dir);
+
+struct Entry {
+  std::string model;
+  int rank = 0;
+  double score = 0;       // larger is better, in [0, 1]
+  double distance = 0;    // global (vfh): L1 histogram distance of the nearest view, in [0, 2]
+  double fitness = 0;     // local: as score; the two shares follow
+  double candidate_share = 0, model_share = 0;
+  int view = -1;          // global: the nearest view (views = the whole surface)
+  bool posed = false;     // local: pose found
+  Eigen::Matrix4d pose = Eigen::Matrix4d::Identity();  // model -> candidate
+};
+
+struct Ranking {
+  std::string method;  // "vfh" or "fpfh"
+  std::vector<Entry> models;  // ranked (score, then model name)
+  double seconds = 0;         // wall time of the method (logged, not serialised)
+};
+
+struct Result {
+  std::vector<Ranking> methods;
+  int candidate_points = 0;
+};
+
+// Runs both methods (or the one named: "vfh", "fpfh", "both").
+Result run(const Cloud& candidate, const std::vector<Model>& models, const Params& params,
+           const std::string& methods = "both");
+
+// canopy.baseline v1 JSON (formats/README.md). No times: same inputs, same bytes (the
+// experiment graph records each run's wall time beside it).
+std::string serialize(const Result& result, const std::string& object,
+                      const std::vector<std::pair<std::string, std::string>>& parameters,
+                      const std::vector<std::string>& inputs);
+
+}  // namespace canopy::baseline
