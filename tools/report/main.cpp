@@ -13,6 +13,7 @@
 #include "canopy/common/log.h"
 #include "canopy/common/share.h"
 #include "canopy/formats/pcd.h"
+#include "report/baseline_section.h"
 #include "report/report.h"
 
 using namespace canopy;
@@ -170,7 +171,13 @@ int main(int argc, char** argv) {
     in.figures.push_back("pictures/tank-circle.png");
     phase.done(std::to_string(in.cases.size()) + " trials, " + std::to_string(in.models.size()) + " models");
     const report::Output r = report::run(in, p);
-    outputs.set(results + "/report.md", r.markdown);
+    // The PCL baseline beside canopy (issue 17), when the trials have baseline.json.
+    const auto bl = report::baseline_section(out_dir, in.objects, in.scenes, in.noises);
+    if (!bl.markdown.empty()) {
+      outputs.add(results + "/baseline.csv", "--results");
+      outputs.set(results + "/baseline.csv", bl.csv);
+    }
+    outputs.set(results + "/report.md", r.markdown + bl.markdown);
     outputs.set(results + "/cases.csv", r.cases_csv);
     outputs.set(results + "/scores.csv", r.scores_csv);
     outputs.set(results + "/times.csv", r.times_csv);

@@ -1,0 +1,23 @@
+# The PCL baseline beside canopy (issue 17; docs/decisions/baseline.md), included by
+# Makefile.experiments.
+#   make -f Makefile.experiments baselines     baseline.json beside every match.json
+# Per trial: out/<object>/<scene>/noise-<mm>/baseline.json from the trial's samples.pcd and the
+# modelbase surfaces (<model>.pcd, mk/verify.mk), with its wall time and peak memory in
+# baseline.json.time. The report reads them (tools/report/baseline_section.h) into a section of
+# report.md and results/baseline.csv (rank-1 per trial of both methods beside gmatch's, time).
+# The tool's build rule and content stamp (not in TOOLS, so `make tools` stays as it was):
+$(eval $(call tool_rule,baseline))
+
+define baseline_rule
+$(OUT)/$(1)/$(2)/noise-$(3)/baseline.json: $(OUT)/$(1)/$(2)/noise-$(3)/samples.pcd $(VERIFY_SURFACES) \
+    $(call tool,baseline) $(P)/baseline.ini
+	@$(STAGE) --record-failure $$@ -- $(BIN)/baseline --config $(P)/baseline.ini -i $$< \
+	  --modelbase $(OUT)/modelbase -o $$@
+endef
+$(foreach o,$(OBJECTS),$(foreach s,$(SCENES),$(foreach n,$(NOISES),$(eval $(call baseline_rule,$(o),$(s),$(n))))))
+BASELINES := $(addsuffix /baseline.json,$(CASES))
+.PHONY: baselines
+baselines: $(BASELINES)
+# The report shows them beside canopy and writes results/baseline.csv.
+$(RES)/report.md: $(BASELINES)
+$(RES)/baseline.csv: $(RES)/report.md

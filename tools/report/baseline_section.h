@@ -1,0 +1,22 @@
+// The PCL baseline beside canopy (issue 17): rank-1 per object and per noise level of the
+// baseline's two methods (tools/baseline: VFH nearest view, FPFH + RANSAC + ICP) next to
+// gmatch's, from each trial's baseline.json (mk/baseline.mk), with the baseline's time.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace canopy::report {
+
+struct BaselineSection {
+  std::string markdown;  // empty when no trial has a baseline.json
+  std::string csv;       // results/baseline.csv: one row per trial with a baseline.json
+};
+
+// Reads OUT/<object>/<scene>/noise-<mm>/{baseline.json, baseline.json.time, match.json}.
+// Trials without baseline.json are left out (and counted in the text); an empty baseline.json
+// (a failed run recorded by scripts/stage.sh --record-failure) counts as wrong for both methods.
+BaselineSection baseline_section(const std::string& out_dir, const std::vector<std::string>& objects,
+                                 const std::vector<std::string>& scenes, const std::vector<int>& noises);
+
+}  // namespace canopy::report
