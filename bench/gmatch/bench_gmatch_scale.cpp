@@ -108,7 +108,8 @@ int build(const fs::path& dir, const std::vector<fs::path>& inputs) {
   return 0;
 }
 
-int run(const std::string& modelbase, const std::vector<std::pair<std::string, fs::path>>& queries) {
+int run(const std::string& modelbase,
+        const std::vector<std::pair<std::string, fs::path>>& queries) {
   const double rss0 = peak_rss_mb();
   double t0 = now_ms();
   const std::vector<gm::Model> models = gm::read_modelbase(modelbase);
@@ -124,42 +125,48 @@ int run(const std::string& modelbase, const std::vector<std::pair<std::string, f
               models.size(), segs, load_ms, rss0, rss1, summary_ms);
 
   const std::vector<int> ks = {0, 8, 16, 32, 64, 128, 256};
+  const gm::PrefilterBy bys[2] = {gm::PrefilterBy::kCoarse, gm::PrefilterBy::kSummary};
   struct Row {
     double ms = 0, worst = 0;
     int exact = 0, source = 0, agree = 0, identical = 0;
   };
-  std::map<int, Row> rows;
+  std::map<std::pair<int, int>, Row> rows;  // (by, K)
   std::vector<int> winner_rank;  // rank of the full search's winner in prefilter order
   for (const auto& [object, path] : queries) {
     const SegmentGraph q = canopy::formats::read_segment_graph(path.string());
     gm::Out off;
-    for (int k : ks) {
-      gm::Params p;
-      p.prefilter = k;
-      const double t = now_ms();
-      gm::Out out = gm::run({&q, &models}, p, 1);
-      const double ms = now_ms() - t;
-      Row& r = rows[k];
-      r.ms += ms;
-      r.worst = std::max(r.worst, ms);
-      const std::string& best = out.result.models.front().model;
-      r.exact += best == object;
-      r.source += best.substr(0, best.find('-')) == object;
-      if (k == 0) off = out;
-      r.agree += best == off.result.models.front().model;
-      // The first five of the ranking (model and score) as without the prefilter.
-      bool same = true;
-      for (std::size_t i = 0; i < 5 && i < off.result.models.size(); ++i) {
-        same = same && i < out.result.models.size() &&
-               out.result.models[i].model == off.result.models[i].model &&
-               out.result.models[i].score == off.result.models[i].score;
+    for (int b = 0; b < 2; ++b) {
+      for (int k : ks) {
+        if (b == 1 && k == 0) continue;
+        gm::Params p;
+        p.prefilter = k;
+        p.prefilter_by = bys[b];
+        const double t = now_ms();
+        gm::Out out = gm::run({&q, &models}, p, 1);
+        const double ms = now_ms() - t;
+        Row& r = rows[{b, k}];
+        r.ms += ms;
+        r.worst = std::max(r.worst, ms);
+        const std::string& best = out.result.models.front().model;
+        r.exact += best == object;
+        r.source += best.substr(0, best.find('-')) == object;
+        if (k == 0) off = out;
+        r.agree += best == off.result.models.front().model;
+        // The first five of the ranking (model and score) as without the prefilter.
+        bool same = true;
+        for (std::size_t i = 0; i < 5 && i < off.result.models.size(); ++i) {
+          same = same && i < out.result.models.size() &&
+                 out.result.models[i].model == off.result.models[i].model &&
+                 out.result.models[i].score == off.result.models[i].score;
+        }
+        r.identical += same;
       }
-      r.identical += same;
     }
-    // Where the full search's winner stands in the prefilter's order.
-    const gm::Summary o = gm::summarize(q, 15);
+    // Where the full search's winner stands in the coarse prefilter's order.
+    gm::Params cp;
+    cp.max_segments = cp.coarse_segments;
     std::vector<std::pair<double, std::string>> d;
-    for (const auto& m : models) d.emplace_back(gm::summary_distance(o, gm::summarize(m.graph, 15)), m.name);
+    for (const auto& m : models) d.emplace_back(-gm::match_model(q, m, cp).score, m.name);
     std::sort(d.begin(), d.end());
     const std::string& w = off.result.models.front().model;
     int rank = 0;
@@ -174,12 +181,14 @@ int run(const std::string& modelbase, const std::vector<std::pair<std::string, f
     std::fflush(stdout);
   }
   const double n = static_cast<double>(queries.size());
-  std::printf("\n| K | ms/query | worst ms | rank-1 exact | rank-1 source object | same answer as off | "
-              "same top 5 as off |\n|---|---:|---:|---:|---:|---:|---:|\n");
-  for (int k : ks) {
-    const Row& r = rows[k];
-    std::printf("| %d | %.0f | %.0f | %d/%.0f | %d/%.0f | %d/%.0f | %d/%.0f |\n", k, r.ms / n, r.worst,
-                r.exact, n, r.source, n, r.agree, n, r.identical, n);
+  std::printf("\n| prefilter | K | ms/query | worst ms | rank-1 exact | rank-1 source object | "
+              "same answer as off | "
+              "same top 5 as off |\n|---|---|---:|---:|---:|---:|---:|---:|\n");
+  for (const auto& [key, r] : rows) {
+    const int k = key.second;
+    std::printf("| %s | %d | %.0f | %.0f | %d/%.0f | %d/%.0f | %d/%.0f | %d/%.0f |\n",
+                k == 0 ? "off" : gm::to_string(bys[key.first]), k, r.ms / n, r.worst, r.exact, n,
+                r.source, n, r.agree, n, r.identical, n);
   }
   std::sort(winner_rank.begin(), winner_rank.end());
   std::printf("\nprefilter rank of the full search's winner: median %d, max %d\n",

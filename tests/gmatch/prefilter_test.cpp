@@ -1,6 +1,6 @@
-// The prefilter (docs/decisions/gmatch.md §9): heading-invariant summaries, the K nearest
-// models, the true model kept on a hand-built case where one summary alone would drop it,
-// and K >= N (or 0) identical to no prefilter.
+// The prefilter (docs/decisions/gmatch.md §9): heading-invariant summaries, the K best models
+// (coarse search or summaries), the true model kept on a hand-built case where one summary
+// alone would drop it, and K >= N (or 0) identical to no prefilter.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -94,10 +94,18 @@ TEST_CASE("the prefilter keeps the true model that one summary alone would drop"
   REQUIRE(area_gap(2) > 0.2);
   // ... but the whole summary puts the sedan nearest, and K = 2 keeps it.
   for (int i : {0, 1, 3, 4}) CHECK(d(2) < d(i));
-  const std::vector<int> kept = gm::prefilter(object, models, 2, 15);
-  REQUIRE(kept.size() == 2);
-  REQUIRE(std::find(kept.begin(), kept.end(), 2) != kept.end());
-  REQUIRE(std::is_sorted(kept.begin(), kept.end()));
+  for (const auto by : {gm::PrefilterBy::kSummary, gm::PrefilterBy::kCoarse}) {
+    INFO(gm::to_string(by));
+    gm::Params p;
+    p.prefilter = 2;
+    p.prefilter_by = by;
+    for (int threads : {1, 2}) {
+      const std::vector<int> kept = gm::prefilter(object, models, p, threads);
+      REQUIRE(kept.size() == 2);
+      REQUIRE(std::find(kept.begin(), kept.end(), 2) != kept.end());
+      REQUIRE(std::is_sorted(kept.begin(), kept.end()));
+    }
+  }
 
   gm::Params on;
   on.prefilter = 2;
@@ -122,6 +130,7 @@ TEST_CASE("prefilter K >= N or 0 is identical to no prefilter", "[gmatch][prefil
   for (int k : {0, 5, 6, 1000}) {
     gm::Params p;
     p.prefilter = k;
+    p.prefilter_by = k == 6 ? gm::PrefilterBy::kSummary : gm::PrefilterBy::kCoarse;
     const gm::Out out = gm::run({&object, &models}, p, 2);
     CHECK(out.searched == 5);
     CHECK(canopy::formats::serialize_match_result(out.result) == off);
@@ -129,13 +138,21 @@ TEST_CASE("prefilter K >= N or 0 is identical to no prefilter", "[gmatch][prefil
   gm::Params bad;
   bad.prefilter = -1;
   CHECK_THROWS_AS(gm::validate(bad), canopy::common::UsageError);
+  bad.prefilter = 2;
+  bad.coarse_segments = 0;
+  CHECK_THROWS_AS(gm::validate(bad), canopy::common::UsageError);
 }
 
 TEST_CASE("prefilter ties go to modelbase order", "[gmatch][prefilter]") {
   // Five identical models: every distance is equal, the first K are kept.
   std::vector<gm::Model> same;
   for (int i = 0; i < 5; ++i) same.push_back({"m" + std::to_string(i), vehicle()});
-  CHECK(gm::prefilter(occluded_sedan(), same, 3, 15) == std::vector<int>{0, 1, 2});
+  for (const auto by : {gm::PrefilterBy::kSummary, gm::PrefilterBy::kCoarse}) {
+    gm::Params p;
+    p.prefilter = 3;
+    p.prefilter_by = by;
+    CHECK(gm::prefilter(occluded_sedan(), same, p, 2) == std::vector<int>{0, 1, 2});
+  }
 }
 
 TEST_CASE("gmatch --prefilter: recorded only when it acts, otherwise byte-identical",
@@ -151,8 +168,10 @@ TEST_CASE("gmatch --prefilter: recorded only when it acts, otherwise byte-identi
   const std::string bin = std::string(CANOPY_BIN_DIR) + "/gmatch";
   const std::string base = bin + " -i " + object.string() + " --modelbase " + mb.string();
   std::string err;
-  for (const char* k : {"0", "5", "default"}) {
-    const std::string opt = std::string(k) == "default" ? "" : std::string(" --prefilter ") + k;
+  for (const char* k : {"0", "5", "default"}) {  // (0 and 5 with --prefilter-by summary too)
+    const std::string opt = std::string(k) == "default"
+                                ? ""
+                                : std::string(" --prefilter-by summary --prefilter ") + k;
     REQUIRE(canopy::test::sh(base + opt + " -o " + (dir / (std::string(k) + ".json")).string(),
                              dir / "err", &err) == 0);
   }
@@ -164,6 +183,8 @@ TEST_CASE("gmatch --prefilter: recorded only when it acts, otherwise byte-identi
   REQUIRE(canopy::test::sh(base + " --prefilter 2 -o " + (dir / "2.json").string(), dir / "err",
                            &err) == 0);
   CHECK(err.find("2 of 5 models (prefilter)") != std::string::npos);
+  const std::string two = canopy::common::read_file((dir / "2.json").string());
+  CHECK(two.find("\"prefilter-by\": \"coarse\"") != std::string::npos);
   const auto r = canopy::formats::read_match_result((dir / "2.json").string());
   REQUIRE(r.models.size() == 2);
   CHECK(r.models.front().model == "sedan");

@@ -41,9 +41,10 @@ std::vector<Eigen::Vector3f> column3(const formats::PointCloud& cloud, const std
   const std::string x = prefix.empty() ? "x" : prefix + "_x";
   const std::string y = prefix.empty() ? "y" : prefix + "_y";
   const std::string z = prefix.empty() ? "z" : prefix + "_z";
-  cloud.require({x, y, z}, name,
-                prefix.empty() ? "is this a point cloud?" : "the baseline needs points with normals, "
-                                                            "e.g. fitvox's samples");
+  const std::string hint = prefix.empty()
+                               ? "is this a point cloud?"
+                               : "the baseline needs points with normals, e.g. fitvox's samples";
+  cloud.require({x, y, z}, name, hint);
   std::vector<Eigen::Vector3f> v(cloud.size());
   for (std::size_t i = 0; i < v.size(); ++i) {
     Eigen::Vector3d d(cloud.col(x)[i], cloud.col(y)[i], cloud.col(z)[i]);
@@ -384,7 +385,9 @@ Result run(const Cloud& candidate, const std::vector<Model>& models, const Param
   pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);  // ICP's warnings are expected here
   Result r;
   r.candidate_points = static_cast<int>(candidate.points.size());
-  if (methods == "both" || methods == "vfh") r.methods.push_back(run_vfh(candidate, models, params));
+  if (methods == "both" || methods == "vfh") {
+    r.methods.push_back(run_vfh(candidate, models, params));
+  }
   if (methods == "both" || methods == "fpfh") {
     r.methods.push_back(run_fpfh(candidate, models, params));
   }
@@ -426,7 +429,10 @@ std::string serialize(const Result& result, const std::string& object,
   Json j{{"format", "canopy.baseline"},
          {"version", 1},
          {"provenance",
-          {{"tool", "baseline"}, {"version", CANOPY_VERSION}, {"parameters", params}, {"inputs", inputs}}},
+          {{"tool", "baseline"},
+           {"version", CANOPY_VERSION},
+           {"parameters", params},
+           {"inputs", inputs}}},
          {"object", object},
          {"candidate_points", result.candidate_points},
          {"methods", methods}};

@@ -413,6 +413,7 @@ void validate(const Params& p) {
   }
   if (p.max_nodes < 0) throw UsageError("--max-nodes must be >= 0 (0 = unlimited)");
   if (p.prefilter < 0) throw UsageError("--prefilter must be >= 0 (0 = off)");
+  if (p.coarse_segments < 1) throw UsageError("--coarse-segments must be >= 1");
 }
 
 void validate_graph(const SegmentGraph& g, const std::string& name) {
@@ -463,7 +464,7 @@ Out run(const In& in, const Params& params, int threads) {
   Out out;
   out.result.error_form = to_string(params.error);
   const std::vector<int> kept =
-      prefilter(*in.object, models, params.prefilter, params.max_segments);
+      prefilter(*in.object, models, params, threads);
   std::vector<formats::ModelScore> scores(kept.size());
   out.stats.resize(models.size());
   out.searched = static_cast<int>(kept.size());
@@ -502,6 +503,7 @@ const char* to_string(OrientationForm form) {
 const char* to_string(NormalSign sign) { return sign == NormalSign::kAxial ? "axial" : "signed"; }
 const char* to_string(ErrorForm form) { return form == ErrorForm::kBounded ? "bounded" : "thesis"; }
 const char* to_string(Coverage coverage) { return coverage == Coverage::kBoth ? "both" : "model"; }
+const char* to_string(PrefilterBy by) { return by == PrefilterBy::kCoarse ? "coarse" : "summary"; }
 
 std::string object_name(const std::string& path) {
   namespace fs = std::filesystem;

@@ -35,6 +35,12 @@ enum class ErrorForm {
 };
 
 // Which side the bounded form's area coverage counts (docs/decisions/gmatch.md §3).
+// How the prefilter ranks the models before the full search (docs/decisions/gmatch.md §9).
+enum class PrefilterBy {
+  kCoarse,   // the same search on the object's few largest segments only (coarse_segments)
+  kSummary,  // summary_distance of the graph summaries (footprint, area, normal tilt)
+};
+
 enum class Coverage {
   kBoth,   // sqrt(model side x object side): a small model cannot cover part of a big object
   kModel,  // matched model area / area of the model's X largest segments (before issue 15)
@@ -60,10 +66,12 @@ struct Params {
   // Tree nodes expanded per model before the search stops with the best match so far
   // (0 = unlimited). A safety valve against exponential blow-up.
   std::int64_t max_nodes = 0;
-  // Prefilter (docs/decisions/gmatch.md §9): rank the models by a cheap distance between graph
-  // summaries and run the full search on the K nearest only (0 = off: every model). With
-  // K >= the number of models the result is identical to off.
+  // Prefilter (docs/decisions/gmatch.md §9): rank the models cheaply and run the full search on
+  // the K best only (0 = off: every model). With K >= the number of models the result is
+  // identical to off.
   int prefilter = 0;
+  PrefilterBy prefilter_by = PrefilterBy::kCoarse;
+  int coarse_segments = 5;  // kCoarse: object segments (largest first) the coarse search uses
 };
 
 // Throws common::UsageError when a parameter is out of range.
@@ -107,10 +115,13 @@ Summary summarize(const formats::SegmentGraph& graph, int max_segments);
 // Distance between two summaries: |log area ratio| + sum of |log spread ratios| (spreads
 // floored at 5 cm) + L1 distance of the tilt shares. Symmetric, 0 for equal summaries.
 double summary_distance(const Summary& a, const Summary& b);
-// Indices of the k models nearest the object by summary_distance (ties: modelbase order),
-// in modelbase order. k <= 0 or k >= models.size(): every index.
+// Indices of the params.prefilter best models, in modelbase order: kCoarse, the highest scores
+// of the search with X = min(coarse_segments, max_segments); kSummary, the nearest by
+// summary_distance of the X-largest-segment summaries. Ties: modelbase order. prefilter <= 0
+// or >= models.size(): every index. Models are ranked in parallel when threads > 1 (the result
+// does not depend on the thread count).
 std::vector<int> prefilter(const formats::SegmentGraph& object, const std::vector<Model>& models,
-                           int k, int max_segments);
+                           const Params& params, int threads = 1);
 
 struct In {
   const formats::SegmentGraph* object = nullptr;
@@ -140,6 +151,7 @@ const char* to_string(OrientationForm form);
 const char* to_string(NormalSign sign);
 const char* to_string(ErrorForm form);
 const char* to_string(Coverage coverage);
+const char* to_string(PrefilterBy by);
 
 // Display name of the object: the file stem, or for the experiment's generic names
 // (segments.json, match.json) the directory holding them ("out/sedan/circle/noise-8").

@@ -22,7 +22,8 @@ int main(int argc, char** argv) {
                 "(thesis ch. 6). Writes a canopy.match_result JSON ranking every model.");
   gm::Params p;
   std::string in = "-", out = "-", modelbase, orientation = "relative", normals = "axial",
-              error = "bounded", coverage = "both", format = "json";
+              error = "bounded", coverage = "both", format = "json",
+              prefilter_by = "coarse";
   bool no_bound = false;
   tool.add_input(&in, "object segment graph JSON");
   tool.add_output(&out, "match result JSON");
@@ -62,6 +63,12 @@ int main(int argc, char** argv) {
   tool.add("--prefilter", &p.prefilter,
            "full search on the K models nearest by graph summaries only (0 = every model; "
            "K >= the modelbase size: every model, same output as 0)");
+  tool.add("--prefilter-by", &prefilter_by,
+           "coarse: the search on the object's --coarse-segments largest segments; "
+           "summary: footprint, area and normal-tilt summaries")
+      ->check(CLI::IsMember({"coarse", "summary"}));
+  tool.add("--coarse-segments", &p.coarse_segments,
+           "object segments (largest first) of the coarse prefilter search");
   tool.add_flag("--no-bound", &no_bound, "disable branch and bound (same result, slower)")
       ->default_str("false");
 
@@ -72,6 +79,8 @@ int main(int argc, char** argv) {
     p.error = error == "thesis" ? gm::ErrorForm::kThesis : gm::ErrorForm::kBounded;
     p.bound = !no_bound;
     p.coverage = coverage == "model" ? gm::Coverage::kModel : gm::Coverage::kBoth;
+    p.prefilter_by =
+        prefilter_by == "summary" ? gm::PrefilterBy::kSummary : gm::PrefilterBy::kCoarse;
     gm::validate(p);
 
     const auto object = canopy::formats::read_segment_graph(in);
@@ -95,12 +104,16 @@ int main(int argc, char** argv) {
         (truncated ? ", " + std::to_string(truncated) + " searches stopped at --max-nodes" : ""));
 
     auto& r = result.result;
-    // The prefilter is recorded only when it acted (kept fewer models than the modelbase has):
-    // otherwise the output is exactly that of a run without it, byte for byte.
+    // The prefilter's options are recorded only when it acted (kept fewer models than the
+    // modelbase has): otherwise the output is exactly that of a run without it, byte for byte.
     auto parameters = tool.parameters();
     if (result.searched == static_cast<int>(models.size())) {
       parameters.erase(std::remove_if(parameters.begin(), parameters.end(),
-                                      [](const auto& kv) { return kv.first == "prefilter"; }),
+                                      [](const auto& kv) {
+                                        return kv.first == "prefilter" ||
+                                               kv.first == "prefilter-by" ||
+                                               kv.first == "coarse-segments";
+                                      }),
                        parameters.end());
     }
     r.provenance = {"gmatch", CANOPY_VERSION, parameters, {in, modelbase}};

@@ -1,8 +1,10 @@
-// The prefilter: cheap graph summaries and the K models nearest the object by them
-// (docs/decisions/gmatch.md §9). The full search then runs on those K only.
+// The prefilter (docs/decisions/gmatch.md §9): rank every model cheaply (a coarse search on the
+// object's few largest segments, or graph summaries) and keep the K best; the full search then
+// runs on those K only.
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <thread>
 #include <utility>
 
 #include "gmatch/gmatch.h"
@@ -74,18 +76,44 @@ double summary_distance(const Summary& a, const Summary& b) {
 }
 
 std::vector<int> prefilter(const formats::SegmentGraph& object, const std::vector<Model>& models,
-                           int k, int max_segments) {
+                           const Params& params, int threads) {
   const int n = static_cast<int>(models.size());
+  const int k = params.prefilter;
   std::vector<int> idx(n);
   std::iota(idx.begin(), idx.end(), 0);
   if (k <= 0 || k >= n) return idx;
-  const Summary o = summarize(object, max_segments);
-  std::vector<std::pair<double, int>> d(n);
-  for (int i = 0; i < n; ++i) d[i] = {summary_distance(o, summarize(models[i].graph, max_segments)), i};
-  std::nth_element(d.begin(), d.begin() + k, d.end());
-  // nth_element leaves the k smallest (distance, index) pairs first: ties go to modelbase order.
+  // (merit, index): larger merit first, then smaller index.
+  std::vector<std::pair<double, int>> merit(n);
+  if (params.prefilter_by == PrefilterBy::kSummary) {
+    const Summary o = summarize(object, params.max_segments);
+    for (int i = 0; i < n; ++i) {
+      merit[i] = {-summary_distance(o, summarize(models[i].graph, params.max_segments)), i};
+    }
+  } else {
+    Params coarse = params;
+    coarse.max_segments = std::min(params.coarse_segments, params.max_segments);
+    coarse.prefilter = 0;
+    const int workers = std::max(1, std::min(threads, n));
+    auto work = [&](int w) {
+      for (int i = w; i < n; i += workers) {
+        merit[i] = {match_model(object, models[i], coarse).score, i};
+      }
+    };
+    if (workers == 1) {
+      work(0);
+    } else {
+      std::vector<std::thread> pool;
+      for (int w = 0; w < workers; ++w) pool.emplace_back(work, w);
+      for (auto& t : pool) t.join();
+    }
+  }
+  const auto better = [](const std::pair<double, int>& a, const std::pair<double, int>& b) {
+    if (a.first != b.first) return a.first > b.first;
+    return a.second < b.second;
+  };
+  std::nth_element(merit.begin(), merit.begin() + k, merit.end(), better);
   idx.resize(k);
-  for (int i = 0; i < k; ++i) idx[i] = d[i].second;
+  for (int i = 0; i < k; ++i) idx[i] = merit[i].second;
   std::sort(idx.begin(), idx.end());
   return idx;
 }

@@ -21,7 +21,8 @@ std::string num(const char* f, double v) {
 }
 
 std::string rate(int k, int n) {
-  return n == 0 ? "–" : std::to_string(k) + "/" + std::to_string(n) + " (" + num("%.0f%%", 100.0 * k / n) + ")";
+  if (n == 0) return "–";
+  return std::to_string(k) + "/" + std::to_string(n) + " (" + num("%.0f%%", 100.0 * k / n) + ")";
 }
 
 // The rank-1 model of each method in a canopy.baseline document ("" when the method is absent).
