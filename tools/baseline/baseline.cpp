@@ -247,17 +247,21 @@ Ranking run_fpfh(const Cloud& cand, const std::vector<Model>& models, const Para
     const CloudN::Ptr mc = prepare(m.surface, p);
     if (c->size() >= 3 && mc->size() >= 3) {
       const Features::Ptr mf = fpfh(mc, p);
+      // The candidate (a partial view) is registered onto the whole model: then the inlier
+      // fraction RANSAC requires is a share of the candidate, which a right model explains
+      // almost entirely (the reverse share, of the model, is small for any occluded view and
+      // let RANSAC prefer a few tight inliers to many).
       pcl::SampleConsensusPrerejective<PointN, PointN, pcl::FPFHSignature33> align;
-      align.setInputSource(mc);
-      align.setSourceFeatures(mf);
-      align.setInputTarget(c);
-      align.setTargetFeatures(cf);
+      align.setInputSource(c);
+      align.setSourceFeatures(cf);
+      align.setInputTarget(mc);
+      align.setTargetFeatures(mf);
       align.setMaximumIterations(p.ransac_iterations);
       align.setNumberOfSamples(3);
       align.setCorrespondenceRandomness(3);
       align.setSimilarityThreshold(0.8f);
       align.setMaxCorrespondenceDistance(p.inlier);
-      align.setInlierFraction(0.1f);
+      align.setInlierFraction(0.3f);
       // Ground vehicles: both frames stand on the ground (z = 0), so the pose is a heading and
       // a ground translation (x, y, theta), in RANSAC and in ICP.
       const auto planar = std::make_shared<Planar>();
@@ -265,24 +269,27 @@ Ranking run_fpfh(const Cloud& cand, const std::vector<Model>& models, const Para
       CloudN posed;
       std::srand(p.seed);  // RANSAC's draws use rand(): one seed per model, repeatable
       align.align(posed);
-      Eigen::Matrix4f t = align.getFinalTransformation();
       e.posed = align.hasConverged();
       if (e.posed) {
-        Fit best = fit(*mc, t, *c, ctree, p.inlier);
+        // Poses below map the model to the candidate: the inverse of the registration's.
+        const auto model_to_candidate = [](const Eigen::Matrix4f& candidate_to_model) {
+          return Eigen::Matrix4f(candidate_to_model.inverse());
+        };
+        Fit best = fit(*mc, model_to_candidate(align.getFinalTransformation()), *c, ctree, p.inlier);
         // ICP, coarse (twice the inlier distance) then fine (half of it); a stage is kept only
         // when it does not lower the fitness (ICP can slide a symmetric shape off).
         for (const double dist : {2 * p.inlier, 0.5 * p.inlier}) {
           if (p.icp_iterations == 0) break;
           pcl::IterativeClosestPoint<PointN, PointN> icp;
-          icp.setInputSource(mc);
-          icp.setInputTarget(c);
+          icp.setInputSource(c);
+          icp.setInputTarget(mc);
           icp.setMaxCorrespondenceDistance(dist);
           icp.setMaximumIterations(p.icp_iterations);
           icp.setTransformationEstimation(planar);
           CloudN refined;
-          icp.align(refined, best.pose);
+          icp.align(refined, Eigen::Matrix4f(best.pose.inverse()));
           if (!icp.hasConverged()) continue;
-          const Fit f = fit(*mc, icp.getFinalTransformation(), *c, ctree, p.inlier);
+          const Fit f = fit(*mc, model_to_candidate(icp.getFinalTransformation()), *c, ctree, p.inlier);
           if (f.fitness >= best.fitness) best = f;
         }
         e.candidate_share = best.candidate_share;

@@ -1,0 +1,69 @@
+// The baseline section of the report (tools/report/baseline_section.h): rank-1 counts per
+// object and noise of gmatch, verify and the two baseline methods from hand-written trials.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "canopy/formats/json_io.h"
+#include "report/baseline_section.h"
+#include "support/cli.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+void trial(const fs::path& out, const std::string& object, int noise, const std::string& gmatch,
+           const std::string& vfh, const std::string& fpfh, const std::string& verify) {
+  const fs::path dir = out / object / "circle" / ("noise-" + std::to_string(noise));
+  fs::create_directories(dir);
+  canopy::formats::MatchResult m;
+  m.error_form = "bounded";
+  for (const std::string& name : {gmatch, std::string("other")}) {
+    canopy::formats::ModelScore s;
+    s.model = name;
+    s.rank = static_cast<int>(m.models.size()) + 1;
+    s.score = 0.9 - 0.1 * s.rank;
+    m.models.push_back(s);
+  }
+  canopy::formats::write_match_result(m, (dir / "match.json").string());
+  std::ofstream(dir / "baseline.json")
+      << R"({"format": "canopy.baseline", "version": 1, "methods": [)"
+      << R"({"method": "vfh", "models": [{"rank": 1, "model": ")" << vfh << R"("}]},)"
+      << R"({"method": "fpfh", "models": [{"rank": 1, "model": ")" << fpfh << R"("}]}]})";
+  std::ofstream(dir / "baseline.json.time") << "0.50 40960\n";
+  if (!verify.empty()) std::ofstream(dir / "verdict.json") << R"({"model": ")" << verify << R"("})";
+}
+
+}  // namespace
+
+TEST_CASE("baseline section: rank-1 of canopy and both baseline methods per object and noise",
+          "[report][baseline]") {
+  const fs::path out = canopy::test::fresh_dir("report", "baseline") / "out";
+  trial(out, "sedan", 0, "sedan", "tank", "sedan", "sedan");
+  trial(out, "sedan", 8, "tank", "sedan", "sedan", "");
+  trial(out, "tank", 0, "tank", "tank", "sedan", "tank");
+  // tank at 8 mm has no baseline.json: left out.
+  const auto b = canopy::report::baseline_section(out.string(), {"sedan", "tank"}, {"circle"}, {0, 8});
+  INFO(b.markdown);
+  CHECK(b.markdown.find("| sedan | 2 | 1/2 (50%) | 1/2 (50%) | 1/2 (50%) | 2/2 (100%) |") !=
+        std::string::npos);
+  CHECK(b.markdown.find("| tank | 1 | 1/1 (100%) | 1/1 (100%) | 1/1 (100%) | 0/1 (0%) |") !=
+        std::string::npos);
+  CHECK(b.markdown.find("| all | 3 | 2/3 (67%) | 2/3 (67%) | 2/3 (67%) | 2/3 (67%) |") !=
+        std::string::npos);
+  CHECK(b.markdown.find("| 8 | 1 | 0/1 (0%) | 0/1 (0%) | 1/1 (100%) | 1/1 (100%) |") !=
+        std::string::npos);
+  CHECK(b.markdown.find("1 trials have no baseline.json") != std::string::npos);
+  CHECK(b.markdown.find("verify was not run on 1 of them") != std::string::npos);
+  CHECK(b.markdown.find("mean 0.50 s") != std::string::npos);
+  CHECK(b.csv.find("sedan,circle,8,tank,0,,0,sedan,1,sedan,1,0.500,40.0\n") != std::string::npos);
+  CHECK(std::count(b.csv.begin(), b.csv.end(), '\n') == 4);  // header + 3 trials
+
+  // No baseline.json anywhere: no section, no CSV.
+  const fs::path none = canopy::test::fresh_dir("report", "baseline-none") / "out";
+  fs::create_directories(none);
+  CHECK(canopy::report::baseline_section(none.string(), {"sedan"}, {"circle"}, {0}).markdown.empty());
+}
