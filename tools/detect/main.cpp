@@ -48,6 +48,9 @@ int main(int argc, char** argv) {
   tool.add_length("--min-height", &p.min_height, "lowest vehicle");
   tool.add_length("--max-height", &p.max_height, "tallest vehicle (higher points are canopy)");
   tool.add("--min-points", &p.min_points, "fewest points of a candidate object");
+  tool.add("--min-planarity", &p.min_planarity, "fewest share of a candidate's surface in planar neighbourhoods "
+                                                 "(vegetation is not planar; 0 = off)");
+  tool.add_length("--planar-radius", &p.planar_radius, "neighbourhood radius of the planarity test");
   tool.add_length("--margin", &p.margin, "crop margin around a candidate's footprint and above its height");
   tool.add("--label-field", &p.label_field, "ground-truth class field (1 = vehicle), if present");
   tool.add("--instance-field", &p.instance_field, "ground-truth instance field, if present");
@@ -72,9 +75,9 @@ int main(int argc, char** argv) {
     char buf[400];
     std::snprintf(buf, sizeof buf,
                   "ground %zu of %zu cells (%.2f s); %zu object points in %zu clusters, %zu splits, "
-                  "rejected %zu small %zu large %zu canopy bottoms (%.2f s); %zu candidates (%.2f s)",
+                  "rejected %zu small %zu large %zu canopy bottoms %zu not planar (%.2f s); %zu candidates (%.2f s)",
                   s.ground_cells, s.cells, s.seconds_ground, s.band_points, s.clusters, s.splits,
-                  s.rejected_small, s.rejected_large, s.rejected_canopy, s.seconds_objects, r.candidates.size(),
+                  s.rejected_small, s.rejected_large, s.rejected_canopy, s.rejected_shape, s.seconds_objects, r.candidates.size(),
                   s.seconds_candidates);
     work.done(buf);
     if (r.has_truth) {
