@@ -333,11 +333,16 @@ std::vector<std::vector<std::uint32_t>> cluster_points(const std::vector<std::ui
 
 // ---------------------------------------------------------------------------------------
 
+// Planar share and area of an object (planar_shape below).
+struct Shape {
+  double share = 0, area = 0;
+};
+
 struct Object {
   std::vector<std::uint32_t> points;
   Footprint fp;
   double height = 0;
-  double planarity = 0;
+  Shape shape;
 };
 
 struct Context {
@@ -530,17 +535,20 @@ void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
 // ---------------------------------------------------------------------------------------
 // Shape: vehicles are made of planes, vegetation is volumetric scatter.
 
-// The share of an object's surface in locally planar neighbourhoods. Its points are averaged
-// into `kPlanarVoxel` cubes (so the neighbour set is about as dense at 40 mm as at 80 mm pixel
-// spacing, and bounded); for each centroid, its neighbours within `radius` (PCL's k-d tree)
-// and the eigenvalues l1 >= l2 >= l3 of their covariance: the centroid is planar when
-// sqrt(l3 / l2) <= `ratio` (a plane with noise sigma gives about sigma / (radius / 2); a line,
-// a branch or a rail, has l2 ~ l3 and is not planar). Centroids with fewer than
-// kPlanarMinNeighbours neighbours are not counted. Returns 0 for an object too small to tell.
+// How much of an object's surface lies in locally planar neighbourhoods. Its points are
+// averaged into `kPlanarVoxel` cubes (so the neighbour set is about as dense at 40 mm as at
+// 80 mm pixel spacing, and bounded); for each centroid, its neighbours within `radius` (PCL's
+// k-d tree) and the eigenvalues l1 >= l2 >= l3 of their covariance: the centroid is planar
+// when sqrt(l3 / l2) <= `ratio` (a plane with noise sigma gives about sigma / (radius / 2); a
+// line, a branch or a rail, has l2 ~ l3 and is not planar). Centroids with fewer than
+// kPlanarMinNeighbours neighbours are not counted. share = planar / counted centroids (0 for
+// an object too small to tell); area = planar centroids x kPlanarVoxel^2 (m^2, about the
+// planar surface seen: a vehicle under a bush keeps its panels' area while the bush's points
+// lower its share).
 constexpr double kPlanarVoxel = 0.1;
 constexpr int kPlanarMinNeighbours = 8;
 
-double planar_share(const Context& c, const std::vector<std::uint32_t>& pts, double radius, double ratio) {
+Shape planar_shape(const Context& c, const std::vector<std::uint32_t>& pts, double radius, double ratio) {
   std::unordered_map<std::uint64_t, std::uint32_t> slot;
   std::vector<Vector3d> sum;
   std::vector<std::uint32_t> cnt;
@@ -557,7 +565,7 @@ double planar_share(const Context& c, const std::vector<std::uint32_t>& pts, dou
     sum[it->second] += Vector3d(c.x[q], c.y[q], c.zr[q]);
     ++cnt[it->second];
   }
-  if (sum.size() < std::size_t(kPlanarMinNeighbours)) return 0.0;
+  if (sum.size() < std::size_t(kPlanarMinNeighbours)) return {};
   // Centroids relative to the first one (float32 for PCL; slots in first-seen order: deterministic).
   const Vector3d ref = sum[0] / double(cnt[0]);
   pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);
@@ -585,7 +593,10 @@ double planar_share(const Context& c, const std::vector<std::uint32_t>& pts, dou
     ++counted;
     planar += l[0] <= ratio * ratio * l[1];  // ascending: l[0] is the smallest
   }
-  return counted ? double(planar) / double(counted) : 0.0;
+  Shape out;
+  out.share = counted ? double(planar) / double(counted) : 0.0;
+  out.area = double(planar) * kPlanarVoxel * kPlanarVoxel;
+  return out;
 }
 
 }  // namespace
@@ -611,6 +622,7 @@ void Params::validate() const {
   need(min_planarity >= 0 && min_planarity <= 1, "--min-planarity must be in [0, 1] (0 = off)");
   need(planar_radius >= 2 * 0.1 && std::isfinite(planar_radius), "--planar-radius must be >= 0.2 m");
   need(planar_ratio > 0 && planar_ratio < 1, "planar_ratio must be in (0, 1)");
+  need(min_planar_area >= 0, "--min-planar-area must be >= 0");
   need(min_ground_share > 0 && min_ground_share <= 1, "--min-ground-share must be in (0, 1]");
 }
 
@@ -767,11 +779,12 @@ Result run(const formats::PointCloud& tile, const Params& params, const std::str
     for (auto& cl : clusters) examine(ctx, std::move(cl), 0);
   }
   {
-    // Shape: vegetation (bush groups, crown pieces) is not made of planes.
+    // Shape: vegetation (bush groups, crown pieces) is not made of planes; a vehicle is, even
+    // under a bush (then its planar area counts).
     std::vector<Object> kept;
     for (Object& o : ctx.accepted) {
-      o.planarity = planar_share(ctx, o.points, params.planar_radius, params.planar_ratio);
-      if (params.min_planarity > 0 && o.planarity < params.min_planarity) {
+      o.shape = planar_shape(ctx, o.points, params.planar_radius, params.planar_ratio);
+      if (params.min_planarity > 0 && o.shape.share < params.min_planarity && o.shape.area < params.min_planar_area) {
         ++r.stats.rejected_shape;
       } else {
         kept.push_back(std::move(o));
@@ -871,7 +884,8 @@ Result run(const formats::PointCloud& tile, const Params& params, const std::str
     c.height = zmax;
     c.heading = std::atan2(R(1, 0), R(0, 0));
     c.object_points = o.points.size();
-    c.planarity = o.planarity;
+    c.planarity = o.shape.share;
+    c.planar_area = o.shape.area;
     c.to_tile.topLeftCorner<3, 3>() = R;
     c.to_tile.topRightCorner<3, 1>() = O + r.origin;
     pd.centre = O + r.origin;

@@ -20,8 +20,9 @@
 //    apart: two vehicles side by side, a vehicle against a bush); an oversized one that does
 //    not come apart is cut at a clear valley of the point count across its oversized axis,
 //    or kept when at most 25% beyond the ranges (recall first), else rejected.
-//    An accepted cluster whose surface is mostly not planar (bush groups, crown pieces: leaves
-//    are volumetric scatter, a vehicle is made of panels) is rejected (`min_planarity`).
+//    An accepted cluster whose surface is mostly not planar and holds little planar area (bush
+//    groups, crown pieces: leaves are volumetric scatter, a vehicle is made of panels) is
+//    rejected (`min_planarity`, `min_planar_area`).
 // 5. Candidates. Per accepted cluster: a rigid local frame (origin on the DTM at the
 //    footprint centre, z = the normal of the ground plane fitted under the footprint, x = the
 //    long axis); every input point inside the footprint + `margin` and below height + margin,
@@ -61,9 +62,11 @@ struct Params {
   std::size_t min_points = 30;     // fewer points in a cluster: not a candidate
   // Shape (docs/decisions/detect.md): the share of the object's 0.1 m voxel centroids whose
   // neighbours within planar_radius are planar (sqrt(l3 / l2) <= planar_ratio of their
-  // covariance's eigenvalues). Vehicles measured >= 0.38, bush groups and crown pieces <= 0.10.
-  double min_planarity = 0.2;      // lower: vegetation, not a candidate; 0 = off
-  double planar_radius = 0.5;      // neighbourhood radius (m)
+  // covariance's eigenvalues), and their area. An object with a share below min_planarity
+  // and a planar area below min_planar_area is vegetation (bush groups, crown pieces).
+  double min_planarity = 0.2;      // 0 = no shape test
+  double min_planar_area = 1.0;    // m^2 of planar surface that keep an object whatever its share
+  double planar_radius = 0.35;     // neighbourhood radius (m)
   double planar_ratio = 0.35;      // largest sqrt(l3 / l2) of a planar neighbourhood
   // Candidates.
   double margin = 0.5;             // crop margin around the footprint and above the height (m)
@@ -92,6 +95,7 @@ struct Candidate {
   double height = 0;                   // highest object point above the ground (m)
   std::size_t object_points = 0;       // points of the cluster
   double planarity = 0;                // share of the object's surface in planar neighbourhoods
+  double planar_area = 0;              // that planar surface (m^2)
   formats::PointCloud cloud;           // the crop, local frame, every input field
   bool has_truth = false;
   Truth truth;

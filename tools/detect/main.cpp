@@ -48,8 +48,9 @@ int main(int argc, char** argv) {
   tool.add_length("--min-height", &p.min_height, "lowest vehicle");
   tool.add_length("--max-height", &p.max_height, "tallest vehicle (higher points are canopy)");
   tool.add("--min-points", &p.min_points, "fewest points of a candidate object");
-  tool.add("--min-planarity", &p.min_planarity, "fewest share of a candidate's surface in planar neighbourhoods "
-                                                 "(vegetation is not planar; 0 = off)");
+  tool.add("--min-planarity", &p.min_planarity, "shape test: an object with a smaller share of its surface in planar "
+                                                 "neighbourhoods and less than --min-planar-area of it is vegetation (0 = off)");
+  tool.add("--min-planar-area", &p.min_planar_area, "shape test: m^2 of planar surface that keep an object whatever its share");
   tool.add_length("--planar-radius", &p.planar_radius, "neighbourhood radius of the planarity test");
   tool.add_length("--margin", &p.margin, "crop margin around a candidate's footprint and above its height");
   tool.add("--label-field", &p.label_field, "ground-truth class field (1 = vehicle), if present");

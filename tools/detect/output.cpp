@@ -75,7 +75,8 @@ std::string serialize_index(const Result& r, const Params& p, const formats::Pro
             {"height", finite(c.height)},
             {"point_count", c.cloud.size()},
             {"object_points", c.object_points},
-            {"planarity", finite(c.planarity)}};
+            {"planarity", finite(c.planarity)},
+            {"planar_area", finite(c.planar_area)}};
     if (c.has_truth) {
       cj["truth"] = c.truth.instance == 0
                         ? Json(nullptr)
