@@ -96,6 +96,22 @@ TEST_CASE("detect writes a candidates directory") {
     CHECK(read_json(out / "index.json")["classes"].is_null());
     CHECK(entries(dir) == std::vector<std::string>{"cands", "err.txt", "tile.pcd"});
   }
+  SECTION("re-runs into the make layout: the chain's per-candidate directories inside, twice, via stage.sh") {
+    // mk/scenes.mk runs `stage.sh DIR/detect -- detect -i SCAN -o DIR/cands` again when the
+    // tile changed, into a cands/ holding cands/<id>/{samples.pcd, ...} (once: "cands: is a
+    // directory, not an output file", when -o was checked as an output file).
+    fs::create_directories(out / "c0001");
+    { std::ofstream(out / "c0001" / "samples.pcd") << "old chain output"; }
+    const std::string stage = std::string(CANOPY_SOURCE_DIR) + "/scripts/stage.sh " + q(dir / "detect") + " -- ";
+    for (const std::string& o : {out.string(), out.string() + "/"}) {
+      INFO("-o " << o);
+      REQUIRE(test::sh(stage + kBin + "/detect --no-classes -i " + q(dir / "tile.pcd") + " -o " + q(o), dir / "err.txt",
+                       &err) == 0);
+      CHECK(read_json(out / "index.json")["candidates"].size() == 2);
+      CHECK(!fs::exists(out / "c0001"));  // the old chain outputs went with the old index
+      CHECK(entries(dir) == std::vector<std::string>{"cands", "detect.log", "detect.time", "err.txt", "tile.pcd"});
+    }
+  }
 }
 
 TEST_CASE("detect: bad output and input") {
