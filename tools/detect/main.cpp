@@ -10,6 +10,7 @@
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/points_io.h"
 #include "detect/detect.h"
+#include "detect/las_units.h"
 #include "detect/output.h"
 
 using namespace canopy;
@@ -70,6 +71,18 @@ int main(int argc, char** argv) {
     common::log::Phase read("read");
     const formats::PointCloud tile = read_tile(in);
     read.done(std::to_string(tile.size()) + " points");
+    if (in != "-") {
+      // detect's lengths are metres; a LAS tile may declare feet (not converted: the
+      // candidates' transforms are rigid, tile units = metres).
+      if (const auto unit = detect::las_linear_unit(in); unit && unit->metres != 1.0) {
+        char f[64];
+        std::snprintf(f, sizeof f, "%.10g", unit->metres);
+        common::log::warn(name + ": its georeferencing gives the coordinates in " + unit->name +
+                          (unit->metres > 0 ? std::string(" (") + f + " m)" : std::string()) + " (" + unit->source +
+                          "); detect reads them as metres, so every length (DTM cell, vehicle ranges) is " +
+                          "taken in " + unit->name + ": convert the tile to metres first");
+      }
+    }
     common::log::Phase work("detect");
     const detect::Result r = detect::run(tile, p, name);
     const detect::Stats& s = r.stats;
