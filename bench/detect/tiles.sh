@@ -7,7 +7,9 @@
 # recall, candidates per vehicle, true candidates per vehicle (candidates whose object holds
 # mostly one labelled vehicle), detect wall seconds per tile.
 #   bench/detect/tiles.sh [build dir] [work dir] [seeds] [spacings]
-#   e.g. DETECT_ARGS="--min-planarity 0" bench/detect/tiles.sh build /tmp/tiles "101 102 103 104" "80 40"
+#   e.g. DETECT_ARGS="--min-planarity 0" TAG=off bench/detect/tiles.sh build /tmp/tiles "101 102 103 104" "80 40"
+# TAG names the detect runs (cands-TAG-N/), COVERS limits the cover levels (light medium dense).
+# bench/detect/shape.py WORK TAG then gives the shape test's feature distributions.
 # Seeds 1-12 are the scene experiment's (issue 16): do not develop on them.
 set -euo pipefail
 build=${1:-build} work=${2:-/tmp/detect-tiles} seeds=${3:-101 102 103 104} spacings=${4:-80 40}
@@ -19,7 +21,7 @@ cover_keys() {  # cover -> "trees hide"
   case $1 in light) echo "200 0" ;; medium) echo "600 2" ;; dense) echo "1200 4" ;; esac
 }
 for sp in $spacings; do
-  for cover in light medium dense; do
+  for cover in ${COVERS:-light medium dense}; do
     read -r trees hide <<<"$(cover_keys $cover)"
     recipe=$work/$cover-$sp.scene
     sed -e "s/^trees = .*/trees = $trees/" -e "s/^hide = .*/hide = $hide/" -e "s/^spacing = .*/spacing = ${sp}mm/" \
@@ -43,13 +45,13 @@ for sp in $spacings; do
     done
   done
 done
-python3 - "$work" "$tag" "$spacings" "$seeds" <<'PY'
+python3 - "$work" "$tag" "$spacings" "$seeds" "${COVERS:-light medium dense}" <<'PY'
 import json, sys
-work, tag, spacings, seeds = sys.argv[1], sys.argv[2], sys.argv[3].split(), sys.argv[4].split()
+work, tag, spacings, seeds, covers = sys.argv[1], sys.argv[2], sys.argv[3].split(), sys.argv[4].split(), sys.argv[5].split()
 print("| cover | noise | spacing | vehicles | mean canopy cover | recall | candidates / vehicle | true candidates / vehicle | detect s / tile | peak MB |")
 print("|---|---|---|---|---|---|---|---|---|---|")
 for sp in spacings:
-    for cover in ("light", "medium", "dense"):
+    for cover in covers:
         for n in ("0", "8", "32"):
             veh = rec = cands = true = 0
             cov = []; secs = []; mem = []
