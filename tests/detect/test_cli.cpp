@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include "canopy/formats/labels.h"
@@ -96,6 +97,22 @@ TEST_CASE("detect writes a candidates directory") {
     CHECK(read_json(out / "index.json")["classes"].is_null());
     CHECK(entries(dir) == std::vector<std::string>{"cands", "err.txt", "tile.pcd"});
   }
+  SECTION("re-runs into the make layout: the chain's per-candidate directories inside, twice, via stage.sh") {
+    // mk/scenes.mk runs `stage.sh DIR/detect -- detect -i SCAN -o DIR/cands` again when the
+    // tile changed, into a cands/ holding cands/<id>/{samples.pcd, ...} (once: "cands: is a
+    // directory, not an output file", when -o was checked as an output file).
+    fs::create_directories(out / "c0001");
+    { std::ofstream(out / "c0001" / "samples.pcd") << "old chain output"; }
+    const std::string stage = std::string(CANOPY_SOURCE_DIR) + "/scripts/stage.sh " + q(dir / "detect") + " -- ";
+    for (const std::string& o : {out.string(), out.string() + "/"}) {
+      INFO("-o " << o);
+      REQUIRE(test::sh(stage + kBin + "/detect --no-classes -i " + q(dir / "tile.pcd") + " -o " + q(o), dir / "err.txt",
+                       &err) == 0);
+      CHECK(read_json(out / "index.json")["candidates"].size() == 2);
+      CHECK(!fs::exists(out / "c0001"));  // the old chain outputs went with the old index
+      CHECK(entries(dir) == std::vector<std::string>{"cands", "detect.log", "detect.time", "err.txt", "tile.pcd"});
+    }
+  }
 }
 
 TEST_CASE("detect: bad output and input") {
@@ -161,6 +178,26 @@ TEST_CASE("detect: bad output and input") {
       CHECK(std::abs(a[i]["centre"][0].get<double>() - b[i]["centre"][0].get<double>()) < 0.01);
       CHECK(std::abs(a[i]["centre"][1].get<double>() - b[i]["centre"][1].get<double>()) < 0.01);
     }
+  }
+  SECTION("a LAS tile whose georeferencing says feet: a warning naming the unit") {
+    // perm-1.2_0.las declares metres (GeoTIFF key 3076 ProjLinearUnits = 9001): no warning;
+    // the same file with the key set to 9002 (foot): a warning.
+    const std::string src = std::string(CANOPY_SOURCE_DIR) + "/tests/las/data/perm-1.2_0.las";
+    std::string bytes;
+    {
+      std::ifstream f(src, std::ios::binary);
+      bytes.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+    }
+    const std::string metre("\x04\x0c\x00\x00\x01\x00\x29\x23", 8);  // 3076, 0, 1, 9001 (little-endian)
+    const std::size_t at = bytes.find(metre);
+    REQUIRE(at != std::string::npos);
+    CHECK(test::sh(kBin + "/detect --no-classes -i " + q(src) + " -o " + q(dir / "m"), dir / "err.txt", &err) <= 1);
+    CHECK(err.find("warning") == std::string::npos);
+    bytes[at + 6] = '\x2a';  // 9002 = foot
+    { std::ofstream(dir / "feet.las", std::ios::binary) << bytes; }
+    CHECK(test::sh(kBin + "/detect --no-classes -i " + q(dir / "feet.las") + " -o " + q(dir / "ft"), dir / "err.txt", &err) <= 1);
+    CHECK(err.find("feet.las: its georeferencing gives the coordinates in foot (0.3048 m) (GeoTIFF key "
+                   "ProjLinearUnits = 9002)") != std::string::npos);
   }
   SECTION("a tile of only vegetation (no ground returns)") {
     detect_test::TileSpec v;

@@ -279,3 +279,70 @@ TEST_CASE("a tank-wide vehicle (3.54 m, body and turret) is one candidate") {
     check_poses(s, r);
   }
 }
+
+// Shape test (--min-planarity): a group of touching bushes and a young tree whose whole crown
+// lies in the object band are vehicle-sized objects; they pass the footprint and height
+// tests (shape test off) but are not made of planes.
+TEST_CASE("bush groups and low crowns are rejected by the shape test, vehicles are not") {
+  for (const double noise : {0.0, 0.032}) {
+    INFO("noise " << noise);
+    TileSpec s;
+    s.half_extent = 15;
+    s.seed = 41;
+    s.noise = noise;
+    s.terrain = detect_test::Terrain::kSlope;
+    s.slope_deg = 8;
+    // Three bushes in a row, touching: a 5.2 x 2 m group, 1.8 m high.
+    s.bushes = {{-8, 6, 1.0, 0.2, 1.8}, {-6.4, 6.2, 1.0, 0.25, 1.9}, {-4.8, 6.0, 1.0, 0.2, 1.7}};
+    // A young tree: crown from 1.5 to 4.2 m, 3.2 m across, all below --max-height.
+    s.trees = {{6, 7, 1.6, 1.5, 4.2, 0.1}};
+    s.vehicles = {{-2, -6, 0.4, 4.5, 1.8, 1.5, 1, true}, {7, -5, -0.8, 7.0, 2.5, 3.0, 2}};
+    const auto tile = detect_test::make_tile(s);
+    detect::Params off;
+    off.min_planarity = 0;
+    const detect::Result all = detect::run(tile, off, "off");
+    std::size_t vegetation = 0;
+    for (const auto& c : all.candidates) {
+      INFO("candidate " << c.id << " " << c.length << " x " << c.width << " x " << c.height << " planarity "
+                        << c.planarity << " truth " << c.truth.instance);
+      if (c.truth.instance == 0) {
+        ++vegetation;
+        CHECK(c.planarity < 0.1);
+        CHECK(c.planar_area < 0.5);
+      } else {
+        CHECK(c.planarity > 0.3);
+        CHECK(c.planar_area > 5);
+      }
+    }
+    CHECK(vegetation == 2);  // the bush group and the young tree
+    const detect::Result r = detect::run(tile, detect::Params{}, "on");
+    CHECK(r.candidates.size() == 2);
+    CHECK(r.stats.rejected_shape == 2);
+    check_poses(s, r);
+  }
+}
+
+// A vehicle under bushes: the bush points join its object and lower its planar share below
+// --min-planarity, but the planar area of its panels keeps it.
+TEST_CASE("a vehicle half under bushes passes the shape test") {
+  TileSpec s;
+  s.half_extent = 12;
+  s.seed = 42;
+  s.noise = 0.032;
+  s.vehicles = {{0, 0, 0.2, 4.5, 1.8, 1.5, 3, true}};
+  // Two bushes over the car's front half and side, reaching above its roof.
+  s.bushes = {{1.3, 0.5, 1.3, 0.3, 2.4}, {0.2, -1.2, 1.2, 0.2, 2.2}};
+  const auto tile = detect_test::make_tile(s);
+  const detect::Result r = detect::run(tile, detect::Params{}, "bushes");
+  const auto found = candidates_of(r, 3);
+  REQUIRE(found.size() == 1);
+  INFO("planarity " << found[0]->planarity << " area " << found[0]->planar_area << " purity " << found[0]->truth.purity);
+  CHECK(found[0]->truth.purity < 0.8);  // the bushes are in the object
+  CHECK(found[0]->planarity < detect::Params{}.min_planarity);
+  CHECK(found[0]->planar_area >= detect::Params{}.min_planar_area);
+  CHECK(found[0]->truth.coverage > 0.9);
+  // The share alone would lose it.
+  detect::Params share_only;
+  share_only.min_planar_area = 1e9;
+  CHECK(candidates_of(detect::run(tile, share_only, "bushes"), 3).empty());
+}

@@ -1,5 +1,6 @@
 #include "detect/detect.h"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 
@@ -15,6 +16,7 @@
 
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
+#include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/search/kdtree.h>
 #include <pcl/segmentation/extract_clusters.h>
 #include <pcl/segmentation/progressive_morphological_filter.h>
@@ -331,10 +333,16 @@ std::vector<std::vector<std::uint32_t>> cluster_points(const std::vector<std::ui
 
 // ---------------------------------------------------------------------------------------
 
+// Planar share and area of an object (planar_shape below).
+struct Shape {
+  double share = 0, area = 0;
+};
+
 struct Object {
   std::vector<std::uint32_t> points;
   Footprint fp;
   double height = 0;
+  Shape shape;
 };
 
 struct Context {
@@ -343,6 +351,7 @@ struct Context {
   const std::vector<double>& y;
   const std::vector<double>& z;
   const std::vector<float>& h;
+  const std::vector<double>& zr;  // local frame z (true geometry, for the shape test)
   Stats& stats;
   std::vector<Object> accepted;
   // 2-D voxel columns (i, j at `voxel`, packed) holding a point just above the band: a
@@ -522,6 +531,74 @@ void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
   c.accepted.push_back(std::move(o));
 }
 
+
+// ---------------------------------------------------------------------------------------
+// Shape: vehicles are made of planes, vegetation is volumetric scatter.
+
+// How much of an object's surface lies in locally planar neighbourhoods. Its points are
+// averaged into `kPlanarVoxel` cubes (so the neighbour set is about as dense at 40 mm as at
+// 80 mm pixel spacing, and bounded); for each centroid, its neighbours within `radius` (PCL's
+// k-d tree) and the eigenvalues l1 >= l2 >= l3 of their covariance: the centroid is planar
+// when sqrt(l3 / l2) <= `ratio` (a plane with noise sigma gives about sigma / (radius / 2); a
+// line, a branch or a rail, has l2 ~ l3 and is not planar). Centroids with fewer than
+// kPlanarMinNeighbours neighbours are not counted. share = planar / counted centroids (0 for
+// an object too small to tell); area = planar centroids x kPlanarVoxel^2 (m^2, about the
+// planar surface seen: a vehicle under a bush keeps its panels' area while the bush's points
+// lower its share).
+constexpr double kPlanarVoxel = 0.1;
+constexpr int kPlanarMinNeighbours = 8;
+
+Shape planar_shape(const Context& c, const std::vector<std::uint32_t>& pts, double radius, double ratio) {
+  std::unordered_map<std::uint64_t, std::uint32_t> slot;
+  std::vector<Vector3d> sum;
+  std::vector<std::uint32_t> cnt;
+  slot.reserve(pts.size());
+  for (std::uint32_t q : pts) {
+    const auto i = std::uint64_t(std::int64_t(std::floor(c.x[q] / kPlanarVoxel)) + (1 << 20));
+    const auto j = std::uint64_t(std::int64_t(std::floor(c.y[q] / kPlanarVoxel)) + (1 << 20));
+    const auto k = std::uint64_t(std::int64_t(std::floor(c.zr[q] / kPlanarVoxel)) + (1 << 20));
+    const auto [it, fresh] = slot.emplace((i << 42) | (j << 21) | k, std::uint32_t(sum.size()));
+    if (fresh) {
+      sum.emplace_back(Vector3d::Zero());
+      cnt.push_back(0);
+    }
+    sum[it->second] += Vector3d(c.x[q], c.y[q], c.zr[q]);
+    ++cnt[it->second];
+  }
+  if (sum.size() < std::size_t(kPlanarMinNeighbours)) return {};
+  // Centroids relative to the first one (float32 for PCL; slots in first-seen order: deterministic).
+  const Vector3d ref = sum[0] / double(cnt[0]);
+  pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);
+  cloud->resize(sum.size());
+  for (std::size_t u = 0; u < sum.size(); ++u) {
+    const Vector3d m = sum[u] / double(cnt[u]) - ref;
+    (*cloud)[u] = pcl::PointXYZ(float(m.x()), float(m.y()), float(m.z()));
+  }
+  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+  tree.setInputCloud(cloud);
+  std::size_t planar = 0, counted = 0;
+  pcl::Indices nb;
+  std::vector<float> d2;
+  for (std::size_t u = 0; u < cloud->size(); ++u) {
+    if (tree.radiusSearch((*cloud)[u], radius, nb, d2) < kPlanarMinNeighbours) continue;
+    Vector3d mean = Vector3d::Zero();
+    for (const auto k : nb) mean += (*cloud)[std::size_t(k)].getVector3fMap().cast<double>();
+    mean /= double(nb.size());
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (const auto k : nb) {
+      const Vector3d d = (*cloud)[std::size_t(k)].getVector3fMap().cast<double>() - mean;
+      cov += d * d.transpose();
+    }
+    const Vector3d l = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov, Eigen::EigenvaluesOnly).eigenvalues();
+    ++counted;
+    planar += l[0] <= ratio * ratio * l[1];  // ascending: l[0] is the smallest
+  }
+  Shape out;
+  out.share = counted ? double(planar) / double(counted) : 0.0;
+  out.area = double(planar) * kPlanarVoxel * kPlanarVoxel;
+  return out;
+}
+
 }  // namespace
 
 void Params::validate() const {
@@ -542,6 +619,10 @@ void Params::validate() const {
   need(max_height > min_object_height, "--max-height must exceed --min-object-height");
   need(margin >= 0, "--margin must be >= 0");
   need(min_points >= 3, "--min-points must be >= 3");
+  need(min_planarity >= 0 && min_planarity <= 1, "--min-planarity must be in [0, 1] (0 = off)");
+  need(planar_radius >= 2 * 0.1 && std::isfinite(planar_radius), "--planar-radius must be >= 0.2 m");
+  need(planar_ratio > 0 && planar_ratio < 1, "planar_ratio must be in (0, 1)");
+  need(min_planar_area >= 0, "--min-planar-area must be >= 0");
   need(min_ground_share > 0 && min_ground_share <= 1, "--min-ground-share must be in (0, 1]");
 }
 
@@ -686,7 +767,7 @@ Result run(const formats::PointCloud& tile, const Params& params, const std::str
   r.stats.band_points = band.size();
   std::vector<double> hz(n);  // clustering in (x, y, height): the band is a flat slab
   for (std::size_t i = 0; i < n; ++i) hz[i] = r.height[i];
-  Context ctx{params, x, y, hz, r.height, r.stats, {}, {}};
+  Context ctx{params, x, y, hz, r.height, z, r.stats, {}, {}};
   for (std::size_t i = 0; i < n; ++i) {
     if (r.height[i] > params.max_height && r.height[i] <= params.max_height + 2 * params.voxel) {
       ctx.above.emplace(column_key(x[i], y[i], params.voxel), 1);
@@ -696,6 +777,20 @@ Result run(const formats::PointCloud& tile, const Params& params, const std::str
     auto clusters = cluster_points(band, x, y, hz, params.voxel, params.clustering);
     r.stats.clusters = clusters.size();
     for (auto& cl : clusters) examine(ctx, std::move(cl), 0);
+  }
+  {
+    // Shape: vegetation (bush groups, crown pieces) is not made of planes; a vehicle is, even
+    // under a bush (then its planar area counts).
+    std::vector<Object> kept;
+    for (Object& o : ctx.accepted) {
+      o.shape = planar_shape(ctx, o.points, params.planar_radius, params.planar_ratio);
+      if (params.min_planarity > 0 && o.shape.share < params.min_planarity && o.shape.area < params.min_planar_area) {
+        ++r.stats.rejected_shape;
+      } else {
+        kept.push_back(std::move(o));
+      }
+    }
+    ctx.accepted.swap(kept);
   }
   r.stats.seconds_objects = seconds_since(t0);
 
@@ -789,6 +884,8 @@ Result run(const formats::PointCloud& tile, const Params& params, const std::str
     c.height = zmax;
     c.heading = std::atan2(R(1, 0), R(0, 0));
     c.object_points = o.points.size();
+    c.planarity = o.shape.share;
+    c.planar_area = o.shape.area;
     c.to_tile.topLeftCorner<3, 3>() = R;
     c.to_tile.topRightCorner<3, 1>() = O + r.origin;
     pd.centre = O + r.origin;

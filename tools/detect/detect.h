@@ -20,6 +20,9 @@
 //    apart: two vehicles side by side, a vehicle against a bush); an oversized one that does
 //    not come apart is cut at a clear valley of the point count across its oversized axis,
 //    or kept when at most 25% beyond the ranges (recall first), else rejected.
+//    An accepted cluster whose surface is mostly not planar and holds little planar area (bush
+//    groups, crown pieces: leaves are volumetric scatter, a vehicle is made of panels) is
+//    rejected (`min_planarity`, `min_planar_area`).
 // 5. Candidates. Per accepted cluster: a rigid local frame (origin on the DTM at the
 //    footprint centre, z = the normal of the ground plane fitted under the footprint, x = the
 //    long axis); every input point inside the footprint + `margin` and below height + margin,
@@ -57,6 +60,14 @@ struct Params {
   double min_width = 1.0, max_width = 4.0;  // the tank is 3.54 m over its tracks
   double min_height = 0.8, max_height = 4.5;
   std::size_t min_points = 30;     // fewer points in a cluster: not a candidate
+  // Shape (docs/decisions/detect.md): the share of the object's 0.1 m voxel centroids whose
+  // neighbours within planar_radius are planar (sqrt(l3 / l2) <= planar_ratio of their
+  // covariance's eigenvalues), and their area. An object with a share below min_planarity
+  // and a planar area below min_planar_area is vegetation (bush groups, crown pieces).
+  double min_planarity = 0.2;      // 0 = no shape test
+  double min_planar_area = 1.0;    // m^2 of planar surface that keep an object whatever its share
+  double planar_radius = 0.35;     // neighbourhood radius (m)
+  double planar_ratio = 0.35;      // largest sqrt(l3 / l2) of a planar neighbourhood
   // Candidates.
   double margin = 0.5;             // crop margin around the footprint and above the height (m)
   std::string label_field = "label";       // ground-truth class (formats/labels.h); optional
@@ -83,6 +94,8 @@ struct Candidate {
   double heading = 0;                  // local x axis in the tile's xy plane, from +x toward +y (rad, (-pi/2, pi/2])
   double height = 0;                   // highest object point above the ground (m)
   std::size_t object_points = 0;       // points of the cluster
+  double planarity = 0;                // share of the object's surface in planar neighbourhoods
+  double planar_area = 0;              // that planar surface (m^2)
   formats::PointCloud cloud;           // the crop, local frame, every input field
   bool has_truth = false;
   Truth truth;
@@ -97,7 +110,7 @@ struct InstanceTruth {
 struct Stats {
   std::size_t points = 0, ground_cells = 0, filled_cells = 0, cells = 0;
   std::size_t ground_points = 0, band_points = 0, clusters = 0, splits = 0;
-  std::size_t rejected_small = 0, rejected_large = 0, rejected_canopy = 0;
+  std::size_t rejected_small = 0, rejected_large = 0, rejected_canopy = 0, rejected_shape = 0;
   double seconds_ground = 0, seconds_objects = 0, seconds_candidates = 0;
 };
 

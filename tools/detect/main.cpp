@@ -10,6 +10,7 @@
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/points_io.h"
 #include "detect/detect.h"
+#include "detect/las_units.h"
 #include "detect/output.h"
 
 using namespace canopy;
@@ -48,6 +49,10 @@ int main(int argc, char** argv) {
   tool.add_length("--min-height", &p.min_height, "lowest vehicle");
   tool.add_length("--max-height", &p.max_height, "tallest vehicle (higher points are canopy)");
   tool.add("--min-points", &p.min_points, "fewest points of a candidate object");
+  tool.add("--min-planarity", &p.min_planarity, "shape test: an object with a smaller share of its surface in planar "
+                                                 "neighbourhoods and less than --min-planar-area of it is vegetation (0 = off)");
+  tool.add("--min-planar-area", &p.min_planar_area, "shape test: m^2 of planar surface that keep an object whatever its share");
+  tool.add_length("--planar-radius", &p.planar_radius, "neighbourhood radius of the planarity test");
   tool.add_length("--margin", &p.margin, "crop margin around a candidate's footprint and above its height");
   tool.add("--label-field", &p.label_field, "ground-truth class field (1 = vehicle), if present");
   tool.add("--instance-field", &p.instance_field, "ground-truth instance field, if present");
@@ -66,15 +71,27 @@ int main(int argc, char** argv) {
     common::log::Phase read("read");
     const formats::PointCloud tile = read_tile(in);
     read.done(std::to_string(tile.size()) + " points");
+    if (in != "-") {
+      // detect's lengths are metres; a LAS tile may declare feet (not converted: the
+      // candidates' transforms are rigid, tile units = metres).
+      if (const auto unit = detect::las_linear_unit(in); unit && unit->metres != 1.0) {
+        char f[64];
+        std::snprintf(f, sizeof f, "%.10g", unit->metres);
+        common::log::warn(name + ": its georeferencing gives the coordinates in " + unit->name +
+                          (unit->metres > 0 ? std::string(" (") + f + " m)" : std::string()) + " (" + unit->source +
+                          "); detect reads them as metres, so every length (DTM cell, vehicle ranges) is " +
+                          "taken in " + unit->name + ": convert the tile to metres first");
+      }
+    }
     common::log::Phase work("detect");
     const detect::Result r = detect::run(tile, p, name);
     const detect::Stats& s = r.stats;
     char buf[400];
     std::snprintf(buf, sizeof buf,
                   "ground %zu of %zu cells (%.2f s); %zu object points in %zu clusters, %zu splits, "
-                  "rejected %zu small %zu large %zu canopy bottoms (%.2f s); %zu candidates (%.2f s)",
+                  "rejected %zu small %zu large %zu canopy bottoms %zu not planar (%.2f s); %zu candidates (%.2f s)",
                   s.ground_cells, s.cells, s.seconds_ground, s.band_points, s.clusters, s.splits,
-                  s.rejected_small, s.rejected_large, s.rejected_canopy, s.seconds_objects, r.candidates.size(),
+                  s.rejected_small, s.rejected_large, s.rejected_canopy, s.rejected_shape, s.seconds_objects, r.candidates.size(),
                   s.seconds_candidates);
     work.done(buf);
     if (r.has_truth) {

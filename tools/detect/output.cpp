@@ -74,7 +74,9 @@ std::string serialize_index(const Result& r, const Params& p, const formats::Pro
             {"heading", finite(c.heading)},
             {"height", finite(c.height)},
             {"point_count", c.cloud.size()},
-            {"object_points", c.object_points}};
+            {"object_points", c.object_points},
+            {"planarity", finite(c.planarity)},
+            {"planar_area", finite(c.planar_area)}};
     if (c.has_truth) {
       cj["truth"] = c.truth.instance == 0
                         ? Json(nullptr)
