@@ -113,7 +113,7 @@ std::string confusion_csv(const std::vector<Trial>& trials, const std::vector<En
 
 std::string accuracy_csv(const std::vector<Trial>& trials) {
   struct Count {
-    int trials = 0, right = 0, accepted = 0, accepted_right = 0, nearest = 0;
+    int trials = 0, right = 0, accepted = 0, accepted_right = 0, nearest = 0, failed = 0;
   };
   std::vector<std::pair<std::string, std::string>> keys;
   std::map<std::pair<std::string, std::string>, Count> counts;
@@ -126,17 +126,18 @@ std::string accuracy_csv(const std::vector<Trial>& trials) {
     c.accepted += t.accepted;
     c.accepted_right += t.accepted && right;
     c.nearest += !t.expected_nearest.empty() && t.nearest == t.expected_nearest;
+    c.failed += t.failed;
   };
   for (const auto& t : trials) add({t.run.cover, t.run.noise}, t);
   for (const auto& t : trials) add({"all", "all"}, t);
   std::string out = "cover,noise,trials,class_right,class_accuracy,accepted,accepted_right,nearest_right,"
-                    "nearest_accuracy\n";
+                    "nearest_accuracy,failed\n";
   char buf[256];
   for (const auto& k : keys) {
     const Count& c = counts[k];
-    std::snprintf(buf, sizeof buf, "%s,%s,%d,%d,%.4f,%d,%d,%d,%.4f\n", k.first.c_str(), k.second.c_str(),
+    std::snprintf(buf, sizeof buf, "%s,%s,%d,%d,%.4f,%d,%d,%d,%.4f,%d\n", k.first.c_str(), k.second.c_str(),
                   c.trials, c.right, static_cast<double>(c.right) / c.trials, c.accepted, c.accepted_right,
-                  c.nearest, static_cast<double>(c.nearest) / c.trials);
+                  c.nearest, static_cast<double>(c.nearest) / c.trials, c.failed);
     out += buf;
   }
   return out;

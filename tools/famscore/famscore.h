@@ -5,7 +5,7 @@
 // The runs manifest has one trial per line: <verdict.json> <class> <instance> <cover> <noise>
 // (the test vehicle is family:<class>:<instance>; '#' starts a comment). The answered class is
 // the verdict's "class" (the best-scoring hypothesis's class, accepted or not); "none" when the
-// verdict has no class. The right nearest instance is the modelbase entry of the true class
+// verdict has no class or is empty (a stage failed on the trial: stage.sh --record-failure). The right nearest instance is the modelbase entry of the true class
 // whose generated length, width and height are nearest (Euclidean) to the test vehicle's.
 #pragma once
 
@@ -38,6 +38,7 @@ struct Trial {
   std::string answered_class;     // "none" when the verdict names no class
   std::string nearest, expected_nearest;
   bool accepted = false;          // the verdict's model passed verify's threshold
+  bool failed = false;            // a stage failed (empty verdict, stage.sh --record-failure)
 };
 
 // Class order: the families' order, then any other class alphabetically.
@@ -46,7 +47,8 @@ std::vector<std::string> class_order(const std::vector<std::string>& classes);
 // true_class,<answered classes...>,none — counts of trials.
 std::string confusion_csv(const std::vector<Trial>& trials, const std::vector<Entry>& entries);
 // cover,noise,trials,class_right,class_accuracy,accepted,accepted_right,nearest_right,
-// nearest_accuracy — one row per (cover, noise) in first-seen order, then all,all.
+// nearest_accuracy,failed — one row per (cover, noise) in first-seen order, then all,all.
+// accepted = verify accepted the nearest instance as the model; failed trials count as wrong.
 std::string accuracy_csv(const std::vector<Trial>& trials);
 
 }  // namespace canopy::famscore

@@ -46,17 +46,21 @@ int main(int argc, char** argv) {
     }
     if (entries.empty()) throw cm::DataError(modelbase, "no <model>.class file: the modelbase carries no classes");
     std::vector<Trial> trials;
-    int accepted = 0;
     for (const auto& r : runs) {
-      const canopy::formats::Verdict v = canopy::formats::read_verdict(r.verdict);
-      if (!v.has_classes) throw cm::DataError(r.verdict, "verdict names no class (modelbase without classes?)");
       Trial t;
       t.run = r;
+      t.expected_nearest = nearest_by_size(r.vehicle_class, r.instance, entries);
+      if (cm::read_file(r.verdict).empty()) {  // a stage failed on this trial
+        t.answered_class = "none";
+        t.failed = true;
+        trials.push_back(t);
+        continue;
+      }
+      const canopy::formats::Verdict v = canopy::formats::read_verdict(r.verdict);
+      if (!v.has_classes) throw cm::DataError(r.verdict, "verdict names no class (modelbase without classes?)");
       t.answered_class = v.vehicle_class.empty() ? "none" : v.vehicle_class;
       t.nearest = v.nearest_instance;
       t.accepted = !v.model.empty();
-      t.expected_nearest = nearest_by_size(r.vehicle_class, r.instance, entries);
-      accepted += t.accepted;
       trials.push_back(t);
     }
     outputs.set(confusion, confusion_csv(trials, entries));
