@@ -3,6 +3,8 @@
 // scans whose shapes tell classes apart the way real ones differ (a pickup's open bed).
 #include <catch2/catch.hpp>
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <set>
@@ -12,6 +14,7 @@
 #include "canopy/common/error.h"
 #include "rangetrace/families.h"
 #include "rangetrace/rangetrace.h"
+#include "rangetrace/tile.h"
 
 using namespace canopy;
 using namespace canopy::rangetrace;
@@ -180,4 +183,23 @@ TEST_CASE("families: the same instance and seed give byte-identical scans") {
     for (std::size_t i = 0; i < a.size() && same; ++i) same = a.col(col)[i] == b.col(col)[i];
   }
   CHECK(same);
+}
+
+TEST_CASE("families: a tile's truth names the class of family vehicles, and only of them") {
+  const SceneRecipe s = parse_scene("extent = 24m 12m\nterrain = flat\ntrees = 0\nbushes = 0\nhide = 0\n"
+                                    "vehicle = family:wheel-loader:2 6 6 0\nvehicle = sedan 18 6 90\n"
+                                    "flight_lines = 1\nheadings = 0\nlooks = 80deg/0\nspacing = 0.2m\n",
+                                    "fam.scene");
+  Params p;
+  p.seed = 3;
+  const Tile tile = build_tile(*s.tile, "fam.scene", p);
+  const auto truth = nlohmann::json::parse(truth_json(tile, {}));
+  REQUIRE(truth.at("vehicles").size() == 2);
+  const auto& loader = truth["vehicles"][0];
+  CHECK(loader.at("model") == "wheel-loader-2");
+  CHECK(loader.at("class") == "wheel-loader");
+  const auto f = make_family_instance("wheel-loader", 2);
+  CHECK(loader.at("size")[0].get<double>() == Approx(f.hi.x() - f.lo.x()).margin(0.01));
+  CHECK(truth["vehicles"][1].at("model") == "sedan");
+  CHECK(!truth["vehicles"][1].contains("class"));
 }
