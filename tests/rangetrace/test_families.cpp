@@ -202,4 +202,14 @@ TEST_CASE("families: a tile's truth names the class of family vehicles, and only
   CHECK(loader.at("size")[0].get<double>() == Approx(f.hi.x() - f.lo.x()).margin(0.01));
   CHECK(truth["vehicles"][1].at("model") == "sedan");
   CHECK(!truth["vehicles"][1].contains("class"));
+
+  const SceneRecipe r = parse_scene("extent = 30m 30m\nterrain = flat\ntrees = 0\nbushes = 0\nhide = 0\n"
+                                    "vehicles = random 3 from family:van:1,family:tank:2\n"
+                                    "flight_lines = 1\nheadings = 0\nlooks = 80deg/0\nspacing = 0.2m\n",
+                                    "random.scene");
+  const auto random_truth = nlohmann::json::parse(truth_json(build_tile(*r.tile, "random.scene", p), {}));
+  REQUIRE(random_truth.at("vehicles").size() == 3);
+  for (const auto& v : random_truth["vehicles"]) {
+    CHECK(v.at("class") == (v.at("model") == "van-1" ? "van" : "tank"));
+  }
 }
