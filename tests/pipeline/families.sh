@@ -22,7 +22,7 @@ cp -r "$src/share/params" "$tmp/params"
 mk=(make -C "$src" -f Makefile.experiments BUILD="$tmp/build" CMAKE=true P="$tmp/params" PROGRESS=0
     OUT="$tmp/out" RES="$tmp/res" FAM_CLASSES="pickup van" FAM_TRAIN=0 FAM_TEST="1000 1001"
     FAM_COVERS=light FAM_NOISES=0 FAM_VIEWS="circle 6 75deg"
-    FAM_RENDER="--size 400 --spacing 30mm --crop-length 8m --crop-width 4m --crop-height 4m")
+    FAM_RENDER="--size 320 --spacing 30mm --crop-length 7m --crop-width 3m --crop-height 3m")
 
 "${mk[@]}" -j2 families >"$tmp/make.log" 2>&1 || fail "make families failed: $(tail -8 "$tmp/make.log")"
 res=$tmp/res/families mb=$tmp/out/families/modelbase
