@@ -12,7 +12,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <functional>
 
 #include "canopy/common/error.h"
 #include "canopy/common/rng.h"
