@@ -53,8 +53,8 @@ Pose pose_from(const Json& j) {
 
 Json optional_pose(const std::optional<Pose>& p) { return p ? pose_json(*p) : Json(nullptr); }
 
-Json hypothesis_json(const Hypothesis& h) {
-  return Json{{"model", h.model},
+Json hypothesis_json(const Hypothesis& h, bool has_classes) {
+  Json j{{"model", h.model},
               {"gmatch_rank", h.gmatch_rank},
               {"gmatch_score", finite(h.gmatch_score, "gmatch_score")},
               {"start", h.start},
@@ -66,6 +66,8 @@ Json hypothesis_json(const Hypothesis& h) {
               {"free_space_violation", finite(h.free_space_violation, "free_space_violation")},
               {"score", finite(h.score, "score")},
               {"flip_score", finite(h.flip_score, "flip_score")}};
+  if (has_classes) j["class"] = h.vehicle_class.empty() ? Json(nullptr) : Json(h.vehicle_class);
+  return j;
 }
 
 Hypothesis hypothesis_from(const Json& j) {
@@ -82,6 +84,7 @@ Hypothesis hypothesis_from(const Json& j) {
   h.free_space_violation = j.at("free_space_violation").get<double>();
   h.score = j.at("score").get<double>();
   h.flip_score = j.at("flip_score").get<double>();
+  if (j.contains("class") && !j.at("class").is_null()) h.vehicle_class = j.at("class").get<std::string>();
   return h;
 }
 
@@ -103,7 +106,7 @@ std::string serialize_verdict(const Verdict& v) {
   provenance = Json{{"tool", v.provenance.tool}, {"version", v.provenance.version},
                     {"parameters", params}, {"inputs", v.provenance.inputs}};
   Json hyps = Json::array();
-  for (const auto& h : v.hypotheses) hyps.push_back(hypothesis_json(h));
+  for (const auto& h : v.hypotheses) hyps.push_back(hypothesis_json(h, v.has_classes));
   if (v.chosen >= static_cast<int>(v.hypotheses.size())) {
     throw common::Error("verdict: chosen hypothesis index out of range");
   }
@@ -122,6 +125,13 @@ std::string serialize_verdict(const Verdict& v) {
          {"transform", optional_pose(v.transform)},
          {"chosen", v.chosen},
          {"hypotheses", hyps}};
+  if (v.has_classes) {
+    auto text = [](const std::string& s) { return s.empty() ? Json(nullptr) : Json(s); };
+    j["class"] = text(v.vehicle_class);
+    j["nearest_instance"] = text(v.nearest_instance);
+    j["class_score"] = finite(v.class_score, "class_score");
+    j["class_margin"] = finite(v.class_margin, "class_margin");
+  }
   return j.dump(1) + "\n";
 }
 
@@ -143,6 +153,13 @@ Verdict parse_verdict(const std::string& text, const std::string& name) {
     if (!j.at("transform").is_null()) v.transform = pose_from(j.at("transform"));
     for (const auto& h : j.at("hypotheses")) v.hypotheses.push_back(hypothesis_from(h));
     v.chosen = j.at("chosen").get<int>();
+    if (j.contains("class")) {
+      v.has_classes = true;
+      v.vehicle_class = j.at("class").is_null() ? "" : j.at("class").get<std::string>();
+      v.nearest_instance = j.at("nearest_instance").is_null() ? "" : j.at("nearest_instance").get<std::string>();
+      v.class_score = j.at("class_score").get<double>();
+      v.class_margin = j.at("class_margin").get<double>();
+    }
     if (v.chosen < -1 || v.chosen >= static_cast<int>(v.hypotheses.size())) {
       throw std::invalid_argument("chosen is not -1 or a hypothesis index");
     }

@@ -94,6 +94,49 @@ TEST_CASE("verify answers the right model with its pose, byte-identical on rerun
   REQUIRE(sh(c.cmd(c.dir / "u.json") + " --transform 1,2,3", c.dir / "err", &err) == 2);
 }
 
+TEST_CASE("a modelbase with classes: the verdict names the class and the nearest instance", "[verify][cli]") {
+  const Case c("classes");
+  std::string err;
+  REQUIRE(sh(c.cmd(c.dir / "plain.json"), c.dir / "err", &err) == 0);
+  const std::string plain = canopy::common::read_file((c.dir / "plain.json").string());
+  CHECK(plain.find("\"class\"") == std::string::npos);  // no classes: no class keys
+  CHECK(plain.find("nearest_instance") == std::string::npos);
+
+  canopy::common::write_file_atomic((c.mb / "pickup.class").string(), "light-truck\n");
+  canopy::common::write_file_atomic((c.mb / "flatbed.class").string(), "heavy-truck\n");
+  REQUIRE(sh(c.cmd(c.dir / "cls.json"), c.dir / "err", &err) == 0);
+  CHECK(err.find("class light-truck (nearest instance pickup") != std::string::npos);
+  const fm::Verdict v = fm::read_verdict((c.dir / "cls.json").string());
+  REQUIRE(v.has_classes);
+  CHECK(v.vehicle_class == "light-truck");
+  CHECK(v.nearest_instance == "pickup");
+  CHECK(v.model == "pickup");
+  CHECK(v.class_score == Approx(v.hypotheses[1].score).margin(1e-12));
+  CHECK(v.class_margin == Approx(v.hypotheses[1].score - v.hypotheses[0].score).margin(1e-12));
+  CHECK(v.hypotheses[0].vehicle_class == "heavy-truck");
+  CHECK(v.hypotheses[1].vehicle_class == "light-truck");
+  // Everything else is as without classes, and the document round-trips.
+  fm::Verdict stripped = v;
+  stripped.has_classes = false;
+  stripped.provenance = fm::read_verdict((c.dir / "plain.json").string()).provenance;
+  for (auto& h : stripped.hypotheses) h.vehicle_class.clear();
+  CHECK(fm::serialize_verdict(stripped) == plain);
+  CHECK(fm::serialize_verdict(fm::parse_verdict(fm::serialize_verdict(v), "x")) == fm::serialize_verdict(v));
+
+  // Both hypotheses of one class: the margin over another class is the whole score.
+  canopy::common::write_file_atomic((c.mb / "flatbed.class").string(), "light-truck");
+  REQUIRE(sh(c.cmd(c.dir / "same.json"), c.dir / "err", &err) == 0);
+  const fm::Verdict s = fm::read_verdict((c.dir / "same.json").string());
+  CHECK(s.vehicle_class == "light-truck");
+  CHECK(s.class_margin == Approx(s.class_score).margin(1e-12));
+
+  // A malformed class file is an error naming it, without output.
+  canopy::common::write_file_atomic((c.mb / "flatbed.class").string(), "two words\n");
+  REQUIRE(sh(c.cmd(c.dir / "bad.json"), c.dir / "err", &err) == 1);
+  CHECK(err.find((c.mb / "flatbed.class").string()) != std::string::npos);
+  CHECK(!fs::exists(c.dir / "bad.json"));
+}
+
 TEST_CASE("bad input exits 1 naming the file, no output", "[verify][cli]") {
   std::string err;
   SECTION("a hypothesis naming a model not in the modelbase") {

@@ -32,8 +32,8 @@ double angle_deg(const Isometry3d& a, const Isometry3d& b) {
 struct World {
   std::vector<vf::Model> models;
   World() {
-    models.push_back({"pickup", graph(pickup()), sample(pickup(), 0.1)});
-    models.push_back({"flatbed", graph(flatbed()), sample(flatbed(), 0.1)});
+    models.push_back({"pickup", graph(pickup()), sample(pickup(), 0.1), ""});
+    models.push_back({"flatbed", graph(flatbed()), sample(flatbed(), 0.1), ""});
   }
 };
 

@@ -10,6 +10,7 @@
 #include "canopy/common/log.h"
 #include "canopy/common/units.h"
 #include "canopy/formats/points_io.h"
+#include "rangetrace/families.h"
 #include "rangetrace/rangetrace.h"
 #include "rangetrace/tile.h"
 
@@ -22,8 +23,10 @@ int main(int argc, char** argv) {
   std::string out = "-", model = "", scene = "", units = "m", up = "z", picture = "", pos = "0,0";
   std::string truth = "";
   int view = 0;
+  bool list_families = false;
   tool.app().get_option("--threads")->default_val(2);
-  tool.app().add_option("--model", model, "earthmover, obj1, sedan, semi, tank, a POV-Ray include "
+  tool.app().add_option("--model", model, "earthmover, obj1, sedan, semi, tank, family:<class>:<instance> (a procedural "
+                        "vehicle; --list-families), a POV-Ray include "
                         "declaring Vehicle (.inc/.pov), or a mesh (.ply/.obj/.stl); not with a "
                         "tile scene (its recipe places the vehicles)");
   tool.add("--scene", &scene, "a recipe of share/scenes by name (circle, flyby, unoccluded, "
@@ -43,7 +46,17 @@ int main(int argc, char** argv) {
   tool.add("--picture", &picture, "instead of a scan, write a shaded PNG picture here");
   tool.add("--view", &view, "view index shown by --picture with a scene");
   tool.add("--truth", &truth, "tile scenes: write the ground truth (truth.json) here");
+  tool.add_flag("--list-families", &list_families, "print the procedural vehicle classes "
+                "(family:<class>:<instance>) with their length, width and height ranges, and exit")
+      ->default_str("false");
   return tool.run(argc, argv, [&] {
+    if (list_families) {
+      for (const auto& c : rangetrace::family_classes()) {
+        std::printf("%-13s length %5.2f-%5.2f m  width %4.2f-%4.2f m  height %4.2f-%4.2f m\n", c.name,
+                    c.length.lo, c.length.hi, c.width.lo, c.width.hi, c.height.lo, c.height.hi);
+      }
+      return;
+    }
     const auto comma = pos.find(',');
     if (comma == std::string::npos) throw common::UsageError("--position: expected X,Y");
     p.pose.position = {common::parse_length(pos.substr(0, comma)),
@@ -59,6 +72,8 @@ int main(int argc, char** argv) {
     // stay byte-identical to those of earlier versions (the thesis experiment).
     auto parameters = [&](bool tile) {
       auto all = tool.parameters();
+      all.erase(std::remove_if(all.begin(), all.end(), [](const auto& kv) { return kv.first == "list-families"; }),
+                all.end());
       if (!tile) {
         all.erase(std::remove_if(all.begin(), all.end(), [](const auto& kv) { return kv.first == "truth"; }),
                   all.end());
@@ -135,6 +150,7 @@ int main(int argc, char** argv) {
     for (const auto& [name, value] : parameters(false)) {
       cloud.comments.push_back("parameter " + name + " = " + value);
     }
+    if (!m.vehicle_class.empty()) cloud.comments.push_back("class " + m.vehicle_class);
     formats::write_points(cloud, out);
     common::log::info("wrote " + std::to_string(cloud.size()) + " points (" + m.name + ", " +
                       s.name + ", " + std::to_string(s.views.size()) + " views) to " +

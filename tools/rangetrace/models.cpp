@@ -10,6 +10,7 @@
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "canopy/formats/ply.h"
+#include "rangetrace/families.h"
 #include "rangetrace/rangetrace.h"
 
 namespace canopy::rangetrace {
@@ -181,6 +182,13 @@ Model load_model(const std::string& spec, const MeshImport& import) {
       return model;
     }
   }
+  if (is_family_spec(spec)) {
+    FamilyInstance f = family_from_spec(spec);
+    model.name = f.name;
+    model.inline_code = std::move(f.pov);
+    model.vehicle_class = f.vehicle_class;
+    return model;
+  }
   const std::string ext = lower_extension(spec);
   const auto slash = spec.find_last_of('/');
   const std::string base = slash == std::string::npos ? spec : spec.substr(slash + 1);
@@ -196,7 +204,7 @@ Model load_model(const std::string& spec, const MeshImport& import) {
     std::string names;
     for (const char* b : kBuiltinModels) names += std::string(names.empty() ? "" : ", ") + b;
     throw common::UsageError("--model '" + spec + "': not a built-in model (" + names +
-                             ") nor a .inc/.pov/.ply/.obj/.stl file");
+                             "), a family:<class>:<instance> nor a .inc/.pov/.ply/.obj/.stl file");
   }
   model.inline_code = mesh_file_to_pov(common::read_file(spec), spec, ext, import);
   return model;

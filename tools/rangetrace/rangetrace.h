@@ -102,6 +102,7 @@ struct Model {
   std::string include_dir;   // passed to POV-Ray with +L ("" = the include is written inline)
   std::string include_file;  // file name inside include_dir
   std::string inline_code;   // used when include_dir is empty (converted meshes)
+  std::string vehicle_class;  // procedural family instances (families.h): their class
 };
 
 struct MeshImport {
@@ -109,7 +110,8 @@ struct MeshImport {
   bool z_up = true;    // file frame: z up (right-handed) or y up (right-handed, x right)
 };
 
-// Built-in name (share/models/<name>.inc), a POV-Ray include (.inc/.pov) declaring Vehicle, or
+// Built-in name (share/models/<name>.inc), a procedural family instance
+// (family:<class>:<instance>, families.h), a POV-Ray include (.inc/.pov) declaring Vehicle, or
 // a mesh file (.ply/.obj/.stl) converted to a POV-Ray mesh2.
 Model load_model(const std::string& spec, const MeshImport& import);
 // Mesh triangles (world-frame vertices in metres) -> POV-Ray code declaring Vehicle.

@@ -9,6 +9,7 @@
 #include "canopy/common/rng.h"
 #include "canopy/common/units.h"
 #include "rangetrace/povray_run.h"
+#include "rangetrace/families.h"
 #include "rangetrace/tile.h"
 
 namespace canopy::rangetrace {
@@ -550,6 +551,7 @@ Tile build_tile(const TileRecipe& recipe, const std::string& name, const Params&
     }
     bool builtin = false;
     for (const char* b : kBuiltinModels) builtin = builtin || uses[u].spec == b;
+    builtin = builtin || is_family_spec(uses[u].spec);  // family:<class>:<n> (families.h)
     std::string path = uses[u].spec;
     if (!builtin && !path.empty() && path[0] != '/') path = recipe.dir + path;
     try {

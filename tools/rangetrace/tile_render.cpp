@@ -531,6 +531,8 @@ std::string truth_json(const Tile& tile, const std::vector<std::pair<std::string
     ordered_json e;
     e["instance"] = v.instance;
     e["model"] = v.model_name;
+    // Procedural family instances carry their class (absent for other models: truth unchanged).
+    if (!tile.models[v.model_index].vehicle_class.empty()) e["class"] = tile.models[v.model_index].vehicle_class;
     e["line"] = v.line;
     e["pose"] = {{"x", v.pose.anchor.x() + o.x()}, {"y", v.pose.anchor.y() + o.y()},
                  {"z", v.pose.anchor.z() + o.z()}, {"heading", angle(v.pose.heading)},

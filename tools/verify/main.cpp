@@ -82,7 +82,8 @@ int main(int argc, char** argv) {
                                 "(fitvox samples)")->required();
   tool.add("--segments", &segments, "candidate segment graph JSON (the one gmatch matched)")
       ->required();
-  tool.add("--modelbase", &modelbase, "directory of <model>.json graphs and <model>.pcd surfaces")
+  tool.add("--modelbase", &modelbase, "directory of <model>.json graphs, <model>.pcd surfaces and "
+                                      "optional <model>.class classes")
       ->required();
   tool.add("--transform", &transform,
            "candidate frame -> tile frame, 12 or 16 numbers row-major (detect's index.json "
@@ -146,7 +147,15 @@ int main(int argc, char** argv) {
     } else {
       std::snprintf(line, sizeof line, "none, confidence %.3f", v.confidence);
     }
-    phase.done(line);
+    std::string said = line;
+    if (v.has_classes) {
+      std::snprintf(line, sizeof line, "; class %s (nearest instance %s, score %.3f, margin %.3f)",
+                    v.vehicle_class.empty() ? "none" : v.vehicle_class.c_str(),
+                    v.nearest_instance.empty() ? "none" : v.nearest_instance.c_str(), v.class_score,
+                    v.class_margin);
+      said += line;
+    }
+    phase.done(said);
     fm::write_verdict(v, out);
   });
 }

@@ -1,8 +1,10 @@
 // Reading the modelbase entries a match result names: the only I/O of the verify library.
 #include <exception>
 #include <filesystem>
+#include <sstream>
 #include <system_error>
 
+#include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "canopy/formats/pcd.h"
 #include "verify/verify.h"
@@ -38,6 +40,15 @@ std::vector<Model> read_models(const std::string& dir, const std::vector<std::st
       throw DataError(graph, e.what());
     }
     m.surface = surface_from_cloud(formats::read_pcd(surface), surface);
+    const std::string cls = (fs::path(dir) / (name + ".class")).string();
+    if (fs::exists(cls, ec)) {
+      std::istringstream in(common::read_file(cls));
+      std::string word, extra;
+      if (!(in >> word) || (in >> extra) || word.size() > 64) {
+        throw DataError(cls, "expected one class name (one word, at most 64 characters)");
+      }
+      m.vehicle_class = word;
+    }
     models.push_back(std::move(m));
   }
   return models;

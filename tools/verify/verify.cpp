@@ -457,6 +457,8 @@ formats::Verdict run(const In& in, const Params& p) {
         best.flip_score = variants == 2 ? checks[1 - f].score : 0;
       }
     }
+    best.vehicle_class = model->vehicle_class;
+    v.has_classes = v.has_classes || !model->vehicle_class.empty();
     v.hypotheses.push_back(best);
   }
   // Decide: the best score; margin over the best other model.
@@ -467,6 +469,17 @@ formats::Verdict run(const In& in, const Params& p) {
   double second = 0;
   for (int i = 0; i < static_cast<int>(v.hypotheses.size()); ++i) {
     if (i != chosen) second = std::max(second, v.hypotheses[i].score);
+  }
+  if (v.has_classes && chosen >= 0) {
+    const auto& h = v.hypotheses[chosen];
+    v.vehicle_class = h.vehicle_class;
+    v.nearest_instance = h.model;
+    v.class_score = h.score;
+    double other = 0;
+    for (const auto& o : v.hypotheses) {
+      if (o.vehicle_class != h.vehicle_class) other = std::max(other, o.score);
+    }
+    v.class_margin = h.score - other;
   }
   if (chosen >= 0) {
     const double s = v.hypotheses[chosen].score;

@@ -65,6 +65,7 @@ struct Model {
   std::string name;
   formats::SegmentGraph graph;
   Surface surface;
+  std::string vehicle_class;  // from <name>.class when the modelbase has one, else ""
 };
 
 // Candidate from a samples PCD: requires x y z, normal_x/y/z and sensor_x/y/z (DataError
@@ -76,7 +77,8 @@ Surface surface_from_cloud(const formats::PointCloud& cloud, const std::string& 
                            double min_z = 0.05);
 
 // Reads <dir>/<name>.json and <dir>/<name>.pcd for every name (DataError naming `who` when a
-// model is not in the modelbase, naming the file when a file is malformed).
+// model is not in the modelbase, naming the file when a file is malformed), and the class in
+// <dir>/<name>.class when that file exists (one word on one line; DataError otherwise).
 std::vector<Model> read_models(const std::string& dir, const std::vector<std::string>& names,
                                const std::string& who);
 

@@ -32,6 +32,7 @@ struct Hypothesis {
   double free_space_violation = 0;  // share of the expected-visible model surface not seen
   double score = 0;            // explained * (1 - free_space_violation)
   double flip_score = 0;       // best score among the starts flipped against the chosen one
+  std::string vehicle_class;   // the model's class ("" = none; written only with has_classes)
 };
 
 struct Verdict {
@@ -43,6 +44,13 @@ struct Verdict {
   std::optional<Pose> transform;  // candidate frame -> tile frame, when given
   std::vector<Hypothesis> hypotheses;  // in gmatch rank order
   int chosen = -1;             // index into hypotheses, -1 = none
+  // Class answer, present when the modelbase carries classes (<model>.class files): the class
+  // and name of the best-scoring hypothesis whether or not it passed the acceptance threshold,
+  // its score and its margin over the best hypothesis of another class (0 when none).
+  bool has_classes = false;
+  std::string vehicle_class;   // "" = none (no hypothesis, or its model has no class)
+  std::string nearest_instance;
+  double class_score = 0, class_margin = 0;
 };
 
 // Heading, pitch, roll in degrees of a rotation (R = Rz(heading) Ry(pitch) Rx(roll)).

@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# Families mini protocol (issue 17): two classes (pickup, van), one modelbase instance each,
+# two OTHER test instances each under light foliage, through `make -f Makefile.experiments
+# families` (rangetrace family:<class>:<n> | addnoise | fitvox | cocone | ncut | gmatch |
+# verify | famscore). Checks: the modelbase entries carry their classes; every verdict names a
+# class and a nearest instance; confusion.csv's counts equal the counts of (true class,
+# verdict class) pairs read from the verdicts here (jq), accuracy.csv's totals agree with
+# them; the scans carry their class; a second make runs nothing. Small images and six views
+# keep it under a minute.
+set -uo pipefail
+src=$1 bin=$2
+fail() { echo "FAIL: $*" >&2; exit 1; }
+for t in rangetrace addnoise fitvox cocone ncut gmatch verify famscore; do
+  [ -x "$bin/$t" ] || fail "$bin/$t is not built"
+done
+command -v jq >/dev/null || fail "jq not found (scripts/install-deps.sh installs it)"
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+
+mkdir -p "$tmp/build/bin" && touch "$tmp/build/CMakeCache.txt" "$tmp/build/.deps-stamp"
+for t in "$bin"/*; do ln -s "$t" "$tmp/build/bin/"; done
+cp -r "$src/share/params" "$tmp/params"
+mk=(make -C "$src" -f Makefile.experiments BUILD="$tmp/build" CMAKE=true P="$tmp/params" PROGRESS=0
+    OUT="$tmp/out" RES="$tmp/res" FAM_CLASSES="pickup van" FAM_TRAIN=0 FAM_TEST="1000 1001"
+    FAM_COVERS=light FAM_NOISES=0 FAM_VIEWS="circle 6 75deg"
+    FAM_RENDER="--size 320 --spacing 30mm --crop-length 7m --crop-width 3m --crop-height 3m")
+
+"${mk[@]}" -j2 families >"$tmp/make.log" 2>&1 || fail "make families failed: $(tail -8 "$tmp/make.log")"
+res=$tmp/res/families mb=$tmp/out/families/modelbase
+for f in confusion.csv accuracy.csv; do [ -s "$res/$f" ] || fail "no $f"; done
+[ "$(cat "$mb/pickup-0.class")" = pickup ] && [ "$(cat "$mb/van-0.class")" = van ] || fail "modelbase classes wrong"
+grep -aq '^# class van' "$tmp/out/families/test/van-1001/light/scan.pcd" || fail "scan carries no class comment"
+
+# The confusion matrix, recomputed from the verdicts.
+declare -A want
+trials=0 right=0
+while read -r verdict cls inst cover noise; do
+  got=$(jq -r '.class // "none"' "$verdict") || fail "$verdict does not parse"
+  nearest=$(jq -r '.nearest_instance // ""' "$verdict")
+  case $nearest in "$got"-*) ;; *) [ "$got" = none ] || fail "$verdict: nearest instance $nearest is not of class $got" ;; esac
+  want[$cls,$got]=$(( ${want[$cls,$got]:-0} + 1 ))
+  trials=$((trials + 1))
+  [ "$got" = "$cls" ] && right=$((right + 1))
+done <"$tmp/out/families/runs.txt"
+[ "$trials" = 4 ] || fail "runs.txt has $trials trials, not 4"
+[ "$(head -1 "$res/confusion.csv")" = "true_class,pickup,van,none" ] || fail "confusion header: $(head -1 "$res/confusion.csv")"
+for row in pickup van; do
+  line=$(grep "^$row," "$res/confusion.csv") || fail "confusion.csv has no row $row"
+  IFS=, read -r _ p v n <<<"$line"
+  [ "$p" = "${want[$row,pickup]:-0}" ] && [ "$v" = "${want[$row,van]:-0}" ] && [ "$n" = "${want[$row,none]:-0}" ] \
+    || fail "confusion row $row = $line, verdicts say pickup ${want[$row,pickup]:-0} van ${want[$row,van]:-0} none ${want[$row,none]:-0}"
+done
+IFS=, read -r c z t r _ <<<"$(grep '^all,all,' "$res/accuracy.csv")"
+[ "$t" = "$trials" ] && [ "$r" = "$right" ] || fail "accuracy.csv all,all: $t trials $r right; verdicts: $trials, $right"
+echo "families mini: $right/$trials classes right"; cat "$res/confusion.csv"
+
+"${mk[@]}" -j2 families >"$tmp/again.log" 2>&1 || fail "second make families failed"
+if grep -q '^done\|^FAIL' "$tmp/again.log"; then fail "a second make ran stages: $(head -3 "$tmp/again.log")"; fi
+echo ok
