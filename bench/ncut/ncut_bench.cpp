@@ -15,7 +15,7 @@
 
 #include "canopy/common/log.h"
 #include "canopy/formats/ply.h"
-#include "meshes.h"
+#include "fixtures/ncut_meshes.h"
 #include "ncut/ncut.h"
 
 using namespace canopy;

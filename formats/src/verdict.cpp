@@ -8,6 +8,7 @@
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
+#include "canopy/common/math.h"
 
 namespace canopy::formats {
 namespace {
@@ -17,7 +18,6 @@ using Json = nlohmann::ordered_json;
 
 constexpr const char* kFormat = "canopy.verdict";
 constexpr int kVersion = 1;
-constexpr double kPi = 3.14159265358979323846;
 
 double finite(double v, const char* what) {
   if (!std::isfinite(v)) throw common::Error(std::string("refusing to write non-finite ") + what);
@@ -89,7 +89,7 @@ Hypothesis hypothesis_from(const Json& j) {
 
 std::array<double, 3> euler_degrees(const Pose& p) {
   const auto& R = p.rotation;
-  const double deg = 180.0 / kPi;
+  const double deg = 180.0 / common::kPi;
   const double pitch = std::asin(std::max(-1.0, std::min(1.0, -R[6])));
   const double heading = std::atan2(R[3], R[0]);
   const double roll = std::atan2(R[7], R[8]);

@@ -16,7 +16,7 @@
 #include "canopy/common/rng.h"
 #include "canopy/formats/pcd.h"
 #include "fitvox/fitvox.h"
-#include "surfaces.h"
+#include "fixtures/fitvox_surfaces.h"
 
 using namespace canopy;
 using Eigen::Vector3d;

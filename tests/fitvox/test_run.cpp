@@ -7,7 +7,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/rng.h"
 #include "fitvox/fitvox.h"
-#include "surfaces.h"
+#include "fixtures/fitvox_surfaces.h"
 
 using namespace canopy;
 using namespace fitvox_test;
@@ -335,4 +335,40 @@ TEST_CASE("resampling: a noisy plane on a voxel face gives one layer of samples,
   // support = 6 sigma-hat (sigma-hat is low: each voxel sees a truncated half of the noise)
   CHECK(res.stats.support == Approx(std::clamp(6 * res.stats.sigma, 0.064, 0.128)));
   CHECK(res.stats.support > 0.1);
+}
+
+TEST_CASE("validate: the defaults pass; each bad parameter is a usage error naming its option") {
+  CHECK_NOTHROW(fitvox::validate(fitvox::Params{}));
+  auto with = [](auto change) {
+    fitvox::Params p;
+    change(p);
+    return p;
+  };
+  CHECK_THROWS_WITH(fitvox::validate(with([](auto& p) { p.voxel = 0; })), Catch::StartsWith("--voxel"));
+  CHECK_THROWS_WITH(fitvox::validate(with([](auto& p) { p.min_points = 5; })), Catch::StartsWith("--min-points"));
+  CHECK_THROWS_WITH(fitvox::validate(with([](auto& p) { p.noise = 1e9; })), Catch::StartsWith("--noise"));
+  CHECK_THROWS_WITH(fitvox::validate(with([](auto& p) { p.support = 0; })), Catch::Contains("--support"));
+  CHECK_THROWS_WITH(fitvox::validate(with([](auto& p) { p.merge = -1; })), Catch::StartsWith("--merge"));
+  CHECK_THROWS_AS(fitvox::validate(with([](auto& p) { p.threads = 0; })), common::UsageError);
+  // run() refuses the same parameters.
+  CHECK_THROWS_AS(fitvox::run(fitvox::Scan{}, with([](auto& p) { p.max_rms = -1; })), common::UsageError);
+}
+
+TEST_CASE("the same samples for any thread count") {
+  common::Rng rng(5);
+  fitvox::Scan scan;
+  for (int i = 0; i < 20000; ++i) {
+    const double x = rng.uniform(-1, 1), y = rng.uniform(-1, 1);
+    scan.points.emplace_back(x, y, 0.3 * x * x + 0.1 * y + 0.002 * rng.normal());
+  }
+  fitvox::Params p;
+  const fitvox::Result one = fitvox::run(scan, p);
+  p.threads = 3;
+  const fitvox::Result three = fitvox::run(scan, p);
+  REQUIRE(one.samples.size() > 100);
+  REQUIRE(one.samples.size() == three.samples.size());
+  for (std::size_t i = 0; i < one.samples.size(); ++i) {
+    CHECK(one.samples[i].fit.p == three.samples[i].fit.p);
+    CHECK(one.samples[i].fit.normal == three.samples[i].fit.normal);
+  }
 }

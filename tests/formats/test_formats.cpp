@@ -9,7 +9,8 @@
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
-#include "canopy/formats/json_io.h"
+#include "canopy/formats/match_result.h"
+#include "canopy/formats/segment_graph.h"
 #include "canopy/formats/pcd.h"
 #include "support/cli.h"
 #include "canopy/formats/ply.h"

@@ -11,7 +11,8 @@
 #include <string>
 
 #include "canopy/common/error.h"
-#include "canopy/formats/json_io.h"
+#include "canopy/formats/match_result.h"
+#include "canopy/formats/segment_graph.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/ply.h"
 #include "support/cli.h"

@@ -12,9 +12,9 @@
 
 #include "canopy/common/atomic_file.h"
 #include "support/cli.h"
-#include "canopy/formats/json_io.h"
+#include "canopy/formats/segment_graph.h"
 #include "canopy/formats/ply.h"
-#include "meshes.h"
+#include "fixtures/ncut_meshes.h"
 
 namespace fs = std::filesystem;
 using namespace canopy;

@@ -5,7 +5,7 @@
 #include <map>
 #include <set>
 
-#include "meshes.h"
+#include "fixtures/ncut_meshes.h"
 #include "ncut/ncut.h"
 
 using namespace canopy::ncut;
@@ -221,4 +221,39 @@ TEST_CASE("segment colours are fixed and distinct for neighbouring ids") {
   std::set<std::array<std::uint8_t, 3>> seen;
   for (int id = 0; id < 30; ++id) seen.insert(segment_colour(id));
   CHECK(seen.size() == 30);
+}
+
+TEST_CASE("validate: the defaults pass; each bad parameter is a usage error naming its option") {
+  CHECK_NOTHROW(validate(Params{}));
+  Params p;
+  p.affinity.radius = 0;
+  CHECK_THROWS_WITH(validate(p), Catch::StartsWith("--radius"));
+  p = Params{};
+  p.sparsify.keep_fraction = 2;
+  CHECK_THROWS_WITH(validate(p), Catch::StartsWith("--keep-fraction"));
+  p = Params{};
+  p.cut.ncv = 2;
+  CHECK_THROWS_WITH(validate(p), Catch::StartsWith("--ncv"));
+}
+
+TEST_CASE("the affinity's radius is the graph's cut-off (one radius)") {
+  SurfacePoints pts;
+  for (int i = 0; i < 5; ++i) {
+    pts.p.push_back({0.2 * i, 0, 0});
+    pts.n.push_back({0, 0, 1});
+  }
+  ThesisAffinityParams ap;
+  ap.radius = 0.3;  // neighbours at 0.2 m only
+  const ThesisAffinity aff(pts, ap);
+  CHECK(aff.radius() == 0.3);
+  SparsifyParams sp;
+  sp.dense_radius = 1;
+  sp.min_affinity = 0;
+  sp.keep_mesh_edges = false;
+  GraphStats st;
+  build_affinity_graph(pts, {}, aff, sp, &st);
+  CHECK(st.pairs_within_radius == 4);
+  ap.radius = 0.5;  // and at 0.4 m
+  build_affinity_graph(pts, {}, ThesisAffinity(pts, ap), sp, &st);
+  CHECK(st.pairs_within_radius == 7);
 }

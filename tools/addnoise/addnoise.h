@@ -15,6 +15,9 @@ struct Params {
   std::uint64_t seed = 1;
 };
 
+// Throws common::UsageError naming --sigma when sigma is outside [0, 100 m].
+void validate(const Params& params);
+
 // Requires fields x, y, z (throws std::out_of_range naming the field otherwise).
 formats::PointCloud run(const formats::PointCloud& scan, const Params& params);
 

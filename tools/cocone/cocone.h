@@ -17,21 +17,20 @@
 #include <string>
 #include <vector>
 
+#include "canopy/common/math.h"
 #include "canopy/formats/ply.h"
 #include "canopy/formats/point_cloud.h"
 
 namespace canopy::cocone {
 
-inline constexpr double kPi = 3.14159265358979323846;
-
 using Face = std::array<std::int32_t, 3>;
 
 struct CoconeParams {
-  double cocone_angle = kPi / 8;   // θ: half-width of the cocone band around the tangent plane
+  double cocone_angle = common::kPi / 8;   // θ: half-width of the cocone band around the tangent plane
   bool boundary_detection = true;  // Dey–Giesen flatness + bound-cocone candidate rule
   double flat_ratio = 1.0 / 1.2;   // ρ: flat needs co-polygon width <= ρ · negative-pole height
-  double flat_angle = kPi / 3;     // α: max angle between pole lines of cocone neighbours
-  double sharp_angle = 2 * kPi / 3;  // max normal turn between adjacent umbrella triangles
+  double flat_angle = common::kPi / 3;     // α: max angle between pole lines of cocone neighbours
+  double sharp_angle = 2 * common::kPi / 3;  // max normal turn between adjacent umbrella triangles
 };
 
 struct PostParams {
@@ -46,6 +45,11 @@ struct Params {
   bool postprocess = true;
   PostParams post;
 };
+
+// Throws common::UsageError naming the option (--cocone-angle, ...) of the first parameter
+// out of its range: cocone_angle (0, 90) deg, flat_ratio > 0, flat_angle (0, 90] deg,
+// sharp_angle (0, 180] deg, min_height, max_area, max_aspect >= 0, max_aspect 0 or >= 1.
+void validate(const Params& params);
 
 struct ReconstructStats {
   std::size_t input_points = 0;

@@ -6,6 +6,7 @@
 #include "canopy/common/log.h"
 #include "canopy/formats/points_io.h"
 #include "canopy/formats/ply.h"
+#include "canopy/formats/provenance.h"
 #include "cocone/cocone.h"
 
 namespace cm = canopy::common;
@@ -38,15 +39,7 @@ int main(int argc, char** argv) {
     p.postprocess = !raw;
     p.cocone.boundary_detection = !no_boundary;
     p.post.remove_orphans = !keep_orphans;
-    const double deg = cc::kPi / 180;
-    if (!(p.cocone.cocone_angle > 0 && p.cocone.cocone_angle < 90 * deg)) throw cm::UsageError("--cocone-angle must be in (0, 90) deg");
-    if (!(p.cocone.flat_ratio > 0)) throw cm::UsageError("--flat-ratio must be > 0");
-    if (!(p.cocone.flat_angle > 0 && p.cocone.flat_angle <= 90 * deg)) throw cm::UsageError("--flat-angle must be in (0, 90] deg");
-    if (!(p.cocone.sharp_angle > 0 && p.cocone.sharp_angle <= 180 * deg)) throw cm::UsageError("--sharp-angle must be in (0, 180] deg");
-    if (!(p.post.min_height >= 0) || !(p.post.max_area >= 0) || !(p.post.max_aspect >= 0)) {
-      throw cm::UsageError("--min-height, --max-area and --max-aspect must be >= 0");
-    }
-    if (p.post.max_aspect > 0 && p.post.max_aspect < 1) throw cm::UsageError("--max-aspect below 1 removes every facet");
+    cc::validate(p);
 
     const canopy::formats::PointCloud samples = canopy::formats::read_points(in, "cocone");
     samples.require({"x", "y", "z"}, cm::display_name(in), "is this a canopy samples PCD?");
@@ -67,11 +60,7 @@ int main(int argc, char** argv) {
     } catch (const cm::Error& e) {
       throw cm::DataError(cm::display_name(in), e.what());
     }
-    mesh.vertices.comments = {"canopy cocone " CANOPY_VERSION};
-    std::string params;
-    for (const auto& [k, v] : tool.parameters()) params += (params.empty() ? "" : " ") + k + "=" + v;
-    mesh.vertices.comments.push_back("parameters: " + params);
-    mesh.vertices.comments.push_back("input: " + in);
+    mesh.vertices.comments = canopy::formats::provenance_comments({"cocone", CANOPY_VERSION, tool.parameters(), {in}});
     canopy::formats::write_ply(mesh, out);
     cm::log::info("wrote " + std::to_string(mesh.faces.size()) + " triangles on " +
                   std::to_string(mesh.vertices.size()) + " of " + std::to_string(samples.size()) +

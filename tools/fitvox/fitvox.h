@@ -52,6 +52,11 @@ struct Params {
   int threads = 1;  // worker threads for the per-voxel fits (output identical for any count)
 };
 
+// Throws common::UsageError naming the option (--voxel, ...) of the first parameter out of
+// its range: voxel [1 mm, 100 m], min_points >= 6, max_rms [0, 100 m], noise < 0 (auto) or
+// [0, 100 m], noise_margin [0, 1e6], support != 0, merge >= 0, threads >= 1.
+void validate(const Params& params);
+
 // Input: a scan. `sensor` (unit vectors from each point toward the sensor that saw it) and
 // `labels` are optional (empty) or have one entry per point.
 struct Scan {
@@ -115,8 +120,8 @@ struct Result {
   Stats stats;
 };
 
-// Throws common::Error on invalid parameters, non-finite coordinates, mismatched optional
-// columns, or a voxel index that does not fit (coordinate / voxel beyond ±2^31, or a grid
+// Throws common::UsageError on invalid parameters (validate()), common::Error on non-finite
+// coordinates, mismatched optional columns, or a voxel index that does not fit (coordinate / voxel beyond ±2^31, or a grid
 // extent of more than 2^63 voxels): never silently wrong.
 Result run(const Scan& scan, const Params& params, bool keep_all = false);
 

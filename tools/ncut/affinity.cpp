@@ -5,25 +5,20 @@
 #include <stdexcept>
 #include <utility>
 
+#include "canopy/common/rng.h"
+
 namespace canopy::ncut {
 namespace {
 
 // The printed Eq. 5.11 is evaluated in millimetres (see Exponent::kLinear).
 constexpr double kThesisUnitsPerMetre = 1000.0;
 
-std::uint64_t mix64(std::uint64_t z) {
-  z += 0x9E3779B97F4A7C15ULL;
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-  return z ^ (z >> 31);
-}
-
 // Uniform [0, 1) from (seed, i, j), i < j: the same pair gets the same draw whatever the
 // traversal order or thread count.
 double pair_uniform(std::uint64_t seed, int i, int j) {
   const std::uint64_t key = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(i)) << 32) |
                             static_cast<std::uint32_t>(j);
-  return static_cast<double>(mix64(mix64(seed) ^ key) >> 11) * 0x1.0p-53;
+  return static_cast<double>(common::mix64(common::mix64(seed) ^ key) >> 11) * 0x1.0p-53;
 }
 
 }  // namespace
@@ -86,7 +81,7 @@ Graph build_affinity_graph(const SurfacePoints& points,
   };
 
   // Uniform grid of cell = radius; vertices sorted by cell key for range lookups.
-  const double cell = prm.radius;
+  const double cell = affinity.radius();
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(0);
   if (n > 0) {
     lo = points.p[0];
@@ -115,7 +110,7 @@ Graph build_affinity_graph(const SurfacePoints& points,
   }
   std::sort(order.begin(), order.end());
 
-  const double r2 = prm.radius * prm.radius;
+  const double r2 = affinity.radius() * affinity.radius();
   const double dense2 = prm.dense_radius * prm.dense_radius;
   std::vector<Edge> edges;
   for (int i = 0; i < n; ++i) {

@@ -27,6 +27,8 @@ class Affinity {
   virtual ~Affinity() = default;
   virtual double operator()(int i, int j) const = 0;
   virtual std::string name() const = 0;
+  // No affinity between points farther apart than this (m): the graph's cut-off.
+  virtual double radius() const = 0;
 };
 
 // How the printed exponents treat their distances.
@@ -56,6 +58,7 @@ class ThesisAffinity : public Affinity {
   // The one-sided a_ij of Eq. 5.11.
   double one_sided(int i, int j) const;
   std::string name() const override;
+  double radius() const override { return prm_.radius; }
 
  private:
   double exponent_of(double theta, double d) const;
@@ -65,7 +68,6 @@ class ThesisAffinity : public Affinity {
 
 // Sparsification of thesis 5.3.
 struct SparsifyParams {
-  double radius = 0.512;         // no affinity between points farther apart (m)
   double dense_radius = 0.175;   // beyond this distance only a random share is kept (m)
   double keep_fraction = 0.25;   // that share
   double min_affinity = 0.1;     // affinities below are dropped
@@ -86,7 +88,7 @@ struct GraphStats {
   std::size_t edges = 0;              // edges of the final graph (w > 0)
 };
 
-// Builds the sparse affinity graph over all points. `mesh_edges` are the undirected edges
+// Builds the sparse affinity graph over all points: pairs within affinity.radius(). `mesh_edges` are the undirected edges
 // of the mesh (a < b, unique).
 Graph build_affinity_graph(const SurfacePoints& points,
                            const std::vector<std::array<int, 2>>& mesh_edges,

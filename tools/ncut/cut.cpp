@@ -228,7 +228,7 @@ EigenResult second_eigenvector(const Graph& g, const CutParams& p, CutStats* sta
     if (k + 1 == attempts.size()) {
       throw common::Error("normalized cut eigensolver failed on a part of " + std::to_string(n) +
                           " vertices: " + failures +
-                          " (try --solver, --tolerance, --max-restarts or --ncv)");
+                          " (try another solver, tolerance, restart limit or Lanczos basis size)");
     }
   }
 

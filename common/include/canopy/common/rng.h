@@ -23,6 +23,10 @@ class Rng {
   double spare_ = 0.0;
 };
 
+// The splitmix64 finaliser: a bijective 64-bit mix of z + golden ratio (Steele, Lea, Flood
+// 2014). Stateless, so draws keyed by (seed, i, j) are the same in any order or thread count.
+std::uint64_t mix64(std::uint64_t z);
+
 // Stable 64-bit seed derived from a base seed and a text key (FNV-1a + splitmix64),
 // e.g. derive_seed(7, "foliage") or derive_seed(0, "sedan/circle/noise-8").
 std::uint64_t derive_seed(std::uint64_t base, const std::string& key);

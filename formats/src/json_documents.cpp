@@ -1,4 +1,5 @@
-#include "canopy/formats/json_io.h"
+#include "canopy/formats/match_result.h"
+#include "canopy/formats/segment_graph.h"
 #include "canopy/formats/json_document.h"
 
 #include <algorithm>
