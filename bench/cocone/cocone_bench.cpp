@@ -190,9 +190,12 @@ int main(int argc, char** argv) {
   std::vector<std::string> files;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--quick") quick = true;
-    else if (a == "--repeat" && i + 1 < argc) g_repeat = std::max(1, std::atoi(argv[++i]));
-    else files.push_back(a);
+    if (a == "--quick")
+      quick = true;
+    else if (a == "--repeat" && i + 1 < argc)
+      g_repeat = std::max(1, std::atoi(argv[++i]));
+    else
+      files.push_back(a);
   }
   for (std::size_t n : quick ? std::vector<std::size_t>{10000} : std::vector<std::size_t>{10000, 100000}) {
     sets.push_back({"sphere", sphere(n), {}});
@@ -209,7 +212,9 @@ int main(int argc, char** argv) {
     }
     sets.push_back(std::move(s));
   }
-  std::printf("| set                    |       N | method   | seconds | triangles | nm-edges | holes | bnd-edges |\n");
+  std::printf(
+      "| set                    |       N | method   | seconds | triangles | nm-edges | holes | bnd-edges "
+      "|\n");
   std::printf("|---|---|---|---|---|---|---|---|\n");
   for (const auto& s : sets) run_set(s);
 }

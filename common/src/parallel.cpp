@@ -22,9 +22,7 @@ void parallel_for(std::size_t n, int threads, const std::function<void(std::size
     pool.emplace_back([&work, &errors, k, first, last] {
       try {
         work(first, last);
-      } catch (...) {
-        errors[k] = std::current_exception();
-      }
+      } catch (...) { errors[k] = std::current_exception(); }
     });
   }
   for (std::thread& th : pool) th.join();

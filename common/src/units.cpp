@@ -10,7 +10,6 @@
 namespace canopy::common {
 namespace {
 
-
 // Splits "12.5mm" into 12.5 and "mm". Throws on an empty or non-decimal number part.
 double split_number(const std::string& text, std::string* suffix, const char* what) {
   const std::size_t n = decimal_prefix(text);

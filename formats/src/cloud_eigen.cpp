@@ -32,8 +32,8 @@ std::vector<Eigen::Vector3d> finite_vectors(const PointCloud& cloud, const std::
   return v;
 }
 
-void set_vectors(PointCloud* cloud, const std::vector<Eigen::Vector3d>& vectors,
-                 const Fields3& fields, FieldType type) {
+void set_vectors(PointCloud* cloud, const std::vector<Eigen::Vector3d>& vectors, const Fields3& fields,
+                 FieldType type) {
   for (int k = 0; k < 3; ++k) {
     std::vector<double>& c = cloud->has(fields[k]) ? cloud->col(fields[k]) : cloud->add(fields[k], type);
     for (std::size_t i = 0; i < vectors.size(); ++i) c[i] = vectors[i](k);

@@ -62,15 +62,17 @@ bool has_prefix(const unsigned char* p, std::size_t n, const char* id) {
 
 std::string laz_message(const std::string& name) {
   std::string las = name;
-  if (las.size() > 4 && (las.compare(las.size() - 4, 4, ".laz") == 0 || las.compare(las.size() - 4, 4, ".LAZ") == 0)) {
+  if (las.size() > 4 &&
+      (las.compare(las.size() - 4, 4, ".laz") == 0 || las.compare(las.size() - 4, 4, ".LAZ") == 0)) {
     las.replace(las.size() - 4, 4, ".las");
   } else {
     las = "out.las";
   }
   const std::string laz = name == "-" ? "in.laz" : name;
   return "this is a LAZ file (compressed LAS); canopy cannot read LAZ because Debian 12 has no LAZ "
-         "decoder package. Decompress it on a machine that has one, e.g. `laszip -i " + laz + " -o " +
-         las + "` (LAStools) or `pdal translate " + laz + " " + las + "` (PDAL), and give canopy the .las";
+         "decoder package. Decompress it on a machine that has one, e.g. `laszip -i " +
+         laz + " -o " + las + "` (LAStools) or `pdal translate " + laz + " " + las +
+         "` (PDAL), and give canopy the .las";
 }
 
 // One Extra Bytes descriptor, resolved to the bytes it covers in each record.
@@ -217,25 +219,28 @@ LasHeader read_las_header(const unsigned char* b, std::size_t size, const std::s
                               " is below the " + std::to_string(need_header) + " bytes the version needs");
   }
   if (header_size > size) {
-    throw DataError(name, "LAS header size " + std::to_string(header_size) + " is beyond the end of the file (" +
-                              std::to_string(size) + " bytes)");
+    throw DataError(name, "LAS header size " + std::to_string(header_size) +
+                              " is beyond the end of the file (" + std::to_string(size) + " bytes)");
   }
   const std::size_t data_offset = h.data_offset = get<std::uint32_t>(b + 96);
   h.vlr_count = get<std::uint32_t>(b + 100);
   const int format = h.format = format_byte;
-  if (format > 10) throw DataError(name, "unknown LAS point data format " + std::to_string(format) + " (0-10 exist)");
+  if (format > 10)
+    throw DataError(name, "unknown LAS point data format " + std::to_string(format) + " (0-10 exist)");
   const std::size_t record = h.record = get<std::uint16_t>(b + 105);
   if (record < kMinRecord[format]) {
     throw DataError(name, "point record length " + std::to_string(record) + " is below the " +
-                              std::to_string(kMinRecord[format]) + " bytes of point format " + std::to_string(format));
+                              std::to_string(kMinRecord[format]) + " bytes of point format " +
+                              std::to_string(format));
   }
   if (data_offset < header_size) {
     throw DataError(name, "offset to point data " + std::to_string(data_offset) + " lies inside the " +
                               std::to_string(header_size) + "-byte header");
   }
   if (data_offset > size) {
-    throw DataError(name, "offset to point data " + std::to_string(data_offset) + " is beyond the end of the file (" +
-                              std::to_string(size) + " bytes; truncated?)");
+    throw DataError(name, "offset to point data " + std::to_string(data_offset) +
+                              " is beyond the end of the file (" + std::to_string(size) +
+                              " bytes; truncated?)");
   }
   double* scale = h.scale;
   double* offset = h.offset;
@@ -245,8 +250,9 @@ LasHeader read_las_header(const unsigned char* b, std::size_t size, const std::s
     // Every int32 times the scale plus the offset must be a finite double.
     if (!std::isfinite(scale[d]) || scale[d] == 0 || !std::isfinite(offset[d]) ||
         !std::isfinite(std::fabs(scale[d]) * 2147483648.0 + std::fabs(offset[d]))) {
-      throw DataError(name, std::string("LAS header ") + "XYZ"[d] + " scale " + detail::format_value(scale[d], kFloat64) +
-                                " / offset " + detail::format_value(offset[d], kFloat64) +
+      throw DataError(name, std::string("LAS header ") + "XYZ"[d] + " scale " +
+                                detail::format_value(scale[d], kFloat64) + " / offset " +
+                                detail::format_value(offset[d], kFloat64) +
                                 " is not usable (zero, infinite or NaN)");
     }
   }
@@ -285,9 +291,9 @@ void read_vlrs(const unsigned char* b, const LasHeader& h, const std::string& na
   std::size_t pos = h.header_size;
   for (std::uint32_t i = 0; i < h.vlr_count; ++i) {
     if (h.data_offset - pos < kVlrHeader) {
-      throw DataError(name, "LAS header says " + std::to_string(h.vlr_count) + " VLRs but VLR " + std::to_string(i + 1) +
-                                " does not fit before the point data at byte " + std::to_string(h.data_offset) +
-                                " (broken VLR count or offset)");
+      throw DataError(name, "LAS header says " + std::to_string(h.vlr_count) + " VLRs but VLR " +
+                                std::to_string(i + 1) + " does not fit before the point data at byte " +
+                                std::to_string(h.data_offset) + " (broken VLR count or offset)");
     }
     const unsigned char* v = b + pos;
     const std::size_t len = get<std::uint16_t>(v + 20);
@@ -325,13 +331,15 @@ void read_evlrs(const unsigned char* b, std::size_t size, const LasHeader& h, co
     const std::uint64_t data_end = h.data_offset + h.n * h.record;
     if (evlr_count > 0) {
       if (evlr_start < data_end || evlr_start > size) {
-        throw DataError(name, "EVLR start " + std::to_string(evlr_start) + " is not between the end of the point data (" +
-                                  std::to_string(data_end) + ") and the end of the file (" + std::to_string(size) + ")");
+        throw DataError(name, "EVLR start " + std::to_string(evlr_start) +
+                                  " is not between the end of the point data (" + std::to_string(data_end) +
+                                  ") and the end of the file (" + std::to_string(size) + ")");
       }
       std::uint64_t at = evlr_start;
       for (std::uint32_t i = 0; i < evlr_count; ++i) {
         if (size - at < kEvlrHeader) {
-          throw DataError(name, "LAS header says " + std::to_string(evlr_count) + " EVLRs but EVLR " + std::to_string(i + 1) +
+          throw DataError(name, "LAS header says " + std::to_string(evlr_count) + " EVLRs but EVLR " +
+                                    std::to_string(i + 1) +
                                     " does not fit in the file (truncated or broken count)");
         }
         const unsigned char* v = b + at;
@@ -355,8 +363,9 @@ struct LasColumns {
   int format = 0;
   bool extended = false, has_rgb = false;
   std::size_t rgb_at = 0, gps_at = 0;
-  std::vector<double> *x{}, *y{}, *z{}, *intensity{}, *ret{}, *nret{}, *scan_dir{}, *edge{}, *cls{}, *synthetic{},
-      *key_point{}, *withheld{}, *overlap{}, *channel{}, *angle{}, *user{}, *source{}, *gps{}, *nir{};
+  std::vector<double>*x{}, *y{}, *z{}, *intensity{}, *ret{}, *nret{}, *scan_dir{}, *edge{}, *cls{},
+      *synthetic{}, *key_point{}, *withheld{}, *overlap{}, *channel{}, *angle{}, *user{}, *source{}, *gps{},
+      *nir{};
   std::vector<double>* rgb[3] = {nullptr, nullptr, nullptr};
   std::vector<Extra> extras;
 };
@@ -455,8 +464,8 @@ PointCloud parse_las(const std::string& bytes, const std::string& name) {
   const std::size_t size = bytes.size();
   if (!is_las(bytes)) throw DataError(name, "not a LAS file (no LASF signature)");
   if (size < kHeader12) {
-    throw DataError(name, "LAS header truncated: file has " + std::to_string(size) + " bytes, a header needs " +
-                              std::to_string(kHeader12));
+    throw DataError(name, "LAS header truncated: file has " + std::to_string(size) +
+                              " bytes, a header needs " + std::to_string(kHeader12));
   }
   const LasHeader h = read_las_header(b, size, name);
   PointCloud cloud;
@@ -465,8 +474,8 @@ PointCloud parse_las(const std::string& bytes, const std::string& name) {
   read_evlrs(b, size, h, name, &extra);
   LasColumns columns = add_las_columns(h.format, cloud);
   if (extra.data != nullptr) {
-    columns.extras = parse_extra_bytes(extra.data, extra.len, kMinRecord[h.format], h.record - kMinRecord[h.format],
-                                       &cloud);
+    columns.extras = parse_extra_bytes(extra.data, extra.len, kMinRecord[h.format],
+                                       h.record - kMinRecord[h.format], &cloud);
   }
   cloud.resize(static_cast<std::size_t>(h.n));
   for (std::size_t i = 0; i < h.n; ++i) decode_record(b + h.data_offset + i * h.record, i, h, columns);
@@ -480,9 +489,20 @@ namespace {
 // Standard fields of the written point formats (6, 7, 8); every other column but x y z is
 // written as Extra Bytes.
 bool standard_field(const std::string& f, int format) {
-  static const char* base[] = {"intensity", "return_number", "number_of_returns", "scan_direction_flag",
-                               "edge_of_flight_line", "classification", "synthetic", "key_point", "withheld",
-                               "overlap", "scanner_channel", "scan_angle", "user_data", "point_source_id",
+  static const char* base[] = {"intensity",
+                               "return_number",
+                               "number_of_returns",
+                               "scan_direction_flag",
+                               "edge_of_flight_line",
+                               "classification",
+                               "synthetic",
+                               "key_point",
+                               "withheld",
+                               "overlap",
+                               "scanner_channel",
+                               "scan_angle",
+                               "user_data",
+                               "point_source_id",
                                "gps_time"};
   for (const char* s : base) {
     if (f == s) return true;
@@ -516,14 +536,16 @@ struct ExtraFields {
 
 // Offset: the middle of the extent rounded to whole metres; every coordinate must land on
 // the int32 grid of kLasWriteScale steps about it.
-void las_offsets(const std::vector<double>* const xyz[3], std::size_t n, const std::string& name, double off[3]) {
+void las_offsets(const std::vector<double>* const xyz[3], std::size_t n, const std::string& name,
+                 double off[3]) {
   double lo[3], hi[3];
   for (int d = 0; d < 3; ++d) {
     lo[d] = n ? std::numeric_limits<double>::infinity() : 0;
     hi[d] = n ? -std::numeric_limits<double>::infinity() : 0;
     for (double v : *xyz[d]) {
       if (!std::isfinite(v)) {
-        throw DataError(name, std::string("non-finite ") + "xyz"[d] + " coordinate (NaN or infinite coordinates are not written)");
+        throw DataError(name, std::string("non-finite ") + "xyz"[d] +
+                                  " coordinate (NaN or infinite coordinates are not written)");
       }
       lo[d] = std::min(lo[d], v);
       hi[d] = std::max(hi[d], v);
@@ -531,7 +553,8 @@ void las_offsets(const std::vector<double>* const xyz[3], std::size_t n, const s
     off[d] = std::round(0.5 * lo[d] + 0.5 * hi[d]);
     const double reach = std::max(off[d] - lo[d], hi[d] - off[d]) / kLasWriteScale;
     if (!(reach < 2147483647.0)) {
-      throw DataError(name, std::string("the cloud's ") + "xyz"[d] + " extent (" + detail::format_value(hi[d] - lo[d], kFloat64) +
+      throw DataError(name, std::string("the cloud's ") + "xyz"[d] + " extent (" +
+                                detail::format_value(hi[d] - lo[d], kFloat64) +
                                 " m) does not fit LAS's 32-bit integer coordinates at " +
                                 detail::format_value(kLasWriteScale, kFloat64) + " m resolution");
     }
@@ -548,7 +571,8 @@ ExtraFields extra_fields(const PointCloud& cloud, int format, const std::string&
   for (std::size_t c = 0; c < cloud.names().size(); ++c) {
     const std::string& f = cloud.names()[c];
     if (f == "x" || f == "y" || f == "z" || standard_field(f, format)) continue;
-    if (f.size() > 32) throw DataError(name, "field name '" + f + "' is longer than LAS's 32-character Extra Bytes names");
+    if (f.size() > 32)
+      throw DataError(name, "field name '" + f + "' is longer than LAS's 32-character Extra Bytes names");
     const FieldType t = cloud.types()[c];
     extras.push_back({&cloud.col(c), t});
     record += static_cast<std::size_t>(t.size);
@@ -560,7 +584,8 @@ ExtraFields extra_fields(const PointCloud& cloud, int format, const std::string&
     descriptors += d;
   }
   if (record > 65535 || descriptors.size() > 65535) {
-    throw DataError(name, "too many fields for one LAS point record (" + std::to_string(extras.size()) + " extra fields)");
+    throw DataError(
+        name, "too many fields for one LAS point record (" + std::to_string(extras.size()) + " extra fields)");
   }
   return x;
 }
@@ -574,7 +599,8 @@ std::string las_vlrs(const PointCloud& cloud, const ExtraFields& x, std::uint32_
   }
 
   std::string vlrs;
-  auto add_vlr = [&](const std::string& user, std::uint16_t id, const std::string& desc, const std::string& payload) {
+  auto add_vlr = [&](const std::string& user, std::uint16_t id, const std::string& desc,
+                     const std::string& payload) {
     put<std::uint16_t>(&vlrs, 0);
     put_text(&vlrs, user, 16);
     put<std::uint16_t>(&vlrs, id);
@@ -590,9 +616,9 @@ std::string las_vlrs(const PointCloud& cloud, const ExtraFields& x, std::uint32_
 }
 
 // The point records (format 6, 7 or 8), with the quantised extent and counts by return.
-std::string point_records(const PointCloud& cloud, const std::vector<double>* const xyz[3], const double off[3],
-                          int format, const ExtraFields& x, std::uint64_t by_return[15], std::int64_t qmin[3],
-                          std::int64_t qmax[3]) {
+std::string point_records(const PointCloud& cloud, const std::vector<double>* const xyz[3],
+                          const double off[3], int format, const ExtraFields& x, std::uint64_t by_return[15],
+                          std::int64_t qmin[3], std::int64_t qmax[3]) {
   const std::size_t n = cloud.size();
   const std::size_t record = x.record;
   const std::vector<ExtraColumn>& extras = x.extras;
@@ -600,8 +626,9 @@ std::string point_records(const PointCloud& cloud, const std::vector<double>* co
   const std::vector<double>* intensity = column("intensity");
   const std::vector<double>* ret = column("return_number");
   const std::vector<double>* nret = column("number_of_returns");
-  const std::vector<double>* flags[6] = {column("synthetic"), column("key_point"), column("withheld"),
-                                         column("overlap"), column("scan_direction_flag"), column("edge_of_flight_line")};
+  const std::vector<double>* flags[6] = {
+      column("synthetic"), column("key_point"),           column("withheld"),
+      column("overlap"),   column("scan_direction_flag"), column("edge_of_flight_line")};
   const std::vector<double>* channel = column("scanner_channel");
   const std::vector<double>* cls = column("classification");
   const std::vector<double>* user = column("user_data");

@@ -32,7 +32,8 @@ int obj_index(const std::string& w, int vertices, const std::string& path, int l
     throw DataError(path, "line " + std::to_string(line_no) + ": malformed face index '" + w + "'");
   }
   idx = idx < 0 ? vertices + idx : idx - 1;
-  if (idx < 0 || idx >= vertices) throw DataError(path, "line " + std::to_string(line_no) + ": face index out of range");
+  if (idx < 0 || idx >= vertices)
+    throw DataError(path, "line " + std::to_string(line_no) + ": face index out of range");
   return idx;
 }
 
@@ -70,14 +71,16 @@ TriangleMesh parse_obj(const std::string& bytes, const std::string& path) {
     if (!(ls >> tag)) continue;
     if (tag == "v") {
       double x, y, z;
-      if (!(ls >> x >> y >> z)) throw DataError(path, "line " + std::to_string(line_no) + ": malformed vertex");
+      if (!(ls >> x >> y >> z))
+        throw DataError(path, "line " + std::to_string(line_no) + ": malformed vertex");
       mesh.vertices.emplace_back(x, y, z);
     } else if (tag == "f") {
       std::vector<int> poly;
       for (std::string w; ls >> w;) {
         poly.push_back(obj_index(w, static_cast<int>(mesh.vertices.size()), path, line_no));
       }
-      if (poly.size() < 3) throw DataError(path, "line " + std::to_string(line_no) + ": face with fewer than 3 vertices");
+      if (poly.size() < 3)
+        throw DataError(path, "line " + std::to_string(line_no) + ": face with fewer than 3 vertices");
       add_polygon(poly, &mesh);
     }
   }
@@ -107,8 +110,7 @@ TriangleMesh parse_stl(const std::string& bytes, const std::string& path) {
   return mesh;
 }
 
-TriangleMesh parse_triangle_mesh(const std::string& bytes, const std::string& name,
-                                 const std::string& ext) {
+TriangleMesh parse_triangle_mesh(const std::string& bytes, const std::string& name, const std::string& ext) {
   if (ext == "obj") return parse_obj(bytes, name);
   if (ext == "stl") return parse_stl(bytes, name);
   if (ext != "ply") throw common::Error(name + ": not a mesh file extension: '" + ext + "'");

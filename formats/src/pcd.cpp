@@ -59,8 +59,8 @@ std::uint64_t to_count(const std::string& text, const std::string& name, const s
                        std::uint64_t max = kMaxDimension) {
   std::uint64_t v = 0;
   if (!detail::parse_count(text, max, &v)) {
-    throw DataError(name, "header " + key + " '" + quote(text) + "' is not an integer from 0 to " +
-                              std::to_string(max));
+    throw DataError(
+        name, "header " + key + " '" + quote(text) + "' is not an integer from 0 to " + std::to_string(max));
   }
   return v;
 }
@@ -114,8 +114,8 @@ Header parse_header(const std::string& bytes, const std::string& name) {
     if (tok.empty()) continue;  // blank or whitespace-only line
     const std::string key = tok[0];
     tok.erase(tok.begin());
-    static const char* const kKeys[] = {"VERSION", "FIELDS", "COLUMNS", "SIZE", "TYPE", "COUNT",
-                                        "WIDTH", "HEIGHT", "POINTS", "VIEWPOINT", "DATA"};
+    static const char* const kKeys[] = {"VERSION", "FIELDS", "COLUMNS", "SIZE",      "TYPE", "COUNT",
+                                        "WIDTH",   "HEIGHT", "POINTS",  "VIEWPOINT", "DATA"};
     if (std::find_if(std::begin(kKeys), std::end(kKeys), [&](const char* k) { return key == k; }) ==
         std::end(kKeys)) {
       not_pcd(bytes, name, "unknown PCD header line '" + quote(line) + "'");
@@ -169,9 +169,8 @@ Header parse_header(const std::string& bytes, const std::string& name) {
   if (h.sizes.size() != h.fields.size() || h.kinds.size() != h.fields.size() ||
       h.counts.size() != h.fields.size()) {
     throw DataError(name, "PCD header lists " + std::to_string(h.fields.size()) + " FIELDS but " +
-                              std::to_string(h.sizes.size()) + " SIZE, " +
-                              std::to_string(h.kinds.size()) + " TYPE and " +
-                              std::to_string(h.counts.size()) + " COUNT entries");
+                              std::to_string(h.sizes.size()) + " SIZE, " + std::to_string(h.kinds.size()) +
+                              " TYPE and " + std::to_string(h.counts.size()) + " COUNT entries");
   }
   std::uint64_t columns = 0;
   for (std::size_t i = 0; i < h.fields.size(); ++i) {
@@ -188,16 +187,17 @@ Header parse_header(const std::string& bytes, const std::string& name) {
   if (!h.have_width) throw DataError(name, "PCD header has no WIDTH");
   std::uint64_t wh = 0;
   if (__builtin_mul_overflow(h.width, h.height, &wh) || wh > kMaxDimension) {
-    throw DataError(name, "header WIDTH " + std::to_string(h.width) + " x HEIGHT " + std::to_string(h.height) +
-                              " overflows");
+    throw DataError(name, "header WIDTH " + std::to_string(h.width) + " x HEIGHT " +
+                              std::to_string(h.height) + " overflows");
   }
   if (!h.have_points) h.points = wh;
   if (h.points != wh) {
-    throw DataError(name, "PCD header POINTS " + std::to_string(h.points) + " != WIDTH x HEIGHT " +
-                              std::to_string(wh));
+    throw DataError(
+        name, "PCD header POINTS " + std::to_string(h.points) + " != WIDTH x HEIGHT " + std::to_string(wh));
   }
   if (h.data != "ascii" && h.data != "binary" && h.data != "binary_compressed") {
-    throw DataError(name, "unknown DATA type '" + quote(h.data) + "' (want ascii, binary or binary_compressed)");
+    throw DataError(name,
+                    "unknown DATA type '" + quote(h.data) + "' (want ascii, binary or binary_compressed)");
   }
   return h;
 }
@@ -228,7 +228,8 @@ Layout make_layout(const Header& h) {
 
 // Adds the columns (after the data size was checked against the header), empty with room
 // for every point: decoding appends, so no page is written twice.
-std::vector<std::vector<double>*> make_columns(const Header& h, Layout* l, PointCloud* cloud, const std::string& name) {
+std::vector<std::vector<double>*> make_columns(const Header& h, Layout* l, PointCloud* cloud,
+                                               const std::string& name) {
   std::set<std::string> names;
   std::size_t s = 0;
   for (std::size_t f = 0; f < h.fields.size(); ++f) {
@@ -251,7 +252,8 @@ std::vector<std::vector<double>*> make_columns(const Header& h, Layout* l, Point
 
 std::string too_big(const std::string& what, std::uint64_t n, std::size_t per, std::size_t avail) {
   return "data truncated: header POINTS " + std::to_string(n) + " needs " + std::to_string(per) + " " + what +
-         " per point, the file holds " + std::to_string(avail) + " bytes of data (truncated file or wrong POINTS)";
+         " per point, the file holds " + std::to_string(avail) +
+         " bytes of data (truncated file or wrong POINTS)";
 }
 
 // Checks that `n` binary points of `step` bytes fit in `avail` bytes.
@@ -275,7 +277,8 @@ bool gather(const unsigned char* src, std::size_t stride, std::size_t n, std::ve
   return finite;
 }
 
-bool gather_slot(const unsigned char* src, std::size_t stride, std::size_t rows, FieldType t, std::vector<double>* dst) {
+bool gather_slot(const unsigned char* src, std::size_t stride, std::size_t rows, FieldType t,
+                 std::vector<double>* dst) {
   switch (t.kind) {
     case 'F':
       if (t.size == 4) return gather<float>(src, stride, rows, dst);
@@ -315,16 +318,17 @@ bool all_zero(const unsigned char* p, std::size_t n) {
                             " bytes (wrong POINTS?; zero padding, as PCL writes, is accepted)");
 }
 
-
 bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
 
-void parse_ascii(const std::string& bytes, const Header& h, Layout& l, PointCloud* cloud, const std::string& name) {
+void parse_ascii(const std::string& bytes, const Header& h, Layout& l, PointCloud* cloud,
+                 const std::string& name) {
   const char* p = bytes.c_str() + h.data_offset;
   const char* end = bytes.c_str() + bytes.size();
   const std::size_t avail = static_cast<std::size_t>(end - p);
   // Every value takes at least two bytes ("0 ") but the last.
   const std::size_t per = l.slots.size();
-  if (h.points > 0 && h.points > (avail + 1) / 2 / per) throw DataError(name, too_big("ascii values", h.points, per, avail));
+  if (h.points > 0 && h.points > (avail + 1) / 2 / per)
+    throw DataError(name, too_big("ascii values", h.points, per, avail));
   const auto cols = make_columns(h, &l, cloud, name);
   const std::size_t n = static_cast<std::size_t>(h.points);
   for (std::size_t i = 0; i < n; ++i) {
@@ -341,12 +345,13 @@ void parse_ascii(const std::string& bytes, const Header& h, Layout& l, PointClou
       if (q == p || (q < end && !is_space(*q))) {
         const char* e = p;
         while (e < end && !is_space(*e)) ++e;
-        throw DataError(name, "point " + std::to_string(i) + ": '" + quote(p, static_cast<std::size_t>(e - p), 16) +
-                                  "' is not a number");
+        throw DataError(name, "point " + std::to_string(i) + ": '" +
+                                  quote(p, static_cast<std::size_t>(e - p), 16) + "' is not a number");
       }
       p = q;
       // A float32 field holds the float nearest to the text, as in binary files.
-      if (s.column >= 0) cols[static_cast<std::size_t>(s.column)]->push_back(s.type == kFloat32 ? static_cast<float>(v) : v);
+      if (s.column >= 0)
+        cols[static_cast<std::size_t>(s.column)]->push_back(s.type == kFloat32 ? static_cast<float>(v) : v);
     }
   }
   while (p < end && (is_space(*p) || *p == '\0')) ++p;
@@ -358,7 +363,8 @@ void parse_ascii(const std::string& bytes, const Header& h, Layout& l, PointClou
 constexpr std::uint64_t kLzfMaxRatio = 89;
 
 // The decompressed (field-major) data of a binary_compressed body, checked against the header.
-std::vector<unsigned char> decompress(const std::string& bytes, const Header& h, const Layout& l, const std::string& name) {
+std::vector<unsigned char> decompress(const std::string& bytes, const Header& h, const Layout& l,
+                                      const std::string& name) {
   const auto* data = reinterpret_cast<const unsigned char*>(bytes.data()) + h.data_offset;
   const std::size_t avail = bytes.size() - h.data_offset;
   if (avail < 8) throw DataError(name, "data truncated: binary_compressed block header missing");
@@ -527,8 +533,8 @@ PointCloud read_pcd(const std::string& path) {
     have -= used;
   }
   if (row < n) {
-    throw DataError(path, "data truncated: header says " + std::to_string(n) + " points, the file ends in point " +
-                              std::to_string(row));
+    throw DataError(path, "data truncated: header says " + std::to_string(n) +
+                              " points, the file ends in point " + std::to_string(row));
   }
   // Whatever follows the points must be zero padding (PCL's writer adds up to a page).
   while (true) {
@@ -538,7 +544,7 @@ PointCloud read_pcd(const std::string& path) {
     fill();
     if (have == 0) break;
   }
-  cloud.resize(n);  // sets the size; the columns are full
+  cloud.resize(n);                                  // sets the size; the columns are full
   if (!all_finite) check_coordinates(cloud, path);  // a NaN or inf somewhere: is it in x, y or z?
   return cloud;
 }
@@ -588,8 +594,8 @@ std::string serialize_pcd(const PointCloud& cloud, const PcdWriteOptions& option
         for (double v : cloud.col(c)) detail::write_scalar(&raw, v, cloud.types()[c]);
       }
       if (raw.size() > std::numeric_limits<std::uint32_t>::max()) {
-        throw common::Error("binary_compressed PCD holds at most 4 GiB of data (" + std::to_string(raw.size()) +
-                            " bytes); write DATA binary");
+        throw common::Error("binary_compressed PCD holds at most 4 GiB of data (" +
+                            std::to_string(raw.size()) + " bytes); write DATA binary");
       }
       const auto block = detail::lzf_compress(reinterpret_cast<const unsigned char*>(raw.data()), raw.size());
       detail::put(&out, static_cast<std::uint32_t>(block.size()));
@@ -601,7 +607,9 @@ std::string serialize_pcd(const PointCloud& cloud, const PcdWriteOptions& option
   return out;
 }
 
-void write_pcd(const PointCloud& cloud, const std::string& path) { write_pcd(cloud, path, PcdWriteOptions{}); }
+void write_pcd(const PointCloud& cloud, const std::string& path) {
+  write_pcd(cloud, path, PcdWriteOptions{});
+}
 
 void write_pcd(const PointCloud& cloud, const std::string& path, const PcdWriteOptions& options) {
   check_coordinates(cloud, path == "-" ? "<stdout>" : path);

@@ -30,9 +30,7 @@ Image16 parse_ppm(const std::string& bytes, const std::string& name) {
     img.width = std::stoi(token());
     img.height = std::stoi(token());
     maxval = std::stoi(token());
-  } catch (const std::logic_error&) {
-    throw common::DataError(name, "malformed PPM header");
-  }
+  } catch (const std::logic_error&) { throw common::DataError(name, "malformed PPM header"); }
   ++pos;  // the single whitespace after maxval
   if (img.width <= 0 || img.height <= 0 || (maxval != 255 && maxval != 65535)) {
     throw common::DataError(name, "unsupported PPM size or maxval");

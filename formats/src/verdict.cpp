@@ -34,7 +34,9 @@ Json pose_json(const Pose& p) {
   const auto e = euler_degrees(p);
   return Json{{"matrix", m},
               {"translation", Json::array({p.translation[0], p.translation[1], p.translation[2]})},
-              {"heading_deg", e[0]}, {"pitch_deg", e[1]}, {"roll_deg", e[2]}};
+              {"heading_deg", e[0]},
+              {"pitch_deg", e[1]},
+              {"roll_deg", e[2]}};
 }
 
 Pose pose_from(const Json& j) {
@@ -100,8 +102,10 @@ std::string serialize_verdict(const Verdict& v) {
   Json provenance = Json::object();
   Json params = Json::object();
   for (const auto& [k, val] : v.provenance.parameters) params[k] = val;
-  provenance = Json{{"tool", v.provenance.tool}, {"version", v.provenance.version},
-                    {"parameters", params}, {"inputs", v.provenance.inputs}};
+  provenance = Json{{"tool", v.provenance.tool},
+                    {"version", v.provenance.version},
+                    {"parameters", params},
+                    {"inputs", v.provenance.inputs}};
   Json hyps = Json::array();
   for (const auto& h : v.hypotheses) hyps.push_back(hypothesis_json(h));
   if (v.chosen >= static_cast<int>(v.hypotheses.size())) {
@@ -146,13 +150,10 @@ Verdict parse_verdict(const std::string& text, const std::string& name) {
     if (v.chosen < -1 || v.chosen >= static_cast<int>(v.hypotheses.size())) {
       throw std::invalid_argument("chosen is not -1 or a hypothesis index");
     }
-    if ((v.chosen >= 0) != !v.model.empty() ||
-        (v.chosen >= 0 && v.hypotheses[v.chosen].model != v.model)) {
+    if ((v.chosen >= 0) != !v.model.empty() || (v.chosen >= 0 && v.hypotheses[v.chosen].model != v.model)) {
       throw std::invalid_argument("model and chosen disagree");
     }
-  } catch (const DataError&) {
-    throw;
-  } catch (const std::exception& e) {
+  } catch (const DataError&) { throw; } catch (const std::exception& e) {
     throw DataError(name, std::string("malformed verdict: ") + e.what());
   }
   return v;

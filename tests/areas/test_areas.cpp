@@ -16,8 +16,8 @@ namespace {
 // One orthographic view of a plane through the origin with unit normal n, seen along -toward:
 // pixel centres on a square grid of `spacing` perpendicular to the view, projected onto the
 // plane, kept inside the plane's square of half-size `half` (in plane coordinates).
-std::vector<areas::ScanPoint> view_of_plane(const Vector3d& n, const Vector3d& toward, double spacing, double half,
-                                            int view, double offset) {
+std::vector<areas::ScanPoint> view_of_plane(const Vector3d& n, const Vector3d& toward, double spacing,
+                                            double half, int view, double offset) {
   const Vector3d d = toward.normalized();
   const Vector3d a = d.unitOrthogonal(), b = d.cross(a);
   const Vector3d e1 = n.unitOrthogonal(), e2 = n.cross(e1);
@@ -117,7 +117,8 @@ TEST_CASE("run: every stage's target area from one trial's artifacts; missing fi
   // Scan: a 1 m x 1 m target plane z = 0 seen from above (view 0), one point per 30 mm pixel,
   // and one foliage point that must not count.
   const auto view = view_of_plane(Vector3d::UnitZ(), Vector3d::UnitZ(), 0.03, 0.5, 0, 0.5);
-  for (const char* f : {"x", "y", "z", "sensor_x", "sensor_y", "sensor_z", "view_idx", "label"}) in.scan.add(f);
+  for (const char* f : {"x", "y", "z", "sensor_x", "sensor_y", "sensor_z", "view_idx", "label"})
+    in.scan.add(f);
   in.scan.resize(view.size() + 1);
   for (std::size_t i = 0; i <= view.size(); ++i) {
     const Vector3d p = i < view.size() ? view[i].p : Vector3d(0, 0, 3);

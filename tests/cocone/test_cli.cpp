@@ -72,9 +72,7 @@ TEST_CASE("bad input exits 1 with a message naming the file and writes nothing")
   const auto d = tmp_dir();
   const auto out = d / "never.ply";
   fs::remove(out);
-  {
-    std::ofstream(d / "garbage.pcd") << "this is not a pcd\n";
-  }
+  { std::ofstream(d / "garbage.pcd") << "this is not a pcd\n"; }
   CHECK(sh(kBin + " -i " + (d / "garbage.pcd").string() + " -o " + out.string() + " 2>/dev/null") == 1);
   CHECK(!fs::exists(out));
   // Missing field z.

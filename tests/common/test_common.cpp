@@ -133,8 +133,7 @@ TEST_CASE("atomic output appears only on commit and leaves no temporary file") {
     AtomicOutput out(path);
     out.stream() << "half";
     throw Error("boom");
-  } catch (const Error&) {
-  }
+  } catch (const Error&) {}
   CHECK(read_file(path) == "complete");
   CHECK(count_entries(dir) == 1);
 }
@@ -226,7 +225,8 @@ TEST_CASE("a symbolic link output replaces the file it points to; the link stays
   // A loop is an error naming the path.
   const std::string loop = dir + "/loop.pcd";
   REQUIRE(symlink("loop.pcd", loop.c_str()) == 0);
-  CHECK_THROWS_WITH(write_file_atomic(loop, "x"), Catch::Contains("loop.pcd") && Catch::Contains("symbolic links"));
+  CHECK_THROWS_WITH(write_file_atomic(loop, "x"),
+                    Catch::Contains("loop.pcd") && Catch::Contains("symbolic links"));
 }
 
 TEST_CASE("a character device output is written through and keeps its type") {
@@ -542,8 +542,9 @@ TEST_CASE("parallel_for covers [0, n) once in fixed chunks and rethrows a worker
       CHECK(chunks.size() == (t <= 1 ? 1 : (n + (n + t - 1) / t - 1) / ((n + t - 1) / t)));
     }
   }
-  CHECK_THROWS_WITH(parallel_for(10, 4, [](std::size_t b, std::size_t) {
-                      if (b > 0) throw Error("chunk at " + std::to_string(b));
-                    }),
+  CHECK_THROWS_WITH(parallel_for(10, 4,
+                                 [](std::size_t b, std::size_t) {
+                                   if (b > 0) throw Error("chunk at " + std::to_string(b));
+                                 }),
                     "chunk at 3");
 }

@@ -26,7 +26,8 @@ TEST_CASE("parse_ppm reads 16-bit P6 with comments, widens 8-bit samples") {
   CHECK(img.rgb[5] == 0x0002);
   const formats::Image16 eight = formats::parse_ppm(std::string("P6 1 1 255\n") + "\x01\x80\xff", "8.ppm");
   CHECK(eight.rgb == std::vector<std::uint16_t>{257, 0x80 * 257, 0xffff});
-  CHECK_THROWS_WITH(formats::parse_ppm(ppm.substr(0, ppm.size() - 1), "t.ppm"), Catch::Contains("t.ppm") && Catch::Contains("truncated"));
+  CHECK_THROWS_WITH(formats::parse_ppm(ppm.substr(0, ppm.size() - 1), "t.ppm"),
+                    Catch::Contains("t.ppm") && Catch::Contains("truncated"));
   CHECK_THROWS_AS(formats::parse_ppm("P3\n1 1\n255\n0 0 0\n", "t.ppm"), common::DataError);
   CHECK_THROWS_AS(formats::parse_ppm("P6\n1 1\n4095\n", "t.ppm"), common::DataError);
 }
@@ -44,7 +45,8 @@ TEST_CASE("OBJ: polygons fanned into triangles, v/vt/vn words, relative indices"
 TEST_CASE("STL: ASCII and binary give one vertex per facet corner") {
   const formats::TriangleMesh a = formats::parse_stl(
       "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\n"
-      "endfacet\nendsolid t\n", "t.stl");
+      "endfacet\nendsolid t\n",
+      "t.stl");
   REQUIRE(a.faces.size() == 1);
   CHECK(a.vertices[1] == Eigen::Vector3d(1, 0, 0));
   std::string bin(84 + 50, '\0');
@@ -60,7 +62,9 @@ TEST_CASE("STL: ASCII and binary give one vertex per facet corner") {
 
 TEST_CASE("mesh import: malformed OBJ/STL/PLY bytes are DataErrors naming the file") {
   const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
-  struct Case { std::string bytes, ext, want; };
+  struct Case {
+    std::string bytes, ext, want;
+  };
   const Case cases[] = {
       {tri + "f 1.5 2 3\n", "obj", "line 4: malformed face index '1.5'"},
       {tri + "f 1 2x 3\n", "obj", "line 4: malformed face index '2x'"},
@@ -72,7 +76,8 @@ TEST_CASE("mesh import: malformed OBJ/STL/PLY bytes are DataErrors naming the fi
       {"solid x\nfacet\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\n", "stl", "facet with fewer than 3"},
       {"solid x\nvertex 0 0 nan\n", "stl", "malformed 'vertex' line"},
       {std::string(84, '\0') + "abc", "stl", "neither ASCII STL"},
-      {"ply\nformat ascii 1.0\nelement vertex 1\nproperty float a\nend_header\n1\n", "ply", "field 'x' missing"},
+      {"ply\nformat ascii 1.0\nelement vertex 1\nproperty float a\nend_header\n1\n", "ply",
+       "field 'x' missing"},
   };
   for (const auto& c : cases) {
     INFO(c.bytes);

@@ -11,7 +11,7 @@
 namespace canopy::addnoise {
 
 struct Params {
-  double sigma = 0.0;      // standard deviation per axis (m), >= 0; 0 = exact copy
+  double sigma = 0.0;  // standard deviation per axis (m), >= 0; 0 = exact copy
   std::uint64_t seed = 1;
 };
 

@@ -12,8 +12,10 @@
 using namespace canopy;
 
 int main(int argc, char** argv) {
-  common::Tool tool("addnoise", "Isotropic Gaussian noise on the coordinates of a scan; every "
-                                "other field is kept (thesis ch. 2).", true);
+  common::Tool tool("addnoise",
+                    "Isotropic Gaussian noise on the coordinates of a scan; every "
+                    "other field is kept (thesis ch. 2).",
+                    true);
   tool.without_threads();
   addnoise::Params p;
   std::string in = "-", out = "-";
@@ -21,7 +23,8 @@ int main(int argc, char** argv) {
   tool.add_output(&out, "noisy scan: .pcd, .ply or .las (- = PCD)");
   tool.add_length("--sigma", &p.sigma, "standard deviation per axis (0 = exact copy)", 1.0);
   std::string pcd_encoding = "binary";
-  tool.add("--pcd-encoding", &pcd_encoding, "DATA of a PCD output: binary, binary_compressed (PCL tools' default) or ascii");
+  tool.add("--pcd-encoding", &pcd_encoding,
+           "DATA of a PCD output: binary, binary_compressed (PCL tools' default) or ascii");
   return tool.run(argc, argv, [&] {
     formats::output_format(out);
     const formats::PcdWriteOptions pcd = formats::parse_pcd_encoding(pcd_encoding);

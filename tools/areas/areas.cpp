@@ -150,16 +150,15 @@ double segments_area(const formats::SegmentGraph& graph, std::uint32_t label, in
 }
 
 std::string serialize(const Areas& a, const std::vector<std::string>& inputs) {
-  std::string s = "{\"format\": \"canopy.areas\", \"version\": 1,\n \"provenance\": {\"tool\": \"areas\", "
-                  "\"version\": \"" CANOPY_VERSION "\", \"inputs\": [";
-  for (std::size_t i = 0; i < inputs.size(); ++i) {
-    s += (i ? ", " : "") + nlohmann::json(inputs[i]).dump();
-  }
-  s += "]},\n \"spacing\": " + num(a.spacing) + ", \"cell\": " + num(a.cell) + ", \"voxel\": " + num(a.voxel) +
-       ", \"max_segments\": " + std::to_string(a.max_segments) +
+  std::string s =
+      "{\"format\": \"canopy.areas\", \"version\": 1,\n \"provenance\": {\"tool\": \"areas\", "
+      "\"version\": \"" CANOPY_VERSION "\", \"inputs\": [";
+  for (std::size_t i = 0; i < inputs.size(); ++i) { s += (i ? ", " : "") + nlohmann::json(inputs[i]).dump(); }
+  s += "]},\n \"spacing\": " + num(a.spacing) + ", \"cell\": " + num(a.cell) +
+       ", \"voxel\": " + num(a.voxel) + ", \"max_segments\": " + std::to_string(a.max_segments) +
        ",\n \"target_points\": " + std::to_string(a.target_points) +
-       ", \"target_samples\": " + std::to_string(a.target_samples) +
-       ",\n \"visible\": " + num(a.visible) + ", \"samples\": " + num(a.samples) + ", \"mesh\": " + num(a.mesh) +
+       ", \"target_samples\": " + std::to_string(a.target_samples) + ",\n \"visible\": " + num(a.visible) +
+       ", \"samples\": " + num(a.samples) + ", \"mesh\": " + num(a.mesh) +
        ", \"segments\": " + num(a.segments) + ", \"matched\": " + num(a.matched) + "}\n";
   return s;
 }
@@ -188,7 +187,6 @@ Areas parse(const std::string& text, const std::string& name) {
 }
 
 namespace {
-
 
 std::vector<areas::ScanPoint> scan_targets(const formats::PointCloud& c, const std::string& name) {
   c.require({"x", "y", "z", "sensor_x", "sensor_y", "sensor_z", "view_idx", "label"}, name,

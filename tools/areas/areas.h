@@ -66,11 +66,11 @@ void validate(const Params& params);
 
 // One trial's artifacts, each with its file name for errors.
 struct Inputs {
-  formats::PointCloud scan;     // labelled noise-free scan: x y z sensor_x/y/z view_idx label
+  formats::PointCloud scan;  // labelled noise-free scan: x y z sensor_x/y/z view_idx label
   std::string scan_name;
   formats::PointCloud samples;  // fitvox samples: normal_x/y/z label
   std::string samples_name;
-  formats::Mesh mesh;           // cocone mesh: x y z label
+  formats::Mesh mesh;  // cocone mesh: x y z label
   std::string mesh_name;
   formats::SegmentGraph segments;
 };

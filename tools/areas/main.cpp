@@ -12,10 +12,10 @@
 
 using namespace canopy;
 
-
 int main(int argc, char** argv) {
-  common::Tool tool("areas", "Target surface area at each stage of a trial: visible (labelled scan), "
-                             "fitvox samples, cocone mesh, ncut segments, gmatch's largest segments.");
+  common::Tool tool("areas",
+                    "Target surface area at each stage of a trial: visible (labelled scan), "
+                    "fitvox samples, cocone mesh, ncut segments, gmatch's largest segments.");
   std::string scan, samples, mesh, segments, out = "-";
   tool.without_threads();
   areas::Params a;

@@ -140,19 +140,19 @@ class Reconstructor {
   std::vector<V3> p_;        // unique points
   std::vector<Point> cp_;
   Flat t_;
-  std::vector<V3> cc_;       // circumcentre per finite cell
-  std::vector<V3> hulln_;    // per infinite cell: outward unit normal of its finite facet
-  std::vector<V3> axis_;     // unit pole axis per vertex
+  std::vector<V3> cc_;     // circumcentre per finite cell
+  std::vector<V3> hulln_;  // per infinite cell: outward unit normal of its finite facet
+  std::vector<V3> axis_;   // unit pole axis per vertex
   std::vector<std::uint8_t> axis_ok_, on_hull_;
   std::vector<double> height2_;  // squared negative-pole distance (-1: none)
   std::vector<double> width2_;   // squared co-polygon width (inf: unbounded in the cocone)
   std::vector<Facet> facets_;
-  std::vector<int> fidx_;    // 4c+i -> facet index or -1
+  std::vector<int> fidx_;            // 4c+i -> facet index or -1
   std::vector<std::uint8_t> meets_;  // per facet: bit s set when e_t meets the cocone of v[s]
   std::vector<std::uint8_t> flat_;
   std::vector<std::uint8_t> alive_;  // candidate flag per facet
   // candidate complex
-  std::vector<int> cand_;            // candidate facet ids (ascending)
+  std::vector<int> cand_;  // candidate facet ids (ascending)
   std::vector<std::array<int, 2>> edges_;
   std::vector<int> edge_off_, edge_fac_;   // edge -> incident candidate facets
   std::vector<std::array<int, 3>> fedge_;  // facet -> edge opposite slot s (only candidates)
@@ -192,8 +192,7 @@ void Reconstructor::deduplicate() {
   }
   st_.duplicates = n - p_.size();
   if (p_.size() < 4) {
-    throw common::Error("need at least 4 distinct samples to build a surface, got " +
-                        std::to_string(p_.size()) +
+    throw common::Error("need at least 4 distinct samples to build a surface, got " + std::to_string(p_.size()) +
                         (st_.duplicates ? " (" + std::to_string(st_.duplicates) + " duplicates)" : ""));
   }
 }
@@ -391,8 +390,8 @@ void Reconstructor::flatness() {
   const double rho2 = prm_.flat_ratio * prm_.flat_ratio;
   std::vector<std::uint8_t> ratio_ok(n, 0);
   for (std::size_t v = 0; v < n; ++v) {
-    ratio_ok[v] = axis_ok_[v] && height2_[v] > 0 && std::isfinite(width2_[v]) &&
-                  width2_[v] <= rho2 * height2_[v];
+    ratio_ok[v] =
+        axis_ok_[v] && height2_[v] > 0 && std::isfinite(width2_[v]) && width2_[v] <= rho2 * height2_[v];
   }
   // Cocone-neighbour pairs (p, q): q shares a Delaunay triangle with p whose dual edge meets
   // the cocone of p.
@@ -440,9 +439,8 @@ void Reconstructor::flatness() {
   }
   st_.flat_seeds = seeds;
   st_.flat = queue.size();
-  phase.done(std::to_string(st_.flat) + " of " + std::to_string(n) + " samples flat (" +
-             std::to_string(seeds) + " before propagation), " + std::to_string(n - st_.flat) +
-             " boundary/undersampled");
+  phase.done(std::to_string(st_.flat) + " of " + std::to_string(n) + " samples flat (" + std::to_string(seeds) +
+             " before propagation), " + std::to_string(n - st_.flat) + " boundary/undersampled");
 }
 
 void Reconstructor::candidates() {
@@ -714,8 +712,7 @@ void Reconstructor::walk() {
     }
   }
   st_.components = static_cast<std::size_t>(components_);
-  phase.done(std::to_string(order_.size()) + " triangles in " + std::to_string(components_) +
-             " components");
+  phase.done(std::to_string(order_.size()) + " triangles in " + std::to_string(components_) + " components");
 }
 
 namespace {
@@ -740,7 +737,8 @@ EdgeTable edge_table(const std::vector<Face>& faces) {
   std::sort(e.es.begin(), e.es.end());
   e.group.assign(1, 0);
   for (std::size_t k = 1; k <= e.es.size(); ++k) {
-    if (k == e.es.size() || e.es[k][0] != e.es[k - 1][0] || e.es[k][1] != e.es[k - 1][1]) e.group.push_back(k);
+    if (k == e.es.size() || e.es[k][0] != e.es[k - 1][0] || e.es[k][1] != e.es[k - 1][1])
+      e.group.push_back(k);
   }
   return e;
 }
@@ -925,9 +923,9 @@ Surface Reconstructor::finish() {
   out.stats.nonmanifold_dropped = nonmanifold + conflicts;
   out.stats.boundary_edges = boundary_edges(edges, drop);
   out.stats.faces = out.faces.size();
-  phase.done(std::to_string(out.faces.size()) + " triangles in " + std::to_string(ncomp) +
-             " components, " + std::to_string(flipped_faces) + " flipped to agree with their " +
-             "neighbours, " + std::to_string(nonmanifold) + " dropped at edges with > 2 triangles, " +
+  phase.done(std::to_string(out.faces.size()) + " triangles in " + std::to_string(ncomp) + " components, " +
+             std::to_string(flipped_faces) + " flipped to agree with their " + "neighbours, " +
+             std::to_string(nonmanifold) + " dropped at edges with > 2 triangles, " +
              std::to_string(conflicts) + " dropped as orientation conflicts");
   return out;
 }
@@ -951,8 +949,8 @@ Surface Reconstructor::run() {
 
 }  // namespace
 
-Surface reconstruct(const std::vector<Eigen::Vector3d>& points,
-                    const std::vector<Eigen::Vector3d>& normals, const CoconeParams& params) {
+Surface reconstruct(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& normals,
+                    const CoconeParams& params) {
   if (!normals.empty() && normals.size() != points.size()) {
     throw common::Error("internal: " + std::to_string(normals.size()) + " normals for " +
                         std::to_string(points.size()) + " points");

@@ -28,8 +28,8 @@ constexpr double kRankThreshold = 1e-9;
 
 bool all_finite(const Fit& f) {
   bool ok = f.normal.allFinite() && f.u.allFinite() && f.v.allFinite() && f.w.allFinite() &&
-            std::isfinite(f.rms) && std::isfinite(f.variation) &&
-            std::isfinite(f.mean_curvature) && std::isfinite(f.gauss_curvature);
+            std::isfinite(f.rms) && std::isfinite(f.variation) && std::isfinite(f.mean_curvature) &&
+            std::isfinite(f.gauss_curvature);
   for (double c : f.a) ok = ok && std::isfinite(c);
   return ok;
 }
@@ -42,8 +42,7 @@ std::string fmt(const char* format, double a, double b = 0, double c = 0) {
 
 }  // namespace
 
-Fit fit_neighbourhood(const std::vector<Vector3d>& points, std::size_t p_index,
-                      const Vector3d& toward) {
+Fit fit_neighbourhood(const std::vector<Vector3d>& points, std::size_t p_index, const Vector3d& toward) {
   if (p_index >= points.size()) return Fit{};
   return fit_about(points, points[p_index], toward);
 }
@@ -66,7 +65,7 @@ bool pca_frame(const std::vector<Vector3d>& points, Fit& f) {
   cov /= static_cast<double>(k);
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
   if (es.info() != Eigen::Success) return false;
-  const Vector3d ev = es.eigenvalues();  // ascending
+  const Vector3d ev = es.eigenvalues();                             // ascending
   if (!(ev(2) > 0) || !(ev(1) > kCollinear * ev(2))) return false;  // coincident or collinear
   f.u = es.eigenvectors().col(2).normalized();
   f.v = es.eigenvectors().col(1).normalized();
@@ -129,8 +128,7 @@ void orient_and_finish(std::array<double, 6> a, const Vector3d& toward, Fit& f) 
   f.a = a;
   const double g = 1 + a[3] * a[3] + a[4] * a[4];
   f.gauss_curvature = (4 * a[0] * a[2] - a[1] * a[1]) / (g * g);
-  f.mean_curvature = ((1 + a[4] * a[4]) * 2 * a[0] - 2 * a[3] * a[4] * a[1] +
-                      (1 + a[3] * a[3]) * 2 * a[2]) /
+  f.mean_curvature = ((1 + a[4] * a[4]) * 2 * a[0] - 2 * a[3] * a[4] * a[1] + (1 + a[3] * a[3]) * 2 * a[2]) /
                      (2 * std::pow(g, 1.5));
 }
 
@@ -167,8 +165,7 @@ Fit fit_about(const std::vector<Vector3d>& points, const Vector3d& p, const Vect
   double sse = 0;
   for (std::size_t i = 0; i < k; ++i) {
     const double u = uvw(i, 0), v = uvw(i, 1);
-    const double r = uvw(i, 2) - (a[0] * u * u + a[1] * u * v + a[2] * v * v + a[3] * u +
-                                  a[4] * v + a[5]);
+    const double r = uvw(i, 2) - (a[0] * u * u + a[1] * u * v + a[2] * v * v + a[3] * u + a[4] * v + a[5]);
     sse += r * r;
   }
   f.rms = std::sqrt(sse / static_cast<double>(k));
@@ -200,12 +197,11 @@ void check_input(const Scan& scan, const Params& params) {
   validate(params);
   const std::size_t n = scan.points.size();
   if (!scan.sensor.empty() && scan.sensor.size() != n) {
-    throw Error("sensor directions: " + std::to_string(scan.sensor.size()) + " for " +
-                std::to_string(n) + " points");
+    throw Error("sensor directions: " + std::to_string(scan.sensor.size()) + " for " + std::to_string(n) +
+                " points");
   }
   if (!scan.labels.empty() && scan.labels.size() != n) {
-    throw Error("labels: " + std::to_string(scan.labels.size()) + " for " + std::to_string(n) +
-                " points");
+    throw Error("labels: " + std::to_string(scan.labels.size()) + " for " + std::to_string(n) + " points");
   }
   if (n > std::numeric_limits<std::uint32_t>::max()) throw Error("more than 2^32 points");
 }
@@ -252,9 +248,7 @@ std::vector<std::uint64_t> voxel_keys(const Scan& scan, double h, Grid* grid, st
     for (int d = 0; d < 3; ++d) {
       const double c = scan.points[i](d);
       const double q = std::floor(c / h + 0.5);
-      if (!std::isfinite(c)) {
-        throw Error("point " + std::to_string(i) + ": non-finite coordinate");
-      }
+      if (!std::isfinite(c)) { throw Error("point " + std::to_string(i) + ": non-finite coordinate"); }
       if (!(q >= -kLimit - 1 && q <= kLimit)) {
         throw Error("voxel index overflow: point " + std::to_string(i) + " has " + "xyz"[d] +
                     fmt(" = %g m, %.3g voxels of %g m from the origin (limit 2^31); use a larger "
@@ -273,8 +267,7 @@ std::vector<std::uint64_t> voxel_keys(const Scan& scan, double h, Grid* grid, st
   constexpr std::uint64_t kMaxKeys = std::uint64_t{1} << 63;
   if (ext[1] > kMaxKeys / ext[2] || ext[0] > kMaxKeys / (ext[1] * ext[2])) {
     throw Error(fmt("voxel index overflow: the cloud spans %.3g x %.3g x %.3g voxels",
-                    static_cast<double>(ext[0]), static_cast<double>(ext[1]),
-                    static_cast<double>(ext[2])) +
+                    static_cast<double>(ext[0]), static_cast<double>(ext[1]), static_cast<double>(ext[2])) +
                 " (more than 2^63); use a larger voxel or crop the cloud");
   }
   *cells = ext[0] * ext[1] * ext[2];
@@ -303,9 +296,8 @@ Grid voxelize(const Scan& scan, double h) {
     for (std::size_t i = 0; i < n; ++i) order[start[key[i]]++] = static_cast<std::uint32_t>(i);
   } else {
     for (std::size_t i = 0; i < n; ++i) order[i] = static_cast<std::uint32_t>(i);
-    std::sort(order.begin(), order.end(), [&](std::uint32_t x, std::uint32_t y) {
-      return key[x] != key[y] ? key[x] < key[y] : x < y;
-    });
+    std::sort(order.begin(), order.end(),
+              [&](std::uint32_t x, std::uint32_t y) { return key[x] != key[y] ? key[x] < key[y] : x < y; });
   }
   for (std::size_t b = 0; b < n;) {
     std::size_t e = b + 1;
@@ -422,7 +414,8 @@ void gather_ball(const Scan& scan, const Grid& grid, const std::vector<std::arra
   for (std::int32_t i = lo[0]; i <= hi[0]; ++i) {
     for (std::int32_t j = lo[1]; j <= hi[1]; ++j) {
       // Runs of the column (i, j, lo[2]..hi[2]) are contiguous in the sorted order.
-      auto it = std::lower_bound(run_index.begin(), run_index.end(), std::array<std::int32_t, 3>{i, j, lo[2]}, less);
+      auto it =
+          std::lower_bound(run_index.begin(), run_index.end(), std::array<std::int32_t, 3>{i, j, lo[2]}, less);
       for (; it != run_index.end() && (*it)[0] == i && (*it)[1] == j && (*it)[2] <= hi[2]; ++it) {
         const VoxelRun& vr = grid.runs[static_cast<std::size_t>(it - run_index.begin())];
         for (std::size_t q = vr.begin; q < vr.end; ++q) {
@@ -548,13 +541,12 @@ Result run(const Scan& scan, const Params& params, bool keep_all) {
   return result;
 }
 
-Scan scan_from_cloud(const formats::PointCloud& cloud, const std::string& name,
-                     bool* has_sensor) {
+Scan scan_from_cloud(const formats::PointCloud& cloud, const std::string& name, bool* has_sensor) {
   cloud.require({"x", "y", "z"}, name, "is this a point cloud?");
   Scan scan;
   scan.points = formats::finite_vectors(cloud, name);
-  const int sensor_fields = int(cloud.has("sensor_x")) + int(cloud.has("sensor_y")) +
-                            int(cloud.has("sensor_z"));
+  const int sensor_fields =
+      int(cloud.has("sensor_x")) + int(cloud.has("sensor_y")) + int(cloud.has("sensor_z"));
   if (sensor_fields != 0 && sensor_fields != 3) {
     throw common::DataError(name, "needs all of sensor_x, sensor_y, sensor_z or none of them");
   }
@@ -563,8 +555,8 @@ Scan scan_from_cloud(const formats::PointCloud& cloud, const std::string& name,
     scan.sensor = formats::to_vectors(cloud, formats::kSensorFields);
     for (std::size_t i = 0; i < scan.sensor.size(); ++i) {
       if (!scan.sensor[i].allFinite() || scan.sensor[i].squaredNorm() == 0) {
-        throw common::DataError(name, "point " + std::to_string(i) +
-                                          ": sensor direction is zero or not finite");
+        throw common::DataError(name,
+                                "point " + std::to_string(i) + ": sensor direction is zero or not finite");
       }
     }
   }
@@ -576,10 +568,31 @@ formats::PointCloud samples_to_cloud(const Result& result) {
   using formats::kFloat32;
   using formats::kUint32;
   formats::PointCloud c;
-  const char* const f4[] = {"x", "y", "z", "normal_x", "normal_y", "normal_z", "curvature",
-                            "mean_curvature", "gauss_curvature", "u_x", "u_y", "u_z", "v_x",
-                            "v_y", "v_z", "w_x", "w_y", "w_z", "a0", "a1", "a2", "a3", "a4",
-                            "a5", "rms"};
+  const char* const f4[] = {"x",
+                            "y",
+                            "z",
+                            "normal_x",
+                            "normal_y",
+                            "normal_z",
+                            "curvature",
+                            "mean_curvature",
+                            "gauss_curvature",
+                            "u_x",
+                            "u_y",
+                            "u_z",
+                            "v_x",
+                            "v_y",
+                            "v_z",
+                            "w_x",
+                            "w_y",
+                            "w_z",
+                            "a0",
+                            "a1",
+                            "a2",
+                            "a3",
+                            "a4",
+                            "a5",
+                            "rms"};
   for (const char* name : f4) c.add(name, kFloat32);
   c.add("point_count", kUint32);
   c.add("label", kUint32);

@@ -20,18 +20,18 @@ std::string summary(const fitvox::Params& p, const fitvox::Stats& s) {
   std::snprintf(buf, sizeof buf, "sigma %s %.2f mm, RMS bound %.2f-%.2f mm, resampling support %.1f mm",
                 p.noise < 0 ? "estimated" : "given", s.sigma * 1e3, s.rms_bound_at_max_points * 1e3,
                 s.rms_bound_at_min_points * 1e3, s.support * 1e3);
-  return "kept " + std::to_string(s.kept) + " of " + std::to_string(s.voxels) +
-         " voxels (too few points " + std::to_string(s.too_few) + ", undetermined " +
-         std::to_string(s.degenerate) + ", too rough " + std::to_string(s.too_rough) +
-         ", plane fallback " + std::to_string(s.plane_fallback) + ", merged " +
+  return "kept " + std::to_string(s.kept) + " of " + std::to_string(s.voxels) + " voxels (too few points " +
+         std::to_string(s.too_few) + ", undetermined " + std::to_string(s.degenerate) + ", too rough " +
+         std::to_string(s.too_rough) + ", plane fallback " + std::to_string(s.plane_fallback) + ", merged " +
          std::to_string(s.merged) + "); " + buf;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  common::Tool tool("fitvox", "Local surface fits: PCA frame + least-squares biquadratic in "
-                              "cubic voxels (thesis ch. 3); one sample point per kept voxel.");
+  common::Tool tool("fitvox",
+                    "Local surface fits: PCA frame + least-squares biquadratic in "
+                    "cubic voxels (thesis ch. 3); one sample point per kept voxel.");
   fitvox::Params p;
   std::string in = "-", out = "-", noise = "auto", support = "auto";
   tool.add_input(&in, "scan: PCD, PLY point set or LAS (x y z [sensor_x sensor_y sensor_z] [label])");
@@ -40,19 +40,23 @@ int main(int argc, char** argv) {
                   1.0);
   tool.add("--min-points", &p.min_points, "reject voxels with fewer points (>= 6)");
   std::string pcd_encoding = "binary";
-  tool.add("--pcd-encoding", &pcd_encoding, "DATA of a PCD output: binary, binary_compressed (PCL tools' default) or ascii");
+  tool.add("--pcd-encoding", &pcd_encoding,
+           "DATA of a PCD output: binary, binary_compressed (PCL tools' default) or ascii");
   tool.add_length("--max-rms", &p.max_rms, "RMS fit-error bound for noiseless data");
-  tool.add("--noise", &noise, "noise sigma that widens the RMS bound: 'auto' = estimate from "
-                              "the scan's fits, a length = known sigma, 0 = fixed --max-rms");
+  tool.add("--noise", &noise,
+           "noise sigma that widens the RMS bound: 'auto' = estimate from "
+           "the scan's fits, a length = known sigma, 0 = fixed --max-rms");
   tool.add("--noise-margin", &p.noise_margin,
            "standard deviations of the RMS sampling spread allowed above the noise (>= 0)");
   tool.add("--resample", &p.resample,
            "project each sample onto a surface fitted to the scan within --support and merge "
            "near-duplicates (false = the thesis: the raw input point nearest the voxel centre, voxel fit)");
-  tool.add("--from-centroid", &p.from_centroid, "resampling starts from the voxel's point centroid (false: "
-                                                "from its point nearest the voxel centre)");
-  tool.add("--support", &support, "resampling fit radius in voxel edges (> 0), or 'auto' = 6 x the noise "
-                                  "sigma, clamped to 0.5-1 voxel edges");
+  tool.add("--from-centroid", &p.from_centroid,
+           "resampling starts from the voxel's point centroid (false: "
+           "from its point nearest the voxel centre)");
+  tool.add("--support", &support,
+           "resampling fit radius in voxel edges (> 0), or 'auto' = 6 x the noise "
+           "sigma, clamped to 0.5-1 voxel edges");
   tool.add("--merge", &p.merge, "resampled samples closer than this many voxel edges merge (>= 0; 0 = off)");
   return tool.run(argc, argv, [&] {
     formats::output_format(out);
@@ -79,8 +83,7 @@ int main(int argc, char** argv) {
     const fitvox::Scan scan = fitvox::scan_from_cloud(cloud, common::display_name(in), &has_sensor);
     read.done(std::to_string(scan.points.size()) + " points");
     if (!has_sensor) {
-      common::log::warn(common::display_name(in) +
-                        ": no sensor_x/y/z fields: normals oriented toward +z");
+      common::log::warn(common::display_name(in) + ": no sensor_x/y/z fields: normals oriented toward +z");
     }
     common::log::Phase fit("fit");
     const fitvox::Result r = fitvox::run(scan, p);
@@ -93,8 +96,7 @@ int main(int argc, char** argv) {
     formats::PointCloud samples = fitvox::samples_to_cloud(r);
     samples.comments = formats::provenance_comments({"fitvox", CANOPY_VERSION, tool.parameters(), {in}});
     char buf[160];
-    std::snprintf(buf, sizeof buf, "noise_sigma_used %.6g m (estimated %.6g m)", s.sigma,
-                  s.sigma_estimated);
+    std::snprintf(buf, sizeof buf, "noise_sigma_used %.6g m (estimated %.6g m)", s.sigma, s.sigma_estimated);
     samples.comments.push_back(buf);
     formats::write_points(samples, out, pcd);
     common::log::info("wrote " + std::to_string(r.samples.size()) + " samples to " +

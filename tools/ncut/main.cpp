@@ -24,12 +24,14 @@ struct Cli {
 void bind_options(common::Tool& tool, ncut::Params& p, Cli& c) {
   tool.add_input(&c.in, "mesh PLY (x y z, nx ny nz [computed from faces if absent], [label])");
   tool.add_output(&c.out, "segment graph JSON");
-  tool.add_output("--colored", &c.colored, "also write the mesh with 'segment' and red/green/blue fields (PLY)");
+  tool.add_output("--colored", &c.colored,
+                  "also write the mesh with 'segment' and red/green/blue fields (PLY)");
   tool.add_angle("--sigma-n", &p.affinity.sigma_n, "normal-angle scale sigma_n of Eq. 5.11 (> 0)");
   tool.add("--anisotropy", &p.affinity.anisotropy, "E of Eq. 5.8: weight of the normal offset (>= 1)");
   tool.add_length("--radius", &p.affinity.radius, "r: distance scale of Eq. 5.11 and affinity cut-off");
-  tool.add("--exponent", &c.exponent, "'squared' (Eq. 5.1 form) or 'linear' (Eq. 5.11 as printed, "
-                                    "lengths in mm)");
+  tool.add("--exponent", &c.exponent,
+           "'squared' (Eq. 5.1 form) or 'linear' (Eq. 5.11 as printed, "
+           "lengths in mm)");
   tool.add_length("--dense-radius", &p.sparsify.dense_radius,
                   "beyond this distance keep only --keep-fraction of the affinities");
   tool.add("--keep-fraction", &p.sparsify.keep_fraction, "random share kept beyond --dense-radius [0, 1]");
@@ -60,9 +62,10 @@ void apply_choices(const Cli& c, ncut::Params& p) {
        "--solver: auto, dense, lanczos or shift-invert");
   p.affinity.exponent = c.exponent == "squared" ? ncut::Exponent::kSquared : ncut::Exponent::kLinear;
   p.pca = c.pca == "surface" ? ncut::PcaWeighting::kSurface : ncut::PcaWeighting::kVertices;
-  p.cut.solver = c.solver == "dense" ? ncut::Solver::kDense
-                 : c.solver == "lanczos" ? ncut::Solver::kLanczos
-                 : c.solver == "shift-invert" ? ncut::Solver::kShiftInvert : ncut::Solver::kAuto;
+  p.cut.solver = c.solver == "dense"          ? ncut::Solver::kDense
+                 : c.solver == "lanczos"      ? ncut::Solver::kLanczos
+                 : c.solver == "shift-invert" ? ncut::Solver::kShiftInvert
+                                              : ncut::Solver::kAuto;
 }
 
 std::string summary(const ncut::Result& r) {
@@ -73,17 +76,19 @@ std::string summary(const ncut::Result& r) {
                 "%zu segments; graph %zu edges (%zu forced mesh edges) %.3f s; %d components, "
                 "%d splits, %d eigensolves (%d dense, %d lanczos, %d shift-invert, %d fallbacks), "
                 "%lld matvecs, max residual %.1e, %.3f s",
-                r.graph.segments.size(), g.edges, g.mesh_edges_forced, r.stats.seconds_graph,
-                c.components, c.splits, c.solves, c.dense_solves, c.lanczos_solves,
-                c.shift_invert_solves, c.fallbacks, c.matvecs, c.max_residual, r.stats.seconds_cut);
+                r.graph.segments.size(), g.edges, g.mesh_edges_forced, r.stats.seconds_graph, c.components,
+                c.splits, c.solves, c.dense_solves, c.lanczos_solves, c.shift_invert_solves, c.fallbacks,
+                c.matvecs, c.max_residual, r.stats.seconds_cut);
   return buf;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  common::Tool tool("ncut", "Segments a mesh into surface patches by recursive two-way "
-                            "normalized cuts (thesis ch. 5) and writes the segment graph.", true);
+  common::Tool tool("ncut",
+                    "Segments a mesh into surface patches by recursive two-way "
+                    "normalized cuts (thesis ch. 5) and writes the segment graph.",
+                    true);
   tool.without_threads();
   ncut::Params p;
   Cli c;
@@ -100,8 +105,8 @@ int main(int argc, char** argv) {
     common::log::Phase read("read");
     const formats::Mesh mesh = formats::read_ply(c.in);
     const ncut::Input input = ncut::input_from_mesh(mesh, common::display_name(c.in));
-    read.done(std::to_string(input.points.size()) + " vertices, " +
-              std::to_string(input.faces.size()) + " faces");
+    read.done(std::to_string(input.points.size()) + " vertices, " + std::to_string(input.faces.size()) +
+              " faces");
     if (input.normals.empty()) {
       common::log::info(common::display_name(c.in) + ": no normals; using area-weighted face normals");
     }

@@ -38,8 +38,7 @@ struct Moments {
     area += t;
     m1 += t * s / 3.0;
     // Exact second moment of a triangle: (t / 12) (a a^T + b b^T + c c^T + s s^T).
-    m2 += (t / 12.0) * (a * a.transpose() + b * b.transpose() + c * c.transpose() +
-                        s * s.transpose());
+    m2 += (t / 12.0) * (a * a.transpose() + b * b.transpose() + c * c.transpose() + s * s.transpose());
   }
 };
 
@@ -89,9 +88,8 @@ Input input_from_mesh(const formats::Mesh& mesh, const std::string& name) {
     const auto& t = mesh.faces[f];
     for (int k = 0; k < 3; ++k) {
       if (t[k] < 0 || static_cast<std::size_t>(t[k]) >= n) {
-        throw common::DataError(name, "face " + std::to_string(f) + " has vertex index " +
-                                          std::to_string(t[k]) + " (mesh has " +
-                                          std::to_string(n) + " vertices)");
+        throw common::DataError(name, "face " + std::to_string(f) + " has vertex index " + std::to_string(t[k]) +
+                                          " (mesh has " + std::to_string(n) + " vertices)");
       }
     }
     if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {
@@ -131,10 +129,8 @@ std::vector<std::array<int, 2>> mesh_edges(const std::vector<std::array<int, 3>>
   return e;
 }
 
-std::vector<formats::Segment> segment_attributes(const Input& in,
-                                                 const std::vector<Vector3d>& normals,
-                                                 const std::vector<int>& segment, int count,
-                                                 PcaWeighting pca) {
+std::vector<formats::Segment> segment_attributes(const Input& in, const std::vector<Vector3d>& normals,
+                                                 const std::vector<int>& segment, int count, PcaWeighting pca) {
   const std::size_t n = in.points.size();
   std::vector<formats::Segment> out(count);
   std::vector<Moments> mom(count);
@@ -264,8 +260,7 @@ Result run(const Input& in, const Params& params) {
   auto t0 = std::chrono::steady_clock::now();
   SurfacePoints pts{in.points, normals};
   ThesisAffinity affinity(pts, params.affinity);
-  const Graph g = build_affinity_graph(pts, mesh_edges(in.faces), affinity, params.sparsify,
-                                       &res.stats.graph);
+  const Graph g = build_affinity_graph(pts, mesh_edges(in.faces), affinity, params.sparsify, &res.stats.graph);
   res.stats.seconds_graph = seconds_since(t0);
 
   t0 = std::chrono::steady_clock::now();
@@ -273,9 +268,7 @@ Result run(const Input& in, const Params& params) {
   res.stats.seconds_cut = seconds_since(t0);
 
   t0 = std::chrono::steady_clock::now();
-  const int count = res.segment.empty()
-                        ? 0
-                        : *std::max_element(res.segment.begin(), res.segment.end()) + 1;
+  const int count = res.segment.empty() ? 0 : *std::max_element(res.segment.begin(), res.segment.end()) + 1;
   res.graph.segments = segment_attributes(in, normals, res.segment, count, params.pca);
   res.graph.adjacency = segment_adjacency(in.faces, res.segment);
   res.stats.seconds_attributes = seconds_since(t0);
@@ -291,11 +284,31 @@ std::array<std::uint8_t, 3> segment_colour(int segment_id) {
   const double p = v * (1 - s), q = v * (1 - s * f), t = v * (1 - s * (1 - f));
   double r = v, g = t, b = p;
   switch (i) {
-    case 1: r = q; g = v; b = p; break;
-    case 2: r = p; g = v; b = t; break;
-    case 3: r = p; g = q; b = v; break;
-    case 4: r = t; g = p; b = v; break;
-    case 5: r = v; g = p; b = q; break;
+    case 1:
+      r = q;
+      g = v;
+      b = p;
+      break;
+    case 2:
+      r = p;
+      g = v;
+      b = t;
+      break;
+    case 3:
+      r = p;
+      g = q;
+      b = v;
+      break;
+    case 4:
+      r = t;
+      g = p;
+      b = v;
+      break;
+    case 5:
+      r = v;
+      g = p;
+      b = q;
+      break;
     default: break;
   }
   auto u8 = [](double c) { return static_cast<std::uint8_t>(std::lround(255.0 * c)); };

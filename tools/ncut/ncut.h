@@ -52,8 +52,8 @@ struct Stats {
 };
 
 struct Result {
-  formats::SegmentGraph graph;    // segments + adjacency (provenance and mesh left empty)
-  std::vector<int> segment;       // segment id per vertex
+  formats::SegmentGraph graph;  // segments + adjacency (provenance and mesh left empty)
+  std::vector<int> segment;     // segment id per vertex
   Stats stats;
 };
 
@@ -73,10 +73,8 @@ std::vector<std::array<int, 2>> mesh_edges(const std::vector<std::array<int, 3>>
 Result run(const Input& in, const Params& params);
 
 // Attributes of the segments given a segment id per vertex (ids 0..k-1, each used).
-std::vector<formats::Segment> segment_attributes(const Input& in,
-                                                 const std::vector<Eigen::Vector3d>& normals,
-                                                 const std::vector<int>& segment, int count,
-                                                 PcaWeighting pca);
+std::vector<formats::Segment> segment_attributes(const Input& in, const std::vector<Eigen::Vector3d>& normals,
+                                                 const std::vector<int>& segment, int count, PcaWeighting pca);
 // Segment pairs sharing mesh edges, ascending (a, b), a < b.
 std::vector<formats::SegmentEdge> segment_adjacency(const std::vector<std::array<int, 3>>& faces,
                                                     const std::vector<int>& segment);

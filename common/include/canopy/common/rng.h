@@ -11,11 +11,11 @@ namespace canopy::common {
 class Rng {
  public:
   explicit Rng(std::uint64_t seed);
-  std::uint64_t next_u64();             // xoshiro256** step
-  double uniform();                     // [0, 1)
-  double uniform(double lo, double hi); // [lo, hi)
-  double normal();                      // N(0, 1), Marsaglia polar method
-  std::uint64_t below(std::uint64_t n); // uniform integer in [0, n), n > 0
+  std::uint64_t next_u64();              // xoshiro256** step
+  double uniform();                      // [0, 1)
+  double uniform(double lo, double hi);  // [lo, hi)
+  double normal();                       // N(0, 1), Marsaglia polar method
+  std::uint64_t below(std::uint64_t n);  // uniform integer in [0, n), n > 0
 
  private:
   std::uint64_t s_[4];

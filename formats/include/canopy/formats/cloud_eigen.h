@@ -34,8 +34,8 @@ std::vector<Eigen::Vector3d> finite_vectors(const PointCloud& cloud, const std::
 
 // Writes the vectors into three columns (added with `type` when missing; the cloud must have
 // vectors.size() rows).
-void set_vectors(PointCloud* cloud, const std::vector<Eigen::Vector3d>& vectors,
-                 const Fields3& fields, FieldType type = kFloat32);
+void set_vectors(PointCloud* cloud, const std::vector<Eigen::Vector3d>& vectors, const Fields3& fields,
+                 FieldType type = kFloat32);
 
 // A column of non-negative integers below 2^32 (labels, counts): DataError(file,
 // "<row> <i> has <field> <value> (want a non-negative integer below 2^32)") otherwise.

@@ -12,15 +12,15 @@
 namespace canopy::formats {
 
 struct SegmentPair {
-  int object_segment = 0;   // segment id in the object graph
-  int model_segment = -1;   // segment id in the model graph; -1 = NULL match
+  int object_segment = 0;  // segment id in the object graph
+  int model_segment = -1;  // segment id in the model graph; -1 = NULL match
   double unary_error = 0;
 };
 
 struct ModelScore {
-  std::string model;   // model name (file stem in the modelbase)
-  double score = 0;    // S = 1 - E
-  int rank = 0;        // 1 = best
+  std::string model;  // model name (file stem in the modelbase)
+  double score = 0;   // S = 1 - E
+  int rank = 0;       // 1 = best
   double error_unary = 0, error_orientation = 0, error_distance = 0, error_coverage = 0;
   double error_total = 0;
   std::vector<SegmentPair> pairs;
@@ -28,10 +28,10 @@ struct ModelScore {
 
 struct MatchResult {
   Provenance provenance;
-  std::string object;  // object segment graph path, as given
-  std::string error_form;  // "bounded" or "thesis"
+  std::string object;              // object segment graph path, as given
+  std::string error_form;          // "bounded" or "thesis"
   std::vector<ModelScore> models;  // sorted by rank
-  double entropy = 0;  // bits
+  double entropy = 0;              // bits
 };
 
 // Score of the rank-1 model minus that of the rank-2 model (the "margin" key of the file,

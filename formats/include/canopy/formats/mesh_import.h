@@ -21,7 +21,6 @@ struct TriangleMesh {
 TriangleMesh parse_obj(const std::string& bytes, const std::string& name);
 TriangleMesh parse_stl(const std::string& bytes, const std::string& name);
 // By extension: "ply", "obj" or "stl" (lower case); any other is an Error.
-TriangleMesh parse_triangle_mesh(const std::string& bytes, const std::string& name,
-                                 const std::string& ext);
+TriangleMesh parse_triangle_mesh(const std::string& bytes, const std::string& name, const std::string& ext);
 
 }  // namespace canopy::formats

@@ -13,7 +13,7 @@ struct Provenance {
   std::string tool;
   std::string version;
   std::vector<std::pair<std::string, std::string>> parameters;  // option name -> value text
-  std::vector<std::string> inputs;                               // input paths as given
+  std::vector<std::string> inputs;                              // input paths as given
 };
 
 // The same provenance as header comment lines of a PCD, PLY or LAS file, one format for every

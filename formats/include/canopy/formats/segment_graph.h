@@ -18,20 +18,20 @@ using Vec3 = std::array<double, 3>;
 struct Segment {
   int segment_id = 0;
   int vertex_count = 0;
-  double area = 0;          // m^2
-  Vec3 radii{};             // sqrt of PCA eigenvalues, largest first (m)
-  double thickness = 0;     // sqrt(l3 / l1)
-  double elongation = 0;    // sqrt(l2 / l1)
-  Vec3 centroid{};          // area-weighted (m, world frame)
-  Vec3 normal{};            // unit; smallest PCA axis, oriented like the vertex normals
-  int label = 0;            // majority ground-truth label (formats/labels.h)
-  double label_purity = 0;  // share of the segment's area carrying that label
+  double area = 0;            // m^2
+  Vec3 radii{};               // sqrt of PCA eigenvalues, largest first (m)
+  double thickness = 0;       // sqrt(l3 / l1)
+  double elongation = 0;      // sqrt(l2 / l1)
+  Vec3 centroid{};            // area-weighted (m, world frame)
+  Vec3 normal{};              // unit; smallest PCA axis, oriented like the vertex normals
+  int label = 0;              // majority ground-truth label (formats/labels.h)
+  double label_purity = 0;    // share of the segment's area carrying that label
   std::vector<int> vertices;  // mesh vertex indices (0-based), ascending
 };
 
 struct SegmentEdge {
-  int a = 0, b = 0;        // segment ids, a < b
-  int shared_edges = 0;    // mesh edges between the two segments
+  int a = 0, b = 0;      // segment ids, a < b
+  int shared_edges = 0;  // mesh edges between the two segments
 };
 
 struct SegmentGraph {
