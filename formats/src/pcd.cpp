@@ -91,79 +91,50 @@ std::size_t header_end(const std::string& bytes, std::size_t* from) {
   throw DataError(name, what + " (is this a PCD file?)");
 }
 
-Header parse_header(const std::string& bytes, const std::string& name) {
-  if (bytes.empty()) throw DataError(name, "empty file (not a PCD file)");
-  Header h;
-  std::size_t pos = 0;
-  bool have_count = false;
-  std::set<std::string> seen;
-  while (true) {
-    if (pos >= bytes.size()) not_pcd(bytes, name, "PCD header has no DATA line (truncated?)");
-    std::size_t eol = bytes.find('\n', pos);
-    if (eol == std::string::npos) eol = bytes.size();
-    std::string line = bytes.substr(pos, eol - pos);
-    pos = eol + 1;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (!line.empty() && line[0] == '#') {
-      std::string c = line.substr(1);
-      if (!c.empty() && c[0] == ' ') c.erase(0, 1);
-      if (c.rfind(".PCD v", 0) != 0) h.comments.push_back(c);
-      continue;
+// The values of one header line other than DATA (VERSION and VIEWPOINT are ignored).
+void header_values(const std::string& key, const std::vector<std::string>& tok, Header& h, bool* have_count,
+                   const std::string& name) {
+  auto one = [&]() -> const std::string& {
+    if (tok.size() != 1) throw DataError(name, "header " + key + " needs one value");
+    return tok[0];
+  };
+  if (key == "VERSION" || key == "VIEWPOINT") {
+  } else if (key == "FIELDS" || key == "COLUMNS") {
+    if (tok.empty()) throw DataError(name, "header FIELDS lists no fields");
+    if (tok.size() > kMaxColumns) {
+      throw DataError(name, "header FIELDS lists " + std::to_string(tok.size()) + " fields (limit " +
+                                std::to_string(kMaxColumns) + ")");
     }
-    auto tok = split_ws(line);
-    if (tok.empty()) continue;  // blank or whitespace-only line
-    const std::string key = tok[0];
-    tok.erase(tok.begin());
-    static const char* const kKeys[] = {"VERSION", "FIELDS", "COLUMNS", "SIZE",      "TYPE", "COUNT",
-                                        "WIDTH",   "HEIGHT", "POINTS",  "VIEWPOINT", "DATA"};
-    if (std::find_if(std::begin(kKeys), std::end(kKeys), [&](const char* k) { return key == k; }) ==
-        std::end(kKeys)) {
-      not_pcd(bytes, name, "unknown PCD header line '" + quote(line) + "'");
+    h.fields = tok;
+  } else if (key == "SIZE") {
+    for (auto& t : tok) h.sizes.push_back(static_cast<int>(to_count(t, name, "SIZE", 8)));
+  } else if (key == "TYPE") {
+    for (auto& t : tok) {
+      if (t != "F" && t != "U" && t != "I") {
+        throw DataError(name, "header TYPE '" + quote(t) + "' is not one of F, U, I");
+      }
+      h.kinds.push_back(t[0]);
     }
-    const std::string canon = key == "COLUMNS" ? "FIELDS" : key;
-    if (!seen.insert(canon).second) throw DataError(name, "header line " + canon + " appears twice");
-    auto one = [&]() -> const std::string& {
-      if (tok.size() != 1) throw DataError(name, "header " + key + " needs one value");
-      return tok[0];
-    };
-    if (key == "VERSION" || key == "VIEWPOINT") {
-    } else if (key == "FIELDS" || key == "COLUMNS") {
-      if (tok.empty()) throw DataError(name, "header FIELDS lists no fields");
-      if (tok.size() > kMaxColumns) {
-        throw DataError(name, "header FIELDS lists " + std::to_string(tok.size()) + " fields (limit " +
-                                  std::to_string(kMaxColumns) + ")");
-      }
-      h.fields = tok;
-    } else if (key == "SIZE") {
-      for (auto& t : tok) h.sizes.push_back(static_cast<int>(to_count(t, name, "SIZE", 8)));
-    } else if (key == "TYPE") {
-      for (auto& t : tok) {
-        if (t != "F" && t != "U" && t != "I") {
-          throw DataError(name, "header TYPE '" + quote(t) + "' is not one of F, U, I");
-        }
-        h.kinds.push_back(t[0]);
-      }
-    } else if (key == "COUNT") {
-      have_count = true;
-      for (auto& t : tok) {
-        const auto c = to_count(t, name, "COUNT", kMaxColumns);
-        if (c == 0) throw DataError(name, "header COUNT 0 (every field needs at least one value)");
-        h.counts.push_back(c);
-      }
-    } else if (key == "WIDTH") {
-      h.width = to_count(one(), name, "WIDTH");
-      h.have_width = true;
-    } else if (key == "HEIGHT") {
-      h.height = to_count(one(), name, "HEIGHT");
-    } else if (key == "POINTS") {
-      h.points = to_count(one(), name, "POINTS");
-      h.have_points = true;
-    } else {  // DATA
-      h.data = one();
-      h.data_offset = std::min(pos, bytes.size());
-      break;
+  } else if (key == "COUNT") {
+    *have_count = true;
+    for (auto& t : tok) {
+      const auto c = to_count(t, name, "COUNT", kMaxColumns);
+      if (c == 0) throw DataError(name, "header COUNT 0 (every field needs at least one value)");
+      h.counts.push_back(c);
     }
+  } else if (key == "WIDTH") {
+    h.width = to_count(one(), name, "WIDTH");
+    h.have_width = true;
+  } else if (key == "HEIGHT") {
+    h.height = to_count(one(), name, "HEIGHT");
+  } else if (key == "POINTS") {
+    h.points = to_count(one(), name, "POINTS");
+    h.have_points = true;
   }
+}
+
+// The header's fields, counts and dimensions agree and are within the limits.
+void check_header(Header& h, bool have_count, const std::string& name) {
   if (h.fields.empty()) throw DataError(name, "PCD header has no FIELDS line");
   if (!have_count) h.counts.assign(h.fields.size(), 1);
   if (h.sizes.size() != h.fields.size() || h.kinds.size() != h.fields.size() ||
@@ -199,6 +170,48 @@ Header parse_header(const std::string& bytes, const std::string& name) {
     throw DataError(name,
                     "unknown DATA type '" + quote(h.data) + "' (want ascii, binary or binary_compressed)");
   }
+}
+
+Header parse_header(const std::string& bytes, const std::string& name) {
+  if (bytes.empty()) throw DataError(name, "empty file (not a PCD file)");
+  Header h;
+  std::size_t pos = 0;
+  bool have_count = false;
+  std::set<std::string> seen;
+  while (true) {
+    if (pos >= bytes.size()) not_pcd(bytes, name, "PCD header has no DATA line (truncated?)");
+    std::size_t eol = bytes.find('\n', pos);
+    if (eol == std::string::npos) eol = bytes.size();
+    std::string line = bytes.substr(pos, eol - pos);
+    pos = eol + 1;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (!line.empty() && line[0] == '#') {
+      std::string c = line.substr(1);
+      if (!c.empty() && c[0] == ' ') c.erase(0, 1);
+      if (c.rfind(".PCD v", 0) != 0) h.comments.push_back(c);
+      continue;
+    }
+    auto tok = split_ws(line);
+    if (tok.empty()) continue;  // blank or whitespace-only line
+    const std::string key = tok[0];
+    tok.erase(tok.begin());
+    static const char* const kKeys[] = {"VERSION", "FIELDS", "COLUMNS", "SIZE",      "TYPE", "COUNT",
+                                        "WIDTH",   "HEIGHT", "POINTS",  "VIEWPOINT", "DATA"};
+    if (std::find_if(std::begin(kKeys), std::end(kKeys), [&](const char* k) { return key == k; }) ==
+        std::end(kKeys)) {
+      not_pcd(bytes, name, "unknown PCD header line '" + quote(line) + "'");
+    }
+    const std::string canon = key == "COLUMNS" ? "FIELDS" : key;
+    if (!seen.insert(canon).second) throw DataError(name, "header line " + canon + " appears twice");
+    if (key == "DATA") {
+      if (tok.size() != 1) throw DataError(name, "header " + key + " needs one value");
+      h.data = tok[0];
+      h.data_offset = std::min(pos, bytes.size());
+      break;
+    }
+    header_values(key, tok, h, &have_count, name);
+  }
+  check_header(h, have_count, name);
   return h;
 }
 
@@ -453,6 +466,54 @@ PointCloud parse_pcd(const std::string& bytes, const std::string& name) {
 
 // Regular files are read in chunks: binary data is decoded as it arrives (no copy of the
 // whole file in memory), other encodings are read whole and parsed like parse_pcd.
+namespace {
+
+constexpr std::size_t kHeadChunk = 1 << 16;
+
+// The file's first bytes up to and including the DATA line (*end: its end, npos when the file
+// has none), read in chunks of 64 KiB; may hold data bytes after it.
+std::string read_head(int fd, const std::string& path, std::size_t* end) {
+  std::string head;
+  std::size_t scanned = 0;
+  *end = std::string::npos;
+  while (*end == std::string::npos) {
+    const std::size_t old = head.size();
+    head.resize(old + kHeadChunk);
+    const std::size_t got = read_some(fd, &head[old], kHeadChunk, path);
+    head.resize(old + got);
+    *end = header_end(head, &scanned);
+    if (got == 0) break;
+  }
+  return head;
+}
+
+// ascii and binary_compressed: the rest of the file is read whole, then parsed.
+PointCloud read_unstreamed(int fd, std::string head, const Header& h, std::size_t file_size,
+                           const std::string& path) {
+  const std::size_t old = head.size();
+  head.resize(std::max(old, file_size));
+  head.resize(old + read_some(fd, &head[old], head.size() - old, path));
+  while (true) {  // the file grew since fstat
+    const std::size_t at = head.size();
+    head.resize(at + kHeadChunk);
+    head.resize(at + read_some(fd, &head[at], kHeadChunk, path));
+    if (head.size() == at) break;
+  }
+  if (h.data == "ascii") return parse_body(head, h, path);
+  // binary_compressed: the file's bytes are let go before the columns are made.
+  PointCloud cloud;
+  cloud.comments = h.comments;
+  Layout l = make_layout(h);
+  std::vector<unsigned char> raw = decompress(head, h, l, path);
+  std::string().swap(head);
+  gather_compressed(raw, h, l, &cloud, path);
+  cloud.resize(static_cast<std::size_t>(h.points));
+  check_coordinates(cloud, path);
+  return cloud;
+}
+
+}  // namespace
+
 PointCloud read_pcd(const std::string& path) {
   if (path == "-") return parse_pcd(common::read_file(path), path);
   const int raw_fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
@@ -462,41 +523,11 @@ PointCloud read_pcd(const std::string& path) {
   if (fstat(fd.fd, &st) != 0 || !S_ISREG(st.st_mode)) return parse_pcd(common::read_file(path), path);
   const auto file_size = static_cast<std::size_t>(st.st_size);
 
-  std::string head;
-  std::size_t end = std::string::npos, scanned = 0;
-  constexpr std::size_t kHeadChunk = 1 << 16;
-  while (end == std::string::npos) {
-    const std::size_t old = head.size();
-    head.resize(old + kHeadChunk);
-    const std::size_t got = read_some(fd.fd, &head[old], kHeadChunk, path);
-    head.resize(old + got);
-    end = header_end(head, &scanned);
-    if (got == 0) break;
-  }
+  std::size_t end = std::string::npos;
+  std::string head = read_head(fd.fd, path, &end);
   if (end == std::string::npos) return parse_pcd(head, path);  // no DATA line: parse_header says why
   const Header h = parse_header(head.substr(0, end), path);
-  if (h.data != "binary") {
-    const std::size_t old = head.size();
-    head.resize(std::max(old, file_size));
-    head.resize(old + read_some(fd.fd, &head[old], head.size() - old, path));
-    while (true) {  // the file grew since fstat
-      const std::size_t at = head.size();
-      head.resize(at + kHeadChunk);
-      head.resize(at + read_some(fd.fd, &head[at], kHeadChunk, path));
-      if (head.size() == at) break;
-    }
-    if (h.data == "ascii") return parse_body(head, h, path);
-    // binary_compressed: the file's bytes are let go before the columns are made.
-    PointCloud cloud;
-    cloud.comments = h.comments;
-    Layout l = make_layout(h);
-    std::vector<unsigned char> raw = decompress(head, h, l, path);
-    std::string().swap(head);
-    gather_compressed(raw, h, l, &cloud, path);
-    cloud.resize(static_cast<std::size_t>(h.points));
-    check_coordinates(cloud, path);
-    return cloud;
-  }
+  if (h.data != "binary") return read_unstreamed(fd.fd, std::move(head), h, file_size, path);
 
   PointCloud cloud;
   cloud.comments = h.comments;
