@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages canopy needs, only those missing (fast when all are present).
-# clang and libclang-rt-14-dev (libFuzzer, sanitizer runtimes) build fuzz/.
+# clang and libclang-rt-14-dev (libFuzzer, sanitizer runtimes) build fuzz/; clang-format checks
+# the style (scripts/check-format.sh).
 # Runs apt-get as root, or through sudo.
 set -euo pipefail
 packages=(
@@ -8,7 +9,7 @@ packages=(
   libeigen3-dev libcgal-dev libpcl-dev libvtk9-dev libspectra-dev
   nlohmann-json3-dev libcli11-dev catch2 libpng-dev
   povray time xvfb xauth jq
-  clang libclang-rt-14-dev
+  clang libclang-rt-14-dev clang-format
   # Slurm and munge: for LAUNCH=slurm and its test (tests/pipeline/slurm.sh), which starts
   # its own single-node cluster in a temp dir; nothing is configured system-wide.
   slurmctld slurmd slurm-client munge

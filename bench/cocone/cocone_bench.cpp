@@ -52,7 +52,7 @@ std::vector<V3> torus(std::size_t n) {
   canopy::common::Rng rng(3);
   std::vector<V3> p;
   while (p.size() < n) {
-    const double u = rng.uniform(0, 2 * cc::kPi), v = rng.uniform(0, 2 * cc::kPi);
+    const double u = rng.uniform(0, 2 * canopy::common::kPi), v = rng.uniform(0, 2 * canopy::common::kPi);
     if (rng.uniform() * 1.35 > 1 + 0.35 * std::cos(v)) continue;
     p.emplace_back((1 + 0.35 * std::cos(v)) * std::cos(u), (1 + 0.35 * std::cos(v)) * std::sin(u),
                    0.35 * std::sin(v));
@@ -164,9 +164,9 @@ void run_set(const Set& s) {
       gp3.setSearchRadius(4 * spacing);  // max edge length; the tutorial's mu and angles
       gp3.setMu(2.5);
       gp3.setMaximumNearestNeighbors(100);
-      gp3.setMaximumSurfaceAngle(cc::kPi / 4);
-      gp3.setMinimumAngle(cc::kPi / 18);
-      gp3.setMaximumAngle(2 * cc::kPi / 3);
+      gp3.setMaximumSurfaceAngle(canopy::common::kPi / 4);
+      gp3.setMinimumAngle(canopy::common::kPi / 18);
+      gp3.setMaximumAngle(2 * canopy::common::kPi / 3);
       gp3.setNormalConsistency(false);
       gp3.setInputCloud(cn);
       gp3.setSearchMethod(tree2);
@@ -190,9 +190,12 @@ int main(int argc, char** argv) {
   std::vector<std::string> files;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--quick") quick = true;
-    else if (a == "--repeat" && i + 1 < argc) g_repeat = std::max(1, std::atoi(argv[++i]));
-    else files.push_back(a);
+    if (a == "--quick")
+      quick = true;
+    else if (a == "--repeat" && i + 1 < argc)
+      g_repeat = std::max(1, std::atoi(argv[++i]));
+    else
+      files.push_back(a);
   }
   for (std::size_t n : quick ? std::vector<std::size_t>{10000} : std::vector<std::size_t>{10000, 100000}) {
     sets.push_back({"sphere", sphere(n), {}});
@@ -209,7 +212,9 @@ int main(int argc, char** argv) {
     }
     sets.push_back(std::move(s));
   }
-  std::printf("| set                    |       N | method   | seconds | triangles | nm-edges | holes | bnd-edges |\n");
+  std::printf(
+      "| set                    |       N | method   | seconds | triangles | nm-edges | holes | bnd-edges "
+      "|\n");
   std::printf("|---|---|---|---|---|---|---|---|\n");
   for (const auto& s : sets) run_set(s);
 }

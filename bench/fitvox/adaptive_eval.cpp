@@ -47,11 +47,13 @@ void report(const char* scene, double true_sigma, const Scan& scan, std::uint64_
       if (s.fit.verdict == canopy::fitvox::Verdict::kKept) ++kept[l];
     }
     auto pct = [](std::size_t a, std::size_t b) { return b ? 100.0 * a / b : 0.0; };
-    std::printf("| %s | %s | %zu | %.2f | %.1f-%.1f | %.1f%% (%zu/%zu) | %.1f%% (%zu/%zu) | %.1f%% | %.1f%% | %.1f%% |\n",
-                scene, pol.name, scan.points.size(), r.stats.sigma_estimated * 1e3,
-                r.stats.rms_bound_at_max_points * 1e3, r.stats.rms_bound_at_min_points * 1e3, pct(kept[1], dense[1]),
-                kept[1], dense[1], pct(kept[2], dense[2]), kept[2], dense[2],
-                pct(kept[3], dense[3]), pct(kept[1], all[1]), pct(kept[2], all[2]));
+    std::printf(
+        "| %s | %s | %zu | %.2f | %.1f-%.1f | %.1f%% (%zu/%zu) | %.1f%% (%zu/%zu) | %.1f%% | %.1f%% | %.1f%% "
+        "|\n",
+        scene, pol.name, scan.points.size(), r.stats.sigma_estimated * 1e3,
+        r.stats.rms_bound_at_max_points * 1e3, r.stats.rms_bound_at_min_points * 1e3, pct(kept[1], dense[1]),
+        kept[1], dense[1], pct(kept[2], dense[2]), kept[2], dense[2], pct(kept[3], dense[3]),
+        pct(kept[1], all[1]), pct(kept[2], all[2]));
   }
   (void)seed;
 }
@@ -68,9 +70,10 @@ int main(int argc, char** argv) {
       files.push_back(argv[i]);
     }
   }
-  std::printf("| scene | RMS policy | points | sigma_hat mm | bound mm (k=max..32) | target kept "
-              "(of >=32-pt voxels) | foliage kept (of >=32-pt) | ground kept | target kept (of "
-              "all) | foliage kept (of all) |\n|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "| scene | RMS policy | points | sigma_hat mm | bound mm (k=max..32) | target kept "
+      "(of >=32-pt voxels) | foliage kept (of >=32-pt) | ground kept | target kept (of "
+      "all) | foliage kept (of all) |\n|---|---|---|---|---|---|---|---|---|---|\n");
   if (files.empty()) {
     for (double mm : {0.0, 2.0, 4.0, 8.0, 16.0, 32.0}) {
       fitvox_bench::SceneOptions o;

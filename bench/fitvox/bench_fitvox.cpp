@@ -83,8 +83,8 @@ int main(int argc, char** argv) {
 
   pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);
   for (const auto& q : scan.points) {
-    cloud->push_back(pcl::PointXYZ(static_cast<float>(q.x()), static_cast<float>(q.y()),
-                                   static_cast<float>(q.z())));
+    cloud->push_back(
+        pcl::PointXYZ(static_cast<float>(q.x()), static_cast<float>(q.y()), static_cast<float>(q.z())));
   }
   std::vector<double> tv, tn;
   std::size_t down_n = 0;

@@ -14,11 +14,11 @@
 namespace fitvox_bench {
 
 struct SceneOptions {
-  double sigma = 0;          // noise (m)
-  std::uint64_t seed = 1;    // geometry (foliage) seed; the noise uses a seed derived from it
+  double sigma = 0;        // noise (m)
+  std::uint64_t seed = 1;  // geometry (foliage) seed; the noise uses a seed derived from it
   int views = 12;
   int pixels = 512;
-  double spacing = 0.03;     // m between rays
+  double spacing = 0.03;  // m between rays
   double elevation_deg = 75;
   int discs = 500;
 };

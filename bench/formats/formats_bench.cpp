@@ -56,8 +56,10 @@ int make(const std::string& path, std::size_t n, const std::string& enc) {
     l[i] = static_cast<double>(i % 4);
   }
   PcdWriteOptions o;
-  if (enc == "binary_compressed") o.encoding = PcdEncoding::binary_compressed;
-  else if (enc == "ascii") o.encoding = PcdEncoding::ascii;
+  if (enc == "binary_compressed")
+    o.encoding = PcdEncoding::binary_compressed;
+  else if (enc == "ascii")
+    o.encoding = PcdEncoding::ascii;
   write_pcd(c, path, o);
   return 0;
 }
@@ -89,7 +91,8 @@ int read(const std::string& reader, const std::string& path) {
 
 int main(int argc, char** argv) {
   const std::string cmd = argc > 1 ? argv[1] : "";
-  if (cmd == "make" && argc >= 4) return make(argv[2], std::strtoull(argv[3], nullptr, 10), argc > 4 ? argv[4] : "binary");
+  if (cmd == "make" && argc >= 4)
+    return make(argv[2], std::strtoull(argv[3], nullptr, 10), argc > 4 ? argv[4] : "binary");
   if (cmd == "read" && argc == 4) return read(argv[2], argv[3]);
   std::fprintf(stderr,
                "usage: formats_bench make <file.pcd> <points> [binary|binary_compressed|ascii]\n"

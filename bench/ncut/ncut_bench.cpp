@@ -15,7 +15,7 @@
 
 #include "canopy/common/log.h"
 #include "canopy/formats/ply.h"
-#include "meshes.h"
+#include "fixtures/ncut_meshes.h"
 #include "ncut/ncut.h"
 
 using namespace canopy;
@@ -188,13 +188,13 @@ void print_composition(const std::vector<int>& part, const std::vector<int>& seg
 
 void print_run(const char* name, std::size_t n, const Result& r, double seconds) {
   const auto& c = r.stats.cut;
-  std::printf("%-28s %7zu vtx %8zu edges %4zu segs %6.3f s (graph %.3f, cut %.3f, attr %.3f) "
-              "solves %d (dense %d, lanczos %d, s-i %d, fallback %d) matvecs %lld (max %lld) "
-              "restarts %lld\n",
-              name, n, r.stats.graph.edges, r.graph.segments.size(), seconds,
-              r.stats.seconds_graph, r.stats.seconds_cut, r.stats.seconds_attributes, c.solves,
-              c.dense_solves, c.lanczos_solves, c.shift_invert_solves, c.fallbacks, c.matvecs,
-              c.max_matvecs, c.restarts);
+  std::printf(
+      "%-28s %7zu vtx %8zu edges %4zu segs %6.3f s (graph %.3f, cut %.3f, attr %.3f) "
+      "solves %d (dense %d, lanczos %d, s-i %d, fallback %d) matvecs %lld (max %lld) "
+      "restarts %lld\n",
+      name, n, r.stats.graph.edges, r.graph.segments.size(), seconds, r.stats.seconds_graph,
+      r.stats.seconds_cut, r.stats.seconds_attributes, c.solves, c.dense_solves, c.lanczos_solves,
+      c.shift_invert_solves, c.fallbacks, c.matvecs, c.max_matvecs, c.restarts);
 }
 
 }  // namespace
@@ -224,11 +224,16 @@ int main(int argc, char** argv) {
       formats::write_ply(out, argv[++k]);
       return 0;
     }
-    if (a == "--big-only") big_only = true;
-    else if (a == "--dense-max" && k + 1 < argc) dense_max = std::atoi(argv[++k]);
-    else if (a == "--quick") quick = true;
-    else if (a == "--detail") detail = true;
-    else files.push_back(a);
+    if (a == "--big-only")
+      big_only = true;
+    else if (a == "--dense-max" && k + 1 < argc)
+      dense_max = std::atoi(argv[++k]);
+    else if (a == "--quick")
+      quick = true;
+    else if (a == "--detail")
+      detail = true;
+    else
+      files.push_back(a);
   }
 
   if (big_only) {
@@ -240,13 +245,12 @@ int main(int argc, char** argv) {
     return 0;
   }
   std::printf("== exponent comparison: segments (>= 10 vtx) / parts, purity, coverage ==\n");
-  std::printf("%-10s %-8s %-8s | %-30s | %-30s\n", "shape", "pos mm", "nrm deg", "squared",
-              "linear");
+  std::printf("%-10s %-8s %-8s | %-30s | %-30s\n", "shape", "pos mm", "nrm deg", "squared", "linear");
   const double deg = M_PI / 180;
   const int seeds = quick ? 1 : 3;
   for (const char* shape : {"box", "vehicle"}) {
-    for (const auto& [sp, sa] : std::vector<std::pair<double, double>>{
-             {0, 0}, {0.002, 1}, {0.004, 2}, {0.008, 4}, {0.016, 8}}) {
+    for (const auto& [sp, sa] :
+         std::vector<std::pair<double, double>>{{0, 0}, {0.002, 1}, {0.004, 2}, {0.008, 4}, {0.016, 8}}) {
       Score acc[2];
       double sum_seg[2] = {0, 0}, sum_pur[2] = {0, 0}, sum_cov[2] = {0, 0};
       for (int seed = 1; seed <= seeds; ++seed) {
@@ -259,8 +263,8 @@ int main(int argc, char** argv) {
           const Result r = run(m.in, p);
           acc[e] = score(m.part, r.segment);
           if (detail && seed == 1) {
-            std::printf("  %s %s noise %.0f mm %.0f deg:\n", shape, e == 0 ? "squared" : "linear",
-                        sp * 1000, sa);
+            std::printf("  %s %s noise %.0f mm %.0f deg:\n", shape, e == 0 ? "squared" : "linear", sp * 1000,
+                        sa);
             print_composition(m.part, r.segment);
           }
           sum_seg[e] += acc[e].segments10;
@@ -309,8 +313,8 @@ int main(int argc, char** argv) {
     const Result r = run(b.in, p);
     print_run("height field 10^5", b.in.points.size(), r, now() - t0);
     const Score s = score(b.part, r.segment);
-    std::printf("  %d parts, %d segments >= 10 vtx, purity %.3f, coverage %.3f\n", s.parts,
-                s.segments10, s.purity, s.coverage);
+    std::printf("  %d parts, %d segments >= 10 vtx, purity %.3f, coverage %.3f\n", s.parts, s.segments10,
+                s.purity, s.coverage);
   }
   for (const std::string& f : files) {
     const formats::Mesh mesh = formats::read_ply(f);

@@ -125,8 +125,8 @@ std::string temp_name_for(const std::string& path) {
   const auto dot = base.find_last_of('.');
   const std::string stem = dot == std::string::npos || dot == 0 ? base : base.substr(0, dot);
   const std::string ext = dot == std::string::npos || dot == 0 ? "" : base.substr(dot);
-  return dir + "." + stem + ".tmp" + std::to_string(getpid()) + "-" +
-         std::to_string(g_counter.fetch_add(1)) + ext;
+  return dir + "." + stem + ".tmp" + std::to_string(getpid()) + "-" + std::to_string(g_counter.fetch_add(1)) +
+         ext;
 }
 
 // Follows a chain of symbolic links to the path it finally names (which may not exist:
@@ -175,8 +175,8 @@ void check_directory(const std::string& path, const std::string& target) {
   }
   if (!S_ISDIR(st.st_mode)) throw DataError(path, "'" + dir + "' is not a directory" + via(path, target));
   if (access(dir.c_str(), W_OK | X_OK) != 0) {
-    throw DataError(path, "cannot write in directory '" + dir + "': " + std::strerror(errno) +
-                              via(path, target));
+    throw DataError(path,
+                    "cannot write in directory '" + dir + "': " + std::strerror(errno) + via(path, target));
   }
 }
 
@@ -290,8 +290,8 @@ AtomicOutput::AtomicOutput(const std::string& path) : path_(path) {
       mode_ = Mode::kWriteThrough;
       fd_ = ::open(target_.c_str(), O_WRONLY | O_NOCTTY | O_CLOEXEC);
       if (fd_ < 0) {
-        throw DataError(path_, std::string("cannot open for writing: ") + std::strerror(errno) +
-                                   via(path_, target_));
+        throw DataError(
+            path_, std::string("cannot open for writing: ") + std::strerror(errno) + via(path_, target_));
       }
       return;
     }

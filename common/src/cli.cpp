@@ -26,8 +26,8 @@ bool stdin_has_data() {
   return S_ISFIFO(st.st_mode) || S_ISREG(st.st_mode) || S_ISSOCK(st.st_mode);
 }
 
-const char* const kStandard[] = {"help", "version", "verbose", "quiet", "config",
-                                 "threads", "seed", "input", "output"};
+const char* const kStandard[] = {"help",    "version", "verbose", "quiet", "config",
+                                 "threads", "seed",    "input",   "output"};
 
 // Edit distance with adjacent transpositions counted as one edit ("--vxoel" -> "--voxel": 1).
 std::size_t edit_distance(const std::string& a, const std::string& b) {
@@ -88,9 +88,8 @@ namespace detail {
 std::string check_integer(const std::string& text, bool is_signed, long long lo, unsigned long long hi) {
   std::size_t i = 0;
   if (!text.empty() && (text[0] == '+' || text[0] == '-')) i = 1;
-  const bool digits = i < text.size() &&
-                      std::all_of(text.begin() + static_cast<long>(i), text.end(),
-                                  [](char c) { return c >= '0' && c <= '9'; });
+  const bool digits = i < text.size() && std::all_of(text.begin() + static_cast<long>(i), text.end(),
+                                                     [](char c) { return c >= '0' && c <= '9'; });
   if (!digits) return "'" + text + "' is not a whole decimal number";
   errno = 0;
   if (!is_signed) {
@@ -124,10 +123,10 @@ Tool::Tool(std::string name, std::string description, bool random)
   app_.set_version_flag("--version", name_ + " (canopy) " CANOPY_VERSION);
   app_.set_config("--config", "", "INI file of option values (keys: long option names)");
   app_.allow_config_extras(false);
-  app_.add_flag_callback("-v,--verbose", [] { log::set_level(log::Level::kDebug); },
-                         "log every detail to stderr");
-  app_.add_flag_callback("-q,--quiet", [] { log::set_level(log::Level::kQuiet); },
-                         "log only warnings and errors");
+  app_.add_flag_callback(
+      "-v,--verbose", [] { log::set_level(log::Level::kDebug); }, "log every detail to stderr");
+  app_.add_flag_callback(
+      "-q,--quiet", [] { log::set_level(log::Level::kQuiet); }, "log only warnings and errors");
   app_.add_option("--threads", threads_, "worker threads")
       ->capture_default_str()
       ->check(number_check<int>())

@@ -45,8 +45,7 @@ void Phase::done(const std::string& summary) {
 }
 
 Progress::Progress(std::string what, std::size_t total)
-    : what_(std::move(what)), total_(total),
-      enabled_(g_level >= Level::kInfo && isatty(STDERR_FILENO) == 1) {}
+    : what_(std::move(what)), total_(total), enabled_(g_level >= Level::kInfo && isatty(STDERR_FILENO) == 1) {}
 
 Progress::~Progress() {
   if (enabled_ && count_ > 0) std::fputs("\r\033[K", stderr);

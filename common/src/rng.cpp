@@ -3,13 +3,21 @@
 #include <cmath>
 
 namespace canopy::common {
-namespace {
 
-std::uint64_t splitmix64(std::uint64_t* x) {
-  std::uint64_t z = (*x += 0x9E3779B97F4A7C15ULL);
+std::uint64_t mix64(std::uint64_t z) {
+  z += 0x9E3779B97F4A7C15ULL;
   z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
   z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
   return z ^ (z >> 31);
+}
+
+namespace {
+
+// One step of the splitmix64 generator: advances *x, returns the mix of its previous value.
+std::uint64_t splitmix64(std::uint64_t* x) {
+  const std::uint64_t z = *x;
+  *x += 0x9E3779B97F4A7C15ULL;
+  return mix64(z);
 }
 
 std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
@@ -58,9 +66,7 @@ std::uint64_t Rng::below(std::uint64_t n) {
   // Rejection sampling: unbiased for every n.
   const std::uint64_t limit = ~std::uint64_t{0} - (~std::uint64_t{0} % n);
   std::uint64_t x;
-  do {
-    x = next_u64();
-  } while (x >= limit);
+  do { x = next_u64(); } while (x >= limit);
   return x % n;
 }
 

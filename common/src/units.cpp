@@ -5,11 +5,10 @@
 #include <cstdlib>
 
 #include "canopy/common/error.h"
+#include "canopy/common/math.h"
 
 namespace canopy::common {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Splits "12.5mm" into 12.5 and "mm". Throws on an empty or non-decimal number part.
 double split_number(const std::string& text, std::string* suffix, const char* what) {

@@ -19,16 +19,44 @@ inline double read_scalar(const unsigned char* p, FieldType type, bool swap = fa
   }
   switch (type.kind) {
     case 'F':
-      if (type.size == 4) { float f; std::memcpy(&f, b, 4); return f; }
-      { double d; std::memcpy(&d, b, 8); return d; }
+      if (type.size == 4) {
+        float f;
+        std::memcpy(&f, b, 4);
+        return f;
+      }
+      {
+        double d;
+        std::memcpy(&d, b, 8);
+        return d;
+      }
     case 'U':
       if (type.size == 1) return b[0];
-      if (type.size == 2) { std::uint16_t v; std::memcpy(&v, b, 2); return v; }
-      { std::uint32_t v; std::memcpy(&v, b, 4); return v; }
+      if (type.size == 2) {
+        std::uint16_t v;
+        std::memcpy(&v, b, 2);
+        return v;
+      }
+      {
+        std::uint32_t v;
+        std::memcpy(&v, b, 4);
+        return v;
+      }
     default:
-      if (type.size == 1) { std::int8_t v; std::memcpy(&v, b, 1); return v; }
-      if (type.size == 2) { std::int16_t v; std::memcpy(&v, b, 2); return v; }
-      { std::int32_t v; std::memcpy(&v, b, 4); return v; }
+      if (type.size == 1) {
+        std::int8_t v;
+        std::memcpy(&v, b, 1);
+        return v;
+      }
+      if (type.size == 2) {
+        std::int16_t v;
+        std::memcpy(&v, b, 2);
+        return v;
+      }
+      {
+        std::int32_t v;
+        std::memcpy(&v, b, 4);
+        return v;
+      }
   }
 }
 
@@ -53,18 +81,26 @@ T to_int(double v, double lo, double hi) {
 inline void write_scalar(std::string* out, double v, FieldType type) {
   switch (type.kind) {
     case 'F':
-      if (type.size == 4) put(out, static_cast<float>(v));
-      else put(out, v);
+      if (type.size == 4)
+        put(out, static_cast<float>(v));
+      else
+        put(out, v);
       return;
     case 'U':
-      if (type.size == 1) put(out, to_int<std::uint8_t>(v, 0, 255));
-      else if (type.size == 2) put(out, to_int<std::uint16_t>(v, 0, 65535));
-      else put(out, to_int<std::uint32_t>(v, 0, 4294967295.0));
+      if (type.size == 1)
+        put(out, to_int<std::uint8_t>(v, 0, 255));
+      else if (type.size == 2)
+        put(out, to_int<std::uint16_t>(v, 0, 65535));
+      else
+        put(out, to_int<std::uint32_t>(v, 0, 4294967295.0));
       return;
     default:
-      if (type.size == 1) put(out, to_int<std::int8_t>(v, -128, 127));
-      else if (type.size == 2) put(out, to_int<std::int16_t>(v, -32768, 32767));
-      else put(out, to_int<std::int32_t>(v, -2147483648.0, 2147483647.0));
+      if (type.size == 1)
+        put(out, to_int<std::int8_t>(v, -128, 127));
+      else if (type.size == 2)
+        put(out, to_int<std::int16_t>(v, -32768, 32767));
+      else
+        put(out, to_int<std::int32_t>(v, -2147483648.0, 2147483647.0));
       return;
   }
 }
@@ -92,7 +128,9 @@ inline std::string quote(const char* p, std::size_t n, std::size_t max = 40) {
   if (m < n) out += "...";
   return out;
 }
-inline std::string quote(const std::string& s, std::size_t max = 40) { return quote(s.data(), s.size(), max); }
+inline std::string quote(const std::string& s, std::size_t max = 40) {
+  return quote(s.data(), s.size(), max);
+}
 
 // Parses a whole token as a non-negative decimal integer (no sign, no exponent, no spaces).
 // Returns false on anything else or a value above `max`.
@@ -121,7 +159,8 @@ inline std::string sniff(const std::string& bytes) {
   if (starts("PK\x03\x04")) return "a zip archive";
   if (starts("solid ")) return "an STL file";
   std::size_t i = 0;
-  while (i < bytes.size() && (bytes[i] == ' ' || bytes[i] == '\n' || bytes[i] == '\r' || bytes[i] == '\t')) ++i;
+  while (i < bytes.size() && (bytes[i] == ' ' || bytes[i] == '\n' || bytes[i] == '\r' || bytes[i] == '\t'))
+    ++i;
   if (i < bytes.size() && bytes[i] == '{') return "a JSON document";
   if (starts("v ") || starts("# OBJ") || starts("mtllib ")) return "an OBJ file";
   return "";

@@ -62,15 +62,17 @@ bool has_prefix(const unsigned char* p, std::size_t n, const char* id) {
 
 std::string laz_message(const std::string& name) {
   std::string las = name;
-  if (las.size() > 4 && (las.compare(las.size() - 4, 4, ".laz") == 0 || las.compare(las.size() - 4, 4, ".LAZ") == 0)) {
+  if (las.size() > 4 &&
+      (las.compare(las.size() - 4, 4, ".laz") == 0 || las.compare(las.size() - 4, 4, ".LAZ") == 0)) {
     las.replace(las.size() - 4, 4, ".las");
   } else {
     las = "out.las";
   }
   const std::string laz = name == "-" ? "in.laz" : name;
   return "this is a LAZ file (compressed LAS); canopy cannot read LAZ because Debian 12 has no LAZ "
-         "decoder package. Decompress it on a machine that has one, e.g. `laszip -i " + laz + " -o " +
-         las + "` (LAStools) or `pdal translate " + laz + " " + las + "` (PDAL), and give canopy the .las";
+         "decoder package. Decompress it on a machine that has one, e.g. `laszip -i " +
+         laz + " -o " + las + "` (LAStools) or `pdal translate " + laz + " " + las +
+         "` (PDAL), and give canopy the .las";
 }
 
 // One Extra Bytes descriptor, resolved to the bytes it covers in each record.
@@ -183,64 +185,82 @@ bool is_laz(const std::string& bytes) {
   return is_las(bytes) && bytes.size() > 104 && (static_cast<unsigned char>(bytes[104]) & 0xC0) != 0;
 }
 
-PointCloud parse_las(const std::string& bytes, const std::string& name) {
-  const auto* b = reinterpret_cast<const unsigned char*>(bytes.data());
-  const std::size_t size = bytes.size();
-  if (!is_las(bytes)) throw DataError(name, "not a LAS file (no LASF signature)");
-  if (size < kHeader12) {
-    throw DataError(name, "LAS header truncated: file has " + std::to_string(size) + " bytes, a header needs " +
-                              std::to_string(kHeader12));
-  }
+namespace {
+
+// What the LAS header says, checked against the file's size.
+struct LasHeader {
+  int minor = 0, format = 0;
+  std::size_t header_size = 0, data_offset = 0, record = 0;
+  std::uint32_t vlr_count = 0;
+  double scale[3] = {1, 1, 1}, offset[3] = {0, 0, 0};
+  std::uint64_t n = 0;  // point records
+};
+
+// The Extra Bytes (E)VLR payload, when there is one.
+struct ExtraVlr {
+  const unsigned char* data = nullptr;
+  std::size_t len = 0;
+};
+
+LasHeader read_las_header(const unsigned char* b, std::size_t size, const std::string& name) {
+  LasHeader h;
   const int major = b[24], minor = b[25];
+  h.minor = minor;
   if (major != 1 || minor > 4) {
     throw DataError(name, "LAS version " + std::to_string(major) + "." + std::to_string(minor) +
                               " is not supported (canopy reads LAS 1.0-1.4)");
   }
   const int format_byte = b[104];
   if ((format_byte & 0xC0) != 0) throw DataError(name, laz_message(name));
-  const std::size_t header_size = get<std::uint16_t>(b + 94);
+  const std::size_t header_size = h.header_size = get<std::uint16_t>(b + 94);
   const std::size_t need_header = minor >= 4 ? kHeader14 : minor == 3 ? kHeader13 : kHeader12;
   if (header_size < need_header) {
     throw DataError(name, "LAS 1." + std::to_string(minor) + " header size " + std::to_string(header_size) +
                               " is below the " + std::to_string(need_header) + " bytes the version needs");
   }
   if (header_size > size) {
-    throw DataError(name, "LAS header size " + std::to_string(header_size) + " is beyond the end of the file (" +
-                              std::to_string(size) + " bytes)");
+    throw DataError(name, "LAS header size " + std::to_string(header_size) +
+                              " is beyond the end of the file (" + std::to_string(size) + " bytes)");
   }
-  const std::size_t data_offset = get<std::uint32_t>(b + 96);
-  const std::uint32_t vlr_count = get<std::uint32_t>(b + 100);
-  const int format = format_byte;
-  if (format > 10) throw DataError(name, "unknown LAS point data format " + std::to_string(format) + " (0-10 exist)");
-  const std::size_t record = get<std::uint16_t>(b + 105);
+  const std::size_t data_offset = h.data_offset = get<std::uint32_t>(b + 96);
+  h.vlr_count = get<std::uint32_t>(b + 100);
+  const int format = h.format = format_byte;
+  if (format > 10)
+    throw DataError(name, "unknown LAS point data format " + std::to_string(format) + " (0-10 exist)");
+  const std::size_t record = h.record = get<std::uint16_t>(b + 105);
   if (record < kMinRecord[format]) {
     throw DataError(name, "point record length " + std::to_string(record) + " is below the " +
-                              std::to_string(kMinRecord[format]) + " bytes of point format " + std::to_string(format));
+                              std::to_string(kMinRecord[format]) + " bytes of point format " +
+                              std::to_string(format));
   }
   if (data_offset < header_size) {
     throw DataError(name, "offset to point data " + std::to_string(data_offset) + " lies inside the " +
                               std::to_string(header_size) + "-byte header");
   }
   if (data_offset > size) {
-    throw DataError(name, "offset to point data " + std::to_string(data_offset) + " is beyond the end of the file (" +
-                              std::to_string(size) + " bytes; truncated?)");
+    throw DataError(name, "offset to point data " + std::to_string(data_offset) +
+                              " is beyond the end of the file (" + std::to_string(size) +
+                              " bytes; truncated?)");
   }
-  double scale[3], offset[3];
+  double* scale = h.scale;
+  double* offset = h.offset;
   for (int d = 0; d < 3; ++d) {
     scale[d] = get<double>(b + 131 + 8 * d);
     offset[d] = get<double>(b + 155 + 8 * d);
     // Every int32 times the scale plus the offset must be a finite double.
     if (!std::isfinite(scale[d]) || scale[d] == 0 || !std::isfinite(offset[d]) ||
         !std::isfinite(std::fabs(scale[d]) * 2147483648.0 + std::fabs(offset[d]))) {
-      throw DataError(name, std::string("LAS header ") + "XYZ"[d] + " scale " + detail::format_value(scale[d], kFloat64) +
-                                " / offset " + detail::format_value(offset[d], kFloat64) +
+      throw DataError(name, std::string("LAS header ") + "XYZ"[d] + " scale " +
+                                detail::format_value(scale[d], kFloat64) + " / offset " +
+                                detail::format_value(offset[d], kFloat64) +
                                 " is not usable (zero, infinite or NaN)");
     }
   }
 
   // Point count: the 64-bit count of LAS 1.4 wins when set; a legacy count that disagrees
   // with it is a broken header.
-  std::uint64_t n = get<std::uint32_t>(b + 107);
+  std::uint64_t& n = h.n;
+  n = get<std::uint32_t>(b + 107);
   if (minor >= 4) {
     const std::uint64_t n64 = get<std::uint64_t>(b + 247);
     if (n64 != 0) {
@@ -261,37 +281,38 @@ PointCloud parse_las(const std::string& bytes, const std::string& name) {
                                 " bytes after the point data offset");
     }
   }
+  return h;
+}
 
-  PointCloud cloud;
-
-  // VLRs: between the header and the point data, every one must fit there.
-  const unsigned char* extra_vlr = nullptr;
-  std::size_t extra_vlr_len = 0;
-  std::size_t pos = header_size;
-  for (std::uint32_t i = 0; i < vlr_count; ++i) {
-    if (data_offset - pos < kVlrHeader) {
-      throw DataError(name, "LAS header says " + std::to_string(vlr_count) + " VLRs but VLR " + std::to_string(i + 1) +
-                                " does not fit before the point data at byte " + std::to_string(data_offset) +
-                                " (broken VLR count or offset)");
+// VLRs: between the header and the point data, every one must fit there. canopy's comments
+// VLR fills cloud->comments.
+void read_vlrs(const unsigned char* b, const LasHeader& h, const std::string& name, PointCloud* cloud,
+               ExtraVlr* extra) {
+  std::size_t pos = h.header_size;
+  for (std::uint32_t i = 0; i < h.vlr_count; ++i) {
+    if (h.data_offset - pos < kVlrHeader) {
+      throw DataError(name, "LAS header says " + std::to_string(h.vlr_count) + " VLRs but VLR " +
+                                std::to_string(i + 1) + " does not fit before the point data at byte " +
+                                std::to_string(h.data_offset) + " (broken VLR count or offset)");
     }
     const unsigned char* v = b + pos;
     const std::size_t len = get<std::uint16_t>(v + 20);
-    if (data_offset - pos - kVlrHeader < len) {
+    if (h.data_offset - pos - kVlrHeader < len) {
       throw DataError(name, "VLR " + std::to_string(i + 1) + " ('" + printable(v + 2, 16) + "' " +
                                 std::to_string(get<std::uint16_t>(v + 18)) + ") of " + std::to_string(len) +
-                                " bytes runs into the point data at byte " + std::to_string(data_offset));
+                                " bytes runs into the point data at byte " + std::to_string(h.data_offset));
     }
     const std::uint16_t id = get<std::uint16_t>(v + 18);
-    if (has_prefix(v + 2, 16, "LASF_Spec") && id == 4 && extra_vlr == nullptr) {
-      extra_vlr = v + kVlrHeader;
-      extra_vlr_len = len;
+    if (has_prefix(v + 2, 16, "LASF_Spec") && id == 4 && extra->data == nullptr) {
+      extra->data = v + kVlrHeader;
+      extra->len = len;
     } else if (has_prefix(v + 2, 16, "canopy") && id == 1) {
       std::size_t s = 0;
       const char* t = reinterpret_cast<const char*>(v + kVlrHeader);
       while (s < len) {
         std::size_t e = s;
         while (e < len && t[e] != '\n') ++e;
-        cloud.comments.push_back(printable(v + kVlrHeader + s, e - s));
+        cloud->comments.push_back(printable(v + kVlrHeader + s, e - s));
         s = e + 1;
       }
     } else if (has_prefix(v + 2, 16, "laszip encoded")) {
@@ -299,21 +320,26 @@ PointCloud parse_las(const std::string& bytes, const std::string& name) {
     }
     pos += kVlrHeader + len;
   }
+}
 
-  // EVLRs (LAS 1.4): after the point data, each within the file. Only Extra Bytes are used.
-  if (minor >= 4) {
+// EVLRs (LAS 1.4): after the point data, each within the file. Only Extra Bytes are used.
+void read_evlrs(const unsigned char* b, std::size_t size, const LasHeader& h, const std::string& name,
+                ExtraVlr* extra) {
+  if (h.minor >= 4) {
     const std::uint64_t evlr_start = get<std::uint64_t>(b + 235);
     const std::uint32_t evlr_count = get<std::uint32_t>(b + 243);
-    const std::uint64_t data_end = data_offset + n * record;
+    const std::uint64_t data_end = h.data_offset + h.n * h.record;
     if (evlr_count > 0) {
       if (evlr_start < data_end || evlr_start > size) {
-        throw DataError(name, "EVLR start " + std::to_string(evlr_start) + " is not between the end of the point data (" +
-                                  std::to_string(data_end) + ") and the end of the file (" + std::to_string(size) + ")");
+        throw DataError(name, "EVLR start " + std::to_string(evlr_start) +
+                                  " is not between the end of the point data (" + std::to_string(data_end) +
+                                  ") and the end of the file (" + std::to_string(size) + ")");
       }
       std::uint64_t at = evlr_start;
       for (std::uint32_t i = 0; i < evlr_count; ++i) {
         if (size - at < kEvlrHeader) {
-          throw DataError(name, "LAS header says " + std::to_string(evlr_count) + " EVLRs but EVLR " + std::to_string(i + 1) +
+          throw DataError(name, "LAS header says " + std::to_string(evlr_count) + " EVLRs but EVLR " +
+                                    std::to_string(i + 1) +
                                     " does not fit in the file (truncated or broken count)");
         }
         const unsigned char* v = b + at;
@@ -322,102 +348,137 @@ PointCloud parse_las(const std::string& bytes, const std::string& name) {
           throw DataError(name, "EVLR " + std::to_string(i + 1) + " of " + std::to_string(len) +
                                     " bytes runs past the end of the file");
         }
-        if (has_prefix(v + 2, 16, "LASF_Spec") && get<std::uint16_t>(v + 18) == 4 && extra_vlr == nullptr) {
-          extra_vlr = v + kEvlrHeader;
-          extra_vlr_len = static_cast<std::size_t>(len);
+        if (has_prefix(v + 2, 16, "LASF_Spec") && get<std::uint16_t>(v + 18) == 4 && extra->data == nullptr) {
+          extra->data = v + kEvlrHeader;
+          extra->len = static_cast<std::size_t>(len);
         }
         at += kEvlrHeader + len;
       }
     }
   }
+}
 
-  // Columns.
-  const bool extended = format >= 6;
-  const bool has_gps = format == 1 || format >= 3;
-  const bool has_rgb = format == 2 || format == 3 || format == 5 || format == 7 || format == 8 || format == 10;
-  const bool has_nir = format == 8 || format == 10;
-  const std::size_t rgb_at = format == 2 ? 20 : format <= 5 ? 28 : 30;
-  const std::size_t gps_at = extended ? 22 : 20;
-  auto& x = cloud.add("x", kFloat64);
-  auto& y = cloud.add("y", kFloat64);
-  auto& z = cloud.add("z", kFloat64);
-  auto& intensity = cloud.add("intensity", {'U', 2});
-  auto& ret = cloud.add("return_number", kUint8);
-  auto& nret = cloud.add("number_of_returns", kUint8);
-  auto& scan_dir = cloud.add("scan_direction_flag", kUint8);
-  auto& edge = cloud.add("edge_of_flight_line", kUint8);
-  auto& cls = cloud.add("classification", kUint8);
-  auto& synthetic = cloud.add("synthetic", kUint8);
-  auto& key_point = cloud.add("key_point", kUint8);
-  auto& withheld = cloud.add("withheld", kUint8);
-  std::vector<double>* overlap = extended ? &cloud.add("overlap", kUint8) : nullptr;
-  std::vector<double>* channel = extended ? &cloud.add("scanner_channel", kUint8) : nullptr;
-  auto& angle = cloud.add("scan_angle", kFloat32);
-  auto& user = cloud.add("user_data", kUint8);
-  auto& source = cloud.add("point_source_id", {'U', 2});
-  std::vector<double>* gps = has_gps ? &cloud.add("gps_time", kFloat64) : nullptr;
+// The columns of a point format (standard fields, then Extra Bytes), and one record's decoding.
+struct LasColumns {
+  int format = 0;
+  bool extended = false, has_rgb = false;
+  std::size_t rgb_at = 0, gps_at = 0;
+  std::vector<double>*x{}, *y{}, *z{}, *intensity{}, *ret{}, *nret{}, *scan_dir{}, *edge{}, *cls{},
+      *synthetic{}, *key_point{}, *withheld{}, *overlap{}, *channel{}, *angle{}, *user{}, *source{}, *gps{},
+      *nir{};
   std::vector<double>* rgb[3] = {nullptr, nullptr, nullptr};
-  if (has_rgb) {
-    rgb[0] = &cloud.add("red", {'U', 2});
-    rgb[1] = &cloud.add("green", {'U', 2});
-    rgb[2] = &cloud.add("blue", {'U', 2});
-  }
-  std::vector<double>* nir = has_nir ? &cloud.add("nir", {'U', 2}) : nullptr;
   std::vector<Extra> extras;
-  if (extra_vlr != nullptr) {
-    extras = parse_extra_bytes(extra_vlr, extra_vlr_len, kMinRecord[format], record - kMinRecord[format], &cloud);
-  }
-  cloud.resize(static_cast<std::size_t>(n));
+};
 
-  for (std::size_t i = 0; i < n; ++i) {
-    const unsigned char* r = b + data_offset + i * record;
-    x[i] = get<std::int32_t>(r) * scale[0] + offset[0];
-    y[i] = get<std::int32_t>(r + 4) * scale[1] + offset[1];
-    z[i] = get<std::int32_t>(r + 8) * scale[2] + offset[2];
-    intensity[i] = get<std::uint16_t>(r + 12);
-    const unsigned bits = r[14];
-    if (!extended) {
-      ret[i] = bits & 7;
-      nret[i] = (bits >> 3) & 7;
-      scan_dir[i] = (bits >> 6) & 1;
-      edge[i] = (bits >> 7) & 1;
-      const unsigned c = r[15];
-      cls[i] = c & 31;
-      synthetic[i] = (c >> 5) & 1;
-      key_point[i] = (c >> 6) & 1;
-      withheld[i] = (c >> 7) & 1;
-      angle[i] = get<std::int8_t>(r + 16);
-      user[i] = r[17];
-      source[i] = get<std::uint16_t>(r + 18);
-    } else {
-      ret[i] = bits & 15;
-      nret[i] = bits >> 4;
-      const unsigned f = r[15];
-      synthetic[i] = f & 1;
-      key_point[i] = (f >> 1) & 1;
-      withheld[i] = (f >> 2) & 1;
-      (*overlap)[i] = (f >> 3) & 1;
-      (*channel)[i] = (f >> 4) & 3;
-      scan_dir[i] = (f >> 6) & 1;
-      edge[i] = (f >> 7) & 1;
-      cls[i] = r[16];
-      user[i] = r[17];
-      angle[i] = static_cast<float>(get<std::int16_t>(r + 18) * 0.006);
-      source[i] = get<std::uint16_t>(r + 20);
-    }
-    if (gps) (*gps)[i] = get<double>(r + gps_at);
-    if (has_rgb) {
-      for (int k = 0; k < 3; ++k) (*rgb[k])[i] = get<std::uint16_t>(r + rgb_at + 2 * k);
-    }
-    if (nir) (*nir)[i] = get<std::uint16_t>(r + 36);
-    for (const auto& e : extras) {
-      const std::size_t step = static_cast<std::size_t>(kBaseSize[e.base]);
-      for (int k = 0; k < e.count; ++k) {
-        const double raw = read_base(r + e.offset + step * static_cast<std::size_t>(k), e.base);
-        (*e.cols[static_cast<std::size_t>(k)])[i] = e.scaled ? raw * e.scale[k] + e.shift[k] : raw;
-      }
+LasColumns add_las_columns(int format, PointCloud& cloud) {
+  LasColumns c;
+  c.format = format;
+  const bool extended = c.extended = format >= 6;
+  const bool has_gps = format == 1 || format >= 3;
+  c.has_rgb = format == 2 || format == 3 || format == 5 || format == 7 || format == 8 || format == 10;
+  const bool has_nir = format == 8 || format == 10;
+  c.rgb_at = format == 2 ? 20 : format <= 5 ? 28 : 30;
+  c.gps_at = extended ? 22 : 20;
+  c.x = &cloud.add("x", kFloat64);
+  c.y = &cloud.add("y", kFloat64);
+  c.z = &cloud.add("z", kFloat64);
+  c.intensity = &cloud.add("intensity", {'U', 2});
+  c.ret = &cloud.add("return_number", kUint8);
+  c.nret = &cloud.add("number_of_returns", kUint8);
+  c.scan_dir = &cloud.add("scan_direction_flag", kUint8);
+  c.edge = &cloud.add("edge_of_flight_line", kUint8);
+  c.cls = &cloud.add("classification", kUint8);
+  c.synthetic = &cloud.add("synthetic", kUint8);
+  c.key_point = &cloud.add("key_point", kUint8);
+  c.withheld = &cloud.add("withheld", kUint8);
+  c.overlap = extended ? &cloud.add("overlap", kUint8) : nullptr;
+  c.channel = extended ? &cloud.add("scanner_channel", kUint8) : nullptr;
+  c.angle = &cloud.add("scan_angle", kFloat32);
+  c.user = &cloud.add("user_data", kUint8);
+  c.source = &cloud.add("point_source_id", {'U', 2});
+  c.gps = has_gps ? &cloud.add("gps_time", kFloat64) : nullptr;
+  if (c.has_rgb) {
+    c.rgb[0] = &cloud.add("red", {'U', 2});
+    c.rgb[1] = &cloud.add("green", {'U', 2});
+    c.rgb[2] = &cloud.add("blue", {'U', 2});
+  }
+  c.nir = has_nir ? &cloud.add("nir", {'U', 2}) : nullptr;
+  return c;
+}
+
+void decode_record(const unsigned char* r, std::size_t i, const LasHeader& h, const LasColumns& c) {
+  const double* scale = h.scale;
+  const double* offset = h.offset;
+  (*c.x)[i] = get<std::int32_t>(r) * scale[0] + offset[0];
+  (*c.y)[i] = get<std::int32_t>(r + 4) * scale[1] + offset[1];
+  (*c.z)[i] = get<std::int32_t>(r + 8) * scale[2] + offset[2];
+  (*c.intensity)[i] = get<std::uint16_t>(r + 12);
+  const unsigned bits = r[14];
+  if (!c.extended) {
+    (*c.ret)[i] = bits & 7;
+    (*c.nret)[i] = (bits >> 3) & 7;
+    (*c.scan_dir)[i] = (bits >> 6) & 1;
+    (*c.edge)[i] = (bits >> 7) & 1;
+    const unsigned k = r[15];
+    (*c.cls)[i] = k & 31;
+    (*c.synthetic)[i] = (k >> 5) & 1;
+    (*c.key_point)[i] = (k >> 6) & 1;
+    (*c.withheld)[i] = (k >> 7) & 1;
+    (*c.angle)[i] = get<std::int8_t>(r + 16);
+    (*c.user)[i] = r[17];
+    (*c.source)[i] = get<std::uint16_t>(r + 18);
+  } else {
+    (*c.ret)[i] = bits & 15;
+    (*c.nret)[i] = bits >> 4;
+    const unsigned f = r[15];
+    (*c.synthetic)[i] = f & 1;
+    (*c.key_point)[i] = (f >> 1) & 1;
+    (*c.withheld)[i] = (f >> 2) & 1;
+    (*c.overlap)[i] = (f >> 3) & 1;
+    (*c.channel)[i] = (f >> 4) & 3;
+    (*c.scan_dir)[i] = (f >> 6) & 1;
+    (*c.edge)[i] = (f >> 7) & 1;
+    (*c.cls)[i] = r[16];
+    (*c.user)[i] = r[17];
+    (*c.angle)[i] = static_cast<float>(get<std::int16_t>(r + 18) * 0.006);
+    (*c.source)[i] = get<std::uint16_t>(r + 20);
+  }
+  if (c.gps) (*c.gps)[i] = get<double>(r + c.gps_at);
+  if (c.has_rgb) {
+    for (int k = 0; k < 3; ++k) (*c.rgb[k])[i] = get<std::uint16_t>(r + c.rgb_at + 2 * k);
+  }
+  if (c.nir) (*c.nir)[i] = get<std::uint16_t>(r + 36);
+  for (const auto& e : c.extras) {
+    const std::size_t step = static_cast<std::size_t>(kBaseSize[e.base]);
+    for (int k = 0; k < e.count; ++k) {
+      const double raw = read_base(r + e.offset + step * static_cast<std::size_t>(k), e.base);
+      (*e.cols[static_cast<std::size_t>(k)])[i] = e.scaled ? raw * e.scale[k] + e.shift[k] : raw;
     }
   }
+}
+
+}  // namespace
+
+PointCloud parse_las(const std::string& bytes, const std::string& name) {
+  const auto* b = reinterpret_cast<const unsigned char*>(bytes.data());
+  const std::size_t size = bytes.size();
+  if (!is_las(bytes)) throw DataError(name, "not a LAS file (no LASF signature)");
+  if (size < kHeader12) {
+    throw DataError(name, "LAS header truncated: file has " + std::to_string(size) +
+                              " bytes, a header needs " + std::to_string(kHeader12));
+  }
+  const LasHeader h = read_las_header(b, size, name);
+  PointCloud cloud;
+  ExtraVlr extra;
+  read_vlrs(b, h, name, &cloud, &extra);
+  read_evlrs(b, size, h, name, &extra);
+  LasColumns columns = add_las_columns(h.format, cloud);
+  if (extra.data != nullptr) {
+    columns.extras = parse_extra_bytes(extra.data, extra.len, kMinRecord[h.format],
+                                       h.record - kMinRecord[h.format], &cloud);
+  }
+  cloud.resize(static_cast<std::size_t>(h.n));
+  for (std::size_t i = 0; i < h.n; ++i) decode_record(b + h.data_offset + i * h.record, i, h, columns);
   return cloud;
 }
 
@@ -428,9 +489,20 @@ namespace {
 // Standard fields of the written point formats (6, 7, 8); every other column but x y z is
 // written as Extra Bytes.
 bool standard_field(const std::string& f, int format) {
-  static const char* base[] = {"intensity", "return_number", "number_of_returns", "scan_direction_flag",
-                               "edge_of_flight_line", "classification", "synthetic", "key_point", "withheld",
-                               "overlap", "scanner_channel", "scan_angle", "user_data", "point_source_id",
+  static const char* base[] = {"intensity",
+                               "return_number",
+                               "number_of_returns",
+                               "scan_direction_flag",
+                               "edge_of_flight_line",
+                               "classification",
+                               "synthetic",
+                               "key_point",
+                               "withheld",
+                               "overlap",
+                               "scanner_channel",
+                               "scan_angle",
+                               "user_data",
+                               "point_source_id",
                                "gps_time"};
   for (const char* s : base) {
     if (f == s) return true;
@@ -451,25 +523,29 @@ void put_text(std::string* out, const std::string& s, std::size_t n) {
   out->append(t);
 }
 
-}  // namespace
+// One Extra Bytes column and the whole set: descriptors and the record length.
+struct ExtraColumn {
+  const std::vector<double>* data;
+  FieldType type;
+};
+struct ExtraFields {
+  std::vector<ExtraColumn> extras;
+  std::string descriptors;
+  std::size_t record = 0;
+};
 
-std::string serialize_las(const PointCloud& cloud, const std::string& name) {
-  cloud.require({"x", "y", "z"}, name, "LAS needs coordinates");
-  const std::size_t n = cloud.size();
-  const std::vector<double>* xyz[3] = {&cloud.col("x"), &cloud.col("y"), &cloud.col("z")};
-  const bool rgb = cloud.has("red") && cloud.has("green") && cloud.has("blue");
-  const int format = rgb ? (cloud.has("nir") ? 8 : 7) : 6;
-  const std::size_t standard_len = kMinRecord[format];
-
-  // Offset: the middle of the extent rounded to whole metres; every coordinate must land on
-  // the int32 grid of kLasWriteScale steps about it.
-  double lo[3], hi[3], off[3];
+// Offset: the middle of the extent rounded to whole metres; every coordinate must land on
+// the int32 grid of kLasWriteScale steps about it.
+void las_offsets(const std::vector<double>* const xyz[3], std::size_t n, const std::string& name,
+                 double off[3]) {
+  double lo[3], hi[3];
   for (int d = 0; d < 3; ++d) {
     lo[d] = n ? std::numeric_limits<double>::infinity() : 0;
     hi[d] = n ? -std::numeric_limits<double>::infinity() : 0;
     for (double v : *xyz[d]) {
       if (!std::isfinite(v)) {
-        throw DataError(name, std::string("non-finite ") + "xyz"[d] + " coordinate (NaN or infinite coordinates are not written)");
+        throw DataError(name, std::string("non-finite ") + "xyz"[d] +
+                                  " coordinate (NaN or infinite coordinates are not written)");
       }
       lo[d] = std::min(lo[d], v);
       hi[d] = std::max(hi[d], v);
@@ -477,24 +553,26 @@ std::string serialize_las(const PointCloud& cloud, const std::string& name) {
     off[d] = std::round(0.5 * lo[d] + 0.5 * hi[d]);
     const double reach = std::max(off[d] - lo[d], hi[d] - off[d]) / kLasWriteScale;
     if (!(reach < 2147483647.0)) {
-      throw DataError(name, std::string("the cloud's ") + "xyz"[d] + " extent (" + detail::format_value(hi[d] - lo[d], kFloat64) +
+      throw DataError(name, std::string("the cloud's ") + "xyz"[d] + " extent (" +
+                                detail::format_value(hi[d] - lo[d], kFloat64) +
                                 " m) does not fit LAS's 32-bit integer coordinates at " +
                                 detail::format_value(kLasWriteScale, kFloat64) + " m resolution");
     }
   }
+}
 
-  // Extra Bytes descriptors.
-  struct Column {
-    const std::vector<double>* data;
-    FieldType type;
-  };
-  std::vector<Column> extras;
-  std::string descriptors;
-  std::size_t record = standard_len;
+// Every column but x y z and the format's standard fields, as Extra Bytes.
+ExtraFields extra_fields(const PointCloud& cloud, int format, const std::string& name) {
+  ExtraFields x;
+  std::vector<ExtraColumn>& extras = x.extras;
+  std::string& descriptors = x.descriptors;
+  std::size_t& record = x.record;
+  record = kMinRecord[format];
   for (std::size_t c = 0; c < cloud.names().size(); ++c) {
     const std::string& f = cloud.names()[c];
     if (f == "x" || f == "y" || f == "z" || standard_field(f, format)) continue;
-    if (f.size() > 32) throw DataError(name, "field name '" + f + "' is longer than LAS's 32-character Extra Bytes names");
+    if (f.size() > 32)
+      throw DataError(name, "field name '" + f + "' is longer than LAS's 32-character Extra Bytes names");
     const FieldType t = cloud.types()[c];
     extras.push_back({&cloud.col(c), t});
     record += static_cast<std::size_t>(t.size);
@@ -506,8 +584,14 @@ std::string serialize_las(const PointCloud& cloud, const std::string& name) {
     descriptors += d;
   }
   if (record > 65535 || descriptors.size() > 65535) {
-    throw DataError(name, "too many fields for one LAS point record (" + std::to_string(extras.size()) + " extra fields)");
+    throw DataError(
+        name, "too many fields for one LAS point record (" + std::to_string(extras.size()) + " extra fields)");
   }
+  return x;
+}
+
+// The VLRs: Extra Bytes descriptors and canopy's comments (provenance).
+std::string las_vlrs(const PointCloud& cloud, const ExtraFields& x, std::uint32_t* count) {
   std::string comments;
   for (const auto& c : cloud.comments) {
     if (comments.size() + c.size() + 1 > 65535) break;
@@ -515,7 +599,8 @@ std::string serialize_las(const PointCloud& cloud, const std::string& name) {
   }
 
   std::string vlrs;
-  auto add_vlr = [&](const std::string& user, std::uint16_t id, const std::string& desc, const std::string& payload) {
+  auto add_vlr = [&](const std::string& user, std::uint16_t id, const std::string& desc,
+                     const std::string& payload) {
     put<std::uint16_t>(&vlrs, 0);
     put_text(&vlrs, user, 16);
     put<std::uint16_t>(&vlrs, id);
@@ -523,17 +608,27 @@ std::string serialize_las(const PointCloud& cloud, const std::string& name) {
     put_text(&vlrs, desc, 32);
     vlrs += payload;
   };
-  std::uint32_t vlr_count = 0;
-  if (!extras.empty()) add_vlr("LASF_Spec", 4, "Extra Bytes Record", descriptors), ++vlr_count;
+  std::uint32_t& vlr_count = *count;
+  vlr_count = 0;
+  if (!x.extras.empty()) add_vlr("LASF_Spec", 4, "Extra Bytes Record", x.descriptors), ++vlr_count;
   if (!comments.empty()) add_vlr("canopy", 1, "comments (provenance)", comments), ++vlr_count;
+  return vlrs;
+}
 
-  // Point records.
+// The point records (format 6, 7 or 8), with the quantised extent and counts by return.
+std::string point_records(const PointCloud& cloud, const std::vector<double>* const xyz[3],
+                          const double off[3], int format, const ExtraFields& x, std::uint64_t by_return[15],
+                          std::int64_t qmin[3], std::int64_t qmax[3]) {
+  const std::size_t n = cloud.size();
+  const std::size_t record = x.record;
+  const std::vector<ExtraColumn>& extras = x.extras;
   auto column = [&](const char* f) { return cloud.has(f) ? &cloud.col(f) : nullptr; };
   const std::vector<double>* intensity = column("intensity");
   const std::vector<double>* ret = column("return_number");
   const std::vector<double>* nret = column("number_of_returns");
-  const std::vector<double>* flags[6] = {column("synthetic"), column("key_point"), column("withheld"),
-                                         column("overlap"), column("scan_direction_flag"), column("edge_of_flight_line")};
+  const std::vector<double>* flags[6] = {
+      column("synthetic"), column("key_point"),           column("withheld"),
+      column("overlap"),   column("scan_direction_flag"), column("edge_of_flight_line")};
   const std::vector<double>* channel = column("scanner_channel");
   const std::vector<double>* cls = column("classification");
   const std::vector<double>* user = column("user_data");
@@ -547,8 +642,6 @@ std::string serialize_las(const PointCloud& cloud, const std::string& name) {
 
   std::string points;
   points.reserve(n * record);
-  std::uint64_t by_return[15] = {};
-  std::int64_t qmin[3] = {0, 0, 0}, qmax[3] = {0, 0, 0};
   for (std::size_t i = 0; i < n; ++i) {
     for (int d = 0; d < 3; ++d) {
       const auto q = static_cast<std::int32_t>(std::llround(((*xyz[d])[i] - off[d]) / kLasWriteScale));
@@ -578,7 +671,26 @@ std::string serialize_las(const PointCloud& cloud, const std::string& name) {
     if (format >= 8) put(&points, to_int<std::uint16_t>((*nir)[i], 0, 65535));
     for (const auto& e : extras) detail::write_scalar(&points, (*e.data)[i], e.type);
   }
+  return points;
+}
 
+}  // namespace
+
+std::string serialize_las(const PointCloud& cloud, const std::string& name) {
+  cloud.require({"x", "y", "z"}, name, "LAS needs coordinates");
+  const std::size_t n = cloud.size();
+  const std::vector<double>* xyz[3] = {&cloud.col("x"), &cloud.col("y"), &cloud.col("z")};
+  const bool rgb = cloud.has("red") && cloud.has("green") && cloud.has("blue");
+  const int format = rgb ? (cloud.has("nir") ? 8 : 7) : 6;
+  double off[3];
+  las_offsets(xyz, n, name, off);
+  const ExtraFields x = extra_fields(cloud, format, name);
+  std::uint32_t vlr_count = 0;
+  const std::string vlrs = las_vlrs(cloud, x, &vlr_count);
+  std::uint64_t by_return[15] = {};
+  std::int64_t qmin[3] = {0, 0, 0}, qmax[3] = {0, 0, 0};
+  const std::string points = point_records(cloud, xyz, off, format, x, by_return, qmin, qmax);
+  const std::size_t record = x.record;
   std::string out;
   out.reserve(kHeader14 + vlrs.size() + points.size());
   out += "LASF";

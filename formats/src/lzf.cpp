@@ -6,8 +6,7 @@
 
 namespace canopy::formats::detail {
 
-bool lzf_decompress(const unsigned char* in, std::size_t in_size, unsigned char* out,
-                    std::size_t out_size) {
+bool lzf_decompress(const unsigned char* in, std::size_t in_size, unsigned char* out, std::size_t out_size) {
   std::size_t ip = 0, op = 0;
   while (ip < in_size) {
     const unsigned ctrl = in[ip++];
@@ -76,8 +75,10 @@ std::vector<unsigned char> lzf_compress(const unsigned char* in, std::size_t in_
       std::size_t len = 3;
       while (len < max_len && in[ref + len] == in[ip + len]) ++len;
       const std::size_t off = ip - ref - 1;
-      if (lit == 0) out.pop_back();
-      else out[lit_at] = static_cast<unsigned char>(lit - 1);
+      if (lit == 0)
+        out.pop_back();
+      else
+        out[lit_at] = static_cast<unsigned char>(lit - 1);
       const std::size_t enc = len - 2;
       if (enc < 7) {
         out.push_back(static_cast<unsigned char>((off >> 8) + (enc << 5)));
@@ -95,8 +96,10 @@ std::vector<unsigned char> lzf_compress(const unsigned char* in, std::size_t in_
     }
   }
   while (ip < in_size) literal(in[ip++]);
-  if (lit == 0) out.pop_back();
-  else out[lit_at] = static_cast<unsigned char>(lit - 1);
+  if (lit == 0)
+    out.pop_back();
+  else
+    out[lit_at] = static_cast<unsigned char>(lit - 1);
   return out;
 }
 

@@ -8,8 +8,7 @@
 namespace canopy::formats::detail {
 
 // Decompresses `in` into exactly `out_size` bytes. Returns false on corrupt input.
-bool lzf_decompress(const unsigned char* in, std::size_t in_size, unsigned char* out,
-                    std::size_t out_size);
+bool lzf_decompress(const unsigned char* in, std::size_t in_size, unsigned char* out, std::size_t out_size);
 
 // Compresses `in` (liblzf's format; PCL's lzfDecompress and ours read it). Deterministic.
 std::vector<unsigned char> lzf_compress(const unsigned char* in, std::size_t in_size);

@@ -59,8 +59,8 @@ std::uint64_t to_count(const std::string& text, const std::string& name, const s
                        std::uint64_t max = kMaxDimension) {
   std::uint64_t v = 0;
   if (!detail::parse_count(text, max, &v)) {
-    throw DataError(name, "header " + key + " '" + quote(text) + "' is not an integer from 0 to " +
-                              std::to_string(max));
+    throw DataError(
+        name, "header " + key + " '" + quote(text) + "' is not an integer from 0 to " + std::to_string(max));
   }
   return v;
 }
@@ -91,6 +91,87 @@ std::size_t header_end(const std::string& bytes, std::size_t* from) {
   throw DataError(name, what + " (is this a PCD file?)");
 }
 
+// The values of one header line other than DATA (VERSION and VIEWPOINT are ignored).
+void header_values(const std::string& key, const std::vector<std::string>& tok, Header& h, bool* have_count,
+                   const std::string& name) {
+  auto one = [&]() -> const std::string& {
+    if (tok.size() != 1) throw DataError(name, "header " + key + " needs one value");
+    return tok[0];
+  };
+  if (key == "VERSION" || key == "VIEWPOINT") {
+  } else if (key == "FIELDS" || key == "COLUMNS") {
+    if (tok.empty()) throw DataError(name, "header FIELDS lists no fields");
+    if (tok.size() > kMaxColumns) {
+      throw DataError(name, "header FIELDS lists " + std::to_string(tok.size()) + " fields (limit " +
+                                std::to_string(kMaxColumns) + ")");
+    }
+    h.fields = tok;
+  } else if (key == "SIZE") {
+    for (auto& t : tok) h.sizes.push_back(static_cast<int>(to_count(t, name, "SIZE", 8)));
+  } else if (key == "TYPE") {
+    for (auto& t : tok) {
+      if (t != "F" && t != "U" && t != "I") {
+        throw DataError(name, "header TYPE '" + quote(t) + "' is not one of F, U, I");
+      }
+      h.kinds.push_back(t[0]);
+    }
+  } else if (key == "COUNT") {
+    *have_count = true;
+    for (auto& t : tok) {
+      const auto c = to_count(t, name, "COUNT", kMaxColumns);
+      if (c == 0) throw DataError(name, "header COUNT 0 (every field needs at least one value)");
+      h.counts.push_back(c);
+    }
+  } else if (key == "WIDTH") {
+    h.width = to_count(one(), name, "WIDTH");
+    h.have_width = true;
+  } else if (key == "HEIGHT") {
+    h.height = to_count(one(), name, "HEIGHT");
+  } else if (key == "POINTS") {
+    h.points = to_count(one(), name, "POINTS");
+    h.have_points = true;
+  }
+}
+
+// The header's fields, counts and dimensions agree and are within the limits.
+void check_header(Header& h, bool have_count, const std::string& name) {
+  if (h.fields.empty()) throw DataError(name, "PCD header has no FIELDS line");
+  if (!have_count) h.counts.assign(h.fields.size(), 1);
+  if (h.sizes.size() != h.fields.size() || h.kinds.size() != h.fields.size() ||
+      h.counts.size() != h.fields.size()) {
+    throw DataError(name, "PCD header lists " + std::to_string(h.fields.size()) + " FIELDS but " +
+                              std::to_string(h.sizes.size()) + " SIZE, " + std::to_string(h.kinds.size()) +
+                              " TYPE and " + std::to_string(h.counts.size()) + " COUNT entries");
+  }
+  std::uint64_t columns = 0;
+  for (std::size_t i = 0; i < h.fields.size(); ++i) {
+    if (!detail::valid_type({h.kinds[i], h.sizes[i]})) {
+      throw DataError(name, "field '" + quote(h.fields[i]) + "' has unsupported TYPE " + h.kinds[i] +
+                                " SIZE " + std::to_string(h.sizes[i]));
+    }
+    columns += h.counts[i];
+  }
+  if (columns > kMaxColumns) {
+    throw DataError(name, "header COUNT gives " + std::to_string(columns) + " values per point (limit " +
+                              std::to_string(kMaxColumns) + ")");
+  }
+  if (!h.have_width) throw DataError(name, "PCD header has no WIDTH");
+  std::uint64_t wh = 0;
+  if (__builtin_mul_overflow(h.width, h.height, &wh) || wh > kMaxDimension) {
+    throw DataError(name, "header WIDTH " + std::to_string(h.width) + " x HEIGHT " +
+                              std::to_string(h.height) + " overflows");
+  }
+  if (!h.have_points) h.points = wh;
+  if (h.points != wh) {
+    throw DataError(
+        name, "PCD header POINTS " + std::to_string(h.points) + " != WIDTH x HEIGHT " + std::to_string(wh));
+  }
+  if (h.data != "ascii" && h.data != "binary" && h.data != "binary_compressed") {
+    throw DataError(name,
+                    "unknown DATA type '" + quote(h.data) + "' (want ascii, binary or binary_compressed)");
+  }
+}
+
 Header parse_header(const std::string& bytes, const std::string& name) {
   if (bytes.empty()) throw DataError(name, "empty file (not a PCD file)");
   Header h;
@@ -114,91 +195,23 @@ Header parse_header(const std::string& bytes, const std::string& name) {
     if (tok.empty()) continue;  // blank or whitespace-only line
     const std::string key = tok[0];
     tok.erase(tok.begin());
-    static const char* const kKeys[] = {"VERSION", "FIELDS", "COLUMNS", "SIZE", "TYPE", "COUNT",
-                                        "WIDTH", "HEIGHT", "POINTS", "VIEWPOINT", "DATA"};
+    static const char* const kKeys[] = {"VERSION", "FIELDS", "COLUMNS", "SIZE",      "TYPE", "COUNT",
+                                        "WIDTH",   "HEIGHT", "POINTS",  "VIEWPOINT", "DATA"};
     if (std::find_if(std::begin(kKeys), std::end(kKeys), [&](const char* k) { return key == k; }) ==
         std::end(kKeys)) {
       not_pcd(bytes, name, "unknown PCD header line '" + quote(line) + "'");
     }
     const std::string canon = key == "COLUMNS" ? "FIELDS" : key;
     if (!seen.insert(canon).second) throw DataError(name, "header line " + canon + " appears twice");
-    auto one = [&]() -> const std::string& {
+    if (key == "DATA") {
       if (tok.size() != 1) throw DataError(name, "header " + key + " needs one value");
-      return tok[0];
-    };
-    if (key == "VERSION" || key == "VIEWPOINT") {
-    } else if (key == "FIELDS" || key == "COLUMNS") {
-      if (tok.empty()) throw DataError(name, "header FIELDS lists no fields");
-      if (tok.size() > kMaxColumns) {
-        throw DataError(name, "header FIELDS lists " + std::to_string(tok.size()) + " fields (limit " +
-                                  std::to_string(kMaxColumns) + ")");
-      }
-      h.fields = tok;
-    } else if (key == "SIZE") {
-      for (auto& t : tok) h.sizes.push_back(static_cast<int>(to_count(t, name, "SIZE", 8)));
-    } else if (key == "TYPE") {
-      for (auto& t : tok) {
-        if (t != "F" && t != "U" && t != "I") {
-          throw DataError(name, "header TYPE '" + quote(t) + "' is not one of F, U, I");
-        }
-        h.kinds.push_back(t[0]);
-      }
-    } else if (key == "COUNT") {
-      have_count = true;
-      for (auto& t : tok) {
-        const auto c = to_count(t, name, "COUNT", kMaxColumns);
-        if (c == 0) throw DataError(name, "header COUNT 0 (every field needs at least one value)");
-        h.counts.push_back(c);
-      }
-    } else if (key == "WIDTH") {
-      h.width = to_count(one(), name, "WIDTH");
-      h.have_width = true;
-    } else if (key == "HEIGHT") {
-      h.height = to_count(one(), name, "HEIGHT");
-    } else if (key == "POINTS") {
-      h.points = to_count(one(), name, "POINTS");
-      h.have_points = true;
-    } else {  // DATA
-      h.data = one();
+      h.data = tok[0];
       h.data_offset = std::min(pos, bytes.size());
       break;
     }
+    header_values(key, tok, h, &have_count, name);
   }
-  if (h.fields.empty()) throw DataError(name, "PCD header has no FIELDS line");
-  if (!have_count) h.counts.assign(h.fields.size(), 1);
-  if (h.sizes.size() != h.fields.size() || h.kinds.size() != h.fields.size() ||
-      h.counts.size() != h.fields.size()) {
-    throw DataError(name, "PCD header lists " + std::to_string(h.fields.size()) + " FIELDS but " +
-                              std::to_string(h.sizes.size()) + " SIZE, " +
-                              std::to_string(h.kinds.size()) + " TYPE and " +
-                              std::to_string(h.counts.size()) + " COUNT entries");
-  }
-  std::uint64_t columns = 0;
-  for (std::size_t i = 0; i < h.fields.size(); ++i) {
-    if (!detail::valid_type({h.kinds[i], h.sizes[i]})) {
-      throw DataError(name, "field '" + quote(h.fields[i]) + "' has unsupported TYPE " + h.kinds[i] +
-                                " SIZE " + std::to_string(h.sizes[i]));
-    }
-    columns += h.counts[i];
-  }
-  if (columns > kMaxColumns) {
-    throw DataError(name, "header COUNT gives " + std::to_string(columns) + " values per point (limit " +
-                              std::to_string(kMaxColumns) + ")");
-  }
-  if (!h.have_width) throw DataError(name, "PCD header has no WIDTH");
-  std::uint64_t wh = 0;
-  if (__builtin_mul_overflow(h.width, h.height, &wh) || wh > kMaxDimension) {
-    throw DataError(name, "header WIDTH " + std::to_string(h.width) + " x HEIGHT " + std::to_string(h.height) +
-                              " overflows");
-  }
-  if (!h.have_points) h.points = wh;
-  if (h.points != wh) {
-    throw DataError(name, "PCD header POINTS " + std::to_string(h.points) + " != WIDTH x HEIGHT " +
-                              std::to_string(wh));
-  }
-  if (h.data != "ascii" && h.data != "binary" && h.data != "binary_compressed") {
-    throw DataError(name, "unknown DATA type '" + quote(h.data) + "' (want ascii, binary or binary_compressed)");
-  }
+  check_header(h, have_count, name);
   return h;
 }
 
@@ -228,7 +241,8 @@ Layout make_layout(const Header& h) {
 
 // Adds the columns (after the data size was checked against the header), empty with room
 // for every point: decoding appends, so no page is written twice.
-std::vector<std::vector<double>*> make_columns(const Header& h, Layout* l, PointCloud* cloud, const std::string& name) {
+std::vector<std::vector<double>*> make_columns(const Header& h, Layout* l, PointCloud* cloud,
+                                               const std::string& name) {
   std::set<std::string> names;
   std::size_t s = 0;
   for (std::size_t f = 0; f < h.fields.size(); ++f) {
@@ -251,7 +265,8 @@ std::vector<std::vector<double>*> make_columns(const Header& h, Layout* l, Point
 
 std::string too_big(const std::string& what, std::uint64_t n, std::size_t per, std::size_t avail) {
   return "data truncated: header POINTS " + std::to_string(n) + " needs " + std::to_string(per) + " " + what +
-         " per point, the file holds " + std::to_string(avail) + " bytes of data (truncated file or wrong POINTS)";
+         " per point, the file holds " + std::to_string(avail) +
+         " bytes of data (truncated file or wrong POINTS)";
 }
 
 // Checks that `n` binary points of `step` bytes fit in `avail` bytes.
@@ -275,7 +290,8 @@ bool gather(const unsigned char* src, std::size_t stride, std::size_t n, std::ve
   return finite;
 }
 
-bool gather_slot(const unsigned char* src, std::size_t stride, std::size_t rows, FieldType t, std::vector<double>* dst) {
+bool gather_slot(const unsigned char* src, std::size_t stride, std::size_t rows, FieldType t,
+                 std::vector<double>* dst) {
   switch (t.kind) {
     case 'F':
       if (t.size == 4) return gather<float>(src, stride, rows, dst);
@@ -315,16 +331,17 @@ bool all_zero(const unsigned char* p, std::size_t n) {
                             " bytes (wrong POINTS?; zero padding, as PCL writes, is accepted)");
 }
 
-
 bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
 
-void parse_ascii(const std::string& bytes, const Header& h, Layout& l, PointCloud* cloud, const std::string& name) {
+void parse_ascii(const std::string& bytes, const Header& h, Layout& l, PointCloud* cloud,
+                 const std::string& name) {
   const char* p = bytes.c_str() + h.data_offset;
   const char* end = bytes.c_str() + bytes.size();
   const std::size_t avail = static_cast<std::size_t>(end - p);
   // Every value takes at least two bytes ("0 ") but the last.
   const std::size_t per = l.slots.size();
-  if (h.points > 0 && h.points > (avail + 1) / 2 / per) throw DataError(name, too_big("ascii values", h.points, per, avail));
+  if (h.points > 0 && h.points > (avail + 1) / 2 / per)
+    throw DataError(name, too_big("ascii values", h.points, per, avail));
   const auto cols = make_columns(h, &l, cloud, name);
   const std::size_t n = static_cast<std::size_t>(h.points);
   for (std::size_t i = 0; i < n; ++i) {
@@ -341,12 +358,13 @@ void parse_ascii(const std::string& bytes, const Header& h, Layout& l, PointClou
       if (q == p || (q < end && !is_space(*q))) {
         const char* e = p;
         while (e < end && !is_space(*e)) ++e;
-        throw DataError(name, "point " + std::to_string(i) + ": '" + quote(p, static_cast<std::size_t>(e - p), 16) +
-                                  "' is not a number");
+        throw DataError(name, "point " + std::to_string(i) + ": '" +
+                                  quote(p, static_cast<std::size_t>(e - p), 16) + "' is not a number");
       }
       p = q;
       // A float32 field holds the float nearest to the text, as in binary files.
-      if (s.column >= 0) cols[static_cast<std::size_t>(s.column)]->push_back(s.type == kFloat32 ? static_cast<float>(v) : v);
+      if (s.column >= 0)
+        cols[static_cast<std::size_t>(s.column)]->push_back(s.type == kFloat32 ? static_cast<float>(v) : v);
     }
   }
   while (p < end && (is_space(*p) || *p == '\0')) ++p;
@@ -358,7 +376,8 @@ void parse_ascii(const std::string& bytes, const Header& h, Layout& l, PointClou
 constexpr std::uint64_t kLzfMaxRatio = 89;
 
 // The decompressed (field-major) data of a binary_compressed body, checked against the header.
-std::vector<unsigned char> decompress(const std::string& bytes, const Header& h, const Layout& l, const std::string& name) {
+std::vector<unsigned char> decompress(const std::string& bytes, const Header& h, const Layout& l,
+                                      const std::string& name) {
   const auto* data = reinterpret_cast<const unsigned char*>(bytes.data()) + h.data_offset;
   const std::size_t avail = bytes.size() - h.data_offset;
   if (avail < 8) throw DataError(name, "data truncated: binary_compressed block header missing");
@@ -447,6 +466,54 @@ PointCloud parse_pcd(const std::string& bytes, const std::string& name) {
 
 // Regular files are read in chunks: binary data is decoded as it arrives (no copy of the
 // whole file in memory), other encodings are read whole and parsed like parse_pcd.
+namespace {
+
+constexpr std::size_t kHeadChunk = 1 << 16;
+
+// The file's first bytes up to and including the DATA line (*end: its end, npos when the file
+// has none), read in chunks of 64 KiB; may hold data bytes after it.
+std::string read_head(int fd, const std::string& path, std::size_t* end) {
+  std::string head;
+  std::size_t scanned = 0;
+  *end = std::string::npos;
+  while (*end == std::string::npos) {
+    const std::size_t old = head.size();
+    head.resize(old + kHeadChunk);
+    const std::size_t got = read_some(fd, &head[old], kHeadChunk, path);
+    head.resize(old + got);
+    *end = header_end(head, &scanned);
+    if (got == 0) break;
+  }
+  return head;
+}
+
+// ascii and binary_compressed: the rest of the file is read whole, then parsed.
+PointCloud read_unstreamed(int fd, std::string head, const Header& h, std::size_t file_size,
+                           const std::string& path) {
+  const std::size_t old = head.size();
+  head.resize(std::max(old, file_size));
+  head.resize(old + read_some(fd, &head[old], head.size() - old, path));
+  while (true) {  // the file grew since fstat
+    const std::size_t at = head.size();
+    head.resize(at + kHeadChunk);
+    head.resize(at + read_some(fd, &head[at], kHeadChunk, path));
+    if (head.size() == at) break;
+  }
+  if (h.data == "ascii") return parse_body(head, h, path);
+  // binary_compressed: the file's bytes are let go before the columns are made.
+  PointCloud cloud;
+  cloud.comments = h.comments;
+  Layout l = make_layout(h);
+  std::vector<unsigned char> raw = decompress(head, h, l, path);
+  std::string().swap(head);
+  gather_compressed(raw, h, l, &cloud, path);
+  cloud.resize(static_cast<std::size_t>(h.points));
+  check_coordinates(cloud, path);
+  return cloud;
+}
+
+}  // namespace
+
 PointCloud read_pcd(const std::string& path) {
   if (path == "-") return parse_pcd(common::read_file(path), path);
   const int raw_fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
@@ -456,41 +523,11 @@ PointCloud read_pcd(const std::string& path) {
   if (fstat(fd.fd, &st) != 0 || !S_ISREG(st.st_mode)) return parse_pcd(common::read_file(path), path);
   const auto file_size = static_cast<std::size_t>(st.st_size);
 
-  std::string head;
-  std::size_t end = std::string::npos, scanned = 0;
-  constexpr std::size_t kHeadChunk = 1 << 16;
-  while (end == std::string::npos) {
-    const std::size_t old = head.size();
-    head.resize(old + kHeadChunk);
-    const std::size_t got = read_some(fd.fd, &head[old], kHeadChunk, path);
-    head.resize(old + got);
-    end = header_end(head, &scanned);
-    if (got == 0) break;
-  }
+  std::size_t end = std::string::npos;
+  std::string head = read_head(fd.fd, path, &end);
   if (end == std::string::npos) return parse_pcd(head, path);  // no DATA line: parse_header says why
   const Header h = parse_header(head.substr(0, end), path);
-  if (h.data != "binary") {
-    const std::size_t old = head.size();
-    head.resize(std::max(old, file_size));
-    head.resize(old + read_some(fd.fd, &head[old], head.size() - old, path));
-    while (true) {  // the file grew since fstat
-      const std::size_t at = head.size();
-      head.resize(at + kHeadChunk);
-      head.resize(at + read_some(fd.fd, &head[at], kHeadChunk, path));
-      if (head.size() == at) break;
-    }
-    if (h.data == "ascii") return parse_body(head, h, path);
-    // binary_compressed: the file's bytes are let go before the columns are made.
-    PointCloud cloud;
-    cloud.comments = h.comments;
-    Layout l = make_layout(h);
-    std::vector<unsigned char> raw = decompress(head, h, l, path);
-    std::string().swap(head);
-    gather_compressed(raw, h, l, &cloud, path);
-    cloud.resize(static_cast<std::size_t>(h.points));
-    check_coordinates(cloud, path);
-    return cloud;
-  }
+  if (h.data != "binary") return read_unstreamed(fd.fd, std::move(head), h, file_size, path);
 
   PointCloud cloud;
   cloud.comments = h.comments;
@@ -527,8 +564,8 @@ PointCloud read_pcd(const std::string& path) {
     have -= used;
   }
   if (row < n) {
-    throw DataError(path, "data truncated: header says " + std::to_string(n) + " points, the file ends in point " +
-                              std::to_string(row));
+    throw DataError(path, "data truncated: header says " + std::to_string(n) +
+                              " points, the file ends in point " + std::to_string(row));
   }
   // Whatever follows the points must be zero padding (PCL's writer adds up to a page).
   while (true) {
@@ -538,7 +575,7 @@ PointCloud read_pcd(const std::string& path) {
     fill();
     if (have == 0) break;
   }
-  cloud.resize(n);  // sets the size; the columns are full
+  cloud.resize(n);                                  // sets the size; the columns are full
   if (!all_finite) check_coordinates(cloud, path);  // a NaN or inf somewhere: is it in x, y or z?
   return cloud;
 }
@@ -588,8 +625,8 @@ std::string serialize_pcd(const PointCloud& cloud, const PcdWriteOptions& option
         for (double v : cloud.col(c)) detail::write_scalar(&raw, v, cloud.types()[c]);
       }
       if (raw.size() > std::numeric_limits<std::uint32_t>::max()) {
-        throw common::Error("binary_compressed PCD holds at most 4 GiB of data (" + std::to_string(raw.size()) +
-                            " bytes); write DATA binary");
+        throw common::Error("binary_compressed PCD holds at most 4 GiB of data (" +
+                            std::to_string(raw.size()) + " bytes); write DATA binary");
       }
       const auto block = detail::lzf_compress(reinterpret_cast<const unsigned char*>(raw.data()), raw.size());
       detail::put(&out, static_cast<std::uint32_t>(block.size()));
@@ -601,7 +638,9 @@ std::string serialize_pcd(const PointCloud& cloud, const PcdWriteOptions& option
   return out;
 }
 
-void write_pcd(const PointCloud& cloud, const std::string& path) { write_pcd(cloud, path, PcdWriteOptions{}); }
+void write_pcd(const PointCloud& cloud, const std::string& path) {
+  write_pcd(cloud, path, PcdWriteOptions{});
+}
 
 void write_pcd(const PointCloud& cloud, const std::string& path, const PcdWriteOptions& options) {
   check_coordinates(cloud, path == "-" ? "<stdout>" : path);

@@ -62,8 +62,8 @@ void PointCloud::require(const std::vector<std::string>& names, const std::strin
                          const std::string& hint) const {
   for (const auto& n : names) {
     if (!has(n)) {
-      throw common::DataError(file, "field '" + n + "' missing" +
-                                        (hint.empty() ? std::string() : " (" + hint + ")"));
+      throw common::DataError(
+          file, "field '" + n + "' missing" + (hint.empty() ? std::string() : " (" + hint + ")"));
     }
   }
 }

@@ -71,15 +71,18 @@ std::string what_else(const std::string& b) {
     if (f != std::string::npos && f < 4096) {
       const std::size_t q1 = b.find('"', b.find(':', f) + 1);
       const std::size_t q2 = q1 == std::string::npos ? q1 : b.find('"', q1 + 1);
-      if (q2 != std::string::npos && q2 - q1 < 64) return "a JSON document (" + quote_start(b.substr(q1 + 1, q2 - q1 - 1), 64) + ")";
+      if (q2 != std::string::npos && q2 - q1 < 64)
+        return "a JSON document (" + quote_start(b.substr(q1 + 1, q2 - q1 - 1), 64) + ")";
     }
     return "a JSON document";
   }
   if (starts_with(b, "\x89PNG")) return "a PNG image";
   if (starts_with(b, "\x1f\x8b")) return "a gzip-compressed file (decompress it first)";
   if (starts_with(b, "PK\x03\x04")) return "a zip archive (unpack it first)";
-  if (starts_with(b, "solid") || (b.size() >= 84 && b.find('\0') < 80)) return "not a point cloud (an STL mesh?)";
-  if (starts_with(b, "v ") || starts_with(b, "# OBJ") || b.find("\nv ") < 4096) return "not a point cloud (an OBJ mesh?)";
+  if (starts_with(b, "solid") || (b.size() >= 84 && b.find('\0') < 80))
+    return "not a point cloud (an STL mesh?)";
+  if (starts_with(b, "v ") || starts_with(b, "# OBJ") || b.find("\nv ") < 4096)
+    return "not a point cloud (an OBJ mesh?)";
   return "not a point cloud canopy reads";
 }
 
@@ -88,7 +91,8 @@ std::string what_else(const std::string& b) {
 bool float32_loses(const PointCloud& cloud, const char* c) {
   if (!cloud.has(c) || !(cloud.type(c) == kFloat32)) return false;
   for (double d : cloud.col(c)) {
-    if (std::isfinite(d) && std::fabs(static_cast<double>(static_cast<float>(d)) - d) > kFloat32CoordinateTolerance) {
+    if (std::isfinite(d) &&
+        std::fabs(static_cast<double>(static_cast<float>(d)) - d) > kFloat32CoordinateTolerance) {
       return true;
     }
   }
@@ -111,7 +115,8 @@ std::string describe_content(const std::string& bytes) {
   }
   if (is_pcd(bytes)) return "a PCD point cloud";
   const std::string other = what_else(bytes);
-  if (other.rfind("not a point cloud (", 0) == 0) return other.substr(19, other.size() - 20);  // "an STL mesh?"
+  if (other.rfind("not a point cloud (", 0) == 0)
+    return other.substr(19, other.size() - 20);  // "an STL mesh?"
   return other.rfind("not a point cloud", 0) == 0 ? "not a point cloud, mesh or document canopy reads" : other;
 }
 
@@ -159,11 +164,11 @@ PointFormat output_format(const std::string& path) {
   if (ext == "ply") return PointFormat::kPly;
   if (ext == "las") return PointFormat::kLas;
   if (ext == "laz") {
-    throw common::UsageError("output '" + path + "': canopy cannot write LAZ (Debian 12 has no LAZ encoder); "
+    throw common::UsageError("output '" + path +
+                             "': canopy cannot write LAZ (Debian 12 has no LAZ encoder); "
                              "write .las and compress it elsewhere (laszip, pdal translate)");
   }
-  throw common::UsageError("output '" + path + "': " +
-                           "unknown extension '." + ext + "'" +
+  throw common::UsageError("output '" + path + "': " + "unknown extension '." + ext + "'" +
                            "; the point formats are .pcd, .ply and .las (or - for PCD on stdout)");
 }
 

@@ -8,6 +8,7 @@
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
+#include "canopy/common/math.h"
 
 namespace canopy::formats {
 namespace {
@@ -17,7 +18,6 @@ using Json = nlohmann::ordered_json;
 
 constexpr const char* kFormat = "canopy.verdict";
 constexpr int kVersion = 1;
-constexpr double kPi = 3.14159265358979323846;
 
 double finite(double v, const char* what) {
   if (!std::isfinite(v)) throw common::Error(std::string("refusing to write non-finite ") + what);
@@ -34,7 +34,9 @@ Json pose_json(const Pose& p) {
   const auto e = euler_degrees(p);
   return Json{{"matrix", m},
               {"translation", Json::array({p.translation[0], p.translation[1], p.translation[2]})},
-              {"heading_deg", e[0]}, {"pitch_deg", e[1]}, {"roll_deg", e[2]}};
+              {"heading_deg", e[0]},
+              {"pitch_deg", e[1]},
+              {"roll_deg", e[2]}};
 }
 
 Pose pose_from(const Json& j) {
@@ -92,7 +94,7 @@ Hypothesis hypothesis_from(const Json& j) {
 
 std::array<double, 3> euler_degrees(const Pose& p) {
   const auto& R = p.rotation;
-  const double deg = 180.0 / kPi;
+  const double deg = 180.0 / common::kPi;
   const double pitch = std::asin(std::max(-1.0, std::min(1.0, -R[6])));
   const double heading = std::atan2(R[3], R[0]);
   const double roll = std::atan2(R[7], R[8]);
@@ -103,8 +105,10 @@ std::string serialize_verdict(const Verdict& v) {
   Json provenance = Json::object();
   Json params = Json::object();
   for (const auto& [k, val] : v.provenance.parameters) params[k] = val;
-  provenance = Json{{"tool", v.provenance.tool}, {"version", v.provenance.version},
-                    {"parameters", params}, {"inputs", v.provenance.inputs}};
+  provenance = Json{{"tool", v.provenance.tool},
+                    {"version", v.provenance.version},
+                    {"parameters", params},
+                    {"inputs", v.provenance.inputs}};
   Json hyps = Json::array();
   for (const auto& h : v.hypotheses) hyps.push_back(hypothesis_json(h, v.has_classes));
   if (v.chosen >= static_cast<int>(v.hypotheses.size())) {
@@ -163,13 +167,10 @@ Verdict parse_verdict(const std::string& text, const std::string& name) {
     if (v.chosen < -1 || v.chosen >= static_cast<int>(v.hypotheses.size())) {
       throw std::invalid_argument("chosen is not -1 or a hypothesis index");
     }
-    if ((v.chosen >= 0) != !v.model.empty() ||
-        (v.chosen >= 0 && v.hypotheses[v.chosen].model != v.model)) {
+    if ((v.chosen >= 0) != !v.model.empty() || (v.chosen >= 0 && v.hypotheses[v.chosen].model != v.model)) {
       throw std::invalid_argument("model and chosen disagree");
     }
-  } catch (const DataError&) {
-    throw;
-  } catch (const std::exception& e) {
+  } catch (const DataError&) { throw; } catch (const std::exception& e) {
     throw DataError(name, std::string("malformed verdict: ") + e.what());
   }
   return v;

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "addnoise/addnoise.h"
+#include "canopy/common/error.h"
 #include "canopy/common/rng.h"
 #include "canopy/formats/pcd.h"
 
@@ -75,4 +76,13 @@ TEST_CASE("addnoise: sigma 0 is an exact copy; seeds reproduce") {
   CHECK(a == formats::serialize_pcd(addnoise::run(in, p)));
   p.seed = 4;
   CHECK(a != formats::serialize_pcd(addnoise::run(in, p)));
+}
+
+TEST_CASE("validate: sigma in [0, 100 m], the error names --sigma") {
+  addnoise::Params p;
+  CHECK_NOTHROW(addnoise::validate(p));
+  p.sigma = -0.001;
+  CHECK_THROWS_WITH(addnoise::validate(p), Catch::StartsWith("--sigma"));
+  p.sigma = std::nan("");
+  CHECK_THROWS_AS(addnoise::validate(p), common::UsageError);
 }

@@ -16,8 +16,8 @@ namespace {
 // One orthographic view of a plane through the origin with unit normal n, seen along -toward:
 // pixel centres on a square grid of `spacing` perpendicular to the view, projected onto the
 // plane, kept inside the plane's square of half-size `half` (in plane coordinates).
-std::vector<areas::ScanPoint> view_of_plane(const Vector3d& n, const Vector3d& toward, double spacing, double half,
-                                            int view, double offset) {
+std::vector<areas::ScanPoint> view_of_plane(const Vector3d& n, const Vector3d& toward, double spacing,
+                                            double half, int view, double offset) {
   const Vector3d d = toward.normalized();
   const Vector3d a = d.unitOrthogonal(), b = d.cross(a);
   const Vector3d e1 = n.unitOrthogonal(), e2 = n.cross(e1);
@@ -110,4 +110,58 @@ TEST_CASE("areas.json round trip and a foreign document named") {
   CHECK_THROWS_AS(areas::parse("{\"format\": \"canopy.segment_graph\", \"version\": 1}", "x.json"),
                   common::DataError);
   CHECK_THROWS_AS(areas::parse("not json", "y.json"), common::DataError);
+}
+
+TEST_CASE("run: every stage's target area from one trial's artifacts; missing fields named") {
+  areas::Inputs in;
+  // Scan: a 1 m x 1 m target plane z = 0 seen from above (view 0), one point per 30 mm pixel,
+  // and one foliage point that must not count.
+  const auto view = view_of_plane(Vector3d::UnitZ(), Vector3d::UnitZ(), 0.03, 0.5, 0, 0.5);
+  for (const char* f : {"x", "y", "z", "sensor_x", "sensor_y", "sensor_z", "view_idx", "label"})
+    in.scan.add(f);
+  in.scan.resize(view.size() + 1);
+  for (std::size_t i = 0; i <= view.size(); ++i) {
+    const Vector3d p = i < view.size() ? view[i].p : Vector3d(0, 0, 3);
+    in.scan.col("x")[i] = p.x();
+    in.scan.col("y")[i] = p.y();
+    in.scan.col("z")[i] = p.z();
+    in.scan.col("sensor_z")[i] = 1;
+    in.scan.col("label")[i] = i < view.size() ? 1 : 2;
+  }
+  in.scan_name = "scan.pcd";
+  // Samples: two target samples facing up, one foliage sample.
+  for (const char* f : {"normal_x", "normal_y", "normal_z", "label"}) in.samples.add(f);
+  in.samples.resize(3);
+  in.samples.col("normal_z") = {1, 1, 1};
+  in.samples.col("label") = {1, 2, 1};
+  in.samples_name = "samples.pcd";
+  for (const char* f : {"x", "y", "z", "label"}) in.mesh.vertices.add(f);
+  in.mesh.vertices.resize(3);
+  in.mesh.vertices.col("x") = {0, 1, 0};
+  in.mesh.vertices.col("y") = {0, 0, 1};
+  in.mesh.vertices.col("label") = {1, 1, 1};
+  in.mesh.faces = {{0, 1, 2}};
+  in.mesh_name = "mesh.ply";
+  formats::Segment s;
+  s.area = 0.5;
+  s.label = 1;
+  s.label_purity = 1;
+  in.segments.segments = {s};
+  areas::Params p;
+  p.voxel = 0.1;
+  const areas::Areas a = areas::run(p, in);
+  CHECK(a.target_points == view.size());
+  // Facing the sensor, each pixel stands for spacing² (34 x 34 pixel centres fall in the square).
+  CHECK(view.size() == 34 * 34);
+  CHECK(a.visible == Approx(34 * 34 * 0.03 * 0.03));
+  CHECK(a.target_samples == 2);
+  CHECK(a.samples == Approx(2 * 0.01));
+  CHECK(a.mesh == Approx(0.5));
+  CHECK(a.segments == Approx(0.5));
+  CHECK(a.matched == Approx(0.5));
+  CHECK(a.voxel == 0.1);
+  in.samples.remove("label");
+  CHECK_THROWS_WITH(areas::run(p, in), Catch::Contains("samples.pcd") && Catch::Contains("label"));
+  p.max_segments = 0;
+  CHECK_THROWS_WITH(areas::validate(p), Catch::Contains("--max-segments"));
 }

@@ -24,7 +24,9 @@ struct Topology {
   std::size_t nonmanifold_edges = 0;   // > 2 incident faces
   std::size_t inconsistent_edges = 0;  // a directed edge used twice (orientation flip)
   std::size_t boundary_loops = 0;      // connected components of the boundary edge graph
-  long euler() const { return static_cast<long>(vertices) - static_cast<long>(edges) + static_cast<long>(faces); }
+  long euler() const {
+    return static_cast<long>(vertices) - static_cast<long>(edges) + static_cast<long>(faces);
+  }
 };
 
 inline Topology topology(const std::vector<Face>& faces) {

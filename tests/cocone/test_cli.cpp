@@ -1,13 +1,14 @@
 // The cocone binary: files, pipes, bad input (exit codes, no partial output).
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
-#include "fixtures.h"
+#include "fixtures/cocone_samples.h"
 #include "support/cli.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/ply.h"
@@ -56,6 +57,11 @@ TEST_CASE("cocone -i samples.pcd -o mesh.ply, and as a pipe filter, byte-identic
   const auto m2 = fm::read_ply(out2.string());
   CHECK(m2.faces == m.faces);
   CHECK(m2.vertices.col("x") == m.vertices.col("x"));
+  // Provenance in the one format of every tool (formats/provenance.h).
+  REQUIRE(m.vertices.comments.size() >= 3);
+  CHECK(m.vertices.comments.front() == "cocone (canopy) " CANOPY_VERSION);
+  CHECK(std::count(m.vertices.comments.begin(), m.vertices.comments.end(), "parameter flat-angle = 60deg") == 1);
+  CHECK(m.vertices.comments.back() == "input " + (d / "ball.pcd").string());
   // Same input, same parameters: byte-identical file.
   const auto out3 = d / "mesh3.ply";
   REQUIRE(sh(kBin + " -q -i " + (d / "ball.pcd").string() + " -o " + out3.string()) == 0);
@@ -66,9 +72,7 @@ TEST_CASE("bad input exits 1 with a message naming the file and writes nothing")
   const auto d = tmp_dir();
   const auto out = d / "never.ply";
   fs::remove(out);
-  {
-    std::ofstream(d / "garbage.pcd") << "this is not a pcd\n";
-  }
+  { std::ofstream(d / "garbage.pcd") << "this is not a pcd\n"; }
   CHECK(sh(kBin + " -i " + (d / "garbage.pcd").string() + " -o " + out.string() + " 2>/dev/null") == 1);
   CHECK(!fs::exists(out));
   // Missing field z.

@@ -48,8 +48,8 @@ TEST_CASE("rule 1+2: low vertices go, and so do the facets they leave with < 3 v
 }
 
 TEST_CASE("rule 3: facets of area >= max_area go") {
-  std::vector<V3> p{{0, 0, 1}, {0.5, 0, 1}, {0, 0.5, 1},           // area 0.125 exactly
-                    {1, 0, 1},   {1.25, 0, 1}, {1, 0.25, 1}};       // area 0.03125
+  std::vector<V3> p{{0, 0, 1}, {0.5, 0, 1},  {0, 0.5, 1},    // area 0.125 exactly
+                    {1, 0, 1}, {1.25, 0, 1}, {1, 0.25, 1}};  // area 0.03125
   std::vector<cc::Face> f{{0, 1, 2}, {3, 4, 5}};
   cc::PostParams prm;
   prm.max_area = 0.125;
@@ -68,10 +68,10 @@ TEST_CASE("rule 3: facets of area >= max_area go") {
 TEST_CASE("rule 4: facets with longest/shortest edge > max_aspect go") {
   std::vector<V3> p;
   std::vector<cc::Face> f;
-  isosceles(p, f, 0, 0.1, 0.17);   // aspect 1.70: stays
-  isosceles(p, f, 1, 0.1, 0.18);   // aspect 1.80: goes
-  isosceles(p, f, 2, 0.18, 0.1);   // flat: aspect 1.80, goes
-  isosceles(p, f, 3, 0.1, 0.1);    // equilateral: stays
+  isosceles(p, f, 0, 0.1, 0.17);  // aspect 1.70: stays
+  isosceles(p, f, 1, 0.1, 0.18);  // aspect 1.80: goes
+  isosceles(p, f, 2, 0.18, 0.1);  // flat: aspect 1.80, goes
+  isosceles(p, f, 3, 0.1, 0.1);   // equilateral: stays
   const auto r = cc::postprocess(p, f, cc::PostParams{});
   CHECK(r.stats.sliver_facets == 2);
   CHECK(r.stats.large_facets == 0);
@@ -108,8 +108,8 @@ TEST_CASE("rules run in the thesis order and keep face orientation") {
   CHECK(r.stats.low_vertices == 1);
   CHECK(r.stats.partial_facets == 2);  // the two facets at vertex 3 are gone before rule 3
   CHECK(r.stats.large_facets == 0);
-  CHECK(r.stats.sliver_facets == 1);   // {0, 4, 1}: edges 0.6 / 0.1
-  CHECK(r.stats.orphan_vertices == 1); // vertex 4
+  CHECK(r.stats.sliver_facets == 1);    // {0, 4, 1}: edges 0.6 / 0.1
+  CHECK(r.stats.orphan_vertices == 1);  // vertex 4
   CHECK(r.kept == std::vector<std::size_t>{0, 1, 2});
   CHECK(r.faces == std::vector<cc::Face>{{0, 1, 2}});
 }

@@ -34,7 +34,7 @@ std::vector<V3> torus(std::size_t n, std::uint64_t seed) {
   const double R = 1.0, r = 0.35;
   std::vector<V3> p;
   while (p.size() < n) {
-    const double u = rng.uniform(0, 2 * cc::kPi), v = rng.uniform(0, 2 * cc::kPi);
+    const double u = rng.uniform(0, 2 * canopy::common::kPi), v = rng.uniform(0, 2 * canopy::common::kPi);
     if (rng.uniform() * (R + r) > R + r * std::cos(v)) continue;
     p.emplace_back((R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u), r * std::sin(v));
   }
@@ -139,7 +139,7 @@ TEST_CASE("open surface faces follow the reference normals") {
 TEST_CASE("noisy sphere does not collapse under pruning") {
   const std::size_t n = 10000;
   auto p = sphere(n, 4);
-  const double spacing = std::sqrt(4 * cc::kPi / n);
+  const double spacing = std::sqrt(4 * canopy::common::kPi / n);
   canopy::common::Rng rng(5);
   for (auto& x : p) x *= 1 + 0.05 * spacing * rng.normal();
   const auto s = cc::reconstruct(p, {}, cc::CoconeParams{});

@@ -4,7 +4,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
-#include "fixtures.h"
+#include "fixtures/cocone_samples.h"
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
 #include "cocone/cocone.h"
@@ -80,4 +80,20 @@ TEST_CASE("a mesh with no face left is an error") {
   cc::Params raw;
   raw.postprocess = false;
   CHECK(cc::run(c, raw).faces.size() == 2 * 500 - 4);
+}
+
+TEST_CASE("validate: the defaults pass; each bad parameter is a usage error naming its option") {
+  CHECK_NOTHROW(cc::validate(cc::Params{}));
+  cc::Params p;
+  p.cocone.cocone_angle = canopy::common::kPi / 2;
+  CHECK_THROWS_WITH(cc::validate(p), Catch::StartsWith("--cocone-angle"));
+  p = cc::Params{};
+  p.cocone.flat_ratio = 0;
+  CHECK_THROWS_WITH(cc::validate(p), Catch::StartsWith("--flat-ratio"));
+  p = cc::Params{};
+  p.post.max_aspect = 0.5;
+  CHECK_THROWS_WITH(cc::validate(p), Catch::StartsWith("--max-aspect"));
+  p = cc::Params{};
+  p.post.min_height = -1;
+  CHECK_THROWS_AS(cc::validate(p), canopy::common::UsageError);
 }

@@ -5,7 +5,7 @@
 
 #include "canopy/common/rng.h"
 #include "fitvox/fitvox.h"
-#include "surfaces.h"
+#include "fixtures/fitvox_surfaces.h"
 
 using namespace canopy;
 using namespace fitvox_test;

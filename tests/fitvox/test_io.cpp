@@ -16,7 +16,7 @@
 #include "canopy/common/rng.h"
 #include "canopy/formats/pcd.h"
 #include "fitvox/fitvox.h"
-#include "surfaces.h"
+#include "fixtures/fitvox_surfaces.h"
 
 using namespace canopy;
 using Eigen::Vector3d;
@@ -24,11 +24,37 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::vector<std::string> kSampleFields = {
-    "x", "y", "z", "normal_x", "normal_y", "normal_z", "curvature", "mean_curvature",
-    "gauss_curvature", "u_x", "u_y", "u_z", "v_x", "v_y", "v_z", "w_x", "w_y", "w_z",
-    "a0", "a1", "a2", "a3", "a4", "a5", "rms", "point_count", "label", "label_purity",
-    "sensor_x", "sensor_y", "sensor_z"};
+const std::vector<std::string> kSampleFields = {"x",
+                                                "y",
+                                                "z",
+                                                "normal_x",
+                                                "normal_y",
+                                                "normal_z",
+                                                "curvature",
+                                                "mean_curvature",
+                                                "gauss_curvature",
+                                                "u_x",
+                                                "u_y",
+                                                "u_z",
+                                                "v_x",
+                                                "v_y",
+                                                "v_z",
+                                                "w_x",
+                                                "w_y",
+                                                "w_z",
+                                                "a0",
+                                                "a1",
+                                                "a2",
+                                                "a3",
+                                                "a4",
+                                                "a5",
+                                                "rms",
+                                                "point_count",
+                                                "label",
+                                                "label_purity",
+                                                "sensor_x",
+                                                "sensor_y",
+                                                "sensor_z"};
 
 fs::path tmp_dir() {
   const fs::path d = fs::path(CANOPY_TEST_TMP) / "fitvox";

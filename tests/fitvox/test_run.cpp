@@ -7,7 +7,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/rng.h"
 #include "fitvox/fitvox.h"
-#include "surfaces.h"
+#include "fixtures/fitvox_surfaces.h"
 
 using namespace canopy;
 using namespace fitvox_test;
@@ -24,8 +24,8 @@ Key voxel_of(const Vector3d& q, double h) {
 }
 
 // Points uniformly on the horizontal square [x0, x0+size]² at height z, density per m².
-void add_floor(fitvox::Scan* s, double x0, double size, double z, double density,
-               std::uint32_t label, common::Rng& rng) {
+void add_floor(fitvox::Scan* s, double x0, double size, double z, double density, std::uint32_t label,
+               common::Rng& rng) {
   const int n = static_cast<int>(size * size * density);
   for (int i = 0; i < n; ++i) {
     s->points.push_back({x0 + rng.uniform(0, size), x0 + rng.uniform(0, size), z});
@@ -83,7 +83,8 @@ TEST_CASE("partition: every point in exactly one voxel neighbourhood", "[run][pa
     CHECK(voxel_of(scan.points[s.source_index], p.voxel) == key);
   }
   CHECK(total == scan.points.size());
-  CHECK(r.stats.kept + r.stats.too_few + r.stats.degenerate + r.stats.too_rough + r.stats.merged == r.stats.voxels);
+  CHECK(r.stats.kept + r.stats.too_few + r.stats.degenerate + r.stats.too_rough + r.stats.merged ==
+        r.stats.voxels);
   // samples are the kept voxels, in the same (sorted) order
   REQUIRE(r.samples.size() == r.stats.kept);
   for (std::size_t j = 1; j < r.samples.size(); ++j) CHECK(r.samples[j - 1].voxel < r.samples[j].voxel);
@@ -93,7 +94,7 @@ TEST_CASE("without resampling the sample point is the input point nearest the vo
   common::Rng rng(22);
   fitvox::Scan scan;
   add_floor(&scan, -0.064, 0.128, 0.01, 20000, 3, rng);  // exactly voxel (0, 0, 0)
-  scan.points.push_back({0, 0, 0});                       // exactly at its centre
+  scan.points.push_back({0, 0, 0});                      // exactly at its centre
   scan.sensor.push_back(Vector3d::UnitZ());
   scan.labels.push_back(1);
   fitvox::Params p;
@@ -128,7 +129,7 @@ TEST_CASE("random scatter is rejected, surfaces kept", "[run][scatter]") {
   common::Rng rng(24);
   fitvox::Scan scan;
   add_floor(&scan, -0.064, 1.024, 0.06, 20000, 3, rng);  // 64 planar voxels
-  for (int i = 0; i < 10; ++i) {                    // 10 scatter voxels above it, 200 pts each
+  for (int i = 0; i < 10; ++i) {                         // 10 scatter voxels above it, 200 pts each
     add_scatter(&scan, Vector3d(0.128 * i - 0.064, -0.064, 1.024 - 0.064), 0.128, 200, 2, rng);
   }
   for (double noise : {-1.0, 0.0}) {  // adaptive and fixed bound
@@ -261,8 +262,7 @@ TEST_CASE("mismatched optional columns and bad parameters are errors", "[run][er
   CHECK_THROWS_AS(fitvox::run(scan, p), common::Error);
 }
 
-TEST_CASE("adaptive RMS bound follows the noise; the fixed thesis bound does not",
-          "[run][adaptive]") {
+TEST_CASE("adaptive RMS bound follows the noise; the fixed thesis bound does not", "[run][adaptive]") {
   common::Rng rng(30);
   for (double sigma : {0.004, 0.016, 0.032}) {
     fitvox::Scan scan;
@@ -284,7 +284,7 @@ TEST_CASE("resampling: the voxel's nearest point or centroid, on the fitted surf
   common::Rng rng(24);
   fitvox::Scan scan;
   add_floor(&scan, -0.064, 0.128, 0.01, 20000, 3, rng);  // voxel (0, 0, 0) only
-  scan.points.push_back({0, 0, 0.01});  // nearest to the centre
+  scan.points.push_back({0, 0, 0.01});                   // nearest to the centre
   scan.sensor.push_back(Vector3d::UnitZ());
   scan.labels.push_back(3);
   fitvox::Params centroid;
@@ -303,15 +303,16 @@ TEST_CASE("resampling: the voxel's nearest point or centroid, on the fitted surf
   CHECK(r.stats.support == Approx(0.064));  // noise-free: half a voxel
 }
 
-TEST_CASE("resampling: a noisy plane on a voxel face gives one layer of samples, not two", "[run][resample]") {
+TEST_CASE("resampling: a noisy plane on a voxel face gives one layer of samples, not two",
+          "[run][resample]") {
   // z = 64 mm is the face between voxel layers 0 and 1: with sigma = 32 mm both layers hold
   // enough points, and each layer's fit is biased toward its own side by the truncation.
   common::Rng rng(25);
   fitvox::Scan scan;
   const double sigma = 0.032, size = 1.28;  // 10 x 10 voxel columns
   for (int i = 0; i < static_cast<int>(size * size * 20000); ++i) {
-    scan.points.push_back({rng.uniform(-0.064, size - 0.064), rng.uniform(-0.064, size - 0.064),
-                           0.064 + sigma * rng.normal()});
+    scan.points.push_back(
+        {rng.uniform(-0.064, size - 0.064), rng.uniform(-0.064, size - 0.064), 0.064 + sigma * rng.normal()});
     scan.sensor.push_back(Vector3d::UnitZ());
   }
   fitvox::Params thesis;
@@ -323,16 +324,54 @@ TEST_CASE("resampling: a noisy plane on a voxel face gives one layer of samples,
     for (const auto& s : r.samples) s2 += (s.fit.p.z() - 0.064) * (s.fit.p.z() - 0.064);
     return std::sqrt(s2 / static_cast<double>(r.samples.size()));
   };
-  INFO("thesis: " << raw.samples.size() << " samples, z spread " << spread(raw) << "; resampled: "
-                  << res.samples.size() << " samples (" << res.stats.merged << " merged), spread " << spread(res));
-  CHECK(raw.samples.size() > 150);               // two layers over 100 columns
-  CHECK(spread(raw) > 0.02);                      // raw noisy points
+  INFO("thesis: " << raw.samples.size() << " samples, z spread " << spread(raw)
+                  << "; resampled: " << res.samples.size() << " samples (" << res.stats.merged
+                  << " merged), spread " << spread(res));
+  CHECK(raw.samples.size() > 150);  // two layers over 100 columns
+  CHECK(spread(raw) > 0.02);        // raw noisy points
   // One layer on the plane: most stacked pairs merge (a pair whose two nearest points lie more
   // than 32 mm apart in the plane stays, on the same surface: only denser there).
   CHECK(res.samples.size() <= 120);
   CHECK(res.stats.merged >= 80);
-  CHECK(spread(res) < 0.005);                     // on the plane
+  CHECK(spread(res) < 0.005);  // on the plane
   // support = 6 sigma-hat (sigma-hat is low: each voxel sees a truncated half of the noise)
   CHECK(res.stats.support == Approx(std::clamp(6 * res.stats.sigma, 0.064, 0.128)));
   CHECK(res.stats.support > 0.1);
+}
+
+TEST_CASE("validate: the defaults pass; each bad parameter is a usage error naming its option") {
+  CHECK_NOTHROW(fitvox::validate(fitvox::Params{}));
+  auto with = [](auto change) {
+    fitvox::Params p;
+    change(p);
+    return p;
+  };
+  CHECK_THROWS_WITH(fitvox::validate(with([](auto& p) { p.voxel = 0; })), Catch::StartsWith("--voxel"));
+  CHECK_THROWS_WITH(fitvox::validate(with([](auto& p) { p.min_points = 5; })),
+                    Catch::StartsWith("--min-points"));
+  CHECK_THROWS_WITH(fitvox::validate(with([](auto& p) { p.noise = 1e9; })), Catch::StartsWith("--noise"));
+  CHECK_THROWS_WITH(fitvox::validate(with([](auto& p) { p.support = 0; })), Catch::Contains("--support"));
+  CHECK_THROWS_WITH(fitvox::validate(with([](auto& p) { p.merge = -1; })), Catch::StartsWith("--merge"));
+  CHECK_THROWS_AS(fitvox::validate(with([](auto& p) { p.threads = 0; })), common::UsageError);
+  // run() refuses the same parameters.
+  CHECK_THROWS_AS(fitvox::run(fitvox::Scan{}, with([](auto& p) { p.max_rms = -1; })), common::UsageError);
+}
+
+TEST_CASE("the same samples for any thread count") {
+  common::Rng rng(5);
+  fitvox::Scan scan;
+  for (int i = 0; i < 20000; ++i) {
+    const double x = rng.uniform(-1, 1), y = rng.uniform(-1, 1);
+    scan.points.emplace_back(x, y, 0.3 * x * x + 0.1 * y + 0.002 * rng.normal());
+  }
+  fitvox::Params p;
+  const fitvox::Result one = fitvox::run(scan, p);
+  p.threads = 3;
+  const fitvox::Result three = fitvox::run(scan, p);
+  REQUIRE(one.samples.size() > 100);
+  REQUIRE(one.samples.size() == three.samples.size());
+  for (std::size_t i = 0; i < one.samples.size(); ++i) {
+    CHECK(one.samples[i].fit.p == three.samples[i].fit.p);
+    CHECK(one.samples[i].fit.normal == three.samples[i].fit.normal);
+  }
 }

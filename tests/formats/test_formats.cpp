@@ -9,7 +9,8 @@
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
-#include "canopy/formats/json_io.h"
+#include "canopy/formats/match_result.h"
+#include "canopy/formats/segment_graph.h"
 #include "canopy/formats/pcd.h"
 #include "support/cli.h"
 #include "canopy/formats/ply.h"
@@ -174,18 +175,23 @@ TEST_CASE("PLY round-trip, binary and ascii, with normals mapped to nx ny nz") {
 }
 
 TEST_CASE("PLY reader: big endian, quads and vertex_index") {
-  std::string b = "ply\nformat binary_big_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
-                  "property float z\nelement face 1\nproperty list uchar int vertex_index\nend_header\n";
+  std::string b =
+      "ply\nformat binary_big_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 1\nproperty list uchar int vertex_index\nend_header\n";
   auto put_be_float = [&](float f) {
     unsigned char c[4];
     std::memcpy(c, &f, 4);
     for (int i = 3; i >= 0; --i) b.push_back(static_cast<char>(c[i]));
   };
   const float pts[4][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
-  for (auto& p : pts) for (float f : p) put_be_float(f);
+  for (auto& p : pts)
+    for (float f : p) put_be_float(f);
   b.push_back(4);
   for (int i : {0, 1, 2, 3}) {
-    b.push_back(0); b.push_back(0); b.push_back(0); b.push_back(static_cast<char>(i));
+    b.push_back(0);
+    b.push_back(0);
+    b.push_back(0);
+    b.push_back(static_cast<char>(i));
   }
   const Mesh m = parse_ply(b, "be.ply");
   CHECK(m.vertices.col("x")[2] == 1.0f);
@@ -196,12 +202,14 @@ TEST_CASE("PLY reader: big endian, quads and vertex_index") {
 TEST_CASE("malformed PLY input is a DataError") {
   CHECK_THROWS_AS(parse_ply("", "e.ply"), DataError);
   CHECK_THROWS_AS(parse_ply("plyx\n", "e.ply"), DataError);
-  const std::string hdr = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                          "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
-  CHECK_THROWS_AS(parse_ply(hdr + "0 0 0\n1 0 0\n", "t.ply"), DataError);          // truncated
+  const std::string hdr =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  CHECK_THROWS_AS(parse_ply(hdr + "0 0 0\n1 0 0\n", "t.ply"), DataError);                  // truncated
   CHECK_THROWS_AS(parse_ply(hdr + "0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n", "i.ply"), DataError);  // bad index
-  CHECK_THROWS_AS(parse_ply("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n1\n", "x.ply"),
-                  DataError);  // no y, z
+  CHECK_THROWS_AS(
+      parse_ply("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n1\n", "x.ply"),
+      DataError);  // no y, z
 }
 
 TEST_CASE("segment graph and match result JSON round-trip and version checks") {

@@ -11,7 +11,8 @@
 #include <string>
 
 #include "canopy/common/error.h"
-#include "canopy/formats/json_io.h"
+#include "canopy/formats/match_result.h"
+#include "canopy/formats/segment_graph.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/ply.h"
 #include "support/cli.h"
@@ -91,8 +92,9 @@ void check_equal(const PointCloud& a, const PointCloud& b) {
 }  // namespace
 
 TEST_CASE("PCD: a header line of only spaces is skipped like an empty line (was SIGSEGV)") {
-  const std::string bytes = "VERSION 0.7\n   \nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\n\t \r\nCOUNT 1 1 1\n"
-                            "WIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA ascii\n1 2 3\n";
+  const std::string bytes =
+      "VERSION 0.7\n   \nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\n\t \r\nCOUNT 1 1 1\n"
+      "WIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA ascii\n1 2 3\n";
   const PointCloud c = parse_pcd(bytes, "blank.pcd");
   REQUIRE(c.size() == 1);
   CHECK(c.col("z")[0] == 3.0);
@@ -101,7 +103,8 @@ TEST_CASE("PCD: a header line of only spaces is skipped like an empty line (was 
 TEST_CASE("PCD: huge COUNT is refused by a limit, not a quadratic loop") {
   for (const char* count : {"20000", "200000", "4294967296"}) {
     INFO(count);
-    const std::string msg = pcd_error(xyz_header("0", "0", "binary", std::string("1 1 ") + count), "count.pcd");
+    const std::string msg =
+        pcd_error(xyz_header("0", "0", "binary", std::string("1 1 ") + count), "count.pcd");
     CHECK_THAT(msg, Contains("COUNT"));
   }
   CHECK_THAT(pcd_error(xyz_header("0", "0", "binary", "1 1 0"), "c0.pcd"), Contains("COUNT 0"));
@@ -127,8 +130,9 @@ TEST_CASE("PCD: POINTS larger than the data is refused before allocating") {
 }
 
 TEST_CASE("PCD: a binary_compressed header cannot ask for more than its block can hold") {
-  std::string b = "FIELDS x\nSIZE 4\nTYPE F\nCOUNT 1\nWIDTH 1073741823\nHEIGHT 1\nPOINTS 1073741823\n"
-                  "DATA binary_compressed\n";
+  std::string b =
+      "FIELDS x\nSIZE 4\nTYPE F\nCOUNT 1\nWIDTH 1073741823\nHEIGHT 1\nPOINTS 1073741823\n"
+      "DATA binary_compressed\n";
   const std::uint32_t csize = 2, usize = 1073741823u * 4u;
   b.append(reinterpret_cast<const char*>(&csize), 4);
   b.append(reinterpret_cast<const char*>(&usize), 4);
@@ -137,14 +141,15 @@ TEST_CASE("PCD: a binary_compressed header cannot ask for more than its block ca
 }
 
 TEST_CASE("PCD: WIDTH x HEIGHT overflow and SIZE beyond int are errors, not wrapped values") {
-  std::string wh = "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 4294967296\nHEIGHT 4294967296\nPOINTS 0\nDATA binary\n";
+  std::string wh =
+      "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 4294967296\nHEIGHT 4294967296\nPOINTS 0\nDATA binary\n";
   CHECK_THAT(pcd_error(wh, "wh.pcd"), Contains("WIDTH 4294967296 x HEIGHT 4294967296"));
   const std::string size = "FIELDS x\nSIZE 4294967300\nTYPE F\nWIDTH 1\nPOINTS 1\nDATA binary\n" + floats({1});
   CHECK_THAT(pcd_error(size, "size.pcd"), Contains("SIZE '4294967300'"));
   CHECK_THAT(pcd_error("FIELDS x\nSIZE 3\nTYPE F\nWIDTH 0\nDATA binary\n", "s3.pcd"), Contains("SIZE 3"));
   CHECK_THAT(pcd_error("FIELDS x\nSIZE 4\nTYPE f\nWIDTH 0\nDATA binary\n", "t.pcd"), Contains("TYPE 'f'"));
-  CHECK_THAT(pcd_error(xyz_header("1", "1", "binary") + "WIDTH 1\n", "dup.pcd"), Contains("not a number") ||
-                                                                                 Contains("truncated"));
+  CHECK_THAT(pcd_error(xyz_header("1", "1", "binary") + "WIDTH 1\n", "dup.pcd"),
+             Contains("not a number") || Contains("truncated"));
   CHECK_THAT(pcd_error("FIELDS x\nFIELDS y\nSIZE 4\nTYPE F\nWIDTH 0\nDATA binary\n", "twice.pcd"),
              Contains("FIELDS appears twice"));
   CHECK_THAT(pcd_error("FIELDS x x\nSIZE 4 4\nTYPE F F\nWIDTH 0\nDATA binary\n", "dupf.pcd"),
@@ -155,7 +160,8 @@ TEST_CASE("PCD errors say what the file is and are not cut at a NUL byte") {
   CHECK_THAT(pcd_error("ply\nformat ascii 1.0\nelement vertex 0\nend_header\n", "m.pcd"),
              Contains("this is a PLY file, not a PCD file"));
   CHECK_THAT(pcd_error(std::string("LASF\x01\x02", 6), "s.pcd"), Contains("this is a LAS file"));
-  CHECK_THAT(pcd_error("{\"format\": \"canopy.segment_graph\"}\n", "j.pcd"), Contains("this is a JSON document"));
+  CHECK_THAT(pcd_error("{\"format\": \"canopy.segment_graph\"}\n", "j.pcd"),
+             Contains("this is a JSON document"));
   const std::string msg = pcd_error(std::string("VERSION 0.7\nFIE\0LDS x\n", 22), "nul.pcd");
   CHECK_THAT(msg, Contains("FIE\\x00LDS x"));
   CHECK(std::strlen(msg.c_str()) == msg.size());  // no NUL inside: printing shows it all
@@ -171,7 +177,8 @@ TEST_CASE("PCD: zero padding after binary data (PCL's writer) is accepted, other
   CHECK_THAT(pcd_error(good + floats({7, 8, 9}), "more.pcd"), Contains("data longer than the header says"));
   // ascii: trailing whitespace is fine, more numbers are not.
   CHECK(parse_pcd(xyz_header("1", "1", "ascii") + "1 2 3\n\n \n", "a.pcd").size() == 1);
-  CHECK_THAT(pcd_error(xyz_header("1", "1", "ascii") + "1 2 3\n4 5 6\n", "a2.pcd"), Contains("more ascii data"));
+  CHECK_THAT(pcd_error(xyz_header("1", "1", "ascii") + "1 2 3\n4 5 6\n", "a2.pcd"),
+             Contains("more ascii data"));
 
   const std::string dir = tmp_dir("padding");
   write_bytes(dir + "/pad.pcd", good + std::string(4096, '\0'));
@@ -233,8 +240,9 @@ TEST_CASE("PCD writer: binary_compressed and ascii round-trip every type exactly
 }
 
 TEST_CASE("PLY: element counts larger than the data are refused before allocating") {
-  const std::string bin = "ply\nformat binary_little_endian 1.0\nelement vertex COUNT\nproperty float x\n"
-                          "property float y\nproperty float z\nend_header\n";
+  const std::string bin =
+      "ply\nformat binary_little_endian 1.0\nelement vertex COUNT\nproperty float x\n"
+      "property float y\nproperty float z\nend_header\n";
   for (const char* n : {"100000000", "4294967295", "9223372036854775807"}) {
     INFO(n);
     std::string b = bin;
@@ -244,13 +252,15 @@ TEST_CASE("PLY: element counts larger than the data are refused before allocatin
   std::string b = bin;
   b.replace(b.find("COUNT"), 5, "9223372036854775808");
   CHECK_THAT(ply_error(b, "v.ply"), Contains("count '9223372036854775808'"));
-  const std::string face = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                           "property float z\nelement face 4294967295\nproperty list uchar int vertex_indices\n"
-                           "end_header\n0 0 0\n1 0 0\n0 1 0\n";
+  const std::string face =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 4294967295\nproperty list uchar int vertex_indices\n"
+      "end_header\n0 0 0\n1 0 0\n0 1 0\n";
   CHECK_THAT(ply_error(face, "f.ply"), Contains("element face count 4294967295"));
   // A list longer than the data left.
-  std::string list = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                     "property float z\nelement face 1\nproperty list uint int vertex_indices\nend_header\n";
+  std::string list =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 1\nproperty list uint int vertex_indices\nend_header\n";
   list += std::string(36, '\0');
   const std::uint32_t m = 4000000000u;
   list.append(reinterpret_cast<const char*>(&m), 4);
@@ -259,9 +269,10 @@ TEST_CASE("PLY: element counts larger than the data are refused before allocatin
 }
 
 TEST_CASE("PLY: an ascii value outside its integer type is an error, not a wrapped value") {
-  const std::string hdr = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                          "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
-                          "0 0 0\n1 0 0\n0 1 0\n";
+  const std::string hdr =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+      "0 0 0\n1 0 0\n0 1 0\n";
   CHECK(parse_ply(hdr + "3 0 1 2\n", "ok.ply").faces.size() == 1);
   CHECK_THAT(ply_error(hdr + "259 0 1 2\n", "wrap.ply"), Contains("'259' is not a uchar"));
   CHECK_THAT(ply_error(hdr + "3 0 1 2.5\n", "frac.ply"), Contains("'2.5' is not a int"));
@@ -270,12 +281,15 @@ TEST_CASE("PLY: an ascii value outside its integer type is an error, not a wrapp
 }
 
 TEST_CASE("PLY errors say what the file is and are not cut at a NUL byte") {
-  CHECK_THAT(ply_error("# .PCD v0.7\nVERSION 0.7\nFIELDS x\n", "p.ply"), Contains("this is a PCD file, not a PLY file"));
-  const std::string msg = ply_error(std::string("ply\nformat ascii 1.0\nelem\0ent vertex 1\nend_header\n", 47), "n.ply");
+  CHECK_THAT(ply_error("# .PCD v0.7\nVERSION 0.7\nFIELDS x\n", "p.ply"),
+             Contains("this is a PCD file, not a PLY file"));
+  const std::string msg =
+      ply_error(std::string("ply\nformat ascii 1.0\nelem\0ent vertex 1\nend_header\n", 47), "n.ply");
   CHECK_THAT(msg, Contains("elem\\x00ent vertex 1"));
   CHECK(std::strlen(msg.c_str()) == msg.size());
-  CHECK_THAT(ply_error("ply\nformat ascii 1.0\nelement vertex 1\nelement vertex 1\nend_header\n0\n0\n", "two.ply"),
-             Contains("two vertex elements"));
+  CHECK_THAT(
+      ply_error("ply\nformat ascii 1.0\nelement vertex 1\nelement vertex 1\nend_header\n0\n0\n", "two.ply"),
+      Contains("two vertex elements"));
 }
 
 TEST_CASE("PLY writer: uint32 as int, scalar_ prefix for CloudCompare, read back without it") {
@@ -299,16 +313,18 @@ TEST_CASE("PLY writer: uint32 as int, scalar_ prefix for CloudCompare, read back
     const std::string cc = serialize_ply(m, o);
     CHECK_THAT(cc, Contains("property float x\n") && Contains("property float nx\n") &&
                        Contains("property uchar red\n") && Contains("property int scalar_label\n") &&
-                       Contains("property int scalar_point_count\n") && Contains("property float scalar_curvature\n"));
+                       Contains("property int scalar_point_count\n") &&
+                       Contains("property float scalar_curvature\n"));
     const Mesh back = parse_ply(cc, "cc.ply");
     CHECK(back.vertices.names() == m.vertices.names());
     CHECK(back.vertices.col("label") == m.vertices.col("label"));
     CHECK(back.vertices.col("big") == m.vertices.col("big"));
   }
   // A file with both "f" and "scalar_f" keeps both names.
-  const Mesh both = parse_ply("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
-                              "property float z\nproperty float f\nproperty float scalar_f\nend_header\n0 0 0 1 2\n",
-                              "both.ply");
+  const Mesh both = parse_ply(
+      "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+      "property float z\nproperty float f\nproperty float scalar_f\nend_header\n0 0 0 1 2\n",
+      "both.ply");
   CHECK(both.vertices.col("f")[0] == 1.0);
   CHECK(both.vertices.col("scalar_f")[0] == 2.0);
 }
@@ -326,11 +342,11 @@ const char* kGraph = R"({"format": "canopy.segment_graph", "version": VERSION,
                "label": 1, "label_purity": 1, "vertices": [0, 1, 2]}],
  "adjacency": [{"a": 0, "b": 1, "shared_edges": 3}EDGES]})";
 
-std::string graph(const std::string& version = "1", const std::string& id0 = "0", const std::string& area = "1.5",
-                  const std::string& edges = "") {
+std::string graph(const std::string& version = "1", const std::string& id0 = "0",
+                  const std::string& area = "1.5", const std::string& edges = "") {
   std::string s = kGraph;
-  for (auto [k, v] : {std::pair<std::string, std::string>{"VERSION", version}, {"ID0", id0}, {"AREA", area},
-                      {"EDGES", edges}}) {
+  for (auto [k, v] :
+       {std::pair<std::string, std::string>{"VERSION", version}, {"ID0", id0}, {"AREA", area}, {"EDGES", edges}}) {
     s.replace(s.find(k), k.size(), v);
   }
   return s;
@@ -351,8 +367,10 @@ TEST_CASE("JSON: numbers out of range, wrong integer types, and dangling or self
   CHECK(big.find("[json.exception") == std::string::npos);
   CHECK_THAT(graph_error(graph("4294967297"), "v.json"), Contains("version 4294967297 is not supported"));
   CHECK_THAT(graph_error(graph("1.0"), "v.json"), Contains("no integer \"version\""));
-  CHECK_THAT(graph_error(graph("1", "1e20"), "id.json"), Contains("segments[0].segment_id must be an integer"));
-  CHECK_THAT(graph_error(graph("1", "4294967296"), "id.json"), Contains("segments[0].segment_id 4294967296 is out of range"));
+  CHECK_THAT(graph_error(graph("1", "1e20"), "id.json"),
+             Contains("segments[0].segment_id must be an integer"));
+  CHECK_THAT(graph_error(graph("1", "4294967296"), "id.json"),
+             Contains("segments[0].segment_id 4294967296 is out of range"));
   CHECK_THAT(graph_error(graph("1", "-2"), "id.json"), Contains("segment_id -2 is out of range"));
   CHECK_THAT(graph_error(graph("1", "1"), "dup.json"), Contains("segment_id 1 appears twice"));
   CHECK_THAT(graph_error(graph("1", "0", "1.5", R"(, {"a": 0, "b": 99999, "shared_edges": 1})"), "d.json"),
@@ -363,10 +381,12 @@ TEST_CASE("JSON: numbers out of range, wrong integer types, and dangling or self
              Contains("needs a < b"));
   CHECK_THAT(graph_error(graph("1", "0", "1.5", R"(, {"a": 0, "b": 1, "shared_edges": 2})"), "t.json"),
              Contains("appears twice"));
-  CHECK_THAT(graph_error(graph("1", "0", "\"big\""), "str.json"), Contains("segments[0].area must be a number"));
+  CHECK_THAT(graph_error(graph("1", "0", "\"big\""), "str.json"),
+             Contains("segments[0].area must be a number"));
   const std::string nul = graph_error(std::string("{\"format\": \"x\0y\"}", 17), "nul.json");
   CHECK(std::strlen(nul.c_str()) == nul.size());
-  CHECK_THAT(graph_error("ply\nformat ascii 1.0\n", "m.json"), Contains("this is a PLY file, not a JSON document"));
+  CHECK_THAT(graph_error("ply\nformat ascii 1.0\n", "m.json"),
+             Contains("this is a PLY file, not a JSON document"));
 }
 
 TEST_CASE("match result: margin = rank-1 score minus rank-2 score, optional when reading") {
@@ -433,13 +453,16 @@ TEST_CASE("read_pcd: a long header (many comment lines) across read chunks") {
 TEST_CASE("JSON: deep nesting is refused before parsing; nested values in messages are described") {
   // 30 000 levels used to overflow the stack (nlohmann copies values recursively).
   const std::string deep = std::string(30000, '[') + std::string(30000, ']');
-  CHECK_THAT(graph_error("{\"format\": " + deep + "}", "deep.json"), Contains("nested deeper than 64 levels"));
+  CHECK_THAT(graph_error("{\"format\": " + deep + "}", "deep.json"),
+             Contains("nested deeper than 64 levels"));
   CHECK_THAT(graph_error(graph("1", deep), "deep-id.json"), Contains("nested deeper than 64 levels"));
   // Brackets inside strings do not count.
   std::string brackets = graph();
-  brackets.replace(brackets.find("\"mesh\": \"mesh.ply\""), 18, "\"mesh\": \"" + std::string(100, '[') + "\\\"\"");
+  brackets.replace(brackets.find("\"mesh\": \"mesh.ply\""), 18,
+                   "\"mesh\": \"" + std::string(100, '[') + "\\\"\"");
   CHECK(parse_segment_graph(brackets, "b.json").mesh == std::string(100, '[') + "\"");
   const std::string shallow = "[[[[[[1]]]]]]";
-  CHECK_THAT(graph_error(graph("1", shallow), "arr-id.json"), Contains("segment_id must be an integer, not an array"));
+  CHECK_THAT(graph_error(graph("1", shallow), "arr-id.json"),
+             Contains("segment_id must be an integer, not an array"));
   CHECK_THAT(graph_error("{\"format\": " + shallow + "}", "arr.json"), Contains("format is an array"));
 }

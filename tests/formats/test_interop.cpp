@@ -89,8 +89,8 @@ TEST_CASE("PCD files PCL's PCLPointCloud2 binary writer pads with zeros load wit
   }
   pcl::PCLPointCloud2 blob;
   pcl::toPCLPointCloud2(src, blob);
-  REQUIRE(pcl::io::savePCDFile(dir + "/blob.pcd", blob, Eigen::Vector4f::Zero(), Eigen::Quaternionf::Identity(),
-                               true) == 0);
+  REQUIRE(pcl::io::savePCDFile(dir + "/blob.pcd", blob, Eigen::Vector4f::Zero(),
+                               Eigen::Quaternionf::Identity(), true) == 0);
   struct stat st {};
   REQUIRE(stat((dir + "/blob.pcd").c_str(), &st) == 0);
   const PointCloud c = read_pcd(dir + "/blob.pcd");
@@ -216,17 +216,20 @@ TEST_CASE("pcd2ply turns a PCL-written cloud into a PLY that PCL and VTK read wi
 TEST_CASE("pcd2ply on malformed input exits 1 with a message and writes nothing") {
   const std::string dir = tmp_dir("pcd2ply_bad");
   const std::string bin = std::string(CANOPY_BIN_DIR) + "/pcd2ply";
-  REQUIRE(run("printf 'VERSION 0.7\\nFIELDS x y z\\nSIZE 4 4 4\\nTYPE F F F\\nWIDTH 9\\nPOINTS 9\\nDATA binary\\nxyz' > " +
+  REQUIRE(run("printf 'VERSION 0.7\\nFIELDS x y z\\nSIZE 4 4 4\\nTYPE F F F\\nWIDTH 9\\nPOINTS 9\\nDATA "
+              "binary\\nxyz' > " +
               dir + "/trunc.pcd") == 0);
   REQUIRE(run(": > " + dir + "/empty.pcd") == 0);
   // Cases that crashed, hung or allocated gigabytes before (issue 12).
   REQUIRE(run("printf 'VERSION 0.7\\nFIELDS x y z\\nSIZE 4 4 4\\nTYPE F F F\\nCOUNT 1 1 200000\\nWIDTH 0\\n"
-              "POINTS 0\\nDATA binary\\n' > " + dir + "/count.pcd") == 0);
+              "POINTS 0\\nDATA binary\\n' > " +
+              dir + "/count.pcd") == 0);
   REQUIRE(run("printf 'FIELDS x y z\\nSIZE 4 4 4\\nTYPE F F F\\nWIDTH 100000000\\nPOINTS 100000000\\n"
-              "DATA binary\\n0123456789ab' > " + dir + "/points.pcd") == 0);
+              "DATA binary\\n0123456789ab' > " +
+              dir + "/points.pcd") == 0);
   REQUIRE(run("printf 'ply\\nformat ascii 1.0\\nelement vertex 0\\nend_header\\n' > " + dir + "/mesh.pcd") == 0);
-  for (const std::string& in : {dir + "/trunc.pcd", dir + "/empty.pcd", dir, dir + "/missing.pcd", dir + "/count.pcd",
-                                dir + "/points.pcd", dir + "/mesh.pcd"}) {
+  for (const std::string& in : {dir + "/trunc.pcd", dir + "/empty.pcd", dir, dir + "/missing.pcd",
+                                dir + "/count.pcd", dir + "/points.pcd", dir + "/mesh.pcd"}) {
     INFO(in);
     CHECK(run(bin + " -i " + in + " -o " + dir + "/out.ply 2> " + dir + "/err.txt") == 1);
     CHECK_FALSE(exists(dir + "/out.ply"));

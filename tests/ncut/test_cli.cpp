@@ -12,9 +12,9 @@
 
 #include "canopy/common/atomic_file.h"
 #include "support/cli.h"
-#include "canopy/formats/json_io.h"
+#include "canopy/formats/segment_graph.h"
 #include "canopy/formats/ply.h"
-#include "meshes.h"
+#include "fixtures/ncut_meshes.h"
 
 namespace fs = std::filesystem;
 using namespace canopy;
@@ -54,8 +54,7 @@ TEST_CASE("ncut segments a box mesh, writes the coloured mesh, byte-identical re
   formats::write_ply(to_mesh(box, true), (dir / "mesh.ply").string());
   const std::string base = kBin + " -i " + (dir / "mesh.ply").string() + " --seed 7";
   std::string err;
-  const std::string cmd =
-      base + " -o " + (dir / "a.json").string() + " --colored " + (dir / "a.ply").string();
+  const std::string cmd = base + " -o " + (dir / "a.json").string() + " --colored " + (dir / "a.ply").string();
   REQUIRE(sh(cmd, dir / "err", &err) == 0);
   CHECK(err.find("ncut: segment:") != std::string::npos);
   const std::string first_json = common::read_file((dir / "a.json").string());
@@ -86,8 +85,8 @@ TEST_CASE("ncut segments a box mesh, writes the coloured mesh, byte-identical re
   CHECK(colored.vertices.col("green")[0] == c[1]);
 
   // Through a pipe, and with --config of the shipped defaults: the same document.
-  REQUIRE(sh("cat " + (dir / "mesh.ply").string() + " | " + kBin + " --seed 7 --config " +
-                 CANOPY_SOURCE_DIR + "/share/params/ncut.ini > " + (dir / "c.json").string(),
+  REQUIRE(sh("cat " + (dir / "mesh.ply").string() + " | " + kBin + " --seed 7 --config " + CANOPY_SOURCE_DIR +
+                 "/share/params/ncut.ini > " + (dir / "c.json").string(),
              dir / "err", &err) == 0);
   const formats::SegmentGraph gc = formats::read_segment_graph((dir / "c.json").string());
   CHECK(gc.segments.size() == g.segments.size());
@@ -100,8 +99,8 @@ TEST_CASE("ncut computes normals when the mesh has none, and says so") {
   const fs::path dir = fresh_dir("nonormals");
   formats::write_ply(to_mesh(ncut::testing::two_planes(1.0, 0.1), false), (dir / "mesh.ply").string());
   std::string err;
-  REQUIRE(sh(kBin + " -i " + (dir / "mesh.ply").string() + " -o " + (dir / "s.json").string(),
-             dir / "err", &err) == 0);
+  REQUIRE(sh(kBin + " -i " + (dir / "mesh.ply").string() + " -o " + (dir / "s.json").string(), dir / "err",
+             &err) == 0);
   CHECK(err.find("no normals") != std::string::npos);
   CHECK(formats::read_segment_graph((dir / "s.json").string()).segments.size() >= 2);
 }
@@ -113,8 +112,8 @@ TEST_CASE("ncut rejects bad input with exit 1 and no output; bad options with ex
     std::ofstream f(dir / "garbage.ply");
     f << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n1\n2\n";
   }
-  CHECK(sh(kBin + " -i " + (dir / "garbage.ply").string() + " -o " + (dir / "o.json").string(),
-           dir / "err", &err) == 1);
+  CHECK(sh(kBin + " -i " + (dir / "garbage.ply").string() + " -o " + (dir / "o.json").string(), dir / "err",
+           &err) == 1);
   CHECK(err.find("garbage.ply") != std::string::npos);
   CHECK_FALSE(fs::exists(dir / "o.json"));
 
@@ -122,13 +121,13 @@ TEST_CASE("ncut rejects bad input with exit 1 and no output; bad options with ex
   no_faces.faces.clear();
   formats::write_ply(no_faces, (dir / "points.ply").string());
   CHECK(sh(kBin + " -i " + (dir / "points.ply").string() + " -o " + (dir / "o.json").string() +
-               " --colored " + (dir / "o.ply").string(), dir / "err", &err) == 1);
+               " --colored " + (dir / "o.ply").string(),
+           dir / "err", &err) == 1);
   CHECK(err.find("no faces") != std::string::npos);
   CHECK_FALSE(fs::exists(dir / "o.json"));
   CHECK_FALSE(fs::exists(dir / "o.ply"));
 
-  CHECK(sh(kBin + " -i " + (dir / "points.ply").string() + " --exponent cubic", dir / "err",
-           &err) == 2);
+  CHECK(sh(kBin + " -i " + (dir / "points.ply").string() + " --exponent cubic", dir / "err", &err) == 2);
   CHECK(sh(kBin + " -i " + (dir / "points.ply").string() + " --max-ncut 0", dir / "err", &err) == 2);
   CHECK(sh(kBin + " -i " + (dir / "missing.ply").string(), dir / "err", &err) == 1);
 }

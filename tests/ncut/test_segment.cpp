@@ -5,7 +5,7 @@
 #include <map>
 #include <set>
 
-#include "meshes.h"
+#include "fixtures/ncut_meshes.h"
 #include "ncut/ncut.h"
 
 using namespace canopy::ncut;
@@ -38,8 +38,7 @@ TEST_CASE("affinity: Eq. 5.8 distance and Eq. 5.11/5.12 values by hand") {
   pts.p = {{0, 0, 0}, {0.3, 0, 0.1}};
   pts.n = {{0, 0, 1}, {std::sin(0.1), 0, std::cos(0.1)}};  // 0.1 rad apart
   // From 0: v = (-0.3, 0, -0.1), v.n0 = -0.1, tangential 0.3.
-  CHECK(anisotropic_distance(pts.p[0], pts.n[0], pts.p[1], 2.0) ==
-        Approx(std::sqrt(2 * 0.01 + 0.09 / 2)));
+  CHECK(anisotropic_distance(pts.p[0], pts.n[0], pts.p[1], 2.0) == Approx(std::sqrt(2 * 0.01 + 0.09 / 2)));
   ThesisAffinityParams prm;
   prm.exponent = Exponent::kSquared;
   ThesisAffinity sq(pts, prm);
@@ -51,8 +50,7 @@ TEST_CASE("affinity: Eq. 5.8 distance and Eq. 5.11/5.12 values by hand") {
   CHECK(sq(0, 1) == sq(1, 0));
   prm.exponent = Exponent::kLinear;
   ThesisAffinity lin(pts, prm);
-  CHECK(lin.one_sided(1, 0) ==
-        Approx(std::exp(-0.1 / s2) * std::exp(-1000 * d10 / (2 * 512.0 * 512.0))));
+  CHECK(lin.one_sided(1, 0) == Approx(std::exp(-0.1 / s2) * std::exp(-1000 * d10 / (2 * 512.0 * 512.0))));
 }
 
 TEST_CASE("sparsification: radius, random share, threshold, mesh neighbours kept") {
@@ -69,9 +67,7 @@ TEST_CASE("sparsification: radius, random share, threshold, mesh neighbours kept
   SparsifyParams sp;
   GraphStats st;
   const Graph g = build_affinity_graph(pts, {{0, 12}}, aff, sp, &st);
-  auto has = [&](int a, int b) {
-    return std::find(g.nbr_begin(a), g.nbr_end(a), b) != g.nbr_end(a);
-  };
+  auto has = [&](int a, int b) { return std::find(g.nbr_begin(a), g.nbr_end(a), b) != g.nbr_end(a); };
   for (int i = 0; i < 12; ++i) {
     for (int j = i + 1; j < 12; ++j) {
       const double d = 0.1 * (j - i);
@@ -193,8 +189,7 @@ TEST_CASE("segment attributes of a known rectangle") {
 
   // Flipped input normals flip the segment normal.
   std::vector<Vector3d> down(normals.size(), Vector3d(0, 0, -1));
-  CHECK(segment_attributes(m.in, down, one, 1, PcaWeighting::kSurface)[0].normal[2] ==
-        Approx(-1.0));
+  CHECK(segment_attributes(m.in, down, one, 1, PcaWeighting::kSurface)[0].normal[2] == Approx(-1.0));
 
   // Vertex weighting: the discrete variance of 40 and 10 evenly spaced samples.
   const auto sv = segment_attributes(m.in, normals, one, 1, PcaWeighting::kVertices)[0];
@@ -221,4 +216,39 @@ TEST_CASE("segment colours are fixed and distinct for neighbouring ids") {
   std::set<std::array<std::uint8_t, 3>> seen;
   for (int id = 0; id < 30; ++id) seen.insert(segment_colour(id));
   CHECK(seen.size() == 30);
+}
+
+TEST_CASE("validate: the defaults pass; each bad parameter is a usage error naming its option") {
+  CHECK_NOTHROW(validate(Params{}));
+  Params p;
+  p.affinity.radius = 0;
+  CHECK_THROWS_WITH(validate(p), Catch::StartsWith("--radius"));
+  p = Params{};
+  p.sparsify.keep_fraction = 2;
+  CHECK_THROWS_WITH(validate(p), Catch::StartsWith("--keep-fraction"));
+  p = Params{};
+  p.cut.ncv = 2;
+  CHECK_THROWS_WITH(validate(p), Catch::StartsWith("--ncv"));
+}
+
+TEST_CASE("the affinity's radius is the graph's cut-off (one radius)") {
+  SurfacePoints pts;
+  for (int i = 0; i < 5; ++i) {
+    pts.p.push_back({0.2 * i, 0, 0});
+    pts.n.push_back({0, 0, 1});
+  }
+  ThesisAffinityParams ap;
+  ap.radius = 0.3;  // neighbours at 0.2 m only
+  const ThesisAffinity aff(pts, ap);
+  CHECK(aff.radius() == 0.3);
+  SparsifyParams sp;
+  sp.dense_radius = 1;
+  sp.min_affinity = 0;
+  sp.keep_mesh_edges = false;
+  GraphStats st;
+  build_affinity_graph(pts, {}, aff, sp, &st);
+  CHECK(st.pairs_within_radius == 4);
+  ap.radius = 0.5;  // and at 0.4 m
+  build_affinity_graph(pts, {}, ThesisAffinity(pts, ap), sp, &st);
+  CHECK(st.pairs_within_radius == 7);
 }

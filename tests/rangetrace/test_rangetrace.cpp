@@ -251,19 +251,6 @@ TEST_CASE("decode_view inverts the colour coding") {
   CHECK(out.sensor[0].cast<double>().isApprox(Vector3d(0, 0, 1)));
 }
 
-TEST_CASE("parse_ppm reads 16-bit P6 with comments") {
-  std::string ppm = "P6\n# Software: test\n2 1\n65535\n";
-  const unsigned char data[] = {0x12, 0x34, 0, 1, 0xff, 0xff, 0, 0, 0x80, 0, 0, 2};
-  ppm.append(reinterpret_cast<const char*>(data), sizeof data);
-  const Image16 img = parse_ppm(ppm, "t.ppm");
-  CHECK(img.width == 2);
-  CHECK(img.rgb[0] == 0x1234);
-  CHECK(img.rgb[2] == 0xffff);
-  CHECK(img.rgb[4] == 0x8000);
-  CHECK_THROWS_AS(parse_ppm(ppm.substr(0, ppm.size() - 1), "t.ppm"), common::DataError);
-  CHECK_THROWS_AS(parse_ppm("P3\n1 1\n255\n0 0 0\n", "t.ppm"), common::DataError);
-}
-
 // A 2 x 1 x 0.8 m box (long along model x) with a 0.4 x 0.3 x 0.4 m bump on the model's left
 // side (+y in the world frame = +z in POV-Ray's), placed off the origin.
 const char* const kBoxWithBump =
@@ -510,23 +497,16 @@ TEST_CASE("rangetrace CLI: failure exits 1 and leaves no output") {
 }
 
 TEST_CASE("mesh importer: malformed OBJ/STL/PLY bytes are DataErrors naming the file") {
-  // What `--model x.obj|.stl|.ply` parses before POV-Ray (and fuzz/fuzz_mesh.cpp drives).
+  // What `--model x.obj|.stl|.ply` parses before POV-Ray (and fuzz/fuzz_mesh.cpp drives). The
+  // parsers' own errors are tested in tests/formats/test_mesh_import.cpp; here, what the
+  // conversion adds, and that parser errors pass through naming the file.
   const MeshImport m;
   const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
   struct Case { std::string bytes, ext, want; };
   const Case cases[] = {
-      {tri + "f 1.5 2 3\n", "obj", "line 4: malformed face index '1.5'"},
-      {tri + "f 1 2x 3\n", "obj", "line 4: malformed face index '2x'"},
-      {tri + "f 1 2 99999999999\n", "obj", "line 4: malformed face index"},
       {tri + "f 1 2 0\n", "obj", "line 4: face index out of range"},
-      {tri + "f 1 2 -4\n", "obj", "line 4: face index out of range"},
-      {tri + "f 1 2\n", "obj", "line 4: face with fewer than 3 vertices"},
-      {"v 0 0\n", "obj", "line 1: malformed vertex"},
       {tri, "obj", "mesh has no faces"},
-      {"solid x\nfacet\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\n", "stl", "facet with fewer than 3"},
-      {"solid x\nvertex 0 0 nan\n", "stl", "malformed 'vertex' line"},
-      {std::string(84, '\0') + "abc", "stl", "neither ASCII STL"},
-      {"ply\nformat ascii 1.0\nelement vertex 1\nproperty float a\nend_header\n1\n", "ply", "field 'x' missing"},
+      {"solid x\nfacet normal 0 0 1\nendfacet\n", "stl", "mesh has no faces"},
   };
   for (const auto& c : cases) {
     INFO(c.bytes);

@@ -1,8 +1,13 @@
 #include "addnoise/addnoise.h"
 
+#include "canopy/common/error.h"
 #include "canopy/common/rng.h"
 
 namespace canopy::addnoise {
+
+void validate(const Params& params) {
+  if (!(params.sigma >= 0 && params.sigma <= 100)) throw common::UsageError("--sigma must be in [0, 100m]");
+}
 
 formats::PointCloud run(const formats::PointCloud& scan, const Params& params) {
   formats::PointCloud out = scan;

@@ -11,9 +11,12 @@
 namespace canopy::addnoise {
 
 struct Params {
-  double sigma = 0.0;      // standard deviation per axis (m), >= 0; 0 = exact copy
+  double sigma = 0.0;  // standard deviation per axis (m), >= 0; 0 = exact copy
   std::uint64_t seed = 1;
 };
+
+// Throws common::UsageError naming --sigma when sigma is outside [0, 100 m].
+void validate(const Params& params);
 
 // Requires fields x, y, z (throws std::out_of_range naming the field otherwise).
 formats::PointCloud run(const formats::PointCloud& scan, const Params& params);

@@ -9,6 +9,8 @@
 #include <unordered_map>
 
 #include "canopy/common/error.h"
+#include "canopy/formats/cloud_eigen.h"
+#include "canopy/formats/labels.h"
 
 namespace canopy::areas {
 namespace {
@@ -148,16 +150,15 @@ double segments_area(const formats::SegmentGraph& graph, std::uint32_t label, in
 }
 
 std::string serialize(const Areas& a, const std::vector<std::string>& inputs) {
-  std::string s = "{\"format\": \"canopy.areas\", \"version\": 1,\n \"provenance\": {\"tool\": \"areas\", "
-                  "\"version\": \"" CANOPY_VERSION "\", \"inputs\": [";
-  for (std::size_t i = 0; i < inputs.size(); ++i) {
-    s += (i ? ", " : "") + nlohmann::json(inputs[i]).dump();
-  }
-  s += "]},\n \"spacing\": " + num(a.spacing) + ", \"cell\": " + num(a.cell) + ", \"voxel\": " + num(a.voxel) +
-       ", \"max_segments\": " + std::to_string(a.max_segments) +
+  std::string s =
+      "{\"format\": \"canopy.areas\", \"version\": 1,\n \"provenance\": {\"tool\": \"areas\", "
+      "\"version\": \"" CANOPY_VERSION "\", \"inputs\": [";
+  for (std::size_t i = 0; i < inputs.size(); ++i) { s += (i ? ", " : "") + nlohmann::json(inputs[i]).dump(); }
+  s += "]},\n \"spacing\": " + num(a.spacing) + ", \"cell\": " + num(a.cell) +
+       ", \"voxel\": " + num(a.voxel) + ", \"max_segments\": " + std::to_string(a.max_segments) +
        ",\n \"target_points\": " + std::to_string(a.target_points) +
-       ", \"target_samples\": " + std::to_string(a.target_samples) +
-       ",\n \"visible\": " + num(a.visible) + ", \"samples\": " + num(a.samples) + ", \"mesh\": " + num(a.mesh) +
+       ", \"target_samples\": " + std::to_string(a.target_samples) + ",\n \"visible\": " + num(a.visible) +
+       ", \"samples\": " + num(a.samples) + ", \"mesh\": " + num(a.mesh) +
        ", \"segments\": " + num(a.segments) + ", \"matched\": " + num(a.matched) + "}\n";
   return s;
 }
@@ -182,6 +183,65 @@ Areas parse(const std::string& text, const std::string& name) {
   } catch (const nlohmann::json::exception& e) {
     throw common::DataError(name, std::string("bad canopy.areas document: ") + e.what());
   }
+  return a;
+}
+
+namespace {
+
+std::vector<areas::ScanPoint> scan_targets(const formats::PointCloud& c, const std::string& name) {
+  c.require({"x", "y", "z", "sensor_x", "sensor_y", "sensor_z", "view_idx", "label"}, name,
+            "a labelled rangetrace scan is needed");
+  std::vector<areas::ScanPoint> out;
+  const auto& l = c.col("label");
+  const std::vector<Eigen::Vector3d> xyz = formats::to_vectors(c);
+  const std::vector<Eigen::Vector3d> toward = formats::to_vectors(c, formats::kSensorFields);
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    if (l[i] != formats::kLabelTarget) continue;
+    areas::ScanPoint p;
+    p.p = xyz[i];
+    p.toward = toward[i];
+    p.view = static_cast<int>(c.col("view_idx")[i]);
+    out.push_back(p);
+  }
+  return out;
+}
+
+std::vector<Eigen::Vector3d> target_points(const formats::PointCloud& c, const std::string& name,
+                                           const char* fx, const char* fy, const char* fz) {
+  c.require({fx, fy, fz, "label"}, name, "a labelled cloud is needed");
+  std::vector<Eigen::Vector3d> out;
+  const auto& l = c.col("label");
+  const std::vector<Eigen::Vector3d> v = formats::to_vectors(c, {fx, fy, fz});
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    if (l[i] == formats::kLabelTarget) out.push_back(v[i]);
+  }
+  return out;
+}
+
+}  // namespace
+
+void validate(const Params& p) {
+  if (!(p.spacing > 0) || !(p.cell > 0) || !(p.voxel > 0) || p.max_segments < 1) {
+    throw common::UsageError("need --spacing > 0, --cell > 0, --voxel > 0, --max-segments >= 1");
+  }
+}
+
+Areas run(const Params& params, const Inputs& in) {
+  Areas a;
+  a.spacing = params.spacing;
+  a.cell = params.cell;
+  a.voxel = params.voxel;
+  a.max_segments = params.max_segments;
+  const auto pts = scan_targets(in.scan, in.scan_name);
+  a.target_points = pts.size();
+  a.visible = visible_area(pts, a.spacing, a.cell);
+  const auto normals = target_points(in.samples, in.samples_name, "normal_x", "normal_y", "normal_z");
+  a.target_samples = normals.size();
+  a.samples = samples_area(normals, a.voxel);
+  in.mesh.vertices.require({"x", "y", "z", "label"}, in.mesh_name, "a labelled cocone mesh is needed");
+  a.mesh = mesh_area(in.mesh, formats::kLabelTarget);
+  a.segments = segments_area(in.segments, formats::kLabelTarget, 0);
+  a.matched = segments_area(in.segments, formats::kLabelTarget, a.max_segments);
   return a;
 }
 

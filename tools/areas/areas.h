@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "canopy/formats/json_io.h"
+#include "canopy/formats/segment_graph.h"
 #include "canopy/formats/ply.h"
 #include "canopy/formats/point_cloud.h"
 
@@ -53,6 +53,30 @@ struct Areas {
   int max_segments = 0;
   std::size_t target_points = 0, target_samples = 0;
 };
+
+struct Params {
+  double spacing = 0.03;  // the scan's pixel spacing (m)
+  double cell = 0.045;    // lattice cell of the visible-area estimate (m)
+  double voxel = 0.128;   // fitvox's voxel edge (m)
+  int max_segments = 15;  // gmatch's X
+};
+
+// Throws common::UsageError naming the option of the first parameter out of its range.
+void validate(const Params& params);
+
+// One trial's artifacts, each with its file name for errors.
+struct Inputs {
+  formats::PointCloud scan;  // labelled noise-free scan: x y z sensor_x/y/z view_idx label
+  std::string scan_name;
+  formats::PointCloud samples;  // fitvox samples: normal_x/y/z label
+  std::string samples_name;
+  formats::Mesh mesh;  // cocone mesh: x y z label
+  std::string mesh_name;
+  formats::SegmentGraph segments;
+};
+
+// Every area of the trial (DataError naming the file when a needed field is missing).
+Areas run(const Params& params, const Inputs& inputs);
 
 // Text of areas.json ("format": "canopy.areas", "version": 1).
 std::string serialize(const Areas& a, const std::vector<std::string>& inputs);

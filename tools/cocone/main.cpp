@@ -6,22 +6,25 @@
 #include "canopy/common/log.h"
 #include "canopy/formats/points_io.h"
 #include "canopy/formats/ply.h"
+#include "canopy/formats/provenance.h"
 #include "cocone/cocone.h"
 
 namespace cm = canopy::common;
 namespace cc = canopy::cocone;
 
 int main(int argc, char** argv) {
-  cm::Tool tool("cocone", "Surface reconstruction of a sample PCD (thesis ch. 4): Cocone with "
-                          "Dey-Giesen boundary detection, then the thesis mesh post-processing. "
-                          "Writes a PLY mesh whose vertices are the surviving sample rows.");
+  cm::Tool tool("cocone",
+                "Surface reconstruction of a sample PCD (thesis ch. 4): Cocone with "
+                "Dey-Giesen boundary detection, then the thesis mesh post-processing. "
+                "Writes a PLY mesh whose vertices are the surviving sample rows.");
   tool.without_threads();
   cc::Params p;
   std::string in = "-", out = "-";
   bool raw = false, no_boundary = false, keep_orphans = false;
   tool.add_input(&in, "samples: PCD, PLY point set or LAS (fitvox output; needs x y z)");
   tool.add_output(&out, "mesh PLY");
-  tool.add_angle("--cocone-angle", &p.cocone.cocone_angle, "cocone half-width around the tangent plane (0,90)");
+  tool.add_angle("--cocone-angle", &p.cocone.cocone_angle,
+                 "cocone half-width around the tangent plane (0,90)");
   tool.add_flag("--no-boundary-detection", &no_boundary,
                 "plain Cocone: every sample constrains its triangles (closed, dense surfaces only)");
   tool.add("--flat-ratio", &p.cocone.flat_ratio,
@@ -31,22 +34,15 @@ int main(int argc, char** argv) {
   tool.add_flag("--no-postprocess", &raw, "write the raw Cocone mesh (every sample row, no pruning)");
   tool.add_length("--min-height", &p.post.min_height, "step 1: remove vertices below this z (0 = off)");
   tool.add("--max-area", &p.post.max_area, "step 3: remove facets with area >= this, m^2 (0 = off)");
-  tool.add("--max-aspect", &p.post.max_aspect, "step 4: remove facets with longest/shortest edge > this (0 = off)");
+  tool.add("--max-aspect", &p.post.max_aspect,
+           "step 4: remove facets with longest/shortest edge > this (0 = off)");
   tool.add_flag("--keep-orphans", &keep_orphans, "skip step 5 (keep vertices in no facet)");
 
   return tool.run(argc, argv, [&] {
     p.postprocess = !raw;
     p.cocone.boundary_detection = !no_boundary;
     p.post.remove_orphans = !keep_orphans;
-    const double deg = cc::kPi / 180;
-    if (!(p.cocone.cocone_angle > 0 && p.cocone.cocone_angle < 90 * deg)) throw cm::UsageError("--cocone-angle must be in (0, 90) deg");
-    if (!(p.cocone.flat_ratio > 0)) throw cm::UsageError("--flat-ratio must be > 0");
-    if (!(p.cocone.flat_angle > 0 && p.cocone.flat_angle <= 90 * deg)) throw cm::UsageError("--flat-angle must be in (0, 90] deg");
-    if (!(p.cocone.sharp_angle > 0 && p.cocone.sharp_angle <= 180 * deg)) throw cm::UsageError("--sharp-angle must be in (0, 180] deg");
-    if (!(p.post.min_height >= 0) || !(p.post.max_area >= 0) || !(p.post.max_aspect >= 0)) {
-      throw cm::UsageError("--min-height, --max-area and --max-aspect must be >= 0");
-    }
-    if (p.post.max_aspect > 0 && p.post.max_aspect < 1) throw cm::UsageError("--max-aspect below 1 removes every facet");
+    cc::validate(p);
 
     const canopy::formats::PointCloud samples = canopy::formats::read_points(in, "cocone");
     samples.require({"x", "y", "z"}, cm::display_name(in), "is this a canopy samples PCD?");
@@ -56,22 +52,18 @@ int main(int argc, char** argv) {
       if (!samples.has(f)) missing += std::string(missing.empty() ? "" : " ") + f;
     }
     if (!missing.empty()) {
-      cm::log::warn(cm::display_name(in) + ": no " + missing + " fields: these are not fitvox "
+      cm::log::warn(cm::display_name(in) + ": no " + missing +
+                    " fields: these are not fitvox "
                     "samples (a raw scan? run it through fitvox first: scan -> fitvox -> cocone)");
     }
     canopy::formats::Mesh mesh;
     try {
       mesh = cc::run(samples, p);
-    } catch (const cm::DataError&) {
-      throw;
-    } catch (const cm::Error& e) {
+    } catch (const cm::DataError&) { throw; } catch (const cm::Error& e) {
       throw cm::DataError(cm::display_name(in), e.what());
     }
-    mesh.vertices.comments = {"canopy cocone " CANOPY_VERSION};
-    std::string params;
-    for (const auto& [k, v] : tool.parameters()) params += (params.empty() ? "" : " ") + k + "=" + v;
-    mesh.vertices.comments.push_back("parameters: " + params);
-    mesh.vertices.comments.push_back("input: " + in);
+    mesh.vertices.comments =
+        canopy::formats::provenance_comments({"cocone", CANOPY_VERSION, tool.parameters(), {in}});
     canopy::formats::write_ply(mesh, out);
     cm::log::info("wrote " + std::to_string(mesh.faces.size()) + " triangles on " +
                   std::to_string(mesh.vertices.size()) + " of " + std::to_string(samples.size()) +

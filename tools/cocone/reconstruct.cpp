@@ -125,6 +125,9 @@ class Reconstructor {
   bool umbrella(int v) const;
   void prune();
   void walk();
+  std::vector<Face> oriented_facets() const;
+  std::vector<double> component_scores(const std::vector<Face>& faces, const std::vector<std::uint8_t>& drop,
+                                       const std::vector<int>& comp, int ncomp) const;
   Surface finish();
 
   // --- data ---
@@ -137,19 +140,19 @@ class Reconstructor {
   std::vector<V3> p_;        // unique points
   std::vector<Point> cp_;
   Flat t_;
-  std::vector<V3> cc_;       // circumcentre per finite cell
-  std::vector<V3> hulln_;    // per infinite cell: outward unit normal of its finite facet
-  std::vector<V3> axis_;     // unit pole axis per vertex
+  std::vector<V3> cc_;     // circumcentre per finite cell
+  std::vector<V3> hulln_;  // per infinite cell: outward unit normal of its finite facet
+  std::vector<V3> axis_;   // unit pole axis per vertex
   std::vector<std::uint8_t> axis_ok_, on_hull_;
   std::vector<double> height2_;  // squared negative-pole distance (-1: none)
   std::vector<double> width2_;   // squared co-polygon width (inf: unbounded in the cocone)
   std::vector<Facet> facets_;
-  std::vector<int> fidx_;    // 4c+i -> facet index or -1
+  std::vector<int> fidx_;            // 4c+i -> facet index or -1
   std::vector<std::uint8_t> meets_;  // per facet: bit s set when e_t meets the cocone of v[s]
   std::vector<std::uint8_t> flat_;
   std::vector<std::uint8_t> alive_;  // candidate flag per facet
   // candidate complex
-  std::vector<int> cand_;            // candidate facet ids (ascending)
+  std::vector<int> cand_;  // candidate facet ids (ascending)
   std::vector<std::array<int, 2>> edges_;
   std::vector<int> edge_off_, edge_fac_;   // edge -> incident candidate facets
   std::vector<std::array<int, 3>> fedge_;  // facet -> edge opposite slot s (only candidates)
@@ -189,8 +192,7 @@ void Reconstructor::deduplicate() {
   }
   st_.duplicates = n - p_.size();
   if (p_.size() < 4) {
-    throw common::Error("need at least 4 distinct samples to build a surface, got " +
-                        std::to_string(p_.size()) +
+    throw common::Error("need at least 4 distinct samples to build a surface, got " + std::to_string(p_.size()) +
                         (st_.duplicates ? " (" + std::to_string(st_.duplicates) + " duplicates)" : ""));
   }
 }
@@ -388,8 +390,8 @@ void Reconstructor::flatness() {
   const double rho2 = prm_.flat_ratio * prm_.flat_ratio;
   std::vector<std::uint8_t> ratio_ok(n, 0);
   for (std::size_t v = 0; v < n; ++v) {
-    ratio_ok[v] = axis_ok_[v] && height2_[v] > 0 && std::isfinite(width2_[v]) &&
-                  width2_[v] <= rho2 * height2_[v];
+    ratio_ok[v] =
+        axis_ok_[v] && height2_[v] > 0 && std::isfinite(width2_[v]) && width2_[v] <= rho2 * height2_[v];
   }
   // Cocone-neighbour pairs (p, q): q shares a Delaunay triangle with p whose dual edge meets
   // the cocone of p.
@@ -437,9 +439,8 @@ void Reconstructor::flatness() {
   }
   st_.flat_seeds = seeds;
   st_.flat = queue.size();
-  phase.done(std::to_string(st_.flat) + " of " + std::to_string(n) + " samples flat (" +
-             std::to_string(seeds) + " before propagation), " + std::to_string(n - st_.flat) +
-             " boundary/undersampled");
+  phase.done(std::to_string(st_.flat) + " of " + std::to_string(n) + " samples flat (" + std::to_string(seeds) +
+             " before propagation), " + std::to_string(n - st_.flat) + " boundary/undersampled");
 }
 
 void Reconstructor::candidates() {
@@ -711,83 +712,88 @@ void Reconstructor::walk() {
     }
   }
   st_.components = static_cast<std::size_t>(components_);
-  phase.done(std::to_string(order_.size()) + " triangles in " + std::to_string(components_) +
-             " components");
+  phase.done(std::to_string(order_.size()) + " triangles in " + std::to_string(components_) + " components");
 }
 
-Surface Reconstructor::finish() {
-  common::log::Phase phase("orient");
-  // Orient each accepted facet so that its normal points into its front cell.
-  std::vector<Face> faces;
-  faces.reserve(order_.size());
-  for (int f : order_) {
-    const int cell = front_[f];
-    int j = 3;
-    for (int i = 0; i < 3; ++i)
-      if (fidx_[4 * cell + i] == f) j = i;
-    Face tri{t_.cv[4 * cell + (j + 1) % 4], t_.cv[4 * cell + (j + 2) % 4], t_.cv[4 * cell + (j + 3) % 4]};
-    int o = t_.cv[4 * cell + j];
-    CGAL::Orientation want = CGAL::POSITIVE;
-    if (o < 0) {
-      const int nb = t_.nbr[4 * cell + j];
-      o = t_.cv[4 * nb + t_.nbri[4 * cell + j]];
-      want = CGAL::NEGATIVE;
-    }
-    if (CGAL::orientation(cp_[tri[0]], cp_[tri[1]], cp_[tri[2]], cp_[o]) != want) std::swap(tri[1], tri[2]);
-    faces.push_back(tri);
-  }
-  const std::size_t nf = faces.size();
-  std::vector<std::uint8_t> drop(nf, 0);
-  // Undirected edge table (a < b, face), sorted once; groups = edges.
+namespace {
+
+// Undirected edges of a triangle list: (a, b, face) with a < b, sorted; group[g]..group[g+1]
+// are the rows of edge g.
+struct EdgeTable {
   std::vector<std::array<int, 3>> es;
-  es.reserve(3 * nf);
-  for (std::size_t t = 0; t < nf; ++t) {
+  std::vector<std::size_t> group;
+};
+
+EdgeTable edge_table(const std::vector<Face>& faces) {
+  EdgeTable e;
+  e.es.reserve(3 * faces.size());
+  for (std::size_t t = 0; t < faces.size(); ++t) {
     for (int s = 0; s < 3; ++s) {
       int a = faces[t][s], b = faces[t][(s + 1) % 3];
       if (a > b) std::swap(a, b);
-      es.push_back({a, b, static_cast<int>(t)});
+      e.es.push_back({a, b, static_cast<int>(t)});
     }
   }
-  std::sort(es.begin(), es.end());
-  std::vector<std::size_t> group(1, 0);
-  for (std::size_t k = 1; k <= es.size(); ++k) {
-    if (k == es.size() || es[k][0] != es[k - 1][0] || es[k][1] != es[k - 1][1]) group.push_back(k);
+  std::sort(e.es.begin(), e.es.end());
+  e.group.assign(1, 0);
+  for (std::size_t k = 1; k <= e.es.size(); ++k) {
+    if (k == e.es.size() || e.es[k][0] != e.es[k - 1][0] || e.es[k][1] != e.es[k - 1][1])
+      e.group.push_back(k);
   }
-  // Keep every edge at <= 2 triangles (the first accepted win).
+  return e;
+}
+
+// Keeps every edge at <= 2 triangles (the first accepted win); returns how many were dropped.
+std::size_t drop_nonmanifold(const EdgeTable& e, std::vector<std::uint8_t>& drop) {
   std::size_t nonmanifold = 0;
-  for (std::size_t g = 0; g + 1 < group.size(); ++g) {
-    for (std::size_t q = group[g]; q < group[g + 1]; ++q) {
-      if (q < group[g] + 2) continue;
-      const int t = es[q][2];
+  for (std::size_t g = 0; g + 1 < e.group.size(); ++g) {
+    for (std::size_t q = e.group[g]; q < e.group[g + 1]; ++q) {
+      if (q < e.group[g] + 2) continue;
+      const int t = e.es[q][2];
       if (!drop[t]) ++nonmanifold;
       drop[t] = 1;
     }
   }
-  // Consistent orientation by breadth-first propagation across 2-triangle edges. The walk
-  // orients almost everything already; where it met a triangle from its back side (noisy,
-  // non-manifold candidate sets) the triangle is flipped here, and a triangle that cannot be
-  // made consistent (non-orientable pocket) is dropped.
-  std::vector<std::array<int, 3>> adj(nf, {-1, -1, -1});  // neighbour across edge (s, s+1)
-  for (std::size_t g = 0; g + 1 < group.size(); ++g) {
+  return nonmanifold;
+}
+
+// Neighbour of each live triangle across its edge (s, s+1) when that edge has exactly two
+// live triangles; -1 otherwise.
+std::vector<std::array<int, 3>> edge_neighbours(const std::vector<Face>& faces, const EdgeTable& e,
+                                                const std::vector<std::uint8_t>& drop) {
+  std::vector<std::array<int, 3>> adj(faces.size(), {-1, -1, -1});
+  for (std::size_t g = 0; g + 1 < e.group.size(); ++g) {
     int live[2], m = 0;
-    for (std::size_t q = group[g]; q < group[g + 1]; ++q)
-      if (!drop[es[q][2]] && m < 2) live[m++] = es[q][2];
+    for (std::size_t q = e.group[g]; q < e.group[g + 1]; ++q)
+      if (!drop[e.es[q][2]] && m < 2) live[m++] = e.es[q][2];
     if (m != 2) continue;
     const int t1 = live[0], t2 = live[1];
+    const int lo = e.es[e.group[g]][0], hi = e.es[e.group[g]][1];
     for (int s = 0; s < 3; ++s) {
       const int a = faces[t1][s], b = faces[t1][(s + 1) % 3];
-      if (std::min(a, b) == es[group[g]][0] && std::max(a, b) == es[group[g]][1]) adj[t1][s] = t2;
+      if (std::min(a, b) == lo && std::max(a, b) == hi) adj[t1][s] = t2;
       const int c = faces[t2][s], d = faces[t2][(s + 1) % 3];
-      if (std::min(c, d) == es[group[g]][0] && std::max(c, d) == es[group[g]][1]) adj[t2][s] = t1;
+      if (std::min(c, d) == lo && std::max(c, d) == hi) adj[t2][s] = t1;
     }
   }
+  return adj;
+}
+
+// Consistent orientation by breadth-first propagation across 2-triangle edges. The walk
+// orients almost everything already; where it met a triangle from its back side (noisy,
+// non-manifold candidate sets) the triangle is flipped here, and a triangle that cannot be
+// made consistent (non-orientable pocket) is dropped. Fills comp (component per triangle);
+// returns the number of components.
+int propagate_orientation(std::vector<Face>& faces, std::vector<std::array<int, 3>>& adj,
+                          std::vector<std::uint8_t>& drop, std::vector<int>& comp, std::size_t* flipped_faces,
+                          std::size_t* conflicts) {
+  const std::size_t nf = faces.size();
   auto has_directed = [&](int t, int a, int b) {
     for (int s = 0; s < 3; ++s)
       if (faces[t][s] == a && faces[t][(s + 1) % 3] == b) return true;
     return false;
   };
-  std::vector<int> comp(nf, -1);
-  std::size_t flipped_faces = 0, conflicts = 0;
+  comp.assign(nf, -1);
   int ncomp = 0;
   std::vector<int> queue;
   for (std::size_t t0 = 0; t0 < nf; ++t0) {
@@ -806,19 +812,63 @@ Surface Reconstructor::finish() {
           if (!consistent) {
             std::swap(faces[h][1], faces[h][2]);
             std::swap(adj[h][0], adj[h][2]);  // edge slots follow the vertex order
-            ++flipped_faces;
+            ++*flipped_faces;
           }
           comp[h] = ncomp;
           queue.push_back(h);
         } else if (!consistent) {
           drop[h] = 1;  // h was oriented earlier from another side: non-orientable here
-          ++conflicts;
+          ++*conflicts;
         }
       }
     }
     ++ncomp;
   }
-  // Per-component orientation: agree with the reference normals, or face outward.
+  return ncomp;
+}
+
+// Edges with exactly one live triangle.
+std::size_t boundary_edges(const EdgeTable& e, const std::vector<std::uint8_t>& drop) {
+  std::size_t boundary = 0;
+  for (std::size_t g = 0; g + 1 < e.group.size(); ++g) {
+    int live = 0;
+    for (std::size_t q = e.group[g]; q < e.group[g + 1]; ++q) live += !drop[e.es[q][2]];
+    boundary += live == 1;
+  }
+  return boundary;
+}
+
+}  // namespace
+
+// Each accepted facet, oriented so that its normal points into its front cell.
+std::vector<Face> Reconstructor::oriented_facets() const {
+  std::vector<Face> faces;
+  faces.reserve(order_.size());
+  for (int f : order_) {
+    const int cell = front_[f];
+    int j = 3;
+    for (int i = 0; i < 3; ++i)
+      if (fidx_[4 * cell + i] == f) j = i;
+    Face tri{t_.cv[4 * cell + (j + 1) % 4], t_.cv[4 * cell + (j + 2) % 4], t_.cv[4 * cell + (j + 3) % 4]};
+    int o = t_.cv[4 * cell + j];
+    CGAL::Orientation want = CGAL::POSITIVE;
+    if (o < 0) {
+      const int nb = t_.nbr[4 * cell + j];
+      o = t_.cv[4 * nb + t_.nbri[4 * cell + j]];
+      want = CGAL::NEGATIVE;
+    }
+    if (CGAL::orientation(cp_[tri[0]], cp_[tri[1]], cp_[tri[2]], cp_[o]) != want) std::swap(tri[1], tri[2]);
+    faces.push_back(tri);
+  }
+  return faces;
+}
+
+// Per-component orientation score: agreement with the reference normals, or (without them)
+// the signed volume about the component's centroid; < 0 = the component faces the wrong way.
+std::vector<double> Reconstructor::component_scores(const std::vector<Face>& faces,
+                                                    const std::vector<std::uint8_t>& drop,
+                                                    const std::vector<int>& comp, int ncomp) const {
+  const std::size_t nf = faces.size();
   std::vector<double> score(ncomp, 0.0);
   std::vector<V3> centroid(ncomp, V3::Zero());
   std::vector<double> count(ncomp, 0.0);
@@ -845,6 +895,21 @@ Surface Reconstructor::finish() {
       score[comp[t]] += (a - o).dot((b - o).cross(c - o));
     }
   }
+  return score;
+}
+
+Surface Reconstructor::finish() {
+  common::log::Phase phase("orient");
+  std::vector<Face> faces = oriented_facets();
+  const std::size_t nf = faces.size();
+  std::vector<std::uint8_t> drop(nf, 0);
+  const EdgeTable edges = edge_table(faces);
+  const std::size_t nonmanifold = drop_nonmanifold(edges, drop);
+  std::vector<std::array<int, 3>> adj = edge_neighbours(faces, edges, drop);
+  std::vector<int> comp;
+  std::size_t flipped_faces = 0, conflicts = 0;
+  const int ncomp = propagate_orientation(faces, adj, drop, comp, &flipped_faces, &conflicts);
+  const std::vector<double> score = component_scores(faces, drop, comp, ncomp);
   Surface out;
   out.stats = st_;
   out.stats.components = static_cast<std::size_t>(ncomp);
@@ -856,17 +921,11 @@ Surface Reconstructor::finish() {
     out.faces.push_back(f);
   }
   out.stats.nonmanifold_dropped = nonmanifold + conflicts;
-  std::size_t boundary = 0;
-  for (std::size_t g = 0; g + 1 < group.size(); ++g) {
-    int live = 0;
-    for (std::size_t q = group[g]; q < group[g + 1]; ++q) live += !drop[es[q][2]];
-    boundary += live == 1;
-  }
-  out.stats.boundary_edges = boundary;
+  out.stats.boundary_edges = boundary_edges(edges, drop);
   out.stats.faces = out.faces.size();
-  phase.done(std::to_string(out.faces.size()) + " triangles in " + std::to_string(ncomp) +
-             " components, " + std::to_string(flipped_faces) + " flipped to agree with their " +
-             "neighbours, " + std::to_string(nonmanifold) + " dropped at edges with > 2 triangles, " +
+  phase.done(std::to_string(out.faces.size()) + " triangles in " + std::to_string(ncomp) + " components, " +
+             std::to_string(flipped_faces) + " flipped to agree with their " + "neighbours, " +
+             std::to_string(nonmanifold) + " dropped at edges with > 2 triangles, " +
              std::to_string(conflicts) + " dropped as orientation conflicts");
   return out;
 }
@@ -890,8 +949,8 @@ Surface Reconstructor::run() {
 
 }  // namespace
 
-Surface reconstruct(const std::vector<Eigen::Vector3d>& points,
-                    const std::vector<Eigen::Vector3d>& normals, const CoconeParams& params) {
+Surface reconstruct(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& normals,
+                    const CoconeParams& params) {
   if (!normals.empty() && normals.size() != points.size()) {
     throw common::Error("internal: " + std::to_string(normals.size()) + " normals for " +
                         std::to_string(points.size()) + " points");

@@ -3,11 +3,11 @@
 // The points are partitioned into cubic voxels of edge h = `voxel` on a fixed grid whose voxel
 // centres are the points (i h, j h, k h): voxel (i, j, k) = [(i-1/2) h, (i+1/2) h) x ... ,
 // i = floor(x / h + 1/2). Every point belongs to exactly one neighbourhood, the result does not
-// depend on the cloud's bounding box, and the ground plane z = 0 lies mid-layer. Per voxel: PCA frame (u, v, w = largest, middle, smallest eigenvector, right-handed),
-// least-squares biquadratic w = a0 u² + a1 uv + a2 v² + a3 u + a4 v + a5 in coordinates about
-// the sample point p (the input point nearest the voxel centre), RMS residual along w.
-// A voxel is kept when it has at least `min_points` points, its points determine the fit and
-// its RMS is within the bound (see Params). Samples come out sorted by voxel (i, j, k).
+// depend on the cloud's bounding box, and the ground plane z = 0 lies mid-layer. Per voxel: PCA frame (u, v,
+// w = largest, middle, smallest eigenvector, right-handed), least-squares biquadratic w = a0 u² + a1 uv + a2
+// v² + a3 u + a4 v + a5 in coordinates about the sample point p (the input point nearest the voxel centre),
+// RMS residual along w. A voxel is kept when it has at least `min_points` points, its points determine the
+// fit and its RMS is within the bound (see Params). Samples come out sorted by voxel (i, j, k).
 #pragma once
 
 #include <Eigen/Core>
@@ -52,6 +52,11 @@ struct Params {
   int threads = 1;  // worker threads for the per-voxel fits (output identical for any count)
 };
 
+// Throws common::UsageError naming the option (--voxel, ...) of the first parameter out of
+// its range: voxel [1 mm, 100 m], min_points >= 6, max_rms [0, 100 m], noise < 0 (auto) or
+// [0, 100 m], noise_margin [0, 1e6], support != 0, merge >= 0, threads >= 1.
+void validate(const Params& params);
+
 // Input: a scan. `sensor` (unit vectors from each point toward the sensor that saw it) and
 // `labels` are optional (empty) or have one entry per point.
 struct Scan {
@@ -66,16 +71,16 @@ enum class Verdict { kKept, kTooFew, kDegenerate, kTooRough, kMerged };
 // The fit of one neighbourhood about its sample point p.
 struct Fit {
   Verdict verdict = Verdict::kDegenerate;  // kKept here only means "fitted"
-  bool plane_fallback = false;  // biquadratic undetermined (rank < 6): plane fit, a0=a1=a2=0
+  bool plane_fallback = false;             // biquadratic undetermined (rank < 6): plane fit, a0=a1=a2=0
   Eigen::Vector3d p = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // of the biquadratic at p, toward sensor
   Eigen::Vector3d u = Eigen::Vector3d::UnitX(), v = Eigen::Vector3d::UnitY(),
                   w = Eigen::Vector3d::UnitZ();  // right-handed; w flipped with the normal
-  std::array<double, 6> a{};  // coefficients in (u, v, w) about p (1/m, -, 1/m, -, -, m)
-  double rms = 0;             // m
-  double variation = 0;       // lambda_min / (sum of eigenvalues)
-  double mean_curvature = 0;  // 1/m, > 0 when the surface bends toward the normal
-  double gauss_curvature = 0; // 1/m²
+  std::array<double, 6> a{};                     // coefficients in (u, v, w) about p (1/m, -, 1/m, -, -, m)
+  double rms = 0;                                // m
+  double variation = 0;                          // lambda_min / (sum of eigenvalues)
+  double mean_curvature = 0;                     // 1/m, > 0 when the surface bends toward the normal
+  double gauss_curvature = 0;                    // 1/m²
 };
 
 // Fits the points (world frame, m) about points[p_index]; the normal and frame are oriented
@@ -92,7 +97,7 @@ struct Sample {
   std::array<std::int32_t, 3> voxel{};  // grid index (i, j, k)
   std::size_t source_index = 0;         // row of p in the input scan
   std::uint32_t point_count = 0;
-  std::uint32_t label = 0;              // majority label (ties: smallest label value)
+  std::uint32_t label = 0;  // majority label (ties: smallest label value)
   double label_purity = 1.0;
   Eigen::Vector3d sensor = Eigen::Vector3d::UnitZ();  // of p (or +z)
 };
@@ -100,10 +105,10 @@ struct Sample {
 struct Stats {
   std::size_t points = 0, voxels = 0;
   std::size_t too_few = 0, degenerate = 0, too_rough = 0, kept = 0, plane_fallback = 0;
-  std::size_t merged = 0;    // kept voxels whose resampled point merged into another sample
-  double sigma = 0;          // noise level used to widen the bound (estimated or given), m
-  double sigma_estimated = 0;// the scan's own estimate (m), computed even when not used
-  double support = 0;        // resampling support radius used (m); 0 = no resampling
+  std::size_t merged = 0;              // kept voxels whose resampled point merged into another sample
+  double sigma = 0;                    // noise level used to widen the bound (estimated or given), m
+  double sigma_estimated = 0;          // the scan's own estimate (m), computed even when not used
+  double support = 0;                  // resampling support radius used (m); 0 = no resampling
   double rms_bound_at_max_points = 0;  // RMS bound for the most populated voxel (m)
   double rms_bound_at_min_points = 0;  // RMS bound for a voxel of min_points points (m)
 };
@@ -115,9 +120,9 @@ struct Result {
   Stats stats;
 };
 
-// Throws common::Error on invalid parameters, non-finite coordinates, mismatched optional
-// columns, or a voxel index that does not fit (coordinate / voxel beyond ±2^31, or a grid
-// extent of more than 2^63 voxels): never silently wrong.
+// Throws common::UsageError on invalid parameters (validate()), common::Error on non-finite
+// coordinates, mismatched optional columns, or a voxel index that does not fit (coordinate / voxel beyond
+// ±2^31, or a grid extent of more than 2^63 voxels): never silently wrong.
 Result run(const Scan& scan, const Params& params, bool keep_all = false);
 
 // RMS bound for a voxel of k points at noise level sigma (see Params).

@@ -1,4 +1,5 @@
 // fitvox: scan PCD -> samples PCD (one PCA frame + biquadratic fit per accepted voxel).
+#include <cstdio>
 #include <string>
 
 #include "canopy/common/cli.h"
@@ -6,13 +7,31 @@
 #include "canopy/common/log.h"
 #include "canopy/common/units.h"
 #include "canopy/formats/points_io.h"
+#include "canopy/formats/provenance.h"
 #include "fitvox/fitvox.h"
 
 using namespace canopy;
 
+namespace {
+
+// The fit phase's INFO line: voxel verdicts, noise level and bounds.
+std::string summary(const fitvox::Params& p, const fitvox::Stats& s) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "sigma %s %.2f mm, RMS bound %.2f-%.2f mm, resampling support %.1f mm",
+                p.noise < 0 ? "estimated" : "given", s.sigma * 1e3, s.rms_bound_at_max_points * 1e3,
+                s.rms_bound_at_min_points * 1e3, s.support * 1e3);
+  return "kept " + std::to_string(s.kept) + " of " + std::to_string(s.voxels) + " voxels (too few points " +
+         std::to_string(s.too_few) + ", undetermined " + std::to_string(s.degenerate) + ", too rough " +
+         std::to_string(s.too_rough) + ", plane fallback " + std::to_string(s.plane_fallback) + ", merged " +
+         std::to_string(s.merged) + "); " + buf;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
-  common::Tool tool("fitvox", "Local surface fits: PCA frame + least-squares biquadratic in "
-                              "cubic voxels (thesis ch. 3); one sample point per kept voxel.");
+  common::Tool tool("fitvox",
+                    "Local surface fits: PCA frame + least-squares biquadratic in "
+                    "cubic voxels (thesis ch. 3); one sample point per kept voxel.");
   fitvox::Params p;
   std::string in = "-", out = "-", noise = "auto", support = "auto";
   tool.add_input(&in, "scan: PCD, PLY point set or LAS (x y z [sensor_x sensor_y sensor_z] [label])");
@@ -21,19 +40,23 @@ int main(int argc, char** argv) {
                   1.0);
   tool.add("--min-points", &p.min_points, "reject voxels with fewer points (>= 6)");
   std::string pcd_encoding = "binary";
-  tool.add("--pcd-encoding", &pcd_encoding, "DATA of a PCD output: binary, binary_compressed (PCL tools' default) or ascii");
+  tool.add("--pcd-encoding", &pcd_encoding,
+           "DATA of a PCD output: binary, binary_compressed (PCL tools' default) or ascii");
   tool.add_length("--max-rms", &p.max_rms, "RMS fit-error bound for noiseless data");
-  tool.add("--noise", &noise, "noise sigma that widens the RMS bound: 'auto' = estimate from "
-                              "the scan's fits, a length = known sigma, 0 = fixed --max-rms");
+  tool.add("--noise", &noise,
+           "noise sigma that widens the RMS bound: 'auto' = estimate from "
+           "the scan's fits, a length = known sigma, 0 = fixed --max-rms");
   tool.add("--noise-margin", &p.noise_margin,
            "standard deviations of the RMS sampling spread allowed above the noise (>= 0)");
   tool.add("--resample", &p.resample,
            "project each sample onto a surface fitted to the scan within --support and merge "
            "near-duplicates (false = the thesis: the raw input point nearest the voxel centre, voxel fit)");
-  tool.add("--from-centroid", &p.from_centroid, "resampling starts from the voxel's point centroid (false: "
-                                                "from its point nearest the voxel centre)");
-  tool.add("--support", &support, "resampling fit radius in voxel edges (> 0), or 'auto' = 6 x the noise "
-                                  "sigma, clamped to 0.5-1 voxel edges");
+  tool.add("--from-centroid", &p.from_centroid,
+           "resampling starts from the voxel's point centroid (false: "
+           "from its point nearest the voxel centre)");
+  tool.add("--support", &support,
+           "resampling fit radius in voxel edges (> 0), or 'auto' = 6 x the noise "
+           "sigma, clamped to 0.5-1 voxel edges");
   tool.add("--merge", &p.merge, "resampled samples closer than this many voxel edges merge (>= 0; 0 = off)");
   return tool.run(argc, argv, [&] {
     formats::output_format(out);
@@ -47,52 +70,33 @@ int main(int argc, char** argv) {
         throw common::UsageError("--support: '" + support + "' is neither 'auto' nor a number");
       }
     }
-    if (!(p.support > 0 || support == "auto") || !(p.merge >= 0)) {
-      throw common::UsageError("need --support auto or > 0, --merge >= 0");
+    if (support != "auto" && !(p.support > 0)) throw common::UsageError("need --support auto or > 0");
+    if (noise != "auto") {
+      p.noise = common::parse_length(noise);
+      if (!(p.noise >= 0)) throw common::UsageError("--noise must be 'auto' or in [0, 100m]");
     }
-    if (noise != "auto") p.noise = common::parse_length(noise);
-    auto need = [](bool ok, const std::string& rule) {
-      if (!ok) throw common::UsageError(rule);
-    };
-    need(p.voxel >= 1e-3 && p.voxel <= 100, "--voxel must be in [1mm, 100m]");
-    need(p.min_points >= 6, "--min-points must be >= 6");
-    need(p.max_rms >= 0 && p.max_rms <= 100, "--max-rms must be in [0, 100m]");
-    need(noise == "auto" || (p.noise >= 0 && p.noise <= 100), "--noise must be 'auto' or in [0, 100m]");
-    need(p.noise_margin >= 0 && p.noise_margin <= 1e6, "--noise-margin must be in [0, 1e6]");
     p.threads = tool.threads();
+    fitvox::validate(p);
     common::log::Phase read("read");
     const formats::PointCloud cloud = formats::read_points(in, "fitvox");
     bool has_sensor = false;
     const fitvox::Scan scan = fitvox::scan_from_cloud(cloud, common::display_name(in), &has_sensor);
     read.done(std::to_string(scan.points.size()) + " points");
     if (!has_sensor) {
-      common::log::warn(common::display_name(in) +
-                        ": no sensor_x/y/z fields: normals oriented toward +z");
+      common::log::warn(common::display_name(in) + ": no sensor_x/y/z fields: normals oriented toward +z");
     }
     common::log::Phase fit("fit");
     const fitvox::Result r = fitvox::run(scan, p);
     const fitvox::Stats& s = r.stats;
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "sigma %s %.2f mm, RMS bound %.2f-%.2f mm, resampling support %.1f mm",
-                  p.noise < 0 ? "estimated" : "given", s.sigma * 1e3, s.rms_bound_at_max_points * 1e3,
-                  s.rms_bound_at_min_points * 1e3, s.support * 1e3);
-    fit.done("kept " + std::to_string(s.kept) + " of " + std::to_string(s.voxels) +
-             " voxels (too few points " + std::to_string(s.too_few) + ", undetermined " +
-             std::to_string(s.degenerate) + ", too rough " + std::to_string(s.too_rough) +
-             ", plane fallback " + std::to_string(s.plane_fallback) + ", merged " +
-             std::to_string(s.merged) + "); " + buf);
+    fit.done(summary(p, s));
     if (r.samples.empty()) {
       throw common::DataError(common::display_name(in),
                               "no voxel passed the tests (check --voxel, --min-points, --max-rms)");
     }
     formats::PointCloud samples = fitvox::samples_to_cloud(r);
-    samples.comments.push_back("fitvox (canopy) " CANOPY_VERSION);
-    for (const auto& [name, value] : tool.parameters()) {
-      samples.comments.push_back("parameter " + name + " = " + value);
-    }
-    samples.comments.push_back("input " + in);
-    std::snprintf(buf, sizeof buf, "noise_sigma_used %.6g m (estimated %.6g m)", s.sigma,
-                  s.sigma_estimated);
+    samples.comments = formats::provenance_comments({"fitvox", CANOPY_VERSION, tool.parameters(), {in}});
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "noise_sigma_used %.6g m (estimated %.6g m)", s.sigma, s.sigma_estimated);
     samples.comments.push_back(buf);
     formats::write_points(samples, out, pcd);
     common::log::info("wrote " + std::to_string(r.samples.size()) + " samples to " +

@@ -5,31 +5,26 @@
 #include <stdexcept>
 #include <utility>
 
+#include "canopy/common/rng.h"
+
 namespace canopy::ncut {
 namespace {
 
 // The printed Eq. 5.11 is evaluated in millimetres (see Exponent::kLinear).
 constexpr double kThesisUnitsPerMetre = 1000.0;
 
-std::uint64_t mix64(std::uint64_t z) {
-  z += 0x9E3779B97F4A7C15ULL;
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-  return z ^ (z >> 31);
-}
-
 // Uniform [0, 1) from (seed, i, j), i < j: the same pair gets the same draw whatever the
 // traversal order or thread count.
 double pair_uniform(std::uint64_t seed, int i, int j) {
-  const std::uint64_t key = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(i)) << 32) |
-                            static_cast<std::uint32_t>(j);
-  return static_cast<double>(mix64(mix64(seed) ^ key) >> 11) * 0x1.0p-53;
+  const std::uint64_t key =
+      (static_cast<std::uint64_t>(static_cast<std::uint32_t>(i)) << 32) | static_cast<std::uint32_t>(j);
+  return static_cast<double>(common::mix64(common::mix64(seed) ^ key) >> 11) * 0x1.0p-53;
 }
 
 }  // namespace
 
-double anisotropic_distance(const Eigen::Vector3d& pi, const Eigen::Vector3d& ni,
-                            const Eigen::Vector3d& pj, double anisotropy) {
+double anisotropic_distance(const Eigen::Vector3d& pi, const Eigen::Vector3d& ni, const Eigen::Vector3d& pj,
+                            double anisotropy) {
   const Eigen::Vector3d v = pi - pj;
   const double a = v.dot(ni);
   const double t2 = std::max(0.0, (v - a * ni).squaredNorm());
@@ -66,10 +61,8 @@ std::string ThesisAffinity::name() const {
   return prm_.exponent == Exponent::kSquared ? "thesis-5.11-squared" : "thesis-5.11-linear";
 }
 
-Graph build_affinity_graph(const SurfacePoints& points,
-                           const std::vector<std::array<int, 2>>& mesh_edges,
-                           const Affinity& affinity, const SparsifyParams& prm,
-                           GraphStats* stats) {
+Graph build_affinity_graph(const SurfacePoints& points, const std::vector<std::array<int, 2>>& mesh_edges,
+                           const Affinity& affinity, const SparsifyParams& prm, GraphStats* stats) {
   const int n = static_cast<int>(points.p.size());
   GraphStats st;
   st.mesh_edges = mesh_edges.size();
@@ -81,12 +74,10 @@ Graph build_affinity_graph(const SurfacePoints& points,
     adj[e[1]].push_back(e[0]);
   }
   for (auto& row : adj) std::sort(row.begin(), row.end());
-  auto is_mesh_edge = [&](int i, int j) {
-    return std::binary_search(adj[i].begin(), adj[i].end(), j);
-  };
+  auto is_mesh_edge = [&](int i, int j) { return std::binary_search(adj[i].begin(), adj[i].end(), j); };
 
   // Uniform grid of cell = radius; vertices sorted by cell key for range lookups.
-  const double cell = prm.radius;
+  const double cell = affinity.radius();
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(0);
   if (n > 0) {
     lo = points.p[0];
@@ -98,16 +89,12 @@ Graph build_affinity_graph(const SurfacePoints& points,
     std::array<std::int64_t, 3> c{};
     for (int k = 0; k < 3; ++k) {
       const double f = std::floor((p[k] - lo[k]) / cell) + 1;
-      if (!(f < kSpan - 2)) {
-        throw std::runtime_error("point set extent exceeds 2^20 affinity radii");
-      }
+      if (!(f < kSpan - 2)) { throw std::runtime_error("point set extent exceeds 2^20 affinity radii"); }
       c[k] = static_cast<std::int64_t>(f);
     }
     return c;
   };
-  auto key_of = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
-    return (x * kSpan + y) * kSpan + z;
-  };
+  auto key_of = [&](std::int64_t x, std::int64_t y, std::int64_t z) { return (x * kSpan + y) * kSpan + z; };
   std::vector<std::pair<std::int64_t, int>> order(n);
   for (int i = 0; i < n; ++i) {
     const auto c = cell_of(points.p[i]);
@@ -115,7 +102,7 @@ Graph build_affinity_graph(const SurfacePoints& points,
   }
   std::sort(order.begin(), order.end());
 
-  const double r2 = prm.radius * prm.radius;
+  const double r2 = affinity.radius() * affinity.radius();
   const double dense2 = prm.dense_radius * prm.dense_radius;
   std::vector<Edge> edges;
   for (int i = 0; i < n; ++i) {

@@ -27,6 +27,8 @@ class Affinity {
   virtual ~Affinity() = default;
   virtual double operator()(int i, int j) const = 0;
   virtual std::string name() const = 0;
+  // No affinity between points farther apart than this (m): the graph's cut-off.
+  virtual double radius() const = 0;
 };
 
 // How the printed exponents treat their distances.
@@ -45,8 +47,8 @@ struct ThesisAffinityParams {
 
 // Eq. 5.8 one-sided anisotropic distance from p_i (with normal n_i) to p_j:
 // sqrt(E (v.n_i)^2 + |v - (v.n_i) n_i|^2 / E), v = p_i - p_j.
-double anisotropic_distance(const Eigen::Vector3d& pi, const Eigen::Vector3d& ni,
-                            const Eigen::Vector3d& pj, double anisotropy);
+double anisotropic_distance(const Eigen::Vector3d& pi, const Eigen::Vector3d& ni, const Eigen::Vector3d& pj,
+                            double anisotropy);
 
 // Eq. 5.11 / 5.12: A_ij = min(a_ij, a_ji). Keeps a reference to `points`.
 class ThesisAffinity : public Affinity {
@@ -56,6 +58,7 @@ class ThesisAffinity : public Affinity {
   // The one-sided a_ij of Eq. 5.11.
   double one_sided(int i, int j) const;
   std::string name() const override;
+  double radius() const override { return prm_.radius; }
 
  private:
   double exponent_of(double theta, double d) const;
@@ -65,16 +68,15 @@ class ThesisAffinity : public Affinity {
 
 // Sparsification of thesis 5.3.
 struct SparsifyParams {
-  double radius = 0.512;         // no affinity between points farther apart (m)
-  double dense_radius = 0.175;   // beyond this distance only a random share is kept (m)
-  double keep_fraction = 0.25;   // that share
-  double min_affinity = 0.1;     // affinities below are dropped
-  bool keep_mesh_edges = true;   // mesh neighbours are kept whatever their distance/affinity
+  double dense_radius = 0.175;  // beyond this distance only a random share is kept (m)
+  double keep_fraction = 0.25;  // that share
+  double min_affinity = 0.1;    // affinities below are dropped
+  bool keep_mesh_edges = true;  // mesh neighbours are kept whatever their distance/affinity
   // Forced mesh-neighbour affinities are raised to at least this, so the graph is numerically
   // connected: weights of 1e-30 across a crease make lambda_2 of L_sym smaller than any usable
   // shift and the eigensolvers stall (docs/decisions/ncut.md). 0 = keep them as computed.
   double mesh_edge_floor = 1e-3;
-  std::uint64_t seed = 1;        // the random share is a function of (seed, i, j) only
+  std::uint64_t seed = 1;  // the random share is a function of (seed, i, j) only
 };
 
 struct GraphStats {
@@ -86,11 +88,9 @@ struct GraphStats {
   std::size_t edges = 0;              // edges of the final graph (w > 0)
 };
 
-// Builds the sparse affinity graph over all points. `mesh_edges` are the undirected edges
-// of the mesh (a < b, unique).
-Graph build_affinity_graph(const SurfacePoints& points,
-                           const std::vector<std::array<int, 2>>& mesh_edges,
-                           const Affinity& affinity, const SparsifyParams& params,
-                           GraphStats* stats = nullptr);
+// Builds the sparse affinity graph over all points: pairs within affinity.radius(). `mesh_edges` are the
+// undirected edges of the mesh (a < b, unique).
+Graph build_affinity_graph(const SurfacePoints& points, const std::vector<std::array<int, 2>>& mesh_edges,
+                           const Affinity& affinity, const SparsifyParams& params, GraphStats* stats = nullptr);
 
 }  // namespace canopy::ncut

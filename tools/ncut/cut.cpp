@@ -187,8 +187,8 @@ EigenResult second_eigenvector(const Graph& g, const CutParams& p, CutStats* sta
   std::vector<Attempt> attempts{{first, p.ncv, p.max_restarts}};
   if (first != Solver::kDense && p.fallback) {
     if (first == Solver::kLanczos) attempts.push_back({Solver::kLanczos, 2 * p.ncv, 5 * p.max_restarts});
-    attempts.push_back({first == Solver::kLanczos ? Solver::kShiftInvert : Solver::kLanczos, 2 * p.ncv,
-                        5 * p.max_restarts});
+    attempts.push_back(
+        {first == Solver::kLanczos ? Solver::kShiftInvert : Solver::kLanczos, 2 * p.ncv, 5 * p.max_restarts});
     if (n <= kDenseFallbackMax) attempts.push_back({Solver::kDense, 0, 0});
   }
 
@@ -214,21 +214,19 @@ EigenResult second_eigenvector(const Graph& g, const CutParams& p, CutStats* sta
       if (k > 0) {
         if (stats) ++stats->fallbacks;
         common::log::warn("ncut eigensolve on " + std::to_string(n) + " vertices: " + failures +
-                          "; fell back to " + r.method + " (ncv " + std::to_string(a.ncv) +
-                          "), converged");
+                          "; fell back to " + r.method + " (ncv " + std::to_string(a.ncv) + "), converged");
       }
       break;
     }
     char buf[200];
     std::snprintf(buf, sizeof buf, "%s%s (ncv %d, maxit %d) %s", failures.empty() ? "" : "; ",
                   method_name(a.solver), a.ncv, a.maxit,
-                  ok ? ("residual " + std::to_string(res) + " above bound").c_str()
-                     : "did not converge");
+                  ok ? ("residual " + std::to_string(res) + " above bound").c_str() : "did not converge");
     failures += buf;
     if (k + 1 == attempts.size()) {
       throw common::Error("normalized cut eigensolver failed on a part of " + std::to_string(n) +
                           " vertices: " + failures +
-                          " (try --solver, --tolerance, --max-restarts or --ncv)");
+                          " (try another solver, tolerance, restart limit or Lanczos basis size)");
     }
   }
 
@@ -273,9 +271,7 @@ SweepCut best_sweep_cut(const Graph& g, const VectorXd& y, int min_size) {
   if (n < 2 * min_size) return out;
   std::vector<int> order(n);
   std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](int a, int b) {
-    return y[a] < y[b] || (y[a] == y[b] && a < b);
-  });
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return y[a] < y[b] || (y[a] == y[b] && a < b); });
   std::vector<double> d(n);
   for (int v = 0; v < n; ++v) d[v] = g.degree(v);
   // Suffix volumes, so that vol(B) is not a difference of two large sums.

@@ -21,27 +21,27 @@ enum class Solver {
 };
 
 struct CutParams {
-  double max_ncut = 0.1;       // split only while Ncut < max_ncut (thesis 5.6)
-  int min_segment = 1;         // no split leaves a side with fewer vertices
+  double max_ncut = 0.1;  // split only while Ncut < max_ncut (thesis 5.6)
+  int min_segment = 1;    // no split leaves a side with fewer vertices
   Solver solver = Solver::kAuto;
-  double tolerance = 1e-10;    // Spectra's relative Ritz tolerance
-  int max_restarts = 1000;     // Spectra's maxit
-  int ncv = 20;                // Lanczos basis size
-  int dense_max = 64;          // kAuto: dense solver at or below this size
-  bool fallback = true;        // on non-convergence try other settings/methods before failing
+  double tolerance = 1e-10;  // Spectra's relative Ritz tolerance
+  int max_restarts = 1000;   // Spectra's maxit
+  int ncv = 20;              // Lanczos basis size
+  int dense_max = 64;        // kAuto: dense solver at or below this size
+  bool fallback = true;      // on non-convergence try other settings/methods before failing
 };
 
 struct CutStats {
-  int components = 0;        // connected components of the whole graph
-  int splits = 0;            // accepted two-way cuts
-  int rejected = 0;          // parts whose best cut had Ncut >= max_ncut
-  int solves = 0;            // eigen-solves, by method:
+  int components = 0;  // connected components of the whole graph
+  int splits = 0;      // accepted two-way cuts
+  int rejected = 0;    // parts whose best cut had Ncut >= max_ncut
+  int solves = 0;      // eigen-solves, by method:
   int dense_solves = 0, lanczos_solves = 0, shift_invert_solves = 0;
-  int fallbacks = 0;         // solves that needed a second method or setting
-  long long matvecs = 0;     // operator applications of all iterative solves
-  long long restarts = 0;    // Spectra restart iterations of all iterative solves
+  int fallbacks = 0;          // solves that needed a second method or setting
+  long long matvecs = 0;      // operator applications of all iterative solves
+  long long restarts = 0;     // Spectra restart iterations of all iterative solves
   long long max_matvecs = 0;  // of one solve
-  double max_residual = 0;   // max ||N z - mu z|| over accepted eigenvectors
+  double max_residual = 0;    // max ||N z - mu z|| over accepted eigenvectors
 };
 
 struct EigenResult {
@@ -59,8 +59,8 @@ EigenResult second_eigenvector(const Graph& g, const CutParams& params, CutStats
 
 struct SweepCut {
   bool found = false;
-  double ncut = 0;           // exact Ncut of the chosen partition
-  std::vector<char> in_a;    // side per vertex (1 = the low-y side)
+  double ncut = 0;         // exact Ncut of the chosen partition
+  std::vector<char> in_a;  // side per vertex (1 = the low-y side)
 };
 
 // Best Ncut over every threshold between distinct values of y (ties move together),

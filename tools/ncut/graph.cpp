@@ -11,8 +11,8 @@ Graph::Graph(int n, const std::vector<Edge>& edges) {
   std::vector<std::int64_t> count(static_cast<std::size_t>(n) + 1, 0);
   for (const Edge& e : edges) {
     if (e.a < 0 || e.b < 0 || e.a >= n || e.b >= n || e.a == e.b) {
-      throw std::invalid_argument("graph edge (" + std::to_string(e.a) + ", " +
-                                  std::to_string(e.b) + ") is a self-loop or out of range");
+      throw std::invalid_argument("graph edge (" + std::to_string(e.a) + ", " + std::to_string(e.b) +
+                                  ") is a self-loop or out of range");
     }
     if (!(e.w > 0)) continue;
     ++count[e.a + 1];

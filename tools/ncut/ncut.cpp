@@ -9,6 +9,8 @@
 #include <utility>
 
 #include "canopy/common/error.h"
+#include "canopy/common/math.h"
+#include "canopy/formats/cloud_eigen.h"
 
 namespace canopy::ncut {
 namespace {
@@ -36,12 +38,32 @@ struct Moments {
     area += t;
     m1 += t * s / 3.0;
     // Exact second moment of a triangle: (t / 12) (a a^T + b b^T + c c^T + s s^T).
-    m2 += (t / 12.0) * (a * a.transpose() + b * b.transpose() + c * c.transpose() +
-                        s * s.transpose());
+    m2 += (t / 12.0) * (a * a.transpose() + b * b.transpose() + c * c.transpose() + s * s.transpose());
   }
 };
 
 }  // namespace
+
+void validate(const Params& p) {
+  const auto& a = p.affinity;
+  const auto& s = p.sparsify;
+  auto need = [](bool ok, const std::string& rule) {
+    if (!ok) throw common::UsageError(rule);
+  };
+  const double deg = common::kDegree;
+  need(a.sigma_n > 0 && a.sigma_n <= 180 * deg, "--sigma-n must be in (0, 180] deg");
+  need(a.anisotropy >= 1 && a.anisotropy <= 1e6, "--anisotropy must be in [1, 1e6]");
+  need(a.radius >= 1e-3 && a.radius <= 100, "--radius must be in [1mm, 100m]");
+  need(s.dense_radius >= 0 && s.dense_radius <= 100, "--dense-radius must be in [0, 100m]");
+  need(s.keep_fraction >= 0 && s.keep_fraction <= 1, "--keep-fraction must be in [0, 1]");
+  need(s.min_affinity >= 0 && s.min_affinity < 1, "--min-affinity must be in [0, 1)");
+  need(s.mesh_edge_floor >= 0 && s.mesh_edge_floor <= 0.1, "--mesh-edge-floor must be in [0, 0.1]");
+  need(p.cut.max_ncut > 0, "--max-ncut must be > 0");
+  need(p.cut.min_segment >= 1, "--min-segment must be >= 1");
+  need(p.cut.tolerance > 0 && p.cut.tolerance <= 1e-3, "--tolerance must be in (0, 1e-3]");
+  need(p.cut.max_restarts >= 1, "--max-restarts must be >= 1");
+  need(p.cut.ncv >= 3, "--ncv must be >= 3");
+}
 
 Input input_from_mesh(const formats::Mesh& mesh, const std::string& name) {
   const formats::PointCloud& v = mesh.vertices;
@@ -52,45 +74,22 @@ Input input_from_mesh(const formats::Mesh& mesh, const std::string& name) {
     throw common::DataError(name, "mesh has no faces (ncut segments a triangle mesh)");
   }
   Input in;
-  in.points.resize(n);
-  const auto &x = v.col("x"), &y = v.col("y"), &z = v.col("z");
-  for (std::size_t i = 0; i < n; ++i) {
-    in.points[i] = Vector3d(x[i], y[i], z[i]);
-    if (!in.points[i].allFinite()) {
-      throw common::DataError(name, "vertex " + std::to_string(i) + " has a non-finite coordinate");
+  in.points = formats::finite_vectors(v, name, formats::kXyzFields, "vertex");
+  if (formats::has_fields(v, formats::kNormalFields)) {
+    in.normals = formats::finite_vectors(v, name, formats::kNormalFields, "vertex", "normal");
+    for (Vector3d& normal : in.normals) {
+      const double len = normal.norm();
+      if (len > 0) normal /= len;
     }
   }
-  if (v.has("normal_x") && v.has("normal_y") && v.has("normal_z")) {
-    const auto &nx = v.col("normal_x"), &ny = v.col("normal_y"), &nz = v.col("normal_z");
-    in.normals.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      in.normals[i] = Vector3d(nx[i], ny[i], nz[i]);
-      if (!in.normals[i].allFinite()) {
-        throw common::DataError(name, "vertex " + std::to_string(i) + " has a non-finite normal");
-      }
-      const double len = in.normals[i].norm();
-      if (len > 0) in.normals[i] /= len;
-    }
-  }
-  if (v.has("label")) {
-    const auto& l = v.col("label");
-    in.labels.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!(l[i] >= 0 && l[i] <= 4294967295.0 && l[i] == std::floor(l[i]))) {
-        throw common::DataError(name, "vertex " + std::to_string(i) + " has label " +
-                                          std::to_string(l[i]) + " (want a non-negative integer)");
-      }
-      in.labels[i] = static_cast<std::uint32_t>(l[i]);
-    }
-  }
+  if (v.has("label")) in.labels = formats::uint32_column(v, "label", name, "vertex");
   in.faces.reserve(mesh.faces.size());
   for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
     const auto& t = mesh.faces[f];
     for (int k = 0; k < 3; ++k) {
       if (t[k] < 0 || static_cast<std::size_t>(t[k]) >= n) {
-        throw common::DataError(name, "face " + std::to_string(f) + " has vertex index " +
-                                          std::to_string(t[k]) + " (mesh has " +
-                                          std::to_string(n) + " vertices)");
+        throw common::DataError(name, "face " + std::to_string(f) + " has vertex index " + std::to_string(t[k]) +
+                                          " (mesh has " + std::to_string(n) + " vertices)");
       }
     }
     if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {
@@ -130,10 +129,8 @@ std::vector<std::array<int, 2>> mesh_edges(const std::vector<std::array<int, 3>>
   return e;
 }
 
-std::vector<formats::Segment> segment_attributes(const Input& in,
-                                                 const std::vector<Vector3d>& normals,
-                                                 const std::vector<int>& segment, int count,
-                                                 PcaWeighting pca) {
+std::vector<formats::Segment> segment_attributes(const Input& in, const std::vector<Vector3d>& normals,
+                                                 const std::vector<int>& segment, int count, PcaWeighting pca) {
   const std::size_t n = in.points.size();
   std::vector<formats::Segment> out(count);
   std::vector<Moments> mom(count);
@@ -263,8 +260,7 @@ Result run(const Input& in, const Params& params) {
   auto t0 = std::chrono::steady_clock::now();
   SurfacePoints pts{in.points, normals};
   ThesisAffinity affinity(pts, params.affinity);
-  const Graph g = build_affinity_graph(pts, mesh_edges(in.faces), affinity, params.sparsify,
-                                       &res.stats.graph);
+  const Graph g = build_affinity_graph(pts, mesh_edges(in.faces), affinity, params.sparsify, &res.stats.graph);
   res.stats.seconds_graph = seconds_since(t0);
 
   t0 = std::chrono::steady_clock::now();
@@ -272,9 +268,7 @@ Result run(const Input& in, const Params& params) {
   res.stats.seconds_cut = seconds_since(t0);
 
   t0 = std::chrono::steady_clock::now();
-  const int count = res.segment.empty()
-                        ? 0
-                        : *std::max_element(res.segment.begin(), res.segment.end()) + 1;
+  const int count = res.segment.empty() ? 0 : *std::max_element(res.segment.begin(), res.segment.end()) + 1;
   res.graph.segments = segment_attributes(in, normals, res.segment, count, params.pca);
   res.graph.adjacency = segment_adjacency(in.faces, res.segment);
   res.stats.seconds_attributes = seconds_since(t0);
@@ -290,11 +284,31 @@ std::array<std::uint8_t, 3> segment_colour(int segment_id) {
   const double p = v * (1 - s), q = v * (1 - s * f), t = v * (1 - s * (1 - f));
   double r = v, g = t, b = p;
   switch (i) {
-    case 1: r = q; g = v; b = p; break;
-    case 2: r = p; g = v; b = t; break;
-    case 3: r = p; g = q; b = v; break;
-    case 4: r = t; g = p; b = v; break;
-    case 5: r = v; g = p; b = q; break;
+    case 1:
+      r = q;
+      g = v;
+      b = p;
+      break;
+    case 2:
+      r = p;
+      g = v;
+      b = t;
+      break;
+    case 3:
+      r = p;
+      g = q;
+      b = v;
+      break;
+    case 4:
+      r = t;
+      g = p;
+      b = v;
+      break;
+    case 5:
+      r = v;
+      g = p;
+      b = q;
+      break;
     default: break;
   }
   auto u8 = [](double c) { return static_cast<std::uint8_t>(std::lround(255.0 * c)); };

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "canopy/formats/json_io.h"
+#include "canopy/formats/segment_graph.h"
 #include "canopy/formats/ply.h"
 #include "ncut/affinity.h"
 #include "ncut/cut.h"
@@ -27,10 +27,14 @@ enum class PcaWeighting {
 
 struct Params {
   ThesisAffinityParams affinity;  // sigma_n 10 deg, E 2, r 512 mm, exponent
-  SparsifyParams sparsify;        // r, 175 mm, 25 %, 0.1, mesh edges kept, seed
+  SparsifyParams sparsify;        // 175 mm, 25 %, 0.1, mesh edges kept, seed (r: affinity)
   CutParams cut;                  // Ncut < 0.1, solver settings
   PcaWeighting pca = PcaWeighting::kSurface;
 };
+
+// Throws common::UsageError naming the option (--sigma-n, ...) of the first parameter out of
+// its range; lengths beyond [1 mm, 100 m] are not a mesh of a vehicle.
+void validate(const Params& params);
 
 struct Input {
   std::vector<Eigen::Vector3d> points;   // m
@@ -48,8 +52,8 @@ struct Stats {
 };
 
 struct Result {
-  formats::SegmentGraph graph;    // segments + adjacency (provenance and mesh left empty)
-  std::vector<int> segment;       // segment id per vertex
+  formats::SegmentGraph graph;  // segments + adjacency (provenance and mesh left empty)
+  std::vector<int> segment;     // segment id per vertex
   Stats stats;
 };
 
@@ -69,10 +73,8 @@ std::vector<std::array<int, 2>> mesh_edges(const std::vector<std::array<int, 3>>
 Result run(const Input& in, const Params& params);
 
 // Attributes of the segments given a segment id per vertex (ids 0..k-1, each used).
-std::vector<formats::Segment> segment_attributes(const Input& in,
-                                                 const std::vector<Eigen::Vector3d>& normals,
-                                                 const std::vector<int>& segment, int count,
-                                                 PcaWeighting pca);
+std::vector<formats::Segment> segment_attributes(const Input& in, const std::vector<Eigen::Vector3d>& normals,
+                                                 const std::vector<int>& segment, int count, PcaWeighting pca);
 // Segment pairs sharing mesh edges, ascending (a, b), a < b.
 std::vector<formats::SegmentEdge> segment_adjacency(const std::vector<std::array<int, 3>>& faces,
                                                     const std::vector<int>& segment);

@@ -9,7 +9,7 @@
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
-#include "canopy/formats/ply.h"
+#include "canopy/formats/mesh_import.h"
 #include "rangetrace/families.h"
 #include "rangetrace/rangetrace.h"
 
@@ -28,110 +28,6 @@ std::string lower_extension(const std::string& path) {
   std::string ext = path.substr(dot + 1);
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   return ext;
-}
-
-struct RawMesh {
-  std::vector<Eigen::Vector3d> vertices;
-  std::vector<std::array<int, 3>> faces;
-};
-
-void add_polygon(const std::vector<int>& poly, RawMesh* mesh) {
-  for (std::size_t k = 1; k + 1 < poly.size(); ++k) mesh->faces.push_back({poly[0], poly[k], poly[k + 1]});
-}
-
-RawMesh read_obj(const std::string& bytes, const std::string& path) {
-  RawMesh mesh;
-  std::istringstream in(bytes);
-  std::string line;
-  int line_no = 0;
-  while (std::getline(in, line)) {
-    ++line_no;
-    std::istringstream ls(line);
-    std::string tag;
-    if (!(ls >> tag)) continue;
-    if (tag == "v") {
-      double x, y, z;
-      if (!(ls >> x >> y >> z)) throw DataError(path, "line " + std::to_string(line_no) + ": malformed vertex");
-      mesh.vertices.emplace_back(x, y, z);
-    } else if (tag == "f") {
-      std::vector<int> poly;
-      for (std::string w; ls >> w;) {
-        int idx = 0;
-        try {
-          // The vertex index is the whole word up to '/': "1.5" or "2x" are not indices.
-          const std::string head = w.substr(0, w.find('/'));
-          std::size_t used = 0;
-          idx = std::stoi(head, &used);
-          if (used != head.size()) throw std::invalid_argument(head);
-        } catch (const std::logic_error&) {
-          throw DataError(path, "line " + std::to_string(line_no) + ": malformed face index '" + w + "'");
-        }
-        const int n = static_cast<int>(mesh.vertices.size());
-        idx = idx < 0 ? n + idx : idx - 1;
-        if (idx < 0 || idx >= n) throw DataError(path, "line " + std::to_string(line_no) + ": face index out of range");
-        poly.push_back(idx);
-      }
-      if (poly.size() < 3) throw DataError(path, "line " + std::to_string(line_no) + ": face with fewer than 3 vertices");
-      add_polygon(poly, &mesh);
-    }
-  }
-  return mesh;
-}
-
-RawMesh read_stl(const std::string& bytes, const std::string& path) {
-  RawMesh mesh;
-  auto push = [&](const Eigen::Vector3d& v) {
-    mesh.vertices.push_back(v);
-    return static_cast<int>(mesh.vertices.size() - 1);
-  };
-  if (bytes.size() >= 84) {
-    std::uint32_t n = 0;
-    std::memcpy(&n, bytes.data() + 80, 4);
-    if (bytes.size() == 84 + 50ull * n) {
-      for (std::uint32_t t = 0; t < n; ++t) {
-        const char* rec = bytes.data() + 84 + 50ull * t + 12;
-        std::array<int, 3> f{};
-        for (int k = 0; k < 3; ++k) {
-          float xyz[3];
-          std::memcpy(xyz, rec + 12 * k, 12);
-          f[k] = push(Eigen::Vector3d(xyz[0], xyz[1], xyz[2]));
-        }
-        mesh.faces.push_back(f);
-      }
-      return mesh;
-    }
-  }
-  if (bytes.compare(0, 5, "solid") != 0) {
-    throw DataError(path, "neither ASCII STL ('solid ...') nor binary STL of consistent size");
-  }
-  std::istringstream in(bytes);
-  std::vector<int> poly;
-  for (std::string w; in >> w;) {
-    if (w == "vertex") {
-      double x, y, z;
-      if (!(in >> x >> y >> z)) throw DataError(path, "malformed 'vertex' line");
-      poly.push_back(push(Eigen::Vector3d(x, y, z)));
-    } else if (w == "endloop") {
-      if (poly.size() < 3) throw DataError(path, "facet with fewer than 3 vertices");
-      add_polygon(poly, &mesh);
-      poly.clear();
-    }
-  }
-  return mesh;
-}
-
-RawMesh parse_mesh(const std::string& bytes, const std::string& name, const std::string& ext) {
-  if (ext == "ply") {
-    const formats::Mesh m = formats::parse_ply(bytes, name);
-    RawMesh mesh;
-    const auto& x = m.vertices.col("x");
-    const auto& y = m.vertices.col("y");
-    const auto& z = m.vertices.col("z");
-    for (std::size_t i = 0; i < m.vertices.size(); ++i) mesh.vertices.emplace_back(x[i], y[i], z[i]);
-    for (const auto& f : m.faces) mesh.faces.push_back({f[0], f[1], f[2]});
-    return mesh;
-  }
-  return ext == "obj" ? read_obj(bytes, name) : read_stl(bytes, name);
 }
 
 }  // namespace
@@ -162,7 +58,7 @@ std::string mesh_to_pov(const std::vector<Eigen::Vector3d>& vertices,
 
 std::string mesh_file_to_pov(const std::string& bytes, const std::string& name,
                              const std::string& ext, const MeshImport& import) {
-  RawMesh mesh = parse_mesh(bytes, name, ext);
+  formats::TriangleMesh mesh = formats::parse_triangle_mesh(bytes, name, ext);
   if (mesh.faces.empty()) throw DataError(name, "mesh has no faces");
   for (auto& v : mesh.vertices) {
     if (!v.allFinite()) throw DataError(name, "non-finite vertex coordinate");

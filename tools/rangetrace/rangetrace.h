@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "canopy/formats/point_cloud.h"
+#include "canopy/formats/ppm.h"
 
 namespace canopy::rangetrace {
 
@@ -162,13 +163,9 @@ std::string scene_pov(const Model& model, const Placement& placement, const Enco
 // Unit vector from the target toward the sensor of a view, world frame.
 Eigen::Vector3d view_direction(const View& view, const Pose& pose);
 
-// 16-bit RGB image (row-major, 3 samples per pixel).
-struct Image16 {
-  int width = 0, height = 0;
-  std::vector<std::uint16_t> rgb;
-};
-// Parses a binary PPM (P6, maxval 255 or 65535).
-Image16 parse_ppm(const std::string& bytes, const std::string& name);
+// POV-Ray's frames are 16-bit PPM, decoded by formats/ppm.h.
+using formats::Image16;
+using formats::parse_ppm;
 
 // Appends the decoded, cropped points of one view to the scan columns.
 struct ScanColumns {

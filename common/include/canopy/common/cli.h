@@ -112,5 +112,4 @@ class Tool {
   std::string usage_message(int argc, char** argv) const;
 };
 
-
 }  // namespace canopy::common

@@ -13,7 +13,6 @@ namespace canopy::formats {
 // never cut at a NUL), another kind of file ("this is a PNG image"), nested deeper than 64
 // levels (refused before parsing: the library's recursive copy would overflow the stack), no
 // or another "format", no integer or an unsupported "version".
-nlohmann::ordered_json open_json_document(const std::string& text, const std::string& name,
-                                          const char* format);
+nlohmann::ordered_json open_json_document(const std::string& text, const std::string& name, const char* format);
 
 }  // namespace canopy::formats

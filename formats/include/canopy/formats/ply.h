@@ -18,7 +18,7 @@
 namespace canopy::formats {
 
 struct Mesh {
-  PointCloud vertices;                           // at least x, y, z
+  PointCloud vertices;                             // at least x, y, z
   std::vector<std::array<std::int32_t, 3>> faces;  // counter-clockwise seen from outside
 };
 

@@ -1,4 +1,5 @@
-#include "canopy/formats/json_io.h"
+#include "canopy/formats/match_result.h"
+#include "canopy/formats/segment_graph.h"
 #include "canopy/formats/json_document.h"
 
 #include <algorithm>
@@ -64,12 +65,14 @@ long long int_from(const Json& j, const std::string& what, long long lo = std::n
     throw Malformed(what + " must be an integer, not " + describe(j));
   }
   if (v < lo || v > hi) {
-    throw Malformed(what + " " + j.dump() + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    throw Malformed(what + " " + j.dump() + " is out of range [" + std::to_string(lo) + ", " +
+                    std::to_string(hi) + "]");
   }
   return v;
 }
 
-int int_at(const Json& obj, const char* key, const std::string& where, long long lo = std::numeric_limits<int>::min()) {
+int int_at(const Json& obj, const char* key, const std::string& where,
+           long long lo = std::numeric_limits<int>::min()) {
   return static_cast<int>(int_from(obj.at(key), where + key, lo));
 }
 
@@ -106,7 +109,8 @@ Vec3 vec3_from(const Json& obj, const char* key, const std::string& where) {
 
 std::string library_text(const std::exception& e) {
   std::string w = e.what();
-  if (w.rfind("[json.exception.", 0) == 0 && w.find("] ") != std::string::npos) w = w.substr(w.find("] ") + 2);
+  if (w.rfind("[json.exception.", 0) == 0 && w.find("] ") != std::string::npos)
+    w = w.substr(w.find("] ") + 2);
   return w;
 }
 
@@ -148,9 +152,10 @@ std::string serialize_segment_graph(const SegmentGraph& g) {
                         {"vertices", s.vertices}});
   }
   Json adj = Json::array();
-  for (const auto& e : g.adjacency) adj.push_back(Json{{"a", e.a}, {"b", e.b}, {"shared_edges", e.shared_edges}});
+  for (const auto& e : g.adjacency)
+    adj.push_back(Json{{"a", e.a}, {"b", e.b}, {"shared_edges", e.shared_edges}});
   Json j{{"format", kGraphFormat}, {"version", kVersion}, {"provenance", provenance_json(g.provenance)},
-         {"mesh", g.mesh}, {"segments", segs}, {"adjacency", adj}};
+         {"mesh", g.mesh},         {"segments", segs},    {"adjacency", adj}};
   return dump(j);
 }
 
@@ -193,17 +198,19 @@ SegmentGraph parse_segment_graph(const std::string& text, const std::string& nam
       if (!e.is_object()) throw Malformed(w.substr(0, w.size() - 1) + " must be an object");
       const SegmentEdge edge{int_at(e, "a", w, 0), int_at(e, "b", w, 0), int_at(e, "shared_edges", w, 0)};
       const std::string pair = " (" + std::to_string(edge.a) + ", " + std::to_string(edge.b) + ")";
-      if (edge.a == edge.b) throw Malformed(w.substr(0, w.size() - 1) + " joins segment " + std::to_string(edge.a) + " to itself");
+      if (edge.a == edge.b)
+        throw Malformed(w.substr(0, w.size() - 1) + " joins segment " + std::to_string(edge.a) + " to itself");
       if (edge.a > edge.b) throw Malformed(w.substr(0, w.size() - 1) + pair + " needs a < b");
       for (int id : {edge.a, edge.b}) {
-        if (!ids.count(id)) throw Malformed(w.substr(0, w.size() - 1) + pair + " refers to segment " + std::to_string(id) + ", which is not in segments");
+        if (!ids.count(id))
+          throw Malformed(w.substr(0, w.size() - 1) + pair + " refers to segment " + std::to_string(id) +
+                          ", which is not in segments");
       }
-      if (!edges.insert({edge.a, edge.b}).second) throw Malformed(w.substr(0, w.size() - 1) + pair + " appears twice");
+      if (!edges.insert({edge.a, edge.b}).second)
+        throw Malformed(w.substr(0, w.size() - 1) + pair + " appears twice");
       g.adjacency.push_back(edge);
     }
-  } catch (const DataError&) {
-    throw;
-  } catch (const Malformed& e) {
+  } catch (const DataError&) { throw; } catch (const Malformed& e) {
     throw DataError(name, std::string("malformed segment graph: ") + e.what());
   } catch (const std::exception& e) {
     throw DataError(name, "malformed segment graph: " + detail::quote(library_text(e), 200));
@@ -223,7 +230,8 @@ double match_margin(const MatchResult& r) {
   if (r.models.size() < 2) return std::numeric_limits<double>::quiet_NaN();
   std::vector<const ModelScore*> by_rank;
   for (const auto& m : r.models) by_rank.push_back(&m);
-  std::stable_sort(by_rank.begin(), by_rank.end(), [](const ModelScore* a, const ModelScore* b) { return a->rank < b->rank; });
+  std::stable_sort(by_rank.begin(), by_rank.end(),
+                   [](const ModelScore* a, const ModelScore* b) { return a->rank < b->rank; });
   return by_rank[0]->score - by_rank[1]->score;
 }
 
@@ -232,7 +240,8 @@ std::string serialize_match_result(const MatchResult& r) {
   for (const auto& m : r.models) {
     Json pairs = Json::array();
     for (const auto& p : m.pairs) {
-      Json pj{{"object_segment", p.object_segment}, {"model_segment", nullptr},
+      Json pj{{"object_segment", p.object_segment},
+              {"model_segment", nullptr},
               {"unary_error", finite(p.unary_error, "unary_error")}};
       if (p.model_segment >= 0) pj["model_segment"] = p.model_segment;
       pairs.push_back(pj);
@@ -248,8 +257,12 @@ std::string serialize_match_result(const MatchResult& r) {
                           {"pairs", pairs}});
   }
   const double margin = match_margin(r);
-  Json j{{"format", kMatchFormat}, {"version", kVersion}, {"provenance", provenance_json(r.provenance)},
-         {"object", r.object}, {"error_form", r.error_form}, {"entropy", finite(r.entropy, "entropy")},
+  Json j{{"format", kMatchFormat},
+         {"version", kVersion},
+         {"provenance", provenance_json(r.provenance)},
+         {"object", r.object},
+         {"error_form", r.error_form},
+         {"entropy", finite(r.entropy, "entropy")},
          {"margin", std::isnan(margin) ? Json(nullptr) : Json(finite(margin, "margin"))},
          {"models", models}};
   return dump(j);
@@ -292,9 +305,7 @@ MatchResult parse_match_result(const std::string& text, const std::string& name)
     }
     // "margin" is derived from the scores (match_margin); files before it was added lack it.
     if (j.contains("margin") && !j["margin"].is_null()) double_at(j, "margin", "");
-  } catch (const DataError&) {
-    throw;
-  } catch (const Malformed& e) {
+  } catch (const DataError&) { throw; } catch (const Malformed& e) {
     throw DataError(name, std::string("malformed match result: ") + e.what());
   } catch (const std::exception& e) {
     throw DataError(name, "malformed match result: " + detail::quote(library_text(e), 200));
@@ -320,13 +331,16 @@ Json open_json_document(const std::string& text, const std::string& name, const 
   for (std::size_t i = 0; i < text.size(); ++i) {
     const char c = text[i];
     if (in_string) {
-      if (c == '\\') ++i;
-      else if (c == '"') in_string = false;
+      if (c == '\\')
+        ++i;
+      else if (c == '"')
+        in_string = false;
     } else if (c == '"') {
       in_string = true;
     } else if (c == '[' || c == '{') {
       if (++depth > kMaxDepth) {
-        throw DataError(name, "JSON nested deeper than " + std::to_string(kMaxDepth) + " levels (not a canopy document)");
+        throw DataError(
+            name, "JSON nested deeper than " + std::to_string(kMaxDepth) + " levels (not a canopy document)");
       }
     } else if (c == ']' || c == '}') {
       --depth;
@@ -337,10 +351,12 @@ Json open_json_document(const std::string& text, const std::string& name, const 
     j = Json::parse(text);
   } catch (const Json::exception& e) {  // parse errors, and numbers out of double's range (1e400)
     const std::string is = detail::sniff(text);
-    if (!is.empty() && is != "a JSON document") throw DataError(name, "this is " + is + ", not a JSON document");
+    if (!is.empty() && is != "a JSON document")
+      throw DataError(name, "this is " + is + ", not a JSON document");
     throw DataError(name, "not valid JSON: " + detail::quote(library_text(e), 200));
   }
-  if (!j.is_object() || !j.contains("format")) throw DataError(name, "no \"format\" key (not a canopy JSON document)");
+  if (!j.is_object() || !j.contains("format"))
+    throw DataError(name, "no \"format\" key (not a canopy JSON document)");
   if (!j["format"].is_string() || j["format"].get<std::string>() != format) {
     throw DataError(name, "format is " + describe(j["format"]) + ", expected \"" + format + "\"");
   }
@@ -350,7 +366,8 @@ Json open_json_document(const std::string& text, const std::string& name, const 
   const Json& v = j["version"];
   if (v.is_number_unsigned() ? v.get<std::uint64_t>() != static_cast<std::uint64_t>(kVersion)
                              : v.get<std::int64_t>() != kVersion) {
-    throw DataError(name, std::string(format) + " version " + v.dump() + " is not supported (this build reads version 1)");
+    throw DataError(
+        name, std::string(format) + " version " + v.dump() + " is not supported (this build reads version 1)");
   }
   return j;
 }
