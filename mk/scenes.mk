@@ -191,7 +191,10 @@ scenes_force := $(if $(shell $(MAKE) -q --no-print-directory -f $(firstword $(MA
 else
 scenes_force := FORCE
 endif
-$(SCENE_SCORE): $(scenes_force)
+# What the sub-make shares with this make is built here first (the tools, the modelbase from
+# the thesis trials), so the two never build one artifact at the same time.
+SCENE_TOOLS := rangetrace addnoise detect fitvox cocone ncut gmatch verify collect score topview figures
+$(SCENE_SCORE): $(scenes_force) $(foreach t,$(SCENE_TOOLS),$(call tool,$(t))) $(MODELBASE) $(VERIFY_SURFACES)
 	+@$(MAKE) --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROGRESS=0
 else
 # ---- read only by `make scenes` ----------------------------------------------------------
