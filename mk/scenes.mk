@@ -144,7 +144,7 @@ endif
 # as they are and never remakes them (read_plan), so `make -q all` and `make -q scenes` answer
 # without rendering or detecting, and `make -n` prints the stages known so far (the candidates
 # of a tile not yet detected are not known before its detect has run).
-SCENE_SEEDS ?= 1 2 3 4 5 6 7 8 9 10 11 12
+SCENE_SEEDS ?= 1 2 3 4 5 6 7 8
 SCENE_COVERS ?= light medium dense
 SCENE_NOISES ?= 0 8 32
 SCENE_EXTENT ?= 30m
