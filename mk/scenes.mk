@@ -175,9 +175,14 @@ scene_key = S_$(subst -,_,$(subst /,_,$(1)))
 .PHONY: scenes FORCE
 FORCE:
 # The report's "Scene experiment" section: the score, and the stages' .time files found through
-# the score's list of tiles.
+# the score's list of tiles. SCENE_EXPERIMENT=0 leaves the scene experiment out of `all` and
+# of the report (the pipeline tests' small slices of the thesis graph, a thesis-only run).
+SCENE_EXPERIMENT ?= 1
+$(if $(filter-out 0 1,$(SCENE_EXPERIMENT)),$(error SCENE_EXPERIMENT=$(SCENE_EXPERIMENT): must be 0 or 1))
+ifeq ($(SCENE_EXPERIMENT),1)
 $(RES)/report.md: $(SCENE_SCORE)
 REPORT_ARGS += --tile-score $(SCENE_SCORE)
+endif
 ifeq ($(filter scenes,$(MAKECMDGOALS)),)
 # ---- read by every other make (all, report, tools, ...) ----------------------------------
 # results/scenes/score.json stands for the whole scene experiment: its rule is the recursive
@@ -185,11 +190,11 @@ ifeq ($(filter scenes,$(MAKECMDGOALS)),)
 # (`make -q scenes`, which renders nothing), so `make -q all` exits 0 exactly when the scene
 # experiment is up to date too; otherwise the step always runs (FORCE) and make compares
 # score.json's time afterwards, so an unchanged experiment does not remake the report.
-ifneq ($(findstring q,$(make_letters)),)
+ifneq ($(findstring q,$(make_letters))$(filter 0,$(SCENE_EXPERIMENT)),q)
+scenes_force := FORCE
+else
 scenes_force := $(if $(shell $(MAKE) -q --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes \
   $(MAKEOVERRIDES) >/dev/null 2>&1 || echo stale),FORCE)
-else
-scenes_force := FORCE
 endif
 # What the sub-make shares with this make is built here first (the tools, the modelbase from
 # the thesis trials), so the two never build one artifact at the same time.
