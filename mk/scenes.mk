@@ -257,11 +257,13 @@ $(foreach r,$(SCENE_RUNS),$(foreach c,$($(call scene_key,$(r))_CANDS),\
 # The score's manifest: detections truth noise cover, one line per run.
 scene_line = $(1)/detections.json $(patsubst %/,%,$(dir $(1)))/truth.json $(patsubst noise-%,%,$(notdir $(1))) \
   $(word 2,$(subst /, ,$(patsubst $(OUT)/%,%,$(1))))
-define scene_manifest
-$(foreach r,$(SCENE_RUNS),$(call scene_line,$(r))
-)
+define scene_nl
+
+
 endef
-$(SCENE_DIR)/tiles.txt: $(call scene_text_prereq,$(SCENE_DIR)/tiles.txt,$(strip $(scene_manifest)))
+scene_manifest = $(subst $(space)$(scene_nl),$(scene_nl),$(call scene_line,$(firstword $(SCENE_RUNS)))$(foreach \
+  r,$(wordlist 2,$(words $(SCENE_RUNS)),$(SCENE_RUNS)),$(scene_nl)$(call scene_line,$(r))))
+$(SCENE_DIR)/tiles.txt: $(call scene_text_prereq,$(SCENE_DIR)/tiles.txt,$(scene_manifest))
 $(SCENE_SCORE): $(SCENE_DIR)/tiles.txt $(addsuffix /detections.json,$(SCENE_RUNS)) $(call tool,score)
 	@$(STAGE) $@ -- $(BIN)/score --tiles $(SCENE_DIR)/tiles.txt -o $@ --csv $(SCENE_RES)/
 # Per run: the tile from above with truth and detections coloured by the score's outcome
@@ -294,5 +296,4 @@ $(SCENE_RES)/noise.png: $(SCENE_SCORE) $(call tool,figures)
 	  --ylabel "recognition (right model within 1.5 m)" --title "recognition against noise, one line per cover level" -o $@
 scenes: $(SCENE_SCORE) $(addsuffix /scored.png,$(SCENE_RUNS)) $(foreach c,$(SCENE_COVERS),$(SCENE_RES)/top-$(c).png) \
     $(SCENE_RES)/cover.png $(SCENE_RES)/noise.png
-	@:
 endif
