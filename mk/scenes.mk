@@ -208,7 +208,10 @@ SCENE_MB := $(OUT)/modelbase
 # Texts written at parse time when they changed (the recipes, the score's manifest), so their
 # times move only with their content and `make -q scenes` is clean after a run. A dry run
 # writes nothing: a file whose text would change gets FORCE instead (-q answers 1, -n shows).
-scene_same = $(and $(findstring x$(1)x,x$(2)x),$(findstring x$(2)x,x$(1)x))
+# (Compared with their white space collapsed: a file read back once carried one more trailing
+# newline than the text, and the unequal comparison rewrote recipes and re-rendered tiles on
+# every re-read of the makefiles; no recipe's or manifest's meaning changes with white space.)
+scene_same = $(and $(findstring x$(strip $(1))x,x$(strip $(2))x),$(findstring x$(strip $(2))x,x$(strip $(1))x))
 scene_text_prereq = $(if $(call scene_same,$(file <$(1)),$(2)),,$(if $(dry_run),FORCE,$(file >$(1),$(2))))
 
 # The recipe of one tile (cover, seed).
