@@ -208,10 +208,17 @@ SCENE_MB := $(OUT)/modelbase
 # Texts written at parse time when they changed (the recipes, the score's manifest), so their
 # times move only with their content and `make -q scenes` is clean after a run. A dry run
 # writes nothing: a file whose text would change gets FORCE instead (-q answers 1, -n shows).
-# (Compared with their white space collapsed: a file read back once carried one more trailing
-# newline than the text, and the unequal comparison rewrote recipes and re-rendered tiles on
-# every re-read of the makefiles; no recipe's or manifest's meaning changes with white space.)
-scene_same = $(and $(findstring x$(strip $(1))x,x$(strip $(2))x),$(findstring x$(strip $(2))x,x$(strip $(1))x))
+# (Compared line by line with blanks collapsed and trailing empty lines dropped: a file read
+# back once carried one more trailing newline than the text, and the unequal comparison
+# rewrote recipes and re-rendered tiles on every re-read of the makefiles.)
+define scene_nl
+
+
+endef
+scene_trim = $(if $(filter @NL@,$(lastword $(1))),$(call scene_trim,$(wordlist 2,$(words $(1)),x $(1))),$(1))
+scene_norm = $(call scene_trim,$(strip $(subst $(scene_nl), @NL@ ,$(1))))
+scene_same = $(and $(findstring x$(call scene_norm,$(1))x,x$(call scene_norm,$(2))x),\
+  $(findstring x$(call scene_norm,$(2))x,x$(call scene_norm,$(1))x))
 scene_text_prereq = $(if $(call scene_same,$(file <$(1)),$(2)),,$(if $(dry_run),FORCE,$(file >$(1),$(2))))
 
 # The recipe of one tile (cover, seed).
@@ -260,10 +267,6 @@ $(foreach r,$(SCENE_RUNS),$(foreach c,$($(call scene_key,$(r))_CANDS),\
 # The score's manifest: detections truth noise cover, one line per run.
 scene_line = $(1)/detections.json $(patsubst %/,%,$(dir $(1)))/truth.json $(patsubst noise-%,%,$(notdir $(1))) \
   $(word 2,$(subst /, ,$(patsubst $(OUT)/%,%,$(1))))
-define scene_nl
-
-
-endef
 scene_manifest = $(subst $(space)$(scene_nl),$(scene_nl),$(call scene_line,$(firstword $(SCENE_RUNS)))$(foreach \
   r,$(wordlist 2,$(words $(SCENE_RUNS)),$(SCENE_RUNS)),$(scene_nl)$(call scene_line,$(r))))
 $(SCENE_DIR)/tiles.txt: $(call scene_text_prereq,$(SCENE_DIR)/tiles.txt,$(scene_manifest))
