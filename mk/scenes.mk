@@ -31,7 +31,16 @@
 scene_tool_has_rule = $(or $(filter $(1),$(TOOLS)),$(and $(filter verify,$(1)),$(filter mk/verify.mk,$(MAKEFILE_LIST))))
 $(foreach t,detect verify collect score topview,$(if $(call scene_tool_has_rule,$(t)),,$(eval $(call tool_rule,$(t)))))
 # (detect and verify have no parameter file yet; one is used as soon as it exists.)
+# fitvox on candidates: airborne tiles are sparser than the thesis's renderings
+# (share/params/fitvox-tile.ini says how the setting was chosen).
+TILE_FITVOX ?= $(P)/fitvox-tile.ini
 scene_config = $(if $(wildcard $(P)/$(1).ini),--config $(P)/$(1).ini)
+
+# read_plan(FILE): a generated candidate plan. A real run includes it, so make remakes it first
+# (detect, the plan) and re-reads the makefiles; a dry run (-n, -q, -t) reads it as it is and
+# never remakes it, so `make -q` answers without detecting (a stale plan still makes -q answer
+# 1: detections.json depends on it) and `make -n` shows the candidates known so far.
+read_plan = $(if $(dry_run),$(if $(wildcard $(1)),$(eval $(file <$(1)))),$(eval -include $(1)))
 
 # tile_rules(KEY, DIR, SCAN, MODELBASE): detect, the plan and the classification.
 define tile_rules
@@ -46,8 +55,8 @@ endef
 # cand_rule(DIR, ID, KEY, MODELBASE, SEEDKEY): fitvox | cocone | ncut | gmatch | verify on one
 # candidate (cands/<id>.pcd, written by detect with index.json).
 define cand_rule
-$(1)/cands/$(2)/samples.pcd: $(1)/cands/index.json $(call tool,fitvox) $(P)/fitvox.ini
-	@$(STAGE) --record-failure $$@ -- $(BIN)/fitvox --config $(P)/fitvox.ini -i $(1)/cands/$(2).pcd -o $$@
+$(1)/cands/$(2)/samples.pcd: $(1)/cands/index.json $(call tool,fitvox) $(TILE_FITVOX)
+	@$(STAGE) --record-failure $$@ -- $(BIN)/fitvox --config $(TILE_FITVOX) -i $(1)/cands/$(2).pcd -o $$@
 $(1)/cands/$(2)/mesh.ply: $(1)/cands/$(2)/samples.pcd $(call tool,cocone) $(P)/cocone.ini
 	@$(STAGE) --record-failure $$@ -- $(BIN)/cocone --config $(P)/cocone.ini -i $$< -o $$@
 $(1)/cands/$(2)/segments.json: $(1)/cands/$(2)/mesh.ply $(call tool,ncut) $(P)/ncut.ini
@@ -84,7 +93,7 @@ $(if $(wildcard $(TILE_MB)/*.json),,$(error tile: MODELBASE=$(TILE_MB) holds no 
 $(if $(filter $(TILE_OUT),. .. /),$(error tile: OUT=$(OUT) must name the tile's own output directory))
 $(if $(CRS),$(if $(shell printf '%s' '$(CRS)' | grep -xE 'EPSG:[0-9]{1,6}'),,$(error tile: CRS=$(CRS) must be EPSG:<code>)))
 $(eval $(call tile_rules,TILE,$(TILE_OUT),$(TILE),$(TILE_MB)))
--include $(TILE_OUT)/cands.mk
+$(call read_plan,$(TILE_OUT)/cands.mk)
 $(foreach c,$(TILE_CANDS),$(eval $(call cand_rule,$(TILE_OUT),$(c),TILE,$(TILE_MB),$(notdir $(TILE)))))
 $(eval $(call tile_collect,TILE,$(TILE_OUT),$(TILE_MB),$(TILE)))
 tile: $(TILE_OUT)/detections.json $(TILE_OUT)/classes.ply $(TILE_OUT)/top.png
@@ -113,21 +122,29 @@ $(foreach f,$(TILES_FILES),$(eval $(call tiles_rule,$(f))))
 tiles: $(foreach f,$(TILES_FILES),tiles-$(basename $(notdir $(f))))
 endif
 
-# ---- the scene experiment: SKELETON, NOT YET PART OF `all` ---------------------------------
-#   make -f Makefile.experiments scenes -j2 [SCENE_SEEDS="1 2" SCENE_COVERS=light SCENE_NOISES=0]
+# ---- the scene experiment (issue 16), part of `all` -----------------------------------------
+#   make -f Makefile.experiments scenes -j2 [SCENE_SEEDS="101 102" SCENE_COVERS=light SCENE_NOISES=0]
 # Seeded tiles x cover level x noise -> detect -> per candidate fitvox | cocone | ncut | gmatch |
 # verify -> collect -> score:
 #   out/scenes/<cover>/tile-<seed>/recipe.scene, scan.pcd, truth.json   rendered once
 #   out/scenes/<cover>/tile-<seed>/noise-<mm>/scan.pcd                    + noise
 #   out/scenes/<cover>/tile-<seed>/noise-<mm>/{cands/, cands.mk, detections.json, .geojson}
-#   out/scenes/<cover>/tile-<seed>/noise-<mm>/{top.png, scored.png}        pictures from above
+#   out/scenes/<cover>/tile-<seed>/noise-<mm>/scored.png                  the tile from above
 #   results/scenes/score.json, results/scenes/{summary,pr,models,cover_bins,matches}.csv
-# Its rules are read only when `scenes` is a goal: every tile's generated makefile is an
-# included makefile, which make brings up to date before any goal, so reading them for `all`
-# would render and detect every tile even for `make tools`. Wiring it into `all` (and the
-# report's section, the top-view pictures, time per hectare) is left to do; see
-# docs/decisions/scene-experiment.md. Scene modelbase: $(OUT)/modelbase (verify-modelbase).
-SCENE_SEEDS ?= 1 2 3 4
+#   results/scenes/top-<cover>.png     per cover level: rows = noise, columns = the first
+#                                      SCENE_PICTURE_SEEDS tiles, coloured by outcome
+#   results/scenes/cover.png, noise.png   recall and recognition against cover and noise
+# The report's "Scene experiment" section (results/report.md) renders score.json and the
+# stages' .time files. Sizes and why: docs/decisions/scene-experiment.md ("Sizes").
+#
+# How it joins `all`: every tile's generated makefile (cands.mk) is an included makefile, which
+# make brings up to date before any goal, so the scene rules are read only by a make whose goal
+# is `scenes`; `all` runs that make as a recursive step (the rule of results/scenes/score.json
+# below), so `make tools` never renders a tile. A dry run (-n, -q, -t) reads the generated plans
+# as they are and never remakes them (read_plan), so `make -q all` and `make -q scenes` answer
+# without rendering or detecting, and `make -n` prints the stages known so far (the candidates
+# of a tile not yet detected are not known before its detect has run).
+SCENE_SEEDS ?= 1 2 3 4 5 6 7 8
 SCENE_COVERS ?= light medium dense
 SCENE_NOISES ?= 0 8 32
 SCENE_EXTENT ?= 30m
@@ -139,24 +156,91 @@ SCENE_TREES_medium ?= 350
 SCENE_HIDE_medium ?= 1
 SCENE_TREES_dense ?= 700
 SCENE_HIDE_dense ?= 2
-# Pixel spacing: the thesis-tuned fitvox (128 mm voxels, >= 32 points) keeps no voxel of a
-# candidate at the recipes' default 80 mm; 30 mm works (tests/pipeline/scene_mini.sh).
-SCENE_SPACING ?= 30mm
+# Pixel spacing (docs/decisions/scene-experiment.md, "Operating point"): 40 mm with the tile
+# fitvox setting (share/params/fitvox-tile.ini).
+SCENE_SPACING ?= 40mm
 # Vehicles per tile: SCENE_VEHICLES, else 3 - 8 from the seed.
 SCENE_VEHICLES ?=
+# The pictures per cover level show the first SCENE_PICTURE_COLS tiles at every noise level.
+SCENE_PICTURE_COLS ?= 4
+SCENE_TOPVIEW_SIZE ?= 512
 scene_vehicles = $(or $(SCENE_VEHICLES),$(shell echo $$(( 3 + $(call seed,vehicles/$(1)) % 6 ))))
 SCENE_DIR := $(OUT)/scenes
+SCENE_RES := $(RES)/scenes
+SCENE_SCORE := $(SCENE_RES)/score.json
 SCENE_TILES := $(foreach c,$(SCENE_COVERS),$(foreach s,$(SCENE_SEEDS),$(SCENE_DIR)/$(c)/tile-$(s)))
+SCENE_RUNS := $(foreach t,$(SCENE_TILES),$(foreach n,$(SCENE_NOISES),$(t)/noise-$(n)))
 scene_key = S_$(subst -,_,$(subst /,_,$(1)))
 
-# scene_tile_rule(cover, seed): the recipe (rewritten only when its text changes) and the render.
+.PHONY: scenes FORCE
+FORCE:
+# The report's "Scene experiment" section: the score, and the stages' .time files found through
+# the score's list of tiles. SCENE_EXPERIMENT=0 leaves the scene experiment out of `all` and
+# of the report (the pipeline tests' small slices of the thesis graph, a thesis-only run).
+SCENE_EXPERIMENT ?= 1
+$(if $(filter-out 0 1,$(SCENE_EXPERIMENT)),$(error SCENE_EXPERIMENT=$(SCENE_EXPERIMENT): must be 0 or 1))
+ifeq ($(SCENE_EXPERIMENT),1)
+$(RES)/report.md: $(SCENE_SCORE)
+REPORT_ARGS += --tile-score $(SCENE_SCORE)
+endif
+ifeq ($(filter scenes,$(MAKECMDGOALS)),)
+# ---- read by every other make (all, report, tools, ...) ----------------------------------
+# results/scenes/score.json stands for the whole scene experiment: its rule is the recursive
+# `make scenes`, which redoes only what is out of date. Under -q the sub-make is asked first
+# (`make -q scenes`, which renders nothing), so `make -q all` exits 0 exactly when the scene
+# experiment is up to date too; otherwise the step always runs (FORCE) and make compares
+# score.json's time afterwards, so an unchanged experiment does not remake the report.
+ifneq ($(findstring q,$(make_letters))$(filter 0,$(SCENE_EXPERIMENT)),q)
+scenes_force := FORCE
+else
+scenes_force := $(if $(shell $(MAKE) -q --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes \
+  $(MAKEOVERRIDES) >/dev/null 2>&1 || echo stale),FORCE)
+endif
+# What the sub-make shares with this make is built here first (the tools, the modelbase from
+# the thesis trials), so the two never build one artifact at the same time.
+SCENE_TOOLS := rangetrace addnoise detect fitvox cocone ncut gmatch verify collect score topview figures
+$(SCENE_SCORE): $(scenes_force) $(foreach t,$(SCENE_TOOLS),$(call tool,$(t))) $(MODELBASE) $(VERIFY_SURFACES)
+	+@$(MAKE) --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROGRESS=0
+else
+# ---- read only by `make scenes` ----------------------------------------------------------
+SCENE_MB := $(OUT)/modelbase
+
+# Texts written at parse time when they changed (the recipes, the score's manifest), so their
+# times move only with their content and `make -q scenes` is clean after a run. A dry run
+# writes nothing: a file whose text would change gets FORCE instead (-q answers 1, -n shows).
+# (Compared line by line with blanks collapsed and trailing empty lines dropped: a file read
+# back once carried one more trailing newline than the text, and the unequal comparison
+# rewrote recipes and re-rendered tiles on every re-read of the makefiles.)
+define scene_nl
+
+
+endef
+scene_trim = $(if $(filter @NL@,$(lastword $(1))),$(call scene_trim,$(wordlist 2,$(words $(1)),x $(1))),$(1))
+scene_norm = $(call scene_trim,$(strip $(subst $(scene_nl), @NL@ ,$(1))))
+scene_same = $(and $(findstring x$(call scene_norm,$(1))x,x$(call scene_norm,$(2))x),\
+  $(findstring x$(call scene_norm,$(2))x,x$(call scene_norm,$(1))x))
+scene_text_prereq = $(if $(call scene_same,$(file <$(1)),$(2)),,$(if $(dry_run),FORCE,$(file >$(1),$(2))))
+
+# The recipe of one tile (cover, seed).
+define scene_recipe
+# scene experiment tile (mk/scenes.mk): cover $(1), seed $(2)
+extent = $(SCENE_EXTENT)
+terrain = rolling 1m 25m
+trees = $(SCENE_TREES_$(1))
+hide = $(SCENE_HIDE_$(1))
+bushes = 300
+vehicles = random $(call scene_vehicles,$(1)/$(2)) from $(SCENE_MODELS)
+clutter = boulder 2 container 1 logs 1
+flight_lines = 2
+headings = 0deg 90deg
+looks = 75deg/0deg 75deg/180deg
+spacing = $(SCENE_SPACING)
+endef
+$(if $(dry_run),,$(shell mkdir -p $(SCENE_TILES) $(SCENE_RES)))
+
+# scene_tile_rule(cover, seed): the recipe and the render.
 define scene_tile_rule
-$(SCENE_DIR)/$(1)/tile-$(2)/recipe.scene: FORCE
-	@mkdir -p $$(@D) && printf '%s\n' '# scene experiment tile (mk/scenes.mk): cover $(1), seed $(2)' \
-	  'extent = $(SCENE_EXTENT)' 'terrain = rolling 1m 25m' 'trees = $(SCENE_TREES_$(1))' \
-	  'hide = $(SCENE_HIDE_$(1))' 'bushes = 300' 'vehicles = random $(call scene_vehicles,$(1)/$(2)) from $(SCENE_MODELS)' \
-	  'clutter = boulder 2 container 1 logs 1' 'flight_lines = 2' 'headings = 0deg 90deg' \
-	  'looks = 75deg/0deg 75deg/180deg' 'spacing = $(SCENE_SPACING)' >$$@.tmp && { cmp -s $$@.tmp $$@ && rm $$@.tmp || mv $$@.tmp $$@; }
+$(SCENE_DIR)/$(1)/tile-$(2)/recipe.scene: $(call scene_text_prereq,$(SCENE_DIR)/$(1)/tile-$(2)/recipe.scene,$(call scene_recipe,$(1),$(2)))
 $(SCENE_DIR)/$(1)/tile-$(2)/scan.pcd: $(SCENE_DIR)/$(1)/tile-$(2)/recipe.scene $(call tool,rangetrace)
 	@$(STAGE) $$@ -- $(BIN)/rangetrace --scene $$< --seed $(call seed,scenes/$(1)/$(2)) --threads 2 \
 	  -o $$@ --truth $(SCENE_DIR)/$(1)/tile-$(2)/truth.json
@@ -170,37 +254,52 @@ $(SCENE_DIR)/$(1)/tile-$(2)/noise-$(3)/scan.pcd: $(SCENE_DIR)/$(1)/tile-$(2)/sca
 	  --seed $(call seed,scenes/$(1)/$(2)/$(3)) -i $$< -o $$@
 endef
 
-.PHONY: scenes FORCE
-FORCE:
-ifneq ($(filter scenes,$(MAKECMDGOALS)),)
-SCENE_MB := $(OUT)/modelbase
-SCENE_RUNS := $(foreach t,$(SCENE_TILES),$(foreach n,$(SCENE_NOISES),$(t)/noise-$(n)))
 $(foreach c,$(SCENE_COVERS),$(foreach s,$(SCENE_SEEDS),$(eval $(call scene_tile_rule,$(c),$(s)))))
 $(foreach c,$(SCENE_COVERS),$(foreach s,$(SCENE_SEEDS),$(foreach n,$(SCENE_NOISES),$(eval $(call scene_noise_rule,$(c),$(s),$(n))))))
 $(foreach r,$(SCENE_RUNS),$(eval $(call tile_rules,$(call scene_key,$(r)),$(r),$(r)/scan.pcd,$(SCENE_MB))))
-$(foreach r,$(SCENE_RUNS),$(eval -include $(r)/cands.mk))
+$(foreach r,$(SCENE_RUNS),$(call read_plan,$(r)/cands.mk))
 $(foreach r,$(SCENE_RUNS),$(foreach c,$($(call scene_key,$(r))_CANDS),\
   $(eval $(call cand_rule,$(r),$(c),$(call scene_key,$(r)),$(SCENE_MB),$(r)))))
 $(foreach r,$(SCENE_RUNS),$(eval $(call tile_collect,$(call scene_key,$(r)),$(r),$(SCENE_MB),$(r)/scan.pcd)))
 # The experiment's modelbase is built here (graphs; surfaces when mk/verify.mk is read).
 $(foreach r,$(SCENE_RUNS),$(foreach c,$($(call scene_key,$(r))_CANDS),\
   $(eval $(r)/cands/$(c)/match.json $(r)/cands/$(c)/verdict.json: $(MODELBASE) $(VERIFY_SURFACES))))
-# The score's manifest: detections truth noise cover (rewritten only when its text changes).
+# The score's manifest: detections truth noise cover, one line per run.
 scene_line = $(1)/detections.json $(patsubst %/,%,$(dir $(1)))/truth.json $(patsubst noise-%,%,$(notdir $(1))) \
   $(word 2,$(subst /, ,$(patsubst $(OUT)/%,%,$(1))))
-$(SCENE_DIR)/tiles.txt: FORCE
-	@mkdir -p $(@D) && printf '%s\n' $(foreach r,$(SCENE_RUNS),'$(call scene_line,$(r))') >$@.tmp && \
-	  { cmp -s $@.tmp $@ && rm $@.tmp || mv $@.tmp $@; }
-$(RES)/scenes/score.json: $(SCENE_DIR)/tiles.txt $(addsuffix /detections.json,$(SCENE_RUNS)) $(call tool,score)
-	@mkdir -p $(@D)
-	@$(STAGE) $@ -- $(BIN)/score --tiles $(SCENE_DIR)/tiles.txt -o $@ --csv $(RES)/scenes/
+scene_manifest = $(subst $(space)$(scene_nl),$(scene_nl),$(call scene_line,$(firstword $(SCENE_RUNS)))$(foreach \
+  r,$(wordlist 2,$(words $(SCENE_RUNS)),$(SCENE_RUNS)),$(scene_nl)$(call scene_line,$(r))))
+$(SCENE_DIR)/tiles.txt: $(call scene_text_prereq,$(SCENE_DIR)/tiles.txt,$(scene_manifest))
+$(SCENE_SCORE): $(SCENE_DIR)/tiles.txt $(addsuffix /detections.json,$(SCENE_RUNS)) $(call tool,score)
+	@$(STAGE) $@ -- $(BIN)/score --tiles $(SCENE_DIR)/tiles.txt -o $@ --csv $(SCENE_RES)/
 # Per run: the tile from above with truth and detections coloured by the score's outcome
 # (right green, wrong model orange, false alarm magenta, missed yellow, found truth white).
 define scene_picture_rule
-$(1)/scored.png: $(RES)/scenes/score.json $(1)/scan.pcd $(call tool,topview)
-	@$(STAGE) $$@ -- $(BIN)/topview -i $(1)/scan.pcd --detections $(1)/detections.json \
-	  --truth $(patsubst %/,%,$(dir $(1)))/truth.json --score $(RES)/scenes/score.json --tile $(2) -o $$@
+$(1)/scored.png: $(SCENE_SCORE) $(1)/scan.pcd $(call tool,topview)
+	@$(STAGE) $$@ -- $(BIN)/topview -i $(1)/scan.pcd --detections $(1)/detections.json --size $(SCENE_TOPVIEW_SIZE) \
+	  --truth $(patsubst %/,%,$(dir $(1)))/truth.json --score $(SCENE_SCORE) --tile $(2) -o $$@
 endef
 $(foreach i,$(shell seq 1 $(words $(SCENE_RUNS))),$(eval $(call scene_picture_rule,$(word $(i),$(SCENE_RUNS)),$(shell echo $$(( $(i) - 1 ))))))
-scenes: $(RES)/scenes/score.json $(addsuffix /scored.png,$(SCENE_RUNS))
+# Per cover level: one grid, rows = noise levels, columns = the first tiles.
+SCENE_PICTURE_SEEDS := $(wordlist 1,$(SCENE_PICTURE_COLS),$(SCENE_SEEDS))
+define scene_grid_rule
+$(SCENE_RES)/top-$(1).png: $(foreach n,$(SCENE_NOISES),$(foreach s,$(SCENE_PICTURE_SEEDS),$(SCENE_DIR)/$(1)/tile-$(s)/noise-$(n)/scored.png)) $(call tool,figures)
+	@$(STAGE) $$@ -- $(XRUN) $(BIN)/figures grid -o $$@ --cols $(words $(SCENE_PICTURE_SEEDS)) --no-trim \
+	  --title "$(1) cover: right model green, wrong model orange, false alarm magenta, missed yellow" \
+	  --labels-row "$(foreach n,$(SCENE_NOISES),$(n)mm)" --labels-col "$(foreach s,$(SCENE_PICTURE_SEEDS),tile-$(s))" \
+	  $(foreach n,$(SCENE_NOISES),$(foreach s,$(SCENE_PICTURE_SEEDS),$(SCENE_DIR)/$(1)/tile-$(s)/noise-$(n)/scored.png))
+endef
+$(foreach c,$(SCENE_COVERS),$(eval $(call scene_grid_rule,$(c))))
+# Recall and recognition against the measured per-vehicle cover (one line per noise level) and
+# against noise (one line per cover level), from the score's tables.
+$(SCENE_RES)/cover.png: $(SCENE_SCORE) $(call tool,figures)
+	@$(STAGE) $@ -- $(XRUN) $(BIN)/figures plot -i $(SCENE_RES)/cover_bins.csv --x cover_lo --y recognition \
+	  --series noise_mm --panel "" --xlabel "canopy cover over the vehicle (bin from)" \
+	  --ylabel "recognition (right model within 1.5 m)" --title "recognition against canopy cover, one line per noise (mm)" -o $@
+$(SCENE_RES)/noise.png: $(SCENE_SCORE) $(call tool,figures)
+	@$(STAGE) $@ -- $(XRUN) $(BIN)/figures plot -i $(SCENE_RES)/summary.csv --x noise_mm --y recognition \
+	  --series cover --panel "" --xlabel "noise (mm)" \
+	  --ylabel "recognition (right model within 1.5 m)" --title "recognition against noise, one line per cover level" -o $@
+scenes: $(SCENE_SCORE) $(addsuffix /scored.png,$(SCENE_RUNS)) $(foreach c,$(SCENE_COVERS),$(SCENE_RES)/top-$(c).png) \
+    $(SCENE_RES)/cover.png $(SCENE_RES)/noise.png
 endif

@@ -45,3 +45,54 @@ TEST_CASE("scores CSV: bad input is a DataError naming the file and line") {
   CHECK(message("object,scene,noise_mm,score\ntank,circle,,0.5\n").find("noise_mm") != std::string::npos);
   CHECK(message("object,scene,noise_mm,score\ntank,circle\n").find("line 2") != std::string::npos);
 }
+
+TEST_CASE("scores CSV: other columns (scene experiment tables), summary rows left out") {
+  PlotColumns c;
+  c.x = "cover_lo";
+  c.y = "recognition";
+  c.series = "noise_mm";
+  c.panel = "";
+  c.strict = false;
+  const auto rows = parse_scores_csv(
+      "cover_lo,cover_hi,noise_mm,true,recognition\n"
+      "0,0.25,all,4,0.75\n"
+      "0.25,0.5,all,2,\n"
+      "0,0.25,8,2,0.5\n",
+      "cover_bins.csv", c);
+  REQUIRE(rows.size() == 3);
+  CHECK(rows[0].object == "all");
+  CHECK(rows[0].scene.empty());
+  CHECK(rows[0].noise_mm == 0);
+  CHECK(rows[0].score == Approx(0.75));
+  CHECK(rows[1].noise_mm == Approx(0.25));
+  CHECK(std::isnan(rows[1].score));
+  CHECK(rows[2].object == "8");
+  CHECK(rows[2].score == Approx(0.5));
+  CHECK(rows[2].rank == 0);
+
+  // x = noise_mm of the summary table: the noise "all" rows are summaries, left out.
+  PlotColumns n;
+  n.y = "recall";
+  n.series = "cover";
+  n.panel = "";
+  n.strict = false;
+  const auto s = parse_scores_csv("cover,noise_mm,recall\nall,all,0.9\nall,0,1\nlight,all,0.8\nlight,32,0.5\n",
+                                  "summary.csv", n);
+  REQUIRE(s.size() == 2);
+  CHECK(s[0].object == "all");
+  CHECK(s[0].noise_mm == 0);
+  CHECK(s[1].object == "light");
+  CHECK(s[1].noise_mm == 32);
+  CHECK(s[1].score == Approx(0.5));
+
+  // The default (strict) reading still refuses text where a number belongs.
+  CHECK_THROWS_AS(parse_scores_csv("object,scene,noise_mm,score\ntank,circle,all,0.5\n", "s.csv"), common::DataError);
+  // A column that is not there is named.
+  c.y = "precision";
+  try {
+    parse_scores_csv("cover_lo,noise_mm,recognition\n0,all,1\n", "b.csv", c);
+    FAIL("no error");
+  } catch (const common::DataError& e) {
+    CHECK(std::string(e.what()).find("'precision'") != std::string::npos);
+  }
+}

@@ -7,7 +7,8 @@
 # re-runs only gmatch, verify and collect. Then `tile` on the shared LAS crop must write valid
 # (possibly empty) detections and GeoJSON.
 # Needs the detect and verify tools; in a tree without them (tools/detect, tools/verify) it
-# says so and exits 0.
+# says so and exits 0. Last, the `scenes` target (the same rules over rendered tiles) is only
+# planned: a dry run and `make -q` must neither render nor write anything.
 set -uo pipefail
 src=$1 bin=$2
 fail() { echo "FAIL: $*" >&2; exit 1; }
@@ -74,7 +75,12 @@ done
 "${mk[@]}" -j2 tile TILE="$tmp/a.pcd" MODELBASE="$tmp/mb" OUT="$tmp/a/" CRS=EPSG:32633 >"$tmp/again.log" 2>&1 \
   || fail "second make tile failed"
 if grep -q '^done\|^FAIL' "$tmp/again.log"; then fail "a second make tile ran stages: $(head -3 "$tmp/again.log")"; fi
+# make -q answers from the plan as it is, without detecting: 0 now, 1 after a parameter change.
+"${mk[@]}" -q tile TILE="$tmp/a.pcd" MODELBASE="$tmp/mb" OUT="$tmp/a/" CRS=EPSG:32633 >"$tmp/q.log" 2>&1 \
+  || fail "make -q tile after a run exits $? (want 0): $(tail -3 "$tmp/q.log")"
 echo "# changed" >>"$tmp/params/gmatch.ini"
+"${mk[@]}" -q tile TILE="$tmp/a.pcd" MODELBASE="$tmp/mb" OUT="$tmp/a/" CRS=EPSG:32633 >"$tmp/q.log" 2>&1
+[ $? -eq 1 ] || fail "make -q tile after a gmatch.ini change does not exit 1"
 "${mk[@]}" -j2 tile TILE="$tmp/a.pcd" MODELBASE="$tmp/mb" OUT="$tmp/a/" CRS=EPSG:32633 >"$tmp/param.log" 2>&1 \
   || fail "make tile after a gmatch.ini change failed"
 grep -q 'match.json' "$tmp/param.log" || fail "gmatch did not re-run after gmatch.ini changed"
@@ -121,4 +127,13 @@ if [ -f "$las" ]; then
     "$tmp/las/detections.geojson" >/dev/null || fail "tile on the LAS crop: GeoJSON invalid"
   echo "LAS crop: $(jq '.candidates' "$tmp/las/detections.json") candidates, $(jq '.found' "$tmp/las/detections.json") found"
 fi
+# The scene experiment's dry runs: -n shows the rendering, -q says "not up to date"; neither
+# renders, detects or writes a recipe.
+sx=(SCENE_SEEDS=7 SCENE_COVERS=light SCENE_NOISES=0 OUT="$tmp/sx/out" RES="$tmp/sx/res")
+"${mk[@]}" -n scenes "${sx[@]}" >"$tmp/sx.log" 2>&1 || fail "make -n scenes failed: $(tail -3 "$tmp/sx.log")"
+grep -q "rangetrace --scene $tmp/sx/out/scenes/light/tile-7/recipe.scene" "$tmp/sx.log" \
+  || fail "make -n scenes does not show the rendering: $(head -3 "$tmp/sx.log")"
+"${mk[@]}" -q scenes "${sx[@]}" >"$tmp/sxq.log" 2>&1
+[ $? -eq 1 ] || fail "make -q scenes on nothing done does not exit 1"
+[ ! -e "$tmp/sx" ] || fail "a dry run of scenes wrote $(find "$tmp/sx" | head -3)"
 echo "ok: scene mini experiment"

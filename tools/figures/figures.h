@@ -92,12 +92,28 @@ struct ScoreRow {
   double entropy = 0;
 };
 
-std::vector<ScoreRow> parse_scores_csv(const std::string& text, const std::string& name);
+// Which columns are read into a ScoreRow (plot --x/--y/--series/--panel): x -> noise_mm,
+// y -> score, series -> object, panel -> scene. The defaults read scores.csv. An empty panel
+// column puts every row in one panel. With any column changed (strict = false), a row whose
+// x is text (a summary row such as "all") is left out instead of being an error, so the
+// scene experiment's tables (results/scenes/summary.csv, cover_bins.csv) plot as they are.
+struct PlotColumns {
+  std::string x = "noise_mm";
+  std::string y = "score";
+  std::string series = "object";
+  std::string panel = "scene";
+  bool strict = true;
+};
+
+std::vector<ScoreRow> parse_scores_csv(const std::string& text, const std::string& name,
+                                       const PlotColumns& columns = PlotColumns{});
 
 struct PlotParams {
   int width = 1200;
   int height = 420;
   std::string y_title = "score of the correct model";  // e.g. "share of the visible area" for areas.csv
+  std::string x_title = "noise (mm)";
+  std::string title;  // panel title; "" = "scene: <panel>"
 };
 
 // One panel per scene (in order of first appearance), one line per object (same colour in

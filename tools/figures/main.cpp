@@ -116,6 +116,15 @@ int main(int argc, char** argv) {
       ->check(common::number_check<int>())
       ->capture_default_str();
   plot->add_option("--ylabel", pp.y_title, "title of the y axis")->capture_default_str();
+  plot->add_option("--xlabel", pp.x_title, "title of the x axis")->capture_default_str();
+  plot->add_option("--title", pp.title, "panel title (default: 'scene: ' and the panel's value)");
+  figures::PlotColumns pc;
+  auto* ox = plot->add_option("--x", pc.x, "column of the x values (levels at equal spacing)")->capture_default_str();
+  auto* oy = plot->add_option("--y", pc.y, "column of the y values")->capture_default_str();
+  auto* os = plot->add_option("--series", pc.series, "column naming the line (one colour each)")->capture_default_str();
+  auto* op = plot->add_option("--panel", pc.panel, "column naming the panel ('' = one panel); with any column "
+                                                  "option, rows whose x is text (a summary row 'all') are left out")
+                 ->capture_default_str();
 
   return tool.run(argc, argv, [&] {
     if (mesh->parsed()) {
@@ -182,7 +191,8 @@ int main(int argc, char** argv) {
       check_size(pp.width, pp.height);
       common::check_output(plot_out);
       common::log::Phase phase("plot");
-      const auto rows = figures::parse_scores_csv(common::read_file(plot_in), common::display_name(plot_in));
+      pc.strict = ox->count() + oy->count() + os->count() + op->count() == 0;
+      const auto rows = figures::parse_scores_csv(common::read_file(plot_in), common::display_name(plot_in), pc);
       const figures::Image image = figures::plot_scores(rows, pp, common::display_name(plot_in));
       figures::write_png(image, plot_out);
       phase.done("wrote " + size_text(image) + " " + common::display_name(plot_out, true) + " from " +

@@ -88,7 +88,8 @@ const unsigned char kPalette[][3] = {{27, 158, 119}, {217, 95, 2},  {117, 112, 1
 
 }  // namespace
 
-std::vector<ScoreRow> parse_scores_csv(const std::string& text, const std::string& name) {
+std::vector<ScoreRow> parse_scores_csv(const std::string& text, const std::string& name,
+                                       const PlotColumns& columns) {
   std::istringstream in(text);
   std::string line;
   int number_of_line = 0;
@@ -100,15 +101,15 @@ std::vector<ScoreRow> parse_scores_csv(const std::string& text, const std::strin
     const auto fields = split(line);
     if (column.empty()) {
       for (std::size_t i = 0; i < fields.size(); ++i) column.emplace(fields[i], i);
-      for (const char* need : {"object", "scene", "noise_mm", "score"}) {
-        if (!column.count(need)) {
-          throw common::DataError(name, std::string("header lacks the column '") + need +
-                                            "' (want object,scene,noise_mm,score,rank,entropy)");
+      for (const std::string& need : {columns.series, columns.panel, columns.x, columns.y}) {
+        if (!need.empty() && !column.count(need)) {
+          throw common::DataError(name, "header lacks the column '" + need + "'" +
+                                            (columns.strict ? " (want object,scene,noise_mm,score,rank,entropy)" : ""));
         }
       }
       continue;
     }
-    auto get = [&](const char* key) -> std::string {
+    auto get = [&](const std::string& key) -> std::string {
       const auto it = column.find(key);
       if (it == column.end()) return "";
       if (it->second >= fields.size()) {
@@ -118,16 +119,27 @@ std::vector<ScoreRow> parse_scores_csv(const std::string& text, const std::strin
       return fields[it->second];
     };
     ScoreRow r;
-    r.object = get("object");
-    r.scene = get("scene");
-    if (r.object.empty() || r.scene.empty()) {
-      throw common::DataError(name, "line " + std::to_string(number_of_line) + ": empty object or scene");
+    r.object = get(columns.series);
+    r.scene = columns.panel.empty() ? "" : get(columns.panel);
+    if (r.object.empty() || (!columns.panel.empty() && r.scene.empty())) {
+      throw common::DataError(name, "line " + std::to_string(number_of_line) + ": empty " + columns.series +
+                                        (columns.panel.empty() ? "" : " or " + columns.panel));
     }
-    r.noise_mm = number(get("noise_mm"), name, number_of_line, "noise_mm");
+    const std::string x = get(columns.x);
+    if (!columns.strict && !missing(x)) {
+      std::size_t used = 0;
+      try {
+        std::stod(x, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != x.size()) continue;  // a summary row ("all")
+    }
+    r.noise_mm = number(x, name, number_of_line, columns.x);
     if (!std::isfinite(r.noise_mm)) {
-      throw common::DataError(name, "line " + std::to_string(number_of_line) + ": noise_mm missing");
+      throw common::DataError(name, "line " + std::to_string(number_of_line) + ": " + columns.x + " missing");
     }
-    r.score = number(get("score"), name, number_of_line, "score");
+    r.score = number(get(columns.y), name, number_of_line, columns.y);
     const double rank = number(get("rank"), name, number_of_line, "rank");
     r.rank = std::isfinite(rank) ? static_cast<int>(std::lround(rank)) : 0;
     r.entropy = number(get("entropy"), name, number_of_line, "entropy");
@@ -190,11 +202,12 @@ Image plot_scores(const std::vector<ScoreRow>& rows, const PlotParams& params, c
   for (std::size_t s = 0; s < scenes.size(); ++s) {
     auto* chart = vtkChartXY::SafeDownCast(matrix->GetChart(vtkVector2i(static_cast<int>(s), 0)));
     if (chart == nullptr) throw common::Error("VTK chart matrix did not create an XY chart");
-    chart->SetTitle("scene: " + scenes[s]);
+    chart->SetTitle(params.title.empty() ? "scene: " + scenes[s]
+                                         : scenes[s].empty() ? params.title : params.title + ": " + scenes[s]);
     chart->GetTitleProperties()->SetFontSize(16);
     chart->GetTitleProperties()->SetBold(true);
     vtkAxis* x = chart->GetAxis(vtkAxis::BOTTOM);
-    x->SetTitle("noise (mm)");
+    x->SetTitle(params.x_title.c_str());
     x->SetBehavior(vtkAxis::FIXED);
     x->SetRange(-0.25, static_cast<double>(levels.size()) - 0.75);
     x->SetCustomTickPositions(ticks, tick_labels);

@@ -2,6 +2,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -12,6 +13,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
 #include "canopy/common/share.h"
+#include "canopy/formats/json_document.h"
 #include "canopy/formats/pcd.h"
 #include "report/baseline_section.h"
 #include "report/report.h"
@@ -44,6 +46,16 @@ report::StageTime read_time(const std::string& artifact) {
   return t;
 }
 
+std::string parent_dir(const std::string& path) {
+  const std::string d = std::filesystem::path(path).parent_path().string();
+  return d.empty() ? "." : d;
+}
+
+// `path` as seen from directory `from` (the report's links to the scene figures).
+std::string relative_to(const std::string& path, const std::string& from) {
+  return std::filesystem::path(path).lexically_proximate(from).generic_string();
+}
+
 // Number of views of a rendering: 1 + the largest view_idx of its scan.
 int count_views(const std::string& scan) {
   if (!exists(scan)) return 0;
@@ -71,6 +83,10 @@ int main(int argc, char** argv) {
   std::string ablations;
   tool.add("--ablations", &ablations,
            "ablation variants, space separated NAME=STAGE+OPTIONS (results in OUT/ablation/NAME/)");
+  std::string tile_score;
+  tool.add("--tile-score", &tile_score,
+           "the scene experiment's score.json (canopy.scene_score v1): adds its section to report.md and writes "
+           "times.csv beside it; its stages' .time files are found through its tiles");
   tool.add("--max-segments", &p.max_segments, "largest object segments examined for spurious area");
   tool.add("--overseg-ratio", &p.overseg_ratio, "over-segmented when target segments exceed this x model's");
   tool.add("--missing-area-ratio", &p.missing_area_ratio, "missing area when target area is below this x model's");
@@ -81,6 +97,9 @@ int main(int argc, char** argv) {
                                             "times.csv", "areas.csv", "verdicts.csv"};
     common::OutputSet outputs;
     for (const auto& n : names) outputs.add(results + "/" + n, "--results");
+    // The scene experiment's figures and times.csv live beside its score.json.
+    const std::string scene_dir = tile_score.empty() ? "" : parent_dir(tile_score);
+    if (!tile_score.empty()) outputs.add(scene_dir + "/times.csv", "--tile-score");
     if (thesis.empty()) thesis = common::share_dir() + "/thesis/results.csv";
     common::log::Phase phase("read");
     report::Inputs in;
@@ -177,7 +196,16 @@ int main(int argc, char** argv) {
       outputs.add(results + "/baseline.csv", "--results");
       outputs.set(results + "/baseline.csv", bl.csv);
     }
-    outputs.set(results + "/report.md", r.markdown + bl.markdown);
+    std::string markdown = r.markdown + bl.markdown;
+    if (!tile_score.empty()) {
+      common::log::Phase scenes_phase("scenes");
+      const auto score = formats::open_json_document(common::read_file(tile_score), tile_score, "canopy.scene_score");
+      const auto times = report::scene_times(report::scene_runs(score));
+      markdown += "\n" + report::scene_markdown(score, times, relative_to(scene_dir, results));
+      outputs.set(scene_dir + "/times.csv", report::scene_times_csv(times));
+      scenes_phase.done(std::to_string(report::scene_runs(score).size()) + " runs");
+    }
+    outputs.set(results + "/report.md", markdown);
     outputs.set(results + "/cases.csv", r.cases_csv);
     outputs.set(results + "/scores.csv", r.scores_csv);
     outputs.set(results + "/times.csv", r.times_csv);

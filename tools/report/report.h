@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "canopy/formats/json_io.h"
 #include "canopy/formats/verdict.h"
 
@@ -166,6 +168,44 @@ struct Output {
 };
 
 Output run(const Inputs& in, const Params& p);
+
+// ---- the scene experiment (issue 16; docs/decisions/scene-experiment.md) -----------------
+// The numbers are computed by `score` (results/scenes/score.json, canopy.scene_score v1) and by
+// scene_times below; scene_markdown only renders them.
+
+// One run of the scene experiment: a tile at one noise level. dir = the directory of its
+// detections.json (…/tile-<seed>/noise-<mm>); its rendering is dir/.. (rendered once, shared
+// by the noise levels).
+struct SceneRun {
+  std::string dir;
+  double area_ha = 0;
+};
+
+// Wall time and peak memory of one stage summed over the scene experiment, from the .time
+// files of scripts/stage.sh: rangetrace = <tile>/scan.pcd (each rendering once, per hectare of
+// rendered tiles), addnoise = <run>/scan.pcd, detect = <run>/detect, plan = <run>/cands.mk,
+// fitvox … verify = <run>/cands/<id>/{samples.pcd, mesh.ply, segments.json, match.json,
+// verdict.json}, collect = <run>/detections.json, topview = <run>/scored.png; per hectare of
+// runs for every stage but rangetrace. A missing .time file is not counted.
+struct SceneStageTime {
+  std::string stage;
+  int runs = 0;            // .time files read
+  double seconds = 0;      // summed wall time
+  double area_ha = 0;      // hectares the stage covered (renders, or runs)
+  double per_ha = 0;       // seconds / area_ha (0 when no area)
+  double peak_mb = 0;      // largest peak memory of one run
+};
+std::vector<SceneStageTime> scene_times(const std::vector<SceneRun>& runs);
+
+// The runs named by a score document's "tiles" (dir = directory of each "detections").
+std::vector<SceneRun> scene_runs(const nlohmann::ordered_json& score);
+
+// The report's "Scene experiment" section (Markdown) and the times as CSV
+// (stage,runs,seconds,area_ha,seconds_per_ha,peak_mb). figures_dir: the scene figures'
+// directory relative to report.md ("scenes").
+std::string scene_markdown(const nlohmann::ordered_json& score, const std::vector<SceneStageTime>& times,
+                           const std::string& figures_dir);
+std::string scene_times_csv(const std::vector<SceneStageTime>& times);
 
 // Thesis results table (share/thesis/results.csv): object,scene,noise_mm,score,rank,entropy.
 std::map<std::string, ThesisRow> parse_thesis_csv(const std::string& text, const std::string& name);
