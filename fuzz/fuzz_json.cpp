@@ -17,13 +17,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const f::SegmentGraph g = f::parse_segment_graph(text, "fuzz.json");
     const std::string once = f::serialize_segment_graph(g);
     if (f::serialize_segment_graph(f::parse_segment_graph(once, "back.json")) != once) std::abort();
-  } catch (const DataError&) {
-  }
+  } catch (const DataError&) {}
   try {
     const f::MatchResult r = f::parse_match_result(text, "fuzz.json");
     const std::string once = f::serialize_match_result(r);
     if (f::serialize_match_result(f::parse_match_result(once, "back.json")) != once) std::abort();
-  } catch (const DataError&) {
-  }
+  } catch (const DataError&) {}
   return 0;
 }

@@ -20,14 +20,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       const std::string again = canopy::formats::serialize_las(c, "fuzz-out.las");
       if (canopy::formats::parse_las(again, "fuzz-out.las").size() != c.size()) __builtin_trap();
     }
-  } catch (const canopy::common::DataError&) {
-  }
+  } catch (const canopy::common::DataError&) {}
   // The dispatcher in front of the LAS reader (PCD and PLY bytes are fuzz_pcd's and fuzz_ply's).
   if (canopy::formats::is_las(bytes)) {
     try {
       canopy::formats::parse_points(bytes, "fuzz", "fuzz");
-    } catch (const canopy::common::DataError&) {
-    }
+    } catch (const canopy::common::DataError&) {}
   }
   return 0;
 }

@@ -44,17 +44,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   bool mem_ok = true, file_ok = true;
   try {
     mem = canopy::formats::parse_pcd(bytes, "fuzz.pcd");
-  } catch (const DataError&) {
-    mem_ok = false;
-  }
+  } catch (const DataError&) { mem_ok = false; }
   if (FILE* f = std::fopen(temp_path().c_str(), "wb")) {
     std::fwrite(bytes.data(), 1, bytes.size(), f);
     std::fclose(f);
     try {
       file = canopy::formats::read_pcd(temp_path());
-    } catch (const DataError&) {
-      file_ok = false;
-    }
+    } catch (const DataError&) { file_ok = false; }
     std::remove(temp_path().c_str());
     if (mem_ok != file_ok || (mem_ok && !same(mem, file))) std::abort();  // the two readers disagree
   }

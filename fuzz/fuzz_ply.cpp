@@ -13,14 +13,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   canopy::formats::Mesh mesh;
   try {
     mesh = canopy::formats::parse_ply(bytes, "fuzz.ply");
-  } catch (const canopy::common::DataError&) {
-    return 0;
-  }
+  } catch (const canopy::common::DataError&) { return 0; }
   for (int mode = 0; mode < 3; ++mode) {
     canopy::formats::PlyWriteOptions o;
     o.ascii = mode == 1;
     o.scalar_prefix = mode == 2;
-    const canopy::formats::Mesh back = canopy::formats::parse_ply(canopy::formats::serialize_ply(mesh, o), "back.ply");
+    const canopy::formats::Mesh back =
+        canopy::formats::parse_ply(canopy::formats::serialize_ply(mesh, o), "back.ply");
     if (back.vertices.size() != mesh.vertices.size() || back.faces != mesh.faces) std::abort();
   }
   return 0;

@@ -54,18 +54,21 @@ void pcd_seeds() {
       "FIELDS x y _ n\nSIZE 4 4 1 2\nTYPE F F U I\nCOUNT 1 1 3 2\nWIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA ascii\n"
       "1 2 0 0 0 5 6\n3 4 0 0 0 7 8\n");
   put("pcd", "padded.pcd", f::serialize_pcd(c) + std::string(512, '\0'));
-  put("pcd", "blank-header-line.pcd", "VERSION 0.7\n   \nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
-                                      "WIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA ascii\n1 2 3\n");
-  put("pcd", "count-20000.pcd", "FIELDS x y z f\nSIZE 4 4 4 4\nTYPE F F F F\nCOUNT 1 1 1 20000\nWIDTH 0\nHEIGHT 1\n"
-                                "POINTS 0\nDATA binary\n");
+  put("pcd", "blank-header-line.pcd",
+      "VERSION 0.7\n   \nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
+      "WIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA ascii\n1 2 3\n");
+  put("pcd", "count-20000.pcd",
+      "FIELDS x y z f\nSIZE 4 4 4 4\nTYPE F F F F\nCOUNT 1 1 1 20000\nWIDTH 0\nHEIGHT 1\n"
+      "POINTS 0\nDATA binary\n");
   const std::string body(36, '\x01');
   for (const char* n : {"100000000", "4294967295", "9223372036854775807"}) {
     put("pcd", std::string("points-") + n + ".pcd",
         xyz + "WIDTH " + n + "\nHEIGHT 1\nPOINTS " + n + "\nDATA binary\n" + body);
   }
-  put("pcd", "compressed-huge.pcd", "FIELDS x\nSIZE 4\nTYPE F\nCOUNT 1\nWIDTH 1073741823\nHEIGHT 1\n"
-                                    "POINTS 1073741823\nDATA binary_compressed\n" +
-                                        u32(2) + u32(4294967292u) + "\xfc\xff");
+  put("pcd", "compressed-huge.pcd",
+      "FIELDS x\nSIZE 4\nTYPE F\nCOUNT 1\nWIDTH 1073741823\nHEIGHT 1\n"
+      "POINTS 1073741823\nDATA binary_compressed\n" +
+          u32(2) + u32(4294967292u) + "\xfc\xff");
   put("pcd", "wh-overflow.pcd", xyz + "WIDTH 4294967296\nHEIGHT 4294967296\nPOINTS 0\nDATA binary\n");
   put("pcd", "size-4294967300.pcd", "FIELDS x\nSIZE 4294967300\nTYPE F\nWIDTH 1\nPOINTS 1\nDATA binary\n1234");
   put("pcd", "x-1e30.pcd", xyz + "WIDTH 3\nHEIGHT 1\nPOINTS 3\nDATA ascii\n1e30 0 0\n0 0 0\n0.1 0 nan\n");
@@ -88,22 +91,25 @@ void ply_seeds() {
   f::PlyWriteOptions o;
   o.scalar_prefix = true;
   put("ply", "scalar.ply", f::serialize_ply(m, o));
-  std::string be = "ply\nformat binary_big_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
-                   "property float z\nelement face 1\nproperty list uchar int vertex_index\nelement extra 1\n"
-                   "property list ushort short stuff\nend_header\n";
+  std::string be =
+      "ply\nformat binary_big_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 1\nproperty list uchar int vertex_index\nelement extra 1\n"
+      "property list ushort short stuff\nend_header\n";
   be += std::string(48, '\0') + "\x04" + std::string("\0\0\0\0\0\0\0\x01\0\0\0\x02\0\0\0\x03", 16) +
         std::string("\0\x02\0\x05\0\x06", 6);
   put("ply", "big-endian-quad.ply", be);
-  const std::string hdr = "ply\nformat binary_little_endian 1.0\nelement vertex COUNT\nproperty float x\n"
-                          "property float y\nproperty float z\nend_header\n";
+  const std::string hdr =
+      "ply\nformat binary_little_endian 1.0\nelement vertex COUNT\nproperty float x\n"
+      "property float y\nproperty float z\nend_header\n";
   for (const char* n : {"100000000", "4294967295", "9223372036854775807"}) {
     std::string h = hdr;
     h.replace(h.find("COUNT"), 5, n);
     put("ply", std::string("vertex-") + n + ".ply", h + std::string(36, '\0'));
   }
-  const std::string tri = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                          "property float z\nelement face FACES\nproperty list uchar int vertex_indices\nend_header\n"
-                          "0 0 0\n1 0 0\n0 1 0\n";
+  const std::string tri =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement face FACES\nproperty list uchar int vertex_indices\nend_header\n"
+      "0 0 0\n1 0 0\n0 1 0\n";
   std::string face = tri;
   face.replace(face.find("FACES"), 5, "4294967295");
   put("ply", "face-4294967295.ply", face);
@@ -137,8 +143,10 @@ void json_seeds() {
   put("json", "area-1e400.json", variant("\"area\": 1.5", "\"area\": 1e400"));
   put("json", "version-4294967297.json", variant("\"version\": 1", "\"version\": 4294967297"));
   put("json", "segment-id-1e20.json", variant("\"segment_id\": 0", "\"segment_id\": 1e20"));
-  put("json", "dangling.json", variant("\"shared_edges\": 3", "\"shared_edges\": 3}, {\"a\": 0, \"b\": 99999, "
-                                                              "\"shared_edges\": 1}, {\"a\": 1, \"b\": 1, \"shared_edges\": 1"));
+  put("json", "dangling.json",
+      variant("\"shared_edges\": 3",
+              "\"shared_edges\": 3}, {\"a\": 0, \"b\": 99999, "
+              "\"shared_edges\": 1}, {\"a\": 1, \"b\": 1, \"shared_edges\": 1"));
   put("json", "deep.json", "{\"format\": " + std::string(100, '[') + std::string(100, ']') + "}");
   f::MatchResult r;
   r.provenance = {"gmatch", "0.1.0", {}, {"s.json"}};

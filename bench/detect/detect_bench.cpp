@@ -32,11 +32,10 @@ struct Model {
   bool cabin;
 };
 // Sizes of the modelbase's vehicles and the extremes of the default ranges.
-const Model kModels[] = {{"car", 4.5, 1.8, 1.45, true},     {"suv", 4.9, 2.0, 1.8, true},
-                         {"van", 5.5, 2.0, 2.3, false},     {"semi", 6.9, 2.5, 3.6, true},
-                         {"earthmover", 8.0, 3.0, 3.4, true}, {"tank", 6.9, 3.54, 2.4, true},
-                         {"truck", 8.0, 2.5, 3.2, false},   {"trailer", 16.0, 2.5, 4.0, false},
-                         {"small", 3.0, 1.6, 1.4, true}};
+const Model kModels[] = {
+    {"car", 4.5, 1.8, 1.45, true},   {"suv", 4.9, 2.0, 1.8, true},        {"van", 5.5, 2.0, 2.3, false},
+    {"semi", 6.9, 2.5, 3.6, true},   {"earthmover", 8.0, 3.0, 3.4, true}, {"tank", 6.9, 3.54, 2.4, true},
+    {"truck", 8.0, 2.5, 3.2, false}, {"trailer", 16.0, 2.5, 4.0, false},  {"small", 3.0, 1.6, 1.4, true}};
 
 // A seeded tile: `vehicles` at random non-overlapping poses, trees until `cover` of the tile
 // area lies under a crown, bushes and boulders.
@@ -48,8 +47,9 @@ TileSpec random_tile(std::uint64_t seed, double cover, double noise, double half
   s.spacing = spacing;
   s.occlusion = 0.5;
   common::Rng rng(common::derive_seed(seed, "detect-bench"));
-  s.terrain = seed % 3 == 0 ? detect_test::Terrain::kFlat : seed % 3 == 1 ? detect_test::Terrain::kSlope
-                                                                          : detect_test::Terrain::kRolling;
+  s.terrain = seed % 3 == 0   ? detect_test::Terrain::kFlat
+              : seed % 3 == 1 ? detect_test::Terrain::kSlope
+                              : detect_test::Terrain::kRolling;
   s.slope_deg = 10;
   s.slope_azimuth = rng.uniform(0, 2 * M_PI);
   s.rolling_amplitude = 1.5;
@@ -64,12 +64,20 @@ TileSpec random_tile(std::uint64_t seed, double cover, double noise, double half
   while (int(s.vehicles.size()) < vehicles && tries++ < 10000) {
     const Model& m = kModels[rng.below(std::size(kModels))];
     if (s.terrain == detect_test::Terrain::kRolling && m.length > 10) continue;  // rigid boxes
-    VehicleSpec v{rng.uniform(-half + 9, half - 9), rng.uniform(-half + 9, half - 9), rng.uniform(-M_PI, M_PI),
-                  m.length, m.width, m.height, std::uint32_t(s.vehicles.size() + 1), m.cabin};
+    VehicleSpec v{rng.uniform(-half + 9, half - 9),
+                  rng.uniform(-half + 9, half - 9),
+                  rng.uniform(-M_PI, M_PI),
+                  m.length,
+                  m.width,
+                  m.height,
+                  std::uint32_t(s.vehicles.size() + 1),
+                  m.cabin};
     bool ok = true;
     for (const auto& o : s.vehicles) {
       // Footprints at least 1 m apart (circle test on the half diagonals).
-      if (std::hypot(v.x - o.x, v.y - o.y) < 0.5 * (std::hypot(v.length, v.width) + std::hypot(o.length, o.width)) + 1.0) ok = false;
+      if (std::hypot(v.x - o.x, v.y - o.y) <
+          0.5 * (std::hypot(v.length, v.width) + std::hypot(o.length, o.width)) + 1.0)
+        ok = false;
     }
     if (ok) s.vehicles.push_back(v);
   }
@@ -90,7 +98,8 @@ TileSpec random_tile(std::uint64_t seed, double cover, double noise, double half
     // Branches stay at least 0.5 m above a vehicle under the crown.
     for (const auto& v : s.vehicles) {
       if (std::hypot(v.x - t.x, v.y - t.y) < t.crown_radius + 0.5 * std::hypot(v.length, v.width)) {
-        const double need = detect_test::ground_z(s, v.x, v.y) + v.height + 0.5 + 0.5 * v.length * std::tan(s.slope_deg * M_PI / 180) -
+        const double need = detect_test::ground_z(s, v.x, v.y) + v.height + 0.5 +
+                            0.5 * v.length * std::tan(s.slope_deg * M_PI / 180) -
                             detect_test::ground_z(s, t.x, t.y);
         if (t.crown_base < need) {
           t.crown_top += need - t.crown_base;
@@ -132,8 +141,9 @@ int recall(int tiles) {
     const char* name;
     double cover;
   } covers[] = {{"light", 0.2}, {"medium", 0.45}, {"dense", 0.7}};
-  std::printf("| cover (tile share / mean per vehicle) | noise | vehicles | recall | candidates per vehicle | "
-              "false candidates | centre error median | heading error median | s per tile |\n");
+  std::printf(
+      "| cover (tile share / mean per vehicle) | noise | vehicles | recall | candidates per vehicle | "
+      "false candidates | centre error median | heading error median | s per tile |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|\n");
   for (const auto& cv : covers) {
     for (const double noise : {0.0, 0.008, 0.032}) {
@@ -169,38 +179,46 @@ int recall(int tiles) {
             }
             for (const auto& t : s.trees) {
               if (std::hypot(t.x - v.x, t.y - v.y) < 8)
-                std::fprintf(stderr, "  tree at %.1f %.1f r %.1f base %.1f top %.1f trunk %.2f\n", t.x, t.y, t.crown_radius, t.crown_base, t.crown_top, t.trunk_radius);
+                std::fprintf(stderr, "  tree at %.1f %.1f r %.1f base %.1f top %.1f trunk %.2f\n", t.x, t.y,
+                             t.crown_radius, t.crown_base, t.crown_top, t.trunk_radius);
             }
             for (const auto& b : s.bushes) {
-              if (std::hypot(b.x - v.x, b.y - v.y) < 8) std::fprintf(stderr, "  bush at %.1f %.1f r %.1f top %.1f\n", b.x, b.y, b.radius, b.top);
+              if (std::hypot(b.x - v.x, b.y - v.y) < 8)
+                std::fprintf(stderr, "  bush at %.1f %.1f r %.1f top %.1f\n", b.x, b.y, b.radius, b.top);
             }
-            std::fprintf(stderr, "  %zu points: ground %zu other %zu candidate %zu; height %.2f..%.2f\n", pts, cls[1], cls[2],
-                         cls[3], hmin, hmax);
-            std::fprintf(stderr, "missed: seed %llu cover %s noise %.3f vehicle %u (%.1f x %.1f x %.1f) at %.1f %.1f, cover %.2f\n",
-                         (unsigned long long)seed, cv.name, noise, v.instance, v.length, v.width, v.height, v.x, v.y,
-                         detect_test::canopy_cover(s, v));
+            std::fprintf(stderr, "  %zu points: ground %zu other %zu candidate %zu; height %.2f..%.2f\n", pts,
+                         cls[1], cls[2], cls[3], hmin, hmax);
+            std::fprintf(stderr,
+                         "missed: seed %llu cover %s noise %.3f vehicle %u (%.1f x %.1f x %.1f) at %.1f "
+                         "%.1f, cover %.2f\n",
+                         (unsigned long long)seed, cv.name, noise, v.instance, v.length, v.width, v.height,
+                         v.x, v.y, detect_test::canopy_cover(s, v));
             continue;
           }
           ++covered;
           std::size_t mine = 0;
           for (const auto& c : r.candidates) mine += c.truth.instance == v.instance;
           if (mine > 1) {
-            std::fprintf(stderr, "%zu candidates: seed %llu cover %s noise %.3f vehicle %u (%.1f x %.1f x %.1f):", mine,
-                         (unsigned long long)seed, cv.name, noise, v.instance, v.length, v.width, v.height);
+            std::fprintf(
+                stderr, "%zu candidates: seed %llu cover %s noise %.3f vehicle %u (%.1f x %.1f x %.1f):", mine,
+                (unsigned long long)seed, cv.name, noise, v.instance, v.length, v.width, v.height);
             for (const auto& c : r.candidates) {
-              if (c.truth.instance == v.instance) std::fprintf(stderr, " [%.1f x %.1f x %.1f, coverage %.2f]", c.length, c.width, c.height, c.truth.coverage);
+              if (c.truth.instance == v.instance)
+                std::fprintf(stderr, " [%.1f x %.1f x %.1f, coverage %.2f]", c.length, c.width, c.height,
+                             c.truth.coverage);
             }
             std::fprintf(stderr, "\n");
           }
           centre_err.push_back((best->to_tile.block<3, 1>(0, 3) - detect_test::vehicle_centre(s, v)).norm());
-          const double cosang = std::abs(best->to_tile.block<3, 1>(0, 0).dot(detect_test::vehicle_rotation(s, v).col(0)));
+          const double cosang =
+              std::abs(best->to_tile.block<3, 1>(0, 0).dot(detect_test::vehicle_rotation(s, v).col(0)));
           heading_err.push_back(std::acos(std::min(1.0, cosang)) * 180 / M_PI);
         }
       }
-      std::printf("| %s (%.2f / %.2f) | %.0f mm | %zu | %.1f%% | %.2f | %zu | %.2f m | %.1f deg | %.2f |\n", cv.name, cv.cover,
-                  cover_sum / double(vehicles), noise * 1e3, vehicles, 100.0 * double(covered) / double(vehicles),
-                  double(candidates) / double(vehicles), false_cands, median(centre_err), median(heading_err),
-                  seconds / tiles);
+      std::printf("| %s (%.2f / %.2f) | %.0f mm | %zu | %.1f%% | %.2f | %zu | %.2f m | %.1f deg | %.2f |\n",
+                  cv.name, cv.cover, cover_sum / double(vehicles), noise * 1e3, vehicles,
+                  100.0 * double(covered) / double(vehicles), double(candidates) / double(vehicles),
+                  false_cands, median(centre_err), median(heading_err), seconds / tiles);
       std::fflush(stdout);
     }
   }
@@ -254,10 +272,11 @@ int pmf(double half) {
     full_right += (is_ground[i] != 0) == t;
     ours_right += (r.classes[i] == detect::kClassGround) == t;
   }
-  std::printf("%zu points (%.0f x %.0f m): PCL PMF on all points %.2f s, %.2f%% agree with the labels; "
-              "detect (raster PMF + DTM + objects + candidates) %.2f s, ground class %.2f%% agree\n",
-              tile.size(), 2 * half, 2 * half, full, 100.0 * double(full_right) / double(tile.size()), ours,
-              100.0 * double(ours_right) / double(tile.size()));
+  std::printf(
+      "%zu points (%.0f x %.0f m): PCL PMF on all points %.2f s, %.2f%% agree with the labels; "
+      "detect (raster PMF + DTM + objects + candidates) %.2f s, ground class %.2f%% agree\n",
+      tile.size(), 2 * half, 2 * half, full, 100.0 * double(full_right) / double(tile.size()), ours,
+      100.0 * double(ours_right) / double(tile.size()));
   return 0;
 }
 

@@ -33,8 +33,7 @@ Setup make_setup(int scenes_per_model) {
   return s;
 }
 
-void measure(const char* label, const Setup& s, const std::vector<gm::Model>& models,
-             const gm::Params& p) {
+void measure(const char* label, const Setup& s, const std::vector<gm::Model>& models, const gm::Params& p) {
   double total = 0, worst = 0;
   std::int64_t nodes = 0, truncated = 0;
   int correct = 0;
@@ -45,9 +44,8 @@ void measure(const char* label, const Setup& s, const std::vector<gm::Model>& mo
     for (int rep = 0; rep < 3; ++rep) {
       const auto t0 = std::chrono::steady_clock::now();
       out = gm::run({&scene, &models}, p, 1);
-      ms = std::min(
-          ms,
-          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+      ms = std::min(ms,
+                    std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }
     total += ms;
     worst = std::max(worst, ms);
@@ -58,10 +56,9 @@ void measure(const char* label, const Setup& s, const std::vector<gm::Model>& mo
     if (out.result.models.front().model.rfind(s.base[truth].name, 0) == 0) ++correct;
   }
   const double n = static_cast<double>(s.scenes.size());
-  std::printf("%-28s %4zu %3d %3d %10.2f %10.2f %12.0f %6lld %6.0f%%\n", label, models.size(),
-              p.max_segments, p.branches, total / n, worst,
-              nodes / (n * static_cast<double>(models.size())), static_cast<long long>(truncated),
-              100.0 * correct / n);
+  std::printf("%-28s %4zu %3d %3d %10.2f %10.2f %12.0f %6lld %6.0f%%\n", label, models.size(), p.max_segments,
+              p.branches, total / n, worst, nodes / (n * static_cast<double>(models.size())),
+              static_cast<long long>(truncated), 100.0 * correct / n);
 }
 
 }  // namespace
@@ -73,8 +70,8 @@ int main() {
       "20%%, 2 "
       "splits, 5 clutter segments, noise, random heading), 1 thread\n",
       s.scenes.size());
-  std::printf("%-28s %4s %3s %3s %10s %10s %12s %6s %7s\n", "case", "M", "X", "B", "ms/scene",
-              "max ms", "nodes/match", "trunc", "rank-1");
+  std::printf("%-28s %4s %3s %3s %10s %10s %12s %6s %7s\n", "case", "M", "X", "B", "ms/scene", "max ms",
+              "nodes/match", "trunc", "rank-1");
   gm::Params p;
   for (int m : {1, 5, 10, 20, 40}) {
     std::vector<gm::Model> models;

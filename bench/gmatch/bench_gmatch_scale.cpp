@@ -39,9 +39,7 @@ namespace {
 constexpr int kEntries = 1000;
 
 double now_ms() {
-  return std::chrono::duration<double, std::milli>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 double peak_rss_mb() {
@@ -108,8 +106,7 @@ int build(const fs::path& dir, const std::vector<fs::path>& inputs) {
   return 0;
 }
 
-int run(const std::string& modelbase,
-        const std::vector<std::pair<std::string, fs::path>>& queries) {
+int run(const std::string& modelbase, const std::vector<std::pair<std::string, fs::path>>& queries) {
   const double rss0 = peak_rss_mb();
   double t0 = now_ms();
   const std::vector<gm::Model> models = gm::read_modelbase(modelbase);
@@ -120,9 +117,10 @@ int run(const std::string& modelbase,
   t0 = now_ms();
   for (const auto& m : models) (void)gm::summarize(m.graph, 15);
   const double summary_ms = now_ms() - t0;
-  std::printf("modelbase: %zu entries, %zu segments; load %.0f ms, peak RSS %.0f MB -> %.0f MB; "
-              "summaries of all entries %.2f ms\n",
-              models.size(), segs, load_ms, rss0, rss1, summary_ms);
+  std::printf(
+      "modelbase: %zu entries, %zu segments; load %.0f ms, peak RSS %.0f MB -> %.0f MB; "
+      "summaries of all entries %.2f ms\n",
+      models.size(), segs, load_ms, rss0, rss1, summary_ms);
 
   const std::vector<int> ks = {0, 8, 16, 32, 64, 128, 256};
   const gm::PrefilterBy bys[2] = {gm::PrefilterBy::kCoarse, gm::PrefilterBy::kSummary};
@@ -131,7 +129,7 @@ int run(const std::string& modelbase,
     int exact = 0, source = 0, agree = 0, identical = 0;
   };
   std::map<std::pair<int, int>, Row> rows;  // (by, K)
-  std::vector<int> winner_rank;  // rank of the full search's winner in prefilter order
+  std::vector<int> winner_rank;             // rank of the full search's winner in prefilter order
   for (const auto& [object, path] : queries) {
     const SegmentGraph q = canopy::formats::read_segment_graph(path.string());
     gm::Out off;
@@ -174,21 +172,22 @@ int run(const std::string& modelbase,
     winner_rank.push_back(rank + 1);
     int true_rank = 0;
     while (d[true_rank].second != object) ++true_rank;
-    std::printf("  %-40s true %-10s full-search winner %-18s prefilter rank of winner %4d, of "
-                "true model %4d\n",
-                path.parent_path().string().c_str(), object.c_str(), w.c_str(), rank + 1,
-                true_rank + 1);
+    std::printf(
+        "  %-40s true %-10s full-search winner %-18s prefilter rank of winner %4d, of "
+        "true model %4d\n",
+        path.parent_path().string().c_str(), object.c_str(), w.c_str(), rank + 1, true_rank + 1);
     std::fflush(stdout);
   }
   const double n = static_cast<double>(queries.size());
-  std::printf("\n| prefilter | K | ms/query | worst ms | rank-1 exact | rank-1 source object | "
-              "same answer as off | "
-              "same top 5 as off |\n|---|---|---:|---:|---:|---:|---:|---:|\n");
+  std::printf(
+      "\n| prefilter | K | ms/query | worst ms | rank-1 exact | rank-1 source object | "
+      "same answer as off | "
+      "same top 5 as off |\n|---|---|---:|---:|---:|---:|---:|---:|\n");
   for (const auto& [key, r] : rows) {
     const int k = key.second;
     std::printf("| %s | %d | %.0f | %.0f | %d/%.0f | %d/%.0f | %d/%.0f | %d/%.0f |\n",
-                k == 0 ? "off" : gm::to_string(bys[key.first]), k, r.ms / n, r.worst, r.exact, n,
-                r.source, n, r.agree, n, r.identical, n);
+                k == 0 ? "off" : gm::to_string(bys[key.first]), k, r.ms / n, r.worst, r.exact, n, r.source, n,
+                r.agree, n, r.identical, n);
   }
   std::sort(winner_rank.begin(), winner_rank.end());
   std::printf("\nprefilter rank of the full search's winner: median %d, max %d\n",

@@ -21,8 +21,8 @@ std::vector<gm::Model> modelbase() {
   return models;
 }
 
-void row(const char* scenes, const char* config, const std::vector<gm::Model>& models,
-         const SceneSpec& spec, const gm::Params& p, int per_model = 10) {
+void row(const char* scenes, const char* config, const std::vector<gm::Model>& models, const SceneSpec& spec,
+         const gm::Params& p, int per_model = 10) {
   int n = 0, correct = 0;
   double true_score = 0, best_wrong = 0, entropy = 0;
   for (size_t k = 0; k < models.size(); ++k) {
@@ -43,8 +43,8 @@ void row(const char* scenes, const char* config, const std::vector<gm::Model>& m
       entropy += out.entropy;
     }
   }
-  std::printf("%-34s %-30s %6.0f%% %8.3f %8.3f %8.3f\n", scenes, config, 100.0 * correct / n,
-              true_score / n, best_wrong / n, entropy / n);
+  std::printf("%-34s %-30s %6.0f%% %8.3f %8.3f %8.3f\n", scenes, config, 100.0 * correct / n, true_score / n,
+              best_wrong / n, entropy / n);
 }
 
 gm::Params with(gm::OrientationForm o, gm::NormalSign s, gm::ErrorForm e) {
@@ -62,10 +62,11 @@ int main() {
   using O = gm::OrientationForm;
   using N = gm::NormalSign;
   using E = gm::ErrorForm;
-  std::printf("5 synthetic models (20-60 segments), 10 scenes each: 20%% occlusion, 2 splits, "
-              "5 clutter segments, noise\n");
-  std::printf("%-34s %-30s %7s %8s %8s %8s\n", "scenes", "configuration", "rank-1", "S true",
-              "S wrong", "H bits");
+  std::printf(
+      "5 synthetic models (20-60 segments), 10 scenes each: 20%% occlusion, 2 splits, "
+      "5 clutter segments, noise\n");
+  std::printf("%-34s %-30s %7s %8s %8s %8s\n", "scenes", "configuration", "rank-1", "S true", "S wrong",
+              "H bits");
   SceneSpec aligned;
   aligned.random_heading = false;
   SceneSpec rotated;
@@ -95,8 +96,7 @@ int main() {
                                         : "random heading";
     row(name, "error bounded", models, *sc, with(O::kRelative, N::kAxial, E::kBounded));
     row(name, "error thesis", models, *sc, with(O::kRelative, N::kAxial, E::kThesis));
-    row(name, "error thesis, orientation thesis", models, *sc,
-        with(O::kThesis, N::kAxial, E::kThesis));
+    row(name, "error thesis, orientation thesis", models, *sc, with(O::kThesis, N::kAxial, E::kThesis));
   }
   // (4) one-segment gaming: the object is one model segment plus clutter.
   std::printf("\none model segment (the largest) + 9 clutter segments, matched to its model:\n");

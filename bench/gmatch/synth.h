@@ -25,8 +25,7 @@ inline SegmentGraph synthetic_vehicle(std::uint64_t seed, int n, double length =
     s.area = 0.03 + 3.0 * std::pow(rng.uniform(), 3.0);
     s.thickness = rng.uniform(0.005, 0.05);
     s.elongation = rng.uniform(0.2, 1.0);
-    s.centroid = {rng.uniform(-length / 2, length / 2), rng.uniform(-1.1, 1.1),
-                  rng.uniform(0.3, 2.8)};
+    s.centroid = {rng.uniform(-length / 2, length / 2), rng.uniform(-1.1, 1.1), rng.uniform(0.3, 2.8)};
     Vec3 d = dirs[rng.below(5)];
     for (auto& c : d) c += 0.2 * rng.normal();
     const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
@@ -37,10 +36,10 @@ inline SegmentGraph synthetic_vehicle(std::uint64_t seed, int n, double length =
 }
 
 struct SceneSpec {
-  double drop = 0.2;        // share of segments occluded away
-  int clutter = 5;          // foliage segments added (small, random normals)
-  int splits = 2;           // largest segments over-segmented into two halves
-  double area_noise = 0.1;  // relative
+  double drop = 0.2;             // share of segments occluded away
+  int clutter = 5;               // foliage segments added (small, random normals)
+  int splits = 2;                // largest segments over-segmented into two halves
+  double area_noise = 0.1;       // relative
   double position_noise = 0.05;  // m
   double normal_noise = 0.05;    // ~3 degrees
   bool random_heading = true;    // else the model's heading (translation only)
@@ -48,8 +47,7 @@ struct SceneSpec {
 };
 
 // The model seen in a scene: occlusion, over-segmentation, clutter, noise, random heading.
-inline SegmentGraph synthetic_scene(const SegmentGraph& model, std::uint64_t seed,
-                                    const SceneSpec& spec = {}) {
+inline SegmentGraph synthetic_scene(const SegmentGraph& model, std::uint64_t seed, const SceneSpec& spec = {}) {
   canopy::common::Rng rng(seed);
   SegmentGraph g;
   int next_id = 1000;

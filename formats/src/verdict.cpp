@@ -57,17 +57,17 @@ Json optional_pose(const std::optional<Pose>& p) { return p ? pose_json(*p) : Js
 
 Json hypothesis_json(const Hypothesis& h, bool has_classes) {
   Json j{{"model", h.model},
-              {"gmatch_rank", h.gmatch_rank},
-              {"gmatch_score", finite(h.gmatch_score, "gmatch_score")},
-              {"start", h.start},
-              {"flipped", h.flipped},
-              {"pose", pose_json(h.pose)},
-              {"pose_tile", optional_pose(h.pose_tile)},
-              {"fit_rms", finite(h.fit_rms, "fit_rms")},
-              {"explained", finite(h.explained, "explained")},
-              {"free_space_violation", finite(h.free_space_violation, "free_space_violation")},
-              {"score", finite(h.score, "score")},
-              {"flip_score", finite(h.flip_score, "flip_score")}};
+         {"gmatch_rank", h.gmatch_rank},
+         {"gmatch_score", finite(h.gmatch_score, "gmatch_score")},
+         {"start", h.start},
+         {"flipped", h.flipped},
+         {"pose", pose_json(h.pose)},
+         {"pose_tile", optional_pose(h.pose_tile)},
+         {"fit_rms", finite(h.fit_rms, "fit_rms")},
+         {"explained", finite(h.explained, "explained")},
+         {"free_space_violation", finite(h.free_space_violation, "free_space_violation")},
+         {"score", finite(h.score, "score")},
+         {"flip_score", finite(h.flip_score, "flip_score")}};
   if (has_classes) j["class"] = h.vehicle_class.empty() ? Json(nullptr) : Json(h.vehicle_class);
   return j;
 }
@@ -160,7 +160,8 @@ Verdict parse_verdict(const std::string& text, const std::string& name) {
     if (j.contains("class")) {
       v.has_classes = true;
       v.vehicle_class = j.at("class").is_null() ? "" : j.at("class").get<std::string>();
-      v.nearest_instance = j.at("nearest_instance").is_null() ? "" : j.at("nearest_instance").get<std::string>();
+      v.nearest_instance =
+          j.at("nearest_instance").is_null() ? "" : j.at("nearest_instance").get<std::string>();
       v.class_score = j.at("class_score").get<double>();
       v.class_margin = j.at("class_margin").get<double>();
     }

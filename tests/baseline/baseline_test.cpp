@@ -13,9 +13,7 @@ using namespace baseline_test;
 
 namespace {
 
-std::vector<bl::Model> box_and_cylinder() {
-  return {{"box", box()}, {"cylinder", cylinder()}};
-}
+std::vector<bl::Model> box_and_cylinder() { return {{"box", box()}, {"cylinder", cylinder()}}; }
 
 // Heading of a pose's rotation about z, and its tilt (angle of the rotated z axis from z).
 double heading_of(const Eigen::Matrix4d& m) { return std::atan2(m(1, 0), m(0, 0)); }
@@ -29,12 +27,10 @@ double heading_error_mod_pi(double a, double b) {
 
 }  // namespace
 
-TEST_CASE("baseline: an occluded box ranks the box first in both methods, pose recovered",
-          "[baseline]") {
+TEST_CASE("baseline: an occluded box ranks the box first in both methods, pose recovered", "[baseline]") {
   const double heading = 0.6;
   const Eigen::Vector3d t(3.0, -2.0, 0.0);
-  const Cloud raw = scene(box(), pose(heading, t), {-std::sin(heading), std::cos(heading), 0},
-                          0.01, 7);
+  const Cloud raw = scene(box(), pose(heading, t), {-std::sin(heading), std::cos(heading), 0}, 0.01, 7);
   const Cloud cand = bl::candidate_from_cloud(to_cloud(raw), "scene", 0.3);
   REQUIRE(cand.points.size() < raw.points.size());  // the ground went below the cut
   for (const auto& p : cand.points) REQUIRE(p.z() >= 0.3f);

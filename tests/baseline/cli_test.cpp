@@ -32,11 +32,10 @@ fs::path setup(const std::string& name) {
 
 }  // namespace
 
-TEST_CASE("baseline ranks the box first in both methods, byte-identical on reruns",
-          "[baseline][cli]") {
+TEST_CASE("baseline ranks the box first in both methods, byte-identical on reruns", "[baseline][cli]") {
   const fs::path dir = setup("ok");
-  const std::string base = kBin + " -i " + (dir / "samples.pcd").string() + " --modelbase " +
-                           (dir / "modelbase").string();
+  const std::string base =
+      kBin + " -i " + (dir / "samples.pcd").string() + " --modelbase " + (dir / "modelbase").string();
   std::string err;
   REQUIRE(canopy::test::sh(base + " -o " + (dir / "a.json").string(), dir / "err", &err) == 0);
   CHECK(err.find("vfh: best box") != std::string::npos);
@@ -55,10 +54,8 @@ TEST_CASE("baseline ranks the box first in both methods, byte-identical on rerun
   }
   CHECK(j["methods"][1]["models"][0]["pose"].size() == 16);
   // One method only.
-  REQUIRE(canopy::test::sh(base + " --methods vfh -o " + (dir / "v.json").string(), dir / "err",
-                           &err) == 0);
-  CHECK(nlohmann::json::parse(canopy::common::read_file((dir / "v.json").string()))["methods"].size() ==
-        1);
+  REQUIRE(canopy::test::sh(base + " --methods vfh -o " + (dir / "v.json").string(), dir / "err", &err) == 0);
+  CHECK(nlohmann::json::parse(canopy::common::read_file((dir / "v.json").string()))["methods"].size() == 1);
 }
 
 TEST_CASE("baseline: bad inputs are named, exit 1, no output", "[baseline][cli]") {
@@ -73,9 +70,9 @@ TEST_CASE("baseline: bad inputs are named, exit 1, no output", "[baseline][cli]"
   CHECK(err.find("nowhere") != std::string::npos);
   // A modelbase without surfaces.
   fs::create_directories(dir / "empty");
-  CHECK(canopy::test::sh(kBin + " -i " + (dir / "samples.pcd").string() + " --modelbase " +
-                             (dir / "empty").string() + tail,
-                         dir / "err", &err) == 1);
+  CHECK(canopy::test::sh(
+            kBin + " -i " + (dir / "samples.pcd").string() + " --modelbase " + (dir / "empty").string() + tail,
+            dir / "err", &err) == 1);
   CHECK(err.find("no <model>.pcd") != std::string::npos);
   // A broken surface is named.
   std::ofstream(dir / "modelbase" / "broken.pcd") << "# .PCD v0.7\nFIELDS x y\n";

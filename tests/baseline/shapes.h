@@ -65,8 +65,8 @@ inline Eigen::Isometry3d pose(double heading, Eigen::Vector3d t) {
 
 // The scene: `model` posed, with the points whose normal faces `hidden` removed (one side
 // occluded), Gaussian noise of sigma m, and a ground grid below the ground cut.
-inline Cloud scene(const Cloud& model, const Eigen::Isometry3d& T, Eigen::Vector3d hidden,
-                   double sigma, std::uint64_t seed) {
+inline Cloud scene(const Cloud& model, const Eigen::Isometry3d& T, Eigen::Vector3d hidden, double sigma,
+                   std::uint64_t seed) {
   canopy::common::Rng rng(seed);
   Cloud out;
   for (std::size_t i = 0; i < model.points.size(); ++i) {

@@ -159,7 +159,8 @@ TEST_CASE("values out of an option's range are usage errors naming the option, b
   write_roof(d / "roof.ply");
   const std::string scan = " -i " + q(d / "scan.pcd"), out = " -o " + q(d / "out.pcd");
   std::string err;
-  CHECK(sh(bin("ncut") + " --radius 1e-9 -i " + q(d / "roof.ply") + " -o " + q(d / "g.json"), d / "err", &err) == 2);
+  CHECK(sh(bin("ncut") + " --radius 1e-9 -i " + q(d / "roof.ply") + " -o " + q(d / "g.json"), d / "err",
+           &err) == 2);
   CHECK_THAT(err, Catch::Contains("--radius"));
   CHECK(sh(bin("fitvox") + " --voxel 1e-300" + scan + out, d / "err", &err) == 2);
   CHECK_THAT(err, Catch::Contains("--voxel"));
@@ -202,7 +203,8 @@ TEST_CASE("an output directory that does not exist is reported before the input 
   CHECK_THAT(err, Catch::Contains((d / "nodir").string()) && Catch::Contains("does not exist"));
   CHECK_THAT(err, !Catch::Contains("garbage.pcd"));
   CHECK(sh(bin("ncut") + " -i " + q(d / "garbage.pcd") + " --colored " + q(d / "nodir" / "c.ply") + " -o " +
-               q(d / "g.json"), d / "err", &err) == 1);
+               q(d / "g.json"),
+           d / "err", &err) == 1);
   CHECK_THAT(err, Catch::Contains("nodir"));
 }
 
@@ -273,7 +275,8 @@ TEST_CASE("ncut: the coloured PLY is not left when the JSON cannot be written") 
   }
   std::string err;
   CHECK(sh(bin("ncut") + " -q -i " + q(d / "roof.ply") + " -o " + q(d / "full.json") + " --colored " +
-               q(d / "c.ply"), d / "err", &err) == 1);
+               q(d / "c.ply"),
+           d / "err", &err) == 1);
   CHECK_THAT(err, Catch::Contains("write failed"));
   CHECK_FALSE(fs::exists(d / "c.ply"));
   CHECK(is_char_device(d / "full.json"));
@@ -351,8 +354,8 @@ void write_experiment(const fs::path& out) {
 TEST_CASE("report: its six outputs appear together or not at all") {
   const fs::path d = fresh_dir("cli", "report");
   write_experiment(d / "out");
-  const std::string run = bin("report") + " -q --out " + q(d / "out") +
-                          " --objects sedan --scenes circle --noises 0 --results ";
+  const std::string run =
+      bin("report") + " -q --out " + q(d / "out") + " --objects sedan --scenes circle --noises 0 --results ";
   std::string err;
   // A results directory that does not exist: reported before anything is read.
   CHECK(sh(run + q(d / "nores"), d / "err", &err) == 1);

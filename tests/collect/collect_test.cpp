@@ -22,8 +22,8 @@ const double kPi = 3.14159265358979323846;
 
 Json rows(double heading_deg, double x, double y, double z) {
   const double c = std::cos(heading_deg * kPi / 180), s = std::sin(heading_deg * kPi / 180);
-  return Json::array({Json::array({c, -s, 0.0, x}), Json::array({s, c, 0.0, y}), Json::array({0.0, 0.0, 1.0, z}),
-                      Json::array({0.0, 0.0, 0.0, 1.0})});
+  return Json::array({Json::array({c, -s, 0.0, x}), Json::array({s, c, 0.0, y}),
+                      Json::array({0.0, 0.0, 1.0, z}), Json::array({0.0, 0.0, 0.0, 1.0})});
 }
 
 Json flat(double heading_deg, double x, double y, double z) {
@@ -35,8 +35,11 @@ Json flat(double heading_deg, double x, double y, double z) {
 }
 
 Json verdict(const char* model, double confidence, const Json& pose, const Json& pose_tile) {
-  return Json{{"format", "canopy.verdict"}, {"version", 1}, {"candidate", "samples.pcd"},
-              {"model", model ? Json(model) : Json(nullptr)}, {"confidence", confidence},
+  return Json{{"format", "canopy.verdict"},
+              {"version", 1},
+              {"candidate", "samples.pcd"},
+              {"model", model ? Json(model) : Json(nullptr)},
+              {"confidence", confidence},
               {"pose", pose.is_null() ? pose : Json{{"matrix", pose}}},
               {"pose_tile", pose_tile.is_null() ? pose_tile : Json{{"matrix", pose_tile}}}};
 }
@@ -56,11 +59,14 @@ Json read_json(const fs::path& p) {
 fs::path tile(const std::string& name) {
   const fs::path dir = test::fresh_dir("collect", name);
   const fs::path cands = dir / "cands";
-  Json index{{"format", "canopy.candidates"}, {"version", 1}, {"tile", "tile.pcd"},
-             {"candidates",
-              {{{"id", "c0001"}, {"transform", rows(0, E + 10, N + 10, 100)}, {"length", 5.0}, {"width", 2.0}},
-               {{"id", "c0002"}, {"transform", rows(0, E + 5, N + 25, 100)}, {"length", 3.0}, {"width", 2.0}},
-               {{"id", "c0003"}, {"transform", rows(90, E + 20, N + 20, 100)}, {"length", 6.0}, {"width", 3.0}}}}};
+  Json index{
+      {"format", "canopy.candidates"},
+      {"version", 1},
+      {"tile", "tile.pcd"},
+      {"candidates",
+       {{{"id", "c0001"}, {"transform", rows(0, E + 10, N + 10, 100)}, {"length", 5.0}, {"width", 2.0}},
+        {{"id", "c0002"}, {"transform", rows(0, E + 5, N + 25, 100)}, {"length", 3.0}, {"width", 2.0}},
+        {{"id", "c0003"}, {"transform", rows(90, E + 20, N + 20, 100)}, {"length", 6.0}, {"width", 3.0}}}}};
   write(cands / "index.json", index.dump());
   // c0001: pose_tile heading 30 at (E + 10.25, N + 10.125, 100.5); its candidate pose is
   // deliberately inconsistent (identity) to show pose_tile is used as given.
@@ -101,7 +107,8 @@ TEST_CASE("collect: detections, none counted, poses and footprints at UTM coordi
   auto& y = mb.add("y");
   auto& z = mb.add("z");
   auto& l = mb.add("label", formats::kUint32);
-  for (const auto& p : {std::array<double, 4>{-2, -1, 0, 1}, {2, 1, 1.4, 1}, {0.5, 0.2, 0.8, 1}, {50, 50, 0, 2}}) {
+  for (const auto& p :
+       {std::array<double, 4>{-2, -1, 0, 1}, {2, 1, 1.4, 1}, {0.5, 0.2, 0.8, 1}, {50, 50, 0, 2}}) {
     x.push_back(p[0]);
     y.push_back(p[1]);
     z.push_back(p[2]);
@@ -202,9 +209,9 @@ TEST_CASE("collect: an empty verdict is a failed candidate, counted, not a detec
   const fs::path dir = tile("failed");
   write(dir / "cands" / "c0003" / "verdict.json", "");
   std::string err;
-  REQUIRE(test::sh(bin() + " -q -i " + (dir / "cands" / "index.json").string() + " -o " +
-                       (dir / "d.json").string(),
-                   dir / "err.txt", &err) == 0);
+  REQUIRE(test::sh(
+              bin() + " -q -i " + (dir / "cands" / "index.json").string() + " -o " + (dir / "d.json").string(),
+              dir / "err.txt", &err) == 0);
   const Json d = read_json(dir / "d.json");
   CHECK(d["found"] == 1);
   CHECK(d["none"] == 1);
@@ -246,8 +253,9 @@ TEST_CASE("collect: a missing or bad verdict is named, nothing is written") {
   CHECK_THAT(err, Catch::Contains("not a rotation"));
   CHECK_FALSE(test::exists(dir / "d.json"));
   CHECK(test::sh(cmd + " --crs 32633", dir / "err.txt", &err) == 2);
-  write(dir / "cands" / "index.json",
-        R"({"format":"canopy.candidates","version":1,"candidates":[{"id":"../x","transform":[],"length":1,"width":1}]})");
+  write(
+      dir / "cands" / "index.json",
+      R"({"format":"canopy.candidates","version":1,"candidates":[{"id":"../x","transform":[],"length":1,"width":1}]})");
   CHECK(test::sh(cmd, dir / "err.txt", &err) == 1);
   CHECK_THAT(err, Catch::Contains("not a plain name"));
 }

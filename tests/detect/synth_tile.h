@@ -44,11 +44,11 @@ struct TileSpec {
   double slope_deg = 15, slope_azimuth = 0.4;  // direction of steepest ascent (rad)
   double rolling_amplitude = 2, rolling_wavelength = 27;
   double base_height = 0;
-  double spacing = 0.1;     // point spacing on every surface (m)
-  double noise = 0;         // Gaussian sigma per axis (m)
-  double occlusion = 0.6;   // probability a ground/vehicle point under a crown is hidden
+  double spacing = 0.1;    // point spacing on every surface (m)
+  double noise = 0;        // Gaussian sigma per axis (m)
+  double occlusion = 0.6;  // probability a ground/vehicle point under a crown is hidden
   Eigen::Vector3d offset = Eigen::Vector3d::Zero();  // added to every point (georeferencing)
-  bool float64 = true;      // x y z stored as F8 (else F4)
+  bool float64 = true;                               // x y z stored as F8 (else F4)
   std::uint64_t seed = 1;
   std::vector<VehicleSpec> vehicles;
   std::vector<TreeSpec> trees;
@@ -58,14 +58,14 @@ struct TileSpec {
 
 inline double ground_z(const TileSpec& s, double x, double y) {
   switch (s.terrain) {
-    case Terrain::kFlat:
-      return s.base_height;
+    case Terrain::kFlat: return s.base_height;
     case Terrain::kSlope:
       return s.base_height + std::tan(s.slope_deg * M_PI / 180) *
                                  (x * std::cos(s.slope_azimuth) + y * std::sin(s.slope_azimuth));
     case Terrain::kRolling: {
       const double k = 2 * M_PI / s.rolling_wavelength;
-      return s.base_height + s.rolling_amplitude * 0.5 * (std::sin(k * x + 0.3) + std::sin(0.8 * k * y + 1.1 + 0.4 * k * x));
+      return s.base_height +
+             s.rolling_amplitude * 0.5 * (std::sin(k * x + 0.3) + std::sin(0.8 * k * y + 1.1 + 0.4 * k * x));
     }
   }
   return 0;
@@ -149,8 +149,12 @@ class TileBuilder {
       Eigen::Vector3d p = pts_[i];
       if (s_.noise > 0) p += s_.noise * Eigen::Vector3d(rng_.normal(), rng_.normal(), rng_.normal());
       p += s_.offset;
-      x[i] = p.x(); y[i] = p.y(); z[i] = p.z();
-      sx[i] = 0; sy[i] = 0; sz[i] = 1;
+      x[i] = p.x();
+      y[i] = p.y();
+      z[i] = p.z();
+      sx[i] = 0;
+      sy[i] = 0;
+      sz[i] = 1;
       label[i] = labels_[i];
       inst[i] = inst_[i];
     }
@@ -215,7 +219,8 @@ class TileBuilder {
     const int nl = std::max(1, int(v.length / d)), nw = std::max(1, int(v.width / d));
     for (int a = 0; a < nl; ++a)
       for (int b = 0; b < nw; ++b) {
-        const double u = -v.length / 2 + (a + rng_.uniform()) * v.length / nl, w = -v.width / 2 + (b + rng_.uniform()) * v.width / nw;
+        const double u = -v.length / 2 + (a + rng_.uniform()) * v.length / nl,
+                     w = -v.width / 2 + (b + rng_.uniform()) * v.width / nw;
         if (std::abs(u - uc) > lc / 2 || std::abs(w) > wc / 2) put(u, w, hb);
       }
     box(put, uc, lc, wc, hb, v.height, true);
@@ -227,7 +232,8 @@ class TileBuilder {
     const int nl = std::max(1, int(l / d)), nw = std::max(1, int(w / d)), nh = std::max(1, int(h / d));
     if (top) {
       for (int a = 0; a < nl; ++a)
-        for (int b = 0; b < nw; ++b) put(uc - l / 2 + (a + rng_.uniform()) * l / nl, -w / 2 + (b + rng_.uniform()) * w / nw, z1);
+        for (int b = 0; b < nw; ++b)
+          put(uc - l / 2 + (a + rng_.uniform()) * l / nl, -w / 2 + (b + rng_.uniform()) * w / nw, z1);
     }
     for (int a = 0; a < nl; ++a)
       for (int k = 0; k < nh; ++k) {
@@ -258,11 +264,13 @@ class TileBuilder {
   }
   void tree(const TreeSpec& t) {
     const double g = ground_z(s_, t.x, t.y);
-    const int nz = int(t.crown_base / s_.spacing), na = std::max(4, int(2 * M_PI * t.trunk_radius / s_.spacing));
+    const int nz = int(t.crown_base / s_.spacing),
+              na = std::max(4, int(2 * M_PI * t.trunk_radius / s_.spacing));
     for (int k = 0; k < nz; ++k)
       for (int a = 0; a < na; ++a) {
         const double phi = (a + rng_.uniform()) * 2 * M_PI / na;
-        add({t.x + t.trunk_radius * std::cos(phi), t.y + t.trunk_radius * std::sin(phi), g + (k + rng_.uniform()) * s_.spacing},
+        add({t.x + t.trunk_radius * std::cos(phi), t.y + t.trunk_radius * std::sin(phi),
+             g + (k + rng_.uniform()) * s_.spacing},
             formats::kLabelFoliage, 0);
       }
     blob(t.x, t.y, t.crown_radius, t.crown_base, t.crown_top, formats::kLabelFoliage, true);

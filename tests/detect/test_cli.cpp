@@ -61,7 +61,8 @@ TEST_CASE("detect writes a candidates directory") {
   formats::write_pcd(detect_test::make_tile(s), (dir / "tile.pcd").string());
   std::string err;
   const fs::path out = dir / "cands";
-  REQUIRE(test::sh(kBin + "/detect -i " + q(dir / "tile.pcd") + " -o " + q(out) + "/", dir / "err.txt", &err) == 0);
+  REQUIRE(test::sh(kBin + "/detect -i " + q(dir / "tile.pcd") + " -o " + q(out) + "/", dir / "err.txt",
+                   &err) == 0);
   INFO(err);
   CHECK(err.find("2 of 2 labelled vehicles covered") != std::string::npos);
   const Json j = read_json(out / "index.json");
@@ -91,7 +92,8 @@ TEST_CASE("detect writes a candidates directory") {
 
   SECTION("a re-run replaces the previous output as a whole") {
     { std::ofstream(out / "stale.txt") << "old"; }
-    REQUIRE(test::sh(kBin + "/detect -q --no-classes -i " + q(dir / "tile.pcd") + " -o " + q(out), dir / "err.txt", &err) == 0);
+    REQUIRE(test::sh(kBin + "/detect -q --no-classes -i " + q(dir / "tile.pcd") + " -o " + q(out),
+                     dir / "err.txt", &err) == 0);
     CHECK(!fs::exists(out / "stale.txt"));
     CHECK(!fs::exists(out / "classes.ply"));
     CHECK(read_json(out / "index.json")["classes"].is_null());
@@ -103,14 +105,16 @@ TEST_CASE("detect writes a candidates directory") {
     // directory, not an output file", when -o was checked as an output file).
     fs::create_directories(out / "c0001");
     { std::ofstream(out / "c0001" / "samples.pcd") << "old chain output"; }
-    const std::string stage = std::string(CANOPY_SOURCE_DIR) + "/scripts/stage.sh " + q(dir / "detect") + " -- ";
+    const std::string stage =
+        std::string(CANOPY_SOURCE_DIR) + "/scripts/stage.sh " + q(dir / "detect") + " -- ";
     for (const std::string& o : {out.string(), out.string() + "/"}) {
       INFO("-o " << o);
-      REQUIRE(test::sh(stage + kBin + "/detect --no-classes -i " + q(dir / "tile.pcd") + " -o " + q(o), dir / "err.txt",
-                       &err) == 0);
+      REQUIRE(test::sh(stage + kBin + "/detect --no-classes -i " + q(dir / "tile.pcd") + " -o " + q(o),
+                       dir / "err.txt", &err) == 0);
       CHECK(read_json(out / "index.json")["candidates"].size() == 2);
       CHECK(!fs::exists(out / "c0001"));  // the old chain outputs went with the old index
-      CHECK(entries(dir) == std::vector<std::string>{"cands", "detect.log", "detect.time", "err.txt", "tile.pcd"});
+      CHECK(entries(dir) ==
+            std::vector<std::string>{"cands", "detect.log", "detect.time", "err.txt", "tile.pcd"});
     }
   }
 }
@@ -122,7 +126,8 @@ TEST_CASE("detect: bad output and input") {
   std::string err;
   SECTION("output is an existing file") {
     { std::ofstream(dir / "file.txt") << "keep me"; }
-    CHECK(test::sh(kBin + "/detect -q -i " + q(dir / "tile.pcd") + " -o " + q(dir / "file.txt"), dir / "err.txt", &err) == 1);
+    CHECK(test::sh(kBin + "/detect -q -i " + q(dir / "tile.pcd") + " -o " + q(dir / "file.txt"),
+                   dir / "err.txt", &err) == 1);
     CHECK(err.find("not a directory") != std::string::npos);
     std::ifstream f(dir / "file.txt");
     std::string text;
@@ -132,7 +137,8 @@ TEST_CASE("detect: bad output and input") {
   SECTION("output is a directory of something else") {
     fs::create_directories(dir / "mine");
     { std::ofstream(dir / "mine" / "notes.txt") << "x"; }
-    CHECK(test::sh(kBin + "/detect -q -i " + q(dir / "tile.pcd") + " -o " + q(dir / "mine"), dir / "err.txt", &err) == 1);
+    CHECK(test::sh(kBin + "/detect -q -i " + q(dir / "tile.pcd") + " -o " + q(dir / "mine"), dir / "err.txt",
+                   &err) == 1);
     CHECK(err.find("refusing") != std::string::npos);
     CHECK(fs::exists(dir / "mine" / "notes.txt"));
   }
@@ -145,7 +151,8 @@ TEST_CASE("detect: bad output and input") {
     empty.add("y", formats::kFloat64);
     empty.add("z", formats::kFloat64);
     formats::write_pcd(empty, (dir / "empty.pcd").string());
-    CHECK(test::sh(kBin + "/detect -q -i " + q(dir / "empty.pcd") + " -o " + q(dir / "out"), dir / "err.txt", &err) == 1);
+    CHECK(test::sh(kBin + "/detect -q -i " + q(dir / "empty.pcd") + " -o " + q(dir / "out"), dir / "err.txt",
+                   &err) == 1);
     CHECK(err.find("empty.pcd: the tile has no points") != std::string::npos);
     CHECK(!fs::exists(dir / "out"));
     CHECK(entries(dir) == std::vector<std::string>{"empty.pcd", "err.txt", "tile.pcd"});
@@ -153,7 +160,8 @@ TEST_CASE("detect: bad output and input") {
   SECTION("float32 coordinates at UTM magnitudes") {
     s.float64 = false;
     formats::write_pcd(detect_test::make_tile(s), (dir / "utm32.pcd").string());
-    CHECK(test::sh(kBin + "/detect -q -i " + q(dir / "utm32.pcd") + " -o " + q(dir / "out"), dir / "err.txt", &err) == 1);
+    CHECK(test::sh(kBin + "/detect -q -i " + q(dir / "utm32.pcd") + " -o " + q(dir / "out"), dir / "err.txt",
+                   &err) == 1);
     CHECK(err.find("utm32.pcd: coordinate x is stored as float32") != std::string::npos);
     CHECK(!fs::exists(dir / "out"));
   }
@@ -167,8 +175,10 @@ TEST_CASE("detect: bad output and input") {
     const formats::PointCloud t = detect_test::make_tile(s);
     formats::write_pcd(t, (dir / "t.pcd").string());
     formats::write_points(t, (dir / "t.las").string());
-    REQUIRE(test::sh(kBin + "/detect -q --no-classes -i " + q(dir / "t.pcd") + " -o " + q(dir / "a"), dir / "err.txt", &err) == 0);
-    REQUIRE(test::sh(kBin + "/detect -q --no-classes -i " + q(dir / "t.las") + " -o " + q(dir / "b"), dir / "err.txt", &err) == 0);
+    REQUIRE(test::sh(kBin + "/detect -q --no-classes -i " + q(dir / "t.pcd") + " -o " + q(dir / "a"),
+                     dir / "err.txt", &err) == 0);
+    REQUIRE(test::sh(kBin + "/detect -q --no-classes -i " + q(dir / "t.las") + " -o " + q(dir / "b"),
+                     dir / "err.txt", &err) == 0);
     const auto a = read_json(dir / "a" / "index.json")["candidates"];
     const auto b = read_json(dir / "b" / "index.json")["candidates"];
     REQUIRE(a.size() == b.size());
@@ -191,11 +201,13 @@ TEST_CASE("detect: bad output and input") {
     const std::string metre("\x04\x0c\x00\x00\x01\x00\x29\x23", 8);  // 3076, 0, 1, 9001 (little-endian)
     const std::size_t at = bytes.find(metre);
     REQUIRE(at != std::string::npos);
-    CHECK(test::sh(kBin + "/detect --no-classes -i " + q(src) + " -o " + q(dir / "m"), dir / "err.txt", &err) <= 1);
+    CHECK(test::sh(kBin + "/detect --no-classes -i " + q(src) + " -o " + q(dir / "m"), dir / "err.txt",
+                   &err) <= 1);
     CHECK(err.find("warning") == std::string::npos);
     bytes[at + 6] = '\x2a';  // 9002 = foot
     { std::ofstream(dir / "feet.las", std::ios::binary) << bytes; }
-    CHECK(test::sh(kBin + "/detect --no-classes -i " + q(dir / "feet.las") + " -o " + q(dir / "ft"), dir / "err.txt", &err) <= 1);
+    CHECK(test::sh(kBin + "/detect --no-classes -i " + q(dir / "feet.las") + " -o " + q(dir / "ft"),
+                   dir / "err.txt", &err) <= 1);
     CHECK(err.find("feet.las: its georeferencing gives the coordinates in foot (0.3048 m) (GeoTIFF key "
                    "ProjLinearUnits = 9002)") != std::string::npos);
   }
@@ -210,7 +222,8 @@ TEST_CASE("detect: bad output and input") {
       if (all.col("label")[i] == formats::kLabelFoliage) keep.push_back(i);
     }
     formats::write_pcd(all.select(keep), (dir / "veg.pcd").string());
-    CHECK(test::sh(kBin + "/detect -q -i " + q(dir / "veg.pcd") + " -o " + q(dir / "out"), dir / "err.txt", &err) == 1);
+    CHECK(test::sh(kBin + "/detect -q -i " + q(dir / "veg.pcd") + " -o " + q(dir / "out"), dir / "err.txt",
+                   &err) == 1);
     CHECK(err.find("veg.pcd: found ground in only") != std::string::npos);
     CHECK(!fs::exists(dir / "out"));
   }
@@ -219,7 +232,8 @@ TEST_CASE("detect: bad output and input") {
     g.half_extent = 10;
     g.noise = 0.008;
     formats::write_pcd(detect_test::make_tile(g), (dir / "ground.pcd").string());
-    CHECK(test::sh(kBin + "/detect -q -i " + q(dir / "ground.pcd") + " -o " + q(dir / "out"), dir / "err.txt", &err) == 0);
+    CHECK(test::sh(kBin + "/detect -q -i " + q(dir / "ground.pcd") + " -o " + q(dir / "out"), dir / "err.txt",
+                   &err) == 0);
     CHECK(read_json(dir / "out" / "index.json")["candidates"].empty());
   }
 }
@@ -231,8 +245,10 @@ TEST_CASE("the existing chain runs on a candidate unchanged") {
   const fs::path dir = test::fresh_dir("detect", "chain");
   const std::string rt = kBin + "/rangetrace -q --scene unoccluded ";
   std::string err;
-  REQUIRE(test::sh(rt + "--model sedan --seed 31 --heading 35deg --position 2,-1 --crop-length 24m "
-                        "--crop-width 24m --crop-height 12m -o " + q(dir / "scan.pcd"),
+  REQUIRE(test::sh(rt +
+                       "--model sedan --seed 31 --heading 35deg --position 2,-1 --crop-length 24m "
+                       "--crop-width 24m --crop-height 12m -o " +
+                       q(dir / "scan.pcd"),
                    dir / "err.txt", &err) == 0);
   formats::PointCloud scan = formats::read_pcd((dir / "scan.pcd").string());
   // To UTM magnitudes in float64.
@@ -242,7 +258,8 @@ TEST_CASE("the existing chain runs on a candidate unchanged") {
     for (double& v : col) v += off;
   }
   formats::write_pcd(scan, (dir / "tile.pcd").string());
-  REQUIRE(test::sh(kBin + "/detect -q -i " + q(dir / "tile.pcd") + " -o " + q(dir / "cands"), dir / "err.txt", &err) == 0);
+  REQUIRE(test::sh(kBin + "/detect -q -i " + q(dir / "tile.pcd") + " -o " + q(dir / "cands"), dir / "err.txt",
+                   &err) == 0);
   const Json j = read_json(dir / "cands" / "index.json");
   REQUIRE(j["candidates"].size() == 1);
   const auto& c = j["candidates"][0];
@@ -254,13 +271,14 @@ TEST_CASE("the existing chain runs on a candidate unchanged") {
 
   fs::create_directories(dir / "mb");
   for (const std::string m : {"sedan", "tank"}) {
-    REQUIRE(test::sh(rt + "--model " + m + " --seed 11 | " + kBin + "/fitvox -q | " + kBin + "/cocone -q | " + kBin +
-                         "/ncut -q --seed 11 -o " + q(dir / "mb" / (m + ".json")),
+    REQUIRE(test::sh(rt + "--model " + m + " --seed 11 | " + kBin + "/fitvox -q | " + kBin + "/cocone -q | " +
+                         kBin + "/ncut -q --seed 11 -o " + q(dir / "mb" / (m + ".json")),
                      dir / "err.txt", &err) == 0);
   }
   const fs::path cand = dir / "cands" / c["file"].get<std::string>();
-  REQUIRE(test::sh(kBin + "/fitvox -q -i " + q(cand) + " | " + kBin + "/cocone -q | " + kBin + "/ncut -q --seed 11 | " +
-                       kBin + "/gmatch --modelbase " + q(dir / "mb") + " -o " + q(dir / "match.json"),
+  REQUIRE(test::sh(kBin + "/fitvox -q -i " + q(cand) + " | " + kBin + "/cocone -q | " + kBin +
+                       "/ncut -q --seed 11 | " + kBin + "/gmatch --modelbase " + q(dir / "mb") + " -o " +
+                       q(dir / "match.json"),
                    dir / "err.txt", &err) == 0);
   INFO(err);
   const Json match = read_json(dir / "match.json");

@@ -60,9 +60,9 @@ TileSpec three_vehicles(detect_test::Terrain terrain) {
   TileSpec s;
   s.terrain = terrain;
   s.seed = 5;
-  s.vehicles = {{-8, -6, 0.5, 4.5, 1.8, 1.5, 7},       // a car
-                {6, -9, -1.1, 8.0, 2.5, 3.0, 8},       // a truck
-                {-2, 9, 2.9, 16.0, 2.5, 4.0, 9}};      // a tractor with trailer (heading ~166 deg)
+  s.vehicles = {{-8, -6, 0.5, 4.5, 1.8, 1.5, 7},   // a car
+                {6, -9, -1.1, 8.0, 2.5, 3.0, 8},   // a truck
+                {-2, 9, 2.9, 16.0, 2.5, 4.0, 9}};  // a tractor with trailer (heading ~166 deg)
   s.trees = {{10, 6, 3.0, 5.0, 11.0, 0.2}, {-14, 2, 2.5, 4.8, 9.0, 0.15}};
   s.bushes = {{13, -2, 1.0, 0.2, 1.6}};
   s.boulders = {{-12, -14, 0.7}};
@@ -219,7 +219,9 @@ TEST_CASE("height above ground on a slope") {
 TEST_CASE("bad tiles") {
   SECTION("no points") {
     formats::PointCloud empty;
-    empty.add("x"); empty.add("y"); empty.add("z");
+    empty.add("x");
+    empty.add("y");
+    empty.add("z");
     CHECK_THROWS_AS(detect::run(empty, detect::Params{}, "empty.pcd"), common::DataError);
     CHECK_THROWS_WITH(detect::run(empty, detect::Params{}, "empty.pcd"), Catch::Contains("no points"));
   }
@@ -336,7 +338,8 @@ TEST_CASE("a vehicle half under bushes passes the shape test") {
   const detect::Result r = detect::run(tile, detect::Params{}, "bushes");
   const auto found = candidates_of(r, 3);
   REQUIRE(found.size() == 1);
-  INFO("planarity " << found[0]->planarity << " area " << found[0]->planar_area << " purity " << found[0]->truth.purity);
+  INFO("planarity " << found[0]->planarity << " area " << found[0]->planar_area << " purity "
+                    << found[0]->truth.purity);
   CHECK(found[0]->truth.purity < 0.8);  // the bushes are in the object
   CHECK(found[0]->planarity < detect::Params{}.min_planarity);
   CHECK(found[0]->planar_area >= detect::Params{}.min_planar_area);

@@ -13,7 +13,8 @@ using namespace canopy;
 using namespace canopy::famscore;
 
 TEST_CASE("famscore: the runs manifest") {
-  const auto runs = parse_runs("# header\na/verdict.json pickup 1000 light 0\n\nb.json van 7 dense 32  # c\n", "runs");
+  const auto runs =
+      parse_runs("# header\na/verdict.json pickup 1000 light 0\n\nb.json van 7 dense 32  # c\n", "runs");
   REQUIRE(runs.size() == 2);
   CHECK(runs[0].verdict == "a/verdict.json");
   CHECK(runs[0].vehicle_class == "pickup");
@@ -27,14 +28,15 @@ TEST_CASE("famscore: the runs manifest") {
   try {
     parse_runs("ok.json van 1 a 0\nbad\n", "m.txt");
     FAIL("no error");
-  } catch (const common::DataError& e) {
-    CHECK(std::string(e.what()).find("line 2") != std::string::npos);
-  }
+  } catch (const common::DataError& e) { CHECK(std::string(e.what()).find("line 2") != std::string::npos); }
 }
 
 TEST_CASE("famscore: the nearest instance is the same-class entry nearest in size") {
-  const std::vector<Entry> entries = {{"pickup-0", "pickup"}, {"pickup-1", "pickup"}, {"pickup-2", "pickup"},
-                                      {"van-0", "van"}, {"sedan", "pickup"}};
+  const std::vector<Entry> entries = {{"pickup-0", "pickup"},
+                                      {"pickup-1", "pickup"},
+                                      {"pickup-2", "pickup"},
+                                      {"van-0", "van"},
+                                      {"sedan", "pickup"}};
   auto size = [](const char* c, int n) {
     const auto f = rangetrace::make_family_instance(c, n);
     return Eigen::Vector3d(f.hi - f.lo);
@@ -72,7 +74,8 @@ TEST_CASE("famscore: confusion and accuracy tables count the trials") {
       trial("pickup", "none", "dense", false, "", "pickup-1", true),
       trial("tank", "tank", "dense", true, "tank-3", "tank-3"),
   };
-  const std::vector<Entry> entries = {{"pickup-0", "pickup"}, {"van-0", "van"}, {"tank-3", "tank"}, {"zz-1", "zz"}};
+  const std::vector<Entry> entries = {
+      {"pickup-0", "pickup"}, {"van-0", "van"}, {"tank-3", "tank"}, {"zz-1", "zz"}};
   // Rows and columns in the families' order, other classes after them, none last.
   CHECK(confusion_csv(trials, entries) ==
         "true_class,pickup,van,tank,zz,none\n"
@@ -80,7 +83,8 @@ TEST_CASE("famscore: confusion and accuracy tables count the trials") {
         "van,1,1,0,0,0\n"
         "tank,0,0,1,0,0\n");
   CHECK(accuracy_csv(trials) ==
-        "cover,noise,trials,class_right,class_accuracy,accepted,accepted_right,nearest_right,nearest_accuracy,failed\n"
+        "cover,noise,trials,class_right,class_accuracy,accepted,accepted_right,nearest_right,nearest_"
+        "accuracy,failed\n"
         "light,0,2,1,0.5000,1,1,1,0.5000,0\n"
         "dense,0,3,2,0.6667,1,1,1,0.3333,1\n"
         "all,all,5,3,0.6000,2,2,2,0.4000,1\n");

@@ -38,8 +38,7 @@ inline bool have_xvfb_run() { return std::system("command -v xvfb-run >/dev/null
 // Axis-aligned box [x0,x1] x [y0,y1] x [z0,z1] with n x n triangles pairs per face, every face
 // its own vertices (sharp creases); colour per face: top (+z), front (+x), other sides.
 inline void add_box(formats::Mesh& m, std::array<double, 3> lo, std::array<double, 3> hi,
-                    std::array<int, 3> top, std::array<int, 3> front, std::array<int, 3> side,
-                    int n = 4) {
+                    std::array<int, 3> top, std::array<int, 3> front, std::array<int, 3> side, int n = 4) {
   auto& v = m.vertices;
   for (const char* f : {"x", "y", "z"}) v.add(f, formats::kFloat32);
   for (const char* f : {"red", "green", "blue"}) v.add(f, formats::kUint8);

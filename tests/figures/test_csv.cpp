@@ -34,9 +34,7 @@ TEST_CASE("scores CSV: bad input is a DataError naming the file and line") {
   auto message = [](const std::string& text) {
     try {
       parse_scores_csv(text, "s.csv");
-    } catch (const common::DataError& e) {
-      return std::string(e.what());
-    }
+    } catch (const common::DataError& e) { return std::string(e.what()); }
     return std::string("no error");
   };
   CHECK(message("").find("s.csv") != std::string::npos);
@@ -76,8 +74,8 @@ TEST_CASE("scores CSV: other columns (scene experiment tables), summary rows lef
   n.series = "cover";
   n.panel = "";
   n.strict = false;
-  const auto s = parse_scores_csv("cover,noise_mm,recall\nall,all,0.9\nall,0,1\nlight,all,0.8\nlight,32,0.5\n",
-                                  "summary.csv", n);
+  const auto s = parse_scores_csv(
+      "cover,noise_mm,recall\nall,all,0.9\nall,0,1\nlight,all,0.8\nlight,32,0.5\n", "summary.csv", n);
   REQUIRE(s.size() == 2);
   CHECK(s[0].object == "all");
   CHECK(s[0].noise_mm == 0);
@@ -86,7 +84,8 @@ TEST_CASE("scores CSV: other columns (scene experiment tables), summary rows lef
   CHECK(s[1].score == Approx(0.5));
 
   // The default (strict) reading still refuses text where a number belongs.
-  CHECK_THROWS_AS(parse_scores_csv("object,scene,noise_mm,score\ntank,circle,all,0.5\n", "s.csv"), common::DataError);
+  CHECK_THROWS_AS(parse_scores_csv("object,scene,noise_mm,score\ntank,circle,all,0.5\n", "s.csv"),
+                  common::DataError);
   // A column that is not there is named.
   c.y = "precision";
   try {

@@ -72,10 +72,10 @@ TEST_CASE("tile_grid trims every tile to the union of the content boxes") {
   // Union [10, 24] x [5, 14] plus 2 pixels: 19 x 14 per tile.
   REQUIRE(out.width == 2 * 19);
   REQUIRE(out.height == 14);
-  CHECK(equal(out.at(2, 2), kA));              // a's content starts at (10, 5) -> (2, 2)
+  CHECK(equal(out.at(2, 2), kA));  // a's content starts at (10, 5) -> (2, 2)
   CHECK(equal(out.at(1, 2), kWhite));
-  CHECK(equal(out.at(19 + 7, 5), kB));         // b's (15, 8) -> (7, 5) in the second tile
-  CHECK(equal(out.at(19 + 16, 11), kB));       // b's (24, 14) -> (16, 11)
+  CHECK(equal(out.at(19 + 7, 5), kB));    // b's (15, 8) -> (7, 5) in the second tile
+  CHECK(equal(out.at(19 + 16, 11), kB));  // b's (24, 14) -> (16, 11)
   CHECK(equal(out.at(19 + 17, 12), kWhite));
 }
 
@@ -139,16 +139,16 @@ TEST_CASE("figures grid: '-' and missing files are failed cells; errors leave no
   write_png(solid(30, 20, kB), (dir / "b.png").string());
   std::string err;
   const std::string out = (dir / "grid.png").string();
-  REQUIRE(sh(kBin + " grid --no-trim --gap 2 --cols 2 -o " + out + " " + (dir / "a.png").string() +
-                 " - " + (dir / "gone.png").string() + " " + (dir / "b.png").string(),
+  REQUIRE(sh(kBin + " grid --no-trim --gap 2 --cols 2 -o " + out + " " + (dir / "a.png").string() + " - " +
+                 (dir / "gone.png").string() + " " + (dir / "b.png").string(),
              dir / "err", &err) == 0);
   CHECK(err.find("gone.png") != std::string::npos);
   const Image g = read_png(out);
   REQUIRE(g.width == 2 * 30 + 3 * 2);
   REQUIRE(g.height == 2 * 20 + 3 * 2);
   CHECK(equal(g.at(2, 2), kA));
-  CHECK(equal(g.at(2 + 30 + 2, 2), kFailed));            // '-'
-  CHECK(equal(g.at(2, 2 + 20 + 2), kFailed));            // missing file
+  CHECK(equal(g.at(2 + 30 + 2, 2), kFailed));  // '-'
+  CHECK(equal(g.at(2, 2 + 20 + 2), kFailed));  // missing file
   CHECK(equal(g.at(2 + 30 + 2 + 29, 2 + 20 + 2 + 19), kB));
 
   // Labels: whitespace-separated without commas (Makefile lists), comma-separated otherwise.
@@ -156,17 +156,18 @@ TEST_CASE("figures grid: '-' and missing files are failed cells; errors leave no
   CHECK(sh(kBin + " grid --cols 2 --labels-row 'sedan tank' --labels-col '0 mm,2 mm' -o " + out + " " + two,
            dir / "err", &err) == 0);
   CHECK(read_png(out).width > g.width);
-  CHECK(sh(kBin + " grid --cols 2 --labels-row 'sedan tank semi' -o " + out + " " + two, dir / "err", &err) == 2);
+  CHECK(sh(kBin + " grid --cols 2 --labels-row 'sedan tank semi' -o " + out + " " + two, dir / "err", &err) ==
+        2);
   CHECK(sh(kBin + " grid --cols 2 --labels-col '0 mm 2 mm' -o " + out + " " + two, dir / "err", &err) == 2);
 
   fs::remove(out);
   std::ofstream(dir / "bad.png") << "garbage";
-  CHECK(sh(kBin + " grid --cols 2 -o " + out + " " + (dir / "a.png").string() + " " +
-               (dir / "bad.png").string(), dir / "err", &err) == 1);
+  CHECK(sh(kBin + " grid --cols 2 -o " + out + " " + (dir / "a.png").string() + " " + (dir / "bad.png").string(),
+           dir / "err", &err) == 1);
   CHECK(err.find("bad.png") != std::string::npos);
   CHECK(sh(kBin + " grid --cols 2 -o " + out + " - -", dir / "err", &err) == 1);
-  CHECK(sh(kBin + " grid --cols 2 --labels-row a,b,c -o " + out + " " + (dir / "a.png").string(),
-           dir / "err", &err) == 2);
+  CHECK(sh(kBin + " grid --cols 2 --labels-row a,b,c -o " + out + " " + (dir / "a.png").string(), dir / "err",
+           &err) == 2);
   CHECK_FALSE(fs::exists(out));
   CHECK(count_files(dir) == 4);  // a.png b.png bad.png err: no temporaries
 }

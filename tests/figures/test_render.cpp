@@ -56,7 +56,8 @@ TEST_CASE("figures mesh: a two-colour box renders with both colours, front on th
   CHECK(white(im.at(0, 0)));
   CHECK(white(im.at(319, 239)));
 
-  REQUIRE(sh(render_cmd(dir / "box.ply", dir / "again.png", "--width 320 --height 240"), dir / "err", &err) == 0);
+  REQUIRE(sh(render_cmd(dir / "box.ply", dir / "again.png", "--width 320 --height 240"), dir / "err", &err) ==
+          0);
   CHECK(slurp(dir / "box.png") == slurp(dir / "again.png"));
 }
 
@@ -69,8 +70,8 @@ TEST_CASE("figures mesh: fixed box framing keeps the camera; bounds framing zoom
   formats::write_ply(two, (dir / "two.ply").string());
   std::string err;
   for (const char* name : {"one", "two"}) {
-    REQUIRE(sh(render_cmd(dir / (std::string(name) + ".ply"), dir / (std::string(name) + ".png")), dir / "err",
-               &err) == 0);
+    REQUIRE(sh(render_cmd(dir / (std::string(name) + ".ply"), dir / (std::string(name) + ".png")),
+               dir / "err", &err) == 0);
   }
   REQUIRE(sh(render_cmd(dir / "one.ply", dir / "bounds.png", "--framing bounds"), dir / "err", &err) == 0);
   const Image a = read_png((dir / "one.png").string());
@@ -89,8 +90,8 @@ TEST_CASE("figures mesh: fixed box framing keeps the camera; bounds framing zoom
     }
   }
   REQUIRE(covered > 1000);
-  CHECK(same > 0.97 * covered);          // the extra cube does not move the camera
-  CHECK(covered_bounds > 3 * covered);   // its own bounds fill the frame
+  CHECK(same > 0.97 * covered);         // the extra cube does not move the camera
+  CHECK(covered_bounds > 3 * covered);  // its own bounds fill the frame
 }
 
 TEST_CASE("figures mesh: no faces, a missing file or no display exit 1 and leave no file") {
@@ -105,7 +106,8 @@ TEST_CASE("figures mesh: no faces, a missing file or no display exit 1 and leave
   CHECK(err.find("absent.ply") != std::string::npos);
   formats::write_ply(box_mesh(), (dir / "box.ply").string());
   CHECK(sh("env -u DISPLAY " + kBin + " mesh -i " + (dir / "box.ply").string() + " -o " +
-               (dir / "out.png").string(), dir / "err", &err) == 1);
+               (dir / "out.png").string(),
+           dir / "err", &err) == 1);
   CHECK(err.find("xvfb-run") != std::string::npos);
   CHECK(sh(render_cmd(dir / "box.ply", dir / "out.png", "--width 0"), dir / "err", &err) == 2);
   CHECK_FALSE(fs::exists(dir / "out.png"));
@@ -149,10 +151,12 @@ TEST_CASE("figures plot: PNG of the requested size with one colour per object") 
 
   std::ofstream(dir / "bad.csv") << "object,scene,noise_mm,score\ntank,circle,4,high\n";
   CHECK(sh(display_prefix() + kBin + " plot -i " + (dir / "bad.csv").string() + " -o " +
-               (dir / "bad.png").string(), dir / "err", &err) == 1);
+               (dir / "bad.png").string(),
+           dir / "err", &err) == 1);
   CHECK(err.find("bad.csv") != std::string::npos);
   std::ofstream(dir / "empty.csv") << "object,scene,noise_mm,score\ntank,circle,4,\n";
   CHECK(sh(display_prefix() + kBin + " plot -i " + (dir / "empty.csv").string() + " -o " +
-               (dir / "bad.png").string(), dir / "err", &err) == 1);
+               (dir / "bad.png").string(),
+           dir / "err", &err) == 1);
   CHECK_FALSE(fs::exists(dir / "bad.png"));
 }

@@ -44,8 +44,8 @@ TEST_CASE("gmatch ranks the true model first, byte-identical on reruns", "[gmatc
   const fs::path dir = fresh_dir("ok");
   const fs::path mb = make_modelbase(dir);
   const fs::path object = dir / "segments.json";
-  canopy::formats::write_segment_graph(
-      transformed(perturbed(vehicle(), 8), 1.1, 0.0, {3, 4, 0}), object.string());
+  canopy::formats::write_segment_graph(transformed(perturbed(vehicle(), 8), 1.1, 0.0, {3, 4, 0}),
+                                       object.string());
   std::string err;
   const std::string base = kBin + " -i " + object.string() + " --modelbase " + mb.string();
   REQUIRE(sh(base + " -o " + (dir / "a.json").string(), dir / "err", &err) == 0);
@@ -69,9 +69,9 @@ TEST_CASE("gmatch ranks the true model first, byte-identical on reruns", "[gmatc
   REQUIRE(sh(base + " --error thesis -o " + (dir / "t.json").string(), dir / "err", &err) == 0);
   REQUIRE(canopy::formats::read_match_result((dir / "t.json").string()).error_form == "thesis");
   // The shipped defaults are accepted as a config file and change nothing.
-  REQUIRE(sh(base + " --config " + CANOPY_SOURCE_DIR + "/share/params/gmatch.ini -o " +
-                 (dir / "c.json").string(),
-             dir / "err", &err) == 0);
+  REQUIRE(
+      sh(base + " --config " + CANOPY_SOURCE_DIR + "/share/params/gmatch.ini -o " + (dir / "c.json").string(),
+         dir / "err", &err) == 0);
   const auto c = canopy::formats::read_match_result((dir / "c.json").string());
   REQUIRE(c.models[0].score == result.models[0].score);
 }
@@ -104,8 +104,7 @@ TEST_CASE("a malformed modelbase file is named, exit 1, no output", "[gmatch][cl
   REQUIRE_FALSE(fs::exists(out));
 }
 
-TEST_CASE("a model graph over the segment limit is refused before its tables are built",
-          "[gmatch][cli]") {
+TEST_CASE("a model graph over the segment limit is refused before its tables are built", "[gmatch][cli]") {
   // 20 000 segments used to cost 6.3 GB and 16 s (tables grow with the square of the count).
   const fs::path dir = fresh_dir("huge");
   const fs::path mb = make_modelbase(dir);
@@ -142,8 +141,7 @@ TEST_CASE("an empty or missing modelbase is an error", "[gmatch][cli]") {
   REQUIRE_FALSE(fs::exists(out));
 }
 
-TEST_CASE("gmatch --format table prints one line per model, named by the input path",
-          "[gmatch][cli]") {
+TEST_CASE("gmatch --format table prints one line per model, named by the input path", "[gmatch][cli]") {
   const fs::path dir = fresh_dir("table");
   const fs::path mb = make_modelbase(dir);
   const fs::path trial = dir / "sedan" / "circle" / "noise-8";

@@ -18,8 +18,7 @@ using canopy::formats::Vec3;
 
 // A flat rectangular face of sides a x b (m): area a*b, elongation min/max side (the ratio of
 // the PCA radii of a uniform rectangle), a small thickness.
-inline Segment face(int id, Vec3 centroid, Vec3 normal, double a, double b,
-                    double thickness = 0.02) {
+inline Segment face(int id, Vec3 centroid, Vec3 normal, double a, double b, double thickness = 0.02) {
   Segment s;
   s.segment_id = id;
   s.vertex_count = 100;
@@ -36,8 +35,8 @@ inline Segment face(int id, Vec3 centroid, Vec3 normal, double a, double b,
 // A two-box vehicle (body + cabin), heading +x, seen from above: 11 faces (no floor).
 // length/width/body height of the body, cabin length/height on top, cabin offset along x.
 inline SegmentGraph vehicle(double length = 4.5, double width = 1.8, double body = 0.7,
-                            double cabin_length = 2.2, double cabin_height = 0.45,
-                            double cabin_x = 0.1, double clearance = 0.3) {
+                            double cabin_length = 2.2, double cabin_height = 0.45, double cabin_x = 0.1,
+                            double clearance = 0.3) {
   SegmentGraph g;
   const double top = clearance + body, cw = width - 0.2;
   const double cx0 = cabin_x - cabin_length / 2, cx1 = cabin_x + cabin_length / 2;
@@ -50,10 +49,8 @@ inline SegmentGraph vehicle(double length = 4.5, double width = 1.8, double body
   s.push_back(face(4, {0, -width / 2, clearance + body / 2}, {0, -1, 0}, length, body));
   s.push_back(face(5, {length / 2, 0, clearance + body / 2}, {1, 0, 0}, width, body));
   s.push_back(face(6, {-length / 2, 0, clearance + body / 2}, {-1, 0, 0}, width, body));
-  s.push_back(face(7, {cabin_x, cw / 2, top + cabin_height / 2}, {0, 1, 0}, cabin_length,
-                   cabin_height));
-  s.push_back(face(8, {cabin_x, -cw / 2, top + cabin_height / 2}, {0, -1, 0}, cabin_length,
-                   cabin_height));
+  s.push_back(face(7, {cabin_x, cw / 2, top + cabin_height / 2}, {0, 1, 0}, cabin_length, cabin_height));
+  s.push_back(face(8, {cabin_x, -cw / 2, top + cabin_height / 2}, {0, -1, 0}, cabin_length, cabin_height));
   s.push_back(face(9, {cx1, 0, top + cabin_height / 2}, {1, 0, 0}, cw, cabin_height));
   s.push_back(face(10, {cx0, 0, top + cabin_height / 2}, {-1, 0, 0}, cw, cabin_height));
   return g;
@@ -112,19 +109,17 @@ inline SegmentGraph shuffled(SegmentGraph g, std::uint64_t seed) {
 
 inline SegmentGraph without(SegmentGraph g, const std::vector<int>& ids) {
   auto& s = g.segments;
-  s.erase(std::remove_if(s.begin(), s.end(),
-                         [&](const Segment& x) {
-                           return std::find(ids.begin(), ids.end(), x.segment_id) != ids.end();
-                         }),
+  s.erase(std::remove_if(
+              s.begin(), s.end(),
+              [&](const Segment& x) { return std::find(ids.begin(), ids.end(), x.segment_id) != ids.end(); }),
           s.end());
   return g;
 }
 
 // Measurement noise: relative area noise, additive thickness/elongation/centroid noise and a
 // small normal tilt, all Gaussian with the given standard deviations.
-inline SegmentGraph perturbed(SegmentGraph g, std::uint64_t seed, double area_rel = 0.05,
-                              double shape = 0.01, double position = 0.02,
-                              double normal = 0.02) {
+inline SegmentGraph perturbed(SegmentGraph g, std::uint64_t seed, double area_rel = 0.05, double shape = 0.01,
+                              double position = 0.02, double normal = 0.02) {
   canopy::common::Rng rng(seed);
   for (auto& s : g.segments) {
     s.area *= std::max(0.2, 1 + area_rel * rng.normal());

@@ -42,8 +42,7 @@ void require_same(const ModelScore& a, const ModelScore& b) {
 SegmentGraph pair_graph(double distance, double angle_b) {
   SegmentGraph g;
   g.segments.push_back(face(0, {0, 0, 1}, {0, 0, 1}, 2.0, 2.0));
-  g.segments.push_back(
-      face(1, {distance, 0, 1}, {std::sin(angle_b), 0, std::cos(angle_b)}, 4.0, 0.75));
+  g.segments.push_back(face(1, {distance, 0, 1}, {std::sin(angle_b), 0, std::cos(angle_b)}, 4.0, 0.75));
   return g;
 }
 
@@ -80,8 +79,7 @@ TEST_CASE("shuffling segment order changes nothing", "[gmatch]") {
   }
 }
 
-TEST_CASE("rotating and translating the object changes nothing in the default mode",
-          "[gmatch]") {
+TEST_CASE("rotating and translating the object changes nothing in the default mode", "[gmatch]") {
   const auto sedan = vehicle();
   const auto object = perturbed(sedan, 5);
   const auto ref = match(object, sedan);
@@ -187,8 +185,7 @@ TEST_CASE("the orientation threshold prunes pairs with E_O above it", "[gmatch]"
   REQUIRE(model_of(match(object, pair_graph(1.0, 28.5 * deg)), 1) == -1);
 }
 
-TEST_CASE("normal signs: axial mode ignores flipped normals, signed mode does not",
-          "[gmatch]") {
+TEST_CASE("normal signs: axial mode ignores flipped normals, signed mode does not", "[gmatch]") {
   const auto sedan = vehicle();
   auto flipped = sedan;
   for (int id : {2, 5, 7}) {
@@ -231,9 +228,9 @@ TEST_CASE("B = 1 is greedy and misses what B = 2 finds", "[gmatch]") {
   object.segments.push_back(face(0, {0, 0, 1}, {0, 0, 1}, 2.0, 2.0));
   object.segments.push_back(face(1, {1, 0, 1}, {0, 0, 1}, 1.0, 1.0));
   SegmentGraph model;
-  model.segments.push_back(face(0, {5, 0, 1}, {0, 0, 1}, 2.0, 2.0));   // A0: exact, far
-  model.segments.push_back(face(1, {0, 0, 1}, {0, 0, 1}, 2.0, 1.9));   // A1: close
-  model.segments.push_back(face(2, {1, 0, 1}, {0, 0, 1}, 1.0, 1.0));   // B'
+  model.segments.push_back(face(0, {5, 0, 1}, {0, 0, 1}, 2.0, 2.0));  // A0: exact, far
+  model.segments.push_back(face(1, {0, 0, 1}, {0, 0, 1}, 2.0, 1.9));  // A1: close
+  model.segments.push_back(face(2, {1, 0, 1}, {0, 0, 1}, 1.0, 1.0));  // B'
   gm::Params p;
   p.branches = 1;
   const auto greedy = match(object, model, p);
@@ -254,8 +251,7 @@ TEST_CASE("X limits the object segments matched to the largest ones", "[gmatch]"
   REQUIRE(ms.pairs.size() == 6);
   std::vector<const canopy::formats::Segment*> by_area;
   for (const auto& s : g.segments) by_area.push_back(&s);
-  std::sort(by_area.begin(), by_area.end(),
-            [](auto* a, auto* b) { return a->area > b->area; });
+  std::sort(by_area.begin(), by_area.end(), [](auto* a, auto* b) { return a->area > b->area; });
   for (size_t i = 0; i < 6; ++i) {
     REQUIRE(ms.pairs[i].object_segment == by_area[i]->segment_id);
     REQUIRE(ms.pairs[i].model_segment == by_area[i]->segment_id);
@@ -263,8 +259,7 @@ TEST_CASE("X limits the object segments matched to the largest ones", "[gmatch]"
   REQUIRE(ms.score == Approx(1.0).margin(1e-12));
 }
 
-TEST_CASE("branch and bound never changes the result; max-nodes stops the search",
-          "[gmatch]") {
+TEST_CASE("branch and bound never changes the result; max-nodes stops the search", "[gmatch]") {
   for (std::uint64_t seed = 50; seed < 56; ++seed) {
     const auto model = random_graph(seed, 16);
     const auto object = perturbed(without(model, {1, 4}), seed + 1000, 0.1, 0.02, 0.05, 0.05);
@@ -289,8 +284,7 @@ TEST_CASE("branch and bound never changes the result; max-nodes stops the search
   REQUIRE(ms.pairs.size() == 15);
 }
 
-TEST_CASE("the printed total error is gamed by a one-segment match, the bounded one is not",
-          "[gmatch]") {
+TEST_CASE("the printed total error is gamed by a one-segment match, the bounded one is not", "[gmatch]") {
   const auto sedan = vehicle();
   // The object shows the sedan's roof plus nine segments that match nothing.
   auto object = random_graph(77, 9);

@@ -68,8 +68,7 @@ TEST_CASE("summaries are invariant to heading, position and segment order", "[gm
   CHECK(gm::summarize(vehicle(), 3).area < s.area);
 }
 
-TEST_CASE("summary distance: symmetric, zero on itself, grows with a scaling",
-          "[gmatch][prefilter]") {
+TEST_CASE("summary distance: symmetric, zero on itself, grows with a scaling", "[gmatch][prefilter]") {
   const gm::Summary a = gm::summarize(vehicle(), 15);
   const gm::Summary b = gm::summarize(vehicle(8.0, 2.5, 1.6, 2.0, 1.0, 2.5, 0.6), 15);
   const gm::Summary c = gm::summarize(vehicle(5.0, 2.0, 0.8, 2.4, 0.5, 0.1, 0.3), 15);
@@ -79,8 +78,7 @@ TEST_CASE("summary distance: symmetric, zero on itself, grows with a scaling",
   CHECK(gm::summary_distance(a, c) < gm::summary_distance(a, b));
 }
 
-TEST_CASE("the prefilter keeps the true model that one summary alone would drop",
-          "[gmatch][prefilter]") {
+TEST_CASE("the prefilter keeps the true model that one summary alone would drop", "[gmatch][prefilter]") {
   const SegmentGraph object = occluded_sedan();
   const auto models = five_models();
   const gm::Summary o = gm::summarize(object, 15);
@@ -125,8 +123,8 @@ TEST_CASE("the prefilter keeps the true model that one summary alone would drop"
 TEST_CASE("prefilter K >= N or 0 is identical to no prefilter", "[gmatch][prefilter]") {
   const SegmentGraph object = occluded_sedan();
   const auto models = five_models();
-  const std::string off = canopy::formats::serialize_match_result(
-      gm::run({&object, &models}, gm::Params{}, 1).result);
+  const std::string off =
+      canopy::formats::serialize_match_result(gm::run({&object, &models}, gm::Params{}, 1).result);
   for (int k : {0, 5, 6, 1000}) {
     gm::Params p;
     p.prefilter = k;
@@ -169,19 +167,17 @@ TEST_CASE("gmatch --prefilter: recorded only when it acts, otherwise byte-identi
   const std::string base = bin + " -i " + object.string() + " --modelbase " + mb.string();
   std::string err;
   for (const char* k : {"0", "5", "default"}) {  // (0 and 5 with --prefilter-by summary too)
-    const std::string opt = std::string(k) == "default"
-                                ? ""
-                                : std::string(" --prefilter-by summary --prefilter ") + k;
-    REQUIRE(canopy::test::sh(base + opt + " -o " + (dir / (std::string(k) + ".json")).string(),
-                             dir / "err", &err) == 0);
+    const std::string opt =
+        std::string(k) == "default" ? "" : std::string(" --prefilter-by summary --prefilter ") + k;
+    REQUIRE(canopy::test::sh(base + opt + " -o " + (dir / (std::string(k) + ".json")).string(), dir / "err",
+                             &err) == 0);
   }
   const std::string off = canopy::common::read_file((dir / "0.json").string());
   CHECK(off == canopy::common::read_file((dir / "5.json").string()));
   CHECK(off == canopy::common::read_file((dir / "default.json").string()));
   CHECK(off.find("\"prefilter\":") == std::string::npos);  // not among the parameters
 
-  REQUIRE(canopy::test::sh(base + " --prefilter 2 -o " + (dir / "2.json").string(), dir / "err",
-                           &err) == 0);
+  REQUIRE(canopy::test::sh(base + " --prefilter 2 -o " + (dir / "2.json").string(), dir / "err", &err) == 0);
   CHECK(err.find("2 of 5 models (prefilter)") != std::string::npos);
   const std::string two = canopy::common::read_file((dir / "2.json").string());
   CHECK(two.find("\"prefilter-by\": \"coarse\"") != std::string::npos);
@@ -191,7 +187,6 @@ TEST_CASE("gmatch --prefilter: recorded only when it acts, otherwise byte-identi
   bool recorded = false;
   for (const auto& [key, v] : r.provenance.parameters) recorded |= key == "prefilter" && v == "2";
   CHECK(recorded);
-  CHECK(canopy::test::sh(base + " --prefilter -3 -o " + (dir / "x.json").string(), dir / "err",
-                         &err) == 2);
+  CHECK(canopy::test::sh(base + " --prefilter -3 -o " + (dir / "x.json").string(), dir / "err", &err) == 2);
   CHECK_FALSE(fs::exists(dir / "x.json"));
 }

@@ -30,8 +30,8 @@ TEST_CASE("an installed canopy still renders after its prefix is moved") {
   REQUIRE(sh(std::string(CANOPY_CMAKE_COMMAND) + " --install " + q(CANOPY_BUILD_DIR) + " --prefix " +
                  q(d / "first") + " > " + q(d / "install.log"),
              d / "err", &err) == 0);
-  for (const char* tool : {"rangetrace", "addnoise", "fitvox", "cocone", "ncut", "gmatch", "pcd2ply", "report",
-                           "figures"}) {
+  for (const char* tool :
+       {"rangetrace", "addnoise", "fitvox", "cocone", "ncut", "gmatch", "pcd2ply", "report", "figures"}) {
     CHECK(fs::exists(d / "first" / "bin" / tool));
   }
   CHECK(fs::exists(d / "first" / "share" / "canopy" / "models" / "sedan.inc"));

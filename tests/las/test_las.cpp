@@ -22,7 +22,9 @@ using canopy::common::DataError;
 
 namespace {
 
-std::string data(const std::string& file) { return std::string(CANOPY_SOURCE_DIR) + "/tests/las/data/" + file; }
+std::string data(const std::string& file) {
+  return std::string(CANOPY_SOURCE_DIR) + "/tests/las/data/" + file;
+}
 
 std::string slurp(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
@@ -47,9 +49,7 @@ void set(std::string* b, std::size_t at, T v) {
 std::string las_error(const std::string& bytes, const std::string& name = "t.las") {
   try {
     parse_las(bytes, name);
-  } catch (const DataError& e) {
-    return e.what();
-  }
+  } catch (const DataError& e) { return e.what(); }
   return "";
 }
 
@@ -134,8 +134,8 @@ TEST_CASE("LAS 1.4 point format 6: extended flags, classification and scan angle
   CHECK(c.col("intensity")[0] == 41);
   CHECK(c.col("return_number")[0] == 1);
   CHECK(c.col("number_of_returns")[0] == 1);
-  CHECK(c.col("overlap")[0] == 1);               // flags byte 0x48: bit 3 overlap,
-  CHECK(c.col("scan_direction_flag")[0] == 1);   // bit 6 scan direction
+  CHECK(c.col("overlap")[0] == 1);              // flags byte 0x48: bit 3 overlap,
+  CHECK(c.col("scan_direction_flag")[0] == 1);  // bit 6 scan direction
   CHECK(c.col("synthetic")[0] == 0);
   CHECK(c.col("withheld")[0] == 0);
   CHECK(c.col("scanner_channel")[0] == 0);
@@ -213,9 +213,7 @@ TEST_CASE("LAZ is refused with how to decompress it", "[las]") {
   try {
     parse_points(bytes, "points.pcd", "fitvox");
     FAIL("LAZ accepted");
-  } catch (const DataError& err) {
-    CHECK(contains(err.what(), "points.pcd: this is a LAZ file"));
-  }
+  } catch (const DataError& err) { CHECK(contains(err.what(), "points.pcd: this is a LAZ file")); }
 }
 
 TEST_CASE("broken LAS headers: clear errors, no allocation beyond the file", "[las]") {
@@ -377,9 +375,9 @@ TEST_CASE("LAS writer: 1.4 format 7, 1 mm grid, canopy fields as Extra Bytes, ro
   CHECK(get<std::uint32_t>(bytes, 107) == 0);                   // legacy count: 0 for format 7
   CHECK(get<std::uint64_t>(bytes, 247) == 7);
   CHECK(get<double>(bytes, 131) == 0.001);
-  CHECK(get<double>(bytes, 155) == 500004.0);   // middle of the x extent, whole metres
+  CHECK(get<double>(bytes, 155) == 500004.0);  // middle of the x extent, whole metres
   CHECK(get<double>(bytes, 179) == Approx(500000 + 6 * 1.2345678).margin(0.0005));  // max x
-  CHECK(get<std::uint64_t>(bytes, 255) == 7);   // all first returns
+  CHECK(get<std::uint64_t>(bytes, 255) == 7);                                       // all first returns
 
   const PointCloud r = parse_las(bytes, "t.las");
   REQUIRE(r.size() == 7);
@@ -388,7 +386,8 @@ TEST_CASE("LAS writer: 1.4 format 7, 1 mm grid, canopy fields as Extra Bytes, ro
     INFO(f);
     REQUIRE(r.has(f));
     const bool xyz = f == "x" || f == "y" || f == "z";
-    if (!xyz && f != "red" && f != "green" && f != "blue" && f != "intensity" && f != "classification" && f != "gps_time") {
+    if (!xyz && f != "red" && f != "green" && f != "blue" && f != "intensity" && f != "classification" &&
+        f != "gps_time") {
       CHECK(r.type(f) == c.type(f));  // Extra Bytes keep the type
     }
     for (std::size_t i = 0; i < 7; ++i) {
@@ -424,7 +423,8 @@ TEST_CASE("LAS read -> write -> read keeps every field; coordinates to the file'
       REQUIRE(b.has(f));
       const bool xyz = f == "x" || f == "y" || f == "z";
       double worst = 0;
-      for (std::size_t i = 0; i < a.size(); ++i) worst = std::max(worst, std::fabs(b.col(f)[i] - a.col(f)[i]));
+      for (std::size_t i = 0; i < a.size(); ++i)
+        worst = std::max(worst, std::fabs(b.col(f)[i] - a.col(f)[i]));
       if (xyz) {
         CHECK(worst <= 0.0005 + 1e-9);  // 1 mm grid; 0.01 ft / m source grids survive exactly
         if (file != "test1_4.las") CHECK(worst < 1e-6);

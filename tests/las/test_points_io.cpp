@@ -40,9 +40,7 @@ PointCloud small_cloud(double shift = 0) {
 std::string error_of(const std::string& bytes, const std::string& name, const std::string& tool = "fitvox") {
   try {
     parse_points(bytes, name, tool);
-  } catch (const DataError& e) {
-    return e.what();
-  }
+  } catch (const DataError& e) { return e.what(); }
   return "";
 }
 
@@ -65,7 +63,8 @@ TEST_CASE("read_points chooses the format by magic, not by name", "[points_io]")
   const std::string ply = serialize_ply(m);
   const std::string ply_ascii = serialize_ply(m, true);
   const std::string las = serialize_las(c);
-  for (const auto& [bytes, fmt] : {std::pair{pcd, "pcd"}, {ply, "ply"}, {ply_ascii, "ascii ply"}, {las, "las"}}) {
+  for (const auto& [bytes, fmt] :
+       {std::pair{pcd, "pcd"}, {ply, "ply"}, {ply_ascii, "ascii ply"}, {las, "las"}}) {
     INFO(fmt);
     for (const std::string name : {"a.pcd", "a.ply", "a.las", "noext"}) {
       const PointCloud r = parse_points(bytes, name);
@@ -75,8 +74,9 @@ TEST_CASE("read_points chooses the format by magic, not by name", "[points_io]")
     }
   }
   // A PCD whose header starts with a key instead of a comment.
-  const std::string bare = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1\n"
-                           "HEIGHT 1\nPOINTS 1\nDATA ascii\n1 2 3\n";
+  const std::string bare =
+      "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1\n"
+      "HEIGHT 1\nPOINTS 1\nDATA ascii\n1 2 3\n";
   CHECK(parse_points(bare, "b").col("z")[0] == 3);
 }
 
@@ -91,7 +91,8 @@ TEST_CASE("read_points names what a file is when it is no point cloud", "[points
   CHECK(contains(error_of("\x89PNG\r\n\x1a\n....", "i.pcd"), "i.pcd: this is a PNG image"));
   CHECK(contains(error_of("", "e.pcd"), "e.pcd: this is empty file"));
   CHECK(contains(error_of("\x1f\x8b\x08\x00", "z.pcd"), "gzip"));
-  CHECK(contains(error_of("# A markdown title\n\nSome text\n", "README.md"), "README.md: this is not a point cloud canopy reads"));
+  CHECK(contains(error_of("# A markdown title\n\nSome text\n", "README.md"),
+                 "README.md: this is not a point cloud canopy reads"));
   // A NUL early in the file does not cut the message: the bytes are escaped, the sentence ends.
   const std::string nul("ab\0cd\nmore", 10);
   const std::string e = error_of(nul, "nul.pcd");

@@ -39,7 +39,8 @@ const fs::path& scene_dir() {
     const std::string rt = bin("rangetrace") + " -q --size 256 --spacing 40mm";
     for (const std::string m : {"sedan", "tank"}) {
       REQUIRE(run(rt + " --model " + m + " --scene unoccluded --seed 11 | " + bin("fitvox") + " -q | " +
-                  bin("cocone") + " -q | " + bin("ncut") + " -q --seed 11 -o " + (d / "mb" / (m + ".json")).string()) == 0);
+                  bin("cocone") + " -q | " + bin("ncut") + " -q --seed 11 -o " +
+                  (d / "mb" / (m + ".json")).string()) == 0);
     }
     REQUIRE(run(rt + " --model sedan --scene circle --seed 12 | " + bin("addnoise") +
                 " -q --sigma 4mm --seed 12 -o " + (d / "scan.pcd").string()) == 0);
@@ -54,8 +55,8 @@ void pipeline(const fs::path& d, const std::string& scan, const std::string& tag
   REQUIRE(run(bin("fitvox") + " -q -i " + scan + " -o " + p + ".samples.pcd") == 0);
   REQUIRE(run(bin("cocone") + " -q -i " + p + ".samples.pcd -o " + p + ".mesh.ply") == 0);
   REQUIRE(run(bin("ncut") + " -q --seed 12 -i " + p + ".mesh.ply -o " + p + ".segments.json") == 0);
-  REQUIRE(run(bin("gmatch") + " -q -i " + p + ".segments.json --modelbase " + (d / "mb").string() + " -o " + p +
-              ".match.json") == 0);
+  REQUIRE(run(bin("gmatch") + " -q -i " + p + ".segments.json --modelbase " + (d / "mb").string() + " -o " +
+              p + ".match.json") == 0);
 }
 
 // The unshifted run, made by the first test case (or here when a case runs alone).
@@ -95,8 +96,10 @@ TEST_CASE("a UTM-shifted scan gives the same samples, mesh, segments and ranking
   double worst_p = 0, worst_n = 0;
   for (std::size_t i = 0; i < a.size(); ++i) {
     worst_p = std::max({worst_p, std::fabs(b.col("x")[i] - kEast - a.col("x")[i]),
-                        std::fabs(b.col("y")[i] - kNorth - a.col("y")[i]), std::fabs(b.col("z")[i] - a.col("z")[i])});
-    for (const char* n : {"normal_x", "normal_y", "normal_z"}) worst_n = std::max(worst_n, std::fabs(b.col(n)[i] - a.col(n)[i]));
+                        std::fabs(b.col("y")[i] - kNorth - a.col("y")[i]),
+                        std::fabs(b.col("z")[i] - a.col("z")[i])});
+    for (const char* n : {"normal_x", "normal_y", "normal_z"})
+      worst_n = std::max(worst_n, std::fabs(b.col(n)[i] - a.col(n)[i]));
     CHECK(b.col("point_count")[i] == a.col("point_count")[i]);
   }
   CHECK(worst_p < 1e-6);
@@ -167,16 +170,19 @@ TEST_CASE("a UTM scan as LAS (1 mm grid) runs through the tools and ranks the sa
   const PointCloud a = read_points((d / "plain.samples.pcd").string());
   CHECK(s.type("x") == kFloat64);
   // The 1 mm grid moves points by up to 0.5 mm: close to, not equal to, the float run.
-  CHECK(std::fabs(static_cast<double>(s.size()) - static_cast<double>(a.size())) < 0.05 * static_cast<double>(a.size()));
+  CHECK(std::fabs(static_cast<double>(s.size()) - static_cast<double>(a.size())) <
+        0.05 * static_cast<double>(a.size()));
   const MatchResult r = read_match_result((d / "las.match.json").string());
   CHECK(r.models[0].model == "sedan");
 
   // fitvox writes LAS when asked by name; pcd2ply and cocone read it.
   REQUIRE(run(bin("fitvox") + " -q -i " + las + " -o " + (d / "samples.las").string()) == 0);
   CHECK(read_las((d / "samples.las").string()).has("mean_curvature"));
-  REQUIRE(run(bin("cocone") + " -q -i " + (d / "samples.las").string() + " -o " + (d / "from_las.ply").string()) == 0);
+  REQUIRE(run(bin("cocone") + " -q -i " + (d / "samples.las").string() + " -o " +
+              (d / "from_las.ply").string()) == 0);
   CHECK(read_ply((d / "from_las.ply").string()).faces.size() > 300);
-  REQUIRE(run(bin("pcd2ply") + " -q -i " + (d / "samples.las").string() + " -o " + (d / "samples.ply").string()) == 0);
+  REQUIRE(run(bin("pcd2ply") + " -q -i " + (d / "samples.las").string() + " -o " +
+              (d / "samples.ply").string()) == 0);
   CHECK(read_points((d / "samples.ply").string()).size() == read_las((d / "samples.las").string()).size());
 }
 
@@ -186,7 +192,8 @@ TEST_CASE("tools: wrong formats are named, unknown output extensions are usage e
   std::string e;
   ensure_plain(d);
   // A mesh where points are expected.
-  CHECK(sh(bin("fitvox") + " -q -i " + (d / "plain.mesh.ply").string() + " -o " + (d / "no.pcd").string(), err, &e) == 1);
+  CHECK(sh(bin("fitvox") + " -q -i " + (d / "plain.mesh.ply").string() + " -o " + (d / "no.pcd").string(),
+           err, &e) == 1);
   CHECK(e.find("plain.mesh.ply: this is a PLY mesh with") != std::string::npos);
   CHECK(e.find("faces; fitvox reads points") != std::string::npos);
   CHECK_FALSE(fs::exists(d / "no.pcd"));
@@ -196,19 +203,23 @@ TEST_CASE("tools: wrong formats are named, unknown output extensions are usage e
   CHECK(e.find("simple.laz: this is a LAZ file") != std::string::npos);
   CHECK(e.find("pdal translate") != std::string::npos);
   // A JSON document.
-  CHECK(sh(bin("addnoise") + " -q -i " + (d / "plain.segments.json").string() + " -o " + (d / "no.pcd").string(), err, &e) == 1);
+  CHECK(sh(bin("addnoise") + " -q -i " + (d / "plain.segments.json").string() + " -o " + (d / "no.pcd").string(),
+           err, &e) == 1);
   CHECK(e.find("this is a JSON document (canopy.segment_graph)") != std::string::npos);
   // Output names: an unknown extension is a usage error before any work.
-  CHECK(sh(bin("fitvox") + " -q -i " + (d / "scan.pcd").string() + " -o " + (d / "samples.txt").string(), err, &e) == 2);
+  CHECK(sh(bin("fitvox") + " -q -i " + (d / "scan.pcd").string() + " -o " + (d / "samples.txt").string(), err,
+           &e) == 2);
   CHECK(e.find("unknown extension '.txt'") != std::string::npos);
   CHECK_FALSE(fs::exists(d / "samples.txt"));
-  CHECK(sh(bin("addnoise") + " -q -i " + (d / "scan.pcd").string() + " -o " + (d / "noisy.xyz").string(), err, &e) == 2);
+  CHECK(sh(bin("addnoise") + " -q -i " + (d / "scan.pcd").string() + " -o " + (d / "noisy.xyz").string(), err,
+           &e) == 2);
   CHECK(e.find("unknown extension '.xyz'") != std::string::npos);
   // No extension: PCD, the default (FIFOs and devices have none).
   REQUIRE(run(bin("addnoise") + " -q -i " + (d / "scan.pcd").string() + " -o " + (d / "noisy").string()) == 0);
   CHECK(read_points((d / "noisy").string()).size() == read_points((d / "scan.pcd").string()).size());
   // -o samples.ply writes PLY (it wrote PCD before).
-  REQUIRE(run(bin("fitvox") + " -q -i " + (d / "scan.pcd").string() + " -o " + (d / "fitvox_samples.ply").string()) == 0);
+  REQUIRE(run(bin("fitvox") + " -q -i " + (d / "scan.pcd").string() + " -o " +
+              (d / "fitvox_samples.ply").string()) == 0);
   const Mesh m = read_ply((d / "fitvox_samples.ply").string());
   CHECK(m.faces.empty());
   CHECK(m.vertices.size() == read_points((d / "plain.samples.pcd").string()).size());

@@ -55,9 +55,9 @@ TEST_CASE("families: 300 instances of every class lie within the class ranges, o
       CHECK(within(size.x(), c.length));
       CHECK(within(size.y(), c.width));
       CHECK(within(size.z(), c.height));
-      CHECK(std::abs(f.lo.z()) < 1e-9);              // wheels or tracks on the ground
-      CHECK(std::abs(f.lo.x() + f.hi.x()) < 1e-6);   // centred along
-      CHECK(std::abs(f.lo.y() + f.hi.y()) < 1e-6);   // and across
+      CHECK(std::abs(f.lo.z()) < 1e-9);             // wheels or tracks on the ground
+      CHECK(std::abs(f.lo.x() + f.hi.x()) < 1e-6);  // centred along
+      CHECK(std::abs(f.lo.y() + f.hi.y()) < 1e-6);  // and across
       seen_length.lo = std::min(seen_length.lo, size.x());
       seen_length.hi = std::max(seen_length.hi, size.x());
     }
@@ -141,8 +141,10 @@ Profile top_profile(const std::string& spec, std::uint64_t seed) {
   std::vector<double> rear;
   Profile out;
   for (std::size_t i = 0; i < x.size(); ++i) {
-    if (x[i] < cut) rear.push_back(z[i]);
-    else out.front_max = std::max(out.front_max, z[i]);
+    if (x[i] < cut)
+      rear.push_back(z[i]);
+    else
+      out.front_max = std::max(out.front_max, z[i]);
   }
   std::nth_element(rear.begin(), rear.begin() + rear.size() / 2, rear.end());
   out.rear_median = rear.empty() ? 0 : rear[rear.size() / 2];
@@ -186,10 +188,11 @@ TEST_CASE("families: the same instance and seed give byte-identical scans") {
 }
 
 TEST_CASE("families: a tile's truth names the class of family vehicles, and only of them") {
-  const SceneRecipe s = parse_scene("extent = 24m 12m\nterrain = flat\ntrees = 0\nbushes = 0\nhide = 0\n"
-                                    "vehicle = family:wheel-loader:2 6 6 0\nvehicle = sedan 18 6 90\n"
-                                    "flight_lines = 1\nheadings = 0\nlooks = 80deg/0\nspacing = 0.2m\n",
-                                    "fam.scene");
+  const SceneRecipe s = parse_scene(
+      "extent = 24m 12m\nterrain = flat\ntrees = 0\nbushes = 0\nhide = 0\n"
+      "vehicle = family:wheel-loader:2 6 6 0\nvehicle = sedan 18 6 90\n"
+      "flight_lines = 1\nheadings = 0\nlooks = 80deg/0\nspacing = 0.2m\n",
+      "fam.scene");
   Params p;
   p.seed = 3;
   const Tile tile = build_tile(*s.tile, "fam.scene", p);
@@ -203,10 +206,11 @@ TEST_CASE("families: a tile's truth names the class of family vehicles, and only
   CHECK(truth["vehicles"][1].at("model") == "sedan");
   CHECK(!truth["vehicles"][1].contains("class"));
 
-  const SceneRecipe r = parse_scene("extent = 30m 30m\nterrain = flat\ntrees = 0\nbushes = 0\nhide = 0\n"
-                                    "vehicles = random 3 from family:van:1,family:tank:2\n"
-                                    "flight_lines = 1\nheadings = 0\nlooks = 80deg/0\nspacing = 0.2m\n",
-                                    "random.scene");
+  const SceneRecipe r = parse_scene(
+      "extent = 30m 30m\nterrain = flat\ntrees = 0\nbushes = 0\nhide = 0\n"
+      "vehicles = random 3 from family:van:1,family:tank:2\n"
+      "flight_lines = 1\nheadings = 0\nlooks = 80deg/0\nspacing = 0.2m\n",
+      "random.scene");
   const auto random_truth = nlohmann::json::parse(truth_json(build_tile(*r.tile, "random.scene", p), {}));
   REQUIRE(random_truth.at("vehicles").size() == 3);
   for (const auto& v : random_truth["vehicles"]) {

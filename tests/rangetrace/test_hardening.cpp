@@ -23,9 +23,7 @@ using namespace canopy;
 
 namespace {
 
-void write_text(const std::filesystem::path& path, const std::string& text) {
-  std::ofstream(path) << text;
-}
+void write_text(const std::filesystem::path& path, const std::string& text) { std::ofstream(path) << text; }
 
 std::string bin() { return std::string(CANOPY_BIN_DIR) + "/rangetrace"; }
 
@@ -76,11 +74,11 @@ TEST_CASE("rangetrace CLI: a .inc in a directory with a space and a quote; error
   CHECK(test::exists(out));
 
   write_text(dir / "bad.inc", "#declare Vehicle = union { box { 0, 1 }\n  spere { 0, 1 } }\n");
-  CHECK(test::sh(bin() + " --model " + q(dir / "bad.inc") + " --scene unoccluded --size 8 -o " +
-                     q(dir / "bad.pcd"),
-                 err_file, &err) == 1);
-  CHECK_THAT(err, Catch::Contains("File '" + (dir / "bad.inc").string() + "' line 2") &&
-                      Catch::Contains("spere"));
+  CHECK(test::sh(
+            bin() + " --model " + q(dir / "bad.inc") + " --scene unoccluded --size 8 -o " + q(dir / "bad.pcd"),
+            err_file, &err) == 1);
+  CHECK_THAT(err,
+             Catch::Contains("File '" + (dir / "bad.inc").string() + "' line 2") && Catch::Contains("spere"));
   CHECK_FALSE(test::exists(dir / "bad.pcd"));
 
   // An include that leaves a brace open fails in the generated file: the message says where
@@ -97,8 +95,7 @@ TEST_CASE("rangetrace CLI: a model of 40 m warns about --units mm before renderi
   // 4000 x 1500 x 1000 "m": a 4 m vehicle modelled in millimetres.
   write_text(dir / "huge.inc", "#declare Vehicle = box { <-2000, 0, -750>, <2000, 1000, 750> }\n");
   std::string err;
-  test::sh(bin() + " --model " + q(dir / "huge.inc") + " --scene unoccluded --size 8 -o " +
-               q(dir / "huge.pcd"),
+  test::sh(bin() + " --model " + q(dir / "huge.inc") + " --scene unoccluded --size 8 -o " + q(dir / "huge.pcd"),
            dir / "err.txt", &err);
   const auto warn = err.find("did you forget --units mm?");
   CHECK(warn != std::string::npos);
@@ -144,8 +141,7 @@ TEST_CASE("rangetrace CLI: SIGINT and SIGTERM stop POV-Ray at once and leave no 
     ::kill(pid, sig);
     int status = 0;
     REQUIRE(::waitpid(pid, &status, 0) == pid);
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
     CHECK(WIFSIGNALED(status));
     CHECK(WTERMSIG(status) == sig);
     CHECK(seconds < 2.0);
@@ -168,8 +164,8 @@ TEST_CASE("rangetrace CLI: after SIGKILL, POV-Ray dies too and the next run remo
   if (pid == 0) {
     ::setenv("TMPDIR", tmpdir.c_str(), 1);
     const std::string b = bin();
-    ::execl(b.c_str(), b.c_str(), "-q", "--model", "tank", "--scene", "circle", "--size", "1536",
-            "--spacing", "10mm", "-o", (dir / "scan.pcd").c_str(), static_cast<char*>(nullptr));
+    ::execl(b.c_str(), b.c_str(), "-q", "--model", "tank", "--scene", "circle", "--size", "1536", "--spacing",
+            "10mm", "-o", (dir / "scan.pcd").c_str(), static_cast<char*>(nullptr));
     ::_exit(127);
   }
   std::vector<pid_t> kids;
@@ -205,7 +201,8 @@ TEST_CASE("rangetrace CLI: after SIGKILL, POV-Ray dies too and the next run remo
                        q(dir / "next.pcd"),
                    dir / "err.txt", &err) == 0);
   std::vector<std::string> left;
-  for (const auto& e : std::filesystem::directory_iterator(tmpdir)) left.push_back(e.path().filename().string());
+  for (const auto& e : std::filesystem::directory_iterator(tmpdir))
+    left.push_back(e.path().filename().string());
   std::sort(left.begin(), left.end());
   CHECK(left == std::vector<std::string>{"rangetrace-live00", "rangetrace-noown0"});
 }
@@ -231,8 +228,8 @@ TEST_CASE("rangetrace CLI: a tile's scan and truth.json are written together or 
     if (pid == 0) {
       if (std::freopen(err.c_str(), "w", stderr) == nullptr) ::_exit(126);
       const std::string b = bin();
-      ::execl(b.c_str(), b.c_str(), "--scene", recipe.c_str(), "-o", scan.c_str(), "--truth",
-              truth.c_str(), static_cast<char*>(nullptr));
+      ::execl(b.c_str(), b.c_str(), "--scene", recipe.c_str(), "-o", scan.c_str(), "--truth", truth.c_str(),
+              static_cast<char*>(nullptr));
       ::_exit(127);
     }
     // Both outputs were checked before POV-Ray started; remove one directory while it runs.

@@ -166,8 +166,7 @@ TEST_CASE("every recipe of share/scenes is found by its short name") {
 
 TEST_CASE("scene recipe errors name the file and line") {
   CHECK_THROWS_WITH(parse_scene("views = circle 12 75deg\nbogus = 1\n", "s.scene"),
-                    Catch::Contains("s.scene") && Catch::Contains("line 2") &&
-                        Catch::Contains("bogus"));
+                    Catch::Contains("s.scene") && Catch::Contains("line 2") && Catch::Contains("bogus"));
   CHECK_THROWS_AS(parse_scene("foliage_count = 3\n", "s.scene"), common::DataError);
   CHECK_THROWS_AS(parse_scene("view = 0deg 95deg\n", "s.scene"), common::DataError);
   const SceneRecipe s = parse_scene("view = 10deg 30deg  # one view\nview = 0.5rad 1.0rad\n", "x");
@@ -220,7 +219,7 @@ TEST_CASE("crop box follows the vehicle heading and position") {
   p.pose.position = {3, 1};
   const Placement pl = place(Vector3d(-2, -1, 0), Vector3d(2, 1, 2), p.pose);
   CHECK(pl.centre.isApprox(Vector3d(3, 1, 1)));
-  CHECK(in_crop(Vector3d(3, 5.9, 1), pl, p));    // along the long axis (now +y)
+  CHECK(in_crop(Vector3d(3, 5.9, 1), pl, p));  // along the long axis (now +y)
   CHECK_FALSE(in_crop(Vector3d(3, 6.1, 1), pl, p));
   CHECK(in_crop(Vector3d(4.9, 1, 1), pl, p));
   CHECK_FALSE(in_crop(Vector3d(5.1, 1, 1), pl, p));
@@ -307,8 +306,7 @@ TEST_CASE("heading turns the vehicle counter-clockwise about +z") {
   int bump = 0;
   for (std::size_t i = 0; i < h.p.size(); ++i) {
     if (h.label[i] != formats::kLabelTarget) continue;
-    const double d = std::min(box_surface_distance(h.p[i], lo, hi),
-                              box_surface_distance(h.p[i], blo, bhi));
+    const double d = std::min(box_surface_distance(h.p[i], lo, hi), box_surface_distance(h.p[i], blo, bhi));
     CHECK(d < 5e-4);
     if (h.p[i].z() > 0.85) ++bump;
   }
@@ -369,9 +367,8 @@ TEST_CASE("same seed gives a byte-identical scan, a different seed different fol
 TEST_CASE("a POV-Ray failure reports POV-Ray's own message") {
   Params p = small(16, 0.5);
   const Model bad = inline_model("#declare Vehicle = union { box { 0, 1 } spere { 0, 1 } }\n");
-  CHECK_THROWS_WITH(run(bad, two_views(0), p),
-                    Catch::Contains("POV-Ray failed") && Catch::Contains("Parse Error") &&
-                        Catch::Contains("spere"));
+  CHECK_THROWS_WITH(run(bad, two_views(0), p), Catch::Contains("POV-Ray failed") &&
+                                                   Catch::Contains("Parse Error") && Catch::Contains("spere"));
   const Model none = inline_model("#declare NotAVehicle = box { 0, 1 }\n");
   CHECK_THROWS_WITH(run(none, two_views(0), p), Catch::Contains("does not declare Vehicle"));
 }
@@ -382,13 +379,13 @@ TEST_CASE("built-in models: real-world sizes that fit the crop box") {
     INFO(name);
     const auto [lo, hi] = model_bounds(load_model(name, MeshImport{}), p);
     const Vector3d size = hi - lo;
-    CHECK(std::abs(lo.z()) < 1e-6);                      // standing on the ground
-    CHECK(std::abs(lo.x() + hi.x()) < 2.6);              // roughly centred (a tank's gun)
-    CHECK(std::abs(lo.y() + hi.y()) < 1e-6);             // symmetric across
+    CHECK(std::abs(lo.z()) < 1e-6);           // standing on the ground
+    CHECK(std::abs(lo.x() + hi.x()) < 2.6);   // roughly centred (a tank's gun)
+    CHECK(std::abs(lo.y() + hi.y()) < 1e-6);  // symmetric across
     CHECK(size.x() <= 10.0);
     CHECK(size.y() <= 4.0);
     CHECK(size.z() <= 4.0);
-    CHECK(size.x() > size.y());                          // long axis along x
+    CHECK(size.x() > size.y());  // long axis along x
   }
   const auto [lo, hi] = model_bounds(load_model("obj1", MeshImport{}), p);
   CHECK((hi - lo).isApprox(Vector3d(8.1, 3.1, 2.0), 1e-6));
@@ -396,9 +393,7 @@ TEST_CASE("built-in models: real-world sizes that fit the crop box") {
 
 namespace {
 
-void write_text(const std::string& path, const std::string& text) {
-  std::ofstream(path) << text;
-}
+void write_text(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
 
 // Renders a mesh model with the unoccluded-style views and checks every target point lies on
 // the box [-L/2, L/2] x [-W/2, W/2] x [0, H] in metres.
@@ -446,7 +441,8 @@ TEST_CASE("mesh files round-trip through the POV-Ray conversion at the right sca
     return "vertex " + std::to_string(a[i & 1]) + " " + std::to_string(b[(i >> 1) & 1]) + " " +
            std::to_string(c[(i >> 2) & 1]) + "\n";
   };
-  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                           {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
   std::string stl = "solid box\n";
   for (const auto& q : quads) {
     for (int t = 0; t < 2; ++t) {
@@ -485,8 +481,7 @@ TEST_CASE("rangetrace CLI: failure exits 1 and leaves no output") {
   const std::string out = dir + "/bad_out.pcd";
   std::remove(out.c_str());
   const std::string cmd = std::string(CANOPY_BIN_DIR) + "/rangetrace --model " + dir +
-                          "/bad.inc --scene unoccluded --size 16 -o " + out + " 2>" + dir +
-                          "/bad.err";
+                          "/bad.inc --scene unoccluded --size 16 -o " + out + " 2>" + dir + "/bad.err";
   const int rc = std::system(cmd.c_str());
   CHECK(WEXITSTATUS(rc) == 1);
   struct stat st {};
@@ -502,7 +497,9 @@ TEST_CASE("mesh importer: malformed OBJ/STL/PLY bytes are DataErrors naming the 
   // conversion adds, and that parser errors pass through naming the file.
   const MeshImport m;
   const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
-  struct Case { std::string bytes, ext, want; };
+  struct Case {
+    std::string bytes, ext, want;
+  };
   const Case cases[] = {
       {tri + "f 1 2 0\n", "obj", "line 4: face index out of range"},
       {tri, "obj", "mesh has no faces"},
@@ -520,8 +517,8 @@ TEST_CASE("mesh importer: malformed OBJ/STL/PLY bytes are DataErrors naming the 
   // Valid: a quad with v/vt/vn and a relative index -> two triangles; millimetres -> metres.
   MeshImport mm;
   mm.scale = 1e-3;
-  const std::string pov = mesh_file_to_pov("v 0 0 0\nv 1000 0 0\nv 1000 2000 0\nv 0 2000 0\nf 1/1/1 2//1 3 -1\n",
-                                           "quad.obj", "obj", mm);
+  const std::string pov = mesh_file_to_pov(
+      "v 0 0 0\nv 1000 0 0\nv 1000 2000 0\nv 0 2000 0\nf 1/1/1 2//1 3 -1\n", "quad.obj", "obj", mm);
   CHECK_THAT(pov, Catch::Contains("vertex_vectors { 4") && Catch::Contains("face_indices { 2"));
   CHECK_THAT(pov, Catch::Contains("<0, 0, 0>,\n    <1, 0, 0>,\n    <1, 0, 2>,\n    <0, 0, 2>"));
   CHECK_THAT(pov, Catch::Contains("<0, 1, 2>,\n    <0, 2, 3>"));

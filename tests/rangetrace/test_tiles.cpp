@@ -31,9 +31,7 @@ namespace {
 
 const double kDeg = M_PI / 180;
 
-void write_text(const std::filesystem::path& path, const std::string& text) {
-  std::ofstream(path) << text;
-}
+void write_text(const std::filesystem::path& path, const std::string& text) { std::ofstream(path) << text; }
 
 std::string slurp(const std::filesystem::path& path) {
   std::ifstream f(path, std::ios::binary);
@@ -42,9 +40,8 @@ std::string slurp(const std::filesystem::path& path) {
 
 // A box vehicle L x W x H (world: long along x), declared in POV-Ray's frame (y up).
 std::string box_model(double l, double w, double h) {
-  return "#declare Vehicle = box { <" + std::to_string(-l / 2) + ", 0, " + std::to_string(-w / 2) +
-         ">, <" + std::to_string(l / 2) + ", " + std::to_string(h) + ", " + std::to_string(w / 2) +
-         "> }\n";
+  return "#declare Vehicle = box { <" + std::to_string(-l / 2) + ", 0, " + std::to_string(-w / 2) + ">, <" +
+         std::to_string(l / 2) + ", " + std::to_string(h) + ", " + std::to_string(w / 2) + "> }\n";
 }
 
 Params small_params(std::uint64_t seed = 1) {
@@ -81,9 +78,10 @@ Rows rows(const formats::PointCloud& c) {
 }  // namespace
 
 TEST_CASE("tile recipes: keys, defaults and bounds, errors name the line") {
-  const SceneRecipe s = parse_scene("extent = 30m 20m\nterrain = slope 10deg 45deg\n"
-                                    "vehicles = random 3 from sedan,tank\nlooks = 75deg/90deg 90deg\n",
-                                    "t.scene");
+  const SceneRecipe s = parse_scene(
+      "extent = 30m 20m\nterrain = slope 10deg 45deg\n"
+      "vehicles = random 3 from sedan,tank\nlooks = 75deg/90deg 90deg\n",
+      "t.scene");
   REQUIRE(s.tile);
   CHECK(s.tile->extent_x == 30);
   CHECK(s.tile->extent_y == 20);
@@ -95,11 +93,10 @@ TEST_CASE("tile recipes: keys, defaults and bounds, errors name the line") {
   CHECK(s.tile->looks[0].azimuth == Approx(90 * kDeg));
   CHECK(s.tile->looks[1].elevation == Approx(90 * kDeg));
   CHECK(s.tile->trees_per_ha == 600);  // the default forest
-  CHECK(s.tile->hide == -1);  // 2 with trees, 0 with `trees = 0`
+  CHECK(s.tile->hide == -1);           // 2 with trees, 0 with `trees = 0`
 
   auto fails = [](const std::string& text, const std::string& what) {
-    CHECK_THROWS_WITH(parse_scene(text, "bad.scene"),
-                      Catch::Contains("bad.scene") && Catch::Contains(what));
+    CHECK_THROWS_WITH(parse_scene(text, "bad.scene"), Catch::Contains("bad.scene") && Catch::Contains(what));
   };
   fails("extent = 40m\nfoo = 1\n", "line 2: unknown key 'foo'");
   fails("extent = 140m\n", "line 1: extent must lie in [5 m, 100 m]");
@@ -243,10 +240,11 @@ TEST_CASE("tile: ground points lie on the slope; vehicles pitch and roll with it
 }
 
 TEST_CASE("tile: rolling terrain stays within +-2 m and the ground points lie on it") {
-  SceneRecipe s = parse_scene("extent = 14m\nterrain = rolling 2m 10m\ntrees = 0\nbushes = 0\nhide = 0\n"
-                              "flight_lines = 1\nheadings = 0\nlooks = 80deg/0\nspacing = 0.15m\n"
-                              "canopy_spacing = 0.3m\n",
-                              "rolling.scene");
+  SceneRecipe s = parse_scene(
+      "extent = 14m\nterrain = rolling 2m 10m\ntrees = 0\nbushes = 0\nhide = 0\n"
+      "flight_lines = 1\nheadings = 0\nlooks = 80deg/0\nspacing = 0.15m\n"
+      "canopy_spacing = 0.3m\n",
+      "rolling.scene");
   Tile tile = build_tile(*s.tile, "rolling.scene", small_params(9));
   const TerrainModel terrain(*s.tile, 9);
   CHECK(terrain.lo() >= -2.0 - 1e-9);
@@ -260,10 +258,11 @@ TEST_CASE("tile: rolling terrain stays within +-2 m and the ground points lie on
 }
 
 TEST_CASE("tile: same seed gives a byte-identical scan, another seed another forest") {
-  SceneRecipe s = parse_scene("extent = 12m\ntrees = 400\nbushes = 300\nclutter = logs 1\n"
-                              "vehicles = random 1 from sedan\nflight_lines = 1\nheadings = 0\n"
-                              "looks = 75deg/0\nspacing = 0.2m\ncanopy_spacing = 0.2m\n",
-                              "forest.scene");
+  SceneRecipe s = parse_scene(
+      "extent = 12m\ntrees = 400\nbushes = 300\nclutter = logs 1\n"
+      "vehicles = random 1 from sedan\nflight_lines = 1\nheadings = 0\n"
+      "looks = 75deg/0\nspacing = 0.2m\ncanopy_spacing = 0.2m\n",
+      "forest.scene");
   auto scan = [&](std::uint64_t seed, int threads) {
     Params p = small_params(seed);
     p.threads = threads;
@@ -278,12 +277,15 @@ TEST_CASE("tile: same seed gives a byte-identical scan, another seed another for
 TEST_CASE("rangetrace CLI: bad tile recipes exit 1 naming the line, no output") {
   const auto dir = test::fresh_dir("rangetrace", "tile_bad");
   const std::string bin = std::string(CANOPY_BIN_DIR) + "/rangetrace";
-  struct Case { std::string recipe, want; };
+  struct Case {
+    std::string recipe, want;
+  };
   const Case cases[] = {
       {"extent = 20m\nbogus = 3\n", "line 2: unknown key 'bogus'"},
       {"extent = 20m\n\nvehicle = sedan 19 10 0\n", "line 3: vehicle 'sedan' at (19m, 10m) reaches outside"},
       {"extent = 20m 8m\nvehicle = sedan 30 3 0\n", "line 2: vehicle 'sedan' lies outside the tile"},
-      {"vehicle = sedan 10 10 0\nvehicle = tank 12 11 90deg\n", "line 2: vehicle 'tank' at (12m, 11m) overlaps the vehicle of line 1"},
+      {"vehicle = sedan 10 10 0\nvehicle = tank 12 11 90deg\n",
+       "line 2: vehicle 'tank' at (12m, 11m) overlaps the vehicle of line 1"},
       {"extent = 20m\nvehicle = missing.ply 10 10 0\n", "line 2: vehicle model 'missing.ply'"},
       {"extent = 10m\nvehicles = random 9 from tank\n", "line 2: cannot place 9 vehicles"},
   };
@@ -295,9 +297,9 @@ TEST_CASE("rangetrace CLI: bad tile recipes exit 1 naming the line, no output") 
     const auto truth = dir / ("truth" + std::to_string(k) + ".json");
     write_text(recipe, c.recipe);
     std::string err;
-    const int rc = test::sh(bin + " --scene " + recipe.string() + " -o " + out.string() + " --truth " +
-                                truth.string(),
-                            dir / "err.txt", &err);
+    const int rc =
+        test::sh(bin + " --scene " + recipe.string() + " -o " + out.string() + " --truth " + truth.string(),
+                 dir / "err.txt", &err);
     CHECK(rc == 1);
     CHECK_THAT(err, Catch::Contains(recipe.string()) && Catch::Contains(c.want));
     CHECK_FALSE(test::exists(out));
@@ -314,8 +316,8 @@ TEST_CASE("rangetrace CLI: a tile scan with truth.json, georeferenced in float64
              "spacing = 0.1m\ncanopy_spacing = 0.1m\n");
   std::string err;
   const std::string bin = std::string(CANOPY_BIN_DIR) + "/rangetrace";
-  REQUIRE(test::sh(bin + " --scene " + (dir / "geo.scene").string() + " -o " +
-                       (dir / "geo.pcd").string() + " --truth " + (dir / "truth.json").string(),
+  REQUIRE(test::sh(bin + " --scene " + (dir / "geo.scene").string() + " -o " + (dir / "geo.pcd").string() +
+                       " --truth " + (dir / "truth.json").string(),
                    dir / "err.txt", &err) == 0);
   const formats::PointCloud c = formats::read_pcd((dir / "geo.pcd").string());
   CHECK(c.type("x") == formats::kFloat64);
@@ -333,9 +335,9 @@ TEST_CASE("rangetrace CLI: a tile scan with truth.json, georeferenced in float64
   CHECK(zmin == Approx(120).margin(1e-3));
   const std::string truth = slurp(dir / "truth.json");
   CHECK_THAT(truth, Catch::Contains("\"format\": \"canopy.scene_truth\"") &&
-                        Catch::Contains("\"model\": \"sedan\"") &&
-                        Catch::Contains("\"canopy_cover\": 0.0") && Catch::Contains("500006") &&
-                        Catch::Contains("\"view_idx\": 0") && Catch::Contains("\"elevation\": 90.0"));
+                        Catch::Contains("\"model\": \"sedan\"") && Catch::Contains("\"canopy_cover\": 0.0") &&
+                        Catch::Contains("500006") && Catch::Contains("\"view_idx\": 0") &&
+                        Catch::Contains("\"elevation\": 90.0"));
   // The picture from above, with the footprints drawn.
   REQUIRE(test::sh(bin + " --scene " + (dir / "geo.scene").string() + " --size 64 --picture " +
                        (dir / "geo.png").string(),
@@ -405,9 +407,10 @@ TEST_CASE("scene recipes: mutated recipes are refused with an Error, never a cra
   for (const char* name : {"circle.scene", "flyby.scene", "unoccluded.scene", "forest.scene"}) {
     seeds.push_back(slurp(std::filesystem::path(CANOPY_SOURCE_DIR) / "share/scenes" / name));
   }
-  seeds.push_back("extent = 30m 20m\nterrain = rolling 2m 10m\ntree = conifer 3 4 12m\n"
-                  "canopy_disc = 1 2 3m 1m\nobject = fence 5 5 10deg\norigin = 500000 4400000 7\n"
-                  "vehicle = sedan 10 10 0 units=mm up=y\nlooks = 90deg 60deg/45deg\n");
+  seeds.push_back(
+      "extent = 30m 20m\nterrain = rolling 2m 10m\ntree = conifer 3 4 12m\n"
+      "canopy_disc = 1 2 3m 1m\nobject = fence 5 5 10deg\norigin = 500000 4400000 7\n"
+      "vehicle = sedan 10 10 0 units=mm up=y\nlooks = 90deg 60deg/45deg\n");
   const std::string alphabet = "0123456789 =.-e#\n/abcdefghijklmnopqrstuvwxyz,x\t\"";
   std::uint64_t state = 12345;
   auto next = [&]() {
@@ -446,10 +449,11 @@ TEST_CASE("scene recipes: mutated recipes are refused with an Error, never a cra
 }
 
 TEST_CASE("tile: random vehicles are seeded, inside the tile, apart, and stand on rolling ground") {
-  SceneRecipe s = parse_scene("extent = 50m\nterrain = rolling 2m 15m\n"
-                              "vehicles = random 10 from earthmover,obj1,sedan,semi,tank\n"
-                              "clutter = shed 1 container 2 boulder 3\ntrees = 300\n",
-                              "random.scene");
+  SceneRecipe s = parse_scene(
+      "extent = 50m\nterrain = rolling 2m 15m\n"
+      "vehicles = random 10 from earthmover,obj1,sedan,semi,tank\n"
+      "clutter = shed 1 container 2 boulder 3\ntrees = 300\n",
+      "random.scene");
   const Tile a = build_tile(*s.tile, "random.scene", small_params(21));
   const Tile b = build_tile(*s.tile, "random.scene", small_params(21));
   const Tile c = build_tile(*s.tile, "random.scene", small_params(22));

@@ -36,8 +36,8 @@ TEST_CASE("diagnosis counts target segments, area and spurious share against the
   model.segments = {seg(0, 4.0, 1), seg(1, 2.0, 1), seg(2, 2.0, 1)};  // 3 segments, 8 m^2
   report::Case c = make_case("sedan", 0, 2);
   // 5 target segments with 4 m^2 (over-segmented, half the area) and one 1 m^2 foliage segment.
-  c.segments.segments = {seg(0, 1.0, 1), seg(1, 1.0, 2), seg(2, 1.0, 1), seg(3, 0.5, 1),
-                         seg(4, 0.5, 1), seg(5, 1.0, 1)};
+  c.segments.segments = {seg(0, 1.0, 1), seg(1, 1.0, 2), seg(2, 1.0, 1),
+                         seg(3, 0.5, 1), seg(4, 0.5, 1), seg(5, 1.0, 1)};
   report::Params p;
   const auto d = report::diagnose(c, &model, p);
   CHECK(d.target_segments == 5);
@@ -46,9 +46,9 @@ TEST_CASE("diagnosis counts target segments, area and spurious share against the
   CHECK(d.model_area == Approx(8.0));
   CHECK(d.spurious_segments == 1);
   CHECK(d.spurious_area_share == Approx(1.0 / 5.0));
-  CHECK(d.over_segmented);        // 5 > 1.5 x 3
-  CHECK(d.missing_area);          // 4 < 0.6 x 8
-  CHECK_FALSE(d.spurious);        // 0.2 is not above 0.2
+  CHECK(d.over_segmented);  // 5 > 1.5 x 3
+  CHECK(d.missing_area);    // 4 < 0.6 x 8
+  CHECK_FALSE(d.spurious);  // 0.2 is not above 0.2
   CHECK(d.correct_rank == 2);
   CHECK(d.best_model == "other");
   p.max_segments = 1;  // only the largest segment (a target one, first of the 1 m^2 ties) examined
@@ -71,9 +71,10 @@ TEST_CASE("recognition rates per object and overall, with the thesis beside them
   CHECK(out.markdown.find("**75%** (3/4)") != std::string::npos);
   CHECK(out.markdown.find("1 trials did not rank the correct model first") != std::string::npos);
   // scores.csv: one line per trial with the correct model's score and rank.
-  CHECK(out.scores_csv == "object,scene,noise_mm,score,rank,entropy\n"
-                          "sedan,circle,0,0.9000,1,0.5000\nsedan,circle,8,0.9000,1,0.5000\n"
-                          "tank,circle,0,0.9000,1,0.5000\ntank,circle,8,0.4000,3,0.5000\n");
+  CHECK(out.scores_csv ==
+        "object,scene,noise_mm,score,rank,entropy\n"
+        "sedan,circle,0,0.9000,1,0.5000\nsedan,circle,8,0.9000,1,0.5000\n"
+        "tank,circle,0,0.9000,1,0.5000\ntank,circle,8,0.4000,3,0.5000\n");
 }
 
 TEST_CASE("a malformed thesis table names the file") {
@@ -94,7 +95,8 @@ TEST_CASE("ablation rows give each variant's rank-1 rate per object and overall"
   in.ablations.push_back(a);
   const auto out = report::run(in, report::Params{});
   CHECK(out.markdown.find("| **canopy defaults** | | 100% | 100% | **100%** |") != std::string::npos);
-  CHECK(out.markdown.find("| ncut-squared | `ncut --exponent squared` | 100% | 0% | 50% |") != std::string::npos);
+  CHECK(out.markdown.find("| ncut-squared | `ncut --exponent squared` | 100% | 0% | 50% |") !=
+        std::string::npos);
 }
 
 TEST_CASE("area table: ratios of sums per noise level and matched area relative to 0 mm") {

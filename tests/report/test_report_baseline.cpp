@@ -48,14 +48,10 @@ TEST_CASE("baseline section: rank-1 of canopy and both baseline methods per obje
   // tank at 8 mm has no baseline.json: left out.
   const auto b = canopy::report::baseline_section(out.string(), {"sedan", "tank"}, {"circle"}, {0, 8});
   INFO(b.markdown);
-  CHECK(b.markdown.find("| sedan | 2 | 1/2 (50%) | 1/2 (50%) | 1/2 (50%) | 2/2 (100%) |") !=
-        std::string::npos);
-  CHECK(b.markdown.find("| tank | 1 | 1/1 (100%) | 1/1 (100%) | 1/1 (100%) | 0/1 (0%) |") !=
-        std::string::npos);
-  CHECK(b.markdown.find("| all | 3 | 2/3 (67%) | 2/3 (67%) | 2/3 (67%) | 2/3 (67%) |") !=
-        std::string::npos);
-  CHECK(b.markdown.find("| 8 | 1 | 0/1 (0%) | 0/1 (0%) | 1/1 (100%) | 1/1 (100%) |") !=
-        std::string::npos);
+  CHECK(b.markdown.find("| sedan | 2 | 1/2 (50%) | 1/2 (50%) | 1/2 (50%) | 2/2 (100%) |") != std::string::npos);
+  CHECK(b.markdown.find("| tank | 1 | 1/1 (100%) | 1/1 (100%) | 1/1 (100%) | 0/1 (0%) |") != std::string::npos);
+  CHECK(b.markdown.find("| all | 3 | 2/3 (67%) | 2/3 (67%) | 2/3 (67%) | 2/3 (67%) |") != std::string::npos);
+  CHECK(b.markdown.find("| 8 | 1 | 0/1 (0%) | 0/1 (0%) | 1/1 (100%) | 1/1 (100%) |") != std::string::npos);
   CHECK(b.markdown.find("1 trials have no baseline.json") != std::string::npos);
   CHECK(b.markdown.find("verify was not run on 1 of them") != std::string::npos);
   CHECK(b.markdown.find("mean 0.50 s") != std::string::npos);

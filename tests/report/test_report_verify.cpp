@@ -150,7 +150,8 @@ TEST_CASE("verify section and verdicts.csv in the report") {
   CHECK_THAT(out.markdown, Catch::Contains("## Verification (`verify`)"));
   CHECK_THAT(out.markdown, Catch::Contains("verify was not run on 1 trials"));
   // all trials: 3/7 right, 1 wrong model, 1 flipped, 1 none, 1 failed; gmatch 3/7.
-  CHECK_THAT(out.markdown, Catch::Contains("| **all trials** | 7 | **43%** (3) | 1 | 1 | 1 | 1 | **43%** (3) |"));
+  CHECK_THAT(out.markdown,
+             Catch::Contains("| **all trials** | 7 | **43%** (3) | 1 | 1 | 1 | 1 | **43%** (3) |"));
   CHECK_THAT(out.markdown, Catch::Contains("| sedan | 4 | 50% (2) | 0 | 1 | 0 | 1 | 50% (2) |"));
   CHECK_THAT(out.markdown, Catch::Contains("| 32 mm | 3 | 33% (1) | 0 | 1 | 0 | 1 | 33% (1) |"));
   CHECK_THAT(out.markdown, Catch::Contains("| 0.9–1.0 | 2 | 100% (2) |"));

@@ -19,24 +19,39 @@ namespace {
 const double E = 500000, N = 5400000;
 
 std::string truth_text() {
-  Json j{{"format", "canopy.scene_truth"}, {"version", 1}, {"extent", {30, 30}},
+  Json j{{"format", "canopy.scene_truth"},
+         {"version", 1},
+         {"extent", {30, 30}},
          {"vehicles",
-          {{{"instance", 1}, {"model", "sedan"}, {"pose", {{"x", E + 10}, {"y", N + 10}, {"z", 100}, {"heading", 30}, {"pitch", 0}, {"roll", 0}}}, {"canopy_cover", 0.1}},
-           {{"instance", 2}, {"model", "tank"}, {"pose", {{"x", E + 20}, {"y", N + 20}, {"z", 100}, {"heading", 90}, {"pitch", 0}, {"roll", 0}}}, {"canopy_cover", 0.8}}}}};
+          {{{"instance", 1},
+            {"model", "sedan"},
+            {"pose", {{"x", E + 10}, {"y", N + 10}, {"z", 100}, {"heading", 30}, {"pitch", 0}, {"roll", 0}}},
+            {"canopy_cover", 0.1}},
+           {{"instance", 2},
+            {"model", "tank"},
+            {"pose", {{"x", E + 20}, {"y", N + 20}, {"z", 100}, {"heading", 90}, {"pitch", 0}, {"roll", 0}}},
+            {"canopy_cover", 0.8}}}}};
   return j.dump();
 }
 
 Json det(const std::string& id, const std::string& model, double conf, double x, double y, double heading) {
-  return Json{{"candidate", id}, {"model", model}, {"confidence", conf},
-              {"pose", {{"x", E + x}, {"y", N + y}, {"z", 100}, {"heading", heading}, {"pitch", 0}, {"roll", 0}}}};
+  return Json{
+      {"candidate", id},
+      {"model", model},
+      {"confidence", conf},
+      {"pose", {{"x", E + x}, {"y", N + y}, {"z", 100}, {"heading", heading}, {"pitch", 0}, {"roll", 0}}}};
 }
 
 // (A one-element brace list is the element itself in nlohmann's initializer lists.)
 std::string detections_text(Json dets, int none = 0) {
   if (!dets.is_array()) dets = Json::array({dets});
   const int candidates = static_cast<int>(dets.size()) + none;
-  return Json{{"format", "canopy.detections"}, {"version", 1}, {"candidates", candidates}, {"none", none},
-              {"detections", dets}}.dump();
+  return Json{{"format", "canopy.detections"},
+              {"version", 1},
+              {"candidates", candidates},
+              {"none", none},
+              {"detections", dets}}
+      .dump();
 }
 
 Json run(const Json& dets, score::Params p = {}) {
@@ -211,12 +226,14 @@ TEST_CASE("bad documents are refused naming the file and the field") {
   CHECK_THROWS_WITH(score::parse_detections(R"({"format":"canopy.detections","version":2})", "d.json"),
                     Catch::Contains("version 2"));
   Json bad = Json::parse(detections_text({det("c1", "sedan", 1.5, 10, 10, 30)}));
-  CHECK_THROWS_WITH(score::parse_detections(bad.dump(), "d.json"), Catch::Contains("detections[0].confidence"));
+  CHECK_THROWS_WITH(score::parse_detections(bad.dump(), "d.json"),
+                    Catch::Contains("detections[0].confidence"));
   bad = Json::parse(detections_text({det("c1", "sedan", 0.5, 10, 10, 30), det("c1", "tank", 0.5, 20, 20, 0)}));
   CHECK_THROWS_WITH(score::parse_detections(bad.dump(), "d.json"), Catch::Contains("repeats"));
   Json t = Json::parse(truth_text());
   t["vehicles"][1]["pose"].erase("heading");
-  CHECK_THROWS_WITH(score::parse_truth(t.dump(), "t.json"), Catch::Contains("vehicles[1].pose: missing \"heading\""));
+  CHECK_THROWS_WITH(score::parse_truth(t.dump(), "t.json"),
+                    Catch::Contains("vehicles[1].pose: missing \"heading\""));
 }
 
 TEST_CASE("score CLI: two tiles by manifest, groups per cover and noise, CSV tables") {
@@ -233,8 +250,8 @@ TEST_CASE("score CLI: two tiles by manifest, groups per cover and noise, CSV tab
                          (dir / "truth.json").string() + " 8 dense\n");
   const std::string bin = std::string(CANOPY_BIN_DIR) + "/score";
   std::string err;
-  const std::string cmd = bin + " -q --tiles " + (dir / "tiles.txt").string() + " -o " + (dir / "score.json").string() +
-                          " --csv " + (dir / "s_").string();
+  const std::string cmd = bin + " -q --tiles " + (dir / "tiles.txt").string() + " -o " +
+                          (dir / "score.json").string() + " --csv " + (dir / "s_").string();
   REQUIRE(test::sh(cmd, dir / "err.txt", &err) == 0);
   std::ifstream f((dir / "score.json").string());
   const Json s = Json::parse(f);
@@ -297,11 +314,11 @@ TEST_CASE("score CLI: a bad input names the file and writes nothing") {
   std::ofstream((dir / "d.json").string()) << "{\"format\": \"canopy.detections\"";
   const std::string bin = std::string(CANOPY_BIN_DIR) + "/score";
   std::string err;
-  CHECK(test::sh(bin + " -q -d " + (dir / "d.json").string() + " -t " + (dir / "truth.json").string() + " -o " +
-                     (dir / "s.json").string(),
+  CHECK(test::sh(bin + " -q -d " + (dir / "d.json").string() + " -t " + (dir / "truth.json").string() +
+                     " -o " + (dir / "s.json").string(),
                  dir / "err.txt", &err) == 1);
   CHECK_THAT(err, Catch::Contains("d.json"));
   CHECK_FALSE(test::exists(dir / "s.json"));
-  CHECK(test::sh(bin + " -q -d " + (dir / "d.json").string() + " -o " + (dir / "s.json").string(), dir / "err.txt",
-                 &err) == 2);
+  CHECK(test::sh(bin + " -q -d " + (dir / "d.json").string() + " -o " + (dir / "s.json").string(),
+                 dir / "err.txt", &err) == 2);
 }

@@ -55,7 +55,7 @@ TEST_CASE("render: grey by height, outlines on the footprint edges only") {
   CHECK(img.height == 101);
   const auto [bc, br] = px(img, 5, 5);
   const auto [gc, gr] = px(img, 8, 8);
-  CHECK(img.at(bc, br)[0] > img.at(gc, gr)[0]);  // the block is brighter than the ground
+  CHECK(img.at(bc, br)[0] > img.at(gc, gr)[0]);   // the block is brighter than the ground
   CHECK(img.at(bc, br)[0] == img.at(bc, br)[1]);  // grey
   const auto [ec, er] = px(img, 2, 1);
   CHECK(img.at(ec, er) == topview::kRight);  // on the bottom edge
@@ -73,22 +73,28 @@ TEST_CASE("topview CLI: outcome colours from a score, missed vehicles in yellow"
     for (const auto& p : r) a.push_back({p[0], p[1]});
     return a;
   };
-  const Json det{{"format", "canopy.detections"}, {"version", 1},
+  const Json det{{"format", "canopy.detections"},
+                 {"version", 1},
                  {"detections", {{{"candidate", "c1"}, {"footprint", fp(rect(1, 1, 3, 2))}}}}};
-  const Json truth{{"format", "canopy.scene_truth"}, {"version", 1},
-                   {"vehicles", {{{"instance", 1}, {"footprint", fp(rect(1.1, 1.1, 2.9, 1.9))}},
-                                 {{"instance", 2}, {"footprint", fp(rect(7, 7, 9, 8))}}}}};
-  const Json score{{"format", "canopy.scene_score"}, {"version", 1}, {"tiles", {Json::object()}},
-                   {"matches", {{{"tile", 0}, {"candidate", "c1"}, {"outcome", "wrong"}, {"instance", 1}},
-                                {{"tile", 0}, {"candidate", nullptr}, {"outcome", "missed"}, {"instance", 2}}}}};
+  const Json truth{{"format", "canopy.scene_truth"},
+                   {"version", 1},
+                   {"vehicles",
+                    {{{"instance", 1}, {"footprint", fp(rect(1.1, 1.1, 2.9, 1.9))}},
+                     {{"instance", 2}, {"footprint", fp(rect(7, 7, 9, 8))}}}}};
+  const Json score{{"format", "canopy.scene_score"},
+                   {"version", 1},
+                   {"tiles", {Json::object()}},
+                   {"matches",
+                    {{{"tile", 0}, {"candidate", "c1"}, {"outcome", "wrong"}, {"instance", 1}},
+                     {{"tile", 0}, {"candidate", nullptr}, {"outcome", "missed"}, {"instance", 2}}}}};
   std::ofstream((dir / "d.json").string()) << det.dump();
   std::ofstream((dir / "t.json").string()) << truth.dump();
   std::ofstream((dir / "s.json").string()) << score.dump();
   const std::string bin = std::string(CANOPY_BIN_DIR) + "/topview";
   std::string err;
-  REQUIRE(test::sh(bin + " -q -i " + (dir / "scan.pcd").string() + " --detections " + (dir / "d.json").string() +
-                       " --truth " + (dir / "t.json").string() + " --score " + (dir / "s.json").string() +
-                       " --size 200 -o " + (dir / "top.png").string(),
+  REQUIRE(test::sh(bin + " -q -i " + (dir / "scan.pcd").string() + " --detections " +
+                       (dir / "d.json").string() + " --truth " + (dir / "t.json").string() + " --score " +
+                       (dir / "s.json").string() + " --size 200 -o " + (dir / "top.png").string(),
                    dir / "err.txt", &err) == 0);
   png_image png;
   std::memset(&png, 0, sizeof png);
@@ -110,9 +116,10 @@ TEST_CASE("topview CLI: outcome colours from a score, missed vehicles in yellow"
   CHECK(at(5, 5)[0] > at(8, 9)[0]);      // block above ground
 
   // Bad input: named, nothing written.
-  std::ofstream((dir / "bad.json").string()) << R"({"format":"canopy.detections","detections":[{"footprint":[[1,2]]}]})";
-  CHECK(test::sh(bin + " -q -i " + (dir / "scan.pcd").string() + " --detections " + (dir / "bad.json").string() +
-                     " -o " + (dir / "bad.png").string(),
+  std::ofstream((dir / "bad.json").string())
+      << R"({"format":"canopy.detections","detections":[{"footprint":[[1,2]]}]})";
+  CHECK(test::sh(bin + " -q -i " + (dir / "scan.pcd").string() + " --detections " +
+                     (dir / "bad.json").string() + " -o " + (dir / "bad.png").string(),
                  dir / "err.txt", &err) == 1);
   CHECK_THAT(err, Catch::Contains("bad.json"));
   CHECK_FALSE(test::exists(dir / "bad.png"));

@@ -78,14 +78,12 @@ TEST_CASE("verify answers the right model with its pose, byte-identical on rerun
   CHECK(!v.hypotheses[1].pose_tile);
 
   // A tile transform (float64, far from the origin) adds the pose in tile coordinates.
-  REQUIRE(sh(c.cmd(c.dir / "t.json") + " --transform 1,0,0,500000.25,0,1,0,4400000.5,0,0,1,12",
-             c.dir / "err", &err) == 0);
+  REQUIRE(sh(c.cmd(c.dir / "t.json") + " --transform 1,0,0,500000.25,0,1,0,4400000.5,0,0,1,12", c.dir / "err",
+             &err) == 0);
   const fm::Verdict t = fm::read_verdict((c.dir / "t.json").string());
   REQUIRE(t.hypotheses[1].pose_tile);
-  CHECK(t.hypotheses[1].pose_tile->translation[0] ==
-        Approx(500002.25).epsilon(0).margin(1e-3));
-  CHECK(t.hypotheses[1].pose_tile->translation[1] ==
-        Approx(4399999.5).epsilon(0).margin(1e-3));
+  CHECK(t.hypotheses[1].pose_tile->translation[0] == Approx(500002.25).epsilon(0).margin(1e-3));
+  CHECK(t.hypotheses[1].pose_tile->translation[1] == Approx(4399999.5).epsilon(0).margin(1e-3));
   CHECK(t.hypotheses[1].pose_tile->translation[2] ==
         Approx(12 + v.hypotheses[1].pose.translation[2]).margin(1e-9));
   // The shipped defaults are accepted as a config file.
@@ -162,8 +160,8 @@ TEST_CASE("bad input exits 1 naming the file, no output", "[verify][cli]") {
   SECTION("an empty candidate") {
     const Case c("empty");
     fm::PointCloud none;
-    for (const char* f : {"x", "y", "z", "normal_x", "normal_y", "normal_z", "sensor_x",
-                          "sensor_y", "sensor_z"}) {
+    for (const char* f :
+         {"x", "y", "z", "normal_x", "normal_y", "normal_z", "sensor_x", "sensor_y", "sensor_z"}) {
       none.add(f);
     }
     fm::write_pcd(none, c.points.string());
@@ -209,8 +207,8 @@ TEST_CASE("verdict documents round-trip and reject bad versions", "[verify][form
   REQUIRE(fm::euler_degrees(r.hypotheses[0].pose)[0] == Approx(90));
   std::string bad = text;
   bad.replace(bad.find("\"version\": 1"), 12, "\"version\": 2");
-  REQUIRE_THROWS_WITH(fm::parse_verdict(bad, "v.json"), Catch::Contains("v.json") &&
-                                                           Catch::Contains("version"));
+  REQUIRE_THROWS_WITH(fm::parse_verdict(bad, "v.json"),
+                      Catch::Contains("v.json") && Catch::Contains("version"));
   REQUIRE_THROWS_WITH(fm::parse_verdict("{\"format\": \"canopy.match_result\", \"version\": 1}", "w.json"),
                       Catch::Contains("w.json") && Catch::Contains("canopy.verdict"));
 }

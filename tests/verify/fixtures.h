@@ -31,7 +31,8 @@ inline std::vector<Box> pickup() {
 }
 // A longer, lower flatbed with a tall cab at the front and a crate at the back.
 inline std::vector<Box> flatbed() {
-  return {{{-3.5, -1.2, 0.5}, {3.5, 1.2, 1.1}}, {{2.0, -1.1, 1.1}, {3.4, 1.1, 2.6}},
+  return {{{-3.5, -1.2, 0.5}, {3.5, 1.2, 1.1}},
+          {{2.0, -1.1, 1.1}, {3.4, 1.1, 2.6}},
           {{-3.3, -1.0, 1.1}, {-1.5, 1.0, 1.9}}};
 }
 
@@ -112,8 +113,7 @@ inline std::vector<Vector3d> views75() {
 // sensor direction of the view facing them most, plus ground points (z = 0, spacing h) over
 // 10 x 5 m around T's origin outside the objects' footprints.
 inline canopy::verify::Candidate candidate(const canopy::verify::Surface& surface,
-                                           const std::vector<Box>& boxes, const Isometry3d& T,
-                                           double h = 0.1) {
+                                           const std::vector<Box>& boxes, const Isometry3d& T, double h = 0.1) {
   canopy::verify::Candidate c;
   const auto views = views75();
   for (std::size_t i = 0; i < surface.points.size(); ++i) {

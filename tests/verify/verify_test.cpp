@@ -117,8 +117,8 @@ TEST_CASE("a candidate made of another model's points scores below its own model
   const vf::Params p;
   const vf::Scorer scorer(cand2, p);
   const auto own = scorer.score(w.models[0].surface, T);
-  const auto other = scorer.score(
-      w.models[1].surface, vf::refine(w.models[1].surface, scorer.above_points(), T, p));
+  const auto other =
+      scorer.score(w.models[1].surface, vf::refine(w.models[1].surface, scorer.above_points(), T, p));
   CHECK(other.score < own.score - 0.3);
 }
 
@@ -146,8 +146,8 @@ TEST_CASE("a box and a sphere are answered none", "[verify]") {
 
 TEST_CASE("candidate input checks name the file", "[verify]") {
   fm::PointCloud empty;
-  CHECK_THROWS_WITH(vf::candidate_from_cloud(empty, "c.pcd"), Catch::Contains("c.pcd") &&
-                                                                  Catch::Contains("empty"));
+  CHECK_THROWS_WITH(vf::candidate_from_cloud(empty, "c.pcd"),
+                    Catch::Contains("c.pcd") && Catch::Contains("empty"));
   const auto cand = candidate(sample(pickup(), 0.2), pickup(), pose(0, 0, 0));
   CHECK_THROWS_WITH(vf::candidate_from_cloud(to_cloud(cand, false), "n.pcd"),
                     Catch::Contains("n.pcd") && Catch::Contains("normal_x"));

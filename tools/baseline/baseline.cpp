@@ -41,9 +41,8 @@ std::vector<Eigen::Vector3f> column3(const formats::PointCloud& cloud, const std
   const std::string x = prefix.empty() ? "x" : prefix + "_x";
   const std::string y = prefix.empty() ? "y" : prefix + "_y";
   const std::string z = prefix.empty() ? "z" : prefix + "_z";
-  const std::string hint = prefix.empty()
-                               ? "is this a point cloud?"
-                               : "the baseline needs points with normals, e.g. fitvox's samples";
+  const std::string hint = prefix.empty() ? "is this a point cloud?"
+                                          : "the baseline needs points with normals, e.g. fitvox's samples";
   cloud.require({x, y, z}, name, hint);
   std::vector<Eigen::Vector3f> v(cloud.size());
   for (std::size_t i = 0; i < v.size(); ++i) {
@@ -216,8 +215,7 @@ Ranking run_vfh(const Cloud& cand, const std::vector<Model>& models, const Param
     e.model = m.name;
     e.distance = 1e9;
     for (int v = 0; v <= p.views; ++v) {
-      const Cloud seen = v < p.views ? view(m.surface, 2 * M_PI * v / p.views, p.view_elevation)
-                                     : m.surface;
+      const Cloud seen = v < p.views ? view(m.surface, 2 * M_PI * v / p.views, p.view_elevation) : m.surface;
       if (seen.points.size() < 3) continue;
       const double d = l1(c, vfh(seen.points, seen.normals));
       if (d < e.distance) {
@@ -321,8 +319,7 @@ void validate(const Params& p) {
   if (p.views < 0) throw UsageError("--views must be >= 0");
 }
 
-Cloud candidate_from_cloud(const formats::PointCloud& cloud, const std::string& name,
-                           double min_height) {
+Cloud candidate_from_cloud(const formats::PointCloud& cloud, const std::string& name, double min_height) {
   if (cloud.empty()) throw common::DataError(name, "empty candidate: no points");
   const auto pts = column3(cloud, "", name, false);
   const auto nrm = column3(cloud, "normal", name, true);
@@ -365,8 +362,9 @@ std::vector<Model> read_modelbase(const std::string& dir) {
   }
   if (ec) throw DataError(dir, "cannot list modelbase directory: " + ec.message());
   if (files.empty()) {
-    throw DataError(dir, "modelbase holds no <model>.pcd surfaces (make -f Makefile.experiments "
-                         "verify-modelbase builds them)");
+    throw DataError(dir,
+                    "modelbase holds no <model>.pcd surfaces (make -f Makefile.experiments "
+                    "verify-modelbase builds them)");
   }
   std::sort(files.begin(), files.end());
   std::vector<Model> models;
@@ -378,9 +376,7 @@ std::vector<Model> read_modelbase(const std::string& dir) {
     } catch (const DataError& e) {
       if (e.file() == path) throw;
       throw DataError(path, e.what());
-    } catch (const std::exception& e) {
-      throw DataError(path, e.what());
-    }
+    } catch (const std::exception& e) { throw DataError(path, e.what()); }
     models.push_back(std::move(m));
   }
   return models;
@@ -392,12 +388,8 @@ Result run(const Cloud& candidate, const std::vector<Model>& models, const Param
   pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);  // ICP's warnings are expected here
   Result r;
   r.candidate_points = static_cast<int>(candidate.points.size());
-  if (methods == "both" || methods == "vfh") {
-    r.methods.push_back(run_vfh(candidate, models, params));
-  }
-  if (methods == "both" || methods == "fpfh") {
-    r.methods.push_back(run_fpfh(candidate, models, params));
-  }
+  if (methods == "both" || methods == "vfh") { r.methods.push_back(run_vfh(candidate, models, params)); }
+  if (methods == "both" || methods == "fpfh") { r.methods.push_back(run_fpfh(candidate, models, params)); }
   return r;
 }
 
@@ -436,10 +428,7 @@ std::string serialize(const Result& result, const std::string& object,
   Json j{{"format", "canopy.baseline"},
          {"version", 1},
          {"provenance",
-          {{"tool", "baseline"},
-           {"version", CANOPY_VERSION},
-           {"parameters", params},
-           {"inputs", inputs}}},
+          {{"tool", "baseline"}, {"version", CANOPY_VERSION}, {"parameters", params}, {"inputs", inputs}}},
          {"object", object},
          {"candidate_points", result.candidate_points},
          {"methods", methods}};

@@ -27,16 +27,16 @@
 namespace canopy::baseline {
 
 struct Params {
-  double min_height = 0.3;         // candidate points below this z are ground (m; cocone's cut)
-  double voxel = 0.2;              // downsampling leaf before the local descriptors (m)
-  double normal_radius = 0.4;      // PCL normal estimation radius of the downsampled clouds (m)
-  double feature_radius = 0.75;    // FPFH radius (m)
-  double inlier = 0.25;            // RANSAC inlier / fitness distance (m)
-  int ransac_iterations = 4000;    // RANSAC iterations per model
-  int icp_iterations = 30;         // ICP iterations per model (0 = none)
-  int views = 8;                   // VFH model views on the ring (plus the whole surface)
-  double view_elevation = 1.309;   // elevation of the ring (rad; 75 deg, the trials' sensor)
-  unsigned seed = 1;               // RANSAC's random draws
+  double min_height = 0.3;        // candidate points below this z are ground (m; cocone's cut)
+  double voxel = 0.2;             // downsampling leaf before the local descriptors (m)
+  double normal_radius = 0.4;     // PCL normal estimation radius of the downsampled clouds (m)
+  double feature_radius = 0.75;   // FPFH radius (m)
+  double inlier = 0.25;           // RANSAC inlier / fitness distance (m)
+  int ransac_iterations = 4000;   // RANSAC iterations per model
+  int icp_iterations = 30;        // ICP iterations per model (0 = none)
+  int views = 8;                  // VFH model views on the ring (plus the whole surface)
+  double view_elevation = 1.309;  // elevation of the ring (rad; 75 deg, the trials' sensor)
+  unsigned seed = 1;              // RANSAC's random draws
 };
 
 void validate(const Params& params);  // throws common::UsageError
@@ -47,8 +47,7 @@ struct Cloud {
 };
 
 // Candidate: every row at or above min_height (no labels are used: they are ground truth).
-Cloud candidate_from_cloud(const formats::PointCloud& cloud, const std::string& name,
-                           double min_height);
+Cloud candidate_from_cloud(const formats::PointCloud& cloud, const std::string& name, double min_height);
 // Model surface: label-1 rows when a label field exists, else rows above 5 cm; normals required.
 Cloud model_from_cloud(const formats::PointCloud& cloud, const std::string& name);
 
@@ -63,17 +62,17 @@ std::vector<Model> read_modelbase(const std::string& dir);
 struct Entry {
   std::string model;
   int rank = 0;
-  double score = 0;       // larger is better, in [0, 1]
-  double distance = 0;    // global (vfh): L1 histogram distance of the nearest view, in [0, 2]
-  double fitness = 0;     // local: as score; the two shares follow
+  double score = 0;     // larger is better, in [0, 1]
+  double distance = 0;  // global (vfh): L1 histogram distance of the nearest view, in [0, 2]
+  double fitness = 0;   // local: as score; the two shares follow
   double candidate_share = 0, model_share = 0;
-  int view = -1;          // global: the nearest view (views = the whole surface)
-  bool posed = false;     // local: pose found
+  int view = -1;                                       // global: the nearest view (views = the whole surface)
+  bool posed = false;                                  // local: pose found
   Eigen::Matrix4d pose = Eigen::Matrix4d::Identity();  // model -> candidate
 };
 
 struct Ranking {
-  std::string method;  // "vfh" or "fpfh"
+  std::string method;         // "vfh" or "fpfh"
   std::vector<Entry> models;  // ranked (score, then model name)
   double seconds = 0;         // wall time of the method (logged, not serialised)
 };

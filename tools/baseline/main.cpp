@@ -23,8 +23,7 @@ int main(int argc, char** argv) {
   tool.add_input(&in, "candidate points PCD with normals (e.g. fitvox's samples)");
   tool.add_output(&out, "baseline result JSON");
   tool.add("--modelbase", &modelbase, "directory of <model>.pcd surfaces")->required();
-  tool.add("--methods", &methods, "vfh, fpfh or both")
-      ->check(CLI::IsMember({"vfh", "fpfh", "both"}));
+  tool.add("--methods", &methods, "vfh, fpfh or both")->check(CLI::IsMember({"vfh", "fpfh", "both"}));
   tool.add_length("--min-height", &p.min_height, "candidate points below this z are ground");
   tool.add_length("--voxel", &p.voxel, "voxel-grid leaf before the local descriptors");
   tool.add_length("--normal-radius", &p.normal_radius, "normal estimation radius (downsampled)");
@@ -51,9 +50,8 @@ int main(int argc, char** argv) {
     cm::write_file_atomic(out, bl::serialize(r, in, tool.parameters(), {in, modelbase}));
     for (const auto& m : r.methods) {
       char line[256];
-      std::snprintf(line, sizeof line, "%s: best %s: score %.3f (%.3f s, %zu models)",
-                    m.method.c_str(), m.models.front().model.c_str(), m.models.front().score,
-                    m.seconds, m.models.size());
+      std::snprintf(line, sizeof line, "%s: best %s: score %.3f (%.3f s, %zu models)", m.method.c_str(),
+                    m.models.front().model.c_str(), m.models.front().score, m.seconds, m.models.size());
       cm::log::info(line);
     }
   });

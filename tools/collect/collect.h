@@ -28,10 +28,10 @@ struct Index {
 };
 
 struct Verdict {
-  std::string name;                // file, as given
-  bool failed = false;             // an empty file: the candidate's chain failed (stage.sh --record-failure)
-  std::string model;               // "" = none
-  std::string cls;                 // "class", when the verdict has one
+  std::string name;     // file, as given
+  bool failed = false;  // an empty file: the candidate's chain failed (stage.sh --record-failure)
+  std::string model;    // "" = none
+  std::string cls;      // "class", when the verdict has one
   double confidence = 0;
   std::optional<Matrix> pose;       // model -> candidate
   std::optional<Matrix> pose_tile;  // model -> tile
@@ -43,7 +43,7 @@ struct ModelBox {
 };
 
 struct Params {
-  std::string crs;  // "EPSG:<code>" or ""
+  std::string crs;                        // "EPSG:<code>" or ""
   std::map<std::string, ModelBox> boxes;  // by model name; a model without one uses the candidate footprint
 };
 

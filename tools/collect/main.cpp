@@ -46,30 +46,36 @@ collect::ModelBox model_box(const std::string& path) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  common::Tool tool("collect", "One tile's detections: the candidates index of detect plus one verify verdict "
-                               "per candidate -> detections.json (canopy.detections v1) and a GeoJSON of the "
-                               "detections' footprints in the tile's coordinates.");
+  common::Tool tool("collect",
+                    "One tile's detections: the candidates index of detect plus one verify verdict "
+                    "per candidate -> detections.json (canopy.detections v1) and a GeoJSON of the "
+                    "detections' footprints in the tile's coordinates.");
   tool.without_threads();
   std::string in, out = "-", plan, key = "TILE", verdicts, name = "verdict.json", geojson, crs, modelbase;
   tool.add_input(&in, "candidates index.json (canopy.candidates v1)");
   tool.add_output(&out, "detections.json");
-  tool.add_output("--plan", &plan, "instead: write the make plan of the candidates (ids and transforms, "
-                                   "mk/scenes.mk) and stop; needs no verdicts");
+  tool.add_output("--plan", &plan,
+                  "instead: write the make plan of the candidates (ids and transforms, "
+                  "mk/scenes.mk) and stop; needs no verdicts");
   tool.add("--plan-key", &key, "prefix of the plan's make variables (<key>_CANDS, <key>_TRANSFORM_<id>)");
-  tool.add("--verdicts", &verdicts, "directory holding <id>/<verdict-name> per candidate (default: the index's directory)");
+  tool.add("--verdicts", &verdicts,
+           "directory holding <id>/<verdict-name> per candidate (default: the index's directory)");
   tool.add("--verdict-name", &name, "file name of each candidate's verdict");
   tool.add_output("--geojson", &geojson, "also write the detections as a GeoJSON FeatureCollection");
-  tool.add("--crs", &crs, "coordinate reference system of the tile, EPSG:<code>: recorded in detections.json "
-                          "and as the GeoJSON \"crs\" member (omitted without it)");
-  tool.add("--modelbase", &modelbase, "directory of <model>.pcd surfaces: footprints are the posed model's "
-                                      "top-view box (else the candidate's footprint)");
+  tool.add("--crs", &crs,
+           "coordinate reference system of the tile, EPSG:<code>: recorded in detections.json "
+           "and as the GeoJSON \"crs\" member (omitted without it)");
+  tool.add("--modelbase", &modelbase,
+           "directory of <model>.pcd surfaces: footprints are the posed model's "
+           "top-view box (else the candidate's footprint)");
   return tool.run(argc, argv, [&] {
     if (in.empty() || in == "-") throw common::UsageError("-i must name the candidates index.json");
     if (!crs.empty() && !std::regex_match(crs, std::regex("EPSG:[0-9]{1,6}"))) {
       throw common::UsageError("--crs must be EPSG:<code>, e.g. EPSG:32633");
     }
     if (!plan.empty()) {
-      if (out != "-" || !geojson.empty()) throw common::UsageError("--plan is alone: no -o or --geojson with it");
+      if (out != "-" || !geojson.empty())
+        throw common::UsageError("--plan is alone: no -o or --geojson with it");
       if (!std::regex_match(key, std::regex("[A-Za-z_][A-Za-z0-9_]{0,99}"))) {
         throw common::UsageError("--plan-key must be a make variable name (letters, digits, _)");
       }
@@ -79,7 +85,8 @@ int main(int argc, char** argv) {
       common::log::info(std::to_string(index.candidates.size()) + " candidates planned");
       return;
     }
-    if (name.empty() || name.find('/') != std::string::npos) throw common::UsageError("--verdict-name must be a file name");
+    if (name.empty() || name.find('/') != std::string::npos)
+      throw common::UsageError("--verdict-name must be a file name");
     common::OutputSet outputs;
     outputs.add(out, "-o");
     if (!geojson.empty()) outputs.add(geojson, "--geojson");
@@ -111,8 +118,8 @@ int main(int argc, char** argv) {
     }
     nlohmann::ordered_json params = nlohmann::ordered_json::object();
     for (const auto& [k, v] : tool.parameters()) params[k] = v;
-    const nlohmann::ordered_json prov{{"tool", "collect"}, {"version", CANOPY_VERSION}, {"parameters", params},
-                                      {"inputs", inputs}};
+    const nlohmann::ordered_json prov{
+        {"tool", "collect"}, {"version", CANOPY_VERSION}, {"parameters", params}, {"inputs", inputs}};
     const collect::Output o = collect::collect(index, vs, p, prov);
     outputs.set(out, o.detections);
     if (!geojson.empty()) outputs.set(geojson, o.geojson);

@@ -31,7 +31,7 @@ using common::DataError;
 using Eigen::Vector2d;
 using Eigen::Vector3d;
 
-constexpr double kMaxCells = 2e7;           // DTM raster limit (bounded memory)
+constexpr double kMaxCells = 2e7;                // DTM raster limit (bounded memory)
 constexpr double kFloat32ExactLimit = 131072.0;  // 2^17: float32 steps reach 15.6 mm beyond
 constexpr int kMaxSplitDepth = 6;
 
@@ -51,7 +51,7 @@ std::string fmt(const char* f, double v) {
 struct Raster {
   double x0 = 0, y0 = 0, cell = 1;  // lower-left corner (local frame)
   int nx = 0, ny = 0;
-  std::vector<double> z;            // cell-centre ground height (local frame), row-major (j * nx + i)
+  std::vector<double> z;  // cell-centre ground height (local frame), row-major (j * nx + i)
 
   int ix(double x) const { return std::clamp(int(std::floor((x - x0) / cell)), 0, nx - 1); }
   int iy(double y) const { return std::clamp(int(std::floor((y - y0) / cell)), 0, ny - 1); }
@@ -141,10 +141,22 @@ std::size_t fill_holes(Raster& r) {
       const int i = int(c % std::size_t(r.nx)), j = int(c / std::size_t(r.nx));
       double sum = 0;
       int n = 0;
-      if (i > 0) { sum += r.z[c - 1]; ++n; }
-      if (i + 1 < r.nx) { sum += r.z[c + 1]; ++n; }
-      if (j > 0) { sum += r.z[c - std::size_t(r.nx)]; ++n; }
-      if (j + 1 < r.ny) { sum += r.z[c + std::size_t(r.nx)]; ++n; }
+      if (i > 0) {
+        sum += r.z[c - 1];
+        ++n;
+      }
+      if (i + 1 < r.nx) {
+        sum += r.z[c + 1];
+        ++n;
+      }
+      if (j > 0) {
+        sum += r.z[c - std::size_t(r.nx)];
+        ++n;
+      }
+      if (j + 1 < r.ny) {
+        sum += r.z[c + std::size_t(r.nx)];
+        ++n;
+      }
       const double v = sum / n;
       change = std::max(change, std::abs(v - r.z[c]));
       r.z[c] = v;
@@ -197,8 +209,10 @@ Footprint min_area_rectangle(const std::vector<Vector2d>& points) {
     const Vector2d v(-u.y(), u.x());
     double umin = 1e300, umax = -1e300, vmin = 1e300, vmax = -1e300;
     for (const auto& q : hull) {
-      umin = std::min(umin, q.dot(u)); umax = std::max(umax, q.dot(u));
-      vmin = std::min(vmin, q.dot(v)); vmax = std::max(vmax, q.dot(v));
+      umin = std::min(umin, q.dot(u));
+      umax = std::max(umax, q.dot(u));
+      vmin = std::min(vmin, q.dot(v));
+      vmax = std::max(vmax, q.dot(v));
     }
     const double area = (umax - umin) * (vmax - vmin);
     if (area < best_area - 1e-12) {
@@ -206,9 +220,13 @@ Footprint min_area_rectangle(const std::vector<Vector2d>& points) {
       const Vector2d c = 0.5 * (umin + umax) * u + 0.5 * (vmin + vmax) * v;
       best.centre = c;
       if (umax - umin >= vmax - vmin) {
-        best.axis = u; best.length = umax - umin; best.width = vmax - vmin;
+        best.axis = u;
+        best.length = umax - umin;
+        best.width = vmax - vmin;
       } else {
-        best.axis = v; best.length = vmax - vmin; best.width = umax - umin;
+        best.axis = v;
+        best.length = vmax - vmin;
+        best.width = umax - umin;
       }
     }
   };
@@ -240,7 +258,8 @@ struct UnionFind {
     return a;
   }
   void unite(std::uint32_t a, std::uint32_t b) {
-    a = find(a); b = find(b);
+    a = find(a);
+    b = find(b);
     if (a != b) parent[std::max(a, b)] = std::min(a, b);
   }
 };
@@ -256,7 +275,9 @@ std::vector<std::vector<std::uint32_t>> cluster_points(const std::vector<std::ui
   if (idx.empty()) return out;
   double xmin = 1e300, ymin = 1e300, zmin = 1e300;
   for (std::uint32_t p : idx) {
-    xmin = std::min(xmin, px[p]); ymin = std::min(ymin, py[p]); zmin = std::min(zmin, pz[p]);
+    xmin = std::min(xmin, px[p]);
+    ymin = std::min(ymin, py[p]);
+    zmin = std::min(zmin, pz[p]);
   }
   constexpr std::uint64_t kMask = (1u << 21) - 1;
   std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(idx.size());
@@ -298,8 +319,9 @@ std::vector<std::vector<std::uint32_t>> cluster_points(const std::vector<std::ui
     pcl::PointCloud<pcl::PointXYZ>::Ptr centres(new pcl::PointCloud<pcl::PointXYZ>);
     centres->resize(keys.size());
     for (std::size_t u = 0; u < keys.size(); ++u) {
-      (*centres)[u] = pcl::PointXYZ(float(double(keys[u] >> 42) * v), float(double((keys[u] >> 21) & kMask) * v),
-                                    float(double(keys[u] & kMask) * v));
+      (*centres)[u] =
+          pcl::PointXYZ(float(double(keys[u] >> 42) * v), float(double((keys[u] >> 21) & kMask) * v),
+                        float(double(keys[u] & kMask) * v));
     }
     pcl::search::KdTree<pcl::PointXYZ>::Ptr tree(new pcl::search::KdTree<pcl::PointXYZ>);
     tree->setInputCloud(centres);
@@ -375,7 +397,8 @@ bool continues_upward(const Context& c, const std::vector<std::uint32_t>& pts) {
     ++in_top;
     bool hit = false;
     for (int di = -1; di <= 1 && !hit; ++di)
-      for (int dj = -1; dj <= 1 && !hit; ++dj) hit = c.above.count(column_key(c.x[q] + di * v, c.y[q] + dj * v, v)) > 0;
+      for (int dj = -1; dj <= 1 && !hit; ++dj)
+        hit = c.above.count(column_key(c.x[q] + di * v, c.y[q] + dj * v, v)) > 0;
     under += hit;
   }
   return in_top >= 10 && under * 2 >= in_top;
@@ -406,7 +429,8 @@ std::vector<std::vector<std::uint32_t>> finer_parts(const Context& c, const std:
 // or a drop of the top surface between two higher parts (the highest
 // point of the bin at least max(0.3 m, 20% of the lower part) below the highest on either
 // side): two car roofs side by side. The deepest valley wins, then the one nearest the middle.
-double valley_cut(const Context& c, const std::vector<std::uint32_t>& pts, const Vector2d& axis, double min_side) {
+double valley_cut(const Context& c, const std::vector<std::uint32_t>& pts, const Vector2d& axis,
+                  double min_side) {
   double smin = 1e300, smax = -1e300;
   std::vector<double> s(pts.size());
   for (std::size_t n = 0; n < pts.size(); ++n) {
@@ -428,8 +452,10 @@ double valley_cut(const Context& c, const std::vector<std::uint32_t>& pts, const
   std::nth_element(sorted.begin(), sorted.begin() + long(sorted.size() / 2), sorted.end());
   const double median = sorted[sorted.size() / 2];
   std::vector<double> left(std::size_t(nb), 0.0), right(std::size_t(nb), 0.0);
-  for (int b = 1; b < nb; ++b) left[std::size_t(b)] = std::max(left[std::size_t(b - 1)], top[std::size_t(b - 1)]);
-  for (int b = nb - 2; b >= 0; --b) right[std::size_t(b)] = std::max(right[std::size_t(b + 1)], top[std::size_t(b + 1)]);
+  for (int b = 1; b < nb; ++b)
+    left[std::size_t(b)] = std::max(left[std::size_t(b - 1)], top[std::size_t(b - 1)]);
+  for (int b = nb - 2; b >= 0; --b)
+    right[std::size_t(b)] = std::max(right[std::size_t(b + 1)], top[std::size_t(b + 1)]);
   double best_depth = 0, best_off = 1e300, cut = std::numeric_limits<double>::quiet_NaN();
   const double mid = 0.5 * (smin + smax);
   for (int b = 0; b < nb; ++b) {
@@ -531,7 +557,6 @@ void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
   c.accepted.push_back(std::move(o));
 }
 
-
 // ---------------------------------------------------------------------------------------
 // Shape: vehicles are made of planes, vegetation is volumetric scatter.
 
@@ -589,7 +614,8 @@ Shape planar_shape(const Context& c, const std::vector<std::uint32_t>& pts, doub
       const Vector3d d = (*cloud)[std::size_t(k)].getVector3fMap().cast<double>() - mean;
       cov += d * d.transpose();
     }
-    const Vector3d l = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov, Eigen::EigenvaluesOnly).eigenvalues();
+    const Vector3d l =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov, Eigen::EigenvaluesOnly).eigenvalues();
     ++counted;
     planar += l[0] <= ratio * ratio * l[1];  // ascending: l[0] is the smallest
   }
@@ -650,13 +676,15 @@ Result run(const formats::PointCloud& tile, const Params& params, const std::str
     const int a = axis[0] - 'x';
     const double mag = std::max(std::abs(lo[a]), std::abs(hi[a]));
     if (tile.type(axis) == formats::kFloat32 && mag >= kFloat32ExactLimit) {
-      throw DataError(name, std::string("coordinate ") + axis + " is stored as float32 at magnitudes up to " +
-                                fmt("%.0f", mag) + " m, where float32 steps are " +
-                                fmt("%.3g", std::ldexp(1.0, int(std::floor(std::log2(mag))) - 23)) +
-                                " m: the tile is already quantised; store coordinates as float64 (PCD TYPE F SIZE 8)");
+      throw DataError(
+          name, std::string("coordinate ") + axis + " is stored as float32 at magnitudes up to " +
+                    fmt("%.0f", mag) + " m, where float32 steps are " +
+                    fmt("%.3g", std::ldexp(1.0, int(std::floor(std::log2(mag))) - 23)) +
+                    " m: the tile is already quantised; store coordinates as float64 (PCD TYPE F SIZE 8)");
     }
   }
-  r.origin = Vector3d(std::floor(0.5 * (lo.x() + hi.x())), std::floor(0.5 * (lo.y() + hi.y())), std::floor(lo.z()));
+  r.origin =
+      Vector3d(std::floor(0.5 * (lo.x() + hi.x())), std::floor(0.5 * (lo.y() + hi.y())), std::floor(lo.z()));
   std::vector<double> x(n), y(n), z(n);
   for (std::size_t i = 0; i < n; ++i) {
     x[i] = tx[i] - r.origin.x();
@@ -673,9 +701,10 @@ Result run(const formats::PointCloud& tile, const Params& params, const std::str
   const double nxd = std::floor((hi.x() - lo.x()) / params.cell) + 1;
   const double nyd = std::floor((hi.y() - lo.y()) / params.cell) + 1;
   if (nxd * nyd > kMaxCells) {
-    throw DataError(name, "the tile spans " + fmt("%.0f", hi.x() - lo.x()) + " m x " + fmt("%.0f", hi.y() - lo.y()) +
-                              " m: " + fmt("%.3g", nxd * nyd) + " DTM cells of " + fmt("%g", params.cell) +
-                              " m (limit " + fmt("%.0g", kMaxCells) + "); split the tile or raise --cell");
+    throw DataError(name, "the tile spans " + fmt("%.0f", hi.x() - lo.x()) + " m x " +
+                              fmt("%.0f", hi.y() - lo.y()) + " m: " + fmt("%.3g", nxd * nyd) +
+                              " DTM cells of " + fmt("%g", params.cell) + " m (limit " +
+                              fmt("%.0g", kMaxCells) + "); split the tile or raise --cell");
   }
   dtm.nx = int(nxd);
   dtm.ny = int(nyd);
@@ -686,7 +715,8 @@ Result run(const formats::PointCloud& tile, const Params& params, const std::str
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t c = dtm.at(dtm.ix(x[i]), dtm.iy(y[i]));
     cell_of[i] = std::uint32_t(c);
-    if (lowest[c] == std::numeric_limits<std::uint32_t>::max() || z[i] < z[lowest[c]]) lowest[c] = std::uint32_t(i);
+    if (lowest[c] == std::numeric_limits<std::uint32_t>::max() || z[i] < z[lowest[c]])
+      lowest[c] = std::uint32_t(i);
   }
   pcl::PointCloud<pcl::PointXYZ>::Ptr minima(new pcl::PointCloud<pcl::PointXYZ>);
   std::vector<std::size_t> minima_cell;
@@ -720,10 +750,11 @@ Result run(const formats::PointCloud& tile, const Params& params, const std::str
   r.stats.ground_cells = ground_minima.size();
   const double share = double(ground_minima.size()) / double(std::max<std::size_t>(1, minima->size()));
   if (share < params.min_ground_share) {
-    throw DataError(name, "found ground in only " + fmt("%.1f", 100 * share) + "% of the " +
-                              std::to_string(minima->size()) + " occupied " + fmt("%g", params.cell) +
-                              " m cells (--min-ground-share " + fmt("%g", params.min_ground_share) +
-                              "): no terrain to measure heights from (a tile of only vegetation or objects?)");
+    throw DataError(name,
+                    "found ground in only " + fmt("%.1f", 100 * share) + "% of the " +
+                        std::to_string(minima->size()) + " occupied " + fmt("%g", params.cell) +
+                        " m cells (--min-ground-share " + fmt("%g", params.min_ground_share) +
+                        "): no terrain to measure heights from (a tile of only vegetation or objects?)");
   }
   fill_holes(dtm);
   // Refine: mean z of the points near the first surface, in the ground cells.
@@ -762,7 +793,8 @@ Result run(const formats::PointCloud& tile, const Params& params, const std::str
   t0 = std::chrono::steady_clock::now();
   std::vector<std::uint32_t> band;
   for (std::size_t i = 0; i < n; ++i) {
-    if (r.height[i] >= params.min_object_height && r.height[i] <= params.max_height) band.push_back(std::uint32_t(i));
+    if (r.height[i] >= params.min_object_height && r.height[i] <= params.max_height)
+      band.push_back(std::uint32_t(i));
   }
   r.stats.band_points = band.size();
   std::vector<double> hz(n);  // clustering in (x, y, height): the band is a flat slab
@@ -784,7 +816,8 @@ Result run(const formats::PointCloud& tile, const Params& params, const std::str
     std::vector<Object> kept;
     for (Object& o : ctx.accepted) {
       o.shape = planar_shape(ctx, o.points, params.planar_radius, params.planar_ratio);
-      if (params.min_planarity > 0 && o.shape.share < params.min_planarity && o.shape.area < params.min_planar_area) {
+      if (params.min_planarity > 0 && o.shape.share < params.min_planarity &&
+          o.shape.area < params.min_planar_area) {
         ++r.stats.rejected_shape;
       } else {
         kept.push_back(std::move(o));
@@ -872,11 +905,14 @@ Result run(const formats::PointCloud& tile, const Params& params, const std::str
     double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300, zmax = 0;
     for (std::uint32_t q : o.points) {
       const Vector3d l = R.transpose() * (Vector3d(x[q], y[q], z[q]) - O);
-      xmin = std::min(xmin, l.x()); xmax = std::max(xmax, l.x());
-      ymin = std::min(ymin, l.y()); ymax = std::max(ymax, l.y());
+      xmin = std::min(xmin, l.x());
+      xmax = std::max(xmax, l.x());
+      ymin = std::min(ymin, l.y());
+      ymax = std::max(ymax, l.y());
     }
     O += R * Vector3d(0.5 * (xmin + xmax), 0.5 * (ymin + ymax), 0.0);
-    for (std::uint32_t q : o.points) zmax = std::max(zmax, (R.transpose() * (Vector3d(x[q], y[q], z[q]) - O)).z());
+    for (std::uint32_t q : o.points)
+      zmax = std::max(zmax, (R.transpose() * (Vector3d(x[q], y[q], z[q]) - O)).z());
     Pending pd;
     Candidate& c = pd.c;
     c.length = xmax - xmin;
@@ -928,7 +964,9 @@ Result run(const formats::PointCloud& tile, const Params& params, const std::str
       auto& dz = c.cloud.col(f[2]);
       for (std::size_t m = 0; m < c.cloud.size(); ++m) {
         const Vector3d d = R.transpose() * Vector3d(dx[m], dy[m], dz[m]);
-        dx[m] = d.x(); dy[m] = d.y(); dz[m] = d.z();
+        dx[m] = d.x();
+        dy[m] = d.y();
+        dz[m] = d.z();
       }
     }
     if (has_instance) {

@@ -14,8 +14,8 @@
 //    grass, not canopy above the tallest vehicle) are clustered: occupied `voxel` cubes,
 //    26-connected (or PCL's Euclidean clustering on the voxel centres, same partition).
 // 4. Vehicle test. A cluster reaching the band's top under points just above the band is the
-//    bottom of a crown or building, not a vehicle. Per cluster the minimum-area rectangle of its top view (length ≥ width,
-//    heading of the long axis) and its height. A cluster wider than two narrow vehicles, or
+//    bottom of a crown or building, not a vehicle. Per cluster the minimum-area rectangle of its top view
+//    (length ≥ width, heading of the long axis) and its height. A cluster wider than two narrow vehicles, or
 //    beyond the ranges, is re-clustered with half the voxel (objects that only touch come
 //    apart: two vehicles side by side, a vehicle against a bush); an oversized one that does
 //    not come apart is cut at a clear valley of the point count across its oversized axis,
@@ -44,13 +44,13 @@ enum class Clustering { kGrid, kEuclidean };
 
 struct Params {
   // Ground.
-  double cell = 0.5;               // DTM cell (m), > 0
-  double max_window = 16.0;        // largest PMF window (m): objects narrower than this are not ground
-  double terrain_slope = 0.35;     // PMF threshold growth per metre of window (rise / run), > 0
-  double initial_distance = 0.2;   // PMF height threshold at the smallest window (m)
-  double max_distance = 3.0;       // PMF height threshold cap (m)
-  double ground_tolerance = 0.2;   // |height| within which a point refines the DTM (m)
-  double min_ground_share = 0.2;   // fewer occupied cells with ground: no terrain, an error
+  double cell = 0.5;              // DTM cell (m), > 0
+  double max_window = 16.0;       // largest PMF window (m): objects narrower than this are not ground
+  double terrain_slope = 0.35;    // PMF threshold growth per metre of window (rise / run), > 0
+  double initial_distance = 0.2;  // PMF height threshold at the smallest window (m)
+  double max_distance = 3.0;      // PMF height threshold cap (m)
+  double ground_tolerance = 0.2;  // |height| within which a point refines the DTM (m)
+  double min_ground_share = 0.2;  // fewer occupied cells with ground: no terrain, an error
   // Objects.
   double min_object_height = 0.3;  // below this height above ground: ground or grass (m)
   double voxel = 0.2;              // clustering voxel edge (m)
@@ -59,19 +59,19 @@ struct Params {
   double min_length = 2.0, max_length = 17.0;
   double min_width = 1.0, max_width = 4.0;  // the tank is 3.54 m over its tracks
   double min_height = 0.8, max_height = 4.5;
-  std::size_t min_points = 30;     // fewer points in a cluster: not a candidate
+  std::size_t min_points = 30;  // fewer points in a cluster: not a candidate
   // Shape (docs/decisions/detect.md): the share of the object's 0.1 m voxel centroids whose
   // neighbours within planar_radius are planar (sqrt(l3 / l2) <= planar_ratio of their
   // covariance's eigenvalues), and their area. An object with a share below min_planarity
   // and a planar area below min_planar_area is vegetation (bush groups, crown pieces).
-  double min_planarity = 0.2;      // 0 = no shape test
-  double min_planar_area = 1.0;    // m^2 of planar surface that keep an object whatever its share
-  double planar_radius = 0.35;     // neighbourhood radius (m)
-  double planar_ratio = 0.35;      // largest sqrt(l3 / l2) of a planar neighbourhood
+  double min_planarity = 0.2;    // 0 = no shape test
+  double min_planar_area = 1.0;  // m^2 of planar surface that keep an object whatever its share
+  double planar_radius = 0.35;   // neighbourhood radius (m)
+  double planar_ratio = 0.35;    // largest sqrt(l3 / l2) of a planar neighbourhood
   // Candidates.
-  double margin = 0.5;             // crop margin around the footprint and above the height (m)
-  std::string label_field = "label";       // ground-truth class (formats/labels.h); optional
-  std::string instance_field = "instance"; // ground-truth instance id (0 = none); optional
+  double margin = 0.5;                      // crop margin around the footprint and above the height (m)
+  std::string label_field = "label";        // ground-truth class (formats/labels.h); optional
+  std::string instance_field = "instance";  // ground-truth instance id (0 = none); optional
 
   // Throws common::UsageError naming the first bad value.
   void validate() const;
@@ -88,15 +88,15 @@ struct Truth {
 };
 
 struct Candidate {
-  std::string id;                      // "c0001", ...; also the PCD's file stem
+  std::string id;                                         // "c0001", ...; also the PCD's file stem
   Eigen::Matrix4d to_tile = Eigen::Matrix4d::Identity();  // local -> tile coordinates (float64)
-  double length = 0, width = 0;        // footprint (m), length >= width
-  double heading = 0;                  // local x axis in the tile's xy plane, from +x toward +y (rad, (-pi/2, pi/2])
-  double height = 0;                   // highest object point above the ground (m)
-  std::size_t object_points = 0;       // points of the cluster
-  double planarity = 0;                // share of the object's surface in planar neighbourhoods
-  double planar_area = 0;              // that planar surface (m^2)
-  formats::PointCloud cloud;           // the crop, local frame, every input field
+  double length = 0, width = 0;                           // footprint (m), length >= width
+  double heading = 0;  // local x axis in the tile's xy plane, from +x toward +y (rad, (-pi/2, pi/2])
+  double height = 0;   // highest object point above the ground (m)
+  std::size_t object_points = 0;  // points of the cluster
+  double planarity = 0;           // share of the object's surface in planar neighbourhoods
+  double planar_area = 0;         // that planar surface (m^2)
+  formats::PointCloud cloud;      // the crop, local frame, every input field
   bool has_truth = false;
   Truth truth;
 };
@@ -116,9 +116,9 @@ struct Stats {
 
 struct Result {
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // local frame origin in tile coordinates
-  std::vector<float> height;           // per input point: height above the DTM (m)
-  std::vector<std::uint8_t> classes;   // per input point: Class
-  std::vector<Candidate> candidates;   // sorted by footprint centre (x, then y)
+  std::vector<float> height;                         // per input point: height above the DTM (m)
+  std::vector<std::uint8_t> classes;                 // per input point: Class
+  std::vector<Candidate> candidates;                 // sorted by footprint centre (x, then y)
   bool has_truth = false;
   std::vector<InstanceTruth> instances;  // every labelled vehicle in the tile, by id
   Stats stats;

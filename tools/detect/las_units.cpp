@@ -36,11 +36,10 @@ std::optional<LinearUnit> from_wkt(const std::string& wkt) {
   double factor = 0;
   try {
     factor = std::stod(wkt.substr(q + 2, 32));
-  } catch (...) {
-    return std::nullopt;
-  }
+  } catch (...) { return std::nullopt; }
   if (!(factor > 0)) return std::nullopt;
-  return LinearUnit{name, factor, "WKT UNIT[\"" + name + "\"," + wkt.substr(q + 2, wkt.find(']', q) - q - 2) + "]"};
+  return LinearUnit{name, factor,
+                    "WKT UNIT[\"" + name + "\"," + wkt.substr(q + 2, wkt.find(']', q) - q - 2) + "]"};
 }
 
 }  // namespace
@@ -73,7 +72,8 @@ std::optional<LinearUnit> las_linear_unit(const std::string& path) {
         }
       }
     } else if (id == 2112 && !wkt) {  // OGC coordinate system WKT (LASF_Projection, or libLAS's copy)
-      wkt = from_wkt(std::string(reinterpret_cast<const char*>(d), strnlen(reinterpret_cast<const char*>(d), len)));
+      wkt = from_wkt(
+          std::string(reinterpret_cast<const char*>(d), strnlen(reinterpret_cast<const char*>(d), len)));
     }
     pos += kVlrHeader + len;
   }

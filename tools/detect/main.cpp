@@ -23,25 +23,34 @@ formats::PointCloud read_tile(const std::string& path) { return formats::read_po
 }  // namespace
 
 int main(int argc, char** argv) {
-  common::Tool tool("detect", "Vehicle candidates in a whole tile: ground (DTM), objects between "
-                              "the ground and the canopy, footprint and height tests; one local-frame "
-                              "PCD per candidate plus index.json and a classification PLY.");
+  common::Tool tool("detect",
+                    "Vehicle candidates in a whole tile: ground (DTM), objects between "
+                    "the ground and the canopy, footprint and height tests; one local-frame "
+                    "PCD per candidate plus index.json and a classification PLY.");
   detect::Params p;
   std::string in = "-", out, clustering = "grid";
   bool no_classes = false;
-  tool.add_input(&in, "tile: PCD, PLY point set or LAS (x y z, float64 for georeferenced coordinates; any other fields)");
-  tool.app().add_option("-o,--output", out, "output directory, required (built beside it and renamed into "
-                                            "place; a previous detect output is replaced)");
+  tool.add_input(
+      &in,
+      "tile: PCD, PLY point set or LAS (x y z, float64 for georeferenced coordinates; any other fields)");
+  tool.app().add_option("-o,--output", out,
+                        "output directory, required (built beside it and renamed into "
+                        "place; a previous detect output is replaced)");
   tool.add_length("--cell", &p.cell, "DTM cell");
-  tool.add_length("--max-window", &p.max_window, "largest ground-filter window (objects narrower are not ground)");
-  tool.add("--terrain-slope", &p.terrain_slope, "ground-filter height threshold growth per metre of window (rise/run)");
-  tool.add_length("--initial-distance", &p.initial_distance, "ground-filter height threshold at the smallest window");
+  tool.add_length("--max-window", &p.max_window,
+                  "largest ground-filter window (objects narrower are not ground)");
+  tool.add("--terrain-slope", &p.terrain_slope,
+           "ground-filter height threshold growth per metre of window (rise/run)");
+  tool.add_length("--initial-distance", &p.initial_distance,
+                  "ground-filter height threshold at the smallest window");
   tool.add_length("--max-distance", &p.max_distance, "ground-filter height threshold cap");
   tool.add_length("--ground-tolerance", &p.ground_tolerance, "points this close to the first DTM refine it");
-  tool.add("--min-ground-share", &p.min_ground_share, "fewest occupied cells with ground (share) for a terrain");
+  tool.add("--min-ground-share", &p.min_ground_share,
+           "fewest occupied cells with ground (share) for a terrain");
   tool.add_length("--min-object-height", &p.min_object_height, "lower: ground or grass");
   tool.add_length("--voxel", &p.voxel, "clustering voxel edge (26-connected voxels form an object)");
-  tool.add("--clustering", &clustering, "grid (voxel connected components) or euclidean (PCL, same partition)");
+  tool.add("--clustering", &clustering,
+           "grid (voxel connected components) or euclidean (PCL, same partition)");
   tool.add_length("--min-length", &p.min_length, "shortest vehicle footprint");
   tool.add_length("--max-length", &p.max_length, "longest vehicle footprint");
   tool.add_length("--min-width", &p.min_width, "narrowest vehicle footprint");
@@ -49,9 +58,11 @@ int main(int argc, char** argv) {
   tool.add_length("--min-height", &p.min_height, "lowest vehicle");
   tool.add_length("--max-height", &p.max_height, "tallest vehicle (higher points are canopy)");
   tool.add("--min-points", &p.min_points, "fewest points of a candidate object");
-  tool.add("--min-planarity", &p.min_planarity, "shape test: an object with a smaller share of its surface in planar "
-                                                 "neighbourhoods and less than --min-planar-area of it is vegetation (0 = off)");
-  tool.add("--min-planar-area", &p.min_planar_area, "shape test: m^2 of planar surface that keep an object whatever its share");
+  tool.add("--min-planarity", &p.min_planarity,
+           "shape test: an object with a smaller share of its surface in planar "
+           "neighbourhoods and less than --min-planar-area of it is vegetation (0 = off)");
+  tool.add("--min-planar-area", &p.min_planar_area,
+           "shape test: m^2 of planar surface that keep an object whatever its share");
   tool.add_length("--planar-radius", &p.planar_radius, "neighbourhood radius of the planarity test");
   tool.add_length("--margin", &p.margin, "crop margin around a candidate's footprint and above its height");
   tool.add("--label-field", &p.label_field, "ground-truth class field (1 = vehicle), if present");
@@ -78,7 +89,8 @@ int main(int argc, char** argv) {
         char f[64];
         std::snprintf(f, sizeof f, "%.10g", unit->metres);
         common::log::warn(name + ": its georeferencing gives the coordinates in " + unit->name +
-                          (unit->metres > 0 ? std::string(" (") + f + " m)" : std::string()) + " (" + unit->source +
+                          (unit->metres > 0 ? std::string(" (") + f + " m)" : std::string()) + " (" +
+                          unit->source +
                           "); detect reads them as metres, so every length (DTM cell, vehicle ranges) is " +
                           "taken in " + unit->name + ": convert the tile to metres first");
       }
@@ -87,12 +99,13 @@ int main(int argc, char** argv) {
     const detect::Result r = detect::run(tile, p, name);
     const detect::Stats& s = r.stats;
     char buf[400];
-    std::snprintf(buf, sizeof buf,
-                  "ground %zu of %zu cells (%.2f s); %zu object points in %zu clusters, %zu splits, "
-                  "rejected %zu small %zu large %zu canopy bottoms %zu not planar (%.2f s); %zu candidates (%.2f s)",
-                  s.ground_cells, s.cells, s.seconds_ground, s.band_points, s.clusters, s.splits,
-                  s.rejected_small, s.rejected_large, s.rejected_canopy, s.rejected_shape, s.seconds_objects, r.candidates.size(),
-                  s.seconds_candidates);
+    std::snprintf(
+        buf, sizeof buf,
+        "ground %zu of %zu cells (%.2f s); %zu object points in %zu clusters, %zu splits, "
+        "rejected %zu small %zu large %zu canopy bottoms %zu not planar (%.2f s); %zu candidates (%.2f s)",
+        s.ground_cells, s.cells, s.seconds_ground, s.band_points, s.clusters, s.splits, s.rejected_small,
+        s.rejected_large, s.rejected_canopy, s.rejected_shape, s.seconds_objects, r.candidates.size(),
+        s.seconds_candidates);
     work.done(buf);
     if (r.has_truth) {
       std::size_t covered = 0;

@@ -48,22 +48,26 @@ std::string serialize_index(const Result& r, const Params& p, const formats::Pro
                             const std::string& tile, const std::string& classes) {
   Json params = Json::object();
   for (const auto& [k, v] : prov.parameters) params[k] = v;
-  Json j{{"format", "canopy.candidates"},
-         {"version", 1},
-         {"provenance", Json{{"tool", prov.tool}, {"version", prov.version}, {"parameters", params},
-                             {"inputs", prov.inputs}}},
-         {"tile", tile},
-         {"tile_points", r.stats.points},
-         {"origin", Json::array({finite(r.origin.x()), finite(r.origin.y()), finite(r.origin.z())})},
-         {"classes", classes.empty() ? Json(nullptr) : Json(classes)},
-         {"ground", Json{{"cell", p.cell}, {"cells", r.stats.cells}, {"ground_cells", r.stats.ground_cells},
-                         {"filled_cells", r.stats.filled_cells}, {"ground_points", r.stats.ground_points}}}};
+  Json j{
+      {"format", "canopy.candidates"},
+      {"version", 1},
+      {"provenance",
+       Json{{"tool", prov.tool}, {"version", prov.version}, {"parameters", params}, {"inputs", prov.inputs}}},
+      {"tile", tile},
+      {"tile_points", r.stats.points},
+      {"origin", Json::array({finite(r.origin.x()), finite(r.origin.y()), finite(r.origin.z())})},
+      {"classes", classes.empty() ? Json(nullptr) : Json(classes)},
+      {"ground", Json{{"cell", p.cell},
+                      {"cells", r.stats.cells},
+                      {"ground_cells", r.stats.ground_cells},
+                      {"filled_cells", r.stats.filled_cells},
+                      {"ground_points", r.stats.ground_points}}}};
   Json cands = Json::array();
   for (const Candidate& c : r.candidates) {
     Json t = Json::array();
     for (int row = 0; row < 4; ++row) {
-      t.push_back(Json::array({finite(c.to_tile(row, 0)), finite(c.to_tile(row, 1)), finite(c.to_tile(row, 2)),
-                               finite(c.to_tile(row, 3))}));
+      t.push_back(Json::array({finite(c.to_tile(row, 0)), finite(c.to_tile(row, 1)),
+                               finite(c.to_tile(row, 2)), finite(c.to_tile(row, 3))}));
     }
     Json cj{{"id", c.id},
             {"file", c.id + ".pcd"},
@@ -78,10 +82,11 @@ std::string serialize_index(const Result& r, const Params& p, const formats::Pro
             {"planarity", finite(c.planarity)},
             {"planar_area", finite(c.planar_area)}};
     if (c.has_truth) {
-      cj["truth"] = c.truth.instance == 0
-                        ? Json(nullptr)
-                        : Json{{"instance", c.truth.instance}, {"points", c.truth.points},
-                               {"coverage", finite(c.truth.coverage)}, {"purity", finite(c.truth.purity)}};
+      cj["truth"] = c.truth.instance == 0 ? Json(nullptr)
+                                          : Json{{"instance", c.truth.instance},
+                                                 {"points", c.truth.points},
+                                                 {"coverage", finite(c.truth.coverage)},
+                                                 {"purity", finite(c.truth.purity)}};
     }
     cands.push_back(std::move(cj));
   }
@@ -101,7 +106,8 @@ void write_output(const std::string& dir, const formats::PointCloud& tile, const
                   bool write_classes) {
   fs::path final = fs::path(dir).lexically_normal();
   if (final.has_filename() == false) final = final.parent_path();  // "cands/" -> "cands"
-  if (final.empty() || final == "." || final == "..") throw common::UsageError("-o must name a directory to create");
+  if (final.empty() || final == "." || final == "..")
+    throw common::UsageError("-o must name a directory to create");
   std::error_code ec;
   const fs::file_status st = fs::symlink_status(final, ec);
   const bool exists = fs::exists(st);
@@ -109,13 +115,15 @@ void write_output(const std::string& dir, const formats::PointCloud& tile, const
     throw common::DataError(final.string(), "exists and is not a directory; refusing to overwrite it");
   }
   if (exists && !fs::is_empty(final, ec) && !fs::exists(final / "index.json")) {
-    throw common::DataError(final.string(), "is a directory that is neither empty nor a detect output "
-                                            "(no index.json); refusing to replace it");
+    throw common::DataError(final.string(),
+                            "is a directory that is neither empty nor a detect output "
+                            "(no index.json); refusing to replace it");
   }
   fs::path parent = final.parent_path();
   if (parent.empty()) parent = ".";
   fs::create_directories(parent, ec);
-  if (!fs::is_directory(parent)) throw common::DataError(parent.string(), "cannot create the output's parent directory");
+  if (!fs::is_directory(parent))
+    throw common::DataError(parent.string(), "cannot create the output's parent directory");
   const std::string stem = final.filename().string();
   TempDir tmp(parent / ("." + stem + ".tmp" + std::to_string(::getpid())));
   fs::remove_all(tmp.path(), ec);
@@ -157,7 +165,8 @@ void write_output(const std::string& dir, const formats::PointCloud& tile, const
     fs::remove_all(old, ec);
   } else {
     fs::rename(tmp.path(), final, ec);
-    if (ec) throw common::DataError(final.string(), "cannot rename the new output into place: " + ec.message());
+    if (ec)
+      throw common::DataError(final.string(), "cannot rename the new output into place: " + ec.message());
   }
   tmp.release();
 }

@@ -14,15 +14,14 @@ namespace canopy::detect {
 
 // The index document. `tile` is the input path as given; `classes` the PLY's file name in the
 // directory, or empty when none is written.
-std::string serialize_index(const Result& result, const Params& params,
-                            const formats::Provenance& provenance, const std::string& tile,
-                            const std::string& classes);
+std::string serialize_index(const Result& result, const Params& params, const formats::Provenance& provenance,
+                            const std::string& tile, const std::string& classes);
 
 // Writes the whole directory atomically. Refuses (DataError) when `dir` exists and is not a
 // directory, or is a directory that is neither empty nor a previous detect output (holds an
 // index.json); a previous output is replaced as a whole.
 void write_output(const std::string& dir, const formats::PointCloud& tile, const Result& result,
-                  const Params& params, const formats::Provenance& provenance,
-                  const std::string& tile_name, bool write_classes);
+                  const Params& params, const formats::Provenance& provenance, const std::string& tile_name,
+                  bool write_classes);
 
 }  // namespace canopy::detect

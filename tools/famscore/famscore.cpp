@@ -130,8 +130,9 @@ std::string accuracy_csv(const std::vector<Trial>& trials) {
   };
   for (const auto& t : trials) add({t.run.cover, t.run.noise}, t);
   for (const auto& t : trials) add({"all", "all"}, t);
-  std::string out = "cover,noise,trials,class_right,class_accuracy,accepted,accepted_right,nearest_right,"
-                    "nearest_accuracy,failed\n";
+  std::string out =
+      "cover,noise,trials,class_right,class_accuracy,accepted,accepted_right,nearest_right,"
+      "nearest_accuracy,failed\n";
   char buf[256];
   for (const auto& k : keys) {
     const Count& c = counts[k];

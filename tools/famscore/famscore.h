@@ -5,8 +5,9 @@
 // The runs manifest has one trial per line: <verdict.json> <class> <instance> <cover> <noise>
 // (the test vehicle is family:<class>:<instance>; '#' starts a comment). The answered class is
 // the verdict's "class" (the best-scoring hypothesis's class, accepted or not); "none" when the
-// verdict has no class or is empty (a stage failed on the trial: stage.sh --record-failure). The right nearest instance is the modelbase entry of the true class
-// whose generated length, width and height are nearest (Euclidean) to the test vehicle's.
+// verdict has no class or is empty (a stage failed on the trial: stage.sh --record-failure). The right
+// nearest instance is the modelbase entry of the true class whose generated length, width and height are
+// nearest (Euclidean) to the test vehicle's.
 #pragma once
 
 #include <string>
@@ -30,15 +31,14 @@ struct Entry {
 
 // The entry of class `vehicle_class` nearest in size to family:<class>:<instance> among the
 // entries named <class>-<n> (generated instances); "" when there is none.
-std::string nearest_by_size(const std::string& vehicle_class, int instance,
-                            const std::vector<Entry>& entries);
+std::string nearest_by_size(const std::string& vehicle_class, int instance, const std::vector<Entry>& entries);
 
 struct Trial {
   Run run;
-  std::string answered_class;     // "none" when the verdict names no class
+  std::string answered_class;  // "none" when the verdict names no class
   std::string nearest, expected_nearest;
-  bool accepted = false;          // the verdict's model passed verify's threshold
-  bool failed = false;            // a stage failed (empty verdict, stage.sh --record-failure)
+  bool accepted = false;  // the verdict's model passed verify's threshold
+  bool failed = false;    // a stage failed (empty verdict, stage.sh --record-failure)
 };
 
 // Class order: the families' order, then any other class alphabetically.

@@ -17,8 +17,9 @@ namespace fs = std::filesystem;
 using namespace canopy::famscore;
 
 int main(int argc, char** argv) {
-  cm::Tool tool("famscore", "Confusion matrix, class accuracy and nearest-instance accuracy of the "
-                            "vehicle-families protocol from verify's verdicts.");
+  cm::Tool tool("famscore",
+                "Confusion matrix, class accuracy and nearest-instance accuracy of the "
+                "vehicle-families protocol from verify's verdicts.");
   tool.without_threads();
   std::string runs_path = "-", modelbase, confusion, accuracy;
   tool.add_input(&runs_path, "runs manifest: <verdict.json> <class> <instance> <cover> <noise> per line");
@@ -31,7 +32,8 @@ int main(int argc, char** argv) {
     outputs.add(accuracy, "--accuracy");
     const auto runs = parse_runs(cm::read_file(runs_path), cm::display_name(runs_path));
     std::error_code ec;
-    if (!fs::is_directory(modelbase, ec)) throw cm::DataError(modelbase, "modelbase directory does not exist");
+    if (!fs::is_directory(modelbase, ec))
+      throw cm::DataError(modelbase, "modelbase directory does not exist");
     std::vector<Entry> entries;
     std::vector<fs::path> files;
     for (const auto& f : fs::directory_iterator(modelbase)) {
@@ -44,7 +46,8 @@ int main(int argc, char** argv) {
       if (!(in >> word)) throw cm::DataError(f.string(), "empty class file");
       entries.push_back({f.stem().string(), word});
     }
-    if (entries.empty()) throw cm::DataError(modelbase, "no <model>.class file: the modelbase carries no classes");
+    if (entries.empty())
+      throw cm::DataError(modelbase, "no <model>.class file: the modelbase carries no classes");
     std::vector<Trial> trials;
     for (const auto& r : runs) {
       Trial t;
@@ -57,7 +60,8 @@ int main(int argc, char** argv) {
         continue;
       }
       const canopy::formats::Verdict v = canopy::formats::read_verdict(r.verdict);
-      if (!v.has_classes) throw cm::DataError(r.verdict, "verdict names no class (modelbase without classes?)");
+      if (!v.has_classes)
+        throw cm::DataError(r.verdict, "verdict names no class (modelbase without classes?)");
       t.answered_class = v.vehicle_class.empty() ? "none" : v.vehicle_class;
       t.nearest = v.nearest_instance;
       t.accepted = !v.model.empty();

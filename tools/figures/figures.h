@@ -29,9 +29,7 @@ struct Image {
   Image() = default;
   Image(int w, int h, std::array<std::uint8_t, 3> fill = {255, 255, 255});
   std::uint8_t* at(int x, int y) { return &rgb[3 * (static_cast<std::size_t>(y) * width + x)]; }
-  const std::uint8_t* at(int x, int y) const {
-    return &rgb[3 * (static_cast<std::size_t>(y) * width + x)];
-  }
+  const std::uint8_t* at(int x, int y) const { return &rgb[3 * (static_cast<std::size_t>(y) * width + x)]; }
 };
 
 // ---- mesh ---------------------------------------------------------------------------------

@@ -69,7 +69,8 @@ void draw(Image& image, const Text& text, int x0, int y0, Clip clip) {
       if (px < clip.x0 || py < clip.y0 || px >= clip.x1 || py >= clip.y1) continue;
       const std::uint8_t* t = &text.rgba[4 * (static_cast<std::size_t>(y) * text.width + x)];
       std::uint8_t* q = image.at(px, py);
-      for (int k = 0; k < 3; ++k) q[k] = static_cast<std::uint8_t>((t[k] * t[3] + q[k] * (255 - t[3]) + 127) / 255);
+      for (int k = 0; k < 3; ++k)
+        q[k] = static_cast<std::uint8_t>((t[k] * t[3] + q[k] * (255 - t[3]) + 127) / 255);
     }
   }
 }
@@ -137,8 +138,8 @@ Image tile_grid(const std::vector<std::optional<Image>>& cells, const GridParams
   const int rows = static_cast<int>((cells.size() + cols - 1) / cols);
   if (!params.row_labels.empty() && static_cast<int>(params.row_labels.size()) != rows) {
     throw common::UsageError(std::to_string(params.row_labels.size()) + " row labels for " +
-                             std::to_string(rows) + " rows (" + std::to_string(cells.size()) +
-                             " cells in " + std::to_string(cols) + " columns)");
+                             std::to_string(rows) + " rows (" + std::to_string(cells.size()) + " cells in " +
+                             std::to_string(cols) + " columns)");
   }
   if (!params.col_labels.empty() && static_cast<int>(params.col_labels.size()) != cols) {
     throw common::UsageError(std::to_string(params.col_labels.size()) + " column labels for " +
@@ -154,10 +155,10 @@ Image tile_grid(const std::vector<std::optional<Image>>& cells, const GridParams
       const int x0 = std::max(0, (*box)[0] - m), y0 = std::max(0, (*box)[1] - m);
       const int x1 = std::min(cw - 1, (*box)[2] + m), y1 = std::min(ch - 1, (*box)[3] + m);
       for (const auto& cell : cells) {
-        trimmed.push_back(cell ? std::optional<Image>(crop(*cell, x0 + (cell->width - cw) / 2,
-                                                           y0 + (cell->height - ch) / 2,
-                                                           x1 - x0 + 1, y1 - y0 + 1))
-                               : std::nullopt);
+        trimmed.push_back(
+            cell ? std::optional<Image>(crop(*cell, x0 + (cell->width - cw) / 2, y0 + (cell->height - ch) / 2,
+                                             x1 - x0 + 1, y1 - y0 + 1))
+                 : std::nullopt);
       }
       cw = x1 - x0 + 1;
       ch = y1 - y0 + 1;

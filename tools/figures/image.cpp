@@ -35,9 +35,7 @@ Image from_vtk(vtkImageData* data, const std::string& name) {
   int dims[3];
   data->GetDimensions(dims);
   vtkDataArray* scalars = data->GetPointData()->GetScalars();
-  if (dims[0] <= 0 || dims[1] <= 0 || scalars == nullptr) {
-    throw common::DataError(name, "no image data");
-  }
+  if (dims[0] <= 0 || dims[1] <= 0 || scalars == nullptr) { throw common::DataError(name, "no image data"); }
   auto* array = vtkUnsignedCharArray::SafeDownCast(scalars);
   const int nc = scalars->GetNumberOfComponents();
   if (array == nullptr || nc < 1 || nc > 4) {
@@ -102,8 +100,8 @@ Image read_png(const std::string& path) {
   // Bounded memory: the header alone must not make us allocate gigabytes.
   constexpr png_uint_32 kMaxSide = 8192;
   if (png.width == 0 || png.height == 0 || png.width > kMaxSide || png.height > kMaxSide) {
-    throw common::DataError(name, "PNG of " + std::to_string(png.width) + " x " +
-                                      std::to_string(png.height) + " pixels (at most 8192 x 8192)");
+    throw common::DataError(name, "PNG of " + std::to_string(png.width) + " x " + std::to_string(png.height) +
+                                      " pixels (at most 8192 x 8192)");
   }
   png.format = PNG_FORMAT_RGBA;
   std::vector<std::uint8_t> rgba(PNG_IMAGE_SIZE(png));
@@ -151,8 +149,9 @@ void require_display() {
   if (probe != nullptr) return;
   const char* name = std::getenv("DISPLAY");
   if (name == nullptr || *name == '\0') {
-    throw common::Error("no X display (DISPLAY is unset): VTK renders through X11 here; "
-                        "run under 'xvfb-run -a' (Debian packages xvfb, xauth)");
+    throw common::Error(
+        "no X display (DISPLAY is unset): VTK renders through X11 here; "
+        "run under 'xvfb-run -a' (Debian packages xvfb, xauth)");
   }
   probe = XOpenDisplay(nullptr);
   if (probe == nullptr) {

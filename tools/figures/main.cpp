@@ -45,9 +45,10 @@ std::string size_text(const figures::Image& im) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  common::Tool tool("figures", "Renders the experiment's figures to PNG with VTK: a segmentation "
-                               "mesh (mesh), a labelled grid of PNGs (grid), scores against noise "
-                               "(plot). mesh and plot need an X display (use xvfb-run -a).");
+  common::Tool tool("figures",
+                    "Renders the experiment's figures to PNG with VTK: a segmentation "
+                    "mesh (mesh), a labelled grid of PNGs (grid), scores against noise "
+                    "(plot). mesh and plot need an X display (use xvfb-run -a).");
   tool.without_threads();
   CLI::App& app = tool.app();
   app.require_subcommand(1);
@@ -70,8 +71,9 @@ int main(int argc, char** argv) {
   mesh->add_option("--azimuth", mv.azimuth_deg, "camera azimuth from +x (front) toward +y (left), deg")
       ->check(common::number_check<double>())
       ->capture_default_str();
-  mesh->add_option("--framing", framing, "'box': fixed box (same camera for every mesh); "
-                                         "'bounds': the mesh's bounding box")
+  mesh->add_option("--framing", framing,
+                   "'box': fixed box (same camera for every mesh); "
+                   "'bounds': the mesh's bounding box")
       ->capture_default_str();
   length(mesh, "--box-length", &mv.box[0], "fixed box along x, centred on the origin");
   length(mesh, "--box-width", &mv.box[1], "fixed box along y, centred on the origin");
@@ -80,13 +82,13 @@ int main(int argc, char** argv) {
   figures::GridParams gp;
   std::string grid_out, row_labels, col_labels;
   std::vector<std::string> cells;
-  CLI::App* grid = app.add_subcommand("grid", "tile PNGs row by row into a labelled grid; a cell "
-                                              "given as '-' or as a missing file is drawn 'failed'");
+  CLI::App* grid = app.add_subcommand("grid",
+                                      "tile PNGs row by row into a labelled grid; a cell "
+                                      "given as '-' or as a missing file is drawn 'failed'");
   grid->add_option("-o,--output", grid_out, "PNG to write")->required();
-  grid->add_option("--cols", gp.cols, "cells per row")
-      ->check(common::number_check<int>())
-      ->required();
-  grid->add_option("--labels-row", row_labels, "row labels, one per row: comma-separated, or whitespace-separated when without commas");
+  grid->add_option("--cols", gp.cols, "cells per row")->check(common::number_check<int>())->required();
+  grid->add_option("--labels-row", row_labels,
+                   "row labels, one per row: comma-separated, or whitespace-separated when without commas");
   grid->add_option("--labels-col", col_labels, "column labels, one per column (same rule as --labels-row)");
   grid->add_option("--title", gp.title, "title line above the grid");
   grid->add_option("--font-size", gp.font_size, "label size in pixels")
@@ -104,10 +106,10 @@ int main(int argc, char** argv) {
 
   figures::PlotParams pp;
   std::string plot_in, plot_out;
-  CLI::App* plot = app.add_subcommand("plot", "plot the correct model's score against noise, one "
-                                              "panel per scene, one line per object");
-  plot->add_option("-i,--input", plot_in, "scores CSV (object,scene,noise_mm,score,rank,entropy)")
-      ->required();
+  CLI::App* plot = app.add_subcommand("plot",
+                                      "plot the correct model's score against noise, one "
+                                      "panel per scene, one line per object");
+  plot->add_option("-i,--input", plot_in, "scores CSV (object,scene,noise_mm,score,rank,entropy)")->required();
   plot->add_option("-o,--output", plot_out, "PNG to write")->required();
   plot->add_option("--width", pp.width, "image width in pixels")
       ->check(common::number_check<int>())
@@ -119,11 +121,14 @@ int main(int argc, char** argv) {
   plot->add_option("--xlabel", pp.x_title, "title of the x axis")->capture_default_str();
   plot->add_option("--title", pp.title, "panel title (default: 'scene: ' and the panel's value)");
   figures::PlotColumns pc;
-  auto* ox = plot->add_option("--x", pc.x, "column of the x values (levels at equal spacing)")->capture_default_str();
+  auto* ox =
+      plot->add_option("--x", pc.x, "column of the x values (levels at equal spacing)")->capture_default_str();
   auto* oy = plot->add_option("--y", pc.y, "column of the y values")->capture_default_str();
-  auto* os = plot->add_option("--series", pc.series, "column naming the line (one colour each)")->capture_default_str();
-  auto* op = plot->add_option("--panel", pc.panel, "column naming the panel ('' = one panel); with any column "
-                                                  "option, rows whose x is text (a summary row 'all') are left out")
+  auto* os =
+      plot->add_option("--series", pc.series, "column naming the line (one colour each)")->capture_default_str();
+  auto* op = plot->add_option("--panel", pc.panel,
+                              "column naming the panel ('' = one panel); with any column "
+                              "option, rows whose x is text (a summary row 'all') are left out")
                  ->capture_default_str();
 
   return tool.run(argc, argv, [&] {
@@ -192,7 +197,8 @@ int main(int argc, char** argv) {
       common::check_output(plot_out);
       common::log::Phase phase("plot");
       pc.strict = ox->count() + oy->count() + os->count() + op->count() == 0;
-      const auto rows = figures::parse_scores_csv(common::read_file(plot_in), common::display_name(plot_in), pc);
+      const auto rows =
+          figures::parse_scores_csv(common::read_file(plot_in), common::display_name(plot_in), pc);
       const figures::Image image = figures::plot_scores(rows, pp, common::display_name(plot_in));
       figures::write_png(image, plot_out);
       phase.done("wrote " + size_text(image) + " " + common::display_name(plot_out, true) + " from " +

@@ -57,9 +57,8 @@ Image capture(vtkRenderWindow* window, const std::string& name) {
   Image image = from_vtk(grab->GetOutput(), name);
   int* size = window->GetSize();
   if (image.width != size[0] || image.height != size[1]) {
-    throw common::Error(name + ": rendered " + std::to_string(image.width) + "x" +
-                        std::to_string(image.height) + " pixels instead of " +
-                        std::to_string(size[0]) + "x" + std::to_string(size[1]));
+    throw common::Error(name + ": rendered " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                        " pixels instead of " + std::to_string(size[0]) + "x" + std::to_string(size[1]));
   }
   return image;
 }
@@ -70,8 +69,8 @@ Image render_mesh(const formats::Mesh& mesh, const MeshView& view, const std::st
   const auto& v = mesh.vertices;
   v.require({"x", "y", "z"}, name);
   if (mesh.faces.empty()) {
-    throw common::DataError(name, "mesh has no faces (" + std::to_string(v.size()) +
-                                      " vertices): nothing to render");
+    throw common::DataError(
+        name, "mesh has no faces (" + std::to_string(v.size()) + " vertices): nothing to render");
   }
   const std::size_t n = v.size();
   for (const auto& f : mesh.faces) {
@@ -143,8 +142,7 @@ Image render_mesh(const formats::Mesh& mesh, const MeshView& view, const std::st
 
   vtkNew<vtkRenderer> renderer;
   renderer->AddActor(actor);
-  renderer->SetBackground(view.background[0] / 255.0, view.background[1] / 255.0,
-                          view.background[2] / 255.0);
+  renderer->SetBackground(view.background[0] / 255.0, view.background[1] / 255.0, view.background[2] / 255.0);
   renderer->TwoSidedLightingOn();
   renderer->RemoveAllLights();
   vtkNew<vtkLightKit> lights;

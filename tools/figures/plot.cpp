@@ -71,12 +71,10 @@ double number(const std::string& s, const std::string& name, int line, const std
   double v = 0;
   try {
     v = std::stod(s, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
+  } catch (const std::exception&) { used = 0; }
   if (used != s.size()) {
-    throw common::DataError(name, "line " + std::to_string(line) + ": " + column + " '" + s +
-                                      "' is not a number");
+    throw common::DataError(name,
+                            "line " + std::to_string(line) + ": " + column + " '" + s + "' is not a number");
   }
   return v;
 }
@@ -103,8 +101,9 @@ std::vector<ScoreRow> parse_scores_csv(const std::string& text, const std::strin
       for (std::size_t i = 0; i < fields.size(); ++i) column.emplace(fields[i], i);
       for (const std::string& need : {columns.series, columns.panel, columns.x, columns.y}) {
         if (!need.empty() && !column.count(need)) {
-          throw common::DataError(name, "header lacks the column '" + need + "'" +
-                                            (columns.strict ? " (want object,scene,noise_mm,score,rank,entropy)" : ""));
+          throw common::DataError(
+              name, "header lacks the column '" + need + "'" +
+                        (columns.strict ? " (want object,scene,noise_mm,score,rank,entropy)" : ""));
         }
       }
       continue;
@@ -130,9 +129,7 @@ std::vector<ScoreRow> parse_scores_csv(const std::string& text, const std::strin
       std::size_t used = 0;
       try {
         std::stod(x, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
+      } catch (const std::exception&) { used = 0; }
       if (used != x.size()) continue;  // a summary row ("all")
     }
     r.noise_mm = number(x, name, number_of_line, columns.x);
@@ -203,7 +200,8 @@ Image plot_scores(const std::vector<ScoreRow>& rows, const PlotParams& params, c
     auto* chart = vtkChartXY::SafeDownCast(matrix->GetChart(vtkVector2i(static_cast<int>(s), 0)));
     if (chart == nullptr) throw common::Error("VTK chart matrix did not create an XY chart");
     chart->SetTitle(params.title.empty() ? "scene: " + scenes[s]
-                                         : scenes[s].empty() ? params.title : params.title + ": " + scenes[s]);
+                    : scenes[s].empty()  ? params.title
+                                         : params.title + ": " + scenes[s]);
     chart->GetTitleProperties()->SetFontSize(16);
     chart->GetTitleProperties()->SetBold(true);
     vtkAxis* x = chart->GetAxis(vtkAxis::BOTTOM);

@@ -63,9 +63,7 @@ double power(double x, double e) {
 }
 
 // Clamped so that extreme printed-form errors (large exponents) cannot overflow int64.
-std::int64_t quantize(double merit) {
-  return std::llround(std::clamp(merit, -1e8, 1e8) / kTieQuantum);
-}
+std::int64_t quantize(double merit) { return std::llround(std::clamp(merit, -1e8, 1e8) / kTieQuantum); }
 
 // Eq. 6.1, 6.3-6.6.
 double unary_error(const Segment& s, const Segment& m, const Params& p) {
@@ -73,25 +71,24 @@ double unary_error(const Segment& s, const Segment& m, const Params& p) {
   const double da = -std::log(ratio) / std::log1p(p.area_factor);
   const double dt = p.thickness_weight * std::fabs(s.thickness - m.thickness);
   const double de_arg = 1.0 - std::fabs(s.elongation - m.elongation);
-  const double de = de_arg > 0 ? -p.elongation_weight * std::log(de_arg)
-                               : std::numeric_limits<double>::infinity();
+  const double de =
+      de_arg > 0 ? -p.elongation_weight * std::log(de_arg) : std::numeric_limits<double>::infinity();
   const double du2 = da * da + dt * dt + de * de;
   return 1.0 - std::exp(-du2);
 }
 
 struct Child {
-  int model = -1;  // model segment index, -1 = NULL
+  int model = -1;                          // model segment index, -1 = NULL
   double unary = 0, sum_o = 0, sum_d = 0;  // this pair's E_U and its pairwise sums
-  double merit = 0;                         // larger is better
-  std::int64_t key = 0;                     // quantized merit
+  double merit = 0;                        // larger is better
+  std::int64_t key = 0;                    // quantized merit
 };
 
 // One object-to-model search (thesis §6.2): depth-first over the object's segments in area
 // order, each level assigning a model segment or NULL, recursing on the B best children.
 class Matcher {
  public:
-  Matcher(const SegmentGraph& object, const SegmentGraph& model, const Params& p)
-      : p_(p) {
+  Matcher(const SegmentGraph& object, const SegmentGraph& model, const Params& p) : p_(p) {
     // Object segments by area (largest first), ties by id; at most X.
     std::vector<const Segment*> obj;
     for (const auto& s : object.segments) obj.push_back(&s);
@@ -189,8 +186,7 @@ class Matcher {
   // Merit of a (partial) match: the score S (bounded) or -E (thesis); larger is better.
   // depth = object segments assigned so far (x of Eq. 6.12), nm = non-NULL pairs among them.
   // area = matched model area, area_o = matched object area.
-  double merit(double sum_u, double sum_o, double sum_d, int nm, int depth, double area,
-               double area_o) const {
+  double merit(double sum_u, double sum_o, double sum_d, int nm, int depth, double area, double area_o) const {
     if (p_.error == ErrorForm::kBounded) {
       const double pairs = 0.5 * nm * (nm - 1);
       const double eu = nm > 0 ? sum_u / nm : 0;
@@ -226,8 +222,8 @@ class Matcher {
   // Upper bound of the score of any completion of a partial match (bounded form): future
   // pairs only add non-negative error terms, and at most `remaining` more model segments,
   // at best the largest unused ones, can be covered.
-  double upper_bound(double sum_u, double sum_o, double sum_d, int nm, int remaining,
-                     double area, double area_o) const {
+  double upper_bound(double sum_u, double sum_o, double sum_d, int nm, int remaining, double area,
+                     double area_o) const {
     const int n = nm + remaining;
     const double pairs = 0.5 * n * (n - 1);
     const double eu = n > 0 ? sum_u / n : 0;
@@ -243,12 +239,11 @@ class Matcher {
     }
     // The remaining object levels are the last `remaining` object segments.
     const double cov = coverage(area + extra, area_o + obj_rest_[x_ - remaining]);
-    return power(1 - eu, p_.exp_unary) * power(1 - eo, p_.exp_orientation) *
-           power(1 - ed, p_.exp_distance) * power(cov, p_.exp_area);
+    return power(1 - eu, p_.exp_unary) * power(1 - eo, p_.exp_orientation) * power(1 - ed, p_.exp_distance) *
+           power(cov, p_.exp_area);
   }
 
-  void descend(int depth, double sum_u, double sum_o, double sum_d, int nm, double area,
-               double area_o) {
+  void descend(int depth, double sum_u, double sum_o, double sum_d, int nm, double area, double area_o) {
     if (best_key_ >= top_key_) return;  // nothing can beat a perfect match
     if (depth == x_) {
       ++leaves_;
@@ -392,9 +387,7 @@ class Matcher {
   bool truncated_ = false;
 };
 
-bool finite3(const Vec3& v) {
-  return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
-}
+bool finite3(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
 
 }  // namespace
 
@@ -437,8 +430,8 @@ void validate_graph(const SegmentGraph& g, const std::string& name) {
   }
 }
 
-formats::ModelScore match_model(const SegmentGraph& object, const Model& model,
-                                const Params& params, SearchStats* stats) {
+formats::ModelScore match_model(const SegmentGraph& object, const Model& model, const Params& params,
+                                SearchStats* stats) {
   Matcher matcher(object, model.graph, params);
   formats::ModelScore ms = matcher.solve(stats);
   ms.model = model.name;
@@ -463,8 +456,7 @@ Out run(const In& in, const Params& params, int threads) {
   const auto& models = *in.models;
   Out out;
   out.result.error_form = to_string(params.error);
-  const std::vector<int> kept =
-      prefilter(*in.object, models, params, threads);
+  const std::vector<int> kept = prefilter(*in.object, models, params, threads);
   std::vector<formats::ModelScore> scores(kept.size());
   out.stats.resize(models.size());
   out.searched = static_cast<int>(kept.size());
@@ -482,11 +474,10 @@ Out run(const In& in, const Params& params, int threads) {
     for (int w = 0; w < workers; ++w) pool.emplace_back(work, w);
     for (auto& t : pool) t.join();
   }
-  std::stable_sort(scores.begin(), scores.end(),
-                   [](const formats::ModelScore& a, const formats::ModelScore& b) {
-                     if (a.score != b.score) return a.score > b.score;
-                     return a.model < b.model;
-                   });
+  std::stable_sort(scores.begin(), scores.end(), [](const formats::ModelScore& a, const formats::ModelScore& b) {
+    if (a.score != b.score) return a.score > b.score;
+    return a.model < b.model;
+  });
   std::vector<double> s;
   for (size_t i = 0; i < scores.size(); ++i) {
     scores[i].rank = static_cast<int>(i) + 1;
@@ -520,17 +511,18 @@ std::string object_name(const std::string& path) {
 std::string format_table(const formats::MatchResult& r, const std::string& object) {
   std::string out = "# object " + object + ", entropy " + fmt3(r.entropy) + " bits, " +
                     std::to_string(r.models.size()) + " models, error form " + r.error_form + "\n";
-  out += "# rank model score margin error_unary error_orientation error_distance error_coverage "
-         "matched considered\n";
+  out +=
+      "# rank model score margin error_unary error_orientation error_distance error_coverage "
+      "matched considered\n";
   for (std::size_t i = 0; i < r.models.size(); ++i) {
     const auto& m = r.models[i];
     const double next = i + 1 < r.models.size() ? r.models[i + 1].score : 0.0;
     int matched = 0;
     for (const auto& pr : m.pairs) matched += pr.model_segment >= 0 ? 1 : 0;
-    out += std::to_string(m.rank) + " " + m.model + " " + fmt3(m.score) + " " + fmt3(m.score - next) +
-           " " + fmt3(m.error_unary) + " " + fmt3(m.error_orientation) + " " +
-           fmt3(m.error_distance) + " " + fmt3(m.error_coverage) + " " + std::to_string(matched) +
-           " " + std::to_string(m.pairs.size()) + "\n";
+    out += std::to_string(m.rank) + " " + m.model + " " + fmt3(m.score) + " " + fmt3(m.score - next) + " " +
+           fmt3(m.error_unary) + " " + fmt3(m.error_orientation) + " " + fmt3(m.error_distance) + " " +
+           fmt3(m.error_coverage) + " " + std::to_string(matched) + " " + std::to_string(m.pairs.size()) +
+           "\n";
   }
   return out;
 }

@@ -47,11 +47,11 @@ enum class Coverage {
 };
 
 struct Params {
-  int max_segments = 15;          // X: object segments considered (largest area first)
-  int branches = 5;               // B: best branches recursed on per tree node
-  double area_factor = 1.0;       // f_a (Eq. 6.4): 100 f_a % area change = one distance unit
-  double thickness_weight = 10;   // w_t (Eq. 6.5)
-  double elongation_weight = 1;   // w_e (Eq. 6.6)
+  int max_segments = 15;               // X: object segments considered (largest area first)
+  int branches = 5;                    // B: best branches recursed on per tree node
+  double area_factor = 1.0;            // f_a (Eq. 6.4): 100 f_a % area change = one distance unit
+  double thickness_weight = 10;        // w_t (Eq. 6.5)
+  double elongation_weight = 1;        // w_e (Eq. 6.6)
   double unary_threshold = 0.6;        // prune a branch when E_U > this
   double orientation_threshold = 0.3;  // prune when any pairwise E_O > this
   double distance_threshold = 0.3;     // prune when any pairwise d_R > this
@@ -88,15 +88,15 @@ struct Model {
 };
 
 struct SearchStats {
-  std::int64_t nodes = 0;    // tree nodes expanded (children evaluated)
-  std::int64_t leaves = 0;   // complete assignments scored
-  bool truncated = false;    // max_nodes reached
+  std::int64_t nodes = 0;   // tree nodes expanded (children evaluated)
+  std::int64_t leaves = 0;  // complete assignments scored
+  bool truncated = false;   // max_nodes reached
 };
 
 // Matches one object graph against one model graph. The returned ModelScore has rank 0
 // (ranks are assigned by run()). Pairs are listed in match order (object area, largest first).
-formats::ModelScore match_model(const formats::SegmentGraph& object, const Model& model,
-                                const Params& params, SearchStats* stats = nullptr);
+formats::ModelScore match_model(const formats::SegmentGraph& object, const Model& model, const Params& params,
+                                SearchStats* stats = nullptr);
 
 // Entropy in bits of scores normalised to a distribution (Eq. 6.14-6.15): 0 when one score
 // is non-zero, log2 N when all N are equal (including all zero: no information at all).
@@ -106,10 +106,10 @@ double entropy(const std::vector<double>& scores);
 // considers): their total area, the area-weighted spread of their centroids along the two
 // horizontal principal axes and the vertical, and the share of their area by normal tilt.
 struct Summary {
-  int segments = 0;                    // segments summarised (min(X, count))
-  double area = 0;                     // m^2
-  std::array<double, 3> spread{};      // m: horizontal major, horizontal minor, vertical
-  std::array<double, 3> tilt{};        // area share with |n_z| < 0.38, < 0.92, >= 0.92
+  int segments = 0;                // segments summarised (min(X, count))
+  double area = 0;                 // m^2
+  std::array<double, 3> spread{};  // m: horizontal major, horizontal minor, vertical
+  std::array<double, 3> tilt{};    // area share with |n_z| < 0.38, < 0.92, >= 0.92
 };
 Summary summarize(const formats::SegmentGraph& graph, int max_segments);
 // Distance between two summaries: |log area ratio| + sum of |log spread ratios| (spreads
@@ -129,14 +129,14 @@ struct In {
 };
 
 struct Out {
-  formats::MatchResult result;        // models ranked, entropy, error_form (no provenance)
-  std::vector<SearchStats> stats;     // per model, in modelbase order (0 when not searched)
-  int searched = 0;                   // models kept by the prefilter (all when it is off)
+  formats::MatchResult result;     // models ranked, entropy, error_form (no provenance)
+  std::vector<SearchStats> stats;  // per model, in modelbase order (0 when not searched)
+  int searched = 0;                // models kept by the prefilter (all when it is off)
 };
 
 // Matches the object against every model kept by the prefilter (all when params.prefilter is
-// 0 or >= the number of models; only the kept models are ranked and listed), models in parallel when threads > 1; the result
-// does not depend on the thread count), ranks by score (ties: model name), computes entropy.
+// 0 or >= the number of models; only the kept models are ranked and listed), models in parallel when threads
+// > 1; the result does not depend on the thread count), ranks by score (ties: model name), computes entropy.
 Out run(const In& in, const Params& params, int threads = 1);
 
 // Largest model graph read_modelbase() accepts (2 000² pairs × 16 bytes = 64 MB of tables).

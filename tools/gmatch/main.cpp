@@ -21,9 +21,8 @@ int main(int argc, char** argv) {
                 "Inexact partial graph matching of a segment graph against a modelbase "
                 "(thesis ch. 6). Writes a canopy.match_result JSON ranking every model.");
   gm::Params p;
-  std::string in = "-", out = "-", modelbase, orientation = "relative", normals = "axial",
-              error = "bounded", coverage = "both", format = "json",
-              prefilter_by = "coarse";
+  std::string in = "-", out = "-", modelbase, orientation = "relative", normals = "axial", error = "bounded",
+              coverage = "both", format = "json", prefilter_by = "coarse";
   bool no_bound = false;
   tool.add_input(&in, "object segment graph JSON");
   tool.add_output(&out, "match result JSON");
@@ -34,8 +33,7 @@ int main(int argc, char** argv) {
   tool.add("--thickness-weight", &p.thickness_weight, "w_t: weight of the thickness difference");
   tool.add("--elongation-weight", &p.elongation_weight, "w_e: weight of the elongation term");
   tool.add("--unary-threshold", &p.unary_threshold, "prune a pair when E_U exceeds this [0,1]");
-  tool.add("--orientation-threshold", &p.orientation_threshold,
-           "prune when a pairwise E_O exceeds this");
+  tool.add("--orientation-threshold", &p.orientation_threshold, "prune when a pairwise E_O exceeds this");
   tool.add("--distance-threshold", &p.distance_threshold, "prune when a pairwise d_R exceeds this");
   tool.add("--exp-unary", &p.exp_unary, "e_u: exponent of the unary term (>=0)");
   tool.add("--exp-orientation", &p.exp_orientation, "e_o: exponent of the orientation term");
@@ -57,8 +55,7 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"both", "model"}));
   tool.add("--format", &format, "output: json (canopy.match_result) or table (one line per model)")
       ->check(CLI::IsMember({"json", "table"}));
-  tool.add("--max-nodes", &p.max_nodes,
-           "tree nodes expanded per model before stopping (0 = no limit)");
+  tool.add("--max-nodes", &p.max_nodes, "tree nodes expanded per model before stopping (0 = no limit)");
   p.prefilter = kDefaultPrefilter;
   tool.add("--prefilter", &p.prefilter,
            "full search on the K models nearest by graph summaries only (0 = every model; "
@@ -73,14 +70,12 @@ int main(int argc, char** argv) {
       ->default_str("false");
 
   return tool.run(argc, argv, [&] {
-    p.orientation =
-        orientation == "thesis" ? gm::OrientationForm::kThesis : gm::OrientationForm::kRelative;
+    p.orientation = orientation == "thesis" ? gm::OrientationForm::kThesis : gm::OrientationForm::kRelative;
     p.normals = normals == "signed" ? gm::NormalSign::kSigned : gm::NormalSign::kAxial;
     p.error = error == "thesis" ? gm::ErrorForm::kThesis : gm::ErrorForm::kBounded;
     p.bound = !no_bound;
     p.coverage = coverage == "model" ? gm::Coverage::kModel : gm::Coverage::kBoth;
-    p.prefilter_by =
-        prefilter_by == "summary" ? gm::PrefilterBy::kSummary : gm::PrefilterBy::kCoarse;
+    p.prefilter_by = prefilter_by == "summary" ? gm::PrefilterBy::kSummary : gm::PrefilterBy::kCoarse;
     gm::validate(p);
 
     const auto object = canopy::formats::read_segment_graph(in);
@@ -94,14 +89,12 @@ int main(int argc, char** argv) {
       nodes += s.nodes;
       truncated += s.truncated ? 1 : 0;
     }
-    phase.done(
-        std::to_string(object.segments.size()) + " object segments against " +
-        (result.searched < static_cast<int>(models.size())
-             ? std::to_string(result.searched) + " of " + std::to_string(models.size()) +
-                   " models (prefilter)"
-             : std::to_string(models.size()) + " models") +
-        ", " + std::to_string(nodes) + " tree nodes" +
-        (truncated ? ", " + std::to_string(truncated) + " searches stopped at --max-nodes" : ""));
+    phase.done(std::to_string(object.segments.size()) + " object segments against " +
+               (result.searched < static_cast<int>(models.size())
+                    ? std::to_string(result.searched) + " of " + std::to_string(models.size()) + " models (prefilter)"
+                    : std::to_string(models.size()) + " models") +
+               ", " + std::to_string(nodes) + " tree nodes" +
+               (truncated ? ", " + std::to_string(truncated) + " searches stopped at --max-nodes" : ""));
 
     auto& r = result.result;
     // The prefilter's options are recorded only when it acted (kept fewer models than the
@@ -110,8 +103,7 @@ int main(int argc, char** argv) {
     if (result.searched == static_cast<int>(models.size())) {
       parameters.erase(std::remove_if(parameters.begin(), parameters.end(),
                                       [](const auto& kv) {
-                                        return kv.first == "prefilter" ||
-                                               kv.first == "prefilter-by" ||
+                                        return kv.first == "prefilter" || kv.first == "prefilter-by" ||
                                                kv.first == "coarse-segments";
                                       }),
                        parameters.end());
@@ -127,8 +119,7 @@ int main(int argc, char** argv) {
     const auto& best = r.models.front();
     char line[256];
     std::snprintf(line, sizeof line, "%s: best %s: score %.3f, entropy %.3f bits over %zu models",
-                  gm::object_name(in).c_str(), best.model.c_str(), best.score, r.entropy,
-                  r.models.size());
+                  gm::object_name(in).c_str(), best.model.c_str(), best.score, r.entropy, r.models.size());
     cm::log::info(line);
   });
 }

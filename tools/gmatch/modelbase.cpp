@@ -38,9 +38,7 @@ std::vector<Model> read_modelbase(const std::string& dir) {
     } catch (const DataError& e) {
       if (e.file() == path) throw;
       throw DataError(path, e.what());
-    } catch (const std::exception& e) {
-      throw DataError(path, e.what());
-    }
+    } catch (const std::exception& e) { throw DataError(path, e.what()); }
     validate_graph(model.graph, path);
     // The matcher keeps two model-by-model tables (pairwise angles and distances): memory grows
     // with the square of the segment count (20 000 segments cost 6.3 GB). ncut's models have

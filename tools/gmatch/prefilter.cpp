@@ -52,16 +52,16 @@ Summary summarize(const formats::SegmentGraph& graph, int max_segments) {
     cxy += w * dx * dy;
     cyy += w * dy * dy;
     czz += w * dz * dz;
-    const double n = std::sqrt(s->normal[0] * s->normal[0] + s->normal[1] * s->normal[1] +
-                               s->normal[2] * s->normal[2]);
+    const double n =
+        std::sqrt(s->normal[0] * s->normal[0] + s->normal[1] * s->normal[1] + s->normal[2] * s->normal[2]);
     const double nz = n > 0 ? std::fabs(s->normal[2]) / n : 0;
     out.tilt[nz < kSideMax ? 0 : nz < kSlopeMax ? 1 : 2] += w;
   }
   // Eigenvalues of the horizontal 2x2 covariance: invariant to the heading.
   const double half_trace = 0.5 * (cxx + cyy);
   const double root = std::sqrt(0.25 * (cxx - cyy) * (cxx - cyy) + cxy * cxy);
-  out.spread = {std::sqrt(std::max(0.0, half_trace + root)),
-                std::sqrt(std::max(0.0, half_trace - root)), std::sqrt(std::max(0.0, czz))};
+  out.spread = {std::sqrt(std::max(0.0, half_trace + root)), std::sqrt(std::max(0.0, half_trace - root)),
+                std::sqrt(std::max(0.0, czz))};
   return out;
 }
 
@@ -95,9 +95,7 @@ std::vector<int> prefilter(const formats::SegmentGraph& object, const std::vecto
     coarse.prefilter = 0;
     const int workers = std::max(1, std::min(threads, n));
     auto work = [&](int w) {
-      for (int i = w; i < n; i += workers) {
-        merit[i] = {match_model(object, models[i], coarse).score, i};
-      }
+      for (int i = w; i < n; i += workers) { merit[i] = {match_model(object, models[i], coarse).score, i}; }
     };
     if (workers == 1) {
       work(0);

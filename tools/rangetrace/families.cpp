@@ -146,10 +146,11 @@ void car(Builder* b, Draw* d, const Sizes& s, Car kind) {
   const bool suv = kind == Car::kSuv;
   const double r = suv ? d->u(0.35, 0.41) : kind == Car::kSedan ? d->u(0.30, 0.34) : d->u(0.28, 0.32);
   const double tyre = suv ? d->u(0.22, 0.27) : d->u(0.18, 0.22);
-  const double zb = suv ? d->u(0.26, 0.34) : d->u(0.14, 0.20);   // body underside
+  const double zb = suv ? d->u(0.26, 0.34) : d->u(0.14, 0.20);  // body underside
   const double belt = H * (suv ? d->u(0.56, 0.62) : d->u(0.54, 0.60));
-  const double hood = L * (kind == Car::kSedan ? d->u(0.24, 0.30) : kind == Car::kSuv ? d->u(0.20, 0.25)
-                                                                                     : d->u(0.17, 0.23));
+  const double hood = L * (kind == Car::kSedan ? d->u(0.24, 0.30)
+                           : kind == Car::kSuv ? d->u(0.20, 0.25)
+                                               : d->u(0.17, 0.23));
   const double x_ws = L / 2 - hood;  // windscreen base
   const double x_rw = kind == Car::kSedan ? -L / 2 + L * d->u(0.19, 0.24) : -L / 2 + d->u(0.06, 0.14);
   const double rake = d->u(0.55, 0.80);  // windscreen: run over rise
@@ -158,9 +159,12 @@ void car(Builder* b, Draw* d, const Sizes& s, Car kind) {
   const double x_axle = L * d->u(0.00, 0.03);
   b->comment("lower body: floor to belt line, nose and tail rounded off, flanks tumbling home");
   b->box({-L / 2, -W / 2, zb}, {L / 2, W / 2, belt},
-         {{{1, 0, -0.6}, {L / 2, 0, zb + 0.18}}, {{1, 0, 0.5}, {L / 2, 0, belt - 0.20}},
-          {{-1, 0, 0.5}, {-L / 2, 0, belt - 0.16}}, {{-1, 0, -0.6}, {-L / 2, 0, zb + 0.18}},
-          {{0, 1, 0.2}, {0, W / 2, belt}}, {{0, -1, 0.2}, {0, -W / 2, belt}}});
+         {{{1, 0, -0.6}, {L / 2, 0, zb + 0.18}},
+          {{1, 0, 0.5}, {L / 2, 0, belt - 0.20}},
+          {{-1, 0, 0.5}, {-L / 2, 0, belt - 0.16}},
+          {{-1, 0, -0.6}, {-L / 2, 0, zb + 0.18}},
+          {{0, 1, 0.2}, {0, W / 2, belt}},
+          {{0, -1, 0.2}, {0, -W / 2, belt}}});
   b->comment("bonnet");
   b->box({x_ws - 0.10, -W / 2 + 0.06, belt - 0.02}, {L / 2 - 0.10, W / 2 - 0.06, belt + 0.09},
          {{{0.09, 0, 1}, {L / 2 - 0.10, 0, belt + 0.02}}});
@@ -171,12 +175,15 @@ void car(Builder* b, Draw* d, const Sizes& s, Car kind) {
   const double roof_top = suv ? H - 0.05 : H;
   b->comment("greenhouse: windscreen, roof, rear window, side glass");
   b->box({x_rw, -W / 2 + 0.08, belt}, {x_ws + 0.10, W / 2 - 0.08, roof_top},
-         {{{1, 0, rake}, {x_ws + 0.10, 0, belt}}, {{-rear, 0, 1}, {x_rw, 0, belt + 0.08}},
-          {{0, 1, 0.35}, {0, W / 2 - 0.08, belt}}, {{0, -1, 0.35}, {0, -W / 2 + 0.08, belt}}});
+         {{{1, 0, rake}, {x_ws + 0.10, 0, belt}},
+          {{-rear, 0, 1}, {x_rw, 0, belt + 0.08}},
+          {{0, 1, 0.35}, {0, W / 2 - 0.08, belt}},
+          {{0, -1, 0.35}, {0, -W / 2 + 0.08, belt}}});
   if (suv) {
     b->comment("roof rails");
     const double x0 = x_rw + 0.45, x1 = x_ws - 0.45;
-    for (int side : {-1, 1}) b->box({x0, side * (W / 2 - 0.30) - 0.03, roof_top - 0.01}, {x1, side * (W / 2 - 0.30) + 0.03, H});
+    for (int side : {-1, 1})
+      b->box({x0, side * (W / 2 - 0.30) - 0.03, roof_top - 0.01}, {x1, side * (W / 2 - 0.30) + 0.03, H});
   }
   b->comment("wheels");
   const double outer = W / 2 - d->u(0.02, 0.06);
@@ -191,7 +198,7 @@ void pickup(Builder* b, Draw* d, const Sizes& s) {
   const double belt = H * d->u(0.56, 0.62);
   const double x_ws = L / 2 - L * d->u(0.20, 0.25);
   const double x_cb = x_ws - L * d->u(0.17, 0.27);  // back of the cab (single to crew cab)
-  const double floor = zb + d->u(0.32, 0.42);         // bed floor
+  const double floor = zb + d->u(0.32, 0.42);       // bed floor
   const double side_top = belt + d->u(-0.04, 0.06);
   b->comment("front body to the back of the cab");
   b->box({x_cb, -W / 2, zb}, {L / 2, W / 2, belt},
@@ -200,13 +207,15 @@ void pickup(Builder* b, Draw* d, const Sizes& s) {
   b->box({x_ws - 0.10, -W / 2 + 0.05, belt - 0.02}, {L / 2 - 0.06, W / 2 - 0.05, belt + 0.08});
   b->comment("cab: windscreen, roof, upright back");
   b->box({x_cb, -W / 2 + 0.06, belt}, {x_ws + 0.10, W / 2 - 0.06, H},
-         {{{1, 0, d->u(0.50, 0.70)}, {x_ws + 0.10, 0, belt}}, {{0, 1, 0.25}, {0, W / 2 - 0.06, belt}},
+         {{{1, 0, d->u(0.50, 0.70)}, {x_ws + 0.10, 0, belt}},
+          {{0, 1, 0.25}, {0, W / 2 - 0.06, belt}},
           {{0, -1, 0.25}, {0, -W / 2 + 0.06, belt}}});
   const double x_bf = x_cb - d->u(0.06, 0.12);  // front wall of the bed
   b->comment("bed: chassis and floor, open box (two sides, front wall, tailgate)");
   b->box({-L / 2, -W / 2 + 0.04, zb}, {x_bf, W / 2 - 0.04, floor});
   for (int side : {-1, 1}) {
-    b->box({-L / 2, side > 0 ? W / 2 - 0.07 : -W / 2, floor}, {x_bf, side > 0 ? W / 2 : -W / 2 + 0.07, side_top});
+    b->box({-L / 2, side > 0 ? W / 2 - 0.07 : -W / 2, floor},
+           {x_bf, side > 0 ? W / 2 : -W / 2 + 0.07, side_top});
   }
   b->box({x_bf - 0.07, -W / 2, floor}, {x_bf, W / 2, side_top});
   b->box({-L / 2, -W / 2, floor}, {-L / 2 + 0.07, W / 2, side_top});
@@ -224,8 +233,10 @@ void van(Builder* b, Draw* d, const Sizes& s) {
   const double bonnet = d->u(0.95, 1.15);  // bonnet height
   b->comment("one box: cargo and cabin under one roof, steep windscreen");
   b->box({-L / 2, -W / 2, zb}, {L / 2 - nose, W / 2, H},
-         {{{1, 0, d->u(0.35, 0.65)}, {L / 2 - nose, 0, bonnet}}, {{-1, 0, 1}, {-L / 2, 0, H - 0.06}},
-          {{0, 1, 0.08}, {0, W / 2, zb + 0.8}}, {{0, -1, 0.08}, {0, -W / 2, zb + 0.8}}});
+         {{{1, 0, d->u(0.35, 0.65)}, {L / 2 - nose, 0, bonnet}},
+          {{-1, 0, 1}, {-L / 2, 0, H - 0.06}},
+          {{0, 1, 0.08}, {0, W / 2, zb + 0.8}},
+          {{0, -1, 0.08}, {0, -W / 2, zb + 0.8}}});
   b->comment("short bonnet");
   b->box({L / 2 - nose - 0.05, -W / 2 + 0.05, zb}, {L / 2, W / 2 - 0.05, bonnet},
          {{{1, 0, 0.6}, {L / 2, 0, bonnet - 0.25}}});
@@ -288,8 +299,8 @@ void semi_tractor(Builder* b, Draw* d, const Sizes& s) {
   const double x_fa = conventional ? L / 2 - hood * 0.6 : x_cf - 0.55;  // steer axle
   const double tank_end = std::min(x_back + d->u(0.9, 1.4), x_fa - r - 0.05);
   for (int side : {-1, 1}) {
-    b->cylinder({x_back + 0.15, side * (W / 2 - 0.40), 0.78}, {std::max(tank_end, x_back + 0.45), side * (W / 2 - 0.40), 0.78},
-                tank_r);
+    b->cylinder({x_back + 0.15, side * (W / 2 - 0.40), 0.78},
+                {std::max(tank_end, x_back + 0.45), side * (W / 2 - 0.40), 0.78}, tank_r);
   }
   b->comment("wheels: steer axle and drive axle(s)");
   const double outer = W / 2 - 0.02;
@@ -306,7 +317,8 @@ void bus(Builder* b, Draw* d, const Sizes& s) {
   const double zb = d->u(0.25, 0.35);
   b->comment("body: one long box, near-vertical windscreen");
   b->box({-L / 2, -W / 2, zb}, {L / 2, W / 2, top},
-         {{{1, 0, d->u(0.05, 0.25)}, {L / 2, 0, 1.0}}, {{-1, 0, 1}, {-L / 2, 0, top - 0.10}},
+         {{{1, 0, d->u(0.05, 0.25)}, {L / 2, 0, 1.0}},
+          {{-1, 0, 1}, {-L / 2, 0, top - 0.10}},
           {{1, 0, 1}, {L / 2, 0, top - 0.08}}});
   b->comment("roof air-conditioning pod");
   const double x0 = -L / 2 + L * d->u(0.10, 0.40), len = d->u(2.0, 3.5);
@@ -327,16 +339,20 @@ void wheeled_apc(Builder* b, Draw* d, const Sizes& s) {
   const double hull_w = W - 2 * d->u(0.10, 0.18);
   b->comment("hull: long sloped glacis, bevelled sides, blunt rear");
   b->box({-L / 2, -hull_w / 2, zb}, {L / 2, hull_w / 2, hh},
-         {{{1, 0, d->u(0.8, 1.6)}, {L / 2, 0, zb + 0.55}}, {{1, 0, -1}, {L / 2, 0, zb + 0.25}},
+         {{{1, 0, d->u(0.8, 1.6)}, {L / 2, 0, zb + 0.55}},
+          {{1, 0, -1}, {L / 2, 0, zb + 0.25}},
           {{-1, 0, 0.25}, {-L / 2, 0, hh}},
-          {{0, 1, d->u(0.5, 1.0)}, {0, hull_w / 2, hh - 0.45}}, {{0, -1, d->u(0.5, 1.0)}, {0, -hull_w / 2, hh - 0.45}},
-          {{0, 1, -1}, {0, hull_w / 2, zb + 0.30}}, {{0, -1, -1}, {0, -hull_w / 2, zb + 0.30}}});
+          {{0, 1, d->u(0.5, 1.0)}, {0, hull_w / 2, hh - 0.45}},
+          {{0, -1, d->u(0.5, 1.0)}, {0, -hull_w / 2, hh - 0.45}},
+          {{0, 1, -1}, {0, hull_w / 2, zb + 0.30}},
+          {{0, -1, -1}, {0, -hull_w / 2, zb + 0.30}}});
   const double xt = d->u(-0.6, 0.6);
   if (turret) {
     b->comment("small turret with autocannon");
     const double tr = d->u(0.60, 0.85);
     b->cylinder({xt, 0, hh - 0.02}, {xt, 0, H}, tr);
-    b->cylinder({xt + tr - 0.1, 0, H - 0.22}, {std::min(L / 2 - 0.1, xt + tr + d->u(1.2, 2.0)), 0, H - 0.22}, 0.05);
+    b->cylinder({xt + tr - 0.1, 0, H - 0.22}, {std::min(L / 2 - 0.1, xt + tr + d->u(1.2, 2.0)), 0, H - 0.22},
+                0.05);
   } else {
     b->comment("remote weapon station");
     b->box({xt - 0.40, -0.40, hh - 0.02}, {xt + 0.40, 0.40, H});
@@ -360,7 +376,8 @@ void tracked_apc(Builder* b, Draw* d, const Sizes& s) {
   const double cupola = d->u(0.22, 0.40);
   const double hh = turret ? H - d->u(0.45, 0.60) : H - cupola;  // hull roof
   b->comment("tracks");
-  for (int side : {-1, 1}) track(b, -L / 2 + rt + d->u(0.05, 0.2), L / 2 - rt - d->u(0.25, 0.45), side * (W / 2 - tw / 2), tw, rt);
+  for (int side : {-1, 1})
+    track(b, -L / 2 + rt + d->u(0.05, 0.2), L / 2 - rt - d->u(0.25, 0.45), side * (W / 2 - tw / 2), tw, rt);
   b->comment("hull: tall box over the tracks, large sloped front");
   const double zb = d->u(0.42, 0.52);
   b->box({-L / 2, -W / 2 + tw, zb}, {L / 2, W / 2 - tw, hh}, {{{1, 0, d->u(0.5, 1.3)}, {L / 2, 0, zb + 0.45}}});
@@ -371,7 +388,8 @@ void tracked_apc(Builder* b, Draw* d, const Sizes& s) {
     b->comment("one-man turret with a short cannon");
     const double tr = d->u(0.55, 0.80);
     b->cylinder({xc, 0, hh - 0.02}, {xc, 0, H}, tr);
-    b->cylinder({xc + tr - 0.1, 0, H - 0.20}, {std::min(L / 2 - 0.05, xc + tr + d->u(1.2, 2.2)), 0, H - 0.20}, 0.05);
+    b->cylinder({xc + tr - 0.1, 0, H - 0.20}, {std::min(L / 2 - 0.05, xc + tr + d->u(1.2, 2.2)), 0, H - 0.20},
+                0.05);
   } else {
     b->comment("commander's cupola");
     b->cylinder({xc, 0.5, hh - 0.02}, {xc, 0.5, H}, d->u(0.30, 0.40));
@@ -386,15 +404,18 @@ void tank(Builder* b, Draw* d, const Sizes& s) {
   const double rt = d->u(0.40, 0.50), tw = d->u(0.55, 0.70);
   const double deck = d->u(1.55, 1.85);  // hull roof
   const double cup = d->u(0.15, 0.35);
-  const double troof = H - cup;          // turret roof
+  const double troof = H - cup;  // turret roof
   b->comment("tracks, fenders");
   for (int side : {-1, 1}) {
     track(b, x_tail + rt + 0.10, x_nose - rt - 0.15, side * (W / 2 - tw / 2), tw, rt);
-    b->box({x_tail, side > 0 ? W / 2 - tw : -W / 2, 2 * rt + 0.05}, {x_nose, side > 0 ? W / 2 : -W / 2 + tw, 2 * rt + 0.10});
+    b->box({x_tail, side > 0 ? W / 2 - tw : -W / 2, 2 * rt + 0.05},
+           {x_nose, side > 0 ? W / 2 : -W / 2 + tw, 2 * rt + 0.10});
   }
   b->comment("hull: long, low glacis");
   b->box({x_tail, -W / 2 + tw, 0.40}, {x_nose, W / 2 - tw, deck},
-         {{{1, 0, d->u(1.2, 2.2)}, {x_nose, 0, 0.95}}, {{1, 0, -1}, {x_nose, 0, 0.80}}, {{-1, 0, 0.35}, {x_tail, 0, deck - 0.25}}});
+         {{{1, 0, d->u(1.2, 2.2)}, {x_nose, 0, 0.95}},
+          {{1, 0, -1}, {x_nose, 0, 0.80}},
+          {{-1, 0, 0.35}, {x_tail, 0, deck - 0.25}}});
   const double tx = x_tail + hull * d->u(0.50, 0.62);  // turret centre
   const double tl = d->u(2.8, 3.8), twd = std::min(W - 0.9, d->u(2.2, 3.0));
   if (d->chance(0.5)) {
@@ -405,7 +426,8 @@ void tank(Builder* b, Draw* d, const Sizes& s) {
     b->comment("turret: welded, flat faces, wedge front");
     b->box({tx - tl / 2, -twd / 2, deck - 0.02}, {tx + tl / 2, twd / 2, troof},
            {{{1, 0, d->u(0.3, 1.0)}, {tx + tl / 2, 0, troof - 0.35}},
-            {{1, 1.2, 0}, {tx + tl / 2 - 0.5, twd / 2, 0}}, {{1, -1.2, 0}, {tx + tl / 2 - 0.5, -twd / 2, 0}}});
+            {{1, 1.2, 0}, {tx + tl / 2 - 0.5, twd / 2, 0}},
+            {{1, -1.2, 0}, {tx + tl / 2 - 0.5, -twd / 2, 0}}});
   }
   const double gz = deck + (troof - deck) * d->u(0.40, 0.55);
   b->comment("gun, mantlet, cupola");
@@ -421,7 +443,7 @@ void wheel_loader(Builder* b, Draw* d, const Sizes& s) {
   const double outer = W / 2 - d->u(0.05, 0.25);
   const double bucket = L * d->u(0.13, 0.16);  // bucket depth (x)
   const double bucket_h = d->u(1.00, 1.30);
-  const double x_bk = L / 2 - bucket;          // bucket back
+  const double x_bk = L / 2 - bucket;  // bucket back
   const double wheelbase = L * d->u(0.40, 0.45);
   const double x_fa = x_bk - L * d->u(0.17, 0.22);
   const double x_ra = x_fa - wheelbase;
@@ -440,7 +462,9 @@ void wheel_loader(Builder* b, Draw* d, const Sizes& s) {
   b->comment("bucket: floor, back, side plates (open top and front)");
   b->box({x_bk, -W / 2, 0}, {L / 2, W / 2, 0.07});
   b->box({x_bk, -W / 2, 0}, {x_bk + 0.12, W / 2, bucket_h});
-  for (int side : {-1, 1}) b->box({x_bk, side > 0 ? W / 2 - 0.05 : -W / 2, 0}, {L / 2, side > 0 ? W / 2 : -W / 2 + 0.05, bucket_h * 0.85});
+  for (int side : {-1, 1})
+    b->box({x_bk, side > 0 ? W / 2 - 0.05 : -W / 2, 0},
+           {L / 2, side > 0 ? W / 2 : -W / 2 + 0.05, bucket_h * 0.85});
   b->comment("cab over the articulation, roof canopy");
   const double xc = (x_fa + x_ra) / 2 + d->u(0.0, 0.5);
   b->box({xc - 0.75, -0.75, 1.55}, {xc + 0.85, 0.75, H - 0.10}, {{{1, 0, 0.18}, {xc + 0.85, 0, 1.8}}});
@@ -449,7 +473,9 @@ void wheel_loader(Builder* b, Draw* d, const Sizes& s) {
   b->box({-L / 2 + 0.4, -0.65, 0.60}, {xc - 0.2, 0.65, 1.30});
   const double hood_top = d->u(2.2, 2.6);
   b->box({-L / 2 + 0.4, -0.85, 1.30}, {xc - 0.75, 0.85, hood_top},
-         {{{-0.25, 0, 1}, {xc - 0.75, 0, hood_top}}, {{0, 1, 0.45}, {0, 0.85, hood_top}}, {{0, -1, 0.45}, {0, -0.85, hood_top}}});
+         {{{-0.25, 0, 1}, {xc - 0.75, 0, hood_top}},
+          {{0, 1, 0.45}, {0, 0.85, hood_top}},
+          {{0, -1, 0.45}, {0, -0.85, hood_top}}});
   b->box({-L / 2, -1.10, 0.55}, {-L / 2 + 0.5, 1.10, 1.60}, {{{-1, 0, 0.6}, {-L / 2, 0, 1.30}}});
   b->cylinder({xc - 1.6, 0.45, 2.0}, {xc - 1.6, 0.45, std::min(H - 0.3, hood_top + 0.5)}, 0.08);
 }
@@ -477,18 +503,30 @@ FamilyInstance make_family_instance(const std::string& vehicle_class, int instan
   const Sizes s(d.in(c->length), d.in(c->width), d.in(c->height));
   Builder b;
   const std::string cls = c->name;
-  if (cls == "sedan") car(&b, &d, s, Car::kSedan);
-  else if (cls == "hatchback") car(&b, &d, s, Car::kHatchback);
-  else if (cls == "suv") car(&b, &d, s, Car::kSuv);
-  else if (cls == "pickup") pickup(&b, &d, s);
-  else if (cls == "van") van(&b, &d, s);
-  else if (cls == "box-truck") box_truck(&b, &d, s);
-  else if (cls == "semi-tractor") semi_tractor(&b, &d, s);
-  else if (cls == "bus") bus(&b, &d, s);
-  else if (cls == "wheeled-apc") wheeled_apc(&b, &d, s);
-  else if (cls == "tracked-apc") tracked_apc(&b, &d, s);
-  else if (cls == "tank") tank(&b, &d, s);
-  else wheel_loader(&b, &d, s);
+  if (cls == "sedan")
+    car(&b, &d, s, Car::kSedan);
+  else if (cls == "hatchback")
+    car(&b, &d, s, Car::kHatchback);
+  else if (cls == "suv")
+    car(&b, &d, s, Car::kSuv);
+  else if (cls == "pickup")
+    pickup(&b, &d, s);
+  else if (cls == "van")
+    van(&b, &d, s);
+  else if (cls == "box-truck")
+    box_truck(&b, &d, s);
+  else if (cls == "semi-tractor")
+    semi_tractor(&b, &d, s);
+  else if (cls == "bus")
+    bus(&b, &d, s);
+  else if (cls == "wheeled-apc")
+    wheeled_apc(&b, &d, s);
+  else if (cls == "tracked-apc")
+    tracked_apc(&b, &d, s);
+  else if (cls == "tank")
+    tank(&b, &d, s);
+  else
+    wheel_loader(&b, &d, s);
   FamilyInstance out;
   out.vehicle_class = cls;
   out.instance = instance;

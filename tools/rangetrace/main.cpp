@@ -17,21 +17,25 @@
 using namespace canopy;
 
 int main(int argc, char** argv) {
-  common::Tool tool("rangetrace", "Simulated airborne range scan of a vehicle under foliage, "
-                                  "ray traced with POV-Ray (thesis ch. 2).", true);
+  common::Tool tool("rangetrace",
+                    "Simulated airborne range scan of a vehicle under foliage, "
+                    "ray traced with POV-Ray (thesis ch. 2).",
+                    true);
   rangetrace::Params p;
   std::string out = "-", model = "", scene = "", units = "m", up = "z", picture = "", pos = "0,0";
   std::string truth = "";
   int view = 0;
   bool list_families = false;
   tool.app().get_option("--threads")->default_val(2);
-  tool.app().add_option("--model", model, "earthmover, obj1, sedan, semi, tank, family:<class>:<instance> (a procedural "
+  tool.app().add_option("--model", model,
+                        "earthmover, obj1, sedan, semi, tank, family:<class>:<instance> (a procedural "
                         "vehicle; --list-families), a POV-Ray include "
                         "declaring Vehicle (.inc/.pov), or a mesh (.ply/.obj/.stl); not with a "
                         "tile scene (its recipe places the vehicles)");
-  tool.add("--scene", &scene, "a recipe of share/scenes by name (circle, flyby, unoccluded, "
-                              "forest, ...) or a recipe file (share/scenes/README.md; required for scans; for --picture, omit "
-                              "it to show the model alone)");
+  tool.add("--scene", &scene,
+           "a recipe of share/scenes by name (circle, flyby, unoccluded, "
+           "forest, ...) or a recipe file (share/scenes/README.md; required for scans; for --picture, omit "
+           "it to show the model alone)");
   tool.add_output(&out, "scan: .pcd, .ply or .las (LAS 1.4) by the extension; '-' = PCD");
   tool.add("--units", &units, "mesh file units: mm, cm or m")->check(CLI::IsMember({"mm", "cm", "m"}));
   tool.add("--up", &up, "mesh file up axis: z or y")->check(CLI::IsMember({"y", "z"}));
@@ -46,7 +50,8 @@ int main(int argc, char** argv) {
   tool.add("--picture", &picture, "instead of a scan, write a shaded PNG picture here");
   tool.add("--view", &view, "view index shown by --picture with a scene");
   tool.add("--truth", &truth, "tile scenes: write the ground truth (truth.json) here");
-  tool.add_flag("--list-families", &list_families, "print the procedural vehicle classes "
+  tool.add_flag("--list-families", &list_families,
+                "print the procedural vehicle classes "
                 "(family:<class>:<instance>) with their length, width and height ranges, and exit")
       ->default_str("false");
   return tool.run(argc, argv, [&] {
@@ -59,10 +64,9 @@ int main(int argc, char** argv) {
     }
     const auto comma = pos.find(',');
     if (comma == std::string::npos) throw common::UsageError("--position: expected X,Y");
-    p.pose.position = {common::parse_length(pos.substr(0, comma)),
-                       common::parse_length(pos.substr(comma + 1))};
-    if (p.size < 8 || p.size > 8192 || !(p.spacing > 0) || !(p.crop_length > 0) ||
-        !(p.crop_width > 0) || !(p.crop_height > 0)) {
+    p.pose.position = {common::parse_length(pos.substr(0, comma)), common::parse_length(pos.substr(comma + 1))};
+    if (p.size < 8 || p.size > 8192 || !(p.spacing > 0) || !(p.crop_length > 0) || !(p.crop_width > 0) ||
+        !(p.crop_height > 0)) {
       throw common::UsageError("need 8 <= --size <= 8192, --spacing > 0 and crop sizes > 0");
     }
     formats::output_format(out);  // a mistyped extension fails before any rendering
@@ -72,8 +76,9 @@ int main(int argc, char** argv) {
     // stay byte-identical to those of earlier versions (the thesis experiment).
     auto parameters = [&](bool tile) {
       auto all = tool.parameters();
-      all.erase(std::remove_if(all.begin(), all.end(), [](const auto& kv) { return kv.first == "list-families"; }),
-                all.end());
+      all.erase(
+          std::remove_if(all.begin(), all.end(), [](const auto& kv) { return kv.first == "list-families"; }),
+          all.end());
       if (!tile) {
         all.erase(std::remove_if(all.begin(), all.end(), [](const auto& kv) { return kv.first == "truth"; }),
                   all.end());
@@ -84,7 +89,8 @@ int main(int argc, char** argv) {
       const rangetrace::SceneRecipe s = rangetrace::load_scene(scene);
       if (s.tile) {
         if (!model.empty()) {
-          throw common::UsageError("--model: the tile scene '" + scene + "' places its own vehicles "
+          throw common::UsageError("--model: the tile scene '" + scene +
+                                   "' places its own vehicles "
                                    "(vehicle = ... lines)");
         }
         // The scan and truth.json are committed together, or neither (checked before the work).
@@ -137,8 +143,7 @@ int main(int argc, char** argv) {
     if (!picture.empty()) {
       rangetrace::SceneRecipe s;
       if (!scene.empty()) s = rangetrace::load_scene(scene);
-      common::write_file_atomic(picture, rangetrace::render_picture(m, scene.empty() ? nullptr : &s,
-                                                                    view, p));
+      common::write_file_atomic(picture, rangetrace::render_picture(m, scene.empty() ? nullptr : &s, view, p));
       common::log::info("wrote picture " + picture);
       return;
     }
@@ -152,8 +157,7 @@ int main(int argc, char** argv) {
     }
     if (!m.vehicle_class.empty()) cloud.comments.push_back("class " + m.vehicle_class);
     formats::write_points(cloud, out);
-    common::log::info("wrote " + std::to_string(cloud.size()) + " points (" + m.name + ", " +
-                      s.name + ", " + std::to_string(s.views.size()) + " views) to " +
-                      common::display_name(out, true));
+    common::log::info("wrote " + std::to_string(cloud.size()) + " points (" + m.name + ", " + s.name + ", " +
+                      std::to_string(s.views.size()) + " views) to " + common::display_name(out, true));
   });
 }

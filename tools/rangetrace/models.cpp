@@ -39,8 +39,7 @@ std::string mesh_to_pov(const std::vector<Eigen::Vector3d>& vertices,
     const Eigen::Vector3d a = vertices[f[0]], b = vertices[f[1]], c = vertices[f[2]];
     if ((b - a).cross(c - a).norm() > 1e-12) kept.push_back(f);  // POV-Ray drops degenerate ones
   }
-  std::string out = "#declare Vehicle = mesh2 {\n  vertex_vectors { " +
-                    std::to_string(vertices.size());
+  std::string out = "#declare Vehicle = mesh2 {\n  vertex_vectors { " + std::to_string(vertices.size());
   char buf[128];
   for (const auto& v : vertices) {
     const Eigen::Vector3d p = pov_frame(v);
@@ -56,8 +55,8 @@ std::string mesh_to_pov(const std::vector<Eigen::Vector3d>& vertices,
   return out;
 }
 
-std::string mesh_file_to_pov(const std::string& bytes, const std::string& name,
-                             const std::string& ext, const MeshImport& import) {
+std::string mesh_file_to_pov(const std::string& bytes, const std::string& name, const std::string& ext,
+                             const MeshImport& import) {
   formats::TriangleMesh mesh = formats::parse_triangle_mesh(bytes, name, ext);
   if (mesh.faces.empty()) throw DataError(name, "mesh has no faces");
   for (auto& v : mesh.vertices) {

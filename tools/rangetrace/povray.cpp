@@ -60,16 +60,14 @@ std::string include_line(const Model& model) {
 
 }  // namespace
 
-Placement place(const Eigen::Vector3d& model_min, const Eigen::Vector3d& model_max,
-                const Pose& pose) {
+Placement place(const Eigen::Vector3d& model_min, const Eigen::Vector3d& model_max, const Pose& pose) {
   Placement p;
   p.model_min = model_min;
   p.model_max = model_max;
-  const Eigen::Vector3d anchor((model_min.x() + model_max.x()) / 2,
-                               (model_min.y() + model_max.y()) / 2, model_min.z());
+  const Eigen::Vector3d anchor((model_min.x() + model_max.x()) / 2, (model_min.y() + model_max.y()) / 2,
+                               model_min.z());
   p.transform = Eigen::Translation3d(pose.position.x(), pose.position.y(), 0) *
-                Eigen::AngleAxisd(pose.heading, Eigen::Vector3d::UnitZ()) *
-                Eigen::Translation3d(-anchor);
+                Eigen::AngleAxisd(pose.heading, Eigen::Vector3d::UnitZ()) * Eigen::Translation3d(-anchor);
   p.top = model_max.z() - model_min.z();
   p.centre = Eigen::Vector3d(pose.position.x(), pose.position.y(), p.top / 2);
   return p;
@@ -100,8 +98,8 @@ bool in_crop(const Eigen::Vector3d& p, const Placement& placement, const Params&
 }
 
 std::string scene_pov(const Model& model, const Placement& placement, const Encoding& enc,
-                      const std::vector<View>& views, const std::vector<Disc>& foliage,
-                      const Params& params, int picture) {
+                      const std::vector<View>& views, const std::vector<Disc>& foliage, const Params& params,
+                      int picture) {
   std::ostringstream s;
   const double field = params.size * params.spacing;
   const double distance = 100.0;  // camera distance from the target (m); orthographic
@@ -127,8 +125,8 @@ std::string scene_pov(const Model& model, const Placement& placement, const Enco
     for (int axis = 0; axis < 3; ++axis) {
       // World coordinate `axis` of a POV-Ray point p is pov_frame(e_axis) . p.
       const Eigen::Vector3d a = pov_frame(Eigen::Vector3d::Unit(axis));
-      s << "    [1 function { min(max((" << num(a.x()) << "*x + " << num(a.y()) << "*y + "
-        << num(a.z()) << "*z - (" << num(enc.lo[axis]) << ")) / " << num(enc.span[axis])
+      s << "    [1 function { min(max((" << num(a.x()) << "*x + " << num(a.y()) << "*y + " << num(a.z())
+        << "*z - (" << num(enc.lo[axis]) << ")) / " << num(enc.span[axis])
         << ", 0), 1) } color_map { [0 rgb 0] [1 rgb " << colours[axis] << "] }]\n";
     }
     s << "  } } finish { Emit } }\n";
@@ -139,8 +137,8 @@ std::string scene_pov(const Model& model, const Placement& placement, const Enco
     s << "  #declare TFoliage = texture { pigment { rgb <0, 1, 0> } finish { Emit } }\n";
     s << "  #declare TGround = texture { pigment { rgb <0, 0, 1> } finish { Emit } }\n";
     s << "#end\n";
-    s << "camera { orthographic location Cams[ViewIdx] right x*" << num(field) << " up y*"
-      << num(field) << " look_at Target }\n";
+    s << "camera { orthographic location Cams[ViewIdx] right x*" << num(field) << " up y*" << num(field)
+      << " look_at Target }\n";
   } else {
     s << "#declare Shade = finish { ambient 0.25 diffuse 0.75 specular 0.15 roughness 0.05 }\n";
     s << "#declare TVehicle = texture { pigment { rgb <0.62, 0.64, 0.55> } finish { Shade } }\n";
@@ -152,8 +150,8 @@ std::string scene_pov(const Model& model, const Placement& placement, const Enco
     s << "light_source { " << vec(placement.centre + Eigen::Vector3d(40, 30, 50))
       << " color rgb 0.35 shadowless }\n";
     if (picture == 1) {
-      s << "camera { orthographic location Cams[0] right x*" << num(field) << " up y*"
-        << num(field) << " look_at Target }\n";
+      s << "camera { orthographic location Cams[0] right x*" << num(field) << " up y*" << num(field)
+        << " look_at Target }\n";
     } else {
       const View oblique{-35 * M_PI / 180, 25 * M_PI / 180};
       const double reach = std::max(placement.model_max.x() - placement.model_min.x(),
@@ -176,18 +174,20 @@ std::string scene_pov(const Model& model, const Placement& placement, const Enco
   return s.str();
 }
 
-void decode_view(const Image16& coords, const Image16& labels, const Encoding& enc,
-                 const Placement& placement, const Params& params, const Eigen::Vector3d& toward,
-                 int view_idx, ScanColumns* out) {
+void decode_view(const Image16& coords, const Image16& labels, const Encoding& enc, const Placement& placement,
+                 const Params& params, const Eigen::Vector3d& toward, int view_idx, ScanColumns* out) {
   const std::size_t n = static_cast<std::size_t>(coords.width) * coords.height;
   const Eigen::Vector3f sensor = toward.normalized().cast<float>();
   for (std::size_t i = 0; i < n; ++i) {
     const std::uint16_t* c = &coords.rgb[3 * i];
     const std::uint16_t* l = &labels.rgb[3 * i];
     std::uint32_t label = formats::kLabelUnknown;
-    if (l[0] > 32767) label = formats::kLabelTarget;
-    else if (l[1] > 32767) label = formats::kLabelFoliage;
-    else if (l[2] > 32767) label = formats::kLabelGround;
+    if (l[0] > 32767)
+      label = formats::kLabelTarget;
+    else if (l[1] > 32767)
+      label = formats::kLabelFoliage;
+    else if (l[2] > 32767)
+      label = formats::kLabelGround;
     if (label == formats::kLabelUnknown) continue;  // the ray hit nothing
     bool inside = true;
     Eigen::Vector3d p;

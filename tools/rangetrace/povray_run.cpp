@@ -166,9 +166,7 @@ void sweep_stale(const std::string& base) {
     std::string owner;
     try {
       owner = common::read_file(dir + "/owner");
-    } catch (const Error&) {
-      continue;
-    }
+    } catch (const Error&) { continue; }
     const long pid = std::strtol(owner.c_str(), nullptr, 10);
     if (pid > 0 && ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH) stale.push_back(dir);
   }
@@ -265,8 +263,7 @@ Staged stage_models(const std::vector<Model>& models, const TempDir& tmp) {
 }
 
 void run_povray(const Params& params, const std::string& dir, std::vector<std::string> args,
-                const std::string& log_name,
-                const std::vector<std::pair<std::string, std::string>>& renames) {
+                const std::string& log_name, const std::vector<std::pair<std::string, std::string>>& renames) {
   args.insert(args.begin(), params.povray);
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
@@ -318,8 +315,7 @@ void run_povray(const Params& params, const std::string& dir, std::vector<std::s
   std::string log;
   try {
     log = common::read_file(log_path);
-  } catch (const Error&) {
-  }
+  } catch (const Error&) {}
   std::string msg = povray_message(log);
   for (const auto& [from, to] : renames) msg = replace_all(msg, from, to);
   // An include that leaves a brace open fails only later, in the generated file: say so.
@@ -334,8 +330,9 @@ void run_povray(const Params& params, const std::string& dir, std::vector<std::s
   throw Error("POV-Ray failed: " + msg);
 }
 
-std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> models_extent(
-    const std::vector<Model>& models, const Params& params, const TempDir& tmp) {
+std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> models_extent(const std::vector<Model>& models,
+                                                                       const Params& params,
+                                                                       const TempDir& tmp) {
   const Staged st = stage_models(models, tmp);
   std::string pov = "#version 3.7;\nglobal_settings { assumed_gamma 1.0 }\n";
   pov += "#fopen ExtentFile \"extent.txt\" write\n";
@@ -347,8 +344,9 @@ std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> models_extent(
     pov += "#ifdef (Vehicle) #undef Vehicle #end\n";
     pov += st.include_code[k];
     pov += "#ifndef (Vehicle)\n#error \"the model " + name + " does not declare Vehicle\"\n#end\n";
-    pov += "#write (ExtentFile, vstr(3, min_extent(Vehicle), \" \", 0, 9), \" \", "
-           "vstr(3, max_extent(Vehicle), \" \", 0, 9), \"\\n\")\n";
+    pov +=
+        "#write (ExtentFile, vstr(3, min_extent(Vehicle), \" \", 0, 9), \" \", "
+        "vstr(3, max_extent(Vehicle), \" \", 0, 9), \"\\n\")\n";
   }
   pov += "#fclose ExtentFile\n";
   common::write_file_atomic(tmp.path() + "/extent.pov", pov);
@@ -365,8 +363,7 @@ std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> models_extent(
     if (!(in >> lo.x() >> lo.y() >> lo.z() >> hi.x() >> hi.y() >> hi.z())) {
       throw Error("cannot read the model's extent from POV-Ray");
     }
-    if (!(lo.array() < hi.array()).all() || lo.cwiseAbs().maxCoeff() > 1e5 ||
-        hi.cwiseAbs().maxCoeff() > 1e5) {
+    if (!(lo.array() < hi.array()).all() || lo.cwiseAbs().maxCoeff() > 1e5 || hi.cwiseAbs().maxCoeff() > 1e5) {
       throw Error("model '" + model.name + "': Vehicle is empty, flat or unbounded (extent " +
                   std::to_string(lo.x()) + ".." + std::to_string(hi.x()) + ")");
     }
@@ -383,14 +380,13 @@ void warn_model_size(const Model& model, const Eigen::Vector3d& size, const Para
   if (size.maxCoeff() > 30) {
     common::log::warn("model '" + model.name + "' is " + dims +
                       ", longer than 30 m for a vehicle: did you forget " + units + "?");
-  } else if (crop && (size.x() > crop->crop_length || size.y() > crop->crop_width ||
-                      size.z() > crop->crop_height)) {
+  } else if (crop &&
+             (size.x() > crop->crop_length || size.y() > crop->crop_width || size.z() > crop->crop_height)) {
     char box[96];
     std::snprintf(box, sizeof box, "%.3g x %.3g x %.3g m", crop->crop_length, crop->crop_width,
                   crop->crop_height);
-    common::log::warn("model '" + model.name + "' is " + dims + ", larger than the crop box (" +
-                      box + "; points outside it are dropped): did you forget " + units +
-                      " or --crop-*?");
+    common::log::warn("model '" + model.name + "' is " + dims + ", larger than the crop box (" + box +
+                      "; points outside it are dropped): did you forget " + units + " or --crop-*?");
   }
 }
 

@@ -35,8 +35,8 @@ class TempDir {
 // "inc<k>" (passed as +Linc<k>), so spaces or quotes in the user's paths never reach the
 // command line or an #include string. POV-Ray messages are mapped back to the real paths.
 struct Staged {
-  std::vector<std::string> include_code;  // per model: POV-Ray code declaring Vehicle
-  std::vector<std::string> args;          // +L options
+  std::vector<std::string> include_code;                     // per model: POV-Ray code declaring Vehicle
+  std::vector<std::string> args;                             // +L options
   std::vector<std::pair<std::string, std::string>> renames;  // staged name -> real path
 };
 Staged stage_models(const std::vector<Model>& models, const TempDir& tmp);
@@ -48,8 +48,9 @@ void run_povray(const Params& params, const std::string& dir, std::vector<std::s
                 const std::vector<std::pair<std::string, std::string>>& renames = {});
 
 // Bounding boxes (world frame) of several models from one POV-Ray parse run.
-std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> models_extent(
-    const std::vector<Model>& models, const Params& params, const TempDir& tmp);
+std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> models_extent(const std::vector<Model>& models,
+                                                                       const Params& params,
+                                                                       const TempDir& tmp);
 
 // Warns (before any rendering) when a model is implausibly large for a vehicle.
 void warn_model_size(const Model& model, const Eigen::Vector3d& size, const Params* crop);

@@ -43,8 +43,7 @@ std::vector<std::string> common_args(const Staged& st) {
   return args;
 }
 
-std::vector<std::pair<std::string, std::string>> scene_renames(const Staged& st,
-                                                               const std::string& pov) {
+std::vector<std::pair<std::string, std::string>> scene_renames(const Staged& st, const std::string& pov) {
   auto renames = st.renames;
   renames.emplace_back(pov, "rangetrace's generated " + pov + " (after the model's include)");
   return renames;
@@ -74,8 +73,7 @@ formats::PointCloud run(const Model& model, const SceneRecipe& scene, const Para
 
   common::log::Phase render("render");
   common::write_file_atomic(tmp.path() + "/scene.pov",
-                            scene_pov(staged_model(model, st), placement, enc, scene.views, foliage,
-                                      params));
+                            scene_pov(staged_model(model, st), placement, enc, scene.views, foliage, params));
   const int views = static_cast<int>(scene.views.size());
   const int workers = std::max(1, std::min(params.threads, views));
   std::vector<std::string> errors(workers);
@@ -86,17 +84,14 @@ formats::PointCloud run(const Model& model, const SceneRecipe& scene, const Para
     pool.emplace_back([&, w, first, last] {
       auto args = common_args(st);
       const std::string size = std::to_string(params.size);
-      args.insert(args.end(), {"+W" + size, "+H" + size, "-A", "+FP16", "File_Gamma=1.0",
-                               "+Iscene.pov", "+Of.ppm", "+KFI0",
-                               "+KFF" + std::to_string(2 * views - 1), "+KI0",
-                               "+KF" + std::to_string(2 * views - 1),
-                               "+SF" + std::to_string(2 * first), "+EF" + std::to_string(2 * last + 1)});
+      args.insert(args.end(), {"+W" + size, "+H" + size, "-A", "+FP16", "File_Gamma=1.0", "+Iscene.pov",
+                               "+Of.ppm", "+KFI0", "+KFF" + std::to_string(2 * views - 1), "+KI0",
+                               "+KF" + std::to_string(2 * views - 1), "+SF" + std::to_string(2 * first),
+                               "+EF" + std::to_string(2 * last + 1)});
       try {
         run_povray(params, tmp.path(), args, "render" + std::to_string(w) + ".log",
                    scene_renames(st, "scene.pov"));
-      } catch (const std::exception& e) {
-        errors[w] = e.what();
-      }
+      } catch (const std::exception& e) { errors[w] = e.what(); }
     });
   }
   for (auto& t : pool) t.join();
@@ -124,8 +119,7 @@ formats::PointCloud run(const Model& model, const SceneRecipe& scene, const Para
     if (coords.width != params.size || labels.width != params.size) {
       throw Error("POV-Ray image of view " + std::to_string(k) + " has the wrong size");
     }
-    decode_view(coords, labels, enc, placement, params, view_direction(scene.views[k], params.pose),
-                k, &cols);
+    decode_view(coords, labels, enc, placement, params, view_direction(scene.views[k], params.pose), k, &cols);
   }
   formats::PointCloud cloud;
   const std::size_t n = cols.points.size();
@@ -145,8 +139,7 @@ formats::PointCloud run(const Model& model, const SceneRecipe& scene, const Para
   return cloud;
 }
 
-std::string render_picture(const Model& model, const SceneRecipe* scene, int view_idx,
-                           const Params& params) {
+std::string render_picture(const Model& model, const SceneRecipe* scene, int view_idx, const Params& params) {
   TempDir tmp;
   const auto [lo, hi] = models_extent({model}, params, tmp)[0];
   warn_model_size(model, hi - lo, nullptr);
@@ -163,9 +156,8 @@ std::string render_picture(const Model& model, const SceneRecipe* scene, int vie
     foliage = make_foliage(*scene, params.pose, placement.top, params.seed);
   }
   common::write_file_atomic(tmp.path() + "/picture.pov",
-                            scene_pov(staged_model(model, st), placement,
-                                      encoding_for(placement, params), views,
-                                      foliage, params, scene != nullptr ? 1 : 2));
+                            scene_pov(staged_model(model, st), placement, encoding_for(placement, params),
+                                      views, foliage, params, scene != nullptr ? 1 : 2));
   auto args = common_args(st);
   const std::string size = std::to_string(params.size);
   args.insert(args.end(), {"+W" + size, "+H" + size, "+A0.05", "+R3", "+FN8", "+Ipicture.pov",

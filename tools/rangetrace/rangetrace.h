@@ -91,8 +91,7 @@ struct Pose {
 // `count` discs with centres uniform in the square of side `square` centred on the vehicle
 // (aligned with its heading) and heights uniform in [top, top + band]; normals uniform on the
 // sphere. Drawn from Rng(derive_seed(seed, "foliage")): portable and reproducible.
-std::vector<Disc> make_foliage(const SceneRecipe& scene, const Pose& pose, double top,
-                               std::uint64_t seed);
+std::vector<Disc> make_foliage(const SceneRecipe& scene, const Pose& pose, double top, std::uint64_t seed);
 
 // ---------------------------------------------------------------- models
 
@@ -100,9 +99,9 @@ std::vector<Disc> make_foliage(const SceneRecipe& scene, const Pose& pose, doubl
 // inner texture would override the range coding).
 struct Model {
   std::string name;
-  std::string include_dir;   // passed to POV-Ray with +L ("" = the include is written inline)
-  std::string include_file;  // file name inside include_dir
-  std::string inline_code;   // used when include_dir is empty (converted meshes)
+  std::string include_dir;    // passed to POV-Ray with +L ("" = the include is written inline)
+  std::string include_file;   // file name inside include_dir
+  std::string inline_code;    // used when include_dir is empty (converted meshes)
   std::string vehicle_class;  // procedural family instances (families.h): their class
 };
 
@@ -120,8 +119,8 @@ std::string mesh_to_pov(const std::vector<Eigen::Vector3d>& vertices,
                         const std::vector<std::array<int, 3>>& faces);
 // The bytes of a mesh file (ext: "ply", "obj" or "stl", lower case) -> POV-Ray code declaring
 // Vehicle, as load_model does for a mesh path; errors are DataErrors naming `name`.
-std::string mesh_file_to_pov(const std::string& bytes, const std::string& name,
-                             const std::string& ext, const MeshImport& import);
+std::string mesh_file_to_pov(const std::string& bytes, const std::string& name, const std::string& ext,
+                             const MeshImport& import);
 extern const char* const kBuiltinModels[5];
 
 // ---------------------------------------------------------------- rendering
@@ -134,7 +133,7 @@ struct Params {
   double crop_height = 4.0;   // vertical (m); the box is centred on the vehicle's bounding box
   Pose pose;
   std::uint64_t seed = 1;
-  int threads = 2;            // concurrent POV-Ray processes
+  int threads = 2;  // concurrent POV-Ray processes
   std::string povray = "povray";
 };
 
@@ -145,8 +144,7 @@ struct Placement {
   Eigen::Vector3d centre;                // placed bounding-box centre
   double top = 0;                        // placed height (m)
 };
-Placement place(const Eigen::Vector3d& model_min, const Eigen::Vector3d& model_max,
-                const Pose& pose);
+Placement place(const Eigen::Vector3d& model_min, const Eigen::Vector3d& model_max, const Pose& pose);
 
 // Box in which colours encode coordinates: the crop box's axis-aligned bounds plus a margin.
 struct Encoding {
@@ -158,8 +156,8 @@ Encoding encoding_for(const Placement& placement, const Params& params);
 // labels. `picture` > 0 instead renders a shaded picture (1: view 0 of the scene, 2: the model
 // alone from an oblique perspective).
 std::string scene_pov(const Model& model, const Placement& placement, const Encoding& enc,
-                      const std::vector<View>& views, const std::vector<Disc>& foliage,
-                      const Params& params, int picture = 0);
+                      const std::vector<View>& views, const std::vector<Disc>& foliage, const Params& params,
+                      int picture = 0);
 // Unit vector from the target toward the sensor of a view, world frame.
 Eigen::Vector3d view_direction(const View& view, const Pose& pose);
 
@@ -174,9 +172,8 @@ struct ScanColumns {
   std::vector<std::int32_t> view_idx;
   std::vector<std::uint32_t> label;
 };
-void decode_view(const Image16& coords, const Image16& labels, const Encoding& enc,
-                 const Placement& placement, const Params& params, const Eigen::Vector3d& toward,
-                 int view_idx, ScanColumns* out);
+void decode_view(const Image16& coords, const Image16& labels, const Encoding& enc, const Placement& placement,
+                 const Params& params, const Eigen::Vector3d& toward, int view_idx, ScanColumns* out);
 // True when p lies in the crop box (oriented with the heading, centred on the vehicle).
 bool in_crop(const Eigen::Vector3d& p, const Placement& placement, const Params& params);
 
@@ -191,7 +188,6 @@ formats::PointCloud run(const Model& model, const SceneRecipe& scene, const Para
 
 // Renders a shaded picture (8-bit PNG bytes): with a scene, its view `view_idx` with foliage;
 // without (scene == nullptr), the model alone on the ground from an oblique perspective.
-std::string render_picture(const Model& model, const SceneRecipe* scene, int view_idx,
-                           const Params& params);
+std::string render_picture(const Model& model, const SceneRecipe* scene, int view_idx, const Params& params);
 
 }  // namespace canopy::rangetrace

@@ -54,8 +54,7 @@ std::vector<View> dodecahedron_views() {
     v.emplace_back(a * p, 0, b * q);
   }
   const Eigen::Vector3d up = Eigen::Vector3d(0, p, 1).normalized();
-  const Eigen::Matrix3d r =
-      Eigen::Quaterniond::FromTwoVectors(up, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Matrix3d r = Eigen::Quaterniond::FromTwoVectors(up, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   std::vector<View> views;
   for (const auto& vertex : v) {
     const Eigen::Vector3d d = (r * vertex).normalized();
@@ -139,8 +138,8 @@ SceneRecipe parse_scene(const std::string& text, const std::string& name) {
       }
       if (single_line == 0) single_line = line_no;
       if (tile_line != 0) {
-        fail("'" + key + "' is a single-vehicle key, but line " +
-             std::to_string(tile_line) + " made this a tile recipe");
+        fail("'" + key + "' is a single-vehicle key, but line " + std::to_string(tile_line) +
+             " made this a tile recipe");
       }
       auto angle = [&](std::size_t i) {
         if (i >= words.size()) fail("'" + key + "' needs more values");
@@ -174,9 +173,7 @@ SceneRecipe parse_scene(const std::string& text, const std::string& name) {
       } else {
         fail("unknown key '" + key + "'");
       }
-    } catch (const common::UsageError& e) {
-      fail(e.what());
-    } catch (const std::logic_error&) {
+    } catch (const common::UsageError& e) { fail(e.what()); } catch (const std::logic_error&) {
       fail("malformed value in '" + line + "'");
     }
   }
@@ -203,7 +200,7 @@ SceneRecipe load_scene(const std::string& name_or_path) {
   std::string name = name_or_path;
   if (!name_or_path.empty() && name_or_path.find_first_of("/.") == std::string::npos) {
     const std::string shared = common::share_dir() + "/scenes/" + name_or_path + ".scene";
-    struct stat st{};
+    struct stat st {};
     if (::stat(shared.c_str(), &st) == 0 && S_ISREG(st.st_mode)) {
       path = shared;
     } else if (::stat(name_or_path.c_str(), &st) != 0) {
@@ -220,8 +217,7 @@ SceneRecipe load_scene(const std::string& name_or_path) {
   return s;
 }
 
-std::vector<Disc> make_foliage(const SceneRecipe& scene, const Pose& pose, double top,
-                               std::uint64_t seed) {
+std::vector<Disc> make_foliage(const SceneRecipe& scene, const Pose& pose, double top, std::uint64_t seed) {
   common::Rng rng(common::derive_seed(seed, "foliage"));
   const double c = std::cos(pose.heading), s = std::sin(pose.heading);
   const double half = scene.foliage_square / 2;
@@ -231,11 +227,8 @@ std::vector<Disc> make_foliage(const SceneRecipe& scene, const Pose& pose, doubl
     const double u = rng.uniform(-half, half), v = rng.uniform(-half, half);
     const double z = top + scene.foliage_band * rng.uniform();
     Eigen::Vector3d n;
-    do {
-      n = Eigen::Vector3d(rng.normal(), rng.normal(), rng.normal());
-    } while (n.norm() < 1e-9);
-    discs.push_back({Eigen::Vector3d(pose.position.x() + c * u - s * v,
-                                     pose.position.y() + s * u + c * v, z),
+    do { n = Eigen::Vector3d(rng.normal(), rng.normal(), rng.normal()); } while (n.norm() < 1e-9);
+    discs.push_back({Eigen::Vector3d(pose.position.x() + c * u - s * v, pose.position.y() + s * u + c * v, z),
                      n.normalized(), scene.foliage_radius});
   }
   return discs;

@@ -30,11 +30,11 @@ struct VehicleSpec {
   std::string model;  // built-in name or a path (resolved against the recipe's directory)
   double x = 0, y = 0, heading = 0;
   MeshImport import;
-  int line = 0;       // recipe line (errors name it)
+  int line = 0;  // recipe line (errors name it)
 };
 
 struct ObjectSpec {
-  std::string kind;   // boulder, shed, container, fence, logs
+  std::string kind;  // boulder, shed, container, fence, logs
   double x = 0, y = 0, heading = 0;
   int line = 0;
 };
@@ -53,55 +53,54 @@ struct CanopyDisc {
 
 struct Look {
   double elevation = 75 * M_PI / 180;  // rad, (0, 90 deg]
-  double azimuth = 0;  // rad: direction toward the sensor, relative to the flight heading
+  double azimuth = 0;                  // rad: direction toward the sensor, relative to the flight heading
 };
 
 enum class Terrain { kFlat, kSlope, kRolling };
 
 struct TileRecipe {
-  double extent_x = 40, extent_y = 40;     // m, each in [5, 100]
+  double extent_x = 40, extent_y = 40;  // m, each in [5, 100]
   Terrain terrain = Terrain::kFlat;
-  double slope = 0;                        // rad, <= 15 deg
-  double slope_azimuth = 0;                // rad, direction of steepest ascent
-  double rolling_amplitude = 2;            // m, heights within +-amplitude (<= 2 m)
-  double rolling_wavelength = 20;          // m, typical wavelength of the height field
+  double slope = 0;                // rad, <= 15 deg
+  double slope_azimuth = 0;        // rad, direction of steepest ascent
+  double rolling_amplitude = 2;    // m, heights within +-amplitude (<= 2 m)
+  double rolling_wavelength = 20;  // m, typical wavelength of the height field
 
-  double trees_per_ha = 600;               // random trees per hectare
-  double conifer_share = 0.4;              // share of random trees that are conifers
-  double bushes_per_ha = 500;              // random understory bushes per hectare
-  int hide = -1;  // trees planted beside each vehicle (concealment); -1: 2 if trees > 0, else 0
-  std::vector<TreeSpec> trees;             // hand-placed trees
-  std::vector<CanopyDisc> discs;           // hand-placed opaque canopy discs
+  double trees_per_ha = 600;    // random trees per hectare
+  double conifer_share = 0.4;   // share of random trees that are conifers
+  double bushes_per_ha = 500;   // random understory bushes per hectare
+  int hide = -1;                // trees planted beside each vehicle (concealment); -1: 2 if trees > 0, else 0
+  std::vector<TreeSpec> trees;  // hand-placed trees
+  std::vector<CanopyDisc> discs;  // hand-placed opaque canopy discs
 
-  std::vector<VehicleSpec> vehicles;       // hand-placed
-  int random_vehicles = 0;                 // `vehicles = random N from a,b`
+  std::vector<VehicleSpec> vehicles;  // hand-placed
+  int random_vehicles = 0;            // `vehicles = random N from a,b`
   std::vector<std::string> random_models;
   int random_line = 0;
 
-  std::vector<ObjectSpec> objects;         // hand-placed clutter
+  std::vector<ObjectSpec> objects;                   // hand-placed clutter
   std::vector<std::pair<std::string, int>> clutter;  // kind -> random count
   std::vector<int> clutter_lines;
 
   int flight_lines = 2;
   std::vector<double> headings = {0, M_PI / 2};  // rad, flight directions (from +x, ccw)
   std::vector<Look> looks = {{75 * M_PI / 180, 0}, {75 * M_PI / 180, M_PI}};
-  double altitude = 300;                   // m above the tile centre's ground
-  double spacing = 0.08;                   // m, pixel spacing perpendicular to the rays
-  double swath_overlap = 0.2;              // extra swath width, share of the line spacing
-  double canopy_spacing = 0.05;            // m, pixel spacing of the nadir canopy image
+  double altitude = 300;         // m above the tile centre's ground
+  double spacing = 0.08;         // m, pixel spacing perpendicular to the rays
+  double swath_overlap = 0.2;    // extra swath width, share of the line spacing
+  double canopy_spacing = 0.05;  // m, pixel spacing of the nadir canopy image
 
   bool has_origin = false;
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // easting, northing, height
 
-  std::string dir;                         // the recipe's directory ("" = current)
+  std::string dir;  // the recipe's directory ("" = current)
 };
 
 // Keys that make a recipe a tile recipe.
 bool is_tile_key(const std::string& key);
 // Applies one tile key (words = the value split at blanks); throws common::UsageError with a
 // message (the caller adds the file and line).
-void apply_tile_key(TileRecipe* tile, const std::string& key, const std::vector<std::string>& words,
-                    int line);
+void apply_tile_key(TileRecipe* tile, const std::string& key, const std::vector<std::string>& words, int line);
 // Checks ranges after the whole recipe is read (throws DataError naming `name`).
 void check_tile(const TileRecipe& tile, const std::string& name);
 
@@ -138,7 +137,7 @@ class TerrainModel {
   double cx_ = 0, cy_ = 0;  // tile centre
   double x0_ = 0, y0_ = 0, step_ = 1;
   int nx_ = 0, ny_ = 0;
-  std::vector<double> h_;   // rolling: (nx_+1) x (ny_+1) grid heights
+  std::vector<double> h_;  // rolling: (nx_+1) x (ny_+1) grid heights
   double lo_ = 0, hi_ = 0;
   double grid(int i, int j) const;
 };
@@ -155,33 +154,32 @@ struct Posed {
 // Stands a box of half-length hl and half-width hw (local x, y) on the terrain at (x, y) with
 // `heading`: its up axis follows the plane through the ground under its four corners, raised
 // so that no corner is below the ground.
-Posed stand_on(const TerrainModel& terrain, double x, double y, double heading, double hl,
-               double hw);
+Posed stand_on(const TerrainModel& terrain, double x, double y, double heading, double hl, double hw);
 
 struct PlacedVehicle {
-  int instance = 0;         // 1-based
+  int instance = 0;  // 1-based
   std::string model_name;
-  int model_index = 0;      // into Tile::models
-  Eigen::Vector3d size;     // bounding box L x W x H
-  Eigen::Vector3d model_lo; // bounding box as declared by the model (tile axes)
+  int model_index = 0;       // into Tile::models
+  Eigen::Vector3d size;      // bounding box L x W x H
+  Eigen::Vector3d model_lo;  // bounding box as declared by the model (tile axes)
   Posed pose;
   std::array<Eigen::Vector2d, 4> footprint;  // top view, counter-clockwise
-  double canopy_cover = -1;  // measured
+  double canopy_cover = -1;                  // measured
   int line = 0;
 };
 
 struct PlacedObject {
   std::string kind;
-  int template_index = 0;   // into Tile::object_meshes
-  Eigen::Vector3d size;     // local box
-  Eigen::Vector3d lo;       // its low corner (local; the anchor is the local origin)
+  int template_index = 0;  // into Tile::object_meshes
+  Eigen::Vector3d size;    // local box
+  Eigen::Vector3d lo;      // its low corner (local; the anchor is the local origin)
   Posed pose;
 };
 
 struct PlacedTree {
-  int template_index = 0;   // into Tile::tree_meshes
-  Eigen::Vector3d base;     // trunk base on the ground
-  double rotation = 0;      // about z
+  int template_index = 0;  // into Tile::tree_meshes
+  Eigen::Vector3d base;    // trunk base on the ground
+  double rotation = 0;     // about z
   double scale = 1;
   bool bush = false;
   bool conifer = false;
@@ -191,15 +189,15 @@ struct Tile {
   TileRecipe recipe;
   std::string name;
   std::uint64_t seed = 1;
-  std::vector<Model> models;                 // distinct vehicle models
+  std::vector<Model> models;                                              // distinct vehicle models
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> model_bounds;  // per model
   std::vector<PlacedVehicle> vehicles;
   std::vector<TriMesh> object_meshes;
   std::vector<PlacedObject> objects;
-  std::vector<TriMesh> tree_meshes;          // templates: trees and bushes
+  std::vector<TriMesh> tree_meshes;  // templates: trees and bushes
   std::vector<PlacedTree> trees;
-  double top = 0;                            // highest point of anything (m)
-  double canopy_cover = -1;                  // measured: share of the tile hidden from nadir
+  double top = 0;            // highest point of anything (m)
+  double canopy_cover = -1;  // measured: share of the tile hidden from nadir
 };
 
 // Broadleaf, conifer and bush templates (tree height 1 at scale 1 is not used: templates are
@@ -223,8 +221,8 @@ Tile build_tile(const TileRecipe& recipe, const std::string& name, const Params&
 // One image: an orthographic camera; pixel (i, j) (column, row from the top) shoots from
 // origin + ((i + .5)/W - .5) right + (.5 - (j + .5)/H) up along -toward.
 struct TileView {
-  Eigen::Vector3d toward;   // unit, from the scene toward the sensor
-  Eigen::Vector3d origin;   // image-plane centre
+  Eigen::Vector3d toward;     // unit, from the scene toward the sensor
+  Eigen::Vector3d origin;     // image-plane centre
   Eigen::Vector3d right, up;  // unit
   int width = 0, height = 0;
   double spacing = 0;
@@ -233,7 +231,7 @@ struct TileView {
   Eigen::Vector2d strip_centre, strip_across;
   double strip_half = 0;
   int line = 0, heading_idx = 0, look_idx = 0;  // the pass and look it belongs to
-  double strip_area = 0;    // m^2 of the strip inside the tile
+  double strip_area = 0;                        // m^2 of the strip inside the tile
 };
 std::vector<TileView> tile_views(const Tile& tile);
 // The nadir view over the whole tile used to measure canopy cover.

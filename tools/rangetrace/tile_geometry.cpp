@@ -96,9 +96,7 @@ namespace {
 
 Vector3d random_unit(common::Rng& rng) {
   Vector3d n;
-  do {
-    n = Vector3d(rng.normal(), rng.normal(), rng.normal());
-  } while (n.norm() < 1e-9);
+  do { n = Vector3d(rng.normal(), rng.normal(), rng.normal()); } while (n.norm() < 1e-9);
   return n.normalized();
 }
 
@@ -209,12 +207,12 @@ TriMesh clutter_mesh(const std::string& kind, std::uint64_t seed) {
   if (kind == "boulder") {
     // Icosphere (2 subdivisions), stretched and roughened, about a third buried.
     const double t = (1 + std::sqrt(5.0)) / 2;
-    std::vector<Vector3d> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                               {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-    std::vector<std::array<int, 3>> f = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11},
-                                         {1, 5, 9}, {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                                         {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8}, {3, 8, 9},
-                                         {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+    std::vector<Vector3d> v = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                               {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
+    std::vector<std::array<int, 3>> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                         {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                         {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                         {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
     for (auto& p : v) p.normalize();
     for (int level = 0; level < 2; ++level) {
       std::map<std::pair<int, int>, int> mid;
@@ -284,7 +282,8 @@ TriMesh clutter_mesh(const std::string& kind, std::uint64_t seed) {
         const double y = (k - (n - 1) / 2.0) * 2 * r;
         const double z = r + row * r * std::sqrt(3.0);
         const double jitter = rng.uniform(-0.15, 0.15);
-        m.limb({-2 + jitter, y, z}, {2 + jitter, y, z}, r * rng.uniform(0.9, 1.05), r * rng.uniform(0.9, 1.05), 10);
+        m.limb({-2 + jitter, y, z}, {2 + jitter, y, z}, r * rng.uniform(0.9, 1.05),
+               r * rng.uniform(0.9, 1.05), 10);
       }
     }
   } else {
@@ -317,7 +316,9 @@ TerrainModel::TerrainModel(const TileRecipe& tile, std::uint64_t seed) {
   planar_ = false;
   // Sum of six seeded plane waves, shifted to mean 0 and scaled to +-amplitude over the grid.
   common::Rng rng(common::derive_seed(seed, "terrain"));
-  struct Wave { double kx, ky, phase, a; };
+  struct Wave {
+    double kx, ky, phase, a;
+  };
   std::vector<Wave> waves;
   for (int k = 0; k < 6; ++k) {
     const double dir = rng.uniform(0, 2 * M_PI);
@@ -535,15 +536,19 @@ Tile build_tile(const TileRecipe& recipe, const std::string& name, const Params&
   const TerrainModel terrain(recipe, params.seed);
 
   // Models: distinct (spec, units, up), in first-use order; files resolved against the recipe.
-  struct Use { std::string spec; MeshImport import; int line; };
+  struct Use {
+    std::string spec;
+    MeshImport import;
+    int line;
+  };
   std::vector<Use> uses;
   for (const auto& v : recipe.vehicles) uses.push_back({v.model, v.import, v.line});
   for (const auto& m : recipe.random_models) uses.push_back({m, MeshImport{}, recipe.random_line});
   std::vector<std::string> keys;
   std::vector<int> use_model(uses.size());
   for (std::size_t u = 0; u < uses.size(); ++u) {
-    const std::string key = uses[u].spec + "|" + std::to_string(uses[u].import.scale) + "|" +
-                            (uses[u].import.z_up ? "z" : "y");
+    const std::string key =
+        uses[u].spec + "|" + std::to_string(uses[u].import.scale) + "|" + (uses[u].import.z_up ? "z" : "y");
     const auto it = std::find(keys.begin(), keys.end(), key);
     if (it != keys.end()) {
       use_model[u] = static_cast<int>(it - keys.begin());
@@ -557,8 +562,8 @@ Tile build_tile(const TileRecipe& recipe, const std::string& name, const Params&
     try {
       tile.models.push_back(load_model(path, uses[u].import));
     } catch (const common::Error& e) {
-      throw DataError(name, "line " + std::to_string(uses[u].line) + ": vehicle model '" +
-                                uses[u].spec + "': " + e.what());
+      throw DataError(name, "line " + std::to_string(uses[u].line) + ": vehicle model '" + uses[u].spec +
+                                "': " + e.what());
     }
     keys.push_back(key);
     use_model[u] = static_cast<int>(tile.models.size() - 1);
@@ -597,8 +602,7 @@ Tile build_tile(const TileRecipe& recipe, const std::string& name, const Params&
     for (const auto& o : tile.vehicles) {
       if (overlap(v.footprint, o.footprint, 0)) {
         throw DataError(name, "line " + std::to_string(s.line) + ": vehicle '" + s.model + "' at " +
-                                  where(s.x, s.y) + " overlaps the vehicle of line " +
-                                  std::to_string(o.line));
+                                  where(s.x, s.y) + " overlaps the vehicle of line " + std::to_string(o.line));
       }
     }
     tile.vehicles.push_back(v);
@@ -625,8 +629,7 @@ Tile build_tile(const TileRecipe& recipe, const std::string& name, const Params&
       if (!placed) {
         throw DataError(name, "line " + std::to_string(recipe.random_line) + ": cannot place " +
                                   std::to_string(recipe.random_vehicles) +
-                                  " vehicles without overlap in the tile (placed " +
-                                  std::to_string(k) + ")");
+                                  " vehicles without overlap in the tile (placed " + std::to_string(k) + ")");
       }
     }
   }
@@ -685,9 +688,13 @@ Tile build_tile(const TileRecipe& recipe, const std::string& name, const Params&
   // Trees: four broadleaf and four conifer templates, three bushes; instances rotated and
   // scaled by +-15%. Trunks keep 0.6 m from vehicles and clutter, 1.5 m from each other.
   const std::uint64_t tseed = common::derive_seed(params.seed, "tree-templates");
-  for (int k = 0; k < 4; ++k) tile.tree_meshes.push_back(broadleaf_template(common::derive_seed(tseed, "b" + std::to_string(k)), 17));
-  for (int k = 0; k < 4; ++k) tile.tree_meshes.push_back(conifer_template(common::derive_seed(tseed, "c" + std::to_string(k)), 20));
-  for (int k = 0; k < 3; ++k) tile.tree_meshes.push_back(bush_template(common::derive_seed(tseed, "u" + std::to_string(k)), 0.7 + 0.25 * k));
+  for (int k = 0; k < 4; ++k)
+    tile.tree_meshes.push_back(broadleaf_template(common::derive_seed(tseed, "b" + std::to_string(k)), 17));
+  for (int k = 0; k < 4; ++k)
+    tile.tree_meshes.push_back(conifer_template(common::derive_seed(tseed, "c" + std::to_string(k)), 20));
+  for (int k = 0; k < 3; ++k)
+    tile.tree_meshes.push_back(
+        bush_template(common::derive_seed(tseed, "u" + std::to_string(k)), 0.7 + 0.25 * k));
   common::Rng trng(common::derive_seed(params.seed, "trees"));
   std::vector<Vector2d> trunks;
   for (const auto& s : recipe.trees) {

@@ -18,9 +18,9 @@ namespace {
 
 const std::set<std::string>& tile_keys() {
   static const std::set<std::string> keys = {
-      "extent", "terrain", "trees", "hide", "conifer_share", "bushes", "tree", "canopy_disc",
-      "vehicle", "vehicles", "object", "clutter", "flight_lines", "headings", "looks",
-      "altitude", "spacing", "swath_overlap", "canopy_spacing", "origin"};
+      "extent",      "terrain",  "trees",    "hide",          "conifer_share",  "bushes",       "tree",
+      "canopy_disc", "vehicle",  "vehicles", "object",        "clutter",        "flight_lines", "headings",
+      "looks",       "altitude", "spacing",  "swath_overlap", "canopy_spacing", "origin"};
   return keys;
 }
 
@@ -29,9 +29,7 @@ double number(const std::string& w) {
   double v = 0;
   try {
     v = std::stod(w, &used);
-  } catch (const std::logic_error&) {
-    used = 0;
-  }
+  } catch (const std::logic_error&) { used = 0; }
   if (used != w.size() || !std::isfinite(v)) throw UsageError("'" + w + "' is not a number");
   return v;
 }
@@ -41,16 +39,13 @@ int count(const std::string& w, int max) {
   long v = -1;
   try {
     v = std::stol(w, &used);
-  } catch (const std::logic_error&) {
-    used = 0;
-  }
+  } catch (const std::logic_error&) { used = 0; }
   if (used != w.size() || v < 0) throw UsageError("'" + w + "' is not a count >= 0");
   if (v > max) throw UsageError("count " + w + " exceeds the limit of " + std::to_string(max));
   return static_cast<int>(v);
 }
 
-void need(const std::vector<std::string>& words, std::size_t lo, std::size_t hi,
-          const std::string& form) {
+void need(const std::vector<std::string>& words, std::size_t lo, std::size_t hi, const std::string& form) {
   if (words.size() < lo || words.size() > hi) throw UsageError("expected '" + form + "'");
 }
 
@@ -69,8 +64,7 @@ std::string kinds() {
 
 bool is_tile_key(const std::string& key) { return tile_keys().count(key) > 0; }
 
-void apply_tile_key(TileRecipe* t, const std::string& key, const std::vector<std::string>& w,
-                    int line) {
+void apply_tile_key(TileRecipe* t, const std::string& key, const std::vector<std::string>& w, int line) {
   using common::parse_angle;
   using common::parse_length;
   if (key == "extent") {
@@ -101,8 +95,9 @@ void apply_tile_key(TileRecipe* t, const std::string& key, const std::vector<std
         throw UsageError("rolling wavelength must lie in [5 m, 200 m]");
       }
     } else {
-      throw UsageError("expected 'terrain = flat', 'slope ANGLE [AZIMUTH]' or 'rolling "
-                       "[AMPLITUDE [WAVELENGTH]]'");
+      throw UsageError(
+          "expected 'terrain = flat', 'slope ANGLE [AZIMUTH]' or 'rolling "
+          "[AMPLITUDE [WAVELENGTH]]'");
     }
   } else if (key == "trees" || key == "bushes") {
     need(w, 1, 1, key + " = PER_HECTARE");
@@ -149,12 +144,18 @@ void apply_tile_key(TileRecipe* t, const std::string& key, const std::vector<std
     v.y = parse_length(w[2]);
     v.heading = parse_angle(w[3]);
     for (std::size_t i = 4; i < w.size(); ++i) {
-      if (w[i] == "units=mm") v.import.scale = 1e-3;
-      else if (w[i] == "units=cm") v.import.scale = 1e-2;
-      else if (w[i] == "units=m") v.import.scale = 1;
-      else if (w[i] == "up=y") v.import.z_up = false;
-      else if (w[i] == "up=z") v.import.z_up = true;
-      else throw UsageError("unknown vehicle option '" + w[i] + "' (units=mm|cm|m, up=z|y)");
+      if (w[i] == "units=mm")
+        v.import.scale = 1e-3;
+      else if (w[i] == "units=cm")
+        v.import.scale = 1e-2;
+      else if (w[i] == "units=m")
+        v.import.scale = 1;
+      else if (w[i] == "up=y")
+        v.import.z_up = false;
+      else if (w[i] == "up=z")
+        v.import.z_up = true;
+      else
+        throw UsageError("unknown vehicle option '" + w[i] + "' (units=mm|cm|m, up=z|y)");
     }
     v.line = line;
     if (t->vehicles.size() >= 200) throw UsageError("more than 200 vehicles");
@@ -227,7 +228,8 @@ void apply_tile_key(TileRecipe* t, const std::string& key, const std::vector<std
   } else if (key == "swath_overlap") {
     need(w, 1, 1, "swath_overlap = FRACTION");
     t->swath_overlap = number(w[0]);
-    if (!(t->swath_overlap >= 0 && t->swath_overlap <= 2)) throw UsageError("swath_overlap must lie in [0, 2]");
+    if (!(t->swath_overlap >= 0 && t->swath_overlap <= 2))
+      throw UsageError("swath_overlap must lie in [0, 2]");
   } else if (key == "origin") {
     need(w, 2, 3, "origin = EASTING NORTHING [HEIGHT]");
     t->has_origin = true;
@@ -244,9 +246,8 @@ void check_tile(const TileRecipe& t, const std::string& name) {
   const auto check_xy = [&](double x, double y, int line, const std::string& what) {
     if (!(x >= 0 && x <= t.extent_x && y >= 0 && y <= t.extent_y)) {
       throw common::DataError(name, "line " + std::to_string(line) + ": " + what +
-                                        " lies outside the tile [0, " +
-                                        common::format_length(t.extent_x) + "] x [0, " +
-                                        common::format_length(t.extent_y) + "]");
+                                        " lies outside the tile [0, " + common::format_length(t.extent_x) +
+                                        "] x [0, " + common::format_length(t.extent_y) + "]");
     }
   };
   for (const auto& v : t.vehicles) check_xy(v.x, v.y, v.line, "vehicle '" + v.model + "'");

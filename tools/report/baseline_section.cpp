@@ -31,10 +31,9 @@ std::map<std::string, std::string> rank1(const std::string& text, const std::str
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(text);
-  } catch (const std::exception& e) {
-    throw common::DataError(path, std::string("not JSON: ") + e.what());
-  }
-  if (j.value("format", "") != "canopy.baseline") throw common::DataError(path, "not a canopy.baseline document");
+  } catch (const std::exception& e) { throw common::DataError(path, std::string("not JSON: ") + e.what()); }
+  if (j.value("format", "") != "canopy.baseline")
+    throw common::DataError(path, "not a canopy.baseline document");
   for (const auto& m : j.at("methods")) {
     const auto& models = m.at("models");
     out[m.at("method").get<std::string>()] = models.empty() ? "" : models[0].at("model").get<std::string>();
@@ -54,9 +53,7 @@ std::string verify_answer(const std::string& path) {
   try {
     const auto j = nlohmann::json::parse(text);
     return j.contains("model") && j["model"].is_string() ? j["model"].get<std::string>() : "";
-  } catch (const std::exception& e) {
-    throw common::DataError(path, std::string("not JSON: ") + e.what());
-  }
+  } catch (const std::exception& e) { throw common::DataError(path, std::string("not JSON: ") + e.what()); }
 }
 
 }  // namespace
@@ -111,8 +108,9 @@ BaselineSection baseline_section(const std::string& out_dir, const std::vector<s
           x->fpfh += f;
         }
         csv << o << ',' << s << ',' << n << ',' << canopy << ',' << c << ',' << answer << ',' << a << ','
-            << r["vfh"] << ',' << v << ',' << r["fpfh"] << ',' << f << ',' << (has_time ? num("%.3f", sec) : "") << ','
-            << (has_time ? num("%.1f", kib / 1024.0) : "") << '\n';
+            << r["vfh"] << ',' << v << ',' << r["fpfh"] << ',' << f << ','
+            << (has_time ? num("%.3f", sec) : "") << ',' << (has_time ? num("%.1f", kib / 1024.0) : "")
+            << '\n';
       }
     }
   }
@@ -128,17 +126,17 @@ BaselineSection baseline_section(const std::string& out_dir, const std::vector<s
         "|---|---:|---:|---:|---:|---:|\n";
   for (const auto& o : objects) {
     const Tally& x = by_object[o];
-    md << "| " << o << " | " << x.n << " | " << rate(x.canopy, x.n) << " | " << rate(x.verify, x.n)
-       << " | " << rate(x.vfh, x.n) << " | " << rate(x.fpfh, x.n) << " |\n";
+    md << "| " << o << " | " << x.n << " | " << rate(x.canopy, x.n) << " | " << rate(x.verify, x.n) << " | "
+       << rate(x.vfh, x.n) << " | " << rate(x.fpfh, x.n) << " |\n";
   }
-  md << "| all | " << all.n << " | " << rate(all.canopy, all.n) << " | " << rate(all.verify, all.n)
-     << " | " << rate(all.vfh, all.n) << " | " << rate(all.fpfh, all.n) << " |\n\n";
+  md << "| all | " << all.n << " | " << rate(all.canopy, all.n) << " | " << rate(all.verify, all.n) << " | "
+     << rate(all.vfh, all.n) << " | " << rate(all.fpfh, all.n) << " |\n\n";
   md << "| noise (mm) | trials | canopy (gmatch) | canopy (verify) | VFH | FPFH |\n"
         "|---:|---:|---:|---:|---:|---:|\n";
   for (int n : noises) {
     const Tally& x = by_noise[n];
-    md << "| " << n << " | " << x.n << " | " << rate(x.canopy, x.n) << " | " << rate(x.verify, x.n)
-       << " | " << rate(x.vfh, x.n) << " | " << rate(x.fpfh, x.n) << " |\n";
+    md << "| " << n << " | " << x.n << " | " << rate(x.canopy, x.n) << " | " << rate(x.verify, x.n) << " | "
+       << rate(x.vfh, x.n) << " | " << rate(x.fpfh, x.n) << " |\n";
   }
   md << "\nBaseline time (both methods, one process per trial): ";
   if (timed > 0) {

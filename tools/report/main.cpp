@@ -75,7 +75,8 @@ int main(int argc, char** argv) {
   std::string thesis;  // default: <share>/thesis/results.csv
   report::Params p;
   tool.add("--out", &out_dir, "experiment artifact directory");
-  tool.add("--results", &results, "directory for report.md, cases.csv, scores.csv, times.csv, areas.csv, verdicts.csv");
+  tool.add("--results", &results,
+           "directory for report.md, cases.csv, scores.csv, times.csv, areas.csv, verdicts.csv");
   tool.add("--objects", &objects, "objects (space separated)")->required();
   tool.add("--scenes", &scenes, "scenes (space separated)")->required();
   tool.add("--noises", &noises, "noise levels in mm (space separated)")->required();
@@ -84,16 +85,18 @@ int main(int argc, char** argv) {
   tool.add("--ablations", &ablations,
            "ablation variants, space separated NAME=STAGE+OPTIONS (results in OUT/ablation/NAME/)");
   std::string tile_score;
-  tool.add("--tile-score", &tile_score,
-           "the scene experiment's score.json (canopy.scene_score v1): adds its section to report.md and writes "
-           "times.csv beside it; its stages' .time files are found through its tiles");
+  tool.add(
+      "--tile-score", &tile_score,
+      "the scene experiment's score.json (canopy.scene_score v1): adds its section to report.md and writes "
+      "times.csv beside it; its stages' .time files are found through its tiles");
   tool.add("--max-segments", &p.max_segments, "largest object segments examined for spurious area");
   tool.add("--overseg-ratio", &p.overseg_ratio, "over-segmented when target segments exceed this x model's");
-  tool.add("--missing-area-ratio", &p.missing_area_ratio, "missing area when target area is below this x model's");
+  tool.add("--missing-area-ratio", &p.missing_area_ratio,
+           "missing area when target area is below this x model's");
   tool.add("--spurious-share", &p.spurious_share, "spurious when non-target area share exceeds this");
   return tool.run(argc, argv, [&] {
     // The six outputs are written together or not at all; their directory is checked now.
-    const std::vector<std::string> names = {"report.md", "cases.csv",  "scores.csv",
+    const std::vector<std::string> names = {"report.md", "cases.csv", "scores.csv",
                                             "times.csv", "areas.csv", "verdicts.csv"};
     common::OutputSet outputs;
     for (const auto& n : names) outputs.add(results + "/" + n, "--results");
@@ -199,7 +202,8 @@ int main(int argc, char** argv) {
     std::string markdown = r.markdown + bl.markdown;
     if (!tile_score.empty()) {
       common::log::Phase scenes_phase("scenes");
-      const auto score = formats::open_json_document(common::read_file(tile_score), tile_score, "canopy.scene_score");
+      const auto score =
+          formats::open_json_document(common::read_file(tile_score), tile_score, "canopy.scene_score");
       const auto times = report::scene_times(report::scene_runs(score));
       markdown += "\n" + report::scene_markdown(score, times, relative_to(scene_dir, results));
       outputs.set(scene_dir + "/times.csv", report::scene_times_csv(times));

@@ -119,7 +119,8 @@ double percentile(std::vector<double> values, double q) {
 VerifySummary summarize_verify(const Inputs& in) {
   VerifySummary s;
   const double edges[] = {0, 0.5, 0.7, 0.8, 0.9, 1.0};
-  for (std::size_t b = 0; b + 1 < std::size(edges); ++b) s.reliability.push_back({edges[b], edges[b + 1], 0, 0});
+  for (std::size_t b = 0; b + 1 < std::size(edges); ++b)
+    s.reliability.push_back({edges[b], edges[b + 1], 0, 0});
   std::vector<double> position, heading;
   for (const auto& c : in.cases) {
     const Judgement j = judge_verdict(c);
@@ -175,7 +176,8 @@ std::string verify_markdown(const Inputs& in, const VerifySummary& v) {
         "*flipped*: the true object posed 180° about the vertical (counted as wrong); *failed*: verify "
         "failed (empty `verdict.json`). \"without verify\" is the ablation: gmatch's rank-1 model on the "
         "same trials.";
-  if (v.not_run > 0) md << " verify was not run on " << v.not_run << " trials (no `verdict.json`); they are left out.";
+  if (v.not_run > 0)
+    md << " verify was not run on " << v.not_run << " trials (no `verdict.json`); they are left out.";
   md << " Per trial: `verdicts.csv`.\n\n"
      << "| | trials | right | wrong model | flipped | none | failed | without verify (gmatch rank 1) |\n"
      << "|---|---|---|---|---|---|---|---|\n";
@@ -228,10 +230,12 @@ std::string verdicts_csv(const Inputs& in, const VerifySummary& v) {
     const bool answered = j.outcome != Outcome::not_run && j.outcome != Outcome::failed;
     csv << c.object << ',' << c.scene << ',' << c.noise_mm << ',' << j.answer << ','
         << (answered ? fmt("%.4f", j.confidence) : "") << ','
-        << (j.outcome == Outcome::not_run ? "" : j.outcome == Outcome::right ? "1" : "0") << ','
-        << j.gmatch_model << ',' << outcome_name(j.outcome) << ','
-        << (j.posed ? fmt("%.4f", j.position_error) : "") << ',' << (j.posed ? fmt("%.3f", j.heading_error) : "")
-        << '\n';
+        << (j.outcome == Outcome::not_run ? ""
+            : j.outcome == Outcome::right ? "1"
+                                          : "0")
+        << ',' << j.gmatch_model << ',' << outcome_name(j.outcome) << ','
+        << (j.posed ? fmt("%.4f", j.position_error) : "") << ','
+        << (j.posed ? fmt("%.3f", j.heading_error) : "") << '\n';
   }
   return csv.str();
 }
@@ -382,13 +386,12 @@ Output run(const Inputs& in, const Params& p) {
       return it != c.times.end() && it->second.present ? fmt("%.3f", it->second.seconds) : std::string();
     };
     const double best_score = c.match.models.empty() ? 0 : c.match.models.front().score;
-    cases_csv << c.object << ',' << c.scene << ',' << c.noise_mm << ',' << fmt("%.4f", d.correct_score)
-              << ',' << d.correct_rank << ',' << fmt("%.4f", d.entropy) << ',' << d.best_model << ','
-              << fmt("%.4f", best_score) << ',' << c.segments.segments.size() << ','
-              << d.target_segments << ',' << d.model_segments << ',' << fmt("%.3f", d.target_area) << ','
-              << fmt("%.3f", d.model_area) << ',' << d.spurious_segments << ','
-              << fmt("%.3f", d.spurious_area_share) << ',' << d.over_segmented << ',' << d.missing_area
-              << ',' << d.spurious << ',';
+    cases_csv << c.object << ',' << c.scene << ',' << c.noise_mm << ',' << fmt("%.4f", d.correct_score) << ','
+              << d.correct_rank << ',' << fmt("%.4f", d.entropy) << ',' << d.best_model << ','
+              << fmt("%.4f", best_score) << ',' << c.segments.segments.size() << ',' << d.target_segments << ','
+              << d.model_segments << ',' << fmt("%.3f", d.target_area) << ',' << fmt("%.3f", d.model_area)
+              << ',' << d.spurious_segments << ',' << fmt("%.3f", d.spurious_area_share) << ','
+              << d.over_segmented << ',' << d.missing_area << ',' << d.spurious << ',';
     if (th != in.thesis.end()) {
       cases_csv << fmt("%.3f", th->second.score) << ',' << th->second.rank << ','
                 << fmt("%.2f", th->second.entropy);
@@ -398,8 +401,7 @@ Output run(const Inputs& in, const Params& p) {
     const auto fit = c.times.find("fitvox");
     cases_csv << ',' << time_of("addnoise") << ',' << time_of("fitvox") << ',' << time_of("cocone") << ','
               << time_of("ncut") << ',' << time_of("gmatch") << ','
-              << (fit != c.times.end() && fit->second.present ? fmt("%.0f", fit->second.peak_mb) : "")
-              << '\n';
+              << (fit != c.times.end() && fit->second.present ? fmt("%.0f", fit->second.peak_mb) : "") << '\n';
     scores_csv << c.object << ',' << c.scene << ',' << c.noise_mm << ',' << fmt("%.4f", d.correct_score)
                << ',' << d.correct_rank << ',' << fmt("%.4f", d.entropy) << '\n';
   }
@@ -421,7 +423,8 @@ Output run(const Inputs& in, const Params& p) {
      << " noise levels = " << total << " trials, each matched against the " << in.models.size()
      << "-model modelbase built from the `unoccluded`, noise-free scans (thesis §6.4). "
         "Generated by `make -f Makefile.experiments all`; every number is also in `cases.csv`.\n\n";
-  md << "## Recognition rate\n\n| object | canopy | thesis (printed) | thesis (its table) |\n|---|---|---|---|\n";
+  md << "## Recognition rate\n\n| object | canopy | thesis (printed) | thesis (its table) "
+        "|\n|---|---|---|---|\n";
   for (const auto& o : in.objects) {
     const auto& po = per_object[o];
     const auto& to = thesis_object[o];
@@ -442,9 +445,7 @@ Output run(const Inputs& in, const Params& p) {
     md << " all |\n|---|---|";
     for (std::size_t i = 0; i <= in.objects.size(); ++i) md << "---|";
     md << "\n| **canopy defaults** | |";
-    for (const auto& o : in.objects) {
-      md << " " << pct(per_object[o].first, per_object[o].second) << " |";
-    }
+    for (const auto& o : in.objects) { md << " " << pct(per_object[o].first, per_object[o].second) << " |"; }
     md << " **" << pct(total_ok, total) << "** |\n";
     for (const auto& a : in.ablations) {
       md << "| " << a.name << " | `" << a.change << "` |";
@@ -460,8 +461,8 @@ Output run(const Inputs& in, const Params& p) {
         all_n += n;
         md << " " << pct(ok, n) << " |";
       }
-      md << " " << pct(all_ok, all_n) << (a.failed ? " (" + std::to_string(a.failed) + " failed in a stage)" : "")
-         << " |\n";
+      md << " " << pct(all_ok, all_n)
+         << (a.failed ? " (" + std::to_string(a.failed) + " failed in a stage)" : "") << " |\n";
     }
     md << "\n";
   }
@@ -493,7 +494,8 @@ Output run(const Inputs& in, const Params& p) {
           "the last column is the matched area relative to 0 mm on the same object/scene pairs. "
           "Per trial: `out/<object>/<scene>/noise-<mm>/areas.json`; this table as CSV: `areas.csv` "
           "(`figures plot -i areas.csv` draws it).\n\n"
-       << "| noise (mm) | trials | visible (m², mean) | samples | mesh | segments | matched | matched vs 0 mm |\n"
+       << "| noise (mm) | trials | visible (m², mean) | samples | mesh | segments | matched | matched vs 0 "
+          "mm |\n"
        << "|---|---|---|---|---|---|---|---|\n";
     for (const auto& a : area_rows) {
       if (a.trials == 0) continue;
@@ -508,11 +510,14 @@ Output run(const Inputs& in, const Params& p) {
       for (const auto& a : area_rows) {
         if (a.trials == 0) continue;
         const std::string st(stage);
-        const double v = st == "samples" ? a.samples : st == "mesh" ? a.mesh : st == "segments" ? a.segments : a.matched;
+        const double v = st == "samples"    ? a.samples
+                         : st == "mesh"     ? a.mesh
+                         : st == "segments" ? a.segments
+                                            : a.matched;
         char label[40];
         std::snprintf(label, sizeof label, "%-8s %2d mm |", stage, a.noise_mm);
-        md << label << std::string(static_cast<std::size_t>(std::lround(std::clamp(v, 0.0, 1.0) * 50)), '#') << ' '
-           << fmt("%.0f%%", 100 * v) << "\n";
+        md << label << std::string(static_cast<std::size_t>(std::lround(std::clamp(v, 0.0, 1.0) * 50)), '#')
+           << ' ' << fmt("%.0f%%", 100 * v) << "\n";
       }
     }
     md << "```\n\n";
@@ -526,7 +531,8 @@ Output run(const Inputs& in, const Params& p) {
   if (n_fail == 0) {
     md << "No trial failed.\n\n";
   } else {
-    md << n_fail << " trials did not rank the correct model first. Measured against the ground-truth "
+    md << n_fail
+       << " trials did not rank the correct model first. Measured against the ground-truth "
           "labels (a trial can have several causes):\n\n"
        << "| cause | trials | test |\n|---|---|---|\n"
        << "| over-segmentation | " << n_over << " | target segments > " << p.overseg_ratio
@@ -539,7 +545,8 @@ Output run(const Inputs& in, const Params& p) {
   }
 
   md << "## Per object\n\nScore and rank of the correct model, entropy of the scores over the models "
-        "(bits; " << fmt("%.2f", std::log2(std::max<std::size_t>(1, in.models.size())))
+        "(bits; "
+     << fmt("%.2f", std::log2(std::max<std::size_t>(1, in.models.size())))
      << " = no idea); the thesis's values beside ours. Diagnosis columns: target segments / model "
         "segments, target area / model area (m²), non-target area share of the largest segments.\n\n";
   for (const auto& o : in.objects) {
@@ -547,7 +554,8 @@ Output run(const Inputs& in, const Params& p) {
     md << "### " << o << " — " << pct(po.first, po.second) << " (thesis "
        << (kThesisPrinted.count(o) ? std::to_string(kThesisPrinted.at(o)) + "%" : "–") << ")\n\n"
        << "| scene | noise (mm) | score | rank | entropy | best model | thesis score | thesis rank | "
-          "thesis entropy | segments | area | spurious |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+          "thesis entropy | segments | area | spurious "
+          "|\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const auto& s : in.scenes) {
       for (int n : in.noises) {
         const std::string k = key(o, s, n);
@@ -559,12 +567,13 @@ Output run(const Inputs& in, const Params& p) {
            << (d.correct_rank == 1 ? "1" : "**" + std::to_string(d.correct_rank) + "**") << " | "
            << fmt("%.2f", d.entropy) << " | " << d.best_model << " | ";
         if (th != in.thesis.end()) {
-          md << fmt("%.3f", th->second.score) << " | " << th->second.rank << " | " << fmt("%.2f", th->second.entropy);
+          md << fmt("%.3f", th->second.score) << " | " << th->second.rank << " | "
+             << fmt("%.2f", th->second.entropy);
         } else {
           md << "– | – | –";
         }
-        md << " | " << d.target_segments << "/" << d.model_segments << " | " << fmt("%.1f", d.target_area) << "/"
-           << fmt("%.1f", d.model_area) << " | " << fmt("%.2f", d.spurious_area_share) << " |\n";
+        md << " | " << d.target_segments << "/" << d.model_segments << " | " << fmt("%.1f", d.target_area)
+           << "/" << fmt("%.1f", d.model_area) << " | " << fmt("%.2f", d.spurious_area_share) << " |\n";
       }
     }
     md << "\n";
@@ -572,7 +581,8 @@ Output run(const Inputs& in, const Params& p) {
 
   md << "## Time per stage\n\nWall time on this machine (`scripts/stage.sh` around every run; with "
         "`-j2` two runs share the 2 cores), beside the thesis's Table A.1 (2002 hardware).\n\n"
-     << "| stage | tool | runs | total (h:mm:ss) | mean (s) | peak memory (MB) | thesis runs | thesis total (h:mm) |\n"
+     << "| stage | tool | runs | total (h:mm:ss) | mean (s) | peak memory (MB) | thesis runs | thesis total "
+        "(h:mm) |\n"
      << "|---|---|---|---|---|---|---|---|\n";
   times_csv << "stage,runs,total_s,mean_s,peak_mb\n";
   {
@@ -589,8 +599,8 @@ Output run(const Inputs& in, const Params& p) {
     stage_sum["rangetrace"] = render;
     stage_runs["rangetrace"] = render_runs;
     times_csv << "rangetrace," << render_runs << ',' << fmt("%.3f", render.seconds) << ','
-              << fmt("%.3f", render_runs ? render.seconds / render_runs : 0) << ',' << fmt("%.0f", render.peak_mb)
-              << '\n';
+              << fmt("%.3f", render_runs ? render.seconds / render_runs : 0) << ','
+              << fmt("%.0f", render.peak_mb) << '\n';
     for (const char* s : {"addnoise", "fitvox", "cocone", "ncut", "gmatch", "verify"}) {
       if (std::string(s) == "rangetrace") continue;
       const auto& t = stage_sum[s];
@@ -603,8 +613,8 @@ Output run(const Inputs& in, const Params& p) {
       const int r = stage_runs[tool];
       md << "| " << label << " | `" << tool << "` | " << r;
       if (runs_extra_images > 0) md << " (" << runs_extra_images << " images)";
-      md << " | " << hms(t.seconds) << " | " << fmt("%.2f", r ? t.seconds / r : 0) << " | " << fmt("%.0f", t.peak_mb)
-         << " | ";
+      md << " | " << hms(t.seconds) << " | " << fmt("%.2f", r ? t.seconds / r : 0) << " | "
+         << fmt("%.0f", t.peak_mb) << " | ";
       for (const auto& th : kThesisTimes) {
         if (tool == th.ours) {
           md << th.runs << " | " << th.minutes / 60 << ":" << fmt("%02.0f", th.minutes % 60);
@@ -631,7 +641,8 @@ Output run(const Inputs& in, const Params& p) {
     for (const auto& f : in.figures) md << "![" << f << "](" << f << ")\n\n";
   }
   md << "## Reproduce\n\n    make -f Makefile.experiments all -j2\n\nArtifacts per trial: "
-        "`out/<object>/<scene>/noise-<mm>/{scan.pcd,samples.pcd,mesh.ply,segments.json,segments.ply,match.json,verdict.json}` "
+        "`out/<object>/<scene>/noise-<mm>/"
+        "{scan.pcd,samples.pcd,mesh.ply,segments.json,segments.ply,match.json,verdict.json}` "
         "(open the PLY files in MeshLab; `pcd2ply` converts the PCD files). Decisions behind every "
         "default: `docs/decisions.md`.\n";
 
@@ -654,7 +665,8 @@ std::map<std::string, ThesisRow> parse_thesis_csv(const std::string& text, const
     std::string cell;
     std::istringstream ls(line);
     while (std::getline(ls, cell, ',')) f.push_back(cell);
-    if (f.size() != 6) throw common::DataError(name, "line " + std::to_string(lineno) + ": expected 6 columns");
+    if (f.size() != 6)
+      throw common::DataError(name, "line " + std::to_string(lineno) + ": expected 6 columns");
     try {
       rows[f[0] + "/" + f[1] + "/" + f[2]] = {std::stod(f[3]), std::stoi(f[4]), std::stod(f[5])};
     } catch (const std::exception&) {

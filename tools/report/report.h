@@ -55,20 +55,20 @@ struct ThesisRow {
 // A variant of the experiment with one project default undone (out/ablation/<name>/).
 struct Ablation {
   std::string name;
-  std::string change;  // e.g. "ncut --exponent squared"
+  std::string change;                       // e.g. "ncut --exponent squared"
   std::map<std::string, int> correct_rank;  // "<object>/<scene>/<noise>" -> rank of the right model
-  int failed = 0;                            // trials where a stage failed (rank 0)
+  int failed = 0;                           // trials where a stage failed (rank 0)
 };
 
 struct Inputs {
   std::vector<std::string> objects, scenes;
   std::vector<int> noises;
-  std::vector<Case> cases;                               // objects x scenes x noises, in order
-  std::map<std::string, formats::SegmentGraph> models;   // the modelbase, by model name
-  std::map<std::string, StageTime> render_times;         // "<object>/<scene>" -> rangetrace run
-  std::map<std::string, int> render_views;               // scene -> views per rendering
-  std::map<std::string, ThesisRow> thesis;               // "<object>/<scene>/<noise>" -> row
-  std::vector<std::string> figures;                      // figure paths relative to the report
+  std::vector<Case> cases;                              // objects x scenes x noises, in order
+  std::map<std::string, formats::SegmentGraph> models;  // the modelbase, by model name
+  std::map<std::string, StageTime> render_times;        // "<object>/<scene>" -> rangetrace run
+  std::map<std::string, int> render_views;              // scene -> views per rendering
+  std::map<std::string, ThesisRow> thesis;              // "<object>/<scene>/<noise>" -> row
+  std::vector<std::string> figures;                     // figure paths relative to the report
   std::vector<Ablation> ablations;
 };
 
@@ -97,7 +97,7 @@ Diagnosis diagnose(const Case& c, const formats::SegmentGraph* model, const Para
 struct AreaSummary {
   int noise_mm = 0;
   int trials = 0;
-  double visible = 0;  // m², summed
+  double visible = 0;                                       // m², summed
   double samples = 0, mesh = 0, segments = 0, matched = 0;  // fractions of visible
   double matched_vs_0 = 0;  // Σ matched(noise) / Σ matched(0 mm); 0 when no pair has both
   int pairs_vs_0 = 0;
@@ -114,9 +114,9 @@ const char* outcome_name(Outcome o);
 
 struct Judgement {
   Outcome outcome = Outcome::not_run;
-  std::string answer;        // model name, "none", or "" (not run / failed)
-  double confidence = 0;     // when answered (right, flipped, wrong_model, none)
-  bool posed = false;        // the answer is the true model and carries a pose
+  std::string answer;         // model name, "none", or "" (not run / failed)
+  double confidence = 0;      // when answered (right, flipped, wrong_model, none)
+  bool posed = false;         // the answer is the true model and carries a pose
   double position_error = 0;  // m
   double heading_error = 0;   // degrees, in [0, 180]
   bool gmatch_right = false;  // gmatch ranked the true model first (the ablation without verify)
@@ -138,7 +138,7 @@ struct ReliabilityBin {
 };
 
 struct VerifySummary {
-  int not_run = 0;                         // trials without verdict.json
+  int not_run = 0;  // trials without verdict.json
   VerifyTally all;
   std::map<std::string, VerifyTally> per_object;
   std::map<int, VerifyTally> per_noise;
@@ -147,7 +147,7 @@ struct VerifySummary {
   // order statistics).
   int posed = 0;
   double position_median = 0, position_p90 = 0, heading_median = 0, heading_p90 = 0;
-  std::vector<Judgement> judgements;       // one per case, in Inputs::cases order
+  std::vector<Judgement> judgements;  // one per case, in Inputs::cases order
 };
 VerifySummary summarize_verify(const Inputs& in);
 
@@ -189,11 +189,11 @@ struct SceneRun {
 // runs for every stage but rangetrace. A missing .time file is not counted.
 struct SceneStageTime {
   std::string stage;
-  int runs = 0;            // .time files read
-  double seconds = 0;      // summed wall time
-  double area_ha = 0;      // hectares the stage covered (renders, or runs)
-  double per_ha = 0;       // seconds / area_ha (0 when no area)
-  double peak_mb = 0;      // largest peak memory of one run
+  int runs = 0;        // .time files read
+  double seconds = 0;  // summed wall time
+  double area_ha = 0;  // hectares the stage covered (renders, or runs)
+  double per_ha = 0;   // seconds / area_ha (0 when no area)
+  double peak_mb = 0;  // largest peak memory of one run
 };
 std::vector<SceneStageTime> scene_times(const std::vector<SceneRun>& runs);
 

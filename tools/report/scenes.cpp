@@ -62,12 +62,14 @@ std::vector<SceneRun> scene_runs(const Json& score) {
 }
 
 std::vector<SceneStageTime> scene_times(const std::vector<SceneRun>& runs) {
-  const std::vector<std::pair<std::string, std::string>> per_candidate = {
-      {"fitvox", "samples.pcd"}, {"cocone", "mesh.ply"}, {"ncut", "segments.json"},
-      {"gmatch", "match.json"}, {"verify", "verdict.json"}};
+  const std::vector<std::pair<std::string, std::string>> per_candidate = {{"fitvox", "samples.pcd"},
+                                                                          {"cocone", "mesh.ply"},
+                                                                          {"ncut", "segments.json"},
+                                                                          {"gmatch", "match.json"},
+                                                                          {"verify", "verdict.json"}};
   std::vector<SceneStageTime> out;
-  for (const char* s : {"rangetrace", "addnoise", "detect", "plan", "fitvox", "cocone", "ncut", "gmatch", "verify",
-                        "collect", "topview"}) {
+  for (const char* s : {"rangetrace", "addnoise", "detect", "plan", "fitvox", "cocone", "ncut", "gmatch",
+                        "verify", "collect", "topview"}) {
     SceneStageTime t;
     t.stage = s;
     out.push_back(t);
@@ -134,7 +136,8 @@ std::string scene_markdown(const Json& score, const std::vector<SceneStageTime>&
   for (const Json& t : tiles) {
     const std::string c = text(field(t, "cover"));
     if (std::find(covers.begin(), covers.end(), c) == covers.end() && c != "–") covers.push_back(c);
-    renders.insert(std::filesystem::path(t.value("detections", std::string())).parent_path().parent_path().string());
+    renders.insert(
+        std::filesystem::path(t.value("detections", std::string())).parent_path().parent_path().string());
   }
   const Json* all = nullptr;
   for (const Json& s : summary) {
@@ -144,8 +147,9 @@ std::string scene_markdown(const Json& score, const std::vector<SceneStageTime>&
   md << "Whole tiles (docs/decisions/scene-experiment.md): " << renders.size() << " rendered tiles, "
      << tiles.size() << " runs (tile × noise level)";
   if (all != nullptr) {
-    md << ", " << fmt("%.2f", field(*all, "area_ha").get<double>()) << " ha in all, " << text(field(*all, "true"))
-       << " true vehicles, " << text(field(*all, "candidates")) << " candidates verified";
+    md << ", " << fmt("%.2f", field(*all, "area_ha").get<double>()) << " ha in all, "
+       << text(field(*all, "true")) << " true vehicles, " << text(field(*all, "candidates"))
+       << " candidates verified";
   }
   md << ". A detection matches a true vehicle whose centre lies within "
      << num(field(field(score, "params"), "match_radius_m"), "%g")
@@ -155,19 +159,22 @@ std::string scene_markdown(const Json& score, const std::vector<SceneStageTime>&
 
   md << "### Detection, identification and pose\n\n"
         "| cover | noise (mm) | tiles | mean vehicle cover | true | candidates | detections | TP | FP | FN | "
-        "precision | recall | F1 | false alarms / ha | identification | recognition | position error median / "
+        "precision | recall | F1 | false alarms / ha | identification | recognition | position error median "
+        "/ "
         "p90 (m) | heading error median / p90 (°) | flips |\n"
         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const Json& s : summary) {
-    md << "| " << text(field(s, "cover")) << " | " << text(field(s, "noise_mm")) << " | " << text(field(s, "tiles"))
-       << " | " << num(field(s, "mean_vehicle_cover"), "%.2f") << " | " << text(field(s, "true")) << " | "
-       << text(field(s, "candidates")) << " | " << text(field(s, "detections")) << " | " << text(field(s, "tp"))
-       << " | " << text(field(s, "fp")) << " | " << text(field(s, "fn")) << " | " << rate(field(s, "precision"))
-       << " | " << rate(field(s, "recall")) << " | " << rate(field(s, "f1")) << " | "
+    md << "| " << text(field(s, "cover")) << " | " << text(field(s, "noise_mm")) << " | "
+       << text(field(s, "tiles")) << " | " << num(field(s, "mean_vehicle_cover"), "%.2f") << " | "
+       << text(field(s, "true")) << " | " << text(field(s, "candidates")) << " | "
+       << text(field(s, "detections")) << " | " << text(field(s, "tp")) << " | " << text(field(s, "fp"))
+       << " | " << text(field(s, "fn")) << " | " << rate(field(s, "precision")) << " | "
+       << rate(field(s, "recall")) << " | " << rate(field(s, "f1")) << " | "
        << num(field(s, "false_alarms_per_ha"), "%.1f") << " | " << rate(field(s, "identification")) << " | "
        << rate(field(s, "recognition")) << " | " << num(field(s, "position_error_median_m"), "%.2f") << " / "
-       << num(field(s, "position_error_p90_m"), "%.2f") << " | " << num(field(s, "heading_error_median_deg"), "%.1f")
-       << " / " << num(field(s, "heading_error_p90_deg"), "%.1f") << " | " << text(field(s, "flips")) << " |\n";
+       << num(field(s, "position_error_p90_m"), "%.2f") << " | "
+       << num(field(s, "heading_error_median_deg"), "%.1f") << " / "
+       << num(field(s, "heading_error_p90_deg"), "%.1f") << " | " << text(field(s, "flips")) << " |\n";
   }
   md << "\n";
 
@@ -203,10 +210,10 @@ std::string scene_markdown(const Json& score, const std::vector<SceneStageTime>&
         "| model | cover | true | matched | identified | recall | identification | recognition |\n"
         "|---|---|---|---|---|---|---|---|\n";
   for (const Json& m : field(score, "models")) {
-    md << "| " << text(field(m, "model")) << " | " << text(field(m, "cover")) << " | " << text(field(m, "true"))
-       << " | " << text(field(m, "matched")) << " | " << text(field(m, "identified")) << " | "
-       << rate(field(m, "recall")) << " | " << rate(field(m, "identification")) << " | "
-       << rate(field(m, "recognition")) << " |\n";
+    md << "| " << text(field(m, "model")) << " | " << text(field(m, "cover")) << " | "
+       << text(field(m, "true")) << " | " << text(field(m, "matched")) << " | "
+       << text(field(m, "identified")) << " | " << rate(field(m, "recall")) << " | "
+       << rate(field(m, "identification")) << " | " << rate(field(m, "recognition")) << " |\n";
   }
   md << "\n";
 
@@ -217,12 +224,12 @@ std::string scene_markdown(const Json& score, const std::vector<SceneStageTime>&
         "|---|---|---|---|---|---|---|\n";
   for (const Json& b : field(score, "cover_bins")) {
     md << "| " << num(field(b, "cover_lo"), "%.2f") << "–" << num(field(b, "cover_hi"), "%.2f") << " | "
-       << text(field(b, "noise_mm")) << " | " << text(field(b, "true")) << " | " << text(field(b, "detected")) << " | "
-       << text(field(b, "recognised")) << " | " << rate(field(b, "recall")) << " | " << rate(field(b, "recognition"))
-       << " |\n";
+       << text(field(b, "noise_mm")) << " | " << text(field(b, "true")) << " | " << text(field(b, "detected"))
+       << " | " << text(field(b, "recognised")) << " | " << rate(field(b, "recall")) << " | "
+       << rate(field(b, "recognition")) << " |\n";
   }
-  md << "\n![recognition against canopy cover](" << fig << "/cover.png)\n\n![recognition against noise](" << fig
-     << "/noise.png)\n\n";
+  md << "\n![recognition against canopy cover](" << fig << "/cover.png)\n\n![recognition against noise]("
+     << fig << "/noise.png)\n\n";
 
   // Precision-recall: at most 12 rows (every k-th threshold and the last); all of it in pr.csv.
   const Json& pr = field(score, "pr");
@@ -231,15 +238,16 @@ std::string scene_markdown(const Json& score, const std::vector<SceneStageTime>&
     md << "No detection: no curve.\n\n";
   } else {
     md << "Detections at or above each confidence threshold (all runs; " << pr.size()
-       << " thresholds, every one in `scenes/pr.csv`).\n\n| confidence ≥ | detections | TP | FP | precision | recall |\n"
+       << " thresholds, every one in `scenes/pr.csv`).\n\n| confidence ≥ | detections | TP | FP | precision "
+          "| recall |\n"
           "|---|---|---|---|---|---|\n";
     const std::size_t step = (pr.size() + 11) / 12;
     for (std::size_t i = 0; i < pr.size(); ++i) {
       if (i % step != 0 && i + 1 != pr.size()) continue;
       const Json& r = pr[i];
       md << "| " << num(field(r, "threshold"), "%.3f") << " | " << text(field(r, "detections")) << " | "
-         << text(field(r, "tp")) << " | " << text(field(r, "fp")) << " | " << rate(field(r, "precision")) << " | "
-         << rate(field(r, "recall")) << " |\n";
+         << text(field(r, "tp")) << " | " << text(field(r, "fp")) << " | " << rate(field(r, "precision"))
+         << " | " << rate(field(r, "recall")) << " |\n";
     }
     md << "\n";
   }
@@ -251,8 +259,8 @@ std::string scene_markdown(const Json& score, const std::vector<SceneStageTime>&
         "| stage | runs | wall s | s per ha | peak MB |\n|---|---|---|---|---|\n";
   double total = 0;
   for (const auto& t : times) {
-    md << "| " << t.stage << " | " << t.runs << " | " << fmt("%.1f", t.seconds) << " | " << fmt("%.1f", t.per_ha)
-       << " | " << fmt("%.0f", t.peak_mb) << " |\n";
+    md << "| " << t.stage << " | " << t.runs << " | " << fmt("%.1f", t.seconds) << " | "
+       << fmt("%.1f", t.per_ha) << " | " << fmt("%.0f", t.peak_mb) << " |\n";
     total += t.seconds;
   }
   md << "| **all** | | **" << fmt("%.1f", total) << "** | | |\n\n";

@@ -27,9 +27,7 @@ std::vector<double> parse_bins(const std::string& s) {
     double v = 0;
     try {
       v = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
+    } catch (const std::exception&) { used = 0; }
     if (used == 0 || used != item.size() || !std::isfinite(v)) {
       throw common::UsageError("--cover-bins: '" + item + "' is not a number");
     }
@@ -44,7 +42,8 @@ std::vector<double> parse_bins(const std::string& s) {
   return edges;
 }
 
-score::Tile load(const std::string& detections, const std::string& truth, double noise, const std::string& cover) {
+score::Tile load(const std::string& detections, const std::string& truth, double noise,
+                 const std::string& cover) {
   score::Tile t;
   t.detections = score::parse_detections(common::read_file(detections), detections);
   t.truth = score::parse_truth(common::read_file(truth), truth);
@@ -77,9 +76,7 @@ std::vector<score::Tile> load_manifest(const std::string& path) {
       std::size_t used = 0;
       try {
         noise = std::stod(words[2], &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
+      } catch (const std::exception&) { used = 0; }
       if (used != words[2].size() || !(noise >= 0 && noise < 1e6)) {
         throw common::DataError(path, where + ": noise '" + words[2] + "' is not a number of millimetres");
       }
@@ -94,9 +91,10 @@ std::vector<score::Tile> load_manifest(const std::string& path) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  common::Tool tool("score", "Scores detections.json against truth.json for one or many tiles: detection "
-                             "precision/recall/F1, false alarms per hectare, a precision-recall curve, "
-                             "identification, pose errors, recognition against canopy cover and noise.");
+  common::Tool tool("score",
+                    "Scores detections.json against truth.json for one or many tiles: detection "
+                    "precision/recall/F1, false alarms per hectare, a precision-recall curve, "
+                    "identification, pose errors, recognition against canopy cover and noise.");
   tool.without_threads();
   score::Params p;
   std::string detections, truth, manifest, cover, bins = "0,0.25,0.5,0.75,1", out = "-", csv;
@@ -106,13 +104,15 @@ int main(int argc, char** argv) {
   tool.add("--noise", &noise, "one tile: its noise level in mm (-1 = not given)");
   tool.add("--cover", &cover, "one tile: its cover level label (light, medium, dense, ...)");
   tool.add("--tiles", &manifest, "many tiles: a file of lines DETECTIONS TRUTH [NOISE_MM [COVER]]");
-  tool.add_length("--match-radius", &p.match_radius, "a detection matches a true vehicle within this "
-                                                     "horizontal distance of its centre");
+  tool.add_length("--match-radius", &p.match_radius,
+                  "a detection matches a true vehicle within this "
+                  "horizontal distance of its centre");
   tool.add("--cover-bins", &bins, "edges of the per-vehicle canopy cover bins, comma-separated");
   tool.add("--flip-threshold", &p.flip_threshold, "heading error (degrees) counted as a flip");
   tool.add_output(&out, "score JSON (canopy.scene_score v1)");
-  tool.add("--csv", &csv, "also write the tables as <PREFIX>summary.csv, pr.csv, models.csv, "
-                                 "cover_bins.csv, matches.csv");
+  tool.add("--csv", &csv,
+           "also write the tables as <PREFIX>summary.csv, pr.csv, models.csv, "
+           "cover_bins.csv, matches.csv");
   return tool.run(argc, argv, [&] {
     if (manifest.empty() == (detections.empty() && truth.empty())) {
       throw common::UsageError("give either --tiles or --detections with --truth");
@@ -123,9 +123,12 @@ int main(int argc, char** argv) {
     if (!manifest.empty() && (noise != -1 || !cover.empty())) {
       throw common::UsageError("--noise and --cover are for one tile; the --tiles file gives them per tile");
     }
-    if (!(noise == -1 || (noise >= 0 && noise < 1e6))) throw common::UsageError("--noise must be >= 0 (mm) or -1");
-    if (!(p.match_radius > 0 && p.match_radius <= 100)) throw common::UsageError("--match-radius must be in (0, 100m]");
-    if (!(p.flip_threshold > 0 && p.flip_threshold <= 180)) throw common::UsageError("--flip-threshold must be in (0, 180]");
+    if (!(noise == -1 || (noise >= 0 && noise < 1e6)))
+      throw common::UsageError("--noise must be >= 0 (mm) or -1");
+    if (!(p.match_radius > 0 && p.match_radius <= 100))
+      throw common::UsageError("--match-radius must be in (0, 100m]");
+    if (!(p.flip_threshold > 0 && p.flip_threshold <= 180))
+      throw common::UsageError("--flip-threshold must be in (0, 180]");
     p.cover_bins = parse_bins(bins);
     static const char* tables[] = {"summary", "pr", "models", "cover_bins", "matches"};
     common::OutputSet outputs;
@@ -134,8 +137,9 @@ int main(int argc, char** argv) {
       for (const char* t : tables) outputs.add(csv + t + ".csv", "--csv");
     }
     const std::vector<score::Tile> tiles =
-        manifest.empty() ? std::vector<score::Tile>{load(detections, truth, noise == -1 ? std::nan("") : noise, cover)}
-                         : load_manifest(manifest);
+        manifest.empty()
+            ? std::vector<score::Tile>{load(detections, truth, noise == -1 ? std::nan("") : noise, cover)}
+            : load_manifest(manifest);
     nlohmann::ordered_json result = score::score(tiles, p);
     nlohmann::ordered_json params = nlohmann::ordered_json::object();
     for (const auto& [k, v] : tool.parameters()) params[k] = v;
@@ -144,9 +148,11 @@ int main(int argc, char** argv) {
       inputs.push_back(t.detections.name);
       inputs.push_back(t.truth.name);
     }
-    nlohmann::ordered_json doc{{"format", result["format"]}, {"version", result["version"]},
-                               {"provenance", {{"tool", "score"}, {"version", CANOPY_VERSION},
-                                               {"parameters", params}, {"inputs", inputs}}}};
+    nlohmann::ordered_json doc{
+        {"format", result["format"]},
+        {"version", result["version"]},
+        {"provenance",
+         {{"tool", "score"}, {"version", CANOPY_VERSION}, {"parameters", params}, {"inputs", inputs}}}};
     for (const auto& [k, v] : result.items()) {
       if (k != "format" && k != "version") doc[k] = v;
     }
@@ -161,7 +167,7 @@ int main(int argc, char** argv) {
       return v.is_number() ? std::to_string(v.get<double>()).substr(0, 5) : std::string("n/a");
     };
     common::log::info(std::to_string(tiles.size()) + " tiles, " + all["true"].dump() + " true vehicles, " +
-                      all["detections"].dump() + " detections: precision " + show(all["precision"]) + ", recall " +
-                      show(all["recall"]) + ", identification " + show(all["identification"]));
+                      all["detections"].dump() + " detections: precision " + show(all["precision"]) +
+                      ", recall " + show(all["recall"]) + ", identification " + show(all["identification"]));
   });
 }

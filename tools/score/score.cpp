@@ -88,7 +88,8 @@ Truth parse_truth(const std::string& text_, const std::string& name) {
       const std::string w = "vehicles[" + std::to_string(i) + "]";
       TrueVehicle v;
       v.instance = count(vs[i], "instance", w);
-      if (!seen.insert(v.instance).second) throw Malformed(w + ".instance " + std::to_string(v.instance) + " repeats");
+      if (!seen.insert(v.instance).second)
+        throw Malformed(w + ".instance " + std::to_string(v.instance) + " repeats");
       v.model = text(vs[i], "model", w);
       const Json& pose = member(vs[i], "pose", w);
       v.x = number(pose, "x", w + ".pose");
@@ -99,9 +100,7 @@ Truth parse_truth(const std::string& text_, const std::string& name) {
       if (v.cover < 0 || v.cover > 1) throw Malformed(w + ".canopy_cover must lie in [0, 1]");
       t.vehicles.push_back(v);
     }
-  } catch (const Malformed& e) {
-    throw common::DataError(name, e.what());
-  }
+  } catch (const Malformed& e) { throw common::DataError(name, e.what()); }
   return t;
 }
 
@@ -130,12 +129,11 @@ Detections parse_detections(const std::string& text_, const std::string& name) {
       d.detections.push_back(e);
     }
     if (d.none + static_cast<int>(d.detections.size()) > d.candidates) {
-      throw Malformed("detections (" + std::to_string(d.detections.size()) + ") + none (" + std::to_string(d.none) +
-                      ") exceed the candidates (" + std::to_string(d.candidates) + ")");
+      throw Malformed("detections (" + std::to_string(d.detections.size()) + ") + none (" +
+                      std::to_string(d.none) + ") exceed the candidates (" + std::to_string(d.candidates) +
+                      ")");
     }
-  } catch (const Malformed& e) {
-    throw common::DataError(name, e.what());
-  }
+  } catch (const Malformed& e) { throw common::DataError(name, e.what()); }
   return d;
 }
 
@@ -224,12 +222,23 @@ Json score(const std::vector<Tile>& tiles, const Params& params) {
       const double p = precision.get<double>(), r = recall.get<double>();
       f1 = p + r > 0 ? 2 * p * r / (p + r) : 0.0;
     }
-    return Json{{"cover", cover}, {"noise_mm", noise}, {"tiles", s.tiles}, {"area_ha", s.area},
-                {"true", s.truths}, {"candidates", s.candidates}, {"none", s.none},
-                {"detections", s.detections}, {"tp", s.tp}, {"fp", fp}, {"fn", fn},
-                {"precision", precision}, {"recall", recall}, {"f1", f1},
+    return Json{{"cover", cover},
+                {"noise_mm", noise},
+                {"tiles", s.tiles},
+                {"area_ha", s.area},
+                {"true", s.truths},
+                {"candidates", s.candidates},
+                {"none", s.none},
+                {"detections", s.detections},
+                {"tp", s.tp},
+                {"fp", fp},
+                {"fn", fn},
+                {"precision", precision},
+                {"recall", recall},
+                {"f1", f1},
                 {"false_alarms_per_ha", ratio(fp, s.area)},
-                {"identified", s.identified}, {"identification", ratio(s.identified, s.tp)},
+                {"identified", s.identified},
+                {"identification", ratio(s.identified, s.tp)},
                 {"recognition", ratio(s.identified, s.truths)},
                 {"mean_vehicle_cover", ratio(s.cover_sum, s.truths)},
                 {"position_error_median_m", maybe(percentile(s.position, 50))},
@@ -243,7 +252,8 @@ Json score(const std::vector<Tile>& tiles, const Params& params) {
   std::vector<std::string> covers;
   std::vector<double> noises;
   for (const Tile& t : tiles) {
-    if (!t.cover.empty() && std::find(covers.begin(), covers.end(), t.cover) == covers.end()) covers.push_back(t.cover);
+    if (!t.cover.empty() && std::find(covers.begin(), covers.end(), t.cover) == covers.end())
+      covers.push_back(t.cover);
     if (std::isfinite(t.noise_mm) && std::find(noises.begin(), noises.end(), t.noise_mm) == noises.end()) {
       noises.push_back(t.noise_mm);
     }
@@ -295,8 +305,12 @@ Json score(const std::vector<Tile>& tiles, const Params& params) {
     tp += ranked[k].tp ? 1 : 0;
     if (k + 1 < ranked.size() && ranked[k + 1].confidence == ranked[k].confidence) continue;
     const int n = static_cast<int>(k + 1);
-    pr.push_back(Json{{"threshold", ranked[k].confidence}, {"detections", n}, {"tp", tp}, {"fp", n - tp},
-                      {"precision", ratio(tp, n)}, {"recall", ratio(tp, truths)}});
+    pr.push_back(Json{{"threshold", ranked[k].confidence},
+                      {"detections", n},
+                      {"tp", tp},
+                      {"fp", n - tp},
+                      {"precision", ratio(tp, n)},
+                      {"recall", ratio(tp, truths)}});
   }
 
   // Identification and recognition per true model, over all tiles and per cover label.
@@ -318,8 +332,13 @@ Json score(const std::vector<Tile>& tiles, const Params& params) {
       }
     }
     for (const auto& [model, a] : per) {
-      models.push_back(Json{{"model", model}, {"cover", c}, {"true", a[0]}, {"matched", a[1]}, {"identified", a[2]},
-                            {"recall", ratio(a[1], a[0])}, {"identification", ratio(a[2], a[1])},
+      models.push_back(Json{{"model", model},
+                            {"cover", c},
+                            {"true", a[0]},
+                            {"matched", a[1]},
+                            {"identified", a[2]},
+                            {"recall", ratio(a[1], a[0])},
+                            {"identification", ratio(a[2], a[1])},
                             {"recognition", ratio(a[2], a[0])}});
     }
   }
@@ -345,9 +364,14 @@ Json score(const std::vector<Tile>& tiles, const Params& params) {
           if (tiles[i].detections.detections[d].model == tv.model) recognised++;
         }
       }
-      bins.push_back(Json{{"cover_lo", edges[b]}, {"cover_hi", edges[b + 1]}, {"noise_mm", n ? Json(*n) : Json("all")},
-                          {"true", total}, {"detected", detected}, {"recognised", recognised},
-                          {"recall", ratio(detected, total)}, {"recognition", ratio(recognised, total)}});
+      bins.push_back(Json{{"cover_lo", edges[b]},
+                          {"cover_hi", edges[b + 1]},
+                          {"noise_mm", n ? Json(*n) : Json("all")},
+                          {"true", total},
+                          {"detected", detected},
+                          {"recognised", recognised},
+                          {"recall", ratio(detected, total)},
+                          {"recognition", ratio(recognised, total)}});
     }
   }
 
@@ -360,8 +384,13 @@ Json score(const std::vector<Tile>& tiles, const Params& params) {
     int tp_i = 0;
     for (int d : m.order) {
       const Detection& det = t.detections.detections[d];
-      Json r{{"tile", i}, {"candidate", det.candidate}, {"model", det.model}, {"confidence", det.confidence},
-             {"x", det.x}, {"y", det.y}, {"heading", det.heading}};
+      Json r{{"tile", i},
+             {"candidate", det.candidate},
+             {"model", det.model},
+             {"confidence", det.confidence},
+             {"x", det.x},
+             {"y", det.y},
+             {"heading", det.heading}};
       if (m.truth_of[d] >= 0) {
         tp_i++;
         const TrueVehicle& tv = t.truth.vehicles[m.truth_of[d]];
@@ -384,22 +413,37 @@ Json score(const std::vector<Tile>& tiles, const Params& params) {
     for (std::size_t v = 0; v < t.truth.vehicles.size(); ++v) {
       if (m.detection_of[v] >= 0) continue;
       const TrueVehicle& tv = t.truth.vehicles[v];
-      rows.push_back(Json{{"tile", i}, {"candidate", nullptr}, {"model", nullptr}, {"confidence", nullptr},
-                          {"x", tv.x}, {"y", tv.y}, {"heading", tv.heading}, {"outcome", "missed"},
-                          {"instance", tv.instance}, {"true_model", tv.model}, {"cover", tv.cover},
-                          {"distance_m", nullptr}, {"heading_error_deg", nullptr}});
+      rows.push_back(Json{{"tile", i},
+                          {"candidate", nullptr},
+                          {"model", nullptr},
+                          {"confidence", nullptr},
+                          {"x", tv.x},
+                          {"y", tv.y},
+                          {"heading", tv.heading},
+                          {"outcome", "missed"},
+                          {"instance", tv.instance},
+                          {"true_model", tv.model},
+                          {"cover", tv.cover},
+                          {"distance_m", nullptr},
+                          {"heading_error_deg", nullptr}});
     }
     const int n_det = static_cast<int>(t.detections.detections.size());
     const int n_true = static_cast<int>(t.truth.vehicles.size());
-    tile_list.push_back(Json{{"detections", t.detections.name}, {"truth", t.truth.name},
+    tile_list.push_back(Json{{"detections", t.detections.name},
+                             {"truth", t.truth.name},
                              {"cover", t.cover.empty() ? Json(nullptr) : Json(t.cover)},
-                             {"noise_mm", maybe(t.noise_mm)}, {"area_ha", t.truth.extent_x * t.truth.extent_y / 1e4},
-                             {"true", n_true}, {"tp", tp_i}, {"fp", n_det - tp_i}, {"fn", n_true - tp_i}});
+                             {"noise_mm", maybe(t.noise_mm)},
+                             {"area_ha", t.truth.extent_x * t.truth.extent_y / 1e4},
+                             {"true", n_true},
+                             {"tp", tp_i},
+                             {"fp", n_det - tp_i},
+                             {"fn", n_true - tp_i}});
   }
 
   return Json{{"format", "canopy.scene_score"},
               {"version", 1},
-              {"params", Json{{"match_radius_m", params.match_radius}, {"cover_bins", params.cover_bins},
+              {"params", Json{{"match_radius_m", params.match_radius},
+                              {"cover_bins", params.cover_bins},
                               {"flip_threshold_deg", params.flip_threshold}}},
               {"tiles", tile_list},
               {"summary", summaries},
@@ -410,7 +454,8 @@ Json score(const std::vector<Tile>& tiles, const Params& params) {
 }
 
 std::string csv(const Json& score, const std::string& table) {
-  if (!score.contains(table) || !score[table].is_array()) throw common::Error("score: no table \"" + table + "\"");
+  if (!score.contains(table) || !score[table].is_array())
+    throw common::Error("score: no table \"" + table + "\"");
   const Json& rows = score[table];
   std::string out;
   if (rows.empty()) return out;

@@ -25,7 +25,7 @@ struct TrueVehicle {
 };
 
 struct Truth {
-  std::string name;  // file, as given
+  std::string name;                   // file, as given
   double extent_x = 0, extent_y = 0;  // m
   std::vector<TrueVehicle> vehicles;
 };

@@ -33,7 +33,8 @@ Json read_json(const std::string& path, const char* format) {
 
 topview::Ring ring_of(const Json& fp, const std::string& path, const std::string& where) {
   topview::Ring r;
-  if (!fp.is_array() || fp.size() < 3 || fp.size() > 64) throw common::DataError(path, where + ": not a footprint polygon");
+  if (!fp.is_array() || fp.size() < 3 || fp.size() > 64)
+    throw common::DataError(path, where + ": not a footprint polygon");
   for (const auto& p : fp) {
     if (!p.is_array() || p.size() < 2 || !p[0].is_number() || !p[1].is_number()) {
       throw common::DataError(path, where + ": a corner is not [x, y]");
@@ -46,10 +47,11 @@ topview::Ring ring_of(const Json& fp, const std::string& path, const std::string
 }  // namespace
 
 int main(int argc, char** argv) {
-  common::Tool tool("topview", "A tile from straight above (highest point per pixel, grey by height) with the "
-                               "footprints of the detections and, if given, of the true vehicles, coloured by "
-                               "the score's outcome: right green, wrong model orange, false alarm magenta, "
-                               "missed yellow.");
+  common::Tool tool("topview",
+                    "A tile from straight above (highest point per pixel, grey by height) with the "
+                    "footprints of the detections and, if given, of the true vehicles, coloured by "
+                    "the score's outcome: right green, wrong model orange, false alarm magenta, "
+                    "missed yellow.");
   tool.without_threads();
   std::string in, out, detections, truth, score;
   int tile = 0, size = 1024;
@@ -61,7 +63,8 @@ int main(int argc, char** argv) {
   tool.add("--tile", &tile, "this tile's index in the score's tiles");
   tool.add("--size", &size, "pixels along the longer side");
   return tool.run(argc, argv, [&] {
-    if (in.empty() || in == "-" || out.empty() || out == "-") throw common::UsageError("-i and -o must name files");
+    if (in.empty() || in == "-" || out.empty() || out == "-")
+      throw common::UsageError("-i and -o must name files");
     if (detections.empty()) throw common::UsageError("--detections is required");
     if (size < 16 || size > 8192) throw common::UsageError("--size must be in [16, 8192]");
     if (!score.empty() && truth.empty()) throw common::UsageError("--score needs --truth");
@@ -91,7 +94,8 @@ int main(int argc, char** argv) {
       for (const auto& v : t.value("vehicles", Json::array())) {
         const std::string where = "vehicles[" + std::to_string(k++) + "]";
         const bool miss = missed.count(v.value("instance", -1LL)) > 0;
-        shapes.push_back({ring_of(v.value("footprint", Json()), truth, where), miss ? topview::kMissed : topview::kTruth});
+        shapes.push_back(
+            {ring_of(v.value("footprint", Json()), truth, where), miss ? topview::kMissed : topview::kTruth});
       }
     }
     std::size_t k = 0;
@@ -100,7 +104,7 @@ int main(int argc, char** argv) {
       topview::Rgb c = topview::kDetection;
       if (!score.empty()) {
         const auto it = outcome.find(det.value("candidate", std::string()));
-        c = it == outcome.end() ? topview::kDetection
+        c = it == outcome.end()     ? topview::kDetection
             : it->second == "right" ? topview::kRight
             : it->second == "wrong" ? topview::kWrong
                                     : topview::kFalseAlarm;

@@ -32,7 +32,8 @@ Image render(const formats::PointCloud& scan, const std::vector<Shape>& shapes, 
       y1 = std::max(y1, p[1]);
     }
   }
-  if (!(x1 >= x0 && y1 >= y0)) throw common::Error("topview: nothing to draw (no finite point, no footprint)");
+  if (!(x1 >= x0 && y1 >= y0))
+    throw common::Error("topview: nothing to draw (no finite point, no footprint)");
   Image img;
   img.pixel = std::max({x1 - x0, y1 - y0, 1e-3}) / size;
   img.width = std::max(1, static_cast<int>(std::ceil((x1 - x0) / img.pixel)) + 1);
@@ -63,7 +64,8 @@ Image render(const formats::PointCloud& scan, const std::vector<Shape>& shapes, 
   img.rgb.assign(3 * n, 0);
   for (std::size_t k = 0; k < n; ++k) {
     std::uint8_t g = 30;  // no point: near black
-    if (std::isfinite(top[k])) g = static_cast<std::uint8_t>(60 + 150 * std::clamp((top[k] - lo) / (hi - lo), 0.0, 1.0));
+    if (std::isfinite(top[k]))
+      g = static_cast<std::uint8_t>(60 + 150 * std::clamp((top[k] - lo) / (hi - lo), 0.0, 1.0));
     img.rgb[3 * k] = img.rgb[3 * k + 1] = img.rgb[3 * k + 2] = g;
   }
   // Outlines, two pixels wide, in the given order (later ones on top).

@@ -29,9 +29,7 @@ Eigen::Isometry3d parse_transform(const std::string& text) {
       std::size_t used = 0;
       v.push_back(std::stod(item, &used));
       if (used != item.size()) throw std::invalid_argument(item);
-    } catch (const std::exception&) {
-      throw cm::UsageError("--transform: '" + item + "' is not a number");
-    }
+    } catch (const std::exception&) { throw cm::UsageError("--transform: '" + item + "' is not a number"); }
   }
   if (v.size() != 12 && v.size() != 16) {
     throw cm::UsageError("--transform needs 12 or 16 comma-separated numbers (row-major 3x4 or 4x4)");
@@ -41,8 +39,7 @@ Eigen::Isometry3d parse_transform(const std::string& text) {
     for (int c = 0; c < 4; ++c) M(r, c) = v[4 * r + c];
   }
   Eigen::Matrix3d R = M.topLeftCorner<3, 3>();
-  if (!M.allFinite() || (R.transpose() * R - Eigen::Matrix3d::Identity()).norm() > 1e-6 ||
-      R.determinant() < 0) {
+  if (!M.allFinite() || (R.transpose() * R - Eigen::Matrix3d::Identity()).norm() > 1e-6 || R.determinant() < 0) {
     throw cm::UsageError("--transform: the 3x3 part is not a rotation");
   }
   return Eigen::Isometry3d(M);
@@ -78,12 +75,14 @@ int main(int argc, char** argv) {
   bool no_flip = false;
   tool.add_input(&in, "gmatch match result JSON");
   tool.add_output(&out, "verdict JSON");
-  tool.add("--points", &points, "candidate points PCD with normals and sensor directions "
-                                "(fitvox samples)")->required();
-  tool.add("--segments", &segments, "candidate segment graph JSON (the one gmatch matched)")
+  tool.add("--points", &points,
+           "candidate points PCD with normals and sensor directions "
+           "(fitvox samples)")
       ->required();
-  tool.add("--modelbase", &modelbase, "directory of <model>.json graphs, <model>.pcd surfaces and "
-                                      "optional <model>.class classes")
+  tool.add("--segments", &segments, "candidate segment graph JSON (the one gmatch matched)")->required();
+  tool.add("--modelbase", &modelbase,
+           "directory of <model>.json graphs, <model>.pcd surfaces and "
+           "optional <model>.class classes")
       ->required();
   tool.add("--transform", &transform,
            "candidate frame -> tile frame, 12 or 16 numbers row-major (detect's index.json "
@@ -101,8 +100,7 @@ int main(int argc, char** argv) {
   tool.add_length("--icp-fine", &p.icp_fine, "ICP correspondence distance, second stage");
   tool.add("--icp-iterations", &p.icp_iterations, "ICP iterations per stage (0 = no ICP)");
   tool.add("--icp-points", &p.icp_points, "candidate points ICP uses at most (even stride)");
-  tool.add_flag("--no-flip", &no_flip, "do not try the 180-degree flip of each start")
-      ->default_str("false");
+  tool.add_flag("--no-flip", &no_flip, "do not try the 180-degree flip of each start")->default_str("false");
   tool.add("--accept", &p.accept, "answer none when the best score is below this");
   tool.add("--conf-bias", &p.conf_bias, "confidence logistic: bias");
   tool.add("--conf-score", &p.conf_score, "confidence logistic: weight of the score");

@@ -22,12 +22,13 @@ std::vector<Model> read_models(const std::string& dir, const std::vector<std::st
     const std::string graph = (fs::path(dir) / (name + ".json")).string();
     const std::string surface = (fs::path(dir) / (name + ".pcd")).string();
     if (name.empty() || name.find('/') != std::string::npos || !fs::is_regular_file(graph, ec)) {
-      throw DataError(who, "hypothesis names model '" + name + "', which is not in the modelbase " +
-                               dir + " (no " + graph + ")");
+      throw DataError(who, "hypothesis names model '" + name + "', which is not in the modelbase " + dir +
+                               " (no " + graph + ")");
     }
     if (!fs::is_regular_file(surface, ec)) {
-      throw DataError(surface, "model '" + name + "' has no surface samples in the modelbase "
-                               "(build it with make -f Makefile.experiments verify-modelbase)");
+      throw DataError(surface, "model '" + name +
+                                   "' has no surface samples in the modelbase "
+                                   "(build it with make -f Makefile.experiments verify-modelbase)");
     }
     Model m;
     m.name = name;
@@ -36,9 +37,7 @@ std::vector<Model> read_models(const std::string& dir, const std::vector<std::st
     } catch (const DataError& e) {
       if (e.file() == graph) throw;
       throw DataError(graph, e.what());
-    } catch (const std::exception& e) {
-      throw DataError(graph, e.what());
-    }
+    } catch (const std::exception& e) { throw DataError(graph, e.what()); }
     m.surface = surface_from_cloud(formats::read_pcd(surface), surface);
     const std::string cls = (fs::path(dir) / (name + ".class")).string();
     if (fs::exists(cls, ec)) {

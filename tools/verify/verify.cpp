@@ -26,8 +26,7 @@ constexpr double kPi = 3.14159265358979323846;
 std::uint64_t cell_key(double a, double b, double cell) {
   const auto i = static_cast<std::int64_t>(std::floor(a / cell));
   const auto j = static_cast<std::int64_t>(std::floor(b / cell));
-  return (static_cast<std::uint64_t>(i + (1LL << 31)) << 32) ^
-         static_cast<std::uint64_t>(j + (1LL << 31));
+  return (static_cast<std::uint64_t>(i + (1LL << 31)) << 32) ^ static_cast<std::uint64_t>(j + (1LL << 31));
 }
 
 pcl::PointCloud<pcl::PointXYZ>::Ptr to_pcl(const std::vector<Vector3d>& pts) {
@@ -59,16 +58,15 @@ pcl::PointCloud<pcl::PointNormal>::Ptr to_pcl(const std::vector<Vector3d>& pts,
 
 // PCL's point-to-plane linear least squares, guarded: too few correspondences or a singular
 // system (a candidate that is one plane) leave the pose unchanged instead of giving NaN.
-class SafePointToPlane : public pcl::registration::TransformationEstimationPointToPlaneLLS<
-                             pcl::PointNormal, pcl::PointNormal, double> {
+class SafePointToPlane
+    : public pcl::registration::TransformationEstimationPointToPlaneLLS<pcl::PointNormal, pcl::PointNormal, double> {
  public:
-  using Base = pcl::registration::TransformationEstimationPointToPlaneLLS<pcl::PointNormal,
-                                                                          pcl::PointNormal, double>;
+  using Base =
+      pcl::registration::TransformationEstimationPointToPlaneLLS<pcl::PointNormal, pcl::PointNormal, double>;
   using Base::estimateRigidTransformation;
   void estimateRigidTransformation(const pcl::PointCloud<pcl::PointNormal>& src,
                                    const pcl::PointCloud<pcl::PointNormal>& tgt,
-                                   const pcl::Correspondences& corr,
-                                   Matrix4& T) const override {
+                                   const pcl::Correspondences& corr, Matrix4& T) const override {
     T.setIdentity();
     if (corr.size() < 6) return;
     Base::estimateRigidTransformation(src, tgt, corr, T);
@@ -121,8 +119,8 @@ std::vector<Vector3d> unit_columns(const formats::PointCloud& cloud, const std::
     v[i] = Vector3d(x[i], y[i], z[i]);
     const double n = v[i].norm();
     if (!std::isfinite(n) || n < 1e-9) {
-      throw common::DataError(name, "point " + std::to_string(i) + ": " + prefix +
-                                        " vector is zero or not finite");
+      throw common::DataError(name,
+                              "point " + std::to_string(i) + ": " + prefix + " vector is zero or not finite");
     }
     v[i] /= n;
   }
@@ -148,8 +146,8 @@ std::vector<Vector3d> xyz(const formats::PointCloud& cloud, const std::string& n
 
 void validate(const Params& p) {
   if (p.top_k < 1) throw common::UsageError("--top-k must be >= 1");
-  if (!(p.inlier_distance > 0) || !(p.inlier_radius > 0) || !(p.ray_cell > 0) ||
-      !(p.occlusion_margin >= 0) || !(p.icp_coarse > 0) || !(p.icp_fine > 0)) {
+  if (!(p.inlier_distance > 0) || !(p.inlier_radius > 0) || !(p.ray_cell > 0) || !(p.occlusion_margin >= 0) ||
+      !(p.icp_coarse > 0) || !(p.icp_fine > 0)) {
     throw common::UsageError(
         "need --inlier-distance, --inlier-radius, --ray-cell, --icp-coarse, --icp-fine > 0 and "
         "--occlusion-margin >= 0");
@@ -158,8 +156,8 @@ void validate(const Params& p) {
   if (p.icp_iterations < 0) throw common::UsageError("--icp-iterations must be >= 0");
   if (p.icp_points < 6) throw common::UsageError("--icp-points must be >= 6");
   if (!(p.accept >= 0 && p.accept <= 1)) throw common::UsageError("--accept must be in [0, 1]");
-  if (!std::isfinite(p.min_height) || !std::isfinite(p.conf_bias) ||
-      !std::isfinite(p.conf_score) || !std::isfinite(p.conf_margin)) {
+  if (!std::isfinite(p.min_height) || !std::isfinite(p.conf_bias) || !std::isfinite(p.conf_score) ||
+      !std::isfinite(p.conf_margin)) {
     throw common::UsageError("--min-height and the confidence coefficients must be finite");
   }
 }
@@ -168,18 +166,16 @@ Candidate candidate_from_cloud(const formats::PointCloud& cloud, const std::stri
   if (cloud.empty()) throw common::DataError(name, "empty candidate: no points");
   Candidate c;
   c.points = xyz(cloud, name);
-  c.normals = unit_columns(cloud, "normal", name,
-                           "verify needs points with normals, e.g. fitvox's samples");
-  c.sensor = unit_columns(cloud, "sensor", name,
-                          "verify needs the direction toward the sensor of every point");
+  c.normals = unit_columns(cloud, "normal", name, "verify needs points with normals, e.g. fitvox's samples");
+  c.sensor =
+      unit_columns(cloud, "sensor", name, "verify needs the direction toward the sensor of every point");
   return c;
 }
 
-Surface surface_from_cloud(const formats::PointCloud& cloud, const std::string& name,
-                           double min_z) {
+Surface surface_from_cloud(const formats::PointCloud& cloud, const std::string& name, double min_z) {
   const auto pts = xyz(cloud, name);
-  const auto nrm = unit_columns(cloud, "normal", name,
-                                "a modelbase surface needs normals, e.g. fitvox's samples");
+  const auto nrm =
+      unit_columns(cloud, "normal", name, "a modelbase surface needs normals, e.g. fitvox's samples");
   Surface s;
   const bool labelled = cloud.has("label");
   for (std::size_t i = 0; i < pts.size(); ++i) {
@@ -289,8 +285,7 @@ Check Scorer::score(const Surface& model, const Isometry3d& pose) const {
     ++r.expected;
     pcl::PointXYZ s(static_cast<float>(m.x()), static_cast<float>(m.y()), static_cast<float>(m.z()));
     bool seen = false;
-    if (impl_->all.nearestKSearch(s, 1, idx, d2) >= 1 &&
-        d2[0] <= p_.inlier_radius * p_.inlier_radius) {
+    if (impl_->all.nearestKSearch(s, 1, idx, d2) >= 1 && d2[0] <= p_.inlier_radius * p_.inlier_radius) {
       seen = std::abs(n.dot(c_.points[idx[0]] - m)) <= p_.inlier_distance;
     }
     if (!seen) ++violations;
@@ -302,8 +297,8 @@ Check Scorer::score(const Surface& model, const Isometry3d& pose) const {
 
 // ---- poses ------------------------------------------------------------------------------
 
-Isometry3d refine(const Surface& model, const std::vector<Vector3d>& candidate,
-                  const Isometry3d& start, const Params& p) {
+Isometry3d refine(const Surface& model, const std::vector<Vector3d>& candidate, const Isometry3d& start,
+                  const Params& p) {
   if (p.icp_iterations == 0 || candidate.size() < 6) return start;
   pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);  // ICP's warnings are expected here
   // At most icp_points source points, an even stride through the candidate (deterministic).
@@ -384,8 +379,7 @@ bool pose_from_pairs(const formats::SegmentGraph& object, const formats::Segment
   return true;
 }
 
-Isometry3d pose_from_axes(const std::vector<Vector3d>& candidate,
-                          const std::vector<Vector3d>& model) {
+Isometry3d pose_from_axes(const std::vector<Vector3d>& candidate, const std::vector<Vector3d>& model) {
   const Vector3d mc = mean_of(candidate), mm = mean_of(model);
   const double theta = major_axis_angle(candidate, mc) - major_axis_angle(model, mm);
   const Matrix3d R = Eigen::AngleAxisd(theta, Vector3d::UnitZ()).toRotationMatrix();
@@ -429,8 +423,8 @@ formats::Verdict run(const In& in, const Params& p) {
     std::vector<Start> starts;
     Isometry3d pp;
     if (pose_from_pairs(*in.segments, model->graph, ms.pairs, &pp)) starts.push_back({"pairs", pp});
-    starts.push_back({"axes", pose_from_axes(above.empty() ? in.candidate->points : above,
-                                              model->surface.points)});
+    starts.push_back(
+        {"axes", pose_from_axes(above.empty() ? in.candidate->points : above, model->surface.points)});
     formats::Hypothesis best;
     best.model = ms.model;
     best.gmatch_rank = ms.rank;

@@ -30,19 +30,19 @@
 namespace canopy::verify {
 
 struct Params {
-  int top_k = 3;                 // gmatch hypotheses checked (rank 1..k)
-  double min_height = 0.3;       // candidate points below this z are ground (m; cocone's cut)
-  double inlier_distance = 0.1;  // point-to-plane distance counted as "on the surface" (m)
-  double inlier_radius = 0.25;   // and at most this far from the nearest model sample (m)
-  double facing = 0.5;           // model surface counts for a view when n.s >= this
-  double ray_cell = 0.2;         // cell of the per-view depth buffers (m)
+  int top_k = 3;                   // gmatch hypotheses checked (rank 1..k)
+  double min_height = 0.3;         // candidate points below this z are ground (m; cocone's cut)
+  double inlier_distance = 0.1;    // point-to-plane distance counted as "on the surface" (m)
+  double inlier_radius = 0.25;     // and at most this far from the nearest model sample (m)
+  double facing = 0.5;             // model surface counts for a view when n.s >= this
+  double ray_cell = 0.2;           // cell of the per-view depth buffers (m)
   double occlusion_margin = 0.15;  // a scan point this much nearer the sensor hides (m)
-  double icp_coarse = 0.5;       // ICP max correspondence distance, first stage (m)
-  double icp_fine = 0.2;         // second stage (m)
-  int icp_iterations = 20;       // per stage
-  int icp_points = 1000;         // candidate points ICP uses at most (even stride)
-  bool flip = true;              // try the 180-degree heading flip of every start
-  double accept = 0.544;         // answer "none" when the best score is below this
+  double icp_coarse = 0.5;         // ICP max correspondence distance, first stage (m)
+  double icp_fine = 0.2;           // second stage (m)
+  int icp_iterations = 20;         // per stage
+  int icp_points = 1000;           // candidate points ICP uses at most (even stride)
+  bool flip = true;                // try the 180-degree heading flip of every start
+  double accept = 0.544;           // answer "none" when the best score is below this
   // confidence = 1 / (1 + exp(-(c0 + c_score * score + c_margin * margin)))
   double conf_bias = -5.365, conf_score = 6.317, conf_margin = 5.573;
 };
@@ -73,8 +73,7 @@ struct Model {
 Candidate candidate_from_cloud(const formats::PointCloud& cloud, const std::string& name);
 // Model surface from a samples PCD: normals required; only label 1 (target) rows are kept when
 // a label field exists, else the rows above `min_z`.
-Surface surface_from_cloud(const formats::PointCloud& cloud, const std::string& name,
-                           double min_z = 0.05);
+Surface surface_from_cloud(const formats::PointCloud& cloud, const std::string& name, double min_z = 0.05);
 
 // Reads <dir>/<name>.json and <dir>/<name>.pcd for every name (DataError naming `who` when a
 // model is not in the modelbase, naming the file when a file is malformed), and the class in

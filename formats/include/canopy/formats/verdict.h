@@ -23,32 +23,32 @@ struct Hypothesis {
   std::string model;
   int gmatch_rank = 0;
   double gmatch_score = 0;
-  bool flipped = false;        // the accepted start was the 180-degree flip of the pairs' pose
-  std::string start;           // "pairs", "pairs-flipped", "axes", "axes-flipped"
-  Pose pose;                   // model frame -> candidate frame
-  std::optional<Pose> pose_tile;  // model frame -> tile frame, when a transform was given
-  double fit_rms = 0;          // m, point-to-plane, over the explained points
-  double explained = 0;        // share of the candidate's points on the posed model
+  bool flipped = false;             // the accepted start was the 180-degree flip of the pairs' pose
+  std::string start;                // "pairs", "pairs-flipped", "axes", "axes-flipped"
+  Pose pose;                        // model frame -> candidate frame
+  std::optional<Pose> pose_tile;    // model frame -> tile frame, when a transform was given
+  double fit_rms = 0;               // m, point-to-plane, over the explained points
+  double explained = 0;             // share of the candidate's points on the posed model
   double free_space_violation = 0;  // share of the expected-visible model surface not seen
-  double score = 0;            // explained * (1 - free_space_violation)
-  double flip_score = 0;       // best score among the starts flipped against the chosen one
-  std::string vehicle_class;   // the model's class ("" = none; written only with has_classes)
+  double score = 0;                 // explained * (1 - free_space_violation)
+  double flip_score = 0;            // best score among the starts flipped against the chosen one
+  std::string vehicle_class;        // the model's class ("" = none; written only with has_classes)
 };
 
 struct Verdict {
   Provenance provenance;
-  std::string candidate;       // points path, as given
-  std::string model;           // "" = none
-  double confidence = 0;       // in [0, 1]: probability that `model` is right (or, for none,
-                               // that no hypothesis was right)
-  std::optional<Pose> transform;  // candidate frame -> tile frame, when given
+  std::string candidate;               // points path, as given
+  std::string model;                   // "" = none
+  double confidence = 0;               // in [0, 1]: probability that `model` is right (or, for none,
+                                       // that no hypothesis was right)
+  std::optional<Pose> transform;       // candidate frame -> tile frame, when given
   std::vector<Hypothesis> hypotheses;  // in gmatch rank order
-  int chosen = -1;             // index into hypotheses, -1 = none
+  int chosen = -1;                     // index into hypotheses, -1 = none
   // Class answer, present when the modelbase carries classes (<model>.class files): the class
   // and name of the best-scoring hypothesis whether or not it passed the acceptance threshold,
   // its score and its margin over the best hypothesis of another class (0 when none).
   bool has_classes = false;
-  std::string vehicle_class;   // "" = none (no hypothesis, or its model has no class)
+  std::string vehicle_class;  // "" = none (no hypothesis, or its model has no class)
   std::string nearest_instance;
   double class_score = 0, class_margin = 0;
 };
