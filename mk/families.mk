@@ -3,6 +3,8 @@
 #
 #   make -f Makefile.experiments families -j2 [FAM_CLASSES="pickup van" FAM_TRAIN="0 1"
 #        FAM_TEST="1000" FAM_COVERS=light FAM_NOISES=0]
+#   make -f Makefile.experiments families results/report.md -j2   ... and the report with its
+#        "Vehicle families" section (a later report, e.g. from `all`, keeps it while the tables exist)
 #
 # Modelbase: instances FAM_TRAIN of every class in FAM_CLASSES (procedural, rangetrace --model
 # family:<class>:<n>), rendered with the modelbase's `unoccluded` views and taken through the
@@ -126,4 +128,12 @@ $(FAM_RES)/confusion.csv: $(FAM_DIR)/runs.txt $(foreach r,$(FAM_RUNS),$(firstwor
 	  --accuracy $(FAM_RES)/accuracy.csv
 $(FAM_RES)/accuracy.csv: $(FAM_RES)/confusion.csv
 families: $(FAM_RES)/confusion.csv $(FAM_RES)/accuracy.csv
+endif
+
+# The report's "Vehicle families" section (report --families; docs/decisions/families.md §6):
+# when this make runs the families target, or an earlier one left both tables. `all` does not
+# run the protocol, and without the tables the report is unchanged.
+ifneq ($(filter families,$(MAKECMDGOALS))$(and $(wildcard $(FAM_RES)/confusion.csv),$(wildcard $(FAM_RES)/accuracy.csv)),)
+$(RES)/report.md: $(FAM_RES)/confusion.csv $(FAM_RES)/accuracy.csv
+REPORT_ARGS += --families $(FAM_RES)
 endif

@@ -16,6 +16,7 @@
 #include "canopy/formats/json_document.h"
 #include "canopy/formats/pcd.h"
 #include "report/baseline_section.h"
+#include "report/families_section.h"
 #include "report/report.h"
 
 using namespace canopy;
@@ -89,6 +90,10 @@ int main(int argc, char** argv) {
       "--tile-score", &tile_score,
       "the scene experiment's score.json (canopy.scene_score v1): adds its section to report.md and writes "
       "times.csv beside it; its stages' .time files are found through its tiles");
+  std::string families;
+  tool.add("--families", &families,
+           "the families protocol's results directory (confusion.csv, accuracy.csv from famscore; "
+           "mk/families.mk): adds the \"Vehicle families\" section to report.md");
   tool.add("--max-segments", &p.max_segments, "largest object segments examined for spurious area");
   tool.add("--overseg-ratio", &p.overseg_ratio, "over-segmented when target segments exceed this x model's");
   tool.add("--missing-area-ratio", &p.missing_area_ratio,
@@ -190,7 +195,12 @@ int main(int argc, char** argv) {
     for (const auto& s : in.scenes) in.figures.push_back("figures/grid-" + s + ".png");
     in.figures.push_back("figures/scores.png");
     for (const auto& o : in.objects) in.figures.push_back("pictures/" + o + ".png");
-    in.figures.push_back("pictures/tank-circle.png");
+    // The thesis's scene picture (Fig. 2.4; Makefile.experiments `pictures`) when its object and
+    // scene are in the experiment.
+    const auto has = [](const std::vector<std::string>& v, const char* x) {
+      return std::find(v.begin(), v.end(), x) != v.end();
+    };
+    if (has(in.objects, "tank") && has(in.scenes, "circle")) in.figures.push_back("pictures/tank-circle.png");
     phase.done(std::to_string(in.cases.size()) + " trials, " + std::to_string(in.models.size()) + " models");
     const report::Output r = report::run(in, p);
     // The PCL baseline beside canopy (issue 17), when the trials have baseline.json.
@@ -200,6 +210,15 @@ int main(int argc, char** argv) {
       outputs.set(results + "/baseline.csv", bl.csv);
     }
     std::string markdown = r.markdown + bl.markdown;
+    if (!families.empty()) {
+      const std::string confusion = families + "/confusion.csv", accuracy = families + "/accuracy.csv";
+      for (const auto& f : {confusion, accuracy}) {
+        if (!exists(f))
+          throw common::DataError(f, "missing (--families: run `make -f Makefile.experiments families`)");
+      }
+      markdown += report::families_markdown(report::summarize_families(
+          common::read_file(confusion), confusion, common::read_file(accuracy), accuracy));
+    }
     if (!tile_score.empty()) {
       common::log::Phase scenes_phase("scenes");
       const auto score =

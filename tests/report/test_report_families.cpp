@@ -1,0 +1,110 @@
+// The report's "Vehicle families" section (tools/report/families_section.h): per-class and
+// overall class accuracy, the confusion matrix and nearest-instance accuracy from hand-written
+// famscore tables, and errors on malformed or inconsistent tables.
+#include <catch2/catch.hpp>
+
+#include <string>
+
+#include "canopy/common/error.h"
+#include "report/families_section.h"
+
+using namespace canopy;
+
+namespace {
+
+// Three classes, 4 trials each: sedan 3 right + 1 answered suv; suv 2 right + 1 sedan + 1 none;
+// tank 4 right. 9 of 12 classes right.
+const char* kConfusion =
+    "true_class,sedan,suv,tank,none\n"
+    "sedan,3,1,0,0\n"
+    "suv,1,2,0,1\n"
+    "tank,0,0,4,0\n";
+const char* kAccuracy =
+    "cover,noise,trials,class_right,class_accuracy,accepted,accepted_right,nearest_right,nearest_accuracy,"
+    "failed\n"
+    "light,0,6,5,0.8333,5,4,3,0.5000,0\n"
+    "dense,32,6,4,0.6667,3,3,1,0.1667,1\n"
+    "all,all,12,9,0.7500,8,7,4,0.3333,1\n";
+
+}  // namespace
+
+TEST_CASE("families section: class accuracy per class and overall, levels, nearest instance") {
+  const auto s = report::summarize_families(kConfusion, "c.csv", kAccuracy, "a.csv");
+  REQUIRE(s.classes.size() == 3);
+  CHECK(s.answers == std::vector<std::string>{"sedan", "suv", "tank", "none"});
+  CHECK(s.classes[0].name == "sedan");
+  CHECK(s.classes[0].trials == 4);
+  CHECK(s.classes[0].right == 3);
+  CHECK(s.classes[1].right == 2);
+  CHECK(s.classes[1].answered == std::vector<int>{1, 2, 0, 1});
+  CHECK(s.classes[2].right == 4);
+  CHECK(s.trials == 12);
+  CHECK(s.right == 9);
+  REQUIRE(s.levels.size() == 2);
+  CHECK(s.levels[1].cover == "dense");
+  CHECK(s.levels[1].noise == "32");
+  CHECK(s.levels[1].class_right == 4);
+  CHECK(s.levels[1].failed == 1);
+  CHECK(s.all.nearest_right == 4);
+  CHECK(s.all.accepted == 8);
+  CHECK(s.all.accepted_right == 7);
+
+  const std::string md = report::families_markdown(s);
+  CHECK(md.find("## Vehicle families") != std::string::npos);
+  CHECK(md.find("**Class accuracy: 75.0% (9/12)**") != std::string::npos);
+  CHECK(md.find("nearest in size): 33.3% (4/12)") != std::string::npos);
+  CHECK(md.find("| sedan | 4 | 75.0% (3/4) |") != std::string::npos);
+  CHECK(md.find("| suv | 4 | 50.0% (2/4) |") != std::string::npos);
+  CHECK(md.find("| tank | 4 | 100.0% (4/4) |") != std::string::npos);
+  CHECK(md.find("| **all** | 12 | **75.0% (9/12)** |") != std::string::npos);
+  CHECK(md.find("| dense | 32 | 6 | 66.7% (4/6) | 3 (3) | 16.7% (1/6) | 1 |") != std::string::npos);
+  CHECK(md.find("| **all** |  | 12 | 75.0% (9/12) | 8 (7) | 33.3% (4/12) | 1 |") != std::string::npos);
+  // The confusion matrix as a table, right answers in bold.
+  CHECK(md.find("| true \\ answered | sedan | suv | tank | none |") != std::string::npos);
+  CHECK(md.find("| suv | 1 | **2** | 0 | 1 |") != std::string::npos);
+  CHECK(md.find("| tank | 0 | 0 | **4** | 0 |") != std::string::npos);
+}
+
+TEST_CASE("families section: a true class never answered has no right answers") {
+  const auto s = report::summarize_families("true_class,sedan,none\nsedan,1,0\nbus,1,1\n", "c.csv",
+                                            "cover,noise,trials,class_right,accepted,accepted_right,"
+                                            "nearest_right,failed\nall,all,3,1,0,0,0,0\n",
+                                            "a.csv");
+  CHECK(s.classes[1].name == "bus");
+  CHECK(s.classes[1].right == 0);
+  CHECK(s.classes[1].trials == 2);
+  CHECK(s.right == 1);
+  CHECK(s.levels.empty());
+}
+
+TEST_CASE("families section: malformed or inconsistent tables are DataErrors naming the file") {
+  auto fails = [](const std::string& c, const std::string& a, const std::string& file, const std::string& what) {
+    try {
+      report::summarize_families(c, "c.csv", a, "a.csv");
+      FAIL("no error");
+    } catch (const common::DataError& e) {
+      const std::string m = e.what();
+      INFO(m);
+      CHECK(m.find(file) != std::string::npos);
+      CHECK(m.find(what) != std::string::npos);
+    }
+  };
+  fails("", kAccuracy, "c.csv", "empty");
+  fails("class,sedan\nsedan,1\n", kAccuracy, "c.csv", "true_class");
+  fails("true_class,sedan,suv,tank,none\nsedan,3,1,0\n", kAccuracy, "c.csv", "line 2");
+  fails("true_class,sedan,suv,tank,none\nsedan,3,x,0,0\n", kAccuracy, "c.csv", "'x' is not a count");
+  fails("true_class,sedan,suv,tank,none\nsedan,3,-1,0,0\n", kAccuracy, "c.csv", "not a count");
+  fails(kConfusion, "cover,noise,trials\nall,all,12\n", "a.csv", "no column 'class_right'");
+  fails(kConfusion,
+        "cover,noise,trials,class_right,accepted,accepted_right,nearest_right,failed\n"
+        "light,0,6,5,5,4,3,0\n",
+        "a.csv", "no 'all,all' row");
+  fails(kConfusion,
+        "cover,noise,trials,class_right,accepted,accepted_right,nearest_right,failed\n"
+        "all,all,12,10,8,7,4,1\n",
+        "a.csv", "disagree");
+  fails(kConfusion,
+        "cover,noise,trials,class_right,accepted,accepted_right,nearest_right,failed\n"
+        "all,all,12,9,8,9,4,1\n",
+        "a.csv", "exceeds");
+}
