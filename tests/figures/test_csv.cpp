@@ -95,3 +95,31 @@ TEST_CASE("scores CSV: other columns (scene experiment tables), summary rows lef
     CHECK(std::string(e.what()).find("'precision'") != std::string::npos);
   }
 }
+
+TEST_CASE(
+    "series colours: 16 table colours pairwise distinct, then generated ones, for any number of series") {
+  auto distance = [](const std::array<std::uint8_t, 3>& a, const std::array<std::uint8_t, 3>& b) {
+    double d = 0;
+    for (int k = 0; k < 3; ++k) d += (a[k] - b[k]) * (a[k] - b[k]);
+    return std::sqrt(d);
+  };
+  // The thesis's five objects keep ColorBrewer Dark2's first five (unchanged figures).
+  CHECK(series_colour(0) == std::array<std::uint8_t, 3>{27, 158, 119});
+  CHECK(series_colour(4) == std::array<std::uint8_t, 3>{102, 166, 30});
+  // Twelve vehicle classes (and four more) get clearly different colours, none white or black.
+  for (std::size_t i = 0; i < 16; ++i) {
+    CHECK(distance(series_colour(i), {255, 255, 255}) > 60);
+    CHECK(distance(series_colour(i), {0, 0, 0}) > 60);
+    for (std::size_t j = 0; j < i; ++j) {
+      INFO(i << " vs " << j);
+      CHECK(distance(series_colour(i), series_colour(j)) >= 60);
+    }
+  }
+  // Beyond the table: still distinct from each other and from the table.
+  for (std::size_t i = 16; i < 48; ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      INFO(i << " vs " << j);
+      CHECK(series_colour(i) != series_colour(j));
+    }
+  }
+}

@@ -119,6 +119,10 @@ struct PlotParams {
 // (extended if a score exceeds 1). Cases whose correct model is not ranked first are marked
 // with a black cross. Rows with a NaN score are left out. Throws DataError(name) when no
 // row has a score, Error when no display is available.
+// The colour of series i (plot_scores' lines): a fixed table of 16 distinct colours, then
+// generated hues; no fixed number of series (models, classes) is assumed.
+std::array<std::uint8_t, 3> series_colour(std::size_t i);
+
 Image plot_scores(const std::vector<ScoreRow>& rows, const PlotParams& params, const std::string& name);
 
 // ---- I/O ----------------------------------------------------------------------------------

@@ -79,12 +79,35 @@ double number(const std::string& s, const std::string& name, int line, const std
   return v;
 }
 
-// A distinct colour per object (ColorBrewer Dark2, then Set1).
-const unsigned char kPalette[][3] = {{27, 158, 119}, {217, 95, 2},  {117, 112, 179}, {231, 41, 138},
-                                     {102, 166, 30}, {230, 171, 2}, {166, 118, 29},  {102, 102, 102},
-                                     {228, 26, 28},  {55, 126, 184}};
+// Distinct colours for the first series: ColorBrewer Dark2, then two of Set1 (the thesis's five
+// objects use the first five), then six more picked for distance from these (pairwise RGB
+// distance >= 60) and from the white background and the black failure crosses.
+const unsigned char kPalette[][3] = {{27, 158, 119},  {217, 95, 2},   {117, 112, 179}, {231, 41, 138},
+                                     {102, 166, 30},  {230, 171, 2},  {166, 118, 29},  {102, 102, 102},
+                                     {228, 26, 28},   {55, 126, 184}, {0, 0, 128},     {100, 30, 20},
+                                     {247, 129, 191}, {240, 50, 230}, {23, 190, 207},  {0, 100, 0}};
 
 }  // namespace
+
+std::array<std::uint8_t, 3> series_colour(std::size_t i) {
+  constexpr std::size_t n = sizeof kPalette / sizeof kPalette[0];
+  if (i < n) return {kPalette[i][0], kPalette[i][1], kPalette[i][2]};
+  // Beyond the table: hues a golden angle apart, alternating two saturation/value levels.
+  const double h = std::fmod(static_cast<double>(i - n) * 137.50776405, 360.0) / 60.0;
+  const double v = (i - n) % 2 == 0 ? 0.80 : 0.55, sat = 0.85;
+  const double c = v * sat, x = c * (1 - std::fabs(std::fmod(h, 2.0) - 1)), m = v - c;
+  double r = 0, g = 0, b = 0;
+  switch (static_cast<int>(h)) {
+    case 0: r = c, g = x; break;
+    case 1: r = x, g = c; break;
+    case 2: g = c, b = x; break;
+    case 3: g = x, b = c; break;
+    case 4: r = x, b = c; break;
+    default: r = c, b = x; break;
+  }
+  auto byte = [&](double u) { return static_cast<std::uint8_t>(std::lround(255 * (u + m))); };
+  return {byte(r), byte(g), byte(b)};
+}
 
 std::vector<ScoreRow> parse_scores_csv(const std::string& text, const std::string& name,
                                        const PlotColumns& columns) {
@@ -246,7 +269,7 @@ Image plot_scores(const std::vector<ScoreRow>& rows, const PlotParams& params, c
       }
       vtkPlot* line = chart->AddPlot(vtkChart::LINE);
       line->SetInputData(table, 0, 1);
-      const auto& c = kPalette[o % (sizeof kPalette / sizeof kPalette[0])];
+      const auto c = series_colour(o);
       line->SetColor(c[0], c[1], c[2], 255);
       line->SetWidth(2.5);
       line->SetLabel(objects[o]);
