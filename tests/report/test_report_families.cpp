@@ -3,10 +3,15 @@
 // famscore tables, and errors on malformed or inconsistent tables.
 #include <catch2/catch.hpp>
 
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include "canopy/common/error.h"
+#include "canopy/formats/json_io.h"
 #include "report/families_section.h"
+#include "support/cli.h"
 
 using namespace canopy;
 
@@ -107,4 +112,51 @@ TEST_CASE("families section: malformed or inconsistent tables are DataErrors nam
         "cover,noise,trials,class_right,accepted,accepted_right,nearest_right,failed\n"
         "all,all,12,9,8,9,4,1\n",
         "a.csv", "exceeds");
+}
+
+TEST_CASE("report --families adds the section; without it the report has none; a missing table is exit 1") {
+  namespace fs = std::filesystem;
+  const fs::path dir = test::fresh_dir("report", "families-cli");
+  const fs::path trial = dir / "out" / "sedan" / "circle" / "noise-0";
+  fs::create_directories(trial);
+  formats::MatchResult m;
+  m.error_form = "bounded";
+  formats::ModelScore s;
+  s.model = "sedan";
+  s.rank = 1;
+  s.score = 0.8;
+  m.models.push_back(s);
+  formats::write_match_result(m, (trial / "match.json").string());
+  formats::write_segment_graph(formats::SegmentGraph{}, (trial / "segments.json").string());
+  fs::create_directories(dir / "families");
+  for (const char* d : {"with", "without", "missing"}) fs::create_directories(dir / d);
+  std::ofstream(dir / "families" / "confusion.csv") << kConfusion;
+  std::ofstream(dir / "families" / "accuracy.csv") << kAccuracy;
+  const std::string report = std::string(CANOPY_BIN_DIR) + "/report --out " + (dir / "out").string() +
+                             " --objects sedan --scenes circle --noises 0 --results ";
+  auto read = [](const fs::path& p) {
+    std::ifstream f(p);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+  };
+  std::string err;
+  REQUIRE(test::sh(report + (dir / "with").string() + " --families " + (dir / "families").string(),
+                   dir / "err1.txt", &err) == 0);
+  const std::string with = read(dir / "with" / "report.md");
+  CHECK(with.find("**Class accuracy: 75.0% (9/12)**") != std::string::npos);
+  CHECK(with.find("| suv | 1 | **2** | 0 | 1 |") != std::string::npos);
+  // The figures follow the objects and scenes: no tank, so no tank-circle picture.
+  CHECK(with.find("pictures/sedan.png") != std::string::npos);
+  CHECK(with.find("tank-circle") == std::string::npos);
+  REQUIRE(test::sh(report + (dir / "without").string(), dir / "err2.txt", &err) == 0);
+  const std::string without = read(dir / "without" / "report.md");
+  CHECK(without.find("Vehicle families") == std::string::npos);
+  // The report without the section is the report with it, up to the section.
+  CHECK(with.substr(0, without.size()) == without);
+  fs::remove(dir / "families" / "accuracy.csv");
+  CHECK(test::sh(report + (dir / "missing").string() + " --families " + (dir / "families").string(),
+                 dir / "err3.txt", &err) == 1);
+  CHECK(err.find("accuracy.csv: missing") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "missing" / "report.md"));
 }
