@@ -69,12 +69,32 @@ TEST_CASE("recognition rates per object and overall, with the thesis beside them
   CHECK(out.markdown.find("| sedan | 100% (2/2) | 100% | 100% (1/1) |") != std::string::npos);
   CHECK(out.markdown.find("| tank | 50% (1/2) | 50% | 0% (0/1) |") != std::string::npos);
   CHECK(out.markdown.find("**75%** (3/4)") != std::string::npos);
+  // Two of the thesis's objects: its means are over them, its overall rate (five objects) is not shown.
+  CHECK(out.markdown.find("| **all trials** | **75%** (3/4) | – | 50% (1/2) |") != std::string::npos);
+  CHECK(out.markdown.find("| mean per object | 75% | 75% | |") != std::string::npos);
+  CHECK(out.markdown.find("obj1") == std::string::npos);
   CHECK(out.markdown.find("1 trials did not rank the correct model first") != std::string::npos);
   // scores.csv: one line per trial with the correct model's score and rank.
   CHECK(out.scores_csv ==
         "object,scene,noise_mm,score,rank,entropy\n"
         "sedan,circle,0,0.9000,1,0.5000\nsedan,circle,8,0.9000,1,0.5000\n"
         "tank,circle,0,0.9000,1,0.5000\ntank,circle,8,0.4000,3,0.5000\n");
+}
+
+TEST_CASE(
+    "models the thesis never printed (family instances) show no thesis value and leave its mean alone") {
+  report::Inputs in;
+  in.objects = {"sedan", "suv-1000"};
+  in.scenes = {"circle"};
+  in.noises = {0};
+  in.cases = {make_case("sedan", 0, 1), make_case("suv-1000", 0, 2)};
+  const auto out = report::run(in, report::Params{});
+  INFO(out.markdown);
+  CHECK(out.markdown.find("| suv-1000 | 0% (0/1) | – | – (0/0) |") != std::string::npos);
+  // canopy's mean over both objects (100% and 0%); the thesis's over the one it printed (sedan 100%).
+  CHECK(out.markdown.find("| mean per object | 50% | 100% | |") != std::string::npos);
+  CHECK(out.markdown.find("| **all trials** | **50%** (1/2) | – |") != std::string::npos);
+  CHECK(out.markdown.find("### suv-1000 — 0% (thesis –)") != std::string::npos);
 }
 
 TEST_CASE("a malformed thesis table names the file") {

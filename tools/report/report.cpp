@@ -435,8 +435,12 @@ Output run(const Inputs& in, const Params& p) {
        << (kThesisPrinted.count(o) ? std::to_string(kThesisPrinted.at(o)) + "%" : "–") << " | "
        << pct(to.first, to.second) << " (" << to.first << "/" << to.second << ") |\n";
   }
-  md << "| **all trials** | **" << pct(total_ok, total) << "** (" << total_ok << "/" << total << ") | ≈79% | "
-     << pct(thesis_ok, thesis_total) << " (" << thesis_ok << "/" << thesis_total << ") |\n";
+  // The thesis's overall rate (≈79%) is over its five objects: shown only when they are the objects.
+  const bool thesis_objects =
+      thesis_printed == static_cast<int>(kThesisPrinted.size()) && in.objects.size() == kThesisPrinted.size();
+  md << "| **all trials** | **" << pct(total_ok, total) << "** (" << total_ok << "/" << total << ") | "
+     << (thesis_objects ? "≈79%" : "–") << " | " << pct(thesis_ok, thesis_total) << " (" << thesis_ok << "/"
+     << thesis_total << ") |\n";
   md << "| mean per object | " << fmt("%.0f%%", mean_rate) << " | "
      << (thesis_printed > 0 ? fmt("%.0f%%", thesis_mean) : "–") << " | |\n\n";
   if (std::find(in.objects.begin(), in.objects.end(), "obj1") != in.objects.end())
