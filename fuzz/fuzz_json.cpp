@@ -6,7 +6,8 @@
 #include <string>
 
 #include "canopy/common/error.h"
-#include "canopy/formats/json_io.h"
+#include "canopy/formats/match_result.h"
+#include "canopy/formats/segment_graph.h"
 
 using canopy::common::DataError;
 namespace f = canopy::formats;

@@ -9,9 +9,10 @@
 #include <fstream>
 #include <string>
 
-#include "canopy/formats/json_io.h"
+#include "canopy/formats/match_result.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/ply.h"
+#include "canopy/formats/segment_graph.h"
 
 namespace f = canopy::formats;
 

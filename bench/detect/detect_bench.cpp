@@ -1,6 +1,6 @@
 // detect benchmark: recall, candidates per true vehicle and pose error on seeded synthetic
-// tiles (tests/detect/synth_tile.h) at light / medium / dense canopy cover and 0 / 8 / 32 mm
-// noise; and a large tile written to disk for timing the CLI (bench/detect/run.sh).
+// tiles (tests/fixtures/fixtures/detect_synth_tile.h) at light / medium / dense canopy cover
+// and 0 / 8 / 32 mm noise; and a large tile written to disk for timing the CLI (bench/detect/run.sh).
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -18,7 +18,7 @@
 #include "canopy/common/rng.h"
 #include "canopy/formats/pcd.h"
 #include "detect/detect.h"
-#include "synth_tile.h"
+#include "fixtures/detect_synth_tile.h"
 
 using namespace canopy;
 using detect_test::TileSpec;

@@ -26,8 +26,8 @@
 #include <vector>
 
 #include "canopy/common/rng.h"
-#include "canopy/formats/json_io.h"
 #include "canopy/formats/labels.h"
+#include "canopy/formats/segment_graph.h"
 #include "gmatch/gmatch.h"
 
 namespace fs = std::filesystem;

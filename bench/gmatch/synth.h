@@ -5,7 +5,7 @@
 #include <cmath>
 #include <vector>
 
-#include "../../tests/gmatch/graphs.h"
+#include "fixtures/gmatch_graphs.h"
 
 namespace gmatch_bench {
 

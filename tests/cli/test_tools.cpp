@@ -20,9 +20,10 @@
 #include <string>
 #include <vector>
 
-#include "canopy/formats/json_io.h"
+#include "canopy/formats/match_result.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/ply.h"
+#include "canopy/formats/segment_graph.h"
 #include "support/cli.h"
 
 namespace fs = std::filesystem;
@@ -121,6 +122,10 @@ TEST_CASE("a stray word is answered with 'use -i', a mistyped option with 'did y
   CHECK_THAT(err, Catch::Contains("did you mean --cols?"));
   // Tools that ignore --threads no longer accept it (fitvox uses it).
   CHECK(sh(bin("addnoise") + " --threads 2 -i s.pcd", d / "err", &err) == 2);
+  CHECK(sh(bin("detect") + " --threads 2 -i s.pcd -o c", d / "err", &err) == 2);
+  CHECK_THAT(err, Catch::Contains("--threads"));
+  CHECK(sh(bin("verify") + " --threads 2 -i m.json", d / "err", &err) == 2);
+  CHECK_THAT(err, Catch::Contains("--threads"));
   CHECK(sh(bin("fitvox") + " --help > " + q(d / "help"), d / "err", &err) == 0);
 }
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "canopy/common/math.h"
 #include "canopy/formats/pcd.h"
 #include "collect/collect.h"
 #include "support/cli.h"
@@ -18,10 +19,9 @@ namespace fs = std::filesystem;
 namespace {
 
 const double E = 500000.123, N = 5400000.456;  // UTM magnitudes: 1 mm must survive
-const double kPi = 3.14159265358979323846;
 
 Json rows(double heading_deg, double x, double y, double z) {
-  const double c = std::cos(heading_deg * kPi / 180), s = std::sin(heading_deg * kPi / 180);
+  const double c = std::cos(heading_deg * common::kPi / 180), s = std::sin(heading_deg * common::kPi / 180);
   return Json::array({Json::array({c, -s, 0.0, x}), Json::array({s, c, 0.0, y}),
                       Json::array({0.0, 0.0, 1.0, z}), Json::array({0.0, 0.0, 0.0, 1.0})});
 }
@@ -144,7 +144,7 @@ TEST_CASE("collect: detections, none counted, poses and footprints at UTM coordi
   CHECK(s["pose"]["heading"].get<double>() == Approx(30));
   CHECK(s["footprint_from"] == "model");
   // Corner (2, 1) of the model box turned by 30 degrees.
-  const double c30 = std::cos(kPi / 6), s30 = std::sin(kPi / 6);
+  const double c30 = std::cos(common::kPi / 6), s30 = std::sin(common::kPi / 6);
   CHECK(s["footprint"][2][0].get<double>() == Approx(E + 10.25 + 2 * c30 - s30).margin(1e-6));
   CHECK(s["footprint"][2][1].get<double>() == Approx(N + 10.125 + 2 * s30 + c30).margin(1e-6));
 

@@ -15,7 +15,7 @@
 #include "canopy/formats/points_io.h"
 #include "canopy/formats/ply.h"
 #include "support/cli.h"
-#include "synth_tile.h"
+#include "fixtures/detect_synth_tile.h"
 
 using namespace canopy;
 namespace fs = std::filesystem;

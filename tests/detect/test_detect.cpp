@@ -9,7 +9,7 @@
 #include "canopy/common/error.h"
 #include "detect/detect.h"
 #include "detect/output.h"
-#include "synth_tile.h"
+#include "fixtures/detect_synth_tile.h"
 
 using namespace canopy;
 using detect_test::TileSpec;

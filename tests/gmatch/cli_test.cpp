@@ -14,8 +14,9 @@
 
 #include "canopy/common/atomic_file.h"
 #include "support/cli.h"
-#include "canopy/formats/json_io.h"
-#include "graphs.h"
+#include "canopy/formats/match_result.h"
+#include "canopy/formats/segment_graph.h"
+#include "fixtures/gmatch_graphs.h"
 
 namespace fs = std::filesystem;
 using namespace gmatch_test;

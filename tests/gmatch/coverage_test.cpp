@@ -7,7 +7,7 @@
 #include <string>
 
 #include "gmatch/gmatch.h"
-#include "graphs.h"
+#include "fixtures/gmatch_graphs.h"
 
 using namespace gmatch_test;
 namespace gm = canopy::gmatch;

@@ -5,7 +5,7 @@
 
 #include "canopy/common/error.h"
 #include "gmatch/gmatch.h"
-#include "graphs.h"
+#include "fixtures/gmatch_graphs.h"
 
 using namespace gmatch_test;
 namespace gm = canopy::gmatch;

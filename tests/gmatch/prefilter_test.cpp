@@ -9,9 +9,10 @@
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
-#include "canopy/formats/json_io.h"
+#include "canopy/formats/match_result.h"
+#include "canopy/formats/segment_graph.h"
 #include "gmatch/gmatch.h"
-#include "graphs.h"
+#include "fixtures/gmatch_graphs.h"
 #include "support/cli.h"
 
 namespace fs = std::filesystem;

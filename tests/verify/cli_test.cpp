@@ -6,8 +6,9 @@
 #include <string>
 
 #include "canopy/common/atomic_file.h"
-#include "canopy/formats/json_io.h"
+#include "canopy/formats/match_result.h"
 #include "canopy/formats/pcd.h"
+#include "canopy/formats/segment_graph.h"
 #include "canopy/formats/verdict.h"
 #include "fixtures.h"
 #include "support/cli.h"

@@ -9,8 +9,9 @@
 #include <cmath>
 #include <vector>
 
-#include "canopy/formats/json_io.h"
+#include "canopy/formats/match_result.h"
 #include "canopy/formats/point_cloud.h"
+#include "canopy/formats/segment_graph.h"
 #include "verify/verify.h"
 
 namespace verify_test {

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "canopy/common/error.h"
+#include "canopy/common/math.h"
 #include "canopy/formats/json_document.h"
 
 namespace canopy::collect {
@@ -88,7 +89,7 @@ Matrix multiply(const Matrix& a, const Matrix& b) {
 }
 
 std::array<double, 3> euler_degrees(const Matrix& m) {
-  const double deg = 180 / M_PI;
+  const double deg = 180 / common::kPi;
   const double heading = std::atan2(m[4], m[0]);
   const double pitch = std::asin(std::max(-1.0, std::min(1.0, -m[8])));
   const double roll = std::atan2(m[9], m[10]);

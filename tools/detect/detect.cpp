@@ -22,6 +22,7 @@
 #include <pcl/segmentation/progressive_morphological_filter.h>
 
 #include "canopy/common/error.h"
+#include "canopy/formats/cloud_eigen.h"
 #include "canopy/formats/labels.h"
 
 namespace canopy::detect {
@@ -666,9 +667,7 @@ Result run(const formats::PointCloud& tile, const Params& params, const std::str
 
   // Local frame.
   Vector3d lo = Vector3d::Constant(1e300), hi = Vector3d::Constant(-1e300);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vector3d q(tx[i], ty[i], tz[i]);
-    if (!q.allFinite()) throw DataError(name, "point " + std::to_string(i) + " has a non-finite coordinate");
+  for (const Vector3d& q : formats::finite_vectors(tile, name)) {
     lo = lo.cwiseMin(q);
     hi = hi.cwiseMax(q);
   }

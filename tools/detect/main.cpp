@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
                     "Vehicle candidates in a whole tile: ground (DTM), objects between "
                     "the ground and the canopy, footprint and height tests; one local-frame "
                     "PCD per candidate plus index.json and a classification PLY.");
+  tool.without_threads();
   detect::Params p;
   std::string in = "-", out, clustering = "grid";
   bool no_classes = false;

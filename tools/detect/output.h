@@ -6,8 +6,8 @@
 
 #include <string>
 
-#include "canopy/formats/json_io.h"
 #include "canopy/formats/point_cloud.h"
+#include "canopy/formats/provenance.h"
 #include "detect/detect.h"
 
 namespace canopy::detect {

@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "canopy/common/error.h"
+#include "canopy/common/math.h"
 
 namespace canopy::gmatch {
 namespace {
@@ -25,7 +26,7 @@ using formats::Segment;
 using formats::SegmentGraph;
 using formats::Vec3;
 
-constexpr double kTwoOverPi = 2.0 / M_PI;
+constexpr double kTwoOverPi = 2.0 / common::kPi;
 // Scores closer than this are ties (broken by segment id / search order): keeps the result
 // independent of rounding noise, e.g. after rotating the object.
 constexpr double kTieQuantum = 1e-10;

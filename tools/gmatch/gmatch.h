@@ -12,7 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "canopy/formats/json_io.h"
+#include "canopy/formats/match_result.h"
+#include "canopy/formats/segment_graph.h"
 
 namespace canopy::gmatch {
 

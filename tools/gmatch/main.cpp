@@ -7,7 +7,8 @@
 #include "canopy/common/cli.h"
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
-#include "canopy/formats/json_io.h"
+#include "canopy/formats/match_result.h"
+#include "canopy/formats/segment_graph.h"
 #include "gmatch/gmatch.h"
 
 namespace cm = canopy::common;

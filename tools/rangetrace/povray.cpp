@@ -18,6 +18,7 @@
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
+#include "canopy/common/math.h"
 #include "canopy/formats/labels.h"
 #include "rangetrace/rangetrace.h"
 
@@ -153,7 +154,7 @@ std::string scene_pov(const Model& model, const Placement& placement, const Enco
       s << "camera { orthographic location Cams[0] right x*" << num(field) << " up y*" << num(field)
         << " look_at Target }\n";
     } else {
-      const View oblique{-35 * M_PI / 180, 25 * M_PI / 180};
+      const View oblique{-35 * common::kPi / 180, 25 * common::kPi / 180};
       const double reach = std::max(placement.model_max.x() - placement.model_min.x(),
                                     placement.model_max.y() - placement.model_min.y());
       s << "camera { perspective location "

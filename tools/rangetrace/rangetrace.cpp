@@ -19,6 +19,7 @@
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
+#include "canopy/common/math.h"
 #include "rangetrace/povray_run.h"
 #include "rangetrace/rangetrace.h"
 
@@ -145,7 +146,7 @@ std::string render_picture(const Model& model, const SceneRecipe* scene, int vie
   warn_model_size(model, hi - lo, nullptr);
   const Staged st = stage_models({model}, tmp);
   const Placement placement = place(lo, hi, params.pose);
-  std::vector<View> views = {View{0, 75 * M_PI / 180}};
+  std::vector<View> views = {View{0, 75 * common::kPi / 180}};
   std::vector<Disc> foliage;
   if (scene != nullptr) {
     if (view_idx < 0 || view_idx >= static_cast<int>(scene->views.size())) {

@@ -7,6 +7,7 @@
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
+#include "canopy/common/math.h"
 #include "canopy/common/rng.h"
 #include "canopy/common/units.h"
 #include "rangetrace/rangetrace.h"
@@ -20,7 +21,7 @@ Eigen::Vector3d pov_frame(const Eigen::Vector3d& v) { return {v.x(), v.z(), v.y(
 
 std::vector<View> circle_views(int count, double elevation) {
   std::vector<View> views;
-  for (int k = 0; k < count; ++k) views.push_back({2 * M_PI * k / count, elevation});
+  for (int k = 0; k < count; ++k) views.push_back({2 * common::kPi * k / count, elevation});
   return views;
 }
 
@@ -67,13 +68,13 @@ std::vector<View> dodecahedron_views() {
   });
   const double a0 = views.front().azimuth;
   for (auto& w : views) {
-    w.azimuth = std::remainder(w.azimuth - a0, 2 * M_PI);
+    w.azimuth = std::remainder(w.azimuth - a0, 2 * common::kPi);
     if (std::abs(w.azimuth) < 1e-12) w.azimuth = 0;
   }
   std::sort(views.begin(), views.end(), [](const View& a, const View& b) {
     if (std::abs(a.elevation - b.elevation) > 1e-6) return a.elevation > b.elevation;
-    const double aa = a.azimuth < -1e-9 ? a.azimuth + 2 * M_PI : a.azimuth;
-    const double bb = b.azimuth < -1e-9 ? b.azimuth + 2 * M_PI : b.azimuth;
+    const double aa = a.azimuth < -1e-9 ? a.azimuth + 2 * common::kPi : a.azimuth;
+    const double bb = b.azimuth < -1e-9 ? b.azimuth + 2 * common::kPi : b.azimuth;
     return aa < bb;
   });
   return views;
@@ -182,7 +183,7 @@ SceneRecipe parse_scene(const std::string& text, const std::string& name) {
     return scene;
   }
   for (const auto& v : scene.views) {
-    if (!(v.elevation > 0 && v.elevation < M_PI / 2)) {
+    if (!(v.elevation > 0 && v.elevation < common::kPi / 2)) {
       throw DataError(name, "view elevation must lie strictly between 0 and 90 degrees");
     }
   }

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "canopy/common/math.h"
 #include "canopy/formats/point_cloud.h"
 #include "rangetrace/rangetrace.h"
 
@@ -52,8 +53,8 @@ struct CanopyDisc {
 };
 
 struct Look {
-  double elevation = 75 * M_PI / 180;  // rad, (0, 90 deg]
-  double azimuth = 0;                  // rad: direction toward the sensor, relative to the flight heading
+  double elevation = 75 * common::kPi / 180;  // rad, (0, 90 deg]
+  double azimuth = 0;  // rad: direction toward the sensor, relative to the flight heading
 };
 
 enum class Terrain { kFlat, kSlope, kRolling };
@@ -83,8 +84,8 @@ struct TileRecipe {
   std::vector<int> clutter_lines;
 
   int flight_lines = 2;
-  std::vector<double> headings = {0, M_PI / 2};  // rad, flight directions (from +x, ccw)
-  std::vector<Look> looks = {{75 * M_PI / 180, 0}, {75 * M_PI / 180, M_PI}};
+  std::vector<double> headings = {0, common::kPi / 2};  // rad, flight directions (from +x, ccw)
+  std::vector<Look> looks = {{75 * common::kPi / 180, 0}, {75 * common::kPi / 180, common::kPi}};
   double altitude = 300;         // m above the tile centre's ground
   double spacing = 0.08;         // m, pixel spacing perpendicular to the rays
   double swath_overlap = 0.2;    // extra swath width, share of the line spacing

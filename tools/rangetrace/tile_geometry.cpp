@@ -6,6 +6,7 @@
 
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
+#include "canopy/common/math.h"
 #include "canopy/common/rng.h"
 #include "canopy/common/units.h"
 #include "rangetrace/povray_run.h"
@@ -46,7 +47,7 @@ void TriMesh::limb(const Vector3d& a, const Vector3d& b, double ra, double rb, i
   const Vector3d p = axis.cross(helper).normalized(), q = axis.cross(p);
   const int n = static_cast<int>(v.size());
   for (int k = 0; k < sides; ++k) {
-    const double t = 2 * M_PI * k / sides;
+    const double t = 2 * common::kPi * k / sides;
     const Vector3d d = std::cos(t) * p + std::sin(t) * q;
     v.push_back(a + ra * d);
     v.push_back(b + rb * d);
@@ -105,10 +106,10 @@ void leaf(TriMesh* m, common::Rng& rng, const Vector3d& c, double r, double aspe
   const Vector3d n = random_unit(rng);
   const Vector3d helper = std::abs(n.z()) < 0.9 ? Vector3d::UnitZ() : Vector3d::UnitX();
   const Vector3d a = n.cross(helper).normalized(), b = n.cross(a);
-  const double t0 = rng.uniform(0, 2 * M_PI);
+  const double t0 = rng.uniform(0, 2 * common::kPi);
   Vector3d p[3];
   for (int k = 0; k < 3; ++k) {
-    const double t = t0 + 2 * M_PI * k / 3;
+    const double t = t0 + 2 * common::kPi * k / 3;
     p[k] = c + r * std::cos(t) * a + r * aspect * std::sin(t) * b;
   }
   m->triangle(p[0], p[1], p[2]);
@@ -168,9 +169,9 @@ TriMesh conifer_template(std::uint64_t seed, double h) {
   for (double z = zb; z < h - 0.4; z += 0.5) {
     const double reach = rb * (h - z) / (h - zb) + 0.25;
     const int n = 5 + static_cast<int>(rng.below(3));
-    const double a0 = rng.uniform(0, 2 * M_PI);
+    const double a0 = rng.uniform(0, 2 * common::kPi);
     for (int b = 0; b < n; ++b) {
-      const double a = a0 + 2 * M_PI * (b + rng.uniform(-0.2, 0.2)) / n;
+      const double a = a0 + 2 * common::kPi * (b + rng.uniform(-0.2, 0.2)) / n;
       const double len = reach * rng.uniform(0.8, 1.0);
       const Vector3d s(0, 0, z), e(len * std::cos(a), len * std::sin(a), z - 0.2 * len);
       m.limb(s, e, 0.035, 0.012, 4);
@@ -321,9 +322,10 @@ TerrainModel::TerrainModel(const TileRecipe& tile, std::uint64_t seed) {
   };
   std::vector<Wave> waves;
   for (int k = 0; k < 6; ++k) {
-    const double dir = rng.uniform(0, 2 * M_PI);
-    const double kk = 2 * M_PI / (tile.rolling_wavelength * rng.uniform(0.7, 1.4));
-    waves.push_back({kk * std::cos(dir), kk * std::sin(dir), rng.uniform(0, 2 * M_PI), rng.uniform(0.5, 1.0)});
+    const double dir = rng.uniform(0, 2 * common::kPi);
+    const double kk = 2 * common::kPi / (tile.rolling_wavelength * rng.uniform(0.7, 1.4));
+    waves.push_back(
+        {kk * std::cos(dir), kk * std::sin(dir), rng.uniform(0, 2 * common::kPi), rng.uniform(0.5, 1.0)});
   }
   const double margin = 10;
   step_ = 1.0;
@@ -616,7 +618,7 @@ Tile build_tile(const TileRecipe& recipe, const std::string& name, const Params&
       for (int attempt = 0; attempt < 2000 && !placed; ++attempt) {
         const int model = use_model[first_random + rng.below(recipe.random_models.size())];
         const double x = rng.uniform(0, recipe.extent_x), y = rng.uniform(0, recipe.extent_y);
-        const double heading = rng.uniform(0, 2 * M_PI);
+        const double heading = rng.uniform(0, 2 * common::kPi);
         PlacedVehicle v = place_vehicle(model, x, y, heading, recipe.random_line);
         if (!inside_tile(v.footprint, recipe, 1.0)) continue;
         bool clear = true;
@@ -665,7 +667,7 @@ Tile build_tile(const TileRecipe& recipe, const std::string& name, const Params&
         bool placed = false;
         for (int attempt = 0; attempt < 500 && !placed; ++attempt) {
           const double x = rng.uniform(0, recipe.extent_x), y = rng.uniform(0, recipe.extent_y);
-          const double heading = rng.uniform(0, 2 * M_PI);
+          const double heading = rng.uniform(0, 2 * common::kPi);
           auto [o, q] = make_object(kind, x, y, heading);
           bool clear = inside_tile(q, recipe, 0.5);
           for (const auto& t : taken) clear = clear && !overlap(q, t, 1.5);
@@ -702,7 +704,7 @@ Tile build_tile(const TileRecipe& recipe, const std::string& name, const Params&
     t.conifer = s.conifer;
     t.template_index = (s.conifer ? 4 : 0) + static_cast<int>(trng.below(4));
     t.base = Vector3d(s.x, s.y, terrain.height(s.x, s.y));
-    t.rotation = trng.uniform(0, 2 * M_PI);
+    t.rotation = trng.uniform(0, 2 * common::kPi);
     t.scale = s.height / (s.conifer ? 20.0 : 17.0);
     tile.trees.push_back(t);
     trunks.emplace_back(s.x, s.y);
@@ -713,7 +715,7 @@ Tile build_tile(const TileRecipe& recipe, const std::string& name, const Params&
   auto place_random_tree = [&](const Vector2d& p, bool inside) {
     const bool conifer = trng.uniform() < recipe.conifer_share;
     const int variant = static_cast<int>(trng.below(4));
-    const double rot = trng.uniform(0, 2 * M_PI), scale = trng.uniform(0.85, 1.15);
+    const double rot = trng.uniform(0, 2 * common::kPi), scale = trng.uniform(0.85, 1.15);
     bool clear = inside;
     for (const auto& q : taken) clear = clear && distance_to_quad(p, q) >= 0.6;
     for (const auto& q : trunks) clear = clear && (q - p).norm() >= 1.5;
@@ -756,7 +758,7 @@ Tile build_tile(const TileRecipe& recipe, const std::string& name, const Params&
     for (int attempt = 0; attempt < 50; ++attempt) {
       const Vector2d p(brng.uniform(0, recipe.extent_x), brng.uniform(0, recipe.extent_y));
       const int variant = static_cast<int>(brng.below(3));
-      const double rot = brng.uniform(0, 2 * M_PI), scale = brng.uniform(0.8, 1.2);
+      const double rot = brng.uniform(0, 2 * common::kPi), scale = brng.uniform(0.8, 1.2);
       const double reach = (0.7 + 0.25 * variant) * scale + 0.4;
       bool clear = true;
       for (const auto& q : taken) clear = clear && distance_to_quad(p, q) >= reach;

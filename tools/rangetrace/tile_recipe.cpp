@@ -5,6 +5,7 @@
 #include <set>
 
 #include "canopy/common/error.h"
+#include "canopy/common/math.h"
 #include "canopy/common/units.h"
 #include "rangetrace/tile.h"
 
@@ -81,7 +82,7 @@ void apply_tile_key(TileRecipe* t, const std::string& key, const std::vector<std
       t->terrain = Terrain::kSlope;
       t->slope = parse_angle(w[1]);
       t->slope_azimuth = w.size() == 3 ? parse_angle(w[2]) : 0;
-      if (!(t->slope >= 0 && t->slope <= 15 * M_PI / 180 + 1e-12)) {
+      if (!(t->slope >= 0 && t->slope <= 15 * common::kPi / 180 + 1e-12)) {
         throw UsageError("slope must lie in [0, 15 deg]");
       }
     } else if (w[0] == "rolling" && w.size() <= 3) {
@@ -211,7 +212,7 @@ void apply_tile_key(TileRecipe* t, const std::string& key, const std::vector<std
       Look l;
       l.elevation = parse_angle(s.substr(0, slash));
       l.azimuth = slash == std::string::npos ? 0 : parse_angle(s.substr(slash + 1));
-      if (!(l.elevation >= 30 * M_PI / 180 - 1e-12 && l.elevation <= M_PI / 2 + 1e-12)) {
+      if (!(l.elevation >= 30 * common::kPi / 180 - 1e-12 && l.elevation <= common::kPi / 2 + 1e-12)) {
         throw UsageError("look elevation must lie in [30 deg, 90 deg]");
       }
       t->looks.push_back(l);

@@ -13,6 +13,7 @@
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
+#include "canopy/common/math.h"
 #include "canopy/common/units.h"
 #include "canopy/formats/labels.h"
 #include "rangetrace/povray_run.h"
@@ -273,7 +274,7 @@ std::vector<TileView> tile_views(const Tile& tile) {
       for (std::size_t l = 0; l < r.looks.size(); ++l) {
         const Look& look = r.looks[l];
         const double az = r.headings[h] + look.azimuth;
-        const bool nadir = std::abs(look.elevation - M_PI / 2) < 1e-9;
+        const bool nadir = std::abs(look.elevation - common::kPi / 2) < 1e-9;
         const Vector3d toward =
             nadir ? Vector3d::UnitZ()
                   : Vector3d(std::cos(look.elevation) * std::cos(az), std::cos(look.elevation) * std::sin(az),
@@ -500,7 +501,7 @@ std::string truth_json(const Tile& tile, const std::vector<std::pair<std::string
   using nlohmann::ordered_json;
   const TileRecipe& r = tile.recipe;
   const Vector3d o = r.has_origin ? r.origin : Vector3d::Zero();
-  const double deg = 180 / M_PI;
+  const double deg = 180 / common::kPi;
   auto angle = [&](double rad) { return rad * deg + 0.0; };  // + 0.0: no "-0.0"
   auto xyz = [&](const Vector3d& p) {
     return ordered_json::array({p.x() + o.x(), p.y() + o.y(), p.z() + o.z()});

@@ -8,8 +8,9 @@
 #include "canopy/common/cli.h"
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
-#include "canopy/formats/json_io.h"
+#include "canopy/formats/match_result.h"
 #include "canopy/formats/pcd.h"
+#include "canopy/formats/segment_graph.h"
 #include "canopy/formats/verdict.h"
 #include "verify/verify.h"
 
@@ -70,6 +71,7 @@ int main(int argc, char** argv) {
                 "Checks gmatch's top hypotheses against the candidate's points (pose by segment "
                 "pairs + point-to-plane ICP, explained share and free-space violation); writes "
                 "a canopy.verdict JSON: a model with pose and confidence, or none.");
+  tool.without_threads();
   vf::Params p;
   std::string in = "-", out = "-", points, segments, modelbase, transform;
   bool no_flip = false;

@@ -14,6 +14,8 @@
 #include <unordered_map>
 
 #include "canopy/common/error.h"
+#include "canopy/common/math.h"
+#include "canopy/formats/cloud_eigen.h"
 
 namespace canopy::verify {
 namespace {
@@ -21,7 +23,6 @@ namespace {
 using Eigen::Isometry3d;
 using Eigen::Matrix3d;
 using Eigen::Vector3d;
-constexpr double kPi = 3.14159265358979323846;
 
 std::uint64_t cell_key(double a, double b, double cell) {
   const auto i = static_cast<std::int64_t>(std::floor(a / cell));
@@ -103,20 +104,17 @@ double major_axis_angle(const std::vector<Vector3d>& pts, const Vector3d& mean) 
 Isometry3d flipped(const Isometry3d& pose, const Vector3d& model_centre) {
   const Vector3d c = pose * model_centre;
   Isometry3d R = Isometry3d::Identity();
-  R.linear() = Eigen::AngleAxisd(kPi, Vector3d::UnitZ()).toRotationMatrix();
+  R.linear() = Eigen::AngleAxisd(common::kPi, Vector3d::UnitZ()).toRotationMatrix();
   R.translation() = c - R.linear() * c;
   return R * pose;
 }
 
 std::vector<Vector3d> unit_columns(const formats::PointCloud& cloud, const std::string& prefix,
                                    const std::string& name, const std::string& hint) {
-  cloud.require({prefix + "_x", prefix + "_y", prefix + "_z"}, name, hint);
-  const auto& x = cloud.col(prefix + "_x");
-  const auto& y = cloud.col(prefix + "_y");
-  const auto& z = cloud.col(prefix + "_z");
-  std::vector<Vector3d> v(cloud.size());
+  const formats::Fields3 fields{prefix + "_x", prefix + "_y", prefix + "_z"};
+  cloud.require({fields[0], fields[1], fields[2]}, name, hint);
+  std::vector<Vector3d> v = formats::to_vectors(cloud, fields);
   for (std::size_t i = 0; i < v.size(); ++i) {
-    v[i] = Vector3d(x[i], y[i], z[i]);
     const double n = v[i].norm();
     if (!std::isfinite(n) || n < 1e-9) {
       throw common::DataError(name,
@@ -129,17 +127,7 @@ std::vector<Vector3d> unit_columns(const formats::PointCloud& cloud, const std::
 
 std::vector<Vector3d> xyz(const formats::PointCloud& cloud, const std::string& name) {
   cloud.require({"x", "y", "z"}, name, "is this a point cloud?");
-  const auto& x = cloud.col("x");
-  const auto& y = cloud.col("y");
-  const auto& z = cloud.col("z");
-  std::vector<Vector3d> p(cloud.size());
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    p[i] = Vector3d(x[i], y[i], z[i]);
-    if (!p[i].allFinite()) {
-      throw common::DataError(name, "point " + std::to_string(i) + " has a non-finite coordinate");
-    }
-  }
-  return p;
+  return formats::finite_vectors(cloud, name);
 }
 
 }  // namespace
@@ -214,7 +202,7 @@ Scorer::Scorer(const Candidate& c, const Params& p) : c_(c), p_(p), impl_(std::m
     if (q.z() >= p.min_height) above_.push_back(q);
   }
   // Distinct sensor directions (greedy clustering within 2 degrees).
-  const double cos_tol = std::cos(2.0 * kPi / 180.0);
+  const double cos_tol = std::cos(2.0 * common::kPi / 180.0);
   for (const auto& s : c.sensor) {
     bool known = false;
     for (const auto& v : views_) {

@@ -23,8 +23,9 @@
 #include <string>
 #include <vector>
 
-#include "canopy/formats/json_io.h"
+#include "canopy/formats/match_result.h"
 #include "canopy/formats/point_cloud.h"
+#include "canopy/formats/segment_graph.h"
 #include "canopy/formats/verdict.h"
 
 namespace canopy::verify {

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "canopy/formats/json_io.h"
+#include "canopy/formats/provenance.h"
 
 namespace canopy::formats {
 
