@@ -7,7 +7,7 @@
 #include <fstream>
 #include <string>
 
-#include "canopy/formats/json_io.h"
+#include "canopy/formats/match_result.h"
 #include "report/baseline_section.h"
 #include "support/cli.h"
 

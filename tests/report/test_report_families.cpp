@@ -9,7 +9,8 @@
 #include <string>
 
 #include "canopy/common/error.h"
-#include "canopy/formats/json_io.h"
+#include "canopy/formats/match_result.h"
+#include "canopy/formats/segment_graph.h"
 #include "report/families_section.h"
 #include "support/cli.h"
 

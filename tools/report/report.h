@@ -8,7 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "canopy/formats/json_io.h"
+#include "canopy/formats/match_result.h"
+#include "canopy/formats/segment_graph.h"
 #include "canopy/formats/verdict.h"
 
 namespace canopy::report {
