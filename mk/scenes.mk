@@ -258,8 +258,10 @@ $(foreach c,$(SCENE_COVERS),$(foreach s,$(SCENE_SEEDS),$(eval $(call scene_tile_
 $(foreach c,$(SCENE_COVERS),$(foreach s,$(SCENE_SEEDS),$(foreach n,$(SCENE_NOISES),$(eval $(call scene_noise_rule,$(c),$(s),$(n))))))
 $(foreach r,$(SCENE_RUNS),$(eval $(call tile_rules,$(call scene_key,$(r)),$(r),$(r)/scan.pcd,$(SCENE_MB))))
 $(foreach r,$(SCENE_RUNS),$(call read_plan,$(r)/cands.mk))
+# ncut's seed key is the run's place under scenes/ (scenes/<cover>/tile-<seed>/noise-<mm>/<id>),
+# never a path with $(OUT) in it: the same experiment in another directory gives the same bytes.
 $(foreach r,$(SCENE_RUNS),$(foreach c,$($(call scene_key,$(r))_CANDS),\
-  $(eval $(call cand_rule,$(r),$(c),$(call scene_key,$(r)),$(SCENE_MB),$(r)))))
+  $(eval $(call cand_rule,$(r),$(c),$(call scene_key,$(r)),$(SCENE_MB),$(patsubst $(SCENE_DIR)/%,scenes/%,$(r))))))
 $(foreach r,$(SCENE_RUNS),$(eval $(call tile_collect,$(call scene_key,$(r)),$(r),$(SCENE_MB),$(r)/scan.pcd)))
 # The experiment's modelbase is built here (graphs; surfaces when mk/verify.mk is read).
 $(foreach r,$(SCENE_RUNS),$(foreach c,$($(call scene_key,$(r))_CANDS),\
