@@ -8,10 +8,10 @@
 #include <limits>
 #include <numeric>
 #include <set>
-#include <thread>
 
 #include "canopy/common/error.h"
 #include "canopy/common/math.h"
+#include "canopy/common/parallel.h"
 
 namespace canopy::gmatch {
 namespace {
@@ -462,19 +462,11 @@ Out run(const In& in, const Params& params, int threads) {
   out.stats.resize(models.size());
   out.searched = static_cast<int>(kept.size());
   const int n = static_cast<int>(kept.size());
-  const int workers = std::max(1, std::min(threads, n));
-  auto work = [&](int w) {
-    for (int i = w; i < n; i += workers) {
+  common::parallel_for(n, threads, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
       scores[i] = match_model(*in.object, models[kept[i]], params, &out.stats[kept[i]]);
     }
-  };
-  if (workers == 1) {
-    work(0);
-  } else {
-    std::vector<std::thread> pool;
-    for (int w = 0; w < workers; ++w) pool.emplace_back(work, w);
-    for (auto& t : pool) t.join();
-  }
+  });
   std::stable_sort(scores.begin(), scores.end(), [](const formats::ModelScore& a, const formats::ModelScore& b) {
     if (a.score != b.score) return a.score > b.score;
     return a.model < b.model;

@@ -4,9 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
-#include <thread>
 #include <utility>
 
+#include "canopy/common/parallel.h"
 #include "gmatch/gmatch.h"
 
 namespace canopy::gmatch {
@@ -93,17 +93,11 @@ std::vector<int> prefilter(const formats::SegmentGraph& object, const std::vecto
     Params coarse = params;
     coarse.max_segments = std::min(params.coarse_segments, params.max_segments);
     coarse.prefilter = 0;
-    const int workers = std::max(1, std::min(threads, n));
-    auto work = [&](int w) {
-      for (int i = w; i < n; i += workers) { merit[i] = {match_model(object, models[i], coarse).score, i}; }
-    };
-    if (workers == 1) {
-      work(0);
-    } else {
-      std::vector<std::thread> pool;
-      for (int w = 0; w < workers; ++w) pool.emplace_back(work, w);
-      for (auto& t : pool) t.join();
-    }
+    common::parallel_for(n, threads, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i) {
+        merit[i] = {match_model(object, models[i], coarse).score, static_cast<int>(i)};
+      }
+    });
   }
   const auto better = [](const std::pair<double, int>& a, const std::pair<double, int>& b) {
     if (a.first != b.first) return a.first > b.first;
