@@ -252,7 +252,7 @@ TEST_CASE("bad tiles") {
   SECTION("bad parameters") {
     detect::Params p;
     p.max_width = 0.5;
-    CHECK_THROWS_AS(p.validate(), common::UsageError);
+    CHECK_THROWS_AS(detect::validate(p), common::UsageError);
   }
 }
 

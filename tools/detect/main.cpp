@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
     } else {
       throw common::UsageError("--clustering must be grid or euclidean");
     }
-    p.validate();
+    detect::validate(p);
     const std::string name = common::display_name(in);
     common::log::Phase read("read");
     const formats::PointCloud tile = read_tile(in);
