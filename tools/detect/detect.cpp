@@ -22,6 +22,7 @@
 #include <pcl/segmentation/progressive_morphological_filter.h>
 
 #include "canopy/common/error.h"
+#include "canopy/common/geometry.h"
 #include "canopy/formats/cloud_eigen.h"
 #include "canopy/formats/labels.h"
 
@@ -225,13 +226,7 @@ Footprint min_area_rectangle(const std::vector<Vector2d>& points) {
   double best_area = std::numeric_limits<double>::infinity();
   auto consider = [&](const Vector2d& u) {
     const Vector2d v(-u.y(), u.x());
-    double umin = 1e300, umax = -1e300, vmin = 1e300, vmax = -1e300;
-    for (const auto& q : hull) {
-      umin = std::min(umin, q.dot(u));
-      umax = std::max(umax, q.dot(u));
-      vmin = std::min(vmin, q.dot(v));
-      vmax = std::max(vmax, q.dot(v));
-    }
+    const auto [umin, umax, vmin, vmax] = common::extent_along(hull, u, v);
     const double area = (umax - umin) * (vmax - vmin);
     if (area < best_area - 1e-12) {
       best_area = area;
