@@ -124,10 +124,11 @@ struct In {
   const formats::SegmentGraph* segments = nullptr;
   const formats::MatchResult* match = nullptr;
   const std::vector<Model>* models = nullptr;  // at least the top-k hypotheses' models
+  const Eigen::Isometry3d* to_tile = nullptr;  // candidate frame -> tile frame; null = none
 };
 
-// Checks the top-k hypotheses and decides. Fills every field of the verdict but provenance,
-// inputs and the tile pose.
+// Checks the top-k hypotheses and decides. Fills every field of the verdict but provenance
+// and inputs; the tile pose (transform, pose_tile) when `to_tile` is given.
 formats::Verdict run(const In& in, const Params& params);
 
 }  // namespace canopy::verify
