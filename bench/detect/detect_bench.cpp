@@ -15,6 +15,7 @@
 #include <pcl/point_types.h>
 #include <pcl/segmentation/progressive_morphological_filter.h>
 
+#include "canopy/common/math.h"
 #include "canopy/common/rng.h"
 #include "canopy/formats/pcd.h"
 #include "detect/detect.h"
@@ -51,7 +52,7 @@ TileSpec random_tile(std::uint64_t seed, double cover, double noise, double half
               : seed % 3 == 1 ? detect_test::Terrain::kSlope
                               : detect_test::Terrain::kRolling;
   s.slope_deg = 10;
-  s.slope_azimuth = rng.uniform(0, 2 * M_PI);
+  s.slope_azimuth = rng.uniform(0, 2 * canopy::common::kPi);
   s.rolling_amplitude = 1.5;
   s.rolling_wavelength = 40;
   auto clear_of_vehicles = [&](double x, double y, double grow) {
@@ -66,7 +67,7 @@ TileSpec random_tile(std::uint64_t seed, double cover, double noise, double half
     if (s.terrain == detect_test::Terrain::kRolling && m.length > 10) continue;  // rigid boxes
     VehicleSpec v{rng.uniform(-half + 9, half - 9),
                   rng.uniform(-half + 9, half - 9),
-                  rng.uniform(-M_PI, M_PI),
+                  rng.uniform(-canopy::common::kPi, canopy::common::kPi),
                   m.length,
                   m.width,
                   m.height,
@@ -99,7 +100,7 @@ TileSpec random_tile(std::uint64_t seed, double cover, double noise, double half
     for (const auto& v : s.vehicles) {
       if (std::hypot(v.x - t.x, v.y - t.y) < t.crown_radius + 0.5 * std::hypot(v.length, v.width)) {
         const double need = detect_test::ground_z(s, v.x, v.y) + v.height + 0.5 +
-                            0.5 * v.length * std::tan(s.slope_deg * M_PI / 180) -
+                            0.5 * v.length * std::tan(s.slope_deg * canopy::common::kPi / 180) -
                             detect_test::ground_z(s, t.x, t.y);
         if (t.crown_base < need) {
           t.crown_top += need - t.crown_base;
@@ -212,7 +213,7 @@ int recall(int tiles) {
           centre_err.push_back((best->to_tile.block<3, 1>(0, 3) - detect_test::vehicle_centre(s, v)).norm());
           const double cosang =
               std::abs(best->to_tile.block<3, 1>(0, 0).dot(detect_test::vehicle_rotation(s, v).col(0)));
-          heading_err.push_back(std::acos(std::min(1.0, cosang)) * 180 / M_PI);
+          heading_err.push_back(std::acos(std::min(1.0, cosang)) * 180 / canopy::common::kPi);
         }
       }
       std::printf("| %s (%.2f / %.2f) | %.0f mm | %zu | %.1f%% | %.2f | %zu | %.2f m | %.1f deg | %.2f |\n",

@@ -10,6 +10,7 @@
 #include <iterator>
 #include <string>
 
+#include "canopy/common/math.h"
 #include "canopy/formats/labels.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/points_io.h"
@@ -266,7 +267,7 @@ TEST_CASE("the existing chain runs on a candidate unchanged") {
   CHECK(c["centre"][0].get<double>() == Approx(612345.0 + 2).margin(0.3));
   CHECK(c["centre"][1].get<double>() == Approx(5012345.0 - 1).margin(0.3));
   CHECK(c["centre"][2].get<double>() == Approx(350.0).margin(0.05));
-  const double heading = c["heading"].get<double>() * 180 / M_PI;
+  const double heading = c["heading"].get<double>() * 180 / canopy::common::kPi;
   CHECK(std::min(std::abs(heading - 35), std::abs(std::abs(heading - 35) - 180)) < 5);
 
   fs::create_directories(dir / "mb");

@@ -378,25 +378,7 @@ Isometry3d pose_from_axes(const std::vector<Vector3d>& candidate, const std::vec
 
 namespace {
 
-formats::Pose to_pose(const Isometry3d& T) {
-  formats::Pose p;
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) p.rotation[3 * r + c] = T.linear()(r, c);
-    p.translation[r] = T.translation()(r);
-  }
-  return p;
-}
-
 double logistic(double x) { return 1.0 / (1.0 + std::exp(-x)); }
-
-Isometry3d to_isometry(const formats::Pose& p) {
-  Isometry3d T = Isometry3d::Identity();
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) T.linear()(r, c) = p.rotation[3 * r + c];
-    T.translation()(r) = p.translation[r];
-  }
-  return T;
-}
 
 const Model& loaded_model(const In& in, const std::string& name) {
   const Model* model = nullptr;
@@ -490,6 +472,24 @@ void decide(formats::Verdict* verdict, const Params& p) {
 }
 
 }  // namespace
+
+formats::Pose to_pose(const Isometry3d& T) {
+  formats::Pose p;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) p.rotation[3 * r + c] = T.linear()(r, c);
+    p.translation[r] = T.translation()(r);
+  }
+  return p;
+}
+
+Isometry3d to_isometry(const formats::Pose& p) {
+  Isometry3d T = Isometry3d::Identity();
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) T.linear()(r, c) = p.rotation[3 * r + c];
+    T.translation()(r) = p.translation[r];
+  }
+  return T;
+}
 
 formats::Verdict run(const In& in, const Params& p) {
   formats::Verdict v;
