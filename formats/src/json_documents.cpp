@@ -219,7 +219,12 @@ SegmentGraph parse_segment_graph(const std::string& text, const std::string& nam
 }
 
 SegmentGraph read_segment_graph(const std::string& path) {
-  return parse_segment_graph(common::read_file(path), path);
+  try {
+    return parse_segment_graph(common::read_file(path), path);
+  } catch (const common::DataError& e) {
+    if (e.file() == path) throw;
+    throw common::DataError(path, e.what());
+  } catch (const std::exception& e) { throw common::DataError(path, e.what()); }
 }
 
 void write_segment_graph(const SegmentGraph& graph, const std::string& path) {

@@ -4,12 +4,14 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
 
+#include "canopy/common/math.h"
 #include "canopy/formats/labels.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/points_io.h"
@@ -81,6 +83,16 @@ TEST_CASE("detect writes a candidates directory") {
     CHECK(std::abs(c["centre"][0].get<double>() - 500000) < 15);
     CHECK(std::abs(c["centre"][1].get<double>() - 4400000) < 15);
     CHECK(c["truth"]["coverage"].get<double>() > 0.95);
+    // Comments: the tile's, detect's provenance (formats::provenance_comments), the candidate.
+    const auto& com = cloud.comments;
+    const auto prov = std::find_if(com.begin(), com.end(),
+                                   [](const std::string& l) { return l.rfind("detect (canopy) ", 0) == 0; });
+    REQUIRE(prov != com.end());
+    CHECK(std::find(prov, com.end(), "parameter cell = 500mm") != com.end());
+    CHECK(std::find(prov, com.end(), "parameter clustering = grid") != com.end());
+    CHECK(std::find(prov, com.end(), "input " + (dir / "tile.pcd").string()) != com.end());
+    CHECK(com.back() == "candidate " + c["id"].get<std::string>() +
+                            " in its local frame; index.json gives the transform back to the tile");
   }
   REQUIRE(j["instances"].size() == 2);
   for (const auto& it : j["instances"]) CHECK(it["candidates"].size() == 1);
@@ -88,6 +100,12 @@ TEST_CASE("detect writes a candidates directory") {
   CHECK(classes.vertices.size() == j["tile_points"].get<std::size_t>());
   CHECK(classes.vertices.has("class"));
   CHECK(classes.vertices.has("red"));
+  const std::vector<std::string>& cc = classes.vertices.comments;
+  REQUIRE(cc.size() >= 3);
+  CHECK(cc.front().rfind("detect (canopy) ", 0) == 0);
+  CHECK(std::find(cc.begin(), cc.end(), "input " + (dir / "tile.pcd").string()) != cc.end());
+  CHECK(cc[cc.size() - 2] == "classes 1 ground (brown), 2 vegetation/other (green), 3 candidate (red)");
+  CHECK(cc.back().rfind("origin ", 0) == 0);
   CHECK(entries(dir) == std::vector<std::string>{"cands", "err.txt", "tile.pcd"});
 
   SECTION("a re-run replaces the previous output as a whole") {
@@ -119,10 +137,9 @@ TEST_CASE("detect writes a candidates directory") {
   }
 }
 
-TEST_CASE("detect: bad output and input") {
-  const fs::path dir = test::fresh_dir("detect", "cli_bad");
-  detect_test::TileSpec s = small_scene();
-  formats::write_pcd(detect_test::make_tile(s), (dir / "tile.pcd").string());
+TEST_CASE("detect: bad output") {
+  const fs::path dir = test::fresh_dir("detect", "cli_bad_output");
+  formats::write_pcd(detect_test::make_tile(small_scene()), (dir / "tile.pcd").string());
   std::string err;
   SECTION("output is an existing file") {
     { std::ofstream(dir / "file.txt") << "keep me"; }
@@ -145,6 +162,13 @@ TEST_CASE("detect: bad output and input") {
   SECTION("no output") {
     CHECK(test::sh(kBin + "/detect -q -i " + q(dir / "tile.pcd"), dir / "err.txt", &err) == 2);
   }
+}
+
+TEST_CASE("detect: bad and unusual input") {
+  const fs::path dir = test::fresh_dir("detect", "cli_bad_input");
+  detect_test::TileSpec s = small_scene();
+  formats::write_pcd(detect_test::make_tile(s), (dir / "tile.pcd").string());
+  std::string err;
   SECTION("an empty tile") {
     formats::PointCloud empty;
     empty.add("x", formats::kFloat64);
@@ -266,7 +290,7 @@ TEST_CASE("the existing chain runs on a candidate unchanged") {
   CHECK(c["centre"][0].get<double>() == Approx(612345.0 + 2).margin(0.3));
   CHECK(c["centre"][1].get<double>() == Approx(5012345.0 - 1).margin(0.3));
   CHECK(c["centre"][2].get<double>() == Approx(350.0).margin(0.05));
-  const double heading = c["heading"].get<double>() * 180 / M_PI;
+  const double heading = c["heading"].get<double>() * 180 / canopy::common::kPi;
   CHECK(std::min(std::abs(heading - 35), std::abs(std::abs(heading - 35) - 180)) < 5);
 
   fs::create_directories(dir / "mb");

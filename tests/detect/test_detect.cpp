@@ -6,6 +6,7 @@
 #include <cmath>
 #include <string>
 
+#include "canopy/common/math.h"
 #include "canopy/common/error.h"
 #include "detect/detect.h"
 #include "detect/output.h"
@@ -29,7 +30,7 @@ std::vector<const detect::Candidate*> candidates_of(const detect::Result& r, std
 // Angle between the candidate's x axis and the vehicle's, folded to [0, 90] degrees.
 double axis_error_deg(const detect::Candidate& c, const Eigen::Matrix3d& R) {
   const double cosang = std::abs(c.to_tile.block<3, 1>(0, 0).dot(R.col(0)));
-  return std::acos(std::min(1.0, cosang)) * 180 / M_PI;
+  return std::acos(std::min(1.0, cosang)) * 180 / canopy::common::kPi;
 }
 
 // Every vehicle: exactly one candidate, centre within 0.3 m, axis within 5 degrees.
@@ -90,7 +91,7 @@ TEST_CASE("15 degree slope: poses in the tilted ground frame") {
   check_poses(s, r);
   // The candidate frame's z is the ground normal (15 degrees from vertical).
   for (const auto& c : r.candidates) {
-    const double tilt = std::acos(c.to_tile(2, 2)) * 180 / M_PI;
+    const double tilt = std::acos(c.to_tile(2, 2)) * 180 / canopy::common::kPi;
     CHECK(tilt == Approx(15.0).margin(1.0));
   }
 }
@@ -252,7 +253,7 @@ TEST_CASE("bad tiles") {
   SECTION("bad parameters") {
     detect::Params p;
     p.max_width = 0.5;
-    CHECK_THROWS_AS(p.validate(), common::UsageError);
+    CHECK_THROWS_AS(detect::validate(p), common::UsageError);
   }
 }
 

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <string>
 
+#include "canopy/common/math.h"
 #include "canopy/common/atomic_file.h"
 #include "canopy/formats/match_result.h"
 #include "canopy/formats/pcd.h"
@@ -72,7 +73,7 @@ TEST_CASE("verify answers the right model with its pose, byte-identical on rerun
   REQUIRE(v.hypotheses[0].model == "flatbed");
   REQUIRE(v.chosen == 1);
   const auto e = fm::euler_degrees(v.hypotheses[1].pose);
-  CHECK(e[0] == Approx(1.0 * 180 / M_PI).margin(0.1));
+  CHECK(e[0] == Approx(1.0 * 180 / canopy::common::kPi).margin(0.1));
   CHECK(v.hypotheses[1].pose.translation[0] == Approx(2.0).margin(1e-3));
   CHECK(v.hypotheses[1].pose.translation[1] == Approx(-1.0).margin(1e-3));
   CHECK(!v.transform);

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <vector>
 
+#include "canopy/common/math.h"
 #include "canopy/formats/match_result.h"
 #include "canopy/formats/point_cloud.h"
 #include "canopy/formats/segment_graph.h"
@@ -102,9 +103,9 @@ inline canopy::formats::SegmentGraph graph(const std::vector<Box>& boxes) {
 
 inline std::vector<Vector3d> views75() {
   std::vector<Vector3d> v;
-  const double el = 75 * M_PI / 180;
+  const double el = 75 * canopy::common::kPi / 180;
   for (int k = 0; k < 12; ++k) {
-    const double az = 2 * M_PI * k / 12;
+    const double az = 2 * canopy::common::kPi * k / 12;
     v.emplace_back(std::cos(az) * std::cos(el), std::sin(az) * std::cos(el), std::sin(el));
   }
   return v;
@@ -161,12 +162,12 @@ inline Isometry3d pose(double heading, double x, double y, double z = 0) {
 // A sphere of radius r centred at height zc (upper part above the ground), spacing h.
 inline canopy::verify::Surface sphere(double r, double zc, double h) {
   canopy::verify::Surface s;
-  const int rings = static_cast<int>(M_PI * r / h);
+  const int rings = static_cast<int>(canopy::common::kPi * r / h);
   for (int i = 0; i <= rings; ++i) {
-    const double th = M_PI * i / rings;
-    const int n = std::max(1, static_cast<int>(2 * M_PI * r * std::sin(th) / h));
+    const double th = canopy::common::kPi * i / rings;
+    const int n = std::max(1, static_cast<int>(2 * canopy::common::kPi * r * std::sin(th) / h));
     for (int j = 0; j < n; ++j) {
-      const double ph = 2 * M_PI * j / n;
+      const double ph = 2 * canopy::common::kPi * j / n;
       const Vector3d d(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
       const Vector3d p = Vector3d(0, 0, zc) + r * d;
       if (p.z() < 0.02) continue;

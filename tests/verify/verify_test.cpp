@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "canopy/common/math.h"
 #include "canopy/common/error.h"
 #include "fixtures.h"
 #include "verify/verify.h"
@@ -15,18 +16,9 @@ namespace fm = canopy::formats;
 
 namespace {
 
-Isometry3d iso(const fm::Pose& p) {
-  Isometry3d T = Isometry3d::Identity();
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) T.linear()(r, c) = p.rotation[3 * r + c];
-    T.translation()(r) = p.translation[r];
-  }
-  return T;
-}
-
 double angle_deg(const Isometry3d& a, const Isometry3d& b) {
   const Eigen::AngleAxisd d(a.linear().transpose() * b.linear());
-  return std::abs(d.angle()) * 180 / M_PI;
+  return std::abs(d.angle()) * 180 / canopy::common::kPi;
 }
 
 struct World {
@@ -50,7 +42,7 @@ TEST_CASE("a posed, resampled model is recovered to 1 mm and 0.1 degree", "[veri
   REQUIRE(v.model == "pickup");
   REQUIRE(v.chosen == 0);
   const auto& h = v.hypotheses[0];
-  const Isometry3d P = iso(h.pose);
+  const Isometry3d P = vf::to_isometry(h.pose);
   CHECK((P.translation() - T.translation()).norm() < 1e-3);
   CHECK(angle_deg(P, T) < 0.1);
   CHECK(h.explained > 0.9);
@@ -71,7 +63,7 @@ TEST_CASE("recovery does not need the segment pairs (principal-axis start)", "[v
   const auto m = match({"pickup"}, {graph(pickup())}, false);
   const fm::Verdict v = vf::run({&cand, &object, &m, &w.models}, vf::Params{});
   REQUIRE(v.model == "pickup");
-  const Isometry3d P = iso(v.hypotheses[0].pose);
+  const Isometry3d P = vf::to_isometry(v.hypotheses[0].pose);
   CHECK((P.translation() - T.translation()).norm() < 1e-3);
   CHECK(angle_deg(P, T) < 0.1);
   CHECK(v.hypotheses[0].start.rfind("axes", 0) == 0);
@@ -84,7 +76,7 @@ TEST_CASE("the 180-degree flipped pose is rejected", "[verify]") {
   const vf::Params p;
   const vf::Scorer scorer(cand, p);
   const auto& model = w.models[0].surface;
-  const Isometry3d F = pose(0.3 + M_PI, 0.2, 0.1);  // same place, turned round
+  const Isometry3d F = pose(0.3 + canopy::common::kPi, 0.2, 0.1);  // same place, turned round
   const vf::Check right = scorer.score(model, vf::refine(model, scorer.above_points(), T, p));
   const vf::Check flip = scorer.score(model, vf::refine(model, scorer.above_points(), F, p));
   CHECK(right.score > 0.9);
@@ -97,7 +89,7 @@ TEST_CASE("the 180-degree flipped pose is rejected", "[verify]") {
   REQUIRE(v.chosen == 0);
   CHECK(!v.hypotheses[0].flipped);
   CHECK(v.hypotheses[0].flip_score < v.hypotheses[0].score - 0.2);
-  CHECK(angle_deg(iso(v.hypotheses[0].pose), T) < 0.1);
+  CHECK(angle_deg(vf::to_isometry(v.hypotheses[0].pose), T) < 0.1);
 }
 
 TEST_CASE("a candidate made of another model's points scores below its own model", "[verify]") {

@@ -22,6 +22,7 @@
 #include <pcl/segmentation/progressive_morphological_filter.h>
 
 #include "canopy/common/error.h"
+#include "canopy/common/geometry.h"
 #include "canopy/formats/cloud_eigen.h"
 #include "canopy/formats/labels.h"
 
@@ -72,69 +73,58 @@ struct Raster {
   }
 };
 
-// Fills the NaN cells breadth-first from the known ones: each newly reached cell takes the
-// mean of its 8-neighbours known before its layer. Returns the number of filled cells.
-std::size_t fill_holes(Raster& r) {
-  std::vector<std::size_t> frontier;
-  std::vector<char> known(r.z.size());
-  for (std::size_t c = 0; c < r.z.size(); ++c) known[c] = !std::isnan(r.z[c]);
-  for (int j = 0; j < r.ny; ++j) {
-    for (int i = 0; i < r.nx; ++i) {
-      if (known[r.at(i, j)]) continue;
-      bool next = false;
-      for (int dj = -1; dj <= 1 && !next; ++dj)
-        for (int di = -1; di <= 1 && !next; ++di) {
-          const int a = i + di, b = j + dj;
-          if (a >= 0 && b >= 0 && a < r.nx && b < r.ny && known[r.at(a, b)]) next = true;
-        }
-      if (next) frontier.push_back(r.at(i, j));
+// True when one of the 8-neighbours of cell (i, j) is known.
+bool next_to_known(const Raster& r, const std::vector<char>& known, int i, int j) {
+  for (int dj = -1; dj <= 1; ++dj)
+    for (int di = -1; di <= 1; ++di) {
+      const int a = i + di, b = j + dj;
+      if (a >= 0 && b >= 0 && a < r.nx && b < r.ny && known[r.at(a, b)]) return true;
     }
+  return false;
+}
+
+// Mean height of the known 8-neighbours of cell c.
+double known_mean(const Raster& r, const std::vector<char>& known, std::size_t c) {
+  const int i = int(c % std::size_t(r.nx)), j = int(c / std::size_t(r.nx));
+  double sum = 0;
+  int n = 0;
+  for (int dj = -1; dj <= 1; ++dj)
+    for (int di = -1; di <= 1; ++di) {
+      const int a = i + di, b = j + dj;
+      if (a >= 0 && b >= 0 && a < r.nx && b < r.ny && known[r.at(a, b)]) {
+        sum += r.z[r.at(a, b)];
+        ++n;
+      }
+    }
+  return sum / n;
+}
+
+// The unknown 8-neighbours of the frontier's cells not queued yet (now queued).
+std::vector<std::size_t> next_layer(const Raster& r, const std::vector<char>& known,
+                                    std::vector<char>& queued, const std::vector<std::size_t>& frontier) {
+  std::vector<std::size_t> next;
+  for (std::size_t c : frontier) {
+    const int i = int(c % std::size_t(r.nx)), j = int(c / std::size_t(r.nx));
+    for (int dj = -1; dj <= 1; ++dj)
+      for (int di = -1; di <= 1; ++di) {
+        const int a = i + di, b = j + dj;
+        if (a < 0 || b < 0 || a >= r.nx || b >= r.ny) continue;
+        const std::size_t d = r.at(a, b);
+        if (!known[d] && !queued[d]) {
+          queued[d] = 1;
+          next.push_back(d);
+        }
+      }
   }
-  std::size_t filled = 0;
-  std::vector<char> queued(r.z.size(), 0);
-  for (std::size_t c : frontier) queued[c] = 1;
-  while (!frontier.empty()) {
-    std::vector<double> values(frontier.size());
-    for (std::size_t f = 0; f < frontier.size(); ++f) {
-      const int i = int(frontier[f] % std::size_t(r.nx)), j = int(frontier[f] / std::size_t(r.nx));
-      double sum = 0;
-      int n = 0;
-      for (int dj = -1; dj <= 1; ++dj)
-        for (int di = -1; di <= 1; ++di) {
-          const int a = i + di, b = j + dj;
-          if (a >= 0 && b >= 0 && a < r.nx && b < r.ny && known[r.at(a, b)]) {
-            sum += r.z[r.at(a, b)];
-            ++n;
-          }
-        }
-      values[f] = sum / n;
-    }
-    std::vector<std::size_t> next;
-    for (std::size_t f = 0; f < frontier.size(); ++f) {
-      r.z[frontier[f]] = values[f];
-      known[frontier[f]] = 1;
-      ++filled;
-    }
-    for (std::size_t c : frontier) {
-      const int i = int(c % std::size_t(r.nx)), j = int(c / std::size_t(r.nx));
-      for (int dj = -1; dj <= 1; ++dj)
-        for (int di = -1; di <= 1; ++di) {
-          const int a = i + di, b = j + dj;
-          if (a < 0 || b < 0 || a >= r.nx || b >= r.ny) continue;
-          const std::size_t d = r.at(a, b);
-          if (!known[d] && !queued[d]) {
-            queued[d] = 1;
-            next.push_back(d);
-          }
-        }
-    }
-    frontier.swap(next);
-  }
-  // Harmonic relaxation of the filled cells (Gauss-Seidel on the 4-neighbour Laplacian, the
-  // known cells fixed): planes and slopes continue under a hole instead of flattening.
+  return next;
+}
+
+// Harmonic relaxation of the filled cells (Gauss-Seidel on the 4-neighbour Laplacian, the
+// known cells fixed): planes and slopes continue under a hole instead of flattening.
+void relax_holes(Raster& r, const std::vector<char>& filled) {
   std::vector<std::size_t> holes;
   for (std::size_t c = 0; c < r.z.size(); ++c) {
-    if (queued[c]) holes.push_back(c);
+    if (filled[c]) holes.push_back(c);
   }
   for (int it = 0; it < 1000 && !holes.empty(); ++it) {
     double change = 0;
@@ -164,6 +154,34 @@ std::size_t fill_holes(Raster& r) {
     }
     if (change < 1e-4) break;
   }
+}
+
+// Fills the NaN cells breadth-first from the known ones: each newly reached cell takes the
+// mean of its 8-neighbours known before its layer; then relax_holes. Returns the number of
+// filled cells.
+std::size_t fill_holes(Raster& r) {
+  std::vector<std::size_t> frontier;
+  std::vector<char> known(r.z.size());
+  for (std::size_t c = 0; c < r.z.size(); ++c) known[c] = !std::isnan(r.z[c]);
+  for (int j = 0; j < r.ny; ++j) {
+    for (int i = 0; i < r.nx; ++i) {
+      if (!known[r.at(i, j)] && next_to_known(r, known, i, j)) frontier.push_back(r.at(i, j));
+    }
+  }
+  std::size_t filled = 0;
+  std::vector<char> queued(r.z.size(), 0);
+  for (std::size_t c : frontier) queued[c] = 1;
+  while (!frontier.empty()) {
+    std::vector<double> values(frontier.size());
+    for (std::size_t f = 0; f < frontier.size(); ++f) values[f] = known_mean(r, known, frontier[f]);
+    for (std::size_t f = 0; f < frontier.size(); ++f) {
+      r.z[frontier[f]] = values[f];
+      known[frontier[f]] = 1;
+      ++filled;
+    }
+    frontier = next_layer(r, known, queued, frontier);
+  }
+  relax_holes(r, queued);
   return filled;
 }
 
@@ -208,13 +226,7 @@ Footprint min_area_rectangle(const std::vector<Vector2d>& points) {
   double best_area = std::numeric_limits<double>::infinity();
   auto consider = [&](const Vector2d& u) {
     const Vector2d v(-u.y(), u.x());
-    double umin = 1e300, umax = -1e300, vmin = 1e300, vmax = -1e300;
-    for (const auto& q : hull) {
-      umin = std::min(umin, q.dot(u));
-      umax = std::max(umax, q.dot(u));
-      vmin = std::min(vmin, q.dot(v));
-      vmax = std::max(vmax, q.dot(v));
-    }
+    const auto [umin, umax, vmin, vmax] = common::extent_along(hull, u, v);
     const double area = (umax - umin) * (vmax - vmin);
     if (area < best_area - 1e-12) {
       best_area = area;
@@ -626,54 +638,22 @@ Shape planar_shape(const Context& c, const std::vector<std::uint32_t>& pts, doub
   return out;
 }
 
-}  // namespace
+// ---------------------------------------------------------------------------------------
+// The phases of run(), in order: local frame, ground (DTM), objects, candidates.
 
-void Params::validate() const {
-  auto need = [](bool ok, const std::string& what) {
-    if (!ok) throw common::UsageError(what);
-  };
-  need(cell > 0 && std::isfinite(cell), "--cell must be > 0");
-  need(max_window > cell, "--max-window must be larger than --cell");
-  need(terrain_slope > 0, "--terrain-slope must be > 0");
-  need(initial_distance >= 0 && max_distance >= initial_distance,
-       "need 0 <= --initial-distance <= --max-distance");
-  need(ground_tolerance > 0, "--ground-tolerance must be > 0");
-  need(voxel > 0, "--voxel must be > 0");
-  need(min_object_height >= 0, "--min-object-height must be >= 0");
-  need(min_length >= 0 && max_length >= min_length, "need 0 <= --min-length <= --max-length");
-  need(min_width >= 0 && max_width >= min_width, "need 0 <= --min-width <= --max-width");
-  need(min_height >= 0 && max_height >= min_height, "need 0 <= --min-height <= --max-height");
-  need(max_height > min_object_height, "--max-height must exceed --min-object-height");
-  need(margin >= 0, "--margin must be >= 0");
-  need(min_points >= 3, "--min-points must be >= 3");
-  need(min_planarity >= 0 && min_planarity <= 1, "--min-planarity must be in [0, 1] (0 = off)");
-  need(planar_radius >= 2 * 0.1 && std::isfinite(planar_radius), "--planar-radius must be >= 0.2 m");
-  need(planar_ratio > 0 && planar_ratio < 1, "planar_ratio must be in (0, 1)");
-  need(min_planar_area >= 0, "--min-planar-area must be >= 0");
-  need(min_ground_share > 0 && min_ground_share <= 1, "--min-ground-share must be in (0, 1]");
-}
-
-Result run(const formats::PointCloud& tile, const Params& params, const std::string& name) {
-  params.validate();
-  tile.require({"x", "y", "z"}, name, "is this a point cloud?");
-  const std::size_t n = tile.size();
-  if (n == 0) throw DataError(name, "the tile has no points");
-  if (n > std::numeric_limits<std::uint32_t>::max() / 2) throw DataError(name, "more than 2^31 points");
-  Result r;
-  r.stats.points = n;
-  const auto& tx = tile.col("x");
-  const auto& ty = tile.col("y");
-  const auto& tz = tile.col("z");
-
-  // Local frame.
+// The tile in its local frame: bounds (tile coordinates), the integer-metre origin, and every
+// point's coordinates minus the origin.
+struct LocalFrame {
   Vector3d lo = Vector3d::Constant(1e300), hi = Vector3d::Constant(-1e300);
-  for (const Vector3d& q : formats::finite_vectors(tile, name)) {
-    lo = lo.cwiseMin(q);
-    hi = hi.cwiseMax(q);
-  }
+  Vector3d origin = Vector3d::Zero();
+  std::vector<double> x, y, z;
+};
+
+// DataError when a float32 coordinate column reaches magnitudes where float32 is not exact.
+void check_float32_exact(const formats::PointCloud& tile, const LocalFrame& l, const std::string& name) {
   for (const char* axis : {"x", "y", "z"}) {
     const int a = axis[0] - 'x';
-    const double mag = std::max(std::abs(lo[a]), std::abs(hi[a]));
+    const double mag = std::max(std::abs(l.lo[a]), std::abs(l.hi[a]));
     if (tile.type(axis) == formats::kFloat32 && mag >= kFloat32ExactLimit) {
       throw DataError(
           name, std::string("coordinate ") + axis + " is stored as float32 at magnitudes up to " +
@@ -682,71 +662,113 @@ Result run(const formats::PointCloud& tile, const Params& params, const std::str
                     " m: the tile is already quantised; store coordinates as float64 (PCD TYPE F SIZE 8)");
     }
   }
-  r.origin =
-      Vector3d(std::floor(0.5 * (lo.x() + hi.x())), std::floor(0.5 * (lo.y() + hi.y())), std::floor(lo.z()));
-  std::vector<double> x(n), y(n), z(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    x[i] = tx[i] - r.origin.x();
-    y[i] = ty[i] - r.origin.y();
-    z[i] = tz[i] - r.origin.z();
-  }
+}
 
-  // Ground.
-  auto t0 = std::chrono::steady_clock::now();
+LocalFrame local_frame(const formats::PointCloud& tile, const std::string& name) {
+  LocalFrame l;
+  for (const Vector3d& q : formats::finite_vectors(tile, name)) {
+    l.lo = l.lo.cwiseMin(q);
+    l.hi = l.hi.cwiseMax(q);
+  }
+  check_float32_exact(tile, l, name);
+  l.origin = Vector3d(std::floor(0.5 * (l.lo.x() + l.hi.x())), std::floor(0.5 * (l.lo.y() + l.hi.y())),
+                      std::floor(l.lo.z()));
+  const std::size_t n = tile.size();
+  const auto& tx = tile.col("x");
+  const auto& ty = tile.col("y");
+  const auto& tz = tile.col("z");
+  l.x.resize(n);
+  l.y.resize(n);
+  l.z.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    l.x[i] = tx[i] - l.origin.x();
+    l.y[i] = ty[i] - l.origin.y();
+    l.z[i] = tz[i] - l.origin.z();
+  }
+  return l;
+}
+
+// Ground: the DTM, every point's cell, and the cells whose lowest point PMF calls ground.
+struct Ground {
+  Raster dtm;
+  std::vector<std::uint32_t> cell_of;
+  std::vector<char> is_ground_cell;
+  std::size_t cells() const { return std::size_t(dtm.nx) * std::size_t(dtm.ny); }
+};
+
+// The DTM raster over the tile's bounds, heights not set; DataError when it has too many cells.
+Raster dtm_raster(const LocalFrame& l, const Params& params, const std::string& name) {
   Raster dtm;
   dtm.cell = params.cell;
-  dtm.x0 = lo.x() - r.origin.x();
-  dtm.y0 = lo.y() - r.origin.y();
-  const double nxd = std::floor((hi.x() - lo.x()) / params.cell) + 1;
-  const double nyd = std::floor((hi.y() - lo.y()) / params.cell) + 1;
+  dtm.x0 = l.lo.x() - l.origin.x();
+  dtm.y0 = l.lo.y() - l.origin.y();
+  const double nxd = std::floor((l.hi.x() - l.lo.x()) / params.cell) + 1;
+  const double nyd = std::floor((l.hi.y() - l.lo.y()) / params.cell) + 1;
   if (nxd * nyd > kMaxCells) {
-    throw DataError(name, "the tile spans " + fmt("%.0f", hi.x() - lo.x()) + " m x " +
-                              fmt("%.0f", hi.y() - lo.y()) + " m: " + fmt("%.3g", nxd * nyd) +
+    throw DataError(name, "the tile spans " + fmt("%.0f", l.hi.x() - l.lo.x()) + " m x " +
+                              fmt("%.0f", l.hi.y() - l.lo.y()) + " m: " + fmt("%.3g", nxd * nyd) +
                               " DTM cells of " + fmt("%g", params.cell) + " m (limit " +
                               fmt("%.0g", kMaxCells) + "); split the tile or raise --cell");
   }
   dtm.nx = int(nxd);
   dtm.ny = int(nyd);
-  const std::size_t cells = std::size_t(dtm.nx) * std::size_t(dtm.ny);
-  r.stats.cells = cells;
-  std::vector<std::uint32_t> lowest(cells, std::numeric_limits<std::uint32_t>::max());
-  std::vector<std::uint32_t> cell_of(n);
+  return dtm;
+}
+
+constexpr std::uint32_t kNoPoint = std::numeric_limits<std::uint32_t>::max();
+
+// The lowest point of every cell (kNoPoint for an empty one); sets g.cell_of.
+std::vector<std::uint32_t> lowest_points(const LocalFrame& l, Ground& g) {
+  const std::size_t n = l.x.size();
+  std::vector<std::uint32_t> lowest(g.cells(), kNoPoint);
+  g.cell_of.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t c = dtm.at(dtm.ix(x[i]), dtm.iy(y[i]));
-    cell_of[i] = std::uint32_t(c);
-    if (lowest[c] == std::numeric_limits<std::uint32_t>::max() || z[i] < z[lowest[c]])
-      lowest[c] = std::uint32_t(i);
+    const std::size_t c = g.dtm.at(g.dtm.ix(l.x[i]), g.dtm.iy(l.y[i]));
+    g.cell_of[i] = std::uint32_t(c);
+    if (lowest[c] == kNoPoint || l.z[i] < l.z[lowest[c]]) lowest[c] = std::uint32_t(i);
   }
+  return lowest;
+}
+
+// PCL's progressive morphological filter on the cells' lowest points: the minima it calls ground.
+pcl::Indices pmf_ground(const pcl::PointCloud<pcl::PointXYZ>::Ptr& minima, const Params& params) {
+  pcl::Indices ground_minima;
+  pcl::ProgressiveMorphologicalFilter<pcl::PointXYZ> pmf;
+  pmf.setInputCloud(minima);
+  pmf.setCellSize(float(params.cell));
+  pmf.setMaxWindowSize(int(std::ceil(params.max_window / params.cell)) > 0 ? float(params.max_window) : 1.f);
+  // PCL's threshold is slope * (window step in m) * cell + initial distance.
+  pmf.setSlope(float(params.terrain_slope / params.cell));
+  pmf.setInitialDistance(float(params.initial_distance));
+  pmf.setMaxDistance(float(params.max_distance));
+  pmf.setBase(2.0f);
+  pmf.setExponential(true);
+  pmf.extract(ground_minima);
+  return ground_minima;
+}
+
+// The ground cells (PMF on the cells' lowest points): their lowest z in the DTM, NaN elsewhere.
+// DataError when fewer than min_ground_share of the occupied cells are ground.
+void ground_cells(const LocalFrame& l, const std::vector<std::uint32_t>& lowest, const Params& params,
+                  const std::string& name, Ground& g, Stats& stats) {
+  const std::size_t cells = g.cells();
   pcl::PointCloud<pcl::PointXYZ>::Ptr minima(new pcl::PointCloud<pcl::PointXYZ>);
   std::vector<std::size_t> minima_cell;
   for (std::size_t c = 0; c < cells; ++c) {
-    if (lowest[c] == std::numeric_limits<std::uint32_t>::max()) continue;
+    if (lowest[c] == kNoPoint) continue;
     const std::uint32_t i = lowest[c];
-    minima->push_back(pcl::PointXYZ(float(x[i]), float(y[i]), float(z[i])));
+    minima->push_back(pcl::PointXYZ(float(l.x[i]), float(l.y[i]), float(l.z[i])));
     minima_cell.push_back(c);
   }
-  pcl::Indices ground_minima;
-  {
-    pcl::ProgressiveMorphologicalFilter<pcl::PointXYZ> pmf;
-    pmf.setInputCloud(minima);
-    pmf.setCellSize(float(params.cell));
-    pmf.setMaxWindowSize(int(std::ceil(params.max_window / params.cell)) > 0 ? float(params.max_window) : 1.f);
-    // PCL's threshold is slope * (window step in m) * cell + initial distance.
-    pmf.setSlope(float(params.terrain_slope / params.cell));
-    pmf.setInitialDistance(float(params.initial_distance));
-    pmf.setMaxDistance(float(params.max_distance));
-    pmf.setBase(2.0f);
-    pmf.setExponential(true);
-    pmf.extract(ground_minima);
+  const pcl::Indices ground_minima = pmf_ground(minima, params);
+  g.dtm.z.assign(cells, std::numeric_limits<double>::quiet_NaN());
+  g.is_ground_cell.assign(cells, 0);
+  for (const auto m : ground_minima) {
+    const std::size_t c = minima_cell[std::size_t(m)];
+    g.dtm.z[c] = l.z[lowest[c]];
+    g.is_ground_cell[c] = 1;
   }
-  dtm.z.assign(cells, std::numeric_limits<double>::quiet_NaN());
-  std::vector<char> is_ground_cell(cells, 0);
-  for (const auto g : ground_minima) {
-    const std::size_t c = minima_cell[std::size_t(g)];
-    dtm.z[c] = z[lowest[c]];
-    is_ground_cell[c] = 1;
-  }
-  r.stats.ground_cells = ground_minima.size();
+  stats.ground_cells = ground_minima.size();
   const double share = double(ground_minima.size()) / double(std::max<std::size_t>(1, minima->size()));
   if (share < params.min_ground_share) {
     throw DataError(name,
@@ -755,41 +777,74 @@ Result run(const formats::PointCloud& tile, const Params& params, const std::str
                         " m cells (--min-ground-share " + fmt("%g", params.min_ground_share) +
                         "): no terrain to measure heights from (a tile of only vegetation or objects?)");
   }
-  fill_holes(dtm);
-  // Refine: mean z of the points near the first surface, in the ground cells.
-  {
-    // The residuals against the first surface are averaged, so a point's position inside its
-    // cell (on a slope) does not bias the cell-centre value.
-    std::vector<double> sum(cells, 0.0);
-    std::vector<std::uint32_t> cnt(cells, 0);
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::size_t c = cell_of[i];
-      if (!is_ground_cell[c]) continue;
-      const double d = z[i] - dtm.height(x[i], y[i]);
-      if (std::abs(d) <= params.ground_tolerance) {
-        sum[c] += d;
-        ++cnt[c];
-      }
+}
+
+// Refine: mean z of the points near the first surface, in the ground cells; the others filled
+// again from them.
+void refine_dtm(const LocalFrame& l, const Params& params, Ground& g, Stats& stats) {
+  const std::size_t cells = g.cells();
+  // The residuals against the first surface are averaged, so a point's position inside its
+  // cell (on a slope) does not bias the cell-centre value.
+  std::vector<double> sum(cells, 0.0);
+  std::vector<std::uint32_t> cnt(cells, 0);
+  for (std::size_t i = 0; i < l.x.size(); ++i) {
+    const std::size_t c = g.cell_of[i];
+    if (!g.is_ground_cell[c]) continue;
+    const double d = l.z[i] - g.dtm.height(l.x[i], l.y[i]);
+    if (std::abs(d) <= params.ground_tolerance) {
+      sum[c] += d;
+      ++cnt[c];
     }
-    for (std::size_t c = 0; c < cells; ++c) {
-      dtm.z[c] = is_ground_cell[c] ? dtm.z[c] + (cnt[c] > 0 ? sum[c] / cnt[c] : 0.0)
-                                   : std::numeric_limits<double>::quiet_NaN();
-    }
-    r.stats.filled_cells = fill_holes(dtm);
   }
+  for (std::size_t c = 0; c < cells; ++c) {
+    g.dtm.z[c] = g.is_ground_cell[c] ? g.dtm.z[c] + (cnt[c] > 0 ? sum[c] / cnt[c] : 0.0)
+                                     : std::numeric_limits<double>::quiet_NaN();
+  }
+  stats.filled_cells = fill_holes(g.dtm);
+}
+
+// The DTM (step 2 of detect.h) and every point's height above it and class (ground or other).
+Ground find_ground(const LocalFrame& l, const Params& params, const std::string& name, Result& r) {
+  Ground g;
+  g.dtm = dtm_raster(l, params, name);
+  r.stats.cells = g.cells();
+  const std::vector<std::uint32_t> lowest = lowest_points(l, g);
+  ground_cells(l, lowest, params, name, g, r.stats);
+  fill_holes(g.dtm);
+  refine_dtm(l, params, g, r.stats);
+  const std::size_t n = l.x.size();
   r.height.resize(n);
   r.classes.assign(n, kClassOther);
   for (std::size_t i = 0; i < n; ++i) {
-    r.height[i] = float(z[i] - dtm.height(x[i], y[i]));
+    r.height[i] = float(l.z[i] - g.dtm.height(l.x[i], l.y[i]));
     if (r.height[i] < params.min_object_height) {
       r.classes[i] = kClassGround;
       ++r.stats.ground_points;
     }
   }
-  r.stats.seconds_ground = seconds_since(t0);
+  return g;
+}
 
-  // Objects.
-  t0 = std::chrono::steady_clock::now();
+// Shape: vegetation (bush groups, crown pieces) is not made of planes; a vehicle is, even
+// under a bush (then its planar area counts).
+void drop_unplanar(Context& ctx, const Params& params, Stats& stats) {
+  std::vector<Object> kept;
+  for (Object& o : ctx.accepted) {
+    o.shape = planar_shape(ctx, o.points, params.planar_radius, params.planar_ratio);
+    if (params.min_planarity > 0 && o.shape.share < params.min_planarity &&
+        o.shape.area < params.min_planar_area) {
+      ++stats.rejected_shape;
+    } else {
+      kept.push_back(std::move(o));
+    }
+  }
+  ctx.accepted.swap(kept);
+}
+
+// The objects (steps 3 and 4 of detect.h): the band's clusters that pass the vehicle tests
+// (examine) and the shape test.
+std::vector<Object> find_objects(const LocalFrame& l, const Params& params, Result& r) {
+  const std::size_t n = l.x.size();
   std::vector<std::uint32_t> band;
   for (std::size_t i = 0; i < n; ++i) {
     if (r.height[i] >= params.min_object_height && r.height[i] <= params.max_height)
@@ -798,196 +853,268 @@ Result run(const formats::PointCloud& tile, const Params& params, const std::str
   r.stats.band_points = band.size();
   std::vector<double> hz(n);  // clustering in (x, y, height): the band is a flat slab
   for (std::size_t i = 0; i < n; ++i) hz[i] = r.height[i];
-  Context ctx{params, x, y, hz, r.height, z, r.stats, {}, {}};
+  Context ctx{params, l.x, l.y, hz, r.height, l.z, r.stats, {}, {}};
   for (std::size_t i = 0; i < n; ++i) {
     if (r.height[i] > params.max_height && r.height[i] <= params.max_height + 2 * params.voxel) {
-      ctx.above.emplace(column_key(x[i], y[i], params.voxel), 1);
+      ctx.above.emplace(column_key(l.x[i], l.y[i], params.voxel), 1);
     }
   }
   {
-    auto clusters = cluster_points(band, x, y, hz, params.voxel, params.clustering);
+    auto clusters = cluster_points(band, l.x, l.y, hz, params.voxel, params.clustering);
     r.stats.clusters = clusters.size();
     for (auto& cl : clusters) examine(ctx, std::move(cl), 0);
   }
-  {
-    // Shape: vegetation (bush groups, crown pieces) is not made of planes; a vehicle is, even
-    // under a bush (then its planar area counts).
-    std::vector<Object> kept;
-    for (Object& o : ctx.accepted) {
-      o.shape = planar_shape(ctx, o.points, params.planar_radius, params.planar_ratio);
-      if (params.min_planarity > 0 && o.shape.share < params.min_planarity &&
-          o.shape.area < params.min_planar_area) {
-        ++r.stats.rejected_shape;
-      } else {
-        kept.push_back(std::move(o));
-      }
-    }
-    ctx.accepted.swap(kept);
-  }
-  r.stats.seconds_objects = seconds_since(t0);
+  drop_unplanar(ctx, params, r.stats);
+  return std::move(ctx.accepted);
+}
 
-  // Candidates.
-  t0 = std::chrono::steady_clock::now();
-  // Points bucketed by DTM cell for cropping.
-  std::vector<std::uint32_t> cell_start(cells + 1, 0), cell_points(n);
-  for (std::size_t i = 0; i < n; ++i) ++cell_start[cell_of[i] + 1];
-  for (std::size_t c = 0; c < cells; ++c) cell_start[c + 1] += cell_start[c];
-  {
-    std::vector<std::uint32_t> fill(cell_start.begin(), cell_start.end() - 1);
-    for (std::size_t i = 0; i < n; ++i) cell_points[fill[cell_of[i]]++] = std::uint32_t(i);
-  }
-  const bool has_instance = tile.has(params.instance_field);
-  const bool has_label = tile.has(params.label_field);
+// The points bucketed by DTM cell (for cropping): cell c holds points[start[c] .. start[c + 1]).
+struct CellPoints {
+  std::vector<std::uint32_t> start, points;
+};
+
+CellPoints bucket_by_cell(const std::vector<std::uint32_t>& cell_of, std::size_t cells) {
+  const std::size_t n = cell_of.size();
+  CellPoints b;
+  b.start.assign(cells + 1, 0);
+  b.points.resize(n);
+  for (std::size_t i = 0; i < n; ++i) ++b.start[cell_of[i] + 1];
+  for (std::size_t c = 0; c < cells; ++c) b.start[c + 1] += b.start[c];
+  std::vector<std::uint32_t> fill(b.start.begin(), b.start.end() - 1);
+  for (std::size_t i = 0; i < n; ++i) b.points[fill[cell_of[i]]++] = std::uint32_t(i);
+  return b;
+}
+
+// Ground truth of the tile: a point's vehicle instance (0 = none: no instance field, or a
+// label field that says not a vehicle) and every vehicle's number of points.
+struct TileTruth {
+  const formats::PointCloud& tile;
+  const Params& params;
+  bool has_instance = false, has_label = false;
   std::map<std::uint32_t, std::size_t> instance_points;
-  auto vehicle_instance = [&](std::size_t i) -> std::uint32_t {
+
+  TileTruth(const formats::PointCloud& t, const Params& p)
+      : tile(t), params(p), has_instance(t.has(p.instance_field)), has_label(t.has(p.label_field)) {
+    if (!has_instance) return;
+    for (std::size_t i = 0; i < tile.size(); ++i) {
+      if (const std::uint32_t id = (*this)(i)) ++instance_points[id];
+    }
+  }
+  std::uint32_t operator()(std::size_t i) const {
     if (!has_instance) return 0;
     if (has_label && std::uint32_t(tile.col(params.label_field)[i]) != formats::kLabelTarget) return 0;
     return std::uint32_t(tile.col(params.instance_field)[i]);
-  };
-  if (has_instance) {
-    r.has_truth = true;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (const std::uint32_t id = vehicle_instance(i)) ++instance_points[id];
+  }
+};
+
+// Least-squares ground plane z = a dx + b dy + c under the footprint (+2 m; ground cells
+// only), (dx, dy) from the footprint centre; (0, 0, DTM height) when too few cells.
+Vector3d ground_plane(const Ground& g, const Footprint& fp) {
+  const Raster& dtm = g.dtm;
+  const Vector2d u = fp.axis, v(-u.y(), u.x());
+  const double hl = 0.5 * fp.length + 2.0, hw = 0.5 * fp.width + 2.0;
+  Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d atb = Eigen::Vector3d::Zero();
+  const double ext = hl + hw;
+  const int i0 = dtm.ix(fp.centre.x() - ext), i1 = dtm.ix(fp.centre.x() + ext);
+  const int j0 = dtm.iy(fp.centre.y() - ext), j1 = dtm.iy(fp.centre.y() + ext);
+  for (int j = j0; j <= j1; ++j)
+    for (int i = i0; i <= i1; ++i) {
+      const Vector2d cc(dtm.x0 + (i + 0.5) * dtm.cell, dtm.y0 + (j + 0.5) * dtm.cell);
+      const Vector2d d = cc - fp.centre;
+      if (std::abs(d.dot(u)) > hl || std::abs(d.dot(v)) > hw || !g.is_ground_cell[dtm.at(i, j)]) continue;
+      const Eigen::Vector3d row(d.x(), d.y(), 1.0);
+      ata += row * row.transpose();
+      atb += row * dtm.z[dtm.at(i, j)];
+    }
+  Vector3d plane(0, 0, dtm.height(fp.centre.x(), fp.centre.y()));
+  if (ata(2, 2) >= 3 && std::abs(ata.determinant()) > 1e-9) plane = ata.ldlt().solve(atb);
+  return plane;
+}
+
+// A candidate's rigid frame: rotation (columns = its axes in the local frame) and origin.
+struct Frame {
+  Eigen::Matrix3d R;
+  Vector3d O;
+  Vector3d to_frame(const LocalFrame& l, std::uint32_t q) const {
+    return R.transpose() * (Vector3d(l.x[q], l.y[q], l.z[q]) - O);
+  }
+};
+
+// z = the normal of the ground plane under the object, x = the long axis of its footprint
+// refitted in that plane, origin on the plane under the footprint centre.
+Frame object_frame(const LocalFrame& l, const Ground& g, const Object& o) {
+  const Vector3d plane = ground_plane(g, o.fp);
+  const Vector2d u = o.fp.axis;
+  const Vector3d normal = Vector3d(-plane.x(), -plane.y(), 1.0).normalized();
+  Vector3d ax(u.x(), u.y(), 0.0);
+  ax = (ax - ax.dot(normal) * normal).normalized();
+  const Vector3d ay = normal.cross(ax);
+  Frame f;
+  f.R.col(0) = ax;
+  f.R.col(1) = ay;
+  f.R.col(2) = normal;
+  f.O = Vector3d(o.fp.centre.x(), o.fp.centre.y(), plane.z());
+  // The footprint again, in the ground plane: on a slope the top view of a tall object is
+  // sheared, and a small axis error is a large width error over a long vehicle.
+  std::vector<Vector2d> in_plane(o.points.size());
+  for (std::size_t m = 0; m < o.points.size(); ++m) in_plane[m] = f.to_frame(l, o.points[m]).head<2>();
+  const Footprint fp = min_area_rectangle(in_plane);
+  Vector3d ax2 = f.R * Vector3d(fp.axis.x(), fp.axis.y(), 0.0);
+  if (ax2.x() < 0 || (ax2.x() == 0 && ax2.y() < 0)) ax2 = -ax2;
+  f.R.col(0) = ax2;
+  f.R.col(1) = normal.cross(ax2);
+  return f;
+}
+
+// Recentres the frame on the object's extent in it; sets the candidate's size, heading,
+// pose and the object's numbers.
+void place_candidate(const LocalFrame& l, const Object& o, const Vector3d& origin, Frame& f, Candidate& c) {
+  double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300, zmax = 0;
+  for (std::uint32_t q : o.points) {
+    const Vector3d p = f.to_frame(l, q);
+    xmin = std::min(xmin, p.x());
+    xmax = std::max(xmax, p.x());
+    ymin = std::min(ymin, p.y());
+    ymax = std::max(ymax, p.y());
+  }
+  f.O += f.R * Vector3d(0.5 * (xmin + xmax), 0.5 * (ymin + ymax), 0.0);
+  for (std::uint32_t q : o.points) zmax = std::max(zmax, f.to_frame(l, q).z());
+  c.length = xmax - xmin;
+  c.width = ymax - ymin;
+  c.height = zmax;
+  c.heading = std::atan2(f.R(1, 0), f.R(0, 0));
+  c.object_points = o.points.size();
+  c.planarity = o.shape.share;
+  c.planar_area = o.shape.area;
+  c.to_tile.topLeftCorner<3, 3>() = f.R;
+  c.to_tile.topRightCorner<3, 1>() = f.O + origin;
+}
+
+// The rows of the points inside the candidate's box (footprint + margin, from -margin to
+// height + margin in its frame), ascending, and their coordinates in the frame.
+std::vector<std::size_t> crop_rows(const LocalFrame& l, const Ground& g, const CellPoints& cells,
+                                   const Frame& f, const Candidate& c, const Params& params,
+                                   std::vector<Vector3d>* coordinates) {
+  const Raster& dtm = g.dtm;
+  const double cx = 0.5 * c.length + params.margin, cy = 0.5 * c.width + params.margin;
+  const double ctop = c.height + params.margin, cbot = -params.margin;
+  const double reach = cx + cy + params.margin;
+  std::vector<std::size_t> keep;
+  std::vector<Vector3d> local;
+  for (int j = dtm.iy(f.O.y() - reach); j <= dtm.iy(f.O.y() + reach); ++j)
+    for (int i = dtm.ix(f.O.x() - reach); i <= dtm.ix(f.O.x() + reach); ++i) {
+      const std::size_t cc = dtm.at(i, j);
+      for (std::uint32_t k = cells.start[cc]; k < cells.start[cc + 1]; ++k) {
+        const std::uint32_t q = cells.points[k];
+        const Vector3d p = f.to_frame(l, q);
+        if (std::abs(p.x()) <= cx && std::abs(p.y()) <= cy && p.z() >= cbot && p.z() <= ctop) {
+          keep.push_back(q);
+          local.push_back(p);
+        }
+      }
+    }
+  std::vector<std::size_t> order(keep.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return keep[a] < keep[b]; });
+  std::vector<std::size_t> rows(keep.size());
+  coordinates->resize(keep.size());
+  for (std::size_t m = 0; m < order.size(); ++m) {
+    rows[m] = keep[order[m]];
+    (*coordinates)[m] = local[order[m]];
+  }
+  return rows;
+}
+
+// The crop: the tile's rows with every field, x y z replaced by the frame's coordinates
+// (float32), sensor and normal directions rotated into the frame.
+formats::PointCloud crop_cloud(const formats::PointCloud& tile, const std::vector<std::size_t>& rows,
+                               const std::vector<Vector3d>& local, const Eigen::Matrix3d& R) {
+  formats::PointCloud cloud = tile.select(rows);
+  auto& lx = cloud.add("x", formats::kFloat32);
+  auto& ly = cloud.add("y", formats::kFloat32);
+  auto& lz = cloud.add("z", formats::kFloat32);
+  for (std::size_t m = 0; m < rows.size(); ++m) {
+    lx[m] = local[m].x();
+    ly[m] = local[m].y();
+    lz[m] = local[m].z();
+  }
+  for (const formats::Fields3& f : {formats::kSensorFields, formats::kNormalFields}) {
+    if (!formats::has_fields(cloud, f)) continue;
+    auto& dx = cloud.col(f[0]);
+    auto& dy = cloud.col(f[1]);
+    auto& dz = cloud.col(f[2]);
+    for (std::size_t m = 0; m < cloud.size(); ++m) {
+      const Vector3d d = R.transpose() * Vector3d(dx[m], dy[m], dz[m]);
+      dx[m] = d.x();
+      dy[m] = d.y();
+      dz[m] = d.z();
     }
   }
+  return cloud;
+}
+
+// The candidate's truth: the vehicle with the most points in the object (not merely in the
+// crop around it), its points in the crop (`rows`), coverage and purity.
+void candidate_truth(const TileTruth& truth, const Object& o, const std::vector<std::size_t>& rows,
+                     Candidate& c) {
+  c.has_truth = true;
+  std::map<std::uint32_t, std::size_t> in_object;
+  for (std::uint32_t q : o.points) {
+    if (const std::uint32_t id = truth(q)) ++in_object[id];
+  }
+  std::size_t best = 0;
+  for (const auto& [id, cnt] : in_object) {
+    if (cnt > best) {
+      best = cnt;
+      c.truth.instance = id;
+    }
+  }
+  if (c.truth.instance != 0) {
+    for (std::size_t q : rows) c.truth.points += truth(q) == c.truth.instance;
+    c.truth.coverage = double(c.truth.points) / double(truth.instance_points.at(c.truth.instance));
+    c.truth.purity = double(best) / double(o.points.size());
+  }
+}
+
+// Every labelled vehicle of the tile with the candidates whose truth it is.
+std::vector<InstanceTruth> instances_of(const TileTruth& truth, const std::vector<Candidate>& candidates) {
+  std::vector<InstanceTruth> out;
+  for (const auto& [id, cnt] : truth.instance_points) {
+    InstanceTruth it;
+    it.instance = id;
+    it.points = cnt;
+    for (const auto& c : candidates) {
+      if (c.truth.instance == id) it.candidates.push_back(c.id);
+    }
+    out.push_back(std::move(it));
+  }
+  return out;
+}
+
+// The candidates (step 5 of detect.h), sorted by their centre (x, then y) and numbered; the
+// objects' points become kClassCandidate.
+void extract_candidates(const formats::PointCloud& tile, const LocalFrame& l, const Ground& g,
+                        const std::vector<Object>& objects, const Params& params, Result& r) {
+  const CellPoints cells = bucket_by_cell(g.cell_of, g.cells());
+  const TileTruth truth(tile, params);
+  r.has_truth = truth.has_instance;
   struct Pending {
     Candidate c;
     Vector3d centre;
   };
   std::vector<Pending> pending;
-  const char* dir_fields[][3] = {{"sensor_x", "sensor_y", "sensor_z"}, {"normal_x", "normal_y", "normal_z"}};
-  for (Object& o : ctx.accepted) {
+  for (const Object& o : objects) {
     for (std::uint32_t q : o.points) r.classes[q] = kClassCandidate;
-    // Ground plane under the footprint (+2 m; ground cells only), least squares z = a dx + b dy + c.
-    const Vector2d u = o.fp.axis, v(-u.y(), u.x());
-    const double hl = 0.5 * o.fp.length + 2.0, hw = 0.5 * o.fp.width + 2.0;
-    Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d atb = Eigen::Vector3d::Zero();
-    const double ext = hl + hw;
-    const int i0 = dtm.ix(o.fp.centre.x() - ext), i1 = dtm.ix(o.fp.centre.x() + ext);
-    const int j0 = dtm.iy(o.fp.centre.y() - ext), j1 = dtm.iy(o.fp.centre.y() + ext);
-    for (int j = j0; j <= j1; ++j)
-      for (int i = i0; i <= i1; ++i) {
-        const Vector2d cc(dtm.x0 + (i + 0.5) * dtm.cell, dtm.y0 + (j + 0.5) * dtm.cell);
-        const Vector2d d = cc - o.fp.centre;
-        if (std::abs(d.dot(u)) > hl || std::abs(d.dot(v)) > hw || !is_ground_cell[dtm.at(i, j)]) continue;
-        const Eigen::Vector3d row(d.x(), d.y(), 1.0);
-        ata += row * row.transpose();
-        atb += row * dtm.z[dtm.at(i, j)];
-      }
-    Vector3d plane(0, 0, dtm.height(o.fp.centre.x(), o.fp.centre.y()));
-    if (ata(2, 2) >= 3 && std::abs(ata.determinant()) > 1e-9) plane = ata.ldlt().solve(atb);
-    const Vector3d normal = Vector3d(-plane.x(), -plane.y(), 1.0).normalized();
-    Vector3d ax(u.x(), u.y(), 0.0);
-    ax = (ax - ax.dot(normal) * normal).normalized();
-    const Vector3d ay = normal.cross(ax);
-    Eigen::Matrix3d R;
-    R.col(0) = ax;
-    R.col(1) = ay;
-    R.col(2) = normal;
-    Vector3d O(o.fp.centre.x(), o.fp.centre.y(), plane.z());
-    // The footprint again, in the ground plane: on a slope the top view of a tall object is
-    // sheared, and a small axis error is a large width error over a long vehicle.
-    {
-      std::vector<Vector2d> in_plane(o.points.size());
-      for (std::size_t m = 0; m < o.points.size(); ++m) {
-        const Vector3d l = R.transpose() * (Vector3d(x[o.points[m]], y[o.points[m]], z[o.points[m]]) - O);
-        in_plane[m] = l.head<2>();
-      }
-      const Footprint f = min_area_rectangle(in_plane);
-      Vector3d ax2 = R * Vector3d(f.axis.x(), f.axis.y(), 0.0);
-      if (ax2.x() < 0 || (ax2.x() == 0 && ax2.y() < 0)) ax2 = -ax2;
-      R.col(0) = ax2;
-      R.col(1) = normal.cross(ax2);
-    }
-    // Recentre on the object's extent in the tilted frame.
-    double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300, zmax = 0;
-    for (std::uint32_t q : o.points) {
-      const Vector3d l = R.transpose() * (Vector3d(x[q], y[q], z[q]) - O);
-      xmin = std::min(xmin, l.x());
-      xmax = std::max(xmax, l.x());
-      ymin = std::min(ymin, l.y());
-      ymax = std::max(ymax, l.y());
-    }
-    O += R * Vector3d(0.5 * (xmin + xmax), 0.5 * (ymin + ymax), 0.0);
-    for (std::uint32_t q : o.points)
-      zmax = std::max(zmax, (R.transpose() * (Vector3d(x[q], y[q], z[q]) - O)).z());
+    Frame f = object_frame(l, g, o);
     Pending pd;
     Candidate& c = pd.c;
-    c.length = xmax - xmin;
-    c.width = ymax - ymin;
-    c.height = zmax;
-    c.heading = std::atan2(R(1, 0), R(0, 0));
-    c.object_points = o.points.size();
-    c.planarity = o.shape.share;
-    c.planar_area = o.shape.area;
-    c.to_tile.topLeftCorner<3, 3>() = R;
-    c.to_tile.topRightCorner<3, 1>() = O + r.origin;
-    pd.centre = O + r.origin;
-    // Crop.
-    const double cx = 0.5 * c.length + params.margin, cy = 0.5 * c.width + params.margin;
-    const double ctop = c.height + params.margin, cbot = -params.margin;
-    const double reach = cx + cy + params.margin;
-    std::vector<std::size_t> keep;
+    place_candidate(l, o, r.origin, f, c);
+    pd.centre = f.O + r.origin;
     std::vector<Vector3d> local;
-    for (int j = dtm.iy(O.y() - reach); j <= dtm.iy(O.y() + reach); ++j)
-      for (int i = dtm.ix(O.x() - reach); i <= dtm.ix(O.x() + reach); ++i) {
-        const std::size_t cc = dtm.at(i, j);
-        for (std::uint32_t k = cell_start[cc]; k < cell_start[cc + 1]; ++k) {
-          const std::uint32_t q = cell_points[k];
-          const Vector3d l = R.transpose() * (Vector3d(x[q], y[q], z[q]) - O);
-          if (std::abs(l.x()) <= cx && std::abs(l.y()) <= cy && l.z() >= cbot && l.z() <= ctop) {
-            keep.push_back(q);
-            local.push_back(l);
-          }
-        }
-      }
-    std::vector<std::size_t> order(keep.size());
-    std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return keep[a] < keep[b]; });
-    std::vector<std::size_t> rows(keep.size());
-    for (std::size_t m = 0; m < order.size(); ++m) rows[m] = keep[order[m]];
-    c.cloud = tile.select(rows);
-    auto& lx = c.cloud.add("x", formats::kFloat32);
-    auto& ly = c.cloud.add("y", formats::kFloat32);
-    auto& lz = c.cloud.add("z", formats::kFloat32);
-    for (std::size_t m = 0; m < order.size(); ++m) {
-      lx[m] = local[order[m]].x();
-      ly[m] = local[order[m]].y();
-      lz[m] = local[order[m]].z();
-    }
-    for (const auto& f : dir_fields) {
-      if (!(c.cloud.has(f[0]) && c.cloud.has(f[1]) && c.cloud.has(f[2]))) continue;
-      auto& dx = c.cloud.col(f[0]);
-      auto& dy = c.cloud.col(f[1]);
-      auto& dz = c.cloud.col(f[2]);
-      for (std::size_t m = 0; m < c.cloud.size(); ++m) {
-        const Vector3d d = R.transpose() * Vector3d(dx[m], dy[m], dz[m]);
-        dx[m] = d.x();
-        dy[m] = d.y();
-        dz[m] = d.z();
-      }
-    }
-    if (has_instance) {
-      c.has_truth = true;
-      // The vehicle with the most points in the object (not merely in the crop around it).
-      std::map<std::uint32_t, std::size_t> in_object;
-      for (std::uint32_t q : o.points) {
-        if (const std::uint32_t id = vehicle_instance(q)) ++in_object[id];
-      }
-      std::size_t best = 0;
-      for (const auto& [id, cnt] : in_object) {
-        if (cnt > best) {
-          best = cnt;
-          c.truth.instance = id;
-        }
-      }
-      if (c.truth.instance != 0) {
-        for (std::size_t q : rows) c.truth.points += vehicle_instance(q) == c.truth.instance;
-        c.truth.coverage = double(c.truth.points) / double(instance_points.at(c.truth.instance));
-        c.truth.purity = double(best) / double(o.points.size());
-      }
-    }
+    const std::vector<std::size_t> rows = crop_rows(l, g, cells, f, c, params, &local);
+    c.cloud = crop_cloud(tile, rows, local, f.R);
+    if (truth.has_instance) candidate_truth(truth, o, rows, c);
     pending.push_back(std::move(pd));
   }
   std::sort(pending.begin(), pending.end(), [](const Pending& a, const Pending& b) {
@@ -999,17 +1126,57 @@ Result run(const formats::PointCloud& tile, const Params& params, const std::str
     pending[k].c.id = id;
     r.candidates.push_back(std::move(pending[k].c));
   }
-  if (has_instance) {
-    for (const auto& [id, cnt] : instance_points) {
-      InstanceTruth it;
-      it.instance = id;
-      it.points = cnt;
-      for (const auto& c : r.candidates) {
-        if (c.truth.instance == id) it.candidates.push_back(c.id);
-      }
-      r.instances.push_back(std::move(it));
-    }
-  }
+  if (truth.has_instance) r.instances = instances_of(truth, r.candidates);
+}
+
+}  // namespace
+
+void validate(const Params& p) {
+  auto need = [](bool ok, const std::string& what) {
+    if (!ok) throw common::UsageError(what);
+  };
+  need(p.cell > 0 && std::isfinite(p.cell), "--cell must be > 0");
+  need(p.max_window > p.cell, "--max-window must be larger than --cell");
+  need(p.terrain_slope > 0, "--terrain-slope must be > 0");
+  need(p.initial_distance >= 0 && p.max_distance >= p.initial_distance,
+       "need 0 <= --initial-distance <= --max-distance");
+  need(p.ground_tolerance > 0, "--ground-tolerance must be > 0");
+  need(p.voxel > 0, "--voxel must be > 0");
+  need(p.min_object_height >= 0, "--min-object-height must be >= 0");
+  need(p.min_length >= 0 && p.max_length >= p.min_length, "need 0 <= --min-length <= --max-length");
+  need(p.min_width >= 0 && p.max_width >= p.min_width, "need 0 <= --min-width <= --max-width");
+  need(p.min_height >= 0 && p.max_height >= p.min_height, "need 0 <= --min-height <= --max-height");
+  need(p.max_height > p.min_object_height, "--max-height must exceed --min-object-height");
+  need(p.margin >= 0, "--margin must be >= 0");
+  need(p.min_points >= 3, "--min-points must be >= 3");
+  need(p.min_planarity >= 0 && p.min_planarity <= 1, "--min-planarity must be in [0, 1] (0 = off)");
+  need(p.planar_radius >= 2 * 0.1 && std::isfinite(p.planar_radius), "--planar-radius must be >= 0.2 m");
+  need(p.planar_ratio > 0 && p.planar_ratio < 1, "planar_ratio must be in (0, 1)");
+  need(p.min_planar_area >= 0, "--min-planar-area must be >= 0");
+  need(p.min_ground_share > 0 && p.min_ground_share <= 1, "--min-ground-share must be in (0, 1]");
+}
+
+Result run(const formats::PointCloud& tile, const Params& params, const std::string& name) {
+  validate(params);
+  tile.require({"x", "y", "z"}, name, "is this a point cloud?");
+  const std::size_t n = tile.size();
+  if (n == 0) throw DataError(name, "the tile has no points");
+  if (n > std::numeric_limits<std::uint32_t>::max() / 2) throw DataError(name, "more than 2^31 points");
+  Result r;
+  r.stats.points = n;
+  const LocalFrame l = local_frame(tile, name);
+  r.origin = l.origin;
+
+  auto t0 = std::chrono::steady_clock::now();
+  const Ground g = find_ground(l, params, name, r);
+  r.stats.seconds_ground = seconds_since(t0);
+
+  t0 = std::chrono::steady_clock::now();
+  const std::vector<Object> objects = find_objects(l, params, r);
+  r.stats.seconds_objects = seconds_since(t0);
+
+  t0 = std::chrono::steady_clock::now();
+  extract_candidates(tile, l, g, objects, params, r);
   r.stats.seconds_candidates = seconds_since(t0);
   return r;
 }

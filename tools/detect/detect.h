@@ -72,10 +72,15 @@ struct Params {
   double margin = 0.5;                      // crop margin around the footprint and above the height (m)
   std::string label_field = "label";        // ground-truth class (formats/labels.h); optional
   std::string instance_field = "instance";  // ground-truth instance id (0 = none); optional
-
-  // Throws common::UsageError naming the first bad value.
-  void validate() const;
 };
+
+// Throws common::UsageError naming the option (--cell, ...) of the first bad value: cell > 0,
+// max_window > cell, terrain_slope > 0, 0 <= initial_distance <= max_distance,
+// ground_tolerance > 0, voxel > 0, min_object_height >= 0, 0 <= min <= max of length, width and
+// height, max_height > min_object_height, margin >= 0, min_points >= 3, min_planarity in
+// [0, 1], planar_radius >= 0.2 m, planar_ratio in (0, 1), min_planar_area >= 0,
+// min_ground_share in (0, 1].
+void validate(const Params& params);
 
 // Classes of the classification output.
 enum Class : std::uint8_t { kClassGround = 1, kClassOther = 2, kClassCandidate = 3 };

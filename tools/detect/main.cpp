@@ -1,14 +1,13 @@
 // detect: tile (PCD / PLY points / LAS) -> directory of vehicle candidates (index.json + <id>.pcd + classes.ply).
 #include <cstdio>
-#include <fstream>
 #include <string>
 
 #include "canopy/common/cli.h"
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
 #include "canopy/common/units.h"
-#include "canopy/formats/pcd.h"
 #include "canopy/formats/points_io.h"
+#include "canopy/formats/provenance.h"
 #include "detect/detect.h"
 #include "detect/las_units.h"
 #include "detect/output.h"
@@ -17,24 +16,17 @@ using namespace canopy;
 
 namespace {
 
-// Tiles are read by magic: PCD, PLY point set or LAS (LAZ is refused with how to decompress).
-formats::PointCloud read_tile(const std::string& path) { return formats::read_points(path, "detect"); }
-
-}  // namespace
-
-int main(int argc, char** argv) {
-  common::Tool tool("detect",
-                    "Vehicle candidates in a whole tile: ground (DTM), objects between "
-                    "the ground and the canopy, footprint and height tests; one local-frame "
-                    "PCD per candidate plus index.json and a classification PLY.");
-  tool.without_threads();
-  detect::Params p;
+// The options beside detect::Params.
+struct Cli {
   std::string in = "-", out, clustering = "grid";
   bool no_classes = false;
+};
+
+void bind(common::Tool& tool, detect::Params& p, Cli& cli) {
   tool.add_input(
-      &in,
+      &cli.in,
       "tile: PCD, PLY point set or LAS (x y z, float64 for georeferenced coordinates; any other fields)");
-  tool.app().add_option("-o,--output", out,
+  tool.app().add_option("-o,--output", cli.out,
                         "output directory, required (built beside it and renamed into "
                         "place; a previous detect output is replaced)");
   tool.add_length("--cell", &p.cell, "DTM cell");
@@ -50,7 +42,7 @@ int main(int argc, char** argv) {
            "fewest occupied cells with ground (share) for a terrain");
   tool.add_length("--min-object-height", &p.min_object_height, "lower: ground or grass");
   tool.add_length("--voxel", &p.voxel, "clustering voxel edge (26-connected voxels form an object)");
-  tool.add("--clustering", &clustering,
+  tool.add("--clustering", &cli.clustering,
            "grid (voxel connected components) or euclidean (PCL, same partition)");
   tool.add_length("--min-length", &p.min_length, "shortest vehicle footprint");
   tool.add_length("--max-length", &p.max_length, "longest vehicle footprint");
@@ -68,59 +60,79 @@ int main(int argc, char** argv) {
   tool.add_length("--margin", &p.margin, "crop margin around a candidate's footprint and above its height");
   tool.add("--label-field", &p.label_field, "ground-truth class field (1 = vehicle), if present");
   tool.add("--instance-field", &p.instance_field, "ground-truth instance field, if present");
-  tool.add_flag("--no-classes", &no_classes, "do not write classes.ply");
+  tool.add_flag("--no-classes", &cli.no_classes, "do not write classes.ply");
+}
+
+detect::Clustering clustering_of(const std::string& text) {
+  if (text == "grid") return detect::Clustering::kGrid;
+  if (text == "euclidean") return detect::Clustering::kEuclidean;
+  throw common::UsageError("--clustering must be grid or euclidean");
+}
+
+// detect's lengths are metres; a LAS tile may declare feet (not converted: the candidates'
+// transforms are rigid, tile units = metres).
+void warn_las_units(const std::string& in, const std::string& name) {
+  if (in == "-") return;
+  const auto unit = detect::las_linear_unit(in);
+  if (!unit || unit->metres == 1.0) return;
+  char f[64];
+  std::snprintf(f, sizeof f, "%.10g", unit->metres);
+  common::log::warn(name + ": its georeferencing gives the coordinates in " + unit->name +
+                    (unit->metres > 0 ? std::string(" (") + f + " m)" : std::string()) + " (" + unit->source +
+                    "); detect reads them as metres, so every length (DTM cell, vehicle ranges) is " +
+                    "taken in " + unit->name + ": convert the tile to metres first");
+}
+
+// The detect phase's INFO line.
+std::string summary(const detect::Result& r) {
+  const detect::Stats& s = r.stats;
+  char buf[400];
+  std::snprintf(
+      buf, sizeof buf,
+      "ground %zu of %zu cells (%.2f s); %zu object points in %zu clusters, %zu splits, "
+      "rejected %zu small %zu large %zu canopy bottoms %zu not planar (%.2f s); %zu candidates (%.2f s)",
+      s.ground_cells, s.cells, s.seconds_ground, s.band_points, s.clusters, s.splits, s.rejected_small,
+      s.rejected_large, s.rejected_canopy, s.rejected_shape, s.seconds_objects, r.candidates.size(),
+      s.seconds_candidates);
+  return buf;
+}
+
+void log_truth(const detect::Result& r) {
+  if (!r.has_truth) return;
+  std::size_t covered = 0;
+  for (const auto& it : r.instances) covered += !it.candidates.empty();
+  common::log::info("truth: " + std::to_string(covered) + " of " + std::to_string(r.instances.size()) +
+                    " labelled vehicles covered by a candidate");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  common::Tool tool("detect",
+                    "Vehicle candidates in a whole tile: ground (DTM), objects between "
+                    "the ground and the canopy, footprint and height tests; one local-frame "
+                    "PCD per candidate plus index.json and a classification PLY.");
+  tool.without_threads();
+  detect::Params p;
+  Cli cli;
+  bind(tool, p, cli);
   return tool.run(argc, argv, [&] {
-    if (out.empty() || out == "-") throw common::UsageError("-o/--output must name a directory");
-    if (clustering == "grid") {
-      p.clustering = detect::Clustering::kGrid;
-    } else if (clustering == "euclidean") {
-      p.clustering = detect::Clustering::kEuclidean;
-    } else {
-      throw common::UsageError("--clustering must be grid or euclidean");
-    }
-    p.validate();
-    const std::string name = common::display_name(in);
+    if (cli.out.empty() || cli.out == "-") throw common::UsageError("-o/--output must name a directory");
+    p.clustering = clustering_of(cli.clustering);
+    detect::validate(p);
+    const std::string name = common::display_name(cli.in);
     common::log::Phase read("read");
-    const formats::PointCloud tile = read_tile(in);
+    // Tiles are read by magic: PCD, PLY point set or LAS (LAZ is refused with how to decompress).
+    const formats::PointCloud tile = formats::read_points(cli.in, "detect");
     read.done(std::to_string(tile.size()) + " points");
-    if (in != "-") {
-      // detect's lengths are metres; a LAS tile may declare feet (not converted: the
-      // candidates' transforms are rigid, tile units = metres).
-      if (const auto unit = detect::las_linear_unit(in); unit && unit->metres != 1.0) {
-        char f[64];
-        std::snprintf(f, sizeof f, "%.10g", unit->metres);
-        common::log::warn(name + ": its georeferencing gives the coordinates in " + unit->name +
-                          (unit->metres > 0 ? std::string(" (") + f + " m)" : std::string()) + " (" +
-                          unit->source +
-                          "); detect reads them as metres, so every length (DTM cell, vehicle ranges) is " +
-                          "taken in " + unit->name + ": convert the tile to metres first");
-      }
-    }
+    warn_las_units(cli.in, name);
     common::log::Phase work("detect");
     const detect::Result r = detect::run(tile, p, name);
-    const detect::Stats& s = r.stats;
-    char buf[400];
-    std::snprintf(
-        buf, sizeof buf,
-        "ground %zu of %zu cells (%.2f s); %zu object points in %zu clusters, %zu splits, "
-        "rejected %zu small %zu large %zu canopy bottoms %zu not planar (%.2f s); %zu candidates (%.2f s)",
-        s.ground_cells, s.cells, s.seconds_ground, s.band_points, s.clusters, s.splits, s.rejected_small,
-        s.rejected_large, s.rejected_canopy, s.rejected_shape, s.seconds_objects, r.candidates.size(),
-        s.seconds_candidates);
-    work.done(buf);
-    if (r.has_truth) {
-      std::size_t covered = 0;
-      for (const auto& it : r.instances) covered += !it.candidates.empty();
-      common::log::info("truth: " + std::to_string(covered) + " of " + std::to_string(r.instances.size()) +
-                        " labelled vehicles covered by a candidate");
-    }
-    formats::Provenance prov;
-    prov.tool = "detect";
-    prov.version = CANOPY_VERSION;
-    prov.parameters = tool.parameters();
-    prov.inputs = {in};
+    work.done(summary(r));
+    log_truth(r);
+    const formats::Provenance prov{"detect", CANOPY_VERSION, tool.parameters(), {cli.in}};
     common::log::Phase write("write");
-    detect::write_output(out, tile, r, p, prov, in, !no_classes);
-    write.done(std::to_string(r.candidates.size()) + " candidates to " + out);
+    detect::write_output(cli.out, tile, r, p, prov, cli.in, !cli.no_classes);
+    write.done(std::to_string(r.candidates.size()) + " candidates to " + cli.out);
   });
 }

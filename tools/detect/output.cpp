@@ -5,7 +5,9 @@
 #include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <string>
 #include <system_error>
+#include <vector>
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
@@ -130,10 +132,14 @@ void write_output(const std::string& dir, const formats::PointCloud& tile, const
   if (!fs::create_directory(tmp.path(), ec)) {
     throw common::DataError(tmp.path().string(), "cannot create a temporary directory: " + ec.message());
   }
+  // Every file's comments: the tile's own (a candidate's crop keeps them), detect's
+  // provenance, then what the file holds.
+  const std::vector<std::string> prov = formats::provenance_comments(provenance);
   for (const Candidate& c : result.candidates) {
     formats::PointCloud cloud = c.cloud;
-    cloud.comments.push_back("detect (canopy) candidate " + c.id + " of " + tile_name);
-    cloud.comments.push_back("local frame; index.json gives the transform back to the tile");
+    cloud.comments.insert(cloud.comments.end(), prov.begin(), prov.end());
+    cloud.comments.push_back("candidate " + c.id +
+                             " in its local frame; index.json gives the transform back to the tile");
     formats::write_pcd(cloud, (tmp.path() / (c.id + ".pcd")).string());
   }
   std::string classes;
@@ -144,8 +150,8 @@ void write_output(const std::string& dir, const formats::PointCloud& tile, const
     char origin[160];
     std::snprintf(origin, sizeof origin, "origin %.17g %.17g %.17g (add to x y z for tile coordinates)",
                   result.origin.x(), result.origin.y(), result.origin.z());
-    m.vertices.comments.push_back("detect (canopy) classes of " + tile_name +
-                                  ": 1 ground (brown), 2 vegetation/other (green), 3 candidate (red)");
+    m.vertices.comments = prov;
+    m.vertices.comments.push_back("classes 1 ground (brown), 2 vegetation/other (green), 3 candidate (red)");
     m.vertices.comments.push_back(origin);
     formats::write_ply(m, (tmp.path() / classes).string());
   }

@@ -19,7 +19,9 @@ std::string serialize_index(const Result& result, const Params& params, const fo
 
 // Writes the whole directory atomically. Refuses (DataError) when `dir` exists and is not a
 // directory, or is a directory that is neither empty nor a previous detect output (holds an
-// index.json); a previous output is replaced as a whole.
+// index.json); a previous output is replaced as a whole. The PCD and PLY comments: a
+// candidate keeps the tile's, then come formats::provenance_comments(provenance) and a line on
+// what the file holds (the candidate's id and frame; the classes and the local origin).
 void write_output(const std::string& dir, const formats::PointCloud& tile, const Result& result,
                   const Params& params, const formats::Provenance& provenance, const std::string& tile_name,
                   bool write_classes);

@@ -38,7 +38,34 @@ struct Image {
   }
 };
 
+struct Params {
+  int size = 1024;  // pixels along the longer side of the picture, [16, 8192]
+  int tile = 0;     // this tile's index in the score's tiles, >= 0
+};
+
+// Throws common::UsageError naming the option: --size must be in [16, 8192], --tile >= 0.
+void validate(const Params& params);
+
+// The documents whose footprints are drawn (paths; truth and score empty = not given; a score
+// needs the truth).
+struct Sources {
+  std::string detections;  // canopy.detections v1
+  std::string truth;       // canopy.scene_truth v1: true footprints
+  std::string score;       // canopy.scene_score v1: colours by outcome
+};
+
+// Reads the documents: the true footprints first (kTruth, or kMissed when the score says the
+// tile's vehicle was missed), then the detections (kDetection, or with a score kRight, kWrong,
+// kFalseAlarm by the outcome of the candidate). DataError naming the file: not JSON, another
+// format, no tile `tile` in the score, a footprint that is not a polygon of 3-64 [x, y] corners.
+std::vector<Shape> read_footprints(const Sources& sources, int tile);
+
+// The picture (render at Params::size; `tile` is read_footprints'), validate()d first.
+Image run(const formats::PointCloud& scan, const std::vector<Shape>& shapes, const Params& params);
+
 // The picture: `size` pixels along the longer side of the box holding the points and shapes.
+// The highest point per pixel (non-finite points skipped), grey from the 2nd to the 98th
+// percentile of those heights, then the outlines two pixels wide in the given order.
 Image render(const formats::PointCloud& scan, const std::vector<Shape>& shapes, int size);
 std::string encode_png(const Image& image);
 

@@ -20,6 +20,48 @@ namespace vf = canopy::verify;
 
 namespace {
 
+// The options beside verify::Params.
+struct Cli {
+  std::string in = "-", out = "-", points, segments, modelbase, transform;
+  bool no_flip = false;
+};
+
+void bind(cm::Tool& tool, vf::Params& p, Cli& cli) {
+  tool.add_input(&cli.in, "gmatch match result JSON");
+  tool.add_output(&cli.out, "verdict JSON");
+  tool.add("--points", &cli.points,
+           "candidate points PCD with normals and sensor directions "
+           "(fitvox samples)")
+      ->required();
+  tool.add("--segments", &cli.segments, "candidate segment graph JSON (the one gmatch matched)")->required();
+  tool.add("--modelbase", &cli.modelbase,
+           "directory of <model>.json graphs, <model>.pcd surfaces and "
+           "optional <model>.class classes")
+      ->required();
+  tool.add("--transform", &cli.transform,
+           "candidate frame -> tile frame, 12 or 16 numbers row-major (detect's index.json "
+           "transform); adds pose_tile");
+  tool.add("-k,--top-k", &p.top_k, "gmatch hypotheses checked");
+  tool.add_length("--min-height", &p.min_height, "candidate points below this z are ground");
+  tool.add_length("--inlier-distance", &p.inlier_distance,
+                  "point-to-plane distance counted as on the model surface");
+  tool.add_length("--inlier-radius", &p.inlier_radius, "and within this of the nearest model sample");
+  tool.add("--facing", &p.facing, "model surface counts for a view when normal . sensor >= this");
+  tool.add_length("--ray-cell", &p.ray_cell, "cell of the per-view depth buffers");
+  tool.add_length("--occlusion-margin", &p.occlusion_margin,
+                  "a scan point this much nearer the sensor hides model surface");
+  tool.add_length("--icp-coarse", &p.icp_coarse, "ICP correspondence distance, first stage");
+  tool.add_length("--icp-fine", &p.icp_fine, "ICP correspondence distance, second stage");
+  tool.add("--icp-iterations", &p.icp_iterations, "ICP iterations per stage (0 = no ICP)");
+  tool.add("--icp-points", &p.icp_points, "candidate points ICP uses at most (even stride)");
+  tool.add_flag("--no-flip", &cli.no_flip, "do not try the 180-degree flip of each start")
+      ->default_str("false");
+  tool.add("--accept", &p.accept, "answer none when the best score is below this");
+  tool.add("--conf-bias", &p.conf_bias, "confidence logistic: bias");
+  tool.add("--conf-score", &p.conf_score, "confidence logistic: weight of the score");
+  tool.add("--conf-margin", &p.conf_margin, "confidence logistic: weight of the margin over the next model");
+}
+
 // "r00,r01,r02,t0,r10,...,t2[,0,0,0,1]" (12 or 16 numbers, row-major) -> candidate->tile.
 Eigen::Isometry3d parse_transform(const std::string& text) {
   std::vector<double> v;
@@ -46,22 +88,51 @@ Eigen::Isometry3d parse_transform(const std::string& text) {
   return Eigen::Isometry3d(M);
 }
 
-fm::Pose pose_of(const Eigen::Isometry3d& T) {
-  fm::Pose p;
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) p.rotation[3 * r + c] = T.linear()(r, c);
-    p.translation[r] = T.translation()(r);
+// What the check reads: the match, the candidate's graph and points, the hypotheses' models.
+struct Inputs {
+  fm::MatchResult match;
+  fm::SegmentGraph graph;
+  vf::Candidate candidate;
+  std::vector<vf::Model> models;
+};
+
+Inputs read_inputs(const Cli& cli, const vf::Params& p) {
+  Inputs in;
+  in.match = fm::read_match_result(cli.in);
+  if (in.match.models.empty()) throw cm::DataError(cm::display_name(cli.in), "match result ranks no model");
+  in.graph = fm::read_segment_graph(cli.segments);
+  in.candidate = vf::candidate_from_cloud(fm::read_pcd(cli.points), cli.points);
+  std::vector<std::string> names;
+  for (int i = 0; i < p.top_k && i < static_cast<int>(in.match.models.size()); ++i) {
+    names.push_back(in.match.models[i].model);
   }
-  return p;
+  in.models = vf::read_models(cli.modelbase, names, cm::display_name(cli.in));
+  return in;
 }
 
-Eigen::Isometry3d iso_of(const fm::Pose& p) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) T.linear()(r, c) = p.rotation[3 * r + c];
-    T.translation()(r) = p.translation[r];
+// The check phase's INFO line: the answer (or none), its scores, the class.
+std::string summary(const fm::Verdict& v) {
+  char line[256];
+  if (v.chosen >= 0) {
+    const auto& h = v.hypotheses[v.chosen];
+    const auto e = fm::euler_degrees(h.pose);
+    std::snprintf(line, sizeof line,
+                  "%s, confidence %.3f (score %.3f: explained %.3f, free-space violation %.3f, "
+                  "rms %.1f mm, heading %.1f deg)",
+                  v.model.c_str(), v.confidence, h.score, h.explained, h.free_space_violation,
+                  h.fit_rms * 1e3, e[0]);
+  } else {
+    std::snprintf(line, sizeof line, "none, confidence %.3f", v.confidence);
   }
-  return T;
+  std::string said = line;
+  if (v.has_classes) {
+    std::snprintf(line, sizeof line, "; class %s (nearest instance %s, score %.3f, margin %.3f)",
+                  v.vehicle_class.empty() ? "none" : v.vehicle_class.c_str(),
+                  v.nearest_instance.empty() ? "none" : v.nearest_instance.c_str(), v.class_score,
+                  v.class_margin);
+    said += line;
+  }
+  return said;
 }
 
 }  // namespace
@@ -73,89 +144,26 @@ int main(int argc, char** argv) {
                 "a canopy.verdict JSON: a model with pose and confidence, or none.");
   tool.without_threads();
   vf::Params p;
-  std::string in = "-", out = "-", points, segments, modelbase, transform;
-  bool no_flip = false;
-  tool.add_input(&in, "gmatch match result JSON");
-  tool.add_output(&out, "verdict JSON");
-  tool.add("--points", &points,
-           "candidate points PCD with normals and sensor directions "
-           "(fitvox samples)")
-      ->required();
-  tool.add("--segments", &segments, "candidate segment graph JSON (the one gmatch matched)")->required();
-  tool.add("--modelbase", &modelbase,
-           "directory of <model>.json graphs, <model>.pcd surfaces and "
-           "optional <model>.class classes")
-      ->required();
-  tool.add("--transform", &transform,
-           "candidate frame -> tile frame, 12 or 16 numbers row-major (detect's index.json "
-           "transform); adds pose_tile");
-  tool.add("-k,--top-k", &p.top_k, "gmatch hypotheses checked");
-  tool.add_length("--min-height", &p.min_height, "candidate points below this z are ground");
-  tool.add_length("--inlier-distance", &p.inlier_distance,
-                  "point-to-plane distance counted as on the model surface");
-  tool.add_length("--inlier-radius", &p.inlier_radius, "and within this of the nearest model sample");
-  tool.add("--facing", &p.facing, "model surface counts for a view when normal . sensor >= this");
-  tool.add_length("--ray-cell", &p.ray_cell, "cell of the per-view depth buffers");
-  tool.add_length("--occlusion-margin", &p.occlusion_margin,
-                  "a scan point this much nearer the sensor hides model surface");
-  tool.add_length("--icp-coarse", &p.icp_coarse, "ICP correspondence distance, first stage");
-  tool.add_length("--icp-fine", &p.icp_fine, "ICP correspondence distance, second stage");
-  tool.add("--icp-iterations", &p.icp_iterations, "ICP iterations per stage (0 = no ICP)");
-  tool.add("--icp-points", &p.icp_points, "candidate points ICP uses at most (even stride)");
-  tool.add_flag("--no-flip", &no_flip, "do not try the 180-degree flip of each start")->default_str("false");
-  tool.add("--accept", &p.accept, "answer none when the best score is below this");
-  tool.add("--conf-bias", &p.conf_bias, "confidence logistic: bias");
-  tool.add("--conf-score", &p.conf_score, "confidence logistic: weight of the score");
-  tool.add("--conf-margin", &p.conf_margin, "confidence logistic: weight of the margin over the next model");
-
+  Cli cli;
+  bind(tool, p, cli);
   return tool.run(argc, argv, [&] {
-    p.flip = !no_flip;
+    p.flip = !cli.no_flip;
     vf::validate(p);
     std::optional<Eigen::Isometry3d> to_tile;
-    if (!transform.empty()) to_tile = parse_transform(transform);
+    if (!cli.transform.empty()) to_tile = parse_transform(cli.transform);
 
     cm::log::Phase read("read");
-    const fm::MatchResult match = fm::read_match_result(in);
-    if (match.models.empty()) throw cm::DataError(cm::display_name(in), "match result ranks no model");
-    const fm::SegmentGraph graph = fm::read_segment_graph(segments);
-    const vf::Candidate candidate = vf::candidate_from_cloud(fm::read_pcd(points), points);
-    std::vector<std::string> names;
-    for (int i = 0; i < p.top_k && i < static_cast<int>(match.models.size()); ++i) {
-      names.push_back(match.models[i].model);
-    }
-    const auto models = vf::read_models(modelbase, names, cm::display_name(in));
-    read.done(std::to_string(candidate.points.size()) + " candidate points, " +
-              std::to_string(models.size()) + " hypotheses");
+    const Inputs in = read_inputs(cli, p);
+    read.done(std::to_string(in.candidate.points.size()) + " candidate points, " +
+              std::to_string(in.models.size()) + " hypotheses");
 
     cm::log::Phase phase("check");
-    fm::Verdict v = vf::run({&candidate, &graph, &match, &models}, p);
-    if (to_tile) {
-      v.transform = pose_of(*to_tile);
-      for (auto& h : v.hypotheses) h.pose_tile = pose_of(*to_tile * iso_of(h.pose));
-    }
-    v.provenance = {"verify", CANOPY_VERSION, tool.parameters(), {in, points, segments, modelbase}};
-    v.candidate = points;
-    char line[256];
-    if (v.chosen >= 0) {
-      const auto& h = v.hypotheses[v.chosen];
-      const auto e = fm::euler_degrees(h.pose);
-      std::snprintf(line, sizeof line,
-                    "%s, confidence %.3f (score %.3f: explained %.3f, free-space violation %.3f, "
-                    "rms %.1f mm, heading %.1f deg)",
-                    v.model.c_str(), v.confidence, h.score, h.explained, h.free_space_violation,
-                    h.fit_rms * 1e3, e[0]);
-    } else {
-      std::snprintf(line, sizeof line, "none, confidence %.3f", v.confidence);
-    }
-    std::string said = line;
-    if (v.has_classes) {
-      std::snprintf(line, sizeof line, "; class %s (nearest instance %s, score %.3f, margin %.3f)",
-                    v.vehicle_class.empty() ? "none" : v.vehicle_class.c_str(),
-                    v.nearest_instance.empty() ? "none" : v.nearest_instance.c_str(), v.class_score,
-                    v.class_margin);
-      said += line;
-    }
-    phase.done(said);
-    fm::write_verdict(v, out);
+    fm::Verdict v =
+        vf::run({&in.candidate, &in.graph, &in.match, &in.models, to_tile ? &*to_tile : nullptr}, p);
+    v.provenance = {
+        "verify", CANOPY_VERSION, tool.parameters(), {cli.in, cli.points, cli.segments, cli.modelbase}};
+    v.candidate = cli.points;
+    phase.done(summary(v));
+    fm::write_verdict(v, cli.out);
   });
 }

@@ -1,5 +1,4 @@
 // Reading the modelbase entries a match result names: the only I/O of the verify library.
-#include <exception>
 #include <filesystem>
 #include <sstream>
 #include <system_error>
@@ -7,6 +6,7 @@
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "canopy/formats/pcd.h"
+#include "canopy/formats/segment_graph.h"
 #include "verify/verify.h"
 
 namespace canopy::verify {
@@ -32,12 +32,7 @@ std::vector<Model> read_models(const std::string& dir, const std::vector<std::st
     }
     Model m;
     m.name = name;
-    try {
-      m.graph = formats::read_segment_graph(graph);
-    } catch (const DataError& e) {
-      if (e.file() == graph) throw;
-      throw DataError(graph, e.what());
-    } catch (const std::exception& e) { throw DataError(graph, e.what()); }
+    m.graph = formats::read_segment_graph(graph);  // errors name the file
     m.surface = surface_from_cloud(formats::read_pcd(surface), surface);
     const std::string cls = (fs::path(dir) / (name + ".class")).string();
     if (fs::exists(cls, ec)) {

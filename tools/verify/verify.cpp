@@ -378,72 +378,65 @@ Isometry3d pose_from_axes(const std::vector<Vector3d>& candidate, const std::vec
 
 namespace {
 
-formats::Pose to_pose(const Isometry3d& T) {
-  formats::Pose p;
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) p.rotation[3 * r + c] = T.linear()(r, c);
-    p.translation[r] = T.translation()(r);
-  }
-  return p;
-}
-
 double logistic(double x) { return 1.0 / (1.0 + std::exp(-x)); }
 
-}  // namespace
-
-formats::Verdict run(const In& in, const Params& p) {
-  formats::Verdict v;
-  const Scorer scorer(*in.candidate, p);
-  const auto& above = scorer.above_points();
-  const int k = std::min<int>(p.top_k, static_cast<int>(in.match->models.size()));
-  for (int h = 0; h < k; ++h) {
-    const auto& ms = in.match->models[h];
-    const Model* model = nullptr;
-    for (const auto& m : *in.models) {
-      if (m.name == ms.model) model = &m;
-    }
-    if (model == nullptr) throw common::Error("verify: model " + ms.model + " was not loaded");
-    const Vector3d centre = mean_of(model->surface.points);
-    struct Start {
-      std::string name;
-      Isometry3d pose;
-    };
-    std::vector<Start> starts;
-    Isometry3d pp;
-    if (pose_from_pairs(*in.segments, model->graph, ms.pairs, &pp)) starts.push_back({"pairs", pp});
-    starts.push_back(
-        {"axes", pose_from_axes(above.empty() ? in.candidate->points : above, model->surface.points)});
-    formats::Hypothesis best;
-    best.model = ms.model;
-    best.gmatch_rank = ms.rank;
-    best.gmatch_score = ms.score;
-    bool have = false;
-    for (const auto& s : starts) {
-      const int variants = p.flip ? 2 : 1;
-      Check checks[2];
-      for (int f = 0; f < variants; ++f) {
-        const Isometry3d start = f ? flipped(s.pose, centre) : s.pose;
-        checks[f] = scorer.score(model->surface, refine(model->surface, above, start, p));
-      }
-      for (int f = 0; f < variants; ++f) {
-        const Check& c = checks[f];
-        if (have && !(c.score > best.score)) continue;
-        have = true;
-        best.start = s.name + (f ? "-flipped" : "");
-        best.flipped = f == 1;
-        best.pose = to_pose(c.pose);
-        best.fit_rms = c.fit_rms;
-        best.explained = c.explained;
-        best.free_space_violation = c.violation;
-        best.score = c.score;
-        best.flip_score = variants == 2 ? checks[1 - f].score : 0;
-      }
-    }
-    best.vehicle_class = model->vehicle_class;
-    v.has_classes = v.has_classes || !model->vehicle_class.empty();
-    v.hypotheses.push_back(best);
+const Model& loaded_model(const In& in, const std::string& name) {
+  const Model* model = nullptr;
+  for (const auto& m : *in.models) {
+    if (m.name == name) model = &m;
   }
-  // Decide: the best score; margin over the best other model.
+  if (model == nullptr) throw common::Error("verify: model " + name + " was not loaded");
+  return *model;
+}
+
+// One gmatch hypothesis: every start (the matched pairs' pose when there is one, the principal
+// axes') and, with Params::flip, its 180-degree flip, refined by ICP and scored; the best.
+formats::Hypothesis check_hypothesis(const In& in, const formats::ModelScore& ms, const Model& model,
+                                     const Scorer& scorer, const Params& p) {
+  const auto& above = scorer.above_points();
+  const Vector3d centre = mean_of(model.surface.points);
+  struct Start {
+    std::string name;
+    Isometry3d pose;
+  };
+  std::vector<Start> starts;
+  Isometry3d pp;
+  if (pose_from_pairs(*in.segments, model.graph, ms.pairs, &pp)) starts.push_back({"pairs", pp});
+  starts.push_back({"axes", pose_from_axes(above.empty() ? in.candidate->points : above, model.surface.points)});
+  formats::Hypothesis best;
+  best.model = ms.model;
+  best.gmatch_rank = ms.rank;
+  best.gmatch_score = ms.score;
+  bool have = false;
+  for (const auto& s : starts) {
+    const int variants = p.flip ? 2 : 1;
+    Check checks[2];
+    for (int f = 0; f < variants; ++f) {
+      const Isometry3d start = f ? flipped(s.pose, centre) : s.pose;
+      checks[f] = scorer.score(model.surface, refine(model.surface, above, start, p));
+    }
+    for (int f = 0; f < variants; ++f) {
+      const Check& c = checks[f];
+      if (have && !(c.score > best.score)) continue;
+      have = true;
+      best.start = s.name + (f ? "-flipped" : "");
+      best.flipped = f == 1;
+      best.pose = to_pose(c.pose);
+      best.fit_rms = c.fit_rms;
+      best.explained = c.explained;
+      best.free_space_violation = c.violation;
+      best.score = c.score;
+      best.flip_score = variants == 2 ? checks[1 - f].score : 0;
+    }
+  }
+  best.vehicle_class = model.vehicle_class;
+  return best;
+}
+
+// Decides: the best score, its margin over the best other model, the class; the answer when
+// the score passes Params::accept, else none.
+void decide(formats::Verdict* verdict, const Params& p) {
+  formats::Verdict& v = *verdict;
   int chosen = -1;
   for (int i = 0; i < static_cast<int>(v.hypotheses.size()); ++i) {
     if (chosen < 0 || v.hypotheses[i].score > v.hypotheses[chosen].score) chosen = i;
@@ -475,6 +468,43 @@ formats::Verdict run(const In& in, const Params& p) {
     }
   } else {
     v.confidence = 1;
+  }
+}
+
+}  // namespace
+
+formats::Pose to_pose(const Isometry3d& T) {
+  formats::Pose p;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) p.rotation[3 * r + c] = T.linear()(r, c);
+    p.translation[r] = T.translation()(r);
+  }
+  return p;
+}
+
+Isometry3d to_isometry(const formats::Pose& p) {
+  Isometry3d T = Isometry3d::Identity();
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) T.linear()(r, c) = p.rotation[3 * r + c];
+    T.translation()(r) = p.translation[r];
+  }
+  return T;
+}
+
+formats::Verdict run(const In& in, const Params& p) {
+  formats::Verdict v;
+  const Scorer scorer(*in.candidate, p);
+  const int k = std::min<int>(p.top_k, static_cast<int>(in.match->models.size()));
+  for (int h = 0; h < k; ++h) {
+    const auto& ms = in.match->models[h];
+    const Model& model = loaded_model(in, ms.model);
+    v.hypotheses.push_back(check_hypothesis(in, ms, model, scorer, p));
+    v.has_classes = v.has_classes || !model.vehicle_class.empty();
+  }
+  decide(&v, p);
+  if (in.to_tile != nullptr) {
+    v.transform = to_pose(*in.to_tile);
+    for (auto& h : v.hypotheses) h.pose_tile = to_pose(*in.to_tile * to_isometry(h.pose));
   }
   return v;
 }

@@ -119,15 +119,20 @@ bool pose_from_pairs(const formats::SegmentGraph& object, const formats::Segment
 Eigen::Isometry3d pose_from_axes(const std::vector<Eigen::Vector3d>& candidate,
                                  const std::vector<Eigen::Vector3d>& model);
 
+// The verdict's poses (formats::Pose, row-major rotation + translation) <-> Eigen.
+formats::Pose to_pose(const Eigen::Isometry3d& pose);
+Eigen::Isometry3d to_isometry(const formats::Pose& pose);
+
 struct In {
   const Candidate* candidate = nullptr;
   const formats::SegmentGraph* segments = nullptr;
   const formats::MatchResult* match = nullptr;
   const std::vector<Model>* models = nullptr;  // at least the top-k hypotheses' models
+  const Eigen::Isometry3d* to_tile = nullptr;  // candidate frame -> tile frame; null = none
 };
 
-// Checks the top-k hypotheses and decides. Fills every field of the verdict but provenance,
-// inputs and the tile pose.
+// Checks the top-k hypotheses and decides. Fills every field of the verdict but provenance
+// and inputs; the tile pose (transform, pose_tile) when `to_tile` is given.
 formats::Verdict run(const In& in, const Params& params);
 
 }  // namespace canopy::verify

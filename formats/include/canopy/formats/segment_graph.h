@@ -41,6 +41,7 @@ struct SegmentGraph {
   std::vector<SegmentEdge> adjacency;
 };
 
+// Every error is a common::DataError naming `path`.
 SegmentGraph read_segment_graph(const std::string& path);
 SegmentGraph parse_segment_graph(const std::string& text, const std::string& name);
 void write_segment_graph(const SegmentGraph& graph, const std::string& path);
