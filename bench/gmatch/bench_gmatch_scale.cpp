@@ -140,7 +140,7 @@ int run(const std::string& modelbase, const std::vector<std::pair<std::string, f
         p.prefilter = k;
         p.prefilter_by = bys[b];
         const double t = now_ms();
-        gm::Out out = gm::run({&q, &models}, p, 1);
+        gm::Out out = gm::run({&q, &models}, p);
         const double ms = now_ms() - t;
         Row& r = rows[{b, k}];
         r.ms += ms;

@@ -333,8 +333,10 @@ TEST_CASE("run ranks by score, ties by model name, independent of threads", "[gm
                                       {"a_copy", sedan},
                                       {"truck", vehicle(6.5, 2.4, 1.2, 1.6, 1.0, 2.0, 0.5)},
                                       {"blob", random_graph(5, 25)}};
-  const auto one = gm::run({&object, &models}, gm::Params{}, 1);
-  const auto three = gm::run({&object, &models}, gm::Params{}, 3);
+  gm::Params three_threads;
+  three_threads.threads = 3;
+  const auto one = gm::run({&object, &models}, gm::Params{});
+  const auto three = gm::run({&object, &models}, three_threads);
   REQUIRE(one.result.models[0].model == "a_copy");
   REQUIRE(one.result.models[1].model == "c_copy");
   REQUIRE(one.result.models[0].score == one.result.models[1].score);
