@@ -129,7 +129,7 @@ Profile top_profile(const std::string& spec, std::uint64_t seed) {
   p.size = 96;
   p.spacing = 0.08;
   p.seed = seed;
-  const auto cloud = run(m, s, p);
+  const auto cloud = render_scan(m, s, p);
   std::vector<double> x, z;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     if (cloud.col("label")[i] != 1) continue;
@@ -177,7 +177,7 @@ TEST_CASE("families: the same instance and seed give byte-identical scans") {
   p.spacing = 0.1;
   p.seed = 11;
   const Model m = load_model("family:wheeled-apc:4", MeshImport{});
-  const auto a = run(m, s, p), b = run(m, s, p);
+  const auto a = render_scan(m, s, p), b = render_scan(m, s, p);
   REQUIRE(a.size() > 100);
   CHECK(a.size() == b.size());
   bool same = true;

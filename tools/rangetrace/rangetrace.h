@@ -126,6 +126,7 @@ extern const char* const kBuiltinModels[5];
 // ---------------------------------------------------------------- rendering
 
 struct Params {
+  // The CLI's options of the same names; validate() checks them.
   int size = 512;             // image width = height (pixels)
   double spacing = 0.030;     // pixel spacing on the image plane (m): field = size * spacing
   double crop_length = 10.0;  // crop box along the vehicle's long axis (m)
@@ -136,6 +137,10 @@ struct Params {
   int threads = 2;  // concurrent POV-Ray processes
   std::string povray = "povray";
 };
+
+// Throws common::UsageError naming the options when size is outside [8, 8192] or the spacing
+// or a crop size is not > 0.
+void validate(const Params& params);
 
 // The vehicle's bounding box in the world after placement (from POV-Ray's min/max_extent).
 struct Placement {
@@ -184,7 +189,7 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> model_bounds(const Model& model, con
 
 // Renders the range scan: parses the model's extents, places it, renders every view in
 // parallel, decodes and crops. Throws Error with POV-Ray's own message when it fails.
-formats::PointCloud run(const Model& model, const SceneRecipe& scene, const Params& params);
+formats::PointCloud render_scan(const Model& model, const SceneRecipe& scene, const Params& params);
 
 // Renders a shaded picture (8-bit PNG bytes): with a scene, its view `view_idx` with foliage;
 // without (scene == nullptr), the model alone on the ground from an oblique perspective.

@@ -351,146 +351,171 @@ double footprint_cover(const Image16& img, const TileView& view, const std::arra
 
 // ---------------------------------------------------------------- running
 
-TileScan run_tile(Tile* tile, const Params& params) {
-  common::log::Phase prep("tile");
-  std::vector<TileView> views = tile_views(*tile);
-  views.insert(views.begin(), canopy_view(*tile));  // frame of view 0: the canopy image
-  std::size_t triangles = 0;
-  for (const auto& m : tile->tree_meshes) triangles += m.f.size();
-  prep.done(std::to_string(tile->vehicles.size()) + " vehicles, " + std::to_string(tile->trees.size()) +
-            " trees and bushes (" + std::to_string(triangles) + " template triangles), " +
-            std::to_string(tile->objects.size()) + " clutter objects, " + std::to_string(views.size() - 1) +
-            " images");
+namespace {
 
-  common::log::Phase render("render");
-  TempDir tmp;
-  const Staged st = stage_models(tile->models, tmp);
-  // Frames ordered by image size (POV-Ray renders one size per process), then view order.
+// The INFO line of the tile phase.
+std::string tile_summary(const Tile& tile, std::size_t images) {
+  std::size_t triangles = 0;
+  for (const auto& m : tile.tree_meshes) triangles += m.f.size();
+  return std::to_string(tile.vehicles.size()) + " vehicles, " + std::to_string(tile.trees.size()) +
+         " trees and bushes (" + std::to_string(triangles) + " template triangles), " +
+         std::to_string(tile.objects.size()) + " clutter objects, " + std::to_string(images) + " images";
+}
+
+// Frames ordered by image size (POV-Ray renders one size per process), then view order:
+// order[f] is the view of frame f.
+std::vector<int> frame_order(const std::vector<TileView>& views) {
   std::vector<int> order(views.size());
   for (std::size_t k = 0; k < views.size(); ++k) order[k] = static_cast<int>(k);
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
     return std::make_pair(views[a].width, views[a].height) < std::make_pair(views[b].width, views[b].height);
   });
-  std::vector<TileView> frames;
-  for (int k : order) frames.push_back(views[k]);
-  common::write_file_atomic(tmp.path() + "/scene.pov", tile_pov(*tile, st, frames, 0));
-  struct Task {
-    int first, last;
-  };
-  std::vector<Task> tasks;
+  return order;
+}
+
+// The POV-Ray runs: each run of frames of one size split into chunks in proportion to its
+// share of the frames (threads x count / frames, at least 1), largest work first.
+std::vector<FrameRange> frame_ranges(const std::vector<TileView>& frames, int threads) {
+  std::vector<FrameRange> tasks;
   const int nf = static_cast<int>(frames.size());
-  const int threads = std::max(1, params.threads);
   for (int a = 0; a < nf;) {
     int b = a;
     while (b + 1 < nf && frames[b + 1].width == frames[a].width && frames[b + 1].height == frames[a].height)
       ++b;
     const int count = b - a + 1;
     const int chunks = std::clamp(static_cast<int>(std::lround(double(threads) * count / nf)), 1, count);
-    for (int c = 0; c < chunks; ++c)
-      tasks.push_back({a + count * c / chunks, a + count * (c + 1) / chunks - 1});
+    for (int c = 0; c < chunks; ++c) {
+      tasks.push_back(
+          {a + count * c / chunks, a + count * (c + 1) / chunks - 1, frames[a].width, frames[a].height});
+    }
     a = b + 1;
   }
-  std::stable_sort(tasks.begin(), tasks.end(), [&](const Task& x, const Task& y) {
+  std::stable_sort(tasks.begin(), tasks.end(), [&](const FrameRange& x, const FrameRange& y) {
     return double(x.last - x.first + 1) * frames[x.first].width * frames[x.first].height >
            double(y.last - y.first + 1) * frames[y.first].width * frames[y.first].height;
   });
-  std::atomic<std::size_t> next{0};
-  std::vector<std::string> errors(tasks.size());
-  std::vector<std::thread> pool;
-  auto renames = st.renames;
-  renames.emplace_back("scene.pov", "rangetrace's generated scene.pov (after the models' includes)");
-  for (int w = 0; w < std::min<int>(threads, static_cast<int>(tasks.size())); ++w) {
-    pool.emplace_back([&] {
-      for (std::size_t t; (t = next.fetch_add(1)) < tasks.size();) {
-        const Task& task = tasks[t];
-        std::vector<std::string> args = {"-D", "-P", "-V", "+WT1"};
-        args.insert(args.end(), st.args.begin(), st.args.end());
-        args.insert(args.end(), {"+W" + std::to_string(frames[task.first].width),
-                                 "+H" + std::to_string(frames[task.first].height), "-A", "+FP16",
-                                 "File_Gamma=1.0", "+Iscene.pov", "+Of.ppm", "+KFI0",
-                                 "+KFF" + std::to_string(nf - 1), "+KI0", "+KF" + std::to_string(nf - 1),
-                                 "+SF" + std::to_string(task.first), "+EF" + std::to_string(task.last)});
-        try {
-          run_povray(params, tmp.path(), args, "render" + std::to_string(t) + ".log", renames);
-        } catch (const std::exception& e) { errors[t] = e.what(); }
-      }
-    });
-  }
-  for (auto& t : pool) t.join();
-  for (const auto& e : errors) {
-    if (!e.empty()) throw Error(e);
-  }
-  std::map<int, std::string> files;
-  for (const auto& f : tmp.files()) {
-    if (f.size() > 5 && f[0] == 'f' && f.compare(f.size() - 4, 4, ".ppm") == 0) {
-      files[std::atoi(f.substr(1, f.size() - 5).c_str())] = tmp.path() + "/" + f;
-    }
-  }
-  render.done(std::to_string(nf) + " frames (" + std::to_string(nf - 1) + " images + canopy) in " +
-              std::to_string(tasks.size()) + " POV-Ray runs");
+  return tasks;
+}
 
-  common::log::Phase decode("decode");
-  std::vector<int> frame_of(views.size());
-  for (int f = 0; f < nf; ++f) frame_of[order[f]] = f;
-  auto image = [&](int view) {
-    const int f = frame_of[view];
-    if (!files.count(f)) throw Error("POV-Ray wrote no image for frame " + std::to_string(f));
-    Image16 img = parse_ppm(common::read_file(files[f]), files[f]);
-    if (img.width != views[view].width || img.height != views[view].height) {
+// The rendered frames of a tile's views (view 0: the canopy image).
+class TileFrames {
+ public:
+  TileFrames(const std::vector<TileView>& views, const std::vector<int>& order, std::map<int, std::string> files)
+      : views_(views), frame_of_(views.size()), files_(std::move(files)) {
+    for (std::size_t f = 0; f < order.size(); ++f) frame_of_[order[f]] = static_cast<int>(f);
+  }
+  Image16 image(int view) const {
+    const int f = frame_of_[view];
+    if (!files_.count(f)) throw Error("POV-Ray wrote no image for frame " + std::to_string(f));
+    const std::string& file = files_.at(f);
+    Image16 img = parse_ppm(common::read_file(file), file);
+    if (img.width != views_[view].width || img.height != views_[view].height) {
       throw Error("POV-Ray image of frame " + std::to_string(f) + " has the wrong size");
     }
     return img;
-  };
-  {
-    const Image16 img = image(0);
-    for (auto& v : tile->vehicles) v.canopy_cover = footprint_cover(img, views[0], v.footprint);
-    const TileRecipe& r = tile->recipe;
-    tile->canopy_cover = footprint_cover(
-        img, views[0],
-        {Vector2d(0, 0), Vector2d(r.extent_x, 0), Vector2d(r.extent_x, r.extent_y), Vector2d(0, r.extent_y)});
   }
-  TileScan scan;
-  formats::PointCloud& cloud = scan.cloud;
+
+ private:
+  const std::vector<TileView>& views_;
+  std::vector<int> frame_of_;
+  std::map<int, std::string> files_;
+};
+
+// Canopy cover from the nadir image (view 0): per vehicle footprint and over the whole tile.
+void measure_cover(const TileFrames& frames, const TileView& nadir, Tile* tile) {
+  const Image16 img = frames.image(0);
+  for (auto& v : tile->vehicles) v.canopy_cover = footprint_cover(img, nadir, v.footprint);
+  const TileRecipe& r = tile->recipe;
+  tile->canopy_cover = footprint_cover(
+      img, nadir,
+      {Vector2d(0, 0), Vector2d(r.extent_x, 0), Vector2d(r.extent_x, r.extent_y), Vector2d(0, r.extent_y)});
+}
+
+// The scan's columns: x y z (float64, shifted by the origin), sensor_x/y/z, view_idx, label, instance.
+void add_tile_columns(formats::PointCloud* cloud) {
   const char* names[] = {"x", "y", "z", "sensor_x", "sensor_y", "sensor_z", "view_idx", "label", "instance"};
   const formats::FieldType types[] = {formats::kFloat64, formats::kFloat64, formats::kFloat64,
                                       formats::kFloat32, formats::kFloat32, formats::kFloat32,
                                       formats::kInt32,   formats::kUint32,  formats::kInt32};
-  for (int c = 0; c < 9; ++c) cloud.add(names[c], types[c]);
-  const TileRecipe& r = tile->recipe;
+  for (int c = 0; c < 9; ++c) cloud->add(names[c], types[c]);
+}
+
+// Appends the hits of image k (view_idx k - 1) inside the tile and the view's strip.
+std::size_t append_view(const TileHits& hits, const TileView& v, std::size_t k, const TileRecipe& r,
+                        formats::PointCloud* cloud) {
   const Vector3d origin = r.has_origin ? r.origin : Vector3d::Zero();
+  std::vector<std::size_t> keep;
+  for (std::size_t i = 0; i < hits.p.size(); ++i) {
+    const Vector3d& p = hits.p[i];
+    if (p.x() < 0 || p.y() < 0 || p.x() > r.extent_x || p.y() > r.extent_y) continue;
+    if (std::abs((p.head<2>() - v.strip_centre).dot(v.strip_across)) > v.strip_half) continue;
+    keep.push_back(i);
+  }
+  const std::size_t base = cloud->size();
+  cloud->resize(base + keep.size());
+  const Eigen::Vector3f t = v.toward.cast<float>();
+  for (std::size_t n = 0; n < keep.size(); ++n) {
+    const std::size_t i = keep[n], row = base + n;
+    for (int a = 0; a < 3; ++a) {
+      cloud->col(a)[row] = hits.p[i][a] + origin[a];
+      cloud->col(3 + a)[row] = t[a];
+    }
+    cloud->col(6)[row] = static_cast<double>(k - 1);
+    cloud->col(7)[row] = label_of(hits.cls[i]);
+    cloud->col(8)[row] = hits.cls[i] == static_cast<std::uint32_t>(Class::kVehicle) ? hits.instance[i] : 0;
+  }
+  return keep.size();
+}
+
+// Decodes the tile's images (views 1..) into its scan.
+TileScan decode_tile(const TileFrames& frames, const std::vector<TileView>& views, const TileRecipe& r) {
+  TileScan scan;
+  add_tile_columns(&scan.cloud);
   for (std::size_t k = 1; k < views.size(); ++k) {
     const TileView& v = views[k];
     TileHits hits;
-    decode_tile_view(image(static_cast<int>(k)), v, &hits);
-    std::vector<std::size_t> keep;
-    for (std::size_t i = 0; i < hits.p.size(); ++i) {
-      const Vector3d& p = hits.p[i];
-      if (p.x() < 0 || p.y() < 0 || p.x() > r.extent_x || p.y() > r.extent_y) continue;
-      if (std::abs((p.head<2>() - v.strip_centre).dot(v.strip_across)) > v.strip_half) continue;
-      keep.push_back(i);
-    }
-    const std::size_t base = cloud.size();
-    cloud.resize(base + keep.size());
-    const Eigen::Vector3f t = v.toward.cast<float>();
-    for (std::size_t n = 0; n < keep.size(); ++n) {
-      const std::size_t i = keep[n], row = base + n;
-      for (int a = 0; a < 3; ++a) {
-        cloud.col(a)[row] = hits.p[i][a] + origin[a];
-        cloud.col(3 + a)[row] = t[a];
-      }
-      cloud.col(6)[row] = static_cast<double>(k - 1);
-      cloud.col(7)[row] = label_of(hits.cls[i]);
-      cloud.col(8)[row] = hits.cls[i] == static_cast<std::uint32_t>(Class::kVehicle) ? hits.instance[i] : 0;
-    }
-    scan.points_per_view.push_back(keep.size());
+    decode_tile_view(frames.image(static_cast<int>(k)), v, &hits);
+    scan.points_per_view.push_back(append_view(hits, v, k, r, &scan.cloud));
     scan.area_per_view.push_back(v.strip_area);
   }
+  return scan;
+}
+
+}  // namespace
+
+TileScan run_tile(Tile* tile, const Params& params) {
+  common::log::Phase prep("tile");
+  std::vector<TileView> views = tile_views(*tile);
+  views.insert(views.begin(), canopy_view(*tile));  // frame of view 0: the canopy image
+  prep.done(tile_summary(*tile, views.size() - 1));
+
+  common::log::Phase render("render");
+  TempDir tmp;
+  const Staged st = stage_models(tile->models, tmp);
+  const std::vector<int> order = frame_order(views);
+  std::vector<TileView> frames;
+  for (int k : order) frames.push_back(views[k]);
+  common::write_file_atomic(tmp.path() + "/scene.pov", tile_pov(*tile, st, frames, 0));
+  const int nf = static_cast<int>(frames.size());
+  const int threads = std::max(1, params.threads);
+  const std::vector<FrameRange> tasks = frame_ranges(frames, threads);
+  auto renames = st.renames;
+  renames.emplace_back("scene.pov", "rangetrace's generated scene.pov (after the models' includes)");
+  const TileFrames rendered(views, order,
+                            render_frames(params, tmp, st, "scene.pov", nf, tasks, threads, renames));
+  render.done(std::to_string(nf) + " frames (" + std::to_string(nf - 1) + " images + canopy) in " +
+              std::to_string(tasks.size()) + " POV-Ray runs");
+
+  common::log::Phase decode("decode");
+  measure_cover(rendered, views[0], tile);
+  TileScan scan = decode_tile(rendered, views, tile->recipe);
   double cover = 0;
   for (const auto& v : tile->vehicles) cover += v.canopy_cover;
   char summary[200];
   std::snprintf(summary, sizeof summary,
-                "%zu points; canopy cover %.2f over the tile, %.2f on average over the vehicles", cloud.size(),
-                tile->canopy_cover, tile->vehicles.empty() ? 0.0 : cover / tile->vehicles.size());
+                "%zu points; canopy cover %.2f over the tile, %.2f on average over the vehicles",
+                scan.cloud.size(), tile->canopy_cover,
+                tile->vehicles.empty() ? 0.0 : cover / tile->vehicles.size());
   decode.done(summary);
   return scan;
 }
