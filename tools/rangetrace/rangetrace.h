@@ -114,6 +114,11 @@ struct MeshImport {
 // (family:<class>:<instance>, families.h), a POV-Ray include (.inc/.pov) declaring Vehicle, or
 // a mesh file (.ply/.obj/.stl) converted to a POV-Ray mesh2.
 Model load_model(const std::string& spec, const MeshImport& import);
+// POV-Ray code `#declare <name> = mesh2 {...}` of triangles (world-frame vertices in metres;
+// degenerate triangles dropped, as POV-Ray would drop them). compact: each block on one line,
+// 7 significant digits (the tiles' many meshes); else one vertex or face a line, 9 digits.
+std::string mesh2_declare(const std::string& name, const std::vector<Eigen::Vector3d>& vertices,
+                          const std::vector<std::array<int, 3>>& faces, bool compact);
 // Mesh triangles (world-frame vertices in metres) -> POV-Ray code declaring Vehicle.
 std::string mesh_to_pov(const std::vector<Eigen::Vector3d>& vertices,
                         const std::vector<std::array<int, 3>>& faces);
