@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "canopy/common/error.h"
+#include "canopy/common/math.h"
 #include "rangetrace/families.h"
 #include "rangetrace/rangetrace.h"
 #include "rangetrace/tile.h"
@@ -22,7 +23,7 @@ using Eigen::Vector3d;
 
 namespace {
 
-const double kDeg = M_PI / 180;
+const double kDeg = canopy::common::kDegree;
 
 bool within(double v, const FamilyRange& r) { return v >= r.lo - 1e-6 && v <= r.hi + 1e-6; }
 

@@ -11,6 +11,7 @@
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
+#include "canopy/common/math.h"
 #include "canopy/formats/labels.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/ply.h"
@@ -23,7 +24,7 @@ using Eigen::Vector3d;
 
 namespace {
 
-const double kDeg = M_PI / 180;
+const double kDeg = canopy::common::kDegree;
 
 std::string tmp_dir() {
   const std::string d = std::string(CANOPY_TEST_TMP) + "/rangetrace";
@@ -105,8 +106,8 @@ TEST_CASE("circle, flyby and dodecahedron views") {
   CHECK(f[0].azimuth == Approx(45 * kDeg));
   CHECK(f[9].azimuth == Approx(-45 * kDeg));
   // Behind the tail: from 45 deg off the rear axis on the right to 45 deg on the left.
-  CHECK(std::abs(std::remainder(f[10].azimuth + 135 * kDeg, 2 * M_PI)) < 1e-9);
-  CHECK(std::abs(std::remainder(f[19].azimuth - 135 * kDeg, 2 * M_PI)) < 1e-9);
+  CHECK(std::abs(std::remainder(f[10].azimuth + 135 * kDeg, 2 * canopy::common::kPi)) < 1e-9);
+  CHECK(std::abs(std::remainder(f[19].azimuth - 135 * kDeg, 2 * canopy::common::kPi)) < 1e-9);
   // Straight ground tracks: tan(bearing) evenly spaced in the front pass.
   for (int k = 1; k < 10; ++k) {
     CHECK(std::tan(f[k - 1].azimuth) - std::tan(f[k].azimuth) == Approx(2.0 / 9));
