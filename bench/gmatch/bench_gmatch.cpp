@@ -43,7 +43,7 @@ void measure(const char* label, const Setup& s, const std::vector<gm::Model>& mo
     gm::Out out;
     for (int rep = 0; rep < 3; ++rep) {
       const auto t0 = std::chrono::steady_clock::now();
-      out = gm::run({&scene, &models}, p, 1);
+      out = gm::run({&scene, &models}, p);
       ms = std::min(ms,
                     std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }

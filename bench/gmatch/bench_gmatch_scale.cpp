@@ -106,6 +106,84 @@ int build(const fs::path& dir, const std::vector<fs::path>& inputs) {
   return 0;
 }
 
+const gm::PrefilterBy kBys[2] = {gm::PrefilterBy::kCoarse, gm::PrefilterBy::kSummary};
+
+struct Row {
+  double ms = 0, worst = 0;
+  int exact = 0, source = 0, agree = 0, identical = 0;
+};
+using Rows = std::map<std::pair<int, int>, Row>;  // (by, K)
+
+// One query through every prefilter setting (off first); returns the result without prefilter.
+gm::Out measure_query(const SegmentGraph& q, const std::string& object, const std::vector<gm::Model>& models,
+                      Rows* rows) {
+  const std::vector<int> ks = {0, 8, 16, 32, 64, 128, 256};
+  gm::Out off;
+  for (int b = 0; b < 2; ++b) {
+    for (int k : ks) {
+      if (b == 1 && k == 0) continue;
+      gm::Params p;
+      p.prefilter = k;
+      p.prefilter_by = kBys[b];
+      const double t = now_ms();
+      gm::Out out = gm::run({&q, &models}, p);
+      const double ms = now_ms() - t;
+      Row& r = (*rows)[{b, k}];
+      r.ms += ms;
+      r.worst = std::max(r.worst, ms);
+      const std::string& best = out.result.models.front().model;
+      r.exact += best == object;
+      r.source += best.substr(0, best.find('-')) == object;
+      if (k == 0) off = out;
+      r.agree += best == off.result.models.front().model;
+      // The first five of the ranking (model and score) as without the prefilter.
+      bool same = true;
+      for (std::size_t i = 0; i < 5 && i < off.result.models.size(); ++i) {
+        same = same && i < out.result.models.size() &&
+               out.result.models[i].model == off.result.models[i].model &&
+               out.result.models[i].score == off.result.models[i].score;
+      }
+      r.identical += same;
+    }
+  }
+  return off;
+}
+
+// Where the full search's winner (and the true model) stand in the coarse prefilter's order;
+// prints the query's line, returns the winner's rank (1-based).
+int winner_rank_of(const SegmentGraph& q, const std::string& object, const fs::path& path,
+                   const std::vector<gm::Model>& models, const gm::Out& off) {
+  gm::Params cp;
+  cp.max_segments = cp.coarse_segments;
+  std::vector<std::pair<double, std::string>> d;
+  for (const auto& m : models) d.emplace_back(-gm::match_model(q, m, cp).score, m.name);
+  std::sort(d.begin(), d.end());
+  const std::string& w = off.result.models.front().model;
+  int rank = 0;
+  while (d[rank].second != w) ++rank;
+  int true_rank = 0;
+  while (d[true_rank].second != object) ++true_rank;
+  std::printf(
+      "  %-40s true %-10s full-search winner %-18s prefilter rank of winner %4d, of "
+      "true model %4d\n",
+      path.parent_path().string().c_str(), object.c_str(), w.c_str(), rank + 1, true_rank + 1);
+  std::fflush(stdout);
+  return rank + 1;
+}
+
+void print_rows(const Rows& rows, double n) {
+  std::printf(
+      "\n| prefilter | K | ms/query | worst ms | rank-1 exact | rank-1 source object | "
+      "same answer as off | "
+      "same top 5 as off |\n|---|---|---:|---:|---:|---:|---:|---:|\n");
+  for (const auto& [key, r] : rows) {
+    const int k = key.second;
+    std::printf("| %s | %d | %.0f | %.0f | %d/%.0f | %d/%.0f | %d/%.0f | %d/%.0f |\n",
+                k == 0 ? "off" : gm::to_string(kBys[key.first]), k, r.ms / n, r.worst, r.exact, n, r.source,
+                n, r.agree, n, r.identical, n);
+  }
+}
+
 int run(const std::string& modelbase, const std::vector<std::pair<std::string, fs::path>>& queries) {
   const double rss0 = peak_rss_mb();
   double t0 = now_ms();
@@ -122,73 +200,14 @@ int run(const std::string& modelbase, const std::vector<std::pair<std::string, f
       "summaries of all entries %.2f ms\n",
       models.size(), segs, load_ms, rss0, rss1, summary_ms);
 
-  const std::vector<int> ks = {0, 8, 16, 32, 64, 128, 256};
-  const gm::PrefilterBy bys[2] = {gm::PrefilterBy::kCoarse, gm::PrefilterBy::kSummary};
-  struct Row {
-    double ms = 0, worst = 0;
-    int exact = 0, source = 0, agree = 0, identical = 0;
-  };
-  std::map<std::pair<int, int>, Row> rows;  // (by, K)
-  std::vector<int> winner_rank;             // rank of the full search's winner in prefilter order
+  Rows rows;
+  std::vector<int> winner_rank;  // rank of the full search's winner in prefilter order
   for (const auto& [object, path] : queries) {
     const SegmentGraph q = canopy::formats::read_segment_graph(path.string());
-    gm::Out off;
-    for (int b = 0; b < 2; ++b) {
-      for (int k : ks) {
-        if (b == 1 && k == 0) continue;
-        gm::Params p;
-        p.prefilter = k;
-        p.prefilter_by = bys[b];
-        const double t = now_ms();
-        gm::Out out = gm::run({&q, &models}, p, 1);
-        const double ms = now_ms() - t;
-        Row& r = rows[{b, k}];
-        r.ms += ms;
-        r.worst = std::max(r.worst, ms);
-        const std::string& best = out.result.models.front().model;
-        r.exact += best == object;
-        r.source += best.substr(0, best.find('-')) == object;
-        if (k == 0) off = out;
-        r.agree += best == off.result.models.front().model;
-        // The first five of the ranking (model and score) as without the prefilter.
-        bool same = true;
-        for (std::size_t i = 0; i < 5 && i < off.result.models.size(); ++i) {
-          same = same && i < out.result.models.size() &&
-                 out.result.models[i].model == off.result.models[i].model &&
-                 out.result.models[i].score == off.result.models[i].score;
-        }
-        r.identical += same;
-      }
-    }
-    // Where the full search's winner stands in the coarse prefilter's order.
-    gm::Params cp;
-    cp.max_segments = cp.coarse_segments;
-    std::vector<std::pair<double, std::string>> d;
-    for (const auto& m : models) d.emplace_back(-gm::match_model(q, m, cp).score, m.name);
-    std::sort(d.begin(), d.end());
-    const std::string& w = off.result.models.front().model;
-    int rank = 0;
-    while (d[rank].second != w) ++rank;
-    winner_rank.push_back(rank + 1);
-    int true_rank = 0;
-    while (d[true_rank].second != object) ++true_rank;
-    std::printf(
-        "  %-40s true %-10s full-search winner %-18s prefilter rank of winner %4d, of "
-        "true model %4d\n",
-        path.parent_path().string().c_str(), object.c_str(), w.c_str(), rank + 1, true_rank + 1);
-    std::fflush(stdout);
+    const gm::Out off = measure_query(q, object, models, &rows);
+    winner_rank.push_back(winner_rank_of(q, object, path, models, off));
   }
-  const double n = static_cast<double>(queries.size());
-  std::printf(
-      "\n| prefilter | K | ms/query | worst ms | rank-1 exact | rank-1 source object | "
-      "same answer as off | "
-      "same top 5 as off |\n|---|---|---:|---:|---:|---:|---:|---:|\n");
-  for (const auto& [key, r] : rows) {
-    const int k = key.second;
-    std::printf("| %s | %d | %.0f | %.0f | %d/%.0f | %d/%.0f | %d/%.0f | %d/%.0f |\n",
-                k == 0 ? "off" : gm::to_string(bys[key.first]), k, r.ms / n, r.worst, r.exact, n, r.source, n,
-                r.agree, n, r.identical, n);
-  }
+  print_rows(rows, static_cast<double>(queries.size()));
   std::sort(winner_rank.begin(), winner_rank.end());
   std::printf("\nprefilter rank of the full search's winner: median %d, max %d\n",
               winner_rank[winner_rank.size() / 2], winner_rank.back());

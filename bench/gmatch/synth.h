@@ -5,6 +5,8 @@
 #include <cmath>
 #include <vector>
 
+#include "canopy/common/math.h"
+#include "canopy/common/rng.h"
 #include "fixtures/gmatch_graphs.h"
 
 namespace gmatch_bench {
@@ -18,18 +20,20 @@ inline SegmentGraph synthetic_vehicle(std::uint64_t seed, int n, double length =
   canopy::common::Rng rng(seed);
   SegmentGraph g;
   const Vec3 dirs[5] = {{0, 0, 1}, {1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}};
+  SegmentDraw draw;
+  draw.vertex_count = 40;
+  draw.area_min = 0.03;
+  draw.area_scale = 3.0;
+  draw.area_power = 3.0;
+  draw.thickness_hi = 0.05;
+  draw.elongation_lo = 0.2;
+  draw.lo = {-length / 2, -1.1, 0.3};
+  draw.hi = {length / 2, 1.1, 2.8};
   for (int i = 0; i < n; ++i) {
-    Segment s;
-    s.segment_id = i;
-    s.vertex_count = 40;
-    s.area = 0.03 + 3.0 * std::pow(rng.uniform(), 3.0);
-    s.thickness = rng.uniform(0.005, 0.05);
-    s.elongation = rng.uniform(0.2, 1.0);
-    s.centroid = {rng.uniform(-length / 2, length / 2), rng.uniform(-1.1, 1.1), rng.uniform(0.3, 2.8)};
+    Segment s = random_segment(rng, i, draw);
     Vec3 d = dirs[rng.below(5)];
     for (auto& c : d) c += 0.2 * rng.normal();
-    const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    s.normal = {d[0] / len, d[1] / len, d[2] / len};
+    s.normal = normalized(d);
     g.segments.push_back(s);
   }
   return g;
@@ -74,7 +78,7 @@ inline SegmentGraph synthetic_scene(const SegmentGraph& model, std::uint64_t see
     }
     g.segments.push_back(s);
   }
-  const auto clutter = random_graph(seed ^ 0x9e3779b97f4a7c15ULL, spec.clutter);
+  const auto clutter = random_graph(canopy::common::mix64(seed), spec.clutter);
   for (auto s : clutter.segments) {
     s.segment_id = next_id++;
     s.area = 0.02 + 0.2 * rng.uniform();
@@ -84,7 +88,7 @@ inline SegmentGraph synthetic_scene(const SegmentGraph& model, std::uint64_t see
   for (auto& s : g.segments) {
     if (rng.uniform() < spec.flip) s.normal = {-s.normal[0], -s.normal[1], -s.normal[2]};
   }
-  const double heading = rng.uniform(-M_PI, M_PI);
+  const double heading = rng.uniform(-canopy::common::kPi, canopy::common::kPi);
   return transformed(g, spec.random_heading ? heading : 0.0, 0.0,
                      {rng.uniform(-50, 50), rng.uniform(-50, 50), 0.0});
 }

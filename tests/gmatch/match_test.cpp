@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "canopy/common/error.h"
+#include "canopy/common/math.h"
 #include "gmatch/gmatch.h"
 #include "fixtures/gmatch_graphs.h"
 
@@ -95,7 +96,7 @@ TEST_CASE("rotating and translating the object changes nothing in the default mo
   gm::Params thesis;
   thesis.orientation = gm::OrientationForm::kThesis;
   const double aligned = match(object, sedan, thesis).score;
-  const double turned = match(transformed(object, M_PI / 2, 0, {0, 0, 0}), sedan, thesis).score;
+  const double turned = match(transformed(object, canopy::common::kPi / 2, 0, {0, 0, 0}), sedan, thesis).score;
   REQUIRE(aligned > 0.8);
   REQUIRE(turned < aligned - 0.1);
 }
@@ -176,7 +177,7 @@ TEST_CASE("the centroid-distance threshold prunes pairs with d_R above it", "[gm
 }
 
 TEST_CASE("the orientation threshold prunes pairs with E_O above it", "[gmatch]") {
-  const double deg = M_PI / 180;
+  const double deg = canopy::common::kDegree;
   const auto object = pair_graph(1.0, 60 * deg);
   // E_O = (2/pi) |60 deg - phi_m|: 37.5 deg -> 0.25 (kept), 28.5 deg -> 0.35 (pruned).
   const auto kept = match(object, pair_graph(1.0, 37.5 * deg));
@@ -303,7 +304,7 @@ TEST_CASE("the printed total error is gamed by a one-segment match, the bounded 
 
 TEST_CASE("thesis error form reproduces Eq. 6.12 on a hand-computed match", "[gmatch]") {
   // Two pairs, unary errors e1, e2; distance ratio 0.2; orientation 0.25; C_A from areas.
-  const double deg = M_PI / 180;
+  const double deg = canopy::common::kDegree;
   const auto object = pair_graph(1.0, 60 * deg);
   const auto model = pair_graph(1.25, 37.5 * deg);
   gm::Params thesis;
@@ -333,8 +334,10 @@ TEST_CASE("run ranks by score, ties by model name, independent of threads", "[gm
                                       {"a_copy", sedan},
                                       {"truck", vehicle(6.5, 2.4, 1.2, 1.6, 1.0, 2.0, 0.5)},
                                       {"blob", random_graph(5, 25)}};
-  const auto one = gm::run({&object, &models}, gm::Params{}, 1);
-  const auto three = gm::run({&object, &models}, gm::Params{}, 3);
+  gm::Params three_threads;
+  three_threads.threads = 3;
+  const auto one = gm::run({&object, &models}, gm::Params{});
+  const auto three = gm::run({&object, &models}, three_threads);
   REQUIRE(one.result.models[0].model == "a_copy");
   REQUIRE(one.result.models[1].model == "c_copy");
   REQUIRE(one.result.models[0].score == one.result.models[1].score);

@@ -99,7 +99,8 @@ TEST_CASE("the prefilter keeps the true model that one summary alone would drop"
     p.prefilter = 2;
     p.prefilter_by = by;
     for (int threads : {1, 2}) {
-      const std::vector<int> kept = gm::prefilter(object, models, p, threads);
+      p.threads = threads;
+      const std::vector<int> kept = gm::prefilter(object, models, p);
       REQUIRE(kept.size() == 2);
       REQUIRE(std::find(kept.begin(), kept.end(), 2) != kept.end());
       REQUIRE(std::is_sorted(kept.begin(), kept.end()));
@@ -108,8 +109,8 @@ TEST_CASE("the prefilter keeps the true model that one summary alone would drop"
 
   gm::Params on;
   on.prefilter = 2;
-  const gm::Out with = gm::run({&object, &models}, on, 1);
-  const gm::Out off = gm::run({&object, &models}, gm::Params{}, 1);
+  const gm::Out with = gm::run({&object, &models}, on);
+  const gm::Out off = gm::run({&object, &models}, gm::Params{});
   REQUIRE(with.searched == 2);
   REQUIRE(with.result.models.size() == 2);
   REQUIRE(off.result.models.front().model == "sedan");
@@ -125,12 +126,13 @@ TEST_CASE("prefilter K >= N or 0 is identical to no prefilter", "[gmatch][prefil
   const SegmentGraph object = occluded_sedan();
   const auto models = five_models();
   const std::string off =
-      canopy::formats::serialize_match_result(gm::run({&object, &models}, gm::Params{}, 1).result);
+      canopy::formats::serialize_match_result(gm::run({&object, &models}, gm::Params{}).result);
   for (int k : {0, 5, 6, 1000}) {
     gm::Params p;
     p.prefilter = k;
     p.prefilter_by = k == 6 ? gm::PrefilterBy::kSummary : gm::PrefilterBy::kCoarse;
-    const gm::Out out = gm::run({&object, &models}, p, 2);
+    p.threads = 2;
+    const gm::Out out = gm::run({&object, &models}, p);
     CHECK(out.searched == 5);
     CHECK(canopy::formats::serialize_match_result(out.result) == off);
   }
@@ -140,6 +142,9 @@ TEST_CASE("prefilter K >= N or 0 is identical to no prefilter", "[gmatch][prefil
   bad.prefilter = 2;
   bad.coarse_segments = 0;
   CHECK_THROWS_AS(gm::validate(bad), canopy::common::UsageError);
+  bad.coarse_segments = 5;
+  bad.threads = 0;
+  CHECK_THROWS_WITH(gm::validate(bad), Catch::Contains("--threads"));
 }
 
 TEST_CASE("prefilter ties go to modelbase order", "[gmatch][prefilter]") {
@@ -150,7 +155,8 @@ TEST_CASE("prefilter ties go to modelbase order", "[gmatch][prefilter]") {
     gm::Params p;
     p.prefilter = 3;
     p.prefilter_by = by;
-    CHECK(gm::prefilter(occluded_sedan(), same, p, 2) == std::vector<int>{0, 1, 2});
+    p.threads = 2;
+    CHECK(gm::prefilter(occluded_sedan(), same, p) == std::vector<int>{0, 1, 2});
   }
 }
 

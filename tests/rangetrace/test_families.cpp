@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "canopy/common/error.h"
+#include "canopy/common/math.h"
 #include "rangetrace/families.h"
 #include "rangetrace/rangetrace.h"
 #include "rangetrace/tile.h"
@@ -22,7 +23,7 @@ using Eigen::Vector3d;
 
 namespace {
 
-const double kDeg = M_PI / 180;
+const double kDeg = canopy::common::kDegree;
 
 bool within(double v, const FamilyRange& r) { return v >= r.lo - 1e-6 && v <= r.hi + 1e-6; }
 
@@ -129,7 +130,7 @@ Profile top_profile(const std::string& spec, std::uint64_t seed) {
   p.size = 96;
   p.spacing = 0.08;
   p.seed = seed;
-  const auto cloud = run(m, s, p);
+  const auto cloud = render_scan(m, s, p);
   std::vector<double> x, z;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     if (cloud.col("label")[i] != 1) continue;
@@ -177,7 +178,7 @@ TEST_CASE("families: the same instance and seed give byte-identical scans") {
   p.spacing = 0.1;
   p.seed = 11;
   const Model m = load_model("family:wheeled-apc:4", MeshImport{});
-  const auto a = run(m, s, p), b = run(m, s, p);
+  const auto a = render_scan(m, s, p), b = render_scan(m, s, p);
   REQUIRE(a.size() > 100);
   CHECK(a.size() == b.size());
   bool same = true;

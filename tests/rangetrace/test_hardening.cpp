@@ -56,6 +56,32 @@ bool has_temp_dir(const std::filesystem::path& dir) {
   return false;
 }
 
+// Starts rangetrace on a render of many seconds (12 views of 1536^2 pixels under foliage) with
+// TMPDIR = tmpdir, writing `out`; returns its pid.
+pid_t start_long_render(const std::string& tmpdir, const std::string& out) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::setenv("TMPDIR", tmpdir.c_str(), 1);
+    const std::string b = bin();
+    ::execl(b.c_str(), b.c_str(), "-q", "--model", "tank", "--scene", "circle", "--size", "1536", "--spacing",
+            "10mm", "-o", out.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  return pid;
+}
+
+// The POV-Ray processes of rangetrace `pid` once both are rendering (or those there are after 20 s).
+std::vector<pid_t> wait_for_povray(pid_t pid) {
+  std::vector<pid_t> kids;
+  const auto start = std::chrono::steady_clock::now();
+  while (std::chrono::steady_clock::now() - start < std::chrono::seconds(20)) {
+    kids = children_of(pid);
+    if (kids.size() >= 2) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return kids;
+}
+
 }  // namespace
 
 TEST_CASE("rangetrace CLI: a .inc in a directory with a space and a quote; errors name it") {
@@ -115,24 +141,9 @@ TEST_CASE("rangetrace CLI: SIGINT and SIGTERM stop POV-Ray at once and leave no 
     const std::string tmpdir = (dir / "tmp").string();
     std::filesystem::create_directories(tmpdir);
     const std::string out = (dir / "scan.pcd").string();
-    const pid_t pid = ::fork();
+    const pid_t pid = start_long_render(tmpdir, out);
     REQUIRE(pid >= 0);
-    if (pid == 0) {
-      ::setenv("TMPDIR", tmpdir.c_str(), 1);
-      const std::string b = bin();
-      // A render of many seconds: 12 views of 1536^2 pixels under foliage.
-      ::execl(b.c_str(), b.c_str(), "-q", "--model", "tank", "--scene", "circle", "--size", "1536",
-              "--spacing", "10mm", "-o", out.c_str(), static_cast<char*>(nullptr));
-      ::_exit(127);
-    }
-    // Wait until POV-Ray is rendering.
-    std::vector<pid_t> kids;
-    const auto start = std::chrono::steady_clock::now();
-    while (std::chrono::steady_clock::now() - start < std::chrono::seconds(20)) {
-      kids = children_of(pid);
-      if (kids.size() >= 2) break;
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
+    std::vector<pid_t> kids = wait_for_povray(pid);
     REQUIRE(kids.size() >= 1);
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
     kids = children_of(pid);
@@ -159,22 +170,9 @@ TEST_CASE("rangetrace CLI: after SIGKILL, POV-Ray dies too and the next run remo
   std::filesystem::create_directories(dir / "tmp" / "rangetrace-live00");
   write_text(dir / "tmp" / "rangetrace-live00" / "owner", std::to_string(::getpid()) + "\n");
   std::filesystem::create_directories(dir / "tmp" / "rangetrace-noown0");
-  const pid_t pid = ::fork();
+  const pid_t pid = start_long_render(tmpdir, (dir / "scan.pcd").string());
   REQUIRE(pid >= 0);
-  if (pid == 0) {
-    ::setenv("TMPDIR", tmpdir.c_str(), 1);
-    const std::string b = bin();
-    ::execl(b.c_str(), b.c_str(), "-q", "--model", "tank", "--scene", "circle", "--size", "1536", "--spacing",
-            "10mm", "-o", (dir / "scan.pcd").c_str(), static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
-  std::vector<pid_t> kids;
-  const auto start = std::chrono::steady_clock::now();
-  while (std::chrono::steady_clock::now() - start < std::chrono::seconds(20)) {
-    kids = children_of(pid);
-    if (kids.size() >= 2) break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
+  const std::vector<pid_t> kids = wait_for_povray(pid);
   REQUIRE(kids.size() >= 1);
   ::kill(pid, SIGKILL);
   int status = 0;

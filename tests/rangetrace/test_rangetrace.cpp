@@ -11,6 +11,7 @@
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
+#include "canopy/common/math.h"
 #include "canopy/formats/labels.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/ply.h"
@@ -23,7 +24,7 @@ using Eigen::Vector3d;
 
 namespace {
 
-const double kDeg = M_PI / 180;
+const double kDeg = canopy::common::kDegree;
 
 std::string tmp_dir() {
   const std::string d = std::string(CANOPY_TEST_TMP) + "/rangetrace";
@@ -105,8 +106,8 @@ TEST_CASE("circle, flyby and dodecahedron views") {
   CHECK(f[0].azimuth == Approx(45 * kDeg));
   CHECK(f[9].azimuth == Approx(-45 * kDeg));
   // Behind the tail: from 45 deg off the rear axis on the right to 45 deg on the left.
-  CHECK(std::abs(std::remainder(f[10].azimuth + 135 * kDeg, 2 * M_PI)) < 1e-9);
-  CHECK(std::abs(std::remainder(f[19].azimuth - 135 * kDeg, 2 * M_PI)) < 1e-9);
+  CHECK(std::abs(std::remainder(f[10].azimuth + 135 * kDeg, 2 * canopy::common::kPi)) < 1e-9);
+  CHECK(std::abs(std::remainder(f[19].azimuth - 135 * kDeg, 2 * canopy::common::kPi)) < 1e-9);
   // Straight ground tracks: tan(bearing) evenly spaced in the front pass.
   for (int k = 1; k < 10; ++k) {
     CHECK(std::tan(f[k - 1].azimuth) - std::tan(f[k].azimuth) == Approx(2.0 / 9));
@@ -259,7 +260,7 @@ const char* const kBoxWithBump =
 TEST_CASE("plane and box decode to within 0.5 mm at right-handed z-up coordinates") {
   Params p = small();
   p.pose.position = {1.5, -0.7};
-  const auto cloud = run(inline_model(kBoxWithBump), two_views(0), p);
+  const auto cloud = render_scan(inline_model(kBoxWithBump), two_views(0), p);
   const Hits h = hits(cloud);
   REQUIRE(h.p.size() > 1000);
   const Vector3d lo(0.5, -1.2, 0), hi(2.5, -0.2, 0.8);
@@ -299,7 +300,7 @@ TEST_CASE("plane and box decode to within 0.5 mm at right-handed z-up coordinate
 TEST_CASE("heading turns the vehicle counter-clockwise about +z") {
   Params p = small(80, 0.05);
   p.pose.heading = 90 * kDeg;
-  const auto cloud = run(inline_model(kBoxWithBump), two_views(0), p);
+  const auto cloud = render_scan(inline_model(kBoxWithBump), two_views(0), p);
   const Hits h = hits(cloud);
   // Long axis now along y; the bump (model +y side) turns to the world -x side.
   const Vector3d lo(-0.5, -1, 0), hi(0.5, 1, 0.8), blo(-0.5, -0.2, 0.8), bhi(-0.2, 0.2, 1.2);
@@ -321,7 +322,7 @@ TEST_CASE("labels on a synthetic scene with foliage") {
   s.foliage_square = 5.0;
   s.foliage_band = 1.0;
   const Model m = inline_model("#declare Vehicle = box { <-1, 0, -0.5>, <1, 0.8, 0.5> }\n");
-  const auto cloud = run(m, s, p);
+  const auto cloud = render_scan(m, s, p);
   const Hits h = hits(cloud);
   const Placement pl = place(Vector3d(-1, -0.5, 0), Vector3d(1, 0.5, 0.8), p.pose);
   const auto discs = make_foliage(s, p.pose, pl.top, p.seed);
@@ -355,11 +356,11 @@ TEST_CASE("same seed gives a byte-identical scan, a different seed different fol
   const Model m = inline_model("#declare Vehicle = box { <-1, 0, -0.5>, <1, 0.8, 0.5> }\n");
   SceneRecipe s = two_views(300);
   p.seed = 11;
-  const std::string a = formats::serialize_pcd(run(m, s, p));
+  const std::string a = formats::serialize_pcd(render_scan(m, s, p));
   p.threads = 1;
-  const std::string b = formats::serialize_pcd(run(m, s, p));
+  const std::string b = formats::serialize_pcd(render_scan(m, s, p));
   p.seed = 12;
-  const std::string c = formats::serialize_pcd(run(m, s, p));
+  const std::string c = formats::serialize_pcd(render_scan(m, s, p));
   CHECK(a == b);
   CHECK(a != c);
 }
@@ -367,10 +368,11 @@ TEST_CASE("same seed gives a byte-identical scan, a different seed different fol
 TEST_CASE("a POV-Ray failure reports POV-Ray's own message") {
   Params p = small(16, 0.5);
   const Model bad = inline_model("#declare Vehicle = union { box { 0, 1 } spere { 0, 1 } }\n");
-  CHECK_THROWS_WITH(run(bad, two_views(0), p), Catch::Contains("POV-Ray failed") &&
-                                                   Catch::Contains("Parse Error") && Catch::Contains("spere"));
+  CHECK_THROWS_WITH(render_scan(bad, two_views(0), p), Catch::Contains("POV-Ray failed") &&
+                                                           Catch::Contains("Parse Error") &&
+                                                           Catch::Contains("spere"));
   const Model none = inline_model("#declare NotAVehicle = box { 0, 1 }\n");
-  CHECK_THROWS_WITH(run(none, two_views(0), p), Catch::Contains("does not declare Vehicle"));
+  CHECK_THROWS_WITH(render_scan(none, two_views(0), p), Catch::Contains("does not declare Vehicle"));
 }
 
 TEST_CASE("built-in models: real-world sizes that fit the crop box") {
@@ -399,7 +401,7 @@ void write_text(const std::string& path, const std::string& text) { std::ofstrea
 // the box [-L/2, L/2] x [-W/2, W/2] x [0, H] in metres.
 void check_box_mesh(const Model& m, double length, double width, double height) {
   Params p = small(96, 0.05);
-  const auto cloud = run(m, two_views(0), p);
+  const auto cloud = render_scan(m, two_views(0), p);
   const Hits h = hits(cloud);
   const Vector3d lo(-length / 2, -width / 2, 0), hi(length / 2, width / 2, height);
   int target = 0;

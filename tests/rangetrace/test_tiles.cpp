@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "canopy/common/error.h"
+#include "canopy/common/math.h"
 #include "canopy/formats/labels.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/points_io.h"
@@ -29,7 +30,7 @@ using Eigen::Vector3d;
 
 namespace {
 
-const double kDeg = M_PI / 180;
+const double kDeg = canopy::common::kDegree;
 
 void write_text(const std::filesystem::path& path, const std::string& text) { std::ofstream(path) << text; }
 
@@ -189,7 +190,7 @@ TEST_CASE("tile: canopy cover against an opaque disc of known area") {
   Tile tile = build_tile(*s.tile, "cover.scene", small_params());
   run_tile(&tile, small_params());
   REQUIRE(tile.vehicles.size() == 3);
-  const double want = M_PI * 0.8 * 0.8 / 8.0;  // 0.2513
+  const double want = canopy::common::kPi * 0.8 * 0.8 / 8.0;  // 0.2513
   CHECK(tile.vehicles[0].canopy_cover == Approx(want).margin(0.004));
   CHECK(tile.vehicles[1].canopy_cover == 1.0);
   CHECK(tile.vehicles[2].canopy_cover == 0.0);

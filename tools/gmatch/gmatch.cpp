@@ -78,6 +78,21 @@ double unary_error(const Segment& s, const Segment& m, const Params& p) {
   return 1.0 - std::exp(-du2);
 }
 
+// The pairwise tables of one side (object or model), n x n row-major: the angle between the
+// unit normals of segments a and b, and the distance between their centroids.
+void pair_tables(const std::vector<const Segment*>& segments, const std::vector<Vec3>& normals,
+                 NormalSign sign, std::vector<double>* angle, std::vector<double>* dist) {
+  const int n = static_cast<int>(segments.size());
+  angle->assign(static_cast<size_t>(n) * n, 0);
+  dist->assign(static_cast<size_t>(n) * n, 0);
+  for (int a = 0; a < n; ++a) {
+    for (int b = 0; b < n; ++b) {
+      (*angle)[a * n + b] = normal_angle(normals[a], normals[b], sign);
+      (*dist)[a * n + b] = distance(segments[a]->centroid, segments[b]->centroid);
+    }
+  }
+}
+
 struct Child {
   int model = -1;                          // model segment index, -1 = NULL
   double unary = 0, sum_o = 0, sum_d = 0;  // this pair's E_U and its pairwise sums
@@ -118,22 +133,8 @@ class Matcher {
         alpha_[k * m_ + j] = normal_angle(on[k], mn[j], p.normals);
       }
     }
-    ang_s_.assign(static_cast<size_t>(x_) * x_, 0);
-    dist_s_.assign(static_cast<size_t>(x_) * x_, 0);
-    for (int a = 0; a < x_; ++a) {
-      for (int b = 0; b < x_; ++b) {
-        ang_s_[a * x_ + b] = normal_angle(on[a], on[b], p.normals);
-        dist_s_[a * x_ + b] = distance(obj_[a]->centroid, obj_[b]->centroid);
-      }
-    }
-    ang_m_.assign(static_cast<size_t>(m_) * m_, 0);
-    dist_m_.assign(static_cast<size_t>(m_) * m_, 0);
-    for (int a = 0; a < m_; ++a) {
-      for (int b = 0; b < m_; ++b) {
-        ang_m_[a * m_ + b] = normal_angle(mn[a], mn[b], p.normals);
-        dist_m_[a * m_ + b] = distance(mod_[a]->centroid, mod_[b]->centroid);
-      }
-    }
+    pair_tables(obj_, on, p.normals, &ang_s_, &dist_s_);
+    pair_tables(mod_, mn, p.normals, &ang_m_, &dist_m_);
     // Coverage references: all model area (thesis C_A) and the area of the model's X
     // largest segments (bounded form: a self-match covers it exactly).
     by_area_.resize(m_);
@@ -408,6 +409,7 @@ void validate(const Params& p) {
   if (p.max_nodes < 0) throw UsageError("--max-nodes must be >= 0 (0 = unlimited)");
   if (p.prefilter < 0) throw UsageError("--prefilter must be >= 0 (0 = off)");
   if (p.coarse_segments < 1) throw UsageError("--coarse-segments must be >= 1");
+  if (p.threads < 1) throw UsageError("--threads must be >= 1");
 }
 
 void validate_graph(const SegmentGraph& g, const std::string& name) {
@@ -452,17 +454,17 @@ double entropy(const std::vector<double>& scores) {
   return std::max(0.0, h);
 }
 
-Out run(const In& in, const Params& params, int threads) {
+Out run(const In& in, const Params& params) {
   validate(params);
   const auto& models = *in.models;
   Out out;
   out.result.error_form = to_string(params.error);
-  const std::vector<int> kept = prefilter(*in.object, models, params, threads);
+  const std::vector<int> kept = prefilter(*in.object, models, params);
   std::vector<formats::ModelScore> scores(kept.size());
   out.stats.resize(models.size());
   out.searched = static_cast<int>(kept.size());
   const int n = static_cast<int>(kept.size());
-  common::parallel_for(n, threads, [&](std::size_t begin, std::size_t end) {
+  common::parallel_for(n, params.threads, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
       scores[i] = match_model(*in.object, models[kept[i]], params, &out.stats[kept[i]]);
     }

@@ -73,9 +73,13 @@ struct Params {
   int prefilter = 0;
   PrefilterBy prefilter_by = PrefilterBy::kCoarse;
   int coarse_segments = 5;  // kCoarse: object segments (largest first) the coarse search uses
+  // Worker threads: models are searched (and coarse-ranked) in parallel (common::parallel_for);
+  // the result does not depend on the count.
+  int threads = 1;
 };
 
-// Throws common::UsageError when a parameter is out of range.
+// Throws common::UsageError naming the option (--max-segments, ...) of the first parameter out
+// of its range.
 void validate(const Params& params);
 
 // Throws common::DataError(name, ...) when a graph cannot be matched: no segments, duplicate
@@ -119,10 +123,10 @@ double summary_distance(const Summary& a, const Summary& b);
 // Indices of the params.prefilter best models, in modelbase order: kCoarse, the highest scores
 // of the search with X = min(coarse_segments, max_segments); kSummary, the nearest by
 // summary_distance of the X-largest-segment summaries. Ties: modelbase order. prefilter <= 0
-// or >= models.size(): every index. Models are ranked in parallel when threads > 1 (the result
+// or >= models.size(): every index. Models are ranked on params.threads threads (the result
 // does not depend on the thread count).
 std::vector<int> prefilter(const formats::SegmentGraph& object, const std::vector<Model>& models,
-                           const Params& params, int threads = 1);
+                           const Params& params);
 
 struct In {
   const formats::SegmentGraph* object = nullptr;
@@ -136,9 +140,10 @@ struct Out {
 };
 
 // Matches the object against every model kept by the prefilter (all when params.prefilter is
-// 0 or >= the number of models; only the kept models are ranked and listed), models in parallel when threads
-// > 1; the result does not depend on the thread count), ranks by score (ties: model name), computes entropy.
-Out run(const In& in, const Params& params, int threads = 1);
+// 0 or >= the number of models; only the kept models are ranked and listed), models on
+// params.threads threads (the result does not depend on the count), ranks by score (ties: model
+// name), computes entropy. Neither parses options nor writes anything.
+Out run(const In& in, const Params& params);
 
 // Largest model graph read_modelbase() accepts (2 000² pairs × 16 bytes = 64 MB of tables).
 inline constexpr std::size_t kMaxModelSegments = 2000;

@@ -76,7 +76,7 @@ double summary_distance(const Summary& a, const Summary& b) {
 }
 
 std::vector<int> prefilter(const formats::SegmentGraph& object, const std::vector<Model>& models,
-                           const Params& params, int threads) {
+                           const Params& params) {
   const int n = static_cast<int>(models.size());
   const int k = params.prefilter;
   std::vector<int> idx(n);
@@ -93,7 +93,7 @@ std::vector<int> prefilter(const formats::SegmentGraph& object, const std::vecto
     Params coarse = params;
     coarse.max_segments = std::min(params.coarse_segments, params.max_segments);
     coarse.prefilter = 0;
-    common::parallel_for(n, threads, [&](std::size_t begin, std::size_t end) {
+    common::parallel_for(n, params.threads, [&](std::size_t begin, std::size_t end) {
       for (std::size_t i = begin; i < end; ++i) {
         merit[i] = {match_model(object, models[i], coarse).score, static_cast<int>(i)};
       }

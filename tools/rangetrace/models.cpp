@@ -32,27 +32,38 @@ std::string lower_extension(const std::string& path) {
 
 }  // namespace
 
-std::string mesh_to_pov(const std::vector<Eigen::Vector3d>& vertices,
-                        const std::vector<std::array<int, 3>>& faces) {
+std::string mesh2_declare(const std::string& name, const std::vector<Eigen::Vector3d>& vertices,
+                          const std::vector<std::array<int, 3>>& faces, bool compact) {
   std::vector<std::array<int, 3>> kept;
   for (const auto& f : faces) {
     const Eigen::Vector3d a = vertices[f[0]], b = vertices[f[1]], c = vertices[f[2]];
     if ((b - a).cross(c - a).norm() > 1e-12) kept.push_back(f);  // POV-Ray drops degenerate ones
   }
-  std::string out = "#declare Vehicle = mesh2 {\n  vertex_vectors { " + std::to_string(vertices.size());
+  const char* indent = compact ? " " : "  ";
+  const char* vertex = compact ? ",<%.7g,%.7g,%.7g>" : ",\n    <%.9g, %.9g, %.9g>";
+  const char* face = compact ? ",<%d,%d,%d>" : ",\n    <%d, %d, %d>";
+  const char* close = compact ? " }\n" : "\n  }\n";
+  std::string out =
+      "#declare " + name + " = mesh2 {\n" + indent + "vertex_vectors { " + std::to_string(vertices.size());
+  out.reserve(out.size() + 40 * vertices.size() + 24 * kept.size());
   char buf[128];
   for (const auto& v : vertices) {
     const Eigen::Vector3d p = pov_frame(v);
-    std::snprintf(buf, sizeof buf, ",\n    <%.9g, %.9g, %.9g>", p.x(), p.y(), p.z());
+    std::snprintf(buf, sizeof buf, vertex, p.x(), p.y(), p.z());
     out += buf;
   }
-  out += "\n  }\n  face_indices { " + std::to_string(kept.size());
+  out += std::string(close) + indent + "face_indices { " + std::to_string(kept.size());
   for (const auto& f : kept) {
-    std::snprintf(buf, sizeof buf, ",\n    <%d, %d, %d>", f[0], f[1], f[2]);
+    std::snprintf(buf, sizeof buf, face, f[0], f[1], f[2]);
     out += buf;
   }
-  out += "\n  }\n}\n";
+  out += std::string(close) + "}\n";
   return out;
+}
+
+std::string mesh_to_pov(const std::vector<Eigen::Vector3d>& vertices,
+                        const std::vector<std::array<int, 3>>& faces) {
+  return mesh2_declare("Vehicle", vertices, faces, false);
 }
 
 std::string mesh_file_to_pov(const std::string& bytes, const std::string& name, const std::string& ext,

@@ -23,6 +23,7 @@
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
+#include "canopy/common/parallel.h"
 
 namespace canopy::rangetrace {
 
@@ -388,6 +389,40 @@ void warn_model_size(const Model& model, const Eigen::Vector3d& size, const Para
     common::log::warn("model '" + model.name + "' is " + dims + ", larger than the crop box (" + box +
                       "; points outside it are dropped): did you forget " + units + " or --crop-*?");
   }
+}
+
+std::map<int, std::string> render_frames(const Params& params, const TempDir& tmp, const Staged& st,
+                                         const std::string& pov, int frames,
+                                         const std::vector<FrameRange>& ranges, int processes,
+                                         const std::vector<std::pair<std::string, std::string>>& renames) {
+  std::atomic<std::size_t> next{0};
+  std::vector<std::string> errors(ranges.size());
+  const int workers = std::min<int>(processes, static_cast<int>(ranges.size()));
+  common::parallel_for(workers, workers, [&](std::size_t, std::size_t) {
+    for (std::size_t t; (t = next.fetch_add(1)) < ranges.size();) {
+      const FrameRange& r = ranges[t];
+      std::vector<std::string> args = {"-D", "-P", "-V", "+WT1"};
+      args.insert(args.end(), st.args.begin(), st.args.end());
+      args.insert(args.end(), {"+W" + std::to_string(r.width), "+H" + std::to_string(r.height), "-A", "+FP16",
+                               "File_Gamma=1.0", "+I" + pov, "+Of.ppm", "+KFI0",
+                               "+KFF" + std::to_string(frames - 1), "+KI0", "+KF" + std::to_string(frames - 1),
+                               "+SF" + std::to_string(r.first), "+EF" + std::to_string(r.last)});
+      try {
+        run_povray(params, tmp.path(), args, "render" + std::to_string(t) + ".log", renames);
+      } catch (const std::exception& e) { errors[t] = e.what(); }
+    }
+  });
+  for (const auto& e : errors) {
+    if (!e.empty()) throw Error(e);
+  }
+  // Frame files are f<number>.ppm with POV-Ray's zero padding.
+  std::map<int, std::string> files;
+  for (const auto& f : tmp.files()) {
+    if (f.size() > 5 && f[0] == 'f' && f.compare(f.size() - 4, 4, ".ppm") == 0) {
+      files[std::atoi(f.substr(1, f.size() - 5).c_str())] = tmp.path() + "/" + f;
+    }
+  }
+  return files;
 }
 
 }  // namespace canopy::rangetrace

@@ -2,6 +2,7 @@
 // single-vehicle scenes and the tiles.
 #pragma once
 
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -46,6 +47,23 @@ Staged stage_models(const std::vector<Model>& models, const TempDir& tmp);
 void run_povray(const Params& params, const std::string& dir, std::vector<std::string> args,
                 const std::string& log_name,
                 const std::vector<std::pair<std::string, std::string>>& renames = {});
+
+// Frames first..last (inclusive) of a POV-Ray animation, rendered by one process at width x
+// height pixels.
+struct FrameRange {
+  int first = 0, last = 0;
+  int width = 0, height = 0;
+};
+
+// Renders the animation `pov` (a scene file in `tmp` of `frames` frames; 16-bit PPM, gamma 1,
+// no antialiasing) as one POV-Ray process per range, at most `processes` at a time
+// (common::parallel_for; a free process takes the next range in order), the console output of
+// range t in render<t>.log. The first failing range's message (in range order) is thrown as
+// Error after every process has finished. Returns the frame files by frame number.
+std::map<int, std::string> render_frames(const Params& params, const TempDir& tmp, const Staged& st,
+                                         const std::string& pov, int frames,
+                                         const std::vector<FrameRange>& ranges, int processes,
+                                         const std::vector<std::pair<std::string, std::string>>& renames);
 
 // Bounding boxes (world frame) of several models from one POV-Ray parse run.
 std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> models_extent(const std::vector<Model>& models,

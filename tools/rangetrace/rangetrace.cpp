@@ -14,7 +14,6 @@
 #include <cstring>
 #include <map>
 #include <sstream>
-#include <thread>
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
@@ -38,7 +37,7 @@ Model staged_model(const Model& model, const Staged& st) {
   return m;
 }
 
-std::vector<std::string> common_args(const Staged& st) {
+std::vector<std::string> picture_args(const Staged& st) {
   std::vector<std::string> args = {"-D", "-P", "-V", "+WT1"};
   args.insert(args.end(), st.args.begin(), st.args.end());
   return args;
@@ -57,7 +56,62 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> model_bounds(const Model& model, con
   return models_extent({model}, params, tmp)[0];
 }
 
-formats::PointCloud run(const Model& model, const SceneRecipe& scene, const Params& params) {
+namespace {
+
+// The single-vehicle scan's frames: contiguous blocks of views, one per process; frames 2k
+// (coordinates) and 2k+1 (labels) of view k.
+std::vector<FrameRange> view_blocks(int views, int workers, int size) {
+  std::vector<FrameRange> ranges;
+  for (int w = 0; w < workers; ++w) {
+    const int first = views * w / workers, last = views * (w + 1) / workers - 1;
+    ranges.push_back({2 * first, 2 * last + 1, size, size});
+  }
+  return ranges;
+}
+
+// The decoded points of every view as the scan's columns (x y z sensor_x/y/z view_idx label).
+formats::PointCloud scan_cloud(const ScanColumns& cols) {
+  formats::PointCloud cloud;
+  const std::size_t n = cols.points.size();
+  cloud.resize(n);
+  const char* names[] = {"x", "y", "z", "sensor_x", "sensor_y", "sensor_z"};
+  for (int a = 0; a < 6; ++a) {
+    auto& c = cloud.add(names[a], formats::kFloat32);
+    for (std::size_t i = 0; i < n; ++i) c[i] = a < 3 ? cols.points[i][a] : cols.sensor[i][a - 3];
+  }
+  auto& vi = cloud.add("view_idx", formats::kInt32);
+  auto& lb = cloud.add("label", formats::kUint32);
+  for (std::size_t i = 0; i < n; ++i) {
+    vi[i] = cols.view_idx[i];
+    lb[i] = cols.label[i];
+  }
+  return cloud;
+}
+
+// Decodes and crops the two frames of every view.
+formats::PointCloud decode_views(const std::map<int, std::string>& frames, const SceneRecipe& scene,
+                                 const Encoding& enc, const Placement& placement, const Params& params) {
+  ScanColumns cols;
+  const int views = static_cast<int>(scene.views.size());
+  for (int k = 0; k < views; ++k) {
+    if (!frames.count(2 * k) || !frames.count(2 * k + 1)) {
+      throw Error("POV-Ray wrote no image for view " + std::to_string(k));
+    }
+    const std::string& cf = frames.at(2 * k);
+    const std::string& lf = frames.at(2 * k + 1);
+    const Image16 coords = parse_ppm(common::read_file(cf), cf);
+    const Image16 labels = parse_ppm(common::read_file(lf), lf);
+    if (coords.width != params.size || labels.width != params.size) {
+      throw Error("POV-Ray image of view " + std::to_string(k) + " has the wrong size");
+    }
+    decode_view(coords, labels, enc, placement, params, view_direction(scene.views[k], params.pose), k, &cols);
+  }
+  return scan_cloud(cols);
+}
+
+}  // namespace
+
+formats::PointCloud render_scan(const Model& model, const SceneRecipe& scene, const Params& params) {
   if (params.size < 1 || !(params.spacing > 0)) throw common::UsageError("--size and --spacing must be > 0");
   TempDir tmp;
   common::log::Phase prep("model");
@@ -77,66 +131,15 @@ formats::PointCloud run(const Model& model, const SceneRecipe& scene, const Para
                             scene_pov(staged_model(model, st), placement, enc, scene.views, foliage, params));
   const int views = static_cast<int>(scene.views.size());
   const int workers = std::max(1, std::min(params.threads, views));
-  std::vector<std::string> errors(workers);
-  std::vector<std::thread> pool;
-  for (int w = 0; w < workers; ++w) {
-    // Contiguous blocks of views; frames 2k (coordinates) and 2k+1 (labels) of view k.
-    const int first = views * w / workers, last = views * (w + 1) / workers - 1;
-    pool.emplace_back([&, w, first, last] {
-      auto args = common_args(st);
-      const std::string size = std::to_string(params.size);
-      args.insert(args.end(), {"+W" + size, "+H" + size, "-A", "+FP16", "File_Gamma=1.0", "+Iscene.pov",
-                               "+Of.ppm", "+KFI0", "+KFF" + std::to_string(2 * views - 1), "+KI0",
-                               "+KF" + std::to_string(2 * views - 1), "+SF" + std::to_string(2 * first),
-                               "+EF" + std::to_string(2 * last + 1)});
-      try {
-        run_povray(params, tmp.path(), args, "render" + std::to_string(w) + ".log",
-                   scene_renames(st, "scene.pov"));
-      } catch (const std::exception& e) { errors[w] = e.what(); }
-    });
-  }
-  for (auto& t : pool) t.join();
-  for (const auto& e : errors) {
-    if (!e.empty()) throw Error(e);
-  }
-  // Frame files are f<number>.ppm with POV-Ray's zero padding.
-  std::map<int, std::string> frames;
-  for (const auto& f : tmp.files()) {
-    if (f.size() > 5 && f[0] == 'f' && f.compare(f.size() - 4, 4, ".ppm") == 0) {
-      frames[std::atoi(f.substr(1, f.size() - 5).c_str())] = tmp.path() + "/" + f;
-    }
-  }
+  const std::map<int, std::string> frames =
+      render_frames(params, tmp, st, "scene.pov", 2 * views, view_blocks(views, workers, params.size),
+                    workers, scene_renames(st, "scene.pov"));
   render.done(std::to_string(views) + " views x 2 passes, " + std::to_string(params.size) + "x" +
               std::to_string(params.size) + " pixels, " + std::to_string(workers) + " processes");
 
   common::log::Phase decode("decode");
-  ScanColumns cols;
-  for (int k = 0; k < views; ++k) {
-    if (!frames.count(2 * k) || !frames.count(2 * k + 1)) {
-      throw Error("POV-Ray wrote no image for view " + std::to_string(k));
-    }
-    const Image16 coords = parse_ppm(common::read_file(frames[2 * k]), frames[2 * k]);
-    const Image16 labels = parse_ppm(common::read_file(frames[2 * k + 1]), frames[2 * k + 1]);
-    if (coords.width != params.size || labels.width != params.size) {
-      throw Error("POV-Ray image of view " + std::to_string(k) + " has the wrong size");
-    }
-    decode_view(coords, labels, enc, placement, params, view_direction(scene.views[k], params.pose), k, &cols);
-  }
-  formats::PointCloud cloud;
-  const std::size_t n = cols.points.size();
-  cloud.resize(n);
-  const char* names[] = {"x", "y", "z", "sensor_x", "sensor_y", "sensor_z"};
-  for (int a = 0; a < 6; ++a) {
-    auto& c = cloud.add(names[a], formats::kFloat32);
-    for (std::size_t i = 0; i < n; ++i) c[i] = a < 3 ? cols.points[i][a] : cols.sensor[i][a - 3];
-  }
-  auto& vi = cloud.add("view_idx", formats::kInt32);
-  auto& lb = cloud.add("label", formats::kUint32);
-  for (std::size_t i = 0; i < n; ++i) {
-    vi[i] = cols.view_idx[i];
-    lb[i] = cols.label[i];
-  }
-  decode.done(std::to_string(n) + " points in the crop box");
+  formats::PointCloud cloud = decode_views(frames, scene, enc, placement, params);
+  decode.done(std::to_string(cloud.size()) + " points in the crop box");
   return cloud;
 }
 
@@ -159,7 +162,7 @@ std::string render_picture(const Model& model, const SceneRecipe* scene, int vie
   common::write_file_atomic(tmp.path() + "/picture.pov",
                             scene_pov(staged_model(model, st), placement, encoding_for(placement, params),
                                       views, foliage, params, scene != nullptr ? 1 : 2));
-  auto args = common_args(st);
+  auto args = picture_args(st);
   const std::string size = std::to_string(params.size);
   args.insert(args.end(), {"+W" + size, "+H" + size, "+A0.05", "+R3", "+FN8", "+Ipicture.pov",
                            "+Opicture.png", "+WT" + std::to_string(std::max(1, params.threads))});

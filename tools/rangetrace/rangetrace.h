@@ -114,6 +114,11 @@ struct MeshImport {
 // (family:<class>:<instance>, families.h), a POV-Ray include (.inc/.pov) declaring Vehicle, or
 // a mesh file (.ply/.obj/.stl) converted to a POV-Ray mesh2.
 Model load_model(const std::string& spec, const MeshImport& import);
+// POV-Ray code `#declare <name> = mesh2 {...}` of triangles (world-frame vertices in metres;
+// degenerate triangles dropped, as POV-Ray would drop them). compact: each block on one line,
+// 7 significant digits (the tiles' many meshes); else one vertex or face a line, 9 digits.
+std::string mesh2_declare(const std::string& name, const std::vector<Eigen::Vector3d>& vertices,
+                          const std::vector<std::array<int, 3>>& faces, bool compact);
 // Mesh triangles (world-frame vertices in metres) -> POV-Ray code declaring Vehicle.
 std::string mesh_to_pov(const std::vector<Eigen::Vector3d>& vertices,
                         const std::vector<std::array<int, 3>>& faces);
@@ -126,6 +131,7 @@ extern const char* const kBuiltinModels[5];
 // ---------------------------------------------------------------- rendering
 
 struct Params {
+  // The CLI's options of the same names; validate() checks them.
   int size = 512;             // image width = height (pixels)
   double spacing = 0.030;     // pixel spacing on the image plane (m): field = size * spacing
   double crop_length = 10.0;  // crop box along the vehicle's long axis (m)
@@ -136,6 +142,10 @@ struct Params {
   int threads = 2;  // concurrent POV-Ray processes
   std::string povray = "povray";
 };
+
+// Throws common::UsageError naming the options when size is outside [8, 8192] or the spacing
+// or a crop size is not > 0.
+void validate(const Params& params);
 
 // The vehicle's bounding box in the world after placement (from POV-Ray's min/max_extent).
 struct Placement {
@@ -184,7 +194,7 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> model_bounds(const Model& model, con
 
 // Renders the range scan: parses the model's extents, places it, renders every view in
 // parallel, decodes and crops. Throws Error with POV-Ray's own message when it fails.
-formats::PointCloud run(const Model& model, const SceneRecipe& scene, const Params& params);
+formats::PointCloud render_scan(const Model& model, const SceneRecipe& scene, const Params& params);
 
 // Renders a shaded picture (8-bit PNG bytes): with a scene, its view `view_idx` with foliage;
 // without (scene == nullptr), the model alone on the ground from an oblique perspective.

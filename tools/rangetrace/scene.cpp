@@ -88,6 +88,103 @@ std::string trim(const std::string& s) {
   return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
 }
 
+// Throws the DataError "<name>: line <n>: <why>" of a recipe line.
+struct LineError {
+  const std::string& name;
+  int line = 0;
+  [[noreturn]] void operator()(const std::string& why) const {
+    throw DataError(name, "line " + std::to_string(line) + ": " + why);
+  }
+};
+
+// One single-vehicle key (foliage_*, views, view) with its value's words.
+void apply_single_key(SceneRecipe* scene, const std::string& key, const std::vector<std::string>& words,
+                      const LineError& fail) {
+  auto number = [&](std::size_t i, int max) {
+    if (i >= words.size()) fail("'" + key + "' needs more values");
+    std::size_t used = 0;
+    const long n = std::stol(words[i], &used);
+    if (used != words[i].size() || n < 1) fail("'" + words[i] + "' is not a count >= 1");
+    if (n > max) fail("'" + key + "': " + words[i] + " exceeds the limit of " + std::to_string(max));
+    return static_cast<int>(n);
+  };
+  auto angle = [&](std::size_t i) {
+    if (i >= words.size()) fail("'" + key + "' needs more values");
+    return common::parse_angle(words[i]);
+  };
+  if (key == "foliage_count") {
+    scene->foliage_count = words[0] == "0" ? 0 : number(0, 100000);
+  } else if (key == "foliage_radius") {
+    scene->foliage_radius = common::parse_length(words[0]);
+  } else if (key == "foliage_band") {
+    scene->foliage_band = common::parse_length(words[0]);
+  } else if (key == "foliage_square") {
+    scene->foliage_square = common::parse_length(words[0]);
+  } else if (key == "views") {
+    std::vector<View> add;
+    if (words[0] == "circle" && words.size() == 3) {
+      add = circle_views(number(1, 1000), angle(2));
+    } else if (words[0] == "flyby" && words.size() == 4) {
+      add = flyby_views(number(1, 1000), angle(2), angle(3));
+    } else if (words[0] == "dodecahedron" && words.size() == 1) {
+      add = dodecahedron_views();
+    } else {
+      fail("views: expected 'circle N ELEV', 'flyby N ELEV START' or 'dodecahedron'");
+    }
+    if (scene->views.size() + add.size() > 10000) fail("more than 10000 views");
+    scene->views.insert(scene->views.end(), add.begin(), add.end());
+  } else if (key == "view") {
+    if (scene->views.size() >= 10000) fail("more than 10000 views");
+    if (words.size() != 2) fail("view: expected 'AZIMUTH ELEVATION'");
+    scene->views.push_back({angle(0), angle(1)});
+  } else {
+    fail("unknown key '" + key + "'");
+  }
+}
+
+// A single-vehicle recipe once read: views above the ground, at least one, foliage sizes.
+void check_single(const SceneRecipe& scene, const std::string& name) {
+  for (const auto& v : scene.views) {
+    if (!(v.elevation > 0 && v.elevation < common::kPi / 2)) {
+      throw DataError(name, "view elevation must lie strictly between 0 and 90 degrees");
+    }
+  }
+  if (scene.views.empty()) throw DataError(name, "no views (add 'views = ...' lines)");
+  if (!(scene.foliage_radius > 0) || !(scene.foliage_band >= 0) || !(scene.foliage_square > 0)) {
+    throw DataError(name, "foliage radius and square must be > 0, band >= 0");
+  }
+}
+
+// The recipe's kind is set by its first key: a tile key and a single-vehicle key never mix.
+struct RecipeKind {
+  int single_line = 0;  // first single-vehicle key (foliage_*, views, view)
+  int tile_line = 0;    // first tile key
+};
+
+void apply_key(SceneRecipe* scene, RecipeKind* kind, const std::string& key,
+               const std::vector<std::string>& words, const LineError& fail) {
+  if (is_tile_key(key)) {
+    if (!scene->tile) scene->tile = std::make_shared<TileRecipe>();
+    if (kind->tile_line == 0) kind->tile_line = fail.line;
+    if (kind->single_line != 0) {
+      fail("'" + key + "' is a tile key, but line " + std::to_string(kind->single_line) +
+           " holds a single-vehicle key (foliage_*, views, view): use one kind of recipe");
+    }
+    apply_tile_key(scene->tile.get(), key, words, fail.line);
+    return;
+  }
+  if (key != "foliage_count" && key != "foliage_radius" && key != "foliage_band" && key != "foliage_square" &&
+      key != "views" && key != "view") {
+    fail("unknown key '" + key + "'");
+  }
+  if (kind->single_line == 0) kind->single_line = fail.line;
+  if (kind->tile_line != 0) {
+    fail("'" + key + "' is a single-vehicle key, but line " + std::to_string(kind->tile_line) +
+         " made this a tile recipe");
+  }
+  apply_single_key(scene, key, words, fail);
+}
+
 }  // namespace
 
 SceneRecipe parse_scene(const std::string& text, const std::string& name) {
@@ -95,14 +192,10 @@ SceneRecipe parse_scene(const std::string& text, const std::string& name) {
   scene.name = name;
   std::istringstream in(text);
   std::string line;
-  int line_no = 0;
-  auto fail = [&](const std::string& why) {
-    throw DataError(name, "line " + std::to_string(line_no) + ": " + why);
-  };
-  int single_line = 0;  // first single-vehicle key (foliage_*, views, view)
-  int tile_line = 0;    // first tile key
+  LineError fail{name, 0};
+  RecipeKind kind;
   while (std::getline(in, line)) {
-    ++line_no;
+    ++fail.line;
     const auto hash = line.find('#');
     if (hash != std::string::npos) line.resize(hash);
     line = trim(line);
@@ -115,65 +208,7 @@ SceneRecipe parse_scene(const std::string& text, const std::string& name) {
     for (std::string w; value >> w;) words.push_back(w);
     if (words.empty()) fail("key '" + key + "' has no value");
     try {
-      auto number = [&](std::size_t i, int max) {
-        if (i >= words.size()) fail("'" + key + "' needs more values");
-        std::size_t used = 0;
-        const long n = std::stol(words[i], &used);
-        if (used != words[i].size() || n < 1) fail("'" + words[i] + "' is not a count >= 1");
-        if (n > max) fail("'" + key + "': " + words[i] + " exceeds the limit of " + std::to_string(max));
-        return static_cast<int>(n);
-      };
-      if (is_tile_key(key)) {
-        if (!scene.tile) scene.tile = std::make_shared<TileRecipe>();
-        if (tile_line == 0) tile_line = line_no;
-        if (single_line != 0) {
-          fail("'" + key + "' is a tile key, but line " + std::to_string(single_line) +
-               " holds a single-vehicle key (foliage_*, views, view): use one kind of recipe");
-        }
-        apply_tile_key(scene.tile.get(), key, words, line_no);
-        continue;
-      }
-      if (key != "foliage_count" && key != "foliage_radius" && key != "foliage_band" &&
-          key != "foliage_square" && key != "views" && key != "view") {
-        fail("unknown key '" + key + "'");
-      }
-      if (single_line == 0) single_line = line_no;
-      if (tile_line != 0) {
-        fail("'" + key + "' is a single-vehicle key, but line " + std::to_string(tile_line) +
-             " made this a tile recipe");
-      }
-      auto angle = [&](std::size_t i) {
-        if (i >= words.size()) fail("'" + key + "' needs more values");
-        return common::parse_angle(words[i]);
-      };
-      if (key == "foliage_count") {
-        scene.foliage_count = words[0] == "0" ? 0 : number(0, 100000);
-      } else if (key == "foliage_radius") {
-        scene.foliage_radius = common::parse_length(words[0]);
-      } else if (key == "foliage_band") {
-        scene.foliage_band = common::parse_length(words[0]);
-      } else if (key == "foliage_square") {
-        scene.foliage_square = common::parse_length(words[0]);
-      } else if (key == "views") {
-        std::vector<View> add;
-        if (words[0] == "circle" && words.size() == 3) {
-          add = circle_views(number(1, 1000), angle(2));
-        } else if (words[0] == "flyby" && words.size() == 4) {
-          add = flyby_views(number(1, 1000), angle(2), angle(3));
-        } else if (words[0] == "dodecahedron" && words.size() == 1) {
-          add = dodecahedron_views();
-        } else {
-          fail("views: expected 'circle N ELEV', 'flyby N ELEV START' or 'dodecahedron'");
-        }
-        if (scene.views.size() + add.size() > 10000) fail("more than 10000 views");
-        scene.views.insert(scene.views.end(), add.begin(), add.end());
-      } else if (key == "view") {
-        if (scene.views.size() >= 10000) fail("more than 10000 views");
-        if (words.size() != 2) fail("view: expected 'AZIMUTH ELEVATION'");
-        scene.views.push_back({angle(0), angle(1)});
-      } else {
-        fail("unknown key '" + key + "'");
-      }
+      apply_key(&scene, &kind, key, words, fail);
     } catch (const common::UsageError& e) { fail(e.what()); } catch (const std::logic_error&) {
       fail("malformed value in '" + line + "'");
     }
@@ -182,15 +217,7 @@ SceneRecipe parse_scene(const std::string& text, const std::string& name) {
     check_tile(*scene.tile, name);
     return scene;
   }
-  for (const auto& v : scene.views) {
-    if (!(v.elevation > 0 && v.elevation < common::kPi / 2)) {
-      throw DataError(name, "view elevation must lie strictly between 0 and 90 degrees");
-    }
-  }
-  if (scene.views.empty()) throw DataError(name, "no views (add 'views = ...' lines)");
-  if (!(scene.foliage_radius > 0) || !(scene.foliage_band >= 0) || !(scene.foliage_square > 0)) {
-    throw DataError(name, "foliage radius and square must be > 0, band >= 0");
-  }
+  check_single(scene, name);
   return scene;
 }
 

@@ -71,26 +71,7 @@ void TriMesh::append(const TriMesh& o) {
 }
 
 std::string mesh_declare(const std::string& name, const TriMesh& mesh) {
-  std::vector<std::array<int, 3>> kept;
-  for (const auto& t : mesh.f) {
-    const Vector3d a = mesh.v[t[0]], b = mesh.v[t[1]], c = mesh.v[t[2]];
-    if ((b - a).cross(c - a).norm() > 1e-12) kept.push_back(t);  // POV-Ray drops degenerate ones
-  }
-  std::string out = "#declare " + name + " = mesh2 {\n vertex_vectors { " + std::to_string(mesh.v.size());
-  out.reserve(out.size() + 40 * mesh.v.size() + 24 * kept.size());
-  char buf[128];
-  for (const auto& w : mesh.v) {
-    const Vector3d p = pov_frame(w);
-    std::snprintf(buf, sizeof buf, ",<%.7g,%.7g,%.7g>", p.x(), p.y(), p.z());
-    out += buf;
-  }
-  out += " }\n face_indices { " + std::to_string(kept.size());
-  for (const auto& t : kept) {
-    std::snprintf(buf, sizeof buf, ",<%d,%d,%d>", t[0], t[1], t[2]);
-    out += buf;
-  }
-  out += " }\n}\n";
-  return out;
+  return mesh2_declare(name, mesh.v, mesh.f, true);
 }
 
 namespace {
@@ -202,95 +183,120 @@ TriMesh bush_template(std::uint64_t seed, double r) {
   return m;
 }
 
-TriMesh clutter_mesh(const std::string& kind, std::uint64_t seed) {
-  common::Rng rng(seed);
+namespace {
+
+TriMesh boulder_mesh(common::Rng& rng) {
   TriMesh m;
-  if (kind == "boulder") {
-    // Icosphere (2 subdivisions), stretched and roughened, about a third buried.
-    const double t = (1 + std::sqrt(5.0)) / 2;
-    std::vector<Vector3d> v = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
-                               {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
-    std::vector<std::array<int, 3>> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
-                                         {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                                         {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
-                                         {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
-    for (auto& p : v) p.normalize();
-    for (int level = 0; level < 2; ++level) {
-      std::map<std::pair<int, int>, int> mid;
-      auto middle = [&](int a, int b) {
-        const auto key = std::minmax(a, b);
-        auto it = mid.find(key);
-        if (it != mid.end()) return it->second;
-        v.push_back((v[a] + v[b]).normalized());
-        return mid[key] = static_cast<int>(v.size() - 1);
-      };
-      std::vector<std::array<int, 3>> g;
-      for (const auto& tri : f) {
-        const int a = middle(tri[0], tri[1]), b = middle(tri[1], tri[2]), c = middle(tri[2], tri[0]);
-        g.push_back({tri[0], a, c});
-        g.push_back({tri[1], b, a});
-        g.push_back({tri[2], c, b});
-        g.push_back({a, b, c});
-      }
-      f = g;
+  // Icosphere (2 subdivisions), stretched and roughened, about a third buried.
+  const double t = (1 + std::sqrt(5.0)) / 2;
+  std::vector<Vector3d> v = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                             {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
+  std::vector<std::array<int, 3>> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                       {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                       {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                       {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+  for (auto& p : v) p.normalize();
+  for (int level = 0; level < 2; ++level) {
+    std::map<std::pair<int, int>, int> mid;
+    auto middle = [&](int a, int b) {
+      const auto key = std::minmax(a, b);
+      auto it = mid.find(key);
+      if (it != mid.end()) return it->second;
+      v.push_back((v[a] + v[b]).normalized());
+      return mid[key] = static_cast<int>(v.size() - 1);
+    };
+    std::vector<std::array<int, 3>> g;
+    for (const auto& tri : f) {
+      const int a = middle(tri[0], tri[1]), b = middle(tri[1], tri[2]), c = middle(tri[2], tri[0]);
+      g.push_back({tri[0], a, c});
+      g.push_back({tri[1], b, a});
+      g.push_back({tri[2], c, b});
+      g.push_back({a, b, c});
     }
-    const double r = rng.uniform(0.5, 1.0);
-    const Vector3d scale(r, r * rng.uniform(0.6, 1.0), r * rng.uniform(0.5, 0.8));
-    for (auto& p : v) p = p.cwiseProduct(scale) * rng.uniform(0.88, 1.12);
-    double zmin = 1e9;
-    for (const auto& p : v) zmin = std::min(zmin, p.z());
-    for (auto& p : v) p.z() -= zmin + 0.3 * scale.z();
-    m.v = v;
-    m.f = f;
-  } else if (kind == "shed") {
-    m.box({-2, -1.5, -0.2}, {2, 1.5, 2.3});
-    m.box({-0.45, -1.56, -0.2}, {0.45, -1.5, 2.0});  // door
-    const double x0 = -2.2, x1 = 2.2, y0 = -1.75, y1 = 1.75, z0 = 2.2, zr = 3.2;
-    const Vector3d a0(x0, y0, z0), a1(x1, y0, z0), b0(x0, 0, zr), b1(x1, 0, zr), c0(x0, y1, z0), c1(x1, y1, z0);
-    m.triangle(a0, a1, b1);
-    m.triangle(a0, b1, b0);
-    m.triangle(c0, b0, b1);
-    m.triangle(c0, b1, c1);
-    m.triangle(a0, c0, c1);  // underside of the roof
-    m.triangle(a0, c1, a1);
-    m.triangle(a0, b0, c0);  // gables
-    m.triangle(a1, c1, b1);
-  } else if (kind == "container") {
-    // ISO 20 ft container: 6.06 x 2.44 x 2.59 m, corner posts and side corrugations.
-    const double hl = 3.03, hw = 1.22, h = 2.59;
-    m.box({-hl + 0.02, -hw + 0.02, 0}, {hl - 0.02, hw - 0.02, h});
-    for (int i = 0; i < 4; ++i) {
-      const double x = i & 1 ? hl - 0.16 : -hl, y = i & 2 ? hw - 0.16 : -hw;
-      m.box({x, y, 0}, {x + 0.16, y + 0.16, h});
-    }
-    for (double x = -hl + 0.3; x < hl - 0.3; x += 0.28) {
-      m.box({x, -hw + 0.0, 0.15}, {x + 0.12, -hw + 0.03, h - 0.15});
-      m.box({x, hw - 0.03, 0.15}, {x + 0.12, hw, h - 0.15});
-    }
-  } else if (kind == "fence") {
-    // 10 m of post-and-rail fence along x.
-    for (int k = 0; k <= 4; ++k) {
-      const double x = -5 + 2.5 * k;
-      m.box({x - 0.06, -0.06, -0.4}, {x + 0.06, 0.06, 1.5});
-    }
-    for (double z : {0.45, 0.9, 1.35}) m.box({-5.05, 0.06, z - 0.05}, {5.05, 0.1, z + 0.05});
-  } else if (kind == "logs") {
-    // Stacked logs, 4 m long along x, radius 18 cm: rows of 5, 4, 3, 2.
-    const double r = 0.18;
-    for (int row = 0; row < 4; ++row) {
-      const int n = 5 - row;
-      for (int k = 0; k < n; ++k) {
-        const double y = (k - (n - 1) / 2.0) * 2 * r;
-        const double z = r + row * r * std::sqrt(3.0);
-        const double jitter = rng.uniform(-0.15, 0.15);
-        m.limb({-2 + jitter, y, z}, {2 + jitter, y, z}, r * rng.uniform(0.9, 1.05),
-               r * rng.uniform(0.9, 1.05), 10);
-      }
-    }
-  } else {
-    throw common::Error("unknown clutter kind '" + kind + "'");
+    f = g;
+  }
+  const double r = rng.uniform(0.5, 1.0);
+  const Vector3d scale(r, r * rng.uniform(0.6, 1.0), r * rng.uniform(0.5, 0.8));
+  for (auto& p : v) p = p.cwiseProduct(scale) * rng.uniform(0.88, 1.12);
+  double zmin = 1e9;
+  for (const auto& p : v) zmin = std::min(zmin, p.z());
+  for (auto& p : v) p.z() -= zmin + 0.3 * scale.z();
+  m.v = v;
+  m.f = f;
+  return m;
+}
+
+TriMesh shed_mesh() {
+  TriMesh m;
+  m.box({-2, -1.5, -0.2}, {2, 1.5, 2.3});
+  m.box({-0.45, -1.56, -0.2}, {0.45, -1.5, 2.0});  // door
+  const double x0 = -2.2, x1 = 2.2, y0 = -1.75, y1 = 1.75, z0 = 2.2, zr = 3.2;
+  const Vector3d a0(x0, y0, z0), a1(x1, y0, z0), b0(x0, 0, zr), b1(x1, 0, zr), c0(x0, y1, z0), c1(x1, y1, z0);
+  m.triangle(a0, a1, b1);
+  m.triangle(a0, b1, b0);
+  m.triangle(c0, b0, b1);
+  m.triangle(c0, b1, c1);
+  m.triangle(a0, c0, c1);  // underside of the roof
+  m.triangle(a0, c1, a1);
+  m.triangle(a0, b0, c0);  // gables
+  m.triangle(a1, c1, b1);
+  return m;
+}
+
+TriMesh container_mesh() {
+  TriMesh m;
+  // ISO 20 ft container: 6.06 x 2.44 x 2.59 m, corner posts and side corrugations.
+  const double hl = 3.03, hw = 1.22, h = 2.59;
+  m.box({-hl + 0.02, -hw + 0.02, 0}, {hl - 0.02, hw - 0.02, h});
+  for (int i = 0; i < 4; ++i) {
+    const double x = i & 1 ? hl - 0.16 : -hl, y = i & 2 ? hw - 0.16 : -hw;
+    m.box({x, y, 0}, {x + 0.16, y + 0.16, h});
+  }
+  for (double x = -hl + 0.3; x < hl - 0.3; x += 0.28) {
+    m.box({x, -hw + 0.0, 0.15}, {x + 0.12, -hw + 0.03, h - 0.15});
+    m.box({x, hw - 0.03, 0.15}, {x + 0.12, hw, h - 0.15});
   }
   return m;
+}
+
+TriMesh fence_mesh() {
+  TriMesh m;
+  // 10 m of post-and-rail fence along x.
+  for (int k = 0; k <= 4; ++k) {
+    const double x = -5 + 2.5 * k;
+    m.box({x - 0.06, -0.06, -0.4}, {x + 0.06, 0.06, 1.5});
+  }
+  for (double z : {0.45, 0.9, 1.35}) m.box({-5.05, 0.06, z - 0.05}, {5.05, 0.1, z + 0.05});
+  return m;
+}
+
+TriMesh logs_mesh(common::Rng& rng) {
+  TriMesh m;
+  // Stacked logs, 4 m long along x, radius 18 cm: rows of 5, 4, 3, 2.
+  const double r = 0.18;
+  for (int row = 0; row < 4; ++row) {
+    const int n = 5 - row;
+    for (int k = 0; k < n; ++k) {
+      const double y = (k - (n - 1) / 2.0) * 2 * r;
+      const double z = r + row * r * std::sqrt(3.0);
+      const double jitter = rng.uniform(-0.15, 0.15);
+      m.limb({-2 + jitter, y, z}, {2 + jitter, y, z}, r * rng.uniform(0.9, 1.05), r * rng.uniform(0.9, 1.05),
+             10);
+    }
+  }
+  return m;
+}
+
+}  // namespace
+
+TriMesh clutter_mesh(const std::string& kind, std::uint64_t seed) {
+  common::Rng rng(seed);
+  if (kind == "boulder") return boulder_mesh(rng);
+  if (kind == "shed") return shed_mesh();
+  if (kind == "container") return container_mesh();
+  if (kind == "fence") return fence_mesh();
+  if (kind == "logs") return logs_mesh(rng);
+  throw common::Error("unknown clutter kind '" + kind + "'");
 }
 
 // ---------------------------------------------------------------- terrain
@@ -530,258 +536,322 @@ bool in_polygon(const Vector2d& p, const std::array<Vector2d, 4>& poly) {
   return true;
 }
 
-Tile build_tile(const TileRecipe& recipe, const std::string& name, const Params& params) {
-  Tile tile;
-  tile.recipe = recipe;
-  tile.name = name;
-  tile.seed = params.seed;
-  const TerrainModel terrain(recipe, params.seed);
+namespace {
 
+// Builds a tile phase by phase: the models, the vehicles (given, then random), the clutter
+// (given, then random), the trees (templates, given, concealment, random), the bushes, the top.
+// Every random phase draws from its own derived seed, in the order written.
+class TileBuilder {
+ public:
+  TileBuilder(const TileRecipe& recipe, const std::string& name, const Params& params)
+      : recipe_(recipe),
+        name_(name),
+        params_(params),
+        terrain_(recipe, params.seed),
+        trng_(common::derive_seed(params.seed, "trees")) {
+    tile_.recipe = recipe;
+    tile_.name = name;
+    tile_.seed = params.seed;
+  }
+
+  Tile build() {
+    load_models();
+    place_given_vehicles();
+    place_random_vehicles();
+    place_clutter();
+    plant_trees();
+    plant_bushes();
+    tile_.top = top();
+    return std::move(tile_);
+  }
+
+ private:
   // Models: distinct (spec, units, up), in first-use order; files resolved against the recipe.
+  void load_models();
+  PlacedVehicle place_vehicle(int model, double x, double y, double heading, int line) const;
+  void place_given_vehicles();
+  void place_random_vehicles();
+  std::pair<PlacedObject, Quad> make_object(const std::string& kind, double x, double y, double heading);
+  void place_clutter();
+  void plant_trees();
+  bool place_random_tree(const Vector2d& p, bool inside);
+  void plant_bushes();
+  double top() const;
+
+  const TileRecipe& recipe_;
+  const std::string& name_;
+  const Params& params_;
+  const TerrainModel terrain_;
+  Tile tile_;
+  std::vector<int> use_model_;  // per vehicle line, then per random model: index into tile_.models
+  std::vector<Quad> taken_;     // footprints of vehicles and clutter
+  common::Rng trng_;            // trees
+  std::vector<Vector2d> trunks_;
+};
+
+void TileBuilder::load_models() {
   struct Use {
     std::string spec;
     MeshImport import;
     int line;
   };
   std::vector<Use> uses;
-  for (const auto& v : recipe.vehicles) uses.push_back({v.model, v.import, v.line});
-  for (const auto& m : recipe.random_models) uses.push_back({m, MeshImport{}, recipe.random_line});
+  for (const auto& v : recipe_.vehicles) uses.push_back({v.model, v.import, v.line});
+  for (const auto& m : recipe_.random_models) uses.push_back({m, MeshImport{}, recipe_.random_line});
   std::vector<std::string> keys;
-  std::vector<int> use_model(uses.size());
+  use_model_.assign(uses.size(), 0);
   for (std::size_t u = 0; u < uses.size(); ++u) {
     const std::string key =
         uses[u].spec + "|" + std::to_string(uses[u].import.scale) + "|" + (uses[u].import.z_up ? "z" : "y");
     const auto it = std::find(keys.begin(), keys.end(), key);
     if (it != keys.end()) {
-      use_model[u] = static_cast<int>(it - keys.begin());
+      use_model_[u] = static_cast<int>(it - keys.begin());
       continue;
     }
     bool builtin = false;
     for (const char* b : kBuiltinModels) builtin = builtin || uses[u].spec == b;
     builtin = builtin || is_family_spec(uses[u].spec);  // family:<class>:<n> (families.h)
     std::string path = uses[u].spec;
-    if (!builtin && !path.empty() && path[0] != '/') path = recipe.dir + path;
+    if (!builtin && !path.empty() && path[0] != '/') path = recipe_.dir + path;
     try {
-      tile.models.push_back(load_model(path, uses[u].import));
+      tile_.models.push_back(load_model(path, uses[u].import));
     } catch (const common::Error& e) {
-      throw DataError(name, "line " + std::to_string(uses[u].line) + ": vehicle model '" + uses[u].spec +
-                                "': " + e.what());
+      throw DataError(name_, "line " + std::to_string(uses[u].line) + ": vehicle model '" + uses[u].spec +
+                                 "': " + e.what());
     }
     keys.push_back(key);
-    use_model[u] = static_cast<int>(tile.models.size() - 1);
+    use_model_[u] = static_cast<int>(tile_.models.size() - 1);
   }
-  if (!tile.models.empty()) {
+  if (!tile_.models.empty()) {
     TempDir tmp;
-    tile.model_bounds = models_extent(tile.models, params, tmp);
-    for (std::size_t m = 0; m < tile.models.size(); ++m) {
-      warn_model_size(tile.models[m], tile.model_bounds[m].second - tile.model_bounds[m].first, nullptr);
+    tile_.model_bounds = models_extent(tile_.models, params_, tmp);
+    for (std::size_t m = 0; m < tile_.models.size(); ++m) {
+      warn_model_size(tile_.models[m], tile_.model_bounds[m].second - tile_.model_bounds[m].first, nullptr);
     }
   }
+}
 
-  std::vector<Quad> taken;  // footprints of vehicles and clutter
-  auto place_vehicle = [&](int model, double x, double y, double heading, int line) {
-    const auto& [lo, hi] = tile.model_bounds[model];
-    const Vector3d size = hi - lo;
-    PlacedVehicle v;
-    v.instance = static_cast<int>(tile.vehicles.size()) + 1;
-    v.model_name = tile.models[model].name;
-    v.model_index = model;
-    v.size = size;
-    v.model_lo = lo;
-    v.line = line;
-    v.pose = stand_on(terrain, x, y, heading, size.x() / 2, size.y() / 2);
-    const Vector3d half(size.x() / 2, size.y() / 2, 0);
-    v.footprint = footprint_of(v.pose, -half, half + Vector3d(0, 0, size.z()));
-    return v;
-  };
-  for (std::size_t k = 0; k < recipe.vehicles.size(); ++k) {
-    const auto& s = recipe.vehicles[k];
-    PlacedVehicle v = place_vehicle(use_model[k], s.x, s.y, s.heading, s.line);
-    if (!inside_tile(v.footprint, recipe, 0)) {
-      throw DataError(name, "line " + std::to_string(s.line) + ": vehicle '" + s.model + "' at " +
-                                where(s.x, s.y) + " reaches outside the tile");
+PlacedVehicle TileBuilder::place_vehicle(int model, double x, double y, double heading, int line) const {
+  const auto& [lo, hi] = tile_.model_bounds[model];
+  const Vector3d size = hi - lo;
+  PlacedVehicle v;
+  v.instance = static_cast<int>(tile_.vehicles.size()) + 1;
+  v.model_name = tile_.models[model].name;
+  v.model_index = model;
+  v.size = size;
+  v.model_lo = lo;
+  v.line = line;
+  v.pose = stand_on(terrain_, x, y, heading, size.x() / 2, size.y() / 2);
+  const Vector3d half(size.x() / 2, size.y() / 2, 0);
+  v.footprint = footprint_of(v.pose, -half, half + Vector3d(0, 0, size.z()));
+  return v;
+}
+
+void TileBuilder::place_given_vehicles() {
+  for (std::size_t k = 0; k < recipe_.vehicles.size(); ++k) {
+    const auto& s = recipe_.vehicles[k];
+    PlacedVehicle v = place_vehicle(use_model_[k], s.x, s.y, s.heading, s.line);
+    if (!inside_tile(v.footprint, recipe_, 0)) {
+      throw DataError(name_, "line " + std::to_string(s.line) + ": vehicle '" + s.model + "' at " +
+                                 where(s.x, s.y) + " reaches outside the tile");
     }
-    for (const auto& o : tile.vehicles) {
+    for (const auto& o : tile_.vehicles) {
       if (overlap(v.footprint, o.footprint, 0)) {
-        throw DataError(name, "line " + std::to_string(s.line) + ": vehicle '" + s.model + "' at " +
-                                  where(s.x, s.y) + " overlaps the vehicle of line " + std::to_string(o.line));
+        throw DataError(name_, "line " + std::to_string(s.line) + ": vehicle '" + s.model + "' at " +
+                                   where(s.x, s.y) + " overlaps the vehicle of line " + std::to_string(o.line));
       }
     }
-    tile.vehicles.push_back(v);
-    taken.push_back(v.footprint);
+    tile_.vehicles.push_back(v);
+    taken_.push_back(v.footprint);
   }
-  {
-    common::Rng rng(common::derive_seed(params.seed, "vehicles"));
-    const int first_random = static_cast<int>(recipe.vehicles.size());
-    for (int k = 0; k < recipe.random_vehicles; ++k) {
+}
+
+void TileBuilder::place_random_vehicles() {
+  common::Rng rng(common::derive_seed(params_.seed, "vehicles"));
+  const int first_random = static_cast<int>(recipe_.vehicles.size());
+  for (int k = 0; k < recipe_.random_vehicles; ++k) {
+    bool placed = false;
+    for (int attempt = 0; attempt < 2000 && !placed; ++attempt) {
+      const int model = use_model_[first_random + rng.below(recipe_.random_models.size())];
+      const double x = rng.uniform(0, recipe_.extent_x), y = rng.uniform(0, recipe_.extent_y);
+      const double heading = rng.uniform(0, 2 * common::kPi);
+      PlacedVehicle v = place_vehicle(model, x, y, heading, recipe_.random_line);
+      if (!inside_tile(v.footprint, recipe_, 1.0)) continue;
+      bool clear = true;
+      for (const auto& o : tile_.vehicles) clear = clear && !overlap(v.footprint, o.footprint, 2.0);
+      if (!clear) continue;
+      tile_.vehicles.push_back(v);
+      taken_.push_back(v.footprint);
+      placed = true;
+    }
+    if (!placed) {
+      throw DataError(name_, "line " + std::to_string(recipe_.random_line) + ": cannot place " +
+                                 std::to_string(recipe_.random_vehicles) +
+                                 " vehicles without overlap in the tile (placed " + std::to_string(k) + ")");
+    }
+  }
+}
+
+// Each object its own mesh (boulders differ), appended to tile_.object_meshes.
+std::pair<PlacedObject, Quad> TileBuilder::make_object(const std::string& kind, double x, double y,
+                                                       double heading) {
+  PlacedObject o;
+  o.kind = kind;
+  tile_.object_meshes.push_back(clutter_mesh(
+      kind, common::derive_seed(params_.seed, "clutter-" + std::to_string(tile_.objects.size()))));
+  o.template_index = static_cast<int>(tile_.object_meshes.size() - 1);
+  Vector3d lo = Vector3d::Constant(1e18), hi = Vector3d::Constant(-1e18);
+  for (const auto& p : tile_.object_meshes.back().v) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  o.size = hi - lo;
+  o.lo = lo;
+  o.pose = stand_on(terrain_, x, y, heading, std::max(std::abs(lo.x()), hi.x()),
+                    std::max(std::abs(lo.y()), hi.y()));
+  return std::make_pair(o, footprint_of(o.pose, lo, hi));
+}
+
+// Clutter: hand-placed, then random per kind.
+void TileBuilder::place_clutter() {
+  for (const auto& s : recipe_.objects) {
+    auto [o, q] = make_object(s.kind, s.x, s.y, s.heading);
+    tile_.objects.push_back(o);
+    taken_.push_back(q);
+  }
+  common::Rng rng(common::derive_seed(params_.seed, "clutter"));
+  for (std::size_t c = 0; c < recipe_.clutter.size(); ++c) {
+    const auto& [kind, n] = recipe_.clutter[c];
+    for (int k = 0; k < n; ++k) {
       bool placed = false;
-      for (int attempt = 0; attempt < 2000 && !placed; ++attempt) {
-        const int model = use_model[first_random + rng.below(recipe.random_models.size())];
-        const double x = rng.uniform(0, recipe.extent_x), y = rng.uniform(0, recipe.extent_y);
+      for (int attempt = 0; attempt < 500 && !placed; ++attempt) {
+        const double x = rng.uniform(0, recipe_.extent_x), y = rng.uniform(0, recipe_.extent_y);
         const double heading = rng.uniform(0, 2 * common::kPi);
-        PlacedVehicle v = place_vehicle(model, x, y, heading, recipe.random_line);
-        if (!inside_tile(v.footprint, recipe, 1.0)) continue;
-        bool clear = true;
-        for (const auto& o : tile.vehicles) clear = clear && !overlap(v.footprint, o.footprint, 2.0);
-        if (!clear) continue;
-        tile.vehicles.push_back(v);
-        taken.push_back(v.footprint);
+        auto [o, q] = make_object(kind, x, y, heading);
+        bool clear = inside_tile(q, recipe_, 0.5);
+        for (const auto& t : taken_) clear = clear && !overlap(q, t, 1.5);
+        if (!clear) {
+          tile_.object_meshes.pop_back();
+          continue;
+        }
+        tile_.objects.push_back(o);
+        taken_.push_back(q);
         placed = true;
       }
       if (!placed) {
-        throw DataError(name, "line " + std::to_string(recipe.random_line) + ": cannot place " +
-                                  std::to_string(recipe.random_vehicles) +
-                                  " vehicles without overlap in the tile (placed " + std::to_string(k) + ")");
+        throw DataError(name_, "line " + std::to_string(recipe_.clutter_lines[c]) + ": no room for " +
+                                   std::to_string(n) + " " + kind + " objects in the tile");
       }
     }
   }
+}
 
-  // Clutter: hand-placed, then random per kind; each object its own mesh (boulders differ).
-  auto make_object = [&](const std::string& kind, double x, double y, double heading) {
-    PlacedObject o;
-    o.kind = kind;
-    tile.object_meshes.push_back(clutter_mesh(
-        kind, common::derive_seed(params.seed, "clutter-" + std::to_string(tile.objects.size()))));
-    o.template_index = static_cast<int>(tile.object_meshes.size() - 1);
-    Vector3d lo = Vector3d::Constant(1e18), hi = Vector3d::Constant(-1e18);
-    for (const auto& p : tile.object_meshes.back().v) {
-      lo = lo.cwiseMin(p);
-      hi = hi.cwiseMax(p);
-    }
-    o.size = hi - lo;
-    o.lo = lo;
-    o.pose = stand_on(terrain, x, y, heading, std::max(std::abs(lo.x()), hi.x()),
-                      std::max(std::abs(lo.y()), hi.y()));
-    return std::make_pair(o, footprint_of(o.pose, lo, hi));
-  };
-  for (const auto& s : recipe.objects) {
-    auto [o, q] = make_object(s.kind, s.x, s.y, s.heading);
-    tile.objects.push_back(o);
-    taken.push_back(q);
-  }
-  {
-    common::Rng rng(common::derive_seed(params.seed, "clutter"));
-    for (std::size_t c = 0; c < recipe.clutter.size(); ++c) {
-      const auto& [kind, n] = recipe.clutter[c];
-      for (int k = 0; k < n; ++k) {
-        bool placed = false;
-        for (int attempt = 0; attempt < 500 && !placed; ++attempt) {
-          const double x = rng.uniform(0, recipe.extent_x), y = rng.uniform(0, recipe.extent_y);
-          const double heading = rng.uniform(0, 2 * common::kPi);
-          auto [o, q] = make_object(kind, x, y, heading);
-          bool clear = inside_tile(q, recipe, 0.5);
-          for (const auto& t : taken) clear = clear && !overlap(q, t, 1.5);
-          if (!clear) {
-            tile.object_meshes.pop_back();
-            continue;
-          }
-          tile.objects.push_back(o);
-          taken.push_back(q);
-          placed = true;
-        }
-        if (!placed) {
-          throw DataError(name, "line " + std::to_string(recipe.clutter_lines[c]) + ": no room for " +
-                                    std::to_string(n) + " " + kind + " objects in the tile");
-        }
-      }
-    }
-  }
-
-  // Trees: four broadleaf and four conifer templates, three bushes; instances rotated and
-  // scaled by +-15%. Trunks keep 0.6 m from vehicles and clutter, 1.5 m from each other.
-  const std::uint64_t tseed = common::derive_seed(params.seed, "tree-templates");
+// Trees: four broadleaf and four conifer templates, three bushes; instances rotated and
+// scaled by +-15%. Trunks keep 0.6 m from vehicles and clutter, 1.5 m from each other.
+void TileBuilder::plant_trees() {
+  const std::uint64_t tseed = common::derive_seed(params_.seed, "tree-templates");
   for (int k = 0; k < 4; ++k)
-    tile.tree_meshes.push_back(broadleaf_template(common::derive_seed(tseed, "b" + std::to_string(k)), 17));
+    tile_.tree_meshes.push_back(broadleaf_template(common::derive_seed(tseed, "b" + std::to_string(k)), 17));
   for (int k = 0; k < 4; ++k)
-    tile.tree_meshes.push_back(conifer_template(common::derive_seed(tseed, "c" + std::to_string(k)), 20));
+    tile_.tree_meshes.push_back(conifer_template(common::derive_seed(tseed, "c" + std::to_string(k)), 20));
   for (int k = 0; k < 3; ++k)
-    tile.tree_meshes.push_back(
+    tile_.tree_meshes.push_back(
         bush_template(common::derive_seed(tseed, "u" + std::to_string(k)), 0.7 + 0.25 * k));
-  common::Rng trng(common::derive_seed(params.seed, "trees"));
-  std::vector<Vector2d> trunks;
-  for (const auto& s : recipe.trees) {
+  for (const auto& s : recipe_.trees) {
     PlacedTree t;
     t.conifer = s.conifer;
-    t.template_index = (s.conifer ? 4 : 0) + static_cast<int>(trng.below(4));
-    t.base = Vector3d(s.x, s.y, terrain.height(s.x, s.y));
-    t.rotation = trng.uniform(0, 2 * common::kPi);
+    t.template_index = (s.conifer ? 4 : 0) + static_cast<int>(trng_.below(4));
+    t.base = Vector3d(s.x, s.y, terrain_.height(s.x, s.y));
+    t.rotation = trng_.uniform(0, 2 * common::kPi);
     t.scale = s.height / (s.conifer ? 20.0 : 17.0);
-    tile.trees.push_back(t);
-    trunks.emplace_back(s.x, s.y);
+    tile_.trees.push_back(t);
+    trunks_.emplace_back(s.x, s.y);
   }
-  // A random tree at trunk position p: its kind, variant, rotation and scale are drawn (always,
-  // so the draws do not depend on the outcome), then it is planted when p is `inside` the tile,
-  // 0.6 m clear of every taken footprint and 1.5 m from every trunk.
-  auto place_random_tree = [&](const Vector2d& p, bool inside) {
-    const bool conifer = trng.uniform() < recipe.conifer_share;
-    const int variant = static_cast<int>(trng.below(4));
-    const double rot = trng.uniform(0, 2 * common::kPi), scale = trng.uniform(0.85, 1.15);
-    bool clear = inside;
-    for (const auto& q : taken) clear = clear && distance_to_quad(p, q) >= 0.6;
-    for (const auto& q : trunks) clear = clear && (q - p).norm() >= 1.5;
-    if (!clear) return false;
-    PlacedTree t;
-    t.conifer = conifer;
-    t.template_index = (conifer ? 4 : 0) + variant;
-    t.base = Vector3d(p.x(), p.y(), terrain.height(p.x(), p.y()));
-    t.rotation = rot;
-    t.scale = scale;
-    tile.trees.push_back(t);
-    trunks.push_back(p);
-    return true;
-  };
   // Concealment: `hide` trees beside each vehicle, trunks 0.6-2 m out from its long sides.
-  const int hide = recipe.hide >= 0 ? recipe.hide : recipe.trees_per_ha > 0 ? 2 : 0;
-  for (const auto& v : tile.vehicles) {
+  const int hide = recipe_.hide >= 0 ? recipe_.hide : recipe_.trees_per_ha > 0 ? 2 : 0;
+  for (const auto& v : tile_.vehicles) {
     const Vector2d f(std::cos(v.pose.heading), std::sin(v.pose.heading)), l(-f.y(), f.x());
     for (int k = 0; k < hide; ++k) {
       for (int attempt = 0; attempt < 50; ++attempt) {
         const double side = (k % 2 == 0) ? 1 : -1;
-        const Vector2d p = v.pose.anchor.head<2>() + trng.uniform(-0.45, 0.45) * v.size.x() * f +
-                           side * (v.size.y() / 2 + trng.uniform(0.6, 2.0)) * l;
-        const bool inside = p.x() >= 0 && p.y() >= 0 && p.x() <= recipe.extent_x && p.y() <= recipe.extent_y;
+        const Vector2d p = v.pose.anchor.head<2>() + trng_.uniform(-0.45, 0.45) * v.size.x() * f +
+                           side * (v.size.y() / 2 + trng_.uniform(0.6, 2.0)) * l;
+        const bool inside = p.x() >= 0 && p.y() >= 0 && p.x() <= recipe_.extent_x && p.y() <= recipe_.extent_y;
         if (place_random_tree(p, inside)) break;
       }
     }
   }
-  const double area_ha = recipe.extent_x * recipe.extent_y / 1e4;
-  const int n_trees = static_cast<int>(std::lround(recipe.trees_per_ha * area_ha));
+  const double area_ha = recipe_.extent_x * recipe_.extent_y / 1e4;
+  const int n_trees = static_cast<int>(std::lround(recipe_.trees_per_ha * area_ha));
   for (int k = 0; k < n_trees; ++k) {
     for (int attempt = 0; attempt < 50; ++attempt) {
-      const Vector2d p(trng.uniform(0, recipe.extent_x), trng.uniform(0, recipe.extent_y));
+      const Vector2d p(trng_.uniform(0, recipe_.extent_x), trng_.uniform(0, recipe_.extent_y));
       if (place_random_tree(p, true)) break;
     }
   }
-  common::Rng brng(common::derive_seed(params.seed, "bushes"));
-  const int n_bushes = static_cast<int>(std::lround(recipe.bushes_per_ha * area_ha));
+}
+
+// A random tree at trunk position p: its kind, variant, rotation and scale are drawn (always,
+// so the draws do not depend on the outcome), then it is planted when p is `inside` the tile,
+// 0.6 m clear of every taken footprint and 1.5 m from every trunk.
+bool TileBuilder::place_random_tree(const Vector2d& p, bool inside) {
+  const bool conifer = trng_.uniform() < recipe_.conifer_share;
+  const int variant = static_cast<int>(trng_.below(4));
+  const double rot = trng_.uniform(0, 2 * common::kPi), scale = trng_.uniform(0.85, 1.15);
+  bool clear = inside;
+  for (const auto& q : taken_) clear = clear && distance_to_quad(p, q) >= 0.6;
+  for (const auto& q : trunks_) clear = clear && (q - p).norm() >= 1.5;
+  if (!clear) return false;
+  PlacedTree t;
+  t.conifer = conifer;
+  t.template_index = (conifer ? 4 : 0) + variant;
+  t.base = Vector3d(p.x(), p.y(), terrain_.height(p.x(), p.y()));
+  t.rotation = rot;
+  t.scale = scale;
+  tile_.trees.push_back(t);
+  trunks_.push_back(p);
+  return true;
+}
+
+void TileBuilder::plant_bushes() {
+  common::Rng brng(common::derive_seed(params_.seed, "bushes"));
+  const double area_ha = recipe_.extent_x * recipe_.extent_y / 1e4;
+  const int n_bushes = static_cast<int>(std::lround(recipe_.bushes_per_ha * area_ha));
   for (int k = 0; k < n_bushes; ++k) {
     for (int attempt = 0; attempt < 50; ++attempt) {
-      const Vector2d p(brng.uniform(0, recipe.extent_x), brng.uniform(0, recipe.extent_y));
+      const Vector2d p(brng.uniform(0, recipe_.extent_x), brng.uniform(0, recipe_.extent_y));
       const int variant = static_cast<int>(brng.below(3));
       const double rot = brng.uniform(0, 2 * common::kPi), scale = brng.uniform(0.8, 1.2);
       const double reach = (0.7 + 0.25 * variant) * scale + 0.4;
       bool clear = true;
-      for (const auto& q : taken) clear = clear && distance_to_quad(p, q) >= reach;
+      for (const auto& q : taken_) clear = clear && distance_to_quad(p, q) >= reach;
       if (!clear) continue;
       PlacedTree t;
       t.bush = true;
       t.template_index = 8 + variant;
-      t.base = Vector3d(p.x(), p.y(), terrain.height(p.x(), p.y()));
+      t.base = Vector3d(p.x(), p.y(), terrain_.height(p.x(), p.y()));
       t.rotation = rot;
       t.scale = scale;
-      tile.trees.push_back(t);
+      tile_.trees.push_back(t);
       break;
     }
   }
+}
 
-  // The highest point of anything (sets the image extents).
-  double top = terrain.hi();
-  for (const auto& v : tile.vehicles) top = std::max(top, v.pose.anchor.z() + v.size.norm());
-  for (const auto& o : tile.objects) top = std::max(top, o.pose.anchor.z() + o.size.norm());
-  for (const auto& t : tile.trees) top = std::max(top, t.base.z() + (t.bush ? 3.0 : 21.0 * t.scale));
-  for (const auto& d : recipe.discs) top = std::max(top, d.centre.z());
-  tile.top = top;
-  return tile;
+// The highest point of anything (sets the image extents).
+double TileBuilder::top() const {
+  double top = terrain_.hi();
+  for (const auto& v : tile_.vehicles) top = std::max(top, v.pose.anchor.z() + v.size.norm());
+  for (const auto& o : tile_.objects) top = std::max(top, o.pose.anchor.z() + o.size.norm());
+  for (const auto& t : tile_.trees) top = std::max(top, t.base.z() + (t.bush ? 3.0 : 21.0 * t.scale));
+  for (const auto& d : recipe_.discs) top = std::max(top, d.centre.z());
+  return top;
+}
+
+}  // namespace
+
+Tile build_tile(const TileRecipe& recipe, const std::string& name, const Params& params) {
+  return TileBuilder(recipe, name, params).build();
 }
 
 }  // namespace canopy::rangetrace

@@ -61,12 +61,85 @@ std::string kinds() {
   return s;
 }
 
-}  // namespace
-
-bool is_tile_key(const std::string& key) { return tile_keys().count(key) > 0; }
-
-void apply_tile_key(TileRecipe* t, const std::string& key, const std::vector<std::string>& w, int line) {
+// terrain = flat | slope ANGLE [AZIMUTH] | rolling [AMPLITUDE [WAVELENGTH]]
+void apply_terrain(TileRecipe* t, const std::vector<std::string>& w) {
   using common::parse_angle;
+  using common::parse_length;
+  if (w[0] == "flat" && w.size() == 1) {
+    t->terrain = Terrain::kFlat;
+  } else if (w[0] == "slope" && (w.size() == 2 || w.size() == 3)) {
+    t->terrain = Terrain::kSlope;
+    t->slope = parse_angle(w[1]);
+    t->slope_azimuth = w.size() == 3 ? parse_angle(w[2]) : 0;
+    if (!(t->slope >= 0 && t->slope <= 15 * common::kPi / 180 + 1e-12)) {
+      throw UsageError("slope must lie in [0, 15 deg]");
+    }
+  } else if (w[0] == "rolling" && w.size() <= 3) {
+    t->terrain = Terrain::kRolling;
+    if (w.size() >= 2) t->rolling_amplitude = parse_length(w[1]);
+    if (w.size() == 3) t->rolling_wavelength = parse_length(w[2]);
+    if (!(t->rolling_amplitude >= 0 && t->rolling_amplitude <= 2 + 1e-12)) {
+      throw UsageError("rolling amplitude must lie in [0, 2 m]");
+    }
+    if (!(t->rolling_wavelength >= 5 && t->rolling_wavelength <= 200)) {
+      throw UsageError("rolling wavelength must lie in [5 m, 200 m]");
+    }
+  } else {
+    throw UsageError(
+        "expected 'terrain = flat', 'slope ANGLE [AZIMUTH]' or 'rolling "
+        "[AMPLITUDE [WAVELENGTH]]'");
+  }
+}
+
+// vehicle = MODEL X Y HEADING [units=mm|cm|m] [up=z|y]
+void add_vehicle(TileRecipe* t, const std::vector<std::string>& w, int line) {
+  using common::parse_angle;
+  using common::parse_length;
+  need(w, 4, 6, "vehicle = MODEL X Y HEADING [units=mm|cm|m] [up=z|y]");
+  VehicleSpec v;
+  v.model = w[0];
+  v.x = parse_length(w[1]);
+  v.y = parse_length(w[2]);
+  v.heading = parse_angle(w[3]);
+  for (std::size_t i = 4; i < w.size(); ++i) {
+    if (w[i] == "units=mm")
+      v.import.scale = 1e-3;
+    else if (w[i] == "units=cm")
+      v.import.scale = 1e-2;
+    else if (w[i] == "units=m")
+      v.import.scale = 1;
+    else if (w[i] == "up=y")
+      v.import.z_up = false;
+    else if (w[i] == "up=z")
+      v.import.z_up = true;
+    else
+      throw UsageError("unknown vehicle option '" + w[i] + "' (units=mm|cm|m, up=z|y)");
+  }
+  v.line = line;
+  if (t->vehicles.size() >= 200) throw UsageError("more than 200 vehicles");
+  t->vehicles.push_back(v);
+}
+
+// looks = ELEVATION[/AZIMUTH] ...
+void apply_looks(TileRecipe* t, const std::vector<std::string>& w) {
+  using common::parse_angle;
+  if (w.size() > 16) throw UsageError("at most 16 looks");
+  t->looks.clear();
+  for (const auto& s : w) {
+    const auto slash = s.find('/');
+    Look l;
+    l.elevation = parse_angle(s.substr(0, slash));
+    l.azimuth = slash == std::string::npos ? 0 : parse_angle(s.substr(slash + 1));
+    if (!(l.elevation >= 30 * common::kPi / 180 - 1e-12 && l.elevation <= common::kPi / 2 + 1e-12)) {
+      throw UsageError("look elevation must lie in [30 deg, 90 deg]");
+    }
+    t->looks.push_back(l);
+  }
+}
+
+// The ground and the vegetation: extent, terrain, trees, bushes, hide, conifer_share, tree,
+// canopy_disc.
+bool apply_ground_key(TileRecipe* t, const std::string& key, const std::vector<std::string>& w, int line) {
   using common::parse_length;
   if (key == "extent") {
     need(w, 1, 2, "extent = X [Y]");
@@ -76,30 +149,7 @@ void apply_tile_key(TileRecipe* t, const std::string& key, const std::vector<std
       if (!(e >= 5 && e <= 100)) throw UsageError("extent must lie in [5 m, 100 m]");
     }
   } else if (key == "terrain") {
-    if (w[0] == "flat" && w.size() == 1) {
-      t->terrain = Terrain::kFlat;
-    } else if (w[0] == "slope" && (w.size() == 2 || w.size() == 3)) {
-      t->terrain = Terrain::kSlope;
-      t->slope = parse_angle(w[1]);
-      t->slope_azimuth = w.size() == 3 ? parse_angle(w[2]) : 0;
-      if (!(t->slope >= 0 && t->slope <= 15 * common::kPi / 180 + 1e-12)) {
-        throw UsageError("slope must lie in [0, 15 deg]");
-      }
-    } else if (w[0] == "rolling" && w.size() <= 3) {
-      t->terrain = Terrain::kRolling;
-      if (w.size() >= 2) t->rolling_amplitude = parse_length(w[1]);
-      if (w.size() == 3) t->rolling_wavelength = parse_length(w[2]);
-      if (!(t->rolling_amplitude >= 0 && t->rolling_amplitude <= 2 + 1e-12)) {
-        throw UsageError("rolling amplitude must lie in [0, 2 m]");
-      }
-      if (!(t->rolling_wavelength >= 5 && t->rolling_wavelength <= 200)) {
-        throw UsageError("rolling wavelength must lie in [5 m, 200 m]");
-      }
-    } else {
-      throw UsageError(
-          "expected 'terrain = flat', 'slope ANGLE [AZIMUTH]' or 'rolling "
-          "[AMPLITUDE [WAVELENGTH]]'");
-    }
+    apply_terrain(t, w);
   } else if (key == "trees" || key == "bushes") {
     need(w, 1, 1, key + " = PER_HECTARE");
     const double v = number(w[0]);
@@ -137,30 +187,18 @@ void apply_tile_key(TileRecipe* t, const std::string& key, const std::vector<std
     if (!(d.radius > 0 && d.radius <= 50)) throw UsageError("disc radius must lie in (0, 50 m]");
     if (t->discs.size() >= 10000) throw UsageError("more than 10000 'canopy_disc' lines");
     t->discs.push_back(d);
-  } else if (key == "vehicle") {
-    need(w, 4, 6, "vehicle = MODEL X Y HEADING [units=mm|cm|m] [up=z|y]");
-    VehicleSpec v;
-    v.model = w[0];
-    v.x = parse_length(w[1]);
-    v.y = parse_length(w[2]);
-    v.heading = parse_angle(w[3]);
-    for (std::size_t i = 4; i < w.size(); ++i) {
-      if (w[i] == "units=mm")
-        v.import.scale = 1e-3;
-      else if (w[i] == "units=cm")
-        v.import.scale = 1e-2;
-      else if (w[i] == "units=m")
-        v.import.scale = 1;
-      else if (w[i] == "up=y")
-        v.import.z_up = false;
-      else if (w[i] == "up=z")
-        v.import.z_up = true;
-      else
-        throw UsageError("unknown vehicle option '" + w[i] + "' (units=mm|cm|m, up=z|y)");
-    }
-    v.line = line;
-    if (t->vehicles.size() >= 200) throw UsageError("more than 200 vehicles");
-    t->vehicles.push_back(v);
+  } else {
+    return false;
+  }
+  return true;
+}
+
+// What stands on the ground: vehicle, vehicles, object, clutter.
+bool apply_object_key(TileRecipe* t, const std::string& key, const std::vector<std::string>& w, int line) {
+  using common::parse_angle;
+  using common::parse_length;
+  if (key == "vehicle") {
+    add_vehicle(t, w, line);
   } else if (key == "vehicles") {
     if (w.size() != 4 || w[0] != "random" || w[2] != "from") {
       throw UsageError("expected 'vehicles = random N from MODEL,MODEL,...'");
@@ -196,7 +234,18 @@ void apply_tile_key(TileRecipe* t, const std::string& key, const std::vector<std
       t->clutter.emplace_back(w[i], count(w[i + 1], 200));
       t->clutter_lines.push_back(line);
     }
-  } else if (key == "flight_lines") {
+  } else {
+    return false;
+  }
+  return true;
+}
+
+// The flight and the output: flight_lines, headings, looks, altitude, spacing, canopy_spacing,
+// swath_overlap, origin.
+bool apply_flight_key(TileRecipe* t, const std::string& key, const std::vector<std::string>& w, int) {
+  using common::parse_angle;
+  using common::parse_length;
+  if (key == "flight_lines") {
     need(w, 1, 1, "flight_lines = COUNT");
     t->flight_lines = count(w[0], 50);
     if (t->flight_lines < 1) throw UsageError("flight_lines must be >= 1");
@@ -205,18 +254,7 @@ void apply_tile_key(TileRecipe* t, const std::string& key, const std::vector<std
     t->headings.clear();
     for (const auto& s : w) t->headings.push_back(parse_angle(s));
   } else if (key == "looks") {
-    if (w.size() > 16) throw UsageError("at most 16 looks");
-    t->looks.clear();
-    for (const auto& s : w) {
-      const auto slash = s.find('/');
-      Look l;
-      l.elevation = parse_angle(s.substr(0, slash));
-      l.azimuth = slash == std::string::npos ? 0 : parse_angle(s.substr(slash + 1));
-      if (!(l.elevation >= 30 * common::kPi / 180 - 1e-12 && l.elevation <= common::kPi / 2 + 1e-12)) {
-        throw UsageError("look elevation must lie in [30 deg, 90 deg]");
-      }
-      t->looks.push_back(l);
-    }
+    apply_looks(t, w);
   } else if (key == "altitude") {
     need(w, 1, 1, "altitude = LENGTH");
     t->altitude = parse_length(w[0]);
@@ -237,6 +275,18 @@ void apply_tile_key(TileRecipe* t, const std::string& key, const std::vector<std
     t->origin = {number(w[0]), number(w[1]), w.size() == 3 ? number(w[2]) : 0.0};
     if (t->origin.cwiseAbs().maxCoeff() > 1e8) throw UsageError("origin coordinates beyond 1e8 m");
   } else {
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+bool is_tile_key(const std::string& key) { return tile_keys().count(key) > 0; }
+
+void apply_tile_key(TileRecipe* t, const std::string& key, const std::vector<std::string>& w, int line) {
+  if (!apply_ground_key(t, key, w, line) && !apply_object_key(t, key, w, line) &&
+      !apply_flight_key(t, key, w, line)) {
     throw UsageError("unknown key '" + key + "'");
   }
 }
