@@ -1,7 +1,6 @@
 #include "canopy/formats/modelbase.h"
 
 #include <algorithm>
-#include <exception>
 #include <filesystem>
 #include <system_error>
 
@@ -30,16 +29,6 @@ std::vector<ModelbaseEntry> list_modelbase(const std::string& dir) {
   std::vector<ModelbaseEntry> entries;
   for (const auto& [name, path] : files) entries.push_back({fs::path(name).stem().string(), path});
   return entries;
-}
-
-SegmentGraph read_model_graph(const std::string& path) {
-  using common::DataError;
-  try {
-    return read_segment_graph(path);
-  } catch (const DataError& e) {
-    if (e.file() == path) throw;
-    throw DataError(path, e.what());
-  } catch (const std::exception& e) { throw DataError(path, e.what()); }
 }
 
 }  // namespace canopy::formats

@@ -50,10 +50,10 @@ TEST_CASE("list_modelbase: the <model>.json files sorted by name, nothing else")
   CHECK(entries[1].name == "earthmover");
   CHECK(entries[2].name == "tank");
   CHECK(entries[2].path == (dir / "tank.json").string());
-  CHECK(formats::read_model_graph(entries[1].path).segments.at(0).segment_id == 2);
+  CHECK(formats::read_segment_graph(entries[1].path).segments.at(0).segment_id == 2);
 }
 
-TEST_CASE("list_modelbase and read_model_graph: errors name the directory or the file") {
+TEST_CASE("list_modelbase and read_segment_graph: errors name the directory or the file") {
   const fs::path dir = test::fresh_dir("formats", "modelbase-errors");
   const std::string missing = (dir / "none").string();
   CHECK(error_of([&] { formats::list_modelbase(missing); }) ==
@@ -67,6 +67,6 @@ TEST_CASE("list_modelbase and read_model_graph: errors name the directory or the
              Catch::Contains("holds no <model>.json"));
   std::ofstream(dir / "broken.json") << "{ not json";
   const std::string broken = (dir / "broken.json").string();
-  CHECK_THAT(error_of([&] { formats::read_model_graph(broken); }), Catch::StartsWith(broken + ": "));
-  CHECK_THAT(error_of([&] { formats::read_model_graph(file); }), Catch::StartsWith(file + ": "));
+  CHECK_THAT(error_of([&] { formats::read_segment_graph(broken); }), Catch::StartsWith(broken + ": "));
+  CHECK_THAT(error_of([&] { formats::read_segment_graph(file); }), Catch::StartsWith(file + ": "));
 }

@@ -13,7 +13,7 @@ std::vector<Model> read_modelbase(const std::string& dir) {
   for (const formats::ModelbaseEntry& entry : formats::list_modelbase(dir)) {
     Model model;
     model.name = entry.name;
-    model.graph = formats::read_model_graph(entry.path);
+    model.graph = formats::read_segment_graph(entry.path);
     validate_graph(model.graph, entry.path);
     // The matcher keeps two model-by-model tables (pairwise angles and distances): memory grows
     // with the square of the segment count (20 000 segments cost 6.3 GB). ncut's models have

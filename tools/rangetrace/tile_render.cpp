@@ -10,6 +10,7 @@
 #include <sstream>
 #include <thread>
 
+#include "canopy/common/geometry.h"
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
@@ -269,13 +270,8 @@ std::vector<TileView> tile_views(const Tile& tile) {
   std::vector<TileView> views;
   for (std::size_t h = 0; h < r.headings.size(); ++h) {
     const Vector2d f(std::cos(r.headings[h]), std::sin(r.headings[h])), c(-f.y(), f.x());
-    double a0 = 1e18, a1 = -1e18, c0 = 1e18, c1 = -1e18;
-    for (const auto& p : tile_corners) {
-      a0 = std::min(a0, p.dot(f));
-      a1 = std::max(a1, p.dot(f));
-      c0 = std::min(c0, p.dot(c));
-      c1 = std::max(c1, p.dot(c));
-    }
+    const common::Extent2 e = common::extent_along(tile_corners, f, c);
+    const double a0 = e.umin, a1 = e.umax, c0 = e.vmin, c1 = e.vmax;
     const double pitch = (c1 - c0) / r.flight_lines;
     for (int line = 0; line < r.flight_lines; ++line) {
       const double cc = c0 + (line + 0.5) * pitch;

@@ -1,6 +1,6 @@
 // A modelbase directory (formats/README.md): <model>.json segment graphs, beside them the
-// <model>.pcd surfaces and optional <model>.class names. Listing it and reading one graph with
-// every error naming the file; what a stage checks beyond that stays in the stage.
+// <model>.pcd surfaces and optional <model>.class names. Listing it (read_segment_graph reads one graph,
+// every error naming the file); what a stage checks beyond that stays in the stage.
 #pragma once
 
 #include <string>
@@ -19,8 +19,5 @@ struct ModelbaseEntry {
 // Throws common::DataError naming the directory: missing, not a directory, cannot be listed,
 // or holding no <model>.json.
 std::vector<ModelbaseEntry> list_modelbase(const std::string& dir);
-
-// read_segment_graph(path) where every failure is a common::DataError naming `path`.
-SegmentGraph read_model_graph(const std::string& path);
 
 }  // namespace canopy::formats
