@@ -2,31 +2,17 @@
 
 #include "canopy/common/error.h"
 #include "report/report.h"
+#include "trials.h"
 
 using namespace canopy;
 
+using report::testing::seg;
+
 namespace {
 
-formats::Segment seg(int id, double area, int label) {
-  formats::Segment s;
-  s.segment_id = id;
-  s.area = area;
-  s.label = label;
-  return s;
-}
-
-// A trial whose correct model ranks `rank` among two models.
+// A trial in the scene "circle".
 report::Case make_case(const std::string& object, int noise, int rank) {
-  report::Case c;
-  c.object = object;
-  c.scene = "circle";
-  c.noise_mm = noise;
-  formats::ModelScore right{object, rank == 1 ? 0.9 : 0.4, rank, 0, 0, 0, 0, 0, {}};
-  formats::ModelScore wrong{"other", rank == 1 ? 0.4 : 0.9, rank == 1 ? 2 : 1, 0, 0, 0, 0, 0, {}};
-  c.match.models = rank == 1 ? std::vector<formats::ModelScore>{right, wrong}
-                             : std::vector<formats::ModelScore>{wrong, right};
-  c.match.entropy = 0.5;
-  return c;
+  return report::testing::trial(object, "circle", noise, rank);
 }
 
 }  // namespace

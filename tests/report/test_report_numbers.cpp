@@ -4,31 +4,13 @@
 
 #include "canopy/common/error.h"
 #include "report/report.h"
+#include "trials.h"
 
 using namespace canopy;
+using report::testing::seg;
+using report::testing::trial;
 
 namespace {
-
-formats::Segment seg(int id, double area, int label) {
-  formats::Segment s;
-  s.segment_id = id;
-  s.area = area;
-  s.label = label;
-  return s;
-}
-
-// A trial whose correct model has rank `rank` (1 or 2) among two models.
-report::Case trial(const std::string& object, const std::string& scene, int noise, int rank) {
-  report::Case c;
-  c.object = object;
-  c.scene = scene;
-  c.noise_mm = noise;
-  formats::ModelScore right{object, rank == 1 ? 0.9 : 0.4, rank, 0, 0, 0, 0, 0, {}};
-  formats::ModelScore wrong{"other", rank == 1 ? 0.4 : 0.9, rank == 1 ? 2 : 1, 0, 0, 0, 0, 0, {}};
-  c.match.models = rank == 1 ? std::vector<formats::ModelScore>{right, wrong}
-                             : std::vector<formats::ModelScore>{wrong, right};
-  return c;
-}
 
 report::StageTime took(double seconds, double peak_mb) { return {seconds, peak_mb, true}; }
 
