@@ -32,12 +32,6 @@ Json vec3(const Vec3& v, const char* what) {
   return Json::array({finite(v[0], what), finite(v[1], what), finite(v[2], what)});
 }
 
-Json provenance_json(const Provenance& p) {
-  Json params = Json::object();
-  for (const auto& [k, v] : p.parameters) params[k] = v;
-  return Json{{"tool", p.tool}, {"version", p.version}, {"parameters", params}, {"inputs", p.inputs}};
-}
-
 // A malformed value: the reader adds the file name and where ("segments[3].area: ...").
 struct Malformed : std::runtime_error {
   using std::runtime_error::runtime_error;

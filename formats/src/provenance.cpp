@@ -10,4 +10,11 @@ std::vector<std::string> provenance_comments(const Provenance& p) {
   return lines;
 }
 
+nlohmann::ordered_json provenance_json(const Provenance& p) {
+  nlohmann::ordered_json params = nlohmann::ordered_json::object();
+  for (const auto& [k, v] : p.parameters) params[k] = v;
+  return nlohmann::ordered_json{
+      {"tool", p.tool}, {"version", p.version}, {"parameters", params}, {"inputs", p.inputs}};
+}
+
 }  // namespace canopy::formats

@@ -299,3 +299,33 @@ TEST_CASE("collect --plan: candidate ids and transforms as make variables") {
                      (dir / "cands.mk").string() + " --plan-key 'a b'",
                  dir / "err.txt", &err) == 2);
 }
+
+TEST_CASE("collect::run writes the provenance it is given; validate names --crs") {
+  collect::Inputs in;
+  in.index.name = "idx.json";
+  in.index.tile = "tile.pcd";
+  collect::Candidate c;
+  c.id = "c1";
+  c.transform = {1, 0, 0, E, 0, 1, 0, N, 0, 0, 1, 0, 0, 0, 0, 1};
+  in.index.candidates = {c};
+  collect::Verdict none;
+  none.name = "c1/verdict.json";
+  none.confidence = 0.25;
+  in.verdicts = {none};
+  in.provenance = {"collect", "9.9", {{"crs", ""}, {"plan", ""}}, {"idx.json", "c1/verdict.json"}};
+  const collect::Output o = collect::run(collect::Params{}, in);
+  CHECK(o.found == 0);
+  CHECK(o.none == 1);
+  const Json d = Json::parse(o.detections);
+  CHECK(d["provenance"].dump() ==
+        R"({"tool":"collect","version":"9.9","parameters":{"crs":"","plan":""},"inputs":["idx.json","c1/verdict.json"]})");
+  CHECK(d["rejected"][0]["confidence"] == 0.25);
+  collect::Params p;
+  CHECK_NOTHROW(collect::validate(p));
+  p.crs = "EPSG:4326";
+  CHECK_NOTHROW(collect::validate(p));
+  for (const char* bad : {"4326", "EPSG:", "EPSG:1234567", "epsg:4326"}) {
+    p.crs = bad;
+    CHECK_THROWS_WITH(collect::validate(p), Catch::Contains("--crs"));
+  }
+}

@@ -171,3 +171,33 @@ TEST_CASE("figures grid: '-' and missing files are failed cells; errors leave no
   CHECK_FALSE(fs::exists(out));
   CHECK(count_files(dir) == 4);  // a.png b.png bad.png err: no temporaries
 }
+
+TEST_CASE("figures parameters out of range name their option") {
+  CHECK_NOTHROW(validate(MeshView{}));
+  CHECK_NOTHROW(validate(GridParams{}));
+  CHECK_NOTHROW(validate(PlotParams{}));
+  MeshView mv;
+  mv.width = 15;
+  CHECK_THROWS_WITH(validate(mv), Catch::Contains("--width/--height"));
+  mv = {};
+  mv.elevation_deg = 90;
+  CHECK_THROWS_WITH(validate(mv), Catch::Contains("--elevation"));
+  mv = {};
+  mv.box[2] = 0;
+  CHECK_THROWS_WITH(validate(mv), Catch::Contains("--box-height"));
+  GridParams gp;
+  gp.cols = 0;
+  CHECK_THROWS_WITH(validate(gp), Catch::Contains("--cols"));
+  gp = {};
+  gp.font_size = 201;
+  CHECK_THROWS_WITH(validate(gp), Catch::Contains("--font-size"));
+  gp = {};
+  gp.gap = -1;
+  CHECK_THROWS_WITH(validate(gp), Catch::Contains("--gap"));
+  gp = {};
+  gp.margin = 1001;
+  CHECK_THROWS_AS(validate(gp), common::UsageError);
+  PlotParams pp;
+  pp.height = 8193;
+  CHECK_THROWS_WITH(validate(pp), Catch::Contains("--width/--height"));
+}

@@ -2,31 +2,17 @@
 
 #include "canopy/common/error.h"
 #include "report/report.h"
+#include "trials.h"
 
 using namespace canopy;
 
+using report::testing::seg;
+
 namespace {
 
-formats::Segment seg(int id, double area, int label) {
-  formats::Segment s;
-  s.segment_id = id;
-  s.area = area;
-  s.label = label;
-  return s;
-}
-
-// A trial whose correct model ranks `rank` among two models.
+// A trial in the scene "circle".
 report::Case make_case(const std::string& object, int noise, int rank) {
-  report::Case c;
-  c.object = object;
-  c.scene = "circle";
-  c.noise_mm = noise;
-  formats::ModelScore right{object, rank == 1 ? 0.9 : 0.4, rank, 0, 0, 0, 0, 0, {}};
-  formats::ModelScore wrong{"other", rank == 1 ? 0.4 : 0.9, rank == 1 ? 2 : 1, 0, 0, 0, 0, 0, {}};
-  c.match.models = rank == 1 ? std::vector<formats::ModelScore>{right, wrong}
-                             : std::vector<formats::ModelScore>{wrong, right};
-  c.match.entropy = 0.5;
-  return c;
+  return report::testing::trial(object, "circle", noise, rank);
 }
 
 }  // namespace
@@ -65,7 +51,7 @@ TEST_CASE("recognition rates per object and overall, with the thesis beside them
   in.thesis = report::parse_thesis_csv(
       "object,scene,noise_mm,score,rank,entropy\nsedan,circle,0,0.641,1,1.64\ntank,circle,0,0.603,2,2.26\n",
       "t.csv");
-  const auto out = report::run(in, report::Params{});
+  const auto out = report::run(report::Params{}, in);
   CHECK(out.markdown.find("| sedan | 100% (2/2) | 100% | 100% (1/1) |") != std::string::npos);
   CHECK(out.markdown.find("| tank | 50% (1/2) | 50% | 0% (0/1) |") != std::string::npos);
   CHECK(out.markdown.find("**75%** (3/4)") != std::string::npos);
@@ -88,7 +74,7 @@ TEST_CASE(
   in.scenes = {"circle"};
   in.noises = {0};
   in.cases = {make_case("sedan", 0, 1), make_case("suv-1000", 0, 2)};
-  const auto out = report::run(in, report::Params{});
+  const auto out = report::run(report::Params{}, in);
   INFO(out.markdown);
   CHECK(out.markdown.find("| suv-1000 | 0% (0/1) | – | – (0/0) |") != std::string::npos);
   // canopy's mean over both objects (100% and 0%); the thesis's over the one it printed (sedan 100%).
@@ -113,7 +99,7 @@ TEST_CASE("ablation rows give each variant's rank-1 rate per object and overall"
   a.change = "ncut --exponent squared";
   a.correct_rank = {{"sedan/circle/0", 1}, {"tank/circle/0", 2}};
   in.ablations.push_back(a);
-  const auto out = report::run(in, report::Params{});
+  const auto out = report::run(report::Params{}, in);
   CHECK(out.markdown.find("| **canopy defaults** | | 100% | 100% | **100%** |") != std::string::npos);
   CHECK(out.markdown.find("| ncut-squared | `ncut --exponent squared` | 100% | 0% | 50% |") !=
         std::string::npos);
@@ -148,7 +134,7 @@ TEST_CASE("area table: ratios of sums per noise level and matched area relative 
   CHECK(rows[1].matched == Approx(0.2));
   CHECK(rows[1].matched_vs_0 == Approx(2.0 / 5.0));  // sedan only: tank has no 32 mm areas
   CHECK(rows[1].pairs_vs_0 == 1);
-  const auto out = report::run(in, report::Params{});
+  const auto out = report::run(report::Params{}, in);
   CHECK(out.markdown.find("| 0 | 2 | 20.0 | 80% | 60% | 60% | 50% | 100% |") != std::string::npos);
   CHECK(out.markdown.find("| 32 | 1 | 10.0 | 90% | 40% | 40% | 20% | 40% |") != std::string::npos);
   CHECK(out.markdown.find("matched  32 mm |########## 20%") != std::string::npos);
@@ -161,6 +147,6 @@ TEST_CASE("no areas.json anywhere: no area section") {
   in.scenes = {"circle"};
   in.noises = {0};
   in.cases = {make_case("sedan", 0, 1)};
-  CHECK(report::run(in, report::Params{}).markdown.find("Where the target's area goes") == std::string::npos);
+  CHECK(report::run(report::Params{}, in).markdown.find("Where the target's area goes") == std::string::npos);
   CHECK_FALSE(report::read_areas(std::string(CANOPY_TEST_TMP) + "/no-such-dir/areas.json").present);
 }

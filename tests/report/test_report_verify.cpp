@@ -146,7 +146,7 @@ TEST_CASE("verify reliability bins and pose error percentiles on hand-built tria
 }
 
 TEST_CASE("verify section and verdicts.csv in the report") {
-  const auto out = report::run(hand_built(), report::Params{});
+  const auto out = report::run(report::Params{}, hand_built());
   CHECK_THAT(out.markdown, Catch::Contains("## Verification (`verify`)"));
   CHECK_THAT(out.markdown, Catch::Contains("verify was not run on 1 trials"));
   // all trials: 3/7 right, 1 wrong model, 1 flipped, 1 none, 1 failed; gmatch 3/7.
@@ -176,7 +176,7 @@ TEST_CASE("no verdict.json anywhere: the section says verify was not run") {
   const auto v = report::summarize_verify(in);
   CHECK(v.all.trials == 0);
   CHECK(v.not_run == 8);
-  const auto out = report::run(in, report::Params{});
+  const auto out = report::run(report::Params{}, in);
   CHECK_THAT(out.markdown, Catch::Contains("`verify` was not run on these trials"));
   CHECK_THAT(out.markdown, !Catch::Contains("| confidence | answers | right |"));
 }

@@ -322,3 +322,37 @@ TEST_CASE("score CLI: a bad input names the file and writes nothing") {
   CHECK(test::sh(bin + " -q -d " + (dir / "d.json").string() + " -o " + (dir / "s.json").string(),
                  dir / "err.txt", &err) == 2);
 }
+
+TEST_CASE("score::run puts the provenance after format and version, the score after it") {
+  score::Inputs in;
+  score::Tile t;
+  t.truth = score::parse_truth(truth_text(), "truth.json");
+  t.detections = score::parse_detections(detections_text(Json::array()), "detections.json");
+  in.tiles = {t};
+  in.provenance = {"score", "9.9", {{"csv", ""}}, {"detections.json", "truth.json"}};
+  const Json doc = score::run(score::Params{}, in);
+  std::vector<std::string> keys;
+  for (const auto& [k, v] : doc.items()) keys.push_back(k);
+  CHECK(keys == std::vector<std::string>{"format", "version", "provenance", "params", "tiles", "summary",
+                                         "pr", "models", "cover_bins", "matches"});
+  CHECK(doc["provenance"].dump() ==
+        R"({"tool":"score","version":"9.9","parameters":{"csv":""},"inputs":["detections.json","truth.json"]})");
+  CHECK(doc["summary"] == score::score(in.tiles, score::Params{})["summary"]);
+}
+
+TEST_CASE("score parameters out of range name their option") {
+  score::Params p;
+  CHECK_NOTHROW(score::validate(p));
+  p.match_radius = 0;
+  CHECK_THROWS_WITH(score::validate(p), Catch::Contains("--match-radius"));
+  p = {};
+  p.flip_threshold = 181;
+  CHECK_THROWS_WITH(score::validate(p), Catch::Contains("--flip-threshold"));
+  p = {};
+  p.cover_bins = {0.5};
+  CHECK_THROWS_WITH(score::validate(p), Catch::Contains("--cover-bins"));
+  p.cover_bins = {0, 0.5, 0.5, 1};
+  CHECK_THROWS_WITH(score::validate(p), Catch::Contains("--cover-bins"));
+  p.cover_bins = {0, 1.5};
+  CHECK_THROWS_AS(score::validate(p), common::UsageError);
+}

@@ -9,20 +9,15 @@
 #include "canopy/common/error.h"
 #include "canopy/common/math.h"
 #include "canopy/formats/json_document.h"
+#include "canopy/formats/provenance.h"
 
 namespace canopy::collect {
 namespace {
 
 using Json = nlohmann::ordered_json;
 
-struct Malformed : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
-
-const Json& member(const Json& j, const char* key, const std::string& where) {
-  if (!j.is_object() || !j.contains(key)) throw Malformed(where + ": missing \"" + key + "\"");
-  return j.at(key);
-}
+using Malformed = formats::MalformedField;
+constexpr auto member = formats::json_member;
 
 double number(const Json& v, const std::string& where) {
   if (!v.is_number()) throw Malformed(where + " must be a number, not " + v.dump().substr(0, 40));
@@ -173,6 +168,124 @@ std::string plan(const Index& index, const std::string& key) {
   return out;
 }
 
+namespace {
+
+// A found vehicle placed in the tile: its model -> tile pose, the pose's angles and its
+// footprint (counter-clockwise corners) from the model's box or the candidate's.
+struct Placement {
+  Matrix m{};
+  std::array<double, 3> e{};
+  std::vector<Corner> ring;
+  std::string from;
+};
+
+Placement place(const Candidate& c, const Verdict& v, const Params& params) {
+  Placement p;
+  // The tile pose: verify's pose_tile when it was given the transform, else composed here.
+  p.m = v.pose_tile ? *v.pose_tile : multiply(c.transform, *v.pose);
+  p.e = euler_degrees(p.m);
+  const Matrix& m = p.m;
+  const auto box = params.boxes.find(v.model);
+  if (box != params.boxes.end()) {
+    const ModelBox& b = box->second;
+    p.ring = {apply(m, b.x0, b.y0), apply(m, b.x1, b.y0), apply(m, b.x1, b.y1), apply(m, b.x0, b.y1)};
+    p.from = "model";
+  } else {
+    const double hl = c.length / 2, hw = c.width / 2;
+    const Matrix& t = c.transform;
+    p.ring = {apply(t, -hl, -hw), apply(t, hl, -hw), apply(t, hl, hw), apply(t, -hl, hw)};
+    p.from = "candidate";
+  }
+  // Counter-clockwise seen from above (RFC 7946 exterior rings); the shoelace relative to
+  // the first corner, as products of UTM magnitudes would cancel.
+  auto& ring = p.ring;
+  double area2 = 0;
+  for (std::size_t k = 0; k < 4; ++k) {
+    const Corner& a = ring[k];
+    const Corner& b = ring[(k + 1) % 4];
+    area2 += (a[0] - ring[0][0]) * (b[1] - ring[0][1]) - (b[0] - ring[0][0]) * (a[1] - ring[0][1]);
+  }
+  if (area2 < 0) std::swap(ring[1], ring[3]);
+  return p;
+}
+
+Json footprint_json(const Placement& p) {
+  Json fp = Json::array();
+  for (const auto& c : p.ring) fp.push_back(Json::array({finite(c[0]), finite(c[1])}));
+  return fp;
+}
+
+// The detection's entry in detections.json.
+Json detection_json(const Candidate& c, const Verdict& v, const Placement& p) {
+  const Matrix& m = p.m;
+  const auto& e = p.e;
+  Json matrix_json = Json::array();
+  for (double x : m) matrix_json.push_back(finite(x));
+  Json pose{{"x", finite(m[3])}, {"y", finite(m[7])}, {"z", finite(m[11])},   {"heading", e[0]},
+            {"pitch", e[1]},     {"roll", e[2]},      {"matrix", matrix_json}};
+  Json d{{"candidate", c.id}, {"model", v.model}};
+  if (!v.cls.empty()) d["class"] = v.cls;
+  d["confidence"] = v.confidence;
+  d["pose"] = pose;
+  d["footprint"] = footprint_json(p);
+  d["footprint_from"] = p.from;
+  d["verdict"] = v.name;
+  return d;
+}
+
+// The detection as a GeoJSON Feature: its footprint polygon (closed ring) and properties.
+Json feature_json(const Candidate& c, const Verdict& v, const Placement& p) {
+  const Matrix& m = p.m;
+  Json closed = footprint_json(p);
+  closed.push_back(closed[0]);
+  Json props{{"candidate", c.id}, {"model", v.model}};
+  if (!v.cls.empty()) props["class"] = v.cls;
+  props["confidence"] = v.confidence;
+  props["x"] = m[3];
+  props["y"] = m[7];
+  props["z"] = m[11];
+  props["heading"] = p.e[0];
+  props["footprint_from"] = p.from;
+  return Json{{"type", "Feature"},
+              {"id", c.id},
+              {"geometry", Json{{"type", "Polygon"}, {"coordinates", Json::array({closed})}}},
+              {"properties", props}};
+}
+
+// detections.json and the GeoJSON FeatureCollection of the counted detections.
+void write_documents(const Index& index, const Params& params, const Json& provenance, const Json& dets,
+                     const Json& rejected, const Json& features, Output& out) {
+  Json doc{{"format", "canopy.detections"},
+           {"version", 1},
+           {"provenance", provenance},
+           {"index", index.name},
+           {"tile", index.tile},
+           {"crs", params.crs.empty() ? Json(nullptr) : Json(params.crs)},
+           {"candidates", index.candidates.size()},
+           {"found", out.found},
+           {"none", out.none},
+           {"failed", out.failed},
+           {"detections", dets},
+           {"rejected", rejected}};
+  out.detections = doc.dump(1) + "\n";
+  Json geo{{"type", "FeatureCollection"}, {"name", "canopy detections"}};
+  if (!params.crs.empty()) {
+    // The GeoJSON 2008 "crs" member (RFC 7946 dropped it; GDAL/QGIS still read it).
+    geo["crs"] =
+        Json{{"type", "name"}, {"properties", {{"name", "urn:ogc:def:crs:EPSG::" + params.crs.substr(5)}}}};
+  }
+  geo["features"] = features;
+  out.geojson = geo.dump(1) + "\n";
+}
+
+}  // namespace
+
+void validate(const Params& params) {
+  if (!params.crs.empty() && !std::regex_match(params.crs, std::regex("EPSG:[0-9]{1,6}"))) {
+    throw common::UsageError("--crs must be EPSG:<code>, e.g. EPSG:32633");
+  }
+}
+
 Output collect(const Index& index, const std::vector<Verdict>& verdicts, const Params& params,
                const Json& provenance) {
   if (verdicts.size() != index.candidates.size())
@@ -195,83 +308,16 @@ Output collect(const Index& index, const std::vector<Verdict>& verdicts, const P
       continue;
     }
     ++out.found;
-    // The tile pose: verify's pose_tile when it was given the transform, else composed here.
-    const Matrix m = v.pose_tile ? *v.pose_tile : multiply(c.transform, *v.pose);
-    const auto e = euler_degrees(m);
-    std::vector<Corner> ring;
-    std::string from;
-    const auto box = params.boxes.find(v.model);
-    if (box != params.boxes.end()) {
-      const ModelBox& b = box->second;
-      ring = {apply(m, b.x0, b.y0), apply(m, b.x1, b.y0), apply(m, b.x1, b.y1), apply(m, b.x0, b.y1)};
-      from = "model";
-    } else {
-      const double hl = c.length / 2, hw = c.width / 2;
-      const Matrix& t = c.transform;
-      ring = {apply(t, -hl, -hw), apply(t, hl, -hw), apply(t, hl, hw), apply(t, -hl, hw)};
-      from = "candidate";
-    }
-    // Counter-clockwise seen from above (RFC 7946 exterior rings); the shoelace relative to
-    // the first corner, as products of UTM magnitudes would cancel.
-    double area2 = 0;
-    for (std::size_t k = 0; k < 4; ++k) {
-      const Corner& a = ring[k];
-      const Corner& b = ring[(k + 1) % 4];
-      area2 += (a[0] - ring[0][0]) * (b[1] - ring[0][1]) - (b[0] - ring[0][0]) * (a[1] - ring[0][1]);
-    }
-    if (area2 < 0) std::swap(ring[1], ring[3]);
-    Json fp = Json::array();
-    for (const auto& p : ring) fp.push_back(Json::array({finite(p[0]), finite(p[1])}));
-    Json matrix_json = Json::array();
-    for (double x : m) matrix_json.push_back(finite(x));
-    Json pose{{"x", finite(m[3])}, {"y", finite(m[7])}, {"z", finite(m[11])},   {"heading", e[0]},
-              {"pitch", e[1]},     {"roll", e[2]},      {"matrix", matrix_json}};
-    Json d{{"candidate", c.id}, {"model", v.model}};
-    if (!v.cls.empty()) d["class"] = v.cls;
-    d["confidence"] = v.confidence;
-    d["pose"] = pose;
-    d["footprint"] = fp;
-    d["footprint_from"] = from;
-    d["verdict"] = v.name;
-    dets.push_back(d);
-
-    Json closed = fp;
-    closed.push_back(fp[0]);
-    Json props{{"candidate", c.id}, {"model", v.model}};
-    if (!v.cls.empty()) props["class"] = v.cls;
-    props["confidence"] = v.confidence;
-    props["x"] = m[3];
-    props["y"] = m[7];
-    props["z"] = m[11];
-    props["heading"] = e[0];
-    props["footprint_from"] = from;
-    features.push_back(Json{{"type", "Feature"},
-                            {"id", c.id},
-                            {"geometry", Json{{"type", "Polygon"}, {"coordinates", Json::array({closed})}}},
-                            {"properties", props}});
+    const Placement p = place(c, v, params);
+    dets.push_back(detection_json(c, v, p));
+    features.push_back(feature_json(c, v, p));
   }
-  Json doc{{"format", "canopy.detections"},
-           {"version", 1},
-           {"provenance", provenance},
-           {"index", index.name},
-           {"tile", index.tile},
-           {"crs", params.crs.empty() ? Json(nullptr) : Json(params.crs)},
-           {"candidates", index.candidates.size()},
-           {"found", out.found},
-           {"none", out.none},
-           {"failed", out.failed},
-           {"detections", dets},
-           {"rejected", rejected}};
-  out.detections = doc.dump(1) + "\n";
-  Json geo{{"type", "FeatureCollection"}, {"name", "canopy detections"}};
-  if (!params.crs.empty()) {
-    // The GeoJSON 2008 "crs" member (RFC 7946 dropped it; GDAL/QGIS still read it).
-    geo["crs"] =
-        Json{{"type", "name"}, {"properties", {{"name", "urn:ogc:def:crs:EPSG::" + params.crs.substr(5)}}}};
-  }
-  geo["features"] = features;
-  out.geojson = geo.dump(1) + "\n";
+  write_documents(index, params, provenance, dets, rejected, features, out);
   return out;
+}
+
+Output run(const Params& params, const Inputs& inputs) {
+  return collect(inputs.index, inputs.verdicts, params, formats::provenance_json(inputs.provenance));
 }
 
 }  // namespace canopy::collect

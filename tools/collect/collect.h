@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "canopy/formats/provenance.h"
+
 namespace canopy::collect {
 
 using Matrix = std::array<double, 16>;  // 4 x 4 row-major, float64
@@ -47,6 +49,9 @@ struct Params {
   std::map<std::string, ModelBox> boxes;  // by model name; a model without one uses the candidate footprint
 };
 
+// Throws common::UsageError naming --crs when crs is neither empty nor EPSG:<1-6 digits>.
+void validate(const Params& params);
+
 Index parse_index(const std::string& text, const std::string& name);
 Verdict parse_verdict(const std::string& text, const std::string& name);
 
@@ -64,6 +69,17 @@ struct Output {
 // verdicts[i] belongs to index.candidates[i]. `provenance` is written as is.
 Output collect(const Index& index, const std::vector<Verdict>& verdicts, const Params& params,
                const nlohmann::ordered_json& provenance);
+
+// One tile: its index, one verdict per candidate (verdicts[i] of index.candidates[i]) and who
+// writes the documents from what (formats::provenance_json).
+struct Inputs {
+  Index index;
+  std::vector<Verdict> verdicts;
+  formats::Provenance provenance;
+};
+
+// collect(inputs.index, inputs.verdicts, params, the provenance as JSON).
+Output run(const Params& params, const Inputs& inputs);
 
 // The make plan of a tile: the candidate ids and each one's candidate-to-tile transform (16
 // comma-separated numbers, row-major, as verify --transform takes them), as make variables

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <limits>
+#include <map>
 #include <regex>
 #include <set>
 #include <string>
@@ -43,6 +44,78 @@ collect::ModelBox model_box(const std::string& path) {
   return b;
 }
 
+// The command line: the index, the outputs, where the verdicts and modelbase are.
+struct Options {
+  std::string in, out = "-", plan, key = "TILE", verdicts, name = "verdict.json", geojson, crs, modelbase;
+};
+
+void bind(common::Tool& tool, Options& o) {
+  tool.add_input(&o.in, "candidates index.json (canopy.candidates v1)");
+  tool.add_output(&o.out, "detections.json");
+  tool.add_output("--plan", &o.plan,
+                  "instead: write the make plan of the candidates (ids and transforms, "
+                  "mk/scenes.mk) and stop; needs no verdicts");
+  tool.add("--plan-key", &o.key, "prefix of the plan's make variables (<key>_CANDS, <key>_TRANSFORM_<id>)");
+  tool.add("--verdicts", &o.verdicts,
+           "directory holding <id>/<verdict-name> per candidate (default: the index's directory)");
+  tool.add("--verdict-name", &o.name, "file name of each candidate's verdict");
+  tool.add_output("--geojson", &o.geojson, "also write the detections as a GeoJSON FeatureCollection");
+  tool.add("--crs", &o.crs,
+           "coordinate reference system of the tile, EPSG:<code>: recorded in detections.json "
+           "and as the GeoJSON \"crs\" member (omitted without it)");
+  tool.add("--modelbase", &o.modelbase,
+           "directory of <model>.pcd surfaces: footprints are the posed model's "
+           "top-view box (else the candidate's footprint)");
+}
+
+// --plan: the candidates' make plan, alone.
+void write_plan(const Options& o) {
+  if (o.out != "-" || !o.geojson.empty())
+    throw common::UsageError("--plan is alone: no -o or --geojson with it");
+  if (!std::regex_match(o.key, std::regex("[A-Za-z_][A-Za-z0-9_]{0,99}"))) {
+    throw common::UsageError("--plan-key must be a make variable name (letters, digits, _)");
+  }
+  common::check_output(o.plan);
+  const collect::Index index = collect::parse_index(common::read_file(o.in), o.in);
+  common::write_file_atomic(o.plan, collect::plan(index, o.key));
+  common::log::info(std::to_string(index.candidates.size()) + " candidates planned");
+}
+
+// Each candidate's verdict, <verdicts>/<id>/<name> (default: beside the index); their paths
+// join the inputs.
+std::vector<collect::Verdict> read_verdicts(const Options& o, const collect::Index& index,
+                                            std::vector<std::string>& inputs) {
+  const fs::path dir = o.verdicts.empty() ? fs::path(o.in).parent_path() : fs::path(o.verdicts);
+  std::vector<collect::Verdict> vs;
+  for (const auto& c : index.candidates) {
+    const std::string path = (dir / c.id / o.name).string();
+    vs.push_back(collect::parse_verdict(common::read_file(path), path));
+    inputs.push_back(path);
+  }
+  return vs;
+}
+
+// The top-view boxes of the found models that the modelbase holds; their paths join the inputs.
+std::map<std::string, collect::ModelBox> read_boxes(const std::string& modelbase,
+                                                    const std::vector<collect::Verdict>& vs,
+                                                    std::vector<std::string>& inputs) {
+  std::map<std::string, collect::ModelBox> boxes;
+  std::set<std::string> models;
+  for (const auto& v : vs) {
+    if (!v.model.empty()) models.insert(v.model);
+  }
+  for (const auto& m : models) {
+    const fs::path path = fs::path(modelbase) / (m + ".pcd");
+    if (!fs::exists(path)) {
+      common::log::info("no " + path.string() + ": " + m + " footprints are the candidates'");
+      continue;
+    }
+    boxes[m] = model_box(path.string());
+    inputs.push_back(path.string());
+  }
+  return boxes;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -51,81 +124,30 @@ int main(int argc, char** argv) {
                     "per candidate -> detections.json (canopy.detections v1) and a GeoJSON of the "
                     "detections' footprints in the tile's coordinates.");
   tool.without_threads();
-  std::string in, out = "-", plan, key = "TILE", verdicts, name = "verdict.json", geojson, crs, modelbase;
-  tool.add_input(&in, "candidates index.json (canopy.candidates v1)");
-  tool.add_output(&out, "detections.json");
-  tool.add_output("--plan", &plan,
-                  "instead: write the make plan of the candidates (ids and transforms, "
-                  "mk/scenes.mk) and stop; needs no verdicts");
-  tool.add("--plan-key", &key, "prefix of the plan's make variables (<key>_CANDS, <key>_TRANSFORM_<id>)");
-  tool.add("--verdicts", &verdicts,
-           "directory holding <id>/<verdict-name> per candidate (default: the index's directory)");
-  tool.add("--verdict-name", &name, "file name of each candidate's verdict");
-  tool.add_output("--geojson", &geojson, "also write the detections as a GeoJSON FeatureCollection");
-  tool.add("--crs", &crs,
-           "coordinate reference system of the tile, EPSG:<code>: recorded in detections.json "
-           "and as the GeoJSON \"crs\" member (omitted without it)");
-  tool.add("--modelbase", &modelbase,
-           "directory of <model>.pcd surfaces: footprints are the posed model's "
-           "top-view box (else the candidate's footprint)");
+  Options o;
+  bind(tool, o);
   return tool.run(argc, argv, [&] {
-    if (in.empty() || in == "-") throw common::UsageError("-i must name the candidates index.json");
-    if (!crs.empty() && !std::regex_match(crs, std::regex("EPSG:[0-9]{1,6}"))) {
-      throw common::UsageError("--crs must be EPSG:<code>, e.g. EPSG:32633");
-    }
-    if (!plan.empty()) {
-      if (out != "-" || !geojson.empty())
-        throw common::UsageError("--plan is alone: no -o or --geojson with it");
-      if (!std::regex_match(key, std::regex("[A-Za-z_][A-Za-z0-9_]{0,99}"))) {
-        throw common::UsageError("--plan-key must be a make variable name (letters, digits, _)");
-      }
-      common::check_output(plan);
-      const collect::Index index = collect::parse_index(common::read_file(in), in);
-      common::write_file_atomic(plan, collect::plan(index, key));
-      common::log::info(std::to_string(index.candidates.size()) + " candidates planned");
-      return;
-    }
-    if (name.empty() || name.find('/') != std::string::npos)
+    if (o.in.empty() || o.in == "-") throw common::UsageError("-i must name the candidates index.json");
+    collect::Params p;
+    p.crs = o.crs;
+    collect::validate(p);
+    if (!o.plan.empty()) return write_plan(o);
+    if (o.name.empty() || o.name.find('/') != std::string::npos)
       throw common::UsageError("--verdict-name must be a file name");
     common::OutputSet outputs;
-    outputs.add(out, "-o");
-    if (!geojson.empty()) outputs.add(geojson, "--geojson");
-    const collect::Index index = collect::parse_index(common::read_file(in), in);
-    const fs::path dir = verdicts.empty() ? fs::path(in).parent_path() : fs::path(verdicts);
-    std::vector<collect::Verdict> vs;
-    std::vector<std::string> inputs{in};
-    for (const auto& c : index.candidates) {
-      const std::string path = (dir / c.id / name).string();
-      vs.push_back(collect::parse_verdict(common::read_file(path), path));
-      inputs.push_back(path);
-    }
-    collect::Params p;
-    p.crs = crs;
-    if (!modelbase.empty()) {
-      std::set<std::string> models;
-      for (const auto& v : vs) {
-        if (!v.model.empty()) models.insert(v.model);
-      }
-      for (const auto& m : models) {
-        const fs::path path = fs::path(modelbase) / (m + ".pcd");
-        if (!fs::exists(path)) {
-          common::log::info("no " + path.string() + ": " + m + " footprints are the candidates'");
-          continue;
-        }
-        p.boxes[m] = model_box(path.string());
-        inputs.push_back(path.string());
-      }
-    }
-    nlohmann::ordered_json params = nlohmann::ordered_json::object();
-    for (const auto& [k, v] : tool.parameters()) params[k] = v;
-    const nlohmann::ordered_json prov{
-        {"tool", "collect"}, {"version", CANOPY_VERSION}, {"parameters", params}, {"inputs", inputs}};
-    const collect::Output o = collect::collect(index, vs, p, prov);
-    outputs.set(out, o.detections);
-    if (!geojson.empty()) outputs.set(geojson, o.geojson);
+    outputs.add(o.out, "-o");
+    if (!o.geojson.empty()) outputs.add(o.geojson, "--geojson");
+    collect::Inputs in;
+    in.index = collect::parse_index(common::read_file(o.in), o.in);
+    in.provenance = {"collect", CANOPY_VERSION, tool.parameters(), {o.in}};
+    in.verdicts = read_verdicts(o, in.index, in.provenance.inputs);
+    if (!o.modelbase.empty()) p.boxes = read_boxes(o.modelbase, in.verdicts, in.provenance.inputs);
+    const collect::Output r = collect::run(p, in);
+    outputs.set(o.out, r.detections);
+    if (!o.geojson.empty()) outputs.set(o.geojson, r.geojson);
     outputs.commit();
-    common::log::info(std::to_string(index.candidates.size()) + " candidates: " + std::to_string(o.found) +
-                      " vehicles found, " + std::to_string(o.none) + " none" +
-                      (o.failed ? ", " + std::to_string(o.failed) + " failed (empty verdict)" : ""));
+    common::log::info(std::to_string(in.index.candidates.size()) + " candidates: " + std::to_string(r.found) +
+                      " vehicles found, " + std::to_string(r.none) + " none" +
+                      (r.failed ? ", " + std::to_string(r.failed) + " failed (empty verdict)" : ""));
   });
 }

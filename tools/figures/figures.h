@@ -50,6 +50,10 @@ struct MeshView {
   std::array<std::uint8_t, 3> default_colour{200, 200, 200};  // when the PLY has no colours
 };
 
+// Throws common::UsageError naming the option: --width/--height within [16, 8192] pixels,
+// --elevation within (-90, 90) degrees, --box-length/--box-width/--box-height positive.
+void validate(const MeshView& view);
+
 // Renders the mesh shaded (smooth normals, two-sided light) with a parallel projection.
 // Each face takes the colour most of its three vertices have (ties: its first vertex), so
 // segment boundaries stay sharp instead of blending. Throws DataError(name) for a mesh
@@ -70,6 +74,10 @@ struct GridParams {
   bool trim = true;
   int margin = 8;
 };
+
+// Throws common::UsageError naming the option: --cols >= 1, --font-size 4..200, --gap and
+// --margin 0..1000.
+void validate(const GridParams& params);
 
 // Tiles cells row by row. Every cell has the size of the first present image after trimming
 // (a differently sized tile is centred and clipped or padded); std::nullopt is drawn as a light grey cell
@@ -113,6 +121,9 @@ struct PlotParams {
   std::string x_title = "noise (mm)";
   std::string title;  // panel title; "" = "scene: <panel>"
 };
+
+// Throws common::UsageError naming --width/--height unless both are within [16, 8192] pixels.
+void validate(const PlotParams& params);
 
 // One panel per scene (in order of first appearance), one line per object (same colour in
 // every panel), x: the distinct noise levels at equal spacing labelled in mm, y: score 0..1

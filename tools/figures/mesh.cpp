@@ -12,6 +12,7 @@
 #include <vtkProperty.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
+#include <vtkSmartPointer.h>
 #include <vtkUnsignedCharArray.h>
 #include <vtkWindowToImageFilter.h>
 
@@ -20,6 +21,7 @@
 #include <limits>
 
 #include "canopy/common/error.h"
+#include "canopy/common/math.h"
 #include "figures/figures.h"
 #include "figures/vtk_image.h"
 
@@ -65,7 +67,10 @@ Image capture(vtkRenderWindow* window, const std::string& name) {
 
 }  // namespace detail
 
-Image render_mesh(const formats::Mesh& mesh, const MeshView& view, const std::string& name) {
+namespace {
+
+// Every face's indices name a vertex; DataError(name) otherwise, and for a mesh without faces.
+void check_mesh(const formats::Mesh& mesh, const std::string& name) {
   const auto& v = mesh.vertices;
   v.require({"x", "y", "z"}, name);
   if (mesh.faces.empty()) {
@@ -80,23 +85,12 @@ Image render_mesh(const formats::Mesh& mesh, const MeshView& view, const std::st
       }
     }
   }
-  require_display();
+}
 
-  const auto& X = v.col("x");
-  const auto& Y = v.col("y");
-  const auto& Z = v.col("z");
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToDouble();
-  points->SetNumberOfPoints(static_cast<vtkIdType>(n));
-  for (std::size_t i = 0; i < n; ++i) points->SetPoint(static_cast<vtkIdType>(i), X[i], Y[i], Z[i]);
-  vtkNew<vtkCellArray> triangles;
-  for (const auto& f : mesh.faces) {
-    const vtkIdType ids[3] = {f[0], f[1], f[2]};
-    triangles->InsertNextCell(3, ids);
-  }
-
-  // Face colour: the colour most of its vertices share (ties: the first vertex).
-  vtkNew<vtkUnsignedCharArray> colours;
+// Face colour: the colour most of its vertices share (ties: the first vertex).
+vtkSmartPointer<vtkUnsignedCharArray> face_colours(const formats::Mesh& mesh, const MeshView& view) {
+  const auto& v = mesh.vertices;
+  auto colours = vtkSmartPointer<vtkUnsignedCharArray>::New();
   colours->SetName("colour");
   colours->SetNumberOfComponents(3);
   colours->SetNumberOfTuples(static_cast<vtkIdType>(mesh.faces.size()));
@@ -113,12 +107,35 @@ Image render_mesh(const formats::Mesh& mesh, const MeshView& view, const std::st
     }
     colours->SetTypedTuple(static_cast<vtkIdType>(k), c.data());
   }
+  return colours;
+}
 
-  vtkNew<vtkPolyData> poly;
+// The mesh as VTK triangles with one colour per face.
+vtkSmartPointer<vtkPolyData> poly_data(const formats::Mesh& mesh, const MeshView& view) {
+  const auto& v = mesh.vertices;
+  const std::size_t n = v.size();
+  const auto& X = v.col("x");
+  const auto& Y = v.col("y");
+  const auto& Z = v.col("z");
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(static_cast<vtkIdType>(n));
+  for (std::size_t i = 0; i < n; ++i) points->SetPoint(static_cast<vtkIdType>(i), X[i], Y[i], Z[i]);
+  vtkNew<vtkCellArray> triangles;
+  for (const auto& f : mesh.faces) {
+    const vtkIdType ids[3] = {f[0], f[1], f[2]};
+    triangles->InsertNextCell(3, ids);
+  }
+  const auto colours = face_colours(mesh, view);
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
   poly->SetPoints(points);
   poly->SetPolys(triangles);
   poly->GetCellData()->SetScalars(colours);
+  return poly;
+}
 
+// A renderer holding the mesh shaded (smooth normals, direct face colours, light kit).
+vtkSmartPointer<vtkRenderer> shaded(vtkPolyData* poly, const MeshView& view) {
   vtkNew<vtkPolyDataNormals> normals;
   normals->SetInputData(poly);
   normals->ComputePointNormalsOn();
@@ -140,30 +157,40 @@ Image render_mesh(const formats::Mesh& mesh, const MeshView& view, const std::st
   actor->GetProperty()->SetDiffuse(0.85);
   actor->GetProperty()->SetSpecular(0.0);
 
-  vtkNew<vtkRenderer> renderer;
+  auto renderer = vtkSmartPointer<vtkRenderer>::New();
   renderer->AddActor(actor);
   renderer->SetBackground(view.background[0] / 255.0, view.background[1] / 255.0, view.background[2] / 255.0);
   renderer->TwoSidedLightingOn();
   renderer->RemoveAllLights();
   vtkNew<vtkLightKit> lights;
   lights->AddLightsToRenderer(renderer);
+  return renderer;
+}
 
-  // Framing box: fixed (same camera for every mesh) or the mesh's bounds.
-  Vec lo, hi;
+// Framing box: fixed (same camera for every mesh) or the mesh's bounds.
+void framing_box(const formats::Mesh& mesh, const MeshView& view, Vec& lo, Vec& hi) {
   if (view.framing == Framing::kBox) {
     lo = {-view.box[0] / 2, -view.box[1] / 2, 0};
     hi = {view.box[0] / 2, view.box[1] / 2, view.box[2]};
-  } else {
-    lo = {std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
-          std::numeric_limits<double>::max()};
-    hi = {-lo[0], -lo[1], -lo[2]};
-    for (std::size_t i = 0; i < n; ++i) {
-      const Vec p{X[i], Y[i], Z[i]};
-      for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
-    }
+    return;
   }
+  const auto& X = mesh.vertices.col("x");
+  const auto& Y = mesh.vertices.col("y");
+  const auto& Z = mesh.vertices.col("z");
+  lo = {std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+        std::numeric_limits<double>::max()};
+  hi = {-lo[0], -lo[1], -lo[2]};
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    const Vec p{X[i], Y[i], Z[i]};
+    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+  }
+}
+
+// A parallel camera looking at the framing box from the view's elevation and azimuth, scaled so
+// that the box fills the image (4% margin).
+void place_camera(vtkRenderer* renderer, const Vec& lo, const Vec& hi, const MeshView& view) {
   const Vec centre{(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2};
-  const double el = view.elevation_deg * M_PI / 180, az = view.azimuth_deg * M_PI / 180;
+  const double el = view.elevation_deg * common::kPi / 180, az = view.azimuth_deg * common::kPi / 180;
   const Vec dir{std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)};
   const Vec up = unit(sub(Vec{0, 0, 1}, Vec{dir[0] * dir[2], dir[1] * dir[2], dir[2] * dir[2]}));
   const Vec right = unit(cross(up, dir));
@@ -185,6 +212,18 @@ Image render_mesh(const formats::Mesh& mesh, const MeshView& view, const std::st
   camera->SetViewUp(up[0], up[1], up[2]);
   camera->SetParallelScale(scale);
   renderer->ResetCameraClippingRange();
+}
+
+}  // namespace
+
+Image render_mesh(const formats::Mesh& mesh, const MeshView& view, const std::string& name) {
+  check_mesh(mesh, name);
+  require_display();
+  const auto poly = poly_data(mesh, view);
+  const auto renderer = shaded(poly, view);
+  Vec lo, hi;
+  framing_box(mesh, view, lo, hi);
+  place_camera(renderer, lo, hi, view);
 
   vtkNew<vtkRenderWindow> window;
   window->SetOffScreenRendering(1);

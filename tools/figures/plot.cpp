@@ -169,23 +169,127 @@ std::vector<ScoreRow> parse_scores_csv(const std::string& text, const std::strin
   return rows;
 }
 
-Image plot_scores(const std::vector<ScoreRow>& rows, const PlotParams& params, const std::string& name) {
-  // Axes of the figure, in order of first appearance (noise levels sorted).
+namespace {
+
+// Axes of the figure, in order of first appearance (noise levels sorted).
+struct Axes {
   std::vector<std::string> scenes, objects;
   std::vector<double> levels;
   double top = 1, bottom = 0;
+};
+
+Axes axes_of(const std::vector<ScoreRow>& rows, const std::string& name) {
+  Axes a;
   bool any = false;
   for (const auto& r : rows) {
     if (!std::isfinite(r.score)) continue;
     any = true;
-    if (std::find(scenes.begin(), scenes.end(), r.scene) == scenes.end()) scenes.push_back(r.scene);
-    if (std::find(objects.begin(), objects.end(), r.object) == objects.end()) objects.push_back(r.object);
-    if (std::find(levels.begin(), levels.end(), r.noise_mm) == levels.end()) levels.push_back(r.noise_mm);
-    top = std::max(top, r.score);
-    bottom = std::min(bottom, r.score);
+    if (std::find(a.scenes.begin(), a.scenes.end(), r.scene) == a.scenes.end()) a.scenes.push_back(r.scene);
+    if (std::find(a.objects.begin(), a.objects.end(), r.object) == a.objects.end())
+      a.objects.push_back(r.object);
+    if (std::find(a.levels.begin(), a.levels.end(), r.noise_mm) == a.levels.end())
+      a.levels.push_back(r.noise_mm);
+    a.top = std::max(a.top, r.score);
+    a.bottom = std::min(a.bottom, r.score);
   }
   if (!any) throw common::DataError(name, "no row has a score: nothing to plot");
-  std::sort(levels.begin(), levels.end());
+  std::sort(a.levels.begin(), a.levels.end());
+  return a;
+}
+
+// The chart's title and axes: x the noise levels at equal spacing, y bottom..top (+2%).
+void set_axes(vtkChartXY* chart, const PlotParams& params, const std::string& scene, const Axes& a,
+              vtkDoubleArray* ticks, vtkStringArray* tick_labels) {
+  chart->SetTitle(params.title.empty() ? "scene: " + scene
+                  : scene.empty()      ? params.title
+                                       : params.title + ": " + scene);
+  chart->GetTitleProperties()->SetFontSize(16);
+  chart->GetTitleProperties()->SetBold(true);
+  vtkAxis* x = chart->GetAxis(vtkAxis::BOTTOM);
+  x->SetTitle(params.x_title.c_str());
+  x->SetBehavior(vtkAxis::FIXED);
+  x->SetRange(-0.25, static_cast<double>(a.levels.size()) - 0.75);
+  x->SetCustomTickPositions(ticks, tick_labels);
+  x->SetGridVisible(false);
+  vtkAxis* y = chart->GetAxis(vtkAxis::LEFT);
+  y->SetTitle(params.y_title.c_str());
+  y->SetBehavior(vtkAxis::FIXED);
+  y->SetRange(a.bottom, a.top * 1.02);
+}
+
+// The line of object o in one scene (points by x); its rank > 1 points go to fx, fy.
+void add_line(vtkChartXY* chart, const std::vector<ScoreRow>& rows, const std::string& scene, const Axes& a,
+              std::size_t o, vtkFloatArray* fx, vtkFloatArray* fy) {
+  auto position = [&](double noise) {
+    return static_cast<float>(std::find(a.levels.begin(), a.levels.end(), noise) - a.levels.begin());
+  };
+  std::vector<std::pair<float, float>> points;
+  for (const auto& r : rows) {
+    if (r.scene != scene || r.object != a.objects[o] || !std::isfinite(r.score)) continue;
+    points.emplace_back(position(r.noise_mm), static_cast<float>(r.score));
+    if (r.rank > 1) {
+      fx->InsertNextValue(points.back().first);
+      fy->InsertNextValue(points.back().second);
+    }
+  }
+  if (points.empty()) return;
+  std::stable_sort(points.begin(), points.end(),
+                   [](const auto& p, const auto& q) { return p.first < q.first; });
+  vtkNew<vtkTable> table;
+  vtkNew<vtkFloatArray> px, py;
+  px->SetName("noise");
+  py->SetName(a.objects[o].c_str());
+  table->AddColumn(px);
+  table->AddColumn(py);
+  table->SetNumberOfRows(static_cast<vtkIdType>(points.size()));
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    table->SetValue(static_cast<vtkIdType>(i), 0, points[i].first);
+    table->SetValue(static_cast<vtkIdType>(i), 1, points[i].second);
+  }
+  vtkPlot* line = chart->AddPlot(vtkChart::LINE);
+  line->SetInputData(table, 0, 1);
+  const auto c = series_colour(o);
+  line->SetColor(c[0], c[1], c[2], 255);
+  line->SetWidth(2.5);
+  line->SetLabel(a.objects[o]);
+  if (auto* pp = vtkPlotPoints::SafeDownCast(line)) {
+    pp->SetMarkerStyle(vtkPlotPoints::CIRCLE);
+    pp->SetMarkerSize(7);
+  }
+}
+
+// One panel: its axes, a line per object, black crosses where the correct model is not first.
+void fill_chart(vtkChartXY* chart, const std::vector<ScoreRow>& rows, const PlotParams& params, const Axes& a,
+                std::size_t s, vtkDoubleArray* ticks, vtkStringArray* tick_labels) {
+  set_axes(chart, params, a.scenes[s], a, ticks, tick_labels);
+  vtkNew<vtkTable> failures_table;
+  vtkNew<vtkFloatArray> fx, fy;
+  fx->SetName("noise");
+  fy->SetName("rank > 1");
+  failures_table->AddColumn(fx);
+  failures_table->AddColumn(fy);
+  for (std::size_t o = 0; o < a.objects.size(); ++o) add_line(chart, rows, a.scenes[s], a, o, fx, fy);
+  if (fx->GetNumberOfTuples() > 0) {
+    vtkPlot* marks = chart->AddPlot(vtkChart::POINTS);
+    marks->SetInputData(failures_table, 0, 1);
+    marks->SetColor(0, 0, 0, 255);
+    marks->SetLabel("not rank 1");
+    if (auto* pp = vtkPlotPoints::SafeDownCast(marks)) {
+      pp->SetMarkerStyle(vtkPlotPoints::CROSS);
+      pp->SetMarkerSize(14);
+    }
+  }
+  // One legend (colours are the same in every panel), bottom left: scores start high at
+  // low noise, so that corner is usually empty.
+  chart->SetShowLegend(s == 0);
+  chart->GetLegend()->SetHorizontalAlignment(vtkChartLegend::LEFT);
+  chart->GetLegend()->SetVerticalAlignment(vtkChartLegend::BOTTOM);
+}
+
+}  // namespace
+
+Image plot_scores(const std::vector<ScoreRow>& rows, const PlotParams& params, const std::string& name) {
+  const Axes a = axes_of(rows, name);
   require_display();
 
   // A context scene in a plain render window. (vtkContextView would also create an X
@@ -202,97 +306,23 @@ Image plot_scores(const std::vector<ScoreRow>& rows, const PlotParams& params, c
   vtkContextScene* scene = context->GetScene();
   scene->SetRenderer(renderer);
   vtkNew<vtkChartMatrix> matrix;
-  matrix->SetSize(vtkVector2i(static_cast<int>(scenes.size()), 1));
+  matrix->SetSize(vtkVector2i(static_cast<int>(a.scenes.size()), 1));
   matrix->SetGutter(vtkVector2f(30, 30));
   matrix->SetBorders(40, 40, 20, 20);
   scene->AddItem(matrix);
 
   vtkNew<vtkDoubleArray> ticks;
   vtkNew<vtkStringArray> tick_labels;
-  for (std::size_t i = 0; i < levels.size(); ++i) {
+  for (std::size_t i = 0; i < a.levels.size(); ++i) {
     ticks->InsertNextValue(static_cast<double>(i));
     char buf[32];
-    std::snprintf(buf, sizeof buf, "%g", levels[i]);
+    std::snprintf(buf, sizeof buf, "%g", a.levels[i]);
     tick_labels->InsertNextValue(buf);
   }
-  auto position = [&](double noise) {
-    return static_cast<float>(std::find(levels.begin(), levels.end(), noise) - levels.begin());
-  };
-
-  for (std::size_t s = 0; s < scenes.size(); ++s) {
+  for (std::size_t s = 0; s < a.scenes.size(); ++s) {
     auto* chart = vtkChartXY::SafeDownCast(matrix->GetChart(vtkVector2i(static_cast<int>(s), 0)));
     if (chart == nullptr) throw common::Error("VTK chart matrix did not create an XY chart");
-    chart->SetTitle(params.title.empty() ? "scene: " + scenes[s]
-                    : scenes[s].empty()  ? params.title
-                                         : params.title + ": " + scenes[s]);
-    chart->GetTitleProperties()->SetFontSize(16);
-    chart->GetTitleProperties()->SetBold(true);
-    vtkAxis* x = chart->GetAxis(vtkAxis::BOTTOM);
-    x->SetTitle(params.x_title.c_str());
-    x->SetBehavior(vtkAxis::FIXED);
-    x->SetRange(-0.25, static_cast<double>(levels.size()) - 0.75);
-    x->SetCustomTickPositions(ticks, tick_labels);
-    x->SetGridVisible(false);
-    vtkAxis* y = chart->GetAxis(vtkAxis::LEFT);
-    y->SetTitle(params.y_title.c_str());
-    y->SetBehavior(vtkAxis::FIXED);
-    y->SetRange(bottom, top * 1.02);
-    vtkNew<vtkTable> failures_table;
-    vtkNew<vtkFloatArray> fx, fy;
-    fx->SetName("noise");
-    fy->SetName("rank > 1");
-    failures_table->AddColumn(fx);
-    failures_table->AddColumn(fy);
-    for (std::size_t o = 0; o < objects.size(); ++o) {
-      std::vector<std::pair<float, float>> points;
-      for (const auto& r : rows) {
-        if (r.scene != scenes[s] || r.object != objects[o] || !std::isfinite(r.score)) continue;
-        points.emplace_back(position(r.noise_mm), static_cast<float>(r.score));
-        if (r.rank > 1) {
-          fx->InsertNextValue(points.back().first);
-          fy->InsertNextValue(points.back().second);
-        }
-      }
-      if (points.empty()) continue;
-      std::stable_sort(points.begin(), points.end(),
-                       [](const auto& a, const auto& b) { return a.first < b.first; });
-      vtkNew<vtkTable> table;
-      vtkNew<vtkFloatArray> px, py;
-      px->SetName("noise");
-      py->SetName(objects[o].c_str());
-      table->AddColumn(px);
-      table->AddColumn(py);
-      table->SetNumberOfRows(static_cast<vtkIdType>(points.size()));
-      for (std::size_t i = 0; i < points.size(); ++i) {
-        table->SetValue(static_cast<vtkIdType>(i), 0, points[i].first);
-        table->SetValue(static_cast<vtkIdType>(i), 1, points[i].second);
-      }
-      vtkPlot* line = chart->AddPlot(vtkChart::LINE);
-      line->SetInputData(table, 0, 1);
-      const auto c = series_colour(o);
-      line->SetColor(c[0], c[1], c[2], 255);
-      line->SetWidth(2.5);
-      line->SetLabel(objects[o]);
-      if (auto* pp = vtkPlotPoints::SafeDownCast(line)) {
-        pp->SetMarkerStyle(vtkPlotPoints::CIRCLE);
-        pp->SetMarkerSize(7);
-      }
-    }
-    if (fx->GetNumberOfTuples() > 0) {
-      vtkPlot* marks = chart->AddPlot(vtkChart::POINTS);
-      marks->SetInputData(failures_table, 0, 1);
-      marks->SetColor(0, 0, 0, 255);
-      marks->SetLabel("not rank 1");
-      if (auto* pp = vtkPlotPoints::SafeDownCast(marks)) {
-        pp->SetMarkerStyle(vtkPlotPoints::CROSS);
-        pp->SetMarkerSize(14);
-      }
-    }
-    // One legend (colours are the same in every panel), bottom left: scores start high at
-    // low noise, so that corner is usually empty.
-    chart->SetShowLegend(s == 0);
-    chart->GetLegend()->SetHorizontalAlignment(vtkChartLegend::LEFT);
-    chart->GetLegend()->SetVerticalAlignment(vtkChartLegend::BOTTOM);
+    fill_chart(chart, rows, params, a, s, ticks, tick_labels);
   }
   return detail::capture(window, name);
 }

@@ -15,6 +15,7 @@
 #include "canopy/common/share.h"
 #include "canopy/formats/json_document.h"
 #include "canopy/formats/pcd.h"
+#include "canopy/formats/stage_time.h"
 #include "report/baseline_section.h"
 #include "report/families_section.h"
 #include "report/report.h"
@@ -33,18 +34,6 @@ std::vector<std::string> words(const std::string& s) {
 bool exists(const std::string& p) {
   struct stat st {};
   return stat(p.c_str(), &st) == 0;
-}
-
-// scripts/stage.sh writes "<seconds> <peak KiB>" next to each artifact.
-report::StageTime read_time(const std::string& artifact) {
-  report::StageTime t;
-  std::ifstream in(artifact + ".time");
-  double kib = 0;
-  if (in >> t.seconds >> kib) {
-    t.peak_mb = kib / 1024.0;
-    t.present = true;
-  }
-  return t;
 }
 
 std::string parent_dir(const std::string& path) {
@@ -67,31 +56,162 @@ int count_views(const std::string& scan) {
   return static_cast<int>(m) + 1;
 }
 
-}  // namespace
+// Decimal only: std::stoi read "0x10" as 0 and "8mm" as 8.
+std::vector<int> parse_noises(const std::string& text) {
+  std::vector<int> noises;
+  for (const auto& n : words(text)) {
+    const std::string problem = common::detail::check_integer(n, true, 0, 1000000);
+    if (!problem.empty()) throw common::UsageError("--noises: " + problem + " (noise levels in whole mm)");
+    noises.push_back(std::stoi(n));
+  }
+  return noises;
+}
 
-int main(int argc, char** argv) {
-  common::Tool tool("report", "Write the experiment report (Markdown + CSV) from out/ artifacts.");
-  tool.without_threads();
+// One trial's artifacts: OUT/<object>/<scene>/noise-<mm>/.
+report::Case read_case(const std::string& out_dir, const std::string& o, const std::string& s, int n) {
+  report::Case c;
+  c.object = o;
+  c.scene = s;
+  c.noise_mm = n;
+  const std::string dir = out_dir + "/" + o + "/" + s + "/noise-" + std::to_string(n);
+  c.match = formats::read_match_result(dir + "/match.json");
+  c.segments = formats::read_segment_graph(dir + "/segments.json");
+  c.times["addnoise"] = formats::read_stage_time(dir + "/scan.pcd");
+  c.times["fitvox"] = formats::read_stage_time(dir + "/samples.pcd");
+  c.times["cocone"] = formats::read_stage_time(dir + "/mesh.ply");
+  c.times["ncut"] = formats::read_stage_time(dir + "/segments.json");
+  c.times["gmatch"] = formats::read_stage_time(dir + "/match.json");
+  c.times["verify"] = formats::read_stage_time(dir + "/verdict.json");
+  c.areas = report::read_areas(dir + "/areas.json");
+  // verify's answer: absent = not run; empty = verify failed (scripts/stage.sh
+  // --record-failure), counted as a failed trial.
+  const std::string verdict = dir + "/verdict.json";
+  if (exists(verdict)) {
+    const std::string text = common::read_file(verdict);
+    if (text.empty()) {
+      c.verdict_status = report::VerdictStatus::failed;
+    } else {
+      c.verdict = formats::parse_verdict(text, verdict);
+      c.verdict_status = report::VerdictStatus::read;
+    }
+  }
+  return c;
+}
+
+// An ablation variant NAME=STAGE+OPTIONS: the rank of the right model in each of its trials
+// (OUT/ablation/NAME/...).
+report::Ablation read_ablation(const std::string& spec, const std::string& out_dir, const report::Inputs& in) {
+  const auto eq = spec.find('=');
+  report::Ablation a;
+  a.name = spec.substr(0, eq);
+  a.change = eq == std::string::npos ? "" : spec.substr(eq + 1);
+  std::replace(a.change.begin(), a.change.end(), '+', ' ');
+  for (const auto& o : in.objects) {
+    for (const auto& s : in.scenes) {
+      for (int n : in.noises) {
+        const std::string path = out_dir + "/ablation/" + a.name + "/" + o + "/" + s + "/noise-" +
+                                 std::to_string(n) + "/match.json";
+        // An empty match.json records a stage that failed in this variant (scripts/stage.sh
+        // --record-failure): the trial counts as not recognised (rank 0).
+        const std::string text = common::read_file(path);
+        int rank = 0;
+        if (text.empty()) {
+          a.correct_rank[o + "/" + s + "/" + std::to_string(n)] = 0;
+          ++a.failed;
+          continue;
+        }
+        const formats::MatchResult m = formats::parse_match_result(text, path);
+        for (const auto& ms : m.models) {
+          if (ms.model == o) rank = ms.rank;
+        }
+        a.correct_rank[o + "/" + s + "/" + std::to_string(n)] = rank;
+      }
+    }
+  }
+  return a;
+}
+
+// The figures the report links (Makefile.experiments `figures`, `pictures`).
+std::vector<std::string> figure_paths(const report::Inputs& in) {
+  std::vector<std::string> figures;
+  for (const auto& s : in.scenes) figures.push_back("figures/grid-" + s + ".png");
+  figures.push_back("figures/scores.png");
+  for (const auto& o : in.objects) figures.push_back("pictures/" + o + ".png");
+  // The thesis's scene picture (Fig. 2.4; Makefile.experiments `pictures`) when its object and
+  // scene are in the experiment.
+  const auto has = [](const std::vector<std::string>& v, const char* x) {
+    return std::find(v.begin(), v.end(), x) != v.end();
+  };
+  if (has(in.objects, "tank") && has(in.scenes, "circle")) figures.push_back("pictures/tank-circle.png");
+  return figures;
+}
+
+// Everything the report reads from OUT (the experiment's artifacts) and the thesis table.
+report::Inputs read_inputs(const std::string& out_dir, report::Inputs in, const std::string& thesis,
+                           const std::string& ablations) {
+  in.thesis = report::parse_thesis_csv(common::read_file(thesis), thesis);
+  for (const auto& o : in.objects) {
+    const std::string mb = out_dir + "/modelbase/" + o + ".json";
+    if (exists(mb)) in.models[o] = formats::read_segment_graph(mb);
+    for (const auto& s : in.scenes) {
+      in.render_times[o + "/" + s] = formats::read_stage_time(out_dir + "/" + o + "/" + s + "/scan.pcd");
+      for (int n : in.noises) in.cases.push_back(read_case(out_dir, o, s, n));
+    }
+  }
+  for (const auto& spec : words(ablations)) in.ablations.push_back(read_ablation(spec, out_dir, in));
+  for (const auto& s : in.scenes) {
+    in.render_views[s] = count_views(out_dir + "/" + in.objects.front() + "/" + s + "/scan.pcd");
+  }
+  in.figures = figure_paths(in);
+  return in;
+}
+
+// The families protocol's section (--families), from famscore's two tables.
+std::string families_section(const std::string& families) {
+  const std::string confusion = families + "/confusion.csv", accuracy = families + "/accuracy.csv";
+  for (const auto& f : {confusion, accuracy}) {
+    if (!exists(f))
+      throw common::DataError(f, "missing (--families: run `make -f Makefile.experiments families`)");
+  }
+  return report::families_markdown(report::summarize_families(common::read_file(confusion), confusion,
+                                                              common::read_file(accuracy), accuracy));
+}
+
+// The scene experiment's section (--tile-score); its times.csv goes beside score.json.
+std::string scenes_section(const std::string& tile_score, const std::string& scene_dir,
+                           const std::string& results, common::OutputSet& outputs) {
+  common::log::Phase scenes_phase("scenes");
+  const auto score =
+      formats::open_json_document(common::read_file(tile_score), tile_score, "canopy.scene_score");
+  const auto times = report::scene_times(report::scene_runs(score));
+  const std::string markdown = "\n" + report::scene_markdown(score, times, relative_to(scene_dir, results));
+  outputs.set(scene_dir + "/times.csv", report::scene_times_csv(times));
+  scenes_phase.done(std::to_string(report::scene_runs(score).size()) + " runs");
+  return markdown;
+}
+
+// The options beside the trials' sources.
+struct Sources {
   std::string out_dir = "out", results = "results", objects, scenes, noises;
   std::string thesis;  // default: <share>/thesis/results.csv
-  report::Params p;
-  tool.add("--out", &out_dir, "experiment artifact directory");
-  tool.add("--results", &results,
+  std::string ablations, tile_score, families;
+};
+
+void bind(common::Tool& tool, Sources& src, report::Params& p) {
+  tool.add("--out", &src.out_dir, "experiment artifact directory");
+  tool.add("--results", &src.results,
            "directory for report.md, cases.csv, scores.csv, times.csv, areas.csv, verdicts.csv");
-  tool.add("--objects", &objects, "objects (space separated)")->required();
-  tool.add("--scenes", &scenes, "scenes (space separated)")->required();
-  tool.add("--noises", &noises, "noise levels in mm (space separated)")->required();
-  tool.add("--thesis", &thesis, "the thesis's results table (CSV; default: share/thesis/results.csv)");
-  std::string ablations;
-  tool.add("--ablations", &ablations,
+  tool.add("--objects", &src.objects, "objects (space separated)")->required();
+  tool.add("--scenes", &src.scenes, "scenes (space separated)")->required();
+  tool.add("--noises", &src.noises, "noise levels in mm (space separated)")->required();
+  tool.add("--thesis", &src.thesis, "the thesis's results table (CSV; default: share/thesis/results.csv)");
+  tool.add("--ablations", &src.ablations,
            "ablation variants, space separated NAME=STAGE+OPTIONS (results in OUT/ablation/NAME/)");
-  std::string tile_score;
   tool.add(
-      "--tile-score", &tile_score,
+      "--tile-score", &src.tile_score,
       "the scene experiment's score.json (canopy.scene_score v1): adds its section to report.md and writes "
       "times.csv beside it; its stages' .time files are found through its tiles");
-  std::string families;
-  tool.add("--families", &families,
+  tool.add("--families", &src.families,
            "the families protocol's results directory (confusion.csv, accuracy.csv from famscore; "
            "mk/families.mk): adds the \"Vehicle families\" section to report.md");
   tool.add("--max-segments", &p.max_segments, "largest object segments examined for spurious area");
@@ -99,135 +219,47 @@ int main(int argc, char** argv) {
   tool.add("--missing-area-ratio", &p.missing_area_ratio,
            "missing area when target area is below this x model's");
   tool.add("--spurious-share", &p.spurious_share, "spurious when non-target area share exceeds this");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  common::Tool tool("report", "Write the experiment report (Markdown + CSV) from out/ artifacts.");
+  tool.without_threads();
+  Sources src;
+  report::Params p;
+  bind(tool, src, p);
   return tool.run(argc, argv, [&] {
+    report::validate(p);
     // The six outputs are written together or not at all; their directory is checked now.
-    const std::vector<std::string> names = {"report.md", "cases.csv", "scores.csv",
-                                            "times.csv", "areas.csv", "verdicts.csv"};
+    const std::string& results = src.results;
     common::OutputSet outputs;
-    for (const auto& n : names) outputs.add(results + "/" + n, "--results");
+    for (const char* n : {"report.md", "cases.csv", "scores.csv", "times.csv", "areas.csv", "verdicts.csv"})
+      outputs.add(results + "/" + n, "--results");
     // The scene experiment's figures and times.csv live beside its score.json.
-    const std::string scene_dir = tile_score.empty() ? "" : parent_dir(tile_score);
-    if (!tile_score.empty()) outputs.add(scene_dir + "/times.csv", "--tile-score");
-    if (thesis.empty()) thesis = common::share_dir() + "/thesis/results.csv";
+    const std::string scene_dir = src.tile_score.empty() ? "" : parent_dir(src.tile_score);
+    if (!src.tile_score.empty()) outputs.add(scene_dir + "/times.csv", "--tile-score");
+    if (src.thesis.empty()) src.thesis = common::share_dir() + "/thesis/results.csv";
     common::log::Phase phase("read");
-    report::Inputs in;
-    in.objects = words(objects);
-    in.scenes = words(scenes);
-    for (const auto& n : words(noises)) {
-      // Decimal only: std::stoi read "0x10" as 0 and "8mm" as 8.
-      const std::string problem = common::detail::check_integer(n, true, 0, 1000000);
-      if (!problem.empty()) throw common::UsageError("--noises: " + problem + " (noise levels in whole mm)");
-      in.noises.push_back(std::stoi(n));
-    }
-    if (in.objects.empty() || in.scenes.empty() || in.noises.empty()) {
+    report::Inputs layout;
+    layout.objects = words(src.objects);
+    layout.scenes = words(src.scenes);
+    layout.noises = parse_noises(src.noises);
+    if (layout.objects.empty() || layout.scenes.empty() || layout.noises.empty()) {
       throw common::UsageError("--objects, --scenes and --noises must each name at least one");
     }
-    in.thesis = report::parse_thesis_csv(common::read_file(thesis), thesis);
-    for (const auto& o : in.objects) {
-      const std::string mb = out_dir + "/modelbase/" + o + ".json";
-      if (exists(mb)) in.models[o] = formats::read_segment_graph(mb);
-      for (const auto& s : in.scenes) {
-        in.render_times[o + "/" + s] = read_time(out_dir + "/" + o + "/" + s + "/scan.pcd");
-        for (int n : in.noises) {
-          report::Case c;
-          c.object = o;
-          c.scene = s;
-          c.noise_mm = n;
-          const std::string dir = out_dir + "/" + o + "/" + s + "/noise-" + std::to_string(n);
-          c.match = formats::read_match_result(dir + "/match.json");
-          c.segments = formats::read_segment_graph(dir + "/segments.json");
-          c.times["addnoise"] = read_time(dir + "/scan.pcd");
-          c.times["fitvox"] = read_time(dir + "/samples.pcd");
-          c.times["cocone"] = read_time(dir + "/mesh.ply");
-          c.times["ncut"] = read_time(dir + "/segments.json");
-          c.times["gmatch"] = read_time(dir + "/match.json");
-          c.times["verify"] = read_time(dir + "/verdict.json");
-          c.areas = report::read_areas(dir + "/areas.json");
-          // verify's answer: absent = not run; empty = verify failed (scripts/stage.sh
-          // --record-failure), counted as a failed trial.
-          const std::string verdict = dir + "/verdict.json";
-          if (exists(verdict)) {
-            const std::string text = common::read_file(verdict);
-            if (text.empty()) {
-              c.verdict_status = report::VerdictStatus::failed;
-            } else {
-              c.verdict = formats::parse_verdict(text, verdict);
-              c.verdict_status = report::VerdictStatus::read;
-            }
-          }
-          in.cases.push_back(std::move(c));
-        }
-      }
-    }
-    for (const auto& spec : words(ablations)) {
-      const auto eq = spec.find('=');
-      report::Ablation a;
-      a.name = spec.substr(0, eq);
-      a.change = eq == std::string::npos ? "" : spec.substr(eq + 1);
-      std::replace(a.change.begin(), a.change.end(), '+', ' ');
-      for (const auto& o : in.objects) {
-        for (const auto& s : in.scenes) {
-          for (int n : in.noises) {
-            const std::string path = out_dir + "/ablation/" + a.name + "/" + o + "/" + s + "/noise-" +
-                                     std::to_string(n) + "/match.json";
-            // An empty match.json records a stage that failed in this variant (scripts/stage.sh
-            // --record-failure): the trial counts as not recognised (rank 0).
-            const std::string text = common::read_file(path);
-            int rank = 0;
-            if (text.empty()) {
-              a.correct_rank[o + "/" + s + "/" + std::to_string(n)] = 0;
-              ++a.failed;
-              continue;
-            }
-            const formats::MatchResult m = formats::parse_match_result(text, path);
-            for (const auto& ms : m.models) {
-              if (ms.model == o) rank = ms.rank;
-            }
-            a.correct_rank[o + "/" + s + "/" + std::to_string(n)] = rank;
-          }
-        }
-      }
-      in.ablations.push_back(std::move(a));
-    }
-    for (const auto& s : in.scenes) {
-      in.render_views[s] = count_views(out_dir + "/" + in.objects.front() + "/" + s + "/scan.pcd");
-    }
-    for (const auto& s : in.scenes) in.figures.push_back("figures/grid-" + s + ".png");
-    in.figures.push_back("figures/scores.png");
-    for (const auto& o : in.objects) in.figures.push_back("pictures/" + o + ".png");
-    // The thesis's scene picture (Fig. 2.4; Makefile.experiments `pictures`) when its object and
-    // scene are in the experiment.
-    const auto has = [](const std::vector<std::string>& v, const char* x) {
-      return std::find(v.begin(), v.end(), x) != v.end();
-    };
-    if (has(in.objects, "tank") && has(in.scenes, "circle")) in.figures.push_back("pictures/tank-circle.png");
+    const report::Inputs in = read_inputs(src.out_dir, std::move(layout), src.thesis, src.ablations);
     phase.done(std::to_string(in.cases.size()) + " trials, " + std::to_string(in.models.size()) + " models");
-    const report::Output r = report::run(in, p);
+    const report::Output r = report::run(p, in);
     // The PCL baseline beside canopy (issue 17), when the trials have baseline.json.
-    const auto bl = report::baseline_section(out_dir, in.objects, in.scenes, in.noises);
+    const auto bl = report::baseline_section(src.out_dir, in.objects, in.scenes, in.noises);
     if (!bl.markdown.empty()) {
       outputs.add(results + "/baseline.csv", "--results");
       outputs.set(results + "/baseline.csv", bl.csv);
     }
     std::string markdown = r.markdown + bl.markdown;
-    if (!families.empty()) {
-      const std::string confusion = families + "/confusion.csv", accuracy = families + "/accuracy.csv";
-      for (const auto& f : {confusion, accuracy}) {
-        if (!exists(f))
-          throw common::DataError(f, "missing (--families: run `make -f Makefile.experiments families`)");
-      }
-      markdown += report::families_markdown(report::summarize_families(
-          common::read_file(confusion), confusion, common::read_file(accuracy), accuracy));
-    }
-    if (!tile_score.empty()) {
-      common::log::Phase scenes_phase("scenes");
-      const auto score =
-          formats::open_json_document(common::read_file(tile_score), tile_score, "canopy.scene_score");
-      const auto times = report::scene_times(report::scene_runs(score));
-      markdown += "\n" + report::scene_markdown(score, times, relative_to(scene_dir, results));
-      outputs.set(scene_dir + "/times.csv", report::scene_times_csv(times));
-      scenes_phase.done(std::to_string(report::scene_runs(score).size()) + " runs");
-    }
+    if (!src.families.empty()) markdown += families_section(src.families);
+    if (!src.tile_score.empty()) markdown += scenes_section(src.tile_score, scene_dir, results, outputs);
     outputs.set(results + "/report.md", markdown);
     outputs.set(results + "/cases.csv", r.cases_csv);
     outputs.set(results + "/scores.csv", r.scores_csv);

@@ -8,18 +8,21 @@
 
 #include <nlohmann/json.hpp>
 
+#include "canopy/formats/csv_table.h"
 #include "canopy/formats/match_result.h"
 #include "canopy/formats/segment_graph.h"
+#include "canopy/formats/stage_time.h"
 #include "canopy/formats/verdict.h"
 
 namespace canopy::report {
 
-// Wall time and peak memory of one stage run (from scripts/stage.sh's .time files).
-struct StageTime {
-  double seconds = 0;
-  double peak_mb = 0;
-  bool present = false;
-};
+// Wall time and peak memory of one stage run (scripts/stage.sh's .time files,
+// formats::read_stage_time); the thesis's results table (formats::parse_thesis_csv); the one
+// number formatter of the report's tables and Markdown (formats::format_number).
+using formats::format_number;
+using formats::parse_thesis_csv;
+using formats::StageTime;
+using formats::ThesisRow;
 
 // Target surface area at each stage of one trial (tools/areas: OUT/.../noise-<mm>/areas.json), m².
 struct AreaRow {
@@ -45,12 +48,6 @@ struct Case {
   AreaRow areas;
   VerdictStatus verdict_status = VerdictStatus::missing;
   formats::Verdict verdict;  // when verdict_status == read
-};
-
-struct ThesisRow {
-  double score = 0;
-  int rank = 0;
-  double entropy = 0;
 };
 
 // A variant of the experiment with one project default undone (out/ablation/<name>/).
@@ -79,6 +76,11 @@ struct Params {
   double missing_area_ratio = 0.6;  // target area / model area below this = missing area
   double spurious_share = 0.2;      // area share of non-target segments among the X largest
 };
+
+// Throws common::UsageError naming the option of the first parameter out of its range:
+// --max-segments >= 1, --overseg-ratio > 0, --missing-area-ratio >= 0, --spurious-share in
+// [0, 1] (all finite).
+void validate(const Params& params);
 
 // Ground-truth diagnostics of one case.
 struct Diagnosis {
@@ -158,6 +160,54 @@ double percentile(std::vector<double> values, double q);
 // areas.json of one trial; a missing file gives present = false.
 AreaRow read_areas(const std::string& path);
 
+// Thesis recognition rates as printed (Tables 6.1–6.5), percent, by object; the tables' own
+// rank-1 counts are computed from share/thesis/results.csv and shown beside them.
+extern const std::map<std::string, int> kThesisPrinted;
+
+// A rank-1 count over trials.
+struct Rate {
+  int right = 0, trials = 0;
+};
+
+// One ablation variant's rank-1 rates: per object (Inputs::objects order) and over its trials.
+struct AblationRates {
+  std::vector<Rate> per_object;
+  Rate all;
+  int failed = 0;  // trials where a stage failed (Ablation::failed)
+};
+
+// One stage summed over its runs (.time files present).
+struct StageTotal {
+  int runs = 0;
+  double seconds = 0;  // summed wall time
+  double peak_mb = 0;  // largest peak memory of one run
+};
+
+// Every number of the report, computed from the inputs; render() only formats them.
+struct Numbers {
+  std::vector<Diagnosis> diagnoses;               // one per case, Inputs::cases order
+  std::map<std::string, Diagnosis> by_key;        // "<object>/<scene>/<noise>" -> its diagnosis
+  std::map<std::string, Rate> per_object;         // canopy's rank-1 rate (every Inputs::objects entry)
+  std::map<std::string, Rate> thesis_per_object;  // the thesis table's, over the trials it lists
+  Rate all, thesis_all;
+  double mean_rate = 0;         // mean of the per-object rates (%), over Inputs::objects
+  double thesis_mean = 0;       // mean of kThesisPrinted over the objects it has (%)
+  int thesis_printed = 0;       // objects with a printed thesis rate
+  bool thesis_objects = false;  // the objects are the thesis's five (its overall ≈79% applies)
+  // Trials whose correct model is not rank 1, and how many show each diagnosed cause.
+  int failed = 0, over_segmented = 0, missing_area = 0, spurious = 0, unexplained = 0;
+  std::vector<AblationRates> ablations;  // Inputs::ablations order
+  std::vector<AreaSummary> areas;        // summarize_areas
+  VerifySummary verify;                  // summarize_verify
+  // Trial stages (addnoise ... verify, always present, zero without runs) and rangetrace (the
+  // renderings, Inputs::render_times).
+  std::map<std::string, StageTotal> stages;
+  int render_images = 0;     // images of the renderings (Inputs::render_views per scene)
+  double total_seconds = 0;  // summed over the stages but verify (beyond the thesis)
+};
+
+Numbers compute(const Inputs& in, const Params& p);
+
 struct Output {
   std::string markdown;
   std::string cases_csv, scores_csv, times_csv;
@@ -168,7 +218,11 @@ struct Output {
   std::string verdicts_csv;
 };
 
-Output run(const Inputs& in, const Params& p);
+// The Markdown and CSV tables of the numbers (the inputs give the trials' order and names).
+Output render(const Inputs& in, const Params& p, const Numbers& numbers);
+
+// render(in, p, compute(in, p)).
+Output run(const Params& p, const Inputs& in);
 
 // ---- the scene experiment (issue 16; docs/decisions/scene-experiment.md) -----------------
 // The numbers are computed by `score` (results/scenes/score.json, canopy.scene_score v1) and by
@@ -207,8 +261,5 @@ std::vector<SceneRun> scene_runs(const nlohmann::ordered_json& score);
 std::string scene_markdown(const nlohmann::ordered_json& score, const std::vector<SceneStageTime>& times,
                            const std::string& figures_dir);
 std::string scene_times_csv(const std::vector<SceneStageTime>& times);
-
-// Thesis results table (share/thesis/results.csv): object,scene,noise_mm,score,rank,entropy.
-std::map<std::string, ThesisRow> parse_thesis_csv(const std::string& text, const std::string& name);
 
 }  // namespace canopy::report

@@ -18,6 +18,7 @@ using namespace canopy;
 
 namespace {
 
+// Comma-separated numbers; their range is checked by score::validate.
 std::vector<double> parse_bins(const std::string& s) {
   std::vector<double> edges;
   std::stringstream ss(s);
@@ -32,12 +33,6 @@ std::vector<double> parse_bins(const std::string& s) {
       throw common::UsageError("--cover-bins: '" + item + "' is not a number");
     }
     edges.push_back(v);
-  }
-  if (edges.size() < 2) throw common::UsageError("--cover-bins needs at least two edges");
-  for (std::size_t i = 0; i < edges.size(); ++i) {
-    if (edges[i] < 0 || edges[i] > 1 || (i && edges[i] <= edges[i - 1])) {
-      throw common::UsageError("--cover-bins: edges must rise strictly within [0, 1]");
-    }
   }
   return edges;
 }
@@ -88,6 +83,54 @@ std::vector<score::Tile> load_manifest(const std::string& path) {
   return tiles;
 }
 
+// The command line: one tile (--detections, --truth, --noise, --cover) or many (--tiles).
+struct Options {
+  std::string detections, truth, manifest, cover, bins = "0,0.25,0.5,0.75,1", out = "-", csv;
+  double noise = -1;
+};
+
+void bind(common::Tool& tool, Options& o, score::Params& p) {
+  tool.add("-d,--detections", &o.detections, "one tile: its detections.json (canopy.detections v1)");
+  tool.add("-t,--truth", &o.truth, "one tile: its truth.json (canopy.scene_truth v1)");
+  tool.add("--noise", &o.noise, "one tile: its noise level in mm (-1 = not given)");
+  tool.add("--cover", &o.cover, "one tile: its cover level label (light, medium, dense, ...)");
+  tool.add("--tiles", &o.manifest, "many tiles: a file of lines DETECTIONS TRUTH [NOISE_MM [COVER]]");
+  tool.add_length("--match-radius", &p.match_radius,
+                  "a detection matches a true vehicle within this "
+                  "horizontal distance of its centre");
+  tool.add("--cover-bins", &o.bins, "edges of the per-vehicle canopy cover bins, comma-separated");
+  tool.add("--flip-threshold", &p.flip_threshold, "heading error (degrees) counted as a flip");
+  tool.add_output(&o.out, "score JSON (canopy.scene_score v1)");
+  tool.add("--csv", &o.csv,
+           "also write the tables as <PREFIX>summary.csv, pr.csv, models.csv, "
+           "cover_bins.csv, matches.csv");
+}
+
+// The choice between one tile and a manifest, and the one tile's noise level.
+void check_sources(const Options& o) {
+  if (o.manifest.empty() == (o.detections.empty() && o.truth.empty())) {
+    throw common::UsageError("give either --tiles or --detections with --truth");
+  }
+  if (o.manifest.empty() && (o.detections.empty() || o.truth.empty())) {
+    throw common::UsageError("--detections and --truth go together");
+  }
+  if (!o.manifest.empty() && (o.noise != -1 || !o.cover.empty())) {
+    throw common::UsageError("--noise and --cover are for one tile; the --tiles file gives them per tile");
+  }
+  if (!(o.noise == -1 || (o.noise >= 0 && o.noise < 1e6)))
+    throw common::UsageError("--noise must be >= 0 (mm) or -1");
+}
+
+// The INFO line: the overall summary row.
+std::string summary(std::size_t tiles, const nlohmann::ordered_json& all) {
+  auto show = [](const nlohmann::ordered_json& v) {
+    return v.is_number() ? std::to_string(v.get<double>()).substr(0, 5) : std::string("n/a");
+  };
+  return std::to_string(tiles) + " tiles, " + all["true"].dump() + " true vehicles, " +
+         all["detections"].dump() + " detections: precision " + show(all["precision"]) + ", recall " +
+         show(all["recall"]) + ", identification " + show(all["identification"]);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -97,77 +140,34 @@ int main(int argc, char** argv) {
                     "identification, pose errors, recognition against canopy cover and noise.");
   tool.without_threads();
   score::Params p;
-  std::string detections, truth, manifest, cover, bins = "0,0.25,0.5,0.75,1", out = "-", csv;
-  double noise = -1;
-  tool.add("-d,--detections", &detections, "one tile: its detections.json (canopy.detections v1)");
-  tool.add("-t,--truth", &truth, "one tile: its truth.json (canopy.scene_truth v1)");
-  tool.add("--noise", &noise, "one tile: its noise level in mm (-1 = not given)");
-  tool.add("--cover", &cover, "one tile: its cover level label (light, medium, dense, ...)");
-  tool.add("--tiles", &manifest, "many tiles: a file of lines DETECTIONS TRUTH [NOISE_MM [COVER]]");
-  tool.add_length("--match-radius", &p.match_radius,
-                  "a detection matches a true vehicle within this "
-                  "horizontal distance of its centre");
-  tool.add("--cover-bins", &bins, "edges of the per-vehicle canopy cover bins, comma-separated");
-  tool.add("--flip-threshold", &p.flip_threshold, "heading error (degrees) counted as a flip");
-  tool.add_output(&out, "score JSON (canopy.scene_score v1)");
-  tool.add("--csv", &csv,
-           "also write the tables as <PREFIX>summary.csv, pr.csv, models.csv, "
-           "cover_bins.csv, matches.csv");
+  Options o;
+  bind(tool, o, p);
   return tool.run(argc, argv, [&] {
-    if (manifest.empty() == (detections.empty() && truth.empty())) {
-      throw common::UsageError("give either --tiles or --detections with --truth");
-    }
-    if (manifest.empty() && (detections.empty() || truth.empty())) {
-      throw common::UsageError("--detections and --truth go together");
-    }
-    if (!manifest.empty() && (noise != -1 || !cover.empty())) {
-      throw common::UsageError("--noise and --cover are for one tile; the --tiles file gives them per tile");
-    }
-    if (!(noise == -1 || (noise >= 0 && noise < 1e6)))
-      throw common::UsageError("--noise must be >= 0 (mm) or -1");
-    if (!(p.match_radius > 0 && p.match_radius <= 100))
-      throw common::UsageError("--match-radius must be in (0, 100m]");
-    if (!(p.flip_threshold > 0 && p.flip_threshold <= 180))
-      throw common::UsageError("--flip-threshold must be in (0, 180]");
-    p.cover_bins = parse_bins(bins);
+    check_sources(o);
+    p.cover_bins = parse_bins(o.bins);
+    score::validate(p);
     static const char* tables[] = {"summary", "pr", "models", "cover_bins", "matches"};
     common::OutputSet outputs;
-    outputs.add(out, "-o");
-    if (!csv.empty()) {
-      for (const char* t : tables) outputs.add(csv + t + ".csv", "--csv");
+    outputs.add(o.out, "-o");
+    if (!o.csv.empty()) {
+      for (const char* t : tables) outputs.add(o.csv + t + ".csv", "--csv");
     }
-    const std::vector<score::Tile> tiles =
-        manifest.empty()
-            ? std::vector<score::Tile>{load(detections, truth, noise == -1 ? std::nan("") : noise, cover)}
-            : load_manifest(manifest);
-    nlohmann::ordered_json result = score::score(tiles, p);
-    nlohmann::ordered_json params = nlohmann::ordered_json::object();
-    for (const auto& [k, v] : tool.parameters()) params[k] = v;
-    nlohmann::ordered_json inputs = nlohmann::ordered_json::array();
-    for (const auto& t : tiles) {
-      inputs.push_back(t.detections.name);
-      inputs.push_back(t.truth.name);
+    score::Inputs in;
+    in.tiles = o.manifest.empty()
+                   ? std::vector<score::Tile>{load(o.detections, o.truth,
+                                                   o.noise == -1 ? std::nan("") : o.noise, o.cover)}
+                   : load_manifest(o.manifest);
+    in.provenance = {"score", CANOPY_VERSION, tool.parameters(), {}};
+    for (const auto& t : in.tiles) {
+      in.provenance.inputs.push_back(t.detections.name);
+      in.provenance.inputs.push_back(t.truth.name);
     }
-    nlohmann::ordered_json doc{
-        {"format", result["format"]},
-        {"version", result["version"]},
-        {"provenance",
-         {{"tool", "score"}, {"version", CANOPY_VERSION}, {"parameters", params}, {"inputs", inputs}}}};
-    for (const auto& [k, v] : result.items()) {
-      if (k != "format" && k != "version") doc[k] = v;
-    }
-    result = std::move(doc);
-    const auto& all = result["summary"][0];
-    outputs.set(out, result.dump(1) + "\n");
-    if (!csv.empty()) {
-      for (const char* t : tables) outputs.set(csv + t + ".csv", score::csv(result, t));
+    const nlohmann::ordered_json result = score::run(p, in);
+    outputs.set(o.out, result.dump(1) + "\n");
+    if (!o.csv.empty()) {
+      for (const char* t : tables) outputs.set(o.csv + t + ".csv", score::csv(result, t));
     }
     outputs.commit();
-    auto show = [](const nlohmann::ordered_json& v) {
-      return v.is_number() ? std::to_string(v.get<double>()).substr(0, 5) : std::string("n/a");
-    };
-    common::log::info(std::to_string(tiles.size()) + " tiles, " + all["true"].dump() + " true vehicles, " +
-                      all["detections"].dump() + " detections: precision " + show(all["precision"]) +
-                      ", recall " + show(all["recall"]) + ", identification " + show(all["identification"]));
+    common::log::info(summary(in.tiles.size(), result["summary"][0]));
   });
 }

@@ -9,20 +9,15 @@
 
 #include "canopy/common/error.h"
 #include "canopy/formats/json_document.h"
+#include "canopy/formats/provenance.h"
 
 namespace canopy::score {
 namespace {
 
 using Json = nlohmann::ordered_json;
 
-struct Malformed : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
-
-const Json& member(const Json& j, const char* key, const std::string& where) {
-  if (!j.is_object() || !j.contains(key)) throw Malformed(where + ": missing \"" + key + "\"");
-  return j.at(key);
-}
+using Malformed = formats::MalformedField;
+constexpr auto member = formats::json_member;
 
 double number(const Json& j, const char* key, const std::string& where) {
   const Json& v = member(j, key, where);
@@ -183,82 +178,95 @@ double percentile(std::vector<double> v, double p) {
   return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
 }
 
-Json score(const std::vector<Tile>& tiles, const Params& params) {
-  std::vector<TileMatch> matches;
-  for (const Tile& t : tiles) matches.push_back(match_tile(t.detections, t.truth, params.match_radius));
+namespace {
 
-  auto tally = [&](const std::vector<std::size_t>& which) {
-    Tally s;
-    for (std::size_t i : which) {
-      const Tile& t = tiles[i];
-      const TileMatch& m = matches[i];
-      s.tiles++;
-      s.area += t.truth.extent_x * t.truth.extent_y / 1e4;
-      s.candidates += t.detections.candidates;
-      s.none += t.detections.none;
-      s.detections += static_cast<int>(t.detections.detections.size());
-      s.truths += static_cast<int>(t.truth.vehicles.size());
-      for (const auto& v : t.truth.vehicles) s.cover_sum += v.cover;
-      for (std::size_t d = 0; d < m.truth_of.size(); ++d) {
-        if (m.truth_of[d] < 0) continue;
-        s.tp++;
-        const Detection& det = t.detections.detections[d];
-        const TrueVehicle& tv = t.truth.vehicles[m.truth_of[d]];
-        if (det.model != tv.model) continue;
-        s.identified++;
-        s.position.push_back(std::hypot(det.x - tv.x, det.y - tv.y));
-        const double he = heading_error(det.heading, tv.heading);
-        s.heading.push_back(he);
-        if (he > params.flip_threshold) s.flips++;
-      }
-    }
-    return s;
-  };
-  auto summary = [&](const Tally& s, const Json& cover, const Json& noise) {
-    const int fp = s.detections - s.tp, fn = s.truths - s.tp;
-    const Json precision = ratio(s.tp, s.detections), recall = ratio(s.tp, s.truths);
-    Json f1 = nullptr;
-    if (precision.is_number() && recall.is_number()) {
-      const double p = precision.get<double>(), r = recall.get<double>();
-      f1 = p + r > 0 ? 2 * p * r / (p + r) : 0.0;
-    }
-    return Json{{"cover", cover},
-                {"noise_mm", noise},
-                {"tiles", s.tiles},
-                {"area_ha", s.area},
-                {"true", s.truths},
-                {"candidates", s.candidates},
-                {"none", s.none},
-                {"detections", s.detections},
-                {"tp", s.tp},
-                {"fp", fp},
-                {"fn", fn},
-                {"precision", precision},
-                {"recall", recall},
-                {"f1", f1},
-                {"false_alarms_per_ha", ratio(fp, s.area)},
-                {"identified", s.identified},
-                {"identification", ratio(s.identified, s.tp)},
-                {"recognition", ratio(s.identified, s.truths)},
-                {"mean_vehicle_cover", ratio(s.cover_sum, s.truths)},
-                {"position_error_median_m", maybe(percentile(s.position, 50))},
-                {"position_error_p90_m", maybe(percentile(s.position, 90))},
-                {"heading_error_median_deg", maybe(percentile(s.heading, 50))},
-                {"heading_error_p90_deg", maybe(percentile(s.heading, 90))},
-                {"flips", s.flips}};
-  };
-
-  // The groups: all tiles, each cover label, each noise level, each label x noise.
-  std::vector<std::string> covers;
-  std::vector<double> noises;
-  for (const Tile& t : tiles) {
-    if (!t.cover.empty() && std::find(covers.begin(), covers.end(), t.cover) == covers.end())
-      covers.push_back(t.cover);
-    if (std::isfinite(t.noise_mm) && std::find(noises.begin(), noises.end(), t.noise_mm) == noises.end()) {
-      noises.push_back(t.noise_mm);
+// Everything measured on the tiles `which`.
+Tally tally(const std::vector<Tile>& tiles, const std::vector<TileMatch>& matches,
+            const std::vector<std::size_t>& which, const Params& params) {
+  Tally s;
+  for (std::size_t i : which) {
+    const Tile& t = tiles[i];
+    const TileMatch& m = matches[i];
+    s.tiles++;
+    s.area += t.truth.extent_x * t.truth.extent_y / 1e4;
+    s.candidates += t.detections.candidates;
+    s.none += t.detections.none;
+    s.detections += static_cast<int>(t.detections.detections.size());
+    s.truths += static_cast<int>(t.truth.vehicles.size());
+    for (const auto& v : t.truth.vehicles) s.cover_sum += v.cover;
+    for (std::size_t d = 0; d < m.truth_of.size(); ++d) {
+      if (m.truth_of[d] < 0) continue;
+      s.tp++;
+      const Detection& det = t.detections.detections[d];
+      const TrueVehicle& tv = t.truth.vehicles[m.truth_of[d]];
+      if (det.model != tv.model) continue;
+      s.identified++;
+      s.position.push_back(std::hypot(det.x - tv.x, det.y - tv.y));
+      const double he = heading_error(det.heading, tv.heading);
+      s.heading.push_back(he);
+      if (he > params.flip_threshold) s.flips++;
     }
   }
-  std::sort(noises.begin(), noises.end());
+  return s;
+}
+
+// One row of the summary table: the rates of a tally.
+Json summary(const Tally& s, const Json& cover, const Json& noise) {
+  const int fp = s.detections - s.tp, fn = s.truths - s.tp;
+  const Json precision = ratio(s.tp, s.detections), recall = ratio(s.tp, s.truths);
+  Json f1 = nullptr;
+  if (precision.is_number() && recall.is_number()) {
+    const double p = precision.get<double>(), r = recall.get<double>();
+    f1 = p + r > 0 ? 2 * p * r / (p + r) : 0.0;
+  }
+  return Json{{"cover", cover},
+              {"noise_mm", noise},
+              {"tiles", s.tiles},
+              {"area_ha", s.area},
+              {"true", s.truths},
+              {"candidates", s.candidates},
+              {"none", s.none},
+              {"detections", s.detections},
+              {"tp", s.tp},
+              {"fp", fp},
+              {"fn", fn},
+              {"precision", precision},
+              {"recall", recall},
+              {"f1", f1},
+              {"false_alarms_per_ha", ratio(fp, s.area)},
+              {"identified", s.identified},
+              {"identification", ratio(s.identified, s.tp)},
+              {"recognition", ratio(s.identified, s.truths)},
+              {"mean_vehicle_cover", ratio(s.cover_sum, s.truths)},
+              {"position_error_median_m", maybe(percentile(s.position, 50))},
+              {"position_error_p90_m", maybe(percentile(s.position, 90))},
+              {"heading_error_median_deg", maybe(percentile(s.heading, 50))},
+              {"heading_error_p90_deg", maybe(percentile(s.heading, 90))},
+              {"flips", s.flips}};
+}
+
+// The tiles' cover labels (first appearance) and noise levels (sorted).
+struct Groups {
+  std::vector<std::string> covers;
+  std::vector<double> noises;
+};
+
+Groups groups(const std::vector<Tile>& tiles) {
+  Groups g;
+  for (const Tile& t : tiles) {
+    if (!t.cover.empty() && std::find(g.covers.begin(), g.covers.end(), t.cover) == g.covers.end())
+      g.covers.push_back(t.cover);
+    if (std::isfinite(t.noise_mm) && std::find(g.noises.begin(), g.noises.end(), t.noise_mm) == g.noises.end()) {
+      g.noises.push_back(t.noise_mm);
+    }
+  }
+  std::sort(g.noises.begin(), g.noises.end());
+  return g;
+}
+
+// The summary rows: all tiles, each cover label, each noise level, each label x noise.
+Json summaries(const std::vector<Tile>& tiles, const std::vector<TileMatch>& matches, const Params& params,
+               const Groups& g) {
   auto select = [&](const std::string* cover, const double* noise) {
     std::vector<std::size_t> which;
     for (std::size_t i = 0; i < tiles.size(); ++i) {
@@ -268,17 +276,23 @@ Json score(const std::vector<Tile>& tiles, const Params& params) {
     }
     return which;
   };
-  Json summaries = Json::array();
-  summaries.push_back(summary(tally(select(nullptr, nullptr)), "all", "all"));
-  for (const auto& c : covers) summaries.push_back(summary(tally(select(&c, nullptr)), c, "all"));
-  for (double n : noises) summaries.push_back(summary(tally(select(nullptr, &n)), "all", n));
-  if (!covers.empty() && !noises.empty()) {
-    for (const auto& c : covers) {
-      for (double n : noises) summaries.push_back(summary(tally(select(&c, &n)), c, n));
+  auto row = [&](const std::string* cover, const double* noise, const Json& c, const Json& n) {
+    return summary(tally(tiles, matches, select(cover, noise), params), c, n);
+  };
+  Json rows = Json::array();
+  rows.push_back(row(nullptr, nullptr, "all", "all"));
+  for (const auto& c : g.covers) rows.push_back(row(&c, nullptr, c, "all"));
+  for (double n : g.noises) rows.push_back(row(nullptr, &n, "all", n));
+  if (!g.covers.empty() && !g.noises.empty()) {
+    for (const auto& c : g.covers) {
+      for (double n : g.noises) rows.push_back(row(&c, &n, c, n));
     }
   }
+  return rows;
+}
 
-  // Precision-recall over the confidence (all tiles): one point per distinct confidence.
+// Precision-recall over the confidence (all tiles): one point per distinct confidence.
+Json pr_curve(const std::vector<Tile>& tiles, const std::vector<TileMatch>& matches) {
   struct Ranked {
     double confidence;
     std::size_t tile;
@@ -312,11 +326,14 @@ Json score(const std::vector<Tile>& tiles, const Params& params) {
                       {"precision", ratio(tp, n)},
                       {"recall", ratio(tp, truths)}});
   }
+  return pr;
+}
 
-  // Identification and recognition per true model, over all tiles and per cover label.
+// Identification and recognition per true model, over all tiles and per cover label.
+Json model_table(const std::vector<Tile>& tiles, const std::vector<TileMatch>& matches, const Groups& g) {
   Json models = Json::array();
   std::vector<std::string> cover_groups{"all"};
-  cover_groups.insert(cover_groups.end(), covers.begin(), covers.end());
+  cover_groups.insert(cover_groups.end(), g.covers.begin(), g.covers.end());
   for (const auto& c : cover_groups) {
     std::map<std::string, std::array<int, 3>> per;  // true, matched, identified
     for (std::size_t i = 0; i < tiles.size(); ++i) {
@@ -342,115 +359,163 @@ Json score(const std::vector<Tile>& tiles, const Params& params) {
                             {"recognition", ratio(a[2], a[0])}});
     }
   }
+  return models;
+}
 
-  // Recall and recognition against the measured per-vehicle canopy cover, overall and per noise.
+// One cover bin [lo, hi) ([lo, hi] for the last) over the tiles of noise level *n (all: null).
+Json cover_bin(const std::vector<Tile>& tiles, const std::vector<TileMatch>& matches, const double* n,
+               double lo, double hi, bool last) {
+  int total = 0, detected = 0, recognised = 0;
+  for (std::size_t i = 0; i < tiles.size(); ++i) {
+    if (n && tiles[i].noise_mm != *n) continue;
+    for (std::size_t t = 0; t < tiles[i].truth.vehicles.size(); ++t) {
+      const TrueVehicle& tv = tiles[i].truth.vehicles[t];
+      if (tv.cover < lo || (last ? tv.cover > hi : tv.cover >= hi)) continue;
+      total++;
+      const int d = matches[i].detection_of[t];
+      if (d < 0) continue;
+      detected++;
+      if (tiles[i].detections.detections[d].model == tv.model) recognised++;
+    }
+  }
+  return Json{{"cover_lo", lo},
+              {"cover_hi", hi},
+              {"noise_mm", n ? Json(*n) : Json("all")},
+              {"true", total},
+              {"detected", detected},
+              {"recognised", recognised},
+              {"recall", ratio(detected, total)},
+              {"recognition", ratio(recognised, total)}};
+}
+
+// Recall and recognition against the measured per-vehicle canopy cover, overall and per noise.
+Json cover_bins(const std::vector<Tile>& tiles, const std::vector<TileMatch>& matches, const Params& params,
+                const Groups& g) {
   Json bins = Json::array();
   const auto& edges = params.cover_bins;
   std::vector<const double*> noise_groups{nullptr};
-  for (const double& n : noises) noise_groups.push_back(&n);
+  for (const double& n : g.noises) noise_groups.push_back(&n);
   for (const double* n : noise_groups) {
     for (std::size_t b = 0; b + 1 < edges.size(); ++b) {
-      const bool last = b + 2 == edges.size();
-      int total = 0, detected = 0, recognised = 0;
-      for (std::size_t i = 0; i < tiles.size(); ++i) {
-        if (n && tiles[i].noise_mm != *n) continue;
-        for (std::size_t t = 0; t < tiles[i].truth.vehicles.size(); ++t) {
-          const TrueVehicle& tv = tiles[i].truth.vehicles[t];
-          if (tv.cover < edges[b] || (last ? tv.cover > edges[b + 1] : tv.cover >= edges[b + 1])) continue;
-          total++;
-          const int d = matches[i].detection_of[t];
-          if (d < 0) continue;
-          detected++;
-          if (tiles[i].detections.detections[d].model == tv.model) recognised++;
-        }
-      }
-      bins.push_back(Json{{"cover_lo", edges[b]},
-                          {"cover_hi", edges[b + 1]},
-                          {"noise_mm", n ? Json(*n) : Json("all")},
-                          {"true", total},
-                          {"detected", detected},
-                          {"recognised", recognised},
-                          {"recall", ratio(detected, total)},
-                          {"recognition", ratio(recognised, total)}});
+      bins.push_back(cover_bin(tiles, matches, n, edges[b], edges[b + 1], b + 2 == edges.size()));
     }
   }
+  return bins;
+}
 
-  // One row per detection and per missed vehicle (the top-view pictures colour by outcome).
+// One row per detection (by falling confidence) and per missed vehicle of tile i (the top-view
+// pictures colour by outcome); returns the tile's true positives.
+int outcome_rows(const Tile& t, const TileMatch& m, std::size_t i, Json& rows) {
+  int tp_i = 0;
+  for (int d : m.order) {
+    const Detection& det = t.detections.detections[d];
+    Json r{{"tile", i},
+           {"candidate", det.candidate},
+           {"model", det.model},
+           {"confidence", det.confidence},
+           {"x", det.x},
+           {"y", det.y},
+           {"heading", det.heading}};
+    if (m.truth_of[d] >= 0) {
+      tp_i++;
+      const TrueVehicle& tv = t.truth.vehicles[m.truth_of[d]];
+      r["outcome"] = det.model == tv.model ? "right" : "wrong";
+      r["instance"] = tv.instance;
+      r["true_model"] = tv.model;
+      r["cover"] = tv.cover;
+      r["distance_m"] = std::hypot(det.x - tv.x, det.y - tv.y);
+      r["heading_error_deg"] = heading_error(det.heading, tv.heading);
+    } else {
+      r["outcome"] = "false_alarm";
+      r["instance"] = nullptr;
+      r["true_model"] = nullptr;
+      r["cover"] = nullptr;
+      r["distance_m"] = nullptr;
+      r["heading_error_deg"] = nullptr;
+    }
+    rows.push_back(std::move(r));
+  }
+  for (std::size_t v = 0; v < t.truth.vehicles.size(); ++v) {
+    if (m.detection_of[v] >= 0) continue;
+    const TrueVehicle& tv = t.truth.vehicles[v];
+    rows.push_back(Json{{"tile", i},
+                        {"candidate", nullptr},
+                        {"model", nullptr},
+                        {"confidence", nullptr},
+                        {"x", tv.x},
+                        {"y", tv.y},
+                        {"heading", tv.heading},
+                        {"outcome", "missed"},
+                        {"instance", tv.instance},
+                        {"true_model", tv.model},
+                        {"cover", tv.cover},
+                        {"distance_m", nullptr},
+                        {"heading_error_deg", nullptr}});
+  }
+  return tp_i;
+}
+
+Json tile_json(const Tile& t, int tp_i) {
+  const int n_det = static_cast<int>(t.detections.detections.size());
+  const int n_true = static_cast<int>(t.truth.vehicles.size());
+  return Json{{"detections", t.detections.name},
+              {"truth", t.truth.name},
+              {"cover", t.cover.empty() ? Json(nullptr) : Json(t.cover)},
+              {"noise_mm", maybe(t.noise_mm)},
+              {"area_ha", t.truth.extent_x * t.truth.extent_y / 1e4},
+              {"true", n_true},
+              {"tp", tp_i},
+              {"fp", n_det - tp_i},
+              {"fn", n_true - tp_i}};
+}
+
+}  // namespace
+
+Json score(const std::vector<Tile>& tiles, const Params& params) {
+  std::vector<TileMatch> matches;
+  for (const Tile& t : tiles) matches.push_back(match_tile(t.detections, t.truth, params.match_radius));
+  const Groups g = groups(tiles);
   Json rows = Json::array();
   Json tile_list = Json::array();
   for (std::size_t i = 0; i < tiles.size(); ++i) {
-    const Tile& t = tiles[i];
-    const TileMatch& m = matches[i];
-    int tp_i = 0;
-    for (int d : m.order) {
-      const Detection& det = t.detections.detections[d];
-      Json r{{"tile", i},
-             {"candidate", det.candidate},
-             {"model", det.model},
-             {"confidence", det.confidence},
-             {"x", det.x},
-             {"y", det.y},
-             {"heading", det.heading}};
-      if (m.truth_of[d] >= 0) {
-        tp_i++;
-        const TrueVehicle& tv = t.truth.vehicles[m.truth_of[d]];
-        r["outcome"] = det.model == tv.model ? "right" : "wrong";
-        r["instance"] = tv.instance;
-        r["true_model"] = tv.model;
-        r["cover"] = tv.cover;
-        r["distance_m"] = std::hypot(det.x - tv.x, det.y - tv.y);
-        r["heading_error_deg"] = heading_error(det.heading, tv.heading);
-      } else {
-        r["outcome"] = "false_alarm";
-        r["instance"] = nullptr;
-        r["true_model"] = nullptr;
-        r["cover"] = nullptr;
-        r["distance_m"] = nullptr;
-        r["heading_error_deg"] = nullptr;
-      }
-      rows.push_back(std::move(r));
-    }
-    for (std::size_t v = 0; v < t.truth.vehicles.size(); ++v) {
-      if (m.detection_of[v] >= 0) continue;
-      const TrueVehicle& tv = t.truth.vehicles[v];
-      rows.push_back(Json{{"tile", i},
-                          {"candidate", nullptr},
-                          {"model", nullptr},
-                          {"confidence", nullptr},
-                          {"x", tv.x},
-                          {"y", tv.y},
-                          {"heading", tv.heading},
-                          {"outcome", "missed"},
-                          {"instance", tv.instance},
-                          {"true_model", tv.model},
-                          {"cover", tv.cover},
-                          {"distance_m", nullptr},
-                          {"heading_error_deg", nullptr}});
-    }
-    const int n_det = static_cast<int>(t.detections.detections.size());
-    const int n_true = static_cast<int>(t.truth.vehicles.size());
-    tile_list.push_back(Json{{"detections", t.detections.name},
-                             {"truth", t.truth.name},
-                             {"cover", t.cover.empty() ? Json(nullptr) : Json(t.cover)},
-                             {"noise_mm", maybe(t.noise_mm)},
-                             {"area_ha", t.truth.extent_x * t.truth.extent_y / 1e4},
-                             {"true", n_true},
-                             {"tp", tp_i},
-                             {"fp", n_det - tp_i},
-                             {"fn", n_true - tp_i}});
+    tile_list.push_back(tile_json(tiles[i], outcome_rows(tiles[i], matches[i], i, rows)));
   }
-
   return Json{{"format", "canopy.scene_score"},
               {"version", 1},
               {"params", Json{{"match_radius_m", params.match_radius},
                               {"cover_bins", params.cover_bins},
                               {"flip_threshold_deg", params.flip_threshold}}},
               {"tiles", tile_list},
-              {"summary", summaries},
-              {"pr", pr},
-              {"models", models},
-              {"cover_bins", bins},
+              {"summary", summaries(tiles, matches, params, g)},
+              {"pr", pr_curve(tiles, matches)},
+              {"models", model_table(tiles, matches, g)},
+              {"cover_bins", cover_bins(tiles, matches, params, g)},
               {"matches", rows}};
+}
+
+void validate(const Params& params) {
+  if (!(params.match_radius > 0 && params.match_radius <= 100))
+    throw common::UsageError("--match-radius must be in (0, 100m]");
+  if (!(params.flip_threshold > 0 && params.flip_threshold <= 180))
+    throw common::UsageError("--flip-threshold must be in (0, 180]");
+  const auto& edges = params.cover_bins;
+  if (edges.size() < 2) throw common::UsageError("--cover-bins needs at least two edges");
+  for (std::size_t i = 0; i < edges.size(); ++i) {
+    if (edges[i] < 0 || edges[i] > 1 || (i && edges[i] <= edges[i - 1])) {
+      throw common::UsageError("--cover-bins: edges must rise strictly within [0, 1]");
+    }
+  }
+}
+
+Json run(const Params& params, const Inputs& inputs) {
+  Json result = score(inputs.tiles, params);
+  Json doc{{"format", result["format"]},
+           {"version", result["version"]},
+           {"provenance", formats::provenance_json(inputs.provenance)}};
+  for (const auto& [k, v] : result.items()) {
+    if (k != "format" && k != "version") doc[k] = v;
+  }
+  return doc;
 }
 
 std::string csv(const Json& score, const std::string& table) {

@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "canopy/formats/provenance.h"
+
 namespace canopy::score {
 
 struct TrueVehicle {
@@ -59,6 +61,11 @@ struct Params {
   double flip_threshold = 90;                             // heading error (deg) counted as a flip
 };
 
+// Throws common::UsageError naming the option of the first parameter out of its range:
+// --match-radius in (0, 100 m], --flip-threshold in (0, 180], --cover-bins at least two edges
+// rising strictly within [0, 1].
+void validate(const Params& params);
+
 // Readers: check "format" and "version", name the file and the field in every error
 // (common::DataError, exit code 1).
 Truth parse_truth(const std::string& text, const std::string& name);
@@ -83,6 +90,16 @@ double percentile(std::vector<double> values, double p);
 
 // The whole score: a canopy.scene_score document (without provenance, added by the caller).
 nlohmann::ordered_json score(const std::vector<Tile>& tiles, const Params& params);
+
+// The tiles of an experiment and who scores them from what.
+struct Inputs {
+  std::vector<Tile> tiles;
+  formats::Provenance provenance;
+};
+
+// The canopy.scene_score document: score(inputs.tiles, params) with the provenance after
+// "format" and "version".
+nlohmann::ordered_json run(const Params& params, const Inputs& inputs);
 
 // CSV tables of a score document: "summary", "pr", "models", "cover_bins", "matches".
 std::string csv(const nlohmann::ordered_json& score, const std::string& table);

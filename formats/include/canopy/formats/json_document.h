@@ -2,6 +2,7 @@
 // detections, scene truth): one parser with bounded nesting and errors that name the file.
 #pragma once
 
+#include <stdexcept>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -14,5 +15,15 @@ namespace canopy::formats {
 // levels (refused before parsing: the library's recursive copy would overflow the stack), no
 // or another "format", no integer or an unsupported "version".
 nlohmann::ordered_json open_json_document(const std::string& text, const std::string& name, const char* format);
+
+// A malformed field found while reading a document's members: the reader catches it and throws
+// common::DataError naming the file with this text ("vehicles[2]: missing \"pose\"").
+struct MalformedField : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// j[key]. Throws MalformedField("<where>: missing \"<key>\"") when j is not an object or lacks key.
+const nlohmann::ordered_json& json_member(const nlohmann::ordered_json& j, const char* key,
+                                          const std::string& where);
 
 }  // namespace canopy::formats

@@ -6,6 +6,8 @@
 #include <utility>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 namespace canopy::formats {
 
 // Who wrote a document and from what.
@@ -22,5 +24,9 @@ struct Provenance {
 //   parameter <name> = <value>    one per option, in the order given
 //   input <path>                  one per input, as given
 std::vector<std::string> provenance_comments(const Provenance& provenance);
+
+// The same provenance as the "provenance" object of a canopy JSON document:
+//   {"tool": ..., "version": ..., "parameters": {name: value, ...}, "inputs": [path, ...]}
+nlohmann::ordered_json provenance_json(const Provenance& provenance);
 
 }  // namespace canopy::formats

@@ -1,0 +1,151 @@
+// report::compute: the numbers of the report from hand-built trials with known answers (the
+// Markdown only renders these; test_report.cpp checks a few rendered rows).
+#include <catch2/catch.hpp>
+
+#include "canopy/common/error.h"
+#include "report/report.h"
+#include "trials.h"
+
+using namespace canopy;
+using report::testing::seg;
+using report::testing::trial;
+
+namespace {
+
+report::StageTime took(double seconds, double peak_mb) { return {seconds, peak_mb, true}; }
+
+// sedan: 2 of 2 at rank 1; tank: 1 of 3 (one failure over-segmented, one missing area); obj9:
+// a model the thesis never printed and the modelbase lacks, 0 of 1 (no cause found).
+report::Inputs hand_built() {
+  report::Inputs in;
+  in.objects = {"sedan", "tank", "obj9"};
+  in.scenes = {"circle", "flyby"};
+  in.noises = {0, 8};
+  formats::SegmentGraph tank_model;
+  tank_model.segments = {seg(0, 5, 1), seg(1, 5, 1)};  // 2 segments, 10 m²
+  in.models["tank"] = tank_model;
+  report::Case over = trial("tank", "circle", 8, 2);  // 4 target segments > 1.5 x 2; 9 m² >= 0.6 x 10
+  over.segments.segments = {seg(0, 3, 1), seg(1, 2, 1), seg(2, 2, 1), seg(3, 2, 1)};
+  in.cases = {trial("sedan", "circle", 0, 1), trial("sedan", "flyby", 8, 1),
+              trial("tank", "circle", 0, 1),  over,
+              trial("tank", "flyby", 0, 2),   trial("obj9", "circle", 0, 2)};
+  in.cases[0].times = {{"addnoise", took(1.5, 10)}, {"fitvox", took(4, 300)}, {"verify", took(100, 50)}};
+  in.cases[1].times = {{"addnoise", took(2.5, 30)}, {"fitvox", report::StageTime{}}};
+  in.cases[2].times = {{"gmatch", took(0.25, 5)}};
+  // The thesis table lists two trials: sedan/circle/0 at rank 1, tank/circle/0 at rank 2.
+  in.thesis = {{"sedan/circle/0", {0.6, 1, 1.5}}, {"tank/circle/0", {0.5, 2, 2.0}}};
+  in.render_times = {{"sedan/circle", took(10, 700)}, {"tank/circle", took(20, 900)}, {"tank/flyby", {}}};
+  in.render_views = {{"circle", 3}, {"flyby", 5}};
+  return in;
+}
+
+}  // namespace
+
+TEST_CASE("numbers: rank-1 rates per object and overall, beside the thesis table's") {
+  const auto n = report::compute(hand_built(), report::Params{});
+  CHECK(n.per_object.at("sedan").right == 2);
+  CHECK(n.per_object.at("sedan").trials == 2);
+  CHECK(n.per_object.at("tank").right == 1);
+  CHECK(n.per_object.at("tank").trials == 3);
+  CHECK(n.per_object.at("obj9").right == 0);
+  CHECK(n.all.right == 3);
+  CHECK(n.all.trials == 6);
+  CHECK(n.thesis_per_object.at("sedan").right == 1);
+  CHECK(n.thesis_per_object.at("tank").right == 0);
+  CHECK(n.thesis_per_object.at("tank").trials == 1);
+  CHECK(n.thesis_per_object.at("obj9").trials == 0);
+  CHECK(n.thesis_all.right == 1);
+  CHECK(n.thesis_all.trials == 2);
+  // Mean of the rates 100%, 33.3% and 0% over the three objects; the thesis's over the two it
+  // printed (sedan 100%, tank 50%); its five objects are not all here.
+  CHECK(n.mean_rate == Approx((100.0 + 100.0 / 3 + 0) / 3));
+  CHECK(n.thesis_mean == Approx(75.0));
+  CHECK(n.thesis_printed == 2);
+  CHECK_FALSE(n.thesis_objects);
+}
+
+TEST_CASE("numbers: failures and their diagnosed causes") {
+  const auto n = report::compute(hand_built(), report::Params{});
+  REQUIRE(n.diagnoses.size() == 6);
+  CHECK(n.diagnoses[3].correct_rank == 2);
+  CHECK(n.diagnoses[3].target_segments == 4);
+  CHECK(n.diagnoses[3].model_segments == 2);
+  CHECK(n.by_key.at("tank/circle/8").target_area == Approx(9.0));
+  CHECK(n.failed == 3);
+  CHECK(n.over_segmented == 1);
+  CHECK(n.missing_area == 1);  // tank/flyby/0: no target segment, 0 m² < 0.6 x 10 m²
+  CHECK(n.spurious == 0);
+  CHECK(n.unexplained == 1);  // obj9: no segments and no model to compare with
+  report::Params strict;
+  strict.missing_area_ratio = 1.0;  // tank/circle/8 too: 9 m² < 1 x 10 m²
+  CHECK(report::compute(hand_built(), strict).missing_area == 2);
+}
+
+TEST_CASE("numbers: stage times summed over runs, renderings beside them, verify outside the total") {
+  const auto n = report::compute(hand_built(), report::Params{});
+  const auto& addnoise = n.stages.at("addnoise");
+  CHECK(addnoise.runs == 2);
+  CHECK(addnoise.seconds == Approx(4.0));
+  CHECK(addnoise.peak_mb == Approx(30.0));
+  CHECK(n.stages.at("fitvox").runs == 1);  // the second fitvox has no .time file
+  CHECK(n.stages.at("cocone").runs == 0);  // present, empty
+  CHECK(n.stages.at("verify").seconds == Approx(100.0));
+  const auto& render = n.stages.at("rangetrace");
+  CHECK(render.runs == 2);
+  CHECK(render.seconds == Approx(30.0));
+  CHECK(render.peak_mb == Approx(900.0));
+  CHECK(n.render_images == 6);                          // two circle renderings of 3 views
+  CHECK(n.total_seconds == Approx(30 + 4 + 4 + 0.25));  // rangetrace, addnoise, fitvox, gmatch
+  const auto out = report::render(hand_built(), report::Params{}, n);
+  CHECK(out.times_csv.find("rangetrace,2,30.000,15.000,900\n") != std::string::npos);
+}
+
+TEST_CASE("numbers: an ablation's rates per object and over its trials") {
+  report::Inputs in = hand_built();
+  report::Ablation a;
+  a.name = "variant";
+  a.correct_rank = {{"sedan/circle/0", 1}, {"sedan/flyby/8", 2}, {"tank/circle/0", 1}, {"tank/circle/8", 0}};
+  a.failed = 1;
+  in.ablations = {a};
+  const auto n = report::compute(in, report::Params{});
+  REQUIRE(n.ablations.size() == 1);
+  const auto& r = n.ablations[0];
+  REQUIRE(r.per_object.size() == 3);
+  CHECK(r.per_object[0].right == 1);
+  CHECK(r.per_object[0].trials == 2);
+  CHECK(r.per_object[1].right == 1);
+  CHECK(r.per_object[1].trials == 2);
+  CHECK(r.per_object[2].trials == 0);
+  CHECK(r.all.right == 2);
+  CHECK(r.all.trials == 4);
+  CHECK(r.failed == 1);
+}
+
+TEST_CASE("numbers: the thesis's overall rate applies to its five objects only") {
+  report::Inputs in;
+  in.objects = {"earthmover", "obj1", "sedan", "semi", "tank"};
+  in.scenes = {"circle"};
+  in.noises = {0};
+  for (const auto& o : in.objects) in.cases.push_back(trial(o, "circle", 0, 1));
+  const auto n = report::compute(in, report::Params{});
+  CHECK(n.thesis_objects);
+  CHECK(n.thesis_printed == 5);
+  CHECK(n.thesis_mean == Approx((100 + 64 + 100 + 83 + 50) / 5.0));
+  CHECK(n.mean_rate == Approx(100.0));
+}
+
+TEST_CASE("report parameters out of range name their option") {
+  report::Params p;
+  CHECK_NOTHROW(report::validate(p));
+  p.max_segments = 0;
+  CHECK_THROWS_WITH(report::validate(p), Catch::Contains("--max-segments"));
+  p = {};
+  p.overseg_ratio = 0;
+  CHECK_THROWS_AS(report::validate(p), common::UsageError);
+  p = {};
+  p.missing_area_ratio = -1;
+  CHECK_THROWS_WITH(report::validate(p), Catch::Contains("--missing-area-ratio"));
+  p = {};
+  p.spurious_share = 1.5;
+  CHECK_THROWS_WITH(report::validate(p), Catch::Contains("--spurious-share"));
+}
