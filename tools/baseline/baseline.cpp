@@ -317,6 +317,8 @@ void validate(const Params& p) {
   if (p.ransac_iterations < 1) throw UsageError("--ransac-iterations must be >= 1");
   if (p.icp_iterations < 0) throw UsageError("--icp-iterations must be >= 0");
   if (p.views < 0) throw UsageError("--views must be >= 0");
+  if (!(p.accept_vfh >= 0 && p.accept_vfh <= 1)) throw UsageError("--accept-vfh must lie in [0, 1]");
+  if (!(p.accept_fpfh >= 0 && p.accept_fpfh <= 1)) throw UsageError("--accept-fpfh must lie in [0, 1]");
 }
 
 Cloud candidate_from_cloud(const formats::PointCloud& cloud, const std::string& name, double min_height) {
@@ -391,6 +393,39 @@ Result run(const Cloud& candidate, const std::vector<Model>& models, const Param
   if (methods == "both" || methods == "vfh") { r.methods.push_back(run_vfh(candidate, models, params)); }
   if (methods == "both" || methods == "fpfh") { r.methods.push_back(run_fpfh(candidate, models, params)); }
   return r;
+}
+
+formats::Verdict to_verdict(const Ranking& ranking, double accept, const std::string& candidate,
+                            const formats::Provenance& provenance) {
+  formats::Verdict v;
+  v.provenance = provenance;
+  v.candidate = candidate;
+  for (const auto& e : ranking.models) {
+    formats::Hypothesis h;
+    h.model = e.model;
+    h.gmatch_rank = e.rank;
+    h.gmatch_score = e.score;
+    h.start = ranking.method;
+    const Eigen::Matrix4d pose = e.posed ? e.pose : Eigen::Matrix4d::Identity();
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) h.pose.rotation[3 * r + c] = pose(r, c);
+      h.pose.translation[r] = pose(r, 3);
+    }
+    h.explained = e.candidate_share;
+    h.score = e.score;
+    v.hypotheses.push_back(h);
+  }
+  const double best = ranking.models.empty() ? 0.0 : ranking.models.front().score;
+  // A local method's model without a pose (RANSAC found none) is never an answer.
+  const bool posed = ranking.method != "fpfh" || (!ranking.models.empty() && ranking.models.front().posed);
+  if (!ranking.models.empty() && posed && best >= accept && best > 0) {
+    v.chosen = 0;
+    v.model = ranking.models.front().model;
+    v.confidence = std::clamp(best, 0.0, 1.0);
+  } else {
+    v.confidence = std::clamp(1.0 - best, 0.0, 1.0);
+  }
+  return v;
 }
 
 std::string serialize(const Result& result, const std::string& object,
