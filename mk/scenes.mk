@@ -170,7 +170,8 @@ SCENE_RES := $(RES)/scenes
 SCENE_SCORE := $(SCENE_RES)/score.json
 SCENE_TILES := $(foreach c,$(SCENE_COVERS),$(foreach s,$(SCENE_SEEDS),$(SCENE_DIR)/$(c)/tile-$(s)))
 SCENE_RUNS := $(foreach t,$(SCENE_TILES),$(foreach n,$(SCENE_NOISES),$(t)/noise-$(n)))
-scene_key = S_$(subst -,_,$(subst /,_,$(1)))
+# (A make variable name: every / - . of the path becomes _; an OUT under mktemp has a dot.)
+scene_key = S_$(subst .,_,$(subst -,_,$(subst /,_,$(1))))
 # The PCL baseline beside canopy (issue 17; docs/decisions/baseline.md §4): each method of
 # SCENE_BASELINE answers every candidate (`baseline --verdict METHOD` on the candidate's
 # samples.pcd, the same modelbase: cands/<id>/baseline-<method>.json, a canopy.verdict), and

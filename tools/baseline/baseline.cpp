@@ -197,6 +197,17 @@ Fit fit(const CloudN& model, const Eigen::Matrix4f& pose, const CloudN& cand,
   return f;
 }
 
+// A ground pose (rotation about z, translation) in double precision, from PCL's float
+// estimate: the heading of its rotation and its translation. (The float matrix's rotation is
+// orthonormal only to ~1e-7, which readers of the verdict's matrix rightly refuse at 1e-6.)
+Eigen::Matrix4d ground_pose(const Eigen::Matrix4f& m) {
+  const double heading = std::atan2(static_cast<double>(m(1, 0)), static_cast<double>(m(0, 0)));
+  Eigen::Matrix4d out = Eigen::Matrix4d::Identity();
+  out.block<3, 3>(0, 0) = Eigen::AngleAxisd(heading, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  for (int r = 0; r < 3; ++r) out(r, 3) = static_cast<double>(m(r, 3));
+  return out;
+}
+
 void rank(std::vector<Entry>& e) {
   std::stable_sort(e.begin(), e.end(), [](const Entry& a, const Entry& b) {
     if (a.score != b.score) return a.score > b.score;
@@ -293,7 +304,7 @@ Ranking run_fpfh(const Cloud& cand, const std::vector<Model>& models, const Para
         e.candidate_share = best.candidate_share;
         e.model_share = best.model_share;
         e.fitness = best.fitness;
-        e.pose = best.pose.cast<double>();
+        e.pose = ground_pose(best.pose);
       }
     }
     e.score = e.fitness;

@@ -40,8 +40,8 @@ struct Params {
   unsigned seed = 1;              // RANSAC's random draws
   // The "none" rule of a verdict (--verdict): the method's best model is the answer when its
   // score reaches this, else none. Fixed on development tiles (docs/decisions/baseline.md §4).
-  double accept_vfh = 0.0;
-  double accept_fpfh = 0.0;
+  double accept_vfh = 0.68;
+  double accept_fpfh = 0.35;
 };
 
 void validate(const Params& params);  // throws common::UsageError
