@@ -99,7 +99,8 @@ TEST_CASE("baseline verdict: an occluded box is the box, posed; a crate is none"
   const double heading = 0.6;
   const Eigen::Vector3d t(3.0, -2.0, 0.0);
   const Cloud cand = bl::candidate_from_cloud(
-      to_cloud(scene(box(), pose(heading, t), {-std::sin(heading), std::cos(heading), 0}, 0.01, 7)), "box", 0.3);
+      to_cloud(scene(box(), pose(heading, t), {-std::sin(heading), std::cos(heading), 0}, 0.01, 7)), "box",
+      0.3);
   const auto r = bl::run(cand, models, p, "fpfh");
   const auto v = bl::to_verdict(r.methods.at(0), p.accept_fpfh, "box.pcd", kProv);
   REQUIRE(v.model == "box");
@@ -143,15 +144,15 @@ TEST_CASE("baseline --verdict writes a canopy.verdict", "[baseline][cli]") {
   CHECK(j["format"] == "canopy.verdict");
   CHECK(j["pose"]["matrix"].size() == 16);
   // A threshold above any fitness: none.
-  REQUIRE(canopy::test::sh(base + " --verdict fpfh --accept-fpfh 1 -o " + (dir / "n.json").string(), dir / "err",
-                           &err) == 0);
+  REQUIRE(canopy::test::sh(base + " --verdict fpfh --accept-fpfh 1 -o " + (dir / "n.json").string(),
+                           dir / "err", &err) == 0);
   CHECK(canopy::formats::read_verdict((dir / "n.json").string()).model.empty());
   // The verdict's method against another one named: a usage error, no output.
   CHECK(canopy::test::sh(base + " --verdict fpfh --methods vfh -o " + (dir / "u.json").string(), dir / "err",
                          &err) == 2);
   CHECK_FALSE(fs::exists(dir / "u.json"));
   CHECK(canopy::test::sh(base + " --verdict esf -o " + (dir / "u.json").string(), dir / "err", &err) == 2);
-  CHECK(canopy::test::sh(base + " --verdict vfh --accept-vfh 1.5 -o " + (dir / "u.json").string(), dir / "err",
-                         &err) == 2);
+  CHECK(canopy::test::sh(base + " --verdict vfh --accept-vfh 1.5 -o " + (dir / "u.json").string(),
+                         dir / "err", &err) == 2);
   CHECK_FALSE(fs::exists(dir / "u.json"));
 }

@@ -25,8 +25,8 @@ void write(const fs::path& p, const std::string& text) {
 
 // A score document over the two runs of one tile, with one summary row per (cover, noise)
 // given: recognition r, precision p, heading error h; models and cover bins alike.
-std::string score_text(const fs::path& csv_dir, const std::string& run0, const std::string& run1, double r_all,
-                       double r_light0, double p_all, double h_all) {
+std::string score_text(const fs::path& csv_dir, const std::string& run0, const std::string& run1,
+                       double r_all, double r_light0, double p_all, double h_all) {
   auto num = [](double v) {
     char b[32];
     std::snprintf(b, sizeof b, "%g", v);
@@ -74,8 +74,8 @@ TEST_CASE("scene section: the baseline's scores beside canopy's, the goal, time 
   write(res / "baseline-vfh" / "score.json", score_text(res, run0, run1, 0.4, 0.6, 0.5, 90));
   write(res / "baseline-fpfh" / "score.json", score_text(res, run0, run1, 0.77, 0.8, 0.95, 2.5));
   const std::vector<report::SceneStageTime> times = {
-      stage_time("fitvox", 10, 2.0),  stage_time("cocone", 10, 3.0),       stage_time("ncut", 10, 1.0),
-      stage_time("gmatch", 10, 1.0),  stage_time("verify", 10, 3.0),       stage_time("baseline-vfh", 10, 0.5),
+      stage_time("fitvox", 10, 2.0),       stage_time("cocone", 10, 3.0), stage_time("ncut", 10, 1.0),
+      stage_time("gmatch", 10, 1.0),       stage_time("verify", 10, 3.0), stage_time("baseline-vfh", 10, 0.5),
       stage_time("baseline-fpfh", 10, 6.0)};
   const std::string md = report::scene_markdown(score, times, "scenes");
   INFO(md);
@@ -83,8 +83,10 @@ TEST_CASE("scene section: the baseline's scores beside canopy's, the goal, time 
   // Side by side per cover and noise: canopy, then VFH (no heading of its own), then FPFH.
   CHECK(md.find("| all | all | 10 | canopy | 9 | 90.0% | 90.0% | 50.0% | 80.0% | 0.25 | 1.5 |\n"
                 "| all | all | 10 | VFH | 9 | 50.0% | 90.0% | 50.0% | 40.0% | 0.25 | – |\n"
-                "| all | all | 10 | FPFH | 9 | 95.0% | 90.0% | 50.0% | 77.0% | 0.25 | 2.5 |\n") != std::string::npos);
-  CHECK(md.find("| light | 0 | 5 | VFH | 5 | 100.0% | 100.0% | 100.0% | 60.0% | 0.10 | – |") != std::string::npos);
+                "| all | all | 10 | FPFH | 9 | 95.0% | 90.0% | 50.0% | 77.0% | 0.25 | 2.5 |\n") !=
+        std::string::npos);
+  CHECK(md.find("| light | 0 | 5 | VFH | 5 | 100.0% | 100.0% | 100.0% | 60.0% | 0.10 | – |") !=
+        std::string::npos);
   CHECK(md.find("| tank | all | 10 | 80.0% | 40.0% | 77.0% |") != std::string::npos);
   CHECK(md.find("| 0.00–0.50 | all | 10 | 80.0% | 40.0% | 77.0% |") != std::string::npos);
   // Goal: 80% against the best baseline (FPFH 77%): +3 points, not met.
@@ -139,14 +141,15 @@ TEST_CASE("baseline section: a table per scene too", "[report][baseline]") {
     m.models.push_back(s);
     formats::write_match_result(m, (dir / "match.json").string());
     const std::string fpfh = scene == "circle" ? "sedan" : "tank";
-    std::ofstream(dir / "baseline.json") << R"({"format": "canopy.baseline", "version": 1, "methods": [)"
-                                         << R"({"method": "vfh", "models": [{"rank": 1, "model": "tank"}]},)"
-                                         << R"({"method": "fpfh", "models": [{"rank": 1, "model": ")" << fpfh
-                                         << R"("}]}]})";
+    std::ofstream(dir / "baseline.json")
+        << R"({"format": "canopy.baseline", "version": 1, "methods": [)"
+        << R"({"method": "vfh", "models": [{"rank": 1, "model": "tank"}]},)"
+        << R"({"method": "fpfh", "models": [{"rank": 1, "model": ")" << fpfh << R"("}]}]})";
   }
   const auto b = report::baseline_section(out.string(), {"sedan"}, {"circle", "flyby"}, {0});
   INFO(b.markdown);
-  CHECK(b.markdown.find("| scene | trials | canopy (gmatch) | canopy (verify) | VFH | FPFH |") != std::string::npos);
+  CHECK(b.markdown.find("| scene | trials | canopy (gmatch) | canopy (verify) | VFH | FPFH |") !=
+        std::string::npos);
   CHECK(b.markdown.find("| circle | 1 | 1/1 (100%) | 0/1 (0%) | 0/1 (0%) | 1/1 (100%) |") != std::string::npos);
   CHECK(b.markdown.find("| flyby | 1 | 1/1 (100%) | 0/1 (0%) | 0/1 (0%) | 0/1 (0%) |") != std::string::npos);
 }

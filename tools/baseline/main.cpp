@@ -38,7 +38,8 @@ int main(int argc, char** argv) {
            "instead of the ranking: run this one method and write its answer as a canopy.verdict "
            "(the best model, or none below --accept-<method>), for collect and score")
       ->check(CLI::IsMember({"vfh", "fpfh"}));
-  tool.add("--accept-vfh", &p.accept_vfh, "--verdict vfh: smallest VFH score (1 - L1 distance / 2) of an answer");
+  tool.add("--accept-vfh", &p.accept_vfh,
+           "--verdict vfh: smallest VFH score (1 - L1 distance / 2) of an answer");
   tool.add("--accept-fpfh", &p.accept_fpfh, "--verdict fpfh: smallest FPFH fitness of an answer");
   tool.without_threads();
 
@@ -53,7 +54,8 @@ int main(int argc, char** argv) {
               std::to_string(models.size()) + " models");
 
     if (!verdict.empty() && methods != "both" && methods != verdict) {
-      throw cm::UsageError("--verdict " + verdict + " with --methods " + methods + ": the verdict's method is run");
+      throw cm::UsageError("--verdict " + verdict + " with --methods " + methods +
+                           ": the verdict's method is run");
     }
     const bl::Result r = bl::run(candidate, models, p, verdict.empty() ? methods : verdict);
     if (verdict.empty()) {
@@ -61,8 +63,8 @@ int main(int argc, char** argv) {
     } else {
       const double accept = verdict == "vfh" ? p.accept_vfh : p.accept_fpfh;
       const canopy::formats::Provenance prov{"baseline", CANOPY_VERSION, tool.parameters(), {in, modelbase}};
-      cm::write_file_atomic(out, canopy::formats::serialize_verdict(
-                                     bl::to_verdict(r.methods.front(), accept, in, prov)));
+      cm::write_file_atomic(
+          out, canopy::formats::serialize_verdict(bl::to_verdict(r.methods.front(), accept, in, prov)));
     }
     for (const auto& m : r.methods) {
       char line[256];

@@ -125,7 +125,8 @@ std::string baseline_markdown(const Json& score, const std::vector<BaselineScore
         "detection stands at detect's candidate frame (the footprint's centre), so its position error is "
         "detect's and it has no heading error. **FPFH** (local: correspondences + RANSAC + ICP, ground "
         "pose). Tables: `scenes/baseline-<method>/*.csv`.\n\n";
-  md << "| cover | noise (mm) | true | method | detections | precision | recall | identification | recognition "
+  md << "| cover | noise (mm) | true | method | detections | precision | recall | identification | "
+        "recognition "
         "| position error median (m) | heading error median (°) |\n"
         "|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const Json& s : field(score, "summary")) {
@@ -151,9 +152,10 @@ std::string baseline_markdown(const Json& score, const std::vector<BaselineScore
   for (std::size_t i = 0; i < bl.size(); ++i) md << "|---";
   md << "|\n";
   for (const Json& m : field(score, "models")) {
-    md << "| " << text(field(m, "model")) << " | " << text(field(m, "cover")) << " | " << text(field(m, "true"))
-       << " | " << rate(field(m, "recognition"));
-    for (const auto& b : bl) md << " | " << rate(field(same_row(b.score, "models", m, "model", "cover"), "recognition"));
+    md << "| " << text(field(m, "model")) << " | " << text(field(m, "cover")) << " | "
+       << text(field(m, "true")) << " | " << rate(field(m, "recognition"));
+    for (const auto& b : bl)
+      md << " | " << rate(field(same_row(b.score, "models", m, "model", "cover"), "recognition"));
     md << " |\n";
   }
   md << "\n| canopy cover | noise (mm) | true | canopy";
@@ -163,7 +165,8 @@ std::string baseline_markdown(const Json& score, const std::vector<BaselineScore
   md << "|\n";
   for (const Json& c : field(score, "cover_bins")) {
     md << "| " << num(field(c, "cover_lo"), "%.2f") << "–" << num(field(c, "cover_hi"), "%.2f") << " | "
-       << text(field(c, "noise_mm")) << " | " << text(field(c, "true")) << " | " << rate(field(c, "recognition"));
+       << text(field(c, "noise_mm")) << " | " << text(field(c, "true")) << " | "
+       << rate(field(c, "recognition"));
     for (const auto& b : bl) {
       md << " | " << rate(field(same_row(b.score, "cover_bins", c, "cover_lo", "noise_mm"), "recognition"));
     }
@@ -225,13 +228,14 @@ std::vector<SceneRun> scene_runs(const Json& score) {
 }
 
 std::vector<SceneStageTime> scene_times(const std::vector<SceneRun>& runs) {
-  const std::vector<std::pair<std::string, std::string>> per_candidate = {{"fitvox", "samples.pcd"},
-                                                                          {"cocone", "mesh.ply"},
-                                                                          {"ncut", "segments.json"},
-                                                                          {"gmatch", "match.json"},
-                                                                          {"verify", "verdict.json"},
-                                                                          {"baseline-vfh", "baseline-vfh.json"},
-                                                                          {"baseline-fpfh", "baseline-fpfh.json"}};
+  const std::vector<std::pair<std::string, std::string>> per_candidate = {
+      {"fitvox", "samples.pcd"},
+      {"cocone", "mesh.ply"},
+      {"ncut", "segments.json"},
+      {"gmatch", "match.json"},
+      {"verify", "verdict.json"},
+      {"baseline-vfh", "baseline-vfh.json"},
+      {"baseline-fpfh", "baseline-fpfh.json"}};
   std::vector<SceneStageTime> out;
   for (const char* s : {"rangetrace", "addnoise", "detect", "plan", "fitvox", "cocone", "ncut", "gmatch",
                         "verify", "collect", "topview", "baseline-vfh", "baseline-fpfh"}) {
@@ -280,8 +284,9 @@ std::vector<SceneStageTime> scene_times(const std::vector<SceneRun>& runs) {
   }
   for (auto& t : out) t.per_ha = t.area_ha > 0 ? t.seconds / t.area_ha : 0;
   // The baseline's stages only when it ran (SCENE_BASELINE).
-  out.erase(std::remove_if(out.begin(), out.end(),
-                           [](const SceneStageTime& t) { return t.stage.rfind("baseline-", 0) == 0 && t.runs == 0; }),
+  out.erase(std::remove_if(
+                out.begin(), out.end(),
+                [](const SceneStageTime& t) { return t.stage.rfind("baseline-", 0) == 0 && t.runs == 0; }),
             out.end());
   return out;
 }
