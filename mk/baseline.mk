@@ -10,6 +10,8 @@
 # modelbase surfaces (<model>.pcd, mk/verify.mk), with its wall time and peak memory in
 # baseline.json.time. The report reads them (tools/report/baseline_section.h) into a section of
 # report.md and results/baseline.csv (rank-1 per trial of both methods beside gmatch's, time).
+# The scene experiment runs the baseline on every tile candidate too (`baseline --verdict`,
+# scored by collect + score beside canopy): mk/scenes.mk, SCENE_BASELINE.
 # The tool's build rule and content stamp (not in TOOLS, so `make tools` stays as it was):
 $(eval $(call tool_rule,baseline))
 

@@ -170,7 +170,17 @@ SCENE_RES := $(RES)/scenes
 SCENE_SCORE := $(SCENE_RES)/score.json
 SCENE_TILES := $(foreach c,$(SCENE_COVERS),$(foreach s,$(SCENE_SEEDS),$(SCENE_DIR)/$(c)/tile-$(s)))
 SCENE_RUNS := $(foreach t,$(SCENE_TILES),$(foreach n,$(SCENE_NOISES),$(t)/noise-$(n)))
-scene_key = S_$(subst -,_,$(subst /,_,$(1)))
+# (A make variable name: every / - . of the path becomes _; an OUT under mktemp has a dot.)
+scene_key = S_$(subst .,_,$(subst -,_,$(subst /,_,$(1))))
+# The PCL baseline beside canopy (issue 17; docs/decisions/baseline.md §4): each method of
+# SCENE_BASELINE answers every candidate (`baseline --verdict METHOD` on the candidate's
+# samples.pcd, the same modelbase: cands/<id>/baseline-<method>.json, a canopy.verdict), and
+# the same collect and score turn the answers into <run>/detections-baseline-<method>.json and
+# results/scenes/baseline-<method>/score.json (+ CSVs), which the report's scene section shows
+# beside canopy's. SCENE_BASELINE= (empty) leaves the baseline out.
+SCENE_BASELINE ?= vfh fpfh
+$(if $(filter-out vfh fpfh,$(SCENE_BASELINE)),$(error SCENE_BASELINE=$(SCENE_BASELINE): methods are vfh and fpfh))
+SCENE_BL_SCORES := $(foreach m,$(SCENE_BASELINE),$(SCENE_RES)/baseline-$(m)/score.json)
 
 .PHONY: scenes FORCE
 FORCE:
@@ -180,7 +190,7 @@ FORCE:
 SCENE_EXPERIMENT ?= 1
 $(if $(filter-out 0 1,$(SCENE_EXPERIMENT)),$(error SCENE_EXPERIMENT=$(SCENE_EXPERIMENT): must be 0 or 1))
 ifeq ($(SCENE_EXPERIMENT),1)
-$(RES)/report.md: $(SCENE_SCORE)
+$(RES)/report.md: $(SCENE_SCORE) $(SCENE_BL_SCORES)
 REPORT_ARGS += --tile-score $(SCENE_SCORE)
 endif
 ifeq ($(filter scenes,$(MAKECMDGOALS)),)
@@ -198,9 +208,12 @@ scenes_force := $(if $(shell $(MAKE) -q --no-print-directory -f $(firstword $(MA
 endif
 # What the sub-make shares with this make is built here first (the tools, the modelbase from
 # the thesis trials), so the two never build one artifact at the same time.
-SCENE_TOOLS := rangetrace addnoise detect fitvox cocone ncut gmatch verify collect score topview figures
+SCENE_TOOLS := rangetrace addnoise detect fitvox cocone ncut gmatch verify collect score topview figures \
+  $(if $(SCENE_BASELINE),baseline)
 $(SCENE_SCORE): $(scenes_force) $(foreach t,$(SCENE_TOOLS),$(call tool,$(t))) $(MODELBASE) $(VERIFY_SURFACES)
 	+@$(MAKE) --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROGRESS=0
+# The baseline's scores are made by the same sub-make (no recipe of their own here).
+$(SCENE_BL_SCORES): $(SCENE_SCORE)
 else
 # ---- read only by `make scenes` ----------------------------------------------------------
 SCENE_MB := $(OUT)/modelbase
@@ -236,7 +249,7 @@ headings = 0deg 90deg
 looks = 75deg/0deg 75deg/180deg
 spacing = $(SCENE_SPACING)
 endef
-$(if $(dry_run),,$(shell mkdir -p $(SCENE_TILES) $(SCENE_RES)))
+$(if $(dry_run),,$(shell mkdir -p $(SCENE_TILES) $(SCENE_RES) $(dir $(SCENE_BL_SCORES))))
 
 # scene_tile_rule(cover, seed): the recipe and the render.
 define scene_tile_rule
@@ -274,6 +287,31 @@ scene_manifest = $(subst $(space)$(scene_nl),$(scene_nl),$(call scene_line,$(fir
 $(SCENE_DIR)/tiles.txt: $(call scene_text_prereq,$(SCENE_DIR)/tiles.txt,$(scene_manifest))
 $(SCENE_SCORE): $(SCENE_DIR)/tiles.txt $(addsuffix /detections.json,$(SCENE_RUNS)) $(call tool,score)
 	@$(STAGE) $@ -- $(BIN)/score --tiles $(SCENE_DIR)/tiles.txt -o $@ --csv $(SCENE_RES)/
+# The baseline (SCENE_BASELINE): per candidate and method a verdict from the candidate's
+# samples (a failed fitvox leaves an empty samples.pcd, so the baseline fails too and collect
+# counts the candidate as failed, as for canopy), per run collect, then one score per method
+# over a manifest of the same tiles.
+define scene_baseline_cand_rule
+$(1)/cands/$(2)/baseline-$(3).json: $(1)/cands/$(2)/samples.pcd $(VERIFY_SURFACES) $(call tool,baseline) $(P)/baseline.ini
+	@$(STAGE) --record-failure $$@ -- $(BIN)/baseline --config $(P)/baseline.ini --verdict $(3) -i $$< \
+	  --modelbase $(SCENE_MB) -o $$@
+endef
+define scene_baseline_run_rule
+$(1)/detections-baseline-$(3).json: $(1)/cands.mk $(foreach c,$($(2)_CANDS),$(1)/cands/$(c)/baseline-$(3).json) $(call tool,collect)
+	@$(STAGE) $$@ -- $(BIN)/collect -i $(1)/cands/index.json --verdict-name baseline-$(3).json -o $$@ \
+	  --modelbase $(SCENE_MB)
+endef
+define scene_baseline_score_rule
+$(SCENE_DIR)/tiles-baseline-$(1).txt: $(call scene_text_prereq,$(SCENE_DIR)/tiles-baseline-$(1).txt,$(subst \
+  /detections.json ,/detections-baseline-$(1).json ,$(scene_manifest)))
+$(SCENE_RES)/baseline-$(1)/score.json: $(SCENE_DIR)/tiles-baseline-$(1).txt \
+    $(addsuffix /detections-baseline-$(1).json,$(SCENE_RUNS)) $(call tool,score)
+	@$(STAGE) $$@ -- $(BIN)/score --tiles $(SCENE_DIR)/tiles-baseline-$(1).txt -o $$@ --csv $(SCENE_RES)/baseline-$(1)/
+endef
+$(foreach m,$(SCENE_BASELINE),$(foreach r,$(SCENE_RUNS),$(foreach c,$($(call scene_key,$(r))_CANDS),\
+  $(eval $(call scene_baseline_cand_rule,$(r),$(c),$(m))))))
+$(foreach m,$(SCENE_BASELINE),$(foreach r,$(SCENE_RUNS),$(eval $(call scene_baseline_run_rule,$(r),$(call scene_key,$(r)),$(m)))))
+$(foreach m,$(SCENE_BASELINE),$(eval $(call scene_baseline_score_rule,$(m))))
 # Per run: the tile from above with truth and detections coloured by the score's outcome
 # (right green, wrong model orange, false alarm magenta, missed yellow, found truth white).
 define scene_picture_rule
@@ -302,6 +340,6 @@ $(SCENE_RES)/noise.png: $(SCENE_SCORE) $(call tool,figures)
 	@$(STAGE) $@ -- $(XRUN) $(BIN)/figures plot -i $(SCENE_RES)/summary.csv --x noise_mm --y recognition \
 	  --series cover --panel "" --xlabel "noise (mm)" \
 	  --ylabel "recognition (right model within 1.5 m)" --title "recognition against noise, one line per cover level" -o $@
-scenes: $(SCENE_SCORE) $(addsuffix /scored.png,$(SCENE_RUNS)) $(foreach c,$(SCENE_COVERS),$(SCENE_RES)/top-$(c).png) \
+scenes: $(SCENE_SCORE) $(SCENE_BL_SCORES) $(addsuffix /scored.png,$(SCENE_RUNS)) $(foreach c,$(SCENE_COVERS),$(SCENE_RES)/top-$(c).png) \
     $(SCENE_RES)/cover.png $(SCENE_RES)/noise.png
 endif

@@ -197,6 +197,17 @@ Fit fit(const CloudN& model, const Eigen::Matrix4f& pose, const CloudN& cand,
   return f;
 }
 
+// A ground pose (rotation about z, translation) in double precision, from PCL's float
+// estimate: the heading of its rotation and its translation. (The float matrix's rotation is
+// orthonormal only to ~1e-7, which readers of the verdict's matrix rightly refuse at 1e-6.)
+Eigen::Matrix4d ground_pose(const Eigen::Matrix4f& m) {
+  const double heading = std::atan2(static_cast<double>(m(1, 0)), static_cast<double>(m(0, 0)));
+  Eigen::Matrix4d out = Eigen::Matrix4d::Identity();
+  out.block<3, 3>(0, 0) = Eigen::AngleAxisd(heading, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  for (int r = 0; r < 3; ++r) out(r, 3) = static_cast<double>(m(r, 3));
+  return out;
+}
+
 void rank(std::vector<Entry>& e) {
   std::stable_sort(e.begin(), e.end(), [](const Entry& a, const Entry& b) {
     if (a.score != b.score) return a.score > b.score;
@@ -293,7 +304,7 @@ Ranking run_fpfh(const Cloud& cand, const std::vector<Model>& models, const Para
         e.candidate_share = best.candidate_share;
         e.model_share = best.model_share;
         e.fitness = best.fitness;
-        e.pose = best.pose.cast<double>();
+        e.pose = ground_pose(best.pose);
       }
     }
     e.score = e.fitness;
@@ -317,6 +328,8 @@ void validate(const Params& p) {
   if (p.ransac_iterations < 1) throw UsageError("--ransac-iterations must be >= 1");
   if (p.icp_iterations < 0) throw UsageError("--icp-iterations must be >= 0");
   if (p.views < 0) throw UsageError("--views must be >= 0");
+  if (!(p.accept_vfh >= 0 && p.accept_vfh <= 1)) throw UsageError("--accept-vfh must lie in [0, 1]");
+  if (!(p.accept_fpfh >= 0 && p.accept_fpfh <= 1)) throw UsageError("--accept-fpfh must lie in [0, 1]");
 }
 
 Cloud candidate_from_cloud(const formats::PointCloud& cloud, const std::string& name, double min_height) {
@@ -391,6 +404,39 @@ Result run(const Cloud& candidate, const std::vector<Model>& models, const Param
   if (methods == "both" || methods == "vfh") { r.methods.push_back(run_vfh(candidate, models, params)); }
   if (methods == "both" || methods == "fpfh") { r.methods.push_back(run_fpfh(candidate, models, params)); }
   return r;
+}
+
+formats::Verdict to_verdict(const Ranking& ranking, double accept, const std::string& candidate,
+                            const formats::Provenance& provenance) {
+  formats::Verdict v;
+  v.provenance = provenance;
+  v.candidate = candidate;
+  for (const auto& e : ranking.models) {
+    formats::Hypothesis h;
+    h.model = e.model;
+    h.gmatch_rank = e.rank;
+    h.gmatch_score = e.score;
+    h.start = ranking.method;
+    const Eigen::Matrix4d pose = e.posed ? e.pose : Eigen::Matrix4d::Identity();
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) h.pose.rotation[3 * r + c] = pose(r, c);
+      h.pose.translation[r] = pose(r, 3);
+    }
+    h.explained = e.candidate_share;
+    h.score = e.score;
+    v.hypotheses.push_back(h);
+  }
+  const double best = ranking.models.empty() ? 0.0 : ranking.models.front().score;
+  // A local method's model without a pose (RANSAC found none) is never an answer.
+  const bool posed = ranking.method != "fpfh" || (!ranking.models.empty() && ranking.models.front().posed);
+  if (!ranking.models.empty() && posed && best >= accept && best > 0) {
+    v.chosen = 0;
+    v.model = ranking.models.front().model;
+    v.confidence = std::clamp(best, 0.0, 1.0);
+  } else {
+    v.confidence = std::clamp(1.0 - best, 0.0, 1.0);
+  }
+  return v;
 }
 
 std::string serialize(const Result& result, const std::string& object,

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "canopy/formats/point_cloud.h"
+#include "canopy/formats/verdict.h"
 
 namespace canopy::baseline {
 
@@ -37,6 +38,10 @@ struct Params {
   int views = 8;                  // VFH model views on the ring (plus the whole surface)
   double view_elevation = 1.309;  // elevation of the ring (rad; 75 deg, the trials' sensor)
   unsigned seed = 1;              // RANSAC's random draws
+  // The "none" rule of a verdict (--verdict): the method's best model is the answer when its
+  // score reaches this, else none. Fixed on development tiles (docs/decisions/baseline.md §4).
+  double accept_vfh = 0.68;
+  double accept_fpfh = 0.35;
 };
 
 void validate(const Params& params);  // throws common::UsageError
@@ -91,5 +96,18 @@ Result run(const Cloud& candidate, const std::vector<Model>& models, const Param
 std::string serialize(const Result& result, const std::string& object,
                       const std::vector<std::pair<std::string, std::string>>& parameters,
                       const std::vector<std::string>& inputs);
+
+// One method's answer per candidate as a canopy.verdict v1 (formats/README.md), so that the
+// tile workflow's collect and score read it as they read verify's: the best model when its
+// score reaches `accept`, else none (model null). Hypotheses = the method's ranking (rank in
+// gmatch_rank, score in gmatch_score and score, start = the method's name); confidence = the
+// best score for a model, 1 - the best score for none (an uncalibrated score, not verify's
+// probability). Pose: fpfh's ground pose (model -> candidate); vfh has none, so its hypotheses
+// carry the identity, i.e. the candidate frame of detect (footprint centre on the ground, x
+// along the footprint's long axis): a position without a heading of its own.
+// explained = fpfh's candidate share (0 for vfh); fit_rms and free_space_violation are not
+// computed (0).
+formats::Verdict to_verdict(const Ranking& ranking, double accept, const std::string& candidate,
+                            const formats::Provenance& provenance);
 
 }  // namespace canopy::baseline

@@ -18,10 +18,10 @@ int main(int argc, char** argv) {
                 "PCL-descriptor recogniser beside canopy: VFH nearest view and FPFH + RANSAC + "
                 "ICP fitness. Writes a canopy.baseline JSON ranking every model per method.");
   bl::Params p;
-  std::string in = "-", out = "-", modelbase, methods = "both";
+  std::string in = "-", out = "-", modelbase, methods = "both", verdict;
   int seed = 1;
   tool.add_input(&in, "candidate points PCD with normals (e.g. fitvox's samples)");
-  tool.add_output(&out, "baseline result JSON");
+  tool.add_output(&out, "baseline result JSON (with --verdict: the method's verdict JSON)");
   tool.add("--modelbase", &modelbase, "directory of <model>.pcd surfaces")->required();
   tool.add("--methods", &methods, "vfh, fpfh or both")->check(CLI::IsMember({"vfh", "fpfh", "both"}));
   tool.add_length("--min-height", &p.min_height, "candidate points below this z are ground");
@@ -34,6 +34,13 @@ int main(int argc, char** argv) {
   tool.add("--views", &p.views, "VFH model views on the sensor ring (plus the whole surface)");
   tool.add_angle("--view-elevation", &p.view_elevation, "elevation of the VFH view ring");
   tool.add("--seed", &seed, "RANSAC seed");
+  tool.add("--verdict", &verdict,
+           "instead of the ranking: run this one method and write its answer as a canopy.verdict "
+           "(the best model, or none below --accept-<method>), for collect and score")
+      ->check(CLI::IsMember({"vfh", "fpfh"}));
+  tool.add("--accept-vfh", &p.accept_vfh,
+           "--verdict vfh: smallest VFH score (1 - L1 distance / 2) of an answer");
+  tool.add("--accept-fpfh", &p.accept_fpfh, "--verdict fpfh: smallest FPFH fitness of an answer");
   tool.without_threads();
 
   return tool.run(argc, argv, [&] {
@@ -46,8 +53,19 @@ int main(int argc, char** argv) {
     read.done(std::to_string(candidate.points.size()) + " candidate points, " +
               std::to_string(models.size()) + " models");
 
-    const bl::Result r = bl::run(candidate, models, p, methods);
-    cm::write_file_atomic(out, bl::serialize(r, in, tool.parameters(), {in, modelbase}));
+    if (!verdict.empty() && methods != "both" && methods != verdict) {
+      throw cm::UsageError("--verdict " + verdict + " with --methods " + methods +
+                           ": the verdict's method is run");
+    }
+    const bl::Result r = bl::run(candidate, models, p, verdict.empty() ? methods : verdict);
+    if (verdict.empty()) {
+      cm::write_file_atomic(out, bl::serialize(r, in, tool.parameters(), {in, modelbase}));
+    } else {
+      const double accept = verdict == "vfh" ? p.accept_vfh : p.accept_fpfh;
+      const canopy::formats::Provenance prov{"baseline", CANOPY_VERSION, tool.parameters(), {in, modelbase}};
+      cm::write_file_atomic(
+          out, canopy::formats::serialize_verdict(bl::to_verdict(r.methods.front(), accept, in, prov)));
+    }
     for (const auto& m : r.methods) {
       char line[256];
       std::snprintf(line, sizeof line, "%s: best %s: score %.3f (%.3f s, %zu models)", m.method.c_str(),

@@ -67,6 +67,7 @@ BaselineSection baseline_section(const std::string& out_dir, const std::vector<s
          "vfh_correct,fpfh_model,fpfh_correct,baseline_s,baseline_peak_mb\n";
   std::map<std::string, Tally> by_object;
   std::map<int, Tally> by_noise;
+  std::map<std::string, Tally> by_scene;
   Tally all;
   int missing = 0, failed = 0, timed = 0, verified = 0;
   double seconds = 0, peak = 0;
@@ -100,7 +101,7 @@ BaselineSection baseline_section(const std::string& out_dir, const std::vector<s
           peak = std::max(peak, kib / 1024.0);
         }
         const bool c = canopy == o, a = answer == o, v = r["vfh"] == o, f = r["fpfh"] == o;
-        for (Tally* x : {&by_object[o], &by_noise[n], &all}) {
+        for (Tally* x : {&by_object[o], &by_noise[n], &by_scene[s], &all}) {
           ++x->n;
           x->canopy += c;
           x->verify += a;
@@ -136,6 +137,13 @@ BaselineSection baseline_section(const std::string& out_dir, const std::vector<s
   for (int n : noises) {
     const Tally& x = by_noise[n];
     md << "| " << n << " | " << x.n << " | " << rate(x.canopy, x.n) << " | " << rate(x.verify, x.n) << " | "
+       << rate(x.vfh, x.n) << " | " << rate(x.fpfh, x.n) << " |\n";
+  }
+  md << "\n| scene | trials | canopy (gmatch) | canopy (verify) | VFH | FPFH |\n"
+        "|---|---:|---:|---:|---:|---:|\n";
+  for (const auto& s : scenes) {
+    const Tally& x = by_scene[s];
+    md << "| " << s << " | " << x.n << " | " << rate(x.canopy, x.n) << " | " << rate(x.verify, x.n) << " | "
        << rate(x.vfh, x.n) << " | " << rate(x.fpfh, x.n) << " |\n";
   }
   md << "\nBaseline time (both methods, one process per trial): ";

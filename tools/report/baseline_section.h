@@ -1,4 +1,4 @@
-// The PCL baseline beside canopy (issue 17): rank-1 per object and per noise level of the
+// The PCL baseline beside canopy (issue 17): rank-1 per object, per noise level and per scene of the
 // baseline's two methods (tools/baseline: VFH nearest view, FPFH + RANSAC + ICP) next to
 // gmatch's, from each trial's baseline.json (mk/baseline.mk), with the baseline's time.
 #pragma once

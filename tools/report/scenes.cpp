@@ -8,7 +8,9 @@
 #include <set>
 #include <sstream>
 
+#include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
+#include "canopy/formats/json_document.h"
 #include "report/report.h"
 
 namespace canopy::report {
@@ -47,6 +49,170 @@ const Json& field(const Json& j, const char* key) {
   return it == j.end() ? null_value : *it;
 }
 
+// The PCL baseline's methods (issue 17; mk/scenes.mk SCENE_BASELINE), in the tables' order.
+const char* const kBaselineMethods[] = {"vfh", "fpfh"};
+
+std::string method_label(const std::string& m) {
+  if (m == "vfh") return "VFH";
+  if (m == "fpfh") return "FPFH";
+  return m;
+}
+
+struct BaselineScore {
+  std::string method;
+  std::string path;
+  Json score;
+};
+
+// The baseline's scores beside canopy's: <dir>/baseline-<method>/score.json, where <dir> is
+// where `score` wrote canopy's CSVs (the score's --csv parameter: results/scenes/). Only scores
+// of exactly canopy's runs are shown; others (a stale run over other tiles) are named in
+// `stale`.
+std::vector<BaselineScore> baseline_scores(const Json& score, std::vector<std::string>& stale) {
+  std::vector<BaselineScore> out;
+  const Json& csv = field(field(field(score, "provenance"), "parameters"), "csv");
+  if (!csv.is_string() || csv.get<std::string>().empty()) return out;
+  const std::filesystem::path dir = std::filesystem::path(csv.get<std::string>()).parent_path();
+  std::vector<std::string> want;
+  for (const auto& r : scene_runs(score)) want.push_back(r.dir);
+  for (const char* m : kBaselineMethods) {
+    const std::string path = (dir / ("baseline-" + std::string(m)) / "score.json").string();
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) continue;
+    BaselineScore b{m, path, formats::open_json_document(common::read_file(path), path, "canopy.scene_score")};
+    std::vector<std::string> got;
+    for (const auto& r : scene_runs(b.score)) got.push_back(r.dir);
+    if (got != want) {
+      stale.push_back(path);
+      continue;
+    }
+    out.push_back(std::move(b));
+  }
+  return out;
+}
+
+// A score's row of `table` whose keys equal `row`'s (summary: cover and noise_mm; models:
+// model and cover; cover_bins: cover_lo and noise_mm); null when it has none.
+const Json& same_row(const Json& score, const char* table, const Json& row, const char* k1, const char* k2) {
+  static const Json null_value = nullptr;
+  for (const Json& r : field(score, table)) {
+    if (field(r, k1) == field(row, k1) && field(r, k2) == field(row, k2)) return r;
+  }
+  return null_value;
+}
+
+double stage_mean(const std::vector<SceneStageTime>& times, const std::string& stage, int& runs) {
+  for (const auto& t : times) {
+    if (t.stage == stage) {
+      runs = t.runs;
+      return t.runs > 0 ? t.seconds / t.runs : 0;
+    }
+  }
+  runs = 0;
+  return 0;
+}
+
+// The side-by-side tables: canopy and each baseline method per cover and noise level, per
+// model, per measured cover bin; the issue's goal; time per candidate.
+std::string baseline_markdown(const Json& score, const std::vector<BaselineScore>& bl,
+                              const std::vector<SceneStageTime>& times) {
+  std::ostringstream md;
+  md << "### canopy beside the PCL baseline (issue 17)\n\n"
+        "The same candidates (detect's, each one's fitvox `samples.pcd`), the same modelbase and the same "
+        "`collect` and `score`: per candidate `baseline --verdict <method>` answers the best model of its "
+        "method, or none when the method's score is below its acceptance threshold "
+        "(docs/decisions/baseline.md §4). **VFH** (global descriptor, nearest model view) has no pose: its "
+        "detection stands at detect's candidate frame (the footprint's centre), so its position error is "
+        "detect's and it has no heading error. **FPFH** (local: correspondences + RANSAC + ICP, ground "
+        "pose). Tables: `scenes/baseline-<method>/*.csv`.\n\n";
+  md << "| cover | noise (mm) | true | method | detections | precision | recall | identification | "
+        "recognition "
+        "| position error median (m) | heading error median (°) |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const Json& s : field(score, "summary")) {
+    auto row = [&](const std::string& label, const Json& r, bool heading) {
+      md << "| " << text(field(s, "cover")) << " | " << text(field(s, "noise_mm")) << " | "
+         << text(field(s, "true")) << " | " << label << " | " << text(field(r, "detections")) << " | "
+         << rate(field(r, "precision")) << " | " << rate(field(r, "recall")) << " | "
+         << rate(field(r, "identification")) << " | " << rate(field(r, "recognition")) << " | "
+         << num(field(r, "position_error_median_m"), "%.2f") << " | "
+         << (heading ? num(field(r, "heading_error_median_deg"), "%.1f") : std::string("–")) << " |\n";
+    };
+    row("canopy", s, true);
+    for (const auto& b : bl) {
+      row(method_label(b.method), same_row(b.score, "summary", s, "cover", "noise_mm"), b.method != "vfh");
+    }
+  }
+  md << "\n";
+
+  md << "Recognition (right model within the match radius / true vehicles) per model and per measured canopy "
+        "cover bin:\n\n| model | cover | true | canopy";
+  for (const auto& b : bl) md << " | " << method_label(b.method);
+  md << " |\n|---|---|---|---";
+  for (std::size_t i = 0; i < bl.size(); ++i) md << "|---";
+  md << "|\n";
+  for (const Json& m : field(score, "models")) {
+    md << "| " << text(field(m, "model")) << " | " << text(field(m, "cover")) << " | "
+       << text(field(m, "true")) << " | " << rate(field(m, "recognition"));
+    for (const auto& b : bl)
+      md << " | " << rate(field(same_row(b.score, "models", m, "model", "cover"), "recognition"));
+    md << " |\n";
+  }
+  md << "\n| canopy cover | noise (mm) | true | canopy";
+  for (const auto& b : bl) md << " | " << method_label(b.method);
+  md << " |\n|---|---|---|---";
+  for (std::size_t i = 0; i < bl.size(); ++i) md << "|---";
+  md << "|\n";
+  for (const Json& c : field(score, "cover_bins")) {
+    md << "| " << num(field(c, "cover_lo"), "%.2f") << "–" << num(field(c, "cover_hi"), "%.2f") << " | "
+       << text(field(c, "noise_mm")) << " | " << text(field(c, "true")) << " | "
+       << rate(field(c, "recognition"));
+    for (const auto& b : bl) {
+      md << " | " << rate(field(same_row(b.score, "cover_bins", c, "cover_lo", "noise_mm"), "recognition"));
+    }
+    md << " |\n";
+  }
+  md << "\n";
+
+  // The issue's goal, on recognition over all runs.
+  const Json all_key = Json{{"cover", "all"}, {"noise_mm", "all"}};
+  const Json& canopy_all = same_row(score, "summary", all_key, "cover", "noise_mm");
+  const Json& c_rec = field(canopy_all, "recognition");
+  double best = -1;
+  std::string best_method;
+  for (const auto& b : bl) {
+    const Json& r = field(same_row(b.score, "summary", all_key, "cover", "noise_mm"), "recognition");
+    if (r.is_number() && r.get<double>() > best) {
+      best = r.get<double>();
+      best_method = method_label(b.method);
+    }
+  }
+  if (c_rec.is_number() && best >= 0) {
+    const double gap = 100 * (c_rec.get<double>() - best);
+    md << "Goal of issue 17, canopy ≥ 5 points above the best baseline (recognition, all runs): canopy "
+       << rate(c_rec) << ", best baseline " << best_method << " " << fmt("%.1f%%", 100 * best) << ": "
+       << fmt("%+.1f", gap) << " points, " << (gap >= 5 ? "met" : "**not met**") << ".\n\n";
+  }
+
+  // Time per candidate: mean wall time of each stage's runs (.time files).
+  md << "Time per candidate (mean wall s over the candidates' `.time` files; on a shared machine wall "
+        "includes waiting for the CPU): ";
+  double canopy_s = 0;
+  int n = 0, fitvox_n = 0;
+  const double fitvox_s = stage_mean(times, "fitvox", fitvox_n);
+  for (const char* s : {"fitvox", "cocone", "ncut", "gmatch", "verify"}) canopy_s += stage_mean(times, s, n);
+  md << "canopy " << fmt("%.2f", canopy_s) << " s (fitvox " << fmt("%.2f", fitvox_s)
+     << " + cocone + ncut + gmatch + verify)";
+  for (const auto& b : bl) {
+    const double s = stage_mean(times, "baseline-" + b.method, n);
+    if (n == 0) continue;
+    md << "; " << method_label(b.method) << " " << fmt("%.2f", fitvox_s + s) << " s (fitvox + "
+       << fmt("%.2f", s) << " s baseline, " << n << " runs)";
+  }
+  md << ".\n\n";
+  return md.str();
+}
+
 }  // namespace
 
 std::vector<SceneRun> scene_runs(const Json& score) {
@@ -62,14 +228,17 @@ std::vector<SceneRun> scene_runs(const Json& score) {
 }
 
 std::vector<SceneStageTime> scene_times(const std::vector<SceneRun>& runs) {
-  const std::vector<std::pair<std::string, std::string>> per_candidate = {{"fitvox", "samples.pcd"},
-                                                                          {"cocone", "mesh.ply"},
-                                                                          {"ncut", "segments.json"},
-                                                                          {"gmatch", "match.json"},
-                                                                          {"verify", "verdict.json"}};
+  const std::vector<std::pair<std::string, std::string>> per_candidate = {
+      {"fitvox", "samples.pcd"},
+      {"cocone", "mesh.ply"},
+      {"ncut", "segments.json"},
+      {"gmatch", "match.json"},
+      {"verify", "verdict.json"},
+      {"baseline-vfh", "baseline-vfh.json"},
+      {"baseline-fpfh", "baseline-fpfh.json"}};
   std::vector<SceneStageTime> out;
   for (const char* s : {"rangetrace", "addnoise", "detect", "plan", "fitvox", "cocone", "ncut", "gmatch",
-                        "verify", "collect", "topview"}) {
+                        "verify", "collect", "topview", "baseline-vfh", "baseline-fpfh"}) {
     SceneStageTime t;
     t.stage = s;
     out.push_back(t);
@@ -114,6 +283,11 @@ std::vector<SceneStageTime> scene_times(const std::vector<SceneRun>& runs) {
     }
   }
   for (auto& t : out) t.per_ha = t.area_ha > 0 ? t.seconds / t.area_ha : 0;
+  // The baseline's stages only when it ran (SCENE_BASELINE).
+  out.erase(std::remove_if(
+                out.begin(), out.end(),
+                [](const SceneStageTime& t) { return t.stage.rfind("baseline-", 0) == 0 && t.runs == 0; }),
+            out.end());
   return out;
 }
 
@@ -250,6 +424,13 @@ std::string scene_markdown(const Json& score, const std::vector<SceneStageTime>&
          << " | " << rate(field(r, "recall")) << " |\n";
     }
     md << "\n";
+  }
+
+  std::vector<std::string> stale;
+  const auto bl = baseline_scores(score, stale);
+  if (!bl.empty()) md << baseline_markdown(score, bl, times);
+  for (const auto& p : stale) {
+    md << "(" << p << " scores other runs than canopy's: a stale baseline run, not shown.)\n\n";
   }
 
   md << "### Time per hectare and peak memory per stage\n\n"
