@@ -9,20 +9,17 @@
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
+#include "canopy/formats/csv_table.h"
 #include "canopy/formats/match_result.h"
 
 namespace canopy::report {
 namespace {
 
-std::string num(const char* f, double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
-}
+using formats::format_number;
 
 std::string rate(int k, int n) {
   if (n == 0) return "–";
-  return std::to_string(k) + "/" + std::to_string(n) + " (" + num("%.0f%%", 100.0 * k / n) + ")";
+  return std::to_string(k) + "/" + std::to_string(n) + " (" + format_number("%.0f%%", 100.0 * k / n) + ")";
 }
 
 // The rank-1 model of each method in a canopy.baseline document ("" when the method is absent).
@@ -110,8 +107,8 @@ BaselineSection baseline_section(const std::string& out_dir, const std::vector<s
         }
         csv << o << ',' << s << ',' << n << ',' << canopy << ',' << c << ',' << answer << ',' << a << ','
             << r["vfh"] << ',' << v << ',' << r["fpfh"] << ',' << f << ','
-            << (has_time ? num("%.3f", sec) : "") << ',' << (has_time ? num("%.1f", kib / 1024.0) : "")
-            << '\n';
+            << (has_time ? format_number("%.3f", sec) : "") << ','
+            << (has_time ? format_number("%.1f", kib / 1024.0) : "") << '\n';
       }
     }
   }
@@ -148,8 +145,8 @@ BaselineSection baseline_section(const std::string& out_dir, const std::vector<s
   }
   md << "\nBaseline time (both methods, one process per trial): ";
   if (timed > 0) {
-    md << "mean " << num("%.2f", seconds / timed) << " s wall per trial, total " << num("%.1f", seconds)
-       << " s, peak " << num("%.0f", peak) << " MB.";
+    md << "mean " << format_number("%.2f", seconds / timed) << " s wall per trial, total "
+       << format_number("%.1f", seconds) << " s, peak " << format_number("%.0f", peak) << " MB.";
   } else {
     md << "not recorded (no baseline.json.time).";
   }

@@ -11,6 +11,7 @@
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "canopy/formats/json_document.h"
+#include "canopy/formats/stage_time.h"
 #include "report/report.h"
 
 namespace canopy::report {
@@ -18,29 +19,18 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-std::string fmt(const char* f, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
-}
-
 // A rate of the score (a number or null) as a percentage; null = "–".
-std::string rate(const Json& v) { return v.is_number() ? fmt("%.1f%%", 100 * v.get<double>()) : "–"; }
-std::string num(const Json& v, const char* f) { return v.is_number() ? fmt(f, v.get<double>()) : "–"; }
+std::string rate(const Json& v) {
+  return v.is_number() ? format_number("%.1f%%", 100 * v.get<double>()) : "–";
+}
+std::string num(const Json& v, const char* f) {
+  return v.is_number() ? format_number(f, v.get<double>()) : "–";
+}
 std::string text(const Json& v) {
   if (v.is_string()) return v.get<std::string>();
   if (v.is_number_integer()) return std::to_string(v.get<long long>());
-  if (v.is_number()) return fmt("%g", v.get<double>());
+  if (v.is_number()) return format_number("%g", v.get<double>());
   return "–";
-}
-
-bool read_time(const std::string& path, double& seconds, double& peak_mb) {
-  std::ifstream in(path);
-  double s = 0, kib = 0;
-  if (!(in >> s >> kib)) return false;
-  seconds = s;
-  peak_mb = kib / 1024.0;
-  return true;
 }
 
 const Json& field(const Json& j, const char* key) {
@@ -190,8 +180,8 @@ std::string baseline_markdown(const Json& score, const std::vector<BaselineScore
   if (c_rec.is_number() && best >= 0) {
     const double gap = 100 * (c_rec.get<double>() - best);
     md << "Goal of issue 17, canopy ≥ 5 points above the best baseline (recognition, all runs): canopy "
-       << rate(c_rec) << ", best baseline " << best_method << " " << fmt("%.1f%%", 100 * best) << ": "
-       << fmt("%+.1f", gap) << " points, " << (gap >= 5 ? "met" : "**not met**") << ".\n\n";
+       << rate(c_rec) << ", best baseline " << best_method << " " << format_number("%.1f%%", 100 * best)
+       << ": " << format_number("%+.1f", gap) << " points, " << (gap >= 5 ? "met" : "**not met**") << ".\n\n";
   }
 
   // Time per candidate: mean wall time of each stage's runs (.time files).
@@ -201,13 +191,13 @@ std::string baseline_markdown(const Json& score, const std::vector<BaselineScore
   int n = 0, fitvox_n = 0;
   const double fitvox_s = stage_mean(times, "fitvox", fitvox_n);
   for (const char* s : {"fitvox", "cocone", "ncut", "gmatch", "verify"}) canopy_s += stage_mean(times, s, n);
-  md << "canopy " << fmt("%.2f", canopy_s) << " s (fitvox " << fmt("%.2f", fitvox_s)
+  md << "canopy " << format_number("%.2f", canopy_s) << " s (fitvox " << format_number("%.2f", fitvox_s)
      << " + cocone + ncut + gmatch + verify)";
   for (const auto& b : bl) {
     const double s = stage_mean(times, "baseline-" + b.method, n);
     if (n == 0) continue;
-    md << "; " << method_label(b.method) << " " << fmt("%.2f", fitvox_s + s) << " s (fitvox + "
-       << fmt("%.2f", s) << " s baseline, " << n << " runs)";
+    md << "; " << method_label(b.method) << " " << format_number("%.2f", fitvox_s + s) << " s (fitvox + "
+       << format_number("%.2f", s) << " s baseline, " << n << " runs)";
   }
   md << ".\n\n";
   return md.str();
@@ -250,12 +240,12 @@ std::vector<SceneStageTime> scene_times(const std::vector<SceneRun>& runs) {
     throw common::Error("scene_times: no stage " + stage);
   };
   auto add = [&](const std::string& stage, const std::string& path) {
-    double s = 0, mb = 0;
-    if (!read_time(path + ".time", s, mb)) return;
+    const formats::StageTime st = formats::read_stage_time(path);
+    if (!st.present) return;
     SceneStageTime& t = at(stage);
     t.runs++;
-    t.seconds += s;
-    t.peak_mb = std::max(t.peak_mb, mb);
+    t.seconds += st.seconds;
+    t.peak_mb = std::max(t.peak_mb, st.peak_mb);
   };
   std::set<std::string> renders;
   for (const SceneRun& r : runs) {
@@ -295,33 +285,23 @@ std::string scene_times_csv(const std::vector<SceneStageTime>& times) {
   std::ostringstream csv;
   csv << "stage,runs,seconds,area_ha,seconds_per_ha,peak_mb\n";
   for (const auto& t : times) {
-    csv << t.stage << "," << t.runs << "," << fmt("%.2f", t.seconds) << "," << fmt("%.4f", t.area_ha) << ","
-        << fmt("%.2f", t.per_ha) << "," << fmt("%.1f", t.peak_mb) << "\n";
+    csv << t.stage << "," << t.runs << "," << format_number("%.2f", t.seconds) << ","
+        << format_number("%.4f", t.area_ha) << "," << format_number("%.2f", t.per_ha) << ","
+        << format_number("%.1f", t.peak_mb) << "\n";
   }
   return csv.str();
 }
 
-std::string scene_markdown(const Json& score, const std::vector<SceneStageTime>& times, const std::string& fig) {
-  std::ostringstream md;
-  const Json& tiles = field(score, "tiles");
-  const Json& summary = field(score, "summary");
-  std::vector<std::string> covers;
-  std::set<std::string> renders;
-  for (const Json& t : tiles) {
-    const std::string c = text(field(t, "cover"));
-    if (std::find(covers.begin(), covers.end(), c) == covers.end() && c != "–") covers.push_back(c);
-    renders.insert(
-        std::filesystem::path(t.value("detections", std::string())).parent_path().parent_path().string());
-  }
-  const Json* all = nullptr;
-  for (const Json& s : summary) {
-    if (text(field(s, "cover")) == "all" && text(field(s, "noise_mm")) == "all") all = &s;
-  }
+namespace {
+
+// The section's parts, in the order scene_markdown writes them.
+void scene_intro(std::ostringstream& md, const Json& score, const Json& tiles, const Json* all,
+                 std::size_t renders) {
   md << "## Scene experiment (issue 16)\n\n";
-  md << "Whole tiles (docs/decisions/scene-experiment.md): " << renders.size() << " rendered tiles, "
-     << tiles.size() << " runs (tile × noise level)";
+  md << "Whole tiles (docs/decisions/scene-experiment.md): " << renders << " rendered tiles, " << tiles.size()
+     << " runs (tile × noise level)";
   if (all != nullptr) {
-    md << ", " << fmt("%.2f", field(*all, "area_ha").get<double>()) << " ha in all, "
+    md << ", " << format_number("%.2f", field(*all, "area_ha").get<double>()) << " ha in all, "
        << text(field(*all, "true")) << " true vehicles, " << text(field(*all, "candidates"))
        << " candidates verified";
   }
@@ -330,7 +310,9 @@ std::string scene_markdown(const Json& score, const std::vector<SceneStageTime>&
      << " m of its own (one to one, most confident first); identification = right model among the matched "
         "detections; recognition = right model found / true vehicles; pose errors over the identified "
         "detections. Tables: `scenes/*.csv`.\n\n";
+}
 
+void detection_table(std::ostringstream& md, const Json& summary) {
   md << "### Detection, identification and pose\n\n"
         "| cover | noise (mm) | tiles | mean vehicle cover | true | candidates | detections | TP | FP | FN | "
         "precision | recall | F1 | false alarms / ha | identification | recognition | position error median "
@@ -351,7 +333,9 @@ std::string scene_markdown(const Json& score, const std::vector<SceneStageTime>&
        << num(field(s, "heading_error_p90_deg"), "%.1f") << " | " << text(field(s, "flips")) << " |\n";
   }
   md << "\n";
+}
 
+void targets_table(std::ostringstream& md, const Json& summary, const Json* all) {
   // The issue's targets, judged on the same numbers.
   md << "Targets of the issue (reported whatever they are):\n\n| target | measured | met |\n|---|---|---|\n";
   auto judge = [&](const char* what, const char* key, double bound, bool at_least) {
@@ -379,7 +363,9 @@ std::string scene_markdown(const Json& score, const std::vector<SceneStageTime>&
        << (he.is_number() ? (he.get<double>() <= 2 ? "yes" : "**no**") : "–") << " |\n";
   }
   md << "\n";
+}
 
+void models_table(std::ostringstream& md, const Json& score) {
   md << "### Identification per model\n\n"
         "| model | cover | true | matched | identified | recall | identification | recognition |\n"
         "|---|---|---|---|---|---|---|---|\n";
@@ -390,7 +376,9 @@ std::string scene_markdown(const Json& score, const std::vector<SceneStageTime>&
        << rate(field(m, "identification")) << " | " << rate(field(m, "recognition")) << " |\n";
   }
   md << "\n";
+}
 
+void cover_table(std::ostringstream& md, const Json& score, const std::string& fig) {
   md << "### Recognition against the measured canopy cover\n\n"
         "Per vehicle, the share of its footprint under vegetation seen from straight above (rangetrace's "
         "nadir image, `canopy_cover` in truth.json), binned; all noise levels, then per noise level.\n\n"
@@ -404,7 +392,9 @@ std::string scene_markdown(const Json& score, const std::vector<SceneStageTime>&
   }
   md << "\n![recognition against canopy cover](" << fig << "/cover.png)\n\n![recognition against noise]("
      << fig << "/noise.png)\n\n";
+}
 
+void pr_table(std::ostringstream& md, const Json& score) {
   // Precision-recall: at most 12 rows (every k-th threshold and the last); all of it in pr.csv.
   const Json& pr = field(score, "pr");
   md << "### Precision and recall over the confidence\n\n";
@@ -425,14 +415,18 @@ std::string scene_markdown(const Json& score, const std::vector<SceneStageTime>&
     }
     md << "\n";
   }
+}
 
+void baselines(std::ostringstream& md, const Json& score, const std::vector<SceneStageTime>& times) {
   std::vector<std::string> stale;
   const auto bl = baseline_scores(score, stale);
   if (!bl.empty()) md << baseline_markdown(score, bl, times);
   for (const auto& p : stale) {
     md << "(" << p << " scores other runs than canopy's: a stale baseline run, not shown.)\n\n";
   }
+}
 
+void times_table(std::ostringstream& md, const std::vector<SceneStageTime>& times) {
   md << "### Time per hectare and peak memory per stage\n\n"
         "Wall time summed over the stage's runs (scripts/stage.sh's `.time` files; on a shared machine "
         "wall time includes waiting for the CPU), per hectare of rendered tiles (rangetrace) or of runs "
@@ -440,16 +434,47 @@ std::string scene_markdown(const Json& score, const std::vector<SceneStageTime>&
         "| stage | runs | wall s | s per ha | peak MB |\n|---|---|---|---|---|\n";
   double total = 0;
   for (const auto& t : times) {
-    md << "| " << t.stage << " | " << t.runs << " | " << fmt("%.1f", t.seconds) << " | "
-       << fmt("%.1f", t.per_ha) << " | " << fmt("%.0f", t.peak_mb) << " |\n";
+    md << "| " << t.stage << " | " << t.runs << " | " << format_number("%.1f", t.seconds) << " | "
+       << format_number("%.1f", t.per_ha) << " | " << format_number("%.0f", t.peak_mb) << " |\n";
     total += t.seconds;
   }
-  md << "| **all** | | **" << fmt("%.1f", total) << "** | | |\n\n";
+  md << "| **all** | | **" << format_number("%.1f", total) << "** | | |\n\n";
+}
 
+void pictures(std::ostringstream& md, const std::vector<std::string>& covers, const std::string& fig) {
   md << "### The tiles from above\n\n"
         "Per cover level: rows = noise levels, columns = the first tiles; outlines: right model green, wrong "
         "model orange, false alarm magenta, missed vehicle yellow, found vehicle's true footprint white.\n\n";
   for (const auto& c : covers) md << "![" << c << " cover](" << fig << "/top-" << c << ".png)\n\n";
+}
+
+}  // namespace
+
+std::string scene_markdown(const Json& score, const std::vector<SceneStageTime>& times, const std::string& fig) {
+  std::ostringstream md;
+  const Json& tiles = field(score, "tiles");
+  const Json& summary = field(score, "summary");
+  std::vector<std::string> covers;
+  std::set<std::string> renders;
+  for (const Json& t : tiles) {
+    const std::string c = text(field(t, "cover"));
+    if (std::find(covers.begin(), covers.end(), c) == covers.end() && c != "–") covers.push_back(c);
+    renders.insert(
+        std::filesystem::path(t.value("detections", std::string())).parent_path().parent_path().string());
+  }
+  const Json* all = nullptr;
+  for (const Json& s : summary) {
+    if (text(field(s, "cover")) == "all" && text(field(s, "noise_mm")) == "all") all = &s;
+  }
+  scene_intro(md, score, tiles, all, renders.size());
+  detection_table(md, summary);
+  targets_table(md, summary, all);
+  models_table(md, score);
+  cover_table(md, score, fig);
+  pr_table(md, score);
+  baselines(md, score, times);
+  times_table(md, times);
+  pictures(md, covers, fig);
   return md.str();
 }
 
