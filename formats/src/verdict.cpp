@@ -1,6 +1,7 @@
 #include "canopy/formats/verdict.h"
 
 #include "canopy/formats/json_document.h"
+#include "canopy/formats/provenance.h"
 
 #include <algorithm>
 #include <cmath>
@@ -102,13 +103,7 @@ std::array<double, 3> euler_degrees(const Pose& p) {
 }
 
 std::string serialize_verdict(const Verdict& v) {
-  Json provenance = Json::object();
-  Json params = Json::object();
-  for (const auto& [k, val] : v.provenance.parameters) params[k] = val;
-  provenance = Json{{"tool", v.provenance.tool},
-                    {"version", v.provenance.version},
-                    {"parameters", params},
-                    {"inputs", v.provenance.inputs}};
+  const Json provenance = provenance_json(v.provenance);
   Json hyps = Json::array();
   for (const auto& h : v.hypotheses) hyps.push_back(hypothesis_json(h, v.has_classes));
   if (v.chosen >= static_cast<int>(v.hypotheses.size())) {

@@ -12,6 +12,7 @@
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "canopy/formats/pcd.h"
+#include "canopy/formats/provenance.h"
 #include "canopy/formats/ply.h"
 
 namespace canopy::detect {
@@ -48,22 +49,18 @@ class TempDir {
 
 std::string serialize_index(const Result& r, const Params& p, const formats::Provenance& prov,
                             const std::string& tile, const std::string& classes) {
-  Json params = Json::object();
-  for (const auto& [k, v] : prov.parameters) params[k] = v;
-  Json j{
-      {"format", "canopy.candidates"},
-      {"version", 1},
-      {"provenance",
-       Json{{"tool", prov.tool}, {"version", prov.version}, {"parameters", params}, {"inputs", prov.inputs}}},
-      {"tile", tile},
-      {"tile_points", r.stats.points},
-      {"origin", Json::array({finite(r.origin.x()), finite(r.origin.y()), finite(r.origin.z())})},
-      {"classes", classes.empty() ? Json(nullptr) : Json(classes)},
-      {"ground", Json{{"cell", p.cell},
-                      {"cells", r.stats.cells},
-                      {"ground_cells", r.stats.ground_cells},
-                      {"filled_cells", r.stats.filled_cells},
-                      {"ground_points", r.stats.ground_points}}}};
+  Json j{{"format", "canopy.candidates"},
+         {"version", 1},
+         {"provenance", formats::provenance_json(prov)},
+         {"tile", tile},
+         {"tile_points", r.stats.points},
+         {"origin", Json::array({finite(r.origin.x()), finite(r.origin.y()), finite(r.origin.z())})},
+         {"classes", classes.empty() ? Json(nullptr) : Json(classes)},
+         {"ground", Json{{"cell", p.cell},
+                         {"cells", r.stats.cells},
+                         {"ground_cells", r.stats.ground_cells},
+                         {"filled_cells", r.stats.filled_cells},
+                         {"ground_points", r.stats.ground_points}}}};
   Json cands = Json::array();
   for (const Candidate& c : r.candidates) {
     Json t = Json::array();
