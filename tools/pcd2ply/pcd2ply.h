@@ -1,0 +1,24 @@
+// pcd2ply: a point cloud (PCD, LAS or PLY point set) as a PLY point set, every field kept as a
+// vertex property, so scans and samples open in MeshLab and CloudCompare (MeshLab does not
+// read PCD). The stage: the cloud becomes the vertices of a face-less mesh, its comments kept,
+// the provenance lines appended.
+#pragma once
+
+#include "canopy/formats/ply.h"
+#include "canopy/formats/point_cloud.h"
+#include "canopy/formats/provenance.h"
+
+namespace canopy::pcd2ply {
+
+struct Params {
+  bool ascii = false;  // write ascii PLY instead of binary little endian (used by the writer)
+};
+
+// Nothing to refuse: every Params is valid (kept for the one stage shape).
+inline void validate(const Params&) {}
+
+// The PLY point set of `cloud`: every field a vertex property, no faces; the cloud's comments
+// then formats::provenance_comments(provenance).
+formats::Mesh run(formats::PointCloud cloud, const formats::Provenance& provenance);
+
+}  // namespace canopy::pcd2ply
