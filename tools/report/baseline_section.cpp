@@ -11,6 +11,7 @@
 #include "canopy/common/error.h"
 #include "canopy/formats/csv_table.h"
 #include "canopy/formats/match_result.h"
+#include "canopy/formats/stage_time.h"
 
 namespace canopy::report {
 namespace {
@@ -55,64 +56,74 @@ std::string verify_answer(const std::string& path) {
 
 }  // namespace
 
-BaselineSection baseline_section(const std::string& out_dir, const std::vector<std::string>& objects,
-                                 const std::vector<std::string>& scenes, const std::vector<int>& noises) {
-  namespace fs = std::filesystem;
-  BaselineSection b;
-  std::ostringstream csv;
-  csv << "object,scene,noise_mm,canopy_model,canopy_correct,verify_model,verify_correct,vfh_model,"
-         "vfh_correct,fpfh_model,fpfh_correct,baseline_s,baseline_peak_mb\n";
+namespace {
+
+// Every trial's answers counted, and the per-trial CSV.
+struct Counts {
   std::map<std::string, Tally> by_object;
   std::map<int, Tally> by_noise;
   std::map<std::string, Tally> by_scene;
   Tally all;
   int missing = 0, failed = 0, timed = 0, verified = 0;
   double seconds = 0, peak = 0;
-  for (const auto& o : objects) {
-    for (const auto& s : scenes) {
-      for (int n : noises) {
-        const std::string dir = out_dir + "/" + o + "/" + s + "/noise-" + std::to_string(n);
-        const std::string path = dir + "/baseline.json";
-        if (!fs::exists(path)) {
-          ++missing;
-          continue;
-        }
-        const std::string text = common::read_file(path);
-        std::map<std::string, std::string> r;
-        if (text.empty()) {
-          ++failed;
-        } else {
-          r = rank1(text, path);
-        }
-        const formats::MatchResult m = formats::read_match_result(dir + "/match.json");
-        const std::string canopy = m.models.empty() ? "" : m.models.front().model;
-        const std::string verdict = dir + "/verdict.json";
-        verified += fs::exists(verdict) ? 1 : 0;
-        const std::string answer = verify_answer(verdict);
-        double sec = 0, kib = 0;
-        std::ifstream t(path + ".time");
-        const bool has_time = static_cast<bool>(t >> sec >> kib);
-        if (has_time) {
-          ++timed;
-          seconds += sec;
-          peak = std::max(peak, kib / 1024.0);
-        }
-        const bool c = canopy == o, a = answer == o, v = r["vfh"] == o, f = r["fpfh"] == o;
-        for (Tally* x : {&by_object[o], &by_noise[n], &by_scene[s], &all}) {
-          ++x->n;
-          x->canopy += c;
-          x->verify += a;
-          x->vfh += v;
-          x->fpfh += f;
-        }
-        csv << o << ',' << s << ',' << n << ',' << canopy << ',' << c << ',' << answer << ',' << a << ','
-            << r["vfh"] << ',' << v << ',' << r["fpfh"] << ',' << f << ','
-            << (has_time ? format_number("%.3f", sec) : "") << ','
-            << (has_time ? format_number("%.1f", kib / 1024.0) : "") << '\n';
-      }
-    }
+  std::ostringstream csv;
+};
+
+// One trial: its baseline.json (absent: not counted), gmatch's and verify's answers, the time.
+void count_trial(Counts& k, const std::string& out_dir, const std::string& o, const std::string& s, int n) {
+  namespace fs = std::filesystem;
+  const std::string dir = out_dir + "/" + o + "/" + s + "/noise-" + std::to_string(n);
+  const std::string path = dir + "/baseline.json";
+  if (!fs::exists(path)) {
+    ++k.missing;
+    return;
   }
-  if (all.n == 0) return b;
+  const std::string text = common::read_file(path);
+  std::map<std::string, std::string> r;
+  if (text.empty()) {
+    ++k.failed;
+  } else {
+    r = rank1(text, path);
+  }
+  const formats::MatchResult m = formats::read_match_result(dir + "/match.json");
+  const std::string canopy = m.models.empty() ? "" : m.models.front().model;
+  const std::string verdict = dir + "/verdict.json";
+  k.verified += fs::exists(verdict) ? 1 : 0;
+  const std::string answer = verify_answer(verdict);
+  const formats::StageTime t = formats::read_stage_time(path);
+  if (t.present) {
+    ++k.timed;
+    k.seconds += t.seconds;
+    k.peak = std::max(k.peak, t.peak_mb);
+  }
+  const bool c = canopy == o, a = answer == o, v = r["vfh"] == o, f = r["fpfh"] == o;
+  for (Tally* x : {&k.by_object[o], &k.by_noise[n], &k.by_scene[s], &k.all}) {
+    ++x->n;
+    x->canopy += c;
+    x->verify += a;
+    x->vfh += v;
+    x->fpfh += f;
+  }
+  k.csv << o << ',' << s << ',' << n << ',' << canopy << ',' << c << ',' << answer << ',' << a << ','
+        << r["vfh"] << ',' << v << ',' << r["fpfh"] << ',' << f << ','
+        << (t.present ? format_number("%.3f", t.seconds) : "") << ','
+        << (t.present ? format_number("%.1f", t.peak_mb) : "") << '\n';
+}
+
+// A tally of the map, or an empty one (every trial of that key missing).
+template <class Map, class Key>
+Tally tally_of(const Map& m, const Key& key) {
+  const auto it = m.find(key);
+  return it == m.end() ? Tally{} : it->second;
+}
+
+void tally_row(std::ostringstream& md, const std::string& label, const Tally& x) {
+  md << "| " << label << " | " << x.n << " | " << rate(x.canopy, x.n) << " | " << rate(x.verify, x.n) << " | "
+     << rate(x.vfh, x.n) << " | " << rate(x.fpfh, x.n) << " |\n";
+}
+
+std::string baseline_markdown(const Counts& k, const std::vector<std::string>& objects,
+                              const std::vector<std::string>& scenes, const std::vector<int>& noises) {
   std::ostringstream md;
   md << "\n## PCL baseline beside canopy (issue 17)\n\n"
      << "`baseline` (tools/baseline, docs/decisions/baseline.md) on the same candidates (each trial's "
@@ -122,40 +133,44 @@ BaselineSection baseline_section(const std::string& out_dir, const std::vector<s
         "none or no verdict counts as wrong). Rank-1 = the true model answered first.\n\n";
   md << "| object | trials | canopy (gmatch) | canopy (verify) | VFH | FPFH |\n"
         "|---|---:|---:|---:|---:|---:|\n";
-  for (const auto& o : objects) {
-    const Tally& x = by_object[o];
-    md << "| " << o << " | " << x.n << " | " << rate(x.canopy, x.n) << " | " << rate(x.verify, x.n) << " | "
-       << rate(x.vfh, x.n) << " | " << rate(x.fpfh, x.n) << " |\n";
-  }
-  md << "| all | " << all.n << " | " << rate(all.canopy, all.n) << " | " << rate(all.verify, all.n) << " | "
-     << rate(all.vfh, all.n) << " | " << rate(all.fpfh, all.n) << " |\n\n";
-  md << "| noise (mm) | trials | canopy (gmatch) | canopy (verify) | VFH | FPFH |\n"
+  for (const auto& o : objects) tally_row(md, o, tally_of(k.by_object, o));
+  tally_row(md, "all", k.all);
+  md << "\n| noise (mm) | trials | canopy (gmatch) | canopy (verify) | VFH | FPFH |\n"
         "|---:|---:|---:|---:|---:|---:|\n";
-  for (int n : noises) {
-    const Tally& x = by_noise[n];
-    md << "| " << n << " | " << x.n << " | " << rate(x.canopy, x.n) << " | " << rate(x.verify, x.n) << " | "
-       << rate(x.vfh, x.n) << " | " << rate(x.fpfh, x.n) << " |\n";
-  }
+  for (int n : noises) tally_row(md, std::to_string(n), tally_of(k.by_noise, n));
   md << "\n| scene | trials | canopy (gmatch) | canopy (verify) | VFH | FPFH |\n"
         "|---|---:|---:|---:|---:|---:|\n";
-  for (const auto& s : scenes) {
-    const Tally& x = by_scene[s];
-    md << "| " << s << " | " << x.n << " | " << rate(x.canopy, x.n) << " | " << rate(x.verify, x.n) << " | "
-       << rate(x.vfh, x.n) << " | " << rate(x.fpfh, x.n) << " |\n";
-  }
+  for (const auto& s : scenes) tally_row(md, s, tally_of(k.by_scene, s));
   md << "\nBaseline time (both methods, one process per trial): ";
-  if (timed > 0) {
-    md << "mean " << format_number("%.2f", seconds / timed) << " s wall per trial, total "
-       << format_number("%.1f", seconds) << " s, peak " << format_number("%.0f", peak) << " MB.";
+  if (k.timed > 0) {
+    md << "mean " << format_number("%.2f", k.seconds / k.timed) << " s wall per trial, total "
+       << format_number("%.1f", k.seconds) << " s, peak " << format_number("%.0f", k.peak) << " MB.";
   } else {
     md << "not recorded (no baseline.json.time).";
   }
-  if (verified < all.n) md << " verify was not run on " << all.n - verified << " of them.";
-  if (missing > 0) md << " " << missing << " trials have no baseline.json and are left out.";
-  if (failed > 0) md << " " << failed << " baseline runs failed (empty baseline.json), counted as wrong.";
+  if (k.verified < k.all.n) md << " verify was not run on " << k.all.n - k.verified << " of them.";
+  if (k.missing > 0) md << " " << k.missing << " trials have no baseline.json and are left out.";
+  if (k.failed > 0) md << " " << k.failed << " baseline runs failed (empty baseline.json), counted as wrong.";
   md << " Per trial: `baseline.csv`.\n";
-  b.markdown = md.str();
-  b.csv = csv.str();
+  return md.str();
+}
+
+}  // namespace
+
+BaselineSection baseline_section(const std::string& out_dir, const std::vector<std::string>& objects,
+                                 const std::vector<std::string>& scenes, const std::vector<int>& noises) {
+  BaselineSection b;
+  Counts k;
+  k.csv << "object,scene,noise_mm,canopy_model,canopy_correct,verify_model,verify_correct,vfh_model,"
+           "vfh_correct,fpfh_model,fpfh_correct,baseline_s,baseline_peak_mb\n";
+  for (const auto& o : objects) {
+    for (const auto& s : scenes) {
+      for (int n : noises) count_trial(k, out_dir, o, s, n);
+    }
+  }
+  if (k.all.n == 0) return b;
+  b.markdown = baseline_markdown(k, objects, scenes, noises);
+  b.csv = k.csv.str();
   return b;
 }
 

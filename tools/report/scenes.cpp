@@ -104,17 +104,7 @@ double stage_mean(const std::vector<SceneStageTime>& times, const std::string& s
 
 // The side-by-side tables: canopy and each baseline method per cover and noise level, per
 // model, per measured cover bin; the issue's goal; time per candidate.
-std::string baseline_markdown(const Json& score, const std::vector<BaselineScore>& bl,
-                              const std::vector<SceneStageTime>& times) {
-  std::ostringstream md;
-  md << "### canopy beside the PCL baseline (issue 17)\n\n"
-        "The same candidates (detect's, each one's fitvox `samples.pcd`), the same modelbase and the same "
-        "`collect` and `score`: per candidate `baseline --verdict <method>` answers the best model of its "
-        "method, or none when the method's score is below its acceptance threshold "
-        "(docs/decisions/baseline.md §4). **VFH** (global descriptor, nearest model view) has no pose: its "
-        "detection stands at detect's candidate frame (the footprint's centre), so its position error is "
-        "detect's and it has no heading error. **FPFH** (local: correspondences + RANSAC + ICP, ground "
-        "pose). Tables: `scenes/baseline-<method>/*.csv`.\n\n";
+void baseline_rows(std::ostringstream& md, const Json& score, const std::vector<BaselineScore>& bl) {
   md << "| cover | noise (mm) | true | method | detections | precision | recall | identification | "
         "recognition "
         "| position error median (m) | heading error median (°) |\n"
@@ -134,7 +124,9 @@ std::string baseline_markdown(const Json& score, const std::vector<BaselineScore
     }
   }
   md << "\n";
+}
 
+void baseline_recognition(std::ostringstream& md, const Json& score, const std::vector<BaselineScore>& bl) {
   md << "Recognition (right model within the match radius / true vehicles) per model and per measured canopy "
         "cover bin:\n\n| model | cover | true | canopy";
   for (const auto& b : bl) md << " | " << method_label(b.method);
@@ -163,7 +155,9 @@ std::string baseline_markdown(const Json& score, const std::vector<BaselineScore
     md << " |\n";
   }
   md << "\n";
+}
 
+void baseline_goal(std::ostringstream& md, const Json& score, const std::vector<BaselineScore>& bl) {
   // The issue's goal, on recognition over all runs.
   const Json all_key = Json{{"cover", "all"}, {"noise_mm", "all"}};
   const Json& canopy_all = same_row(score, "summary", all_key, "cover", "noise_mm");
@@ -183,7 +177,10 @@ std::string baseline_markdown(const Json& score, const std::vector<BaselineScore
        << rate(c_rec) << ", best baseline " << best_method << " " << format_number("%.1f%%", 100 * best)
        << ": " << format_number("%+.1f", gap) << " points, " << (gap >= 5 ? "met" : "**not met**") << ".\n\n";
   }
+}
 
+void baseline_times(std::ostringstream& md, const std::vector<BaselineScore>& bl,
+                    const std::vector<SceneStageTime>& times) {
   // Time per candidate: mean wall time of each stage's runs (.time files).
   md << "Time per candidate (mean wall s over the candidates' `.time` files; on a shared machine wall "
         "includes waiting for the CPU): ";
@@ -200,6 +197,23 @@ std::string baseline_markdown(const Json& score, const std::vector<BaselineScore
        << format_number("%.2f", s) << " s baseline, " << n << " runs)";
   }
   md << ".\n\n";
+}
+
+std::string baseline_markdown(const Json& score, const std::vector<BaselineScore>& bl,
+                              const std::vector<SceneStageTime>& times) {
+  std::ostringstream md;
+  md << "### canopy beside the PCL baseline (issue 17)\n\n"
+        "The same candidates (detect's, each one's fitvox `samples.pcd`), the same modelbase and the same "
+        "`collect` and `score`: per candidate `baseline --verdict <method>` answers the best model of its "
+        "method, or none when the method's score is below its acceptance threshold "
+        "(docs/decisions/baseline.md §4). **VFH** (global descriptor, nearest model view) has no pose: its "
+        "detection stands at detect's candidate frame (the footprint's centre), so its position error is "
+        "detect's and it has no heading error. **FPFH** (local: correspondences + RANSAC + ICP, ground "
+        "pose). Tables: `scenes/baseline-<method>/*.csv`.\n\n";
+  baseline_rows(md, score, bl);
+  baseline_recognition(md, score, bl);
+  baseline_goal(md, score, bl);
+  baseline_times(md, bl, times);
   return md.str();
 }
 
