@@ -72,12 +72,32 @@ $(if $(filter $(FAM_TRAIN),$(FAM_TEST)),$(error families: FAM_TEST and FAM_TRAIN
 $(foreach c,$(FAM_COVERS),$(if $(FAM_FOLIAGE_$(c)),,$(error families: no FAM_FOLIAGE_$(c) for cover $(c))))
 fam_heading = $(shell echo $$(( $(call seed,families/heading/$(1)) % 360 )))deg
 
-# The test scenes: one recipe per cover level (rewritten only when its text changes).
+# Texts written at parse time when they changed (the test scenes, the runs manifest), so their
+# times move only with their content and `make -q families` is clean after a run; a dry run
+# writes nothing and a file whose text would change gets FORCE instead (as mk/scenes.mk does:
+# compared with blanks collapsed and trailing empty lines dropped).
+define fam_nl
+
+
+endef
+fam_trim = $(if $(filter @NL@,$(lastword $(1))),$(call fam_trim,$(wordlist 2,$(words $(1)),x $(1))),$(1))
+fam_norm = $(call fam_trim,$(strip $(subst $(fam_nl), @NL@ ,$(1))))
+fam_same = $(and $(findstring x$(call fam_norm,$(1))x,x$(call fam_norm,$(2))x),\
+  $(findstring x$(call fam_norm,$(2))x,x$(call fam_norm,$(1))x))
+fam_text_prereq = $(if $(call fam_same,$(file <$(1)),$(2)),,$(if $(dry_run),FORCE,$(file >$(1),$(2))))
+$(if $(dry_run),,$(shell mkdir -p $(FAM_DIR)/scenes))
+
+# The test scenes: one recipe per cover level.
+define fam_scene_text
+# families protocol (mk/families.mk): cover $(1)
+foliage_count = $(FAM_FOLIAGE_$(1))
+foliage_radius = 100mm
+foliage_band = 2m
+foliage_square = 16m
+views = $(FAM_VIEWS)
+endef
 define fam_scene_rule
-$(FAM_DIR)/scenes/$(1).scene: FORCE
-	@mkdir -p $$(@D) && printf '%s\n' '# families protocol (mk/families.mk): cover $(1)' \
-	  'foliage_count = $(FAM_FOLIAGE_$(1))' 'foliage_radius = 100mm' 'foliage_band = 2m' \
-	  'foliage_square = 16m' 'views = $(FAM_VIEWS)' >$$@.tmp && { cmp -s $$@.tmp $$@ && rm $$@.tmp || mv $$@.tmp $$@; }
+$(FAM_DIR)/scenes/$(1).scene: $(call fam_text_prereq,$(FAM_DIR)/scenes/$(1).scene,$(call fam_scene_text,$(1)))
 endef
 
 # fam_chain(DIR, NOISE, SEEDKEY, FAIL, DROP): addnoise -> fitvox -> cocone -> ncut on DIR/scan.pcd.
@@ -171,14 +191,13 @@ $(foreach c,$(FAM_CLASSES),$(foreach n,$(FAM_TEST),$(foreach v,$(FAM_COVERS),\
 $(foreach c,$(FAM_CLASSES),$(foreach n,$(FAM_TEST),$(foreach v,$(FAM_COVERS),$(foreach z,$(FAM_NOISES),\
   $(eval $(call fam_trial_rule,$(c),$(n),$(v),$(z)))))))
 
-# The runs manifest: <verdict> <class> <instance> <cover> <noise> (rewritten only when its text changes).
+# The runs manifest: <verdict> <class> <instance> <cover> <noise>.
 FAM_RUNS := $(foreach c,$(FAM_CLASSES),$(foreach n,$(FAM_TEST),$(foreach v,$(FAM_COVERS),$(foreach z,$(FAM_NOISES),\
   $(FAM_DIR)/test/$(c)-$(n)/$(v)/noise-$(z)/verdict.json:$(c):$(n):$(v):$(z)))))
 FAM_TRIAL_FILES := $(foreach r,$(FAM_RUNS),$(foreach d,$(dir $(firstword $(subst :, ,$(r)))),\
   $(d)verdict.json $(d)baseline-vfh.json $(d)baseline-fpfh.json))
-$(FAM_DIR)/runs.txt: FORCE
-	@mkdir -p $(@D) && printf '%s\n' $(foreach r,$(FAM_RUNS),'$(subst :, ,$(r))') >$@.tmp && \
-	  { cmp -s $@.tmp $@ && rm $@.tmp || mv $@.tmp $@; }
+$(FAM_DIR)/runs.txt: $(call fam_text_prereq,$(FAM_DIR)/runs.txt,$(subst $(fam_nl) ,$(fam_nl),\
+  $(foreach r,$(FAM_RUNS),$(subst :, ,$(r))$(fam_nl))))
 $(FAM_RES)/confusion.csv: $(FAM_DIR)/runs.txt $(FAM_TRIAL_FILES) $(FAM_MODELBASE) $(call tool,famscore)
 	@mkdir -p $(@D)
 	@$(STAGE) $@ -- $(BIN)/famscore -i $(FAM_DIR)/runs.txt --modelbase $(FAM_MB) --confusion $@ \
@@ -202,14 +221,16 @@ ifneq ($(filter families,$(MAKECMDGOALS))$(filter 1,$(FAMILIES)),)
 $(RES)/report.md: $(FAM_RES)/confusion.csv $(FAM_RES)/accuracy.csv
 REPORT_ARGS += --families $(FAM_RES)
 endif
-ifeq ($(FAMILIES)$(filter families,$(MAKECMDGOALS)),1)
+# Not in the scene experiment's own sub-make (`make scenes`, whose -q check would ask this one,
+# and back); the sub-makes here never need the scene experiment (SCENE_EXPERIMENT=0).
+ifeq ($(FAMILIES)$(filter families scenes,$(MAKECMDGOALS)),1)
 ifneq ($(findstring q,$(make_letters)),q)
 fam_force := FORCE
 else
 fam_force := $(if $(shell $(MAKE) -q --no-print-directory -f $(firstword $(MAKEFILE_LIST)) families \
-  $(MAKEOVERRIDES) >/dev/null 2>&1 || echo stale),FORCE)
+  $(MAKEOVERRIDES) SCENE_EXPERIMENT=0 >/dev/null 2>&1 || echo stale),FORCE)
 endif
 $(FAM_RES)/confusion.csv: $(fam_force) $(foreach t,$(FAM_TOOLS),$(call tool,$(t)))
-	+@$(MAKE) --no-print-directory -f $(firstword $(MAKEFILE_LIST)) families PROGRESS=0
+	+@$(MAKE) --no-print-directory -f $(firstword $(MAKEFILE_LIST)) families PROGRESS=0 SCENE_EXPERIMENT=0
 $(filter-out %/confusion.csv,$(FAM_TABLES)): $(FAM_RES)/confusion.csv
 endif

@@ -92,4 +92,16 @@ done
 
 "${mk[@]}" -j2 families >"$tmp/again.log" 2>&1 || fail "second make families failed"
 if grep -q '^done\|^FAIL' "$tmp/again.log"; then fail "a second make ran stages: $(head -3 "$tmp/again.log")"; fi
+# Inside `all` (FAMILIES=1) the tables come from a recursive `make families`: up to date now,
+# `make -q` asks the sub-make and exits 0, and the recursive step runs nothing; after a change
+# to the baseline's parameters -q exits 1 and the step re-runs the baseline and famscore only.
+"${mk[@]}" -q SCENE_EXPERIMENT=0 FAMILIES=1 "$res/confusion.csv" || fail "make -q (FAMILIES=1) after a run exits $?, want 0"
+"${mk[@]}" SCENE_EXPERIMENT=0 FAMILIES=1 "$res/confusion.csv" >"$tmp/rec.log" 2>&1 || fail "recursive families failed: $(tail -3 "$tmp/rec.log")"
+if grep -q '^done\|^FAIL' "$tmp/rec.log"; then fail "the recursive step ran stages: $(head -3 "$tmp/rec.log")"; fi
+echo '; touched by the test' >>"$tmp/params/baseline.ini"
+if "${mk[@]}" -q SCENE_EXPERIMENT=0 FAMILIES=1 "$res/confusion.csv"; then fail "make -q after a parameter change exits 0"; fi
+"${mk[@]}" SCENE_EXPERIMENT=0 FAMILIES=1 "$res/confusion.csv" >"$tmp/rec2.log" 2>&1 || fail "recursive families failed: $(tail -3 "$tmp/rec2.log")"
+ran=$(grep -c '^done' "$tmp/rec2.log"); want=$(( 2 * trials + 1 ))
+[ "$ran" = "$want" ] && ! grep '^done' "$tmp/rec2.log" | grep -qv 'baseline-\|confusion.csv' \
+  || fail "after baseline.ini changed: $ran stages ran (want $want: the baseline's and famscore): $(head -5 "$tmp/rec2.log")"
 echo ok
