@@ -8,6 +8,9 @@
 #      segments.json and samples.pcd, e.g. from `make families`): gmatch --threads 1 against
 #      OUT/families/modelbase-N with --prefilter 64 (share/params/gmatch.ini) and --prefilter 0,
 #      each followed by verify -k 5; CPU per candidate, rank-1 class and verify's class answer.
+#   3. With REPLICATE=M (e.g. 1000): gmatch's time per candidate against M models made by
+#      repeating the N entries' graphs under other names (hard links in a temporary
+#      directory): a timing of the search at M models, not an accuracy (the copies tie).
 # Prints one line per trial and method and a summary; writes nothing outside a temporary
 # directory and OUT.
 set -euo pipefail
@@ -60,3 +63,24 @@ awk -v n="$entries" '{ split($3, p, "="); split($4, r, "="); split($5, c, "="); 
                                 k, m[k], rc[k], vc[k], cpu[k] / m[k], mx[k], 1000 * cpu[k] / m[k] / n
            same = 0; for (key in r1) { split(key, kk, SUBSEP); if (kk[2] == 64 && r1[kk[1], 0] == r1[key]) same++ }
            printf "same rank-1 model with and without the prefilter: %d of %d\n", same, m[64] }' "$tmp/rows"
+
+[ -n "${REPLICATE:-}" ] || exit 0
+rep=$tmp/replicated
+mkdir -p "$rep"
+ls "$mb"/*.json >"$tmp/graphs"
+i=0
+while [ "$i" -lt "$REPLICATE" ]; do
+  while read -r g && [ "$i" -lt "$REPLICATE" ]; do
+    ln "$g" "$rep/r$i-$(basename "$g")" 2>/dev/null || cp "$g" "$rep/r$i-$(basename "$g")"
+    i=$((i + 1))
+  done <"$tmp/graphs"
+done
+for d in "$@"; do
+  for pf in 64 0; do
+    /usr/bin/time -f "%U %S" -o "$tmp/g.time" "$build/bin/gmatch" --config share/params/gmatch.ini \
+      --threads 1 --prefilter "$pf" -i "$d/segments.json" --modelbase "$rep" -o "$tmp/m.json" 2>/dev/null
+    read -r u s <"$tmp/g.time"
+    echo "$pf $(echo "$u + $s" | bc)"
+  done
+done | awk -v m="$REPLICATE" '{ n[$1]++; c[$1] += $2; if ($2 > x[$1]) x[$1] = $2 }
+  END { for (k in n) printf "replicated to %d models, prefilter %s: %d candidates, CPU per candidate mean %.3f s (max %.3f)\n", m, k, n[k], c[k] / n[k], x[k] }'
