@@ -26,7 +26,7 @@ if [ -f "$tmp/content/\$t" ]; then cat "$tmp/content/\$t"; else echo "binary \$t
 cmp -s "$tmp/build/bin/\$t.new" "$tmp/build/bin/\$t" && rm "$tmp/build/bin/\$t.new" || mv "$tmp/build/bin/\$t.new" "$tmp/build/bin/\$t"
 EOF
 chmod +x "$tmp/cmake"
-mk=(make -f Makefile.experiments OBJECTS=sedan SCENES=unoccluded NOISES=0 ABLATIONS= SCENE_EXPERIMENT=0 BASELINE=0 OUT="$tmp/out"
+mk=(make -f Makefile.experiments OBJECTS=sedan SCENES=unoccluded NOISES=0 ABLATIONS= SCENE_EXPERIMENT=0 BASELINE=0 FAMILIES=0 OUT="$tmp/out"
     RES="$tmp/res" BUILD="$tmp/build" P="$tmp/params" CMAKE="$tmp/cmake")
 tools=(rangetrace addnoise fitvox cocone ncut gmatch verify areas report figures)
 

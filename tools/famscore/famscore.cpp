@@ -2,13 +2,21 @@
 #include "famscore/famscore.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <limits>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
+#include <stdexcept>
 
+#include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
+#include "canopy/formats/match_result.h"
+#include "canopy/formats/verdict.h"
 #include "rangetrace/families.h"
 
 namespace canopy::famscore {
@@ -140,6 +148,219 @@ std::string accuracy_csv(const std::vector<Trial>& trials) {
                   c.trials, c.right, static_cast<double>(c.right) / c.trials, c.accepted, c.accepted_right,
                   c.nearest, static_cast<double>(c.nearest) / c.trials, c.failed);
     out += buf;
+  }
+  return out;
+}
+
+const std::vector<std::string>& methods() {
+  static const std::vector<std::string> m = {"gmatch", "verify", "vfh", "fpfh"};
+  return m;
+}
+
+std::vector<std::string> method_stages(const std::string& method) {
+  if (method == "gmatch") return {"mesh.ply", "segments.json", "match.json"};
+  if (method == "verify") return {"mesh.ply", "segments.json", "match.json", "verdict.json"};
+  if (method == "vfh") return {"baseline-vfh.json"};
+  if (method == "fpfh") return {"baseline-fpfh.json"};
+  throw std::invalid_argument("famscore: unknown method " + method);
+}
+
+std::vector<Entry> read_entries(const std::string& modelbase) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::is_directory(modelbase, ec)) throw DataError(modelbase, "modelbase directory does not exist");
+  std::vector<fs::path> files;
+  for (const auto& f : fs::directory_iterator(modelbase)) {
+    if (f.path().extension() == ".class") files.push_back(f.path());
+  }
+  std::sort(files.begin(), files.end());
+  std::vector<Entry> entries;
+  for (const auto& f : files) {
+    std::istringstream in(common::read_file(f.string()));
+    std::string word;
+    if (!(in >> word)) throw DataError(f.string(), "empty class file");
+    entries.push_back({f.stem().string(), word});
+  }
+  if (entries.empty()) throw DataError(modelbase, "no <model>.class file: the modelbase carries no classes");
+  return entries;
+}
+
+namespace {
+
+// A stage's wall seconds from its .time file ("<seconds> <peak KiB>"); false when absent or unreadable.
+bool stage_seconds(const std::string& artifact, double& seconds) {
+  std::ifstream t(artifact + ".time");
+  double s = 0, kib = 0;
+  if (!(t >> s >> kib) || !std::isfinite(s) || s < 0) return false;
+  seconds = s;
+  return true;
+}
+
+// The rank-1 model of `method` in a canopy.baseline document; "" when it ranks no model or its
+// best score is 0 (FPFH: RANSAC found no pose for any model).
+std::string baseline_rank1(const std::string& text, const std::string& path, const std::string& method) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const std::exception& e) { throw DataError(path, std::string("not JSON: ") + e.what()); }
+  if (!j.is_object() || j.value("format", "") != "canopy.baseline")
+    throw DataError(path, "not a canopy.baseline document");
+  try {
+    for (const auto& m : j.at("methods")) {
+      if (m.at("method").get<std::string>() != method) continue;
+      const auto& models = m.at("models");
+      if (models.empty() || !(models[0].at("score").get<double>() > 0)) return "";
+      return models[0].at("model").get<std::string>();
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw DataError(path, std::string("malformed canopy.baseline: ") + e.what());
+  }
+  throw DataError(path, "no method '" + method + "' in the baseline document");
+}
+
+std::string class_of(const std::string& model, const std::vector<Entry>& entries) {
+  for (const auto& e : entries) {
+    if (e.model == model) return e.vehicle_class;
+  }
+  return "none";  // no model, or a model without a class file
+}
+
+}  // namespace
+
+Trial read_trial(const Run& r, const std::vector<Entry>& entries, bool with_methods) {
+  namespace fs = std::filesystem;
+  Trial t;
+  t.run = r;
+  t.expected_nearest = nearest_by_size(r.vehicle_class, r.instance, entries);
+  if (common::read_file(r.verdict).empty()) {  // a stage failed on this trial
+    t.answered_class = "none";
+    t.failed = true;
+  } else {
+    const formats::Verdict v = formats::read_verdict(r.verdict);
+    if (!v.has_classes) throw DataError(r.verdict, "verdict names no class (modelbase without classes?)");
+    t.answered_class = v.vehicle_class.empty() ? "none" : v.vehicle_class;
+    t.nearest = v.nearest_instance;
+    t.accepted = !v.model.empty();
+  }
+  if (!with_methods) return t;
+  const std::string dir = fs::path(r.verdict).parent_path().string();
+  const std::string in = dir.empty() ? "" : dir + "/";
+  for (const auto& m : methods()) {
+    Answer a;
+    if (m == "verify") {
+      a.model = t.nearest;
+      a.answered_class = t.answered_class;
+      a.failed = t.failed;
+    } else {
+      const std::string path = in + (m == "gmatch" ? "match.json" : "baseline-" + m + ".json");
+      std::error_code ec;
+      if (!fs::exists(path, ec)) throw DataError(path, "missing (the " + m + " answer of the trial)");
+      const std::string text = common::read_file(path);
+      if (text.empty()) {
+        a.failed = true;
+      } else if (m == "gmatch") {
+        const formats::MatchResult mr = formats::parse_match_result(text, path);
+        if (!mr.models.empty()) a.model = mr.models.front().model;
+      } else {
+        a.model = baseline_rank1(text, path, m);
+      }
+      a.answered_class = a.model.empty() ? "none" : class_of(a.model, entries);
+    }
+    a.timed = true;
+    for (const auto& stage : method_stages(m)) {
+      double s = 0;
+      if (!stage_seconds(in + stage, s)) {
+        a.timed = false;
+        a.seconds = 0;
+        break;
+      }
+      a.seconds += s;
+    }
+    t.answers.push_back(a);
+  }
+  return t;
+}
+
+std::string methods_csv(const std::vector<Trial>& trials) {
+  struct Count {
+    int trials = 0, right = 0, nearest = 0, failed = 0, timed = 0;
+    double seconds = 0;
+  };
+  std::string out =
+      "method,class,cover,noise,trials,class_right,class_accuracy,nearest_right,nearest_accuracy,failed,timed,"
+      "seconds_mean\n";
+  std::vector<std::string> truth, covers, noises;
+  for (const auto& t : trials) {
+    truth.push_back(t.run.vehicle_class);
+    if (std::find(covers.begin(), covers.end(), t.run.cover) == covers.end()) covers.push_back(t.run.cover);
+    if (std::find(noises.begin(), noises.end(), t.run.noise) == noises.end()) noises.push_back(t.run.noise);
+  }
+  std::vector<std::array<std::string, 3>> keys = {{"all", "all", "all"}};
+  for (const auto& c : class_order(truth)) keys.push_back({c, "all", "all"});
+  for (const auto& v : covers) keys.push_back({"all", v, "all"});
+  for (const auto& z : noises) keys.push_back({"all", "all", z});
+  char buf[512];
+  for (std::size_t m = 0; m < methods().size(); ++m) {
+    for (const auto& k : keys) {
+      Count c;
+      for (const auto& t : trials) {
+        if (t.answers.size() != methods().size())
+          throw std::logic_error("famscore: methods_csv needs trials read with their methods");
+        if ((k[0] != "all" && t.run.vehicle_class != k[0]) || (k[1] != "all" && t.run.cover != k[1]) ||
+            (k[2] != "all" && t.run.noise != k[2]))
+          continue;
+        const Answer& a = t.answers[m];
+        ++c.trials;
+        c.right += a.answered_class == t.run.vehicle_class;
+        c.nearest += !t.expected_nearest.empty() && a.model == t.expected_nearest;
+        c.failed += a.failed;
+        if (a.timed) {
+          ++c.timed;
+          c.seconds += a.seconds;
+        }
+      }
+      if (c.trials == 0) continue;
+      std::string mean;
+      if (c.timed > 0) {
+        char s[64];
+        std::snprintf(s, sizeof s, "%.3f", c.seconds / c.timed);
+        mean = s;
+      }
+      std::snprintf(buf, sizeof buf, "%s,%s,%s,%s,%d,%d,%.4f,%d,%.4f,%d,%d,%s\n", methods()[m].c_str(),
+                    k[0].c_str(), k[1].c_str(), k[2].c_str(), c.trials, c.right,
+                    static_cast<double>(c.right) / c.trials, c.nearest, static_cast<double>(c.nearest) / c.trials,
+                    c.failed, c.timed, mean.c_str());
+      out += buf;
+    }
+  }
+  return out;
+}
+
+std::string methods_confusion_csv(const std::vector<Trial>& trials, const std::vector<Entry>& entries) {
+  std::vector<std::string> truth, answered;
+  for (const auto& t : trials) {
+    truth.push_back(t.run.vehicle_class);
+    for (const auto& a : t.answers) answered.push_back(a.answered_class);
+  }
+  for (const auto& e : entries) answered.push_back(e.vehicle_class);
+  const auto rows = class_order(truth);
+  auto cols = class_order(answered);
+  cols.push_back("none");
+  std::string out = "method,true_class";
+  for (const auto& c : cols) out += "," + c;
+  out += "\n";
+  for (std::size_t m = 0; m < methods().size(); ++m) {
+    std::map<std::pair<std::string, std::string>, int> n;
+    for (const auto& t : trials) {
+      if (t.answers.size() != methods().size())
+        throw std::logic_error("famscore: methods_confusion_csv needs trials read with their methods");
+      ++n[{t.run.vehicle_class, t.answers[m].answered_class}];
+    }
+    for (const auto& r : rows) {
+      out += methods()[m] + "," + r;
+      for (const auto& c : cols) out += "," + std::to_string(n[{r, c}]);
+      out += "\n";
+    }
   }
   return out;
 }

@@ -8,6 +8,11 @@
 // verdict has no class or is empty (a stage failed on the trial: stage.sh --record-failure). The right
 // nearest instance is the modelbase entry of the true class whose generated length, width and height are
 // nearest (Euclidean) to the test vehicle's.
+//
+// Methods side by side (docs/decisions/families.md §10): beside verify's answer, the class of
+// gmatch's rank-1 model (match.json) and of the PCL baseline's rank-1 model per method
+// (baseline-vfh.json, baseline-fpfh.json), all in the verdict's directory, with each method's
+// time from the stages' .time files (scripts/stage.sh: wall seconds, peak KiB).
 #pragma once
 
 #include <string>
@@ -33,13 +38,40 @@ struct Entry {
 // entries named <class>-<n> (generated instances); "" when there is none.
 std::string nearest_by_size(const std::string& vehicle_class, int instance, const std::vector<Entry>& entries);
 
+// The methods compared, in table order: canopy's gmatch rank-1 and verify's class answer, the
+// PCL baseline's VFH and FPFH rank-1.
+const std::vector<std::string>& methods();
+
+// The files of a trial that each method's time sums (its stages after the shared fitvox):
+// gmatch = cocone + ncut + gmatch, verify = those + verify, vfh / fpfh = the baseline's run.
+std::vector<std::string> method_stages(const std::string& method);
+
+// One method's answer on a trial.
+struct Answer {
+  std::string model;                 // rank-1 model, or verify's nearest instance; "" = none
+  std::string answered_class = "none";
+  bool failed = false;               // its output is empty (a stage failed: --record-failure)
+  bool timed = false;                // every stage of method_stages has a readable .time
+  double seconds = 0;                // their wall seconds, summed
+};
+
 struct Trial {
   Run run;
   std::string answered_class;  // "none" when the verdict names no class
   std::string nearest, expected_nearest;
   bool accepted = false;  // the verdict's model passed verify's threshold
   bool failed = false;    // a stage failed (empty verdict, stage.sh --record-failure)
+  std::vector<Answer> answers;  // per methods(), when read with them
 };
+
+// The <model>.class files of a modelbase directory, sorted by model; DataError naming the
+// directory or file when it does not exist, a class file is empty, or none is found.
+std::vector<Entry> read_entries(const std::string& modelbase);
+
+// Reads one trial from the verdict (and, with `with_methods`, the other methods' files beside
+// it: match.json, baseline-vfh.json, baseline-fpfh.json and every stage's .time). DataError
+// naming the file when one is missing or malformed; an empty file is a failed stage.
+Trial read_trial(const Run& run, const std::vector<Entry>& entries, bool with_methods);
 
 // Class order: the families' order, then any other class alphabetically.
 std::vector<std::string> class_order(const std::vector<std::string>& classes);
@@ -50,5 +82,13 @@ std::string confusion_csv(const std::vector<Trial>& trials, const std::vector<En
 // nearest_accuracy,failed — one row per (cover, noise) in first-seen order, then all,all.
 // accepted = verify accepted the nearest instance as the model; failed trials count as wrong.
 std::string accuracy_csv(const std::vector<Trial>& trials);
+
+// method,class,cover,noise,trials,class_right,class_accuracy,nearest_right,nearest_accuracy,
+// failed,timed,seconds_mean — per method: all,all,all; each class (all,all); each cover (all
+// classes and noises); each noise level (all classes and covers). Failed trials count as wrong;
+// seconds_mean is over the timed trials (empty when none).
+std::string methods_csv(const std::vector<Trial>& trials);
+// method,true_class,<answered classes...>,none — one confusion matrix per method, same columns.
+std::string methods_confusion_csv(const std::vector<Trial>& trials, const std::vector<Entry>& entries);
 
 }  // namespace canopy::famscore

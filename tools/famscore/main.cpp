@@ -1,8 +1,5 @@
 // famscore: class-level scores of the families protocol from verify's verdicts
 // (mk/families.mk, docs/decisions/families.md).
-#include <algorithm>
-#include <filesystem>
-#include <sstream>
 #include <string>
 
 #include "canopy/common/atomic_file.h"
@@ -13,7 +10,6 @@
 #include "famscore/famscore.h"
 
 namespace cm = canopy::common;
-namespace fs = std::filesystem;
 using namespace canopy::famscore;
 
 int main(int argc, char** argv) {
@@ -21,55 +17,39 @@ int main(int argc, char** argv) {
                 "Confusion matrix, class accuracy and nearest-instance accuracy of the "
                 "vehicle-families protocol from verify's verdicts.");
   tool.without_threads();
-  std::string runs_path = "-", modelbase, confusion, accuracy;
+  std::string runs_path = "-", modelbase, confusion, accuracy, methods_out, methods_confusion;
   tool.add_input(&runs_path, "runs manifest: <verdict.json> <class> <instance> <cover> <noise> per line");
   tool.add("--modelbase", &modelbase, "the modelbase the verdicts used (<model>.class files)")->required();
   tool.add_output("--confusion", &confusion, "confusion matrix CSV (true class x answered class)")->required();
   tool.add_output("--accuracy", &accuracy, "accuracy CSV per cover and noise level")->required();
+  tool.add_output("--methods", &methods_out,
+                  "class and nearest-instance accuracy and time of gmatch, verify, VFH and FPFH per class, "
+                  "cover and noise level (reads match.json, baseline-vfh.json, baseline-fpfh.json and the "
+                  ".time files beside each verdict)");
+  tool.add_output("--methods-confusion", &methods_confusion,
+                  "one confusion matrix per method (with --methods)");
   return tool.run(argc, argv, [&] {
+    if (methods_out.empty() != methods_confusion.empty())
+      throw cm::UsageError("--methods and --methods-confusion go together");
+    const bool with_methods = !methods_out.empty();
     cm::OutputSet outputs;
     outputs.add(confusion, "--confusion");
     outputs.add(accuracy, "--accuracy");
+    if (with_methods) {
+      outputs.add(methods_out, "--methods");
+      outputs.add(methods_confusion, "--methods-confusion");
+    }
     const auto runs = parse_runs(cm::read_file(runs_path), cm::display_name(runs_path));
-    std::error_code ec;
-    if (!fs::is_directory(modelbase, ec))
-      throw cm::DataError(modelbase, "modelbase directory does not exist");
-    std::vector<Entry> entries;
-    std::vector<fs::path> files;
-    for (const auto& f : fs::directory_iterator(modelbase)) {
-      if (f.path().extension() == ".class") files.push_back(f.path());
-    }
-    std::sort(files.begin(), files.end());
-    for (const auto& f : files) {
-      std::istringstream in(cm::read_file(f.string()));
-      std::string word;
-      if (!(in >> word)) throw cm::DataError(f.string(), "empty class file");
-      entries.push_back({f.stem().string(), word});
-    }
-    if (entries.empty())
-      throw cm::DataError(modelbase, "no <model>.class file: the modelbase carries no classes");
+    const std::vector<Entry> entries = read_entries(modelbase);
     std::vector<Trial> trials;
-    for (const auto& r : runs) {
-      Trial t;
-      t.run = r;
-      t.expected_nearest = nearest_by_size(r.vehicle_class, r.instance, entries);
-      if (cm::read_file(r.verdict).empty()) {  // a stage failed on this trial
-        t.answered_class = "none";
-        t.failed = true;
-        trials.push_back(t);
-        continue;
-      }
-      const canopy::formats::Verdict v = canopy::formats::read_verdict(r.verdict);
-      if (!v.has_classes)
-        throw cm::DataError(r.verdict, "verdict names no class (modelbase without classes?)");
-      t.answered_class = v.vehicle_class.empty() ? "none" : v.vehicle_class;
-      t.nearest = v.nearest_instance;
-      t.accepted = !v.model.empty();
-      trials.push_back(t);
-    }
+    for (const auto& r : runs) trials.push_back(read_trial(r, entries, with_methods));
     outputs.set(confusion, confusion_csv(trials, entries));
     const std::string acc = accuracy_csv(trials);
     outputs.set(accuracy, acc);
+    if (with_methods) {
+      outputs.set(methods_out, methods_csv(trials));
+      outputs.set(methods_confusion, methods_confusion_csv(trials, entries));
+    }
     outputs.commit();
     const std::string all = acc.substr(acc.rfind("all,all"));
     cm::log::info(std::to_string(trials.size()) + " trials, " + std::to_string(entries.size()) +

@@ -1,9 +1,14 @@
 #include "report/families_section.h"
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <map>
 #include <sstream>
 
+#include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 
 namespace canopy::report {
@@ -60,6 +65,96 @@ int count(const std::string& s, const std::string& name, int line, const std::st
   return static_cast<int>(v);
 }
 
+
+std::string method_label(const std::string& m) {
+  if (m == "gmatch") return "canopy (gmatch rank-1)";
+  if (m == "verify") return "canopy (verify)";
+  if (m == "vfh") return "VFH";
+  if (m == "fpfh") return "FPFH";
+  return m;
+}
+
+const FamilyMethodRow* method_row(const FamilySummary& s, const std::string& m, const std::string& cls,
+                                  const std::string& cover, const std::string& noise) {
+  for (const auto& r : s.method_rows) {
+    if (r.method == m && r.vehicle_class == cls && r.cover == cover && r.noise == noise) return &r;
+  }
+  return nullptr;
+}
+
+// The side-by-side tables: overall with time, then per class, cover and noise level, then one
+// confusion matrix per method but verify (whose matrix is the one above).
+std::string family_methods_markdown(const FamilySummary& s) {
+  std::ostringstream md;
+  md << "\n### canopy beside the PCL baseline\n\n"
+     << "The same candidates (each trial's `samples.pcd`) and the same modelbase: canopy's gmatch rank-1 model "
+        "and verify's class answer; the PCL baseline's (tools/baseline) VFH nearest view and FPFH + RANSAC + "
+        "ICP rank-1 model, each answering the class of that model. A failed stage counts as wrong. Time per "
+        "trial: wall seconds of the method's own stages after the shared fitvox (gmatch: cocone + ncut + gmatch; "
+        "verify: those + verify; VFH, FPFH: one baseline run each), from the stages' .time files. From "
+        "`families/methods.csv` and `families/methods-confusion.csv` (famscore).\n\n"
+     << "| method | class accuracy | nearest instance | failed | time per trial (s) |\n"
+        "|---|---:|---:|---:|---:|\n";
+  char b[64];
+  for (const auto& m : s.methods) {
+    const FamilyMethodRow* r = method_row(s, m, "all", "all", "all");
+    std::string t = "–";
+    if (r->timed > 0) {
+      std::snprintf(b, sizeof b, "%.2f", r->seconds_mean);
+      t = b;
+      if (r->timed < r->trials) t += " (" + std::to_string(r->timed) + " timed)";
+    }
+    md << "| " << method_label(m) << " | " << rate(r->class_right, r->trials) << " | "
+       << rate(r->nearest_right, r->trials) << " | " << r->failed << " | " << t << " |\n";
+  }
+  // table(first column, the slices' keys): class accuracy of every method per slice.
+  auto table = [&](const std::string& title, const std::vector<std::array<std::string, 3>>& keys,
+                   int label_index) {
+    md << "\n| " << title << " | trials |";
+    for (const auto& m : s.methods) md << " " << method_label(m) << " |";
+    md << "\n|---|---:|";
+    for (std::size_t k = 0; k < s.methods.size(); ++k) md << "---:|";
+    md << "\n";
+    for (const auto& key : keys) {
+      const FamilyMethodRow* first = method_row(s, s.methods.front(), key[0], key[1], key[2]);
+      if (!first) continue;
+      md << "| " << key[label_index] << " | " << first->trials << " |";
+      for (const auto& m : s.methods) {
+        const FamilyMethodRow* r = method_row(s, m, key[0], key[1], key[2]);
+        md << " " << (r ? rate(r->class_right, r->trials) : "–") << " |";
+      }
+      md << "\n";
+    }
+  };
+  std::vector<std::array<std::string, 3>> classes, covers, noises;
+  for (const auto& r : s.method_rows) {
+    if (r.method != s.methods.front()) continue;
+    if (r.vehicle_class != "all") classes.push_back({r.vehicle_class, "all", "all"});
+    if (r.cover != "all") covers.push_back({"all", r.cover, "all"});
+    if (r.noise != "all") noises.push_back({"all", "all", r.noise});
+  }
+  md << "\nClass accuracy per class, per cover level and per noise level:\n";
+  table("class", classes, 0);
+  table("cover", covers, 1);
+  table("noise (mm)", noises, 2);
+  for (const auto& mc : s.method_confusion) {
+    if (mc.method == "verify") continue;
+    md << "\nConfusion matrix of " << method_label(mc.method) << " (rows the true class).\n\n| true \\ answered |";
+    for (const auto& a : s.method_answers) md << " " << a << " |";
+    md << "\n|---|";
+    for (std::size_t k = 0; k < s.method_answers.size(); ++k) md << "---:|";
+    md << "\n";
+    for (const auto& c : mc.classes) {
+      md << "| " << c.name << " |";
+      for (std::size_t k = 0; k < s.method_answers.size(); ++k) {
+        const std::string n = std::to_string(c.answered[k]);
+        md << " " << (s.method_answers[k] == c.name && c.answered[k] > 0 ? "**" + n + "**" : n) << " |";
+      }
+      md << "\n";
+    }
+  }
+  return md.str();
+}
 }  // namespace
 
 FamilySummary summarize_families(const std::string& confusion, const std::string& confusion_name,
@@ -140,7 +235,135 @@ FamilySummary summarize_families(const std::string& confusion, const std::string
                            std::to_string(s.all.trials) + " classes right) disagree with " + confusion_name +
                            " (" + std::to_string(s.right) + " of " + std::to_string(s.trials) + ")");
   }
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(accuracy_name).parent_path();
+  const std::string methods = (dir / "methods.csv").string(), mconf = (dir / "methods-confusion.csv").string();
+  std::error_code ec;
+  const bool has_methods = fs::exists(methods, ec), has_mconf = fs::exists(mconf, ec);
+  if (has_methods != has_mconf) {
+    throw common::DataError(has_methods ? mconf : methods,
+                            "missing beside " + std::string(has_methods ? methods : mconf) +
+                                " (famscore writes both)");
+  }
+  if (has_methods) add_family_methods(s, common::read_file(methods), methods, common::read_file(mconf), mconf);
   return s;
+}
+
+void add_family_methods(FamilySummary& s, const std::string& methods, const std::string& methods_name,
+                        const std::string& confusion, const std::string& confusion_name) {
+  const Table m = read_table(methods, methods_name);
+  std::map<std::string, std::size_t> col;
+  for (std::size_t k = 0; k < m.rows.front().size(); ++k) col[m.rows.front()[k]] = k;
+  for (const char* needed : {"method", "class", "cover", "noise", "trials", "class_right", "nearest_right", "failed",
+                             "timed", "seconds_mean"}) {
+    if (!col.count(needed)) {
+      throw common::DataError(methods_name,
+                              "line " + std::to_string(m.lines[0]) + ": no column '" + needed + "' in the header");
+    }
+  }
+  std::vector<FamilyMethodRow> rows;
+  std::vector<std::string> names;
+  for (std::size_t r = 1; r < m.rows.size(); ++r) {
+    const auto& row = m.rows[r];
+    const int line = m.lines[r];
+    if (row.size() != m.rows.front().size()) {
+      throw common::DataError(methods_name, "line " + std::to_string(line) + ": " + std::to_string(row.size()) +
+                                                " columns, the header has " +
+                                                std::to_string(m.rows.front().size()));
+    }
+    FamilyMethodRow x;
+    x.method = row[col["method"]];
+    x.vehicle_class = row[col["class"]];
+    x.cover = row[col["cover"]];
+    x.noise = row[col["noise"]];
+    auto get = [&](const char* name) { return count(row[col[name]], methods_name, line, name); };
+    x.trials = get("trials");
+    x.class_right = get("class_right");
+    x.nearest_right = get("nearest_right");
+    x.failed = get("failed");
+    x.timed = get("timed");
+    if (x.method.empty() || x.class_right > x.trials || x.nearest_right > x.trials || x.failed > x.trials ||
+        x.timed > x.trials) {
+      throw common::DataError(methods_name, "line " + std::to_string(line) +
+                                                ": no method, or a count exceeds its total");
+    }
+    const std::string& sec = row[col["seconds_mean"]];
+    if (x.timed > 0) {
+      std::size_t used = 0;
+      try {
+        x.seconds_mean = std::stod(sec, &used);
+      } catch (const std::exception&) { used = 0; }
+      if (sec.empty() || used != sec.size() || !std::isfinite(x.seconds_mean) || x.seconds_mean < 0) {
+        throw common::DataError(methods_name, "line " + std::to_string(line) + ": seconds_mean '" + sec +
+                                                  "' is not a time in seconds");
+      }
+    } else if (!sec.empty()) {
+      throw common::DataError(methods_name, "line " + std::to_string(line) + ": a mean time without timed trials");
+    }
+    if (std::find(names.begin(), names.end(), x.method) == names.end()) names.push_back(x.method);
+    rows.push_back(x);
+  }
+  for (const auto& name : names) {
+    const auto all = std::find_if(rows.begin(), rows.end(), [&](const FamilyMethodRow& x) {
+      return x.method == name && x.vehicle_class == "all" && x.cover == "all" && x.noise == "all";
+    });
+    if (all == rows.end()) throw common::DataError(methods_name, "method " + name + " has no all,all,all row");
+    if (all->trials != s.trials) {
+      throw common::DataError(methods_name, "method " + name + ": " + std::to_string(all->trials) +
+                                                " trials, the confusion matrix has " + std::to_string(s.trials));
+    }
+    if (name == "verify" && all->class_right != s.right) {
+      throw common::DataError(methods_name, "verify: " + std::to_string(all->class_right) +
+                                                " classes right, the confusion matrix has " +
+                                                std::to_string(s.right));
+    }
+  }
+  if (names.empty()) throw common::DataError(methods_name, "no method (only a header)");
+
+  const Table c = read_table(confusion, confusion_name);
+  const auto& head = c.rows.front();
+  if (head.size() < 3 || head[0] != "method" || head[1] != "true_class") {
+    throw common::DataError(confusion_name, "line " + std::to_string(c.lines[0]) +
+                                                ": expected the header method,true_class,<answered classes...>");
+  }
+  std::vector<FamilyMethodConfusion> conf;
+  for (std::size_t r = 1; r < c.rows.size(); ++r) {
+    const auto& row = c.rows[r];
+    const int line = c.lines[r];
+    if (row.size() != head.size()) {
+      throw common::DataError(confusion_name, "line " + std::to_string(line) + ": " + std::to_string(row.size()) +
+                                                  " columns, the header has " + std::to_string(head.size()));
+    }
+    if (conf.empty() || conf.back().method != row[0]) conf.push_back({row[0], {}});
+    FamilyClass fc;
+    fc.name = row[1];
+    for (std::size_t k = 2; k < row.size(); ++k) {
+      const int n = count(row[k], confusion_name, line, head[k]);
+      fc.answered.push_back(n);
+      fc.trials += n;
+      if (head[k] == fc.name) fc.right = n;
+    }
+    conf.back().classes.push_back(std::move(fc));
+  }
+  // Each method's matrix agrees with its rows in methods.csv (trials and right answers per class).
+  for (const auto& mc : conf) {
+    if (std::find(names.begin(), names.end(), mc.method) == names.end())
+      throw common::DataError(confusion_name, "method " + mc.method + " is not in " + methods_name);
+    for (const auto& fc : mc.classes) {
+      const auto row = std::find_if(rows.begin(), rows.end(), [&](const FamilyMethodRow& x) {
+        return x.method == mc.method && x.vehicle_class == fc.name && x.cover == "all" && x.noise == "all";
+      });
+      if (row == rows.end() || row->trials != fc.trials || row->class_right != fc.right) {
+        throw common::DataError(confusion_name, "method " + mc.method + ", class " + fc.name + ": " +
+                                                    std::to_string(fc.right) + " of " + std::to_string(fc.trials) +
+                                                    " right disagrees with " + methods_name);
+      }
+    }
+  }
+  s.methods = names;
+  s.method_rows = std::move(rows);
+  s.method_answers.assign(head.begin() + 2, head.end());
+  s.method_confusion = std::move(conf);
 }
 
 std::string families_markdown(const FamilySummary& s) {
@@ -184,6 +407,7 @@ std::string families_markdown(const FamilySummary& s) {
     }
     md << "\n";
   }
+  if (!s.methods.empty()) md << family_methods_markdown(s);
   return md.str();
 }
 

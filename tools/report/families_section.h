@@ -23,19 +23,47 @@ struct FamilyLevel {
   int trials = 0, class_right = 0, accepted = 0, accepted_right = 0, nearest_right = 0, failed = 0;
 };
 
+// One row of famscore's methods.csv: a method's counts on a slice of the trials (class, cover
+// or noise level, "all" for the others).
+struct FamilyMethodRow {
+  std::string method, vehicle_class, cover, noise;
+  int trials = 0, class_right = 0, nearest_right = 0, failed = 0, timed = 0;
+  double seconds_mean = 0;  // over the timed trials (0 when none)
+};
+
+// One method's confusion matrix (methods-confusion.csv), columns FamilySummary::method_answers.
+struct FamilyMethodConfusion {
+  std::string method;
+  std::vector<FamilyClass> classes;
+};
+
 struct FamilySummary {
   std::vector<std::string> answers;  // confusion.csv's answered classes (columns), "none" included
   std::vector<FamilyClass> classes;  // confusion.csv's rows, in order
   std::vector<FamilyLevel> levels;   // accuracy.csv's rows but the total, in order
   FamilyLevel all;                   // accuracy.csv's "all,all" row
   int trials = 0, right = 0;         // over the confusion matrix
+  // canopy beside the PCL baseline (famscore --methods), empty when the tables are absent.
+  std::vector<std::string> methods;          // in methods.csv order (gmatch, verify, vfh, fpfh)
+  std::vector<FamilyMethodRow> method_rows;  // in methods.csv order
+  std::vector<std::string> method_answers;   // methods-confusion.csv's answered classes
+  std::vector<FamilyMethodConfusion> method_confusion;
 };
 
-// Parses famscore's two tables (names for the errors). DataError naming the file and line on
+// Parses famscore's two tables (names for the errors). When famscore's methods.csv and
+// methods-confusion.csv lie beside `accuracy_name` (a path; the report passes DIR/accuracy.csv)
+// they are read too (add_family_methods); one without the other is a DataError. DataError naming the file and line on
 // a malformed table, and when the two disagree (trials or right class answers in total). A true
 // class without a column of its own (no entry and never answered) has no right answers.
 FamilySummary summarize_families(const std::string& confusion, const std::string& confusion_name,
                                  const std::string& accuracy, const std::string& accuracy_name);
+
+// Adds famscore's methods.csv and methods-confusion.csv (names for the errors) to `s`. DataError
+// naming the file and line on a malformed table, a method without its all,all,all row, and when
+// the tables disagree with each other or with `s` (verify's totals must be the confusion
+// matrix's: the same trials and right class answers).
+void add_family_methods(FamilySummary& s, const std::string& methods, const std::string& methods_name,
+                        const std::string& confusion, const std::string& confusion_name);
 
 std::string families_markdown(const FamilySummary& s);
 
