@@ -287,8 +287,24 @@ TEST_CASE("famscore: gmatch, verify, VFH and FPFH side by side on hand-built tri
         "fpfh,pickup,1,0,0,1\n"
         "fpfh,van,0,1,0,1\n");
   // verify's column of the side-by-side table is the confusion matrix of confusion.csv.
-  CHECK(confusion_csv(trials, entries) ==
-        "true_class,pickup,van,tank,none\npickup,1,0,0,1\nvan,1,1,0,0\n");
+  CHECK(confusion_csv(trials, entries) == "true_class,pickup,van,tank,none\npickup,1,0,0,1\nvan,1,1,0,0\n");
+
+  // The stage: run() reads the same manifest and modelbase and renders the same tables; without
+  // the methods it renders only the two class tables.
+  Params p;
+  p.with_methods = true;
+  const Outputs out = run(p, {manifest, "runs", mb.string()});
+  CHECK(out.trials == 4);
+  CHECK(out.entries == 5);
+  CHECK(out.confusion == confusion_csv(trials, entries));
+  CHECK(out.accuracy == accuracy_csv(trials));
+  CHECK(out.methods == methods_csv(trials));
+  CHECK(out.methods_confusion == methods_confusion_csv(trials, entries));
+  const Outputs plain = run(Params{}, {manifest, "runs", mb.string()});
+  CHECK(plain.confusion == out.confusion);
+  CHECK(plain.accuracy == out.accuracy);
+  CHECK(plain.methods.empty());
+  CHECK(plain.methods_confusion.empty());
 
   // A missing method file is an error naming it; a malformed baseline document too.
   fs::remove(t4 / "baseline-fpfh.json");
@@ -298,8 +314,8 @@ TEST_CASE("famscore: gmatch, verify, VFH and FPFH side by side on hand-built tri
   } catch (const common::DataError& e) {
     CHECK(std::string(e.what()).find("baseline-fpfh.json") != std::string::npos);
   }
-  CHECK_NOTHROW(
-      read_trial(parse_runs((t4 / "verdict.json").string() + " van 1001 dense 0\n", "runs")[0], entries, false));
+  CHECK_NOTHROW(read_trial(parse_runs((t4 / "verdict.json").string() + " van 1001 dense 0\n", "runs")[0],
+                           entries, false));
   write(t4 / "baseline-fpfh.json", "{\"format\": \"canopy.match_result\"}");
   CHECK_THROWS_AS(
       read_trial(parse_runs((t4 / "verdict.json").string() + " van 1001 dense 0\n", "runs")[0], entries, true),

@@ -102,7 +102,8 @@ TEST_CASE("families section: canopy beside the baseline, per method, class, cove
   CHECK(md.find("| suv | 4 | 0 | 0 | 0 |") != std::string::npos);
   CHECK(md.find("Confusion matrix of canopy (verify)") == std::string::npos);  // shown above
   // Without the methods tables the section is as before.
-  const std::string plain = report::families_markdown(report::summarize_families(kConfusion, "c.csv", kAccuracy, "a.csv"));
+  const std::string plain =
+      report::families_markdown(report::summarize_families(kConfusion, "c.csv", kAccuracy, "a.csv"));
   CHECK(plain.find("PCL baseline") == std::string::npos);
 }
 
@@ -126,7 +127,8 @@ TEST_CASE("families section: the methods tables are checked against each other a
   fails(kMethods, replaced(kMethodsConfusion, "fpfh,suv,4,0", "fpfh,suv,3,1"), "class suv");
   // malformed cells and rows.
   fails(replaced(kMethods, "gmatch,all,all,all,12,8", "gmatch,all,all,all,12,x"), kMethodsConfusion, "line 2");
-  fails(replaced(kMethods, "fpfh,suv,all,all,4,0,0.0000,0,0.0000,0,0,", "fpfh,suv,all,all,4,0,0.0000,0,0.0000,0,0,7"),
+  fails(replaced(kMethods, "fpfh,suv,all,all,4,0,0.0000,0,0.0000,0,0,",
+                 "fpfh,suv,all,all,4,0,0.0000,0,0.0000,0,0,7"),
         kMethodsConfusion, "without timed");
   fails(kHead, kMethodsConfusion, "no method");
   fails(kMethods, "true_class,sedan\n", "expected the header");

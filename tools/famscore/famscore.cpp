@@ -287,7 +287,8 @@ std::string methods_csv(const std::vector<Trial>& trials) {
     double seconds = 0;
   };
   std::string out =
-      "method,class,cover,noise,trials,class_right,class_accuracy,nearest_right,nearest_accuracy,failed,timed,"
+      "method,class,cover,noise,trials,class_right,class_accuracy,nearest_right,nearest_accuracy,failed,"
+      "timed,"
       "seconds_mean\n";
   std::vector<std::string> truth, covers, noises;
   for (const auto& t : trials) {
@@ -328,8 +329,8 @@ std::string methods_csv(const std::vector<Trial>& trials) {
       }
       std::snprintf(buf, sizeof buf, "%s,%s,%s,%s,%d,%d,%.4f,%d,%.4f,%d,%d,%s\n", methods()[m].c_str(),
                     k[0].c_str(), k[1].c_str(), k[2].c_str(), c.trials, c.right,
-                    static_cast<double>(c.right) / c.trials, c.nearest, static_cast<double>(c.nearest) / c.trials,
-                    c.failed, c.timed, mean.c_str());
+                    static_cast<double>(c.right) / c.trials, c.nearest,
+                    static_cast<double>(c.nearest) / c.trials, c.failed, c.timed, mean.c_str());
       out += buf;
     }
   }
@@ -362,6 +363,24 @@ std::string methods_confusion_csv(const std::vector<Trial>& trials, const std::v
       out += "\n";
     }
   }
+  return out;
+}
+
+Outputs run(const Params& params, const Inputs& inputs) {
+  validate(params);
+  const auto runs = parse_runs(inputs.runs_text, inputs.runs_name);
+  const std::vector<Entry> entries = read_entries(inputs.modelbase);
+  std::vector<Trial> trials;
+  for (const auto& r : runs) trials.push_back(read_trial(r, entries, params.with_methods));
+  Outputs out;
+  out.confusion = confusion_csv(trials, entries);
+  out.accuracy = accuracy_csv(trials);
+  if (params.with_methods) {
+    out.methods = methods_csv(trials);
+    out.methods_confusion = methods_confusion_csv(trials, entries);
+  }
+  out.trials = trials.size();
+  out.entries = entries.size();
   return out;
 }
 

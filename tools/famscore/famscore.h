@@ -15,6 +15,7 @@
 // time from the stages' .time files (scripts/stage.sh: wall seconds, peak KiB).
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -48,19 +49,19 @@ std::vector<std::string> method_stages(const std::string& method);
 
 // One method's answer on a trial.
 struct Answer {
-  std::string model;                 // rank-1 model, or verify's nearest instance; "" = none
+  std::string model;  // rank-1 model, or verify's nearest instance; "" = none
   std::string answered_class = "none";
-  bool failed = false;               // its output is empty (a stage failed: --record-failure)
-  bool timed = false;                // every stage of method_stages has a readable .time
-  double seconds = 0;                // their wall seconds, summed
+  bool failed = false;  // its output is empty (a stage failed: --record-failure)
+  bool timed = false;   // every stage of method_stages has a readable .time
+  double seconds = 0;   // their wall seconds, summed
 };
 
 struct Trial {
   Run run;
   std::string answered_class;  // "none" when the verdict names no class
   std::string nearest, expected_nearest;
-  bool accepted = false;  // the verdict's model passed verify's threshold
-  bool failed = false;    // a stage failed (empty verdict, stage.sh --record-failure)
+  bool accepted = false;        // the verdict's model passed verify's threshold
+  bool failed = false;          // a stage failed (empty verdict, stage.sh --record-failure)
   std::vector<Answer> answers;  // per methods(), when read with them
 };
 
@@ -90,5 +91,29 @@ std::string accuracy_csv(const std::vector<Trial>& trials);
 std::string methods_csv(const std::vector<Trial>& trials);
 // method,true_class,<answered classes...>,none — one confusion matrix per method, same columns.
 std::string methods_confusion_csv(const std::vector<Trial>& trials, const std::vector<Entry>& entries);
+
+// ---- the stage
+
+struct Params {
+  bool with_methods = false;  // also the methods tables (gmatch, verify, VFH, FPFH side by side)
+};
+
+// Nothing in Params can be out of range (kept for the one stage shape; the CLI refuses
+// --methods without --methods-confusion itself).
+inline void validate(const Params&) {}
+
+struct Inputs {
+  std::string runs_text, runs_name;  // the manifest and the name its errors give
+  std::string modelbase;             // directory of <model>.class files
+};
+
+struct Outputs {
+  std::string confusion, accuracy;         // confusion_csv, accuracy_csv
+  std::string methods, methods_confusion;  // with_methods only
+  std::size_t trials = 0, entries = 0;     // what was read
+};
+
+// Reads the manifest's trials and the modelbase's classes, and renders the tables.
+Outputs run(const Params& params, const Inputs& inputs);
 
 }  // namespace canopy::famscore

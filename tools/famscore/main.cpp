@@ -39,20 +39,18 @@ int main(int argc, char** argv) {
       outputs.add(methods_out, "--methods");
       outputs.add(methods_confusion, "--methods-confusion");
     }
-    const auto runs = parse_runs(cm::read_file(runs_path), cm::display_name(runs_path));
-    const std::vector<Entry> entries = read_entries(modelbase);
-    std::vector<Trial> trials;
-    for (const auto& r : runs) trials.push_back(read_trial(r, entries, with_methods));
-    outputs.set(confusion, confusion_csv(trials, entries));
-    const std::string acc = accuracy_csv(trials);
-    outputs.set(accuracy, acc);
+    Params p;
+    p.with_methods = with_methods;
+    const Outputs out = run(p, {cm::read_file(runs_path), cm::display_name(runs_path), modelbase});
+    outputs.set(confusion, out.confusion);
+    outputs.set(accuracy, out.accuracy);
     if (with_methods) {
-      outputs.set(methods_out, methods_csv(trials));
-      outputs.set(methods_confusion, methods_confusion_csv(trials, entries));
+      outputs.set(methods_out, out.methods);
+      outputs.set(methods_confusion, out.methods_confusion);
     }
     outputs.commit();
-    const std::string all = acc.substr(acc.rfind("all,all"));
-    cm::log::info(std::to_string(trials.size()) + " trials, " + std::to_string(entries.size()) +
+    const std::string all = out.accuracy.substr(out.accuracy.rfind("all,all"));
+    cm::log::info(std::to_string(out.trials) + " trials, " + std::to_string(out.entries) +
                   " modelbase entries: " + all.substr(0, all.size() - 1));
   });
 }

@@ -65,7 +65,6 @@ int count(const std::string& s, const std::string& name, int line, const std::st
   return static_cast<int>(v);
 }
 
-
 std::string method_label(const std::string& m) {
   if (m == "gmatch") return "canopy (gmatch rank-1)";
   if (m == "verify") return "canopy (verify)";
@@ -87,10 +86,12 @@ const FamilyMethodRow* method_row(const FamilySummary& s, const std::string& m, 
 std::string family_methods_markdown(const FamilySummary& s) {
   std::ostringstream md;
   md << "\n### canopy beside the PCL baseline\n\n"
-     << "The same candidates (each trial's `samples.pcd`) and the same modelbase: canopy's gmatch rank-1 model "
+     << "The same candidates (each trial's `samples.pcd`) and the same modelbase: canopy's gmatch rank-1 "
+        "model "
         "and verify's class answer; the PCL baseline's (tools/baseline) VFH nearest view and FPFH + RANSAC + "
         "ICP rank-1 model, each answering the class of that model. A failed stage counts as wrong. Time per "
-        "trial: wall seconds of the method's own stages after the shared fitvox (gmatch: cocone + ncut + gmatch; "
+        "trial: wall seconds of the method's own stages after the shared fitvox (gmatch: cocone + ncut + "
+        "gmatch; "
         "verify: those + verify; VFH, FPFH: one baseline run each), from the stages' .time files. From "
         "`families/methods.csv` and `families/methods-confusion.csv` (famscore).\n\n"
      << "| method | class accuracy | nearest instance | failed | time per trial (s) |\n"
@@ -139,7 +140,8 @@ std::string family_methods_markdown(const FamilySummary& s) {
   table("noise (mm)", noises, 2);
   for (const auto& mc : s.method_confusion) {
     if (mc.method == "verify") continue;
-    md << "\nConfusion matrix of " << method_label(mc.method) << " (rows the true class).\n\n| true \\ answered |";
+    md << "\nConfusion matrix of " << method_label(mc.method)
+       << " (rows the true class).\n\n| true \\ answered |";
     for (const auto& a : s.method_answers) md << " " << a << " |";
     md << "\n|---|";
     for (std::size_t k = 0; k < s.method_answers.size(); ++k) md << "---:|";
@@ -157,9 +159,10 @@ std::string family_methods_markdown(const FamilySummary& s) {
 }
 }  // namespace
 
-FamilySummary summarize_families(const std::string& confusion, const std::string& confusion_name,
-                                 const std::string& accuracy, const std::string& accuracy_name) {
-  FamilySummary s;
+namespace {
+
+// confusion.csv: true_class,<answered classes...> -> the classes and the totals.
+void read_confusion(FamilySummary& s, const std::string& confusion, const std::string& confusion_name) {
   const Table c = read_table(confusion, confusion_name);
   const auto& head = c.rows.front();
   if (head.size() < 2 || head[0] != "true_class") {
@@ -187,7 +190,12 @@ FamilySummary summarize_families(const std::string& confusion, const std::string
     s.right += fc.right;
     s.classes.push_back(std::move(fc));
   }
+}
 
+// accuracy.csv: one row per (cover, noise) and the all,all totals, which must agree with the
+// confusion matrix's.
+void read_levels(FamilySummary& s, const std::string& accuracy, const std::string& accuracy_name,
+                 const std::string& confusion_name) {
   const Table a = read_table(accuracy, accuracy_name);
   std::map<std::string, std::size_t> col;
   for (std::size_t k = 0; k < a.rows.front().size(); ++k) col[a.rows.front()[k]] = k;
@@ -235,40 +243,56 @@ FamilySummary summarize_families(const std::string& confusion, const std::string
                            std::to_string(s.all.trials) + " classes right) disagree with " + confusion_name +
                            " (" + std::to_string(s.right) + " of " + std::to_string(s.trials) + ")");
   }
+}
+
+// methods.csv and methods-confusion.csv beside accuracy.csv (both or neither).
+void read_methods_beside(FamilySummary& s, const std::string& accuracy_name) {
   namespace fs = std::filesystem;
   const fs::path dir = fs::path(accuracy_name).parent_path();
   const std::string methods = (dir / "methods.csv").string(), mconf = (dir / "methods-confusion.csv").string();
   std::error_code ec;
   const bool has_methods = fs::exists(methods, ec), has_mconf = fs::exists(mconf, ec);
   if (has_methods != has_mconf) {
-    throw common::DataError(has_methods ? mconf : methods,
-                            "missing beside " + std::string(has_methods ? methods : mconf) +
-                                " (famscore writes both)");
+    throw common::DataError(
+        has_methods ? mconf : methods,
+        "missing beside " + std::string(has_methods ? methods : mconf) + " (famscore writes both)");
   }
-  if (has_methods) add_family_methods(s, common::read_file(methods), methods, common::read_file(mconf), mconf);
+  if (has_methods)
+    add_family_methods(s, common::read_file(methods), methods, common::read_file(mconf), mconf);
+}
+
+}  // namespace
+
+FamilySummary summarize_families(const std::string& confusion, const std::string& confusion_name,
+                                 const std::string& accuracy, const std::string& accuracy_name) {
+  FamilySummary s;
+  read_confusion(s, confusion, confusion_name);
+  read_levels(s, accuracy, accuracy_name, confusion_name);
+  read_methods_beside(s, accuracy_name);
   return s;
 }
 
-void add_family_methods(FamilySummary& s, const std::string& methods, const std::string& methods_name,
-                        const std::string& confusion, const std::string& confusion_name) {
+namespace {
+
+// methods.csv's rows, and the methods in first-seen order.
+void read_method_rows(const std::string& methods, const std::string& methods_name,
+                      std::vector<FamilyMethodRow>& rows, std::vector<std::string>& names) {
   const Table m = read_table(methods, methods_name);
   std::map<std::string, std::size_t> col;
   for (std::size_t k = 0; k < m.rows.front().size(); ++k) col[m.rows.front()[k]] = k;
-  for (const char* needed : {"method", "class", "cover", "noise", "trials", "class_right", "nearest_right", "failed",
-                             "timed", "seconds_mean"}) {
+  for (const char* needed : {"method", "class", "cover", "noise", "trials", "class_right", "nearest_right",
+                             "failed", "timed", "seconds_mean"}) {
     if (!col.count(needed)) {
-      throw common::DataError(methods_name,
-                              "line " + std::to_string(m.lines[0]) + ": no column '" + needed + "' in the header");
+      throw common::DataError(
+          methods_name, "line " + std::to_string(m.lines[0]) + ": no column '" + needed + "' in the header");
     }
   }
-  std::vector<FamilyMethodRow> rows;
-  std::vector<std::string> names;
   for (std::size_t r = 1; r < m.rows.size(); ++r) {
     const auto& row = m.rows[r];
     const int line = m.lines[r];
     if (row.size() != m.rows.front().size()) {
-      throw common::DataError(methods_name, "line " + std::to_string(line) + ": " + std::to_string(row.size()) +
-                                                " columns, the header has " +
+      throw common::DataError(methods_name, "line " + std::to_string(line) + ": " +
+                                                std::to_string(row.size()) + " columns, the header has " +
                                                 std::to_string(m.rows.front().size()));
     }
     FamilyMethodRow x;
@@ -284,8 +308,8 @@ void add_family_methods(FamilySummary& s, const std::string& methods, const std:
     x.timed = get("timed");
     if (x.method.empty() || x.class_right > x.trials || x.nearest_right > x.trials || x.failed > x.trials ||
         x.timed > x.trials) {
-      throw common::DataError(methods_name, "line " + std::to_string(line) +
-                                                ": no method, or a count exceeds its total");
+      throw common::DataError(methods_name,
+                              "line " + std::to_string(line) + ": no method, or a count exceeds its total");
     }
     const std::string& sec = row[col["seconds_mean"]];
     if (x.timed > 0) {
@@ -298,19 +322,27 @@ void add_family_methods(FamilySummary& s, const std::string& methods, const std:
                                                   "' is not a time in seconds");
       }
     } else if (!sec.empty()) {
-      throw common::DataError(methods_name, "line " + std::to_string(line) + ": a mean time without timed trials");
+      throw common::DataError(methods_name,
+                              "line " + std::to_string(line) + ": a mean time without timed trials");
     }
     if (std::find(names.begin(), names.end(), x.method) == names.end()) names.push_back(x.method);
     rows.push_back(x);
   }
+}
+
+// Every method has an all,all,all row over the confusion matrix's trials (verify: its right ones too).
+void check_method_totals(const FamilySummary& s, const std::vector<FamilyMethodRow>& rows,
+                         const std::vector<std::string>& names, const std::string& methods_name) {
   for (const auto& name : names) {
     const auto all = std::find_if(rows.begin(), rows.end(), [&](const FamilyMethodRow& x) {
       return x.method == name && x.vehicle_class == "all" && x.cover == "all" && x.noise == "all";
     });
-    if (all == rows.end()) throw common::DataError(methods_name, "method " + name + " has no all,all,all row");
+    if (all == rows.end())
+      throw common::DataError(methods_name, "method " + name + " has no all,all,all row");
     if (all->trials != s.trials) {
       throw common::DataError(methods_name, "method " + name + ": " + std::to_string(all->trials) +
-                                                " trials, the confusion matrix has " + std::to_string(s.trials));
+                                                " trials, the confusion matrix has " +
+                                                std::to_string(s.trials));
     }
     if (name == "verify" && all->class_right != s.right) {
       throw common::DataError(methods_name, "verify: " + std::to_string(all->class_right) +
@@ -319,20 +351,27 @@ void add_family_methods(FamilySummary& s, const std::string& methods, const std:
     }
   }
   if (names.empty()) throw common::DataError(methods_name, "no method (only a header)");
+}
 
+// methods-confusion.csv: method,true_class,<answered classes...>, one matrix per method.
+std::vector<FamilyMethodConfusion> read_method_confusion(const std::string& confusion,
+                                                         const std::string& confusion_name,
+                                                         std::vector<std::string>& answers) {
   const Table c = read_table(confusion, confusion_name);
   const auto& head = c.rows.front();
   if (head.size() < 3 || head[0] != "method" || head[1] != "true_class") {
-    throw common::DataError(confusion_name, "line " + std::to_string(c.lines[0]) +
-                                                ": expected the header method,true_class,<answered classes...>");
+    throw common::DataError(confusion_name,
+                            "line " + std::to_string(c.lines[0]) +
+                                ": expected the header method,true_class,<answered classes...>");
   }
   std::vector<FamilyMethodConfusion> conf;
   for (std::size_t r = 1; r < c.rows.size(); ++r) {
     const auto& row = c.rows[r];
     const int line = c.lines[r];
     if (row.size() != head.size()) {
-      throw common::DataError(confusion_name, "line " + std::to_string(line) + ": " + std::to_string(row.size()) +
-                                                  " columns, the header has " + std::to_string(head.size()));
+      throw common::DataError(confusion_name, "line " + std::to_string(line) + ": " +
+                                                  std::to_string(row.size()) + " columns, the header has " +
+                                                  std::to_string(head.size()));
     }
     if (conf.empty() || conf.back().method != row[0]) conf.push_back({row[0], {}});
     FamilyClass fc;
@@ -345,6 +384,13 @@ void add_family_methods(FamilySummary& s, const std::string& methods, const std:
     }
     conf.back().classes.push_back(std::move(fc));
   }
+  answers.assign(head.begin() + 2, head.end());
+  return conf;
+}
+
+void check_confusion_agrees(const std::vector<FamilyMethodConfusion>& conf,
+                            const std::vector<FamilyMethodRow>& rows, const std::vector<std::string>& names,
+                            const std::string& confusion_name, const std::string& methods_name) {
   // Each method's matrix agrees with its rows in methods.csv (trials and right answers per class).
   for (const auto& mc : conf) {
     if (std::find(names.begin(), names.end(), mc.method) == names.end())
@@ -354,15 +400,28 @@ void add_family_methods(FamilySummary& s, const std::string& methods, const std:
         return x.method == mc.method && x.vehicle_class == fc.name && x.cover == "all" && x.noise == "all";
       });
       if (row == rows.end() || row->trials != fc.trials || row->class_right != fc.right) {
-        throw common::DataError(confusion_name, "method " + mc.method + ", class " + fc.name + ": " +
-                                                    std::to_string(fc.right) + " of " + std::to_string(fc.trials) +
-                                                    " right disagrees with " + methods_name);
+        throw common::DataError(
+            confusion_name, "method " + mc.method + ", class " + fc.name + ": " + std::to_string(fc.right) +
+                                " of " + std::to_string(fc.trials) + " right disagrees with " + methods_name);
       }
     }
   }
+}
+
+}  // namespace
+
+void add_family_methods(FamilySummary& s, const std::string& methods, const std::string& methods_name,
+                        const std::string& confusion, const std::string& confusion_name) {
+  std::vector<FamilyMethodRow> rows;
+  std::vector<std::string> names;
+  read_method_rows(methods, methods_name, rows, names);
+  check_method_totals(s, rows, names, methods_name);
+  std::vector<std::string> answers;
+  std::vector<FamilyMethodConfusion> conf = read_method_confusion(confusion, confusion_name, answers);
+  check_confusion_agrees(conf, rows, names, confusion_name, methods_name);
   s.methods = names;
   s.method_rows = std::move(rows);
-  s.method_answers.assign(head.begin() + 2, head.end());
+  s.method_answers = std::move(answers);
   s.method_confusion = std::move(conf);
 }
 
