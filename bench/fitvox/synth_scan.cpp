@@ -7,6 +7,7 @@
 #include <limits>
 #include <vector>
 
+#include "canopy/common/math.h"
 #include "canopy/common/rng.h"
 
 namespace fitvox_bench {
@@ -57,9 +58,7 @@ double hit_disc(const Disc& s, const Vector3d& o, const Vector3d& d) {
   return ((o + t * d) - s.c).squaredNorm() <= s.r * s.r ? t : kInf;
 }
 
-}  // namespace
-
-canopy::fitvox::Scan synth_scan(const SceneOptions& opt) {
+std::vector<Disc> random_discs(const SceneOptions& opt) {
   canopy::common::Rng geo(canopy::common::derive_seed(opt.seed, "foliage"));
   std::vector<Disc> discs;
   for (int i = 0; i < opt.discs; ++i) {
@@ -69,65 +68,96 @@ canopy::fitvox::Scan synth_scan(const SceneOptions& opt) {
     s.r = 0.1;
     discs.push_back(s);
   }
-  const Vector3d centre(0, 0, 1.1);  // vehicle centre; crop box 10 x 4 x 4 m around it
+  return discs;
+}
+
+const Vector3d kCentre(0, 0, 1.1);  // vehicle centre; crop box 10 x 4 x 4 m around it
+constexpr int kCell = 8;            // pixels per bucket side
+
+// One orthographic view: towards the sensor s, image axes right and up, ray direction d.
+struct View {
+  Vector3d s, right, up, d;
+};
+
+// The discs whose projection covers each kCell x kCell image cell (nc x nc cells).
+std::vector<std::vector<int>> bucket_discs(const std::vector<Disc>& discs, const View& v,
+                                           const SceneOptions& opt, double half, int nc) {
+  std::vector<std::vector<int>> bucket(static_cast<std::size_t>(nc * nc));
+  for (int i = 0; i < static_cast<int>(discs.size()); ++i) {
+    const Vector3d rel = discs[i].c - kCentre;
+    const double a = rel.dot(v.right) / opt.spacing + half, b = rel.dot(v.up) / opt.spacing + half;
+    const double rad = discs[i].r / opt.spacing + 1;
+    const int i0 = std::max(0, static_cast<int>(std::floor((a - rad) / kCell)));
+    const int i1 = std::min(nc - 1, static_cast<int>(std::floor((a + rad) / kCell)));
+    const int j0 = std::max(0, static_cast<int>(std::floor((b - rad) / kCell)));
+    const int j1 = std::min(nc - 1, static_cast<int>(std::floor((b + rad) / kCell)));
+    for (int ci = i0; ci <= i1; ++ci) {
+      for (int cj = j0; cj <= j1; ++cj) bucket[static_cast<std::size_t>(ci * nc + cj)].push_back(i);
+    }
+  }
+  return bucket;
+}
+
+// Nearest hit of the ray o + t d among ground, vehicle and the given discs: its t and label
+// (0 = no hit).
+std::uint32_t trace(const Vector3d& o, const Vector3d& d, const std::vector<Disc>& discs,
+                    const std::vector<int>& candidates, double& best) {
+  best = kInf;
+  std::uint32_t label = 0;
+  const double tg = -o.z() / d.z();  // ground z = 0
+  if (tg > 0) {
+    best = tg;
+    label = 3;
+  }
+  for (const Box& b : kVehicle) {
+    const double t = hit_box(b, o, d);
+    if (t < best) {
+      best = t;
+      label = 1;
+    }
+  }
+  for (int i : candidates) {
+    const double t = hit_disc(discs[static_cast<std::size_t>(i)], o, d);
+    if (t < best) {
+      best = t;
+      label = 2;
+    }
+  }
+  return label;
+}
+
+}  // namespace
+
+canopy::fitvox::Scan synth_scan(const SceneOptions& opt) {
+  const std::vector<Disc> discs = random_discs(opt);
+  const Vector3d& centre = kCentre;
   const Vector3d crop_lo = centre - Vector3d(5, 2, 2), crop_hi = centre + Vector3d(5, 2, 2);
 
   canopy::fitvox::Scan scan;
-  const double el = opt.elevation_deg * M_PI / 180;
+  const double el = opt.elevation_deg * canopy::common::kPi / 180;
   const int np = opt.pixels;
   const double half = 0.5 * (np - 1);
-  constexpr int kCell = 8;  // pixels per bucket side
   const int nc = (np + kCell - 1) / kCell;
   for (int view = 0; view < opt.views; ++view) {
-    const double az = 2 * M_PI * view / opt.views;
-    const Vector3d s(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
-    const Vector3d right(-std::sin(az), std::cos(az), 0);
-    const Vector3d up = s.cross(right);
-    const Vector3d d = -s;
-    // Bucket discs by the image cells their projection covers.
-    std::vector<std::vector<int>> bucket(static_cast<std::size_t>(nc * nc));
-    for (int i = 0; i < static_cast<int>(discs.size()); ++i) {
-      const Vector3d rel = discs[i].c - centre;
-      const double a = rel.dot(right) / opt.spacing + half, b = rel.dot(up) / opt.spacing + half;
-      const double rad = discs[i].r / opt.spacing + 1;
-      const int i0 = std::max(0, static_cast<int>(std::floor((a - rad) / kCell)));
-      const int i1 = std::min(nc - 1, static_cast<int>(std::floor((a + rad) / kCell)));
-      const int j0 = std::max(0, static_cast<int>(std::floor((b - rad) / kCell)));
-      const int j1 = std::min(nc - 1, static_cast<int>(std::floor((b + rad) / kCell)));
-      for (int ci = i0; ci <= i1; ++ci) {
-        for (int cj = j0; cj <= j1; ++cj) bucket[static_cast<std::size_t>(ci * nc + cj)].push_back(i);
-      }
-    }
+    const double az = 2 * canopy::common::kPi * view / opt.views;
+    View v;
+    v.s = Vector3d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+    v.right = Vector3d(-std::sin(az), std::cos(az), 0);
+    v.up = v.s.cross(v.right);
+    v.d = -v.s;
+    const std::vector<std::vector<int>> bucket = bucket_discs(discs, v, opt, half, nc);
     for (int pi = 0; pi < np; ++pi) {
       for (int pj = 0; pj < np; ++pj) {
         const Vector3d o =
-            centre + 100 * s + (pi - half) * opt.spacing * right + (pj - half) * opt.spacing * up;
-        double best = kInf;
-        std::uint32_t label = 0;
-        const double tg = -o.z() / d.z();  // ground z = 0
-        if (tg > 0) {
-          best = tg;
-          label = 3;
-        }
-        for (const Box& b : kVehicle) {
-          const double t = hit_box(b, o, d);
-          if (t < best) {
-            best = t;
-            label = 1;
-          }
-        }
-        for (int i : bucket[static_cast<std::size_t>((pi / kCell) * nc + pj / kCell)]) {
-          const double t = hit_disc(discs[static_cast<std::size_t>(i)], o, d);
-          if (t < best) {
-            best = t;
-            label = 2;
-          }
-        }
+            centre + 100 * v.s + (pi - half) * opt.spacing * v.right + (pj - half) * opt.spacing * v.up;
+        double best;
+        const std::uint32_t label =
+            trace(o, v.d, discs, bucket[static_cast<std::size_t>((pi / kCell) * nc + pj / kCell)], best);
         if (label == 0) continue;
-        const Vector3d q = o + best * d;
+        const Vector3d q = o + best * v.d;
         if ((q.array() < crop_lo.array()).any() || (q.array() > crop_hi.array()).any()) continue;
         scan.points.push_back(q);
-        scan.sensor.push_back(s);
+        scan.sensor.push_back(v.s);
         scan.labels.push_back(label);
       }
     }

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "canopy/common/log.h"
+#include "canopy/common/math.h"
 #include "canopy/formats/ply.h"
 #include "fixtures/ncut_meshes.h"
 #include "ncut/ncut.h"
@@ -197,56 +198,65 @@ void print_run(const char* name, std::size_t n, const Result& r, double seconds)
       c.shift_invert_solves, c.fallbacks, c.matvecs, c.max_matvecs, c.restarts);
 }
 
-}  // namespace
+// Dumps a synthetic mesh as PLY (for timing the ncut binary itself).
+void write_mesh(const TestMesh& m, const std::string& path) {
+  formats::Mesh out;
+  out.vertices.resize(m.in.points.size());
+  const char* names[6] = {"x", "y", "z", "normal_x", "normal_y", "normal_z"};
+  for (const char* f : names) out.vertices.add(f, formats::kFloat32);
+  for (std::size_t i = 0; i < m.in.points.size(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      out.vertices.col(names[c])[i] = m.in.points[i][c];
+      out.vertices.col(names[3 + c])[i] = m.in.normals[i][c];
+    }
+  }
+  for (const auto& f : m.in.faces) out.faces.push_back({f[0], f[1], f[2]});
+  formats::write_ply(out, path);
+}
 
-int main(int argc, char** argv) {
-  common::log::set_tool("ncut_bench");
-  common::log::set_level(common::log::Level::kQuiet);
-  bool quick = false, detail = false, big_only = false;
+struct Options {
+  bool quick = false, detail = false, big_only = false, wrote = false;
   int dense_max = CutParams{}.dense_max;
   std::vector<std::string> files;
+};
+
+// Parses the arguments; --write-big / --write-vehicle write their mesh at once and set `wrote`.
+Options parse_options(int argc, char** argv) {
+  Options o;
   for (int k = 1; k < argc; ++k) {
     const std::string a = argv[k];
     if ((a == "--write-big" || a == "--write-vehicle") && k + 1 < argc) {
-      // Dump a synthetic mesh as PLY (for timing the ncut binary itself).
-      const TestMesh m = a == "--write-big" ? big(317) : vehicle(0.128);
-      formats::Mesh out;
-      out.vertices.resize(m.in.points.size());
-      const char* names[6] = {"x", "y", "z", "normal_x", "normal_y", "normal_z"};
-      for (const char* f : names) out.vertices.add(f, formats::kFloat32);
-      for (std::size_t i = 0; i < m.in.points.size(); ++i) {
-        for (int c = 0; c < 3; ++c) {
-          out.vertices.col(names[c])[i] = m.in.points[i][c];
-          out.vertices.col(names[3 + c])[i] = m.in.normals[i][c];
-        }
-      }
-      for (const auto& f : m.in.faces) out.faces.push_back({f[0], f[1], f[2]});
-      formats::write_ply(out, argv[++k]);
-      return 0;
+      write_mesh(a == "--write-big" ? big(317) : vehicle(0.128), argv[++k]);
+      o.wrote = true;
+      return o;
     }
     if (a == "--big-only")
-      big_only = true;
+      o.big_only = true;
     else if (a == "--dense-max" && k + 1 < argc)
-      dense_max = std::atoi(argv[++k]);
+      o.dense_max = std::atoi(argv[++k]);
     else if (a == "--quick")
-      quick = true;
+      o.quick = true;
     else if (a == "--detail")
-      detail = true;
+      o.detail = true;
     else
-      files.push_back(a);
+      o.files.push_back(a);
   }
+  return o;
+}
 
-  if (big_only) {
-    const TestMesh b = big(317);
-    Params p;
-    const double t0 = now();
-    const Result r = run(b.in, p);
-    print_run("height field 10^5", b.in.points.size(), r, now() - t0);
-    return 0;
-  }
+// Times one default run of the 10^5-vertex height field; returns it with its mesh's parts.
+Result time_big(const TestMesh& b) {
+  Params p;
+  const double t0 = now();
+  Result r = run(b.in, p);
+  print_run("height field 10^5", b.in.points.size(), r, now() - t0);
+  return r;
+}
+
+void exponent_comparison(bool quick, bool detail) {
   std::printf("== exponent comparison: segments (>= 10 vtx) / parts, purity, coverage ==\n");
   std::printf("%-10s %-8s %-8s | %-30s | %-30s\n", "shape", "pos mm", "nrm deg", "squared", "linear");
-  const double deg = M_PI / 180;
+  const double deg = common::kDegree;
   const int seeds = quick ? 1 : 3;
   for (const char* shape : {"box", "vehicle"}) {
     for (const auto& [sp, sa] :
@@ -280,9 +290,12 @@ int main(int argc, char** argv) {
       std::printf("%-10s %-8.0f %-8.0f | %-30s | %-30s\n", shape, sp * 1000, sa, col[0], col[1]);
     }
   }
+}
 
+void dihedral_sweep() {
   std::printf("\n== dihedral sweep: segments of two 1.5 m squares bent by phi (128 mm) ==\n");
   std::printf("%-8s %-8s %-8s\n", "phi deg", "squared", "linear");
+  const double deg = common::kDegree;
   for (double phi : {5, 10, 15, 20, 25, 30, 40, 60, 90}) {
     int count[2];
     for (int e = 0; e < 2; ++e) {
@@ -292,53 +305,65 @@ int main(int argc, char** argv) {
     }
     std::printf("%-8.0f %-8d %-8d\n", phi, count[0], count[1]);
   }
+}
 
+void synthetic_timing(bool quick) {
   std::printf("\n== timing (single thread, default parameters) ==\n");
-  {
-    const TestMesh v = vehicle(0.128);
+  for (double h : {0.128, 0.064}) {
+    const TestMesh v = vehicle(h);
     const double t0 = now();
     const Result r = run(v.in, Params{});
-    print_run("vehicle-like 128mm", v.in.points.size(), r, now() - t0);
-  }
-  {
-    const TestMesh v = vehicle(0.064);
-    const double t0 = now();
-    const Result r = run(v.in, Params{});
-    print_run("vehicle-like 64mm", v.in.points.size(), r, now() - t0);
+    print_run(h == 0.128 ? "vehicle-like 128mm" : "vehicle-like 64mm", v.in.points.size(), r, now() - t0);
   }
   if (!quick) {
     const TestMesh b = big(317);
-    Params p;
-    const double t0 = now();
-    const Result r = run(b.in, p);
-    print_run("height field 10^5", b.in.points.size(), r, now() - t0);
+    const Result r = time_big(b);
     const Score s = score(b.part, r.segment);
     std::printf("  %d parts, %d segments >= 10 vtx, purity %.3f, coverage %.3f\n", s.parts, s.segments10,
                 s.purity, s.coverage);
   }
-  for (const std::string& f : files) {
-    const formats::Mesh mesh = formats::read_ply(f);
-    const Input in = input_from_mesh(mesh, f);
-    for (int e = 0; e < 2; ++e) {
-      Params p;
-      p.affinity.exponent = e == 0 ? Exponent::kSquared : Exponent::kLinear;
-      p.cut.dense_max = dense_max;
-      const double t0 = now();
-      const Result r = run(in, p);
-      std::string name = f.size() > 20 ? "..." + f.substr(f.size() - 17) : f;
-      name += e == 0 ? " sq" : " lin";
-      print_run(name.c_str(), in.points.size(), r, now() - t0);
-      std::vector<double> areas;
-      int target = 0;
-      for (const auto& sg : r.graph.segments) {
-        areas.push_back(sg.area);
-        target += sg.label == 1 && sg.vertex_count >= 10;
-      }
-      std::sort(areas.rbegin(), areas.rend());
-      std::printf("  %d target segments >= 10 vtx; largest areas m^2:", target);
-      for (std::size_t k = 0; k < areas.size() && k < 10; ++k) std::printf(" %.2f", areas[k]);
-      std::printf("\n");
+}
+
+// Both exponents on a PLY mesh: timing, target segments and the largest segment areas.
+void mesh_file_runs(const std::string& f, int dense_max) {
+  const formats::Mesh mesh = formats::read_ply(f);
+  const Input in = input_from_mesh(mesh, f);
+  for (int e = 0; e < 2; ++e) {
+    Params p;
+    p.affinity.exponent = e == 0 ? Exponent::kSquared : Exponent::kLinear;
+    p.cut.dense_max = dense_max;
+    const double t0 = now();
+    const Result r = run(in, p);
+    std::string name = f.size() > 20 ? "..." + f.substr(f.size() - 17) : f;
+    name += e == 0 ? " sq" : " lin";
+    print_run(name.c_str(), in.points.size(), r, now() - t0);
+    std::vector<double> areas;
+    int target = 0;
+    for (const auto& sg : r.graph.segments) {
+      areas.push_back(sg.area);
+      target += sg.label == 1 && sg.vertex_count >= 10;
     }
+    std::sort(areas.rbegin(), areas.rend());
+    std::printf("  %d target segments >= 10 vtx; largest areas m^2:", target);
+    for (std::size_t k = 0; k < areas.size() && k < 10; ++k) std::printf(" %.2f", areas[k]);
+    std::printf("\n");
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  common::log::set_tool("ncut_bench");
+  common::log::set_level(common::log::Level::kQuiet);
+  const Options o = parse_options(argc, argv);
+  if (o.wrote) return 0;
+  if (o.big_only) {
+    time_big(big(317));
+    return 0;
+  }
+  exponent_comparison(o.quick, o.detail);
+  dihedral_sweep();
+  synthetic_timing(o.quick);
+  for (const std::string& f : o.files) mesh_file_runs(f, o.dense_max);
   return 0;
 }

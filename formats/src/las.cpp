@@ -202,6 +202,53 @@ struct ExtraVlr {
   std::size_t len = 0;
 };
 
+// The XYZ scale and offset of the header, each usable for every int32 coordinate.
+void read_las_transform(const unsigned char* b, LasHeader& h, const std::string& name) {
+  double* scale = h.scale;
+  double* offset = h.offset;
+  for (int d = 0; d < 3; ++d) {
+    scale[d] = get<double>(b + 131 + 8 * d);
+    offset[d] = get<double>(b + 155 + 8 * d);
+    // Every int32 times the scale plus the offset must be a finite double.
+    if (!std::isfinite(scale[d]) || scale[d] == 0 || !std::isfinite(offset[d]) ||
+        !std::isfinite(std::fabs(scale[d]) * 2147483648.0 + std::fabs(offset[d]))) {
+      throw DataError(name, std::string("LAS header ") + "XYZ"[d] + " scale " +
+                                detail::format_value(scale[d], kFloat64) + " / offset " +
+                                detail::format_value(offset[d], kFloat64) +
+                                " is not usable (zero, infinite or NaN)");
+    }
+  }
+}
+
+// Point count: the 64-bit count of LAS 1.4 wins when set; a legacy count that disagrees
+// with it is a broken header. Checked against the bytes after the point data offset.
+void read_las_point_count(const unsigned char* b, std::size_t size, LasHeader& h, const std::string& name) {
+  const int minor = h.minor;
+  const std::size_t data_offset = h.data_offset, record = h.record;
+  std::uint64_t& n = h.n;
+  n = get<std::uint32_t>(b + 107);
+  if (minor >= 4) {
+    const std::uint64_t n64 = get<std::uint64_t>(b + 247);
+    if (n64 != 0) {
+      if (n != 0 && n != n64) {
+        throw DataError(name, "LAS header point counts disagree: legacy " + std::to_string(n) + ", LAS 1.4 " +
+                                  std::to_string(n64));
+      }
+      n = n64;
+    }
+  }
+  const std::size_t avail = size - data_offset;
+  if (n > avail / record) {
+    if (avail == 0) {
+      n = 0;  // no point records at all (a header copied from another file): an empty cloud
+    } else {
+      throw DataError(name, "point data truncated: header says " + std::to_string(n) + " points of " +
+                                std::to_string(record) + " bytes, the file holds " + std::to_string(avail) +
+                                " bytes after the point data offset");
+    }
+  }
+}
+
 LasHeader read_las_header(const unsigned char* b, std::size_t size, const std::string& name) {
   LasHeader h;
   const int major = b[24], minor = b[25];
@@ -242,45 +289,8 @@ LasHeader read_las_header(const unsigned char* b, std::size_t size, const std::s
                               " is beyond the end of the file (" + std::to_string(size) +
                               " bytes; truncated?)");
   }
-  double* scale = h.scale;
-  double* offset = h.offset;
-  for (int d = 0; d < 3; ++d) {
-    scale[d] = get<double>(b + 131 + 8 * d);
-    offset[d] = get<double>(b + 155 + 8 * d);
-    // Every int32 times the scale plus the offset must be a finite double.
-    if (!std::isfinite(scale[d]) || scale[d] == 0 || !std::isfinite(offset[d]) ||
-        !std::isfinite(std::fabs(scale[d]) * 2147483648.0 + std::fabs(offset[d]))) {
-      throw DataError(name, std::string("LAS header ") + "XYZ"[d] + " scale " +
-                                detail::format_value(scale[d], kFloat64) + " / offset " +
-                                detail::format_value(offset[d], kFloat64) +
-                                " is not usable (zero, infinite or NaN)");
-    }
-  }
-
-  // Point count: the 64-bit count of LAS 1.4 wins when set; a legacy count that disagrees
-  // with it is a broken header.
-  std::uint64_t& n = h.n;
-  n = get<std::uint32_t>(b + 107);
-  if (minor >= 4) {
-    const std::uint64_t n64 = get<std::uint64_t>(b + 247);
-    if (n64 != 0) {
-      if (n != 0 && n != n64) {
-        throw DataError(name, "LAS header point counts disagree: legacy " + std::to_string(n) + ", LAS 1.4 " +
-                                  std::to_string(n64));
-      }
-      n = n64;
-    }
-  }
-  const std::size_t avail = size - data_offset;
-  if (n > avail / record) {
-    if (avail == 0) {
-      n = 0;  // no point records at all (a header copied from another file): an empty cloud
-    } else {
-      throw DataError(name, "point data truncated: header says " + std::to_string(n) + " points of " +
-                                std::to_string(record) + " bytes, the file holds " + std::to_string(avail) +
-                                " bytes after the point data offset");
-    }
-  }
+  read_las_transform(b, h, name);
+  read_las_point_count(b, size, h, name);
   return h;
 }
 

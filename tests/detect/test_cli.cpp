@@ -195,6 +195,37 @@ TEST_CASE("detect: bad and unusual input") {
     CHECK(err.find("simple.laz: this is a LAZ file") != std::string::npos);
     CHECK(!fs::exists(dir / "out"));
   }
+  SECTION("a tile of only vegetation (no ground returns)") {
+    detect_test::TileSpec v;
+    v.half_extent = 15;
+    v.trees = {{5, 6, 3.0, 5.0, 11.0, 0.2}, {-8, 2, 2.5, 4.0, 9.0, 0.15}, {0, -7, 4, 6, 12, 0.3}};
+    v.bushes = {{10, -5, 1.0, 0.2, 1.6}, {-5, -12, 1.5, 0.3, 2.5}};
+    formats::PointCloud all = detect_test::make_tile(v);
+    std::vector<std::size_t> keep;
+    for (std::size_t i = 0; i < all.size(); ++i) {
+      if (all.col("label")[i] == formats::kLabelFoliage) keep.push_back(i);
+    }
+    formats::write_pcd(all.select(keep), (dir / "veg.pcd").string());
+    CHECK(test::sh(kBin + "/detect -q -i " + q(dir / "veg.pcd") + " -o " + q(dir / "out"), dir / "err.txt",
+                   &err) == 1);
+    CHECK(err.find("veg.pcd: found ground in only") != std::string::npos);
+    CHECK(!fs::exists(dir / "out"));
+  }
+  SECTION("a tile of only ground: zero candidates, exit 0") {
+    detect_test::TileSpec g;
+    g.half_extent = 10;
+    g.noise = 0.008;
+    formats::write_pcd(detect_test::make_tile(g), (dir / "ground.pcd").string());
+    CHECK(test::sh(kBin + "/detect -q -i " + q(dir / "ground.pcd") + " -o " + q(dir / "out"), dir / "err.txt",
+                   &err) == 0);
+    CHECK(read_json(dir / "out" / "index.json")["candidates"].empty());
+  }
+}
+
+TEST_CASE("detect: LAS tiles") {
+  const fs::path dir = test::fresh_dir("detect", "cli_las_input");
+  const detect_test::TileSpec s = small_scene();
+  std::string err;
   SECTION("a LAS tile at UTM coordinates gives the same candidates as the PCD tile") {
     const formats::PointCloud t = detect_test::make_tile(s);
     formats::write_pcd(t, (dir / "t.pcd").string());
@@ -234,31 +265,6 @@ TEST_CASE("detect: bad and unusual input") {
                    dir / "err.txt", &err) <= 1);
     CHECK(err.find("feet.las: its georeferencing gives the coordinates in foot (0.3048 m) (GeoTIFF key "
                    "ProjLinearUnits = 9002)") != std::string::npos);
-  }
-  SECTION("a tile of only vegetation (no ground returns)") {
-    detect_test::TileSpec v;
-    v.half_extent = 15;
-    v.trees = {{5, 6, 3.0, 5.0, 11.0, 0.2}, {-8, 2, 2.5, 4.0, 9.0, 0.15}, {0, -7, 4, 6, 12, 0.3}};
-    v.bushes = {{10, -5, 1.0, 0.2, 1.6}, {-5, -12, 1.5, 0.3, 2.5}};
-    formats::PointCloud all = detect_test::make_tile(v);
-    std::vector<std::size_t> keep;
-    for (std::size_t i = 0; i < all.size(); ++i) {
-      if (all.col("label")[i] == formats::kLabelFoliage) keep.push_back(i);
-    }
-    formats::write_pcd(all.select(keep), (dir / "veg.pcd").string());
-    CHECK(test::sh(kBin + "/detect -q -i " + q(dir / "veg.pcd") + " -o " + q(dir / "out"), dir / "err.txt",
-                   &err) == 1);
-    CHECK(err.find("veg.pcd: found ground in only") != std::string::npos);
-    CHECK(!fs::exists(dir / "out"));
-  }
-  SECTION("a tile of only ground: zero candidates, exit 0") {
-    detect_test::TileSpec g;
-    g.half_extent = 10;
-    g.noise = 0.008;
-    formats::write_pcd(detect_test::make_tile(g), (dir / "ground.pcd").string());
-    CHECK(test::sh(kBin + "/detect -q -i " + q(dir / "ground.pcd") + " -o " + q(dir / "out"), dir / "err.txt",
-                   &err) == 0);
-    CHECK(read_json(dir / "out" / "index.json")["candidates"].empty());
   }
 }
 

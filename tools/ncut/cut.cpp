@@ -163,14 +163,14 @@ const char* method_name(Solver s) {
   }
 }
 
-}  // namespace
+// One eigensolver attempt: the solver and its Lanczos basis size and restart limit.
+struct Attempt {
+  Solver solver;
+  int ncv, maxit;
+};
 
-EigenResult second_eigenvector(const Graph& g, const CutParams& p, CutStats* stats) {
-  const int n = g.size();
-  if (n < 2) throw std::invalid_argument("second_eigenvector: graph has fewer than 2 vertices");
-  const Normalized nm = normalize(g);
-  const double bound = std::max(kResidualFloor, 100 * p.tolerance);
-
+// The attempts in order: the configured one, then the fallbacks.
+std::vector<Attempt> solver_attempts(int n, const CutParams& p) {
   Solver first = p.solver;
   if (first == Solver::kAuto) {
     // Shift-invert, not regular Lanczos: meshes give near-disconnected parts whose N has a
@@ -179,11 +179,6 @@ EigenResult second_eigenvector(const Graph& g, const CutParams& p, CutStats* sta
   }
   if (n < 3) first = Solver::kDense;  // Spectra needs nev < ncv <= n
 
-  // The attempts in order: the configured one, then the fallbacks.
-  struct Attempt {
-    Solver solver;
-    int ncv, maxit;
-  };
   std::vector<Attempt> attempts{{first, p.ncv, p.max_restarts}};
   if (first != Solver::kDense && p.fallback) {
     if (first == Solver::kLanczos) attempts.push_back({Solver::kLanczos, 2 * p.ncv, 5 * p.max_restarts});
@@ -191,24 +186,70 @@ EigenResult second_eigenvector(const Graph& g, const CutParams& p, CutStats* sta
         {first == Solver::kLanczos ? Solver::kShiftInvert : Solver::kLanczos, 2 * p.ncv, 5 * p.max_restarts});
     if (n <= kDenseFallbackMax) attempts.push_back({Solver::kDense, 0, 0});
   }
+  return attempts;
+}
+
+// Runs one attempt into r (z, method, counters); true when the solver converged.
+bool run_attempt(const Graph& g, const Normalized& nm, const Attempt& a, double tolerance, EigenResult* r) {
+  const int n = g.size();
+  r->z.resize(0);
+  if (a.solver == Solver::kDense) return solve_dense(g, nm, r);
+  if (a.solver == Solver::kLanczos) {
+    DeflatedOp op(g, nm);
+    const bool ok = solve_spectra(op, n, a.ncv, a.maxit, tolerance, r);
+    r->method = "lanczos";
+    return ok;
+  }
+  ShiftInvertOp op(g, nm);
+  const bool ok = op.ok() && solve_spectra(op, n, a.ncv, a.maxit, tolerance, r);
+  r->method = "shift-invert";
+  return ok;
+}
+
+// Appends why attempt a failed to the running list of failures.
+void note_failure(const Attempt& a, bool ok, double res, std::string& failures) {
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "%s%s (ncv %d, maxit %d) %s", failures.empty() ? "" : "; ",
+                method_name(a.solver), a.ncv, a.maxit,
+                ok ? ("residual " + std::to_string(res) + " above bound").c_str() : "did not converge");
+  failures += buf;
+}
+
+// Deterministic sign: the entry of largest magnitude (lowest index on ties) is positive.
+void fix_sign(VectorXd& z) {
+  Eigen::Index best = 0;
+  for (Eigen::Index i = 1; i < z.size(); ++i) {
+    if (std::abs(z[i]) > std::abs(z[best])) best = i;
+  }
+  if (z[best] < 0) z = -z;
+}
+
+void add_solve_stats(const EigenResult& r, CutStats* stats) {
+  if (!stats) return;
+  ++stats->solves;
+  if (r.method == "dense") ++stats->dense_solves;
+  if (r.method == "lanczos") ++stats->lanczos_solves;
+  if (r.method == "shift-invert") ++stats->shift_invert_solves;
+  stats->matvecs += r.matvecs;
+  stats->restarts += r.restarts;
+  stats->max_matvecs = std::max(stats->max_matvecs, r.matvecs);
+  stats->max_residual = std::max(stats->max_residual, r.residual);
+}
+
+}  // namespace
+
+EigenResult second_eigenvector(const Graph& g, const CutParams& p, CutStats* stats) {
+  const int n = g.size();
+  if (n < 2) throw std::invalid_argument("second_eigenvector: graph has fewer than 2 vertices");
+  const Normalized nm = normalize(g);
+  const double bound = std::max(kResidualFloor, 100 * p.tolerance);
+  const std::vector<Attempt> attempts = solver_attempts(n, p);
 
   EigenResult r;
   std::string failures;
   for (std::size_t k = 0; k < attempts.size(); ++k) {
     const Attempt& a = attempts[k];
-    bool ok = false;
-    r.z.resize(0);
-    if (a.solver == Solver::kDense) {
-      ok = solve_dense(g, nm, &r);
-    } else if (a.solver == Solver::kLanczos) {
-      DeflatedOp op(g, nm);
-      ok = solve_spectra(op, n, a.ncv, a.maxit, p.tolerance, &r);
-      r.method = "lanczos";
-    } else {
-      ShiftInvertOp op(g, nm);
-      ok = op.ok() && solve_spectra(op, n, a.ncv, a.maxit, p.tolerance, &r);
-      r.method = "shift-invert";
-    }
+    const bool ok = run_attempt(g, nm, a, p.tolerance, &r);
     const double res = ok ? finish(g, nm, &r) : INFINITY;
     if (ok && res <= bound) {
       if (k > 0) {
@@ -218,35 +259,15 @@ EigenResult second_eigenvector(const Graph& g, const CutParams& p, CutStats* sta
       }
       break;
     }
-    char buf[200];
-    std::snprintf(buf, sizeof buf, "%s%s (ncv %d, maxit %d) %s", failures.empty() ? "" : "; ",
-                  method_name(a.solver), a.ncv, a.maxit,
-                  ok ? ("residual " + std::to_string(res) + " above bound").c_str() : "did not converge");
-    failures += buf;
+    note_failure(a, ok, res, failures);
     if (k + 1 == attempts.size()) {
       throw common::Error("normalized cut eigensolver failed on a part of " + std::to_string(n) +
                           " vertices: " + failures +
                           " (try another solver, tolerance, restart limit or Lanczos basis size)");
     }
   }
-
-  // Deterministic sign: the entry of largest magnitude (lowest index on ties) is positive.
-  Eigen::Index best = 0;
-  for (Eigen::Index i = 1; i < r.z.size(); ++i) {
-    if (std::abs(r.z[i]) > std::abs(r.z[best])) best = i;
-  }
-  if (r.z[best] < 0) r.z = -r.z;
-
-  if (stats) {
-    ++stats->solves;
-    if (r.method == "dense") ++stats->dense_solves;
-    if (r.method == "lanczos") ++stats->lanczos_solves;
-    if (r.method == "shift-invert") ++stats->shift_invert_solves;
-    stats->matvecs += r.matvecs;
-    stats->restarts += r.restarts;
-    stats->max_matvecs = std::max(stats->max_matvecs, r.matvecs);
-    stats->max_residual = std::max(stats->max_residual, r.residual);
-  }
+  fix_sign(r.z);
+  add_solve_stats(r, stats);
   return r;
 }
 

@@ -129,15 +129,30 @@ std::vector<std::array<int, 2>> mesh_edges(const std::vector<std::array<int, 3>>
   return e;
 }
 
-std::vector<formats::Segment> segment_attributes(const Input& in, const std::vector<Vector3d>& normals,
-                                                 const std::vector<int>& segment, int count, PcaWeighting pca) {
+namespace {
+
+// Per-segment sums gathered over the mesh before the attributes are derived.
+struct SegmentSums {
+  std::vector<Moments> mom;
+  std::vector<Vector3d> normal_sum;
+  std::vector<std::map<std::uint32_t, double>> label_area;
+  std::vector<std::map<std::uint32_t, int>> label_count;
+  std::vector<double> vertex_area;
+};
+
+// Vertex lists of the segments, the area moments of each vertex's barycentric cells, and the
+// area-weighted normal and label sums.
+SegmentSums gather_segment_sums(const Input& in, const std::vector<Vector3d>& normals,
+                                const std::vector<int>& segment, int count, std::vector<formats::Segment>& out) {
   const std::size_t n = in.points.size();
-  std::vector<formats::Segment> out(count);
-  std::vector<Moments> mom(count);
-  std::vector<Vector3d> normal_sum(count, Vector3d::Zero());
-  std::vector<std::map<std::uint32_t, double>> label_area(count);
-  std::vector<std::map<std::uint32_t, int>> label_count(count);
-  std::vector<double> vertex_area(n, 0.0);
+  SegmentSums sums;
+  sums.mom.resize(count);
+  sums.normal_sum.assign(count, Vector3d::Zero());
+  sums.label_area.resize(count);
+  sums.label_count.resize(count);
+  sums.vertex_area.assign(n, 0.0);
+  std::vector<Moments>& mom = sums.mom;
+  std::vector<double>& vertex_area = sums.vertex_area;
 
   for (std::size_t v = 0; v < n; ++v) {
     formats::Segment& s = out[segment[v]];
@@ -161,71 +176,93 @@ std::vector<formats::Segment> segment_attributes(const Input& in, const std::vec
   }
   for (std::size_t v = 0; v < n; ++v) {
     const int s = segment[v];
-    normal_sum[s] += (vertex_area[v] > 0 ? vertex_area[v] : 1.0) * normals[v];
+    sums.normal_sum[s] += (vertex_area[v] > 0 ? vertex_area[v] : 1.0) * normals[v];
     const std::uint32_t label = in.labels.empty() ? 0u : in.labels[v];
-    label_area[s][label] += vertex_area[v];
-    label_count[s][label] += 1;
+    sums.label_area[s][label] += vertex_area[v];
+    sums.label_count[s][label] += 1;
   }
+  return sums;
+}
 
+// Centroid and covariance of one segment: from the surface moments, or from its vertices.
+void segment_moments(const Input& in, const formats::Segment& s, const Moments& m, PcaWeighting pca,
+                     Vector3d& centroid, Matrix3d& cov) {
+  if (pca == PcaWeighting::kSurface && m.area > 0) {
+    const Vector3d mean = m.m1 / m.area;
+    centroid = m.ref + mean;
+    cov = m.m2 / m.area - mean * mean.transpose();
+  } else {
+    Vector3d sum = Vector3d::Zero();
+    for (int v : s.vertices) sum += in.points[v] - m.ref;
+    const Vector3d mean = sum / s.vertex_count;
+    cov.setZero();
+    for (int v : s.vertices) {
+      const Vector3d d = in.points[v] - m.ref - mean;
+      cov += d * d.transpose();
+    }
+    cov /= s.vertex_count;
+    centroid = m.ref + mean;
+  }
+}
+
+// Radii, thickness, elongation, centroid and the normal (oriented along the summed vertex normals).
+void segment_shape(const Vector3d& centroid, Matrix3d cov, const Vector3d& normal_sum, formats::Segment& s) {
+  cov = 0.5 * (cov + cov.transpose());
+  Eigen::SelfAdjointEigenSolver<Matrix3d> es(cov);
+  const Vector3d ev = es.eigenvalues().cwiseMax(0.0);  // ascending
+  const double l1 = ev[2], l2 = ev[1], l3 = ev[0];
+  s.radii = {std::sqrt(l1), std::sqrt(l2), std::sqrt(l3)};
+  s.thickness = l1 > 0 ? std::sqrt(l3 / l1) : 0.0;
+  s.elongation = l1 > 0 ? std::sqrt(l2 / l1) : 0.0;
+  s.centroid = {centroid.x(), centroid.y(), centroid.z()};
+
+  Vector3d normal = es.eigenvectors().col(0);
+  if (l1 == 0 && normal_sum.norm() > 0) normal = normal_sum.normalized();
+  double agree = normal.dot(normal_sum);
+  if (agree == 0) {
+    Eigen::Index k;
+    normal.cwiseAbs().maxCoeff(&k);
+    agree = normal[k];
+  }
+  if (agree < 0) normal = -normal;
+  s.normal = {normal.x(), normal.y(), normal.z()};
+}
+
+// Majority label by area (by count when the segment has no area); ties -> lower label.
+void segment_label(const std::map<std::uint32_t, double>& label_area,
+                   std::map<std::uint32_t, int>& label_count, formats::Segment& s) {
+  const bool by_area = s.area > 0;
+  double best = -1, total = 0;
+  for (const auto& [label, a] : label_area) {
+    const double w = by_area ? a : label_count[label];
+    total += w;
+    if (w > best) {
+      best = w;
+      s.label = static_cast<int>(label);
+    }
+  }
+  s.label_purity = total > 0 ? best / total : 1.0;
+}
+
+}  // namespace
+
+std::vector<formats::Segment> segment_attributes(const Input& in, const std::vector<Vector3d>& normals,
+                                                 const std::vector<int>& segment, int count, PcaWeighting pca) {
+  std::vector<formats::Segment> out(count);
+  SegmentSums sums = gather_segment_sums(in, normals, segment, count, out);
   for (int id = 0; id < count; ++id) {
     formats::Segment& s = out[id];
     s.segment_id = id;
     s.vertex_count = static_cast<int>(s.vertices.size());
     double area = 0;
-    for (int v : s.vertices) area += vertex_area[v];
+    for (int v : s.vertices) area += sums.vertex_area[v];
     s.area = area;
 
     Vector3d centroid;
     Matrix3d cov;
-    const Moments& m = mom[id];
-    if (pca == PcaWeighting::kSurface && m.area > 0) {
-      const Vector3d mean = m.m1 / m.area;
-      centroid = m.ref + mean;
-      cov = m.m2 / m.area - mean * mean.transpose();
-    } else {
-      Vector3d sum = Vector3d::Zero();
-      for (int v : s.vertices) sum += in.points[v] - m.ref;
-      const Vector3d mean = sum / s.vertex_count;
-      cov.setZero();
-      for (int v : s.vertices) {
-        const Vector3d d = in.points[v] - m.ref - mean;
-        cov += d * d.transpose();
-      }
-      cov /= s.vertex_count;
-      centroid = m.ref + mean;
-    }
-    cov = 0.5 * (cov + cov.transpose());
-    Eigen::SelfAdjointEigenSolver<Matrix3d> es(cov);
-    const Vector3d ev = es.eigenvalues().cwiseMax(0.0);  // ascending
-    const double l1 = ev[2], l2 = ev[1], l3 = ev[0];
-    s.radii = {std::sqrt(l1), std::sqrt(l2), std::sqrt(l3)};
-    s.thickness = l1 > 0 ? std::sqrt(l3 / l1) : 0.0;
-    s.elongation = l1 > 0 ? std::sqrt(l2 / l1) : 0.0;
-    s.centroid = {centroid.x(), centroid.y(), centroid.z()};
-
-    Vector3d normal = es.eigenvectors().col(0);
-    if (l1 == 0 && normal_sum[id].norm() > 0) normal = normal_sum[id].normalized();
-    double agree = normal.dot(normal_sum[id]);
-    if (agree == 0) {
-      Eigen::Index k;
-      normal.cwiseAbs().maxCoeff(&k);
-      agree = normal[k];
-    }
-    if (agree < 0) normal = -normal;
-    s.normal = {normal.x(), normal.y(), normal.z()};
-
-    // Majority label by area (by count when the segment has no area); ties -> lower label.
-    const bool by_area = area > 0;
-    double best = -1, total = 0;
-    for (const auto& [label, a] : label_area[id]) {
-      const double w = by_area ? a : label_count[id][label];
-      total += w;
-      if (w > best) {
-        best = w;
-        s.label = static_cast<int>(label);
-      }
-    }
-    s.label_purity = total > 0 ? best / total : 1.0;
+    segment_moments(in, s, sums.mom[id], pca, centroid, cov);
+    segment_shape(centroid, cov, sums.normal_sum[id], s);
+    segment_label(sums.label_area[id], sums.label_count[id], s);
   }
   return out;
 }
