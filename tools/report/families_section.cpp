@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <initializer_list>
 #include <map>
 #include <sstream>
 
@@ -50,6 +51,29 @@ Table read_table(const std::string& text, const std::string& name) {
   }
   if (t.rows.empty()) throw common::DataError(name, "empty table (no header)");
   return t;
+}
+
+// Row r has as many cells as the header (row 0); DataError naming the file and line otherwise.
+void check_width(const Table& t, std::size_t r, const std::string& name) {
+  if (t.rows[r].size() != t.rows.front().size()) {
+    throw common::DataError(name, "line " + std::to_string(t.lines[r]) + ": " +
+                                      std::to_string(t.rows[r].size()) + " columns, the header has " +
+                                      std::to_string(t.rows.front().size()));
+  }
+}
+
+// The header's column of each name; DataError naming the first of `needed` that is missing.
+std::map<std::string, std::size_t> header_columns(const Table& t, const std::string& name,
+                                                  std::initializer_list<const char*> needed) {
+  std::map<std::string, std::size_t> col;
+  for (std::size_t k = 0; k < t.rows.front().size(); ++k) col[t.rows.front()[k]] = k;
+  for (const char* n : needed) {
+    if (!col.count(n)) {
+      throw common::DataError(name,
+                              "line " + std::to_string(t.lines[0]) + ": no column '" + n + "' in the header");
+    }
+  }
+  return col;
 }
 
 int count(const std::string& s, const std::string& name, int line, const std::string& column) {
@@ -173,11 +197,7 @@ void read_confusion(FamilySummary& s, const std::string& confusion, const std::s
   for (std::size_t r = 1; r < c.rows.size(); ++r) {
     const auto& row = c.rows[r];
     const int line = c.lines[r];
-    if (row.size() != head.size()) {
-      throw common::DataError(confusion_name, "line " + std::to_string(line) + ": " +
-                                                  std::to_string(row.size()) + " columns, the header has " +
-                                                  std::to_string(head.size()));
-    }
+    check_width(c, r, confusion_name);
     FamilyClass fc;
     fc.name = row[0];
     for (std::size_t k = 1; k < row.size(); ++k) {
@@ -197,24 +217,14 @@ void read_confusion(FamilySummary& s, const std::string& confusion, const std::s
 void read_levels(FamilySummary& s, const std::string& accuracy, const std::string& accuracy_name,
                  const std::string& confusion_name) {
   const Table a = read_table(accuracy, accuracy_name);
-  std::map<std::string, std::size_t> col;
-  for (std::size_t k = 0; k < a.rows.front().size(); ++k) col[a.rows.front()[k]] = k;
-  for (const char* needed :
-       {"cover", "noise", "trials", "class_right", "accepted", "accepted_right", "nearest_right", "failed"}) {
-    if (!col.count(needed)) {
-      throw common::DataError(
-          accuracy_name, "line " + std::to_string(a.lines[0]) + ": no column '" + needed + "' in the header");
-    }
-  }
+  std::map<std::string, std::size_t> col = header_columns(
+      a, accuracy_name,
+      {"cover", "noise", "trials", "class_right", "accepted", "accepted_right", "nearest_right", "failed"});
   bool have_all = false;
   for (std::size_t r = 1; r < a.rows.size(); ++r) {
     const auto& row = a.rows[r];
     const int line = a.lines[r];
-    if (row.size() != a.rows.front().size()) {
-      throw common::DataError(accuracy_name, "line " + std::to_string(line) + ": " +
-                                                 std::to_string(row.size()) + " columns, the header has " +
-                                                 std::to_string(a.rows.front().size()));
-    }
+    check_width(a, r, accuracy_name);
     FamilyLevel l;
     l.cover = row[col["cover"]];
     l.noise = row[col["noise"]];
@@ -278,23 +288,14 @@ namespace {
 void read_method_rows(const std::string& methods, const std::string& methods_name,
                       std::vector<FamilyMethodRow>& rows, std::vector<std::string>& names) {
   const Table m = read_table(methods, methods_name);
-  std::map<std::string, std::size_t> col;
-  for (std::size_t k = 0; k < m.rows.front().size(); ++k) col[m.rows.front()[k]] = k;
-  for (const char* needed : {"method", "class", "cover", "noise", "trials", "class_right", "nearest_right",
-                             "failed", "timed", "seconds_mean"}) {
-    if (!col.count(needed)) {
-      throw common::DataError(
-          methods_name, "line " + std::to_string(m.lines[0]) + ": no column '" + needed + "' in the header");
-    }
-  }
+  std::map<std::string, std::size_t> col =
+      header_columns(m, methods_name,
+                     {"method", "class", "cover", "noise", "trials", "class_right", "nearest_right", "failed",
+                      "timed", "seconds_mean"});
   for (std::size_t r = 1; r < m.rows.size(); ++r) {
     const auto& row = m.rows[r];
     const int line = m.lines[r];
-    if (row.size() != m.rows.front().size()) {
-      throw common::DataError(methods_name, "line " + std::to_string(line) + ": " +
-                                                std::to_string(row.size()) + " columns, the header has " +
-                                                std::to_string(m.rows.front().size()));
-    }
+    check_width(m, r, methods_name);
     FamilyMethodRow x;
     x.method = row[col["method"]];
     x.vehicle_class = row[col["class"]];
@@ -368,11 +369,7 @@ std::vector<FamilyMethodConfusion> read_method_confusion(const std::string& conf
   for (std::size_t r = 1; r < c.rows.size(); ++r) {
     const auto& row = c.rows[r];
     const int line = c.lines[r];
-    if (row.size() != head.size()) {
-      throw common::DataError(confusion_name, "line " + std::to_string(line) + ": " +
-                                                  std::to_string(row.size()) + " columns, the header has " +
-                                                  std::to_string(head.size()));
-    }
+    check_width(c, r, confusion_name);
     if (conf.empty() || conf.back().method != row[0]) conf.push_back({row[0], {}});
     FamilyClass fc;
     fc.name = row[1];
