@@ -20,6 +20,7 @@
 #include <nlohmann/json.hpp>
 #include <system_error>
 
+#include "canopy/common/math.h"
 #include "canopy/common/error.h"
 #include "canopy/formats/pcd.h"
 
@@ -226,7 +227,8 @@ Ranking run_vfh(const Cloud& cand, const std::vector<Model>& models, const Param
     e.model = m.name;
     e.distance = 1e9;
     for (int v = 0; v <= p.views; ++v) {
-      const Cloud seen = v < p.views ? view(m.surface, 2 * M_PI * v / p.views, p.view_elevation) : m.surface;
+      const Cloud seen =
+          v < p.views ? view(m.surface, 2 * common::kPi * v / p.views, p.view_elevation) : m.surface;
       if (seen.points.size() < 3) continue;
       const double d = l1(c, vfh(seen.points, seen.normals));
       if (d < e.distance) {
