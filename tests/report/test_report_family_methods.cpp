@@ -9,24 +9,15 @@
 #include <string>
 
 #include "canopy/common/error.h"
+#include "family_tables.h"
 #include "report/families_section.h"
 
 using namespace canopy;
 
 namespace {
 
-// Three classes, 4 trials each (the verify matrix: 9 of 12 right).
-const char* kConfusion =
-    "true_class,sedan,suv,tank,none\n"
-    "sedan,3,1,0,0\n"
-    "suv,1,2,0,1\n"
-    "tank,0,0,4,0\n";
-const char* kAccuracy =
-    "cover,noise,trials,class_right,class_accuracy,accepted,accepted_right,nearest_right,nearest_accuracy,"
-    "failed\n"
-    "light,0,6,5,0.8333,5,4,3,0.5000,0\n"
-    "dense,32,6,4,0.6667,3,3,1,0.1667,1\n"
-    "all,all,12,9,0.7500,8,7,4,0.3333,1\n";
+const char* const kConfusion = test::kFamilyConfusion;
+const char* const kAccuracy = test::kFamilyAccuracy;
 const std::string kHead =
     "method,class,cover,noise,trials,class_right,class_accuracy,nearest_right,nearest_accuracy,failed,timed,"
     "seconds_mean\n";

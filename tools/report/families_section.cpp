@@ -11,8 +11,18 @@
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
+#include "report/report.h"
 
 namespace canopy::report {
+
+std::string method_label(const std::string& m) {
+  if (m == "gmatch") return "canopy (gmatch rank-1)";
+  if (m == "verify") return "canopy (verify)";
+  if (m == "vfh") return "VFH";
+  if (m == "fpfh") return "FPFH";
+  return m;
+}
+
 namespace {
 
 std::string pct(int k, int n) {
@@ -87,14 +97,6 @@ int count(const std::string& s, const std::string& name, int line, const std::st
                                       "' is not a count (a whole number >= 0)");
   }
   return static_cast<int>(v);
-}
-
-std::string method_label(const std::string& m) {
-  if (m == "gmatch") return "canopy (gmatch rank-1)";
-  if (m == "verify") return "canopy (verify)";
-  if (m == "vfh") return "VFH";
-  if (m == "fpfh") return "FPFH";
-  return m;
 }
 
 const FamilyMethodRow* method_row(const FamilySummary& s, const std::string& m, const std::string& cls,

@@ -24,6 +24,10 @@ using formats::parse_thesis_csv;
 using formats::StageTime;
 using formats::ThesisRow;
 
+// A method's name in the report's tables: gmatch and verify as canopy's, vfh and fpfh as the
+// PCL baseline's (VFH, FPFH); any other name as it is.
+std::string method_label(const std::string& method);
+
 // Target surface area at each stage of one trial (tools/areas: OUT/.../noise-<mm>/areas.json), m².
 struct AreaRow {
   bool present = false;

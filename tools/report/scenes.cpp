@@ -42,12 +42,6 @@ const Json& field(const Json& j, const char* key) {
 // The PCL baseline's methods (issue 17; mk/scenes.mk SCENE_BASELINE), in the tables' order.
 const char* const kBaselineMethods[] = {"vfh", "fpfh"};
 
-std::string method_label(const std::string& m) {
-  if (m == "vfh") return "VFH";
-  if (m == "fpfh") return "FPFH";
-  return m;
-}
-
 struct BaselineScore {
   std::string method;
   std::string path;
