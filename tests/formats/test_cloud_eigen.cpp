@@ -1,10 +1,13 @@
-// formats/cloud_eigen.h: the one PointCloud <-> Eigen conversion of the stages.
+// formats/cloud_eigen.h and pose_eigen.h: the one PointCloud <-> Eigen and Pose <-> Eigen
+// conversions of the stages.
 #include <catch2/catch.hpp>
 
+#include <array>
 #include <limits>
 
 #include "canopy/common/error.h"
 #include "canopy/formats/cloud_eigen.h"
+#include "canopy/formats/pose_eigen.h"
 
 using namespace canopy;
 using Eigen::Vector3d;
@@ -55,4 +58,22 @@ TEST_CASE("finite_vectors and uint32_column name the file, the row and the probl
   CHECK_THROWS_AS(formats::uint32_column(c, "label", "s.pcd"), common::DataError);
   c.col("label")[1] = 4294967296.0;
   CHECK_THROWS_AS(formats::uint32_column(c, "label", "s.pcd"), common::DataError);
+}
+
+TEST_CASE("to_pose writes the rotation row-major and the translation; to_isometry reads them back") {
+  // 90 degrees about z, then (1, 2, 3): x -> y, y -> -x.
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() << 0, -1, 0, 1, 0, 0, 0, 0, 1;
+  t.translation() = Vector3d(1, 2, 3);
+  const formats::Pose p = formats::to_pose(t);
+  CHECK(p.rotation == std::array<double, 9>{0, -1, 0, 1, 0, 0, 0, 0, 1});
+  CHECK(p.translation == std::array<double, 3>{1, 2, 3});
+  CHECK(formats::euler_degrees(p)[0] == Approx(90));
+  CHECK(formats::to_isometry(p).matrix() == t.matrix());
+  // A 4 x 4 matrix: only its rigid part is read.
+  Eigen::Matrix4d m = t.matrix();
+  m(3, 0) = 5;
+  CHECK(formats::to_pose(m).rotation == p.rotation);
+  CHECK(formats::to_pose(m).translation == p.translation);
+  CHECK(formats::to_pose(Eigen::Isometry3d::Identity()).rotation == formats::Pose{}.rotation);
 }

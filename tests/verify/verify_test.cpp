@@ -7,6 +7,7 @@
 
 #include "canopy/common/math.h"
 #include "canopy/common/error.h"
+#include "canopy/formats/pose_eigen.h"
 #include "fixtures.h"
 #include "verify/verify.h"
 
@@ -42,7 +43,7 @@ TEST_CASE("a posed, resampled model is recovered to 1 mm and 0.1 degree", "[veri
   REQUIRE(v.model == "pickup");
   REQUIRE(v.chosen == 0);
   const auto& h = v.hypotheses[0];
-  const Isometry3d P = vf::to_isometry(h.pose);
+  const Isometry3d P = fm::to_isometry(h.pose);
   CHECK((P.translation() - T.translation()).norm() < 1e-3);
   CHECK(angle_deg(P, T) < 0.1);
   CHECK(h.explained > 0.9);
@@ -63,7 +64,7 @@ TEST_CASE("recovery does not need the segment pairs (principal-axis start)", "[v
   const auto m = match({"pickup"}, {graph(pickup())}, false);
   const fm::Verdict v = vf::run({&cand, &object, &m, &w.models}, vf::Params{});
   REQUIRE(v.model == "pickup");
-  const Isometry3d P = vf::to_isometry(v.hypotheses[0].pose);
+  const Isometry3d P = fm::to_isometry(v.hypotheses[0].pose);
   CHECK((P.translation() - T.translation()).norm() < 1e-3);
   CHECK(angle_deg(P, T) < 0.1);
   CHECK(v.hypotheses[0].start.rfind("axes", 0) == 0);
@@ -89,7 +90,7 @@ TEST_CASE("the 180-degree flipped pose is rejected", "[verify]") {
   REQUIRE(v.chosen == 0);
   CHECK(!v.hypotheses[0].flipped);
   CHECK(v.hypotheses[0].flip_score < v.hypotheses[0].score - 0.2);
-  CHECK(angle_deg(vf::to_isometry(v.hypotheses[0].pose), T) < 0.1);
+  CHECK(angle_deg(fm::to_isometry(v.hypotheses[0].pose), T) < 0.1);
 }
 
 TEST_CASE("a candidate made of another model's points scores below its own model", "[verify]") {

@@ -23,6 +23,7 @@
 #include "canopy/common/math.h"
 #include "canopy/common/error.h"
 #include "canopy/formats/pcd.h"
+#include "canopy/formats/pose_eigen.h"
 
 namespace canopy::baseline {
 namespace {
@@ -419,11 +420,7 @@ formats::Verdict to_verdict(const Ranking& ranking, double accept, const std::st
     h.gmatch_rank = e.rank;
     h.gmatch_score = e.score;
     h.start = ranking.method;
-    const Eigen::Matrix4d pose = e.posed ? e.pose : Eigen::Matrix4d::Identity();
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 3; ++c) h.pose.rotation[3 * r + c] = pose(r, c);
-      h.pose.translation[r] = pose(r, 3);
-    }
+    h.pose = formats::to_pose(e.posed ? e.pose : Eigen::Matrix4d::Identity());
     h.explained = e.candidate_share;
     h.score = e.score;
     v.hypotheses.push_back(h);

@@ -16,6 +16,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/math.h"
 #include "canopy/formats/cloud_eigen.h"
+#include "canopy/formats/pose_eigen.h"
 
 namespace canopy::verify {
 namespace {
@@ -421,7 +422,7 @@ formats::Hypothesis check_hypothesis(const In& in, const formats::ModelScore& ms
       have = true;
       best.start = s.name + (f ? "-flipped" : "");
       best.flipped = f == 1;
-      best.pose = to_pose(c.pose);
+      best.pose = formats::to_pose(c.pose);
       best.fit_rms = c.fit_rms;
       best.explained = c.explained;
       best.free_space_violation = c.violation;
@@ -473,24 +474,6 @@ void decide(formats::Verdict* verdict, const Params& p) {
 
 }  // namespace
 
-formats::Pose to_pose(const Isometry3d& T) {
-  formats::Pose p;
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) p.rotation[3 * r + c] = T.linear()(r, c);
-    p.translation[r] = T.translation()(r);
-  }
-  return p;
-}
-
-Isometry3d to_isometry(const formats::Pose& p) {
-  Isometry3d T = Isometry3d::Identity();
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) T.linear()(r, c) = p.rotation[3 * r + c];
-    T.translation()(r) = p.translation[r];
-  }
-  return T;
-}
-
 formats::Verdict run(const In& in, const Params& p) {
   formats::Verdict v;
   const Scorer scorer(*in.candidate, p);
@@ -503,8 +486,8 @@ formats::Verdict run(const In& in, const Params& p) {
   }
   decide(&v, p);
   if (in.to_tile != nullptr) {
-    v.transform = to_pose(*in.to_tile);
-    for (auto& h : v.hypotheses) h.pose_tile = to_pose(*in.to_tile * to_isometry(h.pose));
+    v.transform = formats::to_pose(*in.to_tile);
+    for (auto& h : v.hypotheses) h.pose_tile = formats::to_pose(*in.to_tile * to_isometry(h.pose));
   }
   return v;
 }

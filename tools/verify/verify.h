@@ -119,10 +119,6 @@ bool pose_from_pairs(const formats::SegmentGraph& object, const formats::Segment
 Eigen::Isometry3d pose_from_axes(const std::vector<Eigen::Vector3d>& candidate,
                                  const std::vector<Eigen::Vector3d>& model);
 
-// The verdict's poses (formats::Pose, row-major rotation + translation) <-> Eigen.
-formats::Pose to_pose(const Eigen::Isometry3d& pose);
-Eigen::Isometry3d to_isometry(const formats::Pose& pose);
-
 struct In {
   const Candidate* candidate = nullptr;
   const formats::SegmentGraph* segments = nullptr;
