@@ -54,6 +54,11 @@ FAM_TOPK ?= 5
 FAM_RENDER ?= --size 640 --spacing 30mm --crop-length 15m --crop-width 5m --crop-height 4.6m
 # family-modelbase: entry i (0 .. N-1) is instance i div K of class i mod K (K classes).
 FAM_MB_N ?= 1000
+# ... and entry i's render waits for entry i - FAM_MB_WINDOW to be done (an order-only
+# prerequisite), so at most FAM_MB_WINDOW entries are under way and their 15-20 MB scans on
+# disk at once; without it make -j renders all N first (N x 17 MB). Keep it >= the -j count;
+# 0 = no window (e.g. LAUNCH=slurm with hundreds of jobs and the disk to hold every scan).
+FAM_MB_WINDOW ?= 16
 FAM_DIR := $(OUT)/families
 FAM_MB := $(FAM_DIR)/modelbase
 FAM_RES := $(RES)/families
@@ -148,6 +153,11 @@ FAM_BIG_IDS := $(if $(filter family-modelbase,$(MAKECMDGOALS)),$(shell awk -v n=
 $(if $(filter family-modelbase,$(MAKECMDGOALS)),$(if $(FAM_BIG_IDS),,$(error family-modelbase: \
   FAM_MB_N=$(FAM_MB_N) gives no entry (a whole number >= 1))))
 FAM_BIG_MODELBASE := $(foreach i,$(FAM_BIG_IDS),$(foreach e,$(FAM_BIG)/$(subst :,-,$(i)),$(e).json $(e).pcd $(e).class))
+$(if $(FAM_BIG_IDS),$(if $(shell echo '$(FAM_MB_WINDOW)' | grep -Ex '[0-9]+'),,$(error \
+  FAM_MB_WINDOW=$(FAM_MB_WINDOW): must be a whole number >= 0)))
+# The window: "<entry>:<entry it waits for>" words, entry i after entry i - FAM_MB_WINDOW.
+FAM_BIG_WAITS := $(if $(filter-out 0,$(FAM_MB_WINDOW)),$(shell printf '%s\n' $(subst :,-,$(FAM_BIG_IDS)) | \
+  awk -v w='$(FAM_MB_WINDOW)' '{ id[NR] = $$0 } NR > w { print $$0 ":" id[NR - w] }'))
 # Every instance rendered for a modelbase, once.
 FAM_TRAIN_IDS := $(sort $(foreach c,$(FAM_CLASSES),$(foreach n,$(FAM_TRAIN),$(c):$(n))) $(FAM_BIG_IDS))
 fam_class = $(firstword $(subst :, ,$(1)))
@@ -184,6 +194,8 @@ $(foreach c,$(FAM_COVERS),$(eval $(call fam_scene_rule,$(c))))
 $(foreach i,$(FAM_TRAIN_IDS),$(eval $(call fam_train_rule,$(call fam_class,$(i)),$(call fam_inst,$(i)))))
 $(foreach c,$(FAM_CLASSES),$(foreach n,$(FAM_TRAIN),$(eval $(call fam_entry_rule,$(FAM_MB),$(c),$(n)))))
 $(foreach i,$(FAM_BIG_IDS),$(eval $(call fam_entry_rule,$(FAM_BIG),$(call fam_class,$(i)),$(call fam_inst,$(i)))))
+$(foreach p,$(FAM_BIG_WAITS),$(eval $(FAM_DIR)/train/$(firstword $(subst :, ,$(p)))/scan.pcd: | \
+  $(FAM_DIR)/train/$(lastword $(subst :, ,$(p)))/noise-0/segments.json))
 family-modelbase: $(FAM_BIG_MODELBASE)
 ifneq ($(filter families,$(MAKECMDGOALS)),)
 $(foreach c,$(FAM_CLASSES),$(foreach n,$(FAM_TEST),$(foreach v,$(FAM_COVERS),\

@@ -104,4 +104,19 @@ if "${mk[@]}" -q SCENE_EXPERIMENT=0 FAMILIES=1 "$res/confusion.csv"; then fail "
 ran=$(grep -c '^done' "$tmp/rec2.log"); want=$(( 2 * trials + 1 ))
 [ "$ran" = "$want" ] && ! grep '^done' "$tmp/rec2.log" | grep -qv 'baseline-\|confusion.csv' \
   || fail "after baseline.ini changed: $ran stages ran (want $want: the baseline's and famscore): $(head -5 "$tmp/rec2.log")"
+
+# The generated modelbase (family-modelbase): entries pickup-0, van-0 (built above, linked),
+# pickup-1, van-1 (new) with their classes; with FAM_MB_WINDOW=1 van-1's render waits for
+# pickup-1's chain to be done (without the window -j2 renders both at once).
+"${mk[@]}" -j2 family-modelbase FAM_MB_N=4 FAM_MB_WINDOW=1 >"$tmp/big.log" 2>&1 || fail "family-modelbase failed: $(tail -5 "$tmp/big.log")"
+big=$tmp/out/families/modelbase-4
+for e in pickup-0 van-0 pickup-1 van-1; do
+  [ -s "$big/$e.json" ] && [ -s "$big/$e.pcd" ] && [ "$(cat "$big/$e.class")" = "${e%-*}" ] || fail "modelbase-4: entry $e missing or wrong class"
+done
+[ "$(ls "$big" | wc -l)" = 12 ] || fail "modelbase-4 holds $(ls "$big" | wc -l) files, want 12"
+cmp -s "$big/van-0.json" "$mb/van-0.json" || fail "modelbase-4's van-0 differs from the protocol's"
+grep -q "^done.*train/van-0/scan.pcd" "$tmp/big.log" && fail "family-modelbase re-rendered van-0"
+order=$(grep -n "^done.*train/\(pickup-1/noise-0/segments.json\|van-1/scan.pcd\)" "$tmp/big.log" | cut -d: -f2 | awk '{ print $2 }')
+[ "$(echo "$order" | sed 's|.*/train/||' | tr '\n' ' ')" = "pickup-1/noise-0/segments.json van-1/scan.pcd " ] \
+  || fail "FAM_MB_WINDOW=1: van-1 rendered before pickup-1 was done: $order"
 echo ok
