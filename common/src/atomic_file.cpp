@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <array>
 #include <atomic>
 #include <cerrno>
 #include <csignal>
@@ -14,7 +15,6 @@
 #include <cstring>
 #include <fstream>
 #include <iostream>
-#include <iterator>
 #include <mutex>
 #include <sstream>
 #include <stdexcept>
@@ -431,7 +431,14 @@ std::string read_file(const std::string& path) {
   if (S_ISDIR(st.st_mode)) throw DataError(path, "is a directory, not a file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw DataError(path, std::string("cannot open: ") + std::strerror(errno));
-  std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // In blocks (a character at a time through istreambuf_iterator cost gmatch ~0.1 s of its
+  // ~1 s for a 1000-graph modelbase); the size of a regular file reserves the string once.
+  std::string data;
+  if (S_ISREG(st.st_mode) && st.st_size > 0) data.reserve(static_cast<std::size_t>(st.st_size));
+  std::array<char, 1 << 16> block;
+  while (in.read(block.data(), block.size()) || in.gcount() > 0) {
+    data.append(block.data(), static_cast<std::size_t>(in.gcount()));
+  }
   if (in.bad()) throw DataError(path, "read error");
   return data;
 }

@@ -153,8 +153,19 @@ std::string serialize_segment_graph(const SegmentGraph& g) {
   return dump(j);
 }
 
-SegmentGraph parse_segment_graph(const std::string& text, const std::string& name) {
-  const Json j = open_json_document(text, name, kGraphFormat);
+SegmentGraph parse_segment_graph(const std::string& text, const std::string& name, GraphVertices vertices) {
+  // Skipping: a segment's "vertices" key (depth 3 inside the top-level "segments" array; a
+  // provenance parameter of that name, also at depth 3, is kept) is dropped while parsing, so
+  // its numbers never become JSON values (most of a graph's bytes).
+  const bool skip = vertices == GraphVertices::kSkip;
+  bool in_segments = false;
+  const auto drop_vertices = [&in_segments](int depth, Json::parse_event_t event, Json& parsed) {
+    if (event != Json::parse_event_t::key) return true;
+    if (depth == 1) in_segments = parsed == "segments";
+    return !(in_segments && depth == 3 && parsed == "vertices");
+  };
+  const Json j = open_json_document(
+      text, name, kGraphFormat, skip ? Json::parser_callback_t(drop_vertices) : Json::parser_callback_t());
   SegmentGraph g;
   try {
     g.provenance = provenance_from(j.at("provenance"));
@@ -179,9 +190,12 @@ SegmentGraph parse_segment_graph(const std::string& text, const std::string& nam
       seg.normal = vec3_from(s, "normal", w);
       seg.label = int_at(s, "label", w);
       seg.label_purity = double_at(s, "label_purity", w);
-      const Json& verts = array_at(s, "vertices", w);
-      seg.vertices.reserve(verts.size());
-      for (const auto& v : verts) seg.vertices.push_back(static_cast<int>(int_from(v, w + "vertices[]", 0)));
+      if (!skip) {
+        const Json& verts = array_at(s, "vertices", w);
+        seg.vertices.reserve(verts.size());
+        for (const auto& v : verts)
+          seg.vertices.push_back(static_cast<int>(int_from(v, w + "vertices[]", 0)));
+      }
       g.segments.push_back(std::move(seg));
     }
     std::set<std::pair<int, int>> edges;
@@ -212,9 +226,9 @@ SegmentGraph parse_segment_graph(const std::string& text, const std::string& nam
   return g;
 }
 
-SegmentGraph read_segment_graph(const std::string& path) {
+SegmentGraph read_segment_graph(const std::string& path, GraphVertices vertices) {
   try {
-    return parse_segment_graph(common::read_file(path), path);
+    return parse_segment_graph(common::read_file(path), path, vertices);
   } catch (const common::DataError& e) {
     if (e.file() == path) throw;
     throw common::DataError(path, e.what());
@@ -320,7 +334,8 @@ void write_match_result(const MatchResult& result, const std::string& path) {
   common::write_file_atomic(path, serialize_match_result(result));
 }
 
-Json open_json_document(const std::string& text, const std::string& name, const char* format) {
+Json open_json_document(const std::string& text, const std::string& name, const char* format,
+                        const Json::parser_callback_t& filter) {
   // canopy documents nest 5 levels; nlohmann copies values recursively (ordered_json's
   // objects copy their values when they grow), so a 60 KB file of nested brackets would
   // overflow the stack. Refuse deep nesting before parsing.
@@ -347,7 +362,7 @@ Json open_json_document(const std::string& text, const std::string& name, const 
   }
   Json j;
   try {
-    j = Json::parse(text);
+    j = filter ? Json::parse(text, filter) : Json::parse(text);
   } catch (const Json::exception& e) {  // parse errors, and numbers out of double's range (1e400)
     const std::string is = detail::sniff(text);
     if (!is.empty() && is != "a JSON document")

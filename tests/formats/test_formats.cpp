@@ -235,6 +235,22 @@ TEST_CASE("segment graph and match result JSON round-trip and version checks") {
   CHECK(back.provenance.parameters == g.provenance.parameters);
   CHECK(serialize_segment_graph(back) == text);
 
+  // Skipping the vertex lists (gmatch's modelbase): everything else as read, even a provenance
+  // parameter named "vertices"; a list that is not even an array is not looked at.
+  g.provenance.parameters.push_back({"vertices", "all"});
+  const std::string with_param = serialize_segment_graph(g);
+  const SegmentGraph skipped = parse_segment_graph(with_param, "g.json", GraphVertices::kSkip);
+  REQUIRE(skipped.segments.size() == 2);
+  CHECK(skipped.segments.at(1).vertices.empty());
+  CHECK(skipped.segments.at(1).vertex_count == 2);
+  CHECK(skipped.segments.at(1).area == s.area);
+  CHECK(skipped.provenance.parameters == g.provenance.parameters);
+  CHECK(skipped.adjacency.at(0).shared_edges == 7);
+  std::string junk = with_param;
+  junk.replace(junk.find("[\n    4,\n    9\n   ]"), 19, "\"junk\"");
+  CHECK(parse_segment_graph(junk, "g.json", GraphVertices::kSkip).segments.size() == 2);
+  CHECK_THROWS_WITH(parse_segment_graph(junk, "g.json"), Catch::Contains("vertices"));
+
   std::string v2 = text;
   v2.replace(v2.find("\"version\": 1"), 12, "\"version\": 2");
   CHECK_THROWS_WITH(parse_segment_graph(v2, "g.json"), Catch::Contains("version 2 is not supported"));

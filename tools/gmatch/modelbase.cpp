@@ -13,7 +13,8 @@ std::vector<Model> read_modelbase(const std::string& dir) {
   for (const formats::ModelbaseEntry& entry : formats::list_modelbase(dir)) {
     Model model;
     model.name = entry.name;
-    model.graph = formats::read_segment_graph(entry.path);
+    // Matching uses the segments' statistics, never their vertex lists.
+    model.graph = formats::read_segment_graph(entry.path, formats::GraphVertices::kSkip);
     validate_graph(model.graph, entry.path);
     // The matcher keeps two model-by-model tables (pairwise angles and distances): memory grows
     // with the square of the segment count (20 000 segments cost 6.3 GB). ncut's models have

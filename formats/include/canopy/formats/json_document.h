@@ -14,7 +14,10 @@ namespace canopy::formats {
 // never cut at a NUL), another kind of file ("this is a PNG image"), nested deeper than 64
 // levels (refused before parsing: the library's recursive copy would overflow the stack), no
 // or another "format", no integer or an unsupported "version".
-nlohmann::ordered_json open_json_document(const std::string& text, const std::string& name, const char* format);
+// `filter` (optional) is nlohmann's parser callback: a key it returns false for is left out of
+// the document with its value (a reader's way to skip what it does not use).
+nlohmann::ordered_json open_json_document(const std::string& text, const std::string& name, const char* format,
+                                          const nlohmann::ordered_json::parser_callback_t& filter = nullptr);
 
 // A malformed field found while reading a document's members: the reader catches it and throws
 // common::DataError naming the file with this text ("vehicles[2]: missing \"pose\"").
