@@ -8,6 +8,8 @@
 #      segments.json and samples.pcd, e.g. from `make families`): gmatch --threads 1 against
 #      OUT/families/modelbase-N with --prefilter 64 (share/params/gmatch.ini) and --prefilter 0,
 #      each followed by verify -k 5; CPU per candidate, rank-1 class and verify's class answer.
+#      With BUILT=1 step 1 is skipped and OUT's modelbase-N is used as it is (to time tools
+#      changed since it was built without re-running its stages).
 #   3. With REPLICATE=M (e.g. 1000): gmatch's time per candidate against M models made by
 #      repeating the N entries' graphs under other names (hard links in a temporary
 #      directory): a timing of the search at M models, not an accuracy (the copies tie).
@@ -22,25 +24,31 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 mb=$out/families/modelbase-$n
 
-/usr/bin/time -f "%e %U %S" -o "$tmp/make.time" make -f Makefile.experiments family-modelbase FAM_MB_N="$n" \
-  OUT="$out" BUILD="$build" -j2 PROGRESS=0 >"$tmp/make.log" 2>&1 || { tail -20 "$tmp/make.log"; exit 1; }
-read -r mw mu ms <"$tmp/make.time"
-built=$(grep -c '/train/.*/noise-0/segments.json' "$tmp/make.log" || true)
+if [ "${BUILT:-0}" = 1 ]; then
+  [ -d "$mb" ] || { echo "BUILT=1: no $mb" >&2; exit 1; }
+  echo "$mb as built (BUILT=1): $(ls "$mb"/*.json | wc -l) entries"
+else
+  /usr/bin/time -f "%e %U %S" -o "$tmp/make.time" make -f Makefile.experiments family-modelbase FAM_MB_N="$n" \
+    OUT="$out" BUILD="$build" -j2 PROGRESS=0 >"$tmp/make.log" 2>&1 || { tail -20 "$tmp/make.log"; exit 1; }
+  read -r mw mu ms <"$tmp/make.time"
+  built=$(grep -c '/train/.*/noise-0/segments.json' "$tmp/make.log" || true)
+  entries=$(ls "$mb"/*.json | wc -l)
+  echo "make family-modelbase FAM_MB_N=$n: $entries entries ($built chains run now), ${mw} s wall, $(echo "$mu + $ms" | bc) CPU-s"
+  # Wall seconds per entry by stage (render, addnoise, fitvox, cocone, ncut), from .time files.
+  for f in "$mb"/*.json; do
+    d=$out/families/train/$(basename "$f" .json)
+    printf '%s' "$(basename "$f" .json)"
+    for s in scan.pcd noise-0/scan.pcd noise-0/samples.pcd noise-0/mesh.ply noise-0/segments.json; do
+      printf ' %s' "$(cut -d' ' -f1 "$d/$s.time")"
+    done
+    echo
+  done >"$tmp/entries"
+  awk '{ n++; for (i = 2; i <= 6; i++) { s[i] += $i; t += $i } }
+       END { printf "per entry (wall, mean of %d): render %.2f, addnoise %.2f, fitvox %.2f, cocone %.2f, ncut %.2f = %.2f s\n",
+                    n, s[2] / n, s[3] / n, s[4] / n, s[5] / n, s[6] / n, t / n }' "$tmp/entries"
+  du -sk "$mb" "$out/families/train" | awk '{ printf "disk: %s %.1f MB\n", $2, $1 / 1024 }'
+fi
 entries=$(ls "$mb"/*.json | wc -l)
-echo "make family-modelbase FAM_MB_N=$n: $entries entries ($built chains run now), ${mw} s wall, $(echo "$mu + $ms" | bc) CPU-s"
-# Wall seconds per entry by stage (render, addnoise, fitvox, cocone, ncut), from .time files.
-for f in "$mb"/*.json; do
-  d=$out/families/train/$(basename "$f" .json)
-  printf '%s' "$(basename "$f" .json)"
-  for s in scan.pcd noise-0/scan.pcd noise-0/samples.pcd noise-0/mesh.ply noise-0/segments.json; do
-    printf ' %s' "$(cut -d' ' -f1 "$d/$s.time")"
-  done
-  echo
-done >"$tmp/entries"
-awk '{ n++; for (i = 2; i <= 6; i++) { s[i] += $i; t += $i } }
-     END { printf "per entry (wall, mean of %d): render %.2f, addnoise %.2f, fitvox %.2f, cocone %.2f, ncut %.2f = %.2f s\n",
-                  n, s[2] / n, s[3] / n, s[4] / n, s[5] / n, s[6] / n, t / n }' "$tmp/entries"
-du -sk "$mb" "$out/families/train" | awk '{ printf "disk: %s %.1f MB\n", $2, $1 / 1024 }'
 
 [ $# -gt 0 ] || exit 0
 for d in "$@"; do
