@@ -1,5 +1,6 @@
 // verify: check gmatch's top hypotheses against the candidate's points; answer a model with a
 // pose and a confidence, or "none".
+#include <algorithm>
 #include <cstdio>
 #include <optional>
 #include <sstream>
@@ -23,6 +24,7 @@ namespace {
 // The options beside verify::Params.
 struct Cli {
   std::string in = "-", out = "-", points, segments, modelbase, transform;
+  std::string free_space = "unseen";
   bool no_flip = false;
 };
 
@@ -50,6 +52,10 @@ void bind(cm::Tool& tool, vf::Params& p, Cli& cli) {
   tool.add_length("--ray-cell", &p.ray_cell, "cell of the per-view depth buffers");
   tool.add_length("--occlusion-margin", &p.occlusion_margin,
                   "a scan point this much nearer the sensor hides model surface");
+  tool.add("--free-space", &cli.free_space,
+           "unseen: expected-visible model surface without a scan point violates free space; "
+           "through: only where the view's depth cell holds a scan point")
+      ->check(CLI::IsMember({"unseen", "through"}));
   tool.add_length("--icp-coarse", &p.icp_coarse, "ICP correspondence distance, first stage");
   tool.add_length("--icp-fine", &p.icp_fine, "ICP correspondence distance, second stage");
   tool.add("--icp-iterations", &p.icp_iterations, "ICP iterations per stage (0 = no ICP)");
@@ -148,6 +154,7 @@ int main(int argc, char** argv) {
   bind(tool, p, cli);
   return tool.run(argc, argv, [&] {
     p.flip = !cli.no_flip;
+    p.free_space_through = cli.free_space == "through";
     vf::validate(p);
     std::optional<Eigen::Isometry3d> to_tile;
     if (!cli.transform.empty()) to_tile = parse_transform(cli.transform);
@@ -160,8 +167,15 @@ int main(int argc, char** argv) {
     cm::log::Phase phase("check");
     fm::Verdict v =
         vf::run({&in.candidate, &in.graph, &in.match, &in.models, to_tile ? &*to_tile : nullptr}, p);
-    v.provenance = {
-        "verify", CANOPY_VERSION, tool.parameters(), {cli.in, cli.points, cli.segments, cli.modelbase}};
+    // --free-space at its default is left out of the provenance: verdicts stay byte-identical
+    // to those written before the option existed.
+    auto parameters = tool.parameters();
+    if (!p.free_space_through) {
+      parameters.erase(std::remove_if(parameters.begin(), parameters.end(),
+                                      [](const auto& kv) { return kv.first == "free-space"; }),
+                       parameters.end());
+    }
+    v.provenance = {"verify", CANOPY_VERSION, parameters, {cli.in, cli.points, cli.segments, cli.modelbase}};
     v.candidate = cli.points;
     phase.done(summary(v));
     fm::write_verdict(v, cli.out);

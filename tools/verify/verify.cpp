@@ -264,6 +264,7 @@ Check Scorer::score(const Surface& model, const Isometry3d& pose) const {
       const double facing = n.dot(v.s);
       if (facing < p_.facing) continue;
       const auto it = v.depth.find(cell_key(m.dot(v.e1), m.dot(v.e2), p_.ray_cell));
+      if (p_.free_space_through && it == v.depth.end()) continue;  // no ray evidence in this view
       const bool hidden = it != v.depth.end() && it->second > m.dot(v.s) + p_.occlusion_margin;
       if (!hidden) {
         expected = true;

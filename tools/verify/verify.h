@@ -38,12 +38,17 @@ struct Params {
   double facing = 0.5;             // model surface counts for a view when n.s >= this
   double ray_cell = 0.2;           // cell of the per-view depth buffers (m)
   double occlusion_margin = 0.15;  // a scan point this much nearer the sensor hides (m)
-  double icp_coarse = 0.5;         // ICP max correspondence distance, first stage (m)
-  double icp_fine = 0.2;           // second stage (m)
-  int icp_iterations = 20;         // per stage
-  int icp_points = 1000;           // candidate points ICP uses at most (even stride)
-  bool flip = true;                // try the 180-degree heading flip of every start
-  double accept = 0.544;           // answer "none" when the best score is below this
+  // Free space: "unseen" charges expected-visible model surface with no scan point on it;
+  // "through" charges it only where the view's depth-buffer cell holds a scan point (the ray
+  // demonstrably reached that depth: ground or surface seen at or behind it), so surface
+  // whose cell is empty (occluders cropped away, no return) is not evidence either way.
+  bool free_space_through = false;
+  double icp_coarse = 0.5;  // ICP max correspondence distance, first stage (m)
+  double icp_fine = 0.2;    // second stage (m)
+  int icp_iterations = 20;  // per stage
+  int icp_points = 1000;    // candidate points ICP uses at most (even stride)
+  bool flip = true;         // try the 180-degree heading flip of every start
+  double accept = 0.544;    // answer "none" when the best score is below this
   // confidence = 1 / (1 + exp(-(c0 + c_score * score + c_margin * margin)))
   double conf_bias = -5.365, conf_score = 6.317, conf_margin = 5.573;
 };
