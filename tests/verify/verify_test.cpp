@@ -149,3 +149,46 @@ TEST_CASE("candidate input checks name the file", "[verify]") {
   p.top_k = 0;
   CHECK_THROWS_AS(vf::validate(p), canopy::common::UsageError);
 }
+
+TEST_CASE("--free-space through: surface with no return in its cells is not charged, ground seen through is",
+          "[verify]") {
+  const World w;
+  const Isometry3d T = pose(0.5, 0.4, -0.3);
+  // The pickup with the rear half of its body's top missing from the scan in every view (as
+  // under a crown that detect's crop cut away): no point at all in those cells.
+  auto cand = candidate(sample(pickup(), 0.1, 0.05), pickup(), T);
+  const Isometry3d inv = T.inverse();
+  vf::Candidate occluded;
+  for (std::size_t i = 0; i < cand.points.size(); ++i) {
+    const Vector3d m = inv * cand.points[i];
+    if (m.x() < 0 && m.z() > 0.95) continue;
+    occluded.points.push_back(cand.points[i]);
+    occluded.normals.push_back(cand.normals[i]);
+    occluded.sensor.push_back(cand.sensor[i]);
+  }
+  REQUIRE(occluded.points.size() < cand.points.size() - 300);
+  vf::Params unseen, through;
+  through.free_space_through = true;
+  const auto& model = w.models[0].surface;
+  const vf::Check u = vf::Scorer(occluded, unseen).score(model, T);
+  const vf::Check t = vf::Scorer(occluded, through).score(model, T);
+  INFO("unseen " << u.violation << " " << u.score << ", through " << t.violation << " " << t.score);
+  CHECK(u.violation > 0.3);  // half the tops expected and unseen
+  // Those cells are empty: no evidence either way. Not 0: the cells along the missing top's
+  // edges also hold ground past the footprint (a 75-degree view shifts z = 0 by 0.27 m), which
+  // counts as seen through.
+  CHECK(t.violation < u.violation - 0.15);
+  CHECK(t.score > unseen.accept);
+  CHECK(u.score < unseen.accept);
+  // Complete scan: both modes see the same right answer.
+  CHECK(vf::Scorer(cand, through).score(model, T).score > 0.9);
+  // A rock under the pickup model: the ground around the rock is seen where the model's body
+  // would be, so "through" still charges it and answers none.
+  const std::vector<Box> rock{{{-0.8, -0.6, 0.0}, {0.8, 0.6, 0.9}}};
+  const auto rock_cand = candidate(sample(rock, 0.1, 0.05), rock, pose(0.4, 0.3, 0.2));
+  const auto m = match({"pickup", "flatbed"}, {graph(pickup()), graph(flatbed())}, false);
+  const fm::SegmentGraph object;
+  const fm::Verdict v = vf::run({&rock_cand, &object, &m, &w.models}, through);
+  CHECK(v.model.empty());
+  for (const auto& h : v.hypotheses) CHECK(h.free_space_violation > 0.3);
+}
