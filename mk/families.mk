@@ -77,19 +77,8 @@ $(if $(filter $(FAM_TRAIN),$(FAM_TEST)),$(error families: FAM_TEST and FAM_TRAIN
 $(foreach c,$(FAM_COVERS),$(if $(FAM_FOLIAGE_$(c)),,$(error families: no FAM_FOLIAGE_$(c) for cover $(c))))
 fam_heading = $(shell echo $$(( $(call seed,families/heading/$(1)) % 360 )))deg
 
-# Texts written at parse time when they changed (the test scenes, the runs manifest), so their
-# times move only with their content and `make -q families` is clean after a run; a dry run
-# writes nothing and a file whose text would change gets FORCE instead (as mk/scenes.mk does:
-# compared with blanks collapsed and trailing empty lines dropped).
-define fam_nl
-
-
-endef
-fam_trim = $(if $(filter @NL@,$(lastword $(1))),$(call fam_trim,$(wordlist 2,$(words $(1)),x $(1))),$(1))
-fam_norm = $(call fam_trim,$(strip $(subst $(fam_nl), @NL@ ,$(1))))
-fam_same = $(and $(findstring x$(call fam_norm,$(1))x,x$(call fam_norm,$(2))x),\
-  $(findstring x$(call fam_norm,$(2))x,x$(call fam_norm,$(1))x))
-fam_text_prereq = $(if $(call fam_same,$(file <$(1)),$(2)),,$(if $(dry_run),FORCE,$(file >$(1),$(2))))
+# The test scenes and the runs manifest are written at parse time when they changed
+# (text_prereq, Makefile.experiments).
 $(if $(dry_run),,$(shell mkdir -p $(FAM_DIR)/scenes))
 
 # The test scenes: one recipe per cover level.
@@ -102,7 +91,7 @@ foliage_square = 16m
 views = $(FAM_VIEWS)
 endef
 define fam_scene_rule
-$(FAM_DIR)/scenes/$(1).scene: $(call fam_text_prereq,$(FAM_DIR)/scenes/$(1).scene,$(call fam_scene_text,$(1)))
+$(FAM_DIR)/scenes/$(1).scene: $(call text_prereq,$(FAM_DIR)/scenes/$(1).scene,$(call fam_scene_text,$(1)))
 endef
 
 # fam_chain(DIR, NOISE, SEEDKEY, FAIL, DROP): addnoise -> fitvox -> cocone -> ncut on DIR/scan.pcd.
@@ -208,8 +197,8 @@ FAM_RUNS := $(foreach c,$(FAM_CLASSES),$(foreach n,$(FAM_TEST),$(foreach v,$(FAM
   $(FAM_DIR)/test/$(c)-$(n)/$(v)/noise-$(z)/verdict.json:$(c):$(n):$(v):$(z)))))
 FAM_TRIAL_FILES := $(foreach r,$(FAM_RUNS),$(foreach d,$(dir $(firstword $(subst :, ,$(r)))),\
   $(d)verdict.json $(d)baseline-vfh.json $(d)baseline-fpfh.json))
-$(FAM_DIR)/runs.txt: $(call fam_text_prereq,$(FAM_DIR)/runs.txt,$(subst $(fam_nl) ,$(fam_nl),\
-  $(foreach r,$(FAM_RUNS),$(subst :, ,$(r))$(fam_nl))))
+$(FAM_DIR)/runs.txt: $(call text_prereq,$(FAM_DIR)/runs.txt,$(subst $(nl) ,$(nl),\
+  $(foreach r,$(FAM_RUNS),$(subst :, ,$(r))$(nl))))
 $(FAM_RES)/confusion.csv: $(FAM_DIR)/runs.txt $(FAM_TRIAL_FILES) $(FAM_MODELBASE) $(call tool,famscore)
 	@mkdir -p $(@D)
 	@$(STAGE) $@ -- $(BIN)/famscore -i $(FAM_DIR)/runs.txt --modelbase $(FAM_MB) --confusion $@ \

@@ -218,21 +218,8 @@ else
 # ---- read only by `make scenes` ----------------------------------------------------------
 SCENE_MB := $(OUT)/modelbase
 
-# Texts written at parse time when they changed (the recipes, the score's manifest), so their
-# times move only with their content and `make -q scenes` is clean after a run. A dry run
-# writes nothing: a file whose text would change gets FORCE instead (-q answers 1, -n shows).
-# (Compared line by line with blanks collapsed and trailing empty lines dropped: a file read
-# back once carried one more trailing newline than the text, and the unequal comparison
-# rewrote recipes and re-rendered tiles on every re-read of the makefiles.)
-define scene_nl
-
-
-endef
-scene_trim = $(if $(filter @NL@,$(lastword $(1))),$(call scene_trim,$(wordlist 2,$(words $(1)),x $(1))),$(1))
-scene_norm = $(call scene_trim,$(strip $(subst $(scene_nl), @NL@ ,$(1))))
-scene_same = $(and $(findstring x$(call scene_norm,$(1))x,x$(call scene_norm,$(2))x),\
-  $(findstring x$(call scene_norm,$(2))x,x$(call scene_norm,$(1))x))
-scene_text_prereq = $(if $(call scene_same,$(file <$(1)),$(2)),,$(if $(dry_run),FORCE,$(file >$(1),$(2))))
+# The recipes and the score's manifests are written at parse time when they changed
+# (text_prereq, Makefile.experiments).
 
 # The recipe of one tile (cover, seed).
 define scene_recipe
@@ -253,7 +240,7 @@ $(if $(dry_run),,$(shell mkdir -p $(SCENE_TILES) $(SCENE_RES) $(dir $(SCENE_BL_S
 
 # scene_tile_rule(cover, seed): the recipe and the render.
 define scene_tile_rule
-$(SCENE_DIR)/$(1)/tile-$(2)/recipe.scene: $(call scene_text_prereq,$(SCENE_DIR)/$(1)/tile-$(2)/recipe.scene,$(call scene_recipe,$(1),$(2)))
+$(SCENE_DIR)/$(1)/tile-$(2)/recipe.scene: $(call text_prereq,$(SCENE_DIR)/$(1)/tile-$(2)/recipe.scene,$(call scene_recipe,$(1),$(2)))
 $(SCENE_DIR)/$(1)/tile-$(2)/scan.pcd: $(SCENE_DIR)/$(1)/tile-$(2)/recipe.scene $(call tool,rangetrace)
 	@$(STAGE) $$@ -- $(BIN)/rangetrace --scene $$< --seed $(call seed,scenes/$(1)/$(2)) --threads 2 \
 	  -o $$@ --truth $(SCENE_DIR)/$(1)/tile-$(2)/truth.json
@@ -282,9 +269,9 @@ $(foreach r,$(SCENE_RUNS),$(foreach c,$($(call scene_key,$(r))_CANDS),\
 # The score's manifest: detections truth noise cover, one line per run.
 scene_line = $(1)/detections.json $(patsubst %/,%,$(dir $(1)))/truth.json $(patsubst noise-%,%,$(notdir $(1))) \
   $(word 2,$(subst /, ,$(patsubst $(OUT)/%,%,$(1))))
-scene_manifest = $(subst $(space)$(scene_nl),$(scene_nl),$(call scene_line,$(firstword $(SCENE_RUNS)))$(foreach \
-  r,$(wordlist 2,$(words $(SCENE_RUNS)),$(SCENE_RUNS)),$(scene_nl)$(call scene_line,$(r))))
-$(SCENE_DIR)/tiles.txt: $(call scene_text_prereq,$(SCENE_DIR)/tiles.txt,$(scene_manifest))
+scene_manifest = $(subst $(space)$(nl),$(nl),$(call scene_line,$(firstword $(SCENE_RUNS)))$(foreach \
+  r,$(wordlist 2,$(words $(SCENE_RUNS)),$(SCENE_RUNS)),$(nl)$(call scene_line,$(r))))
+$(SCENE_DIR)/tiles.txt: $(call text_prereq,$(SCENE_DIR)/tiles.txt,$(scene_manifest))
 $(SCENE_SCORE): $(SCENE_DIR)/tiles.txt $(addsuffix /detections.json,$(SCENE_RUNS)) $(call tool,score)
 	@$(STAGE) $@ -- $(BIN)/score --tiles $(SCENE_DIR)/tiles.txt -o $@ --csv $(SCENE_RES)/
 # The baseline (SCENE_BASELINE): per candidate and method a verdict from the candidate's
@@ -302,7 +289,7 @@ $(1)/detections-baseline-$(3).json: $(1)/cands.mk $(foreach c,$($(2)_CANDS),$(1)
 	  --modelbase $(SCENE_MB)
 endef
 define scene_baseline_score_rule
-$(SCENE_DIR)/tiles-baseline-$(1).txt: $(call scene_text_prereq,$(SCENE_DIR)/tiles-baseline-$(1).txt,$(subst \
+$(SCENE_DIR)/tiles-baseline-$(1).txt: $(call text_prereq,$(SCENE_DIR)/tiles-baseline-$(1).txt,$(subst \
   /detections.json ,/detections-baseline-$(1).json ,$(scene_manifest)))
 $(SCENE_RES)/baseline-$(1)/score.json: $(SCENE_DIR)/tiles-baseline-$(1).txt \
     $(addsuffix /detections-baseline-$(1).json,$(SCENE_RUNS)) $(call tool,score)
