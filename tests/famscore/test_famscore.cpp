@@ -105,6 +105,11 @@ void write(const fs::path& p, const std::string& text) {
   std::ofstream(p) << text;
 }
 
+// A stage's <file>.time for each (file, wall seconds), peak 20000 kB.
+void write_times(const fs::path& dir, const std::vector<std::pair<std::string, double>>& times) {
+  for (const auto& [f, s] : times) write(dir / (f + ".time"), std::to_string(s) + " 20000\n");
+}
+
 // A verdict with verify's class answer (the best hypothesis's class and model; accepted or not).
 std::string verdict_text(const std::string& cls, const std::string& nearest, bool accepted) {
   formats::Verdict v;
@@ -191,13 +196,12 @@ TEST_CASE("famscore: gmatch, verify, VFH and FPFH side by side on hand-built tri
   write(t1 / "match.json", match_text(o1, n1));
   write(t1 / "baseline-vfh.json", baseline_text("vfh", "van-0", 0.6));
   write(t1 / "baseline-fpfh.json", baseline_text("fpfh", n1, 0.8));
-  for (const auto& [f, s] : std::vector<std::pair<std::string, double>>{{"mesh.ply", 1.0},
-                                                                        {"segments.json", 2.0},
-                                                                        {"match.json", 0.5},
-                                                                        {"verdict.json", 3.0},
-                                                                        {"baseline-vfh.json", 0.25},
-                                                                        {"baseline-fpfh.json", 4.0}})
-    write(t1 / (f + ".time"), std::to_string(s) + " 20000\n");
+  write_times(t1, {{"mesh.ply", 1.0},
+                   {"segments.json", 2.0},
+                   {"match.json", 0.5},
+                   {"verdict.json", 3.0},
+                   {"baseline-vfh.json", 0.25},
+                   {"baseline-fpfh.json", 4.0}});
   // T2 pickup-1001 dense 32: the chain failed (empty verdict and match), FPFH failed too, VFH a
   //    van; verify's stage has no .time.
   const fs::path t2 = root / "t2";
@@ -205,12 +209,11 @@ TEST_CASE("famscore: gmatch, verify, VFH and FPFH side by side on hand-built tri
   write(t2 / "match.json", "");
   write(t2 / "baseline-vfh.json", baseline_text("vfh", "van-1", 0.5));
   write(t2 / "baseline-fpfh.json", "");
-  for (const auto& [f, s] : std::vector<std::pair<std::string, double>>{{"mesh.ply", 1.5},
-                                                                        {"segments.json", 1.0},
-                                                                        {"match.json", 0.5},
-                                                                        {"baseline-vfh.json", 0.75},
-                                                                        {"baseline-fpfh.json", 2.0}})
-    write(t2 / (f + ".time"), std::to_string(s) + " 20000\n");
+  write_times(t2, {{"mesh.ply", 1.5},
+                   {"segments.json", 1.0},
+                   {"match.json", 0.5},
+                   {"baseline-vfh.json", 0.75},
+                   {"baseline-fpfh.json", 2.0}});
   // T3 van-1000 light 32: verify right, not accepted; gmatch the tank; VFH the nearest van;
   //    FPFH found no pose for any model (score 0: no answer).
   const fs::path t3 = root / "t3";
@@ -218,10 +221,12 @@ TEST_CASE("famscore: gmatch, verify, VFH and FPFH side by side on hand-built tri
   write(t3 / "match.json", match_text("tank-0", n3));
   write(t3 / "baseline-vfh.json", baseline_text("vfh", n3, 0.7));
   write(t3 / "baseline-fpfh.json", baseline_text("fpfh", "van-0", 0.0));
-  for (const char* f : {"mesh.ply", "segments.json", "match.json", "verdict.json"})
-    write(t3 / (std::string(f) + ".time"), "1.0 20000\n");
-  write(t3 / "baseline-vfh.json.time", "0.5 20000\n");
-  write(t3 / "baseline-fpfh.json.time", "6.0 20000\n");
+  write_times(t3, {{"mesh.ply", 1.0},
+                   {"segments.json", 1.0},
+                   {"match.json", 1.0},
+                   {"verdict.json", 1.0},
+                   {"baseline-vfh.json", 0.5},
+                   {"baseline-fpfh.json", 6.0}});
   // T4 van-1001 dense 0: verify a pickup; gmatch and FPFH the nearest van; VFH the other van.
   //    No .time files.
   const fs::path t4 = root / "t4";
