@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -16,6 +15,7 @@
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "canopy/formats/match_result.h"
+#include "canopy/formats/stage_time.h"
 #include "canopy/formats/verdict.h"
 #include "rangetrace/families.h"
 
@@ -187,12 +187,11 @@ std::vector<Entry> read_entries(const std::string& modelbase) {
 
 namespace {
 
-// A stage's wall seconds from its .time file ("<seconds> <peak KiB>"); false when absent or unreadable.
+// A stage's wall seconds from its .time file; false when absent, unreadable or not a duration.
 bool stage_seconds(const std::string& artifact, double& seconds) {
-  std::ifstream t(artifact + ".time");
-  double s = 0, kib = 0;
-  if (!(t >> s >> kib) || !std::isfinite(s) || s < 0) return false;
-  seconds = s;
+  const formats::StageTime t = formats::read_stage_time(artifact);
+  if (!t.present || !std::isfinite(t.seconds) || t.seconds < 0) return false;
+  seconds = t.seconds;
   return true;
 }
 
