@@ -9,6 +9,7 @@
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
+#include "canopy/formats/baseline_ranking.h"
 #include "canopy/formats/match_result.h"
 #include "canopy/formats/segment_graph.h"
 #include "canopy/formats/pcd.h"
@@ -273,4 +274,36 @@ TEST_CASE("segment graph and match result JSON round-trip and version checks") {
   const MatchResult rb = parse_match_result(rt, "m.json");
   CHECK(rb.models.at(0).pairs.at(1).model_segment == -1);
   CHECK(serialize_match_result(rb) == rt);
+}
+
+TEST_CASE("canopy.baseline rankings: every method's models in order, errors naming the file") {
+  const std::string doc =
+      R"({"format": "canopy.baseline", "version": 1, "object": "s.pcd", "candidate_points": 9,
+          "methods": [{"method": "vfh", "models": [{"rank": 1, "model": "sedan", "score": 0.74},
+                                                   {"rank": 2, "model": "tank", "score": 0.5}]},
+                      {"method": "fpfh", "models": [{"rank": 1, "model": "tank", "score": 0}]}]})";
+  const auto r = parse_baseline_ranking(doc, "b.json");
+  REQUIRE(r.size() == 2);
+  CHECK(r[0].method == "vfh");
+  REQUIRE(r[0].models.size() == 2);
+  CHECK(r[0].models[0].model == "sedan");
+  CHECK(r[0].models[0].score == 0.74);
+  CHECK(!parse_baseline_ranking(R"({"format": "canopy.baseline", "methods": [{"method": "vfh",
+      "models": [{"model": "sedan"}]}]})",
+                                "b.json")[0]
+             .models[0]
+             .score);
+  CHECK(r[0].models[1].model == "tank");
+  CHECK(r[1].method == "fpfh");
+  CHECK(r[1].models.at(0).score == 0.0);
+  CHECK_THROWS_WITH(parse_baseline_ranking("{", "b.json"), Catch::Contains("not JSON"));
+  CHECK_THROWS_WITH(parse_baseline_ranking(R"({"format": "canopy.verdict"})", "b.json"),
+                    Catch::Contains("not a canopy.baseline document"));
+  CHECK_THROWS_WITH(
+      parse_baseline_ranking(R"({"format": "canopy.baseline", "methods": [{"method": "vfh"}]})", "b.json"),
+      Catch::Contains("malformed canopy.baseline"));
+  try {
+    parse_baseline_ranking("[]", "dir/b.json");
+    FAIL("no error");
+  } catch (const DataError& e) { CHECK(e.file() == "dir/b.json"); }
 }

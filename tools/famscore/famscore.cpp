@@ -8,12 +8,12 @@
 #include <filesystem>
 #include <limits>
 #include <map>
-#include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
+#include "canopy/formats/baseline_ranking.h"
 #include "canopy/formats/match_result.h"
 #include "canopy/formats/stage_time.h"
 #include "canopy/formats/verdict.h"
@@ -198,21 +198,13 @@ bool stage_seconds(const std::string& artifact, double& seconds) {
 // The rank-1 model of `method` in a canopy.baseline document; "" when it ranks no model or its
 // best score is 0 (FPFH: RANSAC found no pose for any model).
 std::string baseline_rank1(const std::string& text, const std::string& path, const std::string& method) {
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(text);
-  } catch (const std::exception& e) { throw DataError(path, std::string("not JSON: ") + e.what()); }
-  if (!j.is_object() || j.value("format", "") != "canopy.baseline")
-    throw DataError(path, "not a canopy.baseline document");
-  try {
-    for (const auto& m : j.at("methods")) {
-      if (m.at("method").get<std::string>() != method) continue;
-      const auto& models = m.at("models");
-      if (models.empty() || !(models[0].at("score").get<double>() > 0)) return "";
-      return models[0].at("model").get<std::string>();
-    }
-  } catch (const nlohmann::json::exception& e) {
-    throw DataError(path, std::string("malformed canopy.baseline: ") + e.what());
+  for (const auto& m : formats::parse_baseline_ranking(text, path)) {
+    if (m.method != method) continue;
+    if (m.models.empty()) return "";
+    const auto& best = m.models.front();
+    if (!best.score)
+      throw DataError(path, "malformed canopy.baseline: " + method + "'s rank-1 model has no score");
+    return *best.score > 0 ? best.model : "";
   }
   throw DataError(path, "no method '" + method + "' in the baseline document");
 }

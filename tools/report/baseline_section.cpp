@@ -9,6 +9,7 @@
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
+#include "canopy/formats/baseline_ranking.h"
 #include "canopy/formats/csv_table.h"
 #include "canopy/formats/match_result.h"
 #include "canopy/formats/stage_time.h"
@@ -26,16 +27,8 @@ std::string rate(int k, int n) {
 // The rank-1 model of each method in a canopy.baseline document ("" when the method is absent).
 std::map<std::string, std::string> rank1(const std::string& text, const std::string& path) {
   std::map<std::string, std::string> out;
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(text);
-  } catch (const std::exception& e) { throw common::DataError(path, std::string("not JSON: ") + e.what()); }
-  if (j.value("format", "") != "canopy.baseline")
-    throw common::DataError(path, "not a canopy.baseline document");
-  for (const auto& m : j.at("methods")) {
-    const auto& models = m.at("models");
-    out[m.at("method").get<std::string>()] = models.empty() ? "" : models[0].at("model").get<std::string>();
-  }
+  for (const auto& m : formats::parse_baseline_ranking(text, path))
+    out[m.method] = m.models.empty() ? "" : m.models.front().model;
   return out;
 }
 
