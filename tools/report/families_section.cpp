@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <initializer_list>
 #include <map>
@@ -25,12 +24,7 @@ std::string method_label(const std::string& m) {
 
 namespace {
 
-std::string pct(int k, int n) {
-  if (n == 0) return "–";
-  char b[32];
-  std::snprintf(b, sizeof b, "%.1f%%", 100.0 * k / n);
-  return b;
-}
+std::string pct(int k, int n) { return n == 0 ? "–" : formats::format_number("%.1f%%", 100.0 * k / n); }
 
 std::string rate(int k, int n) {
   return pct(k, n) + " (" + std::to_string(k) + "/" + std::to_string(n) + ")";
@@ -122,13 +116,11 @@ std::string family_methods_markdown(const FamilySummary& s) {
         "`families/methods.csv` and `families/methods-confusion.csv` (famscore).\n\n"
      << "| method | class accuracy | nearest instance | failed | time per trial (s) |\n"
         "|---|---:|---:|---:|---:|\n";
-  char b[64];
   for (const auto& m : s.methods) {
     const FamilyMethodRow* r = method_row(s, m, "all", "all", "all");
     std::string t = "–";
     if (r->timed > 0) {
-      std::snprintf(b, sizeof b, "%.2f", r->seconds_mean);
-      t = b;
+      t = formats::format_number("%.2f", r->seconds_mean);
       if (r->timed < r->trials) t += " (" + std::to_string(r->timed) + " timed)";
     }
     md << "| " << method_label(m) << " | " << rate(r->class_right, r->trials) << " | "
