@@ -34,6 +34,9 @@ using Eigen::Vector2d;
 using Eigen::Vector3d;
 
 constexpr double kMaxCells = 2e7;                // DTM raster limit (bounded memory)
+constexpr double kFreeCells = 4e6;               // DTM cells any tile may have (1 km x 1 km at 0.5 m) ...
+constexpr double kCellsPerPoint = 16;            // ... and these per point beyond (a sparse tile)
+constexpr int kNearData = 2;                     // relaxed DTM holes: this many cells from a point
 constexpr double kFloat32ExactLimit = 131072.0;  // 2^17: float32 steps reach 15.6 mm beyond
 constexpr int kMaxSplitDepth = 6;
 
@@ -120,11 +123,13 @@ std::vector<std::size_t> next_layer(const Raster& r, const std::vector<char>& kn
 }
 
 // Harmonic relaxation of the filled cells (Gauss-Seidel on the 4-neighbour Laplacian, the
-// known cells fixed): planes and slopes continue under a hole instead of flattening.
-void relax_holes(Raster& r, const std::vector<char>& filled) {
+// known cells fixed): planes and slopes continue under a hole instead of flattening. Only the
+// filled cells with `near` set move (all when it is empty); the others keep their
+// breadth-first value and act as fixed boundary values (Ground::near_data says which).
+void relax_holes(Raster& r, const std::vector<char>& filled, const std::vector<char>& near) {
   std::vector<std::size_t> holes;
   for (std::size_t c = 0; c < r.z.size(); ++c) {
-    if (filled[c]) holes.push_back(c);
+    if (filled[c] && (near.empty() || near[c])) holes.push_back(c);
   }
   for (int it = 0; it < 1000 && !holes.empty(); ++it) {
     double change = 0;
@@ -157,9 +162,9 @@ void relax_holes(Raster& r, const std::vector<char>& filled) {
 }
 
 // Fills the NaN cells breadth-first from the known ones: each newly reached cell takes the
-// mean of its 8-neighbours known before its layer; then relax_holes. Returns the number of
-// filled cells.
-std::size_t fill_holes(Raster& r) {
+// mean of its 8-neighbours known before its layer; then relax_holes on those `near` data.
+// Returns the number of filled cells.
+std::size_t fill_holes(Raster& r, const std::vector<char>& near) {
   std::vector<std::size_t> frontier;
   std::vector<char> known(r.z.size());
   for (std::size_t c = 0; c < r.z.size(); ++c) known[c] = !std::isnan(r.z[c]);
@@ -181,7 +186,7 @@ std::size_t fill_holes(Raster& r) {
     }
     frontier = next_layer(r, known, queued, frontier);
   }
-  relax_holes(r, queued);
+  relax_holes(r, queued, near);
   return filled;
 }
 
@@ -285,24 +290,32 @@ struct Voxels {
   std::vector<std::uint32_t> voxel_of;
 };
 
+// Thrown when the points span more voxels along an axis than a key holds (kVoxelMask - 1).
+struct VoxelOverflow {
+  double extent = 0;  // the largest extent along an axis (m)
+};
+
 Voxels occupied_voxels(const std::vector<std::uint32_t>& idx, const std::vector<double>& px,
                        const std::vector<double>& py, const std::vector<double>& pz, double v) {
-  double xmin = 1e300, ymin = 1e300, zmin = 1e300;
+  double xmin = 1e300, ymin = 1e300, zmin = 1e300, xmax = -1e300, ymax = -1e300, zmax = -1e300;
   for (std::uint32_t p : idx) {
     xmin = std::min(xmin, px[p]);
     ymin = std::min(ymin, py[p]);
     zmin = std::min(zmin, pz[p]);
+    xmax = std::max(xmax, px[p]);
+    ymax = std::max(ymax, py[p]);
+    zmax = std::max(zmax, pz[p]);
   }
   constexpr std::uint64_t kMask = kVoxelMask;
+  // Checked before converting: a huge quotient is no valid integer.
+  const double extent = std::max({xmax - xmin, ymax - ymin, zmax - zmin});
+  if (!(std::floor(extent / v) + 1 < double(kMask))) throw VoxelOverflow{extent};
   std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(idx.size());
   for (std::size_t n = 0; n < idx.size(); ++n) {
     const std::uint32_t p = idx[n];
     const auto i = std::uint64_t(std::floor((px[p] - xmin) / v)) + 1;
     const auto j = std::uint64_t(std::floor((py[p] - ymin) / v)) + 1;
     const auto k = std::uint64_t(std::floor((pz[p] - zmin) / v)) + 1;
-    if (i >= kMask || j >= kMask || k >= kMask) {
-      throw common::Error("detect: object extent too large for the clustering voxel");
-    }
     keyed[n] = {(i << 42) | (j << 21) | k, std::uint32_t(n)};
   }
   std::sort(keyed.begin(), keyed.end());
@@ -453,7 +466,12 @@ Footprint footprint_of(const Context& c, const std::vector<std::uint32_t>& pts) 
 // holding at least max(min_points, min_share of the points) when there are two or more.
 std::vector<std::vector<std::uint32_t>> finer_parts(const Context& c, const std::vector<std::uint32_t>& pts,
                                                     double min_share = 0.1) {
-  auto parts = cluster_points(pts, c.x, c.y, c.z, c.p.voxel / 2, Clustering::kGrid);
+  std::vector<std::vector<std::uint32_t>> parts;
+  try {
+    parts = cluster_points(pts, c.x, c.y, c.z, c.p.voxel / 2, Clustering::kGrid);
+  } catch (const VoxelOverflow&) {
+    return {};  // too large for the finer voxel: no finer parts
+  }
   const std::size_t big = std::max(c.p.min_points, std::size_t(double(pts.size()) * min_share));
   std::vector<std::vector<std::uint32_t>> kept;
   for (auto& part : parts) {
@@ -719,6 +737,12 @@ struct Ground {
   Raster dtm;
   std::vector<std::uint32_t> cell_of;
   std::vector<char> is_ground_cell;
+  // The filled cells the hole relaxation moves (relax_holes): all (empty vector) when there are
+  // at most kCellsPerPoint per point; else, for a few points spread wide, those within
+  // kNearData cells of a cell holding a point, where the DTM is read. 1000 sweeps over every
+  // empty cell of such a tile took minutes (2e7 cells for 10 points); this bounds the work by
+  // the points, not by the extent.
+  std::vector<char> near_data;
   std::size_t cells() const { return std::size_t(dtm.nx) * std::size_t(dtm.ny); }
 };
 
@@ -736,12 +760,48 @@ Raster dtm_raster(const LocalFrame& l, const Params& params, const std::string& 
                               " DTM cells of " + fmt("%g", params.cell) + " m (limit " +
                               fmt("%.0g", kMaxCells) + "); split the tile or raise --cell");
   }
+  // The work on the raster (filling, refining, bucketing) is per cell: bound it by the points.
+  const double n = double(l.x.size());
+  const double allowed = kFreeCells + kCellsPerPoint * n;
+  if (nxd * nyd > allowed) {
+    throw DataError(name, "its " + fmt("%.0f", n) + " points spread over " +
+                              fmt("%.0f", l.hi.x() - l.lo.x()) + " m x " + fmt("%.0f", l.hi.y() - l.lo.y()) +
+                              " m: " + fmt("%.3g", nxd * nyd) + " DTM cells of " + fmt("%g", params.cell) +
+                              " m, more than such a sparse tile " + "may have (" + fmt("%.0g", kFreeCells) +
+                              " + " + fmt("%.0f", kCellsPerPoint) + " per point = " + fmt("%.3g", allowed) +
+                              "); crop the tile to where its points are, or raise --cell");
+  }
   dtm.nx = int(nxd);
   dtm.ny = int(nyd);
   return dtm;
 }
 
 constexpr std::uint32_t kNoPoint = std::numeric_limits<std::uint32_t>::max();
+
+// The cells within kNearData cells (Chebyshev distance) of a cell holding a point: a
+// separable dilation of the occupied cells, O(cells).
+std::vector<char> cells_near_data(const Raster& r, const std::vector<std::uint32_t>& lowest) {
+  const int nx = r.nx, ny = r.ny;
+  std::vector<char> rows(lowest.size(), 0), out(lowest.size(), 0);
+  for (int j = 0; j < ny; ++j) {
+    int last = -1 - 2 * kNearData;  // the last occupied column up to i
+    for (int i = 0; i < nx + kNearData; ++i) {
+      if (i < nx && lowest[r.at(i, j)] != kNoPoint) last = i;
+      // Column t = i - D is near when an occupied column lies in [t - D, t + D = i].
+      const int t = i - kNearData;
+      if (t >= 0 && t < nx && last >= t - kNearData) rows[r.at(t, j)] = 1;
+    }
+  }
+  for (int i = 0; i < nx; ++i) {
+    int last = -1 - 2 * kNearData;
+    for (int j = 0; j < ny + kNearData; ++j) {
+      if (j < ny && rows[r.at(i, j)]) last = j;
+      const int t = j - kNearData;
+      if (t >= 0 && t < ny && last >= t - kNearData) out[r.at(i, t)] = 1;
+    }
+  }
+  return out;
+}
 
 // The lowest point of every cell (kNoPoint for an empty one); sets g.cell_of.
 std::vector<std::uint32_t> lowest_points(const LocalFrame& l, Ground& g) {
@@ -826,7 +886,7 @@ void refine_dtm(const LocalFrame& l, const Params& params, Ground& g, Stats& sta
     g.dtm.z[c] = g.is_ground_cell[c] ? g.dtm.z[c] + (cnt[c] > 0 ? sum[c] / cnt[c] : 0.0)
                                      : std::numeric_limits<double>::quiet_NaN();
   }
-  stats.filled_cells = fill_holes(g.dtm);
+  stats.filled_cells = fill_holes(g.dtm, g.near_data);
 }
 
 // The DTM (step 2 of detect.h) and every point's height above it and class (ground or other).
@@ -836,7 +896,9 @@ Ground find_ground(const LocalFrame& l, const Params& params, const std::string&
   r.stats.cells = g.cells();
   const std::vector<std::uint32_t> lowest = lowest_points(l, g);
   ground_cells(l, lowest, params, name, g, r.stats);
-  fill_holes(g.dtm);
+  const double holes = double(g.cells() - r.stats.ground_cells);
+  if (holes > kCellsPerPoint * double(l.x.size())) g.near_data = cells_near_data(g.dtm, lowest);
+  fill_holes(g.dtm, g.near_data);
   refine_dtm(l, params, g, r.stats);
   const std::size_t n = l.x.size();
   r.height.resize(n);
@@ -869,7 +931,7 @@ void drop_unplanar(Context& ctx, const Params& params, Stats& stats) {
 
 // The objects (steps 3 and 4 of detect.h): the band's clusters that pass the vehicle tests
 // (examine) and the shape test.
-std::vector<Object> find_objects(const LocalFrame& l, const Params& params, Result& r) {
+std::vector<Object> find_objects(const LocalFrame& l, const Params& params, const std::string& name, Result& r) {
   const std::size_t n = l.x.size();
   std::vector<std::uint32_t> band;
   for (std::size_t i = 0; i < n; ++i) {
@@ -885,10 +947,15 @@ std::vector<Object> find_objects(const LocalFrame& l, const Params& params, Resu
       ctx.above.emplace(column_key(l.x[i], l.y[i], params.voxel), 1);
     }
   }
-  {
+  try {
     auto clusters = cluster_points(band, l.x, l.y, hz, params.voxel, params.clustering);
     r.stats.clusters = clusters.size();
     for (auto& cl : clusters) examine(ctx, std::move(cl), 0);
+  } catch (const VoxelOverflow& e) {
+    throw DataError(name, "the points between --min-object-height and --max-height span " +
+                              fmt("%.6g", e.extent) + " m, more than " + std::to_string(kVoxelMask - 1) +
+                              " clustering voxels along an axis of --voxel " + fmt("%g", params.voxel) +
+                              " m: raise --voxel (or crop the tile)");
   }
   drop_unplanar(ctx, params, r.stats);
   return std::move(ctx.accepted);
@@ -1167,7 +1234,7 @@ void validate(const Params& p) {
   need(p.initial_distance >= 0 && p.max_distance >= p.initial_distance,
        "need 0 <= --initial-distance <= --max-distance");
   need(p.ground_tolerance > 0, "--ground-tolerance must be > 0");
-  need(p.voxel > 0, "--voxel must be > 0");
+  need(p.voxel >= 1e-3 && p.voxel <= 100, "--voxel must be in [1 mm, 100 m]");
   need(p.min_object_height >= 0, "--min-object-height must be >= 0");
   need(p.min_length >= 0 && p.max_length >= p.min_length, "need 0 <= --min-length <= --max-length");
   need(p.min_width >= 0 && p.max_width >= p.min_width, "need 0 <= --min-width <= --max-width");
@@ -1198,7 +1265,7 @@ Result run(const formats::PointCloud& tile, const Params& params, const std::str
   r.stats.seconds_ground = seconds_since(t0);
 
   t0 = std::chrono::steady_clock::now();
-  const std::vector<Object> objects = find_objects(l, params, r);
+  const std::vector<Object> objects = find_objects(l, params, name, r);
   r.stats.seconds_objects = seconds_since(t0);
 
   t0 = std::chrono::steady_clock::now();

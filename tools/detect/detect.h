@@ -76,7 +76,7 @@ struct Params {
 
 // Throws common::UsageError naming the option (--cell, ...) of the first bad value: cell > 0,
 // max_window > cell, terrain_slope > 0, 0 <= initial_distance <= max_distance,
-// ground_tolerance > 0, voxel > 0, min_object_height >= 0, 0 <= min <= max of length, width and
+// ground_tolerance > 0, voxel in [1 mm, 100 m], min_object_height >= 0, 0 <= min <= max of length, width and
 // height, max_height > min_object_height, margin >= 0, min_points >= 3, min_planarity in
 // [0, 1], planar_radius >= 0.2 m, planar_ratio in (0, 1), min_planar_area >= 0,
 // min_ground_share in (0, 1].
@@ -132,7 +132,9 @@ struct Result {
 // Input: x y z (any type; float64 keeps UTM magnitudes), any other fields. `name` names the
 // tile in errors. Throws common::DataError for a tile it cannot work on (no points,
 // non-finite coordinates, float32 coordinates too large to be exact, an extent too large for
-// the DTM, no ground found). A tile with no vehicle gives zero candidates.
+// the DTM: over 2e7 cells, or over 4e6 + 16 per point (a few points spread wide), an object
+// band wider than 2^21 - 2 voxels, no ground found). A tile with no vehicle gives zero
+// candidates. The DTM's hole relaxation works only within 2 cells of a cell holding a point.
 Result run(const formats::PointCloud& tile, const Params& params, const std::string& name);
 
 // The classification point set: x y z (float32, local frame = tile − origin), height,
