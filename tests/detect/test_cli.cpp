@@ -55,6 +55,32 @@ detect_test::TileSpec small_scene() {
   return s;
 }
 
+// The replay's box tile (../shared/data/malformed/round3/gen-box-tile.py): 40 x 40 m of flat
+// ground (0.25 m grid) and one 4.6 x 1.9 x 1.5 m box; detect finds one candidate.
+formats::PointCloud box_tile() {
+  std::vector<Eigen::Vector3d> p;
+  for (int i = 0; i < 160; ++i)
+    for (int j = 0; j < 160; ++j) p.emplace_back(i * 0.25, j * 0.25, 0.0);
+  for (int i = 0; i < 46; ++i)
+    for (int j = 0; j < 19; ++j) p.emplace_back(10 + i * 0.1, 10 + j * 0.1, 1.5);
+  for (int i = 0; i < 46; ++i)
+    for (int k = 0; k < 15; ++k) {
+      p.emplace_back(10 + i * 0.1, 10, k * 0.1);
+      p.emplace_back(10 + i * 0.1, 11.8, k * 0.1);
+    }
+  formats::PointCloud c;
+  auto& x = c.add("x", formats::kFloat64);
+  auto& y = c.add("y", formats::kFloat64);
+  auto& z = c.add("z", formats::kFloat64);
+  c.resize(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    x[i] = p[i].x();
+    y[i] = p[i].y();
+    z[i] = p[i].z();
+  }
+  return c;
+}
+
 }  // namespace
 
 TEST_CASE("detect writes a candidates directory") {
@@ -108,14 +134,21 @@ TEST_CASE("detect writes a candidates directory") {
   CHECK(cc.back().rfind("origin ", 0) == 0);
   CHECK(entries(dir) == std::vector<std::string>{"cands", "err.txt", "tile.pcd"});
 
-  SECTION("a re-run replaces the previous output as a whole") {
-    { std::ofstream(out / "stale.txt") << "old"; }
+  SECTION("a re-run replaces the previous output as a whole, and only that") {
     REQUIRE(test::sh(kBin + "/detect -q --no-classes -i " + q(dir / "tile.pcd") + " -o " + q(out),
                      dir / "err.txt", &err) == 0);
-    CHECK(!fs::exists(out / "stale.txt"));
     CHECK(!fs::exists(out / "classes.ply"));
     CHECK(read_json(out / "index.json")["classes"].is_null());
     CHECK(entries(dir) == std::vector<std::string>{"cands", "err.txt", "tile.pcd"});
+    CHECK(entries(out) == std::vector<std::string>{"c0001.pcd", "c0002.pcd", "index.json", "manifest.json"});
+    // A file the user added is not detect's to delete (issue 25): refused, nothing changed.
+    { std::ofstream(out / "stale.txt") << "old"; }
+    CHECK(test::sh(kBin + "/detect -q -i " + q(dir / "tile.pcd") + " -o " + q(out), dir / "err.txt", &err) == 1);
+    CHECK(err.find(out.string() + ": refusing to replace it") != std::string::npos);
+    CHECK(err.find("stale.txt, which detect did not write") != std::string::npos);
+    CHECK(entries(out) ==
+          std::vector<std::string>{"c0001.pcd", "c0002.pcd", "index.json", "manifest.json", "stale.txt"});
+    CHECK(read_json(out / "index.json")["classes"].is_null());  // still the previous output
   }
   SECTION("re-runs into the make layout: the chain's per-candidate directories inside, twice, via stage.sh") {
     // mk/scenes.mk runs `stage.sh DIR/detect -- detect -i SCAN -o DIR/cands` again when the
@@ -158,6 +191,11 @@ TEST_CASE("detect: bad output") {
                    &err) == 1);
     CHECK(err.find("refusing") != std::string::npos);
     CHECK(fs::exists(dir / "mine" / "notes.txt"));
+  }
+  SECTION("--voxel 1e-6 names the option (exit 2)") {
+    CHECK(test::sh(kBin + "/detect -q --voxel 1e-6 -i " + q(dir / "tile.pcd") + " -o " + q(dir / "out"),
+                   dir / "err.txt", &err) == 2);
+    CHECK(err.find("--voxel must be in [1 mm, 100 m]") != std::string::npos);
   }
   SECTION("no output") {
     CHECK(test::sh(kBin + "/detect -q -i " + q(dir / "tile.pcd"), dir / "err.txt", &err) == 2);
@@ -313,4 +351,94 @@ TEST_CASE("the existing chain runs on a candidate unchanged") {
   INFO(err);
   const Json match = read_json(dir / "match.json");
   CHECK(match["models"][0]["model"] == "sedan");
+}
+
+// issue 25 (../shared/data/malformed/round3/replay.sh cases 3 and 11, and item 10): -o replaces
+// only what detect can prove it wrote; missing parents are not created; a symbolic link to a
+// directory is followed; leftovers of killed runs are removed by the next run.
+TEST_CASE("detect -o: only a previous detect output is replaced") {
+  const fs::path dir = test::fresh_dir("detect", "cli_output_rule");
+  formats::write_pcd(box_tile(), (dir / "box.pcd").string());
+  const std::string detect = kBin + "/detect -q -i " + q(dir / "box.pcd") + " -o ";
+  std::string err;
+  SECTION("replay case 3: a directory that merely holds a file called index.json") {
+    const fs::path web = dir / "webapp";
+    fs::create_directories(web / "src");
+    { std::ofstream(web / "index.json") << "{\"name\": \"my-web-app\"}"; }
+    { std::ofstream(web / "app.js") << "precious"; }
+    { std::ofstream(web / "src" / "main.c") << "code"; }
+    CHECK(test::sh(detect + q(web), dir / "err.txt", &err) == 1);
+    INFO(err);
+    CHECK(err.find("detect: error: " + web.string() + ": refusing to replace it") != std::string::npos);
+    CHECK(err.find("it holds app.js, index.json, src/") != std::string::npos);
+    CHECK(err.find("detect: read") == std::string::npos);  // refused before the work
+    CHECK(entries(web) == std::vector<std::string>{"app.js", "index.json", "src"});
+    CHECK(fs::exists(web / "src" / "main.c"));
+  }
+  SECTION("replay case 3: the input tile and a user's file inside a previous output") {
+    const fs::path io = dir / "io";
+    REQUIRE(test::sh(detect + q(io), dir / "err.txt", &err) == 0);
+    const std::string index = read_json(io / "index.json").dump();
+    fs::copy_file(dir / "box.pcd", io / "tile.pcd");
+    { std::ofstream(io / "NOTES.txt") << "notes"; }
+    CHECK(test::sh(kBin + "/detect -q -i " + q(io / "tile.pcd") + " -o " + q(io), dir / "err.txt", &err) == 1);
+    INFO(err);
+    CHECK(err.find("it holds the input tile " + fs::canonical(io / "tile.pcd").string()) != std::string::npos);
+    CHECK(err.find("NOTES.txt, tile.pcd, which detect did not write") != std::string::npos);
+    CHECK(entries(io) == std::vector<std::string>{"NOTES.txt", "c0001.pcd", "classes.ply", "index.json",
+                                                  "manifest.json", "tile.pcd"});
+    CHECK(read_json(io / "index.json").dump() == index);
+  }
+  SECTION("a missing parent directory is refused, not created (as every other tool does)") {
+    CHECK(test::sh(detect + q(dir / "no" / "such" / "cands"), dir / "err.txt", &err) == 1);
+    CHECK(err.find("directory '" + (dir / "no" / "such").string() + "' does not exist") != std::string::npos);
+    CHECK(!fs::exists(dir / "no"));
+  }
+  SECTION("a symbolic link to a directory: the directory is written, the link stays") {
+    fs::create_directories(dir / "real");
+    fs::create_directory_symlink("real", dir / "link");
+    for (const std::string o : {"link", "link/"}) {
+      INFO("-o " << o);
+      REQUIRE(test::sh(detect + q(dir / o), dir / "err.txt", &err) == 0);
+      CHECK(fs::is_symlink(dir / "link"));
+      CHECK(read_json(dir / "real" / "index.json")["candidates"].size() == 1);
+    }
+    CHECK(entries(dir) == std::vector<std::string>{"box.pcd", "err.txt", "link", "real"});
+  }
+  SECTION("replay case 11: leftovers of killed runs are removed by the next run") {
+    const fs::path out = dir / "cands";
+    REQUIRE(test::sh(detect + q(out), dir / "err.txt", &err) == 0);
+    // What killed runs of this and of older detects left: a partial temporary directory (its
+    // marker), the previous output moved aside (older detects: no manifest), an empty one.
+    fs::create_directories(dir / ".cands.tmp1000001");
+    { std::ofstream(dir / ".cands.tmp1000001" / ".detect-partial"); }
+    { std::ofstream(dir / ".cands.tmp1000001" / "c0001.pcd") << "half"; }
+    fs::copy(out, dir / ".cands.old1000002");
+    fs::remove(dir / ".cands.old1000002" / "manifest.json");
+    fs::create_directories(dir / ".cands.tmp1000003");
+    REQUIRE(test::sh(detect + q(out), dir / "err.txt", &err) == 0);
+    CHECK(entries(dir) == std::vector<std::string>{"box.pcd", "cands", "err.txt"});
+  }
+}
+
+TEST_CASE("detect: a few points spread wide (replay case 8)") {
+  const fs::path dir = test::fresh_dir("detect", "cli_sparse");
+  const std::string data = std::string(CANOPY_SOURCE_DIR) + "/tests/detect/data/";
+  std::string err;
+  // 10 points over 2200 m x 2200 m, and on a 9000 km line: > 600 s and 579 s before (1000
+  // relaxation sweeps over up to 2e7 DTM cells), now refused at once.
+  for (const std::string f : {"detect-2200m-10pts.pcd", "detect-line-9000km-10pts.pcd"}) {
+    INFO(f);
+    CHECK(test::sh(kBin + "/detect -i " + q(data + f) + " -o " + q(dir / "out"), dir / "err.txt", &err) == 1);
+    INFO(err);
+    CHECK(err.find(data + f + ": its 10 points spread over") != std::string::npos);
+    CHECK(err.find("crop the tile to where its points are, or raise --cell") != std::string::npos);
+    CHECK(!fs::exists(dir / "out"));
+  }
+  // The same 10 points with 2 m cells (1.2e6 cells): a result, 0 candidates.
+  REQUIRE(test::sh(kBin + "/detect --cell 2 -i " + q(data + "detect-2200m-10pts.pcd") + " -o " + q(dir / "out"),
+                   dir / "err.txt", &err) == 0);
+  const Json j = read_json(dir / "out" / "index.json");
+  CHECK(j["candidates"].empty());
+  CHECK(j["ground"]["cells"] == 1101 * 1101);
 }

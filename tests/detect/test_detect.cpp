@@ -70,6 +70,21 @@ TileSpec three_vehicles(detect_test::Terrain terrain) {
   return s;
 }
 
+// A cloud of x y z (float64) points.
+formats::PointCloud xyz_cloud(const std::vector<Eigen::Vector3d>& p) {
+  formats::PointCloud c;
+  auto& x = c.add("x", formats::kFloat64);
+  auto& y = c.add("y", formats::kFloat64);
+  auto& z = c.add("z", formats::kFloat64);
+  c.resize(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    x[i] = p[i].x();
+    y[i] = p[i].y();
+    z[i] = p[i].z();
+  }
+  return c;
+}
+
 }  // namespace
 
 TEST_CASE("flat tile: every vehicle gets one candidate at its pose") {
@@ -254,7 +269,54 @@ TEST_CASE("bad tiles") {
     detect::Params p;
     p.max_width = 0.5;
     CHECK_THROWS_AS(detect::validate(p), common::UsageError);
+    p = detect::Params{};
+    p.voxel = 1e-6;
+    CHECK_THROWS_WITH(detect::validate(p), Catch::Contains("--voxel must be in [1 mm, 100 m]"));
   }
+  SECTION("a few points spread wide: refused by the cells per point, not run for minutes") {
+    formats::PointCloud c = xyz_cloud({{0, 0, 0}, {1200, 1200, 3}, {500, 700, 1}});
+    CHECK_THROWS_WITH(detect::run(c, detect::Params{}, "sparse.pcd"),
+                      Catch::Contains("its 3 points spread over 1200 m x 1200 m: 5.76e+06 DTM cells") &&
+                          Catch::Contains("(4e+06 + 16 per point = 4e+06)"));
+  }
+  SECTION("objects farther apart than 2^21 voxels (item 10: --voxel named)") {
+    // A 2.5 km strip of ground (0.5 m grid) with a 1.5 m box at each end: the object band
+    // spans 2480 m, 2.48e6 voxels of 1 mm.
+    std::vector<Eigen::Vector3d> p;
+    for (int i = 0; i <= 5000; ++i)
+      for (int j = 0; j <= 4; ++j) p.emplace_back(i * 0.5, j * 0.5, 0.0);
+    for (const double x0 : {10.0, 2490.0})
+      for (int i = 0; i < 10; ++i)
+        for (int k = 0; k < 10; ++k) p.emplace_back(x0 + i * 0.1, 1.0, 0.6 + k * 0.1);
+    detect::Params params;
+    params.voxel = 0.001;
+    CHECK_THROWS_WITH(
+        detect::run(xyz_cloud(p), params, "strip.pcd"),
+        Catch::Contains("strip.pcd: the points between --min-object-height and --max-height span") &&
+            Catch::Contains("clustering voxels along an axis of --voxel 0.001 m: raise --voxel"));
+  }
+}
+
+TEST_CASE("a sparse tile: the DTM relaxed only near its points stays on the terrain") {
+  // 7 x 7 patches of 2 x 2 m (0.25 m grid, 3136 points) every 100 m on the plane
+  // z = 0.05 x + 0.02 y: 1.45e6 DTM cells, far more than 16 per point, so only the cells within
+  // 2 cells of a point are relaxed; every point is ground, its height within 2 cm of 0.
+  std::vector<Eigen::Vector3d> p;
+  for (int a = 0; a < 7; ++a)
+    for (int b = 0; b < 7; ++b)
+      for (int i = 0; i < 8; ++i)
+        for (int j = 0; j < 8; ++j) {
+          const double x = a * 100.0 + i * 0.25, y = b * 100.0 + j * 0.25;
+          p.emplace_back(x, y, 0.05 * x + 0.02 * y);
+        }
+  const formats::PointCloud tile = xyz_cloud(p);
+  const detect::Result r = detect::run(tile, detect::Params{}, "patches.pcd");
+  CHECK(r.stats.cells == 1204 * 1204);  // 601.75 m / 0.5 m, + 1
+  CHECK(r.candidates.empty());
+  CHECK(r.stats.ground_points == p.size());
+  double worst = 0;
+  for (const float h : r.height) worst = std::max(worst, double(std::abs(h)));
+  CHECK(worst < 0.02);
 }
 
 TEST_CASE("same tile -> same index") {

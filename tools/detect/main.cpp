@@ -27,8 +27,9 @@ void bind(common::Tool& tool, detect::Params& p, Cli& cli) {
       &cli.in,
       "tile: PCD, PLY point set or LAS (x y z, float64 for georeferenced coordinates; any other fields)");
   tool.app().add_option("-o,--output", cli.out,
-                        "output directory, required (built beside it and renamed into "
-                        "place; a previous detect output is replaced)");
+                        "output directory, required (its parent must exist; built beside it and "
+                        "swapped into place; only a previous detect output, proven by its "
+                        "manifest.json, is replaced)");
   tool.add_length("--cell", &p.cell, "DTM cell");
   tool.add_length("--max-window", &p.max_window,
                   "largest ground-filter window (objects narrower are not ground)");
@@ -120,6 +121,7 @@ int main(int argc, char** argv) {
     if (cli.out.empty() || cli.out == "-") throw common::UsageError("-o/--output must name a directory");
     p.clustering = clustering_of(cli.clustering);
     detect::validate(p);
+    detect::check_output_dir(cli.out, cli.in);  // before the work; again before the swap
     const std::string name = common::display_name(cli.in);
     common::log::Phase read("read");
     // Tiles are read by magic: PCD, PLY point set or LAS (LAZ is refused with how to decompress).

@@ -1,16 +1,35 @@
 #include "detect/output.h"
 
+#include <dirent.h>
+#include <fcntl.h>
+#include <openssl/evp.h>
+#include <pthread.h>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <climits>
 #include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
+#include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <set>
 #include <string>
 #include <system_error>
 #include <vector>
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
+#include "canopy/common/log.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/provenance.h"
 #include "canopy/formats/ply.h"
@@ -20,21 +39,602 @@ namespace {
 
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
+using common::DataError;
+
+constexpr const char* kManifestFormat = "canopy.detect_manifest";
+constexpr const char* kIndexName = "index.json";
+// Inside a temporary directory while it is being built (created first, removed last).
+constexpr const char* kPartialMarker = ".detect-partial";
+constexpr std::uintmax_t kMaxManifestBytes = 64u << 20;
 
 double finite(double v) {
   if (!std::isfinite(v)) throw common::Error("detect: refusing to write a non-finite number");
   return v;
 }
 
-// Removes a temporary directory unless released.
+std::string errno_text(int e) { return std::strerror(e); }
+
+// ---------------------------------------------------------------------------------------
+// SHA-256 (OpenSSL).
+
+struct MdCtxFree {
+  void operator()(EVP_MD_CTX* c) const { EVP_MD_CTX_free(c); }
+};
+
+std::string hex(const unsigned char* md, unsigned len) {
+  static const char* digits = "0123456789abcdef";
+  std::string out(2 * len, '0');
+  for (unsigned i = 0; i < len; ++i) {
+    out[2 * i] = digits[md[i] >> 4];
+    out[2 * i + 1] = digits[md[i] & 15];
+  }
+  return out;
+}
+
+std::string sha256(const std::string& bytes) {
+  unsigned char md[EVP_MAX_MD_SIZE];
+  unsigned len = 0;
+  if (EVP_Digest(bytes.data(), bytes.size(), md, &len, EVP_sha256(), nullptr) != 1) {
+    throw common::Error("detect: SHA-256 failed (OpenSSL)");
+  }
+  return hex(md, len);
+}
+
+// The SHA-256 of a file's content and its size; nullopt when it cannot be read.
+std::optional<std::pair<std::string, std::uintmax_t>> sha256_file(const fs::path& p) {
+  const int fd = ::open(p.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
+  if (fd < 0) return std::nullopt;
+  std::unique_ptr<EVP_MD_CTX, MdCtxFree> ctx(EVP_MD_CTX_new());
+  bool ok = ctx && EVP_DigestInit_ex(ctx.get(), EVP_sha256(), nullptr) == 1;
+  std::vector<char> buf(1 << 20);
+  std::uintmax_t size = 0;
+  while (ok) {
+    const ssize_t n = ::read(fd, buf.data(), buf.size());
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      ok = n == 0;
+      break;
+    }
+    size += std::uintmax_t(n);
+    ok = EVP_DigestUpdate(ctx.get(), buf.data(), std::size_t(n)) == 1;
+  }
+  ::close(fd);
+  unsigned char md[EVP_MAX_MD_SIZE];
+  unsigned len = 0;
+  if (!ok || EVP_DigestFinal_ex(ctx.get(), md, &len) != 1) return std::nullopt;
+  return std::make_pair(hex(md, len), size);
+}
+
+// ---------------------------------------------------------------------------------------
+// Signals: the temporary directory is removed on SIGINT, SIGTERM, SIGHUP, SIGPIPE, SIGXFSZ.
+
+constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP, SIGPIPE, SIGXFSZ};
+constexpr int kNumSignals = sizeof kSignals / sizeof kSignals[0];
+char g_temp_dir[PATH_MAX];
+volatile sig_atomic_t g_temp_set = 0;
+volatile sig_atomic_t g_in_handler = 0;
+struct sigaction g_previous[kNumSignals];
+bool g_installed[kNumSignals];
+
+// Unlinks every entry of a flat directory, then the directory. Async-signal-safe (getdents64,
+// unlinkat, rmdir); entries are re-read until none is left, since unlinking while reading may
+// skip some.
+void remove_flat_dir(const char* path) noexcept {
+  const int fd = ::open(path, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+  if (fd < 0) return;
+  alignas(8) char buf[8192];
+  for (int pass = 0; pass < 64; ++pass) {
+    bool removed = false;
+    ::lseek(fd, 0, SEEK_SET);
+    for (;;) {
+      const ssize_t n = ::getdents64(fd, buf, sizeof buf);
+      if (n <= 0) break;
+      for (ssize_t off = 0; off < n;) {
+        const auto* d = reinterpret_cast<const struct dirent64*>(buf + off);
+        off += d->d_reclen;
+        const char* name = d->d_name;
+        if (name[0] == '.' && (name[1] == 0 || (name[1] == '.' && name[2] == 0))) continue;
+        if (::unlinkat(fd, name, 0) == 0) removed = true;
+      }
+    }
+    if (!removed) break;
+  }
+  ::close(fd);
+  ::rmdir(path);
+}
+
+extern "C" void remove_temp_and_reraise(int sig, siginfo_t* info, void* context) {
+  if (g_temp_set) remove_flat_dir(g_temp_dir);
+  g_temp_set = 0;
+  const bool chain = g_in_handler == 0;
+  g_in_handler = 1;
+  for (int k = 0; chain && k < kNumSignals; ++k) {
+    if (kSignals[k] != sig || !g_installed[k]) continue;
+    const struct sigaction& prev = g_previous[k];
+    if ((prev.sa_flags & SA_SIGINFO) != 0 && prev.sa_sigaction != nullptr) {
+      prev.sa_sigaction(sig, info, context);
+      return;
+    }
+    if (prev.sa_handler != SIG_DFL && prev.sa_handler != SIG_IGN && prev.sa_handler != nullptr) {
+      prev.sa_handler(sig);
+      return;
+    }
+  }
+  common::reraise_with_default_action(sig);
+}
+
+// While it lives, the signals above remove `dir` (flat) before taking their previous action.
+// A signal ignored when it is created stays ignored.
+class RemoveOnSignal {
+ public:
+  explicit RemoveOnSignal(const fs::path& dir) {
+    const std::string s = dir.string();
+    if (s.size() >= sizeof g_temp_dir) return;
+    std::memcpy(g_temp_dir, s.c_str(), s.size() + 1);
+    g_in_handler = 0;
+    g_temp_set = 1;
+    for (int k = 0; k < kNumSignals; ++k) {
+      struct sigaction old {};
+      sigaction(kSignals[k], nullptr, &old);
+      g_installed[k] = false;
+      if ((old.sa_flags & SA_SIGINFO) == 0 && old.sa_handler == SIG_IGN) continue;
+      g_previous[k] = old;
+      struct sigaction sa {};
+      sa.sa_sigaction = remove_temp_and_reraise;
+      sa.sa_flags = SA_SIGINFO;
+      sigemptyset(&sa.sa_mask);
+      sigaction(kSignals[k], &sa, nullptr);
+      g_installed[k] = true;
+    }
+  }
+  ~RemoveOnSignal() {
+    g_temp_set = 0;
+    for (int k = 0; k < kNumSignals; ++k) {
+      if (g_installed[k]) sigaction(kSignals[k], &g_previous[k], nullptr);
+      g_installed[k] = false;
+    }
+  }
+  // The directory is no longer ours to remove (it was renamed into place).
+  void release() { g_temp_set = 0; }
+  RemoveOnSignal(const RemoveOnSignal&) = delete;
+  RemoveOnSignal& operator=(const RemoveOnSignal&) = delete;
+};
+
+// Holds the signals above back for its lifetime (delivered at its end).
+class HoldSignals {
+ public:
+  HoldSignals() {
+    sigset_t set;
+    sigemptyset(&set);
+    for (int sig : kSignals) sigaddset(&set, sig);
+    pthread_sigmask(SIG_BLOCK, &set, &old_);
+  }
+  ~HoldSignals() { pthread_sigmask(SIG_SETMASK, &old_, nullptr); }
+  HoldSignals(const HoldSignals&) = delete;
+  HoldSignals& operator=(const HoldSignals&) = delete;
+
+ private:
+  sigset_t old_;
+};
+
+// ---------------------------------------------------------------------------------------
+// What -o names.
+
+struct Target {
+  std::string given;  // as given, for messages
+  std::string via;    // " (the symbolic link points to '…')" or ""
+  fs::path path;      // links followed
+  fs::path parent;    // its directory ("." for a bare name)
+  std::string name;   // its file name
+};
+
+// Follows a chain of symbolic links (at most 40) to the path it names, which may not exist.
+fs::path follow_links(const std::string& given, fs::path p) {
+  for (int hops = 0;; ++hops) {
+    struct stat st {};
+    if (::lstat(p.c_str(), &st) != 0 || !S_ISLNK(st.st_mode)) return p;
+    if (hops >= 40) throw DataError(given, "too many levels of symbolic links");
+    std::error_code ec;
+    const fs::path target = fs::read_symlink(p, ec);
+    if (ec) throw DataError(given, "cannot read symbolic link: " + ec.message());
+    p = target.is_absolute() || !p.has_parent_path() ? target : p.parent_path() / target;
+  }
+}
+
+Target resolve_target(const std::string& dir) {
+  if (dir.empty() || dir == "-") throw common::UsageError("-o/--output must name a directory");
+  Target t;
+  t.given = dir;
+  auto normal = [](fs::path p) {
+    p = p.lexically_normal();
+    if (!p.has_filename() && p.has_parent_path() && p != p.root_path()) p = p.parent_path();  // "cands/"
+    return p;
+  };
+  const fs::path plain = normal(dir);
+  const fs::path p = normal(follow_links(dir, plain));
+  if (p != plain) t.via = " (the symbolic link points to '" + p.string() + "')";
+  const std::string name = p.filename().string();
+  if (name.empty() || name == "." || name == "..") {
+    throw common::UsageError("-o must name a directory to create or replace, not '" + dir + "'");
+  }
+  t.path = p;
+  t.name = name;
+  t.parent = p.has_parent_path() ? p.parent_path() : fs::path(".");
+  struct stat st {};
+  if (::stat(t.parent.c_str(), &st) != 0) {
+    throw DataError(
+        dir, "directory '" + t.parent.string() + "' does not exist" + t.via + " (detect does not create it)");
+  }
+  if (!S_ISDIR(st.st_mode)) throw DataError(dir, "'" + t.parent.string() + "' is not a directory" + t.via);
+  if (::access(t.parent.c_str(), W_OK | X_OK) != 0) {
+    throw DataError(dir, "cannot write in directory '" + t.parent.string() + "': " + errno_text(errno) + t.via);
+  }
+  return t;
+}
+
+// "a, b, c/ and 4 more".
+std::string name_list(std::vector<std::string> names) {
+  std::sort(names.begin(), names.end());
+  std::string out;
+  const std::size_t shown = std::min<std::size_t>(names.size(), 6);
+  for (std::size_t i = 0; i < shown; ++i) out += (i ? ", " : "") + names[i];
+  if (names.size() > shown) out += " and " + std::to_string(names.size() - shown) + " more";
+  return out;
+}
+
+// A plain file name: no directory part, not hidden, not "." or "..".
+bool plain_name(const std::string& n) {
+  return !n.empty() && n.size() < 256 && n[0] != '.' && n.find('/') == std::string::npos &&
+         n.find('\0') == std::string::npos;
+}
+
+// A name the chain (mk/scenes.mk: stage.sh, fitvox, cocone, ncut, gmatch, verify, baseline)
+// writes in a candidate's directory: <stage>.<pcd|ply|json|log|time>, optionally + ".tmp"
+// (stage.sh's .time.tmp, AtomicOutput's .<stem>.tmp<pid>-<n>.<ext>).
+bool chain_file_name(std::string n) {
+  if (n.size() > 4 && n.compare(n.size() - 4, 4, ".tmp") == 0) n.resize(n.size() - 4);
+  for (const char* ext : {".pcd", ".ply", ".json", ".log", ".time"}) {
+    const std::size_t e = std::strlen(ext);
+    if (n.size() > e && n.compare(n.size() - e, e, ext) == 0) return n.find('/') == std::string::npos;
+  }
+  return false;
+}
+
+struct Listed {
+  std::uintmax_t bytes = 0;
+  std::string sha256;  // empty for an index-only (older) output
+};
+
+// The files a previous output lists (name -> size and hash), from its manifest or, for an
+// output written before manifests, from its index. nullopt when it has neither; a problem
+// text in *why when one is there but is not detect's.
+struct Listing {
+  bool manifest = false;
+  std::map<std::string, Listed> files;
+};
+
+Json read_small_json(const fs::path& p, std::string* why) {
+  std::error_code ec;
+  const auto size = fs::file_size(p, ec);
+  if (ec || size > kMaxManifestBytes) {
+    *why = ec ? ec.message() : "too large";
+    return nullptr;
+  }
+  try {
+    return Json::parse(common::read_file(p.string()));
+  } catch (const std::exception& e) {
+    *why = e.what();
+    return nullptr;
+  }
+}
+
+std::optional<Listing> read_manifest(const fs::path& dir, std::string* why) {
+  const fs::path p = dir / kManifestName;
+  std::string err;
+  const Json j = read_small_json(p, &err);
+  auto bad = [&](const std::string& w) {
+    *why = std::string(kManifestName) + " is not detect's (" + w + ")";
+    return std::nullopt;
+  };
+  if (j.is_null()) return bad(err);
+  if (!j.is_object() || j.value("format", Json()) != kManifestFormat)
+    return bad("no \"format\": \"canopy.detect_manifest\"");
+  if (j.value("version", Json()) != 1) return bad("version is not 1");
+  const Json files = j.value("files", Json());
+  if (!files.is_array()) return bad("no \"files\" list");
+  Listing l;
+  l.manifest = true;
+  for (const Json& f : files) {
+    if (!f.is_object() || !f.contains("name") || !f["name"].is_string() || !f.contains("bytes") ||
+        !f["bytes"].is_number_unsigned() || !f.contains("sha256") || !f["sha256"].is_string()) {
+      return bad("a file without name, bytes and sha256");
+    }
+    const std::string name = f["name"].get<std::string>();
+    if (!plain_name(name) || name == kManifestName || l.files.count(name))
+      return bad("file name '" + name + "'");
+    l.files[name] = Listed{f["bytes"].get<std::uintmax_t>(), f["sha256"].get<std::string>()};
+  }
+  if (!l.files.count(kIndexName)) return bad("index.json not listed");
+  return l;
+}
+
+// An output of detect from before manifests: index.json of format canopy.candidates written by
+// detect; it names index.json, the candidates' files and classes.ply.
+std::optional<Listing> read_legacy_index(const fs::path& dir) {
+  std::string err;
+  const Json j = read_small_json(dir / kIndexName, &err);
+  if (!j.is_object() || j.value("format", Json()) != "canopy.candidates" || j.value("version", Json()) != 1)
+    return std::nullopt;
+  const Json prov = j.value("provenance", Json());
+  if (!prov.is_object() || prov.value("tool", Json()) != "detect") return std::nullopt;
+  Listing l;
+  l.files[kIndexName] = {};
+  if (j.contains("classes") && j["classes"].is_string()) {
+    const std::string c = j["classes"].get<std::string>();
+    if (!plain_name(c)) return std::nullopt;
+    l.files[c] = {};
+  }
+  const Json cands = j.value("candidates", Json());
+  if (!cands.is_array()) return std::nullopt;
+  for (const Json& c : cands) {
+    if (!c.is_object() || !c.contains("file") || !c["file"].is_string()) return std::nullopt;
+    const std::string f = c["file"].get<std::string>();
+    if (!plain_name(f)) return std::nullopt;
+    l.files[f] = {};
+  }
+  return l;
+}
+
+// The problems that keep detect from replacing the existing directory `t.path` (empty: it may
+// be replaced). `input` is the tile's real path ("" for stdin).
+std::vector<std::string> replace_problems(const Target& t, const std::string& input) {
+  std::vector<std::string> problems;
+  std::vector<std::string> entries;  // "name" or "name/"
+  std::error_code ec;
+  for (fs::directory_iterator it(t.path, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string n = it->path().filename().string();
+    entries.push_back(it->is_directory(ec) && !it->is_symlink(ec) ? n + "/" : n);
+  }
+  if (ec) return {"cannot list it: " + ec.message()};
+  if (!input.empty()) {
+    char real[PATH_MAX];
+    if (::realpath(t.path.c_str(), real) != nullptr) {
+      const std::string root = std::string(real) + "/";
+      if (input.compare(0, root.size(), root) == 0) {
+        problems.push_back("it holds the input tile " + input);
+      }
+    }
+  }
+  if (entries.empty()) return problems;
+  std::string why;
+  std::optional<Listing> listing;
+  if (fs::exists(fs::symlink_status(t.path / kManifestName))) {
+    listing = read_manifest(t.path, &why);
+  } else {
+    listing = read_legacy_index(t.path);
+    if (!listing) why = "it has no manifest.json and no index.json written by detect";
+  }
+  if (!listing) {
+    problems.push_back(why + "; it holds " + name_list(entries));
+    return problems;
+  }
+  std::vector<std::string> foreign, changed, missing;
+  std::set<std::string> seen;
+  for (const std::string& e : entries) {
+    const bool is_dir = e.back() == '/';
+    const std::string n = is_dir ? e.substr(0, e.size() - 1) : e;
+    if (!is_dir && listing->manifest && n == kManifestName) continue;
+    const auto f = listing->files.find(n);
+    if (!is_dir && f != listing->files.end()) {
+      seen.insert(n);
+      const fs::path p = t.path / n;
+      if (!fs::is_regular_file(fs::symlink_status(p))) {
+        changed.push_back(n + " (not a regular file)");
+        continue;
+      }
+      if (!listing->manifest) continue;
+      const auto h = sha256_file(p);
+      if (!h) {
+        changed.push_back(n + " (unreadable)");
+      } else if (h->second != f->second.bytes || h->first != f->second.sha256) {
+        changed.push_back(n);
+      }
+      continue;
+    }
+    if (is_dir && listing->files.count(n + ".pcd")) {
+      // The chain's directory of candidate n: only chain outputs, no subdirectories or links.
+      std::vector<std::string> odd;
+      for (fs::directory_iterator it(t.path / n, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string m = it->path().filename().string();
+        if (!fs::is_regular_file(it->symlink_status(ec)) || !chain_file_name(m)) odd.push_back(n + "/" + m);
+      }
+      if (ec) odd.push_back(n + "/ (cannot list it: " + ec.message() + ")");
+      foreign.insert(foreign.end(), odd.begin(), odd.end());
+      continue;
+    }
+    foreign.push_back(e);
+  }
+  for (const auto& [n, f] : listing->files) {
+    if (!seen.count(n)) missing.push_back(n);
+  }
+  const std::string source = listing->manifest ? "its manifest.json" : "its index.json";
+  if (!foreign.empty())
+    problems.push_back("it holds " + name_list(foreign) + ", which detect did not write (not in " + source +
+                       ")");
+  const auto them = [](const std::vector<std::string>& v) { return v.size() == 1 ? " it" : " them"; };
+  if (!changed.empty()) {
+    problems.push_back(name_list(changed) + " changed since detect wrote" + them(changed) +
+                       " (size or SHA-256 not as in manifest.json)");
+  }
+  if (!missing.empty()) problems.push_back(name_list(missing) + ", listed in " + source + ", missing");
+  return problems;
+}
+
+// The tile's real path when it is a file ("" for stdin or when it cannot be resolved).
+std::string real_input(const std::string& input) {
+  if (input.empty() || input == "-") return "";
+  char real[PATH_MAX];
+  return ::realpath(input.c_str(), real) != nullptr ? std::string(real) : "";
+}
+
+// Throws when the existing `t.path` may not be replaced; returns whether it exists.
+bool check_existing(const Target& t, const std::string& input) {
+  struct stat st {};
+  if (::lstat(t.path.c_str(), &st) != 0) {
+    if (errno == ENOENT) return false;
+    throw DataError(t.given, "cannot look at it: " + errno_text(errno) + t.via);
+  }
+  if (!S_ISDIR(st.st_mode)) {
+    throw DataError(t.given, "exists and is not a directory" + t.via + "; refusing to replace it");
+  }
+  const std::vector<std::string> problems = replace_problems(t, real_input(input));
+  if (!problems.empty()) {
+    std::string text;
+    for (const std::string& p : problems) text += (text.empty() ? "" : "; ") + p;
+    throw DataError(t.given, "refusing to replace it: not an output detect can prove it wrote" + t.via +
+                                 ": " + text + ". Nothing was changed: move it away or choose another -o");
+  }
+  return true;
+}
+
+// ---------------------------------------------------------------------------------------
+// Removing what detect wrote.
+
+// Removes a directory detect wrote (an old output, a leftover): everything but its proof
+// (manifest, index, marker) first, those last, so a run killed meanwhile leaves a directory
+// the next run still recognises. Errors are ignored (what is left is a leftover).
+void remove_output_tree(const fs::path& dir) {
+  std::error_code ec;
+  std::vector<fs::path> last;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string n = it->path().filename().string();
+    if (n == kManifestName || n == kIndexName || n == kPartialMarker) {
+      last.push_back(it->path());
+    } else {
+      std::error_code e2;
+      fs::remove_all(it->path(), e2);
+    }
+  }
+  // The index, then the manifest, then the marker.
+  std::sort(last.begin(), last.end(), [](const fs::path& a, const fs::path& b) {
+    auto rank = [](const fs::path& p) {
+      const std::string n = p.filename().string();
+      return n == kIndexName ? 0 : n == kManifestName ? 1 : 2;
+    };
+    return rank(a) < rank(b);
+  });
+  for (const fs::path& p : last) fs::remove(p, ec);
+  fs::remove(dir, ec);
+}
+
+// A directory fd, flock'ed exclusively; closed (unlocked) with the object.
+class DirLock {
+ public:
+  DirLock() = default;
+  ~DirLock() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  DirLock(const DirLock&) = delete;
+  DirLock& operator=(const DirLock&) = delete;
+  // True when locked; false when another process holds it (or the directory cannot be opened).
+  bool lock(const fs::path& dir, bool wait) {
+    fd_ = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+    if (fd_ < 0) return false;
+    if (::flock(fd_, LOCK_EX | (wait ? 0 : LOCK_NB)) != 0) {
+      ::close(fd_);
+      fd_ = -1;
+      return false;
+    }
+    return true;
+  }
+  int fd() const { return fd_; }
+
+ private:
+  int fd_ = -1;
+};
+
+// Removes the leftovers of killed runs beside the output: `.<name>.tmp<digits>` and
+// `.<name>.old<digits>` directories that no live run holds locked and that hold detect's
+// marker, manifest or index (or nothing). Others of that name are left, with a warning.
+void remove_leftovers(const Target& t) {
+  std::error_code ec;
+  std::vector<fs::path> found;
+  for (fs::directory_iterator it(t.parent, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string n = it->path().filename().string();
+    for (const std::string tag : {".tmp", ".old"}) {
+      const std::string prefix = "." + t.name + tag;
+      if (n.size() > prefix.size() && n.compare(0, prefix.size(), prefix) == 0 &&
+          std::all_of(n.begin() + long(prefix.size()), n.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+        found.push_back(it->path());
+      }
+    }
+  }
+  std::sort(found.begin(), found.end());
+  for (const fs::path& p : found) {
+    if (!fs::is_directory(fs::symlink_status(p, ec))) continue;
+    DirLock lock;
+    if (!lock.lock(p, false)) continue;  // a live run's
+    std::string why;
+    const bool empty = fs::is_empty(p, ec);
+    const bool ours = empty || fs::exists(fs::symlink_status(p / kPartialMarker)) ||
+                      read_manifest(p, &why).has_value() || read_legacy_index(p).has_value();
+    if (ours) {
+      remove_output_tree(p);
+    } else {
+      common::log::warn(p.string() +
+                        ": left alone: named like a leftover of an interrupted detect run, but it "
+                        "holds no marker, manifest or index of detect's");
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------
+// Writing.
+
+int write_all(int fd, const char* data, std::size_t size) {
+  while (size > 0) {
+    const ssize_t n = ::write(fd, data, size);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return errno;
+    }
+    if (n == 0) return EIO;
+    data += n;
+    size -= std::size_t(n);
+  }
+  return 0;
+}
+
+// Writes files into the temporary directory and lists them for the manifest.
+class DirWriter {
+ public:
+  DirWriter(int dirfd, fs::path dir, std::string shown)
+      : dirfd_(dirfd), dir_(std::move(dir)), shown_(std::move(shown)) {}
+  void write(const std::string& name, const std::string& bytes, bool list = true) {
+    const int fd = ::openat(dirfd_, name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0) throw DataError((dir_ / name).string(), "cannot create: " + errno_text(errno));
+    int err = write_all(fd, bytes.data(), bytes.size());
+    if (::close(fd) != 0 && err == 0) err = errno;
+    if (err != 0) throw DataError(shown_ + "/" + name, "write failed: " + errno_text(err));
+    if (list) files_.push_back(Json{{"name", name}, {"bytes", bytes.size()}, {"sha256", sha256(bytes)}});
+  }
+  Json manifest() const {
+    return Json{{"format", kManifestFormat}, {"version", 1}, {"tool", "detect"}, {"files", files_}};
+  }
+
+ private:
+  int dirfd_;
+  fs::path dir_;
+  std::string shown_;
+  Json files_ = Json::array();
+};
+
+// The temporary directory: removed (flat) unless released.
 class TempDir {
  public:
   explicit TempDir(fs::path p) : path_(std::move(p)) {}
   ~TempDir() {
-    if (!path_.empty()) {
-      std::error_code ec;
-      fs::remove_all(path_, ec);
-    }
+    if (!path_.empty()) remove_flat_dir(path_.c_str());
   }
   TempDir(const TempDir&) = delete;
   TempDir& operator=(const TempDir&) = delete;
@@ -44,6 +644,10 @@ class TempDir {
  private:
   fs::path path_;
 };
+
+void step(const WriteHooks& hooks, const char* name) {
+  if (hooks.step) hooks.step(name);
+}
 
 }  // namespace
 
@@ -100,35 +704,28 @@ std::string serialize_index(const Result& r, const Params& p, const formats::Pro
   return j.dump(1) + "\n";
 }
 
+void check_output_dir(const std::string& dir, const std::string& input) {
+  check_existing(resolve_target(dir), input);
+}
+
 void write_output(const std::string& dir, const formats::PointCloud& tile, const Result& result,
                   const Params& params, const formats::Provenance& provenance, const std::string& tile_name,
-                  bool write_classes) {
-  fs::path final = fs::path(dir).lexically_normal();
-  if (final.has_filename() == false) final = final.parent_path();  // "cands/" -> "cands"
-  if (final.empty() || final == "." || final == "..")
-    throw common::UsageError("-o must name a directory to create");
-  std::error_code ec;
-  const fs::file_status st = fs::symlink_status(final, ec);
-  const bool exists = fs::exists(st);
-  if (exists && !fs::is_directory(st)) {
-    throw common::DataError(final.string(), "exists and is not a directory; refusing to overwrite it");
+                  bool write_classes, const WriteHooks& hooks) {
+  const Target t = resolve_target(dir);
+  check_existing(t, tile_name);
+  remove_leftovers(t);
+  const std::string pid = std::to_string(::getpid());
+  const fs::path temp = t.parent / ("." + t.name + ".tmp" + pid);
+  if (::mkdir(temp.c_str(), 0777) != 0) {
+    throw DataError(temp.string(), "cannot create a temporary directory: " + errno_text(errno));
   }
-  if (exists && !fs::is_empty(final, ec) && !fs::exists(final / "index.json")) {
-    throw common::DataError(final.string(),
-                            "is a directory that is neither empty nor a detect output "
-                            "(no index.json); refusing to replace it");
-  }
-  fs::path parent = final.parent_path();
-  if (parent.empty()) parent = ".";
-  fs::create_directories(parent, ec);
-  if (!fs::is_directory(parent))
-    throw common::DataError(parent.string(), "cannot create the output's parent directory");
-  const std::string stem = final.filename().string();
-  TempDir tmp(parent / ("." + stem + ".tmp" + std::to_string(::getpid())));
-  fs::remove_all(tmp.path(), ec);
-  if (!fs::create_directory(tmp.path(), ec)) {
-    throw common::DataError(tmp.path().string(), "cannot create a temporary directory: " + ec.message());
-  }
+  TempDir guard(temp);
+  RemoveOnSignal on_signal(temp);
+  DirLock lock;
+  if (!lock.lock(temp, true)) throw DataError(temp.string(), "cannot lock the temporary directory");
+  DirWriter out(lock.fd(), temp, temp.string());
+  out.write(kPartialMarker, "", false);
+  step(hooks, "created");
   // Every file's comments: the tile's own (a candidate's crop keeps them), detect's
   // provenance, then what the file holds.
   const std::vector<std::string> prov = formats::provenance_comments(provenance);
@@ -137,7 +734,9 @@ void write_output(const std::string& dir, const formats::PointCloud& tile, const
     cloud.comments.insert(cloud.comments.end(), prov.begin(), prov.end());
     cloud.comments.push_back("candidate " + c.id +
                              " in its local frame; index.json gives the transform back to the tile");
-    formats::write_pcd(cloud, (tmp.path() / (c.id + ".pcd")).string());
+    const std::string name = c.id + ".pcd";
+    formats::check_coordinates(cloud, (temp / name).string());
+    out.write(name, formats::serialize_pcd(cloud));
   }
   std::string classes;
   if (write_classes) {
@@ -150,28 +749,56 @@ void write_output(const std::string& dir, const formats::PointCloud& tile, const
     m.vertices.comments = prov;
     m.vertices.comments.push_back("classes 1 ground (brown), 2 vegetation/other (green), 3 candidate (red)");
     m.vertices.comments.push_back(origin);
-    formats::write_ply(m, (tmp.path() / classes).string());
+    out.write(classes, formats::serialize_ply(m));
   }
-  common::write_file_atomic((tmp.path() / "index.json").string(),
-                            serialize_index(result, params, provenance, tile_name, classes));
-  if (exists) {
-    const fs::path old = parent / ("." + stem + ".old" + std::to_string(::getpid()));
-    fs::remove_all(old, ec);
-    fs::rename(final, old, ec);
-    if (ec) throw common::DataError(final.string(), "cannot move the previous output aside: " + ec.message());
-    fs::rename(tmp.path(), final, ec);
-    if (ec) {
-      std::error_code ec2;
-      fs::rename(old, final, ec2);
-      throw common::DataError(final.string(), "cannot rename the new output into place: " + ec.message());
+  out.write(kIndexName, serialize_index(result, params, provenance, tile_name, classes));
+  out.write(kManifestName, out.manifest().dump(1) + "\n", false);
+  if (::unlinkat(lock.fd(), kPartialMarker, 0) != 0) {
+    throw DataError((temp / kPartialMarker).string(), "cannot remove: " + errno_text(errno));
+  }
+  step(hooks, "written");
+
+  const HoldSignals hold;
+  // Again, just before the swap: the directory may have changed during the work.
+  const bool exists = check_existing(t, tile_name);
+  fs::path old;  // the previous output after the swap
+  if (!exists) {
+    on_signal.release();
+    int e = ::renameat2(AT_FDCWD, temp.c_str(), AT_FDCWD, t.path.c_str(), RENAME_NOREPLACE) == 0 ? 0 : errno;
+    if (e == EINVAL || e == ENOSYS) e = ::rename(temp.c_str(), t.path.c_str()) == 0 ? 0 : errno;
+    if (e != 0) throw DataError(t.given, "cannot rename the new output into place: " + errno_text(e) + t.via);
+    guard.release();
+    return;
+  }
+  int e = 0;
+  if (!hooks.no_exchange) {
+    e = ::renameat2(AT_FDCWD, temp.c_str(), AT_FDCWD, t.path.c_str(), RENAME_EXCHANGE) == 0 ? 0 : errno;
+  }
+  if (!hooks.no_exchange && e == 0) {
+    on_signal.release();
+    guard.release();
+    old = temp;  // the names are swapped: the previous output is at the temporary name
+    step(hooks, "swapped");
+  } else if (hooks.no_exchange || e == EINVAL || e == ENOSYS || e == ENOTSUP) {
+    // No RENAME_EXCHANGE here: the previous output aside, the new one in (a kill between the
+    // two leaves both beside the path, and nothing at it).
+    old = t.parent / ("." + t.name + ".old" + pid);
+    if (::rename(t.path.c_str(), old.c_str()) != 0) {
+      throw DataError(t.given, "cannot move the previous output aside: " + errno_text(errno) + t.via);
     }
-    fs::remove_all(old, ec);
+    step(hooks, "aside");
+    if (::rename(temp.c_str(), t.path.c_str()) != 0) {
+      const int e2 = errno;
+      ::rename(old.c_str(), t.path.c_str());
+      throw DataError(t.given, "cannot rename the new output into place: " + errno_text(e2) + t.via);
+    }
+    on_signal.release();
+    guard.release();
+    step(hooks, "swapped");
   } else {
-    fs::rename(tmp.path(), final, ec);
-    if (ec)
-      throw common::DataError(final.string(), "cannot rename the new output into place: " + ec.message());
+    throw DataError(t.given, "cannot swap the new output into place: " + errno_text(e) + t.via);
   }
-  tmp.release();
+  remove_output_tree(old);
 }
 
 }  // namespace canopy::detect
