@@ -7,7 +7,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   libeigen3-dev libcgal-dev libpcl-dev libvtk9-dev libspectra-dev
-  nlohmann-json3-dev libcli11-dev catch2 libpng-dev
+  nlohmann-json3-dev libcli11-dev catch2 libpng-dev libssl-dev
   povray time xvfb xauth jq
   clang libclang-rt-14-dev clang-format
   # Slurm and munge: for LAUNCH=slurm and its test (tests/pipeline/slurm.sh), which starts
