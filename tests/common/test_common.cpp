@@ -702,3 +702,15 @@ TEST_CASE("round 3: /dev/stdout is stdout: appended with >>, a pipe written, one
   set.add("/dev/stdout", "-o");
   CHECK_THROWS_AS(set.add("-", "--colored"), UsageError);
 }
+
+TEST_CASE("round 3: naming_input names the input in a stage's errors, once") {
+  CHECK(naming_input("a.pcd", [] { return 7; }) == 7);
+  CHECK_THROWS_WITH(naming_input("a.pcd", []() -> int { throw Error("voxel index overflow"); }),
+                    "a.pcd: voxel index overflow");
+  CHECK_THROWS_AS(naming_input("a.pcd", []() -> int { throw std::runtime_error("extent"); }), DataError);
+  CHECK_THROWS_WITH(naming_input("-", []() -> int { throw std::runtime_error("extent"); }),
+                    "<stdin>: extent");
+  CHECK_THROWS_WITH(naming_input("a.pcd", []() -> int { throw DataError("b.pcd", "bad"); }), "b.pcd: bad");
+  CHECK_THROWS_AS(naming_input("a.pcd", []() -> int { throw UsageError("--x"); }), UsageError);
+  CHECK_THROWS_AS(naming_input("a.pcd", []() -> int { throw std::bad_alloc(); }), std::bad_alloc);
+}
