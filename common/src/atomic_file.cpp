@@ -129,12 +129,43 @@ std::string temp_name_for(const std::string& path) {
          ext;
 }
 
+// The descriptor N when `p` names one of this process's own open descriptors: a name in
+// /proc/<our pid>/fd (also reached as /proc/self/fd, /dev/fd, /proc/thread-self/fd or
+// /proc/<our pid>/task/<tid>/fd); else -1. /dev/stdout and /dev/stderr are links to
+// /proc/self/fd/1 and /2, so they are found one hop later.
+int own_descriptor_of(const std::string& p) {
+  const std::string base = base_of(p);
+  if (base.empty() || base.size() > 9 || base.find_first_not_of("0123456789") != std::string::npos) {
+    return -1;
+  }
+  char real[PATH_MAX];
+  if (realpath(dir_of(p).c_str(), real) == nullptr) return -1;
+  const std::string dir = real;
+  const std::string own = "/proc/" + std::to_string(getpid());
+  if (dir.compare(0, own.size(), own) != 0) return -1;
+  const std::string rest = dir.substr(own.size());
+  const bool fd_dir =
+      rest == "/fd" ||
+      (rest.rfind("/task/", 0) == 0 && rest.size() > 9 && rest.compare(rest.size() - 3, 3, "/fd") == 0 &&
+       rest.substr(6, rest.size() - 9).find_first_not_of("0123456789") == std::string::npos);
+  return fd_dir ? std::atoi(base.c_str()) : -1;
+}
+
 // Follows a chain of symbolic links to the path it finally names (which may not exist:
 // a dangling link names the file it would create). Relative targets are relative to the
-// link's directory.
-std::string resolve_links(const std::string& path) {
+// link's directory. A hop that names one of the process's own descriptors (/dev/stdout,
+// /dev/fd/63 of `-o >(cmd)`, /proc/self/fd/N) ends the walk there with *own_fd = N: the
+// output is that descriptor, as "-" is stdout. A magic link of /proc whose target is no path
+// ("pipe:[123]", "socket:[…]", "anon_inode:…") also ends the walk: the kernel opens it.
+std::string resolve_links(const std::string& path, int* own_fd = nullptr) {
+  if (own_fd != nullptr) *own_fd = -1;
   std::string p = path;
   for (int hops = 0;; ++hops) {
+    const int fd = own_descriptor_of(p);
+    if (fd >= 0) {
+      if (own_fd != nullptr) *own_fd = fd;
+      return p;
+    }
     struct stat st {};
     if (lstat(p.c_str(), &st) != 0 || !S_ISLNK(st.st_mode)) return p;
     if (hops >= 40) throw DataError(path, "too many levels of symbolic links");
@@ -145,11 +176,27 @@ std::string resolve_links(const std::string& path) {
     }
     if (n <= 0) throw DataError(path, std::string("cannot read symbolic link: ") + std::strerror(errno));
     target.resize(static_cast<std::size_t>(n));
+    if (target[0] != '/' && p.compare(0, 6, "/proc/") == 0 && target.find(":") != std::string::npos) {
+      return p;  // "pipe:[123]": not a path; open(p) reaches the object
+    }
     if (target[0] == '/' || p.find('/') == std::string::npos) {
       p = target;
     } else {
       p = p.substr(0, p.find_last_of('/') + 1) + target;
     }
+  }
+}
+
+// Checks that descriptor `fd`, named by `path`, is open for writing and not a directory.
+void check_descriptor(const std::string& path, int fd) {
+  const int flags = fcntl(fd, F_GETFL);
+  if (flags < 0) throw DataError(path, "names descriptor " + std::to_string(fd) + ", which is not open");
+  if ((flags & O_ACCMODE) == O_RDONLY) {
+    throw DataError(path, "names descriptor " + std::to_string(fd) + ", which is open for reading only");
+  }
+  struct stat st {};
+  if (fstat(fd, &st) == 0 && S_ISDIR(st.st_mode)) {
+    throw DataError(path, "names descriptor " + std::to_string(fd) + ", a directory");
   }
 }
 
@@ -236,9 +283,11 @@ void remove_pending_outputs() noexcept {
 void check_output(const std::string& path) {
   if (path == "-") return;
   if (path.empty()) throw UsageError("empty output path");
-  const std::string target = resolve_links(path);
+  int fd = -1;
+  const std::string target = resolve_links(path, &fd);
+  if (fd >= 0) return check_descriptor(path, fd);
   struct stat st {};
-  if (lstat(target.c_str(), &st) == 0) {
+  if (stat(target.c_str(), &st) == 0) {
     check_type(path, target, st.st_mode);
     if (S_ISREG(st.st_mode)) {
       check_directory(path, target);
@@ -255,15 +304,24 @@ void check_output(const std::string& path) {
 
 bool writes_through(const std::string& path) {
   if (path == "-") return true;
+  int fd = -1;
+  const std::string target = resolve_links(path, &fd);
+  if (fd >= 0) return true;
   struct stat st {};
-  if (lstat(resolve_links(path).c_str(), &st) != 0) return false;
+  if (stat(target.c_str(), &st) != 0) return false;
   return S_ISFIFO(st.st_mode) || S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode);
 }
 
 std::string output_identity(const std::string& path) {
-  if (path == "-") return "-";
-  const std::string target = resolve_links(path);
   struct stat st {};
+  // stdout, and a name of one of the process's own descriptors: what the descriptor is open on,
+  // so `-o /dev/stdout --colored -` are the same output.
+  int fd = path == "-" ? STDOUT_FILENO : -1;
+  const std::string target = path == "-" ? path : resolve_links(path, &fd);
+  if (fd >= 0) {
+    if (fstat(fd, &st) == 0) return "inode " + std::to_string(st.st_dev) + ":" + std::to_string(st.st_ino);
+    return fd == STDOUT_FILENO ? "-" : "descriptor " + std::to_string(fd);
+  }
   if (stat(target.c_str(), &st) == 0) {
     return "inode " + std::to_string(st.st_dev) + ":" + std::to_string(st.st_ino);
   }
@@ -280,10 +338,26 @@ AtomicOutput::AtomicOutput(const std::string& path) : path_(path) {
     mode_ = Mode::kStdout;
     return;
   }
-  target_ = resolve_links(path_);
+  int own_fd = -1;
+  target_ = resolve_links(path_, &own_fd);
+  if (own_fd >= 0) {
+    // One of the process's own descriptors (/dev/stdout, /proc/self/fd/N, /dev/fd/63 of
+    // `-o >(cmd)`): written as "-" writes stdout, at its offset, appending when it was opened
+    // O_APPEND (`-o /dev/stdout >> log`). Never reopened: reopening /proc/self/fd/1 of a file
+    // opened for appending would truncate or overwrite it, and a pipe has no path.
+    check_descriptor(path_, own_fd);
+    if (own_fd == STDOUT_FILENO) {
+      mode_ = Mode::kStdout;
+      return;
+    }
+    mode_ = Mode::kWriteThrough;
+    fd_ = fcntl(own_fd, F_DUPFD_CLOEXEC, 3);
+    if (fd_ < 0) throw DataError(path_, std::string("cannot use its descriptor: ") + std::strerror(errno));
+    return;
+  }
   struct stat st {};
   bool replacing = false;
-  if (lstat(target_.c_str(), &st) == 0) {
+  if (stat(target_.c_str(), &st) == 0) {
     check_type(path_, target_, st.st_mode);
     if (!S_ISREG(st.st_mode)) {
       // FIFO or device: write through it, never replace it. (Opening a FIFO waits for its reader.)

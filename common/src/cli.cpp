@@ -81,6 +81,14 @@ std::string closest_option(const std::string& given, const std::vector<std::stri
   return count == 1 ? prefixed : "";
 }
 
+// f(), its UsageError prefixed with the option's name ("--sigma: '8 mm': no space ...").
+template <typename F>
+double named(const std::string& option, F&& f) {
+  try {
+    return f();
+  } catch (const UsageError& e) { throw UsageError(option + ": " + e.what()); }
+}
+
 }  // namespace
 
 namespace detail {
@@ -110,9 +118,7 @@ std::string check_integer(const std::string& text, bool is_signed, long long lo,
 std::string check_real(const std::string& text) {
   const std::size_t n = decimal_prefix(text);
   if (n == 0 || n != text.size()) return "'" + text + "' is not a decimal number";
-  const double v = std::strtod(text.c_str(), nullptr);
-  if (!std::isfinite(v)) return "'" + text + "' is out of range";
-  return "";
+  return decimal_problem(text);
 }
 
 }  // namespace detail
@@ -166,7 +172,7 @@ CLI::Option* Tool::add_length(const std::string& flags, double* metres, const st
   auto* opt = app_.add_option_function<std::string>(
       flags,
       [metres, warn_above, name](const std::string& text) {
-        *metres = parse_length(text);
+        *metres = named(name, [&] { return parse_length(text); });
         // Up to 1000 x the bound, where the value read as millimetres would be within it.
         if (warn_above > 0 && *metres > warn_above && *metres <= 1000 * warn_above) {
           const bool bare = decimal_prefix(text) == text.size();
@@ -182,8 +188,11 @@ CLI::Option* Tool::add_length(const std::string& flags, double* metres, const st
 }
 
 CLI::Option* Tool::add_angle(const std::string& flags, double* radians, const std::string& help) {
+  const std::size_t comma = flags.find_last_of(',');
+  const std::string name = comma == std::string::npos ? flags : flags.substr(comma + 1);
   auto* opt = app_.add_option_function<std::string>(
-      flags, [radians](const std::string& text) { *radians = parse_angle(text); },
+      flags,
+      [radians, name](const std::string& text) { *radians = named(name, [&] { return parse_angle(text); }); },
       help + " (angle: 10deg, 0.17rad; bare = deg)");
   opt->default_str(format_angle(*radians));
   opt->type_name("ANGLE");

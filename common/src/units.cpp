@@ -1,5 +1,7 @@
 #include "canopy/common/units.h"
 
+#include <cerrno>
+#include <cfloat>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -10,15 +12,22 @@
 namespace canopy::common {
 namespace {
 
-// Splits "12.5mm" into 12.5 and "mm". Throws on an empty or non-decimal number part.
+// Splits "12.5mm" into 12.5 and "mm". Throws on an empty or non-decimal number part, on a
+// space between the number and its unit ("8 mm": a shell word or a config value that held
+// two words), and on a number that is not a finite double (see decimal_problem).
 double split_number(const std::string& text, std::string* suffix, const char* what) {
   const std::size_t n = decimal_prefix(text);
   if (n == 0) throw UsageError("'" + text + "' is not a " + what);
-  const double v = std::strtod(text.substr(0, n).c_str(), nullptr);
   *suffix = text.substr(n);
-  while (!suffix->empty() && suffix->front() == ' ') suffix->erase(suffix->begin());
-  if (!std::isfinite(v)) throw UsageError("'" + text + "' is not a finite " + what);
-  return v;
+  if (!suffix->empty() && (suffix->front() == ' ' || suffix->front() == '\t')) {
+    const std::size_t u = suffix->find_first_not_of(" \t");
+    throw UsageError(
+        "'" + text + "': no space between the number and its unit" +
+        (u == std::string::npos ? std::string() : " (write " + text.substr(0, n) + suffix->substr(u) + ")"));
+  }
+  const std::string problem = decimal_problem(text.substr(0, n));
+  if (!problem.empty()) throw UsageError(problem);
+  return std::strtod(text.substr(0, n).c_str(), nullptr);
 }
 
 bool is_digit(char c) { return c >= '0' && c <= '9'; }
@@ -40,6 +49,31 @@ std::string shortest(double v) {
 }
 
 }  // namespace
+
+std::string decimal_problem(const std::string& number) {
+  errno = 0;
+  const double v = std::strtod(number.c_str(), nullptr);
+  const int err = errno;
+  if (!std::isfinite(v)) return "'" + number + "' is out of range (beyond 1.8e308)";
+  // A mantissa with a digit other than 0 that reads as 0 or a subnormal (1e-400): gone to 0
+  // or to a value with fewer digits than a double has.
+  const std::size_t e = number.find_first_of("eE");
+  const std::string mantissa = number.substr(0, e);
+  const bool nonzero = mantissa.find_first_of("123456789") != std::string::npos;
+  if (nonzero && (v == 0 || std::fabs(v) < DBL_MIN || err == ERANGE)) {
+    return "'" + number + "' is out of range (nonzero and closer to 0 than 2.2e-308)";
+  }
+  if (v == 0 && std::signbit(v)) return "'" + number + "' is a negative zero; write 0";
+  return "";
+}
+
+double parse_decimal(const std::string& text, const std::string& what) {
+  const std::size_t n = decimal_prefix(text);
+  if (n == 0 || n != text.size()) throw UsageError(what + ": '" + text + "' is not a decimal number");
+  const std::string problem = decimal_problem(text);
+  if (!problem.empty()) throw UsageError(what + ": " + problem);
+  return std::strtod(text.c_str(), nullptr);
+}
 
 std::size_t decimal_prefix(const std::string& text) {
   std::size_t i = 0;

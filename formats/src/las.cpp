@@ -12,6 +12,7 @@
 #include "binary_io.h"
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
+#include "canopy/formats/provenance.h"
 
 namespace canopy::formats {
 namespace {
@@ -239,13 +240,30 @@ void read_las_point_count(const unsigned char* b, std::size_t size, LasHeader& h
   }
   const std::size_t avail = size - data_offset;
   if (n > avail / record) {
-    if (avail == 0) {
-      n = 0;  // no point records at all (a header copied from another file): an empty cloud
-    } else {
-      throw DataError(name, "point data truncated: header says " + std::to_string(n) + " points of " +
-                                std::to_string(record) + " bytes, the file holds " + std::to_string(avail) +
-                                " bytes after the point data offset");
-    }
+    // Also when nothing follows the offset: a file cut there (or an offset moved to its end)
+    // is not an empty cloud (it was read as one, exit 0).
+    throw DataError(name, "point data truncated: header says " + std::to_string(n) + " points of " +
+                              std::to_string(record) + " bytes, the file holds " + std::to_string(avail) +
+                              " bytes after the point data offset" +
+                              (avail == 0 ? " (it ends there: truncated?)" : ""));
+  }
+  // Whole point records beyond the count, up to the EVLRs (1.4) or the waveform data (1.3+)
+  // when those follow the points: the count is wrong (a LAS 1.2 with count 0 and 100 records
+  // was read as 0 points). Fewer bytes than one record are tolerated as padding.
+  std::uint64_t end = size;
+  if (minor >= 3) {
+    const std::uint64_t waveform = get<std::uint64_t>(b + 227);
+    if (waveform >= data_offset && waveform < end) end = waveform;
+  }
+  if (minor >= 4 && get<std::uint32_t>(b + 243) > 0) {
+    const std::uint64_t evlr = get<std::uint64_t>(b + 235);
+    if (evlr >= data_offset && evlr < end) end = evlr;
+  }
+  const std::uint64_t extra = end - data_offset - std::min<std::uint64_t>(end - data_offset, n * record);
+  if (extra >= record) {
+    throw DataError(name, "LAS header says " + std::to_string(n) + " points of " + std::to_string(record) +
+                              " bytes, but " + std::to_string(extra) + " more bytes of point data (" +
+                              std::to_string(extra / record) + " records) follow them (a wrong point count?)");
   }
 }
 
@@ -603,7 +621,8 @@ ExtraFields extra_fields(const PointCloud& cloud, int format, const std::string&
 // The VLRs: Extra Bytes descriptors and canopy's comments (provenance).
 std::string las_vlrs(const PointCloud& cloud, const ExtraFields& x, std::uint32_t* count) {
   std::string comments;
-  for (const auto& c : cloud.comments) {
+  for (const auto& line : cloud.comments) {
+    const std::string c = header_safe_comment(line);  // one comment, one line of the VLR
     if (comments.size() + c.size() + 1 > 65535) break;
     comments += (comments.empty() ? "" : "\n") + c;
   }

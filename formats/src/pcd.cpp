@@ -17,6 +17,7 @@
 #include "binary_io.h"
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
+#include "canopy/formats/provenance.h"
 #include "lzf.h"
 
 namespace canopy::formats {
@@ -584,7 +585,8 @@ std::string serialize_pcd(const PointCloud& cloud) { return serialize_pcd(cloud,
 
 std::string serialize_pcd(const PointCloud& cloud, const PcdWriteOptions& options) {
   std::string out = "# .PCD v0.7 - Point Cloud Data file format\n";
-  for (const auto& c : cloud.comments) out += "# " + c + "\n";
+  // A comment never ends its line early (a newline in an input path): header_safe_comment.
+  for (const auto& c : cloud.comments) out += "# " + header_safe_comment(c) + "\n";
   std::string fields, sizes, types, counts;
   for (std::size_t i = 0; i < cloud.names().size(); ++i) {
     const auto t = cloud.types()[i];

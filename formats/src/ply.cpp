@@ -11,6 +11,7 @@
 #include "binary_io.h"
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
+#include "canopy/formats/provenance.h"
 
 namespace canopy::formats {
 namespace detail {
@@ -396,6 +397,31 @@ void skip_element(Body& body, const Element& e, int encoding, const std::string&
   }
 }
 
+// Nothing but white space (ascii) or nothing at all (binary) after the last element: data
+// left over means a count or a list length is wrong (a uchar list count that wrapped 1000 to
+// 232 left 3072 bytes of indices; they were ignored).
+void check_end(const Body& body, const Header& h, const std::string& bytes, const std::string& name) {
+  std::size_t at = body.position();
+  if (h.encoding == 0) {
+    while (at < bytes.size() &&
+           (bytes[at] == ' ' || bytes[at] == '\t' || bytes[at] == '\n' || bytes[at] == '\r')) {
+      ++at;
+    }
+  }
+  if (at >= bytes.size()) return;
+  const std::size_t left = bytes.size() - at;
+  std::string counts;
+  bool byte_count = false;  // a list with a one-byte count: a writer may have wrapped it
+  for (const auto& e : h.elements) {
+    counts += (counts.empty() ? "" : ", ") + std::to_string(e.count) + " " + detail::quote(e.name);
+    for (const auto& p : e.props) byte_count = byte_count || (p.is_list && p.count_type.size == 1);
+  }
+  throw DataError(name,
+                  std::to_string(left) + " bytes of data after the last element (the header says " + counts +
+                      "): a wrong element count or list length" +
+                      (h.encoding != 0 && byte_count ? " (a list of over 255 items in a uchar count?)" : ""));
+}
+
 // Face indices within the vertices, finite coordinates.
 void check_mesh(const Mesh& mesh, const std::string& name) {
   mesh.vertices.require({"x", "y", "z"}, name, "PLY vertices need x, y, z");
@@ -440,6 +466,7 @@ Mesh parse_ply(const std::string& bytes, const std::string& name) {
     }
   }
   if (!have_vertices) throw DataError(name, "PLY file has no vertex element");
+  check_end(body, h, bytes, name);
   check_mesh(mesh, name);
   return mesh;
 }
@@ -468,7 +495,7 @@ std::string serialize_ply(const Mesh& mesh, const PlyWriteOptions& options) {
   }
   std::string out = "ply\nformat ";
   out += ascii ? "ascii 1.0\n" : "binary_little_endian 1.0\n";
-  for (const auto& c : v.comments) out += "comment " + c + "\n";
+  for (const auto& c : v.comments) out += "comment " + header_safe_comment(c) + "\n";
   out += "element vertex " + std::to_string(v.size()) + "\n";
   static const std::set<std::string> kKnown = {"x",        "y",   "z",     "normal_x", "normal_y",
                                                "normal_z", "red", "green", "blue",     "alpha"};
@@ -509,6 +536,8 @@ void write_ply(const Mesh& mesh, const std::string& path, bool ascii) {
 }
 
 void write_ply(const Mesh& mesh, const std::string& path, const PlyWriteOptions& options) {
+  // What read_ply needs: a PLY without them could not be read back.
+  mesh.vertices.require({"x", "y", "z"}, common::display_name(path, true), "a PLY canopy writes has x, y, z");
   const auto n = static_cast<std::int64_t>(mesh.vertices.size());
   for (const auto& f : mesh.faces) {
     for (auto i : f) {

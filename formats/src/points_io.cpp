@@ -193,6 +193,10 @@ std::string serialize_points(const PointCloud& cloud, const std::string& path, c
   bool promote = false;
   for (const char* c : {"x", "y", "z"}) promote = promote || float32_loses(cloud, c);
   if (f == PointFormat::kPcd && !promote) return serialize_pcd(cloud, pcd);
+  if (f == PointFormat::kPly) {
+    // What read_ply needs: a PLY without them could not be read back.
+    cloud.require({"x", "y", "z"}, common::display_name(path, true), "a PLY canopy writes has x, y, z");
+  }
   Mesh m;  // PLY writes a Mesh; the copy also takes any promotion
   m.vertices = cloud;
   promote_coordinates(&m.vertices);

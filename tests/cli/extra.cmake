@@ -2,4 +2,4 @@
 # atomicity) and writes PNGs with libpng to truncate them for `figures grid`.
 find_package(PNG REQUIRED)
 target_link_libraries(${target} PRIVATE PNG::PNG)
-add_dependencies(${target} addnoise fitvox cocone ncut gmatch report figures)
+add_dependencies(${target} addnoise fitvox cocone ncut gmatch report figures pcd2ply)

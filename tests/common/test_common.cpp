@@ -549,3 +549,168 @@ TEST_CASE("parallel_for covers [0, n) once in fixed chunks and rethrows a worker
                                  }),
                     "chunk at 3");
 }
+
+// --- issue 25 (round 3): numbers and outputs ---------------------------------------------
+
+TEST_CASE("round 3: '8 mm', 1e-400, -0 and hex are refused on the command line") {
+  // A space between number and unit (a shell word or config value of two words).
+  CHECK_THROWS_WITH(parse_length("8 mm"), Catch::Contains("no space between the number and its unit") &&
+                                              Catch::Contains("write 8mm"));
+  CHECK_THROWS_AS(parse_angle("10 deg"), UsageError);
+  // Underflow: 1e-400 read as 0, 1e-310 as a subnormal.
+  CHECK_THROWS_WITH(parse_length("1e-400"), Catch::Contains("out of range"));
+  CHECK_THROWS_WITH(parse_length("1e-310mm"), Catch::Contains("out of range"));
+  CHECK(parse_length("1e-300") == 1e-300);
+  CHECK(parse_length("0e-400") == 0.0);  // a zero mantissa is zero, whatever the exponent
+  // Negative zero.
+  CHECK_THROWS_WITH(parse_length("-0"), Catch::Contains("negative zero"));
+  CHECK_THROWS_WITH(parse_angle("-0.0deg"), Catch::Contains("negative zero"));
+  CHECK_THROWS_AS(parse_length("-0e5mm"), UsageError);
+  CHECK_FALSE(std::signbit(parse_length("0")));
+  CHECK(parse_length("-0.5mm") == -0.0005);
+  using canopy::common::detail::check_real;
+  CHECK_FALSE(check_real("1e-400").empty());
+  CHECK_FALSE(check_real("-0").empty());
+  CHECK_FALSE(check_real("-0.000").empty());
+  CHECK_FALSE(check_real("0x1p0").empty());
+  CHECK(check_real("-0.001").empty());
+  CHECK(check_real("0").empty());
+  // parse_decimal: for options a tool reads itself (fitvox --support, lists).
+  CHECK(parse_decimal("0.75", "--support") == 0.75);
+  CHECK_THROWS_WITH(parse_decimal("0x1p0", "--support"),
+                    Catch::Contains("--support") && Catch::Contains("not a decimal number"));
+  CHECK_THROWS_AS(parse_decimal("0x10", "--x"), UsageError);
+  CHECK_THROWS_AS(parse_decimal("1e-400", "--x"), UsageError);
+  CHECK_THROWS_AS(parse_decimal("-0", "--x"), UsageError);
+  CHECK_THROWS_AS(parse_decimal("inf", "--x"), UsageError);
+  CHECK_THROWS_AS(parse_decimal("1 ", "--x"), UsageError);
+  CHECK_THROWS_AS(parse_decimal("", "--x"), UsageError);
+}
+
+TEST_CASE("round 3: a length option's error names the option") {
+  std::string err;
+  CHECK(run_tool({"--voxel", "8 mm", "-i", "a.pcd"}, &err) == 2);
+  CHECK_THAT(err, Catch::Contains("--voxel: '8 mm': no space"));
+  CHECK(run_tool({"--voxel", "-0", "-i", "a.pcd"}, &err) == 2);
+  CHECK_THAT(err, Catch::Contains("--voxel: '-0' is a negative zero"));
+  CHECK(run_tool({"--voxel", "1e-400", "-i", "a.pcd"}, &err) == 2);
+  CHECK_THAT(err, Catch::Contains("--voxel: '1e-400' is out of range"));
+  CHECK(run_tool({"--min-points", "0x10", "-i", "a.pcd"}, &err) == 2);
+  CHECK_THAT(err, Catch::Contains("--min-points"));
+}
+
+namespace {
+
+// A pipe whose write end is descriptor `at` (and whose read end is returned in *rd).
+void pipe_at(int at, int* rd) {
+  int p[2];
+  REQUIRE(pipe(p) == 0);
+  REQUIRE(dup2(p[1], at) == at);
+  close(p[1]);
+  *rd = p[0];
+}
+
+std::string read_all(int fd) {
+  std::string s;
+  char buf[256];
+  ssize_t n;
+  while ((n = read(fd, buf, sizeof buf)) > 0) s.append(buf, static_cast<std::size_t>(n));
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("round 3: /dev/fd/N and /proc/self/fd/N name the process's own descriptor, written as is") {
+  const int at = 57;
+  for (const std::string name : {"/dev/fd/57", "/proc/self/fd/57"}) {
+    int rd = -1;
+    pipe_at(at, &rd);
+    CHECK(writes_through(name));
+    CHECK_NOTHROW(check_output(name));
+    write_file_atomic(name, "through the pipe");
+    close(at);  // the only write end left: the reader sees the end
+    CHECK(read_all(rd) == "through the pipe");
+    close(rd);
+  }
+  // Also reached through a link of the user's (`latest -> /dev/fd/57`).
+  const std::string dir = make_dir("ownfd");
+  REQUIRE(symlink("/proc/self/fd/57", (dir + "/latest").c_str()) == 0);
+  int rd = -1;
+  pipe_at(at, &rd);
+  write_file_atomic(dir + "/latest", "via a link");
+  close(at);
+  CHECK(read_all(rd) == "via a link");
+  close(rd);
+  struct stat st {};
+  CHECK((lstat((dir + "/latest").c_str(), &st) == 0 && S_ISLNK(st.st_mode)));  // the link stays
+  // A file opened for appending is appended to, never truncated or replaced.
+  const std::string log = dir + "/log.txt";
+  { std::ofstream(log) << "first line\n"; }
+  const int fd = open(log.c_str(), O_WRONLY | O_APPEND);
+  REQUIRE(dup2(fd, at) == at);
+  close(fd);
+  struct stat before {};
+  REQUIRE(stat(log.c_str(), &before) == 0);
+  write_file_atomic("/dev/fd/57", "appended\n");
+  write_file_atomic("/proc/self/fd/57", "twice\n");
+  close(at);
+  CHECK(slurp(log) == "first line\nappended\ntwice\n");
+  struct stat after {};
+  REQUIRE(stat(log.c_str(), &after) == 0);
+  CHECK(after.st_ino == before.st_ino);  // the same file, not a renamed copy
+  CHECK(count_entries(dir) == 2);        // no temporary file left beside it
+}
+
+TEST_CASE("round 3: a descriptor that is closed or read-only is refused, naming the path") {
+  close(58);
+  CHECK_THROWS_WITH(check_output("/dev/fd/58"), Catch::Contains("/dev/fd/58") && Catch::Contains("not open"));
+  CHECK_THROWS_AS(write_file_atomic("/proc/self/fd/58", "x"), DataError);
+  const std::string dir = make_dir("ownfd_ro");
+  { std::ofstream(dir + "/in.txt") << "input"; }
+  const int fd = open((dir + "/in.txt").c_str(), O_RDONLY);
+  REQUIRE(dup2(fd, 58) == 58);
+  close(fd);
+  CHECK_THROWS_WITH(check_output("/dev/fd/58"), Catch::Contains("reading only"));
+  CHECK_THROWS_AS(write_file_atomic("/dev/fd/58", "x"), DataError);
+  close(58);
+  CHECK(slurp(dir + "/in.txt") == "input");
+}
+
+TEST_CASE("round 3: /dev/stdout is stdout: appended with >>, a pipe written, one output with '-'") {
+  const std::string dir = make_dir("stdout");
+  const std::string log = dir + "/log.txt";
+  { std::ofstream(log) << "first line, must survive\n"; }
+  // In a child: stdout opened O_APPEND on the log (`tool -o /dev/stdout >> log.txt`).
+  const pid_t pid = fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    const int fd = open(log.c_str(), O_WRONLY | O_APPEND);
+    if (fd < 0 || dup2(fd, STDOUT_FILENO) != STDOUT_FILENO) _exit(3);
+    try {
+      write_file_atomic("/dev/stdout", "one\n");
+      write_file_atomic("/proc/self/fd/1", "two\n");
+    } catch (...) { _exit(4); }
+    _exit(0);
+  }
+  int status = 0;
+  REQUIRE(waitpid(pid, &status, 0) == pid);
+  CHECK((WIFEXITED(status) && WEXITSTATUS(status) == 0));
+  CHECK(slurp(log) == "first line, must survive\none\ntwo\n");
+  // "-" and /dev/stdout are one output: an output set refuses both.
+  CHECK(output_identity("-") == output_identity("/dev/stdout"));
+  OutputSet set;
+  set.add("/dev/stdout", "-o");
+  CHECK_THROWS_AS(set.add("-", "--colored"), UsageError);
+}
+
+TEST_CASE("round 3: naming_input names the input in a stage's errors, once") {
+  CHECK(naming_input("a.pcd", [] { return 7; }) == 7);
+  CHECK_THROWS_WITH(naming_input("a.pcd", []() -> int { throw Error("voxel index overflow"); }),
+                    "a.pcd: voxel index overflow");
+  CHECK_THROWS_AS(naming_input("a.pcd", []() -> int { throw std::runtime_error("extent"); }), DataError);
+  CHECK_THROWS_WITH(naming_input("-", []() -> int { throw std::runtime_error("extent"); }),
+                    "<stdin>: extent");
+  CHECK_THROWS_WITH(naming_input("a.pcd", []() -> int { throw DataError("b.pcd", "bad"); }), "b.pcd: bad");
+  CHECK_THROWS_AS(naming_input("a.pcd", []() -> int { throw UsageError("--x"); }), UsageError);
+  CHECK_THROWS_AS(naming_input("a.pcd", []() -> int { throw std::bad_alloc(); }), std::bad_alloc);
+}

@@ -188,8 +188,37 @@ TEST_CASE("LAS Extra Bytes: described fields become named columns, undocumented 
   }
 }
 
-TEST_CASE("LAS with no point records reads as an empty cloud", "[las]") {
-  CHECK(read_las(data("perm-1.2-no-points.las")).size() == 0);
+TEST_CASE("LAS whose header counts points the file does not hold is refused (issue 25)", "[las]") {
+  // PDAL's file: 1065 points in the header, the file ends at the point data offset. It was read
+  // as an empty cloud (exit 0), like any LAS cut there.
+  CHECK_THROWS_WITH(
+      read_las(data("perm-1.2-no-points.las")),
+      Catch::Contains("perm-1.2-no-points.las: point data truncated: header says 1065 points") &&
+          Catch::Contains("it ends there"));
+  // The round-3 reproducers: 100 points cut exactly at the offset; count 0 with 100 records.
+  CHECK_THROWS_WITH(read_las(data("las-trunc-at-point-offset.las")),
+                    Catch::Contains("header says 100 points of 34 bytes, the file holds 0 bytes"));
+  CHECK_THROWS_WITH(
+      read_las(data("las12-count0-with-data.las")),
+      Catch::Contains("las12-count0-with-data.las: LAS header says 0 points of 34 bytes, but 3400 "
+                      "more bytes of point data (100 records) follow them"));
+  // Made from the 100-point file: the offset moved to the end of the file; a count below the
+  // records; a count of 0 with nothing after the offset is an empty cloud; less than one record
+  // of padding after the points is tolerated.
+  const std::string good = slurp(data("100-points.las"));
+  std::string b = good;
+  set<std::uint32_t>(&b, 96, static_cast<std::uint32_t>(good.size()));
+  CHECK(contains(las_error(b), "header says 100 points of 34 bytes, the file holds 0 bytes"));
+  b = good;
+  set<std::uint32_t>(&b, 107, 60);
+  CHECK(contains(las_error(b),
+                 "header says 60 points of 34 bytes, but 1360 more bytes of point data (40 records)"));
+  b = good.substr(0, 227);
+  set<std::uint32_t>(&b, 107, 0);
+  CHECK(parse_las(b, "empty.las").size() == 0);
+  b = good + std::string(33, '\0');
+  CHECK(parse_las(b, "padded.las").size() == 100);
+  CHECK(contains(las_error(good + std::string(34, '\0')), "1 records) follow them"));
 }
 
 TEST_CASE("broken LAS files from other software fail cleanly, naming the file", "[las]") {
@@ -280,11 +309,7 @@ TEST_CASE("broken LAS headers: clear errors, no allocation beyond the file", "[l
   // Every prefix of a valid file: an error or (cut exactly after whole records) fewer points.
   for (std::size_t n = 0; n < good.size(); ++n) {
     const std::string e = las_error(good.substr(0, n));
-    if (n == 227) {
-      CHECK(e.empty());  // no point records at all: see the no-points file
-    } else {
-      CHECK_FALSE(e.empty());
-    }
+    CHECK_FALSE(e.empty());  // cut at the point data offset (227) too: 100 points are missing
   }
 }
 

@@ -252,3 +252,34 @@ TEST_CASE("the affinity's radius is the graph's cut-off (one radius)") {
   build_affinity_graph(pts, {}, ThesisAffinity(pts, ap), sp, &st);
   CHECK(st.pairs_within_radius == 7);
 }
+
+TEST_CASE("zero-area input and segments are refused, naming the mesh (issue 25)") {
+  // Every face degenerate (all vertices at one point: the round-3 reproducer's shape).
+  canopy::formats::Mesh flat;
+  for (const char* f : {"x", "y", "z"}) flat.vertices.add(f, canopy::formats::kFloat32);
+  flat.vertices.resize(4);
+  for (std::size_t i = 0; i < 4; ++i) flat.vertices.col("x")[i] = 1, flat.vertices.col("y")[i] = 1;
+  flat.faces = {{0, 1, 2}, {1, 2, 3}};
+  CHECK_THROWS_WITH(input_from_mesh(flat, "same.ply"),
+                    Catch::Contains("same.ply: all 2 faces have zero area"));
+  // Collinear vertices: zero area too.
+  for (std::size_t i = 0; i < 4; ++i) flat.vertices.col("x")[i] = static_cast<double>(i);
+  CHECK_THROWS_WITH(input_from_mesh(flat, "line.ply"),
+                    Catch::Contains("line.ply: all 2 faces have zero area"));
+  // One real triangle: accepted.
+  flat.vertices.col("y")[2] = 2;
+  CHECK(input_from_mesh(flat, "ok.ply").faces.size() == 2);
+
+  // A plane plus one vertex in no face, 50 m away: that vertex becomes a segment of its own with
+  // no area, which gmatch and the segment graph's readers refuse.
+  TestMesh m = two_planes(1.0, 0.1);
+  m.in.points.push_back({50, 50, 50});
+  m.in.normals.push_back({0, 0, 1});
+  const Result r = run(m.in, Params{});
+  REQUIRE(r.graph.segments.size() == 3);
+  CHECK(r.graph.segments[2].vertex_count == 1);
+  CHECK(r.graph.segments[2].area == 0);
+  CHECK_THROWS_WITH(check_segments(r, "orphan.ply"),
+                    Catch::Contains("orphan.ply: segment 2 (1 vertices) has zero area"));
+  CHECK_NOTHROW(check_segments(run(two_planes(1.0, 0.1).in, Params{}), "planes.ply"));
+}

@@ -61,15 +61,8 @@ int main(int argc, char** argv) {
   return tool.run(argc, argv, [&] {
     formats::output_format(out);
     const formats::PcdWriteOptions pcd = formats::parse_pcd_encoding(pcd_encoding);
-    if (support != "auto") {
-      try {
-        std::size_t used = 0;
-        p.support = std::stod(support, &used);
-        if (used != support.size()) throw std::invalid_argument(support);
-      } catch (const std::exception&) {
-        throw common::UsageError("--support: '" + support + "' is neither 'auto' nor a number");
-      }
-    }
+    // Decimal only (std::stod read "0x1p0" as 1 and "1e-400" as 0).
+    if (support != "auto") p.support = common::parse_decimal(support, "--support ('auto' or a number)");
     if (support != "auto" && !(p.support > 0)) throw common::UsageError("need --support auto or > 0");
     if (noise != "auto") {
       p.noise = common::parse_length(noise);
@@ -86,7 +79,7 @@ int main(int argc, char** argv) {
       common::log::warn(common::display_name(in) + ": no sensor_x/y/z fields: normals oriented toward +z");
     }
     common::log::Phase fit("fit");
-    const fitvox::Result r = fitvox::run(scan, p);
+    const fitvox::Result r = common::naming_input(in, [&] { return fitvox::run(scan, p); });
     const fitvox::Stats& s = r.stats;
     fit.done(summary(p, s));
     if (r.samples.empty()) {

@@ -111,7 +111,8 @@ int main(int argc, char** argv) {
       common::log::info(common::display_name(c.in) + ": no normals; using area-weighted face normals");
     }
     common::log::Phase seg("segment");
-    const ncut::Result r = ncut::run(input, p);
+    const ncut::Result r = common::naming_input(c.in, [&] { return ncut::run(input, p); });
+    ncut::check_segments(r, common::display_name(c.in));
     seg.done(summary(r));
     if (r.stats.vertices_without_normal > 0) {
       common::log::warn(std::to_string(r.stats.vertices_without_normal) +

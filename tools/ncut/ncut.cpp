@@ -97,7 +97,24 @@ Input input_from_mesh(const formats::Mesh& mesh, const std::string& name) {
     }
     in.faces.push_back({t[0], t[1], t[2]});
   }
+  double area = 0;
+  for (const auto& f : in.faces) area += triangle_area(in.points[f[0]], in.points[f[1]], in.points[f[2]]);
+  if (!(area > 0)) {
+    throw common::DataError(name, "all " + std::to_string(in.faces.size()) +
+                                      " faces have zero area (their vertices coincide or are collinear): "
+                                      "no surface to segment");
+  }
   return in;
+}
+
+void check_segments(const Result& r, const std::string& name) {
+  for (const formats::Segment& s : r.graph.segments) {
+    if (s.area > 0 && std::isfinite(s.area)) continue;
+    throw common::DataError(
+        name, "segment " + std::to_string(s.segment_id) + " (" + std::to_string(s.vertex_count) +
+                  " vertices) has zero area: its vertices lie on no face of nonzero area (unreferenced "
+                  "vertices or degenerate faces); a segment graph needs area > 0 in every segment");
+  }
 }
 
 std::vector<Vector3d> vertex_normals(const std::vector<Vector3d>& points,

@@ -72,6 +72,11 @@ std::vector<std::array<int, 2>> mesh_edges(const std::vector<std::array<int, 3>>
 
 Result run(const Input& in, const Params& params);
 
+// Every segment has an area > 0 (what read_segment_graph and gmatch require); else a DataError
+// naming `name` (the mesh) and the segment. A mesh whose faces all have zero area is refused
+// earlier, by input_from_mesh.
+void check_segments(const Result& result, const std::string& name);
+
 // Attributes of the segments given a segment id per vertex (ids 0..k-1, each used).
 std::vector<formats::Segment> segment_attributes(const Input& in, const std::vector<Eigen::Vector3d>& normals,
                                                  const std::vector<int>& segment, int count, PcaWeighting pca);

@@ -18,7 +18,8 @@ struct Params {
 inline void validate(const Params&) {}
 
 // The PLY point set of `cloud`: every field a vertex property, no faces; the cloud's comments
-// then formats::provenance_comments(provenance).
+// then formats::provenance_comments(provenance). A cloud without x, y, z is refused
+// (DataError naming provenance.inputs[0]): canopy could not read that PLY back.
 formats::Mesh run(formats::PointCloud cloud, const formats::Provenance& provenance);
 
 }  // namespace canopy::pcd2ply

@@ -10,6 +10,12 @@
 //   - an existing FIFO, character or block device: written through (opened for writing, never
 //     replaced, never unlinked); the data is held in memory and written at commit(), so a run
 //     that fails before commit() writes nothing to it.
+//   - a name of one of the process's own open descriptors (/dev/stdout, /dev/stderr,
+//     /dev/fd/N, /proc/self/fd/N, /proc/<pid>/fd/N, also through links): that descriptor is
+//     written, as "-" writes stdout: at its offset, appended to when it was opened O_APPEND
+//     (`-o /dev/stdout >> log`), a pipe or a `>(cmd)` FIFO written through. Never reopened by
+//     name (a pipe has none; reopening a file would truncate or overwrite it). It must be open
+//     for writing.
 //   - a directory or a socket: an error naming the path.
 #pragma once
 
@@ -67,13 +73,16 @@ void write_file_atomic(const std::string& path, const std::string& bytes);
 // resolve within 40 hops. Throws DataError naming the path and the problem (exit code 1).
 void check_output(const std::string& path);
 
-// True for "-" and for a path that (symbolic links followed) is an existing FIFO or character
-// or block device: an output that is written through, not replaced. Such a path has no
+// True for "-", for a name of one of the process's own descriptors (/dev/stdout, /dev/fd/63)
+// and for a path that (symbolic links followed) is an existing FIFO or character or block
+// device: an output that is written through, not replaced. Such a path has no
 // meaningful extension (`-o >(wc -c)` is /dev/fd/63): choose its format as for "-".
 bool writes_through(const std::string& path);
 
 // Canonical identity of an output path (symbolic links and "..", "." resolved; an existing
-// file by device and inode), so two spellings of one file compare equal. "-" is "-".
+// file by device and inode), so two spellings of one file compare equal. "-" and the names of
+// the process's own descriptors are what the descriptor is open on (so "-" and /dev/stdout
+// are the same output).
 std::string output_identity(const std::string& path);
 
 // Several outputs of one run, atomic as a whole: add() every output before the work (each is

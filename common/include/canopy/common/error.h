@@ -3,6 +3,7 @@
 // exception type to the exit code: UsageError -> 2, every other Error -> 1.
 #pragma once
 
+#include <new>
 #include <stdexcept>
 #include <string>
 
@@ -37,5 +38,21 @@ class DataError : public Error {
 
 // Display name of a path for messages: "-" is shown as "<stdin>" / "<stdout>".
 std::string display_name(const std::string& path, bool output = false);
+
+// Runs f() and returns what it returns; any exception but a UsageError, a DataError (which
+// names its file already) and std::bad_alloc comes out as a DataError naming `path` (its
+// display_name). For a stage whose every failure is about its one input: fitvox's "voxel index
+// overflow: point 0 has x = 1e+30 m" and ncut's "point set extent exceeds 2^20 affinity radii"
+// named no file.
+template <typename F>
+decltype(auto) naming_input(const std::string& path, F&& f) {
+  try {
+    return f();
+  } catch (const UsageError&) { throw; } catch (const DataError&) {
+    throw;
+  } catch (const std::bad_alloc&) { throw; } catch (const std::exception& e) {
+    throw DataError(display_name(path), e.what());
+  }
+}
 
 }  // namespace canopy::common

@@ -12,6 +12,17 @@ namespace canopy::common {
 // "nan" and leading spaces are not numbers here.
 std::size_t decimal_prefix(const std::string& text);
 
+// "" when `number` (a whole decimal_prefix) is a usable double, else the message: beyond
+// DBL_MAX ("1e999"), nonzero but below DBL_MIN (1e-400 would silently become 0, 1e-310 a
+// subnormal), or a negative zero ("-0", "-0.0e5": a minus sign that changes nothing but
+// printing and 1/x).
+std::string decimal_problem(const std::string& number);
+
+// A decimal real number (the grammar of decimal_prefix, the whole text, decimal_problem ""),
+// for options a tool parses itself ("auto" or a number, lists): UsageError naming `what`
+// (e.g. "--support") otherwise. No hex ("0x10", "0x1p0"), "inf", "nan", spaces or suffixes.
+double parse_decimal(const std::string& text, const std::string& what);
+
 // Returns metres.
 double parse_length(const std::string& text);
 // Returns radians.

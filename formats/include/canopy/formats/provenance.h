@@ -23,7 +23,22 @@ struct Provenance {
 //   <tool> (canopy) <version>
 //   parameter <name> = <value>    one per option, in the order given
 //   input <path>                  one per input, as given
+// Every name, value and path is escape_comment_text'ed: a newline in an input path cannot end
+// the comment line (and with it the header).
 std::vector<std::string> provenance_comments(const Provenance& provenance);
+
+// Text made safe for a header comment line, reversibly: a backslash becomes "\\", newline
+// "\n", carriage return "\r", tab "\t", every other control byte (below 0x20, and 0x7f)
+// "\xHH". Other bytes (UTF-8 too) are kept. unescape_comment_text reverses it (a backslash
+// followed by anything else is kept as it is).
+std::string escape_comment_text(const std::string& text);
+std::string unescape_comment_text(const std::string& text);
+
+// What the PCD, PLY and LAS writers do to every comment line they write: control bytes are
+// escaped as by escape_comment_text, everything else (backslashes too) is kept, so an
+// already-escaped line (provenance_comments) is written unchanged and no comment can break
+// the header or split into two comments.
+std::string header_safe_comment(const std::string& line);
 
 // The same provenance as the "provenance" object of a canopy JSON document:
 //   {"tool": ..., "version": ..., "parameters": {name: value, ...}, "inputs": [path, ...]}
