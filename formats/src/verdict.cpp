@@ -70,10 +70,15 @@ double number_at(const Json& j, const char* key, const std::string& where) {
 // An integer in [lo, hi]: 1.5, 1e30, 2.0 or "1" are refused, never cast.
 int int_at(const Json& j, const char* key, const std::string& where, long long lo, long long hi) {
   const Json& v = at(j, key, where);
-  const bool integer = v.is_number_integer() || v.is_number_unsigned();
-  const bool in_range =
-      integer && (v.is_number_unsigned() ? v.get<unsigned long long>() <= static_cast<unsigned long long>(hi)
-                                         : v.get<long long>() >= lo && v.get<long long>() <= hi);
+  // nlohmann stores non-negative integers as unsigned: compare those without a signed cast.
+  bool in_range = false;
+  if (v.is_number_unsigned()) {
+    const auto u = v.get<unsigned long long>();
+    in_range =
+        u <= static_cast<unsigned long long>(hi) && (lo <= 0 || u >= static_cast<unsigned long long>(lo));
+  } else if (v.is_number_integer()) {
+    in_range = v.get<long long>() >= lo && v.get<long long>() <= hi;
+  }
   if (!in_range) {
     throw Malformed(name_of(where, key) + " must be an integer in [" + std::to_string(lo) + ", " +
                     std::to_string(hi) + "], not " + describe(v));

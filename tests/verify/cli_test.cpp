@@ -442,3 +442,57 @@ TEST_CASE("a hypothesis whose model is a path is refused before the modelbase is
         std::string::npos);
   CHECK(!fs::exists(c.dir / "v.json"));
 }
+
+TEST_CASE("the verdict reader types every member and never casts a number to int", "[verify][formats]") {
+  fm::Verdict v;
+  v.provenance = {"verify", "0.1.0", {{"top-k", "3"}}, {"m.json", "s.pcd"}};
+  v.candidate = "s.pcd";
+  fm::Hypothesis h;
+  h.model = "sedan";
+  h.gmatch_rank = 1;
+  h.start = "pairs";
+  v.hypotheses = {h};
+  v.chosen = 0;
+  v.model = "sedan";
+  v.confidence = 0.5;
+  v.has_classes = true;
+  v.vehicle_class = "car";
+  v.nearest_instance = "sedan";
+  const std::string text = fm::serialize_verdict(v);
+  REQUIRE(fm::serialize_verdict(fm::parse_verdict(text, "v.json")) == text);
+  auto edited = [&](const std::string& from, const std::string& to) {
+    std::string t = text;
+    const auto at = t.find(from);
+    REQUIRE(at != std::string::npos);
+    return t.replace(at, from.size(), to);
+  };
+  struct Bad {
+    std::string from, to, why;
+  };
+  for (const auto& b : std::vector<Bad>{
+           {"\"gmatch_rank\": 1", "\"gmatch_rank\": 1.5",
+            "hypotheses[0].gmatch_rank must be an integer in [1, "},
+           {"\"gmatch_rank\": 1", "\"gmatch_rank\": 1e30", "hypotheses[0].gmatch_rank must be an integer"},
+           {"\"gmatch_rank\": 1", "\"gmatch_rank\": 0", "hypotheses[0].gmatch_rank must be an integer"},
+           {"\"chosen\": 0", "\"chosen\": 0.0", "chosen must be an integer in [-1, "},
+           {"\"chosen\": 0", "\"chosen\": -2", "chosen must be an integer"},
+           {"\"chosen\": 0", "\"chosen\": 4294967296", "chosen must be an integer"},
+           {"\"chosen\": 0", "\"chosen\": 1", "chosen is not -1 or a hypothesis index"},
+           {"\"model\": \"sedan\",\n \"confidence\"", "\"model\": \"../sedan\",\n \"confidence\"",
+            "model must be a model name"},
+           {"\"nearest_instance\": \"sedan\"", "\"nearest_instance\": \"a/b\"",
+            "nearest_instance must be a model name"},
+           {"\"class\": \"car\"", "\"class\": 7", "class must be a model name"},
+           {"\"confidence\": 0.5", "\"confidence\": \"0.5\"", "confidence must be a number, not \"0.5\""},
+           {"\"flipped\": false", "\"flipped\": 0", "hypotheses[0].flipped must be true or false, not 0"},
+           {"\"candidate\": \"s.pcd\"", "\"candidate\": null", "candidate must be a string, not null"},
+           {"\"hypotheses\": [", "\"hypotheses\": [3, ", "hypotheses[0] must be an object, not 3"},
+           {"\"transform\": null", "\"transform\": {\"matrix\": [1, 2]}",
+            "transform.matrix must be 16 numbers"},
+           {"\"transform\": null", "\"transform\": 5", "transform must be an object, not 5"},
+       }) {
+    INFO(b.to);
+    CHECK_THROWS_WITH(fm::parse_verdict(edited(b.from, b.to), "v.json"),
+                      Catch::StartsWith("v.json: malformed verdict: " + b.why));
+  }
+}
