@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
 #include <nlohmann/json.hpp>
 
 #include "canopy/common/atomic_file.h"
@@ -40,18 +42,93 @@ Json pose_json(const Pose& p) {
               {"roll_deg", e[2]}};
 }
 
-Pose pose_from(const Json& j) {
-  const auto m = j.at("matrix").get<std::vector<double>>();
-  if (m.size() != 16) throw std::invalid_argument("pose matrix needs 16 numbers");
+// A malformed member: parse_verdict adds the file ("malformed verdict: hypotheses[1].score ...").
+using Malformed = MalformedField;
+
+std::string describe(const Json& v) {
+  if (v.is_array()) return "an array";
+  if (v.is_object()) return "an object";
+  std::string s = v.dump(-1, ' ', true, Json::error_handler_t::replace);
+  return s.size() > 40 ? s.substr(0, 40) + "..." : s;
+}
+
+const Json& at(const Json& j, const char* key, const std::string& where) {
+  return json_member(j, key, where.empty() ? "verdict" : where);
+}
+
+std::string name_of(const std::string& where, const char* key) {
+  return where.empty() ? std::string(key) : where + "." + key;
+}
+
+// A finite number (JSON has no NaN; numbers beyond double's range are refused when opening).
+double number_at(const Json& j, const char* key, const std::string& where) {
+  const Json& v = at(j, key, where);
+  if (!v.is_number()) throw Malformed(name_of(where, key) + " must be a number, not " + describe(v));
+  return v.get<double>();
+}
+
+// An integer in [lo, hi]: 1.5, 1e30, 2.0 or "1" are refused, never cast.
+int int_at(const Json& j, const char* key, const std::string& where, long long lo, long long hi) {
+  const Json& v = at(j, key, where);
+  // nlohmann stores non-negative integers as unsigned: compare those without a signed cast.
+  bool in_range = false;
+  if (v.is_number_unsigned()) {
+    const auto u = v.get<unsigned long long>();
+    in_range =
+        u <= static_cast<unsigned long long>(hi) && (lo <= 0 || u >= static_cast<unsigned long long>(lo));
+  } else if (v.is_number_integer()) {
+    in_range = v.get<long long>() >= lo && v.get<long long>() <= hi;
+  }
+  if (!in_range) {
+    throw Malformed(name_of(where, key) + " must be an integer in [" + std::to_string(lo) + ", " +
+                    std::to_string(hi) + "], not " + describe(v));
+  }
+  return static_cast<int>(v.get<long long>());
+}
+
+std::string string_at(const Json& j, const char* key, const std::string& where) {
+  const Json& v = at(j, key, where);
+  if (!v.is_string()) throw Malformed(name_of(where, key) + " must be a string, not " + describe(v));
+  return v.get<std::string>();
+}
+
+bool bool_at(const Json& j, const char* key, const std::string& where) {
+  const Json& v = at(j, key, where);
+  if (!v.is_boolean()) throw Malformed(name_of(where, key) + " must be true or false, not " + describe(v));
+  return v.get<bool>();
+}
+
+// A model (or class) name: null = "" when `nullable`, else a name by is_model_name.
+std::string name_at(const Json& j, const char* key, const std::string& where, bool nullable) {
+  const Json& v = at(j, key, where);
+  if (nullable && v.is_null()) return "";
+  if (!v.is_string() || !is_model_name(v.get<std::string>())) {
+    throw Malformed(name_of(where, key) +
+                    " must be a model name (a file stem: no '/', not . or .., no control characters), not " +
+                    describe(v));
+  }
+  return v.get<std::string>();
+}
+
+Pose pose_from(const Json& j, const std::string& where) {
+  if (!j.is_object()) throw Malformed(where + " must be an object, not " + describe(j));
+  const Json& m = at(j, "matrix", where);
+  if (!m.is_array() || m.size() != 16) throw Malformed(where + ".matrix must be 16 numbers");
+  for (const auto& v : m) {
+    if (!v.is_number()) throw Malformed(where + ".matrix must be 16 numbers, not " + describe(v));
+  }
   Pose p;
   for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) p.rotation[3 * r + c] = m[4 * r + c];
-    p.translation[r] = m[4 * r + 3];
-  }
-  for (double v : m) {
-    if (!std::isfinite(v)) throw std::invalid_argument("pose matrix has a non-finite number");
+    for (int c = 0; c < 3; ++c) p.rotation[3 * r + c] = m[4 * r + c].get<double>();
+    p.translation[r] = m[4 * r + 3].get<double>();
   }
   return p;
+}
+
+std::optional<Pose> optional_pose_from(const Json& j, const char* key, const std::string& where) {
+  const Json& v = at(j, key, where);
+  if (v.is_null()) return std::nullopt;
+  return pose_from(v, name_of(where, key));
 }
 
 Json optional_pose(const std::optional<Pose>& p) { return p ? pose_json(*p) : Json(nullptr); }
@@ -73,21 +150,22 @@ Json hypothesis_json(const Hypothesis& h, bool has_classes) {
   return j;
 }
 
-Hypothesis hypothesis_from(const Json& j) {
+Hypothesis hypothesis_from(const Json& j, const std::string& w) {
+  if (!j.is_object()) throw Malformed(w + " must be an object, not " + describe(j));
   Hypothesis h;
-  h.model = j.at("model").get<std::string>();
-  h.gmatch_rank = j.at("gmatch_rank").get<int>();
-  h.gmatch_score = j.at("gmatch_score").get<double>();
-  h.start = j.at("start").get<std::string>();
-  h.flipped = j.at("flipped").get<bool>();
-  h.pose = pose_from(j.at("pose"));
-  if (!j.at("pose_tile").is_null()) h.pose_tile = pose_from(j.at("pose_tile"));
-  h.fit_rms = j.at("fit_rms").get<double>();
-  h.explained = j.at("explained").get<double>();
-  h.free_space_violation = j.at("free_space_violation").get<double>();
-  h.score = j.at("score").get<double>();
-  h.flip_score = j.at("flip_score").get<double>();
-  if (j.contains("class") && !j.at("class").is_null()) h.vehicle_class = j.at("class").get<std::string>();
+  h.model = name_at(j, "model", w, false);
+  h.gmatch_rank = int_at(j, "gmatch_rank", w, 1, std::numeric_limits<int>::max());
+  h.gmatch_score = number_at(j, "gmatch_score", w);
+  h.start = string_at(j, "start", w);
+  h.flipped = bool_at(j, "flipped", w);
+  h.pose = pose_from(at(j, "pose", w), w + ".pose");
+  h.pose_tile = optional_pose_from(j, "pose_tile", w);
+  h.fit_rms = number_at(j, "fit_rms", w);
+  h.explained = number_at(j, "explained", w);
+  h.free_space_violation = number_at(j, "free_space_violation", w);
+  h.score = number_at(j, "score", w);
+  h.flip_score = number_at(j, "flip_score", w);
+  if (j.contains("class")) h.vehicle_class = name_at(j, "class", w, true);
   return h;
 }
 
@@ -138,38 +216,58 @@ Verdict parse_verdict(const std::string& text, const std::string& name) {
   const Json j = open_json_document(text, name, kFormat);
   Verdict v;
   try {
-    const Json& p = j.at("provenance");
-    v.provenance.tool = p.at("tool").get<std::string>();
-    v.provenance.version = p.at("version").get<std::string>();
-    for (const auto& [k, val] : p.at("parameters").items()) {
+    const Json& p = at(j, "provenance", "");
+    if (!p.is_object()) throw Malformed("provenance must be an object, not " + describe(p));
+    v.provenance.tool = string_at(p, "tool", "provenance");
+    v.provenance.version = string_at(p, "version", "provenance");
+    const Json& parameters = at(p, "parameters", "provenance");
+    if (!parameters.is_object()) throw Malformed("provenance.parameters must be an object");
+    for (const auto& [k, val] : parameters.items()) {
+      if (!val.is_string())
+        throw Malformed("provenance.parameters." + k + " must be a string, not " + describe(val));
       v.provenance.parameters.emplace_back(k, val.get<std::string>());
     }
-    v.provenance.inputs = p.at("inputs").get<std::vector<std::string>>();
-    v.candidate = j.at("candidate").get<std::string>();
-    v.model = j.at("model").is_null() ? "" : j.at("model").get<std::string>();
-    v.confidence = j.at("confidence").get<double>();
-    if (!(v.confidence >= 0 && v.confidence <= 1)) throw std::invalid_argument("confidence outside [0, 1]");
-    if (!j.at("transform").is_null()) v.transform = pose_from(j.at("transform"));
-    for (const auto& h : j.at("hypotheses")) v.hypotheses.push_back(hypothesis_from(h));
-    v.chosen = j.at("chosen").get<int>();
+    const Json& inputs = at(p, "inputs", "provenance");
+    if (!inputs.is_array()) throw Malformed("provenance.inputs must be an array of strings");
+    for (const auto& in : inputs) {
+      if (!in.is_string())
+        throw Malformed("provenance.inputs must be an array of strings, not " + describe(in));
+      v.provenance.inputs.push_back(in.get<std::string>());
+    }
+    v.candidate = string_at(j, "candidate", "");
+    v.model = name_at(j, "model", "", true);
+    v.confidence = number_at(j, "confidence", "");
+    if (!(v.confidence >= 0 && v.confidence <= 1)) throw Malformed("confidence outside [0, 1]");
+    v.transform = optional_pose_from(j, "transform", "");
+    const Json& hyps = at(j, "hypotheses", "");
+    if (!hyps.is_array()) throw Malformed("hypotheses must be an array, not " + describe(hyps));
+    for (std::size_t i = 0; i < hyps.size(); ++i) {
+      v.hypotheses.push_back(hypothesis_from(hyps[i], "hypotheses[" + std::to_string(i) + "]"));
+    }
+    v.chosen = int_at(j, "chosen", "", -1, std::numeric_limits<int>::max());
     if (j.contains("class")) {
       v.has_classes = true;
-      v.vehicle_class = j.at("class").is_null() ? "" : j.at("class").get<std::string>();
-      v.nearest_instance =
-          j.at("nearest_instance").is_null() ? "" : j.at("nearest_instance").get<std::string>();
-      v.class_score = j.at("class_score").get<double>();
-      v.class_margin = j.at("class_margin").get<double>();
+      v.vehicle_class = name_at(j, "class", "", true);
+      v.nearest_instance = name_at(j, "nearest_instance", "", true);
+      v.class_score = number_at(j, "class_score", "");
+      v.class_margin = number_at(j, "class_margin", "");
     }
-    if (v.chosen < -1 || v.chosen >= static_cast<int>(v.hypotheses.size())) {
-      throw std::invalid_argument("chosen is not -1 or a hypothesis index");
+    if (v.chosen >= static_cast<int>(v.hypotheses.size())) {
+      throw Malformed("chosen is not -1 or a hypothesis index");
     }
     if ((v.chosen >= 0) != !v.model.empty() || (v.chosen >= 0 && v.hypotheses[v.chosen].model != v.model)) {
-      throw std::invalid_argument("model and chosen disagree");
+      throw Malformed("model and chosen disagree");
     }
-  } catch (const DataError&) { throw; } catch (const std::exception& e) {
-    throw DataError(name, std::string("malformed verdict: ") + e.what());
-  }
+  } catch (const Malformed& e) { throw DataError(name, std::string("malformed verdict: ") + e.what()); }
   return v;
+}
+
+bool is_model_name(const std::string& name) {
+  if (name.empty() || name.size() > 255 || name == "." || name == "..") return false;
+  for (const unsigned char c : name) {
+    if (c == '/' || c < 0x20 || c == 0x7f) return false;
+  }
+  return true;
 }
 
 Verdict read_verdict(const std::string& path) { return parse_verdict(common::read_file(path), path); }

@@ -3,7 +3,10 @@
 
 #include <Eigen/Geometry>
 
+#include <array>
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include "areas/areas.h"
 #include "canopy/common/error.h"
@@ -110,6 +113,64 @@ TEST_CASE("areas.json round trip and a foreign document named") {
   CHECK_THROWS_AS(areas::parse("{\"format\": \"canopy.segment_graph\", \"version\": 1}", "x.json"),
                   common::DataError);
   CHECK_THROWS_AS(areas::parse("not json", "y.json"), common::DataError);
+  // Every member typed: no cast from 1.5 to 1, no negative area, the version checked.
+  const std::string text = areas::serialize(a, {"scan.pcd"});
+  auto edited = [&](const std::string& from, const std::string& to) {
+    std::string t = text;
+    const auto at = t.find(from);
+    REQUIRE(at != std::string::npos);
+    return t.replace(at, from.size(), to);
+  };
+  for (const auto& [from, to, why] : std::vector<std::array<std::string, 3>>{
+           {"\"max_segments\": 15", "\"max_segments\": 15.5", "max_segments must be an integer"},
+           {"\"max_segments\": 15", "\"max_segments\": 0", "max_segments must be an integer"},
+           {"\"target_points\": 1234", "\"target_points\": -1", "target_points must be an integer"},
+           {"\"target_points\": 1234", "\"target_points\": 1e30", "target_points must be an integer"},
+           {"\"segments\": 20.5", "\"segments\": -1e+308", "segments must be a number >= 0"},
+           {"\"cell\": 0.045", "\"cell\": 0", "cell must be a positive number"},
+           {"\"visible\": 44.5", "\"visible\": \"44.5\"", "visible must be a number"},
+           {"\"visible\": 44.5, ", "", "missing \"visible\""},
+           {"\"version\": 1", "\"version\": 2", "version 2"},
+           {"\"version\": 1", "\"version\": 1.0", "version"}}) {
+    INFO(to);
+    CHECK_THROWS_WITH(areas::parse(edited(from, to), "z.json"),
+                      Catch::Contains("z.json") && Catch::Contains(why));
+  }
+}
+
+TEST_CASE("validate: the cell is bounded by the spacing (round 3: --cell 1e-6 gave 101.84 m² for 16.35)") {
+  areas::Params p;
+  CHECK_NOTHROW(areas::validate(p));
+  p.cell = 1e-6;
+  CHECK_THROWS_WITH(areas::validate(p), Catch::Contains("--cell must be in [--spacing, 4 x --spacing]"));
+  p.cell = p.spacing;
+  CHECK_NOTHROW(areas::validate(p));
+  p.cell = 4 * p.spacing;
+  CHECK_NOTHROW(areas::validate(p));
+  p.cell = 4.01 * p.spacing;
+  CHECK_THROWS_WITH(areas::validate(p), Catch::Contains("--cell"));
+  p = areas::Params{};
+  for (double spacing : {1e-4, 20.0}) {
+    p.spacing = spacing;
+    p.cell = 1.5 * spacing;
+    CHECK_THROWS_WITH(areas::validate(p), Catch::Contains("--spacing must be in [1mm, 10m]"));
+  }
+  p = areas::Params{};
+  p.voxel = 1e9;
+  CHECK_THROWS_WITH(areas::validate(p), Catch::Contains("--voxel"));
+  p = areas::Params{};
+  p.max_segments = areas::kMaxSegments + 1;
+  CHECK_THROWS_WITH(areas::validate(p), Catch::Contains("--max-segments"));
+  // Why: three overlapping views of a 4 m² square. At the bounds the estimate holds; with a
+  // cell far below the spacing every point is its own neighbourhood and the views' footprints
+  // add up (9.66 m² here).
+  const Vector3d n = Vector3d(0.3, -0.2, 1).normalized();
+  auto all = view_of_plane(n, Vector3d(0.1, 0.2, 1), 0.03, 1.0, 0, 0.5);
+  for (const auto& q : view_of_plane(n, Vector3d(-0.6, 0.3, 1), 0.03, 1.0, 1, 0.25)) all.push_back(q);
+  for (const auto& q : view_of_plane(n, Vector3d(0.2, -0.7, 1), 0.03, 1.0, 2, 0.1)) all.push_back(q);
+  CHECK(areas::visible_area(all, 0.03, 0.03) == Approx(4.0).epsilon(0.1));
+  CHECK(areas::visible_area(all, 0.03, 0.12) == Approx(4.0).epsilon(0.1));
+  CHECK(areas::visible_area(all, 0.03, 1e-6) > 2 * 4.0);
 }
 
 TEST_CASE("run: every stage's target area from one trial's artifacts; missing fields named") {
@@ -160,6 +221,20 @@ TEST_CASE("run: every stage's target area from one trial's artifacts; missing fi
   CHECK(a.segments == Approx(0.5));
   CHECK(a.matched == Approx(0.5));
   CHECK(a.voxel == 0.1);
+  // A segment graph with a negative area (round 3: "segments": -1e+308 was written), a purity
+  // above 1, or areas summing beyond double's range: refused naming the graph.
+  in.segments_name = "segments.json";
+  in.segments.segments[0].area = -1e308;
+  CHECK_THROWS_WITH(areas::run(p, in), Catch::Contains("segments.json: segment 0 has area -1e+308"));
+  in.segments.segments[0].area = 0.5;
+  in.segments.segments[0].label_purity = 2;
+  CHECK_THROWS_WITH(areas::run(p, in), Catch::Contains("segments.json: segment 0 has label_purity 2"));
+  in.segments.segments[0].label_purity = 1;
+  in.segments.segments[0].area = 1.7e308;
+  in.segments.segments.push_back(in.segments.segments[0]);
+  CHECK_THROWS_WITH(areas::run(p, in), Catch::Contains("segments.json") && Catch::Contains("beyond"));
+  in.segments.segments = {s};
+  CHECK(areas::run(p, in).segments == Approx(0.5));
   in.samples.remove("label");
   CHECK_THROWS_WITH(areas::run(p, in), Catch::Contains("samples.pcd") && Catch::Contains("label"));
   p.max_segments = 0;

@@ -34,10 +34,12 @@ Json flat(double heading_deg, double x, double y, double z) {
   return f;
 }
 
-Json verdict(const char* model, double confidence, const Json& pose, const Json& pose_tile) {
+// A verdict as verify writes it for the candidate's samples (`candidate`: verify --points).
+Json verdict(const std::string& candidate, const char* model, double confidence, const Json& pose,
+             const Json& pose_tile) {
   return Json{{"format", "canopy.verdict"},
               {"version", 1},
-              {"candidate", "samples.pcd"},
+              {"candidate", candidate},
               {"model", model ? Json(model) : Json(nullptr)},
               {"confidence", confidence},
               {"pose", pose.is_null() ? pose : Json{{"matrix", pose}}},
@@ -70,12 +72,15 @@ fs::path tile(const std::string& name) {
   write(cands / "index.json", index.dump());
   // c0001: pose_tile heading 30 at (E + 10.25, N + 10.125, 100.5); its candidate pose is
   // deliberately inconsistent (identity) to show pose_tile is used as given.
-  write(cands / "c0001" / "verdict.json",
-        verdict("sedan", 0.9, flat(0, 0, 0, 0), flat(30, E + 10.25, N + 10.125, 100.5)).dump());
-  write(cands / "c0002" / "verdict.json", verdict(nullptr, 0.7, nullptr, nullptr).dump());
+  write(cands / "c0001" / "verdict.json", verdict((cands / "c0001" / "samples.pcd").string(), "sedan", 0.9,
+                                                  flat(0, 0, 0, 0), flat(30, E + 10.25, N + 10.125, 100.5))
+                                              .dump());
+  write(cands / "c0002" / "verdict.json",
+        verdict((cands / "c0002" / "samples.pcd").string(), nullptr, 0.7, nullptr, nullptr).dump());
   // c0003: model -> candidate = Rz(180) + (0.5, 0, 0); candidate -> tile = Rz(90) + (E+20, N+20, 100):
   // model -> tile = Rz(270) + (E + 20, N + 20.5, 100), heading -90.
-  write(cands / "c0003" / "verdict.json", verdict("tank", 0.8, flat(180, 0.5, 0, 0), nullptr).dump());
+  write(cands / "c0003" / "verdict.json",
+        verdict((cands / "c0003" / "samples.pcd").string(), "tank", 0.8, flat(180, 0.5, 0, 0), nullptr).dump());
   return dir;
 }
 
@@ -243,12 +248,14 @@ TEST_CASE("collect: a missing or bad verdict is named, nothing is written") {
   CHECK_THAT(err, Catch::Contains("c0003/verdict.json"));
   CHECK_FALSE(test::exists(dir / "d.json"));
   CHECK_FALSE(test::exists(dir / "d.geojson"));
-  write(dir / "cands" / "c0003" / "verdict.json", verdict("tank", 1.5, flat(0, 0, 0, 0), nullptr).dump());
+  write(dir / "cands" / "c0003" / "verdict.json",
+        verdict("cands/c0003/samples.pcd", "tank", 1.5, flat(0, 0, 0, 0), nullptr).dump());
   CHECK(test::sh(cmd, dir / "err.txt", &err) == 1);
   CHECK_THAT(err, Catch::Contains("confidence"));
   Json skew = flat(0, 0, 0, 0);
   skew[1] = 0.5;  // not a rotation
-  write(dir / "cands" / "c0003" / "verdict.json", verdict("tank", 0.5, skew, nullptr).dump());
+  write(dir / "cands" / "c0003" / "verdict.json",
+        verdict("cands/c0003/samples.pcd", "tank", 0.5, skew, nullptr).dump());
   CHECK(test::sh(cmd, dir / "err.txt", &err) == 1);
   CHECK_THAT(err, Catch::Contains("not a rotation"));
   CHECK_FALSE(test::exists(dir / "d.json"));
@@ -258,6 +265,62 @@ TEST_CASE("collect: a missing or bad verdict is named, nothing is written") {
       R"({"format":"canopy.candidates","version":1,"candidates":[{"id":"../x","transform":[],"length":1,"width":1}]})");
   CHECK(test::sh(cmd, dir / "err.txt", &err) == 1);
   CHECK_THAT(err, Catch::Contains("not a plain name"));
+}
+
+TEST_CASE("collect: a verdict must be its candidate's, its model a name (round 3, case 13)") {
+  const fs::path dir = tile("belong");
+  const fs::path cands = dir / "cands";
+  const std::string cmd = bin() + " -q -i " + (cands / "index.json").string() + " -o " +
+                          (dir / "out.json").string() + " --geojson " + (dir / "out.geojson").string();
+  const std::string v1 = (cands / "c0001" / "verdict.json").string();
+  Json good = read_json(v1);
+  std::string err;
+  auto refused = [&](const Json& v, const std::string& why) {
+    write(v1, v.dump());
+    CHECK(test::sh(cmd, dir / "err.txt", &err) == 1);
+    CHECK_THAT(err, Catch::Contains(v1 + ": ") && Catch::Contains(why));
+    CHECK_FALSE(test::exists(dir / "out.json"));
+    CHECK_FALSE(test::exists(dir / "out.geojson"));
+  };
+  auto accepted = [&](const Json& v) {
+    write(v1, v.dump());
+    CHECK(test::sh(cmd, dir / "err.txt", &err) == 0);
+    CHECK(read_json(dir / "out.json")["detections"][0]["candidate"] == "c0001");
+    fs::remove(dir / "out.json");
+    fs::remove(dir / "out.geojson");
+  };
+  Json v = good;
+  // The replay's mutation: another tile's candidate, and a model that is a path.
+  v["candidate"] = "some/other/tile/c0042/samples.pcd";
+  refused(v, "was written for \"some/other/tile/c0042/samples.pcd\", not for candidate c0001");
+  v = good;
+  v["model"] = "../../../../../../etc/hostname-is-not-a-model";
+  refused(v, "model must be a model name");
+  v["model"] = "";
+  refused(v, "model must be a model name");
+  v = good;
+  v["class"] = "a/b";
+  refused(v, "class must be a class name");
+  v = good;
+  v.erase("candidate");
+  refused(v, "missing \"candidate\"");
+  v["candidate"] = "";
+  refused(v, "candidate must name");
+  v["candidate"] = "samples.pcd";  // names no candidate
+  refused(v, "not for candidate c0001");
+  // Another tile's c0001, there to look at: refused; this tile's, spelled in other ways: taken.
+  write(dir / "other" / "cands" / "c0001" / "samples.pcd", "x");
+  v["candidate"] = (dir / "other" / "cands" / "c0001" / "samples.pcd").string();
+  refused(v, "which is not candidate c0001 of this tile");
+  write(cands / "c0001" / "samples.pcd", "x");
+  v["candidate"] = (cands / "." / "c0001" / "samples.pcd").string();
+  accepted(v);
+  write(cands / "c0001.pcd", "x");
+  v["candidate"] = (cands / "c0001.pcd").string();
+  accepted(v);
+  v["candidate"] = "c0001.pcd";  // verify run beside the candidates, not from here: only the name tells
+  accepted(v);
+  accepted(good);
 }
 
 TEST_CASE("collect --plan: candidate ids and transforms as make variables") {
@@ -310,6 +373,7 @@ TEST_CASE("collect::run writes the provenance it is given; validate names --crs"
   in.index.candidates = {c};
   collect::Verdict none;
   none.name = "c1/verdict.json";
+  none.candidate = "c1/samples.pcd";
   none.confidence = 0.25;
   in.verdicts = {none};
   in.provenance = {"collect", "9.9", {{"crs", ""}, {"plan", ""}}, {"idx.json", "c1/verdict.json"}};

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "canopy/common/error.h"
 #include "canopy/formats/pcd.h"
 #include "support/cli.h"
 #include "topview/topview.h"
@@ -123,4 +124,121 @@ TEST_CASE("topview CLI: outcome colours from a score, missed vehicles in yellow"
                  dir / "err.txt", &err) == 1);
   CHECK_THAT(err, Catch::Contains("bad.json"));
   CHECK_FALSE(test::exists(dir / "bad.png"));
+}
+
+namespace {
+
+// The round-3 reproducers (../shared/data/malformed/round3/topview/), as text.
+const char* kDetections =
+    R"({"detections":[{"candidate":"c1","footprint":[[500001.0,5400001.0],[500003.0,5400001.0],)"
+    R"([500003.0,5400002.0],[500001.0,5400002.0]]}],"format":"canopy.detections","version":1})";
+const char* kTruth =
+    R"({"format":"canopy.scene_truth","vehicles":[{"footprint":[[500001.1,5400001.1],[500002.9,5400001.1],)"
+    R"([500002.9,5400001.9],[500001.1,5400001.9]],"instance":1},{"footprint":[[500007.0,5400007.0],)"
+    R"([500009.0,5400007.0],[500009.0,5400008.0],[500007.0,5400008.0]],"instance":2}],"version":1})";
+const char* kScore =
+    R"({"format":"canopy.scene_score","matches":[{"candidate":"c1","instance":1,"outcome":"wrong","tile":0},)"
+    R"({"candidate":null,"instance":2,"outcome":"missed","tile":0}],"tiles":[{}],"version":1})";
+
+// Writes the three documents, `which` ("d", "t" or "s") replaced by `text`; returns the
+// footprints read, or throws.
+std::vector<topview::Shape> read_with(const fs::path& dir, const std::string& which, const std::string& text) {
+  std::ofstream((dir / "d.json").string()) << (which == "d" ? text : kDetections);
+  std::ofstream((dir / "t.json").string()) << (which == "t" ? text : kTruth);
+  std::ofstream((dir / "s.json").string()) << (which == "s" ? text : kScore);
+  return topview::read_footprints(
+      {(dir / "d.json").string(), (dir / "t.json").string(), (dir / "s.json").string()}, 0);
+}
+
+// The document with `from` replaced by `to` (once; the test fails if `from` is absent).
+std::string edit(const char* doc, const std::string& from, const std::string& to) {
+  std::string s = doc;
+  const auto at = s.find(from);
+  REQUIRE(at != std::string::npos);
+  return s.replace(at, from.size(), to);
+}
+
+}  // namespace
+
+TEST_CASE("topview reads every member it uses, naming the file and the member (round 3, cases 4, 5)") {
+  const fs::path dir = test::fresh_dir("topview", "members");
+  // The reproducers' valid set: truth (white, the missed one yellow), then the wrong detection.
+  const auto shapes = read_with(dir, "", "");
+  REQUIRE(shapes.size() == 3);
+  CHECK(shapes[0].colour == topview::kTruth);
+  CHECK(shapes[1].colour == topview::kMissed);
+  CHECK(shapes[2].colour == topview::kWrong);
+  CHECK(shapes[2].ring[1][0] == 500003.0);
+
+  const std::string d = (dir / "d.json").string(), t = (dir / "t.json").string(), s = (dir / "s.json").string();
+  struct Bad {
+    std::string which, text, file, message;
+  };
+  const std::vector<Bad> bad{
+      // case 4: a match without "outcome" (read past a heap block before), or without "candidate"
+      {"s", edit(kScore, R"("outcome":"wrong",)", ""), s, "matches[0]: missing \"outcome\""},
+      {"s", edit(kScore, R"("candidate":"c1",)", ""), s, "matches[0]: missing \"candidate\""},
+      {"s", edit(kScore, R"("instance":2,)", ""), s, "matches[1]: missing \"instance\""},
+      {"s", edit(kScore, R"("outcome":"wrong")", R"("outcome":"bad")"), s,
+       "matches[0].outcome must be right, wrong, false_alarm or missed, not \"bad\""},
+      {"s", edit(kScore, R"("outcome":"wrong")", R"("outcome":3)"), s,
+       "matches[0].outcome must be a string, not 3"},
+      {"s", edit(kScore, R"("tile":0})", R"("tile":0.0})"), s,
+       "matches[0].tile must be a non-negative integer, not 0.0"},
+      {"s", edit(kScore, R"("tile":0})", R"("tile":5})"), s, "matches[0].tile 5 is not one of the 1 tiles"},
+      {"s", edit(kScore, R"("matches":[)", R"("matches":[7,)"), s, "matches[0] must be an object, not 7"},
+      {"s", edit(kScore, R"("matches":[)", R"("other":[)"), s, "score: missing \"matches\""},
+      {"s", edit(kScore, R"("tiles":[{}])", R"("tiles":[])"), s, "has no tile 0 (0 tiles)"},
+      {"s", edit(kScore, R"("tiles":[{}])", R"("tiles":{})"), s,
+       "score.tiles must be an array, not an object"},
+      {"s", edit(kScore, R"("version":1)", R"("version":2)"), s, "version 2"},
+      // case 5: a null candidate, version 2, missing arrays, wrong types
+      {"d", edit(kDetections, R"("candidate":"c1")", R"("candidate":null)"), d,
+       "detections[0].candidate must be a string, not null"},
+      {"d", edit(kDetections, R"("version":1)", R"("version":2)"), d, "version 2"},
+      {"d", edit(kDetections, R"("version":1)", R"("version":1.5)"), d, "version"},
+      {"d", edit(kDetections, R"(,"version":1)", ""), d, "version"},
+      {"d", edit(kDetections, R"("detections":[)", R"("found":[)"), d,
+       "detections document: missing \"detections\""},
+      {"d", edit(kDetections, R"("detections":[{)", R"("detections":[3,{)"), d,
+       "detections[0] must be an object"},
+      {"d", edit(kDetections, R"([500001.0,5400001.0],)", R"([500001.0,"x"],)"), d,
+       "detections[0].footprint[0] must be [x, y], not an array"},
+      {"d", edit(kDetections, R"("footprint":[)", R"("footprint":[[0,0],)"), d, ""},  // 5 corners: fine
+      {"t", edit(kTruth, R"("instance":1)", R"("instance":-1)"), t,
+       "vehicles[0].instance must be a non-negative integer, not -1"},
+      {"t", edit(kTruth, R"("instance":1)", R"("instance":"1")"), t,
+       "vehicles[0].instance must be a non-negative integer"},
+      {"t", edit(kTruth, R"("vehicles":[)", R"("cars":[)"), t, "truth: missing \"vehicles\""},
+      {"t", edit(kTruth, R"("format":"canopy.scene_truth")", R"("format":"canopy.detections")"), t,
+       "canopy.scene_truth"},
+      {"t", "{\"format\":\"canopy.scene_truth\",\"version\":1,\"vehicles\":[{\"instance\":1}]}", t,
+       "vehicles[0]: missing \"footprint\""},
+  };
+  for (const auto& b : bad) {
+    INFO(b.text);
+    if (b.message.empty()) {
+      CHECK_NOTHROW(read_with(dir, b.which, b.text));
+      continue;
+    }
+    try {
+      read_with(dir, b.which, b.text);
+      FAIL("accepted");
+    } catch (const common::DataError& e) {
+      CHECK(e.file() == b.file);
+      CHECK_THAT(e.what(), Catch::Contains(b.message));
+      CHECK_THAT(e.what(), !Catch::Contains("json.exception"));
+    }
+  }
+
+  // The CLI: exit 1, the file named, no picture.
+  formats::write_pcd(scan(), (dir / "scan.pcd").string());
+  std::ofstream(s) << edit(kScore, R"("outcome":"wrong",)", "");
+  std::string err;
+  CHECK(test::sh(std::string(CANOPY_BIN_DIR) + "/topview -q -i " + (dir / "scan.pcd").string() +
+                     " --detections " + d + " --truth " + t + " --score " + s + " --size 64 -o " +
+                     (dir / "top.png").string(),
+                 dir / "err.txt", &err) == 1);
+  CHECK_THAT(err, Catch::Contains(s + ": matches[0]: missing \"outcome\""));
+  CHECK_FALSE(test::exists(dir / "top.png"));
 }

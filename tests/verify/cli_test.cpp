@@ -2,6 +2,7 @@
 // input exits 1 naming the file and leaves no output; the verdict reads back.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <string>
 
@@ -9,6 +10,7 @@
 #include "canopy/common/atomic_file.h"
 #include "canopy/formats/match_result.h"
 #include "canopy/formats/pcd.h"
+#include "canopy/formats/ply.h"
 #include "canopy/formats/segment_graph.h"
 #include "canopy/formats/verdict.h"
 #include "fixtures.h"
@@ -44,12 +46,38 @@ struct Case {
     segments = dir / "segments.json";
     fm::write_match_result(match_of({"flatbed", "pickup"}), match.string());
     fm::write_pcd(to_cloud(candidate(sample(pickup(), 0.1, 0.05), pickup(), T)), points.string());
-    fm::write_segment_graph(posed(graph(pickup()), T), segments.string());
+    fm::write_segment_graph(posed(seen(graph(pickup())), T), segments.string());
+  }
+  // The object's graph as a scan gives it: no bottom faces (the matches pair every other face).
+  static fm::SegmentGraph seen(fm::SegmentGraph g) {
+    g.segments.erase(std::remove_if(g.segments.begin(), g.segments.end(),
+                                    [](const fm::Segment& s) { return s.normal[2] < -0.5; }),
+                     g.segments.end());
+    return g;
   }
   static fm::MatchResult match_of(const std::vector<std::string>& names) {
-    std::vector<fm::SegmentGraph> gs;
-    for (const auto& n : names) gs.push_back(n == "pickup" ? graph(pickup()) : graph(flatbed()));
-    return verify_test::match(names, gs, false);
+    return match_for(seen(graph(pickup())), names);
+  }
+  // A match of `object` as gmatch writes it: every model pairs the object's segments, largest
+  // first (here all NULL: the pose comes from the principal axes).
+  static fm::MatchResult match_for(const fm::SegmentGraph& object, const std::vector<std::string>& names) {
+    fm::MatchResult r;
+    r.provenance = {"test", "0", {}, {}};
+    r.object = "segments.json";
+    r.error_form = "bounded";
+    std::vector<fm::Segment> by_area = object.segments;
+    std::stable_sort(by_area.begin(), by_area.end(), [](const fm::Segment& a, const fm::Segment& b) {
+      return a.area != b.area ? a.area > b.area : a.segment_id < b.segment_id;
+    });
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      fm::ModelScore m;
+      m.model = names[i];
+      m.rank = static_cast<int>(i + 1);
+      m.score = 0.5 - 0.1 * static_cast<double>(i);
+      for (const auto& s : by_area) m.pairs.push_back({s.segment_id, -1, 0.0});
+      r.models.push_back(m);
+    }
+    return r;
   }
   std::string cmd(const fs::path& out) const {
     return kBin + " -i " + match.string() + " --points " + points.string() + " --segments " +
@@ -213,4 +241,258 @@ TEST_CASE("verdict documents round-trip and reject bad versions", "[verify][form
                       Catch::Contains("v.json") && Catch::Contains("version"));
   REQUIRE_THROWS_WITH(fm::parse_verdict("{\"format\": \"canopy.match_result\", \"version\": 1}", "w.json"),
                       Catch::Contains("w.json") && Catch::Contains("canopy.verdict"));
+}
+
+namespace {
+
+// A 6 x 6 grid mesh 5 cm apart at z = 1 (every other column 2 cm higher): the foreign mesh of
+// the round-3 reproducer (../shared/data/malformed/round3/verify/other-mesh-grid-6x6.ply).
+fm::Mesh grid_mesh() {
+  fm::Mesh m;
+  m.vertices.resize(36);
+  auto& x = m.vertices.add("x");
+  auto& y = m.vertices.add("y");
+  auto& z = m.vertices.add("z");
+  for (int j = 0; j < 6; ++j) {
+    for (int i = 0; i < 6; ++i) {
+      x[6 * j + i] = 0.05 * i;
+      y[6 * j + i] = 0.05 * j;
+      z[6 * j + i] = i % 2 ? 1.02 : 1.0;
+    }
+  }
+  for (int j = 0; j < 5; ++j) {
+    for (int i = 0; i < 5; ++i) {
+      const int a = 6 * j + i;
+      m.faces.push_back({a, a + 1, a + 7});
+      m.faces.push_back({a, a + 7, a + 6});
+    }
+  }
+  return m;
+}
+
+// A mesh of every other row of the candidate's points as verify reads them (cocone keeps
+// sample rows as they are), and the Case's graph made to index it: segment k holds vertices
+// 10 k ... 10 k + 9.
+void mesh_of_points(const Case& c, const fs::path& points, const fs::path& mesh_path,
+                    const fs::path& graph_path) {
+  const fm::PointCloud pc = fm::read_pcd(points.string());
+  fm::SegmentGraph g = fm::read_segment_graph(c.segments.string());
+  const int n = static_cast<int>(10 * g.segments.size());
+  REQUIRE(static_cast<int>(pc.size()) >= 2 * n);
+  fm::Mesh m;
+  m.vertices.resize(n);
+  for (const char* f : {"x", "y", "z"}) {
+    auto& col = m.vertices.add(f, pc.type(f));
+    for (int i = 0; i < n; ++i) col[i] = pc.col(f)[2 * i];
+  }
+  for (int i = 0; i + 2 < n; i += 3) m.faces.push_back({i, i + 1, i + 2});
+  fm::write_ply(m, mesh_path.string());
+  g.mesh = mesh_path.string();
+  for (std::size_t k = 0; k < g.segments.size(); ++k) {
+    g.segments[k].vertices.clear();
+    for (int v = 0; v < 10; ++v) g.segments[k].vertices.push_back(static_cast<int>(10 * k) + v);
+  }
+  fm::write_segment_graph(g, graph_path.string());
+}
+
+std::string with(const Case& c, const fs::path& match, const fs::path& points, const fs::path& segments,
+                 const fs::path& out) {
+  return kBin + " -i " + match.string() + " --points " + points.string() + " --segments " +
+         segments.string() + " --modelbase " + c.mb.string() + " -o " + out.string();
+}
+
+}  // namespace
+
+TEST_CASE("inputs that belong together are accepted, the verdict unchanged by the check", "[verify][cli]") {
+  const Case c("belong_ok");
+  std::string err;
+  REQUIRE(sh(c.cmd(c.dir / "plain.json"), c.dir / "err", &err) == 0);
+  // The graph names its mesh, whose vertices are rows of the points: the mesh check runs and
+  // passes; the verdict is byte for byte the one without it (the graph's statistics are equal).
+  mesh_of_points(c, c.points, c.dir / "mesh.ply", c.segments);
+  REQUIRE(fm::read_segment_graph(c.segments.string()).mesh == (c.dir / "mesh.ply").string());
+  REQUIRE(sh(c.cmd(c.dir / "m.json") + " -v", c.dir / "err", &err) == 0);
+  CHECK(err.find("not checked against") == std::string::npos);
+  CHECK(canopy::common::read_file((c.dir / "m.json").string()) ==
+        canopy::common::read_file((c.dir / "plain.json").string()));
+  // The match read from stdin, and a match whose "object" is spelled differently but is the
+  // same file, are accepted.
+  REQUIRE(sh("cat " + c.match.string() + " | " + with(c, "-", c.points, c.segments, c.dir / "s.json"),
+             c.dir / "err", &err) == 0);
+  auto m = fm::read_match_result(c.match.string());
+  m.object = (c.dir / "." / "segments.json").string();
+  fm::write_match_result(m, (c.dir / "match-abs.json").string());
+  REQUIRE(sh(with(c, c.dir / "match-abs.json", c.points, c.segments, c.dir / "a.json"), c.dir / "err", &err) ==
+          0);
+}
+
+TEST_CASE("inputs that do not belong together are refused naming the files (round 3, case 12)",
+          "[verify][cli]") {
+  std::string err;
+  SECTION("the segment graph of another mesh (the replay: ncut on a 6 x 6 grid)") {
+    const Case c("belong_grid");
+    fm::write_ply(grid_mesh(), (c.dir / "other-mesh-grid-6x6.ply").string());
+    REQUIRE(sh(std::string(CANOPY_BIN_DIR) + "/ncut -q -i " + (c.dir / "other-mesh-grid-6x6.ply").string() +
+                   " -o " + (c.dir / "other-seg.json").string(),
+               c.dir / "err", &err) == 0);
+    REQUIRE(sh(with(c, c.match, c.points, c.dir / "other-seg.json", c.dir / "v.json"), c.dir / "err", &err) ==
+            1);
+    CHECK(err.find(c.match.string()) != std::string::npos);  // made from segments.json, beside it
+    CHECK(err.find((c.dir / "other-seg.json").string()) != std::string::npos);
+    CHECK(err.find("was made from the segment graph segments.json") != std::string::npos);
+    CHECK(!fs::exists(c.dir / "v.json"));
+    // With the match's "object" unresolvable, its pairs name segments the grid's graph lacks.
+    auto m = fm::read_match_result(c.match.string());
+    m.object = "gone/segments.json";
+    fm::write_match_result(m, (c.dir / "m2.json").string());
+    REQUIRE(sh(with(c, c.dir / "m2.json", c.points, c.dir / "other-seg.json", c.dir / "v.json"),
+               c.dir / "err", &err) == 1);
+    CHECK(err.find((c.dir / "m2.json").string() + ": models[0] (flatbed) pairs") != std::string::npos);
+    CHECK(err.find("another segment graph") != std::string::npos);
+    CHECK(!fs::exists(c.dir / "v.json"));
+  }
+  SECTION("a graph whose mesh is another mesh: a vertex that is not one of the points") {
+    const Case c("belong_mesh");
+    fm::write_ply(grid_mesh(), (c.dir / "grid.ply").string());
+    fm::SegmentGraph g = fm::read_segment_graph(c.segments.string());
+    g.mesh = (c.dir / "grid.ply").string();
+    for (auto& s : g.segments) s.vertex_count = 0;
+    g.segments[0].vertex_count = 36;
+    fm::write_segment_graph(g, (c.dir / "seg.json").string());
+    auto m = fm::read_match_result(c.match.string());
+    m.object = "seg.json";
+    fm::write_match_result(m, (c.dir / "m.json").string());
+    REQUIRE(sh(with(c, c.dir / "m.json", c.points, c.dir / "seg.json", c.dir / "v.json"), c.dir / "err",
+               &err) == 1);
+    CHECK(err.find((c.dir / "seg.json").string() + ": its mesh " + (c.dir / "grid.ply").string() +
+                   " has vertex 0 at (0, 0, 1), which is not a point of " + c.points.string()) !=
+          std::string::npos);
+    CHECK(!fs::exists(c.dir / "v.json"));
+  }
+  SECTION("another candidate's points") {
+    const Case c("belong_points");
+    // Its own mesh is rows of its own points; the other candidate is the same pickup sampled
+    // 5 cm apart elsewhere: same shape, same box, other points.
+    mesh_of_points(c, c.points, c.dir / "mesh.ply", c.dir / "seg.json");
+    auto m = fm::read_match_result(c.match.string());
+    m.object = "seg.json";
+    fm::write_match_result(m, (c.dir / "m.json").string());
+    const fs::path other = c.dir / "other.pcd";
+    fm::write_pcd(to_cloud(candidate(sample(pickup(), 0.1, 0.0), pickup(), pose(1.0, 2.0, -1.0))),
+                  other.string());
+    REQUIRE(sh(with(c, c.dir / "m.json", other, c.dir / "seg.json", c.dir / "v.json"), c.dir / "err", &err) ==
+            1);
+    CHECK(err.find("is not a point of " + other.string()) != std::string::npos);
+    CHECK(!fs::exists(c.dir / "v.json"));
+    // Without the mesh at hand, a smaller candidate's points are refused by their box: the
+    // pickup's cabin roof (z = 1.7 m) is above every point of a 0.8 m high box.
+    const std::vector<Box> low{{{-1, -0.5, 0.3}, {1, 0.5, 0.8}}};
+    fm::write_pcd(to_cloud(candidate(sample(low, 0.1), low, pose(1.0, 2.0, -1.0))), other.string());
+    REQUIRE(sh(with(c, c.match, other, c.segments, c.dir / "v.json"), c.dir / "err", &err) == 1);
+    CHECK(err.find(c.segments.string() + ": segment ") != std::string::npos);
+    CHECK(err.find("outside the box of " + other.string()) != std::string::npos);
+    CHECK(!fs::exists(c.dir / "v.json"));
+  }
+  SECTION("the match of another object") {
+    const Case c("belong_match");
+    fs::create_directories(c.dir / "other");
+    fm::write_segment_graph(posed(Case::seen(graph(flatbed())), pose(0, 0, 0)),
+                            (c.dir / "other" / "segments.json").string());
+    const fm::MatchResult m = Case::match_for(Case::seen(graph(flatbed())), {"flatbed", "pickup"});
+    fm::write_match_result(m, (c.dir / "other" / "match.json").string());
+    REQUIRE(sh(with(c, c.dir / "other" / "match.json", c.points, c.segments, c.dir / "v.json"), c.dir / "err",
+               &err) == 1);
+    CHECK(err.find((c.dir / "other" / "match.json").string() +
+                   ": was made from the segment graph segments.json, "
+                   "not from " +
+                   c.segments.string()) != std::string::npos);
+    CHECK(!fs::exists(c.dir / "v.json"));
+    // Its "object" gone, the pairs give it away: segment 17 (the flatbed's crate roof) is not ours.
+    fs::remove(c.dir / "other" / "segments.json");
+    REQUIRE(sh(with(c, c.dir / "other" / "match.json", c.points, c.segments, c.dir / "v.json"), c.dir / "err",
+               &err) == 1);
+    CHECK(err.find("pairs object segment 17, which " + c.segments.string() + " does not have") !=
+          std::string::npos);
+    CHECK(!fs::exists(c.dir / "v.json"));
+  }
+}
+
+TEST_CASE("bounded options: --icp-iterations, --transform decimal only (round 3, case 16)", "[verify][cli]") {
+  const Case c("bounds");
+  std::string err;
+  REQUIRE(sh(c.cmd(c.dir / "v.json") + " --icp-iterations 2147483647", c.dir / "err", &err) == 2);
+  CHECK(err.find("--icp-iterations must be in [0, 500]") != std::string::npos);
+  REQUIRE(sh(c.cmd(c.dir / "v.json") + " --icp-iterations 501", c.dir / "err", &err) == 2);
+  REQUIRE(sh(c.cmd(c.dir / "v.json") + " --transform 0x1p0,0,0,0,0,1,0,0,0,0,1,0", c.dir / "err", &err) == 2);
+  CHECK(err.find("'0x1p0' is not a decimal number") != std::string::npos);
+  REQUIRE(sh(c.cmd(c.dir / "v.json") + " --transform 1,0,0,inf,0,1,0,0,0,0,1,0", c.dir / "err", &err) == 2);
+  CHECK(!fs::exists(c.dir / "v.json"));
+  REQUIRE(sh(c.cmd(c.dir / "v.json") + " --icp-iterations 500 --transform 1,0,0,0,0,1,0,0,0,0,1,0",
+             c.dir / "err", &err) == 0);
+}
+
+TEST_CASE("a hypothesis whose model is a path is refused before the modelbase is read", "[verify][cli]") {
+  const Case c("pathmodel");
+  std::string err;
+  auto m = fm::read_match_result(c.match.string());
+  m.models[0].model = "../mb/flatbed";
+  fm::write_match_result(m, c.match.string());
+  REQUIRE(sh(c.cmd(c.dir / "v.json"), c.dir / "err", &err) == 1);
+  CHECK(err.find(c.match.string() + ": hypothesis names model '../mb/flatbed', which is not a model name") !=
+        std::string::npos);
+  CHECK(!fs::exists(c.dir / "v.json"));
+}
+
+TEST_CASE("the verdict reader types every member and never casts a number to int", "[verify][formats]") {
+  fm::Verdict v;
+  v.provenance = {"verify", "0.1.0", {{"top-k", "3"}}, {"m.json", "s.pcd"}};
+  v.candidate = "s.pcd";
+  fm::Hypothesis h;
+  h.model = "sedan";
+  h.gmatch_rank = 1;
+  h.start = "pairs";
+  v.hypotheses = {h};
+  v.chosen = 0;
+  v.model = "sedan";
+  v.confidence = 0.5;
+  v.has_classes = true;
+  v.vehicle_class = "car";
+  v.nearest_instance = "sedan";
+  const std::string text = fm::serialize_verdict(v);
+  REQUIRE(fm::serialize_verdict(fm::parse_verdict(text, "v.json")) == text);
+  auto edited = [&](const std::string& from, const std::string& to) {
+    std::string t = text;
+    const auto at = t.find(from);
+    REQUIRE(at != std::string::npos);
+    return t.replace(at, from.size(), to);
+  };
+  struct Bad {
+    std::string from, to, why;
+  };
+  for (const auto& b : std::vector<Bad>{
+           {"\"gmatch_rank\": 1", "\"gmatch_rank\": 1.5",
+            "hypotheses[0].gmatch_rank must be an integer in [1, "},
+           {"\"gmatch_rank\": 1", "\"gmatch_rank\": 1e30", "hypotheses[0].gmatch_rank must be an integer"},
+           {"\"gmatch_rank\": 1", "\"gmatch_rank\": 0", "hypotheses[0].gmatch_rank must be an integer"},
+           {"\"chosen\": 0", "\"chosen\": 0.0", "chosen must be an integer in [-1, "},
+           {"\"chosen\": 0", "\"chosen\": -2", "chosen must be an integer"},
+           {"\"chosen\": 0", "\"chosen\": 4294967296", "chosen must be an integer"},
+           {"\"chosen\": 0", "\"chosen\": 1", "chosen is not -1 or a hypothesis index"},
+           {"\"model\": \"sedan\",\n \"confidence\"", "\"model\": \"../sedan\",\n \"confidence\"",
+            "model must be a model name"},
+           {"\"nearest_instance\": \"sedan\"", "\"nearest_instance\": \"a/b\"",
+            "nearest_instance must be a model name"},
+           {"\"class\": \"car\"", "\"class\": 7", "class must be a model name"},
+           {"\"confidence\": 0.5", "\"confidence\": \"0.5\"", "confidence must be a number, not \"0.5\""},
+           {"\"flipped\": false", "\"flipped\": 0", "hypotheses[0].flipped must be true or false, not 0"},
+           {"\"candidate\": \"s.pcd\"", "\"candidate\": null", "candidate must be a string, not null"},
+           {"\"hypotheses\": [", "\"hypotheses\": [3, ", "hypotheses[0] must be an object, not 3"},
+           {"\"transform\": null", "\"transform\": {\"matrix\": [1, 2]}",
+            "transform.matrix must be 16 numbers"},
+           {"\"transform\": null", "\"transform\": 5", "transform must be an object, not 5"},
+       }) {
+    INFO(b.to);
+    CHECK_THROWS_WITH(fm::parse_verdict(edited(b.from, b.to), "v.json"),
+                      Catch::StartsWith("v.json: malformed verdict: " + b.why));
+  }
 }

@@ -10,6 +10,7 @@
 
 #include "canopy/common/error.h"
 #include "canopy/formats/cloud_eigen.h"
+#include "canopy/formats/json_document.h"
 #include "canopy/formats/labels.h"
 
 namespace canopy::areas {
@@ -164,23 +165,42 @@ std::string serialize(const Areas& a, const std::vector<std::string>& inputs) {
 }
 
 Areas parse(const std::string& text, const std::string& name) {
+  using Json = nlohmann::ordered_json;
+  using Malformed = formats::MalformedField;
+  const Json j = formats::open_json_document(text, name, "canopy.areas");
   Areas a;
+  auto length = [&](const char* key, bool positive) {
+    const Json& v = formats::json_member(j, key, "areas");
+    if (!v.is_number() || v.get<double>() < 0 || (positive && !(v.get<double>() > 0))) {
+      throw Malformed(std::string(key) + (positive ? " must be a positive number" : " must be a number >= 0"));
+    }
+    return v.get<double>();
+  };
+  auto count = [&](const char* key, long long lo) {
+    const Json& v = formats::json_member(j, key, "areas");
+    const bool ok = v.is_number_unsigned() || (v.is_number_integer() && v.get<long long>() >= lo);
+    if (!ok || v.get<long long>() < lo ||
+        v.get<unsigned long long>() > static_cast<unsigned long long>(kMaxCount)) {
+      throw Malformed(std::string(key) + " must be an integer in [" + std::to_string(lo) + ", " +
+                      std::to_string(kMaxCount) + "]");
+    }
+    return v.get<long long>();
+  };
   try {
-    const nlohmann::json j = nlohmann::json::parse(text);
-    if (j.value("format", "") != "canopy.areas") throw common::DataError(name, "not a canopy.areas document");
-    if (j.value("version", 0) != 1) throw common::DataError(name, "unknown canopy.areas version");
-    a.visible = j.at("visible").get<double>();
-    a.samples = j.at("samples").get<double>();
-    a.mesh = j.at("mesh").get<double>();
-    a.segments = j.at("segments").get<double>();
-    a.matched = j.at("matched").get<double>();
-    a.spacing = j.at("spacing").get<double>();
-    a.cell = j.at("cell").get<double>();
-    a.voxel = j.at("voxel").get<double>();
-    a.max_segments = j.at("max_segments").get<int>();
-    a.target_points = j.at("target_points").get<std::size_t>();
-    a.target_samples = j.at("target_samples").get<std::size_t>();
-  } catch (const nlohmann::json::exception& e) {
+    a.visible = length("visible", false);
+    a.samples = length("samples", false);
+    a.mesh = length("mesh", false);
+    a.segments = length("segments", false);
+    a.matched = length("matched", false);
+    a.spacing = length("spacing", true);
+    a.cell = length("cell", true);
+    a.voxel = length("voxel", true);
+    const long long x = count("max_segments", 1);
+    if (x > kMaxSegments) throw Malformed("max_segments must be at most " + std::to_string(kMaxSegments));
+    a.max_segments = static_cast<int>(x);
+    a.target_points = static_cast<std::size_t>(count("target_points", 0));
+    a.target_samples = static_cast<std::size_t>(count("target_samples", 0));
+  } catch (const Malformed& e) {
     throw common::DataError(name, std::string("bad canopy.areas document: ") + e.what());
   }
   return a;
@@ -221,8 +241,18 @@ std::vector<Eigen::Vector3d> target_points(const formats::PointCloud& c, const s
 }  // namespace
 
 void validate(const Params& p) {
-  if (!(p.spacing > 0) || !(p.cell > 0) || !(p.voxel > 0) || p.max_segments < 1) {
-    throw common::UsageError("need --spacing > 0, --cell > 0, --voxel > 0, --max-segments >= 1");
+  using common::UsageError;
+  if (!(p.spacing >= 1e-3 && p.spacing <= 10)) throw UsageError("--spacing must be in [1mm, 10m]");
+  // The 3x3x3 neighbourhood of a cell must hold points of every view that sees the surface
+  // there (cell >= spacing) and stay local (measured from 1 to 3 spacings; docs/decisions/formats.md).
+  if (!(p.cell >= p.spacing && p.cell <= 4 * p.spacing)) {
+    throw UsageError("--cell must be in [--spacing, 4 x --spacing] (" + num(p.spacing) + " to " +
+                     num(4 * p.spacing) + " m here)");
+  }
+  if (!(p.voxel >= 1e-3 && p.voxel <= 100))
+    throw UsageError("--voxel must be in [1mm, 100m] (fitvox's range)");
+  if (p.max_segments < 1 || p.max_segments > kMaxSegments) {
+    throw UsageError("--max-segments must be in [1, " + std::to_string(kMaxSegments) + "]");
   }
 }
 
@@ -240,8 +270,25 @@ Areas run(const Params& params, const Inputs& in) {
   a.samples = samples_area(normals, a.voxel);
   in.mesh.vertices.require({"x", "y", "z", "label"}, in.mesh_name, "a labelled cocone mesh is needed");
   a.mesh = mesh_area(in.mesh, formats::kLabelTarget);
+  for (const auto& s : in.segments.segments) {
+    if (!(s.area >= 0) || !std::isfinite(s.area)) {
+      throw common::DataError(in.segments_name, "segment " + std::to_string(s.segment_id) + " has area " +
+                                                    num(s.area) + ": an area is a finite number >= 0");
+    }
+    if (!(s.label_purity >= 0 && s.label_purity <= 1)) {
+      throw common::DataError(in.segments_name, "segment " + std::to_string(s.segment_id) +
+                                                    " has label_purity " + num(s.label_purity) +
+                                                    ", outside [0, 1]");
+    }
+  }
   a.segments = segments_area(in.segments, formats::kLabelTarget, 0);
   a.matched = segments_area(in.segments, formats::kLabelTarget, a.max_segments);
+  if (!std::isfinite(a.segments))
+    throw common::DataError(in.segments_name, "the segments' areas sum beyond 1e308");
+  if (!std::isfinite(a.visible) || !std::isfinite(a.samples) || !std::isfinite(a.mesh)) {
+    throw common::Error("areas: an area is beyond 1e308 (scan " + in.scan_name + ", samples " +
+                        in.samples_name + ", mesh " + in.mesh_name + ")");
+  }
   return a;
 }
 

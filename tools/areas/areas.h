@@ -54,14 +54,19 @@ struct Areas {
   std::size_t target_points = 0, target_samples = 0;
 };
 
+inline constexpr int kMaxSegments = 100000;        // bound of --max-segments
+inline constexpr long long kMaxCount = 1LL << 53;  // bound of areas.json's counts
+
 struct Params {
-  double spacing = 0.03;  // the scan's pixel spacing (m)
-  double cell = 0.045;    // lattice cell of the visible-area estimate (m)
-  double voxel = 0.128;   // fitvox's voxel edge (m)
-  int max_segments = 15;  // gmatch's X
+  double spacing = 0.03;  // the scan's pixel spacing (m), [1 mm, 10 m]
+  double cell = 0.045;    // lattice cell of the visible-area estimate (m), [spacing, 4 spacing]
+  double voxel = 0.128;   // fitvox's voxel edge (m), [1 mm, 100 m]
+  int max_segments = 15;  // gmatch's X, [1, kMaxSegments]
 };
 
-// Throws common::UsageError naming the option of the first parameter out of its range.
+// Throws common::UsageError naming the option of the first parameter out of its range. The
+// cell is bounded by the spacing: smaller, a neighbourhood misses the views that see it and
+// their footprints are counted again (--cell 1e-6 gave 101.84 m² for 16.35).
 void validate(const Params& params);
 
 // One trial's artifacts, each with its file name for errors.
@@ -73,14 +78,17 @@ struct Inputs {
   formats::Mesh mesh;  // cocone mesh: x y z label
   std::string mesh_name;
   formats::SegmentGraph segments;
+  std::string segments_name;
 };
 
-// Every area of the trial (DataError naming the file when a needed field is missing).
+// Every area of the trial (DataError naming the file when a needed field is missing, a
+// segment's area is negative or its label_purity outside [0, 1], or a sum is beyond 1e308).
 Areas run(const Params& params, const Inputs& inputs);
 
 // Text of areas.json ("format": "canopy.areas", "version": 1).
 std::string serialize(const Areas& a, const std::vector<std::string>& inputs);
-// Reads areas.json; errors name the file.
+// Reads areas.json (canopy.areas v1): areas >= 0, spacing, cell, voxel > 0, integer counts;
+// errors name the file and the member.
 Areas parse(const std::string& text, const std::string& name);
 
 }  // namespace canopy::areas

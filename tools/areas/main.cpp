@@ -24,9 +24,10 @@ int main(int argc, char** argv) {
   tool.add("--mesh", &mesh, "cocone mesh PLY")->required();
   tool.add("--segments", &segments, "ncut segment graph JSON")->required();
   tool.add_output(&out, "areas JSON");
-  tool.add_length("--spacing", &a.spacing, "the scan's pixel spacing (rangetrace --spacing)");
-  tool.add_length("--cell", &a.cell, "lattice cell of the visible-area estimate (normals, view overlap)");
-  tool.add_length("--voxel", &a.voxel, "fitvox's voxel edge (each sample stands for its voxel)");
+  tool.add_length("--spacing", &a.spacing, "the scan's pixel spacing (rangetrace --spacing), 1mm to 10m");
+  tool.add_length("--cell", &a.cell,
+                  "lattice cell of the visible-area estimate (normals, view overlap), 1 to 4 x --spacing");
+  tool.add_length("--voxel", &a.voxel, "fitvox's voxel edge (each sample stands for its voxel), 1mm to 100m");
   tool.add("--max-segments", &a.max_segments, "gmatch's X: largest segments matched");
   return tool.run(argc, argv, [&] {
     areas::validate(a);
@@ -39,6 +40,7 @@ int main(int argc, char** argv) {
     in.mesh = formats::read_ply(mesh);
     in.mesh_name = common::display_name(mesh);
     in.segments = formats::read_segment_graph(segments);
+    in.segments_name = common::display_name(segments);
     const areas::Areas r = areas::run(a, in);
     common::write_file_atomic(out, areas::serialize(r, {scan, samples, mesh, segments}));
     char buf[200];

@@ -328,9 +328,15 @@ void validate(const Params& p) {
     throw UsageError("--feature-radius must be larger than --normal-radius (FPFH needs it)");
   }
   if (!(p.inlier > 0)) throw UsageError("--inlier must be > 0");
-  if (p.ransac_iterations < 1) throw UsageError("--ransac-iterations must be >= 1");
-  if (p.icp_iterations < 0) throw UsageError("--icp-iterations must be >= 0");
-  if (p.views < 0) throw UsageError("--views must be >= 0");
+  // Upper bounds: the work grows linearly with each (docs/decisions/verify.md, "Bounds").
+  if (p.ransac_iterations < 1 || p.ransac_iterations > kMaxRansacIterations) {
+    throw UsageError("--ransac-iterations must be in [1, " + std::to_string(kMaxRansacIterations) + "]");
+  }
+  if (p.icp_iterations < 0 || p.icp_iterations > kMaxIcpIterations) {
+    throw UsageError("--icp-iterations must be in [0, " + std::to_string(kMaxIcpIterations) + "]");
+  }
+  if (p.views < 0 || p.views > kMaxViews)
+    throw UsageError("--views must be in [0, " + std::to_string(kMaxViews) + "]");
   if (!(p.accept_vfh >= 0 && p.accept_vfh <= 1)) throw UsageError("--accept-vfh must lie in [0, 1]");
   if (!(p.accept_fpfh >= 0 && p.accept_fpfh <= 1)) throw UsageError("--accept-fpfh must lie in [0, 1]");
 }

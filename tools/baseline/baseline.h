@@ -27,6 +27,11 @@
 
 namespace canopy::baseline {
 
+// Upper bounds of the iteration and view counts (validate): 25, 17 and 8 times the defaults.
+inline constexpr int kMaxRansacIterations = 100000;
+inline constexpr int kMaxIcpIterations = 500;
+inline constexpr int kMaxViews = 64;
+
 struct Params {
   double min_height = 0.3;        // candidate points below this z are ground (m; cocone's cut)
   double voxel = 0.2;             // downsampling leaf before the local descriptors (m)

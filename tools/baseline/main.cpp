@@ -29,9 +29,9 @@ int main(int argc, char** argv) {
   tool.add_length("--normal-radius", &p.normal_radius, "normal estimation radius (downsampled)");
   tool.add_length("--feature-radius", &p.feature_radius, "FPFH radius");
   tool.add_length("--inlier", &p.inlier, "RANSAC inlier and fitness distance");
-  tool.add("--ransac-iterations", &p.ransac_iterations, "RANSAC iterations per model");
-  tool.add("--icp-iterations", &p.icp_iterations, "ICP iterations per model (0 = none)");
-  tool.add("--views", &p.views, "VFH model views on the sensor ring (plus the whole surface)");
+  tool.add("--ransac-iterations", &p.ransac_iterations, "RANSAC iterations per model, at most 100000");
+  tool.add("--icp-iterations", &p.icp_iterations, "ICP iterations per model (0 = none), at most 500");
+  tool.add("--views", &p.views, "VFH model views on the sensor ring (plus the whole surface), at most 64");
   tool.add_angle("--view-elevation", &p.view_elevation, "elevation of the VFH view ring");
   tool.add("--seed", &seed, "RANSAC seed");
   tool.add("--verdict", &verdict,

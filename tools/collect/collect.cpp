@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <regex>
 #include <set>
 #include <stdexcept>
@@ -10,6 +11,7 @@
 #include "canopy/common/math.h"
 #include "canopy/formats/json_document.h"
 #include "canopy/formats/provenance.h"
+#include "canopy/formats/verdict.h"
 
 namespace canopy::collect {
 namespace {
@@ -133,14 +135,27 @@ Verdict parse_verdict(const std::string& text, const std::string& name) {
   Verdict v;
   v.name = name;
   try {
+    const Json& candidate = member(j, "candidate", "verdict");
+    if (!candidate.is_string() || candidate.get<std::string>().empty()) {
+      throw Malformed("candidate must name the candidate's points (verify --points)");
+    }
+    v.candidate = candidate.get<std::string>();
     const Json& model = member(j, "model", "verdict");
-    if (!model.is_null() && !(model.is_string() && !model.get<std::string>().empty())) {
-      throw Malformed("model must be a name or null");
+    if (!model.is_null() && !(model.is_string() && formats::is_model_name(model.get<std::string>()))) {
+      throw Malformed(
+          "model must be a model name (a file stem: no '/', not . or .., no control characters) or null, "
+          "not " +
+          model.dump(-1, ' ', true, Json::error_handler_t::replace).substr(0, 60));
     }
     if (model.is_string()) v.model = model.get<std::string>();
     v.confidence = number(member(j, "confidence", "verdict"), "confidence");
     if (v.confidence < 0 || v.confidence > 1) throw Malformed("confidence must lie in [0, 1]");
-    if (j.contains("class") && j["class"].is_string()) v.cls = j["class"].get<std::string>();
+    if (j.contains("class") && !j["class"].is_null()) {
+      if (!j["class"].is_string() || !formats::is_model_name(j["class"].get<std::string>())) {
+        throw Malformed("class must be a class name or null");
+      }
+      v.cls = j["class"].get<std::string>();
+    }
     for (const char* key : {"pose", "pose_tile"}) {
       if (!j.contains(key) || j[key].is_null()) continue;
       const Matrix m = matrix(member(j[key], "matrix", key), std::string(key) + ".matrix");
@@ -149,6 +164,37 @@ Verdict parse_verdict(const std::string& text, const std::string& name) {
     if (!v.model.empty() && !v.pose && !v.pose_tile) throw Malformed("a model without a pose");
   } catch (const Malformed& e) { throw common::DataError(name, e.what()); }
   return v;
+}
+
+bool names_candidate(const std::string& points, const std::string& id) {
+  const std::filesystem::path p(points);
+  return p.stem() == id || p.parent_path().filename() == id;
+}
+
+void check_verdict_of(const Verdict& v, const std::string& id, const std::string& index_dir) {
+  if (v.failed) return;
+  if (!names_candidate(v.candidate, id)) {
+    throw common::DataError(v.name, "was written for \"" + v.candidate + "\", not for candidate " + id +
+                                        " (its points are " + id + ".pcd or " + id + "/<file>)");
+  }
+  // When the points are there to look at, they must be this tile's: detect's <id>.pcd beside
+  // the index, or a file in the candidate's directory (beside the index or the verdict).
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path points(v.candidate);
+  if (!fs::exists(points, ec)) return;
+  const fs::path dir = points.parent_path().empty() ? fs::path(".") : points.parent_path();
+  const fs::path index = index_dir.empty() ? fs::path(".") : fs::path(index_dir);
+  const fs::path verdict_dir =
+      fs::path(v.name).parent_path().empty() ? fs::path(".") : fs::path(v.name).parent_path();
+  auto same = [&](const fs::path& a, const fs::path& b) {
+    std::error_code e;
+    return fs::equivalent(a, b, e) && !e;
+  };
+  if ((points.stem() == id && same(dir, index)) || same(dir, index / id) || same(dir, verdict_dir)) return;
+  throw common::DataError(v.name, "was written for " + v.candidate + ", which is not candidate " + id +
+                                      " of this tile (not " + (index / (id + ".pcd")).string() + " nor in " +
+                                      (index / id).string() + "/ or " + verdict_dir.string() + "/)");
 }
 
 std::string plan(const Index& index, const std::string& key) {
@@ -295,6 +341,9 @@ Output collect(const Index& index, const std::vector<Verdict>& verdicts, const P
   for (std::size_t i = 0; i < verdicts.size(); ++i) {
     const Candidate& c = index.candidates[i];
     const Verdict& v = verdicts[i];
+    if (!v.failed && !names_candidate(v.candidate, c.id)) {
+      throw common::DataError(v.name, "was written for \"" + v.candidate + "\", not for candidate " + c.id);
+    }
     if (v.failed) {
       ++out.failed;
       rejected.push_back(

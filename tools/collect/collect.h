@@ -30,10 +30,11 @@ struct Index {
 };
 
 struct Verdict {
-  std::string name;     // file, as given
-  bool failed = false;  // an empty file: the candidate's chain failed (stage.sh --record-failure)
-  std::string model;    // "" = none
-  std::string cls;      // "class", when the verdict has one
+  std::string name;       // file, as given
+  bool failed = false;    // an empty file: the candidate's chain failed (stage.sh --record-failure)
+  std::string candidate;  // the points verify checked ("candidate"), as it was given them
+  std::string model;      // "" = none
+  std::string cls;        // "class", when the verdict has one
   double confidence = 0;
   std::optional<Matrix> pose;       // model -> candidate
   std::optional<Matrix> pose_tile;  // model -> tile
@@ -53,7 +54,20 @@ struct Params {
 void validate(const Params& params);
 
 Index parse_index(const std::string& text, const std::string& name);
+// An empty text is a failed candidate. Otherwise DataError naming the file: not a
+// canopy.verdict v1, no "candidate" (a non-empty string), a model or class that is not a name
+// (formats::is_model_name: a model "../../x" would be read outside the modelbase), confidence
+// outside [0, 1], a malformed pose, a model without a pose.
 Verdict parse_verdict(const std::string& text, const std::string& name);
+
+// Whether a verdict's "candidate" (the points verify was given) names candidate `id`: its file
+// stem is the id (detect's <id>.pcd) or its directory is named so (<id>/samples.pcd).
+bool names_candidate(const std::string& points, const std::string& id);
+// The verdict belongs to candidate `id` of the index in `index_dir`: DataError naming the
+// verdict file unless names_candidate(); and when those points exist (seen from the working
+// directory), they must be <index_dir>/<id>.pcd or lie in <index_dir>/<id>/ or in the verdict's
+// own directory: another tile's candidate of the same id is refused too. Failed verdicts pass.
+void check_verdict_of(const Verdict& verdict, const std::string& id, const std::string& index_dir);
 
 // p = a * b (4 x 4 row-major).
 Matrix multiply(const Matrix& a, const Matrix& b);
@@ -66,7 +80,8 @@ struct Output {
   int found = 0, none = 0, failed = 0;
 };
 
-// verdicts[i] belongs to index.candidates[i]. `provenance` is written as is.
+// verdicts[i] belongs to index.candidates[i] (DataError naming the verdict when its candidate
+// does not name it, names_candidate). `provenance` is written as is.
 Output collect(const Index& index, const std::vector<Verdict>& verdicts, const Params& params,
                const nlohmann::ordered_json& provenance);
 

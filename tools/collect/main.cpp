@@ -90,6 +90,7 @@ std::vector<collect::Verdict> read_verdicts(const Options& o, const collect::Ind
   for (const auto& c : index.candidates) {
     const std::string path = (dir / c.id / o.name).string();
     vs.push_back(collect::parse_verdict(common::read_file(path), path));
+    collect::check_verdict_of(vs.back(), c.id, fs::path(o.in).parent_path().string());
     inputs.push_back(path);
   }
   return vs;

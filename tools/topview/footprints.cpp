@@ -1,4 +1,6 @@
-// Reading the footprints topview draws from the detections, truth and score documents.
+// Reading the footprints topview draws from the detections, truth and score documents. Each
+// document is opened by formats::open_json_document (format and version 1 checked, nesting
+// bounded) and every member topview uses is checked, the error naming the file and the member.
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -7,33 +9,60 @@
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
+#include "canopy/formats/json_document.h"
 #include "topview/topview.h"
 
 namespace canopy::topview {
 namespace {
 
-using Json = nlohmann::json;
+using Json = nlohmann::ordered_json;
+using Malformed = formats::MalformedField;
+constexpr auto member = formats::json_member;
 
-Json read_json(const std::string& path, const char* format) {
-  Json j;
-  try {
-    j = Json::parse(common::read_file(path));
-  } catch (const Json::parse_error& e) {
-    throw common::DataError(path, std::string("not JSON: ") + e.what());
-  }
-  if (!j.is_object() || !j.contains("format") || j["format"] != format) {
-    throw common::DataError(path, std::string("not a ") + format + " document");
-  }
-  return j;
+// A value for a message: scalars as JSON text (cut), arrays and objects by kind only.
+std::string describe(const Json& v) {
+  if (v.is_array()) return "an array";
+  if (v.is_object()) return "an object";
+  std::string s = v.dump(-1, ' ', true, Json::error_handler_t::replace);
+  return s.size() > 40 ? s.substr(0, 40) + "..." : s;
 }
 
-Ring ring_of(const Json& fp, const std::string& path, const std::string& where) {
-  Ring r;
+Json open(const std::string& path, const char* format) {
+  return formats::open_json_document(common::read_file(path), path, format);
+}
+
+const Json& array(const Json& j, const char* key, const std::string& where) {
+  const Json& v = member(j, key, where);
+  if (!v.is_array()) throw Malformed(where + "." + key + " must be an array, not " + describe(v));
+  return v;
+}
+
+std::string text(const Json& j, const char* key, const std::string& where) {
+  const Json& v = member(j, key, where);
+  if (!v.is_string()) throw Malformed(where + "." + key + " must be a string, not " + describe(v));
+  return v.get<std::string>();
+}
+
+// A non-negative integer (an index or an instance number); 3.0, -1, "3" and values beyond
+// 2^53 are refused.
+long long count(const Json& j, const char* key, const std::string& where) {
+  const Json& v = member(j, key, where);
+  const bool ok = v.is_number_unsigned() || (v.is_number_integer() && v.get<long long>() >= 0);
+  if (!ok || v.get<unsigned long long>() > (1ULL << 53)) {
+    throw Malformed(where + "." + key + " must be a non-negative integer, not " + describe(v));
+  }
+  return v.get<long long>();
+}
+
+Ring ring_of(const Json& j, const std::string& where) {
+  const Json& fp = member(j, "footprint", where);
   if (!fp.is_array() || fp.size() < 3 || fp.size() > 64)
-    throw common::DataError(path, where + ": not a footprint polygon");
-  for (const auto& p : fp) {
-    if (!p.is_array() || p.size() < 2 || !p[0].is_number() || !p[1].is_number()) {
-      throw common::DataError(path, where + ": a corner is not [x, y]");
+    throw Malformed(where + ".footprint must be a polygon of 3 to 64 [x, y] corners");
+  Ring r;
+  for (std::size_t i = 0; i < fp.size(); ++i) {
+    const Json& p = fp[i];
+    if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number()) {
+      throw Malformed(where + ".footprint[" + std::to_string(i) + "] must be [x, y], not " + describe(p));
     }
     r.push_back({p[0].get<double>(), p[1].get<double>()});
   }
@@ -41,59 +70,95 @@ Ring ring_of(const Json& fp, const std::string& path, const std::string& where) 
 }
 
 // The score's matches of this tile: the outcome of each candidate (right, wrong,
-// false_alarm) and the missed vehicles' instances.
+// false_alarm) and the missed vehicles' instances. Every match is checked, not only the
+// tile's: a right, wrong or false_alarm row names its candidate, a missed row its instance.
 struct Outcomes {
   std::map<std::string, std::string> of_candidate;
   std::set<long long> missed;
 };
 
 Outcomes read_outcomes(const std::string& path, int tile) {
+  const Json s = open(path, "canopy.scene_score");
   Outcomes o;
-  const Json s = read_json(path, "canopy.scene_score");
-  if (!s.contains("tiles") || !s["tiles"].is_array() || tile >= static_cast<int>(s["tiles"].size())) {
-    throw common::DataError(path, "has no tile " + std::to_string(tile));
-  }
-  for (const auto& m : s.value("matches", Json::array())) {
-    if (m.value("tile", -1) != tile) continue;
-    if (m["outcome"] == "missed") {
-      o.missed.insert(m["instance"].get<long long>());
-    } else {
-      o.of_candidate[m["candidate"].get<std::string>()] = m["outcome"].get<std::string>();
+  try {
+    const Json& tiles = array(s, "tiles", "score");
+    if (tile >= static_cast<int>(tiles.size())) {
+      throw Malformed("has no tile " + std::to_string(tile) + " (" + std::to_string(tiles.size()) + " tiles)");
     }
-  }
+    const Json& matches = array(s, "matches", "score");
+    for (std::size_t i = 0; i < matches.size(); ++i) {
+      const std::string w = "matches[" + std::to_string(i) + "]";
+      const Json& m = matches[i];
+      if (!m.is_object()) throw Malformed(w + " must be an object, not " + describe(m));
+      const long long t = count(m, "tile", w);
+      if (t >= static_cast<long long>(tiles.size())) {
+        throw Malformed(w + ".tile " + std::to_string(t) + " is not one of the " +
+                        std::to_string(tiles.size()) + " tiles");
+      }
+      const std::string outcome = text(m, "outcome", w);
+      if (outcome == "missed") {
+        const long long instance = count(m, "instance", w);
+        if (t == tile) o.missed.insert(instance);
+      } else if (outcome == "right" || outcome == "wrong" || outcome == "false_alarm") {
+        const std::string candidate = text(m, "candidate", w);
+        if (t == tile && !o.of_candidate.emplace(candidate, outcome).second) {
+          throw Malformed(w + ".candidate \"" + candidate + "\" has a second outcome in tile " +
+                          std::to_string(tile));
+        }
+      } else {
+        throw Malformed(w + ".outcome must be right, wrong, false_alarm or missed, not " +
+                        describe(member(m, "outcome", w)));
+      }
+    }
+  } catch (const Malformed& e) { throw common::DataError(path, e.what()); }
   return o;
 }
 
-Rgb detection_colour(const Outcomes& o, const Json& detection) {
-  const auto it = o.of_candidate.find(detection.value("candidate", std::string()));
+Rgb detection_colour(const Outcomes& o, const std::string& candidate) {
+  const auto it = o.of_candidate.find(candidate);
   return it == o.of_candidate.end() ? kDetection
          : it->second == "right"    ? kRight
          : it->second == "wrong"    ? kWrong
                                     : kFalseAlarm;
 }
 
+void add_truth(const std::string& path, const Outcomes& outcomes, std::vector<Shape>& shapes) {
+  const Json t = open(path, "canopy.scene_truth");
+  try {
+    const Json& vehicles = array(t, "vehicles", "truth");
+    for (std::size_t k = 0; k < vehicles.size(); ++k) {
+      const std::string w = "vehicles[" + std::to_string(k) + "]";
+      const Json& v = vehicles[k];
+      if (!v.is_object()) throw Malformed(w + " must be an object, not " + describe(v));
+      const bool miss = outcomes.missed.count(count(v, "instance", w)) > 0;
+      shapes.push_back({ring_of(v, w), miss ? kMissed : kTruth});
+    }
+  } catch (const Malformed& e) { throw common::DataError(path, e.what()); }
+}
+
+void add_detections(const std::string& path, const Outcomes* outcomes, std::vector<Shape>& shapes) {
+  const Json d = open(path, "canopy.detections");
+  try {
+    const Json& detections = array(d, "detections", "detections document");
+    for (std::size_t k = 0; k < detections.size(); ++k) {
+      const std::string w = "detections[" + std::to_string(k) + "]";
+      const Json& det = detections[k];
+      if (!det.is_object()) throw Malformed(w + " must be an object, not " + describe(det));
+      const std::string candidate = text(det, "candidate", w);
+      const Ring ring = ring_of(det, w);
+      shapes.push_back({ring, outcomes ? detection_colour(*outcomes, candidate) : kDetection});
+    }
+  } catch (const Malformed& e) { throw common::DataError(path, e.what()); }
+}
+
 }  // namespace
 
 std::vector<Shape> read_footprints(const Sources& sources, int tile) {
-  const Json d = read_json(sources.detections, "canopy.detections");
   const bool scored = !sources.score.empty();
   const Outcomes outcomes = scored ? read_outcomes(sources.score, tile) : Outcomes{};
   std::vector<Shape> shapes;
-  if (!sources.truth.empty()) {
-    const Json t = read_json(sources.truth, "canopy.scene_truth");
-    std::size_t k = 0;
-    for (const auto& v : t.value("vehicles", Json::array())) {
-      const std::string where = "vehicles[" + std::to_string(k++) + "]";
-      const bool miss = outcomes.missed.count(v.value("instance", -1LL)) > 0;
-      shapes.push_back({ring_of(v.value("footprint", Json()), sources.truth, where), miss ? kMissed : kTruth});
-    }
-  }
-  std::size_t k = 0;
-  for (const auto& det : d.value("detections", Json::array())) {
-    const std::string where = "detections[" + std::to_string(k++) + "]";
-    const Rgb c = scored ? detection_colour(outcomes, det) : kDetection;
-    shapes.push_back({ring_of(det.value("footprint", Json()), sources.detections, where), c});
-  }
+  if (!sources.truth.empty()) add_truth(sources.truth, outcomes, shapes);
+  add_detections(sources.detections, scored ? &outcomes : nullptr, shapes);
   return shapes;
 }
 

@@ -56,8 +56,12 @@ struct Sources {
 
 // Reads the documents: the true footprints first (kTruth, or kMissed when the score says the
 // tile's vehicle was missed), then the detections (kDetection, or with a score kRight, kWrong,
-// kFalseAlarm by the outcome of the candidate). DataError naming the file: not JSON, another
-// format, no tile `tile` in the score, a footprint that is not a polygon of 3-64 [x, y] corners.
+// kFalseAlarm by the outcome of the candidate). DataError naming the file and the member: not
+// JSON, another format, a version other than 1, no "detections" / "vehicles" / "tiles" /
+// "matches" array, no tile `tile` in the score, a detection without a string "candidate", a
+// vehicle without an integer "instance" >= 0, a match without "tile" (an index of "tiles") or
+// "outcome" (right, wrong, false_alarm, missed), a missed match without "instance", another
+// match without a string "candidate", a footprint that is not a polygon of 3-64 [x, y] corners.
 std::vector<Shape> read_footprints(const Sources& sources, int tile);
 
 // The picture (render at Params::size; `tile` is read_footprints'), validate()d first.

@@ -9,6 +9,7 @@
 #include "canopy/common/cli.h"
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
+#include "canopy/common/units.h"
 #include "canopy/formats/match_result.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/segment_graph.h"
@@ -58,7 +59,7 @@ void bind(cm::Tool& tool, vf::Params& p, Cli& cli) {
       ->check(CLI::IsMember({"unseen", "through"}));
   tool.add_length("--icp-coarse", &p.icp_coarse, "ICP correspondence distance, first stage");
   tool.add_length("--icp-fine", &p.icp_fine, "ICP correspondence distance, second stage");
-  tool.add("--icp-iterations", &p.icp_iterations, "ICP iterations per stage (0 = no ICP)");
+  tool.add("--icp-iterations", &p.icp_iterations, "ICP iterations per stage (0 = no ICP), at most 500");
   tool.add("--icp-points", &p.icp_points, "candidate points ICP uses at most (even stride)");
   tool.add_flag("--no-flip", &cli.no_flip, "do not try the 180-degree flip of each start")
       ->default_str("false");
@@ -74,11 +75,13 @@ Eigen::Isometry3d parse_transform(const std::string& text) {
   std::stringstream ss(text);
   std::string item;
   while (std::getline(ss, item, ',')) {
+    // Decimal numbers only: std::stod alone would also take "0x1p0", "inf" and " 1".
+    if (item.empty() || cm::decimal_prefix(item) != item.size()) {
+      throw cm::UsageError("--transform: '" + item + "' is not a decimal number");
+    }
     try {
-      std::size_t used = 0;
-      v.push_back(std::stod(item, &used));
-      if (used != item.size()) throw std::invalid_argument(item);
-    } catch (const std::exception&) { throw cm::UsageError("--transform: '" + item + "' is not a number"); }
+      v.push_back(std::stod(item));
+    } catch (const std::exception&) { throw cm::UsageError("--transform: '" + item + "' is out of range"); }
   }
   if (v.size() != 12 && v.size() != 16) {
     throw cm::UsageError("--transform needs 12 or 16 comma-separated numbers (row-major 3x4 or 4x4)");
@@ -161,6 +164,7 @@ int main(int argc, char** argv) {
 
     cm::log::Phase read("read");
     const Inputs in = read_inputs(cli, p);
+    vf::check_inputs_belong({&in.match, cli.in, &in.graph, cli.segments, &in.candidate, cli.points});
     read.done(std::to_string(in.candidate.points.size()) + " candidate points, " +
               std::to_string(in.models.size()) + " hypotheses");
 

@@ -7,6 +7,7 @@
 #include "canopy/common/error.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/segment_graph.h"
+#include "canopy/formats/verdict.h"
 #include "verify/verify.h"
 
 namespace canopy::verify {
@@ -21,7 +22,12 @@ std::vector<Model> read_models(const std::string& dir, const std::vector<std::st
   for (const auto& name : names) {
     const std::string graph = (fs::path(dir) / (name + ".json")).string();
     const std::string surface = (fs::path(dir) / (name + ".pcd")).string();
-    if (name.empty() || name.find('/') != std::string::npos || !fs::is_regular_file(graph, ec)) {
+    if (!formats::is_model_name(name)) {
+      throw DataError(who, "hypothesis names model '" + name.substr(0, 80) +
+                               "', which is not a model name (a file stem: no '/', not . or .., no control "
+                               "characters)");
+    }
+    if (!fs::is_regular_file(graph, ec)) {
       throw DataError(who, "hypothesis names model '" + name + "', which is not in the modelbase " + dir +
                                " (no " + graph + ")");
     }

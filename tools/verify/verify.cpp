@@ -142,7 +142,9 @@ void validate(const Params& p) {
         "--occlusion-margin >= 0");
   }
   if (!(p.facing > 0 && p.facing <= 1)) throw common::UsageError("--facing must be in (0, 1]");
-  if (p.icp_iterations < 0) throw common::UsageError("--icp-iterations must be >= 0");
+  if (p.icp_iterations < 0 || p.icp_iterations > kMaxIcpIterations) {
+    throw common::UsageError("--icp-iterations must be in [0, " + std::to_string(kMaxIcpIterations) + "]");
+  }
   if (p.icp_points < 6) throw common::UsageError("--icp-points must be >= 6");
   if (!(p.accept >= 0 && p.accept <= 1)) throw common::UsageError("--accept must be in [0, 1]");
   if (!std::isfinite(p.min_height) || !std::isfinite(p.conf_bias) || !std::isfinite(p.conf_score) ||

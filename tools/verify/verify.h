@@ -30,6 +30,9 @@
 
 namespace canopy::verify {
 
+// Upper bound of Params::icp_iterations (25 times the default; validate).
+inline constexpr int kMaxIcpIterations = 500;
+
 struct Params {
   int top_k = 3;                   // gmatch hypotheses checked (rank 1..k)
   double min_height = 0.3;         // candidate points below this z are ground (m; cocone's cut)
@@ -123,6 +126,38 @@ bool pose_from_pairs(const formats::SegmentGraph& object, const formats::Segment
 // Heading + translation start aligning the horizontal principal axes and centroids.
 Eigen::Isometry3d pose_from_axes(const std::vector<Eigen::Vector3d>& candidate,
                                  const std::vector<Eigen::Vector3d>& model);
+
+// Inputs that belong together (docs/decisions/verify.md): each check throws common::DataError
+// naming the files when they provably describe different candidates.
+// The match's pairs name segments of the graph, each at most once, and the largest: no segment
+// left out is larger than a paired one (gmatch pairs the X largest object segments).
+void check_match_names_graph(const formats::MatchResult& match, const std::string& match_name,
+                             const formats::SegmentGraph& graph, const std::string& graph_name);
+// The graph was made from a mesh of these points (cocone keeps a subset of the sample rows, ncut
+// partitions the mesh's vertices): every vertex index below the number of points, no more
+// vertices in all segments than points, every centroid (a mean over mesh triangles) inside the
+// points' bounding box.
+void check_graph_on_points(const formats::SegmentGraph& graph, const std::string& graph_name,
+                           const std::vector<Eigen::Vector3d>& points, const std::string& points_name);
+// Every vertex of the graph's mesh is exactly one of the points.
+void check_mesh_on_points(const std::vector<Eigen::Vector3d>& mesh, const std::string& mesh_name,
+                          const std::string& graph_name, const std::vector<Eigen::Vector3d>& points,
+                          const std::string& points_name);
+
+struct BelongInputs {
+  const formats::MatchResult* match = nullptr;
+  std::string match_path;  // as given ("-" = stdin)
+  const formats::SegmentGraph* segments = nullptr;
+  std::string segments_path;
+  const Candidate* candidate = nullptr;
+  std::string points_path;
+};
+// All of the above, and the names the documents record, where they resolve (beside the
+// recording document, or from the working directory): the match's "object" must be the
+// --segments file (or one with the same bytes); the graph's "mesh", when it is a readable PLY
+// with as many vertices as the segments hold, goes through check_mesh_on_points. Names that do
+// not resolve prove nothing and are passed over.
+void check_inputs_belong(const BelongInputs& in);
 
 struct In {
   const Candidate* candidate = nullptr;

@@ -56,8 +56,17 @@ struct Verdict {
 // Heading, pitch, roll in degrees of a rotation (R = Rz(heading) Ry(pitch) Rx(roll)).
 std::array<double, 3> euler_degrees(const Pose& pose);
 
+// Every error is a common::DataError naming the file and the member ("malformed verdict:
+// hypotheses[0].gmatch_rank must be an integer in [1, 2147483647], not 1.5"): integers are
+// never cast from other numbers, every model, class and nearest instance is a name
+// (is_model_name), chosen is -1 or a hypothesis index and agrees with model.
 Verdict read_verdict(const std::string& path);
 Verdict parse_verdict(const std::string& text, const std::string& name);
+
+// A model's name as a modelbase spells it (the stem of <name>.json, <name>.pcd): not empty, at
+// most 255 bytes, not "." or "..", no '/' and no control character. Anything else would be
+// read as a path outside the modelbase or written into documents as such.
+bool is_model_name(const std::string& name);
 void write_verdict(const Verdict& verdict, const std::string& path);
 std::string serialize_verdict(const Verdict& verdict);
 
