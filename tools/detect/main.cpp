@@ -122,7 +122,7 @@ int main(int argc, char** argv) {
     detect::validate(p);
     const std::string name = common::display_name(cli.in);
     common::log::Phase read("read");
-    // Tiles are read by magic: PCD, PLY point set or LAS (LAZ is refused with how to decompress).
+    // Tiles are read by magic: PCD, PLY point set, LAS or LAZ.
     const formats::PointCloud tile = formats::read_points(cli.in, "detect");
     read.done(std::to_string(tile.size()) + " points");
     warn_las_units(cli.in, name);
