@@ -65,14 +65,19 @@ class SymbolModel {
  public:
   explicit SymbolModel(std::uint32_t n) : n_(n) {
     if (n > 16) {
-      std::uint32_t bits = 3;
-      while (n > (1u << (bits + 2))) ++bits;
+      // About four table entries per symbol, at most 2^10 (FastAC uses one half to one): the
+      // search after the lookup rarely takes a step. Any resolution finds the same symbol.
+      std::uint32_t bits = 5;
+      while ((1u << bits) < 4 * n && bits < 10) ++bits;
       table_size_ = 1u << bits;
       table_shift_ = kSymShift - bits;
     }
-    mem_.reset(new std::uint32_t[2 * n + (table_size_ ? table_size_ + 2 : 0)]);
+    // Small models: the distribution padded to 16 entries of 2^15 for a branchless search.
+    const std::uint32_t cdf_size = n > 16 ? n : 16;
+    mem_.reset(new std::uint32_t[cdf_size + n + (table_size_ ? table_size_ + 2 : 0)]);
     cdf_ = mem_.get();
-    count_ = cdf_ + n;
+    for (std::uint32_t k = n; k < cdf_size; ++k) cdf_[k] = 1u << kSymShift;
+    count_ = cdf_ + cdf_size;
     table_ = table_size_ ? count_ + n : nullptr;
     for (std::uint32_t k = 0; k < n; ++k) count_[k] = 1;
     period_ = n;
@@ -175,18 +180,14 @@ class RangeDecoder {
       x = m.cdf_[sym] * length_;
       if (sym != m.n_ - 1) y = m.cdf_[sym + 1] * length_;
     } else {
-      x = sym = 0;
-      std::uint32_t hi = m.n_, k = hi >> 1;
-      do {
-        const std::uint32_t z = length_ * m.cdf_[k];
-        if (z > value_) {
-          hi = k;
-          y = z;
-        } else {
-          sym = k;
-          x = z;
-        }
-      } while ((k = (sym + hi) >> 1) != sym);
+      // At most 16 symbols: the last k with cdf[k] * length <= value, counted without branches
+      // (cdf strictly increases, so the count is that k; the padding counts only where the
+      // last symbol is the answer anyway).
+      sym = 0;
+      for (std::uint32_t k = 1; k < 16; ++k) sym += (length_ * m.cdf_[k] <= value_) ? 1u : 0u;
+      if (sym > m.n_ - 1) sym = m.n_ - 1;
+      x = length_ * m.cdf_[sym];
+      if (sym != m.n_ - 1) y = length_ * m.cdf_[sym + 1];
     }
     value_ -= x;
     length_ = y - x;
@@ -240,11 +241,11 @@ class IntegerDecoder {
   IntegerDecoder(std::uint32_t bits, std::uint32_t contexts) {
     if (bits > 0 && bits < 32) {
       corr_bits_ = bits;
-      corr_range_ = 1u << bits;
-      corr_min_ = -static_cast<std::int32_t>(corr_range_ / 2);
+      mask_ = (1u << bits) - 1;
+      corr_min_ = -static_cast<std::int32_t>(1u << (bits - 1));
     } else {
       corr_bits_ = 32;
-      corr_range_ = 0;
+      mask_ = 0xFFFFFFFFu;
       corr_min_ = INT32_MIN;
     }
     k_models_.reserve(contexts);
@@ -266,19 +267,14 @@ class IntegerDecoder {
         v = (v << low_bits) | d.raw(low_bits);
       }
       // Class k holds [-(2^k - 1), -2^(k-1)] and [2^(k-1) + 1, 2^k].
-      c = v >= (1u << (k - 1)) ? v + 1 : v - ((1u << k) - 1);
+      const std::uint32_t negative = 0u - static_cast<std::uint32_t>(v < (1u << (k - 1)));
+      c = v + 1 - (negative & (1u << k));
     } else {
       c = static_cast<std::uint32_t>(corr_min_);
     }
-    std::int64_t real = static_cast<std::int32_t>(static_cast<std::uint32_t>(pred) + c);
-    if (corr_range_ != 0) {
-      if (real < 0) {
-        real += corr_range_;
-      } else if (real >= corr_range_) {
-        real -= corr_range_;
-      }
-    }
-    return static_cast<std::int32_t>(real);
+    // LASzip folds a 16-bit result into [0, 2^16) by adding or subtracting 2^16 once; callers
+    // keep the low 16 bits, which the mask gives for every corrector.
+    return static_cast<std::int32_t>((static_cast<std::uint32_t>(pred) + c) & mask_);
   }
 
   // Magnitude class of the last corrector (a context for the next coordinate).
@@ -286,7 +282,7 @@ class IntegerDecoder {
 
  private:
   static constexpr std::uint32_t kHighBits = 8;
-  std::uint32_t corr_bits_ = 0, corr_range_ = 0, k_ = 0;
+  std::uint32_t corr_bits_ = 0, mask_ = 0, k_ = 0;
   std::int32_t corr_min_ = 0;
   std::vector<SymbolModel> k_models_;
   BitModel corr0_;

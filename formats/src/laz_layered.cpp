@@ -418,7 +418,9 @@ class Byte14Item final : public LayeredItem {
              bool* overrun)
       : layers_(layers), contexts_(channel, v4, std::vector<std::uint8_t>(first, first + n)) {
     for (std::size_t i = 0; i < n; ++i) {
-      if (layers_[i].on()) layers_[i].d.start(layers_[i].begin, layers_[i].begin + layers_[i].size, overrun);
+      if (!layers_[i].on()) continue;  // a byte that does not change in this chunk
+      layers_[i].d.start(layers_[i].begin, layers_[i].begin + layers_[i].size, overrun);
+      active_.push_back(i);
     }
   }
 
@@ -426,16 +428,15 @@ class Byte14Item final : public LayeredItem {
     std::vector<std::uint8_t>* values = nullptr;
     Byte14Context& c = contexts_.select(channel, &values);
     std::vector<std::uint8_t>& last = *values;
-    for (std::size_t i = 0; i < last.size(); ++i) {
-      if (layers_[i].on()) {
-        last[i] = static_cast<std::uint8_t>(last[i] + layers_[i].d.symbol(lazy(c.models[i], 256)));
-      }
-      out[i] = last[i];
+    for (const std::size_t i : active_) {
+      last[i] = static_cast<std::uint8_t>(last[i] + layers_[i].d.symbol(lazy(c.models[i], 256)));
     }
+    std::memcpy(out, last.data(), last.size());
   }
 
  private:
   Layer* layers_;
+  std::vector<std::size_t> active_;
   ChannelContexts<Byte14Context> contexts_;
 };
 
