@@ -458,9 +458,11 @@ class LayeredDecoder final : public ChunkDecoder {
     if (count == 1) return;
     const std::size_t head = record_ + 4 + 4 * layer_count_;
     if (size < head) throw Corrupt("chunk shorter than its first record and layer sizes");
+    // More points than needed: the header counts fewer than the chunks hold (LASzip reads the
+    // header's count). Fewer: the layers cannot hold the points asked for.
     const std::uint32_t stated = get_u32(begin + record_);
-    if (stated != count) {
-      throw Corrupt("it says it holds " + std::to_string(stated) + " points, the chunk table says " +
+    if (stated < count) {
+      throw Corrupt("it holds " + std::to_string(stated) + " points, the chunk table and header ask for " +
                     std::to_string(count));
     }
     std::vector<Layer> layers(layer_count_);
