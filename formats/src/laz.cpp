@@ -260,6 +260,7 @@ std::string laz_to_las(const std::string& bytes, const std::string& name) {
   const Laszip z = read_laszip(laszip_at, laszip_len, name);
   std::size_t item_bytes = 0;
   for (const Item& it : z.items) item_bytes += it.size;
+  if (h.record == 0) throw DataError(name, "point record length is 0");
   if (item_bytes != h.record) {
     throw DataError(name, "LASzip items add up to " + std::to_string(item_bytes) +
                               " bytes, the point record has " + std::to_string(h.record));

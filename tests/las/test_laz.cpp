@@ -369,6 +369,10 @@ TEST_CASE("broken LAZ: a clear error naming the file, memory bounded by the file
   set<std::uint16_t>(&b, 105, 35);
   CHECK(contains(laz_error(b), "LASzip items add up to 34 bytes, the point record has 35"));
   b = good;
+  set<std::uint16_t>(&b, 105, 0);
+  for (int k = 0; k < 3; ++k) set<std::uint16_t>(&b, vlr + 34 + 6 * k + 2, 0);  // items of 0 bytes
+  CHECK(contains(laz_error(b), "t.laz: point record length is 0"));
+  b = good;
   set<std::uint16_t>(&b, vlr, 4);
   CHECK(contains(laz_error(b), "LASzip compressor 4 is unknown"));
 
