@@ -1,12 +1,15 @@
-// Writes the seed corpora of the fuzz targets: <out>/pcd, <out>/ply, <out>/json. Valid files in
-// every encoding our writers produce, and the malformed cases of issue 12 (huge counts,
-// overflowing headers, NUL bytes, ...), built here rather than committed as binaries.
+// Writes the seed corpora of the fuzz targets: <out>/pcd, <out>/ply, <out>/json, <out>/laz. Valid
+// files in every encoding our writers produce, and the malformed cases of issue 12 (huge counts,
+// overflowing headers, NUL bytes, ...), built here rather than committed as binaries; for LAZ
+// (which canopy does not write) the small LAZ test files and damaged copies of them.
 // Usage: make_seeds <out dir>
 #include <sys/stat.h>
 
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 #include "canopy/formats/match_result.h"
@@ -166,6 +169,37 @@ void json_seeds() {
   put("json", "match.json", f::serialize_match_result(r));
 }
 
+std::string slurp(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+// The small LAZ files of tests/las/data, and copies with a lying point count, a lying chunk
+// table offset, a cut chunk and a damaged byte in every kilobyte.
+void laz_seeds() {
+  const std::string dir = std::string(CANOPY_SOURCE_DIR) + "/tests/las/data/";
+  for (const char* name : {"simple.laz", "extra.laz", "1_4_w_evlr.laz", "simple.copc.laz"}) {
+    const std::string laz = slurp(dir + name);
+    if (laz.size() < 400) continue;
+    const std::string base = std::string(name).substr(0, std::string(name).size() - 4);
+    put("laz", base + ".laz", laz);
+    std::uint32_t data_at;
+    std::memcpy(&data_at, &laz[96], 4);
+    std::string b = laz;
+    std::memcpy(&b[laz[25] >= 4 ? 247 : 107], "\xff\xff\xff\x0f", 4);  // LAS 1.4: the 64-bit count
+    put("laz", base + "-count.laz", b);
+    b = laz;
+    if (data_at + 8 <= b.size()) std::memcpy(&b[data_at], "\x10\0\0\0\0\0\0\0", 8);
+    put("laz", base + "-table.laz", b);
+    put("laz", base + "-cut.laz", laz.substr(0, laz.size() / 2));
+    b = laz;
+    for (std::size_t at = data_at + 8; at < b.size(); at += 1024) b[at] = static_cast<char>(b[at] ^ 0x41);
+    put("laz", base + "-flips.laz", b);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -178,5 +212,6 @@ int main(int argc, char** argv) {
   pcd_seeds();
   ply_seeds();
   json_seeds();
+  laz_seeds();
   return 0;
 }

@@ -1,8 +1,13 @@
-// PCD reading speed and peak memory: canopy's read_pcd against PCL's loadPCDFile.
+// PCD reading speed and peak memory: canopy's read_pcd against PCL's loadPCDFile; LAZ reading
+// against reading the same points as LAS.
 //   formats_bench make <file.pcd> <points> [binary|binary_compressed|ascii]
 //       writes a scan-like cloud (x y z sensor_x sensor_y sensor_z F4, view_idx I4, label U4)
 //   formats_bench read <canopy|pcl-blob|pcl-xyzl> <file.pcd>
 //       reads it once and prints "reader cpu_s wall_s peak_rss_MB points"
+//   formats_bench unlaz <file.laz> <file.las>
+//       writes the LAS a LAZ file decompresses to (canopy's laz_to_las)
+//   formats_bench read <las|laz> <file>
+//       reads a LAS or LAZ file once with read_points (as every tool does), same output
 // Run each read in its own process (bench/formats/run.sh) so peak RSS is the reader's own.
 #include <sys/resource.h>
 
@@ -15,7 +20,10 @@
 #include <pcl/io/pcd_io.h>
 #include <pcl/point_types.h>
 
+#include "canopy/common/atomic_file.h"
+#include "canopy/formats/laz.h"
 #include "canopy/formats/pcd.h"
+#include "canopy/formats/points_io.h"
 
 namespace {
 
@@ -70,6 +78,8 @@ int read(const std::string& reader, const std::string& path) {
   std::size_t n = 0;
   if (reader == "canopy") {
     n = canopy::formats::read_pcd(path).size();
+  } else if (reader == "las" || reader == "laz") {
+    n = canopy::formats::read_points(path).size();
   } else if (reader == "pcl-blob") {
     pcl::PCLPointCloud2 blob;
     if (pcl::io::loadPCDFile(path, blob) != 0) return 1;
@@ -94,8 +104,15 @@ int main(int argc, char** argv) {
   if (cmd == "make" && argc >= 4)
     return make(argv[2], std::strtoull(argv[3], nullptr, 10), argc > 4 ? argv[4] : "binary");
   if (cmd == "read" && argc == 4) return read(argv[2], argv[3]);
+  if (cmd == "unlaz" && argc == 4) {
+    canopy::common::write_file_atomic(
+        argv[3], canopy::formats::laz_to_las(canopy::common::read_file(argv[2]), argv[2]));
+    return 0;
+  }
   std::fprintf(stderr,
                "usage: formats_bench make <file.pcd> <points> [binary|binary_compressed|ascii]\n"
-               "       formats_bench read <canopy|pcl-blob|pcl-xyzl> <file.pcd>\n");
+               "       formats_bench read <canopy|pcl-blob|pcl-xyzl> <file.pcd>\n"
+               "       formats_bench unlaz <file.laz> <file.las>\n"
+               "       formats_bench read <las|laz> <file>\n");
   return 2;
 }

@@ -13,6 +13,7 @@
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "canopy/formats/provenance.h"
+#include "canopy/formats/laz.h"
 
 namespace canopy::formats {
 namespace {
@@ -59,21 +60,6 @@ bool has_prefix(const unsigned char* p, std::size_t n, const char* id) {
   const std::size_t len = std::strlen(id);
   if (len > n || std::memcmp(p, id, len) != 0) return false;
   return len == n || p[len] == 0;
-}
-
-std::string laz_message(const std::string& name) {
-  std::string las = name;
-  if (las.size() > 4 &&
-      (las.compare(las.size() - 4, 4, ".laz") == 0 || las.compare(las.size() - 4, 4, ".LAZ") == 0)) {
-    las.replace(las.size() - 4, 4, ".las");
-  } else {
-    las = "out.las";
-  }
-  const std::string laz = name == "-" ? "in.laz" : name;
-  return "this is a LAZ file (compressed LAS); canopy cannot read LAZ because Debian 12 has no LAZ "
-         "decoder package. Decompress it on a machine that has one, e.g. `laszip -i " +
-         laz + " -o " + las + "` (LAStools) or `pdal translate " + laz + " " + las +
-         "` (PDAL), and give canopy the .las";
 }
 
 // One Extra Bytes descriptor, resolved to the bytes it covers in each record.
@@ -182,9 +168,7 @@ std::vector<Extra> parse_extra_bytes(const unsigned char* p, std::size_t len, st
 
 bool is_las(const std::string& bytes) { return bytes.size() >= 4 && bytes.compare(0, 4, "LASF") == 0; }
 
-bool is_laz(const std::string& bytes) {
-  return is_las(bytes) && bytes.size() > 104 && (static_cast<unsigned char>(bytes[104]) & 0xC0) != 0;
-}
+bool is_laz(const std::string& bytes) { return laszip_compressed(bytes); }
 
 namespace {
 
@@ -276,7 +260,6 @@ LasHeader read_las_header(const unsigned char* b, std::size_t size, const std::s
                               " is not supported (canopy reads LAS 1.0-1.4)");
   }
   const int format_byte = b[104];
-  if ((format_byte & 0xC0) != 0) throw DataError(name, laz_message(name));
   const std::size_t header_size = h.header_size = get<std::uint16_t>(b + 94);
   const std::size_t need_header = minor >= 4 ? kHeader14 : minor == 3 ? kHeader13 : kHeader12;
   if (header_size < need_header) {
@@ -343,8 +326,6 @@ void read_vlrs(const unsigned char* b, const LasHeader& h, const std::string& na
         cloud->comments.push_back(printable(v + kVlrHeader + s, e - s));
         s = e + 1;
       }
-    } else if (has_prefix(v + 2, 16, "laszip encoded")) {
-      throw DataError(name, laz_message(name));
     }
     pos += kVlrHeader + len;
   }
@@ -491,6 +472,7 @@ PointCloud parse_las(const std::string& bytes, const std::string& name) {
   const auto* b = reinterpret_cast<const unsigned char*>(bytes.data());
   const std::size_t size = bytes.size();
   if (!is_las(bytes)) throw DataError(name, "not a LAS file (no LASF signature)");
+  if (is_laz(bytes)) return parse_las(laz_to_las(bytes, name), name);  // LAZ: decompressed first
   if (size < kHeader12) {
     throw DataError(name, "LAS header truncated: file has " + std::to_string(size) +
                               " bytes, a header needs " + std::to_string(kHeader12));

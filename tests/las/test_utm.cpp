@@ -198,11 +198,6 @@ TEST_CASE("tools: wrong formats are named, unknown output extensions are usage e
   CHECK(e.find("plain.mesh.ply: this is a PLY mesh with") != std::string::npos);
   CHECK(e.find("faces; fitvox reads points") != std::string::npos);
   CHECK_FALSE(fs::exists(d / "no.pcd"));
-  // LAZ.
-  const std::string laz = std::string(CANOPY_SOURCE_DIR) + "/tests/las/data/simple.laz";
-  CHECK(sh(bin("cocone") + " -q -i " + laz + " -o " + (d / "no.ply").string(), err, &e) == 1);
-  CHECK(e.find("simple.laz: this is a LAZ file") != std::string::npos);
-  CHECK(e.find("pdal translate") != std::string::npos);
   // A JSON document.
   CHECK(sh(bin("addnoise") + " -q -i " + (d / "plain.segments.json").string() + " -o " + (d / "no.pcd").string(),
            err, &e) == 1);

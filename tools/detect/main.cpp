@@ -124,7 +124,7 @@ int main(int argc, char** argv) {
     detect::check_output_dir(cli.out, cli.in);  // before the work; again before the swap
     const std::string name = common::display_name(cli.in);
     common::log::Phase read("read");
-    // Tiles are read by magic: PCD, PLY point set or LAS (LAZ is refused with how to decompress).
+    // Tiles are read by magic: PCD, PLY point set, LAS or LAZ.
     const formats::PointCloud tile = formats::read_points(cli.in, "detect");
     read.done(std::to_string(tile.size()) + " points");
     warn_las_units(cli.in, name);

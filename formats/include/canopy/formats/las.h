@@ -3,8 +3,9 @@
 // offset applied in double precision), every standard field of the point format as a column,
 // described Extra Bytes as named columns (undescribed bytes and waveform packets skipped).
 // Write: LAS 1.4, point format 6 (7 with red green blue, 8 with nir too), scale 0.001 m,
-// offset from the data, other columns as Extra Bytes. LAZ (compressed) is refused: Debian 12
-// has no LAZ decoder. Path "-" = stdin / stdout. Every failure is a DataError naming the file.
+// offset from the data, other columns as Extra Bytes. LAZ (LASzip-compressed LAS) is read too,
+// by content (laz.h); it is not written. Path "-" = stdin / stdout. Every failure is a
+// DataError naming the file.
 #pragma once
 
 #include <string>
@@ -18,7 +19,7 @@ inline constexpr double kLasWriteScale = 0.001;
 
 // True when `bytes` start with the LAS signature "LASF" (LAS or LAZ).
 bool is_las(const std::string& bytes);
-// True when `bytes` are LAS-signed and the point format byte carries LASzip's compression bit.
+// True when `bytes` are LAZ: LAS-signed with LASzip's compression bit or VLR (laz.h).
 bool is_laz(const std::string& bytes);
 
 PointCloud read_las(const std::string& path);

@@ -2,7 +2,7 @@
 // first bytes (its magic), never by its name; the format of an output by the name's
 // extension. See formats/README.md ("Choosing the format" and "Coordinates").
 //   input : PCD (any header line or '#' first), PLY point set ("ply" and no faces),
-//           LAS ("LASF"; LAZ is refused with how to decompress it). "-" = stdin.
+//           LAS and LAZ ("LASF"; LAZ decompressed by formats/laz.h). "-" = stdin.
 //   output: .pcd, .ply (point set, no faces), .las (LAS 1.4); "-" = PCD on stdout.
 #pragma once
 
