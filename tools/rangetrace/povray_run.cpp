@@ -259,17 +259,25 @@ Staged stage_models(const std::vector<Model>& models, const TempDir& tmp) {
     st.args.push_back("+L" + link_dir);
     st.renames.emplace_back(link_file, file);
     st.renames.emplace_back(link_dir + "/", dir + "/");
+    if (m.user_files.empty()) {
+      st.readable.push_back(dir);  // canopy's built-in models
+    } else {
+      st.user_code = true;
+      st.readable.insert(st.readable.end(), m.user_files.begin(), m.user_files.end());
+    }
   }
+  std::sort(st.readable.begin(), st.readable.end());
+  st.readable.erase(std::unique(st.readable.begin(), st.readable.end()), st.readable.end());
   return st;
 }
 
-void run_povray(const Params& params, const std::string& dir, std::vector<std::string> args,
-                const std::string& log_name, const std::vector<std::pair<std::string, std::string>>& renames) {
-  args.insert(args.begin(), params.povray);
-  std::vector<char*> argv;
+int run_process(const Command& cmd, const std::string& dir, const std::string& log_path) {
+  std::vector<std::string> args = cmd.argv, env = cmd.env;
+  std::vector<char*> argv, envp;
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
-  const std::string log_path = dir + "/" + log_name;
+  for (auto& e : env) envp.push_back(e.data());
+  envp.push_back(nullptr);
   // Signals stay blocked from fork until the child's pid is registered, so the cleanup handler
   // always knows every child; the child restores the mask before exec.
   sigset_t old;
@@ -292,7 +300,7 @@ void run_povray(const Params& params, const std::string& dir, std::vector<std::s
     ::dup2(null_fd, 0);
     ::dup2(fd, 1);
     ::dup2(fd, 2);
-    ::execvp(argv[0], argv.data());
+    ::execve(cmd.program.c_str(), argv.data(), envp.data());
     ::_exit(127);
   }
   int slot = -1;
@@ -309,14 +317,27 @@ void run_povray(const Params& params, const std::string& dir, std::vector<std::s
     }
   }
   if (slot >= 0) g_children[slot].store(0);
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return;
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 127) {
+  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  return WIFSIGNALED(status) ? 128 + WTERMSIG(status) : 128;
+}
+
+void run_povray(const Params& params, const Staged& st, const std::string& dir, std::vector<std::string> args,
+                const std::string& log_name, const std::vector<std::pair<std::string, std::string>>& renames) {
+  const std::string log_path = dir + "/" + log_name;
+  const Command cmd = povray_command(params.povray, args, absolute(dir), st.readable, st.user_code);
+  const int status = run_process(cmd, dir, log_path);
+  if (status == 0) return;
+  if (status == 127) {
     throw Error("cannot run POV-Ray '" + params.povray + "' (is the Debian package povray installed?)");
   }
   std::string log;
   try {
     log = common::read_file(log_path);
   } catch (const Error&) {}
+  // bwrap's own failure (a path to bind vanished, ...) is a confinement error.
+  if (log.rfind("bwrap: ", 0) == 0) {
+    throw Error("cannot confine POV-Ray: " + log.substr(0, log.find('\n')));
+  }
   std::string msg = povray_message(log);
   for (const auto& [from, to] : renames) msg = replace_all(msg, from, to);
   // An include that leaves a brace open fails only later, in the generated file: say so.
@@ -356,7 +377,7 @@ std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> models_extent(const std
   args.insert(args.end(), {"+W1", "+H1", "-F", "+Iextent.pov"});
   auto renames = st.renames;
   renames.emplace_back("extent.pov", "rangetrace's generated extent.pov (after the model's include)");
-  run_povray(params, tmp.path(), args, "extent.log", renames);
+  run_povray(params, st, tmp.path(), args, "extent.log", renames);
   std::istringstream in(common::read_file(tmp.path() + "/extent.txt"));
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> out;
   for (const Model& model : models) {
@@ -408,7 +429,7 @@ std::map<int, std::string> render_frames(const Params& params, const TempDir& tm
                                "+KFF" + std::to_string(frames - 1), "+KI0", "+KF" + std::to_string(frames - 1),
                                "+SF" + std::to_string(r.first), "+EF" + std::to_string(r.last)});
       try {
-        run_povray(params, tmp.path(), args, "render" + std::to_string(t) + ".log", renames);
+        run_povray(params, st, tmp.path(), args, "render" + std::to_string(t) + ".log", renames);
       } catch (const std::exception& e) { errors[t] = e.what(); }
     }
   });

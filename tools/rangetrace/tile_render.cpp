@@ -671,7 +671,7 @@ std::string render_tile_picture(const Tile& tile, const Params& params) {
                "+Ipicture.pov", "+Opicture.png", "+WT" + std::to_string(std::max(1, params.threads))});
   auto renames = st.renames;
   renames.emplace_back("picture.pov", "rangetrace's generated picture.pov");
-  run_povray(params, tmp.path(), args, "picture.log", renames);
+  run_povray(params, st, tmp.path(), args, "picture.log", renames);
   return common::read_file(tmp.path() + "/picture.png");
 }
 
