@@ -113,7 +113,7 @@ std::vector<std::string> extensions_of(const std::string& keyword) {
 
 // Keywords whose next token is a file name: images, density files, fonts.
 bool is_file_keyword(const std::string& w) {
-  static const std::set<std::string> k = {"gif", "tga", "iff", "ppm", "pgm",  "png", "jpeg",
+  static const std::set<std::string> k = {"gif",  "tga", "iff", "ppm", "pgm", "png", "jpeg",
                                           "tiff", "sys", "exr", "hdr", "bmp", "df3", "ttf"};
   return k.count(w) > 0;
 }
@@ -206,8 +206,8 @@ class Checker {
       if (t[k].kind != Token::kWord) continue;
       const std::string& w = t[k].text;
       auto fail = [&](const std::string& why) {
-        throw common::DataError(path, "line " + std::to_string(t[k].line) + ": " + why +
-                                          " (docs/decisions/sandbox.md)");
+        throw common::DataError(
+            path, "line " + std::to_string(t[k].line) + ": " + why + " (docs/decisions/sandbox.md)");
       };
       auto literal_after = [&](std::size_t at, const std::string& what) -> const Token& {
         if (at >= t.size() || t[at].kind != Token::kString) {
@@ -240,14 +240,16 @@ class Checker {
       } else if (is_file_keyword(w)) {
         resolve(literal_after(k + 1, "'" + w + "'").text, w, path, t[k].line, true);
       } else if (unconfined_ && is_writing_macro(w)) {
-        fail("'" + w + "' (a macro of POV-Ray's standard includes) writes or includes a file it is given, which "
+        fail("'" + w +
+             "' (a macro of POV-Ray's standard includes) writes or includes a file it is given, which "
              "only the sandbox can confine (CANOPY_POVRAY_SANDBOX=off)");
       }
     }
     // Other string literals that name a file of the directory (a font or data file passed to
     // a macro): visible to POV-Ray too.
     for (const auto& tok : t) {
-      if (tok.kind == Token::kString && bad_name(tok.text).empty()) resolve(tok.text, "", path, tok.line, false);
+      if (tok.kind == Token::kString && bad_name(tok.text).empty())
+        resolve(tok.text, "", path, tok.line, false);
     }
   }
 
@@ -268,8 +270,8 @@ class Checker {
   // The files of the directory that `name` (with POV-Ray's extension variants for `keyword`)
   // names; each must resolve inside the directory (a symbolic link out of it is refused when
   // `strict`, i.e. the name is used as a file name, and ignored otherwise).
-  std::vector<std::string> resolve(const std::string& name, const std::string& keyword, const std::string& from,
-                                   int line, bool strict) {
+  std::vector<std::string> resolve(const std::string& name, const std::string& keyword,
+                                   const std::string& from, int line, bool strict) {
     std::vector<std::string> found;
     const std::string base = normal_name(name);
     if (base.empty()) return found;

@@ -63,8 +63,9 @@ bool under(const std::string& path, const std::string& dir) {
 // read-only (the top-level /bin, /lib... as on the host: symbolic links into /usr on a
 // merged-/usr Debian), POV-Ray's configuration, a minimal /dev.
 std::vector<std::string> jail_base() {
-  std::vector<std::string> a = {"--unshare-all", "--as-pid-1", "--die-with-parent", "--new-session", "--cap-drop", "ALL",
-                                "--ro-bind",     "/usr",              "/usr"};
+  std::vector<std::string> a = {"--unshare-all", "--as-pid-1", "--die-with-parent",
+                                "--new-session", "--cap-drop", "ALL",
+                                "--ro-bind",     "/usr",       "/usr"};
   for (const char* top : {"/bin", "/sbin", "/lib", "/lib32", "/lib64", "/libx32"}) {
     struct stat st {};
     if (::lstat(top, &st) != 0) continue;
@@ -158,8 +159,9 @@ Command povray_command(const std::string& povray, const std::vector<std::string>
                     "docs/decisions/sandbox.md)");
       }
       if (!g_warned.exchange(true)) {
-        common::log::warn("POV-Ray runs unconfined: " + g_bwrap.problem +
-                          " (only canopy's own models and scenes are rendered; a user include would be refused)");
+        common::log::warn(
+            "POV-Ray runs unconfined: " + g_bwrap.problem +
+            " (only canopy's own models and scenes are rendered; a user include would be refused)");
       }
     } else {
       cmd.program = g_bwrap.program;
@@ -167,7 +169,8 @@ Command povray_command(const std::string& povray, const std::vector<std::string>
       for (const auto& a : jail_base()) cmd.argv.push_back(a);
       if (!under(program, "/usr")) cmd.argv.insert(cmd.argv.end(), {"--ro-bind", program, program});
       for (const auto& r : readable) cmd.argv.insert(cmd.argv.end(), {"--ro-bind", r, r});
-      cmd.argv.insert(cmd.argv.end(), {"--bind", workdir, workdir, "--remount-ro", "/", "--chdir", workdir, "--"});
+      cmd.argv.insert(cmd.argv.end(),
+                      {"--bind", workdir, workdir, "--remount-ro", "/", "--chdir", workdir, "--"});
       cmd.argv.push_back(program);
       cmd.argv.insert(cmd.argv.end(), povray_args.begin(), povray_args.end());
       return cmd;
