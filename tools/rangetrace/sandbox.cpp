@@ -142,7 +142,9 @@ Command povray_command(const std::string& povray, const std::vector<std::string>
     throw Error("cannot run POV-Ray '" + povray + "' (is the Debian package povray installed?)");
   }
   Command cmd;
-  cmd.env = {"PATH=" + std::string(kPath), "HOME=" + workdir};
+  // HOME: POV-Ray reads no user configuration; POV_TEMP_DIR: its temporary files (a large
+  // image is held in one) go to the private directory too, not to /tmp.
+  cmd.env = {"PATH=" + std::string(kPath), "HOME=" + workdir, "POV_TEMP_DIR=" + workdir};
   if (mode == SandboxMode::kOff) {
     if (user_code && !g_warned.exchange(true)) {
       common::log::warn(

@@ -29,7 +29,6 @@ using Eigen::Vector3d;
 namespace {
 
 constexpr double kFine = 4096;  // green = frac(depth fraction * kFine)
-constexpr int kMaxPixels = 40 * 1000 * 1000;
 
 std::string num(double v) {
   char buf[64];
@@ -107,12 +106,11 @@ TileView fit_view(const Vector3d& toward, const Vector3d& right, const Vector3d&
     d1 = std::max(d1, -d.dot(toward));
   }
   const double w = std::ceil((r1 - r0) / spacing), h = std::ceil((u1 - u0) / spacing);
-  if (w > 16384 || h > 16384 || w * h > kMaxPixels) {
-    throw common::UsageError("an image of " + num(w) + " x " + num(h) +
-                             " pixels: use a coarser spacing or more flight lines");
-  }
-  v.width = std::max(1, static_cast<int>(w));
-  v.height = std::max(1, static_cast<int>(h));
+  // The size asked for; check_tile_budget refuses it before anything renders when too large.
+  v.pixels_x = std::max(1.0, w);
+  v.pixels_y = std::max(1.0, h);
+  v.width = static_cast<int>(std::min(v.pixels_x, kMaxImageSide));
+  v.height = static_cast<int>(std::min(v.pixels_y, kMaxImageSide));
   v.origin = anchor + (r0 + r1) / 2 * v.right + (u0 + u1) / 2 * v.up;
   if (!(d0 > 0.5)) throw Error("internal: the image plane does not lie above the tile");
   v.depth_lo = d0 - 0.5;
@@ -332,6 +330,85 @@ TileView canopy_view(const Tile& tile) {
   return v;
 }
 
+namespace {
+
+// 12000, or 1.2e9 for large counts.
+std::string short_num(double v) {
+  char buf[32];
+  if (v < 1e5) {
+    std::snprintf(buf, sizeof buf, "%.0f", v);
+    return buf;
+  }
+  int e = static_cast<int>(std::floor(std::log10(v)));
+  double m = std::round(v / std::pow(10.0, e) * 10) / 10;
+  if (m >= 10) m /= 10, ++e;
+  std::snprintf(buf, sizeof buf, "%.2ge%d", m, e);
+  return buf;
+}
+
+std::string bytes(double b) {
+  char buf[32];
+  if (b >= 1e9) {
+    std::snprintf(buf, sizeof buf, "%.3g GB", b / 1e9);
+  } else {
+    std::snprintf(buf, sizeof buf, "%.3g MB", b / 1e6);
+  }
+  return buf;
+}
+
+// The first of `keys` the recipe gives, as "line N: " ("" when none is given).
+std::string line_of(const TileRecipe& r, std::initializer_list<const char*> keys) {
+  for (const char* k : keys) {
+    const auto it = r.lines.find(k);
+    if (it != r.lines.end()) return "line " + std::to_string(it->second) + ": ";
+  }
+  return "";
+}
+
+}  // namespace
+
+void check_tile_budget(const std::vector<TileView>& views, const TileRecipe& r, const std::string& name) {
+  double canopy = 0, scan = 0;
+  for (std::size_t k = 0; k < views.size(); ++k)
+    (k == 0 ? canopy : scan) += views[k].pixels_x * views[k].pixels_y;
+  const double total = canopy + scan;
+  const std::size_t n = views.size() - 1;
+  const std::string what = std::to_string(n) + (n == 1 ? " image" : " images") +
+                           " and the canopy image have " + short_num(total) +
+                           " pixels in all (up to as many points: about " + bytes(180 * total) +
+                           " of memory, " + bytes(6 * total) + " of frames in TMPDIR)";
+  if (total > kMaxTilePixels) {
+    if (canopy >= scan) {
+      const double room = std::max(kMaxTilePixels - scan, kMaxTilePixels / 2);
+      const double at_least = std::ceil(1000 * r.canopy_spacing * std::sqrt(canopy / room)) / 1000;
+      throw common::DataError(name, line_of(r, {"canopy_spacing", "extent"}) + "canopy_spacing " +
+                                        common::format_length(r.canopy_spacing) + ": " + what +
+                                        "; a tile may have at most " + short_num(kMaxTilePixels) +
+                                        ": use a canopy_spacing of at least " +
+                                        common::format_length(at_least));
+    }
+    const double room = std::max(kMaxTilePixels - canopy, kMaxTilePixels / 2);
+    const double at_least = std::ceil(1000 * r.spacing * std::sqrt(scan / room)) / 1000;
+    throw common::DataError(
+        name, line_of(r, {"spacing", "extent", "looks", "headings", "flight_lines", "swath_overlap"}) +
+                  "spacing " + common::format_length(r.spacing) + ": " + what + "; a tile may have at most " +
+                  short_num(kMaxTilePixels) + ": use a spacing of at least " + common::format_length(at_least) +
+                  ", a smaller extent, or fewer headings, looks or flight lines");
+  }
+  for (std::size_t k = 0; k < views.size(); ++k) {
+    const TileView& v = views[k];
+    if (v.pixels_x > kMaxImageSide || v.pixels_y > kMaxImageSide) {
+      const bool nadir = k == 0;
+      throw common::DataError(
+          name, line_of(r, nadir ? std::initializer_list<const char*>{"canopy_spacing", "extent"}
+                                 : std::initializer_list<const char*>{"spacing", "extent"}) +
+                    (nadir ? "the canopy image" : "an image") + " of " + short_num(v.pixels_x) + " x " +
+                    short_num(v.pixels_y) + " pixels is over " + short_num(kMaxImageSide) +
+                    " a side: use a coarser spacing or more flight lines");
+    }
+  }
+}
+
 // ---------------------------------------------------------------- decoding
 
 void decode_tile_view(const Image16& img, const TileView& view, TileHits* out) {
@@ -504,7 +581,8 @@ TileScan decode_tile(const TileFrames& frames, const std::vector<TileView>& view
 TileScan run_tile(Tile* tile, const Params& params) {
   common::log::Phase prep("tile");
   std::vector<TileView> views = tile_views(*tile);
-  views.insert(views.begin(), canopy_view(*tile));  // frame of view 0: the canopy image
+  views.insert(views.begin(), canopy_view(*tile));     // frame of view 0: the canopy image
+  check_tile_budget(views, tile->recipe, tile->name);  // with the tile's own terrain and trees
   prep.done(tile_summary(*tile, views.size() - 1));
 
   common::log::Phase render("render");
