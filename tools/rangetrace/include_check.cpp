@@ -310,6 +310,17 @@ class Checker {
 
 }  // namespace
 
+// Here rather than in sandbox.cpp, so that the model and recipe readers link without the
+// process code (fuzz/).
+SandboxMode sandbox_mode() {
+  const char* env = std::getenv("CANOPY_POVRAY_SANDBOX");
+  const std::string v = env != nullptr && *env != '\0' ? env : "auto";
+  if (v == "auto") return SandboxMode::kAuto;
+  if (v == "bwrap") return SandboxMode::kBwrap;
+  if (v == "off") return SandboxMode::kOff;
+  throw common::UsageError("CANOPY_POVRAY_SANDBOX='" + shown(v) + "': expected auto, bwrap or off");
+}
+
 std::vector<std::string> check_user_include(const std::string& dir, const std::string& file, bool unconfined) {
   if (dir == "/") {
     throw common::DataError("/" + file,

@@ -126,14 +126,6 @@ void probe_bwrap(const std::string& workdir) {
 
 }  // namespace
 
-SandboxMode sandbox_mode() {
-  const std::string v = env_or("CANOPY_POVRAY_SANDBOX", "auto");
-  if (v == "auto") return SandboxMode::kAuto;
-  if (v == "bwrap") return SandboxMode::kBwrap;
-  if (v == "off") return SandboxMode::kOff;
-  throw common::UsageError("CANOPY_POVRAY_SANDBOX='" + v + "': expected auto, bwrap or off");
-}
-
 Command povray_command(const std::string& povray, const std::vector<std::string>& povray_args,
                        const std::string& workdir, const std::vector<std::string>& readable, bool user_code) {
   const SandboxMode mode = sandbox_mode();

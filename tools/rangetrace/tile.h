@@ -253,6 +253,10 @@ struct TileView {
 std::vector<TileView> tile_views(const Tile& tile);
 // The nadir view over the whole tile used to measure canopy cover.
 TileView canopy_view(const Tile& tile);
+// The same for a recipe whose ground and objects span heights [ground_lo, top] (a Tile's:
+// its terrain's lowest point and its top); tile_views.cpp, with the budget check.
+std::vector<TileView> tile_views(const TileRecipe& recipe, double ground_lo, double top);
+TileView canopy_view(const TileRecipe& recipe, double ground_lo, double top);
 // Throws a DataError naming `name` and the recipe's line (spacing, canopy_spacing, else the
 // first of extent, looks, headings, flight_lines, swath_overlap given) when the images
 // (views[0] the canopy image, then the scan images) have more than kMaxTilePixels pixels in
