@@ -68,9 +68,10 @@ void remove_dir_signal_safe(const char* path) {
 }
 
 extern "C" void kill_children_and_clean(int sig, siginfo_t* info, void* context) {
+  // Each child leads its own process group (run_process): POV-Ray, bwrap and its jail with it.
   for (auto& c : g_children) {
     const pid_t pid = c.load();
-    if (pid > 0) ::kill(pid, SIGKILL);
+    if (pid > 0) ::kill(-pid, SIGKILL);
   }
   for (auto& c : g_children) {
     const pid_t pid = c.exchange(0);
@@ -92,6 +93,12 @@ extern "C" void kill_children_and_clean(int sig, siginfo_t* info, void* context)
     }
   }
   common::reraise_with_default_action(sig);
+}
+
+// The supervisor's handler (run_process): kills its process group, itself included.
+extern "C" void kill_own_group(int) {
+  ::kill(0, SIGKILL);
+  ::_exit(137);
 }
 
 void install_handlers() {
@@ -289,19 +296,40 @@ int run_process(const Command& cmd, const std::string& dir, const std::string& l
     throw Error(std::string("cannot start POV-Ray: fork: ") + std::strerror(errno));
   }
   if (pid == 0) {
-    // Child: only async-signal-safe calls until exec. It dies with rangetrace (even SIGKILL).
-    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
-    if (::getppid() != parent) ::_exit(126);
-    for (int s : kSignals) ::signal(s, SIG_DFL);
-    pthread_sigmask(SIG_SETMASK, &old, nullptr);
+    // Child (only async-signal-safe calls): a supervisor leading a new session and process
+    // group, without a controlling terminal, that runs the command as its own child and exits
+    // with its status. When rangetrace dies, even of SIGKILL, the supervisor gets SIGTERM and
+    // kills its whole group: the command and, under bwrap, every process of the jail, whatever
+    // stage of its setup bwrap is in (bwrap's own --die-with-parent is armed only once its
+    // setup is done: a jail child killed before that would wait for its parent forever).
+    ::setsid();
+    struct sigaction sa {};
+    sa.sa_handler = kill_own_group;
+    sigemptyset(&sa.sa_mask);
+    for (int s : kSignals) ::sigaction(s, &sa, nullptr);
+    ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+    if (::getppid() != parent) kill_own_group(SIGTERM);
     const int fd = ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
     const int null_fd = ::open("/dev/null", O_RDONLY);
     if (fd < 0 || null_fd < 0 || ::chdir(dir.c_str()) != 0) ::_exit(126);
     ::dup2(null_fd, 0);
     ::dup2(fd, 1);
     ::dup2(fd, 2);
-    ::execve(cmd.program.c_str(), argv.data(), envp.data());
-    ::_exit(127);
+    const pid_t command = ::fork();
+    if (command < 0) ::_exit(126);
+    if (command == 0) {
+      for (int s : kSignals) ::signal(s, SIG_DFL);
+      ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+      pthread_sigmask(SIG_SETMASK, &old, nullptr);
+      ::execve(cmd.program.c_str(), argv.data(), envp.data());
+      ::_exit(127);
+    }
+    pthread_sigmask(SIG_SETMASK, &old, nullptr);
+    int st = 0;
+    while (::waitpid(command, &st, 0) < 0) {
+      if (errno != EINTR) ::_exit(126);
+    }
+    ::_exit(WIFEXITED(st) ? WEXITSTATUS(st) : 128 + (WIFSIGNALED(st) ? WTERMSIG(st) : 0));
   }
   int slot = -1;
   for (int i = 0; i < kMaxChildren && slot < 0; ++i) {

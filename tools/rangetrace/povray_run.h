@@ -16,7 +16,7 @@ namespace canopy::rangetrace {
 // also when the process is stopped by SIGINT, SIGTERM or SIGHUP (the signal handler kills
 // and reaps the running POV-Ray processes, removes the directory, then lets the signal
 // take its default course). POV-Ray children also die with rangetrace on SIGKILL
-// (PR_SET_PDEATHSIG); the directory then stays behind until the next run removes it (its
+// (run_process); the directory then stays behind until the next run removes it (its
 // "owner" file names a process that no longer exists).
 class TempDir {
  public:
@@ -47,9 +47,11 @@ struct Staged {
 };
 Staged stage_models(const std::vector<Model>& models, const TempDir& tmp);
 
-// Runs `cmd` in directory `dir`, stdin /dev/null, stdout and stderr to `log_path`. The child
-// is known to the signal cleanup (killed and reaped on SIGINT, SIGTERM, SIGHUP) and dies with
-// rangetrace (PR_SET_PDEATHSIG). Returns its exit status (128 + n when killed by signal n).
+// Runs `cmd` in directory `dir`, stdin /dev/null, stdout and stderr to `log_path`, in a new
+// session and process group without a controlling terminal (under a small supervisor process).
+// The group is known to the signal cleanup (killed and reaped on SIGINT, SIGTERM, SIGHUP) and
+// dies with rangetrace, even on SIGKILL (the supervisor's PR_SET_PDEATHSIG). Returns the
+// command's exit status (128 + n when killed by signal n).
 int run_process(const Command& cmd, const std::string& dir, const std::string& log_path);
 
 // Runs povray with `args` in directory `dir`, confined (sandbox.h) with what `st` makes

@@ -61,11 +61,12 @@ bool under(const std::string& path, const std::string& dir) {
 
 // The jail's fixed part: namespaces, no capabilities, the system's programs and libraries
 // read-only (the top-level /bin, /lib... as on the host: symbolic links into /usr on a
-// merged-/usr Debian), POV-Ray's configuration, a minimal /dev.
+// merged-/usr Debian), POV-Ray's configuration, a minimal /dev. No --new-session: run_process
+// already starts a new session without a controlling terminal (no TIOCSTI), and the jail must
+// stay in that process group, which is how it is killed.
 std::vector<std::string> jail_base() {
-  std::vector<std::string> a = {"--unshare-all", "--as-pid-1", "--die-with-parent",
-                                "--new-session", "--cap-drop", "ALL",
-                                "--ro-bind",     "/usr",       "/usr"};
+  std::vector<std::string> a = {
+      "--unshare-all", "--as-pid-1", "--die-with-parent", "--cap-drop", "ALL", "--ro-bind", "/usr", "/usr"};
   for (const char* top : {"/bin", "/sbin", "/lib", "/lib32", "/lib64", "/libx32"}) {
     struct stat st {};
     if (::lstat(top, &st) != 0) continue;
