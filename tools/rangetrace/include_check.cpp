@@ -8,6 +8,7 @@
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
+#include <deque>
 #include <set>
 #include <string>
 #include <vector>
@@ -28,76 +29,108 @@ struct Token {
 
 // POV-Ray's tokenizer as far as file names are concerned (source/backend/parser/tokenize.cpp
 // of 3.7): whitespace, // and nested /* */ comments, string literals ("\"" is a quote, any
-// other backslash stays), words [A-Za-z_][A-Za-z0-9_]*, numbers, single characters.
-std::vector<Token> tokenize(const std::string& s) {
-  std::vector<Token> out;
-  int line = 1;
-  std::size_t i = 0;
-  const std::size_t n = s.size();
-  auto at = [&](std::size_t k) { return k < n ? s[k] : '\0'; };
-  while (i < n) {
-    const char c = s[i];
-    if (c == '\n') {
-      ++line;
-      ++i;
-    } else if (c == '/' && at(i + 1) == '/') {
-      while (i < n && s[i] != '\n') ++i;
-    } else if (c == '/' && at(i + 1) == '*') {
-      int depth = 1;
-      i += 2;
-      while (i < n && depth > 0) {
-        if (s[i] == '\n') ++line;
-        if (s[i] == '*' && at(i + 1) == '/') {
-          --depth;
-          i += 2;
-        } else if (s[i] == '/' && at(i + 1) == '*') {
-          ++depth;
-          i += 2;
-        } else {
-          ++i;
-        }
-      }
-    } else if (c == '"') {
-      Token t{Token::kString, "", line};
-      ++i;
-      while (i < n && s[i] != '"') {
-        if (s[i] == '\\' && i + 1 < n) {
-          if (s[i + 1] != '"') t.text += '\\';
-          if (s[i + 1] == '\n') ++line;
-          t.text += s[i + 1];
-          i += 2;
-          continue;
-        }
-        if (s[i] == '\n') ++line;
-        t.text += s[i++];
-      }
-      ++i;  // the closing quote (an unterminated string is POV-Ray's error)
-      out.push_back(std::move(t));
-    } else if (std::isalpha(static_cast<unsigned char>(c)) || c == '_') {
-      Token t{Token::kWord, "", line};
-      while (i < n && (std::isalnum(static_cast<unsigned char>(s[i])) || s[i] == '_')) t.text += s[i++];
-      out.push_back(std::move(t));
-    } else if (std::isdigit(static_cast<unsigned char>(c)) || c == '.') {
-      // A number: digits and points, an exponent only when digits follow (so "3include" is 3
-      // and the keyword include, as for POV-Ray).
-      while (i < n && (std::isdigit(static_cast<unsigned char>(s[i])) || s[i] == '.')) ++i;
-      if (i < n && (s[i] == 'e' || s[i] == 'E')) {
-        std::size_t j = i + 1;
-        if (j < n && (s[j] == '+' || s[j] == '-')) ++j;
-        if (j < n && std::isdigit(static_cast<unsigned char>(s[j]))) {
-          while (j < n && std::isdigit(static_cast<unsigned char>(s[j]))) ++j;
-          i = j;
-        }
-      }
-    } else if (std::isspace(static_cast<unsigned char>(c))) {
-      ++i;
-    } else {
-      out.push_back({Token::kOther, std::string(1, c), line});
-      ++i;
+// other backslash stays), words [A-Za-z_][A-Za-z0-9_]*, numbers (skipped), single characters.
+// Tokens are made on demand and only a few are kept (a mesh include may hold 10^7 of them).
+class Lexer {
+ public:
+  explicit Lexer(const std::string& s) : s_(s) {}
+
+  // Token i (counted from the start), or nullptr past the end; tokens before `keep_from`
+  // (the last value passed to forget_before) are no longer available.
+  const Token* at(std::size_t i) {
+    while (base_ + window_.size() <= i) {
+      Token t;
+      if (!next(&t)) return nullptr;
+      window_.push_back(std::move(t));
+    }
+    return &window_[i - base_];
+  }
+  void forget_before(std::size_t i) {
+    while (base_ < i && !window_.empty()) {
+      window_.pop_front();
+      ++base_;
     }
   }
-  return out;
-}
+
+ private:
+  char peek(std::size_t k) const { return k < s_.size() ? s_[k] : '\0'; }
+  static bool digit(char c) { return std::isdigit(static_cast<unsigned char>(c)) != 0; }
+
+  bool next(Token* t) {
+    const std::size_t n = s_.size();
+    while (i_ < n) {
+      const char c = s_[i_];
+      if (c == '\n') {
+        ++line_;
+        ++i_;
+      } else if (c == '/' && peek(i_ + 1) == '/') {
+        while (i_ < n && s_[i_] != '\n') ++i_;
+      } else if (c == '/' && peek(i_ + 1) == '*') {
+        int depth = 1;
+        i_ += 2;
+        while (i_ < n && depth > 0) {
+          if (s_[i_] == '\n') ++line_;
+          if (s_[i_] == '*' && peek(i_ + 1) == '/') {
+            --depth;
+            i_ += 2;
+          } else if (s_[i_] == '/' && peek(i_ + 1) == '*') {
+            ++depth;
+            i_ += 2;
+          } else {
+            ++i_;
+          }
+        }
+      } else if (c == '"') {
+        *t = Token{Token::kString, "", line_};
+        ++i_;
+        while (i_ < n && s_[i_] != '"') {
+          if (s_[i_] == '\\' && i_ + 1 < n) {
+            if (s_[i_ + 1] != '"') t->text += '\\';
+            if (s_[i_ + 1] == '\n') ++line_;
+            t->text += s_[i_ + 1];
+            i_ += 2;
+            continue;
+          }
+          if (s_[i_] == '\n') ++line_;
+          t->text += s_[i_++];
+        }
+        ++i_;  // the closing quote (an unterminated string is POV-Ray's error)
+        return true;
+      } else if (std::isalpha(static_cast<unsigned char>(c)) || c == '_') {
+        *t = Token{Token::kWord, "", line_};
+        const std::size_t b = i_;
+        while (i_ < n && (std::isalnum(static_cast<unsigned char>(s_[i_])) || s_[i_] == '_')) ++i_;
+        t->text.assign(s_, b, i_ - b);
+        return true;
+      } else if (digit(c) || c == '.') {
+        // A number: digits and points, an exponent only when digits follow (so "3include" is 3
+        // and the keyword include, as for POV-Ray).
+        while (i_ < n && (digit(s_[i_]) || s_[i_] == '.')) ++i_;
+        if (i_ < n && (s_[i_] == 'e' || s_[i_] == 'E')) {
+          std::size_t j = i_ + 1;
+          if (j < n && (s_[j] == '+' || s_[j] == '-')) ++j;
+          if (j < n && digit(s_[j])) {
+            while (j < n && digit(s_[j])) ++j;
+            i_ = j;
+          }
+        }
+      } else if (std::isspace(static_cast<unsigned char>(c))) {
+        ++i_;
+      } else {
+        *t = Token{Token::kOther, std::string(1, c), line_};
+        ++i_;
+        return true;
+      }
+    }
+    return false;
+  }
+
+  const std::string& s_;
+  std::size_t i_ = 0;
+  int line_ = 1;
+  std::deque<Token> window_;
+  std::size_t base_ = 0;  // index of window_.front()
+};
 
 // File name extensions POV-Ray tries for a keyword (source/backend/support/fileutil.cpp).
 std::vector<std::string> extensions_of(const std::string& keyword) {
@@ -201,55 +234,62 @@ class Checker {
     if (!scanned_.insert(path).second) return;
     files_.push_back(path);
     const std::string text = common::read_file(path);
-    const std::vector<Token> t = tokenize(text);
-    for (std::size_t k = 0; k < t.size(); ++k) {
-      if (t[k].kind != Token::kWord) continue;
-      const std::string& w = t[k].text;
+    Lexer lex(text);
+    for (std::size_t k = 0; lex.at(k) != nullptr; ++k) {
+      lex.forget_before(k);
+      const Token tok = *lex.at(k);
+      if (tok.kind == Token::kString) {
+        // A string that names a file of the directory (a font or data file passed to a macro):
+        // visible to POV-Ray too.
+        if (bad_name(tok.text).empty()) resolve(tok.text, "", path, tok.line, false);
+        continue;
+      }
+      if (tok.kind != Token::kWord) continue;
+      const std::string& w = tok.text;
       auto fail = [&](const std::string& why) {
         throw common::DataError(
-            path, "line " + std::to_string(t[k].line) + ": " + why + " (docs/decisions/sandbox.md)");
+            path, "line " + std::to_string(tok.line) + ": " + why + " (docs/decisions/sandbox.md)");
       };
-      auto literal_after = [&](std::size_t at, const std::string& what) -> const Token& {
-        if (at >= t.size() || t[at].kind != Token::kString) {
+      auto literal_after = [&](std::size_t at, const std::string& what) -> Token {
+        const Token* t = lex.at(at);
+        if (t == nullptr || t->kind != Token::kString)
           fail(what + " needs a literal file name, not one built while parsing");
-        }
-        const std::string why = bad_name(t[at].text);
+        const std::string why = bad_name(t->text);
         if (!why.empty()) {
-          fail(what + " \"" + shown(t[at].text) + "\": " + why +
+          fail(what + " \"" + shown(t->text) + "\": " + why +
                "; an include may read only files of its own directory, named by literal relative paths");
         }
-        return t[at];
+        return *t;
+      };
+      auto text_at = [&](std::size_t at) {
+        const Token* t = lex.at(at);
+        return t == nullptr ? std::string() : t->text;
       };
       if (w == "write" || w == "append") {
         fail("'" + w + "': an include may not write files");
       } else if (w == "fopen") {
         // #fopen HANDLE "name" read
-        if (k + 1 >= t.size() || t[k + 1].kind != Token::kWord) fail("#fopen needs a handle");
-        if (k + 3 < t.size() && (t[k + 3].text == "write" || t[k + 3].text == "append")) {
-          fail("#fopen ... " + t[k + 3].text + ": an include may not write files");
-        }
-        const Token& name = literal_after(k + 2, "#fopen");
-        if (k + 3 >= t.size() || t[k + 3].text != "read") fail("#fopen needs the mode read");
-        resolve(name.text, "fopen", path, t[k].line, true);
+        const Token* handle = lex.at(k + 1);
+        if (handle == nullptr || handle->kind != Token::kWord) fail("#fopen needs a handle");
+        const std::string mode = text_at(k + 3);
+        if (mode == "write" || mode == "append")
+          fail("#fopen ... " + mode + ": an include may not write files");
+        const Token name = literal_after(k + 2, "#fopen");
+        if (mode != "read") fail("#fopen needs the mode read");
+        resolve(name.text, "fopen", path, tok.line, true);
       } else if (w == "include") {
-        const Token& name = literal_after(k + 1, "#include");
-        for (const auto& f : resolve(name.text, "include", path, t[k].line, true)) pending_.push_back(f);
+        const Token name = literal_after(k + 1, "#include");
+        for (const auto& f : resolve(name.text, "include", path, tok.line, true)) pending_.push_back(f);
       } else if (w == "file_exists") {
-        if (k + 1 >= t.size() || t[k + 1].text != "(") fail("file_exists needs a literal file name");
+        if (text_at(k + 1) != "(") fail("file_exists needs a literal file name");
         literal_after(k + 2, "file_exists");
       } else if (is_file_keyword(w)) {
-        resolve(literal_after(k + 1, "'" + w + "'").text, w, path, t[k].line, true);
+        resolve(literal_after(k + 1, "'" + w + "'").text, w, path, tok.line, true);
       } else if (unconfined_ && is_writing_macro(w)) {
         fail("'" + w +
              "' (a macro of POV-Ray's standard includes) writes or includes a file it is given, which "
              "only the sandbox can confine (CANOPY_POVRAY_SANDBOX=off)");
       }
-    }
-    // Other string literals that name a file of the directory (a font or data file passed to
-    // a macro): visible to POV-Ray too.
-    for (const auto& tok : t) {
-      if (tok.kind == Token::kString && bad_name(tok.text).empty())
-        resolve(tok.text, "", path, tok.line, false);
     }
   }
 
