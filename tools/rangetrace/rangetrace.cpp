@@ -1,6 +1,6 @@
-// Single-vehicle scans: a private temporary directory (Debian's povray.conf allows reads and
-// writes in "." and /tmp; includes come through +L), parallel processes over the views,
-// decoding.
+// Single-vehicle scans: a private temporary directory (POV-Ray's working directory, the only
+// one it may write in its jail: sandbox.h; includes come through +L), parallel processes over
+// the views, decoding.
 #include <dirent.h>
 #include <fcntl.h>
 #include <sys/stat.h>
