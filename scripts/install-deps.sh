@@ -9,6 +9,8 @@ packages=(
   libeigen3-dev libcgal-dev libpcl-dev libvtk9-dev libspectra-dev
   nlohmann-json3-dev libcli11-dev catch2 libpng-dev libssl-dev
   povray time xvfb xauth jq
+  # bwrap: rangetrace runs POV-Ray in a bubblewrap jail (docs/decisions/sandbox.md).
+  bubblewrap
   clang libclang-rt-14-dev clang-format
   # Slurm and munge: for LAUNCH=slurm and its test (tests/pipeline/slurm.sh), which starts
   # its own single-node cluster in a temp dir; nothing is configured system-wide.

@@ -49,6 +49,42 @@ std::vector<pid_t> children_of(pid_t parent) {
   return out;
 }
 
+// Processes (of any parent: POV-Ray runs in its own PID namespace under bwrap) whose working
+// directory lies under `dir`: POV-Ray works in rangetrace's private directory there.
+std::vector<pid_t> working_in(const std::filesystem::path& dir) {
+  std::vector<pid_t> out;
+  const std::string prefix = std::filesystem::canonical(dir).string() + "/";
+  if (DIR* d = ::opendir("/proc")) {
+    while (dirent* e = ::readdir(d)) {
+      const pid_t pid = std::atoi(e->d_name);
+      if (pid <= 0) continue;
+      char cwd[4096];
+      const ssize_t n = ::readlink(("/proc/" + std::to_string(pid) + "/cwd").c_str(), cwd, sizeof cwd - 1);
+      if (n > 0 && std::string(cwd, n).rfind(prefix, 0) == 0) out.push_back(pid);
+    }
+    ::closedir(d);
+  }
+  return out;
+}
+
+// Waits up to 5 s for every process working under `dir` to be gone.
+bool none_left_in(const std::filesystem::path& dir) {
+  const auto start = std::chrono::steady_clock::now();
+  while (!working_in(dir).empty()) {
+    if (std::chrono::steady_clock::now() - start > std::chrono::seconds(5)) {
+      for (pid_t p : working_in(dir)) {
+        std::ifstream st("/proc/" + std::to_string(p) + "/stat");
+        std::string t;
+        std::getline(st, t);
+        WARN("DEBUG left: " << t);
+      }
+      return false;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return true;
+}
+
 bool has_temp_dir(const std::filesystem::path& dir) {
   for (const auto& e : std::filesystem::directory_iterator(dir)) {
     if (e.path().filename().string().rfind("rangetrace-", 0) == 0) return true;
@@ -148,6 +184,7 @@ TEST_CASE("rangetrace CLI: SIGINT and SIGTERM stop POV-Ray at once and leave no 
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
     kids = children_of(pid);
     REQUIRE(has_temp_dir(tmpdir));
+    CHECK_FALSE(working_in(tmpdir).empty());  // POV-Ray, seen from here
     const auto sent = std::chrono::steady_clock::now();
     ::kill(pid, sig);
     int status = 0;
@@ -157,6 +194,7 @@ TEST_CASE("rangetrace CLI: SIGINT and SIGTERM stop POV-Ray at once and leave no 
     CHECK(WTERMSIG(status) == sig);
     CHECK(seconds < 2.0);
     for (const pid_t k : kids) CHECK(::kill(k, 0) != 0);  // killed and reaped
+    CHECK(none_left_in(tmpdir));                          // nor any POV-Ray inside the jail
     CHECK_FALSE(has_temp_dir(tmpdir));
     CHECK_FALSE(test::exists(out));
   }
@@ -188,6 +226,7 @@ TEST_CASE("rangetrace CLI: after SIGKILL, POV-Ray dies too and the next run remo
     const char state = paren == std::string::npos || paren + 2 >= text.size() ? 'X' : text[paren + 2];
     CHECK((state == 'Z' || state == 'X'));
   }
+  CHECK(none_left_in(tmpdir));  // nor any POV-Ray inside the jail
   int stale = 0;
   for (const auto& e : std::filesystem::directory_iterator(tmpdir)) {
     const auto n = e.path().filename().string();

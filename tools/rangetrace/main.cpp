@@ -28,8 +28,9 @@ void bind_request(common::Tool& tool, rangetrace::Request& r, Options& o) {
   tool.app().add_option("--model", r.model,
                         "earthmover, obj1, sedan, semi, tank, family:<class>:<instance> (a procedural "
                         "vehicle; --list-families), a POV-Ray include "
-                        "declaring Vehicle (.inc/.pov), or a mesh (.ply/.obj/.stl); not with a "
-                        "tile scene (its recipe places the vehicles)");
+                        "declaring Vehicle (.inc/.pov; checked, then rendered in a sandbox: "
+                        "CANOPY_POVRAY_SANDBOX=auto|bwrap|off, docs/decisions/sandbox.md), or a mesh "
+                        "(.ply/.obj/.stl); not with a tile scene (its recipe places the vehicles)");
   tool.add("--scene", &r.scene,
            "a recipe of share/scenes by name (circle, flyby, unoccluded, "
            "forest, ...) or a recipe file (share/scenes/README.md; required for scans; for --picture, omit "

@@ -1,5 +1,8 @@
 // Vehicle models: built-in POV-Ray includes, user includes, and mesh files (PLY/OBJ/STL)
 // converted to a POV-Ray mesh2.
+#include <limits.h>
+#include <stdlib.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -12,6 +15,7 @@
 #include "canopy/formats/mesh_import.h"
 #include "rangetrace/families.h"
 #include "rangetrace/rangetrace.h"
+#include "rangetrace/sandbox.h"
 
 namespace canopy::rangetrace {
 
@@ -101,9 +105,13 @@ Model load_model(const std::string& spec, const MeshImport& import) {
   model.name = base.substr(0, base.find_last_of('.'));
   if (ext == "inc" || ext == "pov") {
     common::read_file(spec);  // fails early, naming the file, when unreadable
-    model.include_dir = slash == std::string::npos ? "." : spec.substr(0, slash);
-    if (model.include_dir.empty()) model.include_dir = "/";
+    std::string dir = slash == std::string::npos ? "." : spec.substr(0, slash);
+    if (dir.empty()) dir = "/";
+    char real[PATH_MAX];
+    if (::realpath(dir.c_str(), real) == nullptr) throw DataError(spec, "cannot resolve its directory");
+    model.include_dir = real;
     model.include_file = base;
+    model.user_files = check_user_include(model.include_dir, base, sandbox_mode() == SandboxMode::kOff);
     return model;
   }
   if (ext != "ply" && ext != "obj" && ext != "stl") {

@@ -68,9 +68,10 @@ void remove_dir_signal_safe(const char* path) {
 }
 
 extern "C" void kill_children_and_clean(int sig, siginfo_t* info, void* context) {
+  // Each child leads its own process group (run_process): POV-Ray, bwrap and its jail with it.
   for (auto& c : g_children) {
     const pid_t pid = c.load();
-    if (pid > 0) ::kill(pid, SIGKILL);
+    if (pid > 0) ::kill(-pid, SIGKILL);
   }
   for (auto& c : g_children) {
     const pid_t pid = c.exchange(0);
@@ -92,6 +93,12 @@ extern "C" void kill_children_and_clean(int sig, siginfo_t* info, void* context)
     }
   }
   common::reraise_with_default_action(sig);
+}
+
+// The supervisor's handler (run_process): kills its process group, itself included.
+extern "C" void kill_own_group(int) {
+  ::kill(0, SIGKILL);
+  ::_exit(137);
 }
 
 void install_handlers() {
@@ -259,17 +266,25 @@ Staged stage_models(const std::vector<Model>& models, const TempDir& tmp) {
     st.args.push_back("+L" + link_dir);
     st.renames.emplace_back(link_file, file);
     st.renames.emplace_back(link_dir + "/", dir + "/");
+    if (m.user_files.empty()) {
+      st.readable.push_back(dir);  // canopy's built-in models
+    } else {
+      st.user_code = true;
+      st.readable.insert(st.readable.end(), m.user_files.begin(), m.user_files.end());
+    }
   }
+  std::sort(st.readable.begin(), st.readable.end());
+  st.readable.erase(std::unique(st.readable.begin(), st.readable.end()), st.readable.end());
   return st;
 }
 
-void run_povray(const Params& params, const std::string& dir, std::vector<std::string> args,
-                const std::string& log_name, const std::vector<std::pair<std::string, std::string>>& renames) {
-  args.insert(args.begin(), params.povray);
-  std::vector<char*> argv;
+int run_process(const Command& cmd, const std::string& dir, const std::string& log_path) {
+  std::vector<std::string> args = cmd.argv, env = cmd.env;
+  std::vector<char*> argv, envp;
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
-  const std::string log_path = dir + "/" + log_name;
+  for (auto& e : env) envp.push_back(e.data());
+  envp.push_back(nullptr);
   // Signals stay blocked from fork until the child's pid is registered, so the cleanup handler
   // always knows every child; the child restores the mask before exec.
   sigset_t old;
@@ -281,19 +296,40 @@ void run_povray(const Params& params, const std::string& dir, std::vector<std::s
     throw Error(std::string("cannot start POV-Ray: fork: ") + std::strerror(errno));
   }
   if (pid == 0) {
-    // Child: only async-signal-safe calls until exec. It dies with rangetrace (even SIGKILL).
-    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
-    if (::getppid() != parent) ::_exit(126);
-    for (int s : kSignals) ::signal(s, SIG_DFL);
-    pthread_sigmask(SIG_SETMASK, &old, nullptr);
+    // Child (only async-signal-safe calls): a supervisor leading a new session and process
+    // group, without a controlling terminal, that runs the command as its own child and exits
+    // with its status. When rangetrace dies, even of SIGKILL, the supervisor gets SIGTERM and
+    // kills its whole group: the command and, under bwrap, every process of the jail, whatever
+    // stage of its setup bwrap is in (bwrap's own --die-with-parent is armed only once its
+    // setup is done: a jail child killed before that would wait for its parent forever).
+    ::setsid();
+    struct sigaction sa {};
+    sa.sa_handler = kill_own_group;
+    sigemptyset(&sa.sa_mask);
+    for (int s : kSignals) ::sigaction(s, &sa, nullptr);
+    ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+    if (::getppid() != parent) kill_own_group(SIGTERM);
     const int fd = ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
     const int null_fd = ::open("/dev/null", O_RDONLY);
     if (fd < 0 || null_fd < 0 || ::chdir(dir.c_str()) != 0) ::_exit(126);
     ::dup2(null_fd, 0);
     ::dup2(fd, 1);
     ::dup2(fd, 2);
-    ::execvp(argv[0], argv.data());
-    ::_exit(127);
+    const pid_t command = ::fork();
+    if (command < 0) ::_exit(126);
+    if (command == 0) {
+      for (int s : kSignals) ::signal(s, SIG_DFL);
+      ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+      pthread_sigmask(SIG_SETMASK, &old, nullptr);
+      ::execve(cmd.program.c_str(), argv.data(), envp.data());
+      ::_exit(127);
+    }
+    pthread_sigmask(SIG_SETMASK, &old, nullptr);
+    int st = 0;
+    while (::waitpid(command, &st, 0) < 0) {
+      if (errno != EINTR) ::_exit(126);
+    }
+    ::_exit(WIFEXITED(st) ? WEXITSTATUS(st) : 128 + (WIFSIGNALED(st) ? WTERMSIG(st) : 0));
   }
   int slot = -1;
   for (int i = 0; i < kMaxChildren && slot < 0; ++i) {
@@ -309,14 +345,27 @@ void run_povray(const Params& params, const std::string& dir, std::vector<std::s
     }
   }
   if (slot >= 0) g_children[slot].store(0);
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return;
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 127) {
+  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  return WIFSIGNALED(status) ? 128 + WTERMSIG(status) : 128;
+}
+
+void run_povray(const Params& params, const Staged& st, const std::string& dir, std::vector<std::string> args,
+                const std::string& log_name, const std::vector<std::pair<std::string, std::string>>& renames) {
+  const std::string log_path = dir + "/" + log_name;
+  const Command cmd = povray_command(params.povray, args, absolute(dir), st.readable, st.user_code);
+  const int status = run_process(cmd, dir, log_path);
+  if (status == 0) return;
+  if (status == 127) {
     throw Error("cannot run POV-Ray '" + params.povray + "' (is the Debian package povray installed?)");
   }
   std::string log;
   try {
     log = common::read_file(log_path);
   } catch (const Error&) {}
+  // bwrap's own failure (a path to bind vanished, ...) is a confinement error.
+  if (log.rfind("bwrap: ", 0) == 0) {
+    throw Error("cannot confine POV-Ray: " + log.substr(0, log.find('\n')));
+  }
   std::string msg = povray_message(log);
   for (const auto& [from, to] : renames) msg = replace_all(msg, from, to);
   // An include that leaves a brace open fails only later, in the generated file: say so.
@@ -356,7 +405,7 @@ std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> models_extent(const std
   args.insert(args.end(), {"+W1", "+H1", "-F", "+Iextent.pov"});
   auto renames = st.renames;
   renames.emplace_back("extent.pov", "rangetrace's generated extent.pov (after the model's include)");
-  run_povray(params, tmp.path(), args, "extent.log", renames);
+  run_povray(params, st, tmp.path(), args, "extent.log", renames);
   std::istringstream in(common::read_file(tmp.path() + "/extent.txt"));
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> out;
   for (const Model& model : models) {
@@ -408,7 +457,7 @@ std::map<int, std::string> render_frames(const Params& params, const TempDir& tm
                                "+KFF" + std::to_string(frames - 1), "+KI0", "+KF" + std::to_string(frames - 1),
                                "+SF" + std::to_string(r.first), "+EF" + std::to_string(r.last)});
       try {
-        run_povray(params, tmp.path(), args, "render" + std::to_string(t) + ".log", renames);
+        run_povray(params, st, tmp.path(), args, "render" + std::to_string(t) + ".log", renames);
       } catch (const std::exception& e) { errors[t] = e.what(); }
     }
   });

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "rangetrace/rangetrace.h"
+#include "rangetrace/sandbox.h"
 
 namespace canopy::rangetrace {
 
@@ -15,7 +16,7 @@ namespace canopy::rangetrace {
 // also when the process is stopped by SIGINT, SIGTERM or SIGHUP (the signal handler kills
 // and reaps the running POV-Ray processes, removes the directory, then lets the signal
 // take its default course). POV-Ray children also die with rangetrace on SIGKILL
-// (PR_SET_PDEATHSIG); the directory then stays behind until the next run removes it (its
+// (run_process); the directory then stays behind until the next run removes it (its
 // "owner" file names a process that no longer exists).
 class TempDir {
  public:
@@ -35,16 +36,28 @@ class TempDir {
 // is the symbolic link "model<k>.inc" (to the user's file) and its directory the link
 // "inc<k>" (passed as +Linc<k>), so spaces or quotes in the user's paths never reach the
 // command line or an #include string. POV-Ray messages are mapped back to the real paths.
+// What POV-Ray may read besides the system (sandbox.h): the built-in models' directory, the
+// files of user includes; `user_code` when a user include is among the models.
 struct Staged {
   std::vector<std::string> include_code;                     // per model: POV-Ray code declaring Vehicle
   std::vector<std::string> args;                             // +L options
   std::vector<std::pair<std::string, std::string>> renames;  // staged name -> real path
+  std::vector<std::string> readable;                         // absolute paths, read-only in the jail
+  bool user_code = false;
 };
 Staged stage_models(const std::vector<Model>& models, const TempDir& tmp);
 
-// Runs povray with `args` in directory `dir`, console output to `log_name` there. Throws
-// Error with POV-Ray's own message (staged names replaced by the real ones) when it fails.
-void run_povray(const Params& params, const std::string& dir, std::vector<std::string> args,
+// Runs `cmd` in directory `dir`, stdin /dev/null, stdout and stderr to `log_path`, in a new
+// session and process group without a controlling terminal (under a small supervisor process).
+// The group is known to the signal cleanup (killed and reaped on SIGINT, SIGTERM, SIGHUP) and
+// dies with rangetrace, even on SIGKILL (the supervisor's PR_SET_PDEATHSIG). Returns the
+// command's exit status (128 + n when killed by signal n).
+int run_process(const Command& cmd, const std::string& dir, const std::string& log_path);
+
+// Runs povray with `args` in directory `dir`, confined (sandbox.h) with what `st` makes
+// readable, console output to `log_name` there. Throws Error with POV-Ray's own message (staged
+// names replaced by the real ones) when it fails.
+void run_povray(const Params& params, const Staged& st, const std::string& dir, std::vector<std::string> args,
                 const std::string& log_name,
                 const std::vector<std::pair<std::string, std::string>>& renames = {});
 

@@ -1,6 +1,6 @@
-// Single-vehicle scans: a private temporary directory (Debian's povray.conf allows reads and
-// writes in "." and /tmp; includes come through +L), parallel processes over the views,
-// decoding.
+// Single-vehicle scans: a private temporary directory (POV-Ray's working directory, the only
+// one it may write in its jail: sandbox.h; includes come through +L), parallel processes over
+// the views, decoding.
 #include <dirent.h>
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -166,7 +166,7 @@ std::string render_picture(const Model& model, const SceneRecipe* scene, int vie
   const std::string size = std::to_string(params.size);
   args.insert(args.end(), {"+W" + size, "+H" + size, "+A0.05", "+R3", "+FN8", "+Ipicture.pov",
                            "+Opicture.png", "+WT" + std::to_string(std::max(1, params.threads))});
-  run_povray(params, tmp.path(), args, "picture.log", scene_renames(st, "picture.pov"));
+  run_povray(params, st, tmp.path(), args, "picture.log", scene_renames(st, "picture.pov"));
   return common::read_file(tmp.path() + "/picture.png");
 }
 

@@ -103,6 +103,10 @@ struct Model {
   std::string include_file;   // file name inside include_dir
   std::string inline_code;    // used when include_dir is empty (converted meshes)
   std::string vehicle_class;  // procedural family instances (families.h): their class
+  // A user include (.inc/.pov): include_dir is its real directory, and these are the files of
+  // that directory POV-Ray may read (the include and what it names), approved by the include
+  // check (sandbox.h); POV-Ray then runs confined. Empty for built-ins, families and meshes.
+  std::vector<std::string> user_files;
 };
 
 struct MeshImport {
@@ -112,7 +116,9 @@ struct MeshImport {
 
 // Built-in name (share/models/<name>.inc), a procedural family instance
 // (family:<class>:<instance>, families.h), a POV-Ray include (.inc/.pov) declaring Vehicle, or
-// a mesh file (.ply/.obj/.stl) converted to a POV-Ray mesh2.
+// a mesh file (.ply/.obj/.stl) converted to a POV-Ray mesh2. An include is checked first
+// (check_user_include, sandbox.h): a DataError names its file and line when it would write a
+// file or read one outside its directory.
 Model load_model(const std::string& spec, const MeshImport& import);
 // POV-Ray code `#declare <name> = mesh2 {...}` of triangles (world-frame vertices in metres;
 // degenerate triangles dropped, as POV-Ray would drop them). compact: each block on one line,

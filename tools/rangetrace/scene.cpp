@@ -1,6 +1,9 @@
 // Scene recipes, camera views and seeded foliage (no I/O except load_scene).
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
 #include <sstream>
 
 #include <sys/stat.h>
@@ -88,23 +91,45 @@ std::string trim(const std::string& s) {
   return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
 }
 
-// Throws the DataError "<name>: line <n>: <why>" of a recipe line.
+// Control bytes as \xNN, so that no message echoes them raw.
+std::string printable(const std::string& s) {
+  std::string out;
+  for (const char c : s) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u == 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", u);
+      out += buf;
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+// Throws the DataError "<name>: line <n>: <why>" of a recipe line (control bytes escaped).
 struct LineError {
   const std::string& name;
   int line = 0;
   [[noreturn]] void operator()(const std::string& why) const {
-    throw DataError(name, "line " + std::to_string(line) + ": " + why);
+    throw DataError(printable(name), "line " + std::to_string(line) + ": " + printable(why));
   }
 };
+
+// A count: decimal digits only (no sign, no "0x10", no trailing text); its value, saturated
+// at 10^18, or -1 when `w` is not a count.
+long long count_value(const std::string& w) {
+  if (w.empty() || !std::all_of(w.begin(), w.end(), [](char c) { return c >= '0' && c <= '9'; })) return -1;
+  return w.size() > 18 ? 1000000000000000000LL : std::strtoll(w.c_str(), nullptr, 10);
+}
 
 // One single-vehicle key (foliage_*, views, view) with its value's words.
 void apply_single_key(SceneRecipe* scene, const std::string& key, const std::vector<std::string>& words,
                       const LineError& fail) {
   auto number = [&](std::size_t i, int max) {
     if (i >= words.size()) fail("'" + key + "' needs more values");
-    std::size_t used = 0;
-    const long n = std::stol(words[i], &used);
-    if (used != words[i].size() || n < 1) fail("'" + words[i] + "' is not a count >= 1");
+    const long long n = count_value(words[i]);
+    if (n < 1) fail("'" + words[i] + "' is not a count >= 1");
     if (n > max) fail("'" + key + "': " + words[i] + " exceeds the limit of " + std::to_string(max));
     return static_cast<int>(n);
   };
@@ -112,8 +137,9 @@ void apply_single_key(SceneRecipe* scene, const std::string& key, const std::vec
     if (i >= words.size()) fail("'" + key + "' needs more values");
     return common::parse_angle(words[i]);
   };
+  if (key.rfind("foliage_", 0) == 0 && words.size() != 1) fail("expected '" + key + " = VALUE' (one value)");
   if (key == "foliage_count") {
-    scene->foliage_count = words[0] == "0" ? 0 : number(0, 100000);
+    scene->foliage_count = count_value(words[0]) == 0 ? 0 : number(0, 100000);
   } else if (key == "foliage_radius") {
     scene->foliage_radius = common::parse_length(words[0]);
   } else if (key == "foliage_band") {
@@ -194,8 +220,18 @@ SceneRecipe parse_scene(const std::string& text, const std::string& name) {
   std::string line;
   LineError fail{name, 0};
   RecipeKind kind;
+  std::map<std::string, int> given;  // keys given once: their line
   while (std::getline(in, line)) {
     ++fail.line;
+    for (std::size_t c = 0; c < line.size(); ++c) {
+      const auto u = static_cast<unsigned char>(line[c]);
+      if ((u < 0x20 && u != '\t' && u != '\r') || u == 0x7f) {
+        char byte[8];
+        std::snprintf(byte, sizeof byte, "0x%02x", u);
+        fail("control byte " + std::string(byte) + " in column " + std::to_string(c + 1) +
+             " (a recipe is text)");
+      }
+    }
     const auto hash = line.find('#');
     if (hash != std::string::npos) line.resize(hash);
     line = trim(line);
@@ -207,6 +243,13 @@ SceneRecipe parse_scene(const std::string& text, const std::string& name) {
     std::vector<std::string> words;
     for (std::string w; value >> w;) words.push_back(w);
     if (words.empty()) fail("key '" + key + "' has no value");
+    if (!is_repeatable_key(key)) {
+      const auto [it, first] = given.emplace(key, fail.line);
+      if (!first) {
+        fail("'" + key + "' is given twice, on lines " + std::to_string(it->second) + " and " +
+             std::to_string(fail.line) + " (a key may appear once)");
+      }
+    }
     try {
       apply_key(&scene, &kind, key, words, fail);
     } catch (const common::UsageError& e) { fail(e.what()); } catch (const std::logic_error&) {

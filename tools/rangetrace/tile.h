@@ -16,6 +16,7 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -95,15 +96,29 @@ struct TileRecipe {
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // easting, northing, height
 
   std::string dir;  // the recipe's directory ("" = current)
+  // The line of each key given once (every key but tree, canopy_disc, vehicle, object and
+  // clutter, which may repeat): errors about a value or the tile's size name it.
+  std::map<std::string, int> lines;
 };
 
 // Keys that make a recipe a tile recipe.
 bool is_tile_key(const std::string& key);
+// Keys that may be given on several lines (each adds one item); any other key once.
+bool is_repeatable_key(const std::string& key);
 // Applies one tile key (words = the value split at blanks); throws common::UsageError with a
 // message (the caller adds the file and line).
 void apply_tile_key(TileRecipe* tile, const std::string& key, const std::vector<std::string>& words, int line);
-// Checks ranges after the whole recipe is read (throws DataError naming `name`).
+// Checks ranges after the whole recipe is read, and that the tile's images cannot exceed the
+// pixel budget whatever its terrain and trees (check_tile_budget on the flat, empty tile, a
+// lower bound); throws DataError naming `name` and the line.
 void check_tile(const TileRecipe& tile, const std::string& name);
+
+// The most pixels a tile's images (its scan images and the canopy image) may have in all:
+// each pixel gives at most one point, so this bounds the points (memory: ~180 bytes each at
+// peak, measured), the frames in TMPDIR (6 bytes a pixel) and POV-Ray's time.
+constexpr double kMaxTilePixels = 3e7;
+// The largest image side rendered.
+constexpr double kMaxImageSide = 16384;
 
 // ---------------------------------------------------------------- geometry
 
@@ -222,14 +237,15 @@ Tile build_tile(const TileRecipe& recipe, const std::string& name, const Params&
 // One image: an orthographic camera; pixel (i, j) (column, row from the top) shoots from
 // origin + ((i + .5)/W - .5) right + (.5 - (j + .5)/H) up along -toward.
 struct TileView {
-  Eigen::Vector3d toward;     // unit, from the scene toward the sensor
-  Eigen::Vector3d origin;     // image-plane centre
-  Eigen::Vector3d right, up;  // unit
+  Eigen::Vector3d toward = Eigen::Vector3d::UnitZ();  // unit, from the scene toward the sensor
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();   // image-plane centre
+  Eigen::Vector3d right = Eigen::Vector3d::UnitX(), up = Eigen::Vector3d::UnitY();  // unit
   int width = 0, height = 0;
+  double pixels_x = 0, pixels_y = 0;  // the size asked for (width, height before any clamping)
   double spacing = 0;
   double depth_lo = 0, depth_span = 0;  // depth along the ray is coded over lo + [0, span]
   // Points are kept inside this strip (tile coordinates): |(p - strip_centre) . across| <= half.
-  Eigen::Vector2d strip_centre, strip_across;
+  Eigen::Vector2d strip_centre = Eigen::Vector2d::Zero(), strip_across = Eigen::Vector2d::UnitY();
   double strip_half = 0;
   int line = 0, heading_idx = 0, look_idx = 0;  // the pass and look it belongs to
   double strip_area = 0;                        // m^2 of the strip inside the tile
@@ -237,6 +253,15 @@ struct TileView {
 std::vector<TileView> tile_views(const Tile& tile);
 // The nadir view over the whole tile used to measure canopy cover.
 TileView canopy_view(const Tile& tile);
+// The same for a recipe whose ground and objects span heights [ground_lo, top] (a Tile's:
+// its terrain's lowest point and its top); tile_views.cpp, with the budget check.
+std::vector<TileView> tile_views(const TileRecipe& recipe, double ground_lo, double top);
+TileView canopy_view(const TileRecipe& recipe, double ground_lo, double top);
+// Throws a DataError naming `name` and the recipe's line (spacing, canopy_spacing, else the
+// first of extent, looks, headings, flight_lines, swath_overlap given) when the images
+// (views[0] the canopy image, then the scan images) have more than kMaxTilePixels pixels in
+// all or a side longer than kMaxImageSide.
+void check_tile_budget(const std::vector<TileView>& views, const TileRecipe& recipe, const std::string& name);
 
 struct TileScan {
   formats::PointCloud cloud;

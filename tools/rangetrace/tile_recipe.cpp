@@ -2,6 +2,7 @@
 // can never ask for unbounded work or memory.
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <set>
 
 #include "canopy/common/error.h"
@@ -25,25 +26,25 @@ const std::set<std::string>& tile_keys() {
   return keys;
 }
 
+// A decimal number, [+-]digits[.digits][e[+-]digits], finite: no hexadecimal ("0x10"), no
+// "inf" or "nan", no trailing text.
 double number(const std::string& w) {
-  std::size_t used = 0;
-  double v = 0;
-  try {
-    v = std::stod(w, &used);
-  } catch (const std::logic_error&) { used = 0; }
-  if (used != w.size() || !std::isfinite(v)) throw UsageError("'" + w + "' is not a number");
+  if (w.empty() || common::decimal_prefix(w) != w.size())
+    throw UsageError("'" + w + "' is not a decimal number");
+  const double v = std::strtod(w.c_str(), nullptr);
+  if (!std::isfinite(v)) throw UsageError("'" + w + "' is not a finite number");
   return v;
 }
 
+// A count: decimal digits only (no sign, no "0x10", no trailing text).
 int count(const std::string& w, int max) {
-  std::size_t used = 0;
-  long v = -1;
-  try {
-    v = std::stol(w, &used);
-  } catch (const std::logic_error&) { used = 0; }
-  if (used != w.size() || v < 0) throw UsageError("'" + w + "' is not a count >= 0");
-  if (v > max) throw UsageError("count " + w + " exceeds the limit of " + std::to_string(max));
-  return static_cast<int>(v);
+  if (w.empty() || !std::all_of(w.begin(), w.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+    throw UsageError("'" + w + "' is not a count >= 0");
+  }
+  if (w.size() > 9 || std::strtol(w.c_str(), nullptr, 10) > max) {
+    throw UsageError("count " + w + " exceeds the limit of " + std::to_string(max));
+  }
+  return static_cast<int>(std::strtol(w.c_str(), nullptr, 10));
 }
 
 void need(const std::vector<std::string>& words, std::size_t lo, std::size_t hi, const std::string& form) {
@@ -284,11 +285,17 @@ bool apply_flight_key(TileRecipe* t, const std::string& key, const std::vector<s
 
 bool is_tile_key(const std::string& key) { return tile_keys().count(key) > 0; }
 
+bool is_repeatable_key(const std::string& key) {
+  return key == "tree" || key == "canopy_disc" || key == "vehicle" || key == "object" || key == "clutter" ||
+         key == "views" || key == "view";
+}
+
 void apply_tile_key(TileRecipe* t, const std::string& key, const std::vector<std::string>& w, int line) {
   if (!apply_ground_key(t, key, w, line) && !apply_object_key(t, key, w, line) &&
       !apply_flight_key(t, key, w, line)) {
     throw UsageError("unknown key '" + key + "'");
   }
+  if (!is_repeatable_key(key)) t->lines.emplace(key, line);
 }
 
 void check_tile(const TileRecipe& t, const std::string& name) {
@@ -304,6 +311,12 @@ void check_tile(const TileRecipe& t, const std::string& name) {
   for (const auto& v : t.vehicles) check_xy(v.x, v.y, v.line, "vehicle '" + v.model + "'");
   for (const auto& o : t.objects) check_xy(o.x, o.y, o.line, "object '" + o.kind + "'");
   for (const auto& s : t.trees) check_xy(s.x, s.y, s.line, "tree");
+  // The images' size before anything is built or rendered: those of the flat tile with nothing
+  // on it, which the real terrain and trees can only enlarge (their height range adds to an
+  // oblique image's height). run_tile checks the real tile again.
+  std::vector<TileView> views = tile_views(t, 0, 0);
+  views.insert(views.begin(), canopy_view(t, 0, 0));
+  check_tile_budget(views, t, name);
 }
 
 }  // namespace canopy::rangetrace

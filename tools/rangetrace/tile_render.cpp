@@ -29,7 +29,6 @@ using Eigen::Vector3d;
 namespace {
 
 constexpr double kFine = 4096;  // green = frac(depth fraction * kFine)
-constexpr int kMaxPixels = 40 * 1000 * 1000;
 
 std::string num(double v) {
   char buf[64];
@@ -64,60 +63,6 @@ std::uint32_t label_of(std::uint32_t cls) {
     case Class::kClutter: return formats::kLabelClutter;
     default: return formats::kLabelTarget;
   }
-}
-
-// Area of the convex polygon `poly` clipped to the half-plane n . p <= d.
-std::vector<Vector2d> clip(const std::vector<Vector2d>& poly, const Vector2d& n, double d) {
-  std::vector<Vector2d> out;
-  for (std::size_t i = 0; i < poly.size(); ++i) {
-    const Vector2d a = poly[i], b = poly[(i + 1) % poly.size()];
-    const double da = n.dot(a) - d, db = n.dot(b) - d;
-    if (da <= 0) out.push_back(a);
-    if ((da < 0) != (db < 0) && da != db) out.push_back(a + (b - a) * (da / (da - db)));
-  }
-  return out;
-}
-
-double area(const std::vector<Vector2d>& poly) {
-  double a = 0;
-  for (std::size_t i = 0; i < poly.size(); ++i) {
-    const Vector2d p = poly[i], q = poly[(i + 1) % poly.size()];
-    a += p.x() * q.y() - p.y() * q.x();
-  }
-  return std::abs(a) / 2;
-}
-
-// Fits the orthographic image of `corners` seen along -toward, with the image plane through
-// `anchor` (which must lie beyond every corner along toward).
-TileView fit_view(const Vector3d& toward, const Vector3d& right, const Vector3d& anchor,
-                  const std::vector<Vector3d>& corners, double spacing) {
-  TileView v;
-  v.toward = toward;
-  v.right = right;
-  v.up = toward.cross(right).normalized();
-  v.spacing = spacing;
-  double r0 = 1e18, r1 = -1e18, u0 = 1e18, u1 = -1e18, d0 = 1e18, d1 = -1e18;
-  for (const auto& c : corners) {
-    const Vector3d d = c - anchor;
-    r0 = std::min(r0, d.dot(v.right));
-    r1 = std::max(r1, d.dot(v.right));
-    u0 = std::min(u0, d.dot(v.up));
-    u1 = std::max(u1, d.dot(v.up));
-    d0 = std::min(d0, -d.dot(toward));
-    d1 = std::max(d1, -d.dot(toward));
-  }
-  const double w = std::ceil((r1 - r0) / spacing), h = std::ceil((u1 - u0) / spacing);
-  if (w > 16384 || h > 16384 || w * h > kMaxPixels) {
-    throw common::UsageError("an image of " + num(w) + " x " + num(h) +
-                             " pixels: use a coarser spacing or more flight lines");
-  }
-  v.width = std::max(1, static_cast<int>(w));
-  v.height = std::max(1, static_cast<int>(h));
-  v.origin = anchor + (r0 + r1) / 2 * v.right + (u0 + u1) / 2 * v.up;
-  if (!(d0 > 0.5)) throw Error("internal: the image plane does not lie above the tile");
-  v.depth_lo = d0 - 0.5;
-  v.depth_span = d1 - d0 + 1.0;
-  return v;
 }
 
 Vector3d pixel_origin(const TileView& v, int i, int j) {
@@ -263,73 +208,11 @@ std::string tile_pov(const Tile& tile, const Staged& st, const std::vector<TileV
 // ---------------------------------------------------------------- views
 
 std::vector<TileView> tile_views(const Tile& tile) {
-  const TileRecipe& r = tile.recipe;
-  const TerrainModel terrain(r, tile.seed);
-  const double zlo = terrain.lo() - 1, zhi = tile.top + 1;
-  const Vector2d tile_corners[4] = {{0, 0}, {r.extent_x, 0}, {r.extent_x, r.extent_y}, {0, r.extent_y}};
-  std::vector<TileView> views;
-  for (std::size_t h = 0; h < r.headings.size(); ++h) {
-    const Vector2d f(std::cos(r.headings[h]), std::sin(r.headings[h])), c(-f.y(), f.x());
-    const common::Extent2 e = common::extent_along(tile_corners, f, c);
-    const double a0 = e.umin, a1 = e.umax, c0 = e.vmin, c1 = e.vmax;
-    const double pitch = (c1 - c0) / r.flight_lines;
-    for (int line = 0; line < r.flight_lines; ++line) {
-      const double cc = c0 + (line + 0.5) * pitch;
-      const double half = pitch / 2 * (1 + r.swath_overlap);
-      const Vector2d centre = (a0 + a1) / 2 * f + cc * c;
-      std::vector<Vector3d> corners;
-      for (double a : {a0, a1}) {
-        for (double w : {cc - half, cc + half}) {
-          for (double z : {zlo, zhi}) {
-            const Vector2d p = a * f + w * c;
-            corners.emplace_back(p.x(), p.y(), z);
-          }
-        }
-      }
-      std::vector<Vector2d> strip(std::begin(tile_corners), std::end(tile_corners));
-      strip = clip(strip, c, cc + half);
-      strip = clip(strip, -c, -(cc - half));
-      for (std::size_t l = 0; l < r.looks.size(); ++l) {
-        const Look& look = r.looks[l];
-        const double az = r.headings[h] + look.azimuth;
-        const bool nadir = std::abs(look.elevation - common::kPi / 2) < 1e-9;
-        const Vector3d toward =
-            nadir ? Vector3d::UnitZ()
-                  : Vector3d(std::cos(look.elevation) * std::cos(az), std::cos(look.elevation) * std::sin(az),
-                             std::sin(look.elevation));
-        const Vector3d right = nadir ? Vector3d(c.x(), c.y(), 0) : Vector3d(-std::sin(az), std::cos(az), 0);
-        const Vector3d anchor =
-            Vector3d(centre.x(), centre.y(), 0) + (r.altitude / std::sin(look.elevation)) * toward;
-        TileView v = fit_view(toward, right, anchor, corners, r.spacing);
-        v.strip_centre = centre;
-        v.strip_across = c;
-        v.strip_half = half;
-        v.line = line;
-        v.heading_idx = static_cast<int>(h);
-        v.look_idx = static_cast<int>(l);
-        v.strip_area = area(strip);
-        views.push_back(v);
-      }
-    }
-  }
-  return views;
+  return tile_views(tile.recipe, TerrainModel(tile.recipe, tile.seed).lo(), tile.top);
 }
 
 TileView canopy_view(const Tile& tile) {
-  const TileRecipe& r = tile.recipe;
-  const TerrainModel terrain(r, tile.seed);
-  std::vector<Vector3d> corners;
-  for (int i = 0; i < 8; ++i) {
-    corners.emplace_back(i & 1 ? r.extent_x : 0, i & 2 ? r.extent_y : 0,
-                         i & 4 ? tile.top + 1 : terrain.lo() - 1);
-  }
-  const Vector3d anchor(r.extent_x / 2, r.extent_y / 2, r.altitude);
-  TileView v = fit_view(Vector3d::UnitZ(), Vector3d::UnitX(), anchor, corners, r.canopy_spacing);
-  v.strip_centre = Vector2d(r.extent_x / 2, r.extent_y / 2);
-  v.strip_across = Vector2d(0, 1);
-  v.strip_half = r.extent_y;
-  v.strip_area = r.extent_x * r.extent_y;
-  return v;
+  return canopy_view(tile.recipe, TerrainModel(tile.recipe, tile.seed).lo(), tile.top);
 }
 
 // ---------------------------------------------------------------- decoding
@@ -504,7 +387,8 @@ TileScan decode_tile(const TileFrames& frames, const std::vector<TileView>& view
 TileScan run_tile(Tile* tile, const Params& params) {
   common::log::Phase prep("tile");
   std::vector<TileView> views = tile_views(*tile);
-  views.insert(views.begin(), canopy_view(*tile));  // frame of view 0: the canopy image
+  views.insert(views.begin(), canopy_view(*tile));     // frame of view 0: the canopy image
+  check_tile_budget(views, tile->recipe, tile->name);  // with the tile's own terrain and trees
   prep.done(tile_summary(*tile, views.size() - 1));
 
   common::log::Phase render("render");
@@ -671,7 +555,7 @@ std::string render_tile_picture(const Tile& tile, const Params& params) {
                "+Ipicture.pov", "+Opicture.png", "+WT" + std::to_string(std::max(1, params.threads))});
   auto renames = st.renames;
   renames.emplace_back("picture.pov", "rangetrace's generated picture.pov");
-  run_povray(params, tmp.path(), args, "picture.log", renames);
+  run_povray(params, st, tmp.path(), args, "picture.log", renames);
   return common::read_file(tmp.path() + "/picture.png");
 }
 
