@@ -11,6 +11,8 @@ Truth is read only here, never by classify: a candidate belongs to the vehicle i
 index truth names when that instance holds >= half of the candidate's object points.
 """
 import json, math, os, subprocess, sys, argparse, statistics
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from pcdlabels import majority_label
 from concurrent.futures import ThreadPoolExecutor
 
 GROUP = {"sedan": "car", "hatchback": "car", "suv": "car", "pickup": "car", "van": "van",
@@ -74,12 +76,14 @@ def rows_of(run, index):
                "class": v["class"], "group": v["group"], "reason": v["reason"], "detail": v["detail"],
                "confidence": v["confidence"], "density": v["density"], "points": v["points"],
                "size": v["size"], "measured": v["measured"], "features": v["features"],
-               "heading": v["pose_tile"]["heading_deg"] if v["pose_tile"] else None}
+               "heading": v["pose_tile"]["heading_deg"] if v["pose_tile"] else None,
+               "label": majority_label(os.path.join(run, "cands", c["file"])) if inst is None else 1}
         if v["measured"]:
             # heading of the measured rectangle in the tile, for pose errors of every candidate
             T = c["transform"]
             th = math.atan2(T[1][0], T[0][0]) if isinstance(T[0], list) else math.atan2(T[4], T[0])
             row["heading_any"] = math.degrees(th) + v["measured"]["heading_deg"]
+            row["heading_refined"] = math.degrees(th) + v["features"]["heading_refined_deg"]
             row["heading_pca"] = math.degrees(th) + v["features"]["heading_pca_deg"]
             row["heading_hull"] = math.degrees(th) + v["features"]["heading_hull_deg"]
         rows.append(row)
@@ -94,7 +98,7 @@ def summarise(all_rows, all_vehicles, label=""):
             by_inst.setdefault((r["run"], r["instance"]), []).append(r)
     covered = len(by_inst)
     found = grp = cls = 0
-    herr, herr_pca, herr_hull, lerr, werr, herr_all = [], [], [], [], [], []
+    herr, herr_pca, herr_hull, herr_ref, lerr, werr, herr_all = [], [], [], [], [], [], []
     missed_reasons = {}
     confusion = {}
     for key, rs in by_inst.items():
@@ -119,7 +123,15 @@ def summarise(all_rows, all_vehicles, label=""):
             herr_all.append(fold180(r0["heading_any"] - r0["true_heading"]))
             herr_pca.append(fold180(r0["heading_pca"] - r0["true_heading"]))
             herr_hull.append(fold180(r0["heading_hull"] - r0["true_heading"]))
+            herr_ref.append(fold180(r0["heading_refined"] - r0["true_heading"]))
     false = [r for r in all_rows if r["instance"] is None and r["class"]]
+    names = {2: "vegetation", 4: "clutter", 3: "ground", 1: "vehicle"}
+    kinds = {}
+    for r in all_rows:
+        if r["instance"] is None:
+            k = names.get(r["label"], str(r["label"]))
+            tot, fa = kinds.get(k, (0, 0))
+            kinds[k] = (tot + 1, fa + (1 if r["class"] else 0))
     nonveh = [r for r in all_rows if r["instance"] is None]
     dup = sum(max(0, sum(1 for r in rs if r["class"]) - 1) for rs in by_inst.values())
     print(f"== {label}: {len(all_vehicles)} tiles, {nveh} vehicles, {len(all_rows)} candidates")
@@ -131,15 +143,17 @@ def summarise(all_rows, all_vehicles, label=""):
               f"p90 {sorted(herr)[int(0.9 * (len(herr) - 1))]:.1f}; within 5 deg {rate(sum(h <= 5 for h in herr), len(herr))}")
         print(f"  length error median {statistics.median(lerr):+.2f} m, width {statistics.median(werr):+.2f} m")
     if herr_all:
-        print(f"  heading (candidates with coverage >= 0.8, n={len(herr_all)}): refined median {statistics.median(herr_all):.2f}, "
-              f"hull {statistics.median(herr_hull):.2f}, pca {statistics.median(herr_pca):.2f} deg; "
-              f"p90 refined {sorted(herr_all)[int(0.9*(len(herr_all)-1))]:.1f} hull {sorted(herr_hull)[int(0.9*(len(herr_hull)-1))]:.1f} "
-              f"pca {sorted(herr_pca)[int(0.9*(len(herr_pca)-1))]:.1f}")
+        p90 = lambda v: sorted(v)[int(0.9 * (len(v) - 1))]
+        print(f"  heading of every candidate with coverage >= 0.8 (n={len(herr_all)}), median / p90: "
+              f"min-area rectangle {statistics.median(herr_hull):.2f} / {p90(herr_hull):.1f}, "
+              f"two-line refinement {statistics.median(herr_ref):.2f} / {p90(herr_ref):.1f}, "
+              f"principal axis {statistics.median(herr_pca):.2f} / {p90(herr_pca):.1f} deg")
     print(f"  not-vehicle candidates answered vehicle: {rate(len(false), len(nonveh))}; duplicate vehicle answers {dup}")
+    print("    by majority label: " + "; ".join(f"{k} {rate(fa, tot)}" for k, (tot, fa) in sorted(kinds.items())))
     print(f"  missed (covered, answered none) by reason: {missed_reasons}")
     print(f"  confusion (true group -> answer): {sorted(confusion.items(), key=str)}")
     for r in false:
-        print(f"    false: {r['run']}/{r['id']} {r['class']} conf {r['confidence']:.2f} size {[round(x,2) for x in r['size']]}")
+        print(f"    false: {r['run']}/{r['id']} ({names.get(r['label'], r['label'])}) {r['class']} conf {r['confidence']:.2f} size {[round(x,2) for x in r['size']]}")
 
 
 def main():

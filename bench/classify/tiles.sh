@@ -12,8 +12,9 @@ build=$1; work=$2; seeds=$3; densities=$4; trees=${5:-100}; sensor=${6:-als}
 bin=$build/bin
 case $sensor in
   als) k=2.64; sens=$'flight_lines = 3\nswath_overlap = 0.5\nheadings = 0deg\nlooks = 80deg/90deg 80deg/270deg' ;;
+  nadir) k=1.5; sens=$'flight_lines = 3\nswath_overlap = 0.5\nheadings = 0deg\nlooks = 90deg' ;;
   scene) k=4.45; sens=$'flight_lines = 2\nheadings = 0deg 90deg\nlooks = 75deg/0deg 75deg/180deg' ;;
-  *) echo "sensor: als or scene" >&2; exit 2 ;;
+  *) echo "sensor: als, nadir or scene" >&2; exit 2 ;;
 esac
 classes="sedan hatchback suv pickup van box-truck semi-tractor bus wheeled-apc tracked-apc tank wheel-loader"
 for d in $densities; do

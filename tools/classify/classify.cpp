@@ -38,7 +38,7 @@ struct Fit {
   double centrality = kInf;  // squared distance from the ranges' middles, relative to their halves
 };
 
-Fit fit(const ClassRange& k, const Features& f, double sigma) {
+Fit fit(const ClassRange& k, const Features& f, double sigma, const Params& p) {
   Fit r;
   r.cls = &k;
   double dl = miss(f.length, k.length, sigma);
@@ -47,6 +47,10 @@ Fit fit(const ClassRange& k, const Features& f, double sigma) {
   const double dw = miss(f.width, k.width, sigma),
                dh = miss(f.height, k.height, sigma);
   r.distance = std::sqrt(dl * dl + dw * dw + dh * dh);
+  // The profile: a contradiction costs profile_penalty (in the size's sigmas).
+  const int plateau = f.plateau_share >= p.plateau_split ? +1 : -1;
+  const int tail = f.end_high >= p.tail_split ? +1 : -1;
+  if ((k.plateau != 0 && k.plateau != plateau) || (k.tail != 0 && k.tail != tail)) r.distance += p.profile_penalty;
   auto rel = [&](double v, const std::array<double, 2>& g) {
     const double mid = 0.5 * (g[0] + g[1]), half = 0.5 * (g[1] - g[0]) + sigma;
     return (v - mid) * (v - mid) / (half * half);
@@ -116,11 +120,14 @@ bool vegetation(Answer& a, const Params& p) {
            past(worst->value, worst->threshold));
     return true;
   }
-  if (f.top_points >= 4 && f.top_rms > p.max_top_rms) {
+  // The cells' size grows with the spacing and so does a sampled panel's apparent roughness
+  // (its cell tops come from fewer points): the threshold scales with it, over a 0.1 m floor.
+  const double rough = std::max(0.1, p.max_roughness * f.spacing);
+  if (f.top_cells >= 3 && f.top_roughness > rough) {
     refuse(a, "vegetation_like",
-           fmt("the top is rough: %.0f mm RMS about its plane (vehicle <= %.0f mm)", 1e3 * f.top_rms,
-               1e3 * p.max_top_rms),
-           past(f.top_rms, p.max_top_rms));
+           fmt("the top is rough: %.0f mm from the local plane of its neighbours (median; vehicle <= %.0f mm)",
+               1e3 * f.top_roughness, 1e3 * rough),
+           past(f.top_roughness, rough));
     return true;
   }
   return false;
@@ -160,8 +167,13 @@ bool size_gates(Answer& a, const Params& p, double sigma) {
 // cues move the overlapping pairs (docs/decisions/classify.md §4).
 void choose(Answer& a, const Params& p, double sigma) {
   const Features& f = a.features;
+  // A flat box over the whole length (container, log stack, shed): only a box-truck or a bus
+  // has such a top; every other family drops to a bonnet, glacis, bucket or chassis.
+  const bool box = f.plateau_share >= p.box_plateau && f.end_low >= p.box_ends;
   std::vector<Fit> fits;
-  for (const ClassRange& k : class_ranges()) fits.push_back(fit(k, f, sigma));
+  for (const ClassRange& k : class_ranges()) {
+    if (!box || k.flat_box) fits.push_back(fit(k, f, sigma, p));
+  }
   auto better = [](const Fit& x, const Fit& y) {
     if (std::abs(x.distance - y.distance) > 1e-9) return x.distance < y.distance;
     return x.centrality < y.centrality;
@@ -169,20 +181,20 @@ void choose(Answer& a, const Params& p, double sigma) {
   std::stable_sort(fits.begin(), fits.end(), better);
   const Fit& best = fits.front();
   if (best.distance > p.size_gate) {
+    if (box) {
+      refuse(a, "not_vehicle_shape",
+             fmt("a flat box: %.0f%% of its length within the top's plateau, both ends at %.0f%% of H or more; "
+                 "%.2f x ",
+                 100 * f.plateau_share, 100 * f.end_low, f.length) +
+                 fmt("%.2f x %.2f m is no box-truck or bus (nearest ", f.width, f.height) + best.cls->name +
+                 fmt(" at %.1f sigma)", best.distance),
+             past(best.distance, p.size_gate));
+      return;
+    }
     refuse(a, "not_vehicle_shape",
            fmt("%.2f x %.2f x %.2f m fits no family's ranges (nearest ", f.length, f.width, f.height) +
                best.cls->name + fmt(" at %.1f sigma; gate %.1f)", best.distance, p.size_gate),
            past(best.distance, p.size_gate));
-    return;
-  }
-  // A flat box over the whole length (container, log stack): only a bus is one.
-  const bool box = f.plateau_share >= p.box_plateau && f.end_low >= p.box_ends;
-  if (box && std::string(best.cls->group) != "bus") {
-    refuse(a, "not_vehicle_shape",
-           fmt("a flat box: %.0f%% of its length within the top's plateau, both ends at %.0f%% of H or more "
-               "(no family but a bus)",
-               100 * f.plateau_share, 100 * f.end_low),
-           past(std::min(f.plateau_share / p.box_plateau, f.end_low / p.box_ends), 1.0));
     return;
   }
   a.cls = best.cls->name;
@@ -206,18 +218,18 @@ void choose(Answer& a, const Params& p, double sigma) {
 const std::vector<ClassRange>& class_ranges() {
   // Length, width, height (m): tools/rangetrace/families.cpp, docs/decisions/families.md §2.
   static const std::vector<ClassRange> k = {
-      {"sedan", "car", {4.40, 5.10}, {1.72, 1.90}, {1.38, 1.50}},
-      {"hatchback", "car", {3.55, 4.40}, {1.62, 1.80}, {1.42, 1.56}},
-      {"suv", "car", {4.40, 5.30}, {1.80, 2.05}, {1.65, 1.95}},
-      {"pickup", "car", {5.00, 5.90}, {1.80, 2.05}, {1.75, 2.00}},
-      {"van", "van", {4.90, 6.00}, {1.90, 2.06}, {1.95, 2.75}},
-      {"box-truck", "truck", {7.00, 10.00}, {2.30, 2.55}, {3.00, 3.90}},
-      {"semi-tractor", "truck", {5.80, 7.50}, {2.45, 2.55}, {3.00, 4.00}},
-      {"bus", "bus", {10.50, 13.50}, {2.50, 2.55}, {2.90, 3.40}},
-      {"wheeled-apc", "machine", {6.40, 8.00}, {2.50, 3.00}, {2.30, 2.90}},
-      {"tracked-apc", "tracked", {4.90, 7.00}, {2.70, 3.30}, {1.90, 2.70}},
-      {"tank", "tracked", {8.70, 11.40}, {3.40, 3.80}, {2.20, 3.00}, {6.50, 8.00}},
-      {"wheel-loader", "machine", {6.80, 9.00}, {2.50, 3.20}, {3.00, 3.70}},
+      {"sedan", "car", {4.40, 5.10}, {1.72, 1.90}, {1.38, 1.50}, 0, -1},
+      {"hatchback", "car", {3.55, 4.40}, {1.62, 1.80}, {1.42, 1.56}, 0, +1},
+      {"suv", "car", {4.40, 5.30}, {1.80, 2.05}, {1.65, 1.95}, 0, +1},
+      {"pickup", "car", {5.00, 5.90}, {1.80, 2.05}, {1.75, 2.00}, -1, -1},
+      {"van", "van", {4.90, 6.00}, {1.90, 2.06}, {1.95, 2.75}, +1, +1},
+      {"box-truck", "truck", {7.00, 10.00}, {2.30, 2.55}, {3.00, 3.90}, +1, 0, true},
+      {"semi-tractor", "truck", {5.80, 7.50}, {2.45, 2.55}, {3.00, 4.00}, -1, 0},
+      {"bus", "bus", {10.50, 13.50}, {2.50, 2.55}, {2.90, 3.40}, +1, 0, true},
+      {"wheeled-apc", "machine", {6.40, 8.00}, {2.50, 3.00}, {2.30, 2.90}, 0, 0},
+      {"tracked-apc", "tracked", {4.90, 7.00}, {2.70, 3.30}, {1.90, 2.70}, 0, 0},
+      {"tank", "tracked", {8.70, 11.40}, {3.40, 3.80}, {2.20, 3.00}, 0, 0, false, {6.50, 8.00}},
+      {"wheel-loader", "machine", {6.80, 9.00}, {2.50, 3.20}, {3.00, 3.70}, -1, 0},
   };
   return k;
 }
@@ -243,10 +255,13 @@ void validate(const Params& p) {
   need(p.spacing_sigma >= 0 && p.spacing_sigma <= 10, "--spacing-sigma must be in [0, 10]");
   need(p.size_gate > 0 && p.size_gate <= 100, "--size-gate must be in (0, 100]");
   need(p.plateau_drop >= 0 && p.plateau_drop <= 5, "--plateau-drop must be in [0, 5 m]");
-  need(p.max_top_rms > 0 && p.max_top_rms <= 10, "--max-top-rms must be in (0, 10 m]");
+  need(p.max_roughness > 0 && p.max_roughness <= 100, "--max-roughness must be in (0, 100]");
   need(p.max_below_share > 0 && p.max_below_share <= 1, "--max-below-share must be in (0, 1]");
   need(p.max_ground_through > 0 && p.max_ground_through <= 1, "--max-ground-through must be in (0, 1]");
   need(p.max_late_returns > 0 && p.max_late_returns <= 1, "--max-late-returns must be in (0, 1]");
+  need(p.plateau_split > 0 && p.plateau_split < 1, "--plateau-split must be in (0, 1)");
+  need(p.tail_split > 0 && p.tail_split < 1.5, "--tail-split must be in (0, 1.5)");
+  need(p.profile_penalty >= 0 && p.profile_penalty <= 100, "--profile-penalty must be in [0, 100]");
   need(p.box_plateau > 0 && p.box_plateau <= 1, "--box-plateau must be in (0, 1]");
   need(p.box_ends > 0 && p.box_ends <= 1, "--box-ends must be in (0, 1]");
   need(p.model_density > 0 && std::isfinite(p.model_density), "--model-density must be > 0");

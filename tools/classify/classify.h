@@ -49,6 +49,12 @@ struct ClassRange {
   const char* name;
   const char* group;
   std::array<double, 2> length, width, height;
+  // What the top's profile should show (families.md §3): +1 / -1 = the plateau covers most /
+  // a minor part of the length (box-truck, bus, van / wheel-loader, semi-tractor), the higher
+  // end stays up at the roof / drops to a bonnet, boot or bed at both ends (hatchback, suv,
+  // van / sedan, pickup); 0 = no expectation.
+  int plateau = 0, tail = 0;
+  bool flat_box = false;  // its top may be one flat box over the whole length (box-truck, bus)
   std::array<double, 2> hull_length{0, 0};  // tank: the hull without the gun (families.md §2), or 0 0
 };
 
@@ -61,10 +67,10 @@ std::string group_of(const std::string& cls);
 
 struct Params {
   double ground_cut = 0.3;        // points below this height are ground or grass (m; detect's band)
-  double link_factor = 2.5;       // object clustering: linking distance = factor x the crop's spacing
+  double link_factor = 3.5;       // object clustering: linking distance = factor x the crop's spacing
   std::size_t min_points = 20;    // fewer object points: too_sparse
   double min_density = 4.0;       // fewer object points per m² of its rectangle: too_sparse
-  double edge_factor = 1.0;       // sampling correction: L, W += edge_factor x spacing
+  double edge_factor = 0.15;      // sampling correction: L, W += edge_factor x spacing
   double height_quantile = 0.98;  // H = this quantile of the object's heights
   // Size gates: a measured dimension may miss a class range by gate x its uncertainty
   // sqrt(size_sigma² + (spacing_sigma x spacing)²).
@@ -73,12 +79,16 @@ struct Params {
   double size_gate = 2.5;
   // Shape cues.
   double plateau_drop = 0.2;         // profile bins within this of the top (+ 10% of H) are plateau (m)
-  double max_top_rms = 0.12;         // rougher plateau (RMS about its plane, m): vegetation_like
+  double max_roughness = 0.65;       // rougher top (median local residual) than this x the spacing,
+                                     // and than 0.1 m: vegetation_like
   double max_below_share = 0.3;      // more interior cells with a point 0.5 m under their top: vegetation_like
   double max_ground_through = 0.25;  // more interior cells with a ground return: vegetation_like
   double max_late_returns = 0.35;    // more object points with return_number > 1: vegetation_like
+  double plateau_split = 0.6;     // plateau share between a minor and a long plateau
+  double tail_split = 0.75;       // higher end's level (share of H) between dropping and staying up
+  double profile_penalty = 1.5;   // added to a class's size distance when the profile contradicts it
   double box_plateau = 0.88;         // plateau share and both ends' levels at or above this:
-  double box_ends = 0.9;             //   a flat box (container, log stack), unless a bus
+  double box_ends = 0.8;             //   a flat box (container, log stack): a box-truck or bus only
   double model_density = 370;        // points/m² the model-level chain needs (fitvox-tile.ini)
 };
 
@@ -93,14 +103,15 @@ struct Features {
   double spacing = 0;       // 1 / sqrt(density)
   double heading_pca = 0;   // rad, the principal axis (for comparison only)
   double heading_hull = 0;  // rad, the minimum-area rectangle before refinement
-  double heading = 0;       // rad, the refined long axis, in (-pi/2, pi/2]
+  double heading_refined = 0;  // rad, the hull's axis refined by two parallel side lines (for comparison)
+  double heading = 0;          // rad, the long axis used (the minimum-area rectangle's), in (-pi/2, pi/2]
   Eigen::Vector2d centre = Eigen::Vector2d::Zero();  // rectangle centre (candidate frame)
   double length_measured = 0, width_measured = 0, height_measured = 0;
   double length = 0, width = 0, height = 0;  // corrected
   double plateau_share = 0;  // share of the long profile within the drop of the top
   double end_low = 0, end_high = 0;  // mean top height of the lower / higher end fifth, / H
-  double top_rms = 0;                // RMS of the plateau points about their plane (m)
-  std::size_t top_points = 0;
+  double top_roughness = 0;  // median |interior cell top - the plane of its 3 x 3 cells' tops| (m)
+  std::size_t top_cells = 0;  // interior cells with enough neighbours for it
   double below_share = 0;     // interior occupied cells with a point >= 0.5 m under their top
   double ground_through = 0;  // interior cells holding a ground return
   std::size_t interior_cells = 0;

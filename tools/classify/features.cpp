@@ -201,17 +201,15 @@ double quantile(std::vector<double> v, double q) {
   return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
 }
 
-// RMS distance of points (u, v, z) about their least-squares plane z = a + b u + c v.
-double plane_rms(const std::vector<Vector3d>& q) {
-  if (q.size() < 4) return 0;
+// The height at (0, 0) of the least-squares plane z = a + b u + c v through points (u, v, z).
+double plane_at_origin(const std::vector<Vector3d>& q) {
   Eigen::MatrixXd A(q.size(), 3);
   Eigen::VectorXd z(q.size());
   for (std::size_t i = 0; i < q.size(); ++i) {
     A.row(static_cast<Eigen::Index>(i)) << 1.0, q[i].x(), q[i].y();
     z(static_cast<Eigen::Index>(i)) = q[i].z();
   }
-  const Eigen::VectorXd c = A.colPivHouseholderQr().solve(z);
-  return std::sqrt((A * c - z).squaredNorm() / static_cast<double>(q.size()));
+  return A.colPivHouseholderQr().solve(z)(0);
 }
 
 void profile_cues(const std::vector<Vector3d>& q, Features& f, const Params& fp) {
@@ -286,12 +284,8 @@ void column_cues(const Candidate& c, const std::vector<Vector3d>& q, const Exten
     ground[k] = 1;
     low[k] = std::min(low[k], p.z());
   }
-  // Roughness of the top: the interior cells' tops within the plateau's drop of H about their
-  // plane (side walls and edge hits are not interior).
-  const double H = f.height_measured;
-  const double level = H - (fp.plateau_drop + 0.1 * H);
-  std::vector<Vector3d> tops;
   std::size_t inner = 0, occupied = 0, below = 0, through = 0;
+  std::vector<double> residuals;
   for (std::int64_t a = 0; a < nu; ++a) {
     for (std::int64_t b = 0; b < nv; ++b) {
       if (!interior(a, b)) continue;
@@ -301,13 +295,23 @@ void column_cues(const Candidate& c, const std::vector<Vector3d>& q, const Exten
       if (top[k] == -kInf) continue;
       ++occupied;
       below += low[k] <= top[k] - 0.5;
-      if (top[k] >= level) {
-        tops.emplace_back((static_cast<double>(a) + 0.5) * g, (static_cast<double>(b) + 0.5) * g, top[k]);
+      // Local roughness: this cell's top against the plane of the tops of its 3 x 3
+      // neighbourhood (at least 5 cells). Flat panels give ~0 (only cells on a step between
+      // two panels do not), a crown's top is rough everywhere.
+      std::vector<Vector3d> hood;
+      for (std::int64_t da = -1; da <= 1; ++da) {
+        for (std::int64_t db = -1; db <= 1; ++db) {
+          const std::int64_t na = a + da, nb = b + db;
+          if (na < 0 || na >= nu || nb < 0 || nb >= nv) continue;
+          const double t = top[static_cast<std::size_t>(na * nv + nb)];
+          if (t != -kInf) hood.emplace_back(static_cast<double>(da) * g, static_cast<double>(db) * g, t);
+        }
       }
+      if (hood.size() >= 5) residuals.push_back(std::abs(top[k] - plane_at_origin(hood)));
     }
   }
-  f.top_points = tops.size();
-  f.top_rms = plane_rms(tops);
+  f.top_cells = residuals.size();
+  f.top_roughness = residuals.empty() ? 0 : quantile(residuals, 0.5);
   f.interior_cells = inner;
   f.below_share = occupied ? static_cast<double>(below) / static_cast<double>(occupied) : 0;
   f.ground_through = inner ? static_cast<double>(through) / static_cast<double>(inner) : 0;
@@ -417,7 +421,11 @@ Features measure(const Candidate& c, const Params& fp) {
   const Extents e0 = extents(top, f.heading_hull);
   const double area0 = std::max(e0.length() * e0.width(), 1e-6);
   const double spacing0 = std::sqrt(area0 / static_cast<double>(object.size()));
-  f.heading = refine_axis(top, f.heading_hull, std::max(0.15, 0.75 * spacing0));
+  // The minimum-area rectangle sets the heading (docs/decisions/classify.md §2: on the
+  // development tiles it beat both the principal axis and the two-line refinement, which is
+  // kept as a measurement).
+  f.heading_refined = refine_axis(top, f.heading_hull, std::max(0.15, 0.75 * spacing0));
+  f.heading = f.heading_hull;
   const Extents e = extents(top, f.heading);
   f.length_measured = e.length();
   f.width_measured = e.width();

@@ -47,12 +47,17 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
   tool.add("--spacing-sigma", &p.spacing_sigma, "size uncertainty per unit of point spacing");
   tool.add("--size-gate", &p.size_gate, "a size may miss a class range by this many uncertainties");
   tool.add_length("--plateau-drop", &p.plateau_drop, "profile within this (+ 10% of H) of the top: plateau");
-  tool.add_length("--max-top-rms", &p.max_top_rms, "rougher plateau: vegetation_like");
+  tool.add("--max-roughness", &p.max_roughness,
+           "rougher top (median residual of a cell's top from its neighbours' plane) than this x the "
+           "spacing (and 0.1 m): vegetation_like");
   tool.add("--max-below-share", &p.max_below_share,
            "more interior cells with a point 0.5 m under their top: vegetation_like");
   tool.add("--max-ground-through", &p.max_ground_through, "more interior cells with ground returns: vegetation_like");
   tool.add("--max-late-returns", &p.max_late_returns,
            "more object points with return_number > 1 (LAS): vegetation_like");
+  tool.add("--plateau-split", &p.plateau_split, "plateau share between a minor and a long roof");
+  tool.add("--tail-split", &p.tail_split, "higher end's level (share of H) between dropping and staying at the roof");
+  tool.add("--profile-penalty", &p.profile_penalty, "size-sigmas added to a class whose profile the top contradicts");
   tool.add("--box-plateau", &p.box_plateau, "plateau share of a flat box (not a vehicle unless a bus)");
   tool.add("--box-ends", &p.box_ends, "end level (share of H) of a flat box");
   tool.add("--model-density", &p.model_density, "points/m^2 the model-level chain needs (for the reason text)");
