@@ -4,7 +4,7 @@
 import json, sys
 
 names = {1: "vehicle", 2: "vegetation", 4: "clutter", 3: "ground"}
-cues = ["below_share", "ground_through", "top_roughness", "plateau_share", "end_low", "end_high"]
+cues = ["fill", "below_share", "ground_through", "top_roughness", "plateau_share", "end_low", "end_high"]
 
 
 def q(v, p):
@@ -29,5 +29,7 @@ for r in rows:
 for c in cues:
     print(c)
     for k, rs in sorted(groups.items()):
-        v = [r["features"][c] for r in rs]
+        v = [r["features"][c] for r in rs if r["features"][c] is not None]
+        if not v:
+            continue
         print(f"  {k:10s} n={len(v):4d} min {min(v):.3f} 5% {q(v, .05):.3f} 50% {q(v, .5):.3f} 95% {q(v, .95):.3f} max {max(v):.3f}")

@@ -1,6 +1,6 @@
 #!/bin/bash
 # Renders classify's development tiles and runs detect on them (docs/decisions/classify.md §5).
-#   bench/classify/tiles.sh BUILD WORK "SEEDS" "DENSITIES" [TREES] [SENSOR]
+#   bench/classify/tiles.sh BUILD WORK "SEEDS" "DENSITIES" [TREES] [SENSOR] [HIDE]
 # SEEDS: never the scene experiment's (1-8) nor detect's (101-124): 900-950. DENSITIES: target
 # points/m² (10 25 50 100), turned into a pixel spacing for the sensor below (measured:
 # 2.64 / spacing² points/m² for `als`, 4.45 / spacing² for `scene`). Each run is
@@ -8,7 +8,7 @@
 # detect: --min-planarity 0 (its planarity test needs ~21 points/m², detect.md §3b) and a voxel
 # of 1.9 / sqrt(density) (>= 0.2 m) so that a sparse vehicle stays one object.
 set -euo pipefail
-build=$1; work=$2; seeds=$3; densities=$4; trees=${5:-100}; sensor=${6:-als}
+build=$1; work=$2; seeds=$3; densities=$4; trees=${5:-100}; sensor=${6:-als}; hide=${7:-0}
 bin=$build/bin
 case $sensor in
   als) k=2.64; sens=$'flight_lines = 3\nswath_overlap = 0.5\nheadings = 0deg\nlooks = 80deg/90deg 80deg/270deg' ;;
@@ -21,7 +21,7 @@ for d in $densities; do
   spacing=$(python3 -c "import math; print('%dmm' % round(1000 * math.sqrt($k / $d)))")
   voxel=$(python3 -c "import math; print('%.2f' % max(0.2, 1.9 / math.sqrt($d)))")
   for seed in $seeds; do
-    run=$work/$sensor-t$trees/d$d/s$seed
+    run=$work/$sensor-t$trees$([ "$hide" = 0 ] || echo "-h$hide")/d$d/s$seed
     mkdir -p "$run"
     if [ ! -s "$run/truth.json" ]; then
       list=""; i=0
@@ -32,7 +32,7 @@ for d in $densities; do
 extent = 90m 90m
 terrain = rolling 1m 25m
 trees = $trees
-hide = 0
+hide = $hide
 bushes = 300
 vehicles = random 22 from ${list#,}
 clutter = boulder 4 shed 2 container 2 fence 2 logs 2

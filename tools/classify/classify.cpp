@@ -111,6 +111,15 @@ bool vegetation(Answer& a, const Params& p) {
     cues.push_back({"%.0f%% later returns (return_number > 1; vehicle <= %.0f%%)", *f.late_returns,
                     p.max_late_returns});
   }
+  // Fill is good when high: its cue is the inverse ratio (threshold / value > 1 when below).
+  if (f.fill && *f.fill < p.min_fill) {
+    refuse(a, "vegetation_like",
+           fmt("porous or patchy: %.0f%% of the open ground's points per m^2 on its rectangle (%.1f of %.1f; "
+               "a solid top >= %.0f%%)",
+               100 * *f.fill, f.density, *f.ground_density, 100 * p.min_fill),
+           past(p.min_fill, std::max(*f.fill, 1e-6)));
+    return true;
+  }
   const Cue* worst = nullptr;
   for (const Cue& c : cues) {
     if (c.value > c.threshold && (!worst || c.value / c.threshold > worst->value / worst->threshold)) worst = &c;
@@ -208,6 +217,7 @@ void choose(Answer& a, const Params& p, double sigma) {
   // Confidence: the size fit, how clearly another group is excluded, how far the vegetation
   // cues stay below their thresholds (each 0.5 at its threshold).
   double shape = (1 - past(f.below_share, p.max_below_share)) * (1 - past(f.ground_through, p.max_ground_through));
+  if (f.fill) shape *= 1 - past(p.min_fill, std::max(*f.fill, 1e-6));
   if (f.late_returns) shape *= 1 - past(*f.late_returns, p.max_late_returns);
   const double group = 0.5 + 0.5 * (1 - std::exp(-0.5 * a.class_margin * a.class_margin));
   a.confidence = std::clamp(a.class_score * group * shape, 0.0, 1.0);
@@ -258,6 +268,7 @@ void validate(const Params& p) {
   need(p.max_roughness > 0 && p.max_roughness <= 100, "--max-roughness must be in (0, 100]");
   need(p.max_below_share > 0 && p.max_below_share <= 1, "--max-below-share must be in (0, 1]");
   need(p.max_ground_through > 0 && p.max_ground_through <= 1, "--max-ground-through must be in (0, 1]");
+  need(p.min_fill >= 0 && p.min_fill <= 10, "--min-fill must be in [0, 10]");
   need(p.max_late_returns > 0 && p.max_late_returns <= 1, "--max-late-returns must be in (0, 1]");
   need(p.plateau_split > 0 && p.plateau_split < 1, "--plateau-split must be in (0, 1)");
   need(p.tail_split > 0 && p.tail_split < 1.5, "--tail-split must be in (0, 1.5)");

@@ -83,6 +83,8 @@ struct Params {
                                      // and than 0.1 m: vegetation_like
   double max_below_share = 0.3;      // more interior cells with a point 0.5 m under their top: vegetation_like
   double max_ground_through = 0.25;  // more interior cells with a ground return: vegetation_like
+  double min_fill = 0.65;            // fewer points per m² of its rectangle than this x the open
+                                     // ground's around it (a porous or patchy object): vegetation_like
   double max_late_returns = 0.35;    // more object points with return_number > 1: vegetation_like
   double plateau_split = 0.6;     // plateau share between a minor and a long plateau
   double tail_split = 0.75;       // higher end's level (share of H) between dropping and staying up
@@ -101,6 +103,8 @@ struct Features {
   double crop_spacing = 0;  // 1 / sqrt(crop points per m² of its top-view box)
   double density = 0;       // object points per m² of its rectangle
   double spacing = 0;       // 1 / sqrt(density)
+  std::optional<double> ground_density;  // ground returns per m² of the crop outside the rectangle
+  std::optional<double> fill;            // density / ground_density
   double heading_pca = 0;   // rad, the principal axis (for comparison only)
   double heading_hull = 0;  // rad, the minimum-area rectangle before refinement
   double heading_refined = 0;  // rad, the hull's axis refined by two parallel side lines (for comparison)

@@ -50,6 +50,8 @@ Json features_json(const Features& f) {
               {"heading_pca_deg", f.heading_pca * deg},
               {"heading_hull_deg", f.heading_hull * deg},
               {"heading_refined_deg", f.heading_refined * deg},
+              {"ground_density", optional(f.ground_density)},
+              {"fill", optional(f.fill)},
               {"plateau_share", f.plateau_share},
               {"end_low", f.end_low},
               {"end_high", f.end_high},

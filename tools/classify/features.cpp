@@ -438,6 +438,21 @@ Features measure(const Candidate& c, const Params& fp) {
   f.centre = 0.5 * (r.u0 + r.u1) * u + 0.5 * (r.v0 + r.v1) * v;
   f.density = static_cast<double>(object.size()) / std::max(f.length_measured * f.width_measured, 1e-6);
   f.spacing = 1 / std::sqrt(f.density);
+  // Open ground around the object: the crop's ground returns outside the rectangle over the
+  // crop's area outside it. A solid top is hit by every pulse over it, so its density is about
+  // the ground's; a porous or patchy object holds fewer.
+  std::size_t outside = 0;
+  for (const Vector3d& p : c.points) {
+    if (p.z() >= fp.ground_cut) continue;
+    const Vector2d xy(p.x(), p.y());
+    const double a = xy.dot(u), b = xy.dot(v);
+    outside += a < r.u0 || a > r.u1 || b < r.v0 || b > r.v1;
+  }
+  const double open = crop_area - f.length_measured * f.width_measured;
+  if (open > 1.0 && outside >= 10) {
+    f.ground_density = static_cast<double>(outside) / open;
+    f.fill = f.density / *f.ground_density;
+  }
 
   std::vector<double> heights;
   for (std::size_t i : object) heights.push_back(c.points[i].z());

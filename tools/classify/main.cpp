@@ -53,6 +53,8 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
   tool.add("--max-below-share", &p.max_below_share,
            "more interior cells with a point 0.5 m under their top: vegetation_like");
   tool.add("--max-ground-through", &p.max_ground_through, "more interior cells with ground returns: vegetation_like");
+  tool.add("--min-fill", &p.min_fill,
+           "fewer points per m^2 of the rectangle than this x the open ground's around it: vegetation_like");
   tool.add("--max-late-returns", &p.max_late_returns,
            "more object points with return_number > 1 (LAS): vegetation_like");
   tool.add("--plateau-split", &p.plateau_split, "plateau share between a minor and a long roof");
