@@ -176,6 +176,19 @@ TEST_CASE("classify: a car-sized box with a roof plateau at 25 points/m2 is a ca
   }
 }
 
+TEST_CASE("classify: the same car sampled densely stays one object and a car") {
+  // At 400 points/m² the linking distance is its floor (0.25 m), less than the roof's 0.5 m
+  // step over the body seen from above: heights count a third in the clustering.
+  const Sampled s = sample(car_top, 2.3, 0.9, 8 * kDeg, 400, 25);
+  const classify::Answer a = answer(s.cloud);
+  INFO(a.reason << " " << a.detail);
+  CHECK(a.cls == "sedan");
+  CHECK(a.features.object_points == s.object);
+  CHECK(axis_error_deg(a.features.heading, 8 * kDeg) < 1);
+  CHECK(a.features.length == Approx(4.6).margin(0.1));
+  CHECK(a.features.width == Approx(1.8).margin(0.1));
+}
+
 TEST_CASE("classify: a van-sized box is a van") {
   const Sampled s = sample(van_top, 2.75, 1.0, 5 * kDeg, 25, 12);
   const classify::Answer a = answer(s.cloud);

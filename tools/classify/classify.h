@@ -67,7 +67,7 @@ std::string group_of(const std::string& cls);
 
 struct Params {
   double ground_cut = 0.3;        // points below this height are ground or grass (m; detect's band)
-  double link_factor = 3.5;       // object clustering: linking distance = factor x the crop's spacing
+  double link_factor = 2.5;       // object clustering: linking distance = factor x the crop's spacing
   std::size_t min_points = 20;    // fewer object points: too_sparse
   double min_density = 4.0;       // fewer object points per m² of its rectangle: too_sparse
   double edge_factor = 0.15;      // sampling correction: L, W += edge_factor x spacing

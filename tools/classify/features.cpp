@@ -22,6 +22,7 @@ using Eigen::Vector2d;
 using Eigen::Vector3d;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kVerticalLink = 3;  // object clustering reaches this many links vertically
 
 // Union-find with path halving; the smaller index becomes the root (deterministic).
 struct Forest {
@@ -356,7 +357,12 @@ std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double
     }
   }
   if (pts.empty()) return {};
-  const std::vector<std::size_t> label = clusters(pts, link);
+  // Vertical faces are sampled little from above (none at nadir): a roof over a bonnet, a box
+  // over a cab are joined through their step only if the link reaches it, so heights count a
+  // third (a step of up to 3 links joins; a crown a few metres above does not).
+  std::vector<Vector3d> scaled = pts;
+  for (Vector3d& p : scaled) p.z() /= kVerticalLink;
+  const std::vector<std::size_t> label = clusters(scaled, link);
   // Per cluster: point count and whether its top-view box holds the frame's origin (detect
   // puts the origin at the centre of the object's extent).
   std::unordered_map<std::size_t, std::size_t> count;
