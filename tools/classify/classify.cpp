@@ -103,9 +103,10 @@ bool vegetation(Answer& a, const Params& p) {
     const char* what;
     double value, threshold;
   };
-  std::vector<Cue> cues = {{"points under the top in %.0f%% of the interior cells (vehicle <= %.0f%%)",
+  std::vector<Cue> cues = {{"%.0f%% of its interior points lie 0.5 m or more under another of its points "
+                            "(vehicle <= %.0f%%)",
                             f.below_share, p.max_below_share},
-                           {"ground seen through %.0f%% of the interior cells (vehicle <= %.0f%%)",
+                           {"ground returns under it: %.0f%% of its interior returns (vehicle <= %.0f%%)",
                             f.ground_through, p.max_ground_through}};
   if (f.late_returns) {
     cues.push_back({"%.0f%% later returns (return_number > 1; vehicle <= %.0f%%)", *f.late_returns,

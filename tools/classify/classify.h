@@ -81,8 +81,8 @@ struct Params {
   double plateau_drop = 0.2;         // profile bins within this of the top (+ 10% of H) are plateau (m)
   double max_roughness = 0.65;       // rougher top (median local residual) than this x the spacing,
                                      // and than 0.1 m: vegetation_like
-  double max_below_share = 0.3;      // more interior cells with a point 0.5 m under their top: vegetation_like
-  double max_ground_through = 0.25;  // more interior cells with a ground return: vegetation_like
+  double max_below_share = 0.15;     // more interior object points under another one: vegetation_like
+  double max_ground_through = 0.08;  // more interior ground returns under the object: vegetation_like
   double min_fill = 0.65;            // fewer points per m² of its rectangle than this x the open
                                      // ground's around it (a porous or patchy object): vegetation_like
   double max_late_returns = 0.35;    // more object points with return_number > 1: vegetation_like
@@ -116,8 +116,11 @@ struct Features {
   double end_low = 0, end_high = 0;  // mean top height of the lower / higher end fifth, / H
   double top_roughness = 0;  // median |interior cell top - the plane of its 3 x 3 cells' tops| (m)
   std::size_t top_cells = 0;  // interior cells with enough neighbours for it
-  double below_share = 0;     // interior occupied cells with a point >= 0.5 m under their top
-  double ground_through = 0;  // interior cells holding a ground return
+  double below_share = 0;     // interior object points with an object point >= 0.5 m above them
+  double ground_through = 0;  // interior ground returns under an object point (share of interior returns)
+  std::size_t interior_points = 0;
+  double below_share_cells = 0;     // the same per cell (for comparison): occupied cells with a point
+  double ground_through_cells = 0;  // >= 0.5 m under their top; cells holding a ground return
   std::size_t interior_cells = 0;
   std::optional<double> late_returns;  // share of object points with return_number > 1
   std::optional<double> multi_returns;  // share with number_of_returns > 1

@@ -59,6 +59,9 @@ Json features_json(const Features& f) {
               {"top_cells", f.top_cells},
               {"below_share", f.below_share},
               {"ground_through", f.ground_through},
+              {"interior_points", f.interior_points},
+              {"below_share_cells", f.below_share_cells},
+              {"ground_through_cells", f.ground_through_cells},
               {"interior_cells", f.interior_cells},
               {"late_returns", optional(f.late_returns)},
               {"multi_returns", optional(f.multi_returns)}};

@@ -314,8 +314,58 @@ void column_cues(const Candidate& c, const std::vector<Vector3d>& q, const Exten
   f.top_cells = residuals.size();
   f.top_roughness = residuals.empty() ? 0 : quantile(residuals, 0.5);
   f.interior_cells = inner;
-  f.below_share = occupied ? static_cast<double>(below) / static_cast<double>(occupied) : 0;
-  f.ground_through = inner ? static_cast<double>(through) / static_cast<double>(inner) : 0;
+  f.below_share_cells = occupied ? static_cast<double>(below) / static_cast<double>(occupied) : 0;
+  f.ground_through_cells = inner ? static_cast<double>(through) / static_cast<double>(inner) : 0;
+}
+
+// Points under the object inside its footprint, point by point (a crown lets pulses through
+// and holds returns at every depth; a roof holds none under it). Interior = at least `inset`
+// from the rectangle's sides. below_share: interior object points with another object point
+// within `rb` horizontally at least 0.5 m higher. ground_through: interior ground returns with
+// an object point within `rg` horizontally above them, as a share of those and the interior
+// object points. Small radii keep a thin part over open ground (a gun, lift arms, a chassis
+// rail) from counting the ground beside it.
+void penetration_cues(const Candidate& c, const std::vector<Vector3d>& q, const Extents& r, const Vector2d& u,
+                      const Vector2d& v, Features& f, const Params& fp) {
+  const double inset = std::max(0.4, f.spacing);
+  const double rb = std::max(0.2, f.spacing), rg = std::max(0.1, 0.5 * f.spacing);
+  const double L = f.length_measured, W = f.width_measured;
+  auto interior = [&](double a, double b) { return a >= inset && a <= L - inset && std::abs(b) <= W / 2 - inset; };
+  const double cell = rb;
+  std::unordered_map<std::uint64_t, std::vector<std::size_t>> grid;
+  for (std::size_t i = 0; i < q.size(); ++i) grid[cell_key(cell_of(q[i].x(), cell), cell_of(q[i].y(), cell), 0)].push_back(i);
+  // The highest object point within `radius` of (a, b), or -inf.
+  auto highest = [&](double a, double b, double radius) {
+    double best = -kInf;
+    const std::int64_t ca = cell_of(a, cell), cb = cell_of(b, cell);
+    for (std::int64_t da = -1; da <= 1; ++da) {
+      for (std::int64_t db = -1; db <= 1; ++db) {
+        const auto it = grid.find(cell_key(ca + da, cb + db, 0));
+        if (it == grid.end()) continue;
+        for (std::size_t j : it->second) {
+          const double dx = q[j].x() - a, dy = q[j].y() - b;
+          if (dx * dx + dy * dy <= radius * radius) best = std::max(best, q[j].z());
+        }
+      }
+    }
+    return best;
+  };
+  std::size_t inner = 0, below = 0, under = 0;
+  for (const Vector3d& p : q) {
+    if (!interior(p.x(), p.y())) continue;
+    ++inner;
+    below += highest(p.x(), p.y(), rb) >= p.z() + 0.5;
+  }
+  const double vm = 0.5 * (r.v0 + r.v1);
+  for (const Vector3d& p : c.points) {
+    if (p.z() >= fp.ground_cut) continue;
+    const Vector2d xy(p.x(), p.y());
+    const double a = xy.dot(u) - r.u0, b = xy.dot(v) - vm;
+    if (interior(a, b) && highest(a, b, rg) >= p.z() + 0.5) ++under;
+  }
+  f.interior_points = inner;
+  f.below_share = inner ? static_cast<double>(below) / static_cast<double>(inner) : 0;
+  f.ground_through = inner + under ? static_cast<double>(under) / static_cast<double>(inner + under) : 0;
 }
 
 }  // namespace
@@ -475,6 +525,7 @@ Features measure(const Candidate& c, const Params& fp) {
   }
   profile_cues(q, f, fp);
   column_cues(c, q, r, u, v, f, fp);
+  penetration_cues(c, q, r, u, v, f, fp);
 
   if (!c.return_number.empty()) {
     std::size_t late = 0, multi = 0, known = 0;

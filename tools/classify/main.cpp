@@ -51,8 +51,9 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
            "rougher top (median residual of a cell's top from its neighbours' plane) than this x the "
            "spacing (and 0.1 m): vegetation_like");
   tool.add("--max-below-share", &p.max_below_share,
-           "more interior cells with a point 0.5 m under their top: vegetation_like");
-  tool.add("--max-ground-through", &p.max_ground_through, "more interior cells with ground returns: vegetation_like");
+           "more interior object points with an object point 0.5 m above them: vegetation_like");
+  tool.add("--max-ground-through", &p.max_ground_through,
+           "more interior ground returns under an object point (share of interior returns): vegetation_like");
   tool.add("--min-fill", &p.min_fill,
            "fewer points per m^2 of the rectangle than this x the open ground's around it: vegetation_like");
   tool.add("--max-late-returns", &p.max_late_returns,
