@@ -217,7 +217,8 @@ TEST_CASE("classify: a porous crown of multi-return points is vegetation") {
 
 TEST_CASE("classify: sizes outside every family") {
   SECTION("a 0.5 m box is too small") {
-    const Sampled s = sample([](double x, double y) { return box_top(x, y, 0.5, 0.5, 0.5); }, 0.25, 0.25, 0, 25, 14);
+    const Sampled s =
+        sample([](double x, double y) { return box_top(x, y, 0.5, 0.5, 0.5); }, 0.25, 0.25, 0, 25, 14);
     // 6 points on a 0.25 m² top would be too sparse: sample it 4 x denser.
     const Sampled dense =
         sample([](double x, double y) { return box_top(x, y, 0.5, 0.5, 0.5); }, 0.25, 0.25, 0, 100, 14);
@@ -236,7 +237,8 @@ TEST_CASE("classify: sizes outside every family") {
     CHECK(a.features.length == Approx(20).margin(0.4));
   }
   SECTION("a car-sized object half a metre high is too flat") {
-    const Sampled s = sample([](double x, double y) { return box_top(x, y, 4.5, 1.8, 0.6); }, 2.25, 0.9, 0, 25, 16);
+    const Sampled s =
+        sample([](double x, double y) { return box_top(x, y, 4.5, 1.8, 0.6); }, 2.25, 0.9, 0, 25, 16);
     CHECK(answer(s.cloud).reason == "too_flat");
   }
   SECTION("a container's flat box is not a vehicle shape") {
@@ -307,11 +309,11 @@ TEST_CASE("classify: the binary writes a class-level verdict; same input, same b
   Json index{{"format", "canopy.candidates"},
              {"version", 1},
              {"candidates",
-              Json::array({Json{{"id", "c0001"},
-                                {"transform", Json::array({Json::array({0.0, -1.0, 0.0, E}),
-                                                           Json::array({1.0, 0.0, 0.0, N}),
-                                                           Json::array({0.0, 0.0, 1.0, 300.0}),
-                                                           Json::array({0.0, 0.0, 0.0, 1.0})})}}})}};
+              Json::array({Json{
+                  {"id", "c0001"},
+                  {"transform",
+                   Json::array({Json::array({0.0, -1.0, 0.0, E}), Json::array({1.0, 0.0, 0.0, N}),
+                                Json::array({0.0, 0.0, 1.0, 300.0}), Json::array({0.0, 0.0, 0.0, 1.0})})}}})}};
   std::ofstream(dir / "index.json") << index.dump();
   std::string err;
   const std::string args = " -i " + (dir / "c0001.pcd").string() + " --index " + (dir / "index.json").string();
@@ -345,12 +347,20 @@ TEST_CASE("classify: the binary writes a class-level verdict; same input, same b
   CHECK(parsed.vehicle_class == "sedan");
 
   // --transform gives the same pose_tile as the index.
-  REQUIRE(test::sh(kBin + " -i " + (dir / "c0001.pcd").string() + " --transform 0,-1,0," +
-                       std::to_string(E) + ",1,0,0," + std::to_string(N) + ",0,0,1,300 -o " +
-                       (dir / "t.json").string(),
+  REQUIRE(test::sh(kBin + " -i " + (dir / "c0001.pcd").string() + " --transform 0,-1,0," + std::to_string(E) +
+                       ",1,0,0," + std::to_string(N) + ",0,0,1,300 -o " + (dir / "t.json").string(),
                    dir / "err", &err) == 0);
   const Json w = Json::parse(slurp(dir / "t.json"));
   CHECK(w["pose_tile"]["heading_deg"].get<double>() == Approx(ht).margin(1e-9));
+
+  // share/params/classify.ini holds the defaults: the same answer with it.
+  REQUIRE(test::sh(kBin + args + " --config " + std::string(CANOPY_SOURCE_DIR) +
+                       "/share/params/classify.ini -o " + (dir / "ini.json").string(),
+                   dir / "err", &err) == 0);
+  Json with_ini = Json::parse(slurp(dir / "ini.json")), without = v;
+  with_ini.erase("provenance");
+  without.erase("provenance");
+  CHECK(with_ini == without);
 
   // A none answer says why, with no pose and no size.
   formats::PointCloud five;
@@ -359,8 +369,8 @@ TEST_CASE("classify: the binary writes a class-level verdict; same input, same b
   five.add("y") = {0, 0.2, -0.3, 0.1, 0.6};
   five.add("z") = {1.4, 1.45, 1.0, 1.0, 1.44};
   formats::write_pcd(five, (dir / "five.pcd").string());
-  REQUIRE(test::sh(kBin + " -i " + (dir / "five.pcd").string() + " -o " + (dir / "n.json").string(), dir / "err",
-                   &err) == 0);
+  REQUIRE(test::sh(kBin + " -i " + (dir / "five.pcd").string() + " -o " + (dir / "n.json").string(),
+                   dir / "err", &err) == 0);
   const Json n = Json::parse(slurp(dir / "n.json"));
   CHECK(n["class"].is_null());
   CHECK(n["reason"] == "too_sparse");
@@ -386,7 +396,7 @@ TEST_CASE("classify: --modelbase names the nearest entry of the answered class")
   };
   entry("sedan-1", "sedan", 4.9, 1.85, 1.46);
   entry("sedan-2", "sedan", 4.6, 1.8, 1.45);
-  entry("van-1", "van", 4.6, 1.8, 1.45);  // the nearest in size, but another class
+  entry("van-1", "van", 4.6, 1.8, 1.45);     // the nearest in size, but another class
   std::ofstream(mb / "other.json") << "{}";  // no class file: ignored
   formats::write_pcd(sample(car_top, 2.3, 0.9, 0, 25, 22).cloud, (dir / "c.pcd").string());
   std::string err;
@@ -425,8 +435,9 @@ TEST_CASE("classify: bad input files exit 1 naming the file; usage errors exit 2
   SECTION("an index without the candidate, a broken index") {
     formats::write_pcd(sample(car_top, 2.3, 0.9, 0, 25, 23).cloud, (dir / "c0007.pcd").string());
     std::ofstream(dir / "index.json") << R"({"format":"canopy.candidates","version":1,"candidates":[]})";
-    CHECK(test::sh(kBin + " -i " + (dir / "c0007.pcd").string() + " --index " + (dir / "index.json").string() + out,
-                   dir / "err", &err) == 1);
+    CHECK(test::sh(
+              kBin + " -i " + (dir / "c0007.pcd").string() + " --index " + (dir / "index.json").string() + out,
+              dir / "err", &err) == 1);
     CHECK(err.find("index.json") != std::string::npos);
     CHECK(err.find("c0007") != std::string::npos);
     std::ofstream(dir / "bad.json")
@@ -448,7 +459,8 @@ TEST_CASE("classify: bad input files exit 1 naming the file; usage errors exit 2
     CHECK(test::sh(kBin + in + out + " --transform 1,2,3", dir / "err", &err) == 2);
     CHECK(err.find("--transform") != std::string::npos);
     CHECK(test::sh(kBin + in + out + " --transform 2,0,0,0,0,1,0,0,0,0,1,0", dir / "err", &err) == 2);
-    CHECK(test::sh(kBin + in + out + " --index x.json --transform 1,0,0,0,0,1,0,0,0,0,1,0", dir / "err", &err) == 2);
+    CHECK(test::sh(kBin + in + out + " --index x.json --transform 1,0,0,0,0,1,0,0,0,0,1,0", dir / "err",
+                   &err) == 2);
     CHECK(err.find("--index") != std::string::npos);
     CHECK(test::sh(kBin + in + out + " --candidate c0001", dir / "err", &err) == 2);
     CHECK(test::sh(kBin + in + out + " --threads 2", dir / "err", &err) == 2);

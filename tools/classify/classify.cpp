@@ -44,13 +44,13 @@ Fit fit(const ClassRange& k, const Features& f, double sigma, const Params& p) {
   double dl = miss(f.length, k.length, sigma);
   // A tank's gun is thin: at low density its points may be too few to join the object.
   if (k.hull_length[1] > 0) dl = std::min(dl, miss(f.length, k.hull_length, sigma));
-  const double dw = miss(f.width, k.width, sigma),
-               dh = miss(f.height, k.height, sigma);
+  const double dw = miss(f.width, k.width, sigma), dh = miss(f.height, k.height, sigma);
   r.distance = std::sqrt(dl * dl + dw * dw + dh * dh);
   // The profile: a contradiction costs profile_penalty (in the size's sigmas).
   const int plateau = f.plateau_share >= p.plateau_split ? +1 : -1;
   const int tail = f.end_high >= p.tail_split ? +1 : -1;
-  if ((k.plateau != 0 && k.plateau != plateau) || (k.tail != 0 && k.tail != tail)) r.distance += p.profile_penalty;
+  if ((k.plateau != 0 && k.plateau != plateau) || (k.tail != 0 && k.tail != tail))
+    r.distance += p.profile_penalty;
   auto rel = [&](double v, const std::array<double, 2>& g) {
     const double mid = 0.5 * (g[0] + g[1]), half = 0.5 * (g[1] - g[0]) + sigma;
     return (v - mid) * (v - mid) / (half * half);
@@ -109,8 +109,8 @@ bool vegetation(Answer& a, const Params& p) {
                            {"ground returns under it: %.0f%% of its interior returns (vehicle <= %.0f%%)",
                             f.ground_through, p.max_ground_through}};
   if (f.late_returns) {
-    cues.push_back({"%.0f%% later returns (return_number > 1; vehicle <= %.0f%%)", *f.late_returns,
-                    p.max_late_returns});
+    cues.push_back(
+        {"%.0f%% later returns (return_number > 1; vehicle <= %.0f%%)", *f.late_returns, p.max_late_returns});
   }
   // Fill is good when high: its cue is the inverse ratio (threshold / value > 1 when below).
   if (f.fill && *f.fill < p.min_fill) {
@@ -123,7 +123,8 @@ bool vegetation(Answer& a, const Params& p) {
   }
   const Cue* worst = nullptr;
   for (const Cue& c : cues) {
-    if (c.value > c.threshold && (!worst || c.value / c.threshold > worst->value / worst->threshold)) worst = &c;
+    if (c.value > c.threshold && (!worst || c.value / c.threshold > worst->value / worst->threshold))
+      worst = &c;
   }
   if (worst) {
     refuse(a, "vegetation_like", fmt(worst->what, 100 * worst->value, 100 * worst->threshold),
@@ -134,10 +135,11 @@ bool vegetation(Answer& a, const Params& p) {
   // (its cell tops come from fewer points): the threshold scales with it, over a 0.1 m floor.
   const double rough = std::max(0.1, p.max_roughness * f.spacing);
   if (f.top_cells >= 3 && f.top_roughness > rough) {
-    refuse(a, "vegetation_like",
-           fmt("the top is rough: %.0f mm from the local plane of its neighbours (median; vehicle <= %.0f mm)",
-               1e3 * f.top_roughness, 1e3 * rough),
-           past(f.top_roughness, rough));
+    refuse(
+        a, "vegetation_like",
+        fmt("the top is rough: %.0f mm from the local plane of its neighbours (median; vehicle <= %.0f mm)",
+            1e3 * f.top_roughness, 1e3 * rough),
+        past(f.top_roughness, rough));
     return true;
   }
   return false;
@@ -151,10 +153,12 @@ bool size_gates(Answer& a, const Params& p, double sigma) {
   const double g = p.size_gate * sigma;
   const std::string size = fmt("%.2f x %.2f x %.2f m", f.length, f.width, f.height);
   if (f.length > L[1] + g || f.width > W[1] + g || f.height > H[1] + g) {
-    const double over = std::max({(f.length - L[1]) / sigma, (f.width - W[1]) / sigma, (f.height - H[1]) / sigma});
-    refuse(a, "too_large",
-           size + fmt(" exceeds the largest family (%.1f x %.2f x %.1f m) by %.1f sigma", L[1], W[1], H[1], over),
-           past(over, p.size_gate));
+    const double over =
+        std::max({(f.length - L[1]) / sigma, (f.width - W[1]) / sigma, (f.height - H[1]) / sigma});
+    refuse(
+        a, "too_large",
+        size + fmt(" exceeds the largest family (%.1f x %.2f x %.1f m) by %.1f sigma", L[1], W[1], H[1], over),
+        past(over, p.size_gate));
     return true;
   }
   if (f.length < L[0] - g || f.width < W[0] - g) {
@@ -192,13 +196,14 @@ void choose(Answer& a, const Params& p, double sigma) {
   const Fit& best = fits.front();
   if (best.distance > p.size_gate) {
     if (box) {
-      refuse(a, "not_vehicle_shape",
-             fmt("a flat box: %.0f%% of its length within the top's plateau, both ends at %.0f%% of H or more; "
-                 "%.2f x ",
-                 100 * f.plateau_share, 100 * f.end_low, f.length) +
-                 fmt("%.2f x %.2f m is no box-truck or bus (nearest ", f.width, f.height) + best.cls->name +
-                 fmt(" at %.1f sigma)", best.distance),
-             past(best.distance, p.size_gate));
+      refuse(
+          a, "not_vehicle_shape",
+          fmt("a flat box: %.0f%% of its length within the top's plateau, both ends at %.0f%% of H or more; "
+              "%.2f x ",
+              100 * f.plateau_share, 100 * f.end_low, f.length) +
+              fmt("%.2f x %.2f m is no box-truck or bus (nearest ", f.width, f.height) + best.cls->name +
+              fmt(" at %.1f sigma)", best.distance),
+          past(best.distance, p.size_gate));
       return;
     }
     refuse(a, "not_vehicle_shape",
@@ -217,7 +222,8 @@ void choose(Answer& a, const Params& p, double sigma) {
   a.class_margin = std::isfinite(other) ? other - best.distance : 0;
   // Confidence: the size fit, how clearly another group is excluded, how far the vegetation
   // cues stay below their thresholds (each 0.5 at its threshold).
-  double shape = (1 - past(f.below_share, p.max_below_share)) * (1 - past(f.ground_through, p.max_ground_through));
+  double shape =
+      (1 - past(f.below_share, p.max_below_share)) * (1 - past(f.ground_through, p.max_ground_through));
   if (f.fill) shape *= 1 - past(p.min_fill, std::max(*f.fill, 1e-6));
   if (f.late_returns) shape *= 1 - past(*f.late_returns, p.max_late_returns);
   const double group = 0.5 + 0.5 * (1 - std::exp(-0.5 * a.class_margin * a.class_margin));

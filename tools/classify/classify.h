@@ -86,9 +86,9 @@ struct Params {
   double min_fill = 0.65;            // fewer points per m² of its rectangle than this x the open
                                      // ground's around it (a porous or patchy object): vegetation_like
   double max_late_returns = 0.35;    // more object points with return_number > 1: vegetation_like
-  double plateau_split = 0.6;     // plateau share between a minor and a long plateau
-  double tail_split = 0.75;       // higher end's level (share of H) between dropping and staying up
-  double profile_penalty = 1.5;   // added to a class's size distance when the profile contradicts it
+  double plateau_split = 0.6;        // plateau share between a minor and a long plateau
+  double tail_split = 0.75;          // higher end's level (share of H) between dropping and staying up
+  double profile_penalty = 1.5;      // added to a class's size distance when the profile contradicts it
   double box_plateau = 0.88;         // plateau share and both ends' levels at or above this:
   double box_ends = 0.8;             //   a flat box (container, log stack): a box-truck or bus only
   double model_density = 370;        // points/m² the model-level chain needs (fitvox-tile.ini)
@@ -100,21 +100,21 @@ void validate(const Params& params);
 // What the shape cues measured (null / NaN when not measurable, e.g. no return numbers).
 struct Features {
   std::size_t crop_points = 0, ground_points = 0, object_points = 0;
-  double crop_spacing = 0;  // 1 / sqrt(crop points per m² of its top-view box)
-  double density = 0;       // object points per m² of its rectangle
-  double spacing = 0;       // 1 / sqrt(density)
+  double crop_spacing = 0;               // 1 / sqrt(crop points per m² of its top-view box)
+  double density = 0;                    // object points per m² of its rectangle
+  double spacing = 0;                    // 1 / sqrt(density)
   std::optional<double> ground_density;  // ground returns per m² of the crop outside the rectangle
   std::optional<double> fill;            // density / ground_density
-  double heading_pca = 0;   // rad, the principal axis (for comparison only)
-  double heading_hull = 0;  // rad, the minimum-area rectangle before refinement
+  double heading_pca = 0;                // rad, the principal axis (for comparison only)
+  double heading_hull = 0;               // rad, the minimum-area rectangle before refinement
   double heading_refined = 0;  // rad, the hull's axis refined by two parallel side lines (for comparison)
   double heading = 0;          // rad, the long axis used (the minimum-area rectangle's), in (-pi/2, pi/2]
   Eigen::Vector2d centre = Eigen::Vector2d::Zero();  // rectangle centre (candidate frame)
   double length_measured = 0, width_measured = 0, height_measured = 0;
   double length = 0, width = 0, height = 0;  // corrected
-  double plateau_share = 0;  // share of the long profile within the drop of the top
-  double end_low = 0, end_high = 0;  // mean top height of the lower / higher end fifth, / H
-  double top_roughness = 0;  // median |interior cell top - the plane of its 3 x 3 cells' tops| (m)
+  double plateau_share = 0;                  // share of the long profile within the drop of the top
+  double end_low = 0, end_high = 0;          // mean top height of the lower / higher end fifth, / H
+  double top_roughness = 0;   // median |interior cell top - the plane of its 3 x 3 cells' tops| (m)
   std::size_t top_cells = 0;  // interior cells with enough neighbours for it
   double below_share = 0;     // interior object points with an object point >= 0.5 m above them
   double ground_through = 0;  // interior ground returns under an object point (share of interior returns)
@@ -122,14 +122,14 @@ struct Features {
   double below_share_cells = 0;     // the same per cell (for comparison): occupied cells with a point
   double ground_through_cells = 0;  // >= 0.5 m under their top; cells holding a ground return
   std::size_t interior_cells = 0;
-  std::optional<double> late_returns;  // share of object points with return_number > 1
+  std::optional<double> late_returns;   // share of object points with return_number > 1
   std::optional<double> multi_returns;  // share with number_of_returns > 1
 };
 
 // The answer.
 struct Answer {
-  std::string cls;    // fine class, "" = none
-  std::string group;  // "" = none
+  std::string cls;     // fine class, "" = none
+  std::string group;   // "" = none
   std::string reason;  // "" for a vehicle; too_sparse, vegetation_like, too_small, too_large,
                        // too_flat, not_vehicle_shape
   std::string detail;  // one sentence: the measured value against its threshold
@@ -158,8 +158,8 @@ const ModelEntry* nearest(const Answer& answer, const std::vector<ModelEntry>& e
 // The verdict document (canopy.verdict v1 with "level": "class"; formats/README.md "Verdict").
 struct Document {
   formats::Provenance provenance;
-  std::string candidate;                        // points path, as given
-  std::optional<Eigen::Isometry3d> transform;   // candidate frame -> tile frame
+  std::string candidate;                       // points path, as given
+  std::optional<Eigen::Isometry3d> transform;  // candidate frame -> tile frame
   const ModelEntry* nearest = nullptr;
 };
 std::string serialize(const Answer& answer, const Params& params, const Document& doc);

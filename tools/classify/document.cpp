@@ -188,7 +188,9 @@ Eigen::Isometry3d parse_transform(const std::string& text) {
       std::size_t used = 0;
       v.push_back(std::stod(item, &used));
       if (used != item.size()) throw std::invalid_argument(item);
-    } catch (const std::exception&) { throw common::UsageError("--transform: '" + item + "' is not a number"); }
+    } catch (const std::exception&) {
+      throw common::UsageError("--transform: '" + item + "' is not a number");
+    }
   }
   try {
     return rigid(v, "--transform");

@@ -330,10 +330,13 @@ void penetration_cues(const Candidate& c, const std::vector<Vector3d>& q, const 
   const double inset = std::max(0.4, f.spacing);
   const double rb = std::max(0.2, f.spacing), rg = std::max(0.1, 0.5 * f.spacing);
   const double L = f.length_measured, W = f.width_measured;
-  auto interior = [&](double a, double b) { return a >= inset && a <= L - inset && std::abs(b) <= W / 2 - inset; };
+  auto interior = [&](double a, double b) {
+    return a >= inset && a <= L - inset && std::abs(b) <= W / 2 - inset;
+  };
   const double cell = rb;
   std::unordered_map<std::uint64_t, std::vector<std::size_t>> grid;
-  for (std::size_t i = 0; i < q.size(); ++i) grid[cell_key(cell_of(q[i].x(), cell), cell_of(q[i].y(), cell), 0)].push_back(i);
+  for (std::size_t i = 0; i < q.size(); ++i)
+    grid[cell_key(cell_of(q[i].x(), cell), cell_of(q[i].y(), cell), 0)].push_back(i);
   // The highest object point within `radius` of (a, b), or -inf.
   auto highest = [&](double a, double b, double radius) {
     double best = -kInf;

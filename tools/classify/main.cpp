@@ -31,14 +31,16 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
   tool.add_input(&cli.in, "candidate points (detect's <id>.pcd: local frame, ground z = 0)");
   tool.add_output(&cli.out, "verdict JSON (canopy.verdict v1, \"level\": \"class\")");
   tool.add("--index", &cli.index, "detect's index.json: the candidate's transform gives pose_tile");
-  tool.add("--candidate", &cli.candidate, "the candidate's id in --index (default: the input's file name stem)");
+  tool.add("--candidate", &cli.candidate,
+           "the candidate's id in --index (default: the input's file name stem)");
   tool.add("--transform", &cli.transform,
            "candidate frame -> tile frame, 12 or 16 numbers row-major (instead of --index)");
   tool.add("--modelbase", &cli.modelbase,
            "directory of <model>.pcd surfaces with <model>.class files: the answered class's "
            "entry nearest in size is named as a hint");
   tool.add_length("--ground-cut", &p.ground_cut, "points below this height are ground or grass");
-  tool.add("--link-factor", &p.link_factor, "object clustering distance, in units of the crop's point spacing");
+  tool.add("--link-factor", &p.link_factor,
+           "object clustering distance, in units of the crop's point spacing");
   tool.add("--min-points", &p.min_points, "fewer object points: too_sparse");
   tool.add("--min-density", &p.min_density, "fewer object points per m^2 of its rectangle: too_sparse");
   tool.add("--edge-factor", &p.edge_factor, "size correction: length and width + this x the point spacing");
@@ -59,11 +61,14 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
   tool.add("--max-late-returns", &p.max_late_returns,
            "more object points with return_number > 1 (LAS): vegetation_like");
   tool.add("--plateau-split", &p.plateau_split, "plateau share between a minor and a long roof");
-  tool.add("--tail-split", &p.tail_split, "higher end's level (share of H) between dropping and staying at the roof");
-  tool.add("--profile-penalty", &p.profile_penalty, "size-sigmas added to a class whose profile the top contradicts");
+  tool.add("--tail-split", &p.tail_split,
+           "higher end's level (share of H) between dropping and staying at the roof");
+  tool.add("--profile-penalty", &p.profile_penalty,
+           "size-sigmas added to a class whose profile the top contradicts");
   tool.add("--box-plateau", &p.box_plateau, "plateau share of a flat box (not a vehicle unless a bus)");
   tool.add("--box-ends", &p.box_ends, "end level (share of H) of a flat box");
-  tool.add("--model-density", &p.model_density, "points/m^2 the model-level chain needs (for the reason text)");
+  tool.add("--model-density", &p.model_density,
+           "points/m^2 the model-level chain needs (for the reason text)");
 }
 
 // Modelbase entries that carry a class: their surfaces' label-1 extents.
@@ -73,8 +78,9 @@ std::vector<cl::ModelEntry> read_modelbase(const std::string& dir) {
     const fs::path cls = fs::path(dir) / (e.name + ".class");
     if (!fs::is_regular_file(cls)) continue;
     std::string name = cm::read_file(cls.string());
-    name.erase(std::find_if(name.begin(), name.end(), [](char c) { return c == '\n' || c == '\r' || c == ' '; }),
-               name.end());
+    name.erase(
+        std::find_if(name.begin(), name.end(), [](char c) { return c == '\n' || c == '\r' || c == ' '; }),
+        name.end());
     if (name.empty()) throw cm::DataError(cls.string(), "holds no class name");
     const std::string surface = (fs::path(dir) / (e.name + ".pcd")).string();
     const fm::PointCloud pc = fm::read_points(surface, "classify");
@@ -148,7 +154,9 @@ int main(int argc, char** argv) {
     std::vector<cl::ModelEntry> entries;
     if (!cli.modelbase.empty()) entries = read_modelbase(cli.modelbase);
     read.done(std::to_string(in.cloud.size()) + " candidate points" +
-              (cli.modelbase.empty() ? "" : ", " + std::to_string(entries.size()) + " modelbase entries with a class"));
+              (cli.modelbase.empty()
+                   ? ""
+                   : ", " + std::to_string(entries.size()) + " modelbase entries with a class"));
 
     cm::log::Phase phase("classify");
     const cl::Answer a = cl::run(p, in);
