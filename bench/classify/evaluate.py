@@ -77,6 +77,8 @@ def rows_of(run, index):
                "confidence": v["confidence"], "density": v["density"], "points": v["points"],
                "size": v["size"], "measured": v["measured"], "features": v["features"],
                "heading": v["pose_tile"]["heading_deg"] if v["pose_tile"] else None,
+               "xy": v["pose_tile"]["translation"][:2] if v["pose_tile"] else None,
+               "true_xy": [tv["pose"]["x"], tv["pose"]["y"]] if tv else None,
                "label": majority_label(os.path.join(run, "cands", c["file"])) if inst is None else 1}
         if v["measured"]:
             # heading of the measured rectangle in the tile, for pose errors of every candidate
@@ -98,7 +100,7 @@ def summarise(all_rows, all_vehicles, label=""):
             by_inst.setdefault((r["run"], r["instance"]), []).append(r)
     covered = len(by_inst)
     found = grp = cls = 0
-    herr, herr_pca, herr_hull, herr_ref, lerr, werr, herr_all = [], [], [], [], [], [], []
+    herr, herr_pca, herr_hull, herr_ref, lerr, werr, herr_all, perr = [], [], [], [], [], [], [], []
     missed_reasons = {}
     confusion = {}
     for key, rs in by_inst.items():
@@ -112,6 +114,7 @@ def summarise(all_rows, all_vehicles, label=""):
             cls += best["class"] == rs[0]["true_class"]
             confusion[(tg, best["group"])] = confusion.get((tg, best["group"]), 0) + 1
             herr.append(fold180(best["heading"] - best["true_heading"]))
+            perr.append(math.dist(best["xy"], best["true_xy"]))
             lerr.append(best["size"][0] - best["true_size"][0])
             werr.append(best["size"][1] - best["true_size"][1])
         else:
@@ -141,7 +144,8 @@ def summarise(all_rows, all_vehicles, label=""):
     if herr:
         print(f"  heading error (found, mod 180): median {statistics.median(herr):.1f} deg, "
               f"p90 {sorted(herr)[int(0.9 * (len(herr) - 1))]:.1f}; within 5 deg {rate(sum(h <= 5 for h in herr), len(herr))}")
-        print(f"  length error median {statistics.median(lerr):+.2f} m, width {statistics.median(werr):+.2f} m")
+        print(f"  length error median {statistics.median(lerr):+.2f} m, width {statistics.median(werr):+.2f} m; "
+              f"position error median {statistics.median(perr):.2f} m, p90 {sorted(perr)[int(0.9 * (len(perr) - 1))]:.2f} m")
     if herr_all:
         p90 = lambda v: sorted(v)[int(0.9 * (len(v) - 1))]
         print(f"  heading of every candidate with coverage >= 0.8 (n={len(herr_all)}), median / p90: "
