@@ -6,22 +6,21 @@
 //
 // 1. Object. The candidate PCD (detect's crop: local frame, ground z = 0, x along the
 //    footprint's long axis) is split into ground (z < ground_cut) and above-ground points; the
-//    above-ground points are clustered (3-D single linkage at a distance scaled to the crop's
-//    point spacing) and the cluster under the frame's origin (detect's object centre) is the
-//    object.
-// 2. Rectangle. Minimum-area rectangle of the object's top view (convex hull, rotating
-//    calipers), refined by a line fit with two offsets to the points along its two long sides
-//    (many points, not two hull vertices, set the heading). Heading has a 180° ambiguity.
+//    above-ground points are clustered (single linkage at a distance scaled to the crop's point
+//    spacing, heights counting a third) and the cluster under the frame's origin (detect's
+//    object centre) is the object.
+// 2. Rectangle. Minimum-area rectangle of the object's top view (convex hull, one side on a
+//    hull edge); its long axis is the heading, with a 180° ambiguity.
 // 3. Size. Measured L, W (the rectangle) and H (a high quantile of the heights), with a
 //    sampling correction: a surface sampled with spacing s loses about s/2 at each edge, so
 //    L += edge_factor * s, W += edge_factor * s, s = 1 / sqrt(density), density = object
 //    points per m² of the rectangle (docs/decisions/classify.md §3 measures the factor).
 // 4. Shape cues that work on few points: the top's height profile along the long axis (the
 //    share of it within a drop of the top: a car's roof plateau, a van's long roof, a
-//    container's flat box), the roughness of the top plateau (RMS about a plane), points
-//    under the top inside the footprint (a crown lets points through, a roof does not), ground
-//    seen through the footprint, and, when the file has return numbers, the share of later
-//    returns (vegetation).
+//    container's flat box; the levels of its ends), the local roughness of the top, points
+//    under other points and ground returns under the object inside the footprint (a crown lets
+//    pulses through, a roof does not), the object's density against the open ground's (fill),
+//    and, when the file has return numbers, the share of later returns.
 // 5. Decision. too_sparse (points, density) -> vegetation_like (cues) -> size gates against the
 //    families' class ranges (tools/rangetrace/families.cpp; docs/decisions/families.md §2):
 //    too_large / too_small / too_flat / not_vehicle_shape -> the class whose ranges the size
