@@ -1,0 +1,469 @@
+// classify: hand-placed synthetic candidates with known answers (a car and a van with roof
+// plateaus, a porous crown, a small box, a long wall, five points), sampled like an airborne
+// survey at 25 points/m², through the library and through the binary (pose in the tile, byte
+// identity, errors).
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "canopy/common/error.h"
+#include "canopy/common/math.h"
+#include "canopy/common/rng.h"
+#include "canopy/formats/pcd.h"
+#include "canopy/formats/verdict.h"
+#include "classify/classify.h"
+#include "classify/features.h"
+#include "support/cli.h"
+
+using namespace canopy;
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+namespace {
+
+const double kDeg = common::kPi / 180;
+
+// Height of an object's top at (x, y) in its own frame (centre at the origin, x forward), or
+// a negative number outside it.
+using Top = std::function<double(double, double)>;
+
+// A sedan-like car, 4.6 x 1.8 m: body top 0.95 m, roof plateau 1.45 m over the greenhouse
+// (x in [-1.1, 0.9], |y| < 0.7), windscreen and rear window sloping down to the body.
+double car_top(double x, double y) {
+  if (std::abs(x) > 2.3 || std::abs(y) > 0.9) return -1;
+  if (std::abs(y) < 0.7) {
+    if (x >= -1.1 && x <= 0.9) return 1.45;
+    if (x > 0.9 && x < 1.6) return 1.45 - 0.5 * (x - 0.9) / 0.7;
+    if (x < -1.1 && x > -1.6) return 1.45 - 0.5 * (-1.1 - x) / 0.5;
+  }
+  return 0.95;
+}
+
+// A van, 5.5 x 2.0 m: bonnet at 1.05 m over its first 0.6 m, a steep windscreen, a 2.45 m roof
+// to the tail.
+double van_top(double x, double y) {
+  if (std::abs(x) > 2.75 || std::abs(y) > 1.0) return -1;
+  if (x > 2.15) return 1.05;
+  if (x > 1.75) return 2.45 - 1.4 * (x - 1.75) / 0.4;
+  return 2.45;
+}
+
+double box_top(double x, double y, double l, double w, double h) {
+  return std::abs(x) <= l / 2 && std::abs(y) <= w / 2 ? h : -1;
+}
+
+struct Sampled {
+  formats::PointCloud cloud;
+  std::size_t object = 0;
+};
+
+// Samples an object's top from above (one return per pulse, uniform at `density` points/m²)
+// over its box + a 0.5 m margin, turned by `heading` in the candidate frame; outside the
+// object the pulse hits the ground (z = 0).
+Sampled sample(const Top& top, double half_l, double half_w, double heading, double density,
+               std::uint64_t seed) {
+  common::Rng rng(seed);
+  const double mx = half_l + 0.5, my = half_w + 0.5;
+  const double reach = std::hypot(mx, my);
+  const auto n = static_cast<std::size_t>(density * 4 * reach * reach);
+  std::vector<double> x, y, z;
+  Sampled s;
+  const double c = std::cos(heading), sn = std::sin(heading);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double px = rng.uniform(-reach, reach), py = rng.uniform(-reach, reach);
+    const double ox = c * px + sn * py, oy = -sn * px + c * py;  // into the object's frame
+    if (std::abs(ox) > mx || std::abs(oy) > my) continue;
+    const double h = top(ox, oy);
+    x.push_back(px);
+    y.push_back(py);
+    z.push_back(h > 0 ? h + 0.01 * rng.normal() : 0.01 * rng.normal());
+    s.object += h > 0;
+  }
+  s.cloud.resize(x.size());
+  s.cloud.add("x") = x;
+  s.cloud.add("y") = y;
+  s.cloud.add("z") = z;
+  return s;
+}
+
+// A porous crown: a sphere of radius 1.2 m around (0, 0, 1.3) as volumetric scatter. Each
+// pulse through it gives 1-3 returns spread through the crown and, for 40% of them, a last
+// return on the ground; return numbers as LAS records them.
+formats::PointCloud crown(double density, std::uint64_t seed) {
+  common::Rng rng(seed);
+  const double R = 1.2, reach = 1.7;
+  const auto n = static_cast<std::size_t>(density * 4 * reach * reach);
+  std::vector<double> x, y, z, rn, nr;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double px = rng.uniform(-reach, reach), py = rng.uniform(-reach, reach);
+    const double r2 = px * px + py * py;
+    if (r2 >= R * R) {
+      x.push_back(px), y.push_back(py), z.push_back(0), rn.push_back(1), nr.push_back(1);
+      continue;
+    }
+    const double half = std::sqrt(R * R - r2);
+    const int hits = 1 + static_cast<int>(rng.below(3));
+    const bool ground = rng.uniform() < 0.4;
+    const int total = hits + (ground ? 1 : 0);
+    std::vector<double> depths;
+    for (int k = 0; k < hits; ++k) depths.push_back(rng.uniform(0, 2 * half));
+    std::sort(depths.begin(), depths.end());
+    for (int k = 0; k < total; ++k) {
+      x.push_back(px), y.push_back(py);
+      z.push_back(k < hits ? 1.3 + half - depths[static_cast<std::size_t>(k)] : 0.0);
+      rn.push_back(k + 1), nr.push_back(total);
+    }
+  }
+  formats::PointCloud c;
+  c.resize(x.size());
+  c.add("x") = x;
+  c.add("y") = y;
+  c.add("z") = z;
+  c.add("return_number", formats::kUint8) = rn;
+  c.add("number_of_returns", formats::kUint8) = nr;
+  return c;
+}
+
+classify::Answer answer(const formats::PointCloud& c) {
+  return classify::run(classify::Params{}, {c, "synthetic.pcd"});
+}
+
+// Axis difference modulo 180 degrees.
+double axis_error_deg(double a, double b) {
+  double d = std::fmod(std::abs(a - b), common::kPi);
+  return std::min(d, common::kPi - d) / kDeg;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p.string(), std::ios::binary);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+const std::string kBin = std::string(CANOPY_BIN_DIR) + "/classify";
+
+}  // namespace
+
+TEST_CASE("classify: a car-sized box with a roof plateau at 25 points/m2 is a car") {
+  for (const double heading_deg : {0.0, 12.0, -33.0}) {
+    const Sampled s = sample(car_top, 2.3, 0.9, heading_deg * kDeg, 25, 11);
+    const classify::Answer a = answer(s.cloud);
+    INFO("heading " << heading_deg << ": " << a.reason << " " << a.detail);
+    CHECK(a.group == "car");
+    CHECK(a.cls == "sedan");
+    CHECK(a.reason.empty());
+    const auto& f = a.features;
+    CHECK(axis_error_deg(f.heading, heading_deg * kDeg) < 3);
+    CHECK(f.object_points == s.object);
+    CHECK(f.length == Approx(4.6).margin(0.3));
+    CHECK(f.width == Approx(1.8).margin(0.2));
+    CHECK(f.height == Approx(1.45).margin(0.05));
+    CHECK(f.density == Approx(25).epsilon(0.15));
+    // The sampling correction lengthens by edge_factor x the spacing.
+    CHECK(f.length - f.length_measured == Approx(classify::Params{}.edge_factor / std::sqrt(f.density)));
+    CHECK(f.centre.norm() < 0.15);
+    CHECK(f.below_share == 0);
+    CHECK(f.ground_through == 0);
+    CHECK(a.confidence > 0.5);
+  }
+}
+
+TEST_CASE("classify: the same car sampled densely stays one object and a car") {
+  // At 400 points/m² the linking distance is its floor (0.25 m), less than the roof's 0.5 m
+  // step over the body seen from above: heights count a third in the clustering.
+  const Sampled s = sample(car_top, 2.3, 0.9, 8 * kDeg, 400, 25);
+  const classify::Answer a = answer(s.cloud);
+  INFO(a.reason << " " << a.detail);
+  CHECK(a.cls == "sedan");
+  CHECK(a.features.object_points == s.object);
+  CHECK(axis_error_deg(a.features.heading, 8 * kDeg) < 1);
+  CHECK(a.features.length == Approx(4.6).margin(0.1));
+  CHECK(a.features.width == Approx(1.8).margin(0.1));
+}
+
+TEST_CASE("classify: a van-sized box is a van") {
+  const Sampled s = sample(van_top, 2.75, 1.0, 5 * kDeg, 25, 12);
+  const classify::Answer a = answer(s.cloud);
+  INFO(a.reason << " " << a.detail);
+  CHECK(a.group == "van");
+  CHECK(a.cls == "van");
+  CHECK(axis_error_deg(a.features.heading, 5 * kDeg) < 3);
+  CHECK(a.features.length == Approx(5.5).margin(0.3));
+  CHECK(a.features.height == Approx(2.45).margin(0.05));
+  // The long roof: most of the length is plateau, the bonnet end is low.
+  CHECK(a.features.plateau_share > 0.7);
+  CHECK(a.features.end_low < 0.8);
+}
+
+TEST_CASE("classify: a porous crown of multi-return points is vegetation") {
+  const classify::Answer a = answer(crown(25, 13));
+  INFO(a.detail);
+  CHECK(a.cls.empty());
+  CHECK(a.reason == "vegetation_like");
+  REQUIRE(a.features.late_returns);
+  CHECK(*a.features.late_returns > 0.35);
+  CHECK(a.features.below_share > 0.15);
+  CHECK(a.features.ground_through > 0.08);
+  CHECK(a.confidence > 0.5);
+}
+
+TEST_CASE("classify: sizes outside every family") {
+  SECTION("a 0.5 m box is too small") {
+    const Sampled s =
+        sample([](double x, double y) { return box_top(x, y, 0.5, 0.5, 0.5); }, 0.25, 0.25, 0, 25, 14);
+    // 6 points on a 0.25 m² top would be too sparse: sample it 4 x denser.
+    const Sampled dense =
+        sample([](double x, double y) { return box_top(x, y, 0.5, 0.5, 0.5); }, 0.25, 0.25, 0, 100, 14);
+    const classify::Answer a = answer(dense.cloud);
+    INFO(a.detail);
+    CHECK(a.reason == "too_small");
+    CHECK(a.cls.empty());
+    CHECK(answer(s.cloud).reason == "too_sparse");
+  }
+  SECTION("a 20 m wall is too large") {
+    const Sampled s =
+        sample([](double x, double y) { return box_top(x, y, 20, 0.5, 2); }, 10, 0.25, 2 * kDeg, 25, 15);
+    const classify::Answer a = answer(s.cloud);
+    INFO(a.detail);
+    CHECK(a.reason == "too_large");
+    CHECK(a.features.length == Approx(20).margin(0.4));
+  }
+  SECTION("a car-sized object half a metre high is too flat") {
+    const Sampled s =
+        sample([](double x, double y) { return box_top(x, y, 4.5, 1.8, 0.6); }, 2.25, 0.9, 0, 25, 16);
+    CHECK(answer(s.cloud).reason == "too_flat");
+  }
+  SECTION("a container's flat box is not a vehicle shape") {
+    const Sampled s =
+        sample([](double x, double y) { return box_top(x, y, 6.06, 2.44, 2.59); }, 3.03, 1.22, 0, 25, 17);
+    const classify::Answer a = answer(s.cloud);
+    INFO(a.detail);
+    CHECK(a.reason == "not_vehicle_shape");
+    CHECK(a.features.plateau_share > 0.95);
+  }
+}
+
+TEST_CASE("classify: five points are too sparse") {
+  formats::PointCloud c;
+  c.resize(5);
+  c.add("x") = {0, 1, 2, -1, 0.5};
+  c.add("y") = {0, 0.2, -0.3, 0.1, 0.6};
+  c.add("z") = {1.4, 1.45, 1.0, 1.0, 1.44};
+  const classify::Answer a = answer(c);
+  CHECK(a.reason == "too_sparse");
+  CHECK(a.confidence == 0);
+  CHECK(a.detail.find("5 object points") != std::string::npos);
+}
+
+TEST_CASE("classify: the object is the cluster under the origin, not a bush beside it") {
+  Sampled s = sample(car_top, 2.3, 0.9, 0, 25, 18);
+  // A 1 m bush of scattered points 1.5 m beside the car's side (inside detect's crop margin
+  // it would not be; here it is farther than the linking distance).
+  common::Rng rng(19);
+  auto& x = s.cloud.col("x");
+  auto& y = s.cloud.col("y");
+  auto& z = s.cloud.col("z");
+  for (int i = 0; i < 40; ++i) {
+    x.push_back(rng.uniform(-0.5, 0.5));
+    y.push_back(rng.uniform(2.4, 3.4));
+    z.push_back(rng.uniform(0.4, 1.4));
+  }
+  s.cloud.resize(x.size());
+  const classify::Answer a = answer(s.cloud);
+  CHECK(a.group == "car");
+  CHECK(a.features.object_points == s.object);
+  CHECK(a.features.width == Approx(1.8).margin(0.2));
+}
+
+TEST_CASE("classify: class table and parameters") {
+  REQUIRE(classify::class_ranges().size() == 12);
+  CHECK(classify::group_of("sedan") == "car");
+  CHECK(classify::group_of("pickup") == "car");
+  CHECK(classify::group_of("semi-tractor") == "truck");
+  CHECK(classify::group_of("tank") == "tracked");
+  CHECK(classify::group_of("wheel-loader") == "machine");
+  CHECK(classify::group_of("boat").empty());
+  classify::Params p;
+  CHECK_NOTHROW(classify::validate(p));
+  p.min_points = 2;
+  CHECK_THROWS_AS(classify::validate(p), common::UsageError);
+  p = classify::Params{};
+  p.max_below_share = 0;
+  CHECK_THROWS_WITH(classify::validate(p), Catch::Contains("--max-below-share"));
+}
+
+TEST_CASE("classify: the binary writes a class-level verdict; same input, same bytes") {
+  const fs::path dir = test::fresh_dir("classify", "cli");
+  const Sampled s = sample(car_top, 2.3, 0.9, 20 * kDeg, 25, 21);
+  formats::write_pcd(s.cloud, (dir / "c0001.pcd").string());
+  // detect's index with this candidate's transform: heading 90 degrees, at UTM magnitudes.
+  const double E = 500000.5, N = 5400000.25;
+  Json index{{"format", "canopy.candidates"},
+             {"version", 1},
+             {"candidates",
+              Json::array({Json{
+                  {"id", "c0001"},
+                  {"transform",
+                   Json::array({Json::array({0.0, -1.0, 0.0, E}), Json::array({1.0, 0.0, 0.0, N}),
+                                Json::array({0.0, 0.0, 1.0, 300.0}), Json::array({0.0, 0.0, 0.0, 1.0})})}}})}};
+  std::ofstream(dir / "index.json") << index.dump();
+  std::string err;
+  const std::string args = " -i " + (dir / "c0001.pcd").string() + " --index " + (dir / "index.json").string();
+  REQUIRE(test::sh(kBin + args + " -o " + (dir / "a.json").string(), dir / "err", &err) == 0);
+  REQUIRE(test::sh(kBin + args + " -o " + (dir / "b.json").string(), dir / "err", &err) == 0);
+  CHECK(slurp(dir / "a.json") == slurp(dir / "b.json"));
+
+  const Json v = Json::parse(slurp(dir / "a.json"));
+  CHECK(v["format"] == "canopy.verdict");
+  CHECK(v["level"] == "class");
+  CHECK(v["model"].is_null());
+  CHECK(v["class"] == "sedan");
+  CHECK(v["group"] == "car");
+  CHECK(v["reason"].is_null());
+  CHECK(v["heading_ambiguity_deg"] == 180);
+  CHECK(v["size"][0].get<double>() == Approx(4.6).margin(0.3));
+  CHECK(v["density"].get<double>() == Approx(25).epsilon(0.15));
+  // Candidate-frame heading 20 degrees; the index turns it by 90 and moves it to (E, N).
+  const double h = v["pose"]["heading_deg"].get<double>();
+  CHECK(std::abs(h - 20) < 3);
+  const double ht = v["pose_tile"]["heading_deg"].get<double>();
+  CHECK(std::abs(ht - 110) < 3);
+  const auto& t = v["pose_tile"]["translation"];
+  const auto& c = v["pose"]["translation"];
+  CHECK(t[0].get<double>() == Approx(E - c[1].get<double>()).margin(1e-6));
+  CHECK(t[1].get<double>() == Approx(N + c[0].get<double>()).margin(1e-6));
+  CHECK(t[2].get<double>() == Approx(300).margin(1e-9));
+  // The verdict reader of formats accepts it: model none, the class keys present.
+  const formats::Verdict parsed = formats::parse_verdict(slurp(dir / "a.json"), "a.json");
+  CHECK(parsed.model.empty());
+  CHECK(parsed.vehicle_class == "sedan");
+
+  // --transform gives the same pose_tile as the index.
+  REQUIRE(test::sh(kBin + " -i " + (dir / "c0001.pcd").string() + " --transform 0,-1,0," + std::to_string(E) +
+                       ",1,0,0," + std::to_string(N) + ",0,0,1,300 -o " + (dir / "t.json").string(),
+                   dir / "err", &err) == 0);
+  const Json w = Json::parse(slurp(dir / "t.json"));
+  CHECK(w["pose_tile"]["heading_deg"].get<double>() == Approx(ht).margin(1e-9));
+
+  // share/params/classify.ini holds the defaults: the same answer with it.
+  REQUIRE(test::sh(kBin + args + " --config " + std::string(CANOPY_SOURCE_DIR) +
+                       "/share/params/classify.ini -o " + (dir / "ini.json").string(),
+                   dir / "err", &err) == 0);
+  Json with_ini = Json::parse(slurp(dir / "ini.json")), without = v;
+  with_ini.erase("provenance");
+  without.erase("provenance");
+  CHECK(with_ini == without);
+
+  // A none answer says why, with no pose and no size.
+  formats::PointCloud five;
+  five.resize(5);
+  five.add("x") = {0, 1, 2, -1, 0.5};
+  five.add("y") = {0, 0.2, -0.3, 0.1, 0.6};
+  five.add("z") = {1.4, 1.45, 1.0, 1.0, 1.44};
+  formats::write_pcd(five, (dir / "five.pcd").string());
+  REQUIRE(test::sh(kBin + " -i " + (dir / "five.pcd").string() + " -o " + (dir / "n.json").string(),
+                   dir / "err", &err) == 0);
+  const Json n = Json::parse(slurp(dir / "n.json"));
+  CHECK(n["class"].is_null());
+  CHECK(n["reason"] == "too_sparse");
+  CHECK(n["pose"].is_null());
+  CHECK(n["size"].is_null());
+  CHECK(n["density_needed"]["model"].get<double>() > n["density_needed"]["class"].get<double>());
+}
+
+TEST_CASE("classify: --modelbase names the nearest entry of the answered class") {
+  const fs::path dir = test::fresh_dir("classify", "modelbase");
+  const fs::path mb = dir / "mb";
+  fs::create_directories(mb);
+  auto entry = [&](const std::string& name, const std::string& cls, double l, double w, double h) {
+    std::ofstream(mb / (name + ".json")) << "{}";
+    std::ofstream(mb / (name + ".class")) << cls << "\n";
+    formats::PointCloud c;
+    c.resize(3);
+    c.add("x") = {-l / 2, l / 2, 0};
+    c.add("y") = {-w / 2, w / 2, 0};
+    c.add("z") = {0.3, 0.5, h};
+    c.add("label", formats::kUint32) = {1, 1, 1};
+    formats::write_pcd(c, (mb / (name + ".pcd")).string());
+  };
+  entry("sedan-1", "sedan", 4.9, 1.85, 1.46);
+  entry("sedan-2", "sedan", 4.6, 1.8, 1.45);
+  entry("van-1", "van", 4.6, 1.8, 1.45);     // the nearest in size, but another class
+  std::ofstream(mb / "other.json") << "{}";  // no class file: ignored
+  formats::write_pcd(sample(car_top, 2.3, 0.9, 0, 25, 22).cloud, (dir / "c.pcd").string());
+  std::string err;
+  REQUIRE(test::sh(kBin + " -i " + (dir / "c.pcd").string() + " --modelbase " + mb.string() + " -o " +
+                       (dir / "v.json").string(),
+                   dir / "err", &err) == 0);
+  const Json v = Json::parse(slurp(dir / "v.json"));
+  CHECK(v["model"].is_null());
+  CHECK(v["nearest"]["model"] == "sedan-2");
+  CHECK(v["nearest_instance"] == "sedan-2");
+}
+
+TEST_CASE("classify: bad input files exit 1 naming the file; usage errors exit 2") {
+  const fs::path dir = test::fresh_dir("classify", "errors");
+  const std::string out = " -o " + (dir / "v.json").string();
+  std::string err;
+  SECTION("missing input") {
+    CHECK(test::sh(kBin + " -i " + (dir / "nope.pcd").string() + out, dir / "err", &err) == 1);
+    CHECK(err.find("nope.pcd") != std::string::npos);
+  }
+  SECTION("not a point cloud") {
+    std::ofstream(dir / "junk.pcd") << "{\"format\": \"canopy.verdict\"}";
+    CHECK(test::sh(kBin + " -i " + (dir / "junk.pcd").string() + out, dir / "err", &err) == 1);
+    CHECK(err.find("junk.pcd") != std::string::npos);
+  }
+  SECTION("no z field") {
+    formats::PointCloud c;
+    c.resize(2);
+    c.add("x") = {0, 1};
+    c.add("y") = {0, 1};
+    formats::write_pcd(c, (dir / "noz.pcd").string());
+    CHECK(test::sh(kBin + " -i " + (dir / "noz.pcd").string() + out, dir / "err", &err) == 1);
+    CHECK(err.find("noz.pcd") != std::string::npos);
+    CHECK(err.find("'z'") != std::string::npos);
+  }
+  SECTION("an index without the candidate, a broken index") {
+    formats::write_pcd(sample(car_top, 2.3, 0.9, 0, 25, 23).cloud, (dir / "c0007.pcd").string());
+    std::ofstream(dir / "index.json") << R"({"format":"canopy.candidates","version":1,"candidates":[]})";
+    CHECK(test::sh(
+              kBin + " -i " + (dir / "c0007.pcd").string() + " --index " + (dir / "index.json").string() + out,
+              dir / "err", &err) == 1);
+    CHECK(err.find("index.json") != std::string::npos);
+    CHECK(err.find("c0007") != std::string::npos);
+    std::ofstream(dir / "bad.json")
+        << R"({"format":"canopy.candidates","version":1,"candidates":[{"id":"c0007","transform":[1,2,3]}]})";
+    CHECK(test::sh(kBin + " -i " + (dir / "c0007.pcd").string() + " --index " + (dir / "bad.json").string() + out,
+                   dir / "err", &err) == 1);
+    CHECK(err.find("bad.json") != std::string::npos);
+  }
+  SECTION("no partial output on error") {
+    CHECK(test::sh(kBin + " -i " + (dir / "nope.pcd").string() + out, dir / "err", &err) == 1);
+    CHECK_FALSE(test::exists(dir / "v.json"));
+  }
+  SECTION("usage errors") {
+    formats::write_pcd(sample(car_top, 2.3, 0.9, 0, 25, 24).cloud, (dir / "c.pcd").string());
+    const std::string in = " -i " + (dir / "c.pcd").string();
+    CHECK(test::sh(kBin + in + out + " --bogus", dir / "err", &err) == 2);
+    CHECK(test::sh(kBin + in + out + " --min-points 1", dir / "err", &err) == 2);
+    CHECK(err.find("--min-points") != std::string::npos);
+    CHECK(test::sh(kBin + in + out + " --transform 1,2,3", dir / "err", &err) == 2);
+    CHECK(err.find("--transform") != std::string::npos);
+    CHECK(test::sh(kBin + in + out + " --transform 2,0,0,0,0,1,0,0,0,0,1,0", dir / "err", &err) == 2);
+    CHECK(test::sh(kBin + in + out + " --index x.json --transform 1,0,0,0,0,1,0,0,0,0,1,0", dir / "err",
+                   &err) == 2);
+    CHECK(err.find("--index") != std::string::npos);
+    CHECK(test::sh(kBin + in + out + " --candidate c0001", dir / "err", &err) == 2);
+    CHECK(test::sh(kBin + in + out + " --threads 2", dir / "err", &err) == 2);
+    CHECK_FALSE(test::exists(dir / "v.json"));
+  }
+}

@@ -1,0 +1,317 @@
+// classify's decision (classify.h step 5) and the class table.
+#include "classify/classify.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "canopy/common/error.h"
+#include "classify/features.h"
+
+namespace canopy::classify {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+std::string fmt(const char* format, double a, double b = 0, double c = 0, double d = 0) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, format, a, b, c, d);
+  return buf;
+}
+
+// Logistic of how far a value lies past its threshold: 0.5 at the threshold, -> 1 beyond it
+// (ratio value / threshold; steepness 8: 0.98 at 1.5 x, 0.02 at 0.5 x).
+double past(double value, double threshold) {
+  if (!(threshold > 0)) return value > 0 ? 1 : 0;
+  return 1 / (1 + std::exp(-8 * (value / threshold - 1)));
+}
+
+// How far (in its uncertainty) a measured value lies outside [lo, hi].
+double miss(double value, const std::array<double, 2>& range, double sigma) {
+  return std::max({0.0, range[0] - value, value - range[1]}) / sigma;
+}
+
+struct Fit {
+  const ClassRange* cls = nullptr;
+  double distance = kInf;    // sqrt of the summed squared misses (0 = inside every range)
+  double centrality = kInf;  // squared distance from the ranges' middles, relative to their halves
+};
+
+Fit fit(const ClassRange& k, const Features& f, double sigma, const Params& p) {
+  Fit r;
+  r.cls = &k;
+  double dl = miss(f.length, k.length, sigma);
+  // A tank's gun is thin: at low density its points may be too few to join the object.
+  if (k.hull_length[1] > 0) dl = std::min(dl, miss(f.length, k.hull_length, sigma));
+  const double dw = miss(f.width, k.width, sigma), dh = miss(f.height, k.height, sigma);
+  r.distance = std::sqrt(dl * dl + dw * dw + dh * dh);
+  // The profile: a contradiction costs profile_penalty (in the size's sigmas).
+  const int plateau = f.plateau_share >= p.plateau_split ? +1 : -1;
+  const int tail = f.end_high >= p.tail_split ? +1 : -1;
+  if ((k.plateau != 0 && k.plateau != plateau) || (k.tail != 0 && k.tail != tail))
+    r.distance += p.profile_penalty;
+  auto rel = [&](double v, const std::array<double, 2>& g) {
+    const double mid = 0.5 * (g[0] + g[1]), half = 0.5 * (g[1] - g[0]) + sigma;
+    return (v - mid) * (v - mid) / (half * half);
+  };
+  r.centrality = rel(f.length, k.length) + rel(f.width, k.width) + rel(f.height, k.height);
+  return r;
+}
+
+// The envelope of every class's range along one dimension.
+std::array<double, 2> envelope(std::array<double, 2> ClassRange::*dim) {
+  std::array<double, 2> e{kInf, -kInf};
+  for (const ClassRange& k : class_ranges()) {
+    e[0] = std::min(e[0], (k.*dim)[0]);
+    e[1] = std::max(e[1], (k.*dim)[1]);
+  }
+  return e;
+}
+
+// none with a reason; `strength` = how clearly (0.5 at the threshold, -> 1 beyond it).
+void refuse(Answer& a, const char* reason, std::string detail, double strength) {
+  a.reason = reason;
+  a.detail = std::move(detail);
+  a.confidence = std::clamp(strength, 0.0, 1.0);
+}
+
+bool sparse(Answer& a, const Params& p) {
+  const Features& f = a.features;
+  if (f.object_points < p.min_points) {
+    refuse(a, "too_sparse",
+           fmt("%.0f object points; a class answer needs at least %.0f (and %.0f points/m^2; "
+               "a model answer about %.0f points/m^2)",
+               static_cast<double>(f.object_points), static_cast<double>(p.min_points), p.min_density,
+               p.model_density),
+           0);
+    return true;
+  }
+  if (f.density < p.min_density) {
+    refuse(a, "too_sparse",
+           fmt("%.1f points/m^2 on the object's top; a class answer needs %.1f, a model answer about %.0f",
+               f.density, p.min_density, p.model_density),
+           0);
+    return true;
+  }
+  return false;
+}
+
+bool vegetation(Answer& a, const Params& p) {
+  const Features& f = a.features;
+  struct Cue {
+    const char* what;
+    double value, threshold;
+  };
+  std::vector<Cue> cues = {{"%.0f%% of its interior points lie 0.5 m or more under another of its points "
+                            "(vehicle <= %.0f%%)",
+                            f.below_share, p.max_below_share},
+                           {"ground returns under it: %.0f%% of its interior returns (vehicle <= %.0f%%)",
+                            f.ground_through, p.max_ground_through}};
+  if (f.late_returns) {
+    cues.push_back(
+        {"%.0f%% later returns (return_number > 1; vehicle <= %.0f%%)", *f.late_returns, p.max_late_returns});
+  }
+  // Fill is good when high: its cue is the inverse ratio (threshold / value > 1 when below).
+  if (f.fill && *f.fill < p.min_fill) {
+    refuse(a, "vegetation_like",
+           fmt("porous or patchy: %.0f%% of the open ground's points per m^2 on its rectangle (%.1f of %.1f; "
+               "a solid top >= %.0f%%)",
+               100 * *f.fill, f.density, *f.ground_density, 100 * p.min_fill),
+           past(p.min_fill, std::max(*f.fill, 1e-6)));
+    return true;
+  }
+  const Cue* worst = nullptr;
+  for (const Cue& c : cues) {
+    if (c.value > c.threshold && (!worst || c.value / c.threshold > worst->value / worst->threshold))
+      worst = &c;
+  }
+  if (worst) {
+    refuse(a, "vegetation_like", fmt(worst->what, 100 * worst->value, 100 * worst->threshold),
+           past(worst->value, worst->threshold));
+    return true;
+  }
+  // The cells' size grows with the spacing and so does a sampled panel's apparent roughness
+  // (its cell tops come from fewer points): the threshold scales with it, over a 0.1 m floor.
+  const double rough = std::max(0.1, p.max_roughness * f.spacing);
+  if (f.top_cells >= 3 && f.top_roughness > rough) {
+    refuse(
+        a, "vegetation_like",
+        fmt("the top is rough: %.0f mm from the local plane of its neighbours (median; vehicle <= %.0f mm)",
+            1e3 * f.top_roughness, 1e3 * rough),
+        past(f.top_roughness, rough));
+    return true;
+  }
+  return false;
+}
+
+// The size gates against the envelope of every class (too_large, too_small, too_flat).
+bool size_gates(Answer& a, const Params& p, double sigma) {
+  const Features& f = a.features;
+  const auto L = envelope(&ClassRange::length), W = envelope(&ClassRange::width),
+             H = envelope(&ClassRange::height);
+  const double g = p.size_gate * sigma;
+  const std::string size = fmt("%.2f x %.2f x %.2f m", f.length, f.width, f.height);
+  if (f.length > L[1] + g || f.width > W[1] + g || f.height > H[1] + g) {
+    const double over =
+        std::max({(f.length - L[1]) / sigma, (f.width - W[1]) / sigma, (f.height - H[1]) / sigma});
+    refuse(
+        a, "too_large",
+        size + fmt(" exceeds the largest family (%.1f x %.2f x %.1f m) by %.1f sigma", L[1], W[1], H[1], over),
+        past(over, p.size_gate));
+    return true;
+  }
+  if (f.length < L[0] - g || f.width < W[0] - g) {
+    const double under = std::max((L[0] - f.length) / sigma, (W[0] - f.width) / sigma);
+    refuse(a, "too_small",
+           size + fmt(" is under the smallest family (%.2f x %.2f m) by %.1f sigma", L[0], W[0], under),
+           past(under, p.size_gate));
+    return true;
+  }
+  if (f.height < H[0] - g) {
+    const double under = (H[0] - f.height) / sigma;
+    refuse(a, "too_flat", size + fmt(" is lower than the lowest family (%.2f m) by %.1f sigma", H[0], under),
+           past(under, p.size_gate));
+    return true;
+  }
+  return false;
+}
+
+// Among the classes the size fits, the best: smallest distance, then most central; profile
+// cues move the overlapping pairs (docs/decisions/classify.md §4).
+void choose(Answer& a, const Params& p, double sigma) {
+  const Features& f = a.features;
+  // A flat box over the whole length (container, log stack, shed): only a box-truck or a bus
+  // has such a top; every other family drops to a bonnet, glacis, bucket or chassis.
+  const bool box = f.plateau_share >= p.box_plateau && f.end_low >= p.box_ends;
+  std::vector<Fit> fits;
+  for (const ClassRange& k : class_ranges()) {
+    if (!box || k.flat_box) fits.push_back(fit(k, f, sigma, p));
+  }
+  auto better = [](const Fit& x, const Fit& y) {
+    if (std::abs(x.distance - y.distance) > 1e-9) return x.distance < y.distance;
+    return x.centrality < y.centrality;
+  };
+  std::stable_sort(fits.begin(), fits.end(), better);
+  const Fit& best = fits.front();
+  if (best.distance > p.size_gate) {
+    if (box) {
+      refuse(
+          a, "not_vehicle_shape",
+          fmt("a flat box: %.0f%% of its length within the top's plateau, both ends at %.0f%% of H or more; "
+              "%.2f x ",
+              100 * f.plateau_share, 100 * f.end_low, f.length) +
+              fmt("%.2f x %.2f m is no box-truck or bus (nearest ", f.width, f.height) + best.cls->name +
+              fmt(" at %.1f sigma)", best.distance),
+          past(best.distance, p.size_gate));
+      return;
+    }
+    refuse(a, "not_vehicle_shape",
+           fmt("%.2f x %.2f x %.2f m fits no family's ranges (nearest ", f.length, f.width, f.height) +
+               best.cls->name + fmt(" at %.1f sigma; gate %.1f)", best.distance, p.size_gate),
+           past(best.distance, p.size_gate));
+    return;
+  }
+  a.cls = best.cls->name;
+  a.group = best.cls->group;
+  a.class_score = std::exp(-0.5 * best.distance * best.distance);
+  double other = kInf;
+  for (const Fit& x : fits) {
+    if (std::string(x.cls->group) != a.group) other = std::min(other, x.distance);
+  }
+  a.class_margin = std::isfinite(other) ? other - best.distance : 0;
+  // Confidence: the size fit, how clearly another group is excluded, how far the vegetation
+  // cues stay below their thresholds (each 0.5 at its threshold).
+  double shape =
+      (1 - past(f.below_share, p.max_below_share)) * (1 - past(f.ground_through, p.max_ground_through));
+  if (f.fill) shape *= 1 - past(p.min_fill, std::max(*f.fill, 1e-6));
+  if (f.late_returns) shape *= 1 - past(*f.late_returns, p.max_late_returns);
+  const double group = 0.5 + 0.5 * (1 - std::exp(-0.5 * a.class_margin * a.class_margin));
+  a.confidence = std::clamp(a.class_score * group * shape, 0.0, 1.0);
+}
+
+}  // namespace
+
+const std::vector<ClassRange>& class_ranges() {
+  // Length, width, height (m): tools/rangetrace/families.cpp, docs/decisions/families.md §2.
+  static const std::vector<ClassRange> k = {
+      {"sedan", "car", {4.40, 5.10}, {1.72, 1.90}, {1.38, 1.50}, 0, -1},
+      {"hatchback", "car", {3.55, 4.40}, {1.62, 1.80}, {1.42, 1.56}, 0, +1},
+      {"suv", "car", {4.40, 5.30}, {1.80, 2.05}, {1.65, 1.95}, 0, +1},
+      {"pickup", "car", {5.00, 5.90}, {1.80, 2.05}, {1.75, 2.00}, -1, -1},
+      {"van", "van", {4.90, 6.00}, {1.90, 2.06}, {1.95, 2.75}, +1, +1},
+      {"box-truck", "truck", {7.00, 10.00}, {2.30, 2.55}, {3.00, 3.90}, +1, 0, true},
+      {"semi-tractor", "truck", {5.80, 7.50}, {2.45, 2.55}, {3.00, 4.00}, -1, 0},
+      {"bus", "bus", {10.50, 13.50}, {2.50, 2.55}, {2.90, 3.40}, +1, 0, true},
+      {"wheeled-apc", "machine", {6.40, 8.00}, {2.50, 3.00}, {2.30, 2.90}, 0, 0},
+      {"tracked-apc", "tracked", {4.90, 7.00}, {2.70, 3.30}, {1.90, 2.70}, 0, 0},
+      {"tank", "tracked", {8.70, 11.40}, {3.40, 3.80}, {2.20, 3.00}, 0, 0, false, {6.50, 8.00}},
+      {"wheel-loader", "machine", {6.80, 9.00}, {2.50, 3.20}, {3.00, 3.70}, -1, 0},
+  };
+  return k;
+}
+
+std::string group_of(const std::string& cls) {
+  for (const ClassRange& k : class_ranges()) {
+    if (cls == k.name) return k.group;
+  }
+  return "";
+}
+
+void validate(const Params& p) {
+  auto need = [](bool ok, const char* message) {
+    if (!ok) throw common::UsageError(message);
+  };
+  need(p.ground_cut >= 0 && p.ground_cut <= 2, "--ground-cut must be in [0, 2 m]");
+  need(p.link_factor > 0 && p.link_factor <= 20, "--link-factor must be in (0, 20]");
+  need(p.min_points >= 3, "--min-points must be at least 3");
+  need(p.min_density >= 0 && std::isfinite(p.min_density), "--min-density must be >= 0");
+  need(p.edge_factor >= 0 && p.edge_factor <= 5, "--edge-factor must be in [0, 5]");
+  need(p.height_quantile > 0 && p.height_quantile <= 1, "--height-quantile must be in (0, 1]");
+  need(p.size_sigma > 0 && p.size_sigma <= 5, "--size-sigma must be in (0, 5 m]");
+  need(p.spacing_sigma >= 0 && p.spacing_sigma <= 10, "--spacing-sigma must be in [0, 10]");
+  need(p.size_gate > 0 && p.size_gate <= 100, "--size-gate must be in (0, 100]");
+  need(p.plateau_drop >= 0 && p.plateau_drop <= 5, "--plateau-drop must be in [0, 5 m]");
+  need(p.max_roughness > 0 && p.max_roughness <= 100, "--max-roughness must be in (0, 100]");
+  need(p.max_below_share > 0 && p.max_below_share <= 1, "--max-below-share must be in (0, 1]");
+  need(p.max_ground_through > 0 && p.max_ground_through <= 1, "--max-ground-through must be in (0, 1]");
+  need(p.min_fill >= 0 && p.min_fill <= 10, "--min-fill must be in [0, 10]");
+  need(p.max_late_returns > 0 && p.max_late_returns <= 1, "--max-late-returns must be in (0, 1]");
+  need(p.plateau_split > 0 && p.plateau_split < 1, "--plateau-split must be in (0, 1)");
+  need(p.tail_split > 0 && p.tail_split < 1.5, "--tail-split must be in (0, 1.5)");
+  need(p.profile_penalty >= 0 && p.profile_penalty <= 100, "--profile-penalty must be in [0, 100]");
+  need(p.box_plateau > 0 && p.box_plateau <= 1, "--box-plateau must be in (0, 1]");
+  need(p.box_ends > 0 && p.box_ends <= 1, "--box-ends must be in (0, 1]");
+  need(p.model_density > 0 && std::isfinite(p.model_density), "--model-density must be > 0");
+}
+
+Answer run(const Params& p, const Inputs& in) {
+  Answer a;
+  a.features = measure(read_candidate(in.cloud, in.name), p);
+  a.measured = a.features.object_points >= 3;
+  if (sparse(a, p)) return a;
+  const double s = a.features.spacing;
+  const double sigma = std::sqrt(p.size_sigma * p.size_sigma + p.spacing_sigma * p.spacing_sigma * s * s);
+  if (vegetation(a, p) || size_gates(a, p, sigma)) return a;
+  choose(a, p, sigma);
+  return a;
+}
+
+const ModelEntry* nearest(const Answer& a, const std::vector<ModelEntry>& entries) {
+  const ModelEntry* best = nullptr;
+  double d_best = kInf;
+  if (a.cls.empty()) return nullptr;
+  const std::array<double, 3> m{a.features.length, a.features.width, a.features.height};
+  for (const ModelEntry& e : entries) {
+    if (e.cls != a.cls) continue;
+    double d = 0;
+    for (int i = 0; i < 3; ++i) d += (e.size[i] - m[i]) * (e.size[i] - m[i]);
+    if (d < d_best) {
+      d_best = d;
+      best = &e;
+    }
+  }
+  return best;
+}
+
+}  // namespace canopy::classify

@@ -1,0 +1,172 @@
+// classify: a class-level answer for one detect candidate (issue 27, "Answers at the level the
+// data supports"; docs/decisions/classify.md). At airborne-survey densities (10-30 points/m²: a
+// car returns 60-150 points) the model-level chain (fitvox | cocone | ncut | gmatch | verify)
+// has too few points per voxel; what the points do support is "vehicle, car-sized, heading
+// 37°". classify answers that, or `none` with a reason, from the candidate's points alone:
+//
+// 1. Object. The candidate PCD (detect's crop: local frame, ground z = 0, x along the
+//    footprint's long axis) is split into ground (z < ground_cut) and above-ground points; the
+//    above-ground points are clustered (single linkage at a distance scaled to the crop's point
+//    spacing, heights counting a third) and the cluster under the frame's origin (detect's
+//    object centre) is the object.
+// 2. Rectangle. Minimum-area rectangle of the object's top view (convex hull, one side on a
+//    hull edge); its long axis is the heading, with a 180° ambiguity.
+// 3. Size. Measured L, W (the rectangle) and H (a high quantile of the heights), with a
+//    sampling correction: a surface sampled with spacing s loses about s/2 at each edge, so
+//    L += edge_factor * s, W += edge_factor * s, s = 1 / sqrt(density), density = object
+//    points per m² of the rectangle (docs/decisions/classify.md §3 measures the factor).
+// 4. Shape cues that work on few points: the top's height profile along the long axis (the
+//    share of it within a drop of the top: a car's roof plateau, a van's long roof, a
+//    container's flat box; the levels of its ends), the local roughness of the top, points
+//    under other points and ground returns under the object inside the footprint (a crown lets
+//    pulses through, a roof does not), the object's density against the open ground's (fill),
+//    and, when the file has return numbers, the share of later returns.
+// 5. Decision. too_sparse (points, density) -> vegetation_like (cues) -> size gates against the
+//    families' class ranges (tools/rangetrace/families.cpp; docs/decisions/families.md §2):
+//    too_large / too_small / too_flat / not_vehicle_shape -> the class whose ranges the size
+//    fits best (profile cues break ties between overlapping classes) and its group.
+//
+// Never read: `classification` (ASPRS classes), `label`, `instance` (truth). Only x y z,
+// return_number and number_of_returns are read.
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include <array>
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "canopy/formats/point_cloud.h"
+#include "canopy/formats/provenance.h"
+
+namespace canopy::classify {
+
+// One procedural family's dimension ranges (m; families.md §2) and its coarse group.
+struct ClassRange {
+  const char* name;
+  const char* group;
+  std::array<double, 2> length, width, height;
+  // What the top's profile should show (families.md §3): +1 / -1 = the plateau covers most /
+  // a minor part of the length (box-truck, bus, van / wheel-loader, semi-tractor), the higher
+  // end stays up at the roof / drops to a bonnet, boot or bed at both ends (hatchback, suv,
+  // van / sedan, pickup); 0 = no expectation.
+  int plateau = 0, tail = 0;
+  bool flat_box = false;  // its top may be one flat box over the whole length (box-truck, bus)
+  std::array<double, 2> hull_length{0, 0};  // tank: the hull without the gun (families.md §2), or 0 0
+};
+
+// The twelve families, in families.cpp's order, with their groups:
+// car = sedan, hatchback, suv, pickup; van = van; truck = box-truck, semi-tractor; bus = bus;
+// tracked = tracked-apc, tank; machine = wheel-loader, wheeled-apc.
+const std::vector<ClassRange>& class_ranges();
+// The group of a class name ("" when the name is not a family).
+std::string group_of(const std::string& cls);
+
+struct Params {
+  double ground_cut = 0.3;        // points below this height are ground or grass (m; detect's band)
+  double link_factor = 2.5;       // object clustering: linking distance = factor x the crop's spacing
+  std::size_t min_points = 20;    // fewer object points: too_sparse
+  double min_density = 4.0;       // fewer object points per m² of its rectangle: too_sparse
+  double edge_factor = 0.15;      // sampling correction: L, W += edge_factor x spacing
+  double height_quantile = 0.98;  // H = this quantile of the object's heights
+  // Size gates: a measured dimension may miss a class range by gate x its uncertainty
+  // sqrt(size_sigma² + (spacing_sigma x spacing)²).
+  double size_sigma = 0.15;
+  double spacing_sigma = 0.5;
+  double size_gate = 2.5;
+  // Shape cues.
+  double plateau_drop = 0.2;         // profile bins within this of the top (+ 10% of H) are plateau (m)
+  double max_roughness = 0.65;       // rougher top (median local residual) than this x the spacing,
+                                     // and than 0.1 m: vegetation_like
+  double max_below_share = 0.15;     // more interior object points under another one: vegetation_like
+  double max_ground_through = 0.08;  // more interior ground returns under the object: vegetation_like
+  double min_fill = 0.65;            // fewer points per m² of its rectangle than this x the open
+                                     // ground's around it (a porous or patchy object): vegetation_like
+  double max_late_returns = 0.35;    // more object points with return_number > 1: vegetation_like
+  double plateau_split = 0.6;        // plateau share between a minor and a long plateau
+  double tail_split = 0.75;          // higher end's level (share of H) between dropping and staying up
+  double profile_penalty = 1.5;      // added to a class's size distance when the profile contradicts it
+  double box_plateau = 0.88;         // plateau share and both ends' levels at or above this:
+  double box_ends = 0.8;             //   a flat box (container, log stack): a box-truck or bus only
+  double model_density = 370;        // points/m² the model-level chain needs (fitvox-tile.ini)
+};
+
+// Throws common::UsageError naming the option of the first value out of range.
+void validate(const Params& params);
+
+// What the shape cues measured (null / NaN when not measurable, e.g. no return numbers).
+struct Features {
+  std::size_t crop_points = 0, ground_points = 0, object_points = 0;
+  double crop_spacing = 0;               // 1 / sqrt(crop points per m² of its top-view box)
+  double density = 0;                    // object points per m² of its rectangle
+  double spacing = 0;                    // 1 / sqrt(density)
+  std::optional<double> ground_density;  // ground returns per m² of the crop outside the rectangle
+  std::optional<double> fill;            // density / ground_density
+  double heading_pca = 0;                // rad, the principal axis (for comparison only)
+  double heading_hull = 0;               // rad, the minimum-area rectangle before refinement
+  double heading_refined = 0;  // rad, the hull's axis refined by two parallel side lines (for comparison)
+  double heading = 0;          // rad, the long axis used (the minimum-area rectangle's), in (-pi/2, pi/2]
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();  // rectangle centre (candidate frame)
+  double length_measured = 0, width_measured = 0, height_measured = 0;
+  double length = 0, width = 0, height = 0;  // corrected
+  double plateau_share = 0;                  // share of the long profile within the drop of the top
+  double end_low = 0, end_high = 0;          // mean top height of the lower / higher end fifth, / H
+  double top_roughness = 0;   // median |interior cell top - the plane of its 3 x 3 cells' tops| (m)
+  std::size_t top_cells = 0;  // interior cells with enough neighbours for it
+  double below_share = 0;     // interior object points with an object point >= 0.5 m above them
+  double ground_through = 0;  // interior ground returns under an object point (share of interior returns)
+  std::size_t interior_points = 0;
+  double below_share_cells = 0;     // the same per cell (for comparison): occupied cells with a point
+  double ground_through_cells = 0;  // >= 0.5 m under their top; cells holding a ground return
+  std::size_t interior_cells = 0;
+  std::optional<double> late_returns;   // share of object points with return_number > 1
+  std::optional<double> multi_returns;  // share with number_of_returns > 1
+};
+
+// The answer.
+struct Answer {
+  std::string cls;     // fine class, "" = none
+  std::string group;   // "" = none
+  std::string reason;  // "" for a vehicle; too_sparse, vegetation_like, too_small, too_large,
+                       // too_flat, not_vehicle_shape
+  std::string detail;  // one sentence: the measured value against its threshold
+  double confidence = 0;
+  double class_score = 0, class_margin = 0;  // size fit of the class, margin over another group
+  Features features;
+  bool measured = false;  // the rectangle and size were measured (enough points)
+};
+
+struct ModelEntry {
+  std::string name, cls;
+  std::array<double, 3> size{};  // L W H of its surface's label-1 rows
+};
+
+struct Inputs {
+  formats::PointCloud cloud;  // the candidate PCD (local frame)
+  std::string name;           // its path, for errors
+};
+
+// Features of the candidate's object, then the decision.
+Answer run(const Params& params, const Inputs& inputs);
+
+// The nearest modelbase entry of the answer's class by L W H (Euclidean), or nullptr.
+const ModelEntry* nearest(const Answer& answer, const std::vector<ModelEntry>& entries);
+
+// The verdict document (canopy.verdict v1 with "level": "class"; formats/README.md "Verdict").
+struct Document {
+  formats::Provenance provenance;
+  std::string candidate;                       // points path, as given
+  std::optional<Eigen::Isometry3d> transform;  // candidate frame -> tile frame
+  const ModelEntry* nearest = nullptr;
+};
+std::string serialize(const Answer& answer, const Params& params, const Document& doc);
+
+// A candidate's transform from detect's index (canopy.candidates v1): the entry whose id is
+// `id`. Errors name the file.
+Eigen::Isometry3d index_transform(const std::string& text, const std::string& name, const std::string& id);
+// "r00,r01,r02,t0,...[,0,0,0,1]": 12 or 16 numbers, row-major, rigid. UsageError otherwise.
+Eigen::Isometry3d parse_transform(const std::string& text);
+
+}  // namespace canopy::classify

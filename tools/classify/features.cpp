@@ -1,0 +1,549 @@
+// classify's measurements on one candidate: the object, its rectangle, size and shape cues
+// (classify.h steps 1-4; docs/decisions/classify.md).
+#include "classify/features.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numeric>
+#include <unordered_map>
+
+#include "canopy/common/error.h"
+#include "canopy/common/math.h"
+
+namespace canopy::classify {
+namespace {
+
+using Eigen::Vector2d;
+using Eigen::Vector3d;
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kVerticalLink = 3;  // object clustering reaches this many links vertically
+
+// Union-find with path halving; the smaller index becomes the root (deterministic).
+struct Forest {
+  std::vector<std::size_t> up;
+  explicit Forest(std::size_t n) : up(n) { std::iota(up.begin(), up.end(), 0); }
+  std::size_t find(std::size_t i) {
+    while (up[i] != i) i = up[i] = up[up[i]];
+    return i;
+  }
+  void unite(std::size_t a, std::size_t b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) up[std::max(a, b)] = std::min(a, b);
+  }
+};
+
+std::uint64_t cell_key(std::int64_t x, std::int64_t y, std::int64_t z) {
+  constexpr std::int64_t kBias = 1 << 20;  // cells within ±2^20: crops are a few tens of metres
+  return (static_cast<std::uint64_t>(x + kBias) << 42) | (static_cast<std::uint64_t>(y + kBias) << 21) |
+         static_cast<std::uint64_t>(z + kBias);
+}
+
+std::int64_t cell_of(double v, double size) { return static_cast<std::int64_t>(std::floor(v / size)); }
+
+// Single-linkage clusters of `points` at distance `link` (3-D); label per point.
+std::vector<std::size_t> clusters(const std::vector<Vector3d>& points, double link) {
+  std::unordered_map<std::uint64_t, std::vector<std::size_t>> grid;
+  grid.reserve(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Vector3d& p = points[i];
+    grid[cell_key(cell_of(p.x(), link), cell_of(p.y(), link), cell_of(p.z(), link))].push_back(i);
+  }
+  Forest forest(points.size());
+  const double link2 = link * link;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Vector3d& p = points[i];
+    const std::int64_t cx = cell_of(p.x(), link), cy = cell_of(p.y(), link), cz = cell_of(p.z(), link);
+    for (std::int64_t dx = -1; dx <= 1; ++dx) {
+      for (std::int64_t dy = -1; dy <= 1; ++dy) {
+        for (std::int64_t dz = -1; dz <= 1; ++dz) {
+          const auto it = grid.find(cell_key(cx + dx, cy + dy, cz + dz));
+          if (it == grid.end()) continue;
+          for (std::size_t j : it->second) {
+            if (j > i && (points[j] - p).squaredNorm() <= link2) forest.unite(i, j);
+          }
+        }
+      }
+    }
+  }
+  std::vector<std::size_t> label(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) label[i] = forest.find(i);
+  return label;
+}
+
+// Convex hull (Andrew's monotone chain), counter-clockwise, no collinear points.
+std::vector<Vector2d> convex_hull(std::vector<Vector2d> p) {
+  std::sort(p.begin(), p.end(), [](const Vector2d& a, const Vector2d& b) {
+    return a.x() != b.x() ? a.x() < b.x() : a.y() < b.y();
+  });
+  p.erase(std::unique(p.begin(), p.end()), p.end());
+  if (p.size() < 3) return p;
+  auto cross = [](const Vector2d& o, const Vector2d& a, const Vector2d& b) {
+    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+  };
+  std::vector<Vector2d> h(2 * p.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    while (k >= 2 && cross(h[k - 2], h[k - 1], p[i]) <= 0) --k;
+    h[k++] = p[i];
+  }
+  for (std::size_t i = p.size() - 1, t = k + 1; i-- > 0;) {
+    while (k >= t && cross(h[k - 2], h[k - 1], p[i]) <= 0) --k;
+    h[k++] = p[i];
+  }
+  h.resize(k - 1);
+  return h;
+}
+
+// Axis angle folded into (-pi/2, pi/2].
+double fold_axis(double a) {
+  while (a > common::kPi / 2) a -= common::kPi;
+  while (a <= -common::kPi / 2) a += common::kPi;
+  return a;
+}
+
+struct Extents {
+  double u0 = kInf, u1 = -kInf, v0 = kInf, v1 = -kInf;
+  double length() const { return u1 - u0; }
+  double width() const { return v1 - v0; }
+};
+
+Extents extents(const std::vector<Vector2d>& p, double axis) {
+  const Vector2d u(std::cos(axis), std::sin(axis)), v(-std::sin(axis), std::cos(axis));
+  Extents e;
+  for (const Vector2d& q : p) {
+    const double a = q.dot(u), b = q.dot(v);
+    e.u0 = std::min(e.u0, a);
+    e.u1 = std::max(e.u1, a);
+    e.v0 = std::min(e.v0, b);
+    e.v1 = std::max(e.v1, b);
+  }
+  return e;
+}
+
+// Direction of the long side of the minimum-area enclosing rectangle (one side on a hull edge).
+double min_area_axis(const std::vector<Vector2d>& points) {
+  const std::vector<Vector2d> hull = convex_hull(points);
+  if (hull.size() < 3) {
+    return hull.size() == 2 ? fold_axis(std::atan2(hull[1].y() - hull[0].y(), hull[1].x() - hull[0].x())) : 0.0;
+  }
+  double best = kInf, axis = 0;
+  for (std::size_t i = 0; i < hull.size(); ++i) {
+    const Vector2d d = hull[(i + 1) % hull.size()] - hull[i];
+    if (d.norm() == 0) continue;
+    const double a = std::atan2(d.y(), d.x());
+    const Extents e = extents(hull, a);
+    const double area = e.length() * e.width();
+    if (area < best - 1e-12) {
+      best = area;
+      axis = e.length() >= e.width() ? a : a + common::kPi / 2;
+    }
+  }
+  return fold_axis(axis);
+}
+
+double pca_axis(const std::vector<Vector2d>& p) {
+  Vector2d mean = Vector2d::Zero();
+  for (const Vector2d& q : p) mean += q;
+  mean /= static_cast<double>(p.size());
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+  for (const Vector2d& q : p) cov += (q - mean) * (q - mean).transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
+  const Vector2d major = es.eigenvectors().col(1);
+  return fold_axis(std::atan2(major.y(), major.x()));
+}
+
+// Refines a long axis: the points within `band` of either long side (and within 40% of the
+// length of the middle, off the rounded corners) are fitted by two parallel lines (a common
+// slope, one offset per side); three rounds. Needs 3 points on each side, else unchanged.
+double refine_axis(const std::vector<Vector2d>& p, double axis, double band) {
+  for (int round = 0; round < 3; ++round) {
+    const Extents e = extents(p, axis);
+    const Vector2d u(std::cos(axis), std::sin(axis)), v(-std::sin(axis), std::cos(axis));
+    const double um = 0.5 * (e.u0 + e.u1), reach = 0.4 * e.length();
+    std::array<std::vector<Vector2d>, 2> side;  // (u, v) of each long side's band
+    for (const Vector2d& q : p) {
+      const double a = q.dot(u), b = q.dot(v);
+      if (std::abs(a - um) > reach) continue;
+      if (b >= e.v1 - band) side[0].emplace_back(a, b);
+      if (b <= e.v0 + band) side[1].emplace_back(a, b);
+    }
+    if (side[0].size() < 3 || side[1].size() < 3) break;
+    double sxy = 0, sxx = 0;
+    for (const auto& s : side) {
+      Vector2d mean = Vector2d::Zero();
+      for (const Vector2d& q : s) mean += q;
+      mean /= static_cast<double>(s.size());
+      for (const Vector2d& q : s) {
+        sxy += (q.x() - mean.x()) * (q.y() - mean.y());
+        sxx += (q.x() - mean.x()) * (q.x() - mean.x());
+      }
+    }
+    if (!(sxx > 0)) break;
+    const double turn = std::atan(sxy / sxx);
+    axis = fold_axis(axis + turn);
+    if (std::abs(turn) < 1e-4) break;
+  }
+  return axis;
+}
+
+double quantile(std::vector<double> v, double q) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const double pos = q * static_cast<double>(v.size() - 1);
+  const auto lo = static_cast<std::size_t>(std::floor(pos));
+  const std::size_t hi = std::min(lo + 1, v.size() - 1);
+  return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
+}
+
+// The height at (0, 0) of the least-squares plane z = a + b u + c v through points (u, v, z).
+double plane_at_origin(const std::vector<Vector3d>& q) {
+  Eigen::MatrixXd A(q.size(), 3);
+  Eigen::VectorXd z(q.size());
+  for (std::size_t i = 0; i < q.size(); ++i) {
+    A.row(static_cast<Eigen::Index>(i)) << 1.0, q[i].x(), q[i].y();
+    z(static_cast<Eigen::Index>(i)) = q[i].z();
+  }
+  return A.colPivHouseholderQr().solve(z)(0);
+}
+
+void profile_cues(const std::vector<Vector3d>& q, Features& f, const Params& fp) {
+  const double H = f.height_measured;
+  const double bin = std::max(0.25, f.spacing);
+  const auto bins = static_cast<std::size_t>(std::max(1.0, std::ceil(f.length_measured / bin)));
+  std::vector<double> top(bins, -kInf);
+  for (const Vector3d& p : q) {
+    const auto b = std::min(bins - 1, static_cast<std::size_t>(std::max(0.0, p.x() / bin)));
+    top[b] = std::max(top[b], p.z());
+  }
+  const double level = H - (fp.plateau_drop + 0.1 * H);
+  std::size_t filled = 0, plateau = 0;
+  for (double t : top) {
+    if (t == -kInf) continue;
+    ++filled;
+    plateau += t >= level;
+  }
+  f.plateau_share = filled ? static_cast<double>(plateau) / static_cast<double>(filled) : 0;
+  // Mean top of each end fifth (at least one bin), relative to H.
+  const std::size_t span = std::max<std::size_t>(1, (bins + 2) / 5);
+  auto end_mean = [&](std::size_t from, std::size_t to) {
+    double s = 0;
+    std::size_t n = 0;
+    for (std::size_t b = from; b < to; ++b) {
+      if (top[b] == -kInf) continue;
+      s += top[b];
+      ++n;
+    }
+    return n ? s / static_cast<double>(n) / std::max(H, 1e-6) : 0.0;
+  };
+  const double a = end_mean(0, span), b = end_mean(bins - span, bins);
+  f.end_low = std::min(a, b);
+  f.end_high = std::max(a, b);
+}
+
+void column_cues(const Candidate& c, const std::vector<Vector3d>& q, const Extents& r, const Vector2d& u,
+                 const Vector2d& v, Features& f, const Params& fp) {
+  // Cells of the rectangle's frame, edge g; interior = the cell centre at least `inset` from the
+  // rectangle's sides (side walls and edge hits lie nearer).
+  const double g = std::max(0.3, 1.5 * f.spacing);
+  const double inset = std::max(0.4, f.spacing);
+  const double L = f.length_measured, W = f.width_measured;
+  const auto nu = static_cast<std::int64_t>(std::ceil(L / g)), nv = static_cast<std::int64_t>(std::ceil(W / g));
+  if (nu <= 0 || nv <= 0) return;
+  auto interior = [&](std::int64_t iu, std::int64_t iv) {
+    const double cu = (static_cast<double>(iu) + 0.5) * g, cv = (static_cast<double>(iv) + 0.5) * g - W / 2;
+    return cu >= inset && cu <= L - inset && std::abs(cv) <= W / 2 - inset;
+  };
+  const std::size_t cells = static_cast<std::size_t>(nu * nv);
+  std::vector<double> top(cells, -kInf), low(cells, kInf);
+  std::vector<char> ground(cells, 0);
+  auto index = [&](double a, double b, std::int64_t* iu, std::int64_t* iv) {
+    *iu = static_cast<std::int64_t>(std::floor(a / g));
+    *iv = static_cast<std::int64_t>(std::floor((b + W / 2) / g));
+    return *iu >= 0 && *iu < nu && *iv >= 0 && *iv < nv;
+  };
+  std::int64_t iu = 0, iv = 0;
+  for (const Vector3d& p : q) {
+    if (!index(p.x(), p.y(), &iu, &iv)) continue;
+    const auto k = static_cast<std::size_t>(iu * nv + iv);
+    top[k] = std::max(top[k], p.z());
+    low[k] = std::min(low[k], p.z());
+  }
+  // Ground returns (and anything of the crop under the cut) in the same cells.
+  const double vm = 0.5 * (r.v0 + r.v1);
+  for (const Vector3d& p : c.points) {
+    if (p.z() >= fp.ground_cut) continue;
+    const Vector2d xy(p.x(), p.y());
+    if (!index(xy.dot(u) - r.u0, xy.dot(v) - vm, &iu, &iv)) continue;
+    const auto k = static_cast<std::size_t>(iu * nv + iv);
+    ground[k] = 1;
+    low[k] = std::min(low[k], p.z());
+  }
+  std::size_t inner = 0, occupied = 0, below = 0, through = 0;
+  std::vector<double> residuals;
+  for (std::int64_t a = 0; a < nu; ++a) {
+    for (std::int64_t b = 0; b < nv; ++b) {
+      if (!interior(a, b)) continue;
+      const auto k = static_cast<std::size_t>(a * nv + b);
+      ++inner;
+      through += ground[k];
+      if (top[k] == -kInf) continue;
+      ++occupied;
+      below += low[k] <= top[k] - 0.5;
+      // Local roughness: this cell's top against the plane of the tops of its 3 x 3
+      // neighbourhood (at least 5 cells). Flat panels give ~0 (only cells on a step between
+      // two panels do not), a crown's top is rough everywhere.
+      std::vector<Vector3d> hood;
+      for (std::int64_t da = -1; da <= 1; ++da) {
+        for (std::int64_t db = -1; db <= 1; ++db) {
+          const std::int64_t na = a + da, nb = b + db;
+          if (na < 0 || na >= nu || nb < 0 || nb >= nv) continue;
+          const double t = top[static_cast<std::size_t>(na * nv + nb)];
+          if (t != -kInf) hood.emplace_back(static_cast<double>(da) * g, static_cast<double>(db) * g, t);
+        }
+      }
+      if (hood.size() >= 5) residuals.push_back(std::abs(top[k] - plane_at_origin(hood)));
+    }
+  }
+  f.top_cells = residuals.size();
+  f.top_roughness = residuals.empty() ? 0 : quantile(residuals, 0.5);
+  f.interior_cells = inner;
+  f.below_share_cells = occupied ? static_cast<double>(below) / static_cast<double>(occupied) : 0;
+  f.ground_through_cells = inner ? static_cast<double>(through) / static_cast<double>(inner) : 0;
+}
+
+// Points under the object inside its footprint, point by point (a crown lets pulses through
+// and holds returns at every depth; a roof holds none under it). Interior = at least `inset`
+// from the rectangle's sides. below_share: interior object points with another object point
+// within `rb` horizontally at least 0.5 m higher. ground_through: interior ground returns with
+// an object point within `rg` horizontally above them, as a share of those and the interior
+// object points. Small radii keep a thin part over open ground (a gun, lift arms, a chassis
+// rail) from counting the ground beside it.
+void penetration_cues(const Candidate& c, const std::vector<Vector3d>& q, const Extents& r, const Vector2d& u,
+                      const Vector2d& v, Features& f, const Params& fp) {
+  const double inset = std::max(0.4, f.spacing);
+  const double rb = std::max(0.2, f.spacing), rg = std::max(0.1, 0.5 * f.spacing);
+  const double L = f.length_measured, W = f.width_measured;
+  auto interior = [&](double a, double b) {
+    return a >= inset && a <= L - inset && std::abs(b) <= W / 2 - inset;
+  };
+  const double cell = rb;
+  std::unordered_map<std::uint64_t, std::vector<std::size_t>> grid;
+  for (std::size_t i = 0; i < q.size(); ++i)
+    grid[cell_key(cell_of(q[i].x(), cell), cell_of(q[i].y(), cell), 0)].push_back(i);
+  // The highest object point within `radius` of (a, b), or -inf.
+  auto highest = [&](double a, double b, double radius) {
+    double best = -kInf;
+    const std::int64_t ca = cell_of(a, cell), cb = cell_of(b, cell);
+    for (std::int64_t da = -1; da <= 1; ++da) {
+      for (std::int64_t db = -1; db <= 1; ++db) {
+        const auto it = grid.find(cell_key(ca + da, cb + db, 0));
+        if (it == grid.end()) continue;
+        for (std::size_t j : it->second) {
+          const double dx = q[j].x() - a, dy = q[j].y() - b;
+          if (dx * dx + dy * dy <= radius * radius) best = std::max(best, q[j].z());
+        }
+      }
+    }
+    return best;
+  };
+  std::size_t inner = 0, below = 0, under = 0;
+  for (const Vector3d& p : q) {
+    if (!interior(p.x(), p.y())) continue;
+    ++inner;
+    below += highest(p.x(), p.y(), rb) >= p.z() + 0.5;
+  }
+  const double vm = 0.5 * (r.v0 + r.v1);
+  for (const Vector3d& p : c.points) {
+    if (p.z() >= fp.ground_cut) continue;
+    const Vector2d xy(p.x(), p.y());
+    const double a = xy.dot(u) - r.u0, b = xy.dot(v) - vm;
+    if (interior(a, b) && highest(a, b, rg) >= p.z() + 0.5) ++under;
+  }
+  f.interior_points = inner;
+  f.below_share = inner ? static_cast<double>(below) / static_cast<double>(inner) : 0;
+  f.ground_through = inner + under ? static_cast<double>(under) / static_cast<double>(inner + under) : 0;
+}
+
+}  // namespace
+
+Candidate read_candidate(const formats::PointCloud& cloud, const std::string& name) {
+  cloud.require({"x", "y", "z"}, name, "classify reads a detect candidate");
+  Candidate c;
+  const auto& x = cloud.col("x");
+  const auto& y = cloud.col("y");
+  const auto& z = cloud.col("z");
+  c.points.reserve(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    if (!std::isfinite(x[i]) || !std::isfinite(y[i]) || !std::isfinite(z[i])) {
+      throw common::DataError(name, "point " + std::to_string(i) + " has a non-finite coordinate");
+    }
+    c.points.emplace_back(x[i], y[i], z[i]);
+  }
+  // Return numbers when the file has them (LAS); 0 = unknown. Nothing else is read.
+  if (cloud.has("return_number") && cloud.has("number_of_returns")) {
+    const auto& r = cloud.col("return_number");
+    const auto& n = cloud.col("number_of_returns");
+    c.return_number.resize(cloud.size());
+    c.number_of_returns.resize(cloud.size());
+    for (std::size_t i = 0; i < cloud.size(); ++i) {
+      c.return_number[i] = std::isfinite(r[i]) ? static_cast<int>(std::clamp(r[i], 0.0, 255.0)) : 0;
+      c.number_of_returns[i] = std::isfinite(n[i]) ? static_cast<int>(std::clamp(n[i], 0.0, 255.0)) : 0;
+    }
+  }
+  return c;
+}
+
+std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double link) {
+  std::vector<std::size_t> above;
+  std::vector<Vector3d> pts;
+  for (std::size_t i = 0; i < c.points.size(); ++i) {
+    if (c.points[i].z() >= ground_cut) {
+      above.push_back(i);
+      pts.push_back(c.points[i]);
+    }
+  }
+  if (pts.empty()) return {};
+  // Vertical faces are sampled little from above (none at nadir): a roof over a bonnet, a box
+  // over a cab are joined through their step only if the link reaches it, so heights count a
+  // third (a step of up to 3 links joins; a crown a few metres above does not).
+  std::vector<Vector3d> scaled = pts;
+  for (Vector3d& p : scaled) p.z() /= kVerticalLink;
+  const std::vector<std::size_t> label = clusters(scaled, link);
+  // Per cluster: point count and whether its top-view box holds the frame's origin (detect
+  // puts the origin at the centre of the object's extent).
+  std::unordered_map<std::size_t, std::size_t> count;
+  std::unordered_map<std::size_t, Extents> box;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    ++count[label[i]];
+    Extents& e = box[label[i]];
+    e.u0 = std::min(e.u0, pts[i].x());
+    e.u1 = std::max(e.u1, pts[i].x());
+    e.v0 = std::min(e.v0, pts[i].y());
+    e.v1 = std::max(e.v1, pts[i].y());
+  }
+  auto covers = [&](std::size_t l) {
+    const Extents& e = box[l];
+    const double pad = link;
+    return e.u0 - pad <= 0 && e.u1 + pad >= 0 && e.v0 - pad <= 0 && e.v1 + pad >= 0;
+  };
+  std::size_t best = 0, best_count = 0;
+  bool best_covers = false;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const std::size_t l = label[i];
+    if (l != i) continue;  // roots only (the smallest index of each cluster)
+    const bool cv = covers(l);
+    if ((cv && !best_covers) || (cv == best_covers && count[l] > best_count)) {
+      best = l;
+      best_count = count[l];
+      best_covers = cv;
+    }
+  }
+  std::vector<std::size_t> object;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    if (label[i] == best) object.push_back(above[i]);
+  }
+  return object;
+}
+
+Features measure(const Candidate& c, const Params& fp) {
+  Features f;
+  f.crop_points = c.points.size();
+  if (c.points.empty()) return f;
+  // The crop's spacing: its points over its top-view box.
+  Extents crop;
+  for (const Vector3d& p : c.points) {
+    crop.u0 = std::min(crop.u0, p.x());
+    crop.u1 = std::max(crop.u1, p.x());
+    crop.v0 = std::min(crop.v0, p.y());
+    crop.v1 = std::max(crop.v1, p.y());
+  }
+  const double crop_area = std::max(crop.length() * crop.width(), 1e-6);
+  f.crop_spacing = std::sqrt(crop_area / static_cast<double>(c.points.size()));
+  for (const Vector3d& p : c.points) f.ground_points += p.z() < fp.ground_cut;
+  const double link = std::clamp(fp.link_factor * f.crop_spacing, 0.25, 1.5);
+  const std::vector<std::size_t> object = object_of(c, fp.ground_cut, link);
+  f.object_points = object.size();
+  if (object.size() < 3) return f;
+
+  std::vector<Vector2d> top;
+  top.reserve(object.size());
+  for (std::size_t i : object) top.emplace_back(c.points[i].x(), c.points[i].y());
+  f.heading_pca = pca_axis(top);
+  f.heading_hull = min_area_axis(top);
+  const Extents e0 = extents(top, f.heading_hull);
+  const double area0 = std::max(e0.length() * e0.width(), 1e-6);
+  const double spacing0 = std::sqrt(area0 / static_cast<double>(object.size()));
+  // The minimum-area rectangle sets the heading (docs/decisions/classify.md §2: on the
+  // development tiles it beat both the principal axis and the two-line refinement, which is
+  // kept as a measurement).
+  f.heading_refined = refine_axis(top, f.heading_hull, std::max(0.15, 0.75 * spacing0));
+  f.heading = f.heading_hull;
+  const Extents e = extents(top, f.heading);
+  f.length_measured = e.length();
+  f.width_measured = e.width();
+  if (f.width_measured > f.length_measured) {  // the refinement turned past 45°: keep the long axis
+    f.heading = fold_axis(f.heading + common::kPi / 2);
+    std::swap(f.length_measured, f.width_measured);
+  }
+  const Extents r = extents(top, f.heading);
+  const Vector2d u(std::cos(f.heading), std::sin(f.heading)), v(-std::sin(f.heading), std::cos(f.heading));
+  f.centre = 0.5 * (r.u0 + r.u1) * u + 0.5 * (r.v0 + r.v1) * v;
+  f.density = static_cast<double>(object.size()) / std::max(f.length_measured * f.width_measured, 1e-6);
+  f.spacing = 1 / std::sqrt(f.density);
+  // Open ground around the object: the crop's ground returns outside the rectangle over the
+  // crop's area outside it. A solid top is hit by every pulse over it, so its density is about
+  // the ground's; a porous or patchy object holds fewer.
+  std::size_t outside = 0;
+  for (const Vector3d& p : c.points) {
+    if (p.z() >= fp.ground_cut) continue;
+    const Vector2d xy(p.x(), p.y());
+    const double a = xy.dot(u), b = xy.dot(v);
+    outside += a < r.u0 || a > r.u1 || b < r.v0 || b > r.v1;
+  }
+  const double open = crop_area - f.length_measured * f.width_measured;
+  if (open > 1.0 && outside >= 10) {
+    f.ground_density = static_cast<double>(outside) / open;
+    f.fill = f.density / *f.ground_density;
+  }
+
+  std::vector<double> heights;
+  for (std::size_t i : object) heights.push_back(c.points[i].z());
+  f.height_measured = quantile(heights, fp.height_quantile);
+  f.length = f.length_measured + fp.edge_factor * f.spacing;
+  f.width = f.width_measured + fp.edge_factor * f.spacing;
+  f.height = f.height_measured;
+
+  // Object points in the rectangle's frame (u from its start, v from its middle).
+  std::vector<Vector3d> q;
+  for (std::size_t i : object) {
+    const Vector2d p(c.points[i].x(), c.points[i].y());
+    q.emplace_back(p.dot(u) - r.u0, p.dot(v) - 0.5 * (r.v0 + r.v1), c.points[i].z());
+  }
+  profile_cues(q, f, fp);
+  column_cues(c, q, r, u, v, f, fp);
+  penetration_cues(c, q, r, u, v, f, fp);
+
+  if (!c.return_number.empty()) {
+    std::size_t late = 0, multi = 0, known = 0;
+    for (std::size_t i : object) {
+      if (c.return_number[i] == 0 || c.number_of_returns[i] == 0) continue;
+      ++known;
+      late += c.return_number[i] > 1;
+      multi += c.number_of_returns[i] > 1;
+    }
+    if (known > 0) {
+      f.late_returns = static_cast<double>(late) / static_cast<double>(known);
+      f.multi_returns = static_cast<double>(multi) / static_cast<double>(known);
+    }
+  }
+  return f;
+}
+
+}  // namespace canopy::classify

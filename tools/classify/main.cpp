@@ -1,0 +1,174 @@
+// classify: a class-level answer (vehicle class and group, pose, size) or none with a reason,
+// for one detect candidate at any density (docs/decisions/classify.md).
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "canopy/common/atomic_file.h"
+#include "canopy/common/cli.h"
+#include "canopy/common/error.h"
+#include "canopy/common/log.h"
+#include "canopy/formats/modelbase.h"
+#include "canopy/formats/points_io.h"
+#include "classify/classify.h"
+
+namespace cm = canopy::common;
+namespace fm = canopy::formats;
+namespace cl = canopy::classify;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Cli {
+  std::string in = "-", out = "-", index, candidate, transform, modelbase;
+};
+
+void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
+  tool.add_input(&cli.in, "candidate points (detect's <id>.pcd: local frame, ground z = 0)");
+  tool.add_output(&cli.out, "verdict JSON (canopy.verdict v1, \"level\": \"class\")");
+  tool.add("--index", &cli.index, "detect's index.json: the candidate's transform gives pose_tile");
+  tool.add("--candidate", &cli.candidate,
+           "the candidate's id in --index (default: the input's file name stem)");
+  tool.add("--transform", &cli.transform,
+           "candidate frame -> tile frame, 12 or 16 numbers row-major (instead of --index)");
+  tool.add("--modelbase", &cli.modelbase,
+           "directory of <model>.pcd surfaces with <model>.class files: the answered class's "
+           "entry nearest in size is named as a hint");
+  tool.add_length("--ground-cut", &p.ground_cut, "points below this height are ground or grass");
+  tool.add("--link-factor", &p.link_factor,
+           "object clustering distance, in units of the crop's point spacing");
+  tool.add("--min-points", &p.min_points, "fewer object points: too_sparse");
+  tool.add("--min-density", &p.min_density, "fewer object points per m^2 of its rectangle: too_sparse");
+  tool.add("--edge-factor", &p.edge_factor, "size correction: length and width + this x the point spacing");
+  tool.add("--height-quantile", &p.height_quantile, "height = this quantile of the object's heights");
+  tool.add_length("--size-sigma", &p.size_sigma, "size uncertainty at any density");
+  tool.add("--spacing-sigma", &p.spacing_sigma, "size uncertainty per unit of point spacing");
+  tool.add("--size-gate", &p.size_gate, "a size may miss a class range by this many uncertainties");
+  tool.add_length("--plateau-drop", &p.plateau_drop, "profile within this (+ 10% of H) of the top: plateau");
+  tool.add("--max-roughness", &p.max_roughness,
+           "rougher top (median residual of a cell's top from its neighbours' plane) than this x the "
+           "spacing (and 0.1 m): vegetation_like");
+  tool.add("--max-below-share", &p.max_below_share,
+           "more interior object points with an object point 0.5 m above them: vegetation_like");
+  tool.add("--max-ground-through", &p.max_ground_through,
+           "more interior ground returns under an object point (share of interior returns): vegetation_like");
+  tool.add("--min-fill", &p.min_fill,
+           "fewer points per m^2 of the rectangle than this x the open ground's around it: vegetation_like");
+  tool.add("--max-late-returns", &p.max_late_returns,
+           "more object points with return_number > 1 (LAS): vegetation_like");
+  tool.add("--plateau-split", &p.plateau_split, "plateau share between a minor and a long roof");
+  tool.add("--tail-split", &p.tail_split,
+           "higher end's level (share of H) between dropping and staying at the roof");
+  tool.add("--profile-penalty", &p.profile_penalty,
+           "size-sigmas added to a class whose profile the top contradicts");
+  tool.add("--box-plateau", &p.box_plateau, "plateau share of a flat box (not a vehicle unless a bus)");
+  tool.add("--box-ends", &p.box_ends, "end level (share of H) of a flat box");
+  tool.add("--model-density", &p.model_density,
+           "points/m^2 the model-level chain needs (for the reason text)");
+}
+
+// Modelbase entries that carry a class: their surfaces' label-1 extents.
+std::vector<cl::ModelEntry> read_modelbase(const std::string& dir) {
+  std::vector<cl::ModelEntry> out;
+  for (const fm::ModelbaseEntry& e : fm::list_modelbase(dir)) {
+    const fs::path cls = fs::path(dir) / (e.name + ".class");
+    if (!fs::is_regular_file(cls)) continue;
+    std::string name = cm::read_file(cls.string());
+    name.erase(
+        std::find_if(name.begin(), name.end(), [](char c) { return c == '\n' || c == '\r' || c == ' '; }),
+        name.end());
+    if (name.empty()) throw cm::DataError(cls.string(), "holds no class name");
+    const std::string surface = (fs::path(dir) / (e.name + ".pcd")).string();
+    const fm::PointCloud pc = fm::read_points(surface, "classify");
+    pc.require({"x", "y", "z"}, surface, "is this a modelbase surface?");
+    const std::vector<double>* label = pc.has("label") ? &pc.col("label") : nullptr;
+    double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < pc.size(); ++i) {
+      if (label && (*label)[i] != 1) continue;
+      const double v[3] = {pc.col("x")[i], pc.col("y")[i], pc.col("z")[i]};
+      for (int k = 0; k < 3; ++k) {
+        lo[k] = std::min(lo[k], v[k]);
+        hi[k] = std::max(hi[k], v[k]);
+      }
+      ++n;
+    }
+    if (n == 0) throw cm::DataError(surface, "has no vehicle points (label 1) to measure the model");
+    out.push_back({e.name, name, {hi[0] - lo[0], hi[1] - lo[1], std::max(0.0, hi[2])}});
+  }
+  return out;
+}
+
+std::string summary(const cl::Answer& a) {
+  char line[512];
+  const auto& f = a.features;
+  if (!a.cls.empty()) {
+    std::snprintf(line, sizeof line,
+                  "%s (%s), confidence %.2f; %.2f x %.2f x %.2f m, heading %.1f deg (or +180), %zu points, "
+                  "%.1f points/m^2",
+                  a.cls.c_str(), a.group.c_str(), a.confidence, f.length, f.width, f.height,
+                  f.heading * 180 / 3.14159265358979323846, f.object_points, f.density);
+  } else {
+    std::snprintf(line, sizeof line, "none (%s): %s", a.reason.c_str(), a.detail.c_str());
+  }
+  return line;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  cm::Tool tool("classify",
+                "Class-level answer for one detect candidate: vehicle class and group (car, van, "
+                "truck, bus, tracked, machine), heading (180-degree ambiguity), size and density, "
+                "or none with a reason (too_sparse, vegetation_like, too_small, too_large, too_flat, "
+                "not_vehicle_shape). Writes a canopy.verdict with \"level\": \"class\".");
+  tool.without_threads();
+  cl::Params p;
+  Cli cli;
+  bind(tool, p, cli);
+  return tool.run(argc, argv, [&] {
+    cl::validate(p);
+    if (!cli.index.empty() && !cli.transform.empty()) {
+      throw cm::UsageError("--index and --transform both give the pose: use one");
+    }
+    if (!cli.candidate.empty() && cli.index.empty()) throw cm::UsageError("--candidate needs --index");
+    std::optional<Eigen::Isometry3d> to_tile;
+    if (!cli.transform.empty()) to_tile = cl::parse_transform(cli.transform);
+
+    cm::log::Phase read("read");
+    cl::Inputs in;
+    in.name = cm::display_name(cli.in);
+    in.cloud = fm::read_points(cli.in, "classify");
+    if (!cli.index.empty()) {
+      std::string id = cli.candidate;
+      if (id.empty()) {
+        if (cli.in == "-") throw cm::UsageError("--index with stdin input needs --candidate");
+        id = fs::path(cli.in).stem().string();
+      }
+      to_tile = cl::index_transform(cm::read_file(cli.index), cli.index, id);
+    }
+    std::vector<cl::ModelEntry> entries;
+    if (!cli.modelbase.empty()) entries = read_modelbase(cli.modelbase);
+    read.done(std::to_string(in.cloud.size()) + " candidate points" +
+              (cli.modelbase.empty()
+                   ? ""
+                   : ", " + std::to_string(entries.size()) + " modelbase entries with a class"));
+
+    cm::log::Phase phase("classify");
+    const cl::Answer a = cl::run(p, in);
+    cl::Document doc;
+    std::vector<std::string> inputs = {cli.in};
+    if (!cli.index.empty()) inputs.push_back(cli.index);
+    if (!cli.modelbase.empty()) inputs.push_back(cli.modelbase);
+    doc.provenance = {"classify", CANOPY_VERSION, tool.parameters(), inputs};
+    doc.candidate = cli.in;
+    doc.transform = to_tile;
+    doc.nearest = cl::nearest(a, entries);
+    phase.done(summary(a));
+    cm::write_file_atomic(cli.out, cl::serialize(a, p, doc));
+  });
+}
