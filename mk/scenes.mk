@@ -48,9 +48,15 @@ $(2)/cands/index.json: $(3) $(call tool,detect) $(wildcard $(P)/detect.ini)
 	@$(STAGE) $(2)/detect -- $(BIN)/detect $(call scene_config,detect) -i $(3) -o $(2)/cands
 $(2)/cands.mk: $(2)/cands/index.json $(call tool,collect)
 	@$(STAGE) $$@ -- $(BIN)/collect -i $(2)/cands/index.json --plan $$@ --plan-key $(1)
+	@[ -z "$$$$CANOPY_PROGRESS" ] || scripts/progress.sh extend "$$$$CANOPY_PROGRESS" $$@ $$(TILE_CAND_KINDS)
 $(2)/classes.ply: $(2)/cands/index.json
 	@cp $(2)/cands/classes.ply $(2)/.classes.tmp$$$$.ply && mv $(2)/.classes.tmp$$$$.ply $$@ && echo "done  $$@"
 endef
+
+# The stages each candidate runs, as scripts/progress.sh names their kinds (the plan step adds
+# them to the progress count: the candidates are known only once detect has run).
+TILE_CAND_KINDS := fitvox:cand/samples.pcd cocone:cand/mesh.ply ncut:cand/segments.json gmatch:cand/match.json \
+  verify:cand/verdict.json
 
 # cand_rule(DIR, ID, KEY, MODELBASE, SEEDKEY): fitvox | cocone | ncut | gmatch | verify on one
 # candidate (cands/<id>.pcd, written by detect with index.json).
@@ -60,7 +66,7 @@ $(1)/cands/$(2)/samples.pcd: $(1)/cands/index.json $(call tool,fitvox) $(TILE_FI
 $(1)/cands/$(2)/mesh.ply: $(1)/cands/$(2)/samples.pcd $(call tool,cocone) $(P)/cocone.ini
 	@$(STAGE) --record-failure $$@ -- $(BIN)/cocone --config $(P)/cocone.ini -i $$< -o $$@
 $(1)/cands/$(2)/segments.json: $(1)/cands/$(2)/mesh.ply $(call tool,ncut) $(P)/ncut.ini
-	@$(STAGE) --record-failure $$@ -- $(BIN)/ncut --config $(P)/ncut.ini --seed $(call seed,$(5)/$(2)) \
+	@$(STAGE) --record-failure $$@ -- $(BIN)/ncut --config $(P)/ncut.ini --seed $$(call seed,$(5)/$(2)) \
 	  -i $$< -o $$@ --colored $(1)/cands/$(2)/segments.ply
 $(1)/cands/$(2)/match.json: $(1)/cands/$(2)/segments.json $(wildcard $(4)/*.json) $(call tool,gmatch) $(P)/gmatch.ini
 	@$(STAGE) --record-failure $$@ -- $(BIN)/gmatch --config $(P)/gmatch.ini -i $$< --modelbase $(4) -o $$@
@@ -116,7 +122,7 @@ define tiles_rule
 .PHONY: tiles-$(basename $(notdir $(1)))
 tiles-$(basename $(notdir $(1))):
 	+@$$(MAKE) --no-print-directory -f Makefile.experiments tile TILE=$(1) \
-	  OUT=$(TILES_OUT)/$(basename $(notdir $(1))) MODELBASE=$(MODELBASE)
+	  OUT=$(TILES_OUT)/$(basename $(notdir $(1))) MODELBASE=$(MODELBASE) PROGRESS=0
 endef
 $(foreach f,$(TILES_FILES),$(eval $(call tiles_rule,$(f))))
 tiles: $(foreach f,$(TILES_FILES),tiles-$(basename $(notdir $(f))))
@@ -182,8 +188,7 @@ SCENE_BASELINE ?= vfh fpfh
 $(if $(filter-out vfh fpfh,$(SCENE_BASELINE)),$(error SCENE_BASELINE=$(SCENE_BASELINE): methods are vfh and fpfh))
 SCENE_BL_SCORES := $(foreach m,$(SCENE_BASELINE),$(SCENE_RES)/baseline-$(m)/score.json)
 
-.PHONY: scenes FORCE
-FORCE:
+.PHONY: scenes
 # The report's "Scene experiment" section: the score, and the stages' .time files found through
 # the score's list of tiles. SCENE_EXPERIMENT=0 leaves the scene experiment out of `all` and
 # of the report (the pipeline tests' small slices of the thesis graph, a thesis-only run).
@@ -217,6 +222,7 @@ $(SCENE_BL_SCORES): $(SCENE_SCORE)
 else
 # ---- read only by `make scenes` ----------------------------------------------------------
 SCENE_MB := $(OUT)/modelbase
+TILE_CAND_KINDS += $(foreach m,$(SCENE_BASELINE),baseline:cand/baseline-$(m).json)
 
 # The recipes and the score's manifests are written at parse time when they changed
 # (text_prereq, Makefile.experiments).
@@ -242,7 +248,7 @@ $(if $(dry_run),,$(shell mkdir -p $(SCENE_TILES) $(SCENE_RES) $(dir $(SCENE_BL_S
 define scene_tile_rule
 $(SCENE_DIR)/$(1)/tile-$(2)/recipe.scene: $(call text_prereq,$(SCENE_DIR)/$(1)/tile-$(2)/recipe.scene,$(call scene_recipe,$(1),$(2)))
 $(SCENE_DIR)/$(1)/tile-$(2)/scan.pcd: $(SCENE_DIR)/$(1)/tile-$(2)/recipe.scene $(call tool,rangetrace)
-	@$(STAGE) $$@ -- $(BIN)/rangetrace --scene $$< --seed $(call seed,scenes/$(1)/$(2)) --threads 2 \
+	@$(STAGE) $$@ -- $(BIN)/rangetrace --scene $$< --seed $$(call seed,scenes/$(1)/$(2)) --threads 2 \
 	  -o $$@ --truth $(SCENE_DIR)/$(1)/tile-$(2)/truth.json
 $(SCENE_DIR)/$(1)/tile-$(2)/truth.json: $(SCENE_DIR)/$(1)/tile-$(2)/scan.pcd
 endef
@@ -251,7 +257,7 @@ endef
 define scene_noise_rule
 $(SCENE_DIR)/$(1)/tile-$(2)/noise-$(3)/scan.pcd: $(SCENE_DIR)/$(1)/tile-$(2)/scan.pcd $(call tool,addnoise) $(P)/addnoise.ini
 	@$(STAGE) $$@ -- $(BIN)/addnoise --config $(P)/addnoise.ini --sigma $(3)mm \
-	  --seed $(call seed,scenes/$(1)/$(2)/$(3)) -i $$< -o $$@
+	  --seed $$(call seed,scenes/$(1)/$(2)/$(3)) -i $$< -o $$@
 endef
 
 $(foreach c,$(SCENE_COVERS),$(foreach s,$(SCENE_SEEDS),$(eval $(call scene_tile_rule,$(c),$(s)))))
