@@ -97,11 +97,9 @@ endef
 # scan it read. Both are .SECONDARY: missing, they are not remade while their products are current.
 define fam_chain
 .SECONDARY: $(1)/noise-$(2)/scan.pcd $(if $(5),$(1)/scan.pcd)
-$(1)/noise-$(2)/scan.pcd: $(1)/scan.pcd $(call tool,addnoise) $(P)/addnoise.ini
-	@$(STAGE) $(4) $$@ -- $(BIN)/addnoise --config $(P)/addnoise.ini --sigma $(2)mm \
-	  --seed $$(call seed,$(3)/$(2)) -i $$< -o $$@$(if $(5), && rm -f $$<)
+$(call noisy_rule,$(1)/scan.pcd,$(1)/noise-$(2)/scan.pcd,$(2),$(3)/$(2),$(4),$(if $(5), && rm -f $$<))
 $(1)/noise-$(2)/samples.pcd: $(1)/noise-$(2)/scan.pcd $(call tool,fitvox) $(P)/fitvox.ini
-	@$(STAGE) $(4) $$@ -- $(BIN)/fitvox --config $(P)/fitvox.ini -i $$< -o $$@ && rm -f $$<
+	@$(STAGE) $(4) $$@ -- $(BIN)/fitvox --config $(P)/fitvox.ini --pcd-encoding $(PCD_ENCODING) -i $$< -o $$@ && rm -f $$<
 $(1)/noise-$(2)/mesh.ply: $(1)/noise-$(2)/samples.pcd $(call tool,cocone) $(P)/cocone.ini
 	@$(STAGE) $(4) $$@ -- $(BIN)/cocone --config $(P)/cocone.ini -i $$< -o $$@
 $(1)/noise-$(2)/segments.json: $(1)/noise-$(2)/mesh.ply $(call tool,ncut) $(P)/ncut.ini
@@ -197,11 +195,16 @@ FAM_TRIAL_FILES := $(foreach r,$(FAM_RUNS),$(foreach d,$(dir $(firstword $(subst
   $(d)verdict.json $(d)baseline-vfh.json $(d)baseline-fpfh.json))
 $(FAM_DIR)/runs.txt: $(call text_prereq,$(FAM_DIR)/runs.txt,$(subst $(nl) ,$(nl),\
   $(foreach r,$(FAM_RUNS),$(subst :, ,$(r))$(nl))))
+# The test renders are read by their trials' addnoise only (the 0 mm scan is a link to the
+# render, deleted by fitvox): once the scores are written they are deleted unless KEEP=1.
+FAM_TEST_SCANS := $(foreach c,$(FAM_CLASSES),$(foreach n,$(FAM_TEST),$(foreach v,$(FAM_COVERS),\
+  $(FAM_DIR)/test/$(c)-$(n)/$(v)/scan.pcd)))
+.SECONDARY: $(FAM_TEST_SCANS)
 $(FAM_RES)/confusion.csv: $(FAM_DIR)/runs.txt $(FAM_TRIAL_FILES) $(FAM_MODELBASE) $(call tool,famscore)
 	@mkdir -p $(@D)
 	@$(STAGE) $@ -- $(BIN)/famscore -i $(FAM_DIR)/runs.txt --modelbase $(FAM_MB) --confusion $@ \
 	  --accuracy $(FAM_RES)/accuracy.csv --methods $(FAM_RES)/methods.csv \
-	  --methods-confusion $(FAM_RES)/methods-confusion.csv
+	  --methods-confusion $(FAM_RES)/methods-confusion.csv$(if $(keep),, && rm -f $(FAM_TEST_SCANS))
 $(filter-out %/confusion.csv,$(FAM_TABLES)): $(FAM_RES)/confusion.csv
 families: $(FAM_TABLES)
 endif

@@ -132,7 +132,7 @@ done
 touch -d "@$((now - 90))" "$b/bin/"*
 touch -d "@$((now - 80))" "$b/stamps/"*
 mk=(make -f Makefile.experiments OBJECTS=sedan SCENES=unoccluded NOISES=0 ABLATIONS=fitvox-fixed-rms SCENE_EXPERIMENT=0 BASELINE=0 FAMILIES=0
-    OUT="$tmp/out" RES="$tmp/res" BUILD="$b" CMAKE=true DISPLAY=:99)
+    OUT="$tmp/out" RES="$tmp/res" BUILD="$b" CMAKE=true DISPLAY=:99 KEEP=1)
 "${mk[@]}" -n all | grep '^scripts/stage.sh' | grep -q -- ' -q ' &&
   fail "a stage still runs its tool with -q: $("${mk[@]}" -n all | grep '^scripts/stage.sh' | grep -- ' -q ' | head -1)"
 
@@ -144,6 +144,18 @@ got=$(sed -n 's/^\(done\|FAIL\)  \([0-9]*\)\/\([0-9]*\) .*/\2 \3/p' "$tmp/make.o
 [ "$(echo "$got" | awk '{print $1}' | sort -n | tr '\n' ' ')" = "$(seq "$m" | tr '\n' ' ')" ] ||
   fail "N does not run 1..$m once each: $(echo "$got" | awk '{print $1}' | sort -n | tr '\n' ' ')"
 "${mk[@]}" -q all || fail "make -q all not clean after a full run"
+
+# Without KEEP=1 the trial's scans (render and noisy scan) are deleted once the report is
+# written; the tree stays up to date (they are .SECONDARY) and a second run runs nothing.
+prune=("${mk[@]}" KEEP=0 OUT="$tmp/out2" RES="$tmp/res2")
+"${prune[@]}" all -j2 >"$tmp/prune.out" 2>&1 || fail "make all KEEP=0 failed: $(tail -n 5 "$tmp/prune.out")"
+for f in sedan/unoccluded/scan.pcd sedan/unoccluded/noise-0/scan.pcd; do
+  [ ! -e "$tmp/out2/$f" ] || fail "KEEP=0 left $f"
+done
+[ -s "$tmp/out2/sedan/unoccluded/noise-0/samples.pcd" ] || fail "KEEP=0 deleted the samples"
+"${prune[@]}" -q all || fail "make -q all not clean after the scans were deleted"
+"${prune[@]}" all >"$tmp/prune2.out" 2>&1 || fail "a second make all KEEP=0 failed"
+if grep -q '^done\|^FAIL' "$tmp/prune2.out"; then fail "a second make all re-ran stages: $(head -3 "$tmp/prune2.out")"; fi
 
 # The ablation's fitvox killed by SIGKILL: make fails, names the log, leaves no artifact, and
 # the trial stays out of date (a later make re-runs it).
