@@ -67,10 +67,8 @@ FAM_TABLES := $(FAM_RES)/confusion.csv $(FAM_RES)/accuracy.csv $(FAM_RES)/method
 # The tools of the protocol; famscore links the family generator from tools/rangetrace.
 FAM_TOOLS := rangetrace addnoise fitvox cocone ncut gmatch verify baseline famscore
 $(if $(filter famscore,$(TOOLS)),,$(eval $(call tool_rule,famscore)))
-$(BIN)/famscore: $(call code_in,tools/rangetrace)
 
-.PHONY: families family-modelbase FORCE
-FORCE:
+.PHONY: families family-modelbase
 ifneq ($(filter families family-modelbase,$(MAKECMDGOALS)),)
 $(if $(filter $(FAM_TRAIN),$(FAM_TEST)),$(error families: FAM_TEST and FAM_TRAIN share instances \
   ($(filter $(FAM_TRAIN),$(FAM_TEST))); the tests must be other instances))
@@ -99,15 +97,13 @@ endef
 # scan it read. Both are .SECONDARY: missing, they are not remade while their products are current.
 define fam_chain
 .SECONDARY: $(1)/noise-$(2)/scan.pcd $(if $(5),$(1)/scan.pcd)
-$(1)/noise-$(2)/scan.pcd: $(1)/scan.pcd $(call tool,addnoise) $(P)/addnoise.ini
-	@$(STAGE) $(4) $$@ -- $(BIN)/addnoise --config $(P)/addnoise.ini --sigma $(2)mm \
-	  --seed $(call seed,$(3)/$(2)) -i $$< -o $$@$(if $(5), && rm -f $$<)
+$(call noisy_rule,$(1)/scan.pcd,$(1)/noise-$(2)/scan.pcd,$(2),$(3)/$(2),$(4),$(if $(5), && rm -f $$<))
 $(1)/noise-$(2)/samples.pcd: $(1)/noise-$(2)/scan.pcd $(call tool,fitvox) $(P)/fitvox.ini
-	@$(STAGE) $(4) $$@ -- $(BIN)/fitvox --config $(P)/fitvox.ini -i $$< -o $$@ && rm -f $$<
+	@$(STAGE) $(4) $$@ -- $(BIN)/fitvox --config $(P)/fitvox.ini --pcd-encoding $(PCD_ENCODING) -i $$< -o $$@ && rm -f $$<
 $(1)/noise-$(2)/mesh.ply: $(1)/noise-$(2)/samples.pcd $(call tool,cocone) $(P)/cocone.ini
 	@$(STAGE) $(4) $$@ -- $(BIN)/cocone --config $(P)/cocone.ini -i $$< -o $$@
 $(1)/noise-$(2)/segments.json: $(1)/noise-$(2)/mesh.ply $(call tool,ncut) $(P)/ncut.ini
-	@$(STAGE) $(4) $$@ -- $(BIN)/ncut --config $(P)/ncut.ini --seed $(call seed,$(3)/$(2)) -i $$< \
+	@$(STAGE) $(4) $$@ -- $(BIN)/ncut --config $(P)/ncut.ini --seed $$(call seed,$(3)/$(2)) -i $$< \
 	  -o $$@ --colored $(1)/noise-$(2)/segments.ply
 endef
 
@@ -115,7 +111,7 @@ endef
 define fam_train_rule
 $(FAM_DIR)/train/$(1)-$(2)/scan.pcd: $(call tool,rangetrace) $(P)/rangetrace.ini share/scenes/unoccluded.scene
 	@$(STAGE) $$@ -- $(BIN)/rangetrace --config $(P)/rangetrace.ini $(FAM_RENDER) --model family:$(1):$(2) \
-	  --scene unoccluded --seed $(call seed,families/train/$(1)-$(2)) --threads 2 -o $$@
+	  --scene unoccluded --seed $$(call seed,families/train/$(1)-$(2)) --threads 2 -o $$@
 $(call fam_chain,$(FAM_DIR)/train/$(1)-$(2),0,families/train/$(1)-$(2),,drop)
 endef
 # fam_entry_rule(modelbase dir, class, n): its modelbase entry (hard links to the train
@@ -156,7 +152,7 @@ fam_inst = $(lastword $(subst :, ,$(1)))
 define fam_test_rule
 $(FAM_DIR)/test/$(1)-$(2)/$(3)/scan.pcd: $(FAM_DIR)/scenes/$(3).scene $(call tool,rangetrace) $(P)/rangetrace.ini
 	@$(STAGE) $$@ -- $(BIN)/rangetrace --config $(P)/rangetrace.ini $(FAM_RENDER) --model family:$(1):$(2) \
-	  --scene $$< --heading $(call fam_heading,$(1)-$(2)/$(3)) --seed $(call seed,families/test/$(1)-$(2)/$(3)) \
+	  --scene $$< --heading $$(call fam_heading,$(1)-$(2)/$(3)) --seed $$(call seed,families/test/$(1)-$(2)/$(3)) \
 	  --threads 2 -o $$@
 endef
 # fam_baseline_rule(trial dir, method): the PCL baseline, one process per method (its own time).
@@ -199,11 +195,16 @@ FAM_TRIAL_FILES := $(foreach r,$(FAM_RUNS),$(foreach d,$(dir $(firstword $(subst
   $(d)verdict.json $(d)baseline-vfh.json $(d)baseline-fpfh.json))
 $(FAM_DIR)/runs.txt: $(call text_prereq,$(FAM_DIR)/runs.txt,$(subst $(nl) ,$(nl),\
   $(foreach r,$(FAM_RUNS),$(subst :, ,$(r))$(nl))))
+# The test renders are read by their trials' addnoise only (the 0 mm scan is a link to the
+# render, deleted by fitvox): once the scores are written they are deleted unless KEEP=1.
+FAM_TEST_SCANS := $(foreach c,$(FAM_CLASSES),$(foreach n,$(FAM_TEST),$(foreach v,$(FAM_COVERS),\
+  $(FAM_DIR)/test/$(c)-$(n)/$(v)/scan.pcd)))
+.SECONDARY: $(FAM_TEST_SCANS)
 $(FAM_RES)/confusion.csv: $(FAM_DIR)/runs.txt $(FAM_TRIAL_FILES) $(FAM_MODELBASE) $(call tool,famscore)
 	@mkdir -p $(@D)
 	@$(STAGE) $@ -- $(BIN)/famscore -i $(FAM_DIR)/runs.txt --modelbase $(FAM_MB) --confusion $@ \
 	  --accuracy $(FAM_RES)/accuracy.csv --methods $(FAM_RES)/methods.csv \
-	  --methods-confusion $(FAM_RES)/methods-confusion.csv
+	  --methods-confusion $(FAM_RES)/methods-confusion.csv$(if $(keep),, && rm -f $(FAM_TEST_SCANS))
 $(filter-out %/confusion.csv,$(FAM_TABLES)): $(FAM_RES)/confusion.csv
 families: $(FAM_TABLES)
 endif

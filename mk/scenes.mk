@@ -42,25 +42,34 @@ scene_config = $(if $(wildcard $(P)/$(1).ini),--config $(P)/$(1).ini)
 # 1: detections.json depends on it) and `make -n` shows the candidates known so far.
 read_plan = $(if $(dry_run),$(if $(wildcard $(1)),$(eval $(file <$(1)))),$(eval -include $(1)))
 
-# tile_rules(KEY, DIR, SCAN, MODELBASE): detect, the plan and the classification.
+# tile_rules(KEY, DIR, SCAN, MODELBASE[, DETECT OPTIONS]): detect, the plan and the
+# classification (classes.ply: a hard link to detect's, where the filesystem has them; touched,
+# since the link has the time detect wrote it, just before index.json).
 define tile_rules
 $(2)/cands/index.json: $(3) $(call tool,detect) $(wildcard $(P)/detect.ini)
-	@$(STAGE) $(2)/detect -- $(BIN)/detect $(call scene_config,detect) -i $(3) -o $(2)/cands
+	@$(STAGE) $(2)/detect -- $(BIN)/detect $(call scene_config,detect) $(5) -i $(3) -o $(2)/cands
 $(2)/cands.mk: $(2)/cands/index.json $(call tool,collect)
 	@$(STAGE) $$@ -- $(BIN)/collect -i $(2)/cands/index.json --plan $$@ --plan-key $(1)
+	@[ -z "$$$$CANOPY_PROGRESS" ] || scripts/progress.sh extend "$$$$CANOPY_PROGRESS" $$@ $$(TILE_CAND_KINDS)
 $(2)/classes.ply: $(2)/cands/index.json
-	@cp $(2)/cands/classes.ply $(2)/.classes.tmp$$$$.ply && mv $(2)/.classes.tmp$$$$.ply $$@ && echo "done  $$@"
+	@$(call link_or_copy,$(2)/cands/classes.ply,$$@) && touch -c $$@ && echo "done  $$@"
 endef
+
+# The stages each candidate runs, as scripts/progress.sh names their kinds (the plan step adds
+# them to the progress count: the candidates are known only once detect has run).
+TILE_CAND_KINDS := fitvox:cand/samples.pcd cocone:cand/mesh.ply ncut:cand/segments.json gmatch:cand/match.json \
+  verify:cand/verdict.json
 
 # cand_rule(DIR, ID, KEY, MODELBASE, SEEDKEY): fitvox | cocone | ncut | gmatch | verify on one
 # candidate (cands/<id>.pcd, written by detect with index.json).
 define cand_rule
 $(1)/cands/$(2)/samples.pcd: $(1)/cands/index.json $(call tool,fitvox) $(TILE_FITVOX)
-	@$(STAGE) --record-failure $$@ -- $(BIN)/fitvox --config $(TILE_FITVOX) -i $(1)/cands/$(2).pcd -o $$@
+	@$(STAGE) --record-failure $$@ -- $(BIN)/fitvox --config $(TILE_FITVOX) --pcd-encoding $(PCD_ENCODING) \
+	  -i $(1)/cands/$(2).pcd -o $$@
 $(1)/cands/$(2)/mesh.ply: $(1)/cands/$(2)/samples.pcd $(call tool,cocone) $(P)/cocone.ini
 	@$(STAGE) --record-failure $$@ -- $(BIN)/cocone --config $(P)/cocone.ini -i $$< -o $$@
 $(1)/cands/$(2)/segments.json: $(1)/cands/$(2)/mesh.ply $(call tool,ncut) $(P)/ncut.ini
-	@$(STAGE) --record-failure $$@ -- $(BIN)/ncut --config $(P)/ncut.ini --seed $(call seed,$(5)/$(2)) \
+	@$(STAGE) --record-failure $$@ -- $(BIN)/ncut --config $(P)/ncut.ini --seed $$(call seed,$(5)/$(2)) \
 	  -i $$< -o $$@ --colored $(1)/cands/$(2)/segments.ply
 $(1)/cands/$(2)/match.json: $(1)/cands/$(2)/segments.json $(wildcard $(4)/*.json) $(call tool,gmatch) $(P)/gmatch.ini
 	@$(STAGE) --record-failure $$@ -- $(BIN)/gmatch --config $(P)/gmatch.ini -i $$< --modelbase $(4) -o $$@
@@ -116,7 +125,7 @@ define tiles_rule
 .PHONY: tiles-$(basename $(notdir $(1)))
 tiles-$(basename $(notdir $(1))):
 	+@$$(MAKE) --no-print-directory -f Makefile.experiments tile TILE=$(1) \
-	  OUT=$(TILES_OUT)/$(basename $(notdir $(1))) MODELBASE=$(MODELBASE)
+	  OUT=$(TILES_OUT)/$(basename $(notdir $(1))) MODELBASE=$(MODELBASE) PROGRESS=0
 endef
 $(foreach f,$(TILES_FILES),$(eval $(call tiles_rule,$(f))))
 tiles: $(foreach f,$(TILES_FILES),tiles-$(basename $(notdir $(f))))
@@ -164,7 +173,7 @@ SCENE_VEHICLES ?=
 # The pictures per cover level show the first SCENE_PICTURE_COLS tiles at every noise level.
 SCENE_PICTURE_COLS ?= 4
 SCENE_TOPVIEW_SIZE ?= 512
-scene_vehicles = $(or $(SCENE_VEHICLES),$(shell echo $$(( 3 + $(call seed,vehicles/$(1)) % 6 ))))
+scene_vehicles = $(or $(SCENE_VEHICLES),$(shell printf '%s' 'vehicles/$(1)' | cksum | awk '{ print 3 + $$1 % 6 }'))
 SCENE_DIR := $(OUT)/scenes
 SCENE_RES := $(RES)/scenes
 SCENE_SCORE := $(SCENE_RES)/score.json
@@ -182,8 +191,7 @@ SCENE_BASELINE ?= vfh fpfh
 $(if $(filter-out vfh fpfh,$(SCENE_BASELINE)),$(error SCENE_BASELINE=$(SCENE_BASELINE): methods are vfh and fpfh))
 SCENE_BL_SCORES := $(foreach m,$(SCENE_BASELINE),$(SCENE_RES)/baseline-$(m)/score.json)
 
-.PHONY: scenes FORCE
-FORCE:
+.PHONY: scenes
 # The report's "Scene experiment" section: the score, and the stages' .time files found through
 # the score's list of tiles. SCENE_EXPERIMENT=0 leaves the scene experiment out of `all` and
 # of the report (the pipeline tests' small slices of the thesis graph, a thesis-only run).
@@ -217,6 +225,7 @@ $(SCENE_BL_SCORES): $(SCENE_SCORE)
 else
 # ---- read only by `make scenes` ----------------------------------------------------------
 SCENE_MB := $(OUT)/modelbase
+TILE_CAND_KINDS += $(foreach m,$(SCENE_BASELINE),baseline:cand/baseline-$(m).json)
 
 # The recipes and the score's manifests are written at parse time when they changed
 # (text_prereq, Makefile.experiments).
@@ -242,21 +251,20 @@ $(if $(dry_run),,$(shell mkdir -p $(SCENE_TILES) $(SCENE_RES) $(dir $(SCENE_BL_S
 define scene_tile_rule
 $(SCENE_DIR)/$(1)/tile-$(2)/recipe.scene: $(call text_prereq,$(SCENE_DIR)/$(1)/tile-$(2)/recipe.scene,$(call scene_recipe,$(1),$(2)))
 $(SCENE_DIR)/$(1)/tile-$(2)/scan.pcd: $(SCENE_DIR)/$(1)/tile-$(2)/recipe.scene $(call tool,rangetrace)
-	@$(STAGE) $$@ -- $(BIN)/rangetrace --scene $$< --seed $(call seed,scenes/$(1)/$(2)) --threads 2 \
+	@$(STAGE) $$@ -- $(BIN)/rangetrace --scene $$< --seed $$(call seed,scenes/$(1)/$(2)) --threads 2 \
 	  -o $$@ --truth $(SCENE_DIR)/$(1)/tile-$(2)/truth.json
 $(SCENE_DIR)/$(1)/tile-$(2)/truth.json: $(SCENE_DIR)/$(1)/tile-$(2)/scan.pcd
 endef
 
 # scene_noise_rule(cover, seed, noise): the noisy scan.
 define scene_noise_rule
-$(SCENE_DIR)/$(1)/tile-$(2)/noise-$(3)/scan.pcd: $(SCENE_DIR)/$(1)/tile-$(2)/scan.pcd $(call tool,addnoise) $(P)/addnoise.ini
-	@$(STAGE) $$@ -- $(BIN)/addnoise --config $(P)/addnoise.ini --sigma $(3)mm \
-	  --seed $(call seed,scenes/$(1)/$(2)/$(3)) -i $$< -o $$@
+$(call noisy_rule,$(SCENE_DIR)/$(1)/tile-$(2)/scan.pcd,$(SCENE_DIR)/$(1)/tile-$(2)/noise-$(3)/scan.pcd,$(3),scenes/$(1)/$(2)/$(3))
 endef
 
 $(foreach c,$(SCENE_COVERS),$(foreach s,$(SCENE_SEEDS),$(eval $(call scene_tile_rule,$(c),$(s)))))
 $(foreach c,$(SCENE_COVERS),$(foreach s,$(SCENE_SEEDS),$(foreach n,$(SCENE_NOISES),$(eval $(call scene_noise_rule,$(c),$(s),$(n))))))
-$(foreach r,$(SCENE_RUNS),$(eval $(call tile_rules,$(call scene_key,$(r)),$(r),$(r)/scan.pcd,$(SCENE_MB))))
+# detect writes no classes.ply for the experiment's runs (nothing reads it; KEEP=1 keeps it).
+$(foreach r,$(SCENE_RUNS),$(eval $(call tile_rules,$(call scene_key,$(r)),$(r),$(r)/scan.pcd,$(SCENE_MB),$(if $(keep),,--no-classes))))
 $(foreach r,$(SCENE_RUNS),$(call read_plan,$(r)/cands.mk))
 # ncut's seed key is the run's place under scenes/ (scenes/<cover>/tile-<seed>/noise-<mm>/<id>),
 # never a path with $(OUT) in it: the same experiment in another directory gives the same bytes.
@@ -301,12 +309,18 @@ $(foreach m,$(SCENE_BASELINE),$(foreach r,$(SCENE_RUNS),$(eval $(call scene_base
 $(foreach m,$(SCENE_BASELINE),$(eval $(call scene_baseline_score_rule,$(m))))
 # Per run: the tile from above with truth and detections coloured by the score's outcome
 # (right green, wrong model orange, false alarm magenta, missed yellow, found truth white).
+# It is the last reader of the run's scan and of the tile's render (all noisy scans exist once
+# the score does): both are deleted after it unless KEEP=1 (.SECONDARY: not remade while what
+# was made from them is current).
 define scene_picture_rule
 $(1)/scored.png: $(SCENE_SCORE) $(1)/scan.pcd $(call tool,topview)
 	@$(STAGE) $$@ -- $(BIN)/topview -i $(1)/scan.pcd --detections $(1)/detections.json --size $(SCENE_TOPVIEW_SIZE) \
-	  --truth $(patsubst %/,%,$(dir $(1)))/truth.json --score $(SCENE_SCORE) --tile $(2) -o $$@
+	  --truth $(patsubst %/,%,$(dir $(1)))/truth.json --score $(SCENE_SCORE) --tile $(2) -o $$@$(call scene_prune,$(1))
 endef
-$(foreach i,$(shell seq 1 $(words $(SCENE_RUNS))),$(eval $(call scene_picture_rule,$(word $(i),$(SCENE_RUNS)),$(shell echo $$(( $(i) - 1 ))))))
+scene_prune = $(if $(keep),, && rm -f $(1)/scan.pcd $(patsubst %/,%,$(dir $(1)))/scan.pcd)
+.SECONDARY: $(addsuffix /scan.pcd,$(SCENE_TILES) $(SCENE_RUNS))
+# (the run's index counted by make: $(words) of the runs before it)
+$(foreach i,$(shell seq 1 $(words $(SCENE_RUNS))),$(eval $(call scene_picture_rule,$(word $(i),$(SCENE_RUNS)),$(words $(wordlist 2,$(i),$(SCENE_RUNS))))))
 # Per cover level: one grid, rows = noise levels, columns = the first tiles.
 SCENE_PICTURE_SEEDS := $(wordlist 1,$(SCENE_PICTURE_COLS),$(SCENE_SEEDS))
 define scene_grid_rule

@@ -28,7 +28,7 @@ verdicts: $(VERDICTS)
 define band_scene_rule
 $(OUT)/$(1)/band/scan.pcd: $(call tool,rangetrace) $(P)/rangetrace.ini share/models/$(1).inc share/scenes/band.scene
 	@$(STAGE) $$@ -- $(BIN)/rangetrace --config $(P)/rangetrace.ini --model $(1) --scene share/scenes/band.scene \
-	  --seed $(call seed,$(1)/band) --threads 2 -o $$@
+	  --seed $$(call seed,$(1)/band) --threads 2 -o $$@
 endef
 $(foreach o,$(OBJECTS),$(eval $(call band_scene_rule,$(o))))
 $(foreach o,$(OBJECTS),$(eval $(call case_rule,$(o),band,0)))

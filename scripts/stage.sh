@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # stage.sh [--launch local|slurm] [--record-failure] ARTIFACT -- COMMAND...: runs one
 # experiment stage for make.
-# The tool's stderr (its INFO lines, warnings, errors) goes to ARTIFACT.log; wall seconds and
-# peak memory (KiB) to ARTIFACT.time (read by the report); one progress line is printed,
+# The tool's stderr (its INFO lines, warnings, errors) goes to ARTIFACT.log; wall seconds, peak
+# memory (KiB), user and system CPU seconds to ARTIFACT.time (GNU time's "%e %M %U %S", read by
+# the report through formats/stage_time.h); one progress line is printed,
 # "done  N/M ARTIFACT ..." where M is the number of stages make planned (CANOPY_PROGRESS_TOTAL)
 # and N counts the stages finished so far in this make run (a counter file,
 # CANOPY_PROGRESS, incremented under flock). On failure the log tail is shown and the status
@@ -25,7 +26,8 @@
 # the tool (srun could not get an allocation) is never a result: it fails make and leaves no
 # ARTIFACT. GNU time's report ("Command terminated by signal 9") tells the cases apart.
 set -u
-here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+# (Forks are counted here: this runs once per stage, ≈ 2000 times in the experiment. What bash
+# can do itself (dirname, reading a line, the CPU sum, the clock) it does.)
 launch=local
 record=0
 while :; do
@@ -42,10 +44,11 @@ shift
 [ $# -gt 0 ] || { echo "stage.sh: $artifact: no command given" >&2; exit 2; }
 log="$artifact.log"
 timing="$artifact.time.tmp"
-mkdir -p "$(dirname "$artifact")"
+case "$artifact" in */*) [ -d "${artifact%/*}" ] || mkdir -p "${artifact%/*}" ;; esac
 
 # resource KEY: the value of KEY in the tool's section of the resources file, else [default].
-resources=${CANOPY_RESOURCES:-$here/../share/resources.ini}
+resources=${CANOPY_RESOURCES:-}
+[ -n "$resources" ] || { here=${BASH_SOURCE[0]%/*}; [ "$here" != "${BASH_SOURCE[0]}" ] || here=.; resources=$here/../share/resources.ini; }
 ini_get() {  # ini_get SECTION KEY
   awk -v sec="$1" -v key="$2" '
     /^[ \t]*[#;]/ { next }
@@ -64,7 +67,7 @@ if [ "$launch" = slurm ]; then
 fi
 resource() { local v; v=$(ini_get "$section" "$1"); [ -n "$v" ] || v=$(ini_get default "$1"); echo "$v"; }
 
-run=(/usr/bin/time -f '%e %M' -o "$timing" "$@")
+run=(/usr/bin/time -f '%e %M %U %S' -o "$timing" "$@")
 case "$launch" in
   local) ;;
   slurm)
@@ -80,14 +83,61 @@ case "$launch" in
   *) echo "stage.sh: error: unknown --launch '$launch' (local or slurm)" >&2; exit 2 ;;
 esac
 
-# progress: "N/M " once the stage is finished (empty when make did not count the plan).
+# progress: "N/M " once the stage is finished, and "  ~T left" (scripts/progress.sh
+# keeps the state: N and M, the estimated seconds done and known, the start). This stage's
+# share of the estimate is its artifact's previous wall time, else the estimate of its kind.
+# Every finished stage appends "<kind> <wall s> <cpu s>" to the history the estimates come from.
+tool=$1
+for word in "$@"; do
+  case "$word" in */bin/*) tool=$word; break ;; esac
+done
+name=${artifact##*/}
+kind="${tool##*/}:"
+case "$artifact" in */cands/*) kind+="cand/" ;; esac
+kind+=${name//[0-9]/#}
+previous=""
+[ -f "$artifact.time" ] && read -r previous _ <"$artifact.time" 2>/dev/null
+# progress sets n_m ("N/M " or "") and left.
+n_m="" left=""
 progress() {
-  local n
-  [ -n "${CANOPY_PROGRESS:-}" ] && [ -n "${CANOPY_PROGRESS_TOTAL:-}" ] || return 0
-  n=$( { flock 9 && printf . >&9 && stat -c %s "$CANOPY_PROGRESS"; } 9>>"$CANOPY_PROGRESS" 2>/dev/null) || return 0
-  printf '%s/%s ' "$n" "$CANOPY_PROGRESS_TOTAL"
+  local out
+  # (the state is read only under the lock: another stage rewrites it in place)
+  [ -n "${CANOPY_PROGRESS:-}" ] && [ -e "$CANOPY_PROGRESS" ] || return 0
+  out=$( {
+    flock 9 || exit 1
+    # (one awk: reads the state, writes it back in place under the lock, prints "N/M text")
+    awk -v st="$CANOPY_PROGRESS" -v kind="$kind" -v prev="$previous" -v now="$EPOCHREALTIME" '
+      BEGIN {
+        if ((getline line < st) <= 0 || split(line, s, " ") < 5) exit 1
+        n = s[1] + 1; m = s[2]; d = s[3]; e = s[4]; t0 = s[5]
+        x = -1
+        if (prev ~ /^[0-9]+([.][0-9]*)?$/) x = prev
+        else {
+          tool = kind; sub(/:.*/, "", tool)
+          while ((getline line < (st "-est")) > 0) {
+            split(line, f, " ")
+            if (f[1] == kind) x = f[2]; else if (f[1] == tool) t = f[2]; else if (f[1] == "*") all = f[2]
+          }
+          if (x < 0) x = t != "" ? t : (all != "" ? all : 1)
+        }
+        d += x
+        if (m < n) m = n
+        if (e < d) e = d
+        close(st)
+        printf "%d %d %.3f %.3f %s\n", n, m, d, e, t0 > st
+        # (shown once 1% of the estimated work is done: before, the pace is mostly noise)
+        left = d > 0 && n < m && d >= 0.01 * e ? (now - t0) * (e - d) / d : -1
+        if (left < 0) text = ""
+        else if (left < 90) text = sprintf("~%d s left", left + 0.5)
+        else if (left < 5400) text = sprintf("~%d min left", left / 60 + 0.5)
+        else text = sprintf("~%d h %02d min left", int(left / 3600), int((left % 3600) / 60 + 0.5))
+        printf "%d/%d %s\n", n, m, text
+      }'
+  } 9>>"$CANOPY_PROGRESS.lock" 2>/dev/null) || return 0
+  left=${out#* }
+  [ -z "$left" ] || left="  $left"
+  n_m="${out%% *} "
 }
-
 rm -f "$timing"
 if "${run[@]}" 2>"$log"; then
   rc=0
@@ -96,11 +146,17 @@ else
 fi
 # GNU time's first line says how the tool ended when it did not exit 0.
 how=""
-[ -f "$timing" ] && how=$(head -n 1 "$timing")
+[ -f "$timing" ] && read -r how <"$timing"
 if [ $rc -eq 0 ] && [ -f "$timing" ] && [ "${how#Command}" = "$how" ]; then
   mv -f "$timing" "$artifact.time"
-  read -r secs kib <"$artifact.time"
-  printf 'done  %s%-58s %7.2f s %6d MB\n' "$(progress)" "$artifact" "$secs" "$((kib / 1024))"
+  read -r secs kib user sys <"$artifact.time"
+  # user + system: GNU time prints both with two decimals; summed in hundredths
+  cs=0
+  [[ "${user:-} ${sys:-}" =~ ^[0-9]+\.[0-9]{2}\ [0-9]+\.[0-9]{2}$ ]] && cs=$((10#${user/./} + 10#${sys/./}))
+  cpu=$((cs / 100)).$(printf '%02d' $((cs % 100)))
+  [ -z "${CANOPY_PROGRESS:-}" ] || echo "$kind $secs $cpu" >>"$CANOPY_PROGRESS-history"
+  progress
+  printf 'done  %s%-58s %7.2f s %7.2f cpu %6d MB%s\n' "$n_m" "$artifact" "$secs" "$cpu" "$((kib / 1024))" "$left"
   exit 0
 fi
 rm -f "$timing" "$artifact.time"
@@ -124,7 +180,8 @@ elif [ -n "$how" ]; then
 else
   why="exit $rc; the tool did not finish"
 fi
-printf 'FAIL  %s%-58s (%s); last lines of %s:\n' "$(progress)" "$artifact" "$why" "$log"
+progress
+printf 'FAIL  %s%-58s (%s); last lines of %s:\n' "$n_m" "$artifact" "$why" "$log"
 tail -n 5 "$log" | sed 's/^/      /'
 if [ $record -eq 1 ]; then
   if [ $tool_failed -eq 1 ]; then

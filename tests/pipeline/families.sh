@@ -25,7 +25,7 @@ cp -r "$src/share/params" "$tmp/params"
 mk=(make -C "$src" -f Makefile.experiments BUILD="$tmp/build" CMAKE=true P="$tmp/params" PROGRESS=0
     OUT="$tmp/out" RES="$tmp/res" FAM_CLASSES="pickup van" FAM_TRAIN=0 FAM_TEST="1000 1001"
     FAM_COVERS=light FAM_NOISES=0 FAM_VIEWS="circle 6 75deg"
-    FAM_RENDER="--size 320 --spacing 30mm --crop-length 7m --crop-width 3m --crop-height 3m")
+    FAM_RENDER="--size 320 --spacing 30mm --crop-length 7m --crop-width 3m --crop-height 3m" KEEP=1)
 
 "${mk[@]}" -j2 families >"$tmp/make.log" 2>&1 || fail "make families failed: $(tail -8 "$tmp/make.log")"
 res=$tmp/res/families mb=$tmp/out/families/modelbase
@@ -119,4 +119,13 @@ grep -q "^done.*train/van-0/scan.pcd" "$tmp/big.log" && fail "family-modelbase r
 order=$(grep -n "^done.*train/\(pickup-1/noise-0/segments.json\|van-1/scan.pcd\)" "$tmp/big.log" | cut -d: -f2 | awk '{ print $2 }')
 [ "$(echo "$order" | sed 's|.*/train/||' | tr '\n' ' ')" = "pickup-1/noise-0/segments.json van-1/scan.pcd " ] \
   || fail "FAM_MB_WINDOW=1: van-1 rendered before pickup-1 was done: $order"
+# Without KEEP=1 the test renders are deleted once famscore has run; the protocol stays up to
+# date (they are .SECONDARY) and a second run runs nothing.
+rm "$res/confusion.csv"
+"${mk[@]}" -j2 families KEEP=0 >"$tmp/prune.log" 2>&1 || fail "make families KEEP=0 failed: $(tail -5 "$tmp/prune.log")"
+[ "$(grep -c '^done' "$tmp/prune.log")" = 1 ] || fail "re-making confusion.csv ran more than famscore: $(head -5 "$tmp/prune.log")"
+for d in "$tmp"/out/families/test/*/light; do [ ! -e "$d/scan.pcd" ] || fail "KEEP=0 left $d/scan.pcd"; done
+"${mk[@]}" -q families KEEP=0 || fail "make -q families not clean after the renders were deleted"
+"${mk[@]}" -j2 families KEEP=0 >"$tmp/prune2.log" 2>&1 || fail "a second make families KEEP=0 failed"
+if grep -q '^done\|^FAIL' "$tmp/prune2.log"; then fail "a second make families KEEP=0 ran stages: $(head -3 "$tmp/prune2.log")"; fi
 echo ok

@@ -15,6 +15,42 @@ mkdir -p "$tree"
 (cd "$src" && cp -a Makefile.experiments CMakeLists.txt common formats tools scripts share mk "$tree/") ||
   fail "cannot copy the source tree"
 cd "$tree" || exit 1
+# The fake build also leaves the records CMake's Makefile generator keeps, which
+# scripts/tool-deps.sh reads (checked against the real build at the end): per target a
+# DependInfo.cmake naming its sources, their depfiles and the targets it links. Every tool links
+# canopy_formats and canopy_common; report links canopy_areas_lib too (tools/report/
+# CMakeLists.txt). Depfiles name files relative to the target's build directory (as with
+# ccache's base_dir) or, for common/, absolute (as without).
+cat >"$tmp/records.sh" <<'REC'
+#!/usr/bin/env bash
+# records.sh BUILD TREE TARGET DIR LINKED-DIR...: the records of a target built from DIR's files.
+b=$1 tree=$2 target=$3 dir=$4
+shift 4
+d="$b/$dir/CMakeFiles/$target.dir"
+mkdir -p "$d"
+{
+  echo 'set(CMAKE_DEPENDS_DEPENDENCY_FILES'
+  for src in $(cd "$tree" && find "$dir" -name '*.cpp' | sort); do
+    o="$dir/CMakeFiles/$target.dir/$(basename "$src").o"
+    echo "  \"$tree/$src\" \"$o\" \"gcc\" \"$o.d\""
+    {
+      echo "$o: \\"
+      for h in "$src" $(cd "$tree" && find "$dir" -name '*.h' | sort); do
+        case "$dir" in
+          common) echo " $tree/$h \\" ;;
+          *) echo " $(realpath -m --relative-to="$b/$dir" "$tree/$h") \\" ;;
+        esac
+      done
+      echo " /usr/include/stdc-predef.h"
+    } >"$b/$o.d"
+  done
+  echo '  )'
+  echo 'set(CMAKE_TARGET_LINKED_INFO_FILES'
+  for l in "$@"; do echo "  \"$b/$l/DependInfo.cmake\""; done
+  echo '  )'
+} >"$d/DependInfo.cmake"
+REC
+chmod +x "$tmp/records.sh"
 cat >"$tmp/cmake" <<EOF
 #!/usr/bin/env bash
 # fake cmake --build DIR --target TOOL ...: writes the tool's content to DIR/bin/TOOL.
@@ -24,6 +60,15 @@ echo "\$t" >>"$tmp/cmake.calls"
 if [ -f "$tmp/content/\$t" ]; then cat "$tmp/content/\$t"; else echo "binary \$t v1"; fi >"$tmp/build/bin/\$t.new"
 # a real build leaves an unchanged binary alone; only a changed one is replaced
 cmp -s "$tmp/build/bin/\$t.new" "$tmp/build/bin/\$t" && rm "$tmp/build/bin/\$t.new" || mv "$tmp/build/bin/\$t.new" "$tmp/build/bin/\$t"
+libs="formats/CMakeFiles/canopy_formats.dir common/CMakeFiles/canopy_common.dir"
+"$tmp/records.sh" "$tmp/build" "$tree" canopy_common common
+"$tmp/records.sh" "$tmp/build" "$tree" canopy_formats formats common/CMakeFiles/canopy_common.dir
+"$tmp/records.sh" "$tmp/build" "$tree" canopy_areas_lib tools/areas \$libs
+[ "\$t" = report ] && libs="\$libs tools/areas/CMakeFiles/canopy_areas_lib.dir"
+"$tmp/records.sh" "$tmp/build" "$tree" "\$t" "tools/\$t" \$libs
+mkdir -p "$tmp/build/CMakeFiles"
+printf 'set(CMAKE_MAKEFILE_DEPENDS\n  "CMakeCache.txt"\n  "%s/CMakeLists.txt"\n  "%s/tools/CMakeLists.txt"\n  )\n' \
+  "$tree" "$tree" >"$tmp/build/CMakeFiles/Makefile.cmake"
 EOF
 chmod +x "$tmp/cmake"
 mk=(make -f Makefile.experiments OBJECTS=sedan SCENES=unoccluded NOISES=0 ABLATIONS= SCENE_EXPERIMENT=0 BASELINE=0 FAMILIES=0 OUT="$tmp/out"
@@ -38,12 +83,17 @@ mkdir -p "$tmp/build/bin" "$tmp/build/stamps" "$tmp/params" "$tmp/out/sedan/unoc
   "$tmp/out/modelbase" "$tmp/res/figures" "$tmp/res/pictures" "$tmp/content"
 cp share/params/*.ini "$tmp/params/"
 at $((now - 100)) "$tmp/params/"*.ini
-touch "$tmp/build/.deps-stamp" "$tmp/build/CMakeCache.txt"
+touch "$tmp/build/.deps-stamp"
+echo "CMAKE_HOME_DIRECTORY:INTERNAL=$tree" >"$tmp/build/CMakeCache.txt"
 for t in "${tools[@]}"; do
-  echo "binary $t v1" >"$tmp/build/bin/$t"
+  "$tmp/cmake" --build "$tmp/build" --target "$t" || fail "the fake cmake failed"
   sha256sum <"$tmp/build/bin/$t" | cut -d' ' -f1 >"$tmp/build/stamps/$t.sha"
+  scripts/tool-deps.sh "$tmp/build" "$t" "$tmp/build/deps/$t.mk" || fail "tool-deps.sh $t failed"
+  [ -s "$tmp/build/deps/$t.mk" ] || fail "tool-deps.sh wrote no record of $t's sources"
 done
+rm "$tmp/cmake.calls"
 at $((now - 90)) "$tmp/build/bin/"*
+at $((now - 89)) "$tmp/build/deps/"*
 at $((now - 88)) "$tmp/build/stamps/"*
 c="$tmp/out/sedan/unoccluded"
 r="$tmp/res"
@@ -114,6 +164,55 @@ sha256sum <"$tmp/build/bin/fitvox" | cut -d' ' -f1 >"$tmp/build/stamps/fitvox.sh
 at $((now - 88)) "$tmp/build/stamps/fitvox.sha"
 "${mk[@]}" -q all || fail "make -q all not clean after restoring fitvox"
 
+# No stale binaries: a tool depends on every source it was compiled from, as CMake recorded it
+# (scripts/tool-deps.sh), not on a hand-written list. report links the areas library: editing
+# tools/areas/areas.cpp rebuilds areas and report, and no other tool (the Makefile before listed
+# only tools/report/ for report, so the experiment ran an old report).
+built() { sort -u "$tmp/cmake.calls" 2>/dev/null | tr '\n' ' '; }
+rm -f "$tmp/cmake.calls"
+echo "// an edit" >>tools/areas/areas.cpp
+plan=$("${mk[@]}" -n all 2>&1)
+[ "$(built)" = "areas report " ] || fail "editing tools/areas/areas.cpp rebuilt '$(built)', not 'areas report '"
+[ "$(echo "$plan" | stages)" -eq 0 ] || fail "same-bytes relinks of areas and report plan stages"
+# ... a header of it, and report's bytes change: report's stage runs, areas' does not.
+rm -f "$tmp/cmake.calls"
+echo "binary report v2" >"$tmp/content/report"
+echo "// an edit" >>tools/areas/areas.h
+plan=$("${mk[@]}" -n all 2>&1)
+[ "$(built)" = "areas report " ] || fail "editing tools/areas/areas.h rebuilt '$(built)', not 'areas report '"
+plans "bin/report " || fail "report's stage not planned after its binary changed with tools/areas/areas.h"
+if plans "bin/areas "; then fail "areas' stage planned, but its binary did not change"; fi
+rm "$tmp/content/report"
+echo "binary report v1" >"$tmp/build/bin/report"
+sha256sum <"$tmp/build/bin/report" | cut -d' ' -f1 >"$tmp/build/stamps/report.sha"
+at $((now - 88)) "$tmp/build/stamps/report.sha"
+"${mk[@]}" -q all || fail "make -q all not clean after restoring report"
+# A formats/ source rebuilds every tool (all link canopy_formats).
+rm -f "$tmp/cmake.calls"
+echo "// an edit" >>"$(find formats -name '*.cpp' | head -1)"
+"${mk[@]}" -n all >/dev/null 2>&1
+[ "$(built)" = "$(printf '%s\n' "${tools[@]}" | sort | tr '\n' ' ')" ] ||
+  fail "editing a formats/ source rebuilt '$(built)', not every tool"
+# A header that no longer exists (renamed) is no error: the tool is rebuilt and its record
+# rewritten without it.
+rm -f "$tmp/cmake.calls"
+h=$(find tools/ncut -name '*.h' | head -1)
+git_mv_target="${h%.h}_renamed.h"
+mv "$h" "$git_mv_target"
+"${mk[@]}" -n all >"$tmp/plan.log" 2>&1 || fail "a removed header breaks make: $(tail -3 "$tmp/plan.log")"
+[ "$(built)" = "ncut " ] || fail "removing $h rebuilt '$(built)', not ncut"
+grep -q "$git_mv_target" "$tmp/build/deps/ncut.mk" || fail "ncut's record does not name $git_mv_target"
+# A binary built after its record (by scripts/build.sh, outside make) is handed to CMake once,
+# which rewrites the record; then nothing is built.
+rm -f "$tmp/cmake.calls"
+touch "$tmp/build/bin/gmatch"
+"${mk[@]}" -n all >/dev/null 2>&1
+[ "$(built)" = "gmatch " ] || fail "a binary newer than its record: built '$(built)', not gmatch"
+rm -f "$tmp/cmake.calls"
+"${mk[@]}" -n all >/dev/null 2>&1
+[ ! -f "$tmp/cmake.calls" ] || fail "a second run rebuilt '$(built)'"
+"${mk[@]}" -q all || fail "make -q all not clean after the source edits"
+
 # The Slurm resources are no prerequisite; LAUNCH=slurm only changes how stages are launched.
 touch share/resources.ini
 "${mk[@]}" -q all || fail "touching share/resources.ini made the tree stale"
@@ -140,5 +239,27 @@ plan=$("${mk[@]}" -n all 2>&1)
 plans "bin/fitvox " || fail "fitvox not re-planned after fitvox.ini changed"
 plans "bin/cocone " || fail "cocone not re-planned after fitvox.ini changed"
 if plans "bin/addnoise "; then fail "addnoise re-planned, but only fitvox.ini changed"; fi
+
+# The records of the real build (the one these tests run from: <build>/bin is $2): report's
+# record names the areas library's sources and the shared ones it includes, and no other
+# tool's; famscore's names the rangetrace sources it links.
+real_build=$(cd "${2:-}/.." 2>/dev/null && pwd)
+if [ -n "$real_build" ] && [ -f "$real_build/CMakeFiles/Makefile.cmake" ]; then
+  cd "$src" || exit 1
+  scripts/tool-deps.sh "$real_build" report "$tmp/report.mk"
+  for f in tools/areas/areas.cpp tools/areas/areas.h tools/report/report.cpp tools/report/main.cpp \
+           formats/src/stage_time.cpp formats/include/canopy/formats/stage_time.h common/CMakeLists.txt; do
+    grep -q "^\$(BIN)/report:.* $f\( \|\$\)" "$tmp/report.mk" || fail "the real build's record of report misses $f"
+  done
+  # (every CMakeLists.txt is there: CMake reads them all to configure any target)
+  if grep "^\$(BIN)/report:" "$tmp/report.mk" | tr ' ' '\n' | grep -q "^tools/fitvox/.*\.\(cpp\|h\)$\|^/\|\.md$"; then
+    fail "the real build's record of report names a file it is not built from"
+  fi
+  scripts/tool-deps.sh "$real_build" famscore "$tmp/famscore.mk"
+  grep -q "^\$(BIN)/famscore:.* tools/rangetrace/families.cpp" "$tmp/famscore.mk" ||
+    fail "the real build's record of famscore misses tools/rangetrace/families.cpp"
+else
+  echo "note: no Makefile-generator build at ${2:-}/..: the real records are not checked"
+fi
 
 echo "ok: make graph"

@@ -69,11 +69,12 @@ mv "$tmp/run" "$tmp/slurm"
 t2=$(now)
 echo "local $(secs "$t0" "$t1") s, slurm $(secs "$t1" "$t2") s (-j2)"
 
-# Every artifact, byte for byte. Not compared: logs and .time files, times.csv, the wall-time
-# columns of cases.csv (from addnoise_s on) and the "Time per stage" section of report.md, which
-# hold wall times; POV-Ray's pictures, which carry their render date.
+# Every artifact, byte for byte. Not compared: logs and .time files, times.csv, the progress
+# state (.progress*), the wall-time columns of cases.csv (from addnoise_s on) and the "Time per
+# stage" section of report.md, which hold wall times; POV-Ray's pictures, which carry their
+# render date.
 artifacts() {
-  (cd "$1" && find . -type f ! -name '*.log' ! -name '*.time' ! -name 'times.csv' ! -name '.progress' \
+  (cd "$1" && find . -type f ! -name '*.log' ! -name '*.time' ! -name 'times.csv' ! -name '.progress*' \
      ! -path './pictures/*' | sort)
 }
 comparable() {  # comparable FILE: the part of FILE that must not depend on the run

@@ -33,12 +33,18 @@ done
 EOF
 chmod +x "$tmp/bin/fake"
 
-# Success: the INFO line in the log, seconds and KiB in .time, a "done" line.
+# Success: the INFO line in the log, wall seconds, KiB, user and system CPU seconds in .time,
+# a "done" line with wall and CPU.
 out=$("$stage" a/x -- "$tmp/bin/fake" -o a/x) || fail "a successful stage failed: $out"
 [ "$(cat a/x)" = "made by fake" ] || fail "the artifact was not made"
 grep -q "^fake: info: read 3 points" a/x.log || fail "the tool's INFO line is not in the log: $(cat a/x.log)"
-read -r secs kib rest <a/x.time && [ -n "$kib" ] && [ -z "$rest" ] || fail "a/x.time is not 'seconds KiB': $(cat a/x.time)"
-echo "$out" | grep -q "^done  a/x " || fail "no done line: $out"
+grep -Eqx '[0-9]+\.[0-9]+ [0-9]+ [0-9]+\.[0-9]+ [0-9]+\.[0-9]+' a/x.time ||
+  fail "a/x.time is not 'wall KiB user sys': $(cat a/x.time)"
+echo "$out" | grep -Eq "^done  a/x +[0-9.]+ s +[0-9.]+ cpu +[0-9]+ MB$" || fail "no done line with wall and CPU: $out"
+# A stage burning CPU: user CPU seconds recorded (GNU time's %U), not only wall.
+"$stage" a/cpu -- bash -c 'i=0; while [ $i -lt 300000 ]; do i=$((i + 1)); done; : >a/cpu' >/dev/null ||
+  fail "the CPU-burning stage failed"
+awk '{ exit !($3 >= 0.2 && $3 <= $1 + 0.05) }' a/cpu.time || fail "a/cpu.time has no user CPU near its wall time: $(cat a/cpu.time)"
 
 # The tool's own failure, recorded: status 0, an empty artifact, the log named.
 out=$(FAKE_MODE=fail "$stage" --record-failure a/f -- "$tmp/bin/fake" -o a/f) || fail "a recorded failure did not exit 0"
@@ -62,14 +68,55 @@ rc=0; FAKE_MODE=137 "$stage" --record-failure a/w -- "$tmp/bin/fake" -o a/w >/de
 rc=0; "$stage" --record-failure a/n -- "$tmp/bin/no-such-tool" -o a/n >/dev/null || rc=$?
 [ $rc -eq 127 ] && [ ! -e a/n ] || fail "a missing tool was recorded as a failed trial (rc $rc)"
 
-# N/M: three stages, two at once; each N from 1 to 3 exactly once.
-: >"$tmp/progress"
-export CANOPY_PROGRESS="$tmp/progress" CANOPY_PROGRESS_TOTAL=3
+# N/M: a plan of three stages (a dry run's lines), two at once; each N from 1 to 3 exactly
+# once; time left shown before the last.
+progress="$src/scripts/progress.sh"
+printf '%s\n' "built build/bin/fake" "scripts/stage.sh p/1 -- $tmp/bin/fake -o p/1" \
+  "scripts/stage.sh --record-failure p/2 -- $tmp/bin/fake -o p/2" "mkdir -p p" \
+  "scripts/stage.sh p/3 -- xvfb-run -a -s \"-screen 0\" $tmp/bin/fake -o p/3" |
+  "$progress" plan "$tmp/progress" >"$tmp/plan.out" 2>"$tmp/plan.err" || fail "progress.sh plan failed"
+[ "$(cat "$tmp/plan.out")" = 3 ] || fail "progress.sh plan counted $(cat "$tmp/plan.out") stages, not 3"
+grep -qx "built build/bin/fake" "$tmp/plan.err" || fail "progress.sh plan does not pass 'built' lines on"
+export CANOPY_PROGRESS="$tmp/progress"
 { "$stage" p/1 -- "$tmp/bin/fake" -o p/1 & "$stage" p/2 -- "$tmp/bin/fake" -o p/2 & wait
   "$stage" p/3 -- "$tmp/bin/fake" -o p/3; } >"$tmp/p.out"
 [ "$(sed -n 's/^done  \([0-9]*\/3\) .*/\1/p' "$tmp/p.out" | sort | tr '\n' ' ')" = "1/3 2/3 3/3 " ] ||
   fail "progress is not 1/3 2/3 3/3: $(cat "$tmp/p.out")"
-unset CANOPY_PROGRESS CANOPY_PROGRESS_TOTAL
+grep -q '^done  [12]/3 .* MB  ~[0-9]* s left$' "$tmp/p.out" || fail "no time left before the last stage: $(cat "$tmp/p.out")"
+grep -q '^done  3/3 .* MB$' "$tmp/p.out" || fail "the last stage shows time left: $(cat "$tmp/p.out")"
+[ "$(cut -d' ' -f1 "$tmp/progress-history" | sort -u)" = "fake:#" ] ||
+  fail "the history does not hold the stages' kind fake:#: $(cat "$tmp/progress-history")"
+[ "$(wc -l <"$tmp/progress-history")" -eq 3 ] || fail "the history does not hold 3 stages"
+
+# The estimates come from the history: a plan of one kind seen at 2 s and one never seen.
+printf 'slow:#.pcd 2.00 1.90\nslow:#.pcd 2.00 1.90\nquick:#.pcd 0.10 0.10\n' >"$tmp/progress-history"
+printf '%s\n' "scripts/stage.sh q/1.pcd -- $tmp/bin/slow" "scripts/stage.sh q/2.pcd -- /x/bin/other" |
+  "$progress" plan "$tmp/progress" >/dev/null
+read -r n m d e t0 <"$tmp/progress"
+[ "$n $m $d" = "0 2 0" ] || fail "the plan's state is '$n $m $d', not '0 2 0'"
+# slow: 2 s; other (never seen): the mean of the history, 1.367 s
+awk -v e="$e" 'BEGIN { exit !(e > 3.36 && e < 3.37) }' || fail "the plan's estimate is $e s, not 2 + 1.367"
+
+# Candidates revealed by detect join M (progress.sh extend): 2 candidates x 2 stages; one of
+# them has a .time from an earlier run, which is its estimate.
+printf '%s\n' "scripts/stage.sh t/detect -- $tmp/bin/fake" "scripts/stage.sh t/cands.mk -- $tmp/bin/fake" \
+  "scripts/stage.sh t/cands/old1/samples.pcd -- $tmp/bin/fitvox" "scripts/stage.sh t/detections.json -- $tmp/bin/fake" |
+  "$progress" plan "$tmp/progress" >"$tmp/plan.out"
+[ "$(cat "$tmp/plan.out")" = 3 ] || fail "a remade plan's old candidate was counted: $(cat "$tmp/plan.out") stages, not 3"
+mkdir -p t/cands/c0001 && echo "5.00 100 4.00 0.50" >t/cands/c0001/samples.pcd.time
+printf '# plan\nK_CANDS := c0001 c0002\nK_TRANSFORM_c0001 := 1\n' >t/cands.mk
+read -r _ _ _ e0 _ <"$tmp/progress"
+"$progress" extend "$tmp/progress" t/cands.mk fitvox:cand/samples.pcd cocone:cand/mesh.ply || fail "progress.sh extend failed"
+read -r n m d e _ <"$tmp/progress"
+[ "$n/$m" = "0/7" ] || fail "after extend the count is $n/$m, not 0/7"
+awk -v a="$e0" -v b="$e" 'BEGIN { exit !(b - a > 5) }' || fail "extend did not add c0001's earlier 5 s ($e0 -> $e)"
+for a in t/detect t/cands.mk t/cands/c0001/samples.pcd t/cands/c0001/mesh.ply t/cands/c0002/samples.pcd \
+         t/cands/c0002/mesh.ply t/detections.json t/extra; do
+  "$stage" "$a" -- "$tmp/bin/fake" -o "$a"
+done >"$tmp/t.out"
+[ "$(sed -n 's/^done  \([0-9]*\/[0-9]*\) .*/\1/p' "$tmp/t.out" | tr '\n' ' ')" = "1/7 2/7 3/7 4/7 5/7 6/7 7/7 8/8 " ] ||
+  fail "N passes M or M is not extended: $(sed -n 's/^done  \([0-9]*\/[0-9]*\) .*/\1/p' "$tmp/t.out" | tr '\n' ' ')"
+unset CANOPY_PROGRESS
 
 # ---- through make, on a fake tree: every tool is the fake, artifacts are fresh ------------
 cd "$src" || exit 1
@@ -85,7 +132,7 @@ done
 touch -d "@$((now - 90))" "$b/bin/"*
 touch -d "@$((now - 80))" "$b/stamps/"*
 mk=(make -f Makefile.experiments OBJECTS=sedan SCENES=unoccluded NOISES=0 ABLATIONS=fitvox-fixed-rms SCENE_EXPERIMENT=0 BASELINE=0 FAMILIES=0
-    OUT="$tmp/out" RES="$tmp/res" BUILD="$b" DISPLAY=:99)
+    OUT="$tmp/out" RES="$tmp/res" BUILD="$b" CMAKE=true DISPLAY=:99 KEEP=1)
 "${mk[@]}" -n all | grep '^scripts/stage.sh' | grep -q -- ' -q ' &&
   fail "a stage still runs its tool with -q: $("${mk[@]}" -n all | grep '^scripts/stage.sh' | grep -- ' -q ' | head -1)"
 
@@ -97,6 +144,18 @@ got=$(sed -n 's/^\(done\|FAIL\)  \([0-9]*\)\/\([0-9]*\) .*/\2 \3/p' "$tmp/make.o
 [ "$(echo "$got" | awk '{print $1}' | sort -n | tr '\n' ' ')" = "$(seq "$m" | tr '\n' ' ')" ] ||
   fail "N does not run 1..$m once each: $(echo "$got" | awk '{print $1}' | sort -n | tr '\n' ' ')"
 "${mk[@]}" -q all || fail "make -q all not clean after a full run"
+
+# Without KEEP=1 the trial's scans (render and noisy scan) are deleted once the report is
+# written; the tree stays up to date (they are .SECONDARY) and a second run runs nothing.
+prune=("${mk[@]}" KEEP=0 OUT="$tmp/out2" RES="$tmp/res2")
+"${prune[@]}" all -j2 >"$tmp/prune.out" 2>&1 || fail "make all KEEP=0 failed: $(tail -n 5 "$tmp/prune.out")"
+for f in sedan/unoccluded/scan.pcd sedan/unoccluded/noise-0/scan.pcd; do
+  [ ! -e "$tmp/out2/$f" ] || fail "KEEP=0 left $f"
+done
+[ -s "$tmp/out2/sedan/unoccluded/noise-0/samples.pcd" ] || fail "KEEP=0 deleted the samples"
+"${prune[@]}" -q all || fail "make -q all not clean after the scans were deleted"
+"${prune[@]}" all >"$tmp/prune2.out" 2>&1 || fail "a second make all KEEP=0 failed"
+if grep -q '^done\|^FAIL' "$tmp/prune2.out"; then fail "a second make all re-ran stages: $(head -3 "$tmp/prune2.out")"; fi
 
 # The ablation's fitvox killed by SIGKILL: make fails, names the log, leaves no artifact, and
 # the trial stays out of date (a later make re-runs it).

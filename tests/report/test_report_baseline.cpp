@@ -45,7 +45,12 @@ TEST_CASE("baseline section: rank-1 of canopy and both baseline methods per obje
   trial(out, "sedan", 0, "sedan", "tank", "sedan", "sedan");
   trial(out, "sedan", 8, "tank", "sedan", "sedan", "");
   trial(out, "tank", 0, "tank", "tank", "sedan", "tank");
-  // tank at 8 mm has no baseline.json: left out.
+  // tank at 8 mm has no baseline.json: left out. The sedan trials' .time files have CPU columns
+  // (0.45 s user + 0.05 s system each), tank's is an older two-column file.
+  for (int n : {0, 8}) {
+    std::ofstream(out / "sedan" / "circle" / ("noise-" + std::to_string(n)) / "baseline.json.time")
+        << "0.50 40960 0.45 0.05\n";
+  }
   const auto b = canopy::report::baseline_section(out.string(), {"sedan", "tank"}, {"circle"}, {0, 8});
   INFO(b.markdown);
   CHECK(b.markdown.find("| sedan | 2 | 1/2 (50%) | 1/2 (50%) | 1/2 (50%) | 2/2 (100%) |") != std::string::npos);
@@ -55,7 +60,10 @@ TEST_CASE("baseline section: rank-1 of canopy and both baseline methods per obje
   CHECK(b.markdown.find("1 trials have no baseline.json") != std::string::npos);
   CHECK(b.markdown.find("verify was not run on 1 of them") != std::string::npos);
   CHECK(b.markdown.find("mean 0.50 s") != std::string::npos);
-  CHECK(b.csv.find("sedan,circle,8,tank,0,,0,sedan,1,sedan,1,0.500,40.0\n") != std::string::npos);
+  CHECK(b.markdown.find("total 1.5 s wall, CPU 1.0 s (2 of 3 runs), peak 40 MB.") != std::string::npos);
+  CHECK(b.csv.find(",baseline_s,baseline_peak_mb,baseline_cpu_s\n") != std::string::npos);
+  CHECK(b.csv.find("sedan,circle,8,tank,0,,0,sedan,1,sedan,1,0.500,40.0,0.500\n") != std::string::npos);
+  CHECK(b.csv.find("tank,circle,0,tank,1,tank,1,tank,1,sedan,0,0.500,40.0,\n") != std::string::npos);
   CHECK(std::count(b.csv.begin(), b.csv.end(), '\n') == 4);  // header + 3 trials
 
   // No baseline.json anywhere: no section, no CSV.

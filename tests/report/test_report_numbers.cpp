@@ -12,7 +12,21 @@ using report::testing::trial;
 
 namespace {
 
-report::StageTime took(double seconds, double peak_mb) { return {seconds, peak_mb, true}; }
+// A stage run from an older two-column .time file (no CPU), and one with CPU columns.
+report::StageTime took(double seconds, double peak_mb) {
+  report::StageTime t;
+  t.seconds = seconds;
+  t.peak_mb = peak_mb;
+  t.present = true;
+  return t;
+}
+report::StageTime took(double seconds, double peak_mb, double user, double system) {
+  report::StageTime t = took(seconds, peak_mb);
+  t.user_seconds = user;
+  t.system_seconds = system;
+  t.has_cpu = true;
+  return t;
+}
 
 // sedan: 2 of 2 at rank 1; tank: 1 of 3 (one failure over-segmented, one missing area); obj9:
 // a model the thesis never printed and the modelbase lacks, 0 of 1 (no cause found).
@@ -29,12 +43,14 @@ report::Inputs hand_built() {
   in.cases = {trial("sedan", "circle", 0, 1), trial("sedan", "flyby", 8, 1),
               trial("tank", "circle", 0, 1),  over,
               trial("tank", "flyby", 0, 2),   trial("obj9", "circle", 0, 2)};
-  in.cases[0].times = {{"addnoise", took(1.5, 10)}, {"fitvox", took(4, 300)}, {"verify", took(100, 50)}};
+  in.cases[0].times = {
+      {"addnoise", took(1.5, 10, 1.0, 0.25)}, {"fitvox", took(4, 300, 3.5, 0.25)}, {"verify", took(100, 50)}};
   in.cases[1].times = {{"addnoise", took(2.5, 30)}, {"fitvox", report::StageTime{}}};
-  in.cases[2].times = {{"gmatch", took(0.25, 5)}};
+  in.cases[2].times = {{"gmatch", took(0.25, 5, 0.25, 0)}};
   // The thesis table lists two trials: sedan/circle/0 at rank 1, tank/circle/0 at rank 2.
   in.thesis = {{"sedan/circle/0", {0.6, 1, 1.5}}, {"tank/circle/0", {0.5, 2, 2.0}}};
-  in.render_times = {{"sedan/circle", took(10, 700)}, {"tank/circle", took(20, 900)}, {"tank/flyby", {}}};
+  in.render_times = {
+      {"sedan/circle", took(10, 700, 9, 1)}, {"tank/circle", took(20, 900, 18, 1)}, {"tank/flyby", {}}};
   in.render_views = {{"circle", 3}, {"flyby", 5}};
   return in;
 }
@@ -96,8 +112,33 @@ TEST_CASE("numbers: stage times summed over runs, renderings beside them, verify
   CHECK(render.peak_mb == Approx(900.0));
   CHECK(n.render_images == 6);                          // two circle renderings of 3 views
   CHECK(n.total_seconds == Approx(30 + 4 + 4 + 0.25));  // rangetrace, addnoise, fitvox, gmatch
+  // CPU beside wall: addnoise's second run is an older two-column file (no CPU).
+  CHECK(addnoise.cpu_runs == 1);
+  CHECK(addnoise.cpu_seconds == Approx(1.25));
+  CHECK(render.cpu_runs == 2);
+  CHECK(render.cpu_seconds == Approx(29));
+  CHECK(n.stages.at("verify").cpu_runs == 0);
+  CHECK(n.total_cpu_seconds == Approx(29 + 1.25 + 3.75 + 0.25));
+  CHECK(n.total_runs == 6);
+  CHECK(n.total_cpu_runs == 5);
   const auto out = report::render(hand_built(), report::Params{}, n);
-  CHECK(out.times_csv.find("rangetrace,2,30.000,15.000,900\n") != std::string::npos);
+  CHECK(out.times_csv.find("stage,runs,total_s,mean_s,peak_mb,cpu_s,cpu_runs\n") == 0);
+  CHECK(out.times_csv.find("rangetrace,2,30.000,15.000,900,29.000,2\n") != std::string::npos);
+  CHECK(out.times_csv.find("addnoise,2,4.000,2.000,30,1.250,1\n") != std::string::npos);
+  CHECK(out.times_csv.find("verify,1,100.000,100.000,50,0.000,0\n") != std::string::npos);
+  // The time table: CPU beside wall; partial CPU says of how many runs; none is a dash.
+  CHECK(out.markdown.find(
+            "| Range image generation | `rangetrace` | 2 (6 images) | 0:00:30 | 0:00:29 | 15.00 | 900 | "
+            "780 | 7:34 |\n") != std::string::npos);
+  CHECK(out.markdown.find(
+            "| Noise | `addnoise` | 2 | 0:00:04 | 0:00:01 (1 of 2 runs) | 2.00 | 30 | – | – |\n") !=
+        std::string::npos);
+  CHECK(
+      out.markdown.find("| Surface reconstruction | `cocone` | 0 | 0:00:00 | – | 0.00 | 0 | 90 | 2:14 |\n") !=
+      std::string::npos);
+  CHECK(
+      out.markdown.find("| **all stages** | | | **0:00:38** | **0:00:34 (5 of 6 runs)** | | | | 11:54 |\n") !=
+      std::string::npos);
 }
 
 TEST_CASE("numbers: an ablation's rates per object and over its trials") {

@@ -33,13 +33,13 @@ TEST_CASE("scene times: per stage sums, per hectare, peak memory; a shared rende
   const fs::path root = fs::path(CANOPY_TEST_TMP) / "report-scenes" / "times";
   fs::remove_all(root);
   const fs::path tile = root / "light" / "tile-1";
-  write(tile / "scan.pcd.time", "10 1024\n");             // rangetrace: 10 s, 1 MB
-  write(tile / "noise-0" / "scan.pcd.time", "1 2048\n");  // addnoise
-  write(tile / "noise-0" / "detect.time", "2 512000\n");  // 500 MB
+  write(tile / "scan.pcd.time", "10 1024\n");                      // rangetrace: 10 s, 1 MB
+  write(tile / "noise-0" / "scan.pcd.time", "1 2048\n");           // addnoise
+  write(tile / "noise-0" / "detect.time", "2 512000 1.5 0.25\n");  // 500 MB; user and system CPU
   write(tile / "noise-0" / "cands" / "c0001" / "samples.pcd.time", "0.5 10240\n");
   write(tile / "noise-0" / "cands" / "c0002" / "samples.pcd.time", "0.25 20480\n");
   write(tile / "noise-0" / "cands" / "c0002" / "verdict.json.time", "3 4096\n");
-  write(tile / "noise-8" / "detect.time", "4 1024\n");
+  write(tile / "noise-8" / "detect.time", "4 1024 3.5 0.5\n");
   write(tile / "noise-8" / "detections.json.time", "0.1 1024\n");
   fs::create_directories(tile / "noise-8" / "cands" / "c0001");  // a candidate without .time files
 
@@ -57,6 +57,9 @@ TEST_CASE("scene times: per stage sums, per hectare, peak memory; a shared rende
   CHECK(detect.area_ha == Approx(0.18));
   CHECK(detect.per_ha == Approx(6 / 0.18));
   CHECK(detect.peak_mb == Approx(500));
+  CHECK(detect.cpu_runs == 2);
+  CHECK(detect.cpu_seconds == Approx(5.75));
+  CHECK(stage(t, "rangetrace").cpu_runs == 0);  // an older two-column file
   const auto& fitvox = stage(t, "fitvox");
   CHECK(fitvox.runs == 2);
   CHECK(fitvox.seconds == Approx(0.75));
@@ -68,9 +71,20 @@ TEST_CASE("scene times: per stage sums, per hectare, peak memory; a shared rende
   CHECK(stage(t, "addnoise").runs == 1);
 
   const std::string csv = report::scene_times_csv(t);
-  CHECK(csv.find("stage,runs,seconds,area_ha,seconds_per_ha,peak_mb\n") == 0);
-  CHECK(csv.find("detect,2,6.00,0.1800,33.33,500.0\n") != std::string::npos);
-  CHECK(csv.find("rangetrace,1,10.00,0.0900,111.11,1.0\n") != std::string::npos);
+  CHECK(csv.find("stage,runs,seconds,area_ha,seconds_per_ha,peak_mb,cpu_seconds,cpu_runs\n") == 0);
+  CHECK(csv.find("detect,2,6.00,0.1800,33.33,500.0,5.75,2\n") != std::string::npos);
+  CHECK(csv.find("rangetrace,1,10.00,0.0900,111.11,1.0,0.00,0\n") != std::string::npos);
+}
+
+TEST_CASE("scene times: a malformed .time file is an error naming it, not a dropped or negative time") {
+  const fs::path root = fs::path(CANOPY_TEST_TMP) / "report-scenes" / "malformed";
+  for (const char* text : {"-5 100\n", "abc def\n", "nan inf\n"}) {
+    fs::remove_all(root);
+    const fs::path run = root / "light" / "tile-1" / "noise-0";
+    write(run / "detect.time", text);
+    const std::vector<report::SceneRun> runs = {{run.string(), 0.09}};
+    CHECK_THROWS_WITH(report::scene_times(runs), Catch::Contains((run / "detect.time").string()));
+  }
 }
 
 TEST_CASE("scene section: the score's numbers, the targets judged on them, the figures") {
@@ -112,7 +126,12 @@ TEST_CASE("scene section: the score's numbers, the targets judged on them, the f
   d.area_ha = 0.18;
   d.per_ha = 6 / 0.18;
   d.peak_mb = 500;
-  const std::string md = report::scene_markdown(score, {d}, "scenes");
+  report::SceneStageTime f = d;  // a stage whose .time files have CPU columns
+  f.stage = "fitvox";
+  f.seconds = 1.5;
+  f.cpu_runs = 2;
+  f.cpu_seconds = 1.25;
+  const std::string md = report::scene_markdown(score, {d, f}, "scenes");
   CHECK(md.find("## Scene experiment (issue 16)") == 0);
   CHECK(md.find("1 rendered tiles, 2 runs") != std::string::npos);
   CHECK(md.find("0.18 ha in all, 4 true vehicles, 9 candidates verified") != std::string::npos);
@@ -130,7 +149,10 @@ TEST_CASE("scene section: the score's numbers, the targets judged on them, the f
   CHECK(md.find("| tank | all | 4 | 3 | 3 | 75.0% | 100.0% | 75.0% |") != std::string::npos);
   CHECK(md.find("| 0.50–1.00 | all | 0 | 0 | 0 | – | – |") != std::string::npos);
   CHECK(md.find("| 0.600 | 4 | 3 | 1 | 75.0% | 75.0% |") != std::string::npos);
-  CHECK(md.find("| detect | 2 | 6.0 | 33.3 | 500 |") != std::string::npos);
+  CHECK(md.find("| stage | runs | wall s | CPU s | s per ha | peak MB |") != std::string::npos);
+  CHECK(md.find("| detect | 2 | 6.0 | – | 33.3 | 500 |") != std::string::npos);  // no CPU columns
+  CHECK(md.find("| fitvox | 2 | 1.5 | 1.2 | 33.3 | 500 |") != std::string::npos);
+  CHECK(md.find("| **all** | | **7.5** | **1.2 (2 of 4 runs)** | | |") != std::string::npos);
   CHECK(md.find("![light cover](scenes/top-light.png)") != std::string::npos);
   CHECK(md.find("(scenes/cover.png)") != std::string::npos);
   CHECK(md.find("![medium") == std::string::npos);

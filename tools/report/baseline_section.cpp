@@ -13,6 +13,7 @@
 #include "canopy/formats/csv_table.h"
 #include "canopy/formats/match_result.h"
 #include "canopy/formats/stage_time.h"
+#include "report/report.h"
 
 namespace canopy::report {
 namespace {
@@ -58,7 +59,8 @@ struct Counts {
   std::map<std::string, Tally> by_scene;
   Tally all;
   int missing = 0, failed = 0, timed = 0, verified = 0;
-  double seconds = 0, peak = 0;
+  double seconds = 0, peak = 0, cpu = 0;
+  int cpu_timed = 0;
   std::ostringstream csv;
 };
 
@@ -88,6 +90,10 @@ void count_trial(Counts& k, const std::string& out_dir, const std::string& o, co
     ++k.timed;
     k.seconds += t.seconds;
     k.peak = std::max(k.peak, t.peak_mb);
+    if (t.has_cpu) {
+      ++k.cpu_timed;
+      k.cpu += t.cpu_seconds();
+    }
   }
   const bool c = canopy == o, a = answer == o, v = r["vfh"] == o, f = r["fpfh"] == o;
   for (Tally* x : {&k.by_object[o], &k.by_noise[n], &k.by_scene[s], &k.all}) {
@@ -100,7 +106,8 @@ void count_trial(Counts& k, const std::string& out_dir, const std::string& o, co
   k.csv << o << ',' << s << ',' << n << ',' << canopy << ',' << c << ',' << answer << ',' << a << ','
         << r["vfh"] << ',' << v << ',' << r["fpfh"] << ',' << f << ','
         << (t.present ? format_number("%.3f", t.seconds) : "") << ','
-        << (t.present ? format_number("%.1f", t.peak_mb) : "") << '\n';
+        << (t.present ? format_number("%.1f", t.peak_mb) : "") << ','
+        << (t.has_cpu ? format_number("%.3f", t.cpu_seconds()) : "") << '\n';
 }
 
 // A tally of the map, or an empty one (every trial of that key missing).
@@ -137,7 +144,9 @@ std::string baseline_markdown(const Counts& k, const std::vector<std::string>& o
   md << "\nBaseline time (both methods, one process per trial): ";
   if (k.timed > 0) {
     md << "mean " << format_number("%.2f", k.seconds / k.timed) << " s wall per trial, total "
-       << format_number("%.1f", k.seconds) << " s, peak " << format_number("%.0f", k.peak) << " MB.";
+       << format_number("%.1f", k.seconds) << " s wall"
+       << (k.cpu_timed > 0 ? ", CPU " + cpu_cell(format_number("%.1f", k.cpu) + " s", k.cpu_timed, k.timed) : "")
+       << ", peak " << format_number("%.0f", k.peak) << " MB.";
   } else {
     md << "not recorded (no baseline.json.time).";
   }
@@ -155,7 +164,7 @@ BaselineSection baseline_section(const std::string& out_dir, const std::vector<s
   BaselineSection b;
   Counts k;
   k.csv << "object,scene,noise_mm,canopy_model,canopy_correct,verify_model,verify_correct,vfh_model,"
-           "vfh_correct,fpfh_model,fpfh_correct,baseline_s,baseline_peak_mb\n";
+           "vfh_correct,fpfh_model,fpfh_correct,baseline_s,baseline_peak_mb,baseline_cpu_s\n";
   for (const auto& o : objects) {
     for (const auto& s : scenes) {
       for (int n : noises) count_trial(k, out_dir, o, s, n);

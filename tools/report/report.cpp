@@ -263,13 +263,7 @@ void count_trials(const Inputs& in, const Params& p, Numbers& n) {
       n.spurious += d.spurious;
       n.unexplained += !(d.over_segmented || d.missing_area || d.spurious);
     }
-    for (const auto& [stage, t] : c.times) {
-      if (!t.present) continue;
-      StageTotal& s = n.stages[stage];
-      s.seconds += t.seconds;
-      s.peak_mb = std::max(s.peak_mb, t.peak_mb);
-      s.runs += 1;
-    }
+    for (const auto& [stage, t] : c.times) n.stages[stage].add(t);
   }
 }
 
@@ -314,18 +308,39 @@ void count_times(const Inputs& in, Numbers& n) {
   StageTotal render;
   for (const auto& [k, t] : in.render_times) {
     if (!t.present) continue;
-    render.seconds += t.seconds;
-    render.peak_mb = std::max(render.peak_mb, t.peak_mb);
-    ++render.runs;
+    render.add(t);
     const auto scene = k.substr(k.find('/') + 1);
     n.render_images += in.render_views.count(scene) ? in.render_views.at(scene) : 0;
   }
   n.stages["rangetrace"] = render;
   for (const char* s : {"addnoise", "fitvox", "cocone", "ncut", "gmatch", "verify"}) n.stages[s];
-  for (const auto& [s, t] : n.stages) n.total_seconds += s == "verify" ? 0 : t.seconds;
+  for (const auto& [s, t] : n.stages) {
+    if (s == "verify") continue;
+    n.total_seconds += t.seconds;
+    n.total_cpu_seconds += t.cpu_seconds;
+    n.total_runs += t.runs;
+    n.total_cpu_runs += t.cpu_runs;
+  }
 }
 
 }  // namespace
+
+void StageTotal::add(const StageTime& t) {
+  if (!t.present) return;
+  ++runs;
+  seconds += t.seconds;
+  peak_mb = std::max(peak_mb, t.peak_mb);
+  if (t.has_cpu) {
+    ++cpu_runs;
+    cpu_seconds += t.cpu_seconds();
+  }
+}
+
+std::string cpu_cell(const std::string& number, int cpu_runs, int runs) {
+  if (cpu_runs == 0) return "–";
+  if (cpu_runs == runs) return number;
+  return number + " (" + std::to_string(cpu_runs) + " of " + std::to_string(runs) + " runs)";
+}
 
 Numbers compute(const Inputs& in, const Params& p) {
   Numbers n;

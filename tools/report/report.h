@@ -16,9 +16,10 @@
 
 namespace canopy::report {
 
-// Wall time and peak memory of one stage run (scripts/stage.sh's .time files,
-// formats::read_stage_time); the thesis's results table (formats::parse_thesis_csv); the one
-// number formatter of the report's tables and Markdown (formats::format_number).
+// Wall time, peak memory and CPU of one stage run (scripts/stage.sh's .time files,
+// formats::read_stage_time; a malformed one is an error naming it); the thesis's results table
+// (formats::parse_thesis_csv); the one number formatter of the report's tables and Markdown
+// (formats::format_number).
 using formats::format_number;
 using formats::parse_thesis_csv;
 using formats::StageTime;
@@ -183,9 +184,16 @@ struct AblationRates {
 // One stage summed over its runs (.time files present).
 struct StageTotal {
   int runs = 0;
-  double seconds = 0;  // summed wall time
-  double peak_mb = 0;  // largest peak memory of one run
+  double seconds = 0;      // summed wall time
+  double peak_mb = 0;      // largest peak memory of one run
+  int cpu_runs = 0;        // runs whose .time file has CPU columns (older files have not)
+  double cpu_seconds = 0;  // summed user + system CPU of those runs
+  void add(const StageTime& t);
 };
+
+// A table cell for the CPU seconds of `cpu_runs` out of `runs` runs: `number` (the formatted
+// sum) when every run has it, "–" when none has, "<number> (k of n runs)" between.
+std::string cpu_cell(const std::string& number, int cpu_runs, int runs);
 
 // Every number of the report, computed from the inputs; render() only formats them.
 struct Numbers {
@@ -206,8 +214,10 @@ struct Numbers {
   // Trial stages (addnoise ... verify, always present, zero without runs) and rangetrace (the
   // renderings, Inputs::render_times).
   std::map<std::string, StageTotal> stages;
-  int render_images = 0;     // images of the renderings (Inputs::render_views per scene)
-  double total_seconds = 0;  // summed over the stages but verify (beyond the thesis)
+  int render_images = 0;         // images of the renderings (Inputs::render_views per scene)
+  double total_seconds = 0;      // summed over the stages but verify (beyond the thesis)
+  double total_cpu_seconds = 0;  // ... their CPU, over the runs with CPU columns
+  int total_runs = 0, total_cpu_runs = 0;
 };
 
 Numbers compute(const Inputs& in, const Params& p);
@@ -240,7 +250,7 @@ struct SceneRun {
   double area_ha = 0;
 };
 
-// Wall time and peak memory of one stage summed over the scene experiment, from the .time
+// Wall time, CPU and peak memory of one stage summed over the scene experiment, from the .time
 // files of scripts/stage.sh: rangetrace = <tile>/scan.pcd (each rendering once, per hectare of
 // rendered tiles), addnoise = <run>/scan.pcd, detect = <run>/detect, plan = <run>/cands.mk,
 // fitvox … verify = <run>/cands/<id>/{samples.pcd, mesh.ply, segments.json, match.json,
@@ -248,11 +258,13 @@ struct SceneRun {
 // runs for every stage but rangetrace. A missing .time file is not counted.
 struct SceneStageTime {
   std::string stage;
-  int runs = 0;        // .time files read
-  double seconds = 0;  // summed wall time
-  double area_ha = 0;  // hectares the stage covered (renders, or runs)
-  double per_ha = 0;   // seconds / area_ha (0 when no area)
-  double peak_mb = 0;  // largest peak memory of one run
+  int runs = 0;            // .time files read
+  double seconds = 0;      // summed wall time
+  double area_ha = 0;      // hectares the stage covered (renders, or runs)
+  double per_ha = 0;       // seconds / area_ha (0 when no area)
+  double peak_mb = 0;      // largest peak memory of one run
+  int cpu_runs = 0;        // runs with CPU columns
+  double cpu_seconds = 0;  // summed user + system CPU of those runs
 };
 std::vector<SceneStageTime> scene_times(const std::vector<SceneRun>& runs);
 
@@ -260,7 +272,7 @@ std::vector<SceneStageTime> scene_times(const std::vector<SceneRun>& runs);
 std::vector<SceneRun> scene_runs(const nlohmann::ordered_json& score);
 
 // The report's "Scene experiment" section (Markdown) and the times as CSV
-// (stage,runs,seconds,area_ha,seconds_per_ha,peak_mb). figures_dir: the scene figures'
+// (stage,runs,seconds,area_ha,seconds_per_ha,peak_mb,cpu_seconds,cpu_runs). figures_dir: the scene figures'
 // directory relative to report.md ("scenes").
 std::string scene_markdown(const nlohmann::ordered_json& score, const std::vector<SceneStageTime>& times,
                            const std::string& figures_dir);

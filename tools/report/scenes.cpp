@@ -254,6 +254,10 @@ std::vector<SceneStageTime> scene_times(const std::vector<SceneRun>& runs) {
     t.runs++;
     t.seconds += st.seconds;
     t.peak_mb = std::max(t.peak_mb, st.peak_mb);
+    if (st.has_cpu) {
+      t.cpu_runs++;
+      t.cpu_seconds += st.cpu_seconds();
+    }
   };
   std::set<std::string> renders;
   for (const SceneRun& r : runs) {
@@ -291,11 +295,12 @@ std::vector<SceneStageTime> scene_times(const std::vector<SceneRun>& runs) {
 
 std::string scene_times_csv(const std::vector<SceneStageTime>& times) {
   std::ostringstream csv;
-  csv << "stage,runs,seconds,area_ha,seconds_per_ha,peak_mb\n";
+  csv << "stage,runs,seconds,area_ha,seconds_per_ha,peak_mb,cpu_seconds,cpu_runs\n";
   for (const auto& t : times) {
     csv << t.stage << "," << t.runs << "," << format_number("%.2f", t.seconds) << ","
         << format_number("%.4f", t.area_ha) << "," << format_number("%.2f", t.per_ha) << ","
-        << format_number("%.1f", t.peak_mb) << "\n";
+        << format_number("%.1f", t.peak_mb) << "," << format_number("%.2f", t.cpu_seconds) << ","
+        << t.cpu_runs << "\n";
   }
   return csv.str();
 }
@@ -437,16 +442,23 @@ void baselines(std::ostringstream& md, const Json& score, const std::vector<Scen
 void times_table(std::ostringstream& md, const std::vector<SceneStageTime>& times) {
   md << "### Time per hectare and peak memory per stage\n\n"
         "Wall time summed over the stage's runs (scripts/stage.sh's `.time` files; on a shared machine "
-        "wall time includes waiting for the CPU), per hectare of rendered tiles (rangetrace) or of runs "
-        "(every other stage); peak memory of the largest run. `scenes/times.csv`.\n\n"
-        "| stage | runs | wall s | s per ha | peak MB |\n|---|---|---|---|---|\n";
-  double total = 0;
+        "wall time includes waiting for the CPU) and their CPU time (user + system, which the load does not "
+        "change), per hectare of rendered tiles (rangetrace) or of runs (every other stage); peak memory of "
+        "the largest run. `scenes/times.csv`.\n\n"
+        "| stage | runs | wall s | CPU s | s per ha | peak MB |\n|---|---|---|---|---|---|\n";
+  double total = 0, cpu = 0;
+  int runs = 0, cpu_runs = 0;
   for (const auto& t : times) {
     md << "| " << t.stage << " | " << t.runs << " | " << format_number("%.1f", t.seconds) << " | "
+       << cpu_cell(format_number("%.1f", t.cpu_seconds), t.cpu_runs, t.runs) << " | "
        << format_number("%.1f", t.per_ha) << " | " << format_number("%.0f", t.peak_mb) << " |\n";
     total += t.seconds;
+    cpu += t.cpu_seconds;
+    runs += t.runs;
+    cpu_runs += t.cpu_runs;
   }
-  md << "| **all** | | **" << format_number("%.1f", total) << "** | | |\n\n";
+  md << "| **all** | | **" << format_number("%.1f", total) << "** | **"
+     << cpu_cell(format_number("%.1f", cpu), cpu_runs, runs) << "** | | |\n\n";
 }
 
 void pictures(std::ostringstream& md, const std::vector<std::string>& covers, const std::string& fig) {

@@ -1,0 +1,142 @@
+#!/usr/bin/env bash
+# progress.sh: the experiment's "done N/M ... ~T left" count (Makefile.experiments, stage.sh).
+#
+#   progress.sh plan STATE       stdin: a dry run of the goals (make -n). Counts its stages
+#                                (scripts/stage.sh lines) and estimates their wall seconds, then
+#                                writes STATE ("N M D E T0": stages done, stages known, estimated
+#                                seconds done, estimated seconds known, start time) and
+#                                STATE-est (the estimate of each kind of stage). Prints M.
+#   progress.sh extend STATE PLAN KEY...
+#                                detect has revealed a tile's candidates: PLAN is the candidate
+#                                plan `collect --plan` just wrote (<key>_CANDS := c0001 ...), KEY
+#                                the stages each candidate runs (tool:cand/<artifact name>, e.g.
+#                                fitvox:cand/samples.pcd); adds them to M and E.
+#   progress.sh key ARTIFACT COMMAND...   prints the kind of a stage (see below).
+#
+# Known work only: a tile's candidates are not known before its detect has run, so the dry run
+# cannot plan them; the plan step adds them (extend) and, so that none is counted twice, the
+# dry run leaves out the candidate stages of every tile whose plan it shows being remade. N
+# never passes M: stage.sh raises M to N should a stage run that no plan counted.
+#
+# Estimates come from the stages' own history: a stage whose artifact has a .time file from an
+# earlier run is estimated at that run's wall time; any other at the mean of its kind over the
+# history file STATE-history (one "kind wall cpu" line per finished stage, appended by
+# stage.sh; recent runs weigh more), else of its tool, else of every stage, else 1 s. A kind is
+# <tool>:<artifact name, each digit as #>, "cand/" before the name of a candidate's stage:
+# fitvox:samples.pcd, rangetrace:scan.pcd, addnoise:scan.pcd, fitvox:cand/samples.pcd
+# (stage.sh computes the same kind in bash).
+# Time left (stage.sh) = elapsed * (E - D) / D: the estimates give the shares of the work, the
+# run so far its pace (on however many cores and under whatever load).
+set -euo pipefail
+
+# The kind of a stage from its artifact and its command words (awk, shared by all modes).
+kind_awk='
+function kind(artifact, tool,    name, cand) {
+  name = artifact; sub(/.*\//, "", name); gsub(/[0-9]/, "#", name)
+  cand = index(artifact, "/cands/") ? "cand/" : ""
+  sub(/.*\//, "", tool)
+  return tool ":" cand name
+}
+# The tool of a command: its first word under a bin/ directory, else its first word.
+function tool_of(first, last, words,    i) {
+  for (i = first; i <= last; i++) if (index(words[i], "/bin/")) return words[i]
+  return words[first]
+}
+# The estimates of STATE-history: kinds and tools as exponentially weighted means.
+function read_history(file,    line, f, t) {
+  while ((getline line < file) > 0) {
+    if (split(line, f, " ") < 2 || f[2] !~ /^[0-9.]+$/) continue
+    # (the value first: awk may create est[k] before it evaluates the right-hand side)
+    v = (f[1] in est) ? 0.7 * est[f[1]] + 0.3 * f[2] : f[2]; est[f[1]] = v
+    t = f[1]; sub(/:.*/, "", t)
+    v = (t in est) ? 0.7 * est[t] + 0.3 * f[2] : f[2]; est[t] = v
+    all += f[2]; n_all++
+  }
+  close(file)
+  default_est = n_all ? all / n_all : 1
+}
+function estimate(k,    t) {
+  if (k in est) return est[k]
+  t = k; sub(/:.*/, "", t)
+  if (t in est) return est[t]
+  return default_est
+}
+# The wall seconds of an earlier run of the stage that makes artifact, or -1.
+function earlier(artifact,    line, w) {
+  line = ""
+  if ((getline line < (artifact ".time")) > 0 && split(line, w, " ") >= 2 && w[1] ~ /^[0-9.]+$/) {
+    close(artifact ".time"); return w[1]
+  }
+  close(artifact ".time")
+  return -1
+}
+'
+
+mode=${1:-}
+case "$mode" in
+  key)
+    artifact=$2; shift 2
+    printf '%s\n' "$@" | awk -v a="$artifact" "$kind_awk"'{ w[NR] = $0 } END { print kind(a, tool_of(1, NR, w)) }'
+    ;;
+  plan)
+    state=$2
+    awk -v state="$state" -v now="$(date +%s.%N)" "$kind_awk"'
+      /^built / { print > "/dev/stderr"; next }
+      # scripts/stage.sh [--launch slurm] [--record-failure] ARTIFACT -- COMMAND...
+      $1 ~ /(^|\/)stage\.sh$/ {
+        i = 2
+        while ($i == "--launch" || $i == "--record-failure") i += ($i == "--launch") ? 2 : 1
+        artifact = $i
+        if ($(i + 1) == "--") i++
+        for (j = i + 1; j <= NF; j++) w[j] = $j
+        n++; art[n] = artifact; k[n] = kind(artifact, tool_of(i + 1, NF, w))
+        if (artifact ~ /\/cands\.mk$/) { d = artifact; sub(/\/cands\.mk$/, "", d); replanned[d] = 1 }
+      }
+      END {
+        read_history(state "-history")
+        m = 0; e = 0
+        for (i = 1; i <= n; i++) {
+          d = art[i]
+          if (sub(/\/cands\/[^\/]+\/[^\/]+$/, "", d) && (d in replanned)) continue
+          s = earlier(art[i])
+          e += s >= 0 ? s : estimate(k[i])
+          m++
+        }
+        printf "0 %d 0 %.3f %s\n", m, e, now > state
+        for (x in est) printf "%s %.3f\n", x, est[x] > (state "-est")
+        printf "* %.3f\n", default_est > (state "-est")
+        print m
+      }'
+    ;;
+  extend)
+    state=$2 plan=$3; shift 3
+    [ -f "$state" ] || exit 0
+    dir=$(dirname "$plan")
+    cands=$(sed -n 's/^[A-Za-z0-9_]*_CANDS :=//p' "$plan")
+    [ -n "${cands// /}" ] || exit 0
+    {
+      flock 9
+      read -r n m d e t0 <"$state" || exit 0
+      add=$(printf '%s\n' "$@" | awk -v state="$state" -v dir="$dir" -v cands="$cands" "$kind_awk"'
+        BEGIN { while ((getline line < (state "-est")) > 0) { split(line, f, " "); if (f[1] == "*") default_est = f[2]; else est[f[1]] = f[2] } }
+        { keys[++nk] = $0 }
+        END {
+          nc = split(cands, c, " ")
+          for (i = 1; i <= nc; i++) for (j = 1; j <= nk; j++) {
+            name = keys[j]; sub(/^[^:]*:cand\//, "", name)
+            s = earlier(dir "/cands/" c[i] "/" name)
+            sum += s >= 0 ? s : estimate(keys[j]); cnt++
+          }
+          printf "%d %.3f\n", cnt, sum
+        }')
+      read -r cnt secs <<<"$add"
+      awk -v n="$n" -v m="$m" -v d="$d" -v e="$e" -v t0="$t0" -v c="$cnt" -v s="$secs" \
+        'BEGIN { printf "%d %d %.3f %.3f %s\n", n, m + c, d, e + s, t0 }' >"$state.tmp"
+      mv -f "$state.tmp" "$state"
+    } 9>>"$state.lock"
+    ;;
+  *)
+    echo "progress.sh: usage: progress.sh plan STATE | extend STATE PLAN KEY... | key ARTIFACT COMMAND..." >&2
+    exit 2
+    ;;
+esac
