@@ -1,4 +1,4 @@
-#!/usr/bin/env bash
+#!/bin/bash
 # stage.sh [--launch local|slurm] [--record-failure] ARTIFACT -- COMMAND...: runs one
 # experiment stage for make.
 # The tool's stderr (its INFO lines, warnings, errors) goes to ARTIFACT.log; wall seconds, peak
@@ -27,7 +27,8 @@
 # ARTIFACT. GNU time's report ("Command terminated by signal 9") tells the cases apart.
 set -u
 # (Forks are counted here: this runs once per stage, ≈ 2000 times in the experiment. What bash
-# can do itself (dirname, reading a line, the CPU sum, the clock) it does.)
+# can do itself (dirname, reading a line, the CPU sum, the clock, emptying a file) it does, and
+# the shebang names bash directly, not through env.)
 launch=local
 record=0
 while :; do
@@ -138,7 +139,7 @@ progress() {
   [ -z "$left" ] || left="  $left"
   n_m="${out%% *} "
 }
-rm -f "$timing"
+: >"$timing"
 if "${run[@]}" 2>"$log"; then
   rc=0
 else
@@ -146,8 +147,8 @@ else
 fi
 # GNU time's first line says how the tool ended when it did not exit 0.
 how=""
-[ -f "$timing" ] && read -r how <"$timing"
-if [ $rc -eq 0 ] && [ -f "$timing" ] && [ "${how#Command}" = "$how" ]; then
+[ -s "$timing" ] && read -r how <"$timing"
+if [ $rc -eq 0 ] && [ -s "$timing" ] && [ "${how#Command}" = "$how" ]; then
   mv -f "$timing" "$artifact.time"
   read -r secs kib user sys <"$artifact.time"
   # user + system: GNU time prints both with two decimals; summed in hundredths

@@ -74,6 +74,9 @@ chmod +x "$tmp/cmake"
 mk=(make -f Makefile.experiments OBJECTS=sedan SCENES=unoccluded NOISES=0 ABLATIONS= SCENE_EXPERIMENT=0 BASELINE=0 FAMILIES=0 OUT="$tmp/out"
     RES="$tmp/res" BUILD="$tmp/build" P="$tmp/params" CMAKE="$tmp/cmake")
 tools=(rangetrace addnoise fitvox cocone ncut gmatch verify areas report figures)
+# The tools this slice's graph runs: at 0 mm the noisy scan is a link to the render, so no
+# artifact of NOISES=0 depends on addnoise and make never builds it.
+used=(rangetrace fitvox cocone ncut gmatch verify areas report figures)
 
 # Sources oldest, then parameters, binaries, their content stamps, and the artifacts in order.
 now=$(date +%s)
@@ -139,7 +142,8 @@ cpp=$(find common -name '*.cpp' | head -1)
 echo "// a comment" >>"$cpp"
 plan=$("${mk[@]}" -n all 2>&1)
 [ "$(echo "$plan" | stages)" -eq 0 ] || fail "a same-bytes relink plans stages: $(echo "$plan" | grep stage.sh | head -3)"
-[ "$(sort -u "$tmp/cmake.calls" | wc -l)" -eq ${#tools[@]} ] || fail "not every tool was rebuilt after $cpp changed"
+[ "$(sort -u "$tmp/cmake.calls" | tr '\n' ' ')" = "$(printf '%s\n' "${used[@]}" | sort | tr '\n' ' ')" ] ||
+  fail "not every tool of the graph was rebuilt after $cpp changed: $(sort -u "$tmp/cmake.calls" | tr '\n' ' ')"
 [ "$(stamp_times)" = "$before" ] || fail "a content stamp was rewritten although no binary changed"
 "${mk[@]}" -q all || fail "make -q all not clean after a same-bytes relink"
 "${mk[@]}" all >"$tmp/run.log" 2>&1 || fail "make all failed after a same-bytes relink: $(tail -3 "$tmp/run.log")"
@@ -191,8 +195,8 @@ at $((now - 88)) "$tmp/build/stamps/report.sha"
 rm -f "$tmp/cmake.calls"
 echo "// an edit" >>"$(find formats -name '*.cpp' | head -1)"
 "${mk[@]}" -n all >/dev/null 2>&1
-[ "$(built)" = "$(printf '%s\n' "${tools[@]}" | sort | tr '\n' ' ')" ] ||
-  fail "editing a formats/ source rebuilt '$(built)', not every tool"
+[ "$(built)" = "$(printf '%s\n' "${used[@]}" | sort | tr '\n' ' ')" ] ||
+  fail "editing a formats/ source rebuilt '$(built)', not every tool of the graph"
 # A header that no longer exists (renamed) is no error: the tool is rebuilt and its record
 # rewritten without it.
 rm -f "$tmp/cmake.calls"
