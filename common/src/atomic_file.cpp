@@ -20,6 +20,7 @@
 #include <stdexcept>
 
 #include "canopy/common/error.h"
+#include "canopy/common/signals.h"
 
 namespace canopy::common {
 namespace {
@@ -36,7 +37,7 @@ volatile sig_atomic_t g_in_handler = 0;
 std::atomic<unsigned> g_counter{0};
 
 // The signals after which a pending temporary file is removed.
-constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP, SIGPIPE, SIGXFSZ};
+constexpr const auto& kSignals = common::kCleanupSignals;
 constexpr int kNumSignals = sizeof kSignals / sizeof kSignals[0];
 struct sigaction g_previous[kNumSignals];
 
@@ -242,22 +243,7 @@ int write_all(int fd, const char* data, std::size_t size) {
   return 0;
 }
 
-// Holds SIGINT, SIGTERM, SIGHUP, SIGPIPE and SIGXFSZ for its lifetime (delivered at the end).
-class HoldSignals {
- public:
-  HoldSignals() {
-    sigset_t set;
-    sigemptyset(&set);
-    for (int sig : kSignals) sigaddset(&set, sig);
-    pthread_sigmask(SIG_BLOCK, &set, &old_);
-  }
-  ~HoldSignals() { pthread_sigmask(SIG_SETMASK, &old_, nullptr); }
-  HoldSignals(const HoldSignals&) = delete;
-  HoldSignals& operator=(const HoldSignals&) = delete;
-
- private:
-  sigset_t old_;
-};
+using common::HoldSignals;
 
 }  // namespace
 

@@ -29,6 +29,7 @@
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
+#include "canopy/common/signals.h"
 #include "canopy/common/log.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/provenance.h"
@@ -108,7 +109,7 @@ std::optional<std::pair<std::string, std::uintmax_t>> sha256_file(const fs::path
 // ---------------------------------------------------------------------------------------
 // Signals: the temporary directory is removed on SIGINT, SIGTERM, SIGHUP, SIGPIPE, SIGXFSZ.
 
-constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP, SIGPIPE, SIGXFSZ};
+constexpr const auto& kSignals = common::kCleanupSignals;
 constexpr int kNumSignals = sizeof kSignals / sizeof kSignals[0];
 char g_temp_dir[PATH_MAX];
 volatile sig_atomic_t g_temp_set = 0;
@@ -200,22 +201,7 @@ class RemoveOnSignal {
   RemoveOnSignal& operator=(const RemoveOnSignal&) = delete;
 };
 
-// Holds the signals above back for its lifetime (delivered at its end).
-class HoldSignals {
- public:
-  HoldSignals() {
-    sigset_t set;
-    sigemptyset(&set);
-    for (int sig : kSignals) sigaddset(&set, sig);
-    pthread_sigmask(SIG_BLOCK, &set, &old_);
-  }
-  ~HoldSignals() { pthread_sigmask(SIG_SETMASK, &old_, nullptr); }
-  HoldSignals(const HoldSignals&) = delete;
-  HoldSignals& operator=(const HoldSignals&) = delete;
-
- private:
-  sigset_t old_;
-};
+using common::HoldSignals;
 
 // ---------------------------------------------------------------------------------------
 // What -o names.
