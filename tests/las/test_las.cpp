@@ -15,6 +15,7 @@
 #include "canopy/formats/las.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/points_io.h"
+#include "las_bytes.h"
 #include "support/cli.h"
 
 using namespace canopy::formats;
@@ -22,28 +23,10 @@ using canopy::common::DataError;
 
 namespace {
 
-std::string data(const std::string& file) {
-  return std::string(CANOPY_SOURCE_DIR) + "/tests/las/data/" + file;
-}
-
-std::string slurp(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-
-template <typename T>
-T get(const std::string& b, std::size_t at) {
-  T v;
-  std::memcpy(&v, b.data() + at, sizeof v);
-  return v;
-}
-
-template <typename T>
-void set(std::string* b, std::size_t at, T v) {
-  std::memcpy(&(*b)[at], &v, sizeof v);
-}
+using canopy::las_test::data;
+using canopy::las_test::get;
+using canopy::las_test::set;
+using canopy::las_test::slurp;
 
 // The DataError message of parsing `bytes`, or "" when it parses.
 std::string las_error(const std::string& bytes, const std::string& name = "t.las") {

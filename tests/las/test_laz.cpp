@@ -23,6 +23,7 @@
 #include "canopy/formats/laz.h"
 #include "canopy/formats/ply.h"
 #include "canopy/formats/points_io.h"
+#include "las_bytes.h"
 #include "support/cli.h"
 
 namespace fs = std::filesystem;
@@ -31,28 +32,10 @@ using canopy::common::DataError;
 
 namespace {
 
-std::string data(const std::string& file) {
-  return std::string(CANOPY_SOURCE_DIR) + "/tests/las/data/" + file;
-}
-
-std::string slurp(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-
-template <typename T>
-T get(const std::string& b, std::size_t at) {
-  T v;
-  std::memcpy(&v, b.data() + at, sizeof v);
-  return v;
-}
-
-template <typename T>
-void set(std::string* b, std::size_t at, T v) {
-  std::memcpy(&(*b)[at], &v, sizeof v);
-}
+using canopy::las_test::data;
+using canopy::las_test::get;
+using canopy::las_test::set;
+using canopy::las_test::slurp;
 
 bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
