@@ -163,22 +163,6 @@ bool is_writing_macro(const std::string& w) {
   return k.count(w) > 0;
 }
 
-// Control bytes and the quote shown escaped, so a message never carries raw bytes.
-std::string shown(const std::string& s) {
-  std::string out;
-  for (const char c : s) {
-    const auto u = static_cast<unsigned char>(c);
-    if (u < 0x20 || u == 0x7f) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\x%02x", u);
-      out += buf;
-    } else {
-      out += c;
-    }
-  }
-  return out;
-}
-
 bool is_regular(const std::string& path) {
   struct stat st {};
   return ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
@@ -256,7 +240,7 @@ class Checker {
           fail(what + " needs a literal file name, not one built while parsing");
         const std::string why = bad_name(t->text);
         if (!why.empty()) {
-          fail(what + " \"" + shown(t->text) + "\": " + why +
+          fail(what + " \"" + printable(t->text) + "\": " + why +
                "; an include may read only files of its own directory, named by literal relative paths");
         }
         return *t;
@@ -325,9 +309,9 @@ class Checker {
       const std::string real = real_path(path);
       if (!inside(real, real_dir_())) {
         if (!strict) continue;
-        throw common::DataError(from, "line " + std::to_string(line) + ": \"" + shown(name) +
+        throw common::DataError(from, "line " + std::to_string(line) + ": \"" + printable(name) +
                                           "\" leads out of the include's directory " + dir_ +
-                                          " (a symbolic link to " + shown(real) + ")");
+                                          " (a symbolic link to " + printable(real) + ")");
       }
       found.push_back(path);
       if (std::find(files_.begin(), files_.end(), path) == files_.end()) files_.push_back(path);
@@ -358,7 +342,7 @@ SandboxMode sandbox_mode() {
   if (v == "auto") return SandboxMode::kAuto;
   if (v == "bwrap") return SandboxMode::kBwrap;
   if (v == "off") return SandboxMode::kOff;
-  throw common::UsageError("CANOPY_POVRAY_SANDBOX='" + shown(v) + "': expected auto, bwrap or off");
+  throw common::UsageError("CANOPY_POVRAY_SANDBOX='" + printable(v) + "': expected auto, bwrap or off");
 }
 
 std::vector<std::string> check_user_include(const std::string& dir, const std::string& file, bool unconfined) {
@@ -369,6 +353,21 @@ std::vector<std::string> check_user_include(const std::string& dir, const std::s
   }
   Checker checker(dir, unconfined);
   return checker.run(dir + "/" + file);
+}
+
+std::string printable(const std::string& s) {
+  std::string out;
+  for (const char c : s) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u == 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", u);
+      out += buf;
+    } else {
+      out += c;
+    }
+  }
+  return out;
 }
 
 }  // namespace canopy::rangetrace

@@ -14,6 +14,7 @@
 #include "canopy/common/rng.h"
 #include "canopy/common/units.h"
 #include "rangetrace/rangetrace.h"
+#include "rangetrace/sandbox.h"
 #include "rangetrace/tile.h"
 
 namespace canopy::rangetrace {
@@ -89,22 +90,6 @@ std::string trim(const std::string& s) {
   const auto b = s.find_first_not_of(" \t\r");
   if (b == std::string::npos) return "";
   return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
-}
-
-// Control bytes as \xNN, so that no message echoes them raw.
-std::string printable(const std::string& s) {
-  std::string out;
-  for (const char c : s) {
-    const auto u = static_cast<unsigned char>(c);
-    if (u < 0x20 || u == 0x7f) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\x%02x", u);
-      out += buf;
-    } else {
-      out += c;
-    }
-  }
-  return out;
 }
 
 // Throws the DataError "<name>: line <n>: <why>" of a recipe line (control bytes escaped).
