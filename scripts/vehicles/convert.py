@@ -1,0 +1,383 @@
+#!/usr/bin/env python3
+"""Convert the third-party vehicle meshes of share/vehicles/transforms.csv into the modelbase
+convention (formats/README.md): binary little-endian PLY, triangles only, metres, z up, front
+toward +x, centred on the bounding box in x and y, bottom at z = 0.
+
+Usage: scripts/vehicles/convert.py [--mirror DIR] [--out DIR] [--only NAME] [--check]
+
+Sources are read with `git show COMMIT:PATH` from the repository snapshots under
+--mirror (default /work/.mirror, as the `fetch` tool leaves them: <owner>+<name>/repo). The
+transform of each mesh is one row of transforms.csv:
+
+  name, class, repo, commit, path   where the mesh comes from (path: one file; several
+                                    parts are joined with '|')
+  scale                             multiplies the file's coordinates (after COLLADA's
+                                    <unit meter>) to give metres
+  up                                the file's up axis: z, y (right-handed y up: (x,y,z) ->
+                                    (x,-z,y)) or -y
+  yaw_deg                           rotation about z (counter-clockwise seen from above) that
+                                    turns the vehicle's front to +x, applied after 'up'
+  max_triangles                     decimation target (vertex clustering, below)
+
+Then the mesh is translated so its bounding box is centred at x = y = 0 with its bottom at
+z = 0. Meshes with more triangles than max_triangles are decimated by vertex clustering: all
+vertices in one cube of side h (grid anchored at the bounding-box minimum) become their mean;
+triangles that collapse or repeat are dropped; h starts at 5 mm and grows by 10 % until the
+count fits. Pure Python, no third-party module; the output is a function of the source bytes
+and the row only (byte-identical on re-runs).
+
+--check re-converts every row and compares with the committed files instead of writing.
+Writes catalogue figures (dimensions, triangles) to stdout as CSV.
+"""
+
+import argparse
+import csv
+import math
+import os
+import re
+import struct
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+
+
+def git_show(mirror, repo, commit, path):
+    gitdir = os.path.join(mirror, repo.replace("/", "+"), "repo")
+    return subprocess.run(["git", "--git-dir", gitdir, "show", commit + ":" + path],
+                          check=True, capture_output=True).stdout
+
+
+# ---------------------------------------------------------------- readers (vertices, faces)
+
+def read_obj(data):
+    verts, faces = [], []
+    for line in data.decode("latin-1").splitlines():
+        w = line.split()
+        if not w:
+            continue
+        if w[0] == "v":
+            verts.append((float(w[1]), float(w[2]), float(w[3])))
+        elif w[0] == "f":
+            idx = []
+            for t in w[1:]:
+                i = int(t.split("/")[0])
+                idx.append(i - 1 if i > 0 else len(verts) + i)
+            for k in range(1, len(idx) - 1):
+                faces.append((idx[0], idx[k], idx[k + 1]))
+    return verts, faces
+
+
+def read_stl(data):
+    verts, faces = [], []
+    if len(data) >= 84 and len(data) == 84 + 50 * struct.unpack_from("<I", data, 80)[0]:
+        n = struct.unpack_from("<I", data, 80)[0]
+        for t in range(n):
+            c = struct.unpack_from("<9f", data, 84 + 50 * t + 12)
+            b = len(verts)
+            verts += [c[0:3], c[3:6], c[6:9]]
+            faces.append((b, b + 1, b + 2))
+        return verts, faces
+    for line in data.decode("latin-1").splitlines():
+        w = line.split()
+        if w and w[0] == "vertex":
+            verts.append((float(w[1]), float(w[2]), float(w[3])))
+            if len(verts) % 3 == 0:
+                faces.append((len(verts) - 3, len(verts) - 2, len(verts) - 1))
+    return verts, faces
+
+
+def _mat_mul(a, b):
+    return [[sum(a[i][k] * b[k][j] for k in range(4)) for j in range(4)] for i in range(4)]
+
+
+def _ident():
+    return [[1.0 if i == j else 0.0 for j in range(4)] for i in range(4)]
+
+
+def _node_matrix(node, ns):
+    m = _ident()
+    for child in node:
+        tag = child.tag.replace(ns, "")
+        v = [float(x) for x in (child.text or "").split()]
+        if tag == "matrix":
+            t = [v[4 * i:4 * i + 4] for i in range(4)]
+        elif tag == "translate":
+            t = _ident()
+            t[0][3], t[1][3], t[2][3] = v
+        elif tag == "scale":
+            t = _ident()
+            t[0][0], t[1][1], t[2][2] = v
+        elif tag == "rotate":
+            x, y, z, a = v[0], v[1], v[2], math.radians(v[3])
+            n = math.sqrt(x * x + y * y + z * z) or 1.0
+            x, y, z = x / n, y / n, z / n
+            c, s, C = math.cos(a), math.sin(a), 1 - math.cos(a)
+            t = [[c + x * x * C, x * y * C - z * s, x * z * C + y * s, 0],
+                 [y * x * C + z * s, c + y * y * C, y * z * C - x * s, 0],
+                 [z * x * C - y * s, z * y * C + x * s, c + z * z * C, 0], [0, 0, 0, 1]]
+        else:
+            continue
+        m = _mat_mul(m, t)
+    return m
+
+
+def read_dae(data):
+    """COLLADA 1.4: <triangles>/<polylist>/<polygons> of every geometry instanced in the
+    visual scene, with the node transforms and <unit meter>; the up axis is left to the row."""
+    root = ET.fromstring(data)
+    ns = root.tag[:root.tag.index("}") + 1] if root.tag.startswith("{") else ""
+    unit = root.find(f"{ns}asset/{ns}unit")
+    meter = float(unit.get("meter")) if unit is not None and unit.get("meter") else 1.0
+    geoms = {}
+    for g in root.iter(f"{ns}geometry"):
+        mesh = g.find(f"{ns}mesh")
+        if mesh is None:
+            continue
+        sources = {s.get("id"): [float(x) for x in s.find(f"{ns}float_array").text.split()]
+                   for s in mesh.findall(f"{ns}source") if s.find(f"{ns}float_array") is not None}
+        vmap = {}
+        for vs in mesh.findall(f"{ns}vertices"):
+            for inp in vs.findall(f"{ns}input"):
+                if inp.get("semantic") == "POSITION":
+                    vmap[vs.get("id")] = inp.get("source")[1:]
+        tris = []
+        for prim in list(mesh):
+            tag = prim.tag.replace(ns, "")
+            if tag not in ("triangles", "polylist", "polygons"):
+                continue
+            inputs = prim.findall(f"{ns}input")
+            stride = max(int(i.get("offset")) for i in inputs) + 1
+            vin = [i for i in inputs if i.get("semantic") == "VERTEX"][0]
+            pos = sources[vmap[vin.get("source")[1:]]]
+            off = int(vin.get("offset"))
+            plist = [[int(x) for x in p.text.split()] for p in prim.findall(f"{ns}p") if p.text]
+            if tag == "triangles":
+                counts = None
+            elif tag == "polylist":
+                counts = [int(x) for x in prim.find(f"{ns}vcount").text.split()]
+            for p in plist:
+                ids = p[off::stride]
+                cs = [3] * (len(ids) // 3) if counts is None and tag == "triangles" else (
+                    counts if tag == "polylist" else [len(ids)])
+                k = 0
+                for c in cs:
+                    poly = ids[k:k + c]
+                    k += c
+                    for j in range(1, c - 1):
+                        tris.append(tuple(tuple(pos[3 * i:3 * i + 3]) for i in (poly[0], poly[j], poly[j + 1])))
+        geoms[g.get("id")] = tris
+    verts, faces = [], []
+
+    def walk(node, m):
+        m = _mat_mul(m, _node_matrix(node, ns))
+        for ig in node.findall(f"{ns}instance_geometry"):
+            for tri in geoms.get(ig.get("url")[1:], []):
+                b = len(verts)
+                for p in tri:
+                    verts.append(tuple(meter * (m[r][0] * p[0] + m[r][1] * p[1] + m[r][2] * p[2] + m[r][3])
+                                       for r in range(3)))
+                faces.append((b, b + 1, b + 2))
+        for ch in node.findall(f"{ns}node"):
+            walk(ch, m)
+
+    for vs in root.iter(f"{ns}visual_scene"):
+        for n in vs.findall(f"{ns}node"):
+            walk(n, _ident())
+    return verts, faces
+
+
+def read_glb(data):
+    """Binary glTF 2.0: every mesh primitive (mode 4, triangles) of the default scene, node
+    transforms (matrix or TRS) applied; float positions, any index type."""
+    import json
+    magic, _, length = struct.unpack_from("<4sII", data, 0)
+    assert magic == b"glTF"
+    off, doc, blob = 12, None, b""
+    while off < length:
+        clen, ctype = struct.unpack_from("<II", data, off)
+        chunk = data[off + 8:off + 8 + clen]
+        if ctype == 0x4E4F534A:
+            doc = json.loads(chunk)
+        elif ctype == 0x004E4942:
+            blob = chunk
+        off += 8 + clen
+
+    def accessor(i):
+        a = doc["accessors"][i]
+        bv = doc["bufferViews"][a["bufferView"]]
+        fmt = {5126: "f", 5125: "I", 5123: "H", 5121: "B"}[a["componentType"]]
+        ncomp = {"SCALAR": 1, "VEC3": 3}[a["type"]]
+        size = struct.calcsize(fmt)
+        stride = bv.get("byteStride", size * ncomp)
+        base = bv.get("byteOffset", 0) + a.get("byteOffset", 0)
+        return [struct.unpack_from("<%d%s" % (ncomp, fmt), blob, base + k * stride) for k in range(a["count"])]
+
+    def trs(n):
+        if "matrix" in n:
+            c = n["matrix"]
+            return [[c[0], c[4], c[8], c[12]], [c[1], c[5], c[9], c[13]], [c[2], c[6], c[10], c[14]], [0, 0, 0, 1]]
+        t = n.get("translation", [0, 0, 0])
+        x, y, z, w = n.get("rotation", [0, 0, 0, 1])
+        s = n.get("scale", [1, 1, 1])
+        r = [[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+             [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+             [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]]
+        return [[r[i][0] * s[0], r[i][1] * s[1], r[i][2] * s[2], t[i]] for i in range(3)] + [[0, 0, 0, 1]]
+
+    verts, faces = [], []
+
+    def walk(ni, m):
+        n = doc["nodes"][ni]
+        m = _mat_mul(m, trs(n))
+        if "mesh" in n:
+            for prim in doc["meshes"][n["mesh"]]["primitives"]:
+                if prim.get("mode", 4) != 4:
+                    continue
+                pos = accessor(prim["attributes"]["POSITION"])
+                idx = [i[0] for i in accessor(prim["indices"])] if "indices" in prim else list(range(len(pos)))
+                b = len(verts)
+                for p in pos:
+                    verts.append(tuple(m[r][0] * p[0] + m[r][1] * p[1] + m[r][2] * p[2] + m[r][3] for r in range(3)))
+                for k in range(0, len(idx) - 2, 3):
+                    faces.append((b + idx[k], b + idx[k + 1], b + idx[k + 2]))
+        for c in n.get("children", []):
+            walk(c, m)
+
+    for ni in doc["scenes"][doc.get("scene", 0)]["nodes"]:
+        walk(ni, _ident())
+    return verts, faces
+
+
+READERS = {"obj": read_obj, "stl": read_stl, "dae": read_dae, "glb": read_glb}
+
+
+# ---------------------------------------------------------------- transform, decimate, write
+
+def transform(verts, scale, up, yaw_deg):
+    c, s = math.cos(math.radians(yaw_deg)), math.sin(math.radians(yaw_deg))
+    out = []
+    for x, y, z in verts:
+        x, y, z = x * scale, y * scale, z * scale
+        if up == "y":
+            x, y, z = x, -z, y
+        elif up == "-y":
+            x, y, z = x, z, -y
+        out.append((c * x - s * y, s * x + c * y, z))
+    lo = [min(v[i] for v in out) for i in range(3)]
+    hi = [max(v[i] for v in out) for i in range(3)]
+    cx, cy = (lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2
+    return [(x - cx, y - cy, z - lo[2]) for x, y, z in out]
+
+
+def weld(verts, faces, h):
+    """Vertex clustering with cell size h (h = 0: merge identical coordinates only)."""
+    lo = [min(v[i] for v in verts) for i in range(3)]
+    cell, sums, remap = {}, [], []
+    for v in verts:
+        key = v if h == 0 else tuple(int(math.floor((v[i] - lo[i]) / h)) for i in range(3))
+        k = cell.get(key)
+        if k is None:
+            k = cell[key] = len(sums)
+            sums.append([0.0, 0.0, 0.0, 0])
+        s = sums[k]
+        s[0] += v[0]
+        s[1] += v[1]
+        s[2] += v[2]
+        s[3] += 1
+        remap.append(k)
+    seen, out_faces = set(), []
+    for a, b, c in faces:
+        a, b, c = remap[a], remap[b], remap[c]
+        if a == b or b == c or a == c:
+            continue
+        key = tuple(sorted((a, b, c)))
+        if key in seen:
+            continue
+        seen.add(key)
+        out_faces.append((a, b, c))
+    used = sorted({i for f in out_faces for i in f})
+    index = {old: new for new, old in enumerate(used)}
+    out_verts = [(sums[i][0] / sums[i][3], sums[i][1] / sums[i][3], sums[i][2] / sums[i][3]) for i in used]
+    return out_verts, [(index[a], index[b], index[c]) for a, b, c in out_faces]
+
+
+def decimate(verts, faces, max_triangles):
+    verts, faces = weld(verts, faces, 0)
+    h = 0.005
+    cur_v, cur_f = verts, faces
+    while len(cur_f) > max_triangles:
+        cur_v, cur_f = weld(verts, faces, h)
+        h *= 1.1
+    return cur_v, cur_f
+
+
+def ply_bytes(verts, faces, comments):
+    head = ["ply", "format binary_little_endian 1.0"] + ["comment " + c for c in comments] + [
+        "element vertex %d" % len(verts), "property float x", "property float y", "property float z",
+        "element face %d" % len(faces), "property list uchar int vertex_indices", "end_header"]
+    out = bytearray(("\n".join(head) + "\n").encode("ascii"))
+    for v in verts:
+        out += struct.pack("<3f", *v)
+    for f in faces:
+        out += struct.pack("<B3i", 3, *f)
+    return bytes(out)
+
+
+def convert(row, mirror):
+    verts, faces = [], []
+    for path in row["path"].split("|"):
+        ext = path.rsplit(".", 1)[1].lower()
+        v, f = READERS[ext](git_show(mirror, row["repo"], row["commit"], path))
+        b = len(verts)
+        verts += v
+        faces += [(a + b, c + b, d + b) for a, c, d in f]
+    verts = transform(verts, float(row["scale"]), row["up"], float(row["yaw_deg"]))
+    verts, faces = decimate(verts, faces, int(row["max_triangles"]))
+    # Round to float32 first, so the bounding box written below is the file's own.
+    verts = [struct.unpack("<3f", struct.pack("<3f", *v)) for v in verts]
+    lo = [min(v[i] for v in verts) for i in range(3)]
+    hi = [max(v[i] for v in verts) for i in range(3)]
+    comments = ["canopy vehicle library: %s (%s)" % (row["name"], row["class"]),
+                "source: github.com/%s %s %s" % (row["repo"], row["commit"], row["path"]),
+                "transform: scale %s, up %s, yaw %s deg, bbox centred in x y, bottom z = 0" % (
+                    row["scale"], row["up"], row["yaw_deg"])]
+    return ply_bytes(verts, faces, comments), lo, hi, len(faces)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--mirror", default="/work/.mirror")
+    ap.add_argument("--out", default=os.path.join(ROOT, "share", "vehicles"))
+    ap.add_argument("--table", default=os.path.join(ROOT, "share", "vehicles", "transforms.csv"))
+    ap.add_argument("--only", default="")
+    ap.add_argument("--check", action="store_true")
+    a = ap.parse_args()
+    with open(a.table, newline="") as fh:
+        rows = [r for r in csv.DictReader(fh) if not a.only or r["name"] == a.only]
+    w = csv.writer(sys.stdout, lineterminator="\n")
+    w.writerow(["name", "class", "length_m", "width_m", "height_m", "triangles"])
+    bad = 0
+    for r in rows:
+        data, lo, hi, ntri = convert(r, a.mirror)
+        path = os.path.join(a.out, r["class"], r["name"] + ".ply")
+        if a.check:
+            with open(path, "rb") as fh:
+                if fh.read() != data:
+                    print("differs: " + path, file=sys.stderr)
+                    bad += 1
+        else:
+            os.makedirs(os.path.dirname(path), exist_ok=True)
+            tmp = path + ".tmp"
+            with open(tmp, "wb") as fh:
+                fh.write(data)
+            os.replace(tmp, path)
+        w.writerow([r["name"], r["class"], "%.3f" % (hi[0] - lo[0]), "%.3f" % (hi[1] - lo[1]),
+                    "%.3f" % (hi[2] - lo[2]), ntri])
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
