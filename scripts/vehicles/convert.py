@@ -4,6 +4,7 @@ convention (formats/README.md): binary little-endian PLY, triangles only, metres
 toward +x, centred on the bounding box in x and y, bottom at z = 0.
 
 Usage: scripts/vehicles/convert.py [--mirror DIR] [--out DIR] [--only NAME] [--check]
+       scripts/vehicles/convert.py --split   (rewrites share/vehicles/split.csv, see below)
 
 Sources are read with `git show COMMIT:PATH` from the repository snapshots under
 --mirror (default /work/.mirror, as the `fetch` tool leaves them: <owner>+<name>/repo). The
@@ -26,12 +27,18 @@ triangles that collapse or repeat are dropped; h starts at 5 mm and grows by 10 
 count fits. Pure Python, no third-party module; the output is a function of the source bytes
 and the row only (byte-identical on re-runs).
 
+--split assigns instances to the modelbase and test splits from transforms.csv alone: in each
+class, instances sorted by the SHA-256 of their name (hex); a class of n >= 2 instances puts the
+first ceil(n/3) in `test`, the rest in `modelbase`; a class of one instance is `modelbase` only
+(an instance can only be judged "unseen" against others of its class).
+
 --check re-converts every row and compares with the committed files instead of writing.
 Writes catalogue figures (dimensions, triangles) to stdout as CSV.
 """
 
 import argparse
 import csv
+import hashlib
 import math
 import os
 import re
@@ -347,6 +354,19 @@ def convert(row, mirror):
     return ply_bytes(verts, faces, comments), lo, hi, len(faces)
 
 
+def split_rows(rows):
+    by_class = {}
+    for r in rows:
+        by_class.setdefault(r["class"], []).append(r["name"])
+    out = {}
+    for cls, names in by_class.items():
+        names.sort(key=lambda n: hashlib.sha256(n.encode()).hexdigest())
+        n_test = (len(names) + 2) // 3 if len(names) >= 2 else 0
+        for i, n in enumerate(names):
+            out[n] = "test" if i < n_test else "modelbase"
+    return [(r["name"], r["class"], out[r["name"]]) for r in rows]
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--mirror", default="/work/.mirror")
@@ -354,9 +374,18 @@ def main():
     ap.add_argument("--table", default=os.path.join(ROOT, "share", "vehicles", "transforms.csv"))
     ap.add_argument("--only", default="")
     ap.add_argument("--check", action="store_true")
+    ap.add_argument("--split", action="store_true")
     a = ap.parse_args()
     with open(a.table, newline="") as fh:
         rows = [r for r in csv.DictReader(fh) if not a.only or r["name"] == a.only]
+    if a.split:
+        path = os.path.join(a.out, "split.csv")
+        with open(path + ".tmp", "w", newline="") as fh:
+            sw = csv.writer(fh, lineterminator="\n")
+            sw.writerow(["name", "class", "split"])
+            sw.writerows(split_rows(rows))
+        os.replace(path + ".tmp", path)
+        return 0
     w = csv.writer(sys.stdout, lineterminator="\n")
     w.writerow(["name", "class", "length_m", "width_m", "height_m", "triangles"])
     bad = 0
