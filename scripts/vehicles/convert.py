@@ -33,12 +33,14 @@ first ceil(n/3) in `test`, the rest in `modelbase`; a class of one instance is `
 (an instance can only be judged "unseen" against others of its class).
 
 --check re-converts every row and compares with the committed files instead of writing.
-Writes catalogue figures (dimensions, triangles) to stdout as CSV.
+Writes catalogue figures (dimensions; triangles in the source and in the output, which differ
+when decimated or when the source repeats triangles) to stdout as CSV.
 """
 
 import argparse
 import csv
 import hashlib
+import json
 import math
 import os
 import re
@@ -197,9 +199,7 @@ def read_dae(data):
 
 
 def read_glb(data):
-    """Binary glTF 2.0: every mesh primitive (mode 4, triangles) of the default scene, node
-    transforms (matrix or TRS) applied; float positions, any index type."""
-    import json
+    """Binary glTF 2.0 (one JSON chunk, one BIN chunk): see read_gltf_doc."""
     magic, _, length = struct.unpack_from("<4sII", data, 0)
     assert magic == b"glTF"
     off, doc, blob = 12, None, b""
@@ -211,10 +211,23 @@ def read_glb(data):
         elif ctype == 0x004E4942:
             blob = chunk
         off += 8 + clen
+    return read_gltf_doc(doc, [blob])
+
+
+def read_gltf(data, sibling):
+    """glTF 2.0 JSON with its buffers in files beside it (sibling(uri) gives their bytes)."""
+    doc = json.loads(data)
+    return read_gltf_doc(doc, [sibling(b["uri"]) for b in doc["buffers"]])
+
+
+def read_gltf_doc(doc, buffers):
+    """Every mesh primitive (mode 4, triangles) of the default scene, node transforms (matrix
+    or TRS) applied; float positions, any index type."""
 
     def accessor(i):
         a = doc["accessors"][i]
         bv = doc["bufferViews"][a["bufferView"]]
+        blob = buffers[bv.get("buffer", 0)]
         fmt = {5126: "f", 5125: "I", 5123: "H", 5121: "B"}[a["componentType"]]
         ncomp = {"SCALAR": 1, "VEC3": 3}[a["type"]]
         size = struct.calcsize(fmt)
@@ -258,7 +271,7 @@ def read_glb(data):
     return verts, faces
 
 
-READERS = {"obj": read_obj, "stl": read_stl, "dae": read_dae, "glb": read_glb}
+READERS = {"obj": read_obj, "stl": read_stl, "dae": read_dae, "glb": read_glb, "gltf": read_gltf}
 
 
 # ---------------------------------------------------------------- transform, decimate, write
@@ -337,10 +350,17 @@ def convert(row, mirror):
     verts, faces = [], []
     for path in row["path"].split("|"):
         ext = path.rsplit(".", 1)[1].lower()
-        v, f = READERS[ext](git_show(mirror, row["repo"], row["commit"], path))
+        data = git_show(mirror, row["repo"], row["commit"], path)
+        if ext == "gltf":
+            folder = os.path.dirname(path)
+            v, f = read_gltf(data, lambda uri: git_show(mirror, row["repo"], row["commit"],
+                                                         (folder + "/" if folder else "") + uri))
+        else:
+            v, f = READERS[ext](data)
         b = len(verts)
         verts += v
         faces += [(a + b, c + b, d + b) for a, c, d in f]
+    n_source = len(faces)
     verts = transform(verts, float(row["scale"]), row["up"], float(row["yaw_deg"]))
     verts, faces = decimate(verts, faces, int(row["max_triangles"]))
     # Round to float32 first, so the bounding box written below is the file's own.
@@ -351,7 +371,7 @@ def convert(row, mirror):
                 "source: github.com/%s %s %s" % (row["repo"], row["commit"], row["path"]),
                 "transform: scale %s, up %s, yaw %s deg, bbox centred in x y, bottom z = 0" % (
                     row["scale"], row["up"], row["yaw_deg"])]
-    return ply_bytes(verts, faces, comments), lo, hi, len(faces)
+    return ply_bytes(verts, faces, comments), lo, hi, n_source, len(faces)
 
 
 def split_rows(rows):
@@ -387,10 +407,10 @@ def main():
         os.replace(path + ".tmp", path)
         return 0
     w = csv.writer(sys.stdout, lineterminator="\n")
-    w.writerow(["name", "class", "length_m", "width_m", "height_m", "triangles"])
+    w.writerow(["name", "class", "length_m", "width_m", "height_m", "source_triangles", "triangles"])
     bad = 0
     for r in rows:
-        data, lo, hi, ntri = convert(r, a.mirror)
+        data, lo, hi, n_source, ntri = convert(r, a.mirror)
         path = os.path.join(a.out, r["class"], r["name"] + ".ply")
         if a.check:
             with open(path, "rb") as fh:
@@ -404,7 +424,7 @@ def main():
                 fh.write(data)
             os.replace(tmp, path)
         w.writerow([r["name"], r["class"], "%.3f" % (hi[0] - lo[0]), "%.3f" % (hi[1] - lo[1]),
-                    "%.3f" % (hi[2] - lo[2]), ntri])
+                    "%.3f" % (hi[2] - lo[2]), n_source, ntri])
     return 1 if bad else 0
 
 
