@@ -174,10 +174,13 @@ Kind level_of(const Json& det, const std::string& w) {
   return det.contains("model") && det["model"].is_null() ? Kind::cls : Kind::model;
 }
 
-Kind reason_of(const Json& rej, const std::string& w) {
-  if (!rej.contains("reason")) return Kind::rejected;
-  const std::string reason = text(rej, "reason", w);
-  return reason == "none" ? Kind::none : reason == "failed" ? Kind::failed : Kind::rejected;
+// A rejected candidate's kind by its "reason"; other reasons (and none given) are counted.
+Kind reason_of(const Json& rej, const std::string& w, std::map<std::string, int>& reasons) {
+  const std::string reason = rej.contains("reason") ? text(rej, "reason", w) : "not given";
+  if (reason == "none") return Kind::none;
+  if (reason == "failed") return Kind::failed;
+  ++reasons[reason];
+  return Kind::rejected;
 }
 
 double finite_number(const Json& j, const char* key, const std::string& where) {
@@ -228,7 +231,7 @@ void add_rejected(const Sources& sources, const Json& d, Footprints& out) {
     const std::string w = "rejected[" + std::to_string(k) + "]";
     const Json& r = rejected[k];
     if (!r.is_object()) throw Malformed(w + " must be an object, not " + describe(r));
-    wanted.emplace_back(text(r, "candidate", w), reason_of(r, w));
+    wanted.emplace_back(text(r, "candidate", w), reason_of(r, w, out.reasons));
   }
   if (wanted.empty()) return;
   const std::string path = find_index(sources, d);

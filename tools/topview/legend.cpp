@@ -54,6 +54,8 @@ std::vector<Line> layout(const Footprints& fp, const Image* img) {
   for (const Kind k : kinds_listed(fp)) {
     const auto n = std::count_if(fp.shapes.begin(), fp.shapes.end(), [k](const Shape& s) { return s.kind == k; });
     l.push_back({Row::swatch, std::string(label_of(k)) + " " + std::to_string(n), k});
+    if (k != Kind::rejected) continue;
+    for (const auto& [reason, count] : fp.reasons) l.push_back({Row::text, "   " + reason + " " + std::to_string(count)});
   }
   if (fp.undrawn > 0) l.push_back({Row::text, "rejected, no index: " + std::to_string(fp.undrawn)});
   l.push_back({Row::gap, ""});

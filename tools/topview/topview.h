@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -65,6 +66,7 @@ struct Footprints {
   bool truth = false;   // true footprints given
   bool scored = false;  // detections coloured by the score's outcome
   int undrawn = 0;      // rejected candidates without a footprint
+  std::map<std::string, int> reasons;  // Kind::rejected candidates by reason ("not given" when absent)
 };
 
 // The image bound: at most kMaxSide pixels along a side and kMaxPixels in all (map and
