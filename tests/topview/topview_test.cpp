@@ -157,12 +157,15 @@ TEST_CASE("render: on a 10% slope the ground still reads about 0 and the box abo
   // The lowest point of a 1 m cell lies 0.05 m below its centre on this slope: within 0.1 m.
   for (const auto& [x, y] : {std::pair{1.0, 1.0}, {8.5, 8.5}, {2.3, 7.7}}) {
     INFO(x << ", " << y);
-    CHECK(distance(at(img, x, y), topview::height_colour(0)) <= distance(topview::height_colour(0.1), topview::height_colour(0)));
+    CHECK(distance(at(img, x, y), topview::height_colour(0)) <=
+          distance(topview::height_colour(0.1), topview::height_colour(0)));
   }
-  CHECK(distance(at(img, 5, 5), topview::height_colour(1.5)) <= distance(topview::height_colour(1.6), topview::height_colour(1.5)));
+  CHECK(distance(at(img, 5, 5), topview::height_colour(1.5)) <=
+        distance(topview::height_colour(1.6), topview::height_colour(1.5)));
 }
 
-TEST_CASE("render: --size keeps its meaning (pixels along the longer side, no zoom); --pixel sets the data pixel") {
+TEST_CASE(
+    "render: --size keeps its meaning (pixels along the longer side, no zoom); --pixel sets the data pixel") {
   const topview::Image sized = topview::render(scan(), {}, {100, 0, 0});
   CHECK(sized.pixel == Approx(0.0995));
   CHECK(sized.zoom == 1);
@@ -174,7 +177,8 @@ TEST_CASE("render: --size keeps its meaning (pixels along the longer side, no zo
   CHECK(at(pixel, 5, 5) == topview::height_colour(2.0));
 }
 
-TEST_CASE("render: empty pixels between sparse points are filled, beyond the reach of the fill stay no-data") {
+TEST_CASE(
+    "render: empty pixels between sparse points are filled, beyond the reach of the fill stay no-data") {
   // A 1 m grid of points (1 a m²): pixel sqrt(2) -> 1.41 m, every pixel near a point.
   formats::PointCloud pc;
   auto& x = pc.add("x", formats::kFloat64);
@@ -193,7 +197,7 @@ TEST_CASE("render: empty pixels between sparse points are filled, beyond the rea
   // one pixel a pass from each side); the pond's middle, 100 pixels from a point, is not.
   const topview::Image img = topview::render(pc, {}, {0, 0.1, 0});
   CHECK(at(img, 5, 5.5) == topview::height_colour(0));  // between points
-  CHECK(at(img, 20, 20) == topview::kNoData);             // the pond's middle
+  CHECK(at(img, 20, 20) == topview::kNoData);           // the pond's middle
 }
 
 TEST_CASE("render: outlines in their kind's colour on the footprint's edges, not inside; thin for rejected") {
@@ -203,8 +207,8 @@ TEST_CASE("render: outlines in their kind's colour on the footprint's edges, not
                                         {rect(6.5, 7, 8.5, 8), topview::Kind::failed},
                                         {rect(4.2, 7, 5.8, 8), topview::Kind::none}});
   const topview::Image img = topview::render(scan(), f, {});
-  CHECK(at(img, 2, 1) == topview::kClass);   // bottom edge
-  CHECK(at(img, 3, 1.5) == topview::kClass);  // right edge
+  CHECK(at(img, 2, 1) == topview::kClass);              // bottom edge
+  CHECK(at(img, 3, 1.5) == topview::kClass);            // right edge
   CHECK(at(img, 2, 1.5) == topview::height_colour(0));  // inside: not filled
   CHECK(at(img, 7.5, 2) == topview::kModel);
   CHECK(at(img, 7.5, 7) == topview::kFailed);
@@ -224,7 +228,8 @@ TEST_CASE("render: outlines in their kind's colour on the footprint's edges, not
     }
     return false;
   };
-  for (const auto& colour : {topview::kModel, topview::kClass, topview::kNone, topview::kRejected, topview::kFailed})
+  for (const auto& colour :
+       {topview::kModel, topview::kClass, topview::kNone, topview::kRejected, topview::kFailed})
     CHECK(in_panel(colour));
   CHECK_FALSE(in_panel(topview::kWrong));
   CHECK_FALSE(in_panel(topview::kTruth));  // no truth given
@@ -236,7 +241,8 @@ TEST_CASE("render: the scale bar is a round length, as many pixels as it is long
   CHECK(img.bar_metres == Approx(2.0));
   CHECK(img.bar_pixels == 200);
   int run = 0;
-  while (img.bar_col + run < img.width && img.at(img.bar_col + run, img.bar_row) == topview::Rgb{0, 0, 0}) ++run;
+  while (img.bar_col + run < img.width && img.at(img.bar_col + run, img.bar_row) == topview::Rgb{0, 0, 0})
+    ++run;
   CHECK(run == 200);
   CHECK(img.at(img.bar_col - 1, img.bar_row) != topview::Rgb{0, 0, 0});
   // At --size 100 (0.0995 m pixels, text scale 1: 120 pixels = 11.9 m): 10 m = 101 pixels.
@@ -257,8 +263,13 @@ TEST_CASE("render: a picture beyond the bound is refused when the pixel is given
 }
 
 TEST_CASE("the font has every character of the legend") {
-  std::vector<std::string> texts{"^ north up", "height above ground (m)", "outlines (count)", "no point",
-                                 "pixel 0.093 m", "24.8 points/m2", "too_sparse vegetation_like not given 3+"};
+  std::vector<std::string> texts{"^ north up",
+                                 "height above ground (m)",
+                                 "outlines (count)",
+                                 "no point",
+                                 "pixel 0.093 m",
+                                 "24.8 points/m2",
+                                 "too_sparse vegetation_like not given 3+"};
   for (int k = 0; k < topview::kKinds; ++k) texts.push_back(topview::label_of(static_cast<topview::Kind>(k)));
   auto bitmap = [](char c) {
     std::string b;
@@ -279,22 +290,24 @@ TEST_CASE("the font has every character of the legend") {
 
 TEST_CASE("topview reads detections v1 and v2, rejected candidates from the index by reason") {
   const fs::path dir = test::fresh_dir("topview", "levels");
-  const Json index{{"format", "canopy.candidates"},
-                   {"version", 1},
-                   {"candidates",
-                    {{{"id", "c1"}, {"centre", {E + 2, N + 1.5, 0}}, {"length", 2}, {"width", 1}, {"heading", 0}},
-                     {{"id", "c2"}, {"centre", {E + 7.5, N + 2, 0}}, {"length", 2}, {"width", 1}, {"heading", 1.5707963267948966}},
-                     {{"id", "c3"}, {"centre", {E + 2, N + 8, 0}}, {"length", 2}, {"width", 1}, {"heading", 0}},
-                     {{"id", "c4"}, {"centre", {E + 8, N + 8, 0}}, {"length", 2}, {"width", 1}, {"heading", 0}}}}};
+  const Json index{
+      {"format", "canopy.candidates"},
+      {"version", 1},
+      {"candidates",
+       {{{"id", "c1"}, {"centre", {E + 2, N + 1.5, 0}}, {"length", 2}, {"width", 1}, {"heading", 0}},
+        {{"id", "c2"}, {"centre", {E + 7.5, N + 2, 0}}, {"length", 2}, {"width", 1}, {"heading", 1.5707963267948966}},
+        {{"id", "c3"}, {"centre", {E + 2, N + 8, 0}}, {"length", 2}, {"width", 1}, {"heading", 0}},
+        {{"id", "c4"}, {"centre", {E + 8, N + 8, 0}}, {"length", 2}, {"width", 1}, {"heading", 0}}}}};
   fs::create_directories(dir / "cands");
   write_json(dir / "cands" / "index.json", index);
-  const Json v1{{"format", "canopy.detections"},
-                {"version", 1},
-                {"index", "cands/index.json"},
-                {"detections", {{{"candidate", "c1"}, {"model", "sedan"}, {"footprint", footprint(rect(1, 1, 3, 2))}}}},
-                {"rejected",
-                 {{{"candidate", "c3"}, {"reason", "none"}, {"confidence", 0.8}},
-                  {{"candidate", "c4"}, {"reason", "failed"}, {"confidence", nullptr}}}}};
+  const Json v1{
+      {"format", "canopy.detections"},
+      {"version", 1},
+      {"index", "cands/index.json"},
+      {"detections", {{{"candidate", "c1"}, {"model", "sedan"}, {"footprint", footprint(rect(1, 1, 3, 2))}}}},
+      {"rejected",
+       {{{"candidate", "c3"}, {"reason", "none"}, {"confidence", 0.8}},
+        {{"candidate", "c4"}, {"reason", "failed"}, {"confidence", nullptr}}}}};
   // As written by collect run from the directory above: the index path is relative to the
   // detections' directory here, found there.
   const std::string d1 = write_json(dir / "v1.json", v1);
@@ -338,7 +351,8 @@ TEST_CASE("topview reads detections v1 and v2, rejected candidates from the inde
   CHECK(f.shapes.size() == 1);
   CHECK(f.undrawn == 3);
   // --index given: used.
-  f = topview::read_footprints({write_json(dir / "lost.json", lost), "", "", (dir / "cands" / "index.json").string()}, 0);
+  f = topview::read_footprints(
+      {write_json(dir / "lost.json", lost), "", "", (dir / "cands" / "index.json").string()}, 0);
   CHECK(f.shapes.size() == 4);
 
   // Bad input, the file and the member named.
@@ -371,7 +385,8 @@ TEST_CASE("topview reads detections v1 and v2, rejected candidates from the inde
   }
   write_json(dir / "v2.json", v2);
   write_json(dir / "cands" / "index.json", no_centre);
-  CHECK_THROWS_WITH(topview::read_footprints({d2, "", "", ""}, 0), Catch::Contains("candidates[2]: missing \"centre\""));
+  CHECK_THROWS_WITH(topview::read_footprints({d2, "", "", ""}, 0),
+                    Catch::Contains("candidates[2]: missing \"centre\""));
 }
 
 TEST_CASE("topview CLI: outcome colours from a score, missed vehicles in yellow, same bytes twice") {
@@ -395,16 +410,17 @@ TEST_CASE("topview CLI: outcome colours from a score, missed vehicles in yellow,
   write_json(dir / "t.json", truth);
   write_json(dir / "s.json", score);
   const std::string bin = std::string(CANOPY_BIN_DIR) + "/topview";
-  const std::string args = " -q -i " + (dir / "scan.pcd").string() + " --detections " + (dir / "d.json").string() +
-                           " --truth " + (dir / "t.json").string() + " --score " + (dir / "s.json").string();
+  const std::string args = " -q -i " + (dir / "scan.pcd").string() + " --detections " +
+                           (dir / "d.json").string() + " --truth " + (dir / "t.json").string() + " --score " +
+                           (dir / "s.json").string();
   std::string err;
   REQUIRE(test::sh(bin + args + " --size 200 -o " + (dir / "top.png").string(), dir / "err.txt", &err) == 0);
   const Png png = read_png(dir / "top.png");
   auto at = [&](double x, double y) {  // 0.04975 m pixels from (0.025, 9.975) at the top left
     return png.at(static_cast<int>((x - 0.025) / 0.04975), static_cast<int>((9.975 - y) / 0.04975));
   };
-  CHECK(png.width == 201 + 232);  // the map, the legend at text scale 1: (2 x 8 + 36 x 6) pixels
-  CHECK(png.height >= 201);       // the legend may be taller than the map
+  CHECK(png.width == 201 + 232);         // the map, the legend at text scale 1: (2 x 8 + 36 x 6) pixels
+  CHECK(png.height >= 201);              // the legend may be taller than the map
   CHECK(at(2, 1) == topview::kWrong);    // the detection, wrong model
   CHECK(at(8, 7) == topview::kMissed);   // the missed vehicle
   CHECK(at(2, 1.1) == topview::kTruth);  // the found vehicle's true footprint
@@ -422,15 +438,16 @@ TEST_CASE("topview CLI: outcome colours from a score, missed vehicles in yellow,
   // Bad input: named, nothing written.
   std::ofstream((dir / "bad.json").string())
       << R"({"format":"canopy.detections","detections":[{"footprint":[[1,2]]}]})";
-  CHECK(test::sh(bin + " -q -i " + (dir / "scan.pcd").string() + " --detections " + (dir / "bad.json").string() +
-                     " -o " + (dir / "bad.png").string(),
+  CHECK(test::sh(bin + " -q -i " + (dir / "scan.pcd").string() + " --detections " +
+                     (dir / "bad.json").string() + " -o " + (dir / "bad.png").string(),
                  dir / "err.txt", &err) == 1);
   CHECK_THAT(err, Catch::Contains("bad.json"));
   CHECK_FALSE(test::exists(dir / "bad.png"));
   // Beyond the bound, or both --size and --pixel: a usage error, nothing written.
   CHECK(test::sh(bin + args + " --size 8192 -o " + (dir / "big.png").string(), dir / "err.txt", &err) == 2);
   CHECK_THAT(err, Catch::Contains("beyond the bound"));
-  CHECK(test::sh(bin + args + " --size 100 --pixel 0.1 -o " + (dir / "big.png").string(), dir / "err.txt", &err) == 2);
+  CHECK(test::sh(bin + args + " --size 100 --pixel 0.1 -o " + (dir / "big.png").string(), dir / "err.txt",
+                 &err) == 2);
   CHECK_FALSE(test::exists(dir / "big.png"));
 }
 

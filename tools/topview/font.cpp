@@ -1,7 +1,6 @@
-// A 5 x 7 bitmap font for the legend (printable ASCII; no font file, no FreeType: the picture
-// must not depend on what is installed). Each glyph is 7 rows of 5 columns, '#' = ink.
-#include <array>
-#include <cstring>
+// A 5 x 7 bitmap font for the legend: letters, digits and the punctuation the legend uses
+// (others are drawn as '?'); no font file, no FreeType: the picture must not depend on what is
+// installed. Each glyph is 7 rows of 5 columns, '#' = ink.
 
 #include "topview/topview.h"
 

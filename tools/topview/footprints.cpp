@@ -253,7 +253,8 @@ void add_rejected(const Sources& sources, const Json& d, Footprints& out) {
       const auto it = at.find(id);
       if (it == at.end())
         throw Malformed("has no candidate \"" + id + "\" (rejected in " + sources.detections + ")");
-      out.shapes.push_back({index_footprint(cs[it->second], "candidates[" + std::to_string(it->second) + "]"), kind});
+      out.shapes.push_back(
+          {index_footprint(cs[it->second], "candidates[" + std::to_string(it->second) + "]"), kind});
     }
   } catch (const Malformed& e) { throw common::DataError(path, e.what()); }
 }

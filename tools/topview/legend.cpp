@@ -12,8 +12,8 @@ namespace canopy::topview {
 namespace {
 
 constexpr Rgb kInk{20, 20, 20};
-constexpr int kMargin = 8;      // text-scale pixels around the panel's content
-constexpr int kChars = 36;      // the widest line, in characters
+constexpr int kMargin = 8;       // text-scale pixels around the panel's content
+constexpr int kChars = 36;       // the widest line, in characters
 constexpr int kRampWidth = 120;  // text-scale pixels: the ramp and the longest scale bar
 
 enum class Row { text, ramp, ticks, swatch, bar, gap };
@@ -48,14 +48,16 @@ std::string fixed(double v, int digits) {
 }
 
 std::vector<Line> layout(const Footprints& fp, const Image* img) {
-  std::vector<Line> l{{Row::text, "^ north up"}, {Row::gap, ""}, {Row::text, "height above ground (m)"},
-                      {Row::ramp, ""},           {Row::ticks, ""}, {Row::gap, ""},
-                      {Row::text, "outlines (count)"}};
+  std::vector<Line> l{
+      {Row::text, "^ north up"}, {Row::gap, ""}, {Row::text, "height above ground (m)"}, {Row::ramp, ""},
+      {Row::ticks, ""},          {Row::gap, ""}, {Row::text, "outlines (count)"}};
   for (const Kind k : kinds_listed(fp)) {
-    const auto n = std::count_if(fp.shapes.begin(), fp.shapes.end(), [k](const Shape& s) { return s.kind == k; });
+    const auto n =
+        std::count_if(fp.shapes.begin(), fp.shapes.end(), [k](const Shape& s) { return s.kind == k; });
     l.push_back({Row::swatch, std::string(label_of(k)) + " " + std::to_string(n), k});
     if (k != Kind::rejected) continue;
-    for (const auto& [reason, count] : fp.reasons) l.push_back({Row::text, "   " + reason + " " + std::to_string(count)});
+    for (const auto& [reason, count] : fp.reasons)
+      l.push_back({Row::text, "   " + reason + " " + std::to_string(count)});
   }
   if (fp.undrawn > 0) l.push_back({Row::text, "rejected, no index: " + std::to_string(fp.undrawn)});
   l.push_back({Row::gap, ""});

@@ -35,7 +35,8 @@ int main(int argc, char** argv) {
   tool.add("--score", &src.score, "score.json (canopy.scene_score v1): colours by outcome");
   tool.add("--tile", &p.tile, "this tile's index in the score's tiles");
   tool.add("--size", &p.size, "pixels along the longer side of the map (0: from --pixel or the density)");
-  tool.add_length("--pixel", &p.pixel, "metres a pixel (0: from --size or the density, about 2 points a pixel)");
+  tool.add_length("--pixel", &p.pixel,
+                  "metres a pixel (0: from --size or the density, about 2 points a pixel)");
   return tool.run(argc, argv, [&] {
     if (in.empty() || in == "-" || out.empty() || out == "-")
       throw common::UsageError("-i and -o must name files");

@@ -19,8 +19,8 @@ namespace canopy::topview {
 namespace {
 
 constexpr float kEmpty = std::numeric_limits<float>::quiet_NaN();
-constexpr double kGroundCell = 1.0;   // m: the cells of the ground minima and of the density
-constexpr int kGroundRadius = 6;      // cells: the opening's window is 13 m (objects narrower go)
+constexpr double kGroundCell = 1.0;  // m: the cells of the ground minima and of the density
+constexpr int kGroundRadius = 6;     // cells: the opening's window is 13 m (objects narrower go)
 
 bool finite_point(const std::vector<double>& xs, const std::vector<double>& ys, const std::vector<double>& zs,
                   std::size_t i) {
@@ -118,7 +118,8 @@ std::array<double, 3> plane(const Grid& g) {
     }
   }
   auto det = [](const double a[3][3]) {
-    return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+    return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
+           a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
            a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
   };
   const double d = det(m);
@@ -135,8 +136,8 @@ std::array<double, 3> plane(const Grid& g) {
 }
 
 // The ground: the lowest point per 1 m cell, opened (a square min filter, then max filter) so
-// that objects narrower than the window go and slopes stay (a plane is kept as it is). Sets `density` to the finite
-// points per occupied cell area.
+// that objects narrower than the window go and slopes stay (a plane is kept as it is). Sets `density` to the
+// finite points per occupied cell area.
 Grid ground(const formats::PointCloud& scan, const Box& b, double* density) {
   Grid g;
   g.x0 = std::floor(b.x0);  // cells on whole metres, as detect's density
@@ -210,7 +211,8 @@ int text_scale(int map_height) { return std::clamp(map_height / 450, 1, 4); }
 // The picture's size for a data pixel and zoom: map and legend; false beyond the bound.
 bool fits(const Box& b, const Footprints& fp, double data_pixel, int zoom, Image& img) {
   // (1e-9: 9.95 / (9.95 / 100) is 100.00000000000001, one spurious column at --size 100)
-  const double w = std::ceil((b.x1 - b.x0) / data_pixel - 1e-9) + 1, h = std::ceil((b.y1 - b.y0) / data_pixel - 1e-9) + 1;
+  const double w = std::ceil((b.x1 - b.x0) / data_pixel - 1e-9) + 1,
+               h = std::ceil((b.y1 - b.y0) / data_pixel - 1e-9) + 1;
   const double mw = w * zoom, mh = h * zoom;
   const Panel panel = legend_size(fp, text_scale(static_cast<int>(std::min(mh, 1e6))));
   const double width = mw + panel.width, height = std::max<double>(mh, panel.height);
@@ -232,23 +234,24 @@ bool fits(const Box& b, const Footprints& fp, double data_pixel, int zoom, Image
 void size_picture(const Box& b, const Footprints& fp, const Params& p, Image& img) {
   constexpr double kReadable = 1000;
   const double longer = std::max({b.x1 - b.x0, b.y1 - b.y0, 1e-3});
-  double data_pixel = p.pixel > 0  ? p.pixel
-                      : p.size > 0 ? longer / p.size
-                                   : std::clamp(std::round(100 * std::sqrt(2 / std::max(img.density, 1e-6))) / 100,
-                                                0.01, 2.0);
+  double data_pixel =
+      p.pixel > 0  ? p.pixel
+      : p.size > 0 ? longer / p.size
+                   : std::clamp(std::round(100 * std::sqrt(2 / std::max(img.density, 1e-6))) / 100, 0.01, 2.0);
   for (;;) {
-    const int most = p.size > 0 ? 1 : std::clamp(static_cast<int>(std::ceil(kReadable / (longer / data_pixel + 1))), 1, 8);
+    const int most =
+        p.size > 0 ? 1 : std::clamp(static_cast<int>(std::ceil(kReadable / (longer / data_pixel + 1))), 1, 8);
     for (int zoom = most; zoom >= 1; --zoom) {
       if (fits(b, fp, data_pixel, zoom, img)) return;
     }
     if (p.pixel > 0 || p.size > 0) {
-      throw common::UsageError("a " + std::to_string(data_pixel) + " m pixel makes a map of " +
-                               std::to_string(static_cast<long long>(std::ceil((b.x1 - b.x0) / data_pixel) + 1)) +
-                               " x " +
-                               std::to_string(static_cast<long long>(std::ceil((b.y1 - b.y0) / data_pixel) + 1)) +
-                               " pixels, beyond the bound (" + std::to_string(kMaxSide) + " a side, " +
-                               std::to_string(kMaxPixels) + " in all with the legend): give a larger --pixel "
-                               "or a smaller --size");
+      throw common::UsageError(
+          "a " + std::to_string(data_pixel) + " m pixel makes a map of " +
+          std::to_string(static_cast<long long>(std::ceil((b.x1 - b.x0) / data_pixel) + 1)) + " x " +
+          std::to_string(static_cast<long long>(std::ceil((b.y1 - b.y0) / data_pixel) + 1)) +
+          " pixels, beyond the bound (" + std::to_string(kMaxSide) + " a side, " + std::to_string(kMaxPixels) +
+          " in all with the legend): give a larger --pixel "
+          "or a smaller --size");
     }
     data_pixel *= 1.25;
   }
@@ -302,7 +305,8 @@ void paint(const std::vector<float>& top, Image& img) {
       const double shade = 0.4 + 0.6 * std::clamp(lambert / sun, 0.0, 1.5);
       const Rgb base = height_colour(t);
       Rgb col;
-      for (int k = 0; k < 3; ++k) col[k] = static_cast<std::uint8_t>(std::min(255.0, std::round(base[k] * shade)));
+      for (int k = 0; k < 3; ++k)
+        col[k] = static_cast<std::uint8_t>(std::min(255.0, std::round(base[k] * shade)));
       fill_rect(img, c * z, r * z, z, z, col);
     }
   }
@@ -310,7 +314,8 @@ void paint(const std::vector<float>& top, Image& img) {
 
 // A size x size pixel dot centred on pixel coordinates (px, py), clipped to the map.
 void plot(Image& img, double px, double py, int size, const Rgb& c) {
-  const int c0 = static_cast<int>(std::floor(px - size / 2.0 + 0.5)), r0 = static_cast<int>(std::floor(py - size / 2.0 + 0.5));
+  const int c0 = static_cast<int>(std::floor(px - size / 2.0 + 0.5)),
+            r0 = static_cast<int>(std::floor(py - size / 2.0 + 0.5));
   for (int row = r0; row < r0 + size; ++row) {
     for (int col = c0; col < c0 + size; ++col) {
       if (col < 0 || row < 0 || col >= img.map_width || row >= img.map_height) continue;
@@ -351,25 +356,27 @@ void draw_outlines(const std::vector<Shape>& shapes, Image& img) {
 
 Rgb height_colour(double height) {
   // viridis at 0, 1/4, 1/2, 3/4, 1
-  static constexpr double stops[5][3] = {{68, 1, 84}, {59, 82, 139}, {33, 145, 140}, {94, 201, 98}, {253, 231, 37}};
+  static constexpr double stops[5][3] = {
+      {68, 1, 84}, {59, 82, 139}, {33, 145, 140}, {94, 201, 98}, {253, 231, 37}};
   const double f = std::clamp(height / kRampTop, 0.0, 1.0) * 4;
   const int k = std::min(3, static_cast<int>(f));
   const double t = f - k;
   Rgb c;
-  for (int i = 0; i < 3; ++i) c[i] = static_cast<std::uint8_t>(std::round(stops[k][i] + t * (stops[k + 1][i] - stops[k][i])));
+  for (int i = 0; i < 3; ++i)
+    c[i] = static_cast<std::uint8_t>(std::round(stops[k][i] + t * (stops[k + 1][i] - stops[k][i])));
   return c;
 }
 
 Rgb colour_of(Kind kind) {
-  static constexpr Rgb colours[kKinds] = {kTruth, kMissed, kNone, kRejected, kFailed,
-                                          kClass, kModel,  kRight, kWrong,   kFalseAlarm};
+  static constexpr Rgb colours[kKinds] = {kTruth, kMissed, kNone,  kRejected, kFailed,
+                                          kClass, kModel,  kRight, kWrong,    kFalseAlarm};
   return colours[static_cast<int>(kind)];
 }
 
 const char* label_of(Kind kind) {
   static constexpr const char* labels[kKinds] = {
-      "true vehicle",     "true, missed", "none (no vehicle)", "rejected (reason)",  "failed",
-      "found: class",     "found: model", "right model",       "wrong model",        "false alarm"};
+      "true vehicle", "true, missed", "none (no vehicle)", "rejected (reason)", "failed",
+      "found: class", "found: model", "right model",       "wrong model",       "false alarm"};
   return labels[static_cast<int>(kind)];
 }
 

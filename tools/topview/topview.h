@@ -63,9 +63,9 @@ struct Shape {
 // legend), and the rejected candidates it could not draw (no index to take a footprint from).
 struct Footprints {
   std::vector<Shape> shapes;
-  bool truth = false;   // true footprints given
-  bool scored = false;  // detections coloured by the score's outcome
-  int undrawn = 0;      // rejected candidates without a footprint
+  bool truth = false;                  // true footprints given
+  bool scored = false;                 // detections coloured by the score's outcome
+  int undrawn = 0;                     // rejected candidates without a footprint
   std::map<std::string, int> reasons;  // Kind::rejected candidates by reason ("not given" when absent)
 };
 
@@ -75,7 +75,7 @@ inline constexpr int kMaxSide = 8192;
 inline constexpr long long kMaxPixels = 4096LL * 4096;
 
 struct Image {
-  int width = 0, height = 0;         // the whole picture: the map, the legend on its right
+  int width = 0, height = 0;          // the whole picture: the map, the legend on its right
   int map_width = 0, map_height = 0;  // the map: pixels [0, map_width) x [0, map_height)
   std::vector<std::uint8_t> rgb;      // row-major from the top (north) row, 3 bytes a pixel
   double x0 = 0, y1 = 0, pixel = 1;   // map: x of the left edge, y of the top edge, metres a map pixel
@@ -91,9 +91,9 @@ struct Image {
 };
 
 struct Params {
-  int size = 0;       // pixels along the longer side of the map, [16, 8192]; 0: from --pixel or the density
-  double pixel = 0;   // metres a pixel, [0.005, 100]; 0: from --size or the density
-  int tile = 0;       // this tile's index in the score's tiles, >= 0
+  int size = 0;      // pixels along the longer side of the map, [16, 8192]; 0: from --pixel or the density
+  double pixel = 0;  // metres a pixel, [0.005, 100]; 0: from --size or the density
+  int tile = 0;      // this tile's index in the score's tiles, >= 0
 };
 
 // Throws common::UsageError naming the option: --size 0 or in [16, 8192], --pixel 0 or in
