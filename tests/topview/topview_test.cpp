@@ -245,6 +245,13 @@ TEST_CASE("render: the scale bar is a round length, as many pixels as it is long
     ++run;
   CHECK(run == 200);
   CHECK(img.at(img.bar_col - 1, img.bar_row) != topview::Rgb{0, 0, 0});
+  // Without the legend: the map alone, no bar.
+  topview::Params bare;
+  bare.legend = false;
+  const topview::Image map = topview::render(scan(), {}, bare);
+  CHECK(map.width == map.map_width);
+  CHECK(map.height == map.map_height);
+  CHECK(map.bar_pixels == 0);
   // At --size 100 (0.0995 m pixels, text scale 1: 120 pixels = 11.9 m): 10 m = 101 pixels.
   const topview::Image small = topview::render(scan(), {}, {100, 0, 0});
   CHECK(small.bar_metres == Approx(10.0));

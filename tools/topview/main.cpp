@@ -25,7 +25,7 @@ int main(int argc, char** argv) {
   topview::Params p;
   topview::Sources src;
   std::string in, out;
-  tool.add_input(&in, "the tile scan (PCD, PLY or LAS with x y z)");
+  tool.add_input(&in, "the tile scan (PCD, PLY, LAS or LAZ with x y z)");
   tool.add_output(&out, "PNG");
   tool.add("--detections", &src.detections, "detections.json (canopy.detections v1 or v2)");
   tool.add("--index", &src.index,
@@ -35,12 +35,17 @@ int main(int argc, char** argv) {
   tool.add("--score", &src.score, "score.json (canopy.scene_score v1): colours by outcome");
   tool.add("--tile", &p.tile, "this tile's index in the score's tiles");
   tool.add("--size", &p.size, "pixels along the longer side of the map (0: from --pixel or the density)");
+  bool no_legend = false;
+  tool.add_flag("--no-legend", &no_legend,
+                "the map alone: no legend, no scale bar (pictures side by side in a grid)");
   tool.add_length("--pixel", &p.pixel,
-                  "metres a pixel (0: from --size or the density, about 2 points a pixel)");
+                  "metres a data pixel, one height value, drawn zoomed to about 1000 map pixels (0: from "
+                  "--size or the density, about 2 points a pixel)");
   return tool.run(argc, argv, [&] {
     if (in.empty() || in == "-" || out.empty() || out == "-")
       throw common::UsageError("-i and -o must name files");
     if (src.detections.empty()) throw common::UsageError("--detections is required");
+    p.legend = !no_legend;
     topview::validate(p);
     if (!src.score.empty() && src.truth.empty()) throw common::UsageError("--score needs --truth");
     common::check_output(out);

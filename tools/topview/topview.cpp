@@ -209,12 +209,12 @@ void fill_gaps(std::vector<float>& v, int w, int h, int passes) {
 int text_scale(int map_height) { return std::clamp(map_height / 450, 1, 4); }
 
 // The picture's size for a data pixel and zoom: map and legend; false beyond the bound.
-bool fits(const Box& b, const Footprints& fp, double data_pixel, int zoom, Image& img) {
+bool fits(const Box& b, const Footprints& fp, bool legend, double data_pixel, int zoom, Image& img) {
   // (1e-9: 9.95 / (9.95 / 100) is 100.00000000000001, one spurious column at --size 100)
   const double w = std::ceil((b.x1 - b.x0) / data_pixel - 1e-9) + 1,
                h = std::ceil((b.y1 - b.y0) / data_pixel - 1e-9) + 1;
   const double mw = w * zoom, mh = h * zoom;
-  const Panel panel = legend_size(fp, text_scale(static_cast<int>(std::min(mh, 1e6))));
+  const Panel panel = legend ? legend_size(fp, text_scale(static_cast<int>(std::min(mh, 1e6)))) : Panel{};
   const double width = mw + panel.width, height = std::max<double>(mh, panel.height);
   if (width > kMaxSide || height > kMaxSide || width * height > static_cast<double>(kMaxPixels)) return false;
   img.pixel = data_pixel / zoom;
@@ -242,7 +242,7 @@ void size_picture(const Box& b, const Footprints& fp, const Params& p, Image& im
     const int most =
         p.size > 0 ? 1 : std::clamp(static_cast<int>(std::ceil(kReadable / (longer / data_pixel + 1))), 1, 8);
     for (int zoom = most; zoom >= 1; --zoom) {
-      if (fits(b, fp, data_pixel, zoom, img)) return;
+      if (fits(b, fp, p.legend, data_pixel, zoom, img)) return;
     }
     if (p.pixel > 0 || p.size > 0) {
       throw common::UsageError(
@@ -400,7 +400,7 @@ Image render(const formats::PointCloud& scan, const Footprints& footprints, cons
   img.rgb.assign(3 * static_cast<std::size_t>(img.width) * img.height, 250);
   paint(heights(scan, g, img), img);
   draw_outlines(footprints.shapes, img);
-  draw_legend(img, footprints, text_scale(img.map_height));
+  if (params.legend) draw_legend(img, footprints, text_scale(img.map_height));
   return img;
 }
 

@@ -91,9 +91,10 @@ struct Image {
 };
 
 struct Params {
-  int size = 0;      // pixels along the longer side of the map, [16, 8192]; 0: from --pixel or the density
-  double pixel = 0;  // metres a pixel, [0.005, 100]; 0: from --size or the density
-  int tile = 0;      // this tile's index in the score's tiles, >= 0
+  int size = 0;        // pixels along the longer side of the map, [16, 8192]; 0: from --pixel or the density
+  double pixel = 0;    // metres a data pixel, [0.005, 100]; 0: from --size or the density
+  int tile = 0;        // this tile's index in the score's tiles, >= 0
+  bool legend = true;  // false: the map alone, no legend nor scale bar (pictures side by side in a grid)
 };
 
 // Throws common::UsageError naming the option: --size 0 or in [16, 8192], --pixel 0 or in
