@@ -263,6 +263,19 @@ TEST_CASE("render: a picture beyond the bound is refused when the pixel is given
   const topview::Footprints far = shapes({{rect(30000, 0, 30002, 1), topview::Kind::model}});
   CHECK_THROWS_AS(topview::render(scan(), far, {0, 0.005, 0}), common::UsageError);
   CHECK_THROWS_AS(topview::render(scan(), {}, {8192, 0, 0}), common::UsageError);  // 8193 x 8193 + legend
+  // A footprint at 1e19 m, a stray point 2000 km away: drawn within the bound (the ground's
+  // cells coarsened), not a failed allocation.
+  const topview::Footprints huge = shapes({{rect(1e19, 0, 1e19 + 2, 1), topview::Kind::model}});
+  formats::PointCloud stray = scan();
+  stray.col("x").push_back(E + 2e6);
+  stray.col("y").push_back(N + 2e6);
+  stray.col("z").push_back(0);
+  stray.resize(stray.col("x").size());
+  for (const auto& [pc, fp] : {std::pair{scan(), huge}, {stray, topview::Footprints{}}}) {
+    const topview::Image i = topview::render(pc, fp, {});
+    CHECK(i.width <= topview::kMaxSide);
+    CHECK(i.height <= topview::kMaxSide);
+  }
   const topview::Image img = topview::render(scan(), far, {});
   CHECK(img.width <= topview::kMaxSide);
   CHECK(static_cast<long long>(img.width) * img.height <= topview::kMaxPixels);

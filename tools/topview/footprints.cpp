@@ -199,6 +199,7 @@ Ring index_footprint(const Json& c, const std::string& w) {
     throw Malformed(w + ".centre must be [x, y, z], not " + describe(centre));
   }
   const double l = finite_number(c, "length", w) / 2, b = finite_number(c, "width", w) / 2;
+  if (l < 0 || b < 0) throw Malformed(w + ": negative length or width");
   const double h = finite_number(c, "heading", w);
   const double ux = std::cos(h), uy = std::sin(h);
   const double x = centre[0].get<double>(), y = centre[1].get<double>();

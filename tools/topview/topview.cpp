@@ -19,8 +19,9 @@ namespace canopy::topview {
 namespace {
 
 constexpr float kEmpty = std::numeric_limits<float>::quiet_NaN();
-constexpr double kGroundCell = 1.0;  // m: the cells of the ground minima and of the density
-constexpr int kGroundRadius = 6;     // cells: the opening's window is 13 m (objects narrower go)
+constexpr double kGroundCell = 1.0;          // m: the cells of the ground minima and of the density
+constexpr int kGroundRadius = 6;             // cells: the opening's window is 13 m (objects narrower go)
+constexpr double kMaxGroundCells = 1 << 22;  // 4 km² of 1 m cells (16 MB); a wider scan gets coarser cells
 
 bool finite_point(const std::vector<double>& xs, const std::vector<double>& ys, const std::vector<double>& zs,
                   std::size_t i) {
@@ -37,21 +38,25 @@ struct Box {
   }
 };
 
-// The box holding the finite points and the shapes.
-Box extent(const formats::PointCloud& scan, const std::vector<Shape>& shapes) {
-  Box b;
+// The box holding the finite points (`points`) and that box with the shapes (`all`).
+struct Extent {
+  Box points, all;
+};
+Extent extent(const formats::PointCloud& scan, const std::vector<Shape>& shapes) {
+  Extent e;
   const auto& xs = scan.col("x");
   const auto& ys = scan.col("y");
   const auto& zs = scan.col("z");
   for (std::size_t i = 0; i < scan.size(); ++i) {
-    if (finite_point(xs, ys, zs, i)) b.add(xs[i], ys[i]);
+    if (finite_point(xs, ys, zs, i)) e.points.add(xs[i], ys[i]);
   }
+  e.all = e.points;
   for (const Shape& s : shapes) {
-    for (const auto& p : s.ring) b.add(p[0], p[1]);
+    for (const auto& p : s.ring) e.all.add(p[0], p[1]);
   }
-  if (!(b.x1 >= b.x0 && b.y1 >= b.y0))
+  if (!(e.all.x1 >= e.all.x0 && e.all.y1 >= e.all.y0))
     throw common::Error("topview: nothing to draw (no finite point, no footprint)");
-  return b;
+  return e;
 }
 
 // A raster of floats (kEmpty = no value), row 0 at y0 for the ground grid.
@@ -140,9 +145,17 @@ std::array<double, 3> plane(const Grid& g) {
 // finite points per occupied cell area.
 Grid ground(const formats::PointCloud& scan, const Box& b, double* density) {
   Grid g;
+  if (!(b.x1 >= b.x0 && b.y1 >= b.y0)) {  // no finite point
+    g.nx = g.ny = 1;
+    g.v.assign(1, kEmpty);
+    *density = 0;
+    return g;
+  }
   g.x0 = std::floor(b.x0);  // cells on whole metres, as detect's density
   g.y0 = std::floor(b.y0);
   g.cell = kGroundCell;
+  // A scan wider than the grid's bound (a stray point km away) doubles the cell until it fits.
+  while ((b.x1 - g.x0) / g.cell * ((b.y1 - g.y0) / g.cell) > kMaxGroundCells) g.cell *= 2;
   g.nx = static_cast<int>((b.x1 - g.x0) / g.cell) + 1;
   g.ny = static_cast<int>((b.y1 - g.y0) / g.cell) + 1;
   g.v.assign(static_cast<std::size_t>(g.nx) * g.ny, kEmpty);
@@ -391,9 +404,10 @@ void validate(const Params& params) {
 
 Image render(const formats::PointCloud& scan, const Footprints& footprints, const Params& params) {
   validate(params);
-  const Box b = extent(scan, footprints.shapes);
+  const Extent e = extent(scan, footprints.shapes);
+  const Box& b = e.all;
   Image img;
-  const Grid g = ground(scan, b, &img.density);
+  const Grid g = ground(scan, e.points, &img.density);
   img.x0 = b.x0;
   img.y1 = b.y1;
   size_picture(b, footprints, params, img);
