@@ -304,7 +304,7 @@ TEST_CASE("the font has every character of the legend") {
       CHECK(bitmap(c) != bitmap('?'));
     }
   }
-  CHECK(bitmap(' ') == std::string(35, '.'));
+  CHECK(bitmap(' ') == std::string(topview::kGlyphWidth * topview::kGlyphHeight, '.'));
   CHECK(bitmap('1') != bitmap('l'));
 }
 

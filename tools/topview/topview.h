@@ -140,8 +140,8 @@ Footprints read_footprints(const Sources& sources, int tile);
 Image render(const formats::PointCloud& scan, const Footprints& footprints, const Params& params);
 
 // The legend (drawn by render into the panel right of the map); exposed for the tests.
-bool glyph_ink(char c, int col, int row);  // the 5 x 7 font: ink at (col, row)?
-inline constexpr int kGlyphWidth = 5, kGlyphHeight = 7;
+bool glyph_ink(char c, int col, int row);  // the 5 x 7 font (9 rows with descenders): ink at (col, row)?
+inline constexpr int kGlyphWidth = 5, kGlyphHeight = 9;
 
 std::string encode_png(const Image& image);
 
