@@ -352,6 +352,12 @@ TEST_CASE("topview reads detections v1 and v2, rejected candidates from the inde
   CHECK(f.shapes[3].kind == topview::Kind::cls);
   CHECK(f.shapes[2].kind == topview::Kind::rejected);
   CHECK(f.reasons == std::map<std::string, int>{{"too_sparse", 1}});
+  // Many reasons (the input's text): the legend lists 8 and sums the rest, and stays in the
+  // bound.
+  topview::Footprints many = f;
+  for (int k = 0; k < 5000; ++k) many.reasons["reason_" + std::to_string(k)] = 1;
+  const topview::Image listed = topview::render(scan(), many, {});
+  CHECK(listed.height == listed.map_height);  // not taller than the 1008-pixel map
   // c2 turned by 90°: its long side along y.
   double ymin = 1e18, ymax = -1e18;
   for (const auto& p : f.shapes[2].ring) ymin = std::min(ymin, p[1]), ymax = std::max(ymax, p[1]);

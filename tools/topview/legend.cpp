@@ -47,6 +47,24 @@ std::string fixed(double v, int digits) {
   return buf;
 }
 
+// The rejected candidates' reasons under their swatch: the kMaxReasons most frequent (ties by
+// name), the rest summed; a reason cut to 24 characters (the reasons are the input's text).
+void add_reasons(const Footprints& fp, std::vector<Line>& l) {
+  constexpr std::size_t kMaxReasons = 8;
+  std::vector<std::pair<std::string, int>> r(fp.reasons.begin(), fp.reasons.end());
+  std::stable_sort(r.begin(), r.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+  int rest = 0;
+  for (std::size_t k = 0; k < r.size(); ++k) {
+    if (k >= kMaxReasons) {
+      rest += r[k].second;
+      continue;
+    }
+    const std::string name = r[k].first.size() > 24 ? r[k].first.substr(0, 21) + "..." : r[k].first;
+    l.push_back({Row::text, "   " + name + " " + std::to_string(r[k].second)});
+  }
+  if (rest > 0) l.push_back({Row::text, "   other reasons " + std::to_string(rest)});
+}
+
 std::vector<Line> layout(const Footprints& fp, const Image* img) {
   std::vector<Line> l{
       {Row::text, "^ north up"}, {Row::gap, ""}, {Row::text, "height above ground (m)"}, {Row::ramp, ""},
@@ -55,9 +73,7 @@ std::vector<Line> layout(const Footprints& fp, const Image* img) {
     const auto n =
         std::count_if(fp.shapes.begin(), fp.shapes.end(), [k](const Shape& s) { return s.kind == k; });
     l.push_back({Row::swatch, std::string(label_of(k)) + " " + std::to_string(n), k});
-    if (k != Kind::rejected) continue;
-    for (const auto& [reason, count] : fp.reasons)
-      l.push_back({Row::text, "   " + reason + " " + std::to_string(count)});
+    if (k == Kind::rejected) add_reasons(fp, l);
   }
   if (fp.undrawn > 0) l.push_back({Row::text, "rejected, no index: " + std::to_string(fp.undrawn)});
   l.push_back({Row::gap, ""});

@@ -267,6 +267,7 @@ void size_picture(const Box& b, const Footprints& fp, const Params& p, Image& im
           "or a smaller --size");
     }
     data_pixel *= 1.25;
+    if (!(data_pixel < 1e30)) throw common::Error("topview: no picture within the bound");  // cannot happen
   }
 }
 
