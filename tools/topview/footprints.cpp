@@ -1,6 +1,9 @@
-// Reading the footprints topview draws from the detections, truth and score documents. Each
-// document is opened by formats::open_json_document (format and version 1 checked, nesting
-// bounded) and every member topview uses is checked, the error naming the file and the member.
+// Reading the footprints topview draws from the detections (v1 or v2), truth, score and
+// candidates index documents. Each document is opened by formats::open_json_document (format
+// and version checked, nesting bounded) and every member topview uses is checked, the error
+// naming the file and the member.
+#include <cmath>
+#include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -9,6 +12,7 @@
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
+#include "canopy/common/log.h"
 #include "canopy/formats/json_document.h"
 #include "topview/topview.h"
 
@@ -114,12 +118,13 @@ Outcomes read_outcomes(const std::string& path, int tile) {
   return o;
 }
 
-Rgb detection_colour(const Outcomes& o, const std::string& candidate) {
+// The score's outcome of a detection; its level when the score does not list it.
+Kind detection_kind(const Outcomes& o, const std::string& candidate, Kind level) {
   const auto it = o.of_candidate.find(candidate);
-  return it == o.of_candidate.end() ? kDetection
-         : it->second == "right"    ? kRight
-         : it->second == "wrong"    ? kWrong
-                                    : kFalseAlarm;
+  return it == o.of_candidate.end() ? level
+         : it->second == "right"    ? Kind::right
+         : it->second == "wrong"    ? Kind::wrong
+                                    : Kind::false_alarm;
 }
 
 void add_truth(const std::string& path, const Outcomes& outcomes, std::vector<Shape>& shapes) {
@@ -131,35 +136,160 @@ void add_truth(const std::string& path, const Outcomes& outcomes, std::vector<Sh
       const Json& v = vehicles[k];
       if (!v.is_object()) throw Malformed(w + " must be an object, not " + describe(v));
       const bool miss = outcomes.missed.count(count(v, "instance", w)) > 0;
-      shapes.push_back({ring_of(v, w), miss ? kMissed : kTruth});
+      shapes.push_back({ring_of(v, w), miss ? Kind::missed : Kind::truth});
     }
   } catch (const Malformed& e) { throw common::DataError(path, e.what()); }
 }
 
-void add_detections(const std::string& path, const Outcomes* outcomes, std::vector<Shape>& shapes) {
-  const Json d = open(path, "canopy.detections");
+// formats::open_json_document reads version 1 only, and canopy.detections has a version 2
+// (level and reason, docs/decisions/topview.md). Its parser callback sees the top-level
+// "version": a 2 is noted and handed to the check as 1, so every other check stays the
+// shared one. (When formats' opener takes the versions a reader accepts, this goes.)
+Json open_detections(const std::string& path, int* version) {
+  std::string key;
+  *version = 1;
+  const auto see_version = [&key, version](int depth, Json::parse_event_t event, Json& parsed) {
+    if (depth != 1) return true;
+    if (event == Json::parse_event_t::key) {
+      key = parsed.get<std::string>();
+    } else if (event == Json::parse_event_t::value && key == "version" && parsed.is_number_integer() &&
+               parsed.get<long long>() == 2) {
+      *version = 2;
+      parsed = 1;
+    }
+    return true;
+  };
+  return formats::open_json_document(common::read_file(path), path, "canopy.detections", see_version);
+}
+
+// A detection's level: "level" when given (model or class), else model (v1: every detection
+// names a model) unless "model" is there and null.
+Kind level_of(const Json& det, const std::string& w) {
+  if (det.contains("level")) {
+    const std::string level = text(det, "level", w);
+    if (level == "model") return Kind::model;
+    if (level == "class") return Kind::cls;
+    throw Malformed(w + ".level must be model or class, not " + describe(det["level"]));
+  }
+  return det.contains("model") && det["model"].is_null() ? Kind::cls : Kind::model;
+}
+
+// A rejected candidate's kind by its "reason"; other reasons (and none given) are counted.
+Kind reason_of(const Json& rej, const std::string& w, std::map<std::string, int>& reasons) {
+  const std::string reason = rej.contains("reason") ? text(rej, "reason", w) : "not given";
+  if (reason == "none") return Kind::none;
+  if (reason == "failed") return Kind::failed;
+  ++reasons[reason];
+  return Kind::rejected;
+}
+
+double finite_number(const Json& j, const char* key, const std::string& where) {
+  const Json& v = member(j, key, where);
+  if (!v.is_number() || !std::isfinite(v.get<double>()))
+    throw Malformed(where + "." + key + " must be a finite number, not " + describe(v));
+  return v.get<double>();
+}
+
+// A candidate's footprint from detect's index: the length x width rectangle around "centre",
+// its long side along "heading" (radians from +x), counter-clockwise.
+Ring index_footprint(const Json& c, const std::string& w) {
+  const Json& centre = member(c, "centre", w);
+  if (!centre.is_array() || centre.size() < 2 || !centre[0].is_number() || !centre[1].is_number() ||
+      !std::isfinite(centre[0].get<double>()) || !std::isfinite(centre[1].get<double>())) {
+    throw Malformed(w + ".centre must be [x, y, z], not " + describe(centre));
+  }
+  const double l = finite_number(c, "length", w) / 2, b = finite_number(c, "width", w) / 2;
+  if (l < 0 || b < 0) throw Malformed(w + ": negative length or width");
+  const double h = finite_number(c, "heading", w);
+  const double ux = std::cos(h), uy = std::sin(h);
+  const double x = centre[0].get<double>(), y = centre[1].get<double>();
+  Ring r;
+  for (const auto& [sl, sb] : {std::pair{1, -1}, {1, 1}, {-1, 1}, {-1, -1}}) {
+    r.push_back({x + sl * l * ux - sb * b * uy, y + sl * l * uy + sb * b * ux});
+  }
+  return r;
+}
+
+// The index to take the rejected candidates' footprints from (see read_footprints), or "".
+std::string find_index(const Sources& sources, const Json& d) {
+  if (!sources.index.empty()) return sources.index;
+  if (!d.contains("index") || !d["index"].is_string()) return "";
+  namespace fs = std::filesystem;
+  const fs::path named(d["index"].get<std::string>());
+  std::error_code ec;
+  if (fs::is_regular_file(named, ec)) return named.string();
+  const fs::path beside = fs::path(sources.detections).parent_path() / named;
+  if (named.is_relative() && fs::is_regular_file(beside, ec)) return beside.string();
+  return "";
+}
+
+// The rejected candidates' outlines (their footprints from the index) in the order listed.
+void add_rejected(const Sources& sources, const Json& d, Footprints& out) {
+  if (!d.contains("rejected")) return;  // an early v1 document
+  const Json& rejected = array(d, "rejected", "detections document");
+  std::vector<std::pair<std::string, Kind>> wanted;
+  for (std::size_t k = 0; k < rejected.size(); ++k) {
+    const std::string w = "rejected[" + std::to_string(k) + "]";
+    const Json& r = rejected[k];
+    if (!r.is_object()) throw Malformed(w + " must be an object, not " + describe(r));
+    wanted.emplace_back(text(r, "candidate", w), reason_of(r, w, out.reasons));
+  }
+  if (wanted.empty()) return;
+  const std::string path = find_index(sources, d);
+  if (path.empty()) {
+    out.undrawn = static_cast<int>(wanted.size());
+    common::log::warn(sources.detections + ": no candidates index found (--index names it): the " +
+                      std::to_string(wanted.size()) + " rejected candidates are not drawn");
+    return;
+  }
+  const Json index = open(path, "canopy.candidates");
+  try {
+    const Json& cs = array(index, "candidates", "index");
+    std::map<std::string, std::size_t> at;
+    for (std::size_t i = 0; i < cs.size(); ++i) {
+      if (cs[i].is_object() && cs[i].contains("id") && cs[i]["id"].is_string())
+        at.emplace(cs[i]["id"].get<std::string>(), i);
+    }
+    for (const auto& [id, kind] : wanted) {
+      const auto it = at.find(id);
+      if (it == at.end())
+        throw Malformed("has no candidate \"" + id + "\" (rejected in " + sources.detections + ")");
+      out.shapes.push_back(
+          {index_footprint(cs[it->second], "candidates[" + std::to_string(it->second) + "]"), kind});
+    }
+  } catch (const Malformed& e) { throw common::DataError(path, e.what()); }
+}
+
+void add_detections(const Sources& sources, const Outcomes* outcomes, Footprints& out) {
+  int version = 1;
+  const Json d = open_detections(sources.detections, &version);
   try {
     const Json& detections = array(d, "detections", "detections document");
+    std::vector<Shape> found;
     for (std::size_t k = 0; k < detections.size(); ++k) {
       const std::string w = "detections[" + std::to_string(k) + "]";
       const Json& det = detections[k];
       if (!det.is_object()) throw Malformed(w + " must be an object, not " + describe(det));
       const std::string candidate = text(det, "candidate", w);
-      const Ring ring = ring_of(det, w);
-      shapes.push_back({ring, outcomes ? detection_colour(*outcomes, candidate) : kDetection});
+      const Kind level = level_of(det, w);
+      found.push_back({ring_of(det, w), outcomes ? detection_kind(*outcomes, candidate, level) : level});
     }
-  } catch (const Malformed& e) { throw common::DataError(path, e.what()); }
+    add_rejected(sources, d, out);
+    out.shapes.insert(out.shapes.end(), found.begin(), found.end());
+  } catch (const Malformed& e) { throw common::DataError(sources.detections, e.what()); }
 }
 
 }  // namespace
 
-std::vector<Shape> read_footprints(const Sources& sources, int tile) {
+Footprints read_footprints(const Sources& sources, int tile) {
   const bool scored = !sources.score.empty();
   const Outcomes outcomes = scored ? read_outcomes(sources.score, tile) : Outcomes{};
-  std::vector<Shape> shapes;
-  if (!sources.truth.empty()) add_truth(sources.truth, outcomes, shapes);
-  add_detections(sources.detections, scored ? &outcomes : nullptr, shapes);
-  return shapes;
+  Footprints out;
+  out.scored = scored;
+  out.truth = !sources.truth.empty();
+  if (out.truth) add_truth(sources.truth, outcomes, out.shapes);
+  add_detections(sources, scored ? &outcomes : nullptr, out);
+  return out;
 }
 
 }  // namespace canopy::topview

@@ -1,5 +1,6 @@
 // topview: tile scan + detections.json [+ truth.json [+ score.json]] -> a PNG from straight
-// above with the footprints outlined (right, wrong, false alarm, missed in their colours).
+// above, north up: height above ground as a shaded colour ramp, the candidates outlined by
+// outcome, the true footprints, a legend and a scale bar (docs/decisions/topview.md).
 #include <string>
 #include <vector>
 
@@ -14,35 +15,49 @@ using namespace canopy;
 
 int main(int argc, char** argv) {
   common::Tool tool("topview",
-                    "A tile from straight above (highest point per pixel, grey by height) with the "
-                    "footprints of the detections and, if given, of the true vehicles, coloured by "
-                    "the score's outcome: right green, wrong model orange, false alarm magenta, "
-                    "missed yellow.");
+                    "A tile from straight above, north up: the height above ground of the highest "
+                    "point per pixel as a colour ramp (0-3 m) shaded by the relief, the candidates "
+                    "outlined by outcome (found at model level green, at class level blue, none "
+                    "violet, rejected pink, failed red; with a score right green, wrong model "
+                    "orange, false alarm magenta), true vehicles white (missed yellow), and a "
+                    "legend with counts, a scale bar in metres and the pixel size.");
   tool.without_threads();
   topview::Params p;
   topview::Sources src;
   std::string in, out;
-  tool.add_input(&in, "the tile scan (PCD, PLY or LAS with x y z)");
+  tool.add_input(&in, "the tile scan (PCD, PLY, LAS or LAZ with x y z)");
   tool.add_output(&out, "PNG");
-  tool.add("--detections", &src.detections, "detections.json (canopy.detections v1)");
+  tool.add("--detections", &src.detections, "detections.json (canopy.detections v1 or v2)");
+  tool.add("--index", &src.index,
+           "candidates index.json (canopy.candidates): the rejected candidates' footprints; default: the "
+           "one the detections name");
   tool.add("--truth", &src.truth, "truth.json (canopy.scene_truth v1): true footprints");
   tool.add("--score", &src.score, "score.json (canopy.scene_score v1): colours by outcome");
   tool.add("--tile", &p.tile, "this tile's index in the score's tiles");
-  tool.add("--size", &p.size, "pixels along the longer side");
+  tool.add("--size", &p.size, "pixels along the longer side of the map (0: from --pixel or the density)");
+  bool no_legend = false;
+  tool.add_flag("--no-legend", &no_legend,
+                "the map alone: no legend, no scale bar (pictures side by side in a grid)");
+  tool.add_length("--pixel", &p.pixel,
+                  "metres a data pixel, one height value, drawn zoomed to about 1000 map pixels (0: from "
+                  "--size or the density, about 2 points a pixel)");
   return tool.run(argc, argv, [&] {
     if (in.empty() || in == "-" || out.empty() || out == "-")
       throw common::UsageError("-i and -o must name files");
     if (src.detections.empty()) throw common::UsageError("--detections is required");
+    p.legend = !no_legend;
     topview::validate(p);
     if (!src.score.empty() && src.truth.empty()) throw common::UsageError("--score needs --truth");
     common::check_output(out);
-    const std::vector<topview::Shape> shapes = topview::read_footprints(src, p.tile);
+    const topview::Footprints footprints = topview::read_footprints(src, p.tile);
     const formats::PointCloud scan = formats::read_points(in, "topview");
     scan.require({"x", "y", "z"}, common::display_name(in), "is this a point cloud?");
-    const topview::Image img = topview::run(scan, shapes, p);
+    const topview::Image img = topview::render(scan, footprints, p);
     common::write_file_atomic(out, topview::encode_png(img));
-    common::log::info(std::to_string(img.width) + " x " + std::to_string(img.height) + " pixels, " +
+    common::log::info(std::to_string(img.width) + " x " + std::to_string(img.height) + " pixels (map " +
+                      std::to_string(img.map_width) + " x " + std::to_string(img.map_height) + "), " +
                       std::to_string(img.pixel * 1000).substr(0, 6) + " mm a pixel, " +
-                      std::to_string(shapes.size()) + " footprints");
+                      std::to_string(img.density).substr(0, 6) + " points/m2, " +
+                      std::to_string(footprints.shapes.size()) + " footprints");
   });
 }
