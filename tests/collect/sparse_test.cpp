@@ -105,7 +105,7 @@ TEST_CASE("a sparse tile: detect by its density, class-level answers, the reason
                    dir / "err.txt", &err) == 0);
   const Json index = read_json(dir / "cands" / "index.json");
   // Measured density: 25 returns per m² of open ground; the rule's voxel 1.9 / 5 = 0.38 m, and
-  // no shape test below 50 points/m².
+  // no shape test below 30 points/m².
   const Json& density = index["density"];
   CHECK(density["ground"].get<double>() == Approx(25).epsilon(0.05));
   CHECK(density["all"].get<double>() == Approx(25).epsilon(0.05));

@@ -103,7 +103,7 @@ struct Truth {
 
 // The shape test needs about 21 returns per m² of surface (detect.md §3b); at least this
 // measured density switches it on under the density rule (detect.md §7).
-constexpr double kPlanarityDensity = 50;
+constexpr double kPlanarityDensity = 30;
 constexpr double kDenseVoxel = 0.2;         // the voxel at the dense end (m)
 constexpr double kVoxelDensityScale = 1.9;  // voxel = max(kDenseVoxel, scale / sqrt(density))
 constexpr double kDensePlanarity = 0.2;     // min_planarity at the dense end

@@ -58,7 +58,7 @@ void bind(common::Tool& tool, detect::Params& p, Cli& cli) {
   cli.min_planarity = tool.add("--min-planarity", &p.min_planarity,
                                "shape test: an object with a smaller share of its surface in planar "
                                "neighbourhoods and less than --min-planar-area of it is vegetation (0 = "
-                               "off); default: 0.2 where the measured density is >= 50 points/m², else 0");
+                               "off); default: 0.2 where the measured density is >= 30 points/m², else 0");
   tool.add("--min-planar-area", &p.min_planar_area,
            "shape test: m^2 of planar surface that keep an object whatever its share");
   tool.add_length("--planar-radius", &p.planar_radius, "neighbourhood radius of the planarity test");
