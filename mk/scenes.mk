@@ -10,9 +10,10 @@
 # mytile/cands/<id>/class.json (classify: the class-level answer, every candidate) and, for the
 # candidates dense enough for model-level recognition (object density >= TILE_MODEL_DENSITY
 # points/m², default 370: docs/decisions/classify.md §11), mytile/cands/<id>/{samples.pcd,
-# mesh.ply, segments.json, segments.ply, match.json, verdict.json} (each with its .log and .time). MODELBASE is a directory of <model>.json
-# graphs and <model>.pcd surfaces (`make -f Makefile.experiments verify-modelbase` builds
-# out/modelbase). Every stage runs through $(STAGE), so LAUNCH=slurm launches them as jobs.
+# mesh.ply, segments.json, segments.ply, match.json, verdict.json} (each with its .log and
+# .time). MODELBASE is a directory of <model>.json graphs and <model>.pcd surfaces (`make -f
+# Makefile.experiments verify-modelbase` builds out/modelbase). Every stage runs through
+# $(STAGE), so LAUNCH=slurm launches them as jobs.
 #
 # How the candidates become targets: their number is known only after detect has run, so the
 # tile's makefile is generated. `collect --plan` turns mytile/cands/index.json into
@@ -42,7 +43,10 @@ TILE_FITVOX ?= $(P)/fitvox-tile.ini
 # a candidate also runs the model chain; below it classify's class-level answer alone
 # (docs/decisions/classify.md §11: fitvox-tile.ini's 6 points per 128 mm voxel).
 TILE_MODEL_DENSITY ?= 370
-$(if $(shell printf '%s' '$(TILE_MODEL_DENSITY)' | grep -xE '[0-9]+(\.[0-9]+)?'),,$(error TILE_MODEL_DENSITY=$(TILE_MODEL_DENSITY) must be a number of points/m²))
+ifneq ($(TILE_MODEL_DENSITY),370)
+$(if $(shell printf '%s' '$(TILE_MODEL_DENSITY)' | grep -xE '[0-9]+(\.[0-9]+)?'),,$(error \
+  TILE_MODEL_DENSITY=$(TILE_MODEL_DENSITY) must be a number of points/m²))
+endif
 scene_config = $(if $(wildcard $(P)/$(1).ini),--config $(P)/$(1).ini)
 
 # read_plan(FILE): a generated candidate plan. A real run includes it, so make remakes it first
@@ -67,8 +71,8 @@ endef
 
 # The stages each candidate runs, as scripts/progress.sh names their kinds (the plan step adds
 # them to the progress count: the candidates are known only once detect has run).
-TILE_CAND_KINDS := classify:cand/class.json fitvox:cand/samples.pcd cocone:cand/mesh.ply ncut:cand/segments.json gmatch:cand/match.json \
-  verify:cand/verdict.json
+TILE_CAND_KINDS := classify:cand/class.json fitvox:cand/samples.pcd cocone:cand/mesh.ply ncut:cand/segments.json \
+  gmatch:cand/match.json verify:cand/verdict.json
 
 # class_rule(DIR, ID): classify on one candidate (every candidate; exit 1 only on a bad file:
 # too sparse is an answer, so no --record-failure).
