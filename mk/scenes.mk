@@ -4,17 +4,21 @@
 #   make -f Makefile.experiments tile TILE=my.las MODELBASE=out/modelbase OUT=mytile/ -j2
 #        [CRS=EPSG:32633]
 #
-# one user tile -> mytile/detections.json (canopy.detections v1), mytile/detections.geojson,
+# one user tile -> mytile/detections.json (canopy.detections v2), mytile/detections.geojson,
 # mytile/classes.ply (detect's classification: ground, other, candidate), mytile/top.png (the
 # tile from above, highest point per pixel, detection footprints outlined) and per candidate
-# mytile/cands/<id>/{samples.pcd, mesh.ply, segments.json, segments.ply, match.json,
-# verdict.json} (each with its .log and .time). MODELBASE is a directory of <model>.json
-# graphs and <model>.pcd surfaces (`make -f Makefile.experiments verify-modelbase` builds
-# out/modelbase). Every stage runs through $(STAGE), so LAUNCH=slurm launches them as jobs.
+# mytile/cands/<id>/class.json (classify: the class-level answer, every candidate) and, for the
+# candidates dense enough for model-level recognition (object density >= TILE_MODEL_DENSITY
+# points/m², default 370: docs/decisions/classify.md §11), mytile/cands/<id>/{samples.pcd,
+# mesh.ply, segments.json, segments.ply, match.json, verdict.json} (each with its .log and
+# .time). MODELBASE is a directory of <model>.json graphs and <model>.pcd surfaces (`make -f
+# Makefile.experiments verify-modelbase` builds out/modelbase). Every stage runs through
+# $(STAGE), so LAUNCH=slurm launches them as jobs.
 #
 # How the candidates become targets: their number is known only after detect has run, so the
 # tile's makefile is generated. `collect --plan` turns mytile/cands/index.json into
-# mytile/cands.mk (TILE_CANDS := c0001 c0002 ...; TILE_TRANSFORM_<id> := 16 numbers), which
+# mytile/cands.mk (TILE_CANDS := c0001 c0002 ...; TILE_TRANSFORM_<id> := 16 numbers;
+# TILE_LEVEL_<id> := model or class, from the candidate's object density), which
 # this file `-include`s. GNU make first brings every included makefile up to date (running
 # detect and the plan when the tile or a tool changed), then re-reads the makefiles and only
 # then builds the goals, now with one rule chain per candidate: the candidates run in
@@ -25,15 +29,24 @@
 #
 # A candidate whose chain fails in a tool's own error (e.g. cocone on a wire-thin object) is
 # recorded as failed (stage.sh --record-failure: an empty artifact, so the later stages fail
-# in turn and its verdict.json is empty); collect counts it under "failed", the tile goes on.
+# in turn and its verdict.json is empty); collect then answers it from its class.json (a failed
+# model chain never hides a class-level answer), else counts it under "failed"; the tile goes on.
 
 # The tools of this file, unless another fragment already has their build rule.
 scene_tool_has_rule = $(or $(filter $(1),$(TOOLS)),$(and $(filter verify,$(1)),$(filter mk/verify.mk,$(MAKEFILE_LIST))))
-$(foreach t,detect verify collect score topview,$(if $(call scene_tool_has_rule,$(t)),,$(eval $(call tool_rule,$(t)))))
+$(foreach t,detect classify verify collect score topview,$(if $(call scene_tool_has_rule,$(t)),,$(eval $(call tool_rule,$(t)))))
 # (detect and verify have no parameter file yet; one is used as soon as it exists.)
 # fitvox on candidates: airborne tiles are sparser than the thesis's renderings
 # (share/params/fitvox-tile.ini says how the setting was chosen).
 TILE_FITVOX ?= $(P)/fitvox-tile.ini
+# The object density (points per m² of a candidate's footprint, detect's index.json) from which
+# a candidate also runs the model chain; below it classify's class-level answer alone
+# (docs/decisions/classify.md §11: fitvox-tile.ini's 6 points per 128 mm voxel).
+TILE_MODEL_DENSITY ?= 370
+ifneq ($(TILE_MODEL_DENSITY),370)
+$(if $(shell printf '%s' '$(TILE_MODEL_DENSITY)' | grep -xE '[0-9]+(\.[0-9]+)?'),,$(error \
+  TILE_MODEL_DENSITY=$(TILE_MODEL_DENSITY) must be a number of points/m²))
+endif
 scene_config = $(if $(wildcard $(P)/$(1).ini),--config $(P)/$(1).ini)
 
 # read_plan(FILE): a generated candidate plan. A real run includes it, so make remakes it first
@@ -49,7 +62,8 @@ define tile_rules
 $(2)/cands/index.json: $(3) $(call tool,detect) $(wildcard $(P)/detect.ini)
 	@$(STAGE) $(2)/detect -- $(BIN)/detect $(call scene_config,detect) $(5) -i $(3) -o $(2)/cands
 $(2)/cands.mk: $(2)/cands/index.json $(call tool,collect)
-	@$(STAGE) $$@ -- $(BIN)/collect -i $(2)/cands/index.json --plan $$@ --plan-key $(1)
+	@$(STAGE) $$@ -- $(BIN)/collect -i $(2)/cands/index.json --plan $$@ --plan-key $(1) \
+	  --model-density $(TILE_MODEL_DENSITY)
 	@[ -z "$$$$CANOPY_PROGRESS" ] || scripts/progress.sh extend "$$$$CANOPY_PROGRESS" $$@ $$(TILE_CAND_KINDS)
 $(2)/classes.ply: $(2)/cands/index.json
 	@$(call link_or_copy,$(2)/cands/classes.ply,$$@) && touch -c $$@ && echo "done  $$@"
@@ -57,8 +71,25 @@ endef
 
 # The stages each candidate runs, as scripts/progress.sh names their kinds (the plan step adds
 # them to the progress count: the candidates are known only once detect has run).
-TILE_CAND_KINDS := fitvox:cand/samples.pcd cocone:cand/mesh.ply ncut:cand/segments.json gmatch:cand/match.json \
-  verify:cand/verdict.json
+TILE_CAND_KINDS := classify:cand/class.json fitvox:cand/samples.pcd cocone:cand/mesh.ply ncut:cand/segments.json \
+  gmatch:cand/match.json verify:cand/verdict.json
+
+# class_rule(DIR, ID): classify on one candidate (every candidate; exit 1 only on a bad file:
+# too sparse is an answer, so no --record-failure).
+define class_rule
+$(1)/cands/$(2)/class.json: $(1)/cands/index.json $(call tool,classify) $(P)/classify.ini
+	@$(STAGE) $$@ -- $(BIN)/classify --config $(P)/classify.ini -i $(1)/cands/$(2).pcd \
+	  --index $(1)/cands/index.json -o $$@
+endef
+# is_model(KEY, ID): non-empty when the plan sends the candidate through the model chain (an
+# older plan without levels: every candidate).
+is_model = $(filter-out class,$($(1)_LEVEL_$(2)))$(if $($(1)_LEVEL_$(2)),,model)
+# model_cands(KEY): the candidates of the plan that run the model chain.
+model_cands = $(foreach c,$($(1)_CANDS),$(if $(call is_model,$(1),$(c)),$(c)))
+# cand_rules(DIR, KEY, MODELBASE, SEEDKEY): class_rule for every candidate, cand_rule for the
+# model-level ones.
+cand_rules = $(foreach c,$($(2)_CANDS),$(eval $(call class_rule,$(1),$(c))))$(foreach \
+  c,$(call model_cands,$(2)),$(eval $(call cand_rule,$(1),$(c),$(2),$(3),$(4))))
 
 # cand_rule(DIR, ID, KEY, MODELBASE, SEEDKEY): fitvox | cocone | ncut | gmatch | verify on one
 # candidate (cands/<id>.pcd, written by detect with index.json).
@@ -80,10 +111,11 @@ $(1)/cands/$(2)/verdict.json: $(1)/cands/$(2)/match.json $(1)/cands/$(2)/samples
 	  --modelbase $(4) --transform $($(3)_TRANSFORM_$(2)) -o $$@
 endef
 
-# tile_collect(KEY, DIR, MODELBASE, SCAN): every verdict -> detections.json + GeoJSON, and
-# the top-view picture of the tile with the detections' footprints.
+# tile_collect(KEY, DIR, MODELBASE, SCAN): every class.json and model-level verdict ->
+# detections.json + GeoJSON, and the top-view picture of the tile with the detections' footprints.
 define tile_collect
-$(2)/detections.json: $(2)/cands.mk $(foreach c,$($(1)_CANDS),$(2)/cands/$(c)/verdict.json) $(call tool,collect)
+$(2)/detections.json: $(2)/cands.mk $(foreach c,$($(1)_CANDS),$(2)/cands/$(c)/class.json) \
+    $(foreach c,$(call model_cands,$(1)),$(2)/cands/$(c)/verdict.json) $(call tool,collect)
 	@$(STAGE) $$@ -- $(BIN)/collect -i $(2)/cands/index.json -o $$@ --geojson $(2)/detections.geojson \
 	  --modelbase $(3) $(if $(CRS),--crs $(CRS))
 $(2)/top.png: $(2)/detections.json $(4) $(call tool,topview)
@@ -103,7 +135,7 @@ $(if $(filter $(TILE_OUT),. .. /),$(error tile: OUT=$(OUT) must name the tile's 
 $(if $(CRS),$(if $(shell printf '%s' '$(CRS)' | grep -xE 'EPSG:[0-9]{1,6}'),,$(error tile: CRS=$(CRS) must be EPSG:<code>)))
 $(eval $(call tile_rules,TILE,$(TILE_OUT),$(TILE),$(TILE_MB)))
 $(call read_plan,$(TILE_OUT)/cands.mk)
-$(foreach c,$(TILE_CANDS),$(eval $(call cand_rule,$(TILE_OUT),$(c),TILE,$(TILE_MB),$(notdir $(TILE)))))
+$(call cand_rules,$(TILE_OUT),TILE,$(TILE_MB),$(notdir $(TILE)))
 $(eval $(call tile_collect,TILE,$(TILE_OUT),$(TILE_MB),$(TILE)))
 tile: $(TILE_OUT)/detections.json $(TILE_OUT)/classes.ply $(TILE_OUT)/top.png
 endif
@@ -216,7 +248,7 @@ scenes_force := $(if $(shell $(MAKE) -q --no-print-directory -f $(firstword $(MA
 endif
 # What the sub-make shares with this make is built here first (the tools, the modelbase from
 # the thesis trials), so the two never build one artifact at the same time.
-SCENE_TOOLS := rangetrace addnoise detect fitvox cocone ncut gmatch verify collect score topview figures \
+SCENE_TOOLS := rangetrace addnoise detect classify fitvox cocone ncut gmatch verify collect score topview figures \
   $(if $(SCENE_BASELINE),baseline)
 $(SCENE_SCORE): $(scenes_force) $(foreach t,$(SCENE_TOOLS),$(call tool,$(t))) $(MODELBASE) $(VERIFY_SURFACES)
 	+@$(MAKE) --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROGRESS=0
@@ -268,11 +300,10 @@ $(foreach r,$(SCENE_RUNS),$(eval $(call tile_rules,$(call scene_key,$(r)),$(r),$
 $(foreach r,$(SCENE_RUNS),$(call read_plan,$(r)/cands.mk))
 # ncut's seed key is the run's place under scenes/ (scenes/<cover>/tile-<seed>/noise-<mm>/<id>),
 # never a path with $(OUT) in it: the same experiment in another directory gives the same bytes.
-$(foreach r,$(SCENE_RUNS),$(foreach c,$($(call scene_key,$(r))_CANDS),\
-  $(eval $(call cand_rule,$(r),$(c),$(call scene_key,$(r)),$(SCENE_MB),$(patsubst $(SCENE_DIR)/%,scenes/%,$(r))))))
+$(foreach r,$(SCENE_RUNS),$(call cand_rules,$(r),$(call scene_key,$(r)),$(SCENE_MB),$(patsubst $(SCENE_DIR)/%,scenes/%,$(r))))
 $(foreach r,$(SCENE_RUNS),$(eval $(call tile_collect,$(call scene_key,$(r)),$(r),$(SCENE_MB),$(r)/scan.pcd)))
 # The experiment's modelbase is built here (graphs; surfaces when mk/verify.mk is read).
-$(foreach r,$(SCENE_RUNS),$(foreach c,$($(call scene_key,$(r))_CANDS),\
+$(foreach r,$(SCENE_RUNS),$(foreach c,$(call model_cands,$(call scene_key,$(r))),\
   $(eval $(r)/cands/$(c)/match.json $(r)/cands/$(c)/verdict.json: $(MODELBASE) $(VERIFY_SURFACES))))
 # The score's manifest: detections truth noise cover, one line per run.
 scene_line = $(1)/detections.json $(patsubst %/,%,$(dir $(1)))/truth.json $(patsubst noise-%,%,$(notdir $(1))) \
@@ -292,7 +323,8 @@ $(1)/cands/$(2)/baseline-$(3).json: $(1)/cands/$(2)/samples.pcd $(VERIFY_SURFACE
 	  --modelbase $(SCENE_MB) -o $$@
 endef
 define scene_baseline_run_rule
-$(1)/detections-baseline-$(3).json: $(1)/cands.mk $(foreach c,$($(2)_CANDS),$(1)/cands/$(c)/baseline-$(3).json) $(call tool,collect)
+$(1)/detections-baseline-$(3).json: $(1)/cands.mk $(foreach c,$($(2)_CANDS),$(1)/cands/$(c)/class.json) \
+    $(foreach c,$(call model_cands,$(2)),$(1)/cands/$(c)/baseline-$(3).json) $(call tool,collect)
 	@$(STAGE) $$@ -- $(BIN)/collect -i $(1)/cands/index.json --verdict-name baseline-$(3).json -o $$@ \
 	  --modelbase $(SCENE_MB)
 endef
@@ -303,7 +335,7 @@ $(SCENE_RES)/baseline-$(1)/score.json: $(SCENE_DIR)/tiles-baseline-$(1).txt \
     $(addsuffix /detections-baseline-$(1).json,$(SCENE_RUNS)) $(call tool,score)
 	@$(STAGE) $$@ -- $(BIN)/score --tiles $(SCENE_DIR)/tiles-baseline-$(1).txt -o $$@ --csv $(SCENE_RES)/baseline-$(1)/
 endef
-$(foreach m,$(SCENE_BASELINE),$(foreach r,$(SCENE_RUNS),$(foreach c,$($(call scene_key,$(r))_CANDS),\
+$(foreach m,$(SCENE_BASELINE),$(foreach r,$(SCENE_RUNS),$(foreach c,$(call model_cands,$(call scene_key,$(r))),\
   $(eval $(call scene_baseline_cand_rule,$(r),$(c),$(m))))))
 $(foreach m,$(SCENE_BASELINE),$(foreach r,$(SCENE_RUNS),$(eval $(call scene_baseline_run_rule,$(r),$(call scene_key,$(r)),$(m)))))
 $(foreach m,$(SCENE_BASELINE),$(eval $(call scene_baseline_score_rule,$(m))))

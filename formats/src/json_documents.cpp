@@ -335,7 +335,7 @@ void write_match_result(const MatchResult& result, const std::string& path) {
 }
 
 Json open_json_document(const std::string& text, const std::string& name, const char* format,
-                        const Json::parser_callback_t& filter) {
+                        const Json::parser_callback_t& filter, int max_version) {
   // canopy documents nest 5 levels; nlohmann copies values recursively (ordered_json's
   // objects copy their values when they grow), so a 60 KB file of nested brackets would
   // overflow the stack. Refuse deep nesting before parsing.
@@ -378,10 +378,16 @@ Json open_json_document(const std::string& text, const std::string& name, const 
     throw DataError(name, "no integer \"version\"");
   }
   const Json& v = j["version"];
-  if (v.is_number_unsigned() ? v.get<std::uint64_t>() != static_cast<std::uint64_t>(kVersion)
-                             : v.get<std::int64_t>() != kVersion) {
-    throw DataError(
-        name, std::string(format) + " version " + v.dump() + " is not supported (this build reads version 1)");
+  const bool known = v.is_number_unsigned()
+                         ? v.get<std::uint64_t>() >= static_cast<std::uint64_t>(kVersion) &&
+                               v.get<std::uint64_t>() <= static_cast<std::uint64_t>(max_version)
+                         : v.get<std::int64_t>() >= kVersion && v.get<std::int64_t>() <= max_version;
+  if (!known) {
+    throw DataError(name, std::string(format) + " version " + v.dump() +
+                              " is not supported (this build reads " +
+                              (max_version > kVersion ? "versions 1 to " + std::to_string(max_version)
+                                                      : std::string("version 1")) +
+                              ")");
   }
   return j;
 }

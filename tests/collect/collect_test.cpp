@@ -130,7 +130,7 @@ TEST_CASE("collect: detections, none counted, poses and footprints at UTM coordi
   REQUIRE(test::sh(cmd, dir / "err.txt", &err) == 0);
   const Json d = read_json(dir / "detections.json");
   CHECK(d["format"] == "canopy.detections");
-  CHECK(d["version"] == 1);
+  CHECK(d["version"] == 2);
   CHECK(d["candidates"] == 3);
   CHECK(d["found"] == 2);
   CHECK(d["none"] == 1);
@@ -141,6 +141,7 @@ TEST_CASE("collect: detections, none counted, poses and footprints at UTM coordi
 
   const Json& s = d["detections"][0];
   CHECK(s["candidate"] == "c0001");
+  CHECK(s["level"] == "model");
   CHECK(s["model"] == "sedan");
   CHECK(s["confidence"].get<double>() == Approx(0.9));
   CHECK(s["pose"]["x"].get<double>() == Approx(E + 10.25).margin(1e-6));
@@ -375,7 +376,7 @@ TEST_CASE("collect::run writes the provenance it is given; validate names --crs"
   none.name = "c1/verdict.json";
   none.candidate = "c1/samples.pcd";
   none.confidence = 0.25;
-  in.verdicts = {none};
+  in.answers = {{none, collect::absent_verdict("c1/class.json")}};
   in.provenance = {"collect", "9.9", {{"crs", ""}, {"plan", ""}}, {"idx.json", "c1/verdict.json"}};
   const collect::Output o = collect::run(collect::Params{}, in);
   CHECK(o.found == 0);
@@ -392,4 +393,183 @@ TEST_CASE("collect::run writes the provenance it is given; validate names --crs"
     p.crs = bad;
     CHECK_THROWS_WITH(collect::validate(p), Catch::Contains("--crs"));
   }
+}
+
+namespace {
+
+// classify's answer (docs/decisions/classify.md §9) for candidate `id`: a class with its pose
+// in the candidate frame, or none with a reason.
+Json class_answer(const fs::path& cands, const std::string& id, const char* cls, const char* group,
+                  const char* reason, double density, const Json& pose) {
+  return Json{
+      {"format", "canopy.verdict"},
+      {"version", 1},
+      {"candidate", (cands / (id + ".pcd")).string()},
+      {"level", "class"},
+      {"model", nullptr},
+      {"class", cls ? Json(cls) : Json(nullptr)},
+      {"group", group ? Json(group) : Json(nullptr)},
+      {"confidence", 0.6},
+      {"reason", reason ? Json(reason) : Json(nullptr)},
+      {"detail", reason ? "object density 2.1 points/m² below the 4 points/m² the class level needs" : ""},
+      {"pose", pose.is_null() ? pose : Json{{"matrix", pose}}},
+      {"pose_tile", nullptr},
+      {"heading_ambiguity_deg", 180},
+      {"size", cls ? Json::array({4.5, 1.8, 1.45}) : Json(nullptr)},
+      {"density", density},
+      {"density_needed", {{"class", 4}, {"model", 370}}}};
+}
+
+std::string read_text(const fs::path& p) {
+  std::ifstream f(p.string());
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+}  // namespace
+
+TEST_CASE("collect v2: class answers where the model chain found nothing, failed or did not run") {
+  const fs::path dir = tile("levels");
+  const fs::path cands = dir / "cands";
+  // c0002: the model chain said none, classify a hatchback at (1, 0.5) turned by 90 degrees in
+  // the candidate frame (heading 0 at E + 5, N + 25): a class-level detection.
+  write(cands / "c0002" / "class.json",
+        class_answer(cands, "c0002", "hatchback", "car", nullptr, 30, flat(90, 1, 0.5, 0)).dump());
+  // c0003: its model chain failed; classify says too sparse: the rejection carries why.
+  write(cands / "c0003" / "verdict.json", "");
+  write(cands / "c0003" / "class.json",
+        class_answer(cands, "c0003", nullptr, nullptr, "too_sparse", 2.1, nullptr).dump());
+  // c0001: the model answer wins over classify's.
+  write(cands / "c0001" / "class.json",
+        class_answer(cands, "c0001", "suv", "car", nullptr, 900, flat(0, 0, 0, 0)).dump());
+  std::string err;
+  const std::string cmd = bin() + " -i " + (cands / "index.json").string() + " -o " +
+                          (dir / "d.json").string() + " --geojson " + (dir / "d.geojson").string();
+  REQUIRE(test::sh(cmd, dir / "err.txt", &err) == 0);
+  const Json d = read_json(dir / "d.json");
+  CHECK(d["version"] == 2);
+  CHECK(d["found"] == 2);
+  CHECK(d["by_level"] == Json{{"model", 1}, {"class", 1}});
+  CHECK(d["by_reason"] == Json{{"too_sparse", 1}});
+  CHECK(d["none"] == 1);  // v1's counts: someone looked (classify) and said none
+  CHECK(d["failed"] == 0);
+  CHECK(d["density"].is_null());  // an index without detect's density
+  CHECK(d["warning"].is_null());  // 1 of 3 rejected; the model chain ran
+  CHECK_THAT(err,
+             Catch::Contains(
+                 "3 candidates: 2 vehicles found (1 model level, 1 class level); rejected: too_sparse 1"));
+  REQUIRE(d["detections"].size() == 2);
+  CHECK(d["detections"][0]["level"] == "model");
+  CHECK(d["detections"][0]["model"] == "sedan");
+  const Json& c = d["detections"][1];
+  CHECK(c["candidate"] == "c0002");
+  CHECK(c["level"] == "class");
+  CHECK(c["model"].is_null());
+  CHECK(c["class"] == "hatchback");
+  CHECK(c["group"] == "car");
+  CHECK(c["heading_ambiguity_deg"] == 180.0);
+  CHECK(c["density"] == 30.0);
+  CHECK(c["size"] == Json{{"length", 4.5}, {"width", 1.8}, {"height", 1.45}});
+  CHECK(c["pose"]["x"].get<double>() == Approx(E + 6).margin(1e-6));
+  CHECK(c["pose"]["y"].get<double>() == Approx(N + 25.5).margin(1e-6));
+  CHECK(c["pose"]["heading"].get<double>() == Approx(90));
+  CHECK(c["footprint_from"] == "class");
+  // The 4.5 x 1.8 rectangle turned by 90 degrees about (E + 6, N + 25.5), counter-clockwise.
+  const double want[4][2] = {{6.9, 23.25}, {6.9, 27.75}, {5.1, 27.75}, {5.1, 23.25}};
+  for (int k = 0; k < 4; ++k) {
+    CHECK(c["footprint"][k][0].get<double>() == Approx(E + want[k][0]).margin(1e-6));
+    CHECK(c["footprint"][k][1].get<double>() == Approx(N + want[k][1]).margin(1e-6));
+  }
+  REQUIRE(d["rejected"].size() == 1);
+  const Json& r = d["rejected"][0];
+  CHECK(r["candidate"] == "c0003");
+  CHECK(r["reason"] == "too_sparse");
+  CHECK_THAT(r["detail"].get<std::string>(), Catch::Contains("below the 4 points/m²"));
+  CHECK(r["density"] == 2.1);
+  CHECK(r["density_needed"] == Json{{"class", 4.0}, {"model", 370.0}});
+  CHECK(r["model_chain"] == "failed");
+  const Json g = read_json(dir / "d.geojson");
+  REQUIRE(g["features"].size() == 2);
+  CHECK(g["features"][1]["properties"]["level"] == "class");
+  CHECK(g["features"][1]["properties"]["class"] == "hatchback");
+  CHECK(g["features"][1]["properties"]["model"].is_null());
+
+  // A failed model chain with a class answer: the class answer stands.
+  write(cands / "c0002" / "verdict.json", "");
+  REQUIRE(test::sh(cmd, dir / "err.txt", &err) == 0);
+  CHECK(read_json(dir / "d.json")["detections"][1]["level"] == "class");
+  // No verdict.json at all (a class-level candidate of the plan): the same.
+  fs::remove(cands / "c0002" / "verdict.json");
+  REQUIRE(test::sh(cmd, dir / "err.txt", &err) == 0);
+  CHECK(read_json(dir / "d.json")["detections"][1]["candidate"] == "c0002");
+  // --class-name "": classify's answers are not read (v1 behaviour: c0002 none, c0003 failed).
+  write(cands / "c0002" / "verdict.json",
+        verdict((cands / "c0002" / "samples.pcd").string(), nullptr, 0.7, nullptr, nullptr).dump());
+  REQUIRE(test::sh(cmd + " --class-name ''", dir / "err.txt", &err) == 0);
+  const Json v1 = read_json(dir / "d.json");
+  CHECK(v1["found"] == 1);
+  CHECK(v1["by_reason"] == Json{{"failed", 1}, {"none", 1}});
+  CHECK(v1["failed"] == 1);
+  CHECK(v1["rejected"][1]["detail"] == "a stage of the model chain failed (see the candidate's .log files)");
+}
+
+TEST_CASE(
+    "collect v2: most candidates too sparse and no model chain: the warning says why and what would help") {
+  const fs::path dir = tile("sparse_warning");
+  const fs::path cands = dir / "cands";
+  // detect's density for the tile, and every candidate classified only (no verdict.json).
+  Json index = read_json(cands / "index.json");
+  index["density"] = Json{{"all", 31.0}, {"ground", 28.0}, {"first", nullptr}};
+  write(cands / "index.json", index.dump());
+  for (const char* id : {"c0001", "c0002", "c0003"}) fs::remove(cands / id / "verdict.json");
+  write(cands / "c0001" / "class.json",
+        class_answer(cands, "c0001", nullptr, nullptr, "too_sparse", 2.5, nullptr).dump());
+  write(cands / "c0002" / "class.json",
+        class_answer(cands, "c0002", nullptr, nullptr, "too_sparse", 3.5, nullptr).dump());
+  write(cands / "c0003" / "class.json",
+        class_answer(cands, "c0003", nullptr, nullptr, "vegetation_like", 20, nullptr).dump());
+  std::string err;
+  REQUIRE(test::sh(bin() + " -i " + (cands / "index.json").string() + " -o " + (dir / "d.json").string(),
+                   dir / "err.txt", &err) == 0);
+  const Json d = read_json(dir / "d.json");
+  CHECK(d["found"] == 0);
+  CHECK(d["by_reason"] == Json{{"too_sparse", 2}, {"vegetation_like", 1}});
+  CHECK(d["density"]["ground"] == 28.0);
+  const std::string w = d["warning"];
+  CHECK_THAT(w,
+             Catch::Contains("2 of 3 candidates rejected as too_sparse (median object density 3 points/m², "
+                             "class level needs 4, model level 370)"));
+  CHECK_THAT(
+      w, Catch::Contains("tile density 28 points/m²: below the 370 points/m² that model-level recognition "
+                         "needs; class-level answers only"));
+  CHECK_THAT(w, Catch::EndsWith("see docs/decisions/classify.md"));
+  CHECK_THAT(err, Catch::Contains("collect: warning: 2 of 3 candidates rejected as too_sparse"));
+  // Neither a verdict nor a class answer: named, nothing written.
+  fs::remove(cands / "c0003" / "class.json");
+  fs::remove(dir / "d.json");
+  CHECK(test::sh(bin() + " -q -i " + (cands / "index.json").string() + " -o " + (dir / "d.json").string(),
+                 dir / "err.txt", &err) == 1);
+  CHECK_THAT(err, Catch::Contains("c0003/verdict.json"));
+  CHECK_FALSE(test::exists(dir / "d.json"));
+}
+
+TEST_CASE("collect --plan: each candidate's level from its object density") {
+  const fs::path dir = tile("plan_levels");
+  Json index = read_json(dir / "cands" / "index.json");
+  index["candidates"][0]["density"] = 900.0;          // dense: model
+  index["candidates"][1]["object_points"] = 60;       // 60 / (3 x 2) = 10: class
+  write(dir / "cands" / "index.json", index.dump());  // c0003: unknown: model
+  std::string err;
+  const std::string cmd =
+      bin() + " -q -i " + (dir / "cands" / "index.json").string() + " --plan " + (dir / "cands.mk").string();
+  REQUIRE(test::sh(cmd, dir / "err.txt", &err) == 0);
+  std::string mk = read_text(dir / "cands.mk");
+  CHECK_THAT(mk, Catch::Contains(
+                     "\nTILE_LEVEL_c0001 := model\nTILE_LEVEL_c0002 := class\nTILE_LEVEL_c0003 := model\n"));
+  REQUIRE(test::sh(cmd + " --model-density 1000", dir / "err.txt", &err) == 0);
+  CHECK_THAT(read_text(dir / "cands.mk"), Catch::Contains("\nTILE_LEVEL_c0001 := class\n"));
+  REQUIRE(test::sh(cmd + " --model-density 5", dir / "err.txt", &err) == 0);
+  CHECK_THAT(read_text(dir / "cands.mk"), Catch::Contains("\nTILE_LEVEL_c0002 := model\n"));
+  CHECK(test::sh(cmd + " --model-density -1", dir / "err.txt", &err) == 2);
 }

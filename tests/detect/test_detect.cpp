@@ -290,6 +290,7 @@ TEST_CASE("bad tiles") {
         for (int k = 0; k < 10; ++k) p.emplace_back(x0 + i * 0.1, 1.0, 0.6 + k * 0.1);
     detect::Params params;
     params.voxel = 0.001;
+    params.voxel_from_density = false;  // as --voxel given
     CHECK_THROWS_WITH(
         detect::run(xyz_cloud(p), params, "strip.pcd"),
         Catch::Contains("strip.pcd: the points between --min-object-height and --max-height span") &&
@@ -365,6 +366,7 @@ TEST_CASE("bush groups and low crowns are rejected by the shape test, vehicles a
     const auto tile = detect_test::make_tile(s);
     detect::Params off;
     off.min_planarity = 0;
+    off.planarity_from_density = false;  // as --min-planarity given
     const detect::Result all = detect::run(tile, off, "off");
     std::size_t vegetation = 0;
     for (const auto& c : all.candidates) {

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Scene mini experiment (issue 16): two tiny tiles, one vehicle and one clutter object each,
 # through the whole tile workflow as a user runs it (`make -f Makefile.experiments tile`:
-# detect, fitvox | cocone | ncut | gmatch | verify per candidate, collect), then `score`, whose
+# detect, classify on every candidate, fitvox | cocone | ncut | gmatch | verify on those dense
+# enough for the model level (all of them at these 30 mm tiles), collect), then `score`, whose
 # precision and recall are checked against counts computed here from the detections and the
 # truth (jq); the GeoJSON is parsed back; a second make runs nothing, and a changed gmatch.ini
 # re-runs only gmatch, verify and collect. Then `tile` on the shared LAS crop must write valid
@@ -15,7 +16,7 @@ fail() { echo "FAIL: $*" >&2; exit 1; }
 for t in detect verify; do
   [ -f "$src/tools/$t/CMakeLists.txt" ] || { echo "skipped: this tree has no tools/$t"; exit 0; }
 done
-for t in rangetrace fitvox cocone ncut gmatch detect verify collect score topview; do
+for t in rangetrace fitvox cocone ncut gmatch detect classify verify collect score topview; do
   [ -x "$bin/$t" ] || fail "$bin/$t is not built"
 done
 command -v jq >/dev/null || fail "jq not found (scripts/install-deps.sh installs it)"
@@ -57,7 +58,11 @@ for t in a b; do
   n=$(jq '.candidates | length' "$tmp/$t/cands/index.json")
   [ "$n" -ge 1 ] || fail "tile $t: detect found no candidate"
   [ "$(jq '.candidates' "$tmp/$t/detections.json")" = "$n" ] || fail "tile $t: detections.json does not count $n candidates"
+  [ "$(jq '.version' "$tmp/$t/detections.json")" = 2 ] || fail "tile $t: detections.json is not version 2"
   for id in $(jq -r '.candidates[].id' "$tmp/$t/cands/index.json"); do
+    [ -f "$tmp/$t/cands/$id/class.json" ] || fail "tile $t: no class.json for $id"
+    # Rendered at 30 mm, every candidate is far above 370 points/m²: the model chain runs.
+    grep -qx "TILE_LEVEL_$id := model" "$tmp/$t/cands.mk" || fail "tile $t: $id is not planned for the model level"
     [ -f "$tmp/$t/cands/$id/verdict.json" ] || fail "tile $t: no verdict for $id"
   done
   # GeoJSON: parses, one feature per detection, closed 5-position rings at UTM magnitudes.
@@ -90,17 +95,17 @@ if grep '^done\|^FAIL' "$tmp/param.log" | grep -q 'samples.pcd\|mesh.ply\|segmen
 fi
 
 # Score, and the same counts computed here: one vehicle per tile, so a tile's true positive is
-# 1 when some detection's centre is within 1.5 m of the vehicle, every other detection is a
-# false alarm.
+# 1 when some model-level detection's centre is within 1.5 m of the vehicle, every other
+# model-level detection is a false alarm (score counts the class-level ones apart).
 printf '%s\n' "$tmp/a/detections.json $tmp/a.truth.json 0 light" "$tmp/b/detections.json $tmp/b.truth.json 0 light" \
   >"$tmp/tiles.txt"
 score -q --tiles "$tmp/tiles.txt" -o "$tmp/score.json" --csv "$tmp/score_" || fail "score failed"
 tp=0 det=0
 for t in a b; do
-  hit=$(jq --slurpfile tr "$tmp/$t.truth.json" '[.detections[] | select(((.pose.x - $tr[0].vehicles[0].pose.x) | . * .)
+  hit=$(jq --slurpfile tr "$tmp/$t.truth.json" '[.detections[] | select(.level == "model") | select(((.pose.x - $tr[0].vehicles[0].pose.x) | . * .)
           + ((.pose.y - $tr[0].vehicles[0].pose.y) | . * .) <= 2.25)] | length | if . > 0 then 1 else 0 end' \
         "$tmp/$t/detections.json")
-  tp=$((tp + hit)); det=$((det + $(jq '.detections | length' "$tmp/$t/detections.json")))
+  tp=$((tp + hit)); det=$((det + $(jq '[.detections[] | select(.level == "model")] | length' "$tmp/$t/detections.json")))
 done
 fp=$((det - tp)) fn=$((2 - tp))
 got=$(jq -r '.summary[0] | "\(.tp) \(.fp) \(.fn)"' "$tmp/score.json")

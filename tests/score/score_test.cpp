@@ -223,8 +223,8 @@ TEST_CASE("bad documents are refused naming the file and the field") {
   CHECK_THROWS_WITH(score::parse_truth("{", "t.json"), Catch::Contains("t.json"));
   CHECK_THROWS_WITH(score::parse_truth(R"({"format":"canopy.detections","version":1})", "t.json"),
                     Catch::Contains("expected \"canopy.scene_truth\""));
-  CHECK_THROWS_WITH(score::parse_detections(R"({"format":"canopy.detections","version":2})", "d.json"),
-                    Catch::Contains("version 2"));
+  CHECK_THROWS_WITH(score::parse_detections(R"({"format":"canopy.detections","version":3})", "d.json"),
+                    Catch::Contains("version 3"));
   Json bad = Json::parse(detections_text({det("c1", "sedan", 1.5, 10, 10, 30)}));
   CHECK_THROWS_WITH(score::parse_detections(bad.dump(), "d.json"),
                     Catch::Contains("detections[0].confidence"));
@@ -355,4 +355,112 @@ TEST_CASE("score parameters out of range name their option") {
   CHECK_THROWS_WITH(score::validate(p), Catch::Contains("--cover-bins"));
   p.cover_bins = {0, 1.5};
   CHECK_THROWS_AS(score::validate(p), common::UsageError);
+}
+
+namespace {
+
+// A class-level detection (canopy.detections v2): classify's class and group, heading modulo 180.
+Json class_det(const std::string& id, const char* cls, const char* group, double conf, double x, double y,
+               double heading) {
+  Json d = det(id, "", conf, x, y, heading);
+  d["level"] = "class";
+  d["model"] = nullptr;
+  d["class"] = cls;
+  d["group"] = group;
+  d["heading_ambiguity_deg"] = 180;
+  return d;
+}
+
+Json run_v2(Json dets, const std::string& truth = truth_text()) {
+  Json doc = Json::parse(detections_text(dets));
+  doc["version"] = 2;
+  for (auto& d : doc["detections"]) {
+    if (!d.contains("level")) d["level"] = "model";
+  }
+  score::Tile t;
+  t.truth = score::parse_truth(truth, "truth.json");
+  t.detections = score::parse_detections(doc.dump(), "detections.json");
+  return score::score({t}, score::Params{});
+}
+
+}  // namespace
+
+TEST_CASE("v2: class-level detections match by position, are scored apart, heading modulo 180") {
+  // The sedan found at the model level; a class-level "tank" answer (group tracked) on the tank
+  // back to front (heading 90 + 180 + 1), and a class-level false alarm far away.
+  const Json s =
+      run_v2({det("c1", "sedan", 0.9, 10, 10, 30), class_det("c2", "tank", "tracked", 0.6, 20.3, 20, 271),
+              class_det("c3", "sedan", "car", 0.7, 2, 28, 0)});
+  const Json& a = all(s);
+  // Model-level figures are those of the model-level detections alone.
+  CHECK(a["detections"] == 1);
+  CHECK(a["tp"] == 1);
+  CHECK(a["fn"] == 1);
+  CHECK(a["recognition"].get<double>() == Approx(0.5));
+  CHECK(a["class_detections"] == 2);
+  CHECK(a["class_tp"] == 1);
+  CHECK(a["class_fp"] == 1);
+  CHECK(a["class_identified"] == 1);  // its class "tank" names the truth's model
+  CHECK(a["class_accuracy"].get<double>() == Approx(1));
+  CHECK(a["class_heading_error_median_deg"].get<double>() == Approx(1));  // 181 modulo 180
+  CHECK(a["class_position_error_median_m"].get<double>() == Approx(0.3));
+  CHECK(a["found_any_level"] == 2);
+  CHECK(a["recall_any_level"].get<double>() == Approx(1));
+  CHECK(a["precision_any_level"].get<double>() == Approx(2.0 / 3));
+  CHECK(a["false_alarms_any_level_per_ha"].get<double>() == Approx(1 / 0.09));
+  CHECK(s["tiles"][0]["class_tp"] == 1);
+  CHECK(s["tiles"][0]["fn_any_level"] == 0);
+  int class_rows = 0, missed = 0;
+  for (const auto& r : s["matches"]) {
+    missed += r["outcome"] == "missed" ? 1 : 0;
+    if (r["level"] != "class") continue;
+    ++class_rows;
+    if (r["candidate"] == "c2") {
+      CHECK(r["outcome"] == "right");
+      CHECK(r["heading_error_deg"].get<double>() == Approx(1));
+    } else {
+      CHECK(r["outcome"] == "false_alarm");
+    }
+  }
+  CHECK(class_rows == 2);
+  CHECK(missed == 0);  // the tank is found at the class level
+}
+
+TEST_CASE(
+    "v2: a class-level detection never takes a vehicle the model level found; group or class identify") {
+  // Both levels on the sedan: the model level keeps it, the class-level one is a false alarm.
+  const Json s =
+      run_v2({class_det("c2", "sedan", "car", 0.99, 10, 10, 30), det("c1", "sedan", 0.5, 10, 10, 30)});
+  CHECK(all(s)["tp"] == 1);
+  CHECK(all(s)["class_tp"] == 0);
+  CHECK(all(s)["class_fp"] == 1);
+  // Hand-labelled truth names groups ("car", "van"): the group identifies, the class need not.
+  Json t = Json::parse(truth_text());
+  t["vehicles"][0]["model"] = "car";
+  t["vehicles"][1]["model"] = "van";
+  const Json g = run_v2(
+      {class_det("c1", "hatchback", "car", 0.9, 10, 10, 30), class_det("c2", "suv", "car", 0.9, 20, 20, 90)},
+      t.dump());
+  CHECK(all(g)["class_tp"] == 2);
+  CHECK(all(g)["class_identified"] == 1);  // the van answered car is matched, not identified
+  CHECK(all(g)["class_accuracy"].get<double>() == Approx(0.5));
+  // A truth "class" (procedural families) identifies too.
+  Json f = Json::parse(truth_text());
+  f["vehicles"][0]["model"] = "family-sedan-903";
+  f["vehicles"][0]["class"] = "sedan";
+  CHECK(all(run_v2({class_det("c1", "sedan", "car", 0.9, 10, 10, 210)}, f.dump()))["class_identified"] == 1);
+  // A v2 class-level detection needs a class or a group; a v2 detection its level.
+  Json bad = Json::parse(detections_text({class_det("c1", "sedan", "car", 0.9, 10, 10, 30)}));
+  bad["version"] = 2;
+  bad["detections"][0].erase("class");
+  bad["detections"][0]["group"] = nullptr;
+  CHECK_THROWS_WITH(score::parse_detections(bad.dump(), "d.json"),
+                    Catch::Contains("without a class or group"));
+  bad["detections"][0].erase("level");
+  CHECK_THROWS_WITH(score::parse_detections(bad.dump(), "d.json"),
+                    Catch::Contains("detections[0]: missing \"level\""));
+  // v1 still reads: every detection model level.
+  const Json v1 = run({det("c1", "sedan", 0.9, 10, 10, 30)});
+  CHECK(all(v1)["tp"] == 1);
+  CHECK(all(v1)["class_detections"] == 0);
 }

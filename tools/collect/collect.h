@@ -21,23 +21,46 @@ struct Candidate {
   std::string id;
   Matrix transform{};  // candidate frame -> tile frame
   double length = 0, width = 0;
+  std::optional<double> density;  // object points per m² of the footprint (index "density", or
+                                  // object_points / (length x width)); none in older indexes
 };
 
 struct Index {
   std::string name;  // file, as given
   std::string tile;  // the tile detect read, as it recorded it
   std::vector<Candidate> candidates;
+  nlohmann::ordered_json density;  // the index's "density" object (detect.md §7), or null
 };
+
+// The density of model-level recognition (docs/decisions/classify.md §11.2: fitvox-tile.ini's
+// 6 points per 128 mm voxel).
+constexpr double kModelDensity = 370;
 
 struct Verdict {
   std::string name;       // file, as given
+  bool present = true;    // false: there is no such file (a class-level candidate has no verdict.json)
   bool failed = false;    // an empty file: the candidate's chain failed (stage.sh --record-failure)
   std::string candidate;  // the points verify checked ("candidate"), as it was given them
+  std::string level;      // "level" when given ("class" for classify's answers)
   std::string model;      // "" = none
   std::string cls;        // "class", when the verdict has one
+  std::string group;      // "group", when the verdict has one
   double confidence = 0;
   std::optional<Matrix> pose;       // model -> candidate
   std::optional<Matrix> pose_tile;  // model -> tile
+  // classify's answer (docs/decisions/classify.md §9), when the verdict has them:
+  std::string reason, detail;     // why none (too_sparse, vegetation_like, ...), one sentence
+  std::optional<double> density;  // object points per m² of its rectangle
+  std::optional<double> density_class, density_model;  // "density_needed"
+  std::optional<std::array<double, 3>> size;           // L W H (m)
+  std::optional<double> heading_ambiguity;             // degrees (180: front and back unknown)
+};
+
+// What a candidate is answered from: its model chain's verdict (verify) and classify's
+// class.json, either of which may be absent (present = false).
+struct Answers {
+  Verdict model;
+  Verdict cls;
 };
 
 // The top-view rectangle of a model in its own frame: x in [x0, x1], y in [y0, y1].
@@ -54,6 +77,8 @@ struct Params {
 void validate(const Params& params);
 
 Index parse_index(const std::string& text, const std::string& name);
+// A verdict file that does not exist (present = false).
+Verdict absent_verdict(const std::string& name);
 // An empty text is a failed candidate. Otherwise DataError naming the file: not a
 // canopy.verdict v1, no "candidate" (a non-empty string), a model or class that is not a name
 // (formats::is_model_name: a model "../../x" would be read outside the modelbase), confidence
@@ -75,30 +100,39 @@ Matrix multiply(const Matrix& a, const Matrix& b);
 std::array<double, 3> euler_degrees(const Matrix& m);
 
 struct Output {
-  std::string detections;  // canopy.detections v1
+  std::string detections;  // canopy.detections v2
   std::string geojson;     // FeatureCollection
   int found = 0, none = 0, failed = 0;
+  int model_level = 0, class_level = 0;
+  std::map<std::string, int> by_reason;
+  std::string summary;  // one line: the counts by level and by reason
+  std::string warning;  // "" or one sentence (most candidates rejected for one reason, ...)
 };
 
-// verdicts[i] belongs to index.candidates[i] (DataError naming the verdict when its candidate
-// does not name it, names_candidate). `provenance` is written as is.
-Output collect(const Index& index, const std::vector<Verdict>& verdicts, const Params& params,
+// answers[i] belongs to index.candidates[i] (DataError naming the verdict when its candidate
+// does not name it, names_candidate). Per candidate: a model-level detection when the model
+// verdict names a model; else a class-level one when classify's names a class; else a
+// rejection with classify's reason (or "none" / "failed" from the model verdict when there is
+// no class answer). `provenance` is written as is.
+Output collect(const Index& index, const std::vector<Answers>& answers, const Params& params,
                const nlohmann::ordered_json& provenance);
 
-// One tile: its index, one verdict per candidate (verdicts[i] of index.candidates[i]) and who
+// One tile: its index, the answers per candidate (answers[i] of index.candidates[i]) and who
 // writes the documents from what (formats::provenance_json).
 struct Inputs {
   Index index;
-  std::vector<Verdict> verdicts;
+  std::vector<Answers> answers;
   formats::Provenance provenance;
 };
 
 // collect(inputs.index, inputs.verdicts, params, the provenance as JSON).
 Output run(const Params& params, const Inputs& inputs);
 
-// The make plan of a tile: the candidate ids and each one's candidate-to-tile transform (16
-// comma-separated numbers, row-major, as verify --transform takes them), as make variables
-// <key>_CANDS and <key>_TRANSFORM_<id> (mk/scenes.mk). Ids are plain names (parse_index).
-std::string plan(const Index& index, const std::string& key = "TILE");
+// The make plan of a tile: the candidate ids, each one's candidate-to-tile transform (16
+// comma-separated numbers, row-major, as verify --transform takes them) and level, as make
+// variables <key>_CANDS, <key>_TRANSFORM_<id> and <key>_LEVEL_<id> (mk/scenes.mk): "model"
+// when the candidate's object density is at least model_density (or unknown: an older
+// index), else "class" (classify only). Ids are plain names (parse_index).
+std::string plan(const Index& index, const std::string& key = "TILE", double model_density = kModelDensity);
 
 }  // namespace canopy::collect

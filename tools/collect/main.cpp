@@ -1,6 +1,7 @@
 // collect: candidates index (detect) + one verdict per candidate (verify) -> detections.json
 // and a GeoJSON of the detections in the tile's coordinates.
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <limits>
 #include <map>
@@ -46,7 +47,9 @@ collect::ModelBox model_box(const std::string& path) {
 
 // The command line: the index, the outputs, where the verdicts and modelbase are.
 struct Options {
-  std::string in, out = "-", plan, key = "TILE", verdicts, name = "verdict.json", geojson, crs, modelbase;
+  std::string in, out = "-", plan, key = "TILE", verdicts, name = "verdict.json", class_name = "class.json",
+                  geojson, crs, modelbase;
+  double model_density = collect::kModelDensity;
 };
 
 void bind(common::Tool& tool, Options& o) {
@@ -58,7 +61,13 @@ void bind(common::Tool& tool, Options& o) {
   tool.add("--plan-key", &o.key, "prefix of the plan's make variables (<key>_CANDS, <key>_TRANSFORM_<id>)");
   tool.add("--verdicts", &o.verdicts,
            "directory holding <id>/<verdict-name> per candidate (default: the index's directory)");
-  tool.add("--verdict-name", &o.name, "file name of each candidate's verdict");
+  tool.add("--verdict-name", &o.name, "file name of each candidate's model-level verdict (verify)");
+  tool.add("--class-name", &o.class_name,
+           "file name of each candidate's class-level answer (classify; used where the model "
+           "chain found nothing or did not run; \"\" = none)");
+  tool.add("--model-density", &o.model_density,
+           "--plan: candidates whose object density (points/m²) is below this run classify only "
+           "(<key>_LEVEL_<id> := class), the others the model chain too");
   tool.add_output("--geojson", &o.geojson, "also write the detections as a GeoJSON FeatureCollection");
   tool.add("--crs", &o.crs,
            "coordinate reference system of the tile, EPSG:<code>: recorded in detections.json "
@@ -77,33 +86,55 @@ void write_plan(const Options& o) {
   }
   common::check_output(o.plan);
   const collect::Index index = collect::parse_index(common::read_file(o.in), o.in);
-  common::write_file_atomic(o.plan, collect::plan(index, o.key));
-  common::log::info(std::to_string(index.candidates.size()) + " candidates planned");
+  if (!(o.model_density >= 0) || !std::isfinite(o.model_density))
+    throw common::UsageError("--model-density must be a number >= 0");
+  const std::string text = collect::plan(index, o.key, o.model_density);
+  common::write_file_atomic(o.plan, text);
+  std::size_t model = 0;
+  for (const auto& c : index.candidates) model += !c.density || *c.density >= o.model_density;
+  common::log::info(std::to_string(index.candidates.size()) + " candidates planned, " + std::to_string(model) +
+                    " for the model chain (object density >= " + std::to_string(int(o.model_density)) +
+                    " points/m²)");
 }
 
-// Each candidate's verdict, <verdicts>/<id>/<name> (default: beside the index); their paths
-// join the inputs.
-std::vector<collect::Verdict> read_verdicts(const Options& o, const collect::Index& index,
-                                            std::vector<std::string>& inputs) {
+// Each candidate's answers, <verdicts>/<id>/<name> (verify) and <verdicts>/<id>/<class-name>
+// (classify; default: beside the index), either of which may be missing; the paths read join
+// the inputs.
+std::vector<collect::Answers> read_answers(const Options& o, const collect::Index& index,
+                                           std::vector<std::string>& inputs) {
   const fs::path dir = o.verdicts.empty() ? fs::path(o.in).parent_path() : fs::path(o.verdicts);
-  std::vector<collect::Verdict> vs;
-  for (const auto& c : index.candidates) {
-    const std::string path = (dir / c.id / o.name).string();
-    vs.push_back(collect::parse_verdict(common::read_file(path), path));
-    collect::check_verdict_of(vs.back(), c.id, fs::path(o.in).parent_path().string());
+  const std::string index_dir = fs::path(o.in).parent_path().string();
+  auto read = [&](const std::string& path, const std::string& id) {
+    std::error_code ec;
+    if (!fs::exists(path, ec)) return collect::absent_verdict(path);
+    collect::Verdict v = collect::parse_verdict(common::read_file(path), path);
+    collect::check_verdict_of(v, id, index_dir);
     inputs.push_back(path);
+    return v;
+  };
+  std::vector<collect::Answers> as;
+  for (const auto& c : index.candidates) {
+    collect::Answers a;
+    a.model = read((dir / c.id / o.name).string(), c.id);
+    a.cls =
+        o.class_name.empty() ? collect::absent_verdict("") : read((dir / c.id / o.class_name).string(), c.id);
+    if (!a.model.present && !a.cls.present) {
+      // Neither: the v1 message (the verdict file cannot be read).
+      common::read_file(a.model.name);
+    }
+    as.push_back(std::move(a));
   }
-  return vs;
+  return as;
 }
 
 // The top-view boxes of the found models that the modelbase holds; their paths join the inputs.
 std::map<std::string, collect::ModelBox> read_boxes(const std::string& modelbase,
-                                                    const std::vector<collect::Verdict>& vs,
+                                                    const std::vector<collect::Answers>& as,
                                                     std::vector<std::string>& inputs) {
   std::map<std::string, collect::ModelBox> boxes;
   std::set<std::string> models;
-  for (const auto& v : vs) {
-    if (!v.model.empty()) models.insert(v.model);
+  for (const auto& a : as) {
+    if (a.model.present && !a.model.model.empty()) models.insert(a.model.model);
   }
   for (const auto& m : models) {
     const fs::path path = fs::path(modelbase) / (m + ".pcd");
@@ -122,7 +153,8 @@ std::map<std::string, collect::ModelBox> read_boxes(const std::string& modelbase
 int main(int argc, char** argv) {
   common::Tool tool("collect",
                     "One tile's detections: the candidates index of detect plus one verify verdict "
-                    "per candidate -> detections.json (canopy.detections v1) and a GeoJSON of the "
+                    "per candidate (or classify's class-level answer) -> detections.json (canopy.detections "
+                    "v2) and a GeoJSON of the "
                     "detections' footprints in the tile's coordinates.");
   tool.without_threads();
   Options o;
@@ -141,14 +173,15 @@ int main(int argc, char** argv) {
     collect::Inputs in;
     in.index = collect::parse_index(common::read_file(o.in), o.in);
     in.provenance = {"collect", CANOPY_VERSION, tool.parameters(), {o.in}};
-    in.verdicts = read_verdicts(o, in.index, in.provenance.inputs);
-    if (!o.modelbase.empty()) p.boxes = read_boxes(o.modelbase, in.verdicts, in.provenance.inputs);
+    if (o.class_name.find('/') != std::string::npos)
+      throw common::UsageError("--class-name must be a file name");
+    in.answers = read_answers(o, in.index, in.provenance.inputs);
+    if (!o.modelbase.empty()) p.boxes = read_boxes(o.modelbase, in.answers, in.provenance.inputs);
     const collect::Output r = collect::run(p, in);
     outputs.set(o.out, r.detections);
     if (!o.geojson.empty()) outputs.set(o.geojson, r.geojson);
     outputs.commit();
-    common::log::info(std::to_string(in.index.candidates.size()) + " candidates: " + std::to_string(r.found) +
-                      " vehicles found, " + std::to_string(r.none) + " none" +
-                      (r.failed ? ", " + std::to_string(r.failed) + " failed (empty verdict)" : ""));
+    common::log::info(r.summary);
+    if (!r.warning.empty()) common::log::warn(r.warning);
   });
 }

@@ -1078,6 +1078,7 @@ void place_candidate(const LocalFrame& l, const Object& o, const Vector3d& origi
   c.height = zmax;
   c.heading = std::atan2(f.R(1, 0), f.R(0, 0));
   c.object_points = o.points.size();
+  c.density = c.length * c.width > 0 ? double(c.object_points) / (c.length * c.width) : 0.0;
   c.planarity = o.shape.share;
   c.planar_area = o.shape.area;
   c.to_tile.topLeftCorner<3, 3>() = f.R;
@@ -1249,8 +1250,57 @@ void validate(const Params& p) {
   need(p.min_ground_share > 0 && p.min_ground_share <= 1, "--min-ground-share must be in (0, 1]");
 }
 
-Result run(const formats::PointCloud& tile, const Params& params, const std::string& name) {
-  validate(params);
+double voxel_for_density(double d) {
+  return d > 0 ? std::max(kDenseVoxel, kVoxelDensityScale / std::sqrt(d)) : kDenseVoxel;
+}
+
+double planarity_for_density(double d) { return d >= kPlanarityDensity ? kDensePlanarity : 0.0; }
+
+namespace {
+
+// The tile's density on 1 m cells of the local frame (after the ground: a cell is open ground
+// when every point in it lies below min_object_height).
+Density measure_density(const formats::PointCloud& tile, const LocalFrame& l, const Result& r,
+                        const Params& params) {
+  Density d;
+  const std::size_t n = l.x.size();
+  const double x0 = l.lo.x() - l.origin.x(), y0 = l.lo.y() - l.origin.y();
+  const std::size_t nx = std::size_t(std::floor(l.hi.x() - l.lo.x())) + 1;
+  const std::size_t ny = std::size_t(std::floor(l.hi.y() - l.lo.y())) + 1;
+  std::vector<std::uint32_t> count(nx * ny, 0), first(nx * ny, 0);
+  std::vector<char> raised(nx * ny, 0);
+  const std::vector<double>* ret = tile.has("return_number") ? &tile.col("return_number") : nullptr;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t cx = std::min(nx - 1, std::size_t(std::max(0.0, l.x[i] - x0)));
+    const std::size_t cy = std::min(ny - 1, std::size_t(std::max(0.0, l.y[i] - y0)));
+    const std::size_t c = cy * nx + cx;
+    ++count[c];
+    if (ret && (*ret)[i] <= 1) ++first[c];
+    if (r.height[i] >= params.min_object_height) raised[c] = 1;
+  }
+  std::size_t open_points = 0, firsts = 0;
+  for (std::size_t c = 0; c < count.size(); ++c) {
+    if (!count[c]) continue;
+    ++d.occupied_cells;
+    firsts += first[c];
+    if (!raised[c]) {
+      ++d.open_cells;
+      open_points += count[c];
+    }
+  }
+  d.all = d.occupied_cells ? double(n) / double(d.occupied_cells) : 0.0;
+  // Open ground needs a few cells to say anything (a tile of only objects has none).
+  constexpr std::size_t kFewestOpenCells = 10;
+  if (d.open_cells >= kFewestOpenCells) d.ground = double(open_points) / double(d.open_cells);
+  if (ret && d.occupied_cells) d.first = double(firsts) / double(d.occupied_cells);
+  return d;
+}
+
+}  // namespace
+
+Result run(const formats::PointCloud& tile, const Params& given, const std::string& name) {
+  validate(given);
+  Params params = given;
   tile.require({"x", "y", "z"}, name, "is this a point cloud?");
   const std::size_t n = tile.size();
   if (n == 0) throw DataError(name, "the tile has no points");
@@ -1263,6 +1313,16 @@ Result run(const formats::PointCloud& tile, const Params& params, const std::str
   auto t0 = std::chrono::steady_clock::now();
   const Ground g = find_ground(l, params, name, r);
   r.stats.seconds_ground = seconds_since(t0);
+
+  // The density rule (detect.h): the clustering voxel and the shape test from the tile's density.
+  r.density = measure_density(tile, l, r, params);
+  r.density.rule = r.density.ground ? *r.density.ground : r.density.all;
+  if (params.voxel_from_density) params.voxel = voxel_for_density(r.density.rule);
+  if (params.planarity_from_density) params.min_planarity = planarity_for_density(r.density.rule);
+  r.density.voxel = params.voxel;
+  r.density.min_planarity = params.min_planarity;
+  r.density.voxel_by_rule = params.voxel_from_density;
+  r.density.planarity_by_rule = params.planarity_from_density;
 
   t0 = std::chrono::steady_clock::now();
   const std::vector<Object> objects = find_objects(l, params, name, r);

@@ -33,6 +33,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -53,7 +54,7 @@ struct Params {
   double min_ground_share = 0.2;  // fewer occupied cells with ground: no terrain, an error
   // Objects.
   double min_object_height = 0.3;  // below this height above ground: ground or grass (m)
-  double voxel = 0.2;              // clustering voxel edge (m)
+  double voxel = 0.2;              // clustering voxel edge (m); see voxel_from_density
   Clustering clustering = Clustering::kGrid;
   // Vehicle ranges (a 3 m car to a 16 m tractor with trailer, partly hidden).
   double min_length = 2.0, max_length = 17.0;
@@ -68,6 +69,14 @@ struct Params {
   double min_planar_area = 1.0;  // m^2 of planar surface that keep an object whatever its share
   double planar_radius = 0.35;   // neighbourhood radius (m)
   double planar_ratio = 0.35;    // largest sqrt(l3 / l2) of a planar neighbourhood
+  // The density rule (docs/decisions/detect.md §7): with these set, `voxel` and
+  // `min_planarity` are not used as given but set from the tile's measured density d (open
+  // ground's points per m², else all points per occupied m²): voxel = max(0.2 m, 1.9 / sqrt(d))
+  // (a sparse vehicle stays one object), and the shape test (min_planarity 0.2) only where
+  // d >= kPlanarityDensity (below it every object scores planarity 0: detect.md §3b). At the
+  // dense end (d >= 90.25) both are the fixed values above. An explicit option clears them.
+  bool voxel_from_density = true;
+  bool planarity_from_density = true;
   // Candidates.
   double margin = 0.5;                      // crop margin around the footprint and above the height (m)
   std::string label_field = "label";        // ground-truth class (formats/labels.h); optional
@@ -92,6 +101,28 @@ struct Truth {
   double purity = 0;           // share of the candidate's object points that are that vehicle
 };
 
+// The shape test needs about 21 returns per m² of surface (detect.md §3b); at least this
+// measured density switches it on under the density rule (detect.md §7).
+constexpr double kPlanarityDensity = 30;
+constexpr double kDenseVoxel = 0.2;         // the voxel at the dense end (m)
+constexpr double kVoxelDensityScale = 1.9;  // voxel = max(kDenseVoxel, scale / sqrt(density))
+constexpr double kDensePlanarity = 0.2;     // min_planarity at the dense end
+
+// The tile's density, measured on 1 m cells of the local frame (x, y).
+struct Density {
+  double all = 0;                // points per occupied 1 m cell (per m²)
+  std::optional<double> ground;  // points per m² on open ground cells (every point below min_object_height)
+  std::optional<double> first;   // first returns per occupied m², when return_number is known
+  std::size_t occupied_cells = 0, open_cells = 0;
+  double rule = 0;                      // what the density rule used: ground, else all
+  double voxel = 0, min_planarity = 0;  // the values detect applied
+  bool voxel_by_rule = false, planarity_by_rule = false;
+};
+
+// The density rule's values for a measured density d (> 0).
+double voxel_for_density(double d);
+double planarity_for_density(double d);
+
 struct Candidate {
   std::string id;                                         // "c0001", ...; also the PCD's file stem
   Eigen::Matrix4d to_tile = Eigen::Matrix4d::Identity();  // local -> tile coordinates (float64)
@@ -99,6 +130,7 @@ struct Candidate {
   double heading = 0;  // local x axis in the tile's xy plane, from +x toward +y (rad, (-pi/2, pi/2])
   double height = 0;   // highest object point above the ground (m)
   std::size_t object_points = 0;  // points of the cluster
+  double density = 0;             // object_points / (length x width), per m²
   double planarity = 0;           // share of the object's surface in planar neighbourhoods
   double planar_area = 0;         // that planar surface (m^2)
   formats::PointCloud cloud;      // the crop, local frame, every input field
@@ -127,6 +159,7 @@ struct Result {
   bool has_truth = false;
   std::vector<InstanceTruth> instances;  // every labelled vehicle in the tile, by id
   Stats stats;
+  Density density;
 };
 
 // Input: x y z (any type; float64 keeps UTM magnitudes), any other fields. `name` names the

@@ -20,6 +20,7 @@ namespace {
 struct Cli {
   std::string in = "-", out, clustering = "grid";
   bool no_classes = false;
+  CLI::Option *voxel = nullptr, *min_planarity = nullptr;  // given: overrides the density rule
 };
 
 void bind(common::Tool& tool, detect::Params& p, Cli& cli) {
@@ -42,7 +43,9 @@ void bind(common::Tool& tool, detect::Params& p, Cli& cli) {
   tool.add("--min-ground-share", &p.min_ground_share,
            "fewest occupied cells with ground (share) for a terrain");
   tool.add_length("--min-object-height", &p.min_object_height, "lower: ground or grass");
-  tool.add_length("--voxel", &p.voxel, "clustering voxel edge (26-connected voxels form an object)");
+  cli.voxel = tool.add_length("--voxel", &p.voxel,
+                              "clustering voxel edge (26-connected voxels form an object); default: "
+                              "max(0.2 m, 1.9 / sqrt(measured density)), docs/decisions/detect.md §7");
   tool.add("--clustering", &cli.clustering,
            "grid (voxel connected components) or euclidean (PCL, same partition)");
   tool.add_length("--min-length", &p.min_length, "shortest vehicle footprint");
@@ -52,9 +55,10 @@ void bind(common::Tool& tool, detect::Params& p, Cli& cli) {
   tool.add_length("--min-height", &p.min_height, "lowest vehicle");
   tool.add_length("--max-height", &p.max_height, "tallest vehicle (higher points are canopy)");
   tool.add("--min-points", &p.min_points, "fewest points of a candidate object");
-  tool.add("--min-planarity", &p.min_planarity,
-           "shape test: an object with a smaller share of its surface in planar "
-           "neighbourhoods and less than --min-planar-area of it is vegetation (0 = off)");
+  cli.min_planarity = tool.add("--min-planarity", &p.min_planarity,
+                               "shape test: an object with a smaller share of its surface in planar "
+                               "neighbourhoods and less than --min-planar-area of it is vegetation (0 = "
+                               "off); default: 0.2 where the measured density is >= 30 points/m², else 0");
   tool.add("--min-planar-area", &p.min_planar_area,
            "shape test: m^2 of planar surface that keep an object whatever its share");
   tool.add_length("--planar-radius", &p.planar_radius, "neighbourhood radius of the planarity test");
@@ -87,14 +91,15 @@ void warn_las_units(const std::string& in, const std::string& name) {
 // The detect phase's INFO line.
 std::string summary(const detect::Result& r) {
   const detect::Stats& s = r.stats;
-  char buf[400];
+  char buf[600];
   std::snprintf(
       buf, sizeof buf,
-      "ground %zu of %zu cells (%.2f s); %zu object points in %zu clusters, %zu splits, "
+      "density %.1f points/m² (voxel %.2f m, min planarity %.2f); ground %zu of %zu cells (%.2f s); %zu "
+      "object points in %zu clusters, %zu splits, "
       "rejected %zu small %zu large %zu canopy bottoms %zu not planar (%.2f s); %zu candidates (%.2f s)",
-      s.ground_cells, s.cells, s.seconds_ground, s.band_points, s.clusters, s.splits, s.rejected_small,
-      s.rejected_large, s.rejected_canopy, s.rejected_shape, s.seconds_objects, r.candidates.size(),
-      s.seconds_candidates);
+      r.density.rule, r.density.voxel, r.density.min_planarity, s.ground_cells, s.cells, s.seconds_ground,
+      s.band_points, s.clusters, s.splits, s.rejected_small, s.rejected_large, s.rejected_canopy,
+      s.rejected_shape, s.seconds_objects, r.candidates.size(), s.seconds_candidates);
   return buf;
 }
 
@@ -120,6 +125,8 @@ int main(int argc, char** argv) {
   return tool.run(argc, argv, [&] {
     if (cli.out.empty() || cli.out == "-") throw common::UsageError("-o/--output must name a directory");
     p.clustering = clustering_of(cli.clustering);
+    p.voxel_from_density = cli.voxel->count() == 0;
+    p.planarity_from_density = cli.min_planarity->count() == 0;
     detect::validate(p);
     detect::check_output_dir(cli.out, cli.in);  // before the work; again before the swap
     const std::string name = common::display_name(cli.in);

@@ -651,6 +651,20 @@ std::string serialize_index(const Result& r, const Params& p, const formats::Pro
                          {"ground_cells", r.stats.ground_cells},
                          {"filled_cells", r.stats.filled_cells},
                          {"ground_points", r.stats.ground_points}}}};
+  // The tile's measured density and what the density rule made of it (detect.md §7).
+  const Density& d = r.density;
+  auto optional = [](const std::optional<double>& v) { return v ? Json(finite(*v)) : Json(nullptr); };
+  j["density"] = Json{{"all", finite(d.all)},
+                      {"ground", optional(d.ground)},
+                      {"first", optional(d.first)},
+                      {"cell", 1.0},
+                      {"occupied_cells", d.occupied_cells},
+                      {"open_ground_cells", d.open_cells},
+                      {"rule", Json{{"density", finite(d.rule)},
+                                    {"voxel", finite(d.voxel)},
+                                    {"voxel_from", d.voxel_by_rule ? "density" : "option"},
+                                    {"min_planarity", finite(d.min_planarity)},
+                                    {"min_planarity_from", d.planarity_by_rule ? "density" : "option"}}}};
   Json cands = Json::array();
   for (const Candidate& c : r.candidates) {
     Json t = Json::array();
@@ -668,6 +682,7 @@ std::string serialize_index(const Result& r, const Params& p, const formats::Pro
             {"height", finite(c.height)},
             {"point_count", c.cloud.size()},
             {"object_points", c.object_points},
+            {"density", finite(c.density)},
             {"planarity", finite(c.planarity)},
             {"planar_area", finite(c.planar_area)}};
     if (c.has_truth) {

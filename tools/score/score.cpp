@@ -59,7 +59,14 @@ struct Tally {
   int tiles = 0, candidates = 0, none = 0, detections = 0, truths = 0, tp = 0, identified = 0, flips = 0;
   double area = 0, cover_sum = 0;
   std::vector<double> position, heading;
+  int class_detections = 0, class_tp = 0, class_identified = 0;
+  std::vector<double> class_position, class_heading;
 };
+
+std::string optional_text(const Json& j, const char* key, const std::string& where) {
+  if (!j.contains(key) || j[key].is_null()) return "";
+  return text(j, key, where);
+}
 
 }  // namespace
 
@@ -92,6 +99,7 @@ Truth parse_truth(const std::string& text_, const std::string& name) {
       v.z = number(pose, "z", w + ".pose");
       v.heading = number(pose, "heading", w + ".pose");
       v.cover = number(vs[i], "canopy_cover", w);
+      v.cls = optional_text(vs[i], "class", w);
       if (v.cover < 0 || v.cover > 1) throw Malformed(w + ".canopy_cover must lie in [0, 1]");
       t.vehicles.push_back(v);
     }
@@ -100,9 +108,10 @@ Truth parse_truth(const std::string& text_, const std::string& name) {
 }
 
 Detections parse_detections(const std::string& text_, const std::string& name) {
-  const Json j = parse_document(text_, name, "canopy.detections");
+  const Json j = formats::open_json_document(text_, name, "canopy.detections", nullptr, 2);
   Detections d;
   d.name = name;
+  d.version = j["version"].get<int>();
   try {
     d.candidates = count(j, "candidates", "detections document");
     d.none = count(j, "none", "detections document");
@@ -113,7 +122,14 @@ Detections parse_detections(const std::string& text_, const std::string& name) {
       Detection e;
       e.candidate = text(ds[i], "candidate", w);
       if (!seen.insert(e.candidate).second) throw Malformed(w + ".candidate \"" + e.candidate + "\" repeats");
-      e.model = text(ds[i], "model", w);
+      e.level = d.version >= 2 ? text(ds[i], "level", w) : "model";
+      if (e.level != "model" && e.level != "class")
+        throw Malformed(w + ".level must be \"model\" or \"class\"");
+      e.model = e.level == "model" ? text(ds[i], "model", w) : optional_text(ds[i], "model", w);
+      e.cls = optional_text(ds[i], "class", w);
+      e.group = optional_text(ds[i], "group", w);
+      if (e.level == "class" && e.cls.empty() && e.group.empty())
+        throw Malformed(w + ": a class-level detection without a class or group");
       e.confidence = number(ds[i], "confidence", w);
       if (e.confidence < 0 || e.confidence > 1) throw Malformed(w + ".confidence must lie in [0, 1]");
       const Json& pose = member(ds[i], "pose", w);
@@ -121,20 +137,24 @@ Detections parse_detections(const std::string& text_, const std::string& name) {
       e.y = number(pose, "y", w + ".pose");
       e.z = number(pose, "z", w + ".pose");
       e.heading = number(pose, "heading", w + ".pose");
-      d.detections.push_back(e);
+      (e.level == "model" ? d.detections : d.class_detections).push_back(e);
     }
-    if (d.none + static_cast<int>(d.detections.size()) > d.candidates) {
-      throw Malformed("detections (" + std::to_string(d.detections.size()) + ") + none (" +
-                      std::to_string(d.none) + ") exceed the candidates (" + std::to_string(d.candidates) +
-                      ")");
+    const std::size_t found = d.detections.size() + d.class_detections.size();
+    if (d.none + static_cast<int>(found) > d.candidates) {
+      throw Malformed("detections (" + std::to_string(found) + ") + none (" + std::to_string(d.none) +
+                      ") exceed the candidates (" + std::to_string(d.candidates) + ")");
     }
   } catch (const Malformed& e) { throw common::DataError(name, e.what()); }
   return d;
 }
 
-TileMatch match_tile(const Detections& det, const Truth& truth, double radius) {
-  const auto& ds = det.detections;
-  TileMatch m;
+namespace {
+
+// Greedy matching of `ds` (falling confidence, ties: candidate id) against the true vehicles
+// not taken (taken[t] >= 0).
+LevelMatch match_greedy(const std::vector<Detection>& ds, const Truth& truth, double radius,
+                        const std::vector<int>& taken) {
+  LevelMatch m;
   m.order.resize(ds.size());
   for (std::size_t i = 0; i < ds.size(); ++i) m.order[i] = static_cast<int>(i);
   std::sort(m.order.begin(), m.order.end(), [&](int a, int b) {
@@ -147,7 +167,7 @@ TileMatch match_tile(const Detections& det, const Truth& truth, double radius) {
     int best = -1;
     double best_dist = radius;
     for (std::size_t t = 0; t < truth.vehicles.size(); ++t) {
-      if (m.detection_of[t] >= 0) continue;
+      if (m.detection_of[t] >= 0 || (t < taken.size() && taken[t] >= 0)) continue;
       const double dist = std::hypot(ds[d].x - truth.vehicles[t].x, ds[d].y - truth.vehicles[t].y);
       if (dist > radius) continue;
       if (best < 0 || dist < best_dist ||
@@ -162,6 +182,28 @@ TileMatch match_tile(const Detections& det, const Truth& truth, double radius) {
     }
   }
   return m;
+}
+
+}  // namespace
+
+TileMatch match_tile(const Detections& det, const Truth& truth, double radius) {
+  TileMatch m;
+  static_cast<LevelMatch&>(m) = match_greedy(det.detections, truth, radius, {});
+  m.cls = match_greedy(det.class_detections, truth, radius, m.detection_of);
+  return m;
+}
+
+bool class_identified(const Detection& det, const TrueVehicle& tv) {
+  for (const std::string* a : {&det.cls, &det.group}) {
+    if (a->empty()) continue;
+    if (*a == tv.model || (!tv.cls.empty() && *a == tv.cls)) return true;
+  }
+  return false;
+}
+
+double axis_error(double a, double b) {
+  const double e = heading_error(a, b);
+  return e > 90 ? 180 - e : e;
 }
 
 double heading_error(double a, double b) {
@@ -187,6 +229,18 @@ Tally tally(const std::vector<Tile>& tiles, const std::vector<TileMatch>& matche
   for (std::size_t i : which) {
     const Tile& t = tiles[i];
     const TileMatch& m = matches[i];
+    const LevelMatch& cm = m.cls;
+    s.class_detections += static_cast<int>(t.detections.class_detections.size());
+    for (std::size_t d = 0; d < cm.truth_of.size(); ++d) {
+      if (cm.truth_of[d] < 0) continue;
+      s.class_tp++;
+      const Detection& det = t.detections.class_detections[d];
+      const TrueVehicle& tv = t.truth.vehicles[cm.truth_of[d]];
+      if (!class_identified(det, tv)) continue;
+      s.class_identified++;
+      s.class_position.push_back(std::hypot(det.x - tv.x, det.y - tv.y));
+      s.class_heading.push_back(axis_error(det.heading, tv.heading));
+    }
     s.tiles++;
     s.area += t.truth.extent_x * t.truth.extent_y / 1e4;
     s.candidates += t.detections.candidates;
@@ -242,7 +296,19 @@ Json summary(const Tally& s, const Json& cover, const Json& noise) {
               {"position_error_p90_m", maybe(percentile(s.position, 90))},
               {"heading_error_median_deg", maybe(percentile(s.heading, 50))},
               {"heading_error_p90_deg", maybe(percentile(s.heading, 90))},
-              {"flips", s.flips}};
+              {"flips", s.flips},
+              {"class_detections", s.class_detections},
+              {"class_tp", s.class_tp},
+              {"class_fp", s.class_detections - s.class_tp},
+              {"class_identified", s.class_identified},
+              {"class_accuracy", ratio(s.class_identified, s.class_tp)},
+              {"class_position_error_median_m", maybe(percentile(s.class_position, 50))},
+              {"class_heading_error_median_deg", maybe(percentile(s.class_heading, 50))},
+              {"class_heading_error_p90_deg", maybe(percentile(s.class_heading, 90))},
+              {"found_any_level", s.tp + s.class_tp},
+              {"recall_any_level", ratio(s.tp + s.class_tp, s.truths)},
+              {"precision_any_level", ratio(s.tp + s.class_tp, s.detections + s.class_detections)},
+              {"false_alarms_any_level_per_ha", ratio(fp + s.class_detections - s.class_tp, s.area)}};
 }
 
 // The tiles' cover labels (first appearance) and noise levels (sorted).
@@ -411,7 +477,9 @@ int outcome_rows(const Tile& t, const TileMatch& m, std::size_t i, Json& rows) {
     const Detection& det = t.detections.detections[d];
     Json r{{"tile", i},
            {"candidate", det.candidate},
+           {"level", "model"},
            {"model", det.model},
+           {"class", det.cls.empty() ? Json(nullptr) : Json(det.cls)},
            {"confidence", det.confidence},
            {"x", det.x},
            {"y", det.y},
@@ -435,12 +503,48 @@ int outcome_rows(const Tile& t, const TileMatch& m, std::size_t i, Json& rows) {
     }
     rows.push_back(std::move(r));
   }
+  // Class level: right when the group or class names the truth (class_identified); heading
+  // error modulo 180.
+  const LevelMatch& cm = m.cls;
+  for (int d : cm.order) {
+    const Detection& det = t.detections.class_detections[d];
+    const std::string what = det.cls.empty() ? det.group : det.cls;
+    Json r{{"tile", i},
+           {"candidate", det.candidate},
+           {"level", "class"},
+           {"model", nullptr},
+           {"class", what},
+           {"confidence", det.confidence},
+           {"x", det.x},
+           {"y", det.y},
+           {"heading", det.heading}};
+    if (cm.truth_of[d] >= 0) {
+      tp_i++;
+      const TrueVehicle& tv = t.truth.vehicles[cm.truth_of[d]];
+      r["outcome"] = class_identified(det, tv) ? "right" : "wrong";
+      r["instance"] = tv.instance;
+      r["true_model"] = tv.model;
+      r["cover"] = tv.cover;
+      r["distance_m"] = std::hypot(det.x - tv.x, det.y - tv.y);
+      r["heading_error_deg"] = axis_error(det.heading, tv.heading);
+    } else {
+      r["outcome"] = "false_alarm";
+      r["instance"] = nullptr;
+      r["true_model"] = nullptr;
+      r["cover"] = nullptr;
+      r["distance_m"] = nullptr;
+      r["heading_error_deg"] = nullptr;
+    }
+    rows.push_back(std::move(r));
+  }
   for (std::size_t v = 0; v < t.truth.vehicles.size(); ++v) {
-    if (m.detection_of[v] >= 0) continue;
+    if (m.detection_of[v] >= 0 || cm.detection_of[v] >= 0) continue;
     const TrueVehicle& tv = t.truth.vehicles[v];
     rows.push_back(Json{{"tile", i},
                         {"candidate", nullptr},
+                        {"level", nullptr},
                         {"model", nullptr},
+                        {"class", nullptr},
                         {"confidence", nullptr},
                         {"x", tv.x},
                         {"y", tv.y},
@@ -455,7 +559,11 @@ int outcome_rows(const Tile& t, const TileMatch& m, std::size_t i, Json& rows) {
   return tp_i;
 }
 
-Json tile_json(const Tile& t, int tp_i) {
+Json tile_json(const Tile& t, int tp_i, const LevelMatch& cm) {
+  const int n_class = static_cast<int>(t.detections.class_detections.size());
+  int class_tp = 0;
+  for (int x : cm.truth_of) class_tp += x >= 0 ? 1 : 0;
+  tp_i -= class_tp;  // outcome_rows counted both levels
   const int n_det = static_cast<int>(t.detections.detections.size());
   const int n_true = static_cast<int>(t.truth.vehicles.size());
   return Json{{"detections", t.detections.name},
@@ -466,7 +574,11 @@ Json tile_json(const Tile& t, int tp_i) {
               {"true", n_true},
               {"tp", tp_i},
               {"fp", n_det - tp_i},
-              {"fn", n_true - tp_i}};
+              {"fn", n_true - tp_i},
+              {"class_detections", n_class},
+              {"class_tp", class_tp},
+              {"class_fp", n_class - class_tp},
+              {"fn_any_level", n_true - tp_i - class_tp}};
 }
 
 }  // namespace
@@ -478,7 +590,7 @@ Json score(const std::vector<Tile>& tiles, const Params& params) {
   Json rows = Json::array();
   Json tile_list = Json::array();
   for (std::size_t i = 0; i < tiles.size(); ++i) {
-    tile_list.push_back(tile_json(tiles[i], outcome_rows(tiles[i], matches[i], i, rows)));
+    tile_list.push_back(tile_json(tiles[i], outcome_rows(tiles[i], matches[i], i, rows), matches[i].cls));
   }
   return Json{{"format", "canopy.scene_score"},
               {"version", 1},

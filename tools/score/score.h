@@ -7,6 +7,12 @@
 // alarm, a true vehicle left without one is missed. So a duplicate detection of one vehicle
 // is a false alarm, and dropping the detections below a threshold never changes the matches
 // above it (the precision-recall curve is one pass over the sorted detections).
+//
+// Levels (canopy.detections v2): model-level detections are matched first, exactly as above
+// (every model-level figure is what a v1 document gives); then the class-level detections
+// (classify's answers: a class and group, heading modulo 180°) take the true vehicles left,
+// by position, in the same order. Class-level figures are reported beside (class_* keys):
+// "identified" there means the detection's group or class names the truth's model or class.
 #pragma once
 
 #include <limits>
@@ -24,6 +30,7 @@ struct TrueVehicle {
   double x = 0, y = 0, z = 0;  // bottom centre of the bounding box, tile coordinates
   double heading = 0;          // degrees
   double cover = 0;            // measured canopy cover over its footprint, [0, 1]
+  std::string cls;             // the truth's "class" (procedural families), "" = none
 };
 
 struct Truth {
@@ -34,7 +41,9 @@ struct Truth {
 
 struct Detection {
   std::string candidate;
-  std::string model;
+  std::string level = "model";  // "model" or "class" (v2)
+  std::string model;            // "" for a class-level detection
+  std::string cls, group;       // class-level: classify's class and group (model level: as given)
   double confidence = 0;
   double x = 0, y = 0, z = 0;  // model origin in tile coordinates
   double heading = 0;          // degrees
@@ -42,9 +51,11 @@ struct Detection {
 
 struct Detections {
   std::string name;
-  int candidates = 0;  // candidates verified
-  int none = 0;        // of which answered none
-  std::vector<Detection> detections;
+  int version = 1;
+  int candidates = 0;                       // candidates verified
+  int none = 0;                             // of which answered none
+  std::vector<Detection> detections;        // model level
+  std::vector<Detection> class_detections;  // class level (v2)
 };
 
 // One tile of an experiment: its detections, truth and the experiment's labels.
@@ -73,15 +84,25 @@ Detections parse_detections(const std::string& text, const std::string& name);
 
 // The pairing of one tile. truth_of[d] = index into truth.vehicles of detection d's match or
 // -1; order = detection indices by falling confidence.
-struct TileMatch {
+// The class level's pairing (det.class_detections against the vehicles the model level left)
+// is in `cls`, the same way.
+struct LevelMatch {
   std::vector<int> order;
   std::vector<int> truth_of;
-  std::vector<int> detection_of;  // per true vehicle, -1 = missed
+  std::vector<int> detection_of;  // per true vehicle, -1 = not matched at this level
+};
+struct TileMatch : LevelMatch {
+  LevelMatch cls;
 };
 TileMatch match_tile(const Detections& det, const Truth& truth, double radius);
+// A class-level detection names the true vehicle's kind: its group or class equals the truth's
+// model or class ("car", "van" in hand-labelled tiles; a family class in rendered ones).
+bool class_identified(const Detection& det, const TrueVehicle& truth);
 
 // |a - b| modulo 360, in [0, 180]: a 180-degree flip is an error of 180.
 double heading_error(double a_deg, double b_deg);
+// The same modulo 180 (front and back not known), in [0, 90].
+double axis_error(double a_deg, double b_deg);
 
 // Percentile p in [0, 100] of values (linear interpolation between order statistics, the
 // "type 7" definition; the median of an even count is the mean of the middle two). NaN for

@@ -10,14 +10,15 @@
 namespace canopy::formats {
 
 // Parses `text` (the contents of file `name`) and checks that it is a canopy document of
-// `format`, version 1. Throws common::DataError naming `name`: not JSON (library text quoted,
-// never cut at a NUL), another kind of file ("this is a PNG image"), nested deeper than 64
-// levels (refused before parsing: the library's recursive copy would overflow the stack), no
-// or another "format", no integer or an unsupported "version".
-// `filter` (optional) is nlohmann's parser callback: a key it returns false for is left out of
-// the document with its value (a reader's way to skip what it does not use).
+// `format`, version 1 to `max_version` (a reader that reads several versions says so). Throws
+// common::DataError naming `name`: not JSON (library text quoted, never cut at a NUL), another kind of file
+// ("this is a PNG image"), nested deeper than 64 levels (refused before parsing: the library's recursive copy
+// would overflow the stack), no or another "format", no integer or an unsupported "version". `filter`
+// (optional) is nlohmann's parser callback: a key it returns false for is left out of the document with its
+// value (a reader's way to skip what it does not use).
 nlohmann::ordered_json open_json_document(const std::string& text, const std::string& name, const char* format,
-                                          const nlohmann::ordered_json::parser_callback_t& filter = nullptr);
+                                          const nlohmann::ordered_json::parser_callback_t& filter = nullptr,
+                                          int max_version = 1);
 
 // A malformed field found while reading a document's members: the reader catches it and throws
 // common::DataError naming the file with this text ("vehicles[2]: missing \"pose\"").

@@ -1,0 +1,2 @@
+# The sparse-tile test runs the whole class-level chain.
+add_dependencies(${target} detect classify score)
