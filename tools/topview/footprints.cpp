@@ -141,25 +141,11 @@ void add_truth(const std::string& path, const Outcomes& outcomes, std::vector<Sh
   } catch (const Malformed& e) { throw common::DataError(path, e.what()); }
 }
 
-// formats::open_json_document reads version 1 only, and canopy.detections has a version 2
-// (level and reason, docs/decisions/topview.md). Its parser callback sees the top-level
-// "version": a 2 is noted and handed to the check as 1, so every other check stays the
-// shared one. (When formats' opener takes the versions a reader accepts, this goes.)
+// canopy.detections versions 1 and 2 (2 adds level and reason, docs/decisions/topview.md).
 Json open_detections(const std::string& path, int* version) {
-  std::string key;
-  *version = 1;
-  const auto see_version = [&key, version](int depth, Json::parse_event_t event, Json& parsed) {
-    if (depth != 1) return true;
-    if (event == Json::parse_event_t::key) {
-      key = parsed.get<std::string>();
-    } else if (event == Json::parse_event_t::value && key == "version" && parsed.is_number_integer() &&
-               parsed.get<long long>() == 2) {
-      *version = 2;
-      parsed = 1;
-    }
-    return true;
-  };
-  return formats::open_json_document(common::read_file(path), path, "canopy.detections", see_version);
+  Json d = formats::open_json_document(common::read_file(path), path, "canopy.detections", nullptr, 2);
+  *version = d["version"].get<int>();
+  return d;
 }
 
 // A detection's level: "level" when given (model or class), else model (v1: every detection
