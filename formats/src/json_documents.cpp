@@ -335,7 +335,7 @@ void write_match_result(const MatchResult& result, const std::string& path) {
 }
 
 Json open_json_document(const std::string& text, const std::string& name, const char* format,
-                        const Json::parser_callback_t& filter) {
+                        const Json::parser_callback_t& filter, int max_version) {
   // canopy documents nest 5 levels; nlohmann copies values recursively (ordered_json's
   // objects copy their values when they grow), so a 60 KB file of nested brackets would
   // overflow the stack. Refuse deep nesting before parsing.
@@ -378,10 +378,15 @@ Json open_json_document(const std::string& text, const std::string& name, const 
     throw DataError(name, "no integer \"version\"");
   }
   const Json& v = j["version"];
-  if (v.is_number_unsigned() ? v.get<std::uint64_t>() != static_cast<std::uint64_t>(kVersion)
-                             : v.get<std::int64_t>() != kVersion) {
+  const bool known =
+      v.is_number_unsigned()
+          ? v.get<std::uint64_t>() >= static_cast<std::uint64_t>(kVersion) &&
+                v.get<std::uint64_t>() <= static_cast<std::uint64_t>(std::max(max_version, kVersion))
+          : v.get<std::int64_t>() >= kVersion && v.get<std::int64_t>() <= std::max(max_version, kVersion);
+  if (!known) {
     throw DataError(
-        name, std::string(format) + " version " + v.dump() + " is not supported (this build reads version 1)");
+        name, std::string(format) + " version " + v.dump() + " is not supported (this build reads " +
+                  (max_version > kVersion ? "versions 1-" + std::to_string(max_version) : "version 1") + ")");
   }
   return j;
 }

@@ -15,9 +15,12 @@ namespace canopy::formats {
 // levels (refused before parsing: the library's recursive copy would overflow the stack), no
 // or another "format", no integer or an unsupported "version".
 // `filter` (optional) is nlohmann's parser callback: a key it returns false for is left out of
-// the document with its value (a reader's way to skip what it does not use).
+// the document with its value (a reader's way to skip what it does not use). `max_version`: a
+// reader that knows later versions of the format (canopy.detections 2) accepts 1 … max_version;
+// the document's "version" tells it which one it has.
 nlohmann::ordered_json open_json_document(const std::string& text, const std::string& name, const char* format,
-                                          const nlohmann::ordered_json::parser_callback_t& filter = nullptr);
+                                          const nlohmann::ordered_json::parser_callback_t& filter = nullptr,
+                                          int max_version = 1);
 
 // A malformed field found while reading a document's members: the reader catches it and throws
 // common::DataError naming the file with this text ("vehicles[2]: missing \"pose\"").
