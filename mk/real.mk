@@ -22,8 +22,11 @@
 # for its candidates, so a tile's wall time is its own. Each is time-boxed: a tile whose
 # workflow has not finished after REAL_TIMEOUT seconds is stopped (timeout kills its process
 # group), recorded as not finished (tile.time kept, its detections and score removed) and the
-# experiment goes on; the report says so. Any other failure of a tile fails make, as every
-# experiment failure does. A tile re-runs when the tile, the modelbase, a tool of the workflow
+# experiment goes on; the report says so. A tile on which a tool of the workflow fails by its
+# own error (the sub-make exits 2: e.g. detect refusing a closed-canopy plot where it finds too
+# little ground) is recorded the same way, as failed: on real data a refusal is a result, and the
+# report quotes the tool's error from the tile's logs. A sub-make killed otherwise (a signal)
+# fails make. A tile re-runs when the tile, the modelbase, a tool of the workflow
 # or a stage's parameters change; the sub-make then redoes only what is out of date (its wall
 # and CPU then cover that part only; the report compares them with the stages' .time files).
 REAL_TILES ?= 1
@@ -71,6 +74,8 @@ $(REAL_OUT)/$(1)/tile.time: $(call real_file,$(1)) $(REAL_DEPS) $(wildcard $(REA
 	    OUT=$(REAL_OUT)/$(1) PROGRESS=0 SCENE_EXPERIMENT=0 FAMILIES=0 REAL_TILES=0 || s=$$$$?; \
 	  if [ $$$$s -eq 124 ]; then rm -f $(REAL_OUT)/$(1)/detections.json; \
 	    echo "real  $(1): not finished after $(REAL_TIMEOUT) s (REAL_TIMEOUT), recorded as such"; \
+	  elif [ $$$$s -eq 2 ]; then rm -f $(REAL_OUT)/$(1)/detections.json; \
+	    echo "real  $(1): the workflow failed (a tool refused the tile: its .log in $(REAL_OUT)/$(1)/), recorded as such"; \
 	  elif [ $$$$s -ne 0 ]; then rm -f $$@.tmp; echo "FAIL  real tile $(1) (exit $$$$s)"; exit $$$$s; fi; \
 	  grep -v '^Command ' $$@.tmp >$$@.tmp2 && rm -f $$@.tmp && mv $$@.tmp2 $$@
 	$(if $(wildcard $(REAL_SHARE)/$(1).truth.json),@[ ! -f $(REAL_OUT)/$(1)/detections.json ] || \

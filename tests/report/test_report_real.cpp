@@ -164,6 +164,13 @@ TEST_CASE("real tiles: plots without vehicles, exact Poisson per hectare; v1, st
   tiles.push_back(report::read_real_tile(
       {"townB", (root / "townB").string(), (root / "labels" / "townB.truth.json").string()}));
   tiles.push_back(report::read_real_tile({"gone", (root / "gone").string(), ""}));
+  // A plot a tool refused: its error line quoted from the tile's logs.
+  write(root / "closed" / "tile.time", "3.2 50000 1.5 0.5\n");
+  write(root / "closed" / "cands.mk.log", "collect: nothing here\n");
+  write(root / "closed" / "detect.log",
+        "detect: read: 59712 points (0.467 s)\ndetect: error: closed.laz: found ground in only 18.0% | of "
+        "the cells\n");
+  tiles.push_back(report::read_real_tile({"closed", (root / "closed").string(), ""}));
   const report::RealTile& a = tiles[0];
   CHECK(a.area_ha == Approx(0.25));
   CHECK(a.density == Approx(59712 / 2500.0));
@@ -175,6 +182,10 @@ TEST_CASE("real tiles: plots without vehicles, exact Poisson per hectare; v1, st
   CHECK(tiles[2].ran);
   CHECK_FALSE(tiles[2].finished);
   CHECK_FALSE(tiles[3].ran);
+  CHECK(tiles[2].error.empty());  // stopped: no tool's error
+  CHECK(tiles[4].ran);
+  CHECK_FALSE(tiles[4].finished);
+  CHECK(tiles[4].error == "detect: error: closed.laz: found ground in only 18.0% | of the cells");
 
   const std::string md = report::real_markdown(tiles, 180);
   INFO(md);
@@ -198,6 +209,13 @@ TEST_CASE("real tiles: plots without vehicles, exact Poisson per hectare; v1, st
   CHECK(has(md, "| plotB | 75.0 | 72.0 | 0.0 (0) | **no** |"));
   CHECK(has(md, "| townB | 180.0 (stopped) | 173.0 | 0.0 (0) | **no** |"));
   CHECK(has(md, "forest_bcts_1 is not committed"));
+  CHECK(has(
+      md,
+      "| closed (no vehicles) | – | – | – | – | **failed**: `detect: error: closed.laz: found ground in only "
+      "18.0% / of the cells` |"));
+  CHECK(has(md, "| closed | – | failed | | |"));
+  CHECK(has(md, "| closed | 3.2 (failed) | 2.0 | 0.0 (0) | **no** |"));
+  CHECK(has(md, "Plots without vehicles: plotA, plotB, gone (not run), closed (failed)."));
 }
 
 TEST_CASE("real tiles: documents that do not add up are refused naming the file") {

@@ -149,6 +149,25 @@ void read_index(const std::string& path, RealTile& t) {
   }
 }
 
+// The first line holding "error:" in the tile's stage logs (<dir>/*.log, by name), cut to 300
+// characters; "" when none has one.
+std::string first_error(const std::string& dir) {
+  std::vector<fs::path> logs;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    if (e.is_regular_file() && e.path().extension() == ".log") logs.push_back(e.path());
+  }
+  std::sort(logs.begin(), logs.end());
+  for (const auto& log : logs) {
+    std::istringstream in(common::read_file(log.string()));
+    for (std::string line; std::getline(in, line);) {
+      if (line.find("error:") != std::string::npos)
+        return line.size() > 300 ? line.substr(0, 300) + "…" : line;
+    }
+  }
+  return "";
+}
+
 struct Uncertain {
   double x = 0, y = 0;
 };
@@ -266,6 +285,7 @@ RealTile read_real_tile(const RealTileFiles& f) {
   if (t.labelled) read_truth(f.truth, t, clear, unc);
   std::map<std::string, std::string> group;
   t.finished = exists(f.dir + "/detections.json");
+  if (t.ran && !t.finished) t.error = first_error(f.dir);
   if (t.finished) read_detections(f.dir + "/detections.json", t, group);
   if (exists(f.dir + "/cands/index.json")) read_index(f.dir + "/cands/index.json", t);
   if (t.finished && t.labelled && exists(f.dir + "/score.json"))
@@ -294,8 +314,16 @@ std::string joined(const std::map<std::string, int>& m) {
   return s.empty() ? "–" : s;
 }
 
+// Markdown table cells must not break the row.
+std::string cell(std::string s) {
+  std::replace(s.begin(), s.end(), '|', '/');
+  std::replace(s.begin(), s.end(), '\n', ' ');
+  return s;
+}
+
 std::string state(const RealTile& t, int timeout_s) {
   if (!t.ran) return "not run";
+  if (!t.finished && !t.error.empty()) return "**failed**: `" + cell(t.error) + "`";
   if (!t.finished)
     return "**not finished** within the time box" +
            (timeout_s > 0 ? " of " + std::to_string(timeout_s) + " s" : "");
@@ -338,7 +366,12 @@ void forest_table(std::ostringstream& md, const std::vector<RealTile>& tiles) {
   double area = 0;
   int alarms = 0, plots = 0;
   for (const RealTile& t : tiles) {
-    if (t.labelled || !t.finished || t.area_ha <= 0) continue;
+    if (t.labelled) continue;
+    if (!t.finished || t.area_ha <= 0) {
+      md << "| " << t.name << " | " << (t.area_ha > 0 ? format_number("%.2f", t.area_ha) : "–") << " | "
+         << (t.ran ? (t.error.empty() ? "not finished" : "failed") : "not run") << " | | |\n";
+      continue;
+    }
     const common::Interval p = common::poisson_exact(t.found);
     md << "| " << t.name << " | " << format_number("%.2f", t.area_ha) << " | " << t.found << " | "
        << format_number("%.1f", t.found / t.area_ha) << " | [" << format_number("%.1f", p.lo / t.area_ha)
@@ -386,7 +419,11 @@ void urban_table(std::ostringstream& md, const std::vector<RealTile>& tiles) {
     if (!t.labelled) continue;
     md << "| " << t.name << " | " << t.vehicles << " (" << t.clear << ") | " << t.uncertain << " | ";
     if (!t.scored) {
-      md << (t.finished ? "not scored" : t.ran ? "not finished" : "not run") << " | | | | | | |\n";
+      md << (t.finished        ? "not scored"
+             : !t.ran          ? "not run"
+             : t.error.empty() ? "not finished"
+                               : "failed")
+         << " | | | | | | |\n";
       continue;
     }
     md << t.found << " | " << t.tp << " | " << t.fp << " (" << t.fp_on_uncertain << ") | "
@@ -445,8 +482,11 @@ void time_table(std::ostringstream& md, const std::vector<RealTile>& tiles, doub
       md << "not run | | | |\n";
       continue;
     }
-    md << format_number("%.1f", t.time.seconds) << (t.finished ? "" : " (stopped)") << " | "
-       << (t.time.has_cpu ? format_number("%.1f", t.time.cpu_seconds()) : "–") << " | "
+    md << format_number("%.1f", t.time.seconds)
+       << (t.finished        ? ""
+           : t.error.empty() ? " (stopped)"
+                             : " (failed)")
+       << " | " << (t.time.has_cpu ? format_number("%.1f", t.time.cpu_seconds()) : "–") << " | "
        << format_number("%.1f", t.stages_cpu) << " (" << t.stage_runs << ") | "
        << (t.finished && t.time.seconds <= target_s ? "yes" : "**no**") << " |\n";
   }
@@ -459,7 +499,10 @@ std::string real_markdown(const std::vector<RealTile>& tiles, int timeout_s, dou
   std::ostringstream md;
   std::vector<std::string> plots, urban;
   for (const RealTile& t : tiles) {
-    const std::string s = t.finished ? "" : t.ran ? " (not finished)" : " (not run)";
+    const std::string s = t.finished        ? ""
+                          : !t.ran          ? " (not run)"
+                          : t.error.empty() ? " (not finished)"
+                                            : " (failed)";
     (t.labelled ? urban : plots).push_back(t.name + s);
   }
   const auto list = [](const std::vector<std::string>& v) {
@@ -472,13 +515,13 @@ std::string real_markdown(const std::vector<RealTile>& tiles, int timeout_s, dou
         "and "
         "licences in its README) with the experiment's modelbase; mk/real.mk, docs/decisions/real-tiles.md. "
         "Urban tiles with hand-labelled vehicles: "
-     << list(urban) << ". Plots without vehicles: " << list(plots)
+     << list(urban) << ". Plots without vehicles: " << list(plots) << "."
      << (std::find_if(tiles.begin(), tiles.end(),
                       [](const RealTile& t) { return t.name == "forest_bcts_1"; }) == tiles.end()
-             ? " (the GPL-3 plot forest_bcts_1 is not committed and ran only with `REAL_DATA=<dir>`: not run "
-               "here)"
+             ? " The GPL-3 plot forest_bcts_1 is not committed and runs only with `REAL_DATA=<dir>`: not run "
+               "here."
              : "")
-     << ". Each tile is time-boxed"
+     << " Each tile is time-boxed"
      << (timeout_s > 0 ? " at " + std::to_string(timeout_s) + " s wall (REAL_TIMEOUT)" : std::string())
      << ". Few and small tiles: the figures are indications with wide intervals, not rates to plan with.\n\n";
   tiles_table(md, tiles, timeout_s);

@@ -29,9 +29,12 @@ struct Count {
 // canopy.scene_truth) and .time files (formats::read_stage_time).
 struct RealTile {
   std::string name;
-  bool labelled = false;     // has hand labels (an urban test tile)
-  bool ran = false;          // tile.time exists: the workflow was run
-  bool finished = false;     // detections.json exists (a time-boxed run that was stopped has none)
+  bool labelled = false;  // has hand labels (an urban test tile)
+  bool ran = false;       // tile.time exists: the workflow was run
+  bool finished = false;  // detections.json exists (a time-boxed run that was stopped has none)
+  // A run that did not finish: the first line with "error:" of the tile's stage logs (<dir>/*.log,
+  // by name), i.e. the tool that refused the tile; "" when there is none (stopped by the time box).
+  std::string error;
   formats::StageTime time;   // tile.time: the whole run (sub-make and every stage under it)
   double stages_cpu = 0;     // CPU summed over the tile's stage .time files (detect … collect, score)
   int stage_runs = 0;        // those files
