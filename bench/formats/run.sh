@@ -4,7 +4,8 @@
 # binary_compressed, 3 runs each, every read in its own process (peak RSS is the reader's).
 # LAZ reading: read_points on each LAZ file against read_points on the LAS it decompresses to
 # (the same records), 5 runs each, best CPU time per point and the ratio LAZ / LAS. Files:
-# tests/las/data/*.laz and, when present, ../shared/data/real/laz/*.laz (CANOPY_REAL_DATA);
+# tests/las/data/*.laz and ../shared/data/real/laz/*.laz (CANOPY_REAL_DATA) when present, else
+# the committed share/real/*.laz;
 # files under 10 000 points are too quick to time and are skipped.
 # Usage: bench/formats/run.sh [points=8000000 | laz] [build dir=build]   ("laz": LAZ part only)
 set -euo pipefail
@@ -31,7 +32,7 @@ if [ "$points" != laz ]; then
 fi
 real=${CANOPY_REAL_DATA:-../shared/data/real}
 files=(tests/las/data/*.laz)
-[ -d "$real/laz" ] && files+=("$real"/laz/*.laz)
+if [ -d "$real/laz" ]; then files+=("$real"/laz/*.laz); else files+=(share/real/*.laz); fi
 echo "== LAZ vs LAS: read_points, best of 5 runs each, CPU ns per point ($(nproc) cores, load $(cut -d' ' -f1 /proc/loadavg))"
 printf '%-36s %9s %6s %8s %8s %6s %8s %8s\n' file points rec las_ns laz_ns ratio las_MB laz_MB
 for laz in "${files[@]}"; do

@@ -14,6 +14,11 @@ inline std::string data(const std::string& file) {
   return std::string(CANOPY_SOURCE_DIR) + "/tests/las/data/" + file;
 }
 
+// The real tiles committed once for the experiment and the tests (share/real/, its README).
+inline std::string real(const std::string& file) {
+  return std::string(CANOPY_SOURCE_DIR) + "/share/real/" + file;
+}
+
 inline std::string slurp(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
   std::stringstream ss;

@@ -1,9 +1,10 @@
 // LAZ reader (formats/laz.h). Known answers come from other decoders, never from ours:
 //  - small files from laspy's and PDAL's test data against the uncompressed LAS of the same
 //    points (simple, extra bytes, LAS 1.4 with EVLRs, COPC with variable chunks);
-//  - the committed real tiles against SHA-256 digests of the point records of the LAS that
-//    laz-perf 0.0.7 decoded from them (../shared/data/real/reference, digests and hand-checked
-//    records read with python3 hashlib / struct; tests/las/data/README.md);
+//  - the committed real tiles (share/real/, one copy for the experiment and the tests) against
+//    SHA-256 digests of the point records of the LAS that laz-perf 0.0.7 decoded from them
+//    (../shared/data/real/reference, digests and hand-checked records read with python3
+//    hashlib / struct; tests/las/data/README.md);
 //  - with CANOPY_REAL_DATA present, every record of every shared pair compared byte for byte.
 // Broken files are generated from the good ones.
 #include <catch2/catch.hpp>
@@ -34,6 +35,7 @@ namespace {
 
 using canopy::las_test::data;
 using canopy::las_test::get;
+using canopy::las_test::real;
 using canopy::las_test::set;
 using canopy::las_test::slurp;
 
@@ -195,7 +197,7 @@ TEST_CASE("real LAZ tiles (AHN3 format 1; IGN format 8 with and without extra by
   };
   for (const Case& k : cases) {
     INFO(k.file);
-    const std::string laz = slurp(data(k.file));
+    const std::string laz = slurp(real(k.file));
     const std::string las = laz_to_las(laz, k.file);
     const Records r = records(las);
     CHECK(las[104] == k.format);
@@ -208,7 +210,7 @@ TEST_CASE("real LAZ tiles (AHN3 format 1; IGN format 8 with and without extra by
   }
 
   // Hand-checked records (python3 struct on the reference LAS): first, middle, last.
-  const PointCloud ahn = read_las(data("ahn3_delft_2.laz"));
+  const PointCloud ahn = read_las(real("ahn3_delft_2.laz"));
   CHECK(ahn.col("x")[0] == 85000.016);
   CHECK(ahn.col("y")[0] == 447414.207);
   CHECK(ahn.col("z")[0] == 0.81);
@@ -225,7 +227,7 @@ TEST_CASE("real LAZ tiles (AHN3 format 1; IGN format 8 with and without extra by
   CHECK(ahn.col("classification")[208431] == 6);
   CHECK(ahn.col("intensity")[208431] == 401);
 
-  const PointCloud reunion = read_las(data("forest_lareunion.laz"));
+  const PointCloud reunion = read_las(real("forest_lareunion.laz"));
   CHECK(reunion.col("x")[0] == 377016.62);
   CHECK(reunion.col("return_number")[0] == 3);
   CHECK(reunion.col("number_of_returns")[0] == 3);
@@ -235,7 +237,7 @@ TEST_CASE("real LAZ tiles (AHN3 format 1; IGN format 8 with and without extra by
   CHECK(reunion.col("z")[59711] == 204.99);
   CHECK(reunion.col("intensity")[59711] == 5);
 
-  const PointCloud ign = read_las(data("ign_lidarhd_870000_6618000.laz"));
+  const PointCloud ign = read_las(real("ign_lidarhd_870000_6618000.laz"));
   CHECK(ign.col("x")[0] == 870277.39);
   CHECK(ign.col("classification")[0] == 208);
   CHECK(ign.col("red")[0] == 38144);
@@ -367,7 +369,7 @@ TEST_CASE("broken LAZ: a clear error naming the file, memory bounded by the file
     if (!e.empty()) CHECK(contains(e, "flip.laz: LAZ chunk 1 of 1 (bytes 341-18203) is corrupt"));
   }
   // A layered (LAS 1.4) chunk whose layer sizes lie.
-  const std::string ign = slurp(data("forest_lareunion.laz"));
+  const std::string ign = slurp(real("forest_lareunion.laz"));
   const std::size_t ign_data = get<std::uint32_t>(ign, 96);
   b = ign;
   set<std::uint32_t>(&b, ign_data + 8 + 38 + 4, 0x7FFFFFFFu);  // the XY layer

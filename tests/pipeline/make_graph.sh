@@ -71,7 +71,7 @@ printf 'set(CMAKE_MAKEFILE_DEPENDS\n  "CMakeCache.txt"\n  "%s/CMakeLists.txt"\n 
   "$tree" "$tree" >"$tmp/build/CMakeFiles/Makefile.cmake"
 EOF
 chmod +x "$tmp/cmake"
-mk=(make -f Makefile.experiments OBJECTS=sedan SCENES=unoccluded NOISES=0 ABLATIONS= SCENE_EXPERIMENT=0 BASELINE=0 FAMILIES=0 OUT="$tmp/out"
+mk=(make -f Makefile.experiments OBJECTS=sedan SCENES=unoccluded NOISES=0 ABLATIONS= SCENE_EXPERIMENT=0 BASELINE=0 FAMILIES=0 REAL_TILES=0 OUT="$tmp/out"
     RES="$tmp/res" BUILD="$tmp/build" P="$tmp/params" CMAKE="$tmp/cmake")
 tools=(rangetrace addnoise fitvox cocone ncut gmatch verify areas report figures)
 # The tools this slice's graph runs: at 0 mm the noisy scan is a link to the render, so no
@@ -226,6 +226,27 @@ rm "$c/noise-0/match.json"
 if "${mk[@]}" -n all LAUNCH=bogus >/dev/null 2>&1; then fail "LAUNCH=bogus accepted"; fi
 : >"$c/noise-0/match.json"; at $((now - 66)) "$c/noise-0/match.json"
 "${mk[@]}" -q all || fail "make -q all not clean after restoring match.json"
+
+# `all` runs the real tiles (REAL_TILES=1, the default; mk/real.mk): each committed tile through
+# the tile workflow, the labelled ones scored, and the report reads them; REAL_TILES=0 leaves
+# them out. Under -n the tiles' sub-makes are printed, not run; under -q a stale tile is "out of
+# date" without running anything.
+plan=$("${mk[@]}" REAL_TILES=1 -n all 2>&1)
+for t in forest_lareunion ign_lidarhd_870000_6618000 ahn3_delft_2 ign_stbarth_100m ahn3_delft_1; do
+  echo "$plan" | grep -q "timeout 180 make .* tile TILE=share/real/$t.laz MODELBASE=$tmp/out/modelbase OUT=$tmp/out/real/$t " ||
+    fail "make -n all does not run the tile workflow on share/real/$t.laz: $(echo "$plan" | grep -m3 real)"
+done
+for t in ign_lidarhd_870000_6618000 ahn3_delft_2 ign_stbarth_100m ahn3_delft_1; do
+  echo "$plan" | grep -q "bin/score -d $tmp/out/real/$t/detections.json -t share/real/$t.truth.json " ||
+    fail "make -n all does not score $t against its labels"
+done
+if echo "$plan" | grep -q "bin/score -d $tmp/out/real/forest_lareunion/"; then fail "a plot without labels is scored"; fi
+echo "$plan" | grep -q "bin/report .*--real $tmp/out/real --real-tiles \"forest_lareunion ign_lidarhd_870000_6618000 " ||
+  fail "the report does not read the real tiles"
+[ ! -e "$tmp/out/real/forest_lareunion/tile.time" ] || fail "make -n all ran a real tile"
+"${mk[@]}" REAL_TILES=1 -q all && fail "make -q all is clean without the real tiles"
+[ ! -e "$tmp/out/real/forest_lareunion" ] || fail "make -q all ran a real tile"
+"${mk[@]}" -n all 2>&1 | grep -q "share/real/" && fail "REAL_TILES=0 still runs the real tiles"
 
 at $((now - 10)) "$tmp/params/ncut.ini"
 plan=$("${mk[@]}" -n all 2>&1)

@@ -18,6 +18,7 @@
 #include "canopy/formats/stage_time.h"
 #include "report/baseline_section.h"
 #include "report/families_section.h"
+#include "report/real_section.h"
 #include "report/report.h"
 
 using namespace canopy;
@@ -190,11 +191,27 @@ std::string scenes_section(const std::string& tile_score, const std::string& sce
   return markdown;
 }
 
+// The real tiles' section (--real): per tile OUT_REAL/<name>/ and its labels, when
+// LABELS/<name>.truth.json exists.
+std::string real_section(const std::string& real_dir, const std::string& names, const std::string& labels,
+                         int timeout_s) {
+  common::log::Phase real_phase("real tiles");
+  std::vector<report::RealTile> tiles;
+  for (const auto& name : words(names)) {
+    const std::string truth = labels + "/" + name + ".truth.json";
+    tiles.push_back(report::read_real_tile({name, real_dir + "/" + name, exists(truth) ? truth : ""}));
+  }
+  real_phase.done(std::to_string(tiles.size()) + " tiles");
+  return "\n" + report::real_markdown(tiles, timeout_s);
+}
+
 // The options beside the trials' sources.
 struct Sources {
   std::string out_dir = "out", results = "results", objects, scenes, noises;
   std::string thesis;  // default: <share>/thesis/results.csv
   std::string ablations, tile_score, families;
+  std::string real, real_tiles, real_labels = "share/real";
+  int real_timeout = 0;
 };
 
 void bind(common::Tool& tool, Sources& src, report::Params& p) {
@@ -214,6 +231,15 @@ void bind(common::Tool& tool, Sources& src, report::Params& p) {
   tool.add("--families", &src.families,
            "the families protocol's results directory (confusion.csv, accuracy.csv from famscore; "
            "mk/families.mk): adds the \"Vehicle families\" section to report.md");
+  tool.add(
+      "--real", &src.real,
+      "the real tiles' directory (mk/real.mk: <dir>/<tile>/{tile.time, detections.json, score.json, ...}): "
+      "adds the \"Real tiles\" section to report.md");
+  tool.add("--real-tiles", &src.real_tiles, "the real tiles' names in the section's order (space separated)");
+  tool.add("--real-labels", &src.real_labels,
+           "directory of the real tiles' hand labels <tile>.truth.json (a tile without one has no vehicles)");
+  tool.add("--real-timeout", &src.real_timeout,
+           "the time box of a real tile, s (mk/real.mk REAL_TIMEOUT; 0 unknown)");
   tool.add("--max-segments", &p.max_segments, "largest object segments examined for spurious area");
   tool.add("--overseg-ratio", &p.overseg_ratio, "over-segmented when target segments exceed this x model's");
   tool.add("--missing-area-ratio", &p.missing_area_ratio,
@@ -260,6 +286,12 @@ int main(int argc, char** argv) {
     std::string markdown = r.markdown + bl.markdown;
     if (!src.families.empty()) markdown += families_section(src.families);
     if (!src.tile_score.empty()) markdown += scenes_section(src.tile_score, scene_dir, results, outputs);
+    if (!src.real.empty()) {
+      if (words(src.real_tiles).empty())
+        throw common::UsageError("--real needs --real-tiles (the tiles' names)");
+      if (src.real_timeout < 0) throw common::UsageError("--real-timeout: must be >= 0 s");
+      markdown += real_section(src.real, src.real_tiles, src.real_labels, src.real_timeout);
+    }
     outputs.set(results + "/report.md", markdown);
     outputs.set(results + "/cases.csv", r.cases_csv);
     outputs.set(results + "/scores.csv", r.scores_csv);

@@ -1,0 +1,99 @@
+# Real airborne tiles (issue 26; docs/decisions/real-tiles.md "The experiment"), included by
+# Makefile.experiments after mk/scenes.mk. Part of `all` (REAL_TILES=1, the default):
+#
+#   make -f Makefile.experiments real-tiles -j2 [REAL_DATA=../shared/data/real] [REAL_TIMEOUT=180]
+#
+# runs the `tile` workflow (mk/scenes.mk: `make tile TILE=… MODELBASE=… OUT=…`, unchanged) on
+# each committed real tile of share/real/ (its README: sources, licences) with the modelbase the
+# experiment builds (out/modelbase, as the scene experiment), into
+#   out/real/<tile>/{detections.json, detections.geojson, cands/, classes.ply, top.png, …}
+#   out/real/<tile>/score.json     the urban tiles: `score` against share/real/<tile>.truth.json
+#   out/real/<tile>/tile.time      the tile's whole run: wall s, peak KiB, user and system CPU s
+#                                  of the sub-make and every stage under it (GNU time, the
+#                                  format of scripts/stage.sh's .time files)
+# and the report's "Real tiles" section reads them (report --real).
+#
+# Tiles: four urban tiles with hand labels (138 vehicles) and one forest plot without vehicles
+# (forest_lareunion, 0.25 ha: every vehicle answer there is a false alarm). REAL_DATA=<dir>
+# (default: none) adds the GPL-3 forest plot forest_bcts_1 (≈ 5 ha, not committed) from
+# <dir>/forest_bcts_1.laz or <dir>/laz/forest_bcts_1.laz.
+#
+# The tiles run one after another (an order-only chain), each sub-make with make's job slots
+# for its candidates, so a tile's wall time is its own. Each is time-boxed: a tile whose
+# workflow has not finished after REAL_TIMEOUT seconds is stopped (timeout kills its process
+# group), recorded as not finished (tile.time kept, its detections and score removed) and the
+# experiment goes on; the report says so. A tile on which a tool of the workflow fails by its
+# own error (the sub-make exits 2: e.g. detect refusing a closed-canopy plot where it finds too
+# little ground) is recorded the same way, as failed: on real data a refusal is a result, and the
+# report quotes the tool's error from the tile's logs. A sub-make killed otherwise (a signal)
+# fails make. A tile re-runs when the tile, the modelbase, a tool of the workflow
+# or a stage's parameters change; the sub-make then redoes only what is out of date (its wall
+# and CPU then cover that part only; the report compares them with the stages' .time files).
+REAL_TILES ?= 1
+$(if $(filter-out 0 1,$(REAL_TILES)),$(error REAL_TILES=$(REAL_TILES): must be 0 or 1))
+REAL_URBAN ?= ign_lidarhd_870000_6618000 ahn3_delft_2 ign_stbarth_100m ahn3_delft_1
+REAL_FOREST ?= forest_lareunion
+REAL_DATA ?=
+REAL_DATA_FOREST ?= forest_bcts_1
+REAL_TIMEOUT ?= 180
+$(if $(shell printf '%s' '$(REAL_TIMEOUT)' | grep -xE '[1-9][0-9]{0,5}'),,$(error REAL_TIMEOUT=$(REAL_TIMEOUT): \
+  whole seconds, 1 or more))
+REAL_SHARE := share/real
+REAL_OUT := $(OUT)/real
+
+# real_file(name): the tile's file; the REAL_DATA plots from that directory (or its laz/).
+real_file = $(if $(filter $(1),$(REAL_URBAN) $(REAL_FOREST)),$(REAL_SHARE)/$(1).laz,$(firstword \
+  $(wildcard $(REAL_DATA)/$(1).laz $(REAL_DATA)/laz/$(1).laz) $(REAL_DATA)/$(1).laz))
+REAL_EXTRA := $(if $(strip $(REAL_DATA)),$(REAL_DATA_FOREST))
+$(if $(strip $(REAL_DATA)),$(if $(wildcard $(call real_file,$(REAL_DATA_FOREST))),,$(error \
+  REAL_DATA=$(REAL_DATA): no $(REAL_DATA_FOREST).laz there nor in its laz/)))
+# Smallest first (the forest plot, then the urban tiles by points).
+REAL_NAMES := $(REAL_FOREST) $(REAL_URBAN) $(REAL_EXTRA)
+
+# What a tile's run depends on: the tools of the workflow (built here first, so the tiles'
+# sub-makes never build one at the same time), classify's stamp once it is built (the class
+# level, when the workflow runs it), the stages' parameters and the experiment's modelbase.
+REAL_TOOLS := detect fitvox cocone ncut gmatch verify collect score topview
+REAL_DEPS = $(foreach t,$(REAL_TOOLS),$(call tool,$(t))) $(wildcard $(STAMPS)/classify.sha) \
+  $(wildcard $(P)/*.ini) $(MODELBASE) $(VERIFY_SURFACES)
+
+# The sub-make is a recursive step (`+`, with make's job slots) only in a real run: under -n it
+# is printed and under -q the run is reported out of date, never started (REAL_SUBMAKE hides the
+# recursion from make's scan of the recipe text).
+REAL_SUBMAKE = $(MAKE)
+real_plus := $(if $(dry_run),,+)
+
+# real_rule(name, previous): one tile's run (time-boxed, timed) and, for a labelled tile, its
+# score; GNU time's "Command exited with non-zero status" line is dropped from tile.time.
+define real_rule
+$(REAL_OUT)/$(1)/tile.time: $(call real_file,$(1)) $(REAL_DEPS) $(wildcard $(REAL_SHARE)/$(1).truth.json) \
+    | $(if $(2),$(REAL_OUT)/$(2)/tile.time)
+	$$(real_plus)@mkdir -p $(REAL_OUT)/$(1) && rm -f $$@ $(REAL_OUT)/$(1)/score.json && s=0; \
+	  /usr/bin/time -f '%e %M %U %S' -o $$@.tmp timeout $(REAL_TIMEOUT) $$(REAL_SUBMAKE) --no-print-directory \
+	    -f $(firstword $(MAKEFILE_LIST)) tile TILE=$(call real_file,$(1)) MODELBASE=$(OUT)/modelbase \
+	    OUT=$(REAL_OUT)/$(1) PROGRESS=0 SCENE_EXPERIMENT=0 FAMILIES=0 REAL_TILES=0 || s=$$$$?; \
+	  if [ $$$$s -eq 124 ]; then rm -f $(REAL_OUT)/$(1)/detections.json; \
+	    echo "real  $(1): not finished after $(REAL_TIMEOUT) s (REAL_TIMEOUT), recorded as such"; \
+	  elif [ $$$$s -eq 2 ]; then rm -f $(REAL_OUT)/$(1)/detections.json; \
+	    echo "real  $(1): the workflow failed (a tool refused the tile: its .log in $(REAL_OUT)/$(1)/), recorded as such"; \
+	  elif [ $$$$s -ne 0 ]; then rm -f $$@.tmp; echo "FAIL  real tile $(1) (exit $$$$s)"; exit $$$$s; fi; \
+	  grep -v '^Command ' $$@.tmp >$$@.tmp2 && rm -f $$@.tmp && mv $$@.tmp2 $$@
+	$(if $(wildcard $(REAL_SHARE)/$(1).truth.json),@[ ! -f $(REAL_OUT)/$(1)/detections.json ] || \
+	  $(STAGE) $(REAL_OUT)/$(1)/score.json -- $(BIN)/score -d $(REAL_OUT)/$(1)/detections.json \
+	  -t $(REAL_SHARE)/$(1).truth.json -o $(REAL_OUT)/$(1)/score.json)
+	@echo "done  $$@ $$$$(cat $$@)"
+endef
+real_last :=
+$(foreach t,$(REAL_NAMES),$(eval $(call real_rule,$(t),$(real_last)))$(eval real_last := $(t)))
+
+REAL_RUNS := $(foreach t,$(REAL_NAMES),$(REAL_OUT)/$(t)/tile.time)
+.PHONY: real-tiles
+real-tiles: $(REAL_RUNS)
+
+# The report's "Real tiles" section: the tiles in order, the labels' directory, the time box.
+ifeq ($(REAL_TILES),1)
+all: real-tiles
+$(RES)/report.md: $(REAL_RUNS)
+REPORT_ARGS += --real $(REAL_OUT) --real-tiles "$(REAL_NAMES)" --real-labels $(REAL_SHARE) \
+  --real-timeout $(REAL_TIMEOUT)
+endif

@@ -1,0 +1,533 @@
+// The report's "Real tiles" section: the tile workflow's documents of each real tile, read with
+// formats::open_json_document, and the hand labels; every rate with its count and a 95% interval
+// (common/stats.h: Wilson for proportions, exact Poisson for a count per area).
+#include "report/real_section.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <set>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "canopy/common/atomic_file.h"
+#include "canopy/common/error.h"
+#include "canopy/common/stats.h"
+#include "canopy/formats/csv_table.h"
+#include "canopy/formats/json_document.h"
+
+namespace canopy::report {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+using formats::format_number;
+using formats::json_member;
+using formats::MalformedField;
+
+bool exists(const std::string& path) {
+  std::error_code ec;
+  return fs::is_regular_file(path, ec);
+}
+
+Json open(const std::string& path, const char* format, int max_version = 1) {
+  return formats::open_json_document(common::read_file(path), path, format, nullptr, max_version);
+}
+
+// A member that must be a count (an integer >= 0).
+int count(const Json& j, const char* key, const std::string& where) {
+  const Json& v = json_member(j, key, where);
+  if (!v.is_number_integer() || v.get<long long>() < 0 || v.get<long long>() > 1000000000)
+    throw MalformedField(where + (where.empty() ? "" : ".") + key + " is not a count: " + v.dump());
+  return v.get<int>();
+}
+
+double number(const Json& j, const char* key, const std::string& where) {
+  const Json& v = json_member(j, key, where);
+  if (!v.is_number() || !std::isfinite(v.get<double>()))
+    throw MalformedField(where + (where.empty() ? "" : ".") + key + " is not a number: " + v.dump());
+  return v.get<double>();
+}
+
+// An optional string member ("" when absent or null).
+std::string text(const Json& j, const char* key) {
+  const auto it = j.find(key);
+  return it != j.end() && it->is_string() ? it->get<std::string>() : "";
+}
+
+// density.all of a density object (detections v2 top level, index.json), -1 when not given.
+double density_all(const Json& j) {
+  const auto it = j.find("density");
+  if (it == j.end() || !it->is_object()) return -1;
+  const auto all = it->find("all");
+  return all != it->end() && all->is_number() && all->get<double>() > 0 ? all->get<double>() : -1;
+}
+
+// The tiles' sources (share/real/README.md), by name.
+std::string source(const std::string& name) {
+  if (name.rfind("ahn3_", 0) == 0) return "AHN3 2014, Delft (CC0)";
+  if (name == "ign_stbarth_100m") return "IGN, Saint-Barthélemy (Etalab 2.0)";
+  if (name.rfind("ign_lidarhd", 0) == 0) return "IGN LiDAR HD (Etalab 2.0)";
+  if (name == "forest_lareunion") return "IGN, La Réunion forest (Etalab 2.0)";
+  if (name == "forest_bcts_1") return "lasR example, BC conifer forest (GPL-3, REAL_DATA)";
+  return "–";
+}
+
+// The detections document: counts, levels, classes, reasons, warning; the group of each
+// detection by candidate id (for the class accuracy).
+void read_detections(const std::string& path, RealTile& t, std::map<std::string, std::string>& group) {
+  const Json d = open(path, "canopy.detections", 2);
+  try {
+    t.version = count(d, "version", "");
+    t.candidates = count(d, "candidates", "");
+    t.found = count(d, "found", "");
+    const Json& dets = json_member(d, "detections", "");
+    if (!dets.is_array()) throw MalformedField("detections is not an array");
+    for (std::size_t i = 0; i < dets.size(); ++i) {
+      const Json& e = dets[i];
+      const std::string w = "detections[" + std::to_string(i) + "]";
+      if (!e.is_object()) throw MalformedField(w + " is not an object");
+      const std::string level = t.version >= 2 ? text(e, "level") : "model";
+      if (level != "model" && level != "class")
+        throw MalformedField(w + ".level is " + json_member(e, "level", w).dump() +
+                             ", not \"model\" or \"class\"");
+      const std::string what = level == "class" ? text(e, "class") : text(e, "model");
+      t.by_level[level]++;
+      t.by_class[level + ": " + (what.empty() ? "?" : what)]++;
+      group[text(e, "candidate")] = text(e, "group");
+    }
+    if (t.version >= 2) {
+      for (const char* key : {"by_level", "by_reason"}) {
+        const Json& o = json_member(d, key, "");
+        if (!o.is_object()) throw MalformedField(std::string(key) + " is not an object");
+        if (std::string(key) == "by_reason") {
+          for (const auto& [reason, n] : o.items()) t.by_reason[reason] = count(o, reason.c_str(), key);
+        }
+      }
+      const Json& warning = json_member(d, "warning", "");
+      if (!warning.is_null() && !warning.is_string())
+        throw MalformedField("warning is neither a sentence nor null");
+      if (warning.is_string()) t.warning = warning.get<std::string>();
+      t.density = density_all(d);
+    } else {
+      for (const char* reason : {"none", "failed"}) t.by_reason[reason] = count(d, reason, "");
+    }
+    int rejected = 0;
+    for (const auto& [reason, n] : t.by_reason) rejected += n;
+    if (t.found != static_cast<int>(dets.size()) || t.candidates != t.found + rejected) {
+      throw MalformedField("candidates " + std::to_string(t.candidates) + " is not found " +
+                           std::to_string(t.found) + " + the rejected " + std::to_string(rejected) +
+                           " (or found is not the " + std::to_string(dets.size()) + " detections)");
+    }
+  } catch (const MalformedField& e) { throw common::DataError(path, e.what()); }
+}
+
+// detect's index: the tile's points, its grid's area, its density when detect gives it.
+void read_index(const std::string& path, RealTile& t) {
+  const Json x = open(path, "canopy.candidates", 2);
+  try {
+    t.points = json_member(x, "tile_points", "").get<long long>();
+    const Json& g = json_member(x, "ground", "");
+    const double cell = number(g, "cell", "ground");
+    const double area_m2 = cell * cell * number(g, "cells", "ground");
+    if (!t.labelled && area_m2 > 0) {
+      t.area_ha = area_m2 / 1e4;
+      t.area_from = "detect's grid (bounding box)";
+    }
+    if (t.density < 0) t.density = density_all(x);
+    if (t.density > 0) {
+      t.density_from = "index";
+    } else if (area_m2 > 0 && t.points > 0) {
+      t.density = t.points / area_m2;
+      t.density_from = "measured (points / bounding box)";
+    }
+  } catch (const MalformedField& e) {
+    throw common::DataError(path, e.what());
+  } catch (const Json::exception& e) {
+    throw common::DataError(path, std::string("tile_points is not a count: ") + e.what());
+  }
+}
+
+// The first line holding "error:" in the tile's stage logs (<dir>/*.log, by name), cut to 300
+// characters; "" when none has one.
+std::string first_error(const std::string& dir) {
+  std::vector<fs::path> logs;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    if (e.is_regular_file() && e.path().extension() == ".log") logs.push_back(e.path());
+  }
+  std::sort(logs.begin(), logs.end());
+  for (const auto& log : logs) {
+    std::istringstream in(common::read_file(log.string()));
+    for (std::string line; std::getline(in, line);) {
+      if (line.find("error:") != std::string::npos)
+        return line.size() > 300 ? line.substr(0, 300) + "…" : line;
+    }
+  }
+  return "";
+}
+
+struct Uncertain {
+  double x = 0, y = 0;
+};
+
+// The labels: vehicles (visibility), uncertain objects' centres, the extent's area.
+void read_truth(const std::string& path, RealTile& t, std::map<int, bool>& clear, std::vector<Uncertain>& unc) {
+  const Json j = open(path, "canopy.scene_truth");
+  try {
+    const Json& vs = json_member(j, "vehicles", "");
+    for (std::size_t i = 0; i < vs.size(); ++i) {
+      const std::string w = "vehicles[" + std::to_string(i) + "]";
+      clear[count(vs[i], "instance", w)] = text(vs[i], "visibility") == "clear";
+    }
+    t.vehicles = static_cast<int>(clear.size());
+    for (const auto& [id, c] : clear) t.clear += c ? 1 : 0;
+    const auto u = j.find("uncertain");
+    if (u != j.end() && u->is_array()) {
+      for (std::size_t i = 0; i < u->size(); ++i) {
+        const std::string w = "uncertain[" + std::to_string(i) + "]";
+        const Json& pose = json_member((*u)[i], "pose", w);
+        unc.push_back({number(pose, "x", w + ".pose"), number(pose, "y", w + ".pose")});
+      }
+    }
+    t.uncertain = static_cast<int>(unc.size());
+    const Json& ext = json_member(j, "extent", "");
+    if (ext.is_array() && ext.size() >= 2 && ext[0].is_number() && ext[1].is_number()) {
+      t.area_ha = ext[0].get<double>() * ext[1].get<double>() / 1e4;
+      t.area_from = "labels' extent";
+    }
+  } catch (const MalformedField& e) { throw common::DataError(path, e.what()); }
+}
+
+// score.json against the labels: recall (all, clear), precision without the detections on
+// uncertain objects, the class (group) of the matched detections.
+void read_score(const std::string& path, RealTile& t, const std::map<int, bool>& clear,
+                const std::vector<Uncertain>& unc, const std::map<std::string, std::string>& group) {
+  const Json s = open(path, "canopy.scene_score");
+  try {
+    t.match_radius_m = number(json_member(s, "params", ""), "match_radius_m", "params");
+    std::set<int> matched;
+    int detections = 0;
+    const Json& rows = json_member(s, "matches", "");
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      const Json& r = rows[i];
+      const std::string w = "matches[" + std::to_string(i) + "]";
+      const std::string outcome = text(r, "outcome");
+      if (outcome == "missed") continue;
+      ++detections;
+      if (outcome == "false_alarm") {
+        ++t.fp;
+        const double x = number(r, "x", w), y = number(r, "y", w);
+        for (const Uncertain& u : unc) {
+          if (std::hypot(x - u.x, y - u.y) <= t.match_radius_m) {
+            ++t.fp_on_uncertain;
+            break;
+          }
+        }
+        continue;
+      }
+      if (outcome != "right" && outcome != "wrong")
+        throw MalformedField(w + ".outcome is " + json_member(r, "outcome", w).dump());
+      ++t.tp;
+      matched.insert(count(r, "instance", w));
+      const auto g = group.find(text(r, "candidate"));
+      if (g == group.end() || g->second.empty()) {
+        ++t.matched_without_group;
+      } else {
+        t.class_right.n++;
+        if (g->second == text(r, "true_model")) t.class_right.k++;
+      }
+    }
+    t.recall_all = {0, t.vehicles};
+    t.recall_clear = {0, t.clear};
+    for (int id : matched) {
+      const auto c = clear.find(id);
+      if (c == clear.end())
+        throw MalformedField("matches name vehicle " + std::to_string(id) + ", not in the labels");
+      t.recall_all.k++;
+      if (c->second) t.recall_clear.k++;
+    }
+    t.precision = {t.tp, detections - t.fp_on_uncertain};
+    const Json& tiles = json_member(s, "tiles", "");
+    if (tiles.is_array() && tiles.size() == 1) t.area_ha = number(tiles[0], "area_ha", "tiles[0]");
+    t.scored = true;
+  } catch (const MalformedField& e) { throw common::DataError(path, e.what()); }
+}
+
+}  // namespace
+
+RealTile read_real_tile(const RealTileFiles& f) {
+  RealTile t;
+  t.name = f.name;
+  t.labelled = !f.truth.empty();
+  t.time = formats::read_stage_time(f.dir + "/tile");
+  t.ran = t.time.present;
+  // Every stage's .time under the tile's directory but the whole run's.
+  std::error_code ec;
+  if (fs::is_directory(f.dir, ec)) {
+    std::vector<std::string> times;
+    for (const auto& e : fs::recursive_directory_iterator(f.dir, ec)) {
+      const std::string p = e.path().string();
+      if (e.is_regular_file() && e.path().extension() == ".time" && e.path().filename() != "tile.time")
+        times.push_back(p.substr(0, p.size() - 5));
+    }
+    std::sort(times.begin(), times.end());
+    for (const auto& artifact : times) {
+      const formats::StageTime st = formats::read_stage_time(artifact);
+      if (!st.present) continue;
+      ++t.stage_runs;
+      t.stages_cpu += st.cpu_seconds();
+    }
+  }
+  std::map<int, bool> clear;
+  std::vector<Uncertain> unc;
+  if (t.labelled) read_truth(f.truth, t, clear, unc);
+  std::map<std::string, std::string> group;
+  t.finished = exists(f.dir + "/detections.json");
+  if (t.ran && !t.finished) t.error = first_error(f.dir);
+  if (t.finished) read_detections(f.dir + "/detections.json", t, group);
+  if (exists(f.dir + "/cands/index.json")) read_index(f.dir + "/cands/index.json", t);
+  if (t.finished && t.labelled && exists(f.dir + "/score.json"))
+    read_score(f.dir + "/score.json", t, clear, unc, group);
+  return t;
+}
+
+namespace {
+
+std::string pct(double v) { return format_number("%.1f", 100 * v); }
+
+// "k/n = r% [lo, hi]" with Wilson's 95% interval; "–" when n = 0.
+std::string rate(const Count& c) {
+  if (c.n == 0) return "0/0 –";
+  const common::Interval w = common::wilson(c.k, c.n);
+  return std::to_string(c.k) + "/" + std::to_string(c.n) + " = " + pct(static_cast<double>(c.k) / c.n) +
+         "% [" + pct(w.lo) + ", " + pct(w.hi) + "]";
+}
+
+std::string joined(const std::map<std::string, int>& m) {
+  std::string s;
+  for (const auto& [k, n] : m) {
+    if (n == 0) continue;
+    s += (s.empty() ? "" : ", ") + k + " " + std::to_string(n);
+  }
+  return s.empty() ? "–" : s;
+}
+
+// Markdown table cells must not break the row.
+std::string cell(std::string s) {
+  std::replace(s.begin(), s.end(), '|', '/');
+  std::replace(s.begin(), s.end(), '\n', ' ');
+  return s;
+}
+
+std::string state(const RealTile& t, int timeout_s) {
+  if (!t.ran) return "not run";
+  if (!t.finished && !t.error.empty()) return "**failed**: `" + cell(t.error) + "`";
+  if (!t.finished)
+    return "**not finished** within the time box" +
+           (timeout_s > 0 ? " of " + std::to_string(timeout_s) + " s" : "");
+  return "";
+}
+
+void tiles_table(std::ostringstream& md, const std::vector<RealTile>& tiles, int timeout_s) {
+  md << "| tile | source | area (ha) | density (pts/m²) | points | candidates | detections (model / class "
+        "level) | "
+        "detections by class | rejected by reason | warning |\n|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const RealTile& t : tiles) {
+    md << "| " << t.name << (t.labelled ? "" : " (no vehicles)") << " | " << source(t.name) << " | "
+       << (t.area_ha > 0 ? format_number("%.2f", t.area_ha) : "–") << " | "
+       << (t.density > 0 ? format_number("%.1f", t.density) + (t.density_from == "index" ? "" : " (measured)")
+                         : "–")
+       << " | " << (t.points >= 0 ? std::to_string(t.points) : "–") << " | ";
+    const std::string s = state(t, timeout_s);
+    if (!s.empty()) {
+      md << s << " | | | | |\n";
+      continue;
+    }
+    const auto level = [&](const char* l) {
+      const auto it = t.by_level.find(l);
+      return it == t.by_level.end() ? 0 : it->second;
+    };
+    md << t.candidates << " | " << t.found << " (" << level("model") << " / " << level("class") << ") | "
+       << joined(t.by_class) << " | " << joined(t.by_reason) << " | " << (t.warning.empty() ? "–" : t.warning)
+       << " |\n";
+  }
+  md << "\n";
+}
+
+void forest_table(std::ostringstream& md, const std::vector<RealTile>& tiles) {
+  md << "### Plots without vehicles: false alarms\n\n"
+        "Every detection on a plot without vehicles is a false alarm. Per hectare of the plot (detect's "
+        "grid: "
+        "its bounding box), with the **exact Poisson (Garwood) 95% interval** of the count divided by the "
+        "area.\n\n| plot | area (ha) | false alarms | per ha | 95% interval per ha "
+        "|\n|---|---|---|---|---|\n";
+  double area = 0;
+  int alarms = 0, plots = 0;
+  for (const RealTile& t : tiles) {
+    if (t.labelled) continue;
+    if (!t.finished || t.area_ha <= 0) {
+      md << "| " << t.name << " | " << (t.area_ha > 0 ? format_number("%.2f", t.area_ha) : "–") << " | "
+         << (t.ran ? (t.error.empty() ? "not finished" : "failed") : "not run") << " | | |\n";
+      continue;
+    }
+    const common::Interval p = common::poisson_exact(t.found);
+    md << "| " << t.name << " | " << format_number("%.2f", t.area_ha) << " | " << t.found << " | "
+       << format_number("%.1f", t.found / t.area_ha) << " | [" << format_number("%.1f", p.lo / t.area_ha)
+       << ", " << format_number("%.1f", p.hi / t.area_ha) << "] |\n";
+    area += t.area_ha;
+    alarms += t.found;
+    ++plots;
+  }
+  if (plots > 1) {
+    const common::Interval p = common::poisson_exact(alarms);
+    md << "| **all plots** | " << format_number("%.2f", area) << " | " << alarms << " | "
+       << format_number("%.1f", alarms / area) << " | [" << format_number("%.1f", p.lo / area) << ", "
+       << format_number("%.1f", p.hi / area) << "] |\n";
+  }
+  md << "\n";
+  if (plots > 0) {
+    md << "The plots are small: " << format_number("%.2f", area) << " ha in all. With " << alarms
+       << " false alarms there the 95% interval still reaches "
+       << format_number("%.1f", common::poisson_exact(alarms).hi / area)
+       << " per ha: they show whether the workflow answers vehicles on tree crowns at all, not a false-alarm "
+          "rate to plan with.\n\n";
+  } else {
+    md << "No plot without vehicles finished.\n\n";
+  }
+}
+
+void urban_table(std::ostringstream& md, const std::vector<RealTile>& tiles) {
+  md << "### Urban tiles against the hand labels\n\n"
+        "`score` matches a detection to a labelled vehicle within its match radius (one to one, most "
+        "confident "
+        "first). Recall = labelled vehicles matched / labelled, over all and over the **clear** ones (roof "
+        "fully "
+        "seen, not under a crown, not merged: docs/decisions/real-tiles.md \"Visibility\"); a detection "
+        "within "
+        "the match radius of an **uncertain** object is neither a hit nor a false alarm (left out of "
+        "precision's "
+        "denominator); class = the detection's group (car, van, …) against the label's. Wilson 95% "
+        "intervals.\n\n"
+        "| tile | labelled (clear) | uncertain | detections | TP | FP (on uncertain) | recall, all | recall, "
+        "clear "
+        "| precision | class right |\n|---|---|---|---|---|---|---|---|---|---|\n";
+  RealTile sum;
+  int n = 0;
+  for (const RealTile& t : tiles) {
+    if (!t.labelled) continue;
+    md << "| " << t.name << " | " << t.vehicles << " (" << t.clear << ") | " << t.uncertain << " | ";
+    if (!t.scored) {
+      md << (t.finished        ? "not scored"
+             : !t.ran          ? "not run"
+             : t.error.empty() ? "not finished"
+                               : "failed")
+         << " | | | | | | |\n";
+      continue;
+    }
+    md << t.found << " | " << t.tp << " | " << t.fp << " (" << t.fp_on_uncertain << ") | "
+       << rate(t.recall_all) << " | " << rate(t.recall_clear) << " | " << rate(t.precision) << " | "
+       << rate(t.class_right)
+       << (t.matched_without_group > 0 ? " (" + std::to_string(t.matched_without_group) + " without a group)"
+                                       : "")
+       << " |\n";
+    const auto add = [](Count& to, const Count& c) {
+      to.k += c.k;
+      to.n += c.n;
+    };
+    sum.vehicles += t.vehicles;
+    sum.clear += t.clear;
+    sum.uncertain += t.uncertain;
+    sum.found += t.found;
+    sum.tp += t.tp;
+    sum.fp += t.fp;
+    sum.fp_on_uncertain += t.fp_on_uncertain;
+    add(sum.recall_all, t.recall_all);
+    add(sum.recall_clear, t.recall_clear);
+    add(sum.precision, t.precision);
+    add(sum.class_right, t.class_right);
+    sum.matched_without_group += t.matched_without_group;
+    ++n;
+  }
+  if (n > 1) {
+    md << "| **all scored** | " << sum.vehicles << " (" << sum.clear << ") | " << sum.uncertain << " | "
+       << sum.found << " | " << sum.tp << " | " << sum.fp << " (" << sum.fp_on_uncertain << ") | "
+       << rate(sum.recall_all) << " | " << rate(sum.recall_clear) << " | " << rate(sum.precision) << " | "
+       << rate(sum.class_right)
+       << (sum.matched_without_group > 0
+               ? " (" + std::to_string(sum.matched_without_group) + " without a group)"
+               : "")
+       << " |\n";
+  }
+  md << "\n";
+}
+
+void time_table(std::ostringstream& md, const std::vector<RealTile>& tiles, double target_s) {
+  md << "### Time per tile\n\n"
+        "The whole workflow of a tile (`tile.time`: GNU time around its make, so every stage under it; the "
+        "tiles "
+        "run one after another, each with make's job slots for its candidates): wall time (on a shared "
+        "machine "
+        "it includes waiting for the CPU) and CPU (user + system), against the target of "
+     << format_number("%g", target_s)
+     << " s wall per tile; beside them the CPU summed over the tile's stage `.time` files (a stage that "
+        "failed writes none; more than the run's CPU when the last run redid only part of the tile).\n\n"
+        "| tile | wall s | CPU s | stages' CPU s (files) | wall ≤ "
+     << format_number("%g", target_s) << " s |\n|---|---|---|---|---|\n";
+  for (const RealTile& t : tiles) {
+    md << "| " << t.name << " | ";
+    if (!t.ran) {
+      md << "not run | | | |\n";
+      continue;
+    }
+    md << format_number("%.1f", t.time.seconds)
+       << (t.finished        ? ""
+           : t.error.empty() ? " (stopped)"
+                             : " (failed)")
+       << " | " << (t.time.has_cpu ? format_number("%.1f", t.time.cpu_seconds()) : "–") << " | "
+       << format_number("%.1f", t.stages_cpu) << " (" << t.stage_runs << ") | "
+       << (t.finished && t.time.seconds <= target_s ? "yes" : "**no**") << " |\n";
+  }
+  md << "\n";
+}
+
+}  // namespace
+
+std::string real_markdown(const std::vector<RealTile>& tiles, int timeout_s, double target_s) {
+  std::ostringstream md;
+  std::vector<std::string> plots, urban;
+  for (const RealTile& t : tiles) {
+    const std::string s = t.finished        ? ""
+                          : !t.ran          ? " (not run)"
+                          : t.error.empty() ? " (not finished)"
+                                            : " (failed)";
+    (t.labelled ? urban : plots).push_back(t.name + s);
+  }
+  const auto list = [](const std::vector<std::string>& v) {
+    std::string s;
+    for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
+    return s.empty() ? std::string("none") : s;
+  };
+  md << "## Real tiles (issue 26)\n\n"
+        "The tile workflow (`make tile`, mk/scenes.mk) on real airborne LiDAR tiles (share/real/: sources "
+        "and "
+        "licences in its README) with the experiment's modelbase; mk/real.mk, docs/decisions/real-tiles.md. "
+        "Urban tiles with hand-labelled vehicles: "
+     << list(urban) << ". Plots without vehicles: " << list(plots) << "."
+     << (std::find_if(tiles.begin(), tiles.end(),
+                      [](const RealTile& t) { return t.name == "forest_bcts_1"; }) == tiles.end()
+             ? " The GPL-3 plot forest_bcts_1 is not committed and runs only with `REAL_DATA=<dir>`: not run "
+               "here."
+             : "")
+     << " Each tile is time-boxed"
+     << (timeout_s > 0 ? " at " + std::to_string(timeout_s) + " s wall (REAL_TIMEOUT)" : std::string())
+     << ". Few and small tiles: the figures are indications with wide intervals, not rates to plan with.\n\n";
+  tiles_table(md, tiles, timeout_s);
+  forest_table(md, tiles);
+  urban_table(md, tiles);
+  time_table(md, tiles, target_s);
+  return md.str();
+}
+
+}  // namespace canopy::report
