@@ -204,8 +204,10 @@ Trajectory read_trajectory(const std::string& path) {
 std::string serialize_trajectory(const Trajectory& t) {
   std::string out = std::string(kFirstLine) + "\n";
   for (const std::string& c : t.comments) {
-    if (c.find('\n') != std::string::npos || c.find('\r') != std::string::npos) {
-      throw std::invalid_argument("trajectory comment holds a line break");
+    // A trailing CR would be read back as part of the line end: refused like a line break.
+    if (c.find('\n') != std::string::npos || (!c.empty() && c.back() == '\r') ||
+        c.find('\0') != std::string::npos) {
+      throw std::invalid_argument("trajectory comment holds a line break or a NUL");
     }
     out += "# " + c + "\n";
   }
