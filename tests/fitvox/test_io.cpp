@@ -215,3 +215,47 @@ TEST_CASE("fitvox binary: files, pipes, determinism, errors", "[cli]") {
   CHECK(sh(bin + " -i " + plain_path.string() + " -o " + out3.string() + " 2> " + err.string()) == 0);
   CHECK(slurp(err).find("warning") != std::string::npos);
 }
+
+TEST_CASE("LAS sensor columns (gps_time, scan_angle, point_source_id) are carried from the sample's point",
+          "[cli]") {
+  // Issue 26: verify derives the direction toward the sensor from these on real tiles. Each
+  // input point gets values computed from its own coordinates, so a sample's values must be
+  // those of its own point (the voxel's point nearest the centre, before resampling moves it).
+  const fs::path d = tmp_dir();
+  const std::string bin = std::string(CANOPY_BIN_DIR) + "/fitvox";
+  auto las = scene_cloud(0);
+  for (const char* f : {"sensor_x", "sensor_y", "sensor_z"}) las.remove(f);
+  auto& t = las.add("gps_time", formats::kFloat64);
+  auto& a = las.add("scan_angle", formats::kFloat32);
+  auto& s = las.add("point_source_id", formats::FieldType{'U', 2});
+  for (std::size_t i = 0; i < las.size(); ++i) {
+    t[i] = 307843211.0 + 1000 * las.col("x")[i] + 1e-3 * static_cast<double>(i);
+    a[i] = static_cast<float>(20 * las.col("y")[i]);
+    s[i] = las.col("z")[i] > 0.5 ? 7 : 3;
+  }
+  const fs::path in = d / "las_scan.pcd", out = d / "las_samples.pcd";
+  formats::write_pcd(las, in.string());
+  REQUIRE(sh(bin + " -q --resample false -i " + in.string() + " -o " + out.string()) == 0);
+  const auto samples = formats::read_pcd(out.string());
+  REQUIRE(samples.size() > 50);
+  CHECK(samples.type("gps_time") == formats::kFloat64);
+  CHECK(samples.type("scan_angle") == formats::kFloat32);
+  CHECK(samples.type("point_source_id") == (formats::FieldType{'U', 2}));
+  // Without resampling a sample is its point: find it by coordinates and compare.
+  std::size_t matched = 0;
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    for (std::size_t i = 0; i < las.size(); ++i) {
+      if (static_cast<float>(las.col("x")[i]) != static_cast<float>(samples.col("x")[k]) ||
+          static_cast<float>(las.col("y")[i]) != static_cast<float>(samples.col("y")[k]) ||
+          static_cast<float>(las.col("z")[i]) != static_cast<float>(samples.col("z")[k])) {
+        continue;
+      }
+      CHECK(samples.col("gps_time")[k] == t[i]);
+      CHECK(samples.col("scan_angle")[k] == static_cast<float>(a[i]));
+      CHECK(samples.col("point_source_id")[k] == s[i]);
+      ++matched;
+      break;
+    }
+  }
+  CHECK(matched == samples.size());
+}

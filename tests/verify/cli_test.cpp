@@ -496,3 +496,76 @@ TEST_CASE("the verdict reader types every member and never casts a number to int
                       Catch::StartsWith("v.json: malformed verdict: " + b.why));
   }
 }
+
+TEST_CASE("sensor directions from what LAS has (issue 26): columns unchanged, derived sources, refusals",
+          "[verify][cli]") {
+  const Case c("sensordir");
+  std::string err;
+  // With sensor_x/y/z the default and an explicit auto write the same bytes (the simulator's path).
+  REQUIRE(sh(c.cmd(c.dir / "a.json"), c.dir / "err", &err) == 0);
+  REQUIRE(sh(c.cmd(c.dir / "b.json") + " --sensor-direction auto --trajectory-tolerance 1", c.dir / "err",
+             &err) == 0);
+  CHECK(canopy::common::read_file((c.dir / "a.json").string()) ==
+        canopy::common::read_file((c.dir / "b.json").string()));
+
+  // The same points as a LAS-derived candidate: no sensor columns, a GPS time per point.
+  fm::PointCloud las = fm::read_pcd(c.points.string());
+  for (const char* f : {"sensor_x", "sensor_y", "sensor_z"}) las.remove(f);
+  las.add("gps_time", fm::kFloat64).assign(las.size(), 5.0);
+  const fs::path points = c.dir / "las.pcd";
+  fm::write_pcd(las, points.string());
+  const std::string cmd = kBin + " -i " + c.match.string() + " --points " + points.string() + " --segments " +
+                          c.segments.string() + " --modelbase " + c.mb.string();
+
+  // Nothing but gps_time: the vertical, with a warning naming the points.
+  REQUIRE(sh(cmd + " -o " + (c.dir / "v.json").string(), c.dir / "err", &err) == 0);
+  CHECK(err.find("warning: " + points.string() + ": no sensor_x/y/z") != std::string::npos);
+  CHECK(err.find("vertical") != std::string::npos);
+  // Options at their defaults stay out of the provenance.
+  for (const auto& kv : fm::read_verdict((c.dir / "v.json").string()).provenance.parameters) {
+    CHECK(kv.first.find("sensor") == std::string::npos);
+    CHECK(kv.first.find("trajectory") == std::string::npos);
+  }
+
+  // A trajectory straight above: the sensor at (0, 0, 300) at t = 5.
+  const fs::path traj = c.dir / "traj.txt";
+  canopy::common::write_file_atomic(traj.string(),
+                                    "# canopy trajectory 1\ntime x y z roll pitch heading\n"
+                                    "0 -50 0 300 0 0 0\n10 50 0 300 0 0 0\n");
+  REQUIRE(sh(cmd + " --trajectory " + traj.string() + " -o " + (c.dir / "t.json").string(), c.dir / "err",
+             &err) == 0);
+  CHECK(err.find("warning") == std::string::npos);
+  CHECK(err.find("sensor directions from the trajectory " + traj.string()) != std::string::npos);
+  const fm::Verdict t = fm::read_verdict((c.dir / "t.json").string());
+  CHECK(t.provenance.inputs.back() == traj.string());
+  CHECK(t.model == "pickup");
+
+  // Refusals: exit 1 naming the file (and the line), exit 2 for a usage error; no output.
+  REQUIRE(sh(cmd + " --sensor-direction columns -o " + (c.dir / "x.json").string(), c.dir / "err", &err) == 1);
+  CHECK(err.find(points.string() + ": field 'sensor_x' missing") != std::string::npos);
+  REQUIRE(sh(cmd + " --sensor-direction scan-angle -o " + (c.dir / "x.json").string(), c.dir / "err", &err) ==
+          1);
+  CHECK(err.find(points.string() + ": field 'scan_angle' missing") != std::string::npos);
+  REQUIRE(sh(cmd + " --sensor-direction trajectory -o " + (c.dir / "x.json").string(), c.dir / "err", &err) ==
+          2);
+  REQUIRE(sh(cmd + " --sensor-direction sky -o " + (c.dir / "x.json").string(), c.dir / "err", &err) == 2);
+  REQUIRE(sh(cmd + " --trajectory " + traj.string() + " --trajectory-tolerance -1 -o " +
+                 (c.dir / "x.json").string(),
+             c.dir / "err", &err) == 2);
+  const fs::path bad = c.dir / "bad.txt";
+  canopy::common::write_file_atomic(bad.string(),
+                                    "# canopy trajectory 1\ntime x y z roll pitch heading\n"
+                                    "0 -50 0 300 0 0 0\n0 50 0 300 0 0 0\n");
+  REQUIRE(sh(cmd + " --trajectory " + bad.string() + " -o " + (c.dir / "x.json").string(), c.dir / "err",
+             &err) == 1);
+  CHECK(err.find(bad.string() + ": line 4: time 0 is not after") != std::string::npos);
+  const fs::path early = c.dir / "early.txt";
+  canopy::common::write_file_atomic(early.string(),
+                                    "# canopy trajectory 1\ntime x y z roll pitch heading\n"
+                                    "0 -50 0 300 0 0 0\n2 50 0 300 0 0 0\n");
+  REQUIRE(sh(cmd + " --trajectory " + early.string() + " -o " + (c.dir / "x.json").string(), c.dir / "err",
+             &err) == 1);
+  CHECK(err.find(early.string() + ": GPS time 5 s is outside the trajectory's span [0, 2]") !=
+        std::string::npos);
+  CHECK(!fs::exists(c.dir / "x.json"));
+}

@@ -1,6 +1,7 @@
 // fitvox: scan PCD -> samples PCD (one PCA frame + biquadratic fit per accepted voxel).
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "canopy/common/cli.h"
 #include "canopy/common/error.h"
@@ -87,6 +88,15 @@ int main(int argc, char** argv) {
                               "no voxel passed the tests (check --voxel, --min-points, --max-rms)");
     }
     formats::PointCloud samples = fitvox::samples_to_cloud(r);
+    // What a real (LAS) tile tells about the sensor, carried from each sample's input point so
+    // that verify can derive the direction toward the sensor (issue 26; the simulator's scans
+    // have none of these columns, so their samples are unchanged).
+    for (const char* name : {"gps_time", "scan_angle", "point_source_id"}) {
+      if (!cloud.has(name)) continue;
+      const std::vector<double>& from = cloud.col(name);
+      std::vector<double>& to = samples.add(name, cloud.type(name));
+      for (std::size_t i = 0; i < r.samples.size(); ++i) to[i] = from[r.samples[i].source_index];
+    }
     samples.comments = formats::provenance_comments({"fitvox", CANOPY_VERSION, tool.parameters(), {in}});
     char buf[160];
     std::snprintf(buf, sizeof buf, "noise_sigma_used %.6g m (estimated %.6g m)", s.sigma, s.sigma_estimated);

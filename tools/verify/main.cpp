@@ -1,6 +1,7 @@
 // verify: check gmatch's top hypotheses against the candidate's points; answer a model with a
 // pose and a confidence, or "none".
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <optional>
 #include <sstream>
@@ -13,6 +14,8 @@
 #include "canopy/formats/match_result.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/segment_graph.h"
+#include "canopy/formats/sensor_direction.h"
+#include "canopy/formats/trajectory.h"
 #include "canopy/formats/verdict.h"
 #include "verify/verify.h"
 
@@ -26,6 +29,8 @@ namespace {
 struct Cli {
   std::string in = "-", out = "-", points, segments, modelbase, transform;
   std::string free_space = "unseen";
+  std::string sensor_direction = "auto", trajectory;
+  double trajectory_tolerance = 1.0;  // s
   bool no_flip = false;
 };
 
@@ -57,6 +62,16 @@ void bind(cm::Tool& tool, vf::Params& p, Cli& cli) {
            "unseen: expected-visible model surface without a scan point violates free space; "
            "through: only where the view's depth cell holds a scan point")
       ->check(CLI::IsMember({"unseen", "through"}));
+  tool.add("--sensor-direction", &cli.sensor_direction,
+           "direction toward the sensor of each point: columns (sensor_x/y/z), trajectory "
+           "(--trajectory at the point's gps_time), scan-angle (scan_angle + flight direction "
+           "from gps_time), vertical; auto: the first of these the points allow")
+      ->check(CLI::IsMember({"auto", "columns", "trajectory", "scan-angle", "vertical"}));
+  tool.add("--trajectory", &cli.trajectory,
+           "sensor trajectory (formats/README.md, Trajectory) in the tile's frame; --transform "
+           "maps the points into it");
+  tool.add("--trajectory-tolerance", &cli.trajectory_tolerance,
+           "seconds a point's gps_time may lie beyond the trajectory's ends");
   tool.add_length("--icp-coarse", &p.icp_coarse, "ICP correspondence distance, first stage");
   tool.add_length("--icp-fine", &p.icp_fine, "ICP correspondence distance, second stage");
   tool.add("--icp-iterations", &p.icp_iterations, "ICP iterations per stage (0 = no ICP), at most 500");
@@ -105,12 +120,32 @@ struct Inputs {
   std::vector<vf::Model> models;
 };
 
-Inputs read_inputs(const Cli& cli, const vf::Params& p) {
+Inputs read_inputs(const Cli& cli, const vf::Params& p, const std::optional<Eigen::Isometry3d>& to_tile) {
   Inputs in;
   in.match = fm::read_match_result(cli.in);
   if (in.match.models.empty()) throw cm::DataError(cm::display_name(cli.in), "match result ranks no model");
   in.graph = fm::read_segment_graph(cli.segments);
-  in.candidate = vf::candidate_from_cloud(fm::read_pcd(cli.points), cli.points);
+  const fm::PointCloud cloud = fm::read_pcd(cli.points);
+  // Sensor directions (issue 26): the columns when present (the simulator's path, unchanged),
+  // else derived from what the points carry.
+  fm::SensorDirectionOptions so;
+  so.source = fm::parse_sensor_source(cli.sensor_direction, "--sensor-direction");
+  fm::Trajectory trajectory;
+  if (!cli.trajectory.empty()) {
+    trajectory = fm::read_trajectory(cli.trajectory);
+    so.trajectory = &trajectory;
+    so.trajectory_name = cm::display_name(cli.trajectory);
+  }
+  so.tolerance = cli.trajectory_tolerance;
+  if (to_tile) so.to_world = *to_tile;
+  const fm::SensorDirections sd = fm::sensor_directions(cloud, so, cm::display_name(cli.points));
+  for (const auto& w : sd.warnings) cm::log::warn(w);
+  if (sd.used == fm::SensorSource::kColumns) {
+    in.candidate = vf::candidate_from_cloud(cloud, cli.points);
+  } else {
+    cm::log::info(sd.summary);
+    in.candidate = vf::candidate_from_cloud(cloud, cli.points, &sd.directions);
+  }
   std::vector<std::string> names;
   for (int i = 0; i < p.top_k && i < static_cast<int>(in.match.models.size()); ++i) {
     names.push_back(in.match.models[i].model);
@@ -161,9 +196,15 @@ int main(int argc, char** argv) {
     vf::validate(p);
     std::optional<Eigen::Isometry3d> to_tile;
     if (!cli.transform.empty()) to_tile = parse_transform(cli.transform);
+    if (!(cli.trajectory_tolerance >= 0) || !std::isfinite(cli.trajectory_tolerance)) {
+      throw cm::UsageError("--trajectory-tolerance must be a finite number of seconds >= 0");
+    }
+    if (cli.sensor_direction == "trajectory" && cli.trajectory.empty()) {
+      throw cm::UsageError("--sensor-direction trajectory needs --trajectory FILE");
+    }
 
     cm::log::Phase read("read");
-    const Inputs in = read_inputs(cli, p);
+    const Inputs in = read_inputs(cli, p, to_tile);
     vf::check_inputs_belong({&in.match, cli.in, &in.graph, cli.segments, &in.candidate, cli.points});
     read.done(std::to_string(in.candidate.points.size()) + " candidate points, " +
               std::to_string(in.models.size()) + " hypotheses");
@@ -171,15 +212,22 @@ int main(int argc, char** argv) {
     cm::log::Phase phase("check");
     fm::Verdict v =
         vf::run({&in.candidate, &in.graph, &in.match, &in.models, to_tile ? &*to_tile : nullptr}, p);
-    // --free-space at its default is left out of the provenance: verdicts stay byte-identical
-    // to those written before the option existed.
+    // --free-space and the sensor direction options at their defaults are left out of the
+    // provenance: verdicts stay byte-identical to those written before the options existed.
     auto parameters = tool.parameters();
-    if (!p.free_space_through) {
-      parameters.erase(std::remove_if(parameters.begin(), parameters.end(),
-                                      [](const auto& kv) { return kv.first == "free-space"; }),
-                       parameters.end());
-    }
-    v.provenance = {"verify", CANOPY_VERSION, parameters, {cli.in, cli.points, cli.segments, cli.modelbase}};
+    const bool trajectory_default = cli.trajectory.empty() && cli.trajectory_tolerance == 1.0;
+    parameters.erase(
+        std::remove_if(parameters.begin(), parameters.end(),
+                       [&](const auto& kv) {
+                         return (kv.first == "free-space" && !p.free_space_through) ||
+                                (kv.first == "sensor-direction" && cli.sensor_direction == "auto") ||
+                                (kv.first == "trajectory" && cli.trajectory.empty()) ||
+                                (kv.first == "trajectory-tolerance" && trajectory_default);
+                       }),
+        parameters.end());
+    std::vector<std::string> inputs{cli.in, cli.points, cli.segments, cli.modelbase};
+    if (!cli.trajectory.empty()) inputs.push_back(cli.trajectory);
+    v.provenance = {"verify", CANOPY_VERSION, parameters, inputs};
     v.candidate = cli.points;
     phase.done(summary(v));
     fm::write_verdict(v, cli.out);

@@ -153,13 +153,23 @@ void validate(const Params& p) {
   }
 }
 
-Candidate candidate_from_cloud(const formats::PointCloud& cloud, const std::string& name) {
+Candidate candidate_from_cloud(const formats::PointCloud& cloud, const std::string& name,
+                               const std::vector<Vector3d>* sensor) {
   if (cloud.empty()) throw common::DataError(name, "empty candidate: no points");
   Candidate c;
   c.points = xyz(cloud, name);
   c.normals = unit_columns(cloud, "normal", name, "verify needs points with normals, e.g. fitvox's samples");
-  c.sensor =
-      unit_columns(cloud, "sensor", name, "verify needs the direction toward the sensor of every point");
+  if (sensor != nullptr) {
+    if (sensor->size() != c.points.size()) {
+      throw common::DataError(name, std::to_string(sensor->size()) + " sensor directions for " +
+                                        std::to_string(c.points.size()) + " points");
+    }
+    c.sensor = *sensor;
+  } else {
+    c.sensor = unit_columns(cloud, "sensor", name,
+                            "verify needs the direction toward the sensor of every point (or "
+                            "--sensor-direction trajectory|scan-angle|vertical)");
+  }
   return c;
 }
 

@@ -79,7 +79,10 @@ struct Model {
 
 // Candidate from a samples PCD: requires x y z, normal_x/y/z and sensor_x/y/z (DataError
 // naming `name` otherwise), non-empty.
-Candidate candidate_from_cloud(const formats::PointCloud& cloud, const std::string& name);
+// `sensor` (one unit vector per point, e.g. formats::sensor_directions') replaces the
+// sensor_x/y/z columns, which are then not needed.
+Candidate candidate_from_cloud(const formats::PointCloud& cloud, const std::string& name,
+                               const std::vector<Eigen::Vector3d>* sensor = nullptr);
 // Model surface from a samples PCD: normals required; only label 1 (target) rows are kept when
 // a label field exists, else the rows above `min_z`.
 Surface surface_from_cloud(const formats::PointCloud& cloud, const std::string& name, double min_z = 0.05);
