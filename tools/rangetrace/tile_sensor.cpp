@@ -321,4 +321,29 @@ TileScan sense_tile(const SensorPlan& plan, const std::function<Image16(int)>& i
   return scan;
 }
 
+formats::Trajectory tile_trajectory(const Tile& tile) {
+  formats::Trajectory traj;
+  const TileRecipe& r = tile.recipe;
+  const Vector3d origin = r.has_origin ? r.origin : Vector3d::Zero();
+  traj.comments.push_back("rangetrace " + tile.name + ": " + std::to_string(tile.flight_lines.size()) +
+                          " flight lines at 10 Hz; roll and pitch 0 (a stable platform)");
+  for (const auto& l : tile.flight_lines) {
+    const auto n = static_cast<int>(std::ceil((l.t1 - l.t0) * 10));
+    for (int k = 0; k <= n; ++k) {
+      const double a = static_cast<double>(k) / n;
+      const Vector3d p = l.start + a * (l.end - l.start) + origin;
+      traj.samples.push_back(
+          {l.t0 + a * (l.t1 - l.t0), p.x(), p.y(), p.z(), 0.0, 0.0, l.heading * 180 / common::kPi + 0.0});
+    }
+  }
+  return traj;
+}
+
+std::string trajectory_path(const std::string& scan) {
+  const auto slash = scan.find_last_of('/');
+  const auto dot = scan.find_last_of('.');
+  const bool ext = dot != std::string::npos && (slash == std::string::npos || dot > slash + 1);
+  return (ext ? scan.substr(0, dot) : scan) + ".traj";
+}
+
 }  // namespace canopy::rangetrace

@@ -5,6 +5,7 @@
 #include <functional>
 #include <vector>
 
+#include "canopy/formats/trajectory.h"
 #include "rangetrace/tile.h"
 
 namespace canopy::rangetrace {
@@ -24,5 +25,11 @@ void add_sensor_columns(formats::PointCloud* cloud);
 // fills the tile's measured densities and flight lines.
 TileScan sense_tile(const SensorPlan& plan, const std::function<Image16(int)>& image, Tile* tile,
                     std::uint64_t seed);
+
+// The sensor's path (formats/trajectory.h): each flight line sampled at 10 Hz from its first to
+// its last pulse time, in the points' frame (origin added), heading = the direction flown.
+formats::Trajectory tile_trajectory(const Tile& tile);
+// The trajectory file beside a scan: its name with the extension replaced by ".traj".
+std::string trajectory_path(const std::string& scan);
 
 }  // namespace canopy::rangetrace
