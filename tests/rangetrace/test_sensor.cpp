@@ -122,6 +122,9 @@ TEST_CASE("sensor presets: every preset parses; keys are bounded; errors name fi
   CHECK_THAT(recipe_error("extent = 10m\nsensor.frobnicate = 1\n"), Catch::Contains("line 2"));
   CHECK_THAT(recipe_error("extent = 10m\nsensor = als_qL1\nlooks = 90deg\n"),
              Catch::Contains("line 3") && Catch::Contains("looks"));
+  // A flight that would fire too many pulses is refused before any work.
+  CHECK_THAT(recipe_error("extent = 100m\nsensor.speed = 1\nsensor.pulse_rate = 5000000\n"),
+             Catch::Contains("r.scene") && Catch::Contains("5e7 pulses"));
   // Keys override the preset.
   const SceneRecipe r =
       parse_scene("extent = 10m\nsensor.pulse_rate = 250000\nsensor = als_qL1\n", "r.scene");

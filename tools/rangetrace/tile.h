@@ -16,6 +16,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -314,11 +315,12 @@ struct SensorPlan {
   double fired = 0;             // pulses fired along the lines (into the tile or not)
   double spacing = 0;           // m, the images' pixel (sub-ray) spacing
 };
-// The flight lines, pulses and images of a sensor-mode tile; `terrain` null = flat at z 0 (the
+// The flight lines, pulses and images of a sensor-mode tile (sensor_plan.cpp); `terrain` gives
+// the ground height at (x, y), empty = flat at z 0 (the
 // budget check before the tile is built). Throws DataError naming `name` when the lines would
-// fire more than 2e8 pulses.
-SensorPlan plan_sensor(const TileRecipe& recipe, const TerrainModel* terrain, double ground_lo, double top,
-                       const std::string& name);
+// fire more than 5e7 pulses.
+SensorPlan plan_sensor(const TileRecipe& recipe, const std::function<double(double, double)>& terrain,
+                       double ground_lo, double top, const std::string& name);
 
 // Depth along the view's ray at pixel (i, j), class and instance; false when the ray hit
 // nothing inside the coded depth range.

@@ -365,7 +365,7 @@ void check_tile(const TileRecipe& t, const std::string& name) {
   // The images' size before anything is built or rendered: those of the flat tile with nothing
   // on it, which the real terrain and trees can only enlarge (their height range adds to an
   // oblique image's height). run_tile checks the real tile again.
-  std::vector<TileView> views = t.sensor ? plan_sensor(t, nullptr, 0, 0, name).views : tile_views(t, 0, 0);
+  std::vector<TileView> views = t.sensor ? plan_sensor(t, {}, 0, 0, name).views : tile_views(t, 0, 0);
   views.insert(views.begin(), canopy_view(t, 0, 0));
   check_tile_budget(views, t, name);
 }

@@ -404,7 +404,9 @@ TileScan run_tile(Tile* tile, const Params& params) {
   std::optional<SensorPlan> plan;
   if (tile->recipe.sensor) {
     const TerrainModel terrain(tile->recipe, tile->seed);
-    plan = plan_sensor(tile->recipe, &terrain, terrain.lo(), tile->top, tile->name);
+    plan = plan_sensor(
+        tile->recipe, [&](double x, double y) { return terrain.height(x, y); }, terrain.lo(), tile->top,
+        tile->name);
   }
   std::vector<TileView> views = plan ? plan->views : tile_views(*tile);
   views.insert(views.begin(), canopy_view(*tile));     // frame of view 0: the canopy image
