@@ -87,8 +87,19 @@ SensorPlan plan_sensor(const TileRecipe& r, const std::function<double(double, d
   const double line_spacing = 2 * half_swath * (1 - s.sidelap);
   double phi_far = 0;
   for (int b = 0; b < s.beams; ++b) phi_far = std::max(phi_far, std::abs(beam_angle(s, b)));
-  const double along_margin = (s.altitude + top - ground_lo) * std::tan(phi_far) +
-                              3 * footprint_radius(s, s.altitude / std::cos(phi_far)) + 1;
+  // Where a beam meets the ground ahead of the sensor: h tan(phi) for heights h between the
+  // sensor and the ground (any ground point lies between ground_lo and top), over the beams.
+  double ahead_lo = 1e300, ahead_hi = -1e300;
+  for (int b = 0; b < s.beams; ++b) {
+    for (double h : {s.altitude - top - 1, s.altitude - ground_lo + 1}) {
+      ahead_lo = std::min(ahead_lo, h * std::tan(beam_angle(s, b)));
+      ahead_hi = std::max(ahead_hi, h * std::tan(beam_angle(s, b)));
+    }
+  }
+  const double along_margin = 3 * footprint_radius(s, s.altitude / std::cos(phi_far)) + 1;
+  // Rejecting a pulse before finding its ground point: its axis meets z = 0 within this much
+  // of where it meets the terrain (heights within [ground_lo, top]).
+  const double reach = std::max(std::abs(ground_lo), std::abs(top)) + 1;
   const double phi_lo = beam_angle(s, 0);
   const Vector2d corners[4] = {{0, 0}, {r.extent_x, 0}, {r.extent_x, r.extent_y}, {0, r.extent_y}};
   auto height_at = [&](double x, double y) { return terrain ? terrain(x, y) : 0.0; };
@@ -109,8 +120,11 @@ SensorPlan plan_sensor(const TileRecipe& r, const std::function<double(double, d
       const Vector2d f = back ? Vector2d(-f0) : f0;
       line.heading = std::atan2(f.y(), f.x());
       line.offset = offset;
-      const double a_start = back ? e.umax + along_margin : e.umin - along_margin;
-      const double length = e.umax - e.umin + 2 * along_margin;
+      // The sensor's positions (along f0) from which a beam reaches the tile.
+      const double lo = back ? e.umin - along_margin + ahead_lo : e.umin - along_margin - ahead_hi;
+      const double hi = back ? e.umax + along_margin + ahead_hi : e.umax + along_margin - ahead_lo;
+      const double a_start = back ? hi : lo;
+      const double length = hi - lo;
       const Vector2d start2 = a_start * f0 + (cc + offset) * c;
       line.start = Vector3d(start2.x(), start2.y(), s.altitude);
       line.end = line.start + length * Vector3d(f.x(), f.y(), 0);
@@ -131,6 +145,13 @@ SensorPlan plan_sensor(const TileRecipe& r, const std::function<double(double, d
         const double phi = beam_angle(s, beam);
         const Vector3d d = beam_direction(f, theta, phi);
         const Vector3d sensor = line.start + (t - line.t0) * s.speed * Vector3d(f.x(), f.y(), 0);
+        {  // cheap rejection: the axis at z = 0, with the most the terrain and footprint can move it
+          const Vector3d g0 = sensor + (sensor.z() / -d.z()) * d;
+          const double slack = reach * std::sqrt(1 - d.z() * d.z()) / -d.z() +
+                               2 * footprint_radius(s, (sensor.z() - ground_lo) / -d.z()) + 1;
+          if (g0.x() < -slack || g0.y() < -slack || g0.x() > r.extent_x + slack || g0.y() > r.extent_y + slack)
+            continue;
+        }
         double zr = height_at(sensor.x(), sensor.y()), range = 0;
         Vector3d g;
         for (int it = 0; it < 4; ++it) {  // where the axis meets the terrain (fixed point)
