@@ -12,6 +12,7 @@
 #include "canopy/formats/provenance.h"
 #include "rangetrace/families.h"
 #include "rangetrace/stage.h"
+#include "rangetrace/tile_sensor.h"
 
 using namespace canopy;
 
@@ -100,6 +101,10 @@ void write_scan(const common::Tool& tool, const Options& o, rangetrace::Output* 
   }
   outputs->set(o.out, formats::serialize_points(r->cloud, o.out));
   if (!o.truth.empty()) outputs->set(o.truth, rangetrace::truth_json(*r->tile, recorded(tool, true)));
+  if (r->tile->recipe.sensor && o.out != "-") {
+    outputs->set(rangetrace::trajectory_path(o.out),
+                 formats::serialize_trajectory(rangetrace::tile_trajectory(*r->tile)));
+  }
   outputs->commit();
 }
 
@@ -134,6 +139,10 @@ int main(int argc, char** argv) {
     if (inputs.tile() && !request.picture) {
       outputs.add(o.out, "-o");
       if (request.truth) outputs.add(o.truth, "--truth");
+      // A sensor tile's trajectory file beside the scan (issue 28), committed with it.
+      if (inputs.scene->tile->sensor && o.out != "-") {
+        outputs.add(rangetrace::trajectory_path(o.out), "the trajectory beside -o");
+      }
     }
     rangetrace::Output r = rangetrace::run(request, inputs, p);
     if (request.picture) {

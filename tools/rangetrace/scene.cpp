@@ -242,6 +242,7 @@ SceneRecipe parse_scene(const std::string& text, const std::string& name) {
     }
   }
   if (scene.tile) {
+    resolve_sensor(scene.tile.get(), name);
     check_tile(*scene.tile, name);
     return scene;
   }

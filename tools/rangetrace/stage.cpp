@@ -35,6 +35,13 @@ Output tile_output(const Request& request, const SceneRecipe& scene, const Param
   out.summary = std::to_string(out.cloud.size()) + " points (" + request.scene + ", " +
                 std::to_string(tile.vehicles.size()) + " vehicles, " +
                 std::to_string(scan.points_per_view.size()) + " images; " + dens + ")";
+  if (r.sensor) {  // sensor mode: returns and pulses per m^2 of the tile (truth.json "density")
+    std::snprintf(dens, sizeof dens, "%.1f returns and %.1f pulses per m^2", tile.returns_per_m2,
+                  tile.fired_per_m2);
+    out.summary = std::to_string(out.cloud.size()) + " returns (" + request.scene + ", " +
+                  std::to_string(tile.vehicles.size()) + " vehicles, " +
+                  std::to_string(tile.flight_lines.size()) + " flight lines; " + dens + ")";
+  }
   out.tile = std::move(tile);
   return out;
 }

@@ -16,13 +16,16 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "canopy/common/math.h"
 #include "canopy/formats/point_cloud.h"
 #include "rangetrace/rangetrace.h"
+#include "rangetrace/sensor.h"
 
 namespace canopy::rangetrace {
 
@@ -95,11 +98,27 @@ struct TileRecipe {
   bool has_origin = false;
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // easting, northing, height
 
+  // Sensor mode (issue 28): `sensor = NAME` and/or `sensor.KEY = VALUE` lines; the sensor is
+  // resolved (preset + keys) by check_tile. Without them the tile is imaged as before.
+  std::string sensor_name;
+  int sensor_line = 0;
+  struct SensorLine {
+    std::string key;
+    std::vector<std::string> words;
+    int line = 0;
+  };
+  std::vector<SensorLine> sensor_lines;
+  std::optional<Sensor> sensor;
+
   std::string dir;  // the recipe's directory ("" = current)
   // The line of each key given once (every key but tree, canopy_disc, vehicle, object and
   // clutter, which may repeat): errors about a value or the tile's size name it.
   std::map<std::string, int> lines;
 };
+
+// Resolves the recipe's sensor (preset, then its sensor.KEY lines) and refuses image-mode keys
+// with it; DataError naming `name` and the line. Called before check_tile.
+void resolve_sensor(TileRecipe* tile, const std::string& name);
 
 // Keys that make a recipe a tile recipe.
 bool is_tile_key(const std::string& key);
@@ -201,6 +220,25 @@ struct PlacedTree {
   bool conifer = false;
 };
 
+// One pulse aimed into the tile: when, from where, which way, where its axis meets the terrain.
+struct Pulse {
+  double time = 0;  // s (GPS time of week)
+  Eigen::Vector3d sensor = Eigen::Vector3d::Zero(), dir = Eigen::Vector3d::UnitZ(),
+                  ground = Eigen::Vector3d::Zero();
+  double scan_angle = 0;  // rad, + = right of the flight direction
+  int line = 0;           // 1-based flight line (point source id)
+  int view = 0;           // its image (SensorPlan::views)
+  bool scan_dir = true;
+};
+
+struct FlightLine {
+  int id = 0;                  // point source id
+  double heading = 0;          // rad, direction flown
+  double offset = 0;           // m, across-track offset of the line from the tile centre
+  Eigen::Vector3d start, end;  // sensor positions (tile frame)
+  double t0 = 0, t1 = 0;       // GPS time at start and end
+};
+
 struct Tile {
   TileRecipe recipe;
   std::string name;
@@ -214,6 +252,10 @@ struct Tile {
   std::vector<PlacedTree> trees;
   double top = 0;            // highest point of anything (m)
   double canopy_cover = -1;  // measured: share of the tile hidden from nadir
+  // Sensor mode: what run_tile measured (truth.json "density", "flight_lines").
+  std::vector<FlightLine> flight_lines;
+  double returns_per_m2 = 0, pulses_per_m2 = 0, fired_per_m2 = 0;
+  std::vector<std::size_t> pulses_by_returns;
 };
 
 // Broadleaf, conifer and bush templates (tree height 1 at scale 1 is not used: templates are
@@ -262,6 +304,28 @@ TileView canopy_view(const TileRecipe& recipe, double ground_lo, double top);
 // (views[0] the canopy image, then the scan images) have more than kMaxTilePixels pixels in
 // all or a side longer than kMaxImageSide.
 void check_tile_budget(const std::vector<TileView>& views, const TileRecipe& recipe, const std::string& name);
+
+// ---------------------------------------------------------------- sensor mode (tile_sensor.cpp)
+
+struct SensorPlan {
+  Sensor sensor;
+  std::vector<FlightLine> lines;
+  std::vector<Pulse> pulses;    // in time order
+  std::vector<TileView> views;  // one per (line, scan-direction bin) holding pulses
+  double fired = 0;             // pulses fired along the lines (into the tile or not)
+  double spacing = 0;           // m, the images' pixel (sub-ray) spacing
+};
+// The flight lines, pulses and images of a sensor-mode tile (sensor_plan.cpp); `terrain` gives
+// the ground height at (x, y), empty = flat at z 0 (the
+// budget check before the tile is built). Throws DataError naming `name` when the lines would
+// fire more than 5e7 pulses.
+SensorPlan plan_sensor(const TileRecipe& recipe, const std::function<double(double, double)>& terrain,
+                       double ground_lo, double top, const std::string& name);
+
+// Depth along the view's ray at pixel (i, j), class and instance; false when the ray hit
+// nothing inside the coded depth range.
+bool decode_pixel(const Image16& img, const TileView& view, int i, int j, double* depth, std::uint32_t* cls,
+                  std::int32_t* instance);
 
 struct TileScan {
   formats::PointCloud cloud;

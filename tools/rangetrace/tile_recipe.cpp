@@ -283,7 +283,9 @@ bool apply_flight_key(TileRecipe* t, const std::string& key, const std::vector<s
 
 }  // namespace
 
-bool is_tile_key(const std::string& key) { return tile_keys().count(key) > 0; }
+bool is_tile_key(const std::string& key) {
+  return tile_keys().count(key) > 0 || key == "sensor" || key.rfind("sensor.", 0) == 0;
+}
 
 bool is_repeatable_key(const std::string& key) {
   return key == "tree" || key == "canopy_disc" || key == "vehicle" || key == "object" || key == "clutter" ||
@@ -291,11 +293,60 @@ bool is_repeatable_key(const std::string& key) {
 }
 
 void apply_tile_key(TileRecipe* t, const std::string& key, const std::vector<std::string>& w, int line) {
+  if (key == "sensor") {
+    need(w, 1, 1, "sensor = PRESET");
+    t->sensor_name = w[0];
+    t->sensor_line = line;
+    t->lines.emplace(key, line);
+    return;
+  }
+  if (key.rfind("sensor.", 0) == 0) {
+    const std::string k = key.substr(7);
+    if (!is_sensor_key(k)) throw UsageError("unknown sensor key '" + k + "' (share/sensors/README.md)");
+    Sensor probe;
+    apply_sensor_key(&probe, k, w);  // the value's own bounds now, naming this line
+    t->sensor_lines.push_back({k, w, line});
+    t->lines.emplace(key, line);
+    return;
+  }
   if (!apply_ground_key(t, key, w, line) && !apply_object_key(t, key, w, line) &&
       !apply_flight_key(t, key, w, line)) {
     throw UsageError("unknown key '" + key + "'");
   }
   if (!is_repeatable_key(key)) t->lines.emplace(key, line);
+}
+
+void resolve_sensor(TileRecipe* t, const std::string& name) {
+  if (t->sensor_name.empty() && t->sensor_lines.empty()) return;
+  const auto at = [&](int line) { return "line " + std::to_string(line) + ": "; };
+  for (const char* k : {"looks", "spacing", "swath_overlap", "flight_lines", "altitude"}) {
+    const auto it = t->lines.find(k);
+    if (it != t->lines.end()) {
+      throw common::DataError(name, at(it->second) + "'" + k +
+                                        "' sets the image scan; with a sensor the flight is planned from the "
+                                        "sensor's keys (sensor.altitude, sensor.sidelap, ...)");
+    }
+  }
+  Sensor s;
+  if (!t->sensor_name.empty()) {
+    try {
+      s = load_sensor_preset(t->sensor_name);
+    } catch (const UsageError& e) { throw common::DataError(name, at(t->sensor_line) + e.what()); }
+  }
+  for (const auto& l : t->sensor_lines) {
+    try {
+      apply_sensor_key(&s, l.key, l.words);
+    } catch (const UsageError& e) { throw common::DataError(name, at(l.line) + e.what()); }
+  }
+  try {
+    check_sensor(s);
+  } catch (const UsageError& e) {
+    throw common::DataError(
+        name, at(t->sensor_lines.empty() ? t->sensor_line : t->sensor_lines.back().line) + e.what());
+  }
+  // One flight direction unless the recipe gives headings (the image mode's default is two).
+  if (!t->lines.count("headings")) t->headings = {0};
+  t->sensor = s;
 }
 
 void check_tile(const TileRecipe& t, const std::string& name) {
@@ -314,7 +365,7 @@ void check_tile(const TileRecipe& t, const std::string& name) {
   // The images' size before anything is built or rendered: those of the flat tile with nothing
   // on it, which the real terrain and trees can only enlarge (their height range adds to an
   // oblique image's height). run_tile checks the real tile again.
-  std::vector<TileView> views = tile_views(t, 0, 0);
+  std::vector<TileView> views = t.sensor ? plan_sensor(t, {}, 0, 0, name).views : tile_views(t, 0, 0);
   views.insert(views.begin(), canopy_view(t, 0, 0));
   check_tile_budget(views, t, name);
 }

@@ -19,6 +19,7 @@
 #include "canopy/formats/labels.h"
 #include "rangetrace/povray_run.h"
 #include "rangetrace/tile.h"
+#include "rangetrace/tile_sensor.h"
 
 namespace canopy::rangetrace {
 
@@ -162,9 +163,13 @@ void pov_objects(std::ostringstream& s, const Tile& tile, int mode) {
     s << "disc { " << vec(d.centre) << ", " << vec(Vector3d::UnitZ()) << ", " << num(d.radius)
       << " texture { TVeg } }\n";
   }
+  // Sensor mode codes each clutter object's index (its ASPRS class depends on its kind).
+  const bool clutter_ids = mode == 0 && tile.recipe.sensor.has_value();
   for (std::size_t k = 0; k < tile.objects.size(); ++k) {
     s << "object { Obj" << tile.objects[k].template_index << " "
-      << pov_matrix(tile.objects[k].pose.transform()) << " texture { TClutter } }\n";
+      << pov_matrix(tile.objects[k].pose.transform())
+      << (clutter_ids ? " Code(" + std::to_string(code_of(Class::kClutter, static_cast<int>(k) + 1)) + ") }\n"
+                      : std::string(" texture { TClutter } }\n"));
   }
 }
 
@@ -217,21 +222,31 @@ TileView canopy_view(const Tile& tile) {
 
 // ---------------------------------------------------------------- decoding
 
+bool decode_pixel(const Image16& img, const TileView& view, int i, int j, double* depth, std::uint32_t* cls,
+                  std::int32_t* instance) {
+  const std::uint16_t* c = &img.rgb[3 * (static_cast<std::size_t>(j) * img.width + i)];
+  if (c[2] == 0) return false;                   // the ray hit nothing
+  if (c[0] == 0 || c[0] == 65535) return false;  // outside the coded depth range
+  const double coarse = c[0] / 65535.0, fine = c[1] / 65535.0;
+  const double k = std::round(coarse * kFine - fine);
+  const double f = (k + fine) / kFine;
+  *depth = view.depth_lo + f * view.depth_span;
+  *cls = (c[2] - 1u) & 3u;
+  *instance = static_cast<std::int32_t>((c[2] - 1u) >> 2);
+  return true;
+}
+
 void decode_tile_view(const Image16& img, const TileView& view, TileHits* out) {
   for (int j = 0; j < img.height; ++j) {
     for (int i = 0; i < img.width; ++i) {
-      const std::size_t px = static_cast<std::size_t>(j) * img.width + i;
-      const std::uint16_t* c = &img.rgb[3 * px];
-      if (c[2] == 0) continue;                   // the ray hit nothing
-      if (c[0] == 0 || c[0] == 65535) continue;  // outside the coded depth range
-      const double coarse = c[0] / 65535.0, fine = c[1] / 65535.0;
-      const double k = std::round(coarse * kFine - fine);
-      const double f = (k + fine) / kFine;
-      const double depth = view.depth_lo + f * view.depth_span;
+      double depth = 0;
+      std::uint32_t cls = 0;
+      std::int32_t instance = 0;
+      if (!decode_pixel(img, view, i, j, &depth, &cls, &instance)) continue;
       out->p.push_back(pixel_origin(view, i, j) - depth * view.toward);
-      out->cls.push_back((c[2] - 1u) & 3u);
-      out->instance.push_back(static_cast<std::int32_t>((c[2] - 1u) >> 2));
-      out->pixel.push_back(px);
+      out->cls.push_back(cls);
+      out->instance.push_back(instance);
+      out->pixel.push_back(static_cast<std::size_t>(j) * img.width + i);
     }
   }
 }
@@ -386,10 +401,20 @@ TileScan decode_tile(const TileFrames& frames, const std::vector<TileView>& view
 
 TileScan run_tile(Tile* tile, const Params& params) {
   common::log::Phase prep("tile");
-  std::vector<TileView> views = tile_views(*tile);
+  std::optional<SensorPlan> plan;
+  if (tile->recipe.sensor) {
+    const TerrainModel terrain(tile->recipe, tile->seed);
+    plan = plan_sensor(
+        tile->recipe, [&](double x, double y) { return terrain.height(x, y); }, terrain.lo(), tile->top,
+        tile->name);
+  }
+  std::vector<TileView> views = plan ? plan->views : tile_views(*tile);
   views.insert(views.begin(), canopy_view(*tile));     // frame of view 0: the canopy image
   check_tile_budget(views, tile->recipe, tile->name);  // with the tile's own terrain and trees
-  prep.done(tile_summary(*tile, views.size() - 1));
+  prep.done(tile_summary(*tile, views.size() - 1) +
+            (plan ? ", " + std::to_string(plan->pulses.size()) + " pulses on " +
+                        std::to_string(plan->lines.size()) + " flight lines"
+                  : std::string()));
 
   common::log::Phase render("render");
   TempDir tmp;
@@ -410,7 +435,9 @@ TileScan run_tile(Tile* tile, const Params& params) {
 
   common::log::Phase decode("decode");
   measure_cover(rendered, views[0], tile);
-  TileScan scan = decode_tile(rendered, views, tile->recipe);
+  TileScan scan = plan ? sense_tile(
+                             *plan, [&](int k) { return rendered.image(k + 1); }, tile, params.seed)
+                       : decode_tile(rendered, views, tile->recipe);
   double cover = 0;
   for (const auto& v : tile->vehicles) cover += v.canopy_cover;
   char summary[200];
@@ -508,6 +535,28 @@ ordered_json truth_images(const Tile& tile, const TruthUnits& u) {
   return images;
 }
 
+// Sensor mode: the sensor's keys, the flight lines and the measured density.
+void truth_sensor(const Tile& tile, const TruthUnits& u, ordered_json* j) {
+  const Sensor& s = *tile.recipe.sensor;
+  ordered_json keys = ordered_json::object();
+  for (const auto& [k, v] : sensor_keys(s)) keys[k] = v;
+  (*j)["sensor"] = {{"preset", s.name.empty() ? ordered_json(nullptr) : ordered_json(s.name)}, {"keys", keys}};
+  ordered_json lines = ordered_json::array();
+  for (const auto& l : tile.flight_lines) {
+    lines.push_back({{"point_source_id", l.id},
+                     {"heading", u.angle(l.heading)},
+                     {"offset", l.offset},
+                     {"start", u.xyz(l.start)},
+                     {"end", u.xyz(l.end)},
+                     {"gps_time", {l.t0, l.t1}}});
+  }
+  (*j)["flight_lines"] = lines;
+  (*j)["density"] = {{"returns_per_m2", tile.returns_per_m2},
+                     {"first_returns_per_m2", tile.pulses_per_m2},
+                     {"pulses_per_m2", tile.fired_per_m2},
+                     {"pulses_by_returns", tile.pulses_by_returns}};
+}
+
 }  // namespace
 
 std::string truth_json(const Tile& tile, const std::vector<std::pair<std::string, std::string>>& params) {
@@ -533,7 +582,11 @@ std::string truth_json(const Tile& tile, const std::vector<std::pair<std::string
       {"broadleaf", broadleaf}, {"conifer", conifer}, {"bushes", bushes}, {"discs", r.discs.size()}};
   j["canopy_cover"] = tile.canopy_cover;
   j["canopy_spacing"] = r.canopy_spacing;
-  j["images"] = truth_images(tile, u);
+  if (r.sensor) {
+    truth_sensor(tile, u, &j);
+  } else {
+    j["images"] = truth_images(tile, u);
+  }
   return j.dump(2) + "\n";
 }
 
