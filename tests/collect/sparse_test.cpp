@@ -6,9 +6,12 @@
 // and score's class-level keys.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <random>
 #include <string>
+
+#include <nlohmann/json.hpp>
 
 #include "canopy/common/math.h"
 #include "canopy/formats/pcd.h"

@@ -1256,7 +1256,29 @@ double voxel_for_density(double d) {
 
 double planarity_for_density(double d) { return d >= kPlanarityDensity ? kDensePlanarity : 0.0; }
 
+double cell_for_density(double d) {
+  return d > 0 ? std::clamp(std::sqrt(kCellReturns / d), kDenseCell, kSparseCell) : kDenseCell;
+}
+
 namespace {
+
+// Points per occupied 1 m cell of the local frame (the same cells as measure_density's `all`).
+double occupied_density(const LocalFrame& l) {
+  const std::size_t n = l.x.size();
+  const double x0 = l.lo.x() - l.origin.x(), y0 = l.lo.y() - l.origin.y();
+  const std::size_t nx = std::size_t(std::floor(l.hi.x() - l.lo.x())) + 1;
+  const std::size_t ny = std::size_t(std::floor(l.hi.y() - l.lo.y())) + 1;
+  std::vector<char> occupied(nx * ny, 0);
+  std::size_t cells = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t cx = std::min(nx - 1, std::size_t(std::max(0.0, l.x[i] - x0)));
+    const std::size_t cy = std::min(ny - 1, std::size_t(std::max(0.0, l.y[i] - y0)));
+    char& o = occupied[cy * nx + cx];
+    cells += !o;
+    o = 1;
+  }
+  return cells ? double(n) / double(cells) : 0.0;
+}
 
 // The tile's density on 1 m cells of the local frame (after the ground: a cell is open ground
 // when every point in it lies below min_object_height).
@@ -1310,6 +1332,10 @@ Result run(const formats::PointCloud& tile, const Params& given, const std::stri
   const LocalFrame l = local_frame(tile, name);
   r.origin = l.origin;
 
+  // The DTM cell from the density of all points (the ground is not known yet), detect.md §7.
+  const double before_ground = occupied_density(l);
+  if (params.cell_from_density) params.cell = cell_for_density(before_ground);
+  validate(params);  // a ruled cell must still leave the ground filter's windows valid
   auto t0 = std::chrono::steady_clock::now();
   const Ground g = find_ground(l, params, name, r);
   r.stats.seconds_ground = seconds_since(t0);
@@ -1323,6 +1349,8 @@ Result run(const formats::PointCloud& tile, const Params& given, const std::stri
   r.density.min_planarity = params.min_planarity;
   r.density.voxel_by_rule = params.voxel_from_density;
   r.density.planarity_by_rule = params.planarity_from_density;
+  r.density.cell = params.cell;
+  r.density.cell_by_rule = params.cell_from_density;
 
   t0 = std::chrono::steady_clock::now();
   const std::vector<Object> objects = find_objects(l, params, name, r);

@@ -76,6 +76,7 @@ struct Params {
   // d >= kPlanarityDensity (below it every object scores planarity 0: detect.md §3b). At the
   // dense end (d >= 90.25) both are the fixed values above. An explicit option clears them.
   bool voxel_from_density = true;
+  bool cell_from_density = true;  // DTM cell from the density rule (cell_for_density) unless --cell is given
   bool planarity_from_density = true;
   // Candidates.
   double margin = 0.5;                      // crop margin around the footprint and above the height (m)
@@ -107,6 +108,12 @@ constexpr double kPlanarityDensity = 30;
 constexpr double kDenseVoxel = 0.2;         // the voxel at the dense end (m)
 constexpr double kVoxelDensityScale = 1.9;  // voxel = max(kDenseVoxel, scale / sqrt(density))
 constexpr double kDensePlanarity = 0.2;     // min_planarity at the dense end
+// The DTM cell holds about kCellReturns returns of all kinds at the tile's density: under a
+// closed canopy that lets 5-10 % of the returns reach the ground, a cell still expects one or
+// two ground returns (detect.md §7). cell = clamp(sqrt(kCellReturns / density), 0.5 m, 2 m).
+constexpr double kCellReturns = 24;
+constexpr double kDenseCell = 0.5;   // the DTM cell at the dense end (m), today's default
+constexpr double kSparseCell = 2.0;  // coarsest DTM cell the rule picks (m)
 
 // The tile's density, measured on 1 m cells of the local frame (x, y).
 struct Density {
@@ -117,11 +124,14 @@ struct Density {
   double rule = 0;                      // what the density rule used: ground, else all
   double voxel = 0, min_planarity = 0;  // the values detect applied
   bool voxel_by_rule = false, planarity_by_rule = false;
+  double cell = 0;  // the DTM cell detect applied (m)
+  bool cell_by_rule = false;
 };
 
 // The density rule's values for a measured density d (> 0).
 double voxel_for_density(double d);
 double planarity_for_density(double d);
+double cell_for_density(double d);
 
 struct Candidate {
   std::string id;                                         // "c0001", ...; also the PCD's file stem

@@ -20,7 +20,7 @@ namespace {
 struct Cli {
   std::string in = "-", out, clustering = "grid";
   bool no_classes = false;
-  CLI::Option *voxel = nullptr, *min_planarity = nullptr;  // given: overrides the density rule
+  CLI::Option *voxel = nullptr, *min_planarity = nullptr, *cell = nullptr;  // given: overrides the density rule
 };
 
 void bind(common::Tool& tool, detect::Params& p, Cli& cli) {
@@ -31,7 +31,9 @@ void bind(common::Tool& tool, detect::Params& p, Cli& cli) {
                         "output directory, required (its parent must exist; built beside it and "
                         "swapped into place; only a previous detect output, proven by its "
                         "manifest.json, is replaced)");
-  tool.add_length("--cell", &p.cell, "DTM cell");
+  cli.cell = tool.add_length("--cell", &p.cell,
+                             "DTM cell; default: clamp(sqrt(24 / measured density), 0.5 m, 2 m), "
+                             "docs/decisions/detect.md §7");
   tool.add_length("--max-window", &p.max_window,
                   "largest ground-filter window (objects narrower are not ground)");
   tool.add("--terrain-slope", &p.terrain_slope,
@@ -94,10 +96,10 @@ std::string summary(const detect::Result& r) {
   char buf[600];
   std::snprintf(
       buf, sizeof buf,
-      "density %.1f points/m² (voxel %.2f m, min planarity %.2f); ground %zu of %zu cells (%.2f s); %zu "
+      "density %.1f points/m² (DTM cell %.2f m, voxel %.2f m, min planarity %.2f); ground %zu of %zu cells (%.2f s); %zu "
       "object points in %zu clusters, %zu splits, "
       "rejected %zu small %zu large %zu canopy bottoms %zu not planar (%.2f s); %zu candidates (%.2f s)",
-      r.density.rule, r.density.voxel, r.density.min_planarity, s.ground_cells, s.cells, s.seconds_ground,
+      r.density.rule, r.density.cell, r.density.voxel, r.density.min_planarity, s.ground_cells, s.cells, s.seconds_ground,
       s.band_points, s.clusters, s.splits, s.rejected_small, s.rejected_large, s.rejected_canopy,
       s.rejected_shape, s.seconds_objects, r.candidates.size(), s.seconds_candidates);
   return buf;
@@ -127,6 +129,7 @@ int main(int argc, char** argv) {
     p.clustering = clustering_of(cli.clustering);
     p.voxel_from_density = cli.voxel->count() == 0;
     p.planarity_from_density = cli.min_planarity->count() == 0;
+    p.cell_from_density = cli.cell->count() == 0;
     detect::validate(p);
     detect::check_output_dir(cli.out, cli.in);  // before the work; again before the swap
     const std::string name = common::display_name(cli.in);

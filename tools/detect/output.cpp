@@ -664,7 +664,9 @@ std::string serialize_index(const Result& r, const Params& p, const formats::Pro
                                     {"voxel", finite(d.voxel)},
                                     {"voxel_from", d.voxel_by_rule ? "density" : "option"},
                                     {"min_planarity", finite(d.min_planarity)},
-                                    {"min_planarity_from", d.planarity_by_rule ? "density" : "option"}}}};
+                                    {"min_planarity_from", d.planarity_by_rule ? "density" : "option"},
+                                    {"dtm_cell", finite(d.cell)},
+                                    {"dtm_cell_from", d.cell_by_rule ? "density" : "option"}}}};
   Json cands = Json::array();
   for (const Candidate& c : r.candidates) {
     Json t = Json::array();
