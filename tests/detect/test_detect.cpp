@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <random>
 #include <string>
 
 #include "canopy/common/math.h"
@@ -275,7 +276,9 @@ TEST_CASE("bad tiles") {
   }
   SECTION("a few points spread wide: refused by the cells per point, not run for minutes") {
     formats::PointCloud c = xyz_cloud({{0, 0, 0}, {1200, 1200, 3}, {500, 700, 1}});
-    CHECK_THROWS_WITH(detect::run(c, detect::Params{}, "sparse.pcd"),
+    detect::Params half_metre;  // as --cell 0.5 given (the density rule would pick 2 m cells)
+    half_metre.cell_from_density = false;
+    CHECK_THROWS_WITH(detect::run(c, half_metre, "sparse.pcd"),
                       Catch::Contains("its 3 points spread over 1200 m x 1200 m: 5.76e+06 DTM cells") &&
                           Catch::Contains("(4e+06 + 16 per point = 4e+06)"));
   }
@@ -311,7 +314,9 @@ TEST_CASE("a sparse tile: the DTM relaxed only near its points stays on the terr
           p.emplace_back(x, y, 0.05 * x + 0.02 * y);
         }
   const formats::PointCloud tile = xyz_cloud(p);
-  const detect::Result r = detect::run(tile, detect::Params{}, "patches.pcd");
+  detect::Params fixed_cell;
+  fixed_cell.cell_from_density = false;  // as --cell given: the 0.5 m DTM this case is about
+  const detect::Result r = detect::run(tile, fixed_cell, "patches.pcd");
   CHECK(r.stats.cells == 1204 * 1204);  // 601.75 m / 0.5 m, + 1
   CHECK(r.candidates.empty());
   CHECK(r.stats.ground_points == p.size());
@@ -413,4 +418,37 @@ TEST_CASE("a vehicle half under bushes passes the shape test") {
   detect::Params share_only;
   share_only.min_planar_area = 1e9;
   CHECK(candidates_of(detect::run(tile, share_only, "bushes"), 3).empty());
+}
+
+TEST_CASE("the DTM cell follows the density: a closed canopy over sparse ground returns") {
+  // The rule's values: 24 returns per cell, between 0.5 m (dense end) and 2 m.
+  CHECK(detect::cell_for_density(1000) == 0.5);
+  CHECK(detect::cell_for_density(96) == Approx(0.5));
+  CHECK(detect::cell_for_density(24) == Approx(1.0));
+  CHECK(detect::cell_for_density(6) == Approx(2.0));
+  CHECK(detect::cell_for_density(1) == 2.0);
+  // 40 x 40 m: ground returns at 0.8 per m2 under a canopy layer (14-16 m) of 22 per m2, as under
+  // a closed tropical crown (forest_lareunion: 18% of the 0.5 m cells hold ground). With 0.5 m
+  // cells only about 18% of the occupied cells reach the ground (refused: below 20%); the rule's
+  // 1 m cell (density ~23 per m2) holds 0.8 ground returns on average, so most cells have one.
+  std::mt19937 rng(20261202);
+  std::uniform_real_distribution<double> u(0.0, 40.0), crown(14.0, 16.0);
+  std::vector<Eigen::Vector3d> p;
+  for (int i = 0; i < 1280; ++i) p.emplace_back(u(rng), u(rng), 0.0);
+  for (int i = 0; i < 35200; ++i) p.emplace_back(u(rng), u(rng), crown(rng));
+  const formats::PointCloud tile = xyz_cloud(p);
+  detect::Params half_metre;
+  half_metre.cell_from_density = false;
+  CHECK_THROWS_WITH(detect::run(tile, half_metre, "canopy.pcd"),
+                    Catch::Contains("canopy.pcd: found ground in only") && Catch::Contains("0.5 m cells"));
+  const detect::Result r = detect::run(tile, detect::Params{}, "canopy.pcd");
+  CHECK(r.density.cell_by_rule);
+  CHECK(r.density.cell == Approx(std::sqrt(24.0 / r.density.all)));
+  CHECK(r.density.cell > 0.95);
+  CHECK(r.density.cell < 1.1);
+  CHECK(r.candidates.empty());
+  // The ground returns are the ground: height above the DTM within 5 cm.
+  double worst = 0;
+  for (std::size_t i = 0; i < 1280; ++i) worst = std::max(worst, double(std::abs(r.height[i])));
+  CHECK(worst < 0.05);
 }

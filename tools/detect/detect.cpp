@@ -1263,21 +1263,19 @@ double cell_for_density(double d) {
 namespace {
 
 // Points per occupied 1 m cell of the local frame (the same cells as measure_density's `all`).
+// Before the ground, the extent is not yet bounded (find_ground refuses too many DTM cells), so
+// the occupied cells are counted by sorting the points' cell coordinates: memory O(points).
 double occupied_density(const LocalFrame& l) {
   const std::size_t n = l.x.size();
+  if (n == 0) return 0.0;
   const double x0 = l.lo.x() - l.origin.x(), y0 = l.lo.y() - l.origin.y();
-  const std::size_t nx = std::size_t(std::floor(l.hi.x() - l.lo.x())) + 1;
-  const std::size_t ny = std::size_t(std::floor(l.hi.y() - l.lo.y())) + 1;
-  std::vector<char> occupied(nx * ny, 0);
-  std::size_t cells = 0;
+  std::vector<std::pair<double, double>> cell(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t cx = std::min(nx - 1, std::size_t(std::max(0.0, l.x[i] - x0)));
-    const std::size_t cy = std::min(ny - 1, std::size_t(std::max(0.0, l.y[i] - y0)));
-    char& o = occupied[cy * nx + cx];
-    cells += !o;
-    o = 1;
+    cell[i] = {std::floor(std::max(0.0, l.x[i] - x0)), std::floor(std::max(0.0, l.y[i] - y0))};
   }
-  return cells ? double(n) / double(cells) : 0.0;
+  std::sort(cell.begin(), cell.end());
+  const std::size_t cells = std::size_t(std::unique(cell.begin(), cell.end()) - cell.begin());
+  return double(n) / double(cells);
 }
 
 // The tile's density on 1 m cells of the local frame (after the ground: a cell is open ground
