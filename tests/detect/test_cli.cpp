@@ -229,7 +229,8 @@ TEST_CASE("detect: bad and unusual input") {
   }
   SECTION("a LAZ file is read like LAS (this one is too large a tile)") {
     const std::string laz = std::string(CANOPY_SOURCE_DIR) + "/tests/las/data/simple.laz";
-    CHECK(test::sh(kBin + "/detect -q --cell 0.5 -i " + q(laz) + " -o " + q(dir / "out"), dir / "err.txt", &err) == 1);
+    CHECK(test::sh(kBin + "/detect -q --cell 0.5 -i " + q(laz) + " -o " + q(dir / "out"), dir / "err.txt",
+                   &err) == 1);
     CHECK(err.find("simple.laz: the tile spans 3363 m x 4636 m") != std::string::npos);
     CHECK(!fs::exists(dir / "out"));
   }
@@ -430,7 +431,8 @@ TEST_CASE("detect: a few points spread wide (replay case 8)") {
   // the density rule's default cell for 10 points is 2 m (detect.md §7), the case below.
   for (const std::string f : {"detect-2200m-10pts.pcd", "detect-line-9000km-10pts.pcd"}) {
     INFO(f);
-    CHECK(test::sh(kBin + "/detect --cell 0.5 -i " + q(data + f) + " -o " + q(dir / "out"), dir / "err.txt", &err) == 1);
+    CHECK(test::sh(kBin + "/detect --cell 0.5 -i " + q(data + f) + " -o " + q(dir / "out"), dir / "err.txt",
+                   &err) == 1);
     INFO(err);
     CHECK(err.find(data + f + ": its 10 points spread over") != std::string::npos);
     CHECK(err.find("crop the tile to where its points are, or raise --cell") != std::string::npos);

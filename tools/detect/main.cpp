@@ -20,7 +20,8 @@ namespace {
 struct Cli {
   std::string in = "-", out, clustering = "grid";
   bool no_classes = false;
-  CLI::Option *voxel = nullptr, *min_planarity = nullptr, *cell = nullptr;  // given: overrides the density rule
+  CLI::Option *voxel = nullptr, *min_planarity = nullptr,
+              *cell = nullptr;  // given: overrides the density rule
 };
 
 void bind(common::Tool& tool, detect::Params& p, Cli& cli) {
@@ -96,12 +97,13 @@ std::string summary(const detect::Result& r) {
   char buf[600];
   std::snprintf(
       buf, sizeof buf,
-      "density %.1f points/m² (DTM cell %.2f m, voxel %.2f m, min planarity %.2f); ground %zu of %zu cells (%.2f s); %zu "
+      "density %.1f points/m² (DTM cell %.2f m, voxel %.2f m, min planarity %.2f); ground %zu of %zu cells "
+      "(%.2f s); %zu "
       "object points in %zu clusters, %zu splits, "
       "rejected %zu small %zu large %zu canopy bottoms %zu not planar (%.2f s); %zu candidates (%.2f s)",
-      r.density.rule, r.density.cell, r.density.voxel, r.density.min_planarity, s.ground_cells, s.cells, s.seconds_ground,
-      s.band_points, s.clusters, s.splits, s.rejected_small, s.rejected_large, s.rejected_canopy,
-      s.rejected_shape, s.seconds_objects, r.candidates.size(), s.seconds_candidates);
+      r.density.rule, r.density.cell, r.density.voxel, r.density.min_planarity, s.ground_cells, s.cells,
+      s.seconds_ground, s.band_points, s.clusters, s.splits, s.rejected_small, s.rejected_large,
+      s.rejected_canopy, s.rejected_shape, s.seconds_objects, r.candidates.size(), s.seconds_candidates);
   return buf;
 }
 
