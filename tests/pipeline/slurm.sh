@@ -53,7 +53,7 @@ echo "cluster up in $(secs "$started" "$(now)") s ($(sinfo -h -o '%N %c CPUs %t'
 cd "$src" || exit 1
 # The tools are the suite's build (-o: never rebuilt by this test); stamps go to the temp dir.
 keep=(); for t in rangetrace addnoise fitvox cocone ncut gmatch report figures; do keep+=(-o "$bin/$t"); done
-slice=(OBJECTS=sedan SCENES=unoccluded "NOISES=0 8" SCENE_EXPERIMENT=0 BASELINE=0 FAMILIES=0 BIN="$bin" BUILD="$tmp/build" "${keep[@]}")
+slice=(OBJECTS=sedan SCENES=unoccluded "NOISES=0 8" SCENE_EXPERIMENT=0 BASELINE=0 FAMILIES=0 REAL_TILES=0 BIN="$bin" BUILD="$tmp/build" "${keep[@]}")
 mk() { make -f Makefile.experiments "${slice[@]}" "$@"; }
 
 # Both runs write to the same paths (tools record their input paths in the artifacts'

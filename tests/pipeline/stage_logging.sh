@@ -131,7 +131,7 @@ for t in rangetrace addnoise fitvox cocone ncut gmatch verify areas report figur
 done
 touch -d "@$((now - 90))" "$b/bin/"*
 touch -d "@$((now - 80))" "$b/stamps/"*
-mk=(make -f Makefile.experiments OBJECTS=sedan SCENES=unoccluded NOISES=0 ABLATIONS=fitvox-fixed-rms SCENE_EXPERIMENT=0 BASELINE=0 FAMILIES=0
+mk=(make -f Makefile.experiments OBJECTS=sedan SCENES=unoccluded NOISES=0 ABLATIONS=fitvox-fixed-rms SCENE_EXPERIMENT=0 BASELINE=0 FAMILIES=0 REAL_TILES=0
     OUT="$tmp/out" RES="$tmp/res" BUILD="$b" CMAKE=true DISPLAY=:99 KEEP=1)
 "${mk[@]}" -n all | grep '^scripts/stage.sh' | grep -q -- ' -q ' &&
   fail "a stage still runs its tool with -q: $("${mk[@]}" -n all | grep '^scripts/stage.sh' | grep -- ' -q ' | head -1)"

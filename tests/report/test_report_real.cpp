@@ -234,7 +234,7 @@ TEST_CASE("real tiles: documents that do not add up are refused naming the file"
   write(root / "plotB" / "detections.json", R"({"format": "canopy.detections", "version": 3, "candidates": 0,
     "found": 0, "detections": []})");
   CHECK_THROWS_WITH(report::read_real_tile({"plotB", (root / "plotB").string(), ""}),
-                    Catch::Contains("version 3 is not supported (this build reads versions 1-2)"));
+                    Catch::Contains("version 3 is not supported (this build reads versions 1 to 2)"));
   // A level that is neither.
   write(root / "plotB" / "detections.json", R"({"format": "canopy.detections", "version": 2, "candidates": 1,
     "found": 1, "by_level": {}, "by_reason": {}, "density": null, "warning": null,

@@ -469,6 +469,23 @@ Json cover_bins(const std::vector<Tile>& tiles, const std::vector<TileMatch>& ma
   return bins;
 }
 
+// A detection row's outcome: matched to `tv` (right or wrong, its distance and heading error),
+// or a false alarm (tv null: the truth columns null).
+void set_outcome(Json& r, const Detection& det, const TrueVehicle* tv, bool right, double heading_err) {
+  if (!tv) {
+    r["outcome"] = "false_alarm";
+    for (const char* k : {"instance", "true_model", "cover", "distance_m", "heading_error_deg"})
+      r[k] = nullptr;
+    return;
+  }
+  r["outcome"] = right ? "right" : "wrong";
+  r["instance"] = tv->instance;
+  r["true_model"] = tv->model;
+  r["cover"] = tv->cover;
+  r["distance_m"] = std::hypot(det.x - tv->x, det.y - tv->y);
+  r["heading_error_deg"] = heading_err;
+}
+
 // One row per detection (by falling confidence) and per missed vehicle of tile i (the top-view
 // pictures colour by outcome); returns the tile's true positives.
 int outcome_rows(const Tile& t, const TileMatch& m, std::size_t i, Json& rows) {
@@ -487,19 +504,9 @@ int outcome_rows(const Tile& t, const TileMatch& m, std::size_t i, Json& rows) {
     if (m.truth_of[d] >= 0) {
       tp_i++;
       const TrueVehicle& tv = t.truth.vehicles[m.truth_of[d]];
-      r["outcome"] = det.model == tv.model ? "right" : "wrong";
-      r["instance"] = tv.instance;
-      r["true_model"] = tv.model;
-      r["cover"] = tv.cover;
-      r["distance_m"] = std::hypot(det.x - tv.x, det.y - tv.y);
-      r["heading_error_deg"] = heading_error(det.heading, tv.heading);
+      set_outcome(r, det, &tv, det.model == tv.model, heading_error(det.heading, tv.heading));
     } else {
-      r["outcome"] = "false_alarm";
-      r["instance"] = nullptr;
-      r["true_model"] = nullptr;
-      r["cover"] = nullptr;
-      r["distance_m"] = nullptr;
-      r["heading_error_deg"] = nullptr;
+      set_outcome(r, det, nullptr, false, 0);
     }
     rows.push_back(std::move(r));
   }
@@ -521,19 +528,9 @@ int outcome_rows(const Tile& t, const TileMatch& m, std::size_t i, Json& rows) {
     if (cm.truth_of[d] >= 0) {
       tp_i++;
       const TrueVehicle& tv = t.truth.vehicles[cm.truth_of[d]];
-      r["outcome"] = class_identified(det, tv) ? "right" : "wrong";
-      r["instance"] = tv.instance;
-      r["true_model"] = tv.model;
-      r["cover"] = tv.cover;
-      r["distance_m"] = std::hypot(det.x - tv.x, det.y - tv.y);
-      r["heading_error_deg"] = axis_error(det.heading, tv.heading);
+      set_outcome(r, det, &tv, class_identified(det, tv), axis_error(det.heading, tv.heading));
     } else {
-      r["outcome"] = "false_alarm";
-      r["instance"] = nullptr;
-      r["true_model"] = nullptr;
-      r["cover"] = nullptr;
-      r["distance_m"] = nullptr;
-      r["heading_error_deg"] = nullptr;
+      set_outcome(r, det, nullptr, false, 0);
     }
     rows.push_back(std::move(r));
   }
