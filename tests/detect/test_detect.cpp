@@ -7,6 +7,8 @@
 #include <random>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "canopy/common/math.h"
 #include "canopy/common/error.h"
 #include "detect/detect.h"
@@ -447,6 +449,10 @@ TEST_CASE("the DTM cell follows the density: a closed canopy over sparse ground 
   CHECK(r.density.cell > 0.95);
   CHECK(r.density.cell < 1.1);
   CHECK(r.candidates.empty());
+  // The index names the cell applied, not the option's default.
+  const auto index = nlohmann::json::parse(detect::serialize_index(r, detect::Params{}, {}, "canopy.pcd", ""));
+  CHECK(index["ground"]["cell"].get<double>() == r.density.cell);
+  CHECK(index["density"]["rule"]["dtm_cell_from"] == "density");
   // The ground returns are the ground: height above the DTM within 5 cm.
   double worst = 0;
   for (std::size_t i = 0; i < 1280; ++i) worst = std::max(worst, double(std::abs(r.height[i])));

@@ -646,7 +646,7 @@ std::string serialize_index(const Result& r, const Params& p, const formats::Pro
          {"tile_points", r.stats.points},
          {"origin", Json::array({finite(r.origin.x()), finite(r.origin.y()), finite(r.origin.z())})},
          {"classes", classes.empty() ? Json(nullptr) : Json(classes)},
-         {"ground", Json{{"cell", p.cell},
+         {"ground", Json{{"cell", r.density.cell > 0 ? r.density.cell : p.cell},  // the cell applied (§7)
                          {"cells", r.stats.cells},
                          {"ground_cells", r.stats.ground_cells},
                          {"filled_cells", r.stats.filled_cells},
