@@ -31,10 +31,13 @@
 # and CPU then cover that part only; the report compares them with the stages' .time files).
 REAL_TILES ?= 1
 $(if $(filter-out 0 1,$(REAL_TILES)),$(error REAL_TILES=$(REAL_TILES): must be 0 or 1))
-REAL_URBAN ?= ign_lidarhd_870000_6618000 ahn3_delft_2 ign_stbarth_100m ahn3_delft_1
+REAL_URBAN ?= ign_lidarhd_870000_6618000 ahn3_delft_2 ign_stbarth_100m
 REAL_FOREST ?= forest_lareunion
 REAL_DATA ?=
 REAL_DATA_FOREST ?= forest_bcts_1
+# ahn3_delft_1 (3.5 MB, over the repository's 2 MiB file bound) is labelled in share/real but
+# its tile is not committed: it runs, and is scored, with REAL_DATA=<dir>.
+REAL_DATA_URBAN ?= ahn3_delft_1
 REAL_TIMEOUT ?= 180
 $(if $(shell printf '%s' '$(REAL_TIMEOUT)' | grep -xE '[1-9][0-9]{0,5}'),,$(error REAL_TIMEOUT=$(REAL_TIMEOUT): \
   whole seconds, 1 or more))
@@ -44,9 +47,9 @@ REAL_OUT := $(OUT)/real
 # real_file(name): the tile's file; the REAL_DATA plots from that directory (or its laz/).
 real_file = $(if $(filter $(1),$(REAL_URBAN) $(REAL_FOREST)),$(REAL_SHARE)/$(1).laz,$(firstword \
   $(wildcard $(REAL_DATA)/$(1).laz $(REAL_DATA)/laz/$(1).laz) $(REAL_DATA)/$(1).laz))
-REAL_EXTRA := $(if $(strip $(REAL_DATA)),$(REAL_DATA_FOREST))
-$(if $(strip $(REAL_DATA)),$(if $(wildcard $(call real_file,$(REAL_DATA_FOREST))),,$(error \
-  REAL_DATA=$(REAL_DATA): no $(REAL_DATA_FOREST).laz there nor in its laz/)))
+REAL_EXTRA := $(if $(strip $(REAL_DATA)),$(REAL_DATA_FOREST) $(REAL_DATA_URBAN))
+$(foreach t,$(REAL_EXTRA),$(if $(wildcard $(call real_file,$(t))),,$(error \
+  REAL_DATA=$(REAL_DATA): no $(t).laz there nor in its laz/)))
 # Smallest first (the forest plot, then the urban tiles by points).
 REAL_NAMES := $(REAL_FOREST) $(REAL_URBAN) $(REAL_EXTRA)
 

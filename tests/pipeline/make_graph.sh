@@ -232,11 +232,11 @@ if "${mk[@]}" -n all LAUNCH=bogus >/dev/null 2>&1; then fail "LAUNCH=bogus accep
 # them out. Under -n the tiles' sub-makes are printed, not run; under -q a stale tile is "out of
 # date" without running anything.
 plan=$("${mk[@]}" REAL_TILES=1 -n all 2>&1)
-for t in forest_lareunion ign_lidarhd_870000_6618000 ahn3_delft_2 ign_stbarth_100m ahn3_delft_1; do
+for t in forest_lareunion ign_lidarhd_870000_6618000 ahn3_delft_2 ign_stbarth_100m; do
   echo "$plan" | grep -q "timeout 180 make .* tile TILE=share/real/$t.laz MODELBASE=$tmp/out/modelbase OUT=$tmp/out/real/$t " ||
     fail "make -n all does not run the tile workflow on share/real/$t.laz: $(echo "$plan" | grep -m3 real)"
 done
-for t in ign_lidarhd_870000_6618000 ahn3_delft_2 ign_stbarth_100m ahn3_delft_1; do
+for t in ign_lidarhd_870000_6618000 ahn3_delft_2 ign_stbarth_100m; do
   echo "$plan" | grep -q "bin/score -d $tmp/out/real/$t/detections.json -t share/real/$t.truth.json " ||
     fail "make -n all does not score $t against its labels"
 done
