@@ -46,10 +46,7 @@ Json verdict(const std::string& candidate, const char* model, double confidence,
               {"pose_tile", pose_tile.is_null() ? pose_tile : Json{{"matrix", pose_tile}}}};
 }
 
-void write(const fs::path& p, const std::string& text) {
-  fs::create_directories(p.parent_path());
-  std::ofstream(p.string()) << text;
-}
+void write(const fs::path& p, const std::string& text) { test::write_file(p, text); }
 
 Json read_json(const fs::path& p) {
   std::ifstream f(p.string());

@@ -14,6 +14,7 @@
 #include "canopy/formats/verdict.h"
 #include "famscore/famscore.h"
 #include "rangetrace/families.h"
+#include "support/cli.h"
 
 using namespace canopy;
 using namespace canopy::famscore;
@@ -100,10 +101,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-void write(const fs::path& p, const std::string& text) {
-  fs::create_directories(p.parent_path());
-  std::ofstream(p) << text;
-}
+void write(const fs::path& p, const std::string& text) { test::write_file(p, text); }
 
 // A stage's <file>.time for each (file, wall seconds), peak 20000 kB.
 void write_times(const fs::path& dir, const std::vector<std::pair<std::string, double>>& times) {

@@ -11,16 +11,14 @@
 
 #include "canopy/common/error.h"
 #include "report/real_section.h"
+#include "support/cli.h"
 
 using namespace canopy;
 namespace fs = std::filesystem;
 
 namespace {
 
-void write(const fs::path& p, const std::string& text) {
-  fs::create_directories(p.parent_path());
-  std::ofstream(p) << text;
-}
+void write(const fs::path& p, const std::string& text) { test::write_file(p, text); }
 
 bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 

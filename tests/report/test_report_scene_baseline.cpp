@@ -18,10 +18,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-void write(const fs::path& p, const std::string& text) {
-  fs::create_directories(p.parent_path());
-  std::ofstream(p) << text;
-}
+void write(const fs::path& p, const std::string& text) { test::write_file(p, text); }
 
 // A score document over the two runs of one tile, with one summary row per (cover, noise)
 // given: recognition r, precision p, heading error h; models and cover bins alike.

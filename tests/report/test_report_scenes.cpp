@@ -8,16 +8,14 @@
 #include <fstream>
 
 #include "report/report.h"
+#include "support/cli.h"
 
 using namespace canopy;
 namespace fs = std::filesystem;
 
 namespace {
 
-void write(const fs::path& p, const std::string& text) {
-  fs::create_directories(p.parent_path());
-  std::ofstream(p) << text;
-}
+void write(const fs::path& p, const std::string& text) { test::write_file(p, text); }
 
 const report::SceneStageTime& stage(const std::vector<report::SceneStageTime>& t, const std::string& name) {
   for (const auto& s : t) {

@@ -39,4 +39,10 @@ inline int run(const std::string& cmd) {
 
 inline bool exists(const std::filesystem::path& p) { return std::filesystem::exists(p); }
 
+// Writes `text` to `p`, creating its parent directories (fixtures of hand-made files).
+inline void write_file(const std::filesystem::path& p, const std::string& text) {
+  std::filesystem::create_directories(p.parent_path());
+  std::ofstream(p) << text;
+}
+
 }  // namespace canopy::test
