@@ -126,10 +126,27 @@ echo "a failing job fails make: $(grep '^FAIL' "$tmp/fail.log" | cut -c1-60)..."
 setsid make -f Makefile.experiments "${slice[@]}" LAUNCH=slurm OUT="$tmp/intr/out" RES="$tmp/intr/res" \
   "$tmp/intr/out/sedan/unoccluded/scan.pcd" >"$tmp/intr.log" 2>&1 &
 pg=$!
+# The signal goes once the tool itself runs inside the job, not merely once the job is R: a
+# cancel that slurmctld sends while slurmstepd is still launching the step's task can be lost
+# (seen once in CI: the step was logged CANCELLED 0.15 s after its launch request, its task
+# ran to the end all the same, srun passed on its 0 and make, which ignores SIGINT as any
+# background job of a script does, exited 0). An interactive Ctrl-C also reaches make itself,
+# which dies of it whatever srun returns.
+# tool_runs EXE TEXT: a process runs EXE with TEXT in its arguments (read from /proc: procps
+# may be absent).
+tool_runs() {
+  local f a
+  for f in /proc/[0-9]*/cmdline; do
+    a=$(tr '\0' ' ' <"$f" 2>/dev/null) || continue
+    [[ "$a" == "$1 "* && "$a" == *"$2"* ]] && return 0
+  done
+  return 1
+}
 running=""
-for _ in $(seq 200); do
+for _ in $(seq 400); do
   running=$(squeue -h -t R -o %i)
-  [ -n "$running" ] && break
+  [ -n "$running" ] && tool_runs "$bin/rangetrace" "$tmp/intr/" && break
+  running=""
   sleep 0.05
 done
 [ -n "$running" ] || { kill -TERM -- -"$pg" 2>/dev/null; fail "the rendering job never ran: $(cat "$tmp/intr.log")"; }
