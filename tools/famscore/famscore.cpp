@@ -15,7 +15,7 @@
 #include "canopy/common/error.h"
 #include "canopy/formats/baseline_ranking.h"
 #include "canopy/formats/match_result.h"
-#include "canopy/formats/stage_time.h"
+#include "canopy/documents/stage_time.h"
 #include "canopy/formats/verdict.h"
 #include "rangetrace/families.h"
 
@@ -189,7 +189,7 @@ namespace {
 
 // A stage's wall seconds from its .time file; false when absent, unreadable or not a duration.
 bool stage_seconds(const std::string& artifact, double& seconds) {
-  const formats::StageTime t = formats::read_stage_time(artifact);
+  const documents::StageTime t = documents::read_stage_time(artifact);
   if (!t.present || !std::isfinite(t.seconds) || t.seconds < 0) return false;
   seconds = t.seconds;
   return true;

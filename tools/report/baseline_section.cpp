@@ -12,7 +12,7 @@
 #include "canopy/formats/baseline_ranking.h"
 #include "canopy/formats/csv_table.h"
 #include "canopy/formats/match_result.h"
-#include "canopy/formats/stage_time.h"
+#include "canopy/documents/stage_time.h"
 #include "report/report.h"
 
 namespace canopy::report {
@@ -85,7 +85,7 @@ void count_trial(Counts& k, const std::string& out_dir, const std::string& o, co
   const std::string verdict = dir + "/verdict.json";
   k.verified += fs::exists(verdict) ? 1 : 0;
   const std::string answer = verify_answer(verdict);
-  const formats::StageTime t = formats::read_stage_time(path);
+  const documents::StageTime t = documents::read_stage_time(path);
   if (t.present) {
     ++k.timed;
     k.seconds += t.seconds;

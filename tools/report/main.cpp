@@ -15,7 +15,7 @@
 #include "canopy/common/share.h"
 #include "canopy/formats/json_document.h"
 #include "canopy/formats/pcd.h"
-#include "canopy/formats/stage_time.h"
+#include "canopy/documents/stage_time.h"
 #include "report/baseline_section.h"
 #include "report/families_section.h"
 #include "report/real_section.h"
@@ -77,12 +77,12 @@ report::Case read_case(const std::string& out_dir, const std::string& o, const s
   const std::string dir = out_dir + "/" + o + "/" + s + "/noise-" + std::to_string(n);
   c.match = formats::read_match_result(dir + "/match.json");
   c.segments = formats::read_segment_graph(dir + "/segments.json");
-  c.times["addnoise"] = formats::read_stage_time(dir + "/scan.pcd");
-  c.times["fitvox"] = formats::read_stage_time(dir + "/samples.pcd");
-  c.times["cocone"] = formats::read_stage_time(dir + "/mesh.ply");
-  c.times["ncut"] = formats::read_stage_time(dir + "/segments.json");
-  c.times["gmatch"] = formats::read_stage_time(dir + "/match.json");
-  c.times["verify"] = formats::read_stage_time(dir + "/verdict.json");
+  c.times["addnoise"] = documents::read_stage_time(dir + "/scan.pcd");
+  c.times["fitvox"] = documents::read_stage_time(dir + "/samples.pcd");
+  c.times["cocone"] = documents::read_stage_time(dir + "/mesh.ply");
+  c.times["ncut"] = documents::read_stage_time(dir + "/segments.json");
+  c.times["gmatch"] = documents::read_stage_time(dir + "/match.json");
+  c.times["verify"] = documents::read_stage_time(dir + "/verdict.json");
   c.areas = report::read_areas(dir + "/areas.json");
   // verify's answer: absent = not run; empty = verify failed (scripts/stage.sh
   // --record-failure), counted as a failed trial.
@@ -155,7 +155,7 @@ report::Inputs read_inputs(const std::string& out_dir, report::Inputs in, const 
     const std::string mb = out_dir + "/modelbase/" + o + ".json";
     if (exists(mb)) in.models[o] = formats::read_segment_graph(mb);
     for (const auto& s : in.scenes) {
-      in.render_times[o + "/" + s] = formats::read_stage_time(out_dir + "/" + o + "/" + s + "/scan.pcd");
+      in.render_times[o + "/" + s] = documents::read_stage_time(out_dir + "/" + o + "/" + s + "/scan.pcd");
       for (int n : in.noises) in.cases.push_back(read_case(out_dir, o, s, n));
     }
   }

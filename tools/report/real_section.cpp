@@ -261,7 +261,7 @@ RealTile read_real_tile(const RealTileFiles& f) {
   RealTile t;
   t.name = f.name;
   t.labelled = !f.truth.empty();
-  t.time = formats::read_stage_time(f.dir + "/tile");
+  t.time = documents::read_stage_time(f.dir + "/tile");
   t.ran = t.time.present;
   // Every stage's .time under the tile's directory but the whole run's.
   std::error_code ec;
@@ -274,7 +274,7 @@ RealTile read_real_tile(const RealTileFiles& f) {
     }
     std::sort(times.begin(), times.end());
     for (const auto& artifact : times) {
-      const formats::StageTime st = formats::read_stage_time(artifact);
+      const documents::StageTime st = documents::read_stage_time(artifact);
       if (!st.present) continue;
       ++t.stage_runs;
       t.stages_cpu += st.cpu_seconds();

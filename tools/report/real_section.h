@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "canopy/formats/stage_time.h"
+#include "canopy/documents/stage_time.h"
 
 namespace canopy::report {
 
@@ -26,7 +26,7 @@ struct Count {
 
 // What the section shows of one tile, read from its documents (formats::open_json_document:
 // canopy.detections v1 or v2 as SCHEMA.md defines v2, canopy.candidates, canopy.scene_score,
-// canopy.scene_truth) and .time files (formats::read_stage_time).
+// canopy.scene_truth) and .time files (documents::read_stage_time).
 struct RealTile {
   std::string name;
   bool labelled = false;  // has hand labels (an urban test tile)
@@ -35,15 +35,15 @@ struct RealTile {
   // A run that did not finish: the first line with "error:" of the tile's stage logs (<dir>/*.log,
   // by name), i.e. the tool that refused the tile; "" when there is none (stopped by the time box).
   std::string error;
-  formats::StageTime time;   // tile.time: the whole run (sub-make and every stage under it)
-  double stages_cpu = 0;     // CPU summed over the tile's stage .time files (detect … collect, score)
-  int stage_runs = 0;        // those files
-  long long points = -1;     // the tile's points (index tile_points), -1 unknown
-  double area_ha = 0;        // the labels' extent (labelled), else the occupied ground cells' area
-  std::string area_from;     // how area_ha was found
-  double density = -1;       // points per m², -1 unknown
-  std::string density_from;  // "index" (detect's density.all) or "measured" (points / occupied area)
-  int version = 0;           // canopy.detections version read
+  documents::StageTime time;  // tile.time: the whole run (sub-make and every stage under it)
+  double stages_cpu = 0;      // CPU summed over the tile's stage .time files (detect … collect, score)
+  int stage_runs = 0;         // those files
+  long long points = -1;      // the tile's points (index tile_points), -1 unknown
+  double area_ha = 0;         // the labels' extent (labelled), else the occupied ground cells' area
+  std::string area_from;      // how area_ha was found
+  double density = -1;        // points per m², -1 unknown
+  std::string density_from;   // "index" (detect's density.all) or "measured" (points / occupied area)
+  int version = 0;            // canopy.detections version read
   int candidates = 0, found = 0;
   std::map<std::string, int> by_level;   // "model" / "class" -> detections
   std::map<std::string, int> by_class;   // "<level>: <class or model>" -> detections

@@ -11,18 +11,18 @@
 #include "canopy/formats/csv_table.h"
 #include "canopy/formats/match_result.h"
 #include "canopy/formats/segment_graph.h"
-#include "canopy/formats/stage_time.h"
+#include "canopy/documents/stage_time.h"
 #include "canopy/formats/verdict.h"
 
 namespace canopy::report {
 
 // Wall time, peak memory and CPU of one stage run (scripts/stage.sh's .time files,
-// formats::read_stage_time; a malformed one is an error naming it); the thesis's results table
+// documents::read_stage_time; a malformed one is an error naming it); the thesis's results table
 // (formats::parse_thesis_csv); the one number formatter of the report's tables and Markdown
 // (formats::format_number).
 using formats::format_number;
 using formats::parse_thesis_csv;
-using formats::StageTime;
+using documents::StageTime;
 using formats::ThesisRow;
 
 // A method's name in the report's tables: gmatch and verify as canopy's, vfh and fpfh as the

@@ -11,7 +11,7 @@
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "canopy/formats/json_document.h"
-#include "canopy/formats/stage_time.h"
+#include "canopy/documents/stage_time.h"
 #include "report/report.h"
 
 namespace canopy::report {
@@ -248,7 +248,7 @@ std::vector<SceneStageTime> scene_times(const std::vector<SceneRun>& runs) {
     throw common::Error("scene_times: no stage " + stage);
   };
   auto add = [&](const std::string& stage, const std::string& path) {
-    const formats::StageTime st = formats::read_stage_time(path);
+    const documents::StageTime st = documents::read_stage_time(path);
     if (!st.present) return;
     SceneStageTime& t = at(stage);
     t.runs++;

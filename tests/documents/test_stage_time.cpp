@@ -1,4 +1,4 @@
-// formats/stage_time.h: the .time files scripts/stage.sh writes (GNU time's "%e %M %U %S"),
+// documents/stage_time.h: the .time files scripts/stage.sh writes (GNU time's "%e %M %U %S"),
 // and the older two-column files; a malformed file is an error naming it (issue 25: a negative
 // time was summed and "abc def" / "nan inf" silently dropped).
 #include <catch2/catch.hpp>
@@ -7,7 +7,7 @@
 #include <fstream>
 
 #include "canopy/common/error.h"
-#include "canopy/formats/stage_time.h"
+#include "canopy/documents/stage_time.h"
 
 using namespace canopy;
 namespace fs = std::filesystem;
@@ -31,7 +31,7 @@ std::string with_time(const std::string& name, const std::string& text) {
 std::string error_of(const std::string& text) {
   const std::string a = with_time("bad", text);
   try {
-    formats::read_stage_time(a);
+    documents::read_stage_time(a);
   } catch (const common::DataError& e) {
     CHECK(e.file() == a + ".time");
     return e.what();
@@ -42,7 +42,7 @@ std::string error_of(const std::string& text) {
 }  // namespace
 
 TEST_CASE("stage time: four columns give wall, peak memory, user and system CPU") {
-  const auto t = formats::read_stage_time(with_time("four", "1.52 48128 1.40 0.08\n"));
+  const auto t = documents::read_stage_time(with_time("four", "1.52 48128 1.40 0.08\n"));
   CHECK(t.present);
   CHECK(t.has_cpu);
   CHECK(t.seconds == Approx(1.52));
@@ -53,7 +53,7 @@ TEST_CASE("stage time: four columns give wall, peak memory, user and system CPU"
 }
 
 TEST_CASE("stage time: an older two-column file is read, without CPU") {
-  const auto t = formats::read_stage_time(with_time("two", "0.25 2048\n"));
+  const auto t = documents::read_stage_time(with_time("two", "0.25 2048\n"));
   CHECK(t.present);
   CHECK_FALSE(t.has_cpu);
   CHECK(t.seconds == Approx(0.25));
@@ -62,7 +62,7 @@ TEST_CASE("stage time: an older two-column file is read, without CPU") {
 }
 
 TEST_CASE("stage time: no file is a stage that did not run") {
-  const auto t = formats::read_stage_time((dir() / "never-ran").string());
+  const auto t = documents::read_stage_time((dir() / "never-ran").string());
   CHECK_FALSE(t.present);
 }
 

@@ -6,7 +6,7 @@
 
 #include <string>
 
-namespace canopy::formats {
+namespace canopy::documents {
 
 // Wall time, peak memory and CPU time of one stage run.
 struct StageTime {
@@ -25,4 +25,4 @@ struct StageTime {
 // count, more than 4 KiB) throws common::DataError naming `artifact`.time.
 StageTime read_stage_time(const std::string& artifact);
 
-}  // namespace canopy::formats
+}  // namespace canopy::documents

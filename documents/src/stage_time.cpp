@@ -1,4 +1,4 @@
-#include "canopy/formats/stage_time.h"
+#include "canopy/documents/stage_time.h"
 
 #include <cerrno>
 #include <cmath>
@@ -9,7 +9,7 @@
 
 #include "canopy/common/error.h"
 
-namespace canopy::formats {
+namespace canopy::documents {
 
 namespace {
 
@@ -60,4 +60,4 @@ StageTime read_stage_time(const std::string& artifact) {
   return t;
 }
 
-}  // namespace canopy::formats
+}  // namespace canopy::documents
