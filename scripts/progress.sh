@@ -10,7 +10,9 @@
 #                                detect has revealed a tile's candidates: PLAN is the candidate
 #                                plan `collect --plan` just wrote (<key>_CANDS := c0001 ...), KEY
 #                                the stages each candidate runs (tool:cand/<artifact name>, e.g.
-#                                fitvox:cand/samples.pcd); adds them to M and E.
+#                                fitvox:cand/samples.pcd); adds them to M and E. A candidate
+#                                the plan keeps at the class level (<key>_LEVEL_<id> := class)
+#                                counts its classify:… stages only.
 #   progress.sh key ARTIFACT COMMAND...   prints the kind of a stage (see below).
 #
 # Known work only: a tile's candidates are not known before its detect has run, so the dry run
@@ -114,15 +116,21 @@ case "$mode" in
     dir=$(dirname "$plan")
     cands=$(sed -n 's/^[A-Za-z0-9_]*_CANDS :=//p' "$plan")
     [ -n "${cands// /}" ] || exit 0
+    # Candidates the plan keeps at the class level (<key>_LEVEL_<id> := class) run classify
+    # only; the others every KEY.
+    classonly=$(sed -n 's/^[A-Za-z0-9_]*_LEVEL_\([A-Za-z0-9]*\) := class$/\1/p' "$plan" | tr '\n' ' ')
     {
       flock 9
       read -r n m d e t0 <"$state" || exit 0
-      add=$(printf '%s\n' "$@" | awk -v state="$state" -v dir="$dir" -v cands="$cands" "$kind_awk"'
+      add=$(printf '%s\n' "$@" | awk -v state="$state" -v dir="$dir" -v cands="$cands" -v classonly="$classonly" "$kind_awk"'
         BEGIN { while ((getline line < (state "-est")) > 0) { split(line, f, " "); if (f[1] == "*") default_est = f[2]; else est[f[1]] = f[2] } }
         { keys[++nk] = $0 }
         END {
           nc = split(cands, c, " ")
+          nco = split(classonly, co, " ")
+          for (i = 1; i <= nco; i++) only[co[i]] = 1
           for (i = 1; i <= nc; i++) for (j = 1; j <= nk; j++) {
+            if ((c[i] in only) && keys[j] !~ /^classify:/) continue
             name = keys[j]; sub(/^[^:]*:cand\//, "", name)
             s = earlier(dir "/cands/" c[i] "/" name)
             sum += s >= 0 ? s : estimate(keys[j]); cnt++

@@ -110,6 +110,14 @@ read -r _ _ _ e0 _ <"$tmp/progress"
 read -r n m d e _ <"$tmp/progress"
 [ "$n/$m" = "0/7" ] || fail "after extend the count is $n/$m, not 0/7"
 awk -v a="$e0" -v b="$e" 'BEGIN { exit !(b - a > 5) }' || fail "extend did not add c0001's earlier 5 s ($e0 -> $e)"
+# A candidate the plan keeps at the class level runs classify only (mk/scenes.mk): two
+# model-level candidates x 2 kinds + one class-level candidate x 1 = 5 more stages.
+cp "$tmp/progress" "$tmp/progress2" && cp "$tmp/progress-est" "$tmp/progress2-est"
+printf '# plan\nK_CANDS := c0001 c0002 c0003\nK_LEVEL_c0001 := model\nK_LEVEL_c0002 := model\nK_LEVEL_c0003 := class\n' >t/cands2.mk
+"$progress" extend "$tmp/progress2" t/cands2.mk classify:cand/class.json fitvox:cand/samples.pcd ||
+  fail "progress.sh extend failed on a plan with levels"
+read -r _ m2 _ _ _ <"$tmp/progress2"
+[ "$m2" = $((m + 5)) ] || fail "a class-level candidate counted as the model chain: M $m -> $m2, not $((m + 5))"
 for a in t/detect t/cands.mk t/cands/c0001/samples.pcd t/cands/c0001/mesh.ply t/cands/c0002/samples.pcd \
          t/cands/c0002/mesh.ply t/detections.json t/extra; do
   "$stage" "$a" -- "$tmp/bin/fake" -o "$a"
