@@ -12,11 +12,12 @@
 #include <sstream>
 #include <string>
 
-#include "canopy/formats/match_result.h"
+#include "canopy/documents/match_result.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/ply.h"
-#include "canopy/formats/segment_graph.h"
+#include "canopy/documents/segment_graph.h"
 
+namespace d = canopy::documents;
 namespace f = canopy::formats;
 
 namespace {
@@ -124,10 +125,10 @@ void ply_seeds() {
 }
 
 void json_seeds() {
-  f::SegmentGraph g;
+  d::SegmentGraph g;
   g.provenance = {"ncut", "0.1.0", {{"r", "512mm"}}, {"mesh.ply"}};
   g.mesh = "mesh.ply";
-  f::Segment s;
+  d::Segment s;
   s.vertex_count = 3;
   s.area = 1.5;
   s.radii = {0.7, 0.4, 0.01};
@@ -137,7 +138,7 @@ void json_seeds() {
   s.segment_id = 1;
   g.segments.push_back(s);
   g.adjacency.push_back({0, 1, 3});
-  const std::string graph = f::serialize_segment_graph(g);
+  const std::string graph = d::serialize_segment_graph(g);
   put("json", "graph.json", graph);
   auto variant = [&](const std::string& from, const std::string& to) {
     std::string t = graph;
@@ -152,21 +153,21 @@ void json_seeds() {
               "\"shared_edges\": 3}, {\"a\": 0, \"b\": 99999, "
               "\"shared_edges\": 1}, {\"a\": 1, \"b\": 1, \"shared_edges\": 1"));
   put("json", "deep.json", "{\"format\": " + std::string(100, '[') + std::string(100, ']') + "}");
-  f::MatchResult r;
+  d::MatchResult r;
   r.provenance = {"gmatch", "0.1.0", {}, {"s.json"}};
   r.object = "s.json";
   r.error_form = "bounded";
-  f::ModelScore a;
+  d::ModelScore a;
   a.model = "sedan";
   a.score = 0.8;
   a.rank = 1;
   a.pairs = {{0, 2, 0.1}, {1, -1, 0}};
-  f::ModelScore b = a;
+  d::ModelScore b = a;
   b.model = "tank";
   b.score = 0.5;
   b.rank = 2;
   r.models = {a, b};
-  put("json", "match.json", f::serialize_match_result(r));
+  put("json", "match.json", d::serialize_match_result(r));
 }
 
 std::string slurp(const std::string& path) {

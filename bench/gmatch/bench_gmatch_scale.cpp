@@ -27,12 +27,12 @@
 
 #include "canopy/common/rng.h"
 #include "canopy/formats/labels.h"
-#include "canopy/formats/segment_graph.h"
+#include "canopy/documents/segment_graph.h"
 #include "gmatch/gmatch.h"
 
 namespace fs = std::filesystem;
 namespace gm = canopy::gmatch;
-using canopy::formats::SegmentGraph;
+using canopy::documents::SegmentGraph;
 
 namespace {
 
@@ -85,9 +85,9 @@ int build(const fs::path& dir, const std::vector<fs::path>& inputs) {
   std::vector<std::pair<std::string, SegmentGraph>> sources;
   int written = 0;
   for (const auto& p : inputs) {
-    SegmentGraph g = canopy::formats::read_segment_graph(p.string());
+    SegmentGraph g = canopy::documents::read_segment_graph(p.string());
     if (p.stem() != "segments") {
-      canopy::formats::write_segment_graph(g, (dir / (p.stem().string() + ".json")).string());
+      canopy::documents::write_segment_graph(g, (dir / (p.stem().string() + ".json")).string());
       ++written;
     }
     sources.emplace_back(source_object(p), std::move(g));
@@ -99,7 +99,7 @@ int build(const fs::path& dir, const std::vector<fs::path>& inputs) {
     if (s.segments.empty()) continue;
     char name[64];
     std::snprintf(name, sizeof name, "%s-s%04d.json", object.c_str(), i);
-    canopy::formats::write_segment_graph(s, (dir / name).string());
+    canopy::documents::write_segment_graph(s, (dir / name).string());
     ++written;
   }
   std::printf("wrote %d entries to %s from %zu graphs\n", written, dir.c_str(), inputs.size());
@@ -203,7 +203,7 @@ int run(const std::string& modelbase, const std::vector<std::pair<std::string, f
   Rows rows;
   std::vector<int> winner_rank;  // rank of the full search's winner in prefilter order
   for (const auto& [object, path] : queries) {
-    const SegmentGraph q = canopy::formats::read_segment_graph(path.string());
+    const SegmentGraph q = canopy::documents::read_segment_graph(path.string());
     const gm::Out off = measure_query(q, object, models, &rows);
     winner_rank.push_back(winner_rank_of(q, object, path, models, off));
   }

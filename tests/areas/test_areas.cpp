@@ -77,9 +77,9 @@ TEST_CASE("mesh target area counts each triangle by its share of target vertices
 }
 
 TEST_CASE("segment target area, all segments and the X largest") {
-  formats::SegmentGraph g;
+  documents::SegmentGraph g;
   auto seg = [](int id, double area, int label, double purity) {
-    formats::Segment s;
+    documents::Segment s;
     s.segment_id = id;
     s.area = area;
     s.label = label;
@@ -203,7 +203,7 @@ TEST_CASE("run: every stage's target area from one trial's artifacts; missing fi
   in.mesh.vertices.col("label") = {1, 1, 1};
   in.mesh.faces = {{0, 1, 2}};
   in.mesh_name = "mesh.ply";
-  formats::Segment s;
+  documents::Segment s;
   s.area = 0.5;
   s.label = 1;
   s.label_purity = 1;

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "canopy/common/error.h"
-#include "canopy/formats/match_result.h"
+#include "canopy/documents/match_result.h"
 #include "canopy/formats/verdict.h"
 #include "famscore/famscore.h"
 #include "rangetrace/families.h"
@@ -127,19 +127,19 @@ std::string verdict_text(const std::string& cls, const std::string& nearest, boo
 }
 
 std::string match_text(const std::string& rank1, const std::string& rank2) {
-  formats::MatchResult m;
+  documents::MatchResult m;
   m.object = "segments.json";
   m.error_form = "bounded";
   int rank = 1;
   for (const auto& name : {rank1, rank2}) {
-    formats::ModelScore s;
+    documents::ModelScore s;
     s.model = name;
     s.rank = rank;
     s.score = 0.9 - 0.1 * rank++;
     s.error_total = 1 - s.score;
     m.models.push_back(s);
   }
-  return formats::serialize_match_result(m);
+  return documents::serialize_match_result(m);
 }
 
 std::string baseline_text(const std::string& method, const std::string& rank1, double score) {

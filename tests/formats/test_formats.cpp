@@ -9,9 +9,6 @@
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
-#include "canopy/formats/baseline_ranking.h"
-#include "canopy/formats/match_result.h"
-#include "canopy/formats/segment_graph.h"
 #include "canopy/formats/pcd.h"
 #include "support/cli.h"
 #include "canopy/formats/ply.h"
@@ -211,99 +208,4 @@ TEST_CASE("malformed PLY input is a DataError") {
   CHECK_THROWS_AS(
       parse_ply("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n1\n", "x.ply"),
       DataError);  // no y, z
-}
-
-TEST_CASE("segment graph and match result JSON round-trip and version checks") {
-  SegmentGraph g;
-  g.provenance = {"ncut", "0.1.0", {{"r", "512mm"}}, {"mesh.ply"}};
-  g.mesh = "mesh.ply";
-  Segment s;
-  s.segment_id = 3;
-  s.vertex_count = 2;
-  s.area = 1.0 / 3.0;
-  s.radii = {1, 0.5, 0.1};
-  s.normal = {0, 0, 1};
-  s.vertices = {4, 9};
-  g.segments.push_back(s);
-  s.segment_id = 4;
-  g.segments.push_back(s);
-  g.adjacency.push_back({3, 4, 7});
-  const std::string text = serialize_segment_graph(g);
-  const SegmentGraph back = parse_segment_graph(text, "g.json");
-  CHECK(back.segments.at(0).area == s.area);
-  CHECK(back.segments.at(0).vertices == s.vertices);
-  CHECK(back.adjacency.at(0).shared_edges == 7);
-  CHECK(back.provenance.parameters == g.provenance.parameters);
-  CHECK(serialize_segment_graph(back) == text);
-
-  // Skipping the vertex lists (gmatch's modelbase): everything else as read, even a provenance
-  // parameter named "vertices"; a list that is not even an array is not looked at.
-  g.provenance.parameters.push_back({"vertices", "all"});
-  const std::string with_param = serialize_segment_graph(g);
-  const SegmentGraph skipped = parse_segment_graph(with_param, "g.json", GraphVertices::kSkip);
-  REQUIRE(skipped.segments.size() == 2);
-  CHECK(skipped.segments.at(1).vertices.empty());
-  CHECK(skipped.segments.at(1).vertex_count == 2);
-  CHECK(skipped.segments.at(1).area == s.area);
-  CHECK(skipped.provenance.parameters == g.provenance.parameters);
-  CHECK(skipped.adjacency.at(0).shared_edges == 7);
-  std::string junk = with_param;
-  junk.replace(junk.find("[\n    4,\n    9\n   ]"), 19, "\"junk\"");
-  CHECK(parse_segment_graph(junk, "g.json", GraphVertices::kSkip).segments.size() == 2);
-  CHECK_THROWS_WITH(parse_segment_graph(junk, "g.json"), Catch::Contains("vertices"));
-
-  std::string v2 = text;
-  v2.replace(v2.find("\"version\": 1"), 12, "\"version\": 2");
-  CHECK_THROWS_WITH(parse_segment_graph(v2, "g.json"), Catch::Contains("version 2 is not supported"));
-  CHECK_THROWS_WITH(parse_match_result(text, "g.json"), Catch::Contains("expected \"canopy.match_result\""));
-  CHECK_THROWS_AS(parse_segment_graph("{", "bad.json"), DataError);
-
-  MatchResult r;
-  r.provenance = {"gmatch", "0.1.0", {}, {"s.json"}};
-  r.object = "s.json";
-  r.error_form = "bounded";
-  r.entropy = 1.5;
-  ModelScore ms;
-  ms.model = "tank";
-  ms.score = 0.75;
-  ms.rank = 1;
-  ms.pairs = {{0, 2, 0.1}, {1, -1, 0}};
-  r.models.push_back(ms);
-  const std::string rt = serialize_match_result(r);
-  CHECK(rt.find("\"model_segment\": null") != std::string::npos);
-  const MatchResult rb = parse_match_result(rt, "m.json");
-  CHECK(rb.models.at(0).pairs.at(1).model_segment == -1);
-  CHECK(serialize_match_result(rb) == rt);
-}
-
-TEST_CASE("canopy.baseline rankings: every method's models in order, errors naming the file") {
-  const std::string doc =
-      R"({"format": "canopy.baseline", "version": 1, "object": "s.pcd", "candidate_points": 9,
-          "methods": [{"method": "vfh", "models": [{"rank": 1, "model": "sedan", "score": 0.74},
-                                                   {"rank": 2, "model": "tank", "score": 0.5}]},
-                      {"method": "fpfh", "models": [{"rank": 1, "model": "tank", "score": 0}]}]})";
-  const auto r = parse_baseline_ranking(doc, "b.json");
-  REQUIRE(r.size() == 2);
-  CHECK(r[0].method == "vfh");
-  REQUIRE(r[0].models.size() == 2);
-  CHECK(r[0].models[0].model == "sedan");
-  CHECK(r[0].models[0].score == 0.74);
-  CHECK(!parse_baseline_ranking(R"({"format": "canopy.baseline", "methods": [{"method": "vfh",
-      "models": [{"model": "sedan"}]}]})",
-                                "b.json")[0]
-             .models[0]
-             .score);
-  CHECK(r[0].models[1].model == "tank");
-  CHECK(r[1].method == "fpfh");
-  CHECK(r[1].models.at(0).score == 0.0);
-  CHECK_THROWS_WITH(parse_baseline_ranking("{", "b.json"), Catch::Contains("not JSON"));
-  CHECK_THROWS_WITH(parse_baseline_ranking(R"({"format": "canopy.verdict"})", "b.json"),
-                    Catch::Contains("not a canopy.baseline document"));
-  CHECK_THROWS_WITH(
-      parse_baseline_ranking(R"({"format": "canopy.baseline", "methods": [{"method": "vfh"}]})", "b.json"),
-      Catch::Contains("malformed canopy.baseline"));
-  try {
-    parse_baseline_ranking("[]", "dir/b.json");
-    FAIL("no error");
-  } catch (const DataError& e) { CHECK(e.file() == "dir/b.json"); }
 }

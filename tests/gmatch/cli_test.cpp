@@ -14,8 +14,8 @@
 
 #include "canopy/common/atomic_file.h"
 #include "support/cli.h"
-#include "canopy/formats/match_result.h"
-#include "canopy/formats/segment_graph.h"
+#include "canopy/documents/match_result.h"
+#include "canopy/documents/segment_graph.h"
 #include "fixtures/gmatch_graphs.h"
 
 namespace fs = std::filesystem;
@@ -32,10 +32,10 @@ using canopy::test::sh;
 fs::path make_modelbase(const fs::path& dir) {
   const fs::path mb = dir / "modelbase";
   fs::create_directories(mb);
-  canopy::formats::write_segment_graph(vehicle(), (mb / "sedan.json").string());
-  canopy::formats::write_segment_graph(vehicle(6.5, 2.4, 1.2, 1.6, 1.0, 2.0, 0.5),
-                                       (mb / "truck.json").string());
-  canopy::formats::write_segment_graph(random_graph(3, 25), (mb / "blob.json").string());
+  canopy::documents::write_segment_graph(vehicle(), (mb / "sedan.json").string());
+  canopy::documents::write_segment_graph(vehicle(6.5, 2.4, 1.2, 1.6, 1.0, 2.0, 0.5),
+                                         (mb / "truck.json").string());
+  canopy::documents::write_segment_graph(random_graph(3, 25), (mb / "blob.json").string());
   return mb;
 }
 
@@ -45,8 +45,8 @@ TEST_CASE("gmatch ranks the true model first, byte-identical on reruns", "[gmatc
   const fs::path dir = fresh_dir("ok");
   const fs::path mb = make_modelbase(dir);
   const fs::path object = dir / "segments.json";
-  canopy::formats::write_segment_graph(transformed(perturbed(vehicle(), 8), 1.1, 0.0, {3, 4, 0}),
-                                       object.string());
+  canopy::documents::write_segment_graph(transformed(perturbed(vehicle(), 8), 1.1, 0.0, {3, 4, 0}),
+                                         object.string());
   std::string err;
   const std::string base = kBin + " -i " + object.string() + " --modelbase " + mb.string();
   REQUIRE(sh(base + " -o " + (dir / "a.json").string(), dir / "err", &err) == 0);
@@ -56,7 +56,7 @@ TEST_CASE("gmatch ranks the true model first, byte-identical on reruns", "[gmatc
   const auto a = canopy::common::read_file((dir / "a.json").string());
   REQUIRE(a == canopy::common::read_file((dir / "b.json").string()));
 
-  const auto result = canopy::formats::read_match_result((dir / "a.json").string());
+  const auto result = canopy::documents::read_match_result((dir / "a.json").string());
   REQUIRE(result.models.size() == 3);
   REQUIRE(result.models[0].model == "sedan");
   REQUIRE(result.models[0].rank == 1);
@@ -68,12 +68,12 @@ TEST_CASE("gmatch ranks the true model first, byte-identical on reruns", "[gmatc
 
   // The printed form is selectable and recorded.
   REQUIRE(sh(base + " --error thesis -o " + (dir / "t.json").string(), dir / "err", &err) == 0);
-  REQUIRE(canopy::formats::read_match_result((dir / "t.json").string()).error_form == "thesis");
+  REQUIRE(canopy::documents::read_match_result((dir / "t.json").string()).error_form == "thesis");
   // The shipped defaults are accepted as a config file and change nothing.
   REQUIRE(
       sh(base + " --config " + CANOPY_SOURCE_DIR + "/share/params/gmatch.ini -o " + (dir / "c.json").string(),
          dir / "err", &err) == 0);
-  const auto c = canopy::formats::read_match_result((dir / "c.json").string());
+  const auto c = canopy::documents::read_match_result((dir / "c.json").string());
   REQUIRE(c.models[0].score == result.models[0].score);
 }
 
@@ -85,7 +85,7 @@ TEST_CASE("a malformed modelbase file is named, exit 1, no output", "[gmatch][cl
     f << "{\"format\": \"canopy.segment_graph\", \"version\": 1, \"segments\": [";
   }
   const fs::path object = dir / "segments.json";
-  canopy::formats::write_segment_graph(vehicle(), object.string());
+  canopy::documents::write_segment_graph(vehicle(), object.string());
   const fs::path out = dir / "match.json";
   std::string err;
   const std::string cmd =
@@ -99,7 +99,7 @@ TEST_CASE("a malformed modelbase file is named, exit 1, no output", "[gmatch][cl
   fs::remove(mb / "broken.json");
   auto zero = vehicle();
   zero.segments[1].area = 0;
-  canopy::formats::write_segment_graph(zero, (mb / "zero.json").string());
+  canopy::documents::write_segment_graph(zero, (mb / "zero.json").string());
   REQUIRE(sh(cmd, dir / "err", &err) == 1);
   REQUIRE(err.find("zero.json") != std::string::npos);
   REQUIRE_FALSE(fs::exists(out));
@@ -109,9 +109,9 @@ TEST_CASE("a model graph over the segment limit is refused before its tables are
   // 20 000 segments used to cost 6.3 GB and 16 s (tables grow with the square of the count).
   const fs::path dir = fresh_dir("huge");
   const fs::path mb = make_modelbase(dir);
-  canopy::formats::write_segment_graph(random_graph(7, 2001), (mb / "huge.json").string());
+  canopy::documents::write_segment_graph(random_graph(7, 2001), (mb / "huge.json").string());
   const fs::path object = dir / "segments.json";
-  canopy::formats::write_segment_graph(vehicle(), object.string());
+  canopy::documents::write_segment_graph(vehicle(), object.string());
   const fs::path out = dir / "match.json";
   std::string err;
   REQUIRE(sh(kBin + " -i " + object.string() + " --modelbase " + mb.string() + " -o " + out.string(),
@@ -120,7 +120,7 @@ TEST_CASE("a model graph over the segment limit is refused before its tables are
   CHECK(err.find("2001 segments") != std::string::npos);
   CHECK_FALSE(fs::exists(out));
   // At the limit it is matched.
-  canopy::formats::write_segment_graph(random_graph(7, 2000), (mb / "huge.json").string());
+  canopy::documents::write_segment_graph(random_graph(7, 2000), (mb / "huge.json").string());
   CHECK(sh(kBin + " -i " + object.string() + " --modelbase " + mb.string() + " -o " + out.string(),
            dir / "err", &err) == 0);
 }
@@ -131,7 +131,7 @@ TEST_CASE("an empty or missing modelbase is an error", "[gmatch][cli]") {
   fs::create_directories(mb);
   std::ofstream(mb / "README.txt") << "not a model\n";
   const fs::path object = dir / "segments.json";
-  canopy::formats::write_segment_graph(vehicle(), object.string());
+  canopy::documents::write_segment_graph(vehicle(), object.string());
   const fs::path out = dir / "match.json";
   std::string err;
   const std::string head = kBin + " -i " + object.string() + " -o " + out.string();
@@ -148,7 +148,7 @@ TEST_CASE("gmatch --format table prints one line per model, named by the input p
   const fs::path trial = dir / "sedan" / "circle" / "noise-8";
   fs::create_directories(trial);
   const fs::path object = trial / "segments.json";
-  canopy::formats::write_segment_graph(transformed(vehicle(), 0.4, 0.0, {1, 2, 0}), object.string());
+  canopy::documents::write_segment_graph(transformed(vehicle(), 0.4, 0.0, {1, 2, 0}), object.string());
   std::string err;
   const std::string base = kBin + " -i " + object.string() + " --modelbase " + mb.string();
   REQUIRE(sh(base + " --format table -o " + (dir / "t.txt").string(), dir / "err", &err) == 0);
@@ -159,7 +159,7 @@ TEST_CASE("gmatch --format table prints one line per model, named by the input p
   REQUIRE(err.find(trial.string() + ": best sedan") != std::string::npos);
   // The one-sided coverage stays selectable (ablation) and changes the recorded parameters.
   REQUIRE(sh(base + " --coverage model -o " + (dir / "m.json").string(), dir / "err", &err) == 0);
-  const auto m = canopy::formats::read_match_result((dir / "m.json").string());
+  const auto m = canopy::documents::read_match_result((dir / "m.json").string());
   bool recorded = false;
   for (const auto& [k, v] : m.provenance.parameters) recorded |= k == "coverage" && v == "model";
   REQUIRE(recorded);

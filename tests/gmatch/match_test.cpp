@@ -10,7 +10,7 @@
 
 using namespace gmatch_test;
 namespace gm = canopy::gmatch;
-using canopy::formats::ModelScore;
+using canopy::documents::ModelScore;
 
 namespace {
 
@@ -250,7 +250,7 @@ TEST_CASE("X limits the object segments matched to the largest ones", "[gmatch]"
   p.max_segments = 6;
   const auto ms = match(g, g, p);
   REQUIRE(ms.pairs.size() == 6);
-  std::vector<const canopy::formats::Segment*> by_area;
+  std::vector<const canopy::documents::Segment*> by_area;
   for (const auto& s : g.segments) by_area.push_back(&s);
   std::sort(by_area.begin(), by_area.end(), [](auto* a, auto* b) { return a->area > b->area; });
   for (size_t i = 0; i < 6; ++i) {

@@ -9,8 +9,8 @@
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
-#include "canopy/formats/match_result.h"
-#include "canopy/formats/segment_graph.h"
+#include "canopy/documents/match_result.h"
+#include "canopy/documents/segment_graph.h"
 #include "gmatch/gmatch.h"
 #include "fixtures/gmatch_graphs.h"
 #include "support/cli.h"
@@ -126,7 +126,7 @@ TEST_CASE("prefilter K >= N or 0 is identical to no prefilter", "[gmatch][prefil
   const SegmentGraph object = occluded_sedan();
   const auto models = five_models();
   const std::string off =
-      canopy::formats::serialize_match_result(gm::run({&object, &models}, gm::Params{}).result);
+      canopy::documents::serialize_match_result(gm::run({&object, &models}, gm::Params{}).result);
   for (int k : {0, 5, 6, 1000}) {
     gm::Params p;
     p.prefilter = k;
@@ -134,7 +134,7 @@ TEST_CASE("prefilter K >= N or 0 is identical to no prefilter", "[gmatch][prefil
     p.threads = 2;
     const gm::Out out = gm::run({&object, &models}, p);
     CHECK(out.searched == 5);
-    CHECK(canopy::formats::serialize_match_result(out.result) == off);
+    CHECK(canopy::documents::serialize_match_result(out.result) == off);
   }
   gm::Params bad;
   bad.prefilter = -1;
@@ -166,10 +166,10 @@ TEST_CASE("gmatch --prefilter: recorded only when it acts, otherwise byte-identi
   const fs::path mb = dir / "modelbase";
   fs::create_directories(mb);
   for (const auto& m : five_models()) {
-    canopy::formats::write_segment_graph(m.graph, (mb / (m.name + ".json")).string());
+    canopy::documents::write_segment_graph(m.graph, (mb / (m.name + ".json")).string());
   }
   const fs::path object = dir / "segments.json";
-  canopy::formats::write_segment_graph(occluded_sedan(), object.string());
+  canopy::documents::write_segment_graph(occluded_sedan(), object.string());
   const std::string bin = std::string(CANOPY_BIN_DIR) + "/gmatch";
   const std::string base = bin + " -i " + object.string() + " --modelbase " + mb.string();
   std::string err;
@@ -188,7 +188,7 @@ TEST_CASE("gmatch --prefilter: recorded only when it acts, otherwise byte-identi
   CHECK(err.find("2 of 5 models (prefilter)") != std::string::npos);
   const std::string two = canopy::common::read_file((dir / "2.json").string());
   CHECK(two.find("\"prefilter-by\": \"coarse\"") != std::string::npos);
-  const auto r = canopy::formats::read_match_result((dir / "2.json").string());
+  const auto r = canopy::documents::read_match_result((dir / "2.json").string());
   REQUIRE(r.models.size() == 2);
   CHECK(r.models.front().model == "sedan");
   bool recorded = false;

@@ -12,11 +12,11 @@
 #include <string>
 
 #include "canopy/formats/las.h"
-#include "canopy/formats/match_result.h"
+#include "canopy/documents/match_result.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/ply.h"
 #include "canopy/formats/points_io.h"
-#include "canopy/formats/segment_graph.h"
+#include "canopy/documents/segment_graph.h"
 #include "support/cli.h"
 
 namespace fs = std::filesystem;

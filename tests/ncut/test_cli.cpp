@@ -12,7 +12,7 @@
 
 #include "canopy/common/atomic_file.h"
 #include "support/cli.h"
-#include "canopy/formats/segment_graph.h"
+#include "canopy/documents/segment_graph.h"
 #include "canopy/formats/ply.h"
 #include "fixtures/ncut_meshes.h"
 
@@ -63,7 +63,7 @@ TEST_CASE("ncut segments a box mesh, writes the coloured mesh, byte-identical re
   CHECK(common::read_file((dir / "a.json").string()) == first_json);
   CHECK(common::read_file((dir / "a.ply").string()) == first_ply);
 
-  const formats::SegmentGraph g = formats::read_segment_graph((dir / "a.json").string());
+  const documents::SegmentGraph g = documents::read_segment_graph((dir / "a.json").string());
   CHECK(g.segments.size() == 6);
   CHECK(g.adjacency.size() == 12);
   CHECK(g.provenance.tool == "ncut");
@@ -88,7 +88,7 @@ TEST_CASE("ncut segments a box mesh, writes the coloured mesh, byte-identical re
   REQUIRE(sh("cat " + (dir / "mesh.ply").string() + " | " + kBin + " --seed 7 --config " + CANOPY_SOURCE_DIR +
                  "/share/params/ncut.ini > " + (dir / "c.json").string(),
              dir / "err", &err) == 0);
-  const formats::SegmentGraph gc = formats::read_segment_graph((dir / "c.json").string());
+  const documents::SegmentGraph gc = documents::read_segment_graph((dir / "c.json").string());
   CHECK(gc.segments.size() == g.segments.size());
   for (std::size_t k = 0; k < gc.segments.size(); ++k) {
     CHECK(gc.segments[k].vertices == g.segments[k].vertices);
@@ -102,7 +102,7 @@ TEST_CASE("ncut computes normals when the mesh has none, and says so") {
   REQUIRE(sh(kBin + " -i " + (dir / "mesh.ply").string() + " -o " + (dir / "s.json").string(), dir / "err",
              &err) == 0);
   CHECK(err.find("no normals") != std::string::npos);
-  CHECK(formats::read_segment_graph((dir / "s.json").string()).segments.size() >= 2);
+  CHECK(documents::read_segment_graph((dir / "s.json").string()).segments.size() >= 2);
 }
 
 TEST_CASE("ncut rejects bad input with exit 1 and no output; bad options with exit 2") {

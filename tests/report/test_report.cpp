@@ -18,7 +18,7 @@ report::Case make_case(const std::string& object, int noise, int rank) {
 }  // namespace
 
 TEST_CASE("diagnosis counts target segments, area and spurious share against the model") {
-  formats::SegmentGraph model;
+  documents::SegmentGraph model;
   model.segments = {seg(0, 4.0, 1), seg(1, 2.0, 1), seg(2, 2.0, 1)};  // 3 segments, 8 m^2
   report::Case c = make_case("sedan", 0, 2);
   // 5 target segments with 4 m^2 (over-segmented, half the area) and one 1 m^2 foliage segment.

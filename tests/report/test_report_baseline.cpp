@@ -7,7 +7,7 @@
 #include <fstream>
 #include <string>
 
-#include "canopy/formats/match_result.h"
+#include "canopy/documents/match_result.h"
 #include "report/baseline_section.h"
 #include "support/cli.h"
 
@@ -19,16 +19,16 @@ void trial(const fs::path& out, const std::string& object, int noise, const std:
            const std::string& vfh, const std::string& fpfh, const std::string& verify) {
   const fs::path dir = out / object / "circle" / ("noise-" + std::to_string(noise));
   fs::create_directories(dir);
-  canopy::formats::MatchResult m;
+  canopy::documents::MatchResult m;
   m.error_form = "bounded";
   for (const std::string& name : {gmatch, std::string("other")}) {
-    canopy::formats::ModelScore s;
+    canopy::documents::ModelScore s;
     s.model = name;
     s.rank = static_cast<int>(m.models.size()) + 1;
     s.score = 0.9 - 0.1 * s.rank;
     m.models.push_back(s);
   }
-  canopy::formats::write_match_result(m, (dir / "match.json").string());
+  canopy::documents::write_match_result(m, (dir / "match.json").string());
   std::ofstream(dir / "baseline.json")
       << R"({"format": "canopy.baseline", "version": 1, "methods": [)"
       << R"({"method": "vfh", "models": [{"rank": 1, "model": ")" << vfh << R"("}]},)"

@@ -9,8 +9,8 @@
 #include <string>
 
 #include "canopy/common/error.h"
-#include "canopy/formats/match_result.h"
-#include "canopy/formats/segment_graph.h"
+#include "canopy/documents/match_result.h"
+#include "canopy/documents/segment_graph.h"
 #include "family_tables.h"
 #include "report/families_section.h"
 #include "support/cli.h"
@@ -110,15 +110,15 @@ TEST_CASE("report --families adds the section; without it the report has none; a
   const fs::path dir = test::fresh_dir("report", "families-cli");
   const fs::path trial = dir / "out" / "sedan" / "circle" / "noise-0";
   fs::create_directories(trial);
-  formats::MatchResult m;
+  documents::MatchResult m;
   m.error_form = "bounded";
-  formats::ModelScore s;
+  documents::ModelScore s;
   s.model = "sedan";
   s.rank = 1;
   s.score = 0.8;
   m.models.push_back(s);
-  formats::write_match_result(m, (trial / "match.json").string());
-  formats::write_segment_graph(formats::SegmentGraph{}, (trial / "segments.json").string());
+  documents::write_match_result(m, (trial / "match.json").string());
+  documents::write_segment_graph(documents::SegmentGraph{}, (trial / "segments.json").string());
   fs::create_directories(dir / "families");
   for (const char* d : {"with", "without", "missing"}) fs::create_directories(dir / d);
   std::ofstream(dir / "families" / "confusion.csv") << kConfusion;

@@ -35,7 +35,7 @@ report::Inputs hand_built() {
   in.objects = {"sedan", "tank", "obj9"};
   in.scenes = {"circle", "flyby"};
   in.noises = {0, 8};
-  formats::SegmentGraph tank_model;
+  documents::SegmentGraph tank_model;
   tank_model.segments = {seg(0, 5, 1), seg(1, 5, 1)};  // 2 segments, 10 m²
   in.models["tank"] = tank_model;
   report::Case over = trial("tank", "circle", 8, 2);  // 4 target segments > 1.5 x 2; 9 m² >= 0.6 x 10

@@ -8,7 +8,7 @@
 #include <fstream>
 #include <string>
 
-#include "canopy/formats/match_result.h"
+#include "canopy/documents/match_result.h"
 #include "report/baseline_section.h"
 #include "report/report.h"
 #include "support/cli.h"
@@ -129,14 +129,14 @@ TEST_CASE("baseline section: a table per scene too", "[report][baseline]") {
   for (const std::string scene : {"circle", "flyby"}) {
     const fs::path dir = out / "sedan" / scene / "noise-0";
     fs::create_directories(dir);
-    formats::MatchResult m;
+    documents::MatchResult m;
     m.error_form = "bounded";
-    formats::ModelScore s;
+    documents::ModelScore s;
     s.model = "sedan";
     s.rank = 1;
     s.score = 0.8;
     m.models.push_back(s);
-    formats::write_match_result(m, (dir / "match.json").string());
+    documents::write_match_result(m, (dir / "match.json").string());
     const std::string fpfh = scene == "circle" ? "sedan" : "tank";
     std::ofstream(dir / "baseline.json")
         << R"({"format": "canopy.baseline", "version": 1, "methods": [)"

@@ -9,8 +9,8 @@
 
 namespace canopy::report::testing {
 
-inline formats::Segment seg(int id, double area, int label) {
-  formats::Segment s;
+inline documents::Segment seg(int id, double area, int label) {
+  documents::Segment s;
   s.segment_id = id;
   s.area = area;
   s.label = label;
@@ -24,10 +24,10 @@ inline Case trial(const std::string& object, const std::string& scene, int noise
   c.object = object;
   c.scene = scene;
   c.noise_mm = noise;
-  formats::ModelScore right{object, rank == 1 ? 0.9 : 0.4, rank, 0, 0, 0, 0, 0, {}};
-  formats::ModelScore wrong{"other", rank == 1 ? 0.4 : 0.9, rank == 1 ? 2 : 1, 0, 0, 0, 0, 0, {}};
-  c.match.models = rank == 1 ? std::vector<formats::ModelScore>{right, wrong}
-                             : std::vector<formats::ModelScore>{wrong, right};
+  documents::ModelScore right{object, rank == 1 ? 0.9 : 0.4, rank, 0, 0, 0, 0, 0, {}};
+  documents::ModelScore wrong{"other", rank == 1 ? 0.4 : 0.9, rank == 1 ? 2 : 1, 0, 0, 0, 0, 0, {}};
+  c.match.models = rank == 1 ? std::vector<documents::ModelScore>{right, wrong}
+                             : std::vector<documents::ModelScore>{wrong, right};
   c.match.entropy = 0.5;
   return c;
 }

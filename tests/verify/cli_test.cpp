@@ -8,15 +8,16 @@
 
 #include "canopy/common/math.h"
 #include "canopy/common/atomic_file.h"
-#include "canopy/formats/match_result.h"
+#include "canopy/documents/match_result.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/ply.h"
-#include "canopy/formats/segment_graph.h"
+#include "canopy/documents/segment_graph.h"
 #include "canopy/formats/verdict.h"
 #include "fixtures.h"
 #include "support/cli.h"
 
 namespace fs = std::filesystem;
+namespace doc = canopy::documents;
 namespace fm = canopy::formats;
 using namespace verify_test;
 using canopy::test::sh;
@@ -36,41 +37,41 @@ struct Case {
     dir = canopy::test::fresh_dir("verify", name);
     mb = dir / "mb";
     fs::create_directories(mb);
-    fm::write_segment_graph(graph(pickup()), (mb / "pickup.json").string());
+    doc::write_segment_graph(graph(pickup()), (mb / "pickup.json").string());
     fm::write_pcd(surface_cloud(sample(pickup(), 0.1)), (mb / "pickup.pcd").string());
-    fm::write_segment_graph(graph(flatbed()), (mb / "flatbed.json").string());
+    doc::write_segment_graph(graph(flatbed()), (mb / "flatbed.json").string());
     fm::write_pcd(surface_cloud(sample(flatbed(), 0.1)), (mb / "flatbed.pcd").string());
     const Isometry3d T = pose(1.0, 2.0, -1.0);
     match = dir / "match.json";
     points = dir / "samples.pcd";
     segments = dir / "segments.json";
-    fm::write_match_result(match_of({"flatbed", "pickup"}), match.string());
+    doc::write_match_result(match_of({"flatbed", "pickup"}), match.string());
     fm::write_pcd(to_cloud(candidate(sample(pickup(), 0.1, 0.05), pickup(), T)), points.string());
-    fm::write_segment_graph(posed(seen(graph(pickup())), T), segments.string());
+    doc::write_segment_graph(posed(seen(graph(pickup())), T), segments.string());
   }
   // The object's graph as a scan gives it: no bottom faces (the matches pair every other face).
-  static fm::SegmentGraph seen(fm::SegmentGraph g) {
+  static doc::SegmentGraph seen(doc::SegmentGraph g) {
     g.segments.erase(std::remove_if(g.segments.begin(), g.segments.end(),
-                                    [](const fm::Segment& s) { return s.normal[2] < -0.5; }),
+                                    [](const doc::Segment& s) { return s.normal[2] < -0.5; }),
                      g.segments.end());
     return g;
   }
-  static fm::MatchResult match_of(const std::vector<std::string>& names) {
+  static doc::MatchResult match_of(const std::vector<std::string>& names) {
     return match_for(seen(graph(pickup())), names);
   }
   // A match of `object` as gmatch writes it: every model pairs the object's segments, largest
   // first (here all NULL: the pose comes from the principal axes).
-  static fm::MatchResult match_for(const fm::SegmentGraph& object, const std::vector<std::string>& names) {
-    fm::MatchResult r;
+  static doc::MatchResult match_for(const doc::SegmentGraph& object, const std::vector<std::string>& names) {
+    doc::MatchResult r;
     r.provenance = {"test", "0", {}, {}};
     r.object = "segments.json";
     r.error_form = "bounded";
-    std::vector<fm::Segment> by_area = object.segments;
-    std::stable_sort(by_area.begin(), by_area.end(), [](const fm::Segment& a, const fm::Segment& b) {
+    std::vector<doc::Segment> by_area = object.segments;
+    std::stable_sort(by_area.begin(), by_area.end(), [](const doc::Segment& a, const doc::Segment& b) {
       return a.area != b.area ? a.area > b.area : a.segment_id < b.segment_id;
     });
     for (std::size_t i = 0; i < names.size(); ++i) {
-      fm::ModelScore m;
+      doc::ModelScore m;
       m.model = names[i];
       m.rank = static_cast<int>(i + 1);
       m.score = 0.5 - 0.1 * static_cast<double>(i);
@@ -169,10 +170,10 @@ TEST_CASE("bad input exits 1 naming the file, no output", "[verify][cli]") {
   std::string err;
   SECTION("a hypothesis naming a model not in the modelbase") {
     const Case c("ghost");
-    fm::write_match_result(Case::match_of({"pickup"}), c.match.string());
-    auto m = fm::read_match_result(c.match.string());
+    doc::write_match_result(Case::match_of({"pickup"}), c.match.string());
+    auto m = doc::read_match_result(c.match.string());
     m.models[0].model = "ghost";
-    fm::write_match_result(m, c.match.string());
+    doc::write_match_result(m, c.match.string());
     REQUIRE(sh(c.cmd(c.dir / "v.json"), c.dir / "err", &err) == 1);
     CHECK(err.find(c.match.string()) != std::string::npos);
     CHECK(err.find("ghost") != std::string::npos);
@@ -276,7 +277,7 @@ fm::Mesh grid_mesh() {
 void mesh_of_points(const Case& c, const fs::path& points, const fs::path& mesh_path,
                     const fs::path& graph_path) {
   const fm::PointCloud pc = fm::read_pcd(points.string());
-  fm::SegmentGraph g = fm::read_segment_graph(c.segments.string());
+  doc::SegmentGraph g = doc::read_segment_graph(c.segments.string());
   const int n = static_cast<int>(10 * g.segments.size());
   REQUIRE(static_cast<int>(pc.size()) >= 2 * n);
   fm::Mesh m;
@@ -292,7 +293,7 @@ void mesh_of_points(const Case& c, const fs::path& points, const fs::path& mesh_
     g.segments[k].vertices.clear();
     for (int v = 0; v < 10; ++v) g.segments[k].vertices.push_back(static_cast<int>(10 * k) + v);
   }
-  fm::write_segment_graph(g, graph_path.string());
+  doc::write_segment_graph(g, graph_path.string());
 }
 
 std::string with(const Case& c, const fs::path& match, const fs::path& points, const fs::path& segments,
@@ -310,7 +311,7 @@ TEST_CASE("inputs that belong together are accepted, the verdict unchanged by th
   // The graph names its mesh, whose vertices are rows of the points: the mesh check runs and
   // passes; the verdict is byte for byte the one without it (the graph's statistics are equal).
   mesh_of_points(c, c.points, c.dir / "mesh.ply", c.segments);
-  REQUIRE(fm::read_segment_graph(c.segments.string()).mesh == (c.dir / "mesh.ply").string());
+  REQUIRE(doc::read_segment_graph(c.segments.string()).mesh == (c.dir / "mesh.ply").string());
   REQUIRE(sh(c.cmd(c.dir / "m.json") + " -v", c.dir / "err", &err) == 0);
   CHECK(err.find("not checked against") == std::string::npos);
   CHECK(canopy::common::read_file((c.dir / "m.json").string()) ==
@@ -319,9 +320,9 @@ TEST_CASE("inputs that belong together are accepted, the verdict unchanged by th
   // same file, are accepted.
   REQUIRE(sh("cat " + c.match.string() + " | " + with(c, "-", c.points, c.segments, c.dir / "s.json"),
              c.dir / "err", &err) == 0);
-  auto m = fm::read_match_result(c.match.string());
+  auto m = doc::read_match_result(c.match.string());
   m.object = (c.dir / "." / "segments.json").string();
-  fm::write_match_result(m, (c.dir / "match-abs.json").string());
+  doc::write_match_result(m, (c.dir / "match-abs.json").string());
   REQUIRE(sh(with(c, c.dir / "match-abs.json", c.points, c.segments, c.dir / "a.json"), c.dir / "err", &err) ==
           0);
 }
@@ -342,9 +343,9 @@ TEST_CASE("inputs that do not belong together are refused naming the files (roun
     CHECK(err.find("was made from the segment graph segments.json") != std::string::npos);
     CHECK(!fs::exists(c.dir / "v.json"));
     // With the match's "object" unresolvable, its pairs name segments the grid's graph lacks.
-    auto m = fm::read_match_result(c.match.string());
+    auto m = doc::read_match_result(c.match.string());
     m.object = "gone/segments.json";
-    fm::write_match_result(m, (c.dir / "m2.json").string());
+    doc::write_match_result(m, (c.dir / "m2.json").string());
     REQUIRE(sh(with(c, c.dir / "m2.json", c.points, c.dir / "other-seg.json", c.dir / "v.json"),
                c.dir / "err", &err) == 1);
     CHECK(err.find((c.dir / "m2.json").string() + ": models[0] (flatbed) pairs") != std::string::npos);
@@ -354,14 +355,14 @@ TEST_CASE("inputs that do not belong together are refused naming the files (roun
   SECTION("a graph whose mesh is another mesh: a vertex that is not one of the points") {
     const Case c("belong_mesh");
     fm::write_ply(grid_mesh(), (c.dir / "grid.ply").string());
-    fm::SegmentGraph g = fm::read_segment_graph(c.segments.string());
+    doc::SegmentGraph g = doc::read_segment_graph(c.segments.string());
     g.mesh = (c.dir / "grid.ply").string();
     for (auto& s : g.segments) s.vertex_count = 0;
     g.segments[0].vertex_count = 36;
-    fm::write_segment_graph(g, (c.dir / "seg.json").string());
-    auto m = fm::read_match_result(c.match.string());
+    doc::write_segment_graph(g, (c.dir / "seg.json").string());
+    auto m = doc::read_match_result(c.match.string());
     m.object = "seg.json";
-    fm::write_match_result(m, (c.dir / "m.json").string());
+    doc::write_match_result(m, (c.dir / "m.json").string());
     REQUIRE(sh(with(c, c.dir / "m.json", c.points, c.dir / "seg.json", c.dir / "v.json"), c.dir / "err",
                &err) == 1);
     CHECK(err.find((c.dir / "seg.json").string() + ": its mesh " + (c.dir / "grid.ply").string() +
@@ -374,9 +375,9 @@ TEST_CASE("inputs that do not belong together are refused naming the files (roun
     // Its own mesh is rows of its own points; the other candidate is the same pickup sampled
     // 5 cm apart elsewhere: same shape, same box, other points.
     mesh_of_points(c, c.points, c.dir / "mesh.ply", c.dir / "seg.json");
-    auto m = fm::read_match_result(c.match.string());
+    auto m = doc::read_match_result(c.match.string());
     m.object = "seg.json";
-    fm::write_match_result(m, (c.dir / "m.json").string());
+    doc::write_match_result(m, (c.dir / "m.json").string());
     const fs::path other = c.dir / "other.pcd";
     fm::write_pcd(to_cloud(candidate(sample(pickup(), 0.1, 0.0), pickup(), pose(1.0, 2.0, -1.0))),
                   other.string());
@@ -396,10 +397,10 @@ TEST_CASE("inputs that do not belong together are refused naming the files (roun
   SECTION("the match of another object") {
     const Case c("belong_match");
     fs::create_directories(c.dir / "other");
-    fm::write_segment_graph(posed(Case::seen(graph(flatbed())), pose(0, 0, 0)),
-                            (c.dir / "other" / "segments.json").string());
-    const fm::MatchResult m = Case::match_for(Case::seen(graph(flatbed())), {"flatbed", "pickup"});
-    fm::write_match_result(m, (c.dir / "other" / "match.json").string());
+    doc::write_segment_graph(posed(Case::seen(graph(flatbed())), pose(0, 0, 0)),
+                             (c.dir / "other" / "segments.json").string());
+    const doc::MatchResult m = Case::match_for(Case::seen(graph(flatbed())), {"flatbed", "pickup"});
+    doc::write_match_result(m, (c.dir / "other" / "match.json").string());
     REQUIRE(sh(with(c, c.dir / "other" / "match.json", c.points, c.segments, c.dir / "v.json"), c.dir / "err",
                &err) == 1);
     CHECK(err.find((c.dir / "other" / "match.json").string() +
@@ -434,9 +435,9 @@ TEST_CASE("bounded options: --icp-iterations, --transform decimal only (round 3,
 TEST_CASE("a hypothesis whose model is a path is refused before the modelbase is read", "[verify][cli]") {
   const Case c("pathmodel");
   std::string err;
-  auto m = fm::read_match_result(c.match.string());
+  auto m = doc::read_match_result(c.match.string());
   m.models[0].model = "../mb/flatbed";
-  fm::write_match_result(m, c.match.string());
+  doc::write_match_result(m, c.match.string());
   REQUIRE(sh(c.cmd(c.dir / "v.json"), c.dir / "err", &err) == 1);
   CHECK(err.find(c.match.string() + ": hypothesis names model '../mb/flatbed', which is not a model name") !=
         std::string::npos);

@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "canopy/common/math.h"
-#include "canopy/formats/match_result.h"
+#include "canopy/documents/match_result.h"
 #include "canopy/formats/point_cloud.h"
-#include "canopy/formats/segment_graph.h"
+#include "canopy/documents/segment_graph.h"
 #include "verify/verify.h"
 
 namespace verify_test {
@@ -76,14 +76,14 @@ inline canopy::verify::Surface sample(const std::vector<Box>& boxes, double h, d
 }
 
 // One segment per box face (ids 6 b + face), centroid/normal/area of the face.
-inline canopy::formats::SegmentGraph graph(const std::vector<Box>& boxes) {
-  canopy::formats::SegmentGraph g;
+inline canopy::documents::SegmentGraph graph(const std::vector<Box>& boxes) {
+  canopy::documents::SegmentGraph g;
   for (std::size_t b = 0; b < boxes.size(); ++b) {
     const Box& B = boxes[b];
     for (int axis = 0; axis < 3; ++axis) {
       for (int side = 0; side < 2; ++side) {
         const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-        canopy::formats::Segment s;
+        canopy::documents::Segment s;
         s.segment_id = static_cast<int>(6 * b + 2 * axis + side);
         s.vertex_count = 10;
         const Vector3d c = (B.lo + B.hi) / 2;
@@ -204,15 +204,15 @@ inline canopy::formats::PointCloud to_cloud(const canopy::verify::Candidate& c, 
 
 // A match result ranking `names` in order; the first `paired` get every face paired with the
 // same id (the graphs are then built from the same boxes), the others only NULL pairs.
-inline canopy::formats::MatchResult match(const std::vector<std::string>& names,
-                                          const std::vector<canopy::formats::SegmentGraph>& graphs,
-                                          bool with_pairs) {
-  canopy::formats::MatchResult r;
+inline canopy::documents::MatchResult match(const std::vector<std::string>& names,
+                                            const std::vector<canopy::documents::SegmentGraph>& graphs,
+                                            bool with_pairs) {
+  canopy::documents::MatchResult r;
   r.provenance = {"test", "0", {}, {}};
   r.object = "segments.json";
   r.error_form = "bounded";
   for (std::size_t i = 0; i < names.size(); ++i) {
-    canopy::formats::ModelScore m;
+    canopy::documents::ModelScore m;
     m.model = names[i];
     m.rank = static_cast<int>(i + 1);
     m.score = 0.5 - 0.1 * i;
@@ -229,7 +229,7 @@ inline canopy::formats::MatchResult match(const std::vector<std::string>& names,
 
 namespace verify_test {
 // The graph with centroids and normals moved by T (the object's graph seen in the scene).
-inline canopy::formats::SegmentGraph posed(canopy::formats::SegmentGraph g, const Isometry3d& T) {
+inline canopy::documents::SegmentGraph posed(canopy::documents::SegmentGraph g, const Isometry3d& T) {
   for (auto& s : g.segments) {
     const Vector3d c = T * Vector3d(s.centroid[0], s.centroid[1], s.centroid[2]);
     const Vector3d n = T.linear() * Vector3d(s.normal[0], s.normal[1], s.normal[2]);

@@ -13,6 +13,7 @@
 
 using namespace verify_test;
 namespace vf = canopy::verify;
+namespace doc = canopy::documents;
 namespace fm = canopy::formats;
 
 namespace {
@@ -118,7 +119,7 @@ TEST_CASE("a candidate made of another model's points scores below its own model
 TEST_CASE("a box and a sphere are answered none", "[verify]") {
   const World w;
   const auto m = match({"pickup", "flatbed"}, {graph(pickup()), graph(flatbed())}, false);
-  const fm::SegmentGraph object;  // no pairs needed: all NULL
+  const doc::SegmentGraph object;  // no pairs needed: all NULL
   SECTION("the 1.6 x 1.2 x 0.9 m rock") {
     const std::vector<Box> rock{{{-0.8, -0.6, 0.0}, {0.8, 0.6, 0.9}}};
     const auto cand = candidate(sample(rock, 0.1, 0.05), rock, pose(0.4, 0.3, 0.2));
@@ -187,7 +188,7 @@ TEST_CASE("--free-space through: surface with no return in its cells is not char
   const std::vector<Box> rock{{{-0.8, -0.6, 0.0}, {0.8, 0.6, 0.9}}};
   const auto rock_cand = candidate(sample(rock, 0.1, 0.05), rock, pose(0.4, 0.3, 0.2));
   const auto m = match({"pickup", "flatbed"}, {graph(pickup()), graph(flatbed())}, false);
-  const fm::SegmentGraph object;
+  const doc::SegmentGraph object;
   const fm::Verdict v = vf::run({&rock_cand, &object, &m, &w.models}, through);
   CHECK(v.model.empty());
   for (const auto& h : v.hypotheses) CHECK(h.free_space_violation > 0.3);

@@ -136,10 +136,10 @@ double mesh_area(const formats::Mesh& mesh, std::uint32_t label) {
   return area;
 }
 
-double segments_area(const formats::SegmentGraph& graph, std::uint32_t label, int largest) {
-  std::vector<const formats::Segment*> segs;
+double segments_area(const documents::SegmentGraph& graph, std::uint32_t label, int largest) {
+  std::vector<const documents::Segment*> segs;
   for (const auto& s : graph.segments) segs.push_back(&s);
-  std::stable_sort(segs.begin(), segs.end(), [](const formats::Segment* a, const formats::Segment* b) {
+  std::stable_sort(segs.begin(), segs.end(), [](const documents::Segment* a, const documents::Segment* b) {
     return a->area != b->area ? a->area > b->area : a->segment_id < b->segment_id;
   });
   if (largest > 0 && static_cast<int>(segs.size()) > largest) segs.resize(static_cast<std::size_t>(largest));

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "canopy/formats/segment_graph.h"
+#include "canopy/documents/segment_graph.h"
 #include "canopy/formats/ply.h"
 #include "canopy/formats/point_cloud.h"
 
@@ -41,7 +41,7 @@ double mesh_area(const formats::Mesh& mesh, std::uint32_t label);
 // Target area of segments: Σ area · label_purity over segments labelled `label`; `largest` > 0
 // restricts the sum to the `largest` segments by area (all labels compete, ties by id: gmatch's
 // order), 0 = every segment.
-double segments_area(const formats::SegmentGraph& graph, std::uint32_t label, int largest);
+double segments_area(const documents::SegmentGraph& graph, std::uint32_t label, int largest);
 
 struct Areas {
   double visible = 0;   // target surface in the noise-free scan (visible_area)
@@ -77,7 +77,7 @@ struct Inputs {
   std::string samples_name;
   formats::Mesh mesh;  // cocone mesh: x y z label
   std::string mesh_name;
-  formats::SegmentGraph segments;
+  documents::SegmentGraph segments;
   std::string segments_name;
 };
 

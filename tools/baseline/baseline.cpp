@@ -17,10 +17,10 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <nlohmann/json.hpp>
 #include <system_error>
 
 #include "canopy/common/math.h"
+#include "canopy/documents/baseline_ranking.h"
 #include "canopy/common/error.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/pose_eigen.h"
@@ -447,43 +447,32 @@ formats::Verdict to_verdict(const Ranking& ranking, double accept, const std::st
 std::string serialize(const Result& result, const std::string& object,
                       const std::vector<std::pair<std::string, std::string>>& parameters,
                       const std::vector<std::string>& inputs) {
-  using Json = nlohmann::ordered_json;
-  Json params = Json::object();
-  for (const auto& [k, v] : parameters) params[k] = v;
-  Json methods = Json::array();
+  documents::BaselineRanking doc{
+      {"baseline", CANOPY_VERSION, parameters, inputs}, object, result.candidate_points, {}};
   for (const auto& m : result.methods) {
-    Json models = Json::array();
+    documents::BaselineMethod method{m.method, {}};
     for (const auto& e : m.models) {
-      Json j{{"rank", e.rank}, {"model", e.model}, {"score", e.score}};
-      if (m.method == "vfh") {
-        j["distance"] = e.distance;
-        j["view"] = e.view;
-      } else {
-        j["fitness"] = e.fitness;
-        j["candidate_share"] = e.candidate_share;
-        j["model_share"] = e.model_share;
-        if (e.posed) {
-          Json pose = Json::array();
-          for (int row = 0; row < 4; ++row) {
-            for (int col = 0; col < 4; ++col) pose.push_back(e.pose(row, col));
-          }
-          j["pose"] = pose;
-        } else {
-          j["pose"] = nullptr;
+      documents::BaselineModel x;
+      x.model = e.model;
+      x.score = e.score;
+      x.rank = e.rank;
+      x.distance = e.distance;
+      x.view = e.view;
+      x.fitness = e.fitness;
+      x.candidate_share = e.candidate_share;
+      x.model_share = e.model_share;
+      if (e.posed) {
+        std::array<double, 16> pose{};
+        for (int row = 0; row < 4; ++row) {
+          for (int col = 0; col < 4; ++col) pose[static_cast<std::size_t>(row * 4 + col)] = e.pose(row, col);
         }
+        x.pose = pose;
       }
-      models.push_back(j);
+      method.models.push_back(std::move(x));
     }
-    methods.push_back(Json{{"method", m.method}, {"models", models}});
+    doc.methods.push_back(std::move(method));
   }
-  Json j{{"format", "canopy.baseline"},
-         {"version", 1},
-         {"provenance",
-          {{"tool", "baseline"}, {"version", CANOPY_VERSION}, {"parameters", params}, {"inputs", inputs}}},
-         {"object", object},
-         {"candidate_points", result.candidate_points},
-         {"methods", methods}};
-  return j.dump(1) + "\n";
+  return documents::serialize_baseline_ranking(doc);
 }
 
 }  // namespace canopy::baseline

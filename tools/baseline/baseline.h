@@ -96,7 +96,7 @@ struct Result {
 Result run(const Cloud& candidate, const std::vector<Model>& models, const Params& params,
            const std::string& methods = "both");
 
-// canopy.baseline v1 JSON (formats/README.md). No times: same inputs, same bytes (the
+// canopy.baseline v1 JSON (documents/baseline_ranking.h, formats/README.md). No times: same inputs, same bytes (the
 // experiment graph records each run's wall time beside it).
 std::string serialize(const Result& result, const std::string& object,
                       const std::vector<std::pair<std::string, std::string>>& parameters,

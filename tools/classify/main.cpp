@@ -12,7 +12,7 @@
 #include "canopy/common/cli.h"
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
-#include "canopy/formats/modelbase.h"
+#include "canopy/documents/modelbase.h"
 #include "canopy/formats/points_io.h"
 #include "classify/classify.h"
 
@@ -74,7 +74,7 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
 // Modelbase entries that carry a class: their surfaces' label-1 extents.
 std::vector<cl::ModelEntry> read_modelbase(const std::string& dir) {
   std::vector<cl::ModelEntry> out;
-  for (const fm::ModelbaseEntry& e : fm::list_modelbase(dir)) {
+  for (const canopy::documents::ModelbaseEntry& e : canopy::documents::list_modelbase(dir)) {
     const fs::path cls = fs::path(dir) / (e.name + ".class");
     if (!fs::is_regular_file(cls)) continue;
     std::string name = cm::read_file(cls.string());

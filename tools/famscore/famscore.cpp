@@ -13,8 +13,10 @@
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
-#include "canopy/formats/baseline_ranking.h"
-#include "canopy/formats/match_result.h"
+#include "canopy/documents/baseline_ranking.h"
+#include "canopy/documents/family_tables.h"
+#include "canopy/documents/modelbase.h"
+#include "canopy/documents/match_result.h"
 #include "canopy/documents/stage_time.h"
 #include "canopy/formats/verdict.h"
 #include "rangetrace/families.h"
@@ -108,15 +110,13 @@ std::string confusion_csv(const std::vector<Trial>& trials, const std::vector<En
   cols.push_back("none");
   std::map<std::pair<std::string, std::string>, int> n;
   for (const auto& t : trials) ++n[{t.run.vehicle_class, t.answered_class}];
-  std::string out = "true_class";
-  for (const auto& c : cols) out += "," + c;
-  out += "\n";
+  documents::FamilyConfusion table{cols, {}};
   for (const auto& r : rows) {
-    out += r;
-    for (const auto& c : cols) out += "," + std::to_string(n[{r, c}]);
-    out += "\n";
+    documents::FamilyConfusion::Row row{"", r, {}};
+    for (const auto& c : cols) row.answered.push_back(n[{r, c}]);
+    table.rows.push_back(std::move(row));
   }
-  return out;
+  return documents::serialize_family_confusion(table, false);
 }
 
 std::string accuracy_csv(const std::vector<Trial>& trials) {
@@ -138,18 +138,12 @@ std::string accuracy_csv(const std::vector<Trial>& trials) {
   };
   for (const auto& t : trials) add({t.run.cover, t.run.noise}, t);
   for (const auto& t : trials) add({"all", "all"}, t);
-  std::string out =
-      "cover,noise,trials,class_right,class_accuracy,accepted,accepted_right,nearest_right,"
-      "nearest_accuracy,failed\n";
-  char buf[256];
+  std::vector<documents::FamilyAccuracyRow> rows;
   for (const auto& k : keys) {
     const Count& c = counts[k];
-    std::snprintf(buf, sizeof buf, "%s,%s,%d,%d,%.4f,%d,%d,%d,%.4f,%d\n", k.first.c_str(), k.second.c_str(),
-                  c.trials, c.right, static_cast<double>(c.right) / c.trials, c.accepted, c.accepted_right,
-                  c.nearest, static_cast<double>(c.nearest) / c.trials, c.failed);
-    out += buf;
+    rows.push_back({k.first, k.second, c.trials, c.right, c.accepted, c.accepted_right, c.nearest, c.failed});
   }
-  return out;
+  return documents::serialize_family_accuracy(rows);
 }
 
 const std::vector<std::string>& methods() {
@@ -176,10 +170,10 @@ std::vector<Entry> read_entries(const std::string& modelbase) {
   std::sort(files.begin(), files.end());
   std::vector<Entry> entries;
   for (const auto& f : files) {
-    std::istringstream in(common::read_file(f.string()));
-    std::string word;
-    if (!(in >> word)) throw DataError(f.string(), "empty class file");
-    entries.push_back({f.stem().string(), word});
+    const std::string model = f.stem().string();
+    const auto cls = documents::read_model_class(modelbase, model);
+    if (!cls) throw DataError(f.string(), "vanished while the modelbase was read");
+    entries.push_back({model, *cls});
   }
   if (entries.empty()) throw DataError(modelbase, "no <model>.class file: the modelbase carries no classes");
   return entries;
@@ -198,7 +192,7 @@ bool stage_seconds(const std::string& artifact, double& seconds) {
 // The rank-1 model of `method` in a canopy.baseline document; "" when it ranks no model or its
 // best score is 0 (FPFH: RANSAC found no pose for any model).
 std::string baseline_rank1(const std::string& text, const std::string& path, const std::string& method) {
-  for (const auto& m : formats::parse_baseline_ranking(text, path)) {
+  for (const auto& m : documents::parse_baseline_ranking(text, path)) {
     if (m.method != method) continue;
     if (m.models.empty()) return "";
     const auto& best = m.models.front();
@@ -250,7 +244,7 @@ Trial read_trial(const Run& r, const std::vector<Entry>& entries, bool with_meth
       if (text.empty()) {
         a.failed = true;
       } else if (m == "gmatch") {
-        const formats::MatchResult mr = formats::parse_match_result(text, path);
+        const documents::MatchResult mr = documents::parse_match_result(text, path);
         if (!mr.models.empty()) a.model = mr.models.front().model;
       } else {
         a.model = baseline_rank1(text, path, m);
@@ -277,10 +271,7 @@ std::string methods_csv(const std::vector<Trial>& trials) {
     int trials = 0, right = 0, nearest = 0, failed = 0, timed = 0;
     double seconds = 0;
   };
-  std::string out =
-      "method,class,cover,noise,trials,class_right,class_accuracy,nearest_right,nearest_accuracy,failed,"
-      "timed,"
-      "seconds_mean\n";
+  std::vector<documents::FamilyMethodRow> rows;
   std::vector<std::string> truth, covers, noises;
   for (const auto& t : trials) {
     truth.push_back(t.run.vehicle_class);
@@ -291,7 +282,6 @@ std::string methods_csv(const std::vector<Trial>& trials) {
   for (const auto& c : class_order(truth)) keys.push_back({c, "all", "all"});
   for (const auto& v : covers) keys.push_back({"all", v, "all"});
   for (const auto& z : noises) keys.push_back({"all", "all", z});
-  char buf[512];
   for (std::size_t m = 0; m < methods().size(); ++m) {
     for (const auto& k : keys) {
       Count c;
@@ -312,20 +302,11 @@ std::string methods_csv(const std::vector<Trial>& trials) {
         }
       }
       if (c.trials == 0) continue;
-      std::string mean;
-      if (c.timed > 0) {
-        char s[64];
-        std::snprintf(s, sizeof s, "%.3f", c.seconds / c.timed);
-        mean = s;
-      }
-      std::snprintf(buf, sizeof buf, "%s,%s,%s,%s,%d,%d,%.4f,%d,%.4f,%d,%d,%s\n", methods()[m].c_str(),
-                    k[0].c_str(), k[1].c_str(), k[2].c_str(), c.trials, c.right,
-                    static_cast<double>(c.right) / c.trials, c.nearest,
-                    static_cast<double>(c.nearest) / c.trials, c.failed, c.timed, mean.c_str());
-      out += buf;
+      rows.push_back({methods()[m], k[0], k[1], k[2], c.trials, c.right, c.nearest, c.failed, c.timed,
+                      c.timed > 0 ? c.seconds / c.timed : 0.0});
     }
   }
-  return out;
+  return documents::serialize_family_methods(rows);
 }
 
 std::string methods_confusion_csv(const std::vector<Trial>& trials, const std::vector<Entry>& entries) {
@@ -338,9 +319,7 @@ std::string methods_confusion_csv(const std::vector<Trial>& trials, const std::v
   const auto rows = class_order(truth);
   auto cols = class_order(answered);
   cols.push_back("none");
-  std::string out = "method,true_class";
-  for (const auto& c : cols) out += "," + c;
-  out += "\n";
+  documents::FamilyConfusion table{cols, {}};
   for (std::size_t m = 0; m < methods().size(); ++m) {
     std::map<std::pair<std::string, std::string>, int> n;
     for (const auto& t : trials) {
@@ -349,12 +328,12 @@ std::string methods_confusion_csv(const std::vector<Trial>& trials, const std::v
       ++n[{t.run.vehicle_class, t.answers[m].answered_class}];
     }
     for (const auto& r : rows) {
-      out += methods()[m] + "," + r;
-      for (const auto& c : cols) out += "," + std::to_string(n[{r, c}]);
-      out += "\n";
+      documents::FamilyConfusion::Row row{methods()[m], r, {}};
+      for (const auto& c : cols) row.answered.push_back(n[{r, c}]);
+      table.rows.push_back(std::move(row));
     }
   }
-  return out;
+  return documents::serialize_family_confusion(table, true);
 }
 
 Outputs run(const Params& params, const Inputs& inputs) {

@@ -22,9 +22,9 @@ std::string fmt3(double v) {
   return b;
 }
 
-using formats::Segment;
-using formats::SegmentGraph;
-using formats::Vec3;
+using documents::Segment;
+using documents::SegmentGraph;
+using documents::Vec3;
 
 constexpr double kTwoOverPi = 2.0 / common::kPi;
 // Scores closer than this are ties (broken by segment id / search order): keeps the result
@@ -155,7 +155,7 @@ class Matcher {
     for (auto& c : children_) c.reserve(m_ + 1);
   }
 
-  formats::ModelScore solve(SearchStats* stats) {
+  documents::ModelScore solve(SearchStats* stats) {
     // The all-NULL match is the fallback when no leaf is reached (max_nodes); it is not a
     // starting incumbent because the printed thesis form would score it perfectly.
     best_assign_.assign(x_, -1);
@@ -330,12 +330,12 @@ class Matcher {
     }
   }
 
-  formats::ModelScore report() const {
-    formats::ModelScore ms;
+  documents::ModelScore report() const {
+    documents::ModelScore ms;
     double sum_u = 0, sum_o = 0, sum_d = 0, area = 0, area_o = 0;
     int nm = 0;
     for (int k = 0; k < x_; ++k) {
-      formats::SegmentPair pair;
+      documents::SegmentPair pair;
       pair.object_segment = obj_[k]->segment_id;
       const int j = best_assign_[k];
       if (j >= 0) {
@@ -433,10 +433,10 @@ void validate_graph(const SegmentGraph& g, const std::string& name) {
   }
 }
 
-formats::ModelScore match_model(const SegmentGraph& object, const Model& model, const Params& params,
-                                SearchStats* stats) {
+documents::ModelScore match_model(const SegmentGraph& object, const Model& model, const Params& params,
+                                  SearchStats* stats) {
   Matcher matcher(object, model.graph, params);
-  formats::ModelScore ms = matcher.solve(stats);
+  documents::ModelScore ms = matcher.solve(stats);
   ms.model = model.name;
   return ms;
 }
@@ -460,7 +460,7 @@ Out run(const In& in, const Params& params) {
   Out out;
   out.result.error_form = to_string(params.error);
   const std::vector<int> kept = prefilter(*in.object, models, params);
-  std::vector<formats::ModelScore> scores(kept.size());
+  std::vector<documents::ModelScore> scores(kept.size());
   out.stats.resize(models.size());
   out.searched = static_cast<int>(kept.size());
   const int n = static_cast<int>(kept.size());
@@ -469,10 +469,11 @@ Out run(const In& in, const Params& params) {
       scores[i] = match_model(*in.object, models[kept[i]], params, &out.stats[kept[i]]);
     }
   });
-  std::stable_sort(scores.begin(), scores.end(), [](const formats::ModelScore& a, const formats::ModelScore& b) {
-    if (a.score != b.score) return a.score > b.score;
-    return a.model < b.model;
-  });
+  std::stable_sort(scores.begin(), scores.end(),
+                   [](const documents::ModelScore& a, const documents::ModelScore& b) {
+                     if (a.score != b.score) return a.score > b.score;
+                     return a.model < b.model;
+                   });
   std::vector<double> s;
   for (size_t i = 0; i < scores.size(); ++i) {
     scores[i].rank = static_cast<int>(i) + 1;
@@ -503,7 +504,7 @@ std::string object_name(const std::string& path) {
   return stem;
 }
 
-std::string format_table(const formats::MatchResult& r, const std::string& object) {
+std::string format_table(const documents::MatchResult& r, const std::string& object) {
   std::string out = "# object " + object + ", entropy " + fmt3(r.entropy) + " bits, " +
                     std::to_string(r.models.size()) + " models, error form " + r.error_form + "\n";
   out +=

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "canopy/formats/match_result.h"
-#include "canopy/formats/segment_graph.h"
+#include "canopy/documents/match_result.h"
+#include "canopy/documents/segment_graph.h"
 
 namespace canopy::gmatch {
 
@@ -85,11 +85,11 @@ void validate(const Params& params);
 // Throws common::DataError(name, ...) when a graph cannot be matched: no segments, duplicate
 // segment ids, non-finite or non-positive areas, thickness/elongation outside [0, 1],
 // zero or non-finite normals, non-finite centroids.
-void validate_graph(const formats::SegmentGraph& graph, const std::string& name);
+void validate_graph(const documents::SegmentGraph& graph, const std::string& name);
 
 struct Model {
   std::string name;  // file stem
-  formats::SegmentGraph graph;
+  documents::SegmentGraph graph;
 };
 
 struct SearchStats {
@@ -100,8 +100,8 @@ struct SearchStats {
 
 // Matches one object graph against one model graph. The returned ModelScore has rank 0
 // (ranks are assigned by run()). Pairs are listed in match order (object area, largest first).
-formats::ModelScore match_model(const formats::SegmentGraph& object, const Model& model, const Params& params,
-                                SearchStats* stats = nullptr);
+documents::ModelScore match_model(const documents::SegmentGraph& object, const Model& model,
+                                  const Params& params, SearchStats* stats = nullptr);
 
 // Entropy in bits of scores normalised to a distribution (Eq. 6.14-6.15): 0 when one score
 // is non-zero, log2 N when all N are equal (including all zero: no information at all).
@@ -116,7 +116,7 @@ struct Summary {
   std::array<double, 3> spread{};  // m: horizontal major, horizontal minor, vertical
   std::array<double, 3> tilt{};    // area share with |n_z| < 0.38, < 0.92, >= 0.92
 };
-Summary summarize(const formats::SegmentGraph& graph, int max_segments);
+Summary summarize(const documents::SegmentGraph& graph, int max_segments);
 // Distance between two summaries: |log area ratio| + sum of |log spread ratios| (spreads
 // floored at 5 cm) + L1 distance of the tilt shares. Symmetric, 0 for equal summaries.
 double summary_distance(const Summary& a, const Summary& b);
@@ -125,16 +125,16 @@ double summary_distance(const Summary& a, const Summary& b);
 // summary_distance of the X-largest-segment summaries. Ties: modelbase order. prefilter <= 0
 // or >= models.size(): every index. Models are ranked on params.threads threads (the result
 // does not depend on the thread count).
-std::vector<int> prefilter(const formats::SegmentGraph& object, const std::vector<Model>& models,
+std::vector<int> prefilter(const documents::SegmentGraph& object, const std::vector<Model>& models,
                            const Params& params);
 
 struct In {
-  const formats::SegmentGraph* object = nullptr;
+  const documents::SegmentGraph* object = nullptr;
   const std::vector<Model>* models = nullptr;
 };
 
 struct Out {
-  formats::MatchResult result;     // models ranked, entropy, error_form (no provenance)
+  documents::MatchResult result;   // models ranked, entropy, error_form (no provenance)
   std::vector<SearchStats> stats;  // per model, in modelbase order (0 when not searched)
   int searched = 0;                // models kept by the prefilter (all when it is off)
 };
@@ -164,6 +164,6 @@ const char* to_string(PrefilterBy by);
 std::string object_name(const std::string& path);
 // One line per model (rank, model, score, margin over the next, error terms, matched and
 // considered object segments) under two '#' header lines.
-std::string format_table(const formats::MatchResult& result, const std::string& object);
+std::string format_table(const documents::MatchResult& result, const std::string& object);
 
 }  // namespace canopy::gmatch

@@ -7,8 +7,8 @@
 #include "canopy/common/cli.h"
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
-#include "canopy/formats/match_result.h"
-#include "canopy/formats/segment_graph.h"
+#include "canopy/documents/match_result.h"
+#include "canopy/documents/segment_graph.h"
 #include "gmatch/gmatch.h"
 
 namespace cm = canopy::common;
@@ -139,7 +139,7 @@ int main(int argc, char** argv) {
     p.threads = tool.threads();
     gm::validate(p);
 
-    const auto object = canopy::formats::read_segment_graph(o.in);
+    const auto object = canopy::documents::read_segment_graph(o.in);
     gm::validate_graph(object, cm::display_name(o.in));
     const auto models = gm::read_modelbase(o.modelbase);
 
@@ -156,7 +156,7 @@ int main(int argc, char** argv) {
     if (o.format == "table") {
       cm::write_file_atomic(o.out, gm::format_table(r, gm::object_name(o.in)));
     } else {
-      canopy::formats::write_match_result(r, o.out);
+      canopy::documents::write_match_result(r, o.out);
     }
 
     const auto& best = r.models.front();

@@ -2,7 +2,7 @@
 #include <string>
 
 #include "canopy/common/error.h"
-#include "canopy/formats/modelbase.h"
+#include "canopy/documents/modelbase.h"
 #include "gmatch/gmatch.h"
 
 namespace canopy::gmatch {
@@ -10,11 +10,11 @@ namespace canopy::gmatch {
 std::vector<Model> read_modelbase(const std::string& dir) {
   using common::DataError;
   std::vector<Model> models;
-  for (const formats::ModelbaseEntry& entry : formats::list_modelbase(dir)) {
+  for (const documents::ModelbaseEntry& entry : documents::list_modelbase(dir)) {
     Model model;
     model.name = entry.name;
     // Matching uses the segments' statistics, never their vertex lists.
-    model.graph = formats::read_segment_graph(entry.path, formats::GraphVertices::kSkip);
+    model.graph = documents::read_segment_graph(entry.path, documents::GraphVertices::kSkip);
     validate_graph(model.graph, entry.path);
     // The matcher keeps two model-by-model tables (pairwise angles and distances): memory grows
     // with the square of the segment count (20 000 segments cost 6.3 GB). ncut's models have

@@ -20,12 +20,12 @@ constexpr double kSideMax = 0.38, kSlopeMax = 0.92;
 
 }  // namespace
 
-Summary summarize(const formats::SegmentGraph& graph, int max_segments) {
+Summary summarize(const documents::SegmentGraph& graph, int max_segments) {
   // The X largest segments, as the search takes them (area, then id).
-  std::vector<const formats::Segment*> seg;
+  std::vector<const documents::Segment*> seg;
   seg.reserve(graph.segments.size());
   for (const auto& s : graph.segments) seg.push_back(&s);
-  const auto by_area = [](const formats::Segment* a, const formats::Segment* b) {
+  const auto by_area = [](const documents::Segment* a, const documents::Segment* b) {
     if (a->area != b->area) return a->area > b->area;
     return a->segment_id < b->segment_id;
   };
@@ -75,7 +75,7 @@ double summary_distance(const Summary& a, const Summary& b) {
   return d;
 }
 
-std::vector<int> prefilter(const formats::SegmentGraph& object, const std::vector<Model>& models,
+std::vector<int> prefilter(const documents::SegmentGraph& object, const std::vector<Model>& models,
                            const Params& params) {
   const int n = static_cast<int>(models.size());
   const int k = params.prefilter;

@@ -7,7 +7,7 @@
 #include "canopy/common/cli.h"
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
-#include "canopy/formats/segment_graph.h"
+#include "canopy/documents/segment_graph.h"
 #include "canopy/formats/ply.h"
 #include "canopy/formats/provenance.h"
 #include "ncut/ncut.h"
@@ -119,7 +119,7 @@ int main(int argc, char** argv) {
                         " vertices have no normal (no input normal, no face)");
     }
 
-    formats::SegmentGraph graph = r.graph;
+    documents::SegmentGraph graph = r.graph;
     graph.provenance = {"ncut", CANOPY_VERSION, tool.parameters(), {c.in}};
     graph.mesh = c.in;
     if (!c.colored.empty()) {
@@ -128,7 +128,7 @@ int main(int argc, char** argv) {
       cm.vertices.comments.insert(cm.vertices.comments.end(), provenance.begin(), provenance.end());
       outputs.set(c.colored, formats::serialize_ply(cm));
     }
-    outputs.set(c.out, formats::serialize_segment_graph(graph));
+    outputs.set(c.out, documents::serialize_segment_graph(graph));
     outputs.commit();
     common::log::info("wrote " + std::to_string(graph.segments.size()) + " segments to " +
                       common::display_name(c.out, true) +

@@ -108,7 +108,7 @@ Input input_from_mesh(const formats::Mesh& mesh, const std::string& name) {
 }
 
 void check_segments(const Result& r, const std::string& name) {
-  for (const formats::Segment& s : r.graph.segments) {
+  for (const documents::Segment& s : r.graph.segments) {
     if (s.area > 0 && std::isfinite(s.area)) continue;
     throw common::DataError(
         name, "segment " + std::to_string(s.segment_id) + " (" + std::to_string(s.vertex_count) +
@@ -160,7 +160,8 @@ struct SegmentSums {
 // Vertex lists of the segments, the area moments of each vertex's barycentric cells, and the
 // area-weighted normal and label sums.
 SegmentSums gather_segment_sums(const Input& in, const std::vector<Vector3d>& normals,
-                                const std::vector<int>& segment, int count, std::vector<formats::Segment>& out) {
+                                const std::vector<int>& segment, int count,
+                                std::vector<documents::Segment>& out) {
   const std::size_t n = in.points.size();
   SegmentSums sums;
   sums.mom.resize(count);
@@ -172,7 +173,7 @@ SegmentSums gather_segment_sums(const Input& in, const std::vector<Vector3d>& no
   std::vector<double>& vertex_area = sums.vertex_area;
 
   for (std::size_t v = 0; v < n; ++v) {
-    formats::Segment& s = out[segment[v]];
+    documents::Segment& s = out[segment[v]];
     if (s.vertices.empty()) mom[segment[v]].ref = in.points[v];
     s.vertices.push_back(static_cast<int>(v));
   }
@@ -202,7 +203,7 @@ SegmentSums gather_segment_sums(const Input& in, const std::vector<Vector3d>& no
 }
 
 // Centroid and covariance of one segment: from the surface moments, or from its vertices.
-void segment_moments(const Input& in, const formats::Segment& s, const Moments& m, PcaWeighting pca,
+void segment_moments(const Input& in, const documents::Segment& s, const Moments& m, PcaWeighting pca,
                      Vector3d& centroid, Matrix3d& cov) {
   if (pca == PcaWeighting::kSurface && m.area > 0) {
     const Vector3d mean = m.m1 / m.area;
@@ -223,7 +224,7 @@ void segment_moments(const Input& in, const formats::Segment& s, const Moments& 
 }
 
 // Radii, thickness, elongation, centroid and the normal (oriented along the summed vertex normals).
-void segment_shape(const Vector3d& centroid, Matrix3d cov, const Vector3d& normal_sum, formats::Segment& s) {
+void segment_shape(const Vector3d& centroid, Matrix3d cov, const Vector3d& normal_sum, documents::Segment& s) {
   cov = 0.5 * (cov + cov.transpose());
   Eigen::SelfAdjointEigenSolver<Matrix3d> es(cov);
   const Vector3d ev = es.eigenvalues().cwiseMax(0.0);  // ascending
@@ -247,7 +248,7 @@ void segment_shape(const Vector3d& centroid, Matrix3d cov, const Vector3d& norma
 
 // Majority label by area (by count when the segment has no area); ties -> lower label.
 void segment_label(const std::map<std::uint32_t, double>& label_area,
-                   std::map<std::uint32_t, int>& label_count, formats::Segment& s) {
+                   std::map<std::uint32_t, int>& label_count, documents::Segment& s) {
   const bool by_area = s.area > 0;
   double best = -1, total = 0;
   for (const auto& [label, a] : label_area) {
@@ -263,12 +264,13 @@ void segment_label(const std::map<std::uint32_t, double>& label_area,
 
 }  // namespace
 
-std::vector<formats::Segment> segment_attributes(const Input& in, const std::vector<Vector3d>& normals,
-                                                 const std::vector<int>& segment, int count, PcaWeighting pca) {
-  std::vector<formats::Segment> out(count);
+std::vector<documents::Segment> segment_attributes(const Input& in, const std::vector<Vector3d>& normals,
+                                                   const std::vector<int>& segment, int count,
+                                                   PcaWeighting pca) {
+  std::vector<documents::Segment> out(count);
   SegmentSums sums = gather_segment_sums(in, normals, segment, count, out);
   for (int id = 0; id < count; ++id) {
-    formats::Segment& s = out[id];
+    documents::Segment& s = out[id];
     s.segment_id = id;
     s.vertex_count = static_cast<int>(s.vertices.size());
     double area = 0;
@@ -284,14 +286,14 @@ std::vector<formats::Segment> segment_attributes(const Input& in, const std::vec
   return out;
 }
 
-std::vector<formats::SegmentEdge> segment_adjacency(const std::vector<std::array<int, 3>>& faces,
-                                                    const std::vector<int>& segment) {
+std::vector<documents::SegmentEdge> segment_adjacency(const std::vector<std::array<int, 3>>& faces,
+                                                      const std::vector<int>& segment) {
   std::map<std::pair<int, int>, int> shared;
   for (const auto& e : mesh_edges(faces)) {
     const int a = segment[e[0]], b = segment[e[1]];
     if (a != b) ++shared[{std::min(a, b), std::max(a, b)}];
   }
-  std::vector<formats::SegmentEdge> out;
+  std::vector<documents::SegmentEdge> out;
   for (const auto& [ab, c] : shared) out.push_back({ab.first, ab.second, c});
   return out;
 }

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "canopy/formats/segment_graph.h"
+#include "canopy/documents/segment_graph.h"
 #include "canopy/formats/ply.h"
 #include "ncut/affinity.h"
 #include "ncut/cut.h"
@@ -52,8 +52,8 @@ struct Stats {
 };
 
 struct Result {
-  formats::SegmentGraph graph;  // segments + adjacency (provenance and mesh left empty)
-  std::vector<int> segment;     // segment id per vertex
+  documents::SegmentGraph graph;  // segments + adjacency (provenance and mesh left empty)
+  std::vector<int> segment;       // segment id per vertex
   Stats stats;
 };
 
@@ -78,11 +78,12 @@ Result run(const Input& in, const Params& params);
 void check_segments(const Result& result, const std::string& name);
 
 // Attributes of the segments given a segment id per vertex (ids 0..k-1, each used).
-std::vector<formats::Segment> segment_attributes(const Input& in, const std::vector<Eigen::Vector3d>& normals,
-                                                 const std::vector<int>& segment, int count, PcaWeighting pca);
+std::vector<documents::Segment> segment_attributes(const Input& in, const std::vector<Eigen::Vector3d>& normals,
+                                                   const std::vector<int>& segment, int count,
+                                                   PcaWeighting pca);
 // Segment pairs sharing mesh edges, ascending (a, b), a < b.
-std::vector<formats::SegmentEdge> segment_adjacency(const std::vector<std::array<int, 3>>& faces,
-                                                    const std::vector<int>& segment);
+std::vector<documents::SegmentEdge> segment_adjacency(const std::vector<std::array<int, 3>>& faces,
+                                                      const std::vector<int>& segment);
 
 // Fixed colour of a segment id (well-separated hues by the golden ratio).
 std::array<std::uint8_t, 3> segment_colour(int segment_id);

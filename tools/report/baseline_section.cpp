@@ -9,9 +9,9 @@
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
-#include "canopy/formats/baseline_ranking.h"
+#include "canopy/documents/baseline_ranking.h"
 #include "canopy/formats/csv_table.h"
-#include "canopy/formats/match_result.h"
+#include "canopy/documents/match_result.h"
 #include "canopy/documents/stage_time.h"
 #include "report/report.h"
 
@@ -28,7 +28,7 @@ std::string rate(int k, int n) {
 // The rank-1 model of each method in a canopy.baseline document ("" when the method is absent).
 std::map<std::string, std::string> rank1(const std::string& text, const std::string& path) {
   std::map<std::string, std::string> out;
-  for (const auto& m : formats::parse_baseline_ranking(text, path))
+  for (const auto& m : documents::parse_baseline_ranking(text, path))
     out[m.method] = m.models.empty() ? "" : m.models.front().model;
   return out;
 }
@@ -80,7 +80,7 @@ void count_trial(Counts& k, const std::string& out_dir, const std::string& o, co
   } else {
     r = rank1(text, path);
   }
-  const formats::MatchResult m = formats::read_match_result(dir + "/match.json");
+  const documents::MatchResult m = documents::read_match_result(dir + "/match.json");
   const std::string canopy = m.models.empty() ? "" : m.models.front().model;
   const std::string verdict = dir + "/verdict.json";
   k.verified += fs::exists(verdict) ? 1 : 0;

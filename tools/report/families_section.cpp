@@ -2,14 +2,12 @@
 
 #include <algorithm>
 #include <array>
-#include <cmath>
 #include <filesystem>
-#include <initializer_list>
-#include <map>
 #include <sstream>
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
+#include "canopy/documents/family_tables.h"
 #include "report/report.h"
 
 namespace canopy::report {
@@ -28,69 +26,6 @@ std::string pct(int k, int n) { return n == 0 ? "–" : formats::format_number("
 
 std::string rate(int k, int n) {
   return pct(k, n) + " (" + std::to_string(k) + "/" + std::to_string(n) + ")";
-}
-
-// The non-empty lines of a CSV table, split at commas, with their line numbers.
-struct Table {
-  std::vector<std::vector<std::string>> rows;
-  std::vector<int> lines;
-};
-
-Table read_table(const std::string& text, const std::string& name) {
-  Table t;
-  std::istringstream in(text);
-  std::string line;
-  int no = 0;
-  while (std::getline(in, line)) {
-    ++no;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.empty()) continue;
-    std::vector<std::string> cells;
-    std::string cell;
-    std::istringstream ls(line);
-    while (std::getline(ls, cell, ',')) cells.push_back(cell);
-    if (line.back() == ',') cells.emplace_back();
-    t.rows.push_back(std::move(cells));
-    t.lines.push_back(no);
-  }
-  if (t.rows.empty()) throw common::DataError(name, "empty table (no header)");
-  return t;
-}
-
-// Row r has as many cells as the header (row 0); DataError naming the file and line otherwise.
-void check_width(const Table& t, std::size_t r, const std::string& name) {
-  if (t.rows[r].size() != t.rows.front().size()) {
-    throw common::DataError(name, "line " + std::to_string(t.lines[r]) + ": " +
-                                      std::to_string(t.rows[r].size()) + " columns, the header has " +
-                                      std::to_string(t.rows.front().size()));
-  }
-}
-
-// The header's column of each name; DataError naming the first of `needed` that is missing.
-std::map<std::string, std::size_t> header_columns(const Table& t, const std::string& name,
-                                                  std::initializer_list<const char*> needed) {
-  std::map<std::string, std::size_t> col;
-  for (std::size_t k = 0; k < t.rows.front().size(); ++k) col[t.rows.front()[k]] = k;
-  for (const char* n : needed) {
-    if (!col.count(n)) {
-      throw common::DataError(name,
-                              "line " + std::to_string(t.lines[0]) + ": no column '" + n + "' in the header");
-    }
-  }
-  return col;
-}
-
-int count(const std::string& s, const std::string& name, int line, const std::string& column) {
-  std::size_t used = 0;
-  long v = -1;
-  try {
-    v = std::stol(s, &used);
-  } catch (const std::exception&) { used = 0; }
-  if (s.empty() || used != s.size() || v < 0 || v > 1000000000) {
-    throw common::DataError(name, "line " + std::to_string(line) + ": " + column + " '" + s +
-                                      "' is not a count (a whole number >= 0)");
-  }
-  return static_cast<int>(v);
 }
 
 const FamilyMethodRow* method_row(const FamilySummary& s, const std::string& m, const std::string& cls,
@@ -179,27 +114,24 @@ std::string family_methods_markdown(const FamilySummary& s) {
 
 namespace {
 
+// One true class's row: its counts, trials and right answers (the column of its own name).
+FamilyClass family_class(const documents::FamilyConfusion::Row& row, const std::vector<std::string>& answers) {
+  FamilyClass fc;
+  fc.name = row.true_class;
+  fc.answered = row.answered;
+  for (std::size_t k = 0; k < row.answered.size(); ++k) {
+    fc.trials += row.answered[k];
+    if (answers[k] == fc.name) fc.right = row.answered[k];
+  }
+  return fc;
+}
+
 // confusion.csv: true_class,<answered classes...> -> the classes and the totals.
 void read_confusion(FamilySummary& s, const std::string& confusion, const std::string& confusion_name) {
-  const Table c = read_table(confusion, confusion_name);
-  const auto& head = c.rows.front();
-  if (head.size() < 2 || head[0] != "true_class") {
-    throw common::DataError(confusion_name, "line " + std::to_string(c.lines[0]) +
-                                                ": expected the header true_class,<answered classes...>");
-  }
-  s.answers.assign(head.begin() + 1, head.end());
-  for (std::size_t r = 1; r < c.rows.size(); ++r) {
-    const auto& row = c.rows[r];
-    const int line = c.lines[r];
-    check_width(c, r, confusion_name);
-    FamilyClass fc;
-    fc.name = row[0];
-    for (std::size_t k = 1; k < row.size(); ++k) {
-      const int n = count(row[k], confusion_name, line, head[k]);
-      fc.answered.push_back(n);
-      fc.trials += n;
-      if (head[k] == fc.name) fc.right = n;
-    }
+  const documents::FamilyConfusion c = documents::parse_family_confusion(confusion, confusion_name, false);
+  s.answers = c.answers;
+  for (const auto& row : c.rows) {
+    FamilyClass fc = family_class(row, c.answers);
     s.trials += fc.trials;
     s.right += fc.right;
     s.classes.push_back(std::move(fc));
@@ -210,29 +142,10 @@ void read_confusion(FamilySummary& s, const std::string& confusion, const std::s
 // confusion matrix's.
 void read_levels(FamilySummary& s, const std::string& accuracy, const std::string& accuracy_name,
                  const std::string& confusion_name) {
-  const Table a = read_table(accuracy, accuracy_name);
-  std::map<std::string, std::size_t> col = header_columns(
-      a, accuracy_name,
-      {"cover", "noise", "trials", "class_right", "accepted", "accepted_right", "nearest_right", "failed"});
   bool have_all = false;
-  for (std::size_t r = 1; r < a.rows.size(); ++r) {
-    const auto& row = a.rows[r];
-    const int line = a.lines[r];
-    check_width(a, r, accuracy_name);
-    FamilyLevel l;
-    l.cover = row[col["cover"]];
-    l.noise = row[col["noise"]];
-    auto get = [&](const char* name) { return count(row[col[name]], accuracy_name, line, name); };
-    l.trials = get("trials");
-    l.class_right = get("class_right");
-    l.accepted = get("accepted");
-    l.accepted_right = get("accepted_right");
-    l.nearest_right = get("nearest_right");
-    l.failed = get("failed");
-    if (l.class_right > l.trials || l.accepted > l.trials || l.accepted_right > l.accepted ||
-        l.nearest_right > l.trials || l.failed > l.trials) {
-      throw common::DataError(accuracy_name, "line " + std::to_string(line) + ": a count exceeds its total");
-    }
+  for (const auto& r : documents::parse_family_accuracy(accuracy, accuracy_name)) {
+    const FamilyLevel l{r.cover,    r.noise,          r.trials,        r.class_right,
+                        r.accepted, r.accepted_right, r.nearest_right, r.failed};
     if (l.cover == "all" && l.noise == "all") {
       s.all = l;
       have_all = true;
@@ -281,47 +194,10 @@ namespace {
 // methods.csv's rows, and the methods in first-seen order.
 void read_method_rows(const std::string& methods, const std::string& methods_name,
                       std::vector<FamilyMethodRow>& rows, std::vector<std::string>& names) {
-  const Table m = read_table(methods, methods_name);
-  std::map<std::string, std::size_t> col =
-      header_columns(m, methods_name,
-                     {"method", "class", "cover", "noise", "trials", "class_right", "nearest_right", "failed",
-                      "timed", "seconds_mean"});
-  for (std::size_t r = 1; r < m.rows.size(); ++r) {
-    const auto& row = m.rows[r];
-    const int line = m.lines[r];
-    check_width(m, r, methods_name);
-    FamilyMethodRow x;
-    x.method = row[col["method"]];
-    x.vehicle_class = row[col["class"]];
-    x.cover = row[col["cover"]];
-    x.noise = row[col["noise"]];
-    auto get = [&](const char* name) { return count(row[col[name]], methods_name, line, name); };
-    x.trials = get("trials");
-    x.class_right = get("class_right");
-    x.nearest_right = get("nearest_right");
-    x.failed = get("failed");
-    x.timed = get("timed");
-    if (x.method.empty() || x.class_right > x.trials || x.nearest_right > x.trials || x.failed > x.trials ||
-        x.timed > x.trials) {
-      throw common::DataError(methods_name,
-                              "line " + std::to_string(line) + ": no method, or a count exceeds its total");
-    }
-    const std::string& sec = row[col["seconds_mean"]];
-    if (x.timed > 0) {
-      std::size_t used = 0;
-      try {
-        x.seconds_mean = std::stod(sec, &used);
-      } catch (const std::exception&) { used = 0; }
-      if (sec.empty() || used != sec.size() || !std::isfinite(x.seconds_mean) || x.seconds_mean < 0) {
-        throw common::DataError(methods_name, "line " + std::to_string(line) + ": seconds_mean '" + sec +
-                                                  "' is not a time in seconds");
-      }
-    } else if (!sec.empty()) {
-      throw common::DataError(methods_name,
-                              "line " + std::to_string(line) + ": a mean time without timed trials");
-    }
-    if (std::find(names.begin(), names.end(), x.method) == names.end()) names.push_back(x.method);
-    rows.push_back(x);
+  for (const auto& r : documents::parse_family_methods(methods, methods_name)) {
+    if (std::find(names.begin(), names.end(), r.method) == names.end()) names.push_back(r.method);
+    rows.push_back({r.method, r.vehicle_class, r.cover, r.noise, r.trials, r.class_right, r.nearest_right,
+                    r.failed, r.timed, r.seconds_mean});
   }
 }
 
@@ -352,30 +228,13 @@ void check_method_totals(const FamilySummary& s, const std::vector<FamilyMethodR
 std::vector<FamilyMethodConfusion> read_method_confusion(const std::string& confusion,
                                                          const std::string& confusion_name,
                                                          std::vector<std::string>& answers) {
-  const Table c = read_table(confusion, confusion_name);
-  const auto& head = c.rows.front();
-  if (head.size() < 3 || head[0] != "method" || head[1] != "true_class") {
-    throw common::DataError(confusion_name,
-                            "line " + std::to_string(c.lines[0]) +
-                                ": expected the header method,true_class,<answered classes...>");
-  }
+  const documents::FamilyConfusion c = documents::parse_family_confusion(confusion, confusion_name, true);
   std::vector<FamilyMethodConfusion> conf;
-  for (std::size_t r = 1; r < c.rows.size(); ++r) {
-    const auto& row = c.rows[r];
-    const int line = c.lines[r];
-    check_width(c, r, confusion_name);
-    if (conf.empty() || conf.back().method != row[0]) conf.push_back({row[0], {}});
-    FamilyClass fc;
-    fc.name = row[1];
-    for (std::size_t k = 2; k < row.size(); ++k) {
-      const int n = count(row[k], confusion_name, line, head[k]);
-      fc.answered.push_back(n);
-      fc.trials += n;
-      if (head[k] == fc.name) fc.right = n;
-    }
-    conf.back().classes.push_back(std::move(fc));
+  for (const auto& row : c.rows) {
+    if (conf.empty() || conf.back().method != row.method) conf.push_back({row.method, {}});
+    conf.back().classes.push_back(family_class(row, c.answers));
   }
-  answers.assign(head.begin() + 2, head.end());
+  answers = c.answers;
   return conf;
 }
 

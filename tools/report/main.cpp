@@ -75,8 +75,8 @@ report::Case read_case(const std::string& out_dir, const std::string& o, const s
   c.scene = s;
   c.noise_mm = n;
   const std::string dir = out_dir + "/" + o + "/" + s + "/noise-" + std::to_string(n);
-  c.match = formats::read_match_result(dir + "/match.json");
-  c.segments = formats::read_segment_graph(dir + "/segments.json");
+  c.match = documents::read_match_result(dir + "/match.json");
+  c.segments = documents::read_segment_graph(dir + "/segments.json");
   c.times["addnoise"] = documents::read_stage_time(dir + "/scan.pcd");
   c.times["fitvox"] = documents::read_stage_time(dir + "/samples.pcd");
   c.times["cocone"] = documents::read_stage_time(dir + "/mesh.ply");
@@ -121,7 +121,7 @@ report::Ablation read_ablation(const std::string& spec, const std::string& out_d
           ++a.failed;
           continue;
         }
-        const formats::MatchResult m = formats::parse_match_result(text, path);
+        const documents::MatchResult m = documents::parse_match_result(text, path);
         for (const auto& ms : m.models) {
           if (ms.model == o) rank = ms.rank;
         }
@@ -153,7 +153,7 @@ report::Inputs read_inputs(const std::string& out_dir, report::Inputs in, const 
   in.thesis = report::parse_thesis_csv(common::read_file(thesis), thesis);
   for (const auto& o : in.objects) {
     const std::string mb = out_dir + "/modelbase/" + o + ".json";
-    if (exists(mb)) in.models[o] = formats::read_segment_graph(mb);
+    if (exists(mb)) in.models[o] = documents::read_segment_graph(mb);
     for (const auto& s : in.scenes) {
       in.render_times[o + "/" + s] = documents::read_stage_time(out_dir + "/" + o + "/" + s + "/scan.pcd");
       for (int n : in.noises) in.cases.push_back(read_case(out_dir, o, s, n));

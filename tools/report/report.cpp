@@ -18,7 +18,7 @@ std::string key(const std::string& o, const std::string& s, int n) {
   return o + "/" + s + "/" + std::to_string(n);
 }
 
-const formats::ModelScore* find_model(const formats::MatchResult& m, const std::string& name) {
+const documents::ModelScore* find_model(const documents::MatchResult& m, const std::string& name) {
   for (const auto& s : m.models) {
     if (s.model == name) return &s;
   }
@@ -141,7 +141,7 @@ VerifySummary summarize_verify(const Inputs& in) {
   return s;
 }
 
-Diagnosis diagnose(const Case& c, const formats::SegmentGraph* model, const Params& p) {
+Diagnosis diagnose(const Case& c, const documents::SegmentGraph* model, const Params& p) {
   Diagnosis d;
   if (const auto* s = find_model(c.match, c.object)) {
     d.correct_score = s->score;
@@ -149,7 +149,7 @@ Diagnosis diagnose(const Case& c, const formats::SegmentGraph* model, const Para
   }
   d.entropy = c.match.entropy;
   if (!c.match.models.empty()) d.best_model = c.match.models.front().model;
-  std::vector<const formats::Segment*> segs;
+  std::vector<const documents::Segment*> segs;
   for (const auto& s : c.segments.segments) segs.push_back(&s);
   std::stable_sort(segs.begin(), segs.end(), [](auto* a, auto* b) { return a->area > b->area; });
   double top_area = 0, top_spurious = 0;

@@ -9,8 +9,8 @@
 #include <nlohmann/json.hpp>
 
 #include "canopy/formats/csv_table.h"
-#include "canopy/formats/match_result.h"
-#include "canopy/formats/segment_graph.h"
+#include "canopy/documents/match_result.h"
+#include "canopy/documents/segment_graph.h"
 #include "canopy/documents/stage_time.h"
 #include "canopy/formats/verdict.h"
 
@@ -47,8 +47,8 @@ enum class VerdictStatus { missing, failed, read };
 struct Case {
   std::string object, scene;
   int noise_mm = 0;
-  formats::MatchResult match;
-  formats::SegmentGraph segments;
+  documents::MatchResult match;
+  documents::SegmentGraph segments;
   std::map<std::string, StageTime> times;  // stage name -> time (addnoise, fitvox, ...)
   AreaRow areas;
   VerdictStatus verdict_status = VerdictStatus::missing;
@@ -66,12 +66,12 @@ struct Ablation {
 struct Inputs {
   std::vector<std::string> objects, scenes;
   std::vector<int> noises;
-  std::vector<Case> cases;                              // objects x scenes x noises, in order
-  std::map<std::string, formats::SegmentGraph> models;  // the modelbase, by model name
-  std::map<std::string, StageTime> render_times;        // "<object>/<scene>" -> rangetrace run
-  std::map<std::string, int> render_views;              // scene -> views per rendering
-  std::map<std::string, ThesisRow> thesis;              // "<object>/<scene>/<noise>" -> row
-  std::vector<std::string> figures;                     // figure paths relative to the report
+  std::vector<Case> cases;                                // objects x scenes x noises, in order
+  std::map<std::string, documents::SegmentGraph> models;  // the modelbase, by model name
+  std::map<std::string, StageTime> render_times;          // "<object>/<scene>" -> rangetrace run
+  std::map<std::string, int> render_views;                // scene -> views per rendering
+  std::map<std::string, ThesisRow> thesis;                // "<object>/<scene>/<noise>" -> row
+  std::vector<std::string> figures;                       // figure paths relative to the report
   std::vector<Ablation> ablations;
 };
 
@@ -97,7 +97,7 @@ struct Diagnosis {
   int correct_rank = 0;
 };
 
-Diagnosis diagnose(const Case& c, const formats::SegmentGraph* model, const Params& p);
+Diagnosis diagnose(const Case& c, const documents::SegmentGraph* model, const Params& p);
 
 // Area retained per noise level over the trials with areas: ratios of sums (stage area summed
 // over the trials / visible area summed over the same trials), and the matched area relative to

@@ -66,8 +66,8 @@ bool same_document(const fs::path& a, const fs::path& b) {
 
 }  // namespace
 
-void check_match_names_graph(const formats::MatchResult& match, const std::string& match_name,
-                             const formats::SegmentGraph& graph, const std::string& graph_name) {
+void check_match_names_graph(const documents::MatchResult& match, const std::string& match_name,
+                             const documents::SegmentGraph& graph, const std::string& graph_name) {
   std::map<int, double> area;
   for (const auto& s : graph.segments) area[s.segment_id] = s.area;
   for (std::size_t m = 0; m < match.models.size(); ++m) {
@@ -99,7 +99,7 @@ void check_match_names_graph(const formats::MatchResult& match, const std::strin
   }
 }
 
-void check_graph_on_points(const formats::SegmentGraph& graph, const std::string& graph_name,
+void check_graph_on_points(const documents::SegmentGraph& graph, const std::string& graph_name,
                            const std::vector<Eigen::Vector3d>& points, const std::string& points_name) {
   if (points.empty()) return;
   Eigen::Vector3d lo = points.front(), hi = points.front();

@@ -11,15 +11,16 @@
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
 #include "canopy/common/units.h"
-#include "canopy/formats/match_result.h"
+#include "canopy/documents/match_result.h"
 #include "canopy/formats/pcd.h"
-#include "canopy/formats/segment_graph.h"
+#include "canopy/documents/segment_graph.h"
 #include "canopy/formats/sensor_direction.h"
 #include "canopy/formats/trajectory.h"
 #include "canopy/formats/verdict.h"
 #include "verify/verify.h"
 
 namespace cm = canopy::common;
+namespace doc = canopy::documents;
 namespace fm = canopy::formats;
 namespace vf = canopy::verify;
 
@@ -114,17 +115,17 @@ Eigen::Isometry3d parse_transform(const std::string& text) {
 
 // What the check reads: the match, the candidate's graph and points, the hypotheses' models.
 struct Inputs {
-  fm::MatchResult match;
-  fm::SegmentGraph graph;
+  doc::MatchResult match;
+  doc::SegmentGraph graph;
   vf::Candidate candidate;
   std::vector<vf::Model> models;
 };
 
 Inputs read_inputs(const Cli& cli, const vf::Params& p, const std::optional<Eigen::Isometry3d>& to_tile) {
   Inputs in;
-  in.match = fm::read_match_result(cli.in);
+  in.match = doc::read_match_result(cli.in);
   if (in.match.models.empty()) throw cm::DataError(cm::display_name(cli.in), "match result ranks no model");
-  in.graph = fm::read_segment_graph(cli.segments);
+  in.graph = doc::read_segment_graph(cli.segments);
   const fm::PointCloud cloud = fm::read_pcd(cli.points);
   // Sensor directions (issue 26): the columns when present (the simulator's path, unchanged),
   // else derived from what the points carry.

@@ -1,12 +1,11 @@
 // Reading the modelbase entries a match result names: the only I/O of the verify library.
 #include <filesystem>
-#include <sstream>
 #include <system_error>
 
-#include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "canopy/formats/pcd.h"
-#include "canopy/formats/segment_graph.h"
+#include "canopy/documents/modelbase.h"
+#include "canopy/documents/segment_graph.h"
 #include "canopy/formats/verdict.h"
 #include "verify/verify.h"
 
@@ -38,17 +37,9 @@ std::vector<Model> read_models(const std::string& dir, const std::vector<std::st
     }
     Model m;
     m.name = name;
-    m.graph = formats::read_segment_graph(graph);  // errors name the file
+    m.graph = documents::read_segment_graph(graph);  // errors name the file
     m.surface = surface_from_cloud(formats::read_pcd(surface), surface);
-    const std::string cls = (fs::path(dir) / (name + ".class")).string();
-    if (fs::exists(cls, ec)) {
-      std::istringstream in(common::read_file(cls));
-      std::string word, extra;
-      if (!(in >> word) || (in >> extra) || word.size() > 64) {
-        throw DataError(cls, "expected one class name (one word, at most 64 characters)");
-      }
-      m.vehicle_class = word;
-    }
+    if (auto cls = documents::read_model_class(dir, name)) m.vehicle_class = *cls;
     models.push_back(std::move(m));
   }
   return models;

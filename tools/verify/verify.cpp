@@ -335,9 +335,9 @@ Isometry3d refine(const Surface& model, const std::vector<Vector3d>& candidate, 
   return cm.inverse();
 }
 
-bool pose_from_pairs(const formats::SegmentGraph& object, const formats::SegmentGraph& model,
-                     const std::vector<formats::SegmentPair>& pairs, Isometry3d* pose) {
-  std::map<int, const formats::Segment*> os, ms;
+bool pose_from_pairs(const documents::SegmentGraph& object, const documents::SegmentGraph& model,
+                     const std::vector<documents::SegmentPair>& pairs, Isometry3d* pose) {
+  std::map<int, const documents::Segment*> os, ms;
   for (const auto& s : object.segments) os[s.segment_id] = &s;
   for (const auto& s : model.segments) ms[s.segment_id] = &s;
   std::vector<Vector3d> a, b;  // model, object centroids
@@ -405,7 +405,7 @@ const Model& loaded_model(const In& in, const std::string& name) {
 
 // One gmatch hypothesis: every start (the matched pairs' pose when there is one, the principal
 // axes') and, with Params::flip, its 180-degree flip, refined by ICP and scored; the best.
-formats::Hypothesis check_hypothesis(const In& in, const formats::ModelScore& ms, const Model& model,
+formats::Hypothesis check_hypothesis(const In& in, const documents::ModelScore& ms, const Model& model,
                                      const Scorer& scorer, const Params& p) {
   const auto& above = scorer.above_points();
   const Vector3d centre = mean_of(model.surface.points);

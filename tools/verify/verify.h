@@ -23,9 +23,9 @@
 #include <string>
 #include <vector>
 
-#include "canopy/formats/match_result.h"
+#include "canopy/documents/match_result.h"
 #include "canopy/formats/point_cloud.h"
-#include "canopy/formats/segment_graph.h"
+#include "canopy/documents/segment_graph.h"
 #include "canopy/formats/verdict.h"
 
 namespace canopy::verify {
@@ -72,7 +72,7 @@ struct Candidate {
 // A modelbase entry: the segment graph and the surface samples with normals (model frame).
 struct Model {
   std::string name;
-  formats::SegmentGraph graph;
+  documents::SegmentGraph graph;
   Surface surface;
   std::string vehicle_class;  // from <name>.class when the modelbase has one, else ""
 };
@@ -124,8 +124,8 @@ Eigen::Isometry3d refine(const Surface& model, const std::vector<Eigen::Vector3d
 
 // Heading + translation start from matched segment pairs (area-weighted 2-D Procrustes on the
 // centroids); false when fewer than two pairs are matched.
-bool pose_from_pairs(const formats::SegmentGraph& object, const formats::SegmentGraph& model,
-                     const std::vector<formats::SegmentPair>& pairs, Eigen::Isometry3d* pose);
+bool pose_from_pairs(const documents::SegmentGraph& object, const documents::SegmentGraph& model,
+                     const std::vector<documents::SegmentPair>& pairs, Eigen::Isometry3d* pose);
 // Heading + translation start aligning the horizontal principal axes and centroids.
 Eigen::Isometry3d pose_from_axes(const std::vector<Eigen::Vector3d>& candidate,
                                  const std::vector<Eigen::Vector3d>& model);
@@ -134,13 +134,13 @@ Eigen::Isometry3d pose_from_axes(const std::vector<Eigen::Vector3d>& candidate,
 // naming the files when they provably describe different candidates.
 // The match's pairs name segments of the graph, each at most once, and the largest: no segment
 // left out is larger than a paired one (gmatch pairs the X largest object segments).
-void check_match_names_graph(const formats::MatchResult& match, const std::string& match_name,
-                             const formats::SegmentGraph& graph, const std::string& graph_name);
+void check_match_names_graph(const documents::MatchResult& match, const std::string& match_name,
+                             const documents::SegmentGraph& graph, const std::string& graph_name);
 // The graph was made from a mesh of these points (cocone keeps a subset of the sample rows, ncut
 // partitions the mesh's vertices): every vertex index below the number of points, no more
 // vertices in all segments than points, every centroid (a mean over mesh triangles) inside the
 // points' bounding box.
-void check_graph_on_points(const formats::SegmentGraph& graph, const std::string& graph_name,
+void check_graph_on_points(const documents::SegmentGraph& graph, const std::string& graph_name,
                            const std::vector<Eigen::Vector3d>& points, const std::string& points_name);
 // Every vertex of the graph's mesh is exactly one of the points.
 void check_mesh_on_points(const std::vector<Eigen::Vector3d>& mesh, const std::string& mesh_name,
@@ -148,9 +148,9 @@ void check_mesh_on_points(const std::vector<Eigen::Vector3d>& mesh, const std::s
                           const std::string& points_name);
 
 struct BelongInputs {
-  const formats::MatchResult* match = nullptr;
+  const documents::MatchResult* match = nullptr;
   std::string match_path;  // as given ("-" = stdin)
-  const formats::SegmentGraph* segments = nullptr;
+  const documents::SegmentGraph* segments = nullptr;
   std::string segments_path;
   const Candidate* candidate = nullptr;
   std::string points_path;
@@ -164,8 +164,8 @@ void check_inputs_belong(const BelongInputs& in);
 
 struct In {
   const Candidate* candidate = nullptr;
-  const formats::SegmentGraph* segments = nullptr;
-  const formats::MatchResult* match = nullptr;
+  const documents::SegmentGraph* segments = nullptr;
+  const documents::MatchResult* match = nullptr;
   const std::vector<Model>* models = nullptr;  // at least the top-k hypotheses' models
   const Eigen::Isometry3d* to_tile = nullptr;  // candidate frame -> tile frame; null = none
 };

@@ -1,12 +1,14 @@
-#include "canopy/formats/modelbase.h"
+#include "canopy/documents/modelbase.h"
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <system_error>
 
 #include "canopy/common/error.h"
 
-namespace canopy::formats {
+namespace canopy::documents {
 
 std::vector<ModelbaseEntry> list_modelbase(const std::string& dir) {
   namespace fs = std::filesystem;
@@ -31,4 +33,23 @@ std::vector<ModelbaseEntry> list_modelbase(const std::string& dir) {
   return entries;
 }
 
-}  // namespace canopy::formats
+std::optional<std::string> read_model_class(const std::string& dir, const std::string& name) {
+  namespace fs = std::filesystem;
+  constexpr std::streamsize kMaxBytes = 4096;  // a class file is one short word
+  const std::string file = (fs::path(dir) / (name + ".class")).string();
+  std::error_code ec;
+  if (!fs::exists(file, ec)) return std::nullopt;
+  std::ifstream f(file, std::ios::binary);
+  std::string text(static_cast<std::size_t>(kMaxBytes) + 1, '\0');
+  f.read(text.data(), kMaxBytes + 1);
+  if (!f && !f.eof()) throw common::DataError(file, "cannot read the model's class file");
+  text.resize(static_cast<std::size_t>(f.gcount()));
+  std::istringstream in(text);
+  std::string word, extra;
+  if (f.gcount() > kMaxBytes || !(in >> word) || (in >> extra) || word.size() > 64) {
+    throw common::DataError(file, "expected one class name (one word, at most 64 characters)");
+  }
+  return word;
+}
+
+}  // namespace canopy::documents

@@ -1,4 +1,5 @@
-// The segment graph of ncut (JSON format "canopy.segment_graph", version 1, formats/README.md):
+// The segment graph (JSON format "canopy.segment_graph", version 1, formats/README.md): ncut writes
+// it; gmatch, verify, areas and report read it (and the modelbase holds one per model). Its
 // segments with their attributes, and their adjacency.
 // Readers check "format" and "version", every integer's type and range, that numbers are
 // finite, that segment ids are unique and adjacency edges join two different listed
@@ -11,7 +12,10 @@
 
 #include "canopy/formats/provenance.h"
 
-namespace canopy::formats {
+namespace canopy::documents {
+
+constexpr const char* kSegmentGraphFormat = "canopy.segment_graph";
+constexpr int kSegmentGraphVersion = 1;  // the only version written and read
 
 using Vec3 = std::array<double, 3>;
 
@@ -35,7 +39,7 @@ struct SegmentEdge {
 };
 
 struct SegmentGraph {
-  Provenance provenance;
+  formats::Provenance provenance;
   std::string mesh;  // the mesh the segments index into, as given
   std::vector<Segment> segments;
   std::vector<SegmentEdge> adjacency;
@@ -54,4 +58,4 @@ SegmentGraph parse_segment_graph(const std::string& text, const std::string& nam
 void write_segment_graph(const SegmentGraph& graph, const std::string& path);
 std::string serialize_segment_graph(const SegmentGraph& graph);
 
-}  // namespace canopy::formats
+}  // namespace canopy::documents

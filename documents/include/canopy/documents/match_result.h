@@ -1,5 +1,6 @@
-// The match result of gmatch (JSON format "canopy.match_result", version 1, formats/README.md):
-// every model's score and error terms, ranked, with its segment pairs.
+// The match result (JSON format "canopy.match_result", version 1, formats/README.md): gmatch writes
+// it; verify, report and famscore read it. Every model's score and error terms, ranked, with its
+// segment pairs.
 // Readers check "format" and "version", every integer's type and range, that numbers are
 // finite, and name the file and the key in every error.
 #pragma once
@@ -9,7 +10,10 @@
 
 #include "canopy/formats/provenance.h"
 
-namespace canopy::formats {
+namespace canopy::documents {
+
+constexpr const char* kMatchResultFormat = "canopy.match_result";
+constexpr int kMatchResultVersion = 1;  // the only version written and read
 
 struct SegmentPair {
   int object_segment = 0;  // segment id in the object graph
@@ -27,7 +31,7 @@ struct ModelScore {
 };
 
 struct MatchResult {
-  Provenance provenance;
+  formats::Provenance provenance;
   std::string object;              // object segment graph path, as given
   std::string error_form;          // "bounded" or "thesis"
   std::vector<ModelScore> models;  // sorted by rank
@@ -43,4 +47,4 @@ MatchResult parse_match_result(const std::string& text, const std::string& name)
 void write_match_result(const MatchResult& result, const std::string& path);
 std::string serialize_match_result(const MatchResult& result);
 
-}  // namespace canopy::formats
+}  // namespace canopy::documents

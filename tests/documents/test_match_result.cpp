@@ -1,0 +1,63 @@
+// documents/match_result.h: the match result gmatch writes and verify, report and famscore read
+// — round trip, NULL matches, the derived margin (files before it read too), format checks.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <utility>
+
+#include "canopy/common/error.h"
+#include "canopy/documents/match_result.h"
+
+using namespace canopy::documents;
+using Catch::Contains;
+
+TEST_CASE("match result: JSON round-trip, NULL matches as null") {
+  MatchResult r;
+  r.provenance = {"gmatch", "0.1.0", {}, {"s.json"}};
+  r.object = "s.json";
+  r.error_form = "bounded";
+  r.entropy = 1.5;
+  ModelScore ms;
+  ms.model = "tank";
+  ms.score = 0.75;
+  ms.rank = 1;
+  ms.pairs = {{0, 2, 0.1}, {1, -1, 0}};
+  r.models.push_back(ms);
+  const std::string rt = serialize_match_result(r);
+  CHECK(rt.find("\"model_segment\": null") != std::string::npos);
+  const MatchResult rb = parse_match_result(rt, "m.json");
+  CHECK(rb.models.at(0).pairs.at(1).model_segment == -1);
+  CHECK(serialize_match_result(rb) == rt);
+  CHECK_THROWS_WITH(parse_match_result(R"({"format": "canopy.segment_graph", "version": 1})", "g.json"),
+                    Contains("expected \"canopy.match_result\""));
+}
+
+TEST_CASE("match result: margin = rank-1 score minus rank-2 score, optional when reading") {
+  MatchResult r;
+  r.provenance = {"gmatch", "0.1.0", {}, {"s.json"}};
+  r.object = "s.json";
+  r.error_form = "bounded";
+  ModelScore a, b;
+  a.model = "sedan";
+  a.score = 0.8;
+  a.rank = 1;
+  b.model = "tank";
+  b.score = 0.5;
+  b.rank = 2;
+  r.models = {b, a};  // the margin follows the ranks, not the order
+  CHECK(match_margin(r) == 0.8 - 0.5);
+  r.models = {a, b};
+  std::string text = serialize_match_result(r);
+  CHECK_THAT(text, Contains("\"margin\": 0.30000000000000004"));
+  CHECK(match_margin(parse_match_result(text, "m.json")) == 0.8 - 0.5);
+  // A file written before "margin" existed still reads.
+  const auto at = text.find(" \"margin\"");
+  text.erase(at, text.find('\n', at) + 1 - at);
+  CHECK(text.find("margin") == std::string::npos);
+  CHECK(parse_match_result(text, "old.json").models.size() == 2);
+  r.models = {a};
+  CHECK(std::isnan(match_margin(r)));
+  CHECK_THAT(serialize_match_result(r), Contains("\"margin\": null"));
+  CHECK(parse_match_result(serialize_match_result(r), "one.json").models.size() == 1);
+}
