@@ -14,6 +14,7 @@
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "canopy/common/stats.h"
+#include "canopy/documents/candidates.h"
 #include "canopy/formats/csv_table.h"
 #include "canopy/formats/json_document.h"
 
@@ -125,27 +126,21 @@ void read_detections(const std::string& path, RealTile& t, std::map<std::string,
 
 // detect's index: the tile's points, its grid's area, its density when detect gives it.
 void read_index(const std::string& path, RealTile& t) {
-  const Json x = open(path, "canopy.candidates", 2);
-  try {
-    t.points = json_member(x, "tile_points", "").get<long long>();
-    const Json& g = json_member(x, "ground", "");
-    const double cell = number(g, "cell", "ground");
-    const double area_m2 = cell * cell * number(g, "cells", "ground");
-    if (!t.labelled && area_m2 > 0) {
-      t.area_ha = area_m2 / 1e4;
-      t.area_from = "detect's grid (bounding box)";
-    }
-    if (t.density < 0) t.density = density_all(x);
-    if (t.density > 0) {
-      t.density_from = "index";
-    } else if (area_m2 > 0 && t.points > 0) {
-      t.density = t.points / area_m2;
-      t.density_from = "measured (points / bounding box)";
-    }
-  } catch (const MalformedField& e) {
-    throw common::DataError(path, e.what());
-  } catch (const Json::exception& e) {
-    throw common::DataError(path, std::string("tile_points is not a count: ") + e.what());
+  const documents::Candidates x = documents::read_candidates_file(path);
+  if (!x.tile_points) throw common::DataError(path, "index: missing \"tile_points\"");
+  if (!x.ground) throw common::DataError(path, "index: missing \"ground\"");
+  t.points = *x.tile_points;
+  const double area_m2 = x.ground->cell * x.ground->cell * static_cast<double>(x.ground->cells);
+  if (!t.labelled && area_m2 > 0) {
+    t.area_ha = area_m2 / 1e4;
+    t.area_from = "detect's grid (bounding box)";
+  }
+  if (t.density < 0) t.density = x.density_all().value_or(-1);
+  if (t.density > 0) {
+    t.density_from = "index";
+  } else if (area_m2 > 0 && t.points > 0) {
+    t.density = t.points / area_m2;
+    t.density_from = "measured (points / bounding box)";
   }
 }
 

@@ -13,6 +13,7 @@
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
+#include "canopy/documents/candidates.h"
 #include "canopy/formats/json_document.h"
 #include "topview/topview.h"
 
@@ -169,26 +170,15 @@ Kind reason_of(const Json& rej, const std::string& w, std::map<std::string, int>
   return Kind::rejected;
 }
 
-double finite_number(const Json& j, const char* key, const std::string& where) {
-  const Json& v = member(j, key, where);
-  if (!v.is_number() || !std::isfinite(v.get<double>()))
-    throw Malformed(where + "." + key + " must be a finite number, not " + describe(v));
-  return v.get<double>();
-}
-
 // A candidate's footprint from detect's index: the length x width rectangle around "centre",
 // its long side along "heading" (radians from +x), counter-clockwise.
-Ring index_footprint(const Json& c, const std::string& w) {
-  const Json& centre = member(c, "centre", w);
-  if (!centre.is_array() || centre.size() < 2 || !centre[0].is_number() || !centre[1].is_number() ||
-      !std::isfinite(centre[0].get<double>()) || !std::isfinite(centre[1].get<double>())) {
-    throw Malformed(w + ".centre must be [x, y, z], not " + describe(centre));
-  }
-  const double l = finite_number(c, "length", w) / 2, b = finite_number(c, "width", w) / 2;
-  if (l < 0 || b < 0) throw Malformed(w + ": negative length or width");
-  const double h = finite_number(c, "heading", w);
+Ring index_footprint(const documents::Candidate& c, const std::string& w) {
+  if (!c.centre) throw Malformed(w + ": missing \"centre\"");
+  if (!c.heading) throw Malformed(w + ": missing \"heading\"");
+  const double l = c.length / 2, b = c.width / 2;
+  const double h = *c.heading;
   const double ux = std::cos(h), uy = std::sin(h);
-  const double x = centre[0].get<double>(), y = centre[1].get<double>();
+  const double x = (*c.centre)[0], y = (*c.centre)[1];
   Ring r;
   for (const auto& [sl, sb] : {std::pair{1, -1}, {1, 1}, {-1, 1}, {-1, -1}}) {
     r.push_back({x + sl * l * ux - sb * b * uy, y + sl * l * uy + sb * b * ux});
@@ -228,20 +218,17 @@ void add_rejected(const Sources& sources, const Json& d, Footprints& out) {
                       std::to_string(wanted.size()) + " rejected candidates are not drawn");
     return;
   }
-  const Json index = open(path, "canopy.candidates");
+  const documents::Candidates index = documents::read_candidates_file(path);
   try {
-    const Json& cs = array(index, "candidates", "index");
     std::map<std::string, std::size_t> at;
-    for (std::size_t i = 0; i < cs.size(); ++i) {
-      if (cs[i].is_object() && cs[i].contains("id") && cs[i]["id"].is_string())
-        at.emplace(cs[i]["id"].get<std::string>(), i);
-    }
+    for (std::size_t i = 0; i < index.candidates.size(); ++i) at.emplace(index.candidates[i].id, i);
     for (const auto& [id, kind] : wanted) {
       const auto it = at.find(id);
       if (it == at.end())
         throw Malformed("has no candidate \"" + id + "\" (rejected in " + sources.detections + ")");
       out.shapes.push_back(
-          {index_footprint(cs[it->second], "candidates[" + std::to_string(it->second) + "]"), kind});
+          {index_footprint(index.candidates[it->second], "candidates[" + std::to_string(it->second) + "]"),
+           kind});
     }
   } catch (const Malformed& e) { throw common::DataError(path, e.what()); }
 }
