@@ -15,6 +15,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/stats.h"
 #include "canopy/documents/candidates.h"
+#include "canopy/documents/detections.h"
 #include "canopy/formats/csv_table.h"
 #include "canopy/formats/json_document.h"
 
@@ -57,14 +58,6 @@ std::string text(const Json& j, const char* key) {
   return it != j.end() && it->is_string() ? it->get<std::string>() : "";
 }
 
-// density.all of a density object (detections v2 top level, index.json), -1 when not given.
-double density_all(const Json& j) {
-  const auto it = j.find("density");
-  if (it == j.end() || !it->is_object()) return -1;
-  const auto all = it->find("all");
-  return all != it->end() && all->is_number() && all->get<double>() > 0 ? all->get<double>() : -1;
-}
-
 // The tiles' sources (share/real/README.md), by name.
 std::string source(const std::string& name) {
   if (name.rfind("ahn3_", 0) == 0) return "AHN3 2014, Delft (CC0)";
@@ -78,41 +71,30 @@ std::string source(const std::string& name) {
 // The detections document: counts, levels, classes, reasons, warning; the group of each
 // detection by candidate id (for the class accuracy).
 void read_detections(const std::string& path, RealTile& t, std::map<std::string, std::string>& group) {
-  const Json d = open(path, "canopy.detections", 2);
+  const documents::Detections d = documents::read_detections_file(path);
   try {
-    t.version = count(d, "version", "");
-    t.candidates = count(d, "candidates", "");
-    t.found = count(d, "found", "");
-    const Json& dets = json_member(d, "detections", "");
-    if (!dets.is_array()) throw MalformedField("detections is not an array");
-    for (std::size_t i = 0; i < dets.size(); ++i) {
-      const Json& e = dets[i];
-      const std::string w = "detections[" + std::to_string(i) + "]";
-      if (!e.is_object()) throw MalformedField(w + " is not an object");
-      const std::string level = t.version >= 2 ? text(e, "level") : "model";
-      if (level != "model" && level != "class")
-        throw MalformedField(w + ".level is " + json_member(e, "level", w).dump() +
-                             ", not \"model\" or \"class\"");
-      const std::string what = level == "class" ? text(e, "class") : text(e, "model");
-      t.by_level[level]++;
-      t.by_class[level + ": " + (what.empty() ? "?" : what)]++;
-      group[text(e, "candidate")] = text(e, "group");
+    auto need = [](const auto& v, const char* key) {
+      if (!v) throw MalformedField(std::string("missing \"") + key + "\"");
+      return *v;
+    };
+    t.version = d.version;
+    t.candidates = need(d.candidates, "candidates");
+    t.found = need(d.found, "found");
+    const auto& dets = d.detections;
+    for (const documents::Detection& e : dets) {
+      const std::string& what = e.level == "class" ? e.cls : e.model;
+      t.by_level[e.level]++;
+      t.by_class[e.level + ": " + (what.empty() ? "?" : what)]++;
+      group[e.candidate] = e.group;
     }
     if (t.version >= 2) {
-      for (const char* key : {"by_level", "by_reason"}) {
-        const Json& o = json_member(d, key, "");
-        if (!o.is_object()) throw MalformedField(std::string(key) + " is not an object");
-        if (std::string(key) == "by_reason") {
-          for (const auto& [reason, n] : o.items()) t.by_reason[reason] = count(o, reason.c_str(), key);
-        }
-      }
-      const Json& warning = json_member(d, "warning", "");
-      if (!warning.is_null() && !warning.is_string())
-        throw MalformedField("warning is neither a sentence nor null");
-      if (warning.is_string()) t.warning = warning.get<std::string>();
-      t.density = density_all(d);
+      need(d.by_level, "by_level");
+      for (const auto& [reason, n] : need(d.by_reason, "by_reason")) t.by_reason[reason] = n;
+      t.warning = need(d.warning, "warning");
+      t.density = d.density_all().value_or(-1);
     } else {
-      for (const char* reason : {"none", "failed"}) t.by_reason[reason] = count(d, reason, "");
+      t.by_reason["none"] = need(d.none, "none");
+      t.by_reason["failed"] = need(d.failed, "failed");
     }
     int rejected = 0;
     for (const auto& [reason, n] : t.by_reason) rejected += n;

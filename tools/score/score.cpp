@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "canopy/common/error.h"
+#include "canopy/documents/detections.h"
 #include "canopy/formats/json_document.h"
 #include "canopy/formats/provenance.h"
 
@@ -108,35 +109,24 @@ Truth parse_truth(const std::string& text_, const std::string& name) {
 }
 
 Detections parse_detections(const std::string& text_, const std::string& name) {
-  const Json j = formats::open_json_document(text_, name, "canopy.detections", nullptr, 2);
+  const documents::Detections doc = documents::read_detections(text_, name);
   Detections d;
   d.name = name;
-  d.version = j["version"].get<int>();
+  d.version = doc.version;
   try {
-    d.candidates = count(j, "candidates", "detections document");
-    d.none = count(j, "none", "detections document");
-    const Json& ds = array(j, "detections", "detections document");
-    std::set<std::string> seen;
-    for (std::size_t i = 0; i < ds.size(); ++i) {
+    if (!doc.candidates) throw Malformed("detections document: missing \"candidates\"");
+    if (!doc.none) throw Malformed("detections document: missing \"none\"");
+    d.candidates = *doc.candidates;
+    d.none = *doc.none;
+    for (std::size_t i = 0; i < doc.detections.size(); ++i) {
+      const documents::Detection& x = doc.detections[i];
       const std::string w = "detections[" + std::to_string(i) + "]";
-      Detection e;
-      e.candidate = text(ds[i], "candidate", w);
-      if (!seen.insert(e.candidate).second) throw Malformed(w + ".candidate \"" + e.candidate + "\" repeats");
-      e.level = d.version >= 2 ? text(ds[i], "level", w) : "model";
-      if (e.level != "model" && e.level != "class")
-        throw Malformed(w + ".level must be \"model\" or \"class\"");
-      e.model = e.level == "model" ? text(ds[i], "model", w) : optional_text(ds[i], "model", w);
-      e.cls = optional_text(ds[i], "class", w);
-      e.group = optional_text(ds[i], "group", w);
-      if (e.level == "class" && e.cls.empty() && e.group.empty())
-        throw Malformed(w + ": a class-level detection without a class or group");
-      e.confidence = number(ds[i], "confidence", w);
-      if (e.confidence < 0 || e.confidence > 1) throw Malformed(w + ".confidence must lie in [0, 1]");
-      const Json& pose = member(ds[i], "pose", w);
-      e.x = number(pose, "x", w + ".pose");
-      e.y = number(pose, "y", w + ".pose");
-      e.z = number(pose, "z", w + ".pose");
-      e.heading = number(pose, "heading", w + ".pose");
+      if (x.level == "model" && x.model.empty())
+        throw Malformed(w + ": a model-level detection without a model");
+      if (!x.confidence) throw Malformed(w + ": missing \"confidence\"");
+      if (!x.pose) throw Malformed(w + ": missing \"pose\"");
+      const Detection e{x.candidate,   x.level,   x.model,   x.cls,     x.group,
+                        *x.confidence, x.pose->x, x.pose->y, x.pose->z, x.pose->heading};
       (e.level == "model" ? d.detections : d.class_detections).push_back(e);
     }
     const std::size_t found = d.detections.size() + d.class_detections.size();

@@ -14,6 +14,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
 #include "canopy/documents/candidates.h"
+#include "canopy/documents/detections.h"
 #include "canopy/formats/json_document.h"
 #include "topview/topview.h"
 
@@ -142,28 +143,9 @@ void add_truth(const std::string& path, const Outcomes& outcomes, std::vector<Sh
   } catch (const Malformed& e) { throw common::DataError(path, e.what()); }
 }
 
-// canopy.detections versions 1 and 2 (2 adds level and reason, docs/decisions/topview.md).
-Json open_detections(const std::string& path, int* version) {
-  Json d = formats::open_json_document(common::read_file(path), path, "canopy.detections", nullptr, 2);
-  *version = d["version"].get<int>();
-  return d;
-}
-
-// A detection's level: "level" when given (model or class), else model (v1: every detection
-// names a model) unless "model" is there and null.
-Kind level_of(const Json& det, const std::string& w) {
-  if (det.contains("level")) {
-    const std::string level = text(det, "level", w);
-    if (level == "model") return Kind::model;
-    if (level == "class") return Kind::cls;
-    throw Malformed(w + ".level must be model or class, not " + describe(det["level"]));
-  }
-  return det.contains("model") && det["model"].is_null() ? Kind::cls : Kind::model;
-}
-
 // A rejected candidate's kind by its "reason"; other reasons (and none given) are counted.
-Kind reason_of(const Json& rej, const std::string& w, std::map<std::string, int>& reasons) {
-  const std::string reason = rej.contains("reason") ? text(rej, "reason", w) : "not given";
+Kind reason_of(const documents::Rejection& r, std::map<std::string, int>& reasons) {
+  const std::string reason = r.reason.value_or("not given");
   if (reason == "none") return Kind::none;
   if (reason == "failed") return Kind::failed;
   ++reasons[reason];
@@ -187,11 +169,11 @@ Ring index_footprint(const documents::Candidate& c, const std::string& w) {
 }
 
 // The index to take the rejected candidates' footprints from (see read_footprints), or "".
-std::string find_index(const Sources& sources, const Json& d) {
+std::string find_index(const Sources& sources, const documents::Detections& d) {
   if (!sources.index.empty()) return sources.index;
-  if (!d.contains("index") || !d["index"].is_string()) return "";
+  if (d.index.empty()) return "";
   namespace fs = std::filesystem;
-  const fs::path named(d["index"].get<std::string>());
+  const fs::path named(d.index);
   std::error_code ec;
   if (fs::is_regular_file(named, ec)) return named.string();
   const fs::path beside = fs::path(sources.detections).parent_path() / named;
@@ -200,16 +182,10 @@ std::string find_index(const Sources& sources, const Json& d) {
 }
 
 // The rejected candidates' outlines (their footprints from the index) in the order listed.
-void add_rejected(const Sources& sources, const Json& d, Footprints& out) {
-  if (!d.contains("rejected")) return;  // an early v1 document
-  const Json& rejected = array(d, "rejected", "detections document");
+void add_rejected(const Sources& sources, const documents::Detections& d, Footprints& out) {
   std::vector<std::pair<std::string, Kind>> wanted;
-  for (std::size_t k = 0; k < rejected.size(); ++k) {
-    const std::string w = "rejected[" + std::to_string(k) + "]";
-    const Json& r = rejected[k];
-    if (!r.is_object()) throw Malformed(w + " must be an object, not " + describe(r));
-    wanted.emplace_back(text(r, "candidate", w), reason_of(r, w, out.reasons));
-  }
+  for (const documents::Rejection& r : d.rejected)
+    wanted.emplace_back(r.candidate, reason_of(r, out.reasons));
   if (wanted.empty()) return;
   const std::string path = find_index(sources, d);
   if (path.empty()) {
@@ -234,22 +210,19 @@ void add_rejected(const Sources& sources, const Json& d, Footprints& out) {
 }
 
 void add_detections(const Sources& sources, const Outcomes* outcomes, Footprints& out) {
-  int version = 1;
-  const Json d = open_detections(sources.detections, &version);
-  try {
-    const Json& detections = array(d, "detections", "detections document");
-    std::vector<Shape> found;
-    for (std::size_t k = 0; k < detections.size(); ++k) {
-      const std::string w = "detections[" + std::to_string(k) + "]";
-      const Json& det = detections[k];
-      if (!det.is_object()) throw Malformed(w + " must be an object, not " + describe(det));
-      const std::string candidate = text(det, "candidate", w);
-      const Kind level = level_of(det, w);
-      found.push_back({ring_of(det, w), outcomes ? detection_kind(*outcomes, candidate, level) : level});
+  const documents::Detections d = documents::read_detections_file(sources.detections);
+  std::vector<Shape> found;
+  for (std::size_t k = 0; k < d.detections.size(); ++k) {
+    const documents::Detection& det = d.detections[k];
+    if (det.footprint.empty()) {
+      throw common::DataError(sources.detections,
+                              "detections[" + std::to_string(k) + "]: missing \"footprint\"");
     }
-    add_rejected(sources, d, out);
-    out.shapes.insert(out.shapes.end(), found.begin(), found.end());
-  } catch (const Malformed& e) { throw common::DataError(sources.detections, e.what()); }
+    const Kind level = det.level == "class" ? Kind::cls : Kind::model;
+    found.push_back({det.footprint, outcomes ? detection_kind(*outcomes, det.candidate, level) : level});
+  }
+  add_rejected(sources, d, out);
+  out.shapes.insert(out.shapes.end(), found.begin(), found.end());
 }
 
 }  // namespace
