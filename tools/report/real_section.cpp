@@ -16,6 +16,7 @@
 #include "canopy/common/stats.h"
 #include "canopy/documents/candidates.h"
 #include "canopy/documents/detections.h"
+#include "canopy/documents/scene_truth.h"
 #include "canopy/formats/csv_table.h"
 #include "canopy/formats/json_document.h"
 
@@ -151,30 +152,16 @@ struct Uncertain {
 
 // The labels: vehicles (visibility), uncertain objects' centres, the extent's area.
 void read_truth(const std::string& path, RealTile& t, std::map<int, bool>& clear, std::vector<Uncertain>& unc) {
-  const Json j = open(path, "canopy.scene_truth");
-  try {
-    const Json& vs = json_member(j, "vehicles", "");
-    for (std::size_t i = 0; i < vs.size(); ++i) {
-      const std::string w = "vehicles[" + std::to_string(i) + "]";
-      clear[count(vs[i], "instance", w)] = text(vs[i], "visibility") == "clear";
-    }
-    t.vehicles = static_cast<int>(clear.size());
-    for (const auto& [id, c] : clear) t.clear += c ? 1 : 0;
-    const auto u = j.find("uncertain");
-    if (u != j.end() && u->is_array()) {
-      for (std::size_t i = 0; i < u->size(); ++i) {
-        const std::string w = "uncertain[" + std::to_string(i) + "]";
-        const Json& pose = json_member((*u)[i], "pose", w);
-        unc.push_back({number(pose, "x", w + ".pose"), number(pose, "y", w + ".pose")});
-      }
-    }
-    t.uncertain = static_cast<int>(unc.size());
-    const Json& ext = json_member(j, "extent", "");
-    if (ext.is_array() && ext.size() >= 2 && ext[0].is_number() && ext[1].is_number()) {
-      t.area_ha = ext[0].get<double>() * ext[1].get<double>() / 1e4;
-      t.area_from = "labels' extent";
-    }
-  } catch (const MalformedField& e) { throw common::DataError(path, e.what()); }
+  const documents::SceneTruth j = documents::read_scene_truth_file(path);
+  if (!j.extent) throw common::DataError(path, "missing \"extent\"");
+  for (const documents::TrueVehicle& v : j.vehicles)
+    clear[static_cast<int>(v.instance)] = v.visibility == "clear";
+  t.vehicles = static_cast<int>(clear.size());
+  for (const auto& [id, c] : clear) t.clear += c ? 1 : 0;
+  for (const documents::UncertainObject& u : j.uncertain) unc.push_back({u.x, u.y});
+  t.uncertain = static_cast<int>(unc.size());
+  t.area_ha = (*j.extent)[0] * (*j.extent)[1] / 1e4;
+  t.area_from = "labels' extent";
 }
 
 // score.json against the labels: recall (all, clear), precision without the detections on

@@ -15,6 +15,7 @@
 #include "canopy/common/log.h"
 #include "canopy/documents/candidates.h"
 #include "canopy/documents/detections.h"
+#include "canopy/documents/scene_truth.h"
 #include "canopy/formats/json_document.h"
 #include "topview/topview.h"
 
@@ -58,21 +59,6 @@ long long count(const Json& j, const char* key, const std::string& where) {
     throw Malformed(where + "." + key + " must be a non-negative integer, not " + describe(v));
   }
   return v.get<long long>();
-}
-
-Ring ring_of(const Json& j, const std::string& where) {
-  const Json& fp = member(j, "footprint", where);
-  if (!fp.is_array() || fp.size() < 3 || fp.size() > 64)
-    throw Malformed(where + ".footprint must be a polygon of 3 to 64 [x, y] corners");
-  Ring r;
-  for (std::size_t i = 0; i < fp.size(); ++i) {
-    const Json& p = fp[i];
-    if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number()) {
-      throw Malformed(where + ".footprint[" + std::to_string(i) + "] must be [x, y], not " + describe(p));
-    }
-    r.push_back({p[0].get<double>(), p[1].get<double>()});
-  }
-  return r;
 }
 
 // The score's matches of this tile: the outcome of each candidate (right, wrong,
@@ -130,17 +116,15 @@ Kind detection_kind(const Outcomes& o, const std::string& candidate, Kind level)
 }
 
 void add_truth(const std::string& path, const Outcomes& outcomes, std::vector<Shape>& shapes) {
-  const Json t = open(path, "canopy.scene_truth");
-  try {
-    const Json& vehicles = array(t, "vehicles", "truth");
-    for (std::size_t k = 0; k < vehicles.size(); ++k) {
-      const std::string w = "vehicles[" + std::to_string(k) + "]";
-      const Json& v = vehicles[k];
-      if (!v.is_object()) throw Malformed(w + " must be an object, not " + describe(v));
-      const bool miss = outcomes.missed.count(count(v, "instance", w)) > 0;
-      shapes.push_back({ring_of(v, w), miss ? Kind::missed : Kind::truth});
+  const documents::SceneTruth t = documents::read_scene_truth_file(path);
+  for (std::size_t k = 0; k < t.vehicles.size(); ++k) {
+    const documents::TrueVehicle& v = t.vehicles[k];
+    if (v.footprint.empty()) {
+      throw common::DataError(path, "vehicles[" + std::to_string(k) + "]: missing \"footprint\"");
     }
-  } catch (const Malformed& e) { throw common::DataError(path, e.what()); }
+    const bool miss = outcomes.missed.count(v.instance) > 0;
+    shapes.push_back({v.footprint, miss ? Kind::missed : Kind::truth});
+  }
 }
 
 // A rejected candidate's kind by its "reason"; other reasons (and none given) are counted.
