@@ -306,14 +306,16 @@ TEST_CASE("classify: the binary writes a class-level verdict; same input, same b
   formats::write_pcd(s.cloud, (dir / "c0001.pcd").string());
   // detect's index with this candidate's transform: heading 90 degrees, at UTM magnitudes.
   const double E = 500000.5, N = 5400000.25;
-  Json index{{"format", "canopy.candidates"},
-             {"version", 1},
-             {"candidates",
-              Json::array({Json{
-                  {"id", "c0001"},
-                  {"transform",
-                   Json::array({Json::array({0.0, -1.0, 0.0, E}), Json::array({1.0, 0.0, 0.0, N}),
-                                Json::array({0.0, 0.0, 1.0, 300.0}), Json::array({0.0, 0.0, 0.0, 1.0})})}}})}};
+  Json index{
+      {"format", "canopy.candidates"},
+      {"version", 1},
+      {"candidates",
+       Json::array({Json{
+           {"id", "c0001"},
+           {"transform", Json::array({Json::array({0.0, -1.0, 0.0, E}), Json::array({1.0, 0.0, 0.0, N}),
+                                      Json::array({0.0, 0.0, 1.0, 300.0}), Json::array({0.0, 0.0, 0.0, 1.0})})},
+           {"length", 2.3},
+           {"width", 0.9}}})}};
   std::ofstream(dir / "index.json") << index.dump();
   std::string err;
   const std::string args = " -i " + (dir / "c0001.pcd").string() + " --index " + (dir / "index.json").string();

@@ -238,5 +238,5 @@ TEST_CASE("real tiles: documents that do not add up are refused naming the file"
     "found": 1, "by_level": {}, "by_reason": {}, "density": null, "warning": null,
     "detections": [{"candidate": "c1", "level": "part"}]})");
   CHECK_THROWS_WITH(report::read_real_tile({"plotB", (root / "plotB").string(), ""}),
-                    Catch::Contains("detections[0].level is \"part\""));
+                    Catch::Contains("detections[0].level must be model or class, not \"part\""));
 }

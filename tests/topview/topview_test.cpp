@@ -310,14 +310,21 @@ TEST_CASE("the font has every character of the legend") {
 
 TEST_CASE("topview reads detections v1 and v2, rejected candidates from the index by reason") {
   const fs::path dir = test::fresh_dir("topview", "levels");
-  const Json index{
-      {"format", "canopy.candidates"},
-      {"version", 1},
-      {"candidates",
-       {{{"id", "c1"}, {"centre", {E + 2, N + 1.5, 0}}, {"length", 2}, {"width", 1}, {"heading", 0}},
-        {{"id", "c2"}, {"centre", {E + 7.5, N + 2, 0}}, {"length", 2}, {"width", 1}, {"heading", 1.5707963267948966}},
-        {{"id", "c3"}, {"centre", {E + 2, N + 8, 0}}, {"length", 2}, {"width", 1}, {"heading", 0}},
-        {{"id", "c4"}, {"centre", {E + 8, N + 8, 0}}, {"length", 2}, {"width", 1}, {"heading", 0}}}}};
+  // A 2 m x 1 m candidate at (x, y), its long side along the heading (0 or 90 degrees).
+  auto candidate = [](const char* id, double x, double y, bool turned) {
+    const double c = turned ? 0 : 1, s = turned ? 1 : 0;
+    return Json{{"id", id},
+                {"transform", {{c, -s, 0, x}, {s, c, 0, y}, {0, 0, 1, 0}, {0, 0, 0, 1}}},
+                {"centre", {x, y, 0}},
+                {"length", 2},
+                {"width", 1},
+                {"heading", turned ? 1.5707963267948966 : 0}};
+  };
+  const Json index{{"format", "canopy.candidates"},
+                   {"version", 1},
+                   {"candidates",
+                    {candidate("c1", E + 2, N + 1.5, false), candidate("c2", E + 7.5, N + 2, true),
+                     candidate("c3", E + 2, N + 8, false), candidate("c4", E + 8, N + 8, false)}}};
   fs::create_directories(dir / "cands");
   write_json(dir / "cands" / "index.json", index);
   const Json v1{

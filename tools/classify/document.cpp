@@ -6,6 +6,7 @@
 
 #include "canopy/common/error.h"
 #include "canopy/common/math.h"
+#include "canopy/documents/candidates.h"
 #include "canopy/formats/json_document.h"
 #include "canopy/formats/pose_eigen.h"
 #include "canopy/formats/verdict.h"
@@ -148,35 +149,12 @@ std::string serialize(const Answer& a, const Params& p, const Document& doc) {
 }
 
 Eigen::Isometry3d index_transform(const std::string& text, const std::string& name, const std::string& id) {
-  const Json j = formats::open_json_document(text, name, "canopy.candidates");
+  const documents::Candidates index = documents::read_candidates(text, name);
+  const documents::Candidate* c = index.find(id);
+  if (!c) throw common::DataError(name, "has no candidate \"" + id + "\"");
   try {
-    const Json& cs = formats::json_member(j, "candidates", "index");
-    if (!cs.is_array()) throw formats::MalformedField("candidates must be an array");
-    for (std::size_t i = 0; i < cs.size(); ++i) {
-      const std::string w = "candidates[" + std::to_string(i) + "]";
-      const Json& cid = formats::json_member(cs[i], "id", w);
-      if (!cid.is_string() || cid.get<std::string>() != id) continue;
-      const Json& t = formats::json_member(cs[i], "transform", w);
-      std::vector<double> v;
-      if (!t.is_array()) throw formats::MalformedField(w + ".transform must be an array");
-      for (const Json& row : t) {
-        if (row.is_array()) {
-          for (const Json& x : row) {
-            if (!x.is_number()) throw formats::MalformedField(w + ".transform holds a non-number");
-            v.push_back(x.get<double>());
-          }
-        } else if (row.is_number()) {
-          v.push_back(row.get<double>());
-        } else {
-          throw formats::MalformedField(w + ".transform holds a non-number");
-        }
-      }
-      try {
-        return rigid(v, w + ".transform");
-      } catch (const std::invalid_argument& e) { throw formats::MalformedField(e.what()); }
-    }
-  } catch (const formats::MalformedField& e) { throw common::DataError(name, e.what()); }
-  throw common::DataError(name, "has no candidate \"" + id + "\"");
+    return rigid(std::vector<double>(c->transform.begin(), c->transform.end()), "transform of " + id);
+  } catch (const std::invalid_argument& e) { throw common::DataError(name, e.what()); }
 }
 
 Eigen::Isometry3d parse_transform(const std::string& text) {

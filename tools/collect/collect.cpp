@@ -9,6 +9,7 @@
 
 #include "canopy/common/error.h"
 #include "canopy/common/math.h"
+#include "canopy/documents/candidates.h"
 #include "canopy/formats/json_document.h"
 #include "canopy/formats/provenance.h"
 #include "canopy/formats/verdict.h"
@@ -94,39 +95,14 @@ std::array<double, 3> euler_degrees(const Matrix& m) {
 }
 
 Index parse_index(const std::string& text, const std::string& name) {
-  const Json j = parse_document(text, name, "canopy.candidates");
+  const documents::Candidates doc = documents::read_candidates(text, name);
   Index index;
   index.name = name;
-  try {
-    if (j.contains("tile") && j["tile"].is_string()) index.tile = j["tile"].get<std::string>();
-    const Json& cs = member(j, "candidates", "index");
-    if (!cs.is_array()) throw Malformed("candidates must be an array");
-    std::set<std::string> seen;
-    static const std::regex id_ok("[A-Za-z0-9_.-]{1,64}");
-    for (std::size_t i = 0; i < cs.size(); ++i) {
-      const std::string w = "candidates[" + std::to_string(i) + "]";
-      Candidate c;
-      const Json& id = member(cs[i], "id", w);
-      if (!id.is_string()) throw Malformed(w + ".id must be a string");
-      c.id = id.get<std::string>();
-      // The id names a directory of per-candidate artifacts: no separators, no "..".
-      if (!std::regex_match(c.id, id_ok) || c.id == "." || c.id == "..") {
-        throw Malformed(w + ".id \"" + c.id + "\" is not a plain name (letters, digits, _ . -)");
-      }
-      if (!seen.insert(c.id).second) throw Malformed(w + ".id \"" + c.id + "\" repeats");
-      c.transform = matrix(member(cs[i], "transform", w), w + ".transform");
-      c.length = number(member(cs[i], "length", w), w + ".length");
-      c.width = number(member(cs[i], "width", w), w + ".width");
-      if (c.length < 0 || c.width < 0) throw Malformed(w + ": negative footprint");
-      if (cs[i].contains("density") && !cs[i]["density"].is_null()) {
-        c.density = number(cs[i]["density"], w + ".density");
-      } else if (cs[i].contains("object_points") && c.length * c.width > 0) {
-        c.density = number(cs[i]["object_points"], w + ".object_points") / (c.length * c.width);
-      }
-      index.candidates.push_back(c);
-    }
-    if (j.contains("density") && j["density"].is_object()) index.density = j["density"];
-  } catch (const Malformed& e) { throw common::DataError(name, e.what()); }
+  index.tile = doc.tile;
+  for (const documents::Candidate& d : doc.candidates) {
+    index.candidates.push_back(Candidate{d.id, d.transform, d.length, d.width, d.object_density()});
+  }
+  index.density = doc.density;
   return index;
 }
 

@@ -31,6 +31,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/signals.h"
 #include "canopy/common/log.h"
+#include "canopy/documents/candidates.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/provenance.h"
 #include "canopy/formats/ply.h"
@@ -639,72 +640,60 @@ void step(const WriteHooks& hooks, const char* name) {
 
 std::string serialize_index(const Result& r, const Params& p, const formats::Provenance& prov,
                             const std::string& tile, const std::string& classes) {
-  Json j{{"format", "canopy.candidates"},
-         {"version", 1},
-         {"provenance", formats::provenance_json(prov)},
-         {"tile", tile},
-         {"tile_points", r.stats.points},
-         {"origin", Json::array({finite(r.origin.x()), finite(r.origin.y()), finite(r.origin.z())})},
-         {"classes", classes.empty() ? Json(nullptr) : Json(classes)},
-         {"ground", Json{{"cell", r.density.cell > 0 ? r.density.cell : p.cell},  // the cell applied (§7)
-                         {"cells", r.stats.cells},
-                         {"ground_cells", r.stats.ground_cells},
-                         {"filled_cells", r.stats.filled_cells},
-                         {"ground_points", r.stats.ground_points}}}};
+  documents::Candidates d;
+  d.tile = tile;
+  d.tile_points = static_cast<std::int64_t>(r.stats.points);
+  d.origin = {r.origin.x(), r.origin.y(), r.origin.z()};
+  d.classes = classes;
+  d.ground = documents::GroundGrid{
+      r.density.cell > 0 ? r.density.cell : p.cell,  // the cell applied (§7)
+      static_cast<std::int64_t>(r.stats.cells), static_cast<std::int64_t>(r.stats.ground_cells),
+      static_cast<std::int64_t>(r.stats.filled_cells), static_cast<std::int64_t>(r.stats.ground_points)};
   // The tile's measured density and what the density rule made of it (detect.md §7).
-  const Density& d = r.density;
+  const Density& dn = r.density;
   auto optional = [](const std::optional<double>& v) { return v ? Json(finite(*v)) : Json(nullptr); };
-  j["density"] = Json{{"all", finite(d.all)},
-                      {"ground", optional(d.ground)},
-                      {"first", optional(d.first)},
-                      {"cell", 1.0},
-                      {"occupied_cells", d.occupied_cells},
-                      {"open_ground_cells", d.open_cells},
-                      {"rule", Json{{"density", finite(d.rule)},
-                                    {"voxel", finite(d.voxel)},
-                                    {"voxel_from", d.voxel_by_rule ? "density" : "option"},
-                                    {"min_planarity", finite(d.min_planarity)},
-                                    {"min_planarity_from", d.planarity_by_rule ? "density" : "option"},
-                                    {"dtm_cell", finite(d.cell)},
-                                    {"dtm_cell_from", d.cell_by_rule ? "density" : "option"}}}};
-  Json cands = Json::array();
+  d.density = Json{{"all", finite(dn.all)},
+                   {"ground", optional(dn.ground)},
+                   {"first", optional(dn.first)},
+                   {"cell", 1.0},
+                   {"occupied_cells", dn.occupied_cells},
+                   {"open_ground_cells", dn.open_cells},
+                   {"rule", Json{{"density", finite(dn.rule)},
+                                 {"voxel", finite(dn.voxel)},
+                                 {"voxel_from", dn.voxel_by_rule ? "density" : "option"},
+                                 {"min_planarity", finite(dn.min_planarity)},
+                                 {"min_planarity_from", dn.planarity_by_rule ? "density" : "option"},
+                                 {"dtm_cell", finite(dn.cell)},
+                                 {"dtm_cell_from", dn.cell_by_rule ? "density" : "option"}}}};
   for (const Candidate& c : r.candidates) {
-    Json t = Json::array();
+    documents::Candidate e;
+    e.id = c.id;
+    e.file = c.id + ".pcd";
     for (int row = 0; row < 4; ++row) {
-      t.push_back(Json::array({finite(c.to_tile(row, 0)), finite(c.to_tile(row, 1)),
-                               finite(c.to_tile(row, 2)), finite(c.to_tile(row, 3))}));
+      for (int col = 0; col < 4; ++col) e.transform[4 * row + col] = c.to_tile(row, col);
     }
-    Json cj{{"id", c.id},
-            {"file", c.id + ".pcd"},
-            {"transform", t},
-            {"centre", Json::array({c.to_tile(0, 3), c.to_tile(1, 3), c.to_tile(2, 3)})},
-            {"length", finite(c.length)},
-            {"width", finite(c.width)},
-            {"heading", finite(c.heading)},
-            {"height", finite(c.height)},
-            {"point_count", c.cloud.size()},
-            {"object_points", c.object_points},
-            {"density", finite(c.density)},
-            {"planarity", finite(c.planarity)},
-            {"planar_area", finite(c.planar_area)}};
-    if (c.has_truth) {
-      cj["truth"] = c.truth.instance == 0 ? Json(nullptr)
-                                          : Json{{"instance", c.truth.instance},
-                                                 {"points", c.truth.points},
-                                                 {"coverage", finite(c.truth.coverage)},
-                                                 {"purity", finite(c.truth.purity)}};
+    e.centre = std::array<double, 3>{c.to_tile(0, 3), c.to_tile(1, 3), c.to_tile(2, 3)};
+    e.length = c.length;
+    e.width = c.width;
+    e.heading = c.heading;
+    e.height = c.height;
+    e.point_count = static_cast<std::int64_t>(c.cloud.size());
+    e.object_points = static_cast<std::int64_t>(c.object_points);
+    e.density = c.density;
+    e.planarity = c.planarity;
+    e.planar_area = c.planar_area;
+    e.has_truth = c.has_truth;
+    if (c.has_truth && c.truth.instance != 0) {
+      e.truth = documents::CandidateTruth{c.truth.instance, static_cast<std::int64_t>(c.truth.points),
+                                          c.truth.coverage, c.truth.purity};
     }
-    cands.push_back(std::move(cj));
+    d.candidates.push_back(std::move(e));
   }
-  j["candidates"] = std::move(cands);
-  if (r.has_truth) {
-    Json inst = Json::array();
-    for (const auto& it : r.instances) {
-      inst.push_back(Json{{"instance", it.instance}, {"points", it.points}, {"candidates", it.candidates}});
-    }
-    j["instances"] = std::move(inst);
+  d.has_instances = r.has_truth;
+  for (const auto& it : r.instances) {
+    d.instances.push_back({it.instance, static_cast<std::int64_t>(it.points), it.candidates});
   }
-  return j.dump(1) + "\n";
+  return documents::write_candidates(d, prov);
 }
 
 void check_output_dir(const std::string& dir, const std::string& input) {

@@ -14,6 +14,9 @@
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "canopy/common/stats.h"
+#include "canopy/documents/candidates.h"
+#include "canopy/documents/detections.h"
+#include "canopy/documents/scene_truth.h"
 #include "canopy/formats/csv_table.h"
 #include "canopy/formats/json_document.h"
 
@@ -56,14 +59,6 @@ std::string text(const Json& j, const char* key) {
   return it != j.end() && it->is_string() ? it->get<std::string>() : "";
 }
 
-// density.all of a density object (detections v2 top level, index.json), -1 when not given.
-double density_all(const Json& j) {
-  const auto it = j.find("density");
-  if (it == j.end() || !it->is_object()) return -1;
-  const auto all = it->find("all");
-  return all != it->end() && all->is_number() && all->get<double>() > 0 ? all->get<double>() : -1;
-}
-
 // The tiles' sources (share/real/README.md), by name.
 std::string source(const std::string& name) {
   if (name.rfind("ahn3_", 0) == 0) return "AHN3 2014, Delft (CC0)";
@@ -77,41 +72,30 @@ std::string source(const std::string& name) {
 // The detections document: counts, levels, classes, reasons, warning; the group of each
 // detection by candidate id (for the class accuracy).
 void read_detections(const std::string& path, RealTile& t, std::map<std::string, std::string>& group) {
-  const Json d = open(path, "canopy.detections", 2);
+  const documents::Detections d = documents::read_detections_file(path);
   try {
-    t.version = count(d, "version", "");
-    t.candidates = count(d, "candidates", "");
-    t.found = count(d, "found", "");
-    const Json& dets = json_member(d, "detections", "");
-    if (!dets.is_array()) throw MalformedField("detections is not an array");
-    for (std::size_t i = 0; i < dets.size(); ++i) {
-      const Json& e = dets[i];
-      const std::string w = "detections[" + std::to_string(i) + "]";
-      if (!e.is_object()) throw MalformedField(w + " is not an object");
-      const std::string level = t.version >= 2 ? text(e, "level") : "model";
-      if (level != "model" && level != "class")
-        throw MalformedField(w + ".level is " + json_member(e, "level", w).dump() +
-                             ", not \"model\" or \"class\"");
-      const std::string what = level == "class" ? text(e, "class") : text(e, "model");
-      t.by_level[level]++;
-      t.by_class[level + ": " + (what.empty() ? "?" : what)]++;
-      group[text(e, "candidate")] = text(e, "group");
+    auto need = [](const auto& v, const char* key) {
+      if (!v) throw MalformedField(std::string("missing \"") + key + "\"");
+      return *v;
+    };
+    t.version = d.version;
+    t.candidates = need(d.candidates, "candidates");
+    t.found = need(d.found, "found");
+    const auto& dets = d.detections;
+    for (const documents::Detection& e : dets) {
+      const std::string& what = e.level == "class" ? e.cls : e.model;
+      t.by_level[e.level]++;
+      t.by_class[e.level + ": " + (what.empty() ? "?" : what)]++;
+      group[e.candidate] = e.group;
     }
     if (t.version >= 2) {
-      for (const char* key : {"by_level", "by_reason"}) {
-        const Json& o = json_member(d, key, "");
-        if (!o.is_object()) throw MalformedField(std::string(key) + " is not an object");
-        if (std::string(key) == "by_reason") {
-          for (const auto& [reason, n] : o.items()) t.by_reason[reason] = count(o, reason.c_str(), key);
-        }
-      }
-      const Json& warning = json_member(d, "warning", "");
-      if (!warning.is_null() && !warning.is_string())
-        throw MalformedField("warning is neither a sentence nor null");
-      if (warning.is_string()) t.warning = warning.get<std::string>();
-      t.density = density_all(d);
+      need(d.by_level, "by_level");
+      for (const auto& [reason, n] : need(d.by_reason, "by_reason")) t.by_reason[reason] = n;
+      t.warning = need(d.warning, "warning");
+      t.density = d.density_all().value_or(-1);
     } else {
-      for (const char* reason : {"none", "failed"}) t.by_reason[reason] = count(d, reason, "");
+      t.by_reason["none"] = need(d.none, "none");
+      t.by_reason["failed"] = need(d.failed, "failed");
     }
     int rejected = 0;
     for (const auto& [reason, n] : t.by_reason) rejected += n;
@@ -125,27 +109,21 @@ void read_detections(const std::string& path, RealTile& t, std::map<std::string,
 
 // detect's index: the tile's points, its grid's area, its density when detect gives it.
 void read_index(const std::string& path, RealTile& t) {
-  const Json x = open(path, "canopy.candidates", 2);
-  try {
-    t.points = json_member(x, "tile_points", "").get<long long>();
-    const Json& g = json_member(x, "ground", "");
-    const double cell = number(g, "cell", "ground");
-    const double area_m2 = cell * cell * number(g, "cells", "ground");
-    if (!t.labelled && area_m2 > 0) {
-      t.area_ha = area_m2 / 1e4;
-      t.area_from = "detect's grid (bounding box)";
-    }
-    if (t.density < 0) t.density = density_all(x);
-    if (t.density > 0) {
-      t.density_from = "index";
-    } else if (area_m2 > 0 && t.points > 0) {
-      t.density = t.points / area_m2;
-      t.density_from = "measured (points / bounding box)";
-    }
-  } catch (const MalformedField& e) {
-    throw common::DataError(path, e.what());
-  } catch (const Json::exception& e) {
-    throw common::DataError(path, std::string("tile_points is not a count: ") + e.what());
+  const documents::Candidates x = documents::read_candidates_file(path);
+  if (!x.tile_points) throw common::DataError(path, "index: missing \"tile_points\"");
+  if (!x.ground) throw common::DataError(path, "index: missing \"ground\"");
+  t.points = *x.tile_points;
+  const double area_m2 = x.ground->cell * x.ground->cell * static_cast<double>(x.ground->cells);
+  if (!t.labelled && area_m2 > 0) {
+    t.area_ha = area_m2 / 1e4;
+    t.area_from = "detect's grid (bounding box)";
+  }
+  if (t.density < 0) t.density = x.density_all().value_or(-1);
+  if (t.density > 0) {
+    t.density_from = "index";
+  } else if (area_m2 > 0 && t.points > 0) {
+    t.density = t.points / area_m2;
+    t.density_from = "measured (points / bounding box)";
   }
 }
 
@@ -174,30 +152,16 @@ struct Uncertain {
 
 // The labels: vehicles (visibility), uncertain objects' centres, the extent's area.
 void read_truth(const std::string& path, RealTile& t, std::map<int, bool>& clear, std::vector<Uncertain>& unc) {
-  const Json j = open(path, "canopy.scene_truth");
-  try {
-    const Json& vs = json_member(j, "vehicles", "");
-    for (std::size_t i = 0; i < vs.size(); ++i) {
-      const std::string w = "vehicles[" + std::to_string(i) + "]";
-      clear[count(vs[i], "instance", w)] = text(vs[i], "visibility") == "clear";
-    }
-    t.vehicles = static_cast<int>(clear.size());
-    for (const auto& [id, c] : clear) t.clear += c ? 1 : 0;
-    const auto u = j.find("uncertain");
-    if (u != j.end() && u->is_array()) {
-      for (std::size_t i = 0; i < u->size(); ++i) {
-        const std::string w = "uncertain[" + std::to_string(i) + "]";
-        const Json& pose = json_member((*u)[i], "pose", w);
-        unc.push_back({number(pose, "x", w + ".pose"), number(pose, "y", w + ".pose")});
-      }
-    }
-    t.uncertain = static_cast<int>(unc.size());
-    const Json& ext = json_member(j, "extent", "");
-    if (ext.is_array() && ext.size() >= 2 && ext[0].is_number() && ext[1].is_number()) {
-      t.area_ha = ext[0].get<double>() * ext[1].get<double>() / 1e4;
-      t.area_from = "labels' extent";
-    }
-  } catch (const MalformedField& e) { throw common::DataError(path, e.what()); }
+  const documents::SceneTruth j = documents::read_scene_truth_file(path);
+  if (!j.extent) throw common::DataError(path, "missing \"extent\"");
+  for (const documents::TrueVehicle& v : j.vehicles)
+    clear[static_cast<int>(v.instance)] = v.visibility == "clear";
+  t.vehicles = static_cast<int>(clear.size());
+  for (const auto& [id, c] : clear) t.clear += c ? 1 : 0;
+  for (const documents::UncertainObject& u : j.uncertain) unc.push_back({u.x, u.y});
+  t.uncertain = static_cast<int>(unc.size());
+  t.area_ha = (*j.extent)[0] * (*j.extent)[1] / 1e4;
+  t.area_from = "labels' extent";
 }
 
 // score.json against the labels: recall (all, clear), precision without the detections on

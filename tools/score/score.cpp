@@ -8,6 +8,8 @@
 #include <stdexcept>
 
 #include "canopy/common/error.h"
+#include "canopy/documents/detections.h"
+#include "canopy/documents/scene_truth.h"
 #include "canopy/formats/json_document.h"
 #include "canopy/formats/provenance.h"
 
@@ -17,39 +19,6 @@ namespace {
 using Json = nlohmann::ordered_json;
 
 using Malformed = formats::MalformedField;
-constexpr auto member = formats::json_member;
-
-double number(const Json& j, const char* key, const std::string& where) {
-  const Json& v = member(j, key, where);
-  if (!v.is_number()) throw Malformed(where + "." + key + " must be a number, not " + v.dump().substr(0, 40));
-  const double d = v.get<double>();
-  if (!std::isfinite(d)) throw Malformed(where + "." + key + " is not finite");
-  return d;
-}
-
-std::string text(const Json& j, const char* key, const std::string& where) {
-  const Json& v = member(j, key, where);
-  if (!v.is_string()) throw Malformed(where + "." + key + " must be a string, not " + v.dump().substr(0, 40));
-  return v.get<std::string>();
-}
-
-int count(const Json& j, const char* key, const std::string& where) {
-  const Json& v = member(j, key, where);
-  if (!v.is_number_integer() || v.get<long long>() < 0 || v.get<long long>() > 100000000) {
-    throw Malformed(where + "." + key + " must be a count, not " + v.dump().substr(0, 40));
-  }
-  return v.get<int>();
-}
-
-const Json& array(const Json& j, const char* key, const std::string& where) {
-  const Json& v = member(j, key, where);
-  if (!v.is_array()) throw Malformed(where + "." + key + " must be an array");
-  return v;
-}
-
-Json parse_document(const std::string& text_, const std::string& name, const char* format) {
-  return formats::open_json_document(text_, name, format);
-}
 
 Json ratio(double a, double b) { return b > 0 ? Json(a / b) : Json(nullptr); }
 Json maybe(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
@@ -63,80 +32,50 @@ struct Tally {
   std::vector<double> class_position, class_heading;
 };
 
-std::string optional_text(const Json& j, const char* key, const std::string& where) {
-  if (!j.contains(key) || j[key].is_null()) return "";
-  return text(j, key, where);
-}
-
 }  // namespace
 
 Truth parse_truth(const std::string& text_, const std::string& name) {
-  const Json j = parse_document(text_, name, "canopy.scene_truth");
+  const documents::SceneTruth doc = documents::read_scene_truth(text_, name);
   Truth t;
   t.name = name;
   try {
-    const Json& extent = array(j, "extent", "truth");
-    if (extent.size() != 2 || !extent[0].is_number() || !extent[1].is_number()) {
-      throw Malformed("extent must be [X, Y]");
-    }
-    t.extent_x = extent[0].get<double>();
-    t.extent_y = extent[1].get<double>();
-    if (!(t.extent_x > 0 && t.extent_y > 0 && std::isfinite(t.extent_x * t.extent_y))) {
-      throw Malformed("extent must be positive");
-    }
-    const Json& vs = array(j, "vehicles", "truth");
-    std::set<int> seen;
-    for (std::size_t i = 0; i < vs.size(); ++i) {
+    if (!doc.extent) throw Malformed("truth: missing \"extent\"");
+    t.extent_x = (*doc.extent)[0];
+    t.extent_y = (*doc.extent)[1];
+    for (std::size_t i = 0; i < doc.vehicles.size(); ++i) {
+      const documents::TrueVehicle& x = doc.vehicles[i];
       const std::string w = "vehicles[" + std::to_string(i) + "]";
-      TrueVehicle v;
-      v.instance = count(vs[i], "instance", w);
-      if (!seen.insert(v.instance).second)
-        throw Malformed(w + ".instance " + std::to_string(v.instance) + " repeats");
-      v.model = text(vs[i], "model", w);
-      const Json& pose = member(vs[i], "pose", w);
-      v.x = number(pose, "x", w + ".pose");
-      v.y = number(pose, "y", w + ".pose");
-      v.z = number(pose, "z", w + ".pose");
-      v.heading = number(pose, "heading", w + ".pose");
-      v.cover = number(vs[i], "canopy_cover", w);
-      v.cls = optional_text(vs[i], "class", w);
-      if (v.cover < 0 || v.cover > 1) throw Malformed(w + ".canopy_cover must lie in [0, 1]");
-      t.vehicles.push_back(v);
+      if (x.model.empty()) throw Malformed(w + ": missing \"model\"");
+      if (!x.pose) throw Malformed(w + ": missing \"pose\"");
+      if (!x.pose->z) throw Malformed(w + ".pose: missing \"z\"");
+      if (!x.pose->heading) throw Malformed(w + ".pose: missing \"heading\"");
+      if (!x.canopy_cover) throw Malformed(w + ": missing \"canopy_cover\"");
+      t.vehicles.push_back(TrueVehicle{static_cast<int>(x.instance), x.model, x.pose->x, x.pose->y,
+                                       *x.pose->z, *x.pose->heading, *x.canopy_cover, x.cls});
     }
   } catch (const Malformed& e) { throw common::DataError(name, e.what()); }
   return t;
 }
 
 Detections parse_detections(const std::string& text_, const std::string& name) {
-  const Json j = formats::open_json_document(text_, name, "canopy.detections", nullptr, 2);
+  const documents::Detections doc = documents::read_detections(text_, name);
   Detections d;
   d.name = name;
-  d.version = j["version"].get<int>();
+  d.version = doc.version;
   try {
-    d.candidates = count(j, "candidates", "detections document");
-    d.none = count(j, "none", "detections document");
-    const Json& ds = array(j, "detections", "detections document");
-    std::set<std::string> seen;
-    for (std::size_t i = 0; i < ds.size(); ++i) {
+    if (!doc.candidates) throw Malformed("detections document: missing \"candidates\"");
+    if (!doc.none) throw Malformed("detections document: missing \"none\"");
+    d.candidates = *doc.candidates;
+    d.none = *doc.none;
+    for (std::size_t i = 0; i < doc.detections.size(); ++i) {
+      const documents::Detection& x = doc.detections[i];
       const std::string w = "detections[" + std::to_string(i) + "]";
-      Detection e;
-      e.candidate = text(ds[i], "candidate", w);
-      if (!seen.insert(e.candidate).second) throw Malformed(w + ".candidate \"" + e.candidate + "\" repeats");
-      e.level = d.version >= 2 ? text(ds[i], "level", w) : "model";
-      if (e.level != "model" && e.level != "class")
-        throw Malformed(w + ".level must be \"model\" or \"class\"");
-      e.model = e.level == "model" ? text(ds[i], "model", w) : optional_text(ds[i], "model", w);
-      e.cls = optional_text(ds[i], "class", w);
-      e.group = optional_text(ds[i], "group", w);
-      if (e.level == "class" && e.cls.empty() && e.group.empty())
-        throw Malformed(w + ": a class-level detection without a class or group");
-      e.confidence = number(ds[i], "confidence", w);
-      if (e.confidence < 0 || e.confidence > 1) throw Malformed(w + ".confidence must lie in [0, 1]");
-      const Json& pose = member(ds[i], "pose", w);
-      e.x = number(pose, "x", w + ".pose");
-      e.y = number(pose, "y", w + ".pose");
-      e.z = number(pose, "z", w + ".pose");
-      e.heading = number(pose, "heading", w + ".pose");
+      if (x.level == "model" && x.model.empty())
+        throw Malformed(w + ": a model-level detection without a model");
+      if (!x.confidence) throw Malformed(w + ": missing \"confidence\"");
+      if (!x.pose) throw Malformed(w + ": missing \"pose\"");
+      const Detection e{x.candidate,   x.level,   x.model,   x.cls,     x.group,
+                        *x.confidence, x.pose->x, x.pose->y, x.pose->z, x.pose->heading};
       (e.level == "model" ? d.detections : d.class_detections).push_back(e);
     }
     const std::size_t found = d.detections.size() + d.class_detections.size();

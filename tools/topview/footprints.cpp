@@ -13,6 +13,9 @@
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
+#include "canopy/documents/candidates.h"
+#include "canopy/documents/detections.h"
+#include "canopy/documents/scene_truth.h"
 #include "canopy/formats/json_document.h"
 #include "topview/topview.h"
 
@@ -56,21 +59,6 @@ long long count(const Json& j, const char* key, const std::string& where) {
     throw Malformed(where + "." + key + " must be a non-negative integer, not " + describe(v));
   }
   return v.get<long long>();
-}
-
-Ring ring_of(const Json& j, const std::string& where) {
-  const Json& fp = member(j, "footprint", where);
-  if (!fp.is_array() || fp.size() < 3 || fp.size() > 64)
-    throw Malformed(where + ".footprint must be a polygon of 3 to 64 [x, y] corners");
-  Ring r;
-  for (std::size_t i = 0; i < fp.size(); ++i) {
-    const Json& p = fp[i];
-    if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number()) {
-      throw Malformed(where + ".footprint[" + std::to_string(i) + "] must be [x, y], not " + describe(p));
-    }
-    r.push_back({p[0].get<double>(), p[1].get<double>()});
-  }
-  return r;
 }
 
 // The score's matches of this tile: the outcome of each candidate (right, wrong,
@@ -128,67 +116,35 @@ Kind detection_kind(const Outcomes& o, const std::string& candidate, Kind level)
 }
 
 void add_truth(const std::string& path, const Outcomes& outcomes, std::vector<Shape>& shapes) {
-  const Json t = open(path, "canopy.scene_truth");
-  try {
-    const Json& vehicles = array(t, "vehicles", "truth");
-    for (std::size_t k = 0; k < vehicles.size(); ++k) {
-      const std::string w = "vehicles[" + std::to_string(k) + "]";
-      const Json& v = vehicles[k];
-      if (!v.is_object()) throw Malformed(w + " must be an object, not " + describe(v));
-      const bool miss = outcomes.missed.count(count(v, "instance", w)) > 0;
-      shapes.push_back({ring_of(v, w), miss ? Kind::missed : Kind::truth});
+  const documents::SceneTruth t = documents::read_scene_truth_file(path);
+  for (std::size_t k = 0; k < t.vehicles.size(); ++k) {
+    const documents::TrueVehicle& v = t.vehicles[k];
+    if (v.footprint.empty()) {
+      throw common::DataError(path, "vehicles[" + std::to_string(k) + "]: missing \"footprint\"");
     }
-  } catch (const Malformed& e) { throw common::DataError(path, e.what()); }
-}
-
-// canopy.detections versions 1 and 2 (2 adds level and reason, docs/decisions/topview.md).
-Json open_detections(const std::string& path, int* version) {
-  Json d = formats::open_json_document(common::read_file(path), path, "canopy.detections", nullptr, 2);
-  *version = d["version"].get<int>();
-  return d;
-}
-
-// A detection's level: "level" when given (model or class), else model (v1: every detection
-// names a model) unless "model" is there and null.
-Kind level_of(const Json& det, const std::string& w) {
-  if (det.contains("level")) {
-    const std::string level = text(det, "level", w);
-    if (level == "model") return Kind::model;
-    if (level == "class") return Kind::cls;
-    throw Malformed(w + ".level must be model or class, not " + describe(det["level"]));
+    const bool miss = outcomes.missed.count(v.instance) > 0;
+    shapes.push_back({v.footprint, miss ? Kind::missed : Kind::truth});
   }
-  return det.contains("model") && det["model"].is_null() ? Kind::cls : Kind::model;
 }
 
 // A rejected candidate's kind by its "reason"; other reasons (and none given) are counted.
-Kind reason_of(const Json& rej, const std::string& w, std::map<std::string, int>& reasons) {
-  const std::string reason = rej.contains("reason") ? text(rej, "reason", w) : "not given";
+Kind reason_of(const documents::Rejection& r, std::map<std::string, int>& reasons) {
+  const std::string reason = r.reason.value_or("not given");
   if (reason == "none") return Kind::none;
   if (reason == "failed") return Kind::failed;
   ++reasons[reason];
   return Kind::rejected;
 }
 
-double finite_number(const Json& j, const char* key, const std::string& where) {
-  const Json& v = member(j, key, where);
-  if (!v.is_number() || !std::isfinite(v.get<double>()))
-    throw Malformed(where + "." + key + " must be a finite number, not " + describe(v));
-  return v.get<double>();
-}
-
 // A candidate's footprint from detect's index: the length x width rectangle around "centre",
 // its long side along "heading" (radians from +x), counter-clockwise.
-Ring index_footprint(const Json& c, const std::string& w) {
-  const Json& centre = member(c, "centre", w);
-  if (!centre.is_array() || centre.size() < 2 || !centre[0].is_number() || !centre[1].is_number() ||
-      !std::isfinite(centre[0].get<double>()) || !std::isfinite(centre[1].get<double>())) {
-    throw Malformed(w + ".centre must be [x, y, z], not " + describe(centre));
-  }
-  const double l = finite_number(c, "length", w) / 2, b = finite_number(c, "width", w) / 2;
-  if (l < 0 || b < 0) throw Malformed(w + ": negative length or width");
-  const double h = finite_number(c, "heading", w);
+Ring index_footprint(const documents::Candidate& c, const std::string& w) {
+  if (!c.centre) throw Malformed(w + ": missing \"centre\"");
+  if (!c.heading) throw Malformed(w + ": missing \"heading\"");
+  const double l = c.length / 2, b = c.width / 2;
+  const double h = *c.heading;
   const double ux = std::cos(h), uy = std::sin(h);
-  const double x = centre[0].get<double>(), y = centre[1].get<double>();
+  const double x = (*c.centre)[0], y = (*c.centre)[1];
   Ring r;
   for (const auto& [sl, sb] : {std::pair{1, -1}, {1, 1}, {-1, 1}, {-1, -1}}) {
     r.push_back({x + sl * l * ux - sb * b * uy, y + sl * l * uy + sb * b * ux});
@@ -197,11 +153,11 @@ Ring index_footprint(const Json& c, const std::string& w) {
 }
 
 // The index to take the rejected candidates' footprints from (see read_footprints), or "".
-std::string find_index(const Sources& sources, const Json& d) {
+std::string find_index(const Sources& sources, const documents::Detections& d) {
   if (!sources.index.empty()) return sources.index;
-  if (!d.contains("index") || !d["index"].is_string()) return "";
+  if (d.index.empty()) return "";
   namespace fs = std::filesystem;
-  const fs::path named(d["index"].get<std::string>());
+  const fs::path named(d.index);
   std::error_code ec;
   if (fs::is_regular_file(named, ec)) return named.string();
   const fs::path beside = fs::path(sources.detections).parent_path() / named;
@@ -210,16 +166,10 @@ std::string find_index(const Sources& sources, const Json& d) {
 }
 
 // The rejected candidates' outlines (their footprints from the index) in the order listed.
-void add_rejected(const Sources& sources, const Json& d, Footprints& out) {
-  if (!d.contains("rejected")) return;  // an early v1 document
-  const Json& rejected = array(d, "rejected", "detections document");
+void add_rejected(const Sources& sources, const documents::Detections& d, Footprints& out) {
   std::vector<std::pair<std::string, Kind>> wanted;
-  for (std::size_t k = 0; k < rejected.size(); ++k) {
-    const std::string w = "rejected[" + std::to_string(k) + "]";
-    const Json& r = rejected[k];
-    if (!r.is_object()) throw Malformed(w + " must be an object, not " + describe(r));
-    wanted.emplace_back(text(r, "candidate", w), reason_of(r, w, out.reasons));
-  }
+  for (const documents::Rejection& r : d.rejected)
+    wanted.emplace_back(r.candidate, reason_of(r, out.reasons));
   if (wanted.empty()) return;
   const std::string path = find_index(sources, d);
   if (path.empty()) {
@@ -228,41 +178,35 @@ void add_rejected(const Sources& sources, const Json& d, Footprints& out) {
                       std::to_string(wanted.size()) + " rejected candidates are not drawn");
     return;
   }
-  const Json index = open(path, "canopy.candidates");
+  const documents::Candidates index = documents::read_candidates_file(path);
   try {
-    const Json& cs = array(index, "candidates", "index");
     std::map<std::string, std::size_t> at;
-    for (std::size_t i = 0; i < cs.size(); ++i) {
-      if (cs[i].is_object() && cs[i].contains("id") && cs[i]["id"].is_string())
-        at.emplace(cs[i]["id"].get<std::string>(), i);
-    }
+    for (std::size_t i = 0; i < index.candidates.size(); ++i) at.emplace(index.candidates[i].id, i);
     for (const auto& [id, kind] : wanted) {
       const auto it = at.find(id);
       if (it == at.end())
         throw Malformed("has no candidate \"" + id + "\" (rejected in " + sources.detections + ")");
       out.shapes.push_back(
-          {index_footprint(cs[it->second], "candidates[" + std::to_string(it->second) + "]"), kind});
+          {index_footprint(index.candidates[it->second], "candidates[" + std::to_string(it->second) + "]"),
+           kind});
     }
   } catch (const Malformed& e) { throw common::DataError(path, e.what()); }
 }
 
 void add_detections(const Sources& sources, const Outcomes* outcomes, Footprints& out) {
-  int version = 1;
-  const Json d = open_detections(sources.detections, &version);
-  try {
-    const Json& detections = array(d, "detections", "detections document");
-    std::vector<Shape> found;
-    for (std::size_t k = 0; k < detections.size(); ++k) {
-      const std::string w = "detections[" + std::to_string(k) + "]";
-      const Json& det = detections[k];
-      if (!det.is_object()) throw Malformed(w + " must be an object, not " + describe(det));
-      const std::string candidate = text(det, "candidate", w);
-      const Kind level = level_of(det, w);
-      found.push_back({ring_of(det, w), outcomes ? detection_kind(*outcomes, candidate, level) : level});
+  const documents::Detections d = documents::read_detections_file(sources.detections);
+  std::vector<Shape> found;
+  for (std::size_t k = 0; k < d.detections.size(); ++k) {
+    const documents::Detection& det = d.detections[k];
+    if (det.footprint.empty()) {
+      throw common::DataError(sources.detections,
+                              "detections[" + std::to_string(k) + "]: missing \"footprint\"");
     }
-    add_rejected(sources, d, out);
-    out.shapes.insert(out.shapes.end(), found.begin(), found.end());
-  } catch (const Malformed& e) { throw common::DataError(sources.detections, e.what()); }
+    const Kind level = det.level == "class" ? Kind::cls : Kind::model;
+    found.push_back({det.footprint, outcomes ? detection_kind(*outcomes, det.candidate, level) : level});
+  }
+  add_rejected(sources, d, out);
+  out.shapes.insert(out.shapes.end(), found.begin(), found.end());
 }
 
 }  // namespace

@@ -1,0 +1,101 @@
+// A tile's candidates index: index.json of detect's output directory, format
+// "canopy.candidates", version 1 (formats/README.md "Candidate index"). detect writes it;
+// collect, classify, topview and report read it.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "canopy/formats/provenance.h"
+
+namespace canopy::documents {
+
+inline constexpr const char* kCandidatesFormat = "canopy.candidates";
+inline constexpr int kCandidatesVersion = 1;
+
+using Matrix4 = std::array<double, 16>;  // 4 x 4 row-major, float64
+
+// The ground truth of one candidate (only in an index of a tile with an instance field).
+struct CandidateTruth {
+  std::int64_t instance = 0;  // the vehicle with the most points in the object
+  std::int64_t points = 0;    // that vehicle's points in the crop
+  double coverage = 0;        // ... as a share of the vehicle's points in the tile
+  double purity = 0;          // ... as a share of the object's points
+};
+
+// One candidate. detect writes every member; a reader requires id, transform, length and
+// width and type-checks the others when they are there (hand-written indexes of the tests and
+// older indexes leave some out).
+struct Candidate {
+  std::string id;       // a plain name (letters, digits, _ . -; 1 to 64; not . or ..), unique
+  std::string file;     // id + ".pcd" ("" when not given)
+  Matrix4 transform{};  // local -> tile, rigid (R orthonormal within 1e-6, det +1), last row 0 0 0 1
+  std::optional<std::array<double, 3>> centre;   // the transform's translation
+  double length = 0, width = 0;                  // >= 0 (m)
+  std::optional<double> heading;                 // radians from +x toward +y
+  std::optional<double> height;                  // m
+  std::optional<std::int64_t> point_count;       // rows of the candidate PCD
+  std::optional<std::int64_t> object_points;     // points of the detected object
+  std::optional<double> density;                 // object points per m² (null or absent: older index)
+  std::optional<double> planarity, planar_area;  // detect's shape test
+  bool has_truth = false;                        // "truth" is there (an object or null)
+  std::optional<CandidateTruth> truth;           // null: a false candidate
+
+  // density, else object_points / (length x width) when both are known and the area > 0.
+  std::optional<double> object_density() const;
+};
+
+// A labelled vehicle of the tile and the candidates whose truth it is.
+struct InstanceTruth {
+  std::int64_t instance = 0;
+  std::int64_t points = 0;
+  std::vector<std::string> candidates;
+};
+
+struct GroundGrid {
+  double cell = 0;  // the DTM cell applied (m)
+  std::int64_t cells = 0, ground_cells = 0, filled_cells = 0, ground_points = 0;
+};
+
+struct Candidates {
+  nlohmann::ordered_json provenance;  // as written (reading); null when absent
+  std::string tile;                   // the tile detect read, as given ("" when absent)
+  std::optional<std::int64_t> tile_points;
+  std::optional<std::array<double, 3>> origin;
+  std::string classes;  // classes.ply's name, "" for null / absent
+  std::optional<GroundGrid> ground;
+  // The tile's density and what the density rule made of it (docs/decisions/detect.md §7),
+  // an object kept as written (collect copies it into the detections); null when absent.
+  nlohmann::ordered_json density;
+  std::vector<Candidate> candidates;  // in the index's order
+  bool has_instances = false;
+  std::vector<InstanceTruth> instances;
+
+  // density.all when it is a number > 0.
+  std::optional<double> density_all() const;
+  // The candidate of that id, nullptr when none.
+  const Candidate* find(const std::string& id) const;
+};
+
+// Reads `text`, the contents of file `name`. Throws common::DataError naming `name`: not JSON,
+// another format, a version other than 1, "candidates" missing or not an array, a candidate
+// without a plain unique id, a transform that is not a rigid 4 x 4 (4 rows of 4 numbers, or 16
+// numbers), length or width missing, not finite or negative, any other member of a wrong type
+// ("candidates[2].heading must be a finite number").
+Candidates read_candidates(const std::string& text, const std::string& name);
+// The file at `path` (common::read_file), then read_candidates.
+Candidates read_candidates_file(const std::string& path);
+
+// The index as detect writes it (one space indent, a final newline), every member of `c`
+// written: `prov` as provenance, a candidate's truth when has_truth, instances when
+// has_instances. Throws common::Error for a non-finite number or a candidate without
+// centre, heading, height, point_count, object_points, density, planarity or planar_area
+// (a writer's bug) .
+std::string write_candidates(const Candidates& c, const formats::Provenance& prov);
+
+}  // namespace canopy::documents

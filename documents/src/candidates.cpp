@@ -1,0 +1,211 @@
+#include "canopy/documents/candidates.h"
+
+#include <regex>
+#include <set>
+
+#include "canopy/common/atomic_file.h"
+#include "canopy/common/error.h"
+#include "canopy/formats/json_document.h"
+#include "members.h"
+
+namespace canopy::documents {
+namespace {
+
+using namespace members;  // NOLINT(google-build-using-namespace): the document's member helpers
+
+std::optional<double> optional_number(const Json& j, const char* key, const std::string& w) {
+  const Json* v = optional(j, key);
+  return v ? std::optional<double>(finite_number(*v, path(w, key))) : std::nullopt;
+}
+
+std::optional<std::int64_t> optional_count(const Json& j, const char* key, const std::string& w) {
+  const Json* v = optional(j, key);
+  return v ? std::optional<std::int64_t>(count(*v, path(w, key))) : std::nullopt;
+}
+
+Candidate read_candidate(const Json& j, const std::string& w, std::set<std::string>& seen) {
+  static const std::regex id_ok("[A-Za-z0-9_.-]{1,64}");
+  object(j, w);
+  Candidate c;
+  const Json& id = at(j, "id", w);
+  if (!id.is_string()) throw Malformed(w + ".id must be a string");
+  c.id = id.get<std::string>();
+  // The id names a directory of per-candidate artifacts: no separators, no "..".
+  if (!std::regex_match(c.id, id_ok) || c.id == "." || c.id == "..") {
+    throw Malformed(w + ".id \"" + c.id + "\" is not a plain name (letters, digits, _ . -)");
+  }
+  if (!seen.insert(c.id).second) throw Malformed(w + ".id \"" + c.id + "\" repeats");
+  if (const Json* f = optional(j, "file")) c.file = text(*f, w + ".file");
+  c.transform = rigid_matrix(at(j, "transform", w), w + ".transform");
+  if (const Json* v = optional(j, "centre")) c.centre = point3(*v, w + ".centre");
+  c.length = finite_number(at(j, "length", w), w + ".length");
+  c.width = finite_number(at(j, "width", w), w + ".width");
+  if (c.length < 0 || c.width < 0) throw Malformed(w + ": negative footprint");
+  c.heading = optional_number(j, "heading", w);
+  c.height = optional_number(j, "height", w);
+  c.point_count = optional_count(j, "point_count", w);
+  c.object_points = optional_count(j, "object_points", w);
+  c.density = optional_number(j, "density", w);
+  c.planarity = optional_number(j, "planarity", w);
+  c.planar_area = optional_number(j, "planar_area", w);
+  c.has_truth = j.contains("truth");
+  if (const Json* t = optional(j, "truth")) {
+    const std::string tw = w + ".truth";
+    object(*t, tw);
+    CandidateTruth truth;
+    truth.instance = count(at(*t, "instance", tw), tw + ".instance");
+    truth.points = count(at(*t, "points", tw), tw + ".points");
+    truth.coverage = finite_number(at(*t, "coverage", tw), tw + ".coverage");
+    truth.purity = finite_number(at(*t, "purity", tw), tw + ".purity");
+    c.truth = truth;
+  }
+  return c;
+}
+
+Candidates read_members(const Json& j) {
+  Candidates d;
+  d.provenance = j.contains("provenance") ? j["provenance"] : Json();
+  if (const Json* t = optional(j, "tile")) d.tile = text(*t, "tile");
+  d.tile_points = optional_count(j, "tile_points", "");
+  if (const Json* o = optional(j, "origin")) d.origin = point3(*o, "origin");
+  if (const Json* c = optional(j, "classes")) d.classes = text(*c, "classes");
+  if (const Json* g = optional(j, "ground")) {
+    object(*g, "ground");
+    GroundGrid grid;
+    grid.cell = finite_number(at(*g, "cell", "ground"), "ground.cell");
+    grid.cells = count(at(*g, "cells", "ground"), "ground.cells");
+    for (auto [key, out] : {std::pair{"ground_cells", &grid.ground_cells},
+                            {"filled_cells", &grid.filled_cells},
+                            {"ground_points", &grid.ground_points}}) {
+      if (const Json* v = optional(*g, key)) *out = count(*v, path("ground", key));
+    }
+    d.ground = grid;
+  }
+  if (const Json* dens = optional(j, "density")) {
+    object(*dens, "density");
+    if (const Json* all = optional(*dens, "all")) finite_number(*all, "density.all");
+    d.density = *dens;
+  }
+  const Json& cs = array(at(j, "candidates", "index"), "candidates");
+  std::set<std::string> seen;
+  for (std::size_t i = 0; i < cs.size(); ++i) {
+    d.candidates.push_back(read_candidate(cs[i], "candidates[" + std::to_string(i) + "]", seen));
+  }
+  d.has_instances = j.contains("instances");
+  if (d.has_instances) {
+    const Json& is = array(j["instances"], "instances");
+    for (std::size_t i = 0; i < is.size(); ++i) {
+      const std::string w = "instances[" + std::to_string(i) + "]";
+      object(is[i], w);
+      InstanceTruth it;
+      it.instance = count(at(is[i], "instance", w), w + ".instance");
+      it.points = count(at(is[i], "points", w), w + ".points");
+      const Json& ids = array(at(is[i], "candidates", w), w + ".candidates");
+      for (std::size_t k = 0; k < ids.size(); ++k) {
+        it.candidates.push_back(text(ids[k], w + ".candidates[" + std::to_string(k) + "]"));
+      }
+      d.instances.push_back(std::move(it));
+    }
+  }
+  return d;
+}
+
+template <typename T>
+const T& need(const std::optional<T>& v, const std::string& what) {
+  if (!v) throw common::Error("canopy.candidates writer: " + what + " is not set");
+  return *v;
+}
+
+}  // namespace
+
+std::optional<double> Candidate::object_density() const {
+  if (density) return density;
+  if (object_points && length * width > 0) return static_cast<double>(*object_points) / (length * width);
+  return std::nullopt;
+}
+
+std::optional<double> Candidates::density_all() const {
+  if (!density.is_object()) return std::nullopt;
+  const auto all = density.find("all");
+  if (all == density.end() || !all->is_number() || !(all->get<double>() > 0)) return std::nullopt;
+  return all->get<double>();
+}
+
+const Candidate* Candidates::find(const std::string& id) const {
+  for (const Candidate& c : candidates) {
+    if (c.id == id) return &c;
+  }
+  return nullptr;
+}
+
+Candidates read_candidates(const std::string& text, const std::string& name) {
+  const Json j = formats::open_json_document(text, name, kCandidatesFormat, nullptr, kCandidatesVersion);
+  try {
+    return read_members(j);
+  } catch (const Malformed& e) { throw common::DataError(name, e.what()); }
+}
+
+Candidates read_candidates_file(const std::string& path) {
+  return read_candidates(common::read_file(path), path);
+}
+
+std::string write_candidates(const Candidates& d, const formats::Provenance& prov) {
+  auto finite = [](double v) { return finite_or_throw(v, "detect"); };
+  const auto& origin = need(d.origin, "origin");
+  const GroundGrid& g = need(d.ground, "ground");
+  Json j{{"format", kCandidatesFormat},
+         {"version", kCandidatesVersion},
+         {"provenance", formats::provenance_json(prov)},
+         {"tile", d.tile},
+         {"tile_points", need(d.tile_points, "tile_points")},
+         {"origin", Json::array({finite(origin[0]), finite(origin[1]), finite(origin[2])})},
+         {"classes", d.classes.empty() ? Json(nullptr) : Json(d.classes)},
+         {"ground", Json{{"cell", g.cell},
+                         {"cells", g.cells},
+                         {"ground_cells", g.ground_cells},
+                         {"filled_cells", g.filled_cells},
+                         {"ground_points", g.ground_points}}}};
+  j["density"] = d.density;
+  Json cands = Json::array();
+  for (const Candidate& c : d.candidates) {
+    const std::string w = "candidate " + c.id + " ";
+    Json t = Json::array();
+    for (int row = 0; row < 4; ++row) {
+      t.push_back(Json::array({finite(c.transform[4 * row]), finite(c.transform[4 * row + 1]),
+                               finite(c.transform[4 * row + 2]), finite(c.transform[4 * row + 3])}));
+    }
+    const auto& centre = need(c.centre, w + "centre");
+    Json cj{{"id", c.id},
+            {"file", c.file},
+            {"transform", t},
+            {"centre", Json::array({centre[0], centre[1], centre[2]})},
+            {"length", finite(c.length)},
+            {"width", finite(c.width)},
+            {"heading", finite(need(c.heading, w + "heading"))},
+            {"height", finite(need(c.height, w + "height"))},
+            {"point_count", need(c.point_count, w + "point_count")},
+            {"object_points", need(c.object_points, w + "object_points")},
+            {"density", finite(need(c.density, w + "density"))},
+            {"planarity", finite(need(c.planarity, w + "planarity"))},
+            {"planar_area", finite(need(c.planar_area, w + "planar_area"))}};
+    if (c.has_truth) {
+      cj["truth"] = !c.truth ? Json(nullptr)
+                             : Json{{"instance", c.truth->instance},
+                                    {"points", c.truth->points},
+                                    {"coverage", finite(c.truth->coverage)},
+                                    {"purity", finite(c.truth->purity)}};
+    }
+    cands.push_back(std::move(cj));
+  }
+  j["candidates"] = std::move(cands);
+  if (d.has_instances) {
+    Json inst = Json::array();
+    for (const InstanceTruth& it : d.instances) {
+      inst.push_back(Json{{"instance", it.instance}, {"points", it.points}, {"candidates", it.candidates}});
+    }
+    j["instances"] = std::move(inst);
+  }
+  return j.dump(1) + "\n";
+}
+
+}  // namespace canopy::documents

@@ -1,0 +1,98 @@
+#include "canopy/documents/scene_truth.h"
+
+#include <cmath>
+#include <set>
+
+#include "canopy/common/atomic_file.h"
+#include "canopy/common/error.h"
+#include "canopy/formats/json_document.h"
+#include "members.h"
+
+namespace canopy::documents {
+namespace {
+
+using namespace members;  // NOLINT(google-build-using-namespace): the document's member helpers
+
+TruthPose pose_of(const Json& p, const std::string& w) {
+  object(p, w);
+  TruthPose pose;
+  pose.x = finite_number(at(p, "x", w), w + ".x");
+  pose.y = finite_number(at(p, "y", w), w + ".y");
+  if (const Json* z = optional(p, "z")) pose.z = finite_number(*z, w + ".z");
+  if (const Json* h = optional(p, "heading")) pose.heading = finite_number(*h, w + ".heading");
+  return pose;
+}
+
+std::string optional_text(const Json& j, const char* key, const std::string& w) {
+  const Json* v = optional(j, key);
+  return v ? text(*v, path(w, key)) : "";
+}
+
+TrueVehicle vehicle_of(const Json& v, const std::string& w) {
+  if (!v.is_object()) throw Malformed(w + " must be an object, not " + describe(v));
+  TrueVehicle t;
+  t.instance = count(at(v, "instance", w), w + ".instance");
+  t.model = optional_text(v, "model", w);
+  t.cls = optional_text(v, "class", w);
+  t.visibility = optional_text(v, "visibility", w);
+  if (const Json* p = optional(v, "pose")) t.pose = pose_of(*p, w + ".pose");
+  if (const Json* c = optional(v, "canopy_cover")) {
+    t.canopy_cover = finite_number(*c, w + ".canopy_cover");
+    if (*t.canopy_cover < 0 || *t.canopy_cover > 1) throw Malformed(w + ".canopy_cover must lie in [0, 1]");
+  }
+  if (const Json* fp = optional(v, "footprint")) {
+    if (!fp->is_array() || fp->size() < 3 || fp->size() > 64)
+      throw Malformed(w + ".footprint must be a polygon of 3 to 64 [x, y] corners");
+    for (std::size_t i = 0; i < fp->size(); ++i) {
+      const Json& p = (*fp)[i];
+      if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number()) {
+        throw Malformed(w + ".footprint[" + std::to_string(i) + "] must be [x, y], not " + describe(p));
+      }
+      t.footprint.push_back({p[0].get<double>(), p[1].get<double>()});
+    }
+  }
+  return t;
+}
+
+SceneTruth read_members(const Json& j) {
+  SceneTruth t;
+  const Json& vs = array(at(j, "vehicles", "truth"), "vehicles");
+  std::set<std::int64_t> seen;
+  for (std::size_t i = 0; i < vs.size(); ++i) {
+    const std::string w = "vehicles[" + std::to_string(i) + "]";
+    t.vehicles.push_back(vehicle_of(vs[i], w));
+    if (!seen.insert(t.vehicles.back().instance).second)
+      throw Malformed(w + ".instance " + std::to_string(t.vehicles.back().instance) + " repeats");
+  }
+  if (const Json* e = optional(j, "extent")) {
+    if (!e->is_array() || e->size() != 2 || !(*e)[0].is_number() || !(*e)[1].is_number())
+      throw Malformed("extent must be [X, Y]");
+    const double x = (*e)[0].get<double>(), y = (*e)[1].get<double>();
+    if (!(x > 0 && y > 0 && std::isfinite(x * y))) throw Malformed("extent must be positive");
+    t.extent = std::array<double, 2>{x, y};
+  }
+  if (const Json* u = optional(j, "uncertain")) {
+    array(*u, "uncertain");
+    for (std::size_t i = 0; i < u->size(); ++i) {
+      const std::string w = "uncertain[" + std::to_string(i) + "]";
+      const TruthPose p = pose_of(at((*u)[i], "pose", w), w + ".pose");
+      t.uncertain.push_back({p.x, p.y});
+    }
+  }
+  return t;
+}
+
+}  // namespace
+
+SceneTruth read_scene_truth(const std::string& text, const std::string& name) {
+  const Json j = formats::open_json_document(text, name, kSceneTruthFormat, nullptr, kSceneTruthVersion);
+  try {
+    return read_members(j);
+  } catch (const Malformed& e) { throw common::DataError(name, e.what()); }
+}
+
+SceneTruth read_scene_truth_file(const std::string& path) {
+  return read_scene_truth(common::read_file(path), path);
+}
+
+}  // namespace canopy::documents

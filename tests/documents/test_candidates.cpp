@@ -1,0 +1,262 @@
+// documents/candidates.h: detect's index.json (canopy.candidates v1), read by collect, classify,
+// topview and report through one reader. A hand-written index in detect's exact layout reads
+// to the values it holds and writes back byte for byte; malformed ones are refused naming the
+// file and the member.
+#include <catch2/catch.hpp>
+
+#include <limits>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "canopy/common/error.h"
+#include "canopy/documents/candidates.h"
+
+using namespace canopy;
+
+namespace {
+
+// As detect writes it (one-space indent): one candidate with truth, one false candidate.
+const std::string kIndex = R"({
+ "format": "canopy.candidates",
+ "version": 1,
+ "provenance": {
+  "tool": "detect",
+  "version": "0.1.0",
+  "parameters": {
+   "cell": "0.5"
+  },
+  "inputs": [
+   "tile.pcd"
+  ]
+ },
+ "tile": "tile.pcd",
+ "tile_points": 9883,
+ "origin": [
+  500000.0,
+  4400000.0,
+  180.0
+ ],
+ "classes": "classes.ply",
+ "ground": {
+  "cell": 0.5,
+  "cells": 400,
+  "ground_cells": 390,
+  "filled_cells": 10,
+  "ground_points": 8611
+ },
+ "density": {
+  "all": 98.5,
+  "ground": null,
+  "first": null,
+  "cell": 1.0,
+  "occupied_cells": 100,
+  "open_ground_cells": 91
+ },
+ "candidates": [
+  {
+   "id": "c0001",
+   "file": "c0001.pcd",
+   "transform": [
+    [
+     0.6,
+     -0.8,
+     0.0,
+     500012.25
+    ],
+    [
+     0.8,
+     0.6,
+     0.0,
+     4399987.5
+    ],
+    [
+     0.0,
+     0.0,
+     1.0,
+     181.5
+    ],
+    [
+     0.0,
+     0.0,
+     0.0,
+     1.0
+    ]
+   ],
+   "centre": [
+    500012.25,
+    4399987.5,
+    181.5
+   ],
+   "length": 4.5,
+   "width": 1.75,
+   "heading": 0.9272952180016122,
+   "height": 1.5,
+   "point_count": 1421,
+   "object_points": 501,
+   "density": 63.6,
+   "planarity": 0.74,
+   "planar_area": 9.3,
+   "truth": {
+    "instance": 7,
+    "points": 512,
+    "coverage": 1.0,
+    "purity": 0.99
+   }
+  },
+  {
+   "id": "c0002",
+   "file": "c0002.pcd",
+   "transform": [
+    [
+     1.0,
+     0.0,
+     0.0,
+     500020.0
+    ],
+    [
+     0.0,
+     1.0,
+     0.0,
+     4399990.0
+    ],
+    [
+     0.0,
+     0.0,
+     1.0,
+     180.0
+    ],
+    [
+     0.0,
+     0.0,
+     0.0,
+     1.0
+    ]
+   ],
+   "centre": [
+    500020.0,
+    4399990.0,
+    180.0
+   ],
+   "length": 3.0,
+   "width": 2.0,
+   "heading": 0.0,
+   "height": 1.0,
+   "point_count": 300,
+   "object_points": 120,
+   "density": 20.0,
+   "planarity": 0.1,
+   "planar_area": 0.5,
+   "truth": null
+  }
+ ],
+ "instances": [
+  {
+   "instance": 7,
+   "points": 512,
+   "candidates": [
+    "c0001"
+   ]
+  }
+ ]
+}
+)";
+
+formats::Provenance provenance() { return {"detect", "0.1.0", {{"cell", "0.5"}}, {"tile.pcd"}}; }
+
+// The message read_candidates throws for `doc`, "" when it reads it.
+std::string refusal(const nlohmann::ordered_json& doc) {
+  try {
+    documents::read_candidates(doc.dump(), "cands/index.json");
+  } catch (const common::DataError& e) {
+    CHECK(e.file() == "cands/index.json");
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("candidates: a hand-written index reads to its values and writes back byte for byte") {
+  const documents::Candidates d = documents::read_candidates(kIndex, "index.json");
+  CHECK(d.tile == "tile.pcd");
+  CHECK(d.tile_points == 9883);
+  CHECK(d.classes == "classes.ply");
+  REQUIRE(d.ground);
+  CHECK(d.ground->cell == 0.5);
+  CHECK(d.ground->cells == 400);
+  CHECK(d.ground->ground_points == 8611);
+  CHECK(d.density_all() == 98.5);
+  REQUIRE(d.candidates.size() == 2);
+  const documents::Candidate& c = d.candidates[0];
+  CHECK(c.id == "c0001");
+  CHECK(c.transform[1] == -0.8);
+  CHECK(c.transform[3] == 500012.25);
+  CHECK(c.transform[11] == 181.5);
+  CHECK(c.length == 4.5);
+  CHECK(c.width == 1.75);
+  CHECK(c.object_points == 501);
+  CHECK(c.object_density() == 63.6);
+  REQUIRE(c.truth);
+  CHECK(c.truth->instance == 7);
+  CHECK(c.truth->purity == 0.99);
+  CHECK(d.candidates[1].has_truth);
+  CHECK_FALSE(d.candidates[1].truth);
+  REQUIRE(d.instances.size() == 1);
+  CHECK(d.instances[0].candidates == std::vector<std::string>{"c0001"});
+  CHECK(d.find("c0002") == &d.candidates[1]);
+  CHECK(d.find("c0003") == nullptr);
+  CHECK(documents::write_candidates(d, provenance()) == kIndex);
+}
+
+TEST_CASE("candidates: a candidate's density is its own, else object points over its footprint") {
+  documents::Candidate c;
+  c.length = 4;
+  c.width = 2;
+  CHECK_FALSE(c.object_density());
+  c.object_points = 400;
+  CHECK(c.object_density() == 50.0);
+  c.density = 30.0;
+  CHECK(c.object_density() == 30.0);
+}
+
+TEST_CASE("candidates: refusals name the file and the problem") {
+  using Json = nlohmann::ordered_json;
+  const Json good = Json::parse(kIndex);
+  CHECK(refusal(good).empty());
+  Json other = good, version = good, no_list = good, no_width = good, text_width = good, bad_id = good,
+       twice = good, skew = good, mirror = good, count = good, truth = good;
+  other["format"] = "canopy.detections";
+  version["version"] = 2;
+  no_list.erase("candidates");
+  no_width["candidates"][0].erase("width");
+  text_width["candidates"][1]["width"] = "2";
+  bad_id["candidates"][0]["id"] = "../c1";
+  twice["candidates"][1]["id"] = "c0001";
+  skew["candidates"][0]["transform"][0][0] = 0.7;
+  mirror["candidates"][1]["transform"][0][0] = -1.0;
+  count["tile_points"] = 9.5;
+  truth["candidates"][0]["truth"].erase("purity");
+  CHECK_THAT(refusal(other), Catch::Contains("canopy.detections"));
+  CHECK_THAT(refusal(version), Catch::Contains("version 2"));
+  CHECK_THAT(refusal(no_list), Catch::Contains("missing \"candidates\""));
+  CHECK_THAT(refusal(no_width), Catch::Contains("candidates[0]: missing \"width\""));
+  CHECK_THAT(refusal(text_width), Catch::Contains("candidates[1].width must be a finite number, not \"2\""));
+  CHECK_THAT(refusal(bad_id), Catch::Contains("not a plain name"));
+  CHECK_THAT(refusal(twice), Catch::Contains("candidates[1].id \"c0001\" repeats"));
+  CHECK_THAT(refusal(skew), Catch::Contains("candidates[0].transform: the 3 x 3 part is not a rotation"));
+  CHECK_THAT(refusal(mirror), Catch::Contains("candidates[1].transform: the 3 x 3 part is a reflection"));
+  CHECK_THAT(refusal(count), Catch::Contains("tile_points must be a non-negative integer, not 9.5"));
+  CHECK_THAT(refusal(truth), Catch::Contains("candidates[0].truth: missing \"purity\""));
+  CHECK_THROWS_AS(documents::read_candidates("{\"format\": \"canopy.candidates\"", "x.json"),
+                  common::DataError);
+}
+
+TEST_CASE("candidates: the writer refuses a non-finite number and a candidate detect did not fill") {
+  documents::Candidates d = documents::read_candidates(kIndex, "index.json");
+  d.candidates[0].length = std::numeric_limits<double>::quiet_NaN();
+  CHECK_THROWS_WITH(documents::write_candidates(d, provenance()), Catch::Contains("non-finite"));
+  d = documents::read_candidates(kIndex, "index.json");
+  d.candidates[1].heading.reset();
+  CHECK_THROWS_WITH(documents::write_candidates(d, provenance()), Catch::Contains("heading"));
+}
