@@ -13,7 +13,7 @@
 
 #include "canopy/common/error.h"
 #include "canopy/common/math.h"
-#include "rangetrace/families.h"
+#include "canopy/sim/families.h"
 #include "rangetrace/rangetrace.h"
 #include "rangetrace/tile.h"
 

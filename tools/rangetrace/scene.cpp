@@ -14,14 +14,12 @@
 #include "canopy/common/rng.h"
 #include "canopy/common/units.h"
 #include "rangetrace/rangetrace.h"
-#include "rangetrace/sandbox.h"
+#include "canopy/sim/sandbox.h"
 #include "rangetrace/tile.h"
 
 namespace canopy::rangetrace {
 
 using common::DataError;
-
-Eigen::Vector3d pov_frame(const Eigen::Vector3d& v) { return {v.x(), v.z(), v.y()}; }
 
 std::vector<View> circle_views(int count, double elevation) {
   std::vector<View> views;

@@ -1,5 +1,7 @@
-// rangetrace tiles: a forest tile with terrain, trees, bushes, clutter and any number of
-// vehicles, scanned along flight lines (issue 13; share/scenes/README.md documents the keys).
+// Tiles (the simulator's scene geometry): a forest tile with terrain, trees, bushes, clutter and
+// any number of vehicles, scanned along flight lines (issue 13; share/scenes/README.md documents
+// the keys): its recipe, its geometry and placement, its images and its sensor plan. Rendering
+// and decoding them is rangetrace's (tools/rangetrace/tile.h).
 //
 // Tile frame: right-handed, z up, metres; the tile is [0, extent_x] x [0, extent_y] and the
 // terrain passes through z = 0 at the tile centre. With `origin = E N H` every output
@@ -23,11 +25,10 @@
 #include <vector>
 
 #include "canopy/common/math.h"
-#include "canopy/formats/point_cloud.h"
-#include "rangetrace/rangetrace.h"
-#include "rangetrace/sensor.h"
+#include "canopy/sim/model.h"
+#include "canopy/sim/sensor.h"
 
-namespace canopy::rangetrace {
+namespace canopy::sim {
 
 // ---------------------------------------------------------------- recipe
 
@@ -272,7 +273,9 @@ std::string mesh_declare(const std::string& name, const TriMesh& mesh);
 // Loads the recipe's vehicle models (extents from one POV-Ray parse run) and places
 // everything; throws DataError naming the recipe line for vehicles outside the tile,
 // overlapping vehicles and unreadable model files.
-Tile build_tile(const TileRecipe& recipe, const std::string& name, const Params& params);
+// Random phases draw from seeds derived from `seed`; `povray` is the program that measures the
+// models' extents (povray_run.h).
+Tile build_tile(const TileRecipe& recipe, const std::string& name, std::uint64_t seed, const std::string& povray);
 
 // ---------------------------------------------------------------- rendering
 
@@ -322,35 +325,7 @@ struct SensorPlan {
 SensorPlan plan_sensor(const TileRecipe& recipe, const std::function<double(double, double)>& terrain,
                        double ground_lo, double top, const std::string& name);
 
-// Depth along the view's ray at pixel (i, j), class and instance; false when the ray hit
-// nothing inside the coded depth range.
-bool decode_pixel(const Image16& img, const TileView& view, int i, int j, double* depth, std::uint32_t* cls,
-                  std::int32_t* instance);
-
-struct TileScan {
-  formats::PointCloud cloud;
-  std::vector<std::size_t> points_per_view;
-  std::vector<double> area_per_view;
-};
-// Renders every view and the canopy image; fills the vehicles' canopy_cover.
-TileScan run_tile(Tile* tile, const Params& params);
-// truth.json text.
-std::string truth_json(const Tile& tile, const std::vector<std::pair<std::string, std::string>>& params);
-// Shaded nadir picture of the tile with vehicle footprints (red) and clutter boxes (yellow).
-std::string render_tile_picture(const Tile& tile, const Params& params);
-
-// Decodes one depth/label frame into points (tile frame) with class and instance.
-struct TileHits {
-  std::vector<Eigen::Vector3d> p;
-  std::vector<std::uint32_t> cls;
-  std::vector<std::int32_t> instance;
-  std::vector<std::size_t> pixel;
-};
-void decode_tile_view(const Image16& img, const TileView& view, TileHits* out);
-// Fraction of the footprint polygon's pixels (centres inside) whose first hit from nadir is
-// vegetation; `img` is the rendered nadir view.
-double footprint_cover(const Image16& img, const TileView& view,
-                       const std::array<Eigen::Vector2d, 4>& footprint);
+// True when p lies inside the convex quadrilateral `poly` (counter-clockwise).
 bool in_polygon(const Eigen::Vector2d& p, const std::array<Eigen::Vector2d, 4>& poly);
 
-}  // namespace canopy::rangetrace
+}  // namespace canopy::sim
