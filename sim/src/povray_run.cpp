@@ -349,8 +349,9 @@ int run_process(const Command& cmd, const std::string& dir, const std::string& l
   return WIFSIGNALED(status) ? 128 + WTERMSIG(status) : 128;
 }
 
-void run_povray(const std::string& povray, const Staged& st, const std::string& dir, std::vector<std::string> args,
-                const std::string& log_name, const std::vector<std::pair<std::string, std::string>>& renames) {
+void run_povray(const std::string& povray, const Staged& st, const std::string& dir,
+                std::vector<std::string> args, const std::string& log_name,
+                const std::vector<std::pair<std::string, std::string>>& renames) {
   const std::string log_path = dir + "/" + log_name;
   const Command cmd = povray_command(povray, args, absolute(dir), st.readable, st.user_code);
   const int status = run_process(cmd, dir, log_path);
@@ -430,8 +431,7 @@ void warn_model_size(const Model& model, const Eigen::Vector3d& size, const Eige
   if (size.maxCoeff() > 30) {
     common::log::warn("model '" + model.name + "' is " + dims +
                       ", longer than 30 m for a vehicle: did you forget " + units + "?");
-  } else if (crop &&
-             (size.x() > crop->x() || size.y() > crop->y() || size.z() > crop->z())) {
+  } else if (crop && (size.x() > crop->x() || size.y() > crop->y() || size.z() > crop->z())) {
     char box[96];
     std::snprintf(box, sizeof box, "%.3g x %.3g x %.3g m", crop->x(), crop->y(), crop->z());
     common::log::warn("model '" + model.name + "' is " + dims + ", larger than the crop box (" + box +

@@ -258,8 +258,8 @@ std::pair<PlacedObject, Quad> TileBuilder::make_object(const std::string& kind, 
                                                        double heading) {
   PlacedObject o;
   o.kind = kind;
-  tile_.object_meshes.push_back(clutter_mesh(
-      kind, common::derive_seed(seed_, "clutter-" + std::to_string(tile_.objects.size()))));
+  tile_.object_meshes.push_back(
+      clutter_mesh(kind, common::derive_seed(seed_, "clutter-" + std::to_string(tile_.objects.size()))));
   o.template_index = static_cast<int>(tile_.object_meshes.size() - 1);
   Vector3d lo = Vector3d::Constant(1e18), hi = Vector3d::Constant(-1e18);
   for (const auto& p : tile_.object_meshes.back().v) {
@@ -411,7 +411,8 @@ double TileBuilder::top() const {
 
 }  // namespace
 
-Tile build_tile(const TileRecipe& recipe, const std::string& name, std::uint64_t seed, const std::string& povray) {
+Tile build_tile(const TileRecipe& recipe, const std::string& name, std::uint64_t seed,
+                const std::string& povray) {
   return TileBuilder(recipe, name, seed, povray).build();
 }
 

@@ -60,8 +60,8 @@ int run_process(const Command& cmd, const std::string& dir, const std::string& l
 // Runs povray with `args` in directory `dir`, confined (sandbox.h) with what `st` makes
 // readable, console output to `log_name` there. Throws Error with POV-Ray's own message (staged
 // names replaced by the real ones) when it fails.
-void run_povray(const std::string& povray, const Staged& st, const std::string& dir, std::vector<std::string> args,
-                const std::string& log_name,
+void run_povray(const std::string& povray, const Staged& st, const std::string& dir,
+                std::vector<std::string> args, const std::string& log_name,
                 const std::vector<std::pair<std::string, std::string>>& renames = {});
 
 // Frames first..last (inclusive) of a POV-Ray animation, rendered by one process at width x

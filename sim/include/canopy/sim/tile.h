@@ -275,7 +275,8 @@ std::string mesh_declare(const std::string& name, const TriMesh& mesh);
 // overlapping vehicles and unreadable model files.
 // Random phases draw from seeds derived from `seed`; `povray` is the program that measures the
 // models' extents (povray_run.h).
-Tile build_tile(const TileRecipe& recipe, const std::string& name, std::uint64_t seed, const std::string& povray);
+Tile build_tile(const TileRecipe& recipe, const std::string& name, std::uint64_t seed,
+                const std::string& povray);
 
 // ---------------------------------------------------------------- rendering
 
@@ -308,7 +309,7 @@ TileView canopy_view(const TileRecipe& recipe, double ground_lo, double top);
 // all or a side longer than kMaxImageSide.
 void check_tile_budget(const std::vector<TileView>& views, const TileRecipe& recipe, const std::string& name);
 
-// ---------------------------------------------------------------- sensor mode (tile_sensor.cpp)
+// ---------------------------------------------------------------- sensor mode (sensor_plan.cpp)
 
 struct SensorPlan {
   Sensor sensor;
