@@ -13,8 +13,8 @@
 #include "canopy/common/math.h"
 #include "canopy/common/rng.h"
 #include "canopy/common/units.h"
-#include "rangetrace/rangetrace.h"
 #include "canopy/sim/sandbox.h"
+#include "rangetrace/rangetrace.h"
 #include "rangetrace/tile.h"
 
 namespace canopy::rangetrace {
