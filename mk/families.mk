@@ -64,7 +64,7 @@ FAM_MB := $(FAM_DIR)/modelbase
 FAM_RES := $(RES)/families
 FAM_TABLES := $(FAM_RES)/confusion.csv $(FAM_RES)/accuracy.csv $(FAM_RES)/methods.csv \
   $(FAM_RES)/methods-confusion.csv
-# The tools of the protocol; famscore links the family generator from tools/rangetrace.
+# The tools of the protocol; famscore links the family generator from the simulator's library (sim/).
 FAM_TOOLS := rangetrace addnoise fitvox cocone ncut gmatch verify baseline famscore
 $(if $(filter famscore,$(TOOLS)),,$(eval $(call tool_rule,famscore)))
 

@@ -13,7 +13,7 @@
 #include "canopy/documents/match_result.h"
 #include "canopy/formats/verdict.h"
 #include "famscore/famscore.h"
-#include "rangetrace/families.h"
+#include "canopy/sim/families.h"
 #include "support/cli.h"
 
 using namespace canopy;
@@ -45,7 +45,7 @@ TEST_CASE("famscore: the nearest instance is the same-class entry nearest in siz
                                       {"van-0", "van"},
                                       {"sedan", "pickup"}};
   auto size = [](const char* c, int n) {
-    const auto f = rangetrace::make_family_instance(c, n);
+    const auto f = sim::make_family_instance(c, n);
     return Eigen::Vector3d(f.hi - f.lo);
   };
   const Eigen::Vector3d t = size("pickup", 1000);

@@ -267,22 +267,31 @@ if plans "bin/addnoise "; then fail "addnoise re-planned, but only fitvox.ini ch
 
 # The records of the real build (the one these tests run from: <build>/bin is $2): report's
 # record names the areas library's sources and the shared ones it includes, and no other
-# tool's; famscore's names the rangetrace sources it links.
+# tool's; famscore's and rangetrace's name the simulator's (sim/) sources they link.
 real_build=$(cd "${2:-}/.." 2>/dev/null && pwd)
 if [ -n "$real_build" ] && [ -f "$real_build/CMakeFiles/Makefile.cmake" ]; then
   cd "$src" || exit 1
   scripts/tool-deps.sh "$real_build" report "$tmp/report.mk"
   for f in tools/areas/areas.cpp tools/areas/areas.h tools/report/report.cpp tools/report/main.cpp \
-           formats/src/stage_time.cpp formats/include/canopy/formats/stage_time.h common/CMakeLists.txt; do
+           documents/src/stage_time.cpp documents/include/canopy/documents/stage_time.h common/CMakeLists.txt; do
     grep -q "^\$(BIN)/report:.* $f\( \|\$\)" "$tmp/report.mk" || fail "the real build's record of report misses $f"
   done
   # (every CMakeLists.txt is there: CMake reads them all to configure any target)
   if grep "^\$(BIN)/report:" "$tmp/report.mk" | tr ' ' '\n' | grep -q "^tools/fitvox/.*\.\(cpp\|h\)$\|^/\|\.md$"; then
     fail "the real build's record of report names a file it is not built from"
   fi
+  # famscore and rangetrace link the simulator's library (sim/): a change there rebuilds both.
   scripts/tool-deps.sh "$real_build" famscore "$tmp/famscore.mk"
-  grep -q "^\$(BIN)/famscore:.* tools/rangetrace/families.cpp" "$tmp/famscore.mk" ||
-    fail "the real build's record of famscore misses tools/rangetrace/families.cpp"
+  for f in sim/src/families.cpp sim/include/canopy/sim/families.h sim/CMakeLists.txt; do
+    grep -q "^\$(BIN)/famscore:.* $f\( \|\$\)" "$tmp/famscore.mk" || fail "the real build's record of famscore misses $f"
+  done
+  if grep "^\$(BIN)/famscore:" "$tmp/famscore.mk" | tr ' ' '\n' | grep -q "^tools/rangetrace/"; then
+    fail "the real build's record of famscore names a file of tools/rangetrace"
+  fi
+  scripts/tool-deps.sh "$real_build" rangetrace "$tmp/rangetrace.mk"
+  for f in sim/src/povray_run.cpp sim/src/tile_placement.cpp sim/include/canopy/sim/tile.h tools/rangetrace/main.cpp; do
+    grep -q "^\$(BIN)/rangetrace:.* $f\( \|\$\)" "$tmp/rangetrace.mk" || fail "the real build's record of rangetrace misses $f"
+  done
 else
   echo "note: no Makefile-generator build at ${2:-}/..: the real records are not checked"
 fi

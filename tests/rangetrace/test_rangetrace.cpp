@@ -84,16 +84,6 @@ Params small(int size = 96, double spacing = 0.06) {
 
 }  // namespace
 
-TEST_CASE("pov_frame swaps y and z and is its own inverse") {
-  const Vector3d w(1.5, -2.25, 0.75);
-  CHECK(pov_frame(w) == Vector3d(1.5, 0.75, -2.25));
-  CHECK(pov_frame(pov_frame(w)) == w);
-  // Right-handed x cross y = z becomes, in the POV-Ray frame, the left-handed relation.
-  const Vector3d px = pov_frame(Vector3d::UnitX()), py = pov_frame(Vector3d::UnitY()),
-                 pz = pov_frame(Vector3d::UnitZ());
-  CHECK(px.cross(py).dot(pz) == Approx(-1.0));
-}
-
 TEST_CASE("circle, flyby and dodecahedron views") {
   const auto c = circle_views(12, 75 * kDeg);
   REQUIRE(c.size() == 12);

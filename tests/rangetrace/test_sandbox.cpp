@@ -14,12 +14,12 @@
 #include <vector>
 
 #include "canopy/common/error.h"
-#include "rangetrace/povray_run.h"
-#include "rangetrace/sandbox.h"
+#include "canopy/sim/povray_run.h"
+#include "canopy/sim/sandbox.h"
 #include "support/cli.h"
 
 using namespace canopy;
-using namespace canopy::rangetrace;
+using namespace canopy::sim;
 namespace fs = std::filesystem;
 
 namespace {
@@ -181,7 +181,7 @@ TEST_CASE("sandbox: in the jail POV-Ray cannot write or read outside its directo
   const std::string outside = real(dir) + "/outside.txt";
   const std::string secret_path = real(dir) + "/secret.txt";
   ScopedEnv tmp("TMPDIR", real(dir / "tmp"));
-  Params params;
+  const std::string povray = "povray";
   const Staged none;  // canopy's own code: nothing checked, only the jail stands in the way
 
   // Runs `scene` (generated code, not checked) in a private directory; POV-Ray's message or "".
@@ -189,7 +189,7 @@ TEST_CASE("sandbox: in the jail POV-Ray cannot write or read outside its directo
     TempDir work;
     write_text(fs::path(work.path()) / "t.pov", "#version 3.7;\n" + scene);
     try {
-      run_povray(params, none, work.path(), {"-D", "-P", "-V", "+WT1", "+W1", "+H1", "-F", "+It.pov"},
+      run_povray(povray, none, work.path(), {"-D", "-P", "-V", "+WT1", "+W1", "+H1", "-F", "+It.pov"},
                  "t.log");
     } catch (const common::Error& e) { return e.what(); }
     return "";

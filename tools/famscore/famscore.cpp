@@ -19,7 +19,7 @@
 #include "canopy/documents/match_result.h"
 #include "canopy/documents/stage_time.h"
 #include "canopy/formats/verdict.h"
-#include "rangetrace/families.h"
+#include "canopy/sim/families.h"
 
 namespace canopy::famscore {
 
@@ -58,7 +58,7 @@ std::vector<Run> parse_runs(const std::string& text, const std::string& name) {
 namespace {
 
 Eigen::Vector3d size_of(const std::string& cls, int instance) {
-  const auto f = rangetrace::make_family_instance(cls, instance);
+  const auto f = sim::make_family_instance(cls, instance);
   return f.hi - f.lo;
 }
 
@@ -84,7 +84,7 @@ std::string nearest_by_size(const std::string& cls, int instance, const std::vec
 
 std::vector<std::string> class_order(const std::vector<std::string>& classes) {
   std::vector<std::string> out, rest;
-  for (const auto& c : rangetrace::family_classes()) {
+  for (const auto& c : sim::family_classes()) {
     if (std::find(classes.begin(), classes.end(), c.name) != classes.end()) out.push_back(c.name);
   }
   for (const auto& c : classes) {

@@ -10,7 +10,7 @@
 #include "canopy/common/units.h"
 #include "canopy/formats/points_io.h"
 #include "canopy/formats/provenance.h"
-#include "rangetrace/families.h"
+#include "canopy/sim/families.h"
 #include "rangetrace/stage.h"
 #include "rangetrace/tile_sensor.h"
 

@@ -19,7 +19,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
 #include "canopy/common/math.h"
-#include "rangetrace/povray_run.h"
+#include "canopy/sim/povray_run.h"
 #include "rangetrace/rangetrace.h"
 
 namespace canopy::rangetrace {
@@ -53,7 +53,7 @@ std::vector<std::pair<std::string, std::string>> scene_renames(const Staged& st,
 
 std::pair<Eigen::Vector3d, Eigen::Vector3d> model_bounds(const Model& model, const Params& params) {
   TempDir tmp;
-  return models_extent({model}, params, tmp)[0];
+  return models_extent({model}, params.povray, tmp)[0];
 }
 
 namespace {
@@ -115,8 +115,9 @@ formats::PointCloud render_scan(const Model& model, const SceneRecipe& scene, co
   if (params.size < 1 || !(params.spacing > 0)) throw common::UsageError("--size and --spacing must be > 0");
   TempDir tmp;
   common::log::Phase prep("model");
-  const auto [lo, hi] = models_extent({model}, params, tmp)[0];
-  warn_model_size(model, hi - lo, &params);
+  const auto [lo, hi] = models_extent({model}, params.povray, tmp)[0];
+  const Eigen::Vector3d crop(params.crop_length, params.crop_width, params.crop_height);
+  warn_model_size(model, hi - lo, &crop);
   const Staged st = stage_models({model}, tmp);
   const Placement placement = place(lo, hi, params.pose);
   const Encoding enc = encoding_for(placement, params);
@@ -132,7 +133,7 @@ formats::PointCloud render_scan(const Model& model, const SceneRecipe& scene, co
   const int views = static_cast<int>(scene.views.size());
   const int workers = std::max(1, std::min(params.threads, views));
   const std::map<int, std::string> frames =
-      render_frames(params, tmp, st, "scene.pov", 2 * views, view_blocks(views, workers, params.size),
+      render_frames(params.povray, tmp, st, "scene.pov", 2 * views, view_blocks(views, workers, params.size),
                     workers, scene_renames(st, "scene.pov"));
   render.done(std::to_string(views) + " views x 2 passes, " + std::to_string(params.size) + "x" +
               std::to_string(params.size) + " pixels, " + std::to_string(workers) + " processes");
@@ -145,7 +146,7 @@ formats::PointCloud render_scan(const Model& model, const SceneRecipe& scene, co
 
 std::string render_picture(const Model& model, const SceneRecipe* scene, int view_idx, const Params& params) {
   TempDir tmp;
-  const auto [lo, hi] = models_extent({model}, params, tmp)[0];
+  const auto [lo, hi] = models_extent({model}, params.povray, tmp)[0];
   warn_model_size(model, hi - lo, nullptr);
   const Staged st = stage_models({model}, tmp);
   const Placement placement = place(lo, hi, params.pose);
@@ -166,7 +167,7 @@ std::string render_picture(const Model& model, const SceneRecipe* scene, int vie
   const std::string size = std::to_string(params.size);
   args.insert(args.end(), {"+W" + size, "+H" + size, "+A0.05", "+R3", "+FN8", "+Ipicture.pov",
                            "+Opicture.png", "+WT" + std::to_string(std::max(1, params.threads))});
-  run_povray(params, st, tmp.path(), args, "picture.log", scene_renames(st, "picture.pov"));
+  run_povray(params.povray, st, tmp.path(), args, "picture.log", scene_renames(st, "picture.pov"));
   return common::read_file(tmp.path() + "/picture.png");
 }
 

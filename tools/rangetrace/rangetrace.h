@@ -5,8 +5,9 @@
 // (16-bit PPM, gamma 1, no antialiasing, no dithering), pass 1 by its ground-truth label.
 // Each pixel decodes to one point; points outside the crop box are dropped.
 //
-// Frames: the world frame is right-handed, z up, ground z = 0, metres. POV-Ray's frame is
-// left-handed, y up. pov_frame() is the only place that converts between the two.
+// Frames: the world frame is right-handed, z up, ground z = 0, metres; POV-Ray's is left-handed,
+// y up (sim::pov_frame converts). The engines (POV-Ray runner, models, families, tile geometry,
+// sensor model) are the library canopy_sim (sim/); this is rangetrace's face over them.
 #pragma once
 
 #include <Eigen/Core>
@@ -21,14 +22,16 @@
 
 #include "canopy/formats/point_cloud.h"
 #include "canopy/formats/ppm.h"
+#include "canopy/sim/model.h"
+
+namespace canopy::sim {
+struct TileRecipe;  // canopy/sim/tile.h
+}  // namespace canopy::sim
 
 namespace canopy::rangetrace {
 
-struct TileRecipe;  // tile.h
-
-// The one conversion between the world frame (right-handed, z up) and POV-Ray's frame
-// (left-handed, y up): it swaps y and z, which also flips handedness. It is its own inverse.
-Eigen::Vector3d pov_frame(const Eigen::Vector3d& v);
+// rangetrace is the simulator's face: the engines' names (canopy::sim) are its names too.
+using namespace sim;
 
 // ---------------------------------------------------------------- scenes
 
@@ -92,47 +95,6 @@ struct Pose {
 // (aligned with its heading) and heights uniform in [top, top + band]; normals uniform on the
 // sphere. Drawn from Rng(derive_seed(seed, "foliage")): portable and reproducible.
 std::vector<Disc> make_foliage(const SceneRecipe& scene, const Pose& pose, double top, std::uint64_t seed);
-
-// ---------------------------------------------------------------- models
-
-// POV-Ray code declaring `Vehicle` (one object, ground at y = 0, metres, no textures: an
-// inner texture would override the range coding).
-struct Model {
-  std::string name;
-  std::string include_dir;    // passed to POV-Ray with +L ("" = the include is written inline)
-  std::string include_file;   // file name inside include_dir
-  std::string inline_code;    // used when include_dir is empty (converted meshes)
-  std::string vehicle_class;  // procedural family instances (families.h): their class
-  // A user include (.inc/.pov): include_dir is its real directory, and these are the files of
-  // that directory POV-Ray may read (the include and what it names), approved by the include
-  // check (sandbox.h); POV-Ray then runs confined. Empty for built-ins, families and meshes.
-  std::vector<std::string> user_files;
-};
-
-struct MeshImport {
-  double scale = 1.0;  // file units -> metres (mm 0.001, cm 0.01, m 1)
-  bool z_up = true;    // file frame: z up (right-handed) or y up (right-handed, x right)
-};
-
-// Built-in name (share/models/<name>.inc), a procedural family instance
-// (family:<class>:<instance>, families.h), a POV-Ray include (.inc/.pov) declaring Vehicle, or
-// a mesh file (.ply/.obj/.stl) converted to a POV-Ray mesh2. An include is checked first
-// (check_user_include, sandbox.h): a DataError names its file and line when it would write a
-// file or read one outside its directory.
-Model load_model(const std::string& spec, const MeshImport& import);
-// POV-Ray code `#declare <name> = mesh2 {...}` of triangles (world-frame vertices in metres;
-// degenerate triangles dropped, as POV-Ray would drop them). compact: each block on one line,
-// 7 significant digits (the tiles' many meshes); else one vertex or face a line, 9 digits.
-std::string mesh2_declare(const std::string& name, const std::vector<Eigen::Vector3d>& vertices,
-                          const std::vector<std::array<int, 3>>& faces, bool compact);
-// Mesh triangles (world-frame vertices in metres) -> POV-Ray code declaring Vehicle.
-std::string mesh_to_pov(const std::vector<Eigen::Vector3d>& vertices,
-                        const std::vector<std::array<int, 3>>& faces);
-// The bytes of a mesh file (ext: "ply", "obj" or "stl", lower case) -> POV-Ray code declaring
-// Vehicle, as load_model does for a mesh path; errors are DataErrors naming `name`.
-std::string mesh_file_to_pov(const std::string& bytes, const std::string& name, const std::string& ext,
-                             const MeshImport& import);
-extern const char* const kBuiltinModels[5];
 
 // ---------------------------------------------------------------- rendering
 

@@ -13,15 +13,13 @@
 #include "canopy/common/math.h"
 #include "canopy/common/rng.h"
 #include "canopy/common/units.h"
+#include "canopy/sim/sandbox.h"
 #include "rangetrace/rangetrace.h"
-#include "rangetrace/sandbox.h"
 #include "rangetrace/tile.h"
 
 namespace canopy::rangetrace {
 
 using common::DataError;
-
-Eigen::Vector3d pov_frame(const Eigen::Vector3d& v) { return {v.x(), v.z(), v.y()}; }
 
 std::vector<View> circle_views(int count, double elevation) {
   std::vector<View> views;

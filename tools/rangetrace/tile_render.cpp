@@ -17,7 +17,7 @@
 #include "canopy/common/math.h"
 #include "canopy/common/units.h"
 #include "canopy/formats/labels.h"
-#include "rangetrace/povray_run.h"
+#include "canopy/sim/povray_run.h"
 #include "rangetrace/tile.h"
 #include "rangetrace/tile_sensor.h"
 
@@ -210,14 +210,8 @@ std::string tile_pov(const Tile& tile, const Staged& st, const std::vector<TileV
 
 }  // namespace
 
-// ---------------------------------------------------------------- views
-
-std::vector<TileView> tile_views(const Tile& tile) {
-  return tile_views(tile.recipe, TerrainModel(tile.recipe, tile.seed).lo(), tile.top);
-}
-
-TileView canopy_view(const Tile& tile) {
-  return canopy_view(tile.recipe, TerrainModel(tile.recipe, tile.seed).lo(), tile.top);
+Tile build_tile(const TileRecipe& recipe, const std::string& name, const Params& params) {
+  return sim::build_tile(recipe, name, params.seed, params.povray);
 }
 
 // ---------------------------------------------------------------- decoding
@@ -429,7 +423,7 @@ TileScan run_tile(Tile* tile, const Params& params) {
   auto renames = st.renames;
   renames.emplace_back("scene.pov", "rangetrace's generated scene.pov (after the models' includes)");
   const TileFrames rendered(views, order,
-                            render_frames(params, tmp, st, "scene.pov", nf, tasks, threads, renames));
+                            render_frames(params.povray, tmp, st, "scene.pov", nf, tasks, threads, renames));
   render.done(std::to_string(nf) + " frames (" + std::to_string(nf - 1) + " images + canopy) in " +
               std::to_string(tasks.size()) + " POV-Ray runs");
 
@@ -608,7 +602,7 @@ std::string render_tile_picture(const Tile& tile, const Params& params) {
                "+Ipicture.pov", "+Opicture.png", "+WT" + std::to_string(std::max(1, params.threads))});
   auto renames = st.renames;
   renames.emplace_back("picture.pov", "rangetrace's generated picture.pov");
-  run_povray(params, st, tmp.path(), args, "picture.log", renames);
+  run_povray(params.povray, st, tmp.path(), args, "picture.log", renames);
   return common::read_file(tmp.path() + "/picture.png");
 }
 

@@ -11,9 +11,9 @@
 #include "canopy/common/geometry.h"
 #include "canopy/common/math.h"
 #include "canopy/common/units.h"
-#include "rangetrace/tile.h"
+#include "canopy/sim/tile.h"
 
-namespace canopy::rangetrace {
+namespace canopy::sim {
 
 using common::Error;
 using Eigen::Vector2d;
@@ -141,6 +141,14 @@ TileView canopy_view(const TileRecipe& r, double ground_lo, double top) {
   return v;
 }
 
+std::vector<TileView> tile_views(const Tile& tile) {
+  return tile_views(tile.recipe, TerrainModel(tile.recipe, tile.seed).lo(), tile.top);
+}
+
+TileView canopy_view(const Tile& tile) {
+  return canopy_view(tile.recipe, TerrainModel(tile.recipe, tile.seed).lo(), tile.top);
+}
+
 namespace {
 
 // 12000, or 1.2e9 for large counts.
@@ -220,4 +228,4 @@ void check_tile_budget(const std::vector<TileView>& views, const TileRecipe& r, 
   }
 }
 
-}  // namespace canopy::rangetrace
+}  // namespace canopy::sim

@@ -8,9 +8,9 @@
 #include "canopy/common/error.h"
 #include "canopy/common/math.h"
 #include "canopy/common/units.h"
-#include "rangetrace/tile.h"
+#include "canopy/sim/tile.h"
 
-namespace canopy::rangetrace {
+namespace canopy::sim {
 
 using common::UsageError;
 
@@ -370,4 +370,4 @@ void check_tile(const TileRecipe& t, const std::string& name) {
   check_tile_budget(views, t, name);
 }
 
-}  // namespace canopy::rangetrace
+}  // namespace canopy::sim

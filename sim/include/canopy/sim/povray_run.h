@@ -1,16 +1,19 @@
-// Internal: running POV-Ray in a private temporary directory (povray.cpp). Shared by the
-// single-vehicle scenes and the tiles.
+// Running POV-Ray in a private temporary directory. Shared by rangetrace's single-vehicle
+// scenes and tiles and by the tile builder (tile.h). `povray` is the program (the --povray
+// option: a name looked up on PATH or a path).
 #pragma once
+
+#include <Eigen/Core>
 
 #include <map>
 #include <string>
 #include <utility>
 #include <vector>
 
-#include "rangetrace/rangetrace.h"
-#include "rangetrace/sandbox.h"
+#include "canopy/sim/model.h"
+#include "canopy/sim/sandbox.h"
 
-namespace canopy::rangetrace {
+namespace canopy::sim {
 
 // A private directory under $TMPDIR (or /tmp), removed with its files on destruction and
 // also when the process is stopped by SIGINT, SIGTERM or SIGHUP (the signal handler kills
@@ -57,8 +60,8 @@ int run_process(const Command& cmd, const std::string& dir, const std::string& l
 // Runs povray with `args` in directory `dir`, confined (sandbox.h) with what `st` makes
 // readable, console output to `log_name` there. Throws Error with POV-Ray's own message (staged
 // names replaced by the real ones) when it fails.
-void run_povray(const Params& params, const Staged& st, const std::string& dir, std::vector<std::string> args,
-                const std::string& log_name,
+void run_povray(const std::string& povray, const Staged& st, const std::string& dir,
+                std::vector<std::string> args, const std::string& log_name,
                 const std::vector<std::pair<std::string, std::string>>& renames = {});
 
 // Frames first..last (inclusive) of a POV-Ray animation, rendered by one process at width x
@@ -73,17 +76,18 @@ struct FrameRange {
 // (common::parallel_for; a free process takes the next range in order), the console output of
 // range t in render<t>.log. The first failing range's message (in range order) is thrown as
 // Error after every process has finished. Returns the frame files by frame number.
-std::map<int, std::string> render_frames(const Params& params, const TempDir& tmp, const Staged& st,
+std::map<int, std::string> render_frames(const std::string& povray, const TempDir& tmp, const Staged& st,
                                          const std::string& pov, int frames,
                                          const std::vector<FrameRange>& ranges, int processes,
                                          const std::vector<std::pair<std::string, std::string>>& renames);
 
 // Bounding boxes (world frame) of several models from one POV-Ray parse run.
 std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> models_extent(const std::vector<Model>& models,
-                                                                       const Params& params,
+                                                                       const std::string& povray,
                                                                        const TempDir& tmp);
 
-// Warns (before any rendering) when a model is implausibly large for a vehicle.
-void warn_model_size(const Model& model, const Eigen::Vector3d& size, const Params* crop);
+// Warns (before any rendering) when a model is implausibly large for a vehicle, or (with `crop`,
+// a single-vehicle scan's crop box: length, width, height in m) larger than the crop box.
+void warn_model_size(const Model& model, const Eigen::Vector3d& size, const Eigen::Vector3d* crop);
 
-}  // namespace canopy::rangetrace
+}  // namespace canopy::sim

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-namespace canopy::rangetrace {
+namespace canopy::sim {
 
 struct FamilyRange {
   double lo = 0, hi = 0;  // m
@@ -48,4 +48,4 @@ bool is_family_spec(const std::string& spec);
 // Parses a family spec; UsageError naming the problem.
 FamilyInstance family_from_spec(const std::string& spec);
 
-}  // namespace canopy::rangetrace
+}  // namespace canopy::sim

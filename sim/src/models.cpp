@@ -1,7 +1,9 @@
 // Vehicle models: built-in POV-Ray includes, user includes, and mesh files (PLY/OBJ/STL)
-// converted to a POV-Ray mesh2.
+// converted to a POV-Ray mesh2; the frame conversion.
 #include <limits.h>
 #include <stdlib.h>
+
+#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
@@ -13,15 +15,17 @@
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "canopy/formats/mesh_import.h"
-#include "rangetrace/families.h"
-#include "rangetrace/rangetrace.h"
-#include "rangetrace/sandbox.h"
+#include "canopy/sim/families.h"
+#include "canopy/sim/model.h"
+#include "canopy/sim/sandbox.h"
 
-namespace canopy::rangetrace {
+namespace canopy::sim {
 
 using common::DataError;
 
 const char* const kBuiltinModels[5] = {"earthmover", "obj1", "sedan", "semi", "tank"};
+
+Eigen::Vector3d pov_frame(const Eigen::Vector3d& v) { return {v.x(), v.z(), v.y()}; }
 
 namespace {
 
@@ -124,4 +128,4 @@ Model load_model(const std::string& spec, const MeshImport& import) {
   return model;
 }
 
-}  // namespace canopy::rangetrace
+}  // namespace canopy::sim

@@ -11,9 +11,9 @@
 #include "canopy/common/error.h"
 #include "canopy/common/geometry.h"
 #include "canopy/common/math.h"
-#include "rangetrace/tile.h"
+#include "canopy/sim/tile.h"
 
-namespace canopy::rangetrace {
+namespace canopy::sim {
 
 using Eigen::Vector2d;
 using Eigen::Vector3d;
@@ -202,4 +202,4 @@ SensorPlan plan_sensor(const TileRecipe& r, const std::function<double(double, d
   return plan;
 }
 
-}  // namespace canopy::rangetrace
+}  // namespace canopy::sim

@@ -5,7 +5,7 @@
 // centred on x and y) with boxes cut by half-spaces, cylinders and half ellipsoids; the
 // emitter converts to POV-Ray's frame with pov_frame() and prints fixed-precision numbers, so
 // the text depends on the (class, instance) pair only.
-#include "rangetrace/families.h"
+#include "canopy/sim/families.h"
 
 #include <Eigen/Geometry>
 
@@ -15,9 +15,9 @@
 
 #include "canopy/common/error.h"
 #include "canopy/common/rng.h"
-#include "rangetrace/rangetrace.h"
+#include "canopy/sim/model.h"
 
-namespace canopy::rangetrace {
+namespace canopy::sim {
 
 using Eigen::Vector3d;
 
@@ -559,4 +559,4 @@ FamilyInstance family_from_spec(const std::string& spec) {
   return make_family_instance(cls, std::stoi(num));
 }
 
-}  // namespace canopy::rangetrace
+}  // namespace canopy::sim

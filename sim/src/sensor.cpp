@@ -1,5 +1,5 @@
 // Sensor presets and keys, the scan pattern and the discrete-return detector (sensor.h).
-#include "rangetrace/sensor.h"
+#include "canopy/sim/sensor.h"
 
 #include <algorithm>
 #include <cmath>
@@ -14,7 +14,7 @@
 #include "canopy/common/rng.h"
 #include "canopy/common/units.h"
 
-namespace canopy::rangetrace {
+namespace canopy::sim {
 
 using common::UsageError;
 
@@ -347,4 +347,4 @@ std::vector<Return> detect_returns(const Sensor& s, std::vector<SubHit> hits, st
   return s.detector == Detector::kWaveform ? waveform_returns(s, hits) : photon_returns(s, hits, rng_key);
 }
 
-}  // namespace canopy::rangetrace
+}  // namespace canopy::sim

@@ -18,7 +18,7 @@
 #include <utility>
 #include <vector>
 
-namespace canopy::rangetrace {
+namespace canopy::sim {
 
 enum class ScanPattern { kOscillating, kRotating };
 enum class Detector { kWaveform, kPhoton };
@@ -100,4 +100,4 @@ struct Return {
 // draws (same key, same returns).
 std::vector<Return> detect_returns(const Sensor& s, std::vector<SubHit> hits, std::uint64_t rng_key);
 
-}  // namespace canopy::rangetrace
+}  // namespace canopy::sim

@@ -1,5 +1,5 @@
 // Confining POV-Ray with bubblewrap (layer 1 of docs/decisions/sandbox.md).
-#include "rangetrace/sandbox.h"
+#include "canopy/sim/sandbox.h"
 
 #include <limits.h>
 #include <sys/stat.h>
@@ -14,9 +14,9 @@
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
-#include "rangetrace/povray_run.h"
+#include "canopy/sim/povray_run.h"
 
-namespace canopy::rangetrace {
+namespace canopy::sim {
 
 using common::Error;
 
@@ -177,4 +177,4 @@ Command povray_command(const std::string& povray, const std::vector<std::string>
   return cmd;
 }
 
-}  // namespace canopy::rangetrace
+}  // namespace canopy::sim

@@ -1,5 +1,5 @@
 // Running POV-Ray: the private directory, signal cleanup, staged includes, child processes.
-#include "rangetrace/povray_run.h"
+#include "canopy/sim/povray_run.h"
 
 #include <dirent.h>
 #include <fcntl.h>
@@ -25,7 +25,7 @@
 #include "canopy/common/log.h"
 #include "canopy/common/parallel.h"
 
-namespace canopy::rangetrace {
+namespace canopy::sim {
 
 using common::Error;
 
@@ -349,14 +349,15 @@ int run_process(const Command& cmd, const std::string& dir, const std::string& l
   return WIFSIGNALED(status) ? 128 + WTERMSIG(status) : 128;
 }
 
-void run_povray(const Params& params, const Staged& st, const std::string& dir, std::vector<std::string> args,
-                const std::string& log_name, const std::vector<std::pair<std::string, std::string>>& renames) {
+void run_povray(const std::string& povray, const Staged& st, const std::string& dir,
+                std::vector<std::string> args, const std::string& log_name,
+                const std::vector<std::pair<std::string, std::string>>& renames) {
   const std::string log_path = dir + "/" + log_name;
-  const Command cmd = povray_command(params.povray, args, absolute(dir), st.readable, st.user_code);
+  const Command cmd = povray_command(povray, args, absolute(dir), st.readable, st.user_code);
   const int status = run_process(cmd, dir, log_path);
   if (status == 0) return;
   if (status == 127) {
-    throw Error("cannot run POV-Ray '" + params.povray + "' (is the Debian package povray installed?)");
+    throw Error("cannot run POV-Ray '" + povray + "' (is the Debian package povray installed?)");
   }
   std::string log;
   try {
@@ -381,7 +382,7 @@ void run_povray(const Params& params, const Staged& st, const std::string& dir, 
 }
 
 std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> models_extent(const std::vector<Model>& models,
-                                                                       const Params& params,
+                                                                       const std::string& povray,
                                                                        const TempDir& tmp) {
   const Staged st = stage_models(models, tmp);
   std::string pov = "#version 3.7;\nglobal_settings { assumed_gamma 1.0 }\n";
@@ -405,7 +406,7 @@ std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> models_extent(const std
   args.insert(args.end(), {"+W1", "+H1", "-F", "+Iextent.pov"});
   auto renames = st.renames;
   renames.emplace_back("extent.pov", "rangetrace's generated extent.pov (after the model's include)");
-  run_povray(params, st, tmp.path(), args, "extent.log", renames);
+  run_povray(povray, st, tmp.path(), args, "extent.log", renames);
   std::istringstream in(common::read_file(tmp.path() + "/extent.txt"));
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> out;
   for (const Model& model : models) {
@@ -423,24 +424,22 @@ std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> models_extent(const std
   return out;
 }
 
-void warn_model_size(const Model& model, const Eigen::Vector3d& size, const Params* crop) {
+void warn_model_size(const Model& model, const Eigen::Vector3d& size, const Eigen::Vector3d* crop) {
   char dims[128];
   std::snprintf(dims, sizeof dims, "%.3g x %.3g x %.3g m", size.x(), size.y(), size.z());
   const std::string units = crop ? "--units mm" : "units=mm on its vehicle line";
   if (size.maxCoeff() > 30) {
     common::log::warn("model '" + model.name + "' is " + dims +
                       ", longer than 30 m for a vehicle: did you forget " + units + "?");
-  } else if (crop &&
-             (size.x() > crop->crop_length || size.y() > crop->crop_width || size.z() > crop->crop_height)) {
+  } else if (crop && (size.x() > crop->x() || size.y() > crop->y() || size.z() > crop->z())) {
     char box[96];
-    std::snprintf(box, sizeof box, "%.3g x %.3g x %.3g m", crop->crop_length, crop->crop_width,
-                  crop->crop_height);
+    std::snprintf(box, sizeof box, "%.3g x %.3g x %.3g m", crop->x(), crop->y(), crop->z());
     common::log::warn("model '" + model.name + "' is " + dims + ", larger than the crop box (" + box +
                       "; points outside it are dropped): did you forget " + units + " or --crop-*?");
   }
 }
 
-std::map<int, std::string> render_frames(const Params& params, const TempDir& tmp, const Staged& st,
+std::map<int, std::string> render_frames(const std::string& povray, const TempDir& tmp, const Staged& st,
                                          const std::string& pov, int frames,
                                          const std::vector<FrameRange>& ranges, int processes,
                                          const std::vector<std::pair<std::string, std::string>>& renames) {
@@ -457,7 +456,7 @@ std::map<int, std::string> render_frames(const Params& params, const TempDir& tm
                                "+KFF" + std::to_string(frames - 1), "+KI0", "+KF" + std::to_string(frames - 1),
                                "+SF" + std::to_string(r.first), "+EF" + std::to_string(r.last)});
       try {
-        run_povray(params, st, tmp.path(), args, "render" + std::to_string(t) + ".log", renames);
+        run_povray(povray, st, tmp.path(), args, "render" + std::to_string(t) + ".log", renames);
       } catch (const std::exception& e) { errors[t] = e.what(); }
     }
   });
@@ -474,4 +473,4 @@ std::map<int, std::string> render_frames(const Params& params, const TempDir& tm
   return files;
 }
 
-}  // namespace canopy::rangetrace
+}  // namespace canopy::sim

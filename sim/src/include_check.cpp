@@ -15,9 +15,9 @@
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
-#include "rangetrace/sandbox.h"
+#include "canopy/sim/sandbox.h"
 
-namespace canopy::rangetrace {
+namespace canopy::sim {
 
 namespace {
 
@@ -370,4 +370,4 @@ std::string printable(const std::string& s) {
   return out;
 }
 
-}  // namespace canopy::rangetrace
+}  // namespace canopy::sim

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-namespace canopy::rangetrace {
+namespace canopy::sim {
 
 enum class SandboxMode { kAuto, kBwrap, kOff };
 
@@ -51,4 +51,4 @@ Command povray_command(const std::string& povray, const std::vector<std::string>
 // echoes them raw.
 std::string printable(const std::string& s);
 
-}  // namespace canopy::rangetrace
+}  // namespace canopy::sim
