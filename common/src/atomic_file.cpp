@@ -21,6 +21,7 @@
 
 #include "canopy/common/error.h"
 #include "canopy/common/signals.h"
+#include "write_all.h"
 
 namespace canopy::common {
 namespace {
@@ -228,20 +229,7 @@ void check_directory(const std::string& path, const std::string& target) {
   }
 }
 
-// Writes all of [data, data + size) to fd; returns 0 or the errno of the failure.
-int write_all(int fd, const char* data, std::size_t size) {
-  while (size > 0) {
-    const ssize_t n = ::write(fd, data, size);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      return errno;
-    }
-    if (n == 0) return EIO;
-    data += n;
-    size -= static_cast<std::size_t>(n);
-  }
-  return 0;
-}
+using detail::write_all;
 
 using common::HoldSignals;
 

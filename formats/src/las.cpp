@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <fstream>
 #include <limits>
 #include <set>
 #include <vector>
@@ -251,7 +253,8 @@ void read_las_point_count(const unsigned char* b, std::size_t size, LasHeader& h
   }
 }
 
-LasHeader read_las_header(const unsigned char* b, std::size_t size, const std::string& name) {
+// The header's fields (not the point count), checked against the file's size.
+LasHeader read_las_header_fields(const unsigned char* b, std::size_t size, const std::string& name) {
   LasHeader h;
   const int major = b[24], minor = b[25];
   h.minor = minor;
@@ -291,14 +294,21 @@ LasHeader read_las_header(const unsigned char* b, std::size_t size, const std::s
                               " bytes; truncated?)");
   }
   read_las_transform(b, h, name);
+  return h;
+}
+
+LasHeader read_las_header(const unsigned char* b, std::size_t size, const std::string& name) {
+  LasHeader h = read_las_header_fields(b, size, name);
   read_las_point_count(b, size, h, name);
   return h;
 }
 
-// VLRs: between the header and the point data, every one must fit there. canopy's comments
-// VLR fills cloud->comments.
-void read_vlrs(const unsigned char* b, const LasHeader& h, const std::string& name, PointCloud* cloud,
-               ExtraVlr* extra) {
+// Calls visit(v, len) for every VLR (v: its 54-byte header, then `len` bytes of payload) between
+// the header and the point data, each of which must fit there; stops quietly at the first one
+// that does not end within the `available` bytes of `b` (<= the point data offset).
+template <typename Visit>
+void for_each_vlr(const unsigned char* b, std::size_t available, const LasHeader& h, const std::string& name,
+                  Visit visit) {
   std::size_t pos = h.header_size;
   for (std::uint32_t i = 0; i < h.vlr_count; ++i) {
     if (h.data_offset - pos < kVlrHeader) {
@@ -306,6 +316,7 @@ void read_vlrs(const unsigned char* b, const LasHeader& h, const std::string& na
                                 std::to_string(i + 1) + " does not fit before the point data at byte " +
                                 std::to_string(h.data_offset) + " (broken VLR count or offset)");
     }
+    if (pos > available || available - pos < kVlrHeader) return;
     const unsigned char* v = b + pos;
     const std::size_t len = get<std::uint16_t>(v + 20);
     if (h.data_offset - pos - kVlrHeader < len) {
@@ -313,6 +324,17 @@ void read_vlrs(const unsigned char* b, const LasHeader& h, const std::string& na
                                 std::to_string(get<std::uint16_t>(v + 18)) + ") of " + std::to_string(len) +
                                 " bytes runs into the point data at byte " + std::to_string(h.data_offset));
     }
+    if (available - pos - kVlrHeader < len) return;
+    visit(v, len);
+    pos += kVlrHeader + len;
+  }
+}
+
+// VLRs: between the header and the point data, every one must fit there. canopy's comments
+// VLR fills cloud->comments.
+void read_vlrs(const unsigned char* b, const LasHeader& h, const std::string& name, PointCloud* cloud,
+               ExtraVlr* extra) {
+  for_each_vlr(b, h.data_offset, h, name, [&](const unsigned char* v, std::size_t len) {
     const std::uint16_t id = get<std::uint16_t>(v + 18);
     if (has_prefix(v + 2, 16, "LASF_Spec") && id == 4 && extra->data == nullptr) {
       extra->data = v + kVlrHeader;
@@ -327,8 +349,7 @@ void read_vlrs(const unsigned char* b, const LasHeader& h, const std::string& na
         s = e + 1;
       }
     }
-    pos += kVlrHeader + len;
-  }
+  });
 }
 
 // EVLRs (LAS 1.4): after the point data, each within the file. Only Extra Bytes are used.
@@ -493,6 +514,47 @@ PointCloud parse_las(const std::string& bytes, const std::string& name) {
 }
 
 PointCloud read_las(const std::string& path) { return parse_las(common::read_file(path), path); }
+
+LasHeaderBlock read_las_header_block(const std::string& path, std::size_t max_bytes) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw DataError(path, "cannot open: " + std::string(std::strerror(errno)));
+  f.seekg(0, std::ios::end);
+  const std::streamoff end = f.tellg();
+  if (end < 0) throw DataError(path, "cannot tell its size (not a regular file?)");
+  const auto size = std::size_t(end);
+  std::string bytes(std::min(size, kHeader14), '\0');
+  f.seekg(0);
+  if (!f.read(bytes.data(), std::streamsize(bytes.size()))) throw DataError(path, "read failed");
+  if (!is_las(bytes)) throw DataError(path, "not a LAS file (no LASF signature)");
+  if (bytes.size() < kHeader12) {
+    throw DataError(path, "LAS header truncated: file has " + std::to_string(size) +
+                              " bytes, a header needs " + std::to_string(kHeader12));
+  }
+  if ((bytes[104] & 0xC0) != 0) bytes[104] = char(bytes[104] & 0x3F);  // LAZ: LASzip's compression bits
+  const auto* b = reinterpret_cast<const unsigned char*>(bytes.data());
+  const LasHeader h = read_las_header_fields(b, size, path);
+  // The VLRs: up to the point data, at most max_bytes (the header is read whole).
+  const std::size_t available = std::min(h.data_offset, std::max(max_bytes, h.header_size));
+  if (available > bytes.size()) {
+    const std::size_t had = bytes.size();
+    bytes.resize(available);
+    if (!f.read(bytes.data() + had, std::streamsize(available - had))) throw DataError(path, "read failed");
+  }
+  b = reinterpret_cast<const unsigned char*>(bytes.data());
+  LasHeaderBlock out;
+  out.major = b[24];
+  out.minor = h.minor;
+  out.point_format = h.format;
+  for_each_vlr(b, available, h, path, [&](const unsigned char* v, std::size_t len) {
+    LasVlr vlr;
+    const char* user = reinterpret_cast<const char*>(v + 2);
+    vlr.user_id.assign(user, strnlen(user, 16));
+    vlr.record_id = get<std::uint16_t>(v + 18);
+    vlr.payload.assign(reinterpret_cast<const char*>(v + kVlrHeader), len);
+    out.vlrs.push_back(std::move(vlr));
+  });
+  return out;
+}
 
 namespace {
 

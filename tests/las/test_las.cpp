@@ -455,3 +455,69 @@ TEST_CASE("LAS writer: bad input is refused", "[las]") {
   for (const char* f : {"x", "y", "z"}) empty.add(f);
   CHECK(parse_las(serialize_las(empty), "e").size() == 0);
 }
+
+TEST_CASE("LAS header block: version, point format and VLRs, without reading the points", "[las]") {
+  // perm-1.2_0.las: LAS 1.2, point format 0, header 227 bytes, points at 1005, three VLRs
+  // (python3 struct by hand): LASF_Projection 34735 (64 bytes, GeoKeyDirectory with 7 keys),
+  // LASF_Projection 34737 (27 bytes, "NAD83 / UTM zone..."), liblas 2112 (525 bytes, WKT).
+  const LasHeaderBlock h = read_las_header_block(data("perm-1.2_0.las"));
+  CHECK(h.major == 1);
+  CHECK(h.minor == 2);
+  CHECK(h.point_format == 0);
+  REQUIRE(h.vlrs.size() == 3);
+  CHECK(h.vlrs[0].user_id == "LASF_Projection");
+  CHECK(h.vlrs[0].record_id == 34735);
+  REQUIRE(h.vlrs[0].payload.size() == 64);
+  CHECK(get<std::uint16_t>(h.vlrs[0].payload, 6) == 7);
+  CHECK(h.vlrs[1].record_id == 34737);
+  CHECK(h.vlrs[1].payload.compare(0, 16, "NAD83 / UTM zone") == 0);
+  CHECK(h.vlrs[2].user_id == "liblas");
+  CHECK(h.vlrs[2].record_id == 2112);
+  CHECK(h.vlrs[2].payload.size() == 525);
+  CHECK(h.vlrs[2].payload.compare(0, 16, "PROJCS[\"NAD83 / ") == 0);
+
+  SECTION("LAZ: the uncompressed header and VLRs; the point format without LASzip's bits") {
+    // ahn3_delft_2.laz: format byte 129 (0x80 | 1), one VLR "laszip encoded" 22204 of 46 bytes.
+    const LasHeaderBlock z = read_las_header_block(canopy::las_test::real("ahn3_delft_2.laz"));
+    CHECK(z.minor == 2);
+    CHECK(z.point_format == 1);
+    REQUIRE(z.vlrs.size() == 1);
+    CHECK(z.vlrs[0].user_id == "laszip encoded");
+    CHECK(z.vlrs[0].record_id == 22204);
+    CHECK(z.vlrs[0].payload.size() == 46);
+  }
+  SECTION("at most max_bytes: the VLRs that end beyond them are not returned") {
+    CHECK(read_las_header_block(data("perm-1.2_0.las"), 227 + 54 + 64).vlrs.size() == 1);
+    CHECK(read_las_header_block(data("perm-1.2_0.las"), 227 + 54 + 63).vlrs.empty());
+  }
+  const auto dir = canopy::test::fresh_dir("las", "header_block");
+  auto error_of = [&](const std::string& bytes) -> std::string {
+    const std::string p = (dir / "t.las").string();
+    canopy::test::write_file(p, bytes);
+    try {
+      read_las_header_block(p);
+    } catch (const DataError& e) { return e.what(); }
+    return "";
+  };
+  const std::string good = slurp(data("perm-1.2_0.las"));
+  SECTION("the points are not read: a wrong point count does not matter here") {
+    std::string b = good;
+    set<std::uint32_t>(&b, 107, 4000000000u);
+    CHECK(las_error(b) != "");
+    CHECK(error_of(b) == "");
+  }
+  SECTION("refusals name the file and the problem") {
+    CHECK(contains(error_of("# .PCD v0.7\n"), "t.las: not a LAS file (no LASF signature)"));
+    CHECK(contains(error_of(good.substr(0, 200)), "LAS header truncated: file has 200 bytes"));
+    CHECK(contains(error_of(good.substr(0, 600)), "offset to point data 1005 is beyond the end of the file"));
+    std::string b = good;
+    set<std::uint32_t>(&b, 100, 4u);  // a fourth VLR would start at the point data
+    CHECK(contains(error_of(b), "VLRs but VLR 4 does not fit before the point data at byte 1005"));
+    b = good;
+    set<std::uint16_t>(&b, 227 + 20, 800);  // the first VLR's length runs into the points
+    CHECK(contains(error_of(b), "runs into the point data at byte 1005"));
+    b = good;
+    b[25] = 5;
+    CHECK(contains(error_of(b), "LAS version 1.5 is not supported"));
+  }
+}

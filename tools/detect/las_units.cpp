@@ -3,17 +3,14 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
-#include <fstream>
-#include <vector>
+
+#include "canopy/common/error.h"
+#include "canopy/formats/las.h"
 
 namespace canopy::detect {
 namespace {
 
-constexpr std::size_t kMaxHeaderBytes = 16u << 20;
-constexpr std::size_t kVlrHeader = 54;
-
 std::uint32_t u16(const unsigned char* p) { return std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8; }
-std::uint32_t u32(const unsigned char* p) { return u16(p) | u16(p + 2) << 16; }
 
 std::optional<LinearUnit> from_epsg(std::uint32_t code, const std::string& source) {
   switch (code) {
@@ -42,40 +39,38 @@ std::optional<LinearUnit> from_wkt(const std::string& wkt) {
                     "WKT UNIT[\"" + name + "\"," + wkt.substr(q + 2, wkt.find(']', q) - q - 2) + "]"};
 }
 
+// The GeoTIFF GeoKeyDirectoryTag (LASF_Projection 34735): 4 shorts of header (the last the key
+// count), then 4 per key; ProjLinearUnitsGeoKey (3076) with its value inline.
+std::optional<LinearUnit> from_geokeys(const std::string& payload) {
+  const std::size_t len = payload.size();
+  if (len < 8) return std::nullopt;
+  const auto* d = reinterpret_cast<const unsigned char*>(payload.data());
+  const std::size_t keys = std::min<std::size_t>(u16(d + 6), (len - 8) / 8);
+  for (std::size_t k = 0; k < keys; ++k) {
+    const unsigned char* e = d + 8 + 8 * k;
+    if (u16(e) == 3076 && u16(e + 2) == 0) {
+      return from_epsg(u16(e + 6), "GeoTIFF key ProjLinearUnits = " + std::to_string(u16(e + 6)));
+    }
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 std::optional<LinearUnit> las_linear_unit(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  unsigned char h[104];
-  if (!f.read(reinterpret_cast<char*>(h), sizeof h) || std::memcmp(h, "LASF", 4) != 0) return std::nullopt;
-  const std::size_t header_size = u16(h + 94), data_offset = u32(h + 96), vlrs = u32(h + 100);
-  if (header_size < 104 || data_offset < header_size) return std::nullopt;
-  std::vector<unsigned char> b(std::min(data_offset, kMaxHeaderBytes));
-  f.seekg(0);
-  if (!f.read(reinterpret_cast<char*>(b.data()), std::streamsize(b.size()))) return std::nullopt;
+  formats::LasHeaderBlock header;
+  try {
+    header = formats::read_las_header_block(path);
+  } catch (const common::DataError&) {
+    return std::nullopt;  // not LAS, or a header the reader refuses (it reports that itself)
+  }
   std::optional<LinearUnit> wkt;
-  std::size_t pos = header_size;
-  for (std::size_t i = 0; i < vlrs && pos + kVlrHeader <= b.size(); ++i) {
-    const unsigned char* v = b.data() + pos;
-    const std::size_t len = u16(v + 20);
-    if (pos + kVlrHeader + len > b.size()) break;
-    const std::uint32_t id = u16(v + 18);
-    const unsigned char* d = v + kVlrHeader;
-    const bool projection = std::strncmp(reinterpret_cast<const char*>(v + 2), "LASF_Projection", 16) == 0;
-    if (projection && id == 34735 && len >= 8) {
-      // GeoKeyDirectoryTag: 4 shorts of header (the last the key count), then 4 per key.
-      const std::size_t keys = std::min<std::size_t>(u16(d + 6), (len - 8) / 8);
-      for (std::size_t k = 0; k < keys; ++k) {
-        const unsigned char* e = d + 8 + 8 * k;
-        if (u16(e) == 3076 && u16(e + 2) == 0) {  // ProjLinearUnitsGeoKey, value inline
-          return from_epsg(u16(e + 6), "GeoTIFF key ProjLinearUnits = " + std::to_string(u16(e + 6)));
-        }
-      }
-    } else if (id == 2112 && !wkt) {  // OGC coordinate system WKT (LASF_Projection, or libLAS's copy)
-      wkt = from_wkt(
-          std::string(reinterpret_cast<const char*>(d), strnlen(reinterpret_cast<const char*>(d), len)));
+  for (const formats::LasVlr& v : header.vlrs) {
+    if (v.user_id == "LASF_Projection" && v.record_id == 34735) {
+      if (auto unit = from_geokeys(v.payload)) return unit;
+    } else if (v.record_id == 2112 && !wkt) {  // OGC coordinate system WKT (LASF_Projection, or libLAS's copy)
+      wkt = from_wkt(v.payload.substr(0, strnlen(v.payload.data(), v.payload.size())));
     }
-    pos += kVlrHeader + len;
   }
   return wkt;
 }

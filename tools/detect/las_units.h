@@ -1,5 +1,5 @@
 // The linear unit a LAS file's georeferencing declares (GeoTIFF keys or OGC WKT VLR), read
-// from its header and VLRs only (bounded: at most the bytes before the point data, 16 MiB).
+// from its header and VLRs only (formats::read_las_header_block: at most 16 MiB).
 #pragma once
 
 #include <optional>

@@ -1,10 +1,7 @@
 #include "detect/output.h"
 
-#include <dirent.h>
 #include <fcntl.h>
 #include <openssl/evp.h>
-#include <pthread.h>
-#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -13,7 +10,6 @@
 #include <cerrno>
 #include <climits>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -27,14 +23,13 @@
 #include <system_error>
 #include <vector>
 
+#include "canopy/common/atomic_dir.h"
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
-#include "canopy/common/signals.h"
 #include "canopy/common/log.h"
 #include "canopy/documents/candidates.h"
-#include "canopy/formats/pcd.h"
 #include "canopy/formats/provenance.h"
-#include "canopy/formats/ply.h"
+#include "detect/crops.h"
 
 namespace canopy::detect {
 namespace {
@@ -106,103 +101,6 @@ std::optional<std::pair<std::string, std::uintmax_t>> sha256_file(const fs::path
   if (!ok || EVP_DigestFinal_ex(ctx.get(), md, &len) != 1) return std::nullopt;
   return std::make_pair(hex(md, len), size);
 }
-
-// ---------------------------------------------------------------------------------------
-// Signals: the temporary directory is removed on SIGINT, SIGTERM, SIGHUP, SIGPIPE, SIGXFSZ.
-
-constexpr const auto& kSignals = common::kCleanupSignals;
-constexpr int kNumSignals = sizeof kSignals / sizeof kSignals[0];
-char g_temp_dir[PATH_MAX];
-volatile sig_atomic_t g_temp_set = 0;
-volatile sig_atomic_t g_in_handler = 0;
-struct sigaction g_previous[kNumSignals];
-bool g_installed[kNumSignals];
-
-// Unlinks every entry of a flat directory, then the directory. Async-signal-safe (getdents64,
-// unlinkat, rmdir); entries are re-read until none is left, since unlinking while reading may
-// skip some.
-void remove_flat_dir(const char* path) noexcept {
-  const int fd = ::open(path, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
-  if (fd < 0) return;
-  alignas(8) char buf[8192];
-  for (int pass = 0; pass < 64; ++pass) {
-    bool removed = false;
-    ::lseek(fd, 0, SEEK_SET);
-    for (;;) {
-      const ssize_t n = ::getdents64(fd, buf, sizeof buf);
-      if (n <= 0) break;
-      for (ssize_t off = 0; off < n;) {
-        const auto* d = reinterpret_cast<const struct dirent64*>(buf + off);
-        off += d->d_reclen;
-        const char* name = d->d_name;
-        if (name[0] == '.' && (name[1] == 0 || (name[1] == '.' && name[2] == 0))) continue;
-        if (::unlinkat(fd, name, 0) == 0) removed = true;
-      }
-    }
-    if (!removed) break;
-  }
-  ::close(fd);
-  ::rmdir(path);
-}
-
-extern "C" void remove_temp_and_reraise(int sig, siginfo_t* info, void* context) {
-  if (g_temp_set) remove_flat_dir(g_temp_dir);
-  g_temp_set = 0;
-  const bool chain = g_in_handler == 0;
-  g_in_handler = 1;
-  for (int k = 0; chain && k < kNumSignals; ++k) {
-    if (kSignals[k] != sig || !g_installed[k]) continue;
-    const struct sigaction& prev = g_previous[k];
-    if ((prev.sa_flags & SA_SIGINFO) != 0 && prev.sa_sigaction != nullptr) {
-      prev.sa_sigaction(sig, info, context);
-      return;
-    }
-    if (prev.sa_handler != SIG_DFL && prev.sa_handler != SIG_IGN && prev.sa_handler != nullptr) {
-      prev.sa_handler(sig);
-      return;
-    }
-  }
-  common::reraise_with_default_action(sig);
-}
-
-// While it lives, the signals above remove `dir` (flat) before taking their previous action.
-// A signal ignored when it is created stays ignored.
-class RemoveOnSignal {
- public:
-  explicit RemoveOnSignal(const fs::path& dir) {
-    const std::string s = dir.string();
-    if (s.size() >= sizeof g_temp_dir) return;
-    std::memcpy(g_temp_dir, s.c_str(), s.size() + 1);
-    g_in_handler = 0;
-    g_temp_set = 1;
-    for (int k = 0; k < kNumSignals; ++k) {
-      struct sigaction old {};
-      sigaction(kSignals[k], nullptr, &old);
-      g_installed[k] = false;
-      if ((old.sa_flags & SA_SIGINFO) == 0 && old.sa_handler == SIG_IGN) continue;
-      g_previous[k] = old;
-      struct sigaction sa {};
-      sa.sa_sigaction = remove_temp_and_reraise;
-      sa.sa_flags = SA_SIGINFO;
-      sigemptyset(&sa.sa_mask);
-      sigaction(kSignals[k], &sa, nullptr);
-      g_installed[k] = true;
-    }
-  }
-  ~RemoveOnSignal() {
-    g_temp_set = 0;
-    for (int k = 0; k < kNumSignals; ++k) {
-      if (g_installed[k]) sigaction(kSignals[k], &g_previous[k], nullptr);
-      g_installed[k] = false;
-    }
-  }
-  // The directory is no longer ours to remove (it was renamed into place).
-  void release() { g_temp_set = 0; }
-  RemoveOnSignal(const RemoveOnSignal&) = delete;
-  RemoveOnSignal& operator=(const RemoveOnSignal&) = delete;
-};
-
-using common::HoldSignals;
 
 // ---------------------------------------------------------------------------------------
 // What -o names.
@@ -514,53 +412,12 @@ void remove_output_tree(const fs::path& dir) {
   fs::remove(dir, ec);
 }
 
-// A directory fd, flock'ed exclusively; closed (unlocked) with the object.
-class DirLock {
- public:
-  DirLock() = default;
-  ~DirLock() {
-    if (fd_ >= 0) ::close(fd_);
-  }
-  DirLock(const DirLock&) = delete;
-  DirLock& operator=(const DirLock&) = delete;
-  // True when locked; false when another process holds it (or the directory cannot be opened).
-  bool lock(const fs::path& dir, bool wait) {
-    fd_ = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
-    if (fd_ < 0) return false;
-    if (::flock(fd_, LOCK_EX | (wait ? 0 : LOCK_NB)) != 0) {
-      ::close(fd_);
-      fd_ = -1;
-      return false;
-    }
-    return true;
-  }
-  int fd() const { return fd_; }
-
- private:
-  int fd_ = -1;
-};
-
 // Removes the leftovers of killed runs beside the output: `.<name>.tmp<digits>` and
 // `.<name>.old<digits>` directories that no live run holds locked and that hold detect's
 // marker, manifest or index (or nothing). Others of that name are left, with a warning.
 void remove_leftovers(const Target& t) {
-  std::error_code ec;
-  std::vector<fs::path> found;
-  for (fs::directory_iterator it(t.parent, ec), end; !ec && it != end; it.increment(ec)) {
-    const std::string n = it->path().filename().string();
-    for (const std::string tag : {".tmp", ".old"}) {
-      const std::string prefix = "." + t.name + tag;
-      if (n.size() > prefix.size() && n.compare(0, prefix.size(), prefix) == 0 &&
-          std::all_of(n.begin() + long(prefix.size()), n.end(), [](char c) { return c >= '0' && c <= '9'; })) {
-        found.push_back(it->path());
-      }
-    }
-  }
-  std::sort(found.begin(), found.end());
-  for (const fs::path& p : found) {
-    if (!fs::is_directory(fs::symlink_status(p, ec))) continue;
-    DirLock lock;
-    if (!lock.lock(p, false)) continue;  // a live run's
+  common::for_each_leftover_dir(t.parent, t.name, [](const fs::path& p) {
+    std::error_code ec;
     std::string why;
     const bool empty = fs::is_empty(p, ec);
     const bool ours = empty || fs::exists(fs::symlink_status(p / kPartialMarker)) ||
@@ -572,37 +429,18 @@ void remove_leftovers(const Target& t) {
                         ": left alone: named like a leftover of an interrupted detect run, but it "
                         "holds no marker, manifest or index of detect's");
     }
-  }
+  });
 }
 
 // ---------------------------------------------------------------------------------------
 // Writing.
 
-int write_all(int fd, const char* data, std::size_t size) {
-  while (size > 0) {
-    const ssize_t n = ::write(fd, data, size);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      return errno;
-    }
-    if (n == 0) return EIO;
-    data += n;
-    size -= std::size_t(n);
-  }
-  return 0;
-}
-
 // Writes files into the temporary directory and lists them for the manifest.
 class DirWriter {
  public:
-  DirWriter(int dirfd, fs::path dir, std::string shown)
-      : dirfd_(dirfd), dir_(std::move(dir)), shown_(std::move(shown)) {}
+  explicit DirWriter(common::AtomicDir& dir) : dir_(dir) {}
   void write(const std::string& name, const std::string& bytes, bool list = true) {
-    const int fd = ::openat(dirfd_, name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (fd < 0) throw DataError((dir_ / name).string(), "cannot create: " + errno_text(errno));
-    int err = write_all(fd, bytes.data(), bytes.size());
-    if (::close(fd) != 0 && err == 0) err = errno;
-    if (err != 0) throw DataError(shown_ + "/" + name, "write failed: " + errno_text(err));
+    dir_.write(name, bytes);
     if (list) files_.push_back(Json{{"name", name}, {"bytes", bytes.size()}, {"sha256", sha256(bytes)}});
   }
   Json manifest() const {
@@ -610,26 +448,8 @@ class DirWriter {
   }
 
  private:
-  int dirfd_;
-  fs::path dir_;
-  std::string shown_;
+  common::AtomicDir& dir_;
   Json files_ = Json::array();
-};
-
-// The temporary directory: removed (flat) unless released.
-class TempDir {
- public:
-  explicit TempDir(fs::path p) : path_(std::move(p)) {}
-  ~TempDir() {
-    if (!path_.empty()) remove_flat_dir(path_.c_str());
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const fs::path& path() const { return path_; }
-  void release() { path_.clear(); }
-
- private:
-  fs::path path_;
 };
 
 void step(const WriteHooks& hooks, const char* name) {
@@ -706,91 +526,29 @@ void write_output(const std::string& dir, const formats::PointCloud& tile, const
   const Target t = resolve_target(dir);
   check_existing(t, tile_name);
   remove_leftovers(t);
-  const std::string pid = std::to_string(::getpid());
-  const fs::path temp = t.parent / ("." + t.name + ".tmp" + pid);
-  if (::mkdir(temp.c_str(), 0777) != 0) {
-    throw DataError(temp.string(), "cannot create a temporary directory: " + errno_text(errno));
-  }
-  TempDir guard(temp);
-  RemoveOnSignal on_signal(temp);
-  DirLock lock;
-  if (!lock.lock(temp, true)) throw DataError(temp.string(), "cannot lock the temporary directory");
-  DirWriter out(lock.fd(), temp, temp.string());
+  common::AtomicDir temp(t.parent, t.name, t.given, t.via, {hooks.step, hooks.no_exchange});
+  DirWriter out(temp);
   out.write(kPartialMarker, "", false);
   step(hooks, "created");
   // Every file's comments: the tile's own (a candidate's crop keeps them), detect's
   // provenance, then what the file holds.
   const std::vector<std::string> prov = formats::provenance_comments(provenance);
   for (const Candidate& c : result.candidates) {
-    formats::PointCloud cloud = c.cloud;
-    cloud.comments.insert(cloud.comments.end(), prov.begin(), prov.end());
-    cloud.comments.push_back("candidate " + c.id +
-                             " in its local frame; index.json gives the transform back to the tile");
     const std::string name = c.id + ".pcd";
-    formats::check_coordinates(cloud, (temp / name).string());
-    out.write(name, formats::serialize_pcd(cloud));
+    out.write(name, candidate_pcd(c, prov, (temp.temp() / name).string()));
   }
   std::string classes;
   if (write_classes) {
     classes = "classes.ply";
-    formats::Mesh m;
-    m.vertices = classification_cloud(tile, result);
-    char origin[160];
-    std::snprintf(origin, sizeof origin, "origin %.17g %.17g %.17g (add to x y z for tile coordinates)",
-                  result.origin.x(), result.origin.y(), result.origin.z());
-    m.vertices.comments = prov;
-    m.vertices.comments.push_back("classes 1 ground (brown), 2 vegetation/other (green), 3 candidate (red)");
-    m.vertices.comments.push_back(origin);
-    out.write(classes, formats::serialize_ply(m));
+    out.write(classes, classes_ply(tile, result, prov));
   }
   out.write(kIndexName, serialize_index(result, params, provenance, tile_name, classes));
   out.write(kManifestName, out.manifest().dump(1) + "\n", false);
-  if (::unlinkat(lock.fd(), kPartialMarker, 0) != 0) {
-    throw DataError((temp / kPartialMarker).string(), "cannot remove: " + errno_text(errno));
-  }
+  temp.remove(kPartialMarker);
   step(hooks, "written");
-
-  const HoldSignals hold;
   // Again, just before the swap: the directory may have changed during the work.
-  const bool exists = check_existing(t, tile_name);
-  fs::path old;  // the previous output after the swap
-  if (!exists) {
-    on_signal.release();
-    int e = ::renameat2(AT_FDCWD, temp.c_str(), AT_FDCWD, t.path.c_str(), RENAME_NOREPLACE) == 0 ? 0 : errno;
-    if (e == EINVAL || e == ENOSYS) e = ::rename(temp.c_str(), t.path.c_str()) == 0 ? 0 : errno;
-    if (e != 0) throw DataError(t.given, "cannot rename the new output into place: " + errno_text(e) + t.via);
-    guard.release();
-    return;
-  }
-  int e = 0;
-  if (!hooks.no_exchange) {
-    e = ::renameat2(AT_FDCWD, temp.c_str(), AT_FDCWD, t.path.c_str(), RENAME_EXCHANGE) == 0 ? 0 : errno;
-  }
-  if (!hooks.no_exchange && e == 0) {
-    on_signal.release();
-    guard.release();
-    old = temp;  // the names are swapped: the previous output is at the temporary name
-    step(hooks, "swapped");
-  } else if (hooks.no_exchange || e == EINVAL || e == ENOSYS || e == ENOTSUP) {
-    // No RENAME_EXCHANGE here: the previous output aside, the new one in (a kill between the
-    // two leaves both beside the path, and nothing at it).
-    old = t.parent / ("." + t.name + ".old" + pid);
-    if (::rename(t.path.c_str(), old.c_str()) != 0) {
-      throw DataError(t.given, "cannot move the previous output aside: " + errno_text(errno) + t.via);
-    }
-    step(hooks, "aside");
-    if (::rename(temp.c_str(), t.path.c_str()) != 0) {
-      const int e2 = errno;
-      ::rename(old.c_str(), t.path.c_str());
-      throw DataError(t.given, "cannot rename the new output into place: " + errno_text(e2) + t.via);
-    }
-    on_signal.release();
-    guard.release();
-    step(hooks, "swapped");
-  } else {
-    throw DataError(t.given, "cannot swap the new output into place: " + errno_text(e) + t.via);
-  }
-  remove_output_tree(old);
+  temp.publish([&] { return check_existing(t, tile_name); },
+               [](const fs::path& old) { remove_output_tree(old); });
 }
 
 }  // namespace canopy::detect

@@ -8,7 +8,10 @@
 // DataError naming the file.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "canopy/formats/point_cloud.h"
 
@@ -23,6 +26,26 @@ bool is_las(const std::string& bytes);
 bool is_laz(const std::string& bytes);
 
 PointCloud read_las(const std::string& path);
+
+// One variable-length record (VLR) of a LAS file's header block.
+struct LasVlr {
+  std::string user_id;  // up to 16 bytes, up to the first NUL
+  std::uint16_t record_id = 0;
+  std::string payload;
+};
+
+// A LAS file's header block: its version, point data format and VLRs.
+struct LasHeaderBlock {
+  int major = 0, minor = 0, point_format = 0;  // a LAZ file's without LASzip's compression bits
+  std::vector<LasVlr> vlrs;
+};
+
+// Reads only the header and the VLRs of the LAS or LAZ file `path` (LAZ keeps them
+// uncompressed; the points are not read): at most `max_bytes` of the file (the header always
+// whole); VLRs that end beyond them are not returned. Every failure is a DataError naming the
+// file: not LAS, and every check read_las makes of the header and the VLRs (not those of the
+// point data and EVLRs).
+LasHeaderBlock read_las_header_block(const std::string& path, std::size_t max_bytes = std::size_t(16) << 20);
 // Parses an in-memory LAS file; `name` is used in error messages.
 PointCloud parse_las(const std::string& bytes, const std::string& name);
 

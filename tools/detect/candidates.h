@@ -1,0 +1,29 @@
+// detect's candidates (step 5 of detect.h, docs/decisions/detect.md §4): per accepted object a
+// rigid frame on the ground plane under it, its size and pose, and the crop of the tile's points
+// around it in that frame.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "canopy/formats/point_cloud.h"
+#include "detect/detect.h"
+#include "detect/frame.h"
+#include "detect/ground.h"
+#include "detect/objects.h"
+
+namespace canopy::detect {
+
+// The candidates sorted by their centre (x, then y) and numbered c0001, ...; for each, the
+// object it was made of (an index into the objects) and the tile rows of its crop, ascending.
+// The candidates' truth is not set (truth.h).
+struct Placed {
+  std::vector<Candidate> candidates;
+  std::vector<std::size_t> object;
+  std::vector<std::vector<std::size_t>> rows;
+};
+
+Placed place_candidates(const formats::PointCloud& tile, const LocalFrame& l, const Ground& g,
+                        const std::vector<Object>& objects, const Params& params);
+
+}  // namespace canopy::detect

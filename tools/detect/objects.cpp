@@ -1,0 +1,248 @@
+#include "detect/objects.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <unordered_map>
+#include <utility>
+
+#include "canopy/common/error.h"
+#include "canopy/formats/csv_table.h"
+#include "detect/clustering.h"
+
+namespace canopy::detect {
+namespace {
+
+using common::DataError;
+using Eigen::Vector2d;
+using formats::format_number;
+
+constexpr int kMaxSplitDepth = 6;
+
+struct Context {
+  const Params& p;
+  const std::vector<double>& x;  // local frame
+  const std::vector<double>& y;
+  const std::vector<double>& z;  // height above the DTM (clustering in (x, y, height))
+  const std::vector<float>& h;
+  Objects& out;  // accepted objects and counts
+  // 2-D voxel columns (i, j at `voxel`, packed) holding a point just above the band: a
+  // cluster reaching the band's top under them is the bottom of something taller (a crown).
+  std::unordered_map<std::uint64_t, char> above;
+};
+
+std::uint64_t column_key(double x, double y, double v) {
+  const auto i = std::int64_t(std::floor(x / v)) + (std::int64_t(1) << 30);
+  const auto j = std::int64_t(std::floor(y / v)) + (std::int64_t(1) << 30);
+  return (std::uint64_t(i) << 32) | std::uint64_t(j);
+}
+
+// True when most of the cluster's points in the band's top voxel layer have points right
+// above the band over them (within one voxel column): a crown or building cut by the band.
+bool continues_upward(const Context& c, const std::vector<std::uint32_t>& pts) {
+  const double v = c.p.voxel, top = c.p.max_height - v;
+  std::size_t in_top = 0, under = 0;
+  for (std::uint32_t q : pts) {
+    if (c.h[q] < top) continue;
+    ++in_top;
+    bool hit = false;
+    for (int di = -1; di <= 1 && !hit; ++di)
+      for (int dj = -1; dj <= 1 && !hit; ++dj)
+        hit = c.above.count(column_key(c.x[q] + di * v, c.y[q] + dj * v, v)) > 0;
+    under += hit;
+  }
+  return in_top >= 10 && under * 2 >= in_top;
+}
+
+Footprint footprint_of(const Context& c, const std::vector<std::uint32_t>& pts) {
+  std::vector<Vector2d> xy(pts.size());
+  for (std::size_t n = 0; n < pts.size(); ++n) xy[n] = Vector2d(c.x[pts[n]], c.y[pts[n]]);
+  return min_area_rectangle(xy);
+}
+
+// Finer voxel (half the edge): parts of `pts` that only touch come apart. Returns the parts
+// holding at least max(min_points, min_share of the points) when there are two or more.
+std::vector<std::vector<std::uint32_t>> finer_parts(const Context& c, const std::vector<std::uint32_t>& pts,
+                                                    double min_share = 0.1) {
+  std::vector<std::vector<std::uint32_t>> parts;
+  try {
+    parts = cluster_points(pts, c.x, c.y, c.z, c.p.voxel / 2, Clustering::kGrid);
+  } catch (const VoxelOverflow&) {
+    return {};  // too large for the finer voxel: no finer parts
+  }
+  const std::size_t big = std::max(c.p.min_points, std::size_t(double(pts.size()) * min_share));
+  std::vector<std::vector<std::uint32_t>> kept;
+  for (auto& part : parts) {
+    if (part.size() >= big) kept.push_back(std::move(part));
+  }
+  if (kept.size() < 2) kept.clear();
+  return kept;
+}
+
+// Cut position across `axis` at a clear valley, leaving at least `min_side` on each side; NaN
+// if none. A valley is an empty gap (a slab holding at most 35% of the median slab's points)
+// or a drop of the top surface between two higher parts (the highest
+// point of the bin at least max(0.3 m, 20% of the lower part) below the highest on either
+// side): two car roofs side by side. The deepest valley wins, then the one nearest the middle.
+double valley_cut(const Context& c, const std::vector<std::uint32_t>& pts, const Vector2d& axis,
+                  double min_side) {
+  double smin = 1e300, smax = -1e300;
+  std::vector<double> s(pts.size());
+  for (std::size_t n = 0; n < pts.size(); ++n) {
+    s[n] = Vector2d(c.x[pts[n]], c.y[pts[n]]).dot(axis);
+    smin = std::min(smin, s[n]);
+    smax = std::max(smax, s[n]);
+  }
+  // Bins of 0.05 m, widened (up to 0.2 m) until they hold 20 points on average.
+  double bin = 0.05;
+  while (bin < 0.2 && double(pts.size()) * bin / std::max(1e-9, smax - smin) < 20) bin *= 2;
+  const int nb = std::max(1, int(std::ceil((smax - smin) / bin)));
+  std::vector<double> slab(std::size_t(nb), 0.0), top(std::size_t(nb), 0.0);
+  for (std::size_t n = 0; n < pts.size(); ++n) {
+    const int b = std::min(nb - 1, int((s[n] - smin) / bin));
+    slab[std::size_t(b)] += 1;
+    top[std::size_t(b)] = std::max(top[std::size_t(b)], double(c.h[pts[n]]));
+  }
+  std::vector<double> sorted = slab;
+  std::nth_element(sorted.begin(), sorted.begin() + long(sorted.size() / 2), sorted.end());
+  const double median = sorted[sorted.size() / 2];
+  std::vector<double> left(std::size_t(nb), 0.0), right(std::size_t(nb), 0.0);
+  for (int b = 1; b < nb; ++b)
+    left[std::size_t(b)] = std::max(left[std::size_t(b - 1)], top[std::size_t(b - 1)]);
+  for (int b = nb - 2; b >= 0; --b)
+    right[std::size_t(b)] = std::max(right[std::size_t(b + 1)], top[std::size_t(b + 1)]);
+  double best_depth = 0, best_off = 1e300, cut = std::numeric_limits<double>::quiet_NaN();
+  const double mid = 0.5 * (smin + smax);
+  for (int b = 0; b < nb; ++b) {
+    const double centre = smin + (b + 0.5) * bin;
+    if (centre - smin < min_side || smax - centre < min_side) continue;
+    const double lower = std::min(left[std::size_t(b)], right[std::size_t(b)]);
+    const double drop = lower - top[std::size_t(b)];
+    const bool empty = slab[std::size_t(b)] <= 0.35 * median;
+    const bool dip = drop >= std::max(0.3, 0.2 * lower);
+    if (!empty && !dip) continue;
+    const double depth = empty ? lower : drop;
+    const double off = std::abs(centre - mid);
+    if (depth > best_depth + 1e-9 || (std::abs(depth - best_depth) <= 1e-9 && off < best_off)) {
+      best_depth = depth;
+      best_off = off;
+      cut = centre;
+    }
+  }
+  return cut;
+}
+
+void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
+  const Params& p = c.p;
+  if (pts.size() < p.min_points) {
+    ++c.out.rejected_small;
+    return;
+  }
+  Object o;
+  o.fp = footprint_of(c, pts);
+  for (std::uint32_t q : pts) o.height = std::max(o.height, double(c.h[q]));
+  if (o.fp.length < p.min_length || o.fp.width < p.min_width || o.height < p.min_height) {
+    ++c.out.rejected_small;
+    return;
+  }
+  if (continues_upward(c, pts)) {
+    // A vehicle close under a crown may hang on to its bottom: a finer voxel parts them.
+    auto parts = depth < kMaxSplitDepth ? finer_parts(c, pts, 0.0) : std::vector<std::vector<std::uint32_t>>{};
+    if (parts.empty() && depth < kMaxSplitDepth) {
+      // Or hang on to a trunk: drop the columns under points just above the band and look
+      // at what stays connected.
+      std::vector<std::uint32_t> rest;
+      for (std::uint32_t q : pts) {
+        if (!c.above.count(column_key(c.x[q], c.y[q], c.p.voxel))) rest.push_back(q);
+      }
+      if (rest.size() >= c.p.min_points && rest.size() < pts.size()) {
+        parts = cluster_points(rest, c.x, c.y, c.z, c.p.voxel, Clustering::kGrid);
+      }
+    }
+    if (parts.empty()) {
+      ++c.out.rejected_canopy;
+      return;
+    }
+    ++c.out.splits;
+    for (auto& part : parts) examine(c, std::move(part), depth + 1);
+    return;
+  }
+  const bool too_long = o.fp.length > p.max_length, too_wide = o.fp.width > p.max_width;
+  // Wider than two narrow vehicles, or oversized: objects that only touch come apart with a
+  // finer voxel.
+  const bool two_wide = o.fp.width > 2 * p.min_width + 1.0;
+  if ((too_long || too_wide || two_wide) && depth < kMaxSplitDepth) {
+    auto parts = finer_parts(c, pts);
+    if (!parts.empty()) {
+      ++c.out.splits;
+      for (auto& part : parts) examine(c, std::move(part), depth + 1);
+      return;
+    }
+  }
+  // Cuts the object at a clear valley across axis `a` (pieces at least `min_part` wide) and
+  // examines both sides; false when there is no such valley.
+  auto split_at_valley = [&](const Vector2d& a, double min_part) {
+    const double cut = valley_cut(c, pts, a, min_part);
+    if (std::isnan(cut)) return false;
+    std::vector<std::uint32_t> lo, hi;
+    for (std::uint32_t q : pts) (Vector2d(c.x[q], c.y[q]).dot(a) < cut ? lo : hi).push_back(q);
+    ++c.out.splits;
+    examine(c, std::move(lo), depth + 1);
+    examine(c, std::move(hi), depth + 1);
+    return true;
+  };
+  if (two_wide && !too_long && depth < kMaxSplitDepth) {
+    // Side by side and touching: a valley across the width.
+    if (split_at_valley(Vector2d(-o.fp.axis.y(), o.fp.axis.x()), p.min_width)) return;
+  }
+  if (too_long || too_wide) {
+    // Oversized: cut at a clear valley across the oversized axis.
+    if (depth < kMaxSplitDepth) {
+      const Vector2d a = too_wide ? Vector2d(-o.fp.axis.y(), o.fp.axis.x()) : o.fp.axis;
+      if (split_at_valley(a, too_wide ? p.min_width : p.min_length)) return;
+    }
+    // No clean split: a vehicle with a bush against it stays a candidate (recall first) when
+    // it is at most a quarter beyond the ranges.
+    if (o.fp.length > 1.25 * p.max_length || o.fp.width > 1.25 * p.max_width) {
+      ++c.out.rejected_large;
+      return;
+    }
+  }
+  o.points = std::move(pts);
+  c.out.accepted.push_back(std::move(o));
+}
+
+}  // namespace
+
+Objects find_objects(const LocalFrame& l, const std::vector<float>& height, const Params& params,
+                     const std::string& name) {
+  const std::size_t n = l.x.size();
+  std::vector<std::uint32_t> band;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (height[i] >= params.min_object_height && height[i] <= params.max_height)
+      band.push_back(std::uint32_t(i));
+  }
+  Objects out;
+  out.band_points = band.size();
+  std::vector<double> hz(n);  // clustering in (x, y, height): the band is a flat slab
+  for (std::size_t i = 0; i < n; ++i) hz[i] = height[i];
+  Context ctx{params, l.x, l.y, hz, height, out, {}};
+  for (std::size_t i = 0; i < n; ++i) {
+    if (height[i] > params.max_height && height[i] <= params.max_height + 2 * params.voxel) {
+      ctx.above.emplace(column_key(l.x[i], l.y[i], params.voxel), 1);
+    }
+  }
+  try {
+    auto clusters = cluster_points(band, l.x, l.y, hz, params.voxel, params.clustering);
+    out.clusters = clusters.size();
+    for (auto& cl : clusters) examine(ctx, std::move(cl), 0);
+  } catch (const VoxelOverflow& e) {
+    throw DataError(name, "the points between --min-object-height and --max-height span " +
+                              format_number("%.6g", e.extent) + " m, more than " +
+                              std::to_string(kVoxelMask - 1) + " clustering voxels along an axis of --voxel " +
+                              format_number("%g", params.voxel) + " m: raise --voxel (or crop the tile)");
+  }
+  return out;
+}
+
+}  // namespace canopy::detect

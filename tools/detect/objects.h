@@ -1,0 +1,42 @@
+// detect's objects (steps 3 and 4 of detect.h): the points between min_object_height and
+// max_height above the DTM, clustered; each cluster tested against the vehicle ranges, split
+// where objects only touch, rejected when it is the bottom of something taller.
+// docs/decisions/detect.md §3.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "detect/detect.h"
+#include "detect/footprint.h"
+#include "detect/frame.h"
+
+namespace canopy::detect {
+
+// Planar share and area of an object (shape.h; zero until the shape test ran).
+struct Shape {
+  double share = 0, area = 0;
+};
+
+struct Object {
+  std::vector<std::uint32_t> points;  // rows of the tile
+  Footprint fp;
+  double height = 0;  // highest point above the DTM (m)
+  Shape shape;
+};
+
+// The objects that pass the vehicle tests, in the order found, and the counts of the way.
+struct Objects {
+  std::vector<Object> accepted;
+  std::size_t band_points = 0, clusters = 0, splits = 0;
+  std::size_t rejected_small = 0, rejected_large = 0, rejected_canopy = 0;
+};
+
+// `height`: every point's height above the DTM (Ground::height). Throws common::DataError
+// naming `name` when the band spans more clustering voxels along an axis than a key holds.
+Objects find_objects(const LocalFrame& l, const std::vector<float>& height, const Params& params,
+                     const std::string& name);
+
+}  // namespace canopy::detect
