@@ -273,7 +273,7 @@ if [ -n "$real_build" ] && [ -f "$real_build/CMakeFiles/Makefile.cmake" ]; then
   cd "$src" || exit 1
   scripts/tool-deps.sh "$real_build" report "$tmp/report.mk"
   for f in tools/areas/areas.cpp tools/areas/areas.h tools/report/report.cpp tools/report/main.cpp \
-           formats/src/stage_time.cpp formats/include/canopy/formats/stage_time.h common/CMakeLists.txt; do
+           documents/src/stage_time.cpp documents/include/canopy/documents/stage_time.h common/CMakeLists.txt; do
     grep -q "^\$(BIN)/report:.* $f\( \|\$\)" "$tmp/report.mk" || fail "the real build's record of report misses $f"
   done
   # (every CMakeLists.txt is there: CMake reads them all to configure any target)
