@@ -44,16 +44,19 @@ fi
 # "alloc-dealloc-mismatch (malloc vs operator delete)"; libstdc++'s operator delete is free(),
 # so the release build is unaffected. ASan suppressions cannot name this check, hence the option.
 #
-# Every report goes to a file (log_path), not to stderr: the pipeline tests run the tools
-# through make and scripts/stage.sh, which keep a tool's stderr in a log that the test deletes,
-# and record a failing ablation or tile stage (status 1..125) as a failed trial; unit tests
-# expect exit 1 from tools on bad input. A report there would not fail the test. Each test gets
-# its own report directory, build-asan/sanitizer-reports/<test>/; any file in it fails the run
-# and is printed below. exitcode=86 (a status no canopy tool uses) also fails most tests at once.
+# ASan and LeakSanitizer reports go to a file (log_path), not to stderr: the pipeline tests run
+# the tools through make and scripts/stage.sh, which keep a tool's stderr in a log that the test
+# deletes, and record a failing ablation or tile stage (status 1..125) as a failed trial; unit
+# tests expect exit 1 from tools on bad input. A report there would not fail the test. Each test
+# gets its own report directory, build-asan/sanitizer-reports/<test>/; any file in it fails the
+# run and is printed below. exitcode=86 (a status no canopy tool uses) also fails most tests at
+# once. UBSan in g++'s combined runtime ignores log_path (its report goes to stderr whatever
+# UBSAN_OPTIONS or ASAN_OPTIONS say; tried with a one-line overflow), so it aborts instead
+# (SIGABRT, status 134): stage.sh never records a signal as a failed trial, and the test fails.
 cd build-asan
 reports=$PWD/sanitizer-reports
 base_asan="detect_leaks=1:abort_on_error=0:strict_string_checks=1:detect_stack_use_after_return=1:alloc_dealloc_mismatch=0:exitcode=86"
-base_ubsan="print_stacktrace=1:halt_on_error=1:exitcode=86"
+base_ubsan="print_stacktrace=1:halt_on_error=1:abort_on_error=1"
 export LSAN_OPTIONS="suppressions=$root/scripts/sanitize.supp:print_suppressions=0"
 # The tests that render with VTK (figures) leak 112 bytes inside the Mesa GL driver, which is
 # unloaded before LeakSanitizer reports, so the report names no library a suppression could
@@ -64,7 +67,7 @@ vtk='^(test_figures|cli_contract_figures)$'
 # CMAKE=true, so nothing is rebuilt; slurm: BIN=<bin dir>, the tools given as -o). Refuse to
 # run if any tool there is not the sanitized build.
 for b in bin/*; do
-  ldd "$b" | grep -q libasan || { echo "sanitize.sh: $b is not linked with ASan" >&2; exit 1; }
+  [[ $(ldd "$b") == *libasan* ]] || { echo "sanitize.sh: $b is not linked with ASan" >&2; exit 1; }
 done
 mapfile -t tests < <(ctest -N ${regex:+-R "$regex"} | sed -n 's/^ *Test *#[0-9]*: //p')
 [ ${#tests[@]} -gt 0 ] || { echo "sanitize.sh: no test matches '$regex'" >&2; exit 2; }
@@ -75,7 +78,7 @@ for t in "${tests[@]}"; do
   asan="$base_asan:log_path=$reports/$t/asan"
   [[ $t =~ $vtk ]] && asan="$asan:detect_leaks=0"
   t0=$(date +%s)
-  ASAN_OPTIONS=$asan UBSAN_OPTIONS="$base_ubsan:log_path=$reports/$t/ubsan" \
+  ASAN_OPTIONS=$asan UBSAN_OPTIONS=$base_ubsan \
     ctest --output-on-failure -R "^$t\$" || { rc=1; failed+=("$t"); }
   echo "sanitize.sh: $t: $(($(date +%s) - t0)) s"
   if [ -n "$(ls -A "$reports/$t")" ]; then
