@@ -3,6 +3,7 @@
 
   realcal.py OUT_REAL LABELS TILE [TILE ...] [--ini classify.ini ...] [--csv rows.csv]
              [--classify BIN --work DIR]
+  realcal.py OUT_REAL LABELS TILE [TILE ...] --figures
 
 OUT_REAL/<tile>/cands/index.json and cands/<id>/class.json (a `real-tiles` run), LABELS/<tile>.truth.json
 (share/real; a tile without one has no vehicles: a forest plot). A candidate is a **vehicle**
@@ -14,13 +15,16 @@ of each set and, with --ini, what each threshold of that file keeps (vehicles) a
 with each --ini (answers in DIR/<ini name>/<tile>/<id>.json, reused when present) and the
 answers are counted: class answers (detections) on vehicles by visibility, on the rest, and per
 ha on a tile without labels (every answer a false alarm; area = detect's occupied 1 m cells,
-index.json "density"). Labels are read only here.
-Run it on development tiles only (docs/decisions/real-tiles.md: the split).
+index.json "density"). Labels are read only here. --figures prints only a run's outcome per tile (recall over the
+clear and all labelled vehicles, precision without the detections on uncertain objects, the
+group of the matched detections, false alarms per ha on the plots; Wilson and exact Poisson 95%
+intervals), as the report counts them: it reads no cue, so it is the one mode for the test tiles.
+Run the cue tables on development tiles only (docs/decisions/real-tiles.md: the split).
 """
 import argparse, json, math, os, subprocess, sys
 from concurrent.futures import ThreadPoolExecutor
 
-CUES = ["fill", "ground_through", "below_share", "top_roughness_rel", "late_returns"]
+CUES = ["fill", "ground_through", "below_share", "top_roughness_rel", "late_returns", "plateau_share"]
 
 
 def wilson(k, n, z=1.96):
@@ -99,13 +103,14 @@ def rows(out, labels, tile):
             kind = "mixed"
         j = json.load(open(os.path.join(out, tile, "cands", c["id"], "class.json")))
         f = j["features"]
-        r = {"tile": tile, "id": c["id"], "kind": kind, "reason": j["reason"] or "", "class": j["class"] or "",
+        r = {"tile": tile, "id": c["id"], "kind": kind, "labelled": bool(veh), "reason": j["reason"] or "", "class": j["class"] or "",
              "visibility": v.get("visibility", "") if kind == "vehicle" else "",
              "instance": v["instance"] if kind == "vehicle" else "", "spacing": (j["measured"] or {}).get("spacing"),
              "density": j["density"], "points": j["points"]}
-        for k in ["fill", "ground_through", "below_share", "top_roughness", "late_returns", "top_cells"]:
+        for k in ["fill", "ground_through", "below_share", "top_roughness", "late_returns", "top_cells",
+                  "plateau_share"]:
             r[k] = f.get(k)
-        r["top_roughness_rel"] = (f["top_roughness"] / max(0.1 / 0.65, j["measured"]["spacing"])
+        r["top_roughness_rel"] = (f["top_roughness"] / j["measured"]["spacing"]
                                   if f.get("top_roughness") is not None and (f.get("top_cells") or 0) >= 3 and j["measured"] else None)
         yield r
 
@@ -124,6 +129,8 @@ def veg_reason(r, p):
         return worst
     if r["top_roughness_rel"] is not None and r["top_roughness"] > max(0.1, p["max-roughness"] * r["spacing"]):
         return "top_roughness"
+    if p.get("min-plateau", 0) > 0 and r["plateau_share"] < p["min-plateau"]:
+        return "no roof (plateau_share)"
     return ""
 
 
@@ -189,6 +196,66 @@ def count_answers(a, rs, ini):
             print(f"  {tile}: {k} false alarms on {area:.2f} ha = {k / area:.2f}/ha [{lo / area:.2f}, {hi / area:.2f}]")
 
 
+GROUP = {"sedan": "car", "hatchback": "car", "suv": "car", "pickup": "car", "van": "van",
+         "box-truck": "truck", "semi-tractor": "truck", "bus": "bus", "wheeled-apc": "machine",
+         "tracked-apc": "tracked", "tank": "tracked", "wheel-loader": "machine"}
+
+
+def figures(out, labels, tiles):
+    """The outcome of a run, as the report's "Real tiles" section counts it (tools/report/
+    real_section.cpp): from score.json and the labels (urban) or detections.json (plots).
+    Reads no cue: safe on the test tiles."""
+    tot = {"clear": [0, 0], "all": [0, 0], "prec": [0, 0], "cls": [0, 0], "fa": 0, "ha": 0.0}
+    print("| tile | clear recall | all recall | precision | class right | forest false alarms |")
+    print("|---|---|---|---|---|---|")
+    for tile in tiles:
+        truth = os.path.join(labels, tile + ".truth.json")
+        d = os.path.join(out, tile)
+        if not os.path.exists(os.path.join(d, "detections.json")):
+            print(f"| {tile} | not finished | | | | |")
+            continue
+        if not os.path.exists(truth):
+            x = json.load(open(os.path.join(d, "cands", "index.json")))
+            area = x["density"]["cell"] ** 2 * x["density"]["occupied_cells"] / 1e4
+            k = len(json.load(open(os.path.join(d, "detections.json")))["detections"])
+            lo, hi = poisson_exact(k)
+            tot["fa"] += k
+            tot["ha"] += area
+            print(f"| {tile} | | | | | {k} on {area:.2f} ha = {k / area:.2f}/ha [{lo / area:.2f}, {hi / area:.2f}] |")
+            continue
+        t = json.load(open(truth))
+        clear = {v["instance"]: v.get("visibility") == "clear" for v in t["vehicles"]}
+        unc = [(u["pose"]["x"], u["pose"]["y"]) for u in t.get("uncertain", [])]
+        sc = json.load(open(os.path.join(d, "score.json")))
+        radius = sc["params"]["match_radius_m"]
+        matched, tp, dets, fp_unc, cls = set(), 0, 0, 0, [0, 0]
+        for m in sc["matches"]:
+            if m["outcome"] == "missed":
+                continue
+            dets += 1
+            if m["outcome"] == "false_alarm":
+                fp_unc += any(math.hypot(m["x"] - x, m["y"] - y) <= radius for x, y in unc)
+                continue
+            tp += 1
+            matched.add(m["instance"])
+            g = GROUP.get(m.get("class") or "", "")
+            if g:
+                cls[1] += 1
+                cls[0] += g == m["true_model"]
+        nc = sum(clear.values())
+        kc = sum(1 for i in matched if clear[i])
+        row = {"clear": [kc, nc], "all": [len(matched), len(clear)], "prec": [tp, dets - fp_unc], "cls": cls}
+        for k, v in row.items():
+            tot[k][0] += v[0]
+            tot[k][1] += v[1]
+        print(f"| {tile} | {rate(*row['clear'])} | {rate(*row['all'])} | {rate(*row['prec'])} | {rate(*cls)} | |")
+    fa = ""
+    if tot["ha"] > 0:
+        lo, hi = poisson_exact(tot["fa"])
+        fa = f"{tot['fa']} on {tot['ha']:.2f} ha = {tot['fa'] / tot['ha']:.2f}/ha [{lo / tot['ha']:.2f}, {hi / tot['ha']:.2f}]"
+    print(f"| **all** | {rate(*tot['clear'])} | {rate(*tot['all'])} | {rate(*tot['prec'])} | {rate(*tot['cls'])} | {fa} |")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("out")
@@ -198,7 +265,12 @@ def main():
     ap.add_argument("--csv")
     ap.add_argument("--classify")
     ap.add_argument("--work")
+    ap.add_argument("--figures", action="store_true",
+                    help="only the run's outcome (score.json, detections.json): no cue is read")
     a = ap.parse_args()
+    if a.figures:
+        figures(a.out, a.labels, a.tiles)
+        return
     if bool(a.classify) != bool(a.work):
         ap.error("--classify and --work go together")
     rs = [r for t in a.tiles for r in rows(a.out, a.labels, t)]
@@ -209,9 +281,11 @@ def main():
             for r in rs:
                 o.write(",".join("" if r[k] is None else str(r[k]) for k in keys) + "\n")
     sets = {"vehicle (clear)": [r for r in rs if r["kind"] == "vehicle" and r["visibility"] == "clear"],
+            "vehicle (clear+partial)": [r for r in rs if r["kind"] == "vehicle" and r["visibility"] != "occluded"],
             "vehicle (all)": [r for r in rs if r["kind"] == "vehicle"],
             "mixed": [r for r in rs if r["kind"] == "mixed"],
-            "other": [r for r in rs if r["kind"] == "other"]}
+            "other, urban": [r for r in rs if r["kind"] == "other" and r["labelled"]],
+            "other, forest": [r for r in rs if r["kind"] == "other" and not r["labelled"]]}
     # The cues are read only where classify reaches them: past too_sparse.
     live = {k: [r for r in v if r["reason"] != "too_sparse"] for k, v in sets.items()}
     print("candidates: " + ", ".join(f"{k} {len(v)} ({len(live[k])} past too_sparse)" for k, v in sets.items()))
@@ -224,7 +298,7 @@ def main():
             print(f"| {cue} | {k} | {len(vals)} | " + " | ".join(f"{quantile(vals, q):.3f}" for q in qs) + " |")
     for ini in a.ini:
         p = read_ini(ini)
-        print(f"\n{ini}: vegetation_like per set (first failing cue as classify orders them)")
+        print(f"\n{ini}: the cues alone per set (the first failing cue in classify's order; no size gate)")
         for k, v in live.items():
             why = {}
             for r in v:
