@@ -29,7 +29,18 @@
 # fails make. A tile re-runs when the tile, the modelbase, a tool of the workflow
 # or a stage's parameters change; the sub-make then redoes only what is out of date (its wall
 # and CPU then cover that part only; the report compares them with the stages' .time files).
+#
+# classify's parameters: REAL_CLASSIFY (default share/params/classify.ini, the thresholds fitted
+# on the real development tiles ahn3_delft_1 and forest_bcts_1; docs/decisions/classify.md §5).
+# The ablation `make -f Makefile.experiments real-tiles-sim -j2` runs the same tiles with the
+# thresholds fitted on simulated tiles (REAL_CLASSIFY_SIM, default share/params/classify-sim.ini)
+# into $(OUT)/real-sim/<tile>/ (same files, same time box); REAL_ABLATION=1 makes `all` run it too.
 REAL_TILES ?= 1
+REAL_ABLATION ?= 0
+$(if $(filter-out 0 1,$(REAL_ABLATION)),$(error REAL_ABLATION=$(REAL_ABLATION): must be 0 or 1))
+REAL_CLASSIFY ?= $(P)/classify.ini
+REAL_CLASSIFY_SIM ?= $(P)/classify-sim.ini
+$(foreach f,$(REAL_CLASSIFY) $(REAL_CLASSIFY_SIM),$(if $(wildcard $(f)),,$(error REAL_CLASSIFY: $(f) does not exist)))
 $(if $(filter-out 0 1,$(REAL_TILES)),$(error REAL_TILES=$(REAL_TILES): must be 0 or 1))
 REAL_URBAN ?= ign_lidarhd_870000_6618000 ahn3_delft_2 ign_stbarth_100m
 REAL_FOREST ?= forest_lareunion
@@ -43,6 +54,7 @@ $(if $(shell printf '%s' '$(REAL_TIMEOUT)' | grep -xE '[1-9][0-9]{0,5}'),,$(erro
   whole seconds, 1 or more))
 REAL_SHARE := share/real
 REAL_OUT := $(OUT)/real
+REAL_SIM_OUT := $(OUT)/real-sim
 
 # real_file(name): the tile's file; the REAL_DATA plots from that directory (or its laz/).
 real_file = $(if $(filter $(1),$(REAL_URBAN) $(REAL_FOREST)),$(REAL_SHARE)/$(1).laz,$(firstword \
@@ -66,36 +78,45 @@ REAL_DEPS = $(foreach t,$(REAL_TOOLS),$(call tool,$(t))) $(wildcard $(STAMPS)/cl
 REAL_SUBMAKE = $(MAKE)
 real_plus := $(if $(dry_run),,+)
 
-# real_rule(name, previous): one tile's run (time-boxed, timed) and, for a labelled tile, its
-# score; GNU time's "Command exited with non-zero status" line is dropped from tile.time.
+# real_rule(name, previous, out, classify.ini): one tile's run into out/<name> (time-boxed,
+# timed) and, for a labelled tile, its score; GNU time's "Command exited with non-zero status"
+# line is dropped from tile.time.
 define real_rule
-$(REAL_OUT)/$(1)/tile.time: $(call real_file,$(1)) $(REAL_DEPS) $(wildcard $(REAL_SHARE)/$(1).truth.json) \
-    | $(if $(2),$(REAL_OUT)/$(2)/tile.time)
-	$$(real_plus)@mkdir -p $(REAL_OUT)/$(1) && rm -f $$@ $(REAL_OUT)/$(1)/score.json && s=0; \
+$(3)/$(1)/tile.time: $(call real_file,$(1)) $(REAL_DEPS) $(4) $(wildcard $(REAL_SHARE)/$(1).truth.json) \
+    | $(if $(2),$(3)/$(2)/tile.time)
+	$$(real_plus)@mkdir -p $(3)/$(1) && rm -f $$@ $(3)/$(1)/score.json && s=0; \
 	  /usr/bin/time -f '%e %M %U %S' -o $$@.tmp timeout $(REAL_TIMEOUT) $$(REAL_SUBMAKE) --no-print-directory \
 	    -f $(firstword $(MAKEFILE_LIST)) tile TILE=$(call real_file,$(1)) MODELBASE=$(OUT)/modelbase \
-	    OUT=$(REAL_OUT)/$(1) PROGRESS=0 SCENE_EXPERIMENT=0 FAMILIES=0 REAL_TILES=0 || s=$$$$?; \
-	  if [ $$$$s -eq 124 ]; then rm -f $(REAL_OUT)/$(1)/detections.json; \
+	    OUT=$(3)/$(1) TILE_CLASSIFY=$(4) PROGRESS=0 SCENE_EXPERIMENT=0 FAMILIES=0 REAL_TILES=0 || s=$$$$?; \
+	  if [ $$$$s -eq 124 ]; then rm -f $(3)/$(1)/detections.json; \
 	    echo "real  $(1): not finished after $(REAL_TIMEOUT) s (REAL_TIMEOUT), recorded as such"; \
-	  elif [ $$$$s -eq 2 ]; then rm -f $(REAL_OUT)/$(1)/detections.json; \
-	    echo "real  $(1): the workflow failed (a tool refused the tile: its .log in $(REAL_OUT)/$(1)/), recorded as such"; \
+	  elif [ $$$$s -eq 2 ]; then rm -f $(3)/$(1)/detections.json; \
+	    echo "real  $(1): the workflow failed (a tool refused the tile: its .log in $(3)/$(1)/), recorded as such"; \
 	  elif [ $$$$s -ne 0 ]; then rm -f $$@.tmp; echo "FAIL  real tile $(1) (exit $$$$s)"; exit $$$$s; fi; \
 	  grep -v '^Command ' $$@.tmp >$$@.tmp2 && rm -f $$@.tmp && mv $$@.tmp2 $$@
-	$(if $(wildcard $(REAL_SHARE)/$(1).truth.json),@[ ! -f $(REAL_OUT)/$(1)/detections.json ] || \
-	  $(STAGE) $(REAL_OUT)/$(1)/score.json -- $(BIN)/score -d $(REAL_OUT)/$(1)/detections.json \
-	  -t $(REAL_SHARE)/$(1).truth.json -o $(REAL_OUT)/$(1)/score.json)
+	$(if $(wildcard $(REAL_SHARE)/$(1).truth.json),@[ ! -f $(3)/$(1)/detections.json ] || \
+	  $(STAGE) $(3)/$(1)/score.json -- $(BIN)/score -d $(3)/$(1)/detections.json \
+	  -t $(REAL_SHARE)/$(1).truth.json -o $(3)/$(1)/score.json)
 	@echo "done  $$@ $$$$(cat $$@)"
 endef
 real_last :=
-$(foreach t,$(REAL_NAMES),$(eval $(call real_rule,$(t),$(real_last)))$(eval real_last := $(t)))
+$(foreach t,$(REAL_NAMES),$(eval $(call real_rule,$(t),$(real_last),$(REAL_OUT),$(REAL_CLASSIFY)))$(eval real_last := $(t)))
+real_last :=
+$(foreach t,$(REAL_NAMES),$(eval $(call real_rule,$(t),$(real_last),$(REAL_SIM_OUT),$(REAL_CLASSIFY_SIM)))$(eval \
+  real_last := $(t)))
 
 REAL_RUNS := $(foreach t,$(REAL_NAMES),$(REAL_OUT)/$(t)/tile.time)
-.PHONY: real-tiles
+REAL_SIM_RUNS := $(foreach t,$(REAL_NAMES),$(REAL_SIM_OUT)/$(t)/tile.time)
+.PHONY: real-tiles real-tiles-sim
 real-tiles: $(REAL_RUNS)
+real-tiles-sim: $(REAL_SIM_RUNS)
 
 # The report's "Real tiles" section: the tiles in order, the labels' directory, the time box.
 ifeq ($(REAL_TILES),1)
 all: real-tiles
+ifeq ($(REAL_ABLATION),1)
+all: real-tiles-sim
+endif
 $(RES)/report.md: $(REAL_RUNS)
 REPORT_ARGS += --real $(REAL_OUT) --real-tiles "$(REAL_NAMES)" --real-labels $(REAL_SHARE) \
   --real-timeout $(REAL_TIMEOUT)

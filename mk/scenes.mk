@@ -48,6 +48,11 @@ $(if $(shell printf '%s' '$(TILE_MODEL_DENSITY)' | grep -xE '[0-9]+(\.[0-9]+)?')
   TILE_MODEL_DENSITY=$(TILE_MODEL_DENSITY) must be a number of points/m²))
 endif
 scene_config = $(if $(wildcard $(P)/$(1).ini),--config $(P)/$(1).ini)
+# classify's parameters: a user's tile and the real tiles take the defaults (share/params/
+# classify.ini, calibrated on real development tiles); the simulated scene experiment keeps the
+# thresholds fitted on simulated tiles (classify-sim.ini; docs/decisions/classify.md §5).
+TILE_CLASSIFY ?= $(P)/classify.ini
+SCENE_CLASSIFY ?= $(P)/classify-sim.ini
 
 # read_plan(FILE): a generated candidate plan. A real run includes it, so make remakes it first
 # (detect, the plan) and re-reads the makefiles; a dry run (-n, -q, -t) reads it as it is and
@@ -74,11 +79,11 @@ endef
 TILE_CAND_KINDS := classify:cand/class.json fitvox:cand/samples.pcd cocone:cand/mesh.ply ncut:cand/segments.json \
   gmatch:cand/match.json verify:cand/verdict.json
 
-# class_rule(DIR, ID): classify on one candidate (every candidate; exit 1 only on a bad file:
-# too sparse is an answer, so no --record-failure).
+# class_rule(DIR, ID, INI): classify with the parameters INI on one candidate (every candidate;
+# exit 1 only on a bad file: too sparse is an answer, so no --record-failure).
 define class_rule
-$(1)/cands/$(2)/class.json: $(1)/cands/index.json $(call tool,classify) $(P)/classify.ini
-	@$(STAGE) $$@ -- $(BIN)/classify --config $(P)/classify.ini -i $(1)/cands/$(2).pcd \
+$(1)/cands/$(2)/class.json: $(1)/cands/index.json $(call tool,classify) $(3)
+	@$(STAGE) $$@ -- $(BIN)/classify --config $(3) -i $(1)/cands/$(2).pcd \
 	  --index $(1)/cands/index.json -o $$@
 endef
 # is_model(KEY, ID): non-empty when the plan sends the candidate through the model chain (an
@@ -86,9 +91,9 @@ endef
 is_model = $(filter-out class,$($(1)_LEVEL_$(2)))$(if $($(1)_LEVEL_$(2)),,model)
 # model_cands(KEY): the candidates of the plan that run the model chain.
 model_cands = $(foreach c,$($(1)_CANDS),$(if $(call is_model,$(1),$(c)),$(c)))
-# cand_rules(DIR, KEY, MODELBASE, SEEDKEY): class_rule for every candidate, cand_rule for the
-# model-level ones.
-cand_rules = $(foreach c,$($(2)_CANDS),$(eval $(call class_rule,$(1),$(c))))$(foreach \
+# cand_rules(DIR, KEY, MODELBASE, SEEDKEY, CLASSIFY_INI): class_rule for every candidate,
+# cand_rule for the model-level ones.
+cand_rules = $(foreach c,$($(2)_CANDS),$(eval $(call class_rule,$(1),$(c),$(5))))$(foreach \
   c,$(call model_cands,$(2)),$(eval $(call cand_rule,$(1),$(c),$(2),$(3),$(4))))
 
 # cand_rule(DIR, ID, KEY, MODELBASE, SEEDKEY): fitvox | cocone | ncut | gmatch | verify on one
@@ -135,7 +140,7 @@ $(if $(filter $(TILE_OUT),. .. /),$(error tile: OUT=$(OUT) must name the tile's 
 $(if $(CRS),$(if $(shell printf '%s' '$(CRS)' | grep -xE 'EPSG:[0-9]{1,6}'),,$(error tile: CRS=$(CRS) must be EPSG:<code>)))
 $(eval $(call tile_rules,TILE,$(TILE_OUT),$(TILE),$(TILE_MB)))
 $(call read_plan,$(TILE_OUT)/cands.mk)
-$(call cand_rules,$(TILE_OUT),TILE,$(TILE_MB),$(notdir $(TILE)))
+$(call cand_rules,$(TILE_OUT),TILE,$(TILE_MB),$(notdir $(TILE)),$(TILE_CLASSIFY))
 $(eval $(call tile_collect,TILE,$(TILE_OUT),$(TILE_MB),$(TILE)))
 tile: $(TILE_OUT)/detections.json $(TILE_OUT)/classes.ply $(TILE_OUT)/top.png
 endif
@@ -300,7 +305,7 @@ $(foreach r,$(SCENE_RUNS),$(eval $(call tile_rules,$(call scene_key,$(r)),$(r),$
 $(foreach r,$(SCENE_RUNS),$(call read_plan,$(r)/cands.mk))
 # ncut's seed key is the run's place under scenes/ (scenes/<cover>/tile-<seed>/noise-<mm>/<id>),
 # never a path with $(OUT) in it: the same experiment in another directory gives the same bytes.
-$(foreach r,$(SCENE_RUNS),$(call cand_rules,$(r),$(call scene_key,$(r)),$(SCENE_MB),$(patsubst $(SCENE_DIR)/%,scenes/%,$(r))))
+$(foreach r,$(SCENE_RUNS),$(call cand_rules,$(r),$(call scene_key,$(r)),$(SCENE_MB),$(patsubst $(SCENE_DIR)/%,scenes/%,$(r)),$(SCENE_CLASSIFY)))
 $(foreach r,$(SCENE_RUNS),$(eval $(call tile_collect,$(call scene_key,$(r)),$(r),$(SCENE_MB),$(r)/scan.pcd)))
 # The experiment's modelbase is built here (graphs; surfaces when mk/verify.mk is read).
 $(foreach r,$(SCENE_RUNS),$(foreach c,$(call model_cands,$(call scene_key,$(r))),\

@@ -215,6 +215,36 @@ TEST_CASE("classify: a porous crown of multi-return points is vegetation") {
   CHECK(a.confidence > 0.5);
 }
 
+// A car-sized mound with no roof: a ridge across the middle falling from 1.6 m to 0.6 m at both
+// ends (a crown's or a heap's profile). Within plateau_drop (0.2 m) + 10% of H of the top:
+// |x| <= 0.36 / (1.0 / 2.25) = 0.81 m, 36% of its 4.5 m.
+double ridge_top(double x, double y) {
+  if (std::abs(x) > 2.25 || std::abs(y) > 0.9) return -1;
+  return 1.6 - 1.0 * std::abs(x) / 2.25;
+}
+
+TEST_CASE("classify: --min-plateau refuses a solid object without a roof") {
+  const Sampled s = sample(ridge_top, 2.25, 0.9, 10 * kDeg, 25, 14);
+  classify::Params off;
+  off.min_plateau = 0;
+  const classify::Answer a = classify::run(off, {s.cloud, "ridge.pcd"});
+  INFO(a.reason << " " << a.detail);
+  // Solid and smooth: the vegetation cues pass it and its size is a car's.
+  CHECK(a.features.plateau_share == Approx(0.36).margin(0.08));
+  CHECK(a.group == "car");
+  classify::Params on;
+  on.min_plateau = 0.45;
+  const classify::Answer b = classify::run(on, {s.cloud, "ridge.pcd"});
+  INFO(b.reason << " " << b.detail);
+  CHECK(b.cls.empty());
+  CHECK(b.reason == "not_vehicle_shape");
+  CHECK(b.detail.find("no roof") != std::string::npos);
+  // The car with its roof plateau passes the same threshold.
+  const classify::Answer c = classify::run(on, {sample(car_top, 2.3, 0.9, 0, 25, 11).cloud, "car.pcd"});
+  CHECK(c.cls == "sedan");
+  CHECK(c.features.plateau_share >= 0.45);
+}
+
 TEST_CASE("classify: sizes outside every family") {
   SECTION("a 0.5 m box is too small") {
     const Sampled s =
@@ -298,6 +328,9 @@ TEST_CASE("classify: class table and parameters") {
   p = classify::Params{};
   p.max_below_share = 0;
   CHECK_THROWS_WITH(classify::validate(p), Catch::Contains("--max-below-share"));
+  p = classify::Params{};
+  p.min_plateau = 1.5;
+  CHECK_THROWS_WITH(classify::validate(p), Catch::Contains("--min-plateau"));
 }
 
 TEST_CASE("classify: the binary writes a class-level verdict; same input, same bytes") {

@@ -177,6 +177,18 @@ bool size_gates(Answer& a, const Params& p, double sigma) {
   return false;
 }
 
+// A vehicle has a roof: a share of its length within the plateau (docs/decisions/classify.md §5:
+// fitted on real tiles, where the solid-top cues leave crowns of young trees).
+bool roofless(Answer& a, const Params& p) {
+  const Features& f = a.features;
+  if (p.min_plateau <= 0 || f.plateau_share >= p.min_plateau) return false;
+  refuse(a, "not_vehicle_shape",
+         fmt("no roof: %.0f%% of its length within %.0f mm (+ 10%% of H) of its top (a vehicle >= %.0f%%)",
+             100 * f.plateau_share, 1e3 * p.plateau_drop, 100 * p.min_plateau),
+         past(p.min_plateau, std::max(f.plateau_share, 1e-6)));
+  return true;
+}
+
 // Among the classes the size fits, the best: smallest distance, then most central; profile
 // cues move the overlapping pairs (docs/decisions/classify.md §4).
 void choose(Answer& a, const Params& p, double sigma) {
@@ -277,6 +289,7 @@ void validate(const Params& p) {
   need(p.max_ground_through > 0 && p.max_ground_through <= 1, "--max-ground-through must be in (0, 1]");
   need(p.min_fill >= 0 && p.min_fill <= 10, "--min-fill must be in [0, 10]");
   need(p.max_late_returns > 0 && p.max_late_returns <= 1, "--max-late-returns must be in (0, 1]");
+  need(p.min_plateau >= 0 && p.min_plateau <= 1, "--min-plateau must be in [0, 1]");
   need(p.plateau_split > 0 && p.plateau_split < 1, "--plateau-split must be in (0, 1)");
   need(p.tail_split > 0 && p.tail_split < 1.5, "--tail-split must be in (0, 1.5)");
   need(p.profile_penalty >= 0 && p.profile_penalty <= 100, "--profile-penalty must be in [0, 100]");
@@ -292,7 +305,7 @@ Answer run(const Params& p, const Inputs& in) {
   if (sparse(a, p)) return a;
   const double s = a.features.spacing;
   const double sigma = std::sqrt(p.size_sigma * p.size_sigma + p.spacing_sigma * p.spacing_sigma * s * s);
-  if (vegetation(a, p) || size_gates(a, p, sigma)) return a;
+  if (vegetation(a, p) || size_gates(a, p, sigma) || roofless(a, p)) return a;
   choose(a, p, sigma);
   return a;
 }

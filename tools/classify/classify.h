@@ -85,6 +85,8 @@ struct Params {
   double min_fill = 0.65;            // fewer points per m² of its rectangle than this x the open
                                      // ground's around it (a porous or patchy object): vegetation_like
   double max_late_returns = 0.35;    // more object points with return_number > 1: vegetation_like
+  double min_plateau = 0;            // less of its length within plateau_drop of the top (no roof):
+                                     // not_vehicle_shape (0: off; real tiles, §5)
   double plateau_split = 0.6;        // plateau share between a minor and a long plateau
   double tail_split = 0.75;          // higher end's level (share of H) between dropping and staying up
   double profile_penalty = 1.5;      // added to a class's size distance when the profile contradicts it

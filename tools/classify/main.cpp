@@ -60,6 +60,8 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
            "fewer points per m^2 of the rectangle than this x the open ground's around it: vegetation_like");
   tool.add("--max-late-returns", &p.max_late_returns,
            "more object points with return_number > 1 (LAS): vegetation_like");
+  tool.add("--min-plateau", &p.min_plateau,
+           "less of its length within the plateau (no roof): not_vehicle_shape (0: off)");
   tool.add("--plateau-split", &p.plateau_split, "plateau share between a minor and a long roof");
   tool.add("--tail-split", &p.tail_split,
            "higher end's level (share of H) between dropping and staying at the roof");
