@@ -1,5 +1,6 @@
-// The report's "Real tiles" section: the tile workflow's documents of each real tile, read with
-// formats::open_json_document, and the hand labels; every rate with its count and a 95% interval
+// The report's "Real tiles" section: the tile workflow's documents of each real tile (detections,
+// candidates index, truth through documents/; the score with formats::open_json_document), and
+// the hand labels; every rate with its count and a 95% interval
 // (common/stats.h: Wilson for proportions, exact Poisson for a count per area).
 #include "report/real_section.h"
 

@@ -1,7 +1,7 @@
 // Reading the footprints topview draws from the detections (v1 or v2), truth, score and
-// candidates index documents. Each document is opened by formats::open_json_document (format
-// and version checked, nesting bounded) and every member topview uses is checked, the error
-// naming the file and the member.
+// candidates index documents: the detections, truth and index through their documents/ readers,
+// the score by formats::open_json_document (format and version checked, nesting bounded); every
+// member topview uses is checked, the error naming the file and the member.
 #include <cmath>
 #include <filesystem>
 #include <map>
