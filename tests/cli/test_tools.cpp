@@ -323,13 +323,13 @@ namespace {
 
 // The smallest experiment report() accepts: one object, scene and noise level.
 void write_experiment(const fs::path& out) {
-  namespace cf = canopy::formats;
+  namespace cd = canopy::documents;
   const fs::path trial = out / "sedan" / "circle" / "noise-0";
   fs::create_directories(trial);
-  cf::SegmentGraph g;
+  cd::SegmentGraph g;
   g.provenance = {"ncut", "test", {}, {"mesh.ply"}};
   g.mesh = "mesh.ply";
-  cf::Segment s;
+  cd::Segment s;
   s.segment_id = 0;
   s.vertex_count = 3;
   s.area = 1;
@@ -341,17 +341,17 @@ void write_experiment(const fs::path& out) {
   s.label_purity = 1;
   s.vertices = {0, 1, 2};
   g.segments.push_back(s);
-  cf::write_segment_graph(g, (trial / "segments.json").string());
-  cf::MatchResult m;
+  cd::write_segment_graph(g, (trial / "segments.json").string());
+  cd::MatchResult m;
   m.provenance = {"gmatch", "test", {}, {"segments.json"}};
   m.object = "segments.json";
   m.error_form = "bounded";
-  cf::ModelScore ms;
+  cd::ModelScore ms;
   ms.model = "sedan";
   ms.score = 0.9;
   ms.rank = 1;
   m.models.push_back(ms);
-  cf::write_match_result(m, (trial / "match.json").string());
+  cd::write_match_result(m, (trial / "match.json").string());
 }
 
 }  // namespace
