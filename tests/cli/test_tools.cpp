@@ -323,7 +323,7 @@ namespace {
 
 // The smallest experiment report() accepts: one object, scene and noise level.
 void write_experiment(const fs::path& out) {
-  namespace cf = canopy::formats;
+  namespace cf = canopy::documents;
   const fs::path trial = out / "sedan" / "circle" / "noise-0";
   fs::create_directories(trial);
   cf::SegmentGraph g;
