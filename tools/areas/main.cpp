@@ -39,7 +39,7 @@ int main(int argc, char** argv) {
     in.samples_name = common::display_name(samples);
     in.mesh = formats::read_ply(mesh);
     in.mesh_name = common::display_name(mesh);
-    in.segments = formats::read_segment_graph(segments);
+    in.segments = documents::read_segment_graph(segments);
     in.segments_name = common::display_name(segments);
     const areas::Areas r = areas::run(a, in);
     common::write_file_atomic(out, areas::serialize(r, {scan, samples, mesh, segments}));
