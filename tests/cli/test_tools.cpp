@@ -323,13 +323,13 @@ namespace {
 
 // The smallest experiment report() accepts: one object, scene and noise level.
 void write_experiment(const fs::path& out) {
-  namespace cd = canopy::documents;
+  namespace cf = canopy::documents;
   const fs::path trial = out / "sedan" / "circle" / "noise-0";
   fs::create_directories(trial);
-  cd::SegmentGraph g;
+  cf::SegmentGraph g;
   g.provenance = {"ncut", "test", {}, {"mesh.ply"}};
   g.mesh = "mesh.ply";
-  cd::Segment s;
+  cf::Segment s;
   s.segment_id = 0;
   s.vertex_count = 3;
   s.area = 1;
@@ -341,17 +341,17 @@ void write_experiment(const fs::path& out) {
   s.label_purity = 1;
   s.vertices = {0, 1, 2};
   g.segments.push_back(s);
-  cd::write_segment_graph(g, (trial / "segments.json").string());
-  cd::MatchResult m;
+  cf::write_segment_graph(g, (trial / "segments.json").string());
+  cf::MatchResult m;
   m.provenance = {"gmatch", "test", {}, {"segments.json"}};
   m.object = "segments.json";
   m.error_form = "bounded";
-  cd::ModelScore ms;
+  cf::ModelScore ms;
   ms.model = "sedan";
   ms.score = 0.9;
   ms.rank = 1;
   m.models.push_back(ms);
-  cd::write_match_result(m, (trial / "match.json").string());
+  cf::write_match_result(m, (trial / "match.json").string());
 }
 
 }  // namespace

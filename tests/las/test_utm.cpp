@@ -21,6 +21,7 @@
 
 namespace fs = std::filesystem;
 using namespace canopy::formats;
+using namespace canopy::documents;
 
 using canopy::test::run;
 using canopy::test::sh;

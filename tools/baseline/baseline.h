@@ -96,8 +96,8 @@ struct Result {
 Result run(const Cloud& candidate, const std::vector<Model>& models, const Params& params,
            const std::string& methods = "both");
 
-// canopy.baseline v1 JSON (documents/baseline_ranking.h, formats/README.md). No times: same inputs, same bytes (the
-// experiment graph records each run's wall time beside it).
+// canopy.baseline v1 JSON (documents/baseline_ranking.h, formats/README.md). No times: same inputs, same
+// bytes (the experiment graph records each run's wall time beside it).
 std::string serialize(const Result& result, const std::string& object,
                       const std::vector<std::pair<std::string, std::string>>& parameters,
                       const std::vector<std::string>& inputs);

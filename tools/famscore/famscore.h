@@ -66,7 +66,8 @@ struct Trial {
 };
 
 // The <model>.class files of a modelbase directory, sorted by model; DataError naming the
-// directory or file when it does not exist, a class file is empty, or none is found.
+// directory or file when it does not exist, a class file is not one word of at most 64
+// characters (documents::read_model_class), or none is found.
 std::vector<Entry> read_entries(const std::string& modelbase);
 
 // Reads one trial from the verdict (and, with `with_methods`, the other methods' files beside
