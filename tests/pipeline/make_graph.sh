@@ -285,8 +285,8 @@ if [ -n "$real_build" ] && [ -f "$real_build/CMakeFiles/Makefile.cmake" ]; then
   for f in sim/src/families.cpp sim/include/canopy/sim/families.h sim/CMakeLists.txt; do
     grep -q "^\$(BIN)/famscore:.* $f\( \|\$\)" "$tmp/famscore.mk" || fail "the real build's record of famscore misses $f"
   done
-  if grep "^\$(BIN)/famscore:" "$tmp/famscore.mk" | tr ' ' '\n' | grep -q "^tools/rangetrace/"; then
-    fail "the real build's record of famscore names a file of tools/rangetrace"
+  if grep "^\$(BIN)/famscore:" "$tmp/famscore.mk" | tr ' ' '\n' | grep -q "^tools/rangetrace/.*\.\(cpp\|h\)$"; then
+    fail "the real build's record of famscore names a source of tools/rangetrace"
   fi
   scripts/tool-deps.sh "$real_build" rangetrace "$tmp/rangetrace.mk"
   for f in sim/src/povray_run.cpp sim/src/tile_placement.cpp sim/include/canopy/sim/tile.h tools/rangetrace/main.cpp; do
