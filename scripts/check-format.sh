@@ -9,7 +9,7 @@ command -v clang-format >/dev/null || { echo "check-format.sh: clang-format not 
 [ $# -gt 0 ] || { echo "usage: check-format.sh FILE... | --all" >&2; exit 2; }
 if [ "$1" = "--all" ]; then
   # Every C++ file of the project (the test command runs this as the ctest `format_check`).
-  mapfile -t all < <(cd "$here" && find common formats sim tools tests bench fuzz -type f \
+  mapfile -t all < <(cd "$here" && find common formats documents sim tools tests bench fuzz -type f \
     \( -name '*.cpp' -o -name '*.h' -o -name '*.hpp' \) | LC_ALL=C sort)
   cd "$here" && set -- "${all[@]}"
 fi
