@@ -2,7 +2,7 @@
 # Makefile.experiments.
 #
 #   make -f Makefile.experiments tile TILE=my.las MODELBASE=out/modelbase OUT=mytile/ -j2
-#        [CRS=EPSG:32633]
+#        [CRS=EPSG:32633] [TILE_CLASSIFY=share/params/classify.ini]
 #
 # one user tile -> mytile/detections.json (canopy.detections v2), mytile/detections.geojson,
 # mytile/classes.ply (detect's classification: ground, other, candidate), mytile/top.png (the
@@ -53,6 +53,7 @@ scene_config = $(if $(wildcard $(P)/$(1).ini),--config $(P)/$(1).ini)
 # thresholds fitted on simulated tiles (classify-sim.ini; docs/decisions/classify.md §5).
 TILE_CLASSIFY ?= $(P)/classify.ini
 SCENE_CLASSIFY ?= $(P)/classify-sim.ini
+$(foreach f,$(TILE_CLASSIFY) $(SCENE_CLASSIFY),$(if $(wildcard $(f)),,$(error classify's parameters: $(f) does not exist)))
 
 # read_plan(FILE): a generated candidate plan. A real run includes it, so make remakes it first
 # (detect, the plan) and re-reads the makefiles; a dry run (-n, -q, -t) reads it as it is and

@@ -215,12 +215,12 @@ TEST_CASE("classify: a porous crown of multi-return points is vegetation") {
   CHECK(a.confidence > 0.5);
 }
 
-// A car-sized mound with no roof: a ridge across the middle falling from 1.6 m to 0.6 m at both
+// A car-sized mound with no roof: a ridge across the middle falling from 1.6 m to 0.4 m at both
 // ends (a crown's or a heap's profile). Within plateau_drop (0.2 m) + 10% of H of the top:
-// |x| <= 0.36 / (1.0 / 2.25) = 0.81 m, 36% of its 4.5 m.
+// |x| <= 0.36 / (1.2 / 2.25) = 0.67 m, 30% of its 4.5 m (more by the 0.25 m bins' edges).
 double ridge_top(double x, double y) {
   if (std::abs(x) > 2.25 || std::abs(y) > 0.9) return -1;
-  return 1.6 - 1.0 * std::abs(x) / 2.25;
+  return 1.6 - 1.2 * std::abs(x) / 2.25;
 }
 
 TEST_CASE("classify: --min-plateau refuses a solid object without a roof") {
@@ -230,7 +230,8 @@ TEST_CASE("classify: --min-plateau refuses a solid object without a roof") {
   const classify::Answer a = classify::run(off, {s.cloud, "ridge.pcd"});
   INFO(a.reason << " " << a.detail);
   // Solid and smooth: the vegetation cues pass it and its size is a car's.
-  CHECK(a.features.plateau_share == Approx(0.36).margin(0.08));
+  CHECK(a.features.plateau_share > 0.25);
+  CHECK(a.features.plateau_share < 0.4);
   CHECK(a.group == "car");
   classify::Params on;
   on.min_plateau = 0.45;

@@ -76,23 +76,24 @@ struct Params {
   double size_sigma = 0.15;
   double spacing_sigma = 0.5;
   double size_gate = 2.5;
-  // Shape cues.
-  double plateau_drop = 0.2;         // profile bins within this of the top (+ 10% of H) are plateau (m)
-  double max_roughness = 0.65;       // rougher top (median local residual) than this x the spacing,
-                                     // and than 0.1 m: vegetation_like
-  double max_below_share = 0.15;     // more interior object points under another one: vegetation_like
-  double max_ground_through = 0.08;  // more interior ground returns under the object: vegetation_like
-  double min_fill = 0.65;            // fewer points per m² of its rectangle than this x the open
-                                     // ground's around it (a porous or patchy object): vegetation_like
-  double max_late_returns = 0.35;    // more object points with return_number > 1: vegetation_like
-  double min_plateau = 0;            // less of its length within plateau_drop of the top (no roof):
-                                     // not_vehicle_shape (0: off; real tiles, §5)
-  double plateau_split = 0.6;        // plateau share between a minor and a long plateau
-  double tail_split = 0.75;          // higher end's level (share of H) between dropping and staying up
-  double profile_penalty = 1.5;      // added to a class's size distance when the profile contradicts it
-  double box_plateau = 0.88;         // plateau share and both ends' levels at or above this:
-  double box_ends = 0.8;             //   a flat box (container, log stack): a box-truck or bus only
-  double model_density = 370;        // points/m² the model-level chain needs (fitvox-tile.ini)
+  // Shape cues: fitted on real development tiles (share/params/classify.ini, classify.md §5;
+  // the simulated fit: classify-sim.ini).
+  double plateau_drop = 0.2;        // profile bins within this of the top (+ 10% of H) are plateau (m)
+  double max_roughness = 0.45;      // rougher top (median local residual) than this x the spacing,
+                                    // and than 0.1 m: vegetation_like
+  double max_below_share = 0.25;    // more interior object points under another one: vegetation_like
+  double max_ground_through = 0.4;  // more interior ground returns under the object: vegetation_like
+  double min_fill = 0.55;           // fewer points per m² of its rectangle than this x the open
+                                    // ground's around it (a porous or patchy object): vegetation_like
+  double max_late_returns = 0.4;    // more object points with return_number > 1: vegetation_like
+  double min_plateau = 0.45;        // less of its length within plateau_drop of the top (no roof):
+                                    // not_vehicle_shape (0: off; real tiles, §5)
+  double plateau_split = 0.6;       // plateau share between a minor and a long plateau
+  double tail_split = 0.75;         // higher end's level (share of H) between dropping and staying up
+  double profile_penalty = 1.5;     // added to a class's size distance when the profile contradicts it
+  double box_plateau = 0.88;        // plateau share and both ends' levels at or above this:
+  double box_ends = 0.8;            //   a flat box (container, log stack): a box-truck or bus only
+  double model_density = 370;       // points/m² the model-level chain needs (fitvox-tile.ini)
 };
 
 // Throws common::UsageError naming the option of the first value out of range.
