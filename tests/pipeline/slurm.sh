@@ -132,20 +132,22 @@ pg=$!
 # ran to the end all the same, srun passed on its 0 and make, which ignores SIGINT as any
 # background job of a script does, exited 0). An interactive Ctrl-C also reaches make itself,
 # which dies of it whatever srun returns.
-# tool_runs EXE TEXT: a process runs EXE with TEXT in its arguments (read from /proc: procps
+# tool_runs EXE TEXT: a process runs EXE with TEXT in one of its arguments (read from /proc
+# with bash's own mapfile: no process per entry, so the poll stays quick under load; procps
 # may be absent).
 tool_runs() {
-  local f a
+  local f args
   for f in /proc/[0-9]*/cmdline; do
-    a=$(tr '\0' ' ' <"$f" 2>/dev/null) || continue
-    [[ "$a" == "$1 "* && "$a" == *"$2"* ]] && return 0
+    mapfile -d '' -t args 2>/dev/null <"$f" || continue
+    [ "${args[0]:-}" = "$1" ] && [[ "${args[*]}" == *"$2"* ]] && return 0
   done
   return 1
 }
 running=""
-for _ in $(seq 400); do
+for _ in $(seq 1200); do
   running=$(squeue -h -t R -o %i)
   [ -n "$running" ] && tool_runs "$bin/rangetrace" "$tmp/intr/" && break
+  kill -0 "$pg" 2>/dev/null || break   # make ended first: the render was never seen running
   running=""
   sleep 0.05
 done
