@@ -354,7 +354,20 @@ void run_povray(const std::string& povray, const Staged& st, const std::string& 
                 const std::vector<std::pair<std::string, std::string>>& renames) {
   const std::string log_path = dir + "/" + log_name;
   const Command cmd = povray_command(povray, args, absolute(dir), st.readable, st.user_code);
-  const int status = run_process(cmd, dir, log_path);
+  // POV-Ray 3.7's front end gives up when its render threads do not start in time (seen at a
+  // load of 16 on 2 cores: "Timed out waiting for worker thread startup"), and may then exit 0
+  // having parsed nothing. That run did no work: it is run again (at most 3 runs in all).
+  int status = 0;
+  for (int attempt = 1;; ++attempt) {
+    status = run_process(cmd, dir, log_path);
+    std::string first;
+    try {
+      first = common::read_file(log_path);
+    } catch (const Error&) {}
+    if (attempt >= 3 || first.find("Timed out waiting for worker thread startup") == std::string::npos) break;
+    common::log::warn("POV-Ray timed out starting its render threads (machine busy?): run " +
+                      std::to_string(attempt + 1) + " of at most 3");
+  }
   if (status == 0) return;
   if (status == 127) {
     throw Error("cannot run POV-Ray '" + povray + "' (is the Debian package povray installed?)");
