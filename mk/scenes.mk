@@ -35,7 +35,8 @@
 # The tools of this file, unless another fragment already has their build rule.
 scene_tool_has_rule = $(or $(filter $(1),$(TOOLS)),$(and $(filter verify,$(1)),$(filter mk/verify.mk,$(MAKEFILE_LIST))))
 $(foreach t,detect classify verify collect score topview,$(if $(call scene_tool_has_rule,$(t)),,$(eval $(call tool_rule,$(t)))))
-# (detect and verify have no parameter file yet; one is used as soon as it exists.)
+# (detect has no parameter file yet: share/params/detect.ini is used as soon as it exists;
+# verify's is share/params/verify.ini, the thesis protocol's, through the same scene_config.)
 # fitvox on candidates: airborne tiles are sparser than the thesis's renderings
 # (share/params/fitvox-tile.ini says how the setting was chosen).
 TILE_FITVOX ?= $(P)/fitvox-tile.ini
