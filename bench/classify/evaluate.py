@@ -12,27 +12,14 @@ index truth names when that instance holds >= half of the candidate's object poi
 """
 import json, math, os, subprocess, sys, argparse, statistics
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 from pcdlabels import majority_label
+from rates import rate
 from concurrent.futures import ThreadPoolExecutor
 
 GROUP = {"sedan": "car", "hatchback": "car", "suv": "car", "pickup": "car", "van": "van",
          "box-truck": "truck", "semi-tractor": "truck", "bus": "bus", "wheeled-apc": "machine",
          "tracked-apc": "tracked", "tank": "tracked", "wheel-loader": "machine"}
-
-
-def wilson(k, n, z=1.96):
-    if n == 0:
-        return (float("nan"), float("nan"))
-    p = k / n
-    d = 1 + z * z / n
-    c = (p + z * z / (2 * n)) / d
-    h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
-    return (max(0.0, c - h), min(1.0, c + h))
-
-
-def rate(k, n):
-    lo, hi = wilson(k, n)
-    return f"{k}/{n} = {100 * k / n:.1f}% [{100 * lo:.1f}, {100 * hi:.1f}]" if n else f"{k}/0"
 
 
 def fold180(d):

@@ -23,23 +23,10 @@ Run the cue tables on development tiles only (docs/decisions/real-tiles.md: the 
 """
 import argparse, json, math, os, subprocess, sys
 from concurrent.futures import ThreadPoolExecutor
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from rates import rate
 
 CUES = ["fill", "ground_through", "below_share", "top_roughness_rel", "late_returns", "plateau_share"]
-
-
-def wilson(k, n, z=1.96):
-    if n == 0:
-        return (float("nan"), float("nan"))
-    p = k / n
-    d = 1 + z * z / n
-    c = (p + z * z / (2 * n)) / d
-    h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
-    return (max(0.0, c - h), min(1.0, c + h))
-
-
-def rate(k, n):
-    lo, hi = wilson(k, n)
-    return f"{k}/{n} = {100 * k / n:.1f}% [{100 * lo:.1f}, {100 * hi:.1f}]" if n else f"{k}/0"
 
 
 def quantile(v, q):

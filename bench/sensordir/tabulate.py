@@ -3,21 +3,20 @@
 bench/sensordir/run.sh's OUT_DIR. Rates carry their counts and Wilson 95 % intervals."""
 import glob
 import json
-import math
 import os
 import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+import rates  # noqa: E402  (bench/rates.py)
 
 SOURCES = ["columns", "trajectory", "scan-angle", "vertical"]
 
 
-def wilson(k, n, z=1.96):
+def wilson(k, n):
     if n == 0:
         return "n/a"
-    p = k / n
-    d = 1 + z * z / n
-    c = (p + z * z / (2 * n)) / d
-    h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
-    return "%d/%d = %.2f [%.2f, %.2f]" % (k, n, p, max(0.0, c - h), min(1.0, c + h))
+    lo, hi = rates.wilson(k, n)
+    return "%d/%d = %.2f [%.2f, %.2f]" % (k, n, k / n, lo, hi)
 
 
 def main():
