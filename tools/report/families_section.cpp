@@ -28,8 +28,9 @@ std::string rate(int k, int n) {
   return pct(k, n) + " (" + std::to_string(k) + "/" + std::to_string(n) + ")";
 }
 
-const FamilyMethodRow* method_row(const FamilySummary& s, const std::string& m, const std::string& cls,
-                                  const std::string& cover, const std::string& noise) {
+const documents::FamilyMethodRow* method_row(const FamilySummary& s, const std::string& m,
+                                             const std::string& cls, const std::string& cover,
+                                             const std::string& noise) {
   for (const auto& r : s.method_rows) {
     if (r.method == m && r.vehicle_class == cls && r.cover == cover && r.noise == noise) return &r;
   }
@@ -52,7 +53,7 @@ std::string family_methods_markdown(const FamilySummary& s) {
      << "| method | class accuracy | nearest instance | failed | time per trial (s) |\n"
         "|---|---:|---:|---:|---:|\n";
   for (const auto& m : s.methods) {
-    const FamilyMethodRow* r = method_row(s, m, "all", "all", "all");
+    const documents::FamilyMethodRow* r = method_row(s, m, "all", "all", "all");
     std::string t = "–";
     if (r->timed > 0) {
       t = formats::format_number("%.2f", r->seconds_mean);
@@ -70,11 +71,11 @@ std::string family_methods_markdown(const FamilySummary& s) {
     for (std::size_t k = 0; k < s.methods.size(); ++k) md << "---:|";
     md << "\n";
     for (const auto& key : keys) {
-      const FamilyMethodRow* first = method_row(s, s.methods.front(), key[0], key[1], key[2]);
+      const documents::FamilyMethodRow* first = method_row(s, s.methods.front(), key[0], key[1], key[2]);
       if (!first) continue;
       md << "| " << key[label_index] << " | " << first->trials << " |";
       for (const auto& m : s.methods) {
-        const FamilyMethodRow* r = method_row(s, m, key[0], key[1], key[2]);
+        const documents::FamilyMethodRow* r = method_row(s, m, key[0], key[1], key[2]);
         md << " " << (r ? rate(r->class_right, r->trials) : "–") << " |";
       }
       md << "\n";
@@ -143,9 +144,7 @@ void read_confusion(FamilySummary& s, const std::string& confusion, const std::s
 void read_levels(FamilySummary& s, const std::string& accuracy, const std::string& accuracy_name,
                  const std::string& confusion_name) {
   bool have_all = false;
-  for (const auto& r : documents::parse_family_accuracy(accuracy, accuracy_name)) {
-    const FamilyLevel l{r.cover,    r.noise,          r.trials,        r.class_right,
-                        r.accepted, r.accepted_right, r.nearest_right, r.failed};
+  for (const auto& l : documents::parse_family_accuracy(accuracy, accuracy_name)) {
     if (l.cover == "all" && l.noise == "all") {
       s.all = l;
       have_all = true;
@@ -193,19 +192,18 @@ namespace {
 
 // methods.csv's rows, and the methods in first-seen order.
 void read_method_rows(const std::string& methods, const std::string& methods_name,
-                      std::vector<FamilyMethodRow>& rows, std::vector<std::string>& names) {
+                      std::vector<documents::FamilyMethodRow>& rows, std::vector<std::string>& names) {
   for (const auto& r : documents::parse_family_methods(methods, methods_name)) {
     if (std::find(names.begin(), names.end(), r.method) == names.end()) names.push_back(r.method);
-    rows.push_back({r.method, r.vehicle_class, r.cover, r.noise, r.trials, r.class_right, r.nearest_right,
-                    r.failed, r.timed, r.seconds_mean});
+    rows.push_back(r);
   }
 }
 
 // Every method has an all,all,all row over the confusion matrix's trials (verify: its right ones too).
-void check_method_totals(const FamilySummary& s, const std::vector<FamilyMethodRow>& rows,
+void check_method_totals(const FamilySummary& s, const std::vector<documents::FamilyMethodRow>& rows,
                          const std::vector<std::string>& names, const std::string& methods_name) {
   for (const auto& name : names) {
-    const auto all = std::find_if(rows.begin(), rows.end(), [&](const FamilyMethodRow& x) {
+    const auto all = std::find_if(rows.begin(), rows.end(), [&](const documents::FamilyMethodRow& x) {
       return x.method == name && x.vehicle_class == "all" && x.cover == "all" && x.noise == "all";
     });
     if (all == rows.end())
@@ -239,14 +237,15 @@ std::vector<FamilyMethodConfusion> read_method_confusion(const std::string& conf
 }
 
 void check_confusion_agrees(const std::vector<FamilyMethodConfusion>& conf,
-                            const std::vector<FamilyMethodRow>& rows, const std::vector<std::string>& names,
-                            const std::string& confusion_name, const std::string& methods_name) {
+                            const std::vector<documents::FamilyMethodRow>& rows,
+                            const std::vector<std::string>& names, const std::string& confusion_name,
+                            const std::string& methods_name) {
   // Each method's matrix agrees with its rows in methods.csv (trials and right answers per class).
   for (const auto& mc : conf) {
     if (std::find(names.begin(), names.end(), mc.method) == names.end())
       throw common::DataError(confusion_name, "method " + mc.method + " is not in " + methods_name);
     for (const auto& fc : mc.classes) {
-      const auto row = std::find_if(rows.begin(), rows.end(), [&](const FamilyMethodRow& x) {
+      const auto row = std::find_if(rows.begin(), rows.end(), [&](const documents::FamilyMethodRow& x) {
         return x.method == mc.method && x.vehicle_class == fc.name && x.cover == "all" && x.noise == "all";
       });
       if (row == rows.end() || row->trials != fc.trials || row->class_right != fc.right) {
@@ -262,7 +261,7 @@ void check_confusion_agrees(const std::vector<FamilyMethodConfusion>& conf,
 
 void add_family_methods(FamilySummary& s, const std::string& methods, const std::string& methods_name,
                         const std::string& confusion, const std::string& confusion_name) {
-  std::vector<FamilyMethodRow> rows;
+  std::vector<documents::FamilyMethodRow> rows;
   std::vector<std::string> names;
   read_method_rows(methods, methods_name, rows, names);
   check_method_totals(s, rows, names, methods_name);
@@ -295,7 +294,7 @@ std::string families_markdown(const FamilySummary& s) {
   md << "| **all** | " << s.trials << " | **" << rate(s.right, s.trials) << "** |\n\n";
   md << "| cover | noise (mm) | trials | class accuracy | verify accepted (right class) | nearest instance | "
         "failed |\n|---|---:|---:|---:|---:|---:|---:|\n";
-  auto level = [&](const FamilyLevel& l, bool total) {
+  auto level = [&](const documents::FamilyAccuracyRow& l, bool total) {
     md << "| " << (total ? "**all**" : l.cover) << " | " << (total ? "" : l.noise) << " | " << l.trials
        << " | " << rate(l.class_right, l.trials) << " | " << l.accepted << " (" << l.accepted_right << ") | "
        << rate(l.nearest_right, l.trials) << " | " << l.failed << " |\n";

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "canopy/documents/family_tables.h"
+
 namespace canopy::report {
 
 // One true class: its row of the confusion matrix (counts per answered class, in
@@ -15,20 +17,6 @@ struct FamilyClass {
   std::string name;
   std::vector<int> answered;
   int trials = 0, right = 0;  // right = the answered class is the true class
-};
-
-// One row of accuracy.csv (a cover and noise level, or "all","all").
-struct FamilyLevel {
-  std::string cover, noise;
-  int trials = 0, class_right = 0, accepted = 0, accepted_right = 0, nearest_right = 0, failed = 0;
-};
-
-// One row of famscore's methods.csv: a method's counts on a slice of the trials (class, cover
-// or noise level, "all" for the others).
-struct FamilyMethodRow {
-  std::string method, vehicle_class, cover, noise;
-  int trials = 0, class_right = 0, nearest_right = 0, failed = 0, timed = 0;
-  double seconds_mean = 0;  // over the timed trials (0 when none)
 };
 
 // One method's confusion matrix (methods-confusion.csv), columns FamilySummary::method_answers.
@@ -40,13 +28,13 @@ struct FamilyMethodConfusion {
 struct FamilySummary {
   std::vector<std::string> answers;  // confusion.csv's answered classes (columns), "none" included
   std::vector<FamilyClass> classes;  // confusion.csv's rows, in order
-  std::vector<FamilyLevel> levels;   // accuracy.csv's rows but the total, in order
-  FamilyLevel all;                   // accuracy.csv's "all,all" row
-  int trials = 0, right = 0;         // over the confusion matrix
+  std::vector<documents::FamilyAccuracyRow> levels;  // accuracy.csv's rows but the total, in order
+  documents::FamilyAccuracyRow all;                  // accuracy.csv's "all,all" row
+  int trials = 0, right = 0;                         // over the confusion matrix
   // canopy beside the PCL baseline (famscore --methods), empty when the tables are absent.
-  std::vector<std::string> methods;          // in methods.csv order (gmatch, verify, vfh, fpfh)
-  std::vector<FamilyMethodRow> method_rows;  // in methods.csv order
-  std::vector<std::string> method_answers;   // methods-confusion.csv's answered classes
+  std::vector<std::string> methods;                     // in methods.csv order (gmatch, verify, vfh, fpfh)
+  std::vector<documents::FamilyMethodRow> method_rows;  // in methods.csv order
+  std::vector<std::string> method_answers;              // methods-confusion.csv's answered classes
   std::vector<FamilyMethodConfusion> method_confusion;
 };
 
