@@ -9,14 +9,13 @@
 #include "canopy/common/error.h"
 #include "canopy/formats/json_document.h"
 #include "canopy/formats/json_fields.h"
+#include "members.h"
 
 namespace canopy::documents {
 namespace {
 
-using common::DataError;
 using formats::finite_for_writing;
-using formats::MalformedField;
-using Json = nlohmann::ordered_json;
+using members::Json;
 
 }  // namespace
 
@@ -72,9 +71,8 @@ MatchResult parse_match_result(const std::string& text, const std::string& name)
     r.entropy = formats::json_number_at(j, "entropy", "");
     const Json& models = formats::json_array_at(j, "models", "");
     for (std::size_t k = 0; k < models.size(); ++k) {
-      const Json& m = models[k];
-      const std::string w = "models[" + std::to_string(k) + "].";
-      if (!m.is_object()) throw MalformedField(w.substr(0, w.size() - 1) + " must be an object");
+      const std::string w = members::item("", "models", k);
+      const Json& m = members::item_object(models[k], w);
       ModelScore s;
       s.model = formats::json_string_at(m, "model", w);
       s.score = formats::json_number_at(m, "score", w);
@@ -86,9 +84,8 @@ MatchResult parse_match_result(const std::string& text, const std::string& name)
       s.error_total = formats::json_number_at(m, "error_total", w);
       const Json& pairs = formats::json_array_at(m, "pairs", w);
       for (std::size_t q = 0; q < pairs.size(); ++q) {
-        const Json& p = pairs[q];
-        const std::string pw = w + "pairs[" + std::to_string(q) + "].";
-        if (!p.is_object()) throw MalformedField(pw.substr(0, pw.size() - 1) + " must be an object");
+        const std::string pw = members::item(w, "pairs", q);
+        const Json& p = members::item_object(pairs[q], pw);
         SegmentPair sp;
         sp.object_segment = formats::json_int_at(p, "object_segment", pw, 0);
         sp.model_segment =
@@ -100,11 +97,7 @@ MatchResult parse_match_result(const std::string& text, const std::string& name)
     }
     // "margin" is derived from the scores (match_margin); files before it was added lack it.
     if (j.contains("margin") && !j["margin"].is_null()) formats::json_number_at(j, "margin", "");
-  } catch (const DataError&) { throw; } catch (const MalformedField& e) {
-    throw DataError(name, std::string("malformed match result: ") + e.what());
-  } catch (const std::exception& e) {
-    throw DataError(name, "malformed match result: " + formats::json_library_text(e));
-  }
+  } catch (...) { members::rethrow_malformed(name, "match result"); }
   return r;
 }
 

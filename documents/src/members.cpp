@@ -1,8 +1,10 @@
 #include "members.h"
 
 #include <cmath>
+#include <exception>
 
 #include "canopy/common/error.h"
+#include "canopy/formats/json_fields.h"
 
 namespace canopy::documents::members {
 
@@ -91,6 +93,26 @@ std::array<double, 16> rigid_matrix(const Json& v, const std::string& where) {
 double finite_or_throw(double v, const char* tool) {
   if (!std::isfinite(v)) throw common::Error(std::string(tool) + ": refusing to write a non-finite number");
   return v;
+}
+
+std::string item(const std::string& prefix, const char* key, std::size_t k) {
+  return prefix + key + "[" + std::to_string(k) + "].";
+}
+
+const Json& item_object(const Json& v, const std::string& item) {
+  if (!v.is_object()) throw Malformed(item.substr(0, item.size() - 1) + " must be an object");
+  return v;
+}
+
+void rethrow_malformed(const std::string& name, const char* what) {
+  try {
+    throw;
+  } catch (const common::DataError&) { throw; } catch (const Malformed& e) {
+    throw common::DataError(name, std::string("malformed ") + what + ": " + e.what());
+  } catch (const std::exception& e) {
+    throw common::DataError(name, std::string("malformed ") + what + ": " + formats::json_library_text(e));
+  }
+  throw;  // not reached: every handler above throws, anything else propagates
 }
 
 }  // namespace canopy::documents::members

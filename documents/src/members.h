@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -39,5 +40,15 @@ std::array<double, 16> rigid_matrix(const Json& v, const std::string& what);
 
 // The writers' check: v itself, or common::Error "<tool>: refusing to write a non-finite number".
 double finite_or_throw(double v, const char* tool);
+
+// The element prefix prefix + "key[k]." of an array member (the `where` of formats::json_*_at).
+std::string item(const std::string& prefix, const char* key, std::size_t k);
+// v itself when it is an object, else Malformed "<item without its final dot> must be an object".
+const Json& item_object(const Json& v, const std::string& item);
+
+// Inside a reader's catch (...): rethrows the exception being handled as common::DataError(name,
+// "malformed <what>: <message>") — a Malformed member with its text, any other std::exception
+// (the JSON library's) with formats::json_library_text; a DataError unchanged.
+[[noreturn]] void rethrow_malformed(const std::string& name, const char* what);
 
 }  // namespace canopy::documents::members

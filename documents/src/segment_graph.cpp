@@ -8,14 +8,14 @@
 #include "canopy/common/error.h"
 #include "canopy/formats/json_document.h"
 #include "canopy/formats/json_fields.h"
+#include "members.h"
 
 namespace canopy::documents {
 namespace {
 
-using common::DataError;
 using formats::finite_for_writing;
 using formats::MalformedField;
-using Json = nlohmann::ordered_json;
+using members::Json;
 
 Json vec3_json(const Vec3& v, const char* what) {
   return Json::array(
@@ -72,9 +72,8 @@ SegmentGraph parse_segment_graph(const std::string& text, const std::string& nam
     std::set<int> ids;
     const Json& segs = formats::json_array_at(j, "segments", "");
     for (std::size_t k = 0; k < segs.size(); ++k) {
-      const Json& s = segs[k];
-      const std::string w = "segments[" + std::to_string(k) + "].";
-      if (!s.is_object()) throw MalformedField(w.substr(0, w.size() - 1) + " must be an object");
+      const std::string w = members::item("", "segments", k);
+      const Json& s = members::item_object(segs[k], w);
       Segment seg;
       seg.segment_id = formats::json_int_at(s, "segment_id", w, 0);
       if (!ids.insert(seg.segment_id).second) {
@@ -100,9 +99,8 @@ SegmentGraph parse_segment_graph(const std::string& text, const std::string& nam
     std::set<std::pair<int, int>> edges;
     const Json& adj = formats::json_array_at(j, "adjacency", "");
     for (std::size_t k = 0; k < adj.size(); ++k) {
-      const Json& e = adj[k];
-      const std::string w = "adjacency[" + std::to_string(k) + "].";
-      if (!e.is_object()) throw MalformedField(w.substr(0, w.size() - 1) + " must be an object");
+      const std::string w = members::item("", "adjacency", k);
+      const Json& e = members::item_object(adj[k], w);
       const SegmentEdge edge{formats::json_int_at(e, "a", w, 0), formats::json_int_at(e, "b", w, 0),
                              formats::json_int_at(e, "shared_edges", w, 0)};
       const std::string pair = " (" + std::to_string(edge.a) + ", " + std::to_string(edge.b) + ")";
@@ -119,11 +117,7 @@ SegmentGraph parse_segment_graph(const std::string& text, const std::string& nam
         throw MalformedField(w.substr(0, w.size() - 1) + pair + " appears twice");
       g.adjacency.push_back(edge);
     }
-  } catch (const DataError&) { throw; } catch (const MalformedField& e) {
-    throw DataError(name, std::string("malformed segment graph: ") + e.what());
-  } catch (const std::exception& e) {
-    throw DataError(name, "malformed segment graph: " + formats::json_library_text(e));
-  }
+  } catch (...) { members::rethrow_malformed(name, "segment graph"); }
   return g;
 }
 

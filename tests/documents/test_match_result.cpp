@@ -61,3 +61,17 @@ TEST_CASE("match result: margin = rank-1 score minus rank-2 score, optional when
   CHECK_THAT(serialize_match_result(r), Contains("\"margin\": null"));
   CHECK(parse_match_result(serialize_match_result(r), "one.json").models.size() == 1);
 }
+
+TEST_CASE("match result: a model or pair that is not an object is malformed, naming the place and the file") {
+  const std::string head = R"({"format": "canopy.match_result", "version": 1,
+ "provenance": {"tool": "gmatch", "version": "0.1.0", "parameters": {}, "inputs": []},
+ "object": "s.json", "error_form": "bounded", "entropy": 0, "models": )";
+  CHECK_THROWS_MATCHES(parse_match_result(head + "[1]}", "m.json"), canopy::common::DataError,
+                       Catch::Message("m.json: malformed match result: models[0] must be an object"));
+  const std::string model =
+      R"([{"model": "tank", "score": 1, "rank": 1, "error_unary": 0, "error_orientation": 0,
+ "error_distance": 0, "error_coverage": 0, "error_total": 0, "pairs": [2]}]})";
+  CHECK_THROWS_MATCHES(
+      parse_match_result(head + model, "p.json"), canopy::common::DataError,
+      Catch::Message("p.json: malformed match result: models[0].pairs[0] must be an object"));
+}

@@ -148,3 +148,18 @@ TEST_CASE("JSON: deep nesting is refused before parsing; nested values in messag
              Contains("segment_id must be an integer, not an array"));
   CHECK_THAT(graph_error("{\"format\": " + shallow + "}", "arr.json"), Contains("format is an array"));
 }
+
+TEST_CASE(
+    "segment graph: an array element that is not an object, a missing member: malformed, naming the place") {
+  const std::string head = R"({"format": "canopy.segment_graph", "version": 1,
+ "provenance": {"tool": "ncut", "version": "0.1.0", "parameters": {}, "inputs": []}, "mesh": "m.ply", )";
+  CHECK(graph_error(head + R"("segments": [5], "adjacency": []})", "e.json") ==
+        "e.json: malformed segment graph: segments[0] must be an object");
+  CHECK(graph_error(head + R"("segments": [], "adjacency": [[0, 1]]})", "a.json") ==
+        "a.json: malformed segment graph: adjacency[0] must be an object");
+  const std::string no_prov = graph_error(
+      R"({"format": "canopy.segment_graph", "version": 1, "mesh": "m.ply", "segments": [], "adjacency": []})",
+      "p.json");
+  CHECK_THAT(no_prov, Contains("p.json: malformed segment graph: ") && Contains("provenance"));
+  CHECK(no_prov.find("[json.exception") == std::string::npos);
+}
