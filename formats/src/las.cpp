@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "binary_io.h"
+#include "las_header.h"
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "canopy/formats/provenance.h"
@@ -25,38 +26,17 @@ using detail::put;
 
 static_assert(std::numeric_limits<double>::is_iec559, "LAS codec assumes IEEE doubles");
 
-// Minimum point record length of point data formats 0..10 (LAS 1.4 R15, Table 7 ff.).
-constexpr std::size_t kMinRecord[11] = {20, 28, 26, 34, 57, 63, 30, 36, 38, 59, 67};
-// Public header size by minor version (1.0-1.2, 1.3, 1.4).
-constexpr std::size_t kHeader12 = 227, kHeader13 = 235, kHeader14 = 375;
-constexpr std::size_t kVlrHeader = 54, kEvlrHeader = 60, kExtraDescriptor = 192;
+using las::get;
+using las::kHeader12;
+using las::kHeader14;
+using las::kMinRecord;
+using las::kVlrHeader;
+using las::LasHeader;
+using las::printable;
+constexpr std::size_t kEvlrHeader = 60, kExtraDescriptor = 192;
 // Extra Bytes descriptors read (later ones are skipped like undocumented bytes); a normal VLR
 // holds at most 341, an EVLR could hold millions of columns.
 constexpr std::size_t kMaxExtraFields = 1024;
-
-template <typename T>
-T get(const unsigned char* p) {
-  T v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-
-// File text (user ids, names) made safe for a message: stops at NUL, escapes the rest.
-std::string printable(const unsigned char* p, std::size_t n) {
-  std::string out;
-  for (std::size_t i = 0; i < n && p[i] != 0; ++i) {
-    const unsigned char c = p[i];
-    if (c >= 32 && c < 127) {
-      out += static_cast<char>(c);
-    } else {
-      static const char* hex = "0123456789abcdef";
-      out += "\\x";
-      out += hex[c >> 4];
-      out += hex[c & 15];
-    }
-  }
-  return out;
-}
 
 bool has_prefix(const unsigned char* p, std::size_t n, const char* id) {
   const std::size_t len = std::strlen(id);
@@ -174,15 +154,6 @@ bool is_laz(const std::string& bytes) { return laszip_compressed(bytes); }
 
 namespace {
 
-// What the LAS header says, checked against the file's size.
-struct LasHeader {
-  int minor = 0, format = 0;
-  std::size_t header_size = 0, data_offset = 0, record = 0;
-  std::uint32_t vlr_count = 0;
-  double scale[3] = {1, 1, 1}, offset[3] = {0, 0, 0};
-  std::uint64_t n = 0;  // point records
-};
-
 // The Extra Bytes (E)VLR payload, when there is one.
 struct ExtraVlr {
   const unsigned char* data = nullptr;
@@ -207,23 +178,11 @@ void read_las_transform(const unsigned char* b, LasHeader& h, const std::string&
   }
 }
 
-// Point count: the 64-bit count of LAS 1.4 wins when set; a legacy count that disagrees
-// with it is a broken header. Checked against the bytes after the point data offset.
+// The point count (las::point_count), checked against the bytes after the point data offset.
 void read_las_point_count(const unsigned char* b, std::size_t size, LasHeader& h, const std::string& name) {
   const int minor = h.minor;
   const std::size_t data_offset = h.data_offset, record = h.record;
-  std::uint64_t& n = h.n;
-  n = get<std::uint32_t>(b + 107);
-  if (minor >= 4) {
-    const std::uint64_t n64 = get<std::uint64_t>(b + 247);
-    if (n64 != 0) {
-      if (n != 0 && n != n64) {
-        throw DataError(name, "LAS header point counts disagree: legacy " + std::to_string(n) + ", LAS 1.4 " +
-                                  std::to_string(n64));
-      }
-      n = n64;
-    }
-  }
+  const std::uint64_t n = h.n = las::point_count(b, minor, name);
   const std::size_t avail = size - data_offset;
   if (n > avail / record) {
     // Also when nothing follows the offset: a file cut there (or an offset moved to its end)
@@ -253,8 +212,27 @@ void read_las_point_count(const unsigned char* b, std::size_t size, LasHeader& h
   }
 }
 
-// The header's fields (not the point count), checked against the file's size.
-LasHeader read_las_header_fields(const unsigned char* b, std::size_t size, const std::string& name) {
+}  // namespace
+
+namespace las {
+
+std::string printable(const unsigned char* p, std::size_t n) {
+  std::string out;
+  for (std::size_t i = 0; i < n && p[i] != 0; ++i) {
+    const unsigned char c = p[i];
+    if (c >= 32 && c < 127) {
+      out += static_cast<char>(c);
+    } else {
+      static const char* hex = "0123456789abcdef";
+      out += "\\x";
+      out += hex[c >> 4];
+      out += hex[c & 15];
+    }
+  }
+  return out;
+}
+
+LasHeader read_header_fields(const unsigned char* b, std::size_t size, const std::string& name) {
   LasHeader h;
   const int major = b[24], minor = b[25];
   h.minor = minor;
@@ -262,7 +240,7 @@ LasHeader read_las_header_fields(const unsigned char* b, std::size_t size, const
     throw DataError(name, "LAS version " + std::to_string(major) + "." + std::to_string(minor) +
                               " is not supported (canopy reads LAS 1.0-1.4)");
   }
-  const int format_byte = b[104];
+  const int format_byte = b[104] & 0x3F;  // LAZ: without LASzip's compression bits
   const std::size_t header_size = h.header_size = get<std::uint16_t>(b + 94);
   const std::size_t need_header = minor >= 4 ? kHeader14 : minor == 3 ? kHeader13 : kHeader12;
   if (header_size < need_header) {
@@ -297,37 +275,29 @@ LasHeader read_las_header_fields(const unsigned char* b, std::size_t size, const
   return h;
 }
 
-LasHeader read_las_header(const unsigned char* b, std::size_t size, const std::string& name) {
-  LasHeader h = read_las_header_fields(b, size, name);
-  read_las_point_count(b, size, h, name);
-  return h;
+std::uint64_t point_count(const unsigned char* b, int minor, const std::string& name) {
+  std::uint64_t n = get<std::uint32_t>(b + 107);
+  if (minor >= 4) {
+    const std::uint64_t n64 = get<std::uint64_t>(b + 247);
+    if (n64 != 0) {
+      if (n != 0 && n != n64) {
+        throw DataError(name, "LAS header point counts disagree: legacy " + std::to_string(n) + ", LAS 1.4 " +
+                                  std::to_string(n64));
+      }
+      n = n64;
+    }
+  }
+  return n;
 }
 
-// Calls visit(v, len) for every VLR (v: its 54-byte header, then `len` bytes of payload) between
-// the header and the point data, each of which must fit there; stops quietly at the first one
-// that does not end within the `available` bytes of `b` (<= the point data offset).
-template <typename Visit>
-void for_each_vlr(const unsigned char* b, std::size_t available, const LasHeader& h, const std::string& name,
-                  Visit visit) {
-  std::size_t pos = h.header_size;
-  for (std::uint32_t i = 0; i < h.vlr_count; ++i) {
-    if (h.data_offset - pos < kVlrHeader) {
-      throw DataError(name, "LAS header says " + std::to_string(h.vlr_count) + " VLRs but VLR " +
-                                std::to_string(i + 1) + " does not fit before the point data at byte " +
-                                std::to_string(h.data_offset) + " (broken VLR count or offset)");
-    }
-    if (pos > available || available - pos < kVlrHeader) return;
-    const unsigned char* v = b + pos;
-    const std::size_t len = get<std::uint16_t>(v + 20);
-    if (h.data_offset - pos - kVlrHeader < len) {
-      throw DataError(name, "VLR " + std::to_string(i + 1) + " ('" + printable(v + 2, 16) + "' " +
-                                std::to_string(get<std::uint16_t>(v + 18)) + ") of " + std::to_string(len) +
-                                " bytes runs into the point data at byte " + std::to_string(h.data_offset));
-    }
-    if (available - pos - kVlrHeader < len) return;
-    visit(v, len);
-    pos += kVlrHeader + len;
-  }
+}  // namespace las
+
+namespace {
+
+LasHeader read_las_header(const unsigned char* b, std::size_t size, const std::string& name) {
+  LasHeader h = las::read_header_fields(b, size, name);
+  read_las_point_count(b, size, h, name);
+  return h;
 }
 
 // VLRs: between the header and the point data, every one must fit there. canopy's comments
@@ -530,9 +500,8 @@ LasHeaderBlock read_las_header_block(const std::string& path, std::size_t max_by
     throw DataError(path, "LAS header truncated: file has " + std::to_string(size) +
                               " bytes, a header needs " + std::to_string(kHeader12));
   }
-  if ((bytes[104] & 0xC0) != 0) bytes[104] = char(bytes[104] & 0x3F);  // LAZ: LASzip's compression bits
   const auto* b = reinterpret_cast<const unsigned char*>(bytes.data());
-  const LasHeader h = read_las_header_fields(b, size, path);
+  const LasHeader h = las::read_header_fields(b, size, path);
   // The VLRs: up to the point data, at most max_bytes (the header is read whole).
   const std::size_t available = std::min(h.data_offset, std::max(max_bytes, h.header_size));
   if (available > bytes.size()) {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "canopy/common/error.h"
+#include "las_header.h"
 #include "laz_coder.h"
 #include "laz_items.h"
 
@@ -18,17 +19,13 @@ namespace canopy::formats {
 namespace {
 
 using common::DataError;
+using las::get;
+using las::kHeader12;
+using las::kVlrHeader;
 using laz::Item;
 
-constexpr std::size_t kHeader12 = 227, kVlrHeader = 54, kLaszipFixed = 34;
+constexpr std::size_t kLaszipFixed = 34;
 constexpr std::uint32_t kVariableChunks = 0xFFFFFFFFu;
-
-template <typename T>
-T get(const std::uint8_t* p) {
-  T v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
 
 template <typename T>
 void set(std::string* s, std::size_t at, T v) {
@@ -40,12 +37,9 @@ bool is_laszip_vlr(const std::uint8_t* v) {
   return std::memcmp(v + 2, id, 15) == 0 && get<std::uint16_t>(v + 18) == 22204;
 }
 
-// The header fields the container needs; each checked against the file size.
-struct Header {
-  int minor = 0;
-  std::size_t header_size = 0, data_offset = 0, record = 0;
-  std::uint32_t vlr_count = 0;
-  std::uint64_t n = 0;
+// The header fields the container needs (las::read_header_fields, las::point_count) and the
+// EVLRs' place (LAS 1.4); each checked against the file size.
+struct Header : las::LasHeader {
   std::uint64_t evlr_start = 0;
   std::uint32_t evlr_count = 0;
 };
@@ -56,36 +50,9 @@ Header read_header(const std::uint8_t* b, std::size_t size, const std::string& n
                               " bytes, a header needs " + std::to_string(kHeader12));
   }
   Header h;
-  h.minor = b[25];
-  if (b[24] != 1 || h.minor > 4) {
-    throw DataError(name, "LAS version " + std::to_string(b[24]) + "." + std::to_string(h.minor) +
-                              " is not supported (canopy reads LAS 1.0-1.4)");
-  }
-  h.header_size = get<std::uint16_t>(b + 94);
-  h.data_offset = get<std::uint32_t>(b + 96);
-  h.vlr_count = get<std::uint32_t>(b + 100);
-  h.record = get<std::uint16_t>(b + 105);
-  const std::size_t need = h.minor >= 4 ? 375 : h.minor == 3 ? 235 : kHeader12;
-  if (h.header_size < need || h.header_size > size) {
-    throw DataError(name, "LAS header size " + std::to_string(h.header_size) + " is not between the " +
-                              std::to_string(need) + " bytes LAS 1." + std::to_string(h.minor) +
-                              " needs and the file size (" + std::to_string(size) + ")");
-  }
-  if (h.data_offset < h.header_size || h.data_offset > size) {
-    throw DataError(name, "offset to point data " + std::to_string(h.data_offset) +
-                              " is not between the end of the header and the end of the file (" +
-                              std::to_string(size) + " bytes)");
-  }
-  h.n = get<std::uint32_t>(b + 107);
+  static_cast<las::LasHeader&>(h) = las::read_header_fields(b, size, name);
+  h.n = las::point_count(b, h.minor, name);
   if (h.minor >= 4) {
-    const std::uint64_t n64 = get<std::uint64_t>(b + 247);
-    if (n64 != 0) {
-      if (h.n != 0 && h.n != n64) {
-        throw DataError(name, "LAS header point counts disagree: legacy " + std::to_string(h.n) +
-                                  ", LAS 1.4 " + std::to_string(n64));
-      }
-      h.n = n64;
-    }
     h.evlr_start = get<std::uint64_t>(b + 235);
     h.evlr_count = get<std::uint32_t>(b + 243);
     if (h.evlr_count > 0 && (h.evlr_start < h.data_offset || h.evlr_start > size)) {
@@ -232,25 +199,15 @@ std::string laz_to_las(const std::string& bytes, const std::string& name) {
   std::uint32_t kept = 0;
   const std::uint8_t* laszip_at = nullptr;
   std::size_t laszip_len = 0, pos = h.header_size;
-  for (std::uint32_t i = 0; i < h.vlr_count; ++i) {
-    if (h.data_offset - pos < kVlrHeader) {
-      throw DataError(name, "LAS header says " + std::to_string(h.vlr_count) + " VLRs but VLR " +
-                                std::to_string(i + 1) + " does not fit before the point data at byte " +
-                                std::to_string(h.data_offset) + " (broken VLR count or offset)");
-    }
-    const std::size_t len = get<std::uint16_t>(b + pos + 20);
-    if (h.data_offset - pos - kVlrHeader < len) {
-      throw DataError(name, "VLR " + std::to_string(i + 1) + " of " + std::to_string(len) +
-                                " bytes runs into the point data at byte " + std::to_string(h.data_offset));
-    }
-    if (is_laszip_vlr(b + pos)) {
-      if (laszip_at == nullptr) laszip_at = b + pos + kVlrHeader, laszip_len = len;
+  las::for_each_vlr(b, h.data_offset, h, name, [&](const std::uint8_t* v, std::size_t len) {
+    if (is_laszip_vlr(v)) {
+      if (laszip_at == nullptr) laszip_at = v + kVlrHeader, laszip_len = len;
     } else {
       vlrs.append(bytes, pos, kVlrHeader + len);
       ++kept;
     }
     pos += kVlrHeader + len;
-  }
+  });
   vlrs.append(bytes, pos, h.data_offset - pos);  // bytes after the VLRs, if any
   if (laszip_at == nullptr) {
     throw DataError(name,
@@ -260,7 +217,7 @@ std::string laz_to_las(const std::string& bytes, const std::string& name) {
   const Laszip z = read_laszip(laszip_at, laszip_len, name);
   std::size_t item_bytes = 0;
   for (const Item& it : z.items) item_bytes += it.size;
-  if (h.record == 0) throw DataError(name, "point record length is 0");
+  // h.record >= the point format's minimum (20 bytes or more): read_header_fields checked it.
   if (item_bytes != h.record) {
     throw DataError(name, "LASzip items add up to " + std::to_string(item_bytes) +
                               " bytes, the point record has " + std::to_string(h.record));
