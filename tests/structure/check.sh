@@ -11,44 +11,55 @@ tools=$1/tools
 [ -d "$tools" ] || { echo "check.sh: $tools: no such directory" >&2; exit 2; }
 max_lines=700
 bad=0
-offend() { echo "structure: $*"; bad=1; }
 
-names=()
-for d in "$tools"/*/; do names+=("$(basename "$d")"); done
-is_tool() { local n; for n in "${names[@]}"; do [ "$n" = "$1" ] && return 0; done; return 1; }
-
-for a in "${names[@]}"; do
-  # Includes of another tool's files.
-  while IFS=: read -r file line text; do
-    target=$(sed -E 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*["<]([^">]*)[">].*/\1/' <<<"$text")
-    target=${target#../}
-    b=${target%%/*}
-    if [ "$b" != "$target" ] && [ "$b" != "$a" ] && is_tool "$b"; then
-      offend "${file#"$1"/}:$line includes $target (a file of tools/$b/)"
-    fi
-  done < <(grep -rnE '^[[:space:]]*#[[:space:]]*include[[:space:]]*["<]' "$tools/$a" --include='*.cpp' \
-             --include='*.h' --include='*.hpp' --include='*.inc' 2>/dev/null | sort -t: -k1,1 -k2,2n)
+names=$(cd "$tools" && for d in */; do printf '%s ' "${d%/}"; done)
+report=$(
+  # Includes of another tool's files: one awk over every #include line.
+  grep -rnE '^[[:space:]]*#[[:space:]]*include[[:space:]]*["<]' "$tools" --include='*.cpp' --include='*.h' \
+      --include='*.hpp' --include='*.inc' |
+    awk -v root="$1/" -v names="$names" '
+      BEGIN { n = split(names, t, " "); for (i = 1; i <= n; i++) tool[t[i]] = 1 }
+      {
+        file = $0; sub(/:.*/, "", file)
+        rest = substr($0, length(file) + 2); line = rest; sub(/:.*/, "", line)
+        text = substr(rest, length(line) + 2)
+        if (!match(text, /["<][^">]*[">]/)) next
+        target = substr(text, RSTART + 1, RLENGTH - 2); sub(/^\.\.\//, "", target)
+        rel = substr(file, length(root) + 1); split(rel, p, "/"); a = p[2]
+        slash = index(target, "/"); if (slash == 0) next
+        b = substr(target, 1, slash - 1)
+        if (b != a && (b in tool))
+          printf "%s\t%09d\tstructure: %s:%s includes %s (a file of tools/%s/)\n", rel, line, rel, line, target, b
+      }'
   # Link lines naming another tool's library.
-  if [ -f "$tools/$a/CMakeLists.txt" ]; then
-    while IFS=: read -r line text; do
-      for b in $(grep -oE 'canopy_[A-Za-z0-9]+_lib' <<<"$text"); do
-        b=${b#canopy_}; b=${b%_lib}
-        if [ "$b" != "$a" ] && is_tool "$b"; then
-          offend "tools/$a/CMakeLists.txt:$line links canopy_${b}_lib (the library of tools/$b/)"
-        fi
-      done
-    done < <(grep -nE 'canopy_[A-Za-z0-9]+_lib' "$tools/$a/CMakeLists.txt")
-  fi
-done
-
-while IFS=: read -r file line _; do
-  offend "${file#"$1"/}:$line names nlohmann (JSON belongs to formats/ and documents/)"
-done < <(grep -rn nlohmann "$tools" | sort -t: -k1,1 -k2,2n)
-
-while IFS= read -r -d '' file; do
-  n=$(wc -l <"$file")
-  [ "$n" -le "$max_lines" ] || offend "${file#"$1"/} has $n lines (more than $max_lines)"
-done < <(find "$tools" -type f \( -name '*.cpp' -o -name '*.h' \) -print0 | sort -z)
+  for cm in "$tools"/*/CMakeLists.txt; do
+    grep -noE 'canopy_[A-Za-z0-9]+_lib' "$cm" |
+      awk -v a="$(basename "$(dirname "$cm")")" -v names="$names" '
+        BEGIN { n = split(names, t, " "); for (i = 1; i <= n; i++) tool[t[i]] = 1 }
+        {
+          split($0, f, ":"); b = f[2]; sub(/^canopy_/, "", b); sub(/_lib$/, "", b)
+          if (b != a && (b in tool))
+            printf "tools/%s/CMakeLists.txt\t%09d\tstructure: tools/%s/CMakeLists.txt:%s links canopy_%s_lib (the library of tools/%s/)\n", a, f[1], a, f[1], b, b
+        }'
+  done
+  # nlohmann anywhere under tools/.
+  grep -rn nlohmann "$tools" | awk -v root="$1/" '{
+      file = $0; sub(/:.*/, "", file); rest = substr($0, length(file) + 2); line = rest; sub(/:.*/, "", line)
+      rel = substr(file, length(root) + 1)
+      printf "%s\t%09d\tstructure: %s:%s names nlohmann (JSON belongs to formats/ and documents/)\n", rel, line, rel, line
+    }'
+  # Sources over the limit.
+  find "$tools" -type f \( -name '*.cpp' -o -name '*.h' \) -print0 | xargs -0 -r wc -l |
+    awk -v root="$1/" -v max="$max_lines" '$2 != "total" && $1 > max {
+      rel = substr($2, length(root) + 1)
+      printf "%s\t%09d\tstructure: %s has %d lines (more than %d)\n", rel, 999999999, rel, $1, max
+    }'
+)
+report=$(printf '%s\n' "$report" | grep -v '^$' | LC_ALL=C sort -t"$(printf '\t')" -k1,1 -k2,2 | cut -f3-)
+if [ -n "$report" ]; then
+  printf '%s\n' "$report"
+  bad=1
+fi
 
 if [ $bad -ne 0 ]; then
   echo "FAIL: tools/ breaks the structure rules (offenders above)" >&2

@@ -16,7 +16,7 @@ lines 700 >"$tmp/clean/tools/beta/long.cpp"
 echo 'canopy_add_tool(beta SOURCES long.cpp LIBS canopy_beta_lib)' >"$tmp/clean/tools/beta/CMakeLists.txt"
 out=$(bash "$check" "$tmp/clean" 2>&1) || fail "a clean tree was refused: $out"
 
-# Offenders: one of each kind.
+# Offenders: one of each kind (reported sorted by file, then line).
 mkdir -p "$tmp/bad/tools/alpha" "$tmp/bad/tools/beta"
 printf '#include <vector>\n#include "beta/beta.h"\n' >"$tmp/bad/tools/alpha/a.cpp"
 printf '#include "alpha/alpha.h"\n  #  include "../beta/beta.h"\n' >"$tmp/bad/tools/alpha/alpha.h"
@@ -29,8 +29,8 @@ rc=$?
 expected="structure: tools/alpha/a.cpp:2 includes beta/beta.h (a file of tools/beta/)
 structure: tools/alpha/alpha.h:2 includes beta/beta.h (a file of tools/beta/)
 structure: tools/beta/CMakeLists.txt:1 links canopy_alpha_lib (the library of tools/alpha/)
-structure: tools/beta/beta.h:2 names nlohmann (JSON belongs to formats/ and documents/)
-structure: tools/beta/b.cpp has 701 lines (more than 700)"
+structure: tools/beta/b.cpp has 701 lines (more than 700)
+structure: tools/beta/beta.h:2 names nlohmann (JSON belongs to formats/ and documents/)"
 [ "$out" = "$expected" ] || fail "offenders reported as
 $out
 expected
