@@ -131,7 +131,10 @@ formats::PointCloud render_scan(const Model& model, const SceneRecipe& scene, co
   common::write_file_atomic(tmp.path() + "/scene.pov",
                             scene_pov(staged_model(model, st), placement, enc, scene.views, foliage, params));
   const int views = static_cast<int>(scene.views.size());
-  const int workers = std::max(1, std::min(params.threads, views));
+  // POV-Ray 3.7 idles a fixed wall time between the frames of one run (docs/decisions/cost.md
+  // §3): kRunsPerThread runs per thread, all in flight, overlap one run's idle with the others'
+  // work. A frame's pixels depend on the clock only, not on the split: the scan is the same.
+  const int workers = std::max(1, std::min(views, kRunsPerThread * std::max(1, params.threads)));
   const std::map<int, std::string> frames =
       render_frames(params.povray, tmp, st, "scene.pov", 2 * views, view_blocks(views, workers, params.size),
                     workers, scene_renames(st, "scene.pov"));

@@ -418,7 +418,8 @@ TileScan run_tile(Tile* tile, const Params& params) {
   for (int k : order) frames.push_back(views[k]);
   common::write_file_atomic(tmp.path() + "/scene.pov", tile_pov(*tile, st, frames, 0));
   const int nf = static_cast<int>(frames.size());
-  const int threads = std::max(1, params.threads);
+  // kRunsPerThread runs per thread, all in flight: POV-Ray's idle between frames overlaps.
+  const int threads = kRunsPerThread * std::max(1, params.threads);
   const std::vector<FrameRange> tasks = frame_ranges(frames, threads);
   auto renames = st.renames;
   renames.emplace_back("scene.pov", "rangetrace's generated scene.pov (after the models' includes)");

@@ -66,6 +66,12 @@ void run_povray(const std::string& povray, const Staged& st, const std::string& 
 
 // Frames first..last (inclusive) of a POV-Ray animation, rendered by one process at width x
 // height pixels.
+// POV-Ray runs per render thread a caller keeps in flight (render_frames' `processes`): POV-Ray
+// 3.7 waits a fixed wall time between the frames of one run without using CPU (≈ 0.28 s per
+// frame, docs/decisions/cost.md §3); with 4 runs per thread that idle overlaps the others' work.
+// Each run parses the scene once more (≈ +0.02 CPU-s per run for a thesis scan).
+inline constexpr int kRunsPerThread = 4;
+
 struct FrameRange {
   int first = 0, last = 0;
   int width = 0, height = 0;
