@@ -324,7 +324,7 @@ TEST_CASE("collect: a verdict must be its candidate's, its model a name (round 3
   refused(v, "model must be a model name");
   v = good;
   v["class"] = "a/b";
-  refused(v, "class must be a class name");
+  refused(v, "class must be a model name");
   v = good;
   v.erase("candidate");
   refused(v, "missing \"candidate\"");
