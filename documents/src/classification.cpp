@@ -53,7 +53,8 @@ std::string serialize_class_verdict(const ClassVerdict& v) {
                     {"edge_correction", m.edge_correction}};
   }
   Json nearest = nullptr;
-  if (v.nearest) nearest = Json{{"model", v.nearest->model}, {"class", v.nearest->cls}, {"size", triple(v.nearest->size)}};
+  if (v.nearest)
+    nearest = Json{{"model", v.nearest->model}, {"class", v.nearest->cls}, {"size", triple(v.nearest->size)}};
   Json j{{"format", kVerdictFormat},
          {"version", kVerdictVersion},
          {"provenance", formats::provenance_json(v.provenance)},

@@ -166,9 +166,11 @@ Json detection_json(const DetectionRecord& d) {
   Json matrix_json = Json::array();
   for (double x : m) matrix_json.push_back(finite_number(x));
   Json pose{{"x", finite_number(m[3])}, {"y", finite_number(m[7])}, {"z", finite_number(m[11])},
-            {"heading", d.euler[0]},     {"pitch", d.euler[1]},       {"roll", d.euler[2]},
+            {"heading", d.euler[0]},    {"pitch", d.euler[1]},      {"roll", d.euler[2]},
             {"matrix", matrix_json}};
-  Json j{{"candidate", d.candidate}, {"level", d.model_level ? "model" : "class"}, {"model", text_or_null(d.model)}};
+  Json j{{"candidate", d.candidate},
+         {"level", d.model_level ? "model" : "class"},
+         {"model", text_or_null(d.model)}};
   if (!d.cls.empty()) j["class"] = d.cls;
   if (!d.group.empty() || !d.model_level) j["group"] = text_or_null(d.group);
   j["confidence"] = d.confidence;
@@ -193,9 +195,9 @@ Json rejection_json(const RejectionRecord& r) {
   j["confidence"] = r.confidence ? Json(*r.confidence) : Json(nullptr);
   j["density"] = number_or_null(r.density);
   if (r.classified) {
-    j["density_needed"] = r.has_density_needed
-                              ? Json{{"class", number_or_null(r.density_class)}, {"model", number_or_null(r.density_model)}}
-                              : Json(nullptr);
+    j["density_needed"] = r.has_density_needed ? Json{{"class", number_or_null(r.density_class)},
+                                                      {"model", number_or_null(r.density_model)}}
+                                               : Json(nullptr);
     j["model_chain"] = r.model_chain ? Json(*r.model_chain) : Json(nullptr);
   }
   j["verdict"] = r.verdict;
@@ -206,7 +208,9 @@ Json feature_json(const DetectionRecord& d) {
   const auto& m = d.matrix;
   Json closed = footprint_json(d);
   closed.push_back(closed[0]);
-  Json props{{"candidate", d.candidate}, {"level", d.model_level ? "model" : "class"}, {"model", text_or_null(d.model)}};
+  Json props{{"candidate", d.candidate},
+             {"level", d.model_level ? "model" : "class"},
+             {"model", text_or_null(d.model)}};
   if (!d.cls.empty()) props["class"] = d.cls;
   if (!d.group.empty()) props["group"] = d.group;
   props["confidence"] = d.confidence;

@@ -226,7 +226,8 @@ void class_keys_from(const Json& j, Verdict& v) {
   v.heading_ambiguity = optional_number(j, "heading_ambiguity_deg", "");
   if (j.contains("size") && !j["size"].is_null()) {
     const Json& sz = j["size"];
-    if (!sz.is_array() || sz.size() != 3) throw Malformed("size must be [L, W, H] or null, not " + describe(sz));
+    if (!sz.is_array() || sz.size() != 3)
+      throw Malformed("size must be [L, W, H] or null, not " + describe(sz));
     std::array<double, 3> lwh{};
     for (std::size_t k = 0; k < 3; ++k) {
       if (!sz[k].is_number() || !(sz[k].get<double>() >= 0))

@@ -26,7 +26,9 @@ std::optional<formats::Pose> pose_of(const Json& j) {
   return p;
 }
 
-std::array<double, 3> triple(const Json& j) { return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()}; }
+std::array<double, 3> triple(const Json& j) {
+  return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()};
+}
 std::string text(const Json& j) { return j.is_null() ? "" : j.get<std::string>(); }
 
 // What classify measured, taken from its old output (the values, not the text).
@@ -36,7 +38,8 @@ documents::ClassVerdict measured(const std::string& old) {
   const Json& prov = j["provenance"];
   v.provenance.tool = prov["tool"].get<std::string>();
   v.provenance.version = prov["version"].get<std::string>();
-  for (const auto& [k, val] : prov["parameters"].items()) v.provenance.parameters.emplace_back(k, val.get<std::string>());
+  for (const auto& [k, val] : prov["parameters"].items())
+    v.provenance.parameters.emplace_back(k, val.get<std::string>());
   for (const auto& in : prov["inputs"]) v.provenance.inputs.push_back(in.get<std::string>());
   v.candidate = j["candidate"].get<std::string>();
   v.cls = text(j["class"]);
@@ -51,7 +54,9 @@ documents::ClassVerdict measured(const std::string& old) {
     const Json& m = j["measured"];
     v.measured = documents::MeasuredRectangle{triple(m["size"]),
                                               {m["centre"][0].get<double>(), m["centre"][1].get<double>()},
-                                              m["heading_deg"], m["spacing"], m["edge_correction"]};
+                                              m["heading_deg"],
+                                              m["spacing"],
+                                              m["edge_correction"]};
   }
   if (!j["density"].is_null()) v.density = j["density"].get<double>();
   v.density_needed_class = j["density_needed"]["class"];
@@ -63,7 +68,8 @@ documents::ClassVerdict measured(const std::string& old) {
     v.features.push_back(f);
   }
   if (!j["nearest"].is_null())
-    v.nearest = documents::NearestModel{j["nearest"]["model"], j["nearest"]["class"], triple(j["nearest"]["size"])};
+    v.nearest =
+        documents::NearestModel{j["nearest"]["model"], j["nearest"]["class"], triple(j["nearest"]["size"])};
   v.transform = pose_of(j["transform"]);
   v.class_score = j["class_score"];
   v.class_margin = j["class_margin"];

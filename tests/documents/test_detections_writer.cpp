@@ -16,7 +16,9 @@ using Json = nlohmann::ordered_json;
 
 namespace {
 
-std::optional<double> number(const Json& j) { return j.is_null() ? std::nullopt : std::optional<double>(j.get<double>()); }
+std::optional<double> number(const Json& j) {
+  return j.is_null() ? std::nullopt : std::optional<double>(j.get<double>());
+}
 std::string text(const Json& j) { return j.is_null() ? "" : j.get<std::string>(); }
 
 // What collect placed and counted, taken from its old output (the values, not the text).
@@ -26,7 +28,8 @@ documents::DetectionsRecord placed(const std::string& old) {
   const Json& prov = j["provenance"];
   r.provenance.tool = prov["tool"].get<std::string>();
   r.provenance.version = prov["version"].get<std::string>();
-  for (const auto& [k, v] : prov["parameters"].items()) r.provenance.parameters.emplace_back(k, v.get<std::string>());
+  for (const auto& [k, v] : prov["parameters"].items())
+    r.provenance.parameters.emplace_back(k, v.get<std::string>());
   for (const auto& in : prov["inputs"]) r.provenance.inputs.push_back(in.get<std::string>());
   r.index = j["index"].get<std::string>();
   r.tile = j["tile"].get<std::string>();
@@ -52,7 +55,8 @@ documents::DetectionsRecord placed(const std::string& old) {
     d.euler = {e["pose"]["heading"], e["pose"]["pitch"], e["pose"]["roll"]};
     if (!d.model_level) {
       d.heading_ambiguity = e["heading_ambiguity_deg"];
-      if (!e["size"].is_null()) d.size = std::array<double, 3>{e["size"]["length"], e["size"]["width"], e["size"]["height"]};
+      if (!e["size"].is_null())
+        d.size = std::array<double, 3>{e["size"]["length"], e["size"]["width"], e["size"]["height"]};
       d.density = number(e["density"]);
     }
     for (const Json& c : e["footprint"]) d.footprint.push_back({c[0].get<double>(), c[1].get<double>()});
@@ -145,5 +149,6 @@ TEST_CASE("detections writer: a hand-placed detection is read back by the one re
   CHECK(ring[0] == ring[4]);
   CHECK(documents::open_ground_density(r.density) == 100.0);
   r.detections[0].footprint[1][0] = std::nan("");
-  CHECK_THROWS_WITH(documents::serialize_detections(r), Catch::Contains("collect: refusing to write a non-finite number"));
+  CHECK_THROWS_WITH(documents::serialize_detections(r),
+                    Catch::Contains("collect: refusing to write a non-finite number"));
 }

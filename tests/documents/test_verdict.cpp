@@ -123,14 +123,17 @@ TEST_CASE("verdict: malformed verdicts are refused naming the file and the probl
       {"\"pose\": {\"matrix\": [0, -1, 0, 1, 1, 0", "\"pose\": {\"matrix\": [0, -1, 0.5, 1, 1, 0",
        "pose.matrix: the 3 x 3 part is not a rotation"},
       {"\"pose\": {\"matrix\": [0, -1, 0, 1, 1, 0, 0, 2, 0, 0, 1, 3",
-       "\"pose\": {\"matrix\": [0, -1, 0, 1, 1, 0, 0, 2, 0, 0, -1, 3", "pose.matrix: the 3 x 3 part is a reflection"},
-      {"0, 0, 1, 103, 0, 0, 0, 1]", "0, 0, 1, 103, 0, 0, 0.5, 1]", "pose_tile.matrix: last row is not 0 0 0 1"},
+       "\"pose\": {\"matrix\": [0, -1, 0, 1, 1, 0, 0, 2, 0, 0, -1, 3",
+       "pose.matrix: the 3 x 3 part is a reflection"},
+      {"0, 0, 1, 103, 0, 0, 0, 1]", "0, 0, 1, 103, 0, 0, 0.5, 1]",
+       "pose_tile.matrix: last row is not 0 0 0 1"},
       {"\"transform\": {\"matrix\": [1, 0, 0, 500000, 0, 1, 0, 5400000, 0, 0, 1, 100, 0, 0, 0, 1]}",
        "\"transform\": {\"matrix\": [[1, 0, 0, 500000], [0, 1, 0, 5400000], [0, 0, 1, 100], [0, 0, 0, 1]]}",
        "transform.matrix must be 16 numbers"},
       {"\"candidate\": \"cands/c0001/samples.pcd\"", "\"candidate\": \"\"", "candidate must name"},
       {"\"confidence\": 0.8", "\"confidence\": 1.5", "confidence outside [0, 1]"},
-      {"\"model\": \"sedan\", \"confidence\"", "\"model\": \"../sedan\", \"confidence\"", "model must be a model name"},
+      {"\"model\": \"sedan\", \"confidence\"", "\"model\": \"../sedan\", \"confidence\"",
+       "model must be a model name"},
       {"\"chosen\": 0", "\"chosen\": 2", "chosen is not -1 or a hypothesis index"},
       {"\"chosen\": 0", "\"chosen\": 1", "model and chosen disagree"},
       {"\"gmatch_rank\": 2", "\"gmatch_rank\": 2.5", "hypotheses[1].gmatch_rank must be an integer"},
@@ -144,16 +147,28 @@ TEST_CASE("verdict: malformed verdicts are refused naming the file and the probl
                       Catch::Contains("dir/v.json") && Catch::Contains(c.why));
   }
   // A model (or a class at class level) must stand somewhere: no pose, no pose_tile.
-  std::string no_pose = replaced(kVerify, "\"pose\": {\"matrix\": [0, -1, 0, 1, 1, 0, 0, 2, 0, 0, 1, 3, 0, 0, 0, 1]},\n \"pose_tile\": {\"matrix\": [0, -1, 0, 500001, 1, 0, 0, 5400002, 0, 0, 1, 103, 0, 0, 0, 1]}", "\"pose\": null, \"pose_tile\": null");
-  CHECK_THROWS_WITH(documents::parse_verdict(no_pose, "v.json"), Catch::Contains("v.json") && Catch::Contains("a model without a pose"));
-  CHECK_THROWS_WITH(documents::parse_verdict(replaced(kClassify, "\"pose\": {\"matrix\": [1, 0, 0, 1, 0, 1, 0, 0.5, 0, 0, 1, 0, 0, 0, 0, 1]}", "\"pose\": null"), "class.json"),
-                    Catch::Contains("class.json") && Catch::Contains("a class without a pose"));
-  CHECK_THROWS_WITH(documents::parse_verdict(replaced(kClassify, "[4.1, 1.75, 1.5]", "[4.1, -1.75, 1.5]"), "class.json"),
-                    Catch::Contains("class.json") && Catch::Contains("size must be three numbers >= 0"));
-  CHECK_THROWS_WITH(documents::parse_verdict(replaced(kClassify, "\"group\": \"car\"", "\"group\": 3"), "class.json"),
-                    Catch::Contains("class.json") && Catch::Contains("group must be a model name"));
-  CHECK_THROWS_WITH(documents::parse_verdict("{\"format\": \"canopy.match_result\", \"version\": 1}", "w.json"),
-                    Catch::Contains("w.json"));
+  std::string no_pose =
+      replaced(kVerify,
+               "\"pose\": {\"matrix\": [0, -1, 0, 1, 1, 0, 0, 2, 0, 0, 1, 3, 0, 0, 0, 1]},\n \"pose_tile\": "
+               "{\"matrix\": [0, -1, 0, 500001, 1, 0, 0, 5400002, 0, 0, 1, 103, 0, 0, 0, 1]}",
+               "\"pose\": null, \"pose_tile\": null");
+  CHECK_THROWS_WITH(documents::parse_verdict(no_pose, "v.json"),
+                    Catch::Contains("v.json") && Catch::Contains("a model without a pose"));
+  CHECK_THROWS_WITH(
+      documents::parse_verdict(
+          replaced(kClassify, "\"pose\": {\"matrix\": [1, 0, 0, 1, 0, 1, 0, 0.5, 0, 0, 1, 0, 0, 0, 0, 1]}",
+                   "\"pose\": null"),
+          "class.json"),
+      Catch::Contains("class.json") && Catch::Contains("a class without a pose"));
+  CHECK_THROWS_WITH(
+      documents::parse_verdict(replaced(kClassify, "[4.1, 1.75, 1.5]", "[4.1, -1.75, 1.5]"), "class.json"),
+      Catch::Contains("class.json") && Catch::Contains("size must be three numbers >= 0"));
+  CHECK_THROWS_WITH(
+      documents::parse_verdict(replaced(kClassify, "\"group\": \"car\"", "\"group\": 3"), "class.json"),
+      Catch::Contains("class.json") && Catch::Contains("group must be a model name"));
+  CHECK_THROWS_WITH(
+      documents::parse_verdict("{\"format\": \"canopy.match_result\", \"version\": 1}", "w.json"),
+      Catch::Contains("w.json"));
 }
 
 TEST_CASE("verdict: the writer reproduces verify's output of d83b7b7 byte for byte") {
@@ -180,5 +195,6 @@ TEST_CASE("stage outcome: no file, an empty file (failed), a written verdict") {
   const documents::StageVerdict sv = documents::read_stage_verdict(written);
   CHECK(sv.outcome == documents::StageOutcome::written);
   CHECK(sv.verdict.model == "sedan");
-  CHECK_THROWS_WITH(documents::read_stage_verdict(bad), Catch::Contains(bad) && Catch::Contains("confidence"));
+  CHECK_THROWS_WITH(documents::read_stage_verdict(bad),
+                    Catch::Contains(bad) && Catch::Contains("confidence"));
 }

@@ -150,7 +150,8 @@ TEST_CASE("a modelbase with classes: the verdict names the class and the nearest
   stripped.provenance = canopy::documents::read_verdict((c.dir / "plain.json").string()).provenance;
   for (auto& h : stripped.hypotheses) h.vehicle_class.clear();
   CHECK(canopy::documents::serialize_verdict(stripped) == plain);
-  CHECK(canopy::documents::serialize_verdict(canopy::documents::parse_verdict(canopy::documents::serialize_verdict(v), "x")) == canopy::documents::serialize_verdict(v));
+  CHECK(canopy::documents::serialize_verdict(canopy::documents::parse_verdict(
+            canopy::documents::serialize_verdict(v), "x")) == canopy::documents::serialize_verdict(v));
 
   // Both hypotheses of one class: the margin over another class is the whole score.
   canopy::common::write_file_atomic((c.mb / "flatbed.class").string(), "light-truck");
@@ -240,8 +241,9 @@ TEST_CASE("verdict documents round-trip and reject bad versions", "[verify][form
   bad.replace(bad.find("\"version\": 1"), 12, "\"version\": 2");
   REQUIRE_THROWS_WITH(canopy::documents::parse_verdict(bad, "v.json"),
                       Catch::Contains("v.json") && Catch::Contains("version"));
-  REQUIRE_THROWS_WITH(canopy::documents::parse_verdict("{\"format\": \"canopy.match_result\", \"version\": 1}", "w.json"),
-                      Catch::Contains("w.json") && Catch::Contains("canopy.verdict"));
+  REQUIRE_THROWS_WITH(
+      canopy::documents::parse_verdict("{\"format\": \"canopy.match_result\", \"version\": 1}", "w.json"),
+      Catch::Contains("w.json") && Catch::Contains("canopy.verdict"));
 }
 
 namespace {

@@ -416,7 +416,7 @@ Result run(const Cloud& candidate, const std::vector<Model>& models, const Param
 }
 
 documents::Verdict to_verdict(const Ranking& ranking, double accept, const std::string& candidate,
-                            const formats::Provenance& provenance) {
+                              const formats::Provenance& provenance) {
   documents::Verdict v;
   v.provenance = provenance;
   v.candidate = candidate;

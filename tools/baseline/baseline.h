@@ -113,6 +113,6 @@ std::string serialize(const Result& result, const std::string& object,
 // explained = fpfh's candidate share (0 for vfh); fit_rms and free_space_violation are not
 // computed (0).
 documents::Verdict to_verdict(const Ranking& ranking, double accept, const std::string& candidate,
-                            const formats::Provenance& provenance);
+                              const formats::Provenance& provenance);
 
 }  // namespace canopy::baseline

@@ -96,7 +96,8 @@ std::string serialize(const Answer& a, const Params& p, const Document& doc) {
   v.density_needed_model = p.model_density;
   v.points = f.object_points;
   v.features = features_of(f);
-  if (doc.nearest) v.nearest = documents::NearestModel{doc.nearest->name, doc.nearest->cls, doc.nearest->size};
+  if (doc.nearest)
+    v.nearest = documents::NearestModel{doc.nearest->name, doc.nearest->cls, doc.nearest->size};
   if (doc.transform) v.transform = formats::to_pose(*doc.transform);
   v.class_score = a.class_score;
   v.class_margin = a.class_margin;

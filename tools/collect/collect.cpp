@@ -268,7 +268,9 @@ std::string fmt_density(double d) {
 }
 
 // The tile's density for messages: open ground's, else all points' (detect.md §7).
-std::optional<double> tile_density(const Index& index) { return documents::open_ground_density(index.density); }
+std::optional<double> tile_density(const Index& index) {
+  return documents::open_ground_density(index.density);
+}
 
 // One sentence when most candidates were rejected for one reason (with what would help), or
 // when no candidate reached the model level because the data is too sparse for it.

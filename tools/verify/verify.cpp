@@ -406,7 +406,7 @@ const Model& loaded_model(const In& in, const std::string& name) {
 // One gmatch hypothesis: every start (the matched pairs' pose when there is one, the principal
 // axes') and, with Params::flip, its 180-degree flip, refined by ICP and scored; the best.
 documents::Hypothesis check_hypothesis(const In& in, const documents::ModelScore& ms, const Model& model,
-                                     const Scorer& scorer, const Params& p) {
+                                       const Scorer& scorer, const Params& p) {
   const auto& above = scorer.above_points();
   const Vector3d centre = mean_of(model.surface.points);
   struct Start {

@@ -40,14 +40,14 @@ struct NearestModel {
 
 struct ClassVerdict {
   formats::Provenance provenance;
-  std::string candidate;                          // points path, as given
-  std::string cls, group, reason;                 // "" = null
-  std::string detail;                             // one sentence (written as a string, even "")
-  double confidence = 0;                          // in [0, 1]
-  std::optional<formats::Pose> pose, pose_tile;   // class frame -> candidate / tile frame
-  std::optional<std::array<double, 3>> size;      // L W H corrected (a vehicle only)
-  std::optional<MeasuredRectangle> measured;      // when enough points were measured
-  std::optional<double> density;                  // object points per m² of its rectangle
+  std::string candidate;                         // points path, as given
+  std::string cls, group, reason;                // "" = null
+  std::string detail;                            // one sentence (written as a string, even "")
+  double confidence = 0;                         // in [0, 1]
+  std::optional<formats::Pose> pose, pose_tile;  // class frame -> candidate / tile frame
+  std::optional<std::array<double, 3>> size;     // L W H corrected (a vehicle only)
+  std::optional<MeasuredRectangle> measured;     // when enough points were measured
+  std::optional<double> density;                 // object points per m² of its rectangle
   double density_needed_class = 0, density_needed_model = 0;
   std::uint64_t points = 0;  // object points
   std::vector<ClassFeature> features;

@@ -70,7 +70,7 @@ Detections read_detections_file(const std::string& path);
 // Writing (collect writes version 2). One detection as collect placed it in the tile.
 struct DetectionRecord {
   std::string candidate;
-  bool model_level = true;  // "level": model (the model chain's verdict named a model) or class
+  bool model_level = true;        // "level": model (the model chain's verdict named a model) or class
   std::string model, cls, group;  // "" = null ("class" written when named; "group" when named or
                                   // at class level)
   double confidence = 0;
@@ -93,7 +93,7 @@ struct RejectionRecord {
   bool classified = false;  // classify answered: "density_needed" and "model_chain" are written
   bool has_density_needed = false;
   std::optional<double> density_class, density_model;  // "density_needed" when has_density_needed
-  std::optional<std::string> model_chain;             // failed, none, or nullopt = null (not run)
+  std::optional<std::string> model_chain;              // failed, none, or nullopt = null (not run)
   std::string verdict;
 };
 

@@ -61,11 +61,11 @@ struct Verdict {
   std::optional<Pose> pose, pose_tile;
   // classify's class-level answer (docs/decisions/classify.md §9), when the verdict has these
   // members (each optional; "" / nullopt when absent or null).
-  std::string level;   // "class" for classify's answers
-  std::string group;   // vehicle group
-  std::string reason;  // why none: too_sparse, vegetation_like, ...
-  std::string detail;  // one sentence
-  std::optional<double> density;                        // object points per m² of its rectangle
+  std::string level;                                   // "class" for classify's answers
+  std::string group;                                   // vehicle group
+  std::string reason;                                  // why none: too_sparse, vegetation_like, ...
+  std::string detail;                                  // one sentence
+  std::optional<double> density;                       // object points per m² of its rectangle
   std::optional<double> density_class, density_model;  // "density_needed"
   std::optional<std::array<double, 3>> size;           // L W H (m), >= 0
   std::optional<double> heading_ambiguity;             // degrees (180: front and back unknown)
