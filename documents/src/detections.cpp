@@ -5,6 +5,7 @@
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "canopy/formats/json_document.h"
+#include "canopy/formats/provenance.h"
 #include "members.h"
 
 namespace canopy::documents {
@@ -146,6 +147,130 @@ Detections read_detections(const std::string& text, const std::string& name) {
 
 Detections read_detections_file(const std::string& path) {
   return read_detections(common::read_file(path), path);
+}
+
+namespace {
+
+double finite_number(double v) { return finite_or_throw(v, "collect"); }
+Json text_or_null(const std::string& s) { return s.empty() ? Json(nullptr) : Json(s); }
+Json number_or_null(const std::optional<double>& v) { return v ? Json(finite_number(*v)) : Json(nullptr); }
+
+Json footprint_json(const DetectionRecord& d) {
+  Json fp = Json::array();
+  for (const auto& c : d.footprint) fp.push_back(Json::array({finite_number(c[0]), finite_number(c[1])}));
+  return fp;
+}
+
+Json detection_json(const DetectionRecord& d) {
+  const auto& m = d.matrix;
+  Json matrix_json = Json::array();
+  for (double x : m) matrix_json.push_back(finite_number(x));
+  Json pose{{"x", finite_number(m[3])}, {"y", finite_number(m[7])}, {"z", finite_number(m[11])},
+            {"heading", d.euler[0]},    {"pitch", d.euler[1]},      {"roll", d.euler[2]},
+            {"matrix", matrix_json}};
+  Json j{{"candidate", d.candidate},
+         {"level", d.model_level ? "model" : "class"},
+         {"model", text_or_null(d.model)}};
+  if (!d.cls.empty()) j["class"] = d.cls;
+  if (!d.group.empty() || !d.model_level) j["group"] = text_or_null(d.group);
+  j["confidence"] = d.confidence;
+  j["pose"] = pose;
+  if (!d.model_level) {
+    j["heading_ambiguity_deg"] = finite_number(d.heading_ambiguity);
+    j["size"] = d.size ? Json{{"length", finite_number((*d.size)[0])},
+                              {"width", finite_number((*d.size)[1])},
+                              {"height", finite_number((*d.size)[2])}}
+                       : Json(nullptr);
+    j["density"] = number_or_null(d.density);
+  }
+  j["footprint"] = footprint_json(d);
+  j["footprint_from"] = d.footprint_from;
+  j["verdict"] = d.verdict;
+  return j;
+}
+
+Json rejection_json(const RejectionRecord& r) {
+  Json j{{"candidate", r.candidate}, {"reason", r.reason}};
+  j["detail"] = r.detail ? Json(*r.detail) : Json(nullptr);
+  j["confidence"] = r.confidence ? Json(*r.confidence) : Json(nullptr);
+  j["density"] = number_or_null(r.density);
+  if (r.classified) {
+    j["density_needed"] = r.has_density_needed ? Json{{"class", number_or_null(r.density_class)},
+                                                      {"model", number_or_null(r.density_model)}}
+                                               : Json(nullptr);
+    j["model_chain"] = r.model_chain ? Json(*r.model_chain) : Json(nullptr);
+  }
+  j["verdict"] = r.verdict;
+  return j;
+}
+
+Json feature_json(const DetectionRecord& d) {
+  const auto& m = d.matrix;
+  Json closed = footprint_json(d);
+  closed.push_back(closed[0]);
+  Json props{{"candidate", d.candidate},
+             {"level", d.model_level ? "model" : "class"},
+             {"model", text_or_null(d.model)}};
+  if (!d.cls.empty()) props["class"] = d.cls;
+  if (!d.group.empty()) props["group"] = d.group;
+  props["confidence"] = d.confidence;
+  props["x"] = m[3];
+  props["y"] = m[7];
+  props["z"] = m[11];
+  props["heading"] = d.euler[0];
+  if (!d.model_level) props["heading_ambiguity_deg"] = d.heading_ambiguity;
+  props["footprint_from"] = d.footprint_from;
+  return Json{{"type", "Feature"},
+              {"id", d.candidate},
+              {"geometry", Json{{"type", "Polygon"}, {"coordinates", Json::array({closed})}}},
+              {"properties", props}};
+}
+
+}  // namespace
+
+std::string serialize_detections(const DetectionsRecord& r) {
+  Json dets = Json::array(), rejected = Json::array();
+  for (const auto& d : r.detections) dets.push_back(detection_json(d));
+  for (const auto& x : r.rejected) rejected.push_back(rejection_json(x));
+  Json by_reason = Json::object();
+  for (const auto& [reason, k] : r.by_reason) by_reason[reason] = k;
+  Json doc{{"format", kDetectionsFormat},
+           {"version", kDetectionsVersion},
+           {"provenance", formats::provenance_json(r.provenance)},
+           {"index", r.index},
+           {"tile", r.tile},
+           {"crs", text_or_null(r.crs)},
+           {"candidates", r.candidates},
+           {"found", r.found},
+           {"none", r.none},
+           {"failed", r.failed},
+           {"by_level", Json{{"model", r.model_level}, {"class", r.class_level}}},
+           {"by_reason", by_reason},
+           {"density", r.density.is_object() ? r.density : Json(nullptr)},
+           {"warning", text_or_null(r.warning)},
+           {"detections", dets},
+           {"rejected", rejected}};
+  return doc.dump(1) + "\n";
+}
+
+std::string serialize_detections_geojson(const DetectionsRecord& r) {
+  Json features = Json::array();
+  for (const auto& d : r.detections) features.push_back(feature_json(d));
+  Json geo{{"type", "FeatureCollection"}, {"name", "canopy detections"}};
+  if (r.crs.rfind("EPSG:", 0) == 0) {
+    // The GeoJSON 2008 "crs" member (RFC 7946 dropped it; GDAL/QGIS still read it).
+    geo["crs"] = Json{{"type", "name"}, {"properties", {{"name", "urn:ogc:def:crs:EPSG::" + r.crs.substr(5)}}}};
+  }
+  geo["features"] = features;
+  return geo.dump(1) + "\n";
+}
+
+std::optional<double> open_ground_density(const nlohmann::ordered_json& d) {
+  if (!d.is_object()) return std::nullopt;
+  for (const char* key : {"ground", "all"}) {
+    if (d.contains(key) && d[key].is_number()) return d[key].get<double>();
+  }
+  return std::nullopt;
 }
 
 }  // namespace canopy::documents

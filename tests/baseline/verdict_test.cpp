@@ -10,7 +10,7 @@
 #include "baseline/baseline.h"
 #include "canopy/common/atomic_file.h"
 #include "canopy/formats/pcd.h"
-#include "canopy/formats/verdict.h"
+#include "canopy/documents/verdict.h"
 #include "shapes.h"
 #include "support/cli.h"
 
@@ -70,7 +70,7 @@ TEST_CASE("baseline verdict: the best model at or above the threshold, else none
   CHECK(no.confidence == Approx(0.4));
   CHECK(no.hypotheses.size() == 2);  // the ranking is kept
   // The file: model null, pose null, read back by the verdict reader.
-  const auto back = canopy::formats::parse_verdict(canopy::formats::serialize_verdict(no), "v");
+  const auto back = canopy::documents::parse_verdict(canopy::documents::serialize_verdict(no), "v");
   CHECK(back.model.empty());
   CHECK(back.chosen == -1);
 
@@ -136,7 +136,7 @@ TEST_CASE("baseline --verdict writes a canopy.verdict", "[baseline][cli]") {
       bin + " -i " + (dir / "samples.pcd").string() + " --modelbase " + (dir / "modelbase").string();
   std::string err;
   REQUIRE(canopy::test::sh(base + " --verdict fpfh -o " + (dir / "f.json").string(), dir / "err", &err) == 0);
-  const auto f = canopy::formats::read_verdict((dir / "f.json").string());
+  const auto f = canopy::documents::read_verdict((dir / "f.json").string());
   CHECK(f.model == "box");
   CHECK(f.provenance.tool == "baseline");
   CHECK(f.hypotheses.size() == 2);
@@ -146,7 +146,7 @@ TEST_CASE("baseline --verdict writes a canopy.verdict", "[baseline][cli]") {
   // A threshold above any fitness: none.
   REQUIRE(canopy::test::sh(base + " --verdict fpfh --accept-fpfh 1 -o " + (dir / "n.json").string(),
                            dir / "err", &err) == 0);
-  CHECK(canopy::formats::read_verdict((dir / "n.json").string()).model.empty());
+  CHECK(canopy::documents::read_verdict((dir / "n.json").string()).model.empty());
   // The verdict's method against another one named: a usage error, no output.
   CHECK(canopy::test::sh(base + " --verdict fpfh --methods vfh -o " + (dir / "u.json").string(), dir / "err",
                          &err) == 2);

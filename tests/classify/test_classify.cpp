@@ -17,7 +17,7 @@
 #include "canopy/common/math.h"
 #include "canopy/common/rng.h"
 #include "canopy/formats/pcd.h"
-#include "canopy/formats/verdict.h"
+#include "canopy/documents/verdict.h"
 #include "classify/classify.h"
 #include "classify/features.h"
 #include "support/cli.h"
@@ -378,7 +378,7 @@ TEST_CASE("classify: the binary writes a class-level verdict; same input, same b
   CHECK(t[1].get<double>() == Approx(N + c[0].get<double>()).margin(1e-6));
   CHECK(t[2].get<double>() == Approx(300).margin(1e-9));
   // The verdict reader of formats accepts it: model none, the class keys present.
-  const formats::Verdict parsed = formats::parse_verdict(slurp(dir / "a.json"), "a.json");
+  const documents::Verdict parsed = documents::parse_verdict(slurp(dir / "a.json"), "a.json");
   CHECK(parsed.model.empty());
   CHECK(parsed.vehicle_class == "sedan");
 

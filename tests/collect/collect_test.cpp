@@ -34,16 +34,42 @@ Json flat(double heading_deg, double x, double y, double z) {
   return f;
 }
 
-// A verdict as verify writes it for the candidate's samples (`candidate`: verify --points).
+// verify's members of every canopy.verdict (documents/verdict.h reads them all).
+Json pose_member(const Json& matrix) { return matrix.is_null() ? matrix : Json{{"matrix", matrix}}; }
+Json provenance() {
+  return Json{{"tool", "test"}, {"version", "0"}, {"parameters", Json::object()}, {"inputs", Json::array()}};
+}
+
+// A verdict as verify writes it for the candidate's samples (`candidate`: verify --points):
+// with a model, its one hypothesis (chosen) carries the pose.
 Json verdict(const std::string& candidate, const char* model, double confidence, const Json& pose,
              const Json& pose_tile) {
+  Json hypotheses = Json::array();
+  if (model) {
+    hypotheses.push_back(Json{{"model", model},
+                              {"gmatch_rank", 1},
+                              {"gmatch_score", 0.5},
+                              {"start", "pairs"},
+                              {"flipped", false},
+                              {"pose", pose_member(pose.is_null() ? pose_tile : pose)},
+                              {"pose_tile", pose_member(pose_tile)},
+                              {"fit_rms", 0.01},
+                              {"explained", 0.9},
+                              {"free_space_violation", 0.0},
+                              {"score", 0.9},
+                              {"flip_score", 0.1}});
+  }
   return Json{{"format", "canopy.verdict"},
               {"version", 1},
+              {"provenance", provenance()},
               {"candidate", candidate},
               {"model", model ? Json(model) : Json(nullptr)},
               {"confidence", confidence},
-              {"pose", pose.is_null() ? pose : Json{{"matrix", pose}}},
-              {"pose_tile", pose_tile.is_null() ? pose_tile : Json{{"matrix", pose_tile}}}};
+              {"pose", pose_member(pose)},
+              {"pose_tile", pose_member(pose_tile)},
+              {"transform", nullptr},
+              {"chosen", model ? 0 : -1},
+              {"hypotheses", hypotheses}};
 }
 
 void write(const fs::path& p, const std::string& text) { test::write_file(p, text); }
@@ -298,7 +324,7 @@ TEST_CASE("collect: a verdict must be its candidate's, its model a name (round 3
   refused(v, "model must be a model name");
   v = good;
   v["class"] = "a/b";
-  refused(v, "class must be a class name");
+  refused(v, "class must be a model name");
   v = good;
   v.erase("candidate");
   refused(v, "missing \"candidate\"");
@@ -409,12 +435,19 @@ Json class_answer(const fs::path& cands, const std::string& id, const char* cls,
       {"confidence", 0.6},
       {"reason", reason ? Json(reason) : Json(nullptr)},
       {"detail", reason ? "object density 2.1 points/m² below the 4 points/m² the class level needs" : ""},
-      {"pose", pose.is_null() ? pose : Json{{"matrix", pose}}},
+      {"pose", pose_member(pose)},
       {"pose_tile", nullptr},
       {"heading_ambiguity_deg", 180},
       {"size", cls ? Json::array({4.5, 1.8, 1.45}) : Json(nullptr)},
       {"density", density},
-      {"density_needed", {{"class", 4}, {"model", 370}}}};
+      {"density_needed", {{"class", 4}, {"model", 370}}},
+      {"provenance", provenance()},
+      {"transform", nullptr},
+      {"chosen", -1},
+      {"hypotheses", Json::array()},
+      {"nearest_instance", nullptr},
+      {"class_score", 0.8},
+      {"class_margin", 0.2}};
 }
 
 std::string read_text(const fs::path& p) {

@@ -11,7 +11,7 @@
 
 #include "canopy/common/error.h"
 #include "canopy/documents/match_result.h"
-#include "canopy/formats/verdict.h"
+#include "canopy/documents/verdict.h"
 #include "famscore/famscore.h"
 #include "canopy/sim/families.h"
 #include "support/cli.h"
@@ -110,12 +110,12 @@ void write_times(const fs::path& dir, const std::vector<std::pair<std::string, d
 
 // A verdict with verify's class answer (the best hypothesis's class and model; accepted or not).
 std::string verdict_text(const std::string& cls, const std::string& nearest, bool accepted) {
-  formats::Verdict v;
+  documents::Verdict v;
   v.candidate = "samples.pcd";
   v.has_classes = true;
   v.vehicle_class = cls;
   v.nearest_instance = nearest;
-  formats::Hypothesis h;
+  documents::Hypothesis h;
   h.model = nearest;
   h.gmatch_rank = 1;
   h.vehicle_class = cls;
@@ -123,7 +123,7 @@ std::string verdict_text(const std::string& cls, const std::string& nearest, boo
   v.hypotheses.push_back(h);
   v.chosen = accepted ? 0 : -1;
   v.model = accepted ? nearest : "";
-  return formats::serialize_verdict(v);
+  return documents::serialize_verdict(v);
 }
 
 std::string match_text(const std::string& rank1, const std::string& rank2) {

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "canopy/documents/match_result.h"
+#include "canopy/documents/verdict.h"
 #include "report/baseline_section.h"
 #include "support/cli.h"
 
@@ -34,7 +35,20 @@ void trial(const fs::path& out, const std::string& object, int noise, const std:
       << R"({"method": "vfh", "models": [{"rank": 1, "model": ")" << vfh << R"("}]},)"
       << R"({"method": "fpfh", "models": [{"rank": 1, "model": ")" << fpfh << R"("}]}]})";
   std::ofstream(dir / "baseline.json.time") << "0.50 40960\n";
-  if (!verify.empty()) std::ofstream(dir / "verdict.json") << R"({"model": ")" << verify << R"("})";
+  if (!verify.empty()) {
+    // verify's answer: one hypothesis, chosen (documents/verdict.h writes the whole verdict).
+    canopy::documents::Verdict v;
+    v.provenance = {"verify", "test", {}, {}};
+    v.candidate = (dir / "samples.pcd").string();
+    v.confidence = 0.9;
+    canopy::documents::Hypothesis h;
+    h.model = verify;
+    h.gmatch_rank = 1;
+    v.hypotheses = {h};
+    v.chosen = 0;
+    v.model = verify;
+    canopy::documents::write_verdict(v, (dir / "verdict.json").string());
+  }
 }
 
 }  // namespace

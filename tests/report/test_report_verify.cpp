@@ -29,7 +29,7 @@ void answer(report::Case& c, const std::string& model, double confidence, double
   c.verdict.model = model;
   c.verdict.confidence = confidence;
   if (model.empty()) return;
-  formats::Hypothesis h;
+  documents::Hypothesis h;
   h.model = model;
   const double a = heading_deg * M_PI / 180.0, co = std::cos(a), si = std::sin(a);
   h.pose.rotation = {co, -si, 0, si, co, 0, 0, 0, 1};

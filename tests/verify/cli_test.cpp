@@ -12,7 +12,7 @@
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/ply.h"
 #include "canopy/documents/segment_graph.h"
-#include "canopy/formats/verdict.h"
+#include "canopy/documents/verdict.h"
 #include "fixtures.h"
 #include "support/cli.h"
 
@@ -96,7 +96,7 @@ TEST_CASE("verify answers the right model with its pose, byte-identical on rerun
   REQUIRE(sh(c.cmd(c.dir / "b.json"), c.dir / "err", &err) == 0);
   REQUIRE(canopy::common::read_file((c.dir / "a.json").string()) ==
           canopy::common::read_file((c.dir / "b.json").string()));
-  const fm::Verdict v = fm::read_verdict((c.dir / "a.json").string());
+  const canopy::documents::Verdict v = canopy::documents::read_verdict((c.dir / "a.json").string());
   REQUIRE(v.model == "pickup");
   REQUIRE(v.hypotheses.size() == 2);
   REQUIRE(v.hypotheses[0].model == "flatbed");
@@ -111,7 +111,7 @@ TEST_CASE("verify answers the right model with its pose, byte-identical on rerun
   // A tile transform (float64, far from the origin) adds the pose in tile coordinates.
   REQUIRE(sh(c.cmd(c.dir / "t.json") + " --transform 1,0,0,500000.25,0,1,0,4400000.5,0,0,1,12", c.dir / "err",
              &err) == 0);
-  const fm::Verdict t = fm::read_verdict((c.dir / "t.json").string());
+  const canopy::documents::Verdict t = canopy::documents::read_verdict((c.dir / "t.json").string());
   REQUIRE(t.hypotheses[1].pose_tile);
   CHECK(t.hypotheses[1].pose_tile->translation[0] == Approx(500002.25).epsilon(0).margin(1e-3));
   CHECK(t.hypotheses[1].pose_tile->translation[1] == Approx(4399999.5).epsilon(0).margin(1e-3));
@@ -135,7 +135,7 @@ TEST_CASE("a modelbase with classes: the verdict names the class and the nearest
   canopy::common::write_file_atomic((c.mb / "flatbed.class").string(), "heavy-truck\n");
   REQUIRE(sh(c.cmd(c.dir / "cls.json"), c.dir / "err", &err) == 0);
   CHECK(err.find("class light-truck (nearest instance pickup") != std::string::npos);
-  const fm::Verdict v = fm::read_verdict((c.dir / "cls.json").string());
+  const canopy::documents::Verdict v = canopy::documents::read_verdict((c.dir / "cls.json").string());
   REQUIRE(v.has_classes);
   CHECK(v.vehicle_class == "light-truck");
   CHECK(v.nearest_instance == "pickup");
@@ -145,17 +145,18 @@ TEST_CASE("a modelbase with classes: the verdict names the class and the nearest
   CHECK(v.hypotheses[0].vehicle_class == "heavy-truck");
   CHECK(v.hypotheses[1].vehicle_class == "light-truck");
   // Everything else is as without classes, and the document round-trips.
-  fm::Verdict stripped = v;
+  canopy::documents::Verdict stripped = v;
   stripped.has_classes = false;
-  stripped.provenance = fm::read_verdict((c.dir / "plain.json").string()).provenance;
+  stripped.provenance = canopy::documents::read_verdict((c.dir / "plain.json").string()).provenance;
   for (auto& h : stripped.hypotheses) h.vehicle_class.clear();
-  CHECK(fm::serialize_verdict(stripped) == plain);
-  CHECK(fm::serialize_verdict(fm::parse_verdict(fm::serialize_verdict(v), "x")) == fm::serialize_verdict(v));
+  CHECK(canopy::documents::serialize_verdict(stripped) == plain);
+  CHECK(canopy::documents::serialize_verdict(canopy::documents::parse_verdict(
+            canopy::documents::serialize_verdict(v), "x")) == canopy::documents::serialize_verdict(v));
 
   // Both hypotheses of one class: the margin over another class is the whole score.
   canopy::common::write_file_atomic((c.mb / "flatbed.class").string(), "light-truck");
   REQUIRE(sh(c.cmd(c.dir / "same.json"), c.dir / "err", &err) == 0);
-  const fm::Verdict s = fm::read_verdict((c.dir / "same.json").string());
+  const canopy::documents::Verdict s = canopy::documents::read_verdict((c.dir / "same.json").string());
   CHECK(s.vehicle_class == "light-truck");
   CHECK(s.class_margin == Approx(s.class_score).margin(1e-12));
 
@@ -211,10 +212,10 @@ TEST_CASE("bad input exits 1 naming the file, no output", "[verify][cli]") {
 }
 
 TEST_CASE("verdict documents round-trip and reject bad versions", "[verify][formats]") {
-  fm::Verdict v;
+  canopy::documents::Verdict v;
   v.provenance = {"verify", "0.1.0", {{"top-k", "3"}}, {"m.json", "s.pcd"}};
   v.candidate = "s.pcd";
-  fm::Hypothesis h;
+  canopy::documents::Hypothesis h;
   h.model = "sedan";
   h.gmatch_rank = 1;
   h.gmatch_score = 0.61;
@@ -231,17 +232,18 @@ TEST_CASE("verdict documents round-trip and reject bad versions", "[verify][form
   v.chosen = 0;
   v.model = "sedan";
   v.confidence = 0.97;
-  const std::string text = fm::serialize_verdict(v);
-  const fm::Verdict r = fm::parse_verdict(text, "v.json");
-  REQUIRE(fm::serialize_verdict(r) == text);
+  const std::string text = canopy::documents::serialize_verdict(v);
+  const canopy::documents::Verdict r = canopy::documents::parse_verdict(text, "v.json");
+  REQUIRE(canopy::documents::serialize_verdict(r) == text);
   REQUIRE(r.hypotheses[0].pose_tile->translation[1] == 4400000.125);
   REQUIRE(fm::euler_degrees(r.hypotheses[0].pose)[0] == Approx(90));
   std::string bad = text;
   bad.replace(bad.find("\"version\": 1"), 12, "\"version\": 2");
-  REQUIRE_THROWS_WITH(fm::parse_verdict(bad, "v.json"),
+  REQUIRE_THROWS_WITH(canopy::documents::parse_verdict(bad, "v.json"),
                       Catch::Contains("v.json") && Catch::Contains("version"));
-  REQUIRE_THROWS_WITH(fm::parse_verdict("{\"format\": \"canopy.match_result\", \"version\": 1}", "w.json"),
-                      Catch::Contains("w.json") && Catch::Contains("canopy.verdict"));
+  REQUIRE_THROWS_WITH(
+      canopy::documents::parse_verdict("{\"format\": \"canopy.match_result\", \"version\": 1}", "w.json"),
+      Catch::Contains("w.json") && Catch::Contains("canopy.verdict"));
 }
 
 namespace {
@@ -445,10 +447,10 @@ TEST_CASE("a hypothesis whose model is a path is refused before the modelbase is
 }
 
 TEST_CASE("the verdict reader types every member and never casts a number to int", "[verify][formats]") {
-  fm::Verdict v;
+  canopy::documents::Verdict v;
   v.provenance = {"verify", "0.1.0", {{"top-k", "3"}}, {"m.json", "s.pcd"}};
   v.candidate = "s.pcd";
-  fm::Hypothesis h;
+  canopy::documents::Hypothesis h;
   h.model = "sedan";
   h.gmatch_rank = 1;
   h.start = "pairs";
@@ -459,8 +461,8 @@ TEST_CASE("the verdict reader types every member and never casts a number to int
   v.has_classes = true;
   v.vehicle_class = "car";
   v.nearest_instance = "sedan";
-  const std::string text = fm::serialize_verdict(v);
-  REQUIRE(fm::serialize_verdict(fm::parse_verdict(text, "v.json")) == text);
+  const std::string text = canopy::documents::serialize_verdict(v);
+  REQUIRE(canopy::documents::serialize_verdict(canopy::documents::parse_verdict(text, "v.json")) == text);
   auto edited = [&](const std::string& from, const std::string& to) {
     std::string t = text;
     const auto at = t.find(from);
@@ -493,7 +495,7 @@ TEST_CASE("the verdict reader types every member and never casts a number to int
            {"\"transform\": null", "\"transform\": 5", "transform must be an object, not 5"},
        }) {
     INFO(b.to);
-    CHECK_THROWS_WITH(fm::parse_verdict(edited(b.from, b.to), "v.json"),
+    CHECK_THROWS_WITH(canopy::documents::parse_verdict(edited(b.from, b.to), "v.json"),
                       Catch::StartsWith("v.json: malformed verdict: " + b.why));
   }
 }
@@ -523,7 +525,7 @@ TEST_CASE("sensor directions from what LAS has (issue 26): columns unchanged, de
   CHECK(err.find("warning: " + points.string() + ": no sensor_x/y/z") != std::string::npos);
   CHECK(err.find("vertical") != std::string::npos);
   // Options at their defaults stay out of the provenance.
-  for (const auto& kv : fm::read_verdict((c.dir / "v.json").string()).provenance.parameters) {
+  for (const auto& kv : canopy::documents::read_verdict((c.dir / "v.json").string()).provenance.parameters) {
     CHECK(kv.first.find("sensor") == std::string::npos);
     CHECK(kv.first.find("trajectory") == std::string::npos);
   }
@@ -537,7 +539,7 @@ TEST_CASE("sensor directions from what LAS has (issue 26): columns unchanged, de
              &err) == 0);
   CHECK(err.find("warning") == std::string::npos);
   CHECK(err.find("sensor directions from the trajectory " + traj.string()) != std::string::npos);
-  const fm::Verdict t = fm::read_verdict((c.dir / "t.json").string());
+  const canopy::documents::Verdict t = canopy::documents::read_verdict((c.dir / "t.json").string());
   CHECK(t.provenance.inputs.back() == traj.string());
   CHECK(t.model == "pickup");
 

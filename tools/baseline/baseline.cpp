@@ -415,13 +415,13 @@ Result run(const Cloud& candidate, const std::vector<Model>& models, const Param
   return r;
 }
 
-formats::Verdict to_verdict(const Ranking& ranking, double accept, const std::string& candidate,
-                            const formats::Provenance& provenance) {
-  formats::Verdict v;
+documents::Verdict to_verdict(const Ranking& ranking, double accept, const std::string& candidate,
+                              const formats::Provenance& provenance) {
+  documents::Verdict v;
   v.provenance = provenance;
   v.candidate = candidate;
   for (const auto& e : ranking.models) {
-    formats::Hypothesis h;
+    documents::Hypothesis h;
     h.model = e.model;
     h.gmatch_rank = e.rank;
     h.gmatch_score = e.score;

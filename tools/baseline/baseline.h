@@ -23,7 +23,7 @@
 #include <vector>
 
 #include "canopy/formats/point_cloud.h"
-#include "canopy/formats/verdict.h"
+#include "canopy/documents/verdict.h"
 
 namespace canopy::baseline {
 
@@ -112,7 +112,7 @@ std::string serialize(const Result& result, const std::string& object,
 // along the footprint's long axis): a position without a heading of its own.
 // explained = fpfh's candidate share (0 for vfh); fit_rms and free_space_violation are not
 // computed (0).
-formats::Verdict to_verdict(const Ranking& ranking, double accept, const std::string& candidate,
-                            const formats::Provenance& provenance);
+documents::Verdict to_verdict(const Ranking& ranking, double accept, const std::string& candidate,
+                              const formats::Provenance& provenance);
 
 }  // namespace canopy::baseline

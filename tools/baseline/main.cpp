@@ -64,7 +64,7 @@ int main(int argc, char** argv) {
       const double accept = verdict == "vfh" ? p.accept_vfh : p.accept_fpfh;
       const canopy::formats::Provenance prov{"baseline", CANOPY_VERSION, tool.parameters(), {in, modelbase}};
       cm::write_file_atomic(
-          out, canopy::formats::serialize_verdict(bl::to_verdict(r.methods.front(), accept, in, prov)));
+          out, canopy::documents::serialize_verdict(bl::to_verdict(r.methods.front(), accept, in, prov)));
     }
     for (const auto& m : r.methods) {
       char line[256];

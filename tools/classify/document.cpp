@@ -2,70 +2,46 @@
 #include <cmath>
 #include <sstream>
 
-#include <nlohmann/json.hpp>
-
 #include "canopy/common/error.h"
 #include "canopy/common/math.h"
 #include "canopy/documents/candidates.h"
-#include "canopy/formats/json_document.h"
 #include "canopy/formats/pose_eigen.h"
-#include "canopy/formats/verdict.h"
+#include "canopy/documents/classification.h"
 #include "classify/classify.h"
 
 namespace canopy::classify {
 namespace {
 
-using Json = nlohmann::ordered_json;
+using documents::ClassFeature;
 
-double finite(double v, const char* what) {
-  if (!std::isfinite(v)) throw common::Error(std::string("classify: refusing to write a non-finite ") + what);
-  return v;
-}
+ClassFeature count(const char* name, std::size_t n) { return {name, static_cast<double>(n), true}; }
+ClassFeature number(const char* name, double v) { return {name, v, false}; }
+ClassFeature optional(const char* name, const std::optional<double>& v) { return {name, v, false}; }
 
-Json pose_json(const Eigen::Isometry3d& t) {
-  const formats::Pose p = formats::to_pose(t);
-  Json m = Json::array();
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) m.push_back(finite(p.rotation[3 * r + c], "pose"));
-    m.push_back(finite(p.translation[r], "pose"));
-  }
-  for (double v : {0.0, 0.0, 0.0, 1.0}) m.push_back(v);
-  const auto e = formats::euler_degrees(p);
-  return Json{{"matrix", m},
-              {"translation", Json::array({p.translation[0], p.translation[1], p.translation[2]})},
-              {"heading_deg", e[0]},
-              {"pitch_deg", e[1]},
-              {"roll_deg", e[2]}};
-}
-
-Json optional(const std::optional<double>& v) { return v ? Json(*v) : Json(nullptr); }
-
-Json text_or_null(const std::string& s) { return s.empty() ? Json(nullptr) : Json(s); }
-
-Json features_json(const Features& f) {
+std::vector<ClassFeature> features_of(const Features& f) {
   const double deg = 180 / common::kPi;
-  return Json{{"crop_points", f.crop_points},
-              {"ground_points", f.ground_points},
-              {"object_points", f.object_points},
-              {"crop_spacing", f.crop_spacing},
-              {"heading_pca_deg", f.heading_pca * deg},
-              {"heading_hull_deg", f.heading_hull * deg},
-              {"heading_refined_deg", f.heading_refined * deg},
-              {"ground_density", optional(f.ground_density)},
-              {"fill", optional(f.fill)},
-              {"plateau_share", f.plateau_share},
-              {"end_low", f.end_low},
-              {"end_high", f.end_high},
-              {"top_roughness", f.top_roughness},
-              {"top_cells", f.top_cells},
-              {"below_share", f.below_share},
-              {"ground_through", f.ground_through},
-              {"interior_points", f.interior_points},
-              {"below_share_cells", f.below_share_cells},
-              {"ground_through_cells", f.ground_through_cells},
-              {"interior_cells", f.interior_cells},
-              {"late_returns", optional(f.late_returns)},
-              {"multi_returns", optional(f.multi_returns)}};
+  return {count("crop_points", f.crop_points),
+          count("ground_points", f.ground_points),
+          count("object_points", f.object_points),
+          number("crop_spacing", f.crop_spacing),
+          number("heading_pca_deg", f.heading_pca * deg),
+          number("heading_hull_deg", f.heading_hull * deg),
+          number("heading_refined_deg", f.heading_refined * deg),
+          optional("ground_density", f.ground_density),
+          optional("fill", f.fill),
+          number("plateau_share", f.plateau_share),
+          number("end_low", f.end_low),
+          number("end_high", f.end_high),
+          number("top_roughness", f.top_roughness),
+          count("top_cells", f.top_cells),
+          number("below_share", f.below_share),
+          number("ground_through", f.ground_through),
+          count("interior_points", f.interior_points),
+          number("below_share_cells", f.below_share_cells),
+          number("ground_through_cells", f.ground_through_cells),
+          count("interior_cells", f.interior_cells),
+          optional("late_returns", f.late_returns),
+          optional("multi_returns", f.multi_returns)};
 }
 
 // 4 x 4 matrix from 16 numbers (flat) or 4 rows of 4; rigid, last row 0 0 0 1.
@@ -92,60 +68,40 @@ Eigen::Isometry3d rigid(const std::vector<double>& v, const std::string& where) 
 
 std::string serialize(const Answer& a, const Params& p, const Document& doc) {
   const Features& f = a.features;
-  const bool vehicle = !a.cls.empty();
-  Json pose = nullptr, pose_tile = nullptr;
-  if (vehicle) {
+  documents::ClassVerdict v;
+  v.provenance = doc.provenance;
+  v.candidate = doc.candidate;
+  v.cls = a.cls;
+  v.group = a.group;
+  v.reason = a.reason;
+  v.detail = a.detail;
+  v.confidence = a.confidence;
+  if (!a.cls.empty()) {
     Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
     t.linear() = Eigen::AngleAxisd(f.heading, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     t.translation() = Eigen::Vector3d(f.centre.x(), f.centre.y(), 0);
-    pose = pose_json(t);
-    if (doc.transform) pose_tile = pose_json(*doc.transform * t);
+    v.pose = formats::to_pose(t);
+    if (doc.transform) v.pose_tile = formats::to_pose(*doc.transform * t);
+    v.size = std::array<double, 3>{f.length, f.width, f.height};
   }
-  Json measured = nullptr;
   if (a.measured) {
-    measured = Json{{"size", Json::array({f.length_measured, f.width_measured, f.height_measured})},
-                    {"centre", Json::array({f.centre.x(), f.centre.y()})},
-                    {"heading_deg", f.heading * 180 / common::kPi},
-                    {"spacing", f.spacing},
-                    {"edge_correction", p.edge_factor * f.spacing}};
+    v.measured = documents::MeasuredRectangle{{f.length_measured, f.width_measured, f.height_measured},
+                                              {f.centre.x(), f.centre.y()},
+                                              f.heading * 180 / common::kPi,
+                                              f.spacing,
+                                              p.edge_factor * f.spacing};
+    v.density = f.density;
   }
-  Json nearest = nullptr;
-  if (doc.nearest) {
-    nearest = Json{{"model", doc.nearest->name},
-                   {"class", doc.nearest->cls},
-                   {"size", Json::array({doc.nearest->size[0], doc.nearest->size[1], doc.nearest->size[2]})}};
-  }
-  Json j{{"format", "canopy.verdict"},
-         {"version", 1},
-         {"provenance", formats::provenance_json(doc.provenance)},
-         {"candidate", doc.candidate},
-         {"level", "class"},
-         {"model", nullptr},
-         {"class", text_or_null(a.cls)},
-         {"group", text_or_null(a.group)},
-         {"confidence", finite(a.confidence, "confidence")},
-         {"reason", text_or_null(a.reason)},
-         {"detail", a.detail},
-         {"pose", pose},
-         {"pose_tile", pose_tile},
-         {"heading_ambiguity_deg", 180},
-         {"size", vehicle ? Json::array({f.length, f.width, f.height}) : Json(nullptr)},
-         {"measured", measured},
-         {"density", a.measured ? Json(finite(f.density, "density")) : Json(nullptr)},
-         {"density_needed", Json{{"class", p.min_density}, {"model", p.model_density}}},
-         {"points", f.object_points},
-         {"features", features_json(f)},
-         {"nearest", nearest},
-         {"fit_rms", nullptr},
-         {"explained", nullptr},
-         {"free_space_violation", nullptr},
-         {"transform", doc.transform ? pose_json(*doc.transform) : Json(nullptr)},
-         {"chosen", -1},
-         {"hypotheses", Json::array()},
-         {"nearest_instance", doc.nearest ? Json(doc.nearest->name) : Json(nullptr)},
-         {"class_score", finite(a.class_score, "class_score")},
-         {"class_margin", finite(a.class_margin, "class_margin")}};
-  return j.dump(1) + "\n";
+  v.density_needed_class = p.min_density;
+  v.density_needed_model = p.model_density;
+  v.points = f.object_points;
+  v.features = features_of(f);
+  if (doc.nearest)
+    v.nearest = documents::NearestModel{doc.nearest->name, doc.nearest->cls, doc.nearest->size};
+  if (doc.transform) v.transform = formats::to_pose(*doc.transform);
+  v.class_score = a.class_score;
+  v.class_margin = a.class_margin;
+  return documents::serialize_class_verdict(v);
 }
 
 Eigen::Isometry3d index_transform(const std::string& text, const std::string& name, const std::string& id) {

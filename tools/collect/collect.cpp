@@ -10,66 +10,15 @@
 #include "canopy/common/error.h"
 #include "canopy/common/math.h"
 #include "canopy/documents/candidates.h"
-#include "canopy/formats/json_document.h"
+#include "canopy/documents/detections.h"
 #include "canopy/formats/provenance.h"
-#include "canopy/formats/verdict.h"
+#include "canopy/documents/stage_outcome.h"
 
 namespace canopy::collect {
 namespace {
 
-using Json = nlohmann::ordered_json;
-
-using Malformed = formats::MalformedField;
-constexpr auto member = formats::json_member;
-
-double number(const Json& v, const std::string& where) {
-  if (!v.is_number()) throw Malformed(where + " must be a number, not " + v.dump().substr(0, 40));
-  const double d = v.get<double>();
-  if (!std::isfinite(d)) throw Malformed(where + " is not finite");
-  return d;
-}
-
-// A rigid transform: 16 numbers (flat) or 4 rows of 4; the last row 0 0 0 1, the 3 x 3 part a
-// rotation (orthonormal within 1e-6, determinant +1).
-Matrix matrix(const Json& v, const std::string& where) {
-  Matrix m{};
-  if (v.is_array() && v.size() == 4 && v[0].is_array()) {
-    for (int r = 0; r < 4; ++r) {
-      if (!v[r].is_array() || v[r].size() != 4) throw Malformed(where + " must be 4 rows of 4 numbers");
-      for (int c = 0; c < 4; ++c) m[4 * r + c] = number(v[r][c], where);
-    }
-  } else if (v.is_array() && v.size() == 16) {
-    for (int i = 0; i < 16; ++i) m[i] = number(v[i], where);
-  } else {
-    throw Malformed(where + " must be a 4 x 4 matrix (16 numbers or 4 rows of 4)");
-  }
-  if (m[12] != 0 || m[13] != 0 || m[14] != 0 || m[15] != 1)
-    throw Malformed(where + ": last row is not 0 0 0 1");
-  for (int a = 0; a < 3; ++a) {
-    for (int b = 0; b < 3; ++b) {
-      double dot = 0;
-      for (int k = 0; k < 3; ++k) dot += m[4 * k + a] * m[4 * k + b];
-      if (std::fabs(dot - (a == b ? 1 : 0)) > 1e-6)
-        throw Malformed(where + ": the 3 x 3 part is not a rotation");
-    }
-  }
-  const double det = m[0] * (m[5] * m[10] - m[6] * m[9]) - m[1] * (m[4] * m[10] - m[6] * m[8]) +
-                     m[2] * (m[4] * m[9] - m[5] * m[8]);
-  if (det < 0) throw Malformed(where + ": the 3 x 3 part is a reflection");
-  return m;
-}
-
-Json parse_document(const std::string& text, const std::string& name, const char* format) {
-  return formats::open_json_document(text, name, format);
-}
-
 Corner apply(const Matrix& m, double x, double y) {
   return {m[0] * x + m[1] * y + m[3], m[4] * x + m[5] * y + m[7]};
-}
-
-double finite(double v) {
-  if (!std::isfinite(v)) throw common::Error("collect: refusing to write a non-finite number");
-  return v;
 }
 
 }  // namespace
@@ -115,87 +64,50 @@ Verdict absent_verdict(const std::string& name) {
 
 namespace {
 
-// classify's keys of a verdict (docs/decisions/classify.md §9), each optional.
-void parse_class_keys(const Json& j, Verdict& v) {
-  auto name_or_null = [&](const char* key, std::string& out) {
-    if (!j.contains(key) || j[key].is_null()) return;
-    if (!j[key].is_string() || !formats::is_model_name(j[key].get<std::string>())) {
-      throw Malformed(std::string(key) + " must be a name or null");
-    }
-    out = j[key].get<std::string>();
-  };
-  name_or_null("level", v.level);
-  name_or_null("group", v.group);
-  name_or_null("reason", v.reason);
-  if (j.contains("detail") && j["detail"].is_string()) v.detail = j["detail"].get<std::string>();
-  auto optional = [&](const Json& o, const char* key, const std::string& where) -> std::optional<double> {
-    if (!o.is_object() || !o.contains(key) || o[key].is_null()) return std::nullopt;
-    return number(o[key], where);
-  };
-  v.density = optional(j, "density", "density");
-  if (j.contains("density_needed") && j["density_needed"].is_object()) {
-    v.density_class = optional(j["density_needed"], "class", "density_needed.class");
-    v.density_model = optional(j["density_needed"], "model", "density_needed.model");
+// A pose of the verdict as a 4 x 4 row-major matrix (last row 0 0 0 1).
+Matrix matrix_of(const formats::Pose& p) {
+  Matrix m{};
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) m[4 * r + c] = p.rotation[3 * r + c];
+    m[4 * r + 3] = p.translation[r];
   }
-  v.heading_ambiguity = optional(j, "heading_ambiguity_deg", "heading_ambiguity_deg");
-  if (j.contains("size") && !j["size"].is_null()) {
-    const Json& sz = j["size"];
-    if (!sz.is_array() || sz.size() != 3) throw Malformed("size must be [L, W, H] or null");
-    std::array<double, 3> lwh{};
-    for (int k = 0; k < 3; ++k) {
-      lwh[k] = number(sz[k], "size");
-      if (lwh[k] < 0) throw Malformed("size must not be negative");
-    }
-    v.size = lwh;
-  }
+  m[15] = 1;
+  return m;
 }
 
 }  // namespace
 
-Verdict parse_verdict(const std::string& text, const std::string& name) {
-  if (text.empty()) {
-    Verdict failed;
-    failed.name = name;
-    failed.failed = true;
-    return failed;
-  }
-  const Json j = parse_document(text, name, "canopy.verdict");
+Verdict from_stage_verdict(const documents::StageVerdict& s, const std::string& name) {
   Verdict v;
   v.name = name;
-  try {
-    const Json& candidate = member(j, "candidate", "verdict");
-    if (!candidate.is_string() || candidate.get<std::string>().empty()) {
-      throw Malformed("candidate must name the candidate's points (verify --points)");
-    }
-    v.candidate = candidate.get<std::string>();
-    const Json& model = member(j, "model", "verdict");
-    if (!model.is_null() && !(model.is_string() && formats::is_model_name(model.get<std::string>()))) {
-      throw Malformed(
-          "model must be a model name (a file stem: no '/', not . or .., no control characters) or null, "
-          "not " +
-          model.dump(-1, ' ', true, Json::error_handler_t::replace).substr(0, 60));
-    }
-    if (model.is_string()) v.model = model.get<std::string>();
-    v.confidence = number(member(j, "confidence", "verdict"), "confidence");
-    if (v.confidence < 0 || v.confidence > 1) throw Malformed("confidence must lie in [0, 1]");
-    if (j.contains("class") && !j["class"].is_null()) {
-      if (!j["class"].is_string() || !formats::is_model_name(j["class"].get<std::string>())) {
-        throw Malformed("class must be a class name or null");
-      }
-      v.cls = j["class"].get<std::string>();
-    }
-    for (const char* key : {"pose", "pose_tile"}) {
-      if (!j.contains(key) || j[key].is_null()) continue;
-      const Matrix m = matrix(member(j[key], "matrix", key), std::string(key) + ".matrix");
-      (std::string(key) == "pose" ? v.pose : v.pose_tile) = m;
-    }
-    parse_class_keys(j, v);
-    if (!v.model.empty() && !v.pose && !v.pose_tile) throw Malformed("a model without a pose");
-    if (v.model.empty() && !v.cls.empty() && v.level == "class" && !v.pose && !v.pose_tile) {
-      throw Malformed("a class without a pose");
-    }
-  } catch (const Malformed& e) { throw common::DataError(name, e.what()); }
+  v.present = s.outcome != documents::StageOutcome::missing;
+  v.failed = s.outcome == documents::StageOutcome::failed;
+  if (s.outcome != documents::StageOutcome::written) return v;
+  const documents::Verdict& d = s.verdict;
+  v.candidate = d.candidate;
+  v.level = d.level;
+  v.model = d.model;
+  v.cls = d.vehicle_class;
+  v.group = d.group;
+  v.confidence = d.confidence;
+  if (d.pose) v.pose = matrix_of(*d.pose);
+  if (d.pose_tile) v.pose_tile = matrix_of(*d.pose_tile);
+  v.reason = d.reason;
+  v.detail = d.detail;
+  v.density = d.density;
+  v.density_class = d.density_class;
+  v.density_model = d.density_model;
+  v.size = d.size;
+  v.heading_ambiguity = d.heading_ambiguity;
   return v;
+}
+
+Verdict parse_verdict(const std::string& text, const std::string& name) {
+  return from_stage_verdict(documents::parse_stage_verdict(text, name), name);
+}
+
+Verdict read_verdict(const std::string& path) {
+  return from_stage_verdict(documents::read_stage_verdict(path), path);
 }
 
 bool names_candidate(const std::string& points, const std::string& id) {
@@ -296,93 +208,55 @@ Placement place(const Candidate& c, const Verdict& v, const Params& params) {
   return p;
 }
 
-Json footprint_json(const Placement& p) {
-  Json fp = Json::array();
-  for (const auto& c : p.ring) fp.push_back(Json::array({finite(c[0]), finite(c[1])}));
-  return fp;
-}
-
-Json text_or_null(const std::string& s) { return s.empty() ? Json(nullptr) : Json(s); }
-Json number_or_null(const std::optional<double>& v) { return v ? Json(finite(*v)) : Json(nullptr); }
-
 // The detection's entry in detections.json: model level (the model chain's verdict names a
 // model) or class level (classify's answer names a class; "model": null).
-Json detection_json(const Candidate& c, const Verdict& v, const Placement& p) {
-  const Matrix& m = p.m;
-  const auto& e = p.e;
-  const bool model = !v.model.empty();
-  Json matrix_json = Json::array();
-  for (double x : m) matrix_json.push_back(finite(x));
-  Json pose{{"x", finite(m[3])}, {"y", finite(m[7])}, {"z", finite(m[11])},   {"heading", e[0]},
-            {"pitch", e[1]},     {"roll", e[2]},      {"matrix", matrix_json}};
-  Json d{{"candidate", c.id}, {"level", model ? "model" : "class"}, {"model", text_or_null(v.model)}};
-  if (!v.cls.empty()) d["class"] = v.cls;
-  if (!v.group.empty() || !model) d["group"] = text_or_null(v.group);
-  d["confidence"] = v.confidence;
-  d["pose"] = pose;
-  if (!model) {
-    d["heading_ambiguity_deg"] = v.heading_ambiguity ? finite(*v.heading_ambiguity) : 180.0;
-    d["size"] = v.size ? Json{{"length", finite((*v.size)[0])},
-                              {"width", finite((*v.size)[1])},
-                              {"height", finite((*v.size)[2])}}
-                       : Json(nullptr);
-    d["density"] = number_or_null(v.density);
-  }
-  d["footprint"] = footprint_json(p);
-  d["footprint_from"] = p.from;
-  d["verdict"] = v.name;
+documents::DetectionRecord detection_of(const Candidate& c, const Verdict& v, const Placement& p) {
+  documents::DetectionRecord d;
+  d.candidate = c.id;
+  d.model_level = !v.model.empty();
+  d.model = v.model;
+  d.cls = v.cls;
+  d.group = v.group;
+  d.confidence = v.confidence;
+  d.matrix = p.m;
+  d.euler = p.e;
+  if (v.heading_ambiguity) d.heading_ambiguity = *v.heading_ambiguity;
+  d.size = v.size;
+  d.density = v.density;
+  d.footprint = p.ring;
+  d.footprint_from = p.from;
+  d.verdict = v.name;
   return d;
-}
-
-// The detection as a GeoJSON Feature: its footprint polygon (closed ring) and properties.
-Json feature_json(const Candidate& c, const Verdict& v, const Placement& p) {
-  const Matrix& m = p.m;
-  Json closed = footprint_json(p);
-  closed.push_back(closed[0]);
-  Json props{
-      {"candidate", c.id}, {"level", v.model.empty() ? "class" : "model"}, {"model", text_or_null(v.model)}};
-  if (!v.cls.empty()) props["class"] = v.cls;
-  if (!v.group.empty()) props["group"] = v.group;
-  props["confidence"] = v.confidence;
-  props["x"] = m[3];
-  props["y"] = m[7];
-  props["z"] = m[11];
-  props["heading"] = p.e[0];
-  if (v.model.empty()) props["heading_ambiguity_deg"] = v.heading_ambiguity ? *v.heading_ambiguity : 180.0;
-  props["footprint_from"] = p.from;
-  return Json{{"type", "Feature"},
-              {"id", c.id},
-              {"geometry", Json{{"type", "Polygon"}, {"coordinates", Json::array({closed})}}},
-              {"properties", props}};
 }
 
 // The rejection of a candidate no level answered: classify's reason when it answered, else
 // the model chain's none or failure.
-Json rejection_json(const Candidate& c, const Answers& a, std::string& reason) {
+documents::RejectionRecord rejection_of(const Candidate& c, const Answers& a, std::string& reason) {
   const Verdict& k = a.cls;
   const Verdict& v = a.model;
   const bool classified = k.present && !k.failed;
   const bool failed = v.present ? v.failed : k.failed;
   reason = classified ? (k.reason.empty() ? "none" : k.reason) : (failed ? "failed" : "none");
-  Json r{{"candidate", c.id}, {"reason", reason}};
+  documents::RejectionRecord r;
+  r.candidate = c.id;
+  r.reason = reason;
+  r.classified = classified;
   if (classified) {
-    r["detail"] = k.detail.empty() ? Json(nullptr) : Json(k.detail);
-    r["confidence"] = k.confidence;
-    r["density"] = number_or_null(k.density ? k.density : c.density);
-    Json needed = nullptr;
-    if (k.density_class || k.density_model) {
-      needed = Json{{"class", number_or_null(k.density_class)}, {"model", number_or_null(k.density_model)}};
-    }
-    r["density_needed"] = needed;
+    if (!k.detail.empty()) r.detail = k.detail;
+    r.confidence = k.confidence;
+    r.density = k.density ? k.density : c.density;
+    r.has_density_needed = k.density_class || k.density_model;
+    r.density_class = k.density_class;
+    r.density_model = k.density_model;
     // What the model chain said, when it ran.
-    r["model_chain"] = !v.present ? Json(nullptr) : Json(v.failed ? "failed" : "none");
-    r["verdict"] = k.name;
+    if (v.present) r.model_chain = v.failed ? "failed" : "none";
+    r.verdict = k.name;
   } else {
-    r["detail"] = reason == "failed" ? "a stage of the model chain failed (see the candidate's .log files)"
-                                     : "the model chain found no model of the modelbase";
-    r["confidence"] = reason == "failed" || !v.present ? Json(nullptr) : Json(v.confidence);
-    r["density"] = number_or_null(c.density);
-    r["verdict"] = v.present ? v.name : k.name;
+    r.detail = reason == "failed" ? "a stage of the model chain failed (see the candidate's .log files)"
+                                  : "the model chain found no model of the modelbase";
+    if (!(reason == "failed" || !v.present)) r.confidence = v.confidence;
+    r.density = c.density;
+    r.verdict = v.present ? v.name : k.name;
   }
   return r;
 }
@@ -395,12 +269,7 @@ std::string fmt_density(double d) {
 
 // The tile's density for messages: open ground's, else all points' (detect.md §7).
 std::optional<double> tile_density(const Index& index) {
-  const Json& d = index.density;
-  if (!d.is_object()) return std::nullopt;
-  for (const char* key : {"ground", "all"}) {
-    if (d.contains(key) && d[key].is_number()) return d[key].get<double>();
-  }
-  return std::nullopt;
+  return documents::open_ground_density(index.density);
 }
 
 // One sentence when most candidates were rejected for one reason (with what would help), or
@@ -467,38 +336,6 @@ std::string warning_of(const Index& index, const std::vector<Answers>& answers, 
   return w + "; see docs/decisions/classify.md";
 }
 
-// detections.json and the GeoJSON FeatureCollection of the counted detections.
-void write_documents(const Index& index, const Params& params, const Json& provenance, const Json& dets,
-                     const Json& rejected, const Json& features, Output& out) {
-  Json by_reason = Json::object();
-  for (const auto& [r, k] : out.by_reason) by_reason[r] = k;
-  Json doc{{"format", "canopy.detections"},
-           {"version", 2},
-           {"provenance", provenance},
-           {"index", index.name},
-           {"tile", index.tile},
-           {"crs", params.crs.empty() ? Json(nullptr) : Json(params.crs)},
-           {"candidates", index.candidates.size()},
-           {"found", out.found},
-           {"none", out.none},
-           {"failed", out.failed},
-           {"by_level", Json{{"model", out.model_level}, {"class", out.class_level}}},
-           {"by_reason", by_reason},
-           {"density", index.density.is_object() ? index.density : Json(nullptr)},
-           {"warning", out.warning.empty() ? Json(nullptr) : Json(out.warning)},
-           {"detections", dets},
-           {"rejected", rejected}};
-  out.detections = doc.dump(1) + "\n";
-  Json geo{{"type", "FeatureCollection"}, {"name", "canopy detections"}};
-  if (!params.crs.empty()) {
-    // The GeoJSON 2008 "crs" member (RFC 7946 dropped it; GDAL/QGIS still read it).
-    geo["crs"] =
-        Json{{"type", "name"}, {"properties", {{"name", "urn:ogc:def:crs:EPSG::" + params.crs.substr(5)}}}};
-  }
-  geo["features"] = features;
-  out.geojson = geo.dump(1) + "\n";
-}
-
 std::string summary_line(const Index& index, const Output& out) {
   std::string s = std::to_string(index.candidates.size()) + " candidates: " + std::to_string(out.found) +
                   " vehicles found (" + std::to_string(out.model_level) + " model level, " +
@@ -523,10 +360,10 @@ void validate(const Params& params) {
 }
 
 Output collect(const Index& index, const std::vector<Answers>& answers, const Params& params,
-               const Json& provenance) {
+               const formats::Provenance& provenance) {
   if (answers.size() != index.candidates.size())
     throw common::Error("collect: one answer per candidate expected");
-  Json dets = Json::array(), rejected = Json::array(), features = Json::array();
+  documents::DetectionsRecord doc;
   Output out;
   std::vector<std::string> reasons(answers.size());
   for (std::size_t i = 0; i < answers.size(); ++i) {
@@ -552,12 +389,10 @@ Output collect(const Index& index, const std::vector<Answers>& answers, const Pa
     }
     if (found) {
       ++out.found;
-      const Placement p = place(c, *found, params);
-      dets.push_back(detection_json(c, *found, p));
-      features.push_back(feature_json(c, *found, p));
+      doc.detections.push_back(detection_of(c, *found, place(c, *found, params)));
       continue;
     }
-    rejected.push_back(rejection_json(c, answers[i], reasons[i]));
+    doc.rejected.push_back(rejection_of(c, answers[i], reasons[i]));
     ++out.by_reason[reasons[i]];
     // v1's counts: a failed model chain with no class answer, else a "none" (someone looked).
     if (reasons[i] == "failed") {
@@ -568,12 +403,26 @@ Output collect(const Index& index, const std::vector<Answers>& answers, const Pa
   }
   out.warning = warning_of(index, answers, out, reasons);
   out.summary = summary_line(index, out);
-  write_documents(index, params, provenance, dets, rejected, features, out);
+  doc.provenance = provenance;
+  doc.index = index.name;
+  doc.tile = index.tile;
+  doc.crs = params.crs;
+  doc.candidates = index.candidates.size();
+  doc.found = out.found;
+  doc.none = out.none;
+  doc.failed = out.failed;
+  doc.model_level = out.model_level;
+  doc.class_level = out.class_level;
+  doc.by_reason = out.by_reason;
+  doc.density = index.density;
+  doc.warning = out.warning;
+  out.detections = documents::serialize_detections(doc);
+  out.geojson = documents::serialize_detections_geojson(doc);
   return out;
 }
 
 Output run(const Params& params, const Inputs& inputs) {
-  return collect(inputs.index, inputs.answers, params, formats::provenance_json(inputs.provenance));
+  return collect(inputs.index, inputs.answers, params, inputs.provenance);
 }
 
 }  // namespace canopy::collect

@@ -5,11 +5,11 @@
 
 #include <array>
 #include <map>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "canopy/documents/candidates.h"
 #include "canopy/formats/provenance.h"
 
 namespace canopy::collect {
@@ -29,7 +29,7 @@ struct Index {
   std::string name;  // file, as given
   std::string tile;  // the tile detect read, as it recorded it
   std::vector<Candidate> candidates;
-  nlohmann::ordered_json density;  // the index's "density" object (detect.md §7), or null
+  decltype(documents::Candidates::density) density;  // the index's "density" object (detect.md §7), or null
 };
 
 // The density of model-level recognition (docs/decisions/classify.md §11.2: fitvox-tile.ini's
@@ -79,11 +79,12 @@ void validate(const Params& params);
 Index parse_index(const std::string& text, const std::string& name);
 // A verdict file that does not exist (present = false).
 Verdict absent_verdict(const std::string& name);
-// An empty text is a failed candidate. Otherwise DataError naming the file: not a
-// canopy.verdict v1, no "candidate" (a non-empty string), a model or class that is not a name
-// (formats::is_model_name: a model "../../x" would be read outside the modelbase), confidence
-// outside [0, 1], a malformed pose, a model without a pose.
+// A verdict (verify's or classify's canopy.verdict) through documents::parse_stage_verdict: an
+// empty text is a failed candidate; any refusal of documents::parse_verdict names the file.
 Verdict parse_verdict(const std::string& text, const std::string& name);
+// The file at `path` (documents::read_stage_verdict): absent (present = false) when there is
+// no such file, else as parse_verdict.
+Verdict read_verdict(const std::string& path);
 
 // Whether a verdict's "candidate" (the points verify was given) names candidate `id`: its file
 // stem is the id (detect's <id>.pcd) or its directory is named so (<id>/samples.pcd).
@@ -115,7 +116,7 @@ struct Output {
 // rejection with classify's reason (or "none" / "failed" from the model verdict when there is
 // no class answer). `provenance` is written as is.
 Output collect(const Index& index, const std::vector<Answers>& answers, const Params& params,
-               const nlohmann::ordered_json& provenance);
+               const formats::Provenance& provenance);
 
 // One tile: its index, the answers per candidate (answers[i] of index.candidates[i]) and who
 // writes the documents from what (formats::provenance_json).
@@ -125,7 +126,7 @@ struct Inputs {
   formats::Provenance provenance;
 };
 
-// collect(inputs.index, inputs.verdicts, params, the provenance as JSON).
+// collect(inputs.index, inputs.answers, params, inputs.provenance).
 Output run(const Params& params, const Inputs& inputs);
 
 // The make plan of a tile: the candidate ids, each one's candidate-to-tile transform (16

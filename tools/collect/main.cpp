@@ -105,9 +105,8 @@ std::vector<collect::Answers> read_answers(const Options& o, const collect::Inde
   const fs::path dir = o.verdicts.empty() ? fs::path(o.in).parent_path() : fs::path(o.verdicts);
   const std::string index_dir = fs::path(o.in).parent_path().string();
   auto read = [&](const std::string& path, const std::string& id) {
-    std::error_code ec;
-    if (!fs::exists(path, ec)) return collect::absent_verdict(path);
-    collect::Verdict v = collect::parse_verdict(common::read_file(path), path);
+    collect::Verdict v = collect::read_verdict(path);
+    if (!v.present) return v;
     collect::check_verdict_of(v, id, index_dir);
     inputs.push_back(path);
     return v;

@@ -18,7 +18,7 @@
 #include "canopy/documents/modelbase.h"
 #include "canopy/documents/match_result.h"
 #include "canopy/documents/stage_time.h"
-#include "canopy/formats/verdict.h"
+#include "canopy/documents/stage_outcome.h"
 #include "canopy/sim/families.h"
 
 namespace canopy::famscore {
@@ -217,11 +217,12 @@ Trial read_trial(const Run& r, const std::vector<Entry>& entries, bool with_meth
   Trial t;
   t.run = r;
   t.expected_nearest = nearest_by_size(r.vehicle_class, r.instance, entries);
-  if (common::read_file(r.verdict).empty()) {  // a stage failed on this trial
+  const documents::StageVerdict sv = documents::parse_stage_verdict(common::read_file(r.verdict), r.verdict);
+  if (sv.outcome == documents::StageOutcome::failed) {  // a stage failed on this trial
     t.answered_class = "none";
     t.failed = true;
   } else {
-    const formats::Verdict v = formats::read_verdict(r.verdict);
+    const documents::Verdict& v = sv.verdict;
     if (!v.has_classes) throw DataError(r.verdict, "verdict names no class (modelbase without classes?)");
     t.answered_class = v.vehicle_class.empty() ? "none" : v.vehicle_class;
     t.nearest = v.nearest_instance;

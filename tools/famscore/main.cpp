@@ -6,7 +6,7 @@
 #include "canopy/common/cli.h"
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
-#include "canopy/formats/verdict.h"
+#include "canopy/documents/verdict.h"
 #include "famscore/famscore.h"
 
 namespace cm = canopy::common;

@@ -4,7 +4,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "canopy/common/atomic_file.h"
@@ -12,6 +11,7 @@
 #include "canopy/documents/baseline_ranking.h"
 #include "canopy/formats/csv_table.h"
 #include "canopy/documents/match_result.h"
+#include "canopy/documents/stage_outcome.h"
 #include "canopy/documents/stage_time.h"
 #include "report/report.h"
 
@@ -39,13 +39,8 @@ struct Tally {
 
 // verify's answer in a trial's verdict.json: "" for none, a missing file or a failed run.
 std::string verify_answer(const std::string& path) {
-  if (!std::filesystem::exists(path)) return "";
-  const std::string text = common::read_file(path);
-  if (text.empty()) return "";
-  try {
-    const auto j = nlohmann::json::parse(text);
-    return j.contains("model") && j["model"].is_string() ? j["model"].get<std::string>() : "";
-  } catch (const std::exception& e) { throw common::DataError(path, std::string("not JSON: ") + e.what()); }
+  const documents::StageVerdict v = documents::read_stage_verdict(path);
+  return v.outcome == documents::StageOutcome::written ? v.verdict.model : "";
 }
 
 }  // namespace
@@ -69,16 +64,16 @@ void count_trial(Counts& k, const std::string& out_dir, const std::string& o, co
   namespace fs = std::filesystem;
   const std::string dir = out_dir + "/" + o + "/" + s + "/noise-" + std::to_string(n);
   const std::string path = dir + "/baseline.json";
-  if (!fs::exists(path)) {
+  const documents::StageOutput baseline = documents::read_stage_output(path);
+  if (baseline.outcome == documents::StageOutcome::missing) {
     ++k.missing;
     return;
   }
-  const std::string text = common::read_file(path);
   std::map<std::string, std::string> r;
-  if (text.empty()) {
+  if (baseline.outcome == documents::StageOutcome::failed) {
     ++k.failed;
   } else {
-    r = rank1(text, path);
+    r = rank1(baseline.text, path);
   }
   const documents::MatchResult m = documents::read_match_result(dir + "/match.json");
   const std::string canopy = m.models.empty() ? "" : m.models.front().model;

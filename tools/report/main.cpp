@@ -92,7 +92,7 @@ report::Case read_case(const std::string& out_dir, const std::string& o, const s
     if (text.empty()) {
       c.verdict_status = report::VerdictStatus::failed;
     } else {
-      c.verdict = formats::parse_verdict(text, verdict);
+      c.verdict = documents::parse_verdict(text, verdict);
       c.verdict_status = report::VerdictStatus::read;
     }
   }

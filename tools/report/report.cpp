@@ -61,7 +61,7 @@ Judgement judge_verdict(const Case& c) {
     j.outcome = Outcome::failed;
     return j;
   }
-  const formats::Verdict& v = c.verdict;
+  const documents::Verdict& v = c.verdict;
   j.confidence = v.confidence;
   if (v.model.empty()) {
     j.outcome = Outcome::none;

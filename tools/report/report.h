@@ -12,7 +12,7 @@
 #include "canopy/documents/match_result.h"
 #include "canopy/documents/segment_graph.h"
 #include "canopy/documents/stage_time.h"
-#include "canopy/formats/verdict.h"
+#include "canopy/documents/verdict.h"
 
 namespace canopy::report {
 
@@ -52,7 +52,7 @@ struct Case {
   std::map<std::string, StageTime> times;  // stage name -> time (addnoise, fitvox, ...)
   AreaRow areas;
   VerdictStatus verdict_status = VerdictStatus::missing;
-  formats::Verdict verdict;  // when verdict_status == read
+  documents::Verdict verdict;  // when verdict_status == read
 };
 
 // A variant of the experiment with one project default undone (out/ablation/<name>/).

@@ -16,7 +16,7 @@
 #include "canopy/documents/segment_graph.h"
 #include "canopy/formats/sensor_direction.h"
 #include "canopy/formats/trajectory.h"
-#include "canopy/formats/verdict.h"
+#include "canopy/documents/verdict.h"
 #include "verify/verify.h"
 
 namespace cm = canopy::common;
@@ -156,7 +156,7 @@ Inputs read_inputs(const Cli& cli, const vf::Params& p, const std::optional<Eige
 }
 
 // The check phase's INFO line: the answer (or none), its scores, the class.
-std::string summary(const fm::Verdict& v) {
+std::string summary(const canopy::documents::Verdict& v) {
   char line[256];
   if (v.chosen >= 0) {
     const auto& h = v.hypotheses[v.chosen];
@@ -211,7 +211,7 @@ int main(int argc, char** argv) {
               std::to_string(in.models.size()) + " hypotheses");
 
     cm::log::Phase phase("check");
-    fm::Verdict v =
+    canopy::documents::Verdict v =
         vf::run({&in.candidate, &in.graph, &in.match, &in.models, to_tile ? &*to_tile : nullptr}, p);
     // --free-space and the sensor direction options at their defaults are left out of the
     // provenance: verdicts stay byte-identical to those written before the options existed.
@@ -231,6 +231,6 @@ int main(int argc, char** argv) {
     v.provenance = {"verify", CANOPY_VERSION, parameters, inputs};
     v.candidate = cli.points;
     phase.done(summary(v));
-    fm::write_verdict(v, cli.out);
+    canopy::documents::write_verdict(v, cli.out);
   });
 }

@@ -6,7 +6,7 @@
 #include "canopy/formats/pcd.h"
 #include "canopy/documents/modelbase.h"
 #include "canopy/documents/segment_graph.h"
-#include "canopy/formats/verdict.h"
+#include "canopy/documents/verdict.h"
 #include "verify/verify.h"
 
 namespace canopy::verify {
@@ -21,7 +21,7 @@ std::vector<Model> read_models(const std::string& dir, const std::vector<std::st
   for (const auto& name : names) {
     const std::string graph = (fs::path(dir) / (name + ".json")).string();
     const std::string surface = (fs::path(dir) / (name + ".pcd")).string();
-    if (!formats::is_model_name(name)) {
+    if (!documents::is_model_name(name)) {
       throw DataError(who, "hypothesis names model '" + name.substr(0, 80) +
                                "', which is not a model name (a file stem: no '/', not . or .., no control "
                                "characters)");

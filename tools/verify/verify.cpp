@@ -405,8 +405,8 @@ const Model& loaded_model(const In& in, const std::string& name) {
 
 // One gmatch hypothesis: every start (the matched pairs' pose when there is one, the principal
 // axes') and, with Params::flip, its 180-degree flip, refined by ICP and scored; the best.
-formats::Hypothesis check_hypothesis(const In& in, const documents::ModelScore& ms, const Model& model,
-                                     const Scorer& scorer, const Params& p) {
+documents::Hypothesis check_hypothesis(const In& in, const documents::ModelScore& ms, const Model& model,
+                                       const Scorer& scorer, const Params& p) {
   const auto& above = scorer.above_points();
   const Vector3d centre = mean_of(model.surface.points);
   struct Start {
@@ -417,7 +417,7 @@ formats::Hypothesis check_hypothesis(const In& in, const documents::ModelScore& 
   Isometry3d pp;
   if (pose_from_pairs(*in.segments, model.graph, ms.pairs, &pp)) starts.push_back({"pairs", pp});
   starts.push_back({"axes", pose_from_axes(above.empty() ? in.candidate->points : above, model.surface.points)});
-  formats::Hypothesis best;
+  documents::Hypothesis best;
   best.model = ms.model;
   best.gmatch_rank = ms.rank;
   best.gmatch_score = ms.score;
@@ -449,8 +449,8 @@ formats::Hypothesis check_hypothesis(const In& in, const documents::ModelScore& 
 
 // Decides: the best score, its margin over the best other model, the class; the answer when
 // the score passes Params::accept, else none.
-void decide(formats::Verdict* verdict, const Params& p) {
-  formats::Verdict& v = *verdict;
+void decide(documents::Verdict* verdict, const Params& p) {
+  documents::Verdict& v = *verdict;
   int chosen = -1;
   for (int i = 0; i < static_cast<int>(v.hypotheses.size()); ++i) {
     if (chosen < 0 || v.hypotheses[i].score > v.hypotheses[chosen].score) chosen = i;
@@ -487,8 +487,8 @@ void decide(formats::Verdict* verdict, const Params& p) {
 
 }  // namespace
 
-formats::Verdict run(const In& in, const Params& p) {
-  formats::Verdict v;
+documents::Verdict run(const In& in, const Params& p) {
+  documents::Verdict v;
   const Scorer scorer(*in.candidate, p);
   const int k = std::min<int>(p.top_k, static_cast<int>(in.match->models.size()));
   for (int h = 0; h < k; ++h) {

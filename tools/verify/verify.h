@@ -26,7 +26,7 @@
 #include "canopy/documents/match_result.h"
 #include "canopy/formats/point_cloud.h"
 #include "canopy/documents/segment_graph.h"
-#include "canopy/formats/verdict.h"
+#include "canopy/documents/verdict.h"
 
 namespace canopy::verify {
 
@@ -172,6 +172,6 @@ struct In {
 
 // Checks the top-k hypotheses and decides. Fills every field of the verdict but provenance
 // and inputs; the tile pose (transform, pose_tile) when `to_tile` is given.
-formats::Verdict run(const In& in, const Params& params);
+documents::Verdict run(const In& in, const Params& params);
 
 }  // namespace canopy::verify

@@ -11,6 +11,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "canopy/formats/provenance.h"
+
 namespace canopy::documents {
 
 inline constexpr const char* kDetectionsFormat = "canopy.detections";
@@ -64,5 +66,58 @@ struct Detections {
 Detections read_detections(const std::string& text, const std::string& name);
 // The file at `path` (common::read_file), then read_detections.
 Detections read_detections_file(const std::string& path);
+
+// Writing (collect writes version 2). One detection as collect placed it in the tile.
+struct DetectionRecord {
+  std::string candidate;
+  bool model_level = true;        // "level": model (the model chain's verdict named a model) or class
+  std::string model, cls, group;  // "" = null ("class" written when named; "group" when named or
+                                  // at class level)
+  double confidence = 0;
+  std::array<double, 16> matrix{};  // model (or class) frame -> tile frame, row-major
+  std::array<double, 3> euler{};    // heading, pitch, roll (degrees) of matrix
+  // Class level only: the heading's ambiguity (degrees), the size L W H, the object density.
+  double heading_ambiguity = 180;
+  std::optional<std::array<double, 3>> size;
+  std::optional<double> density;
+  std::vector<std::array<double, 2>> footprint;  // counter-clockwise corners
+  std::string footprint_from;                    // model, class or candidate
+  std::string verdict;                           // the verdict file it came from
+};
+
+// A candidate no level answered, and why.
+struct RejectionRecord {
+  std::string candidate, reason;
+  std::optional<std::string> detail;  // nullopt = null
+  std::optional<double> confidence, density;
+  bool classified = false;  // classify answered: "density_needed" and "model_chain" are written
+  bool has_density_needed = false;
+  std::optional<double> density_class, density_model;  // "density_needed" when has_density_needed
+  std::optional<std::string> model_chain;              // failed, none, or nullopt = null (not run)
+  std::string verdict;
+};
+
+struct DetectionsRecord {
+  formats::Provenance provenance;
+  std::string index, tile, crs;  // crs "" = null
+  std::size_t candidates = 0;
+  int found = 0, none = 0, failed = 0, model_level = 0, class_level = 0;
+  std::map<std::string, int> by_reason;
+  nlohmann::ordered_json density;  // the index's density object, written as is (null otherwise)
+  std::string warning;             // "" = null
+  std::vector<DetectionRecord> detections;
+  std::vector<RejectionRecord> rejected;
+};
+
+// detections.json (canopy.detections v2), byte-identical to collect's before the move.
+// common::Error "collect: refusing to write a non-finite number" for a non-finite position,
+// matrix, footprint corner, size, density or ambiguity.
+std::string serialize_detections(const DetectionsRecord& record);
+// The detections as a GeoJSON FeatureCollection: one Feature per detection, its footprint
+// polygon (closed ring) and properties; the 2008 "crs" member when crs is EPSG:<code>.
+std::string serialize_detections_geojson(const DetectionsRecord& record);
+
+// The tile's density for messages: the density object's "ground" when a number, else "all".
+std::optional<double> open_ground_density(const nlohmann::ordered_json& density);
 
 }  // namespace canopy::documents

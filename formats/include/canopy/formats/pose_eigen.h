@@ -1,10 +1,10 @@
-// The verdict's poses (formats::Pose: row-major rotation + translation) <-> Eigen: the one
+// The documents' poses (formats::Pose: row-major rotation + translation) <-> Eigen: the one
 // conversion verify (its ICP poses) and baseline (its registration matrices) write with.
 #pragma once
 
 #include <Eigen/Geometry>
 
-#include "canopy/formats/verdict.h"
+#include "canopy/formats/pose.h"
 
 namespace canopy::formats {
 

@@ -1,4 +1,4 @@
-#include "canopy/formats/verdict.h"
+#include "canopy/documents/verdict.h"
 
 #include "canopy/formats/json_document.h"
 #include "canopy/formats/provenance.h"
@@ -11,36 +11,55 @@
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
-#include "canopy/common/math.h"
+#include "verdict_json.h"
 
-namespace canopy::formats {
+namespace canopy::documents {
+
+namespace verdict_json {
+
 namespace {
-
-using common::DataError;
-using Json = nlohmann::ordered_json;
-
-constexpr const char* kFormat = "canopy.verdict";
-constexpr int kVersion = 1;
-
-double finite(double v, const char* what) {
-  if (!std::isfinite(v)) throw common::Error(std::string("refusing to write non-finite ") + what);
+double finite_pose(double v) {
+  if (!std::isfinite(v)) throw common::Error("refusing to write non-finite pose");
   return v;
 }
+}  // namespace
 
-Json pose_json(const Pose& p) {
+nlohmann::ordered_json pose_json(const Pose& p) {
+  using Json = nlohmann::ordered_json;
   Json m = Json::array();
   for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) m.push_back(finite(p.rotation[3 * r + c], "pose"));
-    m.push_back(finite(p.translation[r], "pose"));
+    for (int c = 0; c < 3; ++c) m.push_back(finite_pose(p.rotation[3 * r + c]));
+    m.push_back(finite_pose(p.translation[r]));
   }
   for (double v : {0.0, 0.0, 0.0, 1.0}) m.push_back(v);
-  const auto e = euler_degrees(p);
+  const auto e = formats::euler_degrees(p);
   return Json{{"matrix", m},
               {"translation", Json::array({p.translation[0], p.translation[1], p.translation[2]})},
               {"heading_deg", e[0]},
               {"pitch_deg", e[1]},
               {"roll_deg", e[2]}};
 }
+
+}  // namespace verdict_json
+
+namespace {
+
+using formats::MalformedField;
+using formats::open_json_document;
+using formats::provenance_json;
+
+using common::DataError;
+using Json = nlohmann::ordered_json;
+
+constexpr const char* kFormat = kVerdictFormat;
+constexpr int kVersion = kVerdictVersion;
+
+double finite(double v, const char* what) {
+  if (!std::isfinite(v)) throw common::Error(std::string("refusing to write non-finite ") + what);
+  return v;
+}
+
+using verdict_json::pose_json;
 
 // A malformed member: parse_verdict adds the file ("malformed verdict: hypotheses[1].score ...").
 using Malformed = MalformedField;
@@ -53,7 +72,7 @@ std::string describe(const Json& v) {
 }
 
 const Json& at(const Json& j, const char* key, const std::string& where) {
-  return json_member(j, key, where.empty() ? "verdict" : where);
+  return formats::json_member(j, key, where.empty() ? "verdict" : where);
 }
 
 std::string name_of(const std::string& where, const char* key) {
@@ -110,17 +129,34 @@ std::string name_at(const Json& j, const char* key, const std::string& where, bo
   return v.get<std::string>();
 }
 
+// A rigid transform as canopy's writers write it: 16 numbers, row-major, the last row 0 0 0 1,
+// the 3 x 3 part a rotation (orthonormal within 1e-6, determinant +1).
 Pose pose_from(const Json& j, const std::string& where) {
   if (!j.is_object()) throw Malformed(where + " must be an object, not " + describe(j));
   const Json& m = at(j, "matrix", where);
   if (!m.is_array() || m.size() != 16) throw Malformed(where + ".matrix must be 16 numbers");
-  for (const auto& v : m) {
-    if (!v.is_number()) throw Malformed(where + ".matrix must be 16 numbers, not " + describe(v));
+  std::array<double, 16> a{};
+  for (std::size_t i = 0; i < 16; ++i) {
+    if (!m[i].is_number()) throw Malformed(where + ".matrix must be 16 numbers, not " + describe(m[i]));
+    a[i] = m[i].get<double>();
   }
+  if (a[12] != 0 || a[13] != 0 || a[14] != 0 || a[15] != 1)
+    throw Malformed(where + ".matrix: last row is not 0 0 0 1");
+  for (int r = 0; r < 3; ++r) {
+    for (int s = 0; s < 3; ++s) {
+      double dot = 0;
+      for (int k = 0; k < 3; ++k) dot += a[4 * k + r] * a[4 * k + s];
+      if (std::fabs(dot - (r == s ? 1 : 0)) > 1e-6)
+        throw Malformed(where + ".matrix: the 3 x 3 part is not a rotation");
+    }
+  }
+  const double det = a[0] * (a[5] * a[10] - a[6] * a[9]) - a[1] * (a[4] * a[10] - a[6] * a[8]) +
+                     a[2] * (a[4] * a[9] - a[5] * a[8]);
+  if (det < 0) throw Malformed(where + ".matrix: the 3 x 3 part is a reflection");
   Pose p;
   for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) p.rotation[3 * r + c] = m[4 * r + c].get<double>();
-    p.translation[r] = m[4 * r + 3].get<double>();
+    for (int c = 0; c < 3; ++c) p.rotation[3 * r + c] = a[4 * r + c];
+    p.translation[r] = a[4 * r + 3];
   }
   return p;
 }
@@ -169,16 +205,40 @@ Hypothesis hypothesis_from(const Json& j, const std::string& w) {
   return h;
 }
 
-}  // namespace
-
-std::array<double, 3> euler_degrees(const Pose& p) {
-  const auto& R = p.rotation;
-  const double deg = 180.0 / common::kPi;
-  const double pitch = std::asin(std::max(-1.0, std::min(1.0, -R[6])));
-  const double heading = std::atan2(R[3], R[0]);
-  const double roll = std::atan2(R[7], R[8]);
-  return {heading * deg, pitch * deg, roll * deg};
+// classify's members of a class-level answer (docs/decisions/classify.md §9), each optional.
+void class_keys_from(const Json& j, Verdict& v) {
+  auto optional_name = [&](const char* key) { return j.contains(key) ? name_at(j, key, "", true) : ""; };
+  v.level = optional_name("level");
+  v.group = optional_name("group");
+  v.reason = optional_name("reason");
+  if (j.contains("detail") && !j["detail"].is_null()) v.detail = string_at(j, "detail", "");
+  auto optional_number = [&](const Json& o, const char* key, const std::string& where) -> std::optional<double> {
+    if (!o.contains(key) || o[key].is_null()) return std::nullopt;
+    return number_at(o, key, where);
+  };
+  v.density = optional_number(j, "density", "");
+  if (j.contains("density_needed") && !j["density_needed"].is_null()) {
+    const Json& d = j["density_needed"];
+    if (!d.is_object()) throw Malformed("density_needed must be an object or null, not " + describe(d));
+    v.density_class = optional_number(d, "class", "density_needed");
+    v.density_model = optional_number(d, "model", "density_needed");
+  }
+  v.heading_ambiguity = optional_number(j, "heading_ambiguity_deg", "");
+  if (j.contains("size") && !j["size"].is_null()) {
+    const Json& sz = j["size"];
+    if (!sz.is_array() || sz.size() != 3)
+      throw Malformed("size must be [L, W, H] or null, not " + describe(sz));
+    std::array<double, 3> lwh{};
+    for (std::size_t k = 0; k < 3; ++k) {
+      if (!sz[k].is_number() || !(sz[k].get<double>() >= 0))
+        throw Malformed("size must be three numbers >= 0, not " + describe(sz[k]));
+      lwh[k] = sz[k].get<double>();
+    }
+    v.size = lwh;
+  }
 }
+
+}  // namespace
 
 std::string serialize_verdict(const Verdict& v) {
   const Json provenance = provenance_json(v.provenance);
@@ -235,10 +295,13 @@ Verdict parse_verdict(const std::string& text, const std::string& name) {
       v.provenance.inputs.push_back(in.get<std::string>());
     }
     v.candidate = string_at(j, "candidate", "");
+    if (v.candidate.empty()) throw Malformed("candidate must name the candidate's points (verify --points)");
     v.model = name_at(j, "model", "", true);
     v.confidence = number_at(j, "confidence", "");
     if (!(v.confidence >= 0 && v.confidence <= 1)) throw Malformed("confidence outside [0, 1]");
     v.transform = optional_pose_from(j, "transform", "");
+    v.pose = optional_pose_from(j, "pose", "");
+    v.pose_tile = optional_pose_from(j, "pose_tile", "");
     const Json& hyps = at(j, "hypotheses", "");
     if (!hyps.is_array()) throw Malformed("hypotheses must be an array, not " + describe(hyps));
     for (std::size_t i = 0; i < hyps.size(); ++i) {
@@ -258,6 +321,11 @@ Verdict parse_verdict(const std::string& text, const std::string& name) {
     if ((v.chosen >= 0) != !v.model.empty() || (v.chosen >= 0 && v.hypotheses[v.chosen].model != v.model)) {
       throw Malformed("model and chosen disagree");
     }
+    class_keys_from(j, v);
+    if (!v.model.empty() && !v.pose && !v.pose_tile) throw Malformed("a model without a pose");
+    if (v.model.empty() && !v.vehicle_class.empty() && v.level == "class" && !v.pose && !v.pose_tile) {
+      throw Malformed("a class without a pose");
+    }
   } catch (const Malformed& e) { throw DataError(name, std::string("malformed verdict: ") + e.what()); }
   return v;
 }
@@ -276,4 +344,4 @@ void write_verdict(const Verdict& verdict, const std::string& path) {
   common::write_file_atomic(path, serialize_verdict(verdict));
 }
 
-}  // namespace canopy::formats
+}  // namespace canopy::documents

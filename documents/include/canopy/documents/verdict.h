@@ -1,6 +1,8 @@
-// Verdict document of canopy (format "canopy.verdict", version 1), written by `verify`.
-// See formats/README.md. The reader checks "format" and "version" and names the file in every
-// error.
+// Verdict document of canopy (format "canopy.verdict", version 1): verify's and baseline
+// --verdict's model-level answer, and classify's class-level answer ("level": "class", written
+// by documents/classification.h). formats/README.md "Verdict". One reader for every tool that
+// reads a verdict (collect, report, famscore, the tests): it checks "format" and "version",
+// every member it reads and every pose (a rigid transform), and names the file in every error.
 #pragma once
 
 #include <array>
@@ -8,16 +10,18 @@
 #include <string>
 #include <vector>
 
+#include "canopy/formats/pose.h"
 #include "canopy/formats/provenance.h"
 
-namespace canopy::formats {
+namespace canopy::documents {
 
-// A rigid pose: p_to = rotation * p_from + translation. Written as the 4 x 4 row-major matrix
-// plus heading/pitch/roll (z-y-x Euler angles, degrees) and the translation (m), float64.
-struct Pose {
-  std::array<double, 9> rotation{1, 0, 0, 0, 1, 0, 0, 0, 1};  // row-major
-  std::array<double, 3> translation{};
-};
+using formats::Pose;
+
+inline constexpr const char* kVerdictFormat = "canopy.verdict";
+inline constexpr int kVerdictVersion = 1;
+
+// A pose (formats::Pose) is written as {"matrix": the 4 x 4 row-major matrix, 16 numbers,
+// "translation", "heading_deg", "pitch_deg", "roll_deg"} (z-y-x Euler angles, degrees).
 
 struct Hypothesis {
   std::string model;
@@ -36,7 +40,7 @@ struct Hypothesis {
 };
 
 struct Verdict {
-  Provenance provenance;
+  formats::Provenance provenance;
   std::string candidate;               // points path, as given
   std::string model;                   // "" = none
   double confidence = 0;               // in [0, 1]: probability that `model` is right (or, for none,
@@ -51,15 +55,29 @@ struct Verdict {
   std::string vehicle_class;  // "" = none (no hypothesis, or its model has no class)
   std::string nearest_instance;
   double class_score = 0, class_margin = 0;
-};
 
-// Heading, pitch, roll in degrees of a rotation (R = Rz(heading) Ry(pitch) Rx(roll)).
-std::array<double, 3> euler_degrees(const Pose& pose);
+  // Read, not written by serialize_verdict (it writes the chosen hypothesis's): the top-level
+  // "pose" (model or class frame -> candidate frame) and "pose_tile" (-> tile frame).
+  std::optional<Pose> pose, pose_tile;
+  // classify's class-level answer (docs/decisions/classify.md §9), when the verdict has these
+  // members (each optional; "" / nullopt when absent or null).
+  std::string level;                                   // "class" for classify's answers
+  std::string group;                                   // vehicle group
+  std::string reason;                                  // why none: too_sparse, vegetation_like, ...
+  std::string detail;                                  // one sentence
+  std::optional<double> density;                       // object points per m² of its rectangle
+  std::optional<double> density_class, density_model;  // "density_needed"
+  std::optional<std::array<double, 3>> size;           // L W H (m), >= 0
+  std::optional<double> heading_ambiguity;             // degrees (180: front and back unknown)
+};
 
 // Every error is a common::DataError naming the file and the member ("malformed verdict:
 // hypotheses[0].gmatch_rank must be an integer in [1, 2147483647], not 1.5"): integers are
-// never cast from other numbers, every model, class and nearest instance is a name
-// (is_model_name), chosen is -1 or a hypothesis index and agrees with model.
+// never cast from other numbers, the candidate is a non-empty path, every model, class, group,
+// reason and nearest instance is a name (is_model_name), confidence lies in [0, 1], chosen is
+// -1 or a hypothesis index and agrees with model, every pose matrix is 16 numbers with the last
+// row 0 0 0 1 and a rotation (orthonormal within 1e-6, determinant +1) as its 3 x 3 part, a
+// model (or a class-level class) has a pose, a size is three numbers >= 0.
 Verdict read_verdict(const std::string& path);
 Verdict parse_verdict(const std::string& text, const std::string& name);
 
@@ -70,4 +88,4 @@ bool is_model_name(const std::string& name);
 void write_verdict(const Verdict& verdict, const std::string& path);
 std::string serialize_verdict(const Verdict& verdict);
 
-}  // namespace canopy::formats
+}  // namespace canopy::documents
