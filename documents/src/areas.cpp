@@ -25,7 +25,8 @@ double length(const Json& j, const char* key, bool positive) {
 long long integer(const Json& j, const char* key, long long lo) {
   const Json& v = at(j, key, "areas");
   const bool ok = v.is_number_unsigned() || (v.is_number_integer() && v.get<long long>() >= lo);
-  if (!ok || v.get<long long>() < lo || v.get<unsigned long long>() > static_cast<unsigned long long>(kAreasMaxCount)) {
+  if (!ok || v.get<long long>() < lo ||
+      v.get<unsigned long long>() > static_cast<unsigned long long>(kAreasMaxCount)) {
     throw Malformed(std::string(key) + " must be an integer in [" + std::to_string(lo) + ", " +
                     std::to_string(kAreasMaxCount) + "]");
   }
@@ -42,12 +43,12 @@ std::string write_areas(const Areas& a, const std::vector<std::string>& inputs) 
       "{\"format\": \"canopy.areas\", \"version\": 1,\n \"provenance\": {\"tool\": \"areas\", "
       "\"version\": \"" CANOPY_VERSION "\", \"inputs\": [";
   for (std::size_t i = 0; i < inputs.size(); ++i) s += (i ? ", " : "") + Json(inputs[i]).dump();
-  s += "]},\n \"spacing\": " + num(a.spacing) + ", \"cell\": " + num(a.cell) + ", \"voxel\": " + num(a.voxel) +
-       ", \"max_segments\": " + std::to_string(a.max_segments) +
+  s += "]},\n \"spacing\": " + num(a.spacing) + ", \"cell\": " + num(a.cell) +
+       ", \"voxel\": " + num(a.voxel) + ", \"max_segments\": " + std::to_string(a.max_segments) +
        ",\n \"target_points\": " + std::to_string(a.target_points) +
        ", \"target_samples\": " + std::to_string(a.target_samples) + ",\n \"visible\": " + num(a.visible) +
-       ", \"samples\": " + num(a.samples) + ", \"mesh\": " + num(a.mesh) + ", \"segments\": " + num(a.segments) +
-       ", \"matched\": " + num(a.matched) + "}\n";
+       ", \"samples\": " + num(a.samples) + ", \"mesh\": " + num(a.mesh) +
+       ", \"segments\": " + num(a.segments) + ", \"matched\": " + num(a.matched) + "}\n";
   return s;
 }
 

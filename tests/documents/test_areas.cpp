@@ -34,9 +34,12 @@ documents::Areas example() {
 TEST_CASE("areas: the writer's text, byte for byte, and it reads back to the same values") {
   const std::string text = documents::write_areas(example(), {"scan.pcd", "a \"b\".pcd"});
   CHECK(text ==
-        "{\"format\": \"canopy.areas\", \"version\": 1,\n \"provenance\": {\"tool\": \"areas\", \"version\": \"" CANOPY_VERSION
-        "\", \"inputs\": [\"scan.pcd\", \"a \\\"b\\\".pcd\"]},\n \"spacing\": 0.03, \"cell\": 0.045, \"voxel\": 0.128, "
-        "\"max_segments\": 15,\n \"target_points\": 1234, \"target_samples\": 321,\n \"visible\": 44.5, \"samples\": "
+        "{\"format\": \"canopy.areas\", \"version\": 1,\n \"provenance\": {\"tool\": \"areas\", \"version\": "
+        "\"" CANOPY_VERSION
+        "\", \"inputs\": [\"scan.pcd\", \"a \\\"b\\\".pcd\"]},\n \"spacing\": 0.03, \"cell\": 0.045, "
+        "\"voxel\": 0.128, "
+        "\"max_segments\": 15,\n \"target_points\": 1234, \"target_samples\": 321,\n \"visible\": 44.5, "
+        "\"samples\": "
         "23.25, \"mesh\": 21.0, \"segments\": 20.5, \"matched\": 18.75}\n");
   const documents::Areas b = documents::read_areas(text, "a.json");
   CHECK(b.visible == 44.5);
@@ -83,7 +86,8 @@ TEST_CASE("areas: refusals name the file and the problem") {
            {"\"max_segments\": 15", "\"max_segments\": 100001", "max_segments must be at most 100000"},
            {"\"target_points\": 1234", "\"target_points\": -1", "target_points must be an integer"},
            {"\"target_points\": 1234", "\"target_points\": 1e30", "target_points must be an integer"},
-           {"\"target_samples\": 321", "\"target_samples\": 9007199254740993", "target_samples must be an integer"},
+           {"\"target_samples\": 321", "\"target_samples\": 9007199254740993",
+            "target_samples must be an integer"},
            {"\"segments\": 20.5", "\"segments\": -1e+308", "segments must be a number >= 0"},
            {"\"cell\": 0.045", "\"cell\": 0", "cell must be a positive number"},
            {"\"visible\": 44.5", "\"visible\": \"44.5\"", "visible must be a number"},

@@ -10,7 +10,7 @@ namespace canopy::documents {
 
 inline constexpr const char* kAreasFormat = "canopy.areas";
 inline constexpr int kAreasVersion = 1;
-inline constexpr int kAreasMaxSegments = 100000;   // bound of max_segments (areas' --max-segments)
+inline constexpr int kAreasMaxSegments = 100000;        // bound of max_segments (areas' --max-segments)
 inline constexpr long long kAreasMaxCount = 1LL << 53;  // bound of the counts
 
 // All areas in m²; label 1 = target.
