@@ -149,6 +149,30 @@ Candidates read_candidates_file(const std::string& path) {
   return read_candidates(common::read_file(path), path);
 }
 
+std::string Candidates::written_by() const {
+  if (!provenance.is_object()) return "";
+  const auto it = provenance.find("tool");
+  return it != provenance.end() && it->is_string() ? it->get<std::string>() : "";
+}
+
+Json detect_density_json(const DetectDensity& d) {
+  auto finite = [](double v) { return finite_or_throw(v, "detect"); };
+  auto optional = [&](const std::optional<double>& v) { return v ? Json(finite(*v)) : Json(nullptr); };
+  return Json{{"all", finite(d.all)},
+              {"ground", optional(d.ground)},
+              {"first", optional(d.first)},
+              {"cell", 1.0},
+              {"occupied_cells", d.occupied_cells},
+              {"open_ground_cells", d.open_ground_cells},
+              {"rule", Json{{"density", finite(d.rule)},
+                            {"voxel", finite(d.voxel)},
+                            {"voxel_from", d.voxel_by_rule ? "density" : "option"},
+                            {"min_planarity", finite(d.min_planarity)},
+                            {"min_planarity_from", d.planarity_by_rule ? "density" : "option"},
+                            {"dtm_cell", finite(d.dtm_cell)},
+                            {"dtm_cell_from", d.cell_by_rule ? "density" : "option"}}}};
+}
+
 std::string write_candidates(const Candidates& d, const formats::Provenance& prov) {
   auto finite = [](double v) { return finite_or_throw(v, "detect"); };
   const auto& origin = need(d.origin, "origin");

@@ -95,4 +95,95 @@ SceneTruth read_scene_truth_file(const std::string& path) {
   return read_scene_truth(common::read_file(path), path);
 }
 
+namespace {
+
+Json point(const Point3& p) { return Json::array({p[0], p[1], p[2]}); }
+
+Json vehicle_json(const RenderedVehicle& v) {
+  Json e;
+  e["instance"] = v.instance;
+  e["model"] = v.model;
+  if (!v.cls.empty()) e["class"] = v.cls;
+  e["line"] = v.line;
+  e["pose"] = {{"x", v.x},         {"y", v.y},      {"z", v.z}, {"heading", v.heading},
+               {"pitch", v.pitch}, {"roll", v.roll}};
+  e["size"] = point(v.size);
+  Json fp = Json::array();
+  for (const auto& p : v.footprint) fp.push_back(Json::array({p[0], p[1]}));
+  e["footprint"] = fp;
+  e["canopy_cover"] = v.canopy_cover;
+  return e;
+}
+
+Json clutter_json(const RenderedClutter& c) {
+  Json e;
+  e["kind"] = c.kind;
+  e["box"] = {{"centre", point(c.centre)},
+              {"size", point(c.size)},
+              {"heading", c.heading},
+              {"pitch", c.pitch},
+              {"roll", c.roll}};
+  return e;
+}
+
+void sensor_json(const RenderedSensor& s, Json* j) {
+  Json keys = Json::object();
+  for (const auto& [k, v] : s.keys) keys[k] = v;
+  (*j)["sensor"] = {{"preset", s.preset.empty() ? Json(nullptr) : Json(s.preset)}, {"keys", keys}};
+  Json lines = Json::array();
+  for (const RenderedFlightLine& l : s.flight_lines) {
+    lines.push_back({{"point_source_id", l.point_source_id},
+                     {"heading", l.heading},
+                     {"offset", l.offset},
+                     {"start", point(l.start)},
+                     {"end", point(l.end)},
+                     {"gps_time", Json::array({l.t0, l.t1})}});
+  }
+  (*j)["flight_lines"] = lines;
+  (*j)["density"] = {{"returns_per_m2", s.returns_per_m2},
+                     {"first_returns_per_m2", s.first_returns_per_m2},
+                     {"pulses_per_m2", s.pulses_per_m2},
+                     {"pulses_by_returns", s.pulses_by_returns}};
+}
+
+}  // namespace
+
+std::string write_scene_truth(const RenderedTruth& t, const formats::Provenance& provenance) {
+  Json j;
+  j["format"] = kSceneTruthFormat;
+  j["version"] = kSceneTruthVersion;
+  j["provenance"] = formats::provenance_json(provenance);
+  j["scene"] = t.scene;
+  j["extent"] = Json::array({t.extent_x, t.extent_y});
+  j["origin"] = t.origin ? point(*t.origin) : Json(nullptr);
+  j["terrain"] = t.terrain;
+  j["angles"] = t.angles;
+  Json vehicles = Json::array();
+  for (const RenderedVehicle& v : t.vehicles) vehicles.push_back(vehicle_json(v));
+  j["vehicles"] = vehicles;
+  Json clutter = Json::array();
+  for (const RenderedClutter& c : t.clutter) clutter.push_back(clutter_json(c));
+  j["clutter"] = clutter;
+  j["vegetation"] = {
+      {"broadleaf", t.broadleaf}, {"conifer", t.conifer}, {"bushes", t.bushes}, {"discs", t.discs}};
+  j["canopy_cover"] = t.canopy_cover;
+  j["canopy_spacing"] = t.canopy_spacing;
+  if (t.sensor) {
+    sensor_json(*t.sensor, &j);
+  } else {
+    Json images = Json::array();
+    for (const RenderedImage& v : t.images) {
+      images.push_back({{"view_idx", v.view_idx},
+                        {"heading", v.heading},
+                        {"flight_line", v.flight_line},
+                        {"elevation", v.elevation},
+                        {"azimuth", v.azimuth},
+                        {"toward_sensor", point(v.toward_sensor)},
+                        {"swath_area", v.swath_area}});
+    }
+    j["images"] = images;
+  }
+  return j.dump(2) + "\n";
+}
+
 }  // namespace canopy::documents

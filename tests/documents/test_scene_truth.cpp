@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -92,4 +93,84 @@ TEST_CASE("scene truth: refusals name the file and the problem") {
   CHECK_THAT(refusal(corner), Catch::Contains("vehicles[0].footprint[1] must be [x, y], not \"x\""));
   CHECK_THAT(refusal(uncertain), Catch::Contains("uncertain[0]: missing \"pose\""));
   CHECK_THAT(refusal(model), Catch::Contains("vehicles[0].model must be a string, not 3"));
+}
+
+TEST_CASE("scene truth: rangetrace's writer, byte for byte, and the reader reads what it wrote") {
+  documents::RenderedTruth t;
+  t.scene = "tile.ini";
+  t.extent_x = 16;
+  t.extent_y = 12.5;
+  t.origin = documents::Point3{500000, 5400000, 200};
+  t.terrain = "flat";
+  t.angles = "degrees";
+  documents::RenderedVehicle v;
+  v.instance = 1;
+  v.model = "sedan";
+  v.line = 3;
+  v.x = 500005;
+  v.y = 5400006;
+  v.z = 200;
+  v.heading = 30;
+  v.size = {4.5, 1.8, 1.4};
+  v.footprint = {{0, 0}, {4, 0}, {4, 2}};
+  v.canopy_cover = 0.25;
+  documents::RenderedVehicle w = v;
+  w.instance = 2;
+  w.cls = "hatchback";
+  w.footprint = {{1, 1}, {2, 1}, {2, 2}};
+  t.vehicles = {v, w};
+  t.clutter = {{"shed", {1, 2, 3}, {2, 2, 2}, 90, 0, 0}};
+  t.broadleaf = 2;
+  t.discs = 1;
+  t.canopy_cover = 0.5;
+  t.canopy_spacing = 0.25;
+  t.images = {{0, 0, 1, 60, 0, {0, 0.5, 0.8660254037844386}, 200.5}};
+  const std::string text =
+      documents::write_scene_truth(t, {"rangetrace", "9.9", {{"seed", "7"}}, {"tile.ini"}});
+  const Json j = Json::parse(text);
+  CHECK(text.rfind("{\n  \"format\": \"canopy.scene_truth\",\n  \"version\": 1,\n  \"provenance\": {\n", 0) ==
+        0);
+  CHECK(text.back() == '\n');
+  std::vector<std::string> keys;
+  for (const auto& [k, x] : j.items()) keys.push_back(k);
+  CHECK(keys == std::vector<std::string>{"format", "version", "provenance", "scene", "extent", "origin",
+                                         "terrain", "angles", "vehicles", "clutter", "vegetation",
+                                         "canopy_cover", "canopy_spacing", "images"});
+  CHECK(j["provenance"].dump() ==
+        R"({"tool":"rangetrace","version":"9.9","parameters":{"seed":"7"},"inputs":["tile.ini"]})");
+  CHECK(
+      j["vehicles"][0].dump() ==
+      R"({"instance":1,"model":"sedan","line":3,"pose":{"x":500005.0,"y":5400006.0,"z":200.0,"heading":30.0,)"
+      R"("pitch":0.0,"roll":0.0},"size":[4.5,1.8,1.4],"footprint":[[0.0,0.0],[4.0,0.0],[4.0,2.0]],"canopy_cover":0.25})");
+  CHECK(j["vehicles"][1]["class"] == "hatchback");
+  CHECK(j["clutter"][0].dump() ==
+        R"({"kind":"shed","box":{"centre":[1.0,2.0,3.0],"size":[2.0,2.0,2.0],"heading":90.0,"pitch":0.0,"roll":0.0}})");
+  CHECK(j["vegetation"].dump() == R"({"broadleaf":2,"conifer":0,"bushes":0,"discs":1})");
+  CHECK(j["images"][0].dump() == R"({"view_idx":0,"heading":0.0,"flight_line":1,"elevation":60.0,"azimuth":0.0,)"
+                                 R"("toward_sensor":[0.0,0.5,0.8660254037844386],"swath_area":200.5})");
+  const documents::SceneTruth back = documents::read_scene_truth(text, "truth.json");
+  REQUIRE(back.vehicles.size() == 2);
+  CHECK(back.vehicles[1].cls == "hatchback");
+  CHECK(back.vehicles[0].pose->heading == 30.0);
+  CHECK((*back.extent)[1] == 12.5);
+
+  // Sensor mode: sensor, flight_lines and density instead of images; a null origin and preset.
+  t.origin.reset();
+  documents::RenderedSensor s;
+  s.keys = {{"altitude", "1000m"}};
+  s.flight_lines = {{1, 90, -5, {0, 0, 1000}, {100, 0, 1000}, 10.5, 20.25}};
+  s.returns_per_m2 = 12;
+  s.first_returns_per_m2 = 10;
+  s.pulses_per_m2 = 11;
+  s.pulses_by_returns = {0, 7, 3};
+  t.sensor = s;
+  const Json k = Json::parse(documents::write_scene_truth(t, {}));
+  CHECK(k["origin"].is_null());
+  CHECK_FALSE(k.contains("images"));
+  CHECK(k["sensor"].dump() == R"({"preset":null,"keys":{"altitude":"1000m"}})");
+  CHECK(k["flight_lines"][0].dump() ==
+        R"({"point_source_id":1,"heading":90.0,"offset":-5.0,"start":[0.0,0.0,1000.0],"end":[100.0,0.0,1000.0],)"
+        R"("gps_time":[10.5,20.25]})");
+  CHECK(k["density"].dump() ==
+        R"({"returns_per_m2":12.0,"first_returns_per_m2":10.0,"pulses_per_m2":11.0,"pulses_by_returns":[0,7,3]})");
 }

@@ -12,14 +12,14 @@ fail() { echo "FAIL: $*" >&2; exit 1; }
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 tree="$tmp/src"
 mkdir -p "$tree"
-(cd "$src" && cp -a Makefile.experiments CMakeLists.txt common formats tools scripts share mk "$tree/") ||
+(cd "$src" && cp -a Makefile.experiments CMakeLists.txt common formats documents tools scripts share mk "$tree/") ||
   fail "cannot copy the source tree"
 cd "$tree" || exit 1
 # The fake build also leaves the records CMake's Makefile generator keeps, which
 # scripts/tool-deps.sh reads (checked against the real build at the end): per target a
 # DependInfo.cmake naming its sources, their depfiles and the targets it links. Every tool links
-# canopy_formats and canopy_common; report links canopy_areas_lib too (tools/report/
-# CMakeLists.txt). Depfiles name files relative to the target's build directory (as with
+# canopy_documents, canopy_formats and canopy_common (tools/CMakeLists.txt); no tool links
+# another tool's library (report read areas.json through tools/areas' library until issue 30). Depfiles name files relative to the target's build directory (as with
 # ccache's base_dir) or, for common/, absolute (as without).
 cat >"$tmp/records.sh" <<'REC'
 #!/usr/bin/env bash
@@ -60,11 +60,10 @@ echo "\$t" >>"$tmp/cmake.calls"
 if [ -f "$tmp/content/\$t" ]; then cat "$tmp/content/\$t"; else echo "binary \$t v1"; fi >"$tmp/build/bin/\$t.new"
 # a real build leaves an unchanged binary alone; only a changed one is replaced
 cmp -s "$tmp/build/bin/\$t.new" "$tmp/build/bin/\$t" && rm "$tmp/build/bin/\$t.new" || mv "$tmp/build/bin/\$t.new" "$tmp/build/bin/\$t"
-libs="formats/CMakeFiles/canopy_formats.dir common/CMakeFiles/canopy_common.dir"
+libs="documents/CMakeFiles/canopy_documents.dir formats/CMakeFiles/canopy_formats.dir common/CMakeFiles/canopy_common.dir"
 "$tmp/records.sh" "$tmp/build" "$tree" canopy_common common
 "$tmp/records.sh" "$tmp/build" "$tree" canopy_formats formats common/CMakeFiles/canopy_common.dir
-"$tmp/records.sh" "$tmp/build" "$tree" canopy_areas_lib tools/areas \$libs
-[ "\$t" = report ] && libs="\$libs tools/areas/CMakeFiles/canopy_areas_lib.dir"
+"$tmp/records.sh" "$tmp/build" "$tree" canopy_documents documents formats/CMakeFiles/canopy_formats.dir common/CMakeFiles/canopy_common.dir
 "$tmp/records.sh" "$tmp/build" "$tree" "\$t" "tools/\$t" \$libs
 mkdir -p "$tmp/build/CMakeFiles"
 printf 'set(CMAKE_MAKEFILE_DEPENDS\n  "CMakeCache.txt"\n  "%s/CMakeLists.txt"\n  "%s/tools/CMakeLists.txt"\n  )\n' \
@@ -169,22 +168,40 @@ at $((now - 88)) "$tmp/build/stamps/fitvox.sha"
 "${mk[@]}" -q all || fail "make -q all not clean after restoring fitvox"
 
 # No stale binaries: a tool depends on every source it was compiled from, as CMake recorded it
-# (scripts/tool-deps.sh), not on a hand-written list. report links the areas library: editing
-# tools/areas/areas.cpp rebuilds areas and report, and no other tool (the Makefile before listed
-# only tools/report/ for report, so the experiment ran an old report).
+# (scripts/tool-deps.sh), not on a hand-written list. No tool includes or links another tool:
+# editing tools/areas/areas.cpp rebuilds areas and no other tool (report read areas.json through
+# tools/areas' library until issue 30, and was rebuilt with it; the Makefile before listed only
+# tools/report/ for report, so the experiment ran an old report).
 built() { sort -u "$tmp/cmake.calls" 2>/dev/null | tr '\n' ' '; }
 rm -f "$tmp/cmake.calls"
 echo "// an edit" >>tools/areas/areas.cpp
 plan=$("${mk[@]}" -n all 2>&1)
-[ "$(built)" = "areas report " ] || fail "editing tools/areas/areas.cpp rebuilt '$(built)', not 'areas report '"
-[ "$(echo "$plan" | stages)" -eq 0 ] || fail "same-bytes relinks of areas and report plan stages"
-# ... a header of it, and report's bytes change: report's stage runs, areas' does not.
+[ "$(built)" = "areas " ] || fail "editing tools/areas/areas.cpp rebuilt '$(built)', not 'areas '"
+[ "$(echo "$plan" | stages)" -eq 0 ] || fail "a same-bytes relink of areas plans stages"
+rm -f "$tmp/cmake.calls"
+echo "// an edit" >>tools/areas/areas.h
+"${mk[@]}" -n all >/dev/null 2>&1
+[ "$(built)" = "areas " ] || fail "editing tools/areas/areas.h rebuilt '$(built)', not 'areas '"
+# A document's source or header (documents/: areas writes areas.json, report reads it) rebuilds
+# every tool that reads or writes it: every tool links canopy_documents, so every tool of the graph.
+for f in documents/src/areas.cpp documents/include/canopy/documents/areas.h; do
+  [ -f "$f" ] || fail "$f missing from the tree"
+  rm -f "$tmp/cmake.calls"
+  echo "// an edit" >>"$f"
+  plan=$("${mk[@]}" -n all 2>&1)
+  for t in areas report; do
+    case " $(built)" in *" $t "*) ;; *) fail "editing $f did not rebuild $t (it reads or writes areas.json): '$(built)'" ;; esac
+  done
+  [ "$(built)" = "$(printf '%s\n' "${used[@]}" | sort | tr '\n' ' ')" ] ||
+    fail "editing $f rebuilt '$(built)', not every tool of the graph"
+  [ "$(echo "$plan" | stages)" -eq 0 ] || fail "same-bytes relinks after editing $f plan stages"
+done
+# ... and report's bytes change with it: report's stage runs, areas' does not.
 rm -f "$tmp/cmake.calls"
 echo "binary report v2" >"$tmp/content/report"
-echo "// an edit" >>tools/areas/areas.h
+echo "// an edit" >>documents/src/areas.cpp
 plan=$("${mk[@]}" -n all 2>&1)
-[ "$(built)" = "areas report " ] || fail "editing tools/areas/areas.h rebuilt '$(built)', not 'areas report '"
-plans "bin/report " || fail "report's stage not planned after its binary changed with tools/areas/areas.h"
+plans "bin/report " || fail "report's stage not planned after its binary changed with documents/src/areas.cpp"
 if plans "bin/areas "; then fail "areas' stage planned, but its binary did not change"; fi
 rm "$tmp/content/report"
 echo "binary report v1" >"$tmp/build/bin/report"
@@ -266,20 +283,25 @@ plans "bin/cocone " || fail "cocone not re-planned after fitvox.ini changed"
 if plans "bin/addnoise "; then fail "addnoise re-planned, but only fitvox.ini changed"; fi
 
 # The records of the real build (the one these tests run from: <build>/bin is $2): report's
-# record names the areas library's sources and the shared ones it includes, and no other
-# tool's; famscore's and rangetrace's name the simulator's (sim/) sources they link.
+# record names the documents/ it reads (areas.json's reader) and the shared sources it
+# includes, and no other tool's (not tools/areas); areas' names the same document (its writer);
+# famscore's and rangetrace's name the simulator's (sim/) sources they link.
 real_build=$(cd "${2:-}/.." 2>/dev/null && pwd)
 if [ -n "$real_build" ] && [ -f "$real_build/CMakeFiles/Makefile.cmake" ]; then
   cd "$src" || exit 1
   scripts/tool-deps.sh "$real_build" report "$tmp/report.mk"
-  for f in tools/areas/areas.cpp tools/areas/areas.h tools/report/report.cpp tools/report/main.cpp \
+  for f in documents/src/areas.cpp documents/include/canopy/documents/areas.h tools/report/report.cpp tools/report/main.cpp \
            documents/src/stage_time.cpp documents/include/canopy/documents/stage_time.h common/CMakeLists.txt; do
     grep -q "^\$(BIN)/report:.* $f\( \|\$\)" "$tmp/report.mk" || fail "the real build's record of report misses $f"
   done
   # (every CMakeLists.txt is there: CMake reads them all to configure any target)
-  if grep "^\$(BIN)/report:" "$tmp/report.mk" | tr ' ' '\n' | grep -q "^tools/fitvox/.*\.\(cpp\|h\)$\|^/\|\.md$"; then
+  if grep "^\$(BIN)/report:" "$tmp/report.mk" | tr ' ' '\n' | grep -q "^tools/\(fitvox\|areas\)/.*\.\(cpp\|h\)$\|^/\|\.md$"; then
     fail "the real build's record of report names a file it is not built from"
   fi
+  scripts/tool-deps.sh "$real_build" areas "$tmp/areas.mk"
+  for f in documents/src/areas.cpp documents/include/canopy/documents/areas.h tools/areas/areas.cpp; do
+    grep -q "^\$(BIN)/areas:.* $f\( \|\$\)" "$tmp/areas.mk" || fail "the real build's record of areas misses $f"
+  done
   # famscore and rangetrace link the simulator's library (sim/): a change there rebuilds both.
   scripts/tool-deps.sh "$real_build" famscore "$tmp/famscore.mk"
   for f in sim/src/families.cpp sim/include/canopy/sim/families.h sim/CMakeLists.txt; do

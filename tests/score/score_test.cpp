@@ -54,11 +54,14 @@ std::string detections_text(Json dets, int none = 0) {
       .dump();
 }
 
+// The score as its document's JSON (documents::write_scene_score).
+Json as_json(const documents::SceneScore& s) { return Json::parse(documents::write_scene_score(s, {})); }
+
 Json run(const Json& dets, score::Params p = {}) {
   score::Tile t;
   t.truth = score::parse_truth(truth_text(), "truth.json");
   t.detections = score::parse_detections(detections_text(dets), "detections.json");
-  return score::score({t}, p);
+  return as_json(score::score({t}, p));
 }
 
 const Json& all(const Json& s) { return s["summary"][0]; }
@@ -323,21 +326,22 @@ TEST_CASE("score CLI: a bad input names the file and writes nothing") {
                  dir / "err.txt", &err) == 2);
 }
 
-TEST_CASE("score::run puts the provenance after format and version, the score after it") {
+TEST_CASE("the score document: the provenance after format and version, the score after it") {
   score::Inputs in;
   score::Tile t;
   t.truth = score::parse_truth(truth_text(), "truth.json");
   t.detections = score::parse_detections(detections_text(Json::array()), "detections.json");
   in.tiles = {t};
   in.provenance = {"score", "9.9", {{"csv", ""}}, {"detections.json", "truth.json"}};
-  const Json doc = score::run(score::Params{}, in);
+  const Json doc =
+      Json::parse(documents::write_scene_score(score::score(in.tiles, score::Params{}), in.provenance));
   std::vector<std::string> keys;
   for (const auto& [k, v] : doc.items()) keys.push_back(k);
   CHECK(keys == std::vector<std::string>{"format", "version", "provenance", "params", "tiles", "summary",
                                          "pr", "models", "cover_bins", "matches"});
   CHECK(doc["provenance"].dump() ==
         R"({"tool":"score","version":"9.9","parameters":{"csv":""},"inputs":["detections.json","truth.json"]})");
-  CHECK(doc["summary"] == score::score(in.tiles, score::Params{})["summary"]);
+  CHECK(doc["summary"] == as_json(score::score(in.tiles, score::Params{}))["summary"]);
 }
 
 TEST_CASE("score parameters out of range name their option") {
@@ -380,7 +384,7 @@ Json run_v2(Json dets, const std::string& truth = truth_text()) {
   score::Tile t;
   t.truth = score::parse_truth(truth, "truth.json");
   t.detections = score::parse_detections(doc.dump(), "detections.json");
-  return score::score({t}, score::Params{});
+  return as_json(score::score({t}, score::Params{}));
 }
 
 }  // namespace

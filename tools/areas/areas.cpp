@@ -1,7 +1,6 @@
 #include "areas/areas.h"
 
 #include <Eigen/Eigenvalues>
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <array>
@@ -10,7 +9,6 @@
 
 #include "canopy/common/error.h"
 #include "canopy/formats/cloud_eigen.h"
-#include "canopy/formats/json_document.h"
 #include "canopy/formats/labels.h"
 
 namespace canopy::areas {
@@ -32,8 +30,7 @@ double inv_l1(const Vector3d& n) {
   return l1 > 0 ? 1.0 / std::max(l1, 1.0) : 1.0 / 1.5;
 }
 
-// Shortest text that reads back to the same double (formats/README.md).
-std::string num(double v) { return nlohmann::json(v).dump(); }
+std::string num(double v) { return documents::number_text(v); }
 
 }  // namespace
 
@@ -148,62 +145,6 @@ double segments_area(const documents::SegmentGraph& graph, std::uint32_t label, 
     if (s->label == static_cast<int>(label)) area += s->area * s->label_purity;
   }
   return area;
-}
-
-std::string serialize(const Areas& a, const std::vector<std::string>& inputs) {
-  std::string s =
-      "{\"format\": \"canopy.areas\", \"version\": 1,\n \"provenance\": {\"tool\": \"areas\", "
-      "\"version\": \"" CANOPY_VERSION "\", \"inputs\": [";
-  for (std::size_t i = 0; i < inputs.size(); ++i) { s += (i ? ", " : "") + nlohmann::json(inputs[i]).dump(); }
-  s += "]},\n \"spacing\": " + num(a.spacing) + ", \"cell\": " + num(a.cell) +
-       ", \"voxel\": " + num(a.voxel) + ", \"max_segments\": " + std::to_string(a.max_segments) +
-       ",\n \"target_points\": " + std::to_string(a.target_points) +
-       ", \"target_samples\": " + std::to_string(a.target_samples) + ",\n \"visible\": " + num(a.visible) +
-       ", \"samples\": " + num(a.samples) + ", \"mesh\": " + num(a.mesh) +
-       ", \"segments\": " + num(a.segments) + ", \"matched\": " + num(a.matched) + "}\n";
-  return s;
-}
-
-Areas parse(const std::string& text, const std::string& name) {
-  using Json = nlohmann::ordered_json;
-  using Malformed = formats::MalformedField;
-  const Json j = formats::open_json_document(text, name, "canopy.areas");
-  Areas a;
-  auto length = [&](const char* key, bool positive) {
-    const Json& v = formats::json_member(j, key, "areas");
-    if (!v.is_number() || v.get<double>() < 0 || (positive && !(v.get<double>() > 0))) {
-      throw Malformed(std::string(key) + (positive ? " must be a positive number" : " must be a number >= 0"));
-    }
-    return v.get<double>();
-  };
-  auto count = [&](const char* key, long long lo) {
-    const Json& v = formats::json_member(j, key, "areas");
-    const bool ok = v.is_number_unsigned() || (v.is_number_integer() && v.get<long long>() >= lo);
-    if (!ok || v.get<long long>() < lo ||
-        v.get<unsigned long long>() > static_cast<unsigned long long>(kMaxCount)) {
-      throw Malformed(std::string(key) + " must be an integer in [" + std::to_string(lo) + ", " +
-                      std::to_string(kMaxCount) + "]");
-    }
-    return v.get<long long>();
-  };
-  try {
-    a.visible = length("visible", false);
-    a.samples = length("samples", false);
-    a.mesh = length("mesh", false);
-    a.segments = length("segments", false);
-    a.matched = length("matched", false);
-    a.spacing = length("spacing", true);
-    a.cell = length("cell", true);
-    a.voxel = length("voxel", true);
-    const long long x = count("max_segments", 1);
-    if (x > kMaxSegments) throw Malformed("max_segments must be at most " + std::to_string(kMaxSegments));
-    a.max_segments = static_cast<int>(x);
-    a.target_points = static_cast<std::size_t>(count("target_points", 0));
-    a.target_samples = static_cast<std::size_t>(count("target_samples", 0));
-  } catch (const Malformed& e) {
-    throw common::DataError(name, std::string("bad canopy.areas document: ") + e.what());
-  }
-  return a;
 }
 
 namespace {

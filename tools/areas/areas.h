@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "canopy/documents/areas.h"
 #include "canopy/documents/segment_graph.h"
 #include "canopy/formats/ply.h"
 #include "canopy/formats/point_cloud.h"
@@ -43,19 +44,9 @@ double mesh_area(const formats::Mesh& mesh, std::uint32_t label);
 // order), 0 = every segment.
 double segments_area(const documents::SegmentGraph& graph, std::uint32_t label, int largest);
 
-struct Areas {
-  double visible = 0;   // target surface in the noise-free scan (visible_area)
-  double samples = 0;   // fitvox target samples
-  double mesh = 0;      // cocone mesh, target triangles
-  double segments = 0;  // ncut, every target segment
-  double matched = 0;   // the `max_segments` largest segments' target area
-  double spacing = 0, cell = 0, voxel = 0;
-  int max_segments = 0;
-  std::size_t target_points = 0, target_samples = 0;
-};
+using Areas = documents::Areas;  // areas.json (documents/areas.h)
 
-inline constexpr int kMaxSegments = 100000;        // bound of --max-segments
-inline constexpr long long kMaxCount = 1LL << 53;  // bound of areas.json's counts
+inline constexpr int kMaxSegments = documents::kAreasMaxSegments;  // bound of --max-segments
 
 struct Params {
   double spacing = 0.03;  // the scan's pixel spacing (m), [1 mm, 10 m]
@@ -84,11 +75,5 @@ struct Inputs {
 // Every area of the trial (DataError naming the file when a needed field is missing, a
 // segment's area is negative or its label_purity outside [0, 1], or a sum is beyond 1e308).
 Areas run(const Params& params, const Inputs& inputs);
-
-// Text of areas.json ("format": "canopy.areas", "version": 1).
-std::string serialize(const Areas& a, const std::vector<std::string>& inputs);
-// Reads areas.json (canopy.areas v1): areas >= 0, spacing, cell, voxel > 0, integer counts;
-// errors name the file and the member.
-Areas parse(const std::string& text, const std::string& name);
 
 }  // namespace canopy::areas

@@ -42,7 +42,7 @@ int main(int argc, char** argv) {
     in.segments = documents::read_segment_graph(segments);
     in.segments_name = common::display_name(segments);
     const areas::Areas r = areas::run(a, in);
-    common::write_file_atomic(out, areas::serialize(r, {scan, samples, mesh, segments}));
+    common::write_file_atomic(out, documents::write_areas(r, {scan, samples, mesh, segments}));
     char buf[200];
     std::snprintf(buf, sizeof buf, "visible %.2f, samples %.2f, mesh %.2f, segments %.2f, largest %d %.2f m2",
                   r.visible, r.samples, r.mesh, r.segments, r.max_segments, r.matched);

@@ -16,7 +16,6 @@
 #include <filesystem>
 #include <map>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
 #include <string>
@@ -28,6 +27,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
 #include "canopy/documents/candidates.h"
+#include "canopy/documents/detect_manifest.h"
 #include "canopy/formats/provenance.h"
 #include "detect/crops.h"
 
@@ -35,19 +35,12 @@ namespace canopy::detect {
 namespace {
 
 namespace fs = std::filesystem;
-using Json = nlohmann::ordered_json;
 using common::DataError;
 
-constexpr const char* kManifestFormat = "canopy.detect_manifest";
 constexpr const char* kIndexName = "index.json";
 // Inside a temporary directory while it is being built (created first, removed last).
 constexpr const char* kPartialMarker = ".detect-partial";
 constexpr std::uintmax_t kMaxManifestBytes = 64u << 20;
-
-double finite(double v) {
-  if (!std::isfinite(v)) throw common::Error("detect: refusing to write a non-finite number");
-  return v;
-}
 
 std::string errno_text(int e) { return std::strerror(e); }
 
@@ -198,74 +191,68 @@ struct Listing {
   std::map<std::string, Listed> files;
 };
 
-Json read_small_json(const fs::path& p, std::string* why) {
+// The text of a manifest or index of a previous output; nullopt (and why) when it cannot be
+// read or is beyond kMaxManifestBytes.
+std::optional<std::string> read_small(const fs::path& p, std::string* why) {
   std::error_code ec;
   const auto size = fs::file_size(p, ec);
   if (ec || size > kMaxManifestBytes) {
     *why = ec ? ec.message() : "too large";
-    return nullptr;
+    return std::nullopt;
   }
   try {
-    return Json::parse(common::read_file(p.string()));
+    return common::read_file(p.string());
   } catch (const std::exception& e) {
     *why = e.what();
-    return nullptr;
+    return std::nullopt;
   }
 }
 
 std::optional<Listing> read_manifest(const fs::path& dir, std::string* why) {
   const fs::path p = dir / kManifestName;
-  std::string err;
-  const Json j = read_small_json(p, &err);
   auto bad = [&](const std::string& w) {
     *why = std::string(kManifestName) + " is not detect's (" + w + ")";
     return std::nullopt;
   };
-  if (j.is_null()) return bad(err);
-  if (!j.is_object() || j.value("format", Json()) != kManifestFormat)
-    return bad("no \"format\": \"canopy.detect_manifest\"");
-  if (j.value("version", Json()) != 1) return bad("version is not 1");
-  const Json files = j.value("files", Json());
-  if (!files.is_array()) return bad("no \"files\" list");
+  std::string err;
+  const std::optional<std::string> text = read_small(p, &err);
+  if (!text) return bad(err);
+  documents::DetectManifest m;
+  try {
+    m = documents::read_detect_manifest(*text, p.string());
+  } catch (const common::DataError& e) { return bad(e.what()); }
   Listing l;
   l.manifest = true;
-  for (const Json& f : files) {
-    if (!f.is_object() || !f.contains("name") || !f["name"].is_string() || !f.contains("bytes") ||
-        !f["bytes"].is_number_unsigned() || !f.contains("sha256") || !f["sha256"].is_string()) {
-      return bad("a file without name, bytes and sha256");
-    }
-    const std::string name = f["name"].get<std::string>();
-    if (!plain_name(name) || name == kManifestName || l.files.count(name))
-      return bad("file name '" + name + "'");
-    l.files[name] = Listed{f["bytes"].get<std::uintmax_t>(), f["sha256"].get<std::string>()};
+  for (const documents::ManifestFile& f : m.files) {
+    if (!plain_name(f.name) || f.name == kManifestName) return bad("file name '" + f.name + "'");
+    l.files[f.name] = Listed{f.bytes, f.sha256};
   }
   if (!l.files.count(kIndexName)) return bad("index.json not listed");
   return l;
 }
 
 // An output of detect from before manifests: index.json of format canopy.candidates written by
-// detect; it names index.json, the candidates' files and classes.ply.
+// detect (documents/candidates.h reads it); it names index.json, the candidates' files and
+// classes.ply.
 std::optional<Listing> read_legacy_index(const fs::path& dir) {
+  const fs::path p = dir / kIndexName;
   std::string err;
-  const Json j = read_small_json(dir / kIndexName, &err);
-  if (!j.is_object() || j.value("format", Json()) != "canopy.candidates" || j.value("version", Json()) != 1)
-    return std::nullopt;
-  const Json prov = j.value("provenance", Json());
-  if (!prov.is_object() || prov.value("tool", Json()) != "detect") return std::nullopt;
+  const std::optional<std::string> text = read_small(p, &err);
+  if (!text) return std::nullopt;
+  documents::Candidates index;
+  try {
+    index = documents::read_candidates(*text, p.string());
+  } catch (const common::DataError&) { return std::nullopt; }
+  if (index.written_by() != "detect") return std::nullopt;
   Listing l;
   l.files[kIndexName] = {};
-  if (j.contains("classes") && j["classes"].is_string()) {
-    const std::string c = j["classes"].get<std::string>();
-    if (!plain_name(c)) return std::nullopt;
-    l.files[c] = {};
+  if (!index.classes.empty()) {
+    if (!plain_name(index.classes)) return std::nullopt;
+    l.files[index.classes] = {};
   }
-  const Json cands = j.value("candidates", Json());
-  if (!cands.is_array()) return std::nullopt;
-  for (const Json& c : cands) {
-    if (!c.is_object() || !c.contains("file") || !c["file"].is_string()) return std::nullopt;
-    const std::string f = c["file"].get<std::string>();
-    if (!plain_name(f)) return std::nullopt;
-    l.files[f] = {};
+  for (const documents::Candidate& c : index.candidates) {
+    if (!plain_name(c.file)) return std::nullopt;
+    l.files[c.file] = {};
   }
   return l;
 }
@@ -441,15 +428,13 @@ class DirWriter {
   explicit DirWriter(common::AtomicDir& dir) : dir_(dir) {}
   void write(const std::string& name, const std::string& bytes, bool list = true) {
     dir_.write(name, bytes);
-    if (list) files_.push_back(Json{{"name", name}, {"bytes", bytes.size()}, {"sha256", sha256(bytes)}});
+    if (list) manifest_.files.push_back({name, bytes.size(), sha256(bytes)});
   }
-  Json manifest() const {
-    return Json{{"format", kManifestFormat}, {"version", 1}, {"tool", "detect"}, {"files", files_}};
-  }
+  const documents::DetectManifest& manifest() const { return manifest_; }
 
  private:
   common::AtomicDir& dir_;
-  Json files_ = Json::array();
+  documents::DetectManifest manifest_;
 };
 
 void step(const WriteHooks& hooks, const char* name) {
@@ -471,20 +456,20 @@ std::string serialize_index(const Result& r, const Params& p, const formats::Pro
       static_cast<std::int64_t>(r.stats.filled_cells), static_cast<std::int64_t>(r.stats.ground_points)};
   // The tile's measured density and what the density rule made of it (detect.md §7).
   const Density& dn = r.density;
-  auto optional = [](const std::optional<double>& v) { return v ? Json(finite(*v)) : Json(nullptr); };
-  d.density = Json{{"all", finite(dn.all)},
-                   {"ground", optional(dn.ground)},
-                   {"first", optional(dn.first)},
-                   {"cell", 1.0},
-                   {"occupied_cells", dn.occupied_cells},
-                   {"open_ground_cells", dn.open_cells},
-                   {"rule", Json{{"density", finite(dn.rule)},
-                                 {"voxel", finite(dn.voxel)},
-                                 {"voxel_from", dn.voxel_by_rule ? "density" : "option"},
-                                 {"min_planarity", finite(dn.min_planarity)},
-                                 {"min_planarity_from", dn.planarity_by_rule ? "density" : "option"},
-                                 {"dtm_cell", finite(dn.cell)},
-                                 {"dtm_cell_from", dn.cell_by_rule ? "density" : "option"}}}};
+  documents::DetectDensity density;
+  density.all = dn.all;
+  density.ground = dn.ground;
+  density.first = dn.first;
+  density.occupied_cells = static_cast<std::int64_t>(dn.occupied_cells);
+  density.open_ground_cells = static_cast<std::int64_t>(dn.open_cells);
+  density.rule = dn.rule;
+  density.voxel = dn.voxel;
+  density.voxel_by_rule = dn.voxel_by_rule;
+  density.min_planarity = dn.min_planarity;
+  density.planarity_by_rule = dn.planarity_by_rule;
+  density.dtm_cell = dn.cell;
+  density.cell_by_rule = dn.cell_by_rule;
+  d.density = documents::detect_density_json(density);
   for (const Candidate& c : r.candidates) {
     documents::Candidate e;
     e.id = c.id;
@@ -543,7 +528,7 @@ void write_output(const std::string& dir, const formats::PointCloud& tile, const
     out.write(classes, classes_ply(tile, result, prov));
   }
   out.write(kIndexName, serialize_index(result, params, provenance, tile_name, classes));
-  out.write(kManifestName, out.manifest().dump(1) + "\n", false);
+  out.write(kManifestName, documents::write_detect_manifest(out.manifest()), false);
   temp.remove(kPartialMarker);
   step(hooks, "written");
   // Again, just before the swap: the directory may have changed during the work.

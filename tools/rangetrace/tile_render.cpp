@@ -6,7 +6,6 @@
 #include <cstdio>
 #include <map>
 #include <mutex>
-#include <nlohmann/json.hpp>
 #include <sstream>
 #include <thread>
 
@@ -16,6 +15,7 @@
 #include "canopy/common/log.h"
 #include "canopy/common/math.h"
 #include "canopy/common/units.h"
+#include "canopy/documents/scene_truth.h"
 #include "canopy/formats/labels.h"
 #include "canopy/sim/povray_run.h"
 #include "rangetrace/tile.h"
@@ -448,108 +448,81 @@ TileScan run_tile(Tile* tile, const Params& params) {
 
 namespace {
 
-using nlohmann::ordered_json;
-
 // Angles in degrees (+ 0.0: no "-0.0") and coordinates shifted by the tile's origin.
 struct TruthUnits {
   Vector3d o;
   double angle(double rad) const { return rad * (180 / common::kPi) + 0.0; }
-  ordered_json xyz(const Vector3d& p) const {
-    return ordered_json::array({p.x() + o.x(), p.y() + o.y(), p.z() + o.z()});
-  }
-  ordered_json xy(const Vector2d& p) const { return ordered_json::array({p.x() + o.x(), p.y() + o.y()}); }
+  documents::Point3 xyz(const Vector3d& p) const { return {p.x() + o.x(), p.y() + o.y(), p.z() + o.z()}; }
 };
 
-ordered_json truth_provenance(const Tile& tile, const std::vector<std::pair<std::string, std::string>>& params) {
-  ordered_json prov;
-  prov["tool"] = "rangetrace";
-  prov["version"] = CANOPY_VERSION;
-  ordered_json pj = ordered_json::object();
-  for (const auto& [k, v] : params) pj[k] = v;
-  prov["parameters"] = pj;
-  prov["inputs"] = ordered_json::array({tile.name});
-  return prov;
-}
+documents::Point3 plain(const Vector3d& p) { return {p.x(), p.y(), p.z()}; }
 
-ordered_json truth_vehicles(const Tile& tile, const TruthUnits& u) {
+std::vector<documents::RenderedVehicle> truth_vehicles(const Tile& tile, const TruthUnits& u) {
   const Vector3d& o = u.o;
-  ordered_json vehicles = ordered_json::array();
+  std::vector<documents::RenderedVehicle> vehicles;
   for (const auto& v : tile.vehicles) {
-    ordered_json e;
-    e["instance"] = v.instance;
-    e["model"] = v.model_name;
+    documents::RenderedVehicle e;
+    e.instance = v.instance;
+    e.model = v.model_name;
     // Procedural family instances carry their class (absent for other models: truth unchanged).
-    if (!tile.models[v.model_index].vehicle_class.empty())
-      e["class"] = tile.models[v.model_index].vehicle_class;
-    e["line"] = v.line;
-    e["pose"] = {{"x", v.pose.anchor.x() + o.x()}, {"y", v.pose.anchor.y() + o.y()},
-                 {"z", v.pose.anchor.z() + o.z()}, {"heading", u.angle(v.pose.heading)},
-                 {"pitch", u.angle(v.pose.pitch)}, {"roll", u.angle(v.pose.roll)}};
-    e["size"] = {v.size.x(), v.size.y(), v.size.z()};
-    ordered_json fp = ordered_json::array();
-    for (const auto& p : v.footprint) fp.push_back(u.xy(p));
-    e["footprint"] = fp;
-    e["canopy_cover"] = v.canopy_cover;
-    vehicles.push_back(e);
+    e.cls = tile.models[v.model_index].vehicle_class;
+    e.line = v.line;
+    e.x = v.pose.anchor.x() + o.x();
+    e.y = v.pose.anchor.y() + o.y();
+    e.z = v.pose.anchor.z() + o.z();
+    e.heading = u.angle(v.pose.heading);
+    e.pitch = u.angle(v.pose.pitch);
+    e.roll = u.angle(v.pose.roll);
+    e.size = plain(v.size);
+    for (const auto& p : v.footprint) e.footprint.push_back({p.x() + o.x(), p.y() + o.y()});
+    e.canopy_cover = v.canopy_cover;
+    vehicles.push_back(std::move(e));
   }
   return vehicles;
 }
 
-ordered_json truth_clutter(const Tile& tile, const TruthUnits& u) {
-  ordered_json clutter = ordered_json::array();
+std::vector<documents::RenderedClutter> truth_clutter(const Tile& tile, const TruthUnits& u) {
+  std::vector<documents::RenderedClutter> clutter;
   for (const auto& c : tile.objects) {
-    ordered_json e;
-    e["kind"] = c.kind;
-    const Vector3d centre = c.pose.anchor + c.pose.r * (c.lo + c.size / 2);
-    e["box"] = {{"centre", u.xyz(centre)},
-                {"size", {c.size.x(), c.size.y(), c.size.z()}},
-                {"heading", u.angle(c.pose.heading)},
-                {"pitch", u.angle(c.pose.pitch)},
-                {"roll", u.angle(c.pose.roll)}};
-    clutter.push_back(e);
+    documents::RenderedClutter e;
+    e.kind = c.kind;
+    e.centre = u.xyz(c.pose.anchor + c.pose.r * (c.lo + c.size / 2));
+    e.size = plain(c.size);
+    e.heading = u.angle(c.pose.heading);
+    e.pitch = u.angle(c.pose.pitch);
+    e.roll = u.angle(c.pose.roll);
+    clutter.push_back(std::move(e));
   }
   return clutter;
 }
 
 // The images in view_idx order: which pass (heading, flight line) and look each is.
-ordered_json truth_images(const Tile& tile, const TruthUnits& u) {
+std::vector<documents::RenderedImage> truth_images(const Tile& tile, const TruthUnits& u) {
   const TileRecipe& r = tile.recipe;
-  ordered_json images = ordered_json::array();
+  std::vector<documents::RenderedImage> images;
   const std::vector<TileView> views = tile_views(tile);
   for (std::size_t k = 0; k < views.size(); ++k) {
     const TileView& v = views[k];
     const Look& look = r.looks[v.look_idx];
-    images.push_back({{"view_idx", k},
-                      {"heading", u.angle(r.headings[v.heading_idx])},
-                      {"flight_line", v.line},
-                      {"elevation", u.angle(look.elevation)},
-                      {"azimuth", u.angle(look.azimuth)},
-                      {"toward_sensor", {v.toward.x(), v.toward.y(), v.toward.z()}},
-                      {"swath_area", v.strip_area}});
+    images.push_back({static_cast<std::int64_t>(k), u.angle(r.headings[v.heading_idx]), v.line,
+                      u.angle(look.elevation), u.angle(look.azimuth), plain(v.toward), v.strip_area});
   }
   return images;
 }
 
 // Sensor mode: the sensor's keys, the flight lines and the measured density.
-void truth_sensor(const Tile& tile, const TruthUnits& u, ordered_json* j) {
+documents::RenderedSensor truth_sensor(const Tile& tile, const TruthUnits& u) {
   const Sensor& s = *tile.recipe.sensor;
-  ordered_json keys = ordered_json::object();
-  for (const auto& [k, v] : sensor_keys(s)) keys[k] = v;
-  (*j)["sensor"] = {{"preset", s.name.empty() ? ordered_json(nullptr) : ordered_json(s.name)}, {"keys", keys}};
-  ordered_json lines = ordered_json::array();
-  for (const auto& l : tile.flight_lines) {
-    lines.push_back({{"point_source_id", l.id},
-                     {"heading", u.angle(l.heading)},
-                     {"offset", l.offset},
-                     {"start", u.xyz(l.start)},
-                     {"end", u.xyz(l.end)},
-                     {"gps_time", {l.t0, l.t1}}});
-  }
-  (*j)["flight_lines"] = lines;
-  (*j)["density"] = {{"returns_per_m2", tile.returns_per_m2},
-                     {"first_returns_per_m2", tile.pulses_per_m2},
-                     {"pulses_per_m2", tile.fired_per_m2},
-                     {"pulses_by_returns", tile.pulses_by_returns}};
+  documents::RenderedSensor out;
+  out.preset = s.name;
+  out.keys = sensor_keys(s);
+  for (const auto& l : tile.flight_lines)
+    out.flight_lines.push_back({l.id, u.angle(l.heading), l.offset, u.xyz(l.start), u.xyz(l.end), l.t0, l.t1});
+  out.returns_per_m2 = tile.returns_per_m2;
+  out.first_returns_per_m2 = tile.pulses_per_m2;
+  out.pulses_per_m2 = tile.fired_per_m2;
+  for (std::size_t n : tile.pulses_by_returns) out.pulses_by_returns.push_back(static_cast<std::int64_t>(n));
+  return out;
 }
 
 }  // namespace
@@ -557,32 +530,25 @@ void truth_sensor(const Tile& tile, const TruthUnits& u, ordered_json* j) {
 std::string truth_json(const Tile& tile, const std::vector<std::pair<std::string, std::string>>& params) {
   const TileRecipe& r = tile.recipe;
   const TruthUnits u{r.has_origin ? r.origin : Vector3d::Zero()};
-  ordered_json j;
-  j["format"] = "canopy.scene_truth";
-  j["version"] = 1;
-  j["provenance"] = truth_provenance(tile, params);
-  j["scene"] = tile.name;
-  j["extent"] = {r.extent_x, r.extent_y};
-  j["origin"] = r.has_origin ? ordered_json(u.xyz(Vector3d::Zero())) : ordered_json(nullptr);
-  const char* terrain = r.terrain == Terrain::kFlat    ? "flat"
-                        : r.terrain == Terrain::kSlope ? "slope"
-                                                       : "rolling";
-  j["terrain"] = terrain;
-  j["angles"] = "degrees; R = Rz(heading) Ry(pitch) Rx(roll), vehicle x forward, y left, z up";
-  j["vehicles"] = truth_vehicles(tile, u);
-  j["clutter"] = truth_clutter(tile, u);
-  int broadleaf = 0, conifer = 0, bushes = 0;
-  for (const auto& t : tile.trees) (t.bush ? bushes : t.conifer ? conifer : broadleaf)++;
-  j["vegetation"] = {
-      {"broadleaf", broadleaf}, {"conifer", conifer}, {"bushes", bushes}, {"discs", r.discs.size()}};
-  j["canopy_cover"] = tile.canopy_cover;
-  j["canopy_spacing"] = r.canopy_spacing;
+  documents::RenderedTruth t;
+  t.scene = tile.name;
+  t.extent_x = r.extent_x;
+  t.extent_y = r.extent_y;
+  if (r.has_origin) t.origin = u.xyz(Vector3d::Zero());
+  t.terrain = r.terrain == Terrain::kFlat ? "flat" : r.terrain == Terrain::kSlope ? "slope" : "rolling";
+  t.angles = "degrees; R = Rz(heading) Ry(pitch) Rx(roll), vehicle x forward, y left, z up";
+  t.vehicles = truth_vehicles(tile, u);
+  t.clutter = truth_clutter(tile, u);
+  for (const auto& tree : tile.trees) (tree.bush ? t.bushes : tree.conifer ? t.conifer : t.broadleaf)++;
+  t.discs = static_cast<std::int64_t>(r.discs.size());
+  t.canopy_cover = tile.canopy_cover;
+  t.canopy_spacing = r.canopy_spacing;
   if (r.sensor) {
-    truth_sensor(tile, u, &j);
+    t.sensor = truth_sensor(tile, u);
   } else {
-    j["images"] = truth_images(tile, u);
+    t.images = truth_images(tile, u);
   }
-  return j.dump(2) + "\n";
+  return documents::write_scene_truth(t, {"rangetrace", CANOPY_VERSION, params, {tile.name}});
 }
 
 std::string render_tile_picture(const Tile& tile, const Params& params) {

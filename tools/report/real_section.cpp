@@ -1,5 +1,5 @@
 // The report's "Real tiles" section: the tile workflow's documents of each real tile (detections,
-// candidates index, truth through documents/; the score with formats::open_json_document), and
+// candidates index, truth and score through documents/), and
 // the hand labels; every rate with its count and a 95% interval
 // (common/stats.h: Wilson for proportions, exact Poisson for a count per area).
 #include "report/real_section.h"
@@ -10,13 +10,12 @@
 #include <set>
 #include <sstream>
 
-#include <nlohmann/json.hpp>
-
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "canopy/common/stats.h"
 #include "canopy/documents/candidates.h"
 #include "canopy/documents/detections.h"
+#include "canopy/documents/scene_score.h"
 #include "canopy/documents/scene_truth.h"
 #include "canopy/formats/csv_table.h"
 #include "canopy/formats/json_document.h"
@@ -25,39 +24,12 @@ namespace canopy::report {
 namespace {
 
 namespace fs = std::filesystem;
-using Json = nlohmann::ordered_json;
 using formats::format_number;
-using formats::json_member;
 using formats::MalformedField;
 
 bool exists(const std::string& path) {
   std::error_code ec;
   return fs::is_regular_file(path, ec);
-}
-
-Json open(const std::string& path, const char* format, int max_version = 1) {
-  return formats::open_json_document(common::read_file(path), path, format, nullptr, max_version);
-}
-
-// A member that must be a count (an integer >= 0).
-int count(const Json& j, const char* key, const std::string& where) {
-  const Json& v = json_member(j, key, where);
-  if (!v.is_number_integer() || v.get<long long>() < 0 || v.get<long long>() > 1000000000)
-    throw MalformedField(where + (where.empty() ? "" : ".") + key + " is not a count: " + v.dump());
-  return v.get<int>();
-}
-
-double number(const Json& j, const char* key, const std::string& where) {
-  const Json& v = json_member(j, key, where);
-  if (!v.is_number() || !std::isfinite(v.get<double>()))
-    throw MalformedField(where + (where.empty() ? "" : ".") + key + " is not a number: " + v.dump());
-  return v.get<double>();
-}
-
-// An optional string member ("" when absent or null).
-std::string text(const Json& j, const char* key) {
-  const auto it = j.find(key);
-  return it != j.end() && it->is_string() ? it->get<std::string>() : "";
 }
 
 // The tiles' sources (share/real/README.md), by name.
@@ -169,39 +141,40 @@ void read_truth(const std::string& path, RealTile& t, std::map<int, bool>& clear
 // uncertain objects, the class (group) of the matched detections.
 void read_score(const std::string& path, RealTile& t, const std::map<int, bool>& clear,
                 const std::vector<Uncertain>& unc, const std::map<std::string, std::string>& group) {
-  const Json s = open(path, "canopy.scene_score");
+  const documents::SceneScore s = documents::read_scene_score_file(path);
   try {
-    t.match_radius_m = number(json_member(s, "params", ""), "match_radius_m", "params");
+    if (!s.has_params) throw MalformedField("score: missing \"params\"");
+    if (!s.params.match_radius_m) throw MalformedField("params: missing \"match_radius_m\"");
+    t.match_radius_m = *s.params.match_radius_m;
     std::set<int> matched;
     int detections = 0;
-    const Json& rows = json_member(s, "matches", "");
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-      const Json& r = rows[i];
+    for (std::size_t i = 0; i < s.matches.size(); ++i) {
+      const documents::ScoreMatch& r = s.matches[i];
       const std::string w = "matches[" + std::to_string(i) + "]";
-      const std::string outcome = text(r, "outcome");
-      if (outcome == "missed") continue;
+      if (r.outcome == "missed") continue;
       ++detections;
-      if (outcome == "false_alarm") {
+      if (r.outcome == "false_alarm") {
         ++t.fp;
-        const double x = number(r, "x", w), y = number(r, "y", w);
+        if (!r.x) throw MalformedField(w + ": missing \"x\"");
+        if (!r.y) throw MalformedField(w + ": missing \"y\"");
         for (const Uncertain& u : unc) {
-          if (std::hypot(x - u.x, y - u.y) <= t.match_radius_m) {
+          if (std::hypot(*r.x - u.x, *r.y - u.y) <= t.match_radius_m) {
             ++t.fp_on_uncertain;
             break;
           }
         }
         continue;
       }
-      if (outcome != "right" && outcome != "wrong")
-        throw MalformedField(w + ".outcome is " + json_member(r, "outcome", w).dump());
       ++t.tp;
-      matched.insert(count(r, "instance", w));
-      const auto g = group.find(text(r, "candidate"));
+      if (*r.instance > 1000000000)
+        throw MalformedField(w + ".instance is not a count: " + std::to_string(*r.instance));
+      matched.insert(static_cast<int>(*r.instance));
+      const auto g = group.find(*r.candidate);
       if (g == group.end() || g->second.empty()) {
         ++t.matched_without_group;
       } else {
         t.class_right.n++;
-        if (g->second == text(r, "true_model")) t.class_right.k++;
+        if (g->second == r.true_model.value_or("")) t.class_right.k++;
       }
     }
     t.recall_all = {0, t.vehicles};
@@ -214,8 +187,7 @@ void read_score(const std::string& path, RealTile& t, const std::map<int, bool>&
       if (c->second) t.recall_clear.k++;
     }
     t.precision = {t.tp, detections - t.fp_on_uncertain};
-    const Json& tiles = json_member(s, "tiles", "");
-    if (tiles.is_array() && tiles.size() == 1) t.area_ha = number(tiles[0], "area_ha", "tiles[0]");
+    if (s.tiles.size() == 1 && s.tiles[0].area_ha) t.area_ha = *s.tiles[0].area_ha;
     t.scored = true;
   } catch (const MalformedField& e) { throw common::DataError(path, e.what()); }
 }

@@ -6,9 +6,9 @@
 
 #include <sys/stat.h>
 
-#include "areas/areas.h"
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
+#include "canopy/documents/areas.h"
 #include "canopy/formats/labels.h"
 
 namespace canopy::report {
@@ -186,7 +186,7 @@ AreaRow read_areas(const std::string& path) {
   AreaRow r;
   struct stat st {};
   if (stat(path.c_str(), &st) != 0) return r;
-  const areas::Areas a = areas::parse(common::read_file(path), path);
+  const documents::Areas a = documents::read_areas_file(path);
   r.present = true;
   r.visible = a.visible;
   r.samples = a.samples;

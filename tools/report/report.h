@@ -29,7 +29,8 @@ using formats::ThesisRow;
 // PCL baseline's (VFH, FPFH); any other name as it is.
 std::string method_label(const std::string& method);
 
-// Target surface area at each stage of one trial (tools/areas: OUT/.../noise-<mm>/areas.json), m².
+// Target surface area at each stage of one trial (areas.json of tools/areas, read by
+// documents/areas.h: OUT/.../noise-<mm>/areas.json), m².
 struct AreaRow {
   bool present = false;
   double visible = 0;   // visible in the labelled noise-free scan

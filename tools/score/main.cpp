@@ -122,13 +122,18 @@ void check_sources(const Options& o) {
 }
 
 // The INFO line: the overall summary row.
-std::string summary(std::size_t tiles, const nlohmann::ordered_json& all) {
-  auto show = [](const nlohmann::ordered_json& v) {
-    return v.is_number() ? std::to_string(v.get<double>()).substr(0, 5) : std::string("n/a");
+std::string summary(std::size_t tiles, const documents::ScoreRow& all) {
+  auto cell = [&](const char* key) {
+    const documents::ScoreValue* v = documents::score_cell(all, key);
+    return v ? *v : documents::ScoreValue();
   };
-  return std::to_string(tiles) + " tiles, " + all["true"].dump() + " true vehicles, " +
-         all["detections"].dump() + " detections: precision " + show(all["precision"]) + ", recall " +
-         show(all["recall"]) + ", identification " + show(all["identification"]);
+  auto show = [&](const char* key) {
+    const documents::ScoreValue v = cell(key);
+    return v.is_number() ? std::to_string(v.as_number()).substr(0, 5) : std::string("n/a");
+  };
+  return std::to_string(tiles) + " tiles, " + std::to_string(cell("true").integer) + " true vehicles, " +
+         std::to_string(cell("detections").integer) + " detections: precision " + show("precision") +
+         ", recall " + show("recall") + ", identification " + show("identification");
 }
 
 }  // namespace
@@ -162,12 +167,12 @@ int main(int argc, char** argv) {
       in.provenance.inputs.push_back(t.detections.name);
       in.provenance.inputs.push_back(t.truth.name);
     }
-    const nlohmann::ordered_json result = score::run(p, in);
-    outputs.set(o.out, result.dump(1) + "\n");
+    const documents::SceneScore result = score::score(in.tiles, p);
+    outputs.set(o.out, documents::write_scene_score(result, in.provenance));
     if (!o.csv.empty()) {
-      for (const char* t : tables) outputs.set(o.csv + t + ".csv", score::csv(result, t));
+      for (const char* t : tables) outputs.set(o.csv + t + ".csv", documents::scene_score_csv(result, t));
     }
     outputs.commit();
-    common::log::info(summary(in.tiles.size(), result["summary"][0]));
+    common::log::info(summary(in.tiles.size(), result.summary.at(0)));
   });
 }

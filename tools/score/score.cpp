@@ -9,6 +9,7 @@
 
 #include "canopy/common/error.h"
 #include "canopy/documents/detections.h"
+#include "canopy/documents/scene_score.h"
 #include "canopy/documents/scene_truth.h"
 #include "canopy/formats/json_document.h"
 #include "canopy/formats/provenance.h"
@@ -16,12 +17,13 @@
 namespace canopy::score {
 namespace {
 
-using Json = nlohmann::ordered_json;
-
+using documents::ScoreMatch;
+using documents::ScoreRow;
+using documents::ScoreValue;
 using Malformed = formats::MalformedField;
 
-Json ratio(double a, double b) { return b > 0 ? Json(a / b) : Json(nullptr); }
-Json maybe(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
+ScoreValue ratio(double a, double b) { return b > 0 ? ScoreValue(a / b) : ScoreValue(); }
+ScoreValue maybe(double v) { return std::isfinite(v) ? ScoreValue(v) : ScoreValue(); }
 
 // Everything measured on one set of tiles.
 struct Tally {
@@ -204,50 +206,50 @@ Tally tally(const std::vector<Tile>& tiles, const std::vector<TileMatch>& matche
 }
 
 // One row of the summary table: the rates of a tally.
-Json summary(const Tally& s, const Json& cover, const Json& noise) {
+ScoreRow summary(const Tally& s, const ScoreValue& cover, const ScoreValue& noise) {
   const int fp = s.detections - s.tp, fn = s.truths - s.tp;
-  const Json precision = ratio(s.tp, s.detections), recall = ratio(s.tp, s.truths);
-  Json f1 = nullptr;
+  const ScoreValue precision = ratio(s.tp, s.detections), recall = ratio(s.tp, s.truths);
+  ScoreValue f1;
   if (precision.is_number() && recall.is_number()) {
-    const double p = precision.get<double>(), r = recall.get<double>();
+    const double p = precision.number, r = recall.number;
     f1 = p + r > 0 ? 2 * p * r / (p + r) : 0.0;
   }
-  return Json{{"cover", cover},
-              {"noise_mm", noise},
-              {"tiles", s.tiles},
-              {"area_ha", s.area},
-              {"true", s.truths},
-              {"candidates", s.candidates},
-              {"none", s.none},
-              {"detections", s.detections},
-              {"tp", s.tp},
-              {"fp", fp},
-              {"fn", fn},
-              {"precision", precision},
-              {"recall", recall},
-              {"f1", f1},
-              {"false_alarms_per_ha", ratio(fp, s.area)},
-              {"identified", s.identified},
-              {"identification", ratio(s.identified, s.tp)},
-              {"recognition", ratio(s.identified, s.truths)},
-              {"mean_vehicle_cover", ratio(s.cover_sum, s.truths)},
-              {"position_error_median_m", maybe(percentile(s.position, 50))},
-              {"position_error_p90_m", maybe(percentile(s.position, 90))},
-              {"heading_error_median_deg", maybe(percentile(s.heading, 50))},
-              {"heading_error_p90_deg", maybe(percentile(s.heading, 90))},
-              {"flips", s.flips},
-              {"class_detections", s.class_detections},
-              {"class_tp", s.class_tp},
-              {"class_fp", s.class_detections - s.class_tp},
-              {"class_identified", s.class_identified},
-              {"class_accuracy", ratio(s.class_identified, s.class_tp)},
-              {"class_position_error_median_m", maybe(percentile(s.class_position, 50))},
-              {"class_heading_error_median_deg", maybe(percentile(s.class_heading, 50))},
-              {"class_heading_error_p90_deg", maybe(percentile(s.class_heading, 90))},
-              {"found_any_level", s.tp + s.class_tp},
-              {"recall_any_level", ratio(s.tp + s.class_tp, s.truths)},
-              {"precision_any_level", ratio(s.tp + s.class_tp, s.detections + s.class_detections)},
-              {"false_alarms_any_level_per_ha", ratio(fp + s.class_detections - s.class_tp, s.area)}};
+  return ScoreRow{{"cover", cover},
+                  {"noise_mm", noise},
+                  {"tiles", s.tiles},
+                  {"area_ha", s.area},
+                  {"true", s.truths},
+                  {"candidates", s.candidates},
+                  {"none", s.none},
+                  {"detections", s.detections},
+                  {"tp", s.tp},
+                  {"fp", fp},
+                  {"fn", fn},
+                  {"precision", precision},
+                  {"recall", recall},
+                  {"f1", f1},
+                  {"false_alarms_per_ha", ratio(fp, s.area)},
+                  {"identified", s.identified},
+                  {"identification", ratio(s.identified, s.tp)},
+                  {"recognition", ratio(s.identified, s.truths)},
+                  {"mean_vehicle_cover", ratio(s.cover_sum, s.truths)},
+                  {"position_error_median_m", maybe(percentile(s.position, 50))},
+                  {"position_error_p90_m", maybe(percentile(s.position, 90))},
+                  {"heading_error_median_deg", maybe(percentile(s.heading, 50))},
+                  {"heading_error_p90_deg", maybe(percentile(s.heading, 90))},
+                  {"flips", s.flips},
+                  {"class_detections", s.class_detections},
+                  {"class_tp", s.class_tp},
+                  {"class_fp", s.class_detections - s.class_tp},
+                  {"class_identified", s.class_identified},
+                  {"class_accuracy", ratio(s.class_identified, s.class_tp)},
+                  {"class_position_error_median_m", maybe(percentile(s.class_position, 50))},
+                  {"class_heading_error_median_deg", maybe(percentile(s.class_heading, 50))},
+                  {"class_heading_error_p90_deg", maybe(percentile(s.class_heading, 90))},
+                  {"found_any_level", s.tp + s.class_tp},
+                  {"recall_any_level", ratio(s.tp + s.class_tp, s.truths)},
+                  {"precision_any_level", ratio(s.tp + s.class_tp, s.detections + s.class_detections)},
+                  {"false_alarms_any_level_per_ha", ratio(fp + s.class_detections - s.class_tp, s.area)}};
 }
 
 // The tiles' cover labels (first appearance) and noise levels (sorted).
@@ -270,8 +272,8 @@ Groups groups(const std::vector<Tile>& tiles) {
 }
 
 // The summary rows: all tiles, each cover label, each noise level, each label x noise.
-Json summaries(const std::vector<Tile>& tiles, const std::vector<TileMatch>& matches, const Params& params,
-               const Groups& g) {
+std::vector<ScoreRow> summaries(const std::vector<Tile>& tiles, const std::vector<TileMatch>& matches,
+                                const Params& params, const Groups& g) {
   auto select = [&](const std::string* cover, const double* noise) {
     std::vector<std::size_t> which;
     for (std::size_t i = 0; i < tiles.size(); ++i) {
@@ -281,10 +283,10 @@ Json summaries(const std::vector<Tile>& tiles, const std::vector<TileMatch>& mat
     }
     return which;
   };
-  auto row = [&](const std::string* cover, const double* noise, const Json& c, const Json& n) {
+  auto row = [&](const std::string* cover, const double* noise, const ScoreValue& c, const ScoreValue& n) {
     return summary(tally(tiles, matches, select(cover, noise), params), c, n);
   };
-  Json rows = Json::array();
+  std::vector<ScoreRow> rows;
   rows.push_back(row(nullptr, nullptr, "all", "all"));
   for (const auto& c : g.covers) rows.push_back(row(&c, nullptr, c, "all"));
   for (double n : g.noises) rows.push_back(row(nullptr, &n, "all", n));
@@ -297,7 +299,7 @@ Json summaries(const std::vector<Tile>& tiles, const std::vector<TileMatch>& mat
 }
 
 // Precision-recall over the confidence (all tiles): one point per distinct confidence.
-Json pr_curve(const std::vector<Tile>& tiles, const std::vector<TileMatch>& matches) {
+std::vector<ScoreRow> pr_curve(const std::vector<Tile>& tiles, const std::vector<TileMatch>& matches) {
   struct Ranked {
     double confidence;
     std::size_t tile;
@@ -318,25 +320,26 @@ Json pr_curve(const std::vector<Tile>& tiles, const std::vector<TileMatch>& matc
     if (a.tile != b.tile) return a.tile < b.tile;
     return a.candidate < b.candidate;
   });
-  Json pr = Json::array();
+  std::vector<ScoreRow> pr;
   int tp = 0;
   for (std::size_t k = 0; k < ranked.size(); ++k) {
     tp += ranked[k].tp ? 1 : 0;
     if (k + 1 < ranked.size() && ranked[k + 1].confidence == ranked[k].confidence) continue;
     const int n = static_cast<int>(k + 1);
-    pr.push_back(Json{{"threshold", ranked[k].confidence},
-                      {"detections", n},
-                      {"tp", tp},
-                      {"fp", n - tp},
-                      {"precision", ratio(tp, n)},
-                      {"recall", ratio(tp, truths)}});
+    pr.push_back(ScoreRow{{"threshold", ranked[k].confidence},
+                          {"detections", n},
+                          {"tp", tp},
+                          {"fp", n - tp},
+                          {"precision", ratio(tp, n)},
+                          {"recall", ratio(tp, truths)}});
   }
   return pr;
 }
 
 // Identification and recognition per true model, over all tiles and per cover label.
-Json model_table(const std::vector<Tile>& tiles, const std::vector<TileMatch>& matches, const Groups& g) {
-  Json models = Json::array();
+std::vector<ScoreRow> model_table(const std::vector<Tile>& tiles, const std::vector<TileMatch>& matches,
+                                  const Groups& g) {
+  std::vector<ScoreRow> models;
   std::vector<std::string> cover_groups{"all"};
   cover_groups.insert(cover_groups.end(), g.covers.begin(), g.covers.end());
   for (const auto& c : cover_groups) {
@@ -354,22 +357,22 @@ Json model_table(const std::vector<Tile>& tiles, const std::vector<TileMatch>& m
       }
     }
     for (const auto& [model, a] : per) {
-      models.push_back(Json{{"model", model},
-                            {"cover", c},
-                            {"true", a[0]},
-                            {"matched", a[1]},
-                            {"identified", a[2]},
-                            {"recall", ratio(a[1], a[0])},
-                            {"identification", ratio(a[2], a[1])},
-                            {"recognition", ratio(a[2], a[0])}});
+      models.push_back(ScoreRow{{"model", model},
+                                {"cover", c},
+                                {"true", a[0]},
+                                {"matched", a[1]},
+                                {"identified", a[2]},
+                                {"recall", ratio(a[1], a[0])},
+                                {"identification", ratio(a[2], a[1])},
+                                {"recognition", ratio(a[2], a[0])}});
     }
   }
   return models;
 }
 
 // One cover bin [lo, hi) ([lo, hi] for the last) over the tiles of noise level *n (all: null).
-Json cover_bin(const std::vector<Tile>& tiles, const std::vector<TileMatch>& matches, const double* n,
-               double lo, double hi, bool last) {
+ScoreRow cover_bin(const std::vector<Tile>& tiles, const std::vector<TileMatch>& matches, const double* n,
+                   double lo, double hi, bool last) {
   int total = 0, detected = 0, recognised = 0;
   for (std::size_t i = 0; i < tiles.size(); ++i) {
     if (n && tiles[i].noise_mm != *n) continue;
@@ -383,20 +386,20 @@ Json cover_bin(const std::vector<Tile>& tiles, const std::vector<TileMatch>& mat
       if (tiles[i].detections.detections[d].model == tv.model) recognised++;
     }
   }
-  return Json{{"cover_lo", lo},
-              {"cover_hi", hi},
-              {"noise_mm", n ? Json(*n) : Json("all")},
-              {"true", total},
-              {"detected", detected},
-              {"recognised", recognised},
-              {"recall", ratio(detected, total)},
-              {"recognition", ratio(recognised, total)}};
+  return ScoreRow{{"cover_lo", lo},
+                  {"cover_hi", hi},
+                  {"noise_mm", n ? ScoreValue(*n) : ScoreValue("all")},
+                  {"true", total},
+                  {"detected", detected},
+                  {"recognised", recognised},
+                  {"recall", ratio(detected, total)},
+                  {"recognition", ratio(recognised, total)}};
 }
 
 // Recall and recognition against the measured per-vehicle canopy cover, overall and per noise.
-Json cover_bins(const std::vector<Tile>& tiles, const std::vector<TileMatch>& matches, const Params& params,
-                const Groups& g) {
-  Json bins = Json::array();
+std::vector<ScoreRow> cover_bins(const std::vector<Tile>& tiles, const std::vector<TileMatch>& matches,
+                                 const Params& params, const Groups& g) {
+  std::vector<ScoreRow> bins;
   const auto& edges = params.cover_bins;
   std::vector<const double*> noise_groups{nullptr};
   for (const double& n : g.noises) noise_groups.push_back(&n);
@@ -410,36 +413,41 @@ Json cover_bins(const std::vector<Tile>& tiles, const std::vector<TileMatch>& ma
 
 // A detection row's outcome: matched to `tv` (right or wrong, its distance and heading error),
 // or a false alarm (tv null: the truth columns null).
-void set_outcome(Json& r, const Detection& det, const TrueVehicle* tv, bool right, double heading_err) {
+void set_outcome(ScoreMatch& r, const Detection& det, const TrueVehicle* tv, bool right, double heading_err) {
   if (!tv) {
-    r["outcome"] = "false_alarm";
-    for (const char* k : {"instance", "true_model", "cover", "distance_m", "heading_error_deg"})
-      r[k] = nullptr;
+    r.outcome = "false_alarm";
     return;
   }
-  r["outcome"] = right ? "right" : "wrong";
-  r["instance"] = tv->instance;
-  r["true_model"] = tv->model;
-  r["cover"] = tv->cover;
-  r["distance_m"] = std::hypot(det.x - tv->x, det.y - tv->y);
-  r["heading_error_deg"] = heading_err;
+  r.outcome = right ? "right" : "wrong";
+  r.instance = tv->instance;
+  r.true_model = tv->model;
+  r.cover = tv->cover;
+  r.distance_m = std::hypot(det.x - tv->x, det.y - tv->y);
+  r.heading_error_deg = heading_err;
+}
+
+// A detection's row before its outcome.
+ScoreMatch detection_row(std::size_t tile, const Detection& det) {
+  ScoreMatch r;
+  r.tile = static_cast<std::int64_t>(tile);
+  r.candidate = det.candidate;
+  r.confidence = det.confidence;
+  r.x = det.x;
+  r.y = det.y;
+  r.heading = det.heading;
+  return r;
 }
 
 // One row per detection (by falling confidence) and per missed vehicle of tile i (the top-view
 // pictures colour by outcome); returns the tile's true positives.
-int outcome_rows(const Tile& t, const TileMatch& m, std::size_t i, Json& rows) {
+int outcome_rows(const Tile& t, const TileMatch& m, std::size_t i, std::vector<ScoreMatch>& rows) {
   int tp_i = 0;
   for (int d : m.order) {
     const Detection& det = t.detections.detections[d];
-    Json r{{"tile", i},
-           {"candidate", det.candidate},
-           {"level", "model"},
-           {"model", det.model},
-           {"class", det.cls.empty() ? Json(nullptr) : Json(det.cls)},
-           {"confidence", det.confidence},
-           {"x", det.x},
-           {"y", det.y},
-           {"heading", det.heading}};
+    ScoreMatch r = detection_row(i, det);
+    r.level = "model";
+    r.model = det.model;
+    if (!det.cls.empty()) r.cls = det.cls;
     if (m.truth_of[d] >= 0) {
       tp_i++;
       const TrueVehicle& tv = t.truth.vehicles[m.truth_of[d]];
@@ -454,16 +462,9 @@ int outcome_rows(const Tile& t, const TileMatch& m, std::size_t i, Json& rows) {
   const LevelMatch& cm = m.cls;
   for (int d : cm.order) {
     const Detection& det = t.detections.class_detections[d];
-    const std::string what = det.cls.empty() ? det.group : det.cls;
-    Json r{{"tile", i},
-           {"candidate", det.candidate},
-           {"level", "class"},
-           {"model", nullptr},
-           {"class", what},
-           {"confidence", det.confidence},
-           {"x", det.x},
-           {"y", det.y},
-           {"heading", det.heading}};
+    ScoreMatch r = detection_row(i, det);
+    r.level = "class";
+    r.cls = det.cls.empty() ? det.group : det.cls;
     if (cm.truth_of[d] >= 0) {
       tp_i++;
       const TrueVehicle& tv = t.truth.vehicles[cm.truth_of[d]];
@@ -476,69 +477,63 @@ int outcome_rows(const Tile& t, const TileMatch& m, std::size_t i, Json& rows) {
   for (std::size_t v = 0; v < t.truth.vehicles.size(); ++v) {
     if (m.detection_of[v] >= 0 || cm.detection_of[v] >= 0) continue;
     const TrueVehicle& tv = t.truth.vehicles[v];
-    rows.push_back(Json{{"tile", i},
-                        {"candidate", nullptr},
-                        {"level", nullptr},
-                        {"model", nullptr},
-                        {"class", nullptr},
-                        {"confidence", nullptr},
-                        {"x", tv.x},
-                        {"y", tv.y},
-                        {"heading", tv.heading},
-                        {"outcome", "missed"},
-                        {"instance", tv.instance},
-                        {"true_model", tv.model},
-                        {"cover", tv.cover},
-                        {"distance_m", nullptr},
-                        {"heading_error_deg", nullptr}});
+    ScoreMatch r;
+    r.tile = static_cast<std::int64_t>(i);
+    r.x = tv.x;
+    r.y = tv.y;
+    r.heading = tv.heading;
+    r.outcome = "missed";
+    r.instance = tv.instance;
+    r.true_model = tv.model;
+    r.cover = tv.cover;
+    rows.push_back(std::move(r));
   }
   return tp_i;
 }
 
-Json tile_json(const Tile& t, int tp_i, const LevelMatch& cm) {
+documents::ScoreTile tile_row(const Tile& t, int tp_i, const LevelMatch& cm) {
   const int n_class = static_cast<int>(t.detections.class_detections.size());
   int class_tp = 0;
   for (int x : cm.truth_of) class_tp += x >= 0 ? 1 : 0;
   tp_i -= class_tp;  // outcome_rows counted both levels
   const int n_det = static_cast<int>(t.detections.detections.size());
   const int n_true = static_cast<int>(t.truth.vehicles.size());
-  return Json{{"detections", t.detections.name},
-              {"truth", t.truth.name},
-              {"cover", t.cover.empty() ? Json(nullptr) : Json(t.cover)},
-              {"noise_mm", maybe(t.noise_mm)},
-              {"area_ha", t.truth.extent_x * t.truth.extent_y / 1e4},
-              {"true", n_true},
-              {"tp", tp_i},
-              {"fp", n_det - tp_i},
-              {"fn", n_true - tp_i},
-              {"class_detections", n_class},
-              {"class_tp", class_tp},
-              {"class_fp", n_class - class_tp},
-              {"fn_any_level", n_true - tp_i - class_tp}};
+  documents::ScoreTile r;
+  r.detections = t.detections.name;
+  r.truth = t.truth.name;
+  if (!t.cover.empty()) r.cover = t.cover;
+  if (std::isfinite(t.noise_mm)) r.noise_mm = t.noise_mm;
+  r.area_ha = t.truth.extent_x * t.truth.extent_y / 1e4;
+  r.true_count = n_true;
+  r.tp = tp_i;
+  r.fp = n_det - tp_i;
+  r.fn = n_true - tp_i;
+  r.class_detections = n_class;
+  r.class_tp = class_tp;
+  r.class_fp = n_class - class_tp;
+  r.fn_any_level = n_true - tp_i - class_tp;
+  return r;
 }
 
 }  // namespace
 
-Json score(const std::vector<Tile>& tiles, const Params& params) {
+documents::SceneScore score(const std::vector<Tile>& tiles, const Params& params) {
   std::vector<TileMatch> matches;
   for (const Tile& t : tiles) matches.push_back(match_tile(t.detections, t.truth, params.match_radius));
   const Groups g = groups(tiles);
-  Json rows = Json::array();
-  Json tile_list = Json::array();
+  documents::SceneScore s;
+  s.has_params = true;
+  s.params.match_radius_m = params.match_radius;
+  s.params.cover_bins = params.cover_bins;
+  s.params.flip_threshold_deg = params.flip_threshold;
   for (std::size_t i = 0; i < tiles.size(); ++i) {
-    tile_list.push_back(tile_json(tiles[i], outcome_rows(tiles[i], matches[i], i, rows), matches[i].cls));
+    s.tiles.push_back(tile_row(tiles[i], outcome_rows(tiles[i], matches[i], i, s.matches), matches[i].cls));
   }
-  return Json{{"format", "canopy.scene_score"},
-              {"version", 1},
-              {"params", Json{{"match_radius_m", params.match_radius},
-                              {"cover_bins", params.cover_bins},
-                              {"flip_threshold_deg", params.flip_threshold}}},
-              {"tiles", tile_list},
-              {"summary", summaries(tiles, matches, params, g)},
-              {"pr", pr_curve(tiles, matches)},
-              {"models", model_table(tiles, matches, g)},
-              {"cover_bins", cover_bins(tiles, matches, params, g)},
-              {"matches", rows}};
+  s.summary = summaries(tiles, matches, params, g);
+  s.pr = pr_curve(tiles, matches);
+  s.models = model_table(tiles, matches, g);
+  s.cover_bins = cover_bins(tiles, matches, params, g);
+  return s;
 }
 
 void validate(const Params& params) {
@@ -553,53 +548,6 @@ void validate(const Params& params) {
       throw common::UsageError("--cover-bins: edges must rise strictly within [0, 1]");
     }
   }
-}
-
-Json run(const Params& params, const Inputs& inputs) {
-  Json result = score(inputs.tiles, params);
-  Json doc{{"format", result["format"]},
-           {"version", result["version"]},
-           {"provenance", formats::provenance_json(inputs.provenance)}};
-  for (const auto& [k, v] : result.items()) {
-    if (k != "format" && k != "version") doc[k] = v;
-  }
-  return doc;
-}
-
-std::string csv(const Json& score, const std::string& table) {
-  if (!score.contains(table) || !score[table].is_array())
-    throw common::Error("score: no table \"" + table + "\"");
-  const Json& rows = score[table];
-  std::string out;
-  if (rows.empty()) return out;
-  std::vector<std::string> columns;
-  for (const auto& [k, v] : rows[0].items()) columns.push_back(k);
-  for (std::size_t c = 0; c < columns.size(); ++c) out += (c ? "," : "") + columns[c];
-  out += "\n";
-  for (const Json& r : rows) {
-    for (std::size_t c = 0; c < columns.size(); ++c) {
-      if (c) out += ",";
-      const Json& v = r.contains(columns[c]) ? r[columns[c]] : Json(nullptr);
-      if (v.is_null()) continue;
-      if (v.is_string()) {
-        std::string s = v.get<std::string>();
-        if (s.find_first_of(",\"\n") != std::string::npos) {
-          std::string q = "\"";
-          for (char ch : s) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
-          s = q + "\"";
-        }
-        out += s;
-      } else if (v.is_number_float()) {
-        char buf[40];
-        std::snprintf(buf, sizeof buf, "%.10g", v.get<double>());
-        out += buf;
-      } else {
-        out += v.dump();
-      }
-    }
-    out += "\n";
-  }
-  return out;
 }
 
 }  // namespace canopy::score

@@ -16,10 +16,10 @@
 #pragma once
 
 #include <limits>
-#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "canopy/documents/scene_score.h"
 #include "canopy/formats/provenance.h"
 
 namespace canopy::score {
@@ -109,20 +109,15 @@ double axis_error(double a_deg, double b_deg);
 // no values.
 double percentile(std::vector<double> values, double p);
 
-// The whole score: a canopy.scene_score document (without provenance, added by the caller).
-nlohmann::ordered_json score(const std::vector<Tile>& tiles, const Params& params);
+// The whole score: a canopy.scene_score document (documents/scene_score.h; the provenance is
+// the writer's).
+documents::SceneScore score(const std::vector<Tile>& tiles, const Params& params);
 
-// The tiles of an experiment and who scores them from what.
+// The tiles of an experiment and who scores them from what (the document's text:
+// documents::write_scene_score(score(inputs.tiles, params), inputs.provenance)).
 struct Inputs {
   std::vector<Tile> tiles;
   formats::Provenance provenance;
 };
-
-// The canopy.scene_score document: score(inputs.tiles, params) with the provenance after
-// "format" and "version".
-nlohmann::ordered_json run(const Params& params, const Inputs& inputs);
-
-// CSV tables of a score document: "summary", "pr", "models", "cover_bins", "matches".
-std::string csv(const nlohmann::ordered_json& score, const std::string& table);
 
 }  // namespace canopy::score

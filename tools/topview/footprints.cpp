@@ -1,11 +1,9 @@
 // Reading the footprints topview draws from the detections (v1 or v2), truth, score and
-// candidates index documents: the detections, truth and index through their documents/ readers,
-// the score by formats::open_json_document (format and version checked, nesting bounded); every
-// member topview uses is checked, the error naming the file and the member.
+// candidates index documents, each through its documents/ reader; every member topview uses is
+// checked, the error naming the file and the member.
 #include <cmath>
 #include <filesystem>
 #include <map>
-#include <nlohmann/json.hpp>
 #include <set>
 #include <string>
 #include <vector>
@@ -15,6 +13,7 @@
 #include "canopy/common/log.h"
 #include "canopy/documents/candidates.h"
 #include "canopy/documents/detections.h"
+#include "canopy/documents/scene_score.h"
 #include "canopy/documents/scene_truth.h"
 #include "canopy/formats/json_document.h"
 #include "topview/topview.h"
@@ -22,87 +21,32 @@
 namespace canopy::topview {
 namespace {
 
-using Json = nlohmann::ordered_json;
 using Malformed = formats::MalformedField;
-constexpr auto member = formats::json_member;
-
-// A value for a message: scalars as JSON text (cut), arrays and objects by kind only.
-std::string describe(const Json& v) {
-  if (v.is_array()) return "an array";
-  if (v.is_object()) return "an object";
-  std::string s = v.dump(-1, ' ', true, Json::error_handler_t::replace);
-  return s.size() > 40 ? s.substr(0, 40) + "..." : s;
-}
-
-Json open(const std::string& path, const char* format) {
-  return formats::open_json_document(common::read_file(path), path, format);
-}
-
-const Json& array(const Json& j, const char* key, const std::string& where) {
-  const Json& v = member(j, key, where);
-  if (!v.is_array()) throw Malformed(where + "." + key + " must be an array, not " + describe(v));
-  return v;
-}
-
-std::string text(const Json& j, const char* key, const std::string& where) {
-  const Json& v = member(j, key, where);
-  if (!v.is_string()) throw Malformed(where + "." + key + " must be a string, not " + describe(v));
-  return v.get<std::string>();
-}
-
-// A non-negative integer (an index or an instance number); 3.0, -1, "3" and values beyond
-// 2^53 are refused.
-long long count(const Json& j, const char* key, const std::string& where) {
-  const Json& v = member(j, key, where);
-  const bool ok = v.is_number_unsigned() || (v.is_number_integer() && v.get<long long>() >= 0);
-  if (!ok || v.get<unsigned long long>() > (1ULL << 53)) {
-    throw Malformed(where + "." + key + " must be a non-negative integer, not " + describe(v));
-  }
-  return v.get<long long>();
-}
 
 // The score's matches of this tile: the outcome of each candidate (right, wrong,
-// false_alarm) and the missed vehicles' instances. Every match is checked, not only the
-// tile's: a right, wrong or false_alarm row names its candidate, a missed row its instance.
+// false_alarm) and the missed vehicles' instances. The reader checks every match, not only the
+// tile's: a right, wrong or false_alarm row names its candidate (once per tile), a missed row its
+// instance.
 struct Outcomes {
   std::map<std::string, std::string> of_candidate;
   std::set<long long> missed;
 };
 
 Outcomes read_outcomes(const std::string& path, int tile) {
-  const Json s = open(path, "canopy.scene_score");
+  const documents::SceneScore s = documents::read_scene_score_file(path);
+  if (tile >= static_cast<int>(s.tiles.size())) {
+    throw common::DataError(
+        path, "has no tile " + std::to_string(tile) + " (" + std::to_string(s.tiles.size()) + " tiles)");
+  }
   Outcomes o;
-  try {
-    const Json& tiles = array(s, "tiles", "score");
-    if (tile >= static_cast<int>(tiles.size())) {
-      throw Malformed("has no tile " + std::to_string(tile) + " (" + std::to_string(tiles.size()) + " tiles)");
+  for (const documents::ScoreMatch& m : s.matches) {
+    if (m.tile != tile) continue;
+    if (m.outcome == "missed") {
+      o.missed.insert(*m.instance);
+    } else {
+      o.of_candidate.emplace(*m.candidate, m.outcome);
     }
-    const Json& matches = array(s, "matches", "score");
-    for (std::size_t i = 0; i < matches.size(); ++i) {
-      const std::string w = "matches[" + std::to_string(i) + "]";
-      const Json& m = matches[i];
-      if (!m.is_object()) throw Malformed(w + " must be an object, not " + describe(m));
-      const long long t = count(m, "tile", w);
-      if (t >= static_cast<long long>(tiles.size())) {
-        throw Malformed(w + ".tile " + std::to_string(t) + " is not one of the " +
-                        std::to_string(tiles.size()) + " tiles");
-      }
-      const std::string outcome = text(m, "outcome", w);
-      if (outcome == "missed") {
-        const long long instance = count(m, "instance", w);
-        if (t == tile) o.missed.insert(instance);
-      } else if (outcome == "right" || outcome == "wrong" || outcome == "false_alarm") {
-        const std::string candidate = text(m, "candidate", w);
-        if (t == tile && !o.of_candidate.emplace(candidate, outcome).second) {
-          throw Malformed(w + ".candidate \"" + candidate + "\" has a second outcome in tile " +
-                          std::to_string(tile));
-        }
-      } else {
-        throw Malformed(w + ".outcome must be right, wrong, false_alarm or missed, not " +
-                        describe(member(m, "outcome", w)));
-      }
-    }
-  } catch (const Malformed& e) { throw common::DataError(path, e.what()); }
+  }
   return o;
 }
 

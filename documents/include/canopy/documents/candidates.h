@@ -62,6 +62,21 @@ struct GroundGrid {
   std::int64_t cells = 0, ground_cells = 0, filled_cells = 0, ground_points = 0;
 };
 
+// The tile's density as detect measured it and what its density rule made of it
+// (docs/decisions/detect.md §7): the index's "density" object (detect_density_json).
+struct DetectDensity {
+  double all = 0;                       // points per occupied 1 m cell (per m²)
+  std::optional<double> ground, first;  // on open ground cells; first returns (null when unknown)
+  std::int64_t occupied_cells = 0, open_ground_cells = 0;
+  double rule = 0;  // the density the rule used
+  double voxel = 0, min_planarity = 0, dtm_cell = 0;
+  bool voxel_by_rule = false, planarity_by_rule = false, cell_by_rule = false;
+};
+
+// The "density" object of `d` as detect writes it into the index. Throws common::Error for a
+// non-finite number (a writer's bug).
+nlohmann::ordered_json detect_density_json(const DetectDensity& d);
+
 struct Candidates {
   nlohmann::ordered_json provenance;  // as written (reading); null when absent
   std::string tile;                   // the tile detect read, as given ("" when absent)
@@ -76,6 +91,8 @@ struct Candidates {
   bool has_instances = false;
   std::vector<InstanceTruth> instances;
 
+  // provenance.tool when it is a string, else "".
+  std::string written_by() const;
   // density.all when it is a number > 0.
   std::optional<double> density_all() const;
   // The candidate of that id, nullptr when none.

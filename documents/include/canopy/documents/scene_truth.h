@@ -1,13 +1,16 @@
 // A tile's ground truth: truth.json, format "canopy.scene_truth", version 1 (formats/README.md
-// "Scene truth"): rangetrace writes it for a rendered tile, hand labels of a real tile
-// (share/real/*.truth.json) are written in it; score, topview and report read it here.
+// "Scene truth"): rangetrace writes it for a rendered tile (write_scene_truth), hand labels of a
+// real tile (share/real/*.truth.json) are written in it; score, topview and report read it here.
 #pragma once
 
 #include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
+
+#include "canopy/formats/provenance.h"
 
 namespace canopy::documents {
 
@@ -47,5 +50,68 @@ struct SceneTruth {
 // two positive numbers, an uncertain object without a pose, any member of another type.
 SceneTruth read_scene_truth(const std::string& text, const std::string& name);
 SceneTruth read_scene_truth_file(const std::string& path);
+
+// --- The truth of a rendered tile as rangetrace writes it: every member (positions in tile
+// coordinates with the origin added, angles in degrees; the reader above reads the ones the
+// tools use).
+using Point3 = std::array<double, 3>;
+
+struct RenderedVehicle {
+  std::int64_t instance = 0;
+  std::string model;
+  std::string cls;  // "class": procedural family instances only ("" = not written)
+  std::int64_t line = 0;
+  double x = 0, y = 0, z = 0, heading = 0, pitch = 0, roll = 0;  // "pose"
+  Point3 size{};
+  std::vector<std::array<double, 2>> footprint;
+  double canopy_cover = 0;
+};
+
+struct RenderedClutter {
+  std::string kind;
+  Point3 centre{}, size{};
+  double heading = 0, pitch = 0, roll = 0;
+};
+
+struct RenderedImage {
+  std::int64_t view_idx = 0;
+  double heading = 0;
+  std::int64_t flight_line = 0;
+  double elevation = 0, azimuth = 0;
+  Point3 toward_sensor{};
+  double swath_area = 0;
+};
+
+struct RenderedFlightLine {
+  std::int64_t point_source_id = 0;
+  double heading = 0, offset = 0;
+  Point3 start{}, end{};
+  double t0 = 0, t1 = 0;  // "gps_time"
+};
+
+// Sensor mode: the sensor's keys, the flight lines and the measured density.
+struct RenderedSensor {
+  std::string preset;  // "" = null
+  std::vector<std::pair<std::string, std::string>> keys;
+  std::vector<RenderedFlightLine> flight_lines;
+  double returns_per_m2 = 0, first_returns_per_m2 = 0, pulses_per_m2 = 0;
+  std::vector<std::int64_t> pulses_by_returns;
+};
+
+struct RenderedTruth {
+  std::string scene;
+  double extent_x = 0, extent_y = 0;
+  std::optional<Point3> origin;  // null when the recipe gives none
+  std::string terrain, angles;
+  std::vector<RenderedVehicle> vehicles;
+  std::vector<RenderedClutter> clutter;
+  std::int64_t broadleaf = 0, conifer = 0, bushes = 0, discs = 0;  // "vegetation"
+  double canopy_cover = 0, canopy_spacing = 0;
+  std::optional<RenderedSensor> sensor;  // sensor mode: sensor, flight_lines, density
+  std::vector<RenderedImage> images;     // otherwise: the images in view_idx order
+};
+
+// The text rangetrace writes (two spaces indent, a final newline).
+std::string write_scene_truth(const RenderedTruth& truth, const formats::Provenance& provenance);
 
 }  // namespace canopy::documents
