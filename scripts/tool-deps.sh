@@ -9,8 +9,8 @@
 # and the compiler's depfiles (CMAKE_DEPENDS_DEPENDENCY_FILES: every header each object
 # included), and the CMake files the configuration read (CMakeFiles/Makefile.cmake:
 # CMAKE_MAKEFILE_DEPENDS). Only files inside the source tree count (not /usr, not BUILD), named
-# relative to it (make runs there). So `report`, which links tools/areas' library, depends on
-# tools/areas/areas.cpp and areas.h, and famscore on the rangetrace sources it links.
+# relative to it (make runs there). So `report` depends on the documents/ sources it links
+# (documents/src/areas.cpp among them), and famscore and rangetrace on the sim/ sources.
 # When the build tree holds no such record (another generator, a tool not built yet), OUT is
 # removed and the status is 0: Makefile.experiments then asks CMake on every run (FORCE).
 set -euo pipefail

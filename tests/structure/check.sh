@@ -56,13 +56,45 @@ report=$(
     }'
 )
 report=$(printf '%s\n' "$report" | grep -v '^$' | LC_ALL=C sort -t"$(printf '\t')" -k1,1 -k2,2 | cut -f3-)
-if [ -n "$report" ]; then
-  printf '%s\n' "$report"
-  bad=1
+
+# Known offenders still being moved (<source dir>/tests/structure/pending.txt: "<file> <rule>"
+# per line, rule = includes | links | nlohmann | lines, '#' starts a comment): reported as
+# pending, not failures. A pending entry that no longer matches an offender fails the check, so
+# the list only shrinks. Hand-made trees without the file are checked strictly.
+pending_file=$1/tests/structure/pending.txt
+declare -A pending=()
+if [ -f "$pending_file" ]; then
+  while read -r file rule _; do
+    [ -n "$file" ] && [ "${file:0:1}" != "#" ] && pending["$file $rule"]=0
+  done <"$pending_file"
 fi
+rule_of() {
+  case $1 in
+    *" includes "*) echo includes ;; *" links "*) echo links ;; *"names nlohmann"*) echo nlohmann ;; *) echo lines ;;
+  esac
+}
+if [ -n "$report" ]; then
+  while IFS= read -r l; do
+    f=${l#structure: }; f=${f%% *}; f=${f%%:*}
+    key="$f $(rule_of "$l")"
+    if [ -n "${pending[$key]+x}" ]; then
+      pending[$key]=1
+      echo "pending (tests/structure/pending.txt): ${l#structure: }"
+    else
+      echo "$l"
+      bad=1
+    fi
+  done <<<"$report"
+fi
+for key in "${!pending[@]}"; do
+  if [ "${pending[$key]}" = 0 ]; then
+    echo "structure: tests/structure/pending.txt lists '$key', which is no longer an offender: remove it"
+    bad=1
+  fi
+done
 
 if [ $bad -ne 0 ]; then
   echo "FAIL: tools/ breaks the structure rules (offenders above)" >&2
   exit 1
 fi
-echo "ok: tools/ follows the structure rules"
+echo "ok: tools/ follows the structure rules${pending[*]:+ (apart from the pending list)}"

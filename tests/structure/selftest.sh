@@ -36,6 +36,24 @@ $out
 expected
 $expected"
 
+# Pending offenders (tests/structure/pending.txt): listed ones are reported but pass; one not
+# listed still fails; a listed entry that no longer offends fails.
+mkdir -p "$tmp/bad/tests/structure"
+printf '# comment\ntools/beta/beta.h nlohmann\ntools/beta/b.cpp lines\n' >"$tmp/bad/tests/structure/pending.txt"
+out=$(bash "$check" "$tmp/bad" 2>/dev/null)
+[ $? -eq 1 ] || fail "pending list: the unlisted includes and link did not fail"
+echo "$out" | grep -qx 'pending (tests/structure/pending.txt): tools/beta/beta.h:2 names nlohmann (JSON belongs to formats/ and documents/)' ||
+  fail "a pending offender not reported as pending: $out"
+if echo "$out" | grep -q '^structure: tools/beta/b.cpp'; then fail "a pending offender reported as a failure"; fi
+rm "$tmp/bad/tools/alpha/a.cpp" "$tmp/bad/tools/alpha/alpha.h"
+echo 'canopy_add_tool(beta SOURCES b.cpp)' >"$tmp/bad/tools/beta/CMakeLists.txt"
+out=$(bash "$check" "$tmp/bad" 2>/dev/null) || fail "only pending offenders left, still refused: $out"
+lines 10 >"$tmp/bad/tools/beta/b.cpp"
+out=$(bash "$check" "$tmp/bad" 2>/dev/null)
+[ $? -eq 1 ] || fail "a pending entry that no longer offends did not fail"
+echo "$out" | grep -qx "structure: tests/structure/pending.txt lists 'tools/beta/b.cpp lines', which is no longer an offender: remove it" ||
+  fail "the stale pending entry not named: $out"
+
 # Usage errors.
 bash "$check" >/dev/null 2>&1
 [ $? -eq 2 ] || fail "no argument: expected exit 2"
