@@ -10,6 +10,7 @@
 
 #include "canopy/documents/match_result.h"
 #include "report/baseline_section.h"
+#include "canopy/documents/scene_score.h"
 #include "report/report.h"
 #include "support/cli.h"
 
@@ -67,7 +68,8 @@ TEST_CASE("scene section: the baseline's scores beside canopy's, the goal, time 
   const fs::path res = root / "results" / "scenes";
   const std::string run0 = (root / "out/scenes/light/tile-1/noise-0").string();
   const std::string run1 = (root / "out/scenes/light/tile-1/noise-8").string();
-  const auto score = nlohmann::ordered_json::parse(score_text(res, run0, run1, 0.8, 1.0, 0.9, 1.5));
+  const documents::SceneScore score =
+      documents::read_scene_score(score_text(res, run0, run1, 0.8, 1.0, 0.9, 1.5), "score.json");
   write(res / "baseline-vfh" / "score.json", score_text(res, run0, run1, 0.4, 0.6, 0.5, 90));
   write(res / "baseline-fpfh" / "score.json", score_text(res, run0, run1, 0.77, 0.8, 0.95, 2.5));
   const std::vector<report::SceneStageTime> times = {
