@@ -209,6 +209,13 @@ ScoreMatch match_of(const Json& m, const std::string& w, std::size_t tiles) {
 
 SceneScore read_members(const Json& j) {
   SceneScore s;
+  if (const Json* prov = optional(j, "provenance"); prov && prov->is_object()) {
+    if (const Json* p = optional(*prov, "parameters"); p && p->is_object()) {
+      for (const auto& [k, v] : p->items()) {
+        if (v.is_string()) s.parameters.emplace_back(k, v.get<std::string>());
+      }
+    }
+  }
   if (const Json* p = optional(j, "params")) {
     s.params = params_of(*p);
     s.has_params = true;

@@ -156,6 +156,20 @@ TEST_CASE("scene score: what score writes reads back") {
   CHECK(documents::write_scene_score(s, {}) == text);
 }
 
+TEST_CASE("scene score: the provenance's text parameters read back, others left out") {
+  const std::string text = documents::write_scene_score(
+      example(), {"score", "9.9", {{"csv", "results/scenes/summary.csv"}, {"match-radius", "1.5"}}, {}});
+  const documents::SceneScore s = documents::read_scene_score(text, "s.json");
+  CHECK(s.parameters == std::vector<std::pair<std::string, std::string>>{
+                            {"csv", "results/scenes/summary.csv"}, {"match-radius", "1.5"}});
+  Json j = Json::parse(text);
+  j["provenance"]["parameters"] = Json{{"seed", 3}, {"csv", "a/b.csv"}, {"none", nullptr}};
+  CHECK(documents::read_scene_score(j.dump(), "s.json").parameters ==
+        std::vector<std::pair<std::string, std::string>>{{"csv", "a/b.csv"}});
+  j.erase("provenance");
+  CHECK(documents::read_scene_score(j.dump(), "s.json").parameters.empty());
+}
+
 TEST_CASE("scene score: refusals name the file and the problem") {
   const Json good = Json::parse(documents::write_scene_score(example(), {}));
   CHECK(refusal(good).empty());

@@ -10,6 +10,7 @@
 
 #include "canopy/documents/match_result.h"
 #include "report/baseline_section.h"
+#include "canopy/documents/scene_score.h"
 #include "report/report.h"
 #include "support/cli.h"
 
@@ -67,9 +68,15 @@ TEST_CASE("scene section: the baseline's scores beside canopy's, the goal, time 
   const fs::path res = root / "results" / "scenes";
   const std::string run0 = (root / "out/scenes/light/tile-1/noise-0").string();
   const std::string run1 = (root / "out/scenes/light/tile-1/noise-8").string();
-  const auto score = nlohmann::ordered_json::parse(score_text(res, run0, run1, 0.8, 1.0, 0.9, 1.5));
+  const documents::SceneScore score =
+      documents::read_scene_score(score_text(res, run0, run1, 0.8, 1.0, 0.9, 1.5), "score.json");
   write(res / "baseline-vfh" / "score.json", score_text(res, run0, run1, 0.4, 0.6, 0.5, 90));
-  write(res / "baseline-fpfh" / "score.json", score_text(res, run0, run1, 0.77, 0.8, 0.95, 2.5));
+  // FPFH's noise levels written as numbers (0.0) where canopy's are integers (0): the same level.
+  std::string fpfh = score_text(res, run0, run1, 0.77, 0.8, 0.95, 2.5);
+  for (std::size_t at = fpfh.find("\"noise_mm\": 0,"); at != std::string::npos;
+       at = fpfh.find("\"noise_mm\": 0,", at))
+    fpfh.replace(at, 14, "\"noise_mm\": 0.0,");
+  write(res / "baseline-fpfh" / "score.json", fpfh);
   const std::vector<report::SceneStageTime> times = {
       stage_time("fitvox", 10, 2.0),       stage_time("cocone", 10, 3.0), stage_time("ncut", 10, 1.0),
       stage_time("gmatch", 10, 1.0),       stage_time("verify", 10, 3.0), stage_time("baseline-vfh", 10, 0.5),
@@ -83,6 +90,8 @@ TEST_CASE("scene section: the baseline's scores beside canopy's, the goal, time 
                 "| all | all | 10 | FPFH | 9 | 95.0% | 90.0% | 50.0% | 77.0% | 0.25 | 2.5 |\n") !=
         std::string::npos);
   CHECK(md.find("| light | 0 | 5 | VFH | 5 | 100.0% | 100.0% | 100.0% | 60.0% | 0.10 | – |") !=
+        std::string::npos);
+  CHECK(md.find("| light | 0 | 5 | FPFH | 5 | 100.0% | 100.0% | 100.0% | 80.0% | 0.10 | 1.0 |") !=
         std::string::npos);
   CHECK(md.find("| tank | all | 10 | 80.0% | 40.0% | 77.0% |") != std::string::npos);
   CHECK(md.find("| 0.00–0.50 | all | 10 | 80.0% | 40.0% | 77.0% |") != std::string::npos);

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "canopy/documents/scene_score.h"
 #include "report/report.h"
 #include "support/cli.h"
 
@@ -86,7 +87,7 @@ TEST_CASE("scene times: a malformed .time file is an error naming it, not a drop
 }
 
 TEST_CASE("scene section: the score's numbers, the targets judged on them, the figures") {
-  const auto score = nlohmann::ordered_json::parse(R"({
+  const documents::SceneScore score = documents::read_scene_score(R"({
     "format": "canopy.scene_score", "version": 1,
     "params": {"match_radius_m": 1.5, "cover_bins": [0, 0.5, 1], "flip_threshold_deg": 90},
     "tiles": [
@@ -116,7 +117,8 @@ TEST_CASE("scene section: the score's numbers, the targets judged on them, the f
                     "recognised": 3, "recall": 0.75, "recognition": 0.75},
                    {"cover_lo": 0.5, "cover_hi": 1, "noise_mm": "all", "true": 0, "detected": 0,
                     "recognised": 0, "recall": null, "recognition": null}],
-    "matches": []})");
+    "matches": []})",
+                                                                  "score.json");
   report::SceneStageTime d;
   d.stage = "detect";
   d.runs = 2;

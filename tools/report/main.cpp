@@ -13,8 +13,8 @@
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
 #include "canopy/common/share.h"
-#include "canopy/formats/json_document.h"
 #include "canopy/formats/pcd.h"
+#include "canopy/documents/scene_score.h"
 #include "canopy/documents/stage_time.h"
 #include "report/baseline_section.h"
 #include "report/families_section.h"
@@ -182,8 +182,7 @@ std::string families_section(const std::string& families) {
 std::string scenes_section(const std::string& tile_score, const std::string& scene_dir,
                            const std::string& results, common::OutputSet& outputs) {
   common::log::Phase scenes_phase("scenes");
-  const auto score =
-      formats::open_json_document(common::read_file(tile_score), tile_score, "canopy.scene_score");
+  const documents::SceneScore score = documents::read_scene_score_file(tile_score);
   const auto times = report::scene_times(report::scene_runs(score));
   const std::string markdown = "\n" + report::scene_markdown(score, times, relative_to(scene_dir, results));
   outputs.set(scene_dir + "/times.csv", report::scene_times_csv(times));

@@ -6,10 +6,9 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "canopy/formats/csv_table.h"
 #include "canopy/documents/match_result.h"
+#include "canopy/documents/scene_score.h"
 #include "canopy/documents/segment_graph.h"
 #include "canopy/documents/stage_time.h"
 #include "canopy/documents/verdict.h"
@@ -270,12 +269,12 @@ struct SceneStageTime {
 std::vector<SceneStageTime> scene_times(const std::vector<SceneRun>& runs);
 
 // The runs named by a score document's "tiles" (dir = directory of each "detections").
-std::vector<SceneRun> scene_runs(const nlohmann::ordered_json& score);
+std::vector<SceneRun> scene_runs(const documents::SceneScore& score);
 
 // The report's "Scene experiment" section (Markdown) and the times as CSV
 // (stage,runs,seconds,area_ha,seconds_per_ha,peak_mb,cpu_seconds,cpu_runs). figures_dir: the scene figures'
 // directory relative to report.md ("scenes").
-std::string scene_markdown(const nlohmann::ordered_json& score, const std::vector<SceneStageTime>& times,
+std::string scene_markdown(const documents::SceneScore& score, const std::vector<SceneStageTime>& times,
                            const std::string& figures_dir);
 std::string scene_times_csv(const std::vector<SceneStageTime>& times);
 

@@ -5,38 +5,57 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <set>
 #include <sstream>
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
-#include "canopy/formats/json_document.h"
+#include "canopy/documents/scene_score.h"
 #include "canopy/documents/stage_time.h"
 #include "report/report.h"
 
 namespace canopy::report {
 namespace {
 
-using Json = nlohmann::ordered_json;
+using documents::SceneScore;
+using documents::ScoreRow;
+using documents::ScoreValue;
 
 // A rate of the score (a number or null) as a percentage; null = "–".
-std::string rate(const Json& v) {
-  return v.is_number() ? format_number("%.1f%%", 100 * v.get<double>()) : "–";
+std::string rate(const ScoreValue& v) {
+  return v.is_number() ? format_number("%.1f%%", 100 * v.as_number()) : "–";
 }
-std::string num(const Json& v, const char* f) {
-  return v.is_number() ? format_number(f, v.get<double>()) : "–";
+std::string num(const ScoreValue& v, const char* f) {
+  return v.is_number() ? format_number(f, v.as_number()) : "–";
 }
-std::string text(const Json& v) {
-  if (v.is_string()) return v.get<std::string>();
-  if (v.is_number_integer()) return std::to_string(v.get<long long>());
-  if (v.is_number()) return format_number("%g", v.get<double>());
+std::string num(const std::optional<double>& v, const char* f) { return v ? format_number(f, *v) : "–"; }
+std::string text(const ScoreValue& v) {
+  switch (v.kind) {
+    case ScoreValue::Kind::text: return v.text;
+    case ScoreValue::Kind::integer: return std::to_string(v.integer);
+    case ScoreValue::Kind::number: return format_number("%g", v.number);
+    case ScoreValue::Kind::null: break;
+  }
   return "–";
 }
 
-const Json& field(const Json& j, const char* key) {
-  static const Json null_value = nullptr;
-  const auto it = j.find(key);
-  return it == j.end() ? null_value : *it;
+// The cell `key` of `row`; null when the row has none.
+const ScoreValue& field(const ScoreRow& row, const char* key) {
+  static const ScoreValue null_value;
+  const ScoreValue* v = documents::score_cell(row, key);
+  return v != nullptr ? *v : null_value;
+}
+
+// Cells equal as JSON values: nulls, equal texts, equal numbers (an integer 8 equals 8.0).
+bool same_value(const ScoreValue& a, const ScoreValue& b) {
+  if (a.is_number() && b.is_number()) {
+    if (a.kind == ScoreValue::Kind::integer && b.kind == ScoreValue::Kind::integer)
+      return a.integer == b.integer;
+    return a.as_number() == b.as_number();
+  }
+  if (a.kind != b.kind) return false;
+  return a.kind == ScoreValue::Kind::null || a.text == b.text;
 }
 
 // The PCL baseline's methods (issue 17; mk/scenes.mk SCENE_BASELINE), in the tables' order.
@@ -45,25 +64,28 @@ const char* const kBaselineMethods[] = {"vfh", "fpfh"};
 struct BaselineScore {
   std::string method;
   std::string path;
-  Json score;
+  SceneScore score;
 };
 
 // The baseline's scores beside canopy's: <dir>/baseline-<method>/score.json, where <dir> is
 // where `score` wrote canopy's CSVs (the score's --csv parameter: results/scenes/). Only scores
 // of exactly canopy's runs are shown; others (a stale run over other tiles) are named in
 // `stale`.
-std::vector<BaselineScore> baseline_scores(const Json& score, std::vector<std::string>& stale) {
+std::vector<BaselineScore> baseline_scores(const SceneScore& score, std::vector<std::string>& stale) {
   std::vector<BaselineScore> out;
-  const Json& csv = field(field(field(score, "provenance"), "parameters"), "csv");
-  if (!csv.is_string() || csv.get<std::string>().empty()) return out;
-  const std::filesystem::path dir = std::filesystem::path(csv.get<std::string>()).parent_path();
+  std::string csv;
+  for (const auto& [k, v] : score.parameters) {
+    if (k == "csv") csv = v;
+  }
+  if (csv.empty()) return out;
+  const std::filesystem::path dir = std::filesystem::path(csv).parent_path();
   std::vector<std::string> want;
   for (const auto& r : scene_runs(score)) want.push_back(r.dir);
   for (const char* m : kBaselineMethods) {
     const std::string path = (dir / ("baseline-" + std::string(m)) / "score.json").string();
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec)) continue;
-    BaselineScore b{m, path, formats::open_json_document(common::read_file(path), path, "canopy.scene_score")};
+    BaselineScore b{m, path, documents::read_scene_score_file(path)};
     std::vector<std::string> got;
     for (const auto& r : scene_runs(b.score)) got.push_back(r.dir);
     if (got != want) {
@@ -77,12 +99,13 @@ std::vector<BaselineScore> baseline_scores(const Json& score, std::vector<std::s
 
 // A score's row of `table` whose keys equal `row`'s (summary: cover and noise_mm; models:
 // model and cover; cover_bins: cover_lo and noise_mm); null when it has none.
-const Json& same_row(const Json& score, const char* table, const Json& row, const char* k1, const char* k2) {
-  static const Json null_value = nullptr;
-  for (const Json& r : field(score, table)) {
-    if (field(r, k1) == field(row, k1) && field(r, k2) == field(row, k2)) return r;
+const ScoreRow& same_row(const std::vector<ScoreRow>& table, const ScoreRow& row, const char* k1,
+                         const char* k2) {
+  static const ScoreRow no_row;
+  for (const ScoreRow& r : table) {
+    if (same_value(field(r, k1), field(row, k1)) && same_value(field(r, k2), field(row, k2))) return r;
   }
-  return null_value;
+  return no_row;
 }
 
 double stage_mean(const std::vector<SceneStageTime>& times, const std::string& stage, int& runs) {
@@ -98,13 +121,13 @@ double stage_mean(const std::vector<SceneStageTime>& times, const std::string& s
 
 // The side-by-side tables: canopy and each baseline method per cover and noise level, per
 // model, per measured cover bin; the issue's goal; time per candidate.
-void baseline_rows(std::ostringstream& md, const Json& score, const std::vector<BaselineScore>& bl) {
+void baseline_rows(std::ostringstream& md, const SceneScore& score, const std::vector<BaselineScore>& bl) {
   md << "| cover | noise (mm) | true | method | detections | precision | recall | identification | "
         "recognition "
         "| position error median (m) | heading error median (°) |\n"
         "|---|---|---|---|---|---|---|---|---|---|---|\n";
-  for (const Json& s : field(score, "summary")) {
-    auto row = [&](const std::string& label, const Json& r, bool heading) {
+  for (const ScoreRow& s : score.summary) {
+    auto row = [&](const std::string& label, const ScoreRow& r, bool heading) {
       md << "| " << text(field(s, "cover")) << " | " << text(field(s, "noise_mm")) << " | "
          << text(field(s, "true")) << " | " << label << " | " << text(field(r, "detections")) << " | "
          << rate(field(r, "precision")) << " | " << rate(field(r, "recall")) << " | "
@@ -114,24 +137,25 @@ void baseline_rows(std::ostringstream& md, const Json& score, const std::vector<
     };
     row("canopy", s, true);
     for (const auto& b : bl) {
-      row(method_label(b.method), same_row(b.score, "summary", s, "cover", "noise_mm"), b.method != "vfh");
+      row(method_label(b.method), same_row(b.score.summary, s, "cover", "noise_mm"), b.method != "vfh");
     }
   }
   md << "\n";
 }
 
-void baseline_recognition(std::ostringstream& md, const Json& score, const std::vector<BaselineScore>& bl) {
+void baseline_recognition(std::ostringstream& md, const SceneScore& score,
+                          const std::vector<BaselineScore>& bl) {
   md << "Recognition (right model within the match radius / true vehicles) per model and per measured canopy "
         "cover bin:\n\n| model | cover | true | canopy";
   for (const auto& b : bl) md << " | " << method_label(b.method);
   md << " |\n|---|---|---|---";
   for (std::size_t i = 0; i < bl.size(); ++i) md << "|---";
   md << "|\n";
-  for (const Json& m : field(score, "models")) {
+  for (const ScoreRow& m : score.models) {
     md << "| " << text(field(m, "model")) << " | " << text(field(m, "cover")) << " | "
        << text(field(m, "true")) << " | " << rate(field(m, "recognition"));
     for (const auto& b : bl)
-      md << " | " << rate(field(same_row(b.score, "models", m, "model", "cover"), "recognition"));
+      md << " | " << rate(field(same_row(b.score.models, m, "model", "cover"), "recognition"));
     md << " |\n";
   }
   md << "\n| canopy cover | noise (mm) | true | canopy";
@@ -139,34 +163,34 @@ void baseline_recognition(std::ostringstream& md, const Json& score, const std::
   md << " |\n|---|---|---|---";
   for (std::size_t i = 0; i < bl.size(); ++i) md << "|---";
   md << "|\n";
-  for (const Json& c : field(score, "cover_bins")) {
+  for (const ScoreRow& c : score.cover_bins) {
     md << "| " << num(field(c, "cover_lo"), "%.2f") << "–" << num(field(c, "cover_hi"), "%.2f") << " | "
        << text(field(c, "noise_mm")) << " | " << text(field(c, "true")) << " | "
        << rate(field(c, "recognition"));
     for (const auto& b : bl) {
-      md << " | " << rate(field(same_row(b.score, "cover_bins", c, "cover_lo", "noise_mm"), "recognition"));
+      md << " | " << rate(field(same_row(b.score.cover_bins, c, "cover_lo", "noise_mm"), "recognition"));
     }
     md << " |\n";
   }
   md << "\n";
 }
 
-void baseline_goal(std::ostringstream& md, const Json& score, const std::vector<BaselineScore>& bl) {
+void baseline_goal(std::ostringstream& md, const SceneScore& score, const std::vector<BaselineScore>& bl) {
   // The issue's goal, on recognition over all runs.
-  const Json all_key = Json{{"cover", "all"}, {"noise_mm", "all"}};
-  const Json& canopy_all = same_row(score, "summary", all_key, "cover", "noise_mm");
-  const Json& c_rec = field(canopy_all, "recognition");
+  const ScoreRow all_key = {{"cover", "all"}, {"noise_mm", "all"}};
+  const ScoreRow& canopy_all = same_row(score.summary, all_key, "cover", "noise_mm");
+  const ScoreValue& c_rec = field(canopy_all, "recognition");
   double best = -1;
   std::string best_method;
   for (const auto& b : bl) {
-    const Json& r = field(same_row(b.score, "summary", all_key, "cover", "noise_mm"), "recognition");
-    if (r.is_number() && r.get<double>() > best) {
-      best = r.get<double>();
+    const ScoreValue& r = field(same_row(b.score.summary, all_key, "cover", "noise_mm"), "recognition");
+    if (r.is_number() && r.as_number() > best) {
+      best = r.as_number();
       best_method = method_label(b.method);
     }
   }
   if (c_rec.is_number() && best >= 0) {
-    const double gap = 100 * (c_rec.get<double>() - best);
+    const double gap = 100 * (c_rec.as_number() - best);
     md << "Goal of issue 17, canopy ≥ 5 points above the best baseline (recognition, all runs): canopy "
        << rate(c_rec) << ", best baseline " << best_method << " " << format_number("%.1f%%", 100 * best)
        << ": " << format_number("%+.1f", gap) << " points, " << (gap >= 5 ? "met" : "**not met**") << ".\n\n";
@@ -193,7 +217,7 @@ void baseline_times(std::ostringstream& md, const std::vector<BaselineScore>& bl
   md << ".\n\n";
 }
 
-std::string baseline_markdown(const Json& score, const std::vector<BaselineScore>& bl,
+std::string baseline_markdown(const SceneScore& score, const std::vector<BaselineScore>& bl,
                               const std::vector<SceneStageTime>& times) {
   std::ostringstream md;
   md << "### canopy beside the PCL baseline (issue 17)\n\n"
@@ -213,13 +237,12 @@ std::string baseline_markdown(const Json& score, const std::vector<BaselineScore
 
 }  // namespace
 
-std::vector<SceneRun> scene_runs(const Json& score) {
+std::vector<SceneRun> scene_runs(const SceneScore& score) {
   std::vector<SceneRun> runs;
-  if (!score.contains("tiles") || !score["tiles"].is_array()) return runs;
-  for (const Json& t : score["tiles"]) {
+  for (const documents::ScoreTile& t : score.tiles) {
     SceneRun r;
-    r.dir = std::filesystem::path(t.value("detections", std::string())).parent_path().string();
-    r.area_ha = t.value("area_ha", 0.0);
+    r.dir = std::filesystem::path(t.detections).parent_path().string();
+    r.area_ha = t.area_ha.value_or(0.0);
     runs.push_back(r);
   }
   return runs;
@@ -308,31 +331,29 @@ std::string scene_times_csv(const std::vector<SceneStageTime>& times) {
 namespace {
 
 // The section's parts, in the order scene_markdown writes them.
-void scene_intro(std::ostringstream& md, const Json& score, const Json& tiles, const Json* all,
-                 std::size_t renders) {
+void scene_intro(std::ostringstream& md, const SceneScore& score, const ScoreRow* all, std::size_t renders) {
   md << "## Scene experiment (issue 16)\n\n";
-  md << "Whole tiles (docs/decisions/scene-experiment.md): " << renders << " rendered tiles, " << tiles.size()
-     << " runs (tile × noise level)";
+  md << "Whole tiles (docs/decisions/scene-experiment.md): " << renders << " rendered tiles, "
+     << score.tiles.size() << " runs (tile × noise level)";
   if (all != nullptr) {
-    md << ", " << format_number("%.2f", field(*all, "area_ha").get<double>()) << " ha in all, "
-       << text(field(*all, "true")) << " true vehicles, " << text(field(*all, "candidates"))
-       << " candidates verified";
+    md << ", " << num(field(*all, "area_ha"), "%.2f") << " ha in all, " << text(field(*all, "true"))
+       << " true vehicles, " << text(field(*all, "candidates")) << " candidates verified";
   }
   md << ". A detection matches a true vehicle whose centre lies within "
-     << num(field(field(score, "params"), "match_radius_m"), "%g")
+     << num(score.params.match_radius_m, "%g")
      << " m of its own (one to one, most confident first); identification = right model among the matched "
         "detections; recognition = right model found / true vehicles; pose errors over the identified "
         "detections. Tables: `scenes/*.csv`.\n\n";
 }
 
-void detection_table(std::ostringstream& md, const Json& summary) {
+void detection_table(std::ostringstream& md, const std::vector<ScoreRow>& summary) {
   md << "### Detection, identification and pose\n\n"
         "| cover | noise (mm) | tiles | mean vehicle cover | true | candidates | detections | TP | FP | FN | "
         "precision | recall | F1 | false alarms / ha | identification | recognition | position error median "
         "/ "
         "p90 (m) | heading error median / p90 (°) | flips |\n"
         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-  for (const Json& s : summary) {
+  for (const ScoreRow& s : summary) {
     md << "| " << text(field(s, "cover")) << " | " << text(field(s, "noise_mm")) << " | "
        << text(field(s, "tiles")) << " | " << num(field(s, "mean_vehicle_cover"), "%.2f") << " | "
        << text(field(s, "true")) << " | " << text(field(s, "candidates")) << " | "
@@ -348,19 +369,19 @@ void detection_table(std::ostringstream& md, const Json& summary) {
   md << "\n";
 }
 
-void targets_table(std::ostringstream& md, const Json& summary, const Json* all) {
+void targets_table(std::ostringstream& md, const std::vector<ScoreRow>& summary, const ScoreRow* all) {
   // The issue's targets, judged on the same numbers.
   md << "Targets of the issue (reported whatever they are):\n\n| target | measured | met |\n|---|---|---|\n";
   auto judge = [&](const char* what, const char* key, double bound, bool at_least) {
     std::string measured;
     bool met = true, any = false;
-    for (const Json& s : summary) {
+    for (const ScoreRow& s : summary) {
       const std::string c = text(field(s, "cover")), n = text(field(s, "noise_mm"));
       if ((c != "light" && c != "medium") || (n != "0" && n != "8")) continue;
-      const Json& v = field(s, key);
+      const ScoreValue& v = field(s, key);
       measured += (measured.empty() ? "" : ", ") + c + " " + n + " mm " + rate(v);
       any = true;
-      if (!v.is_number() || (at_least ? v.get<double>() < bound : v.get<double>() > bound)) met = false;
+      if (!v.is_number() || (at_least ? v.as_number() < bound : v.as_number() > bound)) met = false;
     }
     md << "| " << what << " | " << (any ? measured : "no light/medium run at 0–8 mm") << " | "
        << (any ? (met ? "yes" : "**no**") : "–") << " |\n";
@@ -368,21 +389,21 @@ void targets_table(std::ostringstream& md, const Json& summary, const Json* all)
   judge("recall ≥ 95% at light and medium cover, 0–8 mm", "recall", 0.95, true);
   judge("precision ≥ 95% at light and medium cover, 0–8 mm", "precision", 0.95, true);
   if (all != nullptr) {
-    const Json& id = field(*all, "identification");
+    const ScoreValue& id = field(*all, "identification");
     md << "| identification ≥ 90% of matched detections (all runs) | " << rate(id) << " | "
-       << (id.is_number() ? (id.get<double>() >= 0.9 ? "yes" : "**no**") : "–") << " |\n";
-    const Json& he = field(*all, "heading_error_median_deg");
+       << (id.is_number() ? (id.as_number() >= 0.9 ? "yes" : "**no**") : "–") << " |\n";
+    const ScoreValue& he = field(*all, "heading_error_median_deg");
     md << "| heading error median ≤ 2° (all runs) | " << num(he, "%.2f°") << " | "
-       << (he.is_number() ? (he.get<double>() <= 2 ? "yes" : "**no**") : "–") << " |\n";
+       << (he.is_number() ? (he.as_number() <= 2 ? "yes" : "**no**") : "–") << " |\n";
   }
   md << "\n";
 }
 
-void models_table(std::ostringstream& md, const Json& score) {
+void models_table(std::ostringstream& md, const SceneScore& score) {
   md << "### Identification per model\n\n"
         "| model | cover | true | matched | identified | recall | identification | recognition |\n"
         "|---|---|---|---|---|---|---|---|\n";
-  for (const Json& m : field(score, "models")) {
+  for (const ScoreRow& m : score.models) {
     md << "| " << text(field(m, "model")) << " | " << text(field(m, "cover")) << " | "
        << text(field(m, "true")) << " | " << text(field(m, "matched")) << " | "
        << text(field(m, "identified")) << " | " << rate(field(m, "recall")) << " | "
@@ -391,13 +412,13 @@ void models_table(std::ostringstream& md, const Json& score) {
   md << "\n";
 }
 
-void cover_table(std::ostringstream& md, const Json& score, const std::string& fig) {
+void cover_table(std::ostringstream& md, const SceneScore& score, const std::string& fig) {
   md << "### Recognition against the measured canopy cover\n\n"
         "Per vehicle, the share of its footprint under vegetation seen from straight above (rangetrace's "
         "nadir image, `canopy_cover` in truth.json), binned; all noise levels, then per noise level.\n\n"
         "| canopy cover | noise (mm) | true | detected | recognised | recall | recognition |\n"
         "|---|---|---|---|---|---|---|\n";
-  for (const Json& b : field(score, "cover_bins")) {
+  for (const ScoreRow& b : score.cover_bins) {
     md << "| " << num(field(b, "cover_lo"), "%.2f") << "–" << num(field(b, "cover_hi"), "%.2f") << " | "
        << text(field(b, "noise_mm")) << " | " << text(field(b, "true")) << " | " << text(field(b, "detected"))
        << " | " << text(field(b, "recognised")) << " | " << rate(field(b, "recall")) << " | "
@@ -407,9 +428,9 @@ void cover_table(std::ostringstream& md, const Json& score, const std::string& f
      << fig << "/noise.png)\n\n";
 }
 
-void pr_table(std::ostringstream& md, const Json& score) {
+void pr_table(std::ostringstream& md, const SceneScore& score) {
   // Precision-recall: at most 12 rows (every k-th threshold and the last); all of it in pr.csv.
-  const Json& pr = field(score, "pr");
+  const std::vector<ScoreRow>& pr = score.pr;
   md << "### Precision and recall over the confidence\n\n";
   if (pr.empty()) {
     md << "No detection: no curve.\n\n";
@@ -421,7 +442,7 @@ void pr_table(std::ostringstream& md, const Json& score) {
     const std::size_t step = (pr.size() + 11) / 12;
     for (std::size_t i = 0; i < pr.size(); ++i) {
       if (i % step != 0 && i + 1 != pr.size()) continue;
-      const Json& r = pr[i];
+      const ScoreRow& r = pr[i];
       md << "| " << num(field(r, "threshold"), "%.3f") << " | " << text(field(r, "detections")) << " | "
          << text(field(r, "tp")) << " | " << text(field(r, "fp")) << " | " << rate(field(r, "precision"))
          << " | " << rate(field(r, "recall")) << " |\n";
@@ -430,7 +451,7 @@ void pr_table(std::ostringstream& md, const Json& score) {
   }
 }
 
-void baselines(std::ostringstream& md, const Json& score, const std::vector<SceneStageTime>& times) {
+void baselines(std::ostringstream& md, const SceneScore& score, const std::vector<SceneStageTime>& times) {
   std::vector<std::string> stale;
   const auto bl = baseline_scores(score, stale);
   if (!bl.empty()) md << baseline_markdown(score, bl, times);
@@ -470,23 +491,22 @@ void pictures(std::ostringstream& md, const std::vector<std::string>& covers, co
 
 }  // namespace
 
-std::string scene_markdown(const Json& score, const std::vector<SceneStageTime>& times, const std::string& fig) {
+std::string scene_markdown(const SceneScore& score, const std::vector<SceneStageTime>& times,
+                           const std::string& fig) {
   std::ostringstream md;
-  const Json& tiles = field(score, "tiles");
-  const Json& summary = field(score, "summary");
+  const std::vector<ScoreRow>& summary = score.summary;
   std::vector<std::string> covers;
   std::set<std::string> renders;
-  for (const Json& t : tiles) {
-    const std::string c = text(field(t, "cover"));
+  for (const documents::ScoreTile& t : score.tiles) {
+    const std::string c = t.cover.value_or("–");
     if (std::find(covers.begin(), covers.end(), c) == covers.end() && c != "–") covers.push_back(c);
-    renders.insert(
-        std::filesystem::path(t.value("detections", std::string())).parent_path().parent_path().string());
+    renders.insert(std::filesystem::path(t.detections).parent_path().parent_path().string());
   }
-  const Json* all = nullptr;
-  for (const Json& s : summary) {
+  const ScoreRow* all = nullptr;
+  for (const ScoreRow& s : summary) {
     if (text(field(s, "cover")) == "all" && text(field(s, "noise_mm")) == "all") all = &s;
   }
-  scene_intro(md, score, tiles, all, renders.size());
+  scene_intro(md, score, all, renders.size());
   detection_table(md, summary);
   targets_table(md, summary, all);
   models_table(md, score);

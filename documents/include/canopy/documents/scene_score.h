@@ -72,6 +72,9 @@ struct ScoreMatch {
 };
 
 struct SceneScore {
+  // Reading: provenance.parameters whose values are texts, in order (report finds score's --csv
+  // there); the writer takes its provenance apart and ignores this.
+  std::vector<std::pair<std::string, std::string>> parameters;
   bool has_params = false;
   ScoreParams params;
   std::vector<ScoreTile> tiles;
