@@ -74,6 +74,11 @@ std::array<double, 16> rigid_matrix(const Json& v, const std::string& where) {
   } else {
     throw Malformed(where + " must be a 4 x 4 matrix (16 numbers or 4 rows of 4)");
   }
+  check_rigid(m, where);
+  return m;
+}
+
+void check_rigid(const std::array<double, 16>& m, const std::string& where) {
   if (m[12] != 0 || m[13] != 0 || m[14] != 0 || m[15] != 1)
     throw Malformed(where + ": last row is not 0 0 0 1");
   for (int a = 0; a < 3; ++a) {
@@ -87,7 +92,6 @@ std::array<double, 16> rigid_matrix(const Json& v, const std::string& where) {
   const double det = m[0] * (m[5] * m[10] - m[6] * m[9]) - m[1] * (m[4] * m[10] - m[6] * m[8]) +
                      m[2] * (m[4] * m[9] - m[5] * m[8]);
   if (det < 0) throw Malformed(where + ": the 3 x 3 part is a reflection");
-  return m;
 }
 
 double finite_or_throw(double v, const char* tool) {

@@ -37,6 +37,9 @@ std::array<double, 3> point3(const Json& v, const std::string& what);  // [x, y,
 // A rigid transform: 16 numbers or 4 rows of 4; the last row 0 0 0 1, the 3 x 3 part a
 // rotation (orthonormal within 1e-6, determinant +1).
 std::array<double, 16> rigid_matrix(const Json& v, const std::string& what);
+// rigid_matrix's check of a row-major 4 x 4 already read: Malformed "<what>: last row is not
+// 0 0 0 1" / "...: the 3 x 3 part is not a rotation" / "...: the 3 x 3 part is a reflection".
+void check_rigid(const std::array<double, 16>& m, const std::string& what);
 
 // The writers' check: v itself, or common::Error "<tool>: refusing to write a non-finite number".
 double finite_or_throw(double v, const char* tool);

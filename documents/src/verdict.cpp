@@ -11,6 +11,7 @@
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
+#include "members.h"
 #include "verdict_json.h"
 
 namespace canopy::documents {
@@ -64,20 +65,14 @@ using verdict_json::pose_json;
 // A malformed member: parse_verdict adds the file ("malformed verdict: hypotheses[1].score ...").
 using Malformed = MalformedField;
 
-std::string describe(const Json& v) {
-  if (v.is_array()) return "an array";
-  if (v.is_object()) return "an object";
-  std::string s = v.dump(-1, ' ', true, Json::error_handler_t::replace);
-  return s.size() > 40 ? s.substr(0, 40) + "..." : s;
-}
+using members::describe;
 
 const Json& at(const Json& j, const char* key, const std::string& where) {
   return formats::json_member(j, key, where.empty() ? "verdict" : where);
 }
 
-std::string name_of(const std::string& where, const char* key) {
-  return where.empty() ? std::string(key) : where + "." + key;
-}
+// "<where>.<key>", or key alone at the top.
+std::string name_of(const std::string& where, const char* key) { return members::path(where, key); }
 
 // A finite number (JSON has no NaN; numbers beyond double's range are refused when opening).
 double number_at(const Json& j, const char* key, const std::string& where) {
@@ -140,19 +135,7 @@ Pose pose_from(const Json& j, const std::string& where) {
     if (!m[i].is_number()) throw Malformed(where + ".matrix must be 16 numbers, not " + describe(m[i]));
     a[i] = m[i].get<double>();
   }
-  if (a[12] != 0 || a[13] != 0 || a[14] != 0 || a[15] != 1)
-    throw Malformed(where + ".matrix: last row is not 0 0 0 1");
-  for (int r = 0; r < 3; ++r) {
-    for (int s = 0; s < 3; ++s) {
-      double dot = 0;
-      for (int k = 0; k < 3; ++k) dot += a[4 * k + r] * a[4 * k + s];
-      if (std::fabs(dot - (r == s ? 1 : 0)) > 1e-6)
-        throw Malformed(where + ".matrix: the 3 x 3 part is not a rotation");
-    }
-  }
-  const double det = a[0] * (a[5] * a[10] - a[6] * a[9]) - a[1] * (a[4] * a[10] - a[6] * a[8]) +
-                     a[2] * (a[4] * a[9] - a[5] * a[8]);
-  if (det < 0) throw Malformed(where + ".matrix: the 3 x 3 part is a reflection");
+  members::check_rigid(a, where + ".matrix");
   Pose p;
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 3; ++c) p.rotation[3 * r + c] = a[4 * r + c];
