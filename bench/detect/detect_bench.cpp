@@ -251,7 +251,7 @@ int recall(int tiles) {
         const TileSpec s = random_tile(seed, cv.cover, noise, 30, 8, 0.1);
         const formats::PointCloud tile = detect_test::make_tile(s);
         const auto t0 = std::chrono::steady_clock::now();
-        const detect::Result r = detect::run(tile, detect::Params{}, "bench");
+        const detect::Result r = detect::run(detect::Params{}, {&tile, "bench"});
         t.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         tally_tile(s, tile, r, cv.name, noise, t);
       }
@@ -301,7 +301,7 @@ int pmf(double half) {
   f.extract(ground);
   const double full = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   t0 = std::chrono::steady_clock::now();
-  const detect::Result r = detect::run(tile, p, "pmf");
+  const detect::Result r = detect::run(p, {&tile, "pmf"});
   const double ours = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::size_t truth_ground = 0, full_right = 0, ours_right = 0;
   std::vector<char> is_ground(tile.size(), 0);

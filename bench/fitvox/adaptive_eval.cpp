@@ -36,8 +36,9 @@ void report(const char* scene, double true_sigma, const Scan& scan, std::uint64_
     Params p;
     p.noise = pol.known ? true_sigma : pol.noise;
     p.noise_margin = pol.margin;
+    p.keep_all = true;
     if (pol.known && !(true_sigma > 0)) continue;
-    const Result r = canopy::fitvox::run(scan, p, true);
+    const Result r = canopy::fitvox::run(p, scan);
     // per label: voxels (all), voxels with >= min_points, kept
     std::size_t all[4] = {}, dense[4] = {}, kept[4] = {};
     for (const auto& s : r.all) {

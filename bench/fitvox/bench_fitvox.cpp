@@ -65,7 +65,7 @@ double time_fitvox(const canopy::fitvox::Scan& scan, int repeat, std::size_t& vo
   std::vector<double> tf;
   for (int r = 0; r < repeat; ++r) {
     const double t0 = now();
-    const auto res = canopy::fitvox::run(scan, p);
+    const auto res = canopy::fitvox::run(p, scan);
     tf.push_back(now() - t0);
     kept = res.stats.kept;
     voxels = res.stats.voxels;

@@ -40,10 +40,10 @@ void measure(const char* label, const Setup& s, const std::vector<gm::Model>& mo
   for (const auto& [truth, scene] : s.scenes) {
     // Best of three runs: the machine is shared, the minimum is the least disturbed.
     double ms = 1e300;
-    gm::Out out;
+    gm::Outputs out;
     for (int rep = 0; rep < 3; ++rep) {
       const auto t0 = std::chrono::steady_clock::now();
-      out = gm::run({&scene, &models}, p);
+      out = gm::run(p, {&scene, &models});
       ms = std::min(ms,
                     std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }

@@ -115,10 +115,10 @@ struct Row {
 using Rows = std::map<std::pair<int, int>, Row>;  // (by, K)
 
 // One query through every prefilter setting (off first); returns the result without prefilter.
-gm::Out measure_query(const SegmentGraph& q, const std::string& object, const std::vector<gm::Model>& models,
-                      Rows* rows) {
+gm::Outputs measure_query(const SegmentGraph& q, const std::string& object,
+                          const std::vector<gm::Model>& models, Rows* rows) {
   const std::vector<int> ks = {0, 8, 16, 32, 64, 128, 256};
-  gm::Out off;
+  gm::Outputs off;
   for (int b = 0; b < 2; ++b) {
     for (int k : ks) {
       if (b == 1 && k == 0) continue;
@@ -126,7 +126,7 @@ gm::Out measure_query(const SegmentGraph& q, const std::string& object, const st
       p.prefilter = k;
       p.prefilter_by = kBys[b];
       const double t = now_ms();
-      gm::Out out = gm::run({&q, &models}, p);
+      gm::Outputs out = gm::run(p, {&q, &models});
       const double ms = now_ms() - t;
       Row& r = (*rows)[{b, k}];
       r.ms += ms;
@@ -152,7 +152,7 @@ gm::Out measure_query(const SegmentGraph& q, const std::string& object, const st
 // Where the full search's winner (and the true model) stand in the coarse prefilter's order;
 // prints the query's line, returns the winner's rank (1-based).
 int winner_rank_of(const SegmentGraph& q, const std::string& object, const fs::path& path,
-                   const std::vector<gm::Model>& models, const gm::Out& off) {
+                   const std::vector<gm::Model>& models, const gm::Outputs& off) {
   gm::Params cp;
   cp.max_segments = cp.coarse_segments;
   std::vector<std::pair<double, std::string>> d;
@@ -204,7 +204,7 @@ int run(const std::string& modelbase, const std::vector<std::pair<std::string, f
   std::vector<int> winner_rank;  // rank of the full search's winner in prefilter order
   for (const auto& [object, path] : queries) {
     const SegmentGraph q = canopy::documents::read_segment_graph(path.string());
-    const gm::Out off = measure_query(q, object, models, &rows);
+    const gm::Outputs off = measure_query(q, object, models, &rows);
     winner_rank.push_back(winner_rank_of(q, object, path, models, off));
   }
   print_rows(rows, static_cast<double>(queries.size()));

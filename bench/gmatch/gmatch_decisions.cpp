@@ -28,7 +28,7 @@ void row(const char* scenes, const char* config, const std::vector<gm::Model>& m
   for (size_t k = 0; k < models.size(); ++k) {
     for (int i = 0; i < per_model; ++i) {
       const auto scene = synthetic_scene(models[k].graph, 5000 + 100 * k + i, spec);
-      const auto out = gm::run({&scene, &models}, p).result;
+      const auto out = gm::run(p, {&scene, &models}).result;
       ++n;
       double wrong = 0;
       for (const auto& m : out.models) {

@@ -248,7 +248,7 @@ Options parse_options(int argc, char** argv) {
 Result time_big(const TestMesh& b) {
   Params p;
   const double t0 = now();
-  Result r = run(b.in, p);
+  Result r = run(p, b.in);
   print_run("height field 10^5", b.in.points.size(), r, now() - t0);
   return r;
 }
@@ -270,7 +270,7 @@ void exponent_comparison(bool quick, bool detail) {
           Params p;
           p.affinity.exponent = e == 0 ? Exponent::kSquared : Exponent::kLinear;
           p.sparsify.seed = seed;
-          const Result r = run(m.in, p);
+          const Result r = run(p, m.in);
           acc[e] = score(m.part, r.segment);
           if (detail && seed == 1) {
             std::printf("  %s %s noise %.0f mm %.0f deg:\n", shape, e == 0 ? "squared" : "linear", sp * 1000,
@@ -301,7 +301,7 @@ void dihedral_sweep() {
     for (int e = 0; e < 2; ++e) {
       Params p;
       p.affinity.exponent = e == 0 ? Exponent::kSquared : Exponent::kLinear;
-      count[e] = static_cast<int>(run(hinge(phi * deg).in, p).graph.segments.size());
+      count[e] = static_cast<int>(run(p, hinge(phi * deg).in).graph.segments.size());
     }
     std::printf("%-8.0f %-8d %-8d\n", phi, count[0], count[1]);
   }
@@ -312,7 +312,7 @@ void synthetic_timing(bool quick) {
   for (double h : {0.128, 0.064}) {
     const TestMesh v = vehicle(h);
     const double t0 = now();
-    const Result r = run(v.in, Params{});
+    const Result r = run(Params{}, v.in);
     print_run(h == 0.128 ? "vehicle-like 128mm" : "vehicle-like 64mm", v.in.points.size(), r, now() - t0);
   }
   if (!quick) {
@@ -327,13 +327,13 @@ void synthetic_timing(bool quick) {
 // Both exponents on a PLY mesh: timing, target segments and the largest segment areas.
 void mesh_file_runs(const std::string& f, int dense_max) {
   const formats::Mesh mesh = formats::read_ply(f);
-  const Input in = input_from_mesh(mesh, f);
+  const Inputs in = input_from_mesh(mesh, f);
   for (int e = 0; e < 2; ++e) {
     Params p;
     p.affinity.exponent = e == 0 ? Exponent::kSquared : Exponent::kLinear;
     p.cut.dense_max = dense_max;
     const double t0 = now();
-    const Result r = run(in, p);
+    const Result r = run(p, in);
     std::string name = f.size() > 20 ? "..." + f.substr(f.size() - 17) : f;
     name += e == 0 ? " sq" : " lin";
     print_run(name.c_str(), in.points.size(), r, now() - t0);

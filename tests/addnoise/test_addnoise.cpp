@@ -39,7 +39,7 @@ TEST_CASE("addnoise: sigma per axis within sampling error, other fields kept") {
   addnoise::Params p;
   p.sigma = 0.008;
   p.seed = 7;
-  const formats::PointCloud out = addnoise::run(in, p);
+  const formats::PointCloud out = addnoise::run(p, {&in});
   REQUIRE(out.size() == n);
   REQUIRE(out.names() == in.names());
   for (const char* f : {"x", "y", "z"}) {
@@ -69,13 +69,13 @@ TEST_CASE("addnoise: sigma per axis within sampling error, other fields kept") {
 TEST_CASE("addnoise: sigma 0 is an exact copy; seeds reproduce") {
   const formats::PointCloud in = scan(1000);
   addnoise::Params p;
-  CHECK(formats::serialize_pcd(addnoise::run(in, p)) == formats::serialize_pcd(in));
+  CHECK(formats::serialize_pcd(addnoise::run(p, {&in})) == formats::serialize_pcd(in));
   p.sigma = 0.004;
   p.seed = 3;
-  const auto a = formats::serialize_pcd(addnoise::run(in, p));
-  CHECK(a == formats::serialize_pcd(addnoise::run(in, p)));
+  const auto a = formats::serialize_pcd(addnoise::run(p, {&in}));
+  CHECK(a == formats::serialize_pcd(addnoise::run(p, {&in})));
   p.seed = 4;
-  CHECK(a != formats::serialize_pcd(addnoise::run(in, p)));
+  CHECK(a != formats::serialize_pcd(addnoise::run(p, {&in})));
 }
 
 TEST_CASE("validate: sigma in [0, 100 m], the error names --sigma") {

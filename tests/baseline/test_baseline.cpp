@@ -36,7 +36,8 @@ TEST_CASE("baseline: an occluded box ranks the box first in both methods, pose r
   for (const auto& p : cand.points) REQUIRE(p.z() >= 0.3f);
 
   bl::Params p;
-  const bl::Result r = bl::run(cand, box_and_cylinder(), p);
+  const std::vector<bl::Model> models = box_and_cylinder();
+  const bl::Result r = bl::run(p, {&cand, &models});
   REQUIRE(r.methods.size() == 2);
   for (const auto& m : r.methods) {
     INFO(m.method);
@@ -60,7 +61,8 @@ TEST_CASE("baseline: an occluded cylinder ranks the cylinder first", "[baseline]
   const double heading = -1.1;
   const Cloud raw = scene(cylinder(), pose(heading, {-5, 1, 0}), {0, 0, -1}, 0.01, 8);
   const Cloud cand = bl::candidate_from_cloud(to_cloud(raw), "scene", 0.3);
-  const bl::Result r = bl::run(cand, box_and_cylinder(), bl::Params{});
+  const std::vector<bl::Model> models = box_and_cylinder();
+  const bl::Result r = bl::run(bl::Params{}, {&cand, &models});
   for (const auto& m : r.methods) {
     INFO(m.method);
     CHECK(m.models[0].model == "cylinder");
@@ -76,8 +78,8 @@ TEST_CASE("baseline: same inputs and seed, same bytes", "[baseline]") {
   const Cloud raw = scene(box(), pose(2.0, {1, 1, 0}), {1, 0, 0}, 0.02, 9);
   const Cloud cand = bl::candidate_from_cloud(to_cloud(raw), "scene", 0.3);
   const auto models = box_and_cylinder();
-  const std::string a = bl::serialize(bl::run(cand, models, bl::Params{}), "s", {}, {"s"});
-  const std::string b = bl::serialize(bl::run(cand, models, bl::Params{}), "s", {}, {"s"});
+  const std::string a = bl::serialize(bl::run(bl::Params{}, {&cand, &models}), "s", {}, {"s"});
+  const std::string b = bl::serialize(bl::run(bl::Params{}, {&cand, &models}), "s", {}, {"s"});
   CHECK(a == b);
   CHECK(a.find("\"format\": \"canopy.baseline\"") != std::string::npos);
 }

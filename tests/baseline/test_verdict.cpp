@@ -92,7 +92,8 @@ TEST_CASE("baseline verdict: the best model at or above the threshold, else none
 }
 
 TEST_CASE("baseline verdict: an occluded box is the box, posed; a crate is none", "[baseline]") {
-  const bl::Params p;  // the shipped thresholds (share/params/baseline.ini has the same)
+  bl::Params p;  // the shipped thresholds (share/params/baseline.ini has the same)
+  p.methods = "fpfh";
   REQUIRE(p.accept_fpfh > 0);
   const std::vector<bl::Model> models = {{"box", box()}, {"cylinder", cylinder()}};
 
@@ -101,7 +102,7 @@ TEST_CASE("baseline verdict: an occluded box is the box, posed; a crate is none"
   const Cloud cand = bl::candidate_from_cloud(
       to_cloud(scene(box(), pose(heading, t), {-std::sin(heading), std::cos(heading), 0}, 0.01, 7)), "box",
       0.3);
-  const auto r = bl::run(cand, models, p, "fpfh");
+  const auto r = bl::run(p, {&cand, &models});
   const auto v = bl::to_verdict(r.methods.at(0), p.accept_fpfh, "box.pcd", kProv);
   REQUIRE(v.model == "box");
   CHECK(v.confidence >= p.accept_fpfh);
@@ -116,7 +117,7 @@ TEST_CASE("baseline verdict: an occluded box is the box, posed; a crate is none"
   // covers little of either model, so its fitness is below the threshold.
   const Cloud crate_cand = bl::candidate_from_cloud(
       to_cloud(scene(crate(), pose(0.3, {-2, 4, 0}), {0, 1, 0}, 0.01, 11)), "crate", 0.3);
-  const auto rc = bl::run(crate_cand, models, p, "fpfh");
+  const auto rc = bl::run(p, {&crate_cand, &models});
   INFO("crate: best " << rc.methods[0].models[0].model << " fitness " << rc.methods[0].models[0].score);
   CHECK(rc.methods[0].models[0].score < p.accept_fpfh);
   const auto vc = bl::to_verdict(rc.methods[0], p.accept_fpfh, "crate.pcd", kProv);

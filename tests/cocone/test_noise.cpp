@@ -28,7 +28,7 @@ struct Outcome {
 Outcome reconstruct(const fitvox::Scan& scan, bool resample) {
   fitvox::Params fp;
   fp.resample = resample;
-  const fitvox::Result r = fitvox::run(scan, fp);
+  const fitvox::Result r = fitvox::run(fp, scan);
   std::vector<Vector3d> pts, normals;
   for (const auto& s : r.samples) {
     pts.push_back(s.fit.p);

@@ -34,7 +34,7 @@ TEST_CASE("raw mesh keeps every sample row and closes the ball") {
   const auto c = ball(1500, 1.0, 1.5);
   cc::Params p;
   p.postprocess = false;
-  const auto m = cc::run(c, p);
+  const auto m = cc::run(p, {&c});
   CHECK(m.vertices.size() == c.size());
   CHECK(m.vertices.names() == c.names());
   CHECK(m.vertices.col("tag") == c.col("tag"));
@@ -44,7 +44,7 @@ TEST_CASE("raw mesh keeps every sample row and closes the ball") {
 
 TEST_CASE("post-processed mesh: surviving rows in input order, every field, faces follow normals") {
   const auto c = ball(1500, 1.0, 1.5);
-  const auto m = cc::run(c, cc::Params{});
+  const auto m = cc::run(cc::Params{}, {&c});
   REQUIRE(m.faces.size() > 0);
   CHECK(m.vertices.names() == c.names());
   const auto& tag = m.vertices.col("tag");
@@ -76,10 +76,10 @@ TEST_CASE("post-processed mesh: surviving rows in input order, every field, face
 
 TEST_CASE("a mesh with no face left is an error") {
   const auto c = ball(500, 0.1, 0.0);  // entirely below 300 mm
-  CHECK_THROWS_WITH(cc::run(c, cc::Params{}), Catch::Matchers::Contains("no triangle left"));
+  CHECK_THROWS_WITH(cc::run(cc::Params{}, {&c}), Catch::Matchers::Contains("no triangle left"));
   cc::Params raw;
   raw.postprocess = false;
-  CHECK(cc::run(c, raw).faces.size() == 2 * 500 - 4);
+  CHECK(cc::run(raw, {&c}).faces.size() == 2 * 500 - 4);
 }
 
 TEST_CASE("validate: the defaults pass; each bad parameter is a usage error naming its option") {

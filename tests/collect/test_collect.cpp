@@ -401,7 +401,7 @@ TEST_CASE("collect::run writes the provenance it is given; validate names --crs"
   none.confidence = 0.25;
   in.answers = {{none, collect::absent_verdict("c1/class.json")}};
   in.provenance = {"collect", "9.9", {{"crs", ""}, {"plan", ""}}, {"idx.json", "c1/verdict.json"}};
-  const collect::Output o = collect::run(collect::Params{}, in);
+  const collect::Outputs o = collect::run(collect::Params{}, in);
   CHECK(o.found == 0);
   CHECK(o.none == 1);
   const Json d = Json::parse(o.detections);

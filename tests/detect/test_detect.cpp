@@ -93,7 +93,7 @@ formats::PointCloud xyz_cloud(const std::vector<Eigen::Vector3d>& p) {
 TEST_CASE("flat tile: every vehicle gets one candidate at its pose") {
   const TileSpec s = three_vehicles(detect_test::Terrain::kFlat);
   const auto tile = detect_test::make_tile(s);
-  const detect::Result r = detect::run(tile, detect::Params{}, "flat");
+  const detect::Result r = detect::run(detect::Params{}, {&tile, "flat"});
   check_poses(s, r);
   REQUIRE(r.has_truth);
   REQUIRE(r.instances.size() == 3);
@@ -105,7 +105,7 @@ TEST_CASE("15 degree slope: poses in the tilted ground frame") {
   TileSpec s = three_vehicles(detect_test::Terrain::kSlope);
   s.slope_deg = 15;
   const auto tile = detect_test::make_tile(s);
-  const detect::Result r = detect::run(tile, detect::Params{}, "slope");
+  const detect::Result r = detect::run(detect::Params{}, {&tile, "slope"});
   check_poses(s, r);
   // The candidate frame's z is the ground normal (15 degrees from vertical).
   for (const auto& c : r.candidates) {
@@ -123,7 +123,7 @@ TEST_CASE("rolling ground at UTM magnitudes in float64") {
   s.noise = 0.008;
   const auto tile = detect_test::make_tile(s);
   REQUIRE(tile.type("x") == formats::kFloat64);
-  const detect::Result r = detect::run(tile, detect::Params{}, "utm");
+  const detect::Result r = detect::run(detect::Params{}, {&tile, "utm"});
   check_poses(s, r);
   CHECK(std::abs(r.origin.x() - 500000) < 25);
   CHECK(std::abs(r.origin.y() - 4400000) < 25);
@@ -132,7 +132,7 @@ TEST_CASE("rolling ground at UTM magnitudes in float64") {
 TEST_CASE("candidate clouds: local frame, ground at z = 0, every input field") {
   TileSpec s = three_vehicles(detect_test::Terrain::kSlope);
   const auto tile = detect_test::make_tile(s);
-  const detect::Result r = detect::run(tile, detect::Params{}, "fields");
+  const detect::Result r = detect::run(detect::Params{}, {&tile, "fields"});
   REQUIRE(!r.candidates.empty());
   for (const auto& c : r.candidates) {
     for (const auto& f : tile.names()) CHECK(c.cloud.has(f));
@@ -179,7 +179,7 @@ TEST_CASE("two vehicles side by side give two candidates") {
     s.vehicles = {{across.x() * off, across.y() * off, h, 4.5, 1.8, 1.5, 1, cabin},
                   {-across.x() * off, -across.y() * off, h, 4.6, 1.8, 1.6, 2, cabin}};
     const auto tile = detect_test::make_tile(s);
-    const detect::Result r = detect::run(tile, detect::Params{}, "pair");
+    const detect::Result r = detect::run(detect::Params{}, {&tile, "pair"});
     CHECK(r.candidates.size() == 2);
     check_poses(s, r);
   }
@@ -191,7 +191,7 @@ TEST_CASE("a vehicle under a bush is still a candidate") {
   s.vehicles = {{0, 0, 0.2, 4.5, 1.8, 1.5, 3}};
   s.bushes = {{1.5, 0.8, 1.5, 0.3, 2.6}};
   const auto tile = detect_test::make_tile(s);
-  const detect::Result r = detect::run(tile, detect::Params{}, "bush");
+  const detect::Result r = detect::run(detect::Params{}, {&tile, "bush"});
   const auto found = candidates_of(r, 3);
   REQUIRE(found.size() == 1);
   CHECK(found[0]->truth.coverage > 0.9);
@@ -202,7 +202,8 @@ TEST_CASE("a tile with no vehicle gives no candidate") {
   SECTION("trees, bushes, a boulder") {
     TileSpec s = three_vehicles(detect_test::Terrain::kRolling);
     s.vehicles.clear();
-    const detect::Result r = detect::run(detect_test::make_tile(s), detect::Params{}, "forest");
+    const formats::PointCloud tile = detect_test::make_tile(s);
+    const detect::Result r = detect::run(detect::Params{}, {&tile, "forest"});
     CHECK(r.candidates.empty());
     CHECK(r.has_truth);
     CHECK(r.instances.empty());
@@ -211,7 +212,8 @@ TEST_CASE("a tile with no vehicle gives no candidate") {
     TileSpec s;
     s.terrain = detect_test::Terrain::kSlope;
     s.noise = 0.032;
-    const detect::Result r = detect::run(detect_test::make_tile(s), detect::Params{}, "ground");
+    const formats::PointCloud tile = detect_test::make_tile(s);
+    const detect::Result r = detect::run(detect::Params{}, {&tile, "ground"});
     CHECK(r.candidates.empty());
     // Every point is ground.
     for (auto c : r.classes) CHECK(c == detect::kClassGround);
@@ -224,7 +226,7 @@ TEST_CASE("height above ground on a slope") {
   s.trees = {{0, 0, 3, 5, 11, 0.2}};
   s.offset = Eigen::Vector3d(0, 0, 250);
   const auto tile = detect_test::make_tile(s);
-  const detect::Result r = detect::run(tile, detect::Params{}, "hag");
+  const detect::Result r = detect::run(detect::Params{}, {&tile, "hag"});
   const auto& x = tile.col("x");
   const auto& y = tile.col("y");
   const auto& z = tile.col("z");
@@ -241,21 +243,22 @@ TEST_CASE("bad tiles") {
     empty.add("x");
     empty.add("y");
     empty.add("z");
-    CHECK_THROWS_AS(detect::run(empty, detect::Params{}, "empty.pcd"), common::DataError);
-    CHECK_THROWS_WITH(detect::run(empty, detect::Params{}, "empty.pcd"), Catch::Contains("no points"));
+    CHECK_THROWS_AS(detect::run(detect::Params{}, {&empty, "empty.pcd"}), common::DataError);
+    CHECK_THROWS_WITH(detect::run(detect::Params{}, {&empty, "empty.pcd"}), Catch::Contains("no points"));
   }
   SECTION("no coordinates") {
     formats::PointCloud c;
     c.add("intensity");
     c.resize(3);
-    CHECK_THROWS_AS(detect::run(c, detect::Params{}, "odd.pcd"), common::DataError);
+    CHECK_THROWS_AS(detect::run(detect::Params{}, {&c, "odd.pcd"}), common::DataError);
   }
   SECTION("float32 coordinates at UTM magnitudes") {
     TileSpec s;
     s.half_extent = 5;
     s.offset = Eigen::Vector3d(500000, 4400000, 100);
     s.float64 = false;
-    CHECK_THROWS_WITH(detect::run(detect_test::make_tile(s), detect::Params{}, "utm32.pcd"),
+    const formats::PointCloud tile = detect_test::make_tile(s);
+    CHECK_THROWS_WITH(detect::run(detect::Params{}, {&tile, "utm32.pcd"}),
                       Catch::Contains("float32") && Catch::Contains("float64"));
   }
   SECTION("an extent too large for the DTM") {
@@ -266,7 +269,7 @@ TEST_CASE("bad tiles") {
     c.resize(2);
     x[1] = 1e6;
     c.col("y")[1] = 1e6;
-    CHECK_THROWS_WITH(detect::run(c, detect::Params{}, "far.pcd"), Catch::Contains("DTM cells"));
+    CHECK_THROWS_WITH(detect::run(detect::Params{}, {&c, "far.pcd"}), Catch::Contains("DTM cells"));
   }
   SECTION("bad parameters") {
     detect::Params p;
@@ -280,7 +283,7 @@ TEST_CASE("bad tiles") {
     formats::PointCloud c = xyz_cloud({{0, 0, 0}, {1200, 1200, 3}, {500, 700, 1}});
     detect::Params half_metre;  // as --cell 0.5 given (the density rule would pick 2 m cells)
     half_metre.cell_from_density = false;
-    CHECK_THROWS_WITH(detect::run(c, half_metre, "sparse.pcd"),
+    CHECK_THROWS_WITH(detect::run(half_metre, {&c, "sparse.pcd"}),
                       Catch::Contains("its 3 points spread over 1200 m x 1200 m: 5.76e+06 DTM cells") &&
                           Catch::Contains("(4e+06 + 16 per point = 4e+06)"));
   }
@@ -296,8 +299,9 @@ TEST_CASE("bad tiles") {
     detect::Params params;
     params.voxel = 0.001;
     params.voxel_from_density = false;  // as --voxel given
+    const formats::PointCloud tile = xyz_cloud(p);
     CHECK_THROWS_WITH(
-        detect::run(xyz_cloud(p), params, "strip.pcd"),
+        detect::run(params, {&tile, "strip.pcd"}),
         Catch::Contains("strip.pcd: the points between --min-object-height and --max-height span") &&
             Catch::Contains("clustering voxels along an axis of --voxel 0.001 m: raise --voxel"));
   }
@@ -318,7 +322,7 @@ TEST_CASE("a sparse tile: the DTM relaxed only near its points stays on the terr
   const formats::PointCloud tile = xyz_cloud(p);
   detect::Params fixed_cell;
   fixed_cell.cell_from_density = false;  // as --cell given: the 0.5 m DTM this case is about
-  const detect::Result r = detect::run(tile, fixed_cell, "patches.pcd");
+  const detect::Result r = detect::run(fixed_cell, {&tile, "patches.pcd"});
   CHECK(r.stats.cells == 1204 * 1204);  // 601.75 m / 0.5 m, + 1
   CHECK(r.candidates.empty());
   CHECK(r.stats.ground_points == p.size());
@@ -332,12 +336,12 @@ TEST_CASE("same tile -> same index") {
   s.noise = 0.008;
   const auto tile = detect_test::make_tile(s);
   formats::Provenance prov{"detect", "test", {}, {"t.pcd"}};
-  const std::string a = detect::serialize_index(detect::run(tile, {}, "a"), {}, prov, "t.pcd", "");
-  const std::string b = detect::serialize_index(detect::run(tile, {}, "b"), {}, prov, "t.pcd", "");
+  const std::string a = detect::serialize_index(detect::run({}, {&tile, "a"}), {}, prov, "t.pcd", "");
+  const std::string b = detect::serialize_index(detect::run({}, {&tile, "b"}), {}, prov, "t.pcd", "");
   CHECK(a == b);
   detect::Params euclid;
   euclid.clustering = detect::Clustering::kEuclidean;
-  CHECK(detect::serialize_index(detect::run(tile, euclid, "c"), {}, prov, "t.pcd", "") == a);
+  CHECK(detect::serialize_index(detect::run(euclid, {&tile, "c"}), {}, prov, "t.pcd", "") == a);
 }
 
 TEST_CASE("a tank-wide vehicle (3.54 m, body and turret) is one candidate") {
@@ -347,7 +351,8 @@ TEST_CASE("a tank-wide vehicle (3.54 m, body and turret) is one candidate") {
     s.terrain = terrain;
     s.seed = 14;
     s.vehicles = {{1, -2, 0.3, 6.9, 3.54, 2.4, 5, true}};
-    const detect::Result r = detect::run(detect_test::make_tile(s), detect::Params{}, "tank");
+    const formats::PointCloud tile = detect_test::make_tile(s);
+    const detect::Result r = detect::run(detect::Params{}, {&tile, "tank"});
     CHECK(r.candidates.size() == 1);
     check_poses(s, r);
   }
@@ -374,7 +379,7 @@ TEST_CASE("bush groups and low crowns are rejected by the shape test, vehicles a
     detect::Params off;
     off.min_planarity = 0;
     off.planarity_from_density = false;  // as --min-planarity given
-    const detect::Result all = detect::run(tile, off, "off");
+    const detect::Result all = detect::run(off, {&tile, "off"});
     std::size_t vegetation = 0;
     for (const auto& c : all.candidates) {
       INFO("candidate " << c.id << " " << c.length << " x " << c.width << " x " << c.height << " planarity "
@@ -389,7 +394,7 @@ TEST_CASE("bush groups and low crowns are rejected by the shape test, vehicles a
       }
     }
     CHECK(vegetation == 2);  // the bush group and the young tree
-    const detect::Result r = detect::run(tile, detect::Params{}, "on");
+    const detect::Result r = detect::run(detect::Params{}, {&tile, "on"});
     CHECK(r.candidates.size() == 2);
     CHECK(r.stats.rejected_shape == 2);
     check_poses(s, r);
@@ -407,7 +412,7 @@ TEST_CASE("a vehicle half under bushes passes the shape test") {
   // Two bushes over the car's front half and side, reaching above its roof.
   s.bushes = {{1.3, 0.5, 1.3, 0.3, 2.4}, {0.2, -1.2, 1.2, 0.2, 2.2}};
   const auto tile = detect_test::make_tile(s);
-  const detect::Result r = detect::run(tile, detect::Params{}, "bushes");
+  const detect::Result r = detect::run(detect::Params{}, {&tile, "bushes"});
   const auto found = candidates_of(r, 3);
   REQUIRE(found.size() == 1);
   INFO("planarity " << found[0]->planarity << " area " << found[0]->planar_area << " purity "
@@ -419,7 +424,7 @@ TEST_CASE("a vehicle half under bushes passes the shape test") {
   // The share alone would lose it.
   detect::Params share_only;
   share_only.min_planar_area = 1e9;
-  CHECK(candidates_of(detect::run(tile, share_only, "bushes"), 3).empty());
+  CHECK(candidates_of(detect::run(share_only, {&tile, "bushes"}), 3).empty());
 }
 
 TEST_CASE("the DTM cell follows the density: a closed canopy over sparse ground returns") {
@@ -441,9 +446,9 @@ TEST_CASE("the DTM cell follows the density: a closed canopy over sparse ground 
   const formats::PointCloud tile = xyz_cloud(p);
   detect::Params half_metre;
   half_metre.cell_from_density = false;
-  CHECK_THROWS_WITH(detect::run(tile, half_metre, "canopy.pcd"),
+  CHECK_THROWS_WITH(detect::run(half_metre, {&tile, "canopy.pcd"}),
                     Catch::Contains("canopy.pcd: found ground in only") && Catch::Contains("0.5 m cells"));
-  const detect::Result r = detect::run(tile, detect::Params{}, "canopy.pcd");
+  const detect::Result r = detect::run(detect::Params{}, {&tile, "canopy.pcd"});
   CHECK(r.density.cell_by_rule);
   CHECK(r.density.cell == Approx(std::sqrt(24.0 / r.density.all)));
   CHECK(r.density.cell > 0.95);

@@ -114,7 +114,7 @@ TEST_CASE("samples have exactly the contract's fields and load in PCL", "[io][pc
   bool has_sensor = false;
   const auto scan = fitvox::scan_from_cloud(cloud, "scene", &has_sensor);
   CHECK(has_sensor);
-  const auto result = fitvox::run(scan, fitvox::Params{});
+  const auto result = fitvox::run(fitvox::Params{}, scan);
   REQUIRE(result.samples.size() > 50);
   const auto samples = fitvox::samples_to_cloud(result);
   CHECK(samples.names() == kSampleFields);
@@ -153,7 +153,7 @@ TEST_CASE("a plain PCL cloud without sensor fields works, normals toward +z", "[
   bool has_sensor = true;
   const auto scan = fitvox::scan_from_cloud(formats::read_pcd(path.string()), path.string(), &has_sensor);
   CHECK_FALSE(has_sensor);
-  const auto result = fitvox::run(scan, fitvox::Params{});
+  const auto result = fitvox::run(fitvox::Params{}, scan);
   REQUIRE(result.samples.size() >= 49);
   for (const auto& s : result.samples) CHECK(s.fit.normal.z() == Approx(1).margin(1e-6));
 }

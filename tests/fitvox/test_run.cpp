@@ -15,6 +15,12 @@ using Eigen::Vector3d;
 
 namespace {
 
+// The parameters with Result::all filled too.
+fitvox::Params keeping_all(fitvox::Params p) {
+  p.keep_all = true;
+  return p;
+}
+
 using Key = std::array<std::int32_t, 3>;
 
 Key voxel_of(const Vector3d& q, double h) {
@@ -68,7 +74,7 @@ TEST_CASE("partition: every point in exactly one voxel neighbourhood", "[run][pa
     scan.labels.push_back(2);
   }
   fitvox::Params p;
-  const auto r = fitvox::run(scan, p, /*keep_all=*/true);
+  const auto r = fitvox::run(keeping_all(p), scan);
   std::map<Key, std::size_t> truth;
   for (const Vector3d& q : scan.points) ++truth[voxel_of(q, p.voxel)];
   REQUIRE(r.all.size() == truth.size());
@@ -99,7 +105,7 @@ TEST_CASE("without resampling the sample point is the input point nearest the vo
   scan.labels.push_back(1);
   fitvox::Params p;
   p.resample = false;
-  const auto r = fitvox::run(scan, p, true);
+  const auto r = fitvox::run(keeping_all(p), scan);
   REQUIRE(r.samples.size() == 1);
   CHECK(r.samples[0].source_index == scan.points.size() - 1);
   CHECK(r.samples[0].fit.p == scan.points.back());
@@ -119,7 +125,7 @@ TEST_CASE("sparse voxels are rejected at the min-points threshold", "[run][spars
       scan.points.push_back({x, y, 0.3 * x + 0.2 * y});
       scan.sensor.push_back(Vector3d::UnitZ());
     }
-    const auto r = fitvox::run(scan, p);
+    const auto r = fitvox::run(p, scan);
     CHECK(r.samples.size() == (k >= p.min_points ? 1u : 0u));
     CHECK(r.stats.too_few == (k < p.min_points ? 1u : 0u));
   }
@@ -135,7 +141,7 @@ TEST_CASE("random scatter is rejected, surfaces kept", "[run][scatter]") {
   for (double noise : {-1.0, 0.0}) {  // adaptive and fixed bound
     fitvox::Params p;
     p.noise = noise;
-    const auto r = fitvox::run(scan, p, true);
+    const auto r = fitvox::run(keeping_all(p), scan);
     std::size_t floor_kept = 0, scatter_kept = 0;
     for (const auto& s : r.samples) (s.label == 3 ? floor_kept : scatter_kept)++;
     CHECK(floor_kept == 64);
@@ -156,7 +162,7 @@ TEST_CASE("normals face the sensor that saw the sample point", "[run][orientatio
       scan.points.push_back(q);
       scan.sensor.push_back(sensor);
     }
-    const auto r = fitvox::run(scan, fitvox::Params{});
+    const auto r = fitvox::run(fitvox::Params{}, scan);
     REQUIRE(r.samples.size() == 1);
     const auto& f = r.samples[0].fit;
     CHECK(f.normal.dot(sensor) > 0);
@@ -166,7 +172,7 @@ TEST_CASE("normals face the sensor that saw the sample point", "[run][orientatio
   SECTION("without sensor directions: toward +z") {
     fitvox::Scan scan;
     scan.points = plane_patch(Vector3d(0, 0, 0), Vector3d(0.3, 0, -1).normalized(), 0.04, 200, rng);
-    const auto r = fitvox::run(scan, fitvox::Params{});
+    const auto r = fitvox::run(fitvox::Params{}, scan);
     REQUIRE(r.samples.size() == 1);
     CHECK(r.samples[0].fit.normal.z() > 0);
     CHECK(r.samples[0].label == 0);
@@ -179,7 +185,7 @@ TEST_CASE("majority label and purity", "[run][labels]") {
   add_floor(&scan, -0.064, 0.128, 0.02, 20000, 1, rng);
   const std::size_t n1 = scan.points.size();
   for (std::size_t i = 0; i < n1 / 3; ++i) scan.labels[i] = 2;
-  const auto r = fitvox::run(scan, fitvox::Params{});
+  const auto r = fitvox::run(fitvox::Params{}, scan);
   REQUIRE(r.samples.size() == 1);
   CHECK(r.samples[0].label == 1);
   CHECK(r.samples[0].label_purity == Approx(double(n1 - n1 / 3) / n1));
@@ -193,8 +199,8 @@ TEST_CASE("voxel index overflow is an error", "[run][overflow]") {
     scan.points.push_back({3e8, 0, 0});  // 2.3e9 voxels of 128 mm
     scan.sensor.push_back(Vector3d::UnitZ());
     scan.labels.push_back(0);
-    CHECK_THROWS_AS(fitvox::run(scan, fitvox::Params{}), common::Error);
-    CHECK_THROWS_WITH(fitvox::run(scan, fitvox::Params{}), Catch::Contains("overflow"));
+    CHECK_THROWS_AS(fitvox::run(fitvox::Params{}, scan), common::Error);
+    CHECK_THROWS_WITH(fitvox::run(fitvox::Params{}, scan), Catch::Contains("overflow"));
   }
   SECTION("grid extent beyond 2^63 voxels") {
     for (double s : {-1.0, 1.0}) {
@@ -202,7 +208,7 @@ TEST_CASE("voxel index overflow is an error", "[run][overflow]") {
       scan.sensor.push_back(Vector3d::UnitZ());
       scan.labels.push_back(0);
     }
-    CHECK_THROWS_WITH(fitvox::run(scan, fitvox::Params{}), Catch::Contains("overflow"));
+    CHECK_THROWS_WITH(fitvox::run(fitvox::Params{}, scan), Catch::Contains("overflow"));
   }
   SECTION("large but representable coordinates work (sorted path)") {
     for (double s : {-1.0, 1.0}) {
@@ -210,7 +216,7 @@ TEST_CASE("voxel index overflow is an error", "[run][overflow]") {
       scan.sensor.push_back(Vector3d::UnitZ());
       scan.labels.push_back(0);
     }
-    const auto r = fitvox::run(scan, fitvox::Params{}, true);
+    const auto r = fitvox::run(keeping_all(fitvox::Params{}), scan);
     CHECK(r.stats.voxels > 16);
     CHECK(r.samples.size() == 16);  // the 4 x 4 floor voxels
   }
@@ -220,11 +226,11 @@ TEST_CASE("grid anchored at the origin: result independent of the bounding box",
   common::Rng rng(28);
   fitvox::Scan scan;
   add_floor(&scan, -0.064, 0.512, 0.02, 20000, 3, rng);
-  const auto a = fitvox::run(scan, fitvox::Params{});
+  const auto a = fitvox::run(fitvox::Params{}, scan);
   scan.points.push_back({-7.3, 5.1, 2.2});  // a far point moves the bounding box
   scan.sensor.push_back(Vector3d::UnitZ());
   scan.labels.push_back(0);
-  const auto b = fitvox::run(scan, fitvox::Params{});
+  const auto b = fitvox::run(fitvox::Params{}, scan);
   require_same(a, b);
   REQUIRE(a.samples.size() == 16);
   CHECK(a.samples[0].voxel == Key{0, 0, 0});
@@ -236,14 +242,14 @@ TEST_CASE("thread count does not change the result", "[run][determinism]") {
   add_floor(&scan, 0, 1.0, 0.06, 20000, 3, rng);
   add_noise(&scan.points, 0.004, rng);
   fitvox::Params p;
-  const auto one = fitvox::run(scan, p);
+  const auto one = fitvox::run(p, scan);
   p.threads = 3;
-  const auto three = fitvox::run(scan, p);
+  const auto three = fitvox::run(p, scan);
   require_same(one, three);
 }
 
 TEST_CASE("empty scan gives an empty result", "[run][degenerate]") {
-  const auto r = fitvox::run(fitvox::Scan{}, fitvox::Params{});
+  const auto r = fitvox::run(fitvox::Params{}, fitvox::Scan{});
   CHECK(r.samples.empty());
   CHECK(r.stats.voxels == 0);
 }
@@ -252,14 +258,14 @@ TEST_CASE("mismatched optional columns and bad parameters are errors", "[run][er
   fitvox::Scan scan;
   scan.points = {{0, 0, 0}, {1, 1, 1}};
   scan.labels = {1};
-  CHECK_THROWS_AS(fitvox::run(scan, fitvox::Params{}), common::Error);
+  CHECK_THROWS_AS(fitvox::run(fitvox::Params{}, scan), common::Error);
   scan.labels.clear();
   fitvox::Params p;
   p.voxel = 0;
-  CHECK_THROWS_AS(fitvox::run(scan, p), common::Error);
+  CHECK_THROWS_AS(fitvox::run(p, scan), common::Error);
   p = fitvox::Params{};
   p.min_points = 5;
-  CHECK_THROWS_AS(fitvox::run(scan, p), common::Error);
+  CHECK_THROWS_AS(fitvox::run(p, scan), common::Error);
 }
 
 TEST_CASE("adaptive RMS bound follows the noise; the fixed thesis bound does not", "[run][adaptive]") {
@@ -269,13 +275,13 @@ TEST_CASE("adaptive RMS bound follows the noise; the fixed thesis bound does not
     add_floor(&scan, -0.064, 1.024, 0.0, 20000, 3, rng);  // 64 voxels, ~330 points each
     add_noise(&scan.points, sigma, rng);
     fitvox::Params p;
-    const auto adaptive = fitvox::run(scan, p);
+    const auto adaptive = fitvox::run(p, scan);
     // the estimate is the noise along the normal (the median of chi-square/dof is just below 1)
     // (at 32 mm the 128 mm voxel truncates the noise: the estimate is then lower)
     if (sigma < 0.02) CHECK(adaptive.stats.sigma_estimated == Approx(sigma).epsilon(0.1));
     CHECK(adaptive.samples.size() >= 60);
     p.noise = 0;
-    const auto fixed = fitvox::run(scan, p);
+    const auto fixed = fitvox::run(p, scan);
     if (sigma > 0.008) CHECK(fixed.samples.empty());
   }
 }
@@ -289,13 +295,13 @@ TEST_CASE("resampling: the voxel's nearest point or centroid, on the fitted surf
   scan.labels.push_back(3);
   fitvox::Params centroid;
   centroid.from_centroid = true;
-  const auto rc = fitvox::run(scan, centroid);
+  const auto rc = fitvox::run(centroid, scan);
   REQUIRE(rc.samples.size() == 1);
   Vector3d c = Vector3d::Zero();
   for (const auto& q : scan.points) c += q;
   c /= static_cast<double>(scan.points.size());
   CHECK((rc.samples[0].fit.p - c).norm() < 1e-9);  // the centroid already lies on the plane
-  const auto r = fitvox::run(scan, fitvox::Params{}, true);
+  const auto r = fitvox::run(keeping_all(fitvox::Params{}), scan);
   REQUIRE(r.samples.size() == 1);
   CHECK((r.samples[0].fit.p - scan.points.back()).norm() < 1e-9);
   CHECK(r.samples[0].fit.a[5] == Approx(0).margin(1e-9));
@@ -317,8 +323,8 @@ TEST_CASE("resampling: a noisy plane on a voxel face gives one layer of samples,
   }
   fitvox::Params thesis;
   thesis.resample = false;
-  const auto raw = fitvox::run(scan, thesis);
-  const auto res = fitvox::run(scan, fitvox::Params{});
+  const auto raw = fitvox::run(thesis, scan);
+  const auto res = fitvox::run(fitvox::Params{}, scan);
   auto spread = [](const fitvox::Result& r) {
     double s2 = 0;
     for (const auto& s : r.samples) s2 += (s.fit.p.z() - 0.064) * (s.fit.p.z() - 0.064);
@@ -354,7 +360,7 @@ TEST_CASE("validate: the defaults pass; each bad parameter is a usage error nami
   CHECK_THROWS_WITH(fitvox::validate(with([](auto& p) { p.merge = -1; })), Catch::StartsWith("--merge"));
   CHECK_THROWS_AS(fitvox::validate(with([](auto& p) { p.threads = 0; })), common::UsageError);
   // run() refuses the same parameters.
-  CHECK_THROWS_AS(fitvox::run(fitvox::Scan{}, with([](auto& p) { p.max_rms = -1; })), common::UsageError);
+  CHECK_THROWS_AS(fitvox::run(with([](auto& p) { p.max_rms = -1; }), fitvox::Scan{}), common::UsageError);
 }
 
 TEST_CASE("the same samples for any thread count") {
@@ -365,9 +371,9 @@ TEST_CASE("the same samples for any thread count") {
     scan.points.emplace_back(x, y, 0.3 * x * x + 0.1 * y + 0.002 * rng.normal());
   }
   fitvox::Params p;
-  const fitvox::Result one = fitvox::run(scan, p);
+  const fitvox::Result one = fitvox::run(p, scan);
   p.threads = 3;
-  const fitvox::Result three = fitvox::run(scan, p);
+  const fitvox::Result three = fitvox::run(p, scan);
   REQUIRE(one.samples.size() > 100);
   REQUIRE(one.samples.size() == three.samples.size());
   for (std::size_t i = 0; i < one.samples.size(); ++i) {

@@ -51,7 +51,7 @@ TEST_CASE("two-sided coverage: a small model covering part of a big object loses
   REQUIRE(s2.error_coverage == Approx(1 - std::sqrt(kept / total)).epsilon(1e-9));
 
   std::vector<gm::Model> models{{"small", small}, {"truck", truck}};
-  const auto ranked = gm::run({&object, &models}, both);
+  const auto ranked = gm::run(both, {&object, &models});
   REQUIRE(ranked.result.models[0].model == "truck");
   REQUIRE(ranked.result.models[0].score > ranked.result.models[1].score + 0.2);
 }
@@ -82,7 +82,7 @@ TEST_CASE("table output and object names", "[gmatch]") {
   REQUIRE(gm::object_name("-") == "<stdin>");
   const auto truck = vehicle(6.5, 2.4, 1.2, 1.6, 1.0, 2.0, 0.5);
   std::vector<gm::Model> models{{"sedan", vehicle()}, {"truck", truck}};
-  const auto r = gm::run({&truck, &models}, gm::Params{}).result;
+  const auto r = gm::run(gm::Params{}, {&truck, &models}).result;
   const std::string t = gm::format_table(r, "truck-scan");
   // Two header lines, then one line per model in rank order.
   REQUIRE(t.rfind("# object truck-scan, entropy ", 0) == 0);

@@ -59,7 +59,7 @@ TEST_CASE("a graph matched against itself scores 1 and ranks first", "[gmatch]")
   for (const auto& pr : self.pairs) REQUIRE(pr.model_segment >= 0);
 
   const std::vector<gm::Model> models{{"blob", blob}, {"sedan", sedan}, {"truck", truck}};
-  const auto out = gm::run({&sedan, &models}, gm::Params{});
+  const auto out = gm::run(gm::Params{}, {&sedan, &models});
   REQUIRE(out.result.models.front().model == "sedan");
   REQUIRE(out.result.models.front().rank == 1);
   REQUIRE(out.result.models[1].score < 1.0);
@@ -336,8 +336,8 @@ TEST_CASE("run ranks by score, ties by model name, independent of threads", "[gm
                                       {"blob", random_graph(5, 25)}};
   gm::Params three_threads;
   three_threads.threads = 3;
-  const auto one = gm::run({&object, &models}, gm::Params{});
-  const auto three = gm::run({&object, &models}, three_threads);
+  const auto one = gm::run(gm::Params{}, {&object, &models});
+  const auto three = gm::run(three_threads, {&object, &models});
   REQUIRE(one.result.models[0].model == "a_copy");
   REQUIRE(one.result.models[1].model == "c_copy");
   REQUIRE(one.result.models[0].score == one.result.models[1].score);

@@ -109,8 +109,8 @@ TEST_CASE("the prefilter keeps the true model that one summary alone would drop"
 
   gm::Params on;
   on.prefilter = 2;
-  const gm::Out with = gm::run({&object, &models}, on);
-  const gm::Out off = gm::run({&object, &models}, gm::Params{});
+  const gm::Outputs with = gm::run(on, {&object, &models});
+  const gm::Outputs off = gm::run(gm::Params{}, {&object, &models});
   REQUIRE(with.searched == 2);
   REQUIRE(with.result.models.size() == 2);
   REQUIRE(off.result.models.front().model == "sedan");
@@ -126,13 +126,13 @@ TEST_CASE("prefilter K >= N or 0 is identical to no prefilter", "[gmatch][prefil
   const SegmentGraph object = occluded_sedan();
   const auto models = five_models();
   const std::string off =
-      canopy::documents::serialize_match_result(gm::run({&object, &models}, gm::Params{}).result);
+      canopy::documents::serialize_match_result(gm::run(gm::Params{}, {&object, &models}).result);
   for (int k : {0, 5, 6, 1000}) {
     gm::Params p;
     p.prefilter = k;
     p.prefilter_by = k == 6 ? gm::PrefilterBy::kSummary : gm::PrefilterBy::kCoarse;
     p.threads = 2;
-    const gm::Out out = gm::run({&object, &models}, p);
+    const gm::Outputs out = gm::run(p, {&object, &models});
     CHECK(out.searched == 5);
     CHECK(canopy::documents::serialize_match_result(out.result) == off);
   }

@@ -107,7 +107,7 @@ TEST_CASE("two planes meeting at 90 degrees give two segments") {
     TestMesh m = two_planes(1.0, 0.1);
     Params p;
     p.affinity.exponent = e;
-    const Result r = run(m.in, p);
+    const Result r = run(p, m.in);
     CHECK(r.graph.segments.size() == 2);
     check_parts_are_segments(m.part, r.segment);
     REQUIRE(r.graph.adjacency.size() == 1);
@@ -120,7 +120,7 @@ TEST_CASE("two planes meeting at 90 degrees give two segments") {
 TEST_CASE("a sampled box's faces come out as separate segments") {
   TestMesh m = box({2.0, 1.2, 0.8}, 0.1);
   Params p;
-  const Result r = run(m.in, p);
+  const Result r = run(p, m.in);
   CHECK(r.graph.segments.size() == 6);
   check_parts_are_segments(m.part, r.segment);
   // Each segment's normal is its face's outward normal.
@@ -135,7 +135,7 @@ TEST_CASE("a sampled box's faces come out as separate segments") {
 
   SECTION("with noise: 4 mm positions, ~2 deg normals") {
     add_noise(&m, 0.004, 0.025, 3);
-    const Result rn = run(m.in, p);
+    const Result rn = run(p, m.in);
     CHECK(rn.graph.segments.size() == 6);
     check_parts_are_segments(m.part, rn.segment);
   }
@@ -146,13 +146,13 @@ TEST_CASE("same input and seed give identical labels; the seed changes only the 
   add_noise(&m, 0.002, 0.02, 9);
   Params p;
   p.sparsify.seed = 42;
-  const Result a = run(m.in, p);
-  const Result b = run(m.in, p);
+  const Result a = run(p, m.in);
+  const Result b = run(p, m.in);
   CHECK(a.segment == b.segment);
   CHECK(a.stats.graph.edges == b.stats.graph.edges);
   CHECK(a.stats.cut.matvecs == b.stats.cut.matvecs);
   p.sparsify.seed = 43;
-  const Result c = run(m.in, p);
+  const Result c = run(p, m.in);
   CHECK(c.stats.graph.dropped_random != a.stats.graph.dropped_random);
   check_parts_are_segments(m.part, c.segment);  // open box: 5 faces either way
   CHECK(c.graph.segments.size() == 5);
@@ -205,7 +205,7 @@ TEST_CASE("missing normals are computed from the faces") {
   // Interior vertices of the floor: the face normal (up to the winding's sign).
   CHECK(std::abs(computed[5 * 10 + 5].dot(given[5 * 10 + 5])) == Approx(1.0));
   m.in.normals.clear();
-  const Result r = run(m.in, Params{});
+  const Result r = run(Params{}, m.in);
   CHECK(r.stats.normals_computed);
   CHECK(r.graph.segments.size() >= 2);
   for (const auto& s : r.graph.segments) CHECK(std::isfinite(s.normal[0]));
@@ -275,11 +275,11 @@ TEST_CASE("zero-area input and segments are refused, naming the mesh (issue 25)"
   TestMesh m = two_planes(1.0, 0.1);
   m.in.points.push_back({50, 50, 50});
   m.in.normals.push_back({0, 0, 1});
-  const Result r = run(m.in, Params{});
+  const Result r = run(Params{}, m.in);
   REQUIRE(r.graph.segments.size() == 3);
   CHECK(r.graph.segments[2].vertex_count == 1);
   CHECK(r.graph.segments[2].area == 0);
   CHECK_THROWS_WITH(check_segments(r, "orphan.ply"),
                     Catch::Contains("orphan.ply: segment 2 (1 vertices) has zero area"));
-  CHECK_NOTHROW(check_segments(run(two_planes(1.0, 0.1).in, Params{}), "planes.ply"));
+  CHECK_NOTHROW(check_segments(run(Params{}, two_planes(1.0, 0.1).in), "planes.ply"));
 }

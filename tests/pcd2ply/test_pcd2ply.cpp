@@ -24,7 +24,7 @@ TEST_CASE("pcd2ply::run keeps every row, field and comment and appends the prove
     c.col("label")[i] = static_cast<double>(i % 2);
   }
   c.comments = {"rangetrace (canopy) 0.1.0"};
-  const fm::Mesh m = canopy::pcd2ply::run(c, {"pcd2ply", "9.9", {{"ascii", "true"}}, {"in.pcd"}});
+  const fm::Mesh m = canopy::pcd2ply::run({}, {c, {"pcd2ply", "9.9", {{"ascii", "true"}}, {"in.pcd"}}});
   REQUIRE(m.vertices.size() == 3);
   CHECK(m.faces.empty());
   CHECK(m.vertices.names() == c.names());

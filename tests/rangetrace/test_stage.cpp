@@ -100,7 +100,7 @@ TEST_CASE("stage: run's scan is render_scan's, with the family class as a note")
   const Inputs in = load_inputs(r);
   Params p = small();
   p.threads = 3;  // one POV-Ray process per view
-  const Output out = run(r, in, p);
+  const Outputs out = run(p, in);
   REQUIRE_FALSE(out.cloud.empty());
   CHECK(out.cloud.comments.empty());
   CHECK(out.notes == std::vector<std::string>{"class pickup"});
@@ -111,5 +111,5 @@ TEST_CASE("stage: run's scan is render_scan's, with the family class as a note")
   p.threads = 1;
   CHECK(formats::serialize_pcd(out.cloud) == formats::serialize_pcd(render_scan(*in.model, *in.scene, p)));
   p.size = 4;
-  CHECK_THROWS_AS(run(r, in, p), common::UsageError);
+  CHECK_THROWS_AS(run(p, in), common::UsageError);
 }

@@ -4,12 +4,19 @@
 #   - a file under tools/<a>/ includes a file of tools/<b>/ ("b/x.h", <b/x.h> or "../b/x.h"),
 #     or tools/<a>/CMakeLists.txt links canopy_<b>_lib (the same dependency by the link line);
 #   - a file under tools/ names nlohmann (JSON is parsed and built in formats/ and documents/);
-#   - a .cpp or .h file under tools/ has more than 700 lines.
+#   - a .cpp or .h file under tools/ has more than 700 lines;
+#   - a tool's face header declares its stage other than as
+#       Outputs run(const Params& params, const Inputs& inputs);
+#     The face header of tools/<t>/ is tools/<t>/stage.h when that file exists (rangetrace, whose
+#     rangetrace.h is the renderer), else tools/<t>/<t>.h. Every line of it (comments removed)
+#     naming an unqualified run( must be exactly that declaration; a face header without run( is
+#     not checked (score, topview, figures have no stage function).
 set -uo pipefail
 [ $# -eq 1 ] || { echo "usage: check.sh <source dir>" >&2; exit 2; }
 tools=$1/tools
 [ -d "$tools" ] || { echo "check.sh: $tools: no such directory" >&2; exit 2; }
 max_lines=700
+stage_shape='Outputs run(const Params& params, const Inputs& inputs);'
 bad=0
 
 names=$(cd "$tools" && for d in */; do printf '%s ' "${d%/}"; done)
@@ -54,11 +61,25 @@ report=$(
       rel = substr($2, length(root) + 1)
       printf "%s\t%09d\tstructure: %s has %d lines (more than %d)\n", rel, 999999999, rel, $1, max
     }'
+  # The stage function's spelling in each tool's face header.
+  for dir in "$tools"/*/; do
+    t=$(basename "$dir")
+    face=$dir/stage.h
+    [ -f "$face" ] || face=$dir/$t.h
+    [ -f "$face" ] || continue
+    awk -v rel="tools/$t/$(basename "$face")" -v shape="$stage_shape" '
+      {
+        text = $0; sub(/\/\/.*/, "", text); gsub(/^[ \t]+|[ \t]+$/, "", text)
+        if (text ~ /^(\/\*|\*)/) next
+        if (text ~ /(^|[^A-Za-z0-9_:.>])run[ \t]*\(/ && text != shape)
+          printf "%s\t%09d\tstructure: %s:%d declares run as \"%s\" (the stage shape is \"%s\")\n", rel, FNR, rel, FNR, text, shape
+      }' "$face"
+  done
 )
 report=$(printf '%s\n' "$report" | grep -v '^$' | LC_ALL=C sort -t"$(printf '\t')" -k1,1 -k2,2 | cut -f3-)
 
 # Known offenders still being moved (<source dir>/tests/structure/pending.txt: "<file> <rule>"
-# per line, rule = includes | links | nlohmann | lines, '#' starts a comment): reported as
+# per line, rule = includes | links | nlohmann | lines | stage, '#' starts a comment): reported as
 # pending, not failures. A pending entry that no longer matches an offender fails the check, so
 # the list only shrinks. Hand-made trees without the file are checked strictly.
 pending_file=$1/tests/structure/pending.txt
@@ -70,7 +91,8 @@ if [ -f "$pending_file" ]; then
 fi
 rule_of() {
   case $1 in
-    *" includes "*) echo includes ;; *" links "*) echo links ;; *"names nlohmann"*) echo nlohmann ;; *) echo lines ;;
+    *" declares run as "*) echo stage ;; *" includes "*) echo includes ;; *" links "*) echo links ;;
+    *"names nlohmann"*) echo nlohmann ;; *) echo lines ;;
   esac
 }
 if [ -n "$report" ]; then

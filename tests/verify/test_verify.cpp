@@ -40,7 +40,7 @@ TEST_CASE("a posed, resampled model is recovered to 1 mm and 0.1 degree", "[veri
   const auto cand = candidate(sample(pickup(), 0.1, 0.05), pickup(), T);
   const auto object = posed(graph(pickup()), T);
   const auto m = match({"pickup", "flatbed"}, {graph(pickup()), graph(flatbed())}, true);
-  const canopy::documents::Verdict v = vf::run({&cand, &object, &m, &w.models}, vf::Params{});
+  const canopy::documents::Verdict v = vf::run(vf::Params{}, {&cand, &object, &m, &w.models});
   REQUIRE(v.model == "pickup");
   REQUIRE(v.chosen == 0);
   const auto& h = v.hypotheses[0];
@@ -63,7 +63,7 @@ TEST_CASE("recovery does not need the segment pairs (principal-axis start)", "[v
   const auto cand = candidate(sample(pickup(), 0.1, 0.05), pickup(), T);
   const auto object = posed(graph(pickup()), T);
   const auto m = match({"pickup"}, {graph(pickup())}, false);
-  const canopy::documents::Verdict v = vf::run({&cand, &object, &m, &w.models}, vf::Params{});
+  const canopy::documents::Verdict v = vf::run(vf::Params{}, {&cand, &object, &m, &w.models});
   REQUIRE(v.model == "pickup");
   const Isometry3d P = fm::to_isometry(v.hypotheses[0].pose);
   CHECK((P.translation() - T.translation()).norm() < 1e-3);
@@ -87,7 +87,7 @@ TEST_CASE("the 180-degree flipped pose is rejected", "[verify]") {
   // run() tries the flip of the pairs' start explicitly and keeps the right one.
   const auto object = posed(graph(pickup()), T);
   const auto m = match({"pickup"}, {graph(pickup())}, true);
-  const canopy::documents::Verdict v = vf::run({&cand, &object, &m, &w.models}, p);
+  const canopy::documents::Verdict v = vf::run(p, {&cand, &object, &m, &w.models});
   REQUIRE(v.chosen == 0);
   CHECK(!v.hypotheses[0].flipped);
   CHECK(v.hypotheses[0].flip_score < v.hypotheses[0].score - 0.2);
@@ -101,7 +101,7 @@ TEST_CASE("a candidate made of another model's points scores below its own model
   const auto object = posed(graph(flatbed()), T);
   // gmatch (wrongly) ranked the pickup first.
   auto m = match({"pickup", "flatbed"}, {graph(pickup()), graph(flatbed())}, false);
-  const canopy::documents::Verdict v = vf::run({&cand, &object, &m, &w.models}, vf::Params{});
+  const canopy::documents::Verdict v = vf::run(vf::Params{}, {&cand, &object, &m, &w.models});
   REQUIRE(v.hypotheses.size() == 2);
   CHECK(v.hypotheses[0].model == "pickup");
   CHECK(v.hypotheses[0].score < v.hypotheses[1].score - 0.3);
@@ -123,7 +123,7 @@ TEST_CASE("a box and a sphere are answered none", "[verify]") {
   SECTION("the 1.6 x 1.2 x 0.9 m rock") {
     const std::vector<Box> rock{{{-0.8, -0.6, 0.0}, {0.8, 0.6, 0.9}}};
     const auto cand = candidate(sample(rock, 0.1, 0.05), rock, pose(0.4, 0.3, 0.2));
-    const canopy::documents::Verdict v = vf::run({&cand, &object, &m, &w.models}, vf::Params{});
+    const canopy::documents::Verdict v = vf::run(vf::Params{}, {&cand, &object, &m, &w.models});
     CHECK(v.model.empty());
     CHECK(v.chosen == -1);
     CHECK(v.confidence > 0.5);
@@ -132,7 +132,7 @@ TEST_CASE("a box and a sphere are answered none", "[verify]") {
   SECTION("a sphere of radius 1 m") {
     const std::vector<Box> footprint{{{-1, -1, 0}, {1, 1, 2}}};
     const auto cand = candidate(sphere(1.0, 0.6, 0.1), footprint, pose(0, 0, 0));
-    const canopy::documents::Verdict v = vf::run({&cand, &object, &m, &w.models}, vf::Params{});
+    const canopy::documents::Verdict v = vf::run(vf::Params{}, {&cand, &object, &m, &w.models});
     CHECK(v.model.empty());
     CHECK(v.chosen == -1);
   }
@@ -189,7 +189,7 @@ TEST_CASE("--free-space through: surface with no return in its cells is not char
   const auto rock_cand = candidate(sample(rock, 0.1, 0.05), rock, pose(0.4, 0.3, 0.2));
   const auto m = match({"pickup", "flatbed"}, {graph(pickup()), graph(flatbed())}, false);
   const doc::SegmentGraph object;
-  const canopy::documents::Verdict v = vf::run({&rock_cand, &object, &m, &w.models}, through);
+  const canopy::documents::Verdict v = vf::run(through, {&rock_cand, &object, &m, &w.models});
   CHECK(v.model.empty());
   for (const auto& h : v.hypotheses) CHECK(h.free_space_violation > 0.3);
 }

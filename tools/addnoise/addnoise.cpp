@@ -9,8 +9,8 @@ void validate(const Params& params) {
   if (!(params.sigma >= 0 && params.sigma <= 100)) throw common::UsageError("--sigma must be in [0, 100m]");
 }
 
-formats::PointCloud run(const formats::PointCloud& scan, const Params& params) {
-  formats::PointCloud out = scan;
+Outputs run(const Params& params, const Inputs& inputs) {
+  formats::PointCloud out = *inputs.scan;
   if (params.sigma == 0.0) return out;
   common::Rng rng(common::derive_seed(params.seed, "addnoise"));
   auto& x = out.col("x");

@@ -18,7 +18,13 @@ struct Params {
 // Throws common::UsageError naming --sigma when sigma is outside [0, 100 m].
 void validate(const Params& params);
 
+struct Inputs {
+  const formats::PointCloud* scan = nullptr;  // the scan (borrowed)
+};
+
+using Outputs = formats::PointCloud;  // the noisy copy of the scan
+
 // Requires fields x, y, z (throws std::out_of_range naming the field otherwise).
-formats::PointCloud run(const formats::PointCloud& scan, const Params& params);
+Outputs run(const Params& params, const Inputs& inputs);
 
 }  // namespace canopy::addnoise

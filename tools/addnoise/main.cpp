@@ -34,7 +34,7 @@ int main(int argc, char** argv) {
     const formats::PointCloud scan = formats::read_points(in, "addnoise");
     scan.require({"x", "y", "z"}, common::display_name(in), "is this a point cloud?");
     read.done(std::to_string(scan.size()) + " points");
-    formats::PointCloud noisy = addnoise::run(scan, p);
+    formats::PointCloud noisy = addnoise::run(p, {&scan});
     const std::vector<std::string> provenance =
         formats::provenance_comments({"addnoise", CANOPY_VERSION, tool.parameters(), {in}});
     noisy.comments.insert(noisy.comments.end(), provenance.begin(), provenance.end());

@@ -197,7 +197,7 @@ void validate(const Params& p) {
   }
 }
 
-Areas run(const Params& params, const Inputs& in) {
+Outputs run(const Params& params, const Inputs& in) {
   Areas a;
   a.spacing = params.spacing;
   a.cell = params.cell;

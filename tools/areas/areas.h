@@ -72,8 +72,10 @@ struct Inputs {
   std::string segments_name;
 };
 
+using Outputs = Areas;
+
 // Every area of the trial (DataError naming the file when a needed field is missing, a
 // segment's area is negative or its label_purity outside [0, 1], or a sum is beyond 1e308).
-Areas run(const Params& params, const Inputs& inputs);
+Outputs run(const Params& params, const Inputs& inputs);
 
 }  // namespace canopy::areas

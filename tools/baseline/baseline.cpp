@@ -404,9 +404,11 @@ std::vector<Model> read_modelbase(const std::string& dir) {
   return models;
 }
 
-Result run(const Cloud& candidate, const std::vector<Model>& models, const Params& params,
-           const std::string& methods) {
+Outputs run(const Params& params, const Inputs& inputs) {
   validate(params);
+  const Cloud& candidate = *inputs.candidate;
+  const std::vector<Model>& models = *inputs.models;
+  const std::string& methods = params.methods;
   pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);  // ICP's warnings are expected here
   Result r;
   r.candidate_points = static_cast<int>(candidate.points.size());

@@ -47,6 +47,7 @@ struct Params {
   // score reaches this, else none. Fixed on development tiles (docs/decisions/baseline.md §4).
   double accept_vfh = 0.68;
   double accept_fpfh = 0.35;
+  std::string methods = "both";  // the methods run: "vfh", "fpfh" or "both"
 };
 
 void validate(const Params& params);  // throws common::UsageError
@@ -92,9 +93,15 @@ struct Result {
   int candidate_points = 0;
 };
 
-// Runs both methods (or the one named: "vfh", "fpfh", "both").
-Result run(const Cloud& candidate, const std::vector<Model>& models, const Params& params,
-           const std::string& methods = "both");
+struct Inputs {
+  const Cloud* candidate = nullptr;
+  const std::vector<Model>* models = nullptr;
+};
+
+using Outputs = Result;
+
+// Runs both methods (or the one params.methods names: "vfh", "fpfh", "both").
+Outputs run(const Params& params, const Inputs& inputs);
 
 // canopy.baseline v1 JSON (documents/baseline_ranking.h, formats/README.md). No times: same inputs, same
 // bytes (the experiment graph records each run's wall time beside it).

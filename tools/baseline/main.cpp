@@ -57,7 +57,8 @@ int main(int argc, char** argv) {
       throw cm::UsageError("--verdict " + verdict + " with --methods " + methods +
                            ": the verdict's method is run");
     }
-    const bl::Result r = bl::run(candidate, models, p, verdict.empty() ? methods : verdict);
+    p.methods = verdict.empty() ? methods : verdict;
+    const bl::Result r = bl::run(p, {&candidate, &models});
     if (verdict.empty()) {
       cm::write_file_atomic(out, bl::serialize(r, in, tool.parameters(), {in, modelbase}));
     } else {

@@ -298,7 +298,7 @@ void validate(const Params& p) {
   need(p.model_density > 0 && std::isfinite(p.model_density), "--model-density must be > 0");
 }
 
-Answer run(const Params& p, const Inputs& in) {
+Outputs run(const Params& p, const Inputs& in) {
   Answer a;
   a.features = measure(read_candidate(in.cloud, in.name), p);
   a.measured = a.features.object_points >= 3;

@@ -151,8 +151,10 @@ struct Inputs {
   std::string name;           // its path, for errors
 };
 
+using Outputs = Answer;
+
 // Features of the candidate's object, then the decision.
-Answer run(const Params& params, const Inputs& inputs);
+Outputs run(const Params& params, const Inputs& inputs);
 
 // The nearest modelbase entry of the answer's class by L W H (Euclidean), or nullptr.
 const ModelEntry* nearest(const Answer& answer, const std::vector<ModelEntry>& entries);

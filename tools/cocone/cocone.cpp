@@ -25,7 +25,8 @@ void validate(const Params& p) {
     throw common::UsageError("--max-aspect below 1 removes every facet");
 }
 
-formats::Mesh run(const formats::PointCloud& samples, const Params& params) {
+Outputs run(const Params& params, const Inputs& inputs) {
+  const formats::PointCloud& samples = *inputs.samples;
   const std::vector<Eigen::Vector3d> points = formats::to_vectors(samples);
   std::vector<Eigen::Vector3d> normals;
   if (formats::has_fields(samples, formats::kNormalFields)) {

@@ -99,9 +99,15 @@ struct PostResult {
 PostResult postprocess(const std::vector<Eigen::Vector3d>& points, const std::vector<Face>& faces,
                        const PostParams& params);
 
+struct Inputs {
+  const formats::PointCloud* samples = nullptr;  // the samples (borrowed)
+};
+
+using Outputs = formats::Mesh;
+
 // Samples (x y z, optional normal_x/y/z, any other fields) -> mesh. Vertices are the rows
 // that survive (every field kept, input order). Throws common::Error when the mesh has no
 // face left.
-formats::Mesh run(const formats::PointCloud& samples, const Params& params);
+Outputs run(const Params& params, const Inputs& inputs);
 
 }  // namespace canopy::cocone

@@ -58,7 +58,7 @@ int main(int argc, char** argv) {
     }
     canopy::formats::Mesh mesh;
     try {
-      mesh = cc::run(samples, p);
+      mesh = cc::run(p, {&samples});
     } catch (const cm::DataError&) { throw; } catch (const cm::Error& e) {
       throw cm::DataError(cm::display_name(in), e.what());
     }

@@ -274,7 +274,7 @@ std::optional<double> tile_density(const Index& index) {
 
 // One sentence when most candidates were rejected for one reason (with what would help), or
 // when no candidate reached the model level because the data is too sparse for it.
-std::string warning_of(const Index& index, const std::vector<Answers>& answers, const Output& out,
+std::string warning_of(const Index& index, const std::vector<Answers>& answers, const Outputs& out,
                        const std::vector<std::string>& reasons) {
   const int n = static_cast<int>(index.candidates.size());
   if (n == 0) return "";
@@ -336,7 +336,7 @@ std::string warning_of(const Index& index, const std::vector<Answers>& answers, 
   return w + "; see docs/decisions/classify.md";
 }
 
-std::string summary_line(const Index& index, const Output& out) {
+std::string summary_line(const Index& index, const Outputs& out) {
   std::string s = std::to_string(index.candidates.size()) + " candidates: " + std::to_string(out.found) +
                   " vehicles found (" + std::to_string(out.model_level) + " model level, " +
                   std::to_string(out.class_level) + " class level)";
@@ -359,12 +359,12 @@ void validate(const Params& params) {
   }
 }
 
-Output collect(const Index& index, const std::vector<Answers>& answers, const Params& params,
-               const formats::Provenance& provenance) {
+Outputs collect(const Index& index, const std::vector<Answers>& answers, const Params& params,
+                const formats::Provenance& provenance) {
   if (answers.size() != index.candidates.size())
     throw common::Error("collect: one answer per candidate expected");
   documents::DetectionsRecord doc;
-  Output out;
+  Outputs out;
   std::vector<std::string> reasons(answers.size());
   for (std::size_t i = 0; i < answers.size(); ++i) {
     const Candidate& c = index.candidates[i];
@@ -421,7 +421,7 @@ Output collect(const Index& index, const std::vector<Answers>& answers, const Pa
   return out;
 }
 
-Output run(const Params& params, const Inputs& inputs) {
+Outputs run(const Params& params, const Inputs& inputs) {
   return collect(inputs.index, inputs.answers, params, inputs.provenance);
 }
 

@@ -100,7 +100,7 @@ Matrix multiply(const Matrix& a, const Matrix& b);
 // Heading, pitch, roll in degrees of the rotation of m (R = Rz(heading) Ry(pitch) Rx(roll)).
 std::array<double, 3> euler_degrees(const Matrix& m);
 
-struct Output {
+struct Outputs {
   std::string detections;  // canopy.detections v2
   std::string geojson;     // FeatureCollection
   int found = 0, none = 0, failed = 0;
@@ -115,8 +115,8 @@ struct Output {
 // verdict names a model; else a class-level one when classify's names a class; else a
 // rejection with classify's reason (or "none" / "failed" from the model verdict when there is
 // no class answer). `provenance` is written as is.
-Output collect(const Index& index, const std::vector<Answers>& answers, const Params& params,
-               const formats::Provenance& provenance);
+Outputs collect(const Index& index, const std::vector<Answers>& answers, const Params& params,
+                const formats::Provenance& provenance);
 
 // One tile: its index, the answers per candidate (answers[i] of index.candidates[i]) and who
 // writes the documents from what (formats::provenance_json).
@@ -127,7 +127,7 @@ struct Inputs {
 };
 
 // collect(inputs.index, inputs.answers, params, inputs.provenance).
-Output run(const Params& params, const Inputs& inputs);
+Outputs run(const Params& params, const Inputs& inputs);
 
 // The make plan of a tile: the candidate ids, each one's candidate-to-tile transform (16
 // comma-separated numbers, row-major, as verify --transform takes them) and level, as make

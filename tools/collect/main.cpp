@@ -176,7 +176,7 @@ int main(int argc, char** argv) {
       throw common::UsageError("--class-name must be a file name");
     in.answers = read_answers(o, in.index, in.provenance.inputs);
     if (!o.modelbase.empty()) p.boxes = read_boxes(o.modelbase, in.answers, in.provenance.inputs);
-    const collect::Output r = collect::run(p, in);
+    const collect::Outputs r = collect::run(p, in);
     outputs.set(o.out, r.detections);
     if (!o.geojson.empty()) outputs.set(o.geojson, r.geojson);
     outputs.commit();

@@ -56,7 +56,9 @@ void validate(const Params& p) {
   need(p.min_ground_share > 0 && p.min_ground_share <= 1, "--min-ground-share must be in (0, 1]");
 }
 
-Result run(const formats::PointCloud& tile, const Params& given, const std::string& name) {
+Outputs run(const Params& given, const Inputs& inputs) {
+  const formats::PointCloud& tile = *inputs.tile;
+  const std::string& name = inputs.name;
   validate(given);
   Params params = given;
   tile.require({"x", "y", "z"}, name, "is this a point cloud?");

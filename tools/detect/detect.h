@@ -172,13 +172,20 @@ struct Result {
   Density density;
 };
 
+struct Inputs {
+  const formats::PointCloud* tile = nullptr;
+  std::string name;
+};
+
+using Outputs = Result;
+
 // Input: x y z (any type; float64 keeps UTM magnitudes), any other fields. `name` names the
 // tile in errors. Throws common::DataError for a tile it cannot work on (no points,
 // non-finite coordinates, float32 coordinates too large to be exact, an extent too large for
 // the DTM: over 2e7 cells, or over 4e6 + 16 per point (a few points spread wide), an object
 // band wider than 2^21 - 2 voxels, no ground found). A tile with no vehicle gives zero
 // candidates. The DTM's hole relaxation works only within 2 cells of a cell holding a point.
-Result run(const formats::PointCloud& tile, const Params& params, const std::string& name);
+Outputs run(const Params& params, const Inputs& inputs);
 
 // The classification point set: x y z (float32, local frame = tile − origin), height,
 // class, red green blue (ground brown, vegetation/other green, candidate red).

@@ -141,7 +141,7 @@ int main(int argc, char** argv) {
     read.done(std::to_string(tile.size()) + " points");
     warn_las_units(cli.in, name);
     common::log::Phase work("detect");
-    const detect::Result r = detect::run(tile, p, name);
+    const detect::Result r = detect::run(p, {&tile, name});
     work.done(summary(r));
     log_truth(r);
     const formats::Provenance prov{"detect", CANOPY_VERSION, tool.parameters(), {cli.in}};

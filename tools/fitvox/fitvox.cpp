@@ -505,7 +505,7 @@ void merge_near_duplicates(const Params& params, std::vector<Sample>& all, Stats
 
 }  // namespace
 
-Result run(const Scan& scan, const Params& params, bool keep_all) {
+Outputs run(const Params& params, const Inputs& scan) {
   check_input(scan, params);
   Result result;
   result.stats.points = scan.points.size();
@@ -537,7 +537,7 @@ Result run(const Scan& scan, const Params& params, bool keep_all) {
   for (const Sample& s : all) {
     if (s.fit.verdict == Verdict::kKept) result.samples.push_back(s);
   }
-  if (keep_all) result.all = std::move(all);
+  if (params.keep_all) result.all = std::move(all);
   return result;
 }
 

@@ -49,7 +49,8 @@ struct Params {
   bool from_centroid = false;  // start from the voxel's point centroid (false: its point nearest the centre)
   double support = -1.0;
   double merge = 0.25;
-  int threads = 1;  // worker threads for the per-voxel fits (output identical for any count)
+  int threads = 1;        // worker threads for the per-voxel fits (output identical for any count)
+  bool keep_all = false;  // run() fills Result::all too (every voxel with its verdict)
 };
 
 // Throws common::UsageError naming the option (--voxel, ...) of the first parameter out of
@@ -115,15 +116,18 @@ struct Stats {
 
 struct Result {
   std::vector<Sample> samples;  // kept voxels sorted by (i, j, k)
-  // Every voxel with its verdict (same order), filled when keep_all is set in run().
+  // Every voxel with its verdict (same order), filled when Params::keep_all is set.
   std::vector<Sample> all;
   Stats stats;
 };
 
+using Inputs = Scan;
+using Outputs = Result;
+
 // Throws common::UsageError on invalid parameters (validate()), common::Error on non-finite
 // coordinates, mismatched optional columns, or a voxel index that does not fit (coordinate / voxel beyond
 // ±2^31, or a grid extent of more than 2^63 voxels): never silently wrong.
-Result run(const Scan& scan, const Params& params, bool keep_all = false);
+Outputs run(const Params& params, const Inputs& inputs);
 
 // RMS bound for a voxel of k points at noise level sigma (see Params).
 double rms_bound(const Params& params, double sigma, std::size_t k);

@@ -80,7 +80,7 @@ int main(int argc, char** argv) {
       common::log::warn(common::display_name(in) + ": no sensor_x/y/z fields: normals oriented toward +z");
     }
     common::log::Phase fit("fit");
-    const fitvox::Result r = common::naming_input(in, [&] { return fitvox::run(scan, p); });
+    const fitvox::Result r = common::naming_input(in, [&] { return fitvox::run(p, scan); });
     const fitvox::Stats& s = r.stats;
     fit.done(summary(p, s));
     if (r.samples.empty()) {

@@ -454,10 +454,10 @@ double entropy(const std::vector<double>& scores) {
   return std::max(0.0, h);
 }
 
-Out run(const In& in, const Params& params) {
+Outputs run(const Params& params, const Inputs& in) {
   validate(params);
   const auto& models = *in.models;
-  Out out;
+  Outputs out;
   out.result.error_form = to_string(params.error);
   const std::vector<int> kept = prefilter(*in.object, models, params);
   std::vector<documents::ModelScore> scores(kept.size());

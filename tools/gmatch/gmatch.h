@@ -128,12 +128,12 @@ double summary_distance(const Summary& a, const Summary& b);
 std::vector<int> prefilter(const documents::SegmentGraph& object, const std::vector<Model>& models,
                            const Params& params);
 
-struct In {
+struct Inputs {
   const documents::SegmentGraph* object = nullptr;
   const std::vector<Model>* models = nullptr;
 };
 
-struct Out {
+struct Outputs {
   documents::MatchResult result;   // models ranked, entropy, error_form (no provenance)
   std::vector<SearchStats> stats;  // per model, in modelbase order (0 when not searched)
   int searched = 0;                // models kept by the prefilter (all when it is off)
@@ -143,7 +143,7 @@ struct Out {
 // 0 or >= the number of models; only the kept models are ranked and listed), models on
 // params.threads threads (the result does not depend on the count), ranks by score (ties: model
 // name), computes entropy. Neither parses options nor writes anything.
-Out run(const In& in, const Params& params);
+Outputs run(const Params& params, const Inputs& inputs);
 
 // Largest model graph read_modelbase() accepts (2 000² pairs × 16 bytes = 64 MB of tables).
 inline constexpr std::size_t kMaxModelSegments = 2000;

@@ -90,7 +90,7 @@ void apply_choices(const Options& o, gm::Params* p) {
 }
 
 // The match phase's INFO line: segments, models searched, tree nodes, stopped searches.
-std::string summary(const gm::Out& result, std::size_t object_segments, std::size_t models) {
+std::string summary(const gm::Outputs& result, std::size_t object_segments, std::size_t models) {
   std::int64_t nodes = 0, truncated = 0;
   for (const auto& s : result.stats) {
     nodes += s.nodes;
@@ -144,7 +144,7 @@ int main(int argc, char** argv) {
     const auto models = gm::read_modelbase(o.modelbase);
 
     cm::log::Phase phase("match");
-    gm::Out result = gm::run({&object, &models}, p);
+    gm::Outputs result = gm::run(p, {&object, &models});
     phase.done(summary(result, object.segments.size(), models.size()));
 
     auto& r = result.result;

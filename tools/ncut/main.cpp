@@ -104,14 +104,14 @@ int main(int argc, char** argv) {
 
     common::log::Phase read("read");
     const formats::Mesh mesh = formats::read_ply(c.in);
-    const ncut::Input input = ncut::input_from_mesh(mesh, common::display_name(c.in));
+    const ncut::Inputs input = ncut::input_from_mesh(mesh, common::display_name(c.in));
     read.done(std::to_string(input.points.size()) + " vertices, " + std::to_string(input.faces.size()) +
               " faces");
     if (input.normals.empty()) {
       common::log::info(common::display_name(c.in) + ": no normals; using area-weighted face normals");
     }
     common::log::Phase seg("segment");
-    const ncut::Result r = common::naming_input(c.in, [&] { return ncut::run(input, p); });
+    const ncut::Result r = common::naming_input(c.in, [&] { return ncut::run(p, input); });
     ncut::check_segments(r, common::display_name(c.in));
     seg.done(summary(r));
     if (r.stats.vertices_without_normal > 0) {

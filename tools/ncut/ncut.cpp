@@ -65,7 +65,7 @@ void validate(const Params& p) {
   need(p.cut.ncv >= 3, "--ncv must be >= 3");
 }
 
-Input input_from_mesh(const formats::Mesh& mesh, const std::string& name) {
+Inputs input_from_mesh(const formats::Mesh& mesh, const std::string& name) {
   const formats::PointCloud& v = mesh.vertices;
   v.require({"x", "y", "z"}, name, "is this a canopy mesh?");
   const std::size_t n = v.size();
@@ -73,7 +73,7 @@ Input input_from_mesh(const formats::Mesh& mesh, const std::string& name) {
   if (mesh.faces.empty()) {
     throw common::DataError(name, "mesh has no faces (ncut segments a triangle mesh)");
   }
-  Input in;
+  Inputs in;
   in.points = formats::finite_vectors(v, name, formats::kXyzFields, "vertex");
   if (formats::has_fields(v, formats::kNormalFields)) {
     in.normals = formats::finite_vectors(v, name, formats::kNormalFields, "vertex", "normal");
@@ -159,7 +159,7 @@ struct SegmentSums {
 
 // Vertex lists of the segments, the area moments of each vertex's barycentric cells, and the
 // area-weighted normal and label sums.
-SegmentSums gather_segment_sums(const Input& in, const std::vector<Vector3d>& normals,
+SegmentSums gather_segment_sums(const Inputs& in, const std::vector<Vector3d>& normals,
                                 const std::vector<int>& segment, int count,
                                 std::vector<documents::Segment>& out) {
   const std::size_t n = in.points.size();
@@ -203,7 +203,7 @@ SegmentSums gather_segment_sums(const Input& in, const std::vector<Vector3d>& no
 }
 
 // Centroid and covariance of one segment: from the surface moments, or from its vertices.
-void segment_moments(const Input& in, const documents::Segment& s, const Moments& m, PcaWeighting pca,
+void segment_moments(const Inputs& in, const documents::Segment& s, const Moments& m, PcaWeighting pca,
                      Vector3d& centroid, Matrix3d& cov) {
   if (pca == PcaWeighting::kSurface && m.area > 0) {
     const Vector3d mean = m.m1 / m.area;
@@ -264,7 +264,7 @@ void segment_label(const std::map<std::uint32_t, double>& label_area,
 
 }  // namespace
 
-std::vector<documents::Segment> segment_attributes(const Input& in, const std::vector<Vector3d>& normals,
+std::vector<documents::Segment> segment_attributes(const Inputs& in, const std::vector<Vector3d>& normals,
                                                    const std::vector<int>& segment, int count,
                                                    PcaWeighting pca) {
   std::vector<documents::Segment> out(count);
@@ -298,7 +298,7 @@ std::vector<documents::SegmentEdge> segment_adjacency(const std::vector<std::arr
   return out;
 }
 
-Result run(const Input& in, const Params& params) {
+Outputs run(const Params& params, const Inputs& in) {
   Result res;
   const std::size_t n = in.points.size();
   std::vector<Vector3d> normals = in.normals;

@@ -36,7 +36,7 @@ struct Params {
 // its range; lengths beyond [1 mm, 100 m] are not a mesh of a vehicle.
 void validate(const Params& params);
 
-struct Input {
+struct Inputs {
   std::vector<Eigen::Vector3d> points;   // m
   std::vector<Eigen::Vector3d> normals;  // unit; empty = compute from the faces
   std::vector<std::uint32_t> labels;     // ground truth per vertex; empty = all unknown (0)
@@ -57,10 +57,12 @@ struct Result {
   Stats stats;
 };
 
+using Outputs = Result;
+
 // Validates a mesh read by formats::read_ply (x y z required; normal_x/y/z and label
 // optional; finite coordinates; face indices in range, no repeated index) and converts it.
 // `name` is the file name used in DataError messages.
-Input input_from_mesh(const formats::Mesh& mesh, const std::string& name);
+Inputs input_from_mesh(const formats::Mesh& mesh, const std::string& name);
 
 // Area-weighted vertex normals (sum of incident face normals, each weighted by its area);
 // zero for vertices without faces.
@@ -70,7 +72,7 @@ std::vector<Eigen::Vector3d> vertex_normals(const std::vector<Eigen::Vector3d>& 
 // Unique undirected mesh edges (a < b), ascending.
 std::vector<std::array<int, 2>> mesh_edges(const std::vector<std::array<int, 3>>& faces);
 
-Result run(const Input& in, const Params& params);
+Outputs run(const Params& params, const Inputs& inputs);
 
 // Every segment has an area > 0 (what read_segment_graph and gmatch require); else a DataError
 // naming `name` (the mesh) and the segment. A mesh whose faces all have zero area is refused
@@ -78,7 +80,8 @@ Result run(const Input& in, const Params& params);
 void check_segments(const Result& result, const std::string& name);
 
 // Attributes of the segments given a segment id per vertex (ids 0..k-1, each used).
-std::vector<documents::Segment> segment_attributes(const Input& in, const std::vector<Eigen::Vector3d>& normals,
+std::vector<documents::Segment> segment_attributes(const Inputs& in,
+                                                   const std::vector<Eigen::Vector3d>& normals,
                                                    const std::vector<int>& segment, int count,
                                                    PcaWeighting pca);
 // Segment pairs sharing mesh edges, ascending (a, b), a < b.

@@ -19,8 +19,8 @@ int main(int argc, char** argv) {
   return tool.run(argc, argv, [&] {
     canopy::pcd2ply::validate(p);
     cm::log::Phase phase("convert");
-    const fm::Mesh mesh = canopy::pcd2ply::run(fm::read_points(input, "pcd2ply"),
-                                               {"pcd2ply", CANOPY_VERSION, tool.parameters(), {input}});
+    const fm::Mesh mesh = canopy::pcd2ply::run(
+        p, {fm::read_points(input, "pcd2ply"), {"pcd2ply", CANOPY_VERSION, tool.parameters(), {input}}});
     fm::write_ply(mesh, output, p.ascii);
     phase.done(std::to_string(mesh.vertices.size()) + " points, " +
                std::to_string(mesh.vertices.names().size()) + " fields");

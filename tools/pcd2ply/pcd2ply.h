@@ -17,9 +17,16 @@ struct Params {
 // Nothing to refuse: every Params is valid (kept for the one stage shape).
 inline void validate(const Params&) {}
 
+struct Inputs {
+  formats::PointCloud cloud;
+  formats::Provenance provenance;  // who writes the PLY from what (its comment lines)
+};
+
+using Outputs = formats::Mesh;
+
 // The PLY point set of `cloud`: every field a vertex property, no faces; the cloud's comments
 // then formats::provenance_comments(provenance). A cloud without x, y, z is refused
 // (DataError naming provenance.inputs[0]): canopy could not read that PLY back.
-formats::Mesh run(formats::PointCloud cloud, const formats::Provenance& provenance);
+Outputs run(const Params& params, const Inputs& inputs);
 
 }  // namespace canopy::pcd2ply

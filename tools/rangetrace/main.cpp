@@ -91,7 +91,7 @@ std::vector<std::pair<std::string, std::string>> recorded(const common::Tool& to
 }
 
 // Writes the scan (a tile's with its truth.json, committed together or neither).
-void write_scan(const common::Tool& tool, const Options& o, rangetrace::Output* r, common::OutputSet* outputs) {
+void write_scan(const common::Tool& tool, const Options& o, rangetrace::Outputs* r, common::OutputSet* outputs) {
   r->cloud.comments =
       formats::provenance_comments({"rangetrace", CANOPY_VERSION, recorded(tool, r->tile.has_value()), {}});
   r->cloud.comments.insert(r->cloud.comments.end(), r->notes.begin(), r->notes.end());
@@ -144,7 +144,7 @@ int main(int argc, char** argv) {
         outputs.add(rangetrace::trajectory_path(o.out), "the trajectory beside -o");
       }
     }
-    rangetrace::Output r = rangetrace::run(request, inputs, p);
+    rangetrace::Outputs r = rangetrace::run(p, inputs);
     if (request.picture) {
       common::write_file_atomic(o.picture, r.picture);
       common::log::info("wrote picture " + o.picture);

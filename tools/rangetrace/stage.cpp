@@ -10,8 +10,8 @@ namespace canopy::rangetrace {
 
 namespace {
 
-Output tile_output(const Request& request, const SceneRecipe& scene, const Params& params) {
-  Output out;
+Outputs tile_output(const Request& request, const SceneRecipe& scene, const Params& params) {
+  Outputs out;
   Tile tile = build_tile(*scene.tile, request.scene, params);
   if (request.picture) {
     out.picture = render_tile_picture(tile, params);
@@ -46,8 +46,8 @@ Output tile_output(const Request& request, const SceneRecipe& scene, const Param
   return out;
 }
 
-Output vehicle_output(const Request& request, const Inputs& in, const Params& params) {
-  Output out;
+Outputs vehicle_output(const Request& request, const Inputs& in, const Params& params) {
+  Outputs out;
   const Model& m = *in.model;
   if (request.picture) {
     out.picture = render_picture(m, in.scene ? &*in.scene : nullptr, request.view, params);
@@ -74,6 +74,7 @@ void validate(const Params& p) {
 Inputs load_inputs(const Request& request) {
   using common::UsageError;
   Inputs in;
+  in.request = request;
   if (!request.scene.empty()) {
     in.scene = load_scene(request.scene);
     if (in.tile()) {
@@ -92,7 +93,8 @@ Inputs load_inputs(const Request& request) {
   return in;
 }
 
-Output run(const Request& request, const Inputs& inputs, const Params& params) {
+Outputs run(const Params& params, const Inputs& inputs) {
+  const Request& request = inputs.request;
   validate(params);
   return inputs.tile() ? tile_output(request, *inputs.scene, params) : vehicle_output(request, inputs, params);
 }

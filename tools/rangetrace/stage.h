@@ -22,19 +22,21 @@ struct Request {
   bool truth = false;    // a tile scan's truth.json too
 };
 
-// The request's inputs, read: the scene recipe (when given) and, without a tile scene, the model.
+// The request and its inputs, read: the scene recipe (when given) and, without a tile scene,
+// the model.
 struct Inputs {
+  Request request;
   std::optional<SceneRecipe> scene;
   std::optional<Model> model;
   bool tile() const { return scene && scene->tile; }
 };
 
-// Reads the scene, then the model. Throws common::UsageError naming the option of a request
-// that cannot be rendered: --model with a tile scene, no --model without one, --truth without
-// a tile scene, no --scene for a scan.
+// The request (kept in Inputs), then the scene and the model read. Throws common::UsageError
+// naming the option of a request that cannot be rendered: --model with a tile scene, no --model
+// without one, --truth without a tile scene, no --scene for a scan.
 Inputs load_inputs(const Request& request);
 
-struct Output {
+struct Outputs {
   formats::PointCloud cloud;       // the scan, without comments: the caller adds its provenance,
   std::vector<std::string> notes;  // then these lines (the vehicle's class, the tile's origin)
   std::string picture;             // PNG bytes (request.picture)
@@ -42,8 +44,8 @@ struct Output {
   std::string summary;             // "<n> points (<what>, <views>)" for the closing INFO line
 };
 
-// Renders what the request asks (validate()s the parameters first). Throws Error when the
+// Renders what inputs.request asks (validate()s the parameters first). Throws Error when the
 // scan holds no point.
-Output run(const Request& request, const Inputs& inputs, const Params& params);
+Outputs run(const Params& params, const Inputs& inputs);
 
 }  // namespace canopy::rangetrace

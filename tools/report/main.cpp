@@ -275,7 +275,7 @@ int main(int argc, char** argv) {
     }
     const report::Inputs in = read_inputs(src.out_dir, std::move(layout), src.thesis, src.ablations);
     phase.done(std::to_string(in.cases.size()) + " trials, " + std::to_string(in.models.size()) + " models");
-    const report::Output r = report::run(p, in);
+    const report::Outputs r = report::run(p, in);
     // The PCL baseline beside canopy (issue 17), when the trials have baseline.json.
     const auto bl = report::baseline_section(src.out_dir, in.objects, in.scenes, in.noises);
     if (!bl.markdown.empty()) {

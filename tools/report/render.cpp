@@ -403,8 +403,8 @@ std::string closing_markdown(const Inputs& in) {
 
 }  // namespace
 
-Output render(const Inputs& in, const Params& p, const Numbers& n) {
-  Output out;
+Outputs render(const Inputs& in, const Params& p, const Numbers& n) {
+  Outputs out;
   out.markdown = rates_markdown(in, n) + ablations_markdown(in, n) + areas_markdown(p, n) +
                  verify_markdown(in, n.verify) + failures_markdown(p, n) + per_object_markdown(in, n) +
                  times_markdown(n) + closing_markdown(in);

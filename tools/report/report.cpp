@@ -353,6 +353,6 @@ Numbers compute(const Inputs& in, const Params& p) {
   return n;
 }
 
-Output run(const Params& p, const Inputs& in) { return render(in, p, compute(in, p)); }
+Outputs run(const Params& p, const Inputs& in) { return render(in, p, compute(in, p)); }
 
 }  // namespace canopy::report

@@ -222,7 +222,7 @@ struct Numbers {
 
 Numbers compute(const Inputs& in, const Params& p);
 
-struct Output {
+struct Outputs {
   std::string markdown;
   std::string cases_csv, scores_csv, times_csv;
   // Area retained per stage and noise level in scores.csv's layout (object = stage, scene =
@@ -233,10 +233,10 @@ struct Output {
 };
 
 // The Markdown and CSV tables of the numbers (the inputs give the trials' order and names).
-Output render(const Inputs& in, const Params& p, const Numbers& numbers);
+Outputs render(const Inputs& in, const Params& p, const Numbers& numbers);
 
 // render(in, p, compute(in, p)).
-Output run(const Params& p, const Inputs& in);
+Outputs run(const Params& params, const Inputs& inputs);
 
 // ---- the scene experiment (issue 16; docs/decisions/scene-experiment.md) -----------------
 // The numbers are computed by `score` (results/scenes/score.json, canopy.scene_score v1) and by

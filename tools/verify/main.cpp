@@ -114,15 +114,15 @@ Eigen::Isometry3d parse_transform(const std::string& text) {
 }
 
 // What the check reads: the match, the candidate's graph and points, the hypotheses' models.
-struct Inputs {
+struct Loaded {
   doc::MatchResult match;
   doc::SegmentGraph graph;
   vf::Candidate candidate;
   std::vector<vf::Model> models;
 };
 
-Inputs read_inputs(const Cli& cli, const vf::Params& p, const std::optional<Eigen::Isometry3d>& to_tile) {
-  Inputs in;
+Loaded read_inputs(const Cli& cli, const vf::Params& p, const std::optional<Eigen::Isometry3d>& to_tile) {
+  Loaded in;
   in.match = doc::read_match_result(cli.in);
   if (in.match.models.empty()) throw cm::DataError(cm::display_name(cli.in), "match result ranks no model");
   in.graph = doc::read_segment_graph(cli.segments);
@@ -205,14 +205,14 @@ int main(int argc, char** argv) {
     }
 
     cm::log::Phase read("read");
-    const Inputs in = read_inputs(cli, p, to_tile);
+    const Loaded in = read_inputs(cli, p, to_tile);
     vf::check_inputs_belong({&in.match, cli.in, &in.graph, cli.segments, &in.candidate, cli.points});
     read.done(std::to_string(in.candidate.points.size()) + " candidate points, " +
               std::to_string(in.models.size()) + " hypotheses");
 
     cm::log::Phase phase("check");
     canopy::documents::Verdict v =
-        vf::run({&in.candidate, &in.graph, &in.match, &in.models, to_tile ? &*to_tile : nullptr}, p);
+        vf::run(p, {&in.candidate, &in.graph, &in.match, &in.models, to_tile ? &*to_tile : nullptr});
     // --free-space and the sensor direction options at their defaults are left out of the
     // provenance: verdicts stay byte-identical to those written before the options existed.
     auto parameters = tool.parameters();

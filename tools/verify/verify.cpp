@@ -394,7 +394,7 @@ namespace {
 
 double logistic(double x) { return 1.0 / (1.0 + std::exp(-x)); }
 
-const Model& loaded_model(const In& in, const std::string& name) {
+const Model& loaded_model(const Inputs& in, const std::string& name) {
   const Model* model = nullptr;
   for (const auto& m : *in.models) {
     if (m.name == name) model = &m;
@@ -405,7 +405,7 @@ const Model& loaded_model(const In& in, const std::string& name) {
 
 // One gmatch hypothesis: every start (the matched pairs' pose when there is one, the principal
 // axes') and, with Params::flip, its 180-degree flip, refined by ICP and scored; the best.
-documents::Hypothesis check_hypothesis(const In& in, const documents::ModelScore& ms, const Model& model,
+documents::Hypothesis check_hypothesis(const Inputs& in, const documents::ModelScore& ms, const Model& model,
                                        const Scorer& scorer, const Params& p) {
   const auto& above = scorer.above_points();
   const Vector3d centre = mean_of(model.surface.points);
@@ -487,7 +487,7 @@ void decide(documents::Verdict* verdict, const Params& p) {
 
 }  // namespace
 
-documents::Verdict run(const In& in, const Params& p) {
+Outputs run(const Params& p, const Inputs& in) {
   documents::Verdict v;
   const Scorer scorer(*in.candidate, p);
   const int k = std::min<int>(p.top_k, static_cast<int>(in.match->models.size()));

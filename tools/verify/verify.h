@@ -162,7 +162,7 @@ struct BelongInputs {
 // not resolve prove nothing and are passed over.
 void check_inputs_belong(const BelongInputs& in);
 
-struct In {
+struct Inputs {
   const Candidate* candidate = nullptr;
   const documents::SegmentGraph* segments = nullptr;
   const documents::MatchResult* match = nullptr;
@@ -170,8 +170,10 @@ struct In {
   const Eigen::Isometry3d* to_tile = nullptr;  // candidate frame -> tile frame; null = none
 };
 
+using Outputs = documents::Verdict;
+
 // Checks the top-k hypotheses and decides. Fills every field of the verdict but provenance
 // and inputs; the tile pose (transform, pose_tile) when `to_tile` is given.
-documents::Verdict run(const In& in, const Params& params);
+Outputs run(const Params& params, const Inputs& inputs);
 
 }  // namespace canopy::verify
