@@ -18,6 +18,7 @@
 #include "canopy/common/math.h"
 #include "canopy/common/rng.h"
 #include "canopy/formats/pcd.h"
+#include "candtruth/candtruth.h"
 #include "detect/detect.h"
 #include "fixtures/detect_synth_tile.h"
 
@@ -194,15 +195,36 @@ void report_missed(const TileSpec& s, const formats::PointCloud& tile, const det
                detect_test::canopy_cover(s, v));
 }
 
+// The candidates' ground truth (candtruth, from the labelled tile and the index's geometry).
+documents::CandidateTruth truth_of(const formats::PointCloud& tile, const detect::Result& r) {
+  candtruth::Inputs in;
+  in.tile = tile;
+  in.tile_name = "tile";
+  in.index.margin = detect::Params{}.margin;
+  for (const auto& c : r.candidates) {
+    documents::Candidate e;
+    e.id = c.id;
+    for (int row = 0; row < 4; ++row) {
+      for (int col = 0; col < 4; ++col) e.transform[4 * row + col] = c.to_tile(row, col);
+    }
+    e.length = c.length;
+    e.width = c.width;
+    e.height = c.height;
+    in.index.candidates.push_back(e);
+  }
+  return candtruth::run(candtruth::Params{}, in);
+}
+
 // A vehicle split over several candidates (stderr).
-void report_split(const TileSpec& s, const detect::Result& r, const VehicleSpec& v, const char* cover,
-                  double noise, std::size_t mine) {
+void report_split(const TileSpec& s, const detect::Result& r, const documents::CandidateTruth& truth,
+                  const VehicleSpec& v, const char* cover, double noise, std::size_t mine) {
   std::fprintf(stderr, "%zu candidates: seed %llu cover %s noise %.3f vehicle %u (%.1f x %.1f x %.1f):", mine,
                (unsigned long long)s.seed, cover, noise, v.instance, v.length, v.width, v.height);
-  for (const auto& c : r.candidates) {
-    if (c.truth.instance == v.instance)
+  for (std::size_t k = 0; k < r.candidates.size(); ++k) {
+    const auto& c = r.candidates[k];
+    if (truth.candidates[k].instance == v.instance)
       std::fprintf(stderr, " [%.1f x %.1f x %.1f, coverage %.2f]", c.length, c.width, c.height,
-                   c.truth.coverage);
+                   truth.candidates[k].coverage);
   }
   std::fprintf(stderr, "\n");
 }
@@ -211,13 +233,19 @@ void report_split(const TileSpec& s, const detect::Result& r, const VehicleSpec&
 void tally_tile(const TileSpec& s, const formats::PointCloud& tile, const detect::Result& r,
                 const char* cover, double noise, Tally& t) {
   t.candidates += r.candidates.size();
-  for (const auto& c : r.candidates) t.false_cands += !c.has_truth || c.truth.instance == 0;
+  const documents::CandidateTruth truth = truth_of(tile, r);
+  for (const auto& c : truth.candidates) t.false_cands += c.instance == 0;
   for (const auto& v : s.vehicles) {
     ++t.vehicles;
     t.cover_sum += detect_test::canopy_cover(s, v);
     const detect::Candidate* best = nullptr;
-    for (const auto& c : r.candidates) {
-      if (c.truth.instance == v.instance && (!best || c.truth.points > best->truth.points)) best = &c;
+    std::int64_t best_points = 0;
+    for (std::size_t k = 0; k < r.candidates.size(); ++k) {
+      const auto& ct = truth.candidates[k];
+      if (ct.instance == v.instance && (!best || ct.points > best_points)) {
+        best = &r.candidates[k];
+        best_points = ct.points;
+      }
     }
     if (!best) {
       report_missed(s, tile, r, v, cover, noise);
@@ -225,8 +253,8 @@ void tally_tile(const TileSpec& s, const formats::PointCloud& tile, const detect
     }
     ++t.covered;
     std::size_t mine = 0;
-    for (const auto& c : r.candidates) mine += c.truth.instance == v.instance;
-    if (mine > 1) report_split(s, r, v, cover, noise, mine);
+    for (const auto& c : truth.candidates) mine += c.instance == v.instance;
+    if (mine > 1) report_split(s, r, truth, v, cover, noise, mine);
     t.centre_err.push_back((best->to_tile.block<3, 1>(0, 3) - detect_test::vehicle_centre(s, v)).norm());
     const double cosang =
         std::abs(best->to_tile.block<3, 1>(0, 0).dot(detect_test::vehicle_rotation(s, v).col(0)));

@@ -23,9 +23,12 @@ std::optional<std::int64_t> optional_count(const Json& j, const char* key, const
   return v ? std::optional<std::int64_t>(count(*v, path(w, key))) : std::nullopt;
 }
 
-Candidate read_candidate(const Json& j, const std::string& w, std::set<std::string>& seen) {
+Candidate read_candidate(const Json& j, const std::string& w, std::set<std::string>& seen, int version) {
   static const std::regex id_ok("[A-Za-z0-9_.-]{1,64}");
   object(j, w);
+  if (version >= 2 && j.contains("truth")) {
+    throw Malformed(w + ".truth: a version 2 index holds no ground truth (candtruth writes it)");
+  }
   Candidate c;
   const Json& id = at(j, "id", w);
   if (!id.is_string()) throw Malformed(w + ".id must be a string");
@@ -48,21 +51,11 @@ Candidate read_candidate(const Json& j, const std::string& w, std::set<std::stri
   c.density = optional_number(j, "density", w);
   c.planarity = optional_number(j, "planarity", w);
   c.planar_area = optional_number(j, "planar_area", w);
-  c.has_truth = j.contains("truth");
-  if (const Json* t = optional(j, "truth")) {
-    const std::string tw = w + ".truth";
-    object(*t, tw);
-    CandidateTruth truth;
-    truth.instance = count(at(*t, "instance", tw), tw + ".instance");
-    truth.points = count(at(*t, "points", tw), tw + ".points");
-    truth.coverage = finite_number(at(*t, "coverage", tw), tw + ".coverage");
-    truth.purity = finite_number(at(*t, "purity", tw), tw + ".purity");
-    c.truth = truth;
-  }
+  // "truth" (version 1 only; read_members refuses it in version 2) is dropped unread.
   return c;
 }
 
-Candidates read_members(const Json& j) {
+Candidates read_members(const Json& j, int version) {
   Candidates d;
   d.provenance = j.contains("provenance") ? j["provenance"] : Json();
   if (const Json* t = optional(j, "tile")) d.tile = text(*t, "tile");
@@ -86,26 +79,18 @@ Candidates read_members(const Json& j) {
     if (const Json* all = optional(*dens, "all")) finite_number(*all, "density.all");
     d.density = *dens;
   }
+  if (const Json* m = optional(j, "margin")) {
+    d.margin = finite_number(*m, "margin");
+    if (*d.margin < 0) throw Malformed("margin must be >= 0");
+  }
   const Json& cs = array(at(j, "candidates", "index"), "candidates");
   std::set<std::string> seen;
   for (std::size_t i = 0; i < cs.size(); ++i) {
-    d.candidates.push_back(read_candidate(cs[i], "candidates[" + std::to_string(i) + "]", seen));
+    d.candidates.push_back(read_candidate(cs[i], "candidates[" + std::to_string(i) + "]", seen, version));
   }
-  d.has_instances = j.contains("instances");
-  if (d.has_instances) {
-    const Json& is = array(j["instances"], "instances");
-    for (std::size_t i = 0; i < is.size(); ++i) {
-      const std::string w = "instances[" + std::to_string(i) + "]";
-      object(is[i], w);
-      InstanceTruth it;
-      it.instance = count(at(is[i], "instance", w), w + ".instance");
-      it.points = count(at(is[i], "points", w), w + ".points");
-      const Json& ids = array(at(is[i], "candidates", w), w + ".candidates");
-      for (std::size_t k = 0; k < ids.size(); ++k) {
-        it.candidates.push_back(text(ids[k], w + ".candidates[" + std::to_string(k) + "]"));
-      }
-      d.instances.push_back(std::move(it));
-    }
+  // "instances" (version 1's ground truth) is dropped unread; version 2 refuses it.
+  if (version >= 2 && j.contains("instances")) {
+    throw Malformed("instances: a version 2 index holds no ground truth (candtruth writes it)");
   }
   return d;
 }
@@ -141,7 +126,7 @@ const Candidate* Candidates::find(const std::string& id) const {
 Candidates read_candidates(const std::string& text, const std::string& name) {
   const Json j = formats::open_json_document(text, name, kCandidatesFormat, nullptr, kCandidatesVersion);
   try {
-    return read_members(j);
+    return read_members(j, j["version"].get<int>());
   } catch (const Malformed& e) { throw common::DataError(name, e.what()); }
 }
 
@@ -190,6 +175,7 @@ std::string write_candidates(const Candidates& d, const formats::Provenance& pro
                          {"filled_cells", g.filled_cells},
                          {"ground_points", g.ground_points}}}};
   j["density"] = d.density;
+  j["margin"] = finite(need(d.margin, "margin"));
   Json cands = Json::array();
   for (const Candidate& c : d.candidates) {
     const std::string w = "candidate " + c.id + " ";
@@ -212,23 +198,9 @@ std::string write_candidates(const Candidates& d, const formats::Provenance& pro
             {"density", finite(need(c.density, w + "density"))},
             {"planarity", finite(need(c.planarity, w + "planarity"))},
             {"planar_area", finite(need(c.planar_area, w + "planar_area"))}};
-    if (c.has_truth) {
-      cj["truth"] = !c.truth ? Json(nullptr)
-                             : Json{{"instance", c.truth->instance},
-                                    {"points", c.truth->points},
-                                    {"coverage", finite(c.truth->coverage)},
-                                    {"purity", finite(c.truth->purity)}};
-    }
     cands.push_back(std::move(cj));
   }
   j["candidates"] = std::move(cands);
-  if (d.has_instances) {
-    Json inst = Json::array();
-    for (const InstanceTruth& it : d.instances) {
-      inst.push_back(Json{{"instance", it.instance}, {"points", it.points}, {"candidates", it.candidates}});
-    }
-    j["instances"] = std::move(inst);
-  }
   return j.dump(1) + "\n";
 }
 

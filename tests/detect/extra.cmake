@@ -2,3 +2,5 @@
 add_dependencies(${target} rangetrace fitvox cocone ncut gmatch)
 target_link_libraries(${target} PRIVATE nlohmann_json::nlohmann_json)
 target_include_directories(${target} PRIVATE ${CMAKE_SOURCE_DIR}/tests)
+target_link_libraries(${target} PRIVATE canopy_candtruth_lib)
+add_dependencies(${target} candtruth)

@@ -92,23 +92,26 @@ TEST_CASE("detect writes a candidates directory") {
   REQUIRE(test::sh(kBin + "/detect -i " + q(dir / "tile.pcd") + " -o " + q(out) + "/", dir / "err.txt",
                    &err) == 0);
   INFO(err);
-  CHECK(err.find("2 of 2 labelled vehicles covered") != std::string::npos);
   const Json j = read_json(out / "index.json");
   CHECK(j["format"] == "canopy.candidates");
-  CHECK(j["version"] == 1);
+  CHECK(j["version"] == 2);
+  CHECK(j["margin"] == 0.5);
+  // No ground truth in the index (issue 30): candtruth writes it from the labelled tile.
+  CHECK(!j.contains("instances"));
   CHECK(j["provenance"]["tool"] == "detect");
   CHECK(j["tile_points"].get<std::size_t>() > 10000);
   REQUIRE(j["candidates"].size() == 2);
   for (const auto& c : j["candidates"]) {
     const formats::PointCloud cloud = formats::read_pcd((out / c["file"].get<std::string>()).string());
     CHECK(cloud.size() == c["point_count"].get<std::size_t>());
-    CHECK(cloud.has("instance"));
+    CHECK(!cloud.has("instance"));
+    CHECK(!cloud.has("label"));
     CHECK(cloud.has("sensor_x"));
     // The transform's translation is the centre, at UTM magnitudes, exact in float64.
     CHECK(c["transform"][0][3].get<double>() == c["centre"][0].get<double>());
     CHECK(std::abs(c["centre"][0].get<double>() - 500000) < 15);
     CHECK(std::abs(c["centre"][1].get<double>() - 4400000) < 15);
-    CHECK(c["truth"]["coverage"].get<double>() > 0.95);
+    CHECK(!c.contains("truth"));
     // Comments: the tile's, detect's provenance (formats::provenance_comments), the candidate.
     const auto& com = cloud.comments;
     const auto prov = std::find_if(com.begin(), com.end(),
@@ -120,8 +123,24 @@ TEST_CASE("detect writes a candidates directory") {
     CHECK(com.back() == "candidate " + c["id"].get<std::string>() +
                             " in its local frame; index.json gives the transform back to the tile");
   }
-  REQUIRE(j["instances"].size() == 2);
-  for (const auto& it : j["instances"]) CHECK(it["candidates"].size() == 1);
+  {
+    // candtruth: each of the two vehicles is one candidate's, covered; its crop is the crop's.
+    const fs::path tdir = test::fresh_dir("detect", "cli_ok_truth");
+    REQUIRE(test::sh(kBin + "/candtruth -i " + q(out / "index.json") + " --tile " + q(dir / "tile.pcd") +
+                         " -o " + q(tdir / "truth.json"),
+                     tdir / "err.txt", &err) == 0);
+    CHECK(err.find("2 of 2 labelled vehicles covered") != std::string::npos);
+    const Json t = read_json(tdir / "truth.json");
+    CHECK(t["format"] == "canopy.candidate_truth");
+    REQUIRE(t["instances"].size() == 2);
+    for (const auto& it : t["instances"]) CHECK(it["candidates"].size() == 1);
+    REQUIRE(t["candidates"].size() == 2);
+    for (std::size_t k = 0; k < 2; ++k) {
+      CHECK(t["candidates"][k]["id"] == j["candidates"][k]["id"]);
+      CHECK(t["candidates"][k]["crop_points"] == j["candidates"][k]["point_count"]);
+      CHECK(t["candidates"][k]["coverage"].get<double>() > 0.95);
+    }
+  }
   const formats::Mesh classes = formats::read_ply((out / "classes.ply").string());
   CHECK(classes.vertices.size() == j["tile_points"].get<std::size_t>());
   CHECK(classes.vertices.has("class"));

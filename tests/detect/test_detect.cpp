@@ -11,6 +11,7 @@
 
 #include "canopy/common/math.h"
 #include "canopy/common/error.h"
+#include "candtruth/candtruth.h"
 #include "detect/detect.h"
 #include "detect/output.h"
 #include "fixtures/detect_synth_tile.h"
@@ -21,11 +22,41 @@ using detect_test::VehicleSpec;
 
 namespace {
 
-// The candidates whose ground truth is vehicle `v`.
-std::vector<const detect::Candidate*> candidates_of(const detect::Result& r, std::uint32_t instance) {
-  std::vector<const detect::Candidate*> out;
+// The candidates' ground truth as candtruth computes it from the labelled tile and the index
+// detect would write (issue 30: detect itself holds no truth).
+documents::CandidateTruth truth_of(const formats::PointCloud& tile, const detect::Result& r,
+                                   const detect::Params& params = {}) {
+  candtruth::Inputs in;
+  in.tile = tile;
+  in.tile_name = "tile";
+  in.index.margin = params.margin;
   for (const auto& c : r.candidates) {
-    if (c.has_truth && c.truth.instance == instance) out.push_back(&c);
+    documents::Candidate e;
+    e.id = c.id;
+    for (int row = 0; row < 4; ++row) {
+      for (int col = 0; col < 4; ++col) e.transform[4 * row + col] = c.to_tile(row, col);
+    }
+    e.length = c.length;
+    e.width = c.width;
+    e.height = c.height;
+    in.index.candidates.push_back(e);
+  }
+  return candtruth::run(candtruth::Params{}, in);
+}
+
+// A candidate with its ground truth.
+struct Found {
+  const detect::Candidate* c = nullptr;
+  documents::CandidateTruthRow truth;
+};
+
+// The candidates whose ground truth is vehicle `instance`.
+std::vector<Found> candidates_of(const formats::PointCloud& tile, const detect::Result& r,
+                                 std::uint32_t instance, const detect::Params& params = {}) {
+  const documents::CandidateTruth t = truth_of(tile, r, params);
+  std::vector<Found> out;
+  for (std::size_t k = 0; k < r.candidates.size(); ++k) {
+    if (t.candidates[k].instance == instance) out.push_back({&r.candidates[k], t.candidates[k]});
   }
   return out;
 }
@@ -37,12 +68,12 @@ double axis_error_deg(const detect::Candidate& c, const Eigen::Matrix3d& R) {
 }
 
 // Every vehicle: exactly one candidate, centre within 0.3 m, axis within 5 degrees.
-void check_poses(const TileSpec& s, const detect::Result& r) {
+void check_poses(const TileSpec& s, const formats::PointCloud& tile, const detect::Result& r) {
   for (const auto& v : s.vehicles) {
     INFO("vehicle " << v.instance << " at " << v.x << ", " << v.y << " heading " << v.heading);
-    const auto found = candidates_of(r, v.instance);
+    const auto found = candidates_of(tile, r, v.instance);
     REQUIRE(found.size() == 1);
-    const detect::Candidate& c = *found[0];
+    const detect::Candidate& c = *found[0].c;
     const Eigen::Vector3d centre = c.to_tile.block<3, 1>(0, 3);
     const Eigen::Vector3d truth = detect_test::vehicle_centre(s, v);
     INFO("candidate " << c.id << " centre " << centre.transpose() << " truth " << truth.transpose()
@@ -52,7 +83,8 @@ void check_poses(const TileSpec& s, const detect::Result& r) {
     CHECK(c.length == Approx(v.length).margin(0.4));
     CHECK(c.width == Approx(v.width).margin(0.4));
     CHECK(c.height == Approx(v.height).margin(0.3));
-    CHECK(c.truth.coverage > 0.95);
+    CHECK(found[0].truth.coverage > 0.95);
+    CHECK(found[0].truth.crop_points == static_cast<std::int64_t>(c.cloud.size()));
     // The transform is rigid.
     const Eigen::Matrix3d R = c.to_tile.topLeftCorner<3, 3>();
     CHECK((R.transpose() * R - Eigen::Matrix3d::Identity()).norm() < 1e-9);
@@ -94,11 +126,18 @@ TEST_CASE("flat tile: every vehicle gets one candidate at its pose") {
   const TileSpec s = three_vehicles(detect_test::Terrain::kFlat);
   const auto tile = detect_test::make_tile(s);
   const detect::Result r = detect::run(detect::Params{}, {&tile, "flat"});
-  check_poses(s, r);
-  REQUIRE(r.has_truth);
-  REQUIRE(r.instances.size() == 3);
+  check_poses(s, tile, r);
+  const documents::CandidateTruth truth = truth_of(tile, r);
+  REQUIRE(truth.instances.size() == 3);
   // No candidate in the crowns or on the boulder (too small).
-  for (const auto& c : r.candidates) CHECK(c.truth.instance != 0);
+  for (const auto& t : truth.candidates) CHECK(t.instance != 0);
+  // The crops carry no truth (issue 30): a later stage cannot read it by accident.
+  REQUIRE(tile.has("label"));
+  REQUIRE(tile.has("instance"));
+  for (const auto& c : r.candidates) {
+    CHECK_FALSE(c.cloud.has("label"));
+    CHECK_FALSE(c.cloud.has("instance"));
+  }
 }
 
 TEST_CASE("15 degree slope: poses in the tilted ground frame") {
@@ -106,7 +145,7 @@ TEST_CASE("15 degree slope: poses in the tilted ground frame") {
   s.slope_deg = 15;
   const auto tile = detect_test::make_tile(s);
   const detect::Result r = detect::run(detect::Params{}, {&tile, "slope"});
-  check_poses(s, r);
+  check_poses(s, tile, r);
   // The candidate frame's z is the ground normal (15 degrees from vertical).
   for (const auto& c : r.candidates) {
     const double tilt = std::acos(c.to_tile(2, 2)) * 180 / canopy::common::kPi;
@@ -124,21 +163,23 @@ TEST_CASE("rolling ground at UTM magnitudes in float64") {
   const auto tile = detect_test::make_tile(s);
   REQUIRE(tile.type("x") == formats::kFloat64);
   const detect::Result r = detect::run(detect::Params{}, {&tile, "utm"});
-  check_poses(s, r);
+  check_poses(s, tile, r);
   CHECK(std::abs(r.origin.x() - 500000) < 25);
   CHECK(std::abs(r.origin.y() - 4400000) < 25);
 }
 
-TEST_CASE("candidate clouds: local frame, ground at z = 0, every input field") {
+TEST_CASE("candidate clouds: local frame, ground at z = 0, every input field but the truth") {
   TileSpec s = three_vehicles(detect_test::Terrain::kSlope);
-  const auto tile = detect_test::make_tile(s);
+  auto tile = detect_test::make_tile(s);
+  // The labels again under a name that is not a truth field: the crops carry it.
+  tile.add("tag", tile.type("label")) = tile.col("label");
   const detect::Result r = detect::run(detect::Params{}, {&tile, "fields"});
   REQUIRE(!r.candidates.empty());
   for (const auto& c : r.candidates) {
-    for (const auto& f : tile.names()) CHECK(c.cloud.has(f));
+    for (const auto& f : tile.names()) CHECK(c.cloud.has(f) == (f != "label" && f != "instance"));
     CHECK(c.cloud.size() > c.object_points);  // the crop includes the ground around it
     const auto& z = c.cloud.col("z");
-    const auto& label = c.cloud.col("label");
+    const auto& label = c.cloud.col("tag");
     const auto& sz = c.cloud.col("sensor_z");
     const auto& sx = c.cloud.col("sensor_x");
     std::size_t ground = 0;
@@ -181,7 +222,7 @@ TEST_CASE("two vehicles side by side give two candidates") {
     const auto tile = detect_test::make_tile(s);
     const detect::Result r = detect::run(detect::Params{}, {&tile, "pair"});
     CHECK(r.candidates.size() == 2);
-    check_poses(s, r);
+    check_poses(s, tile, r);
   }
 }
 
@@ -192,10 +233,10 @@ TEST_CASE("a vehicle under a bush is still a candidate") {
   s.bushes = {{1.5, 0.8, 1.5, 0.3, 2.6}};
   const auto tile = detect_test::make_tile(s);
   const detect::Result r = detect::run(detect::Params{}, {&tile, "bush"});
-  const auto found = candidates_of(r, 3);
+  const auto found = candidates_of(tile, r, 3);
   REQUIRE(found.size() == 1);
-  CHECK(found[0]->truth.coverage > 0.9);
-  CHECK((found[0]->to_tile.block<3, 1>(0, 3) - detect_test::vehicle_centre(s, s.vehicles[0])).norm() < 1.5);
+  CHECK(found[0].truth.coverage > 0.9);
+  CHECK((found[0].c->to_tile.block<3, 1>(0, 3) - detect_test::vehicle_centre(s, s.vehicles[0])).norm() < 1.5);
 }
 
 TEST_CASE("a tile with no vehicle gives no candidate") {
@@ -205,8 +246,6 @@ TEST_CASE("a tile with no vehicle gives no candidate") {
     const formats::PointCloud tile = detect_test::make_tile(s);
     const detect::Result r = detect::run(detect::Params{}, {&tile, "forest"});
     CHECK(r.candidates.empty());
-    CHECK(r.has_truth);
-    CHECK(r.instances.empty());
   }
   SECTION("only ground, sloped") {
     TileSpec s;
@@ -351,10 +390,10 @@ TEST_CASE("a tank-wide vehicle (3.54 m, body and turret) is one candidate") {
     s.terrain = terrain;
     s.seed = 14;
     s.vehicles = {{1, -2, 0.3, 6.9, 3.54, 2.4, 5, true}};
-    const formats::PointCloud tile = detect_test::make_tile(s);
+    const auto tile = detect_test::make_tile(s);
     const detect::Result r = detect::run(detect::Params{}, {&tile, "tank"});
     CHECK(r.candidates.size() == 1);
-    check_poses(s, r);
+    check_poses(s, tile, r);
   }
 }
 
@@ -380,11 +419,13 @@ TEST_CASE("bush groups and low crowns are rejected by the shape test, vehicles a
     off.min_planarity = 0;
     off.planarity_from_density = false;  // as --min-planarity given
     const detect::Result all = detect::run(off, {&tile, "off"});
+    const documents::CandidateTruth truth = truth_of(tile, all, off);
     std::size_t vegetation = 0;
-    for (const auto& c : all.candidates) {
+    for (std::size_t k = 0; k < all.candidates.size(); ++k) {
+      const detect::Candidate& c = all.candidates[k];
       INFO("candidate " << c.id << " " << c.length << " x " << c.width << " x " << c.height << " planarity "
-                        << c.planarity << " truth " << c.truth.instance);
-      if (c.truth.instance == 0) {
+                        << c.planarity << " truth " << truth.candidates[k].instance);
+      if (truth.candidates[k].instance == 0) {
         ++vegetation;
         CHECK(c.planarity < 0.1);
         CHECK(c.planar_area < 0.5);
@@ -397,7 +438,7 @@ TEST_CASE("bush groups and low crowns are rejected by the shape test, vehicles a
     const detect::Result r = detect::run(detect::Params{}, {&tile, "on"});
     CHECK(r.candidates.size() == 2);
     CHECK(r.stats.rejected_shape == 2);
-    check_poses(s, r);
+    check_poses(s, tile, r);
   }
 }
 
@@ -413,18 +454,18 @@ TEST_CASE("a vehicle half under bushes passes the shape test") {
   s.bushes = {{1.3, 0.5, 1.3, 0.3, 2.4}, {0.2, -1.2, 1.2, 0.2, 2.2}};
   const auto tile = detect_test::make_tile(s);
   const detect::Result r = detect::run(detect::Params{}, {&tile, "bushes"});
-  const auto found = candidates_of(r, 3);
+  const auto found = candidates_of(tile, r, 3);
   REQUIRE(found.size() == 1);
-  INFO("planarity " << found[0]->planarity << " area " << found[0]->planar_area << " purity "
-                    << found[0]->truth.purity);
-  CHECK(found[0]->truth.purity < 0.8);  // the bushes are in the object
-  CHECK(found[0]->planarity < detect::Params{}.min_planarity);
-  CHECK(found[0]->planar_area >= detect::Params{}.min_planar_area);
-  CHECK(found[0]->truth.coverage > 0.9);
+  INFO("planarity " << found[0].c->planarity << " area " << found[0].c->planar_area << " purity "
+                    << found[0].truth.purity);
+  CHECK(found[0].truth.purity < 0.8);  // the bushes are in the object
+  CHECK(found[0].c->planarity < detect::Params{}.min_planarity);
+  CHECK(found[0].c->planar_area >= detect::Params{}.min_planar_area);
+  CHECK(found[0].truth.coverage > 0.9);
   // The share alone would lose it.
   detect::Params share_only;
   share_only.min_planar_area = 1e9;
-  CHECK(candidates_of(detect::run(share_only, {&tile, "bushes"}), 3).empty());
+  CHECK(candidates_of(tile, detect::run(share_only, {&tile, "bushes"}), 3).empty());
 }
 
 TEST_CASE("the DTM cell follows the density: a closed canopy over sparse ground returns") {

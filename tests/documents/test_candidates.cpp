@@ -1,5 +1,5 @@
-// documents/candidates.h: detect's index.json (canopy.candidates v1), read by collect, classify,
-// topview and report through one reader. A hand-written index in detect's exact layout reads
+// documents/candidates.h: detect's index.json (canopy.candidates v2; v1 read too), read by
+// collect, classify, topview, candtruth and report through one reader. A hand-written index in detect's exact layout reads
 // to the values it holds and writes back byte for byte; malformed ones are refused naming the
 // file and the member.
 #include <catch2/catch.hpp>
@@ -16,10 +16,10 @@ using namespace canopy;
 
 namespace {
 
-// As detect writes it (one-space indent): one candidate with truth, one false candidate.
+// As detect writes it (one-space indent): two candidates, no ground truth (issue 30).
 const std::string kIndex = R"({
  "format": "canopy.candidates",
- "version": 1,
+ "version": 2,
  "provenance": {
   "tool": "detect",
   "version": "0.1.0",
@@ -53,6 +53,7 @@ const std::string kIndex = R"({
   "occupied_cells": 100,
   "open_ground_cells": 91
  },
+ "margin": 0.5,
  "candidates": [
   {
    "id": "c0001",
@@ -96,13 +97,7 @@ const std::string kIndex = R"({
    "object_points": 501,
    "density": 63.6,
    "planarity": 0.74,
-   "planar_area": 9.3,
-   "truth": {
-    "instance": 7,
-    "points": 512,
-    "coverage": 1.0,
-    "purity": 0.99
-   }
+   "planar_area": 9.3
   },
   {
    "id": "c0002",
@@ -146,21 +141,23 @@ const std::string kIndex = R"({
    "object_points": 120,
    "density": 20.0,
    "planarity": 0.1,
-   "planar_area": 0.5,
-   "truth": null
-  }
- ],
- "instances": [
-  {
-   "instance": 7,
-   "points": 512,
-   "candidates": [
-    "c0001"
-   ]
+   "planar_area": 0.5
   }
  ]
 }
 )";
+
+// A version 1 index: no margin, ground truth per candidate and per vehicle.
+nlohmann::ordered_json version1() {
+  nlohmann::ordered_json j = nlohmann::ordered_json::parse(kIndex);
+  j["version"] = 1;
+  j.erase("margin");
+  j["candidates"][0]["truth"] = {{"instance", 7}, {"points", 512}, {"coverage", 1.0}, {"purity", 0.99}};
+  j["candidates"][1]["truth"] = nullptr;
+  j["instances"] =
+      nlohmann::ordered_json::parse(R"([{"instance": 7, "points": 512, "candidates": ["c0001"]}])");
+  return j;
+}
 
 formats::Provenance provenance() { return {"detect", "0.1.0", {{"cell", "0.5"}}, {"tile.pcd"}}; }
 
@@ -197,16 +194,23 @@ TEST_CASE("candidates: a hand-written index reads to its values and writes back 
   CHECK(c.width == 1.75);
   CHECK(c.object_points == 501);
   CHECK(c.object_density() == 63.6);
-  REQUIRE(c.truth);
-  CHECK(c.truth->instance == 7);
-  CHECK(c.truth->purity == 0.99);
-  CHECK(d.candidates[1].has_truth);
-  CHECK_FALSE(d.candidates[1].truth);
-  REQUIRE(d.instances.size() == 1);
-  CHECK(d.instances[0].candidates == std::vector<std::string>{"c0001"});
+  CHECK(d.margin == 0.5);
   CHECK(d.find("c0002") == &d.candidates[1]);
   CHECK(d.find("c0003") == nullptr);
   CHECK(documents::write_candidates(d, provenance()) == kIndex);
+}
+
+TEST_CASE("candidates: a version 1 index reads, its ground truth dropped unread") {
+  const documents::Candidates d = documents::read_candidates(version1().dump(1), "old/index.json");
+  REQUIRE(d.candidates.size() == 2);
+  CHECK(d.candidates[0].id == "c0001");
+  CHECK(d.candidates[0].object_points == 501);
+  CHECK_FALSE(d.margin);
+  // Written again it is a version 2 index, once it has a margin.
+  CHECK_THROWS_WITH(documents::write_candidates(d, provenance()), Catch::Contains("margin"));
+  documents::Candidates m = d;
+  m.margin = 0.5;
+  CHECK(documents::write_candidates(m, provenance()) == kIndex);
 }
 
 TEST_CASE("candidates: a candidate's density is its own, else object points over its footprint") {
@@ -225,9 +229,14 @@ TEST_CASE("candidates: refusals name the file and the problem") {
   const Json good = Json::parse(kIndex);
   CHECK(refusal(good).empty());
   Json other = good, version = good, no_list = good, no_width = good, text_width = good, bad_id = good,
-       twice = good, skew = good, mirror = good, count = good, truth = good;
+       twice = good, skew = good, mirror = good, count = good, truth = good, instances = good, margin = good,
+       old_truth = version1();
   other["format"] = "canopy.detections";
-  version["version"] = 2;
+  version["version"] = 3;
+  truth["candidates"][0]["truth"] = nullptr;
+  instances["instances"] = nlohmann::ordered_json::array();
+  margin["margin"] = -0.5;
+  old_truth["candidates"][0]["truth"].erase("purity");
   no_list.erase("candidates");
   no_width["candidates"][0].erase("width");
   text_width["candidates"][1]["width"] = "2";
@@ -236,9 +245,8 @@ TEST_CASE("candidates: refusals name the file and the problem") {
   skew["candidates"][0]["transform"][0][0] = 0.7;
   mirror["candidates"][1]["transform"][0][0] = -1.0;
   count["tile_points"] = 9.5;
-  truth["candidates"][0]["truth"].erase("purity");
   CHECK_THAT(refusal(other), Catch::Contains("canopy.detections"));
-  CHECK_THAT(refusal(version), Catch::Contains("version 2"));
+  CHECK_THAT(refusal(version), Catch::Contains("version 3"));
   CHECK_THAT(refusal(no_list), Catch::Contains("missing \"candidates\""));
   CHECK_THAT(refusal(no_width), Catch::Contains("candidates[0]: missing \"width\""));
   CHECK_THAT(refusal(text_width), Catch::Contains("candidates[1].width must be a finite number, not \"2\""));
@@ -247,7 +255,12 @@ TEST_CASE("candidates: refusals name the file and the problem") {
   CHECK_THAT(refusal(skew), Catch::Contains("candidates[0].transform: the 3 x 3 part is not a rotation"));
   CHECK_THAT(refusal(mirror), Catch::Contains("candidates[1].transform: the 3 x 3 part is a reflection"));
   CHECK_THAT(refusal(count), Catch::Contains("tile_points must be a non-negative integer, not 9.5"));
-  CHECK_THAT(refusal(truth), Catch::Contains("candidates[0].truth: missing \"purity\""));
+  // Ground truth in a version 2 index is refused, even null: it belongs to candtruth's file.
+  CHECK_THAT(refusal(truth), Catch::Contains("candidates[0].truth: a version 2 index holds no ground truth"));
+  CHECK_THAT(refusal(instances), Catch::Contains("instances: a version 2 index holds no ground truth"));
+  CHECK_THAT(refusal(margin), Catch::Contains("margin must be >= 0"));
+  // A version 1 index's truth is not read at all, so not checked either.
+  CHECK(refusal(old_truth).empty());
   CHECK_THROWS_AS(documents::read_candidates("{\"format\": \"canopy.candidates\"", "x.json"),
                   common::DataError);
 }

@@ -168,7 +168,7 @@ struct Document {
 };
 std::string serialize(const Answer& answer, const Params& params, const Document& doc);
 
-// A candidate's transform from detect's index (canopy.candidates v1): the entry whose id is
+// A candidate's transform from detect's index (canopy.candidates v1 or v2): the entry whose id is
 // `id`. Errors name the file.
 Eigen::Isometry3d index_transform(const std::string& text, const std::string& name, const std::string& id);
 // "r00,r01,r02,t0,...[,0,0,0,1]": 12 or 16 numbers, row-major, rigid. UsageError otherwise.

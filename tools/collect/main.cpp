@@ -53,7 +53,7 @@ struct Options {
 };
 
 void bind(common::Tool& tool, Options& o) {
-  tool.add_input(&o.in, "candidates index.json (canopy.candidates v1)");
+  tool.add_input(&o.in, "candidates index.json (canopy.candidates v1 or v2)");
   tool.add_output(&o.out, "detections.json");
   tool.add_output("--plan", &o.plan,
                   "instead: write the make plan of the candidates (ids and transforms, "

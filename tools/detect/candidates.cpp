@@ -154,11 +154,14 @@ std::vector<std::size_t> crop_rows(const LocalFrame& l, const Ground& g, const C
   return rows;
 }
 
-// The crop: the tile's rows with every field, x y z replaced by the frame's coordinates
-// (float32), sensor and normal directions rotated into the frame.
+// The crop: the tile's rows with every field but the truth (kTruthFields), x y z replaced by the frame's
+// coordinates (float32), sensor and normal directions rotated into the frame.
 formats::PointCloud crop_cloud(const formats::PointCloud& tile, const std::vector<std::size_t>& rows,
                                const std::vector<Vector3d>& local, const Eigen::Matrix3d& R) {
   formats::PointCloud cloud = tile.select(rows);
+  for (const char* f : kTruthFields) {
+    if (cloud.has(f)) cloud.remove(f);
+  }
   auto& lx = cloud.add("x", formats::kFloat32);
   auto& ly = cloud.add("y", formats::kFloat32);
   auto& lz = cloud.add("z", formats::kFloat32);

@@ -16,7 +16,6 @@ namespace canopy::detect {
 
 // The candidates sorted by their centre (x, then y) and numbered c0001, ...; for each, the
 // object it was made of (an index into the objects) and the tile rows of its crop, ascending.
-// The candidates' truth is not set (truth.h).
 struct Placed {
   std::vector<Candidate> candidates;
   std::vector<std::size_t> object;

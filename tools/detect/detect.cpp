@@ -1,8 +1,8 @@
 // detect's face: validate and run, which calls the rooms in order and assembles the Result.
 // Rooms (each a function of explicit inputs returning its own result): frame.h (local frame),
 // ground.h (DTM, heights), density.h (the density rule), objects.h (clusters and the vehicle
-// tests; clustering.h, footprint.h), shape.h (the shape test), candidates.h (frames and crops),
-// truth.h (truth statistics). docs/decisions/detect.md, "Layout".
+// tests; clustering.h, footprint.h), shape.h (the shape test), candidates.h (frames and crops).
+// The candidates' ground truth is candtruth's (tools/candtruth). docs/decisions/detect.md, "Layout".
 #include "detect/detect.h"
 
 #include <algorithm>
@@ -18,7 +18,6 @@
 #include "detect/ground.h"
 #include "detect/objects.h"
 #include "detect/shape.h"
-#include "detect/truth.h"
 
 namespace canopy::detect {
 namespace {
@@ -101,7 +100,6 @@ Outputs run(const Params& given, const Inputs& inputs) {
 
   t0 = std::chrono::steady_clock::now();
   Placed placed = place_candidates(tile, l, g, shaped.kept, params);
-  TileTruthStats truth = truth_of(tile, params, shaped.kept, placed);
   r.stats.seconds_candidates = seconds_since(t0);
 
   r.height = std::move(g.height);
@@ -110,14 +108,6 @@ Outputs run(const Params& given, const Inputs& inputs) {
     for (std::uint32_t q : o.points) r.classes[q] = kClassCandidate;
   }
   r.candidates = std::move(placed.candidates);
-  r.has_truth = truth.has_truth;
-  if (truth.has_truth) {
-    for (std::size_t k = 0; k < r.candidates.size(); ++k) {
-      r.candidates[k].has_truth = true;
-      r.candidates[k].truth = truth.candidates[k];
-    }
-    r.instances = std::move(truth.instances);
-  }
   return r;
 }
 

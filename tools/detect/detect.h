@@ -79,9 +79,7 @@ struct Params {
   bool cell_from_density = true;  // DTM cell from the density rule (cell_for_density) unless --cell is given
   bool planarity_from_density = true;
   // Candidates.
-  double margin = 0.5;                      // crop margin around the footprint and above the height (m)
-  std::string label_field = "label";        // ground-truth class (formats/labels.h); optional
-  std::string instance_field = "instance";  // ground-truth instance id (0 = none); optional
+  double margin = 0.5;  // crop margin around the footprint and above the height (m)
 };
 
 // Throws common::UsageError naming the option (--cell, ...) of the first bad value: cell > 0,
@@ -92,15 +90,12 @@ struct Params {
 // min_ground_share in (0, 1].
 void validate(const Params& params);
 
+// The tile's ground-truth fields (rangetrace's tiles): never copied into a crop, so no later
+// stage can read them by accident (issue 30); candtruth reads them from the tile.
+inline const char* const kTruthFields[] = {"label", "instance"};
+
 // Classes of the classification output.
 enum Class : std::uint8_t { kClassGround = 1, kClassOther = 2, kClassCandidate = 3 };
-
-struct Truth {
-  std::uint32_t instance = 0;  // the vehicle with the most points in the object; 0 = none
-  std::size_t points = 0;      // that vehicle's points inside the candidate's crop
-  double coverage = 0;         // ... as a share of the vehicle's points in the tile
-  double purity = 0;           // share of the candidate's object points that are that vehicle
-};
 
 // The shape test needs about 21 returns per m² of surface (detect.md §3b); at least this
 // measured density switches it on under the density rule (detect.md §7).
@@ -143,15 +138,7 @@ struct Candidate {
   double density = 0;             // object_points / (length x width), per m²
   double planarity = 0;           // share of the object's surface in planar neighbourhoods
   double planar_area = 0;         // that planar surface (m^2)
-  formats::PointCloud cloud;      // the crop, local frame, every input field
-  bool has_truth = false;
-  Truth truth;
-};
-
-struct InstanceTruth {
-  std::uint32_t instance = 0;
-  std::size_t points = 0;
-  std::vector<std::string> candidates;  // ids of the candidates whose truth is this instance
+  formats::PointCloud cloud;      // the crop, local frame, every input field but the truth (kTruthFields)
 };
 
 struct Stats {
@@ -166,8 +153,6 @@ struct Result {
   std::vector<float> height;                         // per input point: height above the DTM (m)
   std::vector<std::uint8_t> classes;                 // per input point: Class
   std::vector<Candidate> candidates;                 // sorted by footprint centre (x, then y)
-  bool has_truth = false;
-  std::vector<InstanceTruth> instances;  // every labelled vehicle in the tile, by id
   Stats stats;
   Density density;
 };

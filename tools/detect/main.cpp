@@ -66,8 +66,6 @@ void bind(common::Tool& tool, detect::Params& p, Cli& cli) {
            "shape test: m^2 of planar surface that keep an object whatever its share");
   tool.add_length("--planar-radius", &p.planar_radius, "neighbourhood radius of the planarity test");
   tool.add_length("--margin", &p.margin, "crop margin around a candidate's footprint and above its height");
-  tool.add("--label-field", &p.label_field, "ground-truth class field (1 = vehicle), if present");
-  tool.add("--instance-field", &p.instance_field, "ground-truth instance field, if present");
   tool.add_flag("--no-classes", &cli.no_classes, "do not write classes.ply");
 }
 
@@ -107,14 +105,6 @@ std::string summary(const detect::Result& r) {
   return buf;
 }
 
-void log_truth(const detect::Result& r) {
-  if (!r.has_truth) return;
-  std::size_t covered = 0;
-  for (const auto& it : r.instances) covered += !it.candidates.empty();
-  common::log::info("truth: " + std::to_string(covered) + " of " + std::to_string(r.instances.size()) +
-                    " labelled vehicles covered by a candidate");
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -143,7 +133,6 @@ int main(int argc, char** argv) {
     common::log::Phase work("detect");
     const detect::Result r = detect::run(p, {&tile, name});
     work.done(summary(r));
-    log_truth(r);
     const formats::Provenance prov{"detect", CANOPY_VERSION, tool.parameters(), {cli.in}};
     common::log::Phase write("write");
     detect::write_output(cli.out, tile, r, p, prov, cli.in, !cli.no_classes);

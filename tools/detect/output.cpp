@@ -470,6 +470,7 @@ std::string serialize_index(const Result& r, const Params& p, const formats::Pro
   density.dtm_cell = dn.cell;
   density.cell_by_rule = dn.cell_by_rule;
   d.density = documents::detect_density_json(density);
+  d.margin = p.margin;
   for (const Candidate& c : r.candidates) {
     documents::Candidate e;
     e.id = c.id;
@@ -487,16 +488,7 @@ std::string serialize_index(const Result& r, const Params& p, const formats::Pro
     e.density = c.density;
     e.planarity = c.planarity;
     e.planar_area = c.planar_area;
-    e.has_truth = c.has_truth;
-    if (c.has_truth && c.truth.instance != 0) {
-      e.truth = documents::CandidateTruth{c.truth.instance, static_cast<std::int64_t>(c.truth.points),
-                                          c.truth.coverage, c.truth.purity};
-    }
     d.candidates.push_back(std::move(e));
-  }
-  d.has_instances = r.has_truth;
-  for (const auto& it : r.instances) {
-    d.instances.push_back({it.instance, static_cast<std::int64_t>(it.points), it.candidates});
   }
   return documents::write_candidates(d, prov);
 }

@@ -1,4 +1,4 @@
-// detect's output directory: index.json (format "canopy.candidates", version 1, see
+// detect's output directory: index.json (format "canopy.candidates", version 2, see
 // formats/README.md), one PCD per candidate (<id>.pcd), the classification PLY (classes.ply)
 // and manifest.json, written last, listing every one of these files with its size and SHA-256
 // (format "canopy.detect_manifest", version 1): the proof that detect wrote the directory.

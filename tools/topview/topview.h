@@ -106,7 +106,7 @@ struct Sources {
   std::string detections;  // canopy.detections v1 or v2
   std::string truth;       // canopy.scene_truth v1: true footprints
   std::string score;       // canopy.scene_score v1: colours by outcome
-  std::string index;       // canopy.candidates v1; empty: the one the detections name
+  std::string index;       // canopy.candidates v1 or v2; empty: the one the detections name
 };
 
 // Reads the documents: the true footprints first (truth, or missed when the score says the

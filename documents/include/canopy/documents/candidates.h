@@ -1,6 +1,9 @@
 // A tile's candidates index: index.json of detect's output directory, format
-// "canopy.candidates", version 1 (formats/README.md "Candidate index"). detect writes it;
-// collect, classify, topview and report read it.
+// "canopy.candidates", version 2 (formats/README.md "Candidate index"). detect writes it;
+// collect, classify, topview, candtruth and report read it. Version 2 carries no ground truth
+// (issue 30: what the recogniser's path reads holds no truth; candtruth writes the candidates'
+// truth beside it) and records the crop margin. Version 1 indexes are read too: their "truth"
+// and "instances" members are dropped unread.
 #pragma once
 
 #include <array>
@@ -16,17 +19,9 @@
 namespace canopy::documents {
 
 inline constexpr const char* kCandidatesFormat = "canopy.candidates";
-inline constexpr int kCandidatesVersion = 1;
+inline constexpr int kCandidatesVersion = 2;
 
 using Matrix4 = std::array<double, 16>;  // 4 x 4 row-major, float64
-
-// The ground truth of one candidate (only in an index of a tile with an instance field).
-struct CandidateTruth {
-  std::int64_t instance = 0;  // the vehicle with the most points in the object
-  std::int64_t points = 0;    // that vehicle's points in the crop
-  double coverage = 0;        // ... as a share of the vehicle's points in the tile
-  double purity = 0;          // ... as a share of the object's points
-};
 
 // One candidate. detect writes every member; a reader requires id, transform, length and
 // width and type-checks the others when they are there (hand-written indexes of the tests and
@@ -43,18 +38,9 @@ struct Candidate {
   std::optional<std::int64_t> object_points;     // points of the detected object
   std::optional<double> density;                 // object points per m² (null or absent: older index)
   std::optional<double> planarity, planar_area;  // detect's shape test
-  bool has_truth = false;                        // "truth" is there (an object or null)
-  std::optional<CandidateTruth> truth;           // null: a false candidate
 
   // density, else object_points / (length x width) when both are known and the area > 0.
   std::optional<double> object_density() const;
-};
-
-// A labelled vehicle of the tile and the candidates whose truth it is.
-struct InstanceTruth {
-  std::int64_t instance = 0;
-  std::int64_t points = 0;
-  std::vector<std::string> candidates;
 };
 
 struct GroundGrid {
@@ -87,9 +73,11 @@ struct Candidates {
   // The tile's density and what the density rule made of it (docs/decisions/detect.md §7),
   // an object kept as written (collect copies it into the detections); null when absent.
   nlohmann::ordered_json density;
+  // The crop box's margin around the footprint and above the height (m): a candidate's crop is
+  // every tile point whose frame coordinates have |x| <= length / 2 + margin, |y| <= width / 2 +
+  // margin, -margin <= z <= height + margin. Version 2; absent in version 1.
+  std::optional<double> margin;
   std::vector<Candidate> candidates;  // in the index's order
-  bool has_instances = false;
-  std::vector<InstanceTruth> instances;
 
   // provenance.tool when it is a string, else "".
   std::string written_by() const;
@@ -100,19 +88,20 @@ struct Candidates {
 };
 
 // Reads `text`, the contents of file `name`. Throws common::DataError naming `name`: not JSON,
-// another format, a version other than 1, "candidates" missing or not an array, a candidate
-// without a plain unique id, a transform that is not a rigid 4 x 4 (4 rows of 4 numbers, or 16
-// numbers), length or width missing, not finite or negative, any other member of a wrong type
+// another format, a version other than 1 or 2, a version 2 index with "truth" or "instances"
+// members (ground truth belongs to candtruth's file), a margin that is not a finite number >= 0, "candidates"
+// missing or not an array, a candidate without a plain unique id, a transform that is not a rigid 4 x 4 (4
+// rows of 4 numbers, or 16 numbers), length or width missing, not finite or negative, any other member of a
+// wrong type
 // ("candidates[2].heading must be a finite number").
 Candidates read_candidates(const std::string& text, const std::string& name);
 // The file at `path` (common::read_file), then read_candidates.
 Candidates read_candidates_file(const std::string& path);
 
-// The index as detect writes it (one space indent, a final newline), every member of `c`
-// written: `prov` as provenance, a candidate's truth when has_truth, instances when
-// has_instances. Throws common::Error for a non-finite number or a candidate without
-// centre, heading, height, point_count, object_points, density, planarity or planar_area
-// (a writer's bug) .
+// The index as detect writes it (version 2, one space indent, a final newline), every member
+// of `c` written, `prov` as provenance. Throws common::Error for a non-finite number, no margin,
+// or a candidate without centre, heading, height, point_count, object_points, density,
+// planarity or planar_area (a writer's bug).
 std::string write_candidates(const Candidates& c, const formats::Provenance& prov);
 
 }  // namespace canopy::documents
