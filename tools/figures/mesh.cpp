@@ -23,6 +23,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/math.h"
 #include "figures/figures.h"
+#include "figures/gl_leaks.h"
 #include "figures/vtk_image.h"
 
 namespace canopy::figures {
@@ -225,6 +226,7 @@ Image render_mesh(const formats::Mesh& mesh, const MeshView& view, const std::st
   framing_box(mesh, view, lo, hi);
   place_camera(renderer, lo, hi, view);
 
+  const GlLeakScope gl;  // the window and its GL driver (gl_leaks.h)
   vtkNew<vtkRenderWindow> window;
   window->SetOffScreenRendering(1);
   window->SetMultiSamples(0);

@@ -28,6 +28,7 @@
 
 #include "canopy/common/error.h"
 #include "figures/figures.h"
+#include "figures/gl_leaks.h"
 #include "figures/vtk_image.h"
 
 namespace canopy::figures {
@@ -294,6 +295,7 @@ Image plot_scores(const std::vector<ScoreRow>& rows, const PlotParams& params, c
 
   // A context scene in a plain render window. (vtkContextView would also create an X
   // interactor, whose Initialize() in Render() crashed in XSync in 3 of 20 runs under Xvfb.)
+  const GlLeakScope gl;  // the window and its GL driver (gl_leaks.h)
   vtkNew<vtkRenderWindow> window;
   window->SetOffScreenRendering(1);
   window->SetMultiSamples(0);
