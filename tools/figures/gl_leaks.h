@@ -17,7 +17,8 @@ struct GlLeakScope {
   GlLeakScope() { __lsan_disable(); }
   ~GlLeakScope() { __lsan_enable(); }
 #else
-  GlLeakScope() = default;
+  GlLeakScope() {}   // NOLINT(modernize-use-equals-default): user-provided, so an unused scope
+  ~GlLeakScope() {}  // NOLINT(modernize-use-equals-default)  is no -Wunused-variable
 #endif
   GlLeakScope(const GlLeakScope&) = delete;
   GlLeakScope& operator=(const GlLeakScope&) = delete;
