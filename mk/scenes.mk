@@ -99,7 +99,9 @@ cand_rules = $(foreach c,$($(2)_CANDS),$(eval $(call class_rule,$(1),$(c),$(5)))
   c,$(call model_cands,$(2)),$(eval $(call cand_rule,$(1),$(c),$(2),$(3),$(4))))
 
 # cand_rule(DIR, ID, KEY, MODELBASE, SEEDKEY): fitvox | cocone | ncut | gmatch | verify on one
-# candidate (cands/<id>.pcd, written by detect with index.json).
+# candidate (cands/<id>.pcd, written by detect with index.json). With <KEY>_TRAJECTORY set (the
+# tile target's TRAJECTORY=), verify takes the sensor directions from that trajectory and
+# re-runs when it changes; no other key sets it, so the scene experiment's rules are unchanged.
 define cand_rule
 $(1)/cands/$(2)/samples.pcd: $(1)/cands/index.json $(call tool,fitvox) $(TILE_FITVOX)
 	@$(STAGE) --record-failure $$@ -- $(BIN)/fitvox --config $(TILE_FITVOX) --pcd-encoding $(PCD_ENCODING) \
@@ -112,10 +114,10 @@ $(1)/cands/$(2)/segments.json: $(1)/cands/$(2)/mesh.ply $(call tool,ncut) $(P)/n
 $(1)/cands/$(2)/match.json: $(1)/cands/$(2)/segments.json $(wildcard $(4)/*.json) $(call tool,gmatch) $(P)/gmatch.ini
 	@$(STAGE) --record-failure $$@ -- $(BIN)/gmatch --config $(P)/gmatch.ini -i $$< --modelbase $(4) -o $$@
 $(1)/cands/$(2)/verdict.json: $(1)/cands/$(2)/match.json $(1)/cands/$(2)/samples.pcd \
-    $(wildcard $(4)/*.json $(4)/*.pcd) $(call tool,verify) $(wildcard $(P)/verify.ini)
+    $(wildcard $(4)/*.json $(4)/*.pcd) $(call tool,verify) $(wildcard $(P)/verify.ini) $($(3)_TRAJECTORY)
 	@$(STAGE) --record-failure $$@ -- $(BIN)/verify $(call scene_config,verify) -i $$< \
 	  --points $(1)/cands/$(2)/samples.pcd --segments $(1)/cands/$(2)/segments.json \
-	  --modelbase $(4) --transform $($(3)_TRANSFORM_$(2)) -o $$@
+	  --modelbase $(4) --transform $($(3)_TRANSFORM_$(2))$(if $($(3)_TRAJECTORY), --trajectory $($(3)_TRAJECTORY)) -o $$@
 endef
 
 # tile_collect(KEY, DIR, MODELBASE, SCAN): every class.json and model-level verdict ->
@@ -140,6 +142,11 @@ $(if $(wildcard $(TILE_MB)/*.json),,$(error tile: MODELBASE=$(TILE_MB) holds no 
   (make -f Makefile.experiments verify-modelbase builds out/modelbase)))
 $(if $(filter $(TILE_OUT),. .. /),$(error tile: OUT=$(OUT) must name the tile's own output directory))
 $(if $(CRS),$(if $(shell printf '%s' '$(CRS)' | grep -xE 'EPSG:[0-9]{1,6}'),,$(error tile: CRS=$(CRS) must be EPSG:<code>)))
+# TRAJECTORY=<file>: the sensor's path (formats/README.md "Trajectory"; rangetrace writes
+# <scan>.traj beside a sensor tile) for verify's sensor directions (docs/decisions/verify.md §13).
+$(if $(TRAJECTORY),$(if $(filter 1,$(words $(TRAJECTORY))),,$(error tile: TRAJECTORY=$(TRAJECTORY) must name one file)))
+$(if $(TRAJECTORY),$(if $(wildcard $(TRAJECTORY)),,$(error tile: TRAJECTORY=$(TRAJECTORY) does not exist)))
+TILE_TRAJECTORY := $(TRAJECTORY)
 $(eval $(call tile_rules,TILE,$(TILE_OUT),$(TILE),$(TILE_MB)))
 $(call read_plan,$(TILE_OUT)/cands.mk)
 $(call cand_rules,$(TILE_OUT),TILE,$(TILE_MB),$(notdir $(TILE)),$(TILE_CLASSIFY))
@@ -151,7 +158,9 @@ endif
 #   make -f Makefile.experiments tiles TILES=dir/ MODELBASE=out/modelbase OUT=batch/ -j8 [LAUNCH=slurm]
 # runs the `tile` workflow on every dir/*.las and dir/*.pcd into batch/<name>/ (name = the file
 # name without its extension), one sub-make per tile sharing make's job slots, so tiles and
-# their candidates run in parallel; LAUNCH, CRS and the other variables pass through.
+# their candidates run in parallel; LAUNCH, CRS and the other variables pass through. A tile's
+# trajectory is TRAJECTORY= when given (one file for the whole flight), else dir/<name>.traj
+# when there is one (what rangetrace writes beside a sensor tile).
 .PHONY: tiles
 ifneq ($(filter tiles,$(MAKECMDGOALS)),)
 $(if $(TILES),,$(error tiles: give TILES=<directory of .las/.pcd tiles>))
@@ -164,7 +173,8 @@ define tiles_rule
 .PHONY: tiles-$(basename $(notdir $(1)))
 tiles-$(basename $(notdir $(1))):
 	+@$$(MAKE) --no-print-directory -f Makefile.experiments tile TILE=$(1) \
-	  OUT=$(TILES_OUT)/$(basename $(notdir $(1))) MODELBASE=$(MODELBASE) PROGRESS=0
+	  OUT=$(TILES_OUT)/$(basename $(notdir $(1))) MODELBASE=$(MODELBASE) PROGRESS=0 \
+	  $(if $(TRAJECTORY),,$(if $(wildcard $(basename $(1)).traj),TRAJECTORY=$(basename $(1)).traj))
 endef
 $(foreach f,$(TILES_FILES),$(eval $(call tiles_rule,$(f))))
 tiles: $(foreach f,$(TILES_FILES),tiles-$(basename $(notdir $(f))))

@@ -80,6 +80,27 @@ done
 "${mk[@]}" -j2 tile TILE="$tmp/a.pcd" MODELBASE="$tmp/mb" OUT="$tmp/a/" CRS=EPSG:32633 >"$tmp/again.log" 2>&1 \
   || fail "second make tile failed"
 if grep -q '^done\|^FAIL' "$tmp/again.log"; then fail "a second make tile ran stages: $(head -3 "$tmp/again.log")"; fi
+# TRAJECTORY=<file> reaches verify: a dry run shows every verify with --trajectory (the file is
+# newer than the verdicts, so verify is out of date) and nothing before it; the real run then
+# re-runs verify and collect only; a missing file is refused by name before anything runs.
+printf '%s\n' '# canopy trajectory 1' 'time x y z roll pitch heading' '0 500000 5399950 500 0 0 0' \
+  '10 500000 5400050 500 0 0 0' >"$tmp/a.traj"
+"${mk[@]}" -n tile TILE="$tmp/a.pcd" MODELBASE="$tmp/mb" OUT="$tmp/a/" CRS=EPSG:32633 TRAJECTORY="$tmp/a.traj" \
+  >"$tmp/traj-n.log" 2>&1 || fail "make -n tile TRAJECTORY= failed: $(tail -3 "$tmp/traj-n.log")"
+nv=$(grep -c "/verify .*--trajectory $tmp/a.traj -o" "$tmp/traj-n.log")
+[ "$nv" -eq "$(grep -c "TILE_LEVEL_.* := model" "$tmp/a/cands.mk")" ] && [ "$nv" -ge 1 ] \
+  || fail "TRAJECTORY=: $nv verify commands with --trajectory: $(grep -m2 '/verify ' "$tmp/traj-n.log")"
+if grep -qE 'stage\.sh .* -- [^ ]*/(detect|fitvox|cocone|ncut|gmatch) ' "$tmp/traj-n.log"; then
+  fail "TRAJECTORY= would re-run stages before verify: $(grep -m1 -E 'stage\.sh .* -- [^ ]*/(detect|fitvox|cocone|ncut|gmatch) ' "$tmp/traj-n.log")"
+fi
+"${mk[@]}" -j2 tile TILE="$tmp/a.pcd" MODELBASE="$tmp/mb" OUT="$tmp/a/" CRS=EPSG:32633 TRAJECTORY="$tmp/a.traj" \
+  >"$tmp/traj.log" 2>&1 || fail "make tile TRAJECTORY= failed: $(tail -5 "$tmp/traj.log")"
+grep -q 'verdict.json' "$tmp/traj.log" && grep -q 'detections.json' "$tmp/traj.log" \
+  || fail "TRAJECTORY= did not re-run verify and collect: $(head -3 "$tmp/traj.log")"
+"${mk[@]}" -n tile TILE="$tmp/a.pcd" MODELBASE="$tmp/mb" OUT="$tmp/a/" TRAJECTORY="$tmp/none.traj" >"$tmp/traj-x.log" 2>&1 \
+  && fail "TRAJECTORY= naming no file was accepted"
+grep -q "TRAJECTORY=$tmp/none.traj does not exist" "$tmp/traj-x.log" || fail "no clear error: $(tail -2 "$tmp/traj-x.log")"
+
 # make -q answers from the plan as it is, without detecting: 0 now, 1 after a parameter change.
 "${mk[@]}" -q tile TILE="$tmp/a.pcd" MODELBASE="$tmp/mb" OUT="$tmp/a/" CRS=EPSG:32633 >"$tmp/q.log" 2>&1 \
   || fail "make -q tile after a run exits $? (want 0): $(tail -3 "$tmp/q.log")"
