@@ -364,12 +364,12 @@ $(foreach m,$(SCENE_BASELINE),$(eval $(call scene_baseline_score_rule,$(m))))
 define scene_picture_rule
 $(1)/scored.png: $(SCENE_SCORE) $(1)/scan.pcd $(call tool,topview)
 	@$(STAGE) $$@ -- $(BIN)/topview -i $(1)/scan.pcd --detections $(1)/detections.json --size $(SCENE_TOPVIEW_SIZE) \
-	  --truth $(patsubst %/,%,$(dir $(1)))/truth.json --score $(SCENE_SCORE) --tile $(2) -o $$@$(call scene_prune,$(1))
+	  --truth $(patsubst %/,%,$(dir $(1)))/truth.json --score $(SCENE_SCORE) -o $$@$(call scene_prune,$(1))
 endef
 scene_prune = $(if $(keep),, && rm -f $(1)/scan.pcd $(patsubst %/,%,$(dir $(1)))/scan.pcd)
 .SECONDARY: $(addsuffix /scan.pcd,$(SCENE_TILES) $(SCENE_RUNS))
-# (the run's index counted by make: $(words) of the runs before it)
-$(foreach i,$(shell seq 1 $(words $(SCENE_RUNS))),$(eval $(call scene_picture_rule,$(word $(i),$(SCENE_RUNS)),$(words $(wordlist 2,$(i),$(SCENE_RUNS))))))
+# (topview finds the run's tile in the score by its detections path, as tiles.txt gives it)
+$(foreach r,$(SCENE_RUNS),$(eval $(call scene_picture_rule,$(r))))
 # Per cover level: one grid, rows = noise levels, columns = the first tiles.
 SCENE_PICTURE_SEEDS := $(wordlist 1,$(SCENE_PICTURE_COLS),$(SCENE_SEEDS))
 define scene_grid_rule

@@ -7,15 +7,67 @@
 # tests/las/data/*.laz and ../shared/data/real/laz/*.laz (CANOPY_REAL_DATA) when present, else
 # the committed share/real/*.laz;
 # files under 10 000 points are too quick to time and are skipped.
-# Usage: bench/formats/run.sh [points=8000000 | laz] [build dir=build]   ("laz": LAZ part only)
+# LAS reading against a plain read (issue 31; docs/decisions/cost.md section 5), "lasread":
+# read_points (formats_bench read points F) against the plainest correct read of the same LAS
+# (read plain F: the header, then every record in one block; read compact F: 16-byte structs;
+# read typed F: one column per field at its LAS width, the design section 5 proposes),
+# each 3 times in its own process, min / median CPU s, median peak RSS as a multiple of the
+# file size after the process's own RSS before reading (base, ~23 MB); the checksum
+# (x+y+z, intensity+classification) shows they read the same values. Files: a synthetic
+# 3-million-point LAS 1.4 format 6 tile with 4 Extra Bytes fields (make-las, i.e. write_las),
+# the LAS references in ../shared/data/real/reference (CANOPY_REAL_DATA) and the LAS canopy
+# decodes from the real LAZ that have no reference; under 10 000 points skipped.
+# Usage: bench/formats/run.sh [points=8000000 | laz | lasread [las points=3000000]] [build dir=build]
+#   ("laz": LAZ part only; "lasread": LAS reader against a plain read only)
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 points=${1:-8000000}
 build=${2:-build}
+[ "$points" != lasread ] || build=${3:-build}
 cmake --build "$build" --target formats_bench >/dev/null
 bin="$build/bin/formats_bench"
 dir=$(mktemp -d "${TMPDIR:-/tmp}/formats-bench.XXXXXX")
 trap 'rm -rf "$dir"' EXIT
+real=${CANOPY_REAL_DATA:-../shared/data/real}
+if [ "$points" = lasread ]; then
+  "$bin" make-las "$dir/synthetic_pf6.las" "${2:-3000000}"
+  files=("$dir/synthetic_pf6.las")
+  for f in "$real"/reference/*.las; do [ -e "$f" ] && files+=("$f"); done
+  for laz in "$real"/laz/*.laz; do
+    [ -e "$laz" ] && [ ! -e "$real/reference/$(basename "$laz" .laz).las" ] || continue
+    "$bin" unlaz "$laz" "$dir/$(basename "$laz" .laz).las"
+    files+=("$dir/$(basename "$laz" .laz).las")
+  done
+  echo "== LAS: read_points against a plain read, 3 runs each, own process ($(nproc) cores, load $(cut -d' ' -f1 /proc/loadavg))"
+  echo "   CPU s (user+sys) min/median; peak RSS median, MB, and (peak - base) / file size; base = RSS before reading"
+  printf '%-30s %8s %4s %7s %13s %13s %13s %13s %5s %5s %7s %7s %5s %5s %5s %5s %5s %s\n' file points rec \
+    file_MB canopy_cpu plain_cpu compact_cpu typed_cpu c/p t/p can_MB pln_MB base can/f pln/f cmp/f typ/f same
+  for f in "${files[@]}"; do
+    n=$(od -An -tu4 -j107 -N4 "$f" | tr -d ' ')
+    [ "$n" != 0 ] || n=$(od -An -tu8 -j247 -N8 "$f" | tr -d ' ')  # LAS 1.4's 64-bit count
+    [ "$n" -ge 10000 ] || continue
+    cksum "$f" > "$dir/cksum"  # page cache warm for every reader
+    for run in 1 2 3; do
+      for reader in points plain compact typed; do "$bin" read "$reader" "$f"; done
+    done > "$dir/runs"
+    rec=$(od -An -tu2 -j105 -N2 "$f" | tr -d ' ')
+    awk -v f="$(basename "$f")" -v rec="$rec" -v mb="$(stat -c %s "$f")" '
+      function mn(a, k) { return a[k, 1] < a[k, 2] ? (a[k, 1] < a[k, 3] ? a[k, 1] : a[k, 3]) : (a[k, 2] < a[k, 3] ? a[k, 2] : a[k, 3]) }
+      function mx(a, k) { return a[k, 1] > a[k, 2] ? (a[k, 1] > a[k, 3] ? a[k, 1] : a[k, 3]) : (a[k, 2] > a[k, 3] ? a[k, 2] : a[k, 3]) }
+      function med(a, k) { return a[k, 1] + a[k, 2] + a[k, 3] - mn(a, k) - mx(a, k) }
+      { r = ++runs[$1]; cpu[$1, r] = $2; peak[$1, r] = $4; n = $5; base[$1, r] = $6; sum[$1] = $7 }
+      END { mb /= 1048576; b = med(base, "points")
+            printf "%-30s %8d %4d %7.1f", f, n, rec, mb
+            printf " %6.3f/%6.3f %6.3f/%6.3f", mn(cpu, "points"), med(cpu, "points"), mn(cpu, "plain"), med(cpu, "plain")
+            printf " %6.3f/%6.3f %6.3f/%6.3f", mn(cpu, "compact"), med(cpu, "compact"), mn(cpu, "typed"), med(cpu, "typed")
+            printf " %5.2f %5.2f %7.1f %7.1f %5.1f", med(cpu, "points") / med(cpu, "plain"),
+              med(cpu, "typed") / med(cpu, "plain"), med(peak, "points"), med(peak, "plain"), b
+            printf " %5.2f %5.2f %5.2f %5.2f %s\n", (med(peak, "points") - b) / mb, (med(peak, "plain") - b) / mb,
+              (med(peak, "compact") - b) / mb, (med(peak, "typed") - b) / mb,
+              sum["points"] == sum["plain"] && sum["plain"] == sum["compact"] && sum["compact"] == sum["typed"] ? "yes" : "NO" }' "$dir/runs"
+  done
+  exit 0
+fi
 if [ "$points" != laz ]; then
   echo "points: $points  ($(nproc) cores; CPU seconds of one read, peak RSS of the process)"
   for enc in binary binary_compressed; do
@@ -30,7 +82,6 @@ if [ "$points" != laz ]; then
     done
   done
 fi
-real=${CANOPY_REAL_DATA:-../shared/data/real}
 files=(tests/las/data/*.laz)
 if [ -d "$real/laz" ]; then files+=("$real"/laz/*.laz); else files+=(share/real/*.laz); fi
 echo "== LAZ vs LAS: read_points, best of 5 runs each, CPU ns per point ($(nproc) cores, load $(cut -d' ' -f1 /proc/loadavg))"

@@ -606,3 +606,38 @@ TEST_CASE("topview reads every member it uses, naming the file and the member (r
   CHECK_THAT(err, Catch::Contains(s + ": matches[0]: missing \"outcome\""));
   CHECK_FALSE(test::exists(dir / "top.png"));
 }
+
+TEST_CASE("topview finds its tile in the score by the detections path, not by make's order (issue 30)") {
+  const fs::path dir = test::fresh_dir("topview", "tile_lookup");
+  const std::string d = (dir / "d.json").string(), t = (dir / "t.json").string(), s = (dir / "s.json").string();
+  std::ofstream(d) << kDetections;
+  std::ofstream(t) << kTruth;
+  // Two tiles: ours is the second; the first tile's match says "right", ours "wrong".
+  auto score = [&](const std::string& first, const std::string& second) {
+    std::ofstream(s) << R"({"format":"canopy.scene_score","version":1,"tiles":[{"detections":")" + first +
+                            R"("},{"detections":")" + second +
+                            R"("}],"matches":[{"candidate":"c1","instance":1,"outcome":"right","tile":0},)"
+                            R"({"candidate":"c1","instance":1,"outcome":"wrong","tile":1}]})";
+  };
+  auto kind_of_detection = [&](int tile) {
+    const auto shapes = topview::read_footprints({d, t, s, ""}, tile).shapes;
+    REQUIRE(!shapes.empty());
+    return shapes.back().kind;
+  };
+  score("other/d.json", d);
+  CHECK(kind_of_detection(-1) == topview::Kind::wrong);  // looked up: tile 1
+  CHECK(kind_of_detection(0) == topview::Kind::right);   // --tile 0 given
+  score(d, "other/d.json");
+  CHECK(kind_of_detection(-1) == topview::Kind::right);
+  score("a/d.json", "b/d.json");
+  CHECK_THROWS_WITH(kind_of_detection(-1), Catch::Contains("has no tile whose detections is " + d) &&
+                                               Catch::Contains("give --tile"));
+  score(d, d);
+  CHECK_THROWS_WITH(kind_of_detection(-1), Catch::Contains("lists the detections " + d + " twice"));
+  // A score of one tile: that tile, whatever its path (a score made by hand elsewhere).
+  std::ofstream(s) << kScore;
+  CHECK(kind_of_detection(-1) == topview::Kind::wrong);
+  topview::Params p;
+  p.tile = -2;
+  CHECK_THROWS_AS(topview::validate(p), common::UsageError);
+}

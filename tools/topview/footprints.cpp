@@ -32,8 +32,24 @@ struct Outcomes {
   std::set<long long> missed;
 };
 
-Outcomes read_outcomes(const std::string& path, int tile) {
+// The score's tile of `detections` (Params::tile -1): the one whose "detections" is that path
+// as given, else the only tile of the score.
+int tile_of(const documents::SceneScore& s, const std::string& path, const std::string& detections) {
+  int found = -1;
+  for (std::size_t k = 0; k < s.tiles.size(); ++k) {
+    if (s.tiles[k].detections != detections) continue;
+    if (found >= 0) throw common::DataError(path, "lists the detections " + detections + " twice: give --tile");
+    found = static_cast<int>(k);
+  }
+  if (found >= 0) return found;
+  if (s.tiles.size() == 1) return 0;
+  throw common::DataError(path, "has no tile whose detections is " + detections + " (" +
+                                    std::to_string(s.tiles.size()) + " tiles): give --tile");
+}
+
+Outcomes read_outcomes(const std::string& path, int tile, const std::string& detections) {
   const documents::SceneScore s = documents::read_scene_score_file(path);
+  if (tile < 0) tile = tile_of(s, path, detections);
   if (tile >= static_cast<int>(s.tiles.size())) {
     throw common::DataError(
         path, "has no tile " + std::to_string(tile) + " (" + std::to_string(s.tiles.size()) + " tiles)");
@@ -157,7 +173,7 @@ void add_detections(const Sources& sources, const Outcomes* outcomes, Footprints
 
 Footprints read_footprints(const Sources& sources, int tile) {
   const bool scored = !sources.score.empty();
-  const Outcomes outcomes = scored ? read_outcomes(sources.score, tile) : Outcomes{};
+  const Outcomes outcomes = scored ? read_outcomes(sources.score, tile, sources.detections) : Outcomes{};
   Footprints out;
   out.scored = scored;
   out.truth = !sources.truth.empty();

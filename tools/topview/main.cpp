@@ -33,7 +33,10 @@ int main(int argc, char** argv) {
            "one the detections name");
   tool.add("--truth", &src.truth, "truth.json (canopy.scene_truth v1): true footprints");
   tool.add("--score", &src.score, "score.json (canopy.scene_score v1): colours by outcome");
-  tool.add("--tile", &p.tile, "this tile's index in the score's tiles");
+  tool.add("--tile", &p.tile,
+           "this tile's index in the score's tiles; default: the tile whose detections is --detections "
+           "as given, else the score's only tile")
+      ->default_str("");
   tool.add("--size", &p.size, "pixels along the longer side of the map (0: from --pixel or the density)");
   bool no_legend = false;
   tool.add_flag("--no-legend", &no_legend,

@@ -400,7 +400,7 @@ void validate(const Params& params) {
   if (params.pixel != 0 && !(params.pixel >= 0.005 && params.pixel <= 100))
     throw common::UsageError("--pixel must be in [0.005, 100] m");
   if (params.pixel != 0 && params.size != 0) throw common::UsageError("give --pixel or --size, not both");
-  if (params.tile < 0) throw common::UsageError("--tile must be >= 0");
+  if (params.tile < -1) throw common::UsageError("--tile must be >= 0");
 }
 
 Image render(const formats::PointCloud& scan, const Footprints& footprints, const Params& params) {

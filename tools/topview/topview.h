@@ -93,12 +93,14 @@ struct Image {
 struct Params {
   int size = 0;        // pixels along the longer side of the map, [16, 8192]; 0: from --pixel or the density
   double pixel = 0;    // metres a data pixel, [0.005, 100]; 0: from --size or the density
-  int tile = 0;        // this tile's index in the score's tiles, >= 0
+  // This tile's index in the score's tiles, >= 0; -1: the tile whose "detections" is the
+  // detections file as given (issue 30: not make's order), else the only tile of the score.
+  int tile = -1;
   bool legend = true;  // false: the map alone, no legend nor scale bar (pictures side by side in a grid)
 };
 
 // Throws common::UsageError naming the option: --size 0 or in [16, 8192], --pixel 0 or in
-// [0.005, 100] m, not both, --tile >= 0.
+// [0.005, 100] m, not both, --tile >= -1.
 void validate(const Params& params);
 
 // The documents whose footprints are drawn (paths; empty = not given; a score needs the truth).
@@ -117,7 +119,8 @@ struct Sources {
 // as written, else that path from the detections' directory; when there is none (or no path)
 // the rejected candidates are counted in `undrawn` with a warning. DataError naming the file
 // and the member: not JSON, another format, a version other than 1 (2 for the detections),
-// no "detections" / "vehicles" / "tiles" / "matches" array, no tile `tile` in the score, a
+// no "detections" / "vehicles" / "tiles" / "matches" array, no tile `tile` in the score (with
+// tile -1: no tile or two whose "detections" is `sources.detections` in a score of several), a
 // detection without a string "candidate", a "level" other than model or class, a rejected
 // entry without a string "candidate" or with a "reason" not a string, a vehicle without an
 // integer "instance" >= 0, a match without "tile" (an index of "tiles") or "outcome" (right,
