@@ -20,6 +20,7 @@
 #include "canopy/formats/pcd.h"
 #include "candtruth/candtruth.h"
 #include "detect/detect.h"
+#include "detect/output.h"
 #include "fixtures/detect_synth_tile.h"
 
 using namespace canopy;
@@ -200,18 +201,7 @@ documents::CandidateTruth truth_of(const formats::PointCloud& tile, const detect
   candtruth::Inputs in;
   in.tile = tile;
   in.tile_name = "tile";
-  in.index.margin = detect::Params{}.margin;
-  for (const auto& c : r.candidates) {
-    documents::Candidate e;
-    e.id = c.id;
-    for (int row = 0; row < 4; ++row) {
-      for (int col = 0; col < 4; ++col) e.transform[4 * row + col] = c.to_tile(row, col);
-    }
-    e.length = c.length;
-    e.width = c.width;
-    e.height = c.height;
-    in.index.candidates.push_back(e);
-  }
+  in.index = detect::index_document(r, detect::Params{}, "tile", "");
   return candtruth::run(candtruth::Params{}, in);
 }
 

@@ -443,8 +443,8 @@ void step(const WriteHooks& hooks, const char* name) {
 
 }  // namespace
 
-std::string serialize_index(const Result& r, const Params& p, const formats::Provenance& prov,
-                            const std::string& tile, const std::string& classes) {
+documents::Candidates index_document(const Result& r, const Params& p, const std::string& tile,
+                                     const std::string& classes) {
   documents::Candidates d;
   d.tile = tile;
   d.tile_points = static_cast<std::int64_t>(r.stats.points);
@@ -490,7 +490,12 @@ std::string serialize_index(const Result& r, const Params& p, const formats::Pro
     e.planar_area = c.planar_area;
     d.candidates.push_back(std::move(e));
   }
-  return documents::write_candidates(d, prov);
+  return d;
+}
+
+std::string serialize_index(const Result& r, const Params& p, const formats::Provenance& prov,
+                            const std::string& tile, const std::string& classes) {
+  return documents::write_candidates(index_document(r, p, tile, classes), prov);
 }
 
 void check_output_dir(const std::string& dir, const std::string& input) {

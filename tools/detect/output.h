@@ -15,6 +15,8 @@
 #include <functional>
 #include <string>
 
+#include "canopy/documents/candidates.h"
+
 #include "canopy/formats/point_cloud.h"
 #include "canopy/formats/provenance.h"
 #include "detect/detect.h"
@@ -24,8 +26,13 @@ namespace canopy::detect {
 // The manifest's name in an output directory.
 inline constexpr const char* kManifestName = "manifest.json";
 
-// The index document. `tile` is the input path as given; `classes` the PLY's file name in the
-// directory, or empty when none is written.
+// The index of `result` as a document (every member detect writes but the provenance). `tile` is
+// the input path as given; `classes` the PLY's file name in the directory, or empty when none is
+// written. Also what tests and benches hand to candtruth.
+documents::Candidates index_document(const Result& result, const Params& params, const std::string& tile,
+                                     const std::string& classes);
+
+// The index document's text: index_document with `provenance`.
 std::string serialize_index(const Result& result, const Params& params, const formats::Provenance& provenance,
                             const std::string& tile, const std::string& classes);
 

@@ -38,7 +38,8 @@ int tile_of(const documents::SceneScore& s, const std::string& path, const std::
   int found = -1;
   for (std::size_t k = 0; k < s.tiles.size(); ++k) {
     if (s.tiles[k].detections != detections) continue;
-    if (found >= 0) throw common::DataError(path, "lists the detections " + detections + " twice: give --tile");
+    if (found >= 0)
+      throw common::DataError(path, "lists the detections " + detections + " twice: give --tile");
     found = static_cast<int>(k);
   }
   if (found >= 0) return found;

@@ -91,8 +91,8 @@ struct Image {
 };
 
 struct Params {
-  int size = 0;        // pixels along the longer side of the map, [16, 8192]; 0: from --pixel or the density
-  double pixel = 0;    // metres a data pixel, [0.005, 100]; 0: from --size or the density
+  int size = 0;      // pixels along the longer side of the map, [16, 8192]; 0: from --pixel or the density
+  double pixel = 0;  // metres a data pixel, [0.005, 100]; 0: from --size or the density
   // This tile's index in the score's tiles, >= 0; -1: the tile whose "detections" is the
   // detections file as given (issue 30: not make's order), else the only tile of the score.
   int tile = -1;
