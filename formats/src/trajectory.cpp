@@ -140,7 +140,11 @@ Trajectory parse_trajectory(const std::string& text, const std::string& name) {
     if (comment(line)) {
       if (header) continue;
       const std::size_t i = line.find('#') + 1;
-      t.comments.push_back(line.substr(i < line.size() && line[i] == ' ' ? i + 1 : i));
+      std::string c = line.substr(i < line.size() && line[i] == ' ' ? i + 1 : i);
+      // CRs before the line end (one is the CRLF's, taken above) are line-end debris, not text:
+      // kept, the writer could not write the comment back (fuzz_trajectory finding).
+      while (!c.empty() && c.back() == '\r') c.pop_back();
+      t.comments.push_back(std::move(c));
       continue;
     }
     const std::vector<std::string> w = words(line);

@@ -147,3 +147,12 @@ TEST_CASE("trajectory: linear interpolation by time, tolerance at the ends") {
   }
   CHECK_THROWS_AS(formats::trajectory_position(t, 9.4, 0.5, "t"), common::DataError);
 }
+
+TEST_CASE("trajectory: a comment ending in several CRs reads and writes back (fuzz_trajectory finding)") {
+  const std::string text =
+      "# canopy trajectory 1\n# a\rb\r\r\r\r\ntime x y z roll pitch heading\n0 1 2 3 0 0 0\n1 2 3 4 0 0 0\n";
+  const formats::Trajectory t = formats::parse_trajectory(text, "crs.txt");
+  CHECK(t.comments == std::vector<std::string>{"a\rb"});
+  const std::string once = formats::serialize_trajectory(t);
+  CHECK(formats::serialize_trajectory(formats::parse_trajectory(once, "back.txt")) == once);
+}
