@@ -193,21 +193,17 @@ Placed place_candidates(const formats::PointCloud& tile, const LocalFrame& l, co
   struct Pending {
     Candidate c;
     Vector3d centre;
-    std::size_t object = 0;
-    std::vector<std::size_t> rows;
   };
   std::vector<Pending> pending;
-  for (std::size_t k = 0; k < objects.size(); ++k) {
-    const Object& o = objects[k];
+  for (const Object& o : objects) {
     Frame f = object_frame(l, g, o);
     Pending pd;
     Candidate& c = pd.c;
     place_candidate(l, o, l.origin, f, c);
     pd.centre = f.O + l.origin;
-    pd.object = k;
     std::vector<Vector3d> local;
-    pd.rows = crop_rows(l, g, cells, f, c, params, &local);
-    c.cloud = crop_cloud(tile, pd.rows, local, f.R);
+    const std::vector<std::size_t> rows = crop_rows(l, g, cells, f, c, params, &local);
+    c.cloud = crop_cloud(tile, rows, local, f.R);
     pending.push_back(std::move(pd));
   }
   std::sort(pending.begin(), pending.end(), [](const Pending& a, const Pending& b) {
@@ -219,8 +215,6 @@ Placed place_candidates(const formats::PointCloud& tile, const LocalFrame& l, co
     std::snprintf(id, sizeof id, "c%04zu", k + 1);
     pending[k].c.id = id;
     out.candidates.push_back(std::move(pending[k].c));
-    out.object.push_back(pending[k].object);
-    out.rows.push_back(std::move(pending[k].rows));
   }
   return out;
 }

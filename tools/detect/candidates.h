@@ -14,12 +14,9 @@
 
 namespace canopy::detect {
 
-// The candidates sorted by their centre (x, then y) and numbered c0001, ...; for each, the
-// object it was made of (an index into the objects) and the tile rows of its crop, ascending.
+// The candidates sorted by their centre (x, then y) and numbered c0001, ...
 struct Placed {
   std::vector<Candidate> candidates;
-  std::vector<std::size_t> object;
-  std::vector<std::vector<std::size_t>> rows;
 };
 
 Placed place_candidates(const formats::PointCloud& tile, const LocalFrame& l, const Ground& g,
