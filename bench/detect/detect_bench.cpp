@@ -199,7 +199,7 @@ void report_missed(const TileSpec& s, const formats::PointCloud& tile, const det
 // The candidates' ground truth (candtruth, from the labelled tile and the index's geometry).
 documents::CandidateTruth truth_of(const formats::PointCloud& tile, const detect::Result& r) {
   candtruth::Inputs in;
-  in.tile = tile;
+  in.tile = &tile;
   in.tile_name = "tile";
   in.index = detect::index_document(r, detect::Params{}, "tile", "");
   return candtruth::run(candtruth::Params{}, in);

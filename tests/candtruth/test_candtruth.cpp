@@ -56,7 +56,7 @@ documents::Candidate candidate(const std::string& id, double cx, double cy, doub
 //        box and one 0.1 m below it (outside; they count in the tile: coverage 40 / 42, purity 40 / 50).
 //  c0003 at (-20, -20): 30 ground points, no vehicle (instance 0).
 //  vehicle 3: 5 points far from every candidate.
-struct Scene {
+struct Scene {  // not copied: `in` borrows `b.tile`
   Builder b;
   candtruth::Inputs in;
   Scene() {
@@ -76,7 +76,7 @@ struct Scene {
     b.add(30.1, 0, 2 - 0.5 - 0.1, formats::kLabelTarget, 2);      // below it
     for (int i = 0; i < 30; ++i) b.add(-21 + 0.07 * i, -20, 0, formats::kLabelGround, 0);
     for (int i = 0; i < 5; ++i) b.add(-60, 60 + i, 0.4, formats::kLabelTarget, 3);
-    in.tile = b.tile;
+    in.tile = &b.tile;
     in.tile_name = "tile.pcd";
     in.index_name = "cands/index.json";
     in.index.margin = 0.5;
@@ -85,6 +85,8 @@ struct Scene {
                            candidate("c0002", 30, 0, 2, h, 4, 1, 1.5),
                            candidate("c0003", -20, -20, 0, 0, 4, 2, 1.5)};
   }
+  Scene(const Scene&) = delete;
+  Scene& operator=(const Scene&) = delete;
 };
 
 std::string data_error(const candtruth::Params& p, const candtruth::Inputs& in, std::string* file) {
@@ -144,7 +146,7 @@ TEST_CASE(
   // the ground in the margin and the foliage at 1.8 m (above 1.5) go.
   CHECK(narrow.candidates[0].crop_points == 150);
   CHECK(narrow.candidates[0].purity == Approx(1.0));
-  s.in.tile.remove("label");
+  s.b.tile.remove("label");
   const candtruth::Outputs unlabelled = candtruth::run({}, s.in);
   // Now the 10 instance-2 points labelled foliage are vehicle 2's too, and nothing is ground.
   CHECK(unlabelled.candidates[1].points == 50);
@@ -166,11 +168,11 @@ TEST_CASE("candtruth: refusals name the file") {
   other.in.index.tile_points = 7;
   CHECK_THAT(data_error({}, other.in, &file), Catch::Contains("was made from a tile of 7 points"));
   Scene none;
-  none.in.tile.remove("instance");
+  none.b.tile.remove("instance");
   CHECK_THAT(data_error({}, none.in, &file), Catch::Contains("has no 'instance' field"));
   CHECK(file == "tile.pcd");
   Scene bad;
-  bad.in.tile.col("instance")[3] = 2.5;
+  bad.b.tile.col("instance")[3] = 2.5;
   CHECK_THAT(data_error({}, bad.in, &file), Catch::Contains("point 3: field 'instance' is not an integer"));
   candtruth::Params neg;
   neg.margin = -1.0;

@@ -27,7 +27,7 @@ namespace {
 documents::CandidateTruth truth_of(const formats::PointCloud& tile, const detect::Result& r,
                                    const detect::Params& params = {}) {
   candtruth::Inputs in;
-  in.tile = tile;
+  in.tile = &tile;
   in.tile_name = "tile";
   in.index = detect::index_document(r, params, "tile", "");
   return candtruth::run(candtruth::Params{}, in);

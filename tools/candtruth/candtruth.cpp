@@ -18,7 +18,7 @@ namespace {
 // candidate visits the points near its footprint only.
 class Grid {
  public:
-  Grid(const std::vector<double>& x, const std::vector<double>& y, double cell) : x_(x), y_(y), cell_(cell) {
+  Grid(const std::vector<double>& x, const std::vector<double>& y, double cell) : cell_(cell) {
     for (std::size_t i = 0; i < x.size(); ++i) cells_[key(ix(x[i]), ix(y[i]))].push_back(i);
   }
   // Calls f(i) for every point in the cells that the square [cx - r, cx + r] x [cy - r, cy + r] touches.
@@ -37,8 +37,6 @@ class Grid {
   static std::uint64_t key(std::int64_t i, std::int64_t j) {
     return (static_cast<std::uint64_t>(i) << 32) ^ (static_cast<std::uint64_t>(j) & 0xffffffffULL);
   }
-  const std::vector<double>& x_;
-  const std::vector<double>& y_;
   double cell_;
   std::unordered_map<std::uint64_t, std::vector<std::size_t>> cells_;
 };
@@ -69,7 +67,7 @@ void validate(const Params& params) {
 }
 
 Outputs run(const Params& params, const Inputs& inputs) {
-  const formats::PointCloud& tile = inputs.tile;
+  const formats::PointCloud& tile = *inputs.tile;
   const documents::Candidates& index = inputs.index;
   tile.require({"x", "y", "z"}, inputs.tile_name);
   if (!tile.has(params.instance_field)) {

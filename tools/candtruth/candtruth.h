@@ -21,8 +21,10 @@ struct Params {
 };
 
 struct Inputs {
-  formats::PointCloud tile;  // x y z in tile coordinates, the instance field, optionally the label field
-  std::string tile_name;     // names the tile in errors and in the output
+  // x y z in tile coordinates, the instance field, optionally the label field (borrowed: the
+  // caller keeps it, as detect's tile).
+  const formats::PointCloud* tile = nullptr;
+  std::string tile_name;  // names the tile in errors and in the output
   documents::Candidates index;
   std::string index_name;
 };

@@ -35,7 +35,8 @@ int main(int argc, char** argv) {
     candtruth::Inputs in;
     in.index = documents::read_candidates_file(index);
     in.index_name = index;
-    in.tile = formats::read_points(tile, "candtruth");
+    const formats::PointCloud cloud = formats::read_points(tile, "candtruth");
+    in.tile = &cloud;
     in.tile_name = tile;
     const candtruth::Outputs r = candtruth::run(p, in);
     const formats::Provenance prov{"candtruth", CANOPY_VERSION, tool.parameters(), {index, tile}};
