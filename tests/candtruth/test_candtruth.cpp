@@ -178,3 +178,30 @@ TEST_CASE("candtruth: refusals name the file") {
   neg.margin = -1.0;
   CHECK_THROWS_AS(candtruth::validate(neg), common::UsageError);
 }
+
+TEST_CASE("candtruth: a box tilted across its y axis keeps the points its lean carries sideways") {
+  // A frame tilted 60 degrees about the tile's x axis: local z leans toward -y, so a point 4 m up
+  // the local z axis sits 3.46 m beside the centre in y, outside the 2 x 1 m footprint's reach
+  // (half-diagonal 1.12 m + margin) unless the lean's y component is counted.
+  Builder b;
+  const double a = 60 * M_PI / 180;
+  for (int i = 0; i < 10; ++i) {
+    const double lz = 3.5 + 0.05 * i;  // along local z
+    b.add(0, -lz * std::sin(a), lz * std::cos(a), formats::kLabelTarget, 1);
+  }
+  candtruth::Inputs in;
+  in.tile = &b.tile;
+  in.tile_name = "tilted.pcd";
+  in.index_name = "index.json";
+  in.index.margin = 0.0;
+  documents::Candidate c;
+  c.id = "c0001";
+  c.transform = {1, 0, 0, 0, 0, std::cos(a), -std::sin(a), 0, 0, std::sin(a), std::cos(a), 0, 0, 0, 0, 1};
+  c.length = 2;
+  c.width = 1;
+  c.height = 4;
+  in.index.candidates = {c};
+  const candtruth::Outputs t = candtruth::run({}, in);
+  CHECK(t.candidates[0].crop_points == 10);
+  CHECK(t.candidates[0].instance == 1);
+}

@@ -112,7 +112,9 @@ Outputs run(const Params& params, const Inputs& inputs) {
     const auto& m = c.transform;  // row-major local -> tile, rigid (the reader checks it)
     const double hx = 0.5 * c.length + margin, hy = 0.5 * c.width + margin;
     const double bottom = -margin, top = *c.height + margin;
-    const double reach = std::sqrt(hx * hx + hy * hy) + std::abs(m[2]) * std::max(-bottom, top);
+    // Horizontal reach of the box from its centre: the footprint's half-diagonal plus how far a
+    // tilted frame's z axis (the transform's third column: m[2], m[6]) leans out over its height.
+    const double reach = std::hypot(hx, hy) + std::hypot(m[2], m[6]) * std::max(-bottom, top);
     std::map<std::uint32_t, std::int64_t> in_crop;
     documents::CandidateTruthRow row;
     row.id = c.id;
