@@ -11,7 +11,7 @@
 #   out/real/<tile>/tile.time      the tile's whole run: wall s, peak KiB, user and system CPU s
 #                                  of the sub-make and every stage under it (GNU time, the
 #                                  format of scripts/stage.sh's .time files)
-# and the report's "Real tiles" section reads them (report --real).
+# and the report's "Real tiles" section reads them (the experiment manifest's `real` records).
 #
 # Tiles: four urban tiles with hand labels (138 vehicles) and one forest plot without vehicles
 # (forest_lareunion, 0.25 ha: every vehicle answer there is a false alarm). REAL_DATA=<dir>
@@ -118,6 +118,8 @@ ifeq ($(REAL_ABLATION),1)
 all: real-tiles-sim
 endif
 $(RES)/report.md: $(REAL_RUNS)
-REPORT_ARGS += --real $(REAL_OUT) --real-tiles "$(REAL_NAMES)" --real-labels $(REAL_SHARE) \
-  --real-timeout $(REAL_TIMEOUT)
+# The tiles are records of the experiment's manifest (Makefile.experiments), in order, each
+# with its hand labels when it has any.
+EXPERIMENT_REAL := $(foreach t,$(REAL_NAMES),$(call ml,$(strip real $(t) $(REAL_OUT)/$(t) $(wildcard $(REAL_SHARE)/$(t).truth.json))))
+REPORT_ARGS += --real-timeout $(REAL_TIMEOUT)
 endif

@@ -322,11 +322,11 @@ $(foreach r,$(SCENE_RUNS),$(eval $(call tile_collect,$(call scene_key,$(r)),$(r)
 # The experiment's modelbase is built here (graphs; surfaces when mk/verify.mk is read).
 $(foreach r,$(SCENE_RUNS),$(foreach c,$(call model_cands,$(call scene_key,$(r))),\
   $(eval $(r)/cands/$(c)/match.json $(r)/cands/$(c)/verdict.json: $(MODELBASE) $(VERIFY_SURFACES))))
-# The score's manifest: detections truth noise cover, one line per run.
-scene_line = $(1)/detections.json $(patsubst %/,%,$(dir $(1)))/truth.json $(patsubst noise-%,%,$(notdir $(1))) \
-  $(word 2,$(subst /, ,$(patsubst $(OUT)/%,%,$(1))))
-scene_manifest = $(subst $(space)$(nl),$(nl),$(call scene_line,$(firstword $(SCENE_RUNS)))$(foreach \
-  r,$(wordlist 2,$(words $(SCENE_RUNS)),$(SCENE_RUNS)),$(nl)$(call scene_line,$(r))))
+# The score's tile list (documents/tile_list.h): detections truth noise cover, one line per run
+# (cover, seed, noise: the order of SCENE_RUNS), from the cover levels themselves.
+scene_line = $(SCENE_DIR)/$(1)/tile-$(2)/noise-$(3)/detections.json $(SCENE_DIR)/$(1)/tile-$(2)/truth.json $(3) $(1)
+scene_manifest = $(subst $(nl)$(space),$(nl),$(foreach c,$(SCENE_COVERS),$(foreach s,$(SCENE_SEEDS),$(foreach \
+  n,$(SCENE_NOISES),$(call ml,$(call scene_line,$(c),$(s),$(n)))))))
 $(SCENE_DIR)/tiles.txt: $(call text_prereq,$(SCENE_DIR)/tiles.txt,$(scene_manifest))
 $(SCENE_SCORE): $(SCENE_DIR)/tiles.txt $(addsuffix /detections.json,$(SCENE_RUNS)) $(call tool,score)
 	@$(STAGE) $@ -- $(BIN)/score --tiles $(SCENE_DIR)/tiles.txt -o $@ --csv $(SCENE_RES)/

@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "canopy/documents/experiment_manifest.h"
 #include "canopy/documents/match_result.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/ply.h"
@@ -352,6 +353,7 @@ void write_experiment(const fs::path& out) {
   ms.rank = 1;
   m.models.push_back(ms);
   cf::write_match_result(m, (trial / "match.json").string());
+  std::ofstream(out / "experiment.txt") << "trial sedan circle 0 " << trial.string() << "\n";
 }
 
 }  // namespace
@@ -359,18 +361,21 @@ void write_experiment(const fs::path& out) {
 TEST_CASE("report: its six outputs appear together or not at all") {
   const fs::path d = fresh_dir("cli", "report");
   write_experiment(d / "out");
-  const std::string run =
-      bin("report") + " -q --out " + q(d / "out") + " --objects sedan --scenes circle --noises 0 --results ";
+  const std::string run = bin("report") + " -q --manifest " + q(d / "out" / "experiment.txt") + " --results ";
   std::string err;
   // A results directory that does not exist: reported before anything is read.
   CHECK(sh(run + q(d / "nores"), d / "err", &err) == 1);
   CHECK_THAT(err, Catch::Contains("nores"));
   fs::create_directories(d / "res");
-  // Noise levels are whole decimal millimetres ("0x10" used to be read as 0, "8mm" as 8).
-  const std::string other = bin("report") + " -q --out " + q(d / "out") + " --objects sedan --scenes circle ";
-  CHECK(sh(other + "--noises 0x10 --results " + q(d / "res"), d / "err", &err) == 2);
-  CHECK_THAT(err, Catch::Contains("--noises"));
-  CHECK(sh(other + "--noises 0mm --results " + q(d / "res"), d / "err", &err) == 2);
+  // Noise levels are whole decimal millimetres ("0x10" used to be read as 0, "8mm" as 8): a
+  // manifest that says otherwise is refused, naming the file and the line.
+  const std::string trial = (d / "out" / "sedan" / "circle" / "noise-0").string();
+  for (const char* noise : {"0x10", "0mm", "-1"}) {
+    std::ofstream(d / "bad.txt") << "# a comment\ntrial sedan circle " << noise << " " << trial << "\n";
+    CHECK(sh(bin("report") + " -q --manifest " + q(d / "bad.txt") + " --results " + q(d / "res"), d / "err",
+             &err) == 1);
+    CHECK_THAT(err, Catch::Contains("bad.txt") && Catch::Contains("line 2") && Catch::Contains(noise));
+  }
   CHECK(count_files(d / "res") == 0);
   REQUIRE(sh(run + q(d / "res"), d / "err", &err) == 0);
   CHECK(count_files(d / "res") == 6);  // report.md and five CSVs

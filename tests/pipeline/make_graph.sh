@@ -109,6 +109,10 @@ for f in "$c/scan.pcd" "$c/noise-0/scan.pcd" "$c/noise-0/samples.pcd" "$c/noise-
          "$r/pictures/sedan.png" "$r/pictures/tank-circle.png"; do
   : >"$f"; at $((now - i)) "$f"; i=$((i - 2))
 done
+# The experiment's manifest (written by make when its text changes), between the trials' last
+# artifacts and the report that reads it.
+"${mk[@]}" PROGRESS=0 "$tmp/out/experiment.txt" >/dev/null 2>&1 || fail "make did not write the experiment's manifest"
+at $((now - 59)) "$tmp/out/experiment.txt"
 stages() { grep -c '^scripts/stage.sh ' || true; }
 # plans TOOL: exit 0 when the plan in $plan runs TOOL as a stage.
 plans() { echo "$plan" | grep '^scripts/stage.sh ' | grep -q "$1"; }
@@ -258,12 +262,22 @@ for t in ign_lidarhd_870000_6618000 ahn3_delft_2 ign_stbarth_100m; do
     fail "make -n all does not score $t against its labels"
 done
 if echo "$plan" | grep -q "bin/score -d $tmp/out/real/forest_lareunion/"; then fail "a plot without labels is scored"; fi
-echo "$plan" | grep -q "bin/report .*--real $tmp/out/real --real-tiles \"forest_lareunion ign_lidarhd_870000_6618000 " ||
-  fail "the report does not read the real tiles"
+echo "$plan" | grep -q "bin/report --manifest $tmp/out/experiment.txt .*--real-timeout 180" ||
+  fail "the report does not read the experiment's manifest with the real tiles' time box"
 [ ! -e "$tmp/out/real/forest_lareunion/tile.time" ] || fail "make -n all ran a real tile"
 "${mk[@]}" REAL_TILES=1 -q all && fail "make -q all is clean without the real tiles"
 [ ! -e "$tmp/out/real/forest_lareunion" ] || fail "make -q all ran a real tile"
 "${mk[@]}" -n all 2>&1 | grep -q "share/real/" && fail "REAL_TILES=0 still runs the real tiles"
+# The report finds the real tiles in the experiment's manifest (documents/experiment_manifest.h),
+# in order, each labelled one with its labels; REAL_TILES=0 names none.
+grep -q "^real " "$tmp/out/experiment.txt" && fail "REAL_TILES=0: the manifest names real tiles"
+grep -q "^trial sedan unoccluded 0 $tmp/out/sedan/unoccluded/noise-0\$" "$tmp/out/experiment.txt" ||
+  fail "the manifest does not name the trial: $(head -3 "$tmp/out/experiment.txt")"
+"${mk[@]}" REAL_TILES=1 PROGRESS=0 "$tmp/out/experiment.txt" >/dev/null 2>&1 || fail "the manifest with real tiles not written"
+real=$(grep "^real " "$tmp/out/experiment.txt")
+[ "$(echo "$real" | head -2)" = "real forest_lareunion $tmp/out/real/forest_lareunion
+real ign_lidarhd_870000_6618000 $tmp/out/real/ign_lidarhd_870000_6618000 share/real/ign_lidarhd_870000_6618000.truth.json" ] ||
+  fail "the manifest's real tiles: $real"
 
 at $((now - 10)) "$tmp/params/ncut.ini"
 plan=$("${mk[@]}" -n all 2>&1)

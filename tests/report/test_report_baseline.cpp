@@ -6,7 +6,9 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
+#include "canopy/documents/experiment_manifest.h"
 #include "canopy/documents/match_result.h"
 #include "canopy/documents/verdict.h"
 #include "report/baseline_section.h"
@@ -15,6 +17,22 @@
 namespace fs = std::filesystem;
 
 namespace {
+
+// The manifest of a grid of trials in OUT/<object>/<scene>/noise-<mm> (make's layout, here the
+// test's own).
+canopy::documents::ExperimentManifest grid(const fs::path& out, const std::vector<std::string>& objects,
+                                           const std::vector<std::string>& scenes,
+                                           const std::vector<int>& noises) {
+  canopy::documents::ExperimentManifest m;
+  m.objects = objects;
+  m.scenes = scenes;
+  m.noises = noises;
+  for (const auto& o : objects)
+    for (const auto& s : scenes)
+      for (int n : noises)
+        m.trials.push_back({o, s, n, (out / o / s / ("noise-" + std::to_string(n))).string()});
+  return m;
+}
 
 void trial(const fs::path& out, const std::string& object, int noise, const std::string& gmatch,
            const std::string& vfh, const std::string& fpfh, const std::string& verify) {
@@ -65,7 +83,7 @@ TEST_CASE("baseline section: rank-1 of canopy and both baseline methods per obje
     std::ofstream(out / "sedan" / "circle" / ("noise-" + std::to_string(n)) / "baseline.json.time")
         << "0.50 40960 0.45 0.05\n";
   }
-  const auto b = canopy::report::baseline_section(out.string(), {"sedan", "tank"}, {"circle"}, {0, 8});
+  const auto b = canopy::report::baseline_section(grid(out, {"sedan", "tank"}, {"circle"}, {0, 8}));
   INFO(b.markdown);
   CHECK(b.markdown.find("| sedan | 2 | 1/2 (50%) | 1/2 (50%) | 1/2 (50%) | 2/2 (100%) |") != std::string::npos);
   CHECK(b.markdown.find("| tank | 1 | 1/1 (100%) | 1/1 (100%) | 1/1 (100%) | 0/1 (0%) |") != std::string::npos);
@@ -83,5 +101,5 @@ TEST_CASE("baseline section: rank-1 of canopy and both baseline methods per obje
   // No baseline.json anywhere: no section, no CSV.
   const fs::path none = canopy::test::fresh_dir("report", "baseline-none") / "out";
   fs::create_directories(none);
-  CHECK(canopy::report::baseline_section(none.string(), {"sedan"}, {"circle"}, {0}).markdown.empty());
+  CHECK(canopy::report::baseline_section(grid(none, {"sedan"}, {"circle"}, {0})).markdown.empty());
 }

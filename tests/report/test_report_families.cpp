@@ -9,6 +9,7 @@
 #include <string>
 
 #include "canopy/common/error.h"
+#include "canopy/documents/experiment_manifest.h"
 #include "canopy/documents/match_result.h"
 #include "canopy/documents/segment_graph.h"
 #include "family_tables.h"
@@ -123,8 +124,12 @@ TEST_CASE("report --families adds the section; without it the report has none; a
   for (const char* d : {"with", "without", "missing"}) fs::create_directories(dir / d);
   std::ofstream(dir / "families" / "confusion.csv") << kConfusion;
   std::ofstream(dir / "families" / "accuracy.csv") << kAccuracy;
-  const std::string report = std::string(CANOPY_BIN_DIR) + "/report --out " + (dir / "out").string() +
-                             " --objects sedan --scenes circle --noises 0 --results ";
+  documents::ExperimentManifest manifest;
+  manifest.trials.push_back({"sedan", "circle", 0, trial.string()});
+  manifest.figures = {"figures/grid-circle.png", "figures/scores.png", "pictures/sedan.png"};
+  std::ofstream(dir / "experiment.txt") << documents::write_experiment_manifest(manifest);
+  const std::string report =
+      std::string(CANOPY_BIN_DIR) + "/report --manifest " + (dir / "experiment.txt").string() + " --results ";
   auto read = [](const fs::path& p) {
     std::ifstream f(p);
     std::stringstream ss;
@@ -137,7 +142,7 @@ TEST_CASE("report --families adds the section; without it the report has none; a
   const std::string with = read(dir / "with" / "report.md");
   CHECK(with.find("**Class accuracy: 75.0% (9/12)**") != std::string::npos);
   CHECK(with.find("| suv | 1 | **2** | 0 | 1 |") != std::string::npos);
-  // The figures follow the objects and scenes: no tank, so no tank-circle picture.
+  // The report links the manifest's figures, and no other.
   CHECK(with.find("pictures/sedan.png") != std::string::npos);
   CHECK(with.find("tank-circle") == std::string::npos);
   REQUIRE(test::sh(report + (dir / "without").string(), dir / "err2.txt", &err) == 0);

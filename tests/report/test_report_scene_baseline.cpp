@@ -8,6 +8,7 @@
 #include <fstream>
 #include <string>
 
+#include "canopy/documents/experiment_manifest.h"
 #include "canopy/documents/match_result.h"
 #include "report/baseline_section.h"
 #include "canopy/documents/scene_score.h"
@@ -152,7 +153,13 @@ TEST_CASE("baseline section: a table per scene too", "[report][baseline]") {
         << R"({"method": "vfh", "models": [{"rank": 1, "model": "tank"}]},)"
         << R"({"method": "fpfh", "models": [{"rank": 1, "model": ")" << fpfh << R"("}]}]})";
   }
-  const auto b = report::baseline_section(out.string(), {"sedan"}, {"circle", "flyby"}, {0});
+  documents::ExperimentManifest manifest;
+  manifest.objects = {"sedan"};
+  manifest.scenes = {"circle", "flyby"};
+  manifest.noises = {0};
+  for (const std::string scene : {"circle", "flyby"})
+    manifest.trials.push_back({"sedan", scene, 0, (out / "sedan" / scene / "noise-0").string()});
+  const auto b = report::baseline_section(manifest);
   INFO(b.markdown);
   CHECK(b.markdown.find("| scene | trials | canopy (gmatch) | canopy (verify) | VFH | FPFH |") !=
         std::string::npos);

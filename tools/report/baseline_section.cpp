@@ -60,9 +60,8 @@ struct Counts {
 };
 
 // One trial: its baseline.json (absent: not counted), gmatch's and verify's answers, the time.
-void count_trial(Counts& k, const std::string& out_dir, const std::string& o, const std::string& s, int n) {
+void count_trial(Counts& k, const std::string& dir, const std::string& o, const std::string& s, int n) {
   namespace fs = std::filesystem;
-  const std::string dir = out_dir + "/" + o + "/" + s + "/noise-" + std::to_string(n);
   const std::string path = dir + "/baseline.json";
   const documents::StageOutput baseline = documents::read_stage_output(path);
   if (baseline.outcome == documents::StageOutcome::missing) {
@@ -154,15 +153,17 @@ std::string baseline_markdown(const Counts& k, const std::vector<std::string>& o
 
 }  // namespace
 
-BaselineSection baseline_section(const std::string& out_dir, const std::vector<std::string>& objects,
-                                 const std::vector<std::string>& scenes, const std::vector<int>& noises) {
+BaselineSection baseline_section(const documents::ExperimentManifest& manifest) {
+  const auto& objects = manifest.objects;
+  const auto& scenes = manifest.scenes;
+  const auto& noises = manifest.noises;
   BaselineSection b;
   Counts k;
   k.csv << "object,scene,noise_mm,canopy_model,canopy_correct,verify_model,verify_correct,vfh_model,"
            "vfh_correct,fpfh_model,fpfh_correct,baseline_s,baseline_peak_mb,baseline_cpu_s\n";
   for (const auto& o : objects) {
     for (const auto& s : scenes) {
-      for (int n : noises) count_trial(k, out_dir, o, s, n);
+      for (int n : noises) count_trial(k, manifest.trial_dir(o, s, n), o, s, n);
     }
   }
   if (k.all.n == 0) return b;

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "canopy/documents/experiment_manifest.h"
+
 namespace canopy::report {
 
 struct BaselineSection {
@@ -13,10 +15,10 @@ struct BaselineSection {
   std::string csv;       // results/baseline.csv: one row per trial with a baseline.json
 };
 
-// Reads OUT/<object>/<scene>/noise-<mm>/{baseline.json, baseline.json.time, match.json}.
+// Reads each trial's {baseline.json, baseline.json.time, match.json, verdict.json} in the
+// directory the manifest names, in the grid's order (objects x scenes x noises).
 // Trials without baseline.json are left out (and counted in the text); an empty baseline.json
 // (a failed run recorded by scripts/stage.sh --record-failure) counts as wrong for both methods.
-BaselineSection baseline_section(const std::string& out_dir, const std::vector<std::string>& objects,
-                                 const std::vector<std::string>& scenes, const std::vector<int>& noises);
+BaselineSection baseline_section(const documents::ExperimentManifest& manifest);
 
 }  // namespace canopy::report

@@ -12,6 +12,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
 #include "canopy/common/units.h"
+#include "canopy/documents/tile_list.h"
 #include "score/score.h"
 
 using namespace canopy;
@@ -47,39 +48,11 @@ score::Tile load(const std::string& detections, const std::string& truth, double
   return t;
 }
 
-// The manifest: one tile a line, "DETECTIONS TRUTH [NOISE_MM [COVER]]", '#' comments; paths as
-// given (relative to the working directory).
+// The tile list (documents/tile_list.h), each tile's files read.
 std::vector<score::Tile> load_manifest(const std::string& path) {
-  std::stringstream in(common::read_file(path));
   std::vector<score::Tile> tiles;
-  std::string line;
-  int n = 0;
-  while (std::getline(in, line)) {
-    ++n;
-    const auto hash = line.find('#');
-    if (hash != std::string::npos) line.erase(hash);
-    std::stringstream ls(line);
-    std::vector<std::string> words;
-    for (std::string w; ls >> w;) words.push_back(w);
-    if (words.empty()) continue;
-    const std::string where = "line " + std::to_string(n);
-    if (words.size() < 2 || words.size() > 4) {
-      throw common::DataError(path, where + ": expected DETECTIONS TRUTH [NOISE_MM [COVER]]");
-    }
-    double noise = std::nan("");
-    if (words.size() >= 3) {
-      std::size_t used = 0;
-      try {
-        noise = std::stod(words[2], &used);
-      } catch (const std::exception&) { used = 0; }
-      if (used != words[2].size() || !(noise >= 0 && noise < 1e6)) {
-        throw common::DataError(path, where + ": noise '" + words[2] + "' is not a number of millimetres");
-      }
-    }
-    if (tiles.size() >= 100000) throw common::DataError(path, "more than 100000 tiles");
-    tiles.push_back(load(words[0], words[1], noise, words.size() == 4 ? words[3] : ""));
-  }
-  if (tiles.empty()) throw common::DataError(path, "lists no tiles");
+  for (const documents::TileListEntry& e : documents::parse_tile_list(common::read_file(path), path))
+    tiles.push_back(load(e.detections, e.truth, e.noise_mm, e.cover));
   return tiles;
 }
 

@@ -1,0 +1,71 @@
+// The experiment's manifest: where make put every artifact the report reads, so that `report`
+// spells no path of make's layout (Makefile.experiments writes $(OUT)/experiment.txt at parse
+// time, when its text changed; `report --manifest` reads it). Text, one record a line, blanks
+// between fields (no path holds one), '#' starts a comment, blank lines skipped:
+//
+//   trial OBJECT SCENE NOISE_MM DIR           a thesis-protocol trial; DIR holds its stages'
+//                                             outputs by their names (scan.pcd, samples.pcd,
+//                                             mesh.ply, segments.json, match.json, verdict.json,
+//                                             areas.json, baseline.json) and their .time files
+//   model OBJECT GRAPH                        the modelbase entry's segment graph
+//   render OBJECT SCENE SCAN                  the noise-free rendering (SCAN.time: its time;
+//                                             SCAN itself, while it exists: its views)
+//   ablation NAME CHANGE                      a variant; CHANGE is the stage and its options,
+//                                             '+' for each blank ("ncut+--exponent+squared")
+//   ablation-trial NAME OBJECT SCENE NOISE_MM MATCH   the variant's match.json for a trial
+//   figure PATH                               a figure the report links (relative to its
+//                                             results directory), in the report's order
+//   real NAME DIR [TRUTH]                     a real tile's workflow directory (mk/real.mk) and
+//                                             its hand labels when it has any
+//
+// The trials are a full grid: every (object, scene, noise) of the trial lines exactly once
+// (objects, scenes and noises in the order they first appear), and every ablation has a trial
+// for each of them. OBJECT, SCENE and NAME are words of letters, digits, '-', '_' and '.'.
+// Every refusal is a common::DataError naming the file and the line.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace canopy::documents {
+
+struct ManifestTrial {
+  std::string object, scene;
+  int noise_mm = 0;
+  std::string path;  // trial: its directory; ablation-trial: its match.json
+};
+
+struct ManifestAblation {
+  std::string name, change;           // change with blanks ('+' undone)
+  std::vector<ManifestTrial> trials;  // in the manifest's order
+};
+
+struct ManifestRealTile {
+  std::string name, dir, truth;  // truth "" = no labels (no vehicles on the tile)
+};
+
+struct ExperimentManifest {
+  std::vector<std::string> objects, scenes;  // of the trials, in order of first appearance
+  std::vector<int> noises;
+  std::vector<ManifestTrial> trials;           // in the manifest's order
+  std::map<std::string, std::string> models;   // object -> segment graph
+  std::map<std::string, std::string> renders;  // "<object>/<scene>" -> scan
+  std::vector<ManifestAblation> ablations;     // in order of declaration
+  std::vector<std::string> figures;            // in order
+  std::vector<ManifestRealTile> real;          // in order
+
+  // The directory of trial (object, scene, noise); "" when there is none.
+  std::string trial_dir(const std::string& object, const std::string& scene, int noise_mm) const;
+};
+
+// At most this many records (a manifest beyond it is refused).
+inline constexpr std::size_t kMaxManifestRecords = 1000000;
+
+// The manifest in `text` (of file `name`): at least one trial.
+ExperimentManifest parse_experiment_manifest(const std::string& text, const std::string& name);
+ExperimentManifest read_experiment_manifest(const std::string& path);
+// Its text (the tests write manifests with it; make writes the same records).
+std::string write_experiment_manifest(const ExperimentManifest& m);
+
+}  // namespace canopy::documents

@@ -1,0 +1,151 @@
+// documents/experiment_manifest.h and documents/tile_list.h: the manifests make writes for
+// report and score read back record for record; malformed ones are refused naming the file and
+// the line.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <string>
+
+#include "canopy/common/error.h"
+#include "canopy/documents/experiment_manifest.h"
+#include "canopy/documents/tile_list.h"
+
+using namespace canopy;
+
+namespace {
+
+// Two objects, one scene, two noise levels, as make writes them (objects then scenes then noises).
+const char* kManifest =
+    "# the experiment (Makefile.experiments)\n"
+    "trial sedan circle 0 out/sedan/circle/noise-0\n"
+    "trial sedan circle 8 out/sedan/circle/noise-8\n"
+    "trial tank circle 0 out/tank/circle/noise-0   # a comment after a record\n"
+    "\n"
+    "trial tank circle 8 out/tank/circle/noise-8\r\n"
+    "model sedan out/modelbase/sedan.json\n"
+    "render tank circle out/tank/circle/scan.pcd\n"
+    "ablation ncut-squared ncut+--exponent+squared\n"
+    "ablation-trial ncut-squared sedan circle 0 a/s0.json\n"
+    "ablation-trial ncut-squared sedan circle 8 a/s8.json\n"
+    "ablation-trial ncut-squared tank circle 0 a/t0.json\n"
+    "ablation-trial ncut-squared tank circle 8 a/t8.json\n"
+    "figure figures/grid-circle.png\n"
+    "figure pictures/tank-circle.png\n"
+    "real forest_lareunion out/real/forest_lareunion\n"
+    "real urban_1 out/real/urban_1 share/real/urban_1.truth.json\n";
+
+std::string refusal(const std::string& text) {
+  try {
+    documents::parse_experiment_manifest(text, "experiment.txt");
+  } catch (const common::DataError& e) {
+    CHECK(e.file() == "experiment.txt");
+    return e.what();
+  }
+  return "";
+}
+
+std::string tile_list_refusal(const std::string& text) {
+  try {
+    documents::parse_tile_list(text, "tiles.txt");
+  } catch (const common::DataError& e) {
+    CHECK(e.file() == "tiles.txt");
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("experiment manifest: every record read, the grid in order of first appearance") {
+  const documents::ExperimentManifest m = documents::parse_experiment_manifest(kManifest, "experiment.txt");
+  CHECK(m.objects == std::vector<std::string>{"sedan", "tank"});
+  CHECK(m.scenes == std::vector<std::string>{"circle"});
+  CHECK(m.noises == std::vector<int>{0, 8});
+  REQUIRE(m.trials.size() == 4);
+  CHECK(m.trial_dir("tank", "circle", 8) == "out/tank/circle/noise-8");  // its CR dropped
+  CHECK(m.trial_dir("tank", "circle", 0) == "out/tank/circle/noise-0");  // its comment dropped
+  CHECK(m.trial_dir("tank", "flyby", 0).empty());
+  CHECK(m.models.at("sedan") == "out/modelbase/sedan.json");
+  CHECK(m.models.count("tank") == 0);
+  CHECK(m.renders.at("tank/circle") == "out/tank/circle/scan.pcd");
+  REQUIRE(m.ablations.size() == 1);
+  CHECK(m.ablations[0].name == "ncut-squared");
+  CHECK(m.ablations[0].change == "ncut --exponent squared");
+  REQUIRE(m.ablations[0].trials.size() == 4);
+  CHECK(m.ablations[0].trials[2].object == "tank");
+  CHECK(m.ablations[0].trials[2].path == "a/t0.json");
+  CHECK(m.figures == std::vector<std::string>{"figures/grid-circle.png", "pictures/tank-circle.png"});
+  REQUIRE(m.real.size() == 2);
+  CHECK(m.real[0].truth.empty());
+  CHECK(m.real[1].dir == "out/real/urban_1");
+  CHECK(m.real[1].truth == "share/real/urban_1.truth.json");
+  // Written and read again: the same manifest.
+  const documents::ExperimentManifest again =
+      documents::parse_experiment_manifest(documents::write_experiment_manifest(m), "again.txt");
+  CHECK(documents::write_experiment_manifest(again) == documents::write_experiment_manifest(m));
+  CHECK(again.trials.size() == 4);
+  CHECK(again.ablations[0].change == "ncut --exponent squared");
+  CHECK(again.real[1].truth == m.real[1].truth);
+}
+
+TEST_CASE("experiment manifest: malformed records and grids are refused naming the line") {
+  const std::string t = "trial sedan circle 0 d0\n";
+  CHECK(refusal("").find("lists no trial") != std::string::npos);
+  CHECK(refusal("# only a comment\n").find("lists no trial") != std::string::npos);
+  CHECK(refusal(t + "trials sedan circle 0 d\n").find("line 2: unknown record 'trials'") != std::string::npos);
+  CHECK(refusal("trial sedan circle 0\n").find("line 1: expected 'trial OBJECT SCENE NOISE_MM DIR'") !=
+        std::string::npos);
+  CHECK(refusal(t + t).find("line 2: a second trial sedan circle 0") != std::string::npos);
+  CHECK(refusal("trial sedan circle 8mm d\n").find("line 1: noise '8mm'") != std::string::npos);
+  CHECK(refusal("trial sedan circle 0x10 d\n").find("noise '0x10'") != std::string::npos);
+  CHECK(refusal("trial sedan circle 2000000 d\n").find("noise '2000000'") != std::string::npos);
+  CHECK(refusal("trial se/dan circle 0 d\n").find("object 'se/dan' is not a word") != std::string::npos);
+  // Not a full grid: sedan has noise 8, tank has not.
+  CHECK(refusal(t + "trial sedan circle 8 d8\ntrial tank circle 0 t0\n").find("not a full grid") !=
+        std::string::npos);
+  CHECK(refusal(t + "trial sedan circle 8 d8\ntrial tank circle 0 t0\n").find("no trial tank circle 8") !=
+        std::string::npos);
+  CHECK(refusal(t + "model sedan a\nmodel sedan b\n").find("line 3: a second model sedan") != std::string::npos);
+  CHECK(refusal(t + "render sedan circle a\nrender sedan circle b\n").find("line 3: a second render") !=
+        std::string::npos);
+  CHECK(refusal(t + "ablation-trial x sedan circle 0 m\n").find("line 2: ablation 'x' is not declared") !=
+        std::string::npos);
+  CHECK(refusal(t + "ablation x a+b\nablation x a+b\n").find("line 3: a second ablation x") !=
+        std::string::npos);
+  CHECK(refusal(t + "ablation x a+b\n").find("ablation x has no trial sedan circle 0") != std::string::npos);
+  CHECK(refusal(t + "ablation x a+b\nablation-trial x tank circle 0 m\n").find("that is not a trial") !=
+        std::string::npos);
+  CHECK(refusal(t + "ablation x a+b\nablation-trial x sedan circle 0 m\nablation-trial x sedan circle 0 m\n")
+            .find("line 4: a second trial sedan circle 0 of ablation x") != std::string::npos);
+  CHECK(refusal(t + "figure\n").find("line 2: expected 'figure PATH'") != std::string::npos);
+  CHECK(refusal(t + "real a d\nreal a e\n").find("line 3: a second real tile a") != std::string::npos);
+  CHECK(refusal(t + "real a d t x\n").find("line 2: expected 'real NAME DIR [TRUTH]'") != std::string::npos);
+  CHECK(refusal(t).empty());
+}
+
+TEST_CASE("tile list: tiles with and without noise and cover; refusals name the line") {
+  const auto tiles = documents::parse_tile_list(
+      "# detections truth noise cover\n"
+      "a/detections.json a/truth.json 8 light\n"
+      "\n"
+      "b/detections.json b/truth.json 0.5\r\n"
+      "c/detections.json c/truth.json  # no noise, no cover\n",
+      "tiles.txt");
+  REQUIRE(tiles.size() == 3);
+  CHECK(tiles[0].detections == "a/detections.json");
+  CHECK(tiles[0].truth == "a/truth.json");
+  CHECK(tiles[0].noise_mm == 8);
+  CHECK(tiles[0].cover == "light");
+  CHECK(tiles[1].noise_mm == 0.5);
+  CHECK(tiles[1].cover.empty());
+  CHECK(std::isnan(tiles[2].noise_mm));
+  CHECK(documents::write_tile_list(tiles) ==
+        "a/detections.json a/truth.json 8 light\nb/detections.json b/truth.json 0.5\n"
+        "c/detections.json c/truth.json\n");
+  CHECK(tile_list_refusal("# nothing\n").find("lists no tiles") != std::string::npos);
+  CHECK(tile_list_refusal("a b 1 c d\n").find("line 1: expected DETECTIONS TRUTH") != std::string::npos);
+  CHECK(tile_list_refusal("a b\nonly\n").find("line 2: expected") != std::string::npos);
+  CHECK(tile_list_refusal("a b 8mm\n").find("line 1: noise '8mm'") != std::string::npos);
+  CHECK(tile_list_refusal("a b -1\n").find("noise '-1'") != std::string::npos);
+  CHECK(tile_list_refusal("a b nan\n").find("noise 'nan'") != std::string::npos);
+}
