@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "canopy/common/error.h"
+#include "canopy/documents/family_runs.h"
 #include "canopy/documents/match_result.h"
 #include "canopy/documents/verdict.h"
 #include "famscore/famscore.h"
@@ -20,8 +21,8 @@ using namespace canopy;
 using namespace canopy::famscore;
 
 TEST_CASE("famscore: the runs manifest") {
-  const auto runs =
-      parse_runs("# header\na/verdict.json pickup 1000 light 0\n\nb.json van 7 dense 32  # c\n", "runs");
+  const auto runs = documents::parse_family_runs(
+      "# header\na/verdict.json pickup 1000 light 0\n\nb.json van 7 dense 32  # c\n", "runs");
   REQUIRE(runs.size() == 2);
   CHECK(runs[0].verdict == "a/verdict.json");
   CHECK(runs[0].vehicle_class == "pickup");
@@ -29,11 +30,11 @@ TEST_CASE("famscore: the runs manifest") {
   CHECK(runs[1].cover == "dense");
   CHECK(runs[1].noise == "32");
   CHECK(runs[1].line == 4);
-  CHECK_THROWS_AS(parse_runs("a.json van 7 dense\n", "runs"), common::DataError);
-  CHECK_THROWS_AS(parse_runs("a.json van x7 dense 0\n", "runs"), common::DataError);
-  CHECK_THROWS_AS(parse_runs("# nothing\n", "runs"), common::DataError);
+  CHECK_THROWS_AS(documents::parse_family_runs("a.json van 7 dense\n", "runs"), common::DataError);
+  CHECK_THROWS_AS(documents::parse_family_runs("a.json van x7 dense 0\n", "runs"), common::DataError);
+  CHECK_THROWS_AS(documents::parse_family_runs("# nothing\n", "runs"), common::DataError);
   try {
-    parse_runs("ok.json van 1 a 0\nbad\n", "m.txt");
+    documents::parse_family_runs("ok.json van 1 a 0\nbad\n", "m.txt");
     FAIL("no error");
   } catch (const common::DataError& e) { CHECK(std::string(e.what()).find("line 2") != std::string::npos); }
 }
@@ -238,7 +239,8 @@ TEST_CASE("famscore: gmatch, verify, VFH and FPFH side by side on hand-built tri
                                (t3 / "verdict.json").string() + " van 1000 light 32\n" +
                                (t4 / "verdict.json").string() + " van 1001 dense 0\n";
   std::vector<Trial> trials;
-  for (const auto& r : parse_runs(manifest, "runs")) trials.push_back(read_trial(r, entries, true));
+  for (const auto& r : documents::parse_family_runs(manifest, "runs"))
+    trials.push_back(read_trial(r, entries, true));
   REQUIRE(trials.size() == 4);
   REQUIRE(trials[0].answers.size() == 4);
   CHECK(trials[0].answers[0].seconds == Approx(3.5));  // gmatch: cocone + ncut + gmatch
@@ -312,16 +314,19 @@ TEST_CASE("famscore: gmatch, verify, VFH and FPFH side by side on hand-built tri
   // A missing method file is an error naming it; a malformed baseline document too.
   fs::remove(t4 / "baseline-fpfh.json");
   try {
-    read_trial(parse_runs((t4 / "verdict.json").string() + " van 1001 dense 0\n", "runs")[0], entries, true);
+    read_trial(documents::parse_family_runs((t4 / "verdict.json").string() + " van 1001 dense 0\n", "runs")[0],
+               entries, true);
     FAIL("no error");
   } catch (const common::DataError& e) {
     CHECK(std::string(e.what()).find("baseline-fpfh.json") != std::string::npos);
   }
-  CHECK_NOTHROW(read_trial(parse_runs((t4 / "verdict.json").string() + " van 1001 dense 0\n", "runs")[0],
-                           entries, false));
+  CHECK_NOTHROW(read_trial(
+      documents::parse_family_runs((t4 / "verdict.json").string() + " van 1001 dense 0\n", "runs")[0],
+      entries, false));
   write(t4 / "baseline-fpfh.json", "{\"format\": \"canopy.match_result\"}");
-  CHECK_THROWS_AS(
-      read_trial(parse_runs((t4 / "verdict.json").string() + " van 1001 dense 0\n", "runs")[0], entries, true),
-      common::DataError);
+  CHECK_THROWS_AS(read_trial(documents::parse_family_runs(
+                                 (t4 / "verdict.json").string() + " van 1001 dense 0\n", "runs")[0],
+                             entries, true),
+                  common::DataError);
   CHECK_THROWS_AS(read_entries((root / "no-such").string()), common::DataError);
 }

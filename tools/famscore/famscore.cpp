@@ -25,36 +25,6 @@ namespace canopy::famscore {
 
 using common::DataError;
 
-std::vector<Run> parse_runs(const std::string& text, const std::string& name) {
-  std::vector<Run> runs;
-  std::istringstream in(text);
-  std::string line;
-  int no = 0;
-  while (std::getline(in, line)) {
-    ++no;
-    line = line.substr(0, line.find('#'));
-    std::istringstream ls(line);
-    std::vector<std::string> w;
-    for (std::string s; ls >> s;) w.push_back(s);
-    if (w.empty()) continue;
-    const std::string where = "line " + std::to_string(no) + ": ";
-    if (w.size() != 5) throw DataError(name, where + "expected <verdict> <class> <instance> <cover> <noise>");
-    if (w[2].empty() || w[2].size() > 9 || w[2].find_first_not_of("0123456789") != std::string::npos) {
-      throw DataError(name, where + "instance '" + w[2] + "' is not a number 0..999999999");
-    }
-    Run r;
-    r.verdict = w[0];
-    r.vehicle_class = w[1];
-    r.instance = std::stoi(w[2]);
-    r.cover = w[3];
-    r.noise = w[4];
-    r.line = no;
-    runs.push_back(r);
-  }
-  if (runs.empty()) throw DataError(name, "no trial in the runs manifest");
-  return runs;
-}
-
 namespace {
 
 Eigen::Vector3d size_of(const std::string& cls, int instance) {
@@ -339,7 +309,7 @@ std::string methods_confusion_csv(const std::vector<Trial>& trials, const std::v
 
 Outputs run(const Params& params, const Inputs& inputs) {
   validate(params);
-  const auto runs = parse_runs(inputs.runs_text, inputs.runs_name);
+  const auto runs = documents::parse_family_runs(inputs.runs_text, inputs.runs_name);
   const std::vector<Entry> entries = read_entries(inputs.modelbase);
   std::vector<Trial> trials;
   for (const auto& r : runs) trials.push_back(read_trial(r, entries, params.with_methods));

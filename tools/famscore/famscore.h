@@ -19,16 +19,12 @@
 #include <string>
 #include <vector>
 
+#include "canopy/documents/family_runs.h"
+
 namespace canopy::famscore {
 
-struct Run {
-  std::string verdict, vehicle_class, cover, noise;
-  int instance = 0;
-  int line = 0;
-};
-
-// Parses the manifest; DataError naming `name` and the line on a malformed line.
-std::vector<Run> parse_runs(const std::string& text, const std::string& name);
+// One trial of the runs manifest (documents/family_runs.h).
+using Run = documents::FamilyRun;
 
 // A modelbase entry with a class (<model>.class).
 struct Entry {
