@@ -150,3 +150,28 @@ TEST_CASE("no areas.json anywhere: no area section") {
   CHECK(report::run(report::Params{}, in).markdown.find("Where the target's area goes") == std::string::npos);
   CHECK_FALSE(report::read_areas(std::string(CANOPY_TEST_TMP) + "/no-such-dir/areas.json").present);
 }
+
+TEST_CASE("recognition by scene: unoccluded apart, trials and renders with Wilson intervals") {
+  report::Inputs in;
+  in.objects = {"sedan", "tank"};
+  in.scenes = {"circle", "unoccluded"};
+  in.noises = {0, 8};
+  // gmatch right everywhere but sedan/circle at 8 mm.
+  for (const auto& o : in.objects)
+    for (const auto& s : in.scenes)
+      for (int n : in.noises)
+        in.cases.push_back(report::testing::trial(o, s, n, o == "sedan" && s == "circle" && n == 8 ? 2 : 1));
+  const std::string md = report::run(report::Params{}, in).markdown;
+  INFO(md);
+  // circle: 3 of 4 trials; of its 2 renders only tank's is right at both noise levels.
+  // Wilson 95%: 3/4 -> [30.1, 95.4], 1/2 -> [9.5, 90.5], 4/4 -> [51.0, 100.0], 2/2 -> [34.2, 100.0].
+  CHECK(md.find("| circle | 2 | 4 | 3/4 = 75.0% [30.1, 95.4] | 1/2 = 50.0% [9.5, 90.5] |\n") !=
+        std::string::npos);
+  CHECK(md.find("| unoccluded (the modelbase's own renders) | 2 | 4 | 4/4 = 100.0% [51.0, 100.0] | "
+                "2/2 = 100.0% [34.2, 100.0] |\n") != std::string::npos);
+  CHECK(md.find("| **occluded (all but unoccluded)** | 2 | 4 | 3/4 = 75.0% [30.1, 95.4] |") !=
+        std::string::npos);
+  CHECK(md.find("| all | 4 | 8 | 7/8 = 87.5% [52.9, 97.8] | 3/4 = 75.0% [30.1, 95.4] |\n") != std::string::npos);
+  // No verdicts: no verify columns.
+  CHECK(md.find("verify right, trials") == std::string::npos);
+}

@@ -180,3 +180,18 @@ TEST_CASE("no verdict.json anywhere: the section says verify was not run") {
   CHECK_THAT(out.markdown, Catch::Contains("`verify` was not run on these trials"));
   CHECK_THAT(out.markdown, !Catch::Contains("| confidence | answers | right |"));
 }
+
+TEST_CASE("recognition by scene: verify's columns over trials and renders") {
+  const std::string md = report::run(report::Params{}, hand_built()).markdown;
+  INFO(md);
+  // circle: gmatch right on all 4; verify right on trial 1 only, trial 7 not run; no render
+  // right at both noise levels (sedan flipped at 32 mm, tank wrong at 0 mm).
+  CHECK(md.find("| circle | 2 | 4 | 4/4 = 100.0% [51.0, 100.0] | 2/2 = 100.0% [34.2, 100.0] | "
+                "1/4 = 25.0% [4.6, 69.9] (verify not run on some) | 0/2 = 0.0% [0.0, 65.8] |\n") !=
+        std::string::npos);
+  // flyby: gmatch right on none; verify on trials 2 and 8, never both of one render.
+  CHECK(md.find(
+            "| flyby | 2 | 4 | 0/4 = 0.0% [0.0, 49.0] | 0/2 = 0.0% [0.0, 65.8] | 2/4 = 50.0% [15.0, 85.0] | "
+            "0/2 = 0.0% [0.0, 65.8] |\n") != std::string::npos);
+  CHECK(md.find("occluded (all but unoccluded)") == std::string::npos);  // no unoccluded scene
+}
