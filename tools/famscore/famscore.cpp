@@ -8,7 +8,6 @@
 #include <filesystem>
 #include <limits>
 #include <map>
-#include <sstream>
 #include <stdexcept>
 
 #include "canopy/common/atomic_file.h"

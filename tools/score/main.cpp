@@ -2,7 +2,6 @@
 // F1, false alarms per hectare, precision-recall curve, identification, pose errors and
 // recognition against canopy cover and noise (JSON + CSV tables).
 #include <cmath>
-#include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
