@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <stdexcept>
 #include <string>
 
@@ -20,7 +21,25 @@ Interval wilson(int k, int n, double z) {
   return {k == 0 ? 0.0 : std::max(0.0, centre - half), k == n ? 1.0 : std::min(1.0, centre + half)};
 }
 
+Interval wilson_effective(double p, double n, double z) {
+  if (!(p >= 0 && p <= 1))
+    throw std::invalid_argument("wilson_effective: " + std::to_string(p) + " is no proportion");
+  if (!(n > 0)) return {0, 1};
+  const double z2 = z * z;
+  const double centre = (p + z2 / (2.0 * n)) / (1 + z2 / n);
+  const double half = z * std::sqrt(p * (1 - p) / n + z2 / (4.0 * n * n)) / (1 + z2 / n);
+  return {p == 0 ? 0.0 : std::max(0.0, centre - half), p == 1 ? 1.0 : std::min(1.0, centre + half)};
+}
+
 namespace {
+
+// Percentile q in [0, 1] of sorted values (linear interpolation between order statistics).
+double sorted_percentile(const std::vector<double>& v, double q) {
+  const double pos = q * static_cast<double>(v.size() - 1);
+  const auto lo = static_cast<std::size_t>(std::floor(pos));
+  const std::size_t hi = std::min(lo + 1, v.size() - 1);
+  return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
+}
 
 // P(X <= k) for X ~ Poisson(mean), summed in log space.
 double poisson_cdf(int k, double mean) {
@@ -50,6 +69,31 @@ Interval poisson_exact(int k, double confidence) {
   const double tail = (1 - confidence) / 2;
   // lo: P(X >= k) = tail, i.e. P(X <= k - 1) = 1 - tail; hi: P(X <= k) = tail.
   return {k == 0 ? 0.0 : mean_where_cdf(k - 1, 1 - tail), mean_where_cdf(k, tail)};
+}
+
+std::optional<Interval> cluster_bootstrap(const std::vector<ClusterSum>& clusters, int resamples,
+                                          std::uint64_t seed, double confidence) {
+  if (resamples < 1) throw std::invalid_argument("cluster_bootstrap: no resamples");
+  if (!(confidence > 0 && confidence < 1))
+    throw std::invalid_argument("cluster_bootstrap: confidence out of (0, 1)");
+  const std::size_t n = clusters.size();
+  if (n < 2) return std::nullopt;
+  std::mt19937_64 rng(seed);
+  std::vector<double> ratios;
+  ratios.reserve(static_cast<std::size_t>(resamples));
+  for (int b = 0; b < resamples; ++b) {
+    double num = 0, den = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+      const ClusterSum& c = clusters[rng() % n];
+      num += c.num;
+      den += c.den;
+    }
+    if (den > 0) ratios.push_back(num / den);
+  }
+  if (ratios.empty()) return std::nullopt;
+  std::sort(ratios.begin(), ratios.end());
+  const double tail = (1 - confidence) / 2;
+  return Interval{sorted_percentile(ratios, tail), sorted_percentile(ratios, 1 - tail)};
 }
 
 }  // namespace canopy::common

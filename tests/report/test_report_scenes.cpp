@@ -162,3 +162,41 @@ TEST_CASE("scene section: the score's numbers, the targets judged on them, the f
   CHECK(runs[1].dir == "out/scenes/light/tile-1/noise-8");
   CHECK(runs[1].area_ha == Approx(0.09));
 }
+
+TEST_CASE("scene section: score's intervals and distinct counts beside each rate") {
+  const documents::SceneScore score = documents::read_scene_score(R"({
+    "format": "canopy.scene_score", "version": 1,
+    "params": {"match_radius_m": 1.5, "cover_bins": [0, 1], "flip_threshold_deg": 90},
+    "tiles": [
+      {"detections": "out/scenes/light/tile-1/noise-0/detections.json", "cover": "light", "noise_mm": 0, "area_ha": 0.09},
+      {"detections": "out/scenes/light/tile-1/noise-8/detections.json", "cover": "light", "noise_mm": 8, "area_ha": 0.09}],
+    "summary": [
+      {"cover": "all", "noise_mm": "all", "tiles": 2, "renders": 1, "area_ha": 0.18, "true": 4, "true_distinct": 2,
+       "candidates": 9, "none": 5, "detections": 4, "tp": 3, "fp": 1, "fn": 1,
+       "precision": 0.75, "precision_lo": 0.2, "precision_hi": 0.95,
+       "recall": 0.75, "recall_lo": 0.25, "recall_hi": 0.96, "f1": 0.75,
+       "false_alarms_per_ha": 5.5556, "false_alarms_per_ha_lo": 0.0, "false_alarms_per_ha_hi": 40.99,
+       "identified": 3, "identification": 1.0, "identification_lo": 0.4385, "identification_hi": 1.0,
+       "recognition": 0.75, "recognition_lo": null, "recognition_hi": null,
+       "mean_vehicle_cover": 0.2, "position_error_median_m": 0.12, "position_error_p90_m": 0.3,
+       "heading_error_median_deg": 1.25, "heading_error_p90_deg": 2.5, "flips": 0}],
+    "pr": [],
+    "models": [{"model": "tank", "cover": "all", "true": 4, "true_distinct": 2, "matched": 3, "identified": 3,
+                "recall": 0.75, "recall_lo": 0.25, "recall_hi": 0.96, "identification": 1.0,
+                "identification_lo": 0.5, "identification_hi": 1.0, "recognition": 0.75}],
+    "cover_bins": [{"cover_lo": 0, "cover_hi": 1, "noise_mm": "all", "true": 4, "true_distinct": 2, "detected": 3,
+                    "recognised": 3, "recall": 0.75, "recall_lo": 0.25, "recall_hi": 0.96, "recognition": 0.75,
+                    "recognition_lo": 0.25, "recognition_hi": 0.96}],
+    "matches": []})",
+                                                                  "score.json");
+  const std::string md = report::scene_markdown(score, {}, "scenes");
+  // Tiles (renders), true (distinct), each rate with its bracket; a null bound shows the rate alone.
+  CHECK(md.find("| all | all | 2 (1) | 0.20 | 4 (2) | 9 | 4 | 3 | 1 | 1 | 75.0% [20.0, 95.0] | "
+                "75.0% [25.0, 96.0] | 75.0% | 5.6 [0.0, 41.0] | 100.0% [43.9, 100.0] | 75.0% | ") !=
+        std::string::npos);
+  CHECK(md.find("| tank | all | 4 (2) | 3 | 3 | 75.0% [25.0, 96.0] | 100.0% [50.0, 100.0] | 75.0% |") !=
+        std::string::npos);
+  CHECK(md.find("| 0.00–1.00 | all | 4 (2) | 3 | 3 | 75.0% [25.0, 96.0] | 75.0% [25.0, 96.0] |") !=
+        std::string::npos);
+  CHECK(md.find("95% interval in brackets") != std::string::npos);
+}

@@ -298,8 +298,9 @@ TEST_CASE("score CLI: two tiles by manifest, groups per cover and noise, CSV tab
   std::string header, row;
   std::getline(c, header);
   std::getline(c, row);
-  CHECK(header.rfind("cover,noise_mm,tiles,area_ha,true,", 0) == 0);
-  CHECK(row.rfind("all,all,2,0.18,4,", 0) == 0);
+  // (both tiles score one truth file: one render, its 2 vehicles counted once in true_distinct)
+  CHECK(header.rfind("cover,noise_mm,tiles,renders,area_ha,true,true_distinct,", 0) == 0);
+  CHECK(row.rfind("all,all,2,1,0.18,4,2,", 0) == 0);
   // Same inputs, same bytes.
   std::ifstream f1((dir / "score.json").string());
   std::stringstream b1, b2;
@@ -309,6 +310,69 @@ TEST_CASE("score CLI: two tiles by manifest, groups per cover and noise, CSV tab
   std::ifstream f2((dir / "score.json").string());
   b2 << f2.rdbuf();
   CHECK(b1.str() == b2.str());
+}
+
+TEST_CASE("intervals: renders resampled, noise levels of one render counted once") {
+  // Three renders (truth files r0, r1, r2; 2 vehicles each, 30 m x 30 m), each at two noise
+  // levels: 6 tiles, 12 vehicle-runs, 6 distinct vehicles.
+  auto tile = [](int render, double noise, const Json& dets) {
+    score::Tile t;
+    t.truth = score::parse_truth(truth_text(), "r" + std::to_string(render) + "/truth.json");
+    t.detections = score::parse_detections(detections_text(dets), "d.json");
+    t.noise_mm = noise;
+    t.cover = "light";
+    return t;
+  };
+  const Json both = Json::array({det("c1", "sedan", 0.9, 10, 10, 30), det("c2", "tank", 0.8, 20, 20, 90)});
+  std::vector<score::Tile> tiles;
+  for (int r = 0; r < 3; ++r) {
+    for (double n : {0.0, 8.0}) tiles.push_back(tile(r, n, both));
+  }
+  const Json s = as_json(score::score(tiles, score::Params{}));
+  const Json& a = s["summary"][0];
+  CHECK(a["tiles"] == 6);
+  CHECK(a["renders"] == 3);
+  CHECK(a["true"] == 12);
+  CHECK(a["true_distinct"] == 6);
+  // Every render right: the bootstrap has no spread, so the interval is Wilson's at the 6
+  // distinct vehicles, 6/6 -> [0.6097, 1] (not 12/12 -> [0.7575, 1] of the vehicle-runs).
+  CHECK(a["recall"].get<double>() == Approx(1));
+  CHECK(a["recall_lo"].get<double>() == Approx(0.6097).margin(1e-4));
+  CHECK(a["recall_hi"].get<double>() == Approx(1));
+  // One noise level alone: 6 runs of 3 renders, each run its own render: Wilson 6/6 again.
+  const Json& zero = s["summary"][2];
+  REQUIRE(zero["noise_mm"] == 0.0);
+  CHECK(zero["renders"] == 3);
+  CHECK(zero["true_distinct"] == 6);
+  CHECK(zero["recall_lo"].get<double>() == Approx(0.6097).margin(1e-4));
+  // No false alarm on 0.54 ha (at the effective 0.27 ha): exact Poisson 0 -> [0, 3.689] / 0.27.
+  CHECK(a["false_alarms_per_ha_lo"].get<double>() == Approx(0));
+  CHECK(a["false_alarms_per_ha_hi"].get<double>() == Approx(3.6889 / 0.27).epsilon(1e-3));
+  // Nothing class-level: the rate and its bounds null.
+  CHECK(a["class_accuracy"].is_null());
+  CHECK(a["class_accuracy_lo"].is_null());
+  CHECK(a["class_accuracy_hi"].is_null());
+  // Models: the sedan 6 runs, 3 distinct, recall [Wilson 3/3 = 0.4385, 1].
+  const Json& sedan = s["models"][0];
+  REQUIRE(sedan["model"] == "sedan");
+  CHECK(sedan["true"] == 6);
+  CHECK(sedan["true_distinct"] == 3);
+  CHECK(sedan["recall_lo"].get<double>() == Approx(0.4385).margin(1e-4));
+  // Cover bins (all noise): the two sedans per render at cover 0.1 in [0, 0.25).
+  CHECK(s["cover_bins"][0]["true_distinct"] == 3);
+  CHECK(s["cover_bins"][0]["recall_lo"].get<double>() == Approx(0.4385).margin(1e-4));
+
+  // Render r2 loses both vehicles at both noise levels: recall 8/12. The renders differ, so
+  // the bootstrap over them reaches far below Wilson's interval at 6 vehicles (4/6 ->
+  // [0.300, 0.903]): a draw of r2 three times gives 0 (probability 1/27 > 2.5%).
+  tiles[4] = tile(2, 0, Json::array());
+  tiles[5] = tile(2, 8, Json::array());
+  const Json s2 = as_json(score::score(tiles, score::Params{}));
+  const Json& b = s2["summary"][0];
+  CHECK(b["recall"].get<double>() == Approx(8.0 / 12));
+  CHECK(b["recall_lo"].get<double>() == Approx(0));
+  CHECK(b["recall_hi"].get<double>() == Approx(1));
+  CHECK(b["recall_lo"].get<double>() <= b["recall"].get<double>());
 }
 
 TEST_CASE("score CLI: a bad input names the file and writes nothing") {

@@ -41,10 +41,31 @@ std::string text(const ScoreValue& v) {
 }
 
 // The cell `key` of `row`; null when the row has none.
-const ScoreValue& field(const ScoreRow& row, const char* key) {
+const ScoreValue& field(const ScoreRow& row, const std::string& key) {
   static const ScoreValue null_value;
   const ScoreValue* v = documents::score_cell(row, key);
   return v != nullptr ? *v : null_value;
+}
+
+// A rate of `row` with score's 95% interval (<key>_lo, <key>_hi): "95.0% [91.2, 97.8]"; the
+// rate alone when the score has no interval (one written before score computed them).
+std::string rate_ci(const ScoreRow& row, const std::string& key) {
+  const ScoreValue &v = field(row, key), &lo = field(row, key + "_lo"), &hi = field(row, key + "_hi");
+  if (!v.is_number() || !lo.is_number() || !hi.is_number()) return rate(v);
+  return rate(v) + " [" + format_number("%.1f", 100 * lo.as_number()) + ", " +
+         format_number("%.1f", 100 * hi.as_number()) + "]";
+}
+// The same for a number per unit ("1.2 [0.4, 3.1]").
+std::string num_ci(const ScoreRow& row, const std::string& key, const char* f) {
+  const ScoreValue &v = field(row, key), &lo = field(row, key + "_lo"), &hi = field(row, key + "_hi");
+  if (!v.is_number() || !lo.is_number() || !hi.is_number()) return num(v, f);
+  return num(v, f) + " [" + num(lo, f) + ", " + num(hi, f) + "]";
+}
+// A count and, when the score counts it, its distinct part: "24 (12)" (true vehicles over
+// noise levels that reuse a render; tiles over renders).
+std::string count_distinct(const ScoreRow& row, const char* key, const char* distinct) {
+  const ScoreValue& d = field(row, distinct);
+  return text(field(row, key)) + (d.is_number() ? " (" + text(d) + ")" : std::string());
 }
 
 // Cells equal as JSON values: nulls, equal texts, equal numbers (an integer 8 equals 8.0).
@@ -129,9 +150,9 @@ void baseline_rows(std::ostringstream& md, const SceneScore& score, const std::v
   for (const ScoreRow& s : score.summary) {
     auto row = [&](const std::string& label, const ScoreRow& r, bool heading) {
       md << "| " << text(field(s, "cover")) << " | " << text(field(s, "noise_mm")) << " | "
-         << text(field(s, "true")) << " | " << label << " | " << text(field(r, "detections")) << " | "
-         << rate(field(r, "precision")) << " | " << rate(field(r, "recall")) << " | "
-         << rate(field(r, "identification")) << " | " << rate(field(r, "recognition")) << " | "
+         << count_distinct(s, "true", "true_distinct") << " | " << label << " | "
+         << text(field(r, "detections")) << " | " << rate_ci(r, "precision") << " | " << rate_ci(r, "recall")
+         << " | " << rate_ci(r, "identification") << " | " << rate_ci(r, "recognition") << " | "
          << num(field(r, "position_error_median_m"), "%.2f") << " | "
          << (heading ? num(field(r, "heading_error_median_deg"), "%.1f") : std::string("–")) << " |\n";
     };
@@ -153,9 +174,9 @@ void baseline_recognition(std::ostringstream& md, const SceneScore& score,
   md << "|\n";
   for (const ScoreRow& m : score.models) {
     md << "| " << text(field(m, "model")) << " | " << text(field(m, "cover")) << " | "
-       << text(field(m, "true")) << " | " << rate(field(m, "recognition"));
+       << count_distinct(m, "true", "true_distinct") << " | " << rate_ci(m, "recognition");
     for (const auto& b : bl)
-      md << " | " << rate(field(same_row(b.score.models, m, "model", "cover"), "recognition"));
+      md << " | " << rate_ci(same_row(b.score.models, m, "model", "cover"), "recognition");
     md << " |\n";
   }
   md << "\n| canopy cover | noise (mm) | true | canopy";
@@ -165,10 +186,10 @@ void baseline_recognition(std::ostringstream& md, const SceneScore& score,
   md << "|\n";
   for (const ScoreRow& c : score.cover_bins) {
     md << "| " << num(field(c, "cover_lo"), "%.2f") << "–" << num(field(c, "cover_hi"), "%.2f") << " | "
-       << text(field(c, "noise_mm")) << " | " << text(field(c, "true")) << " | "
-       << rate(field(c, "recognition"));
+       << text(field(c, "noise_mm")) << " | " << count_distinct(c, "true", "true_distinct") << " | "
+       << rate_ci(c, "recognition");
     for (const auto& b : bl) {
-      md << " | " << rate(field(same_row(b.score.cover_bins, c, "cover_lo", "noise_mm"), "recognition"));
+      md << " | " << rate_ci(same_row(b.score.cover_bins, c, "cover_lo", "noise_mm"), "recognition");
     }
     md << " |\n";
   }
@@ -192,8 +213,9 @@ void baseline_goal(std::ostringstream& md, const SceneScore& score, const std::v
   if (c_rec.is_number() && best >= 0) {
     const double gap = 100 * (c_rec.as_number() - best);
     md << "Goal of issue 17, canopy ≥ 5 points above the best baseline (recognition, all runs): canopy "
-       << rate(c_rec) << ", best baseline " << best_method << " " << format_number("%.1f%%", 100 * best)
-       << ": " << format_number("%+.1f", gap) << " points, " << (gap >= 5 ? "met" : "**not met**") << ".\n\n";
+       << rate_ci(canopy_all, "recognition") << ", best baseline " << best_method << " "
+       << format_number("%.1f%%", 100 * best) << ": " << format_number("%+.1f", gap) << " points, "
+       << (gap >= 5 ? "met" : "**not met**") << ".\n\n";
   }
 }
 
@@ -343,25 +365,32 @@ void scene_intro(std::ostringstream& md, const SceneScore& score, const ScoreRow
      << num(score.params.match_radius_m, "%g")
      << " m of its own (one to one, most confident first); identification = right model among the matched "
         "detections; recognition = right model found / true vehicles; pose errors over the identified "
-        "detections. Tables: `scenes/*.csv`.\n\n";
+        "detections. Tables: `scenes/*.csv`. Rates carry score's 95% interval in brackets: the hull of a "
+        "percentile bootstrap over the rendered tiles (2 000 draws; vehicles of one tile and the noise "
+        "levels "
+        "of one render are not independent) and Wilson's interval (exact Poisson for false alarms per "
+        "hectare) at the effective count, runs × renders / runs (formats/README.md \"Scene scores\"). "
+        "Counts in parentheses are distinct: renders among the tiles, vehicles counted once over their "
+        "noise levels.\n\n";
 }
 
 void detection_table(std::ostringstream& md, const std::vector<ScoreRow>& summary) {
   md << "### Detection, identification and pose\n\n"
-        "| cover | noise (mm) | tiles | mean vehicle cover | true | candidates | detections | TP | FP | FN | "
+        "| cover | noise (mm) | tiles (renders) | mean vehicle cover | true (distinct) | candidates | "
+        "detections | TP | FP | FN | "
         "precision | recall | F1 | false alarms / ha | identification | recognition | position error median "
         "/ "
         "p90 (m) | heading error median / p90 (°) | flips |\n"
         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const ScoreRow& s : summary) {
     md << "| " << text(field(s, "cover")) << " | " << text(field(s, "noise_mm")) << " | "
-       << text(field(s, "tiles")) << " | " << num(field(s, "mean_vehicle_cover"), "%.2f") << " | "
-       << text(field(s, "true")) << " | " << text(field(s, "candidates")) << " | "
-       << text(field(s, "detections")) << " | " << text(field(s, "tp")) << " | " << text(field(s, "fp"))
-       << " | " << text(field(s, "fn")) << " | " << rate(field(s, "precision")) << " | "
-       << rate(field(s, "recall")) << " | " << rate(field(s, "f1")) << " | "
-       << num(field(s, "false_alarms_per_ha"), "%.1f") << " | " << rate(field(s, "identification")) << " | "
-       << rate(field(s, "recognition")) << " | " << num(field(s, "position_error_median_m"), "%.2f") << " / "
+       << count_distinct(s, "tiles", "renders") << " | " << num(field(s, "mean_vehicle_cover"), "%.2f")
+       << " | " << count_distinct(s, "true", "true_distinct") << " | " << text(field(s, "candidates"))
+       << " | " << text(field(s, "detections")) << " | " << text(field(s, "tp")) << " | "
+       << text(field(s, "fp")) << " | " << text(field(s, "fn")) << " | " << rate_ci(s, "precision") << " | "
+       << rate_ci(s, "recall") << " | " << rate(field(s, "f1")) << " | "
+       << num_ci(s, "false_alarms_per_ha", "%.1f") << " | " << rate_ci(s, "identification") << " | "
+       << rate_ci(s, "recognition") << " | " << num(field(s, "position_error_median_m"), "%.2f") << " / "
        << num(field(s, "position_error_p90_m"), "%.2f") << " | "
        << num(field(s, "heading_error_median_deg"), "%.1f") << " / "
        << num(field(s, "heading_error_p90_deg"), "%.1f") << " | " << text(field(s, "flips")) << " |\n";
@@ -379,7 +408,7 @@ void targets_table(std::ostringstream& md, const std::vector<ScoreRow>& summary,
       const std::string c = text(field(s, "cover")), n = text(field(s, "noise_mm"));
       if ((c != "light" && c != "medium") || (n != "0" && n != "8")) continue;
       const ScoreValue& v = field(s, key);
-      measured += (measured.empty() ? "" : ", ") + c + " " + n + " mm " + rate(v);
+      measured += (measured.empty() ? "" : ", ") + c + " " + n + " mm " + rate_ci(s, key);
       any = true;
       if (!v.is_number() || (at_least ? v.as_number() < bound : v.as_number() > bound)) met = false;
     }
@@ -390,8 +419,8 @@ void targets_table(std::ostringstream& md, const std::vector<ScoreRow>& summary,
   judge("precision ≥ 95% at light and medium cover, 0–8 mm", "precision", 0.95, true);
   if (all != nullptr) {
     const ScoreValue& id = field(*all, "identification");
-    md << "| identification ≥ 90% of matched detections (all runs) | " << rate(id) << " | "
-       << (id.is_number() ? (id.as_number() >= 0.9 ? "yes" : "**no**") : "–") << " |\n";
+    md << "| identification ≥ 90% of matched detections (all runs) | " << rate_ci(*all, "identification")
+       << " | " << (id.is_number() ? (id.as_number() >= 0.9 ? "yes" : "**no**") : "–") << " |\n";
     const ScoreValue& he = field(*all, "heading_error_median_deg");
     md << "| heading error median ≤ 2° (all runs) | " << num(he, "%.2f°") << " | "
        << (he.is_number() ? (he.as_number() <= 2 ? "yes" : "**no**") : "–") << " |\n";
@@ -401,13 +430,13 @@ void targets_table(std::ostringstream& md, const std::vector<ScoreRow>& summary,
 
 void models_table(std::ostringstream& md, const SceneScore& score) {
   md << "### Identification per model\n\n"
-        "| model | cover | true | matched | identified | recall | identification | recognition |\n"
+        "| model | cover | true (distinct) | matched | identified | recall | identification | recognition |\n"
         "|---|---|---|---|---|---|---|---|\n";
   for (const ScoreRow& m : score.models) {
     md << "| " << text(field(m, "model")) << " | " << text(field(m, "cover")) << " | "
-       << text(field(m, "true")) << " | " << text(field(m, "matched")) << " | "
-       << text(field(m, "identified")) << " | " << rate(field(m, "recall")) << " | "
-       << rate(field(m, "identification")) << " | " << rate(field(m, "recognition")) << " |\n";
+       << count_distinct(m, "true", "true_distinct") << " | " << text(field(m, "matched")) << " | "
+       << text(field(m, "identified")) << " | " << rate_ci(m, "recall") << " | "
+       << rate_ci(m, "identification") << " | " << rate_ci(m, "recognition") << " |\n";
   }
   md << "\n";
 }
@@ -416,13 +445,13 @@ void cover_table(std::ostringstream& md, const SceneScore& score, const std::str
   md << "### Recognition against the measured canopy cover\n\n"
         "Per vehicle, the share of its footprint under vegetation seen from straight above (rangetrace's "
         "nadir image, `canopy_cover` in truth.json), binned; all noise levels, then per noise level.\n\n"
-        "| canopy cover | noise (mm) | true | detected | recognised | recall | recognition |\n"
+        "| canopy cover | noise (mm) | true (distinct) | detected | recognised | recall | recognition |\n"
         "|---|---|---|---|---|---|---|\n";
   for (const ScoreRow& b : score.cover_bins) {
     md << "| " << num(field(b, "cover_lo"), "%.2f") << "–" << num(field(b, "cover_hi"), "%.2f") << " | "
-       << text(field(b, "noise_mm")) << " | " << text(field(b, "true")) << " | " << text(field(b, "detected"))
-       << " | " << text(field(b, "recognised")) << " | " << rate(field(b, "recall")) << " | "
-       << rate(field(b, "recognition")) << " |\n";
+       << text(field(b, "noise_mm")) << " | " << count_distinct(b, "true", "true_distinct") << " | "
+       << text(field(b, "detected")) << " | " << text(field(b, "recognised")) << " | " << rate_ci(b, "recall")
+       << " | " << rate_ci(b, "recognition") << " |\n";
   }
   md << "\n![recognition against canopy cover](" << fig << "/cover.png)\n\n![recognition against noise]("
      << fig << "/noise.png)\n\n";

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "canopy/common/error.h"
+#include "canopy/common/stats.h"
 #include "canopy/documents/detections.h"
 #include "canopy/documents/scene_score.h"
 #include "canopy/documents/scene_truth.h"
@@ -33,6 +34,72 @@ struct Tally {
   int class_detections = 0, class_tp = 0, class_identified = 0;
   std::vector<double> class_position, class_heading;
 };
+
+// The renders among `which`: tiles that share one truth file are one rendered scene (the scene
+// experiment's noise levels add noise to one render), in order of first appearance. The
+// intervals resample renders, not tiles: their vehicles, canopy and clutter are the same.
+std::vector<std::vector<std::size_t>> renders_of(const std::vector<Tile>& tiles,
+                                                 const std::vector<std::size_t>& which) {
+  std::vector<std::vector<std::size_t>> renders;
+  std::map<std::string, std::size_t> index;
+  for (std::size_t i : which) {
+    auto [it, fresh] = index.emplace(tiles[i].truth.name, renders.size());
+    if (fresh) renders.emplace_back();
+    renders[it->second].push_back(i);
+  }
+  return renders;
+}
+
+// The true vehicles of the distinct renders (a vehicle counted once over its noise levels).
+int distinct_vehicles(const std::vector<Tile>& tiles, const std::vector<std::vector<std::size_t>>& renders) {
+  int n = 0;
+  for (const auto& r : renders) n += static_cast<int>(tiles[r.front()].truth.vehicles.size());
+  return n;
+}
+
+// Inserts `cells` into `row` right after the column `key`.
+void insert_after(ScoreRow& row, const std::string& key,
+                  std::initializer_list<std::pair<std::string, ScoreValue>> cells) {
+  auto it = std::find_if(row.begin(), row.end(), [&](const auto& c) { return c.first == key; });
+  if (it == row.end()) throw std::logic_error("score: no column " + key);
+  row.insert(it + 1, cells.begin(), cells.end());
+}
+
+enum class RateKind { proportion, per_area };
+
+// The 95% interval of a rate sum(num) / sum(den) of a row whose runs fall in renders
+// (documents the keys <key>_lo, <key>_hi after <key>; null when the rate is): the hull of
+// (a) the percentile bootstrap over renders (common::cluster_bootstrap: vehicles of one tile
+// and noise levels of one render are not independent) and (b) the interval of the counts at
+// their effective size, runs x renders / runs-in-row (Wilson for a proportion, exact Poisson
+// for a count per hectare). (b) alone would treat correlated runs as independent; (a) alone
+// collapses to a point when every render gives the same rate (100% on 3 renders is no
+// certainty) and is undefined for one render.
+void add_interval(ScoreRow& row, const std::string& key, const std::vector<common::ClusterSum>& per_render,
+                  double runs_per_render, RateKind kind) {
+  double num = 0, den = 0;
+  for (const auto& c : per_render) {
+    num += c.num;
+    den += c.den;
+  }
+  if (!(den > 0)) {
+    insert_after(row, key, {{key + "_lo", nullptr}, {key + "_hi", nullptr}});
+    return;
+  }
+  const double f = runs_per_render > 0 ? 1 / runs_per_render : 1;
+  common::Interval ci;
+  if (kind == RateKind::proportion) {
+    ci = common::wilson_effective(std::min(1.0, num / den), den * f);
+  } else {
+    const common::Interval k = common::poisson_exact(static_cast<int>(std::lround(num * f)));
+    ci = {k.lo / (den * f), k.hi / (den * f)};
+  }
+  if (const auto b = common::cluster_bootstrap(per_render)) {
+    ci.lo = std::min(ci.lo, b->lo);
+    ci.hi = std::max(ci.hi, b->hi);
+  }
+  insert_after(row, key, {{key + "_lo", ci.lo}, {key + "_hi", ci.hi}});
+}
 
 }  // namespace
 
@@ -284,7 +351,45 @@ std::vector<ScoreRow> summaries(const std::vector<Tile>& tiles, const std::vecto
     return which;
   };
   auto row = [&](const std::string* cover, const double* noise, const ScoreValue& c, const ScoreValue& n) {
-    return summary(tally(tiles, matches, select(cover, noise), params), c, n);
+    const std::vector<std::size_t> which = select(cover, noise);
+    ScoreRow r = summary(tally(tiles, matches, which, params), c, n);
+    const auto renders = renders_of(tiles, which);
+    insert_after(r, "tiles", {{"renders", static_cast<int>(renders.size())}});
+    insert_after(r, "true", {{"true_distinct", distinct_vehicles(tiles, renders)}});
+    std::vector<Tally> per;
+    for (const auto& members : renders) per.push_back(tally(tiles, matches, members, params));
+    const double runs_per_render = renders.empty() ? 1 : static_cast<double>(which.size()) / renders.size();
+    auto interval = [&](const char* key, RateKind kind, auto num, auto den) {
+      std::vector<common::ClusterSum> sums;
+      for (const Tally& t : per) sums.push_back({static_cast<double>(num(t)), static_cast<double>(den(t))});
+      add_interval(r, key, sums, runs_per_render, kind);
+    };
+    const auto P = RateKind::proportion;
+    interval(
+        "precision", P, [](const Tally& t) { return t.tp; }, [](const Tally& t) { return t.detections; });
+    interval(
+        "recall", P, [](const Tally& t) { return t.tp; }, [](const Tally& t) { return t.truths; });
+    interval(
+        "false_alarms_per_ha", RateKind::per_area, [](const Tally& t) { return t.detections - t.tp; },
+        [](const Tally& t) { return t.area; });
+    interval(
+        "identification", P, [](const Tally& t) { return t.identified; }, [](const Tally& t) { return t.tp; });
+    interval(
+        "recognition", P, [](const Tally& t) { return t.identified; }, [](const Tally& t) { return t.truths; });
+    interval(
+        "class_accuracy", P, [](const Tally& t) { return t.class_identified; },
+        [](const Tally& t) { return t.class_tp; });
+    interval(
+        "recall_any_level", P, [](const Tally& t) { return t.tp + t.class_tp; },
+        [](const Tally& t) { return t.truths; });
+    interval(
+        "precision_any_level", P, [](const Tally& t) { return t.tp + t.class_tp; },
+        [](const Tally& t) { return t.detections + t.class_detections; });
+    interval(
+        "false_alarms_any_level_per_ha", RateKind::per_area,
+        [](const Tally& t) { return t.detections - t.tp + t.class_detections - t.class_tp; },
+        [](const Tally& t) { return t.area; });
+    return r;
   };
   std::vector<ScoreRow> rows;
   rows.push_back(row(nullptr, nullptr, "all", "all"));
@@ -343,28 +448,56 @@ std::vector<ScoreRow> model_table(const std::vector<Tile>& tiles, const std::vec
   std::vector<std::string> cover_groups{"all"};
   cover_groups.insert(cover_groups.end(), g.covers.begin(), g.covers.end());
   for (const auto& c : cover_groups) {
-    std::map<std::string, std::array<int, 3>> per;  // true, matched, identified
+    std::vector<std::size_t> which;
     for (std::size_t i = 0; i < tiles.size(); ++i) {
-      if (c != "all" && tiles[i].cover != c) continue;
-      for (std::size_t t = 0; t < tiles[i].truth.vehicles.size(); ++t) {
-        const TrueVehicle& tv = tiles[i].truth.vehicles[t];
-        auto& a = per[tv.model];
-        a[0]++;
-        const int d = matches[i].detection_of[t];
-        if (d < 0) continue;
-        a[1]++;
-        if (tiles[i].detections.detections[d].model == tv.model) a[2]++;
+      if (c == "all" || tiles[i].cover == c) which.push_back(i);
+    }
+    const auto renders = renders_of(tiles, which);
+    // per model: true, matched, identified, true in distinct renders; and the same per render
+    std::map<std::string, std::array<int, 4>> per;
+    std::map<std::string, std::vector<std::array<int, 3>>> per_render;
+    for (std::size_t r = 0; r < renders.size(); ++r) {
+      for (std::size_t i : renders[r]) {
+        for (std::size_t t = 0; t < tiles[i].truth.vehicles.size(); ++t) {
+          const TrueVehicle& tv = tiles[i].truth.vehicles[t];
+          auto& a = per[tv.model];
+          auto& pr = per_render[tv.model];
+          pr.resize(renders.size(), {0, 0, 0});
+          a[0]++;
+          pr[r][0]++;
+          if (i == renders[r].front()) a[3]++;
+          const int d = matches[i].detection_of[t];
+          if (d < 0) continue;
+          a[1]++;
+          pr[r][1]++;
+          if (tiles[i].detections.detections[d].model != tv.model) continue;
+          a[2]++;
+          pr[r][2]++;
+        }
       }
     }
     for (const auto& [model, a] : per) {
-      models.push_back(ScoreRow{{"model", model},
-                                {"cover", c},
-                                {"true", a[0]},
-                                {"matched", a[1]},
-                                {"identified", a[2]},
-                                {"recall", ratio(a[1], a[0])},
-                                {"identification", ratio(a[2], a[1])},
-                                {"recognition", ratio(a[2], a[0])}});
+      ScoreRow row{{"model", model},
+                   {"cover", c},
+                   {"true", a[0]},
+                   {"true_distinct", a[3]},
+                   {"matched", a[1]},
+                   {"identified", a[2]},
+                   {"recall", ratio(a[1], a[0])},
+                   {"identification", ratio(a[2], a[1])},
+                   {"recognition", ratio(a[2], a[0])}};
+      // Renders without this model add nothing to either sum; they still count as draws.
+      const auto& pr = per_render.at(model);
+      auto sums = [&](int num, int den) {
+        std::vector<common::ClusterSum> v;
+        for (const auto& x : pr) v.push_back({static_cast<double>(x[num]), static_cast<double>(x[den])});
+        return v;
+      };
+      const double runs_per_vehicle = a[3] > 0 ? static_cast<double>(a[0]) / a[3] : 1;
+      add_interval(row, "recall", sums(1, 0), runs_per_vehicle, RateKind::proportion);
+      add_interval(row, "identification", sums(2, 1), runs_per_vehicle, RateKind::proportion);
+      add_interval(row, "recognition", sums(2, 0), runs_per_vehicle, RateKind::proportion);
+      models.push_back(std::move(row));
     }
   }
   return models;
@@ -373,27 +506,46 @@ std::vector<ScoreRow> model_table(const std::vector<Tile>& tiles, const std::vec
 // One cover bin [lo, hi) ([lo, hi] for the last) over the tiles of noise level *n (all: null).
 ScoreRow cover_bin(const std::vector<Tile>& tiles, const std::vector<TileMatch>& matches, const double* n,
                    double lo, double hi, bool last) {
-  int total = 0, detected = 0, recognised = 0;
+  std::vector<std::size_t> which;
   for (std::size_t i = 0; i < tiles.size(); ++i) {
-    if (n && tiles[i].noise_mm != *n) continue;
-    for (std::size_t t = 0; t < tiles[i].truth.vehicles.size(); ++t) {
-      const TrueVehicle& tv = tiles[i].truth.vehicles[t];
-      if (tv.cover < lo || (last ? tv.cover > hi : tv.cover >= hi)) continue;
-      total++;
-      const int d = matches[i].detection_of[t];
-      if (d < 0) continue;
-      detected++;
-      if (tiles[i].detections.detections[d].model == tv.model) recognised++;
-    }
+    if (!n || tiles[i].noise_mm == *n) which.push_back(i);
   }
-  return ScoreRow{{"cover_lo", lo},
-                  {"cover_hi", hi},
-                  {"noise_mm", n ? ScoreValue(*n) : ScoreValue("all")},
-                  {"true", total},
-                  {"detected", detected},
-                  {"recognised", recognised},
-                  {"recall", ratio(detected, total)},
-                  {"recognition", ratio(recognised, total)}};
+  const auto renders = renders_of(tiles, which);
+  int total = 0, detected = 0, recognised = 0, distinct = 0;
+  std::vector<common::ClusterSum> recall_sums, recognition_sums;
+  for (const auto& r : renders) {
+    int r_total = 0, r_detected = 0, r_recognised = 0;
+    for (std::size_t i : r) {
+      for (std::size_t t = 0; t < tiles[i].truth.vehicles.size(); ++t) {
+        const TrueVehicle& tv = tiles[i].truth.vehicles[t];
+        if (tv.cover < lo || (last ? tv.cover > hi : tv.cover >= hi)) continue;
+        r_total++;
+        if (i == r.front()) distinct++;
+        const int d = matches[i].detection_of[t];
+        if (d < 0) continue;
+        r_detected++;
+        if (tiles[i].detections.detections[d].model == tv.model) r_recognised++;
+      }
+    }
+    total += r_total;
+    detected += r_detected;
+    recognised += r_recognised;
+    recall_sums.push_back({static_cast<double>(r_detected), static_cast<double>(r_total)});
+    recognition_sums.push_back({static_cast<double>(r_recognised), static_cast<double>(r_total)});
+  }
+  ScoreRow row{{"cover_lo", lo},
+               {"cover_hi", hi},
+               {"noise_mm", n ? ScoreValue(*n) : ScoreValue("all")},
+               {"true", total},
+               {"true_distinct", distinct},
+               {"detected", detected},
+               {"recognised", recognised},
+               {"recall", ratio(detected, total)},
+               {"recognition", ratio(recognised, total)}};
+  const double runs_per_vehicle = distinct > 0 ? static_cast<double>(total) / distinct : 1;
+  add_interval(row, "recall", recall_sums, runs_per_vehicle, RateKind::proportion);
+  add_interval(row, "recognition", recognition_sums, runs_per_vehicle, RateKind::proportion);
+  return row;
 }
 
 // Recall and recognition against the measured per-vehicle canopy cover, overall and per noise.
