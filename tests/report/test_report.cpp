@@ -52,12 +52,17 @@ TEST_CASE("recognition rates per object and overall, with the thesis beside them
       "object,scene,noise_mm,score,rank,entropy\nsedan,circle,0,0.641,1,1.64\ntank,circle,0,0.603,2,2.26\n",
       "t.csv");
   const auto out = report::run(report::Params{}, in);
-  CHECK(out.markdown.find("| sedan | 100% (2/2) | 100% | 100% (1/1) |") != std::string::npos);
-  CHECK(out.markdown.find("| tank | 50% (1/2) | 50% | 0% (0/1) |") != std::string::npos);
+  // Intervals at the distinct renders: two noise levels of one render per object are one unit
+  // (Wilson at n = 1: 1 -> [20.7, 100], 0.5 -> [5.5, 94.5]); all trials: 2 units, 0.75 -> [19.8, 97.3].
+  CHECK(out.markdown.find("| sedan | 100% (2/2) | 2/2 = 100.0% [20.7, 100.0] | 100% | 100% (1/1) |") !=
+        std::string::npos);
+  CHECK(out.markdown.find("| tank | 50% (1/2) | 1/2 = 50.0% [5.5, 94.5] | 50% | 0% (0/1) |") !=
+        std::string::npos);
   CHECK(out.markdown.find("**75%** (3/4)") != std::string::npos);
   // Two of the thesis's objects: its means are over them, its overall rate (five objects) is not shown.
-  CHECK(out.markdown.find("| **all trials** | **75%** (3/4) | – | 50% (1/2) |") != std::string::npos);
-  CHECK(out.markdown.find("| mean per object | 75% | 75% | |") != std::string::npos);
+  CHECK(out.markdown.find("| **all trials** | **75%** (3/4) | 3/4 = 75.0% [19.8, 97.3] | – | 50% (1/2) |") !=
+        std::string::npos);
+  CHECK(out.markdown.find("| mean per object | 75% | | 75% | |") != std::string::npos);
   CHECK(out.markdown.find("obj1") == std::string::npos);
   CHECK(out.markdown.find("1 trials did not rank the correct model first") != std::string::npos);
   // scores.csv: one line per trial with the correct model's score and rank.
@@ -76,10 +81,12 @@ TEST_CASE(
   in.cases = {make_case("sedan", 0, 1), make_case("suv-1000", 0, 2)};
   const auto out = report::run(report::Params{}, in);
   INFO(out.markdown);
-  CHECK(out.markdown.find("| suv-1000 | 0% (0/1) | – | – (0/0) |") != std::string::npos);
+  CHECK(out.markdown.find("| suv-1000 | 0% (0/1) | 0/1 = 0.0% [0.0, 79.3] | – | – (0/0) |") !=
+        std::string::npos);
   // canopy's mean over both objects (100% and 0%); the thesis's over the one it printed (sedan 100%).
-  CHECK(out.markdown.find("| mean per object | 50% | 100% | |") != std::string::npos);
-  CHECK(out.markdown.find("| **all trials** | **50%** (1/2) | – |") != std::string::npos);
+  CHECK(out.markdown.find("| mean per object | 50% | | 100% | |") != std::string::npos);
+  CHECK(out.markdown.find("| **all trials** | **50%** (1/2) | 1/2 = 50.0% [9.5, 90.5] | – |") !=
+        std::string::npos);
   CHECK(out.markdown.find("### suv-1000 — 0% (thesis –)") != std::string::npos);
 }
 
@@ -100,8 +107,11 @@ TEST_CASE("ablation rows give each variant's rank-1 rate per object and overall"
   a.correct_rank = {{"sedan/circle/0", 1}, {"tank/circle/0", 2}};
   in.ablations.push_back(a);
   const auto out = report::run(report::Params{}, in);
-  CHECK(out.markdown.find("| **canopy defaults** | | 100% | 100% | **100%** |") != std::string::npos);
-  CHECK(out.markdown.find("| ncut-squared | `ncut --exponent squared` | 100% | 0% | 50% |") !=
+  // (one noise level: every trial its own render; all trials with Wilson at 2)
+  CHECK(out.markdown.find("| **canopy defaults** | | 100% | 100% | **2/2 = 100.0% [34.2, 100.0]** |") !=
+        std::string::npos);
+  CHECK(out.markdown.find(
+            "| ncut-squared | `ncut --exponent squared` | 100% | 0% | 1/2 = 50.0% [9.5, 90.5] |") !=
         std::string::npos);
 }
 

@@ -85,10 +85,18 @@ TEST_CASE("baseline section: rank-1 of canopy and both baseline methods per obje
   }
   const auto b = canopy::report::baseline_section(grid(out, {"sedan", "tank"}, {"circle"}, {0, 8}));
   INFO(b.markdown);
-  CHECK(b.markdown.find("| sedan | 2 | 1/2 (50%) | 1/2 (50%) | 1/2 (50%) | 2/2 (100%) |") != std::string::npos);
-  CHECK(b.markdown.find("| tank | 1 | 1/1 (100%) | 1/1 (100%) | 1/1 (100%) | 0/1 (0%) |") != std::string::npos);
-  CHECK(b.markdown.find("| all | 3 | 2/3 (67%) | 2/3 (67%) | 2/3 (67%) | 2/3 (67%) |") != std::string::npos);
-  CHECK(b.markdown.find("| 8 | 1 | 0/1 (0%) | 0/1 (0%) | 1/1 (100%) | 1/1 (100%) |") != std::string::npos);
+  // Wilson 95% at the distinct renders: the 2 noise levels copy one render, so the object and
+  // all rows have trials / 2 units (sedan 1/2 at 1: [5.5, 94.5]; tank 1/1 at 0.5: [11.5, 100];
+  // all 2/3 at 1.5: [12.9, 96.4]); a noise level's row its trials (0/1 at 1: [0, 79.3]).
+  CHECK(b.markdown.find("| sedan | 2 | 1/2 = 50.0% [5.5, 94.5] | 1/2 = 50.0% [5.5, 94.5] | "
+                        "1/2 = 50.0% [5.5, 94.5] | 2/2 = 100.0% [20.7, 100.0] |") != std::string::npos);
+  CHECK(b.markdown.find("| tank | 1 | 1/1 = 100.0% [11.5, 100.0] | 1/1 = 100.0% [11.5, 100.0] | "
+                        "1/1 = 100.0% [11.5, 100.0] | 0/1 = 0.0% [0.0, 88.5] |") != std::string::npos);
+  CHECK(b.markdown.find("| all | 3 | 2/3 = 66.7% [12.9, 96.4] | 2/3 = 66.7% [12.9, 96.4] | "
+                        "2/3 = 66.7% [12.9, 96.4] | 2/3 = 66.7% [12.9, 96.4] |") != std::string::npos);
+  CHECK(b.markdown.find(
+            "| 8 | 1 | 0/1 = 0.0% [0.0, 79.3] | 0/1 = 0.0% [0.0, 79.3] | 1/1 = 100.0% [20.7, 100.0] | "
+            "1/1 = 100.0% [20.7, 100.0] |") != std::string::npos);
   CHECK(b.markdown.find("1 trials have no baseline.json") != std::string::npos);
   CHECK(b.markdown.find("verify was not run on 1 of them") != std::string::npos);
   CHECK(b.markdown.find("mean 0.50 s") != std::string::npos);

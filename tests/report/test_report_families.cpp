@@ -48,14 +48,16 @@ TEST_CASE("families section: class accuracy per class and overall, levels, neare
 
   const std::string md = report::families_markdown(s);
   CHECK(md.find("## Vehicle families") != std::string::npos);
-  CHECK(md.find("**Class accuracy: 75.0% (9/12)**") != std::string::npos);
-  CHECK(md.find("nearest in size): 33.3% (4/12)") != std::string::npos);
-  CHECK(md.find("| sedan | 4 | 75.0% (3/4) |") != std::string::npos);
-  CHECK(md.find("| suv | 4 | 50.0% (2/4) |") != std::string::npos);
-  CHECK(md.find("| tank | 4 | 100.0% (4/4) |") != std::string::npos);
-  CHECK(md.find("| **all** | 12 | **75.0% (9/12)** |") != std::string::npos);
-  CHECK(md.find("| dense | 32 | 6 | 66.7% (4/6) | 3 (3) | 16.7% (1/6) | 1 |") != std::string::npos);
-  CHECK(md.find("| **all** |  | 12 | 75.0% (9/12) | 8 (7) | 33.3% (4/12) | 1 |") != std::string::npos);
+  CHECK(md.find("**Class accuracy: 9/12 = 75.0% [46.8, 91.1]**") != std::string::npos);
+  CHECK(md.find("nearest in size): 4/12 = 33.3% [13.8, 60.9]") != std::string::npos);
+  CHECK(md.find("| sedan | 4 | 3/4 = 75.0% [30.1, 95.4] |") != std::string::npos);
+  CHECK(md.find("| suv | 4 | 2/4 = 50.0% [15.0, 85.0] |") != std::string::npos);
+  CHECK(md.find("| tank | 4 | 4/4 = 100.0% [51.0, 100.0] |") != std::string::npos);
+  CHECK(md.find("| **all** | 12 | **9/12 = 75.0% [46.8, 91.1]** |") != std::string::npos);
+  CHECK(md.find("| dense | 32 | 6 | 4/6 = 66.7% [30.0, 90.3] | 3 (3) | 1/6 = 16.7% [3.0, 56.4] | 1 |") !=
+        std::string::npos);
+  CHECK(md.find("| **all** |  | 12 | 9/12 = 75.0% [46.8, 91.1] | 8 (7) | 4/12 = 33.3% [13.8, 60.9] | 1 |") !=
+        std::string::npos);
   // The confusion matrix as a table, right answers in bold.
   CHECK(md.find("| true \\ answered | sedan | suv | tank | none |") != std::string::npos);
   CHECK(md.find("| suv | 1 | **2** | 0 | 1 |") != std::string::npos);
@@ -140,7 +142,7 @@ TEST_CASE("report --families adds the section; without it the report has none; a
   REQUIRE(test::sh(report + (dir / "with").string() + " --families " + (dir / "families").string(),
                    dir / "err1.txt", &err) == 0);
   const std::string with = read(dir / "with" / "report.md");
-  CHECK(with.find("**Class accuracy: 75.0% (9/12)**") != std::string::npos);
+  CHECK(with.find("**Class accuracy: 9/12 = 75.0% [46.8, 91.1]**") != std::string::npos);
   CHECK(with.find("| suv | 1 | **2** | 0 | 1 |") != std::string::npos);
   // The report links the manifest's figures, and no other.
   CHECK(with.find("pictures/sedan.png") != std::string::npos);

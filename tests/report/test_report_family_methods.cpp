@@ -82,13 +82,23 @@ TEST_CASE("families section: canopy beside the baseline, per method, class, cove
 
   const std::string md = report::families_markdown(s);
   CHECK(md.find("### canopy beside the PCL baseline") != std::string::npos);
-  CHECK(md.find("| canopy (gmatch rank-1) | 66.7% (8/12) | 25.0% (3/12) | 1 | 1.50 |") != std::string::npos);
-  CHECK(md.find("| canopy (verify) | 75.0% (9/12) | 33.3% (4/12) | 1 | 2.75 (10 timed) |") != std::string::npos);
-  CHECK(md.find("| FPFH | 50.0% (6/12) | 16.7% (2/12) | 0 | – |") != std::string::npos);
+  CHECK(md.find(
+            "| canopy (gmatch rank-1) | 8/12 = 66.7% [39.1, 86.2] | 3/12 = 25.0% [8.9, 53.2] | 1 | 1.50 |") !=
+        std::string::npos);
+  CHECK(md.find("| canopy (verify) | 9/12 = 75.0% [46.8, 91.1] | 4/12 = 33.3% [13.8, 60.9] | 1 | 2.75 (10 "
+                "timed) |") != std::string::npos);
+  CHECK(md.find("| FPFH | 6/12 = 50.0% [25.4, 74.6] | 2/12 = 16.7% [4.7, 44.8] | 0 | – |") != std::string::npos);
   CHECK(md.find("| class | trials | canopy (gmatch rank-1) | canopy (verify) | FPFH |") != std::string::npos);
-  CHECK(md.find("| suv | 4 | 25.0% (1/4) | 50.0% (2/4) | 0.0% (0/4) |") != std::string::npos);
-  CHECK(md.find("| dense | 6 | 50.0% (3/6) | 66.7% (4/6) | 33.3% (2/6) |") != std::string::npos);
-  CHECK(md.find("| 32 | 6 | 50.0% (3/6) | 66.7% (4/6) | 33.3% (2/6) |") != std::string::npos);
+  CHECK(
+      md.find("| suv | 4 | 1/4 = 25.0% [4.6, 69.9] | 2/4 = 50.0% [15.0, 85.0] | 0/4 = 0.0% [0.0, 49.0] |") !=
+      std::string::npos);
+  CHECK(
+      md.find(
+          "| dense | 6 | 3/6 = 50.0% [18.8, 81.2] | 4/6 = 66.7% [30.0, 90.3] | 2/6 = 33.3% [9.7, 70.0] |") !=
+      std::string::npos);
+  CHECK(
+      md.find("| 32 | 6 | 3/6 = 50.0% [18.8, 81.2] | 4/6 = 66.7% [30.0, 90.3] | 2/6 = 33.3% [9.7, 70.0] |") !=
+      std::string::npos);
   CHECK(md.find("Confusion matrix of FPFH") != std::string::npos);
   CHECK(md.find("| suv | 4 | 0 | 0 | 0 |") != std::string::npos);
   CHECK(md.find("Confusion matrix of canopy (verify)") == std::string::npos);  // shown above

@@ -163,6 +163,8 @@ TEST_CASE("baseline section: a table per scene too", "[report][baseline]") {
   INFO(b.markdown);
   CHECK(b.markdown.find("| scene | trials | canopy (gmatch) | canopy (verify) | VFH | FPFH |") !=
         std::string::npos);
-  CHECK(b.markdown.find("| circle | 1 | 1/1 (100%) | 0/1 (0%) | 0/1 (0%) | 1/1 (100%) |") != std::string::npos);
-  CHECK(b.markdown.find("| flyby | 1 | 1/1 (100%) | 0/1 (0%) | 0/1 (0%) | 0/1 (0%) |") != std::string::npos);
+  CHECK(b.markdown.find("| circle | 1 | 1/1 = 100.0% [20.7, 100.0] | 0/1 = 0.0% [0.0, 79.3] | "
+                        "0/1 = 0.0% [0.0, 79.3] | 1/1 = 100.0% [20.7, 100.0] |") != std::string::npos);
+  CHECK(b.markdown.find("| flyby | 1 | 1/1 = 100.0% [20.7, 100.0] | 0/1 = 0.0% [0.0, 79.3] | "
+                        "0/1 = 0.0% [0.0, 79.3] | 0/1 = 0.0% [0.0, 79.3] |") != std::string::npos);
 }

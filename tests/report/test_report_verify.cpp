@@ -150,11 +150,19 @@ TEST_CASE("verify section and verdicts.csv in the report") {
   CHECK_THAT(out.markdown, Catch::Contains("## Verification (`verify`)"));
   CHECK_THAT(out.markdown, Catch::Contains("verify was not run on 1 trials"));
   // all trials: 3/7 right, 1 wrong model, 1 flipped, 1 none, 1 failed; gmatch 3/7.
+  // Wilson 95% at the distinct renders: a row pooling the 2 noise levels has trials / 2 units
+  // (all: 3/7 at 3.5 -> [10.6, 82.6]; sedan 2/4 at 2 -> [9.5, 90.5]), a noise level's row its
+  // trials (32 mm: 1/3 at 3 -> [6.1, 79.2]); reliability bins answers / 2 (2/2 at 1 -> [20.7, 100]).
   CHECK_THAT(out.markdown,
-             Catch::Contains("| **all trials** | 7 | **43%** (3) | 1 | 1 | 1 | 1 | **43%** (3) |"));
-  CHECK_THAT(out.markdown, Catch::Contains("| sedan | 4 | 50% (2) | 0 | 1 | 0 | 1 | 50% (2) |"));
-  CHECK_THAT(out.markdown, Catch::Contains("| 32 mm | 3 | 33% (1) | 0 | 1 | 0 | 1 | 33% (1) |"));
-  CHECK_THAT(out.markdown, Catch::Contains("| 0.9–1.0 | 2 | 100% (2) |"));
+             Catch::Contains("| **all trials** | 7 | 3/7 = 42.9% [10.6, 82.6] | 1 | 1 | 1 | 1 | "
+                             "3/7 = 42.9% [10.6, 82.6] |"));
+  CHECK_THAT(
+      out.markdown,
+      Catch::Contains("| sedan | 4 | 2/4 = 50.0% [9.5, 90.5] | 0 | 1 | 0 | 1 | 2/4 = 50.0% [9.5, 90.5] |"));
+  CHECK_THAT(
+      out.markdown,
+      Catch::Contains("| 32 mm | 3 | 1/3 = 33.3% [6.1, 79.2] | 0 | 1 | 0 | 1 | 1/3 = 33.3% [6.1, 79.2] |"));
+  CHECK_THAT(out.markdown, Catch::Contains("| 0.9–1.0 | 2 | 2/2 = 100.0% [20.7, 100.0] |"));
   CHECK_THAT(out.markdown, Catch::Contains("position median 0.050 m, 90th percentile 0.090 m"));
 
   std::istringstream csv(out.verdicts_csv);

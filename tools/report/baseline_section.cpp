@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <algorithm>
 #include <map>
 #include <sstream>
 
@@ -19,11 +20,6 @@ namespace canopy::report {
 namespace {
 
 using formats::format_number;
-
-std::string rate(int k, int n) {
-  if (n == 0) return "–";
-  return std::to_string(k) + "/" + std::to_string(n) + " (" + format_number("%.0f%%", 100.0 * k / n) + ")";
-}
 
 // The rank-1 model of each method in a canopy.baseline document ("" when the method is absent).
 std::map<std::string, std::string> rank1(const std::string& text, const std::string& path) {
@@ -111,9 +107,14 @@ Tally tally_of(const Map& m, const Key& key) {
   return it == m.end() ? Tally{} : it->second;
 }
 
-void tally_row(std::ostringstream& md, const std::string& label, const Tally& x) {
-  md << "| " << label << " | " << x.n << " | " << rate(x.canopy, x.n) << " | " << rate(x.verify, x.n) << " | "
-     << rate(x.vfh, x.n) << " | " << rate(x.fpfh, x.n) << " |\n";
+// A row's rates with Wilson 95% intervals at `copies` trials per distinct render (the noise
+// levels of an (object, scene) are copies of one render: a row pooling them has n / copies
+// units; a row of one noise level, 1 copy).
+void tally_row(std::ostringstream& md, const std::string& label, const Tally& x, double copies) {
+  const double u = x.n / copies;
+  md << "| " << label << " | " << x.n << " | " << rate_ci_units(x.canopy, x.n, u) << " | "
+     << rate_ci_units(x.verify, x.n, u) << " | " << rate_ci_units(x.vfh, x.n, u) << " | "
+     << rate_ci_units(x.fpfh, x.n, u) << " |\n";
 }
 
 std::string baseline_markdown(const Counts& k, const std::vector<std::string>& objects,
@@ -124,17 +125,20 @@ std::string baseline_markdown(const Counts& k, const std::vector<std::string>& o
         "`samples.pcd` above the ground cut) and the same modelbase (`<model>.pcd` surfaces): **VFH** "
         "nearest model view (global) and **FPFH** correspondences + RANSAC + ICP ranked by fitness "
         "(local). canopy: gmatch's rank-1 model (`match.json`) and verify's answer (`verdict.json`; "
-        "none or no verdict counts as wrong). Rank-1 = the true model answered first.\n\n";
+        "none or no verdict counts as wrong). Rank-1 = the true model answered first. Rates: k/n with "
+        "Wilson's 95% interval at the distinct renders (the noise levels of an (object, scene) are copies "
+        "of one render: rows pooling them have trials / noise levels units).\n\n";
+  const double copies = static_cast<double>(std::max<std::size_t>(1, noises.size()));
   md << "| object | trials | canopy (gmatch) | canopy (verify) | VFH | FPFH |\n"
         "|---|---:|---:|---:|---:|---:|\n";
-  for (const auto& o : objects) tally_row(md, o, tally_of(k.by_object, o));
-  tally_row(md, "all", k.all);
+  for (const auto& o : objects) tally_row(md, o, tally_of(k.by_object, o), copies);
+  tally_row(md, "all", k.all, copies);
   md << "\n| noise (mm) | trials | canopy (gmatch) | canopy (verify) | VFH | FPFH |\n"
         "|---:|---:|---:|---:|---:|---:|\n";
-  for (int n : noises) tally_row(md, std::to_string(n), tally_of(k.by_noise, n));
+  for (int n : noises) tally_row(md, std::to_string(n), tally_of(k.by_noise, n), 1);
   md << "\n| scene | trials | canopy (gmatch) | canopy (verify) | VFH | FPFH |\n"
         "|---|---:|---:|---:|---:|---:|\n";
-  for (const auto& s : scenes) tally_row(md, s, tally_of(k.by_scene, s));
+  for (const auto& s : scenes) tally_row(md, s, tally_of(k.by_scene, s), copies);
   md << "\nBaseline time (both methods, one process per trial): ";
   if (k.timed > 0) {
     md << "mean " << format_number("%.2f", k.seconds / k.timed) << " s wall per trial, total "

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <filesystem>
+#include <set>
 #include <sstream>
 
 #include "canopy/common/atomic_file.h"
@@ -22,10 +23,13 @@ std::string method_label(const std::string& m) {
 
 namespace {
 
-std::string pct(int k, int n) { return n == 0 ? "–" : formats::format_number("%.1f%%", 100.0 * k / n); }
-
-std::string rate(int k, int n) {
-  return pct(k, n) + " (" + std::to_string(k) + "/" + std::to_string(n) + ")";
+// How many noise levels each test render is run at: accuracy.csv's cover x noise rows over its
+// covers (the grid is full: every cover at every noise level). A row that pools the noise
+// levels has trials / this many distinct renders.
+double noise_copies(const FamilySummary& s) {
+  std::set<std::string> covers;
+  for (const auto& l : s.levels) covers.insert(l.cover);
+  return covers.empty() ? 1.0 : std::max(1.0, static_cast<double>(s.levels.size()) / covers.size());
 }
 
 const documents::FamilyMethodRow* method_row(const FamilySummary& s, const std::string& m,
@@ -49,9 +53,13 @@ std::string family_methods_markdown(const FamilySummary& s) {
         "trial: wall seconds of the method's own stages after the shared fitvox (gmatch: cocone + ncut + "
         "gmatch; "
         "verify: those + verify; VFH, FPFH: one baseline run each), from the stages' .time files. From "
-        "`families/methods.csv` and `families/methods-confusion.csv` (famscore).\n\n"
+        "`families/methods.csv` and `families/methods-confusion.csv` (famscore). Rates: k/n with Wilson's "
+        "95% interval at the distinct renders (each test vehicle is rendered once per cover level and its "
+        "noise levels are noisy copies of that render: a row pooling them has trials / noise levels units; "
+        "a row of one noise level, its trials).\n\n"
      << "| method | class accuracy | nearest instance | failed | time per trial (s) |\n"
         "|---|---:|---:|---:|---:|\n";
+  const double levels = noise_copies(s);
   for (const auto& m : s.methods) {
     const documents::FamilyMethodRow* r = method_row(s, m, "all", "all", "all");
     std::string t = "–";
@@ -59,8 +67,9 @@ std::string family_methods_markdown(const FamilySummary& s) {
       t = formats::format_number("%.2f", r->seconds_mean);
       if (r->timed < r->trials) t += " (" + std::to_string(r->timed) + " timed)";
     }
-    md << "| " << method_label(m) << " | " << rate(r->class_right, r->trials) << " | "
-       << rate(r->nearest_right, r->trials) << " | " << r->failed << " | " << t << " |\n";
+    md << "| " << method_label(m) << " | " << rate_ci_units(r->class_right, r->trials, r->trials / levels)
+       << " | " << rate_ci_units(r->nearest_right, r->trials, r->trials / levels) << " | " << r->failed
+       << " | " << t << " |\n";
   }
   // table(first column, the slices' keys): class accuracy of every method per slice.
   auto table = [&](const std::string& title, const std::vector<std::array<std::string, 3>>& keys,
@@ -76,7 +85,8 @@ std::string family_methods_markdown(const FamilySummary& s) {
       md << "| " << key[label_index] << " | " << first->trials << " |";
       for (const auto& m : s.methods) {
         const documents::FamilyMethodRow* r = method_row(s, m, key[0], key[1], key[2]);
-        md << " " << (r ? rate(r->class_right, r->trials) : "–") << " |";
+        const double units = r ? (label_index == 2 ? r->trials : r->trials / levels) : 0;
+        md << " " << (r ? rate_ci_units(r->class_right, r->trials, units) : "–") << " |";
       }
       md << "\n";
     }
@@ -276,28 +286,34 @@ void add_family_methods(FamilySummary& s, const std::string& methods, const std:
 
 std::string families_markdown(const FamilySummary& s) {
   std::ostringstream md;
+  // Each test vehicle is rendered once per cover level; its noise levels are copies of that render.
+  const double copies = noise_copies(s);
+  auto pooled = [&](int k, int n) { return rate_ci_units(k, n, n / copies); };
   md << "\n## Vehicle families (issue 17)\n\n"
      << "The class-level protocol (`make -f Makefile.experiments families`, mk/families.mk, "
         "docs/decisions/families.md): procedural vehicles of "
      << s.classes.size()
      << " classes, tested on instances that are not in the modelbase. The answered class is the class of "
         "verify's best-scoring hypothesis (accepted or not); `none` = no class answered or a stage failed. "
-        "From `families/confusion.csv` and `families/accuracy.csv` (famscore).\n\n"
-     << "**Class accuracy: " << rate(s.right, s.trials)
+        "From `families/confusion.csv` and `families/accuracy.csv` (famscore). Rates: k/n with Wilson's 95% "
+        "interval at the distinct renders (rows pooling the noise levels: trials / noise levels; a row of "
+        "one cover and noise level: its trials).\n\n"
+     << "**Class accuracy: " << pooled(s.right, s.trials)
      << "**; nearest instance (the modelbase entry of the "
         "true class nearest in size): "
-     << rate(s.all.nearest_right, s.all.trials) << "; verify accepted " << s.all.accepted << " answers, "
+     << pooled(s.all.nearest_right, s.all.trials) << "; verify accepted " << s.all.accepted << " answers, "
      << s.all.accepted_right << " of them of the right class; " << s.all.failed << " failed trials.\n\n";
   md << "| class | trials | class accuracy |\n|---|---:|---:|\n";
   for (const auto& c : s.classes)
-    md << "| " << c.name << " | " << c.trials << " | " << rate(c.right, c.trials) << " |\n";
-  md << "| **all** | " << s.trials << " | **" << rate(s.right, s.trials) << "** |\n\n";
+    md << "| " << c.name << " | " << c.trials << " | " << pooled(c.right, c.trials) << " |\n";
+  md << "| **all** | " << s.trials << " | **" << pooled(s.right, s.trials) << "** |\n\n";
   md << "| cover | noise (mm) | trials | class accuracy | verify accepted (right class) | nearest instance | "
         "failed |\n|---|---:|---:|---:|---:|---:|---:|\n";
   auto level = [&](const documents::FamilyAccuracyRow& l, bool total) {
-    md << "| " << (total ? "**all**" : l.cover) << " | " << (total ? "" : l.noise) << " | " << l.trials
-       << " | " << rate(l.class_right, l.trials) << " | " << l.accepted << " (" << l.accepted_right << ") | "
-       << rate(l.nearest_right, l.trials) << " | " << l.failed << " |\n";
+    const double units = total ? l.trials / copies : l.trials;
+    md << "| " << (total ? "**all**" : l.cover) << " | " << (total ? "" : l.noise) << " | " << l.trials << " | "
+       << rate_ci_units(l.class_right, l.trials, units) << " | " << l.accepted << " (" << l.accepted_right
+       << ") | " << rate_ci_units(l.nearest_right, l.trials, units) << " | " << l.failed << " |\n";
   };
   for (const auto& l : s.levels) level(l, false);
   level(s.all, true);

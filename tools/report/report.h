@@ -278,4 +278,9 @@ std::string scene_markdown(const documents::SceneScore& score, const std::vector
                            const std::string& figures_dir);
 std::string scene_times_csv(const std::vector<SceneStageTime>& times);
 
+// "k/n = r% [lo, hi]": the rate with Wilson's 95% interval at `units` independent units
+// (common::wilson_effective; units = n when every trial is its own sample, fewer where trials
+// share a render); "–" when n = 0.
+std::string rate_ci_units(int k, int n, double units);
+
 }  // namespace canopy::report
