@@ -238,7 +238,15 @@ scene_key = S_$(subst .,_,$(subst -,_,$(subst /,_,$(1))))
 # beside canopy's. SCENE_BASELINE= (empty) leaves the baseline out.
 SCENE_BASELINE ?= vfh fpfh
 $(if $(filter-out vfh fpfh,$(SCENE_BASELINE)),$(error SCENE_BASELINE=$(SCENE_BASELINE): methods are vfh and fpfh))
-SCENE_BL_SCORES := $(foreach m,$(SCENE_BASELINE),$(SCENE_RES)/baseline-$(m)/score.json)
+# The size-only ablation (issue 29, "what each stage adds"; docs/decisions/scene-experiment.md):
+# no model chain at all: each candidate classify answers with a class becomes a detection of
+# the modelbase model nearest to classify's length, width and height (`collect --size-only`),
+# scored like the baseline as results/scenes/baseline-size/. It reads only what canopy's runs
+# already made (class.json, the surfaces): one collect per run and one score. SCENE_SIZE_ONLY=0
+# leaves it out.
+SCENE_SIZE_ONLY ?= 1
+$(if $(filter-out 0 1,$(SCENE_SIZE_ONLY)),$(error SCENE_SIZE_ONLY=$(SCENE_SIZE_ONLY): must be 0 or 1))
+SCENE_BL_SCORES := $(foreach m,$(SCENE_BASELINE) $(if $(filter 1,$(SCENE_SIZE_ONLY)),size),$(SCENE_RES)/baseline-$(m)/score.json)
 
 .PHONY: scenes
 # The report's "Scene experiment" section: the score, and the stages' .time files found through
@@ -356,6 +364,16 @@ $(foreach m,$(SCENE_BASELINE),$(foreach r,$(SCENE_RUNS),$(foreach c,$(call model
   $(eval $(call scene_baseline_cand_rule,$(r),$(c),$(m))))))
 $(foreach m,$(SCENE_BASELINE),$(foreach r,$(SCENE_RUNS),$(eval $(call scene_baseline_run_rule,$(r),$(call scene_key,$(r)),$(m)))))
 $(foreach m,$(SCENE_BASELINE),$(eval $(call scene_baseline_score_rule,$(m))))
+# The size-only ablation: per run, collect from classify's answers alone; scored as above.
+define scene_size_run_rule
+$(1)/detections-baseline-size.json: $(1)/cands.mk $(foreach c,$($(2)_CANDS),$(1)/cands/$(c)/class.json) \
+    $(VERIFY_SURFACES) $(call tool,collect)
+	@$(STAGE) $$@ -- $(BIN)/collect -i $(1)/cands/index.json --size-only -o $$@ --modelbase $(SCENE_MB)
+endef
+ifeq ($(SCENE_SIZE_ONLY),1)
+$(foreach r,$(SCENE_RUNS),$(eval $(call scene_size_run_rule,$(r),$(call scene_key,$(r)))))
+$(eval $(call scene_baseline_score_rule,size))
+endif
 # Per run: the tile from above with truth and detections coloured by the score's outcome
 # (right green, wrong model orange, false alarm magenta, missed yellow, found truth white).
 # It is the last reader of the run's scan and of the tile's render (all noisy scans exist once

@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -602,4 +603,70 @@ TEST_CASE("collect --plan: each candidate's level from its object density") {
   REQUIRE(test::sh(cmd + " --model-density 5", dir / "err.txt", &err) == 0);
   CHECK_THAT(read_text(dir / "cands.mk"), Catch::Contains("\nTILE_LEVEL_c0002 := model\n"));
   CHECK(test::sh(cmd + " --model-density -1", dir / "err.txt", &err) == 2);
+}
+
+TEST_CASE("collect --size-only: classify's size picks the nearest model; no verdict is read") {
+  const fs::path dir = tile("size-only");
+  const fs::path cands = dir / "cands";
+  const fs::path mb = dir / "mb";
+  // Two surfaces (label-1 box corners): "small" 4.5 x 1.8 x 1.45 m with its origin at the rear
+  // (x in [0, 4.5]); "long" 12 x 2.2 x 3.4 m lying along y (x in [-1.1, 1.1], y in [-6, 6]).
+  auto surface = [](double x0, double x1, double y0, double y1, double z1) {
+    std::string pts;
+    for (double x : {x0, x1})
+      for (double y : {y0, y1})
+        for (double z : {0.2, z1})
+          pts += std::to_string(x) + " " + std::to_string(y) + " " + std::to_string(z) + " 1\n";
+    return "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z label\nSIZE 8 8 8 4\nTYPE F F F I\nCOUNT 1 1 1 1\nWIDTH "
+           "8\n"
+           "HEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 8\nDATA ascii\n" +
+           pts;
+  };
+  write(mb / "small.pcd", surface(0, 4.5, -0.9, 0.9, 1.45));
+  write(mb / "long.pcd", surface(-1.1, 1.1, -6, 6, 3.4));
+  // c0001: verify said sedan; classify measured 11.8 x 2.3 x 3.3 at the candidate's origin
+  // (tile E + 10, N + 10, heading 0). c0002: classify 4.5 x 1.8 x 1.45 at (1, 0.5) turned by
+  // 90 degrees (tile E + 6, N + 25.5, heading 90). c0003: verify said tank, classify too sparse.
+  Json big = class_answer(cands, "c0001", "box-truck", "truck", nullptr, 900, flat(0, 0, 0, 0));
+  big["size"] = Json::array({11.8, 2.3, 3.3});
+  write(cands / "c0001" / "class.json", big.dump());
+  write(cands / "c0002" / "class.json",
+        class_answer(cands, "c0002", "hatchback", "car", nullptr, 30, flat(90, 1, 0.5, 0)).dump());
+  write(cands / "c0003" / "class.json",
+        class_answer(cands, "c0003", nullptr, nullptr, "too_sparse", 2.1, nullptr).dump());
+  std::string err;
+  const std::string cmd =
+      bin() + " -i " + (cands / "index.json").string() + " -o " + (dir / "d.json").string() + " --size-only";
+  CHECK(test::sh(cmd, dir / "err.txt", &err) == 2);  // needs --modelbase
+  CHECK_THAT(err, Catch::Contains("--size-only needs --modelbase"));
+  REQUIRE(test::sh(cmd + " --modelbase " + mb.string(), dir / "err.txt", &err) == 0);
+  const Json d = read_json(dir / "d.json");
+  CHECK(d["found"] == 2);
+  CHECK(d["by_level"] == Json{{"model", 2}, {"class", 0}});
+  CHECK(d["by_reason"] == Json{{"too_sparse", 1}});
+  REQUIRE(d["detections"].size() == 2);
+  // c0001: "long", turned a quarter so its 12 m side lies along classify's length: heading -90,
+  // its centre (the origin) on the rectangle's.
+  const Json& a = d["detections"][0];
+  CHECK(a["model"] == "long");
+  CHECK(a["level"] == "model");
+  CHECK(a["pose"]["x"].get<double>() == Approx(E + 10).margin(1e-6));
+  CHECK(a["pose"]["y"].get<double>() == Approx(N + 10).margin(1e-6));
+  CHECK(std::fmod(a["pose"]["heading"].get<double>() + 360, 360) == Approx(270));
+  CHECK(a["footprint_from"] == "model");
+  // c0002: "small", its box centre (2.25 m ahead of its origin) on the rectangle's centre, so the
+  // origin lies 2.25 m behind it along heading 90: (E + 6, N + 23.25).
+  const Json& b = d["detections"][1];
+  CHECK(b["model"] == "small");
+  CHECK(b["pose"]["x"].get<double>() == Approx(E + 6).margin(1e-6));
+  CHECK(b["pose"]["y"].get<double>() == Approx(N + 23.25).margin(1e-6));
+  CHECK(b["pose"]["heading"].get<double>() == Approx(90));
+  // No verify verdict read: c0003's tank is not an answer, and no verdict.json is an input.
+  const std::string inputs = d["provenance"]["inputs"].dump();
+  CHECK(inputs.find("verdict.json") == std::string::npos);
+  CHECK(inputs.find("long.pcd") != std::string::npos);
+  // The pure functions: nearest in (L, W, H), ties to the first name; the quarter turn.
+  std::map<std::string, collect::ModelBox> boxes{{"a", {0, 4, -1, 1, 1.5}}, {"b", {-1, 1, -2, 2, 1.5}}};
+  CHECK(collect::nearest_by_size({4, 2, 1.5}, boxes) == "a");  // both 4 x 2 x 1.5: the first
+  CHECK(collect::nearest_by_size({9, 3, 3}, {}) == "");
 }

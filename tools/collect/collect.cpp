@@ -1,6 +1,8 @@
 #include "collect/collect.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <filesystem>
 #include <regex>
@@ -359,6 +361,31 @@ void validate(const Params& params) {
   }
 }
 
+std::string nearest_by_size(const std::array<double, 3>& size, const std::map<std::string, ModelBox>& boxes) {
+  std::string best;
+  double d_best = std::numeric_limits<double>::infinity();
+  for (const auto& [name, b] : boxes) {
+    const double lx = b.x1 - b.x0, ly = b.y1 - b.y0;
+    const std::array<double, 3> m{std::max(lx, ly), std::min(lx, ly), b.z1};
+    double d = 0;
+    for (int i = 0; i < 3; ++i) d += (m[i] - size[i]) * (m[i] - size[i]);
+    if (d < d_best) {
+      d_best = d;
+      best = name;
+    }
+  }
+  return best;
+}
+
+Matrix size_only_pose(const Matrix& rect, const ModelBox& b) {
+  const double cx = (b.x0 + b.x1) / 2, cy = (b.y0 + b.y1) / 2;
+  // model -> rectangle frame: x' = R (x - c), R = identity or a quarter turn (model y along x').
+  const bool turn = b.y1 - b.y0 > b.x1 - b.x0;
+  const double c = turn ? 0 : 1, s = turn ? -1 : 0;  // Rz(-90°) maps the model's y onto x'
+  const Matrix m{c, -s, 0, -(c * cx - s * cy), s, c, 0, -(s * cx + c * cy), 0, 0, 1, 0, 0, 0, 0, 1};
+  return multiply(rect, m);
+}
+
 Outputs collect(const Index& index, const std::vector<Answers>& answers, const Params& params,
                 const formats::Provenance& provenance) {
   if (answers.size() != index.candidates.size())
@@ -380,10 +407,21 @@ Outputs collect(const Index& index, const std::vector<Answers>& answers, const P
                                           " has no answer (run its model chain or classify)");
     }
     const Verdict* found = nullptr;
-    if (v.present && !v.failed && !v.model.empty()) {
+    Verdict by_size;
+    const bool classified = k.present && !k.failed && !k.cls.empty() && (k.pose || k.pose_tile);
+    if (params.size_only) {
+      if (classified && k.size && !params.boxes.empty()) {
+        by_size = k;
+        by_size.model = nearest_by_size(*k.size, params.boxes);
+        const Matrix rect = k.pose_tile ? *k.pose_tile : multiply(c.transform, *k.pose);
+        by_size.pose_tile = size_only_pose(rect, params.boxes.at(by_size.model));
+        found = &by_size;
+        ++out.model_level;
+      }
+    } else if (v.present && !v.failed && !v.model.empty()) {
       found = &v;
       ++out.model_level;
-    } else if (k.present && !k.failed && !k.cls.empty() && (k.pose || k.pose_tile)) {
+    } else if (classified) {
       found = &k;
       ++out.class_level;
     }

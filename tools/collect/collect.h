@@ -63,15 +63,31 @@ struct Answers {
   Verdict cls;
 };
 
-// The top-view rectangle of a model in its own frame: x in [x0, x1], y in [y0, y1].
+// The top-view rectangle of a model in its own frame: x in [x0, x1], y in [y0, y1]; z1 its
+// highest point above the model frame's ground (z = 0).
 struct ModelBox {
-  double x0 = 0, x1 = 0, y0 = 0, y1 = 0;
+  double x0 = 0, x1 = 0, y0 = 0, y1 = 0, z1 = 0;
 };
 
 struct Params {
   std::string crs;                        // "EPSG:<code>" or ""
   std::map<std::string, ModelBox> boxes;  // by model name; a model without one uses the candidate footprint
+  // The size-only ablation (issue 29; docs/decisions/scene-experiment.md): no model chain; a
+  // candidate classify answers with a class and a size becomes a model-level detection of the
+  // model in `boxes` nearest to that size (nearest_by_size), placed with its box centre on
+  // classify's rectangle (size_only_pose). Other candidates are rejected as without it.
+  bool size_only = false;
 };
+
+// The model of `boxes` whose (length, width, height) — the longer and shorter side of its
+// rectangle and z1 — is nearest to `size` (L W H, m) in Euclidean distance; ties: the first
+// name. "" when `boxes` is empty.
+std::string nearest_by_size(const std::array<double, 3>& size, const std::map<std::string, ModelBox>& boxes);
+// model -> tile for a model placed by size on classify's rectangle frame `rect` (rectangle
+// centre, x along its length -> tile): the model's rectangle centre on the rectangle's, its
+// longer side along the rectangle's length (turned 90° about z when the model's y side is the
+// longer).
+Matrix size_only_pose(const Matrix& rect, const ModelBox& box);
 
 // Throws common::UsageError naming --crs when crs is neither empty nor EPSG:<1-6 digits>.
 void validate(const Params& params);

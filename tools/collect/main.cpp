@@ -30,6 +30,7 @@ collect::ModelBox model_box(const std::string& path) {
   const auto& x = pc.col("x");
   const auto& y = pc.col("y");
   const std::vector<double>* label = pc.has("label") ? &pc.col("label") : nullptr;
+  const std::vector<double>* z = pc.has("z") ? &pc.col("z") : nullptr;
   collect::ModelBox b{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
                       std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
   std::size_t n = 0;
@@ -39,6 +40,7 @@ collect::ModelBox model_box(const std::string& path) {
     b.x1 = std::max(b.x1, x[i]);
     b.y0 = std::min(b.y0, y[i]);
     b.y1 = std::max(b.y1, y[i]);
+    if (z) b.z1 = n == 0 ? (*z)[i] : std::max(b.z1, (*z)[i]);
     ++n;
   }
   if (n == 0) throw common::DataError(path, "has no vehicle points (label 1) to bound the model");
@@ -50,6 +52,7 @@ struct Options {
   std::string in, out = "-", plan, key = "TILE", verdicts, name = "verdict.json", class_name = "class.json",
                   geojson, crs, modelbase;
   double model_density = collect::kModelDensity;
+  bool size_only = false;
 };
 
 void bind(common::Tool& tool, Options& o) {
@@ -75,6 +78,10 @@ void bind(common::Tool& tool, Options& o) {
   tool.add("--modelbase", &o.modelbase,
            "directory of <model>.pcd surfaces: footprints are the posed model's "
            "top-view box (else the candidate's footprint)");
+  tool.add_flag("--size-only", &o.size_only,
+                "the size-only ablation: no model chain (no verdict is read); each candidate classify "
+                "answers with a class becomes a detection of the --modelbase model nearest to its "
+                "length, width and height");
 }
 
 // --plan: the candidates' make plan, alone.
@@ -114,7 +121,8 @@ std::vector<collect::Answers> read_answers(const Options& o, const collect::Inde
   std::vector<collect::Answers> as;
   for (const auto& c : index.candidates) {
     collect::Answers a;
-    a.model = read((dir / c.id / o.name).string(), c.id);
+    a.model = o.size_only ? collect::absent_verdict((dir / c.id / o.name).string())
+                          : read((dir / c.id / o.name).string(), c.id);
     a.cls =
         o.class_name.empty() ? collect::absent_verdict("") : read((dir / c.id / o.class_name).string(), c.id);
     if (!a.model.present && !a.cls.present) {
@@ -127,13 +135,22 @@ std::vector<collect::Answers> read_answers(const Options& o, const collect::Inde
 }
 
 // The top-view boxes of the found models that the modelbase holds; their paths join the inputs.
+// With `all`, every <model>.pcd of the modelbase (--size-only chooses among them).
 std::map<std::string, collect::ModelBox> read_boxes(const std::string& modelbase,
                                                     const std::vector<collect::Answers>& as,
-                                                    std::vector<std::string>& inputs) {
+                                                    std::vector<std::string>& inputs, bool all) {
   std::map<std::string, collect::ModelBox> boxes;
   std::set<std::string> models;
   for (const auto& a : as) {
     if (a.model.present && !a.model.model.empty()) models.insert(a.model.model);
+  }
+  if (all) {
+    std::error_code ec;
+    if (!fs::is_directory(modelbase, ec)) throw common::DataError(modelbase, "is not a modelbase directory");
+    for (const auto& e : fs::directory_iterator(modelbase)) {
+      if (e.path().extension() == ".pcd") models.insert(e.path().stem().string());
+    }
+    if (models.empty()) throw common::DataError(modelbase, "holds no <model>.pcd surface for --size-only");
   }
   for (const auto& m : models) {
     const fs::path path = fs::path(modelbase) / (m + ".pcd");
@@ -175,7 +192,10 @@ int main(int argc, char** argv) {
     if (o.class_name.find('/') != std::string::npos)
       throw common::UsageError("--class-name must be a file name");
     in.answers = read_answers(o, in.index, in.provenance.inputs);
-    if (!o.modelbase.empty()) p.boxes = read_boxes(o.modelbase, in.answers, in.provenance.inputs);
+    if (o.size_only && o.modelbase.empty()) throw common::UsageError("--size-only needs --modelbase");
+    p.size_only = o.size_only;
+    if (!o.modelbase.empty())
+      p.boxes = read_boxes(o.modelbase, in.answers, in.provenance.inputs, o.size_only);
     const collect::Outputs r = collect::run(p, in);
     outputs.set(o.out, r.detections);
     if (!o.geojson.empty()) outputs.set(o.geojson, r.geojson);

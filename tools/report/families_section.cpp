@@ -18,6 +18,7 @@ std::string method_label(const std::string& m) {
   if (m == "verify") return "canopy (verify)";
   if (m == "vfh") return "VFH";
   if (m == "fpfh") return "FPFH";
+  if (m == "size") return "size only (ablation)";
   return m;
 }
 
