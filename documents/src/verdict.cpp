@@ -219,6 +219,27 @@ void class_keys_from(const Json& j, Verdict& v) {
     }
     v.size = lwh;
   }
+  if (j.contains("measured") && !j["measured"].is_null()) {
+    const Json& m = j["measured"];
+    if (!m.is_object()) throw Malformed("measured must be an object or null, not " + describe(m));
+    auto numbers = [&](const char* key, std::size_t n, double min) {
+      const Json* a = m.contains(key) ? &m[key] : nullptr;
+      if (!a || !a->is_array() || a->size() != n)
+        throw Malformed(std::string("measured.") + key + " must be " + std::to_string(n) + " numbers");
+      std::array<double, 3> out{};
+      for (std::size_t k = 0; k < n; ++k) {
+        if (!(*a)[k].is_number() || !((*a)[k].get<double>() >= min) || !std::isfinite((*a)[k].get<double>()))
+          throw Malformed(std::string("measured.") + key + " must be finite numbers" +
+                          (min > -1e300 ? " >= 0" : "") + ", not " + describe((*a)[k]));
+        out[k] = (*a)[k].get<double>();
+      }
+      return out;
+    };
+    v.measured_size = numbers("size", 3, 0);
+    const auto c = numbers("centre", 2, -std::numeric_limits<double>::max());
+    v.measured_centre = std::array<double, 2>{c[0], c[1]};
+    v.measured_heading = number_at(m, "heading_deg", "measured");
+  }
 }
 
 }  // namespace

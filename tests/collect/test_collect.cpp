@@ -605,7 +605,7 @@ TEST_CASE("collect --plan: each candidate's level from its object density") {
   CHECK(test::sh(cmd + " --model-density -1", dir / "err.txt", &err) == 2);
 }
 
-TEST_CASE("collect --size-only: classify's size picks the nearest model; no verdict is read") {
+TEST_CASE("collect --size-only: the measured size picks the nearest model; no verdict, no class decision") {
   const fs::path dir = tile("size-only");
   const fs::path cands = dir / "cands";
   const fs::path mb = dir / "mb";
@@ -624,49 +624,82 @@ TEST_CASE("collect --size-only: classify's size picks the nearest model; no verd
   };
   write(mb / "small.pcd", surface(0, 4.5, -0.9, 0.9, 1.45));
   write(mb / "long.pcd", surface(-1.1, 1.1, -6, 6, 3.4));
-  // c0001: verify said sedan; classify measured 11.8 x 2.3 x 3.3 at the candidate's origin
-  // (tile E + 10, N + 10, heading 0). c0002: classify 4.5 x 1.8 x 1.45 at (1, 0.5) turned by
-  // 90 degrees (tile E + 6, N + 25.5, heading 90). c0003: verify said tank, classify too sparse.
-  Json big = class_answer(cands, "c0001", "box-truck", "truck", nullptr, 900, flat(0, 0, 0, 0));
-  big["size"] = Json::array({11.8, 2.3, 3.3});
-  write(cands / "c0001" / "class.json", big.dump());
+  auto measured = [](Json j, double l, double w, double h, double cx, double cy, double heading) {
+    j["measured"] = Json{{"size", {l, w, h}},
+                         {"centre", {cx, cy}},
+                         {"heading_deg", heading},
+                         {"spacing", 0.1},
+                         {"edge_correction", 0.01}};
+    return j;
+  };
+  // c0001: verify said sedan; classify a box truck measured 11.8 x 2.3 x 3.3 at the candidate's
+  // origin (tile E + 10, N + 10, heading 0). c0002: a hatchback measured 4.5 x 1.8 x 1.45 at
+  // (1, 0.5), heading 90 (tile E + 6, N + 25.5). c0003: verify said tank; classify called it
+  // vegetation, measured 4.4 x 1.9 x 1.5 at its origin (tile E + 20, N + 20, heading 90).
+  write(cands / "c0001" / "class.json",
+        measured(class_answer(cands, "c0001", "box-truck", "truck", nullptr, 900, flat(0, 0, 0, 0)), 11.8,
+                 2.3, 3.3, 0, 0, 0)
+            .dump());
   write(cands / "c0002" / "class.json",
-        class_answer(cands, "c0002", "hatchback", "car", nullptr, 30, flat(90, 1, 0.5, 0)).dump());
+        measured(class_answer(cands, "c0002", "hatchback", "car", nullptr, 30, flat(90, 1, 0.5, 0)), 4.5, 1.8,
+                 1.45, 1, 0.5, 90)
+            .dump());
   write(cands / "c0003" / "class.json",
-        class_answer(cands, "c0003", nullptr, nullptr, "too_sparse", 2.1, nullptr).dump());
+        measured(class_answer(cands, "c0003", nullptr, nullptr, "vegetation_like", 50, nullptr), 4.4, 1.9,
+                 1.5, 0, 0, 0)
+            .dump());
   std::string err;
   const std::string cmd =
       bin() + " -i " + (cands / "index.json").string() + " -o " + (dir / "d.json").string() + " --size-only";
   CHECK(test::sh(cmd, dir / "err.txt", &err) == 2);  // needs --modelbase
   CHECK_THAT(err, Catch::Contains("--size-only needs --modelbase"));
+  CHECK(test::sh(cmd + " --modelbase " + mb.string() + " --size-gate 0", dir / "err.txt", &err) == 2);
   REQUIRE(test::sh(cmd + " --modelbase " + mb.string(), dir / "err.txt", &err) == 0);
   const Json d = read_json(dir / "d.json");
-  CHECK(d["found"] == 2);
-  CHECK(d["by_level"] == Json{{"model", 2}, {"class", 0}});
-  CHECK(d["by_reason"] == Json{{"too_sparse", 1}});
-  REQUIRE(d["detections"].size() == 2);
-  // c0001: "long", turned a quarter so its 12 m side lies along classify's length: heading -90,
-  // its centre (the origin) on the rectangle's.
+  CHECK(d["found"] == 3);
+  CHECK(d["by_level"] == Json{{"model", 3}, {"class", 0}});
+  CHECK(d["warning"].is_null());  // no verdict read on purpose: no "model chain did not run" warning
+  REQUIRE(d["detections"].size() == 3);
+  // c0001: "long" (differences 1.7%, 4.5%, 2.9%: confidence 1 - 0.045 / 0.25), turned a quarter
+  // so its 12 m side lies along the measured length: heading -90, its centre (the origin) on
+  // the rectangle's.
   const Json& a = d["detections"][0];
   CHECK(a["model"] == "long");
   CHECK(a["level"] == "model");
+  CHECK(a["confidence"].get<double>() == Approx(1 - (2.3 - 2.2) / 2.2 / 0.25));
   CHECK(a["pose"]["x"].get<double>() == Approx(E + 10).margin(1e-6));
   CHECK(a["pose"]["y"].get<double>() == Approx(N + 10).margin(1e-6));
   CHECK(std::fmod(a["pose"]["heading"].get<double>() + 360, 360) == Approx(270));
   CHECK(a["footprint_from"] == "model");
-  // c0002: "small", its box centre (2.25 m ahead of its origin) on the rectangle's centre, so the
-  // origin lies 2.25 m behind it along heading 90: (E + 6, N + 23.25).
+  // c0002: "small" exactly (confidence 1), its box centre (2.25 m ahead of its origin) on the
+  // rectangle's centre, so the origin lies 2.25 m behind it along heading 90: (E + 6, N + 23.25).
   const Json& b = d["detections"][1];
   CHECK(b["model"] == "small");
+  CHECK(b["confidence"].get<double>() == Approx(1));
   CHECK(b["pose"]["x"].get<double>() == Approx(E + 6).margin(1e-6));
   CHECK(b["pose"]["y"].get<double>() == Approx(N + 23.25).margin(1e-6));
   CHECK(b["pose"]["heading"].get<double>() == Approx(90));
-  // No verify verdict read: c0003's tank is not an answer, and no verdict.json is an input.
+  // c0003: classify's "vegetation" does not count, its size does: "small", turned with the
+  // candidate frame (heading 90), origin 2.25 m behind the rectangle's centre (E + 20, N + 20).
+  const Json& c = d["detections"][2];
+  CHECK(c["model"] == "small");
+  CHECK(c["pose"]["x"].get<double>() == Approx(E + 20).margin(1e-6));
+  CHECK(c["pose"]["y"].get<double>() == Approx(N + 17.75).margin(1e-6));
+  // No verify verdict read: the tank and the sedan are nobody's answer.
   const std::string inputs = d["provenance"]["inputs"].dump();
   CHECK(inputs.find("verdict.json") == std::string::npos);
   CHECK(inputs.find("long.pcd") != std::string::npos);
-  // The pure functions: nearest in (L, W, H), ties to the first name; the quarter turn.
+  // A tighter gate: only c0002's exact size passes; the others are rejected with classify's
+  // reason (c0001: it answered a class, so "none").
+  REQUIRE(test::sh(cmd + " --modelbase " + mb.string() + " --size-gate 0.02", dir / "err.txt", &err) == 0);
+  const Json t = read_json(dir / "d.json");
+  REQUIRE(t["detections"].size() == 1);
+  CHECK(t["detections"][0]["candidate"] == "c0002");
+  CHECK(t["by_reason"] == Json{{"none", 1}, {"vegetation_like", 1}});
+  // The pure functions: nearest in (L, W, H), ties to the first name; the largest relative
+  // difference.
   std::map<std::string, collect::ModelBox> boxes{{"a", {0, 4, -1, 1, 1.5}}, {"b", {-1, 1, -2, 2, 1.5}}};
   CHECK(collect::nearest_by_size({4, 2, 1.5}, boxes) == "a");  // both 4 x 2 x 1.5: the first
   CHECK(collect::nearest_by_size({9, 3, 3}, {}) == "");
+  CHECK(collect::size_difference({5, 2, 1.5}, boxes.at("a")) == Approx(0.25));
 }

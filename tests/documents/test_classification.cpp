@@ -101,6 +101,7 @@ TEST_CASE("classification: a hand-built answer is read back by the verdict reade
   c.transform = shift;
   c.pose_tile = formats::Pose{p.rotation, {500000.25, 5399999.5, 100}};
   c.size = std::array<double, 3>{5.5, 2, 2.4};
+  c.measured = documents::MeasuredRectangle{{5.4, 1.9, 2.35}, {0.25, -0.5}, 89.5, 0.3, 0.03};
   c.density = 12;
   c.density_needed_class = 4;
   c.density_needed_model = 370;
@@ -130,6 +131,18 @@ TEST_CASE("classification: a hand-built answer is read back by the verdict reade
   CHECK(v.heading_ambiguity == 180);
   CHECK(v.nearest_instance == "van-1");
   CHECK(v.class_score == 0.9);
+  // The measured rectangle (collect --size-only reads it).
+  CHECK(v.measured_size == std::array<double, 3>{5.4, 1.9, 2.35});
+  CHECK(v.measured_centre == std::array<double, 2>{0.25, -0.5});
+  CHECK(v.measured_heading == 89.5);
+  // A malformed one is refused naming the member.
+  Json bad = j;
+  bad["measured"]["size"] = Json::array({5.4, -1, 2});
+  CHECK_THROWS_WITH(documents::parse_verdict(bad.dump(), "class.json"), Catch::Contains("measured.size"));
+  bad["measured"] = Json{{"size", {5.4, 1.9, 2.35}}, {"centre", {0.25}}, {"heading_deg", 0}};
+  CHECK_THROWS_WITH(documents::parse_verdict(bad.dump(), "class.json"), Catch::Contains("measured.centre"));
+  bad["measured"] = "wide";
+  CHECK_THROWS_WITH(documents::parse_verdict(bad.dump(), "class.json"), Catch::Contains("measured must be"));
   c.confidence = std::nan("");
   CHECK_THROWS_WITH(documents::serialize_class_verdict(c), Catch::Contains("non-finite confidence"));
 }

@@ -76,23 +76,27 @@ for m in vfh fpfh; do
   [ "$(jq '.summary[0].true' "$s")" = 1 ] || fail "$m: one true vehicle expected"
   echo "$m: $n candidates, $found detections: $(jq -c '.summary[0] | {tp, fp, fn, identified}' "$s")"
 done
-# The size-only ablation (issue 29): one model-level detection per candidate classify answered
-# with a class and a size, each of a modelbase model (the nearest in size), scored over the same runs.
+# The size-only ablation (issue 29): at most one model-level detection per candidate classify
+# measured (whatever it answered), each of a modelbase model, confidence in [0, 1], no verify
+# verdict read, scored over the same runs.
 s="$tmp/res/scenes/baseline-size/score.json"
 [ -s "$s" ] || fail "no $s"
 d="$run/detections-baseline-size.json"
-classed=0
+measured=0
 for id in $ids; do
-  jq -e '.class != null and .size != null' "$run/cands/$id/class.json" >/dev/null && classed=$((classed + 1))
+  jq -e '.measured != null' "$run/cands/$id/class.json" >/dev/null && measured=$((measured + 1))
 done
-[ "$(jq '.by_level.model' "$d")" = "$classed" ] || fail "size only: $(jq '.by_level.model' "$d") model-level detections, classify sized $classed"
-jq -e '[.detections[].model] | all(. == "sedan" or . == "tank")' "$d" >/dev/null || fail "size only: a model not in the modelbase"
+found=$(jq '.by_level.model' "$d")
+[ "$found" -le "$measured" ] && [ "$(jq '.by_level.class' "$d")" = 0 ] \
+  || fail "size only: $found model-level detections of $measured measured candidates"
+jq -e '[.detections[] | (.model == "sedan" or .model == "tank") and .confidence >= 0 and .confidence <= 1] | all' \
+  "$d" >/dev/null || fail "size only: a model not in the modelbase or a confidence out of [0, 1]"
 jq -e '[.provenance.inputs[] | select(endswith("verdict.json"))] | length == 0' "$d" >/dev/null \
   || fail "size only read a verify verdict"
-[ "$(jq '.summary[0].detections' "$s")" = "$classed" ] || fail "size only: score counts $(jq '.summary[0].detections' "$s")"
+[ "$(jq '.summary[0].detections' "$s")" = "$found" ] || fail "size only: score counts $(jq '.summary[0].detections' "$s")"
 [ "$(jq -c '[.tiles[] | .truth]' "$s")" = "$(jq -c '[.tiles[] | .truth]' "$tmp/res/scenes/score.json")" ] \
   || fail "size only scores other tiles"
-echo "size: $classed detections: $(jq -c '.summary[0] | {tp, fp, fn, identified}' "$s")"
+echo "size: $measured measured, $found detections: $(jq -c '.summary[0] | {tp, fp, fn, identified}' "$s")"
 # Up to date afterwards (the baseline manifests are written only when they change).
 "${mk[@]}" -q scenes >"$tmp/q.log" 2>&1 || fail "make -q scenes after a run exits $? (want 0): $(tail -3 "$tmp/q.log")"
 # SCENE_BASELINE= leaves it out: no baseline rule is planned.

@@ -187,6 +187,15 @@ TEST_CASE("scene section: score's intervals and distinct counts beside each rate
     "cover_bins": [{"cover_lo": 0, "cover_hi": 1, "noise_mm": "all", "true": 4, "true_distinct": 2, "detected": 3,
                     "recognised": 3, "recall": 0.75, "recall_lo": 0.25, "recall_hi": 0.96, "recognition": 0.75,
                     "recognition_lo": 0.25, "recognition_hi": 0.96}],
+    "reliability": [
+      {"level": "model", "confidence_lo": 0.8, "confidence_hi": 0.9, "answers": 25, "right": 20,
+       "mean_confidence": 0.85, "rate": 0.8, "rate_lo": 0.6, "rate_hi": 0.92},
+      {"level": "model", "confidence_lo": 0.9, "confidence_hi": 1.0, "answers": 30, "right": 21,
+       "mean_confidence": 0.95, "rate": 0.7, "rate_lo": 0.5, "rate_hi": 0.85},
+      {"level": "class", "confidence_lo": 0.4, "confidence_hi": 0.5, "answers": 0, "right": 0,
+       "mean_confidence": null, "rate": null, "rate_lo": null, "rate_hi": null},
+      {"level": "class", "confidence_lo": 0.5, "confidence_hi": 0.6, "answers": 4, "right": 2,
+       "mean_confidence": 0.55, "rate": 0.5, "rate_lo": 0.1, "rate_hi": 0.9}],
     "matches": []})",
                                                                   "score.json");
   const std::string md = report::scene_markdown(score, {}, "scenes");
@@ -199,4 +208,10 @@ TEST_CASE("scene section: score's intervals and distinct counts beside each rate
   CHECK(md.find("| 0.00–1.00 | all | 4 (2) | 3 | 3 | 75.0% [25.0, 96.0] | 75.0% [25.0, 96.0] |") !=
         std::string::npos);
   CHECK(md.find("95% interval in brackets") != std::string::npos);
+  // Reliability: a bin of >= 20 answers judged against its mean stated confidence (80% vs 85%:
+  // yes; 70% vs 95%: no), a smaller bin not judged, an empty bin not shown.
+  CHECK(md.find("| model | 0.8–0.9 | 25 | 20 = 80.0% [60.0, 92.0] | 85.0% | yes |") != std::string::npos);
+  CHECK(md.find("| model | 0.9–1.0 | 30 | 21 = 70.0% [50.0, 85.0] | 95.0% | **no** |") != std::string::npos);
+  CHECK(md.find("| class | 0.5–0.6 | 4 | 2 = 50.0% [10.0, 90.0] | 55.0% | – (< 20) |") != std::string::npos);
+  CHECK(md.find("| class | 0.4–0.5 |") == std::string::npos);
 }

@@ -196,6 +196,12 @@ TEST_CASE("a wrong model counts as detected, not identified") {
     }
   }
   CHECK(tank_row);
+  // Reliability: the semi at 0.8 is a wrong answer, the sedan at 0.9 a right one (one tile, one
+  // render: Wilson on the counts, 0/1 -> [0, 0.7935]).
+  CHECK(s["reliability"][8]["answers"] == 1);
+  CHECK(s["reliability"][8]["right"] == 0);
+  CHECK(s["reliability"][8]["rate_hi"].get<double>() == Approx(0.7935).margin(1e-4));
+  CHECK(s["reliability"][9]["right"] == 1);
 }
 
 TEST_CASE("the match radius is 1.5 m on the horizontal centre distance") {
@@ -284,7 +290,7 @@ TEST_CASE("score CLI: two tiles by manifest, groups per cover and noise, CSV tab
   // Cover bins overall: the two sedans (0.1) both found, of the two tanks (0.8) one.
   CHECK(s["cover_bins"][0]["recall"].get<double>() == Approx(1));
   CHECK(s["cover_bins"][3]["recall"].get<double>() == Approx(0.5));
-  for (const char* t : {"summary", "pr", "models", "cover_bins", "matches"}) {
+  for (const char* t : {"summary", "pr", "models", "cover_bins", "reliability", "matches"}) {
     INFO(t);
     CHECK(test::exists(dir / (std::string("s_") + t + ".csv")));
   }
@@ -362,6 +368,23 @@ TEST_CASE("intervals: renders resampled, noise levels of one render counted once
   CHECK(s["cover_bins"][0]["true_distinct"] == 3);
   CHECK(s["cover_bins"][0]["recall_lo"].get<double>() == Approx(0.4385).margin(1e-4));
 
+  // Reliability: the model level's answers by confidence (the tank at 0.8, the sedan at 0.9),
+  // all right: 6 answers per bin from 3 renders, Wilson at 3 -> [0.4385, 1]; the class level
+  // has none (20 rows: 10 bins per level).
+  REQUIRE(s["reliability"].size() == 20);
+  const Json& r8 = s["reliability"][8];
+  CHECK(r8["level"] == "model");
+  CHECK(r8["confidence_lo"].get<double>() == Approx(0.8));
+  CHECK(r8["answers"] == 6);
+  CHECK(r8["right"] == 6);
+  CHECK(r8["mean_confidence"].get<double>() == Approx(0.8));
+  CHECK(r8["rate_lo"].get<double>() == Approx(0.4385).margin(1e-4));
+  CHECK(s["reliability"][9]["answers"] == 6);  // 0.9 falls in [0.9, 1]
+  CHECK(s["reliability"][7]["answers"] == 0);
+  CHECK(s["reliability"][7]["rate"].is_null());
+  CHECK(s["reliability"][18]["level"] == "class");
+  CHECK(s["reliability"][18]["answers"] == 0);
+
   // Render r2 loses both vehicles at both noise levels: recall 8/12. The renders differ, so
   // the bootstrap over them reaches far below Wilson's interval at 6 vehicles (4/6 ->
   // [0.300, 0.903]): a draw of r2 three times gives 0 (probability 1/27 > 2.5%).
@@ -402,7 +425,7 @@ TEST_CASE("the score document: the provenance after format and version, the scor
   std::vector<std::string> keys;
   for (const auto& [k, v] : doc.items()) keys.push_back(k);
   CHECK(keys == std::vector<std::string>{"format", "version", "provenance", "params", "tiles", "summary",
-                                         "pr", "models", "cover_bins", "matches"});
+                                         "pr", "models", "cover_bins", "reliability", "matches"});
   CHECK(doc["provenance"].dump() ==
         R"({"tool":"score","version":"9.9","parameters":{"csv":""},"inputs":["detections.json","truth.json"]})");
   CHECK(doc["summary"] == as_json(score::score(in.tiles, score::Params{}))["summary"]);

@@ -101,6 +101,9 @@ Verdict from_stage_verdict(const documents::StageVerdict& s, const std::string& 
   v.density_model = d.density_model;
   v.size = d.size;
   v.heading_ambiguity = d.heading_ambiguity;
+  v.measured_size = d.measured_size;
+  v.measured_centre = d.measured_centre;
+  v.measured_heading = d.measured_heading;
   return v;
 }
 
@@ -277,7 +280,7 @@ std::optional<double> tile_density(const Index& index) {
 // One sentence when most candidates were rejected for one reason (with what would help), or
 // when no candidate reached the model level because the data is too sparse for it.
 std::string warning_of(const Index& index, const std::vector<Answers>& answers, const Outputs& out,
-                       const std::vector<std::string>& reasons) {
+                       const std::vector<std::string>& reasons, bool size_only) {
   const int n = static_cast<int>(index.candidates.size());
   if (n == 0) return "";
   const auto td = tile_density(index);
@@ -326,11 +329,19 @@ std::string warning_of(const Index& index, const std::vector<Answers>& answers, 
   // No model chain ran (every candidate class level) because the objects are too sparse.
   int model_runs = 0;
   for (const auto& a : answers) model_runs += a.model.present ? 1 : 0;
-  if (model_runs == 0) {
+  // (--size-only reads no verdict on purpose; a tile dense enough whose model chain did not
+  // run is said so, not blamed on its density.)
+  if (model_runs == 0 && !size_only) {
     const double need = need_model ? *need_model : kModelDensity;
-    parts.push_back((tile.empty() ? std::string("the objects' density") : tile) + ": below the " +
-                    fmt_density(need) +
-                    " points/m² that model-level recognition needs; class-level answers only");
+    if (td && *td >= need) {
+      parts.push_back(tile +
+                      ": dense enough for model-level recognition, but no candidate has a model-chain "
+                      "verdict; class-level answers only");
+    } else {
+      parts.push_back((tile.empty() ? std::string("the objects' density") : tile) + ": below the " +
+                      fmt_density(need) +
+                      " points/m² that model-level recognition needs; class-level answers only");
+    }
   }
   if (parts.empty()) return "";
   std::string w;
@@ -361,12 +372,28 @@ void validate(const Params& params) {
   }
 }
 
+namespace {
+std::array<double, 3> box_size(const ModelBox& b) {
+  const double lx = b.x1 - b.x0, ly = b.y1 - b.y0;
+  return {std::max(lx, ly), std::min(lx, ly), b.z1};
+}
+}  // namespace
+
+double size_difference(const std::array<double, 3>& size, const ModelBox& box) {
+  const auto m = box_size(box);
+  double worst = 0;
+  for (int i = 0; i < 3; ++i) {
+    if (!(m[i] > 0)) return std::numeric_limits<double>::infinity();
+    worst = std::max(worst, std::fabs(size[i] - m[i]) / m[i]);
+  }
+  return worst;
+}
+
 std::string nearest_by_size(const std::array<double, 3>& size, const std::map<std::string, ModelBox>& boxes) {
   std::string best;
   double d_best = std::numeric_limits<double>::infinity();
   for (const auto& [name, b] : boxes) {
-    const double lx = b.x1 - b.x0, ly = b.y1 - b.y0;
-    const std::array<double, 3> m{std::max(lx, ly), std::min(lx, ly), b.z1};
+    const auto m = box_size(b);
     double d = 0;
     for (int i = 0; i < 3; ++i) d += (m[i] - size[i]) * (m[i] - size[i]);
     if (d < d_best) {
@@ -410,13 +437,23 @@ Outputs collect(const Index& index, const std::vector<Answers>& answers, const P
     Verdict by_size;
     const bool classified = k.present && !k.failed && !k.cls.empty() && (k.pose || k.pose_tile);
     if (params.size_only) {
-      if (classified && k.size && !params.boxes.empty()) {
-        by_size = k;
-        by_size.model = nearest_by_size(*k.size, params.boxes);
-        const Matrix rect = k.pose_tile ? *k.pose_tile : multiply(c.transform, *k.pose);
-        by_size.pose_tile = size_only_pose(rect, params.boxes.at(by_size.model));
-        found = &by_size;
-        ++out.model_level;
+      if (k.present && !k.failed && k.measured_size && k.measured_centre && k.measured_heading &&
+          !params.boxes.empty()) {
+        const std::string model = nearest_by_size(*k.measured_size, params.boxes);
+        const double diff = size_difference(*k.measured_size, params.boxes.at(model));
+        if (diff <= params.size_gate) {
+          by_size = k;
+          by_size.model = model;
+          by_size.confidence = 1 - diff / params.size_gate;
+          // The measured rectangle in the candidate frame (ground z = 0), then in the tile's.
+          const double h = *k.measured_heading * M_PI / 180, ch = std::cos(h), sh = std::sin(h);
+          const Matrix rect_cand{
+              ch, -sh, 0, (*k.measured_centre)[0], sh, ch, 0, (*k.measured_centre)[1], 0, 0, 1, 0, 0,
+              0,  0,   1};
+          by_size.pose_tile = size_only_pose(multiply(c.transform, rect_cand), params.boxes.at(model));
+          found = &by_size;
+          ++out.model_level;
+        }
       }
     } else if (v.present && !v.failed && !v.model.empty()) {
       found = &v;
@@ -439,7 +476,7 @@ Outputs collect(const Index& index, const std::vector<Answers>& answers, const P
       ++out.none;
     }
   }
-  out.warning = warning_of(index, answers, out, reasons);
+  out.warning = warning_of(index, answers, out, reasons, params.size_only);
   out.summary = summary_line(index, out);
   doc.provenance = provenance;
   doc.index = index.name;

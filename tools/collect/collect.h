@@ -54,6 +54,10 @@ struct Verdict {
   std::optional<double> density_class, density_model;  // "density_needed"
   std::optional<std::array<double, 3>> size;           // L W H (m)
   std::optional<double> heading_ambiguity;             // degrees (180: front and back unknown)
+  // classify's measured rectangle, whatever its answer (documents::Verdict).
+  std::optional<std::array<double, 3>> measured_size;
+  std::optional<std::array<double, 2>> measured_centre;
+  std::optional<double> measured_heading;
 };
 
 // What a candidate is answered from: its model chain's verdict (verify) and classify's
@@ -72,12 +76,19 @@ struct ModelBox {
 struct Params {
   std::string crs;                        // "EPSG:<code>" or ""
   std::map<std::string, ModelBox> boxes;  // by model name; a model without one uses the candidate footprint
-  // The size-only ablation (issue 29; docs/decisions/scene-experiment.md): no model chain; a
-  // candidate classify answers with a class and a size becomes a model-level detection of the
-  // model in `boxes` nearest to that size (nearest_by_size), placed with its box centre on
-  // classify's rectangle (size_only_pose). Other candidates are rejected as without it.
+  // The size-only ablation (issue 29; docs/decisions/scene-experiment.md): no model chain and
+  // none of classify's decisions; every candidate classify measured (its "measured" rectangle:
+  // the object's points above the ground, whatever classify answered) becomes a model-level
+  // detection of the model in `boxes` nearest to that length, width and height
+  // (nearest_by_size) when each of the three lies within size_gate (relative) of the model's,
+  // placed with its box centre on the measured rectangle (size_only_pose); confidence = 1 - the
+  // largest relative difference / size_gate. Other candidates are rejected as without it.
   bool size_only = false;
+  double size_gate = 0.25;
 };
+// Largest relative difference |s - m| / m of a size (L W H) from a model box's (longer side,
+// shorter side, z1); infinity for a box of zero extent.
+double size_difference(const std::array<double, 3>& size, const ModelBox& box);
 
 // The model of `boxes` whose (length, width, height) — the longer and shorter side of its
 // rectangle and z1 — is nearest to `size` (L W H, m) in Euclidean distance; ties: the first

@@ -53,6 +53,7 @@ struct Options {
                   geojson, crs, modelbase;
   double model_density = collect::kModelDensity;
   bool size_only = false;
+  double size_gate = 0.25;
 };
 
 void bind(common::Tool& tool, Options& o) {
@@ -79,9 +80,13 @@ void bind(common::Tool& tool, Options& o) {
            "directory of <model>.pcd surfaces: footprints are the posed model's "
            "top-view box (else the candidate's footprint)");
   tool.add_flag("--size-only", &o.size_only,
-                "the size-only ablation: no model chain (no verdict is read); each candidate classify "
-                "answers with a class becomes a detection of the --modelbase model nearest to its "
-                "length, width and height");
+                "the size-only ablation: no model chain (no verdict is read) and none of classify's "
+                "decisions; each candidate classify measured becomes a detection of the --modelbase "
+                "model nearest to its measured length, width and height when each is within "
+                "--size-gate of the model's");
+  tool.add("--size-gate", &o.size_gate,
+           "--size-only: the largest relative difference of length, width or height from the "
+           "nearest model's that is still that model");
 }
 
 // --plan: the candidates' make plan, alone.
@@ -194,6 +199,8 @@ int main(int argc, char** argv) {
     in.answers = read_answers(o, in.index, in.provenance.inputs);
     if (o.size_only && o.modelbase.empty()) throw common::UsageError("--size-only needs --modelbase");
     p.size_only = o.size_only;
+    if (!(o.size_gate > 0 && o.size_gate <= 10)) throw common::UsageError("--size-gate must be in (0, 10]");
+    p.size_gate = o.size_gate;
     if (!o.modelbase.empty())
       p.boxes = read_boxes(o.modelbase, in.answers, in.provenance.inputs, o.size_only);
     const collect::Outputs r = collect::run(p, in);

@@ -499,6 +499,31 @@ void pr_table(std::ostringstream& md, const SceneScore& score) {
   }
 }
 
+void reliability_table(std::ostringstream& md, const SceneScore& score) {
+  if (score.reliability.empty()) return;  // a score written before the table
+  md << "### Reliability on the tiles (issue 29)\n\n"
+        "Detections by the confidence they state and the share that was right (model level: the true "
+        "model; class level: a class naming the truth; a false alarm is wrong), from "
+        "`scenes/reliability.csv`. "
+        "The issue's target: within ±10 points of the stated confidence in every bin of at least 20 "
+        "answers (judged on the mean stated confidence of the bin). Rejections (`none`) are not judged: "
+        "detections.json gives a rejected candidate no position to match against the truth.\n\n"
+        "| level | confidence | answers | right | mean stated | within ±10 points |\n"
+        "|---|---|---|---|---|---|\n";
+  for (const ScoreRow& r : score.reliability) {
+    const ScoreValue& n = field(r, "answers");
+    if (!n.is_number() || n.as_number() <= 0) continue;
+    const ScoreValue &rate_v = field(r, "rate"), &mean = field(r, "mean_confidence");
+    std::string within = "– (< 20)";
+    if (n.as_number() >= 20 && rate_v.is_number() && mean.is_number())
+      within = std::fabs(rate_v.as_number() - mean.as_number()) <= 0.1 ? "yes" : "**no**";
+    md << "| " << text(field(r, "level")) << " | " << num(field(r, "confidence_lo"), "%.1f") << "–"
+       << num(field(r, "confidence_hi"), "%.1f") << " | " << text(n) << " | " << text(field(r, "right"))
+       << " = " << rate_ci(r, "rate") << " | " << rate(mean) << " | " << within << " |\n";
+  }
+  md << "\n";
+}
+
 void baselines(std::ostringstream& md, const SceneScore& score, const std::vector<SceneStageTime>& times) {
   std::vector<std::string> stale;
   const auto bl = baseline_scores(score, stale);
@@ -560,6 +585,7 @@ std::string scene_markdown(const SceneScore& score, const std::vector<SceneStage
   models_table(md, score);
   cover_table(md, score, fig);
   pr_table(md, score);
+  reliability_table(md, score);
   baselines(md, score, times);
   times_table(md, times);
   pictures(md, covers, fig);

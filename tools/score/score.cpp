@@ -667,6 +667,52 @@ documents::ScoreTile tile_row(const Tile& t, int tp_i, const LevelMatch& cm) {
   return r;
 }
 
+// Reliability (issue 29, "calibration where it is used"): the answers of each level (model,
+// class) by stated confidence, in bins of 0.1 ([0.9, 1] closed), and the share that is right
+// (outcome "right": the true model, or a class naming the truth; a false alarm and a wrong
+// model or class are wrong), with its interval over renders.
+std::vector<ScoreRow> reliability_table(const std::vector<Tile>& tiles, const std::vector<ScoreMatch>& matches) {
+  std::vector<std::size_t> all(tiles.size());
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
+  const auto renders = renders_of(tiles, all);
+  std::vector<std::size_t> render_of(tiles.size());
+  for (std::size_t r = 0; r < renders.size(); ++r) {
+    for (std::size_t i : renders[r]) render_of[i] = r;
+  }
+  const double runs_per_render = renders.empty() ? 1 : static_cast<double>(tiles.size()) / renders.size();
+  std::vector<ScoreRow> rows;
+  for (const char* level : {"model", "class"}) {
+    for (int b = 0; b < 10; ++b) {
+      const double lo = b / 10.0, hi = (b + 1) / 10.0;
+      std::vector<common::ClusterSum> per(renders.size());
+      int answers = 0, right = 0;
+      double conf_sum = 0;
+      for (const ScoreMatch& m : matches) {
+        if (m.outcome == "missed" || m.level.value_or("model") != level || !m.confidence) continue;
+        const double c = *m.confidence;
+        if (c < lo || (b == 9 ? c > hi : c >= hi)) continue;
+        const bool ok = m.outcome == "right";
+        ++answers;
+        right += ok;
+        conf_sum += c;
+        auto& x = per[render_of[static_cast<std::size_t>(m.tile)]];
+        x.num += ok;
+        x.den += 1;
+      }
+      ScoreRow row{{"level", level},
+                   {"confidence_lo", lo},
+                   {"confidence_hi", hi},
+                   {"answers", answers},
+                   {"right", right},
+                   {"mean_confidence", ratio(conf_sum, answers)},
+                   {"rate", ratio(right, answers)}};
+      add_interval(row, "rate", per, runs_per_render, RateKind::proportion);
+      rows.push_back(std::move(row));
+    }
+  }
+  return rows;
+}
+
 }  // namespace
 
 documents::SceneScore score(const std::vector<Tile>& tiles, const Params& params) {
@@ -685,6 +731,7 @@ documents::SceneScore score(const std::vector<Tile>& tiles, const Params& params
   s.pr = pr_curve(tiles, matches);
   s.models = model_table(tiles, matches, g);
   s.cover_bins = cover_bins(tiles, matches, params, g);
+  s.reliability = reliability_table(tiles, s.matches);
   return s;
 }
 

@@ -69,6 +69,11 @@ struct Verdict {
   std::optional<double> density_class, density_model;  // "density_needed"
   std::optional<std::array<double, 3>> size;           // L W H (m), >= 0
   std::optional<double> heading_ambiguity;             // degrees (180: front and back unknown)
+  // classify's "measured" rectangle (before the sampling correction), whatever the answer:
+  // L W H (m), centre in the candidate frame (m), heading (degrees).
+  std::optional<std::array<double, 3>> measured_size;
+  std::optional<std::array<double, 2>> measured_centre;
+  std::optional<double> measured_heading;
 };
 
 // Every error is a common::DataError naming the file and the member ("malformed verdict:
