@@ -265,10 +265,12 @@ std::string baseline_markdown(const SceneScore& score, const std::vector<Baselin
         "(docs/decisions/baseline.md §4). **VFH** (global descriptor, nearest model view) has no pose: its "
         "detection stands at detect's candidate frame (the footprint's centre), so its position error is "
         "detect's and it has no heading error. **FPFH** (local: correspondences + RANSAC + ICP, ground "
-        "pose). **size only** is an ablation of canopy, not a baseline (issue 29): no model chain; every "
-        "candidate `classify` answers with a class becomes a detection of the modelbase model nearest to its "
-        "measured length, width and height (`collect --size-only`; its heading is classify's, front and back "
-        "unknown, so no heading error is shown). Tables: `scenes/baseline-<method>/*.csv`.\n\n";
+        "pose). **size only** is an ablation of canopy, not a baseline (issue 29): no model chain and none "
+        "of "
+        "classify's decisions; every candidate whose object classify measured becomes a detection of the "
+        "modelbase model nearest to that length, width and height when each lies within 25% of the model's "
+        "(`collect --size-only`; heading from the measured rectangle, front and back unknown, so no heading "
+        "error is shown). Tables: `scenes/baseline-<method>/*.csv`.\n\n";
   baseline_rows(md, score, bl);
   baseline_recognition(md, score, bl);
   baseline_goal(md, score, bl);
