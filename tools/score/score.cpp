@@ -8,12 +8,12 @@
 #include <stdexcept>
 
 #include "canopy/common/error.h"
-#include "canopy/common/stats.h"
 #include "canopy/documents/detections.h"
 #include "canopy/documents/scene_score.h"
 #include "canopy/documents/scene_truth.h"
 #include "canopy/formats/json_document.h"
 #include "canopy/formats/provenance.h"
+#include "score/intervals.h"
 
 namespace canopy::score {
 namespace {
@@ -34,72 +34,6 @@ struct Tally {
   int class_detections = 0, class_tp = 0, class_identified = 0;
   std::vector<double> class_position, class_heading;
 };
-
-// The renders among `which`: tiles that share one truth file are one rendered scene (the scene
-// experiment's noise levels add noise to one render), in order of first appearance. The
-// intervals resample renders, not tiles: their vehicles, canopy and clutter are the same.
-std::vector<std::vector<std::size_t>> renders_of(const std::vector<Tile>& tiles,
-                                                 const std::vector<std::size_t>& which) {
-  std::vector<std::vector<std::size_t>> renders;
-  std::map<std::string, std::size_t> index;
-  for (std::size_t i : which) {
-    auto [it, fresh] = index.emplace(tiles[i].truth.name, renders.size());
-    if (fresh) renders.emplace_back();
-    renders[it->second].push_back(i);
-  }
-  return renders;
-}
-
-// The true vehicles of the distinct renders (a vehicle counted once over its noise levels).
-int distinct_vehicles(const std::vector<Tile>& tiles, const std::vector<std::vector<std::size_t>>& renders) {
-  int n = 0;
-  for (const auto& r : renders) n += static_cast<int>(tiles[r.front()].truth.vehicles.size());
-  return n;
-}
-
-// Inserts `cells` into `row` right after the column `key`.
-void insert_after(ScoreRow& row, const std::string& key,
-                  std::initializer_list<std::pair<std::string, ScoreValue>> cells) {
-  auto it = std::find_if(row.begin(), row.end(), [&](const auto& c) { return c.first == key; });
-  if (it == row.end()) throw std::logic_error("score: no column " + key);
-  row.insert(it + 1, cells.begin(), cells.end());
-}
-
-enum class RateKind { proportion, per_area };
-
-// The 95% interval of a rate sum(num) / sum(den) of a row whose runs fall in renders
-// (documents the keys <key>_lo, <key>_hi after <key>; null when the rate is): the hull of
-// (a) the percentile bootstrap over renders (common::cluster_bootstrap: vehicles of one tile
-// and noise levels of one render are not independent) and (b) the interval of the counts at
-// their effective size, runs x renders / runs-in-row (Wilson for a proportion, exact Poisson
-// for a count per hectare). (b) alone would treat correlated runs as independent; (a) alone
-// collapses to a point when every render gives the same rate (100% on 3 renders is no
-// certainty) and is undefined for one render.
-void add_interval(ScoreRow& row, const std::string& key, const std::vector<common::ClusterSum>& per_render,
-                  double runs_per_render, RateKind kind) {
-  double num = 0, den = 0;
-  for (const auto& c : per_render) {
-    num += c.num;
-    den += c.den;
-  }
-  if (!(den > 0)) {
-    insert_after(row, key, {{key + "_lo", nullptr}, {key + "_hi", nullptr}});
-    return;
-  }
-  const double f = runs_per_render > 0 ? 1 / runs_per_render : 1;
-  common::Interval ci;
-  if (kind == RateKind::proportion) {
-    ci = common::wilson_effective(std::min(1.0, num / den), den * f);
-  } else {
-    const common::Interval k = common::poisson_exact(static_cast<int>(std::lround(num * f)));
-    ci = {k.lo / (den * f), k.hi / (den * f)};
-  }
-  if (const auto b = common::cluster_bootstrap(per_render)) {
-    ci.lo = std::min(ci.lo, b->lo);
-    ci.hi = std::max(ci.hi, b->hi);
-  }
-  insert_after(row, key, {{key + "_lo", ci.lo}, {key + "_hi", ci.hi}});
-}
 
 }  // namespace
 
@@ -665,52 +599,6 @@ documents::ScoreTile tile_row(const Tile& t, int tp_i, const LevelMatch& cm) {
   r.class_fp = n_class - class_tp;
   r.fn_any_level = n_true - tp_i - class_tp;
   return r;
-}
-
-// Reliability (issue 29, "calibration where it is used"): the answers of each level (model,
-// class) by stated confidence, in bins of 0.1 ([0.9, 1] closed), and the share that is right
-// (outcome "right": the true model, or a class naming the truth; a false alarm and a wrong
-// model or class are wrong), with its interval over renders.
-std::vector<ScoreRow> reliability_table(const std::vector<Tile>& tiles, const std::vector<ScoreMatch>& matches) {
-  std::vector<std::size_t> all(tiles.size());
-  for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
-  const auto renders = renders_of(tiles, all);
-  std::vector<std::size_t> render_of(tiles.size());
-  for (std::size_t r = 0; r < renders.size(); ++r) {
-    for (std::size_t i : renders[r]) render_of[i] = r;
-  }
-  const double runs_per_render = renders.empty() ? 1 : static_cast<double>(tiles.size()) / renders.size();
-  std::vector<ScoreRow> rows;
-  for (const char* level : {"model", "class"}) {
-    for (int b = 0; b < 10; ++b) {
-      const double lo = b / 10.0, hi = (b + 1) / 10.0;
-      std::vector<common::ClusterSum> per(renders.size());
-      int answers = 0, right = 0;
-      double conf_sum = 0;
-      for (const ScoreMatch& m : matches) {
-        if (m.outcome == "missed" || m.level.value_or("model") != level || !m.confidence) continue;
-        const double c = *m.confidence;
-        if (c < lo || (b == 9 ? c > hi : c >= hi)) continue;
-        const bool ok = m.outcome == "right";
-        ++answers;
-        right += ok;
-        conf_sum += c;
-        auto& x = per[render_of[static_cast<std::size_t>(m.tile)]];
-        x.num += ok;
-        x.den += 1;
-      }
-      ScoreRow row{{"level", level},
-                   {"confidence_lo", lo},
-                   {"confidence_hi", hi},
-                   {"answers", answers},
-                   {"right", right},
-                   {"mean_confidence", ratio(conf_sum, answers)},
-                   {"rate", ratio(right, answers)}};
-      add_interval(row, "rate", per, runs_per_render, RateKind::proportion);
-      rows.push_back(std::move(row));
-    }
-  }
-  return rows;
 }
 
 }  // namespace
