@@ -636,7 +636,12 @@ PointCloud read_las(const std::string& path, std::size_t chunk_bytes) {
   if (want > have) head.assign(reinterpret_cast<const char*>(src.bytes(0, want, &scratch)), want);
   scratch = std::vector<unsigned char>();
   if (!is_las(head)) throw DataError(path, "not a LAS file (no LASF signature)");
-  if (is_laz(head)) return parse_las(common::read_file(path), path);  // LAZ: decompressed whole
+  if (is_laz(head)) {
+    // LAZ: decompressed whole, as parse_las does; the compressed bytes are freed before the
+    // LAS is decoded.
+    const std::string las = laz_to_las(common::read_file(path), path);
+    return parse_las(las, path);
+  }
   if (head.size() < kHeader12) {
     throw DataError(path, "LAS header truncated: file has " + std::to_string(src.size()) +
                               " bytes, a header needs " + std::to_string(kHeader12));
