@@ -312,7 +312,8 @@ void read_vlrs(const unsigned char* b, const LasHeader& h, const std::string& na
 }
 
 // Where the reader takes a LAS file's bytes from: a whole file in memory (parse_las) or an open
-// regular file, read in pieces (read_las). Every piece is checked against size() first.
+// regular file, read in pieces (read_las). Callers ask only for bytes they checked lie within
+// size().
 class LasSource {
  public:
   explicit LasSource(std::uint64_t size) : size_(size) {}
