@@ -16,7 +16,9 @@
 # (x+y+z, intensity+classification) shows they read the same values. Files: a synthetic
 # 3-million-point LAS 1.4 format 6 tile with 4 Extra Bytes fields (make-las, i.e. write_las),
 # the LAS references in ../shared/data/real/reference (CANOPY_REAL_DATA) and the LAS canopy
-# decodes from the real LAZ that have no reference; under 10 000 points skipped.
+# decodes from the real LAZ that have no reference; under 10 000 points skipped. With
+# LASREAD_BEFORE=<another formats_bench> its read_points runs in the same rounds ("before:" at
+# the end of each line: CPU min/median, before/plain, peak MB, peak x file).
 # Usage: bench/formats/run.sh [points=8000000 | laz | lasread [las points=3000000]] [build dir=build]
 #   ("laz": LAZ part only; "lasread": LAS reader against a plain read only)
 set -euo pipefail
@@ -49,6 +51,9 @@ if [ "$points" = lasread ]; then
     cksum "$f" > "$dir/cksum"  # page cache warm for every reader
     for run in 1 2 3; do
       for reader in points plain compact typed; do "$bin" read "$reader" "$f"; done
+      # LASREAD_BEFORE: another build's formats_bench (e.g. before a reader change), its
+      # read_points timed in the same rounds, as "before".
+      [ -z "${LASREAD_BEFORE:-}" ] || "$LASREAD_BEFORE" read points "$f" | sed 's/^points/before/'
     done > "$dir/runs"
     rec=$(od -An -tu2 -j105 -N2 "$f" | tr -d ' ')
     awk -v f="$(basename "$f")" -v rec="$rec" -v mb="$(stat -c %s "$f")" '
@@ -62,9 +67,14 @@ if [ "$points" = lasread ]; then
             printf " %6.3f/%6.3f %6.3f/%6.3f", mn(cpu, "compact"), med(cpu, "compact"), mn(cpu, "typed"), med(cpu, "typed")
             printf " %5.2f %5.2f %7.1f %7.1f %5.1f", med(cpu, "points") / med(cpu, "plain"),
               med(cpu, "typed") / med(cpu, "plain"), med(peak, "points"), med(peak, "plain"), b
-            printf " %5.2f %5.2f %5.2f %5.2f %s\n", (med(peak, "points") - b) / mb, (med(peak, "plain") - b) / mb,
+            printf " %5.2f %5.2f %5.2f %5.2f %s", (med(peak, "points") - b) / mb, (med(peak, "plain") - b) / mb,
               (med(peak, "compact") - b) / mb, (med(peak, "typed") - b) / mb,
-              sum["points"] == sum["plain"] && sum["plain"] == sum["compact"] && sum["compact"] == sum["typed"] ? "yes" : "NO" }' "$dir/runs"
+              sum["points"] == sum["plain"] && sum["plain"] == sum["compact"] && sum["compact"] == sum["typed"] &&
+              (!("before" in sum) || sum["before"] == sum["points"]) ? "yes" : "NO"
+            if ("before" in sum)
+              printf "  before: %6.3f/%6.3f b/p %5.2f %7.1f MB %5.2f", mn(cpu, "before"), med(cpu, "before"),
+                med(cpu, "before") / med(cpu, "plain"), med(peak, "before"), (med(peak, "before") - b) / mb
+            printf "\n" }' "$dir/runs"
   done
   exit 0
 fi

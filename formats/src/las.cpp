@@ -1,5 +1,9 @@
 #include "canopy/formats/las.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -66,21 +70,6 @@ FieldType base_field_type(int base) {
     case 6: return kInt32;
     case 9: return kFloat32;
     default: return kFloat64;  // 7, 8 (64-bit integers, exact to 2^53), 10
-  }
-}
-
-double read_base(const unsigned char* p, int base) {
-  switch (base) {
-    case 1: return p[0];
-    case 2: return get<std::int8_t>(p);
-    case 3: return get<std::uint16_t>(p);
-    case 4: return get<std::int16_t>(p);
-    case 5: return get<std::uint32_t>(p);
-    case 6: return get<std::int32_t>(p);
-    case 7: return static_cast<double>(get<std::uint64_t>(p));
-    case 8: return static_cast<double>(get<std::int64_t>(p));
-    case 9: return get<float>(p);
-    default: return get<double>(p);
   }
 }
 
@@ -322,9 +311,66 @@ void read_vlrs(const unsigned char* b, const LasHeader& h, const std::string& na
   });
 }
 
-// EVLRs (LAS 1.4): after the point data, each within the file. Only Extra Bytes are used.
-void read_evlrs(const unsigned char* b, std::size_t size, const LasHeader& h, const std::string& name,
-                ExtraVlr* extra) {
+// Where the reader takes a LAS file's bytes from: a whole file in memory (parse_las) or an open
+// regular file, read in pieces (read_las). Callers ask only for bytes they checked lie within
+// size().
+class LasSource {
+ public:
+  explicit LasSource(std::uint64_t size) : size_(size) {}
+  virtual ~LasSource() = default;
+  LasSource(const LasSource&) = delete;
+  LasSource& operator=(const LasSource&) = delete;
+  std::uint64_t size() const { return size_; }
+  // The n bytes at `at` (at + n <= size()), valid until `scratch` changes; a file source reads
+  // them into `scratch`.
+  virtual const unsigned char* bytes(std::uint64_t at, std::size_t n, std::vector<unsigned char>* scratch) = 0;
+
+ private:
+  std::uint64_t size_;
+};
+
+class MemorySource final : public LasSource {
+ public:
+  explicit MemorySource(const std::string& bytes)
+      : LasSource(bytes.size()), b_(reinterpret_cast<const unsigned char*>(bytes.data())) {}
+  const unsigned char* bytes(std::uint64_t at, std::size_t, std::vector<unsigned char>*) override {
+    return b_ + at;
+  }
+
+ private:
+  const unsigned char* b_;
+};
+
+class FileSource final : public LasSource {
+ public:
+  FileSource(int fd, std::uint64_t size, const std::string& name) : LasSource(size), fd_(fd), name_(name) {}
+  const unsigned char* bytes(std::uint64_t at, std::size_t n, std::vector<unsigned char>* scratch) override {
+    if (scratch->size() < n) scratch->resize(n);
+    std::size_t done = 0;
+    while (done < n) {
+      const ssize_t got = ::pread(fd_, scratch->data() + done, n - done, static_cast<off_t>(at + done));
+      if (got < 0 && errno == EINTR) continue;
+      if (got < 0) throw DataError(name_, std::string("read error: ") + std::strerror(errno));
+      if (got == 0) {
+        throw DataError(name_, "the file ended at byte " + std::to_string(at + done) +
+                                   " while it was read (it had " + std::to_string(size()) +
+                                   " bytes when opened: changed meanwhile?)");
+      }
+      done += static_cast<std::size_t>(got);
+    }
+    return scratch->data();
+  }
+
+ private:
+  int fd_;
+  const std::string& name_;
+};
+
+// EVLRs (LAS 1.4): after the point data, each within the file. Only Extra Bytes are used: its
+// payload (the part parse_extra_bytes reads) is copied into *payload unless a VLR gave one.
+void read_evlrs(const unsigned char* b, LasSource& src, const LasHeader& h, const std::string& name,
+                ExtraVlr* extra, std::vector<unsigned char>* payload) {
+  const std::uint64_t size = src.size();
   if (h.minor >= 4) {
     const std::uint64_t evlr_start = get<std::uint64_t>(b + 235);
     const std::uint32_t evlr_count = get<std::uint32_t>(b + 243);
@@ -336,21 +382,25 @@ void read_evlrs(const unsigned char* b, std::size_t size, const LasHeader& h, co
                                   ") and the end of the file (" + std::to_string(size) + ")");
       }
       std::uint64_t at = evlr_start;
+      std::vector<unsigned char> scratch;
       for (std::uint32_t i = 0; i < evlr_count; ++i) {
         if (size - at < kEvlrHeader) {
           throw DataError(name, "LAS header says " + std::to_string(evlr_count) + " EVLRs but EVLR " +
                                     std::to_string(i + 1) +
                                     " does not fit in the file (truncated or broken count)");
         }
-        const unsigned char* v = b + at;
+        const unsigned char* v = src.bytes(at, kEvlrHeader, &scratch);
         const std::uint64_t len = get<std::uint64_t>(v + 20);
         if (size - at - kEvlrHeader < len) {
           throw DataError(name, "EVLR " + std::to_string(i + 1) + " of " + std::to_string(len) +
                                     " bytes runs past the end of the file");
         }
         if (has_prefix(v + 2, 16, "LASF_Spec") && get<std::uint16_t>(v + 18) == 4 && extra->data == nullptr) {
-          extra->data = v + kEvlrHeader;
-          extra->len = static_cast<std::size_t>(len);
+          // parse_extra_bytes reads at most kMaxExtraFields descriptors.
+          const auto used =
+              static_cast<std::size_t>(std::min<std::uint64_t>(len, kMaxExtraFields * kExtraDescriptor));
+          extra->data = src.bytes(at + kEvlrHeader, used, payload);  // *payload is not used again
+          extra->len = used;
         }
         at += kEvlrHeader + len;
       }
@@ -358,7 +408,7 @@ void read_evlrs(const unsigned char* b, std::size_t size, const LasHeader& h, co
   }
 }
 
-// The columns of a point format (standard fields, then Extra Bytes), and one record's decoding.
+// The columns of a point format (standard fields, then Extra Bytes).
 struct LasColumns {
   int format = 0;
   bool extended = false, has_rgb = false;
@@ -406,56 +456,148 @@ LasColumns add_las_columns(int format, PointCloud& cloud) {
   return c;
 }
 
-void decode_record(const unsigned char* r, std::size_t i, const LasHeader& h, const LasColumns& c) {
+// Appends value(record) of the k records at p (`record` bytes apart) to the column: the column
+// has its room reserved, so nothing is zero-filled first.
+template <typename F>
+void append(std::vector<double>* col, const unsigned char* p, std::size_t k, std::size_t record, F value) {
+  for (std::size_t i = 0; i < k; ++i, p += record) col->push_back(value(p));
+}
+
+template <typename T>
+void append_extra(std::vector<double>* col, const unsigned char* p, std::size_t k, std::size_t record,
+                  std::size_t at, bool scaled, double scale, double shift) {
+  if (scaled) {
+    append(col, p, k, record,
+           [&](const unsigned char* r) { return static_cast<double>(get<T>(r + at)) * scale + shift; });
+  } else {
+    append(col, p, k, record, [&](const unsigned char* r) { return static_cast<double>(get<T>(r + at)); });
+  }
+}
+
+// Decodes k whole records at p, column by column (the records stay in cache meanwhile).
+void decode_records(const unsigned char* p, std::size_t k, const LasHeader& h, const LasColumns& c) {
+  const std::size_t rec = h.record;
   const double* scale = h.scale;
   const double* offset = h.offset;
-  (*c.x)[i] = get<std::int32_t>(r) * scale[0] + offset[0];
-  (*c.y)[i] = get<std::int32_t>(r + 4) * scale[1] + offset[1];
-  (*c.z)[i] = get<std::int32_t>(r + 8) * scale[2] + offset[2];
-  (*c.intensity)[i] = get<std::uint16_t>(r + 12);
-  const unsigned bits = r[14];
+  for (int d = 0; d < 3; ++d) {
+    std::vector<double>* col = d == 0 ? c.x : d == 1 ? c.y : c.z;
+    const std::size_t at = 4 * static_cast<std::size_t>(d);
+    append(col, p, k, rec,
+           [&](const unsigned char* r) { return get<std::int32_t>(r + at) * scale[d] + offset[d]; });
+  }
+  auto u16 = [&](std::vector<double>* col, std::size_t at) {
+    append(col, p, k, rec,
+           [at](const unsigned char* r) { return static_cast<double>(get<std::uint16_t>(r + at)); });
+  };
+  auto bits = [&](std::vector<double>* col, std::size_t at, unsigned shift, unsigned mask) {
+    append(col, p, k, rec,
+           [=](const unsigned char* r) { return static_cast<double>((r[at] >> shift) & mask); });
+  };
+  u16(c.intensity, 12);
   if (!c.extended) {
-    (*c.ret)[i] = bits & 7;
-    (*c.nret)[i] = (bits >> 3) & 7;
-    (*c.scan_dir)[i] = (bits >> 6) & 1;
-    (*c.edge)[i] = (bits >> 7) & 1;
-    const unsigned k = r[15];
-    (*c.cls)[i] = k & 31;
-    (*c.synthetic)[i] = (k >> 5) & 1;
-    (*c.key_point)[i] = (k >> 6) & 1;
-    (*c.withheld)[i] = (k >> 7) & 1;
-    (*c.angle)[i] = get<std::int8_t>(r + 16);
-    (*c.user)[i] = r[17];
-    (*c.source)[i] = get<std::uint16_t>(r + 18);
+    bits(c.ret, 14, 0, 7);
+    bits(c.nret, 14, 3, 7);
+    bits(c.scan_dir, 14, 6, 1);
+    bits(c.edge, 14, 7, 1);
+    bits(c.cls, 15, 0, 31);
+    bits(c.synthetic, 15, 5, 1);
+    bits(c.key_point, 15, 6, 1);
+    bits(c.withheld, 15, 7, 1);
+    append(c.angle, p, k, rec,
+           [](const unsigned char* r) { return static_cast<double>(get<std::int8_t>(r + 16)); });
+    bits(c.user, 17, 0, 255);
+    u16(c.source, 18);
   } else {
-    (*c.ret)[i] = bits & 15;
-    (*c.nret)[i] = bits >> 4;
-    const unsigned f = r[15];
-    (*c.synthetic)[i] = f & 1;
-    (*c.key_point)[i] = (f >> 1) & 1;
-    (*c.withheld)[i] = (f >> 2) & 1;
-    (*c.overlap)[i] = (f >> 3) & 1;
-    (*c.channel)[i] = (f >> 4) & 3;
-    (*c.scan_dir)[i] = (f >> 6) & 1;
-    (*c.edge)[i] = (f >> 7) & 1;
-    (*c.cls)[i] = r[16];
-    (*c.user)[i] = r[17];
-    (*c.angle)[i] = static_cast<float>(get<std::int16_t>(r + 18) * 0.006);
-    (*c.source)[i] = get<std::uint16_t>(r + 20);
+    bits(c.ret, 14, 0, 15);
+    bits(c.nret, 14, 4, 15);
+    bits(c.synthetic, 15, 0, 1);
+    bits(c.key_point, 15, 1, 1);
+    bits(c.withheld, 15, 2, 1);
+    bits(c.overlap, 15, 3, 1);
+    bits(c.channel, 15, 4, 3);
+    bits(c.scan_dir, 15, 6, 1);
+    bits(c.edge, 15, 7, 1);
+    bits(c.cls, 16, 0, 255);
+    bits(c.user, 17, 0, 255);
+    append(c.angle, p, k, rec, [](const unsigned char* r) {
+      return static_cast<double>(static_cast<float>(get<std::int16_t>(r + 18) * 0.006));
+    });
+    u16(c.source, 20);
   }
-  if (c.gps) (*c.gps)[i] = get<double>(r + c.gps_at);
+  if (c.gps) {
+    const std::size_t at = c.gps_at;
+    append(c.gps, p, k, rec, [at](const unsigned char* r) { return get<double>(r + at); });
+  }
   if (c.has_rgb) {
-    for (int k = 0; k < 3; ++k) (*c.rgb[k])[i] = get<std::uint16_t>(r + c.rgb_at + 2 * k);
+    for (std::size_t j = 0; j < 3; ++j) u16(c.rgb[j], c.rgb_at + 2 * j);
   }
-  if (c.nir) (*c.nir)[i] = get<std::uint16_t>(r + 36);
+  if (c.nir) u16(c.nir, 36);
   for (const auto& e : c.extras) {
     const std::size_t step = static_cast<std::size_t>(kBaseSize[e.base]);
-    for (int k = 0; k < e.count; ++k) {
-      const double raw = read_base(r + e.offset + step * static_cast<std::size_t>(k), e.base);
-      (*e.cols[static_cast<std::size_t>(k)])[i] = e.scaled ? raw * e.scale[k] + e.shift[k] : raw;
+    for (int j = 0; j < e.count; ++j) {
+      std::vector<double>* col = e.cols[static_cast<std::size_t>(j)];
+      const std::size_t at = e.offset + step * static_cast<std::size_t>(j);
+      const bool s = e.scaled;
+      const double sc = e.scale[j], sh = e.shift[j];
+      switch (e.base) {
+        case 1: append_extra<std::uint8_t>(col, p, k, rec, at, s, sc, sh); break;
+        case 2: append_extra<std::int8_t>(col, p, k, rec, at, s, sc, sh); break;
+        case 3: append_extra<std::uint16_t>(col, p, k, rec, at, s, sc, sh); break;
+        case 4: append_extra<std::int16_t>(col, p, k, rec, at, s, sc, sh); break;
+        case 5: append_extra<std::uint32_t>(col, p, k, rec, at, s, sc, sh); break;
+        case 6: append_extra<std::int32_t>(col, p, k, rec, at, s, sc, sh); break;
+        case 7: append_extra<std::uint64_t>(col, p, k, rec, at, s, sc, sh); break;
+        case 8: append_extra<std::int64_t>(col, p, k, rec, at, s, sc, sh); break;
+        case 9: append_extra<float>(col, p, k, rec, at, s, sc, sh); break;
+        default: append_extra<double>(col, p, k, rec, at, s, sc, sh); break;
+      }
     }
   }
 }
+
+// The checks and the decoding after the signature: `b` holds the file's first
+// min(size, max(kHeader14, point data offset)) bytes (header and VLRs; at least kHeader12),
+// `src` the whole file for the EVLRs and the point records, read `chunk_bytes` at a time.
+PointCloud decode_las(const unsigned char* b, LasSource& src, const std::string& name, std::size_t chunk_bytes) {
+  const std::size_t size = static_cast<std::size_t>(src.size());
+  const LasHeader h = read_las_header(b, size, name);
+  PointCloud cloud;
+  ExtraVlr extra;
+  std::vector<unsigned char> evlr_payload;
+  read_vlrs(b, h, name, &cloud, &extra);
+  read_evlrs(b, src, h, name, &extra, &evlr_payload);
+  LasColumns columns = add_las_columns(h.format, cloud);
+  if (extra.data != nullptr) {
+    columns.extras = parse_extra_bytes(extra.data, extra.len, kMinRecord[h.format],
+                                       h.record - kMinRecord[h.format], &cloud);
+  }
+  // read_las_header checked that the records fit the file: the columns are bounded by it.
+  const auto n = static_cast<std::size_t>(h.n);
+  for (std::size_t c = 0; c < cloud.names().size(); ++c) cloud.col(c).reserve(n);
+  const std::size_t per = std::max<std::size_t>(1, chunk_bytes / h.record);
+  std::vector<unsigned char> chunk;
+  for (std::size_t i = 0; i < n;) {
+    const std::size_t k = std::min(per, n - i);
+    decode_records(src.bytes(h.data_offset + std::uint64_t(i) * h.record, k * h.record, &chunk), k, h, columns);
+    i += k;
+  }
+  cloud.resize(n);  // every column already holds n values: only the cloud's size is set
+  return cloud;
+}
+
+// The bytes decode_las needs in `b`: the header, the VLRs up to the point data offset.
+std::size_t las_head_size(const unsigned char* b, std::size_t have, std::uint64_t size) {
+  std::uint64_t want = std::min<std::uint64_t>(size, kHeader14);
+  if (have >= kHeader12)
+    want = std::max<std::uint64_t>(want, std::min<std::uint64_t>(size, get<std::uint32_t>(b + 96)));
+  return static_cast<std::size_t>(want);
+}
+
+// Closes a file descriptor when it goes out of scope.
+struct FdCloser {
+  int fd;
+  ~FdCloser() { ::close(fd); }
+};
 
 }  // namespace
 
@@ -468,22 +610,45 @@ PointCloud parse_las(const std::string& bytes, const std::string& name) {
     throw DataError(name, "LAS header truncated: file has " + std::to_string(size) +
                               " bytes, a header needs " + std::to_string(kHeader12));
   }
-  const LasHeader h = read_las_header(b, size, name);
-  PointCloud cloud;
-  ExtraVlr extra;
-  read_vlrs(b, h, name, &cloud, &extra);
-  read_evlrs(b, size, h, name, &extra);
-  LasColumns columns = add_las_columns(h.format, cloud);
-  if (extra.data != nullptr) {
-    columns.extras = parse_extra_bytes(extra.data, extra.len, kMinRecord[h.format],
-                                       h.record - kMinRecord[h.format], &cloud);
-  }
-  cloud.resize(static_cast<std::size_t>(h.n));
-  for (std::size_t i = 0; i < h.n; ++i) decode_record(b + h.data_offset + i * h.record, i, h, columns);
-  return cloud;
+  MemorySource src(bytes);
+  return decode_las(b, src, name, kLasReadChunk);
 }
 
-PointCloud read_las(const std::string& path) { return parse_las(common::read_file(path), path); }
+PointCloud read_las(const std::string& path) { return read_las(path, kLasReadChunk); }
+
+PointCloud read_las(const std::string& path, std::size_t chunk_bytes) {
+  struct stat st {};
+  // Standard input, a FIFO or a device cannot be read twice nor at an offset; a missing file
+  // or a directory gets read_file's error.
+  if (path == "-" || ::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) {
+    return parse_las(common::read_file(path), path);
+  }
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw DataError(path, std::string("cannot open: ") + std::strerror(errno));
+  const FdCloser closer{fd};
+  if (::fstat(fd, &st) != 0) throw DataError(path, std::string("cannot open: ") + std::strerror(errno));
+  FileSource src(fd, static_cast<std::uint64_t>(st.st_size), path);
+  // The header and the VLRs (all LAZ detection needs, laz.h), then the rest piece by piece.
+  std::vector<unsigned char> scratch;
+  std::size_t have = las_head_size(nullptr, 0, src.size());
+  std::string head;
+  head.assign(reinterpret_cast<const char*>(src.bytes(0, have, &scratch)), have);
+  const std::size_t want = las_head_size(reinterpret_cast<const unsigned char*>(head.data()), have, src.size());
+  if (want > have) head.assign(reinterpret_cast<const char*>(src.bytes(0, want, &scratch)), want);
+  scratch = std::vector<unsigned char>();
+  if (!is_las(head)) throw DataError(path, "not a LAS file (no LASF signature)");
+  if (is_laz(head)) {
+    // LAZ: decompressed whole, as parse_las does; the compressed bytes are freed before the
+    // LAS is decoded.
+    const std::string las = laz_to_las(common::read_file(path), path);
+    return parse_las(las, path);
+  }
+  if (head.size() < kHeader12) {
+    throw DataError(path, "LAS header truncated: file has " + std::to_string(src.size()) +
+                              " bytes, a header needs " + std::to_string(kHeader12));
+  }
+  return decode_las(reinterpret_cast<const unsigned char*>(head.data()), src, path, chunk_bytes);
+}
 
 LasHeaderBlock read_las_header_block(const std::string& path, std::size_t max_bytes) {
   std::ifstream f(path, std::ios::binary);

@@ -1,10 +1,13 @@
 #include "canopy/formats/points_io.h"
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
 #include <cmath>
 #include <cstring>
+#include <fstream>
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
@@ -146,6 +149,17 @@ PointCloud parse_points(const std::string& bytes, const std::string& name, const
 }
 
 PointCloud read_points(const std::string& path, const std::string& tool) {
+  // A regular LAS file is read piece by piece by read_las, not copied whole into memory first.
+  // Only a regular file is looked into here: a FIFO's first bytes could not be read again.
+  struct stat st {};
+  if (path != "-" && ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode)) {
+    std::ifstream f(path, std::ios::binary);
+    char magic[4] = {};
+    if (f.read(magic, 4) && std::memcmp(magic, "LASF", 4) == 0) {
+      f.close();
+      return read_las(path);
+    }
+  }
   return parse_points(common::read_file(path), path, tool);
 }
 

@@ -25,7 +25,16 @@ bool is_las(const std::string& bytes);
 // True when `bytes` are LAZ: LAS-signed with LASzip's compression bit or VLR (laz.h).
 bool is_laz(const std::string& bytes);
 
+// Reads a LAS or LAZ file. A regular LAS file is read straight from the file: the header and
+// VLRs, the EVLRs (LAS 1.4; they follow the points), then the point records kLasReadChunk bytes
+// (whole records) at a time, each decoded into the columns, which are filled without being
+// zero-filled first; memory: the columns plus one chunk. Standard input, FIFOs and LAZ files
+// are read whole first, then parsed (parse_las). The values and errors are parse_las's.
 PointCloud read_las(const std::string& path);
+// The same, `chunk_bytes` of point records at a time (at least one record): for tests of the
+// chunk edges.
+PointCloud read_las(const std::string& path, std::size_t chunk_bytes);
+inline constexpr std::size_t kLasReadChunk = std::size_t(256) << 10;
 
 // One variable-length record (VLR) of a LAS file's header block.
 struct LasVlr {
