@@ -19,6 +19,7 @@
 #include "canopy/documents/stage_outcome.h"
 #include "canopy/documents/stage_time.h"
 #include "report/baseline_section.h"
+#include "report/disk_section.h"
 #include "report/families_section.h"
 #include "report/real_section.h"
 #include "report/report.h"
@@ -171,7 +172,7 @@ std::string real_section(const std::vector<documents::ManifestRealTile>& real, i
 struct Sources {
   std::string manifest, results = "results";
   std::string thesis;  // default: <share>/thesis/results.csv
-  std::string tile_score, families;
+  std::string tile_score, families, disk;
   int real_timeout = 0;
 };
 
@@ -193,6 +194,9 @@ void bind(common::Tool& tool, Sources& src, report::Params& p) {
   tool.add("--real-timeout", &src.real_timeout,
            "the time box of a real tile, s (mk/real.mk REAL_TIMEOUT; 0 unknown); the real tiles are the "
            "manifest's `real` records, and the \"Real tiles\" section is written when it has any");
+  tool.add("--disk", &src.disk,
+           "the experiment's output directory: adds the \"Disk\" section (bytes per part when the report is "
+           "written)");
   tool.add("--max-segments", &p.max_segments, "largest object segments examined for spurious area");
   tool.add("--overseg-ratio", &p.overseg_ratio, "over-segmented when target segments exceed this x model's");
   tool.add("--missing-area-ratio", &p.missing_area_ratio,
@@ -236,6 +240,8 @@ int main(int argc, char** argv) {
     if (!src.families.empty()) markdown += families_section(src.families);
     if (!src.tile_score.empty()) markdown += scenes_section(src.tile_score, scene_dir, results, outputs);
     if (!manifest.real.empty()) markdown += real_section(manifest.real, src.real_timeout);
+    if (!src.disk.empty())
+      markdown += report::disk_markdown(report::disk_parts(src.disk, manifest.objects), src.disk);
     outputs.set(results + "/report.md", markdown);
     outputs.set(results + "/cases.csv", r.cases_csv);
     outputs.set(results + "/scores.csv", r.scores_csv);
