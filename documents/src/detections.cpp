@@ -123,6 +123,20 @@ Detections read_members(const Json& j) {
       Rejection r;
       r.candidate = text(at(rs[i], "candidate", w), w + ".candidate");
       if (rs[i].contains("reason")) r.reason = text(rs[i]["reason"], w + ".reason");
+      if (rs[i].contains("confidence") && !rs[i]["confidence"].is_null()) {
+        const Json& c = rs[i]["confidence"];
+        if (!c.is_number() || !(c.get<double>() >= 0 && c.get<double>() <= 1))
+          throw Malformed(w + ".confidence must be a number in [0, 1] or null, not " + describe(c));
+        r.confidence = c.get<double>();
+      }
+      if (rs[i].contains("position") && !rs[i]["position"].is_null()) {
+        const Json& q = rs[i]["position"];
+        if (!q.is_object())
+          throw Malformed(w + ".position must be an object {x, y} or null, not " + describe(q));
+        const std::string pw = w + ".position";
+        r.position = std::array<double, 2>{finite_number(at(q, "x", pw), pw + ".x"),
+                                           finite_number(at(q, "y", pw), pw + ".y")};
+      }
       d.rejected.push_back(std::move(r));
     }
   }
@@ -193,6 +207,8 @@ Json rejection_json(const RejectionRecord& r) {
   Json j{{"candidate", r.candidate}, {"reason", r.reason}};
   j["detail"] = r.detail ? Json(*r.detail) : Json(nullptr);
   j["confidence"] = r.confidence ? Json(*r.confidence) : Json(nullptr);
+  if (r.position)
+    j["position"] = Json{{"x", finite_number((*r.position)[0])}, {"y", finite_number((*r.position)[1])}};
   j["density"] = number_or_null(r.density);
   if (r.classified) {
     j["density_needed"] = r.has_density_needed ? Json{{"class", number_or_null(r.density_class)},

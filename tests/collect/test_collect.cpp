@@ -520,6 +520,9 @@ TEST_CASE("collect v2: class answers where the model chain found nothing, failed
   CHECK(r["density"] == 2.1);
   CHECK(r["density_needed"] == Json{{"class", 4.0}, {"model", 370.0}});
   CHECK(r["model_chain"] == "failed");
+  // Where the rejected candidate was (its frame's origin in the tile): score judges the none.
+  CHECK(r["position"]["x"].get<double>() == Approx(E + 20));
+  CHECK(r["position"]["y"].get<double>() == Approx(N + 20));
   const Json g = read_json(dir / "d.geojson");
   REQUIRE(g["features"].size() == 2);
   CHECK(g["features"][1]["properties"]["level"] == "class");

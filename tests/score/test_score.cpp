@@ -370,8 +370,8 @@ TEST_CASE("intervals: renders resampled, noise levels of one render counted once
 
   // Reliability: the model level's answers by confidence (the tank at 0.8, the sedan at 0.9),
   // all right: 6 answers per bin from 3 renders, Wilson at 3 -> [0.4385, 1]; the class level
-  // has none (20 rows: 10 bins per level).
-  REQUIRE(s["reliability"].size() == 20);
+  // has none (30 rows: 10 bins per level: model, class, none).
+  REQUIRE(s["reliability"].size() == 30);
   const Json& r8 = s["reliability"][8];
   CHECK(r8["level"] == "model");
   CHECK(r8["confidence_lo"].get<double>() == Approx(0.8));
@@ -396,6 +396,48 @@ TEST_CASE("intervals: renders resampled, noise levels of one render counted once
   CHECK(b["recall_lo"].get<double>() == Approx(0));
   CHECK(b["recall_hi"].get<double>() == Approx(1));
   CHECK(b["recall_lo"].get<double>() <= b["recall"].get<double>());
+}
+
+TEST_CASE("reliability of none: a rejection is wrong only where it cost a vehicle") {
+  // The sedan found; the tank missed. Rejected: c2 beside the missed tank (0.70: wrong), c3 a
+  // fragment of the found sedan (0.75: right), c4 on open ground (0.95: right), c5 without a
+  // position (an older collect: not judged).
+  Json d = Json::parse(detections_text(det("c1", "sedan", 0.9, 10, 10, 30), 4));
+  d["rejected"] = Json::array({Json{{"candidate", "c2"},
+                                    {"reason", "none"},
+                                    {"confidence", 0.7},
+                                    {"position", {{"x", E + 20.5}, {"y", N + 20}}}},
+                               Json{{"candidate", "c3"},
+                                    {"reason", "none"},
+                                    {"confidence", 0.75},
+                                    {"position", {{"x", E + 10.2}, {"y", N + 10}}}},
+                               Json{{"candidate", "c4"},
+                                    {"reason", "vegetation_like"},
+                                    {"confidence", 0.95},
+                                    {"position", {{"x", E + 2}, {"y", N + 2}}}},
+                               Json{{"candidate", "c5"}, {"reason", "none"}, {"confidence", 0.5}}});
+  score::Tile t;
+  t.truth = score::parse_truth(truth_text(), "truth.json");
+  t.detections = score::parse_detections(d.dump(), "detections.json");
+  REQUIRE(t.detections.rejected.size() == 3);
+  const Json s = as_json(score::score({t}, score::Params{}));
+  const Json& rel = s["reliability"];
+  REQUIRE(rel.size() == 30);
+  CHECK(rel[27]["level"] == "none");
+  CHECK(rel[27]["confidence_lo"].get<double>() == Approx(0.7));
+  CHECK(rel[27]["answers"] == 2);
+  CHECK(rel[27]["right"] == 1);
+  CHECK(rel[29]["answers"] == 1);
+  CHECK(rel[29]["right"] == 1);
+  CHECK(rel[25]["answers"] == 0);  // c5 has no position
+  // A malformed position or confidence is refused naming the member.
+  d["rejected"][0]["position"] = Json{{"x", E}};
+  CHECK_THROWS_WITH(score::parse_detections(d.dump(), "detections.json"),
+                    Catch::Contains("rejected[0].position"));
+  d["rejected"][0]["position"] = nullptr;
+  d["rejected"][0]["confidence"] = 1.5;
+  CHECK_THROWS_WITH(score::parse_detections(d.dump(), "detections.json"),
+                    Catch::Contains("rejected[0].confidence"));
 }
 
 TEST_CASE("score CLI: a bad input names the file and writes nothing") {

@@ -246,6 +246,7 @@ documents::RejectionRecord rejection_of(const Candidate& c, const Answers& a, st
   r.candidate = c.id;
   r.reason = reason;
   r.classified = classified;
+  r.position = std::array<double, 2>{c.transform[3], c.transform[7]};  // the candidate frame's origin
   if (classified) {
     if (!k.detail.empty()) r.detail = k.detail;
     r.confidence = k.confidence;

@@ -504,12 +504,11 @@ void pr_table(std::ostringstream& md, const SceneScore& score) {
 void reliability_table(std::ostringstream& md, const SceneScore& score) {
   if (score.reliability.empty()) return;  // a score written before the table
   md << "### Reliability on the tiles (issue 29)\n\n"
-        "Detections by the confidence they state and the share that was right (model level: the true "
-        "model; class level: a class naming the truth; a false alarm is wrong), from "
-        "`scenes/reliability.csv`. "
-        "The issue's target: within ±10 points of the stated confidence in every bin of at least 20 "
-        "answers (judged on the mean stated confidence of the bin). Rejections (`none`) are not judged: "
-        "detections.json gives a rejected candidate no position to match against the truth.\n\n"
+        "Answers by the confidence they state and the share that was right (model level: the true model; "
+        "class level: a class naming the truth; a false alarm is wrong; `none`: right unless a true vehicle "
+        "that no detection found lies within the match radius of the rejected candidate's centre), from "
+        "`scenes/reliability.csv`. The issue's target: within ±10 points of the stated confidence in every "
+        "bin of at least 20 answers (judged on the mean stated confidence of the bin).\n\n"
         "| level | confidence | answers | right | mean stated | within ±10 points |\n"
         "|---|---|---|---|---|---|\n";
   for (const ScoreRow& r : score.reliability) {

@@ -67,7 +67,8 @@ void add_interval(ScoreRow& row, const std::string& key, const std::vector<commo
   insert_after(row, key, {{key + "_lo", ci.lo}, {key + "_hi", ci.hi}});
 }
 
-std::vector<ScoreRow> reliability_table(const std::vector<Tile>& tiles, const std::vector<ScoreMatch>& matches) {
+std::vector<ScoreRow> reliability_table(const std::vector<Tile>& tiles, const std::vector<ScoreMatch>& matches,
+                                        const std::vector<TileMatch>& pairing, double radius) {
   std::vector<std::size_t> all(tiles.size());
   for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
   const auto renders = renders_of(tiles, all);
@@ -76,32 +77,50 @@ std::vector<ScoreRow> reliability_table(const std::vector<Tile>& tiles, const st
     for (std::size_t i : renders[r]) render_of[i] = r;
   }
   const double runs_per_render = renders.empty() ? 1 : static_cast<double>(tiles.size()) / renders.size();
+  // Every answer: level, confidence, right, tile.
+  struct Answer {
+    std::string level;
+    double confidence;
+    bool right;
+    std::size_t tile;
+  };
+  std::vector<Answer> answers;
+  for (const ScoreMatch& m : matches) {
+    if (m.outcome == "missed" || !m.confidence) continue;
+    answers.push_back(
+        {m.level.value_or("model"), *m.confidence, m.outcome == "right", static_cast<std::size_t>(m.tile)});
+  }
+  for (std::size_t i = 0; i < tiles.size(); ++i) {
+    const auto& vehicles = tiles[i].truth.vehicles;
+    for (const Rejection& r : tiles[i].detections.rejected) {
+      bool costs = false;
+      for (std::size_t t = 0; t < vehicles.size(); ++t) {
+        const bool missed = pairing[i].detection_of[t] < 0 && pairing[i].cls.detection_of[t] < 0;
+        if (missed && std::hypot(vehicles[t].x - r.x, vehicles[t].y - r.y) <= radius) costs = true;
+      }
+      answers.push_back({"none", r.confidence, !costs, i});
+    }
+  }
   std::vector<ScoreRow> rows;
-  for (const char* level : {"model", "class"}) {
+  for (const char* level : {"model", "class", "none"}) {
     for (int b = 0; b < 10; ++b) {
       const double lo = b / 10.0, hi = (b + 1) / 10.0;
       std::vector<common::ClusterSum> per(renders.size());
-      int answers = 0, right = 0;
+      int n = 0, right = 0;
       double conf_sum = 0;
-      for (const ScoreMatch& m : matches) {
-        if (m.outcome == "missed" || m.level.value_or("model") != level || !m.confidence) continue;
-        const double c = *m.confidence;
-        if (c < lo || (b == 9 ? c > hi : c >= hi)) continue;
-        const bool ok = m.outcome == "right";
-        ++answers;
-        right += ok;
-        conf_sum += c;
-        auto& x = per[render_of[static_cast<std::size_t>(m.tile)]];
-        x.num += ok;
+      for (const Answer& a : answers) {
+        if (a.level != level) continue;
+        if (a.confidence < lo || (b == 9 ? a.confidence > hi : a.confidence >= hi)) continue;
+        ++n;
+        right += a.right;
+        conf_sum += a.confidence;
+        auto& x = per[render_of[a.tile]];
+        x.num += a.right;
         x.den += 1;
       }
-      ScoreRow row{{"level", level},
-                   {"confidence_lo", lo},
-                   {"confidence_hi", hi},
-                   {"answers", answers},
-                   {"right", right},
-                   {"mean_confidence", ratio(conf_sum, answers)},
-                   {"rate", ratio(right, answers)}};
+      ScoreRow row{{"level", level},         {"confidence_lo", lo}, {"confidence_hi", hi},
+                   {"answers", n},           {"right", right},      {"mean_confidence", ratio(conf_sum, n)},
+                   {"rate", ratio(right, n)}};
       add_interval(row, "rate", per, runs_per_render, RateKind::proportion);
       rows.push_back(std::move(row));
     }

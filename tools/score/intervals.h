@@ -40,10 +40,14 @@ void add_interval(documents::ScoreRow& row, const std::string& key,
                   const std::vector<common::ClusterSum>& per_render, double runs_per_render, RateKind kind);
 
 // Reliability (issue 29, "calibration where it is used"): the answers of each level (model,
-// class) by stated confidence, in bins of 0.1 ([0.9, 1] closed), and the share that is right
-// (outcome "right": the true model, or a class naming the truth; a false alarm and a wrong
-// model or class are wrong), with its interval over renders.
+// class, none) by stated confidence, in bins of 0.1 ([0.9, 1] closed), and the share that is
+// right, with its interval over renders. A detection is right when its outcome is "right" (the
+// true model, or a class naming the truth; a false alarm and a wrong model or class are
+// wrong). A rejection ("none", with its confidence and the candidate's centre) is right unless
+// a true vehicle that no detection found lies within `radius` of the candidate's centre (a
+// rejected fragment of a vehicle found by another candidate costs nothing).
 std::vector<documents::ScoreRow> reliability_table(const std::vector<Tile>& tiles,
-                                                   const std::vector<documents::ScoreMatch>& matches);
+                                                   const std::vector<documents::ScoreMatch>& matches,
+                                                   const std::vector<TileMatch>& pairing, double radius);
 
 }  // namespace canopy::score

@@ -81,6 +81,10 @@ Detections parse_detections(const std::string& text_, const std::string& name) {
                         *x.confidence, x.pose->x, x.pose->y, x.pose->z, x.pose->heading};
       (e.level == "model" ? d.detections : d.class_detections).push_back(e);
     }
+    for (const documents::Rejection& r : doc.rejected) {
+      if (r.confidence && r.position)
+        d.rejected.push_back({r.candidate, *r.confidence, (*r.position)[0], (*r.position)[1]});
+    }
     const std::size_t found = d.detections.size() + d.class_detections.size();
     if (d.none + static_cast<int>(found) > d.candidates) {
       throw Malformed("detections (" + std::to_string(found) + ") + none (" + std::to_string(d.none) +
@@ -619,7 +623,7 @@ documents::SceneScore score(const std::vector<Tile>& tiles, const Params& params
   s.pr = pr_curve(tiles, matches);
   s.models = model_table(tiles, matches, g);
   s.cover_bins = cover_bins(tiles, matches, params, g);
-  s.reliability = reliability_table(tiles, s.matches);
+  s.reliability = reliability_table(tiles, s.matches, matches, params.match_radius);
   return s;
 }
 

@@ -49,6 +49,14 @@ struct Detection {
   double heading = 0;          // degrees
 };
 
+// A rejected candidate that says where it was and how sure the rejection is (collect writes
+// both since issue 29): the reliability table judges it.
+struct Rejection {
+  std::string candidate;
+  double confidence = 0;
+  double x = 0, y = 0;  // the candidate's centre, tile coordinates
+};
+
 struct Detections {
   std::string name;
   int version = 1;
@@ -56,6 +64,7 @@ struct Detections {
   int none = 0;                             // of which answered none
   std::vector<Detection> detections;        // model level
   std::vector<Detection> class_detections;  // class level (v2)
+  std::vector<Rejection> rejected;          // those with a confidence and a position
 };
 
 // One tile of an experiment: its detections, truth and the experiment's labels.

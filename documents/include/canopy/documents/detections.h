@@ -38,6 +38,9 @@ struct Detection {
 struct Rejection {
   std::string candidate;
   std::optional<std::string> reason;  // none, failed, too_sparse, ...; absent in early version 1
+  std::optional<double> confidence;   // null or absent: nullopt
+  // The candidate's centre in tile coordinates ("position": {"x", "y"}; absent before issue 29).
+  std::optional<std::array<double, 2>> position;
 };
 
 struct Detections {
@@ -95,6 +98,7 @@ struct RejectionRecord {
   std::optional<double> density_class, density_model;  // "density_needed" when has_density_needed
   std::optional<std::string> model_chain;              // failed, none, or nullopt = null (not run)
   std::string verdict;
+  std::optional<std::array<double, 2>> position;  // the candidate's centre, tile coordinates
 };
 
 struct DetectionsRecord {
