@@ -78,6 +78,21 @@ REAL_DEPS = $(foreach t,$(REAL_TOOLS),$(call tool,$(t))) $(wildcard $(STAMPS)/cl
 REAL_SUBMAKE = $(MAKE)
 real_plus := $(if $(dry_run),,+)
 
+# real_args(name, out, classify.ini): the arguments of a tile's sub-make.
+real_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) tile TILE=$(call real_file,$(1)) \
+  MODELBASE=$(OUT)/modelbase OUT=$(2)/$(1) TILE_CLASSIFY=$(3) PROGRESS=0 SCENE_EXPERIMENT=0 FAMILIES=0 REAL_TILES=0
+# real_progress(MODE, name, out, classify.ini): the progress count (scripts/progress.sh, state
+# $$CANOPY_PROGRESS) takes in (add) the stages a dry run of the tile's sub-make shows, or takes
+# them back (drop) when the sub-make stopped early and they will not run (but for those that ran
+# since the start, failing: $(OUT)/.progress-<real|real-sim>-<name> marks it); the parent's dry run
+# prints the sub-make without running it, so they are not in its plan (issue 31: the tiles'
+# stages ran uncounted, then a tile stopped by its time box left its candidates counted). drop
+# also takes back the score, which the parent's plan counts.
+real_progress = { [ -z "$$$$CANOPY_PROGRESS" ] || { CANOPY_PLANNING=1 $$(REAL_SUBMAKE) -n $(call real_args,$(2),$(3),$(4)) \
+  2>/dev/null; $(if $(and $(filter drop,$(1)),$(wildcard $(REAL_SHARE)/$(2).truth.json)),echo \
+  "scripts/stage.sh $(3)/$(2)/score.json -- $(BIN)/score";) } | scripts/progress.sh $(1) "$$$$CANOPY_PROGRESS" \
+  "$$$$CANOPY_PROGRESS-$(notdir $(3))-$(2)" >/dev/null; }
+
 # real_rule(name, previous, out, classify.ini): one tile's run into out/<name> (time-boxed,
 # timed) and, for a labelled tile, its score; GNU time's "Command exited with non-zero status"
 # line is dropped from tile.time.
@@ -85,9 +100,10 @@ define real_rule
 $(3)/$(1)/tile.time: $(call real_file,$(1)) $(REAL_DEPS) $(4) $(wildcard $(REAL_SHARE)/$(1).truth.json) \
     | $(if $(2),$(3)/$(2)/tile.time)
 	$$(real_plus)@mkdir -p $(3)/$(1) && rm -f $$@ $(3)/$(1)/score.json && s=0; \
-	  /usr/bin/time -f '%e %M %U %S' -o $$@.tmp timeout $(REAL_TIMEOUT) $$(REAL_SUBMAKE) --no-print-directory \
-	    -f $(firstword $(MAKEFILE_LIST)) tile TILE=$(call real_file,$(1)) MODELBASE=$(OUT)/modelbase \
-	    OUT=$(3)/$(1) TILE_CLASSIFY=$(4) PROGRESS=0 SCENE_EXPERIMENT=0 FAMILIES=0 REAL_TILES=0 || s=$$$$?; \
+	  $(call real_progress,add,$(1),$(3),$(4)); \
+	  /usr/bin/time -f '%e %M %U %S' -o $$@.tmp timeout $(REAL_TIMEOUT) $$(REAL_SUBMAKE) \
+	    $(call real_args,$(1),$(3),$(4)) || s=$$$$?; \
+	  [ $$$$s -eq 0 ] || $(call real_progress,drop,$(1),$(3),$(4)); \
 	  if [ $$$$s -eq 124 ]; then rm -f $(3)/$(1)/detections.json; \
 	    echo "real  $(1): not finished after $(REAL_TIMEOUT) s (REAL_TIMEOUT), recorded as such"; \
 	  elif [ $$$$s -eq 2 ]; then rm -f $(3)/$(1)/detections.json; \

@@ -13,12 +13,26 @@
 #                                fitvox:cand/samples.pcd); adds them to M and E. A candidate
 #                                the plan keeps at the class level (<key>_LEVEL_<id> := class)
 #                                counts its classify:… stages only.
+#   progress.sh add STATE MARK   stdin: a dry run of a sub-make about to run (a real tile's
+#                                workflow, mk/real.mk): its stages join M and E, counted as plan
+#                                counts them; MARK is touched (the sub-make's start). Prints the
+#                                number added.
+#   progress.sh drop STATE MARK  stdin: a dry run of the same sub-make after it stopped early (a
+#                                real tile timed out or refused): the stages it still shows will
+#                                not run in this make, so they leave M and E (never below N, D);
+#                                except those that ran since MARK and were counted, failing (an
+#                                ARTIFACT.log newer than MARK and no ARTIFACT.time.tmp, which a
+#                                stage killed by the time box leaves).
 #   progress.sh key ARTIFACT COMMAND...   prints the kind of a stage (see below).
 #
 # Known work only: a tile's candidates are not known before its detect has run, so the dry run
 # cannot plan them; the plan step adds them (extend) and, so that none is counted twice, the
-# dry run leaves out the candidate stages of every tile whose plan it shows being remade. N
-# never passes M: stage.sh raises M to N should a stage run that no plan counted.
+# dry run leaves out the candidate stages of every tile whose plan it shows being remade. A
+# sub-make the dry run only prints (a real tile's, under a time box) is counted when it starts
+# (add) and what it leaves undone is taken back (drop). N never passes M: stage.sh raises M to
+# N should a stage run that no plan counted. A stage line is one whose first command is
+# scripts/stage.sh, also after a test (`[ ... ] || scripts/stage.sh ...`). A line
+# "progress-plan-failed STATUS" (Makefile.experiments: the dry run failed) is reported on stderr.
 #
 # Estimates come from the stages' own history: a stage whose artifact has a .time file from an
 # earlier run is estimated at that run's wall time; any other at the mean of its kind over the
@@ -80,13 +94,27 @@ case "$mode" in
     artifact=$2; shift 2
     printf '%s\n' "$@" | awk -v a="$artifact" "$kind_awk"'{ w[NR] = $0 } END { print kind(a, tool_of(1, NR, w)) }'
     ;;
-  plan)
-    state=$2
-    awk -v state="$state" -v now="$(date +%s.%N)" "$kind_awk"'
+  plan | add | drop)
+    state=$2 mark=${3:-}
+    # (add and drop change the state under the lock that stage.sh and extend take)
+    if [ "$mode" != plan ]; then
+      [ -f "$state" ] || exit 0
+      exec 9>>"$state.lock"
+      flock 9
+      [ "$mode" != add ] || [ -z "$mark" ] || : >"$mark"
+    fi
+    awk -v mode="$mode" -v state="$state" -v mark="$mark" -v now="$(date +%s.%N)" "$kind_awk"'
       /^built / { print > "/dev/stderr"; next }
-      # scripts/stage.sh [--launch slurm] [--record-failure] ARTIFACT -- COMMAND...
-      $1 ~ /(^|\/)stage\.sh$/ {
-        i = 2
+      /^progress-plan-failed / {
+        print "progress: the planning dry run (make -n) failed with status " $2 "; the total counts only the stages it showed before that (make -n shows why)" > "/dev/stderr"
+        next
+      }
+      # scripts/stage.sh [--launch slurm] [--record-failure] ARTIFACT -- COMMAND..., first in
+      # the line or after "||", "&&" or ";"
+      {
+        for (i = 1; i <= NF; i++) if ($i ~ /(^|\/)stage\.sh$/ && (i == 1 || $(i - 1) ~ /^(\|\||&&|;)$/)) break
+        if (i > NF) next
+        i++
         while ($i == "--launch" || $i == "--record-failure") i += ($i == "--launch") ? 2 : 1
         artifact = $i
         if ($(i + 1) == "--") i++
@@ -95,18 +123,38 @@ case "$mode" in
         if (artifact ~ /\/cands\.mk$/) { d = artifact; sub(/\/cands\.mk$/, "", d); replanned[d] = 1 }
       }
       END {
-        read_history(state "-history")
+        if (mode == "plan") read_history(state "-history")
+        else {
+          while ((getline line < (state "-est")) > 0) {
+            split(line, f, " "); if (f[1] == "*") default_est = f[2]; else est[f[1]] = f[2]
+          }
+          if (default_est == "") default_est = 1
+        }
         m = 0; e = 0
         for (i = 1; i <= n; i++) {
           d = art[i]
           if (sub(/\/cands\/[^\/]+\/[^\/]+$/, "", d) && (d in replanned)) continue
+          if (mode == "drop" && mark != "" && system("test -f \"" art[i] ".log\" -a ! -e \"" art[i] ".time.tmp\" -a \"" \
+                                                      art[i] ".log\" -nt \"" mark "\"") == 0) continue
           s = earlier(art[i])
           e += s >= 0 ? s : estimate(k[i])
           m++
         }
-        printf "0 %d 0 %.3f %s\n", m, e, now > state
-        for (x in est) printf "%s %.3f\n", x, est[x] > (state "-est")
-        printf "* %.3f\n", default_est > (state "-est")
+        if (mode == "plan") {
+          printf "0 %d 0 %.3f %s\n", m, e, now > state
+          for (x in est) printf "%s %.3f\n", x, est[x] > (state "-est")
+          printf "* %.3f\n", default_est > (state "-est")
+        } else {
+          if ((getline line < state) <= 0 || split(line, f, " ") < 5) exit
+          close(state)
+          sign = mode == "add" ? 1 : -1
+          sm = f[2] + sign * m; se = f[4] + sign * e
+          if (sm < f[1]) sm = f[1]
+          if (se < f[3]) se = f[3]
+          printf "%d %d %.3f %.3f %s\n", f[1], sm, f[3], se, f[5] > (state ".tmp")
+          close(state ".tmp")
+          system("mv -f \"" state ".tmp\" \"" state "\"")
+        }
         print m
       }'
     ;;
@@ -144,7 +192,7 @@ case "$mode" in
     } 9>>"$state.lock"
     ;;
   *)
-    echo "progress.sh: usage: progress.sh plan STATE | extend STATE PLAN KEY... | key ARTIFACT COMMAND..." >&2
+    echo "progress.sh: usage: progress.sh plan|add|drop STATE | extend STATE PLAN KEY... | key ARTIFACT COMMAND..." >&2
     exit 2
     ;;
 esac

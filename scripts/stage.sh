@@ -145,6 +145,11 @@ if "${run[@]}" 2>"$log"; then
 else
   rc=$?
 fi
+# From here to the end SIGTERM and SIGINT are ignored (by the few commands below too): a time
+# box or Ctrl-C that stops make now leaves the stage either counted, with ARTIFACT.time.tmp
+# gone, or (killed before this line) uncounted with ARTIFACT.time.tmp left, which is how
+# progress.sh drop tells the two apart (mk/real.mk), and never half-written progress state.
+trap '' TERM INT
 # GNU time's first line says how the tool ended when it did not exit 0.
 how=""
 [ -s "$timing" ] && read -r how <"$timing"

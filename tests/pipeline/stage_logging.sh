@@ -126,6 +126,24 @@ done >"$tmp/t.out"
   fail "N passes M or M is not extended: $(sed -n 's/^done  \([0-9]*\/[0-9]*\) .*/\1/p' "$tmp/t.out" | tr '\n' ' ')"
 unset CANOPY_PROGRESS
 
+# A sub-make the dry run only prints (a real tile's, mk/real.mk) joins M when it starts
+# (progress.sh add: a dry run of it; a stage after a test's "||" counts; MARK is touched) and
+# what it left undone when stopped early leaves M again (drop), except a stage that ran since
+# MARK and failed (counted by stage.sh: its log is newer than MARK, no .time.tmp); a stage the
+# time box killed (its .time.tmp left) is dropped.
+printf '%s\n' "scripts/stage.sh s/a -- $tmp/bin/fake" | "$progress" plan "$tmp/progress3" >/dev/null
+sub=("scripts/stage.sh r/detect -- $tmp/bin/detect" "scripts/stage.sh r/cands.mk -- $tmp/bin/collect"
+     "[ ! -f r/detections.json ] || scripts/stage.sh r/score.json -- $tmp/bin/score")
+[ "$(printf '%s\n' "${sub[@]}" | "$progress" add "$tmp/progress3" "$tmp/progress3-mark")" = 3 ] ||
+  fail "progress.sh add did not count the sub-make's 3 stages"
+read -r n m _ <"$tmp/progress3"
+[ "$n/$m" = "0/4" ] && [ -f "$tmp/progress3-mark" ] || fail "after add the count is $n/$m, not 0/4, or no mark"
+mkdir -p r && : >r/detect.log && : >r/cands.mk.log && : >r/cands.mk.time.tmp
+touch -d "@$(($(date +%s) + 2))" r/detect.log r/cands.mk.log
+printf '%s\n' "${sub[@]}" | "$progress" drop "$tmp/progress3" "$tmp/progress3-mark" >/dev/null
+read -r n m _ <"$tmp/progress3"
+[ "$n/$m" = "0/2" ] || fail "after drop the count is $n/$m, not 0/2 (s/a and the failed r/detect)"
+
 # ---- through make, on a fake tree: every tool is the fake, artifacts are fresh ------------
 cd "$src" || exit 1
 b="$tmp/build"
