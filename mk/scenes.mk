@@ -364,10 +364,12 @@ $(foreach m,$(SCENE_BASELINE),$(foreach r,$(SCENE_RUNS),$(foreach c,$(call model
   $(eval $(call scene_baseline_cand_rule,$(r),$(c),$(m))))))
 $(foreach m,$(SCENE_BASELINE),$(foreach r,$(SCENE_RUNS),$(eval $(call scene_baseline_run_rule,$(r),$(call scene_key,$(r)),$(m)))))
 $(foreach m,$(SCENE_BASELINE),$(eval $(call scene_baseline_score_rule,$(m))))
-# The size-only ablation: per run, collect from classify's answers alone; scored as above.
+# The size-only ablation: per run, collect from classify's measurements alone; scored as above.
+# (The surfaces as $(wildcard): the parent make builds them before this sub-make, and a dry run
+# of it must not plan their thesis stages a second time: the progress count.)
 define scene_size_run_rule
 $(1)/detections-baseline-size.json: $(1)/cands.mk $(foreach c,$($(2)_CANDS),$(1)/cands/$(c)/class.json) \
-    $(VERIFY_SURFACES) $(call tool,collect)
+    $(wildcard $(VERIFY_SURFACES)) $(call tool,collect)
 	@$(STAGE) $$@ -- $(BIN)/collect -i $(1)/cands/index.json --size-only -o $$@ --modelbase $(SCENE_MB)
 endef
 ifeq ($(SCENE_SIZE_ONLY),1)
