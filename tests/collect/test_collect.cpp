@@ -520,6 +520,7 @@ TEST_CASE("collect v2: class answers where the model chain found nothing, failed
   CHECK(r["density"] == 2.1);
   CHECK(r["density_needed"] == Json{{"class", 4.0}, {"model", 370.0}});
   CHECK(r["model_chain"] == "failed");
+  CHECK(r["confidence"].is_null());  // too_sparse: classify decided nothing
   // Where the rejected candidate was (its frame's origin in the tile): score judges the none.
   CHECK(r["position"]["x"].get<double>() == Approx(E + 20));
   CHECK(r["position"]["y"].get<double>() == Approx(N + 20));
@@ -627,6 +628,9 @@ TEST_CASE("collect --size-only: the measured size picks the nearest model; no ve
   };
   write(mb / "small.pcd", surface(0, 4.5, -0.9, 0.9, 1.45));
   write(mb / "long.pcd", surface(-1.1, 1.1, -6, 6, 3.4));
+  // An interrupted writer's temporary copy of "small" (hidden): not a model; it would win the
+  // tie with "small" by name.
+  write(mb / ".small.tmp77-1.pcd", surface(0, 4.5, -0.9, 0.9, 1.45));
   auto measured = [](Json j, double l, double w, double h, double cx, double cy, double heading) {
     j["measured"] = Json{{"size", {l, w, h}},
                          {"centre", {cx, cy}},
@@ -674,6 +678,7 @@ TEST_CASE("collect --size-only: the measured size picks the nearest model; no ve
   CHECK(a["pose"]["y"].get<double>() == Approx(N + 10).margin(1e-6));
   CHECK(std::fmod(a["pose"]["heading"].get<double>() + 360, 360) == Approx(270));
   CHECK(a["footprint_from"] == "model");
+  CHECK_FALSE(a.contains("class"));  // none of classify's decisions: the model alone
   // c0002: "small" exactly (confidence 1), its box centre (2.25 m ahead of its origin) on the
   // rectangle's centre, so the origin lies 2.25 m behind it along heading 90: (E + 6, N + 23.25).
   const Json& b = d["detections"][1];

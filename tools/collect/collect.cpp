@@ -249,7 +249,10 @@ documents::RejectionRecord rejection_of(const Candidate& c, const Answers& a, st
   r.position = std::array<double, 2>{c.transform[3], c.transform[7]};  // the candidate frame's origin
   if (classified) {
     if (!k.detail.empty()) r.detail = k.detail;
-    r.confidence = k.confidence;
+    // classify's confidence is a confidence in its none only when it decided one: too_sparse
+    // decides nothing (confidence 0), and a class answer left without a detection (no pose, or
+    // --size-only's gate) is a confidence in the class (score's reliability of none reads it).
+    if (k.cls.empty() && k.reason != "too_sparse") r.confidence = k.confidence;
     r.density = k.density ? k.density : c.density;
     r.has_density_needed = k.density_class || k.density_model;
     r.density_class = k.density_class;
@@ -258,8 +261,9 @@ documents::RejectionRecord rejection_of(const Candidate& c, const Answers& a, st
     if (v.present) r.model_chain = v.failed ? "failed" : "none";
     r.verdict = k.name;
   } else {
-    r.detail = reason == "failed" ? "a stage of the model chain failed (see the candidate's .log files)"
-                                  : "the model chain found no model of the modelbase";
+    r.detail = reason != "failed" ? "the model chain found no model of the modelbase"
+               : v.present        ? "a stage of the model chain failed (see the candidate's .log files)"
+                                  : "classify failed (see the candidate's class.json.log)";
     if (!(reason == "failed" || !v.present)) r.confidence = v.confidence;
     r.density = c.density;
     r.verdict = v.present ? v.name : k.name;
@@ -445,9 +449,11 @@ Outputs collect(const Index& index, const std::vector<Answers>& answers, const P
         if (diff <= params.size_gate) {
           by_size = k;
           by_size.model = model;
+          by_size.cls.clear();  // none of classify's decisions: the answer is the model alone
+          by_size.group.clear();
           by_size.confidence = 1 - diff / params.size_gate;
           // The measured rectangle in the candidate frame (ground z = 0), then in the tile's.
-          const double h = *k.measured_heading * M_PI / 180, ch = std::cos(h), sh = std::sin(h);
+          const double h = *k.measured_heading * common::kDegree, ch = std::cos(h), sh = std::sin(h);
           const Matrix rect_cand{
               ch, -sh, 0, (*k.measured_centre)[0], sh, ch, 0, (*k.measured_centre)[1], 0, 0, 1, 0, 0,
               0,  0,   1};

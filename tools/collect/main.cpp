@@ -24,9 +24,13 @@ namespace {
 
 // The top-view box of a modelbase surface (<model>.pcd, model frame; label-1 rows when the
 // samples carry labels, as verify keeps them).
-collect::ModelBox model_box(const std::string& path) {
+collect::ModelBox model_box(const std::string& path, bool need_height) {
   const formats::PointCloud pc = formats::read_points(path, "collect");
-  pc.require({"x", "y"}, path, "is this a modelbase surface?");
+  if (need_height) {
+    pc.require({"x", "y", "z"}, path, "is this a modelbase surface? (--size-only needs its height)");
+  } else {
+    pc.require({"x", "y"}, path, "is this a modelbase surface?");
+  }
   const auto& x = pc.col("x");
   const auto& y = pc.col("y");
   const std::vector<double>* label = pc.has("label") ? &pc.col("label") : nullptr;
@@ -152,9 +156,15 @@ std::map<std::string, collect::ModelBox> read_boxes(const std::string& modelbase
   if (all) {
     std::error_code ec;
     if (!fs::is_directory(modelbase, ec)) throw common::DataError(modelbase, "is not a modelbase directory");
-    for (const auto& e : fs::directory_iterator(modelbase)) {
-      if (e.path().extension() == ".pcd") models.insert(e.path().stem().string());
+    // Surfaces only: regular <model>.pcd files, not hidden ones (an interrupted writer's
+    // .<name>.tmp….pcd would tie with its model and win the tie by name).
+    for (fs::directory_iterator it(modelbase, ec), end; !ec && it != end; it.increment(ec)) {
+      const fs::path& p = it->path();
+      std::error_code e2;
+      if (p.extension() == ".pcd" && p.filename().string()[0] != '.' && fs::is_regular_file(p, e2))
+        models.insert(p.stem().string());
     }
+    if (ec) throw common::DataError(modelbase, "cannot be listed: " + ec.message());
     if (models.empty()) throw common::DataError(modelbase, "holds no <model>.pcd surface for --size-only");
   }
   for (const auto& m : models) {
@@ -163,7 +173,7 @@ std::map<std::string, collect::ModelBox> read_boxes(const std::string& modelbase
       common::log::info("no " + path.string() + ": " + m + " footprints are the candidates'");
       continue;
     }
-    boxes[m] = model_box(path.string());
+    boxes[m] = model_box(path.string(), all);
     inputs.push_back(path.string());
   }
   return boxes;

@@ -16,11 +16,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The sorted entries of a directory (directory_iterator's order is the file system's).
+// The sorted entries of a directory (directory_iterator's order is the file system's). A
+// directory gone meanwhile (a stage's temporary one renamed) has none.
 std::vector<fs::path> sorted_entries(const fs::path& dir) {
   std::vector<fs::path> v;
   std::error_code ec;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) v.push_back(it->path());
+  if (ec == std::errc::no_such_file_or_directory) return {};
   if (ec) throw common::DataError(dir.string(), "cannot be read: " + ec.message());
   std::sort(v.begin(), v.end());
   return v;

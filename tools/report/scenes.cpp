@@ -390,7 +390,7 @@ void scene_intro(std::ostringstream& md, const SceneScore& score, const ScoreRow
         "percentile bootstrap over the rendered tiles (2 000 draws; vehicles of one tile and the noise "
         "levels "
         "of one render are not independent) and Wilson's interval (exact Poisson for false alarms per "
-        "hectare) at the effective count, runs × renders / runs (formats/README.md \"Scene scores\"). "
+        "hectare) at the effective count, n × renders / runs (formats/README.md \"Scene scores\"). "
         "Counts in parentheses are distinct: renders among the tiles, vehicles counted once over their "
         "noise levels.\n\n";
 }

@@ -32,7 +32,7 @@ enum class RateKind { proportion, per_area };
 // as <key>_lo, <key>_hi after <key> (null when the rate is): the hull of (a) the percentile
 // bootstrap over renders (common::cluster_bootstrap: vehicles of one tile and noise levels of
 // one render are not independent) and (b) the interval of the counts at their effective size,
-// runs x renders / runs-in-row (Wilson for a proportion, exact Poisson for a count per
+// n x renders / runs of the row (Wilson for a proportion, exact Poisson for a count per
 // hectare). (b) alone would treat correlated runs as independent; (a) alone collapses to a
 // point when every render gives the same rate (100% on 3 renders is no certainty) and is
 // undefined for one render.
