@@ -587,6 +587,19 @@ TEST_CASE(
                  dir / "err.txt", &err) == 1);
   CHECK_THAT(err, Catch::Contains("c0003/verdict.json"));
   CHECK_FALSE(test::exists(dir / "d.json"));
+  // A tile dense enough whose model chain did not run (no verdict anywhere): said so, not blamed
+  // on the density (it had read "tile density 900 points/m²: below the 370 ...").
+  index["density"] = Json{{"all", 950.0}, {"ground", 900.0}};
+  write(cands / "index.json", index.dump());
+  write(cands / "c0003" / "class.json",
+        class_answer(cands, "c0003", nullptr, nullptr, "vegetation_like", 20, nullptr).dump());
+  REQUIRE(test::sh(bin() + " -i " + (cands / "index.json").string() + " -o " + (dir / "d.json").string(),
+                   dir / "err.txt", &err) == 0);
+  const std::string dense = read_json(dir / "d.json")["warning"];
+  CHECK_THAT(dense,
+             Catch::Contains("tile density 900 points/m²: dense enough for model-level recognition, but "
+                             "no candidate has a model-chain verdict"));
+  CHECK_THAT(dense, !Catch::Contains("below the 370"));
 }
 
 TEST_CASE("collect --plan: each candidate's level from its object density") {

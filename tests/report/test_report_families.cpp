@@ -158,3 +158,17 @@ TEST_CASE("report --families adds the section; without it the report has none; a
   CHECK(err.find("accuracy.csv: missing") != std::string::npos);
   CHECK_FALSE(fs::exists(dir / "missing" / "report.md"));
 }
+
+TEST_CASE("families section: rows pooling noise copies of one render get Wilson at the renders") {
+  auto s = report::summarize_families(kConfusion, "c.csv", kAccuracy, "a.csv");
+  // One cover level at two noise levels: each test render is run twice, so a row pooling the
+  // noise levels has trials / 2 independent units (9/12 at 6 -> [36.5, 94.0]; a class's 3/4 at 2
+  // -> [19.8, 97.3]); a row of one cover and noise level keeps its trials (4/6 -> [30.0, 90.3]).
+  s.levels[1].cover = "light";
+  const std::string md = report::families_markdown(s);
+  INFO(md);
+  CHECK(md.find("**Class accuracy: 9/12 = 75.0% [36.5, 94.0]**") != std::string::npos);
+  CHECK(md.find("| sedan | 4 | 3/4 = 75.0% [19.8, 97.3] |") != std::string::npos);
+  CHECK(md.find("| light | 32 | 6 | 4/6 = 66.7% [30.0, 90.3] |") != std::string::npos);
+  CHECK(md.find("| **all** |  | 12 | 9/12 = 75.0% [36.5, 94.0] |") != std::string::npos);
+}
