@@ -239,6 +239,11 @@ void class_keys_from(const Json& j, Verdict& v) {
     const auto c = numbers("centre", 2, -std::numeric_limits<double>::max());
     v.measured_centre = std::array<double, 2>{c[0], c[1]};
     v.measured_heading = number_at(m, "heading_deg", "measured");
+    if (m.contains("edge_correction") && !m["edge_correction"].is_null()) {
+      v.measured_edge_correction = number_at(m, "edge_correction", "measured");
+      if (!(v.measured_edge_correction >= 0) || !std::isfinite(v.measured_edge_correction))
+        throw Malformed("measured.edge_correction must be a finite number >= 0");
+    }
   }
 }
 

@@ -644,21 +644,23 @@ TEST_CASE("collect --size-only: the measured size picks the nearest model; no ve
   // An interrupted writer's temporary copy of "small" (hidden): not a model; it would win the
   // tie with "small" by name.
   write(mb / ".small.tmp77-1.pcd", surface(0, 4.5, -0.9, 0.9, 1.45));
-  auto measured = [](Json j, double l, double w, double h, double cx, double cy, double heading) {
+  auto measured = [](Json j, double l, double w, double h, double cx, double cy, double heading,
+                     double edge = 0) {
     j["measured"] = Json{{"size", {l, w, h}},
                          {"centre", {cx, cy}},
                          {"heading_deg", heading},
                          {"spacing", 0.1},
-                         {"edge_correction", 0.01}};
+                         {"edge_correction", edge}};
     return j;
   };
-  // c0001: verify said sedan; classify a box truck measured 11.8 x 2.3 x 3.3 at the candidate's
-  // origin (tile E + 10, N + 10, heading 0). c0002: a hatchback measured 4.5 x 1.8 x 1.45 at
+  // c0001: verify said sedan; classify a box truck measured 11.7 x 2.2 x 3.3 with an edge
+  // correction of 0.1 m (the object 11.8 x 2.3 x 3.3) at the candidate's origin (tile E + 10,
+  // N + 10, heading 0). c0002: a hatchback measured 4.5 x 1.8 x 1.45 at
   // (1, 0.5), heading 90 (tile E + 6, N + 25.5). c0003: verify said tank; classify called it
   // vegetation, measured 4.4 x 1.9 x 1.5 at its origin (tile E + 20, N + 20, heading 90).
   write(cands / "c0001" / "class.json",
-        measured(class_answer(cands, "c0001", "box-truck", "truck", nullptr, 900, flat(0, 0, 0, 0)), 11.8,
-                 2.3, 3.3, 0, 0, 0)
+        measured(class_answer(cands, "c0001", "box-truck", "truck", nullptr, 900, flat(0, 0, 0, 0)), 11.7,
+                 2.2, 3.3, 0, 0, 0, 0.1)
             .dump());
   write(cands / "c0002" / "class.json",
         measured(class_answer(cands, "c0002", "hatchback", "car", nullptr, 30, flat(90, 1, 0.5, 0)), 4.5, 1.8,

@@ -135,6 +135,7 @@ TEST_CASE("classification: a hand-built answer is read back by the verdict reade
   CHECK(v.measured_size == std::array<double, 3>{5.4, 1.9, 2.35});
   CHECK(v.measured_centre == std::array<double, 2>{0.25, -0.5});
   CHECK(v.measured_heading == 89.5);
+  CHECK(v.measured_edge_correction == 0.03);
   // A malformed one is refused naming the member.
   Json bad = j;
   bad["measured"]["size"] = Json::array({5.4, -1, 2});

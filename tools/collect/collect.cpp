@@ -104,6 +104,7 @@ Verdict from_stage_verdict(const documents::StageVerdict& s, const std::string& 
   v.measured_size = d.measured_size;
   v.measured_centre = d.measured_centre;
   v.measured_heading = d.measured_heading;
+  v.measured_edge_correction = d.measured_edge_correction;
   return v;
 }
 
@@ -444,8 +445,11 @@ Outputs collect(const Index& index, const std::vector<Answers>& answers, const P
     if (params.size_only) {
       if (k.present && !k.failed && k.measured_size && k.measured_centre && k.measured_heading &&
           !params.boxes.empty()) {
-        const std::string model = nearest_by_size(*k.measured_size, params.boxes);
-        const double diff = size_difference(*k.measured_size, params.boxes.at(model));
+        std::array<double, 3> size = *k.measured_size;
+        size[0] += k.measured_edge_correction;  // the object's extent, as the model box's
+        size[1] += k.measured_edge_correction;
+        const std::string model = nearest_by_size(size, params.boxes);
+        const double diff = size_difference(size, params.boxes.at(model));
         if (diff <= params.size_gate) {
           by_size = k;
           by_size.model = model;

@@ -58,6 +58,7 @@ struct Verdict {
   std::optional<std::array<double, 3>> measured_size;
   std::optional<std::array<double, 2>> measured_centre;
   std::optional<double> measured_heading;
+  double measured_edge_correction = 0;
 };
 
 // What a candidate is answered from: its model chain's verdict (verify) and classify's
@@ -79,7 +80,8 @@ struct Params {
   // The size-only ablation (issue 29; docs/decisions/scene-experiment.md): no model chain and
   // none of classify's decisions; every candidate classify measured (its "measured" rectangle:
   // the object's points above the ground, whatever classify answered) becomes a model-level
-  // detection of the model in `boxes` nearest to that length, width and height
+  // detection of the model in `boxes` nearest to that length, width and height (the length and
+  // width with classify's edge correction added back, as the model's box is the full extent)
   // (nearest_by_size) when each of the three lies within size_gate (relative) of the model's,
   // placed with its box centre on the measured rectangle (size_only_pose); confidence = 1 - the
   // largest relative difference / size_gate. Other candidates are rejected as without it.

@@ -74,6 +74,7 @@ struct Verdict {
   std::optional<std::array<double, 3>> measured_size;
   std::optional<std::array<double, 2>> measured_centre;
   std::optional<double> measured_heading;
+  double measured_edge_correction = 0;  // m, added to L and W for the object's extent (0 when absent)
 };
 
 // Every error is a common::DataError naming the file and the member ("malformed verdict:
