@@ -14,11 +14,7 @@ Interval wilson(int k, int n, double z) {
                                 " is no proportion");
   }
   if (n == 0) return {0, 1};
-  const double p = static_cast<double>(k) / n, z2 = z * z;
-  const double centre = (p + z2 / (2.0 * n)) / (1 + z2 / n);
-  const double half = z * std::sqrt(p * (1 - p) / n + z2 / (4.0 * n * n)) / (1 + z2 / n);
-  // (at k = 0 and k = n the bounds are 0 and 1 exactly; rounding must not move them past)
-  return {k == 0 ? 0.0 : std::max(0.0, centre - half), k == n ? 1.0 : std::min(1.0, centre + half)};
+  return wilson_effective(static_cast<double>(k) / n, n, z);
 }
 
 Interval wilson_effective(double p, double n, double z) {
@@ -28,18 +24,18 @@ Interval wilson_effective(double p, double n, double z) {
   const double z2 = z * z;
   const double centre = (p + z2 / (2.0 * n)) / (1 + z2 / n);
   const double half = z * std::sqrt(p * (1 - p) / n + z2 / (4.0 * n * n)) / (1 + z2 / n);
+  // (at p = 0 and p = 1 the bounds are 0 and 1 exactly; rounding must not move them past)
   return {p == 0 ? 0.0 : std::max(0.0, centre - half), p == 1 ? 1.0 : std::min(1.0, centre + half)};
 }
 
-namespace {
-
-// Percentile q in [0, 1] of sorted values (linear interpolation between order statistics).
-double sorted_percentile(const std::vector<double>& v, double q) {
+double sorted_quantile(const std::vector<double>& v, double q) {
   const double pos = q * static_cast<double>(v.size() - 1);
   const auto lo = static_cast<std::size_t>(std::floor(pos));
   const std::size_t hi = std::min(lo + 1, v.size() - 1);
   return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
 }
+
+namespace {
 
 // P(X <= k) for X ~ Poisson(mean), summed in log space.
 double poisson_cdf(int k, double mean) {
@@ -93,7 +89,7 @@ std::optional<Interval> cluster_bootstrap(const std::vector<ClusterSum>& cluster
   if (ratios.empty()) return std::nullopt;
   std::sort(ratios.begin(), ratios.end());
   const double tail = (1 - confidence) / 2;
-  return Interval{sorted_percentile(ratios, tail), sorted_percentile(ratios, 1 - tail)};
+  return Interval{sorted_quantile(ratios, tail), sorted_quantile(ratios, 1 - tail)};
 }
 
 }  // namespace canopy::common

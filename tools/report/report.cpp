@@ -8,6 +8,7 @@
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
+#include "canopy/common/stats.h"
 #include "canopy/documents/areas.h"
 #include "canopy/formats/labels.h"
 
@@ -89,10 +90,7 @@ Judgement judge_verdict(const Case& c) {
 double percentile(std::vector<double> values, double q) {
   if (values.empty()) return 0;
   std::sort(values.begin(), values.end());
-  const double pos = std::clamp(q, 0.0, 1.0) * static_cast<double>(values.size() - 1);
-  const auto i = static_cast<std::size_t>(std::floor(pos));
-  if (i + 1 >= values.size()) return values.back();
-  return values[i] + (pos - static_cast<double>(i)) * (values[i + 1] - values[i]);
+  return common::sorted_quantile(values, std::clamp(q, 0.0, 1.0));
 }
 
 VerifySummary summarize_verify(const Inputs& in) {

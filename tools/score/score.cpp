@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "canopy/common/error.h"
+#include "canopy/common/stats.h"
 #include "canopy/documents/detections.h"
 #include "canopy/documents/scene_score.h"
 #include "canopy/documents/scene_truth.h"
@@ -160,10 +161,7 @@ double heading_error(double a, double b) {
 double percentile(std::vector<double> v, double p) {
   if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
   std::sort(v.begin(), v.end());
-  const double pos = p / 100 * static_cast<double>(v.size() - 1);
-  const auto lo = static_cast<std::size_t>(std::floor(pos));
-  const std::size_t hi = std::min(lo + 1, v.size() - 1);
-  return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
+  return common::sorted_quantile(v, p / 100);
 }
 
 namespace {

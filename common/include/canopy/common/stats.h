@@ -31,6 +31,11 @@ Interval wilson_effective(double p, double n_eff, double z = kZ95);
 // the interval of a rate (e.g. false alarms per hectare).
 Interval poisson_exact(int k, double confidence = 0.95);
 
+// Quantile q in [0, 1] of `sorted` (ascending, not empty): linear interpolation between order
+// statistics, the "type 7" definition (the median of an even count is the mean of the middle
+// two). score's and report's percentiles, and the bootstrap's bounds.
+double sorted_quantile(const std::vector<double>& sorted, double q);
+
 // One cluster's share of a ratio of sums: what it adds to the numerator and the denominator
 // (a tile's true positives and true vehicles, its false alarms and hectares, ...).
 struct ClusterSum {
