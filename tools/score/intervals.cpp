@@ -12,9 +12,9 @@ using documents::ScoreMatch;
 using documents::ScoreRow;
 using documents::ScoreValue;
 
-ScoreValue ratio(double a, double b) { return b > 0 ? ScoreValue(a / b) : ScoreValue(); }
-
 }  // namespace
+
+ScoreValue ratio(double a, double b) { return b > 0 ? ScoreValue(a / b) : ScoreValue(); }
 
 std::vector<std::vector<std::size_t>> renders_of(const std::vector<Tile>& tiles,
                                                  const std::vector<std::size_t>& which) {

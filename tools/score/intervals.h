@@ -13,6 +13,9 @@
 
 namespace canopy::score {
 
+// a / b, or null when b <= 0 (a rate with nothing to count).
+documents::ScoreValue ratio(double a, double b);
+
 // The renders among `which`: tiles that share one truth file are one rendered scene (the scene
 // experiment's noise levels add noise to one render), in order of first appearance. The
 // intervals resample renders, not tiles: their vehicles, canopy and clutter are the same.

@@ -24,7 +24,6 @@ using documents::ScoreRow;
 using documents::ScoreValue;
 using Malformed = formats::MalformedField;
 
-ScoreValue ratio(double a, double b) { return b > 0 ? ScoreValue(a / b) : ScoreValue(); }
 ScoreValue maybe(double v) { return std::isfinite(v) ? ScoreValue(v) : ScoreValue(); }
 
 // Everything measured on one set of tiles.
