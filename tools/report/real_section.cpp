@@ -19,6 +19,7 @@
 #include "canopy/documents/scene_truth.h"
 #include "canopy/formats/csv_table.h"
 #include "canopy/formats/json_document.h"
+#include "report/report.h"
 
 namespace canopy::report {
 namespace {
@@ -232,15 +233,9 @@ RealTile read_real_tile(const RealTileFiles& f) {
 
 namespace {
 
-std::string pct(double v) { return format_number("%.1f", 100 * v); }
-
-// "k/n = r% [lo, hi]" with Wilson's 95% interval; "–" when n = 0.
-std::string rate(const Count& c) {
-  if (c.n == 0) return "0/0 –";
-  const common::Interval w = common::wilson(c.k, c.n);
-  return std::to_string(c.k) + "/" + std::to_string(c.n) + " = " + pct(static_cast<double>(c.k) / c.n) +
-         "% [" + pct(w.lo) + ", " + pct(w.hi) + "]";
-}
+// "k/n = r% [lo, hi]" with Wilson's 95% interval (every labelled vehicle its own unit); "0/0 –"
+// when n = 0.
+std::string rate(const Count& c) { return c.n == 0 ? "0/0 –" : rate_ci_units(c.k, c.n, c.n); }
 
 std::string joined(const std::map<std::string, int>& m) {
   std::string s;
