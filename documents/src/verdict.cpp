@@ -222,28 +222,29 @@ void class_keys_from(const Json& j, Verdict& v) {
   if (j.contains("measured") && !j["measured"].is_null()) {
     const Json& m = j["measured"];
     if (!m.is_object()) throw Malformed("measured must be an object or null, not " + describe(m));
-    auto numbers = [&](const char* key, std::size_t n, double min) {
+    // measured.<key>: n numbers (>= 0 where non_negative).
+    auto numbers = [&](const char* key, std::size_t n, bool non_negative) {
+      const std::string w = std::string("measured.") + key;
       const Json* a = m.contains(key) ? &m[key] : nullptr;
       if (!a || !a->is_array() || a->size() != n)
-        throw Malformed(std::string("measured.") + key + " must be " + std::to_string(n) + " numbers");
+        throw Malformed(w + " must be " + std::to_string(n) + " numbers");
       std::array<double, 3> out{};
       for (std::size_t k = 0; k < n; ++k) {
-        if (!(*a)[k].is_number() || !((*a)[k].get<double>() >= min) || !std::isfinite((*a)[k].get<double>()))
-          throw Malformed(std::string("measured.") + key + " must be finite numbers" +
-                          (min > -1e300 ? " >= 0" : "") + ", not " + describe((*a)[k]));
-        out[k] = (*a)[k].get<double>();
+        const Json& x = (*a)[k];
+        if (!x.is_number() || !std::isfinite(x.get<double>()) || (non_negative && !(x.get<double>() >= 0)))
+          throw Malformed(w + " must be finite numbers" + (non_negative ? " >= 0" : "") + ", not " +
+                          describe(x));
+        out[k] = x.get<double>();
       }
       return out;
     };
-    v.measured_size = numbers("size", 3, 0);
-    const auto c = numbers("centre", 2, -std::numeric_limits<double>::max());
+    v.measured_size = numbers("size", 3, true);
+    const auto c = numbers("centre", 2, false);
     v.measured_centre = std::array<double, 2>{c[0], c[1]};
     v.measured_heading = number_at(m, "heading_deg", "measured");
-    if (m.contains("edge_correction") && !m["edge_correction"].is_null()) {
-      v.measured_edge_correction = number_at(m, "edge_correction", "measured");
-      if (!(v.measured_edge_correction >= 0) || !std::isfinite(v.measured_edge_correction))
-        throw Malformed("measured.edge_correction must be a finite number >= 0");
-    }
+    v.measured_edge_correction = optional_number(m, "edge_correction", "measured").value_or(0);
+    if (!(v.measured_edge_correction >= 0) || !std::isfinite(v.measured_edge_correction))
+      throw Malformed("measured.edge_correction must be a finite number >= 0");
   }
 }
 
