@@ -154,8 +154,8 @@ PointCloud read_points(const std::string& path, const std::string& tool) {
   struct stat st {};
   if (path != "-" && ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode)) {
     std::ifstream f(path, std::ios::binary);
-    char magic[4] = {};
-    if (f.read(magic, 4) && std::memcmp(magic, "LASF", 4) == 0) {
+    std::string magic(4, '\0');
+    if (f.read(magic.data(), 4) && is_las(magic)) {
       f.close();
       return read_las(path);
     }
