@@ -336,8 +336,12 @@ scene_line = $(SCENE_DIR)/$(1)/tile-$(2)/noise-$(3)/detections.json $(SCENE_DIR)
 scene_manifest = $(subst $(nl)$(space),$(nl),$(foreach c,$(SCENE_COVERS),$(foreach s,$(SCENE_SEEDS),$(foreach \
   n,$(SCENE_NOISES),$(call ml,$(call scene_line,$(c),$(s),$(n)))))))
 $(SCENE_DIR)/tiles.txt: $(call text_prereq,$(SCENE_DIR)/tiles.txt,$(scene_manifest))
-$(SCENE_SCORE): $(SCENE_DIR)/tiles.txt $(addsuffix /detections.json,$(SCENE_RUNS)) $(call tool,score)
-	@$(STAGE) $@ -- $(BIN)/score --tiles $(SCENE_DIR)/tiles.txt -o $@ --csv $(SCENE_RES)/
+# The thesis models' classes (share/models/classes.csv) judge class answers on them (score
+# --model-classes; a rendered "semi" answered "semi-tractor" is right at the class level).
+SCENE_MODEL_CLASSES ?= share/models/classes.csv
+$(SCENE_SCORE): $(SCENE_DIR)/tiles.txt $(addsuffix /detections.json,$(SCENE_RUNS)) $(call tool,score) $(SCENE_MODEL_CLASSES)
+	@$(STAGE) $@ -- $(BIN)/score --tiles $(SCENE_DIR)/tiles.txt --model-classes $(SCENE_MODEL_CLASSES) -o $@ \
+	  --csv $(SCENE_RES)/
 # The baseline (SCENE_BASELINE): per candidate and method a verdict from the candidate's
 # samples (a failed fitvox leaves an empty samples.pcd, so the baseline fails too and collect
 # counts the candidate as failed, as for canopy), per run collect, then one score per method
@@ -357,8 +361,9 @@ define scene_baseline_score_rule
 $(SCENE_DIR)/tiles-baseline-$(1).txt: $(call text_prereq,$(SCENE_DIR)/tiles-baseline-$(1).txt,$(subst \
   /detections.json ,/detections-baseline-$(1).json ,$(scene_manifest)))
 $(SCENE_RES)/baseline-$(1)/score.json: $(SCENE_DIR)/tiles-baseline-$(1).txt \
-    $(addsuffix /detections-baseline-$(1).json,$(SCENE_RUNS)) $(call tool,score)
-	@$(STAGE) $$@ -- $(BIN)/score --tiles $(SCENE_DIR)/tiles-baseline-$(1).txt -o $$@ --csv $(SCENE_RES)/baseline-$(1)/
+    $(addsuffix /detections-baseline-$(1).json,$(SCENE_RUNS)) $(call tool,score) $(SCENE_MODEL_CLASSES)
+	@$(STAGE) $$@ -- $(BIN)/score --tiles $(SCENE_DIR)/tiles-baseline-$(1).txt \
+	  --model-classes $(SCENE_MODEL_CLASSES) -o $$@ --csv $(SCENE_RES)/baseline-$(1)/
 endef
 $(foreach m,$(SCENE_BASELINE),$(foreach r,$(SCENE_RUNS),$(foreach c,$(call model_cands,$(call scene_key,$(r))),\
   $(eval $(call scene_baseline_cand_rule,$(r),$(c),$(m))))))

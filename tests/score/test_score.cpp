@@ -597,3 +597,51 @@ TEST_CASE(
   CHECK(all(v1)["tp"] == 1);
   CHECK(all(v1)["class_detections"] == 0);
 }
+
+TEST_CASE("model classes: a class answer on a rendered model is judged by the model's class, at any level") {
+  // The sedan answered at the model level as "hatch" (a wrong model of the right class), the
+  // second vehicle a "semi" answered at the class level "semi-tractor" (group truck).
+  Json t = Json::parse(truth_text());
+  t["vehicles"][1]["model"] = "semi";
+  Json doc = Json::parse(detections_text(
+      {det("c1", "hatch", 0.9, 10.3, 10.4, 212), class_det("c2", "semi-tractor", "truck", 0.6, 20, 20, 93)}));
+  doc["version"] = 2;
+  doc["detections"][0]["level"] = "model";
+  auto tiles = [&] {
+    score::Tile tile;
+    tile.truth = score::parse_truth(t.dump(), "truth.json");
+    tile.detections = score::parse_detections(doc.dump(), "detections.json");
+    return std::vector<score::Tile>{tile};
+  };
+  // Without classes: only the model's name can be right, and neither is.
+  const Json plain = as_json(score::score(tiles(), score::Params{}));
+  CHECK(all(plain)["class_right_any_level"] == 0);
+  CHECK(all(plain)["class_accuracy_any_level"].get<double>() == Approx(0));
+  // Axis errors of both found vehicles: 212 vs 30 -> 2; 93 vs 90 -> 3; positions 0.5 and 0.
+  CHECK(all(plain)["heading_axis_error_any_level_median_deg"].get<double>() == Approx(2.5));
+  CHECK(all(plain)["position_error_any_level_median_m"].get<double>() == Approx(0.25));
+  const auto classes = score::parse_model_classes(
+      "model,class\n# thesis models\nsemi,semi-tractor\nsedan,sedan\n"
+      "hatch,sedan\n",
+      "classes.csv");
+  CHECK(classes.size() == 3);
+  auto with = tiles();
+  score::apply_model_classes(with, classes);
+  CHECK(with[0].truth.vehicles[1].cls == "semi-tractor");
+  CHECK(with[0].detections.detections[0].cls == "sedan");
+  const Json s = as_json(score::score(with, score::Params{}));
+  CHECK(all(s)["class_right_any_level"] == 2);
+  CHECK(all(s)["class_accuracy_any_level"].get<double>() == Approx(1));
+  CHECK(all(s)["class_accuracy_any_level_lo"].get<double>() < 1);
+  CHECK(all(s)["class_accuracy"].get<double>() == Approx(1));  // the class level alone: 1/1
+  CHECK(all(s)["identified"] == 0);                            // "hatch" is not the sedan
+  // Bad files name the file and the line.
+  CHECK_THROWS_WITH(score::parse_model_classes("semi,semi-tractor\n", "c.csv"),
+                    Catch::Contains("c.csv") && Catch::Contains("header"));
+  CHECK_THROWS_WITH(score::parse_model_classes("model,class\nsemi,truck\nsemi,bus\n", "c.csv"),
+                    Catch::Contains("line 3") && Catch::Contains("given twice"));
+  CHECK_THROWS_WITH(score::parse_model_classes("model,class\nsemi,Semi Tractor\n", "c.csv"),
+                    Catch::Contains("line 2") && Catch::Contains("[a-z0-9-]"));
+  CHECK_THROWS_WITH(score::parse_model_classes("model,class\nsemi\n", "c.csv"),
+                    Catch::Contains("expected 'model,class'"));
+}

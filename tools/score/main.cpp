@@ -57,7 +57,7 @@ std::vector<score::Tile> load_manifest(const std::string& path) {
 
 // The command line: one tile (--detections, --truth, --noise, --cover) or many (--tiles).
 struct Options {
-  std::string detections, truth, manifest, cover, bins = "0,0.25,0.5,0.75,1", out = "-", csv;
+  std::string detections, truth, manifest, cover, bins = "0,0.25,0.5,0.75,1", out = "-", csv, model_classes;
   double noise = -1;
 };
 
@@ -72,6 +72,9 @@ void bind(common::Tool& tool, Options& o, score::Params& p) {
                   "horizontal distance of its centre");
   tool.add("--cover-bins", &o.bins, "edges of the per-vehicle canopy cover bins, comma-separated");
   tool.add("--flip-threshold", &p.flip_threshold, "heading error (degrees) counted as a flip");
+  tool.add("--model-classes", &o.model_classes,
+           "CSV 'model,class': the class of each model, given to true vehicles and model answers "
+           "without one (e.g. share/models/classes.csv)");
   tool.add_output(&o.out, "score JSON (canopy.scene_score v1)");
   tool.add("--csv", &o.csv,
            "also write the tables as <PREFIX>summary.csv, pr.csv, models.csv, "
@@ -134,6 +137,9 @@ int main(int argc, char** argv) {
                    ? std::vector<score::Tile>{load(o.detections, o.truth,
                                                    o.noise == -1 ? std::nan("") : o.noise, o.cover)}
                    : load_manifest(o.manifest);
+    if (!o.model_classes.empty())
+      score::apply_model_classes(
+          in.tiles, score::parse_model_classes(common::read_file(o.model_classes), o.model_classes));
     in.provenance = {"score", CANOPY_VERSION, tool.parameters(), {}};
     for (const auto& t : in.tiles) {
       in.provenance.inputs.push_back(t.detections.name);

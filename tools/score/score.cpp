@@ -33,6 +33,10 @@ struct Tally {
   std::vector<double> position, heading;
   int class_detections = 0, class_tp = 0, class_identified = 0;
   std::vector<double> class_position, class_heading;
+  // Both levels: found vehicles whose class (or model) the answer names, and the position and
+  // axis (modulo 180) errors of every found vehicle.
+  int any_class_right = 0;
+  std::vector<double> any_position, any_heading;
 };
 
 }  // namespace
@@ -132,6 +136,65 @@ LevelMatch match_greedy(const std::vector<Detection>& ds, const Truth& truth, do
 
 }  // namespace
 
+std::map<std::string, std::string> parse_model_classes(const std::string& text, const std::string& name) {
+  std::map<std::string, std::string> classes;
+  std::size_t start = 0;
+  int line_no = 0;
+  bool header = false;
+  auto valid = [](const std::string& c) {
+    if (c.empty() || c.size() > 64) return false;
+    for (char ch : c)
+      if (!((ch >= 'a' && ch <= 'z') || (ch >= '0' && ch <= '9') || ch == '-')) return false;
+    return true;
+  };
+  while (start <= text.size()) {
+    std::size_t end = text.find('\n', start);
+    if (end == std::string::npos) end = text.size();
+    std::string line = text.substr(start, end - start);
+    start = end + 1;
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty() || line[0] == '#') {
+      if (end == text.size()) break;
+      continue;
+    }
+    const std::string where = "line " + std::to_string(line_no) + ": ";
+    const std::size_t comma = line.find(',');
+    if (comma == std::string::npos || line.find(',', comma + 1) != std::string::npos)
+      throw common::DataError(name, where + "expected 'model,class', got '" + line.substr(0, 80) + "'");
+    const std::string model = line.substr(0, comma), cls = line.substr(comma + 1);
+    if (!header) {
+      if (model != "model" || cls != "class")
+        throw common::DataError(name, where + "the first line must be the header 'model,class'");
+      header = true;
+      continue;
+    }
+    if (model.empty() || model.size() > 128)
+      throw common::DataError(name, where + "empty or over-long model name");
+    if (!valid(cls))
+      throw common::DataError(
+          name, where + "class '" + cls.substr(0, 80) + "' is not 1-64 characters of [a-z0-9-]");
+    if (!classes.emplace(model, cls).second)
+      throw common::DataError(name, where + "model '" + model + "' given twice");
+    if (end == text.size()) break;
+  }
+  if (!header) throw common::DataError(name, "no header line 'model,class'");
+  return classes;
+}
+
+void apply_model_classes(std::vector<Tile>& tiles, const std::map<std::string, std::string>& classes) {
+  auto class_of = [&](const std::string& model) {
+    const auto it = classes.find(model);
+    return it == classes.end() ? std::string() : it->second;
+  };
+  for (Tile& t : tiles) {
+    for (TrueVehicle& v : t.truth.vehicles)
+      if (v.cls.empty()) v.cls = class_of(v.model);
+    for (Detection& d : t.detections.detections)
+      if (d.cls.empty() && !d.model.empty()) d.cls = class_of(d.model);
+  }
+}
+
 TileMatch match_tile(const Detections& det, const Truth& truth, double radius) {
   TileMatch m;
   static_cast<LevelMatch&>(m) = match_greedy(det.detections, truth, radius, {});
@@ -179,7 +242,10 @@ Tally tally(const std::vector<Tile>& tiles, const std::vector<TileMatch>& matche
       s.class_tp++;
       const Detection& det = t.detections.class_detections[d];
       const TrueVehicle& tv = t.truth.vehicles[cm.truth_of[d]];
+      s.any_position.push_back(std::hypot(det.x - tv.x, det.y - tv.y));
+      s.any_heading.push_back(axis_error(det.heading, tv.heading));
       if (!class_identified(det, tv)) continue;
+      s.any_class_right++;
       s.class_identified++;
       s.class_position.push_back(std::hypot(det.x - tv.x, det.y - tv.y));
       s.class_heading.push_back(axis_error(det.heading, tv.heading));
@@ -196,6 +262,9 @@ Tally tally(const std::vector<Tile>& tiles, const std::vector<TileMatch>& matche
       s.tp++;
       const Detection& det = t.detections.detections[d];
       const TrueVehicle& tv = t.truth.vehicles[m.truth_of[d]];
+      s.any_position.push_back(std::hypot(det.x - tv.x, det.y - tv.y));
+      s.any_heading.push_back(axis_error(det.heading, tv.heading));
+      if (det.model == tv.model || class_identified(det, tv)) s.any_class_right++;
       if (det.model != tv.model) continue;
       s.identified++;
       s.position.push_back(std::hypot(det.x - tv.x, det.y - tv.y));
@@ -251,7 +320,12 @@ ScoreRow summary(const Tally& s, const ScoreValue& cover, const ScoreValue& nois
                   {"found_any_level", s.tp + s.class_tp},
                   {"recall_any_level", ratio(s.tp + s.class_tp, s.truths)},
                   {"precision_any_level", ratio(s.tp + s.class_tp, s.detections + s.class_detections)},
-                  {"false_alarms_any_level_per_ha", ratio(fp + s.class_detections - s.class_tp, s.area)}};
+                  {"false_alarms_any_level_per_ha", ratio(fp + s.class_detections - s.class_tp, s.area)},
+                  {"class_right_any_level", s.any_class_right},
+                  {"class_accuracy_any_level", ratio(s.any_class_right, s.tp + s.class_tp)},
+                  {"position_error_any_level_median_m", maybe(percentile(s.any_position, 50))},
+                  {"heading_axis_error_any_level_median_deg", maybe(percentile(s.any_heading, 50))},
+                  {"heading_axis_error_any_level_p90_deg", maybe(percentile(s.any_heading, 90))}};
 }
 
 // The tiles' cover labels (first appearance) and noise levels (sorted).
@@ -324,6 +398,9 @@ std::vector<ScoreRow> summaries(const std::vector<Tile>& tiles, const std::vecto
         "false_alarms_any_level_per_ha", RateKind::per_area,
         [](const Tally& t) { return t.detections - t.tp + t.class_detections - t.class_tp; },
         [](const Tally& t) { return t.area; });
+    interval(
+        "class_accuracy_any_level", P, [](const Tally& t) { return t.any_class_right; },
+        [](const Tally& t) { return t.tp + t.class_tp; });
     return r;
   };
   std::vector<ScoreRow> rows;

@@ -16,6 +16,7 @@
 #pragma once
 
 #include <limits>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -90,6 +91,15 @@ void validate(const Params& params);
 // (common::DataError, exit code 1).
 Truth parse_truth(const std::string& text, const std::string& name);
 Detections parse_detections(const std::string& text, const std::string& name);
+
+// The classes of models (`--model-classes`): a CSV of lines "model,class" (a header line
+// "model,class" first; blank lines and lines starting with '#' are skipped; a model at most
+// once; a class 1-64 characters of [a-z0-9-]). Throws common::DataError(name) naming the line.
+std::map<std::string, std::string> parse_model_classes(const std::string& text, const std::string& name);
+// Gives every true vehicle without a class, and every model-level detection without one, the
+// class of its model when `classes` names it (so a class-level answer "semi-tractor" on a
+// rendered "semi" is judged by its class, and a model answer carries its model's class).
+void apply_model_classes(std::vector<Tile>& tiles, const std::map<std::string, std::string>& classes);
 
 // The pairing of one tile. truth_of[d] = index into truth.vehicles of detection d's match or
 // -1; order = detection indices by falling confidence.
