@@ -415,6 +415,8 @@ $(SCENE_RES)/noise.png: $(SCENE_SCORE) $(call tool,figures)
 	@$(STAGE) $@ -- $(XRUN) $(BIN)/figures plot -i $(SCENE_RES)/summary.csv --x noise_mm --y recognition \
 	  --series cover --panel "" --xlabel "noise (mm)" \
 	  --ylabel "recognition (right model within 1.5 m)" --title "recognition against noise, one line per cover level" -o $@
-scenes: $(SCENE_SCORE) $(SCENE_BL_SCORES) $(addsuffix /scored.png,$(SCENE_RUNS)) $(foreach c,$(SCENE_COVERS),$(SCENE_RES)/top-$(c).png) \
-    $(SCENE_RES)/cover.png $(SCENE_RES)/noise.png
+# SCENE_PICTURES=0: the scores only (the density ladder's levels, mk/density.mk).
+SCENE_PICTURES ?= 1
+scenes: $(SCENE_SCORE) $(SCENE_BL_SCORES) $(if $(filter 1,$(SCENE_PICTURES)),$(addsuffix /scored.png,$(SCENE_RUNS)) \
+    $(foreach c,$(SCENE_COVERS),$(SCENE_RES)/top-$(c).png) $(SCENE_RES)/cover.png $(SCENE_RES)/noise.png)
 endif

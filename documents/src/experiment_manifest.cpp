@@ -1,6 +1,8 @@
 #include "canopy/documents/experiment_manifest.h"
 
 #include <algorithm>
+#include <iomanip>
+#include <stdexcept>
 #include <set>
 #include <sstream>
 #include <tuple>
@@ -42,6 +44,17 @@ struct Parser {
     if (!digits || std::stoi(w) > 1000000)
       fail("noise '" + w + "' is not a whole number of millimetres (0 to 1000000)");
     return std::stoi(w);
+  }
+
+  double positive(const std::string& w, const char* what) const {
+    std::size_t used = 0;
+    double v = 0;
+    try {
+      v = std::stod(w, &used);
+    } catch (const std::exception&) { used = 0; }
+    if (used == 0 || used != w.size() || !(v > 0 && v <= 1e6))
+      fail(std::string(what) + " '" + w + "' is not a number in (0, 1000000]");
+    return v;
   }
 
   void expect(const std::vector<std::string>& w, std::size_t lo, std::size_t hi, const char* form) const {
@@ -99,8 +112,15 @@ struct Parser {
       expect(w, 3, 4, "real NAME DIR [TRUTH]");
       if (!real_names.insert(word(w[1], "real tile")).second) fail("a second real tile " + w[1]);
       m.real.push_back({w[1], w[2], w.size() == 4 ? w[3] : ""});
+    } else if (kind == "density") {
+      expect(w, 4, 4, "density LEVEL SPACING SCORE");
+      const double level = positive(w[1], "density level"), spacing = positive(w[2], "pixel spacing");
+      if (!m.density.empty() && level <= m.density.back().level)
+        fail("density level " + w[1] + " does not rise above the one before it");
+      m.density.push_back({level, spacing, w[3]});
     } else {
-      fail("unknown record '" + kind + "' (trial, model, render, ablation, ablation-trial, figure, real)");
+      fail("unknown record '" + kind +
+           "' (trial, model, render, ablation, ablation-trial, figure, real, density)");
     }
   }
 
@@ -184,6 +204,8 @@ std::string write_experiment_manifest(const ExperimentManifest& m) {
   for (const auto& f : m.figures) out << "figure " << f << '\n';
   for (const auto& r : m.real)
     out << "real " << r.name << ' ' << r.dir << (r.truth.empty() ? "" : " " + r.truth) << '\n';
+  for (const auto& d : m.density)
+    out << "density " << std::setprecision(10) << d.level << ' ' << d.spacing << ' ' << d.score << '\n';
   return out.str();
 }
 

@@ -32,7 +32,9 @@ const char* kManifest =
     "figure figures/grid-circle.png\n"
     "figure pictures/tank-circle.png\n"
     "real forest_lareunion out/real/forest_lareunion\n"
-    "real urban_1 out/real/urban_1 share/real/urban_1.truth.json\n";
+    "real urban_1 out/real/urban_1 share/real/urban_1.truth.json\n"
+    "density 10 0.667 res/density/d10/score.json\n"
+    "density 25.5 0.418 res/density/d25.5/score.json\n";
 
 std::string refusal(const std::string& text) {
   try {
@@ -86,6 +88,12 @@ TEST_CASE("experiment manifest: every record read, the grid in order of first ap
   CHECK(again.trials.size() == 4);
   CHECK(again.ablations[0].change == "ncut --exponent squared");
   CHECK(again.real[1].truth == m.real[1].truth);
+  REQUIRE(m.density.size() == 2);
+  CHECK(m.density[1].level == 25.5);
+  CHECK(m.density[1].spacing == 0.418);
+  CHECK(m.density[0].score == "res/density/d10/score.json");
+  REQUIRE(again.density.size() == 2);
+  CHECK(again.density[1].level == 25.5);
 }
 
 TEST_CASE("experiment manifest: malformed records and grids are refused naming the line") {
@@ -120,6 +128,13 @@ TEST_CASE("experiment manifest: malformed records and grids are refused naming t
   CHECK(refusal(t + "figure\n").find("line 2: expected 'figure PATH'") != std::string::npos);
   CHECK(refusal(t + "real a d\nreal a e\n").find("line 3: a second real tile a") != std::string::npos);
   CHECK(refusal(t + "real a d t x\n").find("line 2: expected 'real NAME DIR [TRUTH]'") != std::string::npos);
+  CHECK(refusal(t + "density 10 0.5\n").find("line 2: expected 'density LEVEL SPACING SCORE'") !=
+        std::string::npos);
+  CHECK(refusal(t + "density ten 0.5 s\n").find("line 2: density level 'ten' is not a number") !=
+        std::string::npos);
+  CHECK(refusal(t + "density 10 0 s\n").find("pixel spacing '0'") != std::string::npos);
+  CHECK(refusal(t + "density 50 0.3 s\ndensity 25 0.4 s\n").find("line 3: density level 25 does not rise") !=
+        std::string::npos);
   CHECK(refusal(t).empty());
 }
 

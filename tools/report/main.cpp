@@ -19,6 +19,7 @@
 #include "canopy/documents/stage_outcome.h"
 #include "canopy/documents/stage_time.h"
 #include "report/baseline_section.h"
+#include "report/density_section.h"
 #include "report/disk_section.h"
 #include "report/families_section.h"
 #include "report/real_section.h"
@@ -168,6 +169,30 @@ std::string real_section(const std::vector<documents::ManifestRealTile>& real, i
   return "\n" + report::real_markdown(tiles, timeout_s);
 }
 
+// The density ladder's section (the manifest's `density` records); its table as ladder.csv in the
+// directory above the levels' score directories (results/density/), when a level has run.
+std::string density_section(const std::vector<documents::ManifestDensity>& density,
+                            const std::string& results, common::OutputSet& outputs) {
+  common::log::Phase density_phase("density ladder");
+  const std::vector<report::DensityLevel> levels = report::read_density_levels(density);
+  std::vector<std::string> figures;
+  for (const auto& l : levels) {
+    if (!l.scored) continue;
+    const std::string dir = parent_dir(parent_dir(l.score_path));
+    for (const char* part : {"all", "rates", "errors"}) {
+      const std::string csv =
+          dir + (std::string(part) == "all" ? "/ladder.csv" : "/ladder-" + std::string(part) + ".csv");
+      outputs.add(csv, "--manifest");
+      outputs.set(csv, report::density_csv(levels, part));
+    }
+    figures = {relative_to(dir, results) + "/ladder-rates.png",
+               relative_to(dir, results) + "/ladder-errors.png"};
+    break;
+  }
+  density_phase.done(std::to_string(levels.size()) + " levels");
+  return report::density_markdown(levels, figures);
+}
+
 // The options beside the trials' sources.
 struct Sources {
   std::string manifest, results = "results";
@@ -240,6 +265,7 @@ int main(int argc, char** argv) {
     if (!src.families.empty()) markdown += families_section(src.families);
     if (!src.tile_score.empty()) markdown += scenes_section(src.tile_score, scene_dir, results, outputs);
     if (!manifest.real.empty()) markdown += real_section(manifest.real, src.real_timeout);
+    if (!manifest.density.empty()) markdown += density_section(manifest.density, results, outputs);
     if (!src.disk.empty())
       markdown += report::disk_markdown(report::disk_parts(src.disk, manifest.objects), src.disk);
     outputs.set(results + "/report.md", markdown);

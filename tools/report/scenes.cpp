@@ -293,6 +293,7 @@ std::vector<SceneRun> scene_runs(const SceneScore& score) {
 
 std::vector<SceneStageTime> scene_times(const std::vector<SceneRun>& runs) {
   const std::vector<std::pair<std::string, std::string>> per_candidate = {
+      {"classify", "class.json"},
       {"fitvox", "samples.pcd"},
       {"cocone", "mesh.ply"},
       {"ncut", "segments.json"},
@@ -301,8 +302,8 @@ std::vector<SceneStageTime> scene_times(const std::vector<SceneRun>& runs) {
       {"baseline-vfh", "baseline-vfh.json"},
       {"baseline-fpfh", "baseline-fpfh.json"}};
   std::vector<SceneStageTime> out;
-  for (const char* s : {"rangetrace", "addnoise", "detect", "plan", "fitvox", "cocone", "ncut", "gmatch",
-                        "verify", "collect", "topview", "baseline-vfh", "baseline-fpfh"}) {
+  for (const char* s : {"rangetrace", "addnoise", "detect", "plan", "classify", "fitvox", "cocone", "ncut",
+                        "gmatch", "verify", "collect", "topview", "baseline-vfh", "baseline-fpfh"}) {
     SceneStageTime t;
     t.stage = s;
     out.push_back(t);

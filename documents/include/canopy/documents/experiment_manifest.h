@@ -17,6 +17,9 @@
 //                                             results directory), in the report's order
 //   real NAME DIR [TRUTH]                     a real tile's workflow directory (mk/real.mk) and
 //                                             its hand labels when it has any
+//   density LEVEL SPACING SCORE               a rung of the density ladder (mk/density.mk):
+//                                             its nominal points/m² (a positive number), the
+//                                             renderer's pixel spacing in m, its score.json
 //
 // The trials are a full grid: every (object, scene, noise) of the trial lines exactly once
 // (objects, scenes and noises in the order they first appear), and every ablation has a trial
@@ -45,6 +48,12 @@ struct ManifestRealTile {
   std::string name, dir, truth;  // truth "" = no labels (no vehicles on the tile)
 };
 
+struct ManifestDensity {
+  double level = 0;    // nominal points per m²
+  double spacing = 0;  // pixel spacing, m
+  std::string score;   // canopy.scene_score of the rung's tiles
+};
+
 struct ExperimentManifest {
   std::vector<std::string> objects, scenes;  // of the trials, in order of first appearance
   std::vector<int> noises;
@@ -54,6 +63,7 @@ struct ExperimentManifest {
   std::vector<ManifestAblation> ablations;     // in order of declaration
   std::vector<std::string> figures;            // in order
   std::vector<ManifestRealTile> real;          // in order
+  std::vector<ManifestDensity> density;        // in order (rising level)
 
   // The directory of trial (object, scene, noise); "" when there is none.
   std::string trial_dir(const std::string& object, const std::string& scene, int noise_mm) const;

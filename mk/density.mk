@@ -1,0 +1,81 @@
+# The density ladder (issue 27; docs/decisions/density-ladder.md), included by
+# Makefile.experiments after mk/scenes.mk. Part of `all` with the scene experiment
+# (DENSITY_LADDER follows SCENE_EXPERIMENT unless given):
+#
+#   make -f Makefile.experiments density -j2 [DENSITY_LEVELS="10 25 50"] [DENSITY_SEEDS="21 22"]
+#
+# The scene experiment's tiles (mk/scenes.mk: its recipe, cover levels and models) rendered at
+# each of DENSITY_LEVELS nominal points per m², noise 0, each level a `make scenes` of its own
+# with the pixel spacing that gives that density:
+#   out/density/d<LEVEL>/<cover>/tile-<seed>/...            the scene experiment's layout
+#   results/density/d<LEVEL>/score.json (+ CSV tables)      score of the level's tiles
+# The render's seed is the tile's place (scenes/<cover>/<seed>), not its spacing: every level
+# shows the same scenes (terrain, trees, vehicles, poses), sampled more or less densely.
+# The report's "Density ladder" section reads the levels (the manifest's `density` records),
+# each level's measured density (detect's index.json) and the stages' CPU time per hectare.
+#
+# Spacing: the scene recipe's four looks (two flight lines, two 75° looks each) give
+# DENSITY_K / spacing² points per m² of open ground (measured on development tiles:
+# docs/decisions/density-ladder.md), so spacing = sqrt(DENSITY_K / LEVEL), in whole mm.
+DENSITY_LADDER ?= $(SCENE_EXPERIMENT)
+$(if $(filter-out 0 1,$(DENSITY_LADDER)),$(error DENSITY_LADDER=$(DENSITY_LADDER): must be 0 or 1))
+DENSITY_LEVELS ?= 10 25 50 100 200 400 800
+DENSITY_SEEDS ?= 21 22 23
+DENSITY_COVERS ?= light medium dense
+DENSITY_K ?= 4.45
+$(foreach d,$(DENSITY_LEVELS),$(if $(shell printf '%s' '$(d)' | grep -xE '[1-9][0-9]{0,4}'),,$(error \
+  DENSITY_LEVELS: '$(d)' is not a whole number of points/m² from 1 to 99999)))
+$(foreach s,$(DENSITY_SEEDS),$(if $(shell printf '%s' '$(s)' | grep -xE '[0-9]{1,9}'),,$(error \
+  DENSITY_SEEDS: '$(s)' is not a whole number)))
+$(if $(shell printf '%s' '$(DENSITY_K)' | grep -xE '[0-9]+(\.[0-9]+)?'),,$(error DENSITY_K=$(DENSITY_K) must be a number))
+DENSITY_DIR := $(OUT)/density
+DENSITY_RES := $(RES)/density
+# LEVEL:SPACING_MM:SPACING_M, one shell for all levels; the levels must rise (the manifest's order).
+density_pairs := $(if $(strip $(DENSITY_LEVELS)),$(shell awk -v k=$(DENSITY_K) 'BEGIN { n = split("$(strip \
+  $(DENSITY_LEVELS))", d, " "); for (i = 1; i <= n; i++) { if (i > 1 && d[i] + 0 <= d[i - 1] + 0) { print "ERROR"; \
+  exit } mm = int(1000 * sqrt(k / d[i]) + 0.5); printf "%s:%d:%.3f ", d[i], mm, mm / 1000 } }'))
+$(if $(filter ERROR,$(density_pairs)),$(error DENSITY_LEVELS=$(DENSITY_LEVELS): the levels must rise))
+density_mm = $(word 2,$(subst :, ,$(filter $(1):%,$(density_pairs))))
+density_m = $(word 3,$(subst :, ,$(filter $(1):%,$(density_pairs))))
+DENSITY_SCORES := $(foreach d,$(DENSITY_LEVELS),$(DENSITY_RES)/d$(d)/score.json)
+
+# The records of the experiment's manifest (Makefile.experiments): level, spacing (m), score.
+EXPERIMENT_DENSITY := $(if $(filter 1,$(DENSITY_LADDER)),$(foreach d,$(DENSITY_LEVELS),$(call ml,density $(d) \
+  $(call density_m,$(d)) $(DENSITY_RES)/d$(d)/score.json)))
+
+ifeq ($(filter scenes,$(MAKECMDGOALS)),)
+# density_args(LEVEL): the level's `make scenes`: its own directories and spacing, noise 0, the
+# scores only (no pictures, no PCL baseline, no size-only ablation).
+density_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROGRESS=0 \
+  SCENE_DIR=$(DENSITY_DIR)/d$(1) SCENE_RES=$(DENSITY_RES)/d$(1) SCENE_SPACING=$(call density_mm,$(1))mm \
+  SCENE_SEEDS="$(DENSITY_SEEDS)" SCENE_COVERS="$(DENSITY_COVERS)" SCENE_NOISES=0 SCENE_BASELINE= \
+  SCENE_SIZE_ONLY=0 SCENE_PICTURES=0
+# As for the scene experiment: under -q each level's sub-make is asked (`make -q`, which renders
+# nothing); otherwise the step always runs and make compares score.json's time afterwards.
+ifneq ($(findstring q,$(make_letters)),q)
+density_force = FORCE
+else
+density_force = $(if $(shell $(MAKE) -q $(call density_args,$(1)) $(MAKEOVERRIDES) >/dev/null 2>&1 || echo stale),FORCE)
+endif
+DENSITY_TOOLS := rangetrace addnoise detect classify fitvox cocone ncut gmatch verify collect score topview
+define density_rule
+$(DENSITY_RES)/d$(1)/score.json: $(call density_force,$(1)) $(foreach t,$(DENSITY_TOOLS),$(call tool,$(t))) \
+    $(MODELBASE) $(VERIFY_SURFACES)
+	+@$(MAKE) $(call density_args,$(1))
+endef
+$(foreach d,$(DENSITY_LEVELS),$(eval $(call density_rule,$(d))))
+.PHONY: density
+density: $(DENSITY_SCORES)
+ifeq ($(DENSITY_LADDER),1)
+$(RES)/report.md: $(DENSITY_SCORES)
+# The report writes the ladder's tables (ladder.csv, ladder-rates.csv, ladder-errors.csv); the
+# pictures draw two of them, one panel per metric, one line per cover level.
+$(DENSITY_RES)/ladder-rates.png: $(RES)/report.md $(call tool,figures)
+	@$(STAGE) $@ -- $(XRUN) $(BIN)/figures plot -i $(DENSITY_RES)/ladder-rates.csv --x level --y value \
+	  --series cover --panel metric --xlabel "nominal density (points/m²)" --ylabel "rate" --title "ladder" -o $@
+$(DENSITY_RES)/ladder-errors.png: $(RES)/report.md $(call tool,figures)
+	@$(STAGE) $@ -- $(XRUN) $(BIN)/figures plot -i $(DENSITY_RES)/ladder-errors.csv --x level --y value \
+	  --series cover --panel metric --xlabel "nominal density (points/m²)" --ylabel "deg or per ha" --title "ladder" -o $@
+all: $(DENSITY_RES)/ladder-rates.png $(DENSITY_RES)/ladder-errors.png
+endif
+endif

@@ -1,0 +1,120 @@
+// The report's density ladder (issue 27): levels read from their scores, the runs' measured
+// density and CPU, the level from which each capability meets its target, the table and CSV.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <string>
+
+#include "canopy/documents/experiment_manifest.h"
+#include "report/density_section.h"
+#include "support/cli.h"
+
+using namespace canopy;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string num(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", v);
+  return b;
+}
+
+// A summary row: cover, recall (any level) with an interval of ±0.1, class accuracy, heading
+// median, false alarms per ha.
+std::string row(const std::string& cover, double recall, double cls, double heading, double fa) {
+  return R"({"cover": ")" + cover + R"(", "noise_mm": "all", "tiles": 2, "true": 10, "found_any_level": )" +
+         num(recall * 10) + R"(, "tp": 0, "recall_any_level": )" + num(recall) +
+         R"(, "recall_any_level_lo": )" + num(recall - 0.1) + R"(, "recall_any_level_hi": )" +
+         num(recall + 0.05) + R"(, "class_accuracy_any_level": )" + num(cls) +
+         R"(, "class_accuracy_any_level_lo": )" + num(cls - 0.1) +
+         R"(, "class_accuracy_any_level_hi": 1, "heading_axis_error_any_level_median_deg": )" + num(heading) +
+         R"(, "false_alarms_any_level_per_ha": )" + num(fa) + R"(, "false_alarms_any_level_per_ha_lo": 0,
+         "false_alarms_any_level_per_ha_hi": )" +
+         num(fa + 2) + "}";
+}
+
+// One level: a run directory with detect's index (its density) and two stage .time files (CPU
+// 2 + 1 s and 0.5 + 0.5 s), a score naming the run (0.09 ha).
+void level(const fs::path& root, const std::string& name, double all, double ground, const std::string& rows) {
+  const fs::path run = root / "out" / name / "light" / "tile-1" / "noise-0";
+  test::write_file(run / "cands" / "index.json",
+                   R"({"format": "canopy.candidates", "version": 2, "tile": "scan.pcd", "margin": 0.5,
+      "density": {"all": )" +
+                       num(all) + R"(, "ground": )" + num(ground) + R"(, "first": null}, "candidates": []})");
+  test::write_file(run / "detect.time", "4 1000 2 1\n");
+  test::write_file(run / "cands.mk.time", "1 1000 0.5 0.5\n");
+  test::write_file(root / "res" / name / "score.json",
+                   R"({"format": "canopy.scene_score", "version": 1, "params": {"match_radius_m": 1.5},
+      "tiles": [{"detections": ")" +
+                       (run / "detections.json").string() +
+                       R"(", "truth": "t", "cover": "light", "noise_mm": 0, "area_ha": 0.09}],
+      "summary": [)" + rows +
+                       R"(], "pr": [], "models": [], "cover_bins": [], "matches": []})");
+}
+
+}  // namespace
+
+TEST_CASE("density ladder: levels, measured density, CPU per ha and where each target is met") {
+  const fs::path root = fs::path(CANOPY_TEST_TMP) / "report-density";
+  fs::remove_all(root);
+  // Level 10: light recall 0.5; level 50: 0.95 (interval 0.85-1); level 100: 0.92 (0.82-0.97).
+  // Class right 0.9 / 0.9 / 0.96 (the 10 level's all-cover row); heading 12 / 4 / 2 deg; false
+  // alarms 3 / 0.5 / 0 per ha (upper bounds 5 / 2.5 / 2).
+  level(root, "d10", 9.8, 7.9, row("light", 0.5, 0.9, 12, 3) + "," + row("all", 0.5, 0.9, 12, 3));
+  level(root, "d50", 48, 39, row("light", 0.95, 0.9, 4, 0.5) + "," + row("all", 0.95, 0.9, 4, 0.5));
+  level(root, "d100", 99, 80, row("light", 0.92, 0.96, 2, 0) + "," + row("all", 0.92, 0.96, 2, 0));
+  std::vector<documents::ManifestDensity> m = {{10, 0.667, (root / "res/d10/score.json").string()},
+                                               {50, 0.298, (root / "res/d50/score.json").string()},
+                                               {100, 0.211, (root / "res/d100/score.json").string()},
+                                               {200, 0.149, (root / "res/d200/score.json").string()}};
+  const auto levels = report::read_density_levels(m);
+  REQUIRE(levels.size() == 4);
+  CHECK(levels[0].scored);
+  CHECK_FALSE(levels[3].scored);  // not run: no score
+  CHECK(levels[1].density_all == Approx(48));
+  CHECK(levels[1].density_ground == Approx(39));
+  CHECK(levels[1].density_runs == 1);
+  CHECK(levels[1].cpu_seconds == Approx(4));  // detect 3 + plan 1
+  CHECK(levels[1].area_ha == Approx(0.09));
+
+  // A level that has not run ends the run of met levels from the top: nothing is "met from" a
+  // level below a gap... except that the top level is missing, so every target is met nowhere.
+  for (const auto& t : report::density_targets(levels)) CHECK(t.from_level == 0);
+  const std::vector<report::DensityLevel> ran(levels.begin(), levels.begin() + 3);
+  const auto targets = report::density_targets(ran);
+  auto find = [&](const std::string& what) {
+    for (const auto& t : targets)
+      if (t.capability.find(what) != std::string::npos) return t;
+    FAIL("no target " << what);
+    return report::DensityTarget{};
+  };
+  // Recall, light: 0.95 and 0.92 meet 90%, 0.5 does not -> from 50; the lower bounds 0.85 and
+  // 0.82 do not -> at no level.
+  CHECK(find("light").from_level == 50);
+  CHECK(find("light").from_level_bound == 0);
+  CHECK(find("medium").from_level == 0);  // no medium row at any level
+  // Class right: 0.9 / 0.9 / 0.96 all meet 85% -> from 10; bounds 0.8 / 0.8 / 0.86 -> from 100.
+  CHECK(find("class right").from_level == 10);
+  CHECK(find("class right").from_level_bound == 100);
+  // Heading median <= 5: 4 and 2 -> from 50 (no interval: the same by the bound).
+  CHECK(find("heading").from_level == 50);
+  CHECK(find("heading").from_level_bound == 50);
+  // False alarms <= 1/ha: 0.5 and 0 -> from 50; upper bounds 2.5 and 2 -> at no level.
+  CHECK(find("false alarms").from_level == 50);
+  CHECK(find("false alarms").from_level_bound == 0);
+
+  const std::string md = report::density_markdown(levels, {"density/ladder-rates.png"});
+  CHECK(md.find("## Density ladder") != std::string::npos);
+  CHECK(md.find("| 200 | 0.149 | not run") != std::string::npos);
+  CHECK(md.find("| 50 | 0.298 | 48 / 39 | light | 2 | 10 | ") != std::string::npos);
+  CHECK(md.find("95.0% [85.0, 100.0]") != std::string::npos);
+  CHECK(md.find("| 44 |") != std::string::npos);  // CPU 4 s / 0.09 ha on the all-cover row
+  CHECK(md.find("![density ladder](density/ladder-rates.png)") != std::string::npos);
+  const std::string csv = report::density_csv(levels, "rates");
+  CHECK(csv.rfind("level,spacing_m,density_all,density_ground,cover,metric,value,lo,hi\n", 0) == 0);
+  CHECK(csv.find("50,0.298,48.0,39.0,light,recall_any_level,0.95,0.85,1\n") != std::string::npos);
+  CHECK(csv.find("heading") == std::string::npos);
+  CHECK(report::density_csv(levels, "errors").find("10,0.667,9.8,7.9,all,false_alarms_any_level_per_ha,3,0,5\n") !=
+        std::string::npos);
+}

@@ -1,0 +1,257 @@
+#include "report/density_section.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+#include "canopy/common/error.h"
+#include "canopy/documents/candidates.h"
+#include "report/report.h"
+
+namespace canopy::report {
+
+namespace {
+
+using documents::ScoreRow;
+using documents::ScoreValue;
+
+bool exists(const std::string& p) {
+  std::error_code ec;
+  return std::filesystem::exists(p, ec);
+}
+
+const ScoreValue& cell(const ScoreRow& row, const std::string& key) {
+  static const ScoreValue null_value;
+  const ScoreValue* v = documents::score_cell(row, key);
+  return v != nullptr ? *v : null_value;
+}
+
+std::optional<double> number(const ScoreRow& row, const std::string& key) {
+  const ScoreValue& v = cell(row, key);
+  return v.is_number() ? std::optional<double>(v.as_number()) : std::nullopt;
+}
+
+// The summary rows over every noise level: the covers in the score's order, then "all".
+std::vector<const ScoreRow*> cover_rows(const documents::SceneScore& s) {
+  std::vector<const ScoreRow*> rows;
+  const ScoreRow* all = nullptr;
+  for (const ScoreRow& r : s.summary) {
+    const ScoreValue &c = cell(r, "cover"), &n = cell(r, "noise_mm");
+    if (n.kind != ScoreValue::Kind::text || n.text != "all" || c.kind != ScoreValue::Kind::text) continue;
+    if (c.text == "all")
+      all = &r;
+    else
+      rows.push_back(&r);
+  }
+  if (all != nullptr) rows.push_back(all);
+  return rows;
+}
+
+std::string label(const ScoreRow& r) { return cell(r, "cover").text; }
+
+// The metrics of the ladder: key in score's summary, title, kind (rate with interval, number
+// with interval, number).
+struct Metric {
+  const char* key;
+  const char* title;
+  enum Kind { rate, per_ha, degrees } kind;
+};
+const std::vector<Metric>& metrics() {
+  static const std::vector<Metric> m = {
+      {"recall_any_level", "recall (any level)", Metric::rate},
+      {"precision_any_level", "precision (any level)", Metric::rate},
+      {"class_accuracy_any_level", "class right (of found)", Metric::rate},
+      {"identification", "model identified (of model answers)", Metric::rate},
+      {"heading_axis_error_any_level_median_deg", "heading error, median (deg)", Metric::degrees},
+      {"false_alarms_any_level_per_ha", "false alarms per ha", Metric::per_ha}};
+  return m;
+}
+
+std::string show(const ScoreRow& r, const Metric& m) {
+  const auto v = number(r, m.key), lo = number(r, std::string(m.key) + "_lo"),
+             hi = number(r, std::string(m.key) + "_hi");
+  if (!v) return "–";
+  if (m.kind == Metric::degrees) return format_number("%.1f", *v);
+  const double f = m.kind == Metric::rate ? 100 : 1;
+  const char* fmt = "%.1f";
+  std::string s = format_number(fmt, f * *v) + (m.kind == Metric::rate ? "%" : "");
+  if (lo && hi) s += " [" + format_number(fmt, f * *lo) + ", " + format_number(fmt, f * *hi) + "]";
+  return s;
+}
+
+// Counts behind a rate: "k/n".
+std::string counts(const ScoreRow& r, const char* k, const char* n) {
+  const auto a = number(r, k), b = number(r, n);
+  return a && b ? format_number("%.0f", *a) + "/" + format_number("%.0f", *b) : "–";
+}
+
+std::string whole(const ScoreRow& r, const char* key) {
+  const auto v = number(r, key);
+  return v ? format_number("%.0f", *v) : "–";
+}
+
+const ScoreRow* row_of(const DensityLevel& l, const std::string& cover) {
+  if (!l.scored) return nullptr;
+  for (const ScoreRow* r : cover_rows(l.score))
+    if (label(*r) == cover) return r;
+  return nullptr;
+}
+
+}  // namespace
+
+std::vector<DensityLevel> read_density_levels(const std::vector<documents::ManifestDensity>& levels) {
+  std::vector<DensityLevel> out;
+  for (const auto& m : levels) {
+    DensityLevel l;
+    l.level = m.level;
+    l.spacing = m.spacing;
+    l.score_path = m.score;
+    if (exists(m.score)) {
+      l.score = documents::read_scene_score_file(m.score);
+      l.scored = true;
+      const std::vector<SceneRun> runs = scene_runs(l.score);
+      double all = 0, ground = 0;
+      int n_all = 0, n_ground = 0;
+      for (const SceneRun& r : runs) {
+        const std::string index = r.dir + "/cands/index.json";
+        if (!exists(index)) continue;
+        const documents::Candidates c = documents::read_candidates_file(index);
+        if (const auto a = c.density_all()) {
+          all += *a;
+          ++n_all;
+        }
+        if (c.density.is_object() && c.density.contains("ground") && c.density["ground"].is_number()) {
+          ground += c.density["ground"].get<double>();
+          ++n_ground;
+        }
+      }
+      l.density_runs = n_all;
+      if (n_all > 0) l.density_all = all / n_all;
+      if (n_ground > 0) l.density_ground = ground / n_ground;
+      for (const SceneStageTime& t : scene_times(runs)) l.cpu_seconds += t.cpu_seconds;
+      for (const SceneRun& r : runs) l.area_ha += r.area_ha;
+    }
+    out.push_back(std::move(l));
+  }
+  return out;
+}
+
+std::vector<DensityTarget> density_targets(const std::vector<DensityLevel>& levels) {
+  struct Rule {
+    const char* capability;
+    const char* target;
+    const char* cover;
+    const char* key;
+    double bound;
+    bool at_least;
+  };
+  const std::vector<Rule> rules = {
+      {"vehicles detected, light cover", ">= 90%", "light", "recall_any_level", 0.90, true},
+      {"vehicles detected, medium cover", ">= 75%", "medium", "recall_any_level", 0.75, true},
+      {"class right, of the detected (all covers)", ">= 85%", "all", "class_accuracy_any_level", 0.85, true},
+      {"heading error median (all covers)", "<= 5 deg", "all", "heading_axis_error_any_level_median_deg", 5,
+       false},
+      {"false alarms per ha (all covers)", "<= 1", "all", "false_alarms_any_level_per_ha", 1, false},
+      {"model identification (all covers)", ">= 95%", "all", "identification", 0.95, true}};
+  std::vector<DensityTarget> out;
+  for (const Rule& r : rules) {
+    DensityTarget t{r.capability, r.target, 0, 0};
+    // From the top down: the lowest level above which every level meets the target.
+    for (int pass = 0; pass < 2; ++pass) {
+      double from = 0;
+      for (auto it = levels.rbegin(); it != levels.rend(); ++it) {
+        const ScoreRow* row = row_of(*it, r.cover);
+        if (row == nullptr) break;
+        // pass 1: the interval's conservative end (lo for "at least", hi for "at most"); a
+        // median has no interval and is judged by itself.
+        std::optional<double> v = number(*row, r.key);
+        if (pass == 1) {
+          const auto b = number(*row, std::string(r.key) + (r.at_least ? "_lo" : "_hi"));
+          if (b) v = b;
+        }
+        if (!v || (r.at_least ? *v < r.bound : *v > r.bound)) break;
+        from = it->level;
+      }
+      (pass == 0 ? t.from_level : t.from_level_bound) = from;
+    }
+    out.push_back(t);
+  }
+  return out;
+}
+
+std::string density_csv(const std::vector<DensityLevel>& levels, const std::string& part) {
+  std::ostringstream csv;
+  csv << "level,spacing_m,density_all,density_ground,cover,metric,value,lo,hi\n";
+  auto opt = [](const std::optional<double>& v) { return v ? format_number("%.6g", *v) : std::string(); };
+  for (const DensityLevel& l : levels) {
+    if (!l.scored) continue;
+    for (const ScoreRow* r : cover_rows(l.score)) {
+      for (const Metric& m : metrics()) {
+        if (part == "rates" && m.kind != Metric::rate) continue;
+        if (part == "errors" && m.kind == Metric::rate) continue;
+        csv << format_number("%g", l.level) << ',' << format_number("%g", l.spacing) << ','
+            << (l.density_all > 0 ? format_number("%.1f", l.density_all) : "") << ','
+            << (l.density_ground > 0 ? format_number("%.1f", l.density_ground) : "") << ',' << label(*r) << ','
+            << m.key << ',' << opt(number(*r, m.key)) << ',' << opt(number(*r, std::string(m.key) + "_lo"))
+            << ',' << opt(number(*r, std::string(m.key) + "_hi")) << '\n';
+      }
+    }
+  }
+  return csv.str();
+}
+
+std::string density_markdown(const std::vector<DensityLevel>& levels, const std::vector<std::string>& figures) {
+  std::ostringstream md;
+  md << "\n## Density ladder\n\n"
+     << "The scene experiment's tiles (its recipe, cover levels and models; noise 0) rendered at "
+     << levels.size()
+     << " densities: the same scenes at every level (the render's seed is the tile's place, not its "
+        "spacing), only the pixel spacing changes (mk/density.mk; docs/decisions/density-ladder.md). "
+        "Each level runs the unchanged tile workflow (detect's density rule, classify, the model chain "
+        "where a candidate's object density reaches `TILE_MODEL_DENSITY`) and is scored like the scene "
+        "experiment. \"Any level\": a model or a class answer. Rates: k/n and score's 95% interval "
+        "(Wilson; every tile is its own render). Class right: the answer's class (a model answer: its "
+        "model's, share/models/classes.csv) is the vehicle's. Heading: the axis error (modulo 180) of "
+        "every found vehicle. CPU: every stage of the level (rendering included) per hectare of tile.\n\n";
+  md << "| level (pts/m²) | spacing (m) | measured all / open ground (pts/m²) | cover | tiles | vehicles | "
+        "found (model + class) | recall | precision | class right | model identified | heading median (deg) "
+        "| "
+        "false alarms/ha | CPU s/ha |\n";
+  md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const DensityLevel& l : levels) {
+    const std::string head = format_number("%g", l.level) + " | " + format_number("%.3f", l.spacing) + " | ";
+    if (!l.scored) {
+      md << "| " << head << "not run (no " << l.score_path << ") | | | | | | | | | | | |\n";
+      continue;
+    }
+    const std::string dens = (l.density_all > 0 ? format_number("%.0f", l.density_all) : "–") + " / " +
+                             (l.density_ground > 0 ? format_number("%.0f", l.density_ground) : "–");
+    const std::string cpu = l.area_ha > 0 ? format_number("%.0f", l.cpu_seconds / l.area_ha) : "–";
+    for (const ScoreRow* r : cover_rows(l.score)) {
+      const bool all = label(*r) == "all";
+      md << "| " << (all ? "**" + format_number("%g", l.level) + "**" : format_number("%g", l.level)) << " | "
+         << format_number("%.3f", l.spacing) << " | " << dens << " | " << label(*r) << " | "
+         << whole(*r, "tiles") << " | " << whole(*r, "true") << " | " << counts(*r, "found_any_level", "true")
+         << " (" << counts(*r, "tp", "found_any_level") << " model) | ";
+      for (std::size_t i = 0; i < metrics().size(); ++i) md << show(*r, metrics()[i]) << " | ";
+      md << (all ? cpu : "") << " |\n";
+    }
+  }
+  md << "\n**Where each capability begins** (issue 27's targets): the lowest level from which the "
+        "target is met at that level and every level above it — by the point estimate, and by the "
+        "interval's conservative end (the lower bound of a rate that must be high, the upper bound of "
+        "one that must be low; a median has no interval).\n\n";
+  md << "| capability | target | met from (estimate) | met from (interval) |\n|---|---|---|---|\n";
+  auto from = [](double l) { return l > 0 ? format_number("%g", l) + " pts/m²" : std::string("at no level"); };
+  for (const DensityTarget& t : density_targets(levels))
+    md << "| " << t.capability << " | " << t.target << " | " << from(t.from_level) << " | "
+       << from(t.from_level_bound) << " |\n";
+  for (const std::string& f : figures) md << "\n![density ladder](" << f << ")\n";
+  if (!figures.empty())
+    md << "\n(One line per cover level; the levels at equal spacing; the intervals are in the table and in "
+          "ladder.csv.)\n";
+  return md.str();
+}
+
+}  // namespace canopy::report

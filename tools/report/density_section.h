@@ -1,0 +1,51 @@
+// The report's "Density ladder" section (issue 27; mk/density.mk,
+// docs/decisions/density-ladder.md): the scene experiment's tiles rendered at several densities,
+// each level scored like the scene experiment; per level and cover the rates with their 95%
+// intervals, the measured density, the CPU per hectare, and the lowest level from which each
+// capability meets its target.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "canopy/documents/experiment_manifest.h"
+#include "canopy/documents/scene_score.h"
+
+namespace canopy::report {
+
+// One level of the ladder as read: its score (absent when the level has not run), the density
+// measured by detect (mean over the level's runs of index.json density.all and density.ground,
+// -1 unknown) and the CPU of its stages (scene_times) per hectare of rendered tile.
+struct DensityLevel {
+  double level = 0, spacing = 0;
+  std::string score_path;
+  bool scored = false;
+  documents::SceneScore score;
+  double density_all = -1, density_ground = -1;
+  int density_runs = 0;
+  double cpu_seconds = 0, area_ha = 0;
+};
+
+// Reads each level's score.json and its runs' index.json and .time files (a missing score is a
+// level not run; a malformed document throws common::DataError naming it).
+std::vector<DensityLevel> read_density_levels(const std::vector<documents::ManifestDensity>& levels);
+
+// The capabilities' targets (issue 27) and the level from which each is met.
+struct DensityTarget {
+  std::string capability;  // e.g. "recall, light cover"
+  std::string target;      // e.g. ">= 90%"
+  // The lowest level from which the point estimate meets the target at every level above it
+  // (0 = at no level); the same with the interval's conservative bound.
+  double from_level = 0, from_level_bound = 0;
+};
+std::vector<DensityTarget> density_targets(const std::vector<DensityLevel>& levels);
+
+// The section (Markdown; `figures`: the two pictures' paths relative to report.md, "" = none) and
+// its table as CSV (level,spacing_m,density_all,density_ground,cover,metric,value,lo,hi): every
+// metric (`part` all), the rates (rates: recall, precision, class right, identification) or the
+// errors (errors: heading median, false alarms per ha); figures plot draws the last two
+// (results/density/ladder-rates.png, ladder-errors.png: mk/density.mk).
+std::string density_markdown(const std::vector<DensityLevel>& levels, const std::vector<std::string>& figures);
+std::string density_csv(const std::vector<DensityLevel>& levels, const std::string& part = "all");
+
+}  // namespace canopy::report
