@@ -50,7 +50,15 @@ void level(const fs::path& root, const std::string& name, double all, double gro
                        (run / "detections.json").string() +
                        R"(", "truth": "t", "cover": "light", "noise_mm": 0, "area_ha": 0.09}],
       "summary": [)" + rows +
-                       R"(], "pr": [], "models": [], "cover_bins": [], "matches": []})");
+                       R"(], "pr": [], "models": [], "cover_bins": [],
+      "matches": [{"tile": 0, "candidate": "c1", "x": 1, "y": 1, "outcome": "right", "instance": 1,
+                   "true_model": "sedan"},
+                  {"tile": 0, "candidate": null, "x": 5, "y": 5, "outcome": "missed", "instance": 2,
+                   "true_model": "tank"},
+                  {"tile": 0, "candidate": "c3", "x": 9, "y": 9, "outcome": "false_alarm"}]})");
+  test::write_file(run / "detections.json", R"({"format": "canopy.detections", "version": 2, "candidates": 4,
+      "found": 2, "by_level": {"model": 0, "class": 2}, "by_reason": {"too_sparse": 1, "vegetation_like": 1},
+      "density": null, "warning": null, "detections": [], "rejected": []})");
 }
 
 }  // namespace
@@ -77,6 +85,11 @@ TEST_CASE("density ladder: levels, measured density, CPU per ha and where each t
   CHECK(levels[1].density_runs == 1);
   CHECK(levels[1].cpu_seconds == Approx(4));  // detect 3 + plan 1
   CHECK(levels[1].area_ha == Approx(0.09));
+  CHECK(levels[1].by_reason.at("found") == 2);
+  CHECK(levels[1].by_reason.at("too_sparse") == 1);
+  CHECK(levels[1].model_found.at("sedan") == std::make_pair(1, 1));
+  CHECK(levels[1].model_found.at("tank") == std::make_pair(0, 1));
+  CHECK(levels[1].model_found.size() == 2);  // the false alarm names no model
 
   // A level that has not run ends the run of met levels from the top: nothing is "met from" a
   // level below a gap... except that the top level is missing, so every target is met nowhere.
@@ -111,6 +124,9 @@ TEST_CASE("density ladder: levels, measured density, CPU per ha and where each t
   CHECK(md.find("95.0% [85.0, 100.0]") != std::string::npos);
   CHECK(md.find("| 44 |") != std::string::npos);  // CPU 4 s / 0.09 ha on the all-cover row
   CHECK(md.find("![density ladder](density/ladder-rates.png)") != std::string::npos);
+  CHECK(md.find("| model | 10 | 50 | 100 |") != std::string::npos);
+  CHECK(md.find("| tank | 0/1 | 0/1 | 0/1 |") != std::string::npos);
+  CHECK(md.find("| vegetation_like | 1 | 1 | 1 |") != std::string::npos);
   const std::string csv = report::density_csv(levels, "rates");
   CHECK(csv.rfind("level,spacing_m,density_all,density_ground,cover,metric,value,lo,hi\n", 0) == 0);
   CHECK(csv.find("50,0.298,48.0,39.0,light,recall_any_level,0.95,0.85,1\n") != std::string::npos);

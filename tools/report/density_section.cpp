@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <set>
 #include <sstream>
 
 #include "canopy/common/error.h"
 #include "canopy/documents/candidates.h"
+#include "canopy/documents/detections.h"
 #include "report/report.h"
 
 namespace canopy::report {
@@ -126,6 +128,20 @@ std::vector<DensityLevel> read_density_levels(const std::vector<documents::Manif
           ++n_ground;
         }
       }
+      for (const SceneRun& r : runs) {
+        const std::string det = r.dir + "/detections.json";
+        if (!exists(det)) continue;
+        const documents::Detections d = documents::read_detections_file(det);
+        if (d.by_reason)
+          for (const auto& [reason, n] : *d.by_reason) l.by_reason[reason] += n;
+        if (d.found) l.by_reason["found"] += *d.found;
+      }
+      for (const documents::ScoreMatch& m : l.score.matches) {
+        if (!m.true_model || m.outcome == "false_alarm") continue;
+        auto& [found, all] = l.model_found[*m.true_model];
+        ++all;
+        if (m.outcome == "right" || m.outcome == "wrong") ++found;
+      }
       l.density_runs = n_all;
       if (n_all > 0) l.density_all = all / n_all;
       if (n_ground > 0) l.density_ground = ground / n_ground;
@@ -236,6 +252,50 @@ std::string density_markdown(const std::vector<DensityLevel>& levels, const std:
          << " (" << counts(*r, "tp", "found_any_level") << " model) | ";
       for (std::size_t i = 0; i < metrics().size(); ++i) md << show(*r, metrics()[i]) << " | ";
       md << (all ? cpu : "") << " |\n";
+    }
+  }
+  // Per model and per reason, one column per level that ran.
+  std::vector<const DensityLevel*> ran;
+  std::set<std::string> models, reasons;
+  for (const DensityLevel& l : levels) {
+    if (!l.scored) continue;
+    ran.push_back(&l);
+    for (const auto& [m, fa] : l.model_found) models.insert(m);
+    for (const auto& [r, n] : l.by_reason) reasons.insert(r);
+  }
+  if (!ran.empty()) {
+    auto header = [&](const char* first) {
+      md << "| " << first << " |";
+      for (const DensityLevel* l : ran) md << " " << format_number("%g", l->level) << " |";
+      md << "\n|---|";
+      for (std::size_t i = 0; i < ran.size(); ++i) md << "---|";
+      md << "\n";
+    };
+    md << "\n**Found at either level, per model** (found / true, every cover level; the columns are the "
+          "levels in points/m²):\n\n";
+    header("model");
+    for (const std::string& m : models) {
+      md << "| " << m << " |";
+      for (const DensityLevel* l : ran) {
+        const auto it = l->model_found.find(m);
+        md << " "
+           << (it == l->model_found.end()
+                   ? std::string("–")
+                   : std::to_string(it->second.first) + "/" + std::to_string(it->second.second))
+           << " |";
+      }
+      md << "\n";
+    }
+    md << "\n**What became of the candidates** (detections.json's reasons summed over the level's tiles; "
+          "\"found\": answered as a vehicle):\n\n";
+    header("reason");
+    for (const std::string& r : reasons) {
+      md << "| " << r << " |";
+      for (const DensityLevel* l : ran) {
+        const auto it = l->by_reason.find(r);
+        md << " " << (it == l->by_reason.end() ? 0 : it->second) << " |";
+      }
+      md << "\n";
     }
   }
   md << "\n**Where each capability begins** (issue 27's targets): the lowest level from which the "

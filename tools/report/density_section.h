@@ -5,7 +5,9 @@
 // capability meets its target.
 #pragma once
 
+#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "canopy/documents/experiment_manifest.h"
@@ -24,6 +26,11 @@ struct DensityLevel {
   double density_all = -1, density_ground = -1;
   int density_runs = 0;
   double cpu_seconds = 0, area_ha = 0;
+  // The candidates' fate over the level's runs (detections.json by_reason; "found" = answered
+  // as a vehicle at either level) and, per true model, vehicles found at either level / true
+  // (score's matches: right or wrong = found).
+  std::map<std::string, int> by_reason;
+  std::map<std::string, std::pair<int, int>> model_found;
 };
 
 // Reads each level's score.json and its runs' index.json and .time files (a missing score is a
