@@ -51,8 +51,10 @@ density_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROG
   SCENE_SEEDS="$(DENSITY_SEEDS)" SCENE_COVERS="$(DENSITY_COVERS)" SCENE_NOISES=0 SCENE_BASELINE= \
   SCENE_SIZE_ONLY=0 SCENE_PICTURES=0
 # As for the scene experiment: under -q each level's sub-make is asked (`make -q`, which renders
-# nothing); otherwise the step always runs and make compares score.json's time afterwards.
-ifneq ($(findstring q,$(make_letters)),q)
+# nothing), only when the ladder is on (the question builds the tools it needs, and a make
+# without the ladder must not); otherwise the step always runs and make compares score.json's
+# time afterwards.
+ifneq ($(findstring q,$(make_letters))$(DENSITY_LADDER),q1)
 density_force = FORCE
 else
 density_force = $(if $(shell $(MAKE) -q $(call density_args,$(1)) $(MAKEOVERRIDES) >/dev/null 2>&1 || echo stale),FORCE)
