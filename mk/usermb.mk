@@ -66,12 +66,14 @@ umb_import = mesh $(1)$(nl)units $(MESH_UNITS)$(nl)up $(MESH_UP)$(nl)crop-length
 # umb_link(FROM, TO): a hard link (the tools replace files by renaming, so a link keeps the
 # entry's bytes as a copy would), a copy where the filesystem has none.
 umb_link = ln -f $(1) $(2) 2>/dev/null || cp $(1) $(2)
-# umb_rule(name, file): one entry's chain, its .json and .pcd.
+# umb_rule(name, file, FORCE when a dry run finds import.txt out of date): one entry's chain,
+# its .json and .pcd. (The FORCE goes on the stages themselves: on import.txt, a target without a
+# recipe, make 4.3 would not pass it on.)
 define umb_rule
-$(UMB_WORK)/$(1)/import.txt: $(call text_prereq,$(UMB_WORK)/$(1)/import.txt,$(call umb_import,$(2)))
-$(UMB_WORK)/$(1)/size.txt: $(2) $(UMB_WORK)/$(1)/import.txt $(call tool,meshsize)
+$(UMB_WORK)/$(1)/import.txt:
+$(UMB_WORK)/$(1)/size.txt: $(2) $(UMB_WORK)/$(1)/import.txt $(3) $(call tool,meshsize)
 	@$(STAGE) $$@ -- $(BIN)/meshsize --units $(MESH_UNITS) --up $(MESH_UP) -i $(2) -o $$@
-$(UMB_WORK)/$(1)/scan.pcd: $(2) $(UMB_WORK)/$(1)/size.txt $(UMB_WORK)/$(1)/import.txt $(call tool,rangetrace) \
+$(UMB_WORK)/$(1)/scan.pcd: $(2) $(UMB_WORK)/$(1)/size.txt $(UMB_WORK)/$(1)/import.txt $(3) $(call tool,rangetrace) \
     $(P)/rangetrace.ini share/scenes/unoccluded.scene scripts/usermb-crop.sh
 	@crop=$$$$(scripts/usermb-crop.sh $(UMB_WORK)/$(1)/size.txt $(P)/rangetrace.ini $(MESH_CROP_LENGTH)) && \
 	  $(STAGE) $$@ -- $(BIN)/rangetrace --config $(P)/rangetrace.ini --model $(2) --units $(MESH_UNITS) \
@@ -90,14 +92,17 @@ $(UMB)/$(1).json: $(UMB_WORK)/$(1)/noise-0/segments.json
 $(UMB)/$(1).pcd: $(UMB_WORK)/$(1)/noise-0/samples.pcd
 	@$(call umb_link,$$<,$(UMB)/.$(1).tmp$$$$$$$$.pcd) && mv $(UMB)/.$(1).tmp$$$$$$$$.pcd $$@ && echo "done  $$@"
 endef
-# umb_class_rule(name, class): its .class, from the class written at parse time when it changed.
+# umb_class_rule(name, FORCE or nothing as above): its .class, from the class written at parse
+# time when it changed.
 define umb_class_rule
-$(UMB_WORK)/$(1)/class.txt: $(call text_prereq,$(UMB_WORK)/$(1)/class.txt,$(2))
-$(UMB)/$(1).class: $(UMB_WORK)/$(1)/class.txt
+$(UMB_WORK)/$(1)/class.txt:
+$(UMB)/$(1).class: $(UMB_WORK)/$(1)/class.txt $(2)
 	@cp $$< $(UMB)/.$(1).tmp$$$$$$$$.class && mv $(UMB)/.$(1).tmp$$$$$$$$.class $$@ && echo "done  $$@"
 endef
-$(foreach e,$(UMB_LIST),$(eval $(call umb_rule,$(call umb_name,$(e)),$(call umb_file,$(e)))))
-$(foreach e,$(UMB_LIST),$(if $(call umb_class,$(e)),$(eval $(call umb_class_rule,$(call umb_name,$(e)),$(call umb_class,$(e))))))
+$(foreach e,$(UMB_LIST),$(foreach n,$(call umb_name,$(e)),$(eval $(call umb_rule,$(n),$(call umb_file,$(e)),\
+  $(call text_prereq,$(UMB_WORK)/$(n)/import.txt,$(call umb_import,$(call umb_file,$(e))))))))
+$(foreach e,$(UMB_LIST),$(foreach n,$(call umb_name,$(e)),$(if $(call umb_class,$(e)),$(eval $(call umb_class_rule,$(n),\
+  $(call text_prereq,$(UMB_WORK)/$(n)/class.txt,$(call umb_class,$(e))))))))
 UMB_NAMES := $(foreach e,$(UMB_LIST),$(call umb_name,$(e)))
 # The window (as FAM_MB_WINDOW in mk/families.mk): entry i's render waits for entry
 # i - UMB_WINDOW to be done (an order-only prerequisite), so at most UMB_WINDOW entries' 15-20 MB
