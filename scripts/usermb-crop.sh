@@ -1,0 +1,36 @@
+#!/bin/bash
+# usermb-crop.sh SIZE INI [CROP_LENGTH]: the rangetrace options that fit one user mesh in the
+# crop box and the image (mk/usermb.mk, docs/decisions/user-modelbase.md). SIZE is meshsize's
+# "length width height" (m), INI the rangetrace parameters (size, spacing, crop-length,
+# crop-width, crop-height). A mesh that fits INI's crop box with 0.5 m to spare on every side
+# gets no option (its render is the one verify-modelbase would make); otherwise each crop side
+# it overflows becomes the mesh's extent + 1 m, rounded up to whole metres (CROP_LENGTH, e.g.
+# 14m, replaces the length's choice), and the image grows (--size) when the box's diagonal +
+# 2 m no longer fits size x spacing. Prints the options on one line (possibly empty).
+set -euo pipefail
+size=$1 ini=$2 crop_length=${3:-}
+read -r L W H <"$size"
+awk -v L="$L" -v W="$W" -v H="$H" -v over="$crop_length" '
+  function metres(v,   n) {  # "10m", "4000mm", "250cm" or a bare number (m)
+    gsub(/[ \t"]/, "", v); n = v + 0
+    if (v ~ /mm$/) return n / 1000; if (v ~ /cm$/) return n / 100; return n
+  }
+  function up(x) { return x == int(x) ? x : int(x) + 1 }
+  /^[ \t]*[#;]/ { next }
+  /=/ { k = $0; sub(/=.*/, "", k); gsub(/[ \t]/, "", k); v = substr($0, index($0, "=") + 1); ini[k] = v }
+  END {
+    cl = metres(ini["crop-length"]); cw = metres(ini["crop-width"]); ch = metres(ini["crop-height"])
+    sp = metres(ini["spacing"]); sz = ini["size"] + 0
+    if (cl <= 0 || cw <= 0 || ch <= 0 || sp <= 0 || sz <= 0) { print "usermb-crop.sh: no crop box, size or spacing in the ini" > "/dev/stderr"; exit 2 }
+    opts = ""
+    if (over != "") { nl = metres(over); if (nl <= 0) { print "usermb-crop.sh: MESH_CROP_LENGTH=" over " is not a length" > "/dev/stderr"; exit 2 } }
+    else nl = (L + 1 > cl) ? up(L + 1) : cl
+    nw = (W + 1 > cw) ? up(W + 1) : cw
+    nh = (H + 1 > ch) ? up(H + 1) : ch
+    if (nl != cl || over != "") opts = opts " --crop-length " nl "m"
+    if (nw != cw) opts = opts " --crop-width " nw "m"
+    if (nh != ch) opts = opts " --crop-height " nh "m"
+    need = up((sqrt(nl * nl + nw * nw + nh * nh) + 2) / sp)
+    if (need > sz) opts = opts " --size " need
+    sub(/^ /, "", opts); print opts
+  }' "$ini"
