@@ -167,7 +167,7 @@ TEST_CASE("every catalogued vehicle loads, in the modelbase frame, with its cata
   // No mesh file without a catalogue (licence) entry; the whole library within 25 MB.
   std::uintmax_t total = 0;
   for (const auto& p : fs::recursive_directory_iterator(kDir)) {
-    if (!p.is_regular_file()) continue;
+    if (p.is_symlink() || !p.is_regular_file()) continue;  // modelbase/: links, checked below
     total += p.file_size();
     const std::string ext = p.path().extension().string();
     if (ext == ".ply" || ext == ".obj" || ext == ".stl") {
@@ -176,6 +176,23 @@ TEST_CASE("every catalogued vehicle loads, in the modelbase frame, with its cata
     }
   }
   CHECK(total <= 25u * 1000 * 1000);
+}
+
+TEST_CASE("modelbase/: one link <class>__<name>.ply per modelbase instance, to its catalogued mesh") {
+  std::map<std::string, Row> cat;
+  for (const Row& e : read_csv("catalogue.csv")) cat[e.at("name")] = e;
+  std::set<std::string> want, have;
+  for (const Row& s : read_csv("split.csv")) {
+    if (s.at("split") != "modelbase") continue;
+    const Row& c = cat.at(s.at("name"));
+    want.insert(c.at("class") + "__" + s.at("name") + ".ply");
+    const fs::path link = fs::path(kDir) / "modelbase" / (c.at("class") + "__" + s.at("name") + ".ply");
+    INFO(link);
+    REQUIRE(fs::is_symlink(link));
+    CHECK(fs::equivalent(link, fs::path(kDir) / c.at("file")));
+  }
+  for (const auto& p : fs::directory_iterator(fs::path(kDir) / "modelbase")) have.insert(p.path().filename().string());
+  CHECK(have == want);  // no test instance among them
 }
 
 TEST_CASE("split.csv: modelbase and test instances cover the catalogue and never overlap") {

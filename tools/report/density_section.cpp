@@ -13,33 +13,25 @@
 
 namespace canopy::report {
 
-namespace {
-
 using documents::ScoreRow;
 using documents::ScoreValue;
 
-bool exists(const std::string& p) {
-  std::error_code ec;
-  return std::filesystem::exists(p, ec);
-}
-
-const ScoreValue& cell(const ScoreRow& row, const std::string& key) {
+const ScoreValue& score_cell_or_null(const ScoreRow& row, const std::string& key) {
   static const ScoreValue null_value;
   const ScoreValue* v = documents::score_cell(row, key);
   return v != nullptr ? *v : null_value;
 }
 
-std::optional<double> number(const ScoreRow& row, const std::string& key) {
-  const ScoreValue& v = cell(row, key);
+std::optional<double> score_number(const ScoreRow& row, const std::string& key) {
+  const ScoreValue& v = score_cell_or_null(row, key);
   return v.is_number() ? std::optional<double>(v.as_number()) : std::nullopt;
 }
 
-// The summary rows over every noise level: the covers in the score's order, then "all".
 std::vector<const ScoreRow*> cover_rows(const documents::SceneScore& s) {
   std::vector<const ScoreRow*> rows;
   const ScoreRow* all = nullptr;
   for (const ScoreRow& r : s.summary) {
-    const ScoreValue &c = cell(r, "cover"), &n = cell(r, "noise_mm");
+    const ScoreValue &c = score_cell_or_null(r, "cover"), &n = score_cell_or_null(r, "noise_mm");
     if (n.kind != ScoreValue::Kind::text || n.text != "all" || c.kind != ScoreValue::Kind::text) continue;
     if (c.text == "all")
       all = &r;
@@ -48,6 +40,26 @@ std::vector<const ScoreRow*> cover_rows(const documents::SceneScore& s) {
   }
   if (all != nullptr) rows.push_back(all);
   return rows;
+}
+
+std::string rate_with_interval(const ScoreRow& row, const std::string& key, bool percent) {
+  const auto v = score_number(row, key), lo = score_number(row, key + "_lo"),
+             hi = score_number(row, key + "_hi");
+  if (!v) return "–";
+  const double f = percent ? 100 : 1;
+  std::string s = format_number("%.1f", f * *v) + (percent ? "%" : "");
+  if (lo && hi) s += " [" + format_number("%.1f", f * *lo) + ", " + format_number("%.1f", f * *hi) + "]";
+  return s;
+}
+
+namespace {
+
+const ScoreValue& cell(const ScoreRow& row, const std::string& key) { return score_cell_or_null(row, key); }
+std::optional<double> number(const ScoreRow& row, const std::string& key) { return score_number(row, key); }
+
+bool exists(const std::string& p) {
+  std::error_code ec;
+  return std::filesystem::exists(p, ec);
 }
 
 std::string label(const ScoreRow& r) { return cell(r, "cover").text; }
@@ -71,15 +83,11 @@ const std::vector<Metric>& metrics() {
 }
 
 std::string show(const ScoreRow& r, const Metric& m) {
-  const auto v = number(r, m.key), lo = number(r, std::string(m.key) + "_lo"),
-             hi = number(r, std::string(m.key) + "_hi");
-  if (!v) return "–";
-  if (m.kind == Metric::degrees) return format_number("%.1f", *v);
-  const double f = m.kind == Metric::rate ? 100 : 1;
-  const char* fmt = "%.1f";
-  std::string s = format_number(fmt, f * *v) + (m.kind == Metric::rate ? "%" : "");
-  if (lo && hi) s += " [" + format_number(fmt, f * *lo) + ", " + format_number(fmt, f * *hi) + "]";
-  return s;
+  if (m.kind == Metric::degrees) {
+    const auto v = number(r, m.key);
+    return v ? format_number("%.1f", *v) : "–";
+  }
+  return rate_with_interval(r, m.key, m.kind == Metric::rate);
 }
 
 // Counts behind a rate: "k/n".

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -14,6 +15,13 @@
 #include "canopy/documents/scene_score.h"
 
 namespace canopy::report {
+
+// Shared with the other scene-score sections: a number cell of a score row (nullopt when null or
+// absent); the summary rows over every noise level (the covers in the score's order, then
+// "all"); a rate (percent) or a number with score's 95% interval, "r% [lo, hi]", "–" when null.
+std::optional<double> score_number(const documents::ScoreRow& row, const std::string& key);
+std::vector<const documents::ScoreRow*> cover_rows(const documents::SceneScore& score);
+std::string rate_with_interval(const documents::ScoreRow& row, const std::string& key, bool percent);
 
 // One level of the ladder as read: its score (absent when the level has not run), the density
 // measured by detect (mean over the level's runs of index.json density.all and density.ground,

@@ -21,6 +21,7 @@
 #include "report/baseline_section.h"
 #include "report/density_section.h"
 #include "report/disk_section.h"
+#include "report/openset_section.h"
 #include "report/families_section.h"
 #include "report/real_section.h"
 #include "report/report.h"
@@ -197,7 +198,7 @@ std::string density_section(const std::vector<documents::ManifestDensity>& densi
 struct Sources {
   std::string manifest, results = "results";
   std::string thesis;  // default: <share>/thesis/results.csv
-  std::string tile_score, families, disk;
+  std::string tile_score, families, disk, openset;
   int real_timeout = 0;
 };
 
@@ -219,6 +220,9 @@ void bind(common::Tool& tool, Sources& src, report::Params& p) {
   tool.add("--real-timeout", &src.real_timeout,
            "the time box of a real tile, s (mk/real.mk REAL_TIMEOUT; 0 unknown); the real tiles are the "
            "manifest's `real` records, and the \"Real tiles\" section is written when it has any");
+  tool.add("--openset", &src.openset,
+           "the open-set experiment's score.json (mk/openset.mk): adds the section \"Open set: unseen "
+           "vehicles\"");
   tool.add("--disk", &src.disk,
            "the experiment's output directory: adds the \"Disk\" section (bytes per part when the report is "
            "written)");
@@ -266,6 +270,8 @@ int main(int argc, char** argv) {
     if (!src.tile_score.empty()) markdown += scenes_section(src.tile_score, scene_dir, results, outputs);
     if (!manifest.real.empty()) markdown += real_section(manifest.real, src.real_timeout);
     if (!manifest.density.empty()) markdown += density_section(manifest.density, results, outputs);
+    if (!src.openset.empty())
+      markdown += report::openset_markdown(documents::read_scene_score_file(src.openset), src.openset);
     if (!src.disk.empty())
       markdown += report::disk_markdown(report::disk_parts(src.disk, manifest.objects), src.disk);
     outputs.set(results + "/report.md", markdown);
