@@ -21,12 +21,11 @@
 # 0 mm link, fitvox, cocone, ncut, as fam_chain (mk/families.mk) runs them. Work directory:
 #   MODELBASE/.work/<name>/{import.txt, size.txt, noise-0/{samples.pcd, mesh.ply,
 #                           segments.json, segments.ply}} and every stage's .log and .time
-# The two scans (scan.pcd, noise-0/scan.pcd, 15-20 MB each) are deleted once read (.SECONDARY,
+# The two scans (scan.pcd, noise-0/scan.pcd, 15-80 MB each) are deleted once read (.SECONDARY,
 # as in families). The entries' .json and .pcd are hard links to the work files (copies where
 # the filesystem has none). import.txt holds the mesh's file, units, up axis and crop length
 # (written at parse time when it changed): changing one re-renders that entry only; touching a
 # mesh re-runs its entry; a tool or a stage's parameters re-run what they feed.
-USERMB_TOOLS := meshsize rangetrace fitvox cocone ncut
 .PHONY: user-modelbase
 ifneq ($(filter user-modelbase,$(MAKECMDGOALS)),)
 MESHES ?=
@@ -35,7 +34,7 @@ MESH_UP ?= z
 MESH_CROP_LENGTH ?=
 $(if $(filter-out mm cm m,$(MESH_UNITS)),$(error user-modelbase: MESH_UNITS=$(MESH_UNITS): must be mm, cm or m))
 $(if $(filter-out y z,$(MESH_UP)),$(error user-modelbase: MESH_UP=$(MESH_UP): must be y or z))
-$(if $(filter 1,$(words $(MESH_UNITS) $(MESH_UP))),$(error user-modelbase: MESH_UNITS and MESH_UP need one value each))
+$(if $(filter 2,$(words $(MESH_UNITS) $(MESH_UP))),,$(error user-modelbase: MESH_UNITS and MESH_UP need one value each))
 $(if $(filter 0 1,$(words $(MESH_CROP_LENGTH))),,$(error user-modelbase: MESH_CROP_LENGTH=$(MESH_CROP_LENGTH): one length, e.g. 14m))
 $(if $(MESH_CROP_LENGTH),$(if $(shell echo '$(MESH_CROP_LENGTH)' | grep -Ex '[0-9]+(\.[0-9]+)?(m|cm|mm)?'),,\
   $(error user-modelbase: MESH_CROP_LENGTH=$(MESH_CROP_LENGTH): a length such as 14m, 1400cm or 14000mm)))
@@ -105,8 +104,8 @@ $(foreach e,$(UMB_LIST),$(foreach n,$(call umb_name,$(e)),$(if $(call umb_class,
   $(call text_prereq,$(UMB_WORK)/$(n)/class.txt,$(call umb_class,$(e))))))))
 UMB_NAMES := $(foreach e,$(UMB_LIST),$(call umb_name,$(e)))
 # The window (as FAM_MB_WINDOW in mk/families.mk): entry i's render waits for entry
-# i - UMB_WINDOW to be done (an order-only prerequisite), so at most UMB_WINDOW entries' 15-20 MB
-# scans are on disk at once. Keep it >= the -j count; 0 = no window.
+# i - UMB_WINDOW to be done (an order-only prerequisite), so at most UMB_WINDOW entries'
+# scans (15-80 MB) are on disk at once. Keep it >= the -j count; 0 = no window.
 UMB_WINDOW ?= 4
 $(if $(shell echo '$(UMB_WINDOW)' | grep -Ex '[0-9]+'),,$(error user-modelbase: UMB_WINDOW=$(UMB_WINDOW): a whole number >= 0))
 UMB_WAITS := $(if $(and $(filter-out 0,$(UMB_WINDOW)),$(word $(UMB_WINDOW),$(wordlist 2,$(words $(UMB_NAMES)),$(UMB_NAMES)))),$(shell printf '%s\n' \

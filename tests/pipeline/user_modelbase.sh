@@ -57,6 +57,9 @@ for e in car__hatch truck__pick; do
 done
 "$bin/meshsize" -q -i "$src/share/vehicles/bus/gz_bus.ply" -o "$tmp/bus.txt" || fail "meshsize on the bus failed"
 [ "$(cat "$tmp/bus.txt")" = "12.4861 2.7077 3.6983" ] || fail "meshsize: the bus is $(cat "$tmp/bus.txt")"
+printf 'v 0 0 0\nv 4000 1500 2000\nv 0 1500 0\nf 1 2 3\n' >"$tmp/tri.obj"  # y up, mm: 4 x 2 x 1.5 m
+[ "$("$bin/meshsize" -q --units mm --up y -i "$tmp/tri.obj")" = "4.0000 2.0000 1.5000" ] \
+  || fail "meshsize --units mm --up y: $("$bin/meshsize" -q --units mm --up y -i "$tmp/tri.obj")"
 [ "$("${crop[@]}" "$tmp/bus.txt" "$tmp/params/rangetrace.ini")" = "--crop-length 14m --crop-height 5m --size 580" ] \
   || fail "the bus's options: $("${crop[@]}" "$tmp/bus.txt" "$tmp/params/rangetrace.ini")"
 [ "$("${crop[@]}" "$work/car__hatch/size.txt" "$tmp/params/rangetrace.ini" 16m)" = "--crop-length 16m --size 633" ] \
