@@ -73,7 +73,7 @@ endif
 $(if $(filter meshsize,$(TOOLS)),,$(eval $(call tool_rule,meshsize)))
 OPENSET_TOOLS := meshsize rangetrace detect classify fitvox cocone ncut gmatch verify collect score
 $(OPENSET_MB)/.built: $(openset_force) $(wildcard $(OPENSET_MESHES)/*) $(foreach t,$(OPENSET_TOOLS),$(call tool,$(t)))
-	+@$(MAKE) $(openset_mb_args) && touch $@
+	+@$(MAKE) $(openset_mb_args)$(if $(dry_run),, && touch $@)
 $(OPENSET_SCORE): $(openset_force) $(OPENSET_MB)/.built $(OPENSET_DIR)/classes.csv $(MODELBASE) $(VERIFY_SURFACES)
 	+@$(MAKE) $(openset_args)
 .PHONY: openset
