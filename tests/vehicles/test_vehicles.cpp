@@ -191,7 +191,8 @@ TEST_CASE("modelbase/: one link <class>__<name>.ply per modelbase instance, to i
     REQUIRE(fs::is_symlink(link));
     CHECK(fs::equivalent(link, fs::path(kDir) / c.at("file")));
   }
-  for (const auto& p : fs::directory_iterator(fs::path(kDir) / "modelbase")) have.insert(p.path().filename().string());
+  for (const auto& p : fs::directory_iterator(fs::path(kDir) / "modelbase"))
+    have.insert(p.path().filename().string());
   CHECK(have == want);  // no test instance among them
 }
 
