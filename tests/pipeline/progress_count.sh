@@ -42,7 +42,7 @@ mk=(make -C "$src" --no-print-directory -f Makefile.experiments BUILD="$tmp/buil
 
 # counts LOG [PLANNED]: the checks on every "done/FAIL N/M" line of a make's output LOG, whose
 # dry run planned PLANNED stages (scripts/stage.sh first in a line or after a test's "||": a real
-# tile's score) -- M of the first line, unless a real tile's stages joined M before that line.
+# tile's score; or after "&&": user-modelbase's render after its crop box) -- M of the first line, unless a real tile's stages joined M before that line.
 # Without PLANNED (a run in which a time box stopped a sub-make) N need not run 1..K without a
 # gap: a stage counted as the time box struck has its line lost with the sub-make's output
 # (--output-sync), so K is the largest N and each N is shown at most once.
@@ -72,7 +72,7 @@ counts() {
   [ "$n $m" = "$k $k" ] || fail "the progress state ends at $n/$m, not $k/$k"
   echo "progress: $m0 planned at the start, $k stages, ended at $k/$k"
 }
-plan() { "${mk[@]}" -n all 2>"$tmp/plan.err" | grep -cE '^scripts/stage\.sh |\|\| scripts/stage\.sh '; }
+plan() { "${mk[@]}" -n all 2>"$tmp/plan.err" | grep -cE '^scripts/stage\.sh |(\|\||&&) scripts/stage\.sh '; }
 
 # The whole slice, fresh: every real tile within its time box but the refused one.
 planned=$(plan)
