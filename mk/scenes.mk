@@ -217,6 +217,14 @@ SCENE_HIDE_dense ?= 2
 # Pixel spacing (docs/decisions/scene-experiment.md, "Operating point"): 40 mm with the tile
 # fitvox setting (share/params/fitvox-tile.ini).
 SCENE_SPACING ?= 40mm
+# Clutter per tile (issue 29, "unseen clutter"; docs/decisions/scene-experiment.md): the kinds
+# verify's and classify's thresholds were fitted on, then two of the six unseen kinds, by tile
+# (cksum of clutter/<cover>/<seed> mod 3: trailer + rock, caravan + tent, pipes + barriers; all
+# six in one 30 m tile of 3 - 8 vehicles leave no room). SCENE_CLUTTER="boulder 2 container 1
+# logs 1" is the ablation value: the seen kinds alone, the recipe before issue 29.
+SCENE_CLUTTER ?= boulder 2 container 1 logs 1 $(call scene_unseen,$(1)/$(2))
+scene_unseen = $(subst _, ,$(word $(shell printf '%s' 'clutter/$(1)' | cksum | awk '{ print 1 + $$1 % 3 }'),\
+  trailer_1_rock_1 caravan_1_tent_1 pipes_1_barriers_1))
 # Vehicles per tile: SCENE_VEHICLES, else 3 - 8 from the seed.
 SCENE_VEHICLES ?=
 # The pictures per cover level show the first SCENE_PICTURE_COLS tiles at every noise level.
@@ -296,7 +304,7 @@ trees = $(SCENE_TREES_$(1))
 hide = $(SCENE_HIDE_$(1))
 bushes = 300
 vehicles = random $(call scene_vehicles,$(1)/$(2)) from $(SCENE_MODELS)
-clutter = boulder 2 container 1 logs 1
+clutter = $(SCENE_CLUTTER)
 flight_lines = 2
 headings = 0deg 90deg
 looks = 75deg/0deg 75deg/180deg

@@ -15,7 +15,7 @@ namespace {
 
 using namespace members;  // NOLINT(google-build-using-namespace): the document's member helpers
 
-const char* const kTables[] = {"summary", "pr", "models", "cover_bins", "reliability"};
+const char* const kTables[] = {"summary", "pr", "models", "cover_bins", "reliability", "clutter"};
 
 // --- writing: the document built as score built it, member by member, so the library's number
 // text (3 as "3", 3.0 as "3.0") and key order are the ones score has always written.
@@ -91,6 +91,7 @@ Json table_json(const SceneScore& s, const std::string& table) {
   if (table == "models") return rows_json(s.models);
   if (table == "cover_bins") return rows_json(s.cover_bins);
   if (table == "reliability") return rows_json(s.reliability);
+  if (table == "clutter") return rows_json(s.clutter);
   if (table == "matches") {
     Json out = Json::array();
     for (const ScoreMatch& m : s.matches) out.push_back(match_json(m));
@@ -224,8 +225,9 @@ SceneScore read_members(const Json& j) {
   const Json& tiles = array(at(j, "tiles", "score"), "score.tiles");
   for (std::size_t i = 0; i < tiles.size(); ++i)
     s.tiles.push_back(tile_of(tiles[i], "tiles[" + std::to_string(i) + "]"));
-  std::vector<ScoreRow>* const into[] = {&s.summary, &s.pr, &s.models, &s.cover_bins, &s.reliability};
-  for (std::size_t t = 0; t < 5; ++t) {
+  std::vector<ScoreRow>* const into[] = {&s.summary,    &s.pr,          &s.models,
+                                         &s.cover_bins, &s.reliability, &s.clutter};
+  for (std::size_t t = 0; t < 6; ++t) {
     const Json* rows = optional(j, kTables[t]);
     if (!rows) continue;
     array(*rows, std::string("score.") + kTables[t]);
@@ -273,6 +275,7 @@ std::string write_scene_score(const SceneScore& s, const formats::Provenance& pr
                  {"models", table_json(s, "models")},
                  {"cover_bins", table_json(s, "cover_bins")},
                  {"reliability", table_json(s, "reliability")},
+                 {"clutter", table_json(s, "clutter")},
                  {"matches", table_json(s, "matches")}};
   return doc.dump(1) + "\n";
 }

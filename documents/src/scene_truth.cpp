@@ -54,6 +54,23 @@ TrueVehicle vehicle_of(const Json& v, const std::string& w) {
   return t;
 }
 
+TrueClutter clutter_of(const Json& c, const std::string& w) {
+  object(c, w);
+  TrueClutter t;
+  t.kind = text(at(c, "kind", w), w + ".kind");
+  const Json& box = at(c, "box", w);
+  object(box, w + ".box");
+  const auto centre = point3(at(box, "centre", w + ".box"), w + ".box.centre");
+  const auto size = point3(at(box, "size", w + ".box"), w + ".box.size");
+  if (size[0] < 0 || size[1] < 0 || size[2] < 0) throw Malformed(w + ".box.size must not be negative");
+  t.x = centre[0];
+  t.y = centre[1];
+  t.length = size[0];
+  t.width = size[1];
+  t.heading = finite_number(at(box, "heading", w + ".box"), w + ".box.heading");
+  return t;
+}
+
 SceneTruth read_members(const Json& j) {
   SceneTruth t;
   const Json& vs = array(at(j, "vehicles", "truth"), "vehicles");
@@ -70,6 +87,11 @@ SceneTruth read_members(const Json& j) {
     const double x = (*e)[0].get<double>(), y = (*e)[1].get<double>();
     if (!(x > 0 && y > 0 && std::isfinite(x * y))) throw Malformed("extent must be positive");
     t.extent = std::array<double, 2>{x, y};
+  }
+  if (const Json* c = optional(j, "clutter")) {
+    array(*c, "clutter");
+    for (std::size_t i = 0; i < c->size(); ++i)
+      t.clutter.push_back(clutter_of((*c)[i], "clutter[" + std::to_string(i) + "]"));
   }
   if (const Json* u = optional(j, "uncertain")) {
     array(*u, "uncertain");

@@ -8,6 +8,7 @@
 #include "canopy/common/math.h"
 #include "canopy/common/rng.h"
 #include "canopy/sim/tile.h"
+#include "clutter_kinds.h"
 
 namespace canopy::sim {
 
@@ -181,43 +182,15 @@ TriMesh bush_template(std::uint64_t seed, double r) {
 namespace {
 
 TriMesh boulder_mesh(common::Rng& rng) {
-  TriMesh m;
   // Icosphere (2 subdivisions), stretched and roughened, about a third buried.
-  const double t = (1 + std::sqrt(5.0)) / 2;
-  std::vector<Vector3d> v = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
-                             {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
-  std::vector<std::array<int, 3>> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
-                                       {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                                       {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
-                                       {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
-  for (auto& p : v) p.normalize();
-  for (int level = 0; level < 2; ++level) {
-    std::map<std::pair<int, int>, int> mid;
-    auto middle = [&](int a, int b) {
-      const auto key = std::minmax(a, b);
-      auto it = mid.find(key);
-      if (it != mid.end()) return it->second;
-      v.push_back((v[a] + v[b]).normalized());
-      return mid[key] = static_cast<int>(v.size() - 1);
-    };
-    std::vector<std::array<int, 3>> g;
-    for (const auto& tri : f) {
-      const int a = middle(tri[0], tri[1]), b = middle(tri[1], tri[2]), c = middle(tri[2], tri[0]);
-      g.push_back({tri[0], a, c});
-      g.push_back({tri[1], b, a});
-      g.push_back({tri[2], c, b});
-      g.push_back({a, b, c});
-    }
-    f = g;
-  }
+  TriMesh m = icosphere(2);
+  std::vector<Vector3d>& v = m.v;
   const double r = rng.uniform(0.5, 1.0);
   const Vector3d scale(r, r * rng.uniform(0.6, 1.0), r * rng.uniform(0.5, 0.8));
   for (auto& p : v) p = p.cwiseProduct(scale) * rng.uniform(0.88, 1.12);
   double zmin = 1e9;
   for (const auto& p : v) zmin = std::min(zmin, p.z());
   for (auto& p : v) p.z() -= zmin + 0.3 * scale.z();
-  m.v = v;
-  m.f = f;
   return m;
 }
 
@@ -291,6 +264,12 @@ TriMesh clutter_mesh(const std::string& kind, std::uint64_t seed) {
   if (kind == "container") return container_mesh();
   if (kind == "fence") return fence_mesh();
   if (kind == "logs") return logs_mesh(rng);
+  if (kind == "trailer") return trailer_mesh(rng);
+  if (kind == "caravan") return caravan_mesh(rng);
+  if (kind == "pipes") return pipes_mesh(rng);
+  if (kind == "barriers") return barriers_mesh(rng);
+  if (kind == "tent") return tent_mesh(rng);
+  if (kind == "rock") return rock_mesh(rng);
   throw common::Error("unknown clutter kind '" + kind + "'");
 }
 

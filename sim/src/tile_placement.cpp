@@ -273,6 +273,10 @@ std::pair<PlacedObject, Quad> TileBuilder::make_object(const std::string& kind, 
   return std::make_pair(o, footprint_of(o.pose, lo, hi));
 }
 
+// Random poses tried per clutter object before "no room" (raised from 500 for issue 29's crowded
+// tiles: a tile placed within 500 tries is placed exactly as before).
+constexpr int kClutterAttempts = 5000;
+
 // Clutter: hand-placed, then random per kind.
 void TileBuilder::place_clutter() {
   for (const auto& s : recipe_.objects) {
@@ -285,7 +289,7 @@ void TileBuilder::place_clutter() {
     const auto& [kind, n] = recipe_.clutter[c];
     for (int k = 0; k < n; ++k) {
       bool placed = false;
-      for (int attempt = 0; attempt < 500 && !placed; ++attempt) {
+      for (int attempt = 0; attempt < kClutterAttempts && !placed; ++attempt) {
         const double x = rng.uniform(0, recipe_.extent_x), y = rng.uniform(0, recipe_.extent_y);
         const double heading = rng.uniform(0, 2 * common::kPi);
         auto [o, q] = make_object(kind, x, y, heading);

@@ -14,7 +14,9 @@ namespace canopy::sim {
 
 using common::UsageError;
 
-const char* const kClutterKinds[5] = {"boulder", "shed", "container", "fence", "logs"};
+const char* const kClutterKinds[kClutterKindCount] = {"boulder",  "shed",    "container", "fence",
+                                                      "logs",     "trailer", "caravan",   "pipes",
+                                                      "barriers", "tent",    "rock"};
 
 namespace {
 

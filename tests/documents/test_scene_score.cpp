@@ -101,7 +101,7 @@ TEST_CASE("scene score: the writer's members, types and order") {
   std::vector<std::string> keys;
   for (const auto& [k, v] : j.items()) keys.push_back(k);
   CHECK(keys == std::vector<std::string>{"format", "version", "provenance", "params", "tiles", "summary",
-                                         "pr", "models", "cover_bins", "reliability", "matches"});
+                                         "pr", "models", "cover_bins", "reliability", "clutter", "matches"});
   CHECK(j["params"].dump() == R"({"match_radius_m":1.5,"cover_bins":[0.0,0.5,1.0],"flip_threshold_deg":90.0})");
   CHECK(j["tiles"][0].dump() ==
         R"({"detections":"d.json","truth":"t.json","cover":null,"noise_mm":0.0,"area_ha":0.09,"true":2,"tp":1,)"

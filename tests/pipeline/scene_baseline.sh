@@ -35,7 +35,8 @@ for m in sedan tank; do
 done
 mk=(make -C "$src" -f Makefile.experiments BUILD="$tmp/build" CMAKE=true P="$tmp/params" PROGRESS=0
   OBJECTS="sedan tank" OUT="$tmp/out" RES="$tmp/res" SCENE_SEEDS=1 SCENE_COVERS=light SCENE_NOISES=0
-  SCENE_EXTENT=16m SCENE_VEHICLES=1 SCENE_MODELS=sedan,tank SCENE_PICTURE_COLS=1 "${old[@]}")
+  SCENE_EXTENT=16m SCENE_VEHICLES=1 SCENE_MODELS=sedan,tank SCENE_PICTURE_COLS=1 "${old[@]}"
+  SCENE_CLUTTER="boulder 2 container 1 logs 1")  # the clutter of before: the unseen kinds leave no room in 16 m
 "${mk[@]}" -j2 scenes >"$tmp/scenes.log" 2>&1 || fail "make scenes failed: $(tail -5 "$tmp/scenes.log")"
 
 run="$tmp/out/scenes/light/tile-1/noise-0"

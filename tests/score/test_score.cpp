@@ -290,7 +290,7 @@ TEST_CASE("score CLI: two tiles by manifest, groups per cover and noise, CSV tab
   // Cover bins overall: the two sedans (0.1) both found, of the two tanks (0.8) one.
   CHECK(s["cover_bins"][0]["recall"].get<double>() == Approx(1));
   CHECK(s["cover_bins"][3]["recall"].get<double>() == Approx(0.5));
-  for (const char* t : {"summary", "pr", "models", "cover_bins", "reliability", "matches"}) {
+  for (const char* t : {"summary", "pr", "models", "cover_bins", "reliability", "clutter", "matches"}) {
     INFO(t);
     CHECK(test::exists(dir / (std::string("s_") + t + ".csv")));
   }
@@ -467,7 +467,7 @@ TEST_CASE("the score document: the provenance after format and version, the scor
   std::vector<std::string> keys;
   for (const auto& [k, v] : doc.items()) keys.push_back(k);
   CHECK(keys == std::vector<std::string>{"format", "version", "provenance", "params", "tiles", "summary",
-                                         "pr", "models", "cover_bins", "reliability", "matches"});
+                                         "pr", "models", "cover_bins", "reliability", "clutter", "matches"});
   CHECK(doc["provenance"].dump() ==
         R"({"tool":"score","version":"9.9","parameters":{"csv":""},"inputs":["detections.json","truth.json"]})");
   CHECK(doc["summary"] == as_json(score::score(in.tiles, score::Params{}))["summary"]);

@@ -13,6 +13,7 @@
 #include "canopy/common/error.h"
 #include "canopy/documents/scene_score.h"
 #include "canopy/documents/stage_time.h"
+#include "report/clutter_section.h"
 #include "report/report.h"
 
 namespace canopy::report {
@@ -588,6 +589,7 @@ std::string scene_markdown(const SceneScore& score, const std::vector<SceneStage
   cover_table(md, score, fig);
   pr_table(md, score);
   reliability_table(md, score);
+  md << clutter_markdown(score);
   baselines(md, score, times);
   times_table(md, times);
   pictures(md, covers, fig);

@@ -78,7 +78,7 @@ void bind(common::Tool& tool, Options& o, score::Params& p) {
   tool.add_output(&o.out, "score JSON (canopy.scene_score v1)");
   tool.add("--csv", &o.csv,
            "also write the tables as <PREFIX>summary.csv, pr.csv, models.csv, "
-           "cover_bins.csv, reliability.csv, matches.csv");
+           "cover_bins.csv, reliability.csv, clutter.csv, matches.csv");
 }
 
 // The choice between one tile and a manifest, and the one tile's noise level.
@@ -126,7 +126,8 @@ int main(int argc, char** argv) {
     check_sources(o);
     p.cover_bins = parse_bins(o.bins);
     score::validate(p);
-    static const char* tables[] = {"summary", "pr", "models", "cover_bins", "reliability", "matches"};
+    static const char* tables[] = {"summary",     "pr",      "models", "cover_bins",
+                                   "reliability", "clutter", "matches"};
     common::OutputSet outputs;
     outputs.add(o.out, "-o");
     if (!o.csv.empty()) {

@@ -14,6 +14,7 @@
 #include "canopy/documents/scene_truth.h"
 #include "canopy/formats/json_document.h"
 #include "canopy/formats/provenance.h"
+#include "score/clutter.h"
 #include "score/intervals.h"
 
 namespace canopy::score {
@@ -60,6 +61,8 @@ Truth parse_truth(const std::string& text_, const std::string& name) {
       t.vehicles.push_back(TrueVehicle{static_cast<int>(x.instance), x.model, x.pose->x, x.pose->y,
                                        *x.pose->z, *x.pose->heading, *x.canopy_cover, x.cls});
     }
+    for (const documents::TrueClutter& c : doc.clutter)
+      t.clutter.push_back(TrueClutter{c.kind, c.x, c.y, c.length, c.width, c.heading});
   } catch (const Malformed& e) { throw common::DataError(name, e.what()); }
   return t;
 }
@@ -639,6 +642,7 @@ documents::SceneScore score(const std::vector<Tile>& tiles, const Params& params
   s.models = model_table(tiles, matches, g);
   s.cover_bins = cover_bins(tiles, matches, params, g);
   s.reliability = reliability_table(tiles, s.matches, matches, params.match_radius);
+  s.clutter = clutter_table(tiles, matches, params.match_radius);
   return s;
 }
 

@@ -34,10 +34,19 @@ struct TrueVehicle {
   std::string cls;             // the truth's "class" (procedural families), "" = none
 };
 
+// A clutter object of a rendered tile: its kind and its box seen from above (centre, length
+// along its heading, width across).
+struct TrueClutter {
+  std::string kind;
+  double x = 0, y = 0, length = 0, width = 0;
+  double heading = 0;  // degrees
+};
+
 struct Truth {
   std::string name;                   // file, as given
   double extent_x = 0, extent_y = 0;  // m
   std::vector<TrueVehicle> vehicles;
+  std::vector<TrueClutter> clutter;  // empty for hand-labelled tiles
 };
 
 struct Detection {

@@ -80,17 +80,18 @@ struct SceneScore {
   std::vector<ScoreTile> tiles;
   std::vector<ScoreRow> summary, pr, models, cover_bins;
   std::vector<ScoreRow> reliability;  // absent in scores written before issue 29's table: empty
+  std::vector<ScoreRow> clutter;      // false alarms by clutter kind (issue 29); older scores: empty
   std::vector<ScoreMatch> matches;
 };
 
 // The text score writes (one space indent, a final newline): format, version, `provenance`,
-// params, tiles, summary, pr, models, cover_bins, reliability, matches. Throws common::Error when params or
-// a tile's counts are missing (a writer's bug).
+// params, tiles, summary, pr, models, cover_bins, reliability, clutter, matches. Throws common::Error when
+// params or a tile's counts are missing (a writer's bug).
 std::string write_scene_score(const SceneScore& s, const formats::Provenance& provenance);
 
-// A table of the score as CSV: "summary", "pr", "models", "cover_bins", "reliability" or "matches"; the columns
-// of the first row, numbers with %.10g, integers as they are, null empty, texts quoted when they
-// hold a comma, quote or newline. "" for an empty table; common::Error for another name.
+// A table of the score as CSV: "summary", "pr", "models", "cover_bins", "reliability", "clutter" or
+// "matches"; the columns of the first row, numbers with %.10g, integers as they are, null empty, texts quoted
+// when they hold a comma, quote or newline. "" for an empty table; common::Error for another name.
 std::string scene_score_csv(const SceneScore& s, const std::string& table);
 
 // Reads `text`, the contents of file `name`. Throws common::DataError naming `name`: not JSON,

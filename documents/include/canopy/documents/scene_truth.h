@@ -37,17 +37,26 @@ struct UncertainObject {
   double x = 0, y = 0;
 };
 
+// A clutter object of a rendered tile ("clutter": kind and box; issue 29's false alarms by
+// kind): its centre x y, its box's length and width (along and across its heading, degrees).
+struct TrueClutter {
+  std::string kind;
+  double x = 0, y = 0, length = 0, width = 0, heading = 0;
+};
+
 struct SceneTruth {
   std::optional<std::array<double, 2>> extent;  // X Y (m), both > 0
   std::vector<TrueVehicle> vehicles;
   std::vector<UncertainObject> uncertain;
+  std::vector<TrueClutter> clutter;  // empty when absent (hand labels)
 };
 
 // Reads `text`, the contents of file `name`. Throws common::DataError naming `name`: not JSON,
 // another format, a version other than 1, "vehicles" missing or not an array, a vehicle
 // without an integer instance >= 0 or with one that repeats, a pose without finite x and y, a
 // canopy_cover outside [0, 1], a footprint not 3 to 64 [x, y] corners, an extent that is not
-// two positive numbers, an uncertain object without a pose, any member of another type.
+// two positive numbers, an uncertain object without a pose, a clutter object without a kind or
+// a box (finite centre and heading, size of three numbers >= 0), any member of another type.
 SceneTruth read_scene_truth(const std::string& text, const std::string& name);
 SceneTruth read_scene_truth_file(const std::string& path);
 

@@ -40,7 +40,7 @@ struct VehicleSpec {
 };
 
 struct ObjectSpec {
-  std::string kind;  // boulder, shed, container, fence, logs
+  std::string kind;  // one of kClutterKinds
   double x = 0, y = 0, heading = 0;
   int line = 0;
 };
@@ -265,7 +265,10 @@ TriMesh broadleaf_template(std::uint64_t seed, double height);
 TriMesh conifer_template(std::uint64_t seed, double height);
 TriMesh bush_template(std::uint64_t seed, double radius);
 TriMesh clutter_mesh(const std::string& kind, std::uint64_t seed);
-extern const char* const kClutterKinds[5];
+// The clutter kinds: the five the thresholds were fitted on (boulder .. logs), then issue 29's
+// unseen ones (trailer .. rock; share/scenes/README.md documents each kind's sizes).
+constexpr int kClutterKindCount = 11;
+extern const char* const kClutterKinds[kClutterKindCount];
 
 // POV-Ray text of a mesh as `#declare <name> = mesh2 {...}` (tile axes -> POV-Ray frame).
 std::string mesh_declare(const std::string& name, const TriMesh& mesh);
