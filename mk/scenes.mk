@@ -345,9 +345,11 @@ scene_manifest = $(subst $(nl)$(space),$(nl),$(foreach c,$(SCENE_COVERS),$(forea
   n,$(SCENE_NOISES),$(call ml,$(call scene_line,$(c),$(s),$(n)))))))
 $(SCENE_DIR)/tiles.txt: $(call text_prereq,$(SCENE_DIR)/tiles.txt,$(scene_manifest))
 # The thesis models' classes (share/models/classes.csv) judge class answers on them (score
-# --model-classes; a rendered "semi" answered "semi-tractor" is right at the class level).
+# --model-classes; a rendered "semi" answered "semi-tractor" is right at the class level). A
+# prerequisite only when it exists: the open set's (mk/openset.mk) is written by the parent make,
+# which a dry run does not do, and score names a missing file itself.
 SCENE_MODEL_CLASSES ?= share/models/classes.csv
-$(SCENE_SCORE): $(SCENE_DIR)/tiles.txt $(addsuffix /detections.json,$(SCENE_RUNS)) $(call tool,score) $(SCENE_MODEL_CLASSES)
+$(SCENE_SCORE): $(SCENE_DIR)/tiles.txt $(addsuffix /detections.json,$(SCENE_RUNS)) $(call tool,score) $(wildcard $(SCENE_MODEL_CLASSES))
 	@$(STAGE) $@ -- $(BIN)/score --tiles $(SCENE_DIR)/tiles.txt --model-classes $(SCENE_MODEL_CLASSES) -o $@ \
 	  --csv $(SCENE_RES)/
 # The baseline (SCENE_BASELINE): per candidate and method a verdict from the candidate's
@@ -369,7 +371,7 @@ define scene_baseline_score_rule
 $(SCENE_DIR)/tiles-baseline-$(1).txt: $(call text_prereq,$(SCENE_DIR)/tiles-baseline-$(1).txt,$(subst \
   /detections.json ,/detections-baseline-$(1).json ,$(scene_manifest)))
 $(SCENE_RES)/baseline-$(1)/score.json: $(SCENE_DIR)/tiles-baseline-$(1).txt \
-    $(addsuffix /detections-baseline-$(1).json,$(SCENE_RUNS)) $(call tool,score) $(SCENE_MODEL_CLASSES)
+    $(addsuffix /detections-baseline-$(1).json,$(SCENE_RUNS)) $(call tool,score) $(wildcard $(SCENE_MODEL_CLASSES))
 	@$(STAGE) $$@ -- $(BIN)/score --tiles $(SCENE_DIR)/tiles-baseline-$(1).txt \
 	  --model-classes $(SCENE_MODEL_CLASSES) -o $$@ --csv $(SCENE_RES)/baseline-$(1)/
 endef
