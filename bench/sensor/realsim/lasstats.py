@@ -98,9 +98,11 @@ def read_las(path):
     PS = cols['psid']
     ne = len(eb_names)
     for rec in struct.iter_unpack(full, buf):
-        X.append(rec[0] * sx + ox)
-        Y.append(rec[1] * sy + oy)
-        Z.append(rec[2] * sz + oz)
+        # rounded to 0.1 mm: the same coordinates written with another scale and offset
+        # (canopy's writer: 1 mm, whole-metre offset) give the same doubles
+        X.append(round(rec[0] * sx + ox, 4))
+        Y.append(round(rec[1] * sy + oy, 4))
+        Z.append(round(rec[2] * sz + oz, 4))
         I.append(rec[3])
         if fmt <= 5:
             RN.append(rec[4] & 7)
@@ -227,6 +229,7 @@ def figures(name, las_path, truth_path):
     f['pulses_by_returns_last'], f['pulses_last'] = hist(last)
     f['veg_pulses_by_returns'], f['veg_pulses'] = hist([i for i in first if C[i] in (3, 4, 5)])
     f['ground_pulses_by_returns'], f['ground_pulses'] = hist([i for i in first if C[i] == 2])
+    f['max_returns'] = max(NR[i] for i in idx)
     f['returns_per_pulse'] = len(idx) / len(first) if first else float('nan')
     ang = sorted(A[i] for i in idx)
     f['scan_angle'] = [ang[0], ang[-1]]
@@ -279,12 +282,13 @@ def figures(name, las_path, truth_path):
         plane = ground_plane(gnd, cx, cy) if len(gnd) >= 10 else None
         if plane is None:
             plane = [pose.get('z', 0.0), 0.0, 0.0]
-        cnt = 0
+        cnt = multi = 0
         for i in inpoly:
             hag = Z[i] - (plane[0] + plane[1] * (X[i] - cx) + plane[2] * (Y[i] - cy))
             if 0.25 <= hag <= cut:
                 cnt += 1
-        row = {'instance': v['instance'], 'model': v.get('model'), 'visibility': vis, 'rect_points': cnt,
+                multi += NR[i] > 1
+        row = {'instance': v['instance'], 'model': v.get('model'), 'visibility': vis, 'rect_points': cnt, 'rect_multi': multi,
                'footprint_m2': area_fp, 'label_points': v.get('points'), 'canopy_cover': v.get('canopy_cover')}
         if simulated:
             row['instance_points'] = sum(1 for i in idx if p['instance'][i] == v['instance'])
@@ -313,6 +317,7 @@ def markdown(figs):
     out.append(r('points/m² on open surfaces (cells of single returns within 0.3 m; cells)',
                  lambda f: f'{f["density_open"]:.1f} ({f["open_cells"]:,})'.replace(',', ' ')))
     out.append(r('returns per pulse (points / first returns)', lambda f: f'{f["returns_per_pulse"]:.2f}'))
+    out.append(r('most returns of a pulse', lambda f: str(f['max_returns'])))
     out.append(r('pulses with 1 / 2 / 3 / 4+ returns, % (by first returns)', lambda f: h4(f['pulses_by_returns'])))
     out.append(r('the same, by last returns', lambda f: h4(f['pulses_by_returns_last'])))
     out.append(r('pulses whose first return is vegetation (3–5): 1 / 2 / 3 / 4+, % (pulses)',
@@ -341,18 +346,31 @@ def markdown(figs):
         return f'{statistics.median(v):.1f}' if v else '–'
 
     out.append(r('clear vehicles: rectangle points per m² of footprint, median', per_m2))
+
+    def per_first(f):
+        v = [x['rect_points'] / x['footprint_m2'] / f['density_first'] for x in f['vehicles'] if x['visibility'] == 'clear']
+        return f'{statistics.median(v):.2f}' if v else '–'
+
+    out.append(r('the same ÷ first returns per m² of the tile', per_first))
+
+    def multi(f):
+        v = [x for x in f['vehicles'] if x['visibility'] == 'clear']
+        a, b = sum(x['rect_multi'] for x in v), sum(x['rect_points'] for x in v)
+        return f'{pct(a, b):.1f}' if b else '–'
+
+    out.append(r('clear vehicles: % of their rectangle points from multi-return pulses', multi))
     return '\n'.join(out) + '\n'
 
 
 def vehicle_rows(figs):
-    out = ['| tile | vehicle | model | visibility | footprint (m²) | rectangle points | label `points` | `instance` points (first returns) |',
+    out = ['| tile | vehicle | model | visibility | footprint (m²) | rectangle points (multi-return) | label `points` | `instance` points (first returns) |',
            '|---|---|---|---|---|---|---|---|']
     for f in figs:
         for v in f['vehicles']:
             ip = f'{v["instance_points"]} ({v["instance_points_first"]})' if 'instance_points' in v else '–'
             lp = v['label_points'] if v['label_points'] is not None else '–'
             out.append(f'| `{f["name"]}` | {v["instance"]} | {v["model"]} | {v["visibility"]} | {v["footprint_m2"]:.1f} | '
-                       f'{v["rect_points"]} | {lp} | {ip} |')
+                       f'{v["rect_points"]} ({v["rect_multi"]}) | {lp} | {ip} |')
     return '\n'.join(out) + '\n'
 
 
