@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Issue 28, "Checks against physics": a real tile beside a simulated one of the same preset.
-#   bench/sensor/realsim/run.sh [OUT_DIR]     (BIN=build/bin, REAL=/work/shared/data/real)
+#   bench/sensor/realsim/run.sh [OUT_DIR]     (BIN=build/bin, REAL=/work/shared/data/real,
+#                                              SEED=501, SCENE=bench/sensor/realsim/sim.scene)
 # 1. The two IGN tiles (share/real/*.laz) are read by canopy's LAZ reader and written as plain
 #    LAS by `addnoise --sigma 0` (an exact copy); if REAL/reference/ has laz-perf's decoding of
 #    the same file, the figures of both decodings are computed and must be identical.
@@ -15,6 +16,7 @@ bin=$(cd "${BIN:-$src/build/bin}" && pwd)
 real=${REAL:-/work/shared/data/real}
 out=${1:-$src/build/bench-realsim}
 seed=${SEED:-501}
+scene=${SCENE:-$here/sim.scene}
 mkdir -p "$out"
 out=$(cd "$out" && pwd)
 tiles=(ign_lidarhd_870000_6618000 ign_stbarth_100m)
@@ -26,7 +28,7 @@ for k in 0 1; do
   args+=("${names[$k]}=$out/$t.las,$src/share/real/$t.truth.json")
 done
 if [ ! -s "$out/sim.las" ]; then
-  /usr/bin/time -v nice "$bin/rangetrace" --scene "$here/sim.scene" --seed "$seed" --threads 2 \
+  /usr/bin/time -v nice "$bin/rangetrace" --scene "$scene" --seed "$seed" --threads 2 \
     -o "$out/sim.las" --truth "$out/sim.truth.json" 2>"$out/sim.time" || { cat "$out/sim.time" >&2; exit 1; }
 fi
 args+=("sim_als_qL1=$out/sim.las,$out/sim.truth.json")
