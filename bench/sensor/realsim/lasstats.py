@@ -394,7 +394,15 @@ def main(argv):
     if md:
         open(md, 'w').write(text)
     if js:
-        json.dump(figs, open(js, 'w'), indent=1)
+        def clean(o):  # NaN (nothing to measure) as null: strict JSON
+            if isinstance(o, float) and math.isnan(o):
+                return None
+            if isinstance(o, dict):
+                return {str(k): clean(v) for k, v in o.items()}
+            if isinstance(o, list):
+                return [clean(v) for v in o]
+            return o
+        json.dump(clean(figs), open(js, 'w'), indent=1, allow_nan=False)
     sys.stdout.write(text)
 
 
