@@ -3,6 +3,7 @@
 #include <sstream>
 #include <vector>
 
+#include "report/density_section.h"
 #include "report/report.h"
 
 namespace canopy::report {
@@ -11,11 +12,7 @@ namespace {
 using documents::ScoreRow;
 using documents::ScoreValue;
 
-const ScoreValue& cell(const ScoreRow& row, const std::string& key) {
-  static const ScoreValue null_value;
-  const ScoreValue* v = documents::score_cell(row, key);
-  return v != nullptr ? *v : null_value;
-}
+const ScoreValue& cell(const ScoreRow& row, const std::string& key) { return score_cell_or_null(row, key); }
 
 std::string text(const ScoreValue& v) {
   if (v.kind == ScoreValue::Kind::text) return v.text;

@@ -272,39 +272,33 @@ std::string density_markdown(const std::vector<DensityLevel>& levels, const std:
     for (const auto& [r, n] : l.by_reason) reasons.insert(r);
   }
   if (!ran.empty()) {
-    auto header = [&](const char* first) {
+    // One row per key, one column per level that ran; cell(level, key) the entry's text.
+    auto table = [&](const char* first, const std::set<std::string>& keys, auto cell) {
       md << "| " << first << " |";
       for (const DensityLevel* l : ran) md << " " << format_number("%g", l->level) << " |";
       md << "\n|---|";
       for (std::size_t i = 0; i < ran.size(); ++i) md << "---|";
       md << "\n";
+      for (const std::string& k : keys) {
+        md << "| " << k << " |";
+        for (const DensityLevel* l : ran) md << " " << cell(*l, k) << " |";
+        md << "\n";
+      }
     };
     md << "\n**Found at either level, per model** (found / true, every cover level; the columns are the "
           "levels in points/m²):\n\n";
-    header("model");
-    for (const std::string& m : models) {
-      md << "| " << m << " |";
-      for (const DensityLevel* l : ran) {
-        const auto it = l->model_found.find(m);
-        md << " "
-           << (it == l->model_found.end()
-                   ? std::string("–")
-                   : std::to_string(it->second.first) + "/" + std::to_string(it->second.second))
-           << " |";
-      }
-      md << "\n";
-    }
+    table("model", models, [](const DensityLevel& l, const std::string& m) {
+      const auto it = l.model_found.find(m);
+      return it == l.model_found.end()
+                 ? std::string("–")
+                 : std::to_string(it->second.first) + "/" + std::to_string(it->second.second);
+    });
     md << "\n**What became of the candidates** (detections.json's reasons summed over the level's tiles; "
           "\"found\": answered as a vehicle):\n\n";
-    header("reason");
-    for (const std::string& r : reasons) {
-      md << "| " << r << " |";
-      for (const DensityLevel* l : ran) {
-        const auto it = l->by_reason.find(r);
-        md << " " << (it == l->by_reason.end() ? 0 : it->second) << " |";
-      }
-      md << "\n";
-    }
+    table("reason", reasons, [](const DensityLevel& l, const std::string& r) {
+      const auto it = l.by_reason.find(r);
+      return std::to_string(it == l.by_reason.end() ? 0 : it->second);
+    });
   }
   md << "\n**Where each capability begins** (issue 27's targets): the lowest level from which the "
         "target is met at that level and every level above it — by the point estimate, and by the "
