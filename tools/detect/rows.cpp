@@ -171,13 +171,18 @@ RowSplit split_row(const std::vector<std::uint32_t>& pts, const std::vector<doub
   }
   // Roofs: parts with enough points; a split needs two of vehicle length.
   std::vector<std::vector<std::uint32_t>> roofs;
-  std::size_t short_roofs = 0;
+  std::size_t short_roofs = 0, in_short = 0;  // roofs of vehicle length and their points
   for (auto& part : parts) {
     if (part.size() < kRowRoofPoints) continue;  // and the parts joined to others
-    short_roofs += rectangle_of(part, x, y).length <= kRowRoofMax;
+    if (rectangle_of(part, x, y).length <= kRowRoofMax) {
+      ++short_roofs;
+      in_short += part.size();
+    }
     roofs.push_back(std::move(part));
   }
-  if (short_roofs < 2) return out;
+  // A row is mostly roofs: hedges, shrubs and crowns in the band leave irregular parts, of
+  // which a few may be roof-sized.
+  if (short_roofs < 2 || double(in_short) < kRowRoofShare * double(band.size())) return out;
   // Every point of the object to the roof nearest it in the top view, within the reach of a
   // vehicle around its roof: kRowAssign along the roof's long axis (bonnet, boot), kRowSide
   // across it (the body's sides; not a wall or hedge beside the vehicle); both kRowAssign for

@@ -31,6 +31,8 @@ constexpr int kRowRaises = 2;
 // A roof of a vehicle that parks in a row is at most this long (m); longer roofs (a truck's
 // box, a hedge at roof height) do not count toward a split.
 constexpr double kRowRoofMax = 6.5;
+// A split needs at least this share of the roof band's points in roofs of vehicle length.
+constexpr double kRowRoofShare = 0.6;
 // Fewest roof-band points of a roof.
 constexpr std::size_t kRowRoofPoints = 5;
 // A point joins the roof nearest it in the top view when within kRowAssign of it along the
@@ -57,8 +59,8 @@ struct RowSplit {
 
 // The split of an object (`pts`, rows into x, y: local frame, h: height above ground; its
 // footprint `row`) into
-// one piece per roof when at least two of its roofs are at most kRowRoofMax long; else no
-// pieces (the object stays whole).
+// one piece per roof when at least two of its roofs are at most kRowRoofMax long and such
+// roofs hold at least kRowRoofShare of the band's points; else no pieces (the object stays whole).
 RowSplit split_row(const std::vector<std::uint32_t>& pts, const std::vector<double>& x,
                    const std::vector<double>& y, const std::vector<float>& h, const Footprint& row,
                    double roof_height, double tolerance);
