@@ -169,12 +169,63 @@ RowSplit split_row(const std::vector<std::uint32_t>& pts, const std::vector<doub
       if (k != i && alive[k]) consider(i, k);
     }
   }
+  // Two roofs a sampling hole apart (scan lines over a large vehicle's flat top, kRowHole
+  // tolerances or less) are one: between two vehicles the gap holds the lower parts of their
+  // bodies (bonnets, boots, doors), so some point of the object below the band lies within
+  // half the gap (at least a tolerance) of the gap's middle.
+  {
+    std::vector<std::uint32_t> low;
+    for (std::uint32_t q : pts) {
+      if (h[q] < roof_height) low.push_back(q);
+    }
+    std::vector<std::size_t> group(parts.size());
+    for (std::size_t i = 0; i < parts.size(); ++i) group[i] = i;
+    auto find = [&](std::size_t a) {
+      while (group[a] != a) a = group[a] = group[group[a]];
+      return a;
+    };
+    const double hole = kRowHole * tolerance;
+    for (std::size_t i = 0; i < parts.size(); ++i) {
+      for (std::size_t j = i + 1; j < parts.size(); ++j) {
+        if (parts[i].empty() || parts[j].empty() || find(i) == find(j)) continue;
+        if ((box[i].exteriorDistance(box[j])) > hole) continue;
+        double g2 = std::numeric_limits<double>::infinity();
+        Vector2d mid = Vector2d::Zero();
+        for (std::uint32_t a : parts[i]) {
+          for (std::uint32_t b : parts[j]) {
+            const double d2 = (Vector2d(x[a], y[a]) - Vector2d(x[b], y[b])).squaredNorm();
+            if (d2 < g2) {
+              g2 = d2;
+              mid = (Vector2d(x[a], y[a]) + Vector2d(x[b], y[b])) / 2;
+            }
+          }
+        }
+        if (std::sqrt(g2) > hole) continue;
+        const double r = std::max(std::sqrt(g2) / 2, tolerance);
+        bool lower = false;
+        for (std::uint32_t q : low) {
+          if ((Vector2d(x[q], y[q]) - mid).squaredNorm() <= r * r) {
+            lower = true;
+            break;
+          }
+        }
+        if (!lower) group[find(j)] = find(i);
+      }
+    }
+    for (std::size_t i = 0; i < parts.size(); ++i) {
+      const std::size_t g = find(i);
+      if (g == i) continue;
+      parts[g].insert(parts[g].end(), parts[i].begin(), parts[i].end());
+      parts[i].clear();
+    }
+  }
   // Roofs: parts with enough points; a split needs two of vehicle length.
   std::vector<std::vector<std::uint32_t>> roofs;
   std::size_t short_roofs = 0, in_short = 0;  // roofs of vehicle length and their points
   for (auto& part : parts) {
     if (part.size() < kRowRoofPoints) continue;  // and the parts joined to others
-    if (rectangle_of(part, x, y).length <= kRowRoofMax) {
+    const Footprint f = rectangle_of(part, x, y);
+    if (f.length <= kRowRoofMax) {
       ++short_roofs;
       in_short += part.size();
     }

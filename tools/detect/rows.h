@@ -33,6 +33,9 @@ constexpr int kRowRaises = 2;
 constexpr double kRowRoofMax = 6.5;
 // A split needs at least this share of the roof band's points in roofs of vehicle length.
 constexpr double kRowRoofShare = 0.6;
+// Roofs at most kRowHole tolerances apart with no point below the band between them are one
+// (a sampling hole, not a gap between vehicles).
+constexpr double kRowHole = 2.0;
 // Fewest roof-band points of a roof.
 constexpr std::size_t kRowRoofPoints = 5;
 // A point joins the roof nearest it in the top view when within kRowAssign of it along the
