@@ -19,7 +19,10 @@
 //    beyond the ranges, is re-clustered with half the voxel (objects that only touch come
 //    apart: two vehicles side by side, a vehicle against a bush); an oversized one that does
 //    not come apart is cut at a clear valley of the point count across its oversized axis,
-//    or kept when at most 25% beyond the ranges (recall first), else rejected.
+//    or kept when at most 25% beyond the ranges (recall first), else rejected. Below
+//    kRowSplitDensity a cluster longer or wider than one vehicle is first split into one piece
+//    per roof where its points 1.1-3 m above ground cluster apart (rows of parked vehicles,
+//    rows.h, `split_rows`).
 //    An accepted cluster whose surface is mostly not planar and holds little planar area (bush
 //    groups, crown pieces: leaves are volumetric scatter, a vehicle is made of panels) is
 //    rejected (`min_planarity`, `min_planar_area`).

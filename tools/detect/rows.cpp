@@ -234,10 +234,6 @@ RowSplit split_row(const std::vector<std::uint32_t>& pts, const std::vector<doub
   // A row is mostly roofs: hedges, shrubs and crowns in the band leave irregular parts, of
   // which a few may be roof-sized.
   if (short_roofs < 2 || double(in_short) < kRowRoofShare * double(band.size())) return out;
-  // Every point of the object to the roof nearest it in the top view, within the reach of a
-  // vehicle around its roof: kRowAssign along the roof's long axis (bonnet, boot), kRowSide
-  // across it (the body's sides; not a wall or hedge beside the vehicle); both kRowAssign for
-  // a roof about as long as wide (its axis says nothing).
   // Vehicles in a row park along it or across it: a roof's axis within kRowSnap of either is
   // taken as that (a sparse roof's own rectangle turns by a few degrees, and its reach then
   // takes a wall beside the car).
@@ -272,6 +268,7 @@ RowSplit split_row(const std::vector<std::uint32_t>& pts, const std::vector<doub
     }
     reach_of.push_back(r);
   }
+  // Every point of the object to the roof nearest it in the top view within that reach.
   out.pieces.resize(roofs.size());
   for (std::uint32_t q : pts) {
     const Vector2d p(x[q], y[q]);

@@ -5,15 +5,16 @@
 // in the top view at a tolerance below the gaps (PCL's EuclideanClusterExtraction), fragments
 // of one roof joined while their union still fits one roof, and every point of the object goes
 // to the roof nearest it within a vehicle's reach around the roof; the rest (a wall, a hedge
-// beside the row) is left over.
+// beside the row) is left over. Two parts a sampling hole apart with nothing lower between them
+// are one roof (scan lines over a truck's or a tank's top).
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include <Eigen/Core>
 
 #include "detect/footprint.h"
-#include <vector>
 
 namespace canopy::detect {
 
@@ -61,9 +62,9 @@ struct RowSplit {
 };
 
 // The split of an object (`pts`, rows into x, y: local frame, h: height above ground; its
-// footprint `row`) into
-// one piece per roof when at least two of its roofs are at most kRowRoofMax long and such
-// roofs hold at least kRowRoofShare of the band's points; else no pieces (the object stays whole).
+// footprint `row`) into one piece per roof when at least two of its roofs are at most
+// kRowRoofMax long and such roofs hold at least kRowRoofShare of the band's points; else no
+// pieces (the object stays whole). `tolerance`: row_tolerance_for_density.
 RowSplit split_row(const std::vector<std::uint32_t>& pts, const std::vector<double>& x,
                    const std::vector<double>& y, const std::vector<float>& h, const Footprint& row,
                    double roof_height, double tolerance);
