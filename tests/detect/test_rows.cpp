@@ -157,14 +157,16 @@ TEST_CASE("dense tiles keep their objects: the split is off above the rule's den
 }
 
 TEST_CASE("a 9 m flat-topped truck box sampled in scan lines is not cut at the lines") {
-  // 9 x 2.5 m, 2.6 m high, seen from above in scan lines 0.45 m apart (0.1 m along them: about
-  // 22 points/m²): each line is a part of the roof band at the rule's tolerance (~0.32 m), but
-  // nothing lower lies between them: sampling holes, one roof longer than a parked car's.
+  // 9 x 2.5 m, 2.6 m high, seen from above in scan lines across it 0.36 m apart (0.125 m along
+  // them: about 22 points/m²; the rule's voxel, ~0.4 m, joins them): each line is a part of the
+  // roof band at the rule's tolerance (~0.32 m), and joined up to one roof's size (5 x 1.8 m)
+  // they would make car roofs (this test fails with kRowHole = 0); but nothing lower lies
+  // between the lines: sampling holes, one roof longer than a parked car's.
   std::mt19937 rng(30);
   std::normal_distribution<double> noise(0.0, 0.02);
   std::vector<Eigen::Vector3d> p;
-  for (double y = -10; y <= 10; y += 0.45) {
-    for (double x = -12; x <= 12; x += 0.1) {
+  for (double x = -12; x <= 12; x += 0.36) {  // lines across the box
+    for (double y = -10; y <= 10; y += 0.125) {
       const bool box = x >= -4.5 && x <= 4.5 && y >= -1.25 && y <= 1.25;
       p.emplace_back(x, y, 50 + (box ? 2.6 : 0.0) + noise(rng));
     }
