@@ -155,7 +155,10 @@ Json detect_density_json(const DetectDensity& d) {
                             {"min_planarity", finite(d.min_planarity)},
                             {"min_planarity_from", d.planarity_by_rule ? "density" : "option"},
                             {"dtm_cell", finite(d.dtm_cell)},
-                            {"dtm_cell_from", d.cell_by_rule ? "density" : "option"}}}};
+                            {"dtm_cell_from", d.cell_by_rule ? "density" : "option"},
+                            {"split_rows", d.split_rows},
+                            {"split_rows_from", d.split_rows_by_rule ? "density" : "option"},
+                            {"row_tolerance", finite(d.row_tolerance)}}}};
 }
 
 std::string write_candidates(const Candidates& d, const formats::Provenance& prov) {

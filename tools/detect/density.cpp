@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <utility>
 
+#include "detect/rows.h"
+
 namespace canopy::detect {
 namespace {
 
@@ -84,6 +86,9 @@ Density density_rule(const formats::PointCloud& tile, const LocalFrame& l, const
   d.planarity_by_rule = params.planarity_from_density;
   d.cell = params.cell;
   d.cell_by_rule = params.cell_from_density;
+  d.split_rows_by_rule = params.split_rows_from_density;
+  d.split_rows = params.split_rows_from_density ? d.rule < kRowSplitDensity : params.split_rows;
+  d.row_tolerance = row_tolerance_for_density(d.rule);  // always the density's
   return d;
 }
 

@@ -52,6 +52,8 @@ void validate(const Params& p) {
   need(p.planar_radius >= 2 * 0.1 && std::isfinite(p.planar_radius), "--planar-radius must be >= 0.2 m");
   need(p.planar_ratio > 0 && p.planar_ratio < 1, "planar_ratio must be in (0, 1)");
   need(p.min_planar_area >= 0, "--min-planar-area must be >= 0");
+  need(p.row_roof_height > 0 && p.row_roof_height < 3.0, "--row-roof-height must be in (0, 3) m");
+  need(p.row_tolerance > 0 && std::isfinite(p.row_tolerance), "--row-tolerance must be > 0");
   need(p.min_ground_share > 0 && p.min_ground_share <= 1, "--min-ground-share must be in (0, 1]");
 }
 
@@ -85,6 +87,8 @@ Outputs run(const Params& given, const Inputs& inputs) {
   r.density = density_rule(tile, l, g.height, params);
   params.voxel = r.density.voxel;
   params.min_planarity = r.density.min_planarity;
+  params.split_rows = r.density.split_rows;
+  params.row_tolerance = r.density.row_tolerance;
 
   t0 = std::chrono::steady_clock::now();
   Objects found = find_objects(l, g.height, params, name);
@@ -92,6 +96,7 @@ Outputs run(const Params& given, const Inputs& inputs) {
   r.stats.band_points = found.band_points;
   r.stats.clusters = found.clusters;
   r.stats.splits = found.splits;
+  r.stats.row_splits = found.row_splits;
   r.stats.rejected_small = found.rejected_small;
   r.stats.rejected_large = found.rejected_large;
   r.stats.rejected_canopy = found.rejected_canopy;

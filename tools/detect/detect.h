@@ -19,7 +19,10 @@
 //    beyond the ranges, is re-clustered with half the voxel (objects that only touch come
 //    apart: two vehicles side by side, a vehicle against a bush); an oversized one that does
 //    not come apart is cut at a clear valley of the point count across its oversized axis,
-//    or kept when at most 25% beyond the ranges (recall first), else rejected.
+//    or kept when at most 25% beyond the ranges (recall first), else rejected. Below
+//    kRowSplitDensity a cluster longer or wider than one vehicle is first split into one piece
+//    per roof where its points 1.1-3 m above ground cluster apart (rows of parked vehicles,
+//    rows.h, `split_rows`).
 //    An accepted cluster whose surface is mostly not planar and holds little planar area (bush
 //    groups, crown pieces: leaves are volumetric scatter, a vehicle is made of panels) is
 //    rejected (`min_planarity`, `min_planar_area`).
@@ -78,6 +81,16 @@ struct Params {
   bool voxel_from_density = true;
   bool cell_from_density = true;  // DTM cell from the density rule (cell_for_density) unless --cell is given
   bool planarity_from_density = true;
+  // Rows of parked vehicles (detect.md §9, rows.h): an object longer or wider than one vehicle
+  // is split into one piece per roof where the points of its roof band (row_roof_height to
+  // 3 m above ground) cluster apart at row_tolerance in the top view. With
+  // split_rows_from_density the rule sets split_rows (on where d < kRowSplitDensity); an
+  // explicit --split-rows clears it. run() sets row_tolerance from the density
+  // (row_tolerance_for_density, rows.h) whatever the option.
+  bool split_rows = false;
+  bool split_rows_from_density = true;
+  double row_roof_height = 1.1;  // bottom of the roof band (m above ground)
+  double row_tolerance = 0.45;   // roofs' clustering tolerance in the top view (m)
   // Candidates.
   double margin = 0.5;  // crop margin around the footprint and above the height (m)
 };
@@ -109,6 +122,10 @@ constexpr double kDensePlanarity = 0.2;     // min_planarity at the dense end
 constexpr double kCellReturns = 24;
 constexpr double kDenseCell = 0.5;   // the DTM cell at the dense end (m), today's default
 constexpr double kSparseCell = 2.0;  // coarsest DTM cell the rule picks (m)
+// Rows of parked vehicles are split below this measured density (detect.md §9): where the rule's
+// voxel exceeds the dense 0.2 m (d < (1.9 / 0.2)^2), i.e. airborne surveys, never the dense
+// simulated tiles, whose 0.2 m voxels already keep 0.4 m gaps apart.
+constexpr double kRowSplitDensity = 90.25;
 
 // The tile's density, measured on 1 m cells of the local frame (x, y).
 struct Density {
@@ -121,6 +138,8 @@ struct Density {
   bool voxel_by_rule = false, planarity_by_rule = false;
   double cell = 0;  // the DTM cell detect applied (m)
   bool cell_by_rule = false;
+  bool split_rows = false, split_rows_by_rule = false;  // rows split (detect.md §9)
+  double row_tolerance = 0;                             // the roofs' tolerance applied (m)
 };
 
 // The density rule's values for a measured density d (> 0).
@@ -143,7 +162,7 @@ struct Candidate {
 
 struct Stats {
   std::size_t points = 0, ground_cells = 0, filled_cells = 0, cells = 0;
-  std::size_t ground_points = 0, band_points = 0, clusters = 0, splits = 0;
+  std::size_t ground_points = 0, band_points = 0, clusters = 0, splits = 0, row_splits = 0;
   std::size_t rejected_small = 0, rejected_large = 0, rejected_canopy = 0, rejected_shape = 0;
   double seconds_ground = 0, seconds_objects = 0, seconds_candidates = 0;
 };

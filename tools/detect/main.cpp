@@ -18,7 +18,7 @@ namespace {
 
 // The options beside detect::Params.
 struct Cli {
-  std::string in = "-", out, clustering = "grid";
+  std::string in = "-", out, clustering = "grid", split_rows = "auto";
   bool no_classes = false;
   CLI::Option *voxel = nullptr, *min_planarity = nullptr,
               *cell = nullptr;  // given: overrides the density rule
@@ -66,6 +66,12 @@ void bind(common::Tool& tool, detect::Params& p, Cli& cli) {
            "shape test: m^2 of planar surface that keep an object whatever its share");
   tool.add_length("--planar-radius", &p.planar_radius, "neighbourhood radius of the planarity test");
   tool.add_length("--margin", &p.margin, "crop margin around a candidate's footprint and above its height");
+  tool.add("--split-rows", &cli.split_rows,
+           "auto, on or off: split an object longer or wider than one vehicle into one piece per "
+           "roof (rows of parked cars merged by the voxel); auto: on where the measured density is "
+           "< 90.25 points/m², docs/decisions/detect.md §9");
+  tool.add_length("--row-roof-height", &p.row_roof_height,
+                  "bottom of the roof band whose points separate the roofs of a row");
   tool.add_flag("--no-classes", &cli.no_classes, "do not write classes.ply");
 }
 
@@ -95,13 +101,15 @@ std::string summary(const detect::Result& r) {
   char buf[600];
   std::snprintf(
       buf, sizeof buf,
-      "density %.1f points/m² (DTM cell %.2f m, voxel %.2f m, min planarity %.2f); ground %zu of %zu cells "
+      "density %.1f points/m² (DTM cell %.2f m, voxel %.2f m, min planarity %.2f, rows %s); ground %zu of "
+      "%zu cells "
       "(%.2f s); %zu "
-      "object points in %zu clusters, %zu splits, "
+      "object points in %zu clusters, %zu splits (%zu rows), "
       "rejected %zu small %zu large %zu canopy bottoms %zu not planar (%.2f s); %zu candidates (%.2f s)",
-      r.density.rule, r.density.cell, r.density.voxel, r.density.min_planarity, s.ground_cells, s.cells,
-      s.seconds_ground, s.band_points, s.clusters, s.splits, s.rejected_small, s.rejected_large,
-      s.rejected_canopy, s.rejected_shape, s.seconds_objects, r.candidates.size(), s.seconds_candidates);
+      r.density.rule, r.density.cell, r.density.voxel, r.density.min_planarity,
+      r.density.split_rows ? "split" : "kept", s.ground_cells, s.cells, s.seconds_ground, s.band_points,
+      s.clusters, s.splits, s.row_splits, s.rejected_small, s.rejected_large, s.rejected_canopy,
+      s.rejected_shape, s.seconds_objects, r.candidates.size(), s.seconds_candidates);
   return buf;
 }
 
@@ -119,6 +127,10 @@ int main(int argc, char** argv) {
   return tool.run(argc, argv, [&] {
     if (cli.out.empty() || cli.out == "-") throw common::UsageError("-o/--output must name a directory");
     p.clustering = clustering_of(cli.clustering);
+    if (cli.split_rows != "auto" && cli.split_rows != "on" && cli.split_rows != "off")
+      throw common::UsageError("--split-rows must be auto, on or off");
+    p.split_rows_from_density = cli.split_rows == "auto";
+    p.split_rows = cli.split_rows == "on";
     p.voxel_from_density = cli.voxel->count() == 0;
     p.planarity_from_density = cli.min_planarity->count() == 0;
     p.cell_from_density = cli.cell->count() == 0;

@@ -9,6 +9,7 @@
 #include "canopy/common/error.h"
 #include "canopy/formats/csv_table.h"
 #include "detect/clustering.h"
+#include "detect/rows.h"
 
 namespace canopy::detect {
 namespace {
@@ -166,6 +167,22 @@ void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
     ++c.out.splits;
     for (auto& part : parts) examine(c, std::move(part), depth + 1);
     return;
+  }
+  if (p.split_rows && depth < kMaxSplitDepth && (o.fp.length > kRowLength || o.fp.width > kRowWidth)) {
+    // A row of parked vehicles merged by the voxel: one piece per roof (rows.h, detect.md §9).
+    RowSplit row = split_row(pts, c.x, c.y, c.h, o.fp, p.row_roof_height, p.row_tolerance);
+    if (!row.pieces.empty()) {
+      ++c.out.row_splits;
+      for (auto& piece : row.pieces) examine(c, std::move(piece), depth + 1);
+      // What no roof is near (a wall, a hedge's far end): its own objects.
+      if (row.rest.size() >= p.min_points) {
+        for (auto& part : cluster_points(row.rest, c.x, c.y, c.z, p.voxel, Clustering::kGrid))
+          examine(c, std::move(part), depth + 1);
+      } else if (!row.rest.empty()) {
+        ++c.out.rejected_small;
+      }
+      return;
+    }
   }
   const bool too_long = o.fp.length > p.max_length, too_wide = o.fp.width > p.max_width;
   // Wider than two narrow vehicles, or oversized: objects that only touch come apart with a

@@ -469,6 +469,9 @@ documents::Candidates index_document(const Result& r, const Params& p, const std
   density.planarity_by_rule = dn.planarity_by_rule;
   density.dtm_cell = dn.cell;
   density.cell_by_rule = dn.cell_by_rule;
+  density.split_rows = dn.split_rows;
+  density.split_rows_by_rule = dn.split_rows_by_rule;
+  density.row_tolerance = dn.row_tolerance;
   d.density = documents::detect_density_json(density);
   d.margin = p.margin;
   for (const Candidate& c : r.candidates) {

@@ -57,6 +57,9 @@ struct DetectDensity {
   double rule = 0;  // the density the rule used
   double voxel = 0, min_planarity = 0, dtm_cell = 0;
   bool voxel_by_rule = false, planarity_by_rule = false, cell_by_rule = false;
+  // Rows of parked vehicles split (detect.md §9), and the roofs' clustering tolerance (m).
+  bool split_rows = false, split_rows_by_rule = false;
+  double row_tolerance = 0;
 };
 
 // The "density" object of `d` as detect writes it into the index. Throws common::Error for a
