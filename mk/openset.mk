@@ -67,8 +67,8 @@ openset_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROG
 ifneq ($(findstring q,$(make_letters))$(OPENSET),q1)
 openset_force := FORCE
 else
-openset_force := $(if $(shell { $(MAKE) -q $(openset_mb_args) && $(MAKE) -q $(openset_args); } $(MAKEOVERRIDES) \
-  >/dev/null 2>&1 || echo stale),FORCE)
+openset_force := $(if $(shell { $(MAKE) -q $(MAKEOVERRIDES) $(openset_mb_args) && \
+  $(MAKE) -q $(MAKEOVERRIDES) $(openset_args); } >/dev/null 2>&1 || echo stale),FORCE)
 endif
 $(if $(filter meshsize,$(TOOLS)),,$(eval $(call tool_rule,meshsize)))
 OPENSET_TOOLS := meshsize rangetrace detect classify fitvox cocone ncut gmatch verify collect score

@@ -351,7 +351,7 @@ $(SCENE_DIR)/tiles.txt: $(call text_prereq,$(SCENE_DIR)/tiles.txt,$(scene_manife
 SCENE_MODEL_CLASSES ?= share/models/classes.csv
 $(SCENE_SCORE): $(SCENE_DIR)/tiles.txt $(addsuffix /detections.json,$(SCENE_RUNS)) $(call tool,score) $(wildcard $(SCENE_MODEL_CLASSES))
 	@$(STAGE) $@ -- $(BIN)/score --tiles $(SCENE_DIR)/tiles.txt --model-classes $(SCENE_MODEL_CLASSES) -o $@ \
-	  --csv $(SCENE_RES)/
+	  --csv $(SCENE_RES)/$(scene_scan_prune)
 # The baseline (SCENE_BASELINE): per candidate and method a verdict from the candidate's
 # samples (a failed fitvox leaves an empty samples.pcd, so the baseline fails too and collect
 # counts the candidate as failed, as for canopy), per run collect, then one score per method
@@ -425,8 +425,12 @@ $(SCENE_RES)/noise.png: $(SCENE_SCORE) $(call tool,figures)
 	@$(STAGE) $@ -- $(XRUN) $(BIN)/figures plot -i $(SCENE_RES)/summary.csv --x noise_mm --y recognition \
 	  --series cover --panel "" --xlabel "noise (mm)" \
 	  --ylabel "recognition (right model within 1.5 m)" --title "recognition against noise, one line per cover level" -o $@
-# SCENE_PICTURES=0: the scores only (the density ladder's levels, mk/density.mk).
+# SCENE_PICTURES=0: the scores only (the density ladder and the open set, mk/density.mk,
+# mk/openset.mk). Then detect is the scans' last reader, and they are deleted once the score is
+# made, unless KEEP=1 (.SECONDARY above: not remade while what was made from them is current).
 SCENE_PICTURES ?= 1
+scene_scan_prune = $(if $(or $(keep),$(filter-out 0,$(SCENE_PICTURES))),, && rm -f $(addsuffix /scan.pcd,$(SCENE_TILES) \
+  $(SCENE_RUNS)))
 scenes: $(SCENE_SCORE) $(SCENE_BL_SCORES) $(if $(filter 1,$(SCENE_PICTURES)),$(addsuffix /scored.png,$(SCENE_RUNS)) \
     $(foreach c,$(SCENE_COVERS),$(SCENE_RES)/top-$(c).png) $(SCENE_RES)/cover.png $(SCENE_RES)/noise.png)
 endif
