@@ -23,6 +23,10 @@ DENSITY_LEVELS ?= 10 25 50 100 200 400 800
 DENSITY_SEEDS ?= 21 22 23
 DENSITY_COVERS ?= light medium dense
 DENSITY_K ?= 4.45
+# The vehicles drawn (the recipe's random list): the scene experiment's five models by default;
+# e.g. procedural family instances (family:<class>:<n>, classify's own classes) to see the
+# class level without the five models' shapes (docs/decisions/density-ladder.md).
+DENSITY_MODELS ?= $(SCENE_MODELS)
 $(foreach d,$(DENSITY_LEVELS),$(if $(shell printf '%s' '$(d)' | grep -xE '[1-9][0-9]{0,4}'),,$(error \
   DENSITY_LEVELS: '$(d)' is not a whole number of points/m² from 1 to 99999)))
 $(foreach s,$(DENSITY_SEEDS),$(if $(shell printf '%s' '$(s)' | grep -xE '[0-9]{1,9}'),,$(error \
@@ -48,7 +52,7 @@ ifeq ($(filter scenes,$(MAKECMDGOALS)),)
 # scores only (no pictures, no PCL baseline, no size-only ablation).
 density_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROGRESS=0 \
   SCENE_DIR=$(DENSITY_DIR)/d$(1) SCENE_RES=$(DENSITY_RES)/d$(1) SCENE_SPACING=$(call density_mm,$(1))mm \
-  SCENE_SEEDS="$(DENSITY_SEEDS)" SCENE_COVERS="$(DENSITY_COVERS)" SCENE_NOISES=0 SCENE_BASELINE= \
+  SCENE_SEEDS="$(DENSITY_SEEDS)" SCENE_COVERS="$(DENSITY_COVERS)" SCENE_MODELS=$(DENSITY_MODELS) SCENE_NOISES=0 SCENE_BASELINE= \
   SCENE_SIZE_ONLY=0 SCENE_PICTURES=0
 # As for the scene experiment: under -q each level's sub-make is asked (`make -q`, which renders
 # nothing), only when the ladder is on (the question builds the tools it needs, and a make
