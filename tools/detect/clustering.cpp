@@ -98,23 +98,29 @@ void unite_euclidean_clusters(const std::vector<std::uint64_t>& keys, double v, 
     (*centres)[u] = pcl::PointXYZ(float(double(keys[u] >> 42) * v), float(double((keys[u] >> 21) & kMask) * v),
                                   float(double(keys[u] & kMask) * v));
   }
-  pcl::search::KdTree<pcl::PointXYZ>::Ptr tree(new pcl::search::KdTree<pcl::PointXYZ>);
-  tree->setInputCloud(centres);
-  pcl::EuclideanClusterExtraction<pcl::PointXYZ> ec;
-  ec.setClusterTolerance(float(v * 1.8));  // between sqrt(3) v and 2 v: the 26-neighbourhood
-  ec.setMinClusterSize(1);
-  ec.setMaxClusterSize(std::numeric_limits<int>::max());
-  ec.setSearchMethod(tree);
-  ec.setInputCloud(centres);
-  std::vector<pcl::PointIndices> found;
-  ec.extract(found);
-  for (const auto& c : found) {
+  // 1.8 v: between sqrt(3) v and 2 v, the 26-neighbourhood
+  for (const auto& c : euclidean_clusters(centres, v * 1.8)) {
     for (std::size_t m = 1; m < c.indices.size(); ++m) {
       uf.unite(std::uint32_t(c.indices[0]), std::uint32_t(c.indices[m]));
     }
   }
 }
 }  // namespace
+
+std::vector<pcl::PointIndices> euclidean_clusters(const pcl::PointCloud<pcl::PointXYZ>::Ptr& cloud,
+                                                  double tolerance) {
+  pcl::search::KdTree<pcl::PointXYZ>::Ptr tree(new pcl::search::KdTree<pcl::PointXYZ>);
+  tree->setInputCloud(cloud);
+  pcl::EuclideanClusterExtraction<pcl::PointXYZ> ec;
+  ec.setClusterTolerance(float(tolerance));
+  ec.setMinClusterSize(1);
+  ec.setMaxClusterSize(std::numeric_limits<int>::max());
+  ec.setSearchMethod(tree);
+  ec.setInputCloud(cloud);
+  std::vector<pcl::PointIndices> found;
+  ec.extract(found);
+  return found;
+}
 
 std::vector<std::vector<std::uint32_t>> cluster_points(const std::vector<std::uint32_t>& idx,
                                                        const std::vector<double>& px,

@@ -5,6 +5,10 @@
 #include <cstdint>
 #include <vector>
 
+#include <pcl/PointIndices.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
 #include "detect/detect.h"
 
 namespace canopy::detect {
@@ -24,5 +28,10 @@ std::vector<std::vector<std::uint32_t>> cluster_points(const std::vector<std::ui
                                                        const std::vector<double>& py,
                                                        const std::vector<double>& pz, double v,
                                                        Clustering method);
+
+// PCL's Euclidean clustering of `cloud` at `tolerance` (m), every cluster kept (sizes 1 and up),
+// by a k-d tree: the clusters' point indices as PCL returns them.
+std::vector<pcl::PointIndices> euclidean_clusters(const pcl::PointCloud<pcl::PointXYZ>::Ptr& cloud,
+                                                  double tolerance);
 
 }  // namespace canopy::detect

@@ -7,11 +7,10 @@
 
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
-#include <pcl/search/kdtree.h>
-#include <pcl/segmentation/extract_clusters.h>
 
 #include <Eigen/Geometry>
 
+#include "detect/clustering.h"
 #include "detect/footprint.h"
 
 namespace canopy::detect {
@@ -64,16 +63,7 @@ std::vector<std::vector<std::uint32_t>> top_view_clusters(const std::vector<std:
                                                           const std::vector<double>& y, double tolerance) {
   if (pts.empty()) return {};
   const auto cloud = top_view(pts, x, y);
-  pcl::search::KdTree<pcl::PointXYZ>::Ptr tree(new pcl::search::KdTree<pcl::PointXYZ>);
-  tree->setInputCloud(cloud);
-  pcl::EuclideanClusterExtraction<pcl::PointXYZ> ec;
-  ec.setClusterTolerance(float(tolerance));
-  ec.setMinClusterSize(1);
-  ec.setMaxClusterSize(std::numeric_limits<int>::max());
-  ec.setSearchMethod(tree);
-  ec.setInputCloud(cloud);
-  std::vector<pcl::PointIndices> found;
-  ec.extract(found);
+  const std::vector<pcl::PointIndices> found = euclidean_clusters(cloud, tolerance);
   std::vector<std::vector<std::uint32_t>> parts;
   for (const auto& c : found) {
     std::vector<std::uint32_t> part;
