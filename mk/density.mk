@@ -77,10 +77,10 @@ $(RES)/report.md: $(DENSITY_SCORES)
 # The report writes the ladder's tables (ladder.csv, ladder-rates.csv, ladder-errors.csv); the
 # pictures draw two of them, one panel per metric, one line per cover level.
 $(DENSITY_RES)/ladder-rates.png: $(RES)/report.md $(call tool,figures)
-	@$(STAGE) $@ -- $(XRUN) $(BIN)/figures plot -i $(DENSITY_RES)/ladder-rates.csv --x level --y value \
+	@$(STAGE) $@ -- $(XRUN) $(BIN)/figures plot -i $(DENSITY_RES)/ladder-rates.csv --x level --y value --lo lo --hi hi \
 	  --series cover --panel metric --xlabel "nominal density (points/m²)" --ylabel "rate" --title "ladder" -o $@
 $(DENSITY_RES)/ladder-errors.png: $(RES)/report.md $(call tool,figures)
-	@$(STAGE) $@ -- $(XRUN) $(BIN)/figures plot -i $(DENSITY_RES)/ladder-errors.csv --x level --y value \
+	@$(STAGE) $@ -- $(XRUN) $(BIN)/figures plot -i $(DENSITY_RES)/ladder-errors.csv --x level --y value --lo lo --hi hi \
 	  --series cover --panel metric --xlabel "nominal density (points/m²)" --ylabel "deg or per ha" --title "ladder" -o $@
 all: $(DENSITY_RES)/ladder-rates.png $(DENSITY_RES)/ladder-errors.png
 endif

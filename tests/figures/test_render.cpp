@@ -160,3 +160,34 @@ TEST_CASE("figures plot: PNG of the requested size with one colour per object") 
            dir / "err", &err) == 1);
   CHECK_FALSE(fs::exists(dir / "bad.png"));
 }
+
+TEST_CASE("figures plot --lo/--hi: a bar per point in the series' colour, from lo to hi") {
+  const fs::path dir = fresh_dir("plot-bars");
+  std::ofstream(dir / "ladder.csv")
+      << "level,cover,value,lo,hi\n10,light,0.5,0.1,0.9\n25,light,0.6,0.2,0.95\n"
+         "50,light,0.7,,\n";
+  const std::string cmd = display_prefix() + kBin + " plot -i " + (dir / "ladder.csv").string() +
+                          " --x level --y value --series cover --panel '' --width 600 --height 400";
+  std::string err;
+  REQUIRE(sh(cmd + " -o " + (dir / "plain.png").string(), dir / "err", &err) == 0);
+  REQUIRE(sh(cmd + " --lo lo --hi hi -o " + (dir / "bars.png").string(), dir / "err", &err) == 0);
+  // Pixels of the series' colour (Dark2 #1b9e77) in the upper and the lower fifth of the image:
+  // the line runs between 0.5 and 0.7 of the axis, so only the bars reach there.
+  auto count = [](const Image& im, int y0, int y1) {
+    int n = 0;
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < im.width; ++x) {
+        const std::uint8_t* p = im.at(x, y);
+        n += std::abs(p[0] - 27) < 12 && std::abs(p[1] - 158) < 12 && std::abs(p[2] - 119) < 12;
+      }
+    return n;
+  };
+  const Image plain = read_png((dir / "plain.png").string()), bars = read_png((dir / "bars.png").string());
+  CHECK(count(plain, 40, 120) == 0);
+  CHECK(count(bars, 40, 120) > 20);
+  CHECK(count(bars, 260, 330) > 20);
+  // A bound column the file does not have is an error naming it.
+  CHECK(sh(cmd + " --lo low --hi hi -o " + (dir / "x.png").string(), dir / "err", &err) == 1);
+  CHECK(err.find("low") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "x.png"));
+}

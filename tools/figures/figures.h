@@ -12,6 +12,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -96,6 +97,8 @@ struct ScoreRow {
   double score = 0;
   int rank = 0;
   double entropy = 0;
+  // The y value's interval (plot --lo/--hi: drawn as a vertical bar); NaN when not read.
+  double lo = std::numeric_limits<double>::quiet_NaN(), hi = std::numeric_limits<double>::quiet_NaN();
 };
 
 // Which columns are read into a ScoreRow (plot --x/--y/--series/--panel): x -> noise_mm,
@@ -108,6 +111,7 @@ struct PlotColumns {
   std::string y = "score";
   std::string series = "object";
   std::string panel = "scene";
+  std::string lo, hi;  // columns of the y value's interval ("" = none): a bar per point
   bool strict = true;
 };
 

@@ -165,7 +165,7 @@ struct PlotCommand {
   figures::PlotParams params;
   figures::PlotColumns columns;
   std::string in, out;
-  std::vector<CLI::Option*> column_options;  // --x, --y, --series, --panel
+  std::vector<CLI::Option*> column_options;  // --x, --y, --series, --lo, --hi, --panel
 };
 
 void bind(CLI::App& parent, PlotCommand& c) {
@@ -189,6 +189,8 @@ void bind(CLI::App& parent, PlotCommand& c) {
       plot->add_option("--x", pc.x, "column of the x values (levels at equal spacing)")->capture_default_str(),
       plot->add_option("--y", pc.y, "column of the y values")->capture_default_str(),
       plot->add_option("--series", pc.series, "column naming the line (one colour each)")->capture_default_str(),
+      plot->add_option("--lo", pc.lo, "column of the y value's lower 95% bound (with --hi: a bar per point)"),
+      plot->add_option("--hi", pc.hi, "column of the y value's upper 95% bound"),
       plot->add_option("--panel", pc.panel,
                        "column naming the panel ('' = one panel); with any column "
                        "option, rows whose x is text (a summary row 'all') are left out")

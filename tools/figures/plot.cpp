@@ -123,7 +123,8 @@ std::vector<ScoreRow> parse_scores_csv(const std::string& text, const std::strin
     const auto fields = split(line);
     if (column.empty()) {
       for (std::size_t i = 0; i < fields.size(); ++i) column.emplace(fields[i], i);
-      for (const std::string& need : {columns.series, columns.panel, columns.x, columns.y}) {
+      for (const std::string& need :
+           {columns.series, columns.panel, columns.x, columns.y, columns.lo, columns.hi}) {
         if (!need.empty() && !column.count(need)) {
           throw common::DataError(
               name, "header lacks the column '" + need + "'" +
@@ -164,6 +165,8 @@ std::vector<ScoreRow> parse_scores_csv(const std::string& text, const std::strin
     const double rank = number(get("rank"), name, number_of_line, "rank");
     r.rank = std::isfinite(rank) ? static_cast<int>(std::lround(rank)) : 0;
     r.entropy = number(get("entropy"), name, number_of_line, "entropy");
+    if (!columns.lo.empty()) r.lo = number(get(columns.lo), name, number_of_line, columns.lo);
+    if (!columns.hi.empty()) r.hi = number(get(columns.hi), name, number_of_line, columns.hi);
     rows.push_back(r);
   }
   if (column.empty()) throw common::DataError(name, "empty file: no header line");
@@ -190,8 +193,8 @@ Axes axes_of(const std::vector<ScoreRow>& rows, const std::string& name) {
       a.objects.push_back(r.object);
     if (std::find(a.levels.begin(), a.levels.end(), r.noise_mm) == a.levels.end())
       a.levels.push_back(r.noise_mm);
-    a.top = std::max(a.top, r.score);
-    a.bottom = std::min(a.bottom, r.score);
+    a.top = std::max({a.top, r.score, std::isfinite(r.hi) ? r.hi : r.score});
+    a.bottom = std::min({a.bottom, r.score, std::isfinite(r.lo) ? r.lo : r.score});
   }
   if (!any) throw common::DataError(name, "no row has a score: nothing to plot");
   std::sort(a.levels.begin(), a.levels.end());
@@ -247,9 +250,33 @@ void add_line(vtkChartXY* chart, const std::vector<ScoreRow>& rows, const std::s
     table->SetValue(static_cast<vtkIdType>(i), 0, points[i].first);
     table->SetValue(static_cast<vtkIdType>(i), 1, points[i].second);
   }
+  const auto c = series_colour(o);
+  // The intervals: a thin vertical bar per point, beside its line's point (offset by the
+  // series so that bars of one level do not hide each other), left out of the legend.
+  for (const auto& r : rows) {
+    if (r.scene != scene || r.object != a.objects[o] || !std::isfinite(r.lo) || !std::isfinite(r.hi))
+      continue;
+    const float bx = position(r.noise_mm) + 0.04f * (static_cast<float>(o) - 0.5f * (a.objects.size() - 1.0f));
+    vtkNew<vtkTable> bar;
+    vtkNew<vtkFloatArray> bxs, bys;
+    bxs->SetName("x");
+    bys->SetName("interval");
+    bar->AddColumn(bxs);
+    bar->AddColumn(bys);
+    bar->SetNumberOfRows(2);
+    bar->SetValue(0, 0, bx);
+    bar->SetValue(0, 1, static_cast<float>(r.lo));
+    bar->SetValue(1, 0, bx);
+    bar->SetValue(1, 1, static_cast<float>(r.hi));
+    vtkPlot* b = chart->AddPlot(vtkChart::LINE);
+    b->SetInputData(bar, 0, 1);
+    b->SetColor(c[0], c[1], c[2], 255);
+    b->SetWidth(1.5);
+    b->SetLegendVisibility(false);
+    if (auto* bp = vtkPlotPoints::SafeDownCast(b)) bp->SetMarkerStyle(vtkPlotPoints::NONE);
+  }
   vtkPlot* line = chart->AddPlot(vtkChart::LINE);
   line->SetInputData(table, 0, 1);
-  const auto c = series_colour(o);
   line->SetColor(c[0], c[1], c[2], 255);
   line->SetWidth(2.5);
   line->SetLabel(a.objects[o]);

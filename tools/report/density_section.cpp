@@ -311,8 +311,8 @@ std::string density_markdown(const std::vector<DensityLevel>& levels, const std:
        << from(t.from_level_bound) << " |\n";
   for (const std::string& f : figures) md << "\n![density ladder](" << f << ")\n";
   if (!figures.empty())
-    md << "\n(One line per cover level; the levels at equal spacing; the intervals are in the table and in "
-          "ladder.csv.)\n";
+    md << "\n(One line per cover level; the levels at equal spacing; the bars are the 95% intervals, also in "
+          "the table and in ladder.csv.)\n";
   return md.str();
 }
 
