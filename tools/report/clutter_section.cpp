@@ -3,7 +3,7 @@
 #include <sstream>
 #include <vector>
 
-#include "report/density_section.h"
+#include "report/score_cells.h"
 #include "report/report.h"
 
 namespace canopy::report {
@@ -11,27 +11,6 @@ namespace {
 
 using documents::ScoreRow;
 using documents::ScoreValue;
-
-const ScoreValue& cell(const ScoreRow& row, const std::string& key) { return score_cell_or_null(row, key); }
-
-std::string text(const ScoreValue& v) {
-  if (v.kind == ScoreValue::Kind::text) return v.text;
-  if (v.kind == ScoreValue::Kind::integer) return std::to_string(v.integer);
-  if (v.kind == ScoreValue::Kind::number) return format_number("%g", v.number);
-  return "–";
-}
-
-// "v [lo, hi]": the value with `f`, the bounds with `fb`, each times `scale` (the value alone
-// when the interval is missing); "–" for null.
-std::string with_ci(const ScoreRow& row, const std::string& key, const char* f, const char* fb, double scale) {
-  const ScoreValue &v = cell(row, key), &lo = cell(row, key + "_lo"), &hi = cell(row, key + "_hi");
-  if (!v.is_number()) return "–";
-  std::string out = format_number(f, scale * v.as_number());
-  if (lo.is_number() && hi.is_number())
-    out += " [" + format_number(fb, scale * lo.as_number()) + ", " +
-           format_number(fb, scale * hi.as_number()) + "]";
-  return out;
-}
 
 std::string mark(const std::string& kind) {
   if (kind == "none") return "terrain, vegetation";
@@ -64,18 +43,18 @@ std::string clutter_markdown(const documents::SceneScore& score) {
         "|\n"
         "|---|---|---|---|---|---|---|\n";
   for (const ScoreRow& r : score.clutter) {
-    const std::string kind = text(cell(r, "kind"));
-    const ScoreValue& objects = cell(r, "objects");
+    const std::string kind = score_text(score_field(r, "kind"));
+    const ScoreValue& objects = score_field(r, "objects");
     std::string objects_cell = "–", share = "–";
     if (objects.is_number()) {
-      objects_cell = text(objects) + " (" + text(cell(r, "objects_distinct")) + ")";
-      share = text(cell(r, "answered")) + "/" + text(objects) + " = " +
-              with_ci(r, "answered_share", "%.1f%%", "%.1f", 100);
+      objects_cell = score_text(objects) + " (" + score_text(score_field(r, "objects_distinct")) + ")";
+      share = score_text(score_field(r, "answered")) + "/" + score_text(objects) + " = " +
+              score_ci(r, "answered_share", "%.1f%%", "%.1f", 100);
     }
-    md << "| " << text(cell(r, "cover")) << " | " << kind << " | " << mark(kind) << " | " << objects_cell
-       << " | " << text(cell(r, "false_alarms")) << " (" << text(cell(r, "model_level")) << " + "
-       << text(cell(r, "class_level")) << ") | " << with_ci(r, "false_alarms_per_ha", "%.1f", "%.1f", 1)
-       << " | " << share << " |\n";
+    md << "| " << score_text(score_field(r, "cover")) << " | " << kind << " | " << mark(kind) << " | "
+       << objects_cell << " | " << score_text(score_field(r, "false_alarms")) << " ("
+       << score_text(score_field(r, "model_level")) << " + " << score_text(score_field(r, "class_level"))
+       << ") | " << score_ci(r, "false_alarms_per_ha", "%.1f", "%.1f", 1) << " | " << share << " |\n";
   }
   md << "\n";
   return md.str();

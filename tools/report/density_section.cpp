@@ -10,59 +10,20 @@
 #include "canopy/documents/candidates.h"
 #include "canopy/documents/detections.h"
 #include "report/report.h"
+#include "report/score_cells.h"
 
 namespace canopy::report {
 
 using documents::ScoreRow;
-using documents::ScoreValue;
-
-const ScoreValue& score_cell_or_null(const ScoreRow& row, const std::string& key) {
-  static const ScoreValue null_value;
-  const ScoreValue* v = documents::score_cell(row, key);
-  return v != nullptr ? *v : null_value;
-}
-
-std::optional<double> score_number(const ScoreRow& row, const std::string& key) {
-  const ScoreValue& v = score_cell_or_null(row, key);
-  return v.is_number() ? std::optional<double>(v.as_number()) : std::nullopt;
-}
-
-std::vector<const ScoreRow*> cover_rows(const documents::SceneScore& s) {
-  std::vector<const ScoreRow*> rows;
-  const ScoreRow* all = nullptr;
-  for (const ScoreRow& r : s.summary) {
-    const ScoreValue &c = score_cell_or_null(r, "cover"), &n = score_cell_or_null(r, "noise_mm");
-    if (n.kind != ScoreValue::Kind::text || n.text != "all" || c.kind != ScoreValue::Kind::text) continue;
-    if (c.text == "all")
-      all = &r;
-    else
-      rows.push_back(&r);
-  }
-  if (all != nullptr) rows.push_back(all);
-  return rows;
-}
-
-std::string rate_with_interval(const ScoreRow& row, const std::string& key, bool percent) {
-  const auto v = score_number(row, key), lo = score_number(row, key + "_lo"),
-             hi = score_number(row, key + "_hi");
-  if (!v) return "–";
-  const double f = percent ? 100 : 1;
-  std::string s = format_number("%.1f", f * *v) + (percent ? "%" : "");
-  if (lo && hi) s += " [" + format_number("%.1f", f * *lo) + ", " + format_number("%.1f", f * *hi) + "]";
-  return s;
-}
 
 namespace {
-
-const ScoreValue& cell(const ScoreRow& row, const std::string& key) { return score_cell_or_null(row, key); }
-std::optional<double> number(const ScoreRow& row, const std::string& key) { return score_number(row, key); }
 
 bool exists(const std::string& p) {
   std::error_code ec;
   return std::filesystem::exists(p, ec);
 }
 
-std::string label(const ScoreRow& r) { return cell(r, "cover").text; }
+std::string label(const ScoreRow& r) { return score_field(r, "cover").text; }
 
 // The metrics of the ladder: key in score's summary, title, kind (rate with interval, number
 // with interval, number).
@@ -84,21 +45,17 @@ const std::vector<Metric>& metrics() {
 
 std::string show(const ScoreRow& r, const Metric& m) {
   if (m.kind == Metric::degrees) {
-    const auto v = number(r, m.key);
+    const auto v = score_number(r, m.key);
     return v ? format_number("%.1f", *v) : "–";
   }
-  return rate_with_interval(r, m.key, m.kind == Metric::rate);
+  return m.kind == Metric::rate ? score_ci(r, m.key, "%.1f%%", "%.1f", 100)
+                                : score_ci(r, m.key, "%.1f", "%.1f", 1);
 }
 
 // Counts behind a rate: "k/n".
 std::string counts(const ScoreRow& r, const char* k, const char* n) {
-  const auto a = number(r, k), b = number(r, n);
+  const auto a = score_number(r, k), b = score_number(r, n);
   return a && b ? format_number("%.0f", *a) + "/" + format_number("%.0f", *b) : "–";
-}
-
-std::string whole(const ScoreRow& r, const char* key) {
-  const auto v = number(r, key);
-  return v ? format_number("%.0f", *v) : "–";
 }
 
 const ScoreRow* row_of(const DensityLevel& l, const std::string& cover) {
@@ -189,9 +146,9 @@ std::vector<DensityTarget> density_targets(const std::vector<DensityLevel>& leve
         if (row == nullptr) break;
         // pass 1: the interval's conservative end (lo for "at least", hi for "at most"); a
         // median has no interval and is judged by itself.
-        std::optional<double> v = number(*row, r.key);
+        std::optional<double> v = score_number(*row, r.key);
         if (pass == 1) {
-          const auto b = number(*row, std::string(r.key) + (r.at_least ? "_lo" : "_hi"));
+          const auto b = score_number(*row, std::string(r.key) + (r.at_least ? "_lo" : "_hi"));
           if (b) v = b;
         }
         if (!v || (r.at_least ? *v < r.bound : *v > r.bound)) break;
@@ -216,9 +173,10 @@ std::string density_csv(const std::vector<DensityLevel>& levels, const std::stri
         if (part == "errors" && m.kind == Metric::rate) continue;
         csv << format_number("%g", l.level) << ',' << format_number("%g", l.spacing) << ','
             << (l.density_all > 0 ? format_number("%.1f", l.density_all) : "") << ','
-            << (l.density_ground > 0 ? format_number("%.1f", l.density_ground) : "") << ',' << label(*r) << ','
-            << m.key << ',' << opt(number(*r, m.key)) << ',' << opt(number(*r, std::string(m.key) + "_lo"))
-            << ',' << opt(number(*r, std::string(m.key) + "_hi")) << '\n';
+            << (l.density_ground > 0 ? format_number("%.1f", l.density_ground) : "") << ',' << label(*r)
+            << ',' << m.key << ',' << opt(score_number(*r, m.key)) << ','
+            << opt(score_number(*r, std::string(m.key) + "_lo")) << ','
+            << opt(score_number(*r, std::string(m.key) + "_hi")) << '\n';
       }
     }
   }
@@ -256,8 +214,9 @@ std::string density_markdown(const std::vector<DensityLevel>& levels, const std:
       const bool all = label(*r) == "all";
       md << "| " << (all ? "**" + format_number("%g", l.level) + "**" : format_number("%g", l.level)) << " | "
          << format_number("%.3f", l.spacing) << " | " << dens << " | " << label(*r) << " | "
-         << whole(*r, "tiles") << " | " << whole(*r, "true") << " | " << counts(*r, "found_any_level", "true")
-         << " (" << counts(*r, "tp", "found_any_level") << " model) | ";
+         << score_count(*r, "tiles") << " | " << score_count(*r, "true") << " | "
+         << counts(*r, "found_any_level", "true") << " (" << counts(*r, "tp", "found_any_level")
+         << " model) | ";
       for (std::size_t i = 0; i < metrics().size(); ++i) md << show(*r, metrics()[i]) << " | ";
       md << (all ? cpu : "") << " |\n";
     }

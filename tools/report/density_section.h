@@ -16,14 +16,6 @@
 
 namespace canopy::report {
 
-// Shared with the other scene-score sections: a number cell of a score row (nullopt when null or
-// absent); the summary rows over every noise level (the covers in the score's order, then
-// "all"); a rate (percent) or a number with score's 95% interval, "r% [lo, hi]", "–" when null.
-const documents::ScoreValue& score_cell_or_null(const documents::ScoreRow& row, const std::string& key);
-std::optional<double> score_number(const documents::ScoreRow& row, const std::string& key);
-std::vector<const documents::ScoreRow*> cover_rows(const documents::SceneScore& score);
-std::string rate_with_interval(const documents::ScoreRow& row, const std::string& key, bool percent);
-
 // One level of the ladder as read: its score (absent when the level has not run), the density
 // measured by detect (mean over the level's runs of index.json density.all and density.ground,
 // -1 unknown) and the CPU of its stages (scene_times) per hectare of rendered tile.

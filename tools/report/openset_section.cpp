@@ -3,7 +3,7 @@
 #include <map>
 #include <sstream>
 
-#include "report/density_section.h"
+#include "report/score_cells.h"
 #include "report/report.h"
 
 namespace canopy::report {
@@ -21,19 +21,15 @@ std::string openset_markdown(const documents::SceneScore& score, const std::stri
      << score_path << ").\n\n";
   md << "| cover | tiles | vehicles | found (model + class) | recall | precision | class right (of found) | "
         "false alarms/ha |\n|---|---|---|---|---|---|---|---|\n";
-  auto whole = [](const documents::ScoreRow& r, const char* key) {
-    const auto v = score_number(r, key);
-    return v ? format_number("%.0f", *v) : std::string("–");
-  };
   for (const documents::ScoreRow* r : cover_rows(score)) {
     const documents::ScoreValue* c = documents::score_cell(*r, "cover");
-    md << "| " << (c ? c->text : "") << " | " << whole(*r, "tiles") << " | " << whole(*r, "true") << " | "
-       << whole(*r, "found_any_level") << " (" << whole(*r, "tp") << " + " << whole(*r, "class_tp") << ") | "
-       << rate_with_interval(*r, "recall_any_level", true) << " | "
-       << rate_with_interval(*r, "precision_any_level", true) << " | " << whole(*r, "class_right_any_level")
-       << "/" << whole(*r, "found_any_level") << " = "
-       << rate_with_interval(*r, "class_accuracy_any_level", true) << " | "
-       << rate_with_interval(*r, "false_alarms_any_level_per_ha", false) << " |\n";
+    md << "| " << (c ? c->text : "") << " | " << score_count(*r, "tiles") << " | " << score_count(*r, "true")
+       << " | " << score_count(*r, "found_any_level") << " (" << score_count(*r, "tp") << " + "
+       << score_count(*r, "class_tp") << ") | " << score_ci(*r, "recall_any_level", "%.1f%%", "%.1f", 100)
+       << " | " << score_ci(*r, "precision_any_level", "%.1f%%", "%.1f", 100) << " | "
+       << score_count(*r, "class_right_any_level") << "/" << score_count(*r, "found_any_level") << " = "
+       << score_ci(*r, "class_accuracy_any_level", "%.1f%%", "%.1f", 100) << " | "
+       << score_ci(*r, "false_alarms_any_level_per_ha", "%.1f", "%.1f", 1) << " |\n";
   }
   // Per test instance: found, by level, and the classes (or models) answered.
   struct Tally {

@@ -15,6 +15,7 @@
 #include "canopy/documents/stage_time.h"
 #include "report/clutter_section.h"
 #include "report/report.h"
+#include "report/score_cells.h"
 
 namespace canopy::report {
 namespace {
@@ -31,42 +32,20 @@ std::string num(const ScoreValue& v, const char* f) {
   return v.is_number() ? format_number(f, v.as_number()) : "–";
 }
 std::string num(const std::optional<double>& v, const char* f) { return v ? format_number(f, *v) : "–"; }
-std::string text(const ScoreValue& v) {
-  switch (v.kind) {
-    case ScoreValue::Kind::text: return v.text;
-    case ScoreValue::Kind::integer: return std::to_string(v.integer);
-    case ScoreValue::Kind::number: return format_number("%g", v.number);
-    case ScoreValue::Kind::null: break;
-  }
-  return "–";
-}
-
-// The cell `key` of `row`; null when the row has none.
-const ScoreValue& field(const ScoreRow& row, const std::string& key) {
-  static const ScoreValue null_value;
-  const ScoreValue* v = documents::score_cell(row, key);
-  return v != nullptr ? *v : null_value;
-}
-
 // A rate of `row` with score's 95% interval (<key>_lo, <key>_hi): "95.0% [91.2, 97.8]"; the
 // rate alone when the score has no interval (one written before score computed them).
 std::string rate_ci(const ScoreRow& row, const std::string& key) {
-  const ScoreValue &v = field(row, key), &lo = field(row, key + "_lo"), &hi = field(row, key + "_hi");
-  if (!v.is_number() || !lo.is_number() || !hi.is_number()) return rate(v);
-  return rate(v) + " [" + format_number("%.1f", 100 * lo.as_number()) + ", " +
-         format_number("%.1f", 100 * hi.as_number()) + "]";
+  return score_ci(row, key, "%.1f%%", "%.1f", 100);
 }
 // The same for a number per unit ("1.2 [0.4, 3.1]").
 std::string num_ci(const ScoreRow& row, const std::string& key, const char* f) {
-  const ScoreValue &v = field(row, key), &lo = field(row, key + "_lo"), &hi = field(row, key + "_hi");
-  if (!v.is_number() || !lo.is_number() || !hi.is_number()) return num(v, f);
-  return num(v, f) + " [" + num(lo, f) + ", " + num(hi, f) + "]";
+  return score_ci(row, key, f, f, 1);
 }
 // A count and, when the score counts it, its distinct part: "24 (12)" (true vehicles over
 // noise levels that reuse a render; tiles over renders).
 std::string count_distinct(const ScoreRow& row, const char* key, const char* distinct) {
-  const ScoreValue& d = field(row, distinct);
-  return text(field(row, key)) + (d.is_number() ? " (" + text(d) + ")" : std::string());
+  const ScoreValue& d = score_field(row, distinct);
+  return score_text(score_field(row, key)) + (d.is_number() ? " (" + score_text(d) + ")" : std::string());
 }
 
 // Cells equal as JSON values: nulls, equal texts, equal numbers (an integer 8 equals 8.0).
@@ -125,7 +104,9 @@ const ScoreRow& same_row(const std::vector<ScoreRow>& table, const ScoreRow& row
                          const char* k2) {
   static const ScoreRow no_row;
   for (const ScoreRow& r : table) {
-    if (same_value(field(r, k1), field(row, k1)) && same_value(field(r, k2), field(row, k2))) return r;
+    if (same_value(score_field(r, k1), score_field(row, k1)) &&
+        same_value(score_field(r, k2), score_field(row, k2)))
+      return r;
   }
   return no_row;
 }
@@ -150,12 +131,12 @@ void baseline_rows(std::ostringstream& md, const SceneScore& score, const std::v
         "|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const ScoreRow& s : score.summary) {
     auto row = [&](const std::string& label, const ScoreRow& r, bool heading) {
-      md << "| " << text(field(s, "cover")) << " | " << text(field(s, "noise_mm")) << " | "
-         << count_distinct(s, "true", "true_distinct") << " | " << label << " | "
-         << text(field(r, "detections")) << " | " << rate_ci(r, "precision") << " | " << rate_ci(r, "recall")
-         << " | " << rate_ci(r, "identification") << " | " << rate_ci(r, "recognition") << " | "
-         << num(field(r, "position_error_median_m"), "%.2f") << " | "
-         << (heading ? num(field(r, "heading_error_median_deg"), "%.1f") : std::string("–")) << " |\n";
+      md << "| " << score_text(score_field(s, "cover")) << " | " << score_text(score_field(s, "noise_mm"))
+         << " | " << count_distinct(s, "true", "true_distinct") << " | " << label << " | "
+         << score_text(score_field(r, "detections")) << " | " << rate_ci(r, "precision") << " | "
+         << rate_ci(r, "recall") << " | " << rate_ci(r, "identification") << " | " << rate_ci(r, "recognition")
+         << " | " << num(score_field(r, "position_error_median_m"), "%.2f") << " | "
+         << (heading ? num(score_field(r, "heading_error_median_deg"), "%.1f") : std::string("–")) << " |\n";
     };
     row("canopy", s, true);
     for (const auto& b : bl) {
@@ -175,7 +156,7 @@ void baseline_recognition(std::ostringstream& md, const SceneScore& score,
   for (std::size_t i = 0; i < bl.size(); ++i) md << "|---";
   md << "|\n";
   for (const ScoreRow& m : score.models) {
-    md << "| " << text(field(m, "model")) << " | " << text(field(m, "cover")) << " | "
+    md << "| " << score_text(score_field(m, "model")) << " | " << score_text(score_field(m, "cover")) << " | "
        << count_distinct(m, "true", "true_distinct") << " | " << rate_ci(m, "recognition");
     for (const auto& b : bl)
       md << " | " << rate_ci(same_row(b.score.models, m, "model", "cover"), "recognition");
@@ -187,9 +168,9 @@ void baseline_recognition(std::ostringstream& md, const SceneScore& score,
   for (std::size_t i = 0; i < bl.size(); ++i) md << "|---";
   md << "|\n";
   for (const ScoreRow& c : score.cover_bins) {
-    md << "| " << num(field(c, "cover_lo"), "%.2f") << "–" << num(field(c, "cover_hi"), "%.2f") << " | "
-       << text(field(c, "noise_mm")) << " | " << count_distinct(c, "true", "true_distinct") << " | "
-       << rate_ci(c, "recognition");
+    md << "| " << num(score_field(c, "cover_lo"), "%.2f") << "–" << num(score_field(c, "cover_hi"), "%.2f")
+       << " | " << score_text(score_field(c, "noise_mm")) << " | "
+       << count_distinct(c, "true", "true_distinct") << " | " << rate_ci(c, "recognition");
     for (const auto& b : bl) {
       md << " | " << rate_ci(same_row(b.score.cover_bins, c, "cover_lo", "noise_mm"), "recognition");
     }
@@ -202,12 +183,12 @@ void baseline_goal(std::ostringstream& md, const SceneScore& score, const std::v
   // The issue's goal, on recognition over all runs.
   const ScoreRow all_key = {{"cover", "all"}, {"noise_mm", "all"}};
   const ScoreRow& canopy_all = same_row(score.summary, all_key, "cover", "noise_mm");
-  const ScoreValue& c_rec = field(canopy_all, "recognition");
+  const ScoreValue& c_rec = score_field(canopy_all, "recognition");
   double best = -1;
   std::string best_method;
   for (const auto& b : bl) {
     if (b.method == "size") continue;  // an ablation of canopy, not a baseline (below)
-    const ScoreValue& r = field(same_row(b.score.summary, all_key, "cover", "noise_mm"), "recognition");
+    const ScoreValue& r = score_field(same_row(b.score.summary, all_key, "cover", "noise_mm"), "recognition");
     if (r.is_number() && r.as_number() > best) {
       best = r.as_number();
       best_method = method_label(b.method);
@@ -223,7 +204,7 @@ void baseline_goal(std::ostringstream& md, const SceneScore& score, const std::v
   for (const auto& b : bl) {
     if (b.method != "size") continue;
     const ScoreRow& size_all = same_row(b.score.summary, all_key, "cover", "noise_mm");
-    const ScoreValue& s_rec = field(size_all, "recognition");
+    const ScoreValue& s_rec = score_field(size_all, "recognition");
     if (!c_rec.is_number() || !s_rec.is_number()) continue;
     md << "What the model chain adds (issue 29): recognition over all runs, canopy "
        << rate_ci(canopy_all, "recognition") << " against size only " << rate_ci(size_all, "recognition")
@@ -381,8 +362,9 @@ void scene_intro(std::ostringstream& md, const SceneScore& score, const ScoreRow
   md << "Whole tiles (docs/decisions/scene-experiment.md): " << renders << " rendered tiles, "
      << score.tiles.size() << " runs (tile × noise level)";
   if (all != nullptr) {
-    md << ", " << num(field(*all, "area_ha"), "%.2f") << " ha in all, " << text(field(*all, "true"))
-       << " true vehicles, " << text(field(*all, "candidates")) << " candidates verified";
+    md << ", " << num(score_field(*all, "area_ha"), "%.2f") << " ha in all, "
+       << score_text(score_field(*all, "true")) << " true vehicles, "
+       << score_text(score_field(*all, "candidates")) << " candidates verified";
   }
   md << ". A detection matches a true vehicle whose centre lies within "
      << num(score.params.match_radius_m, "%g")
@@ -406,17 +388,19 @@ void detection_table(std::ostringstream& md, const std::vector<ScoreRow>& summar
         "p90 (m) | heading error median / p90 (°) | flips |\n"
         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const ScoreRow& s : summary) {
-    md << "| " << text(field(s, "cover")) << " | " << text(field(s, "noise_mm")) << " | "
-       << count_distinct(s, "tiles", "renders") << " | " << num(field(s, "mean_vehicle_cover"), "%.2f")
-       << " | " << count_distinct(s, "true", "true_distinct") << " | " << text(field(s, "candidates"))
-       << " | " << text(field(s, "detections")) << " | " << text(field(s, "tp")) << " | "
-       << text(field(s, "fp")) << " | " << text(field(s, "fn")) << " | " << rate_ci(s, "precision") << " | "
-       << rate_ci(s, "recall") << " | " << rate(field(s, "f1")) << " | "
-       << num_ci(s, "false_alarms_per_ha", "%.1f") << " | " << rate_ci(s, "identification") << " | "
-       << rate_ci(s, "recognition") << " | " << num(field(s, "position_error_median_m"), "%.2f") << " / "
-       << num(field(s, "position_error_p90_m"), "%.2f") << " | "
-       << num(field(s, "heading_error_median_deg"), "%.1f") << " / "
-       << num(field(s, "heading_error_p90_deg"), "%.1f") << " | " << text(field(s, "flips")) << " |\n";
+    md << "| " << score_text(score_field(s, "cover")) << " | " << score_text(score_field(s, "noise_mm"))
+       << " | " << count_distinct(s, "tiles", "renders") << " | "
+       << num(score_field(s, "mean_vehicle_cover"), "%.2f") << " | "
+       << count_distinct(s, "true", "true_distinct") << " | " << score_text(score_field(s, "candidates"))
+       << " | " << score_text(score_field(s, "detections")) << " | " << score_text(score_field(s, "tp"))
+       << " | " << score_text(score_field(s, "fp")) << " | " << score_text(score_field(s, "fn")) << " | "
+       << rate_ci(s, "precision") << " | " << rate_ci(s, "recall") << " | " << rate(score_field(s, "f1"))
+       << " | " << num_ci(s, "false_alarms_per_ha", "%.1f") << " | " << rate_ci(s, "identification") << " | "
+       << rate_ci(s, "recognition") << " | " << num(score_field(s, "position_error_median_m"), "%.2f")
+       << " / " << num(score_field(s, "position_error_p90_m"), "%.2f") << " | "
+       << num(score_field(s, "heading_error_median_deg"), "%.1f") << " / "
+       << num(score_field(s, "heading_error_p90_deg"), "%.1f") << " | " << score_text(score_field(s, "flips"))
+       << " |\n";
   }
   md << "\n";
 }
@@ -428,9 +412,9 @@ void targets_table(std::ostringstream& md, const std::vector<ScoreRow>& summary,
     std::string measured;
     bool met = true, any = false;
     for (const ScoreRow& s : summary) {
-      const std::string c = text(field(s, "cover")), n = text(field(s, "noise_mm"));
+      const std::string c = score_text(score_field(s, "cover")), n = score_text(score_field(s, "noise_mm"));
       if ((c != "light" && c != "medium") || (n != "0" && n != "8")) continue;
-      const ScoreValue& v = field(s, key);
+      const ScoreValue& v = score_field(s, key);
       measured += (measured.empty() ? "" : ", ") + c + " " + n + " mm " + rate_ci(s, key);
       any = true;
       if (!v.is_number() || (at_least ? v.as_number() < bound : v.as_number() > bound)) met = false;
@@ -441,10 +425,10 @@ void targets_table(std::ostringstream& md, const std::vector<ScoreRow>& summary,
   judge("recall ≥ 95% at light and medium cover, 0–8 mm", "recall", 0.95, true);
   judge("precision ≥ 95% at light and medium cover, 0–8 mm", "precision", 0.95, true);
   if (all != nullptr) {
-    const ScoreValue& id = field(*all, "identification");
+    const ScoreValue& id = score_field(*all, "identification");
     md << "| identification ≥ 90% of matched detections (all runs) | " << rate_ci(*all, "identification")
        << " | " << (id.is_number() ? (id.as_number() >= 0.9 ? "yes" : "**no**") : "–") << " |\n";
-    const ScoreValue& he = field(*all, "heading_error_median_deg");
+    const ScoreValue& he = score_field(*all, "heading_error_median_deg");
     md << "| heading error median ≤ 2° (all runs) | " << num(he, "%.2f°") << " | "
        << (he.is_number() ? (he.as_number() <= 2 ? "yes" : "**no**") : "–") << " |\n";
   }
@@ -456,9 +440,9 @@ void models_table(std::ostringstream& md, const SceneScore& score) {
         "| model | cover | true (distinct) | matched | identified | recall | identification | recognition |\n"
         "|---|---|---|---|---|---|---|---|\n";
   for (const ScoreRow& m : score.models) {
-    md << "| " << text(field(m, "model")) << " | " << text(field(m, "cover")) << " | "
-       << count_distinct(m, "true", "true_distinct") << " | " << text(field(m, "matched")) << " | "
-       << text(field(m, "identified")) << " | " << rate_ci(m, "recall") << " | "
+    md << "| " << score_text(score_field(m, "model")) << " | " << score_text(score_field(m, "cover")) << " | "
+       << count_distinct(m, "true", "true_distinct") << " | " << score_text(score_field(m, "matched"))
+       << " | " << score_text(score_field(m, "identified")) << " | " << rate_ci(m, "recall") << " | "
        << rate_ci(m, "identification") << " | " << rate_ci(m, "recognition") << " |\n";
   }
   md << "\n";
@@ -471,10 +455,11 @@ void cover_table(std::ostringstream& md, const SceneScore& score, const std::str
         "| canopy cover | noise (mm) | true (distinct) | detected | recognised | recall | recognition |\n"
         "|---|---|---|---|---|---|---|\n";
   for (const ScoreRow& b : score.cover_bins) {
-    md << "| " << num(field(b, "cover_lo"), "%.2f") << "–" << num(field(b, "cover_hi"), "%.2f") << " | "
-       << text(field(b, "noise_mm")) << " | " << count_distinct(b, "true", "true_distinct") << " | "
-       << text(field(b, "detected")) << " | " << text(field(b, "recognised")) << " | " << rate_ci(b, "recall")
-       << " | " << rate_ci(b, "recognition") << " |\n";
+    md << "| " << num(score_field(b, "cover_lo"), "%.2f") << "–" << num(score_field(b, "cover_hi"), "%.2f")
+       << " | " << score_text(score_field(b, "noise_mm")) << " | "
+       << count_distinct(b, "true", "true_distinct") << " | " << score_text(score_field(b, "detected"))
+       << " | " << score_text(score_field(b, "recognised")) << " | " << rate_ci(b, "recall") << " | "
+       << rate_ci(b, "recognition") << " |\n";
   }
   md << "\n![recognition against canopy cover](" << fig << "/cover.png)\n\n![recognition against noise]("
      << fig << "/noise.png)\n\n";
@@ -495,9 +480,10 @@ void pr_table(std::ostringstream& md, const SceneScore& score) {
     for (std::size_t i = 0; i < pr.size(); ++i) {
       if (i % step != 0 && i + 1 != pr.size()) continue;
       const ScoreRow& r = pr[i];
-      md << "| " << num(field(r, "threshold"), "%.3f") << " | " << text(field(r, "detections")) << " | "
-         << text(field(r, "tp")) << " | " << text(field(r, "fp")) << " | " << rate(field(r, "precision"))
-         << " | " << rate(field(r, "recall")) << " |\n";
+      md << "| " << num(score_field(r, "threshold"), "%.3f") << " | "
+         << score_text(score_field(r, "detections")) << " | " << score_text(score_field(r, "tp")) << " | "
+         << score_text(score_field(r, "fp")) << " | " << rate(score_field(r, "precision")) << " | "
+         << rate(score_field(r, "recall")) << " |\n";
     }
     md << "\n";
   }
@@ -514,15 +500,16 @@ void reliability_table(std::ostringstream& md, const SceneScore& score) {
         "| level | confidence | answers | right | mean stated | within ±10 points |\n"
         "|---|---|---|---|---|---|\n";
   for (const ScoreRow& r : score.reliability) {
-    const ScoreValue& n = field(r, "answers");
+    const ScoreValue& n = score_field(r, "answers");
     if (!n.is_number() || n.as_number() <= 0) continue;
-    const ScoreValue &rate_v = field(r, "rate"), &mean = field(r, "mean_confidence");
+    const ScoreValue &rate_v = score_field(r, "rate"), &mean = score_field(r, "mean_confidence");
     std::string within = "– (< 20)";
     if (n.as_number() >= 20 && rate_v.is_number() && mean.is_number())
       within = std::fabs(rate_v.as_number() - mean.as_number()) <= 0.1 ? "yes" : "**no**";
-    md << "| " << text(field(r, "level")) << " | " << num(field(r, "confidence_lo"), "%.1f") << "–"
-       << num(field(r, "confidence_hi"), "%.1f") << " | " << text(n) << " | " << text(field(r, "right"))
-       << " = " << rate_ci(r, "rate") << " | " << rate(mean) << " | " << within << " |\n";
+    md << "| " << score_text(score_field(r, "level")) << " | " << num(score_field(r, "confidence_lo"), "%.1f")
+       << "–" << num(score_field(r, "confidence_hi"), "%.1f") << " | " << score_text(n) << " | "
+       << score_text(score_field(r, "right")) << " = " << rate_ci(r, "rate") << " | " << rate(mean) << " | "
+       << within << " |\n";
   }
   md << "\n";
 }
@@ -580,7 +567,8 @@ std::string scene_markdown(const SceneScore& score, const std::vector<SceneStage
   }
   const ScoreRow* all = nullptr;
   for (const ScoreRow& s : summary) {
-    if (text(field(s, "cover")) == "all" && text(field(s, "noise_mm")) == "all") all = &s;
+    if (score_text(score_field(s, "cover")) == "all" && score_text(score_field(s, "noise_mm")) == "all")
+      all = &s;
   }
   scene_intro(md, score, all, renders.size());
   detection_table(md, summary);
