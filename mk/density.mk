@@ -27,18 +27,24 @@ DENSITY_K ?= 4.45
 # e.g. procedural family instances (family:<class>:<n>, classify's own classes) to see the
 # class level without the five models' shapes (docs/decisions/density-ladder.md).
 DENSITY_MODELS ?= $(SCENE_MODELS)
-$(foreach d,$(DENSITY_LEVELS),$(if $(shell printf '%s' '$(d)' | grep -xE '[1-9][0-9]{0,4}'),,$(error \
-  DENSITY_LEVELS: '$(d)' is not a whole number of points/m² from 1 to 99999)))
-$(foreach s,$(DENSITY_SEEDS),$(if $(shell printf '%s' '$(s)' | grep -xE '[0-9]{1,9}'),,$(error \
-  DENSITY_SEEDS: '$(s)' is not a whole number)))
-$(if $(shell printf '%s' '$(DENSITY_K)' | grep -xE '[0-9]+(\.[0-9]+)?'),,$(error DENSITY_K=$(DENSITY_K) must be a number))
 DENSITY_DIR := $(OUT)/density
 DENSITY_RES := $(RES)/density
-# LEVEL:SPACING_MM:SPACING_M, one shell for all levels; the levels must rise (the manifest's order).
-density_pairs := $(if $(strip $(DENSITY_LEVELS)),$(shell awk -v k=$(DENSITY_K) 'BEGIN { n = split("$(strip \
-  $(DENSITY_LEVELS))", d, " "); for (i = 1; i <= n; i++) { if (i > 1 && d[i] + 0 <= d[i - 1] + 0) { print "ERROR"; \
-  exit } mm = int(1000 * sqrt(k / d[i]) + 0.5); printf "%s:%d:%.3f ", d[i], mm, mm / 1000 } }'))
-$(if $(filter ERROR,$(density_pairs)),$(error DENSITY_LEVELS=$(DENSITY_LEVELS): the levels must rise))
+# LEVEL:SPACING_MM:SPACING_M per level, or ERROR <why>: one shell for the checks (whole levels
+# 1-99999, rising: the manifest's order; whole seeds of up to 9 digits; DENSITY_K a number; no
+# {m,n} in the patterns: Debian's mawk has none) and the spacings, and
+# only where the ladder is read (every parse pays for its shells: docs/decisions/cost.md).
+ifneq ($(filter 1,$(DENSITY_LADDER))$(filter density,$(MAKECMDGOALS)),)
+density_pairs := $(shell awk -v k='$(DENSITY_K)' -v levels='$(strip $(DENSITY_LEVELS))' \
+  -v seeds='$(strip $(DENSITY_SEEDS))' 'BEGIN { \
+  if (k !~ /^[0-9]+(\.[0-9]+)?$$/) { print "ERROR DENSITY_K=" k " must be a number"; exit } \
+  m = split(seeds, s, " "); for (i = 1; i <= m; i++) if (s[i] !~ /^[0-9]+$$/ || length(s[i]) > 9) { \
+    print "ERROR DENSITY_SEEDS: " s[i] " is not a whole number"; exit } \
+  n = split(levels, d, " "); for (i = 1; i <= n; i++) { \
+    if (d[i] !~ /^[1-9][0-9]*$$/ || length(d[i]) > 5) { print "ERROR DENSITY_LEVELS: " d[i] " is not a whole number of points/m² from 1 to 99999"; exit } \
+    if (i > 1 && d[i] + 0 <= d[i - 1] + 0) { print "ERROR DENSITY_LEVELS=" levels ": the levels must rise"; exit } \
+    mm = int(1000 * sqrt(k / d[i]) + 0.5); out = out sprintf("%s:%d:%.3f ", d[i], mm, mm / 1000) } print out }')
+$(if $(filter ERROR,$(firstword $(density_pairs))),$(error $(wordlist 2,$(words $(density_pairs)),$(density_pairs))))
+endif
 density_mm = $(word 2,$(subst :, ,$(filter $(1):%,$(density_pairs))))
 density_m = $(word 3,$(subst :, ,$(filter $(1):%,$(density_pairs))))
 DENSITY_SCORES := $(foreach d,$(DENSITY_LEVELS),$(DENSITY_RES)/d$(d)/score.json)
@@ -61,7 +67,7 @@ density_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROG
 ifneq ($(findstring q,$(make_letters))$(DENSITY_LADDER),q1)
 density_force = FORCE
 else
-density_force = $(if $(shell $(MAKE) -q $(call density_args,$(1)) $(MAKEOVERRIDES) >/dev/null 2>&1 || echo stale),FORCE)
+density_force = $(if $(shell $(MAKE) -q $(MAKEOVERRIDES) $(call density_args,$(1)) >/dev/null 2>&1 || echo stale),FORCE)
 endif
 DENSITY_TOOLS := rangetrace addnoise detect classify fitvox cocone ncut gmatch verify collect score topview
 define density_rule

@@ -28,16 +28,19 @@ OPENSET_MB := $(OPENSET_DIR)/modelbase
 # library's meshes (committed; test_vehicles checks them against split.csv).
 OPENSET_MESHES := $(OPENSET_LIBRARY)/modelbase
 OPENSET_SCORE := $(OPENSET_RES)/score.json
-# NAME:CLASS:FILE:SPLIT of every library mesh (catalogue.csv joined with split.csv; one shell).
+# NAME:CLASS:FILE:SPLIT of every library mesh (catalogue.csv joined with split.csv; one shell,
+# only where the open set is read: every parse pays for its shells, docs/decisions/cost.md).
+ifneq ($(filter 1,$(OPENSET))$(filter openset,$(MAKECMDGOALS)),)
 openset_rows := $(shell awk -F, 'FNR == 1 { next } FILENAME ~ /split/ { s[$$1] = $$3; next } \
   { print $$1 ":" $$2 ":" $$3 ":" s[$$1] }' $(OPENSET_LIBRARY)/split.csv $(OPENSET_LIBRARY)/catalogue.csv)
+endif
 openset_split = $(foreach r,$(openset_rows),$(if $(filter $(1),$(word 4,$(subst :, ,$(r)))),$(r)))
 openset_name = $(word 1,$(subst :, ,$(1)))
 openset_class = $(word 2,$(subst :, ,$(1)))
 openset_file = $(OPENSET_LIBRARY)/$(word 3,$(subst :, ,$(1)))
 OPENSET_TRAIN := $(call openset_split,modelbase)
 OPENSET_TEST := $(call openset_split,test)
-$(if $(filter 1,$(OPENSET)),$(if $(and $(OPENSET_TRAIN),$(OPENSET_TEST)),,$(error OPENSET: $(OPENSET_LIBRARY) has no \
+$(if $(filter 1,$(OPENSET))$(filter openset,$(MAKECMDGOALS)),$(if $(and $(OPENSET_TRAIN),$(OPENSET_TEST)),,$(error OPENSET: $(OPENSET_LIBRARY) has no \
   modelbase or no test instance in split.csv)))
 # The test meshes as the recipe's random list (absolute paths: the recipe lives under OUT).
 openset_models = $(subst $(space),$(comma),$(strip $(foreach r,$(OPENSET_TEST),$(abspath $(call openset_file,$(r))))))
