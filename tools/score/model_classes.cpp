@@ -5,33 +5,25 @@
 #include <vector>
 
 #include "canopy/common/error.h"
+#include "canopy/formats/text_lines.h"
 #include "score/score.h"
 
 namespace canopy::score {
 
 std::map<std::string, std::string> parse_model_classes(const std::string& text, const std::string& name) {
-  std::map<std::string, std::string> classes;
-  std::size_t start = 0;
-  int line_no = 0;
-  bool header = false;
   auto valid = [](const std::string& c) {
     if (c.empty() || c.size() > 64) return false;
     for (char ch : c)
       if (!((ch >= 'a' && ch <= 'z') || (ch >= '0' && ch <= '9') || ch == '-')) return false;
     return true;
   };
-  while (start <= text.size()) {
-    std::size_t end = text.find('\n', start);
-    if (end == std::string::npos) end = text.size();
-    std::string line = text.substr(start, end - start);
-    start = end + 1;
-    ++line_no;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.empty() || line[0] == '#') {
-      if (end == text.size()) break;
-      continue;
-    }
-    const std::string where = "line " + std::to_string(line_no) + ": ";
+  std::map<std::string, std::string> classes;
+  bool header = false;
+  for (const formats::TextLine& l : formats::text_lines(text)) {
+    // A line is one word "model,class"; words split at blanks are put back for the message.
+    std::string line = l.words[0];
+    for (std::size_t i = 1; i < l.words.size(); ++i) line += " " + l.words[i];
+    const std::string where = "line " + std::to_string(l.number) + ": ";
     const std::size_t comma = line.find(',');
     if (comma == std::string::npos || line.find(',', comma + 1) != std::string::npos)
       throw common::DataError(name, where + "expected 'model,class', got '" + line.substr(0, 80) + "'");
@@ -49,7 +41,6 @@ std::map<std::string, std::string> parse_model_classes(const std::string& text, 
           name, where + "class '" + cls.substr(0, 80) + "' is not 1-64 characters of [a-z0-9-]");
     if (!classes.emplace(model, cls).second)
       throw common::DataError(name, where + "model '" + model + "' given twice");
-    if (end == text.size()) break;
   }
   if (!header) throw common::DataError(name, "no header line 'model,class'");
   return classes;

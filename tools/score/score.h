@@ -102,7 +102,7 @@ Truth parse_truth(const std::string& text, const std::string& name);
 Detections parse_detections(const std::string& text, const std::string& name);
 
 // The classes of models (`--model-classes`): a CSV of lines "model,class" (a header line
-// "model,class" first; blank lines and lines starting with '#' are skipped; a model at most
+// "model,class" first; blank lines and '#' comments are skipped, formats::text_lines; a model at most
 // once; a class 1-64 characters of [a-z0-9-]). Throws common::DataError(name) naming the line.
 std::map<std::string, std::string> parse_model_classes(const std::string& text, const std::string& name);
 // Gives every true vehicle without a class, and every model-level detection without one, the
