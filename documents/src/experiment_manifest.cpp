@@ -2,13 +2,14 @@
 
 #include <algorithm>
 #include <iomanip>
-#include <stdexcept>
+#include <cstdlib>
 #include <set>
 #include <sstream>
 #include <tuple>
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
+#include "canopy/common/units.h"
 #include "canopy/formats/text_lines.h"
 
 namespace canopy::documents {
@@ -46,14 +47,13 @@ struct Parser {
     return std::stoi(w);
   }
 
+  // A decimal number (common::decimal_prefix's grammar, as parse_decimal reads options) in
+  // (0, 1e6].
   double positive(const std::string& w, const char* what) const {
-    std::size_t used = 0;
-    double v = 0;
-    try {
-      v = std::stod(w, &used);
-    } catch (const std::exception&) { used = 0; }
-    if (used == 0 || used != w.size() || !(v > 0 && v <= 1e6))
-      fail(std::string(what) + " '" + w + "' is not a number in (0, 1000000]");
+    const bool decimal =
+        !w.empty() && common::decimal_prefix(w) == w.size() && common::decimal_problem(w).empty();
+    const double v = decimal ? std::strtod(w.c_str(), nullptr) : 0;
+    if (!(v > 0 && v <= 1e6)) fail(std::string(what) + " '" + w + "' is not a number in (0, 1000000]");
     return v;
   }
 
