@@ -14,6 +14,7 @@
 #include <vtkPlotPoints.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
+#include <vtkSmartPointer.h>
 #include <vtkStringArray.h>
 #include <vtkTable.h>
 #include <vtkTextProperty.h>
@@ -221,6 +222,23 @@ void set_axes(vtkChartXY* chart, const PlotParams& params, const std::string& sc
   y->SetRange(a.bottom, a.top * 1.02);
 }
 
+// A table of two float columns named x_name and y_name holding the points, in order.
+vtkSmartPointer<vtkTable> xy_table(const char* x_name, const std::string& y_name,
+                                   const std::vector<std::pair<float, float>>& points) {
+  auto table = vtkSmartPointer<vtkTable>::New();
+  vtkNew<vtkFloatArray> px, py;
+  px->SetName(x_name);
+  py->SetName(y_name.c_str());
+  table->AddColumn(px);
+  table->AddColumn(py);
+  table->SetNumberOfRows(static_cast<vtkIdType>(points.size()));
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    table->SetValue(static_cast<vtkIdType>(i), 0, points[i].first);
+    table->SetValue(static_cast<vtkIdType>(i), 1, points[i].second);
+  }
+  return table;
+}
+
 // The line of object o in one scene (points by x); its rank > 1 points go to fx, fy.
 void add_line(vtkChartXY* chart, const std::vector<ScoreRow>& rows, const std::string& scene, const Axes& a,
               std::size_t o, vtkFloatArray* fx, vtkFloatArray* fy) {
@@ -239,17 +257,7 @@ void add_line(vtkChartXY* chart, const std::vector<ScoreRow>& rows, const std::s
   if (points.empty()) return;
   std::stable_sort(points.begin(), points.end(),
                    [](const auto& p, const auto& q) { return p.first < q.first; });
-  vtkNew<vtkTable> table;
-  vtkNew<vtkFloatArray> px, py;
-  px->SetName("noise");
-  py->SetName(a.objects[o].c_str());
-  table->AddColumn(px);
-  table->AddColumn(py);
-  table->SetNumberOfRows(static_cast<vtkIdType>(points.size()));
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    table->SetValue(static_cast<vtkIdType>(i), 0, points[i].first);
-    table->SetValue(static_cast<vtkIdType>(i), 1, points[i].second);
-  }
+  const vtkSmartPointer<vtkTable> table = xy_table("noise", a.objects[o], points);
   const auto c = series_colour(o);
   // The intervals: a thin vertical bar per point, beside its line's point (offset by the
   // series so that bars of one level do not hide each other), left out of the legend.
@@ -257,17 +265,8 @@ void add_line(vtkChartXY* chart, const std::vector<ScoreRow>& rows, const std::s
     if (r.scene != scene || r.object != a.objects[o] || !std::isfinite(r.lo) || !std::isfinite(r.hi))
       continue;
     const float bx = position(r.noise_mm) + 0.04f * (static_cast<float>(o) - 0.5f * (a.objects.size() - 1.0f));
-    vtkNew<vtkTable> bar;
-    vtkNew<vtkFloatArray> bxs, bys;
-    bxs->SetName("x");
-    bys->SetName("interval");
-    bar->AddColumn(bxs);
-    bar->AddColumn(bys);
-    bar->SetNumberOfRows(2);
-    bar->SetValue(0, 0, bx);
-    bar->SetValue(0, 1, static_cast<float>(r.lo));
-    bar->SetValue(1, 0, bx);
-    bar->SetValue(1, 1, static_cast<float>(r.hi));
+    const vtkSmartPointer<vtkTable> bar =
+        xy_table("x", "interval", {{bx, static_cast<float>(r.lo)}, {bx, static_cast<float>(r.hi)}});
     vtkPlot* b = chart->AddPlot(vtkChart::LINE);
     b->SetInputData(bar, 0, 1);
     b->SetColor(c[0], c[1], c[2], 255);
