@@ -49,6 +49,10 @@ $(if $(shell printf '%s' '$(TILE_MODEL_DENSITY)' | grep -xE '[0-9]+(\.[0-9]+)?')
   TILE_MODEL_DENSITY=$(TILE_MODEL_DENSITY) must be a number of points/m²))
 endif
 scene_config = $(if $(wildcard $(P)/$(1).ini),--config $(P)/$(1).ini)
+# The classes of the thesis models (their modelbase entries have no <model>.class file): classify
+# takes a modelbase entry with a class as one more class range (classify.md §12).
+MODEL_CLASSES ?= share/models/classes.csv
+$(if $(wildcard $(MODEL_CLASSES)),,$(error MODEL_CLASSES=$(MODEL_CLASSES) does not exist))
 # classify's parameters: a user's tile and the real tiles take the defaults (share/params/
 # classify.ini, calibrated on real development tiles); the simulated scene experiment keeps the
 # thresholds fitted on simulated tiles (classify-sim.ini; docs/decisions/classify.md §5).
@@ -81,12 +85,15 @@ endef
 TILE_CAND_KINDS := classify:cand/class.json fitvox:cand/samples.pcd cocone:cand/mesh.ply ncut:cand/segments.json \
   gmatch:cand/match.json verify:cand/verdict.json
 
-# class_rule(DIR, ID, INI): classify with the parameters INI on one candidate (every candidate;
-# exit 1 only on a bad file: too sparse is an answer, so no --record-failure).
+# class_rule(DIR, ID, INI, MODELBASE): classify with the parameters INI on one candidate (every
+# candidate; exit 1 only on a bad file: too sparse is an answer, so no --record-failure). The
+# modelbase's entries with a class (<model>.class, or MODEL_CLASSES for the thesis models) are
+# class ranges beside the families' (docs/decisions/classify.md §12).
 define class_rule
-$(1)/cands/$(2)/class.json: $(1)/cands/index.json $(call tool,classify) $(3)
+$(1)/cands/$(2)/class.json: $(1)/cands/index.json $(call tool,classify) $(3) \
+    $(wildcard $(4)/*.json $(4)/*.pcd $(4)/*.class) $(MODEL_CLASSES)
 	@$(STAGE) $$@ -- $(BIN)/classify --config $(3) -i $(1)/cands/$(2).pcd \
-	  --index $(1)/cands/index.json -o $$@
+	  --index $(1)/cands/index.json --modelbase $(4) --model-classes $(MODEL_CLASSES) -o $$@
 endef
 # is_model(KEY, ID): non-empty when the plan sends the candidate through the model chain (an
 # older plan without levels: every candidate).
@@ -95,7 +102,7 @@ is_model = $(filter-out class,$($(1)_LEVEL_$(2)))$(if $($(1)_LEVEL_$(2)),,model)
 model_cands = $(foreach c,$($(1)_CANDS),$(if $(call is_model,$(1),$(c)),$(c)))
 # cand_rules(DIR, KEY, MODELBASE, SEEDKEY, CLASSIFY_INI): class_rule for every candidate,
 # cand_rule for the model-level ones.
-cand_rules = $(foreach c,$($(2)_CANDS),$(eval $(call class_rule,$(1),$(c),$(5))))$(foreach \
+cand_rules = $(foreach c,$($(2)_CANDS),$(eval $(call class_rule,$(1),$(c),$(5),$(3))))$(foreach \
   c,$(call model_cands,$(2)),$(eval $(call cand_rule,$(1),$(c),$(2),$(3),$(4))))
 
 # cand_rule(DIR, ID, KEY, MODELBASE, SEEDKEY): fitvox | cocone | ncut | gmatch | verify on one

@@ -132,7 +132,7 @@ formats::PointCloud crown(double density, std::uint64_t seed) {
 }
 
 classify::Answer answer(const formats::PointCloud& c) {
-  return classify::run(classify::Params{}, {c, "synthetic.pcd"});
+  return classify::run(classify::Params{}, {c, "synthetic.pcd", {}});
 }
 
 // Axis difference modulo 180 degrees.
@@ -227,7 +227,7 @@ TEST_CASE("classify: --min-plateau refuses a solid object without a roof") {
   const Sampled s = sample(ridge_top, 2.25, 0.9, 10 * kDeg, 25, 14);
   classify::Params off;
   off.min_plateau = 0;
-  const classify::Answer a = classify::run(off, {s.cloud, "ridge.pcd"});
+  const classify::Answer a = classify::run(off, {s.cloud, "ridge.pcd", {}});
   INFO(a.reason << " " << a.detail);
   // Solid and smooth: the vegetation cues pass it and its size is a car's.
   CHECK(a.features.plateau_share > 0.25);
@@ -235,13 +235,13 @@ TEST_CASE("classify: --min-plateau refuses a solid object without a roof") {
   CHECK(a.group == "car");
   classify::Params on;
   on.min_plateau = 0.45;
-  const classify::Answer b = classify::run(on, {s.cloud, "ridge.pcd"});
+  const classify::Answer b = classify::run(on, {s.cloud, "ridge.pcd", {}});
   INFO(b.reason << " " << b.detail);
   CHECK(b.cls.empty());
   CHECK(b.reason == "not_vehicle_shape");
   CHECK(b.detail.find("no roof") != std::string::npos);
   // The car with its roof plateau passes the same threshold.
-  const classify::Answer c = classify::run(on, {sample(car_top, 2.3, 0.9, 0, 25, 11).cloud, "car.pcd"});
+  const classify::Answer c = classify::run(on, {sample(car_top, 2.3, 0.9, 0, 25, 11).cloud, "car.pcd", {}});
   CHECK(c.cls == "sedan");
   CHECK(c.features.plateau_share >= 0.45);
 }
@@ -443,6 +443,89 @@ TEST_CASE("classify: --modelbase names the nearest entry of the answered class")
   CHECK(v["model"].is_null());
   CHECK(v["nearest"]["model"] == "sedan-2");
   CHECK(v["nearest_instance"] == "sedan-2");
+}
+
+// A low flat-bed vehicle, 6.0 x 2.2 m: a 1.2 m cab over its front 3 m, a 0.8 m bed behind it.
+// Outside every family (too low for a pickup or van, too long for a car).
+double flatbed_top(double x, double y) {
+  if (std::abs(x) > 3.0 || std::abs(y) > 1.1) return -1;
+  return x > 0 ? 1.2 : 0.8;
+}
+
+TEST_CASE("classify: a modelbase entry's size is a class range of its class") {
+  const Sampled s = sample(flatbed_top, 3.0, 1.1, 20 * kDeg, 25, 31);
+  classify::Inputs in{s.cloud, "flatbed.pcd", {}};
+  const classify::Params p;
+  // Without the entry: outside every family.
+  const classify::Answer none = classify::run(p, in);
+  INFO(none.detail);
+  CHECK(none.reason == "not_vehicle_shape");
+  // With an entry of its size (a class that is no family: the group is the class's own name
+  // when it is a group, else the class).
+  in.modelbase = {{"hauler-1", "truck", {6.0, 2.2, 1.2}, std::nullopt},
+                  {"bus-1", "bus", {12.0, 2.5, 3.2}, std::nullopt}};
+  const classify::Answer a = classify::run(p, in);
+  INFO(a.reason << " " << a.detail);
+  CHECK(a.cls == "truck");
+  CHECK(a.group == "truck");
+  CHECK(a.entry == "hauler-1");
+  CHECK(a.detail.find("hauler-1") != std::string::npos);
+  CHECK(a.confidence > 0);
+  // The entry's range is its size x [0.95, 1.05]: 20% larger is outside it, as is a bus.
+  in.modelbase = {{"hauler-2", "flatbed", {7.2, 2.64, 1.44}, std::nullopt}};
+  const classify::Answer far = classify::run(p, in);
+  CHECK(far.reason == "not_vehicle_shape");
+  CHECK(far.entry.empty());
+  // --entry-classes false: the entries are hints only.
+  in.modelbase = {{"hauler-1", "truck", {6.0, 2.2, 1.2}, std::nullopt}};
+  classify::Params off;
+  off.entry_classes = false;
+  CHECK(classify::run(off, in).reason == "not_vehicle_shape");
+  // An entry of a family's class keeps the family's group and profile expectation: the sedan's
+  // (both ends drop) is contradicted by the cab (+ profile-penalty 1.5 sigma), still inside the gate.
+  in.modelbase = {{"odd-sedan", "sedan", {6.0, 2.2, 1.2}, std::nullopt}};
+  const classify::Answer fam = classify::run(p, in);
+  CHECK(fam.cls == "sedan");
+  CHECK(fam.group == "car");
+  CHECK(classify::entry_group("tank") == "tracked");
+  CHECK(classify::entry_group("van") == "van");
+  CHECK(classify::entry_group("forklift") == "forklift");
+}
+
+TEST_CASE("classify: --model-classes gives entries without a .class file their class") {
+  const fs::path dir = test::fresh_dir("classify", "model-classes");
+  const fs::path mb = dir / "mb";
+  fs::create_directories(mb);
+  std::ofstream(mb / "hauler.json") << "{}";
+  formats::PointCloud c;
+  c.resize(3);
+  c.add("x") = {-3.0, 3.0, 0};
+  c.add("y") = {-1.1, 1.1, 0};
+  c.add("z") = {0.3, 0.5, 1.2};
+  c.add("label", formats::kUint32) = {1, 1, 1};
+  formats::write_pcd(c, (mb / "hauler.pcd").string());
+  std::ofstream(dir / "classes.csv") << "model,class\nhauler,truck\n";
+  formats::write_pcd(sample(flatbed_top, 3.0, 1.1, 0, 25, 32).cloud, (dir / "c.pcd").string());
+  const std::string base = kBin + " -i " + (dir / "c.pcd").string() + " --modelbase " + mb.string();
+  std::string err;
+  // No class for the entry: not a class range, the object fits nothing.
+  REQUIRE(test::sh(base + " -o " + (dir / "a.json").string(), dir / "err", &err) == 0);
+  CHECK(Json::parse(slurp(dir / "a.json"))["reason"] == "not_vehicle_shape");
+  REQUIRE(test::sh(
+              base + " --model-classes " + (dir / "classes.csv").string() + " -o " + (dir / "b.json").string(),
+              dir / "err", &err) == 0);
+  const Json b = Json::parse(slurp(dir / "b.json"));
+  CHECK(b["class"] == "truck");
+  CHECK(b["nearest"]["model"] == "hauler");
+  // Errors: a bad CSV names itself (exit 1); --model-classes without --modelbase is usage (2).
+  std::ofstream(dir / "bad.csv") << "hauler,truck\n";
+  CHECK(test::sh(base + " --model-classes " + (dir / "bad.csv").string() + " -o " + (dir / "c.json").string(),
+                 dir / "err", &err) == 1);
+  CHECK(err.find("bad.csv") != std::string::npos);
+  CHECK(test::sh(kBin + " -i " + (dir / "c.pcd").string() + " --model-classes " +
+                     (dir / "classes.csv").string() + " -o " + (dir / "c.json").string(),
+                 dir / "err", &err) == 2);
+  CHECK_FALSE(test::exists(dir / "c.json"));
 }
 
 TEST_CASE("classify: bad input files exit 1 naming the file; usage errors exit 2") {

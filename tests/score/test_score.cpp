@@ -6,6 +6,7 @@
 #include <string>
 
 #include "canopy/common/error.h"
+#include "canopy/documents/model_classes.h"
 #include "score/score.h"
 #include "support/cli.h"
 
@@ -620,7 +621,7 @@ TEST_CASE("model classes: a class answer on a rendered model is judged by the mo
   // Axis errors of both found vehicles: 212 vs 30 -> 2; 93 vs 90 -> 3; positions 0.5 and 0.
   CHECK(all(plain)["heading_axis_error_any_level_median_deg"].get<double>() == Approx(2.5));
   CHECK(all(plain)["position_error_any_level_median_m"].get<double>() == Approx(0.25));
-  const auto classes = score::parse_model_classes(
+  const auto classes = documents::parse_model_classes(
       "model,class\n# thesis models\nsemi,semi-tractor\nsedan,sedan\n"
       "hatch,sedan\n",
       "classes.csv");
@@ -636,12 +637,12 @@ TEST_CASE("model classes: a class answer on a rendered model is judged by the mo
   CHECK(all(s)["class_accuracy"].get<double>() == Approx(1));  // the class level alone: 1/1
   CHECK(all(s)["identified"] == 0);                            // "hatch" is not the sedan
   // Bad files name the file and the line.
-  CHECK_THROWS_WITH(score::parse_model_classes("semi,semi-tractor\n", "c.csv"),
+  CHECK_THROWS_WITH(documents::parse_model_classes("semi,semi-tractor\n", "c.csv"),
                     Catch::Contains("c.csv") && Catch::Contains("header"));
-  CHECK_THROWS_WITH(score::parse_model_classes("model,class\nsemi,truck\nsemi,bus\n", "c.csv"),
+  CHECK_THROWS_WITH(documents::parse_model_classes("model,class\nsemi,truck\nsemi,bus\n", "c.csv"),
                     Catch::Contains("line 3") && Catch::Contains("given twice"));
-  CHECK_THROWS_WITH(score::parse_model_classes("model,class\nsemi,Semi Tractor\n", "c.csv"),
+  CHECK_THROWS_WITH(documents::parse_model_classes("model,class\nsemi,Semi Tractor\n", "c.csv"),
                     Catch::Contains("line 2") && Catch::Contains("[a-z0-9-]"));
-  CHECK_THROWS_WITH(score::parse_model_classes("model,class\nsemi\n", "c.csv"),
+  CHECK_THROWS_WITH(documents::parse_model_classes("model,class\nsemi\n", "c.csv"),
                     Catch::Contains("expected 'model,class'"));
 }

@@ -33,12 +33,12 @@ double miss(double value, const std::array<double, 2>& range, double sigma) {
 }
 
 struct Fit {
-  const ClassRange* cls = nullptr;
+  const TableRange* cls = nullptr;
   double distance = kInf;    // sqrt of the summed squared misses (0 = inside every range)
   double centrality = kInf;  // squared distance from the ranges' middles, relative to their halves
 };
 
-Fit fit(const ClassRange& k, const Features& f, double sigma, const Params& p) {
+Fit fit(const TableRange& k, const Features& f, double sigma, const Params& p) {
   Fit r;
   r.cls = &k;
   double dl = miss(f.length, k.length, sigma);
@@ -59,10 +59,15 @@ Fit fit(const ClassRange& k, const Features& f, double sigma, const Params& p) {
   return r;
 }
 
+// A class range's name in a sentence: the class, and the modelbase entry it came from.
+std::string label(const TableRange& k) {
+  return k.entry.empty() ? k.name : k.name + " (modelbase entry " + k.entry + ")";
+}
+
 // The envelope of every class's range along one dimension.
-std::array<double, 2> envelope(std::array<double, 2> ClassRange::*dim) {
+std::array<double, 2> envelope(const std::vector<TableRange>& table, std::array<double, 2> ClassRange::*dim) {
   std::array<double, 2> e{kInf, -kInf};
-  for (const ClassRange& k : class_ranges()) {
+  for (const TableRange& k : table) {
     e[0] = std::min(e[0], (k.*dim)[0]);
     e[1] = std::max(e[1], (k.*dim)[1]);
   }
@@ -146,10 +151,10 @@ bool vegetation(Answer& a, const Params& p) {
 }
 
 // The size gates against the envelope of every class (too_large, too_small, too_flat).
-bool size_gates(Answer& a, const Params& p, double sigma) {
+bool size_gates(Answer& a, const Params& p, double sigma, const std::vector<TableRange>& table) {
   const Features& f = a.features;
-  const auto L = envelope(&ClassRange::length), W = envelope(&ClassRange::width),
-             H = envelope(&ClassRange::height);
+  const auto L = envelope(table, &ClassRange::length), W = envelope(table, &ClassRange::width),
+             H = envelope(table, &ClassRange::height);
   const double g = p.size_gate * sigma;
   const std::string size = fmt("%.2f x %.2f x %.2f m", f.length, f.width, f.height);
   if (f.length > L[1] + g || f.width > W[1] + g || f.height > H[1] + g) {
@@ -191,13 +196,13 @@ bool roofless(Answer& a, const Params& p) {
 
 // Among the classes the size fits, the best: smallest distance, then most central; profile
 // cues move the overlapping pairs (docs/decisions/classify.md §4).
-void choose(Answer& a, const Params& p, double sigma) {
+void choose(Answer& a, const Params& p, double sigma, const std::vector<TableRange>& table) {
   const Features& f = a.features;
   // A flat box over the whole length (container, log stack, shed): only a box-truck or a bus
   // has such a top; every other family drops to a bonnet, glacis, bucket or chassis.
   const bool box = f.plateau_share >= p.box_plateau && f.end_low >= p.box_ends;
   std::vector<Fit> fits;
-  for (const ClassRange& k : class_ranges()) {
+  for (const TableRange& k : table) {
     if (!box || k.flat_box) fits.push_back(fit(k, f, sigma, p));
   }
   auto better = [](const Fit& x, const Fit& y) {
@@ -213,23 +218,32 @@ void choose(Answer& a, const Params& p, double sigma) {
           fmt("a flat box: %.0f%% of its length within the top's plateau, both ends at %.0f%% of H or more; "
               "%.2f x ",
               100 * f.plateau_share, 100 * f.end_low, f.length) +
-              fmt("%.2f x %.2f m is no box-truck or bus (nearest ", f.width, f.height) + best.cls->name +
+              fmt("%.2f x %.2f m is no box-truck or bus (nearest ", f.width, f.height) + label(*best.cls) +
               fmt(" at %.1f sigma)", best.distance),
           past(best.distance, p.size_gate));
       return;
     }
     refuse(a, "not_vehicle_shape",
-           fmt("%.2f x %.2f x %.2f m fits no family's ranges (nearest ", f.length, f.width, f.height) +
-               best.cls->name + fmt(" at %.1f sigma; gate %.1f)", best.distance, p.size_gate),
+           fmt("%.2f x %.2f x %.2f m fits no class's ranges (nearest ", f.length, f.width, f.height) +
+               label(*best.cls) + fmt(" at %.1f sigma; gate %.1f)", best.distance, p.size_gate),
            past(best.distance, p.size_gate));
     return;
   }
   a.cls = best.cls->name;
   a.group = best.cls->group;
+  a.entry = best.cls->entry;
+  if (!a.entry.empty()) {
+    const TableRange& k = *best.cls;
+    a.detail =
+        "its size fits modelbase entry " + k.entry +
+        fmt("'s (%.2f x %.2f x %.2f m, +-%.0f%%)", 0.5 * (k.length[0] + k.length[1]),
+            0.5 * (k.width[0] + k.width[1]), 0.5 * (k.height[0] + k.height[1]), 100 * p.entry_tolerance) +
+        fmt(" at %.1f sigma", best.distance);
+  }
   a.class_score = std::exp(-0.5 * best.distance * best.distance);
   double other = kInf;
   for (const Fit& x : fits) {
-    if (std::string(x.cls->group) != a.group) other = std::min(other, x.distance);
+    if (x.cls->group != a.group) other = std::min(other, x.distance);
   }
   a.class_margin = std::isfinite(other) ? other - best.distance : 0;
   // Confidence: the size fit, how clearly another group is excluded, how far the vegetation
@@ -270,6 +284,44 @@ std::string group_of(const std::string& cls) {
   return "";
 }
 
+std::string entry_group(const std::string& cls) {
+  const std::string g = group_of(cls);
+  if (!g.empty()) return g;
+  for (const ClassRange& k : class_ranges()) {
+    if (cls == k.group) return k.group;
+  }
+  return cls;
+}
+
+std::vector<TableRange> class_table(const Params& p, const std::vector<ModelEntry>& entries) {
+  std::vector<TableRange> table;
+  for (const ClassRange& family : class_ranges()) table.push_back({family, ""});
+  if (!p.entry_classes) return table;
+  const double t = p.entry_tolerance;
+  for (const ModelEntry& e : entries) {
+    TableRange k;
+    for (const ClassRange& family : class_ranges()) {
+      if (family.name == e.cls)
+        static_cast<ClassRange&>(k) = family;  // its profile expectations and flat-box flag
+    }
+    k.name = e.cls;
+    k.group = entry_group(e.cls);
+    k.length = {e.size[0] * (1 - t), e.size[0] * (1 + t)};
+    k.width = {e.size[1] * (1 - t), e.size[1] * (1 + t)};
+    k.height = {e.size[2] * (1 - t), e.size[2] * (1 + t)};
+    k.hull_length = {0, 0};
+    k.entry = e.name;
+    if (e.profile) {
+      const ModelEntry::Profile& f = *e.profile;
+      k.plateau = f.plateau_share >= p.plateau_split ? +1 : -1;
+      k.tail = f.end_high >= p.tail_split ? +1 : -1;
+      k.flat_box = f.plateau_share >= p.box_plateau && f.end_low >= p.box_ends;
+    }
+    table.push_back(std::move(k));
+  }
+  return table;
+}
+
 void validate(const Params& p) {
   auto need = [](bool ok, const char* message) {
     if (!ok) throw common::UsageError(message);
@@ -296,6 +348,7 @@ void validate(const Params& p) {
   need(p.box_plateau > 0 && p.box_plateau <= 1, "--box-plateau must be in (0, 1]");
   need(p.box_ends > 0 && p.box_ends <= 1, "--box-ends must be in (0, 1]");
   need(p.model_density > 0 && std::isfinite(p.model_density), "--model-density must be > 0");
+  need(p.entry_tolerance >= 0 && p.entry_tolerance <= 0.5, "--entry-tolerance must be in [0, 0.5]");
 }
 
 Outputs run(const Params& p, const Inputs& in) {
@@ -305,8 +358,9 @@ Outputs run(const Params& p, const Inputs& in) {
   if (sparse(a, p)) return a;
   const double s = a.features.spacing;
   const double sigma = std::sqrt(p.size_sigma * p.size_sigma + p.spacing_sigma * p.spacing_sigma * s * s);
-  if (vegetation(a, p) || size_gates(a, p, sigma) || roofless(a, p)) return a;
-  choose(a, p, sigma);
+  const std::vector<TableRange> table = class_table(p, in.modelbase);
+  if (vegetation(a, p) || size_gates(a, p, sigma, table) || roofless(a, p)) return a;
+  choose(a, p, sigma, table);
   return a;
 }
 

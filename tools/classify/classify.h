@@ -45,8 +45,8 @@ namespace canopy::classify {
 
 // One procedural family's dimension ranges (m; families.md §2) and its coarse group.
 struct ClassRange {
-  const char* name;
-  const char* group;
+  std::string name;
+  std::string group;
   std::array<double, 2> length, width, height;
   // What the top's profile should show (families.md §3): +1 / -1 = the plateau covers most /
   // a minor part of the length (box-truck, bus, van / wheel-loader, semi-tractor), the higher
@@ -55,6 +55,10 @@ struct ClassRange {
   int plateau = 0, tail = 0;
   bool flat_box = false;  // its top may be one flat box over the whole length (box-truck, bus)
   std::array<double, 2> hull_length{0, 0};  // tank: the hull without the gun (families.md §2), or 0 0
+};
+// A range of the class table: a family's, or a modelbase entry's (`entry`: its name).
+struct TableRange : ClassRange {
+  std::string entry;
 };
 
 // The twelve families, in families.cpp's order, with their groups:
@@ -94,6 +98,10 @@ struct Params {
   double box_plateau = 0.88;        // plateau share and both ends' levels at or above this:
   double box_ends = 0.8;            //   a flat box (container, log stack): a box-truck or bus only
   double model_density = 370;       // points/m² the model-level chain needs (fitvox-tile.ini)
+  // Modelbase entries with a class (--modelbase) are classes too: each entry's L W H widened by
+  // this share either way is one more class range, of the entry's class (classify.md §12).
+  bool entry_classes = true;
+  double entry_tolerance = 0.05;
 };
 
 // Throws common::UsageError naming the option of the first value out of range.
@@ -135,6 +143,7 @@ struct Answer {
   std::string reason;  // "" for a vehicle; too_sparse, vegetation_like, too_small, too_large,
                        // too_flat, not_vehicle_shape
   std::string detail;  // one sentence: the measured value against its threshold
+  std::string entry;   // the class came from this modelbase entry's range ("" = a family's)
   double confidence = 0;
   double class_score = 0, class_margin = 0;  // size fit of the class, margin over another group
   Features features;
@@ -144,11 +153,27 @@ struct Answer {
 struct ModelEntry {
   std::string name, cls;
   std::array<double, 3> size{};  // L W H of its surface's label-1 rows
+  // Its top's profile measured on its surface as on a candidate (plateau share, end levels):
+  // its class range's profile expectations and flat-box flag. Not measured: the family's.
+  struct Profile {
+    double plateau_share = 0, end_low = 0, end_high = 0;
+  };
+  std::optional<Profile> profile;
 };
 
+// The group of a modelbase entry's class: a family's group (group_of), a group's own name
+// (car, van, truck, bus, tracked, machine), else the class itself.
+std::string entry_group(const std::string& cls);
+// The class table run() decides among: the families, then (params.entry_classes) one range per
+// entry: L W H x [1 - entry_tolerance, 1 + entry_tolerance], with the entry's own profile as its
+// expectations (plateau and tail against plateau_split / tail_split; a flat box when its top is
+// one, box_plateau / box_ends) or, unmeasured, the family's of the same name (none for others).
+std::vector<TableRange> class_table(const Params& params, const std::vector<ModelEntry>& entries);
+
 struct Inputs {
-  formats::PointCloud cloud;  // the candidate PCD (local frame)
-  std::string name;           // its path, for errors
+  formats::PointCloud cloud;          // the candidate PCD (local frame)
+  std::string name;                   // its path, for errors
+  std::vector<ModelEntry> modelbase;  // entries with a class (--modelbase), or none
 };
 
 using Outputs = Answer;

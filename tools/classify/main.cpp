@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -12,9 +13,11 @@
 #include "canopy/common/cli.h"
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
+#include "canopy/documents/model_classes.h"
 #include "canopy/documents/modelbase.h"
 #include "canopy/formats/points_io.h"
 #include "classify/classify.h"
+#include "classify/features.h"
 
 namespace cm = canopy::common;
 namespace fm = canopy::formats;
@@ -24,7 +27,7 @@ namespace fs = std::filesystem;
 namespace {
 
 struct Cli {
-  std::string in = "-", out = "-", index, candidate, transform, modelbase;
+  std::string in = "-", out = "-", index, candidate, transform, modelbase, model_classes;
 };
 
 void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
@@ -36,8 +39,12 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
   tool.add("--transform", &cli.transform,
            "candidate frame -> tile frame, 12 or 16 numbers row-major (instead of --index)");
   tool.add("--modelbase", &cli.modelbase,
-           "directory of <model>.pcd surfaces with <model>.class files: the answered class's "
-           "entry nearest in size is named as a hint");
+           "directory of <model>.pcd surfaces with <model>.class files (or --model-classes): each entry's "
+           "size is a class range too (--entry-classes), and the answered class's entry nearest in size "
+           "is named as a hint");
+  tool.add("--model-classes", &cli.model_classes,
+           "CSV 'model,class' (share/models/classes.csv): the class of a --modelbase entry without a "
+           "<model>.class file");
   tool.add_length("--ground-cut", &p.ground_cut, "points below this height are ground or grass");
   tool.add("--link-factor", &p.link_factor,
            "object clustering distance, in units of the crop's point spacing");
@@ -71,19 +78,26 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
   tool.add("--box-ends", &p.box_ends, "end level (share of H) of a flat box");
   tool.add("--model-density", &p.model_density,
            "points/m^2 the model-level chain needs (for the reason text)");
+  tool.add("--entry-classes", &p.entry_classes,
+           "the --modelbase entries with a class are class ranges too (their size +- --entry-tolerance)");
+  tool.add("--entry-tolerance", &p.entry_tolerance,
+           "an entry's class range: its L W H x [1 - this, 1 + this]");
 }
 
-// Modelbase entries that carry a class: their surfaces' label-1 extents.
-std::vector<cl::ModelEntry> read_modelbase(const std::string& dir) {
+// Modelbase entries that carry a class (<model>.class, else `classes`): their surfaces'
+// label-1 extents.
+std::vector<cl::ModelEntry> read_modelbase(const std::string& dir,
+                                           const std::map<std::string, std::string>& classes,
+                                           const cl::Params& p) {
   std::vector<cl::ModelEntry> out;
   for (const canopy::documents::ModelbaseEntry& e : canopy::documents::list_modelbase(dir)) {
-    const fs::path cls = fs::path(dir) / (e.name + ".class");
-    if (!fs::is_regular_file(cls)) continue;
-    std::string name = cm::read_file(cls.string());
-    name.erase(
-        std::find_if(name.begin(), name.end(), [](char c) { return c == '\n' || c == '\r' || c == ' '; }),
-        name.end());
-    if (name.empty()) throw cm::DataError(cls.string(), "holds no class name");
+    std::optional<std::string> cls = canopy::documents::read_model_class(dir, e.name);
+    if (!cls) {
+      const auto it = classes.find(e.name);
+      if (it == classes.end()) continue;
+      cls = it->second;
+    }
+    const std::string name = *cls;
     const std::string surface = (fs::path(dir) / (e.name + ".pcd")).string();
     const fm::PointCloud pc = fm::read_points(surface, "classify");
     pc.require({"x", "y", "z"}, surface, "is this a modelbase surface?");
@@ -100,7 +114,17 @@ std::vector<cl::ModelEntry> read_modelbase(const std::string& dir) {
       ++n;
     }
     if (n == 0) throw cm::DataError(surface, "has no vehicle points (label 1) to measure the model");
-    out.push_back({e.name, name, {hi[0] - lo[0], hi[1] - lo[1], std::max(0.0, hi[2])}});
+    cl::ModelEntry entry{e.name, name, {hi[0] - lo[0], hi[1] - lo[1], std::max(0.0, hi[2])}, std::nullopt};
+    // Its top's profile, measured as a candidate's (the surface's label-1 points, ground z = 0).
+    cl::Candidate c;
+    c.points.reserve(n);
+    for (std::size_t i = 0; i < pc.size(); ++i) {
+      if (!label || (*label)[i] == 1) c.points.emplace_back(pc.col("x")[i], pc.col("y")[i], pc.col("z")[i]);
+    }
+    const cl::Features f = cl::measure(c, p);
+    if (f.object_points >= p.min_points)
+      entry.profile = cl::ModelEntry::Profile{f.plateau_share, f.end_low, f.end_high};
+    out.push_back(std::move(entry));
   }
   return out;
 }
@@ -154,7 +178,13 @@ int main(int argc, char** argv) {
       to_tile = cl::index_transform(cm::read_file(cli.index), cli.index, id);
     }
     std::vector<cl::ModelEntry> entries;
-    if (!cli.modelbase.empty()) entries = read_modelbase(cli.modelbase);
+    if (!cli.model_classes.empty() && cli.modelbase.empty())
+      throw cm::UsageError("--model-classes needs --modelbase");
+    std::map<std::string, std::string> classes;
+    if (!cli.model_classes.empty())
+      classes = canopy::documents::parse_model_classes(cm::read_file(cli.model_classes), cli.model_classes);
+    if (!cli.modelbase.empty()) entries = read_modelbase(cli.modelbase, classes, p);
+    in.modelbase = entries;
     read.done(std::to_string(in.cloud.size()) + " candidate points" +
               (cli.modelbase.empty()
                    ? ""
@@ -166,6 +196,7 @@ int main(int argc, char** argv) {
     std::vector<std::string> inputs = {cli.in};
     if (!cli.index.empty()) inputs.push_back(cli.index);
     if (!cli.modelbase.empty()) inputs.push_back(cli.modelbase);
+    if (!cli.model_classes.empty()) inputs.push_back(cli.model_classes);
     doc.provenance = {"classify", CANOPY_VERSION, tool.parameters(), inputs};
     doc.candidate = cli.in;
     doc.transform = to_tile;

@@ -12,6 +12,7 @@
 #include "canopy/common/log.h"
 #include "canopy/common/units.h"
 #include "canopy/documents/tile_list.h"
+#include "canopy/documents/model_classes.h"
 #include "score/score.h"
 
 using namespace canopy;
@@ -140,7 +141,7 @@ int main(int argc, char** argv) {
                    : load_manifest(o.manifest);
     if (!o.model_classes.empty())
       score::apply_model_classes(
-          in.tiles, score::parse_model_classes(common::read_file(o.model_classes), o.model_classes));
+          in.tiles, documents::parse_model_classes(common::read_file(o.model_classes), o.model_classes));
     in.provenance = {"score", CANOPY_VERSION, tool.parameters(), {}};
     for (const auto& t : in.tiles) {
       in.provenance.inputs.push_back(t.detections.name);

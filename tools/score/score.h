@@ -101,10 +101,6 @@ void validate(const Params& params);
 Truth parse_truth(const std::string& text, const std::string& name);
 Detections parse_detections(const std::string& text, const std::string& name);
 
-// The classes of models (`--model-classes`): a CSV of lines "model,class" (a header line
-// "model,class" first; blank lines and '#' comments are skipped, formats::text_lines; a model at most
-// once; a class 1-64 characters of [a-z0-9-]). Throws common::DataError(name) naming the line.
-std::map<std::string, std::string> parse_model_classes(const std::string& text, const std::string& name);
 // Gives every true vehicle without a class, and every model-level detection without one, the
 // class of its model when `classes` names it (so a class-level answer "semi-tractor" on a
 // rendered "semi" is judged by its class, and a model answer carries its model's class).
