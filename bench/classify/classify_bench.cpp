@@ -45,7 +45,7 @@ double seconds_per_run(const formats::PointCloud& cloud, int repeats, std::strin
   const classify::Params p;
   const auto t0 = std::chrono::steady_clock::now();
   classify::Answer a;
-  for (int r = 0; r < repeats; ++r) a = classify::run(p, {cloud, "bench"});
+  for (int r = 0; r < repeats; ++r) a = classify::run(p, {cloud, "bench", {}});
   const auto t1 = std::chrono::steady_clock::now();
   *answer = a.cls.empty() ? a.reason : a.cls;
   return std::chrono::duration<double>(t1 - t0).count() / repeats;
