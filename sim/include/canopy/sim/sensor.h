@@ -54,7 +54,7 @@ struct Sensor {
   double reflect_vegetation = 0.45;
   double reflect_clutter = 0.3;
   double paint_min = 0.05, paint_max = 0.6;  // a vehicle's paint: uniform in [min, max] per vehicle
-  double reflect_glass = 0.05;               // a car's glazing (windscreen, side and rear windows)
+  double reflect_glass = 0.02;               // a car's glazing (windscreen, side and rear windows)
 };
 
 // A sensor key applied to `s` (words = the value split at blanks); throws common::UsageError.
