@@ -178,6 +178,32 @@ TEST_CASE("sensor detector: returns from hand-made waveforms") {
   CHECK(detected / double(n) == Approx(want).margin(0.03));
 }
 
+TEST_CASE("sensor surfaces: paint draws, glazing models, bounded keys") {
+  Sensor s;
+  s.paint_min = 0.1;
+  s.paint_max = 0.3;
+  double lo = 1, hi = 0, sum = 0;
+  const int n = 2000;
+  for (int k = 1; k <= n; ++k) {
+    const double p = sim::paint_reflectance(s, 7, k);
+    CHECK(p == sim::paint_reflectance(s, 7, k));  // same seed and instance, same paint
+    lo = std::min(lo, p), hi = std::max(hi, p), sum += p;
+  }
+  CHECK(lo >= 0.1);
+  CHECK(hi <= 0.3);
+  CHECK(sum / n == Approx(0.2).margin(0.005));  // uniform: mean 0.2, sd of the mean 0.0013
+  CHECK(sim::paint_reflectance(s, 7, 1) != sim::paint_reflectance(s, 8, 1));
+  for (const char* m : {"sedan", "sedan-501", "hatchback-2", "suv-603", "pickup-1", "van-604", "family:van:3"})
+    CHECK(sim::model_has_glass(m));
+  for (const char* m : {"semi", "tank", "earthmover", "obj1", "tank-3", "bus-2", "sedan-x", "my.ply"})
+    CHECK_FALSE(sim::model_has_glass(m));
+  CHECK(sim::reflectance(s, sim::Surface::kPaint, 0.25) == 0.25);
+  CHECK(sim::reflectance(s, sim::Surface::kGlass, 0.25) == s.reflect_glass);
+  CHECK_THAT(sensor_error("reflect_glass = 1.5\n"),
+             Catch::Contains("line 1") && Catch::Contains("reflect_glass"));
+  CHECK_THAT(sensor_error("paint_min = 0.5\npaint_max = 0.4\n"), Catch::Contains("paint_min"));
+}
+
 TEST_CASE("sensor physics: a flat plate gives one return per pulse at PRF / (speed x swath)") {
   const std::string base =
       "extent = 20m 10m\ntrees = 0\nbushes = 0\ncanopy_spacing = 0.5m\nsensor = als_qL1\n";
