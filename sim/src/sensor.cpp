@@ -50,10 +50,11 @@ int count(const std::string& w, int lo, int hi, const std::string& key) {
 
 const std::vector<std::string>& keys() {
   static const std::vector<std::string> k = {
-      "pattern",     "altitude",    "speed",       "pulse_rate",     "scan_rate",         "scan_angle",
-      "tilt",        "beams",       "beam_spread", "divergence",     "footprint_samples", "angle_step",
-      "detector",    "pulse_width", "threshold",   "min_separation", "max_returns",       "photons",
-      "range_noise", "sidelap",     "line_turn"};
+      "pattern",     "altitude",    "speed",        "pulse_rate",     "scan_rate",          "scan_angle",
+      "tilt",        "beams",       "beam_spread",  "divergence",     "footprint_samples",  "angle_step",
+      "detector",    "pulse_width", "threshold",    "min_separation", "max_returns",        "photons",
+      "range_noise", "sidelap",     "line_turn",    "reflect_ground", "reflect_vegetation", "reflect_clutter",
+      "paint_min",   "paint_max",   "reflect_glass"};
   return k;
 }
 
@@ -144,6 +145,16 @@ void apply_sensor_key(Sensor* s, const std::string& key, const std::vector<std::
   } else if (key == "line_turn") {
     s->line_turn = number(v);
     bound(s->line_turn, 0, 3600, key, "[0, 3600] s");
+  } else if (key == "reflect_ground" || key == "reflect_vegetation" || key == "reflect_clutter" ||
+             key == "paint_min" || key == "paint_max" || key == "reflect_glass") {
+    const double r = number(v);
+    bound(r, 0, 1, key, "[0, 1]");
+    (key == "reflect_ground"       ? s->reflect_ground
+     : key == "reflect_vegetation" ? s->reflect_vegetation
+     : key == "reflect_clutter"    ? s->reflect_clutter
+     : key == "paint_min"          ? s->paint_min
+     : key == "paint_max"          ? s->paint_max
+                                   : s->reflect_glass) = r;
   } else {
     throw UsageError("unknown sensor key '" + key + "'");
   }
@@ -157,6 +168,7 @@ void check_sensor(const Sensor& s) {
   if (s.pattern == ScanPattern::kOscillating && s.scan_angle > 40 * kDeg + 1e-12) {
     throw UsageError("an oscillating mirror's scan_angle must lie in [0.5 deg, 40 deg]");
   }
+  if (s.paint_min > s.paint_max) throw UsageError("paint_min must not exceed paint_max");
 }
 
 Sensor parse_sensor(const std::string& text, const std::string& file, const std::string& name) {
@@ -233,7 +245,13 @@ std::vector<std::pair<std::string, std::string>> sensor_keys(const Sensor& s) {
           {"photons", fmt(s.photons)},
           {"range_noise", fmt(s.range_noise) + "m"},
           {"sidelap", fmt(s.sidelap)},
-          {"line_turn", fmt(s.line_turn)}};
+          {"line_turn", fmt(s.line_turn)},
+          {"reflect_ground", fmt(s.reflect_ground)},
+          {"reflect_vegetation", fmt(s.reflect_vegetation)},
+          {"reflect_clutter", fmt(s.reflect_clutter)},
+          {"paint_min", fmt(s.paint_min)},
+          {"paint_max", fmt(s.paint_max)},
+          {"reflect_glass", fmt(s.reflect_glass)}};
 }
 
 // ---------------------------------------------------------------- scan geometry
@@ -345,6 +363,37 @@ std::vector<Return> detect_returns(const Sensor& s, std::vector<SubHit> hits, st
   std::stable_sort(hits.begin(), hits.end(),
                    [](const SubHit& a, const SubHit& b) { return a.range < b.range; });
   return s.detector == Detector::kWaveform ? waveform_returns(s, hits) : photon_returns(s, hits, rng_key);
+}
+
+// ---------------------------------------------------------------- surfaces
+
+bool model_has_glass(const std::string& name) {
+  if (name == "sedan") return true;
+  // A family instance's model is named <class>-<instance> (families.h), its spec family:<class>:<n>.
+  for (const std::string c : {"sedan", "hatchback", "suv", "pickup", "van"}) {
+    if (name.rfind("family:" + c + ":", 0) == 0) return true;
+    if (name.size() > c.size() + 1 && name.rfind(c + "-", 0) == 0 &&
+        std::all_of(name.begin() + static_cast<std::ptrdiff_t>(c.size()) + 1, name.end(),
+                    [](char d) { return d >= '0' && d <= '9'; }))
+      return true;
+  }
+  return false;
+}
+
+double paint_reflectance(const Sensor& s, std::uint64_t seed, int instance) {
+  common::Rng rng(
+      common::mix64(common::derive_seed(seed, "sensor-paint") + static_cast<std::uint64_t>(instance)));
+  return s.paint_min + (s.paint_max - s.paint_min) * rng.uniform();
+}
+
+double reflectance(const Sensor& s, Surface surface, double paint) {
+  switch (surface) {
+    case Surface::kGround: return s.reflect_ground;
+    case Surface::kVegetation: return s.reflect_vegetation;
+    case Surface::kClutter: return s.reflect_clutter;
+    case Surface::kGlass: return s.reflect_glass;
+    default: return paint;
+  }
 }
 
 }  // namespace canopy::sim

@@ -110,9 +110,9 @@ SensorPlan plan_sensor(const TileRecipe& r, const std::function<double(double, d
     const Vector2d f0(std::cos(heading), std::sin(heading)), c(-f0.y(), f0.x());
     const common::Extent2 e = common::extent_along(corners, f0, c);
     const double cc = (e.vmin + e.vmax) / 2, hw = (e.vmax - e.vmin) / 2;
-    const int kmax = static_cast<int>(std::floor((hw + half_swath) / line_spacing));
+    const int kmax = static_cast<int>(std::floor((hw + half_swath + std::abs(r.swath_offset)) / line_spacing));
     for (int k = -kmax; k <= kmax; ++k) {
-      const double offset = k * line_spacing;
+      const double offset = k * line_spacing + r.swath_offset;
       if (std::abs(offset) - half_swath >= hw) continue;
       FlightLine line;
       line.id = static_cast<int>(plan.lines.size()) + 1;

@@ -22,9 +22,10 @@ namespace {
 
 const std::set<std::string>& tile_keys() {
   static const std::set<std::string> keys = {
-      "extent",      "terrain",  "trees",    "hide",          "conifer_share",  "bushes",       "tree",
-      "canopy_disc", "vehicle",  "vehicles", "object",        "clutter",        "flight_lines", "headings",
-      "looks",       "altitude", "spacing",  "swath_overlap", "canopy_spacing", "origin"};
+      "extent",         "terrain",     "trees",       "hide",     "conifer_share", "bushes",
+      "tree",           "canopy_disc", "vehicle",     "vehicles", "object",        "clutter",
+      "flight_lines",   "headings",    "looks",       "altitude", "spacing",       "swath_overlap",
+      "canopy_spacing", "origin",      "swath_offset"};
   return keys;
 }
 
@@ -272,6 +273,10 @@ bool apply_flight_key(TileRecipe* t, const std::string& key, const std::vector<s
     t->swath_overlap = number(w[0]);
     if (!(t->swath_overlap >= 0 && t->swath_overlap <= 2))
       throw UsageError("swath_overlap must lie in [0, 2]");
+  } else if (key == "swath_offset") {
+    need(w, 1, 1, "swath_offset = LENGTH");
+    t->swath_offset = parse_length(w[0]);
+    if (!(std::abs(t->swath_offset) <= 5000)) throw UsageError("swath_offset must lie in [-5000 m, 5000 m]");
   } else if (key == "origin") {
     need(w, 2, 3, "origin = EASTING NORTHING [HEIGHT]");
     t->has_origin = true;
@@ -319,8 +324,15 @@ void apply_tile_key(TileRecipe* t, const std::string& key, const std::vector<std
 }
 
 void resolve_sensor(TileRecipe* t, const std::string& name) {
-  if (t->sensor_name.empty() && t->sensor_lines.empty()) return;
   const auto at = [&](int line) { return "line " + std::to_string(line) + ": "; };
+  if (t->sensor_name.empty() && t->sensor_lines.empty()) {
+    const auto it = t->lines.find("swath_offset");
+    if (it != t->lines.end())
+      throw common::DataError(name, at(it->second) +
+                                        "'swath_offset' places the tile in a sensor's swath: it needs "
+                                        "'sensor = NAME' or sensor.KEY lines");
+    return;
+  }
   for (const char* k : {"looks", "spacing", "swath_overlap", "flight_lines", "altitude"}) {
     const auto it = t->lines.find(k);
     if (it != t->lines.end()) {
@@ -345,6 +357,12 @@ void resolve_sensor(TileRecipe* t, const std::string& name) {
   } catch (const UsageError& e) {
     throw common::DataError(
         name, at(t->sensor_lines.empty() ? t->sensor_line : t->sensor_lines.back().line) + e.what());
+  }
+  if (std::abs(t->swath_offset) > s.altitude * std::tan(s.scan_angle)) {
+    throw common::DataError(name, at(t->lines.at("swath_offset")) + "swath_offset " +
+                                      common::format_length(t->swath_offset) +
+                                      " lies beyond the half swath (" +
+                                      common::format_length(s.altitude * std::tan(s.scan_angle)) + ")");
   }
   // One flight direction unless the recipe gives headings (the image mode's default is two).
   if (!t->lines.count("headings")) t->headings = {0};

@@ -50,7 +50,47 @@ std::uint32_t canopy_label(std::uint32_t cls) {
 
 }  // namespace
 
-std::vector<SubHit> sample_pulse(const Sensor& s, const Pulse& pulse, const TileView& v, const Image16& img) {
+SurfaceReflectance tile_surfaces(const Sensor& s, const Tile& tile, std::uint64_t seed) {
+  struct Car {
+    double paint = 1;
+    bool glass = false;
+    Eigen::Affine3d to_model = Eigen::Affine3d::Identity();  // tile -> the model's own frame
+    double z0 = 0, z1 = 1;                                   // glass band (model z)
+  };
+  std::map<std::int32_t, Car> cars;
+  for (const auto& v : tile.vehicles) {
+    Car c;
+    c.paint = paint_reflectance(s, seed, v.instance);
+    const auto& lo = tile.model_bounds[v.model_index].first;
+    const auto& hi = tile.model_bounds[v.model_index].second;
+    const Vector3d anchor((lo.x() + hi.x()) / 2, (lo.y() + hi.y()) / 2, lo.z());
+    // As rendered (tile_render.cpp pov_objects): tile point = pose * (model point - anchor).
+    c.to_model = (v.pose.transform() * Eigen::Translation3d(-anchor)).inverse();
+    c.glass = model_has_glass(v.model_name);
+    c.z0 = lo.z() + kGlassLo * (hi.z() - lo.z());
+    c.z1 = lo.z() + kGlassHi * (hi.z() - lo.z());
+    cars[v.instance] = c;
+  }
+  return [s, cars](const Vector3d& p, std::uint32_t cls, std::int32_t instance) {
+    switch (static_cast<Class>(cls)) {
+      case Class::kGround: return reflectance(s, Surface::kGround, 0);
+      case Class::kVegetation: return reflectance(s, Surface::kVegetation, 0);
+      case Class::kClutter: return reflectance(s, Surface::kClutter, 0);
+      default: break;
+    }
+    const auto it = cars.find(instance);
+    if (it == cars.end()) return reflectance(s, Surface::kPaint, s.paint_max);
+    const Car& c = it->second;
+    if (c.glass) {
+      const double z = (c.to_model * p).z();
+      if (z >= c.z0 && z < c.z1) return reflectance(s, Surface::kGlass, c.paint);
+    }
+    return reflectance(s, Surface::kPaint, c.paint);
+  };
+}
+
+std::vector<SubHit> sample_pulse(const Sensor& s, const Pulse& pulse, const TileView& v, const Image16& img,
+                                 const SurfaceReflectance& reflect) {
   const double range = (pulse.ground - pulse.sensor).norm();
   const double rad = footprint_radius(s, range);
   const Vector3d q = pulse.ground - v.origin;
@@ -67,7 +107,15 @@ std::vector<SubHit> sample_pulse(const Sensor& s, const Pulse& pulse, const Tile
     std::uint32_t cls = 0;
     std::int32_t inst = 0;
     if (!decode_pixel(img, v, i, j, &depth, &cls, &inst)) return;
-    hits.push_back({range + depth - depth_ground, weight, cls, inst});
+    double rho = 1;
+    if (reflect) {
+      const double x = (i + 0.5) / v.width - 0.5, y = 0.5 - (j + 0.5) / v.height;
+      const Vector3d at =
+          v.origin + x * v.width * v.spacing * v.right + y * v.height * v.spacing * v.up - depth * v.toward;
+      rho = reflect(at, cls, inst);
+    }
+    // A surface that returns nothing still stops the sub-ray (the first hit is all the image has).
+    if (rho > 0) hits.push_back({range + depth - depth_ground, weight * rho, cls, inst});
   };
   for (int j = static_cast<int>(std::ceil(wc - rp)); j <= static_cast<int>(std::floor(wc + rp)); ++j) {
     for (int i = static_cast<int>(std::ceil(uc - rp)); i <= static_cast<int>(std::floor(uc + rp)); ++i) {
@@ -108,11 +156,13 @@ TileScan sense_tile(const SensorPlan& plan, const std::function<Image16(int)>& i
   std::vector<std::vector<std::size_t>> of_view(plan.views.size());
   for (std::size_t p = 0; p < plan.pulses.size(); ++p) of_view[plan.pulses[p].view].push_back(p);
   const std::uint64_t photon_seed = common::derive_seed(seed, "sensor-photons");
+  const SurfaceReflectance surfaces = tile_surfaces(s, *tile, seed);
   for (std::size_t k = 0; k < plan.views.size(); ++k) {
     if (of_view[k].empty()) continue;
     const Image16 img = image(static_cast<int>(k));
     for (std::size_t p : of_view[k]) {
-      returns[p] = detect_returns(s, sample_pulse(s, plan.pulses[p], plan.views[k], img), photon_seed + p);
+      returns[p] =
+          detect_returns(s, sample_pulse(s, plan.pulses[p], plan.views[k], img, surfaces), photon_seed + p);
     }
   }
   TileScan scan;

@@ -10,10 +10,18 @@
 
 namespace canopy::rangetrace {
 
+// Reflectance of what a sub-ray hit: its point (tile frame), class and instance.
+using SurfaceReflectance = std::function<double(const Eigen::Vector3d&, std::uint32_t, std::int32_t)>;
+// The tile's surfaces under sensor `s` (sensor.h: ground, vegetation, clutter, each vehicle's
+// paint drawn from (seed, instance), glass in the greenhouse band of the cars that have one).
+SurfaceReflectance tile_surfaces(const Sensor& s, const Tile& tile, std::uint64_t seed);
+
 // The sub-rays of `pulse` in its image `img` (view `v`): the pixels whose centres lie inside the
 // footprint (1/e^2 radius at the pulse's range), weighted by the Gaussian beam profile and
-// normalised over the footprint, with the range along the pulse of what each hit.
-std::vector<SubHit> sample_pulse(const Sensor& s, const Pulse& pulse, const TileView& v, const Image16& img);
+// normalised over the footprint, with the range along the pulse of what each hit. The energy a
+// sub-ray returns is its weight times the reflectance of what it hit (`reflect`; none = 1).
+std::vector<SubHit> sample_pulse(const Sensor& s, const Pulse& pulse, const TileView& v, const Image16& img,
+                                 const SurfaceReflectance& reflect = {});
 
 // The columns of a sensor-mode scan: x y z intensity return_number number_of_returns
 // scan_direction_flag classification (ASPRS) scan_angle point_source_id gps_time, then label

@@ -88,7 +88,7 @@ def read_las(path):
     full = base + 'x' * (std_len - base_len) + eb_fmt
     full += 'x' * (reclen - struct.calcsize(full))
     buf = data[offset_points:offset_points + n * reclen]
-    cols = {k: [] for k in ('x', 'y', 'z', 'intensity', 'rn', 'nr', 'cls', 'angle', 'psid')}
+    cols = {k: [] for k in ('x', 'y', 'z', 'intensity', 'rn', 'nr', 'cls', 'angle', 'psid', 'gps')}
     for name in eb_names:
         cols[name] = []
     sx, sy, sz = scale
@@ -96,6 +96,7 @@ def read_las(path):
     X, Y, Z, I, RN, NR, C, A = (cols[k] for k in ('x', 'y', 'z', 'intensity', 'rn', 'nr', 'cls', 'angle'))
     ebl = [cols[nm] for nm in eb_names]
     PS = cols['psid']
+    G = cols['gps']
     ne = len(eb_names)
     for rec in struct.iter_unpack(full, buf):
         # rounded to 0.1 mm: the same coordinates written with another scale and offset
@@ -111,12 +112,14 @@ def read_las(path):
             A.append(float(rec[6]))
             PS.append(rec[8])
             k = 9 if fmt in (1, 3, 4, 5) else 8
+            G.append(rec[9] if k == 9 else 0.0)
         else:
             RN.append(rec[4] & 15)
             NR.append(rec[4] >> 4)
             C.append(rec[6])
             A.append(rec[8] * 0.006)
             PS.append(rec[9])
+            G.append(rec[10])
             k = 11
         for j in range(ne):
             ebl[j].append(rec[k + j])

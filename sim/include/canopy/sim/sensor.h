@@ -39,13 +39,22 @@ struct Sensor {
   double angle_step = 0.0174533;  // rad, scan-direction bin (one image per bin and line)
   Detector detector = Detector::kWaveform;
   double pulse_width = 4e-9;    // s, FWHM of the emitted pulse (waveform detector)
-  double threshold = 0.1;       // waveform peak detected at >= this share of a full hit
-  double min_separation = 1.5;  // m of range between two returns of one pulse (dead zone)
-  int max_returns = 4;
-  double photons = 5;         // photon detector: mean signal photons of a full-footprint hit
+  double threshold = 0.03;      // peak of the returned energy detected at >= this share of a full-
+                                // footprint hit on a white (reflectance 1) Lambertian surface
+  double min_separation = 0.7;  // m of range between two returns of one pulse (dead zone)
+  int max_returns = 8;
+  double photons = 5;  // photon detector: mean signal photons of a full-footprint hit on a white surface
   double range_noise = 0.02;  // m, 1 sigma along the beam
   double sidelap = 0.3;       // share of the swath that neighbouring lines overlap
   double line_turn = 60;      // s between the end of one line and the start of the next
+  // Surfaces (reflectance at the laser's wavelength, share of a white Lambertian target): the
+  // energy a sub-ray returns is the energy it intercepts times the reflectance of what it hit.
+  // All 1 = no reflectance term (every surface returns what it intercepts).
+  double reflect_ground = 0.3;
+  double reflect_vegetation = 0.45;
+  double reflect_clutter = 0.3;
+  double paint_min = 0.05, paint_max = 0.6;  // a vehicle's paint: uniform in [min, max] per vehicle
+  double reflect_glass = 0.02;               // a car's glazing (windscreen, side and rear windows)
 };
 
 // A sensor key applied to `s` (words = the value split at blanks); throws common::UsageError.
@@ -99,5 +108,18 @@ struct Return {
 // detection blinding the detector for `min_separation` of range. `rng_key` seeds the photon
 // draws (same key, same returns).
 std::vector<Return> detect_returns(const Sensor& s, std::vector<SubHit> hits, std::uint64_t rng_key);
+
+// ---------------------------------------------------------------- surfaces
+
+// What a sub-ray hit, for its reflectance.
+enum class Surface { kGround, kVegetation, kClutter, kPaint, kGlass };
+// The glazing of a car: the greenhouse between `glass_lo` and `glass_hi` of the vehicle's height
+// (bounding box of its model), i.e. above the bonnet and boot, below the roof panel. Only the
+// models that have one: the built-in sedan and the car/van families (families.cpp).
+bool model_has_glass(const std::string& model_name);
+constexpr double kGlassLo = 0.66, kGlassHi = 0.97;
+// A vehicle's paint reflectance, uniform in [paint_min, paint_max], drawn from (seed, instance).
+double paint_reflectance(const Sensor& s, std::uint64_t seed, int instance);
+double reflectance(const Sensor& s, Surface surface, double paint);
 
 }  // namespace canopy::sim

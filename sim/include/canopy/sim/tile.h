@@ -110,6 +110,9 @@ struct TileRecipe {
   };
   std::vector<SensorLine> sensor_lines;
   std::optional<Sensor> sensor;
+  // Sensor mode: the flight lines are planned this far to the left of the tile's centre line
+  // (across the first heading), so that the tile lies off the swath's centre (`swath_offset`).
+  double swath_offset = 0;
 
   std::string dir;  // the recipe's directory ("" = current)
   // The line of each key given once (every key but tree, canopy_disc, vehicle, object and
