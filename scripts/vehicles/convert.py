@@ -370,6 +370,14 @@ def convert(row, mirror):
     n_source = len(faces)
     verts = transform(verts, float(row["scale"]), row["up"], float(row["yaw_deg"]))
     verts, faces = decimate(verts, faces, int(row["max_triangles"]))
+    # Vertex clustering moves the extreme vertices inward by up to a cell: when that left the box
+    # off the frame by more than 1 mm (coarse cells, the Chrono meshes), translate it back (a
+    # finer decimation, the OpenMATERIAL truck's 5 mm, is left as it was).
+    lo = [min(v[i] for v in verts) for i in range(3)]
+    hi = [max(v[i] for v in verts) for i in range(3)]
+    shift = ((lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, lo[2])
+    if max(abs(c) for c in shift) > 0.001:
+        verts = [(x - shift[0], y - shift[1], z - shift[2]) for x, y, z in verts]
     # Round to float32 first, so the bounding box written below is the file's own.
     verts = [struct.unpack("<3f", struct.pack("<3f", *v)) for v in verts]
     lo = [min(v[i] for v in verts) for i in range(3)]
