@@ -91,3 +91,28 @@ TEST_CASE("open set: instance accuracy counts the model-level answers naming the
   CHECK(md.find("| ch_man_7t | ch_man_5t (0.080 m; om_truck_example 0.400 m) | 1/1 | 1 / 0 | 1/1 |") !=
         std::string::npos);
 }
+
+TEST_CASE("open set: the crops' table gives Wilson intervals on the counts, one crop per tile") {
+  // 10 crops of cars: 8 found (5 at the model level, 3 at the class level), 6 of them the right
+  // class, one false alarm. Wilson: 8/10 [49.0, 94.3], 6/8 [40.9, 92.9], 6/10 [31.3, 83.2],
+  // 2/8 [7.1, 59.1].
+  const documents::SceneScore crops = documents::read_scene_score(R"({
+    "format": "canopy.scene_score", "version": 1,
+    "params": {"match_radius_m": 1.5, "cover_bins": [0, 1], "flip_threshold_deg": 90},
+    "tiles": [{"detections": "c/d.json", "cover": "car", "noise_mm": 0, "area_ha": 0.04}],
+    "summary": [
+      {"cover": "car", "noise_mm": "all", "tiles": 10, "true": 10, "tp": 5, "fp": 1, "class_tp": 3, "class_fp": 0,
+       "found_any_level": 8, "class_right_any_level": 6},
+      {"cover": "all", "noise_mm": "all", "tiles": 10, "true": 10, "tp": 5, "fp": 1, "class_tp": 3, "class_fp": 0,
+       "found_any_level": 8, "class_right_any_level": 6}],
+    "pr": [], "models": [], "cover_bins": [], "reliability": [], "matches": []})",
+                                                                  "crops.json");
+  documents::SceneScore tiles;
+  const std::string md = report::openset_markdown(tiles, "score.json", &crops, "crops.json");
+  CHECK(
+      md.find("| car | 10 | 8 (5 + 3) | 8/10 = 80.0% [49.0, 94.3] | 6/8 = 75.0% [40.9, 92.9] | 6/10 = 60.0% "
+              "[31.3, 83.2] | 2/8 = 25.0% [7.1, 59.1] | 1 |") != std::string::npos);
+  CHECK(md.find("| all | 10 | 8 (5 + 3) |") != std::string::npos);
+  // Without distances: no instance accuracy line.
+  CHECK(md.find("Instance accuracy") == std::string::npos);
+}
