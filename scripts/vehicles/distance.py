@@ -156,7 +156,7 @@ def self_test():
     a = sample(sq_v, sq_f, 2000, "square")
     assert chamfer(a, a) == 0.0
     up = [(x, y, z + 2.0) for x, y, z in a]
-    d = chamfer(a, up)
+    d = chamfer(a, up, h=1.0)
     assert 2.0 <= d <= 2.001, d
     # An L shape and the same L turned by 180 deg about z (centred): distance 0 after the flip.
     l_v = [(-1.0, -0.5, 0.0), (1.0, -0.5, 0.0), (1.0, 0.5, 0.0), (-1.0, 0.5, 0.0), (1.0, -0.5, 1.0), (1.0, 0.5, 1.0)]
