@@ -14,7 +14,20 @@
 #                                              are drawn from the TEST instances only
 #   results/openset/score.json (+ CSV tables)  scored against their truth: the class of each
 #                                              answer (model answers: their entry's class)
-# The report's section "Open set: unseen vehicles" reads the score (report --openset).
+#   out/openset/crops/<name>/seed-<s>/...     single-vehicle crops (the issue's second target):
+#                                              each test instance ALONE in an open 20 m tile
+#                                              (flat, no trees, bushes or clutter; the scene
+#                                              experiment's flight lines, looks and spacing),
+#                                              detect's candidate = the crop, then the tile
+#                                              chain (classify, fitvox | cocone | ncut | gmatch |
+#                                              verify, collect) as `make tile` runs it
+#   results/openset/crops/score.json (+ CSVs)   scored like the tiles, the cover label = the
+#                                              test instance's class (one row per class)
+#   share/vehicles/distances.csv               the instance distance (scripts/vehicles/
+#                                              distance.py): which modelbase instance is nearest
+#                                              to each test instance (instance accuracy)
+# The report's section "Open set: unseen vehicles" reads the scores (report --openset,
+# --openset-crops) and the distances (--openset-distances).
 comma := ,
 OPENSET ?= $(SCENE_EXPERIMENT)
 $(if $(filter-out 0 1,$(OPENSET)),$(error OPENSET=$(OPENSET): must be 0 or 1))
@@ -30,7 +43,7 @@ OPENSET_MESHES := $(OPENSET_LIBRARY)/modelbase
 OPENSET_SCORE := $(OPENSET_RES)/score.json
 # NAME:CLASS:FILE:SPLIT of every library mesh (catalogue.csv joined with split.csv; one shell,
 # only where the open set is read: every parse pays for its shells, docs/decisions/cost.md).
-ifneq ($(filter 1,$(OPENSET))$(filter openset,$(MAKECMDGOALS)),)
+ifneq ($(filter 1,$(OPENSET))$(filter openset openset-crops,$(MAKECMDGOALS)),)
 openset_rows := $(shell awk -F, 'FNR == 1 { next } FILENAME ~ /split/ { s[$$1] = $$3; next } \
   { print $$1 ":" $$2 ":" $$3 ":" s[$$1] }' $(OPENSET_LIBRARY)/split.csv $(OPENSET_LIBRARY)/catalogue.csv)
 endif
@@ -40,7 +53,7 @@ openset_class = $(word 2,$(subst :, ,$(1)))
 openset_file = $(OPENSET_LIBRARY)/$(word 3,$(subst :, ,$(1)))
 OPENSET_TRAIN := $(call openset_split,modelbase)
 OPENSET_TEST := $(call openset_split,test)
-$(if $(filter 1,$(OPENSET))$(filter openset,$(MAKECMDGOALS)),$(if $(and $(OPENSET_TRAIN),$(OPENSET_TEST)),,$(error OPENSET: $(OPENSET_LIBRARY) has no \
+$(if $(filter 1,$(OPENSET))$(filter openset openset-crops,$(MAKECMDGOALS)),$(if $(and $(OPENSET_TRAIN),$(OPENSET_TEST)),,$(error OPENSET: $(OPENSET_LIBRARY) has no \
   modelbase or no test instance in split.csv)))
 # The test meshes as the recipe's random list (absolute paths: the recipe lives under OUT).
 openset_models = $(subst $(space),$(comma),$(strip $(foreach r,$(OPENSET_TEST),$(abspath $(call openset_file,$(r))))))
@@ -53,7 +66,70 @@ $(foreach r,$(OPENSET_TEST),$(call openset_name,$(r)),$(call openset_class,$(r))
 )
 endef
 
-ifeq ($(filter scenes user-modelbase,$(MAKECMDGOALS)),)
+# The single-vehicle crops (OPENSET_CROPS=0 leaves them out): one open tile per test instance
+# and seed, the vehicle alone. The acquisition is the scene experiment's (mk/scenes.mk's recipe:
+# two flight lines per heading, headings 0 and 90 deg, looks 75 deg fore and aft, SCENE_SPACING).
+OPENSET_CROPS ?= 1
+$(if $(filter-out 0 1,$(OPENSET_CROPS)),$(error OPENSET_CROPS=$(OPENSET_CROPS): must be 0 or 1))
+OPENSET_CROP_EXTENT ?= 20m
+OPENSET_CROP_DIR := $(OPENSET_DIR)/crops
+OPENSET_CROP_RES := $(OPENSET_RES)/crops
+OPENSET_CROP_SCORE := $(OPENSET_CROP_RES)/score.json
+OPENSET_DISTANCES := $(OPENSET_LIBRARY)/distances.csv
+# One run per test instance and seed: <dir>/<name>/seed-<seed>, with the instance's class and mesh.
+openset_crop_run = $(OPENSET_CROP_DIR)/$(call openset_name,$(1))/seed-$(2)
+OPENSET_CROP_RUNS := $(foreach r,$(OPENSET_TEST),$(foreach s,$(OPENSET_SEEDS),$(call openset_crop_run,$(r),$(s))))
+define openset_crop_recipe
+# open set, single-vehicle crop (mk/openset.mk): $(1), seed $(2)
+extent = $(OPENSET_CROP_EXTENT)
+terrain = flat
+trees = 0
+bushes = 0
+vehicles = random 1 from $(3)
+flight_lines = 2
+headings = 0deg 90deg
+looks = 75deg/0deg 75deg/180deg
+spacing = $(SCENE_SPACING)
+endef
+
+ifneq ($(filter openset-crops,$(MAKECMDGOALS)),)
+# ---- read only by the crops' sub-make (`make openset-crops`, run by `make openset`) --------
+# Like the scene experiment's tiles (mk/scenes.mk): every run's candidate plan is an included
+# makefile, brought up to date (render, detect, plan) before the goal, so only this make reads
+# them. The modelbase and classes.csv are made by the parent first.
+$(if $(dry_run),,$(shell mkdir -p $(OPENSET_CROP_RUNS) $(OPENSET_CROP_RES)))
+# openset_crop_rule(run, name, seed, mesh): the recipe and the render.
+define openset_crop_rule
+$(1)/recipe.scene: $(call text_prereq,$(1)/recipe.scene,$(call openset_crop_recipe,$(2),$(3),$(4)))
+$(1)/scan.pcd: $(1)/recipe.scene $(4) $(call tool,rangetrace)
+	@$(STAGE) $$@ -- $(BIN)/rangetrace --scene $$< --seed $$(call seed,openset/crops/$(2)/$(3)) --threads 2 \
+	  -o $$@ --truth $(1)/truth.json
+$(1)/truth.json: $(1)/scan.pcd
+endef
+$(foreach r,$(OPENSET_TEST),$(foreach s,$(OPENSET_SEEDS),$(eval $(call openset_crop_rule,$(call \
+  openset_crop_run,$(r),$(s)),$(call openset_name,$(r)),$(s),$(abspath $(call openset_file,$(r)))))))
+# The tile chain on each run (mk/scenes.mk's rules, as the scene experiment uses them: classify
+# with the simulated tiles' thresholds, SCENE_CLASSIFY; ncut's seed key is the run's place under
+# OUT, so another OUT gives the same bytes).
+$(foreach r,$(OPENSET_CROP_RUNS),$(eval $(call tile_rules,$(call scene_key,$(r)),$(r),$(r)/scan.pcd,$(OPENSET_MB),$(if $(keep),,--no-classes))))
+$(foreach r,$(OPENSET_CROP_RUNS),$(call read_plan,$(r)/cands.mk))
+$(foreach r,$(OPENSET_CROP_RUNS),$(call cand_rules,$(r),$(call scene_key,$(r)),$(OPENSET_MB),$(patsubst $(OUT)/%,%,$(r)),$(SCENE_CLASSIFY)))
+$(foreach r,$(OPENSET_CROP_RUNS),$(eval $(call tile_collect,$(call scene_key,$(r)),$(r),$(OPENSET_MB),$(r)/scan.pcd)))
+# The score's tile list: detections truth noise cover, the cover label being the instance's class.
+openset_crop_manifest = $(subst $(nl)$(space),$(nl),$(foreach r,$(OPENSET_TEST),$(foreach s,$(OPENSET_SEEDS),$(call \
+  ml,$(call openset_crop_run,$(r),$(s))/detections.json $(call openset_crop_run,$(r),$(s))/truth.json 0 $(call openset_class,$(r))))))
+$(OPENSET_CROP_DIR)/tiles.txt: $(call text_prereq,$(OPENSET_CROP_DIR)/tiles.txt,$(openset_crop_manifest))
+# The scans (≈ 40 MB each) are deleted once the score is made (KEEP=1 keeps them).
+.SECONDARY: $(addsuffix /scan.pcd,$(OPENSET_CROP_RUNS))
+$(OPENSET_CROP_SCORE): $(OPENSET_CROP_DIR)/tiles.txt $(addsuffix /detections.json,$(OPENSET_CROP_RUNS)) $(call tool,score) \
+    $(wildcard $(OPENSET_DIR)/classes.csv)
+	@$(STAGE) $@ -- $(BIN)/score --tiles $(OPENSET_CROP_DIR)/tiles.txt --model-classes $(OPENSET_DIR)/classes.csv -o $@ \
+	  --csv $(OPENSET_CROP_RES)/$(if $(keep),, && rm -f $(addsuffix /scan.pcd,$(OPENSET_CROP_RUNS)))
+.PHONY: openset-crops
+openset-crops: $(OPENSET_CROP_SCORE)
+endif
+
+ifeq ($(filter scenes user-modelbase openset-crops tile tiles,$(MAKECMDGOALS)),)
 ifeq ($(OPENSET),1)
 $(if $(dry_run),,$(shell mkdir -p $(OPENSET_DIR) $(OPENSET_RES)))
 $(OPENSET_DIR)/classes.csv: $(call text_prereq,$(OPENSET_DIR)/classes.csv,$(subst $(nl)$(space),$(nl),$(openset_classes)))
@@ -67,11 +143,13 @@ openset_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROG
   SCENE_MODELS=$(openset_models) SCENE_MODEL_CLASSES=$(OPENSET_DIR)/classes.csv \
   SCENE_SEEDS="$(OPENSET_SEEDS)" SCENE_COVERS="$(OPENSET_COVERS)" SCENE_NOISES=0 SCENE_BASELINE= \
   SCENE_SIZE_ONLY=0 SCENE_PICTURES=0
+openset_crop_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) openset-crops PROGRESS=0
 ifneq ($(findstring q,$(make_letters))$(OPENSET),q1)
 openset_force := FORCE
 else
 openset_force := $(if $(shell { $(MAKE) -q $(MAKEOVERRIDES) $(openset_mb_args) && \
-  $(MAKE) -q $(MAKEOVERRIDES) $(openset_args); } >/dev/null 2>&1 || echo stale),FORCE)
+  $(MAKE) -q $(MAKEOVERRIDES) $(openset_args)$(if $(filter 1,$(OPENSET_CROPS)), && \
+  $(MAKE) -q $(MAKEOVERRIDES) $(openset_crop_args)); } >/dev/null 2>&1 || echo stale),FORCE)
 endif
 $(if $(filter meshsize,$(TOOLS)),,$(eval $(call tool_rule,meshsize)))
 OPENSET_TOOLS := meshsize rangetrace detect classify fitvox cocone ncut gmatch verify collect score
@@ -79,10 +157,15 @@ $(OPENSET_MB)/.built: $(openset_force) $(wildcard $(OPENSET_MESHES)/*) $(foreach
 	+@$(MAKE) $(openset_mb_args)$(if $(dry_run),, && touch $@)
 $(OPENSET_SCORE): $(openset_force) $(OPENSET_MB)/.built $(OPENSET_DIR)/classes.csv $(MODELBASE) $(VERIFY_SURFACES)
 	+@$(MAKE) $(openset_args)
+# The crops' sub-make, after the modelbase and classes.csv (and after the tiles' sub-make, so
+# that -j2 is not split between two renders of 30 m tiles and 20 m tiles at once).
+$(OPENSET_CROP_SCORE): $(openset_force) $(OPENSET_SCORE) $(OPENSET_MB)/.built $(OPENSET_DIR)/classes.csv
+	+@$(MAKE) $(openset_crop_args)
 .PHONY: openset
-openset: $(OPENSET_SCORE)
+openset: $(OPENSET_SCORE) $(if $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_SCORE))
 ifeq ($(OPENSET),1)
-$(RES)/report.md: $(OPENSET_SCORE)
-REPORT_ARGS += --openset $(OPENSET_SCORE)
+$(RES)/report.md: $(OPENSET_SCORE) $(if $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_SCORE)) $(OPENSET_DISTANCES)
+REPORT_ARGS += --openset $(OPENSET_SCORE) --openset-distances $(OPENSET_DISTANCES)$(if $(filter 1,$(OPENSET_CROPS)), \
+  --openset-crops $(OPENSET_CROP_SCORE))
 endif
 endif

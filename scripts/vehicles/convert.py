@@ -11,7 +11,10 @@ Sources are read with `git show COMMIT:PATH` from the repository snapshots under
 transform of each mesh is one row of transforms.csv:
 
   name, class, repo, commit, path   where the mesh comes from (path: one file; several
-                                    parts are joined with '|')
+                                    parts are joined with '|'; a part written FILE@x;y;z is
+                                    placed translated by (x, y, z) in the file's own units and
+                                    axes, before scale/up/yaw: how a source's wheel mesh is put
+                                    at each spindle position of a chassis)
   scale                             multiplies the file's coordinates (after COLLADA's
                                     <unit meter>) to give metres
   up                                the file's up axis: z, y (right-handed y up: (x,y,z) ->
@@ -348,7 +351,11 @@ def ply_bytes(verts, faces, comments):
 
 def convert(row, mirror):
     verts, faces = [], []
-    for path in row["path"].split("|"):
+    for part in row["path"].split("|"):
+        path, _, at = part.partition("@")
+        offset = [float(t) for t in at.split(";")] if at else [0.0, 0.0, 0.0]
+        if len(offset) != 3:
+            raise ValueError("%s: part %r: the offset after @ must be x;y;z" % (row["name"], part))
         ext = path.rsplit(".", 1)[1].lower()
         data = git_show(mirror, row["repo"], row["commit"], path)
         if ext == "gltf":
@@ -358,11 +365,19 @@ def convert(row, mirror):
         else:
             v, f = READERS[ext](data)
         b = len(verts)
-        verts += v
+        verts += [(x + offset[0], y + offset[1], z + offset[2]) for x, y, z in v]
         faces += [(a + b, c + b, d + b) for a, c, d in f]
     n_source = len(faces)
     verts = transform(verts, float(row["scale"]), row["up"], float(row["yaw_deg"]))
     verts, faces = decimate(verts, faces, int(row["max_triangles"]))
+    # Vertex clustering moves the extreme vertices inward by up to a cell: when that left the box
+    # off the frame by more than 1 mm (coarse cells, the Chrono meshes), translate it back (a
+    # finer decimation, the OpenMATERIAL truck's 5 mm, is left as it was).
+    lo = [min(v[i] for v in verts) for i in range(3)]
+    hi = [max(v[i] for v in verts) for i in range(3)]
+    shift = ((lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, lo[2])
+    if max(abs(c) for c in shift) > 0.001:
+        verts = [(x - shift[0], y - shift[1], z - shift[2]) for x, y, z in verts]
     # Round to float32 first, so the bounding box written below is the file's own.
     verts = [struct.unpack("<3f", struct.pack("<3f", *v)) for v in verts]
     lo = [min(v[i] for v in verts) for i in range(3)]

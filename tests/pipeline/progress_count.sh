@@ -80,7 +80,7 @@ planned=$(plan)
 [ ! -e "$tmp/out" ] || fail "make -n all wrote $tmp/out"
 "${mk[@]}" all -j2 >"$tmp/make.out" 2>&1 || fail "make all failed: $(grep -v '^done' "$tmp/make.out" | tail -5)"
 for part in /families/ /scenes/light/tile-1/noise-8/cands/ /density/d25/light/tile-1/noise-0/cands/ \
-  /density/ladder-rates.png /openset/modelbase/.work/ /openset/tiles/light/tile-1/noise-0/cands/ \
+  /density/ladder-rates.png /openset/modelbase/.work/ /openset/tiles/light/tile-1/noise-0/cands/ /openset/crops/ \
   /real/forest_lareunion/cands/ \
   /real/ign_lidarhd_870000_6618000/score.json /ablation/; do
   grep -Eq "^(done|FAIL)  [0-9]+/[0-9]+ .*$part" "$tmp/make.out" || fail "no stage of $part counted"

@@ -217,3 +217,37 @@ TEST_CASE("split.csv: modelbase and test instances cover the catalogue and never
     if (total >= 2) CHECK(n.count("test") == 1);
   }
 }
+
+TEST_CASE("distances.csv: every test instance against exactly its class's modelbase instances, ranked") {
+  // scripts/vehicles/distance.py writes it (the report's instance accuracy reads rank 1); a mesh
+  // or split change without re-running it leaves rows that no longer match split.csv.
+  std::map<std::string, std::set<std::string>> modelbase_of_class;
+  std::map<std::string, std::string> test_class;
+  for (const Row& s : read_csv("split.csv")) {
+    if (s.at("split") == "modelbase")
+      modelbase_of_class[s.at("class")].insert(s.at("name"));
+    else
+      test_class[s.at("name")] = s.at("class");
+  }
+  std::map<std::string, std::vector<Row>> rows;
+  for (const Row& r : read_csv("distances.csv")) rows[r.at("test")].push_back(r);
+  CHECK(rows.size() == test_class.size());
+  for (const auto& [test, cls] : test_class) {
+    INFO(test);
+    REQUIRE(rows.count(test) == 1);
+    std::set<std::string> named;
+    double last = 0;
+    for (std::size_t i = 0; i < rows.at(test).size(); ++i) {
+      const Row& r = rows.at(test)[i];
+      CHECK(r.at("class") == cls);
+      CHECK(std::stoi(r.at("rank")) == static_cast<int>(i) + 1);
+      const double d = std::stod(r.at("distance_m"));
+      CHECK(d > 0);    // a test instance is never a modelbase mesh
+      CHECK(d < 2.0);  // same-class vehicles in one frame: well under the size of a vehicle
+      CHECK(d >= last);
+      last = d;
+      named.insert(r.at("modelbase"));
+    }
+    CHECK(named == modelbase_of_class[cls]);
+  }
+}

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -198,7 +199,7 @@ std::string density_section(const std::vector<documents::ManifestDensity>& densi
 struct Sources {
   std::string manifest, results = "results";
   std::string thesis;  // default: <share>/thesis/results.csv
-  std::string tile_score, families, disk, openset;
+  std::string tile_score, families, disk, openset, openset_crops, openset_distances;
   int real_timeout = 0;
 };
 
@@ -223,6 +224,11 @@ void bind(common::Tool& tool, Sources& src, report::Params& p) {
   tool.add("--openset", &src.openset,
            "the open-set experiment's score.json (mk/openset.mk): adds the section \"Open set: unseen "
            "vehicles\"");
+  tool.add("--openset-crops", &src.openset_crops,
+           "the open set's single-vehicle crops' score.json (mk/openset.mk): a subsection of the open set's");
+  tool.add("--openset-distances", &src.openset_distances,
+           "the vehicle library's distances.csv (scripts/vehicles/distance.py): the open set's nearest "
+           "modelbase instances and instance accuracy");
   tool.add("--disk", &src.disk,
            "the experiment's output directory: adds the \"Disk\" section (bytes per part when the report is "
            "written)");
@@ -270,8 +276,18 @@ int main(int argc, char** argv) {
     if (!src.tile_score.empty()) markdown += scenes_section(src.tile_score, scene_dir, results, outputs);
     if (!manifest.real.empty()) markdown += real_section(manifest.real, src.real_timeout);
     if (!manifest.density.empty()) markdown += density_section(manifest.density, results, outputs);
-    if (!src.openset.empty())
-      markdown += report::openset_markdown(documents::read_scene_score_file(src.openset), src.openset);
+    if (!src.openset.empty()) {
+      const std::optional<documents::SceneScore> crops =
+          src.openset_crops.empty() ? std::nullopt
+                                    : std::optional(documents::read_scene_score_file(src.openset_crops));
+      const report::OpensetDistances distances =
+          src.openset_distances.empty() ? report::OpensetDistances{}
+                                        : report::parse_openset_distances(
+                                              common::read_file(src.openset_distances), src.openset_distances);
+      markdown += report::openset_markdown(documents::read_scene_score_file(src.openset), src.openset,
+                                           crops ? &*crops : nullptr, src.openset_crops, distances,
+                                           src.openset_distances);
+    }
     if (!src.disk.empty())
       markdown += report::disk_markdown(report::disk_parts(src.disk, manifest.objects), src.disk);
     outputs.set(results + "/report.md", markdown);

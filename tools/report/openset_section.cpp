@@ -1,25 +1,33 @@
 #include "report/openset_section.h"
 
+#include <cstdlib>
 #include <map>
 #include <sstream>
 
-#include "report/score_cells.h"
+#include "canopy/common/error.h"
+#include "canopy/common/units.h"
 #include "report/report.h"
+#include "report/score_cells.h"
 
 namespace canopy::report {
 
-std::string openset_markdown(const documents::SceneScore& score, const std::string& score_path) {
-  std::ostringstream md;
-  md << "\n## Open set: unseen vehicles\n\n"
-     << "The scene experiment's tiles (its recipe and cover levels, noise 0) with their vehicles drawn "
-        "from the vehicle library's **test** instances only (share/vehicles/split.csv: third-party meshes "
-        "never in the modelbase), recognised against a modelbase built by `make user-modelbase` from the "
-        "library's **modelbase** instances (share/vehicles/modelbase/). No answer can name the right "
-        "instance, so what is judged is the class: a model answer names its entry's class, a class "
-        "answer its class or group (score --model-classes). Either level counts as found. Rates: k/n "
-        "and score's 95% interval (mk/openset.mk; docs/decisions/open-set.md; "
-     << score_path << ").\n\n";
-  md << "| cover | tiles | vehicles | found (model + class) | recall | precision | class right (of found) | "
+namespace {
+
+std::vector<std::string> split_commas(const std::string& line) {
+  std::vector<std::string> out(1);
+  for (char c : line) {
+    if (c == ',')
+      out.emplace_back();
+    else if (c != '\r')
+      out.back() += c;
+  }
+  return out;
+}
+
+// The per-cover rows of a score, then a per-instance table of what the answers were.
+void rates_table(std::ostringstream& md, const documents::SceneScore& score, const std::string& label) {
+  md << "| " << label
+     << " | tiles | vehicles | found (model + class) | recall | precision | class right (of found) | "
         "false alarms/ha |\n|---|---|---|---|---|---|---|---|\n";
   for (const documents::ScoreRow* r : cover_rows(score)) {
     const documents::ScoreValue* c = documents::score_cell(*r, "cover");
@@ -31,9 +39,33 @@ std::string openset_markdown(const documents::SceneScore& score, const std::stri
        << score_ci(*r, "class_accuracy_any_level", "%.1f%%", "%.1f", 100) << " | "
        << score_ci(*r, "false_alarms_any_level_per_ha", "%.1f", "%.1f", 1) << " |\n";
   }
-  // Per test instance: found, by level, and the classes (or models) answered.
+}
+
+// The crops' table: one vehicle per tile, so every crop is an independent trial and the rates
+// take Wilson's interval on their counts (score's own intervals resample tiles, which with one
+// vehicle a tile and a handful of tiles give [0, 100]).
+void crops_table(std::ostringstream& md, const documents::SceneScore& score) {
+  md << "| class | crops | found (model + class) | recall | class right (of found) | class right (of all "
+        "crops) | "
+        "wrong class (of found) | false alarms |\n|---|---|---|---|---|---|---|---|\n";
+  const auto count = [](const documents::ScoreRow& r, const std::string& key) {
+    return static_cast<int>(score_number(r, key).value_or(0) + 0.5);
+  };
+  for (const documents::ScoreRow* r : cover_rows(score)) {
+    const documents::ScoreValue* c = documents::score_cell(*r, "cover");
+    const int n = count(*r, "true"), found = count(*r, "found_any_level"),
+              right = count(*r, "class_right_any_level");
+    md << "| " << (c ? c->text : "") << " | " << n << " | " << found << " (" << score_count(*r, "tp") << " + "
+       << score_count(*r, "class_tp") << ") | " << rate_ci_units(found, n, n) << " | "
+       << rate_ci_units(right, found, found) << " | " << rate_ci_units(right, n, n) << " | "
+       << rate_ci_units(found - right, found, found) << " | " << count(*r, "fp") + count(*r, "class_fp")
+       << " |\n";
+  }
+}
+
+void instance_table(std::ostringstream& md, const documents::SceneScore& score, const OpensetDistances& d) {
   struct Tally {
-    int all = 0, found = 0, model = 0, cls = 0;
+    int all = 0, found = 0, model = 0, cls = 0, nearest = 0;
     std::map<std::string, int> answers;
   };
   std::map<std::string, Tally> per;
@@ -45,16 +77,128 @@ std::string openset_markdown(const documents::SceneScore& score, const std::stri
     ++t.found;
     const bool model = m.level.value_or("model") == "model";
     ++(model ? t.model : t.cls);
+    if (model && m.model && *m.model == openset_nearest_entry(d, *m.true_model)) ++t.nearest;
     ++t.answers[(model ? "model " + m.model.value_or("?") + " (" + m.cls.value_or("no class") + ")"
                        : "class " + m.cls.value_or("?"))];
   }
-  md << "\n| test instance | found / true | at model / class level | answers |\n|---|---|---|---|\n";
+  md << "\n| test instance | nearest modelbase instance (D; runner-up) | found / true | at model / class "
+        "level | "
+        "model answers naming the nearest | answers |\n|---|---|---|---|---|---|\n";
   for (const auto& [name, t] : per) {
-    std::string answers;
+    std::string answers, nearest = "–";
     for (const auto& [a, n] : t.answers)
       answers += (answers.empty() ? "" : ", ") + a + " × " + std::to_string(n);
-    md << "| " << name << " | " << t.found << "/" << t.all << " | " << t.model << " / " << t.cls << " | "
-       << (answers.empty() ? "–" : answers) << " |\n";
+    const auto it = d.find(name);
+    if (it != d.end() && !it->second.empty()) {
+      const auto& v = it->second;
+      nearest = v[0].modelbase + format_number(" (%.3f m", v[0].distance_m) +
+                (v.size() > 1 ? "; " + v[1].modelbase + format_number(" %.3f m)", v[1].distance_m) : ")");
+    }
+    md << "| " << name << " | " << nearest << " | " << t.found << "/" << t.all << " | " << t.model << " / "
+       << t.cls << " | "
+       << (t.model > 0 && !d.empty() ? std::to_string(t.nearest) + "/" + std::to_string(t.model) : "–")
+       << " | " << (answers.empty() ? "–" : answers) << " |\n";
+  }
+}
+
+std::string instance_line(const documents::SceneScore& score, const OpensetDistances& d) {
+  const InstanceTally t = openset_instance_tally(score, d);
+  return "**Instance accuracy** (model-level answers naming the test instance's nearest modelbase "
+         "instance): " +
+         rate_ci_units(t.nearest, t.model_answers, t.model_answers) + ".\n";
+}
+
+}  // namespace
+
+OpensetDistances parse_openset_distances(const std::string& text, const std::string& name) {
+  OpensetDistances out;
+  std::istringstream in(text);
+  std::string line;
+  int number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    const std::string where = "line " + std::to_string(number) + ": ";
+    if (line.empty() || line == "\r") continue;
+    const std::vector<std::string> f = split_commas(line);
+    if (number == 1) {
+      if (f != std::vector<std::string>{"test", "class", "modelbase", "distance_m", "rank"})
+        throw common::DataError(name, where + "the header must be test,class,modelbase,distance_m,rank");
+      continue;
+    }
+    if (f.size() != 5 || f[0].empty() || f[1].empty() || f[2].empty())
+      throw common::DataError(name, where + "five fields test,class,modelbase,distance_m,rank expected");
+    if (common::decimal_prefix(f[3]) != f[3].size() || f[3].empty() ||
+        !common::decimal_problem(f[3]).empty() || f[3][0] == '-')
+      throw common::DataError(name, where + "distance_m '" + f[3] + "' is not a distance in metres");
+    if (f[4].empty() || f[4].size() > 6 || f[4].find_first_not_of("0123456789") != std::string::npos)
+      throw common::DataError(name, where + "rank '" + f[4] + "' is not a whole number");
+    std::vector<OpensetNeighbour>& v = out[f[0]];
+    OpensetNeighbour n{f[2], f[1], std::strtod(f[3].c_str(), nullptr), std::atoi(f[4].c_str())};
+    if (n.rank != static_cast<int>(v.size()) + 1)
+      throw common::DataError(
+          name, where + "rank " + f[4] + " of " + f[0] + ": ranks must run 1, 2, ... per test instance");
+    if (!v.empty() && (n.distance_m < v.back().distance_m || n.cls != v.back().cls))
+      throw common::DataError(name, where + f[0] + ": rows must be of one class, by distance");
+    v.push_back(n);
+  }
+  if (number == 0) throw common::DataError(name, "empty (no header)");
+  return out;
+}
+
+std::string openset_nearest_entry(const OpensetDistances& d, const std::string& test) {
+  const auto it = d.find(test);
+  if (it == d.end() || it->second.empty()) return "";
+  return it->second[0].cls + "__" + it->second[0].modelbase;
+}
+
+InstanceTally openset_instance_tally(const documents::SceneScore& score, const OpensetDistances& d) {
+  InstanceTally t;
+  for (const documents::ScoreMatch& m : score.matches) {
+    if (!m.true_model || (m.outcome != "right" && m.outcome != "wrong")) continue;
+    if (m.level.value_or("model") != "model" || !d.count(*m.true_model)) continue;
+    ++t.model_answers;
+    if (m.model && *m.model == openset_nearest_entry(d, *m.true_model)) ++t.nearest;
+  }
+  return t;
+}
+
+std::string openset_markdown(const documents::SceneScore& score, const std::string& score_path,
+                             const documents::SceneScore* crops, const std::string& crops_path,
+                             const OpensetDistances& distances, const std::string& distances_path) {
+  std::ostringstream md;
+  md << "\n## Open set: unseen vehicles\n\n"
+     << "The scene experiment's tiles (its recipe and cover levels, noise 0) with their vehicles drawn "
+        "from the vehicle library's **test** instances only (share/vehicles/split.csv: third-party meshes "
+        "never in the modelbase), recognised against a modelbase built by `make user-modelbase` from the "
+        "library's **modelbase** instances (share/vehicles/modelbase/). No answer can name the right "
+        "instance, so what is judged is the class: a model answer names its entry's class, a class "
+        "answer its class or group (score --model-classes). Either level counts as found. Rates: k/n "
+        "and score's 95% interval (mk/openset.mk; docs/decisions/open-set.md; "
+     << score_path << ").\n\n";
+  rates_table(md, score, "cover");
+  if (!distances.empty())
+    md << "\n"
+       << instance_line(score, distances)
+       << "The nearest instance: the modelbase instance of the test instance's class at the least symmetric "
+          "chamfer distance D between the two meshes (library frame: centred, bottom at z = 0, unscaled; "
+          "the better of yaw 0 and 180 deg; 4096 area-uniform surface samples each; "
+          "scripts/vehicles/distance.py, "
+       << distances_path << ").\n";
+  instance_table(md, score, distances);
+  if (crops != nullptr) {
+    md << "\n### Single-vehicle crops of the unseen test instances\n\n"
+       << "Each test instance alone in an open 20 m tile (flat ground, no trees, bushes or clutter; the "
+          "scene "
+          "experiment's flight lines, looks and 40 mm spacing), one per seed at a seeded pose; detect's "
+          "candidate is the crop, and the tile chain runs on it as `make tile` does (classify, then fitvox, "
+          "cocone, ncut, gmatch and verify when dense enough, collect). Every test instance's class has "
+          "other instances in the modelbase (the split rule). One row per class (the cover label is the "
+          "class), then all; the issue's target: class right ≥ 80%, a wrong class ≤ 5%. Rates: k/n with "
+          "Wilson's 95% interval (one vehicle per tile: independent trials; "
+       << crops_path << ").\n\n";
+    crops_table(md, *crops);
+    if (!distances.empty()) md << "\n" << instance_line(*crops, distances);
+    instance_table(md, *crops, distances);
   }
   return md.str();
 }

@@ -1,17 +1,48 @@
 // The report's "Open set: unseen vehicles" section (issue 29; mk/openset.mk,
 // docs/decisions/open-set.md): the scene experiment's tiles with vehicles drawn from the vehicle
-// library's test instances only, recognised against a modelbase of its other instances.
+// library's test instances only, recognised against a modelbase of its other instances; the
+// single-vehicle crops of the same test instances; and instance accuracy by the library's
+// geometric distance (share/vehicles/distances.csv, scripts/vehicles/distance.py).
 #pragma once
 
+#include <map>
 #include <string>
+#include <vector>
 
 #include "canopy/documents/scene_score.h"
 
 namespace canopy::report {
 
-// The section (Markdown) from the open-set score: per cover level the rates with their 95%
-// intervals (recall, precision, class right, false alarms per ha: either level), and per test
-// instance what the answers were (found, at which level, the classes answered).
-std::string openset_markdown(const documents::SceneScore& score, const std::string& score_path);
+// One row of distances.csv: a modelbase instance of the test instance's class and its distance.
+struct OpensetNeighbour {
+  std::string modelbase, cls;  // the instance's name and class (its entry is <class>__<name>)
+  double distance_m = 0;
+  int rank = 0;  // 1 = nearest
+};
+// Per test instance, its class's modelbase instances by rank.
+using OpensetDistances = std::map<std::string, std::vector<OpensetNeighbour>>;
+
+// distances.csv (header test,class,modelbase,distance_m,rank; ranks 1..n per test instance, by
+// distance). DataError naming `name` and the line on a malformed file.
+OpensetDistances parse_openset_distances(const std::string& text, const std::string& name);
+
+// The modelbase entry nearest to the test instance `test` ("<class>__<name>"), "" when unknown.
+std::string openset_nearest_entry(const OpensetDistances& d, const std::string& test);
+
+// Instance accuracy over a score's matches: of the model-level answers (right or wrong) on a
+// vehicle whose true model has a row in `d`, how many name its nearest entry.
+struct InstanceTally {
+  int model_answers = 0, nearest = 0;
+};
+InstanceTally openset_instance_tally(const documents::SceneScore& score, const OpensetDistances& d);
+
+// The section (Markdown). `score`: the open-set tiles (per cover level the rates with their 95%
+// intervals: recall, precision, class right, false alarms per ha; per test instance what the
+// answers were). `crops` (may be null): the single-vehicle crops, one cover label per class.
+// `distances` (may be empty): each test instance's nearest modelbase instance and the instance
+// accuracy of the model-level answers, for the tiles and for the crops.
+std::string openset_markdown(const documents::SceneScore& score, const std::string& score_path,
+                             const documents::SceneScore* crops = nullptr, const std::string& crops_path = "",
+                             const OpensetDistances& distances = {}, const std::string& distances_path = "");
 
 }  // namespace canopy::report

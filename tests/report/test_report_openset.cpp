@@ -1,0 +1,118 @@
+// The open-set section (issue 29): the library's distances.csv read with its checks, each test
+// instance's nearest modelbase entry, and instance accuracy over a hand-made score's matches.
+#include <catch2/catch.hpp>
+
+#include <string>
+
+#include "canopy/common/error.h"
+#include "canopy/documents/scene_score.h"
+#include "report/openset_section.h"
+
+using namespace canopy;
+
+namespace {
+
+const char* const kDistances =
+    "test,class,modelbase,distance_m,rank\n"
+    "gz_suv,car,ch_nissan_patrol,0.1500,1\n"
+    "gz_suv,car,gz_prius_hybrid,0.2500,2\n"
+    "ch_man_7t,truck,ch_man_5t,0.0800,1\n"
+    "ch_man_7t,truck,om_truck_example,0.4000,2\n";
+
+documents::ScoreMatch match(const std::string& truth, const std::string& outcome, const std::string& level,
+                            const std::string& model, const std::string& cls) {
+  documents::ScoreMatch m;
+  m.true_model = truth;
+  m.outcome = outcome;
+  m.level = level;
+  if (!model.empty()) m.model = model;
+  m.cls = cls;
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("open set: distances.csv gives each test instance's nearest modelbase entry") {
+  const report::OpensetDistances d = report::parse_openset_distances(kDistances, "distances.csv");
+  REQUIRE(d.size() == 2);
+  REQUIRE(d.at("gz_suv").size() == 2);
+  CHECK(d.at("gz_suv")[1].distance_m == Approx(0.25));
+  CHECK(report::openset_nearest_entry(d, "gz_suv") == "car__ch_nissan_patrol");
+  CHECK(report::openset_nearest_entry(d, "ch_man_7t") == "truck__ch_man_5t");
+  CHECK(report::openset_nearest_entry(d, "gz_hatchback").empty());
+}
+
+TEST_CASE("open set: a malformed distances.csv is refused naming the file and the line") {
+  const auto refuses = [](const std::string& text, const std::string& what) {
+    try {
+      report::parse_openset_distances(text, "lib/distances.csv");
+      FAIL("accepted: " << text);
+    } catch (const common::DataError& e) {
+      INFO(e.what());
+      CHECK(std::string(e.what()).find("lib/distances.csv") != std::string::npos);
+      CHECK(std::string(e.what()).find(what) != std::string::npos);
+    }
+  };
+  refuses("", "empty");
+  refuses("test,class,modelbase,distance\n", "header");
+  refuses("test,class,modelbase,distance_m,rank\ngz_suv,car,x,0.1\n", "line 2: five fields");
+  refuses("test,class,modelbase,distance_m,rank\ngz_suv,car,x,0x1,1\n", "not a distance");
+  refuses("test,class,modelbase,distance_m,rank\ngz_suv,car,x,-0.1,1\n", "not a distance");
+  refuses("test,class,modelbase,distance_m,rank\ngz_suv,car,x,0.1,2\n", "ranks must run");
+  refuses("test,class,modelbase,distance_m,rank\ngz_suv,car,x,0.2,1\ngz_suv,car,y,0.1,2\n", "by distance");
+}
+
+TEST_CASE("open set: instance accuracy counts the model-level answers naming the nearest instance") {
+  const report::OpensetDistances d = report::parse_openset_distances(kDistances, "distances.csv");
+  documents::SceneScore s;
+  s.matches = {
+      match("gz_suv", "right", "model", "car__ch_nissan_patrol", "car"),       // the nearest: counts
+      match("gz_suv", "right", "model", "car__gz_prius_hybrid", "car"),        // right class, not nearest
+      match("gz_suv", "wrong", "model", "truck__ch_man_5t", "truck"),          // wrong class, not nearest
+      match("gz_suv", "right", "class", "", "car"),                            // class level: not counted
+      match("gz_suv", "missed", "model", "", ""),                              // missed: not counted
+      match("ch_man_7t", "right", "model", "truck__ch_man_5t", "truck"),       // the nearest
+      match("gz_hatchback", "right", "model", "car__ch_nissan_patrol", "car")  // no distances: not counted
+  };
+  const report::InstanceTally t = report::openset_instance_tally(s, d);
+  CHECK(t.model_answers == 4);
+  CHECK(t.nearest == 2);
+  const std::string md = report::openset_markdown(s, "score.json", &s, "crops.json", d, "distances.csv");
+  // 2/4 with Wilson's interval [15.0, 85.0], for the tiles and for the crops.
+  const std::string line =
+      "model-level answers naming the test instance's nearest modelbase instance): 2/4 = 50.0%";
+  const auto first = md.find(line);
+  REQUIRE(first != std::string::npos);
+  CHECK(md.find(line, first + 1) != std::string::npos);
+  CHECK(md.find("[15.0, 85.0]") != std::string::npos);
+  CHECK(md.find("### Single-vehicle crops of the unseen test instances") != std::string::npos);
+  CHECK(md.find("| gz_suv | ch_nissan_patrol (0.150 m; gz_prius_hybrid 0.250 m) | 4/5 | 3 / 1 | 1/3 |") !=
+        std::string::npos);
+  CHECK(md.find("| ch_man_7t | ch_man_5t (0.080 m; om_truck_example 0.400 m) | 1/1 | 1 / 0 | 1/1 |") !=
+        std::string::npos);
+}
+
+TEST_CASE("open set: the crops' table gives Wilson intervals on the counts, one crop per tile") {
+  // 10 crops of cars: 8 found (5 at the model level, 3 at the class level), 6 of them the right
+  // class, one false alarm. Wilson: 8/10 [49.0, 94.3], 6/8 [40.9, 92.9], 6/10 [31.3, 83.2],
+  // 2/8 [7.1, 59.1].
+  const documents::SceneScore crops = documents::read_scene_score(R"({
+    "format": "canopy.scene_score", "version": 1,
+    "params": {"match_radius_m": 1.5, "cover_bins": [0, 1], "flip_threshold_deg": 90},
+    "tiles": [{"detections": "c/d.json", "cover": "car", "noise_mm": 0, "area_ha": 0.04}],
+    "summary": [
+      {"cover": "car", "noise_mm": "all", "tiles": 10, "true": 10, "tp": 5, "fp": 1, "class_tp": 3, "class_fp": 0,
+       "found_any_level": 8, "class_right_any_level": 6},
+      {"cover": "all", "noise_mm": "all", "tiles": 10, "true": 10, "tp": 5, "fp": 1, "class_tp": 3, "class_fp": 0,
+       "found_any_level": 8, "class_right_any_level": 6}],
+    "pr": [], "models": [], "cover_bins": [], "reliability": [], "matches": []})",
+                                                                  "crops.json");
+  documents::SceneScore tiles;
+  const std::string md = report::openset_markdown(tiles, "score.json", &crops, "crops.json");
+  CHECK(
+      md.find("| car | 10 | 8 (5 + 3) | 8/10 = 80.0% [49.0, 94.3] | 6/8 = 75.0% [40.9, 92.9] | 6/10 = 60.0% "
+              "[31.3, 83.2] | 2/8 = 25.0% [7.1, 59.1] | 1 |") != std::string::npos);
+  CHECK(md.find("| all | 10 | 8 (5 + 3) |") != std::string::npos);
+  // Without distances: no instance accuracy line.
+  CHECK(md.find("Instance accuracy") == std::string::npos);
+}
