@@ -49,7 +49,7 @@ $(if $(shell printf '%s' '$(TILE_MODEL_DENSITY)' | grep -xE '[0-9]+(\.[0-9]+)?')
   TILE_MODEL_DENSITY=$(TILE_MODEL_DENSITY) must be a number of points/m²))
 endif
 # The density rule (docs/decisions/density-scale.md): a model-level candidate below 370
-# points/m² runs fitvox, cocone, ncut and verify with lengths scaled to its density (the plan's
+# points/m² runs fitvox, cocone and ncut with lengths scaled to its density (the plan's
 # <key>_<STAGE>_<id> options); TILE_DENSITY_SCALE=0 runs them all with the parameter files'
 # lengths (the ablation; before the rule).
 TILE_DENSITY_SCALE ?= 1
@@ -134,7 +134,7 @@ $(1)/cands/$(2)/match.json: $(1)/cands/$(2)/segments.json $(wildcard $(4)/*.json
 	@$(STAGE) --record-failure $$@ -- $(BIN)/gmatch --config $(P)/gmatch.ini -i $$< --modelbase $(4) -o $$@
 $(1)/cands/$(2)/verdict.json: $(1)/cands/$(2)/match.json $(1)/cands/$(2)/samples.pcd \
     $(wildcard $(4)/*.json $(4)/*.pcd) $(call tool,verify) $(wildcard $(P)/verify.ini) $($(3)_TRAJECTORY)
-	@$(STAGE) --record-failure $$@ -- $(BIN)/verify $(call scene_config,verify)$(call cand_scale,$(3),VERIFY,$(2)) -i $$< \
+	@$(STAGE) --record-failure $$@ -- $(BIN)/verify $(call scene_config,verify) -i $$< \
 	  --points $(1)/cands/$(2)/samples.pcd --segments $(1)/cands/$(2)/segments.json \
 	  --modelbase $(4) --transform $($(3)_TRANSFORM_$(2))$(if $($(3)_TRAJECTORY), --trajectory $($(3)_TRAJECTORY)) -o $$@
 endef

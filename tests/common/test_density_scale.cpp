@@ -1,5 +1,5 @@
 // The density rule of the model-level stages (common/density_scale.h): known densities give
-// known voxels, radii and distances computed by hand from the rule; the dense end is the
+// known voxels, areas and radii computed by hand from the rule; the dense end is the
 // parameter files' values.
 #include <catch2/catch.hpp>
 
@@ -56,10 +56,6 @@ TEST_CASE("density rule: the dense end is the tile chain's parameter files") {
   const auto ncut = ini("ncut.ini");
   CHECK(mm(ncut.at("radius")) == canopy::common::kDenseRadiusMm);
   CHECK(mm(ncut.at("dense-radius")) == canopy::common::kDenseDenseRadiusMm);
-  const auto verify = ini("verify.ini");
-  CHECK(mm(verify.at("inlier-distance")) == canopy::common::kDenseInlierDistMm);
-  CHECK(mm(verify.at("inlier-radius")) == canopy::common::kDenseInlierRadiusMm);
-  CHECK(mm(verify.at("ray-cell")) == canopy::common::kDenseRayCellMm);
 }
 
 TEST_CASE("density rule: at and above 370 points/m², or unknown, today's values and no options") {
@@ -83,26 +79,19 @@ TEST_CASE("density rule: known densities give known scales") {
   CHECK(q.max_area == Approx(0.16));
   CHECK(q.radius_mm == 1024);
   CHECK(q.dense_radius_mm == 350);
-  CHECK(q.inlier_distance_mm == 200);
-  CHECK(q.inlier_radius_mm == 500);
-  CHECK(q.ray_cell_mm == 400);
   CHECK(density_scale_options(q, "fitvox") == "--voxel 256mm");
   CHECK(density_scale_options(q, "cocone") == "--max-area 0.16");
   CHECK(density_scale_options(q, "ncut") == "--radius 1024mm --dense-radius 350mm");
-  CHECK(density_scale_options(q, "verify") ==
-        "--inlier-distance 200mm --inlier-radius 500mm --ray-cell 400mm");
   CHECK(density_scale_options(q, "gmatch").empty());  // relative scales: unchanged
+  CHECK(density_scale_options(q, "verify").empty());  // distances to the 128 mm modelbase
   // 200: 128 x sqrt(1.85) = 174.10 mm -> 175 mm (whole mm, upwards: never fewer points than
   // the dense end's per voxel); f = 175 / 128 = 1.3671875.
   const DensityScale s = density_scale(200);
   CHECK(s.voxel_mm == 175);
   CHECK(s.factor == 1.3671875);
   CHECK(s.max_area == Approx(0.04 * 1.3671875 * 1.3671875));
-  CHECK(s.radius_mm == 700);           // 512 f = 700.0
-  CHECK(s.dense_radius_mm == 239);     // 175 f = 239.26
-  CHECK(s.inlier_distance_mm == 137);  // 136.72
-  CHECK(s.inlier_radius_mm == 342);    // 341.80
-  CHECK(s.ray_cell_mm == 273);         // 273.44
+  CHECK(s.radius_mm == 700);        // 512 f = 700.0
+  CHECK(s.dense_radius_mm == 239);  // 175 f = 239.26
   CHECK(density_scale_options(s, "cocone") == "--max-area 0.0747681");
   // Just below the dense end: one millimetre more.
   CHECK(density_scale(369).voxel_mm == 129);

@@ -174,7 +174,7 @@ std::string plan(const Index& index, const std::string& key, double model_densit
     if (!c.density || *c.density < model_density) continue;
     const common::DensityScale s = common::density_scale(*c.density);
     if (s.dense_end()) continue;
-    for (const char* stage : {"fitvox", "cocone", "ncut", "verify"}) {
+    for (const char* stage : common::kDensityScaledStages) {
       std::string name = stage;
       std::transform(name.begin(), name.end(), name.begin(), [](unsigned char ch) { return std::toupper(ch); });
       out += key + "_" + name + "_" + c.id + " := " + common::density_scale_options(s, stage) + "\n";

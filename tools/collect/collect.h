@@ -164,9 +164,9 @@ Outputs run(const Params& params, const Inputs& inputs);
 // when the candidate's object density is at least model_density (or unknown: an older
 // index), else "class" (classify only). Ids are plain names (parse_index). With `scale`, each
 // model-level candidate of known object density below the dense end (common/density_scale.h)
-// also gets the density rule's options per stage, <key>_FITVOX_<id>, <key>_COCONE_<id>,
-// <key>_NCUT_<id> and <key>_VERIFY_<id> (e.g. "--voxel 175mm"); the others get none, and their
-// stages run with today's parameters.
+// also gets the density rule's options per stage, <key>_FITVOX_<id>, <key>_COCONE_<id> and
+// <key>_NCUT_<id> (e.g. "--voxel 175mm"); the others get none, and their stages run with
+// today's parameters.
 std::string plan(const Index& index, const std::string& key = "TILE", double model_density = kModelDensity,
                  bool scale = true);
 

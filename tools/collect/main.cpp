@@ -79,8 +79,9 @@ void bind(common::Tool& tool, Options& o) {
            "(<key>_LEVEL_<id> := class), the others the model chain too");
   tool.add_flag("--no-density-scale", &o.no_density_scale,
                 "--plan: no density rule: every model-level candidate runs the stages' configured "
-                "lengths (otherwise one below 370 points/m² gets a voxel, radii and inlier distances "
-                "scaled to its density, <key>_FITVOX_<id> ...: docs/decisions/density-scale.md)");
+                "lengths (otherwise one below 370 points/m² gets fitvox's voxel, cocone's facet area "
+                "and ncut's radii scaled to its density, <key>_FITVOX_<id> ...: "
+                "docs/decisions/density-scale.md)");
   tool.add_output("--geojson", &o.geojson, "also write the detections as a GeoJSON FeatureCollection");
   tool.add("--crs", &o.crs,
            "coordinate reference system of the tile, EPSG:<code>: recorded in detections.json "

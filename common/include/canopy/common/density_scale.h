@@ -1,19 +1,21 @@
 // The density rule of the model-level stages (issue 27; docs/decisions/density-scale.md): one
 // candidate's measured object density (points per m² of its footprint, detect's index.json)
-// -> the length scales of fitvox, cocone, ncut and verify, with the tile chain's values of
-// today (share/params/fitvox-tile.ini, cocone.ini, ncut.ini, verify.ini) as the dense end.
+// -> the length scales of fitvox, cocone and ncut, with the tile chain's values of today
+// (share/params/fitvox-tile.ini, cocone.ini, ncut.ini) as the dense end.
 //
 // Rule: a 128 mm voxel keeps fitvox-tile.ini's 6 points on a surface of kDenseDensity = 370
 // points/m² (0.128² x 370 = 6.06). Below that density the voxel edge grows as the point spacing
 // s = 1/sqrt(density) does, so that a voxel keeps the same ~6 points:
 //   voxel = max(128 mm, ceil_mm(128 mm x sqrt(370 / density)))      (= k s, k = sqrt(6.06))
-// and every other length of the chain that was set in voxels at 128 mm keeps its ratio to the
-// voxel, f = voxel / 128 mm: cocone's largest facet area x f², ncut's affinity radius and dense
-// radius x f, verify's inlier distance, inlier radius and depth-buffer cell x f. Dimensionless
-// settings (fitvox's min-points and merge, gmatch's relative area and distance scales, the
-// angles) do not change. At and above kDenseDensity every value is today's and the stages get
-// no option at all (their command lines and outputs are byte-identical to before the rule).
-// Lengths are whole millimetres so the options a plan writes are short, exact text.
+// and every length of the chain that was set in voxels at 128 mm keeps its ratio to the voxel,
+// f = voxel / 128 mm: cocone's largest facet area x f², ncut's affinity radius and dense radius
+// x f. Not scaled: dimensionless settings (fitvox's min-points and merge, gmatch's relative
+// area and distance scales, the angles) and verify's distances, which compare the candidate's
+// samples with the modelbase's 128 mm surface and measure pose and fit, not the candidate's
+// spacing (scaling them let clutter through: density-scale.md, "verify"). At and above
+// kDenseDensity every value is today's and the stages get no option at all (their command lines
+// and outputs are byte-identical to before the rule). Lengths are whole millimetres so the
+// options a plan writes are short, exact text.
 #pragma once
 
 #include <algorithm>
@@ -24,14 +26,11 @@
 namespace canopy::common {
 
 // The dense end: today's tile-chain values.
-constexpr double kDenseDensity = 370;      // points/m²: the density a 128 mm voxel needs
-constexpr int kDenseVoxelMm = 128;         // fitvox-tile.ini voxel
-constexpr double kDenseMaxArea = 0.04;     // cocone.ini max-area (m²)
-constexpr int kDenseRadiusMm = 512;        // ncut.ini radius
-constexpr int kDenseDenseRadiusMm = 175;   // ncut.ini dense-radius
-constexpr int kDenseInlierDistMm = 100;    // verify.ini inlier-distance
-constexpr int kDenseInlierRadiusMm = 250;  // verify.ini inlier-radius
-constexpr int kDenseRayCellMm = 200;       // verify.ini ray-cell
+constexpr double kDenseDensity = 370;     // points/m²: the density a 128 mm voxel needs
+constexpr int kDenseVoxelMm = 128;        // fitvox-tile.ini voxel
+constexpr double kDenseMaxArea = 0.04;    // cocone.ini max-area (m²)
+constexpr int kDenseRadiusMm = 512;       // ncut.ini radius
+constexpr int kDenseDenseRadiusMm = 175;  // ncut.ini dense-radius
 
 // The chain's length scales for one candidate (lengths in mm, area in m²).
 struct DensityScale {
@@ -39,8 +38,6 @@ struct DensityScale {
   double factor = 1;  // voxel / 128 mm, >= 1
   double max_area = kDenseMaxArea;
   int radius_mm = kDenseRadiusMm, dense_radius_mm = kDenseDenseRadiusMm;
-  int inlier_distance_mm = kDenseInlierDistMm, inlier_radius_mm = kDenseInlierRadiusMm;
-  int ray_cell_mm = kDenseRayCellMm;
   bool dense_end() const { return voxel_mm == kDenseVoxelMm; }
 };
 
@@ -57,15 +54,13 @@ inline DensityScale density_scale(double density) {
   s.max_area = kDenseMaxArea * s.factor * s.factor;
   s.radius_mm = len(kDenseRadiusMm);
   s.dense_radius_mm = len(kDenseDenseRadiusMm);
-  s.inlier_distance_mm = len(kDenseInlierDistMm);
-  s.inlier_radius_mm = len(kDenseInlierRadiusMm);
-  s.ray_cell_mm = len(kDenseRayCellMm);
   return s;
 }
 
-// The options one stage gets for scale `s` ("fitvox", "cocone", "ncut", "verify"), to follow its
-// --config on the command line (a later option overrides the file's value); "" at the dense
-// end and for a stage the rule does not touch (gmatch).
+// The options one stage gets for scale `s` ("fitvox", "cocone", "ncut"), to follow its --config
+// on the command line (a later option overrides the file's value); "" at the dense end and for
+// a stage the rule does not touch (gmatch, verify).
+constexpr const char* kDensityScaledStages[] = {"fitvox", "cocone", "ncut"};
 inline std::string density_scale_options(const DensityScale& s, const std::string& stage) {
   if (s.dense_end()) return "";
   auto mm = [](const char* opt, int v) { return std::string(opt) + " " + std::to_string(v) + "mm"; };
@@ -76,10 +71,6 @@ inline std::string density_scale_options(const DensityScale& s, const std::strin
     return buf;
   }
   if (stage == "ncut") return mm("--radius", s.radius_mm) + " " + mm("--dense-radius", s.dense_radius_mm);
-  if (stage == "verify") {
-    return mm("--inlier-distance", s.inlier_distance_mm) + " " + mm("--inlier-radius", s.inlier_radius_mm) +
-           " " + mm("--ray-cell", s.ray_cell_mm);
-  }
   return "";
 }
 
