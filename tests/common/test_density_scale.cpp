@@ -109,3 +109,17 @@ TEST_CASE("density rule: a voxel keeps the dense end's points per voxel, and gro
     last = s.voxel_mm;
   }
 }
+
+TEST_CASE("density rule: the make default of the model level is the header's") {
+  std::ifstream in(std::string(CANOPY_SOURCE_DIR) + "/mk/scenes.mk");
+  REQUIRE(in);
+  std::string line, value;
+  while (std::getline(in, line)) {
+    if (line.rfind("TILE_MODEL_DENSITY ?= ", 0) == 0) value = line.substr(22);
+  }
+  REQUIRE_FALSE(value.empty());
+  CHECK(std::stod(value) == canopy::common::kModelLevelDensity);
+  // The rule reaches down to it: a voxel there still holds the dense end's points.
+  const DensityScale s = density_scale(canopy::common::kModelLevelDensity);
+  CHECK(s.voxel_mm == 349);  // 128 x sqrt(370 / 50) = 348.2
+}

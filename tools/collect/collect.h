@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "canopy/common/density_scale.h"
 #include "canopy/documents/candidates.h"
 #include "canopy/formats/provenance.h"
 
@@ -32,9 +33,9 @@ struct Index {
   decltype(documents::Candidates::density) density;  // the index's "density" object (detect.md §7), or null
 };
 
-// The density of model-level recognition (docs/decisions/classify.md §11.2: fitvox-tile.ini's
-// 6 points per 128 mm voxel).
-constexpr double kModelDensity = 370;
+// The density of model-level recognition (common/density_scale.h: the lowest object density at
+// which the density rule's chain runs; docs/decisions/density-scale.md).
+constexpr double kModelDensity = common::kModelLevelDensity;
 
 struct Verdict {
   std::string name;       // file, as given

@@ -32,6 +32,13 @@ constexpr double kDenseMaxArea = 0.04;    // cocone.ini max-area (m²)
 constexpr int kDenseRadiusMm = 512;       // ncut.ini radius
 constexpr int kDenseDenseRadiusMm = 175;  // ncut.ini dense-radius
 
+// The lowest object density (points/m²) at which the model chain runs (collect --plan's default
+// --model-density, mk/scenes.mk's TILE_MODEL_DENSITY): with the rule,
+// the development ladder's candidates from 58 points/m² up were named right at the model level,
+// and those below 50 (the 50 points/m² level, 21-47) were never named at all (the chain's
+// verdict was none, their class answer stands): density-scale.md. Before the rule: 370.
+constexpr double kModelLevelDensity = 50;
+
 // The chain's length scales for one candidate (lengths in mm, area in m²).
 struct DensityScale {
   int voxel_mm = kDenseVoxelMm;
