@@ -9,7 +9,7 @@
 # tile from above, highest point per pixel, detection footprints outlined) and per candidate
 # mytile/cands/<id>/class.json (classify: the class-level answer, every candidate) and, for the
 # candidates dense enough for model-level recognition (object density >= TILE_MODEL_DENSITY
-# points/m², default 370: docs/decisions/classify.md §11), mytile/cands/<id>/{samples.pcd,
+# points/m², default 50: docs/decisions/density-scale.md), mytile/cands/<id>/{samples.pcd,
 # mesh.ply, segments.json, segments.ply, match.json, verdict.json} (each with its .log and
 # .time). MODELBASE is a directory of <model>.json graphs and <model>.pcd surfaces (`make -f
 # Makefile.experiments verify-modelbase` builds out/modelbase). Every stage runs through
@@ -42,12 +42,20 @@ $(foreach t,detect classify verify collect score topview,$(if $(call scene_tool_
 TILE_FITVOX ?= $(P)/fitvox-tile.ini
 # The object density (points per m² of a candidate's footprint, detect's index.json) from which
 # a candidate also runs the model chain; below it classify's class-level answer alone
-# (docs/decisions/classify.md §11: fitvox-tile.ini's 6 points per 128 mm voxel).
-TILE_MODEL_DENSITY ?= 370
-ifneq ($(TILE_MODEL_DENSITY),370)
+# (docs/decisions/density-scale.md: with the density rule below, 50; common/density_scale.h
+# kModelLevelDensity). 370 is the value before the rule (fitvox-tile.ini's 6 points per 128 mm
+# voxel, docs/decisions/classify.md §11): the ablation.
+TILE_MODEL_DENSITY ?= 50
+ifneq ($(TILE_MODEL_DENSITY),50)
 $(if $(shell printf '%s' '$(TILE_MODEL_DENSITY)' | grep -xE '[0-9]+(\.[0-9]+)?'),,$(error \
   TILE_MODEL_DENSITY=$(TILE_MODEL_DENSITY) must be a number of points/m²))
 endif
+# The density rule (docs/decisions/density-scale.md): a model-level candidate below 370
+# points/m² runs fitvox, cocone and ncut with lengths scaled to its density (the plan's
+# <key>_<STAGE>_<id> options); TILE_DENSITY_SCALE=0 runs them all with the parameter files'
+# lengths (the ablation; before the rule).
+TILE_DENSITY_SCALE ?= 1
+$(if $(filter-out 0 1,$(TILE_DENSITY_SCALE)),$(error TILE_DENSITY_SCALE=$(TILE_DENSITY_SCALE): must be 0 or 1))
 scene_config = $(if $(wildcard $(P)/$(1).ini),--config $(P)/$(1).ini)
 # The classes of the thesis models (their modelbase entries have no <model>.class file): classify
 # takes a modelbase entry with a class as one more class range (classify.md §12).
@@ -74,7 +82,7 @@ $(2)/cands/index.json: $(3) $(call tool,detect) $(wildcard $(P)/detect.ini)
 	@$(STAGE) $(2)/detect -- $(BIN)/detect $(call scene_config,detect) $(5) -i $(3) -o $(2)/cands
 $(2)/cands.mk: $(2)/cands/index.json $(call tool,collect)
 	@$(STAGE) $$@ -- $(BIN)/collect -i $(2)/cands/index.json --plan $$@ --plan-key $(1) \
-	  --model-density $(TILE_MODEL_DENSITY)
+	  --model-density $(TILE_MODEL_DENSITY)$(if $(filter 0,$(TILE_DENSITY_SCALE)), --no-density-scale)
 	@[ -z "$$$$CANOPY_PROGRESS" ] || scripts/progress.sh extend "$$$$CANOPY_PROGRESS" $$@ $$(TILE_CAND_KINDS)
 $(2)/classes.ply: $(2)/cands/index.json
 	@$(call link_or_copy,$(2)/cands/classes.ply,$$@) && touch -c $$@ && echo "done  $$@"
@@ -105,19 +113,25 @@ model_cands = $(foreach c,$($(1)_CANDS),$(if $(call is_model,$(1),$(c)),$(c)))
 cand_rules = $(foreach c,$($(2)_CANDS),$(eval $(call class_rule,$(1),$(c),$(5),$(3))))$(foreach \
   c,$(call model_cands,$(2)),$(eval $(call cand_rule,$(1),$(c),$(2),$(3),$(4))))
 
+# cand_scale(KEY, STAGE, ID): " <options>" of the density rule for the stage (the plan's
+# <KEY>_<STAGE>_<ID>: common/density_scale.h, docs/decisions/density-scale.md), after its
+# --config so they override the file's lengths; "" for a candidate at the dense end (today's
+# command line).
+cand_scale = $(if $($(1)_$(2)_$(3)), $($(1)_$(2)_$(3)))
 # cand_rule(DIR, ID, KEY, MODELBASE, SEEDKEY): fitvox | cocone | ncut | gmatch | verify on one
-# candidate (cands/<id>.pcd, written by detect with index.json). With <KEY>_TRAJECTORY set (the
+# candidate (cands/<id>.pcd, written by detect with index.json), with the lengths the plan's
+# density rule gives it. With <KEY>_TRAJECTORY set (the
 # tile target's TRAJECTORY=), verify takes the sensor directions from that trajectory and
 # re-runs when it changes; no other key sets it, so the scene experiment's rules are unchanged.
 define cand_rule
 $(1)/cands/$(2)/samples.pcd: $(1)/cands/index.json $(call tool,fitvox) $(TILE_FITVOX)
-	@$(STAGE) --record-failure $$@ -- $(BIN)/fitvox --config $(TILE_FITVOX) --pcd-encoding $(PCD_ENCODING) \
-	  -i $(1)/cands/$(2).pcd -o $$@
+	@$(STAGE) --record-failure $$@ -- $(BIN)/fitvox --config $(TILE_FITVOX)$(call cand_scale,$(3),FITVOX,$(2)) \
+	  --pcd-encoding $(PCD_ENCODING) -i $(1)/cands/$(2).pcd -o $$@
 $(1)/cands/$(2)/mesh.ply: $(1)/cands/$(2)/samples.pcd $(call tool,cocone) $(P)/cocone.ini
-	@$(STAGE) --record-failure $$@ -- $(BIN)/cocone --config $(P)/cocone.ini -i $$< -o $$@
+	@$(STAGE) --record-failure $$@ -- $(BIN)/cocone --config $(P)/cocone.ini$(call cand_scale,$(3),COCONE,$(2)) -i $$< -o $$@
 $(1)/cands/$(2)/segments.json: $(1)/cands/$(2)/mesh.ply $(call tool,ncut) $(P)/ncut.ini
-	@$(STAGE) --record-failure $$@ -- $(BIN)/ncut --config $(P)/ncut.ini --seed $$(call seed,$(5)/$(2)) \
-	  -i $$< -o $$@ --colored $(1)/cands/$(2)/segments.ply
+	@$(STAGE) --record-failure $$@ -- $(BIN)/ncut --config $(P)/ncut.ini$(call cand_scale,$(3),NCUT,$(2)) \
+	  --seed $$(call seed,$(5)/$(2)) -i $$< -o $$@ --colored $(1)/cands/$(2)/segments.ply
 $(1)/cands/$(2)/match.json: $(1)/cands/$(2)/segments.json $(wildcard $(4)/*.json) $(call tool,gmatch) $(P)/gmatch.ini
 	@$(STAGE) --record-failure $$@ -- $(BIN)/gmatch --config $(P)/gmatch.ini -i $$< --modelbase $(4) -o $$@
 $(1)/cands/$(2)/verdict.json: $(1)/cands/$(2)/match.json $(1)/cands/$(2)/samples.pcd \

@@ -726,3 +726,44 @@ TEST_CASE("collect --size-only: the measured size picks the nearest model; no ve
   CHECK(collect::nearest_by_size({9, 3, 3}, {}) == "");
   CHECK(collect::size_difference({5, 2, 1.5}, boxes.at("a")) == Approx(0.25));
 }
+
+TEST_CASE("collect --plan: the density rule's options for the model-level candidates below 370 points/m²") {
+  const fs::path dir = tile("plan_scale");
+  Json index = read_json(dir / "cands" / "index.json");
+  index["candidates"][0]["density"] = 900.0;          // dense end: no options, today's stages
+  index["candidates"][1]["density"] = 200.0;          // scaled: voxel 175 mm (density_scale.h)
+  write(dir / "cands" / "index.json", index.dump());  // c0003: unknown density: no options
+  std::string err;
+  const std::string cmd =
+      bin() + " -q -i " + (dir / "cands" / "index.json").string() + " --plan " + (dir / "cands.mk").string();
+  REQUIRE(test::sh(cmd + " --model-density 150", dir / "err.txt", &err) == 0);
+  std::string mk = read_text(dir / "cands.mk");
+  CHECK_THAT(mk, Catch::Contains(
+                     "\nTILE_LEVEL_c0001 := model\nTILE_LEVEL_c0002 := model\nTILE_LEVEL_c0003 := model\n"
+                     "TILE_FITVOX_c0002 := --voxel 175mm\n"
+                     "TILE_COCONE_c0002 := --max-area 0.0747681\n"
+                     "TILE_NCUT_c0002 := --radius 700mm --dense-radius 239mm\n"));
+  CHECK_THAT(mk, !Catch::Contains("VERIFY"));
+  CHECK_THAT(mk, !Catch::Contains("_c0001 := --"));
+  CHECK_THAT(mk, !Catch::Contains("_c0003 := --"));
+  // The dense end alone: the plan before the rule, byte for byte.
+  index["candidates"][1]["density"] = 400.0;
+  write(dir / "cands" / "index.json", index.dump());
+  REQUIRE(test::sh(cmd + " --model-density 150", dir / "err.txt", &err) == 0);
+  const std::string dense = read_text(dir / "cands.mk");
+  CHECK_THAT(dense, !Catch::Contains("FITVOX"));
+  // A class-level candidate (below --model-density) runs no model chain: no options.
+  index["candidates"][1]["density"] = 100.0;
+  write(dir / "cands" / "index.json", index.dump());
+  REQUIRE(test::sh(cmd + " --model-density 150", dir / "err.txt", &err) == 0);
+  mk = read_text(dir / "cands.mk");
+  CHECK_THAT(mk, Catch::Contains("\nTILE_LEVEL_c0002 := class\n"));
+  CHECK_THAT(mk, !Catch::Contains("FITVOX"));
+  // --no-density-scale: model level at 100 points/m², with the files' lengths.
+  REQUIRE(test::sh(cmd + " --model-density 50 --no-density-scale", dir / "err.txt", &err) == 0);
+  mk = read_text(dir / "cands.mk");
+  CHECK_THAT(mk, Catch::Contains("\nTILE_LEVEL_c0002 := model\n"));
+  CHECK_THAT(mk, !Catch::Contains("FITVOX"));
+  REQUIRE(test::sh(cmd + " --model-density 50", dir / "err.txt", &err) == 0);
+  CHECK_THAT(read_text(dir / "cands.mk"), Catch::Contains("TILE_FITVOX_c0002 := --voxel 247mm\n"));
+}

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "canopy/common/density_scale.h"
 #include "canopy/documents/candidates.h"
 #include "canopy/formats/provenance.h"
 
@@ -32,9 +33,9 @@ struct Index {
   decltype(documents::Candidates::density) density;  // the index's "density" object (detect.md §7), or null
 };
 
-// The density of model-level recognition (docs/decisions/classify.md §11.2: fitvox-tile.ini's
-// 6 points per 128 mm voxel).
-constexpr double kModelDensity = 370;
+// The density of model-level recognition (common/density_scale.h: the lowest object density at
+// which the density rule's chain runs; docs/decisions/density-scale.md).
+constexpr double kModelDensity = common::kModelLevelDensity;
 
 struct Verdict {
   std::string name;       // file, as given
@@ -162,7 +163,12 @@ Outputs run(const Params& params, const Inputs& inputs);
 // comma-separated numbers, row-major, as verify --transform takes them) and level, as make
 // variables <key>_CANDS, <key>_TRANSFORM_<id> and <key>_LEVEL_<id> (mk/scenes.mk): "model"
 // when the candidate's object density is at least model_density (or unknown: an older
-// index), else "class" (classify only). Ids are plain names (parse_index).
-std::string plan(const Index& index, const std::string& key = "TILE", double model_density = kModelDensity);
+// index), else "class" (classify only). Ids are plain names (parse_index). With `scale`, each
+// model-level candidate of known object density below the dense end (common/density_scale.h)
+// also gets the density rule's options per stage, <key>_FITVOX_<id>, <key>_COCONE_<id> and
+// <key>_NCUT_<id> (e.g. "--voxel 175mm"); the others get none, and their stages run with
+// today's parameters.
+std::string plan(const Index& index, const std::string& key = "TILE", double model_density = kModelDensity,
+                 bool scale = true);
 
 }  // namespace canopy::collect

@@ -12,6 +12,7 @@
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/cli.h"
+#include "canopy/common/density_scale.h"
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
 #include "canopy/formats/points_io.h"
@@ -56,7 +57,7 @@ struct Options {
   std::string in, out = "-", plan, key = "TILE", verdicts, name = "verdict.json", class_name = "class.json",
                   geojson, crs, modelbase;
   double model_density = collect::kModelDensity;
-  bool size_only = false;
+  bool size_only = false, no_density_scale = false;
   double size_gate = 0.25;
 };
 
@@ -76,6 +77,11 @@ void bind(common::Tool& tool, Options& o) {
   tool.add("--model-density", &o.model_density,
            "--plan: candidates whose object density (points/m²) is below this run classify only "
            "(<key>_LEVEL_<id> := class), the others the model chain too");
+  tool.add_flag("--no-density-scale", &o.no_density_scale,
+                "--plan: no density rule: every model-level candidate runs the stages' configured "
+                "lengths (otherwise one below 370 points/m² gets fitvox's voxel, cocone's facet area "
+                "and ncut's radii scaled to its density, <key>_FITVOX_<id> ...: "
+                "docs/decisions/density-scale.md)");
   tool.add_output("--geojson", &o.geojson, "also write the detections as a GeoJSON FeatureCollection");
   tool.add("--crs", &o.crs,
            "coordinate reference system of the tile, EPSG:<code>: recorded in detections.json "
@@ -104,13 +110,17 @@ void write_plan(const Options& o) {
   const collect::Index index = collect::parse_index(common::read_file(o.in), o.in);
   if (!(o.model_density >= 0) || !std::isfinite(o.model_density))
     throw common::UsageError("--model-density must be a number >= 0");
-  const std::string text = collect::plan(index, o.key, o.model_density);
+  const std::string text = collect::plan(index, o.key, o.model_density, !o.no_density_scale);
   common::write_file_atomic(o.plan, text);
-  std::size_t model = 0;
-  for (const auto& c : index.candidates) model += !c.density || *c.density >= o.model_density;
+  std::size_t model = 0, scaled = 0;
+  for (const auto& c : index.candidates) {
+    const bool m = !c.density || *c.density >= o.model_density;
+    model += m;
+    scaled += m && !o.no_density_scale && c.density && !common::density_scale(*c.density).dense_end();
+  }
   common::log::info(std::to_string(index.candidates.size()) + " candidates planned, " + std::to_string(model) +
                     " for the model chain (object density >= " + std::to_string(int(o.model_density)) +
-                    " points/m²)");
+                    " points/m²), " + std::to_string(scaled) + " of them with the density rule's scale");
 }
 
 // Each candidate's answers, <verdicts>/<id>/<name> (verify) and <verdicts>/<id>/<class-name>
