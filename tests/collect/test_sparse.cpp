@@ -124,7 +124,7 @@ TEST_CASE("a sparse tile: detect by its density, class-level answers, the reason
     CHECK(c["density"].get<double>() == Approx(25).epsilon(0.25));
   }
 
-  // classify every candidate (no model chain: 25 points/m² is far below 370).
+  // classify every candidate (no model chain: 25 points/m² is below the model level's 50).
   for (const Json& c : index["candidates"]) {
     const std::string id = c["id"];
     fs::create_directories(dir / "cands" / id);
@@ -150,7 +150,7 @@ TEST_CASE("a sparse tile: detect by its density, class-level answers, the reason
   REQUIRE(d["warning"].is_string());
   CHECK_THAT(
       d["warning"].get<std::string>(),
-      Catch::Contains("tile density 25 points/m²: below the 370 points/m² that model-level recognition "
+      Catch::Contains("tile density 25 points/m²: below the 50 points/m² that model-level recognition "
                       "needs; class-level answers only") &&
           Catch::Contains("docs/decisions/classify.md"));
   // The summary and the warning on stderr.
@@ -179,7 +179,7 @@ TEST_CASE("a sparse tile: detect by its density, class-level answers, the reason
   CHECK(r["reason"] == "not_vehicle_shape");
   CHECK_THAT(r["detail"].get<std::string>(), Catch::Contains("flat box"));
   CHECK(r["density"].get<double>() == Approx(25).epsilon(0.25));
-  CHECK(r["density_needed"]["model"] == 370.0);
+  CHECK(r["density_needed"]["model"] == 50.0);
   CHECK(r["model_chain"].is_null());
   const Json g = read_json(dir / "d.geojson");
   REQUIRE(g["features"].size() == 2);
