@@ -11,6 +11,7 @@
 // docs/decisions/cost.md section 7.
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
@@ -143,6 +144,21 @@ class PointCloud {
   mutable std::deque<Column> data_;
   mutable std::mutex unpack_;  // held while a column is unpacked or the cloud copied
 };
+
+// Calls f(first, count, columns) for the rows in blocks of `block`: columns[c][r] is column c at
+// row first + r (PointCloud::values: packed columns stay packed). For writers.
+template <typename F>
+void for_each_block(const PointCloud& cloud, F f, std::size_t block = 4096) {
+  const std::size_t nc = cloud.names().size();
+  std::vector<std::vector<double>> buffers(nc, std::vector<double>(std::min(block, cloud.size())));
+  std::vector<const double*> columns(nc);
+  for (std::size_t c = 0; c < nc; ++c) columns[c] = buffers[c].data();
+  for (std::size_t first = 0; first < cloud.size(); first += block) {
+    const std::size_t k = std::min(block, cloud.size() - first);
+    for (std::size_t c = 0; c < nc; ++c) cloud.values(c, first, k, buffers[c].data());
+    f(first, k, columns);
+  }
+}
 
 template <typename T>
 std::vector<T>& PointCloud::add_packed(const std::string& name, FieldType type, bool scaled, double scale,
