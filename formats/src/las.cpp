@@ -643,7 +643,12 @@ PointCloud decode_las(const unsigned char* b, LasSource& src, const std::string&
   // read_las_header checked that the records fit the file: the columns are bounded by it.
   const auto n = static_cast<std::size_t>(h.n);
   reserve_columns(columns, n);
-  const std::size_t per = std::max<std::size_t>(1, chunk_bytes / h.record);
+  // A small file is read in smaller pieces (a sixteenth of its records, at least 64 KiB), so
+  // the piece does not add a fifth of the file to the memory of a 1 MiB file.
+  const std::size_t piece = chunk_bytes == kLasReadChunk
+                                ? std::min(chunk_bytes, std::max<std::size_t>(64 << 10, n / 16 * h.record))
+                                : chunk_bytes;
+  const std::size_t per = std::max<std::size_t>(1, piece / h.record);
   std::vector<unsigned char> chunk;
   for (std::size_t i = 0; i < n;) {
     const std::size_t k = std::min(per, n - i);

@@ -27,7 +27,8 @@ bool is_laz(const std::string& bytes);
 
 // Reads a LAS or LAZ file. A regular LAS file is read straight from the file: the header and
 // VLRs, the EVLRs (LAS 1.4; they follow the points), then the point records kLasReadChunk bytes
-// (whole records) at a time, each decoded into the columns, which are filled without being
+// (whole records; a sixteenth of the records, at least 64 KiB, when that is less) at a time,
+// each decoded into the columns, which are filled without being
 // zero-filled first; memory: the columns plus one chunk. Standard input, FIFOs and LAZ files
 // are read whole first, then parsed (parse_las). The values and errors are parse_las's.
 // The columns are packed (point_cloud.h: each field at its width in the record, turned into
