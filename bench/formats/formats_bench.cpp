@@ -7,9 +7,17 @@
 //   formats_bench unlaz <file.laz> <file.las>
 //       writes the LAS a LAZ file decompresses to (canopy's laz_to_las)
 //   formats_bench read <las|laz|points> <file>
-//       reads a LAS or LAZ file once with read_points (as every tool does) into a PointCloud;
-//       prints "reader cpu_s wall_s peak_rss_MB points base_MB checksum" (base_MB: the
-//       process's peak RSS before reading; checksum: see las_checksum)
+//       reads a LAS or LAZ file once with read_points (every field, as detect and pcd2ply do)
+//       into a PointCloud; the checksum is taken with PointCloud::values, so packed columns
+//       stay packed: the memory is the read's. Prints "reader cpu_s wall_s peak_rss_MB points
+//       base_MB checksum" (base_MB: the process's peak RSS before reading; checksum: see
+//       cloud_checksum)
+//   formats_bench read xyz <file>
+//       topview's read: read_points with the fields x y z only, then col("x"), col("y"),
+//       col("z") as doubles (what topview works on); the checksum's second sum is 0
+//   formats_bench read detect <file>
+//       detect's read: read_points (every field: its crops keep them), then col() of x y z
+//       and return_number as doubles, the columns detect asks for before its own work
 //   formats_bench read plain <file.las>
 //       the plainest correct read of the same LAS file, for comparison (issue 31): the public
 //       header (LAS 1.0-1.4, 1.4's 64-bit point count), then every point record in one read
@@ -29,6 +37,7 @@
 // Run each read in its own process (bench/formats/run.sh) so peak RSS is the reader's own.
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -144,16 +153,35 @@ struct Checksum {
   std::uint64_t ic = 0;
 };
 
+// Through PointCloud::values, 4096 rows at a time: a packed column is not unpacked. Without
+// intensity (the xyz read) the second sum is 0.
 Checksum cloud_checksum(const canopy::formats::PointCloud& c) {
   Checksum s;
-  const auto& x = c.col("x");
-  const auto& y = c.col("y");
-  const auto& z = c.col("z");
-  const auto& in = c.col("intensity");
-  const auto& cls = c.col("classification");
-  for (std::size_t i = 0; i < c.size(); ++i) {
-    s.xyz += x[i] + y[i] + z[i];
-    s.ic += static_cast<std::uint64_t>(in[i]) + static_cast<std::uint64_t>(cls[i]);
+  auto index = [&](const char* f) {
+    for (std::size_t i = 0; i < c.names().size(); ++i) {
+      if (c.names()[i] == f) return i;
+    }
+    return c.names().size();
+  };
+  const std::size_t x = index("x"), y = index("y"), z = index("z"), in = index("intensity"),
+                    cls = index("classification");
+  const bool ic = in < c.names().size() && cls < c.names().size();
+  constexpr std::size_t kBlock = 4096;
+  std::vector<double> b[5];
+  for (auto& v : b) v.resize(kBlock);
+  for (std::size_t first = 0; first < c.size(); first += kBlock) {
+    const std::size_t k = std::min(kBlock, c.size() - first);
+    c.values(x, first, k, b[0].data());
+    c.values(y, first, k, b[1].data());
+    c.values(z, first, k, b[2].data());
+    if (ic) {
+      c.values(in, first, k, b[3].data());
+      c.values(cls, first, k, b[4].data());
+    }
+    for (std::size_t i = 0; i < k; ++i) {
+      s.xyz += b[0][i] + b[1][i] + b[2][i];
+      if (ic) s.ic += static_cast<std::uint64_t>(b[3][i]) + static_cast<std::uint64_t>(b[4][i]);
+    }
   }
   return s;
 }
@@ -390,6 +418,17 @@ int read(const std::string& reader, const std::string& path) {
     const canopy::formats::PointCloud c = canopy::formats::read_points(path);
     n = c.size();
     sum = cloud_checksum(c);
+  } else if (reader == "xyz") {
+    const canopy::formats::PointCloud c =
+        canopy::formats::read_points(path, "", canopy::formats::FieldSelection::only({"x", "y", "z"}));
+    for (const char* f : {"x", "y", "z"}) (void)c.col(f);  // topview's doubles
+    n = c.size();
+    sum = cloud_checksum(c);
+  } else if (reader == "detect") {
+    const canopy::formats::PointCloud c = canopy::formats::read_points(path);
+    for (const char* f : {"x", "y", "z", "return_number"}) (void)c.col(f);  // detect's doubles
+    n = c.size();
+    sum = cloud_checksum(c);
   } else if (reader == "plain") {
     if (!read_plain(path, &n, &sum)) return 1;
   } else if (reader == "typed") {
@@ -437,7 +476,7 @@ int main(int argc, char** argv) {
                "usage: formats_bench make <file.pcd> <points> [binary|binary_compressed|ascii]\n"
                "       formats_bench read <canopy|pcl-blob|pcl-xyzl> <file.pcd>\n"
                "       formats_bench unlaz <file.laz> <file.las>\n"
-               "       formats_bench read <las|laz|points|plain|compact|typed|bytes> <file>\n"
+               "       formats_bench read <las|laz|points|xyz|detect|plain|compact|typed|bytes> <file>\n"
                "       formats_bench make-las <file.las> <points>\n");
   return 2;
 }

@@ -7,18 +7,19 @@
 # tests/las/data/*.laz and ../shared/data/real/laz/*.laz (CANOPY_REAL_DATA) when present, else
 # the committed share/real/*.laz;
 # files under 10 000 points are too quick to time and are skipped.
-# LAS reading against a plain read (issue 31; docs/decisions/cost.md section 5), "lasread":
-# read_points (formats_bench read points F) against the plainest correct read of the same LAS
-# (read plain F: the header, then every record in one block; read compact F: 16-byte structs;
-# read typed F: one column per field at its LAS width, the design section 5 proposes),
-# each 3 times in its own process, min / median CPU s, median peak RSS as a multiple of the
-# file size after the process's own RSS before reading (base, ~23 MB); the checksum
-# (x+y+z, intensity+classification) shows they read the same values. Files: a synthetic
+# LAS reading against a plain read (issue 31; docs/decisions/cost.md sections 5 and 7),
+# "lasread": the reads the tools do — read points F (read_points, every field: detect,
+# pcd2ply), read xyz F (x y z only, as doubles: topview), read detect F (every field, then x y z
+# and return_number as doubles) — against the plainest correct read of the same LAS (read
+# plain F: the header, then every record in one block), each 3 times in its own process,
+# min / median CPU s, median peak RSS as a multiple of the file size after the process's own
+# RSS before reading (base, ~23 MB); the checksum (x+y+z, intensity+classification) shows
+# they read the same values. Files: a synthetic
 # 3-million-point LAS 1.4 format 6 tile with 4 Extra Bytes fields (make-las, i.e. write_las),
 # the LAS references in ../shared/data/real/reference (CANOPY_REAL_DATA) and the LAS canopy
 # decodes from the real LAZ that have no reference; under 10 000 points skipped. With
-# LASREAD_BEFORE=<another formats_bench> its read_points runs in the same rounds ("before:" at
-# the end of each line: CPU min/median, before/plain, peak MB, peak x file).
+# LASREAD_BEFORE=<another formats_bench> its read points runs in the same rounds ("before:" at
+# the end of each line: CPU min/median, before/plain, peak x file).
 # Usage: bench/formats/run.sh [points=8000000 | laz | lasread [las points=3000000]] [build dir=build]
 #   ("laz": LAZ part only; "lasread": LAS reader against a plain read only)
 set -euo pipefail
@@ -41,16 +42,17 @@ if [ "$points" = lasread ]; then
     files+=("$dir/$(basename "$laz" .laz).las")
   done
   echo "== LAS: read_points against a plain read, 3 runs each, own process ($(nproc) cores, load $(cut -d' ' -f1 /proc/loadavg))"
-  echo "   CPU s (user+sys) min/median; peak RSS median, MB, and (peak - base) / file size; base = RSS before reading"
-  printf '%-30s %8s %4s %7s %13s %13s %13s %13s %5s %5s %7s %7s %5s %5s %5s %5s %5s %s\n' file points rec \
-    file_MB canopy_cpu plain_cpu compact_cpu typed_cpu c/p t/p can_MB pln_MB base can/f pln/f cmp/f typ/f same
+  echo "   CPU s (user+sys) min/median; ratios of medians to plain; peak: (median peak RSS - base) / file size; base = RSS before reading"
+  echo "   points: every field (detect, pcd2ply); xyz: x y z only, as doubles (topview); detect: every field + x y z return_number as doubles"
+  printf '%-28s %8s %4s %6s %13s %13s %13s %13s %5s %5s %5s %5s %5s %5s %5s %5s %s\n' file points rec fileMB \
+    points_cpu xyz_cpu detect_cpu plain_cpu pt/p xyz/p det/p base pt/f xyz/f det/f pln/f same
   for f in "${files[@]}"; do
     n=$(od -An -tu4 -j107 -N4 "$f" | tr -d ' ')
     [ "$n" != 0 ] || n=$(od -An -tu8 -j247 -N8 "$f" | tr -d ' ')  # LAS 1.4's 64-bit count
     [ "$n" -ge 10000 ] || continue
     cksum "$f" > "$dir/cksum"  # page cache warm for every reader
     for run in 1 2 3; do
-      for reader in points plain compact typed; do "$bin" read "$reader" "$f"; done
+      for reader in points xyz detect plain; do "$bin" read "$reader" "$f"; done
       # LASREAD_BEFORE: another build's formats_bench (e.g. before a reader change), its
       # read_points timed in the same rounds, as "before".
       [ -z "${LASREAD_BEFORE:-}" ] || "$LASREAD_BEFORE" read points "$f" | sed 's/^points/before/'
@@ -60,20 +62,20 @@ if [ "$points" = lasread ]; then
       function mn(a, k) { return a[k, 1] < a[k, 2] ? (a[k, 1] < a[k, 3] ? a[k, 1] : a[k, 3]) : (a[k, 2] < a[k, 3] ? a[k, 2] : a[k, 3]) }
       function mx(a, k) { return a[k, 1] > a[k, 2] ? (a[k, 1] > a[k, 3] ? a[k, 1] : a[k, 3]) : (a[k, 2] > a[k, 3] ? a[k, 2] : a[k, 3]) }
       function med(a, k) { return a[k, 1] + a[k, 2] + a[k, 3] - mn(a, k) - mx(a, k) }
+      function xyzsum(k) { split(sum[k], p, "+"); return p[1] }
       { r = ++runs[$1]; cpu[$1, r] = $2; peak[$1, r] = $4; n = $5; base[$1, r] = $6; sum[$1] = $7 }
-      END { mb /= 1048576; b = med(base, "points")
-            printf "%-30s %8d %4d %7.1f", f, n, rec, mb
-            printf " %6.3f/%6.3f %6.3f/%6.3f", mn(cpu, "points"), med(cpu, "points"), mn(cpu, "plain"), med(cpu, "plain")
-            printf " %6.3f/%6.3f %6.3f/%6.3f", mn(cpu, "compact"), med(cpu, "compact"), mn(cpu, "typed"), med(cpu, "typed")
-            printf " %5.2f %5.2f %7.1f %7.1f %5.1f", med(cpu, "points") / med(cpu, "plain"),
-              med(cpu, "typed") / med(cpu, "plain"), med(peak, "points"), med(peak, "plain"), b
-            printf " %5.2f %5.2f %5.2f %5.2f %s", (med(peak, "points") - b) / mb, (med(peak, "plain") - b) / mb,
-              (med(peak, "compact") - b) / mb, (med(peak, "typed") - b) / mb,
-              sum["points"] == sum["plain"] && sum["plain"] == sum["compact"] && sum["compact"] == sum["typed"] &&
+      END { mb /= 1048576; b = med(base, "points"); pl = med(cpu, "plain")
+            printf "%-28s %8d %4d %6.1f", f, n, rec, mb
+            printf " %6.3f/%6.3f %6.3f/%6.3f", mn(cpu, "points"), med(cpu, "points"), mn(cpu, "xyz"), med(cpu, "xyz")
+            printf " %6.3f/%6.3f %6.3f/%6.3f", mn(cpu, "detect"), med(cpu, "detect"), mn(cpu, "plain"), pl
+            printf " %5.2f %5.2f %5.2f %5.1f", med(cpu, "points") / pl, med(cpu, "xyz") / pl, med(cpu, "detect") / pl, b
+            printf " %5.2f %5.2f %5.2f %5.2f %s", (med(peak, "points") - b) / mb, (med(peak, "xyz") - b) / mb,
+              (med(peak, "detect") - b) / mb, (med(peak, "plain") - b) / mb,
+              sum["points"] == sum["plain"] && sum["detect"] == sum["plain"] && xyzsum("xyz") == xyzsum("plain") &&
               (!("before" in sum) || sum["before"] == sum["points"]) ? "yes" : "NO"
             if ("before" in sum)
-              printf "  before: %6.3f/%6.3f b/p %5.2f %7.1f MB %5.2f", mn(cpu, "before"), med(cpu, "before"),
-                med(cpu, "before") / med(cpu, "plain"), med(peak, "before"), (med(peak, "before") - b) / mb
+              printf "  before: %6.3f/%6.3f b/p %5.2f %5.2f x file", mn(cpu, "before"), med(cpu, "before"),
+                med(cpu, "before") / pl, (med(peak, "before") - b) / mb
             printf "\n" }' "$dir/runs"
   done
   exit 0

@@ -606,18 +606,23 @@ std::string serialize_pcd(const PointCloud& cloud, const PcdWriteOptions& option
   const std::size_t nc = cloud.names().size();
   switch (options.encoding) {
     case PcdEncoding::binary:
+      // Block by block (for_each_block): packed columns are written without being unpacked.
       out.reserve(out.size() + step * cloud.size());
-      for (std::size_t i = 0; i < cloud.size(); ++i) {
-        for (std::size_t c = 0; c < nc; ++c) detail::write_scalar(&out, cloud.col(c)[i], cloud.types()[c]);
-      }
+      for_each_block(cloud, [&](std::size_t, std::size_t k, const std::vector<const double*>& col) {
+        for (std::size_t i = 0; i < k; ++i) {
+          for (std::size_t c = 0; c < nc; ++c) detail::write_scalar(&out, col[c][i], cloud.types()[c]);
+        }
+      });
       break;
     case PcdEncoding::ascii:
-      for (std::size_t i = 0; i < cloud.size(); ++i) {
-        for (std::size_t c = 0; c < nc; ++c) {
-          out += detail::format_value(cloud.col(c)[i], cloud.types()[c]);
-          out += c + 1 < nc ? " " : "\n";
+      for_each_block(cloud, [&](std::size_t, std::size_t k, const std::vector<const double*>& col) {
+        for (std::size_t i = 0; i < k; ++i) {
+          for (std::size_t c = 0; c < nc; ++c) {
+            out += detail::format_value(col[c][i], cloud.types()[c]);
+            out += c + 1 < nc ? " " : "\n";
+          }
         }
-      }
+      });
       break;
     case PcdEncoding::binary_compressed: {
       // PCL's layout: uint32 compressed size, uint32 raw size, LZF block of the field-major data.

@@ -507,20 +507,26 @@ std::string serialize_ply(const Mesh& mesh, const PlyWriteOptions& options) {
   out += "element face " + std::to_string(mesh.faces.size()) + "\n";
   out += "property list uchar int vertex_indices\nend_header\n";
   const std::size_t nc = types.size();
+  // Block by block (for_each_block): a packed column (a LAS file's) is written without being
+  // unpacked into doubles first.
   if (ascii) {
-    for (std::size_t i = 0; i < v.size(); ++i) {
-      for (std::size_t c = 0; c < nc; ++c) {
-        out += detail::format_value(v.col(c)[i], types[c]);
-        out += c + 1 < nc ? " " : "\n";
+    for_each_block(v, [&](std::size_t, std::size_t k, const std::vector<const double*>& col) {
+      for (std::size_t i = 0; i < k; ++i) {
+        for (std::size_t c = 0; c < nc; ++c) {
+          out += detail::format_value(col[c][i], types[c]);
+          out += c + 1 < nc ? " " : "\n";
+        }
       }
-    }
+    });
     for (const auto& f : mesh.faces) {
       out += "3 " + std::to_string(f[0]) + " " + std::to_string(f[1]) + " " + std::to_string(f[2]) + "\n";
     }
   } else {
-    for (std::size_t i = 0; i < v.size(); ++i) {
-      for (std::size_t c = 0; c < nc; ++c) detail::write_scalar(&out, v.col(c)[i], types[c]);
-    }
+    for_each_block(v, [&](std::size_t, std::size_t k, const std::vector<const double*>& col) {
+      for (std::size_t i = 0; i < k; ++i) {
+        for (std::size_t c = 0; c < nc; ++c) detail::write_scalar(&out, col[c][i], types[c]);
+      }
+    });
     for (const auto& f : mesh.faces) {
       out.push_back(3);
       for (auto i : f) detail::put(&out, i);

@@ -149,6 +149,10 @@ PointCloud parse_points(const std::string& bytes, const std::string& name, const
 }
 
 PointCloud read_points(const std::string& path, const std::string& tool) {
+  return read_points(path, tool, FieldSelection{});
+}
+
+PointCloud read_points(const std::string& path, const std::string& tool, const FieldSelection& fields) {
   // A regular LAS file is read piece by piece by read_las, not copied whole into memory first.
   // Only a regular file is looked into here: a FIFO's first bytes could not be read again.
   struct stat st {};
@@ -157,10 +161,19 @@ PointCloud read_points(const std::string& path, const std::string& tool) {
     std::string magic(4, '\0');
     if (f.read(magic.data(), 4) && is_las(magic)) {
       f.close();
-      return read_las(path);
+      return read_las(path, fields);
     }
   }
-  return parse_points(common::read_file(path), path, tool);
+  const std::string bytes = common::read_file(path);
+  if (is_las(bytes)) return parse_las(bytes, path, fields);
+  PointCloud cloud = parse_points(bytes, path, tool);
+  if (!fields.all()) {
+    const std::vector<std::string> names = cloud.names();
+    for (const auto& n : names) {
+      if (!fields.wants(n)) cloud.remove(n);
+    }
+  }
+  return cloud;
 }
 
 PointFormat output_format(const std::string& path) {

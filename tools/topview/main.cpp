@@ -53,7 +53,9 @@ int main(int argc, char** argv) {
     if (!src.score.empty() && src.truth.empty()) throw common::UsageError("--score needs --truth");
     common::check_output(out);
     const topview::Footprints footprints = topview::read_footprints(src, p.tile);
-    const formats::PointCloud scan = formats::read_points(in, "topview");
+    // Only the coordinates: a LAS/LAZ tile's other fields are never made (issue 31).
+    const formats::PointCloud scan =
+        formats::read_points(in, "topview", formats::FieldSelection::only({"x", "y", "z"}));
     scan.require({"x", "y", "z"}, common::display_name(in), "is this a point cloud?");
     const topview::Image img = topview::render(scan, footprints, p);
     common::write_file_atomic(out, topview::encode_png(img));

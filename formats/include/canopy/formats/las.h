@@ -27,13 +27,18 @@ bool is_laz(const std::string& bytes);
 
 // Reads a LAS or LAZ file. A regular LAS file is read straight from the file: the header and
 // VLRs, the EVLRs (LAS 1.4; they follow the points), then the point records kLasReadChunk bytes
-// (whole records) at a time, each decoded into the columns, which are filled without being
+// (whole records; a sixteenth of the records, at least 64 KiB, when that is less) at a time,
+// each decoded into the columns, which are filled without being
 // zero-filled first; memory: the columns plus one chunk. Standard input, FIFOs and LAZ files
 // are read whole first, then parsed (parse_las). The values and errors are parse_las's.
-PointCloud read_las(const std::string& path);
+// The columns are packed (point_cloud.h: each field at its width in the record, turned into
+// doubles by the first col() that asks for it; x y z the int32 with the header's scale and
+// offset; gps_time doubles): memory about 1.2-1.5x the point records. `fields`: only those
+// columns are made (the file's checks are the same; a field the file lacks is no error).
+PointCloud read_las(const std::string& path, const FieldSelection& fields = {});
 // The same, `chunk_bytes` of point records at a time (at least one record): for tests of the
 // chunk edges.
-PointCloud read_las(const std::string& path, std::size_t chunk_bytes);
+PointCloud read_las(const std::string& path, std::size_t chunk_bytes, const FieldSelection& fields = {});
 inline constexpr std::size_t kLasReadChunk = std::size_t(256) << 10;
 
 // One variable-length record (VLR) of a LAS file's header block.
@@ -57,6 +62,7 @@ struct LasHeaderBlock {
 LasHeaderBlock read_las_header_block(const std::string& path, std::size_t max_bytes = std::size_t(16) << 20);
 // Parses an in-memory LAS file; `name` is used in error messages.
 PointCloud parse_las(const std::string& bytes, const std::string& name);
+PointCloud parse_las(const std::string& bytes, const std::string& name, const FieldSelection& fields);
 
 // Writes atomically. Rejects NaN/inf coordinates and coordinates that do not fit the 32-bit
 // integer grid (extent over ~4 000 km at 1 mm); extra-byte names longer than 32 characters.
