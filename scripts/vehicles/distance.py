@@ -28,18 +28,8 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
-
-
-def read_ply(path):
-    data = open(path, "rb").read()
-    end = data.index(b"end_header\n") + len("end_header\n")
-    head = data[:end].decode("ascii").split("\n")
-    nv = int([l for l in head if l.startswith("element vertex")][0].split()[2])
-    nf = int([l for l in head if l.startswith("element face")][0].split()[2])
-    v = [struct.unpack_from("<3f", data, end + 12 * i) for i in range(nv)]
-    off = end + 12 * nv
-    f = [struct.unpack_from("<3i", data, off + 13 * i + 1) for i in range(nf)]
-    return v, f
+sys.path.insert(0, HERE)
+from preview import read_ply  # noqa: E402  (the library's binary PLY reader)
 
 
 def sample(verts, faces, n, name):

@@ -53,4 +53,5 @@ def main():
     png(sys.argv[2], img, w, h)
 
 
-main()
+if __name__ == "__main__":
+    main()

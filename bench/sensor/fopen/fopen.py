@@ -16,16 +16,8 @@ import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'realsim'))
 from lasstats import inside, read_las, rect  # noqa: E402
-
-
-def wilson(k, n, z=1.959964):
-    if n == 0:
-        return (float('nan'), float('nan'))
-    p = k / n
-    d = 1 + z * z / n
-    c = (p + z * z / (2 * n)) / d
-    h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
-    return (c - h, c + h)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..'))
+from rates import wilson  # noqa: E402  (bench/rates.py)
 
 
 def vehicles_of(las_path, truth_path):
