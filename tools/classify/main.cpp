@@ -97,30 +97,23 @@ std::vector<cl::ModelEntry> read_modelbase(const std::string& dir,
       if (it == classes.end()) continue;
       cls = it->second;
     }
-    const std::string name = *cls;
     const std::string surface = (fs::path(dir) / (e.name + ".pcd")).string();
     const fm::PointCloud pc = fm::read_points(surface, "classify");
     pc.require({"x", "y", "z"}, surface, "is this a modelbase surface?");
     const std::vector<double>* label = pc.has("label") ? &pc.col("label") : nullptr;
-    double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
-    std::size_t n = 0;
-    for (std::size_t i = 0; i < pc.size(); ++i) {
-      if (label && (*label)[i] != 1) continue;
-      const double v[3] = {pc.col("x")[i], pc.col("y")[i], pc.col("z")[i]};
-      for (int k = 0; k < 3; ++k) {
-        lo[k] = std::min(lo[k], v[k]);
-        hi[k] = std::max(hi[k], v[k]);
-      }
-      ++n;
-    }
-    if (n == 0) throw cm::DataError(surface, "has no vehicle points (label 1) to measure the model");
-    cl::ModelEntry entry{e.name, name, {hi[0] - lo[0], hi[1] - lo[1], std::max(0.0, hi[2])}, std::nullopt};
-    // Its top's profile, measured as a candidate's (the surface's label-1 points, ground z = 0).
+    // Its label-1 points, as a candidate (ground z = 0): their extents and its top's profile.
     cl::Candidate c;
-    c.points.reserve(n);
     for (std::size_t i = 0; i < pc.size(); ++i) {
       if (!label || (*label)[i] == 1) c.points.emplace_back(pc.col("x")[i], pc.col("y")[i], pc.col("z")[i]);
     }
+    if (c.points.empty())
+      throw cm::DataError(surface, "has no vehicle points (label 1) to measure the model");
+    Eigen::Vector3d lo = c.points.front(), hi = lo;
+    for (const Eigen::Vector3d& v : c.points) {
+      lo = lo.cwiseMin(v);
+      hi = hi.cwiseMax(v);
+    }
+    cl::ModelEntry entry{e.name, *cls, {hi.x() - lo.x(), hi.y() - lo.y(), std::max(0.0, hi.z())}, std::nullopt};
     const cl::Features f = cl::measure(c, p);
     if (f.object_points >= p.min_points)
       entry.profile = cl::ModelEntry::Profile{f.plateau_share, f.end_low, f.end_high};
