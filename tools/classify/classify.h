@@ -38,6 +38,7 @@
 #include <string>
 #include <vector>
 
+#include "canopy/common/density_scale.h"
 #include "canopy/formats/point_cloud.h"
 #include "canopy/formats/provenance.h"
 
@@ -97,7 +98,7 @@ struct Params {
   double profile_penalty = 1.5;     // added to a class's size distance when the profile contradicts it
   double box_plateau = 0.88;        // plateau share and both ends' levels at or above this:
   double box_ends = 0.8;            //   a flat box (container, log stack): a box-truck or bus only
-  double model_density = 50;        // points/m² the model-level chain needs (density-scale.md)
+  double model_density = common::kModelLevelDensity;  // points/m² the model-level chain needs
   // Modelbase entries with a class (--modelbase) are classes too: each entry's L W H widened by
   // this share either way is one more class range, of the entry's class (classify.md §12).
   bool entry_classes = true;
