@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "canopy/common/error.h"
+#include "canopy/formats/csv_table.h"
 
 namespace canopy::documents {
 
@@ -22,20 +23,9 @@ struct Table {
 
 Table read_table(const std::string& text, const std::string& name) {
   Table t;
-  std::istringstream in(text);
-  std::string line;
-  int no = 0;
-  while (std::getline(in, line)) {
-    ++no;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.empty()) continue;
-    std::vector<std::string> cells;
-    std::string cell;
-    std::istringstream ls(line);
-    while (std::getline(ls, cell, ',')) cells.push_back(cell);
-    if (line.back() == ',') cells.emplace_back();
-    t.rows.push_back(std::move(cells));
-    t.lines.push_back(no);
+  for (formats::CsvRow& r : formats::split_csv(text)) {
+    t.rows.push_back(std::move(r.cells));
+    t.lines.push_back(r.line);
   }
   if (t.rows.empty()) throw DataError(name, "empty table (no header)");
   return t;

@@ -9,6 +9,7 @@
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
+#include "canopy/formats/csv_table.h"
 #include "canopy/formats/pcd.h"
 #include "support/cli.h"
 #include "canopy/formats/ply.h"
@@ -208,4 +209,17 @@ TEST_CASE("malformed PLY input is a DataError") {
   CHECK_THROWS_AS(
       parse_ply("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n1\n", "x.ply"),
       DataError);  // no y, z
+}
+
+TEST_CASE("split_csv: non-empty lines with their numbers, cells at every comma, CR dropped") {
+  const std::vector<CsvRow> rows = split_csv("a,b\r\n\n,x,\r\n\r\nlast");
+  REQUIRE(rows.size() == 3);
+  CHECK(rows[0].line == 1);
+  CHECK(rows[0].cells == std::vector<std::string>{"a", "b"});
+  CHECK(rows[1].line == 3);
+  CHECK(rows[1].cells == std::vector<std::string>{"", "x", ""});
+  CHECK(rows[2].line == 5);
+  CHECK(rows[2].cells == std::vector<std::string>{"last"});
+  CHECK(split_csv("").empty());
+  CHECK(split_csv("\n\r\n").empty());
 }

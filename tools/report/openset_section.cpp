@@ -6,23 +6,13 @@
 
 #include "canopy/common/error.h"
 #include "canopy/common/units.h"
+#include "canopy/formats/csv_table.h"
 #include "report/report.h"
 #include "report/score_cells.h"
 
 namespace canopy::report {
 
 namespace {
-
-std::vector<std::string> split_commas(const std::string& line) {
-  std::vector<std::string> out(1);
-  for (char c : line) {
-    if (c == ',')
-      out.emplace_back();
-    else if (c != '\r')
-      out.back() += c;
-  }
-  return out;
-}
 
 // The per-cover rows of a score, then a per-instance table of what the answers were.
 void rates_table(std::ostringstream& md, const documents::SceneScore& score, const std::string& label) {
@@ -112,15 +102,12 @@ std::string instance_line(const documents::SceneScore& score, const OpensetDista
 
 OpensetDistances parse_openset_distances(const std::string& text, const std::string& name) {
   OpensetDistances out;
-  std::istringstream in(text);
-  std::string line;
-  int number = 0;
-  while (std::getline(in, line)) {
-    ++number;
-    const std::string where = "line " + std::to_string(number) + ": ";
-    if (line.empty() || line == "\r") continue;
-    const std::vector<std::string> f = split_commas(line);
-    if (number == 1) {
+  const std::vector<formats::CsvRow> rows = formats::split_csv(text);
+  if (rows.empty()) throw common::DataError(name, "empty (no header)");
+  for (const formats::CsvRow& r : rows) {
+    const std::string where = "line " + std::to_string(r.line) + ": ";
+    const std::vector<std::string>& f = r.cells;
+    if (&r == &rows.front()) {
       if (f != std::vector<std::string>{"test", "class", "modelbase", "distance_m", "rank"})
         throw common::DataError(name, where + "the header must be test,class,modelbase,distance_m,rank");
       continue;
@@ -141,7 +128,6 @@ OpensetDistances parse_openset_distances(const std::string& text, const std::str
       throw common::DataError(name, where + f[0] + ": rows must be of one class, by distance");
     v.push_back(n);
   }
-  if (number == 0) throw common::DataError(name, "empty (no header)");
   return out;
 }
 

@@ -5,8 +5,20 @@
 
 #include <map>
 #include <string>
+#include <vector>
 
 namespace canopy::formats {
+
+// One line of a CSV text: its 1-based line number and its cells.
+struct CsvRow {
+  int line = 0;
+  std::vector<std::string> cells;
+};
+
+// The non-empty lines of a CSV text (a trailing '\r' dropped first), each split at every comma
+// (so a trailing comma gives an empty last cell), with their line numbers. The one splitter of
+// canopy's CSV readers; what a row must hold is the reader's to check.
+std::vector<CsvRow> split_csv(const std::string& text);
 
 // One row of the thesis's results table: the correct model's score, its rank and the entropy
 // of the scores over the models (bits).
