@@ -70,6 +70,24 @@ bool is_sensor_key(const std::string& key) {
   return std::find(keys().begin(), keys().end(), key) != keys().end();
 }
 
+namespace {
+
+// The reflectance keys (docs/decisions/sensor.md "Surfaces"): each a fraction in [0, 1].
+double Sensor::*surface_key(const std::string& key) {
+  static const std::pair<const char*, double Sensor::*> kKeys[] = {
+      {"reflect_ground", &Sensor::reflect_ground},
+      {"reflect_vegetation", &Sensor::reflect_vegetation},
+      {"reflect_clutter", &Sensor::reflect_clutter},
+      {"paint_min", &Sensor::paint_min},
+      {"paint_max", &Sensor::paint_max},
+      {"reflect_glass", &Sensor::reflect_glass}};
+  for (const auto& [name, field] : kKeys)
+    if (key == name) return field;
+  return nullptr;
+}
+
+}  // namespace
+
 void apply_sensor_key(Sensor* s, const std::string& key, const std::vector<std::string>& w) {
   using common::parse_angle;
   using common::parse_length;
@@ -145,16 +163,10 @@ void apply_sensor_key(Sensor* s, const std::string& key, const std::vector<std::
   } else if (key == "line_turn") {
     s->line_turn = number(v);
     bound(s->line_turn, 0, 3600, key, "[0, 3600] s");
-  } else if (key == "reflect_ground" || key == "reflect_vegetation" || key == "reflect_clutter" ||
-             key == "paint_min" || key == "paint_max" || key == "reflect_glass") {
+  } else if (double Sensor::*field = surface_key(key)) {
     const double r = number(v);
     bound(r, 0, 1, key, "[0, 1]");
-    (key == "reflect_ground"       ? s->reflect_ground
-     : key == "reflect_vegetation" ? s->reflect_vegetation
-     : key == "reflect_clutter"    ? s->reflect_clutter
-     : key == "paint_min"          ? s->paint_min
-     : key == "paint_max"          ? s->paint_max
-                                   : s->reflect_glass) = r;
+    s->*field = r;
   } else {
     throw UsageError("unknown sensor key '" + key + "'");
   }
