@@ -5,6 +5,7 @@
 #include <pcl/features/normal_3d.h>
 #include <pcl/features/vfh.h>
 #include <pcl/filters/voxel_grid.h>
+#include <pcl/kdtree/impl/kdtree_flann.hpp>
 #include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
@@ -33,6 +34,73 @@ using CloudN = pcl::PointCloud<PointN>;
 using Features = pcl::PointCloud<pcl::FPFHSignature33>;
 using Vfh = std::array<float, 308>;
 using Planar = pcl::registration::TransformationEstimation2D<PointN, PointN>;
+
+// k-d trees without an OpenMP region per query (docs/decisions/baseline.md, "Cost"). FLANN opens
+// `#pragma omp parallel num_threads(cores)` around every search, even for one query and one
+// core, and PCL's precompiled k-d tree (libpcl_kdtree) is built with OpenMP: each of the
+// millions of single-point searches of RANSAC's fitness, ICP's correspondences, the normals and
+// FPFH paid a thread team's set-up and a futex syscall (a quarter of the baseline's CPU). The
+// same PCL and FLANN code, instantiated here (this file is compiled without -fopenmp, so the
+// pragma is inert) through a distance type of its own (so that it is not the library's
+// instantiation): the same index, the same searches, the same neighbours in the same order.
+struct L2Serial : ::flann::L2_Simple<float> {};
+template <typename PointT>
+using SerialFlann = pcl::KdTreeFLANN<PointT, L2Serial>;
+
+// pcl::search::KdTree (what PCL's features and registration take) answering its searches with
+// SerialFlann. The base class's tree is still built (callers may read the cloud through it);
+// every search the baseline's PCL classes make goes through the two overrides.
+class SerialKdTree : public pcl::search::KdTree<PointN> {
+ public:
+  using Ptr = std::shared_ptr<SerialKdTree>;
+  void setInputCloud(const PointCloudConstPtr& cloud,
+                     const IndicesConstPtr& indices = IndicesConstPtr()) override {
+    pcl::search::KdTree<PointN>::setInputCloud(cloud, indices);
+    serial_.setSortedResults(sorted_results_);
+    serial_.setInputCloud(cloud, indices);
+  }
+  void setSortedResults(bool sorted) override {
+    pcl::search::KdTree<PointN>::setSortedResults(sorted);
+    serial_.setSortedResults(sorted);
+  }
+  int nearestKSearch(const PointN& point, int k, pcl::Indices& indices,
+                     std::vector<float>& sqr_distances) const override {
+    return serial_.nearestKSearch(point, k, indices, sqr_distances);
+  }
+  int radiusSearch(const PointN& point, double radius, pcl::Indices& indices,
+                   std::vector<float>& sqr_distances, unsigned int max_nn = 0) const override {
+    return serial_.radiusSearch(point, radius, indices, sqr_distances, max_nn);
+  }
+  using pcl::search::KdTree<PointN>::nearestKSearch;
+  using pcl::search::KdTree<PointN>::radiusSearch;
+
+ private:
+  SerialFlann<PointN> serial_;
+};
+
+// The feature tree of RANSAC's correspondence search, likewise.
+class SerialFeatureTree : public pcl::KdTreeFLANN<pcl::FPFHSignature33> {
+ public:
+  void setInputCloud(const PointCloudConstPtr& cloud,
+                     const IndicesConstPtr& indices = IndicesConstPtr()) override {
+    pcl::KdTreeFLANN<pcl::FPFHSignature33>::setInputCloud(cloud, indices);
+    serial_.setInputCloud(cloud, indices);
+  }
+  int nearestKSearch(const pcl::FPFHSignature33& point, unsigned int k, pcl::Indices& indices,
+                     std::vector<float>& sqr_distances) const override {
+    return serial_.nearestKSearch(point, k, indices, sqr_distances);
+  }
+  using pcl::KdTreeFLANN<pcl::FPFHSignature33>::nearestKSearch;
+
+ private:
+  SerialFlann<pcl::FPFHSignature33> serial_;
+};
+
+// SampleConsensusPrerejective with the serial feature tree (its tree is a protected member).
+class Prerejective : public pcl::SampleConsensusPrerejective<PointN, PointN, pcl::FPFHSignature33> {
+ public:
+  Prerejective() { feature_tree_.reset(new SerialFeatureTree); }
+};
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -83,8 +151,7 @@ CloudN::Ptr prepare(const Cloud& c, const Params& p) {
   grid.filter(*down);
   // The averaged input normals give the orientation; PCL recomputes the direction.
   pcl::NormalEstimation<PointN, PointN> ne;
-  pcl::search::KdTree<PointN>::Ptr tree(new pcl::search::KdTree<PointN>);
-  ne.setSearchMethod(tree);
+  ne.setSearchMethod(SerialKdTree::Ptr(new SerialKdTree));
   ne.setRadiusSearch(p.normal_radius);
   ne.setInputCloud(down);
   CloudN::Ptr normals(new CloudN);
@@ -104,8 +171,7 @@ CloudN::Ptr prepare(const Cloud& c, const Params& p) {
 
 Features::Ptr fpfh(const CloudN::Ptr& c, const Params& p) {
   pcl::FPFHEstimation<PointN, PointN, pcl::FPFHSignature33> est;
-  pcl::search::KdTree<PointN>::Ptr tree(new pcl::search::KdTree<PointN>);
-  est.setSearchMethod(tree);
+  est.setSearchMethod(SerialKdTree::Ptr(new SerialKdTree));
   est.setRadiusSearch(p.feature_radius);
   est.setInputCloud(c);
   est.setInputNormals(c);
@@ -167,7 +233,7 @@ Cloud view(const Cloud& m, double azimuth, double elevation) {
 }
 
 // Share of the points of `a` within `r` of some point of `b` (a k-d tree on b).
-double share_near(const CloudN& a, const pcl::KdTreeFLANN<PointN>& b, double r) {
+double share_near(const CloudN& a, const SerialFlann<PointN>& b, double r) {
   if (a.empty()) return 0;
   std::vector<int> idx(1);
   std::vector<float> d2(1);
@@ -186,12 +252,12 @@ struct Fit {
 // The fitness of a posed model: sqrt(share of candidate points within r of the posed model x
 // share of posed model points within r of the candidate).
 Fit fit(const CloudN& model, const Eigen::Matrix4f& pose, const CloudN& cand,
-        const pcl::KdTreeFLANN<PointN>& ctree, double r) {
+        const SerialFlann<PointN>& ctree, double r) {
   Fit f;
   f.pose = pose;
   CloudN moved;
   pcl::transformPointCloud(model, moved, pose);
-  pcl::KdTreeFLANN<PointN> mtree;
+  SerialFlann<PointN> mtree;
   mtree.setInputCloud(moved.makeShared());
   f.candidate_share = share_near(cand, mtree, r);
   f.model_share = share_near(moved, ctree, r);
@@ -251,7 +317,7 @@ Ranking run_fpfh(const Cloud& cand, const std::vector<Model>& models, const Para
   r.method = "fpfh";
   const CloudN::Ptr c = prepare(cand, p);
   const Features::Ptr cf = fpfh(c, p);
-  pcl::KdTreeFLANN<PointN> ctree;
+  SerialFlann<PointN> ctree;
   if (!c->empty()) ctree.setInputCloud(c);
   for (const auto& m : models) {
     Entry e;
@@ -263,7 +329,8 @@ Ranking run_fpfh(const Cloud& cand, const std::vector<Model>& models, const Para
       // fraction RANSAC requires is a share of the candidate, which a right model explains
       // almost entirely (the reverse share, of the model, is small for any occluded view and
       // let RANSAC prefer a few tight inliers to many).
-      pcl::SampleConsensusPrerejective<PointN, PointN, pcl::FPFHSignature33> align;
+      Prerejective align;
+      align.setSearchMethodTarget(SerialKdTree::Ptr(new SerialKdTree));
       align.setInputSource(c);
       align.setSourceFeatures(cf);
       align.setInputTarget(mc);
@@ -295,6 +362,7 @@ Ranking run_fpfh(const Cloud& cand, const std::vector<Model>& models, const Para
           pcl::IterativeClosestPoint<PointN, PointN> icp;
           icp.setInputSource(c);
           icp.setInputTarget(mc);
+          icp.setSearchMethodTarget(SerialKdTree::Ptr(new SerialKdTree));
           icp.setMaxCorrespondenceDistance(dist);
           icp.setMaximumIterations(p.icp_iterations);
           icp.setTransformationEstimation(planar);
