@@ -99,45 +99,60 @@ kind+=${name//[0-9]/#}
 previous=""
 [ -f "$artifact.time" ] && read -r previous _ <"$artifact.time" 2>/dev/null
 # progress sets n_m ("N/M " or "") and left.
+# (In bash alone, under the lock: no subshell and no awk per stage, only flock; cost.md §9.
+# Seconds are handled as integer milliseconds: the state and the estimates hold three decimals,
+# the .time files two, so the sums are exact and the state reads back as before.)
 n_m="" left=""
+# ms VAR TEXT: VAR = TEXT (a number of seconds, digits with an optional fraction) in whole
+# milliseconds (further decimals dropped); status 1 when TEXT is no such number.
+ms() {
+  [[ $2 =~ ^([0-9]*)(\.([0-9]*))?$ ]] && [ -n "${BASH_REMATCH[1]}${BASH_REMATCH[3]}" ] || return 1
+  local frac="${BASH_REMATCH[3]}000"
+  printf -v "$1" '%d' $((10#${BASH_REMATCH[1]:-0} * 1000 + 10#${frac:0:3}))
+}
 progress() {
-  local out
   # (the state is read only under the lock: another stage rewrites it in place)
   [ -n "${CANOPY_PROGRESS:-}" ] && [ -e "$CANOPY_PROGRESS" ] || return 0
-  out=$( {
-    flock 9 || exit 1
-    # (one awk: reads the state, writes it back in place under the lock, prints "N/M text")
-    awk -v st="$CANOPY_PROGRESS" -v kind="$kind" -v prev="$previous" -v now="$EPOCHREALTIME" '
-      BEGIN {
-        if ((getline line < st) <= 0 || split(line, s, " ") < 5) exit 1
-        n = s[1] + 1; m = s[2]; d = s[3]; e = s[4]; t0 = s[5]
-        x = -1
-        if (prev ~ /^[0-9]+([.][0-9]*)?$/) x = prev
-        else {
-          tool = kind; sub(/:.*/, "", tool)
-          while ((getline line < (st "-est")) > 0) {
-            split(line, f, " ")
-            if (f[1] == kind) x = f[2]; else if (f[1] == tool) t = f[2]; else if (f[1] == "*") all = f[2]
-          }
-          if (x < 0) x = t != "" ? t : (all != "" ? all : 1)
-        }
-        d += x
-        if (m < n) m = n
-        if (e < d) e = d
-        close(st)
-        printf "%d %d %.3f %.3f %s\n", n, m, d, e, t0 > st
-        # (shown once 1% of the estimated work is done: before, the pace is mostly noise)
-        left = d > 0 && n < m && d >= 0.01 * e ? (now - t0) * (e - d) / d : -1
-        if (left < 0) text = ""
-        else if (left < 90) text = sprintf("~%d s left", left + 0.5)
-        else if (left < 5400) text = sprintf("~%d min left", left / 60 + 0.5)
-        else text = sprintf("~%d h %02d min left", int(left / 3600), int((left % 3600) / 60 + 0.5))
-        printf "%d/%d %s\n", n, m, text
-      }'
-  } 9>>"$CANOPY_PROGRESS.lock" 2>/dev/null) || return 0
-  left=${out#* }
-  [ -z "$left" ] || left="  $left"
-  n_m="${out%% *} "
+  { exec 9>>"$CANOPY_PROGRESS.lock"; } 2>/dev/null && flock 9 2>/dev/null || { exec 9>&-; return 0; }
+  local n m d e t0 rest x t="" all="" k v tool now elapsed left_ms text=""
+  read -r n m d e t0 rest <"$CANOPY_PROGRESS" 2>/dev/null
+  if ! [[ $n =~ ^[0-9]+$ && $m =~ ^[0-9]+$ ]] || [ -z "$t0" ] || ! ms d "$d" || ! ms e "$e"; then
+    exec 9>&-
+    return 0
+  fi
+  n=$((n + 1))
+  # this stage's share: its artifact's previous wall time, else its kind's estimate, its
+  # tool's, every stage's, else 1 s
+  if [[ $previous =~ ^[0-9]+([.][0-9]*)?$ ]]; then
+    ms x "$previous"
+  else
+    tool=${kind%%:*}
+    x=-1
+    while read -r k v _; do
+      if [ "$k" = "$kind" ]; then ms x "$v" || x=-1
+      elif [ "$k" = "$tool" ]; then t=$v
+      elif [ "$k" = "*" ]; then all=$v; fi
+    done 2>/dev/null <"$CANOPY_PROGRESS-est"
+    if [ "$x" -lt 0 ]; then ms x "$t" || ms x "$all" || x=1000; fi
+  fi
+  d=$((d + x))
+  [ "$m" -ge "$n" ] || m=$n
+  [ "$e" -ge "$d" ] || e=$d
+  printf '%d %d %d.%03d %d.%03d %s\n' "$n" "$m" $((d / 1000)) $((d % 1000)) $((e / 1000)) $((e % 1000)) "$t0" \
+    >"$CANOPY_PROGRESS"
+  exec 9>&-
+  # (shown once 1% of the estimated work is done: before, the pace is mostly noise)
+  if [ "$d" -gt 0 ] && [ "$n" -lt "$m" ] && [ $((100 * d)) -ge "$e" ] && ms now "$EPOCHREALTIME" && ms t0 "$t0"; then
+    elapsed=$((now - t0))
+    if [ "$elapsed" -ge 0 ]; then
+      left_ms=$((elapsed * (e - d) / d))
+      if [ "$left_ms" -lt 90000 ]; then text="~$(((left_ms + 500) / 1000)) s left"
+      elif [ "$left_ms" -lt 5400000 ]; then text="~$(((left_ms + 30000) / 60000)) min left"
+      else printf -v text '~%d h %02d min left' $((left_ms / 3600000)) $(((left_ms % 3600000 + 30000) / 60000)); fi
+    fi
+  fi
+  [ -z "$text" ] || left="  $text"
+  n_m="$n/$m "
 }
 : >"$timing"
 if "${run[@]}" 2>"$log"; then
@@ -159,7 +174,7 @@ if [ $rc -eq 0 ] && [ -s "$timing" ] && [ "${how#Command}" = "$how" ]; then
   # user + system: GNU time prints both with two decimals; summed in hundredths
   cs=0
   [[ "${user:-} ${sys:-}" =~ ^[0-9]+\.[0-9]{2}\ [0-9]+\.[0-9]{2}$ ]] && cs=$((10#${user/./} + 10#${sys/./}))
-  cpu=$((cs / 100)).$(printf '%02d' $((cs % 100)))
+  printf -v cpu '%d.%02d' $((cs / 100)) $((cs % 100))
   [ -z "${CANOPY_PROGRESS:-}" ] || echo "$kind $secs $cpu" >>"$CANOPY_PROGRESS-history"
   progress
   printf 'done  %s%-58s %7.2f s %7.2f cpu %6d MB%s\n' "$n_m" "$artifact" "$secs" "$cpu" "$((kib / 1024))" "$left"

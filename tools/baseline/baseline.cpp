@@ -5,7 +5,6 @@
 #include <pcl/features/normal_3d.h>
 #include <pcl/features/vfh.h>
 #include <pcl/filters/voxel_grid.h>
-#include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 #include <pcl/registration/icp.h>
@@ -19,6 +18,7 @@
 #include <filesystem>
 #include <system_error>
 
+#include "baseline/serial_kdtree.h"
 #include "canopy/common/math.h"
 #include "canopy/documents/baseline_ranking.h"
 #include "canopy/common/error.h"
@@ -28,7 +28,6 @@
 namespace canopy::baseline {
 namespace {
 
-using PointN = pcl::PointNormal;
 using CloudN = pcl::PointCloud<PointN>;
 using Features = pcl::PointCloud<pcl::FPFHSignature33>;
 using Vfh = std::array<float, 308>;
@@ -83,8 +82,7 @@ CloudN::Ptr prepare(const Cloud& c, const Params& p) {
   grid.filter(*down);
   // The averaged input normals give the orientation; PCL recomputes the direction.
   pcl::NormalEstimation<PointN, PointN> ne;
-  pcl::search::KdTree<PointN>::Ptr tree(new pcl::search::KdTree<PointN>);
-  ne.setSearchMethod(tree);
+  ne.setSearchMethod(SerialKdTree::Ptr(new SerialKdTree));
   ne.setRadiusSearch(p.normal_radius);
   ne.setInputCloud(down);
   CloudN::Ptr normals(new CloudN);
@@ -104,8 +102,7 @@ CloudN::Ptr prepare(const Cloud& c, const Params& p) {
 
 Features::Ptr fpfh(const CloudN::Ptr& c, const Params& p) {
   pcl::FPFHEstimation<PointN, PointN, pcl::FPFHSignature33> est;
-  pcl::search::KdTree<PointN>::Ptr tree(new pcl::search::KdTree<PointN>);
-  est.setSearchMethod(tree);
+  est.setSearchMethod(SerialKdTree::Ptr(new SerialKdTree));
   est.setRadiusSearch(p.feature_radius);
   est.setInputCloud(c);
   est.setInputNormals(c);
@@ -167,7 +164,7 @@ Cloud view(const Cloud& m, double azimuth, double elevation) {
 }
 
 // Share of the points of `a` within `r` of some point of `b` (a k-d tree on b).
-double share_near(const CloudN& a, const pcl::KdTreeFLANN<PointN>& b, double r) {
+double share_near(const CloudN& a, const SerialFlann<PointN>& b, double r) {
   if (a.empty()) return 0;
   std::vector<int> idx(1);
   std::vector<float> d2(1);
@@ -186,12 +183,12 @@ struct Fit {
 // The fitness of a posed model: sqrt(share of candidate points within r of the posed model x
 // share of posed model points within r of the candidate).
 Fit fit(const CloudN& model, const Eigen::Matrix4f& pose, const CloudN& cand,
-        const pcl::KdTreeFLANN<PointN>& ctree, double r) {
+        const SerialFlann<PointN>& ctree, double r) {
   Fit f;
   f.pose = pose;
   CloudN moved;
   pcl::transformPointCloud(model, moved, pose);
-  pcl::KdTreeFLANN<PointN> mtree;
+  SerialFlann<PointN> mtree;
   mtree.setInputCloud(moved.makeShared());
   f.candidate_share = share_near(cand, mtree, r);
   f.model_share = share_near(moved, ctree, r);
@@ -251,7 +248,7 @@ Ranking run_fpfh(const Cloud& cand, const std::vector<Model>& models, const Para
   r.method = "fpfh";
   const CloudN::Ptr c = prepare(cand, p);
   const Features::Ptr cf = fpfh(c, p);
-  pcl::KdTreeFLANN<PointN> ctree;
+  SerialFlann<PointN> ctree;
   if (!c->empty()) ctree.setInputCloud(c);
   for (const auto& m : models) {
     Entry e;
@@ -263,7 +260,8 @@ Ranking run_fpfh(const Cloud& cand, const std::vector<Model>& models, const Para
       // fraction RANSAC requires is a share of the candidate, which a right model explains
       // almost entirely (the reverse share, of the model, is small for any occluded view and
       // let RANSAC prefer a few tight inliers to many).
-      pcl::SampleConsensusPrerejective<PointN, PointN, pcl::FPFHSignature33> align;
+      Prerejective align;
+      align.setSearchMethodTarget(SerialKdTree::Ptr(new SerialKdTree));
       align.setInputSource(c);
       align.setSourceFeatures(cf);
       align.setInputTarget(mc);
@@ -295,6 +293,7 @@ Ranking run_fpfh(const Cloud& cand, const std::vector<Model>& models, const Para
           pcl::IterativeClosestPoint<PointN, PointN> icp;
           icp.setInputSource(c);
           icp.setInputTarget(mc);
+          icp.setSearchMethodTarget(SerialKdTree::Ptr(new SerialKdTree));
           icp.setMaxCorrespondenceDistance(dist);
           icp.setMaximumIterations(p.icp_iterations);
           icp.setTransformationEstimation(planar);
