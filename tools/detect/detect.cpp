@@ -54,6 +54,7 @@ void validate(const Params& p) {
   need(p.min_planar_area >= 0, "--min-planar-area must be >= 0");
   need(p.row_roof_height > 0 && p.row_roof_height < 3.0, "--row-roof-height must be in (0, 3) m");
   need(p.row_tolerance > 0 && std::isfinite(p.row_tolerance), "--row-tolerance must be > 0");
+  need(p.min_split_share >= 0 && p.min_split_share <= 1, "--min-split-share must be in [0, 1]");
   need(p.min_ground_share > 0 && p.min_ground_share <= 1, "--min-ground-share must be in (0, 1]");
 }
 

@@ -91,6 +91,10 @@ struct Params {
   bool split_rows_from_density = true;
   double row_roof_height = 1.1;  // bottom of the roof band (m above ground)
   double row_tolerance = 0.45;   // roofs' clustering tolerance in the top view (m)
+  // An object re-clustered at half the voxel (touching objects) is split only when the parts
+  // it keeps hold at least this share of its points (detect.md §10); 0 = any two parts (the
+  // rule before).
+  double min_split_share = 0.8;
   // Candidates.
   double margin = 0.5;  // crop margin around the footprint and above the height (m)
 };

@@ -72,6 +72,10 @@ void bind(common::Tool& tool, detect::Params& p, Cli& cli) {
            "< 90.25 points/m², docs/decisions/detect.md §9");
   tool.add_length("--row-roof-height", &p.row_roof_height,
                   "bottom of the roof band whose points separate the roofs of a row");
+  tool.add("--min-split-share", &p.min_split_share,
+           "an object re-clustered at half the voxel (objects that touch) is split only when the "
+           "parts kept hold at least this share of its points (a sparse vehicle only falls into "
+           "fragments); 0 = any two parts, the rule before, docs/decisions/detect.md §10");
   tool.add_flag("--no-classes", &cli.no_classes, "do not write classes.ply");
 }
 
