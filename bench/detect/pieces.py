@@ -13,6 +13,7 @@ candidate's frame: what candtruth counts) are counted per vehicle. Per vehicle:
   merged  a candidate holds >= 50% of it and >= 50% of another vehicle
   pieces  candidates holding >= 10% of it that hold less than 80% of it (parts)
   missed  no candidate holds >= 50% of it
+  long    whole, but the candidate is more than 1 m longer than the vehicle (something merged in)
 
 Prints one line per vehicle with --list, then per model and in all: whole / vehicles with a 95%
 Wilson interval, merged, vehicles in pieces, and the candidates on no vehicle (no vehicle's
@@ -73,7 +74,9 @@ def run_tile(run, tag):
         whole = best >= 0.8 and not others(bk)
         merged = any(s >= 0.5 and others(k) for s, k in share)
         pieces = [(round(s, 2), index["candidates"][k]["length"]) for s, k in share if 0.1 <= s < 0.8]
+        long_by = (index["candidates"][bk]["length"] - v["size"][0]) if bk >= 0 and best > 0 else 0.0
         rows.append({"tile": os.path.basename(run), "instance": i, "model": v["model"], "points": tot,
+                     "long": whole and long_by > 1.0,
                      "cover": round(v.get("canopy_cover", 0), 2), "best": round(best, 2),
                      "best_len": index["candidates"][bk]["length"] if bk >= 0 and best > 0 else 0,
                      "whole": whole, "merged": merged, "pieces": pieces, "missed": best < 0.5})
@@ -101,15 +104,15 @@ def main():
                       f"best {x['best']:.2f} ({x['best_len']:.1f} m) whole {int(x['whole'])} "
                       f"merged {int(x['merged'])} pieces {x['pieces']}")
     models = sorted({x["model"] for x in rows})
-    print("| vehicles | whole | merged | in pieces | missed |")
-    print("|---|---|---|---|---|")
+    print("| vehicles | whole | merged | in pieces | missed | whole but > 1 m too long |")
+    print("|---|---|---|---|---|---|")
     for m in models + ["all"]:
         sel = [x for x in rows if m == "all" or x["model"] == m]
         k = sum(x["whole"] for x in sel)
         lo, hi = wilson(k, len(sel))
         print(f"| {m} ({len(sel)}) | {k}/{len(sel)} = {100 * k / len(sel):.1f}% [{lo:.1f}, {hi:.1f}] | "
               f"{sum(x['merged'] for x in sel)} | {sum(1 for x in sel if x['pieces'] and not x['whole'])} | "
-              f"{sum(x['missed'] for x in sel)} |")
+              f"{sum(x['missed'] for x in sel)} | {sum(x['long'] for x in sel)} |")
     print(f"candidates {cands}, on no vehicle {none}")
 
 

@@ -95,6 +95,10 @@ struct Params {
   // it keeps hold at least this share of its points (detect.md §10); 0 = any two parts (the
   // rule before).
   double min_split_share = 0.8;
+  // Accepted objects whose points come within merge_gap clustering voxels of each other in the
+  // top view, end to end, and whose union fits one vehicle are merged (the cab and the deck of
+  // a tractor unit; detect.md §10); 0 = no merging (the rule before).
+  double merge_gap = 0.5;
   // Candidates.
   double margin = 0.5;  // crop margin around the footprint and above the height (m)
 };
@@ -166,7 +170,7 @@ struct Candidate {
 
 struct Stats {
   std::size_t points = 0, ground_cells = 0, filled_cells = 0, cells = 0;
-  std::size_t ground_points = 0, band_points = 0, clusters = 0, splits = 0, row_splits = 0;
+  std::size_t ground_points = 0, band_points = 0, clusters = 0, splits = 0, row_splits = 0, merges = 0;
   std::size_t rejected_small = 0, rejected_large = 0, rejected_canopy = 0, rejected_shape = 0;
   double seconds_ground = 0, seconds_objects = 0, seconds_candidates = 0;
 };
