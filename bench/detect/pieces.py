@@ -16,8 +16,8 @@ candidate's frame: what candtruth counts) are counted per vehicle. Per vehicle:
   long    whole, but the candidate is more than 1 m longer than the vehicle (something merged in)
 
 Prints one line per vehicle with --list, then per model and in all: whole / vehicles with a 95%
-Wilson interval, merged, vehicles in pieces, and the candidates on no vehicle (no vehicle's
-points >= 10% of the crop's vehicle points... i.e. holding < 10% of any vehicle).
+Wilson interval, merged, in pieces, missed, long; and the candidates on no vehicle (holding
+< 10% of every vehicle).
 Truth is read only here (evaluation; detect never reads it).
 """
 import argparse, json, math, os, sys

@@ -7,7 +7,7 @@
 # DETECT_ARGS into cands-TAG/, and bench/detect/pieces.py: vehicles whole (one candidate holding
 # >= 80%), merged with a neighbour, in pieces, missed.
 #   bench/detect/pieces.sh [build dir] [work dir] [levels] [seeds] [covers]
-#   e.g. TAG=old DETECT_ARGS="--merge-pieces off" bench/detect/pieces.sh build /tmp/pieces "25 100" "101 102" light
+#   e.g. TAG=old DETECT_ARGS="--min-split-share 0 --merge-gap 0" bench/detect/pieces.sh build /tmp/pieces "25 100" "101 102" light
 # Seeds 1-8, 21-23 and 31-34 are experiments' seeds: do not develop on them.
 set -euo pipefail
 build=${1:-build} work=${2:-/tmp/detect-pieces} levels=${3:-25 100} seeds=${4:-101 102} covers=${5:-light}
