@@ -54,6 +54,8 @@ void validate(const Params& p) {
   need(p.min_planar_area >= 0, "--min-planar-area must be >= 0");
   need(p.row_roof_height > 0 && p.row_roof_height < 3.0, "--row-roof-height must be in (0, 3) m");
   need(p.row_tolerance > 0 && std::isfinite(p.row_tolerance), "--row-tolerance must be > 0");
+  need(p.merge_gap >= 0 && p.merge_gap <= 5, "--merge-gap must be in [0, 5] voxels");
+  need(p.min_split_share >= 0 && p.min_split_share <= 1, "--min-split-share must be in [0, 1]");
   need(p.min_ground_share > 0 && p.min_ground_share <= 1, "--min-ground-share must be in (0, 1]");
 }
 
@@ -97,6 +99,7 @@ Outputs run(const Params& given, const Inputs& inputs) {
   r.stats.clusters = found.clusters;
   r.stats.splits = found.splits;
   r.stats.row_splits = found.row_splits;
+  r.stats.merges = found.merges;
   r.stats.rejected_small = found.rejected_small;
   r.stats.rejected_large = found.rejected_large;
   r.stats.rejected_canopy = found.rejected_canopy;

@@ -22,7 +22,10 @@
 //    or kept when at most 25% beyond the ranges (recall first), else rejected. Below
 //    kRowSplitDensity a cluster longer or wider than one vehicle is first split into one piece
 //    per roof where its points 1.1-3 m above ground cluster apart (rows of parked vehicles,
-//    rows.h, `split_rows`).
+//    rows.h, `split_rows`). A half-voxel split is kept only when its parts hold
+//    `min_split_share` of the points (and, for an object only wider than two narrow vehicles,
+//    lie side by side); accepted objects touching end to end in the top view whose union fits
+//    one vehicle are merged (`merge_gap`: a tractor unit's cab and deck; detect.md §10).
 //    An accepted cluster whose surface is mostly not planar and holds little planar area (bush
 //    groups, crown pieces: leaves are volumetric scatter, a vehicle is made of panels) is
 //    rejected (`min_planarity`, `min_planar_area`).
@@ -91,6 +94,14 @@ struct Params {
   bool split_rows_from_density = true;
   double row_roof_height = 1.1;  // bottom of the roof band (m above ground)
   double row_tolerance = 0.45;   // roofs' clustering tolerance in the top view (m)
+  // An object re-clustered at half the voxel (touching objects) is split only when the parts
+  // it keeps hold at least this share of its points (detect.md §10); 0 = any two parts (the
+  // rule before).
+  double min_split_share = 0.8;
+  // Accepted objects whose points come within merge_gap clustering voxels of each other in the
+  // top view, end to end, and whose union fits one vehicle are merged (the cab and the deck of
+  // a tractor unit; detect.md §10); 0 = no merging (the rule before).
+  double merge_gap = 0.5;
   // Candidates.
   double margin = 0.5;  // crop margin around the footprint and above the height (m)
 };
@@ -100,7 +111,7 @@ struct Params {
 // ground_tolerance > 0, voxel in [1 mm, 100 m], min_object_height >= 0, 0 <= min <= max of length, width and
 // height, max_height > min_object_height, margin >= 0, min_points >= 3, min_planarity in
 // [0, 1], planar_radius >= 0.2 m, planar_ratio in (0, 1), min_planar_area >= 0,
-// min_ground_share in (0, 1].
+// min_ground_share in (0, 1], min_split_share in [0, 1], merge_gap in [0, 5].
 void validate(const Params& params);
 
 // The tile's ground-truth fields (rangetrace's tiles): never copied into a crop, so no later
@@ -162,7 +173,7 @@ struct Candidate {
 
 struct Stats {
   std::size_t points = 0, ground_cells = 0, filled_cells = 0, cells = 0;
-  std::size_t ground_points = 0, band_points = 0, clusters = 0, splits = 0, row_splits = 0;
+  std::size_t ground_points = 0, band_points = 0, clusters = 0, splits = 0, row_splits = 0, merges = 0;
   std::size_t rejected_small = 0, rejected_large = 0, rejected_canopy = 0, rejected_shape = 0;
   double seconds_ground = 0, seconds_objects = 0, seconds_candidates = 0;
 };

@@ -72,6 +72,14 @@ void bind(common::Tool& tool, detect::Params& p, Cli& cli) {
            "< 90.25 points/m², docs/decisions/detect.md §9");
   tool.add_length("--row-roof-height", &p.row_roof_height,
                   "bottom of the roof band whose points separate the roofs of a row");
+  tool.add("--min-split-share", &p.min_split_share,
+           "an object re-clustered at half the voxel (objects that touch) is split only when the "
+           "parts kept hold at least this share of its points (a sparse vehicle only falls into "
+           "fragments); 0 = any two parts, the rule before, docs/decisions/detect.md §10");
+  tool.add("--merge-gap", &p.merge_gap,
+           "objects whose points come within this many clustering voxels of each other in the top "
+           "view, end to end, with a union that fits one vehicle, are one (the cab and the deck of "
+           "a tractor unit); 0 = never merge, the rule before, docs/decisions/detect.md §10");
   tool.add_flag("--no-classes", &cli.no_classes, "do not write classes.ply");
 }
 
@@ -104,11 +112,11 @@ std::string summary(const detect::Result& r) {
       "density %.1f points/m² (DTM cell %.2f m, voxel %.2f m, min planarity %.2f, rows %s); ground %zu of "
       "%zu cells "
       "(%.2f s); %zu "
-      "object points in %zu clusters, %zu splits (%zu rows), "
+      "object points in %zu clusters, %zu splits (%zu rows), %zu merges, "
       "rejected %zu small %zu large %zu canopy bottoms %zu not planar (%.2f s); %zu candidates (%.2f s)",
       r.density.rule, r.density.cell, r.density.voxel, r.density.min_planarity,
       r.density.split_rows ? "split" : "kept", s.ground_cells, s.cells, s.seconds_ground, s.band_points,
-      s.clusters, s.splits, s.row_splits, s.rejected_small, s.rejected_large, s.rejected_canopy,
+      s.clusters, s.splits, s.row_splits, s.merges, s.rejected_small, s.rejected_large, s.rejected_canopy,
       s.rejected_shape, s.seconds_objects, r.candidates.size(), s.seconds_candidates);
   return buf;
 }

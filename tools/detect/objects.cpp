@@ -19,6 +19,8 @@ using Eigen::Vector2d;
 using formats::format_number;
 
 constexpr int kMaxSplitDepth = 6;
+// Pieces merged (merge_pieces) make a union at most this much wider than the wider piece (m).
+constexpr double kMergeWiden = 0.3;
 
 struct Context {
   const Params& p;
@@ -30,6 +32,7 @@ struct Context {
   // 2-D voxel columns (i, j at `voxel`, packed) holding a point just above the band: a
   // cluster reaching the band's top under them is the bottom of something taller (a crown).
   std::unordered_map<std::uint64_t, char> above;
+  int in_row = 0;  // > 0 while examining the pieces of a row split (rows.h)
 };
 
 std::uint64_t column_key(double x, double y, double v) {
@@ -62,9 +65,13 @@ Footprint footprint_of(const Context& c, const std::vector<std::uint32_t>& pts) 
 }
 
 // Finer voxel (half the edge): parts of `pts` that only touch come apart. Returns the parts
-// holding at least max(min_points, min_share of the points) when there are two or more.
+// holding at least max(min_points, min_share of the points) when there are two or more and
+// together they hold at least `min_kept` of the points: objects that touch come apart whole,
+// while a sparsely sampled one only falls into fragments (returns 0.2-0.4 m apart at half a
+// 0.2-0.4 m voxel), of which the larger would be taken for objects and the rest lost
+// (detect.md §10).
 std::vector<std::vector<std::uint32_t>> finer_parts(const Context& c, const std::vector<std::uint32_t>& pts,
-                                                    double min_share = 0.1) {
+                                                    double min_share = 0.1, double min_kept = 0.0) {
   std::vector<std::vector<std::uint32_t>> parts;
   try {
     parts = cluster_points(pts, c.x, c.y, c.z, c.p.voxel / 2, Clustering::kGrid);
@@ -73,11 +80,40 @@ std::vector<std::vector<std::uint32_t>> finer_parts(const Context& c, const std:
   }
   const std::size_t big = std::max(c.p.min_points, std::size_t(double(pts.size()) * min_share));
   std::vector<std::vector<std::uint32_t>> kept;
+  std::size_t held = 0;
   for (auto& part : parts) {
-    if (part.size() >= big) kept.push_back(std::move(part));
+    if (part.size() >= big) {
+      held += part.size();
+      kept.push_back(std::move(part));
+    }
   }
-  if (kept.size() < 2) kept.clear();
+  if (kept.size() < 2 || double(held) < min_kept * double(pts.size())) kept.clear();
   return kept;
+}
+
+// True when the parts lie side by side across `cross` (the object's short axis): no two of them
+// overlap along it by more than half the narrower one's extent. Two vehicles parked side by side
+// do; the front and rear halves of one wide, sparsely sampled vehicle (8 x 3.1 m, 25 points/m²)
+// that a half voxel parts do not (detect.md §10).
+bool side_by_side(const Context& c, const std::vector<std::vector<std::uint32_t>>& parts,
+                  const Vector2d& cross) {
+  std::vector<std::pair<double, double>> span;
+  for (const auto& part : parts) {
+    double lo = 1e300, hi = -1e300;
+    for (std::uint32_t q : part) {
+      const double s = Vector2d(c.x[q], c.y[q]).dot(cross);
+      lo = std::min(lo, s);
+      hi = std::max(hi, s);
+    }
+    span.emplace_back(lo, hi);
+  }
+  for (std::size_t a = 0; a < span.size(); ++a)
+    for (std::size_t b = a + 1; b < span.size(); ++b) {
+      const double overlap = std::min(span[a].second, span[b].second) - std::max(span[a].first, span[b].first);
+      const double narrower = std::min(span[a].second - span[a].first, span[b].second - span[b].first);
+      if (overlap > 0.5 * narrower) return false;
+    }
+  return true;
 }
 
 // Cut position across `axis` at a clear valley, leaving at least `min_side` on each side; NaN
@@ -173,6 +209,7 @@ void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
     RowSplit row = split_row(pts, c.x, c.y, c.h, o.fp, p.row_roof_height, p.row_tolerance);
     if (!row.pieces.empty()) {
       ++c.out.row_splits;
+      ++c.in_row;
       for (auto& piece : row.pieces) examine(c, std::move(piece), depth + 1);
       // What no roof is near (a wall, a hedge's far end): its own objects.
       if (row.rest.size() >= p.min_points) {
@@ -181,6 +218,7 @@ void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
       } else if (!row.rest.empty()) {
         ++c.out.rejected_small;
       }
+      --c.in_row;
       return;
     }
   }
@@ -189,7 +227,11 @@ void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
   // finer voxel.
   const bool two_wide = o.fp.width > 2 * p.min_width + 1.0;
   if ((too_long || too_wide || two_wide) && depth < kMaxSplitDepth) {
-    auto parts = finer_parts(c, pts);
+    auto parts = finer_parts(c, pts, 0.1, p.min_split_share);
+    // Only wider than two narrow vehicles: the parts must be vehicles side by side.
+    if (!parts.empty() && p.min_split_share > 0 && two_wide && !too_long && !too_wide &&
+        !side_by_side(c, parts, Vector2d(-o.fp.axis.y(), o.fp.axis.x())))
+      parts.clear();
     if (!parts.empty()) {
       ++c.out.splits;
       for (auto& part : parts) examine(c, std::move(part), depth + 1);
@@ -226,7 +268,83 @@ void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
     }
   }
   o.points = std::move(pts);
+  o.row_piece = c.in_row > 0;
   c.out.accepted.push_back(std::move(o));
+}
+
+// Smallest horizontal distance between a point of `a` and one of `b` when it is at most `reach`
+// (a hash of b's points in cells of `reach`), else infinity.
+double plan_gap(const Context& c, const std::vector<std::uint32_t>& a, const std::vector<std::uint32_t>& b,
+                double reach) {
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells;
+  for (std::uint32_t q : b) cells[column_key(c.x[q], c.y[q], reach)].push_back(q);
+  double best = std::numeric_limits<double>::infinity();
+  for (std::uint32_t q : a)
+    for (int di = -1; di <= 1; ++di)
+      for (int dj = -1; dj <= 1; ++dj) {
+        const auto it = cells.find(column_key(c.x[q] + di * reach, c.y[q] + dj * reach, reach));
+        if (it == cells.end()) continue;
+        for (std::uint32_t r : it->second)
+          best = std::min(best, std::hypot(c.x[q] - c.x[r], c.y[q] - c.y[r]));
+      }
+  return best <= reach ? best : std::numeric_limits<double>::infinity();
+}
+
+// Extent of `pts` along `axis`.
+std::pair<double, double> span_along(const Context& c, const std::vector<std::uint32_t>& pts,
+                                     const Vector2d& axis) {
+  double lo = 1e300, hi = -1e300;
+  for (std::uint32_t q : pts) {
+    const double s = Vector2d(c.x[q], c.y[q]).dot(axis);
+    lo = std::min(lo, s);
+    hi = std::max(hi, s);
+  }
+  return {lo, hi};
+}
+
+// Pieces of one vehicle (detect.md §10): the cab and the low deck of a tractor unit are apart in
+// 3-D (its back wall returned little) but touch in the top view. Two accepted objects are merged
+// when, in the top view, their points come within `kMergeGap` voxels of each other, they lie end
+// to end along the union's long axis (overlapping by at most half the shorter one: not a bush
+// over a car), the union is no wider than the wider piece + kMergeWiden (in line: not a bush or a
+// vehicle beside it) and fits the vehicle ranges. Pieces of a row split (rows.h) stay apart: the
+// row rule decided them. Repeated until no pair merges; pairs in the order found.
+void merge_pieces(Context& c) {
+  const Params& p = c.p;
+  if (p.merge_gap <= 0) return;
+  const double reach = p.merge_gap * p.voxel;
+  auto& objs = c.out.accepted;
+  for (bool merged = true; merged;) {
+    merged = false;
+    for (std::size_t a = 0; a < objs.size() && !merged; ++a) {
+      if (objs[a].row_piece) continue;
+      for (std::size_t b = a + 1; b < objs.size() && !merged; ++b) {
+        if (objs[b].row_piece) continue;
+        const Footprint& fa = objs[a].fp;
+        const Footprint& fb = objs[b].fp;
+        // Rectangles farther apart than the gap cannot touch.
+        if ((fa.centre - fb.centre).norm() >
+            0.5 * (std::hypot(fa.length, fa.width) + std::hypot(fb.length, fb.width)) + reach)
+          continue;
+        std::vector<std::uint32_t> both = objs[a].points;
+        both.insert(both.end(), objs[b].points.begin(), objs[b].points.end());
+        const Footprint u = footprint_of(c, both);
+        if (u.length > p.max_length || u.width > p.max_width) continue;
+        if (u.width > std::max(fa.width, fb.width) + kMergeWiden) continue;
+        const auto sa = span_along(c, objs[a].points, u.axis), sb = span_along(c, objs[b].points, u.axis);
+        const double overlap = std::min(sa.second, sb.second) - std::max(sa.first, sb.first);
+        if (overlap > 0.5 * std::min(sa.second - sa.first, sb.second - sb.first)) continue;
+        if (!std::isfinite(plan_gap(c, objs[a].points, objs[b].points, reach))) continue;
+        std::sort(both.begin(), both.end());
+        objs[a].points = std::move(both);
+        objs[a].fp = u;
+        objs[a].height = std::max(objs[a].height, objs[b].height);
+        objs.erase(objs.begin() + long(b));
+        ++c.out.merges;
+        merged = true;
+      }
+    }
+  }
 }
 
 }  // namespace
@@ -253,6 +371,7 @@ Objects find_objects(const LocalFrame& l, const std::vector<float>& height, cons
     auto clusters = cluster_points(band, l.x, l.y, hz, params.voxel, params.clustering);
     out.clusters = clusters.size();
     for (auto& cl : clusters) examine(ctx, std::move(cl), 0);
+    merge_pieces(ctx);
   } catch (const VoxelOverflow& e) {
     throw DataError(name, "the points between --min-object-height and --max-height span " +
                               format_number("%.6g", e.extent) + " m, more than " +

@@ -25,12 +25,13 @@ struct Object {
   Footprint fp;
   double height = 0;  // highest point above the DTM (m)
   Shape shape;
+  bool row_piece = false;  // a piece of a row split (rows.h): never merged with another
 };
 
 // The objects that pass the vehicle tests, in the order found, and the counts of the way.
 struct Objects {
   std::vector<Object> accepted;
-  std::size_t band_points = 0, clusters = 0, splits = 0, row_splits = 0;
+  std::size_t band_points = 0, clusters = 0, splits = 0, row_splits = 0, merges = 0;
   std::size_t rejected_small = 0, rejected_large = 0, rejected_canopy = 0;
 };
 
