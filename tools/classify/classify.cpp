@@ -349,6 +349,7 @@ void validate(const Params& p) {
   need(p.box_ends > 0 && p.box_ends <= 1, "--box-ends must be in (0, 1]");
   need(p.model_density > 0 && std::isfinite(p.model_density), "--model-density must be > 0");
   need(p.entry_tolerance >= 0 && p.entry_tolerance <= 0.5, "--entry-tolerance must be in [0, 0.5]");
+  need(p.pass_share > 0 && p.pass_share <= 0.5, "--pass-share must be in (0, 0.5]");
 }
 
 Outputs run(const Params& p, const Inputs& in) {

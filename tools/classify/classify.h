@@ -27,7 +27,7 @@
 //    fits best (profile cues break ties between overlapping classes) and its group.
 //
 // Never read: `classification` (ASPRS classes), `label`, `instance` (truth). Only x y z,
-// return_number and number_of_returns are read.
+// return_number, number_of_returns, point_source_id and gps_time are read.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -87,7 +87,7 @@ struct Params {
   double max_roughness = 0.45;      // rougher top (median local residual) than this x the spacing,
                                     // and than 0.1 m: vegetation_like
   double max_below_share = 0.25;    // more interior object points under another one: vegetation_like
-  double max_ground_through = 0.4;  // more interior ground returns under the object: vegetation_like
+  double max_ground_through = 0.2;  // more interior ground returns under the object: vegetation_like
   double min_fill = 0.55;           // fewer points per m² of its rectangle than this x the open
                                     // ground's around it (a porous or patchy object): vegetation_like
   double max_late_returns = 0.4;    // more object points with return_number > 1: vegetation_like
@@ -99,6 +99,13 @@ struct Params {
   double box_plateau = 0.88;        // plateau share and both ends' levels at or above this:
   double box_ends = 0.8;            //   a flat box (container, log stack): a box-truck or bus only
   double model_density = common::kModelLevelDensity;  // points/m² the model-level chain needs
+  // Cues over the passes that saw the object (classify.md §14): when the crop holds points of
+  // several flight passes (LAS point_source_id / gps_time), the open ground of `fill` and the
+  // ground returns of `ground_through` count only the passes that hold >= pass_share of the
+  // object's points (a parked car gone, or not yet there, when another line flew over leaves
+  // that line's ground under and around it). false: every pass (before).
+  bool by_pass = true;
+  double pass_share = 0.1;
   // Modelbase entries with a class (--modelbase) are classes too: each entry's L W H widened by
   // this share either way is one more class range, of the entry's class (classify.md §12).
   bool entry_classes = true;
@@ -133,6 +140,10 @@ struct Features {
   double below_share_cells = 0;     // the same per cell (for comparison): occupied cells with a point
   double ground_through_cells = 0;  // >= 0.5 m under their top; cells holding a ground return
   std::size_t interior_cells = 0;
+  // Passes (classify.md §14): in the crop, holding the object (>= pass_share of its points);
+  // fill and ground_through over every pass, as before (only when the crop has > 1 pass).
+  std::size_t passes = 1, object_passes = 1;
+  std::optional<double> fill_all_passes, ground_through_all_passes;
   std::optional<double> late_returns;   // share of object points with return_number > 1
   std::optional<double> multi_returns;  // share with number_of_returns > 1
 };

@@ -78,6 +78,10 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
   tool.add("--box-ends", &p.box_ends, "end level (share of H) of a flat box");
   tool.add("--model-density", &p.model_density,
            "points/m^2 the model-level chain needs (for the reason text)");
+  tool.add("--by-pass", &p.by_pass,
+           "fill and ground_through count only the ground of the flight passes (point_source_id, "
+           "gps_time) that saw the object");
+  tool.add("--pass-share", &p.pass_share, "a pass saw the object when it holds this share of its points");
   tool.add("--entry-classes", &p.entry_classes,
            "the --modelbase entries with a class are class ranges too (their size +- --entry-tolerance)");
   tool.add("--entry-tolerance", &p.entry_tolerance,
