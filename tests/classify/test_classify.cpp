@@ -334,6 +334,36 @@ TEST_CASE("classify: a crown seen by two passes stays vegetation") {
   CHECK(a.features.ground_through > 0.08);
 }
 
+// A caravan, 6.0 x 2.2 m: a 2.5 m box over its last 4.9 m, its front sloping down to 0.6 m over
+// 0.3 m, and an A-frame drawbar of 0.8 m at 0.6 m in front: bars of 0.16 m narrowing to the
+// coupler (seen from above).
+double caravan_top(double x, double y) {
+  if (std::abs(x) > 3.0 || std::abs(y) > 1.1) return -1;
+  if (x < 1.9) return 2.5;
+  if (x < 2.2) return 2.5 - 1.9 * (x - 1.9) / 0.3;
+  const double half = 0.6 * (3.0 - x) / 0.8 + 0.08;  // the A-frame's half width
+  return std::abs(std::abs(y) - half) < 0.08 || std::abs(y) < 0.08 ? 0.6 : -1;
+}
+
+TEST_CASE("classify: end_fill: a vehicle's ends fill its width, a drawbar's do not") {
+  const classify::Answer car = answer(sample(car_top, 2.3, 0.9, 0, 100, 41).cloud);
+  CHECK(car.features.end_fill > 0.9);
+  const Sampled c = sample(caravan_top, 3.0, 1.1, 0, 100, 42);
+  const classify::Answer open = answer(c.cloud);
+  INFO(open.reason << " " << open.detail);
+  // The drawbar end fifth (1.2 m): the sloping front fills its width, the A-frame's bars ~3 of
+  // the 9 cells (0.25 m) across: (2 x 9 + 3 x 3) / (5 x 9) = 0.6, not the car's ~1.
+  CHECK(open.features.end_fill == Approx(0.6).margin(0.1));
+  CHECK(open.group == "van");  // the size and profile of a van (off by default)
+  classify::Params on;
+  on.min_end_fill = 0.75;
+  const classify::Answer refused = classify::run(on, {c.cloud, "caravan.pcd", {}});
+  CHECK(refused.cls.empty());
+  CHECK(refused.reason == "not_vehicle_shape");
+  CHECK(refused.detail.find("open or tapering end") != std::string::npos);
+  CHECK(classify::run(on, {sample(car_top, 2.3, 0.9, 0, 100, 41).cloud, "car.pcd", {}}).cls == "sedan");
+}
+
 TEST_CASE("classify: sizes outside every family") {
   SECTION("a 0.5 m box is too small") {
     const Sampled s =

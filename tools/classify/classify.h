@@ -60,6 +60,7 @@ struct ClassRange {
 // A range of the class table: a family's, or a modelbase entry's (`entry`: its name).
 struct TableRange : ClassRange {
   std::string entry;
+  bool open_end = false;  // an entry whose own surface has an open end (end_fill < min_end_fill)
 };
 
 // The twelve families, in families.cpp's order, with their groups:
@@ -93,6 +94,8 @@ struct Params {
   double max_late_returns = 0.4;    // more object points with return_number > 1: vegetation_like
   double min_plateau = 0.45;        // less of its length within plateau_drop of the top (no roof):
                                     // not_vehicle_shape (0: off; real tiles, §5)
+  double min_end_fill = 0;          // end_fill below this: not_vehicle_shape, unless the class is a
+                                    // tank (a gun over its end); 0: off (classify.md §15)
   double plateau_split = 0.6;       // plateau share between a minor and a long plateau
   double tail_split = 0.75;         // higher end's level (share of H) between dropping and staying up
   double profile_penalty = 1.5;     // added to a class's size distance when the profile contradicts it
@@ -132,6 +135,10 @@ struct Features {
   double length = 0, width = 0, height = 0;  // corrected
   double plateau_share = 0;                  // share of the long profile within the drop of the top
   double end_low = 0, end_high = 0;          // mean top height of the lower / higher end fifth, / H
+  // Occupied share of the top-view cells (max(0.25 m, 2 x spacing)) of the emptier end fifth over
+  // that of the middle three fifths (classify.md §15): a vehicle's ends fill its width (bumper,
+  // bonnet, tail), a drawbar tapers, an ellipse leaves its rectangle's corners empty.
+  double end_fill = 0;
   double top_roughness = 0;   // median |interior cell top - the plane of its 3 x 3 cells' tops| (m)
   std::size_t top_cells = 0;  // interior cells with enough neighbours for it
   double below_share = 0;     // interior object points with an object point >= 0.5 m above them
@@ -168,7 +175,7 @@ struct ModelEntry {
   // Its top's profile measured on its surface as on a candidate (plateau share, end levels):
   // its class range's profile expectations and flat-box flag. Not measured: the family's.
   struct Profile {
-    double plateau_share = 0, end_low = 0, end_high = 0;
+    double plateau_share = 0, end_low = 0, end_high = 0, end_fill = 1;
   };
   std::optional<Profile> profile;
 };

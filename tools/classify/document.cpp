@@ -32,6 +32,7 @@ std::vector<ClassFeature> features_of(const Features& f) {
                                 number("plateau_share", f.plateau_share),
                                 number("end_low", f.end_low),
                                 number("end_high", f.end_high),
+                                number("end_fill", f.end_fill),
                                 number("top_roughness", f.top_roughness),
                                 count("top_cells", f.top_cells),
                                 number("below_share", f.below_share),
