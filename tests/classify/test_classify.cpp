@@ -246,6 +246,124 @@ TEST_CASE("classify: --min-plateau refuses a solid object without a roof") {
   CHECK(c.features.plateau_share >= 0.45);
 }
 
+// Two flight passes over the same spot, as a LAS tile records them (point_source_id, gps_time):
+// pass 1 (line 1, t = 100 s) samples `first`, pass 2 (line 2, t = 400 s) samples `second`; both
+// at `density` points/m². A parked car present in pass 1 and gone in pass 2 leaves pass 2's
+// ground under and around it.
+formats::PointCloud two_passes(const formats::PointCloud& first, const formats::PointCloud& second) {
+  formats::PointCloud c;
+  c.resize(first.size() + second.size());
+  auto& x = c.add("x");
+  auto& y = c.add("y");
+  auto& z = c.add("z");
+  auto& src = c.add("point_source_id", {'U', 2});
+  auto& t = c.add("gps_time", formats::kFloat64);
+  std::size_t row = 0;
+  for (const formats::PointCloud* p : {&first, &second}) {
+    const double line = p == &first ? 1 : 2;
+    for (std::size_t i = 0; i < p->size(); ++i, ++row) {
+      x[row] = p->col("x")[i];
+      y[row] = p->col("y")[i];
+      z[row] = p->col("z")[i];
+      src[row] = line;
+      t[row] = (line == 1 ? 100 : 400) + 1e-4 * static_cast<double>(i);
+    }
+  }
+  return c;
+}
+
+TEST_CASE("classify: passes from point_source_id and gps_time") {
+  std::size_t n = 0;
+  // Two lines; line 7 flown twice (a gap of 300 s); the order of the rows does not matter.
+  const std::vector<int> pass = classify::passes_of({7, 3, 7, 7, 3}, {500.2, 20, 200.1, 200.3, 20.5}, &n);
+  CHECK(n == 3);
+  CHECK(pass == std::vector<int>{2, 0, 1, 1, 0});
+  // Time alone: gaps of more than kPassGap split.
+  CHECK(classify::passes_of({}, {1, 2, 3 + classify::kPassGap + 0.1, 3}, &n) == std::vector<int>{0, 0, 1, 0});
+  CHECK(n == 2);
+  // One line, one stretch of time: one pass.
+  classify::passes_of({4, 4, 4}, {}, &n);
+  CHECK(n == 1);
+}
+
+TEST_CASE("classify: a car seen by one of two passes: only that pass's ground counts") {
+  // Pass 1 sees the car, pass 2 (the car gone) the bare ground: over all passes the open ground
+  // has twice the car's density (fill ~ 0.5) and pass 2's ground lies under the roof. Heading 0:
+  // the crop's box is the sampled area (fill measures the open ground over the crop's box).
+  const Sampled car = sample(car_top, 2.3, 0.9, 0, 25, 31);
+  const Sampled bare = sample([](double, double) { return -1.0; }, 2.3, 0.9, 0, 25, 32);
+  const formats::PointCloud c = two_passes(car.cloud, bare.cloud);
+  const classify::Answer a = answer(c);
+  INFO(a.reason << " " << a.detail);
+  const auto& f = a.features;
+  CHECK(f.passes == 2);
+  CHECK(f.object_passes == 1);
+  REQUIRE(f.fill);
+  REQUIRE(f.fill_all_passes);
+  CHECK(*f.fill == Approx(1).margin(0.25));
+  CHECK(*f.fill_all_passes == Approx(0.5).margin(0.15));
+  CHECK(f.ground_through == 0);
+  REQUIRE(f.ground_through_all_passes);
+  // Pass 2's interior ground under an object point within 0.1 m: about 1 - exp(-25 pi 0.1²) =
+  // 54% of as many returns as the roof's, i.e. ~0.35 of the interior returns.
+  CHECK(*f.ground_through_all_passes > 0.2);
+  CHECK(a.cls == "sedan");
+  // Every pass counted (before): the car is refused as porous.
+  classify::Params all;
+  all.by_pass = false;
+  const classify::Answer b = classify::run(all, {c, "two-passes.pcd", {}});
+  CHECK(b.reason == "vegetation_like");
+  CHECK(b.features.fill == f.fill_all_passes);
+  // The car seen by both passes: both count, the same cues as one pass.
+  const classify::Answer d = answer(two_passes(car.cloud, sample(car_top, 2.3, 0.9, 0, 25, 33).cloud));
+  CHECK(d.features.object_passes == 2);
+  CHECK(d.cls == "sedan");
+  REQUIRE(d.features.fill);
+  CHECK(*d.features.fill == *d.features.fill_all_passes);
+}
+
+TEST_CASE("classify: a crown seen by two passes stays vegetation") {
+  // A crown is there in every pass: both passes count, the ground through it too.
+  const formats::PointCloud c = two_passes(crown(25, 34), crown(25, 35));
+  const classify::Answer a = answer(c);
+  INFO(a.detail);
+  CHECK(a.features.passes == 2);
+  CHECK(a.features.object_passes == 2);
+  CHECK(a.reason == "vegetation_like");
+  CHECK(a.features.ground_through == *a.features.ground_through_all_passes);
+  CHECK(a.features.ground_through > 0.08);
+}
+
+// A caravan, 6.0 x 2.2 m: a 2.5 m box over its last 4.9 m, its front sloping down to 0.6 m over
+// 0.3 m, and an A-frame drawbar of 0.8 m at 0.6 m in front: bars of 0.16 m narrowing to the
+// coupler (seen from above).
+double caravan_top(double x, double y) {
+  if (std::abs(x) > 3.0 || std::abs(y) > 1.1) return -1;
+  if (x < 1.9) return 2.5;
+  if (x < 2.2) return 2.5 - 1.9 * (x - 1.9) / 0.3;
+  const double half = 0.6 * (3.0 - x) / 0.8 + 0.08;  // the A-frame's half width
+  return std::abs(std::abs(y) - half) < 0.08 || std::abs(y) < 0.08 ? 0.6 : -1;
+}
+
+TEST_CASE("classify: end_fill: a vehicle's ends fill its width, a drawbar's do not") {
+  const classify::Answer car = answer(sample(car_top, 2.3, 0.9, 0, 100, 41).cloud);
+  CHECK(car.features.end_fill > 0.9);
+  const Sampled c = sample(caravan_top, 3.0, 1.1, 0, 100, 42);
+  const classify::Answer open = answer(c.cloud);
+  INFO(open.reason << " " << open.detail);
+  // The drawbar end fifth (1.2 m): the sloping front fills its width, the A-frame's bars ~3 of
+  // the 9 cells (0.25 m) across: (2 x 9 + 3 x 3) / (5 x 9) = 0.6, not the car's ~1.
+  CHECK(open.features.end_fill == Approx(0.6).margin(0.1));
+  CHECK(open.group == "van");  // the size and profile of a van (off by default)
+  classify::Params on;
+  on.min_end_fill = 0.75;
+  const classify::Answer refused = classify::run(on, {c.cloud, "caravan.pcd", {}});
+  CHECK(refused.cls.empty());
+  CHECK(refused.reason == "not_vehicle_shape");
+  CHECK(refused.detail.find("open or tapering end") != std::string::npos);
+  CHECK(classify::run(on, {sample(car_top, 2.3, 0.9, 0, 100, 41).cloud, "car.pcd", {}}).cls == "sedan");
+}
+
 TEST_CASE("classify: sizes outside every family") {
   SECTION("a 0.5 m box is too small") {
     const Sampled s =

@@ -194,6 +194,29 @@ bool roofless(Answer& a, const Params& p) {
   return true;
 }
 
+// A vehicle's ends fill its width (classify.md §15; off unless --min-end-fill): an answered
+// class is refused, unless it is the tank (a hull length: its gun overhangs an end) or a modelbase
+// entry whose own surface has an open end (or, unmeasured, a tank), when the emptier end fifth's top view is
+// filled less than min_end_fill x the middle's.
+void open_end(Answer& a, const Params& p, const std::vector<TableRange>& table) {
+  const Features& f = a.features;
+  if (p.min_end_fill <= 0 || a.cls.empty() || f.end_fill >= p.min_end_fill) return;
+  for (const TableRange& k : table) {
+    if (k.name == a.cls && k.entry == a.entry && (k.hull_length[1] > 0 || k.open_end)) return;
+  }
+  const std::string cls = a.cls;
+  a.cls.clear();
+  a.group.clear();
+  a.entry.clear();
+  a.class_score = a.class_margin = 0;
+  refuse(a, "not_vehicle_shape",
+         fmt("an open or tapering end: its end fifth's top view is %.0f%% as full as its middle (a vehicle's "
+             "ends fill its width: >= %.0f%%)",
+             100 * f.end_fill, 100 * p.min_end_fill) +
+             "; its size fits " + cls,
+         past(p.min_end_fill, std::max(f.end_fill, 1e-6)));
+}
+
 // Among the classes the size fits, the best: smallest distance, then most central; profile
 // cues move the overlapping pairs (docs/decisions/classify.md §4).
 void choose(Answer& a, const Params& p, double sigma, const std::vector<TableRange>& table) {
@@ -316,6 +339,9 @@ std::vector<TableRange> class_table(const Params& p, const std::vector<ModelEntr
       k.plateau = f.plateau_share >= p.plateau_split ? +1 : -1;
       k.tail = f.end_high >= p.tail_split ? +1 : -1;
       k.flat_box = f.plateau_share >= p.box_plateau && f.end_low >= p.box_ends;
+      k.open_end = f.end_fill < p.min_end_fill;
+    } else {
+      k.open_end = e.cls == "tank";
     }
     table.push_back(std::move(k));
   }
@@ -349,6 +375,8 @@ void validate(const Params& p) {
   need(p.box_ends > 0 && p.box_ends <= 1, "--box-ends must be in (0, 1]");
   need(p.model_density > 0 && std::isfinite(p.model_density), "--model-density must be > 0");
   need(p.entry_tolerance >= 0 && p.entry_tolerance <= 0.5, "--entry-tolerance must be in [0, 0.5]");
+  need(p.pass_share > 0 && p.pass_share <= 0.5, "--pass-share must be in (0, 0.5]");
+  need(p.min_end_fill >= 0 && p.min_end_fill <= 1, "--min-end-fill must be in [0, 1]");
 }
 
 Outputs run(const Params& p, const Inputs& in) {
@@ -361,6 +389,7 @@ Outputs run(const Params& p, const Inputs& in) {
   const std::vector<TableRange> table = class_table(p, in.modelbase);
   if (vegetation(a, p) || size_gates(a, p, sigma, table) || roofless(a, p)) return a;
   choose(a, p, sigma, table);
+  open_end(a, p, table);
   return a;
 }
 

@@ -27,7 +27,7 @@
 //    fits best (profile cues break ties between overlapping classes) and its group.
 //
 // Never read: `classification` (ASPRS classes), `label`, `instance` (truth). Only x y z,
-// return_number and number_of_returns are read.
+// return_number, number_of_returns, point_source_id and gps_time are read.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -60,6 +60,7 @@ struct ClassRange {
 // A range of the class table: a family's, or a modelbase entry's (`entry`: its name).
 struct TableRange : ClassRange {
   std::string entry;
+  bool open_end = false;  // an entry whose own surface has an open end (end_fill < min_end_fill)
 };
 
 // The twelve families, in families.cpp's order, with their groups:
@@ -87,18 +88,27 @@ struct Params {
   double max_roughness = 0.45;      // rougher top (median local residual) than this x the spacing,
                                     // and than 0.1 m: vegetation_like
   double max_below_share = 0.25;    // more interior object points under another one: vegetation_like
-  double max_ground_through = 0.4;  // more interior ground returns under the object: vegetation_like
+  double max_ground_through = 0.2;  // more interior ground returns under the object: vegetation_like
   double min_fill = 0.55;           // fewer points per m² of its rectangle than this x the open
                                     // ground's around it (a porous or patchy object): vegetation_like
   double max_late_returns = 0.4;    // more object points with return_number > 1: vegetation_like
   double min_plateau = 0.45;        // less of its length within plateau_drop of the top (no roof):
                                     // not_vehicle_shape (0: off; real tiles, §5)
+  double min_end_fill = 0;          // end_fill below this: not_vehicle_shape, unless the class is a
+                                    // tank (a gun over its end); 0: off (classify.md §15)
   double plateau_split = 0.6;       // plateau share between a minor and a long plateau
   double tail_split = 0.75;         // higher end's level (share of H) between dropping and staying up
   double profile_penalty = 1.5;     // added to a class's size distance when the profile contradicts it
   double box_plateau = 0.88;        // plateau share and both ends' levels at or above this:
   double box_ends = 0.8;            //   a flat box (container, log stack): a box-truck or bus only
   double model_density = common::kModelLevelDensity;  // points/m² the model-level chain needs
+  // Cues over the passes that saw the object (classify.md §14): when the crop holds points of
+  // several flight passes (LAS point_source_id / gps_time), the open ground of `fill` and the
+  // ground returns of `ground_through` count only the passes that hold >= pass_share of the
+  // object's points (a parked car gone, or not yet there, when another line flew over leaves
+  // that line's ground under and around it). false: every pass (before).
+  bool by_pass = true;
+  double pass_share = 0.1;
   // Modelbase entries with a class (--modelbase) are classes too: each entry's L W H widened by
   // this share either way is one more class range, of the entry's class (classify.md §12).
   bool entry_classes = true;
@@ -125,6 +135,10 @@ struct Features {
   double length = 0, width = 0, height = 0;  // corrected
   double plateau_share = 0;                  // share of the long profile within the drop of the top
   double end_low = 0, end_high = 0;          // mean top height of the lower / higher end fifth, / H
+  // Occupied share of the top-view cells (max(0.25 m, 2 x spacing)) of the emptier end fifth over
+  // that of the middle three fifths (classify.md §15): a vehicle's ends fill its width (bumper,
+  // bonnet, tail), a drawbar tapers, an ellipse leaves its rectangle's corners empty.
+  double end_fill = 0;
   double top_roughness = 0;   // median |interior cell top - the plane of its 3 x 3 cells' tops| (m)
   std::size_t top_cells = 0;  // interior cells with enough neighbours for it
   double below_share = 0;     // interior object points with an object point >= 0.5 m above them
@@ -133,6 +147,10 @@ struct Features {
   double below_share_cells = 0;     // the same per cell (for comparison): occupied cells with a point
   double ground_through_cells = 0;  // >= 0.5 m under their top; cells holding a ground return
   std::size_t interior_cells = 0;
+  // Passes (classify.md §14): in the crop, holding the object (>= pass_share of its points);
+  // fill and ground_through over every pass, as before (only when the crop has > 1 pass).
+  std::size_t passes = 1, object_passes = 1;
+  std::optional<double> fill_all_passes, ground_through_all_passes;
   std::optional<double> late_returns;   // share of object points with return_number > 1
   std::optional<double> multi_returns;  // share with number_of_returns > 1
 };
@@ -157,7 +175,7 @@ struct ModelEntry {
   // Its top's profile measured on its surface as on a candidate (plateau share, end levels):
   // its class range's profile expectations and flat-box flag. Not measured: the family's.
   struct Profile {
-    double plateau_share = 0, end_low = 0, end_high = 0;
+    double plateau_share = 0, end_low = 0, end_high = 0, end_fill = 1;
   };
   std::optional<Profile> profile;
 };

@@ -20,28 +20,38 @@ ClassFeature optional(const char* name, const std::optional<double>& v) { return
 
 std::vector<ClassFeature> features_of(const Features& f) {
   const double deg = 180 / common::kPi;
-  return {count("crop_points", f.crop_points),
-          count("ground_points", f.ground_points),
-          count("object_points", f.object_points),
-          number("crop_spacing", f.crop_spacing),
-          number("heading_pca_deg", f.heading_pca * deg),
-          number("heading_hull_deg", f.heading_hull * deg),
-          number("heading_refined_deg", f.heading_refined * deg),
-          optional("ground_density", f.ground_density),
-          optional("fill", f.fill),
-          number("plateau_share", f.plateau_share),
-          number("end_low", f.end_low),
-          number("end_high", f.end_high),
-          number("top_roughness", f.top_roughness),
-          count("top_cells", f.top_cells),
-          number("below_share", f.below_share),
-          number("ground_through", f.ground_through),
-          count("interior_points", f.interior_points),
-          number("below_share_cells", f.below_share_cells),
-          number("ground_through_cells", f.ground_through_cells),
-          count("interior_cells", f.interior_cells),
-          optional("late_returns", f.late_returns),
-          optional("multi_returns", f.multi_returns)};
+  std::vector<ClassFeature> out{count("crop_points", f.crop_points),
+                                count("ground_points", f.ground_points),
+                                count("object_points", f.object_points),
+                                number("crop_spacing", f.crop_spacing),
+                                number("heading_pca_deg", f.heading_pca * deg),
+                                number("heading_hull_deg", f.heading_hull * deg),
+                                number("heading_refined_deg", f.heading_refined * deg),
+                                optional("ground_density", f.ground_density),
+                                optional("fill", f.fill),
+                                number("plateau_share", f.plateau_share),
+                                number("end_low", f.end_low),
+                                number("end_high", f.end_high),
+                                number("end_fill", f.end_fill),
+                                number("top_roughness", f.top_roughness),
+                                count("top_cells", f.top_cells),
+                                number("below_share", f.below_share),
+                                number("ground_through", f.ground_through),
+                                count("interior_points", f.interior_points),
+                                number("below_share_cells", f.below_share_cells),
+                                number("ground_through_cells", f.ground_through_cells),
+                                count("interior_cells", f.interior_cells),
+                                optional("late_returns", f.late_returns),
+                                optional("multi_returns", f.multi_returns)};
+  // Only when the crop holds several flight passes (classify.md §14): a crop without them gets
+  // the document it got before.
+  if (f.passes > 1) {
+    out.push_back(count("passes", f.passes));
+    out.push_back(count("object_passes", f.object_passes));
+    out.push_back(optional("fill_all_passes", f.fill_all_passes));
+    out.push_back(optional("ground_through_all_passes", f.ground_through_all_passes));
+  }
+  return out;
 }
 
 // 4 x 4 matrix from 16 numbers (flat) or 4 rows of 4; rigid, last row 0 0 0 1.

@@ -245,10 +245,34 @@ void profile_cues(const std::vector<Vector3d>& q, Features& f, const Params& fp)
   const double a = end_mean(0, span), b = end_mean(bins - span, bins);
   f.end_low = std::min(a, b);
   f.end_high = std::max(a, b);
+  // How much of each end's width the top view fills, against the middle: cells of twice the
+  // spacing (a cell then misses a sampled surface with probability e^-4 = 2%, not e^-1 = 37% as at
+  // one spacing), at least 0.25 m.
+  const double cell = std::max(0.25, 2 * f.spacing);
+  const auto along = static_cast<std::size_t>(std::max(1.0, std::ceil(f.length_measured / cell)));
+  const auto across = static_cast<std::size_t>(std::max(1.0, std::ceil(f.width_measured / cell)));
+  const std::size_t fifth = std::max<std::size_t>(1, (along + 2) / 5);
+  std::vector<char> occupied(along * across, 0);
+  for (const Vector3d& p : q) {
+    const auto i = std::min(along - 1, static_cast<std::size_t>(std::max(0.0, p.x() / cell)));
+    const auto j =
+        std::min(across - 1, static_cast<std::size_t>(std::max(0.0, (p.y() + f.width_measured / 2) / cell)));
+    occupied[i * across + j] = 1;
+  }
+  auto fill_of = [&](std::size_t from, std::size_t to) {
+    std::size_t n = 0;
+    for (std::size_t i = from; i < to; ++i) {
+      for (std::size_t j = 0; j < across; ++j) n += occupied[i * across + j];
+    }
+    return to > from ? static_cast<double>(n) / static_cast<double>((to - from) * across) : 0.0;
+  };
+  const double middle = along > 2 * fifth ? fill_of(fifth, along - fifth) : 0;
+  const double ends = std::min(fill_of(0, fifth), fill_of(along - fifth, along));
+  f.end_fill = middle > 0 ? ends / middle : 0;
 }
 
-void column_cues(const Candidate& c, const std::vector<Vector3d>& q, const Extents& r, const Vector2d& u,
-                 const Vector2d& v, Features& f, const Params& fp) {
+void column_cues(const Candidate& c, const std::vector<char>& counted, const std::vector<Vector3d>& q,
+                 const Extents& r, const Vector2d& u, const Vector2d& v, Features& f, const Params& fp) {
   // Cells of the rectangle's frame, edge g; interior = the cell centre at least `inset` from the
   // rectangle's sides (side walls and edge hits lie nearer).
   const double g = std::max(0.3, 1.5 * f.spacing);
@@ -275,10 +299,12 @@ void column_cues(const Candidate& c, const std::vector<Vector3d>& q, const Exten
     top[k] = std::max(top[k], p.z());
     low[k] = std::min(low[k], p.z());
   }
-  // Ground returns (and anything of the crop under the cut) in the same cells.
+  // Ground returns (and anything of the crop under the cut) in the same cells, of the passes
+  // that count.
   const double vm = 0.5 * (r.v0 + r.v1);
-  for (const Vector3d& p : c.points) {
-    if (p.z() >= fp.ground_cut) continue;
+  for (std::size_t i = 0; i < c.points.size(); ++i) {
+    const Vector3d& p = c.points[i];
+    if (p.z() >= fp.ground_cut || !counted[i]) continue;
     const Vector2d xy(p.x(), p.y());
     if (!index(xy.dot(u) - r.u0, xy.dot(v) - vm, &iu, &iv)) continue;
     const auto k = static_cast<std::size_t>(iu * nv + iv);
@@ -325,8 +351,11 @@ void column_cues(const Candidate& c, const std::vector<Vector3d>& q, const Exten
 // an object point within `rg` horizontally above them, as a share of those and the interior
 // object points. Small radii keep a thin part over open ground (a gun, lift arms, a chassis
 // rail) from counting the ground beside it.
-void penetration_cues(const Candidate& c, const std::vector<Vector3d>& q, const Extents& r, const Vector2d& u,
-                      const Vector2d& v, Features& f, const Params& fp) {
+// Only the ground returns that `counted` marks are taken (the passes that saw the object); with
+// `all` set, every pass's too, into ground_through_all_passes.
+void penetration_cues(const Candidate& c, const std::vector<char>& counted, bool all,
+                      const std::vector<Vector3d>& q, const Extents& r, const Vector2d& u, const Vector2d& v,
+                      Features& f, const Params& fp) {
   const double inset = std::max(0.4, f.spacing);
   const double rb = std::max(0.2, f.spacing), rg = std::max(0.1, 0.5 * f.spacing);
   const double L = f.length_measured, W = f.width_measured;
@@ -360,15 +389,24 @@ void penetration_cues(const Candidate& c, const std::vector<Vector3d>& q, const 
     below += highest(p.x(), p.y(), rb) >= p.z() + 0.5;
   }
   const double vm = 0.5 * (r.v0 + r.v1);
-  for (const Vector3d& p : c.points) {
-    if (p.z() >= fp.ground_cut) continue;
+  std::size_t under_all = 0;
+  for (std::size_t i = 0; i < c.points.size(); ++i) {
+    const Vector3d& p = c.points[i];
+    if (p.z() >= fp.ground_cut || !(counted[i] || all)) continue;
     const Vector2d xy(p.x(), p.y());
     const double a = xy.dot(u) - r.u0, b = xy.dot(v) - vm;
-    if (interior(a, b) && highest(a, b, rg) >= p.z() + 0.5) ++under;
+    if (interior(a, b) && highest(a, b, rg) >= p.z() + 0.5) {
+      under_all += 1;
+      under += counted[i];
+    }
   }
+  auto share = [&](std::size_t n) {
+    return inner + n ? static_cast<double>(n) / static_cast<double>(inner + n) : 0.0;
+  };
   f.interior_points = inner;
   f.below_share = inner ? static_cast<double>(below) / static_cast<double>(inner) : 0;
-  f.ground_through = inner + under ? static_cast<double>(under) / static_cast<double>(inner + under) : 0;
+  f.ground_through = share(under);
+  if (all) f.ground_through_all_passes = share(under_all);
 }
 
 }  // namespace
@@ -397,7 +435,38 @@ Candidate read_candidate(const formats::PointCloud& cloud, const std::string& na
       c.number_of_returns[i] = std::isfinite(n[i]) ? static_cast<int>(std::clamp(n[i], 0.0, 255.0)) : 0;
     }
   }
+  // Flight passes when the file says which (LAS point_source_id, gps_time).
+  static const std::vector<double> none;
+  const auto& source = cloud.has("point_source_id") ? cloud.col("point_source_id") : none;
+  const auto& time = cloud.has("gps_time") ? cloud.col("gps_time") : none;
+  if (!source.empty() || !time.empty()) {
+    c.pass = passes_of(source, time, &c.passes);
+    if (c.passes <= 1) c.pass.clear();
+  }
   return c;
+}
+
+std::vector<int> passes_of(const std::vector<double>& source, const std::vector<double>& time,
+                           std::size_t* count) {
+  const std::size_t n = std::max(source.size(), time.size());
+  auto id = [&](std::size_t i) { return source.empty() || !std::isfinite(source[i]) ? 0.0 : source[i]; };
+  auto at = [&](std::size_t i) { return time.empty() || !std::isfinite(time[i]) ? 0.0 : time[i]; };
+  std::vector<std::size_t> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    if (id(a) != id(b)) return id(a) < id(b);
+    if (at(a) != at(b)) return at(a) < at(b);
+    return a < b;
+  });
+  std::vector<int> pass(n, 0);
+  int k = 0;
+  for (std::size_t m = 1; m < n; ++m) {
+    const std::size_t a = order[m - 1], b = order[m];
+    if (id(a) != id(b) || at(b) - at(a) > kPassGap) ++k;
+    pass[b] = k;
+  }
+  *count = n ? static_cast<std::size_t>(k) + 1 : 0;
+  return pass;
 }
 
 std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double link) {
@@ -497,20 +566,46 @@ Features measure(const Candidate& c, const Params& fp) {
   f.centre = 0.5 * (r.u0 + r.u1) * u + 0.5 * (r.v0 + r.v1) * v;
   f.density = static_cast<double>(object.size()) / std::max(f.length_measured * f.width_measured, 1e-6);
   f.spacing = 1 / std::sqrt(f.density);
+  // The passes that saw the object (classify.md §14): those holding >= pass_share of its points.
+  // Only their ground counts for fill and ground_through: a line flown while a parked car was
+  // not there returns ground under and around it, which says nothing about the car.
+  const bool several = !c.pass.empty() && c.passes > 1;
+  std::vector<char> counted(c.points.size(), 1);
+  if (several) {
+    std::vector<std::size_t> held(c.passes, 0);
+    for (std::size_t i : object) ++held[static_cast<std::size_t>(c.pass[i])];
+    std::vector<char> saw(c.passes, 0);
+    f.passes = c.passes;
+    f.object_passes = 0;
+    for (std::size_t k = 0; k < c.passes; ++k) {
+      saw[k] =
+          static_cast<double>(held[k]) >= fp.pass_share * static_cast<double>(object.size()) && held[k] > 0;
+      f.object_passes += saw[k];
+    }
+    if (fp.by_pass) {
+      for (std::size_t i = 0; i < c.points.size(); ++i) counted[i] = saw[static_cast<std::size_t>(c.pass[i])];
+    }
+  }
   // Open ground around the object: the crop's ground returns outside the rectangle over the
   // crop's area outside it. A solid top is hit by every pulse over it, so its density is about
   // the ground's; a porous or patchy object holds fewer.
-  std::size_t outside = 0;
-  for (const Vector3d& p : c.points) {
+  std::size_t outside = 0, outside_all = 0;
+  for (std::size_t i = 0; i < c.points.size(); ++i) {
+    const Vector3d& p = c.points[i];
     if (p.z() >= fp.ground_cut) continue;
     const Vector2d xy(p.x(), p.y());
     const double a = xy.dot(u), b = xy.dot(v);
-    outside += a < r.u0 || a > r.u1 || b < r.v0 || b > r.v1;
+    const bool out = a < r.u0 || a > r.u1 || b < r.v0 || b > r.v1;
+    outside_all += out;
+    outside += out && counted[i];
   }
   const double open = crop_area - f.length_measured * f.width_measured;
   if (open > 1.0 && outside >= 10) {
     f.ground_density = static_cast<double>(outside) / open;
     f.fill = f.density / *f.ground_density;
+  }
+  if (several && open > 1.0 && outside_all >= 10) {
+    f.fill_all_passes = f.density / (static_cast<double>(outside_all) / open);
   }
 
   std::vector<double> heights;
@@ -527,8 +622,8 @@ Features measure(const Candidate& c, const Params& fp) {
     q.emplace_back(p.dot(u) - r.u0, p.dot(v) - 0.5 * (r.v0 + r.v1), c.points[i].z());
   }
   profile_cues(q, f, fp);
-  column_cues(c, q, r, u, v, f, fp);
-  penetration_cues(c, q, r, u, v, f, fp);
+  column_cues(c, counted, q, r, u, v, f, fp);
+  penetration_cues(c, counted, several, q, r, u, v, f, fp);
 
   if (!c.return_number.empty()) {
     std::size_t late = 0, multi = 0, known = 0;

@@ -12,11 +12,23 @@
 
 namespace canopy::classify {
 
-// The fields classify reads: x y z, and return numbers when present (else empty vectors).
+// The fields classify reads: x y z, and return numbers when present (else empty vectors); the
+// flight pass of each point when the file says which (point_source_id and/or gps_time, LAS).
 struct Candidate {
   std::vector<Eigen::Vector3d> points;
   std::vector<int> return_number, number_of_returns;  // 0 = unknown
+  // Pass index per point, 0 .. passes - 1 (empty = one pass, unknown): points of one flight line
+  // (point_source_id) flown in one stretch of time (gps_time gaps of more than kPassGap s split
+  // a line: a crop is crossed in well under a second; lines are minutes apart).
+  std::vector<int> pass;
+  std::size_t passes = 1;
 };
+constexpr double kPassGap = 10;  // s
+
+// Passes from a flight-line id and a time per point (either may be empty): sorted by (id,
+// time), a new pass at a new id or a time gap > kPassGap; numbered in that order.
+std::vector<int> passes_of(const std::vector<double>& source, const std::vector<double>& time,
+                           std::size_t* count);
 
 // Errors name the file: x y z missing, a non-finite coordinate.
 Candidate read_candidate(const formats::PointCloud& cloud, const std::string& name);

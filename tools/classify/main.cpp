@@ -69,6 +69,9 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
            "more object points with return_number > 1 (LAS): vegetation_like");
   tool.add("--min-plateau", &p.min_plateau,
            "less of its length within the plateau (no roof): not_vehicle_shape (0: off)");
+  tool.add("--min-end-fill", &p.min_end_fill,
+           "an end fifth's top view filled less than this x the middle's (a drawbar, an ellipse): "
+           "not_vehicle_shape, but for tanks (0: off)");
   tool.add("--plateau-split", &p.plateau_split, "plateau share between a minor and a long roof");
   tool.add("--tail-split", &p.tail_split,
            "higher end's level (share of H) between dropping and staying at the roof");
@@ -78,6 +81,10 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
   tool.add("--box-ends", &p.box_ends, "end level (share of H) of a flat box");
   tool.add("--model-density", &p.model_density,
            "points/m^2 the model-level chain needs (for the reason text)");
+  tool.add("--by-pass", &p.by_pass,
+           "fill and ground_through count only the ground of the flight passes (point_source_id, "
+           "gps_time) that saw the object");
+  tool.add("--pass-share", &p.pass_share, "a pass saw the object when it holds this share of its points");
   tool.add("--entry-classes", &p.entry_classes,
            "the --modelbase entries with a class are class ranges too (their size +- --entry-tolerance)");
   tool.add("--entry-tolerance", &p.entry_tolerance,
@@ -116,7 +123,7 @@ std::vector<cl::ModelEntry> read_modelbase(const std::string& dir,
     cl::ModelEntry entry{e.name, *cls, {hi.x() - lo.x(), hi.y() - lo.y(), std::max(0.0, hi.z())}, std::nullopt};
     const cl::Features f = cl::measure(c, p);
     if (f.object_points >= p.min_points)
-      entry.profile = cl::ModelEntry::Profile{f.plateau_share, f.end_low, f.end_high};
+      entry.profile = cl::ModelEntry::Profile{f.plateau_share, f.end_low, f.end_high, f.end_fill};
     out.push_back(std::move(entry));
   }
   return out;

@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# classify's flight-pass rule on real tiles (docs/decisions/classify.md §14): per tile, detect's
+# candidates (as `make tile` makes them), classify on every candidate with the defaults and with
+# each ablation, collect, score, and bench/classify/realcal.py --figures per variant.
+#   bench/classify/passes.sh OUT_DIR TILE.laz [TILE.laz ...]
+#   (BIN=build/bin; VARIANTS="name:extra classify args" ...; default: the new defaults, the
+#   measurement alone, the threshold alone and main's "every pass, 0.40")
+# Development tiles only while developing (ahn3_delft_1, forest_bcts_1 from the shared data);
+# the held-out tiles once (docs/decisions/real-tiles.md: the split).
+set -euo pipefail
+[ $# -ge 2 ] || { echo "usage: $0 OUT_DIR TILE.laz [TILE.laz ...]" >&2; exit 2; }
+src=$(cd "$(dirname "$0")/../.." && pwd)
+bin=${BIN:-$src/build/bin}
+out=$1
+shift
+ini=$src/share/params/classify.ini
+variants=${VARIANTS:-"defaults: measurement:--max-ground-through=0.40 threshold:--by-pass=false every-pass-0.40:--by-pass=false,--max-ground-through=0.40"}
+tiles=()
+for laz in "$@"; do
+  t=$(basename "$laz" .laz)
+  tiles+=("$t")
+  mkdir -p "$out/cands"
+  [ -s "$out/cands/$t/index.json" ] || "$bin/detect" -q -i "$laz" -o "$out/cands/$t"
+done
+for v in $variants; do
+  name=${v%%:*}
+  args=${v#*:}
+  args=${args//,/ }
+  args=${args//=/ }
+  for t in "${tiles[@]}"; do
+    d=$out/$name/$t
+    mkdir -p "$d/cands"
+    cp "$out/cands/$t/index.json" "$d/cands/"
+    for p in "$out/cands/$t"/*.pcd; do ln -sf "$(cd "$(dirname "$p")" && pwd)/$(basename "$p")" "$d/cands/"; done
+    for p in "$d/cands"/*.pcd; do
+      id=$(basename "$p" .pcd)
+      mkdir -p "$d/cands/$id"
+      echo "$bin/classify -q --config $ini $args -i $p --index $d/cands/index.json -o $d/cands/$id/class.json"
+    done | xargs -P2 -I{} sh -c '{}'
+    "$bin/collect" -q -i "$d/cands/index.json" -o "$d/detections.json" 2>/dev/null
+    truth=$src/share/real/$t.truth.json
+    [ ! -f "$truth" ] || "$bin/score" -q -d "$d/detections.json" -t "$truth" -o "$d/score.json"
+  done
+  echo "== $name (${args:-defaults})"
+  python3 "$src/bench/classify/realcal.py" "$out/$name" "$src/share/real" "${tiles[@]}" --figures
+done
