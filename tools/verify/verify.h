@@ -52,6 +52,14 @@ struct Params {
   int icp_points = 1000;    // candidate points ICP uses at most (even stride)
   bool flip = true;         // try the 180-degree heading flip of every start
   double accept = 0.544;    // answer "none" when the best score is below this
+  // The null hypothesis (docs/decisions/verify.md §14): a plain box of the candidate's own
+  // extent (top and four sides down to the ground), posed by its principal axes, refined by
+  // ICP and scored like a model. The best model is answered only when its score beats the
+  // box's by at least box_margin: a model that explains the candidate no better than a box of
+  // its size gives no evidence of a vehicle (a container, a caravan, a trailer). box = false
+  // checks no box (the verdict has no "box"; the decision as before).
+  bool box = true;
+  double box_margin = 0.0;
   // confidence = 1 / (1 + exp(-(c0 + c_score * score + c_margin * margin)))
   double conf_bias = -5.365, conf_score = 6.317, conf_margin = 5.573;
 };
@@ -117,6 +125,13 @@ class Scorer {
   std::vector<Eigen::Vector3d> views_;
   std::shared_ptr<Impl> impl_;
 };
+
+// The null hypothesis's surface and start pose: a box over the candidate's points above the
+// ground cut, its axes their horizontal principal axes, its extent their 1st-99th percentiles
+// along them and from the ground (z = 0) to the 99th percentile of z; samples every `spacing`
+// on the top and the four sides with outward normals, in the box's own frame (ground z = 0,
+// centred), and `pose` box -> candidate. False (nothing set) with fewer than 10 points.
+bool null_box(const std::vector<Eigen::Vector3d>& above, double spacing, Surface* box, Eigen::Isometry3d* pose);
 
 // Refines a pose with point-to-plane ICP (candidate points above ground onto the model).
 Eigen::Isometry3d refine(const Surface& model, const std::vector<Eigen::Vector3d>& candidate,
