@@ -89,6 +89,13 @@ void bind(cm::Tool& tool, vf::Params& p, Cli& cli) {
   tool.add("--conf-bias", &p.conf_bias, "confidence logistic: bias");
   tool.add("--conf-score", &p.conf_score, "confidence logistic: weight of the score");
   tool.add("--conf-margin", &p.conf_margin, "confidence logistic: weight of the margin over the next model");
+  tool.add("--conf-box", &p.conf_box, "confidence logistic: weight of the score's margin over the box's");
+  tool.add("--none-bias", &p.none_bias, "none's confidence logistic (a vehicle is there): bias");
+  tool.add("--none-score", &p.none_score, "none's confidence logistic: weight of the best score");
+  tool.add("--none-margin", &p.none_margin,
+           "none's confidence logistic: weight of the margin over the next model");
+  tool.add("--none-box", &p.none_box,
+           "none's confidence logistic: weight of the best score's margin over the box's");
 }
 
 // "r00,r01,r02,t0,r10,...,t2[,0,0,0,1]" (12 or 16 numbers, row-major) -> candidate->tile.

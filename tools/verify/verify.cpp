@@ -149,7 +149,8 @@ void validate(const Params& p) {
   if (!(p.accept >= 0 && p.accept <= 1)) throw common::UsageError("--accept must be in [0, 1]");
   if (!(p.box_margin >= -1 && p.box_margin <= 1)) throw common::UsageError("--box-margin must be in [-1, 1]");
   if (!std::isfinite(p.min_height) || !std::isfinite(p.conf_bias) || !std::isfinite(p.conf_score) ||
-      !std::isfinite(p.conf_margin)) {
+      !std::isfinite(p.conf_margin) || !std::isfinite(p.conf_box) || !std::isfinite(p.none_bias) ||
+      !std::isfinite(p.none_score) || !std::isfinite(p.none_margin) || !std::isfinite(p.none_box)) {
     throw common::UsageError("--min-height and the confidence coefficients must be finite");
   }
 }
@@ -532,14 +533,16 @@ void decide(documents::Verdict* verdict, const Params& p) {
   }
   if (chosen >= 0) {
     const double s = v.hypotheses[chosen].score;
-    const double pr = logistic(p.conf_bias + p.conf_score * s + p.conf_margin * (s - second));
-    const bool beats_box = !v.box || s - v.box->score >= p.box_margin;
+    const double over_box = v.box ? s - v.box->score : 0;
+    const bool beats_box = !v.box || over_box >= p.box_margin;
     if (s >= p.accept && beats_box) {
       v.chosen = chosen;
       v.model = v.hypotheses[chosen].model;
-      v.confidence = pr;
+      v.confidence =
+          logistic(p.conf_bias + p.conf_score * s + p.conf_margin * (s - second) + p.conf_box * over_box);
     } else {
-      v.confidence = 1 - pr;
+      v.confidence =
+          1 - logistic(p.none_bias + p.none_score * s + p.none_margin * (s - second) + p.none_box * over_box);
     }
   } else {
     v.confidence = 1;

@@ -51,7 +51,7 @@ struct Params {
   int icp_iterations = 20;  // per stage
   int icp_points = 1000;    // candidate points ICP uses at most (even stride)
   bool flip = true;         // try the 180-degree heading flip of every start
-  double accept = 0.544;    // answer "none" when the best score is below this
+  double accept = 0.556;    // answer "none" when the best score is below this
   // The null hypothesis (docs/decisions/verify.md §14): a plain box of the candidate's own
   // extent (top and four sides down to the ground), posed by its principal axes, refined by
   // ICP and scored like a model. The best model is answered only when its score beats the
@@ -61,7 +61,15 @@ struct Params {
   bool box = true;
   double box_margin = 0.0;
   // confidence = 1 / (1 + exp(-(c0 + c_score * score + c_margin * margin)))
-  double conf_bias = -5.365, conf_score = 6.317, conf_margin = 5.573;
+  double conf_bias = -3.548, conf_score = 0.132, conf_margin = 6.874;
+  // plus conf_box * (score - the box's score) (0 without a box). Fitted on tile candidates
+  // (docs/decisions/verify.md §15); before: accept 0.544, -5.365 6.317 5.573, no box term.
+  double conf_box = 3.044;
+  // none's confidence = 1 - 1 / (1 + exp(-(none_bias + none_score * score + none_margin *
+  // margin + none_box * (score - box score)))): the probability that no vehicle stands at the
+  // candidate (what the scene score's reliability of none judges). With the none_ weights equal
+  // to the conf_ ones it is 1 - the model's probability (before issue 29's fit on tiles).
+  double none_bias = 0.059, none_score = -0.364, none_margin = 1.018, none_box = 5.177;
 };
 
 // Throws common::UsageError when a parameter is out of range.
