@@ -279,6 +279,11 @@ std::string serialize_verdict(const Verdict& v) {
     j["class_score"] = finite(v.class_score, "class_score");
     j["class_margin"] = finite(v.class_margin, "class_margin");
   }
+  if (v.box) {
+    j["box"] = Json{{"explained", finite(v.box->explained, "box.explained")},
+                    {"free_space_violation", finite(v.box->free_space_violation, "box.free_space_violation")},
+                    {"score", finite(v.box->score, "box.score")}};
+  }
   return j.dump(1) + "\n";
 }
 
@@ -324,6 +329,15 @@ Verdict parse_verdict(const std::string& text, const std::string& name) {
       v.nearest_instance = name_at(j, "nearest_instance", "", true);
       v.class_score = number_at(j, "class_score", "");
       v.class_margin = number_at(j, "class_margin", "");
+    }
+    if (j.contains("box")) {
+      const Json& b = at(j, "box", "");
+      if (!b.is_object()) throw Malformed("box must be an object, not " + describe(b));
+      Verdict::Box box;
+      box.explained = number_at(b, "explained", "box");
+      box.free_space_violation = number_at(b, "free_space_violation", "box");
+      box.score = number_at(b, "score", "box");
+      v.box = box;
     }
     if (v.chosen >= static_cast<int>(v.hypotheses.size())) {
       throw Malformed("chosen is not -1 or a hypothesis index");

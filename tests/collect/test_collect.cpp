@@ -409,6 +409,22 @@ TEST_CASE("collect::run writes the provenance it is given; validate names --crs"
   CHECK(d["provenance"].dump() ==
         R"({"tool":"collect","version":"9.9","parameters":{"crs":"","plan":""},"inputs":["idx.json","c1/verdict.json"]})");
   CHECK(d["rejected"][0]["confidence"] == 0.25);
+  // Both levels said none: the rejection states verify's confidence (fitted on tile candidates
+  // for "no vehicle here"), classify's reason; classify's none alone states classify's.
+  collect::Verdict cls_none;
+  cls_none.name = "c1/class.json";
+  cls_none.candidate = "c1.pcd";
+  cls_none.level = "class";
+  cls_none.reason = "not_vehicle_shape";
+  cls_none.confidence = 0.999;
+  in.answers = {{none, cls_none}};
+  const Json both = Json::parse(collect::run(collect::Params{}, in).detections);
+  CHECK(both["rejected"][0]["confidence"] == 0.25);
+  CHECK(both["rejected"][0]["reason"] == "not_vehicle_shape");
+  in.answers = {{collect::absent_verdict("c1/verdict.json"), cls_none}};
+  const Json only = Json::parse(collect::run(collect::Params{}, in).detections);
+  CHECK(only["rejected"][0]["confidence"] == 0.999);
+  in.answers = {{none, collect::absent_verdict("c1/class.json")}};
   collect::Params p;
   CHECK_NOTHROW(collect::validate(p));
   p.crs = "EPSG:4326";

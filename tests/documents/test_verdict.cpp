@@ -198,3 +198,28 @@ TEST_CASE("stage outcome: no file, an empty file (failed), a written verdict") {
   CHECK_THROWS_WITH(documents::read_stage_verdict(bad),
                     Catch::Contains(bad) && Catch::Contains("confidence"));
 }
+
+TEST_CASE("verdict: verify's null-hypothesis box is optional, read and written back") {
+  const documents::Verdict plain = documents::parse_verdict(kVerify, "v.json");
+  CHECK(!plain.box);  // older verdicts have none
+  CHECK(documents::serialize_verdict(plain).find("\"box\"") == std::string::npos);
+  const std::string with = replaced(kVerify, "\"class_margin\": 0.505}",
+                                    "\"class_margin\": 0.505, \"box\": {\"explained\": 0.75, "
+                                    "\"free_space_violation\": 0.5, \"score\": 0.375}}");
+  const documents::Verdict v = documents::parse_verdict(with, "v.json");
+  REQUIRE(v.box);
+  CHECK(v.box->explained == 0.75);
+  CHECK(v.box->free_space_violation == 0.5);
+  CHECK(v.box->score == 0.375);
+  const documents::Verdict again = documents::parse_verdict(documents::serialize_verdict(v), "again.json");
+  REQUIRE(again.box);
+  CHECK(again.box->score == 0.375);
+  CHECK(again.box->explained == 0.75);
+  CHECK_THROWS_WITH(
+      documents::parse_verdict(replaced(with, "\"score\": 0.375}", "\"score\": \"x\"}"), "d/v.json"),
+      Catch::Contains("d/v.json") && Catch::Contains("box.score must be a number"));
+  CHECK_THROWS_WITH(
+      documents::parse_verdict(
+          replaced(kVerify, "\"class_margin\": 0.505}", "\"class_margin\": 0.505, \"box\": 1}"), "d/v.json"),
+      Catch::Contains("d/v.json") && Catch::Contains("box must be an object"));
+}

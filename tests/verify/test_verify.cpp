@@ -193,3 +193,74 @@ TEST_CASE("--free-space through: surface with no return in its cells is not char
   CHECK(v.model.empty());
   for (const auto& h : v.hypotheses) CHECK(h.free_space_violation > 0.3);
 }
+
+namespace {
+
+// A boxy van: a 5 x 2 m body 2.2 m high on 0.4 m of wheels (the wheels as two axles' blocks)
+// and a 0.8 m bonnet 1.1 m high at the front; and the container-like box of its body's size
+// standing on the ground (no bonnet, no gap under it).
+std::vector<Box> boxy_van() {
+  return {{{-2.5, -1.0, 0.4}, {2.5, 1.0, 2.2}},
+          {{2.5, -1.0, 0.4}, {3.3, 1.0, 1.1}},
+          {{1.6, -1.0, 0.0}, {2.4, 1.0, 0.4}},
+          {{-2.4, -1.0, 0.0}, {-1.6, 1.0, 0.4}}};
+}
+std::vector<Box> container_box() { return {{{-2.6, -1.0, 0.0}, {3.0, 1.0, 2.3}}}; }
+
+}  // namespace
+
+TEST_CASE("null hypothesis: a plain box of the candidate's extent", "[verify][box]") {
+  const std::vector<vf::Model> models{{"van", graph(boxy_van()), sample(boxy_van(), 0.1), ""}};
+  const auto m = match({"van"}, {graph(boxy_van())}, false);
+  const doc::SegmentGraph object;  // no pairs: the principal-axis start
+  SECTION("the box recovers the candidate's extent and heading") {
+    const Isometry3d T = pose(0.6, 1.0, -0.5);
+    const auto cand = candidate(sample(container_box(), 0.1, 0.05), container_box(), T);
+    const vf::Scorer scorer(cand, vf::Params{});
+    vf::Surface box;
+    Isometry3d start;
+    REQUIRE(vf::null_box(scorer.above_points(), 0.1, &box, &start));
+    // Centre (0.2, 0) of the 5.6 x 2 m box in its frame, heading 0.6 (or turned by 180 deg).
+    const Vector3d c = T * Vector3d(0.2, 0, 0);
+    CHECK((start.translation() - Vector3d(c.x(), c.y(), 0)).norm() < 0.1);
+    const double dh =
+        std::remainder(std::atan2(start.linear()(1, 0), start.linear()(0, 0)) - 0.6, canopy::common::kPi);
+    CHECK(std::abs(dh) < 0.02);
+    Vector3d lo = box.points[0], hi = box.points[0];
+    for (const auto& p : box.points) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+    // Extent to within the percentile cut and the sampling (points above the 0.3 m cut: the
+    // top is the 99th percentile of z).
+    CHECK(std::abs((hi.x() - lo.x()) - 5.6) < 0.25);
+    CHECK(std::abs((hi.y() - lo.y()) - 2.0) < 0.25);
+    CHECK(std::abs(hi.z() - 2.3) < 0.1);
+    CHECK(vf::null_box({}, 0.1, &box, &start) == false);
+  }
+  SECTION("a container is answered as the van without the box, none with it") {
+    const Isometry3d T = pose(-0.4, 0.5, 0.3);
+    const auto cand = candidate(sample(container_box(), 0.1, 0.05), container_box(), T);
+    vf::Params off;
+    off.box = false;
+    const doc::Verdict without = vf::run(off, {&cand, &object, &m, &models});
+    CHECK(without.model == "van");  // the van's body explains the container
+    CHECK(!without.box);
+    const doc::Verdict with = vf::run(vf::Params{}, {&cand, &object, &m, &models});
+    REQUIRE(with.box);
+    CHECK(with.box->score > 0.9);
+    CHECK(with.box->score > with.hypotheses[0].score + 0.1);
+    CHECK(with.model.empty());
+    CHECK(with.chosen == -1);
+    CHECK(with.hypotheses[0].score == without.hypotheses[0].score);  // only the decision differs
+  }
+  SECTION("the van itself beats the box and is answered") {
+    const Isometry3d T = pose(1.1, -0.7, 0.2);
+    const auto cand = candidate(sample(boxy_van(), 0.1, 0.05), boxy_van(), T);
+    const doc::Verdict v = vf::run(vf::Params{}, {&cand, &object, &m, &models});
+    REQUIRE(v.box);
+    CHECK(v.model == "van");
+    CHECK(v.hypotheses[0].score > 0.9);
+    CHECK(v.box->score < v.hypotheses[0].score - 0.1);
+  }
+}

@@ -269,6 +269,11 @@ documents::RejectionRecord rejection_of(const Candidate& c, const Answers& a, st
     // decides nothing (confidence 0), and a class answer left without a detection (no pose, or
     // --size-only's gate) is a confidence in the class (score's reliability of none reads it).
     if (k.cls.empty() && k.reason != "too_sparse") r.confidence = k.confidence;
+    // Both levels said none: verify's confidence in its none is the probability that no vehicle
+    // stands at the candidate, fitted on tile candidates for exactly this (docs/decisions/
+    // verify.md §15); classify's none, fitted on its own gates, stated ~0.999 and was right
+    // 88% of the time on development tiles.
+    if (k.cls.empty() && v.present && !v.failed && v.model.empty()) r.confidence = v.confidence;
     r.density = k.density ? k.density : c.density;
     r.has_density_needed = k.density_class || k.density_model;
     r.density_class = k.density_class;

@@ -33,6 +33,7 @@ struct Cli {
   std::string sensor_direction = "auto", trajectory;
   double trajectory_tolerance = 1.0;  // s
   bool no_flip = false;
+  bool no_box = false;
 };
 
 void bind(cm::Tool& tool, vf::Params& p, Cli& cli) {
@@ -80,9 +81,21 @@ void bind(cm::Tool& tool, vf::Params& p, Cli& cli) {
   tool.add_flag("--no-flip", &cli.no_flip, "do not try the 180-degree flip of each start")
       ->default_str("false");
   tool.add("--accept", &p.accept, "answer none when the best score is below this");
+  tool.add("--box-margin", &p.box_margin,
+           "answer a model only when its score beats the null hypothesis's (a plain box of the "
+           "candidate's extent) by at least this");
+  tool.add_flag("--no-box", &cli.no_box, "check no null-hypothesis box (the decision without it)")
+      ->default_str("false");
   tool.add("--conf-bias", &p.conf_bias, "confidence logistic: bias");
   tool.add("--conf-score", &p.conf_score, "confidence logistic: weight of the score");
   tool.add("--conf-margin", &p.conf_margin, "confidence logistic: weight of the margin over the next model");
+  tool.add("--conf-box", &p.conf_box, "confidence logistic: weight of the score's margin over the box's");
+  tool.add("--none-bias", &p.none_bias, "none's confidence logistic (a vehicle is there): bias");
+  tool.add("--none-score", &p.none_score, "none's confidence logistic: weight of the best score");
+  tool.add("--none-margin", &p.none_margin,
+           "none's confidence logistic: weight of the margin over the next model");
+  tool.add("--none-box", &p.none_box,
+           "none's confidence logistic: weight of the best score's margin over the box's");
 }
 
 // "r00,r01,r02,t0,r10,...,t2[,0,0,0,1]" (12 or 16 numbers, row-major) -> candidate->tile.
@@ -193,6 +206,7 @@ int main(int argc, char** argv) {
   bind(tool, p, cli);
   return tool.run(argc, argv, [&] {
     p.flip = !cli.no_flip;
+    p.box = !cli.no_box;
     p.free_space_through = cli.free_space == "through";
     vf::validate(p);
     std::optional<Eigen::Isometry3d> to_tile;
@@ -220,7 +234,9 @@ int main(int argc, char** argv) {
     parameters.erase(
         std::remove_if(parameters.begin(), parameters.end(),
                        [&](const auto& kv) {
-                         return (kv.first == "free-space" && !p.free_space_through) ||
+                         // --no-box: the verdict of before the null hypothesis existed.
+                         return ((kv.first == "box-margin" || kv.first == "no-box") && !p.box) ||
+                                (kv.first == "free-space" && !p.free_space_through) ||
                                 (kv.first == "sensor-direction" && cli.sensor_direction == "auto") ||
                                 (kv.first == "trajectory" && cli.trajectory.empty()) ||
                                 (kv.first == "trajectory-tolerance" && trajectory_default);

@@ -147,8 +147,10 @@ void validate(const Params& p) {
   }
   if (p.icp_points < 6) throw common::UsageError("--icp-points must be >= 6");
   if (!(p.accept >= 0 && p.accept <= 1)) throw common::UsageError("--accept must be in [0, 1]");
+  if (!(p.box_margin >= -1 && p.box_margin <= 1)) throw common::UsageError("--box-margin must be in [-1, 1]");
   if (!std::isfinite(p.min_height) || !std::isfinite(p.conf_bias) || !std::isfinite(p.conf_score) ||
-      !std::isfinite(p.conf_margin)) {
+      !std::isfinite(p.conf_margin) || !std::isfinite(p.conf_box) || !std::isfinite(p.none_bias) ||
+      !std::isfinite(p.none_score) || !std::isfinite(p.none_margin) || !std::isfinite(p.none_box)) {
     throw common::UsageError("--min-height and the confidence coefficients must be finite");
   }
 }
@@ -335,6 +337,61 @@ Isometry3d refine(const Surface& model, const std::vector<Vector3d>& candidate, 
   return cm.inverse();
 }
 
+namespace {
+
+// The q-quantile (0..1) of v (copied; nearest rank).
+double quantile(std::vector<double> v, double q) {
+  const auto k = static_cast<std::size_t>(std::floor(q * static_cast<double>(v.size() - 1) + 0.5));
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  return v[k];
+}
+
+// Samples of a rectangle: origin o, edges a and b, `spacing` apart (cell centres), normal n.
+void sample_face(const Vector3d& o, const Vector3d& a, const Vector3d& b, const Vector3d& n, double spacing,
+                 Surface* s) {
+  const int na = std::max(1, static_cast<int>(std::ceil(a.norm() / spacing)));
+  const int nb = std::max(1, static_cast<int>(std::ceil(b.norm() / spacing)));
+  for (int i = 0; i < na; ++i) {
+    for (int j = 0; j < nb; ++j) {
+      s->points.push_back(o + a * ((i + 0.5) / na) + b * ((j + 0.5) / nb));
+      s->normals.push_back(n);
+    }
+  }
+}
+
+}  // namespace
+
+bool null_box(const std::vector<Vector3d>& above, double spacing, Surface* box, Isometry3d* pose) {
+  if (above.size() < 10) return false;
+  const Vector3d c = mean_of(above);
+  const double theta = major_axis_angle(above, c);
+  const double ct = std::cos(theta), st = std::sin(theta);
+  std::vector<double> u, w, z;
+  for (const auto& p : above) {
+    const double dx = p.x() - c.x(), dy = p.y() - c.y();
+    u.push_back(ct * dx + st * dy);
+    w.push_back(-st * dx + ct * dy);
+    z.push_back(p.z());
+  }
+  const double u0 = quantile(u, 0.01), u1 = quantile(u, 0.99);
+  const double w0 = quantile(w, 0.01), w1 = quantile(w, 0.99);
+  const double top = quantile(z, 0.99);
+  if (!(u1 - u0 > spacing && w1 - w0 > spacing && top > spacing)) return false;
+  const double hl = (u1 - u0) / 2, hw = (w1 - w0) / 2;
+  Surface s;
+  const Vector3d X = Vector3d::UnitX(), Y = Vector3d::UnitY(), Z = Vector3d::UnitZ();
+  sample_face(Vector3d(-hl, -hw, top), 2 * hl * X, 2 * hw * Y, Z, spacing, &s);
+  sample_face(Vector3d(-hl, -hw, 0), 2 * hl * X, top * Z, -Y, spacing, &s);
+  sample_face(Vector3d(-hl, hw, 0), 2 * hl * X, top * Z, Y, spacing, &s);
+  sample_face(Vector3d(-hl, -hw, 0), 2 * hw * Y, top * Z, -X, spacing, &s);
+  sample_face(Vector3d(hl, -hw, 0), 2 * hw * Y, top * Z, X, spacing, &s);
+  *box = std::move(s);
+  // The box's centre in the candidate frame: the percentile midpoints along the axes.
+  const double mu = (u0 + u1) / 2, mw = (w0 + w1) / 2;
+  *pose = heading_pose(theta, Vector3d(c.x() + ct * mu - st * mw, c.y() + st * mu + ct * mw, 0));
+  return true;
+}
+
 bool pose_from_pairs(const documents::SegmentGraph& object, const documents::SegmentGraph& model,
                      const std::vector<documents::SegmentPair>& pairs, Isometry3d* pose) {
   std::map<int, const documents::Segment*> os, ms;
@@ -393,6 +450,10 @@ Isometry3d pose_from_axes(const std::vector<Vector3d>& candidate, const std::vec
 namespace {
 
 double logistic(double x) { return 1.0 / (1.0 + std::exp(-x)); }
+
+// Sample spacing of the null hypothesis's box (m): finer than the modelbase's ~128 mm samples,
+// so that the box's free-space test is no coarser than a model's.
+constexpr double kBoxSpacing = 0.1;
 
 const Model& loaded_model(const Inputs& in, const std::string& name) {
   const Model* model = nullptr;
@@ -472,13 +533,16 @@ void decide(documents::Verdict* verdict, const Params& p) {
   }
   if (chosen >= 0) {
     const double s = v.hypotheses[chosen].score;
-    const double pr = logistic(p.conf_bias + p.conf_score * s + p.conf_margin * (s - second));
-    if (s >= p.accept) {
+    const double over_box = v.box ? s - v.box->score : 0;
+    const bool beats_box = !v.box || over_box >= p.box_margin;
+    if (s >= p.accept && beats_box) {
       v.chosen = chosen;
       v.model = v.hypotheses[chosen].model;
-      v.confidence = pr;
+      v.confidence =
+          logistic(p.conf_bias + p.conf_score * s + p.conf_margin * (s - second) + p.conf_box * over_box);
     } else {
-      v.confidence = 1 - pr;
+      v.confidence =
+          1 - logistic(p.none_bias + p.none_score * s + p.none_margin * (s - second) + p.none_box * over_box);
     }
   } else {
     v.confidence = 1;
@@ -496,6 +560,20 @@ Outputs run(const Params& p, const Inputs& in) {
     const Model& model = loaded_model(in, ms.model);
     v.hypotheses.push_back(check_hypothesis(in, ms, model, scorer, p));
     v.has_classes = v.has_classes || !model.vehicle_class.empty();
+  }
+  if (p.box) {
+    // The null hypothesis: a plain box of the candidate's extent, refined and scored like a
+    // model (docs/decisions/verify.md §14).
+    Surface box;
+    Isometry3d start;
+    documents::Verdict::Box b;
+    if (null_box(scorer.above_points(), kBoxSpacing, &box, &start)) {
+      const Check c = scorer.score(box, refine(box, scorer.above_points(), start, p));
+      b.explained = c.explained;
+      b.free_space_violation = c.violation;
+      b.score = c.score;
+    }
+    v.box = b;
   }
   decide(&v, p);
   if (in.to_tile != nullptr) {

@@ -51,9 +51,25 @@ struct Params {
   int icp_iterations = 20;  // per stage
   int icp_points = 1000;    // candidate points ICP uses at most (even stride)
   bool flip = true;         // try the 180-degree heading flip of every start
-  double accept = 0.544;    // answer "none" when the best score is below this
+  double accept = 0.556;    // answer "none" when the best score is below this
+  // The null hypothesis (docs/decisions/verify.md §14): a plain box of the candidate's own
+  // extent (top and four sides down to the ground), posed by its principal axes, refined by
+  // ICP and scored like a model. The best model is answered only when its score beats the
+  // box's by at least box_margin: a model that explains the candidate no better than a box of
+  // its size gives no evidence of a vehicle (a container, a caravan, a trailer). box = false
+  // checks no box (the verdict has no "box"; the decision as before).
+  bool box = true;
+  double box_margin = 0.0;
   // confidence = 1 / (1 + exp(-(c0 + c_score * score + c_margin * margin)))
-  double conf_bias = -5.365, conf_score = 6.317, conf_margin = 5.573;
+  double conf_bias = -3.548, conf_score = 0.132, conf_margin = 6.874;
+  // plus conf_box * (score - the box's score) (0 without a box). Fitted on tile candidates
+  // (docs/decisions/verify.md §15); before: accept 0.544, -5.365 6.317 5.573, no box term.
+  double conf_box = 3.044;
+  // none's confidence = 1 - 1 / (1 + exp(-(none_bias + none_score * score + none_margin *
+  // margin + none_box * (score - box score)))): the probability that no vehicle stands at the
+  // candidate (what the scene score's reliability of none judges). With the none_ weights equal
+  // to the conf_ ones it is 1 - the model's probability (before issue 29's fit on tiles).
+  double none_bias = 0.059, none_score = -0.364, none_margin = 1.018, none_box = 5.177;
 };
 
 // Throws common::UsageError when a parameter is out of range.
@@ -117,6 +133,13 @@ class Scorer {
   std::vector<Eigen::Vector3d> views_;
   std::shared_ptr<Impl> impl_;
 };
+
+// The null hypothesis's surface and start pose: a box over the candidate's points above the
+// ground cut, its axes their horizontal principal axes, its extent their 1st-99th percentiles
+// along them and from the ground (z = 0) to the 99th percentile of z; samples every `spacing`
+// on the top and the four sides with outward normals, in the box's own frame (ground z = 0,
+// centred), and `pose` box -> candidate. False (nothing set) with fewer than 10 points.
+bool null_box(const std::vector<Eigen::Vector3d>& above, double spacing, Surface* box, Eigen::Isometry3d* pose);
 
 // Refines a pose with point-to-plane ICP (candidate points above ground onto the model).
 Eigen::Isometry3d refine(const Surface& model, const std::vector<Eigen::Vector3d>& candidate,

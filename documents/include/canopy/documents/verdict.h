@@ -55,6 +55,13 @@ struct Verdict {
   std::string vehicle_class;  // "" = none (no hypothesis, or its model has no class)
   std::string nearest_instance;
   double class_score = 0, class_margin = 0;
+  // verify's null hypothesis (docs/decisions/verify.md §14): a plain box of the candidate's
+  // own extent, posed and scored like a model ("box" in the document; absent when verify did
+  // not check one, --no-box).
+  struct Box {
+    double explained = 0, free_space_violation = 0, score = 0;
+  };
+  std::optional<Box> box;
 
   // Read, not written by serialize_verdict (it writes the chosen hypothesis's): the top-level
   // "pose" (model or class frame -> candidate frame) and "pose_tile" (-> tile frame).
