@@ -13,6 +13,8 @@ parameters (share/params/verify.ini before issue 29: accept 0.544, no box) and t
 in-sample and 2-fold by tile (fit on one half of the tiles, evaluated on the other)."""
 import csv, math, os, sys
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from rates import wilson  # noqa: E402
 
 
 def fit_logistic(xs, ys, iters=4000, lr=0.5, l2=1e-3):
@@ -32,16 +34,6 @@ def fit_logistic(xs, ys, iters=4000, lr=0.5, l2=1e-3):
     return w
 
 OLD = dict(accept=0.544, box_margin=None, conf=(-5.365, 6.317, 5.573, 0.0), none=(-5.365, 6.317, 5.573, 0.0))
-
-
-def wilson(k, n, z=1.959964):
-    if n == 0:
-        return (float("nan"), float("nan"))
-    p = k / n
-    d = 1 + z * z / n
-    c = (p + z * z / (2 * n)) / d
-    h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
-    return (max(0.0, c - h), min(1.0, c + h))
 
 
 def load(paths):
