@@ -1,7 +1,6 @@
 #include "verify/verify.h"
 
 #include <pcl/console/print.h>
-#include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 #include <pcl/registration/icp.h>
@@ -15,6 +14,7 @@
 
 #include "canopy/common/error.h"
 #include "canopy/common/math.h"
+#include "canopy/common/serial_kdtree.h"
 #include "canopy/formats/cloud_eigen.h"
 #include "canopy/formats/pose_eigen.h"
 
@@ -194,18 +194,18 @@ Surface surface_from_cloud(const formats::PointCloud& cloud, const std::string& 
 // ---- scoring ----------------------------------------------------------------------------
 
 struct Scorer::Impl {
-  pcl::KdTreeFLANN<pcl::PointXYZ> all;  // every candidate point (the "seen" test)
+  common::SerialFlann<pcl::PointXYZ> all;  // every candidate point (the "seen" test)
   struct View {
     Vector3d s, e1, e2;
     std::unordered_map<std::uint64_t, double> depth;  // max p.s per cell
   };
   std::vector<View> views;
   // Model trees, built on first use and cached by surface address.
-  mutable std::map<const Surface*, std::shared_ptr<pcl::KdTreeFLANN<pcl::PointXYZ>>> models;
-  const pcl::KdTreeFLANN<pcl::PointXYZ>& tree(const Surface& s) const {
+  mutable std::map<const Surface*, std::shared_ptr<common::SerialFlann<pcl::PointXYZ>>> models;
+  const common::SerialFlann<pcl::PointXYZ>& tree(const Surface& s) const {
     auto& t = models[&s];
     if (!t) {
-      t = std::make_shared<pcl::KdTreeFLANN<pcl::PointXYZ>>();
+      t = std::make_shared<common::SerialFlann<pcl::PointXYZ>>();
       t->setInputCloud(to_pcl(s.points));
     }
     return *t;
@@ -315,6 +315,9 @@ Isometry3d refine(const Surface& model, const std::vector<Vector3d>& candidate, 
   auto tgt = to_pcl(model.points, model.normals);
   pcl::IterativeClosestPointWithNormals<pcl::PointNormal, pcl::PointNormal, double> icp;
   icp.setTransformationEstimation(std::make_shared<SafePointToPlane>());
+  // The target's correspondences through a k-d tree without an OpenMP region per search
+  // (common/serial_kdtree.h; docs/decisions/cost.md §10): the same neighbours, a third of the CPU.
+  icp.setSearchMethodTarget(std::make_shared<common::SerialKdTree<pcl::PointNormal>>());
   icp.setInputSource(src);
   icp.setInputTarget(tgt);
   icp.setMaximumIterations(p.icp_iterations);
