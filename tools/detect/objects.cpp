@@ -91,6 +91,24 @@ std::vector<std::vector<std::uint32_t>> finer_parts(const Context& c, const std:
   return kept;
 }
 
+// Extent of `pts` along `axis`.
+std::pair<double, double> span_along(const Context& c, const std::vector<std::uint32_t>& pts,
+                                     const Vector2d& axis) {
+  double lo = 1e300, hi = -1e300;
+  for (std::uint32_t q : pts) {
+    const double s = Vector2d(c.x[q], c.y[q]).dot(axis);
+    lo = std::min(lo, s);
+    hi = std::max(hi, s);
+  }
+  return {lo, hi};
+}
+
+// True when two extents along one axis overlap by more than half the shorter one.
+bool overlap_half(const std::pair<double, double>& a, const std::pair<double, double>& b) {
+  const double overlap = std::min(a.second, b.second) - std::max(a.first, b.first);
+  return overlap > 0.5 * std::min(a.second - a.first, b.second - b.first);
+}
+
 // True when the parts lie side by side across `cross` (the object's short axis): no two of them
 // overlap along it by more than half the narrower one's extent. Two vehicles parked side by side
 // do; the front and rear halves of one wide, sparsely sampled vehicle (8 x 3.1 m, 25 points/m²)
@@ -98,21 +116,10 @@ std::vector<std::vector<std::uint32_t>> finer_parts(const Context& c, const std:
 bool side_by_side(const Context& c, const std::vector<std::vector<std::uint32_t>>& parts,
                   const Vector2d& cross) {
   std::vector<std::pair<double, double>> span;
-  for (const auto& part : parts) {
-    double lo = 1e300, hi = -1e300;
-    for (std::uint32_t q : part) {
-      const double s = Vector2d(c.x[q], c.y[q]).dot(cross);
-      lo = std::min(lo, s);
-      hi = std::max(hi, s);
-    }
-    span.emplace_back(lo, hi);
-  }
+  for (const auto& part : parts) span.push_back(span_along(c, part, cross));
   for (std::size_t a = 0; a < span.size(); ++a)
-    for (std::size_t b = a + 1; b < span.size(); ++b) {
-      const double overlap = std::min(span[a].second, span[b].second) - std::max(span[a].first, span[b].first);
-      const double narrower = std::min(span[a].second - span[a].first, span[b].second - span[b].first);
-      if (overlap > 0.5 * narrower) return false;
-    }
+    for (std::size_t b = a + 1; b < span.size(); ++b)
+      if (overlap_half(span[a], span[b])) return false;
   return true;
 }
 
@@ -272,39 +279,26 @@ void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
   c.out.accepted.push_back(std::move(o));
 }
 
-// Smallest horizontal distance between a point of `a` and one of `b` when it is at most `reach`
-// (a hash of b's points in cells of `reach`), else infinity.
-double plan_gap(const Context& c, const std::vector<std::uint32_t>& a, const std::vector<std::uint32_t>& b,
-                double reach) {
+// True when a point of `a` lies within `reach` of one of `b` horizontally (a hash of b's points
+// in cells of `reach`).
+bool touch_in_plan(const Context& c, const std::vector<std::uint32_t>& a, const std::vector<std::uint32_t>& b,
+                   double reach) {
   std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells;
   for (std::uint32_t q : b) cells[column_key(c.x[q], c.y[q], reach)].push_back(q);
-  double best = std::numeric_limits<double>::infinity();
   for (std::uint32_t q : a)
     for (int di = -1; di <= 1; ++di)
       for (int dj = -1; dj <= 1; ++dj) {
         const auto it = cells.find(column_key(c.x[q] + di * reach, c.y[q] + dj * reach, reach));
         if (it == cells.end()) continue;
         for (std::uint32_t r : it->second)
-          best = std::min(best, std::hypot(c.x[q] - c.x[r], c.y[q] - c.y[r]));
+          if (std::hypot(c.x[q] - c.x[r], c.y[q] - c.y[r]) <= reach) return true;
       }
-  return best <= reach ? best : std::numeric_limits<double>::infinity();
-}
-
-// Extent of `pts` along `axis`.
-std::pair<double, double> span_along(const Context& c, const std::vector<std::uint32_t>& pts,
-                                     const Vector2d& axis) {
-  double lo = 1e300, hi = -1e300;
-  for (std::uint32_t q : pts) {
-    const double s = Vector2d(c.x[q], c.y[q]).dot(axis);
-    lo = std::min(lo, s);
-    hi = std::max(hi, s);
-  }
-  return {lo, hi};
+  return false;
 }
 
 // Pieces of one vehicle (detect.md §10): the cab and the low deck of a tractor unit are apart in
 // 3-D (its back wall returned little) but touch in the top view. Two accepted objects are merged
-// when, in the top view, their points come within `kMergeGap` voxels of each other, they lie end
+// when, in the top view, their points come within `merge_gap` voxels of each other, they lie end
 // to end along the union's long axis (overlapping by at most half the shorter one: not a bush
 // over a car), the union is no wider than the wider piece + kMergeWiden (in line: not a bush or a
 // vehicle beside it) and fits the vehicle ranges. Pieces of a row split (rows.h) stay apart: the
@@ -331,10 +325,9 @@ void merge_pieces(Context& c) {
         const Footprint u = footprint_of(c, both);
         if (u.length > p.max_length || u.width > p.max_width) continue;
         if (u.width > std::max(fa.width, fb.width) + kMergeWiden) continue;
-        const auto sa = span_along(c, objs[a].points, u.axis), sb = span_along(c, objs[b].points, u.axis);
-        const double overlap = std::min(sa.second, sb.second) - std::max(sa.first, sb.first);
-        if (overlap > 0.5 * std::min(sa.second - sa.first, sb.second - sb.first)) continue;
-        if (!std::isfinite(plan_gap(c, objs[a].points, objs[b].points, reach))) continue;
+        if (overlap_half(span_along(c, objs[a].points, u.axis), span_along(c, objs[b].points, u.axis)))
+          continue;
+        if (!touch_in_plan(c, objs[a].points, objs[b].points, reach)) continue;
         std::sort(both.begin(), both.end());
         objs[a].points = std::move(both);
         objs[a].fp = u;
