@@ -14,6 +14,7 @@
 
 #include "canopy/common/error.h"
 #include "canopy/common/math.h"
+#include "canopy/common/stats.h"
 
 namespace canopy::classify {
 namespace {
@@ -196,10 +197,7 @@ double refine_axis(const std::vector<Vector2d>& p, double axis, double band) {
 double quantile(std::vector<double> v, double q) {
   if (v.empty()) return 0;
   std::sort(v.begin(), v.end());
-  const double pos = q * static_cast<double>(v.size() - 1);
-  const auto lo = static_cast<std::size_t>(std::floor(pos));
-  const std::size_t hi = std::min(lo + 1, v.size() - 1);
-  return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
+  return common::sorted_quantile(v, q);
 }
 
 // The height at (0, 0) of the least-squares plane z = a + b u + c v through points (u, v, z).
