@@ -9,6 +9,7 @@
 #include <functional>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -227,6 +228,7 @@ TEST_CASE("classify: --min-plateau refuses a solid object without a roof") {
   const Sampled s = sample(ridge_top, 2.25, 0.9, 10 * kDeg, 25, 14);
   classify::Params off;
   off.min_plateau = 0;
+  off.min_notch = 0;  // a ridge has no bonnet under a cabin either (§16)
   const classify::Answer a = classify::run(off, {s.cloud, "ridge.pcd", {}});
   INFO(a.reason << " " << a.detail);
   // Solid and smooth: the vegetation cues pass it and its size is a car's.
@@ -354,14 +356,132 @@ TEST_CASE("classify: end_fill: a vehicle's ends fill its width, a drawbar's do n
   // The drawbar end fifth (1.2 m): the sloping front fills its width, the A-frame's bars ~3 of
   // the 9 cells (0.25 m) across: (2 x 9 + 3 x 3) / (5 x 9) = 0.6, not the car's ~1.
   CHECK(open.features.end_fill == Approx(0.6).margin(0.1));
-  CHECK(open.group == "van");  // the size and profile of a van (off by default)
-  classify::Params on;
+  classify::Params outline_off;  // the outline gates (§16) refuse it too: off here
+  outline_off.drawbar_width = outline_off.max_notch = 0;
+  CHECK(classify::run(outline_off, {c.cloud, "caravan.pcd", {}}).group == "van");  // a van's size and profile
+  classify::Params on = outline_off;
   on.min_end_fill = 0.75;
   const classify::Answer refused = classify::run(on, {c.cloud, "caravan.pcd", {}});
   CHECK(refused.cls.empty());
   CHECK(refused.reason == "not_vehicle_shape");
   CHECK(refused.detail.find("open or tapering end") != std::string::npos);
   CHECK(classify::run(on, {sample(car_top, 2.3, 0.9, 0, 100, 41).cloud, "car.pcd", {}}).cls == "sedan");
+}
+
+// A rock: an ellipsoid of semi-axes 2.1 x 0.95 x 1.5 m (a hatchback's or SUV's size), its
+// lowest 0.1 m buried.
+double rock_top(double x, double y) {
+  const double r = 1 - (x / 2.1) * (x / 2.1) - (y / 0.95) * (y / 0.95);
+  return r > 0 ? 1.6 * std::sqrt(r) - 0.1 : -1;
+}
+
+// A shed with a mono-pitch roof, 4.6 x 1.9 m, from 1.1 m at the back to 1.75 m at the front:
+// solid, smooth, an SUV's size and (a high end) an SUV's profile, but no step.
+double wedge_top(double x, double y) {
+  if (std::abs(x) > 2.3 || std::abs(y) > 0.95) return -1;
+  return 1.1 + 0.65 * (x + 2.3) / 4.6;
+}
+
+// A box trailer without its tractor: a body 5.0 x 2.2 x 2.5 m (its front wall sloping over
+// 0.3 m, so that from above it is sampled, as the side-looking sensors sample it) behind a
+// drawbar 1.2 m long, 0.3 m wide, 0.5 m high (x from -3.1 to 3.1; the drawbar at the front).
+double trailer_top(double x, double y) {
+  if (x < -3.1 || x > 3.1) return -1;
+  if (x < 1.6) return std::abs(y) <= 1.1 ? 2.5 : -1;
+  if (x < 1.9) return std::abs(y) <= 1.1 ? 2.5 - 1.9 * (x - 1.6) / 0.3 : -1;
+  return std::abs(y) <= 0.15 ? 0.5 : -1;
+}
+
+classify::Params outline_off() {
+  classify::Params p;
+  p.min_notch = p.max_notch = p.drawbar_width = p.drawbar_level = 0;
+  return p;
+}
+
+TEST_CASE("classify: outline: a car's bonnet and boot under its cabin are a notch") {
+  for (const double density : {10.0, 25.0, 100.0}) {
+    const classify::Answer a = answer(sample(car_top, 2.3, 0.9, 20 * kDeg, density, 61).cloud);
+    INFO(density << " points/m2: " << a.reason << " " << a.detail);
+    CHECK(a.cls == "sedan");
+    // The bonnet (0.95 m) under the chord from the bumper to the roof's front (1.45 m): about
+    // (1.45 - 0.95) / 2 / 1.45 = 0.17 of H at the windscreen's foot.
+    CHECK(a.features.notch > 0.1);
+    CHECK(a.features.notch < 0.3);
+    CHECK(a.features.dents == 2);  // bonnet and boot
+    CHECK(a.features.tip_width > 0.6);
+    CHECK(a.features.tip_level > 0.6);
+  }
+  // The van's short bonnet under a steep windscreen: a notch, below max_notch.
+  const classify::Answer van = answer(sample(van_top, 2.75, 1.0, 0, 25, 12).cloud);
+  CHECK(van.cls == "van");
+  CHECK(van.features.notch > 0.2);
+  CHECK(van.features.notch < classify::Params{}.max_notch);
+}
+
+TEST_CASE("classify: outline: a rock and a mono-pitch shed are refused as cars for no notch") {
+  for (const auto& [name, top, half_l, half_w] :
+       {std::tuple<const char*, Top, double, double>{"rock", rock_top, 2.1, 0.95},
+        std::tuple<const char*, Top, double, double>{"wedge", wedge_top, 2.3, 0.95}}) {
+    for (const double density : {10.0, 25.0, 100.0}) {
+      const Sampled s = sample(top, half_l, half_w, 15 * kDeg, density, 63);
+      const classify::Answer off = classify::run(outline_off(), {s.cloud, "x.pcd", {}});
+      INFO(name << " at " << density << " points/m2: " << off.reason << " " << off.detail);
+      CHECK(off.group == "car");  // solid, smooth, a car's size: answered before the gate
+      CHECK(off.features.notch < 0.03);
+      const classify::Answer on = answer(s.cloud);
+      INFO(on.reason << " " << on.detail);
+      CHECK(on.cls.empty());
+      CHECK(on.reason == "not_vehicle_shape");
+      CHECK(on.detail.find("no bonnet or boot") != std::string::npos);
+      CHECK(on.detail.find("fits " + off.cls) != std::string::npos);
+      // Only min-notch refuses it: the drawbar and max-notch gates alone pass it.
+      classify::Params only_others;
+      only_others.min_notch = 0;
+      CHECK(classify::run(only_others, {s.cloud, "x.pcd", {}}).cls == off.cls);
+    }
+  }
+}
+
+TEST_CASE("classify: outline: a trailer's drawbar is refused; each gate switches off at 0") {
+  const Sampled s = sample(trailer_top, 3.1, 1.1, -25 * kDeg, 100, 65);
+  const classify::Answer off = classify::run(outline_off(), {s.cloud, "trailer.pcd", {}});
+  INFO(off.reason << " " << off.detail);
+  CHECK(off.group == "van");  // a van's size, long roof and high tail
+  const auto& f = off.features;
+  CHECK(f.tip_width < 0.3);
+  CHECK(f.tip_level == Approx(0.2).margin(0.03));
+  CHECK(f.notch > 0.5);  // the body's front wall over the drawbar
+  // Every gate on (the defaults): the drawbar is named first.
+  const classify::Answer on = answer(s.cloud);
+  INFO(on.reason << " " << on.detail);
+  CHECK(on.cls.empty());
+  CHECK(on.reason == "not_vehicle_shape");
+  CHECK(on.detail.find("a drawbar") != std::string::npos);
+  CHECK(on.detail.find("fits van") != std::string::npos);
+  // The drawbar gate alone.
+  classify::Params drawbar = outline_off();
+  drawbar.drawbar_width = 0.3;
+  drawbar.drawbar_level = 0.4;
+  CHECK(classify::run(drawbar, {s.cloud, "t.pcd", {}}).detail.find("a drawbar") != std::string::npos);
+  // Either of its two values at 0 switches it off; max-notch then refuses the van.
+  for (const bool width : {true, false}) {
+    classify::Params p;
+    (width ? p.drawbar_width : p.drawbar_level) = 0;
+    const classify::Answer a = classify::run(p, {s.cloud, "t.pcd", {}});
+    INFO(a.reason << " " << a.detail);
+    CHECK(a.cls.empty());
+    CHECK(a.detail.find("a step") != std::string::npos);
+    CHECK(a.detail.find("a van's") != std::string::npos);
+  }
+  // A drawbar higher than drawbar_level, or wider than drawbar_width, is no drawbar.
+  classify::Params high = drawbar;
+  high.drawbar_level = 0.15;
+  CHECK(classify::run(high, {s.cloud, "t.pcd", {}}).group == "van");
+  classify::Params narrow = drawbar;
+  narrow.drawbar_width = 0.05;
+  CHECK(classify::run(narrow, {s.cloud, "t.pcd", {}}).group == "van");
+  // The car passes every gate.
+  CHECK(answer(sample(car_top, 2.3, 0.9, -25 * kDeg, 50, 65).cloud).cls == "sedan");
 }
 
 TEST_CASE("classify: sizes outside every family") {

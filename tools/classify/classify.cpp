@@ -217,6 +217,43 @@ void open_end(Answer& a, const Params& p, const std::vector<TableRange>& table) 
          past(p.min_end_fill, std::max(f.end_fill, 1e-6)));
 }
 
+// The outline gates (classify.md §16; each 0: off), after the class is chosen: the answer is
+// refused when its outline contradicts its group (a car without a bonnet or boot under its cabin:
+// a rock, a box; a tracked vehicle, van or bus with a step deeper than max_notch: a caravan or
+// trailer behind its drawbar) or when an end is a drawbar (narrow and low: a trailer or caravan
+// without its tractor).
+void outline(Answer& a, const Params& p) {
+  const Features& f = a.features;
+  if (a.cls.empty()) return;
+  std::string why;
+  double strength = 0;
+  if (p.drawbar_width > 0 && p.drawbar_level > 0 && f.tip_width < p.drawbar_width &&
+      f.tip_level < p.drawbar_level) {
+    why = fmt("a drawbar: its narrower end is %.0f%% of its width and %.0f%% of its height (a trailer or "
+              "caravan without its tractor; a vehicle's end >= %.0f%% wide or >= %.0f%% high)",
+              100 * f.tip_width, 100 * f.tip_level, 100 * p.drawbar_width, 100 * p.drawbar_level);
+    strength = std::min(past(p.drawbar_width, std::max(f.tip_width, 1e-6)),
+                        past(p.drawbar_level, std::max(f.tip_level, 1e-6)));
+  } else if (p.min_notch > 0 && a.group == "car" && f.notch < p.min_notch) {
+    why = fmt("no bonnet or boot under a cabin: its top's profile lies within %.0f%% of its height of its "
+              "upper hull (a car's step >= %.0f%%)",
+              100 * f.notch, 100 * p.min_notch);
+    strength = past(p.min_notch, std::max(f.notch, 1e-6));
+  } else if (p.max_notch > 0 && (a.group == "tracked" || a.group == "van" || a.group == "bus") &&
+             f.notch > p.max_notch) {
+    why = fmt("a step %.0f%% of its height deep under its profile's upper hull", 100 * f.notch) + " (a " +
+          a.group + fmt("'s <= %.0f%%)", 100 * p.max_notch);
+    strength = past(f.notch, p.max_notch);
+  }
+  if (why.empty()) return;
+  const std::string cls = a.cls;
+  a.cls.clear();
+  a.group.clear();
+  a.entry.clear();
+  a.class_score = a.class_margin = 0;
+  refuse(a, "not_vehicle_shape", why + "; its size fits " + cls, strength);
+}
+
 // Among the classes the size fits, the best: smallest distance, then most central; profile
 // cues move the overlapping pairs (docs/decisions/classify.md §4).
 void choose(Answer& a, const Params& p, double sigma, const std::vector<TableRange>& table) {
@@ -377,6 +414,10 @@ void validate(const Params& p) {
   need(p.entry_tolerance >= 0 && p.entry_tolerance <= 0.5, "--entry-tolerance must be in [0, 0.5]");
   need(p.pass_share > 0 && p.pass_share <= 0.5, "--pass-share must be in (0, 0.5]");
   need(p.min_end_fill >= 0 && p.min_end_fill <= 1, "--min-end-fill must be in [0, 1]");
+  need(p.min_notch >= 0 && p.min_notch <= 1, "--min-notch must be in [0, 1]");
+  need(p.max_notch >= 0 && p.max_notch <= 1, "--max-notch must be in [0, 1]");
+  need(p.drawbar_width >= 0 && p.drawbar_width <= 1, "--drawbar-width must be in [0, 1]");
+  need(p.drawbar_level >= 0 && p.drawbar_level <= 1, "--drawbar-level must be in [0, 1]");
 }
 
 Outputs run(const Params& p, const Inputs& in) {
@@ -390,6 +431,7 @@ Outputs run(const Params& p, const Inputs& in) {
   if (vegetation(a, p) || size_gates(a, p, sigma, table) || roofless(a, p)) return a;
   choose(a, p, sigma, table);
   open_end(a, p, table);
+  outline(a, p);
   return a;
 }
 

@@ -96,6 +96,15 @@ struct Params {
                                     // not_vehicle_shape (0: off; real tiles, §5)
   double min_end_fill = 0;          // end_fill below this: not_vehicle_shape, unless the class is a
                                     // tank (a gun over its end); 0: off (classify.md §15)
+  // Outline gates (classify.md §16; each 0: off). A car-group answer needs a notch (bonnet or
+  // boot under the cabin: the profile's depth under its upper hull, share of H) of at least
+  // min_notch; a tracked, van or bus answer at most max_notch; any answer whose narrower end is
+  // narrower than drawbar_width x W and lower than drawbar_level x H (a trailer's or caravan's
+  // drawbar) is refused. All: not_vehicle_shape.
+  double min_notch = 0.05;
+  double max_notch = 0.5;
+  double drawbar_width = 0.3;
+  double drawbar_level = 0.4;
   double plateau_split = 0.6;       // plateau share between a minor and a long plateau
   double tail_split = 0.75;         // higher end's level (share of H) between dropping and staying up
   double profile_penalty = 1.5;     // added to a class's size distance when the profile contradicts it
@@ -139,6 +148,13 @@ struct Features {
   // that of the middle three fifths (classify.md §15): a vehicle's ends fill its width (bumper,
   // bonnet, tail), a drawbar tapers, an ellipse leaves its rectangle's corners empty.
   double end_fill = 0;
+  // The outline (classify.md §16): the profile's deepest two-bin run under its upper convex hull
+  // (share of H; a car's bonnet or boot under the cabin, none on a box or an ellipsoid), the
+  // number of runs at least kDentDepth deep, and the narrower end's outermost slice: its width
+  // (share of W) and its highest point (share of H).
+  double notch = 0;
+  std::size_t dents = 0;
+  double tip_width = 0, tip_level = 0;
   double top_roughness = 0;   // median |interior cell top - the plane of its 3 x 3 cells' tops| (m)
   std::size_t top_cells = 0;  // interior cells with enough neighbours for it
   double below_share = 0;     // interior object points with an object point >= 0.5 m above them

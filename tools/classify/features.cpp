@@ -620,6 +620,7 @@ Features measure(const Candidate& c, const Params& fp) {
     q.emplace_back(p.dot(u) - r.u0, p.dot(v) - 0.5 * (r.v0 + r.v1), c.points[i].z());
   }
   profile_cues(q, f, fp);
+  outline_cues(q, f);
   column_cues(c, counted, q, r, u, v, f, fp);
   penetration_cues(c, counted, several, q, r, u, v, f, fp);
 

@@ -38,6 +38,13 @@ Candidate read_candidate(const formats::PointCloud& cloud, const std::string& na
 // else the largest.
 std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double link);
 
+// The outline cues (classify.md §16) of the object's points `q` in its rectangle's frame (x along
+// the long axis from 0 to length_measured, y across from its middle, z the height): notch,
+// dents, tip_width, tip_level. Needs f's measured size and spacing.
+void outline_cues(const std::vector<Eigen::Vector3d>& q, Features& f);
+// A dent: a run of the profile at least this far (share of H) under its upper hull.
+constexpr double kDentDepth = 0.05;
+
 // Every measurement of Features (classify.h).
 Features measure(const Candidate& c, const Params& params);
 

@@ -72,6 +72,17 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
   tool.add("--min-end-fill", &p.min_end_fill,
            "an end fifth's top view filled less than this x the middle's (a drawbar, an ellipse): "
            "not_vehicle_shape, but for tanks (0: off)");
+  tool.add("--min-notch", &p.min_notch,
+           "a car-group answer needs a bonnet or boot under its cabin: its top's profile this far (share "
+           "of H) under the profile's upper hull over two bins; else not_vehicle_shape (0: off)");
+  tool.add("--max-notch", &p.max_notch,
+           "a tracked, van or bus answer whose profile lies more than this (share of H) under its upper "
+           "hull (a body behind a drawbar): not_vehicle_shape (0: off)");
+  tool.add("--drawbar-width", &p.drawbar_width,
+           "an end narrower than this share of the width and lower than --drawbar-level x the height "
+           "is a drawbar (trailer, caravan): not_vehicle_shape (0: off)");
+  tool.add("--drawbar-level", &p.drawbar_level,
+           "see --drawbar-width: the drawbar's highest point, share of the height (0: off)");
   tool.add("--plateau-split", &p.plateau_split, "plateau share between a minor and a long roof");
   tool.add("--tail-split", &p.tail_split,
            "higher end's level (share of H) between dropping and staying at the roof");

@@ -1,0 +1,87 @@
+// classify's outline cues (docs/decisions/classify.md §16): the top's height profile along the
+// long axis, its concavities (notch, dents), and the shape of its narrowest end (tip_width,
+// tip_level).
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "classify/features.h"
+
+namespace canopy::classify {
+
+void outline_cues(const std::vector<Eigen::Vector3d>& q, Features& f) {
+  const double H = std::max(f.height_measured, 1e-6);
+  const double L = f.length_measured, W = std::max(f.width_measured, 1e-6);
+  // The profile: the highest point of each bin along the long axis (bins of the plateau's
+  // size, max(0.25 m, spacing): about one sample per bin and row across the width).
+  const double bin = std::max(0.25, f.spacing);
+  const auto bins = static_cast<std::size_t>(std::max(1.0, std::ceil(L / bin)));
+  std::vector<double> top(bins, -std::numeric_limits<double>::infinity());
+  for (const Eigen::Vector3d& p : q) {
+    const auto b = std::min(bins - 1, static_cast<std::size_t>(std::max(0.0, p.x() / bin)));
+    top[b] = std::max(top[b], p.z());
+  }
+  std::vector<double> x, z;  // the filled bins: centre, top
+  for (std::size_t b = 0; b < bins; ++b) {
+    if (std::isfinite(top[b])) {
+      x.push_back((static_cast<double>(b) + 0.5) * bin);
+      z.push_back(top[b]);
+    }
+  }
+  // Upper convex hull of the profile (monotone chain). A convex outline (a box, an ellipsoid,
+  // a rounded caravan roof) lies on it; a bonnet or boot below the cabin lies under it.
+  std::vector<std::size_t> hull;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    while (hull.size() >= 2) {
+      const std::size_t a = hull[hull.size() - 2], b = hull.back();
+      const double cross = (x[b] - x[a]) * (z[i] - z[a]) - (z[b] - z[a]) * (x[i] - x[a]);
+      if (cross < 0) break;  // b stays above the chord a-i
+      hull.pop_back();
+    }
+    hull.push_back(i);
+  }
+  std::vector<double> depth(x.size(), 0);  // under the hull, share of H
+  for (std::size_t k = 0; k + 1 < hull.size(); ++k) {
+    const std::size_t a = hull[k], b = hull[k + 1];
+    for (std::size_t i = a + 1; i < b; ++i) {
+      const double t = (x[i] - x[a]) / (x[b] - x[a]);
+      depth[i] = (z[a] + t * (z[b] - z[a]) - z[i]) / H;
+    }
+  }
+  // A notch is sustained over two neighbouring filled bins: one bin whose highest point missed
+  // the ridge of a sparse, rounded top is not a step.
+  f.notch = 0;
+  f.dents = 0;
+  bool in_dent = false;
+  for (std::size_t i = 0; i + 1 < depth.size(); ++i) {
+    const double d = std::min(depth[i], depth[i + 1]);
+    f.notch = std::max(f.notch, d);
+    const bool deep = d >= kDentDepth;
+    f.dents += deep && !in_dent;
+    in_dent = deep;
+  }
+  // The tips: the outermost max(0.4 m, 1.5 x spacing) of each end (at most a quarter of the
+  // length). Width = the points' extent across (+ one spacing: the samples lie inside the
+  // edges, and a single point is that wide) over W; level = their highest over H. The tip
+  // reported is the narrower end's (a trailer's drawbar: narrow and low; a vehicle's bumper,
+  // bonnet or tail fills most of its width at half its height or more).
+  const double slice = std::min(std::max(0.4, 1.5 * f.spacing), 0.25 * L);
+  auto tip = [&](bool front) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo, up = 0;
+    for (const Eigen::Vector3d& p : q) {
+      if (front ? p.x() > slice : p.x() < L - slice) continue;
+      lo = std::min(lo, p.y());
+      hi = std::max(hi, p.y());
+      up = std::max(up, p.z());
+    }
+    if (hi < lo) return std::pair<double, double>(0, 0);
+    return std::pair<double, double>(std::min(1.0, (hi - lo + f.spacing) / W), up / H);
+  };
+  const auto a = tip(true), b = tip(false);
+  const auto& narrow = a.first < b.first || (a.first == b.first && a.second <= b.second) ? a : b;
+  f.tip_width = narrow.first;
+  f.tip_level = narrow.second;
+}
+
+}  // namespace canopy::classify
