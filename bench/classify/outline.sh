@@ -15,6 +15,7 @@ set -euo pipefail
 src=$(cd "$(dirname "$0")/../.." && pwd)
 bin=${BIN:-$src/build/bin}
 out=$1
+mkdir -p "$out"
 ini=${INI:-$src/share/params/classify-sim.ini}
 seeds=${SEEDS:-"101 102 103 104 105 106"}
 covers=${COVERS:-"light medium dense"}

@@ -148,8 +148,8 @@ struct Features {
   // that of the middle three fifths (classify.md §15): a vehicle's ends fill its width (bumper,
   // bonnet, tail), a drawbar tapers, an ellipse leaves its rectangle's corners empty.
   double end_fill = 0;
-  // The outline (classify.md §16): the profile's deepest two-bin run under its upper convex hull
-  // (share of H; a car's bonnet or boot under the cabin, none on a box or an ellipsoid), the
+  // The outline (classify.md §16): the profile's deepest bin under its upper convex hull (share
+  // of H; a car's bonnet or boot under the cabin, none on a box or an ellipsoid), the
   // number of runs at least kDentDepth deep, and the narrower end's outermost slice: its width
   // (share of W) and its highest point (share of H).
   double notch = 0;

@@ -74,7 +74,7 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
            "not_vehicle_shape, but for tanks (0: off)");
   tool.add("--min-notch", &p.min_notch,
            "a car-group answer needs a bonnet or boot under its cabin: its top's profile this far (share "
-           "of H) under the profile's upper hull over two bins; else not_vehicle_shape (0: off)");
+           "of H) under the profile's upper hull; else not_vehicle_shape (0: off)");
   tool.add("--max-notch", &p.max_notch,
            "a tracked, van or bus answer whose profile lies more than this (share of H) under its upper "
            "hull (a body behind a drawbar): not_vehicle_shape (0: off)");

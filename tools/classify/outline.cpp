@@ -49,13 +49,13 @@ void outline_cues(const std::vector<Eigen::Vector3d>& q, Features& f) {
       depth[i] = (z[a] + t * (z[b] - z[a]) - z[i]) / H;
     }
   }
-  // A notch is sustained over two neighbouring filled bins: one bin whose highest point missed
-  // the ridge of a sparse, rounded top is not a step.
+  // The notch: the deepest bin. (Sustained over two neighbouring bins, as first written, it lost
+  // 4 of the 29 clear development cars answered as cars: at 8 points/m² a real bonnet is one or
+  // two bins below the chord, its windscreen unsampled; classify.md §16.)
   f.notch = 0;
   f.dents = 0;
   bool in_dent = false;
-  for (std::size_t i = 0; i + 1 < depth.size(); ++i) {
-    const double d = std::min(depth[i], depth[i + 1]);
+  for (const double d : depth) {
     f.notch = std::max(f.notch, d);
     const bool deep = d >= kDentDepth;
     f.dents += deep && !in_dent;
