@@ -229,15 +229,17 @@ void outline(Answer& a, const Params& p) {
   double strength = 0;
   if (p.drawbar_width > 0 && p.drawbar_level > 0 && f.tip_width < p.drawbar_width &&
       f.tip_level < p.drawbar_level) {
-    why = fmt("a drawbar: its narrower end is %.0f%% of its width and %.0f%% of its height (a trailer or "
-              "caravan without its tractor; a vehicle's end >= %.0f%% wide or >= %.0f%% high)",
-              100 * f.tip_width, 100 * f.tip_level, 100 * p.drawbar_width, 100 * p.drawbar_level);
+    why =
+        fmt("a drawbar: its narrower end is %.0f%% of its width and %.0f%% of its height (a trailer or "
+            "caravan without its tractor; a vehicle's end >= %.0f%% wide or >= %.0f%% high)",
+            100 * f.tip_width, 100 * f.tip_level, 100 * p.drawbar_width, 100 * p.drawbar_level);
     strength = std::min(past(p.drawbar_width, std::max(f.tip_width, 1e-6)),
                         past(p.drawbar_level, std::max(f.tip_level, 1e-6)));
   } else if (p.min_notch > 0 && a.group == "car" && f.notch < p.min_notch) {
-    why = fmt("no bonnet or boot under a cabin: its top's profile lies within %.0f%% of its height of its "
-              "upper hull (a car's step >= %.0f%%)",
-              100 * f.notch, 100 * p.min_notch);
+    why =
+        fmt("no bonnet or boot under a cabin: its top's profile lies within %.0f%% of its height of its "
+            "upper hull (a car's step >= %.0f%%)",
+            100 * f.notch, 100 * p.min_notch);
     strength = past(p.min_notch, std::max(f.notch, 1e-6));
   } else if (p.max_notch > 0 && (a.group == "tracked" || a.group == "van" || a.group == "bus") &&
              f.notch > p.max_notch) {

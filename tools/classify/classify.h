@@ -105,11 +105,11 @@ struct Params {
   double max_notch = 0.5;
   double drawbar_width = 0.3;
   double drawbar_level = 0.4;
-  double plateau_split = 0.6;       // plateau share between a minor and a long plateau
-  double tail_split = 0.75;         // higher end's level (share of H) between dropping and staying up
-  double profile_penalty = 1.5;     // added to a class's size distance when the profile contradicts it
-  double box_plateau = 0.88;        // plateau share and both ends' levels at or above this:
-  double box_ends = 0.8;            //   a flat box (container, log stack): a box-truck or bus only
+  double plateau_split = 0.6;    // plateau share between a minor and a long plateau
+  double tail_split = 0.75;      // higher end's level (share of H) between dropping and staying up
+  double profile_penalty = 1.5;  // added to a class's size distance when the profile contradicts it
+  double box_plateau = 0.88;     // plateau share and both ends' levels at or above this:
+  double box_ends = 0.8;         //   a flat box (container, log stack): a box-truck or bus only
   double model_density = common::kModelLevelDensity;  // points/m² the model-level chain needs
   // Cues over the passes that saw the object (classify.md §14): when the crop holds points of
   // several flight passes (LAS point_source_id / gps_time), the open ground of `fill` and the
