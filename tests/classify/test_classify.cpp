@@ -573,6 +573,18 @@ TEST_CASE("classify: class table and parameters") {
   p = classify::Params{};
   p.min_plateau = 1.5;
   CHECK_THROWS_WITH(classify::validate(p), Catch::Contains("--min-plateau"));
+  // The outline gates: shares of H or W in [0, 1] (0: off).
+  p = classify::Params{};
+  p.min_notch = p.max_notch = p.drawbar_width = p.drawbar_level = 0;
+  CHECK_NOTHROW(classify::validate(p));
+  for (double classify::Params::*key : {&classify::Params::min_notch, &classify::Params::max_notch,
+                                        &classify::Params::drawbar_width, &classify::Params::drawbar_level}) {
+    p = classify::Params{};
+    p.*key = -0.1;
+    CHECK_THROWS_AS(classify::validate(p), common::UsageError);
+    p.*key = 1.5;
+    CHECK_THROWS_AS(classify::validate(p), common::UsageError);
+  }
 }
 
 TEST_CASE("classify: the binary writes a class-level verdict; same input, same bytes") {
