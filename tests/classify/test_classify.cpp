@@ -430,16 +430,16 @@ TEST_CASE("classify: outline: a rock and a mono-pitch shed are refused as cars f
       INFO(name << " at " << density << " points/m2: " << off.reason << " " << off.detail);
       CHECK(off.group == "car");  // solid, smooth, a car's size: answered before the gate
       CHECK(off.features.notch < 0.03);
-      const classify::Answer on = answer(s.cloud);
+      classify::Params min_notch;  // off by default (classify.md §16)
+      min_notch.min_notch = 0.05;
+      const classify::Answer on = classify::run(min_notch, {s.cloud, "x.pcd", {}});
       INFO(on.reason << " " << on.detail);
       CHECK(on.cls.empty());
       CHECK(on.reason == "not_vehicle_shape");
       CHECK(on.detail.find("no bonnet or boot") != std::string::npos);
       CHECK(on.detail.find("fits " + off.cls) != std::string::npos);
-      // Only min-notch refuses it: the drawbar and max-notch gates alone pass it.
-      classify::Params only_others;
-      only_others.min_notch = 0;
-      CHECK(classify::run(only_others, {s.cloud, "x.pcd", {}}).cls == off.cls);
+      // Only min-notch refuses it: the defaults (the drawbar and max-notch gates) pass it.
+      CHECK(answer(s.cloud).cls == off.cls);
     }
   }
 }
@@ -483,8 +483,11 @@ TEST_CASE("classify: outline: a trailer's drawbar is refused; each gate switches
   classify::Params narrow = drawbar;
   narrow.drawbar_width = 0.05;
   CHECK(classify::run(narrow, {s.cloud, "t.pcd", {}}).group == "van");
-  // The car passes every gate.
-  CHECK(answer(sample(car_top, 2.3, 0.9, -25 * kDeg, 50, 65).cloud).cls == "sedan");
+  // The car passes every gate, min-notch too.
+  classify::Params all = classify::Params{};
+  all.min_notch = 0.05;
+  CHECK(classify::run(all, {sample(car_top, 2.3, 0.9, -25 * kDeg, 50, 65).cloud, "car.pcd", {}}).cls ==
+        "sedan");
 }
 
 TEST_CASE("classify: sizes outside every family") {

@@ -101,7 +101,7 @@ struct Params {
   // min_notch; a tracked, van or bus answer at most max_notch; any answer whose narrower end is
   // narrower than drawbar_width x W and lower than drawbar_level x H (a trailer's or caravan's
   // drawbar) is refused. All: not_vehicle_shape.
-  double min_notch = 0.05;
+  double min_notch = 0;  // off: modern cars' profiles are convex too (classify.md §16)
   double max_notch = 0.5;
   double drawbar_width = 0.3;
   double drawbar_level = 0.4;
