@@ -7,8 +7,9 @@
 #   bench/classify/outline.sh OUT_DIR
 #   (BIN=build/bin; SEEDS="101 102 103 104 105 106"; COVERS="light medium dense";
 #    EXTRA_TILES="name:recipe.scene:seed ..." more tiles of your own; MODELBASE=dir CLASSES=csv
-#    as make tile passes them; VARIANTS="name:extra classify args" ..., default: the outline gates
-#    on (the ini) and off)
+#    as make tile passes them; VARIANTS="name:extra classify args" ..., default: the ini's
+#    outline gates, every gate off, and the ini's with --min-notch 0.05; outline.py compares the
+#    first two)
 # Never the experiment's seeds (1-8) or the open set's (31-34): development seeds only.
 set -euo pipefail
 [ $# -eq 1 ] || { echo "usage: $0 OUT_DIR" >&2; exit 2; }
@@ -19,7 +20,7 @@ mkdir -p "$out"
 ini=${INI:-$src/share/params/classify-sim.ini}
 seeds=${SEEDS:-"101 102 103 104 105 106"}
 covers=${COVERS:-"light medium dense"}
-variants=${VARIANTS:-"on: off:--min-notch=0,--max-notch=0,--drawbar-width=0"}
+variants=${VARIANTS:-"on: off:--max-notch=0,--drawbar-width=0 notch:--min-notch=0.05"}
 mb_args=()
 [ -z "${MODELBASE:-}" ] || mb_args=(--modelbase "$MODELBASE" --model-classes "${CLASSES:-$src/share/models/classes.csv}")
 declare -A trees=([light]=100 [medium]=350 [dense]=700) hide=([light]=0 [medium]=1 [dense]=2)
