@@ -24,7 +24,9 @@
 // 5. Decision. too_sparse (points, density) -> vegetation_like (cues) -> size gates against the
 //    families' class ranges (tools/rangetrace/families.cpp; docs/decisions/families.md §2):
 //    too_large / too_small / too_flat / not_vehicle_shape -> the class whose ranges the size
-//    fits best (profile cues break ties between overlapping classes) and its group.
+//    fits best (profile cues break ties between overlapping classes) and its group -> the
+//    outline gates (docs/decisions/classify.md §16): an answer with a drawbar end, or a tracked,
+//    van or bus answer with too deep a step in its profile, is not_vehicle_shape.
 //
 // Never read: `classification` (ASPRS classes), `label`, `instance` (truth). Only x y z,
 // return_number, number_of_returns, point_source_id and gps_time are read.
