@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <map>
@@ -65,6 +66,18 @@ std::vector<FrameRange> view_blocks(int views, int workers, int size) {
   for (int w = 0; w < workers; ++w) {
     const int first = views * w / workers, last = views * (w + 1) / workers - 1;
     ranges.push_back({2 * first, 2 * last + 1, size, size});
+  }
+  return ranges;
+}
+
+// One run per view, tracing only the pixels that can see the crop box (crop_window).
+std::vector<FrameRange> view_windows(const SceneRecipe& scene, const Placement& placement,
+                                     const Params& params) {
+  std::vector<FrameRange> ranges;
+  for (std::size_t k = 0; k < scene.views.size(); ++k) {
+    const PixelWindow w = crop_window(placement, params, scene.views[k]);
+    const int f = 2 * static_cast<int>(k);
+    ranges.push_back({f, f + 1, params.size, params.size, w.col0, w.col1, w.row0, w.row1});
   }
   return ranges;
 }
@@ -134,12 +147,24 @@ formats::PointCloud render_scan(const Model& model, const SceneRecipe& scene, co
   // POV-Ray 3.7 idles a fixed wall time between the frames of one run (docs/decisions/cost.md
   // §3): kRunsPerThread runs per thread, all in flight, overlap one run's idle with the others'
   // work. A frame's pixels depend on the clock only, not on the split: the scan is the same.
+  // With windows, one run per view (each its own window), as many in flight.
   const int workers = std::max(1, std::min(views, kRunsPerThread * std::max(1, params.threads)));
-  const std::map<int, std::string> frames =
-      render_frames(params.povray, tmp, st, "scene.pov", 2 * views, view_blocks(views, workers, params.size),
-                    workers, scene_renames(st, "scene.pov"));
+  const std::vector<FrameRange> ranges =
+      params.window ? view_windows(scene, placement, params) : view_blocks(views, workers, params.size);
+  double traced = 0;
+  for (const FrameRange& r : ranges) {
+    const double frames = r.last - r.first + 1;
+    traced += r.col0 < 0 ? frames * r.width * r.height
+                         : frames * (r.col1 - r.col0 + 1) * static_cast<double>(r.row1 - r.row0 + 1);
+  }
+  const std::map<int, std::string> frames = render_frames(params.povray, tmp, st, "scene.pov", 2 * views,
+                                                          ranges, workers, scene_renames(st, "scene.pov"));
+  char share[64];
+  std::snprintf(share, sizeof share, " (%.0f%% traced)",
+                100 * traced / (2.0 * views * params.size * params.size));
   render.done(std::to_string(views) + " views x 2 passes, " + std::to_string(params.size) + "x" +
-              std::to_string(params.size) + " pixels, " + std::to_string(workers) + " processes");
+              std::to_string(params.size) + " pixels" + (params.window ? share : "") + ", " +
+              std::to_string(ranges.size()) + " runs, " + std::to_string(workers) + " at a time");
 
   common::log::Phase decode("decode");
   formats::PointCloud cloud = decode_views(frames, scene, enc, placement, params);
