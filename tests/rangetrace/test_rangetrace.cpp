@@ -371,8 +371,7 @@ TEST_CASE("crop_window: the crop box projects to known pixel bounds") {
     CHECK(w.row1 == static_cast<int>(std::ceil(255.5 + up)) + 2);       // 423
   };
   {
-    const Placement pl = place(Vector3d(-2, -1, 0), Vector3d(2, 1, 2), p.pose);
-    const PixelWindow w = crop_window(pl, p, View{0, 45 * kDeg});
+    const PixelWindow w = crop_window(p, View{0, 45 * kDeg});
     expect(w);
     CHECK(w.col0 == 186);
     CHECK(w.col1 == 325);
@@ -385,10 +384,9 @@ TEST_CASE("crop_window: the crop box projects to known pixel bounds") {
     Params q = p;
     q.pose.heading = 90 * kDeg;
     q.pose.position = {3, -7};
-    const Placement pl = place(Vector3d(-2, -1, 0), Vector3d(2, 1, 2), q.pose);
-    expect(crop_window(pl, q, View{0, 45 * kDeg}));
+    expect(crop_window(q, View{0, 45 * kDeg}));
     // From the side (azimuth 90 deg relative), the 10 m length runs across the image.
-    const PixelWindow side = crop_window(pl, q, View{90 * kDeg, 45 * kDeg});
+    const PixelWindow side = crop_window(q, View{90 * kDeg, 45 * kDeg});
     CHECK(side.col0 == static_cast<int>(std::floor(255.5 - 5 / 0.03)) - 2);  // 86
     CHECK(side.col1 == static_cast<int>(std::ceil(255.5 + 5 / 0.03)) + 2);   // 425
     CHECK(side.row0 == static_cast<int>(std::floor(255.5 - 4 * s / 0.03)) - 2);
@@ -398,10 +396,9 @@ TEST_CASE("crop_window: the crop box projects to known pixel bounds") {
     // A field smaller than the box: the whole image; straight down: the whole image too.
     Params q = p;
     q.size = 64;
-    const Placement pl = place(Vector3d(-2, -1, 0), Vector3d(2, 1, 2), q.pose);
-    const PixelWindow w = crop_window(pl, q, View{30 * kDeg, 60 * kDeg});
+    const PixelWindow w = crop_window(q, View{30 * kDeg, 60 * kDeg});
     CHECK((w.col0 == 0 && w.col1 == 63 && w.row0 == 0 && w.row1 == 63));
-    const PixelWindow d = crop_window(pl, p, View{0, 90 * kDeg});
+    const PixelWindow d = crop_window(p, View{0, 90 * kDeg});
     CHECK((d.col0 == 0 && d.col1 == 511 && d.row0 == 0 && d.row1 == 511));
   }
 }
@@ -417,10 +414,9 @@ TEST_CASE("a render traced in windows is byte-identical to the full render") {
   s.views.push_back({100 * kDeg, 35 * kDeg});
   s.views.push_back({290 * kDeg, 15 * kDeg});
   const Model m = inline_model(kBoxWithBump);
-  const Placement pl = place(Vector3d(-1, -0.5, 0), Vector3d(1, 0.5, 1.2), p.pose);
   double traced = 0;
   for (const View& v : s.views) {
-    const PixelWindow w = crop_window(pl, p, v);
+    const PixelWindow w = crop_window(p, v);
     traced += double(w.col1 - w.col0 + 1) * (w.row1 - w.row0 + 1);
   }
   CHECK(traced < 0.5 * s.views.size() * p.size * p.size);

@@ -98,7 +98,7 @@ bool in_crop(const Eigen::Vector3d& p, const Placement& placement, const Params&
          std::abs(d.z()) <= params.crop_height / 2;
 }
 
-PixelWindow crop_window(const Placement& placement, const Params& params, const View& view, int margin) {
+PixelWindow crop_window(const Params& params, const View& view, int margin) {
   const int n = params.size;
   const PixelWindow whole{0, n - 1, 0, n - 1};
   // POV-Ray's look_at (POV-Ray frame): direction d toward the target, right = sky x d,

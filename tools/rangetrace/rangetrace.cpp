@@ -70,14 +70,22 @@ std::vector<FrameRange> view_blocks(int views, int workers, int size) {
   return ranges;
 }
 
-// One run per view, tracing only the pixels that can see the crop box (crop_window).
-std::vector<FrameRange> view_windows(const SceneRecipe& scene, const Placement& placement,
-                                     const Params& params) {
-  std::vector<FrameRange> ranges;
-  for (std::size_t k = 0; k < scene.views.size(); ++k) {
-    const PixelWindow w = crop_window(placement, params, scene.views[k]);
-    const int f = 2 * static_cast<int>(k);
-    ranges.push_back({f, f + 1, params.size, params.size, w.col0, w.col1, w.row0, w.row1});
+// The same blocks, each run tracing only the pixels that can see the crop box in any of its
+// views (the union of their crop_window). One run per view, each with its own window, traced
+// as many pixels less but cost more CPU in all (a scene parse per run: cost.md §11).
+std::vector<FrameRange> view_windows(const SceneRecipe& scene, const Params& params, int workers) {
+  std::vector<FrameRange> ranges = view_blocks(static_cast<int>(scene.views.size()), workers, params.size);
+  for (FrameRange& r : ranges) {
+    PixelWindow u{params.size, -1, params.size, -1};
+    for (int f = r.first; f <= r.last; f += 2) {
+      const PixelWindow w = crop_window(params, scene.views[f / 2]);
+      u = {std::min(u.col0, w.col0), std::max(u.col1, w.col1), std::min(u.row0, w.row0),
+           std::max(u.row1, w.row1)};
+    }
+    r.col0 = u.col0;
+    r.col1 = u.col1;
+    r.row0 = u.row0;
+    r.row1 = u.row1;
   }
   return ranges;
 }
@@ -147,10 +155,9 @@ formats::PointCloud render_scan(const Model& model, const SceneRecipe& scene, co
   // POV-Ray 3.7 idles a fixed wall time between the frames of one run (docs/decisions/cost.md
   // §3): kRunsPerThread runs per thread, all in flight, overlap one run's idle with the others'
   // work. A frame's pixels depend on the clock only, not on the split: the scan is the same.
-  // With windows, one run per view (each its own window), as many in flight.
   const int workers = std::max(1, std::min(views, kRunsPerThread * std::max(1, params.threads)));
   const std::vector<FrameRange> ranges =
-      params.window ? view_windows(scene, placement, params) : view_blocks(views, workers, params.size);
+      params.window ? view_windows(scene, params, workers) : view_blocks(views, workers, params.size);
   double traced = 0;
   for (const FrameRange& r : ranges) {
     const double frames = r.last - r.first + 1;
@@ -164,7 +171,7 @@ formats::PointCloud render_scan(const Model& model, const SceneRecipe& scene, co
                 100 * traced / (2.0 * views * params.size * params.size));
   render.done(std::to_string(views) + " views x 2 passes, " + std::to_string(params.size) + "x" +
               std::to_string(params.size) + " pixels" + (params.window ? share : "") + ", " +
-              std::to_string(ranges.size()) + " runs, " + std::to_string(workers) + " at a time");
+              std::to_string(workers) + " processes");
 
   common::log::Phase decode("decode");
   formats::PointCloud cloud = decode_views(frames, scene, enc, placement, params);

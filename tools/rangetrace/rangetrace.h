@@ -109,9 +109,9 @@ struct Params {
   std::uint64_t seed = 1;
   int threads = 2;  // concurrent POV-Ray processes
   std::string povray = "povray";
-  // Trace only each view's crop_window (one POV-Ray run per view): the same scan, fewer pixels
-  // (docs/decisions/cost.md §11). false traces every pixel (CANOPY_RENDER_WINDOW=off), in
-  // blocks of views as before.
+  // Each POV-Ray run (a block of views) traces only the union of its views' crop_window: the
+  // same scan, fewer pixels (docs/decisions/cost.md §11). false traces every pixel
+  // (CANOPY_RENDER_WINDOW=off).
   bool window = true;
 };
 
@@ -165,12 +165,13 @@ struct PixelWindow {
 };
 // The pixels of `view`'s image whose rays can pass through the crop box: the bounding box of
 // the box's 8 corners projected as POV-Ray projects them (orthographic camera at the view's
-// direction, look_at the box centre, sky +z; pixel (i, j) traces the ray through
+// direction, look_at the box centre, which is the placed vehicle's centre wherever it is placed, sky +z;
+// pixel (i, j) traces the ray through
 // ((i + 0.5) / size - 0.5, 0.5 - (j + 0.5) / size) of the field), rounded outwards and widened
 // by `margin` pixels, clipped to the image. Every kept point (in_crop) lies on such a ray, so
 // the pixels outside give no point. The whole image for a view straight down (POV-Ray's
 // look_at then keeps its own right vector).
-PixelWindow crop_window(const Placement& placement, const Params& params, const View& view, int margin = 2);
+PixelWindow crop_window(const Params& params, const View& view, int margin = 2);
 
 // ---------------------------------------------------------------- running POV-Ray
 
