@@ -7,7 +7,7 @@
 #   SLICE: thesis (the 15 renders of the thesis protocol: 5 models x circle, flyby, unoccluded,
 #          as Makefile.experiments runs them), band (verify's 5 band renders, mk/verify.mk),
 #          families (3 family test renders at the light cover, mk/families.mk's FAM_RENDER),
-#          tiles (2 scene-experiment tiles at 40 mm); default: thesis.
+#          tiles (2 tiles like the scene experiment's light ones, 30 m at 40 mm); default: thesis.
 #   "before" is BIN_DIR's rangetrace with CANOPY_RENDER_WINDOW=off, or OLD_BIN_DIR's rangetrace
 #   (a build without windows) when given. Before and after alternate render by render, so a
 #   change of the machine's load touches both. Prints one line per render and the totals;
@@ -50,10 +50,13 @@ for s in "${slices[@]}"; do
 --heading $(( $(seed "families/heading/$key") % 360 ))deg --seed $(seed "families/test/$key") --threads 2"
       done ;;
     tiles)
+      # Like the scene experiment's light tiles (mk/scenes.mk scene_recipe), two seeds.
       for seedn in 101 102; do
-        printf 'extent = 30m\ntrees = 300\nbushes = 200\nvehicle = sedan 10 12 20deg\nvehicle = tank 20 18 100deg\nflight_lines = 2\nheadings = 0 90deg\nlooks = 75deg 0deg/180deg\nspacing = 40mm\n' \
+        printf '%s\n' 'extent = 30m' 'terrain = rolling 1m 25m' 'trees = 100' 'hide = 0' 'bushes = 300' \
+          'vehicles = random 5 from earthmover,obj1,sedan,semi,tank' 'clutter = boulder 2 container 1 logs 1' \
+          'flight_lines = 2' 'headings = 0deg 90deg' 'looks = 75deg/0deg 75deg/180deg' 'spacing = 40mm' \
           >"$tmp/tile$seedn.scene"
-        add "tile-$seedn" "--scene $tmp/tile$seedn.scene --seed $seedn --threads 2"
+        add "tile-$seedn" "--scene $tmp/tile$seedn.scene --seed $(seed "scenes/light/$seedn") --threads 2"
       done ;;
     *) echo "render_slice.sh: unknown slice '$s' (thesis, band, families, tiles)" >&2; exit 2 ;;
   esac

@@ -481,8 +481,16 @@ TileScan run_tile(Tile* tile, const Params& params) {
   renames.emplace_back("scene.pov", "rangetrace's generated scene.pov (after the models' includes)");
   const TileFrames rendered(views, order,
                             render_frames(params.povray, tmp, st, "scene.pov", nf, tasks, threads, renames));
+  double traced = 0, pixels = 0;
+  for (const FrameRange& t : tasks) {
+    const double n = t.last - t.first + 1;
+    pixels += n * t.width * t.height;
+    traced += t.col0 < 0 ? n * t.width * t.height : n * (t.col1 - t.col0 + 1) * double(t.row1 - t.row0 + 1);
+  }
+  char share[64];
+  std::snprintf(share, sizeof share, " (%.0f%% of the pixels traced)", 100 * traced / pixels);
   render.done(std::to_string(nf) + " frames (" + std::to_string(nf - 1) + " images + canopy) in " +
-              std::to_string(tasks.size()) + " POV-Ray runs");
+              std::to_string(tasks.size()) + " POV-Ray runs" + (params.window && !plan ? share : ""));
 
   common::log::Phase decode("decode");
   measure_cover(rendered, views[0], tile);
