@@ -71,8 +71,8 @@ std::vector<FrameRange> view_blocks(int views, int workers, int size) {
 }
 
 // The same blocks, each run tracing only the pixels that can see the crop box in any of its
-// views (the union of their crop_window). One run per view, each with its own window, traced
-// as many pixels less but cost more CPU in all (a scene parse per run: cost.md §11).
+// views (the union of their crop_window). One run per view, each with its own window, traces
+// fewer pixels still but costs more CPU: a start-up and scene parse per run (cost.md §11).
 std::vector<FrameRange> view_windows(const SceneRecipe& scene, const Params& params, int workers) {
   std::vector<FrameRange> ranges = view_blocks(static_cast<int>(scene.views.size()), workers, params.size);
   for (FrameRange& r : ranges) {
