@@ -9,6 +9,7 @@
 #include <sys/stat.h>
 #include <sys/syscall.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -24,6 +25,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
 #include "canopy/common/parallel.h"
+#include "canopy/common/signals.h"
 
 namespace canopy::sim {
 
@@ -33,14 +35,22 @@ namespace {
 
 // ---------------------------------------------------------------- signal cleanup
 // Fixed storage so the handler touches only async-signal-safe memory and calls.
-constexpr int kMaxChildren = 64;
+// rangetrace runs at most kRunsPerThread x 256 (--threads' bound) POV-Ray processes at once.
+constexpr int kMaxChildren = 1024;
 constexpr int kMaxDirs = 8;
 constexpr int kMaxPath = 4096;
+// A child slot: 0 free, kForking while its thread forks (signals blocked there), else the pid.
+constexpr pid_t kForking = -1;
 std::atomic<pid_t> g_children[kMaxChildren];
 char g_dirs[kMaxDirs][kMaxPath];
 std::atomic<bool> g_dir_used[kMaxDirs];
-struct sigaction g_previous[3];
-const int kSignals[3] = {SIGINT, SIGTERM, SIGHUP};
+// Set first thing by the handler: no thread starts another POV-Ray after that (run_process).
+std::atomic<bool> g_stopping{false};
+// The signals common's atomic writer cleans up after (SIGPIPE and SIGXFSZ too: rangetrace dying
+// of a closed stderr pipe must not leave its private directory and POV-Ray behind).
+constexpr const auto& kSignals = common::kCleanupSignals;
+constexpr int kNumSignals = sizeof kSignals / sizeof kSignals[0];
+struct sigaction g_previous[kNumSignals];
 std::once_flag g_install_once;
 
 // Removes the files of a flat directory, then the directory (getdents64: no malloc).
@@ -67,22 +77,39 @@ void remove_dir_signal_safe(const char* path) {
   ::rmdir(path);
 }
 
+// Kills a supervisor (run_process) and its process group. The supervisor itself first: until
+// it has called setsid() its group does not exist yet (kill(-pid) fails), and once it is dead
+// it starts nothing more; a command it already started is in its group.
+void kill_supervisor(pid_t pid) {
+  ::kill(pid, SIGKILL);
+  ::kill(-pid, SIGKILL);
+}
+
 extern "C" void kill_children_and_clean(int sig, siginfo_t* info, void* context) {
+  g_stopping.store(true);
   // Each child leads its own process group (run_process): POV-Ray, bwrap and its jail with it.
+  // A slot still kForking belongs to a thread between fork and registration: it is a pid soon.
   for (auto& c : g_children) {
-    const pid_t pid = c.load();
-    if (pid > 0) ::kill(-pid, SIGKILL);
+    pid_t pid = c.load();
+    for (int spins = 0; pid == kForking && spins < 100000; ++spins) {
+      const struct timespec pause = {0, 10000};
+      ::nanosleep(&pause, nullptr);
+      pid = c.load();
+    }
+    if (pid > 0) kill_supervisor(pid);
   }
   for (auto& c : g_children) {
     const pid_t pid = c.exchange(0);
-    if (pid > 0) ::waitpid(pid, nullptr, 0);
+    if (pid > 0) {
+      while (::waitpid(pid, nullptr, 0) < 0 && errno == EINTR) {}
+    }
   }
   for (int i = 0; i < kMaxDirs; ++i) {
     if (g_dir_used[i].exchange(false)) remove_dir_signal_safe(g_dirs[i]);
   }
   // Chain to the handler that was there before (common's: removes pending outputs and
   // re-raises), in either style, or die of the signal.
-  for (int k = 0; k < 3; ++k) {
+  for (int k = 0; k < kNumSignals; ++k) {
     if (kSignals[k] != sig) continue;
     const auto& prev = g_previous[k];
     if ((prev.sa_flags & SA_SIGINFO) != 0 && prev.sa_sigaction != nullptr) {
@@ -101,8 +128,13 @@ extern "C" void kill_own_group(int) {
   ::_exit(137);
 }
 
+// A signal ignored when rangetrace starts stays ignored (nohup, a background job of a script:
+// SIGINT ignored), as common's handlers do: rangetrace must not die of it.
 void install_handlers() {
-  for (int k = 0; k < 3; ++k) {
+  for (int k = 0; k < kNumSignals; ++k) {
+    struct sigaction old {};
+    sigaction(kSignals[k], nullptr, &old);
+    if ((old.sa_flags & SA_SIGINFO) == 0 && old.sa_handler == SIG_IGN) continue;
     struct sigaction sa {};
     sa.sa_sigaction = kill_children_and_clean;
     sa.sa_flags = SA_SIGINFO;
@@ -285,15 +317,30 @@ int run_process(const Command& cmd, const std::string& dir, const std::string& l
   argv.push_back(nullptr);
   for (auto& e : env) envp.push_back(e.data());
   envp.push_back(nullptr);
-  // Signals stay blocked from fork until the child's pid is registered, so the cleanup handler
-  // always knows every child; the child restores the mask before exec.
+  // Signals stay blocked from before fork until the child's pid is registered, so the cleanup
+  // handler always knows every child; the child restores the mask before exec. The slot is
+  // reserved (kForking) before fork: a handler running on another thread meanwhile waits for
+  // the pid, and one that ran before finds g_stopping set here, so no POV-Ray starts after it.
   sigset_t old;
   block_signals(&old);
+  int slot = -1;
+  for (int i = 0; i < kMaxChildren && slot < 0; ++i) {
+    pid_t expected = 0;
+    if (g_children[i].compare_exchange_strong(expected, kForking)) slot = i;
+  }
+  if (slot < 0 || g_stopping.load()) {
+    if (slot >= 0) g_children[slot].store(0);
+    pthread_sigmask(SIG_SETMASK, &old, nullptr);
+    throw Error(slot < 0 ? "cannot start POV-Ray: more than " + std::to_string(kMaxChildren) + " at once"
+                         : std::string("cannot start POV-Ray: stopping on a signal"));
+  }
   const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
   if (pid < 0) {
+    const int err = errno;
+    g_children[slot].store(0);
     pthread_sigmask(SIG_SETMASK, &old, nullptr);
-    throw Error(std::string("cannot start POV-Ray: fork: ") + std::strerror(errno));
+    throw Error(std::string("cannot start POV-Ray: fork: ") + std::strerror(err));
   }
   if (pid == 0) {
     // Child (only async-signal-safe calls): a supervisor leading a new session and process
@@ -315,11 +362,13 @@ int run_process(const Command& cmd, const std::string& dir, const std::string& l
     ::dup2(null_fd, 0);
     ::dup2(fd, 1);
     ::dup2(fd, 2);
+    const pid_t supervisor = ::getpid();
     const pid_t command = ::fork();
     if (command < 0) ::_exit(126);
     if (command == 0) {
       for (int s : kSignals) ::signal(s, SIG_DFL);
       ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+      if (::getppid() != supervisor) ::_exit(137);  // the supervisor died before the prctl
       pthread_sigmask(SIG_SETMASK, &old, nullptr);
       ::execve(cmd.program.c_str(), argv.data(), envp.data());
       ::_exit(127);
@@ -331,20 +380,29 @@ int run_process(const Command& cmd, const std::string& dir, const std::string& l
     }
     ::_exit(WIFEXITED(st) ? WEXITSTATUS(st) : 128 + (WIFSIGNALED(st) ? WTERMSIG(st) : 0));
   }
-  int slot = -1;
-  for (int i = 0; i < kMaxChildren && slot < 0; ++i) {
-    pid_t expected = 0;
-    if (g_children[i].compare_exchange_strong(expected, pid)) slot = i;
-  }
+  g_children[slot].store(pid);
   pthread_sigmask(SIG_SETMASK, &old, nullptr);
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0) {
+  // Wait without reaping, unregister, then reap: the handler never kills a pid that was reaped
+  // (and perhaps reused by another process) while it was still registered.
+  siginfo_t info{};
+  while (::waitid(P_PID, static_cast<id_t>(pid), &info, WEXITED | WNOWAIT) < 0) {
     if (errno != EINTR) {
-      if (slot >= 0) g_children[slot].store(0);
-      throw Error(std::string("waitpid: ") + std::strerror(errno));
+      const int err = errno;
+      g_children[slot].store(0);
+      throw Error(std::string("waitid: ") + std::strerror(err));
     }
   }
-  if (slot >= 0) g_children[slot].store(0);
+  {
+    sigset_t held;
+    block_signals(&held);
+    pid_t expected = pid;
+    g_children[slot].compare_exchange_strong(expected, 0);
+    pthread_sigmask(SIG_SETMASK, &held, nullptr);
+  }
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0) {
+    if (errno != EINTR) throw Error(std::string("waitpid: ") + std::strerror(errno));
+  }
   if (WIFEXITED(status)) return WEXITSTATUS(status);
   return WIFSIGNALED(status) ? 128 + WTERMSIG(status) : 128;
 }
@@ -452,6 +510,27 @@ void warn_model_size(const Model& model, const Eigen::Vector3d& size, const Eige
   }
 }
 
+std::vector<std::string> window_args(const FrameRange& r) {
+  if (r.col0 < 0) return {};
+  // [lo, hi] clamped to [0, size - 1] and widened to at least 2 pixels (where the image has 2).
+  auto span = [](int lo, int hi, int size) {
+    lo = std::clamp(lo, 0, size - 1);
+    hi = std::clamp(hi, lo, size - 1);
+    if (hi == lo && hi + 1 < size) {
+      ++hi;
+    } else if (hi == lo && lo > 0) {
+      --lo;
+    }
+    return std::make_pair(lo, hi);
+  };
+  const auto [c0, c1] = span(r.col0, r.col1, r.width);
+  const auto [r0, r1] = span(r.row0, r.row1, r.height);
+  if (c0 == 0 && c1 == r.width - 1 && r0 == 0 && r1 == r.height - 1) return {};
+  if (c1 == 0 || r1 == 0) return {};  // a 1-pixel image: "+EC1" would be read as a fraction
+  return {"+SC" + std::to_string(c0 + 1), "+EC" + std::to_string(c1 + 1), "+SR" + std::to_string(r0 + 1),
+          "+ER" + std::to_string(r1 + 1)};
+}
+
 std::map<int, std::string> render_frames(const std::string& povray, const TempDir& tmp, const Staged& st,
                                          const std::string& pov, int frames,
                                          const std::vector<FrameRange>& ranges, int processes,
@@ -468,6 +547,8 @@ std::map<int, std::string> render_frames(const std::string& povray, const TempDi
                                "File_Gamma=1.0", "+I" + pov, "+Of.ppm", "+KFI0",
                                "+KFF" + std::to_string(frames - 1), "+KI0", "+KF" + std::to_string(frames - 1),
                                "+SF" + std::to_string(r.first), "+EF" + std::to_string(r.last)});
+      const std::vector<std::string> window = window_args(r);
+      args.insert(args.end(), window.begin(), window.end());
       try {
         run_povray(povray, st, tmp.path(), args, "render" + std::to_string(t) + ".log", renames);
       } catch (const std::exception& e) { errors[t] = e.what(); }

@@ -200,6 +200,60 @@ TEST_CASE("rangetrace CLI: SIGINT and SIGTERM stop POV-Ray at once and leave no 
   }
 }
 
+TEST_CASE("rangetrace CLI: SIGPIPE and SIGXFSZ clean up like SIGTERM (stderr on a closed pipe)") {
+  // common's atomic writer dies of these (kCleanupSignals); rangetrace's POV-Ray cleanup used to
+  // handle SIGINT, SIGTERM and SIGHUP only, so its private directory stayed behind.
+  for (const int sig : {SIGPIPE, SIGXFSZ}) {
+    INFO("signal " << sig);
+    const auto dir = test::fresh_dir("rangetrace", "signal" + std::to_string(sig));
+    const std::string tmpdir = (dir / "tmp").string();
+    std::filesystem::create_directories(tmpdir);
+    const std::string out = (dir / "scan.pcd").string();
+    const pid_t pid = start_long_render(tmpdir, out);
+    REQUIRE(pid >= 0);
+    REQUIRE(wait_for_povray(pid).size() >= 1);
+    REQUIRE(has_temp_dir(tmpdir));
+    ::kill(pid, sig);
+    int status = 0;
+    REQUIRE(::waitpid(pid, &status, 0) == pid);
+    CHECK(WIFSIGNALED(status));
+    CHECK(WTERMSIG(status) == sig);
+    CHECK(none_left_in(tmpdir));
+    CHECK_FALSE(has_temp_dir(tmpdir));
+    CHECK_FALSE(test::exists(out));
+  }
+}
+
+TEST_CASE("rangetrace CLI: a signal ignored at the start (nohup, a script's background job) stays ignored") {
+  // nohup ignores SIGHUP, a shell script's `cmd &` ignores SIGINT: rangetrace's cleanup handler
+  // used to replace the ignore and so died of the signal its caller had asked it to ignore.
+  for (const int sig : {SIGHUP, SIGINT}) {
+    INFO("signal " << sig);
+    const auto dir = test::fresh_dir("rangetrace", "ignored" + std::to_string(sig));
+    const std::string tmpdir = (dir / "tmp").string();
+    std::filesystem::create_directories(tmpdir);
+    const std::string out = (dir / "scan.pcd").string();
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+      ::signal(sig, SIG_IGN);
+      ::setenv("TMPDIR", tmpdir.c_str(), 1);
+      const std::string b = bin();
+      ::execl(b.c_str(), b.c_str(), "-q", "--model", "sedan", "--scene", "circle", "--size", "256", "-o",
+              out.c_str(), static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+    REQUIRE(pid > 0);
+    REQUIRE(wait_for_povray(pid).size() >= 1);
+    ::kill(pid, sig);
+    int status = 0;
+    REQUIRE(::waitpid(pid, &status, 0) == pid);
+    CHECK(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 0);
+    CHECK(test::exists(out));
+    CHECK_FALSE(has_temp_dir(tmpdir));
+  }
+}
+
 TEST_CASE("rangetrace CLI: after SIGKILL, POV-Ray dies too and the next run removes the directory") {
   const auto dir = test::fresh_dir("rangetrace", "sigkill");
   const std::string tmpdir = (dir / "tmp").string();

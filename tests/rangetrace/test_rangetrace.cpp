@@ -355,6 +355,79 @@ TEST_CASE("same seed gives a byte-identical scan, a different seed different fol
   CHECK(a != c);
 }
 
+TEST_CASE("crop_window: the crop box projects to known pixel bounds") {
+  // Default image (512 pixels of 30 mm: field 15.36 m), crop box 10 x 4 x 4 m centred on the
+  // placed box's centre. Pixel i's ray passes at (i + 0.5) / 512 - 0.5 of the field, so a
+  // point at offset r along the image's right lies at column r / 0.03 + 255.5.
+  Params p;
+  const double s = std::sqrt(0.5);
+  // Heading 0, view from +x at 45 deg: right = world +y (the box's +-2 m across), up =
+  // (-s, 0, s) (the box's +-5 m along and +-2 m up: at most 5 s + 2 s = 4.95 m).
+  const double across = 2 / 0.03, up = (5 * s + 2 * s) / 0.03;
+  const auto expect = [&](const PixelWindow& w) {
+    CHECK(w.col0 == static_cast<int>(std::floor(255.5 - across)) - 2);  // 186
+    CHECK(w.col1 == static_cast<int>(std::ceil(255.5 + across)) + 2);   // 325
+    CHECK(w.row0 == static_cast<int>(std::floor(255.5 - up)) - 2);      // 88
+    CHECK(w.row1 == static_cast<int>(std::ceil(255.5 + up)) + 2);       // 423
+  };
+  {
+    const PixelWindow w = crop_window(p, View{0, 45 * kDeg});
+    expect(w);
+    CHECK(w.col0 == 186);
+    CHECK(w.col1 == 325);
+    CHECK(w.row0 == 88);
+    CHECK(w.row1 == 423);
+  }
+  {
+    // Turned by 90 deg and moved: the same view relative to the vehicle gives the same window
+    // (camera from +y: right = world -x, the box's +-2 m across again).
+    Params q = p;
+    q.pose.heading = 90 * kDeg;
+    q.pose.position = {3, -7};
+    expect(crop_window(q, View{0, 45 * kDeg}));
+    // From the side (azimuth 90 deg relative), the 10 m length runs across the image.
+    const PixelWindow side = crop_window(q, View{90 * kDeg, 45 * kDeg});
+    CHECK(side.col0 == static_cast<int>(std::floor(255.5 - 5 / 0.03)) - 2);  // 86
+    CHECK(side.col1 == static_cast<int>(std::ceil(255.5 + 5 / 0.03)) + 2);   // 425
+    CHECK(side.row0 == static_cast<int>(std::floor(255.5 - 4 * s / 0.03)) - 2);
+    CHECK(side.row1 == static_cast<int>(std::ceil(255.5 + 4 * s / 0.03)) + 2);
+  }
+  {
+    // A field smaller than the box: the whole image; straight down: the whole image too.
+    Params q = p;
+    q.size = 64;
+    const PixelWindow w = crop_window(q, View{30 * kDeg, 60 * kDeg});
+    CHECK((w.col0 == 0 && w.col1 == 63 && w.row0 == 0 && w.row1 == 63));
+    const PixelWindow d = crop_window(p, View{0, 90 * kDeg});
+    CHECK((d.col0 == 0 && d.col1 == 511 && d.row0 == 0 && d.row1 == 511));
+  }
+}
+
+TEST_CASE("a render traced in windows is byte-identical to the full render") {
+  // A 24 m field around a 10 x 4 x 4 m crop box: the windows trace well under half the pixels,
+  // the rest (ground and foliage outside the box) never gave a kept point.
+  Params p = small(120, 0.2);
+  p.seed = 5;
+  p.pose.heading = 30 * kDeg;
+  p.pose.position = {2, -1};
+  SceneRecipe s = two_views(150);
+  s.views.push_back({100 * kDeg, 35 * kDeg});
+  s.views.push_back({290 * kDeg, 15 * kDeg});
+  const Model m = inline_model(kBoxWithBump);
+  double traced = 0;
+  for (const View& v : s.views) {
+    const PixelWindow w = crop_window(p, v);
+    traced += double(w.col1 - w.col0 + 1) * (w.row1 - w.row0 + 1);
+  }
+  CHECK(traced < 0.5 * s.views.size() * p.size * p.size);
+  p.window = true;
+  const auto windowed = render_scan(m, s, p);
+  p.window = false;
+  const auto full = render_scan(m, s, p);
+  REQUIRE(full.size() > 2000);
+  CHECK(formats::serialize_pcd(windowed) == formats::serialize_pcd(full));
+}
+
 TEST_CASE("a POV-Ray failure reports POV-Ray's own message") {
   Params p = small(16, 0.5);
   const Model bad = inline_model("#declare Vehicle = union { box { 0, 1 } spere { 0, 1 } }\n");

@@ -275,6 +275,38 @@ TEST_CASE("tile: same seed gives a byte-identical scan, another seed another for
   CHECK(a != scan(5, 2));
 }
 
+TEST_CASE("tile: images traced in windows over strip and tile give the same scan and cover") {
+  // Two flight lines with 20% overlap at 30 deg: each strip runs past the tile's edges, so the
+  // windows leave out rows and columns that held only points append_view drops.
+  SceneRecipe s = parse_scene(
+      "extent = 16m 12m\nterrain = rolling 1m 10m\ntrees = 300\nbushes = 200\nclutter = logs 1\n"
+      "vehicles = random 2 from sedan\nflight_lines = 2\nheadings = 30deg\n"
+      "looks = 75deg/0 60deg/180deg\nspacing = 0.1m\ncanopy_spacing = 0.2m\n",
+      "windows.scene");
+  Params p = small_params(7);
+  Tile tile = build_tile(*s.tile, "windows.scene", p);
+  const std::vector<TileView> views = tile_views(tile);
+  const double zlo = TerrainModel(tile.recipe, tile.seed).lo() - 1, zhi = tile.top + 1;
+  double traced = 0, pixels = 0;
+  for (const TileView& v : views) {
+    const PixelWindow w = strip_window(v, tile.recipe, zlo, zhi);
+    traced += double(w.col1 - w.col0 + 1) * (w.row1 - w.row0 + 1);
+    pixels += double(v.width) * v.height;
+  }
+  CHECK(traced < 0.95 * pixels);
+  auto scan = [&](bool window) {
+    Params q = p;
+    q.window = window;
+    Tile t = build_tile(*s.tile, "windows.scene", q);
+    const std::string bytes = formats::serialize_pcd(run_tile(&t, q).cloud);
+    return std::make_pair(bytes, t.canopy_cover);
+  };
+  const auto windowed = scan(true), full = scan(false);
+  CHECK(windowed.first.size() > 100000);
+  CHECK(windowed.first == full.first);
+  CHECK(windowed.second == full.second);
+}
+
 TEST_CASE("rangetrace CLI: bad tile recipes exit 1 naming the line, no output") {
   const auto dir = test::fresh_dir("rangetrace", "tile_bad");
   const std::string bin = std::string(CANOPY_BIN_DIR) + "/rangetrace";

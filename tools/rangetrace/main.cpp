@@ -1,6 +1,7 @@
 // rangetrace: vehicle model + scene recipe -> scan PCD (POV-Ray range simulation, thesis ch. 2).
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 
 #include "canopy/common/atomic_file.h"
@@ -129,6 +130,10 @@ int main(int argc, char** argv) {
     formats::output_format(o.out);  // a mistyped extension fails before any rendering
     p.seed = tool.seed();
     p.threads = tool.threads();
+    // Render windows (cost.md §11) are on; CANOPY_RENDER_WINDOW=off traces every pixel, for
+    // comparisons and measurements. An environment variable: the scan's provenance is unchanged.
+    const char* window = std::getenv("CANOPY_RENDER_WINDOW");
+    p.window = window == nullptr || std::string(window) != "off";
     request.import.scale = o.units == "mm" ? 1e-3 : o.units == "cm" ? 1e-2 : 1.0;
     request.import.z_up = o.up == "z";
     request.picture = !o.picture.empty();

@@ -98,6 +98,44 @@ bool in_crop(const Eigen::Vector3d& p, const Placement& placement, const Params&
          std::abs(d.z()) <= params.crop_height / 2;
 }
 
+PixelWindow crop_window(const Params& params, const View& view, int margin) {
+  const int n = params.size;
+  const PixelWindow whole{0, n - 1, 0, n - 1};
+  // POV-Ray's look_at (POV-Ray frame): direction d toward the target, right = sky x d,
+  // up = d x right, both normalised and scaled by the field.
+  const Eigen::Vector3d d = -pov_frame(view_direction(view, params.pose)).normalized();
+  Eigen::Vector3d right = Eigen::Vector3d::UnitY().cross(d);
+  if (right.norm() < 1e-6) return whole;
+  right.normalize();
+  const Eigen::Vector3d up = d.cross(right).normalized();
+  const double field = n * params.spacing;
+  const double c = std::cos(params.pose.heading), s = std::sin(params.pose.heading);
+  const Eigen::Vector3d along(c, s, 0), across(-s, c, 0), vertical(0, 0, 1);
+  double i0 = 1e300, i1 = -1e300, j0 = 1e300, j1 = -1e300;
+  for (int k = 0; k < 8; ++k) {
+    const Eigen::Vector3d corner = (k & 1 ? 0.5 : -0.5) * params.crop_length * along +
+                                   (k & 2 ? 0.5 : -0.5) * params.crop_width * across +
+                                   (k & 4 ? 0.5 : -0.5) * params.crop_height * vertical;
+    const Eigen::Vector3d q = pov_frame(corner);  // relative to the target: the camera's axis
+    const double i = (q.dot(right) / field + 0.5) * n - 0.5;
+    const double j = (0.5 - q.dot(up) / field) * n - 0.5;
+    i0 = std::min(i0, i);
+    i1 = std::max(i1, i);
+    j0 = std::min(j0, j);
+    j1 = std::max(j1, j);
+  }
+  auto clip = [&](double v) { return static_cast<int>(std::clamp(v, -1.0, double(n))); };
+  PixelWindow w{clip(std::floor(i0) - margin), clip(std::ceil(i1) + margin), clip(std::floor(j0) - margin),
+                clip(std::ceil(j1) + margin)};
+  w.col0 = std::max(w.col0, 0);
+  w.row0 = std::max(w.row0, 0);
+  w.col1 = std::min(w.col1, n - 1);
+  w.row1 = std::min(w.row1, n - 1);
+  // The box lies in front of the camera and around its axis: never empty; kept safe anyway.
+  if (w.col1 < w.col0 || w.row1 < w.row0) return whole;
+  return w;
+}
+
 std::string scene_pov(const Model& model, const Placement& placement, const Encoding& enc,
                       const std::vector<View>& views, const std::vector<Disc>& foliage, const Params& params,
                       int picture) {

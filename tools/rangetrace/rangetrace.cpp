@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <map>
@@ -65,6 +66,26 @@ std::vector<FrameRange> view_blocks(int views, int workers, int size) {
   for (int w = 0; w < workers; ++w) {
     const int first = views * w / workers, last = views * (w + 1) / workers - 1;
     ranges.push_back({2 * first, 2 * last + 1, size, size});
+  }
+  return ranges;
+}
+
+// The same blocks, each run tracing only the pixels that can see the crop box in any of its
+// views (the union of their crop_window). One run per view, each with its own window, traces
+// fewer pixels still but costs more CPU: a start-up and scene parse per run (cost.md §11).
+std::vector<FrameRange> view_windows(const SceneRecipe& scene, const Params& params, int workers) {
+  std::vector<FrameRange> ranges = view_blocks(static_cast<int>(scene.views.size()), workers, params.size);
+  for (FrameRange& r : ranges) {
+    PixelWindow u{params.size, -1, params.size, -1};
+    for (int f = r.first; f <= r.last; f += 2) {
+      const PixelWindow w = crop_window(params, scene.views[f / 2]);
+      u = {std::min(u.col0, w.col0), std::max(u.col1, w.col1), std::min(u.row0, w.row0),
+           std::max(u.row1, w.row1)};
+    }
+    r.col0 = u.col0;
+    r.col1 = u.col1;
+    r.row0 = u.row0;
+    r.row1 = u.row1;
   }
   return ranges;
 }
@@ -135,11 +156,22 @@ formats::PointCloud render_scan(const Model& model, const SceneRecipe& scene, co
   // §3): kRunsPerThread runs per thread, all in flight, overlap one run's idle with the others'
   // work. A frame's pixels depend on the clock only, not on the split: the scan is the same.
   const int workers = std::max(1, std::min(views, kRunsPerThread * std::max(1, params.threads)));
-  const std::map<int, std::string> frames =
-      render_frames(params.povray, tmp, st, "scene.pov", 2 * views, view_blocks(views, workers, params.size),
-                    workers, scene_renames(st, "scene.pov"));
+  const std::vector<FrameRange> ranges =
+      params.window ? view_windows(scene, params, workers) : view_blocks(views, workers, params.size);
+  double traced = 0;
+  for (const FrameRange& r : ranges) {
+    const double frames = r.last - r.first + 1;
+    traced += r.col0 < 0 ? frames * r.width * r.height
+                         : frames * (r.col1 - r.col0 + 1) * static_cast<double>(r.row1 - r.row0 + 1);
+  }
+  const std::map<int, std::string> frames = render_frames(params.povray, tmp, st, "scene.pov", 2 * views,
+                                                          ranges, workers, scene_renames(st, "scene.pov"));
+  char share[64];
+  std::snprintf(share, sizeof share, " (%.0f%% traced)",
+                100 * traced / (2.0 * views * params.size * params.size));
   render.done(std::to_string(views) + " views x 2 passes, " + std::to_string(params.size) + "x" +
-              std::to_string(params.size) + " pixels, " + std::to_string(workers) + " processes");
+              std::to_string(params.size) + " pixels" + (params.window ? share : "") + ", " +
+              std::to_string(workers) + " processes");
 
   common::log::Phase decode("decode");
   formats::PointCloud cloud = decode_views(frames, scene, enc, placement, params);

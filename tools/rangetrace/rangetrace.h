@@ -109,6 +109,10 @@ struct Params {
   std::uint64_t seed = 1;
   int threads = 2;  // concurrent POV-Ray processes
   std::string povray = "povray";
+  // Each POV-Ray run (a block of views) traces only the union of its views' crop_window: the
+  // same scan, fewer pixels (docs/decisions/cost.md §11). false traces every pixel
+  // (CANOPY_RENDER_WINDOW=off).
+  bool window = true;
 };
 
 // Throws common::UsageError naming the options when size is outside [8, 8192] or the spacing
@@ -154,6 +158,20 @@ void decode_view(const Image16& coords, const Image16& labels, const Encoding& e
                  const Params& params, const Eigen::Vector3d& toward, int view_idx, ScanColumns* out);
 // True when p lies in the crop box (oriented with the heading, centred on the vehicle).
 bool in_crop(const Eigen::Vector3d& p, const Placement& placement, const Params& params);
+
+// Pixels (0-based, inclusive) of a view's params.size x params.size image.
+struct PixelWindow {
+  int col0 = 0, col1 = 0, row0 = 0, row1 = 0;
+};
+// The pixels of `view`'s image whose rays can pass through the crop box: the bounding box of
+// the box's 8 corners projected as POV-Ray projects them (orthographic camera at the view's
+// direction, look_at the box centre, which is the placed vehicle's centre wherever it is placed, sky +z;
+// pixel (i, j) traces the ray through
+// ((i + 0.5) / size - 0.5, 0.5 - (j + 0.5) / size) of the field), rounded outwards and widened
+// by `margin` pixels, clipped to the image. Every kept point (in_crop) lies on such a ray, so
+// the pixels outside give no point. The whole image for a view straight down (POV-Ray's
+// look_at then keeps its own right vector).
+PixelWindow crop_window(const Params& params, const View& view, int margin = 2);
 
 // ---------------------------------------------------------------- running POV-Ray
 

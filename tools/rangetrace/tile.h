@@ -50,5 +50,12 @@ void decode_tile_view(const Image16& img, const TileView& view, TileHits* out);
 // vegetation; `img` is the rendered nadir view.
 double footprint_cover(const Image16& img, const TileView& view,
                        const std::array<Eigen::Vector2d, 4>& footprint);
+// The pixels of a scan image (not the canopy image) that can give a kept point: the view's
+// strip inside the tile (append_view keeps only those) between heights zlo and zhi (the tile's
+// lowest ground and top, with the margin tile_views fits the image to), projected along
+// -toward onto the image (pixel_origin's convention), rounded outwards, widened by `margin`
+// pixels and clipped to the image (docs/decisions/cost.md §11).
+PixelWindow strip_window(const TileView& view, const TileRecipe& recipe, double zlo, double zhi,
+                         int margin = 2);
 
 }  // namespace canopy::rangetrace

@@ -259,6 +259,42 @@ double footprint_cover(const Image16& img, const TileView& view, const std::arra
   return inside == 0 ? 0.0 : static_cast<double>(covered) / static_cast<double>(inside);
 }
 
+PixelWindow strip_window(const TileView& v, const TileRecipe& r, double zlo, double zhi, int margin) {
+  // The tile's rectangle clipped to |(p - centre) . across| <= half (Sutherland-Hodgman).
+  std::vector<Vector2d> poly = {{0, 0}, {r.extent_x, 0}, {r.extent_x, r.extent_y}, {0, r.extent_y}};
+  for (const double sign : {1.0, -1.0}) {
+    std::vector<Vector2d> out;
+    auto inside = [&](const Vector2d& p) {
+      return sign * (p - v.strip_centre).dot(v.strip_across) - v.strip_half;
+    };
+    for (std::size_t k = 0; k < poly.size(); ++k) {
+      const Vector2d a = poly[k], b = poly[(k + 1) % poly.size()];
+      const double da = inside(a), db = inside(b);
+      if (da <= 0) out.push_back(a);
+      if ((da < 0) != (db < 0) && da != db) out.push_back(a + (b - a) * (da / (da - db)));
+    }
+    poly = out;
+  }
+  const PixelWindow whole{0, v.width - 1, 0, v.height - 1};
+  if (poly.empty()) return whole;
+  double i0 = 1e300, i1 = -1e300, j0 = 1e300, j1 = -1e300;
+  for (const Vector2d& q : poly) {
+    for (const double z : {zlo, zhi}) {
+      const Vector3d d = Vector3d(q.x(), q.y(), z) - v.origin;
+      const double i = (d.dot(v.right) / (v.width * v.spacing) + 0.5) * v.width - 0.5;
+      const double j = (0.5 - d.dot(v.up) / (v.height * v.spacing)) * v.height - 0.5;
+      i0 = std::min(i0, i);
+      i1 = std::max(i1, i);
+      j0 = std::min(j0, j);
+      j1 = std::max(j1, j);
+    }
+  }
+  auto clip = [](double x, int n) { return static_cast<int>(std::clamp(x, 0.0, double(n - 1))); };
+  const PixelWindow w{clip(std::floor(i0) - margin, v.width), clip(std::ceil(i1) + margin, v.width),
+                      clip(std::floor(j0) - margin, v.height), clip(std::ceil(j1) + margin, v.height)};
+  return w.col1 < w.col0 || w.row1 < w.row0 ? whole : w;
+}
+
 // ---------------------------------------------------------------- running
 
 namespace {
@@ -305,6 +341,25 @@ std::vector<FrameRange> frame_ranges(const std::vector<TileView>& frames, int th
            double(y.last - y.first + 1) * frames[y.first].width * frames[y.first].height;
   });
   return tasks;
+}
+
+// Each run's window: the union of its frames' strip_window (the canopy image, view 0, whole).
+void add_windows(const Tile& tile, const std::vector<int>& order, const std::vector<TileView>& frames,
+                 std::vector<FrameRange>* tasks) {
+  const double zlo = TerrainModel(tile.recipe, tile.seed).lo() - 1, zhi = tile.top + 1;
+  for (FrameRange& t : *tasks) {
+    PixelWindow u{t.width, -1, t.height, -1};
+    for (int f = t.first; f <= t.last; ++f) {
+      const PixelWindow w = order[f] == 0 ? PixelWindow{0, t.width - 1, 0, t.height - 1}
+                                          : strip_window(frames[f], tile.recipe, zlo, zhi);
+      u = {std::min(u.col0, w.col0), std::max(u.col1, w.col1), std::min(u.row0, w.row0),
+           std::max(u.row1, w.row1)};
+    }
+    t.col0 = u.col0;
+    t.col1 = u.col1;
+    t.row0 = u.row0;
+    t.row1 = u.row1;
+  }
 }
 
 // The rendered frames of a tile's views (view 0: the canopy image).
@@ -420,13 +475,22 @@ TileScan run_tile(Tile* tile, const Params& params) {
   const int nf = static_cast<int>(frames.size());
   // kRunsPerThread runs per thread, all in flight: POV-Ray's idle between frames overlaps.
   const int threads = kRunsPerThread * std::max(1, params.threads);
-  const std::vector<FrameRange> tasks = frame_ranges(frames, threads);
+  std::vector<FrameRange> tasks = frame_ranges(frames, threads);
+  if (params.window && !plan) add_windows(*tile, order, frames, &tasks);
   auto renames = st.renames;
   renames.emplace_back("scene.pov", "rangetrace's generated scene.pov (after the models' includes)");
   const TileFrames rendered(views, order,
                             render_frames(params.povray, tmp, st, "scene.pov", nf, tasks, threads, renames));
+  double traced = 0, pixels = 0;
+  for (const FrameRange& t : tasks) {
+    const double n = t.last - t.first + 1;
+    pixels += n * t.width * t.height;
+    traced += t.col0 < 0 ? n * t.width * t.height : n * (t.col1 - t.col0 + 1) * double(t.row1 - t.row0 + 1);
+  }
+  char share[64];
+  std::snprintf(share, sizeof share, " (%.0f%% of the pixels traced)", 100 * traced / pixels);
   render.done(std::to_string(nf) + " frames (" + std::to_string(nf - 1) + " images + canopy) in " +
-              std::to_string(tasks.size()) + " POV-Ray runs");
+              std::to_string(tasks.size()) + " POV-Ray runs" + (params.window && !plan ? share : ""));
 
   common::log::Phase decode("decode");
   measure_cover(rendered, views[0], tile);

@@ -75,7 +75,16 @@ inline constexpr int kRunsPerThread = 4;
 struct FrameRange {
   int first = 0, last = 0;
   int width = 0, height = 0;
+  // The pixels traced (0-based, inclusive; POV-Ray's +SC/+EC/+SR/+ER): the whole image when
+  // col0 < 0. POV-Ray still writes the whole image, the pixels outside the window black (0),
+  // which the decoders read as "the ray hit nothing" (docs/decisions/cost.md §11).
+  int col0 = -1, col1 = -1, row0 = -1, row1 = -1;
 };
+
+// POV-Ray's render-window options for `r` (1-based, inclusive), none for the whole image.
+// A window is at least 2 pixels wide and high, because POV-Ray reads a value of 1 (and any
+// value in [0, 1]) as a fraction of the image: "+EC1" would mean the last column.
+std::vector<std::string> window_args(const FrameRange& r);
 
 // Renders the animation `pov` (a scene file in `tmp` of `frames` frames; 16-bit PPM, gamma 1,
 // no antialiasing) as one POV-Ray process per range, at most `processes` at a time
