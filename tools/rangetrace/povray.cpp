@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <cstring>
 #include <map>
 #include <sstream>
@@ -134,6 +135,15 @@ PixelWindow crop_window(const Params& params, const View& view, int margin) {
   // The box lies in front of the camera and around its axis: never empty; kept safe anyway.
   if (w.col1 < w.col0 || w.row1 < w.row0) return whole;
   return w;
+}
+
+PixelWindow window_union(const std::vector<PixelWindow>& ws) {
+  PixelWindow u{std::numeric_limits<int>::max(), -1, std::numeric_limits<int>::max(), -1};
+  for (const PixelWindow& w : ws) {
+    u = {std::min(u.col0, w.col0), std::max(u.col1, w.col1), std::min(u.row0, w.row0),
+         std::max(u.row1, w.row1)};
+  }
+  return u;
 }
 
 std::string scene_pov(const Model& model, const Placement& placement, const Encoding& enc,

@@ -76,12 +76,9 @@ std::vector<FrameRange> view_blocks(int views, int workers, int size) {
 std::vector<FrameRange> view_windows(const SceneRecipe& scene, const Params& params, int workers) {
   std::vector<FrameRange> ranges = view_blocks(static_cast<int>(scene.views.size()), workers, params.size);
   for (FrameRange& r : ranges) {
-    PixelWindow u{params.size, -1, params.size, -1};
-    for (int f = r.first; f <= r.last; f += 2) {
-      const PixelWindow w = crop_window(params, scene.views[f / 2]);
-      u = {std::min(u.col0, w.col0), std::max(u.col1, w.col1), std::min(u.row0, w.row0),
-           std::max(u.row1, w.row1)};
-    }
+    std::vector<PixelWindow> ws;
+    for (int f = r.first; f <= r.last; f += 2) ws.push_back(crop_window(params, scene.views[f / 2]));
+    const PixelWindow u = window_union(ws);
     r.col0 = u.col0;
     r.col1 = u.col1;
     r.row0 = u.row0;

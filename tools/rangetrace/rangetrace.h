@@ -172,6 +172,8 @@ struct PixelWindow {
 // the pixels outside give no point. The whole image for a view straight down (POV-Ray's
 // look_at then keeps its own right vector).
 PixelWindow crop_window(const Params& params, const View& view, int margin = 2);
+// The smallest window holding every one of `ws` (not empty): what a run of several views traces.
+PixelWindow window_union(const std::vector<PixelWindow>& ws);
 
 // ---------------------------------------------------------------- running POV-Ray
 

@@ -348,13 +348,12 @@ void add_windows(const Tile& tile, const std::vector<int>& order, const std::vec
                  std::vector<FrameRange>* tasks) {
   const double zlo = TerrainModel(tile.recipe, tile.seed).lo() - 1, zhi = tile.top + 1;
   for (FrameRange& t : *tasks) {
-    PixelWindow u{t.width, -1, t.height, -1};
+    std::vector<PixelWindow> ws;
     for (int f = t.first; f <= t.last; ++f) {
-      const PixelWindow w = order[f] == 0 ? PixelWindow{0, t.width - 1, 0, t.height - 1}
-                                          : strip_window(frames[f], tile.recipe, zlo, zhi);
-      u = {std::min(u.col0, w.col0), std::max(u.col1, w.col1), std::min(u.row0, w.row0),
-           std::max(u.row1, w.row1)};
+      ws.push_back(order[f] == 0 ? PixelWindow{0, t.width - 1, 0, t.height - 1}
+                                 : strip_window(frames[f], tile.recipe, zlo, zhi));
     }
+    const PixelWindow u = window_union(ws);
     t.col0 = u.col0;
     t.col1 = u.col1;
     t.row0 = u.row0;
