@@ -194,6 +194,17 @@ bool roofless(Answer& a, const Params& p) {
   return true;
 }
 
+// Takes back the class answered (its shape contradicts it): not_vehicle_shape, `why`, and the
+// class its size fitted.
+void unanswer(Answer& a, const std::string& why, double strength) {
+  const std::string cls = a.cls;
+  a.cls.clear();
+  a.group.clear();
+  a.entry.clear();
+  a.class_score = a.class_margin = 0;
+  refuse(a, "not_vehicle_shape", why + "; its size fits " + cls, strength);
+}
+
 // A vehicle's ends fill its width (classify.md §15; off unless --min-end-fill): an answered
 // class is refused, unless it is the tank (a hull length: its gun overhangs an end) or a modelbase
 // entry whose own surface has an open end (or, unmeasured, a tank), when the emptier end fifth's top view is
@@ -204,17 +215,12 @@ void open_end(Answer& a, const Params& p, const std::vector<TableRange>& table) 
   for (const TableRange& k : table) {
     if (k.name == a.cls && k.entry == a.entry && (k.hull_length[1] > 0 || k.open_end)) return;
   }
-  const std::string cls = a.cls;
-  a.cls.clear();
-  a.group.clear();
-  a.entry.clear();
-  a.class_score = a.class_margin = 0;
-  refuse(a, "not_vehicle_shape",
-         fmt("an open or tapering end: its end fifth's top view is %.0f%% as full as its middle (a vehicle's "
-             "ends fill its width: >= %.0f%%)",
-             100 * f.end_fill, 100 * p.min_end_fill) +
-             "; its size fits " + cls,
-         past(p.min_end_fill, std::max(f.end_fill, 1e-6)));
+  unanswer(
+      a,
+      fmt("an open or tapering end: its end fifth's top view is %.0f%% as full as its middle (a vehicle's "
+          "ends fill its width: >= %.0f%%)",
+          100 * f.end_fill, 100 * p.min_end_fill),
+      past(p.min_end_fill, std::max(f.end_fill, 1e-6)));
 }
 
 // The outline gates (classify.md §16; each 0: off), after the class is chosen: the answer is
@@ -247,13 +253,7 @@ void outline(Answer& a, const Params& p) {
           a.group + fmt("'s <= %.0f%%)", 100 * p.max_notch);
     strength = past(f.notch, p.max_notch);
   }
-  if (why.empty()) return;
-  const std::string cls = a.cls;
-  a.cls.clear();
-  a.group.clear();
-  a.entry.clear();
-  a.class_score = a.class_margin = 0;
-  refuse(a, "not_vehicle_shape", why + "; its size fits " + cls, strength);
+  if (!why.empty()) unanswer(a, why, strength);
 }
 
 // Among the classes the size fits, the best: smallest distance, then most central; profile
