@@ -142,8 +142,9 @@ openset_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROG
   SCENE_DIR=$(OPENSET_DIR)/tiles SCENE_RES=$(OPENSET_RES) SCENE_MB=$(OPENSET_MB) \
   SCENE_MODELS=$(openset_models) SCENE_MODEL_CLASSES=$(OPENSET_DIR)/classes.csv \
   SCENE_SEEDS="$(OPENSET_SEEDS)" SCENE_COVERS="$(OPENSET_COVERS)" SCENE_NOISES=0 SCENE_BASELINE= \
-  SCENE_SIZE_ONLY=0 SCENE_PICTURES=0
-openset_crop_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) openset-crops PROGRESS=0
+  SCENE_SIZE_ONLY=0 SCENE_PICTURES=0 SCENE_CLASSIFY=$(OPENSET_CLASSIFY)
+openset_crop_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) openset-crops PROGRESS=0 \
+  SCENE_CLASSIFY=$(OPENSET_CLASSIFY)
 ifneq ($(findstring q,$(make_letters))$(OPENSET),q1)
 openset_force := FORCE
 else
@@ -168,4 +169,23 @@ $(RES)/report.md: $(OPENSET_SCORE) $(if $(filter 1,$(OPENSET_CROPS)),$(OPENSET_C
 REPORT_ARGS += --openset $(OPENSET_SCORE) --openset-distances $(OPENSET_DISTANCES)$(if $(filter 1,$(OPENSET_CROPS)), \
   --openset-crops $(OPENSET_CROP_SCORE))
 endif
+endif
+
+# classify's parameters in the open set (tiles and crops): the simulated tiles' thresholds
+# (OPENSET_CLASSIFY_BASE) with the modelbase's classes only (docs/decisions/open-set.md, fourth
+# round): the modelbase is the user's (user-modelbase), so a class no entry has (wheel-loader,
+# tracked-apc for a modelbase of cars, vans, trucks, buses and a tank) is never answered.
+# OPENSET_CLASSES_ONLY=0 is the ablation (every family). Written when its text changes (at
+# parse time, like the recipes; a dry run writes nothing and plans classify again).
+OPENSET_CLASSES_ONLY ?= 1
+$(if $(filter-out 0 1,$(OPENSET_CLASSES_ONLY)),$(error OPENSET_CLASSES_ONLY=$(OPENSET_CLASSES_ONLY): must be 0 or 1))
+OPENSET_CLASSIFY_BASE ?= $(P)/classify-sim.ini
+OPENSET_CLASSIFY := $(OPENSET_DIR)/classify.ini
+define openset_classify_text
+$(file <$(OPENSET_CLASSIFY_BASE))
+# The open set (mk/openset.mk): only the modelbase's classes (OPENSET_CLASSES_ONLY).
+modelbase-classes-only = $(OPENSET_CLASSES_ONLY)
+endef
+ifneq ($(wildcard $(OPENSET_DIR))$(dry_run),)
+$(OPENSET_CLASSIFY): $(call text_prereq,$(OPENSET_CLASSIFY),$(openset_classify_text))
 endif

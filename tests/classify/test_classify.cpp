@@ -748,6 +748,34 @@ TEST_CASE("classify: a modelbase entry's size is a class range of its class") {
   CHECK(classify::entry_group("forklift") == "forklift");
 }
 
+TEST_CASE("classify: --modelbase-classes-only answers only the modelbase's classes") {
+  const Sampled s = sample(van_top, 2.75, 1.0, 5 * kDeg, 25, 12);
+  classify::Inputs in{s.cloud, "van.pcd", {}};
+  classify::Params only;
+  only.modelbase_classes_only = true;
+  // No entries: every family, as without the option.
+  CHECK(classify::run(only, in).cls == "van");
+  // A modelbase of cars and a truck: the van family is no class; no car family fits 2.45 m.
+  in.modelbase = {{"hatch-1", "car", {4.0, 1.75, 1.5}, std::nullopt},
+                  {"lorry-1", "truck", {8.0, 2.5, 3.3}, std::nullopt}};
+  const classify::Answer a = classify::run(only, in);
+  INFO(a.reason << " " << a.detail);
+  CHECK(a.cls.empty());
+  CHECK(a.reason == "not_vehicle_shape");
+  // Without the option the van family answers, whatever the entries.
+  CHECK(classify::run(classify::Params{}, in).cls == "van");
+  // The class table: a class that is a group keeps its families (car: sedan, hatchback, suv,
+  // pickup; truck: box-truck, semi-tractor) beside the entries; no van, bus, tracked or machine.
+  std::vector<std::string> names;
+  for (const classify::TableRange& k : classify::class_table(only, in.modelbase)) {
+    if (k.entry.empty()) names.push_back(k.name);
+  }
+  CHECK(names == std::vector<std::string>{"sedan", "hatchback", "suv", "pickup", "box-truck", "semi-tractor"});
+  // A van entry (a class that is both a family's name and its group) brings the van back.
+  in.modelbase.push_back({"van-1", "van", {4.5, 2.0, 2.0}, std::nullopt});
+  CHECK(classify::run(only, in).cls == "van");
+}
+
 TEST_CASE("classify: --model-classes gives entries without a .class file their class") {
   const fs::path dir = test::fresh_dir("classify", "model-classes");
   const fs::path mb = dir / "mb";

@@ -357,7 +357,14 @@ std::string entry_group(const std::string& cls) {
 
 std::vector<TableRange> class_table(const Params& p, const std::vector<ModelEntry>& entries) {
   std::vector<TableRange> table;
-  for (const ClassRange& family : class_ranges()) table.push_back({family, ""});
+  auto named = [&](const ClassRange& family) {
+    if (!p.modelbase_classes_only || entries.empty()) return true;
+    return std::any_of(entries.begin(), entries.end(),
+                       [&](const ModelEntry& e) { return e.cls == family.name || e.cls == family.group; });
+  };
+  for (const ClassRange& family : class_ranges()) {
+    if (named(family)) table.push_back({family, ""});
+  }
   if (!p.entry_classes) return table;
   const double t = p.entry_tolerance;
   for (const ModelEntry& e : entries) {

@@ -124,6 +124,11 @@ struct Params {
   // this share either way is one more class range, of the entry's class (classify.md §12).
   bool entry_classes = true;
   double entry_tolerance = 0.05;
+  // Only the modelbase's classes (docs/decisions/open-set.md, fourth round): when entries with a
+  // class are given, a family is a class range only if its name or its group is one of their
+  // classes (a modelbase of cars, vans and trucks is never answered wheel-loader). false: every
+  // family (before).
+  bool modelbase_classes_only = false;
 };
 
 // Throws common::UsageError naming the option of the first value out of range.

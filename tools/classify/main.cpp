@@ -100,6 +100,9 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
            "the --modelbase entries with a class are class ranges too (their size +- --entry-tolerance)");
   tool.add("--entry-tolerance", &p.entry_tolerance,
            "an entry's class range: its L W H x [1 - this, 1 + this]");
+  tool.add("--modelbase-classes-only", &p.modelbase_classes_only,
+           "with --modelbase entries that have a class, a family's range is a class only if its name or "
+           "group is one of theirs (docs/decisions/open-set.md)");
 }
 
 // Modelbase entries that carry a class (<model>.class, else `classes`): their surfaces'
