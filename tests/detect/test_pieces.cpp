@@ -194,4 +194,7 @@ TEST_CASE("a long-nose tractor unit is not cut as a row of two cars") {
     CHECK(old.stats.row_splits == 1);
     CHECK(old.candidates.size() == 2);
   }
+  detect::Params bad;
+  bad.row_max_height = 0.5;  // under the roof band's bottom (1.1 m)
+  CHECK_THROWS_WITH(detect::validate(bad), Catch::Contains("--row-max-height"));
 }
