@@ -83,6 +83,9 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
            "is a drawbar (trailer, caravan): not_vehicle_shape (0: off)");
   tool.add("--drawbar-level", &p.drawbar_level,
            "see --drawbar-width: the drawbar's highest point, share of the height (0: off)");
+  tool.add("--min-rectangularity", &p.min_rectangularity,
+           "a car-group answer whose top view's convex hull fills less than this share of its minimum-area "
+           "rectangle (an oval outline: a rock; an ellipse 0.785): not_vehicle_shape (0: off)");
   tool.add("--plateau-split", &p.plateau_split, "plateau share between a minor and a long roof");
   tool.add("--tail-split", &p.tail_split,
            "higher end's level (share of H) between dropping and staying at the roof");
