@@ -26,7 +26,8 @@
 //    too_large / too_small / too_flat / not_vehicle_shape -> the class whose ranges the size
 //    fits best (profile cues break ties between overlapping classes) and its group -> the
 //    outline gates (docs/decisions/classify.md §16): an answer with a drawbar end, or a tracked,
-//    van or bus answer with too deep a step in its profile, is not_vehicle_shape.
+//    van or bus answer with too deep a step in its profile, is not_vehicle_shape; with
+//    --min-rectangularity (off by default, §17) so is a car answer with an oval outline.
 //
 // Never read: `classification` (ASPRS classes), `label`, `instance` (truth). Only x y z,
 // return_number, number_of_returns, point_source_id and gps_time are read.
