@@ -510,6 +510,7 @@ TEST_CASE("classify: rectangularity: an ellipsoid rock is oval, a car's rounded 
   // median and most of its draws; the car to every draw.
   classify::Params gate;
   gate.min_rectangularity = kRectangularity;
+  gate.rectangularity_notch = 1;  // the outline alone (a sampled rock's top may dip 0.09 H, §16)
   for (const double density : {25.0, 100.0}) {
     std::vector<double> rocks;
     std::size_t answered = 0, refused = 0;
@@ -549,6 +550,31 @@ TEST_CASE("classify: rectangularity: an ellipsoid rock is oval, a car's rounded 
     CHECK(answered >= 10);
     CHECK(refused + 1 >= answered);
   }
+  // With rectangularity_notch (the default 0.08) an oval car keeps its answer when its profile
+  // steps (real cars are oval from above too, but have a bonnet or boot under the cabin); the
+  // rock, whose profile lies on its hull, is still refused.
+  classify::Params joint;
+  joint.min_rectangularity = kRectangularity;
+  const Top oval_car = [](double x, double y) {
+    return (x / 2.3) * (x / 2.3) + (y / 0.9) * (y / 0.9) <= 1 ? car_top(x, y) : -1;
+  };
+  const Sampled oval = sample(oval_car, 2.3, 0.9, 0.4, 100, 91);
+  const classify::Answer oval_off = answer(oval.cloud);
+  INFO("oval car: " << oval_off.features.rectangularity << " notch " << oval_off.features.notch << " "
+                    << oval_off.cls << " " << oval_off.detail);
+  CHECK(oval_off.group == "car");
+  CHECK(oval_off.features.rectangularity < kRectangularity);
+  CHECK(oval_off.features.notch > joint.rectangularity_notch);
+  CHECK(classify::run(joint, {oval.cloud, "o.pcd", {}}).cls == oval_off.cls);
+  classify::Params outline_alone = joint;
+  outline_alone.rectangularity_notch = 1;
+  CHECK(classify::run(outline_alone, {oval.cloud, "o.pcd", {}}).cls.empty());
+  const Sampled rock = sample(rock_top, 2.1, 0.95, 0.4, 100, 91);
+  const classify::Answer rock_joint = classify::run(joint, {rock.cloud, "r.pcd", {}});
+  INFO("rock: " << rock_joint.features.rectangularity << " notch " << rock_joint.features.notch << " "
+                << rock_joint.detail);
+  CHECK(rock_joint.cls.empty());
+  CHECK(rock_joint.detail.find("no step under its profile's hull") != std::string::npos);
   // 0 switches the gate off.
   classify::Params off;
   off.min_rectangularity = 0;
@@ -647,7 +673,8 @@ TEST_CASE("classify: class table and parameters") {
   CHECK_NOTHROW(classify::validate(p));
   for (double classify::Params::*key :
        {&classify::Params::min_notch, &classify::Params::max_notch, &classify::Params::drawbar_width,
-        &classify::Params::drawbar_level, &classify::Params::min_rectangularity}) {
+        &classify::Params::drawbar_level, &classify::Params::min_rectangularity,
+        &classify::Params::rectangularity_notch}) {
     p = classify::Params{};
     p.*key = -0.1;
     CHECK_THROWS_AS(classify::validate(p), common::UsageError);

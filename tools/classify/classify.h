@@ -108,9 +108,13 @@ struct Params {
   double max_notch = 0.5;
   double drawbar_width = 0.3;
   double drawbar_level = 0.4;
-  // A car-group answer whose top view's convex hull fills less than this share of its
-  // minimum-area rectangle (an oval outline: a rock) is not_vehicle_shape (classify.md §17).
+  // A car-group answer whose top view's convex hull fills less than min_rectangularity of its
+  // minimum-area rectangle (an oval outline: a rock) and whose notch is under
+  // rectangularity_notch (no bonnet or boot step: real cars are oval from above too, but
+  // stepped) is not_vehicle_shape (classify.md §17; min_rectangularity 0: off; notch 1: the
+  // outline alone).
   double min_rectangularity = 0;
+  double rectangularity_notch = 0.08;
   double plateau_split = 0.6;    // plateau share between a minor and a long plateau
   double tail_split = 0.75;      // higher end's level (share of H) between dropping and staying up
   double profile_penalty = 1.5;  // added to a class's size distance when the profile contradicts it
