@@ -6,7 +6,8 @@ on car-group answers would refuse at each threshold.
 
   bench/classify/rectangularity.py VARIANT OUT [OUT ...]   (VARIANT: the run with the gate off,
                                                             e.g. "on")
-  THRESHOLDS="0.8 0.83 0.85 0.87 0.9" (default)
+  THRESHOLDS="0.8 0.83 0.85 0.87 0.9" (default); NOTCH=1 (default: the outline alone; 0.08:
+  --rectangularity-notch, only answers whose notch is under it are refused)
 
 Per label (outline.py's: a vehicle's when within 2 m of it, a clutter object's when within its
 box + 1 m): every measured candidate's rectangularity (min / 10% / median / max), the answered
@@ -21,6 +22,7 @@ from rates import rate  # noqa: E402
 variant, outs = sys.argv[1], sys.argv[2:]
 KEY = os.environ.get('KEY', 'rectangularity')
 thresholds = [float(t) for t in os.environ.get('THRESHOLDS', '0.8 0.83 0.85 0.87 0.9').split()]
+notch_max = float(os.environ.get('NOTCH', '1'))
 sys.argv = [sys.argv[0], outs[0], variant]  # outline.py reads its own argv when imported
 
 
@@ -46,7 +48,8 @@ for out in outs:
             if what.startswith('vehicle:'):
                 what = 'vehicle:' + os.path.basename(what[8:]).replace('.ply', '')
             rows.append((os.path.basename(out), os.path.basename(d), c['id'], what, doc.get('class'),
-                         doc.get('group'), f.get(KEY), doc.get('density') or 0, doc.get('reason')))
+                         doc.get('group'), f.get(KEY), doc.get('density') or 0, doc.get('reason'),
+                         f.get('notch', 0)))
 
 
 def q(v, p):
@@ -71,12 +74,13 @@ def kind(what):
     return 'rock' if what == 'clutter:rock' else what.split(':')[0]
 
 
-print('\nthreshold | vehicles answered lost | rocks answered refused | other clutter answered refused')
+print('\nnotch under %g and rectangularity under the threshold:' % notch_max)
+print('threshold | vehicles answered lost | rocks answered refused | other clutter answered refused')
 for t in thresholds:
     out = []
     for k in ['vehicle', 'rock', 'clutter']:
         sel = [r for r in rows if r[4] and kind(r[3]) == k]
-        gone = [r for r in sel if r[5] == 'car' and r[6] < t]
+        gone = [r for r in sel if r[5] == 'car' and r[6] < t and r[9] < notch_max]
         out.append(rate(len(gone), len(sel)))
     print(t, *out, sep=' | ')
 print('\ncar-group answers under the largest threshold (out, tile, id, label, class, rectangularity, '
@@ -91,6 +95,6 @@ for lo, hi in [(0, 15), (15, 30), (30, 100), (100, 1e9)]:
     veh = [r for r in rows if r[4] and kind(r[3]) == 'vehicle' and lo <= r[7] < hi]
     rock = [r for r in rows if r[4] and kind(r[3]) == 'rock' and lo <= r[7] < hi]
     cv = [r[6] for r in veh if r[5] == 'car']
-    print('%g-%g' % (lo, hi), rate(sum(1 for r in veh if r[5] == 'car' and r[6] < t), len(veh)),
-          rate(sum(1 for r in rock if r[5] == 'car' and r[6] < t), len(rock)),
+    print('%g-%g' % (lo, hi), rate(sum(1 for r in veh if r[5] == 'car' and r[6] < t and r[9] < notch_max), len(veh)),
+          rate(sum(1 for r in rock if r[5] == 'car' and r[6] < t and r[9] < notch_max), len(rock)),
           '%.3f' % min(cv) if cv else '-', '%.3f' % max(r[6] for r in rock) if rock else '-', sep=' | ')

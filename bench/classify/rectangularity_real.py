@@ -14,6 +14,7 @@ from rates import rate  # noqa: E402
 
 out, labels, variant, tiles = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4:]
 thresholds = [float(t) for t in os.environ.get('THRESHOLDS', '0.8 0.82 0.85').split()]
+notch_max = float(os.environ.get('NOTCH', '1'))  # 0.08: --rectangularity-notch
 rows = []  # (tile, id, what, class, group, rectangularity, density)
 for tile in tiles:
     truth = os.path.join(labels, tile + '.truth.json')
@@ -25,7 +26,9 @@ for tile in tiles:
         near = min(((math.hypot(c['centre'][0] - v['pose']['x'], c['centre'][1] - v['pose']['y']),
                      v.get('visibility')) for v in vehicles), default=(99, None))
         what = 'vehicle/' + str(near[1]) if near[0] <= 1.5 else 'other/' + tile
-        rows.append((tile, c['id'], what, a['class'], a['group'], a['features'][os.environ.get('KEY', 'rectangularity')], a['density']))
+        f = a['features']
+        rows.append((tile, c['id'], what, a['class'], a['group'], f[os.environ.get('KEY', 'rectangularity')], a['density'],
+                     f['notch']))
 
 
 def q(v, p):
@@ -41,9 +44,9 @@ for what in sorted({r[2] for r in rows}):
           '%d: %s' % (len(car), '%.3f' % min(car) if car else '-'), sep=' | ')
 print('\nthreshold | ' + ' | '.join('%s answered refused' % w for w in sorted({r[2] for r in rows})))
 for t in thresholds:
-    print(t, *[rate(sum(1 for r in rows if r[2] == w and r[4] == 'car' and r[5] < t), sum(1 for r in rows if r[2] == w))
+    print(t, *[rate(sum(1 for r in rows if r[2] == w and r[4] == 'car' and r[5] < t and r[7] < notch_max), sum(1 for r in rows if r[2] == w))
                for w in sorted({r[2] for r in rows})], sep=' | ')
-print('\ncar-group answers under the largest threshold (tile, id, what, class, rectangularity, density):')
+print('\ncar-group answers under the largest threshold (tile, id, what, class, rectangularity, density, notch):')
 for r in sorted(rows, key=lambda r: r[5]):
     if r[4] == 'car' and r[5] < max(thresholds):
-        print(r[0], r[1], r[2], r[3], '%.3f' % r[5], '%.1f' % r[6], sep=' | ')
+        print(r[0], r[1], r[2], r[3], '%.3f' % r[5], '%.1f' % r[6], '%.3f' % r[7], sep=' | ')
