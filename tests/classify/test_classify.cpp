@@ -31,8 +31,8 @@ using Json = nlohmann::ordered_json;
 namespace {
 
 const double kDeg = common::kPi / 180;
-// The rectangularity that best parts simulated rocks from vehicles (classify.md §17; the gate is
-// off by default: real cars reach down to 0.73).
+// The rectangularity gate's value in classify-sim.ini (classify.md §17; 0 in Params and
+// classify.ini: real cars reach down to 0.73).
 const double kRectangularity = 0.82;
 
 // Height of an object's top at (x, y) in its own frame (centre at the origin, x forward), or
