@@ -247,6 +247,14 @@ void outline(Answer& a, const Params& p) {
             "upper hull (a car's step >= %.0f%%)",
             100 * f.notch, 100 * p.min_notch);
     strength = past(p.min_notch, std::max(f.notch, 1e-6));
+  } else if (p.min_rectangularity > 0 && a.group == "car" && f.rectangularity < p.min_rectangularity &&
+             f.notch < p.rectangularity_notch) {
+    why =
+        fmt("an oval outline: its top view's convex hull fills %.0f%% of its minimum-area rectangle (an "
+            "ellipse 79%%; a car's rounded rectangle >= %.0f%%) and no step under its profile's hull (%.0f%% "
+            "of its height; a car's bonnet or boot >= %.0f%%)",
+            100 * f.rectangularity, 100 * p.min_rectangularity, 100 * f.notch, 100 * p.rectangularity_notch);
+    strength = past(p.min_rectangularity, std::max(f.rectangularity, 1e-6));
   } else if (p.max_notch > 0 && (a.group == "tracked" || a.group == "van" || a.group == "bus") &&
              f.notch > p.max_notch) {
     why = fmt("a step %.0f%% of its height deep under its profile's upper hull", 100 * f.notch) + " (a " +
@@ -427,6 +435,9 @@ void validate(const Params& p) {
   need(p.max_notch >= 0 && p.max_notch <= 1, "--max-notch must be in [0, 1]");
   need(p.drawbar_width >= 0 && p.drawbar_width <= 1, "--drawbar-width must be in [0, 1]");
   need(p.drawbar_level >= 0 && p.drawbar_level <= 1, "--drawbar-level must be in [0, 1]");
+  need(p.min_rectangularity >= 0 && p.min_rectangularity <= 1, "--min-rectangularity must be in [0, 1]");
+  need(p.rectangularity_notch >= 0 && p.rectangularity_notch <= 1,
+       "--rectangularity-notch must be in [0, 1]");
 }
 
 Outputs run(const Params& p, const Inputs& in) {

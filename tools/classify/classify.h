@@ -26,7 +26,8 @@
 //    too_large / too_small / too_flat / not_vehicle_shape -> the class whose ranges the size
 //    fits best (profile cues break ties between overlapping classes) and its group -> the
 //    outline gates (docs/decisions/classify.md §16): an answer with a drawbar end, or a tracked,
-//    van or bus answer with too deep a step in its profile, is not_vehicle_shape.
+//    van or bus answer with too deep a step in its profile, is not_vehicle_shape; with
+//    --min-rectangularity (off by default, §17) so is a car answer with an oval outline.
 //
 // Never read: `classification` (ASPRS classes), `label`, `instance` (truth). Only x y z,
 // return_number, number_of_returns, point_source_id and gps_time are read.
@@ -107,6 +108,13 @@ struct Params {
   double max_notch = 0.5;
   double drawbar_width = 0.3;
   double drawbar_level = 0.4;
+  // A car-group answer whose top view's convex hull fills less than min_rectangularity of its
+  // minimum-area rectangle (an oval outline: a rock) and whose notch is under
+  // rectangularity_notch (no bonnet or boot step: real cars are oval from above too, but
+  // stepped) is not_vehicle_shape (classify.md §17; min_rectangularity 0: off; notch 1: the
+  // outline alone).
+  double min_rectangularity = 0;
+  double rectangularity_notch = 0.08;
   double plateau_split = 0.6;    // plateau share between a minor and a long plateau
   double tail_split = 0.75;      // higher end's level (share of H) between dropping and staying up
   double profile_penalty = 1.5;  // added to a class's size distance when the profile contradicts it
@@ -161,6 +169,10 @@ struct Features {
   // (share of W) and its highest point (share of H).
   double notch = 0;
   std::size_t dents = 0;
+  // The top view's convex hull area over its minimum-area rectangle's, both grown by half the
+  // spacing (classify.md §17): a rectangle with rounded corners (a vehicle) near 1, an ellipse (a
+  // rock) pi/4 = 0.785. The hull ignores holes inside the outline (glass, dark paint).
+  double rectangularity = 0;
   double tip_width = 0, tip_level = 0;
   double top_roughness = 0;   // median |interior cell top - the plane of its 3 x 3 cells' tops| (m)
   std::size_t top_cells = 0;  // interior cells with enough neighbours for it

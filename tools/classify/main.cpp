@@ -83,6 +83,13 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
            "is a drawbar (trailer, caravan): not_vehicle_shape (0: off)");
   tool.add("--drawbar-level", &p.drawbar_level,
            "see --drawbar-width: the drawbar's highest point, share of the height (0: off)");
+  tool.add("--min-rectangularity", &p.min_rectangularity,
+           "a car-group answer whose top view's convex hull fills less than this share of its minimum-area "
+           "rectangle (an oval outline: a rock; an ellipse 0.785) and a notch under --rectangularity-notch: "
+           "not_vehicle_shape (0: off)");
+  tool.add("--rectangularity-notch", &p.rectangularity_notch,
+           "see --min-rectangularity: only an answer whose top's profile lies within this (share of H) of "
+           "its upper hull is refused (a stepped car is kept; 1: the outline alone)");
   tool.add("--plateau-split", &p.plateau_split, "plateau share between a minor and a long roof");
   tool.add("--tail-split", &p.tail_split,
            "higher end's level (share of H) between dropping and staying at the roof");

@@ -53,6 +53,8 @@ void validate(const Params& p) {
   need(p.planar_ratio > 0 && p.planar_ratio < 1, "planar_ratio must be in (0, 1)");
   need(p.min_planar_area >= 0, "--min-planar-area must be >= 0");
   need(p.row_roof_height > 0 && p.row_roof_height < 3.0, "--row-roof-height must be in (0, 3) m");
+  need(p.row_max_height == 0 || (p.row_max_height > p.row_roof_height && std::isfinite(p.row_max_height)),
+       "--row-max-height must be 0 (off) or above --row-roof-height");
   need(p.row_tolerance > 0 && std::isfinite(p.row_tolerance), "--row-tolerance must be > 0");
   need(p.merge_gap >= 0 && p.merge_gap <= 5, "--merge-gap must be in [0, 5] voxels");
   need(p.min_split_share >= 0 && p.min_split_share <= 1, "--min-split-share must be in [0, 1]");

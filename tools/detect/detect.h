@@ -93,7 +93,11 @@ struct Params {
   bool split_rows = false;
   bool split_rows_from_density = true;
   double row_roof_height = 1.1;  // bottom of the roof band (m above ground)
-  double row_tolerance = 0.45;   // roofs' clustering tolerance in the top view (m)
+  // The tallest vehicle that parks in a row (cars, vans): a roof-band part under which the
+  // object rises higher is a slice of a taller vehicle (a tractor unit's cab, a wheel loader),
+  // not a roof, and a split needs two roofs (detect.md §11); 0 = no such test (the rule before).
+  double row_max_height = 3.0;
+  double row_tolerance = 0.45;  // roofs' clustering tolerance in the top view (m)
   // An object re-clustered at half the voxel (touching objects) is split only when the parts
   // it keeps hold at least this share of its points (detect.md §10); 0 = any two parts (the
   // rule before).

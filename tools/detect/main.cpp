@@ -72,6 +72,10 @@ void bind(common::Tool& tool, detect::Params& p, Cli& cli) {
            "< 90.25 points/m², docs/decisions/detect.md §9");
   tool.add_length("--row-roof-height", &p.row_roof_height,
                   "bottom of the roof band whose points separate the roofs of a row");
+  tool.add_length("--row-max-height", &p.row_max_height,
+                  "tallest vehicle of a row: a part of the roof band under which the object rises "
+                  "higher (a truck's cab, a wheel loader) is not a roof, and a row split needs two "
+                  "roofs; 0 = no such test, the rule before, docs/decisions/detect.md §11");
   tool.add("--min-split-share", &p.min_split_share,
            "an object re-clustered at half the voxel (objects that touch) is split only when the "
            "parts kept hold at least this share of its points (a sparse vehicle only falls into "

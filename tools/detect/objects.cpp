@@ -213,7 +213,7 @@ void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
   }
   if (p.split_rows && depth < kMaxSplitDepth && (o.fp.length > kRowLength || o.fp.width > kRowWidth)) {
     // A row of parked vehicles merged by the voxel: one piece per roof (rows.h, detect.md §9).
-    RowSplit row = split_row(pts, c.x, c.y, c.h, o.fp, p.row_roof_height, p.row_tolerance);
+    RowSplit row = split_row(pts, c.x, c.y, c.h, o.fp, p.row_roof_height, p.row_tolerance, p.row_max_height);
     if (!row.pieces.empty()) {
       ++c.out.row_splits;
       ++c.in_row;

@@ -83,7 +83,7 @@ double row_tolerance_for_density(double d) {
 
 RowSplit split_row(const std::vector<std::uint32_t>& pts, const std::vector<double>& x,
                    const std::vector<double>& y, const std::vector<float>& h, const Footprint& row,
-                   double roof_height, double tolerance) {
+                   double roof_height, double tolerance, double max_height) {
   const Vector2d row_axis = row.axis;
   RowSplit out;
   std::vector<std::uint32_t> band;
@@ -209,21 +209,41 @@ RowSplit split_row(const std::vector<std::uint32_t>& pts, const std::vector<doub
       parts[i].clear();
     }
   }
-  // Roofs: parts with enough points; a split needs two of vehicle length.
+  // The object's points above the tallest vehicle of a row (max_height; none when 0).
+  std::vector<std::uint32_t> high;
+  if (max_height > 0) {
+    for (std::uint32_t q : pts) {
+      if (h[q] > max_height) high.push_back(q);
+    }
+  }
+  // Roofs: parts with enough points; a split needs two of vehicle length under which the object
+  // stays below max_height. A part with kRowRoofPoints of the object's points above max_height
+  // over its rectangle (grown by the tolerance) is the band's slice through a taller vehicle (a
+  // tractor unit's cab and its deck, a wheel loader's cab and its bucket: their band parts are
+  // apart and have lower parts between them, like two cars), not the roof of a car or van.
   std::vector<std::vector<std::uint32_t>> roofs;
   std::size_t short_roofs = 0, in_short = 0;  // roofs of vehicle length and their points
+  std::size_t low_roofs = 0;                  // of those, roofs with the object below max_height over them
   for (auto& part : parts) {
     if (part.size() < kRowRoofPoints) continue;  // and the parts joined to others
     const Footprint f = rectangle_of(part, x, y);
     if (f.length <= kRowRoofMax) {
       ++short_roofs;
       in_short += part.size();
+      const Vector2d across(-f.axis.y(), f.axis.x());
+      std::size_t over = 0;
+      for (std::uint32_t q : high) {
+        const Vector2d d = Vector2d(x[q], y[q]) - f.centre;
+        over += std::abs(d.dot(f.axis)) <= f.length / 2 + tolerance &&
+                std::abs(d.dot(across)) <= f.width / 2 + tolerance;
+      }
+      low_roofs += over < kRowRoofPoints;
     }
     roofs.push_back(std::move(part));
   }
   // A row is mostly roofs: hedges, shrubs and crowns in the band leave irregular parts, of
   // which a few may be roof-sized.
-  if (short_roofs < 2 || double(in_short) < kRowRoofShare * double(band.size())) return out;
+  if (low_roofs < 2 || double(in_short) < kRowRoofShare * double(band.size())) return out;
   // Vehicles in a row park along it or across it: a roof's axis within kRowSnap of either is
   // taken as that (a sparse roof's own rectangle turns by a few degrees, and its reach then
   // takes a wall beside the car).

@@ -64,9 +64,11 @@ struct RowSplit {
 // The split of an object (`pts`, rows into x, y: local frame, h: height above ground; its
 // footprint `row`) into one piece per roof when at least two of its roofs are at most
 // kRowRoofMax long and such roofs hold at least kRowRoofShare of the band's points; else no
-// pieces (the object stays whole). `tolerance`: row_tolerance_for_density.
+// pieces (the object stays whole). `tolerance`: row_tolerance_for_density. Roofs under which
+// the object rises above `max_height` (m; 0: no such test) are parts of a taller vehicle and do
+// not count toward the two (detect.md §11).
 RowSplit split_row(const std::vector<std::uint32_t>& pts, const std::vector<double>& x,
                    const std::vector<double>& y, const std::vector<float>& h, const Footprint& row,
-                   double roof_height, double tolerance);
+                   double roof_height, double tolerance, double max_height);
 
 }  // namespace canopy::detect
