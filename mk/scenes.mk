@@ -304,8 +304,9 @@ endif
 # the thesis trials), so the two never build one artifact at the same time.
 SCENE_TOOLS := rangetrace addnoise detect classify fitvox cocone ncut gmatch verify collect score topview figures \
   $(if $(SCENE_BASELINE),baseline)
+# (The baseline's models' side too, when SCENE_MB is the thesis modelbase, whose rule this make has.)
 $(SCENE_SCORE): $(scenes_force) $(foreach t,$(SCENE_TOOLS),$(call tool,$(t))) $(MODELBASE) $(VERIFY_SURFACES) \
-  $(if $(SCENE_BASELINE),$(call baseline_models,$(SCENE_MB)))
+  $(if $(SCENE_BASELINE),$(filter $(call baseline_models,$(OUT)/modelbase),$(call baseline_models,$(SCENE_MB))))
 	+@$(MAKE) --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROGRESS=0
 # The baseline's scores are made by the same sub-make (no recipe of their own here).
 $(SCENE_BL_SCORES): $(SCENE_SCORE)
