@@ -15,11 +15,24 @@
 # The tool's build rule and content stamp (not in TOOLS, so `make tools` stays as it was):
 $(eval $(call tool_rule,baseline))
 
+# The models' side of the baseline (docs/decisions/baseline.md §7, cost.md §12): the same for
+# every candidate, so computed once per modelbase (`baseline --prepare`) into
+# <modelbase>/baseline-models.bin (canopy.baseline-models, formats/README.md), which every
+# baseline run of that modelbase reads (--model-cache; same bytes as computing it). Remade when
+# a surface, the tool or baseline.ini changes; a run refuses a file made from other surfaces or
+# parameters. baseline_models_rule(modelbase dir, its surfaces) (scenes.mk, families.mk).
+baseline_models = $(1)/baseline-models.bin
+define baseline_models_rule
+$(call baseline_models,$(1)): $(sort $(2) $(wildcard $(1)/*.pcd)) $(call tool,baseline) $(P)/baseline.ini
+	@$(STAGE) $$@ -- $(BIN)/baseline --config $(P)/baseline.ini --prepare --modelbase $(1) -o $$@
+endef
+$(eval $(call baseline_models_rule,$(OUT)/modelbase,$(VERIFY_SURFACES)))
+
 define baseline_rule
 $(OUT)/$(1)/$(2)/noise-$(3)/baseline.json: $(OUT)/$(1)/$(2)/noise-$(3)/samples.pcd $(VERIFY_SURFACES) \
-    $(call tool,baseline) $(P)/baseline.ini
+    $(call baseline_models,$(OUT)/modelbase) $(call tool,baseline) $(P)/baseline.ini
 	@$(STAGE) --record-failure $$@ -- $(BIN)/baseline --config $(P)/baseline.ini -i $$< \
-	  --modelbase $(OUT)/modelbase -o $$@
+	  --modelbase $(OUT)/modelbase --model-cache $(call baseline_models,$(OUT)/modelbase) -o $$@
 endef
 $(foreach o,$(OBJECTS),$(foreach s,$(SCENES),$(foreach n,$(NOISES),$(eval $(call baseline_rule,$(o),$(s),$(n))))))
 BASELINES := $(addsuffix /baseline.json,$(CASES))

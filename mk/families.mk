@@ -157,9 +157,10 @@ $(FAM_DIR)/test/$(1)-$(2)/$(3)/scan.pcd: $(FAM_DIR)/scenes/$(3).scene $(call too
 endef
 # fam_baseline_rule(trial dir, method): the PCL baseline, one process per method (its own time).
 define fam_baseline_rule
-$(1)/baseline-$(2).json: $(1)/samples.pcd $(FAM_MODELBASE) $(call tool,baseline) $(P)/baseline.ini
+$(1)/baseline-$(2).json: $(1)/samples.pcd $(FAM_MODELBASE) $(call baseline_models,$(FAM_MB)) $(call tool,baseline) \
+    $(P)/baseline.ini
 	@$(STAGE) --record-failure $$@ -- $(BIN)/baseline --config $(P)/baseline.ini --methods $(2) -i $$< \
-	  --modelbase $(FAM_MB) -o $$@
+	  --modelbase $(FAM_MB) --model-cache $(call baseline_models,$(FAM_MB)) -o $$@
 endef
 define fam_trial_rule
 $(call fam_chain,$(FAM_DIR)/test/$(1)-$(2)/$(3),$(4),families/test/$(1)-$(2)/$(3),--record-failure,)
@@ -178,6 +179,7 @@ endef
 $(foreach c,$(FAM_COVERS),$(eval $(call fam_scene_rule,$(c))))
 $(foreach i,$(FAM_TRAIN_IDS),$(eval $(call fam_train_rule,$(call fam_class,$(i)),$(call fam_inst,$(i)))))
 $(foreach c,$(FAM_CLASSES),$(foreach n,$(FAM_TRAIN),$(eval $(call fam_entry_rule,$(FAM_MB),$(c),$(n)))))
+$(eval $(call baseline_models_rule,$(FAM_MB),$(filter %.pcd,$(FAM_MODELBASE))))
 $(foreach i,$(FAM_BIG_IDS),$(eval $(call fam_entry_rule,$(FAM_BIG),$(call fam_class,$(i)),$(call fam_inst,$(i)))))
 $(foreach p,$(FAM_BIG_WAITS),$(eval $(FAM_DIR)/train/$(firstword $(subst :, ,$(p)))/scan.pcd: | \
   $(FAM_DIR)/train/$(lastword $(subst :, ,$(p)))/noise-0/segments.json))

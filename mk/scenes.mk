@@ -306,7 +306,9 @@ endif
 # the thesis trials), so the two never build one artifact at the same time.
 SCENE_TOOLS := rangetrace addnoise detect classify fitvox cocone ncut gmatch verify collect score topview figures \
   $(if $(SCENE_BASELINE),baseline)
-$(SCENE_SCORE): $(scenes_force) $(foreach t,$(SCENE_TOOLS),$(call tool,$(t))) $(MODELBASE) $(VERIFY_SURFACES)
+# (The baseline's models' side too, when SCENE_MB is the thesis modelbase, whose rule this make has.)
+$(SCENE_SCORE): $(scenes_force) $(foreach t,$(SCENE_TOOLS),$(call tool,$(t))) $(MODELBASE) $(VERIFY_SURFACES) \
+  $(if $(SCENE_BASELINE),$(filter $(call baseline_models,$(OUT)/modelbase),$(call baseline_models,$(SCENE_MB))))
 	+@$(MAKE) --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROGRESS=0
 # The baseline's scores are made by the same sub-make (no recipe of their own here).
 $(SCENE_BL_SCORES): $(SCENE_SCORE)
@@ -380,10 +382,13 @@ $(SCENE_SCORE): $(SCENE_DIR)/tiles.txt $(addsuffix /detections.json,$(SCENE_RUNS
 # counts the candidate as failed, as for canopy), per run collect, then one score per method
 # over a manifest of the same tiles.
 define scene_baseline_cand_rule
-$(1)/cands/$(2)/baseline-$(3).json: $(1)/cands/$(2)/samples.pcd $(VERIFY_SURFACES) $(call tool,baseline) $(P)/baseline.ini
+$(1)/cands/$(2)/baseline-$(3).json: $(1)/cands/$(2)/samples.pcd $(VERIFY_SURFACES) $(call baseline_models,$(SCENE_MB)) \
+    $(call tool,baseline) $(P)/baseline.ini
 	@$(STAGE) --record-failure $$@ -- $(BIN)/baseline --config $(P)/baseline.ini --verdict $(3) -i $$< \
-	  --modelbase $(SCENE_MB) -o $$@
+	  --modelbase $(SCENE_MB) --model-cache $(call baseline_models,$(SCENE_MB)) -o $$@
 endef
+# The models' side of another SCENE_MB than the thesis modelbase's (mk/baseline.mk).
+$(if $(SCENE_BASELINE),$(if $(filter-out $(OUT)/modelbase,$(SCENE_MB)),$(eval $(call baseline_models_rule,$(SCENE_MB),$(VERIFY_SURFACES)))))
 define scene_baseline_run_rule
 $(1)/detections-baseline-$(3).json: $(1)/cands.mk $(foreach c,$($(2)_CANDS),$(1)/cands/$(c)/class.json) \
     $(foreach c,$(call model_cands,$(2)),$(1)/cands/$(c)/baseline-$(3).json) $(call tool,collect)

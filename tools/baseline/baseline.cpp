@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <stdexcept>
 #include <system_error>
 
 #include "baseline/serial_kdtree.h"
@@ -215,20 +216,43 @@ void rank(std::vector<Entry>& e) {
   for (std::size_t i = 0; i < e.size(); ++i) e[i].rank = static_cast<int>(i) + 1;
 }
 
-Ranking run_vfh(const Cloud& cand, const std::vector<Model>& models, const Params& p) {
+// A prepared model's downsampled surface and features as PCL clouds (push_back, as prepare()
+// built them: dense, one row), field for field.
+CloudN::Ptr points_of(const PreparedModel& m) {
+  CloudN::Ptr out(new CloudN);
+  for (const auto& a : m.points) {
+    PointN q;
+    for (int k = 0; k < 4; ++k) q.data[k] = a[static_cast<std::size_t>(k)];
+    for (int k = 0; k < 4; ++k) q.data_n[k] = a[static_cast<std::size_t>(4 + k)];
+    q.curvature = a[8];
+    out->push_back(q);
+  }
+  return out;
+}
+
+Features::Ptr features_of(const PreparedModel& m) {
+  Features::Ptr out(new Features);
+  for (const auto& a : m.features) {
+    pcl::FPFHSignature33 f;
+    std::copy(a.begin(), a.end(), f.histogram);
+    out->push_back(f);
+  }
+  out->is_dense = m.features_dense;
+  return out;
+}
+
+Ranking run_vfh(const Cloud& cand, const PreparedModels& models, const Params& p) {
   const auto t0 = std::chrono::steady_clock::now();
   Ranking r;
   r.method = "vfh";
   const Vfh c = vfh(cand.points, cand.normals);
-  for (const auto& m : models) {
+  for (const auto& m : models.models) {
     Entry e;
     e.model = m.name;
     e.distance = 1e9;
     for (int v = 0; v <= p.views; ++v) {
-      const Cloud seen =
-          v < p.views ? view(m.surface, 2 * common::kPi * v / p.views, p.view_elevation) : m.surface;
-      if (seen.points.size() < 3) continue;
-      const double d = l1(c, vfh(seen.points, seen.normals));
+      if (!m.seen[static_cast<std::size_t>(v)]) continue;
+      const double d = l1(c, m.vfh[static_cast<std::size_t>(v)]);
       if (d < e.distance) {
         e.distance = d;
         e.view = v;
@@ -242,7 +266,7 @@ Ranking run_vfh(const Cloud& cand, const std::vector<Model>& models, const Param
   return r;
 }
 
-Ranking run_fpfh(const Cloud& cand, const std::vector<Model>& models, const Params& p) {
+Ranking run_fpfh(const Cloud& cand, const PreparedModels& models, const Params& p) {
   const auto t0 = std::chrono::steady_clock::now();
   Ranking r;
   r.method = "fpfh";
@@ -250,12 +274,12 @@ Ranking run_fpfh(const Cloud& cand, const std::vector<Model>& models, const Para
   const Features::Ptr cf = fpfh(c, p);
   SerialFlann<PointN> ctree;
   if (!c->empty()) ctree.setInputCloud(c);
-  for (const auto& m : models) {
+  for (const auto& m : models.models) {
     Entry e;
     e.model = m.name;
-    const CloudN::Ptr mc = prepare(m.surface, p);
+    const CloudN::Ptr mc = points_of(m);
     if (c->size() >= 3 && mc->size() >= 3) {
-      const Features::Ptr mf = fpfh(mc, p);
+      const Features::Ptr mf = features_of(m);
       // The candidate (a partial view) is registered onto the whole model: then the inlier
       // fraction RANSAC requires is a share of the candidate, which a right model explains
       // almost entirely (the reverse share, of the model, is small for any occluded view and
@@ -370,7 +394,7 @@ Cloud model_from_cloud(const formats::PointCloud& cloud, const std::string& name
   return c;
 }
 
-std::vector<Model> read_modelbase(const std::string& dir) {
+std::vector<std::pair<std::string, std::string>> list_modelbase(const std::string& dir) {
   namespace fs = std::filesystem;
   using common::DataError;
   std::error_code ec;
@@ -388,8 +412,13 @@ std::vector<Model> read_modelbase(const std::string& dir) {
                     "verify-modelbase builds them)");
   }
   std::sort(files.begin(), files.end());
+  return files;
+}
+
+std::vector<Model> read_modelbase(const std::string& dir) {
+  using common::DataError;
   std::vector<Model> models;
-  for (const auto& [name, path] : files) {
+  for (const auto& [name, path] : list_modelbase(dir)) {
     Model m;
     m.name = name;
     try {
@@ -403,16 +432,62 @@ std::vector<Model> read_modelbase(const std::string& dir) {
   return models;
 }
 
+PreparedModels prepare_models(const std::vector<Model>& models, const Params& p, bool with_vfh, bool with_fpfh) {
+  PreparedModels out;
+  out.vfh = with_vfh;
+  out.fpfh = with_fpfh;
+  for (const auto& m : models) {
+    PreparedModel pm;
+    pm.name = m.name;
+    if (with_vfh) {
+      for (int v = 0; v <= p.views; ++v) {
+        const Cloud seen =
+            v < p.views ? view(m.surface, 2 * common::kPi * v / p.views, p.view_elevation) : m.surface;
+        pm.seen.push_back(seen.points.size() >= 3 ? 1 : 0);
+        pm.vfh.push_back(pm.seen.back() ? vfh(seen.points, seen.normals) : Vfh{});
+      }
+    }
+    if (with_fpfh) {
+      const CloudN::Ptr mc = prepare(m.surface, p);
+      for (const auto& q : *mc) {
+        std::array<float, 9> a{};
+        for (int k = 0; k < 4; ++k) a[static_cast<std::size_t>(k)] = q.data[k];
+        for (int k = 0; k < 4; ++k) a[static_cast<std::size_t>(4 + k)] = q.data_n[k];
+        a[8] = q.curvature;
+        pm.points.push_back(a);
+      }
+      if (mc->size() >= 3) {
+        const Features::Ptr mf = fpfh(mc, p);
+        for (const auto& f : *mf) {
+          std::array<float, 33> a{};
+          std::copy(std::begin(f.histogram), std::end(f.histogram), a.begin());
+          pm.features.push_back(a);
+        }
+        pm.features_dense = mf->is_dense;
+      }
+    }
+    out.models.push_back(std::move(pm));
+  }
+  return out;
+}
+
 Outputs run(const Params& params, const Inputs& inputs) {
   validate(params);
   const Cloud& candidate = *inputs.candidate;
-  const std::vector<Model>& models = *inputs.models;
   const std::string& methods = params.methods;
+  const bool with_vfh = methods == "both" || methods == "vfh";
+  const bool with_fpfh = methods == "both" || methods == "fpfh";
   pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);  // ICP's warnings are expected here
+  PreparedModels computed;
+  if (inputs.prepared == nullptr) computed = prepare_models(*inputs.models, params, with_vfh, with_fpfh);
+  const PreparedModels& models = inputs.prepared != nullptr ? *inputs.prepared : computed;
+  if ((with_vfh && !models.vfh) || (with_fpfh && !models.fpfh)) {
+    throw std::logic_error("baseline::run: the prepared models lack a method's side");
+  }
   Result r;
   r.candidate_points = static_cast<int>(candidate.points.size());
-  if (methods == "both" || methods == "vfh") { r.methods.push_back(run_vfh(candidate, models, params)); }
-  if (methods == "both" || methods == "fpfh") { r.methods.push_back(run_fpfh(candidate, models, params)); }
+  if (with_vfh) r.methods.push_back(run_vfh(candidate, models, params));
+  if (with_fpfh) r.methods.push_back(run_fpfh(candidate, models, params));
   return r;
 }
 

@@ -19,7 +19,9 @@
 
 #include <Eigen/Geometry>
 #include <array>
+#include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "canopy/formats/point_cloud.h"
@@ -67,8 +69,37 @@ struct Model {
   Cloud surface;
 };
 
+// The <model>.pcd files of `dir` as (model name, path), sorted by name: what read_modelbase
+// reads. DataError naming the directory when it is missing, unlistable or holds none.
+std::vector<std::pair<std::string, std::string>> list_modelbase(const std::string& dir);
 // Reads every <model>.pcd of `dir`, sorted by name. DataError naming the directory or file.
 std::vector<Model> read_modelbase(const std::string& dir);
+
+// The models' side of both methods (issue 31; docs/decisions/baseline.md §7): what run()
+// computes from each model's surface alone, the same for every candidate. prepare_models
+// computes it (run() does so itself when Inputs::prepared is null); `baseline --prepare`
+// writes it once per modelbase and `--model-cache` reads it back bit for bit (model_cache.h).
+struct PreparedModel {
+  std::string name;
+  // vfh: per view (the ring's, then the whole surface) whether it has >= 3 points, and its
+  // normalised VFH (zeros when it has not).
+  std::vector<std::uint8_t> seen;
+  std::vector<std::array<float, 308>> vfh;
+  // fpfh: the downsampled surface with PCL's normals, as PCL's PointNormal fields (x, y, z, 1,
+  // normal x, y, z, 0, curvature), and its FPFH (33 per point; none when fewer than 3 points;
+  // features_dense = PCL's is_dense of the feature cloud).
+  std::vector<std::array<float, 9>> points;
+  std::vector<std::array<float, 33>> features;
+  bool features_dense = true;
+};
+
+struct PreparedModels {
+  bool vfh = false, fpfh = false;  // which methods' sides it holds
+  std::vector<PreparedModel> models;
+};
+
+// The models' side of the methods asked for (vfh, fpfh), models in the given order.
+PreparedModels prepare_models(const std::vector<Model>& models, const Params& params, bool vfh, bool fpfh);
 
 struct Entry {
   std::string model;
@@ -95,7 +126,9 @@ struct Result {
 
 struct Inputs {
   const Cloud* candidate = nullptr;
-  const std::vector<Model>* models = nullptr;
+  const std::vector<Model>* models = nullptr;  // unused when `prepared` is given
+  // The models' side, prepared with the same parameters (else computed from `models`).
+  const PreparedModels* prepared = nullptr;
 };
 
 using Outputs = Result;

@@ -1,9 +1,11 @@
 // baseline: rank the models of a modelbase by PCL descriptors on a candidate's points (issue
 // 17): a global (VFH, nearest view) and a local (FPFH + RANSAC + ICP) recogniser beside canopy.
+#include <algorithm>
 #include <cstdio>
 #include <string>
 
 #include "baseline/baseline.h"
+#include "baseline/model_cache.h"
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/cli.h"
 #include "canopy/common/error.h"
@@ -18,8 +20,9 @@ int main(int argc, char** argv) {
                 "PCL-descriptor recogniser beside canopy: VFH nearest view and FPFH + RANSAC + "
                 "ICP fitness. Writes a canopy.baseline JSON ranking every model per method.");
   bl::Params p;
-  std::string in = "-", out = "-", modelbase, methods = "both", verdict;
+  std::string in = "-", out = "-", modelbase, methods = "both", verdict, cache;
   int seed = 1;
+  bool prepare = false;
   tool.add_input(&in, "candidate points PCD with normals (e.g. fitvox's samples)");
   tool.add_output(&out, "baseline result JSON (with --verdict: the method's verdict JSON)");
   tool.add("--modelbase", &modelbase, "directory of <model>.pcd surfaces")->required();
@@ -41,29 +44,58 @@ int main(int argc, char** argv) {
   tool.add("--accept-vfh", &p.accept_vfh,
            "--verdict vfh: smallest VFH score (1 - L1 distance / 2) of an answer");
   tool.add("--accept-fpfh", &p.accept_fpfh, "--verdict fpfh: smallest FPFH fitness of an answer");
+  tool.add_flag("--prepare", &prepare,
+                "instead of a ranking: compute the models' side of both methods (view VFHs; "
+                "downsampled surfaces, normals, FPFH) once and write it to -o as a "
+                "canopy.baseline-models file for --model-cache (-i is not read)");
+  tool.add("--model-cache", &cache,
+           "the models' side from this --prepare file instead of computing it (same results); "
+           "refused when made from another modelbase or with other parameters");
   tool.without_threads();
 
   return tool.run(argc, argv, [&] {
     p.seed = static_cast<unsigned>(seed);
     bl::validate(p);
+    if (prepare) {
+      if (!cache.empty() || !verdict.empty())
+        throw cm::UsageError("--prepare with --model-cache or --verdict");
+      cm::log::Phase phase("prepare");
+      std::size_t n = 0;
+      cm::write_file_atomic(out, bl::prepare_file(modelbase, p, &n));
+      phase.done(std::to_string(n) + " models");
+      return;
+    }
     cm::log::Phase read("read");
     const bl::Cloud candidate =
         bl::candidate_from_cloud(canopy::formats::read_pcd(in), cm::display_name(in), p.min_height);
-    const auto models = bl::read_modelbase(modelbase);
-    read.done(std::to_string(candidate.points.size()) + " candidate points, " +
-              std::to_string(models.size()) + " models");
+    std::vector<bl::Model> models;
+    bl::PreparedModels prepared;
+    if (cache.empty()) {
+      models = bl::read_modelbase(modelbase);
+    } else {
+      prepared = bl::load_prepared(cache, modelbase, p);
+    }
+    const std::size_t n_models = cache.empty() ? models.size() : prepared.models.size();
+    read.done(std::to_string(candidate.points.size()) + " candidate points, " + std::to_string(n_models) +
+              " models" + (cache.empty() ? "" : " (prepared)"));
+    // The cache changes how, not what: it stays out of the outputs' parameter record.
+    auto parameters = tool.parameters();
+    parameters.erase(
+        std::remove_if(parameters.begin(), parameters.end(),
+                       [](const auto& kv) { return kv.first == "model-cache" || kv.first == "prepare"; }),
+        parameters.end());
 
     if (!verdict.empty() && methods != "both" && methods != verdict) {
       throw cm::UsageError("--verdict " + verdict + " with --methods " + methods +
                            ": the verdict's method is run");
     }
     p.methods = verdict.empty() ? methods : verdict;
-    const bl::Result r = bl::run(p, {&candidate, &models});
+    const bl::Result r = bl::run(p, {&candidate, &models, cache.empty() ? nullptr : &prepared});
     if (verdict.empty()) {
-      cm::write_file_atomic(out, bl::serialize(r, in, tool.parameters(), {in, modelbase}));
+      cm::write_file_atomic(out, bl::serialize(r, in, parameters, {in, modelbase}));
     } else {
       const double accept = verdict == "vfh" ? p.accept_vfh : p.accept_fpfh;
-      const canopy::formats::Provenance prov{"baseline", CANOPY_VERSION, tool.parameters(), {in, modelbase}};
+      const canopy::formats::Provenance prov{"baseline", CANOPY_VERSION, parameters, {in, modelbase}};
       cm::write_file_atomic(
           out, canopy::documents::serialize_verdict(bl::to_verdict(r.methods.front(), accept, in, prov)));
     }
