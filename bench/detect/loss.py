@@ -27,8 +27,9 @@ import argparse, collections, json, math, os, subprocess, sys
 here = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(here, ".."))
 sys.path.insert(0, os.path.join(here, "..", "classify"))
+sys.path.insert(0, here)
 from rates import rate  # noqa: E402
-from pcdlabels import read_pcd  # noqa: E402
+from pieces import held_by  # noqa: E402  (per candidate, the vehicles' points in its crop)
 
 src = os.path.abspath(os.path.join(here, "..", ".."))
 
@@ -49,35 +50,6 @@ def classify_all(run, tag, a):
                             "-o", v], check=True)
         verdicts[c["id"]] = json.load(open(v))
     return index, verdicts
-
-
-def held_by(index, run):
-    """Per candidate: {instance: vehicle points inside its crop box} (candtruth's count)."""
-    cols = read_pcd(os.path.join(run, "scan.pcd"), ["x", "y", "z", "label", "instance"])
-    margin = index["margin"]
-    veh = {}
-    for x, y, z, lab, inst in zip(cols["x"], cols["y"], cols["z"], cols["label"], cols["instance"]):
-        if inst > 0 and lab == 1:
-            veh.setdefault(int(inst), []).append((x, y, z))
-    total = {v: len(p) for v, p in veh.items()}
-    held = []
-    for c in index["candidates"]:
-        t = c["transform"]
-        hx, hy, top = 0.5 * c["length"] + margin, 0.5 * c["width"] + margin, c["height"] + margin
-        counts = {}
-        for v, pts in veh.items():
-            n = 0
-            for x, y, z in pts:
-                dx, dy, dz = x - t[0][3], y - t[1][3], z - t[2][3]
-                lx = t[0][0] * dx + t[1][0] * dy + t[2][0] * dz
-                ly = t[0][1] * dx + t[1][1] * dy + t[2][1] * dz
-                lz = t[0][2] * dx + t[1][2] * dy + t[2][2] * dz
-                if abs(lx) <= hx and abs(ly) <= hy and -margin <= lz <= top:
-                    n += 1
-            if n:
-                counts[v] = n
-        held.append(counts)
-    return total, held
 
 
 def run_tile(run, tag, a):

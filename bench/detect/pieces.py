@@ -36,9 +36,8 @@ def wilson(k, n, z=1.96):
     return (100 * max(0.0, c - h), 100 * min(1.0, c + h))
 
 
-def run_tile(run, tag):
-    truth = json.load(open(os.path.join(run, "truth.json")))
-    index = json.load(open(os.path.join(run, "cands-" + tag, "index.json")))
+def held_by(index, run):
+    """Per candidate: {instance: vehicle points inside its crop box} (candtruth's count)."""
     cols = read_pcd(os.path.join(run, "scan.pcd"), ["x", "y", "z", "label", "instance"])
     margin = index["margin"]
     veh = {}
@@ -46,11 +45,10 @@ def run_tile(run, tag):
         if inst > 0 and lab == 1:
             veh.setdefault(int(inst), []).append((x, y, z))
     total = {v: len(p) for v, p in veh.items()}
-    held = []  # per candidate: {instance: points in its crop}
+    held = []
     for c in index["candidates"]:
         t = c["transform"]
-        hx, hy = 0.5 * c["length"] + margin, 0.5 * c["width"] + margin
-        top = c["height"] + margin
+        hx, hy, top = 0.5 * c["length"] + margin, 0.5 * c["width"] + margin, c["height"] + margin
         counts = {}
         for v, pts in veh.items():
             n = 0
@@ -64,6 +62,13 @@ def run_tile(run, tag):
             if n:
                 counts[v] = n
         held.append(counts)
+    return total, held
+
+
+def run_tile(run, tag):
+    truth = json.load(open(os.path.join(run, "truth.json")))
+    index = json.load(open(os.path.join(run, "cands-" + tag, "index.json")))
+    total, held = held_by(index, run)
     rows = []
     for v in truth["vehicles"]:
         i = v["instance"]
