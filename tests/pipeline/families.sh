@@ -101,9 +101,11 @@ if grep -q '^done\|^FAIL' "$tmp/rec.log"; then fail "the recursive step ran stag
 echo '; touched by the test' >>"$tmp/params/baseline.ini"
 if "${mk[@]}" -q SCENE_EXPERIMENT=0 FAMILIES=1 "$res/confusion.csv"; then fail "make -q after a parameter change exits 0"; fi
 "${mk[@]}" SCENE_EXPERIMENT=0 FAMILIES=1 "$res/confusion.csv" >"$tmp/rec2.log" 2>&1 || fail "recursive families failed: $(tail -3 "$tmp/rec2.log")"
-ran=$(grep -c '^done' "$tmp/rec2.log"); want=$(( 2 * trials + 1 ))
+# (The baseline's two methods per trial, the models' side it reads, baseline-models.bin, and famscore.)
+ran=$(grep -c '^done' "$tmp/rec2.log"); want=$(( 2 * trials + 2 ))
 [ "$ran" = "$want" ] && ! grep '^done' "$tmp/rec2.log" | grep -qv 'baseline-\|confusion.csv' \
-  || fail "after baseline.ini changed: $ran stages ran (want $want: the baseline's and famscore): $(head -5 "$tmp/rec2.log")"
+  && grep '^done' "$tmp/rec2.log" | grep -q 'baseline-models.bin' \
+  || fail "after baseline.ini changed: $ran stages ran (want $want: the baseline's, its models' side and famscore): $(head -5 "$tmp/rec2.log")"
 
 # The generated modelbase (family-modelbase): entries pickup-0, van-0 (built above, linked),
 # pickup-1, van-1 (new) with their classes; with FAM_MB_WINDOW=1 van-1's render waits for
