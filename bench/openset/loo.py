@@ -7,19 +7,12 @@ over the instances whose class has another modelbase instance (the others cannot
 only the modelbase's classes are answered)."""
 import collections
 import json
-import math
+import os
 import subprocess
 import sys
 
-
-def wilson(k, n, z=1.96):
-    if n == 0:
-        return 0.0, 100.0
-    p = k / n
-    d = 1 + z * z / n
-    c = (p + z * z / (2 * n)) / d
-    h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
-    return 100 * (c - h), 100 * (c + h)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from rates import rate  # noqa: E402
 
 
 def main():
@@ -52,9 +45,8 @@ def main():
                 t['none'] += got == 'none'
     for key in sorted(tally):
         t = tally[key]
-        lo, hi = wilson(t['right'], t['n'])
-        print(f'{key[0]:8s} {key[1]:6s} {key[2]:6s} right {t["right"]}/{t["n"]} = {100 * t["right"] / t["n"]:.1f}% '
-              f'[{lo:.1f}, {hi:.1f}]  none {t["none"]}  wrong {t["n"] - t["right"] - t["none"]}')
+        print(f'{key[0]:8s} {key[1]:6s} {key[2]:6s} right {rate(t["right"], t["n"])}  none {t["none"]}  '
+              f'wrong {t["n"] - t["right"] - t["none"]}')
 
 
 if __name__ == '__main__':
