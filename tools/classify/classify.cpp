@@ -264,6 +264,15 @@ void outline(Answer& a, const Params& p) {
   if (!why.empty()) unanswer(a, why, strength);
 }
 
+// How far the top's profile lies from a modelbase entry's own (classify.md §18): the largest
+// absolute difference of the plateau share and the two end levels; 0 for a family's range or an
+// unmeasured entry.
+double profile_difference(const TableRange& k, const Features& f) {
+  if (!k.profile) return 0;
+  const std::array<double, 3>& e = *k.profile;
+  return std::max({std::abs(f.plateau_share - e[0]), std::abs(f.end_low - e[1]), std::abs(f.end_high - e[2])});
+}
+
 // Among the classes the size fits, the best: smallest distance, then most central; profile
 // cues move the overlapping pairs (docs/decisions/classify.md §4).
 void choose(Answer& a, const Params& p, double sigma, const std::vector<TableRange>& table) {
@@ -272,33 +281,47 @@ void choose(Answer& a, const Params& p, double sigma, const std::vector<TableRan
   // has such a top; every other family drops to a bonnet, glacis, bucket or chassis.
   const bool box = f.plateau_share >= p.box_plateau && f.end_low >= p.box_ends;
   std::vector<Fit> fits;
+  // The nearest entry set aside because its own profile is not this top's (--entry-profile).
+  std::optional<Fit> aside;
   for (const TableRange& k : table) {
-    if (!box || k.flat_box) fits.push_back(fit(k, f, sigma, p));
+    if (box && !k.flat_box) continue;
+    const Fit x = fit(k, f, sigma, p);
+    if (p.entry_profile > 0 && profile_difference(k, f) > p.entry_profile) {
+      if (!aside || x.distance < aside->distance) aside = x;
+      continue;
+    }
+    fits.push_back(x);
   }
   auto better = [](const Fit& x, const Fit& y) {
     if (std::abs(x.distance - y.distance) > 1e-9) return x.distance < y.distance;
     return x.centrality < y.centrality;
   };
   std::stable_sort(fits.begin(), fits.end(), better);
-  const Fit& best = fits.front();
-  if (best.distance > p.size_gate) {
-    if (box) {
-      refuse(
-          a, "not_vehicle_shape",
-          fmt("a flat box: %.0f%% of its length within the top's plateau, both ends at %.0f%% of H or more; "
-              "%.2f x ",
-              100 * f.plateau_share, 100 * f.end_low, f.length) +
-              fmt("%.2f x %.2f m is no box-truck or bus (nearest ", f.width, f.height) + label(*best.cls) +
-              fmt(" at %.1f sigma)", best.distance),
-          past(best.distance, p.size_gate));
-      return;
+  if (fits.empty() || fits.front().distance > p.size_gate) {
+    const Fit* best = fits.empty() ? nullptr : &fits.front();
+    const std::string nearest =
+        best ? "nearest " + label(*best->cls) + fmt(" at %.1f sigma", best->distance) : "no class left";
+    std::string why =
+        box ? fmt("a flat box: %.0f%% of its length within the top's plateau, both ends at %.0f%% of H or "
+                  "more; "
+                  "%.2f x ",
+                  100 * f.plateau_share, 100 * f.end_low, f.length) +
+                  fmt("%.2f x %.2f m is no box-truck or bus (", f.width, f.height) + nearest + ")"
+            : fmt("%.2f x %.2f x %.2f m fits no class's ranges (", f.length, f.width, f.height) + nearest +
+                  fmt("; gate %.1f)", p.size_gate);
+    if (aside && aside->distance <= p.size_gate) {
+      const std::array<double, 3>& e = *aside->cls->profile;
+      why +=
+          "; modelbase entry " + aside->cls->entry +
+          fmt("'s size fits (%.1f sigma) but not its profile", aside->distance) +
+          fmt(": plateau %.0f%% of the length, ends at %.0f%% and ", 100 * f.plateau_share, 100 * f.end_low) +
+          fmt("%.0f%% of H against its %.0f%%, ", 100 * f.end_high, 100 * e[0]) +
+          fmt("%.0f%% and %.0f%% (", 100 * e[1], 100 * e[2]) + fmt("tolerance %.0f%%)", 100 * p.entry_profile);
     }
-    refuse(a, "not_vehicle_shape",
-           fmt("%.2f x %.2f x %.2f m fits no class's ranges (nearest ", f.length, f.width, f.height) +
-               label(*best.cls) + fmt(" at %.1f sigma; gate %.1f)", best.distance, p.size_gate),
-           past(best.distance, p.size_gate));
+    refuse(a, "not_vehicle_shape", why, best ? past(best->distance, p.size_gate) : 1.0);
     return;
   }
+  const Fit& best = fits.front();
   a.cls = best.cls->name;
   a.group = best.cls->group;
   a.entry = best.cls->entry;
@@ -371,7 +394,7 @@ std::vector<TableRange> class_table(const Params& p, const std::vector<ModelEntr
                        [&](const ModelEntry& e) { return e.cls == family.name || e.cls == family.group; });
   };
   for (const ClassRange& family : class_ranges()) {
-    if (named(family)) table.push_back({family, ""});
+    if (named(family)) table.push_back({family, "", false, std::nullopt});
   }
   if (!p.entry_classes) return table;
   const double t = p.entry_tolerance;
@@ -390,6 +413,7 @@ std::vector<TableRange> class_table(const Params& p, const std::vector<ModelEntr
     k.entry = e.name;
     if (e.profile) {
       const ModelEntry::Profile& f = *e.profile;
+      k.profile = std::array<double, 3>{f.plateau_share, f.end_low, f.end_high};
       k.plateau = f.plateau_share >= p.plateau_split ? +1 : -1;
       k.tail = f.end_high >= p.tail_split ? +1 : -1;
       k.flat_box = f.plateau_share >= p.box_plateau && f.end_low >= p.box_ends;
@@ -429,6 +453,7 @@ void validate(const Params& p) {
   need(p.box_ends > 0 && p.box_ends <= 1, "--box-ends must be in (0, 1]");
   need(p.model_density > 0 && std::isfinite(p.model_density), "--model-density must be > 0");
   need(p.entry_tolerance >= 0 && p.entry_tolerance <= 0.5, "--entry-tolerance must be in [0, 0.5]");
+  need(p.entry_profile >= 0 && p.entry_profile <= 1, "--entry-profile must be in [0, 1]");
   need(p.pass_share > 0 && p.pass_share <= 0.5, "--pass-share must be in (0, 0.5]");
   need(p.min_end_fill >= 0 && p.min_end_fill <= 1, "--min-end-fill must be in [0, 1]");
   need(p.min_notch >= 0 && p.min_notch <= 1, "--min-notch must be in [0, 1]");

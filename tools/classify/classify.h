@@ -64,6 +64,9 @@ struct ClassRange {
 struct TableRange : ClassRange {
   std::string entry;
   bool open_end = false;  // an entry whose own surface has an open end (end_fill < min_end_fill)
+  // An entry's own top profile, measured on its surface as on a candidate: plateau share, lower
+  // and higher end level (share of H); none for a family or an unmeasured entry.
+  std::optional<std::array<double, 3>> profile;
 };
 
 // The twelve families, in families.cpp's order, with their groups:
@@ -132,6 +135,11 @@ struct Params {
   // this share either way is one more class range, of the entry's class (classify.md §12).
   bool entry_classes = true;
   double entry_tolerance = 0.05;
+  // An entry's range stands for its model (classify.md §18): it is no class for a candidate whose
+  // top's profile (plateau share, lower and higher end level) differs from the entry's own by
+  // more than this (absolute share, any of the three; a jeep's bonnet against a van's long roof).
+  // 0: off (before; Params and classify.ini; classify-sim.ini 0.2).
+  double entry_profile = 0;
   // Only the modelbase's classes (docs/decisions/open-set.md, fourth round): when entries with a
   // class are given, a family is a class range only if its name or its group is one of their
   // classes (a modelbase of cars, vans and trucks is never answered wheel-loader). false: every

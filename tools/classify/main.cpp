@@ -107,6 +107,9 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
            "the --modelbase entries with a class are class ranges too (their size +- --entry-tolerance)");
   tool.add("--entry-tolerance", &p.entry_tolerance,
            "an entry's class range: its L W H x [1 - this, 1 + this]");
+  tool.add("--entry-profile", &p.entry_profile,
+           "an entry's class range is no class for a top whose plateau share or end levels differ from "
+           "the entry's own (its surface measured as a candidate) by more than this share (0: off)");
   tool.add("--modelbase-classes-only", &p.modelbase_classes_only,
            "with --modelbase entries that have a class, a family's range is a class only if its name or "
            "group is one of theirs (docs/decisions/open-set.md)");
