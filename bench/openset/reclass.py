@@ -21,6 +21,7 @@ import argparse
 import csv
 import json
 import os
+import re
 import subprocess
 import sys
 
@@ -97,7 +98,8 @@ def main():
             for r in rows:
                 if not r['true_model'] or not r['level']:
                     continue
-                want = truth_class.get(r['true_model'], r['true_model'])
+                # a procedural family instance (<class>-<n>) is of its family's class
+                want = truth_class.get(r['true_model'], re.sub(r'-[0-9]+$', '', r['true_model']))
                 got, group, cues = r['class'], '', ''
                 if r['level'] == 'class':
                     v = json.load(open(f'{runs[int(r["tile"])]}/{r["candidate"]}/class.json'))
