@@ -303,8 +303,7 @@ void choose(Answer& a, const Params& p, double sigma, const std::vector<TableRan
         best ? "nearest " + label(*best->cls) + fmt(" at %.1f sigma", best->distance) : "no class left";
     std::string why =
         box ? fmt("a flat box: %.0f%% of its length within the top's plateau, both ends at %.0f%% of H or "
-                  "more; "
-                  "%.2f x ",
+                  "more; %.2f x ",
                   100 * f.plateau_share, 100 * f.end_low, f.length) +
                   fmt("%.2f x %.2f m is no box-truck or bus (", f.width, f.height) + nearest + ")"
             : fmt("%.2f x %.2f x %.2f m fits no class's ranges (", f.length, f.width, f.height) + nearest +
