@@ -56,6 +56,7 @@ void validate(const Params& p) {
   need(p.row_max_height == 0 || (p.row_max_height > p.row_roof_height && std::isfinite(p.row_max_height)),
        "--row-max-height must be 0 (off) or above --row-roof-height");
   need(p.row_tolerance > 0 && std::isfinite(p.row_tolerance), "--row-tolerance must be > 0");
+  need(p.row_trim >= 0 && p.row_trim <= 10, "--row-trim must be in [0, 10] (0: off)");
   need(p.merge_gap >= 0 && p.merge_gap <= 5, "--merge-gap must be in [0, 5] voxels");
   need(p.min_split_share >= 0 && p.min_split_share <= 1, "--min-split-share must be in [0, 1]");
   need(p.min_ground_share > 0 && p.min_ground_share <= 1, "--min-ground-share must be in (0, 1]");
@@ -101,6 +102,7 @@ Outputs run(const Params& given, const Inputs& inputs) {
   r.stats.clusters = found.clusters;
   r.stats.splits = found.splits;
   r.stats.row_splits = found.row_splits;
+  r.stats.trims = found.trims;
   r.stats.merges = found.merges;
   r.stats.rejected_small = found.rejected_small;
   r.stats.rejected_large = found.rejected_large;

@@ -22,13 +22,15 @@
 //    or kept when at most 25% beyond the ranges (recall first), else rejected. Below
 //    kRowSplitDensity a cluster longer or wider than one vehicle is first split into one piece
 //    per roof where its points 1.1-3 m above ground cluster apart (rows of parked vehicles,
-//    rows.h, `split_rows`). A half-voxel split is kept only when its parts hold
-//    `min_split_share` of the points (and, for an object only wider than two narrow vehicles,
-//    lie side by side); accepted objects touching end to end in the top view whose union fits
-//    one vehicle are merged (`merge_gap`: a tractor unit's cab and deck; detect.md §10).
-//    An accepted cluster whose surface is mostly not planar and holds little planar area (bush
-//    groups, crown pieces: leaves are volumetric scatter, a vehicle is made of panels) is
-//    rejected (`min_planarity`, `min_planar_area`).
+//    rows.h, `split_rows`); a cluster of one such roof that would be accepted whole keeps
+//    only its parts in the top view that hold the roof or a bonnet beside it (`row_trim`).
+//    A half-voxel split is kept only when its parts hold `min_split_share` of the points
+//    (and, for an object only wider than two narrow vehicles, lie side by side); accepted
+//    objects touching end to end in the top view whose union fits one vehicle are merged
+//    (`merge_gap`: a tractor unit's cab and deck; detect.md §10). An accepted cluster whose
+//    surface is mostly not planar and holds little planar area (bush groups, crown pieces:
+//    leaves are volumetric scatter, a vehicle is made of panels) is rejected
+//    (`min_planarity`, `min_planar_area`).
 // 5. Candidates. Per accepted cluster: a rigid local frame (origin on the DTM at the
 //    footprint centre, z = the normal of the ground plane fitted under the footprint, x = the
 //    long axis); every input point inside the footprint + `margin` and below height + margin,
@@ -98,6 +100,12 @@ struct Params {
   // not a roof, and a split needs two roofs (detect.md §11); 0 = no such test (the rule before).
   double row_max_height = 3.0;
   double row_tolerance = 0.45;  // roofs' clustering tolerance in the top view (m)
+  // An object accepted whole whose roof band holds one such roof (one vehicle with something
+  // lower joined to it by the voxel: a bicycle stand, a planter, a low hedge) keeps only its
+  // parts in the top view, at row_trim x row_tolerance apart, that hold the roof or lie below
+  // the band within its reach (a bonnet); the other parts are objects of their own (detect.md
+  // §12); 0 = no trim (the rule before).
+  double row_trim = 1.0;
   // An object re-clustered at half the voxel (touching objects) is split only when the parts
   // it keeps hold at least this share of its points (detect.md §10); 0 = any two parts (the
   // rule before).
@@ -115,7 +123,7 @@ struct Params {
 // ground_tolerance > 0, voxel in [1 mm, 100 m], min_object_height >= 0, 0 <= min <= max of length, width and
 // height, max_height > min_object_height, margin >= 0, min_points >= 3, min_planarity in
 // [0, 1], planar_radius >= 0.2 m, planar_ratio in (0, 1), min_planar_area >= 0,
-// min_ground_share in (0, 1], min_split_share in [0, 1], merge_gap in [0, 5].
+// min_ground_share in (0, 1], min_split_share in [0, 1], merge_gap in [0, 5], row_trim in [0, 10].
 void validate(const Params& params);
 
 // The tile's ground-truth fields (rangetrace's tiles): never copied into a crop, so no later
@@ -177,7 +185,8 @@ struct Candidate {
 
 struct Stats {
   std::size_t points = 0, ground_cells = 0, filled_cells = 0, cells = 0;
-  std::size_t ground_points = 0, band_points = 0, clusters = 0, splits = 0, row_splits = 0, merges = 0;
+  std::size_t ground_points = 0, band_points = 0, clusters = 0, splits = 0, row_splits = 0, trims = 0,
+              merges = 0;
   std::size_t rejected_small = 0, rejected_large = 0, rejected_canopy = 0, rejected_shape = 0;
   double seconds_ground = 0, seconds_objects = 0, seconds_candidates = 0;
 };

@@ -76,6 +76,11 @@ void bind(common::Tool& tool, detect::Params& p, Cli& cli) {
                   "tallest vehicle of a row: a part of the roof band under which the object rises "
                   "higher (a truck's cab, a wheel loader) is not a roof, and a row split needs two "
                   "roofs; 0 = no such test, the rule before, docs/decisions/detect.md §11");
+  tool.add("--row-trim", &p.row_trim,
+           "an object longer or wider than one vehicle whose roof band holds one roof (a car with "
+           "a bicycle stand, a planter or a low hedge joined to it) keeps only its parts, this many "
+           "row tolerances apart in the top view, that hold the roof or lie below the band within "
+           "its reach; 0 = no trim, the rule before, docs/decisions/detect.md §12");
   tool.add("--min-split-share", &p.min_split_share,
            "an object re-clustered at half the voxel (objects that touch) is split only when the "
            "parts kept hold at least this share of its points (a sparse vehicle only falls into "
@@ -116,12 +121,12 @@ std::string summary(const detect::Result& r) {
       "density %.1f points/m² (DTM cell %.2f m, voxel %.2f m, min planarity %.2f, rows %s); ground %zu of "
       "%zu cells "
       "(%.2f s); %zu "
-      "object points in %zu clusters, %zu splits (%zu rows), %zu merges, "
+      "object points in %zu clusters, %zu splits (%zu rows, %zu trims), %zu merges, "
       "rejected %zu small %zu large %zu canopy bottoms %zu not planar (%.2f s); %zu candidates (%.2f s)",
       r.density.rule, r.density.cell, r.density.voxel, r.density.min_planarity,
       r.density.split_rows ? "split" : "kept", s.ground_cells, s.cells, s.seconds_ground, s.band_points,
-      s.clusters, s.splits, s.row_splits, s.merges, s.rejected_small, s.rejected_large, s.rejected_canopy,
-      s.rejected_shape, s.seconds_objects, r.candidates.size(), s.seconds_candidates);
+      s.clusters, s.splits, s.row_splits, s.trims, s.merges, s.rejected_small, s.rejected_large,
+      s.rejected_canopy, s.rejected_shape, s.seconds_objects, r.candidates.size(), s.seconds_candidates);
   return buf;
 }
 

@@ -211,21 +211,29 @@ void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
     for (auto& part : parts) examine(c, std::move(part), depth + 1);
     return;
   }
+  // Examines the pieces of a row split or a trim (rows.h) and what no roof is near (a wall, a
+  // hedge's far end) as objects of their own.
+  auto examine_row = [&](RowSplit& row) {
+    ++(row.trimmed ? c.out.trims : c.out.row_splits);
+    ++c.in_row;
+    for (auto& piece : row.pieces) examine(c, std::move(piece), depth + 1);
+    if (row.rest.size() >= p.min_points) {
+      for (auto& part : cluster_points(row.rest, c.x, c.y, c.z, p.voxel, Clustering::kGrid))
+        examine(c, std::move(part), depth + 1);
+    } else if (!row.rest.empty()) {
+      ++c.out.rejected_small;
+    }
+    --c.in_row;
+  };
+  RowSplit trim;  // one vehicle with something beside it: trimmed only if accepted whole (below)
   if (p.split_rows && depth < kMaxSplitDepth && (o.fp.length > kRowLength || o.fp.width > kRowWidth)) {
     // A row of parked vehicles merged by the voxel: one piece per roof (rows.h, detect.md §9).
-    RowSplit row = split_row(pts, c.x, c.y, c.h, o.fp, p.row_roof_height, p.row_tolerance, p.row_max_height);
-    if (!row.pieces.empty()) {
-      ++c.out.row_splits;
-      ++c.in_row;
-      for (auto& piece : row.pieces) examine(c, std::move(piece), depth + 1);
-      // What no roof is near (a wall, a hedge's far end): its own objects.
-      if (row.rest.size() >= p.min_points) {
-        for (auto& part : cluster_points(row.rest, c.x, c.y, c.z, p.voxel, Clustering::kGrid))
-          examine(c, std::move(part), depth + 1);
-      } else if (!row.rest.empty()) {
-        ++c.out.rejected_small;
-      }
-      --c.in_row;
+    RowSplit row = split_row(pts, c.x, c.y, c.h, o.fp, p.row_roof_height, p.row_tolerance, p.row_max_height,
+                             p.row_trim * p.row_tolerance);
+    if (row.trimmed) {
+      trim = std::move(row);
+    } else if (!row.pieces.empty()) {
+      examine_row(row);
       return;
     }
   }
@@ -273,6 +281,12 @@ void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
       ++c.out.rejected_large;
       return;
     }
+  }
+  // Accepted whole, but one roof of vehicle length with parts beyond its reach: the vehicle and
+  // the rest (detect.md §12). After the other splits, which part objects that touch in 3-D.
+  if (!trim.pieces.empty()) {
+    examine_row(trim);
+    return;
   }
   o.points = std::move(pts);
   o.row_piece = c.in_row > 0;

@@ -31,7 +31,7 @@ struct Object {
 // The objects that pass the vehicle tests, in the order found, and the counts of the way.
 struct Objects {
   std::vector<Object> accepted;
-  std::size_t band_points = 0, clusters = 0, splits = 0, row_splits = 0, merges = 0;
+  std::size_t band_points = 0, clusters = 0, splits = 0, row_splits = 0, trims = 0, merges = 0;
   std::size_t rejected_small = 0, rejected_large = 0, rejected_canopy = 0;
 };
 

@@ -75,6 +75,51 @@ std::vector<std::vector<std::uint32_t>> top_view_clusters(const std::vector<std:
 
 bool fits_one_roof(const Footprint& f) { return f.length <= kRowRoofLength && f.width <= kRowRoofWidth; }
 
+// A roof's reach: the points of its vehicle lie within `along` of the roof along the vehicle's
+// axis and `across` beside it.
+struct Reach {
+  Vector2d centre, axis;           // the vehicle's axis
+  double half_along, half_across;  // the roof's half extents along and across it
+  double along, across;            // the reach beyond them
+};
+
+// True when the top view of point q lies within the reach r.
+bool within(const Reach& r, const std::vector<double>& x, const std::vector<double>& y, std::uint32_t q) {
+  const Vector2d d = Vector2d(x[q], y[q]) - r.centre;
+  const double du = std::max(0.0, std::abs(d.dot(r.axis)) - r.half_along);
+  const double dv = std::max(0.0, std::abs(d.dot(Vector2d(-r.axis.y(), r.axis.x()))) - r.half_across);
+  return du <= r.along && dv <= r.across;
+}
+
+// One vehicle's roof in an object: the object's parts in the top view at `gap` (PCL's Euclidean
+// clustering of every point at z = 0) that hold a point of the roof, or lie below the roof band
+// (under `roof_height`) within its reach along the vehicle and kTrimSide beside the roof (a
+// bonnet or boot whose returns are apart from the roof's: a windscreen that returned nothing),
+// are the vehicle; the other parts are the rest. No piece when there is no rest (nothing to
+// trim).
+RowSplit trim_to_roof(const std::vector<std::uint32_t>& pts, const std::vector<double>& x,
+                      const std::vector<double>& y, const std::vector<float>& h,
+                      std::vector<std::uint32_t> roof, Reach reach, double roof_height, double gap) {
+  std::sort(roof.begin(), roof.end());
+  reach.across = kTrimSide;
+  RowSplit out;
+  std::vector<std::uint32_t> vehicle;
+  for (auto& part : top_view_clusters(pts, x, y, gap)) {
+    bool keep = true;
+    for (std::uint32_t q : part) keep = keep && h[q] < roof_height && within(reach, x, y, q);
+    for (std::size_t n = 0; n < part.size() && !keep; ++n)
+      keep = std::binary_search(roof.begin(), roof.end(), part[n]);
+    auto& to = keep ? vehicle : out.rest;
+    to.insert(to.end(), part.begin(), part.end());
+  }
+  if (out.rest.empty() || vehicle.empty()) return {};
+  std::sort(vehicle.begin(), vehicle.end());
+  std::sort(out.rest.begin(), out.rest.end());
+  out.pieces.push_back(std::move(vehicle));
+  out.trimmed = true;
+  return out;
+}
+
 }  // namespace
 
 double row_tolerance_for_density(double d) {
@@ -83,7 +128,7 @@ double row_tolerance_for_density(double d) {
 
 RowSplit split_row(const std::vector<std::uint32_t>& pts, const std::vector<double>& x,
                    const std::vector<double>& y, const std::vector<float>& h, const Footprint& row,
-                   double roof_height, double tolerance, double max_height) {
+                   double roof_height, double tolerance, double max_height, double trim_gap) {
   const Vector2d row_axis = row.axis;
   RowSplit out;
   std::vector<std::uint32_t> band;
@@ -118,7 +163,7 @@ RowSplit split_row(const std::vector<std::uint32_t>& pts, const std::vector<doub
       parts.push_back(std::move(part));
     }
   }
-  if (parts.size() < 2) return out;
+  if (parts.size() < 2 && trim_gap <= 0) return out;  // one part: one roof at most
   // Fragments of one roof (a windscreen or a dark panel returned nothing): join the two parts
   // whose union has the smallest rectangle while it fits one roof, until none does. Only parts
   // whose bounding boxes together span at most a roof's diagonal can fit (most pairs).
@@ -243,7 +288,20 @@ RowSplit split_row(const std::vector<std::uint32_t>& pts, const std::vector<doub
   }
   // A row is mostly roofs: hedges, shrubs and crowns in the band leave irregular parts, of
   // which a few may be roof-sized.
-  if (low_roofs < 2 || double(in_short) < kRowRoofShare * double(band.size())) return out;
+  const bool mostly_roofs = double(in_short) >= kRowRoofShare * double(band.size());
+  // One low roof of vehicle length that holds the band: one vehicle with something lower beside
+  // it (a bicycle stand, a planter, a low hedge, a neighbour's bonnet) that the voxel joined to
+  // it. It is trimmed off where the top view has a gap of trim_gap (detect.md §12).
+  const bool trim = trim_gap > 0 && low_roofs == 1 && short_roofs == 1 && mostly_roofs;
+  if (!trim && (low_roofs < 2 || !mostly_roofs)) return out;
+  if (trim) {
+    // The one roof of vehicle length; the other parts of the band are not roofs.
+    roofs.erase(std::remove_if(roofs.begin(), roofs.end(),
+                               [&](const std::vector<std::uint32_t>& r) {
+                                 return rectangle_of(r, x, y).length > kRowRoofMax;
+                               }),
+                roofs.end());
+  }
   // Vehicles in a row park along it or across it: a roof's axis within kRowSnap of either is
   // taken as that (a sparse roof's own rectangle turns by a few degrees, and its reach then
   // takes a wall beside the car).
@@ -258,11 +316,6 @@ RowSplit split_row(const std::vector<std::uint32_t>& pts, const std::vector<doub
   // long as wide does not say which way its vehicle points: the row does when it is as wide as
   // a vehicle is long (nose-in, vehicles across it) or narrower than kRowWidth (vehicles along
   // it); else kRowAssign both ways.
-  struct Reach {
-    Vector2d centre, axis;           // the vehicle's axis
-    double half_along, half_across;  // the roof's half extents along and across it
-    double along, across;            // the reach beyond them
-  };
   std::vector<Reach> reach_of;
   const Vector2d row_across(-row.axis.y(), row.axis.x());
   for (const Footprint& f : rect) {
@@ -278,6 +331,7 @@ RowSplit split_row(const std::vector<std::uint32_t>& pts, const std::vector<doub
     }
     reach_of.push_back(r);
   }
+  if (trim) return trim_to_roof(pts, x, y, h, roofs.front(), reach_of.front(), roof_height, trim_gap);
   // Every point of the object to the roof nearest it in the top view within that reach.
   out.pieces.resize(roofs.size());
   for (std::uint32_t q : pts) {

@@ -44,6 +44,10 @@ constexpr std::size_t kRowRoofPoints = 5;
 // (the body's sides, not a wall beside the car), or kRowAssign both ways when the roof is less
 // than kRowElongated times as long as wide (its axis is not known).
 constexpr double kRowAssign = 1.6, kRowSide = 0.6, kRowElongated = 1.3;
+// A part of an object trimmed to one roof (split_row's trim_gap) that holds none of the roof's
+// points stays with the vehicle when it lies below the roof band, within kRowAssign of the roof
+// along the vehicle and this (m) beside it: a bonnet or boot apart from the roof in the top view.
+constexpr double kTrimSide = 0.3;
 // A row at least this wide (m) is taken for vehicles parked across it (nose-in), one at most
 // kRowWidth wide for vehicles along it, when a roof does not say.
 constexpr double kRowNoseIn = 3.4;
@@ -59,6 +63,7 @@ double row_tolerance_for_density(double d);
 struct RowSplit {
   std::vector<std::vector<std::uint32_t>> pieces;  // one per roof, rows of the tile; empty: no split
   std::vector<std::uint32_t> rest;                 // the object's points near no roof
+  bool trimmed = false;  // one vehicle's roof: one piece, the rest trimmed off (trim_gap)
 };
 
 // The split of an object (`pts`, rows into x, y: local frame, h: height above ground; its
@@ -66,9 +71,13 @@ struct RowSplit {
 // kRowRoofMax long and such roofs hold at least kRowRoofShare of the band's points; else no
 // pieces (the object stays whole). `tolerance`: row_tolerance_for_density. Roofs under which
 // the object rises above `max_height` (m; 0: no such test) are parts of a taller vehicle and do
-// not count toward the two (detect.md §11).
+// not count toward the two (detect.md §11). When the band holds one such roof (and it holds
+// kRowRoofShare of the band's points), the object is one vehicle with something beside it: with
+// `trim_gap` > 0 (m) its parts in the top view at that gap that hold none of the roof's points
+// and reach beyond the roof's reach are trimmed off (`trimmed`, one piece and the rest; none when
+// every part is the vehicle's; detect.md §12).
 RowSplit split_row(const std::vector<std::uint32_t>& pts, const std::vector<double>& x,
                    const std::vector<double>& y, const std::vector<float>& h, const Footprint& row,
-                   double roof_height, double tolerance, double max_height);
+                   double roof_height, double tolerance, double max_height, double trim_gap);
 
 }  // namespace canopy::detect
