@@ -308,6 +308,35 @@ TEST_CASE("tile: images traced in windows over strip and tile give the same scan
   CHECK(windowed.second == full.second);
 }
 
+TEST_CASE("tile: a canopy image coded for its classes only gives the same cover and scan") {
+  // Vehicles (instances in blue), trees, bushes and clutter under a nadir canopy image finer than
+  // the scan: the class-only texture there must give every pixel the same blue, hence the
+  // same cover per vehicle and over the tile, and leave the scan frames as they were.
+  SceneRecipe s = parse_scene(
+      "extent = 16m 12m\nterrain = rolling 1m 10m\ntrees = 600\nhide = 2\nbushes = 400\nclutter = logs 1 "
+      "boulder 1\n"
+      "vehicles = random 2 from sedan\nflight_lines = 1\nheadings = 0\n"
+      "looks = 75deg/0\nspacing = 0.2m\ncanopy_spacing = 0.05m\n",
+      "canopy.scene");
+  auto render = [&](bool class_only) {
+    Params q = small_params(11);
+    q.canopy_class_only = class_only;
+    Tile t = build_tile(*s.tile, "canopy.scene", q);
+    const std::string bytes = formats::serialize_pcd(run_tile(&t, q).cloud);
+    std::vector<double> cover = {t.canopy_cover};
+    for (const auto& v : t.vehicles) cover.push_back(v.canopy_cover);
+    return std::make_pair(bytes, cover);
+  };
+  const auto coded = render(true), depth = render(false);
+  CHECK(coded.first == depth.first);
+  CHECK(coded.second == depth.second);
+  REQUIRE(coded.second.size() == 3);
+  CHECK(coded.second[0] > 0.2);  // the canopy is there to measure
+  double over_vehicles = 0;
+  for (std::size_t k = 1; k < coded.second.size(); ++k) over_vehicles += coded.second[k];
+  CHECK(over_vehicles > 0);
+}
+
 TEST_CASE("tile: decode_tile fills its reserved columns as appending image by image did") {
   // Synthetic frames (no POV-Ray): misses, depths outside the coded range, every class and
   // instances, over two headings x two lines x two looks whose strips overlap and run past the
