@@ -1,15 +1,19 @@
 #!/usr/bin/env bash
 # render_slice.sh: CPU seconds (user + system, POV-Ray included: /usr/bin/time -f) of a fixed
 # slice of the experiment's renders, traced whole ("before") and in render windows ("after",
-# docs/decisions/cost.md §11), and whether each pair of scans is byte-identical (cmp).
+# docs/decisions/cost.md §11), and whether each pair of scans (and a tile's truth.json) is
+# byte-identical (cmp).
 #
 # Usage: render_slice.sh BIN_DIR [SLICE...] [-- OLD_BIN_DIR]
 #   SLICE: thesis (the 15 renders of the thesis protocol: 5 models x circle, flyby, unoccluded,
 #          as Makefile.experiments runs them), band (verify's 5 band renders, mk/verify.mk),
 #          families (3 family test renders at the light cover, mk/families.mk's FAM_RENDER),
-#          tiles (2 tiles like the scene experiment's light ones, 30 m at 40 mm); default: thesis.
+#          tiles (2 tiles like the scene experiment's light ones, 30 m at 40 mm), covers (mk/scenes.mk's
+#          recipe as it is now, unseen clutter included: light, medium, dense at development seeds
+#          101, 102, 40 mm), ladder (the same recipe at seed 101 of each cover at mk/density.mk's
+#          10, 200 and 800 points/m²: 667, 149, 75 mm); default: thesis.
 #   "before" is BIN_DIR's rangetrace with CANOPY_RENDER_WINDOW=off, or OLD_BIN_DIR's rangetrace
-#   (a build without windows) when given. Before and after alternate render by render, so a
+#   (another build, e.g. main's) when given. Before and after alternate render by render, so a
 #   change of the machine's load touches both. Prints one line per render and the totals;
 #   exits 1 when a pair of scans differs.
 set -eu
@@ -58,17 +62,37 @@ for s in "${slices[@]}"; do
           >"$tmp/tile$seedn.scene"
         add "tile-$seedn" "--scene $tmp/tile$seedn.scene --seed $(seed "scenes/light/$seedn") --threads 2"
       done ;;
-    *) echo "render_slice.sh: unknown slice '$s' (thesis, band, families, tiles)" >&2; exit 2 ;;
+    covers | ladder)
+      # mk/scenes.mk's scene_recipe: trees and hide per cover, 3-8 vehicles and two unseen clutter
+      # kinds from the tile's place (cksum, as the makefile draws them); the seed is that place.
+      if [ "$s" = covers ]; then tiles="light:101:40 light:102:40 medium:101:40 medium:102:40 dense:101:40 dense:102:40"
+      else tiles="light:101:667 light:101:149 light:101:75 medium:101:667 medium:101:149 medium:101:75 dense:101:667 dense:101:149 dense:101:75"; fi
+      for t in $tiles; do
+        IFS=: read -r c seedn mm <<<"$t"
+        case $c in light) trees=100 hide=0 ;; medium) trees=350 hide=1 ;; dense) trees=700 hide=2 ;; esac
+        nv=$(( 3 + $(seed "vehicles/$c/$seedn") % 6 ))
+        unseen=$(echo trailer_1_rock_1 caravan_1_tent_1 pipes_1_barriers_1 | cut -d' ' -f$(( 1 + $(seed "clutter/$c/$seedn") % 3 )) | tr _ ' ')
+        printf '%s\n' 'extent = 30m' 'terrain = rolling 1m 25m' "trees = $trees" "hide = $hide" 'bushes = 300' \
+          "vehicles = random $nv from earthmover,obj1,sedan,semi,tank" "clutter = boulder 2 container 1 logs 1 $unseen" \
+          'flight_lines = 2' 'headings = 0deg 90deg' 'looks = 75deg/0deg 75deg/180deg' "spacing = ${mm}mm" \
+          >"$tmp/$c-$seedn-$mm.scene"
+        add "$c-$seedn-${mm}mm" "--scene $tmp/$c-$seedn-$mm.scene --seed $(seed "scenes/$c/$seedn") --threads 2"
+      done ;;
+    *) echo "render_slice.sh: unknown slice '$s' (thesis, band, families, tiles, covers, ladder)" >&2; exit 2 ;;
   esac
 done
 
 printf '# %s; load average before: %s\n' "$(date -u +%FT%TZ)" "$(cut -d' ' -f1-3 /proc/loadavg)"
 printf '%-28s %10s %10s %9s %9s %9s\n' render before_cpu after_cpu before_s after_s identical
-run() {  # run TAG BIN WINDOW ARGS: CPU and wall of one render into $tmp/TAG.{pcd,time}
-  local tag=$1 b=$2 w=$3; shift 3
+run() {  # run TAG BIN WINDOW ARGS: CPU and wall of one render into $tmp/TAG.{pcd,time} (+ .json: a tile's truth)
+  local tag=$1 b=$2 w=$3 truth=(); shift 3
+  # A tile's truth.json under one name for both runs (the scan records its path), then moved.
+  case " $* " in *" --model "*) ;; *) truth=(--truth "$tmp/truth.json") ;; esac
   # shellcheck disable=SC2086
   CANOPY_RENDER_WINDOW=$w /usr/bin/time -f '%e %M %U %S' -o "$tmp/$tag.time" "$b/rangetrace" -q $* \
-    -o "$tmp/$tag.pcd"
+    -o "$tmp/$tag.pcd" "${truth[@]}"
+  rm -f "$tmp/$tag.json"
+  if [ ${#truth[@]} -gt 0 ]; then mv "$tmp/truth.json" "$tmp/$tag.json"; fi
 }
 tb=0; ta=0; same=0; n=0; status=0
 for j in "${jobs[@]}"; do
@@ -78,7 +102,8 @@ for j in "${jobs[@]}"; do
   read -r ws _ ub sb <"$tmp/before.time"
   read -r wa _ ua sa <"$tmp/after.time"
   cb=$(echo "$ub + $sb" | bc -l); ca=$(echo "$ua + $sa" | bc -l)
-  if cmp -s "$tmp/before.pcd" "$tmp/after.pcd"; then id=yes; same=$((same + 1)); else id=NO; status=1; fi
+  if cmp -s "$tmp/before.pcd" "$tmp/after.pcd" && { [ ! -f "$tmp/before.json" ] && [ ! -f "$tmp/after.json" ] ||
+    cmp -s "$tmp/before.json" "$tmp/after.json"; }; then id=yes; same=$((same + 1)); else id=NO; status=1; fi
   n=$((n + 1)); tb=$(echo "$tb + $cb" | bc -l); ta=$(echo "$ta + $ca" | bc -l)
   printf '%-28s %10.2f %10.2f %9.2f %9.2f %9s\n' "$name" "$cb" "$ca" "$ws" "$wa" "$id"
 done

@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <set>
 #include <fstream>
@@ -305,6 +306,117 @@ TEST_CASE("tile: images traced in windows over strip and tile give the same scan
   CHECK(windowed.first.size() > 100000);
   CHECK(windowed.first == full.first);
   CHECK(windowed.second == full.second);
+}
+
+TEST_CASE("tile: a canopy image coded for its classes only gives the same cover and scan") {
+  // Vehicles (instances in blue), trees, bushes and clutter under a nadir canopy image finer than
+  // the scan: the class-only texture there must give every pixel the same blue, hence the
+  // same cover per vehicle and over the tile, and leave the scan frames as they were.
+  SceneRecipe s = parse_scene(
+      "extent = 16m 12m\nterrain = rolling 1m 10m\ntrees = 600\nhide = 2\nbushes = 400\nclutter = logs 1 "
+      "boulder 1\n"
+      "vehicles = random 2 from sedan\nflight_lines = 1\nheadings = 0\n"
+      "looks = 75deg/0\nspacing = 0.2m\ncanopy_spacing = 0.05m\n",
+      "canopy.scene");
+  auto render = [&](bool class_only) {
+    Params q = small_params(11);
+    q.canopy_class_only = class_only;
+    Tile t = build_tile(*s.tile, "canopy.scene", q);
+    const std::string bytes = formats::serialize_pcd(run_tile(&t, q).cloud);
+    std::vector<double> cover = {t.canopy_cover};
+    for (const auto& v : t.vehicles) cover.push_back(v.canopy_cover);
+    return std::make_pair(bytes, cover);
+  };
+  const auto coded = render(true), depth = render(false);
+  CHECK(coded.first == depth.first);
+  CHECK(coded.second == depth.second);
+  REQUIRE(coded.second.size() == 3);
+  CHECK(coded.second[0] > 0.2);  // the canopy is there to measure
+  double over_vehicles = 0;
+  for (std::size_t k = 1; k < coded.second.size(); ++k) over_vehicles += coded.second[k];
+  CHECK(over_vehicles > 0);
+}
+
+TEST_CASE("tile: decode_tile fills its reserved columns as appending image by image did") {
+  // Synthetic frames (no POV-Ray): misses, depths outside the coded range, every class and
+  // instances, over two headings x two lines x two looks whose strips overlap and run past the
+  // tile; the reference is the former decoding, each image's kept hits appended row by row.
+  SceneRecipe s = parse_scene(
+      "extent = 16m 12m\nflight_lines = 2\nheadings = 0deg 30deg\nlooks = 75deg/0 60deg/180deg\n"
+      "spacing = 0.25m\ncanopy_spacing = 0.5m\norigin = 500000.5 4100000.25 120\n",
+      "decode.scene");
+  const TileRecipe& r = *s.tile;
+  std::vector<TileView> views = tile_views(r, -1, 6);
+  views.insert(views.begin(), canopy_view(r, -1, 6));
+  REQUIRE(views.size() == 9);
+  std::vector<Image16> images(views.size());
+  std::uint64_t state = 12345;
+  auto next = [&] {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<std::uint32_t>(state >> 33);
+  };
+  for (std::size_t k = 1; k < views.size(); ++k) {
+    Image16& img = images[k];
+    img.width = views[k].width;
+    img.height = views[k].height;
+    img.rgb.resize(3 * static_cast<std::size_t>(img.width) * img.height);
+    for (std::size_t q = 0; q < img.rgb.size(); q += 3) {
+      const std::uint32_t u = next();
+      img.rgb[q] = static_cast<std::uint16_t>(u % 17 == 0 ? 0 : u % 19 == 0 ? 65535 : next() % 65536);
+      img.rgb[q + 1] = static_cast<std::uint16_t>(next() % 65536);
+      img.rgb[q + 2] = static_cast<std::uint16_t>(u % 7 == 0 ? 0 : 1 + next() % 4 + 4 * (next() % 5));
+    }
+  }
+  std::vector<int> asked;
+  const TileScan scan = decode_tile(
+      [&](int k) {
+        asked.push_back(k);
+        return images[k];
+      },
+      views, r);
+  CHECK(asked == std::vector<int>{1, 2, 3, 4, 5, 6, 7, 8});
+
+  std::vector<std::vector<double>> want(9);
+  std::vector<std::size_t> per_view;
+  for (std::size_t k = 1; k < views.size(); ++k) {
+    const TileView& v = views[k];
+    TileHits hits;
+    decode_tile_view(images[k], v, &hits);
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < hits.p.size(); ++i) {
+      const Vector3d& p = hits.p[i];
+      if (p.x() < 0 || p.y() < 0 || p.x() > r.extent_x || p.y() > r.extent_y) continue;
+      if (std::abs((p.head<2>() - v.strip_centre).dot(v.strip_across)) > v.strip_half) continue;
+      ++kept;
+      const Eigen::Vector3f t = v.toward.cast<float>();
+      for (int a = 0; a < 3; ++a) {
+        want[a].push_back(p[a] + r.origin[a]);
+        want[3 + a].push_back(t[a]);
+      }
+      want[6].push_back(static_cast<double>(k - 1));
+      // Class: 0 ground, 1 vegetation, 2 clutter, 3 vehicle (canopy/sim/tile.h).
+      const std::uint32_t labels[] = {formats::kLabelGround, formats::kLabelFoliage, formats::kLabelClutter,
+                                      formats::kLabelTarget};
+      want[7].push_back(labels[hits.cls[i]]);
+      want[8].push_back(hits.cls[i] == static_cast<std::uint32_t>(Class::kVehicle) ? hits.instance[i] : 0);
+    }
+    per_view.push_back(kept);
+  }
+  CHECK(scan.points_per_view == per_view);
+  REQUIRE(scan.cloud.size() == want[0].size());
+  CHECK(scan.cloud.size() > 5000);
+  CHECK(scan.cloud.size() < 0.8 * (images.size() - 1) * images[1].rgb.size() / 3);  // some dropped
+  const std::vector<std::string> names = {"x",        "y",        "z",     "sensor_x", "sensor_y",
+                                          "sensor_z", "view_idx", "label", "instance"};
+  CHECK(scan.cloud.names() == names);
+  for (std::size_t c = 0; c < 9; ++c) {
+    INFO(names[c]);
+    const std::vector<double>& got = scan.cloud.col(c);
+    CHECK(std::memcmp(got.data(), want[c].data(), got.size() * sizeof(double)) == 0);
+  }
+  std::set<double> classes(want[7].begin(), want[7].end());
+  CHECK(classes.size() == 4);
+  CHECK(formats::serialize_pcd(scan.cloud).size() > 0);
 }
 
 TEST_CASE("rangetrace CLI: bad tile recipes exit 1 naming the line, no output") {

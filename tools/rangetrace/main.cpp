@@ -130,10 +130,13 @@ int main(int argc, char** argv) {
     formats::output_format(o.out);  // a mistyped extension fails before any rendering
     p.seed = tool.seed();
     p.threads = tool.threads();
-    // Render windows (cost.md §11) are on; CANOPY_RENDER_WINDOW=off traces every pixel, for
-    // comparisons and measurements. An environment variable: the scan's provenance is unchanged.
+    // Render windows (cost.md §11) are on; CANOPY_RENDER_WINDOW=off traces every pixel, and
+    // CANOPY_CANOPY_CLASS_ONLY=off codes depth in a tile's canopy image (§13), for comparisons
+    // and measurements. Environment variables: the scan's provenance is unchanged.
     const char* window = std::getenv("CANOPY_RENDER_WINDOW");
     p.window = window == nullptr || std::string(window) != "off";
+    const char* class_only = std::getenv("CANOPY_CANOPY_CLASS_ONLY");
+    p.canopy_class_only = class_only == nullptr || std::string(class_only) != "off";
     request.import.scale = o.units == "mm" ? 1e-3 : o.units == "cm" ? 1e-2 : 1.0;
     request.import.z_up = o.up == "z";
     request.picture = !o.picture.empty();

@@ -113,6 +113,10 @@ struct Params {
   // same scan, fewer pixels (docs/decisions/cost.md §11). false traces every pixel
   // (CANOPY_RENDER_WINDOW=off).
   bool window = true;
+  // Tiles: the canopy image (read for its classes only) is rendered with red and green 0, without
+  // evaluating the depth functions: the same classes, less CPU (cost.md §13). false codes depth
+  // there too (CANOPY_CANOPY_CLASS_ONLY=off).
+  bool canopy_class_only = true;
 };
 
 // Throws common::UsageError naming the options when size is outside [8, 8192] or the spacing

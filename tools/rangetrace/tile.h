@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -33,6 +34,11 @@ struct TileScan {
 };
 // Renders every view and the canopy image; fills the vehicles' canopy_cover.
 TileScan run_tile(Tile* tile, const Params& params);
+// The scan of a tile's images: image(k) is the frame of view k (views[0], the canopy image, is
+// not decoded); each image keeps its points inside the tile and its view's strip (view_idx
+// k - 1), in pixel order, shifted by the recipe's origin.
+TileScan decode_tile(const std::function<Image16(int)>& image, const std::vector<TileView>& views,
+                     const TileRecipe& recipe);
 // truth.json text.
 std::string truth_json(const Tile& tile, const std::vector<std::pair<std::string, std::string>>& params);
 // Shaded nadir picture of the tile with vehicle footprints (red) and clutter boxes (yellow).
