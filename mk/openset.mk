@@ -41,6 +41,10 @@ OPENSET_MB := $(OPENSET_DIR)/modelbase
 # library's meshes (committed; test_vehicles checks them against split.csv).
 OPENSET_MESHES := $(OPENSET_LIBRARY)/modelbase
 OPENSET_SCORE := $(OPENSET_RES)/score.json
+# classify's modelbase classes only (the end of this file); its ablation's parameters.
+OPENSET_CLASSES_ONLY ?= 1
+$(if $(filter-out 0 1,$(OPENSET_CLASSES_ONLY)),$(error OPENSET_CLASSES_ONLY=$(OPENSET_CLASSES_ONLY): must be 0 or 1))
+OPENSET_CLASSIFY_ABLATION := $(if $(filter 1,$(OPENSET_CLASSES_ONLY)),$(OPENSET_DIR)/classify-ablation.ini)
 # NAME:CLASS:FILE:SPLIT of every library mesh (catalogue.csv joined with split.csv; one shell,
 # only where the open set is read: every parse pays for its shells, docs/decisions/cost.md).
 ifneq ($(filter 1,$(OPENSET))$(filter openset openset-crops,$(MAKECMDGOALS)),)
@@ -115,6 +119,20 @@ $(foreach r,$(OPENSET_CROP_RUNS),$(eval $(call tile_rules,$(call scene_key,$(r))
 $(foreach r,$(OPENSET_CROP_RUNS),$(call read_plan,$(r)/cands.mk))
 $(foreach r,$(OPENSET_CROP_RUNS),$(call cand_rules,$(r),$(call scene_key,$(r)),$(OPENSET_MB),$(patsubst $(OUT)/%,%,$(r)),$(SCENE_CLASSIFY)))
 $(foreach r,$(OPENSET_CROP_RUNS),$(eval $(call tile_collect,$(call scene_key,$(r)),$(r),$(OPENSET_MB),$(r)/scan.pcd)))
+# classify's ablation (SCENE_CLASSIFY_ABLATION, given by the parent: OPENSET_CLASSIFY_ABLATION) on
+# every crop, scored like the crops.
+ifneq ($(SCENE_CLASSIFY_ABLATION),)
+TILE_CAND_KINDS += classify:cand/class-ablation.json
+$(foreach r,$(OPENSET_CROP_RUNS),$(call class_ablation_rules,$(r),$(call scene_key,$(r)),$(OPENSET_MB),$(SCENE_CLASSIFY_ABLATION)))
+OPENSET_CROP_ABL_SCORE := $(OPENSET_CROP_RES)/class-ablation/score.json
+$(if $(dry_run),,$(shell mkdir -p $(dir $(OPENSET_CROP_ABL_SCORE))))
+$(OPENSET_CROP_DIR)/tiles-class-ablation.txt: $(call text_prereq,$(OPENSET_CROP_DIR)/tiles-class-ablation.txt,$(subst \
+  /detections.json ,/detections-class-ablation.json ,$(openset_crop_manifest)))
+$(OPENSET_CROP_ABL_SCORE): $(OPENSET_CROP_DIR)/tiles-class-ablation.txt \
+    $(addsuffix /detections-class-ablation.json,$(OPENSET_CROP_RUNS)) $(call tool,score) $(wildcard $(OPENSET_DIR)/classes.csv)
+	@$(STAGE) $@ -- $(BIN)/score --tiles $(OPENSET_CROP_DIR)/tiles-class-ablation.txt \
+	  --model-classes $(OPENSET_DIR)/classes.csv -o $@ --csv $(OPENSET_CROP_RES)/class-ablation/
+endif
 # The score's tile list: detections truth noise cover, the cover label being the instance's class.
 openset_crop_manifest = $(subst $(nl)$(space),$(nl),$(foreach r,$(OPENSET_TEST),$(foreach s,$(OPENSET_SEEDS),$(call \
   ml,$(call openset_crop_run,$(r),$(s))/detections.json $(call openset_crop_run,$(r),$(s))/truth.json 0 $(call openset_class,$(r))))))
@@ -126,7 +144,7 @@ $(OPENSET_CROP_SCORE): $(OPENSET_CROP_DIR)/tiles.txt $(addsuffix /detections.jso
 	@$(STAGE) $@ -- $(BIN)/score --tiles $(OPENSET_CROP_DIR)/tiles.txt --model-classes $(OPENSET_DIR)/classes.csv -o $@ \
 	  --csv $(OPENSET_CROP_RES)/$(if $(keep),, && rm -f $(addsuffix /scan.pcd,$(OPENSET_CROP_RUNS)))
 .PHONY: openset-crops
-openset-crops: $(OPENSET_CROP_SCORE)
+openset-crops: $(OPENSET_CROP_SCORE) $(OPENSET_CROP_ABL_SCORE)
 endif
 
 ifeq ($(filter scenes user-modelbase openset-crops tile tiles,$(MAKECMDGOALS)),)
@@ -142,9 +160,9 @@ openset_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROG
   SCENE_DIR=$(OPENSET_DIR)/tiles SCENE_RES=$(OPENSET_RES) SCENE_MB=$(OPENSET_MB) \
   SCENE_MODELS=$(openset_models) SCENE_MODEL_CLASSES=$(OPENSET_DIR)/classes.csv \
   SCENE_SEEDS="$(OPENSET_SEEDS)" SCENE_COVERS="$(OPENSET_COVERS)" SCENE_NOISES=0 SCENE_BASELINE= \
-  SCENE_SIZE_ONLY=0 SCENE_PICTURES=0 SCENE_CLASSIFY=$(OPENSET_CLASSIFY)
+  SCENE_SIZE_ONLY=0 SCENE_PICTURES=0 SCENE_CLASSIFY=$(OPENSET_CLASSIFY) SCENE_CLASSIFY_ABLATION=$(OPENSET_CLASSIFY_ABLATION)
 openset_crop_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) openset-crops PROGRESS=0 \
-  SCENE_CLASSIFY=$(OPENSET_CLASSIFY)
+  SCENE_CLASSIFY=$(OPENSET_CLASSIFY) SCENE_CLASSIFY_ABLATION=$(OPENSET_CLASSIFY_ABLATION)
 ifneq ($(findstring q,$(make_letters))$(OPENSET),q1)
 openset_force := FORCE
 else
@@ -162,12 +180,21 @@ $(OPENSET_SCORE): $(openset_force) $(OPENSET_MB)/.built $(OPENSET_DIR)/classes.c
 # that -j2 is not split between two renders of 30 m tiles and 20 m tiles at once).
 $(OPENSET_CROP_SCORE): $(openset_force) $(OPENSET_SCORE) $(OPENSET_MB)/.built $(OPENSET_DIR)/classes.csv
 	+@$(MAKE) $(openset_crop_args)
+# classify's ablation (OPENSET_CLASSIFY_ABLATION): made by the same sub-makes.
+OPENSET_ABL_SCORES := $(if $(OPENSET_CLASSIFY_ABLATION),$(OPENSET_RES)/class-ablation/score.json $(if \
+  $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_RES)/class-ablation/score.json))
+ifneq ($(OPENSET_ABL_SCORES),)
+$(word 1,$(OPENSET_ABL_SCORES)): $(OPENSET_SCORE)
+$(if $(word 2,$(OPENSET_ABL_SCORES)),$(eval $(word 2,$(OPENSET_ABL_SCORES)): $(OPENSET_CROP_SCORE)))
+endif
 .PHONY: openset
-openset: $(OPENSET_SCORE) $(if $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_SCORE))
+openset: $(OPENSET_SCORE) $(if $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_SCORE)) $(OPENSET_ABL_SCORES)
 ifeq ($(OPENSET),1)
-$(RES)/report.md: $(OPENSET_SCORE) $(if $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_SCORE)) $(OPENSET_DISTANCES)
+$(RES)/report.md: $(OPENSET_SCORE) $(if $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_SCORE)) $(OPENSET_DISTANCES) \
+  $(OPENSET_ABL_SCORES)
 REPORT_ARGS += --openset $(OPENSET_SCORE) --openset-distances $(OPENSET_DISTANCES)$(if $(filter 1,$(OPENSET_CROPS)), \
-  --openset-crops $(OPENSET_CROP_SCORE))
+  --openset-crops $(OPENSET_CROP_SCORE))$(if $(OPENSET_CLASSIFY_ABLATION), --openset-ablation $(word 1,$(OPENSET_ABL_SCORES))$(if \
+  $(filter 1,$(OPENSET_CROPS)), --openset-crops-ablation $(word 2,$(OPENSET_ABL_SCORES))))
 endif
 endif
 
@@ -175,10 +202,11 @@ endif
 # (OPENSET_CLASSIFY_BASE) with the modelbase's classes only (docs/decisions/open-set.md, fourth
 # round): the modelbase is the user's (user-modelbase), so a class no entry has (wheel-loader,
 # tracked-apc for a modelbase of cars, vans, trucks, buses and a tank) is never answered.
-# OPENSET_CLASSES_ONLY=0 is the ablation (every family). Written when its text changes (at
-# parse time, like the recipes; a dry run writes nothing and plans classify again).
-OPENSET_CLASSES_ONLY ?= 1
-$(if $(filter-out 0 1,$(OPENSET_CLASSES_ONLY)),$(error OPENSET_CLASSES_ONLY=$(OPENSET_CLASSES_ONLY): must be 0 or 1))
+# OPENSET_CLASSES_ONLY=0 is the ablation (every family); with 1 the ablation also runs beside it
+# on the same candidates (OPENSET_CLASSIFY_ABLATION: classify a second time, collect, score) and
+# the report shows both. Written when its text changes (at parse time, like the recipes; a dry
+# run writes nothing and plans classify again).
+# (OPENSET_CLASSES_ONLY, OPENSET_CLASSIFY_ABLATION: near the top.)
 OPENSET_CLASSIFY_BASE ?= $(P)/classify-sim.ini
 OPENSET_CLASSIFY := $(OPENSET_DIR)/classify.ini
 define openset_classify_text
@@ -186,6 +214,14 @@ $(file <$(OPENSET_CLASSIFY_BASE))
 # The open set (mk/openset.mk): only the modelbase's classes (OPENSET_CLASSES_ONLY).
 modelbase-classes-only = $(OPENSET_CLASSES_ONLY)
 endef
+define openset_classify_ablation_text
+$(file <$(OPENSET_CLASSIFY_BASE))
+# The open set's ablation (mk/openset.mk): every family (OPENSET_CLASSES_ONLY=0).
+modelbase-classes-only = 0
+endef
 ifneq ($(wildcard $(OPENSET_DIR))$(dry_run),)
 $(OPENSET_CLASSIFY): $(call text_prereq,$(OPENSET_CLASSIFY),$(openset_classify_text))
+ifneq ($(OPENSET_CLASSIFY_ABLATION),)
+$(OPENSET_CLASSIFY_ABLATION): $(call text_prereq,$(OPENSET_CLASSIFY_ABLATION),$(openset_classify_ablation_text))
+endif
 endif

@@ -116,3 +116,28 @@ TEST_CASE("open set: the crops' table gives Wilson intervals on the counts, one 
   // Without distances: no instance accuracy line.
   CHECK(md.find("Instance accuracy") == std::string::npos);
 }
+
+TEST_CASE("open set: the classify ablation is its own subsection with the crops' counts") {
+  // The ablation's crops: 10 cars, 9 found (4 + 5), 5 of them the right class. Wilson: 9/10
+  // [59.6, 98.2], 5/9 [26.7, 81.1], 5/10 [23.7, 76.3], 4/9 [18.9, 73.3].
+  const documents::SceneScore crops = documents::read_scene_score(R"({
+    "format": "canopy.scene_score", "version": 1,
+    "params": {"match_radius_m": 1.5, "cover_bins": [0, 1], "flip_threshold_deg": 90},
+    "tiles": [{"detections": "c/d.json", "cover": "car", "noise_mm": 0, "area_ha": 0.04}],
+    "summary": [
+      {"cover": "car", "noise_mm": "all", "tiles": 10, "true": 10, "tp": 4, "fp": 0, "class_tp": 5, "class_fp": 2,
+       "found_any_level": 9, "class_right_any_level": 5}],
+    "pr": [], "models": [], "cover_bins": [], "reliability": [], "matches": []})",
+                                                                  "abl/crops.json");
+  documents::SceneScore tiles;
+  const std::string md = report::openset_ablation_markdown(tiles, "abl/score.json", &crops, "abl/crops.json");
+  CHECK(md.find("### Ablation: every classify family (`OPENSET_CLASSES_ONLY=0`)") != std::string::npos);
+  CHECK(md.find("(abl/score.json, abl/crops.json)") != std::string::npos);
+  CHECK(
+      md.find("| car | 10 | 9 (4 + 5) | 9/10 = 90.0% [59.6, 98.2] | 5/9 = 55.6% [26.7, 81.1] | 5/10 = 50.0% "
+              "[23.7, 76.3] | 4/9 = 44.4% [18.9, 73.3] | 2 |") != std::string::npos);
+  // Without the crops: the tiles' table alone.
+  const std::string tiles_only = report::openset_ablation_markdown(tiles, "abl/score.json");
+  CHECK(tiles_only.find("single-vehicle crops") == std::string::npos);
+  CHECK(tiles_only.find("| cover | tiles | vehicles |") != std::string::npos);
+}

@@ -199,7 +199,8 @@ std::string density_section(const std::vector<documents::ManifestDensity>& densi
 struct Sources {
   std::string manifest, results = "results";
   std::string thesis;  // default: <share>/thesis/results.csv
-  std::string tile_score, families, disk, openset, openset_crops, openset_distances;
+  std::string tile_score, families, disk, openset, openset_crops, openset_distances, openset_ablation,
+      openset_crops_ablation;
   int real_timeout = 0;
 };
 
@@ -226,6 +227,11 @@ void bind(common::Tool& tool, Sources& src, report::Params& p) {
            "vehicles\"");
   tool.add("--openset-crops", &src.openset_crops,
            "the open set's single-vehicle crops' score.json (mk/openset.mk): a subsection of the open set's");
+  tool.add("--openset-ablation", &src.openset_ablation,
+           "the open set's classify ablation's score.json (mk/openset.mk: every family): a subsection "
+           "of the open set's beside the default");
+  tool.add("--openset-crops-ablation", &src.openset_crops_ablation,
+           "the same ablation's score.json on the single-vehicle crops (with --openset-ablation)");
   tool.add("--openset-distances", &src.openset_distances,
            "the vehicle library's distances.csv (scripts/vehicles/distance.py): the open set's nearest "
            "modelbase instances and instance accuracy");
@@ -260,6 +266,10 @@ int main(int argc, char** argv) {
     if (!src.tile_score.empty()) outputs.add(scene_dir + "/times.csv", "--tile-score");
     if (src.thesis.empty()) src.thesis = common::share_dir() + "/thesis/results.csv";
     if (src.real_timeout < 0) throw common::UsageError("--real-timeout: must be >= 0 s");
+    if (src.openset.empty() && !src.openset_ablation.empty())
+      throw common::UsageError("--openset-ablation needs --openset");
+    if (src.openset_ablation.empty() && !src.openset_crops_ablation.empty())
+      throw common::UsageError("--openset-crops-ablation needs --openset-ablation");
     common::log::Phase phase("read");
     const documents::ExperimentManifest manifest = documents::read_experiment_manifest(src.manifest);
     const report::Inputs in = read_inputs(manifest, src.thesis);
@@ -287,6 +297,15 @@ int main(int argc, char** argv) {
       markdown += report::openset_markdown(documents::read_scene_score_file(src.openset), src.openset,
                                            crops ? &*crops : nullptr, src.openset_crops, distances,
                                            src.openset_distances);
+      if (!src.openset_ablation.empty()) {
+        const std::optional<documents::SceneScore> crops_abl =
+            src.openset_crops_ablation.empty()
+                ? std::nullopt
+                : std::optional(documents::read_scene_score_file(src.openset_crops_ablation));
+        markdown += report::openset_ablation_markdown(documents::read_scene_score_file(src.openset_ablation),
+                                                      src.openset_ablation, crops_abl ? &*crops_abl : nullptr,
+                                                      src.openset_crops_ablation);
+      }
     }
     if (!src.disk.empty())
       markdown += report::disk_markdown(report::disk_parts(src.disk, manifest.objects), src.disk);

@@ -189,4 +189,21 @@ std::string openset_markdown(const documents::SceneScore& score, const std::stri
   return md.str();
 }
 
+std::string openset_ablation_markdown(const documents::SceneScore& tiles, const std::string& tiles_path,
+                                      const documents::SceneScore* crops, const std::string& crops_path) {
+  std::ostringstream md;
+  md << "\n### Ablation: every classify family (`OPENSET_CLASSES_ONLY=0`)\n\n"
+     << "The open set's default answers only the classes of the modelbase's entries (`classify "
+        "--modelbase-classes-only`, docs/decisions/open-set.md); this is the same tiles, candidates and "
+        "model chain with classify's every family instead (the simulated tiles' parameters alone), run "
+        "beside it on every candidate and scored the same way ("
+     << tiles_path << (crops ? ", " + crops_path : std::string()) << ").\n\n";
+  rates_table(md, tiles, "cover");
+  if (crops != nullptr) {
+    md << "\nThe single-vehicle crops, the same ablation:\n\n";
+    crops_table(md, *crops);
+  }
+  return md.str();
+}
+
 }  // namespace canopy::report
