@@ -119,8 +119,12 @@ $(foreach r,$(OPENSET_CROP_RUNS),$(eval $(call tile_rules,$(call scene_key,$(r))
 $(foreach r,$(OPENSET_CROP_RUNS),$(call read_plan,$(r)/cands.mk))
 $(foreach r,$(OPENSET_CROP_RUNS),$(call cand_rules,$(r),$(call scene_key,$(r)),$(OPENSET_MB),$(patsubst $(OUT)/%,%,$(r)),$(SCENE_CLASSIFY)))
 $(foreach r,$(OPENSET_CROP_RUNS),$(eval $(call tile_collect,$(call scene_key,$(r)),$(r),$(OPENSET_MB),$(r)/scan.pcd)))
+# The score's tile list: detections truth noise cover, the cover label being the instance's class.
+openset_crop_manifest = $(subst $(nl)$(space),$(nl),$(foreach r,$(OPENSET_TEST),$(foreach s,$(OPENSET_SEEDS),$(call \
+  ml,$(call openset_crop_run,$(r),$(s))/detections.json $(call openset_crop_run,$(r),$(s))/truth.json 0 $(call openset_class,$(r))))))
+$(OPENSET_CROP_DIR)/tiles.txt: $(call text_prereq,$(OPENSET_CROP_DIR)/tiles.txt,$(openset_crop_manifest))
 # classify's ablation (SCENE_CLASSIFY_ABLATION, given by the parent: OPENSET_CLASSIFY_ABLATION) on
-# every crop, scored like the crops.
+# every crop, scored like the crops (after openset_crop_manifest: text_prereq reads it here).
 ifneq ($(SCENE_CLASSIFY_ABLATION),)
 TILE_CAND_KINDS += classify:cand/class-ablation.json
 $(foreach r,$(OPENSET_CROP_RUNS),$(call class_ablation_rules,$(r),$(call scene_key,$(r)),$(OPENSET_MB),$(SCENE_CLASSIFY_ABLATION)))
@@ -133,10 +137,6 @@ $(OPENSET_CROP_ABL_SCORE): $(OPENSET_CROP_DIR)/tiles-class-ablation.txt \
 	@$(STAGE) $@ -- $(BIN)/score --tiles $(OPENSET_CROP_DIR)/tiles-class-ablation.txt \
 	  --model-classes $(OPENSET_DIR)/classes.csv -o $@ --csv $(OPENSET_CROP_RES)/class-ablation/
 endif
-# The score's tile list: detections truth noise cover, the cover label being the instance's class.
-openset_crop_manifest = $(subst $(nl)$(space),$(nl),$(foreach r,$(OPENSET_TEST),$(foreach s,$(OPENSET_SEEDS),$(call \
-  ml,$(call openset_crop_run,$(r),$(s))/detections.json $(call openset_crop_run,$(r),$(s))/truth.json 0 $(call openset_class,$(r))))))
-$(OPENSET_CROP_DIR)/tiles.txt: $(call text_prereq,$(OPENSET_CROP_DIR)/tiles.txt,$(openset_crop_manifest))
 # The scans (≈ 40 MB each) are deleted once the score is made (KEEP=1 keeps them).
 .SECONDARY: $(addsuffix /scan.pcd,$(OPENSET_CROP_RUNS))
 $(OPENSET_CROP_SCORE): $(OPENSET_CROP_DIR)/tiles.txt $(addsuffix /detections.json,$(OPENSET_CROP_RUNS)) $(call tool,score) \
