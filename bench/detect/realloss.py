@@ -28,16 +28,9 @@ line per vehicle.
 import argparse, collections, json, math, os, sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "classify"))
 from rates import rate  # noqa: E402
-
-
-def inside(poly, x, y):
-    c = False
-    for i in range(len(poly)):
-        (x1, y1), (x2, y2) = poly[i], poly[(i + 1) % len(poly)]
-        if (y1 > y) != (y2 > y) and x < x1 + (y - y1) * (x2 - x1) / (y2 - y1):
-            c = not c
-    return c
+from realcal import inside  # noqa: E402  (point in polygon, the labels' footprints)
 
 
 def samples(poly, step=0.1):
