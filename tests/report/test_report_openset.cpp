@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include <string>
+#include <vector>
 
 #include "canopy/common/error.h"
 #include "canopy/documents/scene_score.h"
@@ -28,6 +29,25 @@ documents::ScoreMatch match(const std::string& truth, const std::string& outcome
   if (!model.empty()) m.model = model;
   m.cls = cls;
   return m;
+}
+
+// A crops' score of 10 crops with one summary row per cover label in `covers` (the same counts).
+documents::SceneScore crops_score(const std::vector<std::string>& covers, int tp, int fp, int class_tp,
+                                  int class_fp, int found, int right) {
+  std::string rows;
+  for (const std::string& c : covers)
+    rows += std::string(rows.empty() ? "" : ",") + R"({"cover": ")" + c +
+            R"(", "noise_mm": "all", "tiles": 10, "true": 10, "tp": )" + std::to_string(tp) + R"(, "fp": )" +
+            std::to_string(fp) + R"(, "class_tp": )" + std::to_string(class_tp) + R"(, "class_fp": )" +
+            std::to_string(class_fp) + R"(, "found_any_level": )" + std::to_string(found) +
+            R"(, "class_right_any_level": )" + std::to_string(right) + "}";
+  return documents::read_scene_score(
+      R"({"format": "canopy.scene_score", "version": 1,
+    "params": {"match_radius_m": 1.5, "cover_bins": [0, 1], "flip_threshold_deg": 90},
+    "tiles": [{"detections": "c/d.json", "cover": "car", "noise_mm": 0, "area_ha": 0.04}],
+    "summary": [)" +
+          rows + R"(], "pr": [], "models": [], "cover_bins": [], "reliability": [], "matches": []})",
+      "crops.json");
 }
 
 }  // namespace
@@ -96,17 +116,7 @@ TEST_CASE("open set: the crops' table gives Wilson intervals on the counts, one 
   // 10 crops of cars: 8 found (5 at the model level, 3 at the class level), 6 of them the right
   // class, one false alarm. Wilson: 8/10 [49.0, 94.3], 6/8 [40.9, 92.9], 6/10 [31.3, 83.2],
   // 2/8 [7.1, 59.1].
-  const documents::SceneScore crops = documents::read_scene_score(R"({
-    "format": "canopy.scene_score", "version": 1,
-    "params": {"match_radius_m": 1.5, "cover_bins": [0, 1], "flip_threshold_deg": 90},
-    "tiles": [{"detections": "c/d.json", "cover": "car", "noise_mm": 0, "area_ha": 0.04}],
-    "summary": [
-      {"cover": "car", "noise_mm": "all", "tiles": 10, "true": 10, "tp": 5, "fp": 1, "class_tp": 3, "class_fp": 0,
-       "found_any_level": 8, "class_right_any_level": 6},
-      {"cover": "all", "noise_mm": "all", "tiles": 10, "true": 10, "tp": 5, "fp": 1, "class_tp": 3, "class_fp": 0,
-       "found_any_level": 8, "class_right_any_level": 6}],
-    "pr": [], "models": [], "cover_bins": [], "reliability": [], "matches": []})",
-                                                                  "crops.json");
+  const documents::SceneScore crops = crops_score({"car", "all"}, 5, 1, 3, 0, 8, 6);
   documents::SceneScore tiles;
   const std::string md = report::openset_markdown(tiles, "score.json", &crops, "crops.json");
   CHECK(
@@ -120,15 +130,7 @@ TEST_CASE("open set: the crops' table gives Wilson intervals on the counts, one 
 TEST_CASE("open set: the classify ablation is its own subsection with the crops' counts") {
   // The ablation's crops: 10 cars, 9 found (4 + 5), 5 of them the right class. Wilson: 9/10
   // [59.6, 98.2], 5/9 [26.7, 81.1], 5/10 [23.7, 76.3], 4/9 [18.9, 73.3].
-  const documents::SceneScore crops = documents::read_scene_score(R"({
-    "format": "canopy.scene_score", "version": 1,
-    "params": {"match_radius_m": 1.5, "cover_bins": [0, 1], "flip_threshold_deg": 90},
-    "tiles": [{"detections": "c/d.json", "cover": "car", "noise_mm": 0, "area_ha": 0.04}],
-    "summary": [
-      {"cover": "car", "noise_mm": "all", "tiles": 10, "true": 10, "tp": 4, "fp": 0, "class_tp": 5, "class_fp": 2,
-       "found_any_level": 9, "class_right_any_level": 5}],
-    "pr": [], "models": [], "cover_bins": [], "reliability": [], "matches": []})",
-                                                                  "abl/crops.json");
+  const documents::SceneScore crops = crops_score({"car"}, 4, 0, 5, 2, 9, 5);
   documents::SceneScore tiles;
   const std::string md = report::openset_ablation_markdown(tiles, "abl/score.json", &crops, "abl/crops.json");
   CHECK(md.find("### Ablation: every classify family (`OPENSET_CLASSES_ONLY=0`)") != std::string::npos);
