@@ -219,9 +219,15 @@ $(file <$(OPENSET_CLASSIFY_BASE))
 # The open set's ablation (mk/openset.mk): every family (OPENSET_CLASSES_ONLY=0).
 modelbase-classes-only = 0
 endef
+# Written by the parent make only: a sub-make (scenes, openset-crops, user-modelbase) read the
+# same text with one blank line less and rewrote the ablation's file, which the next parent
+# parse rewrote again, so every classify of the ablation re-ran on every `make all` (found by
+# tests/pipeline/progress_count.sh: stages the plan had not counted).
+ifeq ($(filter scenes user-modelbase openset-crops tile tiles,$(MAKECMDGOALS)),)
 ifneq ($(wildcard $(OPENSET_DIR))$(dry_run),)
 $(OPENSET_CLASSIFY): $(call text_prereq,$(OPENSET_CLASSIFY),$(openset_classify_text))
 ifneq ($(OPENSET_CLASSIFY_ABLATION),)
 $(OPENSET_CLASSIFY_ABLATION): $(call text_prereq,$(OPENSET_CLASSIFY_ABLATION),$(openset_classify_ablation_text))
+endif
 endif
 endif
