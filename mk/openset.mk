@@ -44,7 +44,9 @@ OPENSET_SCORE := $(OPENSET_RES)/score.json
 # classify's modelbase classes only (the end of this file); its ablation's parameters.
 OPENSET_CLASSES_ONLY ?= 1
 $(if $(filter-out 0 1,$(OPENSET_CLASSES_ONLY)),$(error OPENSET_CLASSES_ONLY=$(OPENSET_CLASSES_ONLY): must be 0 or 1))
-OPENSET_CLASSIFY_ABLATION := $(if $(filter 1,$(OPENSET_CLASSES_ONLY)),$(OPENSET_DIR)/classify-ablation.ini)
+OPENSET_CLASSIFY_BASE ?= $(P)/classify-sim.ini
+# The ablation's parameters are the base's own (it does not set modelbase-classes-only: every family).
+OPENSET_CLASSIFY_ABLATION := $(if $(filter 1,$(OPENSET_CLASSES_ONLY)),$(OPENSET_CLASSIFY_BASE))
 # NAME:CLASS:FILE:SPLIT of every library mesh (catalogue.csv joined with split.csv; one shell,
 # only where the open set is read: every parse pays for its shells, docs/decisions/cost.md).
 ifneq ($(filter 1,$(OPENSET))$(filter openset openset-crops,$(MAKECMDGOALS)),)
@@ -203,31 +205,16 @@ endif
 # round): the modelbase is the user's (user-modelbase), so a class no entry has (wheel-loader,
 # tracked-apc for a modelbase of cars, vans, trucks, buses and a tank) is never answered.
 # OPENSET_CLASSES_ONLY=0 is the ablation (every family); with 1 the ablation also runs beside it
-# on the same candidates (OPENSET_CLASSIFY_ABLATION: classify a second time, collect, score) and
-# the report shows both. Written when its text changes (at parse time, like the recipes; a dry
+# on the same candidates (OPENSET_CLASSIFY_ABLATION = the base's parameters: classify a second
+# time, collect, score) and the report shows both. Written when its text changes (at parse time, like the recipes; a dry
 # run writes nothing and plans classify again).
 # (OPENSET_CLASSES_ONLY, OPENSET_CLASSIFY_ABLATION: near the top.)
-OPENSET_CLASSIFY_BASE ?= $(P)/classify-sim.ini
 OPENSET_CLASSIFY := $(OPENSET_DIR)/classify.ini
 define openset_classify_text
 $(file <$(OPENSET_CLASSIFY_BASE))
 # The open set (mk/openset.mk): only the modelbase's classes (OPENSET_CLASSES_ONLY).
 modelbase-classes-only = $(OPENSET_CLASSES_ONLY)
 endef
-define openset_classify_ablation_text
-$(file <$(OPENSET_CLASSIFY_BASE))
-# The open set's ablation (mk/openset.mk): every family (OPENSET_CLASSES_ONLY=0).
-modelbase-classes-only = 0
-endef
-# Written by the parent make only: a sub-make (scenes, openset-crops, user-modelbase) read the
-# same text with one blank line less and rewrote the ablation's file, which the next parent
-# parse rewrote again, so every classify of the ablation re-ran on every `make all` (found by
-# tests/pipeline/progress_count.sh: stages the plan had not counted).
-ifeq ($(filter scenes user-modelbase openset-crops tile tiles,$(MAKECMDGOALS)),)
 ifneq ($(wildcard $(OPENSET_DIR))$(dry_run),)
 $(OPENSET_CLASSIFY): $(call text_prereq,$(OPENSET_CLASSIFY),$(openset_classify_text))
-ifneq ($(OPENSET_CLASSIFY_ABLATION),)
-$(OPENSET_CLASSIFY_ABLATION): $(call text_prereq,$(OPENSET_CLASSIFY_ABLATION),$(openset_classify_ablation_text))
-endif
-endif
 endif
