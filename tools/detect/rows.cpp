@@ -105,10 +105,11 @@ RowSplit trim_to_roof(const std::vector<std::uint32_t>& pts, const std::vector<d
   RowSplit out;
   std::vector<std::uint32_t> vehicle;
   for (auto& part : top_view_clusters(pts, x, y, gap)) {
-    bool keep = true;
-    for (std::uint32_t q : part) keep = keep && h[q] < roof_height && within(reach, x, y, q);
-    for (std::size_t n = 0; n < part.size() && !keep; ++n)
-      keep = std::binary_search(roof.begin(), roof.end(), part[n]);
+    const bool keep =
+        std::all_of(part.begin(), part.end(),
+                    [&](std::uint32_t q) { return h[q] < roof_height && within(reach, x, y, q); }) ||
+        std::any_of(part.begin(), part.end(),
+                    [&](std::uint32_t q) { return std::binary_search(roof.begin(), roof.end(), q); });
     auto& to = keep ? vehicle : out.rest;
     to.insert(to.end(), part.begin(), part.end());
   }
@@ -269,10 +270,12 @@ RowSplit split_row(const std::vector<std::uint32_t>& pts, const std::vector<doub
   std::vector<std::vector<std::uint32_t>> roofs;
   std::size_t short_roofs = 0, in_short = 0;  // roofs of vehicle length and their points
   std::size_t low_roofs = 0;                  // of those, roofs with the object below max_height over them
+  std::size_t short_roof = 0;                 // the index in roofs of the last of vehicle length
   for (auto& part : parts) {
     if (part.size() < kRowRoofPoints) continue;  // and the parts joined to others
     const Footprint f = rectangle_of(part, x, y);
     if (f.length <= kRowRoofMax) {
+      short_roof = roofs.size();
       ++short_roofs;
       in_short += part.size();
       const Vector2d across(-f.axis.y(), f.axis.x());
@@ -296,11 +299,9 @@ RowSplit split_row(const std::vector<std::uint32_t>& pts, const std::vector<doub
   if (!trim && (low_roofs < 2 || !mostly_roofs)) return out;
   if (trim) {
     // The one roof of vehicle length; the other parts of the band are not roofs.
-    roofs.erase(std::remove_if(roofs.begin(), roofs.end(),
-                               [&](const std::vector<std::uint32_t>& r) {
-                                 return rectangle_of(r, x, y).length > kRowRoofMax;
-                               }),
-                roofs.end());
+    std::vector<std::vector<std::uint32_t>> one(1);
+    one[0] = std::move(roofs[short_roof]);
+    roofs.swap(one);
   }
   // Vehicles in a row park along it or across it: a roof's axis within kRowSnap of either is
   // taken as that (a sparse roof's own rectangle turns by a few degrees, and its reach then
