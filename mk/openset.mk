@@ -132,12 +132,7 @@ TILE_CAND_KINDS += classify:cand/class-ablation.json
 $(foreach r,$(OPENSET_CROP_RUNS),$(call class_ablation_rules,$(r),$(call scene_key,$(r)),$(OPENSET_MB),$(SCENE_CLASSIFY_ABLATION)))
 OPENSET_CROP_ABL_SCORE := $(OPENSET_CROP_RES)/class-ablation/score.json
 $(if $(dry_run),,$(shell mkdir -p $(dir $(OPENSET_CROP_ABL_SCORE))))
-$(OPENSET_CROP_DIR)/tiles-class-ablation.txt: $(call text_prereq,$(OPENSET_CROP_DIR)/tiles-class-ablation.txt,$(subst \
-  /detections.json ,/detections-class-ablation.json ,$(openset_crop_manifest)))
-$(OPENSET_CROP_ABL_SCORE): $(OPENSET_CROP_DIR)/tiles-class-ablation.txt \
-    $(addsuffix /detections-class-ablation.json,$(OPENSET_CROP_RUNS)) $(call tool,score) $(wildcard $(OPENSET_DIR)/classes.csv)
-	@$(STAGE) $@ -- $(BIN)/score --tiles $(OPENSET_CROP_DIR)/tiles-class-ablation.txt \
-	  --model-classes $(OPENSET_DIR)/classes.csv -o $@ --csv $(OPENSET_CROP_RES)/class-ablation/
+$(eval $(call variant_score_rule,class-ablation,$(OPENSET_CROP_DIR),$(openset_crop_manifest),$(OPENSET_CROP_RUNS),$(OPENSET_CROP_RES),$(OPENSET_DIR)/classes.csv))
 endif
 # The scans (≈ 40 MB each) are deleted once the score is made (KEEP=1 keeps them).
 .SECONDARY: $(addsuffix /scan.pcd,$(OPENSET_CROP_RUNS))
@@ -206,8 +201,9 @@ endif
 # tracked-apc for a modelbase of cars, vans, trucks, buses and a tank) is never answered.
 # OPENSET_CLASSES_ONLY=0 is the ablation (every family); with 1 the ablation also runs beside it
 # on the same candidates (OPENSET_CLASSIFY_ABLATION = the base's parameters: classify a second
-# time, collect, score) and the report shows both. Written when its text changes (at parse time, like the recipes; a dry
-# run writes nothing and plans classify again).
+# time, collect, score) and the report shows both. The open set's classify.ini is written when
+# its text changes (at parse time, like the recipes; a dry run writes nothing and plans classify
+# again).
 # (OPENSET_CLASSES_ONLY, OPENSET_CLASSIFY_ABLATION: near the top.)
 OPENSET_CLASSIFY := $(OPENSET_DIR)/classify.ini
 define openset_classify_text

@@ -123,6 +123,15 @@ $(1)/detections-class-ablation.json: $(1)/cands.mk $(foreach c,$($(2)_CANDS),$(1
 endef
 class_ablation_rules = $(foreach c,$($(2)_CANDS),$(eval $(call class_rule,$(1),$(c),$(4),$(3),class-ablation.json)))$(eval \
   $(call class_ablation_run_rule,$(1),$(2),$(3)))
+# variant_score_rule(VARIANT, DIR, MANIFEST, RUNS, RES, CLASSES): the score of every run's
+# detections-VARIANT.json as RES/VARIANT/score.json, over DIR/tiles-VARIANT.txt (the score's tile
+# list MANIFEST with each run's detections.json so renamed), CLASSES the model classes (score
+# names a missing file itself: a prerequisite only when it exists).
+define variant_score_rule
+$(2)/tiles-$(1).txt: $(call text_prereq,$(2)/tiles-$(1).txt,$(subst /detections.json ,/detections-$(1).json ,$(3)))
+$(5)/$(1)/score.json: $(2)/tiles-$(1).txt $(addsuffix /detections-$(1).json,$(4)) $(call tool,score) $(wildcard $(6))
+	@$(STAGE) $$@ -- $(BIN)/score --tiles $(2)/tiles-$(1).txt --model-classes $(6) -o $$@ --csv $(5)/$(1)/
+endef
 # is_model(KEY, ID): non-empty when the plan sends the candidate through the model chain (an
 # older plan without levels: every candidate).
 is_model = $(filter-out class,$($(1)_LEVEL_$(2)))$(if $($(1)_LEVEL_$(2)),,model)
@@ -416,14 +425,7 @@ $(1)/detections-baseline-$(3).json: $(1)/cands.mk $(foreach c,$($(2)_CANDS),$(1)
 endef
 # scene_variant_score_rule(VARIANT): the score of every run's detections-VARIANT.json
 # (baseline-<method>, baseline-size, class-ablation) as $(SCENE_RES)/VARIANT/score.json.
-define scene_variant_score_rule
-$(SCENE_DIR)/tiles-$(1).txt: $(call text_prereq,$(SCENE_DIR)/tiles-$(1).txt,$(subst \
-  /detections.json ,/detections-$(1).json ,$(scene_manifest)))
-$(SCENE_RES)/$(1)/score.json: $(SCENE_DIR)/tiles-$(1).txt \
-    $(addsuffix /detections-$(1).json,$(SCENE_RUNS)) $(call tool,score) $(wildcard $(SCENE_MODEL_CLASSES))
-	@$(STAGE) $$@ -- $(BIN)/score --tiles $(SCENE_DIR)/tiles-$(1).txt \
-	  --model-classes $(SCENE_MODEL_CLASSES) -o $$@ --csv $(SCENE_RES)/$(1)/
-endef
+scene_variant_score_rule = $(call variant_score_rule,$(1),$(SCENE_DIR),$(scene_manifest),$(SCENE_RUNS),$(SCENE_RES),$(SCENE_MODEL_CLASSES))
 $(foreach m,$(SCENE_BASELINE),$(foreach r,$(SCENE_RUNS),$(foreach c,$(call model_cands,$(call scene_key,$(r))),\
   $(eval $(call scene_baseline_cand_rule,$(r),$(c),$(m))))))
 $(foreach m,$(SCENE_BASELINE),$(foreach r,$(SCENE_RUNS),$(eval $(call scene_baseline_run_rule,$(r),$(call scene_key,$(r)),$(m)))))
