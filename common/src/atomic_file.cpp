@@ -18,6 +18,7 @@
 #include <mutex>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include "canopy/common/error.h"
 #include "canopy/common/signals.h"
@@ -412,9 +413,9 @@ void AtomicOutput::commit() {
   publish();
 }
 
-void write_file_atomic(const std::string& path, const std::string& bytes) {
+void write_file_atomic(const std::string& path, std::string bytes) {
   AtomicOutput out(path);
-  out.set_data(bytes);
+  out.set_data(std::move(bytes));
   out.commit();
 }
 

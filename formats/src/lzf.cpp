@@ -44,23 +44,22 @@ namespace canopy::formats::detail {
 // Greedy LZF: a hash of the next 3 bytes finds the last position with the same hash within
 // the 8 KiB window; matches of 3..264 bytes become back-references, the rest literal runs of
 // at most 32 bytes.
-std::vector<unsigned char> lzf_compress(const unsigned char* in, std::size_t in_size) {
+std::size_t lzf_compress(const unsigned char* in, std::size_t in_size, unsigned char* out) {
   constexpr std::size_t kHashBits = 14;
   constexpr std::size_t kNone = static_cast<std::size_t>(-1);
   constexpr std::size_t kMaxOff = 1 << 13;
   constexpr std::size_t kMaxLen = 264;
   std::vector<std::size_t> table(std::size_t{1} << kHashBits, kNone);
-  std::vector<unsigned char> out;
-  out.reserve(in_size + in_size / 32 + 16);
-  std::size_t lit_at = out.size(), lit = 0;
-  out.push_back(0);  // control byte of the current literal run
+  // op: the next byte to write; lit_at: the control byte of the current literal run.
+  std::size_t op = 0, lit_at = 0, lit = 0;
+  out[op++] = 0;
   auto literal = [&](unsigned char c) {
-    out.push_back(c);
+    out[op++] = c;
     if (++lit == 32) {
       out[lit_at] = 31;
       lit = 0;
-      lit_at = out.size();
-      out.push_back(0);
+      lit_at = op;
+      out[op++] = 0;
     }
   };
   std::size_t ip = 0;
@@ -76,31 +75,31 @@ std::vector<unsigned char> lzf_compress(const unsigned char* in, std::size_t in_
       while (len < max_len && in[ref + len] == in[ip + len]) ++len;
       const std::size_t off = ip - ref - 1;
       if (lit == 0)
-        out.pop_back();
+        --op;  // the empty run's control byte
       else
         out[lit_at] = static_cast<unsigned char>(lit - 1);
       const std::size_t enc = len - 2;
       if (enc < 7) {
-        out.push_back(static_cast<unsigned char>((off >> 8) + (enc << 5)));
+        out[op++] = static_cast<unsigned char>((off >> 8) + (enc << 5));
       } else {
-        out.push_back(static_cast<unsigned char>((off >> 8) + (7 << 5)));
-        out.push_back(static_cast<unsigned char>(enc - 7));
+        out[op++] = static_cast<unsigned char>((off >> 8) + (7 << 5));
+        out[op++] = static_cast<unsigned char>(enc - 7);
       }
-      out.push_back(static_cast<unsigned char>(off & 0xff));
+      out[op++] = static_cast<unsigned char>(off & 0xff);
       ip += len;
       lit = 0;
-      lit_at = out.size();
-      out.push_back(0);
+      lit_at = op;
+      out[op++] = 0;
     } else {
       literal(in[ip++]);
     }
   }
   while (ip < in_size) literal(in[ip++]);
   if (lit == 0)
-    out.pop_back();
+    --op;
   else
     out[lit_at] = static_cast<unsigned char>(lit - 1);
-  return out;
+  return op;
 }
 
 }  // namespace canopy::formats::detail

@@ -10,7 +10,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <limits>
+#include <memory>
 #include <set>
 #include <type_traits>
 
@@ -240,22 +242,34 @@ Layout make_layout(const Header& h) {
   return l;
 }
 
-// Adds the columns (after the data size was checked against the header), empty with room
-// for every point: decoding appends, so no page is written twice.
-std::vector<std::vector<double>*> make_columns(const Header& h, Layout* l, PointCloud* cloud,
-                                               const std::string& name) {
+// The column name of every slot (empty for padding fields "_"): a COUNT > 1 field becomes
+// name_0, name_1, ...; a name given twice, or only padding, is refused.
+std::vector<std::string> column_names(const Header& h, const Layout& l, const std::string& name) {
+  std::vector<std::string> out(l.slots.size());
   std::set<std::string> names;
   std::size_t s = 0;
   for (std::size_t f = 0; f < h.fields.size(); ++f) {
     for (std::uint64_t k = 0; k < h.counts[f]; ++k, ++s) {
-      if (l->slots[s].column < 0) continue;
+      if (l.slots[s].column < 0) continue;
       const std::string col = h.counts[f] == 1 ? h.fields[f] : h.fields[f] + "_" + std::to_string(k);
       if (!names.insert(col).second) throw DataError(name, "duplicate field '" + quote(col) + "'");
-      cloud->add(col, l->slots[s].type);
-      l->slots[s].column = static_cast<int>(cloud->names().size()) - 1;
+      out[s] = col;
     }
   }
-  if (cloud->names().empty()) throw DataError(name, "PCD header has only padding fields '_'");
+  if (names.empty()) throw DataError(name, "PCD header has only padding fields '_'");
+  return out;
+}
+
+// Adds the columns (after the data size was checked against the header), empty with room
+// for every point: decoding appends, so no page is written twice.
+std::vector<std::vector<double>*> make_columns(const Header& h, Layout* l, PointCloud* cloud,
+                                               const std::string& name) {
+  const std::vector<std::string> names = column_names(h, *l, name);
+  for (std::size_t s = 0; s < l->slots.size(); ++s) {
+    if (l->slots[s].column < 0) continue;
+    cloud->add(names[s], l->slots[s].type);
+    l->slots[s].column = static_cast<int>(cloud->names().size()) - 1;
+  }
   std::vector<std::vector<double>*> cols;
   for (std::size_t c = 0; c < cloud->names().size(); ++c) {
     cols.push_back(&cloud->col(c));
@@ -275,49 +289,68 @@ void check_binary_size(std::uint64_t n, std::size_t step, std::size_t avail, con
   if (n > avail / step) throw DataError(name, too_big("bytes", n, step, avail));
 }
 
-// Appends n values `stride` bytes apart to dst; false when a value is NaN or infinite.
+// n values of T at src (little-endian), `stride` bytes apart, appended to dst.
 template <typename T>
-bool gather(const unsigned char* src, std::size_t stride, std::size_t n, std::vector<double>* dst) {
+void gather(const unsigned char* src, std::size_t stride, std::size_t n, std::vector<T>* dst) {
   const std::size_t old = dst->size();
   dst->resize(old + n);
-  double* out = dst->data() + old;
-  bool finite = true;
-  for (std::size_t i = 0; i < n; ++i) {
-    T v;
-    std::memcpy(&v, src + i * stride, sizeof v);
-    out[i] = static_cast<double>(v);
-    if constexpr (std::is_floating_point_v<T>) finite &= std::isfinite(v);
-  }
-  return finite;
+  T* out = dst->data() + old;
+  for (std::size_t i = 0; i < n; ++i) std::memcpy(out + i, src + i * stride, sizeof(T));
 }
 
-bool gather_slot(const unsigned char* src, std::size_t stride, std::size_t rows, FieldType t,
-                 std::vector<double>* dst) {
-  switch (t.kind) {
-    case 'F':
-      if (t.size == 4) return gather<float>(src, stride, rows, dst);
-      return gather<double>(src, stride, rows, dst);
-    case 'U':
-      if (t.size == 1) return gather<std::uint8_t>(src, stride, rows, dst);
-      if (t.size == 2) return gather<std::uint16_t>(src, stride, rows, dst);
-      return gather<std::uint32_t>(src, stride, rows, dst);
-    default:
-      if (t.size == 1) return gather<std::int8_t>(src, stride, rows, dst);
-      if (t.size == 2) return gather<std::int16_t>(src, stride, rows, dst);
-      return gather<std::int32_t>(src, stride, rows, dst);
+// Binary (row-major) points appended to the cloud's columns, each kept packed at its width in
+// the file (PointCloud: turned into doubles only when a tool asks for the column).
+class RowPacker {
+ public:
+  RowPacker(const Header& h, const Layout& l, PointCloud* cloud, const std::string& name) : step_(l.step) {
+    const std::vector<std::string> names = column_names(h, l, name);
+    const auto n = static_cast<std::size_t>(h.points);
+    for (std::size_t s = 0; s < l.slots.size(); ++s) {
+      if (l.slots[s].column < 0) continue;
+      const FieldType t = l.slots[s].type;
+      const std::size_t off = l.slots[s].offset;
+      switch (t.kind) {
+        case 'F':
+          if (t.size == 4)
+            add<float>(names[s], t, off, n, cloud);
+          else
+            add<double>(names[s], t, off, n, cloud);
+          break;
+        case 'U':
+          if (t.size == 1)
+            add<std::uint8_t>(names[s], t, off, n, cloud);
+          else if (t.size == 2)
+            add<std::uint16_t>(names[s], t, off, n, cloud);
+          else
+            add<std::uint32_t>(names[s], t, off, n, cloud);
+          break;
+        default:
+          if (t.size == 1)
+            add<std::int8_t>(names[s], t, off, n, cloud);
+          else if (t.size == 2)
+            add<std::int16_t>(names[s], t, off, n, cloud);
+          else
+            add<std::int32_t>(names[s], t, off, n, cloud);
+      }
+    }
   }
-}
+  // Appends `rows` points of the layout's step from src.
+  void append(const unsigned char* src, std::size_t rows) const {
+    for (const auto& sink : sinks_) sink(src, rows);
+  }
 
-// Appends `rows` binary (row-major) points from `src`; false when a value is not finite.
-bool decode_rows(const unsigned char* src, std::size_t rows, const Layout& l,
-                 const std::vector<std::vector<double>*>& cols) {
-  bool finite = true;
-  for (const auto& s : l.slots) {
-    if (s.column < 0) continue;
-    finite &= gather_slot(src + s.offset, l.step, rows, s.type, cols[static_cast<std::size_t>(s.column)]);
+ private:
+  template <typename T>
+  void add(const std::string& col, FieldType t, std::size_t off, std::size_t n, PointCloud* cloud) {
+    std::vector<T>* v = &cloud->add_packed<T>(col, t);
+    v->reserve(n);  // decoding appends: no page is written twice
+    const std::size_t step = step_;
+    sinks_.push_back(
+        [v, off, step](const unsigned char* src, std::size_t rows) { gather(src + off, step, rows, v); });
   }
-  return finite;
-}
+  std::size_t step_;
+  std::vector<std::function<void(const unsigned char*, std::size_t)>> sinks_;
+};
 
 bool all_zero(const unsigned char* p, std::size_t n) {
   for (std::size_t i = 0; i < n; ++i) {
@@ -404,15 +437,51 @@ std::vector<unsigned char> decompress(const std::string& bytes, const Header& h,
   return raw;
 }
 
-void gather_compressed(const std::vector<unsigned char>& raw, const Header& h, Layout& l, PointCloud* cloud,
-                       const std::string& name) {
-  const auto cols = make_columns(h, &l, cloud, name);
+// n values of `type` at src (little-endian, contiguous) as a packed column (PointCloud: turned
+// into doubles only when a tool asks for the column).
+template <typename T>
+void pack(const unsigned char* src, std::size_t n, const std::string& col, FieldType type, PointCloud* cloud) {
+  std::vector<T>& v = cloud->add_packed<T>(col, type);
+  v.resize(n);
+  if (n > 0) std::memcpy(v.data(), src, n * sizeof(T));
+}
+
+// The field-major block of binary_compressed: every column is one contiguous run of values,
+// kept packed at its width.
+void gather_compressed(const std::vector<unsigned char>& raw, const Header& h, const Layout& l,
+                       PointCloud* cloud, const std::string& name) {
+  const std::vector<std::string> names = column_names(h, l, name);
   const std::size_t n = static_cast<std::size_t>(h.points);
   std::size_t off = 0;  // field-major: all values of slot 0, then slot 1, ...
-  for (const auto& s : l.slots) {
-    const std::size_t sz = static_cast<std::size_t>(s.type.size);
-    if (s.column >= 0) gather_slot(raw.data() + off, sz, n, s.type, cols[static_cast<std::size_t>(s.column)]);
-    off += sz * n;
+  for (std::size_t s = 0; s < l.slots.size(); ++s) {
+    const FieldType t = l.slots[s].type;
+    const unsigned char* src = raw.data() + off;
+    off += static_cast<std::size_t>(t.size) * n;
+    if (l.slots[s].column < 0) continue;
+    const std::string& col = names[s];
+    switch (t.kind) {
+      case 'F':
+        if (t.size == 4)
+          pack<float>(src, n, col, t, cloud);
+        else
+          pack<double>(src, n, col, t, cloud);
+        break;
+      case 'U':
+        if (t.size == 1)
+          pack<std::uint8_t>(src, n, col, t, cloud);
+        else if (t.size == 2)
+          pack<std::uint16_t>(src, n, col, t, cloud);
+        else
+          pack<std::uint32_t>(src, n, col, t, cloud);
+        break;
+      default:
+        if (t.size == 1)
+          pack<std::int8_t>(src, n, col, t, cloud);
+        else if (t.size == 2)
+          pack<std::int16_t>(src, n, col, t, cloud);
+        else
+          pack<std::int32_t>(src, n, col, t, cloud);
+    }
   }
 }
 
@@ -428,8 +497,7 @@ PointCloud parse_body(const std::string& bytes, const Header& h, const std::stri
     check_binary_size(h.points, l.step, avail, name);
     const std::size_t used = static_cast<std::size_t>(h.points) * l.step;
     if (!all_zero(data + used, avail - used)) trailing_data(h.points, l.step, name);
-    const auto cols = make_columns(h, &l, &cloud, name);
-    decode_rows(data, static_cast<std::size_t>(h.points), l, cols);
+    RowPacker(h, l, &cloud, name).append(data, static_cast<std::size_t>(h.points));
   } else {
     gather_compressed(decompress(bytes, h, l, name), h, l, &cloud, name);
   }
@@ -535,13 +603,13 @@ PointCloud read_pcd(const std::string& path) {
   Layout l = make_layout(h);
   const std::size_t avail = file_size - std::min(file_size, h.data_offset);
   check_binary_size(h.points, l.step, avail, path);
-  const auto cols = make_columns(h, &l, &cloud, path);
+  const RowPacker rows_to(h, l, &cloud, path);
   const std::size_t n = static_cast<std::size_t>(h.points);
   // Chunks of whole rows (~1 MiB), starting with the data bytes already read with the header.
   const std::size_t chunk_rows = std::max<std::size_t>(1, (std::size_t{1} << 20) / l.step);
   std::vector<unsigned char> buf(chunk_rows * l.step);
   std::size_t head_pos = h.data_offset, have = 0, row = 0;
-  bool eof = false, all_finite = true;
+  bool eof = false;
   auto fill = [&] {
     const std::size_t take = std::min(head.size() - head_pos, buf.size() - have);
     std::memcpy(buf.data() + have, head.data() + head_pos, take);
@@ -558,7 +626,7 @@ PointCloud read_pcd(const std::string& path) {
     fill();
     const std::size_t rows = std::min(have / l.step, n - row);
     if (rows == 0) break;  // end of file inside a point
-    all_finite &= decode_rows(buf.data(), rows, l, cols);
+    rows_to.append(buf.data(), rows);
     row += rows;
     const std::size_t used = rows * l.step;
     std::memmove(buf.data(), buf.data() + used, have - used);
@@ -576,10 +644,75 @@ PointCloud read_pcd(const std::string& path) {
     fill();
     if (have == 0) break;
   }
-  cloud.resize(n);                                  // sets the size; the columns are full
-  if (!all_finite) check_coordinates(cloud, path);  // a NaN or inf somewhere: is it in x, y or z?
+  cloud.resize(n);  // sets the size; the columns are full
+  check_coordinates(cloud, path);
   return cloud;
 }
+
+namespace {
+
+// k values as T, `stride` bytes apart from out, each converted by conv.
+template <typename T, typename Conv>
+void put_as(const double* v, std::size_t k, unsigned char* out, std::size_t stride, Conv conv) {
+  for (std::size_t i = 0; i < k; ++i) {
+    const T t = conv(v[i]);
+    std::memcpy(out + i * stride, &t, sizeof t);
+  }
+}
+
+// k values as `type` (little-endian), `stride` bytes apart: detail::write_scalar's
+// conversions (a float32 field rounds to float, an integer field rounds and clamps).
+void put_values(const double* v, std::size_t k, FieldType type, unsigned char* out, std::size_t stride) {
+  using detail::to_int;
+  switch (type.kind) {
+    case 'F':
+      if (type.size == 4)
+        return put_as<float>(v, k, out, stride, [](double x) { return static_cast<float>(x); });
+      return put_as<double>(v, k, out, stride, [](double x) { return x; });
+    case 'U':
+      if (type.size == 1)
+        return put_as<std::uint8_t>(v, k, out, stride,
+                                    [](double x) { return to_int<std::uint8_t>(x, 0, 255); });
+      if (type.size == 2)
+        return put_as<std::uint16_t>(v, k, out, stride,
+                                     [](double x) { return to_int<std::uint16_t>(x, 0, 65535); });
+      return put_as<std::uint32_t>(v, k, out, stride,
+                                   [](double x) { return to_int<std::uint32_t>(x, 0, 4294967295.0); });
+    default:
+      if (type.size == 1)
+        return put_as<std::int8_t>(v, k, out, stride,
+                                   [](double x) { return to_int<std::int8_t>(x, -128, 127); });
+      if (type.size == 2)
+        return put_as<std::int16_t>(v, k, out, stride,
+                                    [](double x) { return to_int<std::int16_t>(x, -32768, 32767); });
+      return put_as<std::int32_t>(
+          v, k, out, stride, [](double x) { return to_int<std::int32_t>(x, -2147483648.0, 2147483647.0); });
+  }
+}
+
+// The points' bytes (size() x the fields' sizes) at out: row-major as DATA binary stores them,
+// or field-major as binary_compressed's block holds them before compression.
+void put_points(const PointCloud& cloud, bool field_major, unsigned char* out) {
+  const auto& types = cloud.types();
+  std::vector<std::size_t> offset(types.size());  // bytes before column c in a row
+  std::size_t step = 0;
+  for (std::size_t c = 0; c < types.size(); ++c) {
+    offset[c] = step;
+    step += static_cast<std::size_t>(types[c].size);
+  }
+  const std::size_t n = cloud.size();
+  for_each_block(cloud, [&](std::size_t first, std::size_t k, const std::vector<const double*>& col) {
+    for (std::size_t c = 0; c < types.size(); ++c) {
+      const auto size = static_cast<std::size_t>(types[c].size);
+      if (field_major)
+        put_values(col[c], k, types[c], out + offset[c] * n + first * size, size);
+      else
+        put_values(col[c], k, types[c], out + first * step + offset[c], step);
+    }
+  });
+}
+
+}  // namespace
 
 std::string serialize_pcd(const PointCloud& cloud) { return serialize_pcd(cloud, PcdWriteOptions{}); }
 
@@ -605,15 +738,13 @@ std::string serialize_pcd(const PointCloud& cloud, const PcdWriteOptions& option
   for (const auto& t : cloud.types()) step += static_cast<std::size_t>(t.size);
   const std::size_t nc = cloud.names().size();
   switch (options.encoding) {
-    case PcdEncoding::binary:
-      // Block by block (for_each_block): packed columns are written without being unpacked.
-      out.reserve(out.size() + step * cloud.size());
-      for_each_block(cloud, [&](std::size_t, std::size_t k, const std::vector<const double*>& col) {
-        for (std::size_t i = 0; i < k; ++i) {
-          for (std::size_t c = 0; c < nc; ++c) detail::write_scalar(&out, col[c][i], cloud.types()[c]);
-        }
-      });
+    case PcdEncoding::binary: {
+      // Into the buffer in place, block by block (packed columns are not unpacked).
+      const std::size_t head = out.size();
+      out.resize(head + step * cloud.size());
+      put_points(cloud, false, reinterpret_cast<unsigned char*>(&out[head]));
       break;
+    }
     case PcdEncoding::ascii:
       for_each_block(cloud, [&](std::size_t, std::size_t k, const std::vector<const double*>& col) {
         for (std::size_t i = 0; i < k; ++i) {
@@ -626,19 +757,21 @@ std::string serialize_pcd(const PointCloud& cloud, const PcdWriteOptions& option
       break;
     case PcdEncoding::binary_compressed: {
       // PCL's layout: uint32 compressed size, uint32 raw size, LZF block of the field-major data.
-      std::string raw;
-      raw.reserve(step * cloud.size());
-      for (std::size_t c = 0; c < nc; ++c) {
-        for (double v : cloud.col(c)) detail::write_scalar(&raw, v, cloud.types()[c]);
+      const std::size_t raw_size = step * cloud.size();
+      if (raw_size > std::numeric_limits<std::uint32_t>::max()) {
+        throw common::Error("binary_compressed PCD holds at most 4 GiB of data (" + std::to_string(raw_size) +
+                            " bytes); write DATA binary");
       }
-      if (raw.size() > std::numeric_limits<std::uint32_t>::max()) {
-        throw common::Error("binary_compressed PCD holds at most 4 GiB of data (" +
-                            std::to_string(raw.size()) + " bytes); write DATA binary");
-      }
-      const auto block = detail::lzf_compress(reinterpret_cast<const unsigned char*>(raw.data()), raw.size());
-      detail::put(&out, static_cast<std::uint32_t>(block.size()));
-      detail::put(&out, static_cast<std::uint32_t>(raw.size()));
-      out.append(reinterpret_cast<const char*>(block.data()), block.size());
+      std::unique_ptr<unsigned char[]> raw(new unsigned char[std::max<std::size_t>(raw_size, 1)]);
+      put_points(cloud, true, raw.get());
+      const std::size_t head = out.size();
+      out.resize(head + 8 + detail::lzf_bound(raw_size));
+      auto* block = reinterpret_cast<unsigned char*>(&out[head]);
+      const auto csize = static_cast<std::uint32_t>(detail::lzf_compress(raw.get(), raw_size, block + 8));
+      const auto usize = static_cast<std::uint32_t>(raw_size);
+      std::memcpy(block, &csize, 4);
+      std::memcpy(block + 4, &usize, 4);
+      out.resize(head + 8 + csize);
       break;
     }
   }

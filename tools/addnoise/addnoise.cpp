@@ -9,18 +9,22 @@ void validate(const Params& params) {
   if (!(params.sigma >= 0 && params.sigma <= 100)) throw common::UsageError("--sigma must be in [0, 100m]");
 }
 
-Outputs run(const Params& params, const Inputs& inputs) {
-  formats::PointCloud out = *inputs.scan;
-  if (params.sigma == 0.0) return out;
+void apply(const Params& params, formats::PointCloud* scan) {
+  if (params.sigma == 0.0) return;
   common::Rng rng(common::derive_seed(params.seed, "addnoise"));
-  auto& x = out.col("x");
-  auto& y = out.col("y");
-  auto& z = out.col("z");
-  for (std::size_t i = 0; i < out.size(); ++i) {
+  auto& x = scan->col("x");
+  auto& y = scan->col("y");
+  auto& z = scan->col("z");
+  for (std::size_t i = 0; i < scan->size(); ++i) {
     x[i] += params.sigma * rng.normal();
     y[i] += params.sigma * rng.normal();
     z[i] += params.sigma * rng.normal();
   }
+}
+
+Outputs run(const Params& params, const Inputs& inputs) {
+  formats::PointCloud out = *inputs.scan;
+  apply(params, &out);
   return out;
 }
 

@@ -26,5 +26,7 @@ using Outputs = formats::PointCloud;  // the noisy copy of the scan
 
 // Requires fields x, y, z (throws std::out_of_range naming the field otherwise).
 Outputs run(const Params& params, const Inputs& inputs);
+// run() on the scan itself, without the copy (the tool: a tile's scan is millions of points).
+void apply(const Params& params, formats::PointCloud* scan);
 
 }  // namespace canopy::addnoise

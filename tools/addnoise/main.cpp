@@ -31,10 +31,10 @@ int main(int argc, char** argv) {
     p.seed = tool.seed();
     addnoise::validate(p);
     common::log::Phase read("read");
-    const formats::PointCloud scan = formats::read_points(in, "addnoise");
-    scan.require({"x", "y", "z"}, common::display_name(in), "is this a point cloud?");
-    read.done(std::to_string(scan.size()) + " points");
-    formats::PointCloud noisy = addnoise::run(p, {&scan});
+    formats::PointCloud noisy = formats::read_points(in, "addnoise");
+    noisy.require({"x", "y", "z"}, common::display_name(in), "is this a point cloud?");
+    read.done(std::to_string(noisy.size()) + " points");
+    addnoise::apply(p, &noisy);
     const std::vector<std::string> provenance =
         formats::provenance_comments({"addnoise", CANOPY_VERSION, tool.parameters(), {in}});
     noisy.comments.insert(noisy.comments.end(), provenance.begin(), provenance.end());

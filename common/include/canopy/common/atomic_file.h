@@ -66,7 +66,7 @@ class AtomicOutput {
 };
 
 // Whole-file convenience: writes `bytes` atomically to `path` ("-" = stdout).
-void write_file_atomic(const std::string& path, const std::string& bytes);
+void write_file_atomic(const std::string& path, std::string bytes);
 
 // Checks, before any work, that `path` can be written as an output ("-" always can): its
 // directory exists and is writable, it is not a directory or a socket, its symbolic links
