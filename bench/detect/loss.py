@@ -20,7 +20,9 @@ class-TAG/<id>.json, made once) and each vehicle gets one fate, the first that a
 The model level (fitvox ... gmatch, objects of >= 50 points/m²) is not run: at 10-50 points/m²
 a ladder vehicle's answer is classify's (density-ladder.md). Per level and cover: the fates
 with counts; recall = found / vehicles with a 95% Wilson interval (bench/rates.py); candidates
-and candidates on no vehicle. Truth is read only here.
+and candidates on no vehicle; false alarms (class answers that took no vehicle) per ha of the
+tiles' extent, by the kind of the nearest clutter object within 1.5 m ("none": no clutter object
+there: vegetation, or a piece of a vehicle answered off its centre). Truth is read only here.
 """
 import argparse, collections, json, math, os, subprocess, sys
 
