@@ -20,7 +20,9 @@ class-TAG/<id>.json, made once) and each vehicle gets one fate, the first that a
 The model level (fitvox ... gmatch, objects of >= 50 points/m²) is not run: at 10-50 points/m²
 a ladder vehicle's answer is classify's (density-ladder.md). Per level and cover: the fates
 with counts; recall = found / vehicles with a 95% Wilson interval (bench/rates.py); candidates
-and candidates on no vehicle. Truth is read only here.
+and candidates on no vehicle; false alarms (class answers that took no vehicle) per ha of the
+tiles' extent, by the kind of the nearest clutter object within 1.5 m ("none": no clutter object
+there: vegetation, or a piece of a vehicle answered off its centre). Truth is read only here.
 """
 import argparse, collections, json, math, os, subprocess, sys
 
@@ -105,7 +107,22 @@ def run_tile(run, tag, a):
                      "detail": bv.get("detail") or "",
                      "pieces": [(round(s, 2), cands[k]["id"]) for s, k in share if s >= 0.1]})
     none = sum(1 for h in held if not any(total[o] and n / total[o] >= 0.1 for o, n in h.items()))
-    return rows, len(cands), none
+    # False alarms: class answers that took no vehicle, by the kind of the nearest clutter object
+    # within 1.5 m of the answer ("none": no clutter object there, e.g. vegetation).
+    used = set(found.values())
+    alarms = []
+    for _, cid, k, x, y in answers:
+        if k in used:
+            continue
+        kind, bd = "none", 1.5
+        for cl in truth.get("clutter", []):
+            cx, cy = cl["box"]["centre"][:2]
+            d = math.hypot(x - cx, y - cy)
+            if d <= bd:
+                kind, bd = cl["kind"], d
+        alarms.append(kind)
+    area = truth["extent"][0] * truth["extent"][1] / 1e4
+    return rows, len(cands), none, alarms, area
 
 
 def main():
@@ -121,11 +138,13 @@ def main():
     groups = collections.OrderedDict()
     for run in a.runs:
         level, cover = os.path.basename(run).split("-")[:2]
-        r, c, n = run_tile(run, a.tag, a)
-        g = groups.setdefault((level, cover), {"rows": [], "cands": 0, "none": 0})
+        r, c, n, fa, area = run_tile(run, a.tag, a)
+        g = groups.setdefault((level, cover), {"rows": [], "cands": 0, "none": 0, "alarms": [], "ha": 0.0})
         g["rows"] += r
         g["cands"] += c
         g["none"] += n
+        g["alarms"] += fa
+        g["ha"] += area
         if a.list:
             for x in r:
                 sz = "x".join(f"{s:.1f}" for s in x["cand_size"])
@@ -133,13 +152,16 @@ def main():
                       f"{x['cover']:.2f} {x['fate']:28s} best {x['best']:.2f} {x['cand']} ({sz}) "
                       f"{x['answer']} {x['pieces']}")
     fates = sorted({x["fate"] for g in groups.values() for x in g["rows"]})
-    print("| level | cover | vehicles | found (recall) | " + " | ".join(fates) + " | candidates (on no vehicle) |")
-    print("|---|---|---|---|" + "---|" * len(fates) + "---|")
+    print("| level | cover | vehicles | found (recall) | " + " | ".join(fates) +
+          " | candidates (on no vehicle) | false alarms (per ha; by clutter kind) |")
+    print("|---|---|---|---|" + "---|" * len(fates) + "---|---|")
     for (level, cover), g in groups.items():
         rows = g["rows"]
         cnt = collections.Counter(x["fate"] for x in rows)
         print(f"| {level} | {cover} | {len(rows)} | {rate(cnt['found'], len(rows))} | " +
-              " | ".join(str(cnt[f]) for f in fates) + f" | {g['cands']} ({g['none']}) |")
+              " | ".join(str(cnt[f]) for f in fates) + f" | {g['cands']} ({g['none']}) | " +
+              f"{len(g['alarms'])} ({len(g['alarms']) / g['ha']:.1f}/ha; " +
+              ", ".join(f"{k} {v}" for k, v in sorted(collections.Counter(g['alarms']).items())) + ") |")
 
 
 if __name__ == "__main__":

@@ -198,3 +198,43 @@ TEST_CASE("a long-nose tractor unit is not cut as a row of two cars") {
   bad.row_max_height = 0.5;  // under the roof band's bottom (1.1 m)
   CHECK_THROWS_WITH(detect::validate(bad), Catch::Contains("--row-max-height"));
 }
+
+TEST_CASE("a tractor unit cut by a row split is merged back: its cab rises above a row's vehicles") {
+  // The long-nose `semi` above, with a low object beside its deck (a 2.2 x 1.5 m box, 1.5 m
+  // high: a caravan's end, a stack of logs; its side towards the deck returned) joined to it by
+  // a low bridge (1 m, under the roof band) that the voxel spans. The roof band then holds two low roofs, the
+  // deck and the box, and the row split cuts the object into deck, cab (not a roof: it rises to 3.6 m, §11)
+  // and box. The row rule decides between vehicles under 3 m; the cab piece is taller, so its deck is merged
+  // back end to end (detect.md §13) and the box stays apart (beside the deck, not in line).
+  const std::vector<Box> unit = {{-3.45, 3.3, -0.5, 0.5, 1.05},   {-0.7, 0.1, -1.2, 1.2, 0.9},
+                                 {-3.45, -0.7, -1.25, 1.25, 1.2}, {0.1, 1.6, -1.2, 1.2, 3.6},
+                                 {1.6, 3.4, -1.0, 1.0, 2.05},     {-3.2, -1.0, 2.0, 3.5, 1.5},
+                                 {-2.6, -1.6, 1.25, 2.0, 1.0}};
+  const std::vector<Wall> sides = {{-3.2, 2.0, -1.0, 2.0, 0.0, 1.5},  {0.1, -1.2, 1.6, -1.2, 1.0, 3.6},
+                                   {0.1, 1.2, 1.6, 1.2, 1.0, 3.6},    {1.6, -1.0, 1.6, 1.0, 2.05, 3.6},
+                                   {1.6, -1.0, 3.4, -1.0, 1.0, 2.05}, {1.6, 1.0, 3.4, 1.0, 1.0, 2.05}};
+  for (const double density : {25.0, 50.0}) {
+    for (const unsigned seed : {51u, 52u, 53u}) {
+      INFO("density " << density << " points/m², seed " << seed);
+      formats::PointCloud tile = from_above(unit, -12, 12, -10, 10, density, seed);
+      add_walls(tile, sides, density / 2, seed + 100);
+      const detect::Result r = detect::run(detect::Params{}, {&tile, "semi"});
+      REQUIRE(r.density.split_rows);
+      CHECK(r.stats.row_splits >= 1);
+      // One candidate holds the whole unit: 6.85 m long, 3.6 m high, centred on it.
+      const auto on = near(r, -0.05, 0.0, 0.5);
+      REQUIRE(on.size() == 1);
+      CHECK(on[0]->length == Approx(6.85).margin(0.3));
+      CHECK(on[0]->height == Approx(3.6).margin(0.1));
+      CHECK(r.stats.merges >= 1);
+      // The ablation (row pieces never merged, the rule before): deck and cab apart, no
+      // candidate on the unit's centre.
+      detect::Params before;
+      before.merge_tall_rows = false;
+      const detect::Result old = detect::run(before, {&tile, "semi"});
+      CHECK(old.stats.row_splits >= 1);
+      CHECK(near(old, -0.05, 0.0, 0.5).empty());
+      CHECK(old.candidates.size() > r.candidates.size());
+    }
+  }
+}

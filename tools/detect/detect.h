@@ -114,6 +114,11 @@ struct Params {
   // top view, end to end, and whose union fits one vehicle are merged (the cab and the deck of
   // a tractor unit; detect.md §10); 0 = no merging (the rule before).
   double merge_gap = 0.5;
+  // Pieces of a row split are never merged (the row rule decided them), except with a piece
+  // that rises above row_max_height: the row rule does not decide for taller vehicles (§11), and
+  // a tractor unit's cab cut from its deck by a row split is merged back (detect.md §13);
+  // false = row pieces never merged (the rule before).
+  bool merge_tall_rows = true;
   // Candidates.
   double margin = 0.5;  // crop margin around the footprint and above the height (m)
 };

@@ -32,7 +32,8 @@ struct Context {
   // 2-D voxel columns (i, j at `voxel`, packed) holding a point just above the band: a
   // cluster reaching the band's top under them is the bottom of something taller (a crown).
   std::unordered_map<std::uint64_t, char> above;
-  int in_row = 0;  // > 0 while examining the pieces of a row split (rows.h)
+  int in_row = 0;   // > 0 while examining the pieces of a row split (rows.h)
+  int in_trim = 0;  // > 0 while examining the pieces of a trim (rows.h)
 };
 
 std::uint64_t column_key(double x, double y, double v) {
@@ -216,6 +217,7 @@ void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
   auto examine_row = [&](RowSplit& row) {
     ++(row.trimmed ? c.out.trims : c.out.row_splits);
     ++c.in_row;
+    c.in_trim += row.trimmed;
     for (auto& piece : row.pieces) examine(c, std::move(piece), depth + 1);
     if (row.rest.size() >= p.min_points) {
       for (auto& part : cluster_points(row.rest, c.x, c.y, c.z, p.voxel, Clustering::kGrid))
@@ -224,6 +226,7 @@ void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
       ++c.out.rejected_small;
     }
     --c.in_row;
+    c.in_trim -= row.trimmed;
   };
   RowSplit trim;  // one vehicle with something beside it: trimmed only if accepted whole (below)
   if (p.split_rows && depth < kMaxSplitDepth && (o.fp.length > kRowLength || o.fp.width > kRowWidth)) {
@@ -290,6 +293,7 @@ void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
   }
   o.points = std::move(pts);
   o.row_piece = c.in_row > 0;
+  o.trim_piece = c.in_trim > 0;
   c.out.accepted.push_back(std::move(o));
 }
 
@@ -316,18 +320,27 @@ bool touch_in_plan(const Context& c, const std::vector<std::uint32_t>& a, const 
 // to end along the union's long axis (overlapping by at most half the shorter one: not a bush
 // over a car), the union is no wider than the wider piece + kMergeWiden (in line: not a bush or a
 // vehicle beside it) and fits the vehicle ranges. Pieces of a row split (rows.h) stay apart: the
-// row rule decided them. Repeated until no pair merges; pairs in the order found.
+// row rule decided them; but the row rule decides only between vehicles under row_max_height
+// (detect.md §11), so with merge_tall_rows a pair of which one rises above it (a tractor unit's
+// cab that a row split parted from its deck) is merged like any other (detect.md §13). Pieces
+// of a trim stay apart whatever their height: the trim decided that the rest is not the vehicle.
+// Repeated until no pair merges; pairs in the order found.
 void merge_pieces(Context& c) {
   const Params& p = c.p;
   if (p.merge_gap <= 0) return;
   const double reach = p.merge_gap * p.voxel;
   auto& objs = c.out.accepted;
+  auto tall = [&](const Object& o) {
+    return p.merge_tall_rows && p.row_max_height > 0 && o.height > p.row_max_height;
+  };
+  auto apart = [&](const Object& a, const Object& b) {
+    return a.trim_piece || b.trim_piece || ((a.row_piece || b.row_piece) && !tall(a) && !tall(b));
+  };
   for (bool merged = true; merged;) {
     merged = false;
     for (std::size_t a = 0; a < objs.size() && !merged; ++a) {
-      if (objs[a].row_piece) continue;
       for (std::size_t b = a + 1; b < objs.size() && !merged; ++b) {
-        if (objs[b].row_piece) continue;
+        if (apart(objs[a], objs[b])) continue;
         const Footprint& fa = objs[a].fp;
         const Footprint& fb = objs[b].fp;
         // Rectangles farther apart than the gap cannot touch.
@@ -346,6 +359,8 @@ void merge_pieces(Context& c) {
         objs[a].points = std::move(both);
         objs[a].fp = u;
         objs[a].height = std::max(objs[a].height, objs[b].height);
+        objs[a].row_piece = objs[a].row_piece || objs[b].row_piece;
+        objs[a].trim_piece = objs[a].trim_piece || objs[b].trim_piece;
         objs.erase(objs.begin() + long(b));
         ++c.out.merges;
         merged = true;

@@ -25,7 +25,8 @@ struct Object {
   Footprint fp;
   double height = 0;  // highest point above the DTM (m)
   Shape shape;
-  bool row_piece = false;  // a piece of a row split (rows.h): never merged with another
+  bool row_piece = false;   // a piece of a row split or a trim (rows.h): merged only with a tall piece
+  bool trim_piece = false;  // a piece of a trim (rows.h): never merged with another
 };
 
 // The objects that pass the vehicle tests, in the order found, and the counts of the way.
