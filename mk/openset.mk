@@ -47,6 +47,10 @@ $(if $(filter-out 0 1,$(OPENSET_CLASSES_ONLY)),$(error OPENSET_CLASSES_ONLY=$(OP
 OPENSET_CLASSIFY_BASE ?= $(P)/classify-sim.ini
 # The ablation's parameters are the base's own (it does not set modelbase-classes-only: every family).
 OPENSET_CLASSIFY_ABLATION := $(if $(filter 1,$(OPENSET_CLASSES_ONLY)),$(OPENSET_CLASSIFY_BASE))
+# collect's ablation: the model answer first, whatever its confidence (collect's
+# --contradicted-below, docs/decisions/open-set.md "Sixth round"); OPENSET_COLLECT_ABLATION=
+# leaves it out.
+OPENSET_COLLECT_ABLATION ?= --contradicted-below=0
 # NAME:CLASS:FILE:SPLIT of every library mesh (catalogue.csv joined with split.csv; one shell,
 # only where the open set is read: every parse pays for its shells, docs/decisions/cost.md).
 ifneq ($(filter 1,$(OPENSET))$(filter openset openset-crops,$(MAKECMDGOALS)),)
@@ -134,6 +138,14 @@ OPENSET_CROP_ABL_SCORE := $(OPENSET_CROP_RES)/class-ablation/score.json
 $(if $(dry_run),,$(shell mkdir -p $(dir $(OPENSET_CROP_ABL_SCORE))))
 $(eval $(call variant_score_rule,class-ablation,$(OPENSET_CROP_DIR),$(openset_crop_manifest),$(OPENSET_CROP_RUNS),$(OPENSET_CROP_RES),$(OPENSET_DIR)/classes.csv))
 endif
+# collect's ablation (SCENE_COLLECT_ABLATION, given by the parent: OPENSET_COLLECT_ABLATION) on
+# every crop, scored like the crops.
+ifneq ($(SCENE_COLLECT_ABLATION),)
+$(foreach r,$(OPENSET_CROP_RUNS),$(eval $(call collect_ablation_run_rule,$(r),$(call scene_key,$(r)),$(OPENSET_MB),$(SCENE_COLLECT_ABLATION))))
+OPENSET_CROP_COLLECT_ABL_SCORE := $(OPENSET_CROP_RES)/collect-ablation/score.json
+$(if $(dry_run),,$(shell mkdir -p $(dir $(OPENSET_CROP_COLLECT_ABL_SCORE))))
+$(eval $(call variant_score_rule,collect-ablation,$(OPENSET_CROP_DIR),$(openset_crop_manifest),$(OPENSET_CROP_RUNS),$(OPENSET_CROP_RES),$(OPENSET_DIR)/classes.csv))
+endif
 # The scans (≈ 40 MB each) are deleted once the score is made (KEEP=1 keeps them).
 .SECONDARY: $(addsuffix /scan.pcd,$(OPENSET_CROP_RUNS))
 $(OPENSET_CROP_SCORE): $(OPENSET_CROP_DIR)/tiles.txt $(addsuffix /detections.json,$(OPENSET_CROP_RUNS)) $(call tool,score) \
@@ -141,7 +153,7 @@ $(OPENSET_CROP_SCORE): $(OPENSET_CROP_DIR)/tiles.txt $(addsuffix /detections.jso
 	@$(STAGE) $@ -- $(BIN)/score --tiles $(OPENSET_CROP_DIR)/tiles.txt --model-classes $(OPENSET_DIR)/classes.csv -o $@ \
 	  --csv $(OPENSET_CROP_RES)/$(if $(keep),, && rm -f $(addsuffix /scan.pcd,$(OPENSET_CROP_RUNS)))
 .PHONY: openset-crops
-openset-crops: $(OPENSET_CROP_SCORE) $(OPENSET_CROP_ABL_SCORE)
+openset-crops: $(OPENSET_CROP_SCORE) $(OPENSET_CROP_ABL_SCORE) $(OPENSET_CROP_COLLECT_ABL_SCORE)
 endif
 
 ifeq ($(filter scenes user-modelbase openset-crops tile tiles,$(MAKECMDGOALS)),)
@@ -157,9 +169,11 @@ openset_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROG
   SCENE_DIR=$(OPENSET_DIR)/tiles SCENE_RES=$(OPENSET_RES) SCENE_MB=$(OPENSET_MB) \
   SCENE_MODELS=$(openset_models) SCENE_MODEL_CLASSES=$(OPENSET_DIR)/classes.csv \
   SCENE_SEEDS="$(OPENSET_SEEDS)" SCENE_COVERS="$(OPENSET_COVERS)" SCENE_NOISES=0 SCENE_BASELINE= \
-  SCENE_SIZE_ONLY=0 SCENE_PICTURES=0 SCENE_CLASSIFY=$(OPENSET_CLASSIFY) SCENE_CLASSIFY_ABLATION=$(OPENSET_CLASSIFY_ABLATION)
+  SCENE_SIZE_ONLY=0 SCENE_PICTURES=0 SCENE_CLASSIFY=$(OPENSET_CLASSIFY) SCENE_CLASSIFY_ABLATION=$(OPENSET_CLASSIFY_ABLATION) \
+  SCENE_COLLECT_ABLATION=$(OPENSET_COLLECT_ABLATION)
 openset_crop_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) openset-crops PROGRESS=0 \
-  SCENE_CLASSIFY=$(OPENSET_CLASSIFY) SCENE_CLASSIFY_ABLATION=$(OPENSET_CLASSIFY_ABLATION)
+  SCENE_CLASSIFY=$(OPENSET_CLASSIFY) SCENE_CLASSIFY_ABLATION=$(OPENSET_CLASSIFY_ABLATION) \
+  SCENE_COLLECT_ABLATION=$(OPENSET_COLLECT_ABLATION)
 ifneq ($(findstring q,$(make_letters))$(OPENSET),q1)
 openset_force := FORCE
 else
@@ -184,14 +198,24 @@ ifneq ($(OPENSET_ABL_SCORES),)
 $(word 1,$(OPENSET_ABL_SCORES)): $(OPENSET_SCORE)
 $(if $(word 2,$(OPENSET_ABL_SCORES)),$(eval $(word 2,$(OPENSET_ABL_SCORES)): $(OPENSET_CROP_SCORE)))
 endif
+# collect's ablation (OPENSET_COLLECT_ABLATION): made by the same sub-makes.
+OPENSET_COLLECT_ABL_SCORES := $(if $(OPENSET_COLLECT_ABLATION),$(OPENSET_RES)/collect-ablation/score.json $(if \
+  $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_RES)/collect-ablation/score.json))
+ifneq ($(OPENSET_COLLECT_ABL_SCORES),)
+$(word 1,$(OPENSET_COLLECT_ABL_SCORES)): $(OPENSET_SCORE)
+$(if $(word 2,$(OPENSET_COLLECT_ABL_SCORES)),$(eval $(word 2,$(OPENSET_COLLECT_ABL_SCORES)): $(OPENSET_CROP_SCORE)))
+endif
 .PHONY: openset
-openset: $(OPENSET_SCORE) $(if $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_SCORE)) $(OPENSET_ABL_SCORES)
+openset: $(OPENSET_SCORE) $(if $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_SCORE)) $(OPENSET_ABL_SCORES) \
+  $(OPENSET_COLLECT_ABL_SCORES)
 ifeq ($(OPENSET),1)
 $(RES)/report.md: $(OPENSET_SCORE) $(if $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_SCORE)) $(OPENSET_DISTANCES) \
-  $(OPENSET_ABL_SCORES)
+  $(OPENSET_ABL_SCORES) $(OPENSET_COLLECT_ABL_SCORES)
 REPORT_ARGS += --openset $(OPENSET_SCORE) --openset-distances $(OPENSET_DISTANCES)$(if $(filter 1,$(OPENSET_CROPS)), \
   --openset-crops $(OPENSET_CROP_SCORE))$(if $(OPENSET_CLASSIFY_ABLATION), --openset-ablation $(word 1,$(OPENSET_ABL_SCORES))$(if \
-  $(filter 1,$(OPENSET_CROPS)), --openset-crops-ablation $(word 2,$(OPENSET_ABL_SCORES))))
+  $(filter 1,$(OPENSET_CROPS)), --openset-crops-ablation $(word 2,$(OPENSET_ABL_SCORES))))$(if $(OPENSET_COLLECT_ABLATION), \
+  --openset-collect-ablation $(word 1,$(OPENSET_COLLECT_ABL_SCORES))$(if $(filter 1,$(OPENSET_CROPS)), \
+  --openset-crops-collect-ablation $(word 2,$(OPENSET_COLLECT_ABL_SCORES))))
 endif
 endif
 

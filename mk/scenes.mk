@@ -73,6 +73,11 @@ SCENE_CLASSIFY ?= $(P)/classify-sim.ini
 # report shows a changed default beside its ablation). Empty, the default, leaves it out; the
 # open set sets it (mk/openset.mk: every family, without --modelbase-classes-only).
 SCENE_CLASSIFY_ABLATION ?=
+# SCENE_COLLECT_ABLATION=<collect options, each as --name=value>: collect run a second time on
+# every run with these options, from the same verdicts and class answers, scored beside canopy's
+# as $(SCENE_RES)/collect-ablation/score.json. Empty, the default, leaves it out; the open set
+# sets it (mk/openset.mk: --contradicted-below=0, the model answer first).
+SCENE_COLLECT_ABLATION ?=
 $(foreach f,$(TILE_CLASSIFY) $(SCENE_CLASSIFY) $(SCENE_CLASSIFY_ABLATION),$(if $(wildcard $(f))$(filter $(OUT)/%,$(f)),,$(error classify's parameters: $(f) does not exist)))
 
 # read_plan(FILE): a generated candidate plan. A real run includes it, so make remakes it first
@@ -120,6 +125,13 @@ $(1)/detections-class-ablation.json: $(1)/cands.mk $(foreach c,$($(2)_CANDS),$(1
     $(foreach c,$(call model_cands,$(2)),$(1)/cands/$(c)/verdict.json) $(call tool,collect)
 	@$(STAGE) $$@ -- $(BIN)/collect -i $(1)/cands/index.json --class-name class-ablation.json -o $$@ \
 	  --modelbase $(3)
+endef
+# collect_ablation_run_rule(DIR, KEY, MODELBASE, OPTIONS): the run's detections collected with
+# OPTIONS (detections-collect-ablation.json). SCENE_COLLECT_ABLATION below.
+define collect_ablation_run_rule
+$(1)/detections-collect-ablation.json: $(1)/cands.mk $(foreach c,$($(2)_CANDS),$(1)/cands/$(c)/class.json) \
+    $(foreach c,$(call model_cands,$(2)),$(1)/cands/$(c)/verdict.json) $(call tool,collect)
+	@$(STAGE) $$@ -- $(BIN)/collect -i $(1)/cands/index.json -o $$@ --modelbase $(3) $(4)
 endef
 class_ablation_rules = $(foreach c,$($(2)_CANDS),$(eval $(call class_rule,$(1),$(c),$(4),$(3),class-ablation.json)))$(eval \
   $(call class_ablation_run_rule,$(1),$(2),$(3)))
@@ -305,7 +317,8 @@ $(if $(filter-out vfh fpfh,$(SCENE_BASELINE)),$(error SCENE_BASELINE=$(SCENE_BAS
 SCENE_SIZE_ONLY ?= 1
 $(if $(filter-out 0 1,$(SCENE_SIZE_ONLY)),$(error SCENE_SIZE_ONLY=$(SCENE_SIZE_ONLY): must be 0 or 1))
 SCENE_BL_SCORES := $(foreach m,$(SCENE_BASELINE) $(if $(filter 1,$(SCENE_SIZE_ONLY)),size),$(SCENE_RES)/baseline-$(m)/score.json)
-SCENE_ABL_SCORE := $(if $(SCENE_CLASSIFY_ABLATION),$(SCENE_RES)/class-ablation/score.json)
+SCENE_ABL_SCORE := $(if $(SCENE_CLASSIFY_ABLATION),$(SCENE_RES)/class-ablation/score.json) \
+  $(if $(SCENE_COLLECT_ABLATION),$(SCENE_RES)/collect-ablation/score.json)
 
 .PHONY: scenes
 # The report's "Scene experiment" section: the score, and the stages' .time files found through
@@ -447,6 +460,11 @@ ifneq ($(SCENE_CLASSIFY_ABLATION),)
 TILE_CAND_KINDS += classify:cand/class-ablation.json
 $(foreach r,$(SCENE_RUNS),$(call class_ablation_rules,$(r),$(call scene_key,$(r)),$(SCENE_MB),$(SCENE_CLASSIFY_ABLATION)))
 $(eval $(call scene_variant_score_rule,class-ablation))
+endif
+# collect's ablation (SCENE_COLLECT_ABLATION): per run, then one score.
+ifneq ($(SCENE_COLLECT_ABLATION),)
+$(foreach r,$(SCENE_RUNS),$(eval $(call collect_ablation_run_rule,$(r),$(call scene_key,$(r)),$(SCENE_MB),$(SCENE_COLLECT_ABLATION))))
+$(eval $(call scene_variant_score_rule,collect-ablation))
 endif
 # Per run: the tile from above with truth and detections coloured by the score's outcome
 # (right green, wrong model orange, false alarm magenta, missed yellow, found truth white).

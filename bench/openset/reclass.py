@@ -8,7 +8,8 @@ all vehicles (bench/rates.py's Wilson intervals), then every wrong class answer 
 
   bench/openset/reclass.py --dest DIR --modelbase MB --score-classes CSV [--classes-only] \\
       --set NAME=TILES_TXT [--set ...] VARIANT...
-  VARIANT = name=opt,opt (`name=` alone: the parameters as they are)
+  VARIANT = name=opt,opt (`name=` alone: the parameters as they are; an option written
+            collect:--opt=value goes to collect instead of classify)
 
 The open set: `--modelbase OUT/openset/modelbase --score-classes OUT/openset/classes.csv
 --classes-only --set tiles=OUT/openset/tiles/tiles.txt --set crops=OUT/openset/crops/tiles.txt`
@@ -32,7 +33,7 @@ CUES = ('plateau_share', 'end_low', 'end_high', 'notch', 'rectangularity', 'fill
 SRC = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
-def run_set(a, ini, opts, dest, manifest_path):
+def run_set(a, ini, opts, dest, manifest_path, collect_opts=()):
     """classify, collect, score one set into dest; returns (summary row, matches rows, run dirs)."""
     base = os.path.dirname(manifest_path)
     manifest = []
@@ -54,7 +55,8 @@ def run_set(a, ini, opts, dest, manifest_path):
                             f'{cands}/index.json', '--modelbase', a.modelbase, '--model-classes', a.model_classes,
                             '-o', f'{d}/class.json'] + opts, check=True)
         subprocess.run([f'{a.bin}/collect', '-q', '-i', f'{cands}/index.json', '--verdicts', mirror, '--modelbase',
-                        a.modelbase, '-o', f'{mirror}/detections.json'], check=True, stderr=subprocess.DEVNULL)
+                        a.modelbase, '-o', f'{mirror}/detections.json'] + list(collect_opts), check=True,
+                       stderr=subprocess.DEVNULL)
         manifest.append(f'{mirror}/detections.json {truth} {noise} {cover}\n')
     with open(f'{dest}/tiles.txt', 'w') as f:
         f.writelines(manifest)
@@ -86,10 +88,11 @@ def main():
     truth_class = {r['model']: r['class'] for r in csv.DictReader(open(a.score_classes))}
     for variant in a.variants:
         name, args = variant.split('=', 1)
-        opts = [o for o in args.split(',') if o]
+        opts = [o for o in args.split(',') if o and not o.startswith('collect:')]
+        collect_opts = [o[len('collect:'):] for o in args.split(',') if o.startswith('collect:')]
         for s in a.set:
             which, manifest = s.split('=', 1)
-            summary, rows, runs = run_set(a, ini, opts, f'{a.dest}/{name}/{which}', manifest)
+            summary, rows, runs = run_set(a, ini, opts, f'{a.dest}/{name}/{which}', manifest, collect_opts)
             for cover, row in sorted(summary.items()):
                 n, found = int(row['true']), int(row['found_any_level'])
                 right = int(row['class_right_any_level'])

@@ -566,6 +566,61 @@ TEST_CASE("collect v2: class answers where the model chain found nothing, failed
 }
 
 TEST_CASE(
+    "collect --contradicted-below: a doubtful model answer whose class classify contradicts gives way") {
+  const fs::path dir = tile("contradicted");
+  const fs::path cands = dir / "cands";
+  // c0001: verify's model answer is a van at confidence 0.3; classify says a car (an suv).
+  auto model_answer = [&](double confidence) {
+    Json v = verdict((cands / "c0001" / "samples.pcd").string(), "van__bus", confidence, flat(0, 0, 0, 0),
+                     flat(30, E + 10.25, N + 10.125, 100.5));
+    v["class"] = "van";  // verify's class fields (a modelbase with classes)
+    v["nearest_instance"] = "van__bus";
+    v["class_score"] = 0.5;
+    v["class_margin"] = 0.1;
+    write(cands / "c0001" / "verdict.json", v.dump());
+  };
+  auto class_said = [&](const char* cls, const char* group, const char* reason) {
+    write(cands / "c0001" / "class.json",
+          class_answer(cands, "c0001", cls, group, reason, 900, reason ? Json() : flat(0, 0, 0, 0)).dump());
+  };
+  const std::string cmd = bin() + " -i " + (cands / "index.json").string() + " -o " +
+                          (dir / "d.json").string() + " --class-name class.json";
+  std::string err;
+  auto first = [&](const std::string& options) {
+    REQUIRE(test::sh(cmd + options, dir / "err.txt", &err) == 0);
+    const Json d = read_json(dir / "d.json");
+    for (const auto& x : d["detections"]) {
+      if (x["candidate"] == "c0001")
+        return x["level"].get<std::string>() + " " + x["class"].get<std::string>();
+    }
+    return std::string("none");
+  };
+  model_answer(0.3);
+  class_said("suv", "car", nullptr);
+  CHECK(first("") == "class suv");                            // the default, 0.5
+  CHECK(first(" --contradicted-below 0") == "model van");     // off: the model answer first
+  CHECK(first(" --contradicted-below 0.25") == "model van");  // 0.3 is not below 0.25
+  model_answer(0.6);
+  CHECK(first("") == "model van");  // confident enough
+  model_answer(0.3);
+  class_said("box-van", "van", nullptr);
+  CHECK(first("") == "model van");  // classify's group agrees: no contradiction
+  class_said("van", nullptr, nullptr);
+  CHECK(first("") == "model van");  // its class agrees
+  class_said(nullptr, nullptr, "vegetation_like");
+  CHECK(first("") == "model van");  // classify named no class: nothing contradicts
+  // A model without a class (the thesis modelbase has no classes): nothing to contradict.
+  write(cands / "c0001" / "verdict.json", verdict((cands / "c0001" / "samples.pcd").string(), "sedan", 0.1,
+                                                  flat(0, 0, 0, 0), flat(30, E + 10.25, N + 10.125, 100.5))
+                                              .dump());
+  class_said("box-van", "van", nullptr);
+  REQUIRE(test::sh(cmd, dir / "err.txt", &err) == 0);
+  CHECK(read_json(dir / "d.json")["detections"][0]["model"] == "sedan");
+  CHECK(test::sh(cmd + " --contradicted-below 1.5", dir / "err.txt", &err) == 2);
+  CHECK_THAT(err, Catch::Contains("--contradicted-below must be in [0, 1]"));
+}
+
+TEST_CASE(
     "collect v2: most candidates too sparse and no model chain: the warning says why and what would help") {
   const fs::path dir = tile("sparse_warning");
   const fs::path cands = dir / "cands";

@@ -143,3 +143,18 @@ TEST_CASE("open set: the classify ablation is its own subsection with the crops'
   CHECK(tiles_only.find("single-vehicle crops") == std::string::npos);
   CHECK(tiles_only.find("| cover | tiles | vehicles |") != std::string::npos);
 }
+
+TEST_CASE("open set: collect's ablation (the model answer first) is its own subsection") {
+  // 10 cars, 9 found (4 + 5), 5 of them the right class: the same table as the classify ablation's.
+  const documents::SceneScore crops = crops_score({"car"}, 4, 0, 5, 2, 9, 5);
+  documents::SceneScore tiles;
+  const std::string md =
+      report::openset_collect_ablation_markdown(tiles, "cabl/score.json", &crops, "cabl/crops.json");
+  CHECK(md.find("### Ablation: the model answer first (`collect --contradicted-below 0`)") != std::string::npos);
+  CHECK(md.find("every classify family") == std::string::npos);
+  CHECK(md.find("(cabl/score.json, cabl/crops.json)") != std::string::npos);
+  CHECK(md.find("| car | 10 | 9 (4 + 5) | 9/10 = 90.0% [59.6, 98.2] | 5/9 = 55.6% [26.7, 81.1] |") !=
+        std::string::npos);
+  const std::string tiles_only = report::openset_collect_ablation_markdown(tiles, "cabl/score.json");
+  CHECK(tiles_only.find("single-vehicle crops") == std::string::npos);
+}

@@ -439,6 +439,11 @@ Matrix size_only_pose(const Matrix& rect, const ModelBox& b) {
   return multiply(rect, m);
 }
 
+bool model_contradicted(const Verdict& v, const Verdict& k) {
+  if (v.model.empty() || v.cls.empty() || k.cls.empty()) return false;
+  return k.cls != v.cls && k.group != v.cls;
+}
+
 Outputs collect(const Index& index, const std::vector<Answers>& answers, const Params& params,
                 const formats::Provenance& provenance) {
   if (answers.size() != index.candidates.size())
@@ -486,7 +491,8 @@ Outputs collect(const Index& index, const std::vector<Answers>& answers, const P
           ++out.model_level;
         }
       }
-    } else if (v.present && !v.failed && !v.model.empty()) {
+    } else if (v.present && !v.failed && !v.model.empty() &&
+               !(classified && v.confidence < params.contradicted_below && model_contradicted(v, k))) {
       found = &v;
       ++out.model_level;
     } else if (classified) {

@@ -88,7 +88,17 @@ struct Params {
   // largest relative difference / size_gate. Other candidates are rejected as without it.
   bool size_only = false;
   double size_gate = 0.25;
+  // A model-level answer (verify's model) with a confidence below `contradicted_below` gives
+  // way to classify's class answer when classify named a class and neither its class nor its
+  // group is the model's class (model_contradicted): verify's calibrated confidence says the
+  // model is more likely wrong than right, and the class level says what else it is. 0 = off
+  // (the model answer always first, as before). docs/decisions/open-set.md "Sixth round".
+  double contradicted_below = 0.5;
 };
+
+// Whether classify's class answer k contradicts verify's model answer v: v names a model of a
+// known class, k names a class, and neither k's class nor its group is v's class.
+bool model_contradicted(const Verdict& v, const Verdict& k);
 // Largest relative difference |s - m| / m of a size (L W H) from a model box's (longer side,
 // shorter side, z1); infinity for a box of zero extent.
 double size_difference(const std::array<double, 3>& size, const ModelBox& box);

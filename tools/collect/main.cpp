@@ -59,6 +59,7 @@ struct Options {
   double model_density = collect::kModelDensity;
   bool size_only = false, no_density_scale = false;
   double size_gate = 0.25;
+  double contradicted_below = 0.5;
 };
 
 void bind(common::Tool& tool, Options& o) {
@@ -94,6 +95,10 @@ void bind(common::Tool& tool, Options& o) {
                 "decisions; each candidate classify measured becomes a detection of the --modelbase "
                 "model nearest to its measured length, width and height when each is within "
                 "--size-gate of the model's");
+  tool.add("--contradicted-below", &o.contradicted_below,
+           "a model answer whose confidence is below this, and whose class classify's class "
+           "answer contradicts (neither its class nor its group), gives way to classify's "
+           "answer (0 = off: the model answer first)");
   tool.add("--size-gate", &o.size_gate,
            "--size-only: the largest relative difference of length, width or height from the "
            "nearest model's that is still that model");
@@ -221,6 +226,9 @@ int main(int argc, char** argv) {
     p.size_only = o.size_only;
     if (!(o.size_gate > 0 && o.size_gate <= 10)) throw common::UsageError("--size-gate must be in (0, 10]");
     p.size_gate = o.size_gate;
+    if (!(o.contradicted_below >= 0 && o.contradicted_below <= 1))
+      throw common::UsageError("--contradicted-below must be in [0, 1]");
+    p.contradicted_below = o.contradicted_below;
     if (!o.modelbase.empty())
       p.boxes = read_boxes(o.modelbase, in.answers, in.provenance.inputs, o.size_only);
     const collect::Outputs r = collect::run(p, in);

@@ -199,6 +199,7 @@ std::string density_section(const std::vector<documents::ManifestDensity>& densi
 struct Sources {
   std::string manifest, results = "results";
   std::string thesis;  // default: <share>/thesis/results.csv
+  std::string openset_collect_ablation, openset_crops_collect_ablation;
   std::string tile_score, families, disk, openset, openset_crops, openset_distances, openset_ablation,
       openset_crops_ablation;
   int real_timeout = 0;
@@ -232,6 +233,11 @@ void bind(common::Tool& tool, Sources& src, report::Params& p) {
            "of the open set's beside the default");
   tool.add("--openset-crops-ablation", &src.openset_crops_ablation,
            "the same ablation's score.json on the single-vehicle crops (with --openset-ablation)");
+  tool.add("--openset-collect-ablation", &src.openset_collect_ablation,
+           "the open set's collect ablation's score.json (mk/openset.mk: the model answer first, "
+           "collect --contradicted-below 0): a subsection of the open set's beside the default");
+  tool.add("--openset-crops-collect-ablation", &src.openset_crops_collect_ablation,
+           "the same ablation's score.json on the single-vehicle crops (with --openset-collect-ablation)");
   tool.add("--openset-distances", &src.openset_distances,
            "the vehicle library's distances.csv (scripts/vehicles/distance.py): the open set's nearest "
            "modelbase instances and instance accuracy");
@@ -270,6 +276,10 @@ int main(int argc, char** argv) {
       throw common::UsageError("--openset-ablation needs --openset");
     if (src.openset_ablation.empty() && !src.openset_crops_ablation.empty())
       throw common::UsageError("--openset-crops-ablation needs --openset-ablation");
+    if (src.openset.empty() && !src.openset_collect_ablation.empty())
+      throw common::UsageError("--openset-collect-ablation needs --openset");
+    if (src.openset_collect_ablation.empty() && !src.openset_crops_collect_ablation.empty())
+      throw common::UsageError("--openset-crops-collect-ablation needs --openset-collect-ablation");
     common::log::Phase phase("read");
     const documents::ExperimentManifest manifest = documents::read_experiment_manifest(src.manifest);
     const report::Inputs in = read_inputs(manifest, src.thesis);
@@ -305,6 +315,15 @@ int main(int argc, char** argv) {
         markdown += report::openset_ablation_markdown(documents::read_scene_score_file(src.openset_ablation),
                                                       src.openset_ablation, crops_abl ? &*crops_abl : nullptr,
                                                       src.openset_crops_ablation);
+      }
+      if (!src.openset_collect_ablation.empty()) {
+        const std::optional<documents::SceneScore> crops_abl =
+            src.openset_crops_collect_ablation.empty()
+                ? std::nullopt
+                : std::optional(documents::read_scene_score_file(src.openset_crops_collect_ablation));
+        markdown += report::openset_collect_ablation_markdown(
+            documents::read_scene_score_file(src.openset_collect_ablation), src.openset_collect_ablation,
+            crops_abl ? &*crops_abl : nullptr, src.openset_crops_collect_ablation);
       }
     }
     if (!src.disk.empty())

@@ -189,21 +189,45 @@ std::string openset_markdown(const documents::SceneScore& score, const std::stri
   return md.str();
 }
 
-std::string openset_ablation_markdown(const documents::SceneScore& tiles, const std::string& tiles_path,
-                                      const documents::SceneScore* crops, const std::string& crops_path) {
+namespace {
+
+std::string ablation_markdown(const std::string& heading, const std::string& what,
+                              const documents::SceneScore& tiles, const std::string& tiles_path,
+                              const documents::SceneScore* crops, const std::string& crops_path) {
   std::ostringstream md;
-  md << "\n### Ablation: every classify family (`OPENSET_CLASSES_ONLY=0`)\n\n"
-     << "The open set's default answers only the classes of the modelbase's entries (`classify "
-        "--modelbase-classes-only`, docs/decisions/open-set.md); this is the same tiles, candidates and "
-        "model chain with classify's every family instead (the simulated tiles' parameters alone), run "
-        "beside it on every candidate and scored the same way ("
-     << tiles_path << (crops ? ", " + crops_path : std::string()) << ").\n\n";
+  md << "\n### " << heading << "\n\n"
+     << what << " (" << tiles_path << (crops ? ", " + crops_path : std::string()) << ").\n\n";
   rates_table(md, tiles, "cover");
   if (crops != nullptr) {
     md << "\nThe single-vehicle crops, the same ablation:\n\n";
     crops_table(md, *crops);
   }
   return md.str();
+}
+
+}  // namespace
+
+std::string openset_ablation_markdown(const documents::SceneScore& tiles, const std::string& tiles_path,
+                                      const documents::SceneScore* crops, const std::string& crops_path) {
+  return ablation_markdown(
+      "Ablation: every classify family (`OPENSET_CLASSES_ONLY=0`)",
+      "The open set's default answers only the classes of the modelbase's entries (`classify "
+      "--modelbase-classes-only`, docs/decisions/open-set.md); this is the same tiles, candidates and "
+      "model chain with classify's every family instead (the simulated tiles' parameters alone), run "
+      "beside it on every candidate and scored the same way",
+      tiles, tiles_path, crops, crops_path);
+}
+
+std::string openset_collect_ablation_markdown(const documents::SceneScore& tiles,
+                                              const std::string& tiles_path, const documents::SceneScore* crops,
+                                              const std::string& crops_path) {
+  return ablation_markdown(
+      "Ablation: the model answer first (`collect --contradicted-below 0`)",
+      "By default a model answer of verify's with a confidence below 0.5 whose class classify's class "
+      "answer contradicts gives way to classify's answer (`collect --contradicted-below`, "
+      "docs/decisions/open-set.md, sixth round); this is the same verdicts and class answers collected "
+      "with the model answer always first, as before, and scored the same way",
+      tiles, tiles_path, crops, crops_path);
 }
 
 }  // namespace canopy::report
