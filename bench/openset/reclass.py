@@ -48,7 +48,7 @@ def run_set(a, ini, opts, dest, manifest_path, collect_opts=()):
         for c in json.load(open(f'{cands}/index.json'))['candidates']:
             d = f'{mirror}/{c["id"]}'
             os.makedirs(d, exist_ok=True)
-            verdict = f'{cands}/{c["id"]}/verdict.json'
+            verdict = os.path.abspath(f'{cands}/{c["id"]}/verdict.json')
             if os.path.exists(verdict) and not os.path.lexists(f'{d}/verdict.json'):
                 os.symlink(verdict, f'{d}/verdict.json')
             subprocess.run([f'{a.bin}/classify', '-q', '--config', ini, '-i', f'{cands}/{c["file"]}', '--index',
