@@ -4,7 +4,9 @@
 # each ablation, collect, score, and bench/classify/realcal.py --figures per variant.
 #   bench/classify/passes.sh OUT_DIR TILE.laz [TILE.laz ...]
 #   (BIN=build/bin; VARIANTS="name:extra classify args" ...; default: the new defaults, the
-#   measurement alone, the threshold alone and main's "every pass, 0.40")
+#   measurement alone, the threshold alone and main's "every pass, 0.40"; MODELBASE=DIR passes
+#   --modelbase DIR --model-classes share/models/classes.csv to classify and --modelbase to collect,
+#   as `make tile` and bench/detect/real.sh do)
 # Development tiles only while developing (ahn3_delft_1, forest_bcts_1 from the shared data);
 # the held-out tiles once (docs/decisions/real-tiles.md: the split).
 set -euo pipefail
@@ -15,6 +17,10 @@ out=$1
 shift
 ini=$src/share/params/classify.ini
 variants=${VARIANTS:-"defaults: measurement:--max-ground-through=0.40 threshold:--by-pass=false every-pass-0.40:--by-pass=false,--max-ground-through=0.40"}
+mb=()
+[ -z "${MODELBASE:-}" ] || mb=(--modelbase "$MODELBASE")
+cls_mb=""
+[ -z "${MODELBASE:-}" ] || cls_mb="--modelbase $MODELBASE --model-classes $src/share/models/classes.csv"
 tiles=()
 for laz in "$@"; do
   t=$(basename "$laz" .laz)
@@ -35,9 +41,9 @@ for v in $variants; do
     for p in "$d/cands"/*.pcd; do
       id=$(basename "$p" .pcd)
       mkdir -p "$d/cands/$id"
-      echo "$bin/classify -q --config $ini $args -i $p --index $d/cands/index.json -o $d/cands/$id/class.json"
+      echo "$bin/classify -q --config $ini $args $cls_mb -i $p --index $d/cands/index.json -o $d/cands/$id/class.json"
     done | xargs -P2 -I{} sh -c '{}'
-    "$bin/collect" -q -i "$d/cands/index.json" -o "$d/detections.json" 2>/dev/null
+    "$bin/collect" -q -i "$d/cands/index.json" -o "$d/detections.json" "${mb[@]}" 2>/dev/null
     truth=$src/share/real/$t.truth.json
     [ ! -f "$truth" ] || "$bin/score" -q -d "$d/detections.json" -t "$truth" -o "$d/score.json"
   done

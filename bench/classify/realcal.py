@@ -26,7 +26,8 @@ from concurrent.futures import ThreadPoolExecutor
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 from rates import rate
 
-CUES = ["fill", "ground_through", "below_share", "top_roughness_rel", "late_returns", "plateau_share"]
+CUES = ["fill", "ground_through", "below_share", "top_roughness_rel", "top_roughness_line_rel", "late_returns",
+        "plateau_share"]
 
 
 def quantile(v, q):
@@ -66,7 +67,10 @@ def read_ini(path):
         line = line.split("#")[0].strip()
         if "=" in line:
             k, v = (s.strip() for s in line.split("=", 1))
-            p[k] = float(v[:-2]) / 1000 if v.endswith("mm") else float(v)
+            try:
+                p[k] = float(v[:-2]) / 1000 if v.endswith("mm") else float(v)
+            except ValueError:  # a word: roughness = line, by-pass = true
+                p[k] = v
     return p
 
 
@@ -99,6 +103,11 @@ def rows(out, labels, tile):
             r[k] = f.get(k)
         r["top_roughness_rel"] = (f["top_roughness"] / j["measured"]["spacing"]
                                   if f.get("top_roughness") is not None and (f.get("top_cells") or 0) >= 3 and j["measured"] else None)
+        # Along lines (classify.md §19; class.json of a binary that measures it).
+        r["top_roughness_line"] = f.get("top_roughness_line")
+        r["top_roughness_line_rel"] = (f["top_roughness_line"] / j["measured"]["spacing"]
+                                       if f.get("top_roughness_line") is not None and (f.get("top_cells_line") or 0) >= 3
+                                       and j["measured"] else None)
         yield r
 
 
@@ -114,8 +123,10 @@ def veg_reason(r, p):
             worst, wv = k, r[k] / p[t]
     if worst:
         return worst
-    if r["top_roughness_rel"] is not None and r["top_roughness"] > max(0.1, p["max-roughness"] * r["spacing"]):
-        return "top_roughness"
+    line = p.get("roughness", "plane") == "line"
+    key, rel = ("top_roughness_line", "top_roughness_line_rel") if line else ("top_roughness", "top_roughness_rel")
+    if r[rel] is not None and r[key] > max(0.1, p["max-roughness"] * r["spacing"]):
+        return key
     if p.get("min-plateau", 0) > 0 and r["plateau_share"] < p["min-plateau"]:
         return "no roof (plateau_share)"
     return ""

@@ -1072,3 +1072,88 @@ TEST_CASE("classify: bad input files exit 1 naming the file; usage errors exit 2
     CHECK_FALSE(test::exists(dir / "v.json"));
   }
 }
+
+namespace {
+
+// A small car with a rounded top, 3.6 x 1.6 m (the size and shape of real development vehicle #50,
+// classify.md §19): body (bonnet, boot, shoulders) 0.85 m; a 1.3 m cabin roof at 1.40 m crowned
+// 0.08 m across (x in [-0.9, 0.4], |y| < 0.7), a windscreen down to the bonnet over 0.6 m and a rear
+// window down to the boot over 0.3 m.
+double rounded_roof_top(double x, double y) {
+  if (std::abs(x) > 1.8 || std::abs(y) > 0.8) return -1;
+  const double body = 0.85;
+  if (std::abs(y) >= 0.7) return body;
+  const double roof = 1.40 - 0.08 * (y / 0.7) * (y / 0.7);
+  if (x >= -0.9 && x <= 0.4) return roof;
+  if (x > 0.4 && x < 1.0) return roof + (body - roof) * (x - 0.4) / 0.6;
+  if (x < -0.9 && x > -1.2) return roof + (body - roof) * (-0.9 - x) / 0.3;
+  return body;
+}
+
+// A solid crown of a car's size, 3.6 x 1.8 m: leaves and twigs, its top 1.1 m +- 0.65 m in clumps
+// of 0.1 m (under the spacing: each return its own height; a hash of the clump's index, fixed,
+// not drawn). One return per pulse, nothing under it (so fill, below_share, ground_through and
+// late returns all say solid: only the roughness is left to tell it from a car).
+double clumped_crown_top(double x, double y) {
+  if (std::abs(x) > 1.8 || std::abs(y) > 0.9) return -1;
+  const auto i = static_cast<std::uint64_t>(std::floor(x / 0.1) + 64);
+  const auto j = static_cast<std::uint64_t>(std::floor(y / 0.1) + 64);
+  const std::uint64_t h = common::mix64(i * 1000003 + j);
+  return 1.1 + 1.3 * (static_cast<double>(h % 1001) / 1000 - 0.5);
+}
+
+}  // namespace
+
+TEST_CASE("classify: roughness along lines: a car's panels and steps are smooth, a rough crown is not") {
+  // 8 draws (seeds, headings) at 25 points/m² (cells of 0.3 m, 20-30 interior cells: the median
+  // is stable): the car's top is panels meeting at steps (windscreen, rear window, the drop to the
+  // shoulders), so the 3 x 3 plane of a cell beside a step misses it, while along some line through
+  // every cell its panel runs on; the crown's leaves make every line rough.
+  classify::Params line;  // the default: line, 0.20
+  REQUIRE(line.roughness == classify::Params::Roughness::kLine);
+  classify::Params plane;
+  plane.roughness = classify::Params::Roughness::kPlane;
+  plane.max_roughness = 0.45;  // the rule before (classify.ini until §19)
+  std::size_t refused = 0;
+  for (std::uint64_t k = 0; k < 8; ++k) {
+    const double heading = static_cast<double>(k) * 22.5 * kDeg;
+    const Sampled car = sample(rounded_roof_top, 1.8, 0.8, heading, 25, 300 + k);
+    const Sampled tree = sample(clumped_crown_top, 1.8, 0.9, heading, 25, 300 + k);
+    const classify::Answer car_line = classify::run(line, {car.cloud, "car.pcd", {}});
+    const classify::Answer car_plane = classify::run(plane, {car.cloud, "car.pcd", {}});
+    const classify::Answer tree_line = classify::run(line, {tree.cloud, "tree.pcd", {}});
+    const auto& cf = car_line.features;
+    const auto& tf = tree_line.features;
+    INFO("draw " << k << ": car line " << cf.top_roughness_line << " (" << cf.top_cells_line
+                 << " cells) plane " << cf.top_roughness << " -> " << car_line.cls << car_line.reason << " / "
+                 << car_plane.cls << car_plane.reason << "; crown line " << tf.top_roughness_line << " plane "
+                 << tf.top_roughness << " spacing " << tf.spacing << " -> " << tree_line.reason << " "
+                 << tree_line.detail);
+    // Both measured whichever cue decides.
+    CHECK(cf.top_roughness_line == car_plane.features.top_roughness_line);
+    CHECK(cf.top_roughness == car_plane.features.top_roughness);
+    CHECK(cf.top_cells_line >= 15);
+    // The car: along lines a centimetre or two (the sampling), well under its plane residual.
+    CHECK(cf.top_roughness_line < 0.03);
+    CHECK(cf.top_roughness > 1.5 * cf.top_roughness_line);
+    CHECK(car_line.group == "car");
+    CHECK(car_plane.group == "car");
+    // The crown: rough along every line, four times the car and more, past 0.20 x its spacing.
+    CHECK(tf.top_roughness_line > 4 * cf.top_roughness_line);
+    CHECK(tf.top_roughness_line > line.max_roughness * tf.spacing);
+    // Past the threshold and its 0.1 m floor, the line's roughness refuses it (below_share, which
+    // its deep leaves also trip, out of reach here).
+    classify::Params rough_only = line;
+    rough_only.max_below_share = 1;
+    const classify::Answer tree_rough = classify::run(rough_only, {tree.cloud, "tree.pcd", {}});
+    INFO(tree_rough.reason << " " << tree_rough.detail);
+    if (tf.top_roughness_line > std::max(0.1, line.max_roughness * tf.spacing)) {
+      ++refused;
+      CHECK(tree_rough.reason == "vegetation_like");
+      CHECK(tree_rough.detail.find("the line through its neighbours") != std::string::npos);
+    } else {
+      CHECK(tree_rough.detail.find("the top is rough") == std::string::npos);
+    }
+  }
+  CHECK(refused >= 1);
+}

@@ -139,12 +139,17 @@ bool vegetation(Answer& a, const Params& p) {
   // The cells' size grows with the spacing and so does a sampled panel's apparent roughness
   // (its cell tops come from fewer points): the threshold scales with it, over a 0.1 m floor.
   const double rough = std::max(0.1, p.max_roughness * f.spacing);
-  if (f.top_cells >= 3 && f.top_roughness > rough) {
-    refuse(
-        a, "vegetation_like",
-        fmt("the top is rough: %.0f mm from the local plane of its neighbours (median; vehicle <= %.0f mm)",
-            1e3 * f.top_roughness, 1e3 * rough),
-        past(f.top_roughness, rough));
+  const bool line = p.roughness == Params::Roughness::kLine;
+  const double value = line ? f.top_roughness_line : f.top_roughness;
+  const std::size_t cells = line ? f.top_cells_line : f.top_cells;
+  if (cells >= 3 && value > rough) {
+    refuse(a, "vegetation_like",
+           fmt(line ? "the top is rough: %.0f mm from the line through its neighbours along the smoothest "
+                      "direction (median; vehicle <= %.0f mm)"
+                    : "the top is rough: %.0f mm from the local plane of its neighbours (median; vehicle <= "
+                      "%.0f mm)",
+               1e3 * value, 1e3 * rough),
+           past(value, rough));
     return true;
   }
   return false;

@@ -90,9 +90,16 @@ struct Params {
   double size_gate = 2.5;
   // Shape cues: fitted on real development tiles (share/params/classify.ini, classify.md §5;
   // the simulated fit: classify-sim.ini).
-  double plateau_drop = 0.2;        // profile bins within this of the top (+ 10% of H) are plateau (m)
-  double max_roughness = 0.45;      // rougher top (median local residual) than this x the spacing,
-                                    // and than 0.1 m: vegetation_like
+  double plateau_drop = 0.2;  // profile bins within this of the top (+ 10% of H) are plateau (m)
+  // Which roughness the threshold reads (classify.md §19): kLine (default, classify.ini) a cell's
+  // top against its nearest occupied neighbours on the straightest of four lines through it (a
+  // vehicle's top is smooth along at least one direction: its roof, bonnet, the windscreen's
+  // crease); kPlane (before; classify-sim.ini) against the plane of its 3 x 3 cells' tops, which
+  // on a car at 0.5 m cells spans the windscreen step or the drop to its shoulders.
+  enum class Roughness { kPlane, kLine };
+  Roughness roughness = Roughness::kLine;
+  double max_roughness = 0.2;       // rougher top (median local residual) than this x the spacing,
+                                    // and than 0.1 m: vegetation_like (0.45 with kPlane, §5)
   double max_below_share = 0.25;    // more interior object points under another one: vegetation_like
   double max_ground_through = 0.2;  // more interior ground returns under the object: vegetation_like
   double min_fill = 0.55;           // fewer points per m² of its rectangle than this x the open
@@ -184,6 +191,11 @@ struct Features {
   double tip_width = 0, tip_level = 0;
   double top_roughness = 0;   // median |interior cell top - the plane of its 3 x 3 cells' tops| (m)
   std::size_t top_cells = 0;  // interior cells with enough neighbours for it
+  // Median over the interior cells of the smallest |top - the line through its nearest occupied
+  // neighbours (up to two cells away) on either side| over four directions (along, across, the two
+  // diagonals) (m; classify.md §19), and the cells that had a line.
+  double top_roughness_line = 0;
+  std::size_t top_cells_line = 0;
   double below_share = 0;     // interior object points with an object point >= 0.5 m above them
   double ground_through = 0;  // interior ground returns under an object point (share of interior returns)
   std::size_t interior_points = 0;

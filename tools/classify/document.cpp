@@ -40,6 +40,8 @@ std::vector<ClassFeature> features_of(const Features& f) {
                                 number("tip_level", f.tip_level),
                                 number("top_roughness", f.top_roughness),
                                 count("top_cells", f.top_cells),
+                                number("top_roughness_line", f.top_roughness_line),
+                                count("top_cells_line", f.top_cells_line),
                                 number("below_share", f.below_share),
                                 number("ground_through", f.ground_through),
                                 count("interior_points", f.interior_points),

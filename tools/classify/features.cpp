@@ -24,6 +24,8 @@ using Eigen::Vector3d;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kVerticalLink = 3;  // object clustering reaches this many links vertically
+// The four lines through a cell of the roughness grid (along, across, the two diagonals).
+constexpr std::int64_t kLines[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
 
 // Union-find with path halving; the smaller index becomes the root (deterministic).
 struct Forest {
@@ -321,7 +323,7 @@ void column_cues(const Candidate& c, const std::vector<char>& counted, const std
     low[k] = std::min(low[k], p.z());
   }
   std::size_t inner = 0, occupied = 0, below = 0, through = 0;
-  std::vector<double> residuals;
+  std::vector<double> residuals, along;
   for (std::int64_t a = 0; a < nu; ++a) {
     for (std::int64_t b = 0; b < nv; ++b) {
       if (!interior(a, b)) continue;
@@ -344,10 +346,38 @@ void column_cues(const Candidate& c, const std::vector<char>& counted, const std
         }
       }
       if (hood.size() >= 5) residuals.push_back(std::abs(top[k] - plane_at_origin(hood)));
+      // Along lines (classify.md §19): a vehicle's top is piecewise smooth and each panel runs on in
+      // at least one direction (a roof along the car, the windscreen's crease across it), so a cell
+      // lies on the line through its neighbours on some line even beside a step; a crown's top is
+      // rough along every line. The nearest occupied cell up to two away on each side (glass and
+      // dark paint leave cells empty), the prediction interpolated by distance.
+      double best = kInf;
+      for (const auto& d : kLines) {
+        double t[2] = {0, 0};
+        int reach[2] = {0, 0};
+        for (int side = 0; side < 2; ++side) {
+          const int sign = side == 0 ? 1 : -1;
+          for (int step = 1; step <= 2 && reach[side] == 0; ++step) {
+            const std::int64_t na = a + sign * step * d[0], nb = b + sign * step * d[1];
+            if (na < 0 || na >= nu || nb < 0 || nb >= nv) break;
+            const double h = top[static_cast<std::size_t>(na * nv + nb)];
+            if (h != -kInf) {
+              t[side] = h;
+              reach[side] = step;
+            }
+          }
+        }
+        if (reach[0] == 0 || reach[1] == 0) continue;
+        const double line = (reach[1] * t[0] + reach[0] * t[1]) / (reach[0] + reach[1]);
+        best = std::min(best, std::abs(top[k] - line));
+      }
+      if (best < kInf) along.push_back(best);
     }
   }
   f.top_cells = residuals.size();
   f.top_roughness = residuals.empty() ? 0 : quantile(residuals, 0.5);
+  f.top_cells_line = along.size();
+  f.top_roughness_line = along.empty() ? 0 : quantile(along, 0.5);
   f.interior_cells = inner;
   f.below_share_cells = occupied ? static_cast<double>(below) / static_cast<double>(occupied) : 0;
   f.ground_through_cells = inner ? static_cast<double>(through) / static_cast<double>(inner) : 0;

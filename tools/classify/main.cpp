@@ -28,6 +28,7 @@ namespace {
 
 struct Cli {
   std::string in = "-", out = "-", index, candidate, transform, modelbase, model_classes;
+  std::string roughness = "line";
 };
 
 void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
@@ -56,9 +57,14 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
   tool.add("--spacing-sigma", &p.spacing_sigma, "size uncertainty per unit of point spacing");
   tool.add("--size-gate", &p.size_gate, "a size may miss a class range by this many uncertainties");
   tool.add_length("--plateau-drop", &p.plateau_drop, "profile within this (+ 10% of H) of the top: plateau");
+  tool.add("--roughness", &cli.roughness,
+           "what --max-roughness reads: line (a cell's top against the line through its nearest "
+           "neighbours, along the smoothest of four directions) or plane (against the plane of its 3 x 3 "
+           "neighbours' tops; before, classify-sim.ini)")
+      ->check(CLI::IsMember({"line", "plane"}));
   tool.add("--max-roughness", &p.max_roughness,
-           "rougher top (median residual of a cell's top from its neighbours' plane) than this x the "
-           "spacing (and 0.1 m): vegetation_like");
+           "rougher top (median residual of a cell's top, --roughness) than this x the spacing (and "
+           "0.1 m): vegetation_like");
   tool.add("--max-below-share", &p.max_below_share,
            "more interior object points with an object point 0.5 m above them: vegetation_like");
   tool.add("--max-ground-through", &p.max_ground_through,
@@ -181,6 +187,7 @@ int main(int argc, char** argv) {
   Cli cli;
   bind(tool, p, cli);
   return tool.run(argc, argv, [&] {
+    p.roughness = cli.roughness == "plane" ? cl::Params::Roughness::kPlane : cl::Params::Roughness::kLine;
     cl::validate(p);
     if (!cli.index.empty() && !cli.transform.empty()) {
       throw cm::UsageError("--index and --transform both give the pose: use one");
