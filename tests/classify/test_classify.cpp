@@ -1109,11 +1109,12 @@ TEST_CASE("classify: roughness along lines: a car's panels and steps are smooth,
   // is stable): the car's top is panels meeting at steps (windscreen, rear window, the drop to the
   // shoulders), so the 3 x 3 plane of a cell beside a step misses it, while along some line through
   // every cell its panel runs on; the crown's leaves make every line rough.
-  classify::Params line;  // the default: line, 0.20
-  REQUIRE(line.roughness == classify::Params::Roughness::kLine);
-  classify::Params plane;
-  plane.roughness = classify::Params::Roughness::kPlane;
-  plane.max_roughness = 0.45;  // the rule before (classify.ini until §19)
+  classify::Params line;  // the line cue with its fitted threshold (classify.md §19)
+  line.roughness = classify::Params::Roughness::kLine;
+  line.max_roughness = 0.2;
+  classify::Params plane;  // the default: plane, 0.45
+  REQUIRE(plane.roughness == classify::Params::Roughness::kPlane);
+  REQUIRE(plane.max_roughness == 0.45);
   std::size_t refused = 0;
   for (std::uint64_t k = 0; k < 8; ++k) {
     const double heading = static_cast<double>(k) * 22.5 * kDeg;

@@ -28,7 +28,7 @@ namespace {
 
 struct Cli {
   std::string in = "-", out = "-", index, candidate, transform, modelbase, model_classes;
-  std::string roughness = "line";
+  std::string roughness = "plane";
 };
 
 void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
@@ -58,9 +58,9 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
   tool.add("--size-gate", &p.size_gate, "a size may miss a class range by this many uncertainties");
   tool.add_length("--plateau-drop", &p.plateau_drop, "profile within this (+ 10% of H) of the top: plateau");
   tool.add("--roughness", &cli.roughness,
-           "what --max-roughness reads: line (a cell's top against the line through its nearest "
-           "neighbours, along the smoothest of four directions) or plane (against the plane of its 3 x 3 "
-           "neighbours' tops; before, classify-sim.ini)")
+           "what --max-roughness reads: plane (a cell's top against the plane of its 3 x 3 "
+           "neighbours' tops) or line (against the line through its nearest neighbours, along the "
+           "smoothest of four directions; fitted with --max-roughness 0.20, docs/decisions/classify.md §19)")
       ->check(CLI::IsMember({"line", "plane"}));
   tool.add("--max-roughness", &p.max_roughness,
            "rougher top (median residual of a cell's top, --roughness) than this x the spacing (and "
