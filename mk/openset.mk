@@ -191,20 +191,17 @@ $(OPENSET_SCORE): $(openset_force) $(OPENSET_MB)/.built $(OPENSET_DIR)/classes.c
 # that -j2 is not split between two renders of 30 m tiles and 20 m tiles at once).
 $(OPENSET_CROP_SCORE): $(openset_force) $(OPENSET_SCORE) $(OPENSET_MB)/.built $(OPENSET_DIR)/classes.csv
 	+@$(MAKE) $(openset_crop_args)
-# classify's ablation (OPENSET_CLASSIFY_ABLATION): made by the same sub-makes.
-OPENSET_ABL_SCORES := $(if $(OPENSET_CLASSIFY_ABLATION),$(OPENSET_RES)/class-ablation/score.json $(if \
-  $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_RES)/class-ablation/score.json))
-ifneq ($(OPENSET_ABL_SCORES),)
-$(word 1,$(OPENSET_ABL_SCORES)): $(OPENSET_SCORE)
-$(if $(word 2,$(OPENSET_ABL_SCORES)),$(eval $(word 2,$(OPENSET_ABL_SCORES)): $(OPENSET_CROP_SCORE)))
-endif
-# collect's ablation (OPENSET_COLLECT_ABLATION): made by the same sub-makes.
-OPENSET_COLLECT_ABL_SCORES := $(if $(OPENSET_COLLECT_ABLATION),$(OPENSET_RES)/collect-ablation/score.json $(if \
-  $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_RES)/collect-ablation/score.json))
-ifneq ($(OPENSET_COLLECT_ABL_SCORES),)
-$(word 1,$(OPENSET_COLLECT_ABL_SCORES)): $(OPENSET_SCORE)
-$(if $(word 2,$(OPENSET_COLLECT_ABL_SCORES)),$(eval $(word 2,$(OPENSET_COLLECT_ABL_SCORES)): $(OPENSET_CROP_SCORE)))
-endif
+# The ablations' scores, made by the same sub-makes: openset_abl_scores(PARAMETERS, VARIANT) the
+# tiles' and the crops' RES/.../VARIANT/score.json when PARAMETERS are given; openset_abl_order
+# makes each wait for its set's sub-make (the tiles', the crops').
+openset_abl_scores = $(if $(1),$(OPENSET_RES)/$(2)/score.json $(if $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_RES)/$(2)/score.json))
+openset_abl_order = $(if $(word 1,$(1)),$(eval $(word 1,$(1)): $(OPENSET_SCORE)))$(if \
+  $(word 2,$(1)),$(eval $(word 2,$(1)): $(OPENSET_CROP_SCORE)))
+# classify's ablation (OPENSET_CLASSIFY_ABLATION) and collect's (OPENSET_COLLECT_ABLATION).
+OPENSET_ABL_SCORES := $(call openset_abl_scores,$(OPENSET_CLASSIFY_ABLATION),class-ablation)
+OPENSET_COLLECT_ABL_SCORES := $(call openset_abl_scores,$(OPENSET_COLLECT_ABLATION),collect-ablation)
+$(call openset_abl_order,$(OPENSET_ABL_SCORES))
+$(call openset_abl_order,$(OPENSET_COLLECT_ABL_SCORES))
 .PHONY: openset
 openset: $(OPENSET_SCORE) $(if $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_SCORE)) $(OPENSET_ABL_SCORES) \
   $(OPENSET_COLLECT_ABL_SCORES)

@@ -289,6 +289,24 @@ void check_binary_size(std::uint64_t n, std::size_t step, std::size_t avail, con
   if (n > avail / step) throw DataError(name, too_big("bytes", n, step, avail));
 }
 
+// Calls f(T{}) with T the C++ type of a valid PCD field type (float, double, the integers).
+template <typename F>
+void with_type(FieldType t, F f) {
+  switch (t.kind) {
+    case 'F':
+      if (t.size == 4) return f(float{});
+      return f(double{});
+    case 'U':
+      if (t.size == 1) return f(std::uint8_t{});
+      if (t.size == 2) return f(std::uint16_t{});
+      return f(std::uint32_t{});
+    default:
+      if (t.size == 1) return f(std::int8_t{});
+      if (t.size == 2) return f(std::int16_t{});
+      return f(std::int32_t{});
+  }
+}
+
 // n values of T at src (little-endian), `stride` bytes apart, appended to dst.
 template <typename T>
 void gather(const unsigned char* src, std::size_t stride, std::size_t n, std::vector<T>* dst) {
@@ -309,29 +327,7 @@ class RowPacker {
       if (l.slots[s].column < 0) continue;
       const FieldType t = l.slots[s].type;
       const std::size_t off = l.slots[s].offset;
-      switch (t.kind) {
-        case 'F':
-          if (t.size == 4)
-            add<float>(names[s], t, off, n, cloud);
-          else
-            add<double>(names[s], t, off, n, cloud);
-          break;
-        case 'U':
-          if (t.size == 1)
-            add<std::uint8_t>(names[s], t, off, n, cloud);
-          else if (t.size == 2)
-            add<std::uint16_t>(names[s], t, off, n, cloud);
-          else
-            add<std::uint32_t>(names[s], t, off, n, cloud);
-          break;
-        default:
-          if (t.size == 1)
-            add<std::int8_t>(names[s], t, off, n, cloud);
-          else if (t.size == 2)
-            add<std::int16_t>(names[s], t, off, n, cloud);
-          else
-            add<std::int32_t>(names[s], t, off, n, cloud);
-      }
+      with_type(t, [&](auto tag) { add<decltype(tag)>(names[s], t, off, n, cloud); });
     }
   }
   // Appends `rows` points of the layout's step from src.
@@ -459,29 +455,7 @@ void gather_compressed(const std::vector<unsigned char>& raw, const Header& h, c
     off += static_cast<std::size_t>(t.size) * n;
     if (l.slots[s].column < 0) continue;
     const std::string& col = names[s];
-    switch (t.kind) {
-      case 'F':
-        if (t.size == 4)
-          pack<float>(src, n, col, t, cloud);
-        else
-          pack<double>(src, n, col, t, cloud);
-        break;
-      case 'U':
-        if (t.size == 1)
-          pack<std::uint8_t>(src, n, col, t, cloud);
-        else if (t.size == 2)
-          pack<std::uint16_t>(src, n, col, t, cloud);
-        else
-          pack<std::uint32_t>(src, n, col, t, cloud);
-        break;
-      default:
-        if (t.size == 1)
-          pack<std::int8_t>(src, n, col, t, cloud);
-        else if (t.size == 2)
-          pack<std::int16_t>(src, n, col, t, cloud);
-        else
-          pack<std::int32_t>(src, n, col, t, cloud);
-    }
+    with_type(t, [&](auto tag) { pack<decltype(tag)>(src, n, col, t, cloud); });
   }
 }
 
