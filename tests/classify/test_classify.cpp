@@ -1158,3 +1158,176 @@ TEST_CASE("classify: roughness along lines: a car's panels and steps are smooth,
   }
   CHECK(refused >= 1);
 }
+
+namespace {
+
+// An axis-aligned box of a hand-made shape (x along, y across, z up; metres).
+struct Box {
+  double x0, x1, y0, y1, z0, z1;
+};
+
+// A wheel loader's parts after share/models/earthmover.inc (8 x 3 x 3.4 m, x forward): tyres
+// (as boxes), front frame, fenders, lift arms, an open bucket on the ground (floor, back, sides),
+// cab and its roof canopy, rear frame, engine hood, counterweight: parts at different heights
+// that overhang each other, every one solid.
+const std::vector<Box> kLoader = {
+    {0.4, 2.0, 0.75, 1.35, 0, 1.6},      {0.4, 2.0, -1.35, -0.75, 0, 1.6},      // front tyres
+    {-2.9, -1.3, 0.75, 1.35, 0, 1.6},    {-2.9, -1.3, -1.35, -0.75, 0, 1.6},    // rear tyres
+    {0.1, 2.2, -0.6, 0.6, 0.55, 1.4},                                           // front frame
+    {0.5, 1.9, 0.7, 1.4, 1.62, 1.7},     {0.5, 1.9, -1.4, -0.7, 1.62, 1.7},     // front fenders
+    {-0.2, 2.9, 0.46, 0.64, 1.3, 2.05},  {-0.2, 2.9, -0.64, -0.46, 1.3, 2.05},  // lift arms
+    {2.9, 4.0, -1.5, 1.5, 0, 0.06},      {2.9, 3.0, -1.5, 1.5, 0, 1.53},        // bucket floor, back
+    {2.9, 4.0, 1.45, 1.5, 0, 1.2},       {2.9, 4.0, -1.5, -1.45, 0, 1.2},       // bucket sides
+    {-1.3, 0.3, -0.75, 0.75, 1.55, 3.3}, {-1.4, 0.45, -0.85, 0.85, 3.3, 3.4},   // cab, roof
+    {-3.6, -0.6, -0.65, 0.65, 0.6, 1.3}, {-3.6, -1.3, -0.85, 0.85, 1.3, 2.45},  // rear frame, hood
+    {-2.8, -1.4, 0.7, 1.4, 1.62, 1.7},   {-2.8, -1.4, -1.4, -0.7, 1.62, 1.7},   // rear fenders
+    {-4.0, -3.5, -1.1, 1.1, 0.55, 1.6},                                         // counterweight
+};
+
+// The ray p + t w (t >= 0) through a box: the far end's t (where a pulse coming down along -w
+// enters it), or -1 when it misses.
+double far_hit(const Eigen::Vector3d& p, const Eigen::Vector3d& w, const Box& b) {
+  const double lo[3] = {b.x0, b.y0, b.z0}, hi[3] = {b.x1, b.y1, b.z1};
+  double t0 = 0, t1 = 1e9;
+  for (int k = 0; k < 3; ++k) {
+    if (std::abs(w[k]) < 1e-12) {
+      if (p[k] < lo[k] || p[k] > hi[k]) return -1;
+      continue;
+    }
+    double a = (lo[k] - p[k]) / w[k], b2 = (hi[k] - p[k]) / w[k];
+    if (a > b2) std::swap(a, b2);
+    t0 = std::max(t0, a);
+    t1 = std::min(t1, b2);
+  }
+  return t0 <= t1 ? t1 : -1;
+}
+
+// An airborne survey's first returns, `density` pulses per m² over the crop (the shape's box +
+// 1 m), each from a scan angle up to 20 degrees off nadir across one of two flight directions (x
+// or y), as rangetrace records them: x y z and the unit vector toward the sensor (sensor_x/y/z).
+// `hit(p, w)` is the highest t at which the pulse meeting the ground at p (coming down along -w)
+// first hits the shape, or -1 (ground).
+formats::PointCloud survey(const std::function<double(const Eigen::Vector3d&, const Eigen::Vector3d&)>& hit,
+                           double half_l, double half_w, double density, std::uint64_t seed) {
+  common::Rng rng(seed);
+  const double mx = half_l + 1, my = half_w + 1;
+  const auto n = static_cast<std::size_t>(density * 4 * mx * my);
+  std::vector<double> x, y, z, sx, sy, sz;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d g(rng.uniform(-mx, mx), rng.uniform(-my, my), 0);
+    const double angle = rng.uniform(-20, 20) * kDeg;
+    const bool across_y = rng.uniform() < 0.5;
+    const Eigen::Vector3d w(across_y ? 0 : std::sin(angle), across_y ? std::sin(angle) : 0, std::cos(angle));
+    const double t = std::max(0.0, hit(g, w));
+    const Eigen::Vector3d p = g + t * w;
+    x.push_back(p.x()), y.push_back(p.y()), z.push_back(p.z() + 0.01 * rng.normal());
+    sx.push_back(w.x()), sy.push_back(w.y()), sz.push_back(w.z());
+  }
+  formats::PointCloud c;
+  c.resize(x.size());
+  c.add("x") = x;
+  c.add("y") = y;
+  c.add("z") = z;
+  c.add("sensor_x") = sx;
+  c.add("sensor_y") = sy;
+  c.add("sensor_z") = sz;
+  return c;
+}
+
+double loader_hit(const Eigen::Vector3d& g, const Eigen::Vector3d& w) {
+  double best = -1;
+  for (const Box& b : kLoader) best = std::max(best, far_hit(g, w, b));
+  return best;
+}
+
+// A porous crown, first returns only: an ellipsoid 3.2 x 2.4 m across, 0.6-3.0 m high, whose
+// leaves stop a pulse with probability 1 - exp(-1.5 per m) of its path inside (a pulse that
+// gets through returns from the ground). Deterministic per pulse (a hash of where it meets the
+// ground), like a fixed crown.
+double crown_hit(const Eigen::Vector3d& g, const Eigen::Vector3d& w) {
+  const Eigen::Vector3d c(0, 0, 1.8), r(1.6, 1.2, 1.2);
+  // The ray in the unit sphere's frame.
+  const Eigen::Vector3d o = (g - c).cwiseQuotient(r), d = w.cwiseQuotient(r);
+  const double A = d.squaredNorm(), B = 2 * o.dot(d), C = o.squaredNorm() - 1;
+  const double disc = B * B - 4 * A * C;
+  if (disc <= 0) return -1;
+  const double t0 = std::max(0.0, (-B - std::sqrt(disc)) / (2 * A)), t1 = (-B + std::sqrt(disc)) / (2 * A);
+  if (t1 <= 0) return -1;
+  const auto key = static_cast<std::uint64_t>(std::llround(g.x() * 1e4) * 1000003 + std::llround(g.y() * 1e4));
+  const double u = static_cast<double>(common::mix64(key) % 1000001) / 1000000;
+  const double depth = -std::log(std::max(u, 1e-9)) / 1.5;  // from the top, along the pulse
+  return t1 - depth > t0 ? t1 - depth : -1;
+}
+
+// classify-sim.ini's penetration and fill cues (classify.md §5), min-plateau off; the roughness out
+// of reach (the boxes' steps make this hand-made top rougher than the rendered loader's: that cue
+// is not the one under test).
+classify::Params sim_cues(bool sight_lines) {
+  classify::Params p;
+  p.max_below_share = 0.15;
+  p.max_ground_through = 0.08;
+  p.min_fill = 0.65;
+  p.max_roughness = 10;
+  p.min_plateau = 0;
+  p.sight_lines = sight_lines;
+  return p;
+}
+
+}  // namespace
+
+TEST_CASE("classify: sight lines: a wheel loader's overhanging parts are solid, a crown stays porous") {
+  // 6 surveys of each at 25 points/m² (classify.md §20). The loader's hood under its cab roof's
+  // edge, its frame under the lift arms, its bucket floor inside the bucket and the ground beside
+  // its tyres lie 0.5 m or more under another of its points: counted point by point (the cues
+  // before, sight_lines false) they reach vegetation's shares. Seen along their lines of sight they
+  // were seen past an edge, not through the object; the crown's deep returns were seen through
+  // its leaves and still count.
+  std::size_t refused_before = 0;
+  for (std::uint64_t k = 0; k < 6; ++k) {
+    const formats::PointCloud loader = survey(loader_hit, 4.0, 1.5, 25, 500 + k);
+    const formats::PointCloud tree = survey(crown_hit, 1.6, 1.2, 25, 500 + k);
+    const classify::Answer before = classify::run(sim_cues(false), {loader, "loader.pcd", {}});
+    const classify::Answer after = classify::run(sim_cues(true), {loader, "loader.pcd", {}});
+    const classify::Answer crown_after = classify::run(sim_cues(true), {tree, "crown.pcd", {}});
+    const auto& fb = before.features;
+    const auto& fa = after.features;
+    const auto& fc = crown_after.features;
+    INFO("survey " << k << ": loader below " << fb.below_share << " -> " << fa.below_share << ", ground "
+                   << fb.ground_through << " -> " << fa.ground_through << " (" << before.reason << " "
+                   << before.detail << " -> " << after.cls << after.reason << " " << after.detail
+                   << "); crown below " << fc.below_share << " ground " << fc.ground_through << " -> "
+                   << crown_after.reason << " " << crown_after.detail);
+    // Without sight lines the cues are every point's, and the same as the _any shares with them.
+    CHECK_FALSE(fb.below_share_any);
+    REQUIRE(fa.below_share_any);
+    REQUIRE(fa.ground_through_any);
+    CHECK(*fa.below_share_any == fb.below_share);
+    CHECK(*fa.ground_through_any == fb.ground_through);
+    refused_before += before.reason == "vegetation_like";
+    // With them the loader's shares fall to a third or less, under the thresholds: not vegetation.
+    CHECK(fa.below_share <= fb.below_share / 3 + 0.01);
+    CHECK(fa.below_share <= 0.15);
+    CHECK(fa.ground_through <= 0.08);
+    CHECK(after.reason != "vegetation_like");
+    // The crown keeps most of its points under others (seen through leaves): still vegetation.
+    CHECK(fc.below_share > 0.15);
+    CHECK(fc.below_share >= 0.6 * *fc.below_share_any);
+    CHECK(crown_after.reason == "vegetation_like");
+  }
+  // The cues before put the loader at vegetation's threshold (below_share 0.14-0.18 here; the
+  // ladder's rendered earthmovers 0.08-0.19, and 0.06-0.10 ground_through): half the surveys are
+  // refused.
+  CHECK(refused_before >= 2);
+  // Without the sensor's direction (a LAS tile) the option changes nothing.
+  formats::PointCloud blind = survey(loader_hit, 4.0, 1.5, 25, 500);
+  formats::PointCloud bare;
+  bare.resize(blind.size());
+  bare.add("x") = blind.col("x");
+  bare.add("y") = blind.col("y");
+  bare.add("z") = blind.col("z");
+  const classify::Answer off = classify::run(sim_cues(false), {bare, "bare.pcd", {}});
+  const classify::Answer on = classify::run(sim_cues(true), {bare, "bare.pcd", {}});
+  CHECK(on.features.below_share == off.features.below_share);
+  CHECK(on.features.ground_through == off.features.ground_through);
+  CHECK(on.reason == off.reason);
+}

@@ -139,6 +139,16 @@ struct Params {
   // that line's ground under and around it). false: every pass (before).
   bool by_pass = true;
   double pass_share = 0.1;
+  // Sight lines (classify.md §20): a point counted by below_share or ground_through counts only
+  // when the line from it toward the sensor that saw it (the candidate's sensor_x/y/z) passes
+  // through the object above it: an object point within half the spacing of the line, or object
+  // points around the line (no gap of half a turn) within 1.5 spacings at some height. A crown's
+  // deep return was seen through its foliage; a point under a solid part's overhang (a hood
+  // under a cab roof's edge, a fender beside a hood, a frame under lift arms, a bucket's floor
+  // inside its walls, the ground beside a tyre) was seen past that part's edge. Points without a
+  // sensor direction count as before. false: every point counts (before; Params and
+  // classify.ini; classify-sim.ini true).
+  bool sight_lines = false;
   // Modelbase entries with a class (--modelbase) are classes too: each entry's L W H widened by
   // this share either way is one more class range, of the entry's class (classify.md §12).
   bool entry_classes = true;
@@ -200,6 +210,9 @@ struct Features {
   double below_share = 0;     // interior object points with an object point >= 0.5 m above them
   double ground_through = 0;  // interior ground returns under an object point (share of interior returns)
   std::size_t interior_points = 0;
+  // With sight_lines (§20) below_share and ground_through count only the points seen through the
+  // object; these are every point's shares (the cues without it).
+  std::optional<double> below_share_any, ground_through_any;
   double below_share_cells = 0;     // the same per cell (for comparison): occupied cells with a point
   double ground_through_cells = 0;  // >= 0.5 m under their top; cells holding a ground return
   std::size_t interior_cells = 0;

@@ -52,6 +52,8 @@ std::vector<ClassFeature> features_of(const Features& f) {
                                 optional("multi_returns", f.multi_returns)};
   // Only when the crop holds several flight passes (classify.md §14): a crop without them gets
   // the document it got before.
+  if (f.below_share_any) out.push_back(optional("below_share_any", f.below_share_any));
+  if (f.ground_through_any) out.push_back(optional("ground_through_any", f.ground_through_any));
   if (f.passes > 1) {
     out.push_back(count("passes", f.passes));
     out.push_back(count("object_passes", f.object_passes));

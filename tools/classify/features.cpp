@@ -383,71 +383,6 @@ void column_cues(const Candidate& c, const std::vector<char>& counted, const std
   f.ground_through_cells = inner ? static_cast<double>(through) / static_cast<double>(inner) : 0;
 }
 
-// Points under the object inside its footprint, point by point (a crown lets pulses through
-// and holds returns at every depth; a roof holds none under it). Interior = at least `inset`
-// from the rectangle's sides. below_share: interior object points with another object point
-// within `rb` horizontally at least 0.5 m higher. ground_through: interior ground returns with
-// an object point within `rg` horizontally above them, as a share of those and the interior
-// object points. Small radii keep a thin part over open ground (a gun, lift arms, a chassis
-// rail) from counting the ground beside it.
-// Only the ground returns that `counted` marks are taken (the passes that saw the object); with
-// `all` set, every pass's too, into ground_through_all_passes.
-void penetration_cues(const Candidate& c, const std::vector<char>& counted, bool all,
-                      const std::vector<Vector3d>& q, const Extents& r, const Vector2d& u, const Vector2d& v,
-                      Features& f, const Params& fp) {
-  const double inset = std::max(0.4, f.spacing);
-  const double rb = std::max(0.2, f.spacing), rg = std::max(0.1, 0.5 * f.spacing);
-  const double L = f.length_measured, W = f.width_measured;
-  auto interior = [&](double a, double b) {
-    return a >= inset && a <= L - inset && std::abs(b) <= W / 2 - inset;
-  };
-  const double cell = rb;
-  std::unordered_map<std::uint64_t, std::vector<std::size_t>> grid;
-  for (std::size_t i = 0; i < q.size(); ++i)
-    grid[cell_key(cell_of(q[i].x(), cell), cell_of(q[i].y(), cell), 0)].push_back(i);
-  // The highest object point within `radius` of (a, b), or -inf.
-  auto highest = [&](double a, double b, double radius) {
-    double best = -kInf;
-    const std::int64_t ca = cell_of(a, cell), cb = cell_of(b, cell);
-    for (std::int64_t da = -1; da <= 1; ++da) {
-      for (std::int64_t db = -1; db <= 1; ++db) {
-        const auto it = grid.find(cell_key(ca + da, cb + db, 0));
-        if (it == grid.end()) continue;
-        for (std::size_t j : it->second) {
-          const double dx = q[j].x() - a, dy = q[j].y() - b;
-          if (dx * dx + dy * dy <= radius * radius) best = std::max(best, q[j].z());
-        }
-      }
-    }
-    return best;
-  };
-  std::size_t inner = 0, below = 0, under = 0;
-  for (const Vector3d& p : q) {
-    if (!interior(p.x(), p.y())) continue;
-    ++inner;
-    below += highest(p.x(), p.y(), rb) >= p.z() + 0.5;
-  }
-  const double vm = 0.5 * (r.v0 + r.v1);
-  std::size_t under_all = 0;
-  for (std::size_t i = 0; i < c.points.size(); ++i) {
-    const Vector3d& p = c.points[i];
-    if (p.z() >= fp.ground_cut || !(counted[i] || all)) continue;
-    const Vector2d xy(p.x(), p.y());
-    const double a = xy.dot(u) - r.u0, b = xy.dot(v) - vm;
-    if (interior(a, b) && highest(a, b, rg) >= p.z() + 0.5) {
-      under_all += 1;
-      under += counted[i];
-    }
-  }
-  auto share = [&](std::size_t n) {
-    return inner + n ? static_cast<double>(n) / static_cast<double>(inner + n) : 0.0;
-  };
-  f.interior_points = inner;
-  f.below_share = inner ? static_cast<double>(below) / static_cast<double>(inner) : 0;
-  f.ground_through = share(under);
-  if (all) f.ground_through_all_passes = share(under_all);
-}
-
 }  // namespace
 
 Candidate read_candidate(const formats::PointCloud& cloud, const std::string& name) {
@@ -472,6 +407,17 @@ Candidate read_candidate(const formats::PointCloud& cloud, const std::string& na
     for (std::size_t i = 0; i < cloud.size(); ++i) {
       c.return_number[i] = std::isfinite(r[i]) ? static_cast<int>(std::clamp(r[i], 0.0, 255.0)) : 0;
       c.number_of_returns[i] = std::isfinite(n[i]) ? static_cast<int>(std::clamp(n[i], 0.0, 255.0)) : 0;
+    }
+  }
+  // The direction toward the sensor (rangetrace's scans and the crops made of them).
+  if (cloud.has("sensor_x") && cloud.has("sensor_y") && cloud.has("sensor_z")) {
+    const auto& sx = cloud.col("sensor_x");
+    const auto& sy = cloud.col("sensor_y");
+    const auto& sz = cloud.col("sensor_z");
+    c.view.resize(cloud.size(), Vector3d::Zero());
+    for (std::size_t i = 0; i < cloud.size(); ++i) {
+      const Vector3d d(sx[i], sy[i], sz[i]);
+      if (d.allFinite() && d.norm() > 1e-6) c.view[i] = d.normalized();
     }
   }
   // Flight passes when the file says which (LAS point_source_id, gps_time).
@@ -676,7 +622,7 @@ Features measure(const Candidate& c, const Params& fp) {
   profile_cues(q, f, fp);
   outline_cues(q, f);
   column_cues(c, counted, q, r, u, v, f, fp);
-  penetration_cues(c, counted, several, q, r, u, v, f, fp);
+  penetration_cues(c, object, counted, several, q, r.u0, 0.5 * (r.v0 + r.v1), u, v, f, fp);
 
   if (!c.return_number.empty()) {
     std::size_t late = 0, multi = 0, known = 0;

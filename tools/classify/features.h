@@ -17,6 +17,8 @@ namespace canopy::classify {
 struct Candidate {
   std::vector<Eigen::Vector3d> points;
   std::vector<int> return_number, number_of_returns;  // 0 = unknown
+  // Unit direction from each point toward the sensor that saw it (sensor_x/y/z), empty = unknown.
+  std::vector<Eigen::Vector3d> view;
   // Pass index per point, 0 .. passes - 1 (empty = one pass, unknown): points of one flight line
   // (point_source_id) flown in one stretch of time (gps_time gaps of more than kPassGap s split
   // a line: a crop is crossed in well under a second; lines are minutes apart).
@@ -44,6 +46,23 @@ std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double
 void outline_cues(const std::vector<Eigen::Vector3d>& q, Features& f);
 // A dent: a run of the profile at least this far (share of H) under its upper hull.
 constexpr double kDentDepth = 0.05;
+
+// Points under the object inside its footprint, point by point (a crown lets pulses through
+// and holds returns at every depth; a roof holds none under it). Interior = at least `inset`
+// from the rectangle's sides. below_share: interior object points with another object point
+// within `rb` horizontally at least 0.5 m higher. ground_through: interior ground returns with
+// an object point within `rg` horizontally above them, as a share of those and the interior
+// object points. Small radii keep a thin part over open ground (a gun, lift arms, a chassis
+// rail) from counting the ground beside it.
+// Only the ground returns that `counted` marks are taken (the passes that saw the object); with
+// `all` set, every pass's too, into ground_through_all_passes.
+// With fp.sight_lines (classify.md §20) a point counts only when its line of sight (c.view) passes
+// through the object above it (Params::sight_lines). `q` are the object's points (`object`: their
+// indices in c) in the rectangle's frame: u from u0 along the long axis, v from vm across.
+void penetration_cues(const Candidate& c, const std::vector<std::size_t>& object,
+                      const std::vector<char>& counted, bool all, const std::vector<Eigen::Vector3d>& q,
+                      double u0, double vm, const Eigen::Vector2d& u, const Eigen::Vector2d& v, Features& f,
+                      const Params& fp);
 
 // Every measurement of Features (classify.h).
 Features measure(const Candidate& c, const Params& params);

@@ -108,6 +108,9 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
   tool.add("--by-pass", &p.by_pass,
            "fill and ground_through count only the ground of the flight passes (point_source_id, "
            "gps_time) that saw the object");
+  tool.add("--sight-lines", &p.sight_lines,
+           "below_share and ground_through count only the points whose line toward the sensor "
+           "(sensor_x/y/z) passes through the object above them (false: every point)");
   tool.add("--pass-share", &p.pass_share, "a pass saw the object when it holds this share of its points");
   tool.add("--entry-classes", &p.entry_classes,
            "the --modelbase entries with a class are class ranges too (their size +- --entry-tolerance)");

@@ -1,0 +1,138 @@
+// classify's penetration cues (docs/decisions/classify.md §5, §14, §20): below_share and
+// ground_through, point by point, and with Params::sight_lines only the points whose line of sight
+// passes through the object.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <unordered_map>
+#include <vector>
+
+#include "canopy/common/math.h"
+#include "classify/features.h"
+
+namespace canopy::classify {
+namespace {
+
+using Eigen::Vector2d;
+using Eigen::Vector3d;
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+std::uint64_t cell_key(std::int64_t x, std::int64_t y) {
+  constexpr std::int64_t kBias = 1 << 30;  // cells within ±2^30: crops are a few tens of metres
+  return (static_cast<std::uint64_t>(x + kBias) << 32) | static_cast<std::uint64_t>(y + kBias);
+}
+
+std::int64_t cell_of(double v, double size) { return static_cast<std::int64_t>(std::floor(v / size)); }
+
+}  // namespace
+
+void penetration_cues(const Candidate& c, const std::vector<std::size_t>& object,
+                      const std::vector<char>& counted, bool all, const std::vector<Vector3d>& q, double u0,
+                      double vm, const Vector2d& u, const Vector2d& v, Features& f, const Params& fp) {
+  const double inset = std::max(0.4, f.spacing);
+  const double rb = std::max(0.2, f.spacing), rg = std::max(0.1, 0.5 * f.spacing);
+  const double L = f.length_measured, W = f.width_measured;
+  auto interior = [&](double a, double b) {
+    return a >= inset && a <= L - inset && std::abs(b) <= W / 2 - inset;
+  };
+  const double cell = rb;
+  std::unordered_map<std::uint64_t, std::vector<std::size_t>> grid;
+  for (std::size_t i = 0; i < q.size(); ++i)
+    grid[cell_key(cell_of(q[i].x(), cell), cell_of(q[i].y(), cell))].push_back(i);
+  // The highest object point within `radius` of (a, b), or -inf.
+  auto highest = [&](double a, double b, double radius) {
+    double best = -kInf;
+    const std::int64_t ca = cell_of(a, cell), cb = cell_of(b, cell);
+    for (std::int64_t da = -1; da <= 1; ++da) {
+      for (std::int64_t db = -1; db <= 1; ++db) {
+        const auto it = grid.find(cell_key(ca + da, cb + db));
+        if (it == grid.end()) continue;
+        for (std::size_t j : it->second) {
+          const double dx = q[j].x() - a, dy = q[j].y() - b;
+          if (dx * dx + dy * dy <= radius * radius) best = std::max(best, q[j].z());
+        }
+      }
+    }
+    return best;
+  };
+  // Whether the line of sight of point i (at `at`, in the rectangle's frame) passes through the
+  // object: from 0.3 m above the point to the object's top, in 0.05 m steps, an object point
+  // within `tube` (horizontally and vertically) of the line, or object points around the line
+  // (within `ring` horizontally and 0.25 m vertically, no angular gap of half a turn or more: the
+  // line crosses a layer of the object, not beside its edge). Unknown direction: through.
+  const double tube = 0.5 * f.spacing, ring = 1.5 * f.spacing;
+  const double top =
+      q.empty() ? 0 : std::max_element(q.begin(), q.end(), [](const Vector3d& x, const Vector3d& y) {
+                        return x.z() < y.z();
+                      })->z();
+  const std::int64_t reach = static_cast<std::int64_t>(std::ceil(std::max(tube, ring) / cell));
+  auto through = [&](std::size_t i, const Vector3d& at) {
+    if (!fp.sight_lines || c.view.empty()) return true;
+    const Vector3d& w = c.view[i];
+    if (w.z() <= 1e-3) return true;
+    const Vector3d d(w.x() * u.x() + w.y() * u.y(), w.x() * v.x() + w.y() * v.y(), w.z());
+    std::vector<double> angles;
+    for (double t = 0.05;; t += 0.05) {
+      const Vector3d s = at + t * d;
+      if (s.z() > top + 0.05) return false;
+      if (s.z() < at.z() + 0.3) continue;
+      angles.clear();
+      const std::int64_t ca = cell_of(s.x(), cell), cb = cell_of(s.y(), cell);
+      for (std::int64_t da = -reach; da <= reach; ++da) {
+        for (std::int64_t db = -reach; db <= reach; ++db) {
+          const auto it = grid.find(cell_key(ca + da, cb + db));
+          if (it == grid.end()) continue;
+          for (std::size_t j : it->second) {
+            const double dx = q[j].x() - s.x(), dy = q[j].y() - s.y(), dz = q[j].z() - s.z();
+            const double h = std::hypot(dx, dy);
+            if (h <= tube && std::abs(dz) <= tube) return true;
+            if (h <= ring && h > 1e-9 && std::abs(dz) <= 0.25) angles.push_back(std::atan2(dy, dx));
+          }
+        }
+      }
+      if (angles.size() < 3) continue;
+      std::sort(angles.begin(), angles.end());
+      double gap = angles.front() + 2 * common::kPi - angles.back();
+      for (std::size_t k = 1; k < angles.size(); ++k) gap = std::max(gap, angles[k] - angles[k - 1]);
+      if (gap < common::kPi) return true;
+    }
+  };
+  std::size_t inner = 0, below = 0, under = 0, below_any = 0, under_any = 0;
+  for (std::size_t k = 0; k < q.size(); ++k) {
+    const Vector3d& p = q[k];
+    if (!interior(p.x(), p.y())) continue;
+    ++inner;
+    if (highest(p.x(), p.y(), rb) >= p.z() + 0.5) {
+      ++below_any;
+      below += through(object[k], p);
+    }
+  }
+  std::size_t under_all = 0;
+  for (std::size_t i = 0; i < c.points.size(); ++i) {
+    const Vector3d& p = c.points[i];
+    if (p.z() >= fp.ground_cut || !(counted[i] || all)) continue;
+    const Vector2d xy(p.x(), p.y());
+    const double a = xy.dot(u) - u0, b = xy.dot(v) - vm;
+    if (interior(a, b) && highest(a, b, rg) >= p.z() + 0.5) {
+      under_any += counted[i];
+      if (!through(i, Vector3d(a, b, p.z()))) continue;
+      under_all += 1;
+      under += counted[i];
+    }
+  }
+  auto share = [&](std::size_t n) {
+    return inner + n ? static_cast<double>(n) / static_cast<double>(inner + n) : 0.0;
+  };
+  f.interior_points = inner;
+  f.below_share = inner ? static_cast<double>(below) / static_cast<double>(inner) : 0;
+  f.ground_through = share(under);
+  if (all) f.ground_through_all_passes = share(under_all);
+  if (fp.sight_lines) {
+    f.below_share_any = inner ? static_cast<double>(below_any) / static_cast<double>(inner) : 0;
+    f.ground_through_any = share(under_any);
+  }
+}
+
+}  // namespace canopy::classify
