@@ -275,10 +275,11 @@ formats::PointCloud lines_from_above(const std::vector<Box>& boxes, double x0, d
 }  // namespace
 
 TEST_CASE("a tank-like hull along the scan lines is one candidate; two cars side by side are two") {
-  // A 7 x 3.5 m hull, 1.8 m high, sampled on scan lines along it (0.1 m apart on a line, lines
-  // 0.12 m and 0.15 x 0.2 m: 83 and 33 points/m²): across its width most 0.05 m slabs between
-  // the lines are empty, and without the run test (side_gap = 0, the rule before) the hull is
-  // cut lengthwise there into two 7 m strips (detect.md §14).
+  // A 7 x 3.5 m hull, 1.8 m high, sampled on scan lines along it, closer than the returns on a
+  // line (the spaces between the lines are narrower than the half voxel, so the hull is one
+  // cluster at it): across its width every few 0.05 m slabs are empty, and without the run test
+  // (side_gap = 0, the default: the rule is not adopted, detect.md §14) the valley cut parts the
+  // hull lengthwise into two 7 m strips; with side_gap = 0.5 (one point spacing) it is one.
   const std::vector<Box> tank = {{-3.5, 3.5, -1.75, 1.75, 1.8}};
   // Two 4.5 x 1.6 m cars, 1.5 m high, side by side 0.35 m apart.
   const std::vector<Box> cars = {{-2.25, 2.25, -1.95, -0.35, 1.5}, {-2.25, 2.25, 0.0, 1.6, 1.5}};
@@ -287,21 +288,23 @@ TEST_CASE("a tank-like hull along the scan lines is one candidate; two cars side
     for (const unsigned seed : {61u, 62u, 63u}) {
       INFO("lines " << across << " m apart, returns " << along << " m apart on a line, seed " << seed);
       const formats::PointCloud t = lines_from_above(tank, -12, 12, -10, 10, along, across, seed);
-      const detect::Result r = detect::run(detect::Params{}, {&t, "tank"});
+      detect::Params rule;
+      rule.side_gap = 0.5;
+      const detect::Result r = detect::run(rule, {&t, "tank"});
       REQUIRE(r.candidates.size() == 1);
       CHECK(r.candidates[0].length == Approx(7.0).margin(0.3));
       CHECK(r.candidates[0].width == Approx(3.5).margin(0.3));
-      detect::Params before;
-      before.side_gap = 0;
-      const detect::Result old = detect::run(before, {&t, "tank"});
+      const detect::Result old = detect::run(detect::Params{}, {&t, "tank"});
       CHECK(old.candidates.size() == 2);
       for (const auto& c : old.candidates) CHECK(c.width < 2.5);
 
       const formats::PointCloud two = lines_from_above(cars, -12, 12, -10, 10, along, across, seed);
-      const detect::Result rc = detect::run(detect::Params{}, {&two, "cars"});
-      CHECK(rc.candidates.size() == 2);
-      CHECK(near(rc, 0, -1.15, 0.4).size() == 1);
-      CHECK(near(rc, 0, 0.8, 0.4).size() == 1);
+      for (const detect::Params& q : {rule, detect::Params{}}) {
+        const detect::Result rc = detect::run(q, {&two, "cars"});
+        CHECK(rc.candidates.size() == 2);
+        CHECK(near(rc, 0, -1.15, 0.4).size() == 1);
+        CHECK(near(rc, 0, 0.8, 0.4).size() == 1);
+      }
     }
   }
   detect::Params bad;

@@ -92,8 +92,8 @@ void bind(common::Tool& tool, detect::Params& p, Cli& cli) {
   tool.add("--side-gap", &p.side_gap,
            "clustering voxels: an object only wider than two narrow vehicles is cut across its "
            "width at an empty slab only when the empty run is at least this wide (narrower: the "
-           "spaces between scan lines over one wide body, a tank); 0 = any empty slab, the rule "
-           "before, docs/decisions/detect.md §14");
+           "spaces between scan lines over one wide body, a tank; 0.5 = one point spacing); 0 = any "
+           "empty slab, the default (0.5 is not adopted: docs/decisions/detect.md §14)");
   tool.add("--merge-tall-rows", &p.merge_tall_rows,
            "true or false: a piece of a row split is merged end to end (--merge-gap) with a piece "
            "that rises above --row-max-height (a tractor unit's cab cut from its deck by a row "
