@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "detect/detect.h"
@@ -237,4 +238,76 @@ TEST_CASE("a tractor unit cut by a row split is merged back: its cab rises above
       CHECK(old.candidates.size() > r.candidates.size());
     }
   }
+}
+
+namespace {
+
+// Returns on scan lines along x, `across` apart, `along` apart on each line (a scan pattern
+// aligned with the vehicles, as rangetrace's are when a vehicle's heading is a multiple of 90
+// degrees), each on the highest box under it (ground at z = 50), 2 cm of noise in height.
+formats::PointCloud lines_from_above(const std::vector<Box>& boxes, double x0, double x1, double y0,
+                                     double y1, double along, double across, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, 0.02);
+  std::uniform_real_distribution<double> phase(0.0, 1.0);
+  const double px0 = x0 + along * phase(rng), py0 = y0 + across * phase(rng);
+  formats::PointCloud c;
+  auto& x = c.add("x", formats::kFloat64);
+  auto& y = c.add("y", formats::kFloat64);
+  auto& z = c.add("z", formats::kFloat64);
+  const auto nx = std::size_t((x1 - px0) / along), ny = std::size_t((y1 - py0) / across);
+  c.resize(nx * ny);
+  std::size_t i = 0;
+  for (std::size_t a = 0; a < nx; ++a)
+    for (std::size_t b = 0; b < ny; ++b, ++i) {
+      const double qx = px0 + double(a) * along, qy = py0 + double(b) * across;
+      double h = 0;
+      for (const Box& box : boxes) {
+        if (qx >= box.x0 && qx <= box.x1 && qy >= box.y0 && qy <= box.y1) h = std::max(h, box.height);
+      }
+      x[i] = qx;
+      y[i] = qy;
+      z[i] = 50 + h + noise(rng);
+    }
+  return c;
+}
+
+}  // namespace
+
+TEST_CASE("a tank-like hull along the scan lines is one candidate; two cars side by side are two") {
+  // A 7 x 3.5 m hull, 1.8 m high, sampled on scan lines along it, closer than the returns on a
+  // line (the spaces between the lines are narrower than the half voxel, so the hull is one
+  // cluster at it): across its width every few 0.05 m slabs are empty, and without the run test
+  // (side_gap = 0, the default: the rule is not adopted, detect.md §14) the valley cut parts the
+  // hull lengthwise into two 7 m strips; with side_gap = 0.5 (one point spacing) it is one.
+  const std::vector<Box> tank = {{-3.5, 3.5, -1.75, 1.75, 1.8}};
+  // Two 4.5 x 1.6 m cars, 1.5 m high, side by side 0.35 m apart.
+  const std::vector<Box> cars = {{-2.25, 2.25, -1.95, -0.35, 1.5}, {-2.25, 2.25, 0.0, 1.6, 1.5}};
+  const std::vector<std::pair<double, double>> scans = {{0.12, 0.08}, {0.15, 0.1}, {0.2, 0.15}};
+  for (const auto& [along, across] : scans) {
+    for (const unsigned seed : {61u, 62u, 63u}) {
+      INFO("lines " << across << " m apart, returns " << along << " m apart on a line, seed " << seed);
+      const formats::PointCloud t = lines_from_above(tank, -12, 12, -10, 10, along, across, seed);
+      detect::Params rule;
+      rule.side_gap = 0.5;
+      const detect::Result r = detect::run(rule, {&t, "tank"});
+      REQUIRE(r.candidates.size() == 1);
+      CHECK(r.candidates[0].length == Approx(7.0).margin(0.3));
+      CHECK(r.candidates[0].width == Approx(3.5).margin(0.3));
+      const detect::Result old = detect::run(detect::Params{}, {&t, "tank"});
+      CHECK(old.candidates.size() == 2);
+      for (const auto& c : old.candidates) CHECK(c.width < 2.5);
+
+      const formats::PointCloud two = lines_from_above(cars, -12, 12, -10, 10, along, across, seed);
+      for (const detect::Params& q : {rule, detect::Params{}}) {
+        const detect::Result rc = detect::run(q, {&two, "cars"});
+        CHECK(rc.candidates.size() == 2);
+        CHECK(near(rc, 0, -1.15, 0.4).size() == 1);
+        CHECK(near(rc, 0, 0.8, 0.4).size() == 1);
+      }
+    }
+  }
+  detect::Params bad;
+  bad.side_gap = -1;
+  CHECK_THROWS_WITH(detect::validate(bad), Catch::Contains("--side-gap"));
 }

@@ -114,6 +114,13 @@ struct Params {
   // top view, end to end, and whose union fits one vehicle are merged (the cab and the deck of
   // a tractor unit; detect.md §10); 0 = no merging (the rule before).
   double merge_gap = 0.5;
+  // An object only wider than two narrow vehicles is cut across its width at an empty slab only
+  // when the run of empty 0.05-0.2 m slabs is at least this many clustering voxels wide (half a
+  // voxel = one point spacing under the density rule): narrower runs are the spaces between the
+  // scan lines over one wide body's top (a tank aligned with the scan lines), not a gap between
+  // two vehicles side by side (detect.md §14); 0 = any empty slab, the rule before and the
+  // default: 0.5 kept a tank whole but added a false alarm on forest_bcts_1 (not adopted).
+  double side_gap = 0.0;
   // Pieces of a row split are never merged (the row rule decided them), except with a piece
   // that rises above row_max_height: the row rule does not decide for taller vehicles (§11), and
   // a tractor unit's cab cut from its deck by a row split is merged back (detect.md §13);

@@ -89,6 +89,11 @@ void bind(common::Tool& tool, detect::Params& p, Cli& cli) {
            "objects whose points come within this many clustering voxels of each other in the top "
            "view, end to end, with a union that fits one vehicle, are one (the cab and the deck of "
            "a tractor unit); 0 = never merge, the rule before, docs/decisions/detect.md §10");
+  tool.add("--side-gap", &p.side_gap,
+           "clustering voxels: an object only wider than two narrow vehicles is cut across its "
+           "width at an empty slab only when the empty run is at least this wide (narrower: the "
+           "spaces between scan lines over one wide body, a tank; 0.5 = one point spacing); 0 = any "
+           "empty slab, the default (0.5 is not adopted: docs/decisions/detect.md §14)");
   tool.add("--merge-tall-rows", &p.merge_tall_rows,
            "true or false: a piece of a row split is merged end to end (--merge-gap) with a piece "
            "that rises above --row-max-height (a tractor unit's cab cut from its deck by a row "

@@ -130,7 +130,7 @@ bool side_by_side(const Context& c, const std::vector<std::vector<std::uint32_t>
 // point of the bin at least max(0.3 m, 20% of the lower part) below the highest on either
 // side): two car roofs side by side. The deepest valley wins, then the one nearest the middle.
 double valley_cut(const Context& c, const std::vector<std::uint32_t>& pts, const Vector2d& axis,
-                  double min_side) {
+                  double min_side, double min_gap) {
   double smin = 1e300, smax = -1e300;
   std::vector<double> s(pts.size());
   for (std::size_t n = 0; n < pts.size(); ++n) {
@@ -156,6 +156,16 @@ double valley_cut(const Context& c, const std::vector<std::uint32_t>& pts, const
     left[std::size_t(b)] = std::max(left[std::size_t(b - 1)], top[std::size_t(b - 1)]);
   for (int b = nb - 2; b >= 0; --b)
     right[std::size_t(b)] = std::max(right[std::size_t(b + 1)], top[std::size_t(b + 1)]);
+  // An empty slab is a gap between two bodies only when the run of empty slabs it lies in is at
+  // least min_gap wide: narrower runs are the spaces between the scan lines over one body's top
+  // when the lines run along the axis of the cut (detect.md §14).
+  std::vector<double> run(std::size_t(nb), 0.0);
+  for (int b = 0; b < nb;) {
+    int e = b;
+    while (e < nb && slab[std::size_t(e)] <= 0.35 * median) ++e;
+    for (int k = b; k < e; ++k) run[std::size_t(k)] = (e - b) * bin;
+    b = e > b ? e : b + 1;
+  }
   double best_depth = 0, best_off = 1e300, cut = std::numeric_limits<double>::quiet_NaN();
   const double mid = 0.5 * (smin + smax);
   for (int b = 0; b < nb; ++b) {
@@ -164,6 +174,8 @@ double valley_cut(const Context& c, const std::vector<std::uint32_t>& pts, const
     const double lower = std::min(left[std::size_t(b)], right[std::size_t(b)]);
     const double drop = lower - top[std::size_t(b)];
     const bool empty = slab[std::size_t(b)] <= 0.35 * median;
+    // A narrow empty run is neither a gap nor a dip (its top is not measured, not low).
+    if (empty && run[std::size_t(b)] < min_gap - 1e-9) continue;
     const bool dip = drop >= std::max(0.3, 0.2 * lower);
     if (!empty && !dip) continue;
     const double depth = empty ? lower : drop;
@@ -258,8 +270,8 @@ void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
   }
   // Cuts the object at a clear valley across axis `a` (pieces at least `min_part` wide) and
   // examines both sides; false when there is no such valley.
-  auto split_at_valley = [&](const Vector2d& a, double min_part) {
-    const double cut = valley_cut(c, pts, a, min_part);
+  auto split_at_valley = [&](const Vector2d& a, double min_part, double min_gap) {
+    const double cut = valley_cut(c, pts, a, min_part, min_gap);
     if (std::isnan(cut)) return false;
     std::vector<std::uint32_t> lo, hi;
     for (std::uint32_t q : pts) (Vector2d(c.x[q], c.y[q]).dot(a) < cut ? lo : hi).push_back(q);
@@ -270,13 +282,13 @@ void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
   };
   if (two_wide && !too_long && depth < kMaxSplitDepth) {
     // Side by side and touching: a valley across the width.
-    if (split_at_valley(Vector2d(-o.fp.axis.y(), o.fp.axis.x()), p.min_width)) return;
+    if (split_at_valley(Vector2d(-o.fp.axis.y(), o.fp.axis.x()), p.min_width, p.side_gap * p.voxel)) return;
   }
   if (too_long || too_wide) {
     // Oversized: cut at a clear valley across the oversized axis.
     if (depth < kMaxSplitDepth) {
       const Vector2d a = too_wide ? Vector2d(-o.fp.axis.y(), o.fp.axis.x()) : o.fp.axis;
-      if (split_at_valley(a, too_wide ? p.min_width : p.min_length)) return;
+      if (split_at_valley(a, too_wide ? p.min_width : p.min_length, 0.0)) return;
     }
     // No clean split: a vehicle with a bush against it stays a candidate (recall first) when
     // it is at most a quarter beyond the ranges.
