@@ -70,7 +70,7 @@ resource() { local v; v=$(ini_get "$section" "$1"); [ -n "$v" ] || v=$(ini_get d
 
 # Large blocks in transparent huge pages (glibc >= 2.35 madvises its heap and mmap'd blocks):
 # a tile's scan of millions of points then spends far less in page faults and TLB misses
-# (detect on a 2.5 M point tile: 4.0 -> 2.1 CPU-s); outputs do not change (cost.md §15).
+# (detect on a 2.5 M point tile: 4.8 -> 2.6 CPU-s); outputs do not change (cost.md §15).
 # CANOPY_HUGEPAGES=0 (make HUGEPAGES=0) leaves glibc's default; the user's own GLIBC_TUNABLES
 # are kept, and one of theirs naming hugetlb wins.
 if [ "${CANOPY_HUGEPAGES:-1}" != 0 ]; then

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <string>
+#include <type_traits>
 
 #include "canopy/formats/point_cloud.h"
 
@@ -77,32 +79,40 @@ T to_int(double v, double lo, double hi) {
   return static_cast<T>(v);
 }
 
+// Calls f(T{}) with T the C++ type of a field type (float, double, the integers; a size
+// other than 1 or 2 is the 4-byte integer, a float of size other than 4 the double).
+template <typename F>
+void with_type(FieldType t, F f) {
+  switch (t.kind) {
+    case 'F':
+      if (t.size == 4) return f(float{});
+      return f(double{});
+    case 'U':
+      if (t.size == 1) return f(std::uint8_t{});
+      if (t.size == 2) return f(std::uint16_t{});
+      return f(std::uint32_t{});
+    default:
+      if (t.size == 1) return f(std::int8_t{});
+      if (t.size == 2) return f(std::int16_t{});
+      return f(std::int32_t{});
+  }
+}
+
+// v as a T: a float field rounds to float, an integer field rounds to nearest and clamps to
+// the type's range (to_int).
+template <typename T>
+T to_field(double v) {
+  if constexpr (std::is_floating_point_v<T>) {
+    return static_cast<T>(v);
+  } else {
+    return to_int<T>(v, static_cast<double>(std::numeric_limits<T>::min()),
+                     static_cast<double>(std::numeric_limits<T>::max()));
+  }
+}
+
 // Appends `v` as `type`, little-endian.
 inline void write_scalar(std::string* out, double v, FieldType type) {
-  switch (type.kind) {
-    case 'F':
-      if (type.size == 4)
-        put(out, static_cast<float>(v));
-      else
-        put(out, v);
-      return;
-    case 'U':
-      if (type.size == 1)
-        put(out, to_int<std::uint8_t>(v, 0, 255));
-      else if (type.size == 2)
-        put(out, to_int<std::uint16_t>(v, 0, 65535));
-      else
-        put(out, to_int<std::uint32_t>(v, 0, 4294967295.0));
-      return;
-    default:
-      if (type.size == 1)
-        put(out, to_int<std::int8_t>(v, -128, 127));
-      else if (type.size == 2)
-        put(out, to_int<std::int16_t>(v, -32768, 32767));
-      else
-        put(out, to_int<std::int32_t>(v, -2147483648.0, 2147483647.0));
-      return;
-  }
+  with_type(type, [&](auto tag) { put(out, to_field<decltype(tag)>(v)); });
 }
 
 // Shortest decimal text that reads back to the same value at the type's precision.

@@ -289,24 +289,6 @@ void check_binary_size(std::uint64_t n, std::size_t step, std::size_t avail, con
   if (n > avail / step) throw DataError(name, too_big("bytes", n, step, avail));
 }
 
-// Calls f(T{}) with T the C++ type of a valid PCD field type (float, double, the integers).
-template <typename F>
-void with_type(FieldType t, F f) {
-  switch (t.kind) {
-    case 'F':
-      if (t.size == 4) return f(float{});
-      return f(double{});
-    case 'U':
-      if (t.size == 1) return f(std::uint8_t{});
-      if (t.size == 2) return f(std::uint16_t{});
-      return f(std::uint32_t{});
-    default:
-      if (t.size == 1) return f(std::int8_t{});
-      if (t.size == 2) return f(std::int16_t{});
-      return f(std::int32_t{});
-  }
-}
-
 // n values of T at src (little-endian), `stride` bytes apart, appended to dst.
 template <typename T>
 void gather(const unsigned char* src, std::size_t stride, std::size_t n, std::vector<T>* dst) {
@@ -327,7 +309,7 @@ class RowPacker {
       if (l.slots[s].column < 0) continue;
       const FieldType t = l.slots[s].type;
       const std::size_t off = l.slots[s].offset;
-      with_type(t, [&](auto tag) { add<decltype(tag)>(names[s], t, off, n, cloud); });
+      detail::with_type(t, [&](auto tag) { add<decltype(tag)>(names[s], t, off, n, cloud); });
     }
   }
   // Appends `rows` points of the layout's step from src.
@@ -455,7 +437,7 @@ void gather_compressed(const std::vector<unsigned char>& raw, const Header& h, c
     off += static_cast<std::size_t>(t.size) * n;
     if (l.slots[s].column < 0) continue;
     const std::string& col = names[s];
-    with_type(t, [&](auto tag) { pack<decltype(tag)>(src, n, col, t, cloud); });
+    detail::with_type(t, [&](auto tag) { pack<decltype(tag)>(src, n, col, t, cloud); });
   }
 }
 
@@ -625,43 +607,16 @@ PointCloud read_pcd(const std::string& path) {
 
 namespace {
 
-// k values as T, `stride` bytes apart from out, each converted by conv.
-template <typename T, typename Conv>
-void put_as(const double* v, std::size_t k, unsigned char* out, std::size_t stride, Conv conv) {
-  for (std::size_t i = 0; i < k; ++i) {
-    const T t = conv(v[i]);
-    std::memcpy(out + i * stride, &t, sizeof t);
-  }
-}
-
-// k values as `type` (little-endian), `stride` bytes apart: detail::write_scalar's
-// conversions (a float32 field rounds to float, an integer field rounds and clamps).
+// k values as `type` (little-endian), `stride` bytes apart: write_scalar's conversions
+// (detail::to_field).
 void put_values(const double* v, std::size_t k, FieldType type, unsigned char* out, std::size_t stride) {
-  using detail::to_int;
-  switch (type.kind) {
-    case 'F':
-      if (type.size == 4)
-        return put_as<float>(v, k, out, stride, [](double x) { return static_cast<float>(x); });
-      return put_as<double>(v, k, out, stride, [](double x) { return x; });
-    case 'U':
-      if (type.size == 1)
-        return put_as<std::uint8_t>(v, k, out, stride,
-                                    [](double x) { return to_int<std::uint8_t>(x, 0, 255); });
-      if (type.size == 2)
-        return put_as<std::uint16_t>(v, k, out, stride,
-                                     [](double x) { return to_int<std::uint16_t>(x, 0, 65535); });
-      return put_as<std::uint32_t>(v, k, out, stride,
-                                   [](double x) { return to_int<std::uint32_t>(x, 0, 4294967295.0); });
-    default:
-      if (type.size == 1)
-        return put_as<std::int8_t>(v, k, out, stride,
-                                   [](double x) { return to_int<std::int8_t>(x, -128, 127); });
-      if (type.size == 2)
-        return put_as<std::int16_t>(v, k, out, stride,
-                                    [](double x) { return to_int<std::int16_t>(x, -32768, 32767); });
-      return put_as<std::int32_t>(
-          v, k, out, stride, [](double x) { return to_int<std::int32_t>(x, -2147483648.0, 2147483647.0); });
-  }
+  detail::with_type(type, [&](auto tag) {
+    using T = decltype(tag);
+    for (std::size_t i = 0; i < k; ++i) {
+      const T t = detail::to_field<T>(v[i]);
+      std::memcpy(out + i * stride, &t, sizeof t);
+    }
+  });
 }
 
 // The points' bytes (size() x the fields' sizes) at out: row-major as DATA binary stores them,
