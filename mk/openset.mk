@@ -141,7 +141,7 @@ endif
 # collect's ablation (SCENE_COLLECT_ABLATION, given by the parent: OPENSET_COLLECT_ABLATION) on
 # every crop, scored like the crops.
 ifneq ($(SCENE_COLLECT_ABLATION),)
-$(foreach r,$(OPENSET_CROP_RUNS),$(eval $(call collect_ablation_run_rule,$(r),$(call scene_key,$(r)),$(OPENSET_MB),$(SCENE_COLLECT_ABLATION))))
+$(foreach r,$(OPENSET_CROP_RUNS),$(call collect_ablation_rules,$(r),$(call scene_key,$(r)),$(OPENSET_MB),$(SCENE_COLLECT_ABLATION)))
 OPENSET_CROP_COLLECT_ABL_SCORE := $(OPENSET_CROP_RES)/collect-ablation/score.json
 $(if $(dry_run),,$(shell mkdir -p $(dir $(OPENSET_CROP_COLLECT_ABL_SCORE))))
 $(eval $(call variant_score_rule,collect-ablation,$(OPENSET_CROP_DIR),$(openset_crop_manifest),$(OPENSET_CROP_RUNS),$(OPENSET_CROP_RES),$(OPENSET_DIR)/classes.csv))

@@ -116,25 +116,27 @@ $(1)/cands/$(2)/$(or $(5),class.json): $(1)/cands/index.json $(call tool,classif
 	@$(STAGE) $$@ -- $(BIN)/classify --config $(3) -i $(1)/cands/$(2).pcd \
 	  --index $(1)/cands/index.json --modelbase $(4) --model-classes $(MODEL_CLASSES) -o $$@
 endef
+# collect_variant_rule(DIR, KEY, MODELBASE, VARIANT, CLASS, VERDICT, BEFORE, AFTER, PREREQS): the
+# run's detections collected another way, as detections-VARIANT.json: from every candidate's
+# cands/<id>/CLASS and every model-level candidate's cands/<id>/VERDICT (none when VERDICT is
+# empty), with collect's options BEFORE (ahead of -o) and AFTER (after --modelbase), PREREQS
+# more prerequisites. One rule for every variant: classify's and collect's ablations, the
+# baseline's methods, the size-only classifier (scored by variant_score_rule below).
+# (VARIANT, CLASS and VERDICT are stripped: a call may break its line before them.)
+define collect_variant_rule
+$(1)/detections-$(strip $(4)).json: $(1)/cands.mk $(foreach c,$($(2)_CANDS),$(1)/cands/$(c)/$(strip $(5))) \
+    $(if $(strip $(6)),$(foreach c,$(call model_cands,$(2)),$(1)/cands/$(c)/$(strip $(6)))) $(9) $(call tool,collect)
+	@$(STAGE) $$@ -- $(BIN)/collect -i $(1)/cands/index.json $(7) -o $$@ --modelbase $(3) $(8)
+endef
 # class_ablation_rules(DIR, KEY, MODELBASE, INI): classify's ablation on every candidate of a run
 # (cands/<id>/class-ablation.json, with the parameters INI) and the run's detections with it
 # (detections-class-ablation.json: the model chain's verdicts as in detections.json, the class
 # answers from the ablation's files; collect --class-name). SCENE_CLASSIFY_ABLATION below.
-define class_ablation_run_rule
-$(1)/detections-class-ablation.json: $(1)/cands.mk $(foreach c,$($(2)_CANDS),$(1)/cands/$(c)/class-ablation.json) \
-    $(foreach c,$(call model_cands,$(2)),$(1)/cands/$(c)/verdict.json) $(call tool,collect)
-	@$(STAGE) $$@ -- $(BIN)/collect -i $(1)/cands/index.json --class-name class-ablation.json -o $$@ \
-	  --modelbase $(3)
-endef
-# collect_ablation_run_rule(DIR, KEY, MODELBASE, OPTIONS): the run's detections collected with
-# OPTIONS (detections-collect-ablation.json). SCENE_COLLECT_ABLATION below.
-define collect_ablation_run_rule
-$(1)/detections-collect-ablation.json: $(1)/cands.mk $(foreach c,$($(2)_CANDS),$(1)/cands/$(c)/class.json) \
-    $(foreach c,$(call model_cands,$(2)),$(1)/cands/$(c)/verdict.json) $(call tool,collect)
-	@$(STAGE) $$@ -- $(BIN)/collect -i $(1)/cands/index.json -o $$@ --modelbase $(3) $(4)
-endef
 class_ablation_rules = $(foreach c,$($(2)_CANDS),$(eval $(call class_rule,$(1),$(c),$(4),$(3),class-ablation.json)))$(eval \
-  $(call class_ablation_run_rule,$(1),$(2),$(3)))
+  $(call collect_variant_rule,$(1),$(2),$(3),class-ablation,class-ablation.json,verdict.json,--class-name class-ablation.json))
+# collect_ablation_rules(DIR, KEY, MODELBASE, OPTIONS): the run's detections collected with
+# OPTIONS (detections-collect-ablation.json). SCENE_COLLECT_ABLATION below.
+collect_ablation_rules = $(eval $(call collect_variant_rule,$(1),$(2),$(3),collect-ablation,class.json,verdict.json,,$(4)))
 # variant_score_rule(VARIANT, DIR, MANIFEST, RUNS, RES, CLASSES): the score of every run's
 # detections-VARIANT.json as RES/VARIANT/score.json, over DIR/tiles-VARIANT.txt (the score's tile
 # list MANIFEST with each run's detections.json so renamed), CLASSES the model classes (score
@@ -430,29 +432,20 @@ $(1)/cands/$(2)/baseline-$(3).json: $(1)/cands/$(2)/samples.pcd $(VERIFY_SURFACE
 endef
 # The models' side of another SCENE_MB than the thesis modelbase's (mk/baseline.mk).
 $(if $(SCENE_BASELINE),$(if $(filter-out $(OUT)/modelbase,$(SCENE_MB)),$(eval $(call baseline_models_rule,$(SCENE_MB),$(VERIFY_SURFACES)))))
-define scene_baseline_run_rule
-$(1)/detections-baseline-$(3).json: $(1)/cands.mk $(foreach c,$($(2)_CANDS),$(1)/cands/$(c)/class.json) \
-    $(foreach c,$(call model_cands,$(2)),$(1)/cands/$(c)/baseline-$(3).json) $(call tool,collect)
-	@$(STAGE) $$@ -- $(BIN)/collect -i $(1)/cands/index.json --verdict-name baseline-$(3).json -o $$@ \
-	  --modelbase $(SCENE_MB)
-endef
 # scene_variant_score_rule(VARIANT): the score of every run's detections-VARIANT.json
 # (baseline-<method>, baseline-size, class-ablation) as $(SCENE_RES)/VARIANT/score.json.
 scene_variant_score_rule = $(call variant_score_rule,$(1),$(SCENE_DIR),$(scene_manifest),$(SCENE_RUNS),$(SCENE_RES),$(SCENE_MODEL_CLASSES))
 $(foreach m,$(SCENE_BASELINE),$(foreach r,$(SCENE_RUNS),$(foreach c,$(call model_cands,$(call scene_key,$(r))),\
   $(eval $(call scene_baseline_cand_rule,$(r),$(c),$(m))))))
-$(foreach m,$(SCENE_BASELINE),$(foreach r,$(SCENE_RUNS),$(eval $(call scene_baseline_run_rule,$(r),$(call scene_key,$(r)),$(m)))))
+$(foreach m,$(SCENE_BASELINE),$(foreach r,$(SCENE_RUNS),$(eval $(call collect_variant_rule,$(r),$(call scene_key,$(r)),$(SCENE_MB),\
+  baseline-$(m),class.json,baseline-$(m).json,--verdict-name baseline-$(m).json))))
 $(foreach m,$(SCENE_BASELINE),$(eval $(call scene_variant_score_rule,baseline-$(m))))
 # The size-only ablation: per run, collect from classify's measurements alone; scored as above.
 # (The surfaces as $(wildcard): the parent make builds them before this sub-make, and a dry run
 # of it must not plan their thesis stages a second time: the progress count.)
-define scene_size_run_rule
-$(1)/detections-baseline-size.json: $(1)/cands.mk $(foreach c,$($(2)_CANDS),$(1)/cands/$(c)/class.json) \
-    $(wildcard $(VERIFY_SURFACES)) $(call tool,collect)
-	@$(STAGE) $$@ -- $(BIN)/collect -i $(1)/cands/index.json --size-only -o $$@ --modelbase $(SCENE_MB)
-endef
 ifeq ($(SCENE_SIZE_ONLY),1)
-$(foreach r,$(SCENE_RUNS),$(eval $(call scene_size_run_rule,$(r),$(call scene_key,$(r)))))
+$(foreach r,$(SCENE_RUNS),$(eval $(call collect_variant_rule,$(r),$(call scene_key,$(r)),$(SCENE_MB),baseline-size,\
+  class.json,,--size-only,,$(wildcard $(VERIFY_SURFACES)))))
 $(eval $(call scene_variant_score_rule,baseline-size))
 endif
 # classify's ablation (SCENE_CLASSIFY_ABLATION): per run, then one score.
@@ -463,7 +456,7 @@ $(eval $(call scene_variant_score_rule,class-ablation))
 endif
 # collect's ablation (SCENE_COLLECT_ABLATION): per run, then one score.
 ifneq ($(SCENE_COLLECT_ABLATION),)
-$(foreach r,$(SCENE_RUNS),$(eval $(call collect_ablation_run_rule,$(r),$(call scene_key,$(r)),$(SCENE_MB),$(SCENE_COLLECT_ABLATION))))
+$(foreach r,$(SCENE_RUNS),$(call collect_ablation_rules,$(r),$(call scene_key,$(r)),$(SCENE_MB),$(SCENE_COLLECT_ABLATION)))
 $(eval $(call scene_variant_score_rule,collect-ablation))
 endif
 # Per run: the tile from above with truth and detections coloured by the score's outcome
