@@ -12,56 +12,6 @@
 
 namespace canopy::formats::detail {
 
-// Reads one scalar of `type` at `p`; `swap` reverses byte order (big-endian files).
-inline double read_scalar(const unsigned char* p, FieldType type, bool swap = false) {
-  unsigned char b[8];
-  std::memcpy(b, p, static_cast<std::size_t>(type.size));
-  if (swap) {
-    for (int i = 0; i < type.size / 2; ++i) std::swap(b[i], b[type.size - 1 - i]);
-  }
-  switch (type.kind) {
-    case 'F':
-      if (type.size == 4) {
-        float f;
-        std::memcpy(&f, b, 4);
-        return f;
-      }
-      {
-        double d;
-        std::memcpy(&d, b, 8);
-        return d;
-      }
-    case 'U':
-      if (type.size == 1) return b[0];
-      if (type.size == 2) {
-        std::uint16_t v;
-        std::memcpy(&v, b, 2);
-        return v;
-      }
-      {
-        std::uint32_t v;
-        std::memcpy(&v, b, 4);
-        return v;
-      }
-    default:
-      if (type.size == 1) {
-        std::int8_t v;
-        std::memcpy(&v, b, 1);
-        return v;
-      }
-      if (type.size == 2) {
-        std::int16_t v;
-        std::memcpy(&v, b, 2);
-        return v;
-      }
-      {
-        std::int32_t v;
-        std::memcpy(&v, b, 4);
-        return v;
-      }
-  }
-}
-
 template <typename T>
 void put(std::string* out, T v) {
   char b[sizeof(T)];
@@ -96,6 +46,22 @@ void with_type(FieldType t, F f) {
       if (t.size == 2) return f(std::int16_t{});
       return f(std::int32_t{});
   }
+}
+
+// Reads one scalar of `type` at `p`; `swap` reverses byte order (big-endian files).
+inline double read_scalar(const unsigned char* p, FieldType type, bool swap = false) {
+  unsigned char b[8] = {};
+  std::memcpy(b, p, static_cast<std::size_t>(type.size));
+  if (swap) {
+    for (int i = 0; i < type.size / 2; ++i) std::swap(b[i], b[type.size - 1 - i]);
+  }
+  double out = 0;
+  with_type(type, [&](auto tag) {
+    decltype(tag) v;
+    std::memcpy(&v, b, sizeof v);
+    out = static_cast<double>(v);
+  });
+  return out;
 }
 
 // v as a T: a float field rounds to float, an integer field rounds to nearest and clamps to
