@@ -436,6 +436,9 @@ void validate(const Params& p) {
   };
   need(p.ground_cut >= 0 && p.ground_cut <= 2, "--ground-cut must be in [0, 2 m]");
   need(p.link_factor > 0 && p.link_factor <= 20, "--link-factor must be in (0, 20]");
+  need(p.link_min > 0 && p.link_min <= 1.5, "--link-min must be in (0, 1.5 m]");
+  need(p.bridge >= 0 && p.bridge <= 3, "--bridge must be in [0, 3 m]");
+  need(p.bridge_length > 0 && p.bridge_length <= 20, "--bridge-length must be in (0, 20 m]");
   need(p.min_points >= 3, "--min-points must be at least 3");
   need(p.min_density >= 0 && std::isfinite(p.min_density), "--min-density must be >= 0");
   need(p.edge_factor >= 0 && p.edge_factor <= 5, "--edge-factor must be in [0, 5]");

@@ -77,8 +77,18 @@ const std::vector<ClassRange>& class_ranges();
 std::string group_of(const std::string& cls);
 
 struct Params {
-  double ground_cut = 0.3;        // points below this height are ground or grass (m; detect's band)
-  double link_factor = 2.5;       // object clustering: linking distance = factor x the crop's spacing
+  double ground_cut = 0.3;   // points below this height are ground or grass (m; detect's band)
+  double link_factor = 2.5;  // object clustering: linking distance = factor x the crop's spacing
+  // Gap bridging (classify.md §21; 0 = off): after the clustering, a cluster in line with the
+  // object along the candidate frame's x axis (detect's long axis: within the object's extent
+  // across it + the link), no higher than the object's top and reaching at least half of it,
+  // whose nearest point is at most `bridge` from the object's in the top view and with (almost) no
+  // ground returns between them, joins it while the joined length stays at most `bridge_length`
+  // (a windscreen or rear window that returned nothing, not even the ground under it, splits a
+  // car into cabin, bonnet and boot once the link is shorter than the glass).
+  double bridge = 0;
+  double bridge_length = 6.0;
+  double link_min = 0.25;         // object clustering: the linking distance is at least this (m)
   std::size_t min_points = 20;    // fewer object points: too_sparse
   double min_density = 4.0;       // fewer object points per m² of its rectangle: too_sparse
   double edge_factor = 0.15;      // sampling correction: L, W += edge_factor x spacing

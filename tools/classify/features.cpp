@@ -454,7 +454,8 @@ std::vector<int> passes_of(const std::vector<double>& source, const std::vector<
   return pass;
 }
 
-std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double link) {
+std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double link, double bridge,
+                                   double bridge_length) {
   std::vector<std::size_t> above;
   std::vector<Vector3d> pts;
   for (std::size_t i = 0; i < c.points.size(); ++i) {
@@ -499,9 +500,24 @@ std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double
       best_covers = cv;
     }
   }
+  std::vector<char> in(pts.size(), 0);
+  for (std::size_t i = 0; i < pts.size(); ++i) in[i] = label[i] == best;
+  if (bridge > 0) {
+    std::vector<Vector2d> ground;
+    Extents crop;
+    for (const Vector3d& p : c.points) {
+      if (p.z() < ground_cut) ground.emplace_back(p.x(), p.y());
+      crop.u0 = std::min(crop.u0, p.x());
+      crop.u1 = std::max(crop.u1, p.x());
+      crop.v0 = std::min(crop.v0, p.y());
+      crop.v1 = std::max(crop.v1, p.y());
+    }
+    const double density = static_cast<double>(ground.size()) / std::max(crop.length() * crop.width(), 1e-6);
+    bridge_gaps(pts, label, best, ground, density, link, bridge, bridge_length, in);
+  }
   std::vector<std::size_t> object;
   for (std::size_t i = 0; i < pts.size(); ++i) {
-    if (label[i] == best) object.push_back(above[i]);
+    if (in[i]) object.push_back(above[i]);
   }
   return object;
 }
@@ -521,8 +537,8 @@ Features measure(const Candidate& c, const Params& fp) {
   const double crop_area = std::max(crop.length() * crop.width(), 1e-6);
   f.crop_spacing = std::sqrt(crop_area / static_cast<double>(c.points.size()));
   for (const Vector3d& p : c.points) f.ground_points += p.z() < fp.ground_cut;
-  const double link = std::clamp(fp.link_factor * f.crop_spacing, 0.25, 1.5);
-  const std::vector<std::size_t> object = object_of(c, fp.ground_cut, link);
+  const double link = std::clamp(fp.link_factor * f.crop_spacing, fp.link_min, 1.5);
+  const std::vector<std::size_t> object = object_of(c, fp.ground_cut, link, fp.bridge, fp.bridge_length);
   f.object_points = object.size();
   if (object.size() < 3) return f;
 

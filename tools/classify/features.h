@@ -37,8 +37,23 @@ Candidate read_candidate(const formats::PointCloud& cloud, const std::string& na
 
 // Indices of the object's points: the above-ground points (z >= ground_cut) clustered at
 // distance `link`; the largest cluster whose top-view box (padded by `link`) holds the origin,
-// else the largest.
-std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double link);
+// else the largest. With `bridge` > 0 (classify.md §21) other clusters join it across gaps of up
+// to `bridge` in the top view: a cluster inside the object's extent across x (the candidate
+// frame's long axis; + `link`), whose top is no higher than
+// the object's and at least half as high, nearest first, while the object stays at most
+// `bridge_length` long.
+std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double link, double bridge = 0,
+                                   double bridge_length = 6.0);
+
+// classify.md §21 (object_of with `bridge`): joins to the object (`in`, per point of `pts`; the
+// clusters of `label` rooted at `best`) the clusters its own no-return gaps split off; `ground`
+// the crop's ground returns (top view), `ground_density` per m² of the crop.
+void bridge_gaps(const std::vector<Eigen::Vector3d>& pts, const std::vector<std::size_t>& label,
+                 std::size_t best, const std::vector<Eigen::Vector2d>& ground, double ground_density,
+                 double link, double bridge, double bridge_length, std::vector<char>& in);
+// --bridge: a gap between two clusters whose ground returns reach this share of the crop's ground
+// density is open ground between two objects, not a vehicle's shadow.
+constexpr double kGapGround = 0.25;
 
 // The outline cues (classify.md §16) of the object's points `q` in its rectangle's frame (x along
 // the long axis from 0 to length_measured, y across from its middle, z the height): notch,

@@ -49,6 +49,12 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
   tool.add_length("--ground-cut", &p.ground_cut, "points below this height are ground or grass");
   tool.add("--link-factor", &p.link_factor,
            "object clustering distance, in units of the crop's point spacing");
+  tool.add_length("--link-min", &p.link_min, "object clustering distance: at least this (at most 1.5 m)");
+  tool.add_length("--bridge", &p.bridge,
+                  "join to the object a cluster beyond its end along the candidate's long axis, within its "
+                  "width, at most this far in the top view (a windscreen's gap; 0: off)");
+  tool.add_length("--bridge-length", &p.bridge_length,
+                  "--bridge joins only while the object stays this short");
   tool.add("--min-points", &p.min_points, "fewer object points: too_sparse");
   tool.add("--min-density", &p.min_density, "fewer object points per m^2 of its rectangle: too_sparse");
   tool.add("--edge-factor", &p.edge_factor, "size correction: length and width + this x the point spacing");
