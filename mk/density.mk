@@ -45,21 +45,65 @@ density_pairs := $(shell awk -v k='$(DENSITY_K)' -v levels='$(strip $(DENSITY_LE
     mm = int(1000 * sqrt(k / d[i]) + 0.5); out = out sprintf("%s:%d:%.3f ", d[i], mm, mm / 1000) } print out }')
 $(if $(filter ERROR,$(firstword $(density_pairs))),$(error $(wordlist 2,$(words $(density_pairs)),$(density_pairs))))
 endif
+# The ladder on the realistic sensor (docs/decisions/density-ladder.md, "The ladder on the
+# realistic sensor"): the same tiles rendered in sensor mode (mk/scenes.mk SCENE_SENSOR) with
+# the preset DENSITY_SENSOR at each of DENSITY_SENSOR_LEVELS nominal pulses/m²:
+#   out/density/<preset>-<LEVEL>/..., results/density/<preset>-<LEVEL>/score.json
+# The density is set by the preset's pulse_rate × f and speed / f, f = sqrt(LEVEL /
+# DENSITY_SENSOR_L0) (across- and along-track spacing both shrink by f), DENSITY_SENSOR_L0 the
+# pulses/m² the preset gives on the ladder's tile with its own keys (rangetrace's truth.json
+# density.pulses_per_m2, measured on development seeds 101-103: 26.5 for als_qL1). Empty
+# DENSITY_SENSOR: no sensor ladder.
+DENSITY_SENSOR ?= als_qL1
+DENSITY_SENSOR_LEVELS ?= 10 25 50
+DENSITY_SENSOR_L0 ?= 26.5
+# LEVEL:PULSE_RATE:SPEED per level, or ERROR <why> (the preset's keys read from its file).
+ifneq ($(DENSITY_SENSOR),)
+ifneq ($(filter 1,$(DENSITY_LADDER))$(filter density density-sensor,$(MAKECMDGOALS)),)
+$(if $(filter 1,$(words $(DENSITY_SENSOR))),,$(error DENSITY_SENSOR=$(DENSITY_SENSOR) must name one preset of share/sensors/))
+$(if $(wildcard share/sensors/$(DENSITY_SENSOR).ini),,$(error DENSITY_SENSOR=$(DENSITY_SENSOR): no share/sensors/$(DENSITY_SENSOR).ini))
+density_sensor_keys := $(shell awk -v l0='$(DENSITY_SENSOR_L0)' -v levels='$(strip $(DENSITY_SENSOR_LEVELS))' \
+  -v f='share/sensors/$(DENSITY_SENSOR).ini' 'BEGIN { \
+  if (l0 !~ /^[0-9]+(\.[0-9]+)?$$/ || l0 + 0 <= 0) { print "ERROR DENSITY_SENSOR_L0=" l0 " must be a positive number"; exit } \
+  while ((getline line < f) > 0) { sub(/#.*/, "", line); gsub(/[ \t]/, "", line); \
+    if (line ~ /^pulse_rate=/) pr = substr(line, 12) + 0; if (line ~ /^speed=/) sp = substr(line, 7) + 0 } \
+  if (!(pr > 0) || !(sp > 0)) { print "ERROR " f " gives no pulse_rate and speed"; exit } \
+  n = split(levels, d, " "); for (i = 1; i <= n; i++) { \
+    if (d[i] !~ /^[1-9][0-9]*$$/ || length(d[i]) > 5) { print "ERROR DENSITY_SENSOR_LEVELS: " d[i] " is not a whole number of pulses/m² from 1 to 99999"; exit } \
+    if (i > 1 && d[i] + 0 <= d[i - 1] + 0) { print "ERROR DENSITY_SENSOR_LEVELS=" levels ": the levels must rise"; exit } \
+    g = sqrt(d[i] / l0); r = int(pr * g + 0.5); v = sprintf("%.2f", sp / g); \
+    if (r < 1000 || r > 5000000 || v + 0 < 1 || v + 0 > 150) { print "ERROR DENSITY_SENSOR_LEVELS: " d[i] " needs pulse_rate " r \
+      " and speed " v ", beyond the sensor keys bounds (share/sensors/README.md)"; exit } \
+    out = out sprintf("%s:%d:%s ", d[i], r, v) } print out }')
+$(if $(filter ERROR,$(firstword $(density_sensor_keys))),$(error $(wordlist 2,$(words $(density_sensor_keys)),$(density_sensor_keys))))
+endif
+endif
+density_sensor_rate = $(word 2,$(subst :, ,$(filter $(1):%,$(density_sensor_keys))))
+density_sensor_speed = $(word 3,$(subst :, ,$(filter $(1):%,$(density_sensor_keys))))
+DENSITY_SENSOR_SCORES := $(if $(DENSITY_SENSOR),$(foreach d,$(DENSITY_SENSOR_LEVELS),$(DENSITY_RES)/$(DENSITY_SENSOR)-$(d)/score.json))
 density_mm = $(word 2,$(subst :, ,$(filter $(1):%,$(density_pairs))))
 density_m = $(word 3,$(subst :, ,$(filter $(1):%,$(density_pairs))))
 DENSITY_SCORES := $(foreach d,$(DENSITY_LEVELS),$(DENSITY_RES)/d$(d)/score.json)
 
-# The records of the experiment's manifest (Makefile.experiments): level, spacing (m), score.
+# The records of the experiment's manifest (Makefile.experiments): level, spacing (m), score;
+# the sensor ladder's: level, preset, score.
 EXPERIMENT_DENSITY := $(if $(filter 1,$(DENSITY_LADDER)),$(foreach d,$(DENSITY_LEVELS),$(call ml,density $(d) \
-  $(call density_m,$(d)) $(DENSITY_RES)/d$(d)/score.json)))
+  $(call density_m,$(d)) $(DENSITY_RES)/d$(d)/score.json))$(if $(DENSITY_SENSOR),$(foreach d,$(DENSITY_SENSOR_LEVELS),$(call \
+  ml,density-sensor $(d) $(DENSITY_SENSOR) $(DENSITY_RES)/$(DENSITY_SENSOR)-$(d)/score.json))))
 
 ifeq ($(filter scenes,$(MAKECMDGOALS)),)
 # density_args(LEVEL): the level's `make scenes`: its own directories and spacing, noise 0, the
 # scores only (no pictures, no PCL baseline, no size-only ablation).
+# density_args(LEVEL[, RUNG, RENDER]): the same for rung RUNG (default d<LEVEL>) rendered with the
+# scene variables RENDER (default the level's spacing): the sensor ladder's levels.
 density_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROGRESS=0 \
-  SCENE_DIR=$(DENSITY_DIR)/d$(1) SCENE_RES=$(DENSITY_RES)/d$(1) SCENE_SPACING=$(call density_mm,$(1))mm \
+  SCENE_DIR=$(DENSITY_DIR)/$(or $(2),d$(1)) SCENE_RES=$(DENSITY_RES)/$(or $(2),d$(1)) \
+  $(or $(3),SCENE_SPACING=$(call density_mm,$(1))mm) \
   SCENE_SEEDS="$(DENSITY_SEEDS)" SCENE_COVERS="$(DENSITY_COVERS)" SCENE_MODELS=$(DENSITY_MODELS) SCENE_NOISES=0 SCENE_BASELINE= \
   SCENE_SIZE_ONLY=0 SCENE_PICTURES=0
+# density_sensor_args(LEVEL): a level of the sensor ladder.
+density_sensor_args = $(call density_args,$(1),$(DENSITY_SENSOR)-$(1),SCENE_SENSOR=$(DENSITY_SENSOR) \
+  SCENE_SENSOR_KEYS="pulse_rate=$(call density_sensor_rate,$(1)) speed=$(call density_sensor_speed,$(1))")
 # As for the scene experiment: under -q each level's sub-make is asked (`make -q`, which renders
 # nothing), only when the ladder is on (the question builds the tools it needs, and a make
 # without the ladder must not); otherwise the step always runs and make compares score.json's
@@ -67,7 +111,7 @@ density_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROG
 ifneq ($(findstring q,$(make_letters))$(DENSITY_LADDER),q1)
 density_force = FORCE
 else
-density_force = $(if $(shell $(MAKE) -q $(MAKEOVERRIDES) $(call density_args,$(1)) >/dev/null 2>&1 || echo stale),FORCE)
+density_force = $(if $(shell $(MAKE) -q $(MAKEOVERRIDES) $(or $(2),$(call density_args,$(1))) >/dev/null 2>&1 || echo stale),FORCE)
 endif
 DENSITY_TOOLS := rangetrace addnoise detect classify fitvox cocone ncut gmatch verify collect score topview
 define density_rule
@@ -76,10 +120,17 @@ $(DENSITY_RES)/d$(1)/score.json: $(call density_force,$(1)) $(foreach t,$(DENSIT
 	+@$(MAKE) $(call density_args,$(1))
 endef
 $(foreach d,$(DENSITY_LEVELS),$(eval $(call density_rule,$(d))))
-.PHONY: density
-density: $(DENSITY_SCORES)
+define density_sensor_rule
+$(DENSITY_RES)/$(DENSITY_SENSOR)-$(1)/score.json: $(call density_force,$(1),$(call density_sensor_args,$(1))) \
+    $(foreach t,$(DENSITY_TOOLS),$(call tool,$(t))) $(MODELBASE) $(VERIFY_SURFACES)
+	+@$(MAKE) $(call density_sensor_args,$(1))
+endef
+$(if $(DENSITY_SENSOR),$(foreach d,$(DENSITY_SENSOR_LEVELS),$(eval $(call density_sensor_rule,$(d)))))
+.PHONY: density density-sensor
+density: $(DENSITY_SCORES) $(DENSITY_SENSOR_SCORES)
+density-sensor: $(DENSITY_SENSOR_SCORES)
 ifeq ($(DENSITY_LADDER),1)
-$(RES)/report.md: $(DENSITY_SCORES)
+$(RES)/report.md: $(DENSITY_SCORES) $(DENSITY_SENSOR_SCORES)
 # The report writes the ladder's tables (ladder.csv, ladder-rates.csv, ladder-errors.csv); the
 # pictures draw two of them, one panel per metric, one line per cover level.
 $(DENSITY_RES)/ladder-rates.png: $(RES)/report.md $(call tool,figures)

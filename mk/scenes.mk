@@ -281,6 +281,25 @@ SCENE_HIDE_dense ?= 2
 # Pixel spacing (docs/decisions/scene-experiment.md, "Operating point"): 40 mm with the tile
 # fitvox setting (share/params/fitvox-tile.ini).
 SCENE_SPACING ?= 40mm
+# Sensor mode (docs/decisions/sensor.md; docs/decisions/density-ladder.md, "The ladder on the
+# realistic sensor"): SCENE_SENSOR=<preset of share/sensors/> renders every tile with that
+# sensor (pulses with a footprint, multiple returns, the preset's flight lines along the
+# recipe's headings) instead of the four image looks at SCENE_SPACING; SCENE_SENSOR_KEYS=
+# "KEY=VALUE ..." become the recipe's `sensor.KEY = VALUE` lines. rangetrace then writes the
+# trajectory <tile>/scan.traj beside the scan, and detect derives each point's direction toward
+# the sensor from it (--trajectory), so the candidates carry sensor_x/y/z as an image-mode scan's
+# do (classify's sight lines, fitvox's normals, verify). Empty (the default): the recipes and
+# rules of image mode, byte for byte.
+SCENE_SENSOR ?=
+SCENE_SENSOR_KEYS ?=
+ifneq ($(SCENE_SENSOR),)
+$(if $(filter 1,$(words $(SCENE_SENSOR))),,$(error SCENE_SENSOR=$(SCENE_SENSOR) must name one preset of share/sensors/))
+$(if $(wildcard share/sensors/$(SCENE_SENSOR).ini),,$(error SCENE_SENSOR=$(SCENE_SENSOR): no share/sensors/$(SCENE_SENSOR).ini))
+$(foreach k,$(SCENE_SENSOR_KEYS),$(if $(shell printf '%s' '$(k)' | grep -xE '[a-z_]+=[^=]+'),,$(error \
+  SCENE_SENSOR_KEYS: $(k) is not KEY=VALUE)))
+else
+$(if $(strip $(SCENE_SENSOR_KEYS)),$(error SCENE_SENSOR_KEYS=$(SCENE_SENSOR_KEYS) needs SCENE_SENSOR))
+endif
 # Clutter per tile (issue 29, "unseen clutter"; docs/decisions/scene-experiment.md): the kinds
 # verify's and classify's thresholds were fitted on, then two of the six unseen kinds, by tile
 # (cksum of clutter/<cover>/<seed> mod 3: trailer + rock, caravan + tent, pipes + barriers; all
@@ -373,10 +392,18 @@ hide = $(SCENE_HIDE_$(1))
 bushes = 300
 vehicles = random $(call scene_vehicles,$(1)/$(2)) from $(SCENE_MODELS)
 clutter = $(SCENE_CLUTTER)
+$(if $(SCENE_SENSOR),$(scene_sensor_lines),$(scene_image_lines))
+endef
+# The render's lines: the four image looks at SCENE_SPACING, or the sensor (SCENE_SENSOR).
+define scene_image_lines
 flight_lines = 2
 headings = 0deg 90deg
 looks = 75deg/0deg 75deg/180deg
 spacing = $(SCENE_SPACING)
+endef
+define scene_sensor_lines
+headings = 0deg 90deg
+sensor = $(SCENE_SENSOR)$(subst $(space)$(nl),$(nl),$(foreach k,$(SCENE_SENSOR_KEYS),$(nl)sensor.$(subst =, = ,$(k))))
 endef
 $(if $(dry_run),,$(shell mkdir -p $(SCENE_TILES) $(SCENE_RES) $(dir $(SCENE_BL_SCORES) $(SCENE_ABL_SCORE))))
 
@@ -387,6 +414,7 @@ $(SCENE_DIR)/$(1)/tile-$(2)/scan.pcd: $(SCENE_DIR)/$(1)/tile-$(2)/recipe.scene $
 	@$(STAGE) $$@ -- $(BIN)/rangetrace --scene $$< --seed $$(call seed,scenes/$(1)/$(2)) --threads 2 \
 	  -o $$@ --truth $(SCENE_DIR)/$(1)/tile-$(2)/truth.json
 $(SCENE_DIR)/$(1)/tile-$(2)/truth.json: $(SCENE_DIR)/$(1)/tile-$(2)/scan.pcd
+$(if $(SCENE_SENSOR),$(SCENE_DIR)/$(1)/tile-$(2)/scan.traj: $(SCENE_DIR)/$(1)/tile-$(2)/scan.pcd)
 endef
 
 # scene_noise_rule(cover, seed, noise): the noisy scan.
@@ -397,7 +425,11 @@ endef
 $(foreach c,$(SCENE_COVERS),$(foreach s,$(SCENE_SEEDS),$(eval $(call scene_tile_rule,$(c),$(s)))))
 $(foreach c,$(SCENE_COVERS),$(foreach s,$(SCENE_SEEDS),$(foreach n,$(SCENE_NOISES),$(eval $(call scene_noise_rule,$(c),$(s),$(n))))))
 # detect writes no classes.ply for the experiment's runs (nothing reads it; KEEP=1 keeps it).
-$(foreach r,$(SCENE_RUNS),$(eval $(call tile_rules,$(call scene_key,$(r)),$(r),$(r)/scan.pcd,$(SCENE_MB),$(if $(keep),,--no-classes))))
+# With a sensor, detect takes the directions toward the sensor from the tile's trajectory.
+scene_traj = $(patsubst %/,%,$(dir $(1)))/scan.traj
+$(foreach r,$(SCENE_RUNS),$(eval $(call tile_rules,$(call scene_key,$(r)),$(r),$(r)/scan.pcd,$(SCENE_MB),$(if $(keep),,--no-classes)$(if \
+  $(SCENE_SENSOR), --trajectory $(call scene_traj,$(r))))))
+$(if $(SCENE_SENSOR),$(foreach r,$(SCENE_RUNS),$(eval $(r)/cands/index.json: $(call scene_traj,$(r)))))
 $(foreach r,$(SCENE_RUNS),$(call read_plan,$(r)/cands.mk))
 # ncut's seed key is the run's place under scenes/ (scenes/<cover>/tile-<seed>/noise-<mm>/<id>),
 # never a path with $(OUT) in it: the same experiment in another directory gives the same bytes.

@@ -117,10 +117,20 @@ struct Parser {
       const double level = positive(w[1], "density level"), spacing = positive(w[2], "pixel spacing");
       if (!m.density.empty() && level <= m.density.back().level)
         fail("density level " + w[1] + " does not rise above the one before it");
-      m.density.push_back({level, spacing, w[3]});
+      m.density.push_back({level, spacing, w[3], ""});
+    } else if (kind == "density-sensor") {
+      expect(w, 4, 4, "density-sensor LEVEL PRESET SCORE");
+      const double level = positive(w[1], "density level");
+      const std::string preset = word(w[2], "sensor preset");
+      if (!m.density_sensor.empty() && level <= m.density_sensor.back().level)
+        fail("density-sensor level " + w[1] + " does not rise above the one before it");
+      if (!m.density_sensor.empty() && preset != m.density_sensor.back().sensor)
+        fail("density-sensor preset " + preset + " is not the one before it (" +
+             m.density_sensor.back().sensor + "): one sensor ladder");
+      m.density_sensor.push_back({level, 0, w[3], preset});
     } else {
       fail("unknown record '" + kind +
-           "' (trial, model, render, ablation, ablation-trial, figure, real, density)");
+           "' (trial, model, render, ablation, ablation-trial, figure, real, density, density-sensor)");
     }
   }
 
@@ -206,6 +216,8 @@ std::string write_experiment_manifest(const ExperimentManifest& m) {
     out << "real " << r.name << ' ' << r.dir << (r.truth.empty() ? "" : " " + r.truth) << '\n';
   for (const auto& d : m.density)
     out << "density " << std::setprecision(10) << d.level << ' ' << d.spacing << ' ' << d.score << '\n';
+  for (const auto& d : m.density_sensor)
+    out << "density-sensor " << std::setprecision(10) << d.level << ' ' << d.sensor << ' ' << d.score << '\n';
   return out.str();
 }
 

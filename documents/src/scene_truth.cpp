@@ -93,6 +93,17 @@ SceneTruth read_members(const Json& j) {
     for (std::size_t i = 0; i < c->size(); ++i)
       t.clutter.push_back(clutter_of((*c)[i], "clutter[" + std::to_string(i) + "]"));
   }
+  if (const Json* d = optional(j, "density")) {
+    object(*d, "density");
+    auto rate = [&](const char* key, std::optional<double>* out) {
+      if (const Json* v = optional(*d, key)) {
+        *out = finite_number(*v, std::string("density.") + key);
+        if (**out < 0) throw Malformed(std::string("density.") + key + " must not be negative");
+      }
+    };
+    rate("pulses_per_m2", &t.pulses_per_m2);
+    rate("returns_per_m2", &t.returns_per_m2);
+  }
   if (const Json* u = optional(j, "uncertain")) {
     array(*u, "uncertain");
     for (std::size_t i = 0; i < u->size(); ++i) {

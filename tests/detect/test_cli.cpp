@@ -16,6 +16,7 @@
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/points_io.h"
 #include "canopy/formats/ply.h"
+#include "canopy/formats/trajectory.h"
 #include "support/cli.h"
 #include "fixtures/detect_synth_tile.h"
 
@@ -463,4 +464,58 @@ TEST_CASE("detect: a few points spread wide (replay case 8)") {
   const Json j = read_json(dir / "out" / "index.json");
   CHECK(j["candidates"].empty());
   CHECK(j["ground"]["cells"] == 1101 * 1101);
+}
+
+TEST_CASE("detect --trajectory: the candidates of a tile without sensor columns carry them") {
+  // The box tile as a sensor-mode render has it: gps_time, no sensor_x/y/z; the sensor flies
+  // along +x at 100 m over y = -50 (so every point sees it up and toward -y).
+  const fs::path dir = test::fresh_dir("detect", "cli_trajectory");
+  formats::PointCloud tile = box_tile();
+  auto& t = tile.add("gps_time", formats::kFloat64);
+  for (std::size_t i = 0; i < tile.size(); ++i) t[i] = tile.col("x")[i] / 50.0;  // 50 m/s
+  formats::write_pcd(tile, (dir / "tile.pcd").string());
+  formats::Trajectory traj;
+  traj.samples.push_back({0, 0, -50, 100, 0, 0, 0});
+  traj.samples.push_back({2, 100, -50, 100, 0, 0, 0});
+  formats::write_trajectory(traj, (dir / "tile.traj").string());
+  std::string err;
+  REQUIRE(test::sh(kBin + "/detect -i " + q(dir / "tile.pcd") + " -o " + q(dir / "cands") + " --trajectory " +
+                       q(dir / "tile.traj"),
+                   dir / "err.txt", &err) == 0);
+  INFO(err);
+  const Json j = read_json(dir / "cands" / "index.json");
+  REQUIRE(j["candidates"].size() == 1);
+  const auto& c = j["candidates"][0];
+  const formats::PointCloud cloud = formats::read_pcd((dir / "cands" / c["file"].get<std::string>()).string());
+  REQUIRE(cloud.has("sensor_x"));
+  REQUIRE(cloud.has("sensor_z"));
+  // Back in the tile's frame (the transform's rotation), each direction points at the sensor at
+  // the point's time: S(t) = (50 t, -50, 100).
+  Eigen::Matrix3d r;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) r(a, b) = c["transform"][a][b].get<double>();
+  Eigen::Vector3d o(c["transform"][0][3].get<double>(), c["transform"][1][3].get<double>(),
+                    c["transform"][2][3].get<double>());
+  double worst = 0;
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const Eigen::Vector3d p = r * Eigen::Vector3d(cloud.col("x")[i], cloud.col("y")[i], cloud.col("z")[i]) + o;
+    const Eigen::Vector3d d =
+        r * Eigen::Vector3d(cloud.col("sensor_x")[i], cloud.col("sensor_y")[i], cloud.col("sensor_z")[i]);
+    const Eigen::Vector3d want = (Eigen::Vector3d(50 * cloud.col("gps_time")[i], -50, 100) - p).normalized();
+    worst = std::max(worst, (d - want).norm());
+  }
+  CHECK(worst < 1e-4);
+  // Without --trajectory: no columns (the candidates carry what the tile has).
+  REQUIRE(test::sh(kBin + "/detect -i " + q(dir / "tile.pcd") + " -o " + q(dir / "plain"), dir / "err2.txt",
+                   &err) == 0);
+  const Json k = read_json(dir / "plain" / "index.json");
+  REQUIRE(k["candidates"].size() == 1);
+  CHECK(!formats::read_pcd((dir / "plain" / k["candidates"][0]["file"].get<std::string>()).string())
+             .has("sensor_x"));
+  // A tile without gps_time cannot use a trajectory: an error naming the tile.
+  formats::write_pcd(box_tile(), (dir / "bare.pcd").string());
+  CHECK(test::sh(kBin + "/detect -i " + q(dir / "bare.pcd") + " -o " + q(dir / "bare") + " --trajectory " +
+                     q(dir / "tile.traj"),
+                 dir / "err3.txt", &err) != 0);
+  CHECK(err.find("gps_time") != std::string::npos);
 }

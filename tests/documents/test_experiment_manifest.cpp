@@ -34,7 +34,9 @@ const char* kManifest =
     "real forest_lareunion out/real/forest_lareunion\n"
     "real urban_1 out/real/urban_1 share/real/urban_1.truth.json\n"
     "density 10 0.667 res/density/d10/score.json\n"
-    "density 25.5 0.418 res/density/d25.5/score.json\n";
+    "density 25.5 0.418 res/density/d25.5/score.json\n"
+    "density-sensor 10 als_qL1 res/density/als_qL1-10/score.json\n"
+    "density-sensor 25 als_qL1 res/density/als_qL1-25/score.json\n";
 
 std::string refusal(const std::string& text) {
   try {
@@ -94,6 +96,14 @@ TEST_CASE("experiment manifest: every record read, the grid in order of first ap
   CHECK(m.density[0].score == "res/density/d10/score.json");
   REQUIRE(again.density.size() == 2);
   CHECK(again.density[1].level == 25.5);
+  CHECK(m.density[0].sensor.empty());
+  REQUIRE(m.density_sensor.size() == 2);
+  CHECK(m.density_sensor[0].level == 10);
+  CHECK(m.density_sensor[1].sensor == "als_qL1");
+  CHECK(m.density_sensor[1].spacing == 0);
+  CHECK(m.density_sensor[1].score == "res/density/als_qL1-25/score.json");
+  REQUIRE(again.density_sensor.size() == 2);
+  CHECK(again.density_sensor[1].sensor == "als_qL1");
 }
 
 TEST_CASE("experiment manifest: malformed records and grids are refused naming the line") {
@@ -135,6 +145,16 @@ TEST_CASE("experiment manifest: malformed records and grids are refused naming t
   CHECK(refusal(t + "density 10 0 s\n").find("pixel spacing '0'") != std::string::npos);
   CHECK(refusal(t + "density 50 0.3 s\ndensity 25 0.4 s\n").find("line 3: density level 25 does not rise") !=
         std::string::npos);
+  CHECK(refusal(t + "density-sensor 10 als_qL1\n").find("line 2: expected 'density-sensor LEVEL PRESET SCORE'") !=
+        std::string::npos);
+  CHECK(refusal(t + "density-sensor -5 als_qL1 s\n").find("line 2: density level '-5'") != std::string::npos);
+  CHECK(refusal(t + "density-sensor 50 als_qL1 s\ndensity-sensor 25 als_qL1 s\n")
+            .find("line 3: density-sensor level 25 does not rise") != std::string::npos);
+  CHECK(refusal(t + "density-sensor 10 als_qL1 s\ndensity-sensor 25 uav s\n")
+            .find("line 3: density-sensor preset uav is not the one before it (als_qL1)") != std::string::npos);
+  CHECK(refusal(t + "density-sensor 10 a/b s\n").find("line 2:") != std::string::npos);
+  // The two ladders rise each on its own.
+  CHECK(refusal(t + "density 50 0.3 s\ndensity-sensor 10 als_qL1 s\n").empty());
   CHECK(refusal(t).empty());
 }
 

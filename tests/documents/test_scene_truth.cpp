@@ -61,6 +61,17 @@ TEST_CASE("scene truth: a hand-written truth reads to its values") {
   REQUIRE(t.uncertain.size() == 1);
   CHECK(t.uncertain[0].x == 7.0);
   CHECK(t.uncertain[0].y == 8.0);
+  CHECK_FALSE(t.pulses_per_m2);
+  CHECK_FALSE(t.returns_per_m2);
+  // A sensor-mode render's measured density.
+  Json sensor = Json::parse(kTruth);
+  sensor["density"] = {{"returns_per_m2", 33.5},
+                       {"first_returns_per_m2", 26.4},
+                       {"pulses_per_m2", 26.5},
+                       {"pulses_by_returns", Json::array({0, 10, 2})}};
+  const documents::SceneTruth s = documents::read_scene_truth(sensor.dump(), "s.truth.json");
+  CHECK(s.pulses_per_m2 == 26.5);
+  CHECK(s.returns_per_m2 == 33.5);
 }
 
 TEST_CASE("scene truth: refusals name the file and the problem") {
@@ -93,6 +104,11 @@ TEST_CASE("scene truth: refusals name the file and the problem") {
   CHECK_THAT(refusal(corner), Catch::Contains("vehicles[0].footprint[1] must be [x, y], not \"x\""));
   CHECK_THAT(refusal(uncertain), Catch::Contains("uncertain[0]: missing \"pose\""));
   CHECK_THAT(refusal(model), Catch::Contains("vehicles[0].model must be a string, not 3"));
+  Json density = good, pulses = good;
+  density["density"] = 3;
+  pulses["density"] = {{"pulses_per_m2", -1}};
+  CHECK_THAT(refusal(density), Catch::Contains("density must be an object"));
+  CHECK_THAT(refusal(pulses), Catch::Contains("density.pulses_per_m2 must not be negative"));
 }
 
 TEST_CASE("scene truth: rangetrace's writer, byte for byte, and the reader reads what it wrote") {

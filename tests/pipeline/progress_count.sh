@@ -2,7 +2,8 @@
 # The progress count of a whole experiment (issue 31): `make all -j2` on a small slice of every
 # part with a fresh out/ -- the thesis protocol with an ablation and the baseline, the scene
 # experiment (one tile at two noise levels: detect's candidates join the count when each plan
-# is written, the baseline's methods on each), the families protocol, and real tiles through
+# is written, the baseline's methods on each), the density ladder (two levels, and two on the
+# sensor), the families protocol, and real tiles through
 # their time-boxed sub-makes: one that finishes (its candidates at the class level only), one
 # refused by detect (a file that is no point cloud) and, in a second run, one stopped by a 1 s
 # time box. Checked on every "done/FAIL N/M" line: M at the start is what `make -n all` plans,
@@ -37,7 +38,7 @@ mk=(make -C "$src" --no-print-directory -f Makefile.experiments BUILD="$tmp/buil
     OBJECTS="sedan tank" SCENES=unoccluded NOISES=0 ABLATIONS=fitvox-fixed-rms
     SCENE_SEEDS=1 SCENE_COVERS=light SCENE_NOISES="0 8" SCENE_MODELS=sedan,tank
     FAM_CLASSES=sedan FAM_TRAIN=0 FAM_TEST=1000 FAM_COVERS=light FAM_NOISES=0
-    DENSITY_LEVELS="10 25" DENSITY_SEEDS=1 DENSITY_COVERS=light OPENSET_SEEDS=1 OPENSET_COVERS=light
+    DENSITY_LEVELS="10 25" DENSITY_SENSOR_LEVELS="10 25" DENSITY_SEEDS=1 DENSITY_COVERS=light OPENSET_SEEDS=1 OPENSET_COVERS=light
     REAL_SHARE="$tmp/real" REAL_FOREST=forest_lareunion REAL_URBAN="broken ign_lidarhd_870000_6618000" REAL_TIMEOUT=120)
 
 # counts LOG [PLANNED]: the checks on every "done/FAIL N/M" line of a make's output LOG, whose
@@ -80,7 +81,7 @@ planned=$(plan)
 [ ! -e "$tmp/out" ] || fail "make -n all wrote $tmp/out"
 "${mk[@]}" all -j2 >"$tmp/make.out" 2>&1 || fail "make all failed: $(grep -v '^done' "$tmp/make.out" | tail -5)"
 for part in /families/ /scenes/light/tile-1/noise-8/cands/ /density/d25/light/tile-1/noise-0/cands/ \
-  /density/ladder-rates.png /openset/modelbase/.work/ /openset/tiles/light/tile-1/noise-0/cands/ /openset/crops/ \
+  /density/als_qL1-25/light/tile-1/noise-0/cands/ /density/ladder-rates.png /openset/modelbase/.work/ /openset/tiles/light/tile-1/noise-0/cands/ /openset/crops/ \
   /real/forest_lareunion/cands/ \
   /real/ign_lidarhd_870000_6618000/score.json /ablation/; do
   grep -Eq "^(done|FAIL)  [0-9]+/[0-9]+ .*$part" "$tmp/make.out" || fail "no stage of $part counted"

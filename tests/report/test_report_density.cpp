@@ -72,10 +72,10 @@ TEST_CASE("density ladder: levels, measured density, CPU per ha and where each t
   level(root, "d10", 9.8, 7.9, row("light", 0.5, 0.9, 12, 3) + "," + row("all", 0.5, 0.9, 12, 3));
   level(root, "d50", 48, 39, row("light", 0.95, 0.9, 4, 0.5) + "," + row("all", 0.95, 0.9, 4, 0.5));
   level(root, "d100", 99, 80, row("light", 0.92, 0.96, 2, 0) + "," + row("all", 0.92, 0.96, 2, 0));
-  std::vector<documents::ManifestDensity> m = {{10, 0.667, (root / "res/d10/score.json").string()},
-                                               {50, 0.298, (root / "res/d50/score.json").string()},
-                                               {100, 0.211, (root / "res/d100/score.json").string()},
-                                               {200, 0.149, (root / "res/d200/score.json").string()}};
+  std::vector<documents::ManifestDensity> m = {{10, 0.667, (root / "res/d10/score.json").string(), ""},
+                                               {50, 0.298, (root / "res/d50/score.json").string(), ""},
+                                               {100, 0.211, (root / "res/d100/score.json").string(), ""},
+                                               {200, 0.149, (root / "res/d200/score.json").string(), ""}};
   const auto levels = report::read_density_levels(m);
   REQUIRE(levels.size() == 4);
   CHECK(levels[0].scored);
@@ -133,4 +133,101 @@ TEST_CASE("density ladder: levels, measured density, CPU per ha and where each t
   CHECK(csv.find("heading") == std::string::npos);
   CHECK(report::density_csv(levels, "errors").find("10,0.667,9.8,7.9,all,false_alarms_any_level_per_ha,3,0,5\n") !=
         std::string::npos);
+}
+
+namespace {
+
+// A summary row with the counts of the side-by-side table: class right and false alarms (fp
+// model-level + class_fp class answers on no vehicle).
+std::string row_counts(const std::string& cover, double recall, double cls, double fa, int right, int fp,
+                       int class_fp) {
+  std::string r = row(cover, recall, cls, 1, fa);
+  r.pop_back();
+  return r + R"(, "class_right_any_level": )" + std::to_string(right) + R"(, "fp": )" + std::to_string(fp) +
+         R"(, "class_fp": )" + std::to_string(class_fp) + "}";
+}
+
+// A sensor tile's truth.json beside the level's run (rangetrace's measured density).
+void sensor_truth(const fs::path& root, const std::string& name, double pulses, double returns) {
+  test::write_file(root / "out" / name / "light" / "tile-1" / "truth.json",
+                   R"({"format": "canopy.scene_truth", "version": 1, "vehicles": [],
+      "density": {"returns_per_m2": )" +
+                       num(returns) + R"(, "first_returns_per_m2": 1, "pulses_per_m2": )" + num(pulses) +
+                       R"(, "pulses_by_returns": [0, 1]}})");
+}
+
+}  // namespace
+
+TEST_CASE(
+    "density ladder on the sensor: measured pulses and returns, its targets, the two ladders side by side") {
+  const fs::path root = fs::path(CANOPY_TEST_TMP) / "report-density-sensor";
+  fs::remove_all(root);
+  // Pixel ladder 10 and 25; sensor ladder 10, 25 and 50 (als_qL1).
+  auto rows = [](double light, double medium, double cls, double fa, int right, int fp, int cfp) {
+    return row_counts("light", light, cls, fa, right, fp, cfp) + "," +
+           row_counts("medium", medium, cls, fa, right, fp, cfp) + "," +
+           row_counts("all", (light + medium) / 2, cls, fa, right, fp, cfp);
+  };
+  level(root, "d10", 10, 6, rows(0.6, 0.3, 0.9, 2, 4, 0, 2));
+  level(root, "d25", 25, 16, rows(0.8, 0.6, 0.9, 1, 6, 0, 1));
+  level(root, "s10", 12, 9, rows(0.5, 0.2, 0.8, 3, 3, 1, 2));
+  level(root, "s25", 28, 20, rows(0.9, 0.7, 0.95, 0.5, 8, 0, 1));
+  level(root, "s50", 55, 40, rows(0.95, 0.8, 0.95, 0, 9, 0, 0));
+  sensor_truth(root, "s10", 10.2, 12.9);
+  sensor_truth(root, "s25", 24.8, 31.4);
+  // s50: an image-mode truth (no density): the measured density is unknown.
+  test::write_file(root / "out" / "s50" / "light" / "tile-1" / "truth.json",
+                   R"({"format": "canopy.scene_truth", "version": 1, "vehicles": []})");
+  const std::vector<documents::ManifestDensity> pixel = {
+      {10, 0.667, (root / "res/d10/score.json").string(), ""},
+      {25, 0.422, (root / "res/d25/score.json").string(), ""}};
+  std::vector<documents::ManifestDensity> sm;
+  for (const char* l : {"10", "25", "50"})
+    sm.push_back(
+        {std::stod(l), 0, (root / "res" / (std::string("s") + l) / "score.json").string(), "als_qL1"});
+  const auto levels = report::read_density_levels(pixel);
+  const auto sensor = report::read_density_levels(sm);
+  REQUIRE(sensor.size() == 3);
+  CHECK(levels[0].pulses == -1);  // the pixel ladder reads no truth
+  CHECK(sensor[0].sensor == "als_qL1");
+  CHECK(sensor[0].pulses == Approx(10.2));
+  CHECK(sensor[1].returns == Approx(31.4));
+  CHECK(sensor[2].pulses == -1);
+  CHECK(sensor[2].scored);
+
+  // Where each capability begins on the sensor: light recall 0.9 from 25, medium 0.75 at 50 only.
+  auto find = [](const std::vector<report::DensityTarget>& ts, const std::string& what) {
+    for (const auto& t : ts)
+      if (t.capability.find(what) != std::string::npos) return t;
+    FAIL("no target " << what);
+    return report::DensityTarget{};
+  };
+  const auto targets = report::density_targets(sensor);
+  CHECK(find(targets, "light").from_level == 25);
+  CHECK(find(targets, "medium").from_level == 50);
+  CHECK(find(targets, "false alarms").from_level == 25);
+
+  const std::string md = report::density_markdown(levels, {}, sensor);
+  CHECK(md.find("### The ladder on the realistic sensor (als_qL1)") != std::string::npos);
+  CHECK(md.find("| level (pulses/m²) | measured pulses / returns (per m²) |") != std::string::npos);
+  CHECK(md.find("| 25 | 24.8 / 31.4 | 28 / 20 | light | 2 | 10 | 9/10 (0/9 model) | 90.0% [80.0, 95.0] |") !=
+        std::string::npos);
+  CHECK(md.find("| 50 | – | 55 / 40 | light |") != std::string::npos);
+  CHECK(md.find("| vehicles detected, light cover | >= 90% | 25 pulses/m² | at no level |") !=
+        std::string::npos);
+  CHECK(md.find("| vehicles detected, light cover | >= 90% | at no level | at no level |") !=
+        std::string::npos);  // the pixel ladder's
+  // Side by side at 10 and 25 (the sensor's 50 has no pixel level): counts and intervals.
+  CHECK(md.find("| level | measure | pixel spacing | sensor (als_qL1) |") != std::string::npos);
+  CHECK(md.find("| 25 | recall, light | 8/10 = 80.0% [70.0, 85.0] | 9/10 = 90.0% [80.0, 95.0] |") !=
+        std::string::npos);
+  CHECK(md.find("| 10 | recall, medium | 3/10 = 30.0% [20.0, 35.0] | 2/10 = 20.0% [10.0, 25.0] |") !=
+        std::string::npos);
+  CHECK(md.find("| 25 | class right (all) | 6/7 = 90.0% [80.0, 100.0] | 8/8 = 95.0% [85.0, 100.0] |") !=
+        std::string::npos);
+  CHECK(md.find("| 10 | false alarms/ha (all) | 2 = 2.0 [0.0, 4.0] | 3 = 3.0 [0.0, 5.0] |") !=
+        std::string::npos);
+  CHECK(md.find("| 50 | recall") == std::string::npos);
+  // Without sensor levels the section is the pixel ladder's alone.
+  CHECK(report::density_markdown(levels, {}).find("realistic sensor") == std::string::npos);
 }

@@ -8,6 +8,8 @@
 #include "canopy/common/units.h"
 #include "canopy/formats/points_io.h"
 #include "canopy/formats/provenance.h"
+#include "canopy/formats/sensor_direction.h"
+#include "canopy/formats/trajectory.h"
 #include "detect/detect.h"
 #include "detect/las_units.h"
 #include "detect/output.h"
@@ -18,7 +20,7 @@ namespace {
 
 // The options beside detect::Params.
 struct Cli {
-  std::string in = "-", out, clustering = "grid", split_rows = "auto";
+  std::string in = "-", out, clustering = "grid", split_rows = "auto", trajectory;
   bool no_classes = false;
   CLI::Option *voxel = nullptr, *min_planarity = nullptr,
               *cell = nullptr;  // given: overrides the density rule
@@ -100,6 +102,38 @@ void bind(common::Tool& tool, detect::Params& p, Cli& cli) {
            "split); false = pieces of a row split never merged, the rule before, "
            "docs/decisions/detect.md §13");
   tool.add_flag("--no-classes", &cli.no_classes, "do not write classes.ply");
+  tool.app().add_option("--trajectory", cli.trajectory,
+                        "sensor trajectory (formats/README.md, Trajectory) in the tile's frame: a "
+                        "tile without sensor_x/y/z (a sensor-mode render, LAS) gets the direction "
+                        "toward the sensor of each point at its gps_time, so the candidates carry "
+                        "it as a rendered scan's do (classify's sight lines, fitvox's normals, "
+                        "verify); a tile with the columns keeps them");
+}
+
+// The tile's sensor_x/y/z from the trajectory (--trajectory), unless it has them.
+void add_sensor_directions(formats::PointCloud* tile, const std::string& trajectory_path,
+                           const std::string& name) {
+  formats::SensorDirectionOptions so;
+  const formats::Trajectory trajectory = formats::read_trajectory(trajectory_path);
+  so.trajectory = &trajectory;
+  so.trajectory_name = common::display_name(trajectory_path);
+  const bool columns = tile->has("sensor_x") || tile->has("sensor_y") || tile->has("sensor_z");
+  so.source = columns ? formats::SensorSource::kColumns : formats::SensorSource::kTrajectory;
+  const formats::SensorDirections sd = formats::sensor_directions(*tile, so, name);
+  for (const auto& w : sd.warnings) common::log::warn(w);
+  if (sd.used == formats::SensorSource::kColumns) {
+    common::log::warn(name + ": has sensor_x/y/z: --trajectory " + so.trajectory_name + " not used");
+    return;
+  }
+  auto& sx = tile->add("sensor_x", formats::kFloat32);
+  auto& sy = tile->add("sensor_y", formats::kFloat32);
+  auto& sz = tile->add("sensor_z", formats::kFloat32);
+  for (std::size_t i = 0; i < sd.directions.size(); ++i) {
+    sx[i] = sd.directions[i].x();
+    sy[i] = sd.directions[i].y();
+    sz[i] = sd.directions[i].z();
+  }
+  common::log::info(sd.summary);
 }
 
 detect::Clustering clustering_of(const std::string& text) {
@@ -166,8 +200,9 @@ int main(int argc, char** argv) {
     const std::string name = common::display_name(cli.in);
     common::log::Phase read("read");
     // Tiles are read by magic: PCD, PLY point set, LAS or LAZ.
-    const formats::PointCloud tile = formats::read_points(cli.in, "detect");
+    formats::PointCloud tile = formats::read_points(cli.in, "detect");
     read.done(std::to_string(tile.size()) + " points");
+    if (!cli.trajectory.empty()) add_sensor_directions(&tile, cli.trajectory, name);
     warn_las_units(cli.in, name);
     common::log::Phase work("detect");
     const detect::Result r = detect::run(p, {&tile, name});

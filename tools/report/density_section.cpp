@@ -9,6 +9,7 @@
 #include "canopy/common/error.h"
 #include "canopy/documents/candidates.h"
 #include "canopy/documents/detections.h"
+#include "canopy/documents/scene_truth.h"
 #include "report/report.h"
 #include "report/score_cells.h"
 
@@ -58,6 +59,12 @@ std::string counts(const ScoreRow& r, const char* k, const char* n) {
   return a && b ? format_number("%.0f", *a) + "/" + format_number("%.0f", *b) : "–";
 }
 
+// A rate's cell: "k/n = x% [lo, hi]".
+std::string rate_cell(const ScoreRow* r, const char* key, const char* k, const char* n) {
+  if (r == nullptr) return "–";
+  return counts(*r, k, n) + " = " + score_ci(*r, key, "%.1f%%", "%.1f", 100);
+}
+
 const ScoreRow* row_of(const DensityLevel& l, const std::string& cover) {
   if (!l.scored) return nullptr;
   for (const ScoreRow* r : cover_rows(l.score))
@@ -73,6 +80,7 @@ std::vector<DensityLevel> read_density_levels(const std::vector<documents::Manif
     DensityLevel l;
     l.level = m.level;
     l.spacing = m.spacing;
+    l.sensor = m.sensor;
     l.score_path = m.score;
     if (exists(m.score)) {
       l.score = documents::read_scene_score_file(m.score);
@@ -106,6 +114,25 @@ std::vector<DensityLevel> read_density_levels(const std::vector<documents::Manif
         auto& [found, all] = l.model_found[*m.true_model];
         ++all;
         if (m.outcome == "right" || m.outcome == "wrong") ++found;
+      }
+      if (!l.sensor.empty()) {
+        // The tile's truth.json, beside its runs (<tile>/noise-<mm>/): each tile once.
+        std::set<std::string> seen;
+        double pulses = 0, returns = 0;
+        int n = 0;
+        for (const SceneRun& r : runs) {
+          const std::string truth = std::filesystem::path(r.dir).parent_path().string() + "/truth.json";
+          if (!seen.insert(truth).second || !exists(truth)) continue;
+          const documents::SceneTruth t = documents::read_scene_truth_file(truth);
+          if (!t.pulses_per_m2 || !t.returns_per_m2) continue;
+          pulses += *t.pulses_per_m2;
+          returns += *t.returns_per_m2;
+          ++n;
+        }
+        if (n > 0) {
+          l.pulses = pulses / n;
+          l.returns = returns / n;
+        }
       }
       l.density_runs = n_all;
       if (n_all > 0) l.density_all = all / n_all;
@@ -183,26 +210,24 @@ std::string density_csv(const std::vector<DensityLevel>& levels, const std::stri
   return csv.str();
 }
 
-std::string density_markdown(const std::vector<DensityLevel>& levels, const std::vector<std::string>& figures) {
-  std::ostringstream md;
-  md << "\n## Density ladder\n\n"
-     << "The scene experiment's tiles (its recipe, cover levels and models; noise 0) rendered at "
-     << levels.size()
-     << " densities: the same scenes at every level (the render's seed is the tile's place, not its "
-        "spacing), only the pixel spacing changes (mk/density.mk; docs/decisions/density-ladder.md). "
-        "Each level runs the unchanged tile workflow (detect's density rule, classify, the model chain "
-        "where a candidate's object density reaches `TILE_MODEL_DENSITY`) and is scored like the scene "
-        "experiment. \"Any level\": a model or a class answer. Rates: k/n and score's 95% interval "
-        "(Wilson; every tile is its own render). Class right: the answer's class (a model answer: its "
-        "model's, share/models/classes.csv) is the vehicle's. Heading: the axis error (modulo 180) of "
-        "every found vehicle. CPU: every stage of the level (rendering included) per hectare of tile.\n\n";
-  md << "| level (pts/m²) | spacing (m) | measured all / open ground (pts/m²) | cover | tiles | vehicles | "
+namespace {
+
+// The level table: one row per cover of each level (the pixel ladder: its spacing; the sensor
+// ladder: the measured pulses and returns per m²).
+void level_table(std::ostringstream& md, const std::vector<DensityLevel>& levels, bool sensor) {
+  md << (sensor ? "| level (pulses/m²) | measured pulses / returns (per m²) | "
+                : "| level (pts/m²) | spacing (m) | ")
+     << "measured all / open ground (pts/m²) | cover | tiles | vehicles | "
         "found (model + class) | recall | precision | class right | model identified | heading median (deg) "
         "| "
         "false alarms/ha | CPU s/ha |\n";
   md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const DensityLevel& l : levels) {
-    const std::string head = format_number("%g", l.level) + " | " + format_number("%.3f", l.spacing) + " | ";
+    const std::string second =
+        sensor
+            ? (l.pulses > 0 ? format_number("%.1f", l.pulses) + " / " + format_number("%.1f", l.returns) : "–")
+            : format_number("%.3f", l.spacing);
+    const std::string head = format_number("%g", l.level) + " | " + second + " | ";
     if (!l.scored) {
       md << "| " << head << "not run (no " << l.score_path << ") | | | | | | | | | | | |\n";
       continue;
@@ -213,15 +238,17 @@ std::string density_markdown(const std::vector<DensityLevel>& levels, const std:
     for (const ScoreRow* r : cover_rows(l.score)) {
       const bool all = label(*r) == "all";
       md << "| " << (all ? "**" + format_number("%g", l.level) + "**" : format_number("%g", l.level)) << " | "
-         << format_number("%.3f", l.spacing) << " | " << dens << " | " << label(*r) << " | "
-         << score_count(*r, "tiles") << " | " << score_count(*r, "true") << " | "
-         << counts(*r, "found_any_level", "true") << " (" << counts(*r, "tp", "found_any_level")
-         << " model) | ";
+         << second << " | " << dens << " | " << label(*r) << " | " << score_count(*r, "tiles") << " | "
+         << score_count(*r, "true") << " | " << counts(*r, "found_any_level", "true") << " ("
+         << counts(*r, "tp", "found_any_level") << " model) | ";
       for (std::size_t i = 0; i < metrics().size(); ++i) md << show(*r, metrics()[i]) << " | ";
       md << (all ? cpu : "") << " |\n";
     }
   }
-  // Per model and per reason, one column per level that ran.
+}
+
+// Per model and per reason, one column per level that ran; then where each capability begins.
+void detail_tables(std::ostringstream& md, const std::vector<DensityLevel>& levels, const char* unit) {
   std::vector<const DensityLevel*> ran;
   std::set<std::string> models, reasons;
   for (const DensityLevel& l : levels) {
@@ -245,7 +272,8 @@ std::string density_markdown(const std::vector<DensityLevel>& levels, const std:
       }
     };
     md << "\n**Found at either level, per model** (found / true, every cover level; the columns are the "
-          "levels in points/m²):\n\n";
+          "levels in "
+       << unit << "):\n\n";
     table("model", models, [](const DensityLevel& l, const std::string& m) {
       const auto it = l.model_found.find(m);
       return it == l.model_found.end()
@@ -264,14 +292,80 @@ std::string density_markdown(const std::vector<DensityLevel>& levels, const std:
         "interval's conservative end (the lower bound of a rate that must be high, the upper bound of "
         "one that must be low; a median has no interval).\n\n";
   md << "| capability | target | met from (estimate) | met from (interval) |\n|---|---|---|---|\n";
-  auto from = [](double l) { return l > 0 ? format_number("%g", l) + " pts/m²" : std::string("at no level"); };
+  auto from = [&](double l) {
+    return l > 0 ? format_number("%g", l) + " " + unit : std::string("at no level");
+  };
   for (const DensityTarget& t : density_targets(levels))
     md << "| " << t.capability << " | " << t.target << " | " << from(t.from_level) << " | "
        << from(t.from_level_bound) << " |\n";
+}
+
+}  // namespace
+
+std::string density_markdown(const std::vector<DensityLevel>& levels, const std::vector<std::string>& figures,
+                             const std::vector<DensityLevel>& sensor) {
+  std::ostringstream md;
+  md << "\n## Density ladder\n\n"
+     << "The scene experiment's tiles (its recipe, cover levels and models; noise 0) rendered at "
+     << levels.size()
+     << " densities: the same scenes at every level (the render's seed is the tile's place, not its "
+        "spacing), only the pixel spacing changes (mk/density.mk; docs/decisions/density-ladder.md). "
+        "Each level runs the unchanged tile workflow (detect's density rule, classify, the model chain "
+        "where a candidate's object density reaches `TILE_MODEL_DENSITY`) and is scored like the scene "
+        "experiment. \"Any level\": a model or a class answer. Rates: k/n and score's 95% interval "
+        "(Wilson; every tile is its own render). Class right: the answer's class (a model answer: its "
+        "model's, share/models/classes.csv) is the vehicle's. Heading: the axis error (modulo 180) of "
+        "every found vehicle. CPU: every stage of the level (rendering included) per hectare of tile.\n\n";
+  level_table(md, levels, false);
+  detail_tables(md, levels, "pts/m²");
   for (const std::string& f : figures) md << "\n![density ladder](" << f << ")\n";
   if (!figures.empty())
     md << "\n(One line per cover level; the levels at equal spacing; the bars are the 95% intervals, also in "
           "the table and in ladder.csv.)\n";
+  if (sensor.empty()) return md.str();
+  const std::string preset = sensor.front().sensor;
+  md << "\n### The ladder on the realistic sensor (" << preset << ")\n\n"
+     << "The same tiles (recipe, cover levels, models, seeds; noise 0) rendered in sensor mode with the "
+        "preset `"
+     << preset
+     << "` (share/sensors/): pulses with a beam footprint, an oscillating mirror and multiple returns, "
+        "the preset's flight lines along the recipe's two headings; each level's nominal pulses per m² set "
+        "by the preset's pulse rate (× f) and speed (÷ f). Measured pulses and returns per m²: "
+        "rangetrace's count over the level's tiles (truth.json). detect takes each point's direction "
+        "toward the sensor from the flight's trajectory. Columns as above.\n\n";
+  level_table(md, sensor, true);
+  detail_tables(md, sensor, "pulses/m²");
+  // Side by side where both ladders have the nominal density.
+  std::vector<std::pair<const DensityLevel*, const DensityLevel*>> both;
+  for (const DensityLevel& s : sensor)
+    for (const DensityLevel& p : levels)
+      if (p.level == s.level && p.scored && s.scored) both.emplace_back(&p, &s);
+  if (both.empty()) return md.str();
+  md << "\n**Pixel spacing against the sensor at the same nominal density** (points/m² of the "
+        "four image looks; pulses/m² of the sensor, whose returns are more): found at either level of the "
+        "cover's vehicles, class right of the found (all covers), false alarms per ha (all covers), each "
+        "with its count and 95% interval.\n\n";
+  md << "| level | measure | pixel spacing | sensor (" << preset << ") |\n|---|---|---|---|\n";
+  for (const auto& [p, s] : both) {
+    const std::string lv = format_number("%g", p->level);
+    auto line = [&](const char* what, const std::string& cover, const char* key, const char* k, const char* n) {
+      md << "| " << lv << " | " << what << " | " << rate_cell(row_of(*p, cover), key, k, n) << " | "
+         << rate_cell(row_of(*s, cover), key, k, n) << " |\n";
+    };
+    line("recall, light", "light", "recall_any_level", "found_any_level", "true");
+    line("recall, medium", "medium", "recall_any_level", "found_any_level", "true");
+    line("class right (all)", "all", "class_accuracy_any_level", "class_right_any_level", "found_any_level");
+    const ScoreRow* pa = row_of(*p, "all");
+    const ScoreRow* sa = row_of(*s, "all");
+    // The count: model-level false alarms (fp) + class answers on no vehicle (class_fp).
+    auto fa = [](const ScoreRow* r) {
+      if (r == nullptr) return std::string("–");
+      const auto a = score_number(*r, "fp"), b = score_number(*r, "class_fp");
+      return (a && b ? format_number("%.0f", *a + *b) + " = " : std::string()) +
+             score_ci(*r, "false_alarms_any_level_per_ha", "%.1f", "%.1f", 1);
+    };
+    md << "| " << lv << " | false alarms/ha (all) | " << fa(pa) << " | " << fa(sa) << " |\n";
+  }
   return md.str();
 }
 

@@ -21,6 +21,11 @@ namespace canopy::report {
 // -1 unknown) and the CPU of its stages (scene_times) per hectare of rendered tile.
 struct DensityLevel {
   double level = 0, spacing = 0;
+  // The sensor ladder's levels (the manifest's density-sensor records): the preset, and the
+  // pulses and returns per m² rangetrace measured (means over the level's tiles of truth.json
+  // density.pulses_per_m2 and returns_per_m2; -1 unknown). "" and -1 for the pixel ladder.
+  std::string sensor;
+  double pulses = -1, returns = -1;
   std::string score_path;
   bool scored = false;
   documents::SceneScore score;
@@ -53,7 +58,12 @@ std::vector<DensityTarget> density_targets(const std::vector<DensityLevel>& leve
 // metric (`part` all), the rates (rates: recall, precision, class right, identification) or the
 // errors (errors: heading median, false alarms per ha); figures plot draws the last two
 // (results/density/ladder-rates.png, ladder-errors.png: mk/density.mk).
-std::string density_markdown(const std::vector<DensityLevel>& levels, const std::vector<std::string>& figures);
+// With `sensor` (the sensor ladder's levels, read the same way), a second part "The ladder on the
+// realistic sensor (<preset>)": its own table (measured pulses and returns per m² in place of the
+// spacing), per model, the candidates' fate and where each capability begins, and the two ladders
+// side by side at the nominal densities both have.
+std::string density_markdown(const std::vector<DensityLevel>& levels, const std::vector<std::string>& figures,
+                             const std::vector<DensityLevel>& sensor = {});
 std::string density_csv(const std::vector<DensityLevel>& levels, const std::string& part = "all");
 
 }  // namespace canopy::report

@@ -174,9 +174,11 @@ std::string real_section(const std::vector<documents::ManifestRealTile>& real, i
 // The density ladder's section (the manifest's `density` records); its table as ladder.csv in the
 // directory above the levels' score directories (results/density/), when a level has run.
 std::string density_section(const std::vector<documents::ManifestDensity>& density,
+                            const std::vector<documents::ManifestDensity>& density_sensor,
                             const std::string& results, common::OutputSet& outputs) {
   common::log::Phase density_phase("density ladder");
   const std::vector<report::DensityLevel> levels = report::read_density_levels(density);
+  const std::vector<report::DensityLevel> sensor = report::read_density_levels(density_sensor);
   std::vector<std::string> figures;
   for (const auto& l : levels) {
     if (!l.scored) continue;
@@ -191,8 +193,9 @@ std::string density_section(const std::vector<documents::ManifestDensity>& densi
                relative_to(dir, results) + "/ladder-errors.png"};
     break;
   }
-  density_phase.done(std::to_string(levels.size()) + " levels");
-  return report::density_markdown(levels, figures);
+  density_phase.done(std::to_string(levels.size()) + " levels, " + std::to_string(sensor.size()) +
+                     " on the sensor");
+  return report::density_markdown(levels, figures, sensor);
 }
 
 // The options beside the trials' sources.
@@ -295,7 +298,8 @@ int main(int argc, char** argv) {
     if (!src.families.empty()) markdown += families_section(src.families);
     if (!src.tile_score.empty()) markdown += scenes_section(src.tile_score, scene_dir, results, outputs);
     if (!manifest.real.empty()) markdown += real_section(manifest.real, src.real_timeout);
-    if (!manifest.density.empty()) markdown += density_section(manifest.density, results, outputs);
+    if (!manifest.density.empty() || !manifest.density_sensor.empty())
+      markdown += density_section(manifest.density, manifest.density_sensor, results, outputs);
     if (!src.openset.empty()) {
       const std::optional<documents::SceneScore> crops =
           src.openset_crops.empty() ? std::nullopt

@@ -20,6 +20,11 @@
 //   density LEVEL SPACING SCORE               a rung of the density ladder (mk/density.mk):
 //                                             its nominal points/m² (a positive number), the
 //                                             renderer's pixel spacing in m, its score.json
+//   density-sensor LEVEL PRESET SCORE         a rung of the ladder on the realistic sensor
+//                                             (mk/density.mk): its nominal pulses/m² (a
+//                                             positive number, rising), the sensor preset
+//                                             (share/sensors/<PRESET>.ini; one preset for
+//                                             every such record), its score.json
 //
 // The trials are a full grid: every (object, scene, noise) of the trial lines exactly once
 // (objects, scenes and noises in the order they first appear), and every ablation has a trial
@@ -49,21 +54,23 @@ struct ManifestRealTile {
 };
 
 struct ManifestDensity {
-  double level = 0;    // nominal points per m²
-  double spacing = 0;  // pixel spacing, m
+  double level = 0;    // nominal points per m² (a sensor rung: pulses per m²)
+  double spacing = 0;  // pixel spacing, m (0 for a sensor rung)
   std::string score;   // canopy.scene_score of the rung's tiles
+  std::string sensor;  // the sensor preset of a density-sensor rung; "" for the pixel ladder
 };
 
 struct ExperimentManifest {
   std::vector<std::string> objects, scenes;  // of the trials, in order of first appearance
   std::vector<int> noises;
-  std::vector<ManifestTrial> trials;           // in the manifest's order
-  std::map<std::string, std::string> models;   // object -> segment graph
-  std::map<std::string, std::string> renders;  // "<object>/<scene>" -> scan
-  std::vector<ManifestAblation> ablations;     // in order of declaration
-  std::vector<std::string> figures;            // in order
-  std::vector<ManifestRealTile> real;          // in order
-  std::vector<ManifestDensity> density;        // in order (rising level)
+  std::vector<ManifestTrial> trials;            // in the manifest's order
+  std::map<std::string, std::string> models;    // object -> segment graph
+  std::map<std::string, std::string> renders;   // "<object>/<scene>" -> scan
+  std::vector<ManifestAblation> ablations;      // in order of declaration
+  std::vector<std::string> figures;             // in order
+  std::vector<ManifestRealTile> real;           // in order
+  std::vector<ManifestDensity> density;         // in order (rising level)
+  std::vector<ManifestDensity> density_sensor;  // the sensor ladder, in order (rising level)
 
   // The directory of trial (object, scene, noise); "" when there is none.
   std::string trial_dir(const std::string& object, const std::string& scene, int noise_mm) const;

@@ -49,13 +49,17 @@ struct SceneTruth {
   std::vector<TrueVehicle> vehicles;
   std::vector<UncertainObject> uncertain;
   std::vector<TrueClutter> clutter;  // empty when absent (hand labels)
+  // A sensor-mode render's measured density ("density": pulses_per_m2, returns_per_m2; rangetrace,
+  // docs/decisions/sensor.md "Output"); absent for image-mode renders and hand labels.
+  std::optional<double> pulses_per_m2, returns_per_m2;
 };
 
 // Reads `text`, the contents of file `name`. Throws common::DataError naming `name`: not JSON,
 // another format, a version other than 1, "vehicles" missing or not an array, a vehicle
 // without an integer instance >= 0 or with one that repeats, a pose without finite x and y, a
 // canopy_cover outside [0, 1], a footprint not 3 to 64 [x, y] corners, an extent that is not
-// two positive numbers, an uncertain object without a pose, a clutter object without a kind or
+// two positive numbers, an uncertain object without a pose, a "density" that is not an object
+// or whose pulses_per_m2 / returns_per_m2 is not a number >= 0, a clutter object without a kind or
 // a box (finite centre and heading, size of three numbers >= 0), any member of another type.
 SceneTruth read_scene_truth(const std::string& text, const std::string& name);
 SceneTruth read_scene_truth_file(const std::string& path);
