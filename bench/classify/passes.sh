@@ -6,7 +6,9 @@
 #   (BIN=build/bin; VARIANTS="name:extra classify args" ...; default: the new defaults, the
 #   measurement alone, the threshold alone and main's "every pass, 0.40"; MODELBASE=DIR passes
 #   --modelbase DIR --model-classes share/models/classes.csv to classify and --modelbase to collect,
-#   as `make tile` and bench/detect/real.sh do)
+#   as `make tile` and bench/detect/real.sh do; INI=classify.ini to use; TRUTH_DIR=DIR of
+#   <tile>.truth.json, default share/real; JOBS=2 classify processes; DIFF=1 then lists the
+#   candidates whose answer differs from the first variant's)
 # Development tiles only while developing (ahn3_delft_1, forest_bcts_1 from the shared data);
 # the held-out tiles once (docs/decisions/real-tiles.md: the split).
 set -euo pipefail
@@ -15,7 +17,8 @@ src=$(cd "$(dirname "$0")/../.." && pwd)
 bin=${BIN:-$src/build/bin}
 out=$1
 shift
-ini=$src/share/params/classify.ini
+ini=${INI:-$src/share/params/classify.ini}
+truth_dir=${TRUTH_DIR:-$src/share/real}
 variants=${VARIANTS:-"defaults: measurement:--max-ground-through=0.40 threshold:--by-pass=false every-pass-0.40:--by-pass=false,--max-ground-through=0.40"}
 mb=()
 [ -z "${MODELBASE:-}" ] || mb=(--modelbase "$MODELBASE")
@@ -28,8 +31,10 @@ for laz in "$@"; do
   mkdir -p "$out/cands"
   [ -s "$out/cands/$t/index.json" ] || "$bin/detect" -q -i "$laz" -o "$out/cands/$t"
 done
+names=()
 for v in $variants; do
   name=${v%%:*}
+  names+=("$name")
   args=${v#*:}
   args=${args//,/ }
   args=${args//=/ }
@@ -42,11 +47,31 @@ for v in $variants; do
       id=$(basename "$p" .pcd)
       mkdir -p "$d/cands/$id"
       echo "$bin/classify -q --config $ini $args $cls_mb -i $p --index $d/cands/index.json -o $d/cands/$id/class.json"
-    done | xargs -P2 -I{} sh -c '{}'
+    done | xargs -P"${JOBS:-2}" -I{} sh -c '{}'
     "$bin/collect" -q -i "$d/cands/index.json" -o "$d/detections.json" "${mb[@]}" 2>/dev/null
-    truth=$src/share/real/$t.truth.json
+    truth=$truth_dir/$t.truth.json
     [ ! -f "$truth" ] || "$bin/score" -q -d "$d/detections.json" -t "$truth" -o "$d/score.json"
   done
   echo "== $name (${args:-defaults})"
-  python3 "$src/bench/classify/realcal.py" "$out/$name" "$src/share/real" "${tiles[@]}" --figures
+  python3 "$src/bench/classify/realcal.py" "$out/$name" "$truth_dir" "${tiles[@]}" --figures
 done
+# DIFF=1: per candidate, the answers that differ from the first variant's.
+[ "${DIFF:-0}" = 1 ] || exit 0
+python3 - "$out" "${names[@]}" -- "${tiles[@]}" <<'PY'
+import json, os, sys
+out = sys.argv[1]
+k = sys.argv.index("--")
+names, tiles = sys.argv[2:k], sys.argv[k + 1:]
+def answer(n, t, c):
+    j = json.load(open(os.path.join(out, n, t, "cands", c, "class.json")))
+    m = j.get("measured") or {}
+    size = "x".join("%.2f" % v for v in m.get("size") or [])
+    return (j["class"] or j["reason"]), size
+for t in tiles:
+    ids = sorted(os.path.basename(p)[:-4] for p in os.listdir(os.path.join(out, "cands", t)) if p.endswith(".pcd"))
+    for n in names[1:]:
+        for c in ids:
+            a, b = answer(names[0], t, c), answer(n, t, c)
+            if a != b:
+                print(f"{n} {t} {c}: {a[0]} {a[1]} -> {b[0]} {b[1]}")
+PY

@@ -8,7 +8,7 @@
 # tile of the scene experiment's recipe (mk/scenes.mk: rolling terrain, bushes, the cover level's
 # trees and bushes per hectare; 12 of the five thesis models, 12 seen clutter objects; two flight
 # lines, two 75° looks) at
-# SPACING (default 43 mm: the finest that the recipe's 8 images allow on 1 ha under rangetrace's
+# SPACING (default 44 mm: the finest that the recipe's 8 images allow on 1 ha under rangetrace's
 # 3·10⁷ pixel bound, 3.3·10⁷ at the scene experiment's own 40 mm), then runs
 # `make -f Makefile.experiments tile TILE=DIR/tile.pcd MODELBASE=… OUT=DIR/run-N -jJOBS` RUNS
 # times from scratch (default 1) under GNU time. Prints per run: wall, user + system CPU of
@@ -16,7 +16,7 @@
 # MODELBASE: graphs and surfaces (`make -f Makefile.experiments verify-modelbase`, or an
 # experiment's out/modelbase). The render is not part of `make tile` and is not timed here.
 set -euo pipefail
-out= mb= spacing=43mm cover=light seed=7 jobs=2 runs=1
+out= mb= spacing=44mm cover=light seed=7 jobs=2 runs=1
 usage() { sed -n '4,5p' "$0" >&2; exit 2; }
 while getopts "o:m:s:c:S:j:r:" o; do
   case $o in
