@@ -113,17 +113,19 @@ Sampled sample(const Top& top, double half_l, double half_w, double heading, dou
 
 // A porous crown: a sphere of radius 1.2 m around (0, 0, 1.3) as volumetric scatter. Each
 // pulse through it gives 1-3 returns spread through the crown and, for 40% of them, a last
-// return on the ground; return numbers as LAS records them.
-formats::PointCloud crown(double density, std::uint64_t seed) {
+// return on the ground; return numbers as LAS records them (with `times`, each pulse's gps_time
+// as well: its returns share one).
+formats::PointCloud crown(double density, std::uint64_t seed, bool times = false) {
   common::Rng rng(seed);
   const double R = 1.2, reach = 1.7;
   const auto n = static_cast<std::size_t>(density * 4 * reach * reach);
-  std::vector<double> x, y, z, rn, nr;
+  std::vector<double> x, y, z, rn, nr, t;
   for (std::size_t i = 0; i < n; ++i) {
     const double px = rng.uniform(-reach, reach), py = rng.uniform(-reach, reach);
     const double r2 = px * px + py * py;
+    const double time = 1e-5 * static_cast<double>(i);
     if (r2 >= R * R) {
-      x.push_back(px), y.push_back(py), z.push_back(0), rn.push_back(1), nr.push_back(1);
+      x.push_back(px), y.push_back(py), z.push_back(0), rn.push_back(1), nr.push_back(1), t.push_back(time);
       continue;
     }
     const double half = std::sqrt(R * R - r2);
@@ -136,7 +138,7 @@ formats::PointCloud crown(double density, std::uint64_t seed) {
     for (int k = 0; k < total; ++k) {
       x.push_back(px), y.push_back(py);
       z.push_back(k < hits ? 1.3 + half - depths[static_cast<std::size_t>(k)] : 0.0);
-      rn.push_back(k + 1), nr.push_back(total);
+      rn.push_back(k + 1), nr.push_back(total), t.push_back(time);
     }
   }
   formats::PointCloud c;
@@ -146,6 +148,7 @@ formats::PointCloud crown(double density, std::uint64_t seed) {
   c.add("z") = z;
   c.add("return_number", formats::kUint8) = rn;
   c.add("number_of_returns", formats::kUint8) = nr;
+  if (times) c.add("gps_time", formats::kFloat64) = t;
   return c;
 }
 
@@ -239,6 +242,74 @@ TEST_CASE("classify: a porous crown of multi-return points is vegetation") {
 double ridge_top(double x, double y) {
   if (std::abs(x) > 2.25 || std::abs(y) > 0.9) return -1;
   return 1.6 - 1.2 * std::abs(x) / 2.25;
+}
+
+// A car under a crown as the realistic sensor sees it (classify.md §22): every pulse met the
+// crown first, above the crop (detect cuts the crop 0.5 m over the object), so the car's and
+// the ground's returns are second returns of two; one pulse in eight also left a return on a
+// leaf inside the crop, 2 m over the roof and apart from the car. Each pulse has one gps_time.
+formats::PointCloud car_under_crown(std::uint64_t seed) {
+  Sampled s = sample(car_top, 2.3, 0.9, 0.0, 25, seed);
+  const auto& x0 = s.cloud.col("x");
+  const auto& y0 = s.cloud.col("y");
+  const auto& z0 = s.cloud.col("z");
+  std::vector<double> x, y, z, rn, nr, t;
+  for (std::size_t i = 0; i < x0.size(); ++i) {
+    const double time = 1e-5 * static_cast<double>(i);
+    if (i % 8 == 0) {
+      x.push_back(x0[i]), y.push_back(y0[i]), z.push_back(3.6), rn.push_back(1), nr.push_back(2),
+          t.push_back(time);
+    }
+    x.push_back(x0[i]), y.push_back(y0[i]), z.push_back(z0[i]), rn.push_back(2), nr.push_back(2),
+        t.push_back(time);
+  }
+  formats::PointCloud c;
+  c.resize(x.size());
+  c.add("x") = x;
+  c.add("y") = y;
+  c.add("z") = z;
+  c.add("return_number", formats::kUint8) = rn;
+  c.add("number_of_returns", formats::kUint8) = nr;
+  c.add("gps_time", formats::kFloat64) = t;
+  return c;
+}
+
+TEST_CASE("classify: late returns inside: a car under a crown is not porous, a crown is") {
+  classify::Params every, inside;
+  inside.late_returns_inside = true;
+  for (std::uint64_t k = 0; k < 4; ++k) {
+    const formats::PointCloud car = car_under_crown(700 + k);
+    const classify::Answer car_every = classify::run(every, {car, "car.pcd", {}});
+    const classify::Answer car_inside = classify::run(inside, {car, "car.pcd", {}});
+    INFO("survey " << k << ": car " << car_every.reason << " " << car_every.detail << " -> " << car_inside.cls
+                   << car_inside.reason << " " << car_inside.detail);
+    REQUIRE(car_every.features.late_returns);
+    REQUIRE(car_inside.features.late_returns);
+    // Every return_number > 1 (before): all of the car's points, vegetation_like.
+    CHECK(*car_every.features.late_returns > 0.9);
+    CHECK(car_every.reason == "vegetation_like");
+    // Inside: their pulses met something first above the car's top (or outside the crop): none
+    // counts, and the car is a car.
+    CHECK(*car_inside.features.late_returns < 0.01);
+    CHECK(car_inside.reason != "vegetation_like");
+    CHECK(car_inside.group == "car");
+
+    // A crown whose pulses were split inside it keeps its late returns and stays vegetation.
+    const formats::PointCloud tree = crown(25, 13 + k, true);
+    const classify::Answer tree_every = classify::run(every, {tree, "crown.pcd", {}});
+    const classify::Answer tree_inside = classify::run(inside, {tree, "crown.pcd", {}});
+    INFO("crown " << tree_inside.reason << " " << tree_inside.detail);
+    REQUIRE(tree_inside.features.late_returns);
+    CHECK(*tree_inside.features.late_returns == Approx(*tree_every.features.late_returns));
+    CHECK(*tree_inside.features.late_returns > 0.35);
+    CHECK(tree_inside.reason == "vegetation_like");
+  }
+  // Without gps_time the pulses are unknown: every later return counts, as before.
+  const formats::PointCloud tree = crown(25, 13);
+  const classify::Answer a = classify::run(inside, {tree, "crown.pcd", {}});
+  const classify::Answer b = classify::run(every, {tree, "crown.pcd", {}});
+  REQUIRE(a.features.late_returns);
+  CHECK(*a.features.late_returns == *b.features.late_returns);
 }
 
 TEST_CASE("classify: --min-plateau refuses a solid object without a roof") {

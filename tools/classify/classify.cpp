@@ -114,8 +114,11 @@ bool vegetation(Answer& a, const Params& p) {
                            {"ground returns under it: %.0f%% of its interior returns (vehicle <= %.0f%%)",
                             f.ground_through, p.max_ground_through}};
   if (f.late_returns) {
-    cues.push_back(
-        {"%.0f%% later returns (return_number > 1; vehicle <= %.0f%%)", *f.late_returns, p.max_late_returns});
+    cues.push_back({p.late_returns_inside
+                        ? "%.0f%% later returns split inside it (return_number > 1 under earlier "
+                          "returns at or below its top; vehicle <= %.0f%%)"
+                        : "%.0f%% later returns (return_number > 1; vehicle <= %.0f%%)",
+                    *f.late_returns, p.max_late_returns});
   }
   // Fill is good when high: its cue is the inverse ratio (threshold / value > 1 when below).
   if (f.fill && *f.fill < p.min_fill) {

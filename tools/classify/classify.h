@@ -159,6 +159,14 @@ struct Params {
   // sensor direction count as before. false: every point counts (before; Params and
   // classify.ini; classify-sim.ini true).
   bool sight_lines = false;
+  // Late returns inside the object (classify.md §22): late_returns counts a later return
+  // (return_number > 1) only when every earlier return of its pulse (same point_source_id,
+  // gps_time and number_of_returns) is in the candidate's crop at or below the object's top: the
+  // pulse was split inside the object (a crown's own depth). A later return whose pulse met
+  // something first above the object's top, or outside the crop (a crown over a car: the crop
+  // ends 0.5 m over the object), is not evidence of porosity. Points without gps_time count as
+  // before. false: every return_number > 1 counts (before).
+  bool late_returns_inside = false;
   // Modelbase entries with a class (--modelbase) are classes too: each entry's L W H widened by
   // this share either way is one more class range, of the entry's class (classify.md §12).
   bool entry_classes = true;
@@ -230,7 +238,8 @@ struct Features {
   // fill and ground_through over every pass, as before (only when the crop has > 1 pass).
   std::size_t passes = 1, object_passes = 1;
   std::optional<double> fill_all_passes, ground_through_all_passes;
-  std::optional<double> late_returns;   // share of object points with return_number > 1
+  std::optional<double> late_returns;   // share of object points with return_number > 1 (with
+                                        // late_returns_inside: split inside the object, §22)
   std::optional<double> multi_returns;  // share with number_of_returns > 1
 };
 

@@ -9,7 +9,9 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <numeric>
+#include <tuple>
 #include <unordered_map>
 
 #include "canopy/common/error.h"
@@ -383,6 +385,36 @@ void column_cues(const Candidate& c, const std::vector<char>& counted, const std
   f.ground_through_cells = inner ? static_cast<double>(through) / static_cast<double>(inner) : 0;
 }
 
+// Per crop point: whether a later return counts for late_returns (Params::late_returns_inside,
+// classify.md §22). Every point counts without the option, without gps_time or for a point
+// whose time is unknown; with them a later return counts only when each earlier return of its
+// pulse (same point_source_id, gps_time, number_of_returns) is in the crop at or below the
+// object's top.
+std::vector<bool> split_inside(const Candidate& c, const std::vector<std::size_t>& object, const Params& fp) {
+  std::vector<bool> inside(c.points.size(), true);
+  if (!fp.late_returns_inside || c.time.empty() || c.return_number.empty() || object.empty()) return inside;
+  double top = -std::numeric_limits<double>::infinity();
+  for (std::size_t i : object) top = std::max(top, c.points[i].z());
+  using Pulse = std::tuple<double, double, int>;
+  std::map<Pulse, std::vector<std::size_t>> pulses;
+  auto known = [&](std::size_t i) { return std::isfinite(c.time[i]) && std::isfinite(c.source[i]); };
+  for (std::size_t i = 0; i < c.points.size(); ++i) {
+    if (known(i)) pulses[Pulse(c.source[i], c.time[i], c.number_of_returns[i])].push_back(i);
+  }
+  for (std::size_t i : object) {
+    const int k = c.return_number[i];
+    if (k <= 1 || !known(i)) continue;
+    // Earlier returns 1 .. k - 1 found at or below the top.
+    std::vector<bool> found(static_cast<std::size_t>(k), false);
+    for (std::size_t j : pulses[Pulse(c.source[i], c.time[i], c.number_of_returns[i])]) {
+      const int r = c.return_number[j];
+      if (r >= 1 && r < k && c.points[j].z() <= top) found[static_cast<std::size_t>(r)] = true;
+    }
+    inside[i] = std::all_of(found.begin() + 1, found.end(), [](bool b) { return b; });
+  }
+  return inside;
+}
+
 }  // namespace
 
 Candidate read_candidate(const formats::PointCloud& cloud, const std::string& name) {
@@ -424,6 +456,10 @@ Candidate read_candidate(const formats::PointCloud& cloud, const std::string& na
   static const std::vector<double> none;
   const auto& source = cloud.has("point_source_id") ? cloud.col("point_source_id") : none;
   const auto& time = cloud.has("gps_time") ? cloud.col("gps_time") : none;
+  if (!time.empty()) {
+    c.time = time;
+    c.source = source.empty() ? std::vector<double>(time.size(), 0.0) : source;
+  }
   if (!source.empty() || !time.empty()) {
     c.pass = passes_of(source, time, &c.passes);
     if (c.passes <= 1) c.pass.clear();
@@ -642,10 +678,11 @@ Features measure(const Candidate& c, const Params& fp) {
 
   if (!c.return_number.empty()) {
     std::size_t late = 0, multi = 0, known = 0;
+    const std::vector<bool> inside = split_inside(c, object, fp);
     for (std::size_t i : object) {
       if (c.return_number[i] == 0 || c.number_of_returns[i] == 0) continue;
       ++known;
-      late += c.return_number[i] > 1;
+      late += c.return_number[i] > 1 && inside[i];
       multi += c.number_of_returns[i] > 1;
     }
     if (known > 0) {

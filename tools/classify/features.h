@@ -17,6 +17,9 @@ namespace canopy::classify {
 struct Candidate {
   std::vector<Eigen::Vector3d> points;
   std::vector<int> return_number, number_of_returns;  // 0 = unknown
+  // Per point: the pulse's flight line and time (point_source_id, gps_time); empty = unknown
+  // (NaN: unknown for that point). The returns of one pulse share both.
+  std::vector<double> source, time;
   // Unit direction from each point toward the sensor that saw it (sensor_x/y/z), empty = unknown.
   std::vector<Eigen::Vector3d> view;
   // Pass index per point, 0 .. passes - 1 (empty = one pass, unknown): points of one flight line

@@ -117,6 +117,10 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
   tool.add("--sight-lines", &p.sight_lines,
            "below_share and ground_through count only the points whose line toward the sensor "
            "(sensor_x/y/z) passes through the object above them (false: every point)");
+  tool.add("--late-returns-inside", &p.late_returns_inside,
+           "late_returns counts a later return only when every earlier return of its pulse "
+           "(point_source_id, gps_time) is in the crop at or below the object's top (false: every "
+           "return_number > 1)");
   tool.add("--pass-share", &p.pass_share, "a pass saw the object when it holds this share of its points");
   tool.add("--entry-classes", &p.entry_classes,
            "the --modelbase entries with a class are class ranges too (their size +- --entry-tolerance)");
