@@ -111,6 +111,21 @@ Sampled sample(const Top& top, double half_l, double half_w, double heading, dou
   return s;
 }
 
+// Points with their pulses' return numbers and, when `t` is given, one gps_time per pulse.
+formats::PointCloud pulse_cloud(const std::vector<double>& x, const std::vector<double>& y,
+                                const std::vector<double>& z, const std::vector<double>& rn,
+                                const std::vector<double>& nr, const std::vector<double>* t) {
+  formats::PointCloud c;
+  c.resize(x.size());
+  c.add("x") = x;
+  c.add("y") = y;
+  c.add("z") = z;
+  c.add("return_number", formats::kUint8) = rn;
+  c.add("number_of_returns", formats::kUint8) = nr;
+  if (t) c.add("gps_time", formats::kFloat64) = *t;
+  return c;
+}
+
 // A porous crown: a sphere of radius 1.2 m around (0, 0, 1.3) as volumetric scatter. Each
 // pulse through it gives 1-3 returns spread through the crown and, for 40% of them, a last
 // return on the ground; return numbers as LAS records them (with `times`, each pulse's gps_time
@@ -141,15 +156,7 @@ formats::PointCloud crown(double density, std::uint64_t seed, bool times = false
       rn.push_back(k + 1), nr.push_back(total), t.push_back(time);
     }
   }
-  formats::PointCloud c;
-  c.resize(x.size());
-  c.add("x") = x;
-  c.add("y") = y;
-  c.add("z") = z;
-  c.add("return_number", formats::kUint8) = rn;
-  c.add("number_of_returns", formats::kUint8) = nr;
-  if (times) c.add("gps_time", formats::kFloat64) = t;
-  return c;
+  return pulse_cloud(x, y, z, rn, nr, times ? &t : nullptr);
 }
 
 classify::Answer answer(const formats::PointCloud& c) {
@@ -263,15 +270,7 @@ formats::PointCloud car_under_crown(std::uint64_t seed) {
     x.push_back(x0[i]), y.push_back(y0[i]), z.push_back(z0[i]), rn.push_back(2), nr.push_back(2),
         t.push_back(time);
   }
-  formats::PointCloud c;
-  c.resize(x.size());
-  c.add("x") = x;
-  c.add("y") = y;
-  c.add("z") = z;
-  c.add("return_number", formats::kUint8) = rn;
-  c.add("number_of_returns", formats::kUint8) = nr;
-  c.add("gps_time", formats::kFloat64) = t;
-  return c;
+  return pulse_cloud(x, y, z, rn, nr, &t);
 }
 
 TEST_CASE("classify: late returns inside: a car under a crown is not porous, a crown is") {
