@@ -128,18 +128,18 @@ struct Extents {
   double u0 = kInf, u1 = -kInf, v0 = kInf, v1 = -kInf;
   double length() const { return u1 - u0; }
   double width() const { return v1 - v0; }
+  void add(double u, double v) {
+    u0 = std::min(u0, u);
+    u1 = std::max(u1, u);
+    v0 = std::min(v0, v);
+    v1 = std::max(v1, v);
+  }
 };
 
 Extents extents(const std::vector<Vector2d>& p, double axis) {
   const Vector2d u(std::cos(axis), std::sin(axis)), v(-std::sin(axis), std::cos(axis));
   Extents e;
-  for (const Vector2d& q : p) {
-    const double a = q.dot(u), b = q.dot(v);
-    e.u0 = std::min(e.u0, a);
-    e.u1 = std::max(e.u1, a);
-    e.v0 = std::min(e.v0, b);
-    e.v1 = std::max(e.v1, b);
-  }
+  for (const Vector2d& q : p) { e.add(q.dot(u), q.dot(v)); }
   return e;
 }
 
@@ -490,8 +490,8 @@ std::vector<int> passes_of(const std::vector<double>& source, const std::vector<
   return pass;
 }
 
-std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double link, double bridge,
-                                   double bridge_length) {
+std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double link, double crop_area,
+                                   double bridge, double bridge_length) {
   std::vector<std::size_t> above;
   std::vector<Vector3d> pts;
   for (std::size_t i = 0; i < c.points.size(); ++i) {
@@ -513,11 +513,7 @@ std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double
   std::unordered_map<std::size_t, Extents> box;
   for (std::size_t i = 0; i < pts.size(); ++i) {
     ++count[label[i]];
-    Extents& e = box[label[i]];
-    e.u0 = std::min(e.u0, pts[i].x());
-    e.u1 = std::max(e.u1, pts[i].x());
-    e.v0 = std::min(e.v0, pts[i].y());
-    e.v1 = std::max(e.v1, pts[i].y());
+    box[label[i]].add(pts[i].x(), pts[i].y());
   }
   auto covers = [&](std::size_t l) {
     const Extents& e = box[l];
@@ -540,15 +536,10 @@ std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double
   for (std::size_t i = 0; i < pts.size(); ++i) in[i] = label[i] == best;
   if (bridge > 0) {
     std::vector<Vector2d> ground;
-    Extents crop;
     for (const Vector3d& p : c.points) {
       if (p.z() < ground_cut) ground.emplace_back(p.x(), p.y());
-      crop.u0 = std::min(crop.u0, p.x());
-      crop.u1 = std::max(crop.u1, p.x());
-      crop.v0 = std::min(crop.v0, p.y());
-      crop.v1 = std::max(crop.v1, p.y());
     }
-    const double density = static_cast<double>(ground.size()) / std::max(crop.length() * crop.width(), 1e-6);
+    const double density = static_cast<double>(ground.size()) / crop_area;
     bridge_gaps(pts, label, best, ground, density, link, bridge, bridge_length, in);
   }
   std::vector<std::size_t> object;
@@ -564,17 +555,13 @@ Features measure(const Candidate& c, const Params& fp) {
   if (c.points.empty()) return f;
   // The crop's spacing: its points over its top-view box.
   Extents crop;
-  for (const Vector3d& p : c.points) {
-    crop.u0 = std::min(crop.u0, p.x());
-    crop.u1 = std::max(crop.u1, p.x());
-    crop.v0 = std::min(crop.v0, p.y());
-    crop.v1 = std::max(crop.v1, p.y());
-  }
+  for (const Vector3d& p : c.points) crop.add(p.x(), p.y());
   const double crop_area = std::max(crop.length() * crop.width(), 1e-6);
   f.crop_spacing = std::sqrt(crop_area / static_cast<double>(c.points.size()));
   for (const Vector3d& p : c.points) f.ground_points += p.z() < fp.ground_cut;
   const double link = std::clamp(fp.link_factor * f.crop_spacing, fp.link_min, 1.5);
-  const std::vector<std::size_t> object = object_of(c, fp.ground_cut, link, fp.bridge, fp.bridge_length);
+  const std::vector<std::size_t> object =
+      object_of(c, fp.ground_cut, link, crop_area, fp.bridge, fp.bridge_length);
   f.object_points = object.size();
   if (object.size() < 3) return f;
 

@@ -44,9 +44,10 @@ Candidate read_candidate(const formats::PointCloud& cloud, const std::string& na
 // to `bridge` in the top view: a cluster inside the object's extent across x (the candidate
 // frame's long axis; + `link`), whose top is no higher than
 // the object's and at least half as high, nearest first, while the object stays at most
-// `bridge_length` long.
-std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double link, double bridge = 0,
-                                   double bridge_length = 6.0);
+// `bridge_length` long; `crop_area` (m², the crop's top-view box, at least 1e-6) gives the
+// crop's ground density the bridge compares its gap with.
+std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double link, double crop_area,
+                                   double bridge = 0, double bridge_length = 6.0);
 
 // classify.md §21 (object_of with `bridge`): joins to the object (`in`, per point of `pts`; the
 // clusters of `label` rooted at `best`) the clusters its own no-return gaps split off; `ground`
