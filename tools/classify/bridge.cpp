@@ -77,10 +77,8 @@ void bridge_gaps(const std::vector<Eigen::Vector3d>& pts, const std::vector<std:
           seen += g.x() > sx0 && g.x() < sx1 && g.y() > sy0 && g.y() < sy1;
         if (static_cast<double>(seen) >= kGapGround * ground_density * (sx1 - sx0) * (sy1 - sy0)) continue;
       }
-      {
-        pick = r;
-        pick_gap2 = gap2;
-      }
+      pick = r;
+      pick_gap2 = gap2;
     }
     if (pick_gap2 == kInf) break;
     joined[pick] = 1;
