@@ -64,8 +64,8 @@ for ((i = 1; i <= runs; i++)); do
   read -r wall user sys rss <"$out/run-$i.time"
   stages=$(find "$out/run-$i" -name '*.time' | wc -l)
   cands=$(find "$out/run-$i/cands" -maxdepth 1 -name '*.pcd' | wc -l)
-  points=$(sed -n 's/^POINTS //p' "$out/tile.pcd" | head -1)
+  points=$(awk '/^POINTS / { print $2; exit } /^DATA / { exit }' "$out/tile.pcd")  # the header only
   printf 'run %d: %s points, %d candidates, %d stages: %.1f s wall, %.1f CPU-s (user %.1f + sys %.1f), peak %.0f MB, load %s\n' \
-    "$i" "$points" "$cands" "$stages" "$wall" "$(echo "$user + $sys" | bc)" "$user" "$sys" "$((rss / 1024))" \
+    "$i" "$points" "$cands" "$stages" "$wall" "$(awk -v u="$user" -v s="$sys" 'BEGIN { print u + s }')" "$user" "$sys" "$((rss / 1024))" \
     "$(cut -d' ' -f1-3 /proc/loadavg)"
 done
