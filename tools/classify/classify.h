@@ -170,12 +170,13 @@ struct Params {
   // Edge splits under the object (classify.md §23): ground_through does not count a ground
   // return that is a later return of a pulse whose every earlier return (same point_source_id,
   // gps_time and number_of_returns; returns 1 .. k - 1 all present) is an object point on the
-  // edge of its layer (object points within max(0.3 m, 1.5 spacings) horizontally and 0.25 m
-  // vertically of it leave an angular gap of half a turn or more, or are fewer than 3): a beam
-  // whose footprint straddles a roof's edge, a window's frame or a cab's step splits into an edge
-  // return and a ground return on one axis; the ground return says the footprint was cut by an
-  // edge, not that the top lets pulses through. Points without gps_time count as before. false:
-  // every ground return counts (before).
+  // edge of the object's solid layer (the object points that ended their pulse: within
+  // max(0.5 m, 2.5 spacings) horizontally and 0.25 m vertically of it they are fewer than 3 or
+  // leave an angular gap of 3/8 of a turn or more): a beam whose footprint straddles a roof's
+  // edge, a window's frame or a cab's step splits into an edge return and a ground return on one
+  // axis. Points without gps_time count as before. false: every ground return counts (before;
+  // Params, classify.ini and classify-sim.ini: on the sensor tiles a bush's sparse layer is all
+  // edge, and its ground returns were set aside too).
   bool ground_through_edges = false;
   // Modelbase entries with a class (--modelbase) are classes too: each entry's L W H widened by
   // this share either way is one more class range, of the entry's class (classify.md §12).

@@ -35,7 +35,7 @@ std::int64_t cell_of(double v, double size) { return static_cast<std::int64_t>(s
 // (its last return; points of unknown pulses too). On its edge: the layer's points within `ring`
 // = max(0.5 m, 2.5 spacings: some 20 points of a flat top) horizontally and 0.25 m vertically of
 // it are fewer than 3 or leave an angular gap of at least three eighths of a turn (on a straight
-// edge about half a turn; amid a layer of 20 points the largest gap passes that in 2% of the
+// edge about half a turn; amid a layer of 20 points the largest gap passes that for under 1% of the
 // points). `q` are the object's points (`object`: their indices in c) in any horizontal frame.
 std::vector<bool> edge_splits(const Candidate& c, const std::vector<std::size_t>& object,
                               const std::vector<Vector3d>& q, const Params& fp, double spacing) {
