@@ -167,6 +167,17 @@ struct Params {
   // ends 0.5 m over the object), is not evidence of porosity. Points without gps_time count as
   // before. false: every return_number > 1 counts (before).
   bool late_returns_inside = false;
+  // Edge splits under the object (classify.md §23): ground_through does not count a ground
+  // return that is a later return of a pulse whose every earlier return (same point_source_id,
+  // gps_time and number_of_returns; returns 1 .. k - 1 all present) is an object point on the
+  // edge of the object's solid layer (the object points that ended their pulse: within
+  // max(0.5 m, 2.5 spacings) horizontally and 0.25 m vertically of it they are fewer than 3 or
+  // leave an angular gap of 3/8 of a turn or more): a beam whose footprint straddles a roof's
+  // edge, a window's frame or a cab's step splits into an edge return and a ground return on one
+  // axis. Points without gps_time count as before. false: every ground return counts (before;
+  // Params, classify.ini and classify-sim.ini: on the sensor tiles a bush's sparse layer is all
+  // edge, and its ground returns were set aside too).
+  bool ground_through_edges = false;
   // Modelbase entries with a class (--modelbase) are classes too: each entry's L W H widened by
   // this share either way is one more class range, of the entry's class (classify.md §12).
   bool entry_classes = true;
@@ -231,6 +242,8 @@ struct Features {
   // With sight_lines (§20) below_share and ground_through count only the points seen through the
   // object; these are every point's shares (the cues without it).
   std::optional<double> below_share_any, ground_through_any;
+  // With ground_through_edges (§23): the ground returns ground_through set aside as edge splits.
+  std::optional<std::size_t> ground_edge_splits;
   double below_share_cells = 0;     // the same per cell (for comparison): occupied cells with a point
   double ground_through_cells = 0;  // >= 0.5 m under their top; cells holding a ground return
   std::size_t interior_cells = 0;

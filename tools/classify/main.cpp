@@ -121,6 +121,10 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
            "late_returns counts a later return only when every earlier return of its pulse "
            "(point_source_id, gps_time) is in the crop at or below the object's top (false: every "
            "return_number > 1)");
+  tool.add("--ground-through-edges", &p.ground_through_edges,
+           "ground_through does not count a ground return whose pulse's earlier returns are all "
+           "object points on the edge of their layer (a footprint split by an edge; false: every "
+           "ground return)");
   tool.add("--pass-share", &p.pass_share, "a pass saw the object when it holds this share of its points");
   tool.add("--entry-classes", &p.entry_classes,
            "the --modelbase entries with a class are class ranges too (their size +- --entry-tolerance)");

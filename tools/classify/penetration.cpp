@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <map>
+#include <tuple>
 #include <unordered_map>
 #include <vector>
 
@@ -25,6 +27,76 @@ std::uint64_t cell_key(std::int64_t x, std::int64_t y) {
 }
 
 std::int64_t cell_of(double v, double size) { return static_cast<std::int64_t>(std::floor(v / size)); }
+
+// Per crop point: whether it is a later return split off by the object's edge
+// (Params::ground_through_edges, classify.md §23): every earlier return of its pulse (same
+// point_source_id, gps_time, number_of_returns; returns 1 .. k - 1 all present) is an object point
+// on the edge of the object's solid layer. The layer: the object points that ended their pulse
+// (its last return; points of unknown pulses too). On its edge: the layer's points within `ring`
+// = max(0.5 m, 2.5 spacings: some 20 points of a flat top) horizontally and 0.25 m vertically of
+// it are fewer than 3 or leave an angular gap of at least three eighths of a turn (on a straight
+// edge about half a turn; amid a layer of 20 points the largest gap passes that for under 1% of the
+// points). `q` are the object's points (`object`: their indices in c) in any horizontal frame.
+std::vector<bool> edge_splits(const Candidate& c, const std::vector<std::size_t>& object,
+                              const std::vector<Vector3d>& q, const Params& fp, double spacing) {
+  std::vector<bool> split(c.points.size(), false);
+  if (!fp.ground_through_edges || c.time.empty() || c.return_number.empty() || object.empty()) return split;
+  auto known = [&](std::size_t i) { return std::isfinite(c.time[i]) && std::isfinite(c.source[i]); };
+  using Pulse = std::tuple<double, double, int>;
+  std::map<Pulse, std::vector<std::size_t>> pulses;
+  for (std::size_t i = 0; i < c.points.size(); ++i) {
+    if (known(i)) pulses[Pulse(c.source[i], c.time[i], c.number_of_returns[i])].push_back(i);
+  }
+  auto last = [&](std::size_t i) {
+    if (!known(i)) return true;
+    for (std::size_t j : pulses[Pulse(c.source[i], c.time[i], c.number_of_returns[i])]) {
+      if (c.return_number[j] > c.return_number[i]) return false;
+    }
+    return true;
+  };
+  const double ring = std::max(0.5, 2.5 * spacing);
+  std::unordered_map<std::uint64_t, std::vector<std::size_t>> grid;
+  for (std::size_t k = 0; k < q.size(); ++k) {
+    if (last(object[k])) grid[cell_key(cell_of(q[k].x(), ring), cell_of(q[k].y(), ring))].push_back(k);
+  }
+  auto on_edge = [&](std::size_t k) {
+    std::vector<double> angles;
+    const std::int64_t ca = cell_of(q[k].x(), ring), cb = cell_of(q[k].y(), ring);
+    for (std::int64_t da = -1; da <= 1; ++da) {
+      for (std::int64_t db = -1; db <= 1; ++db) {
+        const auto it = grid.find(cell_key(ca + da, cb + db));
+        if (it == grid.end()) continue;
+        for (std::size_t j : it->second) {
+          const double dx = q[j].x() - q[k].x(), dy = q[j].y() - q[k].y();
+          const double h = std::hypot(dx, dy);
+          if (h > 1e-9 && h <= ring && std::abs(q[j].z() - q[k].z()) <= 0.25)
+            angles.push_back(std::atan2(dy, dx));
+        }
+      }
+    }
+    if (angles.size() < 3) return true;
+    std::sort(angles.begin(), angles.end());
+    double gap = angles.front() + 2 * common::kPi - angles.back();
+    for (std::size_t m = 1; m < angles.size(); ++m) gap = std::max(gap, angles[m] - angles[m - 1]);
+    return gap >= 0.75 * common::kPi;
+  };
+  std::vector<int> slot(c.points.size(), -1);  // index into `object` / `q`
+  for (std::size_t k = 0; k < object.size(); ++k) slot[object[k]] = static_cast<int>(k);
+  for (std::size_t i = 0; i < c.points.size(); ++i) {
+    const int k = c.return_number[i];
+    if (k <= 1 || !known(i)) continue;
+    std::vector<bool> found(static_cast<std::size_t>(k), false);
+    bool edge = true;
+    for (std::size_t j : pulses[Pulse(c.source[i], c.time[i], c.number_of_returns[i])]) {
+      const int r = c.return_number[j];
+      if (r < 1 || r >= k) continue;
+      if (slot[j] < 0 || !on_edge(static_cast<std::size_t>(slot[j]))) edge = false;
+      found[static_cast<std::size_t>(r)] = true;
+    }
+    split[i] = edge && std::all_of(found.begin() + 1, found.end(), [](bool b) { return b; });
+  }
+  return split;
+}
 
 }  // namespace
 
@@ -109,13 +181,18 @@ void penetration_cues(const Candidate& c, const std::vector<std::size_t>& object
       below += through(object[k], p);
     }
   }
-  std::size_t under_all = 0;
+  const std::vector<bool> split = edge_splits(c, object, q, fp, f.spacing);
+  std::size_t under_all = 0, edges = 0;
   for (std::size_t i = 0; i < c.points.size(); ++i) {
     const Vector3d& p = c.points[i];
     if (p.z() >= fp.ground_cut || !(counted[i] || all)) continue;
     const Vector2d xy(p.x(), p.y());
     const double a = xy.dot(u) - u0, b = xy.dot(v) - vm;
     if (interior(a, b) && highest(a, b, rg) >= p.z() + 0.5) {
+      if (split[i]) {
+        edges += counted[i];
+        continue;
+      }
       under_any += counted[i];
       if (!through(i, Vector3d(a, b, p.z()))) continue;
       under_all += 1;
@@ -129,6 +206,7 @@ void penetration_cues(const Candidate& c, const std::vector<std::size_t>& object
   f.below_share = inner ? static_cast<double>(below) / static_cast<double>(inner) : 0;
   f.ground_through = share(under);
   if (all) f.ground_through_all_passes = share(under_all);
+  if (fp.ground_through_edges && !c.time.empty() && !c.return_number.empty()) f.ground_edge_splits = edges;
   if (fp.sight_lines) {
     f.below_share_any = inner ? static_cast<double>(below_any) / static_cast<double>(inner) : 0;
     f.ground_through_any = share(under_any);
