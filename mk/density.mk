@@ -57,11 +57,18 @@ endif
 DENSITY_SENSOR ?= als_qL1
 DENSITY_SENSOR_LEVELS ?= 10 25 50
 DENSITY_SENSOR_L0 ?= 26.5
+# classify's ablation on every sensor level (SCENE_CLASSIFY_ABLATION of its `make scenes`: the same
+# candidates classified a second time, collected and scored as <level>/class-ablation/score.json;
+# the report's "classify's ablation on the sensor ladder"): classify-sim.ini before classify.md §23
+# (max-late-returns 0.35; the sensor tiles are the only ones with return numbers). Empty: none.
+DENSITY_SENSOR_CLASSIFY_ABLATION ?= bench/density/classify-sim-late-0.35.ini
 # LEVEL:PULSE_RATE:SPEED per level, or ERROR <why> (the preset's keys read from its file).
 ifneq ($(DENSITY_SENSOR),)
 ifneq ($(filter 1,$(DENSITY_LADDER))$(filter density density-sensor,$(MAKECMDGOALS)),)
 $(if $(filter 1,$(words $(DENSITY_SENSOR))),,$(error DENSITY_SENSOR=$(DENSITY_SENSOR) must name one preset of share/sensors/))
 $(if $(wildcard share/sensors/$(DENSITY_SENSOR).ini),,$(error DENSITY_SENSOR=$(DENSITY_SENSOR): no share/sensors/$(DENSITY_SENSOR).ini))
+$(if $(DENSITY_SENSOR_CLASSIFY_ABLATION),$(if $(wildcard $(DENSITY_SENSOR_CLASSIFY_ABLATION)),,$(error \
+  DENSITY_SENSOR_CLASSIFY_ABLATION=$(DENSITY_SENSOR_CLASSIFY_ABLATION) does not exist)))
 density_sensor_keys := $(shell awk -v l0='$(DENSITY_SENSOR_L0)' -v levels='$(strip $(DENSITY_SENSOR_LEVELS))' \
   -v f='share/sensors/$(DENSITY_SENSOR).ini' 'BEGIN { \
   if (l0 !~ /^[0-9]+(\.[0-9]+)?$$/ || l0 + 0 <= 0) { print "ERROR DENSITY_SENSOR_L0=" l0 " must be a positive number"; exit } \
@@ -86,10 +93,12 @@ density_m = $(word 3,$(subst :, ,$(filter $(1):%,$(density_pairs))))
 DENSITY_SCORES := $(foreach d,$(DENSITY_LEVELS),$(DENSITY_RES)/d$(d)/score.json)
 
 # The records of the experiment's manifest (Makefile.experiments): level, spacing (m), score;
-# the sensor ladder's: level, preset, score.
+# the sensor ladder's: level, preset, score [, classify's ablation: its parameter file and score].
 EXPERIMENT_DENSITY := $(if $(filter 1,$(DENSITY_LADDER)),$(foreach d,$(DENSITY_LEVELS),$(call ml,density $(d) \
   $(call density_m,$(d)) $(DENSITY_RES)/d$(d)/score.json))$(if $(DENSITY_SENSOR),$(foreach d,$(DENSITY_SENSOR_LEVELS),$(call \
-  ml,density-sensor $(d) $(DENSITY_SENSOR) $(DENSITY_RES)/$(DENSITY_SENSOR)-$(d)/score.json))))
+  ml,density-sensor $(d) $(DENSITY_SENSOR) $(DENSITY_RES)/$(DENSITY_SENSOR)-$(d)/score.json$(if \
+  $(DENSITY_SENSOR_CLASSIFY_ABLATION), $(DENSITY_SENSOR_CLASSIFY_ABLATION) \
+  $(DENSITY_RES)/$(DENSITY_SENSOR)-$(d)/class-ablation/score.json)))))
 
 ifeq ($(filter scenes,$(MAKECMDGOALS)),)
 # density_args(LEVEL): the level's `make scenes`: its own directories and spacing, noise 0, the
@@ -103,7 +112,8 @@ density_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROG
   SCENE_SIZE_ONLY=0 SCENE_PICTURES=0
 # density_sensor_args(LEVEL): a level of the sensor ladder.
 density_sensor_args = $(call density_args,$(1),$(DENSITY_SENSOR)-$(1),SCENE_SENSOR=$(DENSITY_SENSOR) \
-  SCENE_SENSOR_KEYS="pulse_rate=$(call density_sensor_rate,$(1)) speed=$(call density_sensor_speed,$(1))")
+  SCENE_SENSOR_KEYS="pulse_rate=$(call density_sensor_rate,$(1)) speed=$(call density_sensor_speed,$(1))" \
+  $(if $(DENSITY_SENSOR_CLASSIFY_ABLATION),SCENE_CLASSIFY_ABLATION=$(DENSITY_SENSOR_CLASSIFY_ABLATION)))
 # As for the scene experiment: under -q each level's sub-make is asked (`make -q`, which renders
 # nothing), only when the ladder is on (the question builds the tools it needs, and a make
 # without the ladder must not); otherwise the step always runs and make compares score.json's

@@ -117,9 +117,10 @@ struct Parser {
       const double level = positive(w[1], "density level"), spacing = positive(w[2], "pixel spacing");
       if (!m.density.empty() && level <= m.density.back().level)
         fail("density level " + w[1] + " does not rise above the one before it");
-      m.density.push_back({level, spacing, w[3], ""});
+      m.density.push_back({level, spacing, w[3], "", "", ""});
     } else if (kind == "density-sensor") {
-      expect(w, 4, 4, "density-sensor LEVEL PRESET SCORE");
+      expect(w, 4, 6, "density-sensor LEVEL PRESET SCORE [ABLATION_CONFIG ABLATION_SCORE]");
+      if (w.size() == 5) fail("density-sensor: an ablation needs its parameter file and its score.json");
       const double level = positive(w[1], "density level");
       const std::string preset = word(w[2], "sensor preset");
       if (!m.density_sensor.empty() && level <= m.density_sensor.back().level)
@@ -127,7 +128,7 @@ struct Parser {
       if (!m.density_sensor.empty() && preset != m.density_sensor.back().sensor)
         fail("density-sensor preset " + preset + " is not the one before it (" +
              m.density_sensor.back().sensor + "): one sensor ladder");
-      m.density_sensor.push_back({level, 0, w[3], preset});
+      m.density_sensor.push_back({level, 0, w[3], preset, w.size() == 6 ? w[4] : "", w.size() == 6 ? w[5] : ""});
     } else {
       fail("unknown record '" + kind +
            "' (trial, model, render, ablation, ablation-trial, figure, real, density, density-sensor)");
@@ -217,7 +218,8 @@ std::string write_experiment_manifest(const ExperimentManifest& m) {
   for (const auto& d : m.density)
     out << "density " << std::setprecision(10) << d.level << ' ' << d.spacing << ' ' << d.score << '\n';
   for (const auto& d : m.density_sensor)
-    out << "density-sensor " << std::setprecision(10) << d.level << ' ' << d.sensor << ' ' << d.score << '\n';
+    out << "density-sensor " << std::setprecision(10) << d.level << ' ' << d.sensor << ' ' << d.score
+        << (d.ablation_score.empty() ? "" : " " + d.ablation_config + " " + d.ablation_score) << '\n';
   return out.str();
 }
 

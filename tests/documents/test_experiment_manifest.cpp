@@ -36,7 +36,8 @@ const char* kManifest =
     "density 10 0.667 res/density/d10/score.json\n"
     "density 25.5 0.418 res/density/d25.5/score.json\n"
     "density-sensor 10 als_qL1 res/density/als_qL1-10/score.json\n"
-    "density-sensor 25 als_qL1 res/density/als_qL1-25/score.json\n";
+    "density-sensor 25 als_qL1 res/density/als_qL1-25/score.json bench/density/late.ini "
+    "res/density/als_qL1-25/class-ablation/score.json\n";
 
 std::string refusal(const std::string& text) {
   try {
@@ -102,8 +103,13 @@ TEST_CASE("experiment manifest: every record read, the grid in order of first ap
   CHECK(m.density_sensor[1].sensor == "als_qL1");
   CHECK(m.density_sensor[1].spacing == 0);
   CHECK(m.density_sensor[1].score == "res/density/als_qL1-25/score.json");
+  CHECK(m.density_sensor[0].ablation_config.empty());
+  CHECK(m.density_sensor[0].ablation_score.empty());
+  CHECK(m.density_sensor[1].ablation_config == "bench/density/late.ini");
+  CHECK(m.density_sensor[1].ablation_score == "res/density/als_qL1-25/class-ablation/score.json");
   REQUIRE(again.density_sensor.size() == 2);
   CHECK(again.density_sensor[1].sensor == "als_qL1");
+  CHECK(again.density_sensor[1].ablation_score == "res/density/als_qL1-25/class-ablation/score.json");
 }
 
 TEST_CASE("experiment manifest: malformed records and grids are refused naming the line") {
@@ -145,7 +151,12 @@ TEST_CASE("experiment manifest: malformed records and grids are refused naming t
   CHECK(refusal(t + "density 10 0 s\n").find("pixel spacing '0'") != std::string::npos);
   CHECK(refusal(t + "density 50 0.3 s\ndensity 25 0.4 s\n").find("line 3: density level 25 does not rise") !=
         std::string::npos);
-  CHECK(refusal(t + "density-sensor 10 als_qL1\n").find("line 2: expected 'density-sensor LEVEL PRESET SCORE'") !=
+  CHECK(refusal(t + "density-sensor 10 als_qL1\n")
+            .find("line 2: expected 'density-sensor LEVEL PRESET SCORE [ABLATION_CONFIG ABLATION_SCORE]'") !=
+        std::string::npos);
+  CHECK(refusal(t + "density-sensor 10 als_qL1 s a.ini\n").find("line 2: density-sensor: an ablation needs") !=
+        std::string::npos);
+  CHECK(refusal(t + "density-sensor 10 als_qL1 s a.ini b c\n").find("line 2: expected 'density-sensor") !=
         std::string::npos);
   CHECK(refusal(t + "density-sensor -5 als_qL1 s\n").find("line 2: density level '-5'") != std::string::npos);
   CHECK(refusal(t + "density-sensor 50 als_qL1 s\ndensity-sensor 25 als_qL1 s\n")

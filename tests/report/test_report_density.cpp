@@ -228,6 +228,32 @@ TEST_CASE(
   CHECK(md.find("| 10 | false alarms/ha (all) | 2 = 2.0 [0.0, 4.0] | 3 = 3.0 [0.0, 5.0] |") !=
         std::string::npos);
   CHECK(md.find("| 50 | recall") == std::string::npos);
+  // No level has classify's ablation: no ablation table.
+  CHECK(md.find("classify's ablation") == std::string::npos);
+
+  // classify's ablation on 25 (scored) and 50 (named, not run): a table for 25 alone, canopy beside
+  // the ablation per cover, class right and false alarms with their counts.
+  level(root, "a25", 28, 20, rows(0.7, 0.4, 0.9, 2.5, 7, 1, 1));
+  sm[1].ablation_config = "bench/density/classify-sim-late-0.35.ini";
+  sm[1].ablation_score = (root / "res/a25/score.json").string();
+  sm[2].ablation_config = sm[1].ablation_config;
+  sm[2].ablation_score = (root / "res/a50/score.json").string();  // not run
+  const auto with = report::read_density_levels(sm);
+  CHECK(!with[0].ablation_scored);
+  CHECK(with[1].ablation_scored);
+  CHECK(!with[2].ablation_scored);
+  const std::string ma = report::density_markdown(levels, {}, with);
+  CHECK(ma.find("**classify's ablation on the sensor ladder** (the same candidates classified with "
+                "`bench/density/classify-sim-late-0.35.ini`") != std::string::npos);
+  CHECK(ma.find("| 25 | recall, light | 9/10 = 90.0% [80.0, 95.0] | 7/10 = 70.0% [60.0, 75.0] |") !=
+        std::string::npos);
+  CHECK(ma.find("| 25 | recall, medium | 7/10 = 70.0% [60.0, 75.0] | 4/10 = 40.0% [30.0, 45.0] |") !=
+        std::string::npos);
+  CHECK(ma.find("| 25 | false alarms/ha (all) | 1 = 0.5 [0.0, 2.5] | 2 = 2.5 [0.0, 4.5] |") !=
+        std::string::npos);
+  CHECK(ma.find("| 25 | recall, dense") == std::string::npos);  // no dense row in either score
+  CHECK(ma.find("| 50 | recall, light | 9") == std::string::npos);
+  CHECK(ma.find("| 10 | recall, light | 5") == std::string::npos);
   // Without sensor levels the section is the pixel ladder's alone.
   CHECK(report::density_markdown(levels, {}).find("realistic sensor") == std::string::npos);
 }

@@ -65,11 +65,59 @@ std::string rate_cell(const ScoreRow* r, const char* key, const char* k, const c
   return counts(*r, k, n) + " = " + score_ci(*r, key, "%.1f%%", "%.1f", 100);
 }
 
-const ScoreRow* row_of(const DensityLevel& l, const std::string& cover) {
-  if (!l.scored) return nullptr;
-  for (const ScoreRow* r : cover_rows(l.score))
+// A score's summary row of `cover` (light, medium, dense or all); nullptr when it has none.
+const ScoreRow* cover_row(const documents::SceneScore& score, const std::string& cover) {
+  for (const ScoreRow* r : cover_rows(score))
     if (label(*r) == cover) return r;
   return nullptr;
+}
+
+const ScoreRow* row_of(const DensityLevel& l, const std::string& cover) {
+  return l.scored ? cover_row(l.score, cover) : nullptr;
+}
+
+// False alarms per ha of a score row with their count: model-level false alarms (fp) + class
+// answers on no vehicle (class_fp).
+std::string false_alarm_cell(const ScoreRow* r) {
+  if (r == nullptr) return "–";
+  const auto a = score_number(*r, "fp"), b = score_number(*r, "class_fp");
+  return (a && b ? format_number("%.0f", *a + *b) + " = " : std::string()) +
+         score_ci(*r, "false_alarms_any_level_per_ha", "%.1f", "%.1f", 1);
+}
+
+// classify's ablation beside canopy on the sensor ladder's levels where it has run (a changed
+// default keeps its ablation in the report): found at either level per cover, class right and
+// false alarms (all covers).
+void ablation_table(std::ostringstream& md, const std::vector<DensityLevel>& sensor) {
+  std::vector<const DensityLevel*> with;
+  for (const DensityLevel& s : sensor)
+    if (s.scored && s.ablation_scored) with.push_back(&s);
+  if (with.empty()) return;
+  md << "\n**classify's ablation on the sensor ladder** (the same candidates classified with `"
+     << with.front()->ablation_config
+     << "`, collected and scored like canopy's; docs/decisions/classify.md §23): found at either level of "
+        "each cover's vehicles, class right of the found and false alarms per ha (all covers), each with "
+        "its count and 95% interval.\n\n";
+  md << "| level | measure | canopy | ablation |\n|---|---|---|---|\n";
+  for (const DensityLevel* s : with) {
+    const std::string lv = format_number("%g", s->level);
+    for (const char* cover : {"light", "medium", "dense"}) {
+      const ScoreRow* c = row_of(*s, cover);
+      const ScoreRow* b = cover_row(s->ablation, cover);
+      if (c == nullptr && b == nullptr) continue;
+      md << "| " << lv << " | recall, " << cover << " | "
+         << rate_cell(c, "recall_any_level", "found_any_level", "true") << " | "
+         << rate_cell(b, "recall_any_level", "found_any_level", "true") << " |\n";
+    }
+    md << "| " << lv << " | class right (all) | "
+       << rate_cell(row_of(*s, "all"), "class_accuracy_any_level", "class_right_any_level", "found_any_level")
+       << " | "
+       << rate_cell(cover_row(s->ablation, "all"), "class_accuracy_any_level", "class_right_any_level",
+                    "found_any_level")
+       << " |\n";
+    md << "| " << lv << " | false alarms/ha (all) | " << false_alarm_cell(row_of(*s, "all")) << " | "
+       << false_alarm_cell(cover_row(s->ablation, "all")) << " |\n";
+  }
 }
 
 }  // namespace
@@ -82,6 +130,11 @@ std::vector<DensityLevel> read_density_levels(const std::vector<documents::Manif
     l.spacing = m.spacing;
     l.sensor = m.sensor;
     l.score_path = m.score;
+    l.ablation_config = m.ablation_config;
+    if (!m.ablation_score.empty() && exists(m.ablation_score)) {
+      l.ablation = documents::read_scene_score_file(m.ablation_score);
+      l.ablation_scored = true;
+    }
     if (exists(m.score)) {
       l.score = documents::read_scene_score_file(m.score);
       l.scored = true;
@@ -335,6 +388,7 @@ std::string density_markdown(const std::vector<DensityLevel>& levels, const std:
         "toward the sensor from the flight's trajectory. Columns as above.\n\n";
   level_table(md, sensor, true);
   detail_tables(md, sensor, "pulses/m²");
+  ablation_table(md, sensor);
   // Side by side where both ladders have the nominal density.
   std::vector<std::pair<const DensityLevel*, const DensityLevel*>> both;
   for (const DensityLevel& s : sensor)
@@ -355,16 +409,8 @@ std::string density_markdown(const std::vector<DensityLevel>& levels, const std:
     line("recall, light", "light", "recall_any_level", "found_any_level", "true");
     line("recall, medium", "medium", "recall_any_level", "found_any_level", "true");
     line("class right (all)", "all", "class_accuracy_any_level", "class_right_any_level", "found_any_level");
-    const ScoreRow* pa = row_of(*p, "all");
-    const ScoreRow* sa = row_of(*s, "all");
-    // The count: model-level false alarms (fp) + class answers on no vehicle (class_fp).
-    auto fa = [](const ScoreRow* r) {
-      if (r == nullptr) return std::string("–");
-      const auto a = score_number(*r, "fp"), b = score_number(*r, "class_fp");
-      return (a && b ? format_number("%.0f", *a + *b) + " = " : std::string()) +
-             score_ci(*r, "false_alarms_any_level_per_ha", "%.1f", "%.1f", 1);
-    };
-    md << "| " << lv << " | false alarms/ha (all) | " << fa(pa) << " | " << fa(sa) << " |\n";
+    md << "| " << lv << " | false alarms/ha (all) | " << false_alarm_cell(row_of(*p, "all")) << " | "
+       << false_alarm_cell(row_of(*s, "all")) << " |\n";
   }
   return md.str();
 }

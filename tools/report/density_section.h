@@ -37,6 +37,11 @@ struct DensityLevel {
   // (score's matches: right or wrong = found).
   std::map<std::string, int> by_reason;
   std::map<std::string, std::pair<int, int>> model_found;
+  // classify's ablation on the same candidates (the manifest's density-sensor ablation): its
+  // parameter file, and its score when it has run.
+  std::string ablation_config;
+  bool ablation_scored = false;
+  documents::SceneScore ablation;
 };
 
 // Reads each level's score.json and its runs' index.json and .time files (a missing score is a

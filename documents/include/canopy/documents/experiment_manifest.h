@@ -20,11 +20,14 @@
 //   density LEVEL SPACING SCORE               a rung of the density ladder (mk/density.mk):
 //                                             its nominal points/m² (a positive number), the
 //                                             renderer's pixel spacing in m, its score.json
-//   density-sensor LEVEL PRESET SCORE         a rung of the ladder on the realistic sensor
+//   density-sensor LEVEL PRESET SCORE [ABLATION_CONFIG ABLATION_SCORE]
+//                                             a rung of the ladder on the realistic sensor
 //                                             (mk/density.mk): its nominal pulses/m² (a
 //                                             positive number, rising), the sensor preset
 //                                             (share/sensors/<PRESET>.ini; one preset for
-//                                             every such record), its score.json
+//                                             every such record), its score.json; and, when
+//                                             classify's ablation runs on the rung, the
+//                                             ablation's parameter file and its score.json
 //
 // The trials are a full grid: every (object, scene, noise) of the trial lines exactly once
 // (objects, scenes and noises in the order they first appear), and every ablation has a trial
@@ -58,6 +61,8 @@ struct ManifestDensity {
   double spacing = 0;  // pixel spacing, m (0 for a sensor rung)
   std::string score;   // canopy.scene_score of the rung's tiles
   std::string sensor;  // the sensor preset of a density-sensor rung; "" for the pixel ladder
+  // classify's ablation on a density-sensor rung: its parameter file and score.json ("" = none)
+  std::string ablation_config{}, ablation_score{};
 };
 
 struct ExperimentManifest {
