@@ -32,32 +32,36 @@ std::string classes_ply(const formats::PointCloud& tile, const Result& result,
 }
 
 formats::PointCloud classification_cloud(const formats::PointCloud& tile, const Result& result) {
+  // The columns packed at their width in the file (float32, uint8: 20 bytes a point, not 8
+  // doubles' 64); the PLY writer takes the values as they are (cost.md §17).
   formats::PointCloud out;
   const std::size_t n = tile.size();
-  out.resize(n);
-  auto& x = out.add("x", formats::kFloat32);
-  auto& y = out.add("y", formats::kFloat32);
-  auto& z = out.add("z", formats::kFloat32);
-  auto& h = out.add("height", formats::kFloat32);
-  auto& cls = out.add("class", formats::kUint8);
-  auto& red = out.add("red", formats::kUint8);
-  auto& green = out.add("green", formats::kUint8);
-  auto& blue = out.add("blue", formats::kUint8);
+  auto& x = out.add_packed<float>("x", formats::kFloat32);
+  auto& y = out.add_packed<float>("y", formats::kFloat32);
+  auto& z = out.add_packed<float>("z", formats::kFloat32);
+  auto& h = out.add_packed<float>("height", formats::kFloat32);
+  auto& cls = out.add_packed<std::uint8_t>("class", formats::kUint8);
+  auto& red = out.add_packed<std::uint8_t>("red", formats::kUint8);
+  auto& green = out.add_packed<std::uint8_t>("green", formats::kUint8);
+  auto& blue = out.add_packed<std::uint8_t>("blue", formats::kUint8);
+  for (auto* v : {&x, &y, &z, &h}) v->resize(n);
+  for (auto* v : {&cls, &red, &green, &blue}) v->resize(n);
   const auto& tx = tile.col("x");
   const auto& ty = tile.col("y");
   const auto& tz = tile.col("z");
   static const unsigned char kColour[4][3] = {{128, 128, 128}, {150, 110, 60}, {40, 160, 40}, {230, 30, 30}};
   for (std::size_t i = 0; i < n; ++i) {
-    x[i] = tx[i] - result.origin.x();
-    y[i] = ty[i] - result.origin.y();
-    z[i] = tz[i] - result.origin.z();
-    h[i] = result.height[i];
+    x[i] = static_cast<float>(tx[i] - result.origin.x());
+    y[i] = static_cast<float>(ty[i] - result.origin.y());
+    z[i] = static_cast<float>(tz[i] - result.origin.z());
+    h[i] = static_cast<float>(result.height[i]);
     cls[i] = result.classes[i];
     const auto* col = kColour[std::min<int>(result.classes[i], 3)];
     red[i] = col[0];
     green[i] = col[1];
     blue[i] = col[2];
   }
+  out.resize(n);  // sets the size; the columns are full
   return out;
 }
 

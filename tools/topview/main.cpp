@@ -44,7 +44,13 @@ int main(int argc, char** argv) {
   tool.add_length("--pixel", &p.pixel,
                   "metres a data pixel, one height value, drawn zoomed to about 1000 map pixels (0: from "
                   "--size or the density, about 2 points a pixel)");
+  std::string png = "fast";
+  tool.add("--png", &png,
+           "fast or default: the PNG encoder's setting (the same pixels; fast: libpng's "
+           "PNG_IMAGE_FLAG_FAST, default: libpng's defaults, the encoding before, "
+           "docs/decisions/topview.md §11)");
   return tool.run(argc, argv, [&] {
+    if (png != "fast" && png != "default") throw common::UsageError("--png must be fast or default");
     if (in.empty() || in == "-" || out.empty() || out == "-")
       throw common::UsageError("-i and -o must name files");
     if (src.detections.empty()) throw common::UsageError("--detections is required");
@@ -58,7 +64,7 @@ int main(int argc, char** argv) {
         formats::read_points(in, "topview", formats::FieldSelection::only({"x", "y", "z"}));
     scan.require({"x", "y", "z"}, common::display_name(in), "is this a point cloud?");
     const topview::Image img = topview::render(scan, footprints, p);
-    common::write_file_atomic(out, topview::encode_png(img));
+    common::write_file_atomic(out, topview::encode_png(img, png == "fast"));
     common::log::info(std::to_string(img.width) + " x " + std::to_string(img.height) + " pixels (map " +
                       std::to_string(img.map_width) + " x " + std::to_string(img.map_height) + "), " +
                       std::to_string(img.pixel * 1000).substr(0, 6) + " mm a pixel, " +

@@ -419,17 +419,16 @@ Image render(const formats::PointCloud& scan, const Footprints& footprints, cons
   return img;
 }
 
-std::string encode_png(const Image& image) {
+std::string encode_png(const Image& image, bool fast) {
   png_image png;
   std::memset(&png, 0, sizeof png);
   png.version = PNG_IMAGE_VERSION;
   png.width = static_cast<png_uint_32>(image.width);
   png.height = static_cast<png_uint_32>(image.height);
   png.format = PNG_FORMAT_RGB;
-  png_alloc_size_t bytes = 0;
-  if (!png_image_write_to_memory(&png, nullptr, &bytes, 0, image.rgb.data(), 0, nullptr)) {
-    throw common::Error(std::string("PNG encoding failed: ") + png.message);
-  }
+  if (fast) png.flags |= PNG_IMAGE_FLAG_FAST;
+  // One pass into a buffer of libpng's bound (the default's size query compressed it twice).
+  png_alloc_size_t bytes = PNG_IMAGE_PNG_SIZE_MAX(png);
   std::string out(bytes, '\0');
   if (!png_image_write_to_memory(&png, out.data(), &bytes, 0, image.rgb.data(), 0, nullptr)) {
     throw common::Error(std::string("PNG encoding failed: ") + png.message);
