@@ -231,6 +231,7 @@ bool fits(const Box& b, const Footprints& fp, bool legend, double data_pixel, in
   const double width = mw + panel.width, height = std::max<double>(mh, panel.height);
   if (width > kMaxSide || height > kMaxSide || width * height > static_cast<double>(kMaxPixels)) return false;
   img.pixel = data_pixel / zoom;
+  img.data_pixel = data_pixel;
   img.zoom = zoom;
   img.map_width = static_cast<int>(mw);
   img.map_height = static_cast<int>(mh);
@@ -244,18 +245,28 @@ bool fits(const Box& b, const Footprints& fp, bool legend, double data_pixel, in
 // no zoom. --pixel or the density's pixel: zoomed so that the map's longer side has about
 // kReadable pixels (at most 8 times); the zoom is lowered to keep the bound, then an automatic
 // data pixel is coarsened, a given one is refused.
-void size_picture(const Box& b, const Footprints& fp, const Params& p, Image& img) {
+// `raster` > 0: a height raster's data pixel, taken as it is (never coarsened: beyond the bound
+// an Error).
+void size_picture(const Box& b, const Footprints& fp, const Params& p, Image& img, double raster = 0) {
   constexpr double kReadable = 1000;
   const double longer = std::max({b.x1 - b.x0, b.y1 - b.y0, 1e-3});
   double data_pixel =
-      p.pixel > 0  ? p.pixel
-      : p.size > 0 ? longer / p.size
+      raster > 0    ? raster
+      : p.pixel > 0 ? p.pixel
+      : p.size > 0  ? longer / p.size
                    : std::clamp(std::round(100 * std::sqrt(2 / std::max(img.density, 1e-6))) / 100, 0.01, 2.0);
   for (;;) {
-    const int most =
-        p.size > 0 ? 1 : std::clamp(static_cast<int>(std::ceil(kReadable / (longer / data_pixel + 1))), 1, 8);
+    const int most = p.size > 0 && raster == 0
+                         ? 1
+                         : std::clamp(static_cast<int>(std::ceil(kReadable / (longer / data_pixel + 1))), 1, 8);
     for (int zoom = most; zoom >= 1; --zoom) {
       if (fits(b, fp, p.legend, data_pixel, zoom, img)) return;
+    }
+    if (raster > 0) {
+      throw common::Error("the height raster's " + std::to_string(data_pixel) +
+                          " m pixel makes a picture beyond the bound (" + std::to_string(kMaxSide) +
+                          " a side, " + std::to_string(kMaxPixels) +
+                          " in all with the legend): make the raster with a larger --pixel");
     }
     if (p.pixel > 0 || p.size > 0) {
       throw common::UsageError(
@@ -273,7 +284,7 @@ void size_picture(const Box& b, const Footprints& fp, const Params& p, Image& im
 
 // The highest height above ground per data pixel (kEmpty where no point), gaps filled; data
 // pixels are zoom x zoom map pixels.
-std::vector<float> heights(const formats::PointCloud& scan, const Grid& g, const Image& img) {
+std::vector<float> raw_heights(const formats::PointCloud& scan, const Grid& g, const Image& img) {
   const auto& xs = scan.col("x");
   const auto& ys = scan.col("y");
   const auto& zs = scan.col("z");
@@ -288,9 +299,23 @@ std::vector<float> heights(const formats::PointCloud& scan, const Grid& g, const
     const auto z = static_cast<float>(zs[i] - g.bilinear(xs[i], ys[i]));
     if (std::isnan(t) || z > t) t = z;
   }
-  // Passes enough to close the gaps between points (spacing / pixel), at least 2, at most 8.
+  return top;
+}
+
+// Empty data pixels filled: passes enough to close the gaps between points (spacing / pixel),
+// at least 2, at most 8.
+void fill_heights(std::vector<float>& top, const Image& img) {
+  const int w = img.map_width / img.zoom, h = img.map_height / img.zoom;
+  const double dp = img.pixel * img.zoom;
   const double spacing = img.density > 0 ? 1 / std::sqrt(img.density) : dp;
   fill_gaps(top, w, h, std::clamp(static_cast<int>(std::ceil(spacing / dp)), 2, 8));
+}
+
+// The highest height above ground per data pixel (kEmpty where no point), gaps filled; data
+// pixels are zoom x zoom map pixels.
+std::vector<float> heights(const formats::PointCloud& scan, const Grid& g, const Image& img) {
+  std::vector<float> top = raw_heights(scan, g, img);
+  fill_heights(top, img);
   return top;
 }
 
@@ -414,6 +439,73 @@ Image render(const formats::PointCloud& scan, const Footprints& footprints, cons
   size_picture(b, footprints, params, img);
   img.rgb.assign(3 * static_cast<std::size_t>(img.width) * img.height, 250);
   paint(heights(scan, g, img), img);
+  draw_outlines(footprints.shapes, img);
+  if (params.legend) draw_legend(img, footprints, text_scale(img.map_height));
+  return img;
+}
+
+formats::HeightRaster raster(const formats::PointCloud& scan, const Params& params) {
+  validate(params);
+  const Extent e = extent(scan, {});
+  Image img;
+  const Grid g = ground(scan, e.points, &img.density);
+  img.x0 = e.points.x0;
+  img.y1 = e.points.y1;
+  size_picture(e.points, Footprints{}, params, img);
+  formats::HeightRaster r;
+  r.width = img.map_width / img.zoom;
+  r.height = img.map_height / img.zoom;
+  r.pixel = img.data_pixel;
+  r.x0 = img.x0;
+  r.y1 = img.y1;
+  r.box_x0 = e.points.x0;
+  r.box_y0 = e.points.y0;
+  r.box_x1 = e.points.x1;
+  r.box_y1 = e.points.y1;
+  r.density = img.density;
+  r.values = raw_heights(scan, g, img);
+  return r;
+}
+
+Image render(const formats::HeightRaster& r, const Footprints& footprints, const Params& params) {
+  validate(params);
+  if (params.pixel > 0 || params.size > 0)
+    throw common::UsageError("--pixel and --size are the raster's (topview --raster-out): not with --raster");
+  Box b;
+  b.add(r.box_x0, r.box_y0);
+  b.add(r.box_x1, r.box_y1);
+  for (const Shape& s : footprints.shapes) {
+    for (const auto& p : s.ring) b.add(p[0], p[1]);
+  }
+  Image img;
+  img.density = r.density;
+  img.x0 = b.x0;
+  img.y1 = b.y1;
+  size_picture(b, footprints, params, img, r.pixel);
+  const int w = img.map_width / img.zoom, h = img.map_height / img.zoom;
+  std::vector<float> top;
+  if (img.x0 == r.x0 && img.y1 == r.y1 && w == r.width && h == r.height) {
+    top = r.values;  // the picture's grid is the raster's (no footprint beyond the points)
+  } else {
+    // A footprint beyond the points widened the map: each raster pixel goes to the data pixel
+    // holding its centre (the highest where two meet).
+    top.assign(static_cast<std::size_t>(w) * h, kEmpty);
+    const double dp = img.pixel * img.zoom;
+    for (int row = 0; row < r.height; ++row) {
+      for (int col = 0; col < r.width; ++col) {
+        const float v = r.at(col, row);
+        if (std::isnan(v)) continue;
+        const double x = r.x0 + (col + 0.5) * r.pixel, y = r.y1 - (row + 0.5) * r.pixel;
+        const int c = std::clamp(static_cast<int>(std::floor((x - img.x0) / dp)), 0, w - 1);
+        const int rr = std::clamp(static_cast<int>(std::floor((img.y1 - y) / dp)), 0, h - 1);
+        float& t = top[static_cast<std::size_t>(rr) * w + c];
+        if (std::isnan(t) || v > t) t = v;
+      }
+    }
+  }
+  fill_heights(top, img);
+  img.rgb.assign(3 * static_cast<std::size_t>(img.width) * img.height, 250);
+  paint(top, img);
   draw_outlines(footprints.shapes, img);
   if (params.legend) draw_legend(img, footprints, text_scale(img.map_height));
   return img;

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "canopy/formats/height_raster.h"
 #include "canopy/formats/point_cloud.h"
 
 namespace canopy::topview {
@@ -79,6 +80,7 @@ struct Image {
   int map_width = 0, map_height = 0;  // the map: pixels [0, map_width) x [0, map_height)
   std::vector<std::uint8_t> rgb;      // row-major from the top (north) row, 3 bytes a pixel
   double x0 = 0, y1 = 0, pixel = 1;   // map: x of the left edge, y of the top edge, metres a map pixel
+  double data_pixel = 1;              // metres a data pixel (one height value)
   int zoom = 1;                       // map pixels a data pixel (one height value) along a side
   double density = 0;                 // points per m² over the occupied 1 m cells
   // The scale bar: `bar_metres` long, pixels [bar_col, bar_col + bar_pixels) of row bar_row.
@@ -141,6 +143,18 @@ Footprints read_footprints(const Sources& sources, int tile);
 // data pixel's height is that of its highest point above the ground; empty data pixels take
 // the mean of their filled neighbours (spacing / pixel passes, 2 to 8).
 Image render(const formats::PointCloud& scan, const Footprints& footprints, const Params& params);
+
+// The heights of render() before the gaps are filled, from the points alone (no footprint):
+// the data pixel and grid render() picks when no footprint reaches beyond the points' box
+// (--pixel / --size as there), the data pixels' highest height above ground (NaN: no point),
+// the points' box and density (topview --raster-out; docs/decisions/topview.md "A raster
+// for the tile workflow"). Error when there is no finite point.
+formats::HeightRaster raster(const formats::PointCloud& scan, const Params& params);
+// The picture from such a raster: the same as render() on its points when every footprint
+// lies within the points' box and the zoom is the same (the same bytes: tested). A footprint
+// beyond widens the map as render() does, and each raster pixel goes to the data pixel that
+// holds its centre. --pixel / --size: UsageError (the raster's); beyond the bound: Error.
+Image render(const formats::HeightRaster& raster, const Footprints& footprints, const Params& params);
 
 // The legend (drawn by render into the panel right of the map); exposed for the tests.
 bool glyph_ink(char c, int col, int row);  // the 5 x 7 font (9 rows with descenders): ink at (col, row)?
