@@ -678,16 +678,23 @@ TEST_CASE("a height raster draws the same picture as the points, the tile read o
   CHECK(near(drawn, 2, 1, topview::kRejected));
   CHECK(topview::encode_png(drawn) == topview::encode_png(direct));
 
-  // A footprint beyond the points widens the map by as much as from the points: the box, the
-  // ground and the outline where they were.
-  const topview::Footprints out = shapes({{rect(9, 4, 11, 6), topview::Kind::cls}});
+  // Footprints beyond the points (east, north and west) widen the map by whole data pixels
+  // from the points' corner, from the raster as from the points: the same picture again.
+  const topview::Footprints out = shapes({{rect(9, 4, 11.03, 6), topview::Kind::cls},
+                                          {rect(3, 9, 4, 10.5), topview::Kind::failed},
+                                          {rect(-0.6, 3, 1, 4), topview::Kind::none}});
   const topview::Image wide = topview::render(r, out, {});
   const topview::Image wide_direct = topview::render(pc, out, {});
   CHECK(wide.map_width == wide_direct.map_width);
   CHECK(wide.map_height == wide_direct.map_height);
+  CHECK(wide.grid_col == 9);  // ceil((0.025 + 0.6) / 0.07): the points' corner 9 data pixels in
+  CHECK(wide.grid_row == 8);  // ceil((10.5 - 9.975) / 0.07)
+  CHECK(wide.x0 == Approx(E + 0.025 - 9 * 0.07));
+  CHECK(wide.rgb == wide_direct.rgb);
   CHECK(at(wide, 5, 5) == topview::height_colour(1.5));
   CHECK(distance(at(wide, 8, 8), topview::height_colour(0)) <= 30);
-  CHECK(near(wide, 11, 5, topview::kClass));
+  CHECK(near(wide, 11.03, 5, topview::kClass));
+  CHECK(near(wide, 3.5, 10.5, topview::kFailed));
 
   // The raster's pixel is the raster's: --pixel / --size refused.
   topview::Params p;

@@ -247,7 +247,27 @@ bool fits(const Box& b, const Footprints& fp, bool legend, double data_pixel, in
 // data pixel is coarsened, a given one is refused.
 // `raster` > 0: a height raster's data pixel, taken as it is (never coarsened: beyond the bound
 // an Error).
-void size_picture(const Box& b, const Footprints& fp, const Params& p, Image& img, double raster = 0) {
+// The data pixels' grid is anchored at the points' top-left corner (`points`; the whole box
+// when there is no finite point) and widened by whole data pixels to hold the footprints (`b`:
+// the points and the footprints), so that a height raster of the points alone (raster()) is
+// the same grid (docs/decisions/topview.md, "A raster for the tile workflow").
+void size_picture(const Box& points, const Box& b, const Footprints& fp, const Params& p, Image& img,
+                  double raster = 0) {
+  const Box& corner = points.x1 >= points.x0 && points.y1 >= points.y0 ? points : b;
+  auto anchored = [&corner, &b, &img](double data_pixel) {
+    const int kx = std::max(0, static_cast<int>(std::ceil((corner.x0 - b.x0) / data_pixel - 1e-9)));
+    const int ky = std::max(0, static_cast<int>(std::ceil((b.y1 - corner.y1) / data_pixel - 1e-9)));
+    Box a = b;
+    a.x0 = kx > 0 ? corner.x0 - kx * data_pixel : corner.x0;
+    a.y1 = ky > 0 ? corner.y1 + ky * data_pixel : corner.y1;
+    img.x0 = a.x0;
+    img.y1 = a.y1;
+    img.grid_x0 = corner.x0;
+    img.grid_y1 = corner.y1;
+    img.grid_col = kx;
+    img.grid_row = ky;
+    return a;
+  };
   constexpr double kReadable = 1000;
   const double longer = std::max({b.x1 - b.x0, b.y1 - b.y0, 1e-3});
   double data_pixel =
@@ -260,7 +280,7 @@ void size_picture(const Box& b, const Footprints& fp, const Params& p, Image& im
                          ? 1
                          : std::clamp(static_cast<int>(std::ceil(kReadable / (longer / data_pixel + 1))), 1, 8);
     for (int zoom = most; zoom >= 1; --zoom) {
-      if (fits(b, fp, p.legend, data_pixel, zoom, img)) return;
+      if (fits(anchored(data_pixel), fp, p.legend, data_pixel, zoom, img)) return;
     }
     if (raster > 0) {
       throw common::Error("the height raster's " + std::to_string(data_pixel) +
@@ -293,8 +313,8 @@ std::vector<float> raw_heights(const formats::PointCloud& scan, const Grid& g, c
   std::vector<float> top(static_cast<std::size_t>(w) * h, kEmpty);
   for (std::size_t i = 0; i < scan.size(); ++i) {
     if (!finite_point(xs, ys, zs, i)) continue;
-    const int c = std::min(w - 1, static_cast<int>((xs[i] - img.x0) / dp));
-    const int r = std::min(h - 1, static_cast<int>((img.y1 - ys[i]) / dp));
+    const int c = std::min(w - 1, img.grid_col + static_cast<int>((xs[i] - img.grid_x0) / dp));
+    const int r = std::min(h - 1, img.grid_row + static_cast<int>((img.grid_y1 - ys[i]) / dp));
     float& t = top[static_cast<std::size_t>(r) * w + c];
     const auto z = static_cast<float>(zs[i] - g.bilinear(xs[i], ys[i]));
     if (std::isnan(t) || z > t) t = z;
@@ -434,9 +454,7 @@ Image render(const formats::PointCloud& scan, const Footprints& footprints, cons
   const Box& b = e.all;
   Image img;
   const Grid g = ground(scan, e.points, &img.density);
-  img.x0 = b.x0;
-  img.y1 = b.y1;
-  size_picture(b, footprints, params, img);
+  size_picture(e.points, b, footprints, params, img);
   img.rgb.assign(3 * static_cast<std::size_t>(img.width) * img.height, 250);
   paint(heights(scan, g, img), img);
   draw_outlines(footprints.shapes, img);
@@ -449,9 +467,7 @@ formats::HeightRaster raster(const formats::PointCloud& scan, const Params& para
   const Extent e = extent(scan, {});
   Image img;
   const Grid g = ground(scan, e.points, &img.density);
-  img.x0 = e.points.x0;
-  img.y1 = e.points.y1;
-  size_picture(e.points, Footprints{}, params, img);
+  size_picture(e.points, e.points, Footprints{}, params, img);
   formats::HeightRaster r;
   r.width = img.map_width / img.zoom;
   r.height = img.map_height / img.zoom;
@@ -471,36 +487,30 @@ Image render(const formats::HeightRaster& r, const Footprints& footprints, const
   validate(params);
   if (params.pixel > 0 || params.size > 0)
     throw common::UsageError("--pixel and --size are the raster's (topview --raster-out): not with --raster");
-  Box b;
-  b.add(r.box_x0, r.box_y0);
-  b.add(r.box_x1, r.box_y1);
+  Box points;
+  points.add(r.box_x0, r.box_y0);
+  points.add(r.box_x1, r.box_y1);
+  Box b = points;
   for (const Shape& s : footprints.shapes) {
     for (const auto& p : s.ring) b.add(p[0], p[1]);
   }
   Image img;
   img.density = r.density;
-  img.x0 = b.x0;
-  img.y1 = b.y1;
-  size_picture(b, footprints, params, img, r.pixel);
+  size_picture(points, b, footprints, params, img, r.pixel);
+  if (img.grid_x0 != r.x0 || img.grid_y1 != r.y1)
+    throw common::Error(
+        "the height raster's corner is not its points' top-left corner (not written by topview)");
+  // The raster's pixels where render() bins the points: shifted by the whole data pixels the
+  // footprints widened the map by (the highest where the map's edge clamps two together).
   const int w = img.map_width / img.zoom, h = img.map_height / img.zoom;
-  std::vector<float> top;
-  if (img.x0 == r.x0 && img.y1 == r.y1 && w == r.width && h == r.height) {
-    top = r.values;  // the picture's grid is the raster's (no footprint beyond the points)
-  } else {
-    // A footprint beyond the points widened the map: each raster pixel goes to the data pixel
-    // holding its centre (the highest where two meet).
-    top.assign(static_cast<std::size_t>(w) * h, kEmpty);
-    const double dp = img.pixel * img.zoom;
-    for (int row = 0; row < r.height; ++row) {
-      for (int col = 0; col < r.width; ++col) {
-        const float v = r.at(col, row);
-        if (std::isnan(v)) continue;
-        const double x = r.x0 + (col + 0.5) * r.pixel, y = r.y1 - (row + 0.5) * r.pixel;
-        const int c = std::clamp(static_cast<int>(std::floor((x - img.x0) / dp)), 0, w - 1);
-        const int rr = std::clamp(static_cast<int>(std::floor((img.y1 - y) / dp)), 0, h - 1);
-        float& t = top[static_cast<std::size_t>(rr) * w + c];
-        if (std::isnan(t) || v > t) t = v;
-      }
+  std::vector<float> top(static_cast<std::size_t>(w) * h, kEmpty);
+  for (int row = 0; row < r.height; ++row) {
+    const int rr = std::min(h - 1, img.grid_row + row);
+    for (int col = 0; col < r.width; ++col) {
+      const float v = r.at(col, row);
+      if (std::isnan(v)) continue;
+      float& t = top[static_cast<std::size_t>(rr) * w + std::min(w - 1, img.grid_col + col)];
+      if (std::isnan(t) || v > t) t = v;
     }
   }
   fill_heights(top, img);

@@ -81,8 +81,12 @@ struct Image {
   std::vector<std::uint8_t> rgb;      // row-major from the top (north) row, 3 bytes a pixel
   double x0 = 0, y1 = 0, pixel = 1;   // map: x of the left edge, y of the top edge, metres a map pixel
   double data_pixel = 1;              // metres a data pixel (one height value)
-  int zoom = 1;                       // map pixels a data pixel (one height value) along a side
-  double density = 0;                 // points per m² over the occupied 1 m cells
+  // The data pixels' grid: anchored at (grid_x0, grid_y1), the points' top-left corner, which is
+  // the corner of data pixel (grid_col, grid_row) (whole data pixels added for footprints).
+  double grid_x0 = 0, grid_y1 = 0;
+  int grid_col = 0, grid_row = 0;
+  int zoom = 1;        // map pixels a data pixel (one height value) along a side
+  double density = 0;  // points per m² over the occupied 1 m cells
   // The scale bar: `bar_metres` long, pixels [bar_col, bar_col + bar_pixels) of row bar_row.
   double bar_metres = 0;
   int bar_col = 0, bar_row = 0, bar_pixels = 0;
