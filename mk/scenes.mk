@@ -6,7 +6,8 @@
 #
 # one user tile -> mytile/detections.json (canopy.detections v2), mytile/detections.geojson,
 # mytile/classes.ply (detect's classification: ground, other, candidate), mytile/top.png (the
-# tile from above, highest point per pixel, detection footprints outlined) and per candidate
+# tile from above, highest point per pixel, detection footprints outlined; drawn from
+# mytile/top.raster, the tile's heights, made beside the candidates) and per candidate
 # mytile/cands/<id>/class.json (classify: the class-level answer, every candidate) and, for the
 # candidates dense enough for model-level recognition (object density >= TILE_MODEL_DENSITY
 # points/m², default 50: docs/decisions/density-scale.md), mytile/cands/<id>/{samples.pcd,
