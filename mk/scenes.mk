@@ -6,7 +6,8 @@
 #
 # one user tile -> mytile/detections.json (canopy.detections v2), mytile/detections.geojson,
 # mytile/classes.ply (detect's classification: ground, other, candidate), mytile/top.png (the
-# tile from above, highest point per pixel, detection footprints outlined) and per candidate
+# tile from above, highest point per pixel, detection footprints outlined; drawn from
+# mytile/top.raster, the tile's heights, made beside the candidates) and per candidate
 # mytile/cands/<id>/class.json (classify: the class-level answer, every candidate) and, for the
 # candidates dense enough for model-level recognition (object density >= TILE_MODEL_DENSITY
 # points/m², default 50: docs/decisions/density-scale.md), mytile/cands/<id>/{samples.pcd,
@@ -186,13 +187,26 @@ endef
 
 # tile_collect(KEY, DIR, MODELBASE, SCAN): every class.json and model-level verdict ->
 # detections.json + GeoJSON, and the top-view picture of the tile with the detections' footprints.
+# For the `tile` target (KEY TILE) the picture comes from the tile's height raster (top.raster:
+# topview --raster-out, which needs only the tile, so it runs beside the candidates' chains),
+# drawn with the footprints once the detections are in: the same picture as from the tile,
+# the tile read off the end of the run (docs/decisions/cost.md §17). TOP_RASTER=0: topview on
+# the tile at the end, the rule before (and every other key's).
+TOP_RASTER ?= 1
 define tile_collect
 $(2)/detections.json: $(2)/cands.mk $(foreach c,$($(1)_CANDS),$(2)/cands/$(c)/class.json) \
     $(foreach c,$(call model_cands,$(1)),$(2)/cands/$(c)/verdict.json) $(call tool,collect)
 	@$(STAGE) $$@ -- $(BIN)/collect -i $(2)/cands/index.json -o $$@ --geojson $(2)/detections.geojson \
 	  --modelbase $(3) $(if $(CRS),--crs $(CRS))
+ifeq ($(1)$(if $(filter 0,$(TOP_RASTER)),,1),TILE1)
+$(2)/top.raster: $(4) $(call tool,topview)
+	@$(STAGE) $$@ -- $(BIN)/topview -i $(4) --raster-out $$@
+$(2)/top.png: $(2)/detections.json $(2)/top.raster $(call tool,topview)
+	@$(STAGE) $$@ -- $(BIN)/topview --raster $(2)/top.raster --detections $(2)/detections.json -o $$@
+else
 $(2)/top.png: $(2)/detections.json $(4) $(call tool,topview)
 	@$(STAGE) $$@ -- $(BIN)/topview -i $(4) --detections $(2)/detections.json -o $$@
+endif
 endef
 
 .PHONY: tile

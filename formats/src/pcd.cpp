@@ -302,11 +302,14 @@ void gather(const unsigned char* src, std::size_t stride, std::size_t n, std::ve
 // the file (PointCloud: turned into doubles only when a tool asks for the column).
 class RowPacker {
  public:
-  RowPacker(const Header& h, const Layout& l, PointCloud* cloud, const std::string& name) : step_(l.step) {
+  // Only the columns `fields` wants are made (the others' bytes are skipped).
+  RowPacker(const Header& h, const Layout& l, PointCloud* cloud, const std::string& name,
+            const FieldSelection& fields = FieldSelection{})
+      : step_(l.step) {
     const std::vector<std::string> names = column_names(h, l, name);
     const auto n = static_cast<std::size_t>(h.points);
     for (std::size_t s = 0; s < l.slots.size(); ++s) {
-      if (l.slots[s].column < 0) continue;
+      if (l.slots[s].column < 0 || !fields.wants(names[s])) continue;
       const FieldType t = l.slots[s].type;
       const std::size_t off = l.slots[s].offset;
       detail::with_type(t, [&](auto tag) { add<decltype(tag)>(names[s], t, off, n, cloud); });
@@ -539,27 +542,43 @@ PointCloud read_unstreamed(int fd, std::string head, const Header& h, std::size_
 
 }  // namespace
 
-PointCloud read_pcd(const std::string& path) {
-  if (path == "-") return parse_pcd(common::read_file(path), path);
+PointCloud read_pcd(const std::string& path) { return read_pcd(path, FieldSelection{}); }
+
+PointCloud read_pcd(const std::string& path, const FieldSelection& fields) {
+  // The columns `fields` does not want, dropped after a whole read (checks as without them).
+  auto keep = [&fields](PointCloud cloud) {
+    if (!fields.all()) {
+      const std::vector<std::string> names = cloud.names();
+      for (const auto& n : names) {
+        if (!fields.wants(n)) cloud.remove(n);
+      }
+    }
+    return cloud;
+  };
+  if (path == "-") return keep(parse_pcd(common::read_file(path), path));
   const int raw_fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (raw_fd < 0) return parse_pcd(common::read_file(path), path);  // read_file words the error
+  if (raw_fd < 0) return keep(parse_pcd(common::read_file(path), path));  // read_file words the error
   Fd fd{raw_fd};
   struct stat st {};
-  if (fstat(fd.fd, &st) != 0 || !S_ISREG(st.st_mode)) return parse_pcd(common::read_file(path), path);
+  if (fstat(fd.fd, &st) != 0 || !S_ISREG(st.st_mode)) return keep(parse_pcd(common::read_file(path), path));
   const auto file_size = static_cast<std::size_t>(st.st_size);
 
   std::size_t end = std::string::npos;
   std::string head = read_head(fd.fd, path, &end);
-  if (end == std::string::npos) return parse_pcd(head, path);  // no DATA line: parse_header says why
+  if (end == std::string::npos) return keep(parse_pcd(head, path));  // no DATA line: parse_header says why
   const Header h = parse_header(head.substr(0, end), path);
-  if (h.data != "binary") return read_unstreamed(fd.fd, std::move(head), h, file_size, path);
+  if (h.data != "binary") return keep(read_unstreamed(fd.fd, std::move(head), h, file_size, path));
+  // A selection without x, y or z: read whole (check_coordinates checks every coordinate
+  // the file has, wanted or not).
+  const FieldSelection streamed =
+      fields.wants("x") && fields.wants("y") && fields.wants("z") ? fields : FieldSelection{};
 
   PointCloud cloud;
   cloud.comments = h.comments;
   Layout l = make_layout(h);
   const std::size_t avail = file_size - std::min(file_size, h.data_offset);
   check_binary_size(h.points, l.step, avail, path);
-  const RowPacker rows_to(h, l, &cloud, path);
+  const RowPacker rows_to(h, l, &cloud, path, streamed);
   const std::size_t n = static_cast<std::size_t>(h.points);
   // Chunks of whole rows (~1 MiB), starting with the data bytes already read with the header.
   const std::size_t chunk_rows = std::max<std::size_t>(1, (std::size_t{1} << 20) / l.step);
@@ -602,7 +621,7 @@ PointCloud read_pcd(const std::string& path) {
   }
   cloud.resize(n);  // sets the size; the columns are full
   check_coordinates(cloud, path);
-  return cloud;
+  return keep(std::move(cloud));
 }
 
 namespace {

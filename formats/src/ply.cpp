@@ -522,6 +522,9 @@ std::string serialize_ply(const Mesh& mesh, const PlyWriteOptions& options) {
       out += "3 " + std::to_string(f[0]) + " " + std::to_string(f[1]) + " " + std::to_string(f[2]) + "\n";
     }
   } else {
+    std::size_t row = 0;  // bytes a vertex
+    for (const FieldType& t : types) row += static_cast<std::size_t>(t.size);
+    out.reserve(out.size() + v.size() * row + mesh.faces.size() * 13);  // no regrowth of a large file
     for_each_block(v, [&](std::size_t, std::size_t k, const std::vector<const double*>& col) {
       for (std::size_t i = 0; i < k; ++i) {
         for (std::size_t c = 0; c < nc; ++c) detail::write_scalar(&out, col[c][i], types[c]);

@@ -93,10 +93,21 @@ std::vector<double>& PointCloud::unpacked(std::size_t i) const {
   if (c.is_packed.load(std::memory_order_relaxed)) {
     std::visit(
         [&c](auto& v) {
-          if constexpr (!std::is_same_v<std::decay_t<decltype(v)>, std::monostate>) {
+          using V = std::decay_t<decltype(v)>;
+          if constexpr (std::is_same_v<V, std::vector<double>>) {
+            if (!c.scaled) {  // already the doubles: moved, not copied (cost.md §17)
+              c.values = std::move(v);
+              return;
+            }
+          }
+          if constexpr (!std::is_same_v<V, std::monostate>) {
             std::vector<double> out;
             out.reserve(v.size());
-            for (const auto raw : v) out.push_back(unpack_one(raw, c.scaled, c.scale, c.shift));
+            if (c.scaled) {
+              for (const auto raw : v) out.push_back(unpack_one(raw, true, c.scale, c.shift));
+            } else {
+              out.assign(v.begin(), v.end());  // static_cast<double>, as unpack_one
+            }
             c.values = std::move(out);
           }
         },

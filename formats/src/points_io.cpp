@@ -155,6 +155,9 @@ PointCloud read_points(const std::string& path, const std::string& tool) {
 PointCloud read_points(const std::string& path, const std::string& tool, const FieldSelection& fields) {
   // A regular LAS file is read piece by piece by read_las, not copied whole into memory first.
   // Only a regular file is looked into here: a FIFO's first bytes could not be read again.
+  // A regular PCD file is read in chunks by read_pcd (DATA binary: only the selected columns
+  // made), not copied whole into memory first (docs/decisions/cost.md §17): its header's first
+  // 64 KiB say it is one.
   struct stat st {};
   if (path != "-" && ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode)) {
     std::ifstream f(path, std::ios::binary);
@@ -162,6 +165,14 @@ PointCloud read_points(const std::string& path, const std::string& tool, const F
     if (f.read(magic.data(), 4) && is_las(magic)) {
       f.close();
       return read_las(path, fields);
+    }
+    if (f.gcount() == 4 && !is_ply(magic)) {
+      std::string head(1 << 16, '\0');
+      std::copy(magic.begin(), magic.end(), head.begin());
+      f.read(head.data() + 4, static_cast<std::streamsize>(head.size() - 4));
+      head.resize(4 + static_cast<std::size_t>(f.gcount()));
+      f.close();
+      if (is_pcd(head)) return read_pcd(path, fields);
     }
   }
   const std::string bytes = common::read_file(path);

@@ -20,6 +20,8 @@
 #include <vector>
 
 #include "canopy/common/error.h"
+#include "canopy/formats/ply.h"
+#include "detect/crops.h"
 #include "detect/output.h"
 #include "support/cli.h"
 
@@ -391,4 +393,57 @@ TEST_CASE("output: leftovers of other runs") {
   }
   CHECK_NOTHROW(detect::check_output_dir(out.string(), "-"));
   CHECK(beside(out).empty());
+}
+
+TEST_CASE("output: classes.ply written in pieces is the PLY of the classification cloud, byte for byte") {
+  // cost.md §17: the file is made block by block (never whole in memory); the bytes are those
+  // formats::serialize_ply writes for classification_cloud with the same comments.
+  Fixture f = fixture(1);
+  const std::size_t n = 70000;  // more than one block of 65 536 rows
+  auto& x = f.tile.col("x");
+  auto& y = f.tile.col("y");
+  auto& z = f.tile.col("z");
+  f.tile.resize(n);
+  f.result.height.resize(n);
+  f.result.classes.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    x[i] = 500000.0 + 0.013 * double(i);
+    y[i] = 5400000.0 - 0.007 * double(i);
+    z[i] = 100.0 + 1e-4 * double(i % 1000);
+    f.result.height[i] = 0.001f * float(i % 4000);
+    f.result.classes[i] = static_cast<std::uint8_t>(i % 5);  // 4 (no such class) draws as 3
+  }
+  f.result.origin = Eigen::Vector3d(500000.0, 5400000.0, 100.0);
+  const std::vector<std::string> prov{"detect (canopy) test", "parameter cell = 500mm"};
+  formats::Mesh m;
+  m.vertices = detect::classification_cloud(f.tile, f.result);
+  m.vertices.comments = prov;
+  m.vertices.comments.push_back("classes 1 ground (brown), 2 vegetation/other (green), 3 candidate (red)");
+  m.vertices.comments.push_back("origin 500000 5400000 100 (add to x y z for tile coordinates)");
+  const std::string whole = formats::serialize_ply(m);
+  std::string pieces;
+  int calls = 0;
+  detect::classes_ply(f.tile, f.result, prov, [&](const char* p, std::size_t k) {
+    pieces.append(p, k);
+    ++calls;
+  });
+  CHECK(calls == 3);  // the header, then two blocks
+  CHECK(pieces.size() == whole.size());
+  CHECK(pieces == whole);
+  CHECK(detect::classes_ply(f.tile, f.result, prov) == whole);
+  // And what write_output wrote, listed in the manifest with its size.
+  const fs::path dir = test::fresh_dir("detect", "classes_pieces");
+  const formats::Provenance p{"detect", "test", {}, {"tile.pcd"}};
+  detect::write_output((dir / "out").string(), f.tile, f.result, detect::Params{}, p, "tile.pcd", true);
+  const formats::Mesh back = formats::read_ply((dir / "out" / "classes.ply").string());
+  CHECK(back.vertices.size() == n);
+  CHECK(back.vertices.col("class")[4] == 4);
+  CHECK(back.vertices.col("red")[4] == 230);
+  CHECK(back.vertices.col("x")[1] == Approx(0.013));
+  const Json manifest = Json::parse(std::ifstream((dir / "out" / "manifest.json").string()));
+  bool listed = false;
+  for (const auto& file : manifest["files"]) {
+    if (file["name"] == "classes.ply") listed = file["bytes"] == fs::file_size(dir / "out" / "classes.ply");
+  }
+  CHECK(listed);
 }

@@ -52,9 +52,13 @@ scene b 'vehicle = tank 6 6 10' 'object = boulder 14 9 0'
 for t in a b; do
   "${mk[@]}" -j2 tile TILE="$tmp/$t.pcd" MODELBASE="$tmp/mb" OUT="$tmp/$t/" CRS=EPSG:32633 >"$tmp/$t.log" 2>&1 \
     || fail "make tile $t failed: $(tail -5 "$tmp/$t.log")"
-  for f in detections.json detections.geojson classes.ply top.png cands/index.json cands.mk; do
+  for f in detections.json detections.geojson classes.ply top.png top.raster cands/index.json cands.mk; do
     [ -s "$tmp/$t/$f" ] || fail "tile $t: no $f"
   done
+  # top.png from the tile's height raster (cost.md §17) is the picture topview draws from the tile.
+  topview -q -i "$tmp/$t.pcd" --detections "$tmp/$t/detections.json" -o "$tmp/$t/direct.png" \
+    || fail "tile $t: topview on the tile failed"
+  cmp -s "$tmp/$t/top.png" "$tmp/$t/direct.png" || fail "tile $t: top.png from top.raster is not the tile's picture"
   n=$(jq '.candidates | length' "$tmp/$t/cands/index.json")
   [ "$n" -ge 1 ] || fail "tile $t: detect found no candidate"
   [ "$(jq '.candidates' "$tmp/$t/detections.json")" = "$n" ] || fail "tile $t: detections.json does not count $n candidates"

@@ -2,6 +2,7 @@
 // outlines and the scale bar must be.
 #include <png.h>
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstring>
@@ -640,4 +641,107 @@ TEST_CASE("topview finds its tile in the score by the detections path, not by ma
   topview::Params p;
   p.tile = -2;
   CHECK_THROWS_AS(topview::validate(p), common::UsageError);
+}
+
+TEST_CASE("a height raster draws the same picture as the points, the tile read once (issue 31)") {
+  const formats::PointCloud pc = scan(1.5, 0, 312.4);
+  const formats::HeightRaster r = topview::raster(pc, {});
+  // The grid render() picks without footprints: 0.07 m data pixels from the points' corner,
+  // the highest height above ground per pixel before the gaps are filled.
+  CHECK(r.width == 144);
+  CHECK(r.height == 144);
+  CHECK(r.pixel == 0.07);
+  CHECK(r.x0 == E + 0.025);
+  CHECK(r.y1 == N + 9.975);
+  CHECK(r.box_x0 == E + 0.025);
+  CHECK(r.box_y1 == N + 9.975);
+  CHECK(r.density == Approx(400));
+  auto value = [&r](double x, double y) {
+    return r.at(static_cast<int>((E + x - r.x0) / r.pixel), static_cast<int>((r.y1 - (N + y)) / r.pixel));
+  };
+  CHECK(value(5, 5) == Approx(1.5).margin(0.1));
+  CHECK(value(8, 8) == Approx(0).margin(0.1));
+  const auto empty = std::count_if(r.values.begin(), r.values.end(), [](float v) { return std::isnan(v); });
+  CHECK(empty > 0);  // 0.07 m pixels over 0.05 m spacing: some hold no point (filled when drawn)
+
+  // Footprints inside the points' box: the same picture, pixel for pixel.
+  const topview::Footprints fp =
+      shapes({{rect(4, 4, 6, 6), topview::Kind::model}, {rect(1, 1, 3, 2), topview::Kind::rejected}});
+  const topview::Image direct = topview::render(pc, fp, {});
+  const topview::Image drawn = topview::render(r, fp, {});
+  CHECK(drawn.width == direct.width);
+  CHECK(drawn.height == direct.height);
+  CHECK(drawn.zoom == direct.zoom);
+  CHECK(drawn.rgb == direct.rgb);
+  CHECK(at(drawn, 5, 5) == topview::height_colour(1.5));
+  CHECK(near(drawn, 4, 5, topview::kModel));
+  CHECK(near(drawn, 2, 1, topview::kRejected));
+  CHECK(topview::encode_png(drawn) == topview::encode_png(direct));
+
+  // Footprints beyond the points (east, north and west) widen the map by whole data pixels
+  // from the points' corner, from the raster as from the points: the same picture again.
+  const topview::Footprints out = shapes({{rect(9, 4, 11.03, 6), topview::Kind::cls},
+                                          {rect(3, 9, 4, 10.5), topview::Kind::failed},
+                                          {rect(-0.6, 3, 1, 4), topview::Kind::none}});
+  const topview::Image wide = topview::render(r, out, {});
+  const topview::Image wide_direct = topview::render(pc, out, {});
+  CHECK(wide.map_width == wide_direct.map_width);
+  CHECK(wide.map_height == wide_direct.map_height);
+  CHECK(wide.grid_col == 9);  // ceil((0.025 + 0.6) / 0.07): the points' corner 9 data pixels in
+  CHECK(wide.grid_row == 8);  // ceil((10.5 - 9.975) / 0.07)
+  CHECK(wide.x0 == Approx(E + 0.025 - 9 * 0.07));
+  CHECK(wide.rgb == wide_direct.rgb);
+  CHECK(at(wide, 5, 5) == topview::height_colour(1.5));
+  CHECK(distance(at(wide, 8, 8), topview::height_colour(0)) <= 30);
+  CHECK(near(wide, 11.03, 5, topview::kClass));
+  CHECK(near(wide, 3.5, 10.5, topview::kFailed));
+
+  // The raster's pixel is the raster's: --pixel / --size refused.
+  topview::Params p;
+  p.pixel = 0.1;
+  CHECK_THROWS_AS(topview::render(r, fp, p), common::UsageError);
+}
+
+TEST_CASE("topview CLI: --raster-out then --raster gives the bytes -i gives; bad uses refused") {
+  const fs::path dir = test::fresh_dir("topview", "raster");
+  formats::write_pcd(scan(), (dir / "scan.pcd").string());
+  const Json det{{"format", "canopy.detections"},
+                 {"version", 1},
+                 {"detections", {{{"candidate", "c1"}, {"footprint", footprint(rect(1, 1, 3, 2))}}}}};
+  write_json(dir / "d.json", det);
+  const std::string bin = std::string(CANOPY_BIN_DIR) + "/topview -q";
+  const std::string d = " --detections " + (dir / "d.json").string();
+  std::string err;
+  REQUIRE(test::sh(bin + " -i " + (dir / "scan.pcd").string() + " --raster-out " + (dir / "top.raster").string(),
+                   dir / "err.txt", &err) == 0);
+  CHECK(formats::read_height_raster((dir / "top.raster").string()).width == 144);
+  REQUIRE(test::sh(bin + " --raster " + (dir / "top.raster").string() + d + " -o " + (dir / "r.png").string(),
+                   dir / "err.txt", &err) == 0);
+  REQUIRE(test::sh(bin + " -i " + (dir / "scan.pcd").string() + d + " -o " + (dir / "i.png").string(),
+                   dir / "err.txt", &err) == 0);
+  CHECK(slurp(dir / "r.png") == slurp(dir / "i.png"));
+  // --png default: libpng's defaults, the same pixels.
+  REQUIRE(test::sh(bin + " -i " + (dir / "scan.pcd").string() + d + " --png default -o " +
+                       (dir / "slow.png").string(),
+                   dir / "err.txt", &err) == 0);
+  CHECK(read_png(dir / "slow.png").rgb == read_png(dir / "i.png").rgb);
+
+  // A raster that is not one: exit 1, the file named.
+  std::ofstream((dir / "bad.raster").string()) << "canopy.height_raster 1\nwidth 2\n";
+  CHECK(test::sh(bin + " --raster " + (dir / "bad.raster").string() + d + " -o " + (dir / "b.png").string(),
+                 dir / "err.txt", &err) == 1);
+  CHECK(err.find("bad.raster") != std::string::npos);
+  CHECK(!fs::exists(dir / "b.png"));
+  // Usage: both -i and --raster; --raster-out with --detections; --pixel with --raster; --png.
+  CHECK(test::sh(bin + " -i " + (dir / "scan.pcd").string() + " --raster " + (dir / "top.raster").string() +
+                     d + " -o " + (dir / "b.png").string(),
+                 dir / "err.txt", &err) == 2);
+  CHECK(test::sh(bin + " -i " + (dir / "scan.pcd").string() + d + " --raster-out " + (dir / "x.raster").string(),
+                 dir / "err.txt", &err) == 2);
+  CHECK(test::sh(bin + " --raster " + (dir / "top.raster").string() + d + " --pixel 0.1 -o " +
+                     (dir / "b.png").string(),
+                 dir / "err.txt", &err) == 2);
+  CHECK(test::sh(bin + " -i " + (dir / "scan.pcd").string() + d + " --png best -o " + (dir / "b.png").string(),
+                 dir / "err.txt", &err) == 2);
+  CHECK(!fs::exists(dir / "b.png"));
 }

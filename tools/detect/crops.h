@@ -3,6 +3,7 @@
 // come `provenance` (formats::provenance_comments) and a line on what the file holds.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -16,8 +17,13 @@ std::string candidate_pcd(const Candidate& c, const std::vector<std::string>& pr
                           const std::string& path);
 
 // classes.ply: classification_cloud(tile, result) with the classes and the local origin in
-// its comments.
+// its comments, as formats::serialize_ply writes it.
 std::string classes_ply(const formats::PointCloud& tile, const Result& result,
                         const std::vector<std::string>& provenance);
+// The same bytes handed to `sink` in pieces (the header, then blocks of 65 536 rows): the file
+// is written without the whole of it, nor a cloud of its columns, in memory (cost.md §17).
+void classes_ply(const formats::PointCloud& tile, const Result& result,
+                 const std::vector<std::string>& provenance,
+                 const std::function<void(const char*, std::size_t)>& sink);
 
 }  // namespace canopy::detect

@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -430,6 +431,46 @@ class DirWriter {
     dir_.write(name, bytes);
     if (list) manifest_.files.push_back({name, bytes.size(), sha256(bytes)});
   }
+  // File `name` (new) written in pieces: produce(sink) hands sink the bytes in order; each
+  // piece is hashed and written as it comes (never the whole file in memory).
+  void write_streamed(const std::string& name,
+                      const std::function<void(const std::function<void(const char*, std::size_t)>&)>& produce) {
+    const fs::path path = dir_.temp() / name;
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0) throw DataError(path.string(), "cannot create: " + errno_text(errno));
+    std::unique_ptr<EVP_MD_CTX, MdCtxFree> ctx(EVP_MD_CTX_new());
+    if (!ctx || EVP_DigestInit_ex(ctx.get(), EVP_sha256(), nullptr) != 1) {
+      ::close(fd);
+      throw common::Error("detect: SHA-256 failed (OpenSSL)");
+    }
+    std::uint64_t size = 0;
+    int err = 0;
+    try {
+      produce([&](const char* p, std::size_t n) {
+        if (EVP_DigestUpdate(ctx.get(), p, n) != 1) throw common::Error("detect: SHA-256 failed (OpenSSL)");
+        size += n;
+        while (n > 0 && err == 0) {
+          const ssize_t w = ::write(fd, p, n);
+          if (w < 0 && errno == EINTR) continue;
+          if (w <= 0) {
+            err = w < 0 ? errno : EIO;
+            break;
+          }
+          p += w;
+          n -= static_cast<std::size_t>(w);
+        }
+        if (err != 0) throw DataError(path.string(), "write failed: " + errno_text(err));
+      });
+    } catch (...) {
+      ::close(fd);
+      throw;
+    }
+    if (::close(fd) != 0) throw DataError(path.string(), "write failed: " + errno_text(errno));
+    unsigned char md[EVP_MAX_MD_SIZE];
+    unsigned len = 0;
+    if (EVP_DigestFinal_ex(ctx.get(), md, &len) != 1) throw common::Error("detect: SHA-256 failed (OpenSSL)");
+    manifest_.files.push_back({name, size, hex(md, len)});
+  }
   const documents::DetectManifest& manifest() const { return manifest_; }
 
  private:
@@ -525,7 +566,10 @@ void write_output(const std::string& dir, const formats::PointCloud& tile, const
   std::string classes;
   if (write_classes) {
     classes = "classes.ply";
-    out.write(classes, classes_ply(tile, result, prov));
+    // In pieces: the file (20 bytes a point) is never held whole (cost.md §17).
+    out.write_streamed(classes, [&](const std::function<void(const char*, std::size_t)>& sink) {
+      classes_ply(tile, result, prov, sink);
+    });
   }
   out.write(kIndexName, serialize_index(result, params, provenance, tile_name, classes));
   out.write(kManifestName, documents::write_detect_manifest(out.manifest()), false);

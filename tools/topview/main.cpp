@@ -27,6 +27,15 @@ int main(int argc, char** argv) {
   std::string in, out;
   tool.add_input(&in, "the tile scan (PCD, PLY, LAS or LAZ with x y z)");
   tool.add_output(&out, "PNG");
+  std::string raster_in, raster_out;
+  tool.add("--raster", &raster_in,
+           "draw from this height raster (canopy.height_raster, topview --raster-out) instead of -i: "
+           "the same picture when no footprint reaches beyond the tile's points (docs/decisions/topview.md, "
+           "\"A raster for the tile workflow\")");
+  tool.add_output(
+      "--raster-out", &raster_out,
+      "write the tile's height raster (formats/README.md, \"Height raster\") to this file instead of a "
+      "picture: -i and --pixel / --size only");
   tool.add("--detections", &src.detections, "detections.json (canopy.detections v1 or v2)");
   tool.add("--index", &src.index,
            "candidates index.json (canopy.candidates): the rejected candidates' footprints; default: the "
@@ -44,21 +53,52 @@ int main(int argc, char** argv) {
   tool.add_length("--pixel", &p.pixel,
                   "metres a data pixel, one height value, drawn zoomed to about 1000 map pixels (0: from "
                   "--size or the density, about 2 points a pixel)");
+  std::string png = "fast";
+  tool.add("--png", &png,
+           "fast or default: the PNG encoder's setting (the same pixels; fast: libpng's "
+           "PNG_IMAGE_FLAG_FAST, default: libpng's defaults, the encoding before, "
+           "docs/decisions/topview.md §11)");
   return tool.run(argc, argv, [&] {
-    if (in.empty() || in == "-" || out.empty() || out == "-")
-      throw common::UsageError("-i and -o must name files");
+    if (png != "fast" && png != "default") throw common::UsageError("--png must be fast or default");
+    if (!raster_out.empty()) {  // the raster of the tile, no picture
+      if (in.empty() || in == "-" || raster_out == "-")
+        throw common::UsageError("-i and --raster-out must name files");
+      if (!(out.empty() || out == "-") || !raster_in.empty() || !src.detections.empty() ||
+          !src.truth.empty() || !src.score.empty() || !src.index.empty())
+        throw common::UsageError("--raster-out takes -i and --pixel / --size only");
+      topview::validate(p);
+      common::check_output(raster_out);
+      const formats::PointCloud scan =
+          formats::read_points(in, "topview", formats::FieldSelection::only({"x", "y", "z"}));
+      scan.require({"x", "y", "z"}, common::display_name(in), "is this a point cloud?");
+      const formats::HeightRaster r = topview::raster(scan, p);
+      formats::write_height_raster(r, raster_out);
+      common::log::info(std::to_string(r.width) + " x " + std::to_string(r.height) + " data pixels, " +
+                        std::to_string(r.pixel * 1000).substr(0, 6) + " mm a pixel, " +
+                        std::to_string(r.density).substr(0, 6) + " points/m2");
+      return;
+    }
+    const bool from_raster = !raster_in.empty();
+    if (from_raster && !(in.empty() || in == "-")) throw common::UsageError("give -i or --raster, not both");
+    if ((!from_raster && (in.empty() || in == "-")) || out.empty() || out == "-")
+      throw common::UsageError("-i (or --raster) and -o must name files");
     if (src.detections.empty()) throw common::UsageError("--detections is required");
     p.legend = !no_legend;
     topview::validate(p);
     if (!src.score.empty() && src.truth.empty()) throw common::UsageError("--score needs --truth");
     common::check_output(out);
     const topview::Footprints footprints = topview::read_footprints(src, p.tile);
-    // Only the coordinates: a LAS/LAZ tile's other fields are never made (issue 31).
-    const formats::PointCloud scan =
-        formats::read_points(in, "topview", formats::FieldSelection::only({"x", "y", "z"}));
-    scan.require({"x", "y", "z"}, common::display_name(in), "is this a point cloud?");
-    const topview::Image img = topview::render(scan, footprints, p);
-    common::write_file_atomic(out, topview::encode_png(img));
+    topview::Image img;
+    if (from_raster) {
+      img = topview::render(formats::read_height_raster(raster_in), footprints, p);
+    } else {
+      // Only the coordinates: a tile's other fields are never made (issue 31).
+      const formats::PointCloud scan =
+          formats::read_points(in, "topview", formats::FieldSelection::only({"x", "y", "z"}));
+      scan.require({"x", "y", "z"}, common::display_name(in), "is this a point cloud?");
+      img = topview::render(scan, footprints, p);
+    }
+    common::write_file_atomic(out, topview::encode_png(img, png == "fast"));
     common::log::info(std::to_string(img.width) + " x " + std::to_string(img.height) + " pixels (map " +
                       std::to_string(img.map_width) + " x " + std::to_string(img.map_height) + "), " +
                       std::to_string(img.pixel * 1000).substr(0, 6) + " mm a pixel, " +

@@ -231,6 +231,7 @@ bool fits(const Box& b, const Footprints& fp, bool legend, double data_pixel, in
   const double width = mw + panel.width, height = std::max<double>(mh, panel.height);
   if (width > kMaxSide || height > kMaxSide || width * height > static_cast<double>(kMaxPixels)) return false;
   img.pixel = data_pixel / zoom;
+  img.data_pixel = data_pixel;
   img.zoom = zoom;
   img.map_width = static_cast<int>(mw);
   img.map_height = static_cast<int>(mh);
@@ -244,18 +245,48 @@ bool fits(const Box& b, const Footprints& fp, bool legend, double data_pixel, in
 // no zoom. --pixel or the density's pixel: zoomed so that the map's longer side has about
 // kReadable pixels (at most 8 times); the zoom is lowered to keep the bound, then an automatic
 // data pixel is coarsened, a given one is refused.
-void size_picture(const Box& b, const Footprints& fp, const Params& p, Image& img) {
+// `raster` > 0: a height raster's data pixel, taken as it is (never coarsened: beyond the bound
+// an Error).
+// The data pixels' grid is anchored at the points' top-left corner (`points`; the whole box
+// when there is no finite point) and widened by whole data pixels to hold the footprints (`b`:
+// the points and the footprints), so that a height raster of the points alone (raster()) is
+// the same grid (docs/decisions/topview.md, "A raster for the tile workflow").
+void size_picture(const Box& points, const Box& b, const Footprints& fp, const Params& p, Image& img,
+                  double raster = 0) {
+  const Box& corner = points.x1 >= points.x0 && points.y1 >= points.y0 ? points : b;
+  auto anchored = [&corner, &b, &img](double data_pixel) {
+    const int kx = std::max(0, static_cast<int>(std::ceil((corner.x0 - b.x0) / data_pixel - 1e-9)));
+    const int ky = std::max(0, static_cast<int>(std::ceil((b.y1 - corner.y1) / data_pixel - 1e-9)));
+    Box a = b;
+    a.x0 = kx > 0 ? corner.x0 - kx * data_pixel : corner.x0;
+    a.y1 = ky > 0 ? corner.y1 + ky * data_pixel : corner.y1;
+    img.x0 = a.x0;
+    img.y1 = a.y1;
+    img.grid_x0 = corner.x0;
+    img.grid_y1 = corner.y1;
+    img.grid_col = kx;
+    img.grid_row = ky;
+    return a;
+  };
   constexpr double kReadable = 1000;
   const double longer = std::max({b.x1 - b.x0, b.y1 - b.y0, 1e-3});
   double data_pixel =
-      p.pixel > 0  ? p.pixel
-      : p.size > 0 ? longer / p.size
+      raster > 0    ? raster
+      : p.pixel > 0 ? p.pixel
+      : p.size > 0  ? longer / p.size
                    : std::clamp(std::round(100 * std::sqrt(2 / std::max(img.density, 1e-6))) / 100, 0.01, 2.0);
   for (;;) {
-    const int most =
-        p.size > 0 ? 1 : std::clamp(static_cast<int>(std::ceil(kReadable / (longer / data_pixel + 1))), 1, 8);
+    const int most = p.size > 0 && raster == 0
+                         ? 1
+                         : std::clamp(static_cast<int>(std::ceil(kReadable / (longer / data_pixel + 1))), 1, 8);
     for (int zoom = most; zoom >= 1; --zoom) {
-      if (fits(b, fp, p.legend, data_pixel, zoom, img)) return;
+      if (fits(anchored(data_pixel), fp, p.legend, data_pixel, zoom, img)) return;
+    }
+    if (raster > 0) {
+      throw common::Error("the height raster's " + std::to_string(data_pixel) +
+                          " m pixel makes a picture beyond the bound (" + std::to_string(kMaxSide) +
+                          " a side, " + std::to_string(kMaxPixels) +
+                          " in all with the legend): make the raster with a larger --pixel");
     }
     if (p.pixel > 0 || p.size > 0) {
       throw common::UsageError(
@@ -273,7 +304,7 @@ void size_picture(const Box& b, const Footprints& fp, const Params& p, Image& im
 
 // The highest height above ground per data pixel (kEmpty where no point), gaps filled; data
 // pixels are zoom x zoom map pixels.
-std::vector<float> heights(const formats::PointCloud& scan, const Grid& g, const Image& img) {
+std::vector<float> raw_heights(const formats::PointCloud& scan, const Grid& g, const Image& img) {
   const auto& xs = scan.col("x");
   const auto& ys = scan.col("y");
   const auto& zs = scan.col("z");
@@ -282,15 +313,29 @@ std::vector<float> heights(const formats::PointCloud& scan, const Grid& g, const
   std::vector<float> top(static_cast<std::size_t>(w) * h, kEmpty);
   for (std::size_t i = 0; i < scan.size(); ++i) {
     if (!finite_point(xs, ys, zs, i)) continue;
-    const int c = std::min(w - 1, static_cast<int>((xs[i] - img.x0) / dp));
-    const int r = std::min(h - 1, static_cast<int>((img.y1 - ys[i]) / dp));
+    const int c = std::min(w - 1, img.grid_col + static_cast<int>((xs[i] - img.grid_x0) / dp));
+    const int r = std::min(h - 1, img.grid_row + static_cast<int>((img.grid_y1 - ys[i]) / dp));
     float& t = top[static_cast<std::size_t>(r) * w + c];
     const auto z = static_cast<float>(zs[i] - g.bilinear(xs[i], ys[i]));
     if (std::isnan(t) || z > t) t = z;
   }
-  // Passes enough to close the gaps between points (spacing / pixel), at least 2, at most 8.
+  return top;
+}
+
+// Empty data pixels filled: passes enough to close the gaps between points (spacing / pixel),
+// at least 2, at most 8.
+void fill_heights(std::vector<float>& top, const Image& img) {
+  const int w = img.map_width / img.zoom, h = img.map_height / img.zoom;
+  const double dp = img.pixel * img.zoom;
   const double spacing = img.density > 0 ? 1 / std::sqrt(img.density) : dp;
   fill_gaps(top, w, h, std::clamp(static_cast<int>(std::ceil(spacing / dp)), 2, 8));
+}
+
+// The highest height above ground per data pixel (kEmpty where no point), gaps filled; data
+// pixels are zoom x zoom map pixels.
+std::vector<float> heights(const formats::PointCloud& scan, const Grid& g, const Image& img) {
+  std::vector<float> top = raw_heights(scan, g, img);
+  fill_heights(top, img);
   return top;
 }
 
@@ -409,9 +454,7 @@ Image render(const formats::PointCloud& scan, const Footprints& footprints, cons
   const Box& b = e.all;
   Image img;
   const Grid g = ground(scan, e.points, &img.density);
-  img.x0 = b.x0;
-  img.y1 = b.y1;
-  size_picture(b, footprints, params, img);
+  size_picture(e.points, b, footprints, params, img);
   img.rgb.assign(3 * static_cast<std::size_t>(img.width) * img.height, 250);
   paint(heights(scan, g, img), img);
   draw_outlines(footprints.shapes, img);
@@ -419,17 +462,75 @@ Image render(const formats::PointCloud& scan, const Footprints& footprints, cons
   return img;
 }
 
-std::string encode_png(const Image& image) {
+formats::HeightRaster raster(const formats::PointCloud& scan, const Params& params) {
+  validate(params);
+  const Extent e = extent(scan, {});
+  Image img;
+  const Grid g = ground(scan, e.points, &img.density);
+  size_picture(e.points, e.points, Footprints{}, params, img);
+  formats::HeightRaster r;
+  r.width = img.map_width / img.zoom;
+  r.height = img.map_height / img.zoom;
+  r.pixel = img.data_pixel;
+  r.x0 = img.x0;
+  r.y1 = img.y1;
+  r.box_x0 = e.points.x0;
+  r.box_y0 = e.points.y0;
+  r.box_x1 = e.points.x1;
+  r.box_y1 = e.points.y1;
+  r.density = img.density;
+  r.values = raw_heights(scan, g, img);
+  return r;
+}
+
+Image render(const formats::HeightRaster& r, const Footprints& footprints, const Params& params) {
+  validate(params);
+  if (params.pixel > 0 || params.size > 0)
+    throw common::UsageError("--pixel and --size are the raster's (topview --raster-out): not with --raster");
+  Box points;
+  points.add(r.box_x0, r.box_y0);
+  points.add(r.box_x1, r.box_y1);
+  Box b = points;
+  for (const Shape& s : footprints.shapes) {
+    for (const auto& p : s.ring) b.add(p[0], p[1]);
+  }
+  Image img;
+  img.density = r.density;
+  size_picture(points, b, footprints, params, img, r.pixel);
+  if (img.grid_x0 != r.x0 || img.grid_y1 != r.y1)
+    throw common::Error(
+        "the height raster's corner is not its points' top-left corner (not written by topview)");
+  // The raster's pixels where render() bins the points: shifted by the whole data pixels the
+  // footprints widened the map by (the highest where the map's edge clamps two together).
+  const int w = img.map_width / img.zoom, h = img.map_height / img.zoom;
+  std::vector<float> top(static_cast<std::size_t>(w) * h, kEmpty);
+  for (int row = 0; row < r.height; ++row) {
+    const int rr = std::min(h - 1, img.grid_row + row);
+    for (int col = 0; col < r.width; ++col) {
+      const float v = r.at(col, row);
+      if (std::isnan(v)) continue;
+      float& t = top[static_cast<std::size_t>(rr) * w + std::min(w - 1, img.grid_col + col)];
+      if (std::isnan(t) || v > t) t = v;
+    }
+  }
+  fill_heights(top, img);
+  img.rgb.assign(3 * static_cast<std::size_t>(img.width) * img.height, 250);
+  paint(top, img);
+  draw_outlines(footprints.shapes, img);
+  if (params.legend) draw_legend(img, footprints, text_scale(img.map_height));
+  return img;
+}
+
+std::string encode_png(const Image& image, bool fast) {
   png_image png;
   std::memset(&png, 0, sizeof png);
   png.version = PNG_IMAGE_VERSION;
   png.width = static_cast<png_uint_32>(image.width);
   png.height = static_cast<png_uint_32>(image.height);
   png.format = PNG_FORMAT_RGB;
-  png_alloc_size_t bytes = 0;
-  if (!png_image_write_to_memory(&png, nullptr, &bytes, 0, image.rgb.data(), 0, nullptr)) {
-    throw common::Error(std::string("PNG encoding failed: ") + png.message);
-  }
+  if (fast) png.flags |= PNG_IMAGE_FLAG_FAST;
+  // One pass into a buffer of libpng's bound (the default's size query compressed it twice).
+  png_alloc_size_t bytes = PNG_IMAGE_PNG_SIZE_MAX(png);
   std::string out(bytes, '\0');
   if (!png_image_write_to_memory(&png, out.data(), &bytes, 0, image.rgb.data(), 0, nullptr)) {
     throw common::Error(std::string("PNG encoding failed: ") + png.message);

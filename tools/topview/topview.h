@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "canopy/formats/height_raster.h"
 #include "canopy/formats/point_cloud.h"
 
 namespace canopy::topview {
@@ -79,8 +80,13 @@ struct Image {
   int map_width = 0, map_height = 0;  // the map: pixels [0, map_width) x [0, map_height)
   std::vector<std::uint8_t> rgb;      // row-major from the top (north) row, 3 bytes a pixel
   double x0 = 0, y1 = 0, pixel = 1;   // map: x of the left edge, y of the top edge, metres a map pixel
-  int zoom = 1;                       // map pixels a data pixel (one height value) along a side
-  double density = 0;                 // points per m² over the occupied 1 m cells
+  double data_pixel = 1;              // metres a data pixel (one height value)
+  // The data pixels' grid: anchored at (grid_x0, grid_y1), the points' top-left corner, which is
+  // the corner of data pixel (grid_col, grid_row) (whole data pixels added for footprints).
+  double grid_x0 = 0, grid_y1 = 0;
+  int grid_col = 0, grid_row = 0;
+  int zoom = 1;        // map pixels a data pixel (one height value) along a side
+  double density = 0;  // points per m² over the occupied 1 m cells
   // The scale bar: `bar_metres` long, pixels [bar_col, bar_col + bar_pixels) of row bar_row.
   double bar_metres = 0;
   int bar_col = 0, bar_row = 0, bar_pixels = 0;
@@ -142,10 +148,25 @@ Footprints read_footprints(const Sources& sources, int tile);
 // the mean of their filled neighbours (spacing / pixel passes, 2 to 8).
 Image render(const formats::PointCloud& scan, const Footprints& footprints, const Params& params);
 
+// The heights of render() before the gaps are filled, from the points alone (no footprint):
+// the data pixel and grid render() picks when no footprint reaches beyond the points' box
+// (--pixel / --size as there), the data pixels' highest height above ground (NaN: no point),
+// the points' box and density (topview --raster-out; docs/decisions/topview.md "A raster
+// for the tile workflow"). Error when there is no finite point.
+formats::HeightRaster raster(const formats::PointCloud& scan, const Params& params);
+// The picture from such a raster: the same as render() on its points when every footprint
+// lies within the points' box and the zoom is the same (the same bytes: tested). A footprint
+// beyond widens the map as render() does, and each raster pixel goes to the data pixel that
+// holds its centre. --pixel / --size: UsageError (the raster's); beyond the bound: Error.
+Image render(const formats::HeightRaster& raster, const Footprints& footprints, const Params& params);
+
 // The legend (drawn by render into the panel right of the map); exposed for the tests.
 bool glyph_ink(char c, int col, int row);  // the 5 x 7 font (9 rows with descenders): ink at (col, row)?
 inline constexpr int kGlyphWidth = 5, kGlyphHeight = 9;
 
-std::string encode_png(const Image& image);
+// The PNG file of the picture. fast: libpng's PNG_IMAGE_FLAG_FAST (no filter search, a quicker
+// deflate; on the 1 ha scene tile's 4263 x 3335 picture 7x quicker and 5% smaller); false:
+// libpng's defaults, the encoding before (docs/decisions/topview.md §11). The same pixels.
+std::string encode_png(const Image& image, bool fast = true);
 
 }  // namespace canopy::topview

@@ -14,6 +14,10 @@
 namespace canopy::formats {
 
 PointCloud read_pcd(const std::string& path);
+// The same, keeping only the fields in `fields` that the file has. DATA binary from a regular
+// file is read in chunks and makes only those columns (when x, y and z are among them: the
+// coordinates are always checked); otherwise the file is read whole and the others dropped.
+PointCloud read_pcd(const std::string& path, const FieldSelection& fields);
 // Parses an in-memory PCD file; `name` is used in error messages.
 PointCloud parse_pcd(const std::string& bytes, const std::string& name);
 

@@ -23,8 +23,8 @@ const char* format_name(PointFormat f);
 // in messages are escaped, so a NUL cannot cut a message short.
 PointCloud read_points(const std::string& path, const std::string& tool = "");
 // The same, keeping only the fields in `fields` that the file has (the caller's require() says
-// which are missing). LAS and LAZ make only those columns (memory and time of the others saved);
-// PCD and PLY are read whole and the other columns dropped.
+// which are missing). LAS, LAZ and a DATA binary PCD file make only those columns (memory and
+// time of the others saved); other PCD and PLY are read whole and the other columns dropped.
 PointCloud read_points(const std::string& path, const std::string& tool, const FieldSelection& fields);
 PointCloud parse_points(const std::string& bytes, const std::string& name, const std::string& tool = "");
 
