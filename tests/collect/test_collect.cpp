@@ -838,3 +838,151 @@ TEST_CASE("collect --plan: the density rule's options for the model-level candid
   REQUIRE(test::sh(cmd + " --model-density 50", dir / "err.txt", &err) == 0);
   CHECK_THAT(read_text(dir / "cands.mk"), Catch::Contains("TILE_FITVOX_c0002 := --voxel 247mm\n"));
 }
+
+namespace {
+
+// A verdict of collect's own (collect::Verdict) for candidate `id`: a model, a class or none.
+collect::Verdict answer(const std::string& id, const std::string& level, const std::string& model,
+                        const std::string& cls, double confidence, const std::string& reason = "") {
+  collect::Verdict v;
+  v.name = id + "/" + (level == "class" ? "class.json" : "verdict.json");
+  v.candidate = id + "/samples.pcd";
+  v.level = level;
+  v.model = model;
+  v.cls = cls;
+  v.confidence = confidence;
+  v.reason = reason;
+  if (!model.empty() || !cls.empty())
+    v.pose_tile = collect::Matrix{1, 0, 0, E, 0, 1, 0, N, 0, 0, 1, 0, 0, 0, 0, 1};
+  return v;
+}
+
+// The detections document without its confidences: what the calibration must not change.
+Json without_confidences(Json d) {
+  for (auto* list : {&d["detections"], &d["rejected"]}) {
+    for (auto& x : *list) x.erase("confidence");
+  }
+  return d;
+}
+
+const char* const kCalibrationIni =
+    "; a test calibration\n"
+    "model-bias = 1\nmodel-slope = 2\n"
+    "class-bias = 2   # comment\nclass-slope = 1\n"
+    "none-bias = -0.5\nnone-slope = 0.5\n"
+    "\n"
+    "none-class-bias = 0.3\nnone-class-slope = 1.5\n";
+
+}  // namespace
+
+TEST_CASE(
+    "collect --calibration: each level's stated confidence through its own Platt map, answers unchanged") {
+  // p' = logistic(bias + slope ln(p / (1 - p))), by hand: model (1, 2) at 0.9: logistic(1 + 2 ln 9) =
+  // 0.99547881; none (-0.5, 0.5) at 0.6: 0.42622561; none-class (0.3, 1.5) at 0.25: 0.20621089;
+  // class (2, 1) at 0.7: 0.94517884.
+  const collect::Calibration cal = collect::parse_calibration(kCalibrationIni, "cal.ini");
+  CHECK(cal.name == "cal.ini");
+  CHECK(cal.model.bias == 1);
+  CHECK(cal.model.slope == 2);
+  CHECK(cal.none_class.slope == 1.5);
+  CHECK(collect::calibrated(cal.model, 0.9) == Approx(0.99547881).epsilon(1e-7));
+  CHECK(collect::calibrated(cal.none, 0.6) == Approx(0.42622561).epsilon(1e-7));
+  CHECK(collect::calibrated(cal.none_class, 0.25) == Approx(0.20621089).epsilon(1e-7));
+  CHECK(collect::calibrated(cal.cls, 0.7) == Approx(0.94517884).epsilon(1e-7));
+  CHECK(collect::calibrated(collect::PlattMap{}, 0.123) == 0.123);  // the identity is exact
+  CHECK(collect::calibrated(cal.none, 1.0) < 1.0);  // p clamped: finite, below 1 where the map says so
+  CHECK(collect::calibrated(cal.none, 0.0) > 0.0);
+
+  collect::Inputs in;
+  in.index.name = "idx.json";
+  for (const char* id : {"c1", "c2", "c3", "c4"}) {
+    collect::Candidate c;
+    c.id = id;
+    c.transform = {1, 0, 0, E, 0, 1, 0, N, 0, 0, 1, 0, 0, 0, 0, 1};
+    in.index.candidates.push_back(c);
+  }
+  in.provenance = {"collect", "9.9", {}, {"idx.json"}};
+  in.answers = {
+      // c1: verify's model answer (classify's class beside it is not the answer).
+      {answer("c1", "", "sedan", "car", 0.9), answer("c1", "class", "", "car", 0.4)},
+      // c2: both levels said none: verify's none confidence through the none map.
+      {answer("c2", "", "", "", 0.6), answer("c2", "class", "", "", 0.999, "not_vehicle_shape")},
+      // c3: the model chain did not run; classify's none through the none-class map.
+      {collect::absent_verdict("c3/verdict.json"), answer("c3", "class", "", "", 0.25, "not_vehicle_shape")},
+      // c4: the model chain said none, classify a class: the class map.
+      {answer("c4", "", "", "", 0.3), answer("c4", "class", "", "hatchback", 0.7)}};
+  collect::Params p;
+  const Json before = Json::parse(collect::run(p, in).detections);
+  p.calibration = cal;
+  const Json after = Json::parse(collect::run(p, in).detections);
+  REQUIRE(after["detections"].size() == 2);
+  REQUIRE(after["rejected"].size() == 2);
+  CHECK(after["detections"][0]["candidate"] == "c1");
+  CHECK(after["detections"][0]["confidence"].get<double>() == Approx(0.99547881).epsilon(1e-7));
+  CHECK(after["detections"][1]["candidate"] == "c4");
+  CHECK(after["detections"][1]["confidence"].get<double>() == Approx(0.94517884).epsilon(1e-7));
+  CHECK(after["rejected"][0]["candidate"] == "c2");
+  CHECK(after["rejected"][0]["confidence"].get<double>() == Approx(0.42622561).epsilon(1e-7));
+  CHECK(after["rejected"][1]["candidate"] == "c3");
+  CHECK(after["rejected"][1]["confidence"].get<double>() == Approx(0.20621089).epsilon(1e-7));
+  // Without a calibration (the ablation): each level's own confidence, as before.
+  CHECK(before["detections"][0]["confidence"] == 0.9);
+  CHECK(before["detections"][1]["confidence"] == 0.7);
+  CHECK(before["rejected"][0]["confidence"] == 0.6);
+  CHECK(before["rejected"][1]["confidence"] == 0.25);
+  // Only the confidences differ: the same answers, levels, poses, reasons.
+  CHECK(without_confidences(before) == without_confidences(after));
+  // A doubtful model answer that gives way to a contradicting class (--contradicted-below) is
+  // decided on verify's own confidence, then states the class map's.
+  in.answers = {{answer("c1", "", "sedan", "car", 0.45), answer("c1", "class", "", "truck", 0.7)}};
+  in.index.candidates.resize(1);
+  const Json way = Json::parse(collect::run(p, in).detections);
+  CHECK(way["detections"][0]["class"] == "truck");
+  CHECK(way["detections"][0]["confidence"].get<double>() == Approx(0.94517884).epsilon(1e-7));
+}
+
+TEST_CASE("collect --calibration: the file on the command line; a bad one is named, nothing is written") {
+  const fs::path dir = tile("calibration");
+  const fs::path cands = dir / "cands";
+  const fs::path ini = dir / "cal.ini";
+  write(ini, kCalibrationIni);
+  std::string err;
+  const std::string cmd = bin() + " -i " + (cands / "index.json").string() + " -o " + (dir / "d.json").string();
+  REQUIRE(test::sh(cmd, dir / "err.txt", &err) == 0);
+  const Json plain = read_json(dir / "d.json");
+  CHECK(plain["detections"][0]["confidence"] == 0.9);  // no --calibration: as verify stated it
+  REQUIRE(test::sh(cmd + " --calibration " + ini.string(), dir / "err.txt", &err) == 0);
+  const Json d = read_json(dir / "d.json");
+  CHECK(d["detections"][0]["confidence"].get<double>() == Approx(0.99547881).epsilon(1e-7));  // sedan 0.9
+  CHECK(d["rejected"][0]["confidence"].get<double>() ==
+        Approx(1 / (1 + std::exp(0.5 - 0.5 * std::log(0.7 / 0.3)))).epsilon(1e-9));  // none 0.7
+  CHECK(d["provenance"]["inputs"].back() == ini.string());
+  CHECK(without_confidences(d)["detections"] == without_confidences(plain)["detections"]);
+  // The shipped calibration parses.
+  REQUIRE(test::sh(cmd + " --calibration " + std::string(CANOPY_SOURCE_DIR) + "/share/params/calibration.ini",
+                   dir / "err.txt", &err) == 0);
+  // Bad files: exit 1, the file and the line named, the output untouched.
+  fs::remove(dir / "d.json");
+  const std::vector<std::pair<std::string, std::string>> bad{
+      {"model-bias = 1\nmodel-sloop = 2\n", "line 2: unknown key \"model-sloop\""},
+      {"model-bias = one\n", "line 1: model-bias = one is not a decimal number"},
+      {"model-bias = 1\nmodel-bias = 2\n", "line 2: model-bias is given twice"},
+      {"model-bias 1\n", "line 1: not `key = value`"},
+      {"model-bias = 0\nmodel-slope = 1\n", "has no class-bias"},
+      {std::string(kCalibrationIni)
+           .replace(std::string(kCalibrationIni).find("none-slope = 0.5"), 16, "none-slope = 0"),
+       "none-slope = 0 must be > 0"}};
+  for (const auto& [text, message] : bad) {
+    write(ini, text);
+    CHECK(test::sh(cmd + " --calibration " + ini.string(), dir / "err.txt", &err) == 1);
+    CHECK_THAT(err, Catch::Contains(ini.string() + ": ") && Catch::Contains(message));
+    CHECK_FALSE(fs::exists(dir / "d.json"));
+  }
+  CHECK(test::sh(cmd + " --calibration " + (dir / "nope.ini").string(), dir / "err.txt", &err) == 1);
+  CHECK_THAT(err, Catch::Contains((dir / "nope.ini").string()));
+  // Not with the size-only ablation (its confidences are none of canopy's levels').
+  write(ini, kCalibrationIni);
+  CHECK(test::sh(cmd + " --size-only --modelbase " + dir.string() + " --calibration " + ini.string(),
+                 dir / "err.txt", &err) == 2);
+  CHECK_THAT(err, Catch::Contains("--calibration"));
+}

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <cstdio>
 #include <filesystem>
 #include <regex>
@@ -231,14 +232,15 @@ Placement place(const Candidate& c, const Verdict& v, const Params& params) {
 
 // The detection's entry in detections.json: model level (the model chain's verdict names a
 // model) or class level (classify's answer names a class; "model": null).
-documents::DetectionRecord detection_of(const Candidate& c, const Verdict& v, const Placement& p) {
+documents::DetectionRecord detection_of(const Candidate& c, const Verdict& v, const Placement& p,
+                                        const PlattMap& calibration) {
   documents::DetectionRecord d;
   d.candidate = c.id;
   d.model_level = !v.model.empty();
   d.model = v.model;
   d.cls = v.cls;
   d.group = v.group;
-  d.confidence = v.confidence;
+  d.confidence = calibrated(calibration, v.confidence);
   d.matrix = p.m;
   d.euler = p.e;
   if (v.heading_ambiguity) d.heading_ambiguity = *v.heading_ambiguity;
@@ -252,7 +254,8 @@ documents::DetectionRecord detection_of(const Candidate& c, const Verdict& v, co
 
 // The rejection of a candidate no level answered: classify's reason when it answered, else
 // the model chain's none or failure.
-documents::RejectionRecord rejection_of(const Candidate& c, const Answers& a, std::string& reason) {
+documents::RejectionRecord rejection_of(const Candidate& c, const Answers& a, const Calibration& calibration,
+                                        std::string& reason) {
   const Verdict& k = a.cls;
   const Verdict& v = a.model;
   const bool classified = k.present && !k.failed;
@@ -268,12 +271,15 @@ documents::RejectionRecord rejection_of(const Candidate& c, const Answers& a, st
     // classify's confidence is a confidence in its none only when it decided one: too_sparse
     // decides nothing (confidence 0), and a class answer left without a detection (no pose, or
     // --size-only's gate) is a confidence in the class (score's reliability of none reads it).
-    if (k.cls.empty() && k.reason != "too_sparse") r.confidence = k.confidence;
+    if (k.cls.empty() && k.reason != "too_sparse")
+      r.confidence = calibrated(calibration.none_class, k.confidence);
     // Both levels said none: verify's confidence in its none is the probability that no vehicle
     // stands at the candidate, fitted on tile candidates for exactly this (docs/decisions/
     // verify.md §15); classify's none, fitted on its own gates, stated ~0.999 and was right
-    // 88% of the time on development tiles.
-    if (k.cls.empty() && v.present && !v.failed && v.model.empty()) r.confidence = v.confidence;
+    // 88% of the time on development tiles. Calibrated for the rejections of both levels
+    // (verify.md §16: verify's fit counts a vehicle classify then finds as "a vehicle is there").
+    if (k.cls.empty() && v.present && !v.failed && v.model.empty())
+      r.confidence = calibrated(calibration.none, v.confidence);
     r.density = k.density ? k.density : c.density;
     r.has_density_needed = k.density_class || k.density_model;
     r.density_class = k.density_class;
@@ -285,7 +291,7 @@ documents::RejectionRecord rejection_of(const Candidate& c, const Answers& a, st
     r.detail = reason != "failed" ? "the model chain found no model of the modelbase"
                : v.present        ? "a stage of the model chain failed (see the candidate's .log files)"
                                   : "classify failed (see the candidate's class.json.log)";
-    if (!(reason == "failed" || !v.present)) r.confidence = v.confidence;
+    if (!(reason == "failed" || !v.present)) r.confidence = calibrated(calibration.none, v.confidence);
     r.density = c.density;
     r.verdict = v.present ? v.name : k.name;
   }
@@ -398,6 +404,65 @@ void validate(const Params& params) {
   }
 }
 
+double calibrated(const PlattMap& map, double p) {
+  if (map.bias == 0 && map.slope == 1) return p;
+  const double q = std::clamp(p, 1e-9, 1 - 1e-9);
+  return 1 / (1 + std::exp(-(map.bias + map.slope * std::log(q / (1 - q)))));
+}
+
+Calibration parse_calibration(const std::string& text, const std::string& name) {
+  Calibration cal;
+  cal.name = name;
+  std::map<std::string, double*> slot{{"model-bias", &cal.model.bias},
+                                      {"model-slope", &cal.model.slope},
+                                      {"class-bias", &cal.cls.bias},
+                                      {"class-slope", &cal.cls.slope},
+                                      {"none-bias", &cal.none.bias},
+                                      {"none-slope", &cal.none.slope},
+                                      {"none-class-bias", &cal.none_class.bias},
+                                      {"none-class-slope", &cal.none_class.slope}};
+  std::set<std::string> seen;
+  std::size_t line_no = 0, pos = 0;
+  while (pos <= text.size()) {
+    const std::size_t end = std::min(text.find('\n', pos), text.size());
+    std::string line = text.substr(pos, end - pos);
+    pos = end + 1;
+    ++line_no;
+    const std::string where = "line " + std::to_string(line_no) + ": ";
+    line = line.substr(0, line.find_first_of(";#"));
+    auto trim = [](std::string t) {
+      const auto a = t.find_first_not_of(" \t\r");
+      if (a == std::string::npos) return std::string();
+      return t.substr(a, t.find_last_not_of(" \t\r") - a + 1);
+    };
+    line = trim(line);
+    if (line.empty()) continue;
+    const std::size_t eq = line.find('=');
+    if (eq == std::string::npos) throw common::DataError(name, where + "not `key = value`: " + line);
+    const std::string key = trim(line.substr(0, eq)), value = trim(line.substr(eq + 1));
+    const auto it = slot.find(key);
+    if (it == slot.end()) {
+      std::string keys;
+      for (const char* k : kCalibrationKeys) keys += std::string(keys.empty() ? "" : ", ") + k;
+      throw common::DataError(name, where + "unknown key \"" + key + "\" (the keys: " + keys + ")");
+    }
+    if (!seen.insert(key).second) throw common::DataError(name, where + key + " is given twice");
+    if (!std::regex_match(value, std::regex("[-+]?([0-9]+\\.?[0-9]*|\\.[0-9]+)([eE][-+]?[0-9]+)?")))
+      throw common::DataError(name, where + key + " = " + value + " is not a decimal number");
+    const double x = std::stod(value);
+    if (!std::isfinite(x) || std::fabs(x) > 1e3)
+      throw common::DataError(name, where + key + " = " + value + " is out of range (|value| <= 1000)");
+    if (key.size() > 6 && key.compare(key.size() - 6, 6, "-slope") == 0 && !(x > 0))
+      throw common::DataError(name, where + key + " = " + value +
+                                        " must be > 0 (a calibration never reorders one level's answers)");
+    *it->second = x;
+  }
+  for (const char* k : kCalibrationKeys) {
+    if (!seen.count(k)) throw common::DataError(name, std::string("has no ") + k + " (every key is needed)");
+  }
+  return cal;
+}
+
 namespace {
 std::array<double, 3> box_size(const ModelBox& b) {
   const double lx = b.x1 - b.x0, ly = b.y1 - b.y0;
@@ -501,10 +566,17 @@ Outputs collect(const Index& index, const std::vector<Answers>& answers, const P
     }
     if (found) {
       ++out.found;
-      doc.detections.push_back(detection_of(c, *found, place(c, *found, params)));
+      // The stated confidence calibrated for the level that answered (the size-only ablation's
+      // answers are none of canopy's levels: as they are).
+      const PlattMap identity;
+      const PlattMap& map = params.size_only ? identity
+                            : found == &v    ? params.calibration.model
+                                             : params.calibration.cls;
+      doc.detections.push_back(detection_of(c, *found, place(c, *found, params), map));
       continue;
     }
-    doc.rejected.push_back(rejection_of(c, answers[i], reasons[i]));
+    doc.rejected.push_back(
+        rejection_of(c, answers[i], params.size_only ? Calibration{} : params.calibration, reasons[i]));
     ++out.by_reason[reasons[i]];
     // v1's counts: a failed model chain with no class answer, else a "none" (someone looked).
     if (reasons[i] == "failed") {

@@ -75,6 +75,31 @@ struct ModelBox {
   double x0 = 0, x1 = 0, y0 = 0, y1 = 0, z1 = 0;
 };
 
+// The calibration of the confidence a final answer states (issue 29; docs/decisions/verify.md
+// §16): p' = logistic(bias + slope * logit(p)) (Platt scaling) of the confidence the answering
+// level gave, per source: verify's model answer, classify's class answer, verify's none where
+// both levels rejected (or classify did not answer), classify's none where the model chain did
+// not run. The identity (bias 0, slope 1) states the level's own confidence.
+struct PlattMap {
+  double bias = 0, slope = 1;
+};
+struct Calibration {
+  std::string name;  // the file it was read from; "" = none (every answer states its level's own
+                     // confidence, as before issue 29's §16: the ablation)
+  PlattMap model, cls, none, none_class;
+};
+// The calibration file (formats/README.md "Confidence calibration"): `key = value` lines (';'
+// or '#' starts a comment), every key of kCalibrationKeys exactly once, values decimal numbers,
+// slopes > 0 (a calibration never reorders one level's answers). DataError naming the file
+// (and the line) otherwise.
+Calibration parse_calibration(const std::string& text, const std::string& name);
+// The keys of the calibration file, in the order they are read.
+inline constexpr const char* kCalibrationKeys[] = {"model-bias",      "model-slope",     "class-bias",
+                                                   "class-slope",     "none-bias",       "none-slope",
+                                                   "none-class-bias", "none-class-slope"};
+// logistic(bias + slope * logit(p)), p clamped to [1e-9, 1 - 1e-9]; p itself for the identity.
+double calibrated(const PlattMap& map, double p);
+
 struct Params {
   std::string crs;                        // "EPSG:<code>" or ""
   std::map<std::string, ModelBox> boxes;  // by model name; a model without one uses the candidate footprint
@@ -94,6 +119,9 @@ struct Params {
   // model is more likely wrong than right, and the class level says what else it is. 0 = off
   // (the model answer always first, as before). docs/decisions/open-set.md "Sixth round".
   double contradicted_below = 0.5;
+  // The stated confidences of the final answers (never which answer is given: applied after
+  // every decision above). Empty name: none. Not applied to --size-only's answers.
+  Calibration calibration;
 };
 
 // Whether classify's class answer k contradicts verify's model answer v: v names a model of a

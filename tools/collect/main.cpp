@@ -55,7 +55,7 @@ collect::ModelBox model_box(const std::string& path, bool need_height) {
 // The command line: the index, the outputs, where the verdicts and modelbase are.
 struct Options {
   std::string in, out = "-", plan, key = "TILE", verdicts, name = "verdict.json", class_name = "class.json",
-                  geojson, crs, modelbase;
+                  geojson, crs, modelbase, calibration;
   double model_density = collect::kModelDensity;
   bool size_only = false, no_density_scale = false;
   double size_gate = 0.25;
@@ -99,6 +99,10 @@ void bind(common::Tool& tool, Options& o) {
            "a model answer whose confidence is below this, and whose class classify's class "
            "answer contradicts (neither its class nor its group), gives way to classify's "
            "answer (0 = off: the model answer first)");
+  tool.add("--calibration", &o.calibration,
+           "file of the Platt maps that calibrate the confidence each final answer states, per level "
+           "(share/params/calibration.ini; docs/decisions/verify.md §16); \"\" (the default) = "
+           "each level's own confidence as it stated it");
   tool.add("--size-gate", &o.size_gate,
            "--size-only: the largest relative difference of length, width or height from the "
            "nearest model's that is still that model");
@@ -229,6 +233,11 @@ int main(int argc, char** argv) {
     if (!(o.contradicted_below >= 0 && o.contradicted_below <= 1))
       throw common::UsageError("--contradicted-below must be in [0, 1]");
     p.contradicted_below = o.contradicted_below;
+    if (!o.calibration.empty()) {
+      if (o.size_only) throw common::UsageError("--calibration is canopy's levels': not with --size-only");
+      p.calibration = collect::parse_calibration(common::read_file(o.calibration), o.calibration);
+      in.provenance.inputs.push_back(o.calibration);
+    }
     if (!o.modelbase.empty())
       p.boxes = read_boxes(o.modelbase, in.answers, in.provenance.inputs, o.size_only);
     const collect::Outputs r = collect::run(p, in);
