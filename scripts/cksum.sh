@@ -3,7 +3,9 @@
 # `printf '%s' TEXT | cksum` prints it first, in bash alone: the experiment's seeds and the scene
 # recipes' vehicle counts and clutter kinds (Makefile.experiments `seed`, mk/scenes.mk). One
 # process instead of the three of a shell pipe (bash, its subshell, cksum), each ≈ 8 ms of CPU on
-# the experiment machine (docs/decisions/cost.md §18). --mod N: the CRC modulo N, plus A.
+# the experiment machine (docs/decisions/cost.md §18): make's $(shell) always starts a bash, which
+# sources this file (`. scripts/cksum.sh KEY`) rather than starting a second bash for it. --mod N:
+# the CRC modulo N, plus A.
 LC_ALL=C
 mod=0 add=0
 while :; do

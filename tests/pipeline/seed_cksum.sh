@@ -23,6 +23,9 @@ for k in "vehicles/light/1" "clutter/medium/5"; do
   crc=$(printf '%s' "$k" | cksum | cut -d' ' -f1)
   [ "$("$ck" --mod 6 --add 3 "$k")" = $((3 + crc % 6)) ] || fail "--mod 6 --add 3 '$k' is not $((3 + crc % 6))"
 done
+# sourced, as make's $(shell) runs it (Makefile.experiments `seed`)
+[ "$(cd "$src" && bash -c ". scripts/cksum.sh 'scenes/light/101/0'")" = "$(printf '%s' 'scenes/light/101/0' | cksum | cut -d' ' -f1)" ] ||
+  fail "sourced, cksum.sh gives another number"
 rc=0; "$ck" 2>/dev/null || rc=$?
 [ $rc -eq 2 ] || fail "no text gave status $rc, not 2"
 echo "ok: seed cksum"
