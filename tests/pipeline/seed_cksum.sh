@@ -13,7 +13,7 @@ ck="$src/scripts/cksum.sh"
 [ "$("$ck" 'tank/circle')" = "$(printf '%s' 'tank/circle' | cksum | cut -d' ' -f1)" ] || fail "tank/circle differs from cksum"
 long=$(printf 'x%.0s' $(seq 300))
 keys=("scenes/light/101/0" "clutter/dense/7" "vehicles/medium/3" "sedan/unoccluded/0" "$long" $'\xc3\xbcn\xc3\xaf' "a b" "it's")
-for i in $(seq 40); do keys+=("$(head -c $((i * 7)) /dev/urandom | tr -d '\0\n')"); done
+for i in $(seq 15); do keys+=("$(head -c $((i * 7)) /dev/urandom | tr -d '\0\n')"); done
 for k in "${keys[@]}"; do
   want=$(printf '%s' "$k" | cksum | cut -d' ' -f1)
   [ "$("$ck" "$k")" = "$want" ] || fail "cksum.sh '$k' gives $("$ck" "$k"), cksum $want"
