@@ -338,14 +338,14 @@ endif
 # six in one 30 m tile of 3 - 8 vehicles leave no room). SCENE_CLUTTER="boulder 2 container 1
 # logs 1" is the ablation value: the seen kinds alone, the recipe before issue 29.
 SCENE_CLUTTER ?= boulder 2 container 1 logs 1 $(call scene_unseen,$(1)/$(2))
-scene_unseen = $(subst _, ,$(word $(shell printf '%s' 'clutter/$(1)' | cksum | awk '{ print 1 + $$1 % 3 }'),\
+scene_unseen = $(subst _, ,$(word $(shell . scripts/cksum.sh --mod 3 --add 1 'clutter/$(1)'),\
   trailer_1_rock_1 caravan_1_tent_1 pipes_1_barriers_1))
 # Vehicles per tile: SCENE_VEHICLES, else 3 - 8 from the seed.
 SCENE_VEHICLES ?=
 # The pictures per cover level show the first SCENE_PICTURE_COLS tiles at every noise level.
 SCENE_PICTURE_COLS ?= 4
 SCENE_TOPVIEW_SIZE ?= 512
-scene_vehicles = $(or $(SCENE_VEHICLES),$(shell printf '%s' 'vehicles/$(1)' | cksum | awk '{ print 3 + $$1 % 6 }'))
+scene_vehicles = $(or $(SCENE_VEHICLES),$(shell . scripts/cksum.sh --mod 6 --add 3 'vehicles/$(1)'))
 SCENE_DIR := $(OUT)/scenes
 SCENE_RES := $(RES)/scenes
 SCENE_SCORE := $(SCENE_RES)/score.json

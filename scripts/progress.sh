@@ -15,14 +15,15 @@
 #                                counts its classify:… stages only.
 #   progress.sh add STATE MARK   stdin: a dry run of a sub-make about to run (a real tile's
 #                                workflow, mk/real.mk): its stages join M and E, counted as plan
-#                                counts them; MARK is touched (the sub-make's start). Prints the
+#                                counts them; MARK is written (the sub-make's start: the number
+#                                of stages counted so far, the lines of STATE-counted). Prints the
 #                                number added.
 #   progress.sh drop STATE MARK  stdin: a dry run of the same sub-make after it stopped early (a
 #                                real tile timed out or refused): the stages it still shows will
 #                                not run in this make, so they leave M and E (never below N, D);
-#                                except those that ran since MARK and were counted, failing (an
-#                                ARTIFACT.log newer than MARK and no ARTIFACT.time.tmp, which a
-#                                stage killed by the time box leaves).
+#                                except those that ran since MARK and were counted, failing
+#                                (listed in STATE-counted after MARK's count: stage.sh lists
+#                                every stage it counts; one the time box killed is not listed).
 #   progress.sh key ARTIFACT COMMAND...   prints the kind of a stage (see below).
 #
 # Known work only: a tile's candidates are not known before its detect has run, so the dry run
@@ -101,7 +102,11 @@ case "$mode" in
       [ -f "$state" ] || exit 0
       exec 9>>"$state.lock"
       flock 9
-      [ "$mode" != add ] || [ -z "$mark" ] || : >"$mark"
+      if [ "$mode" = add ] && [ -n "$mark" ]; then
+        counted=0
+        [ ! -f "$state-counted" ] || counted=$(wc -l <"$state-counted")
+        echo "$counted" >"$mark"
+      fi
     fi
     awk -v mode="$mode" -v state="$state" -v mark="$mark" -v now="$(date +%s.%N)" "$kind_awk"'
       /^built / { print > "/dev/stderr"; next }
@@ -130,12 +135,20 @@ case "$mode" in
           }
           if (default_est == "") default_est = 1
         }
+        if (mode == "drop" && mark != "") {
+          # the stages counted since MARK: the lines of STATE-counted after the count MARK holds
+          skip = 0
+          if ((getline line < mark) > 0 && line ~ /^[0-9]+$/) skip = line + 0
+          close(mark)
+          c = 0
+          while ((getline line < (state "-counted")) > 0) if (++c > skip) counted[line] = 1
+          close(state "-counted")
+        }
         m = 0; e = 0
         for (i = 1; i <= n; i++) {
           d = art[i]
           if (sub(/\/cands\/[^\/]+\/[^\/]+$/, "", d) && (d in replanned)) continue
-          if (mode == "drop" && mark != "" && system("test -f \"" art[i] ".log\" -a ! -e \"" art[i] ".time.tmp\" -a \"" \
-                                                      art[i] ".log\" -nt \"" mark "\"") == 0) continue
+          if (mode == "drop" && mark != "" && (art[i] in counted)) continue
           s = earlier(art[i])
           e += s >= 0 ? s : estimate(k[i])
           m++
@@ -144,6 +157,7 @@ case "$mode" in
           printf "0 %d 0 %.3f %s\n", m, e, now > state
           for (x in est) printf "%s %.3f\n", x, est[x] > (state "-est")
           printf "* %.3f\n", default_est > (state "-est")
+          printf "" > (state "-counted")
         } else {
           if ((getline line < state) <= 0 || split(line, f, " ") < 5) exit
           close(state)
@@ -161,19 +175,28 @@ case "$mode" in
   extend)
     state=$2 plan=$3; shift 3
     [ -f "$state" ] || exit 0
-    dir=$(dirname "$plan")
-    cands=$(sed -n 's/^[A-Za-z0-9_]*_CANDS :=//p' "$plan")
+    # (bash reads the plan and one awk under the lock does the rest: this runs once per run of
+    # a tile, ≈ 250 times in `all`, and every process costs ≈ 8 ms of CPU; cost.md §18)
+    dir=.
+    case "$plan" in */*) dir=${plan%/*} ;; esac
+    # the candidates, and those the plan keeps at the class level (<key>_LEVEL_<id> := class),
+    # which run classify only; the others every KEY
+    cands="" classonly=""
+    while IFS= read -r line || [ -n "$line" ]; do
+      if [[ $line =~ ^[A-Za-z0-9_]*_CANDS\ :=(.*)$ ]]; then cands+=" ${BASH_REMATCH[1]}"
+      elif [[ $line =~ ^[A-Za-z0-9_]*_LEVEL_([A-Za-z0-9]*)\ :=\ class$ ]]; then classonly+="${BASH_REMATCH[1]} "; fi
+    done <"$plan"
     [ -n "${cands// /}" ] || exit 0
-    # Candidates the plan keeps at the class level (<key>_LEVEL_<id> := class) run classify
-    # only; the others every KEY.
-    classonly=$(sed -n 's/^[A-Za-z0-9_]*_LEVEL_\([A-Za-z0-9]*\) := class$/\1/p' "$plan" | tr '\n' ' ')
     {
       flock 9
-      read -r n m d e t0 <"$state" || exit 0
-      add=$(printf '%s\n' "$@" | awk -v state="$state" -v dir="$dir" -v cands="$cands" -v classonly="$classonly" "$kind_awk"'
-        BEGIN { while ((getline line < (state "-est")) > 0) { split(line, f, " "); if (f[1] == "*") default_est = f[2]; else est[f[1]] = f[2] } }
-        { keys[++nk] = $0 }
-        END {
+      printf -v keys '%s\n' "$@"
+      keys=${keys%$'\n'}
+      awk -v state="$state" -v dir="$dir" -v cands="$cands" -v classonly="$classonly" -v keylist="$keys" "$kind_awk"'
+        BEGIN {
+          if ((getline line < state) <= 0 || split(line, st, " ") < 5) exit
+          close(state)
+          while ((getline line < (state "-est")) > 0) { split(line, f, " "); if (f[1] == "*") default_est = f[2]; else est[f[1]] = f[2] }
+          nk = split(keylist, keys, "\n")
           nc = split(cands, c, " ")
           nco = split(classonly, co, " ")
           for (i = 1; i <= nco; i++) only[co[i]] = 1
@@ -183,12 +206,9 @@ case "$mode" in
             s = earlier(dir "/cands/" c[i] "/" name)
             sum += s >= 0 ? s : estimate(keys[j]); cnt++
           }
-          printf "%d %.3f\n", cnt, sum
-        }')
-      read -r cnt secs <<<"$add"
-      awk -v n="$n" -v m="$m" -v d="$d" -v e="$e" -v t0="$t0" -v c="$cnt" -v s="$secs" \
-        'BEGIN { printf "%d %d %.3f %.3f %s\n", n, m + c, d, e + s, t0 }' >"$state.tmp"
-      mv -f "$state.tmp" "$state"
+          # (rewritten in place, under the lock, as stage.sh does)
+          printf "%d %d %.3f %.3f %s\n", st[1], st[2] + cnt, st[3], st[4] + sprintf("%.3f", sum), st[5] > state
+        }'
     } 9>>"$state.lock"
     ;;
   *)

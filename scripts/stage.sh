@@ -44,7 +44,11 @@ shift
 [ "${1:-}" = "--" ] && shift
 [ $# -gt 0 ] || { echo "stage.sh: $artifact: no command given" >&2; exit 2; }
 log="$artifact.log"
-timing="$artifact.time.tmp"
+# GNU time writes ARTIFACT.time itself (no temporary file renamed afterwards: one `mv` process
+# less a stage, ≈ 10 ms of CPU on the experiment machine, docs/decisions/cost.md §18); a stage
+# that does not finish removes it (below), so no partial or stale .time is left beside an
+# artifact. (The previous run's wall time, this stage's progress estimate, is read first.)
+timing="$artifact.time"
 case "$artifact" in */*) [ -d "${artifact%/*}" ] || mkdir -p "${artifact%/*}" ;; esac
 
 # resource KEY: the value of KEY in the tool's section of the resources file, else [default].
@@ -108,7 +112,7 @@ kind="${tool##*/}:"
 case "$artifact" in */cands/*) kind+="cand/" ;; esac
 kind+=${name//[0-9]/#}
 previous=""
-[ -f "$artifact.time" ] && read -r previous _ <"$artifact.time" 2>/dev/null
+[ -f "$timing" ] && read -r previous _ <"$timing" 2>/dev/null
 # progress sets n_m ("N/M " or "") and left.
 # (In bash alone, under the lock: no subshell and no awk per stage, only flock; cost.md §9.
 # Seconds are handled as integer milliseconds: the state and the estimates hold three decimals,
@@ -132,6 +136,9 @@ progress() {
     return 0
   fi
   n=$((n + 1))
+  # (the stages counted so far, one artifact a line: progress.sh drop finds the stages of a
+  # stopped sub-make that ran and were counted)
+  echo "$artifact" >>"$CANOPY_PROGRESS-counted"
   # this stage's share: its artifact's previous wall time, else its kind's estimate, its
   # tool's, every stage's, else 1 s
   if [[ $previous =~ ^[0-9]+([.][0-9]*)?$ ]]; then
@@ -165,6 +172,13 @@ progress() {
   [ -z "$text" ] || left="  $text"
   n_m="$n/$m "
 }
+# A time box or Ctrl-C (SIGTERM, SIGINT) during the run: ARTIFACT.time goes (GNU time had
+# opened it, or written a "terminated by signal" report), the stage is not counted, and the
+# script ends by the same signal, as make expects.
+stopped() { trap - "$1"; rm -f "$timing"; kill -s "$1" $$; }
+trap 'stopped TERM' TERM
+trap 'stopped INT' INT
+# (emptied first, so a launch that never ran GNU time is told apart from the previous run's times)
 : >"$timing"
 if "${run[@]}" 2>"$log"; then
   rc=0
@@ -172,16 +186,16 @@ else
   rc=$?
 fi
 # From here to the end SIGTERM and SIGINT are ignored (by the few commands below too): a time
-# box or Ctrl-C that stops make now leaves the stage either counted, with ARTIFACT.time.tmp
-# gone, or (killed before this line) uncounted with ARTIFACT.time.tmp left, which is how
-# progress.sh drop tells the two apart (mk/real.mk), and never half-written progress state.
+# box or Ctrl-C that stops make now leaves the stage either counted (its artifact in
+# $CANOPY_PROGRESS-counted) or, stopped before this line, uncounted and without its .time,
+# which is how progress.sh drop tells the two apart (mk/real.mk), and never half-written
+# progress state.
 trap '' TERM INT
 # GNU time's first line says how the tool ended when it did not exit 0.
 how=""
 [ -s "$timing" ] && read -r how <"$timing"
 if [ $rc -eq 0 ] && [ -s "$timing" ] && [ "${how#Command}" = "$how" ]; then
-  mv -f "$timing" "$artifact.time"
-  read -r secs kib user sys <"$artifact.time"
+  read -r secs kib user sys <"$timing"
   # user + system: GNU time prints both with two decimals; summed in hundredths
   cs=0
   [[ "${user:-} ${sys:-}" =~ ^[0-9]+\.[0-9]{2}\ [0-9]+\.[0-9]{2}$ ]] && cs=$((10#${user/./} + 10#${sys/./}))
@@ -191,7 +205,7 @@ if [ $rc -eq 0 ] && [ -s "$timing" ] && [ "${how#Command}" = "$how" ]; then
   printf 'done  %s%-58s %7.2f s %7.2f cpu %6d MB%s\n' "$n_m" "$artifact" "$secs" "$cpu" "$((kib / 1024))" "$left"
   exit 0
 fi
-rm -f "$timing" "$artifact.time"
+rm -f "$timing"
 [ $rc -ne 0 ] || rc=1
 status=""
 case "$how" in

@@ -129,20 +129,36 @@ unset CANOPY_PROGRESS
 # A sub-make the dry run only prints (a real tile's, mk/real.mk) joins M when it starts
 # (progress.sh add: a dry run of it; a stage after a test's "||" counts; MARK is touched) and
 # what it left undone when stopped early leaves M again (drop), except a stage that ran since
-# MARK and failed (counted by stage.sh: its log is newer than MARK, no .time.tmp); a stage the
-# time box killed (its .time.tmp left) is dropped.
+# MARK and failed (counted by stage.sh: listed in STATE-counted after MARK's count); a stage the
+# time box killed (not listed) is dropped, and so is one listed before MARK (an earlier run).
 printf '%s\n' "scripts/stage.sh s/a -- $tmp/bin/fake" | "$progress" plan "$tmp/progress3" >/dev/null
+echo r/cands.mk >>"$tmp/progress3-counted"
 sub=("scripts/stage.sh r/detect -- $tmp/bin/detect" "scripts/stage.sh r/cands.mk -- $tmp/bin/collect"
      "[ ! -f r/detections.json ] || scripts/stage.sh r/score.json -- $tmp/bin/score")
 [ "$(printf '%s\n' "${sub[@]}" | "$progress" add "$tmp/progress3" "$tmp/progress3-mark")" = 3 ] ||
   fail "progress.sh add did not count the sub-make's 3 stages"
 read -r n m _ <"$tmp/progress3"
 [ "$n/$m" = "0/4" ] && [ -f "$tmp/progress3-mark" ] || fail "after add the count is $n/$m, not 0/4, or no mark"
-mkdir -p r && : >r/detect.log && : >r/cands.mk.log && : >r/cands.mk.time.tmp
-touch -d "@$(($(date +%s) + 2))" r/detect.log r/cands.mk.log
+echo r/detect >>"$tmp/progress3-counted"
 printf '%s\n' "${sub[@]}" | "$progress" drop "$tmp/progress3" "$tmp/progress3-mark" >/dev/null
 read -r n m _ <"$tmp/progress3"
 [ "$n/$m" = "0/2" ] || fail "after drop the count is $n/$m, not 0/2 (s/a and the failed r/detect)"
+
+# Stopped during its run (a time box's SIGTERM to the process group): no .time left (not even
+# the previous run's), no artifact, not counted, and the script ends by the signal.
+printf '%s\n' "scripts/stage.sh s/t -- sleep" | "$progress" plan "$tmp/progress4" >/dev/null
+mkdir -p s && echo "1.00 100 0.50 0.10" >s/t.time
+CANOPY_PROGRESS="$tmp/progress4" setsid "$stage" s/t -- sleep 5 >/dev/null &
+pid=$!
+for _ in $(seq 50); do [ -s s/t.time ] || break; sleep 0.1; done
+sleep 0.3
+kill -TERM -- -"$pid"
+rc=0; wait "$pid" || rc=$?
+[ $rc -eq 143 ] || fail "a stage stopped by SIGTERM gave status $rc, not 143"
+[ ! -e s/t.time ] && [ ! -e s/t ] || fail "a stopped stage left s/t.time or s/t"
+[ ! -s "$tmp/progress4-counted" ] || fail "a stopped stage was counted: $(cat "$tmp/progress4-counted")"
+read -r n _ <"$tmp/progress4"
+[ "$n" = 0 ] || fail "a stopped stage was counted (N = $n)"
 
 # ---- through make, on a fake tree: every tool is the fake, artifacts are fresh ------------
 cd "$src" || exit 1
