@@ -77,6 +77,10 @@ for t in a b; do
               and .geometry.coordinates[0][0][0] > 499000 and .geometry.coordinates[0][0][1] > 5399000)
       and .crs.properties.name == "urn:ogc:def:crs:EPSG::32633"' "$tmp/$t/detections.geojson" >/dev/null \
     || fail "tile $t: the GeoJSON is not as expected: $(head -c 400 "$tmp/$t/detections.geojson")"
+  # make tile states each level's own confidence: the calibration is fitted for the scene
+  # experiment's closed set (docs/decisions/verify.md §16), not for a user's tile.
+  ! grep -q 'calibration\.ini' "$tmp/$t/detections.json" \
+    || fail "tile $t: make tile applied a confidence calibration: $(grep -o '[^"]*calibration[.]ini' "$tmp/$t/detections.json" | head -1)"
   echo "tile $t: $n candidates, $(jq '.found' "$tmp/$t/detections.json") found: $(jq -c '[.detections[] | [.model, .confidence]]' "$tmp/$t/detections.json")"
 done
 
