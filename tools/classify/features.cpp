@@ -395,18 +395,13 @@ std::vector<bool> split_inside(const Candidate& c, const std::vector<std::size_t
   if (!fp.late_returns_inside || c.time.empty() || c.return_number.empty() || object.empty()) return inside;
   double top = -std::numeric_limits<double>::infinity();
   for (std::size_t i : object) top = std::max(top, c.points[i].z());
-  using Pulse = std::tuple<double, double, int>;
-  std::map<Pulse, std::vector<std::size_t>> pulses;
-  auto known = [&](std::size_t i) { return std::isfinite(c.time[i]) && std::isfinite(c.source[i]); };
-  for (std::size_t i = 0; i < c.points.size(); ++i) {
-    if (known(i)) pulses[Pulse(c.source[i], c.time[i], c.number_of_returns[i])].push_back(i);
-  }
+  const Pulses pulses(c);
   for (std::size_t i : object) {
     const int k = c.return_number[i];
-    if (k <= 1 || !known(i)) continue;
+    if (k <= 1 || !pulses.known(i)) continue;
     // Earlier returns 1 .. k - 1 found at or below the top.
     std::vector<bool> found(static_cast<std::size_t>(k), false);
-    for (std::size_t j : pulses[Pulse(c.source[i], c.time[i], c.number_of_returns[i])]) {
+    for (std::size_t j : pulses.of(i)) {
       const int r = c.return_number[j];
       if (r >= 1 && r < k && c.points[j].z() <= top) found[static_cast<std::size_t>(r)] = true;
     }
@@ -465,6 +460,20 @@ Candidate read_candidate(const formats::PointCloud& cloud, const std::string& na
     if (c.passes <= 1) c.pass.clear();
   }
   return c;
+}
+
+Pulses::Pulses(const Candidate& c) : pulse_(c.points.size(), -1) {
+  if (c.time.empty()) return;
+  using Key = std::tuple<double, double, int>;
+  std::map<Key, std::size_t> index;
+  for (std::size_t i = 0; i < c.points.size(); ++i) {
+    if (!std::isfinite(c.time[i]) || !std::isfinite(c.source[i])) continue;
+    const auto [it, fresh] =
+        index.emplace(Key(c.source[i], c.time[i], c.number_of_returns[i]), members_.size());
+    if (fresh) members_.emplace_back();
+    members_[it->second].push_back(i);
+    pulse_[i] = static_cast<std::ptrdiff_t>(it->second);
+  }
 }
 
 std::vector<int> passes_of(const std::vector<double>& source, const std::vector<double>& time,

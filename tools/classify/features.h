@@ -35,6 +35,23 @@ constexpr double kPassGap = 10;  // s
 std::vector<int> passes_of(const std::vector<double>& source, const std::vector<double>& time,
                            std::size_t* count);
 
+// The crop's pulses (classify.md §22, §23): the returns of one pulse share point_source_id,
+// gps_time and number_of_returns. A point whose time or source is unknown (NaN), or every point
+// of a candidate without times, has none.
+class Pulses {
+ public:
+  explicit Pulses(const Candidate& c);
+  bool known(std::size_t i) const { return pulse_[i] >= 0; }
+  // The crop points of point i's pulse, i among them, in crop order (known(i) only).
+  const std::vector<std::size_t>& of(std::size_t i) const {
+    return members_[static_cast<std::size_t>(pulse_[i])];
+  }
+
+ private:
+  std::vector<std::ptrdiff_t> pulse_;  // per point: its pulse in members_, -1 none
+  std::vector<std::vector<std::size_t>> members_;
+};
+
 // Errors name the file: x y z missing, a non-finite coordinate.
 Candidate read_candidate(const formats::PointCloud& cloud, const std::string& name);
 

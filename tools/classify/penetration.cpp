@@ -5,8 +5,6 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <map>
-#include <tuple>
 #include <unordered_map>
 #include <vector>
 
@@ -41,15 +39,10 @@ std::vector<bool> edge_splits(const Candidate& c, const std::vector<std::size_t>
                               const std::vector<Vector3d>& q, const Params& fp, double spacing) {
   std::vector<bool> split(c.points.size(), false);
   if (!fp.ground_through_edges || c.time.empty() || c.return_number.empty() || object.empty()) return split;
-  auto known = [&](std::size_t i) { return std::isfinite(c.time[i]) && std::isfinite(c.source[i]); };
-  using Pulse = std::tuple<double, double, int>;
-  std::map<Pulse, std::vector<std::size_t>> pulses;
-  for (std::size_t i = 0; i < c.points.size(); ++i) {
-    if (known(i)) pulses[Pulse(c.source[i], c.time[i], c.number_of_returns[i])].push_back(i);
-  }
+  const Pulses pulses(c);
   auto last = [&](std::size_t i) {
-    if (!known(i)) return true;
-    for (std::size_t j : pulses[Pulse(c.source[i], c.time[i], c.number_of_returns[i])]) {
+    if (!pulses.known(i)) return true;
+    for (std::size_t j : pulses.of(i)) {
       if (c.return_number[j] > c.return_number[i]) return false;
     }
     return true;
@@ -84,10 +77,10 @@ std::vector<bool> edge_splits(const Candidate& c, const std::vector<std::size_t>
   for (std::size_t k = 0; k < object.size(); ++k) slot[object[k]] = static_cast<int>(k);
   for (std::size_t i = 0; i < c.points.size(); ++i) {
     const int k = c.return_number[i];
-    if (k <= 1 || !known(i)) continue;
+    if (k <= 1 || !pulses.known(i)) continue;
     std::vector<bool> found(static_cast<std::size_t>(k), false);
     bool edge = true;
-    for (std::size_t j : pulses[Pulse(c.source[i], c.time[i], c.number_of_returns[i])]) {
+    for (std::size_t j : pulses.of(i)) {
       const int r = c.return_number[j];
       if (r < 1 || r >= k) continue;
       if (slot[j] < 0 || !on_edge(static_cast<std::size_t>(slot[j]))) edge = false;
