@@ -411,6 +411,15 @@ void draw_outlines(const std::vector<Shape>& shapes, Image& img) {
   }
 }
 
+// The picture of a sized image: the heights painted (data pixels, gaps filled), the footprints
+// outlined, the legend.
+void draw(const std::vector<float>& top, const Footprints& footprints, const Params& params, Image& img) {
+  img.rgb.assign(3 * static_cast<std::size_t>(img.width) * img.height, 250);
+  paint(top, img);
+  draw_outlines(footprints.shapes, img);
+  if (params.legend) draw_legend(img, footprints, text_scale(img.map_height));
+}
+
 }  // namespace
 
 Rgb height_colour(double height) {
@@ -455,10 +464,7 @@ Image render(const formats::PointCloud& scan, const Footprints& footprints, cons
   Image img;
   const Grid g = ground(scan, e.points, &img.density);
   size_picture(e.points, b, footprints, params, img);
-  img.rgb.assign(3 * static_cast<std::size_t>(img.width) * img.height, 250);
-  paint(heights(scan, g, img), img);
-  draw_outlines(footprints.shapes, img);
-  if (params.legend) draw_legend(img, footprints, text_scale(img.map_height));
+  draw(heights(scan, g, img), footprints, params, img);
   return img;
 }
 
@@ -514,10 +520,7 @@ Image render(const formats::HeightRaster& r, const Footprints& footprints, const
     }
   }
   fill_heights(top, img);
-  img.rgb.assign(3 * static_cast<std::size_t>(img.width) * img.height, 250);
-  paint(top, img);
-  draw_outlines(footprints.shapes, img);
-  if (params.legend) draw_legend(img, footprints, text_scale(img.map_height));
+  draw(top, footprints, params, img);
   return img;
 }
 
