@@ -159,11 +159,24 @@ AtomicDir::~AtomicDir() {
 }
 
 void AtomicDir::write(const std::string& name, const std::string& bytes) {
+  write_pieces(name, [&bytes](const Sink& sink) { sink(bytes.data(), bytes.size()); });
+}
+
+void AtomicDir::write_pieces(const std::string& name, const std::function<void(const Sink&)>& produce) {
   const int fd = ::openat(fd_, name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
   if (fd < 0) throw DataError((temp_ / name).string(), "cannot create: " + errno_text(errno));
-  int err = detail::write_all(fd, bytes.data(), bytes.size());
-  if (::close(fd) != 0 && err == 0) err = errno;
-  if (err != 0) throw DataError(temp_.string() + "/" + name, "write failed: " + errno_text(err));
+  auto failed = [&](int err) {
+    return DataError(temp_.string() + "/" + name, "write failed: " + errno_text(err));
+  };
+  try {
+    produce([&](const char* data, std::size_t size) {
+      if (const int err = detail::write_all(fd, data, size); err != 0) throw failed(err);
+    });
+  } catch (...) {
+    ::close(fd);
+    throw;
+  }
+  if (::close(fd) != 0) throw failed(errno);
 }
 
 void AtomicDir::remove(const std::string& name) {

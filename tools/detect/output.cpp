@@ -62,6 +62,27 @@ std::string hex(const unsigned char* md, unsigned len) {
   return out;
 }
 
+// An incremental SHA-256: update() with the bytes in order, then finish() (hex digits).
+class Sha256 {
+ public:
+  Sha256() : ctx_(EVP_MD_CTX_new()) {
+    if (!ctx_ || EVP_DigestInit_ex(ctx_.get(), EVP_sha256(), nullptr) != 1) fail();
+  }
+  void update(const char* p, std::size_t n) {
+    if (EVP_DigestUpdate(ctx_.get(), p, n) != 1) fail();
+  }
+  std::string finish() {
+    unsigned char md[EVP_MAX_MD_SIZE];
+    unsigned len = 0;
+    if (EVP_DigestFinal_ex(ctx_.get(), md, &len) != 1) fail();
+    return hex(md, len);
+  }
+
+ private:
+  [[noreturn]] static void fail() { throw common::Error("detect: SHA-256 failed (OpenSSL)"); }
+  std::unique_ptr<EVP_MD_CTX, MdCtxFree> ctx_;
+};
+
 std::string sha256(const std::string& bytes) {
   unsigned char md[EVP_MAX_MD_SIZE];
   unsigned len = 0;
@@ -434,42 +455,17 @@ class DirWriter {
   // File `name` (new) written in pieces: produce(sink) hands sink the bytes in order; each
   // piece is hashed and written as it comes (never the whole file in memory).
   void write_streamed(const std::string& name,
-                      const std::function<void(const std::function<void(const char*, std::size_t)>&)>& produce) {
-    const fs::path path = dir_.temp() / name;
-    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (fd < 0) throw DataError(path.string(), "cannot create: " + errno_text(errno));
-    std::unique_ptr<EVP_MD_CTX, MdCtxFree> ctx(EVP_MD_CTX_new());
-    if (!ctx || EVP_DigestInit_ex(ctx.get(), EVP_sha256(), nullptr) != 1) {
-      ::close(fd);
-      throw common::Error("detect: SHA-256 failed (OpenSSL)");
-    }
+                      const std::function<void(const common::AtomicDir::Sink&)>& produce) {
+    Sha256 digest;
     std::uint64_t size = 0;
-    int err = 0;
-    try {
+    dir_.write_pieces(name, [&](const common::AtomicDir::Sink& sink) {
       produce([&](const char* p, std::size_t n) {
-        if (EVP_DigestUpdate(ctx.get(), p, n) != 1) throw common::Error("detect: SHA-256 failed (OpenSSL)");
+        digest.update(p, n);
         size += n;
-        while (n > 0 && err == 0) {
-          const ssize_t w = ::write(fd, p, n);
-          if (w < 0 && errno == EINTR) continue;
-          if (w <= 0) {
-            err = w < 0 ? errno : EIO;
-            break;
-          }
-          p += w;
-          n -= static_cast<std::size_t>(w);
-        }
-        if (err != 0) throw DataError(path.string(), "write failed: " + errno_text(err));
+        sink(p, n);
       });
-    } catch (...) {
-      ::close(fd);
-      throw;
-    }
-    if (::close(fd) != 0) throw DataError(path.string(), "write failed: " + errno_text(errno));
-    unsigned char md[EVP_MAX_MD_SIZE];
-    unsigned len = 0;
-    if (EVP_DigestFinal_ex(ctx.get(), md, &len) != 1) throw common::Error("detect: SHA-256 failed (OpenSSL)");
-    manifest_.files.push_back({name, size, hex(md, len)});
+    });
+    manifest_.files.push_back({name, size, digest.finish()});
   }
   const documents::DetectManifest& manifest() const { return manifest_; }
 

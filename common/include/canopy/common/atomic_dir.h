@@ -41,6 +41,11 @@ class AtomicDir {
   // Creates file `name` (plain, new) in the temporary directory holding `bytes`. Throws
   // DataError naming it.
   void write(const std::string& name, const std::string& bytes);
+  // The same written in pieces: produce(sink) hands sink the file's bytes in order (never the
+  // whole file at once); an exception from produce, or a failed write, leaves the file partial
+  // in the temporary directory, which is never published then.
+  using Sink = std::function<void(const char*, std::size_t)>;
+  void write_pieces(const std::string& name, const std::function<void(const Sink&)>& produce);
   // Removes file `name` from the temporary directory. Throws DataError naming it.
   void remove(const std::string& name);
 
