@@ -84,37 +84,29 @@ class Sha256 {
 };
 
 std::string sha256(const std::string& bytes) {
-  unsigned char md[EVP_MAX_MD_SIZE];
-  unsigned len = 0;
-  if (EVP_Digest(bytes.data(), bytes.size(), md, &len, EVP_sha256(), nullptr) != 1) {
-    throw common::Error("detect: SHA-256 failed (OpenSSL)");
-  }
-  return hex(md, len);
+  Sha256 h;
+  h.update(bytes.data(), bytes.size());
+  return h.finish();
 }
 
 // The SHA-256 of a file's content and its size; nullopt when it cannot be read.
 std::optional<std::pair<std::string, std::uintmax_t>> sha256_file(const fs::path& p) {
+  Sha256 h;
   const int fd = ::open(p.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
   if (fd < 0) return std::nullopt;
-  std::unique_ptr<EVP_MD_CTX, MdCtxFree> ctx(EVP_MD_CTX_new());
-  bool ok = ctx && EVP_DigestInit_ex(ctx.get(), EVP_sha256(), nullptr) == 1;
   std::vector<char> buf(1 << 20);
   std::uintmax_t size = 0;
-  while (ok) {
+  for (;;) {
     const ssize_t n = ::read(fd, buf.data(), buf.size());
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) {
-      ok = n == 0;
-      break;
+      ::close(fd);
+      if (n < 0) return std::nullopt;
+      return std::make_pair(h.finish(), size);
     }
     size += std::uintmax_t(n);
-    ok = EVP_DigestUpdate(ctx.get(), buf.data(), std::size_t(n)) == 1;
+    h.update(buf.data(), std::size_t(n));
   }
-  ::close(fd);
-  unsigned char md[EVP_MAX_MD_SIZE];
-  unsigned len = 0;
-  if (!ok || EVP_DigestFinal_ex(ctx.get(), md, &len) != 1) return std::nullopt;
-  return std::make_pair(hex(md, len), size);
 }
 
 // ---------------------------------------------------------------------------------------
