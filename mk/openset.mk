@@ -48,9 +48,10 @@ OPENSET_CLASSIFY_BASE ?= $(P)/classify-sim.ini
 # The ablation's parameters are the base's own (it does not set modelbase-classes-only: every family).
 OPENSET_CLASSIFY_ABLATION := $(if $(filter 1,$(OPENSET_CLASSES_ONLY)),$(OPENSET_CLASSIFY_BASE))
 # collect's ablation: the model answer first, whatever its confidence (collect's
-# --contradicted-below, docs/decisions/open-set.md "Sixth round"); OPENSET_COLLECT_ABLATION=
-# leaves it out.
-OPENSET_COLLECT_ABLATION ?= --contradicted-below=0
+# --contradicted-below and --refused-below, docs/decisions/open-set.md "Sixth round" and "Seventh
+# round"); OPENSET_COLLECT_ABLATION= leaves it out. (Quoted where it is passed to the sub-makes:
+# two options.)
+OPENSET_COLLECT_ABLATION ?= --contradicted-below=0 --refused-below=0
 # NAME:CLASS:FILE:SPLIT of every library mesh (catalogue.csv joined with split.csv; one shell,
 # only where the open set is read: every parse pays for its shells, docs/decisions/cost.md).
 ifneq ($(filter 1,$(OPENSET))$(filter openset openset-crops,$(MAKECMDGOALS)),)
@@ -174,10 +175,10 @@ openset_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROG
   SCENE_MODELS=$(openset_models) SCENE_MODEL_CLASSES=$(OPENSET_DIR)/classes.csv \
   SCENE_SEEDS="$(OPENSET_SEEDS)" SCENE_COVERS="$(OPENSET_COVERS)" SCENE_NOISES=0 SCENE_BASELINE= \
   SCENE_SIZE_ONLY=0 SCENE_PICTURES=0 SCENE_CLASSIFY=$(OPENSET_CLASSIFY) SCENE_CLASSIFY_ABLATION=$(OPENSET_CLASSIFY_ABLATION) \
-  SCENE_COLLECT_ABLATION=$(OPENSET_COLLECT_ABLATION) COLLECT_CALIBRATION=$(OPENSET_COLLECT_CALIBRATION)
+  SCENE_COLLECT_ABLATION='$(OPENSET_COLLECT_ABLATION)' COLLECT_CALIBRATION=$(OPENSET_COLLECT_CALIBRATION)
 openset_crop_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) openset-crops PROGRESS=0 \
   SCENE_CLASSIFY=$(OPENSET_CLASSIFY) SCENE_CLASSIFY_ABLATION=$(OPENSET_CLASSIFY_ABLATION) \
-  SCENE_COLLECT_ABLATION=$(OPENSET_COLLECT_ABLATION) COLLECT_CALIBRATION=$(OPENSET_COLLECT_CALIBRATION)
+  SCENE_COLLECT_ABLATION='$(OPENSET_COLLECT_ABLATION)' COLLECT_CALIBRATION=$(OPENSET_COLLECT_CALIBRATION)
 ifneq ($(findstring q,$(make_letters))$(OPENSET),q1)
 openset_force := FORCE
 else

@@ -94,7 +94,7 @@ SCENE_CLASSIFY_ABLATION ?=
 # SCENE_COLLECT_ABLATION=<collect options, each as --name=value>: collect run a second time on
 # every run with these options, from the same verdicts and class answers, scored beside canopy's
 # as $(SCENE_RES)/collect-ablation/score.json. Empty, the default, leaves it out; the open set
-# sets it (mk/openset.mk: --contradicted-below=0, the model answer first).
+# sets it (mk/openset.mk: --contradicted-below=0 --refused-below=0, the model answer first).
 SCENE_COLLECT_ABLATION ?=
 $(foreach f,$(TILE_CLASSIFY) $(SCENE_CLASSIFY) $(SCENE_CLASSIFY_ABLATION),$(if $(wildcard $(f))$(filter $(OUT)/%,$(f)),,$(error classify's parameters: $(f) does not exist)))
 

@@ -85,6 +85,7 @@ std::string serialize_class_verdict(const ClassVerdict& v) {
          {"nearest_instance", v.nearest ? Json(v.nearest->model) : Json(nullptr)},
          {"class_score", finite(v.class_score, "class_score")},
          {"class_margin", finite(v.class_margin, "class_margin")}};
+  if (!v.refused_on.empty()) j["refused_on"] = v.refused_on;
   return j.dump(1) + "\n";
 }
 

@@ -194,6 +194,10 @@ void class_keys_from(const Json& j, Verdict& v) {
   v.level = optional_name("level");
   v.group = optional_name("group");
   v.reason = optional_name("reason");
+  v.refused_on = optional_name("refused_on");
+  if (!v.refused_on.empty() && v.refused_on != "density" && v.refused_on != "surface" &&
+      v.refused_on != "size" && v.refused_on != "shape")
+    throw Malformed("refused_on must be density, surface, size, shape or null, not \"" + v.refused_on + "\"");
   if (j.contains("detail") && !j["detail"].is_null()) v.detail = string_at(j, "detail", "");
   auto optional_number = [&](const Json& o, const char* key, const std::string& where) -> std::optional<double> {
     if (!o.contains(key) || o[key].is_null()) return std::nullopt;

@@ -786,6 +786,45 @@ TEST_CASE("classify: sizes outside every family") {
   }
 }
 
+TEST_CASE("classify: refused_on names what a none rests on: density, surface, size or shape") {
+  auto on = [](const formats::PointCloud& c, const classify::Params& p = classify::Params{}) {
+    const classify::Answer a = classify::run(p, {c, "synthetic.pcd", {}});
+    INFO(a.reason << " " << a.detail);
+    CHECK((a.cls.empty() ? !a.reason.empty() : a.reason.empty()));
+    return a.reason + " " + a.refused_on;
+  };
+  // A vehicle: no refusal.
+  CHECK(on(sample(car_top, 2.3, 0.9, 0, 25, 11).cloud) == " ");
+  // Too few points: the density.
+  formats::PointCloud five;
+  five.resize(5);
+  five.add("x") = {0, 1, 2, -1, 0.5};
+  five.add("y") = {0, 0.2, -0.3, 0.1, 0.6};
+  five.add("z") = {1.4, 1.45, 1.0, 1.0, 1.44};
+  CHECK(on(five) == "too_sparse density");
+  // A porous crown: the surface.
+  CHECK(on(crown(25, 13)) == "vegetation_like surface");
+  // Outside every family's envelope: the size.
+  CHECK(on(sample([](double x, double y) { return box_top(x, y, 0.5, 0.5, 0.5); }, 0.25, 0.25, 0, 100, 14).cloud) ==
+        "too_small size");
+  CHECK(on(sample([](double x, double y) { return box_top(x, y, 4.5, 1.8, 0.6); }, 2.25, 0.9, 0, 25, 16).cloud) ==
+        "too_flat size");
+  // Inside the envelope but in no class's ranges: not_vehicle_shape, on its size alone (a car's
+  // top 2.6 m wide: wider than every car, narrower and lower than every wider class).
+  const Sampled wide =
+      sample([](double x, double y) { return std::abs(y) > 1.3 ? -1 : car_top(x, y * 0.9 / 1.3); }, 2.3, 1.3,
+             0, 25, 18);
+  CHECK(on(wide.cloud) == "not_vehicle_shape size");
+  // A container's flat box (only a box-truck or a bus has one): its shape.
+  CHECK(on(sample([](double x, double y) { return box_top(x, y, 6.06, 2.44, 2.59); }, 3.03, 1.22, 0, 25, 17)
+               .cloud) == "not_vehicle_shape shape");
+  // A rock refused by an outline gate after its size fitted a car: its shape.
+  classify::Params gate;
+  gate.min_rectangularity = kRectangularity;
+  gate.rectangularity_notch = 1;
+  CHECK(on(sample(rock_top, 2.1, 0.95, 0, 100, 70).cloud, gate) == "not_vehicle_shape shape");
+}
+
 TEST_CASE("classify: five points are too sparse") {
   formats::PointCloud c;
   c.resize(5);

@@ -620,6 +620,81 @@ TEST_CASE(
   CHECK_THAT(err, Catch::Contains("--contradicted-below must be in [0, 1]"));
 }
 
+TEST_CASE("collect --refused-below: a doubtful model answer gives way to classify's refusal on the shape") {
+  const fs::path dir = tile("refused");
+  const fs::path cands = dir / "cands";
+  // c0001: verify's model answer, a car (no class: the rule needs none) at a given confidence.
+  auto model_answer = [&](double confidence) {
+    write(cands / "c0001" / "verdict.json",
+          verdict((cands / "c0001" / "samples.pcd").string(), "sedan", confidence, flat(0, 0, 0, 0),
+                  flat(30, E + 10.25, N + 10.125, 100.5))
+              .dump());
+  };
+  // classify's none for c0001 with a reason and what it rests on (nullptr: an older class.json).
+  auto refused = [&](const char* reason, const char* on) {
+    Json k = class_answer(cands, "c0001", nullptr, nullptr, reason, 900, Json());
+    k["detail"] = "an oval outline";
+    if (on) k["refused_on"] = on;
+    write(cands / "c0001" / "class.json", k.dump());
+  };
+  const std::string cmd = bin() + " -i " + (cands / "index.json").string() + " -o " +
+                          (dir / "d.json").string() + " --class-name class.json";
+  std::string err;
+  auto c0001 = [&](const std::string& options) {
+    REQUIRE(test::sh(cmd + options, dir / "err.txt", &err) == 0);
+    const Json d = read_json(dir / "d.json");
+    for (const auto& x : d["detections"]) {
+      if (x["candidate"] == "c0001") return "model " + x["model"].get<std::string>();
+    }
+    for (const auto& x : d["rejected"]) {
+      if (x["candidate"] == "c0001")
+        return x["reason"].get<std::string>() + " " + x["model_chain"].get<std::string>() + ": " +
+               x["detail"].get<std::string>();
+    }
+    return std::string("missing");
+  };
+  model_answer(0.6);
+  refused("not_vehicle_shape", "shape");
+  CHECK(c0001(" --refused-below 0") == "model sedan");    // off: the model answer first
+  CHECK(c0001(" --refused-below 0.5") == "model sedan");  // 0.6 is not below 0.5
+  CHECK(c0001("") ==                                      // the default, 0.8
+        "not_vehicle_shape set_aside: an oval outline; the model chain's sedan (confidence 0.60) set aside "
+        "for it "
+        "(collect --refused-below)");
+  const Json d = read_json(dir / "d.json");
+  CHECK(d["found"] == 1);  // c0003's tank stays
+  CHECK(d["by_reason"]["not_vehicle_shape"] == 1);
+  CHECK(d["rejected"][0]["confidence"] == 0.6);  // classify's confidence in its none
+  refused("vegetation_like", "surface");
+  CHECK(c0001(" --refused-below 0.8").rfind("vegetation_like set_aside: ", 0) == 0);  // the surface too
+  // A none on the density or the size alone does not set a model answer aside, nor one that does
+  // not say what it rests on (classify before refused_on).
+  refused("not_vehicle_shape", "size");
+  CHECK(c0001(" --refused-below 0.8") == "model sedan");
+  refused("too_small", "size");
+  CHECK(c0001(" --refused-below 0.8") == "model sedan");
+  refused("too_sparse", "density");
+  CHECK(c0001(" --refused-below 0.8") == "model sedan");
+  refused("not_vehicle_shape", nullptr);
+  CHECK(c0001(" --refused-below 0.8") == "model sedan");
+  // A class answer is no refusal (--contradicted-below's matter).
+  write(cands / "c0001" / "class.json",
+        class_answer(cands, "c0001", "hatchback", "car", nullptr, 900, flat(0, 0, 0, 0)).dump());
+  CHECK(c0001(" --refused-below 0.8") == "model sedan");
+  // The model's confidence 1 is never below; the range is [0, 1]; a bad refused_on is named.
+  model_answer(1.0);
+  refused("not_vehicle_shape", "shape");
+  CHECK(c0001(" --refused-below 1") == "model sedan");
+  model_answer(0.99);
+  CHECK(c0001(" --refused-below 1").rfind("not_vehicle_shape set_aside", 0) == 0);
+  CHECK(test::sh(cmd + " --refused-below 1.5", dir / "err.txt", &err) == 2);
+  CHECK_THAT(err, Catch::Contains("--refused-below must be in [0, 1]"));
+  refused("not_vehicle_shape", "roundness");
+  CHECK(test::sh(cmd + " --refused-below 0.8", dir / "err.txt", &err) == 1);
+  CHECK_THAT(err, Catch::Contains("class.json"));
+  CHECK_THAT(err, Catch::Contains("refused_on must be density, surface, size, shape or null"));
+}
+
 TEST_CASE(
     "collect v2: most candidates too sparse and no model chain: the warning says why and what would help") {
   const fs::path dir = tile("sparse_warning");

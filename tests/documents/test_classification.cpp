@@ -147,3 +147,28 @@ TEST_CASE("classification: a hand-built answer is read back by the verdict reade
   c.confidence = std::nan("");
   CHECK_THROWS_WITH(documents::serialize_class_verdict(c), Catch::Contains("non-finite confidence"));
 }
+
+TEST_CASE("classification: refused_on, what a none rests on, is the last member and only on a none") {
+  documents::ClassVerdict c = measured(old_output::kClassifyTank);
+  CHECK(Json::parse(documents::serialize_class_verdict(c)).contains("refused_on") == false);  // a class
+  c.cls = c.group = "";
+  c.pose.reset();
+  c.pose_tile.reset();
+  c.size.reset();
+  c.reason = "not_vehicle_shape";
+  c.detail = "a flat box";
+  c.refused_on = "shape";
+  const std::string text = documents::serialize_class_verdict(c);
+  const Json j = Json::parse(text);
+  CHECK(j.back() == "shape");
+  CHECK(std::prev(j.end()).key() == "refused_on");
+  const documents::Verdict v = documents::parse_verdict(text, "class.json");
+  CHECK(v.reason == "not_vehicle_shape");
+  CHECK(v.refused_on == "shape");
+  Json bad = j;
+  bad["refused_on"] = "colour";
+  CHECK_THROWS_WITH(documents::parse_verdict(bad.dump(), "class.json"),
+                    Catch::Contains("refused_on must be density, surface, size, shape or null"));
+  bad.erase("refused_on");  // older documents: unsaid
+  CHECK(documents::parse_verdict(bad.dump(), "class.json").refused_on.empty());
+}

@@ -150,7 +150,9 @@ TEST_CASE("open set: collect's ablation (the model answer first) is its own subs
   documents::SceneScore tiles;
   const std::string md =
       report::openset_collect_ablation_markdown(tiles, "cabl/score.json", &crops, "cabl/crops.json");
-  CHECK(md.find("### Ablation: the model answer first (`collect --contradicted-below 0`)") != std::string::npos);
+  CHECK(
+      md.find("### Ablation: the model answer first (`collect --contradicted-below 0 --refused-below 0`)") !=
+      std::string::npos);
   CHECK(md.find("every classify family") == std::string::npos);
   CHECK(md.find("(cabl/score.json, cabl/crops.json)") != std::string::npos);
   CHECK(md.find("| car | 10 | 9 (4 + 5) | 9/10 = 90.0% [59.6, 98.2] | 5/9 = 55.6% [26.7, 81.1] |") !=

@@ -74,9 +74,21 @@ std::array<double, 2> envelope(const std::vector<TableRange>& table, std::array<
   return e;
 }
 
-// none with a reason; `strength` = how clearly (0.5 at the threshold, -> 1 beyond it).
-void refuse(Answer& a, const char* reason, std::string detail, double strength) {
+// What kind of evidence a reason is (Answer::refused_on) unless the caller says: too_sparse the
+// density, vegetation_like the surface, too_large / too_small / too_flat the size,
+// not_vehicle_shape the shape.
+const char* evidence_of(const std::string& reason) {
+  if (reason == "too_sparse") return "density";
+  if (reason == "vegetation_like") return "surface";
+  if (reason == "not_vehicle_shape") return "shape";
+  return "size";
+}
+
+// none with a reason; `strength` = how clearly (0.5 at the threshold, -> 1 beyond it); `on` the
+// kind of evidence (evidence_of the reason unless given).
+void refuse(Answer& a, const char* reason, std::string detail, double strength, const char* on = nullptr) {
   a.reason = reason;
+  a.refused_on = on ? on : evidence_of(a.reason);
   a.detail = std::move(detail);
   a.confidence = std::clamp(strength, 0.0, 1.0);
 }
@@ -325,7 +337,9 @@ void choose(Answer& a, const Params& p, double sigma, const std::vector<TableRan
           fmt("%.0f%% of H against its %.0f%%, ", 100 * f.end_high, 100 * e[0]) +
           fmt("%.0f%% and %.0f%% (", 100 * e[1], 100 * e[2]) + fmt("tolerance %.0f%%)", 100 * p.entry_profile);
     }
-    refuse(a, "not_vehicle_shape", why, best ? past(best->distance, p.size_gate) : 1.0);
+    // A flat box is refused on its shape (its top leaves only the box-truck and the bus), any
+    // other top on its size alone (no class's ranges hold it).
+    refuse(a, "not_vehicle_shape", why, best ? past(best->distance, p.size_gate) : 1.0, box ? "shape" : "size");
     return;
   }
   const Fit& best = fits.front();

@@ -263,7 +263,12 @@ struct Answer {
   std::string reason;  // "" for a vehicle; too_sparse, vegetation_like, too_small, too_large,
                        // too_flat, not_vehicle_shape
   std::string detail;  // one sentence: the measured value against its threshold
-  std::string entry;   // the class came from this modelbase entry's range ("" = a family's)
+  // The kind of evidence a none rests on ("" for a vehicle): "density" (too_sparse), "surface"
+  // (vegetation_like: porous, rough, returns under it), "size" (too_large, too_small, too_flat,
+  // or a size no class's ranges hold), "shape" (not_vehicle_shape for its top or outline: no
+  // roof, a flat box, an open end, a drawbar, no bonnet or boot, an oval, a step).
+  std::string refused_on;
+  std::string entry;  // the class came from this modelbase entry's range ("" = a family's)
   double confidence = 0;
   double class_score = 0, class_margin = 0;  // size fit of the class, margin over another group
   Features features;

@@ -94,6 +94,7 @@ std::string serialize(const Answer& a, const Params& p, const Document& doc) {
   v.cls = a.cls;
   v.group = a.group;
   v.reason = a.reason;
+  v.refused_on = a.refused_on;
   v.detail = a.detail;
   v.confidence = a.confidence;
   if (!a.cls.empty()) {

@@ -99,6 +99,7 @@ Verdict from_stage_verdict(const documents::StageVerdict& s, const std::string& 
   if (d.pose_tile) v.pose_tile = matrix_of(*d.pose_tile);
   v.reason = d.reason;
   v.detail = d.detail;
+  v.refused_on = d.refused_on;
   v.density = d.density;
   v.density_class = d.density_class;
   v.density_model = d.density_model;
@@ -509,6 +510,11 @@ bool model_contradicted(const Verdict& v, const Verdict& k) {
   return k.cls != v.cls && k.group != v.cls;
 }
 
+bool refused_by_shape(const Verdict& v, const Verdict& k) {
+  if (v.model.empty() || !k.cls.empty()) return false;
+  return k.refused_on == "shape" || k.refused_on == "surface";
+}
+
 Outputs collect(const Index& index, const std::vector<Answers>& answers, const Params& params,
                 const formats::Provenance& provenance) {
   if (answers.size() != index.candidates.size())
@@ -532,6 +538,9 @@ Outputs collect(const Index& index, const std::vector<Answers>& answers, const P
     const Verdict* found = nullptr;
     Verdict by_size;
     const bool classified = k.present && !k.failed && !k.cls.empty() && (k.pose || k.pose_tile);
+    // verify's doubtful model answer set aside for classify's refusal on the shape (--refused-below).
+    const bool set_aside = !params.size_only && v.present && !v.failed && k.present && !k.failed &&
+                           v.confidence < params.refused_below && refused_by_shape(v, k);
     if (params.size_only) {
       if (k.present && !k.failed && k.measured_size && k.measured_centre && k.measured_heading &&
           !params.boxes.empty()) {
@@ -556,7 +565,7 @@ Outputs collect(const Index& index, const std::vector<Answers>& answers, const P
           ++out.model_level;
         }
       }
-    } else if (v.present && !v.failed && !v.model.empty() &&
+    } else if (v.present && !v.failed && !v.model.empty() && !set_aside &&
                !(classified && v.confidence < params.contradicted_below && model_contradicted(v, k))) {
       found = &v;
       ++out.model_level;
@@ -577,6 +586,14 @@ Outputs collect(const Index& index, const std::vector<Answers>& answers, const P
     }
     doc.rejected.push_back(
         rejection_of(c, answers[i], params.size_only ? Calibration{} : params.calibration, reasons[i]));
+    if (set_aside) {
+      documents::RejectionRecord& r = doc.rejected.back();
+      r.model_chain = "set_aside";
+      char conf[32];
+      std::snprintf(conf, sizeof conf, "%.2f", v.confidence);
+      r.detail = (r.detail ? *r.detail + "; " : std::string()) + "the model chain's " + v.model +
+                 " (confidence " + conf + ") set aside for it (collect --refused-below)";
+    }
     ++out.by_reason[reasons[i]];
     // v1's counts: a failed model chain with no class answer, else a "none" (someone looked).
     if (reasons[i] == "failed") {

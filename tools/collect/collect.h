@@ -51,6 +51,7 @@ struct Verdict {
   std::optional<Matrix> pose_tile;  // model -> tile
   // classify's answer (docs/decisions/classify.md §9), when the verdict has them:
   std::string reason, detail;     // why none (too_sparse, vegetation_like, ...), one sentence
+  std::string refused_on;         // what classify's none rests on: density, surface, size, shape ("": unsaid)
   std::optional<double> density;  // object points per m² of its rectangle
   std::optional<double> density_class, density_model;  // "density_needed"
   std::optional<std::array<double, 3>> size;           // L W H (m)
@@ -119,6 +120,14 @@ struct Params {
   // model is more likely wrong than right, and the class level says what else it is. 0 = off
   // (the model answer always first, as before). docs/decisions/open-set.md "Sixth round".
   double contradicted_below = 0.5;
+  // A model-level answer with a confidence below `refused_below` gives way to classify's none
+  // when classify refused the candidate on its shape or its surface (refused_by_shape: a flat box,
+  // an oval, no roof, a drawbar, porous or rough; not its density, nor a size no class's ranges
+  // hold): the candidate is rejected with classify's reason. 0.8 by default: below it verify's
+  // model answers on development tiles were right 5 times in 14, at 0.8 and above every time
+  // (docs/decisions/verify.md §15). 0 = off (the model answer first, as before).
+  // docs/decisions/open-set.md "Seventh round".
+  double refused_below = 0.8;
   // The stated confidences of the final answers (never which answer is given: applied after
   // every decision above). Empty name: none. Not applied to --size-only's answers.
   Calibration calibration;
@@ -127,6 +136,9 @@ struct Params {
 // Whether classify's class answer k contradicts verify's model answer v: v names a model of a
 // known class, k names a class, and neither k's class nor its group is v's class.
 bool model_contradicted(const Verdict& v, const Verdict& k);
+// Whether classify's answer k refuses, on the candidate's shape or surface (refused_on "shape"
+// or "surface"), verify's model answer v: v names a model and k names no class.
+bool refused_by_shape(const Verdict& v, const Verdict& k);
 // Largest relative difference |s - m| / m of a size (L W H) from a model box's (longer side,
 // shorter side, z1); infinity for a box of zero extent.
 double size_difference(const std::array<double, 3>& size, const ModelBox& box);

@@ -60,6 +60,7 @@ struct Options {
   bool size_only = false, no_density_scale = false;
   double size_gate = 0.25;
   double contradicted_below = 0.5;
+  double refused_below = 0.8;
 };
 
 void bind(common::Tool& tool, Options& o) {
@@ -99,6 +100,11 @@ void bind(common::Tool& tool, Options& o) {
            "a model answer whose confidence is below this, and whose class classify's class "
            "answer contradicts (neither its class nor its group), gives way to classify's "
            "answer (0 = off: the model answer first)");
+  tool.add("--refused-below", &o.refused_below,
+           "a model answer whose confidence is below this gives way to classify's none when "
+           "classify refused the candidate on its shape or surface (a flat box, an oval, no roof, "
+           "porous, ...; not its density or size alone): the candidate is rejected (0 = off: the "
+           "model answer first)");
   tool.add("--calibration", &o.calibration,
            "file of the Platt maps that calibrate the confidence each final answer states, per level "
            "(share/params/calibration.ini; docs/decisions/verify.md §16); \"\" (the default) = "
@@ -233,6 +239,9 @@ int main(int argc, char** argv) {
     if (!(o.contradicted_below >= 0 && o.contradicted_below <= 1))
       throw common::UsageError("--contradicted-below must be in [0, 1]");
     p.contradicted_below = o.contradicted_below;
+    if (!(o.refused_below >= 0 && o.refused_below <= 1))
+      throw common::UsageError("--refused-below must be in [0, 1]");
+    p.refused_below = o.refused_below;
     if (!o.calibration.empty()) {
       if (o.size_only) throw common::UsageError("--calibration is canopy's levels': not with --size-only");
       p.calibration = collect::parse_calibration(common::read_file(o.calibration), o.calibration);

@@ -238,7 +238,8 @@ void bind(common::Tool& tool, Sources& src, report::Params& p) {
            "the same ablation's score.json on the single-vehicle crops (with --openset-ablation)");
   tool.add("--openset-collect-ablation", &src.openset_collect_ablation,
            "the open set's collect ablation's score.json (mk/openset.mk: the model answer first, "
-           "collect --contradicted-below 0): a subsection of the open set's beside the default");
+           "collect --contradicted-below 0 --refused-below 0): a subsection of the open set's beside the "
+           "default");
   tool.add("--openset-crops-collect-ablation", &src.openset_crops_collect_ablation,
            "the same ablation's score.json on the single-vehicle crops (with --openset-collect-ablation)");
   tool.add("--openset-distances", &src.openset_distances,

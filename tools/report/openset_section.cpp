@@ -222,11 +222,13 @@ std::string openset_collect_ablation_markdown(const documents::SceneScore& tiles
                                               const std::string& tiles_path, const documents::SceneScore* crops,
                                               const std::string& crops_path) {
   return ablation_markdown(
-      "Ablation: the model answer first (`collect --contradicted-below 0`)",
+      "Ablation: the model answer first (`collect --contradicted-below 0 --refused-below 0`)",
       "By default a model answer of verify's with a confidence below 0.5 whose class classify's class "
       "answer contradicts gives way to classify's answer (`collect --contradicted-below`, "
-      "docs/decisions/open-set.md, sixth round); this is the same verdicts and class answers collected "
-      "with the model answer always first, as before, and scored the same way",
+      "docs/decisions/open-set.md, sixth round), and one below 0.8 that classify refused on its shape or "
+      "surface gives way to that refusal (`collect --refused-below`, seventh round); this is the same "
+      "verdicts and class answers collected with the model answer always first, as before, and scored "
+      "the same way",
       tiles, tiles_path, crops, crops_path);
 }
 

@@ -51,8 +51,8 @@ std::string openset_markdown(const documents::SceneScore& score, const std::stri
 std::string openset_ablation_markdown(const documents::SceneScore& tiles, const std::string& tiles_path,
                                       const documents::SceneScore* crops = nullptr,
                                       const std::string& crops_path = "");
-// The ablation of collect's default (--contradicted-below 0: verify's model answer first,
-// whatever its confidence) on the same verdicts and class answers, in the same form.
+// The ablation of collect's defaults (--contradicted-below 0 --refused-below 0: verify's model
+// answer first, whatever its confidence) on the same verdicts and class answers, in the same form.
 std::string openset_collect_ablation_markdown(const documents::SceneScore& tiles, const std::string& tiles_path,
                                               const documents::SceneScore* crops = nullptr,
                                               const std::string& crops_path = "");

@@ -40,9 +40,13 @@ struct NearestModel {
 
 struct ClassVerdict {
   formats::Provenance provenance;
-  std::string candidate;                         // points path, as given
-  std::string cls, group, reason;                // "" = null
-  std::string detail;                            // one sentence (written as a string, even "")
+  std::string candidate;           // points path, as given
+  std::string cls, group, reason;  // "" = null
+  std::string detail;              // one sentence (written as a string, even "")
+  // The kind of evidence a none rests on (density, surface, size, shape; docs/decisions/
+  // classify.md §24): written as the last member "refused_on" when not empty, so an answer
+  // with a class, and every document before it, keeps its bytes.
+  std::string refused_on;
   double confidence = 0;                         // in [0, 1]
   std::optional<formats::Pose> pose, pose_tile;  // class frame -> candidate / tile frame
   std::optional<std::array<double, 3>> size;     // L W H corrected (a vehicle only)

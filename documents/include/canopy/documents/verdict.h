@@ -72,6 +72,7 @@ struct Verdict {
   std::string group;                                   // vehicle group
   std::string reason;                                  // why none: too_sparse, vegetation_like, ...
   std::string detail;                                  // one sentence
+  std::string refused_on;                              // what a none rests on: density, surface, size, shape
   std::optional<double> density;                       // object points per m² of its rectangle
   std::optional<double> density_class, density_model;  // "density_needed"
   std::optional<std::array<double, 3>> size;           // L W H (m), >= 0
