@@ -10,7 +10,7 @@
 #   out/real/<tile>/score.json     the urban tiles: `score` against share/real/<tile>.truth.json
 #   out/real/<tile>/tile.time      the tile's whole run: wall s, peak KiB, user and system CPU s
 #                                  of the sub-make and every stage under it (GNU time, the
-#                                  format of scripts/stage.sh's .time files)
+#                                  format of the stages' .time files, tools/stagerun)
 # and the report's "Real tiles" section reads them (the experiment manifest's `real` records).
 #
 # Tiles: four urban tiles with hand labels (138 vehicles) and one forest plot without vehicles
@@ -90,7 +90,7 @@ real_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) tile TILE=$(ca
 # also takes back the score, which the parent's plan counts.
 real_progress = { [ -z "$$$$CANOPY_PROGRESS" ] || { CANOPY_PLANNING=1 $$(REAL_SUBMAKE) -n $(call real_args,$(2),$(3),$(4)) \
   2>/dev/null; $(if $(and $(filter drop,$(1)),$(wildcard $(REAL_SHARE)/$(2).truth.json)),echo \
-  "scripts/stage.sh $(3)/$(2)/score.json -- $(BIN)/score";) } | scripts/progress.sh $(1) "$$$$CANOPY_PROGRESS" \
+  "$(BIN)/stagerun $(3)/$(2)/score.json -- $(BIN)/score";) } | scripts/progress.sh $(1) "$$$$CANOPY_PROGRESS" \
   "$$$$CANOPY_PROGRESS-$(notdir $(3))-$(2)" >/dev/null; }
 
 # real_rule(name, previous, out, classify.ini): one tile's run into out/<name> (time-boxed,

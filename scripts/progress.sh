@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# progress.sh: the experiment's "done N/M ... ~T left" count (Makefile.experiments, stage.sh).
+# progress.sh: the experiment's "done N/M ... ~T left" count (Makefile.experiments, stagerun).
 #
 #   progress.sh plan STATE       stdin: a dry run of the goals (make -n). Counts its stages
-#                                (scripts/stage.sh lines) and estimates their wall seconds, then
+#                                (stagerun lines) and estimates their wall seconds, then
 #                                writes STATE ("N M D E T0": stages done, stages known, estimated
 #                                seconds done, estimated seconds known, start time) and
 #                                STATE-est (the estimate of each kind of stage). Prints M.
@@ -22,7 +22,7 @@
 #                                real tile timed out or refused): the stages it still shows will
 #                                not run in this make, so they leave M and E (never below N, D);
 #                                except those that ran since MARK and were counted, failing
-#                                (listed in STATE-counted after MARK's count: stage.sh lists
+#                                (listed in STATE-counted after MARK's count: stagerun lists
 #                                every stage it counts; one the time box killed is not listed).
 #   progress.sh key ARTIFACT COMMAND...   prints the kind of a stage (see below).
 #
@@ -30,19 +30,20 @@
 # cannot plan them; the plan step adds them (extend) and, so that none is counted twice, the
 # dry run leaves out the candidate stages of every tile whose plan it shows being remade. A
 # sub-make the dry run only prints (a real tile's, under a time box) is counted when it starts
-# (add) and what it leaves undone is taken back (drop). N never passes M: stage.sh raises M to
-# N should a stage run that no plan counted. A stage line is one whose first command is
-# scripts/stage.sh, also after a test (`[ ... ] || scripts/stage.sh ...`). A line
+# (add) and what it leaves undone is taken back (drop). N never passes M: stagerun raises M to
+# N should a stage run that no plan counted. A stage line is one whose first command is the
+# stage runner, .../stagerun (tools/stagerun; Makefile.experiments' $(STAGE)) or its wrapper
+# scripts/stage.sh, also after a test (`[ ... ] || build/bin/stagerun ...`). A line
 # "progress-plan-failed STATUS" (Makefile.experiments: the dry run failed) is reported on stderr.
 #
 # Estimates come from the stages' own history: a stage whose artifact has a .time file from an
 # earlier run is estimated at that run's wall time; any other at the mean of its kind over the
 # history file STATE-history (one "kind wall cpu" line per finished stage, appended by
-# stage.sh; recent runs weigh more), else of its tool, else of every stage, else 1 s. A kind is
+# stagerun; recent runs weigh more), else of its tool, else of every stage, else 1 s. A kind is
 # <tool>:<artifact name, each digit as #>, "cand/" before the name of a candidate's stage:
 # fitvox:samples.pcd, rangetrace:scan.pcd, addnoise:scan.pcd, fitvox:cand/samples.pcd
-# (stage.sh computes the same kind in bash).
-# Time left (stage.sh) = elapsed * (E - D) / D: the estimates give the shares of the work, the
+# (stagerun computes the same kind: tools/stagerun/stagerun.cpp, stage_kind).
+# Time left (stagerun) = elapsed * (E - D) / D: the estimates give the shares of the work, the
 # run so far its pace (on however many cores and under whatever load).
 set -euo pipefail
 
@@ -97,7 +98,7 @@ case "$mode" in
     ;;
   plan | add | drop)
     state=$2 mark=${3:-}
-    # (add and drop change the state under the lock that stage.sh and extend take)
+    # (add and drop change the state under the lock that stagerun and extend take)
     if [ "$mode" != plan ]; then
       [ -f "$state" ] || exit 0
       exec 9>>"$state.lock"
@@ -114,10 +115,10 @@ case "$mode" in
         print "progress: the planning dry run (make -n) failed with status " $2 "; the total counts only the stages it showed before that (make -n shows why)" > "/dev/stderr"
         next
       }
-      # scripts/stage.sh [--launch slurm] [--record-failure] ARTIFACT -- COMMAND..., first in
-      # the line or after "||", "&&" or ";"
+      # .../stagerun (or scripts/stage.sh) [--launch slurm] [--record-failure] ARTIFACT --
+      # COMMAND..., first in the line or after "||", "&&" or ";"
       {
-        for (i = 1; i <= NF; i++) if ($i ~ /(^|\/)stage\.sh$/ && (i == 1 || $(i - 1) ~ /^(\|\||&&|;)$/)) break
+        for (i = 1; i <= NF; i++) if ($i ~ /(^|\/)(stagerun|stage\.sh)$/ && (i == 1 || $(i - 1) ~ /^(\|\||&&|;)$/)) break
         if (i > NF) next
         i++
         while ($i == "--launch" || $i == "--record-failure") i += ($i == "--launch") ? 2 : 1
@@ -206,7 +207,7 @@ case "$mode" in
             s = earlier(dir "/cands/" c[i] "/" name)
             sum += s >= 0 ? s : estimate(keys[j]); cnt++
           }
-          # (rewritten in place, under the lock, as stage.sh does)
+          # (rewritten in place, under the lock, as stagerun does)
           printf "%d %d %.3f %.3f %s\n", st[1], st[2] + cnt, st[3], st[4] + sprintf("%.3f", sum), st[5] > state
         }'
     } 9>>"$state.lock"

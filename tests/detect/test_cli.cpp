@@ -170,14 +170,13 @@ TEST_CASE("detect writes a candidates directory") {
           std::vector<std::string>{"c0001.pcd", "c0002.pcd", "index.json", "manifest.json", "stale.txt"});
     CHECK(read_json(out / "index.json")["classes"].is_null());  // still the previous output
   }
-  SECTION("re-runs into the make layout: the chain's per-candidate directories inside, twice, via stage.sh") {
-    // mk/scenes.mk runs `stage.sh DIR/detect -- detect -i SCAN -o DIR/cands` again when the
+  SECTION("re-runs into the make layout: the chain's per-candidate directories inside, twice, via stagerun") {
+    // mk/scenes.mk runs `stagerun DIR/detect -- detect -i SCAN -o DIR/cands` again when the
     // tile changed, into a cands/ holding cands/<id>/{samples.pcd, ...} (once: "cands: is a
     // directory, not an output file", when -o was checked as an output file).
     fs::create_directories(out / "c0001");
     { std::ofstream(out / "c0001" / "samples.pcd") << "old chain output"; }
-    const std::string stage =
-        std::string(CANOPY_SOURCE_DIR) + "/scripts/stage.sh " + q(dir / "detect") + " -- ";
+    const std::string stage = std::string(kBin) + "/stagerun " + q(dir / "detect") + " -- ";
     for (const std::string& o : {out.string(), out.string() + "/"}) {
       INFO("-o " << o);
       REQUIRE(test::sh(stage + kBin + "/detect --no-classes -i " + q(dir / "tile.pcd") + " -o " + q(o),

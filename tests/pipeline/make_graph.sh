@@ -64,6 +64,8 @@ libs="documents/CMakeFiles/canopy_documents.dir formats/CMakeFiles/canopy_format
 "$tmp/records.sh" "$tmp/build" "$tree" canopy_common common
 "$tmp/records.sh" "$tmp/build" "$tree" canopy_formats formats common/CMakeFiles/canopy_common.dir
 "$tmp/records.sh" "$tmp/build" "$tree" canopy_documents documents formats/CMakeFiles/canopy_formats.dir common/CMakeFiles/canopy_common.dir
+# (the stage runner links none of canopy's libraries: tools/stagerun/CMakeLists.txt)
+[ "\$t" != stagerun ] || libs=
 "$tmp/records.sh" "$tmp/build" "$tree" "\$t" "tools/\$t" \$libs
 mkdir -p "$tmp/build/CMakeFiles"
 printf 'set(CMAKE_MAKEFILE_DEPENDS\n  "CMakeCache.txt"\n  "%s/CMakeLists.txt"\n  "%s/tools/CMakeLists.txt"\n  )\n' \
@@ -87,7 +89,7 @@ cp share/params/*.ini "$tmp/params/"
 at $((now - 100)) "$tmp/params/"*.ini
 touch "$tmp/build/.deps-stamp"
 echo "CMAKE_HOME_DIRECTORY:INTERNAL=$tree" >"$tmp/build/CMakeCache.txt"
-for t in "${tools[@]}"; do
+for t in "${tools[@]}" stagerun; do
   "$tmp/cmake" --build "$tmp/build" --target "$t" || fail "the fake cmake failed"
   sha256sum <"$tmp/build/bin/$t" | cut -d' ' -f1 >"$tmp/build/stamps/$t.sha"
   scripts/tool-deps.sh "$tmp/build" "$t" "$tmp/build/deps/$t.mk" || fail "tool-deps.sh $t failed"
@@ -113,9 +115,9 @@ done
 # artifacts and the report that reads it.
 "${mk[@]}" PROGRESS=0 "$tmp/out/experiment.txt" >/dev/null 2>&1 || fail "make did not write the experiment's manifest"
 at $((now - 59)) "$tmp/out/experiment.txt"
-stages() { grep -c '^scripts/stage.sh ' || true; }
+stages() { grep -c "^$tmp/build/bin/stagerun " || true; }
 # plans TOOL: exit 0 when the plan in $plan runs TOOL as a stage.
-plans() { echo "$plan" | grep '^scripts/stage.sh ' | grep -q "$1"; }
+plans() { echo "$plan" | grep "^$tmp/build/bin/stagerun " | grep -q "$1"; }
 
 "${mk[@]}" -q all || fail "make -q all is not clean on a complete tree: $("${mk[@]}" -n all 2>&1 | head -5)"
 
@@ -144,7 +146,7 @@ cpp=$(find common -name '*.cpp' | head -1)
 [ -n "$cpp" ] || fail "no .cpp in common/"
 echo "// a comment" >>"$cpp"
 plan=$("${mk[@]}" -n all 2>&1)
-[ "$(echo "$plan" | stages)" -eq 0 ] || fail "a same-bytes relink plans stages: $(echo "$plan" | grep stage.sh | head -3)"
+[ "$(echo "$plan" | stages)" -eq 0 ] || fail "a same-bytes relink plans stages: $(echo "$plan" | grep stagerun | head -3)"
 [ "$(sort -u "$tmp/cmake.calls" | tr '\n' ' ')" = "$(printf '%s\n' "${used[@]}" | sort | tr '\n' ' ')" ] ||
   fail "not every tool of the graph was rebuilt after $cpp changed: $(sort -u "$tmp/cmake.calls" | tr '\n' ' ')"
 [ "$(stamp_times)" = "$before" ] || fail "a content stamp was rewritten although no binary changed"
@@ -186,6 +188,18 @@ rm -f "$tmp/cmake.calls"
 echo "// an edit" >>tools/areas/areas.h
 "${mk[@]}" -n all >/dev/null 2>&1
 [ "$(built)" = "areas " ] || fail "editing tools/areas/areas.h rebuilt '$(built)', not 'areas '"
+# The stage runner (tools/stagerun) is built like a tool, before any stage, but a runner whose
+# bytes change re-runs no stage (the stamps wait for it order-only), and a common/ edit does not
+# rebuild it (it links none of canopy's libraries).
+rm -f "$tmp/cmake.calls"
+echo "binary stagerun v2" >"$tmp/content/stagerun"
+echo "// an edit" >>tools/stagerun/main.cpp
+plan=$("${mk[@]}" -n all 2>&1)
+[ "$(built)" = "stagerun " ] || fail "editing tools/stagerun/main.cpp rebuilt '$(built)', not 'stagerun '"
+[ "$(cat "$tmp/build/bin/stagerun")" = "binary stagerun v2" ] || fail "the stage runner was not rebuilt"
+[ "$(echo "$plan" | stages)" -eq 0 ] || fail "a new stage runner plans stages: $(echo "$plan" | grep stagerun | head -3)"
+"${mk[@]}" -q all || fail "make -q all not clean after a new stage runner"
+rm "$tmp/content/stagerun"
 # A document's source or header (documents/: areas writes areas.json, report reads it) rebuilds
 # every tool that reads or writes it: every tool links canopy_documents, so every tool of the graph.
 for f in documents/src/areas.cpp documents/include/canopy/documents/areas.h; do
@@ -242,8 +256,8 @@ rm -f "$tmp/cmake.calls"
 touch share/resources.ini
 "${mk[@]}" -q all || fail "touching share/resources.ini made the tree stale"
 rm "$c/noise-0/match.json"
-"${mk[@]}" -n all LAUNCH=slurm 2>&1 | grep -q '^scripts/stage.sh --launch slurm .*bin/gmatch ' ||
-  fail "LAUNCH=slurm does not pass --launch slurm to stage.sh"
+"${mk[@]}" -n all LAUNCH=slurm 2>&1 | grep -q "^$tmp/build/bin/stagerun --launch slurm .*bin/gmatch " ||
+  fail "LAUNCH=slurm does not pass --launch slurm to stagerun"
 if "${mk[@]}" -n all LAUNCH=bogus >/dev/null 2>&1; then fail "LAUNCH=bogus accepted"; fi
 : >"$c/noise-0/match.json"; at $((now - 66)) "$c/noise-0/match.json"
 "${mk[@]}" -q all || fail "make -q all not clean after restoring match.json"

@@ -15,7 +15,7 @@ set -uo pipefail
 src=$1 bin=$2
 fail() { echo "FAIL: $*" >&2; exit 1; }
 for t in rangetrace addnoise fitvox cocone ncut gmatch verify areas report figures detect classify collect score \
-  topview baseline famscore; do
+  topview baseline famscore stagerun; do
   [ -x "$bin/$t" ] || fail "$bin/$t is not built"
 done
 for t in forest_lareunion ign_lidarhd_870000_6618000; do
@@ -42,7 +42,7 @@ mk=(make -C "$src" --no-print-directory -f Makefile.experiments BUILD="$tmp/buil
     REAL_SHARE="$tmp/real" REAL_FOREST=forest_lareunion REAL_URBAN="broken ign_lidarhd_870000_6618000" REAL_TIMEOUT=120)
 
 # counts LOG [PLANNED]: the checks on every "done/FAIL N/M" line of a make's output LOG, whose
-# dry run planned PLANNED stages (scripts/stage.sh first in a line or after a test's "||": a real
+# dry run planned PLANNED stages (.../stagerun first in a line or after a test's "||": a real
 # tile's score; or after "&&": user-modelbase's render after its crop box) -- M of the first line, unless a real tile's stages joined M before that line.
 # Without PLANNED (a run in which a time box stopped a sub-make) N need not run 1..K without a
 # gap: a stage counted as the time box struck has its line lost with the sub-make's output
@@ -73,7 +73,7 @@ counts() {
   [ "$n $m" = "$k $k" ] || fail "the progress state ends at $n/$m, not $k/$k"
   echo "progress: $m0 planned at the start, $k stages, ended at $k/$k"
 }
-plan() { "${mk[@]}" -n all 2>"$tmp/plan.err" | grep -cE '^scripts/stage\.sh |(\|\||&&) scripts/stage\.sh '; }
+plan() { "${mk[@]}" -n all 2>"$tmp/plan.err" | grep -cE '^[^ ]*/stagerun |(\|\||&&) [^ ]*/stagerun '; }
 
 # The whole slice, fresh: every real tile within its time box but the refused one.
 planned=$(plan)

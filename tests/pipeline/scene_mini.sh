@@ -98,8 +98,8 @@ printf '%s\n' '# canopy trajectory 1' 'time x y z roll pitch heading' '0 500000 
 nv=$(grep -c "/verify .*--trajectory $tmp/a.traj -o" "$tmp/traj-n.log")
 [ "$nv" -eq "$(grep -c "TILE_LEVEL_.* := model" "$tmp/a/cands.mk")" ] && [ "$nv" -ge 1 ] \
   || fail "TRAJECTORY=: $nv verify commands with --trajectory: $(grep -m2 '/verify ' "$tmp/traj-n.log")"
-if grep -qE 'stage\.sh .* -- [^ ]*/(detect|fitvox|cocone|ncut|gmatch) ' "$tmp/traj-n.log"; then
-  fail "TRAJECTORY= would re-run stages before verify: $(grep -m1 -E 'stage\.sh .* -- [^ ]*/(detect|fitvox|cocone|ncut|gmatch) ' "$tmp/traj-n.log")"
+if grep -qE 'stagerun .* -- [^ ]*/(detect|fitvox|cocone|ncut|gmatch) ' "$tmp/traj-n.log"; then
+  fail "TRAJECTORY= would re-run stages before verify: $(grep -m1 -E 'stagerun .* -- [^ ]*/(detect|fitvox|cocone|ncut|gmatch) ' "$tmp/traj-n.log")"
 fi
 "${mk[@]}" -j2 tile TILE="$tmp/a.pcd" MODELBASE="$tmp/mb" OUT="$tmp/a/" CRS=EPSG:32633 TRAJECTORY="$tmp/a.traj" \
   >"$tmp/traj.log" 2>&1 || fail "make tile TRAJECTORY= failed: $(tail -5 "$tmp/traj.log")"

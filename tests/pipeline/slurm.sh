@@ -17,7 +17,7 @@ for b in srun sinfo squeue slurmctld slurmd munged mungekey; do
   command -v "$b" >/dev/null || [ -x "/usr/sbin/$b" ] ||
     fail "$b not installed: run scripts/install-deps.sh (Debian packages munge slurmctld slurmd slurm-client)"
 done
-for t in rangetrace addnoise fitvox cocone ncut gmatch report figures; do
+for t in rangetrace addnoise fitvox cocone ncut gmatch report figures stagerun; do
   [ -x "$bin/$t" ] || fail "$bin/$t not built"
 done
 # A Slurm environment around the test (ctest run inside a job) must not leak into our cluster.
@@ -52,7 +52,7 @@ echo "cluster up in $(secs "$started" "$(now)") s ($(sinfo -h -o '%N %c CPUs %t'
 
 cd "$src" || exit 1
 # The tools are the suite's build (-o: never rebuilt by this test); stamps go to the temp dir.
-keep=(); for t in rangetrace addnoise fitvox cocone ncut gmatch report figures; do keep+=(-o "$bin/$t"); done
+keep=(); for t in rangetrace addnoise fitvox cocone ncut gmatch report figures stagerun; do keep+=(-o "$bin/$t"); done
 slice=(OBJECTS=sedan SCENES=unoccluded "NOISES=0 8" SCENE_EXPERIMENT=0 BASELINE=0 FAMILIES=0 REAL_TILES=0 BIN="$bin" BUILD="$tmp/build" "${keep[@]}")
 mk() { make -f Makefile.experiments "${slice[@]}" "$@"; }
 

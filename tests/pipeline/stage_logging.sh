@@ -1,16 +1,21 @@
 #!/usr/bin/env bash
-# scripts/stage.sh, the wrapper of every experiment stage, with fake tools: the tool's stderr
-# (INFO lines) is kept in <artifact>.log; the progress line shows N/M; --record-failure
-# records the tool's own failure (exit 1) as an empty artifact and status 0, but a tool killed
-# by a signal (SIGKILL, as the OOM killer sends) or a status >= 126 fails with no artifact.
+# stagerun (tools/stagerun), the runner of every experiment stage, with fake tools: the tool's
+# stderr (INFO lines) is kept in <artifact>.log, its times in <artifact>.time (GNU time's
+# "%e %M %U %S", two decimals); the progress line shows N/M; --record-failure records the tool's
+# own failure (exit 1) as an empty artifact and status 0, but a tool killed by a signal
+# (SIGKILL, as the OOM killer sends) or a status >= 126 (126: not executable, 127: not found)
+# fails with no artifact and no .time. SIGTERM or SIGINT to the runner alone stops the tool;
+# glibc's huge pages are asked for unless HUGEPAGES=0 or the user's GLIBC_TUNABLES name them;
+# scripts/stage.sh only execs the runner.
 # Then through make, on a fake tree of the graph: no stage runs its tool with -q; an ablation
 # stage killed by SIGKILL fails make, leaves no artifact and stays out of date; the same stage
 # exiting 1 is recorded; a full run numbers its stages 1/M..M/M with M = the stages planned.
 set -u
-src=$1
+src=$1 bin=${2:-$1/build/bin}
 fail() { echo "FAIL: $*" >&2; exit 1; }
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-stage="$src/scripts/stage.sh"
+stage="$bin/stagerun"
+[ -x "$stage" ] || fail "$stage is not built"
 cd "$tmp" || exit 1
 
 # A fake tool: logs an INFO line, then does what FAKE_MODE says, else writes every output.
@@ -22,6 +27,9 @@ case "${FAKE_MODE:-ok}" in
   fail) echo "$(basename "$0"): error: no voxel passed the tests" >&2; exit 1 ;;
   kill) kill -KILL $$ ;;
   137) exit 137 ;;
+  env) echo "GLIBC_TUNABLES=${GLIBC_TUNABLES-unset}" >&2 ;;
+  lines) for i in 1 2 3 4 5 6 7; do echo "line $i" >&2; done; exit 3 ;;
+  sleep) trap 'echo "fake: stopped by TERM" >&2; exit 143' TERM; sleep 30 & wait; exit 0 ;;
 esac
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -38,8 +46,12 @@ chmod +x "$tmp/bin/fake"
 out=$("$stage" a/x -- "$tmp/bin/fake" -o a/x) || fail "a successful stage failed: $out"
 [ "$(cat a/x)" = "made by fake" ] || fail "the artifact was not made"
 grep -q "^fake: info: read 3 points" a/x.log || fail "the tool's INFO line is not in the log: $(cat a/x.log)"
-grep -Eqx '[0-9]+\.[0-9]+ [0-9]+ [0-9]+\.[0-9]+ [0-9]+\.[0-9]+' a/x.time ||
-  fail "a/x.time is not 'wall KiB user sys': $(cat a/x.time)"
+grep -Eqx '[0-9]+\.[0-9]{2} [0-9]+ [0-9]+\.[0-9]{2} [0-9]+\.[0-9]{2}' a/x.time && [ "$(wc -l <a/x.time)" = 1 ] ||
+  fail "a/x.time is not GNU time's '%e %M %U %S' (one line, two decimals): $(cat a/x.time)"
+# (the peak memory of a tool that holds 60 MB, as GNU time reports it: KiB)
+"$stage" a/mem -- python3 -c 'b = bytearray(60 << 20); b[::4096] = b"x" * len(b[::4096])' >/dev/null ||
+  fail "the 60 MB stage failed"
+awk '{ exit !($2 >= 60 * 1024 && $2 < 200 * 1024) }' a/mem.time || fail "a/mem.time's peak is not ≈ 60 MB in KiB: $(cat a/mem.time)"
 echo "$out" | grep -Eq "^done  a/x +[0-9.]+ s +[0-9.]+ cpu +[0-9]+ MB$" || fail "no done line with wall and CPU: $out"
 # A stage burning CPU: user CPU seconds recorded (GNU time's %U), not only wall.
 "$stage" a/cpu -- bash -c 'i=0; while [ $i -lt 300000 ]; do i=$((i + 1)); done; : >a/cpu' >/dev/null ||
@@ -65,13 +77,51 @@ echo "$out" | grep -q "not recorded" || fail "the output does not say the kill w
 # A wrapper passing a signal on (status 128+n) is not recorded either; nor a tool not found.
 rc=0; FAKE_MODE=137 "$stage" --record-failure a/w -- "$tmp/bin/fake" -o a/w >/dev/null || rc=$?
 [ $rc -eq 137 ] && [ ! -e a/w ] || fail "status 137 was recorded (rc $rc)"
-rc=0; "$stage" --record-failure a/n -- "$tmp/bin/no-such-tool" -o a/n >/dev/null || rc=$?
+rc=0; out=$("$stage" --record-failure a/n -- "$tmp/bin/no-such-tool" -o a/n) || rc=$?
 [ $rc -eq 127 ] && [ ! -e a/n ] || fail "a missing tool was recorded as a failed trial (rc $rc)"
+echo "$out" | grep -q "^FAIL  a/n .*(exit 127, the command could not run)" || fail "a missing tool is not reported: $out"
+grep -q "no-such-tool: No such file or directory" a/n.log || fail "a/n.log does not say the tool was not found: $(cat a/n.log)"
+[ ! -e a/n.time ] || fail "a missing tool left a/n.time"
+printf 'not a program\n' >"$tmp/bin/noexec"
+rc=0; out=$("$stage" --record-failure a/e -- "$tmp/bin/noexec") || rc=$?
+[ $rc -eq 126 ] && [ ! -e a/e ] && [ ! -e a/e.time ] || fail "a tool that cannot be executed gave status $rc, or left a/e: $out"
+grep -q "Permission denied" a/e.log || fail "a/e.log does not say why the tool could not run: $(cat a/e.log)"
+# A failing stage: the last 5 lines of its log, indented; no .time left (not even an earlier one).
+echo "1.00 100 0.50 0.10" >a/l.time
+rc=0; out=$(FAKE_MODE=lines "$stage" a/l -- "$tmp/bin/fake") || rc=$?
+[ $rc -eq 3 ] && [ ! -e a/l.time ] || fail "a failing stage gave status $rc or left its .time"
+[ "$(echo "$out" | tail -n +2 | tr '\n' '|')" = "      line 3|      line 4|      line 5|      line 6|      line 7|" ] ||
+  fail "the failure does not show the log's last 5 lines: $out"
+# Usage errors exit 2 (no artifact, no command, an unknown option); stage.sh only execs the runner.
+for args in "" "a/u" "a/u --" "--bogus a/u -- true" "--launch cloud a/u -- true"; do
+  rc=0; read -ra words <<<"$args"; "$stage" "${words[@]}" >/dev/null 2>&1 || rc=$?
+  [ $rc -eq 2 ] || fail "'stagerun $args' exited $rc, not 2"
+done
+[ ! -e a/u.log ] || fail "a usage error ran a stage"
+out=$(CANOPY_BIN="$bin" "$src/scripts/stage.sh" a/s -- "$tmp/bin/fake" -o a/s) && [ -s a/s ] && [ -s a/s.time ] ||
+  fail "scripts/stage.sh does not run the stage through stagerun: $out"
+# Huge pages: asked for by default, not with CANOPY_HUGEPAGES=0, the user's own tunables kept
+# and their hugetlb setting left as it is.
+hp() { FAKE_MODE=env "$stage" a/hp -- "$tmp/bin/fake" >/dev/null && sed -n 's/^GLIBC_TUNABLES=//p' a/hp.log; }
+[ "$(hp)" = "glibc.malloc.hugetlb=1" ] || fail "no huge pages by default: $(hp)"
+[ "$(CANOPY_HUGEPAGES=0 hp)" = unset ] || fail "CANOPY_HUGEPAGES=0 still sets GLIBC_TUNABLES: $(CANOPY_HUGEPAGES=0 hp)"
+[ "$(GLIBC_TUNABLES=glibc.malloc.arena_max=2 hp)" = "glibc.malloc.arena_max=2:glibc.malloc.hugetlb=1" ] ||
+  fail "the user's GLIBC_TUNABLES are not kept: $(GLIBC_TUNABLES=glibc.malloc.arena_max=2 hp)"
+[ "$(GLIBC_TUNABLES=glibc.malloc.hugetlb=0 hp)" = "glibc.malloc.hugetlb=0" ] ||
+  fail "the user's hugetlb setting does not win: $(GLIBC_TUNABLES=glibc.malloc.hugetlb=0 hp)"
+# The Slurm job's side, stagerun --measure FILE: GNU time -o FILE, its status line included.
+rc=0; "$stage" --measure a/ms.time -- bash -c 'exit 3' || rc=$?
+[ $rc -eq 3 ] && [ "$(sed -n 1p a/ms.time)" = "Command exited with non-zero status 3" ] &&
+  sed -n 2p a/ms.time | grep -Eqx '[0-9]+\.[0-9]{2} [0-9]+ [0-9]+\.[0-9]{2} [0-9]+\.[0-9]{2}' ||
+  fail "stagerun --measure: status $rc, a/ms.time: $(cat a/ms.time)"
+rc=0; "$stage" --measure a/ms.time -- bash -c 'kill -KILL $$' || rc=$?
+[ $rc -eq 137 ] && [ "$(sed -n 1p a/ms.time)" = "Command terminated by signal 9" ] ||
+  fail "stagerun --measure of a killed command: status $rc, a/ms.time: $(cat a/ms.time)"
 
 # N/M: a plan of three stages (a dry run's lines), two at once; each N from 1 to 3 exactly
 # once; time left shown before the last.
 progress="$src/scripts/progress.sh"
-printf '%s\n' "built build/bin/fake" "scripts/stage.sh p/1 -- $tmp/bin/fake -o p/1" \
+printf '%s\n' "built build/bin/fake" "build/bin/stagerun p/1 -- $tmp/bin/fake -o p/1" \
   "scripts/stage.sh --record-failure p/2 -- $tmp/bin/fake -o p/2" "mkdir -p p" \
   "scripts/stage.sh p/3 -- xvfb-run -a -s \"-screen 0\" $tmp/bin/fake -o p/3" |
   "$progress" plan "$tmp/progress" >"$tmp/plan.out" 2>"$tmp/plan.err" || fail "progress.sh plan failed"
@@ -159,6 +209,29 @@ rc=0; wait "$pid" || rc=$?
 [ ! -s "$tmp/progress4-counted" ] || fail "a stopped stage was counted: $(cat "$tmp/progress4-counted")"
 read -r n _ <"$tmp/progress4"
 [ "$n" = 0 ] || fail "a stopped stage was counted (N = $n)"
+# SIGTERM to the runner alone (not its process group: `kill PID`) is passed on to the tool,
+# which stops (its TERM trap logs it) long before its 30 s; then the same ending as above.
+echo "1.00 100 0.50 0.10" >s/t.time
+CANOPY_PROGRESS="$tmp/progress4" FAKE_MODE=sleep "$stage" s/t -- "$tmp/bin/fake" >/dev/null &
+pid=$!
+for _ in $(seq 50); do [ -s s/t.time ] || break; sleep 0.1; done
+sleep 0.5
+started=$SECONDS
+kill -TERM "$pid"
+rc=0; wait "$pid" || rc=$?
+[ $rc -eq 143 ] && [ $((SECONDS - started)) -lt 10 ] || fail "the runner alone stopped by SIGTERM gave status $rc after $((SECONDS - started)) s"
+grep -q "stopped by TERM" s/t.log || fail "SIGTERM was not passed on to the tool: $(cat s/t.log)"
+[ ! -e s/t.time ] && [ ! -e s/t ] && [ ! -s "$tmp/progress4-counted" ] || fail "the stage stopped by SIGTERM left its .time or artifact, or was counted"
+# SIGINT (Ctrl-C) likewise: status 130 (the runner ends by SIGINT). (A background job of this
+# script ignores SIGINT from its start, so the runner is started with SIGINT at its default.)
+python3 -c 'import os, signal, sys; signal.signal(signal.SIGINT, signal.SIG_DFL); os.execv(sys.argv[1], sys.argv[1:])' \
+  "$stage" s/i -- sleep 30 >/dev/null &
+pid=$!
+for _ in $(seq 50); do [ -e s/i.time ] && break; sleep 0.1; done
+sleep 0.5
+kill -INT "$pid"
+rc=0; wait "$pid" || rc=$?
+[ $rc -eq 130 ] && [ ! -e s/i.time ] || fail "a stage stopped by SIGINT gave status $rc, or left s/i.time"
 
 # ---- through make, on a fake tree: every tool is the fake, artifacts are fresh ------------
 cd "$src" || exit 1
@@ -171,15 +244,17 @@ for t in rangetrace addnoise fitvox cocone ncut gmatch verify areas report figur
   cp "$tmp/bin/fake" "$b/bin/$t"
   sha256sum <"$b/bin/$t" | cut -d' ' -f1 >"$b/stamps/$t.sha"
 done
+cp "$stage" "$b/bin/stagerun"
 touch -d "@$((now - 90))" "$b/bin/"*
 touch -d "@$((now - 80))" "$b/stamps/"*
 mk=(make -f Makefile.experiments OBJECTS=sedan SCENES=unoccluded NOISES=0 ABLATIONS=fitvox-fixed-rms SCENE_EXPERIMENT=0 BASELINE=0 FAMILIES=0 REAL_TILES=0
     OUT="$tmp/out" RES="$tmp/res" BUILD="$b" CMAKE=true DISPLAY=:99 KEEP=1)
-"${mk[@]}" -n all | grep '^scripts/stage.sh' | grep -q -- ' -q ' &&
-  fail "a stage still runs its tool with -q: $("${mk[@]}" -n all | grep '^scripts/stage.sh' | grep -- ' -q ' | head -1)"
+"${mk[@]}" -n all | grep "^$b/bin/stagerun " | grep -q -- ' -q ' &&
+  fail "a stage still runs its tool with -q: $("${mk[@]}" -n all | grep "^$b/bin/stagerun " | grep -- ' -q ' | head -1)"
 
 # A full run: stages numbered 1/M..M/M, M = the stages make -n plans.
-m=$("${mk[@]}" -n all | grep -c '^scripts/stage.sh')
+m=$("${mk[@]}" -n all | grep -c "^$b/bin/stagerun ")
+[ "$m" -gt 5 ] || fail "make -n all plans $m stages through $b/bin/stagerun"
 "${mk[@]}" all -j2 >"$tmp/make.out" 2>&1 || fail "make all on the fake tree failed: $(tail -n 5 "$tmp/make.out")"
 got=$(sed -n 's/^\(done\|FAIL\)  \([0-9]*\)\/\([0-9]*\) .*/\2 \3/p' "$tmp/make.out")
 [ "$(echo "$got" | awk '{print $2}' | sort -u)" = "$m" ] || fail "M is not $m: $(head -n 3 "$tmp/make.out")"
