@@ -501,8 +501,11 @@ $(if $(SCENE_BASELINE),$(if $(filter-out $(OUT)/modelbase,$(SCENE_MB)),$(eval $(
 scene_variant_score_rule = $(call variant_score_rule,$(1),$(SCENE_DIR),$(scene_manifest),$(SCENE_RUNS),$(SCENE_RES),$(SCENE_MODEL_CLASSES))
 $(foreach m,$(SCENE_BASELINE),$(foreach r,$(SCENE_RUNS),$(foreach c,$(call model_cands,$(call scene_key,$(r))),\
   $(eval $(call scene_baseline_cand_rule,$(r),$(c),$(m))))))
+# (--refused-below=0: the 0.8 of collect's --refused-below is read on verify's calibrated
+# confidence, verify.md §15; a baseline's confidence is its method's score, which that bound does
+# not mean anything for, so its model answers are not set aside: open-set.md "Seventh round".)
 $(foreach m,$(SCENE_BASELINE),$(foreach r,$(SCENE_RUNS),$(eval $(call collect_variant_rule,$(r),$(call scene_key,$(r)),$(SCENE_MB),\
-  baseline-$(m),class.json,baseline-$(m).json,--verdict-name baseline-$(m).json))))
+  baseline-$(m),class.json,baseline-$(m).json,--verdict-name baseline-$(m).json --refused-below=0))))
 $(foreach m,$(SCENE_BASELINE),$(eval $(call scene_variant_score_rule,baseline-$(m))))
 # The size-only ablation: per run, collect from classify's measurements alone; scored as above.
 # (The surfaces as $(wildcard): the parent make builds them before this sub-make, and a dry run
