@@ -126,6 +126,11 @@ struct Params {
   // a tractor unit's cab cut from its deck by a row split is merged back (detect.md §13);
   // false = row pieces never merged (the rule before).
   bool merge_tall_rows = true;
+  // Clusters that touch in the top view, beside each other (not one over the other), whose
+  // union is in line and fits one vehicle are one object before any split: a vehicle's parts at
+  // different heights whose vertical faces the sensor did not see (a cab beside a deck seen
+  // from above; detect.md §16); false = the rule before.
+  bool join_stacked = true;
   // Candidates.
   double margin = 0.5;  // crop margin around the footprint and above the height (m)
 };
@@ -198,7 +203,7 @@ struct Candidate {
 struct Stats {
   std::size_t points = 0, ground_cells = 0, filled_cells = 0, cells = 0;
   std::size_t ground_points = 0, band_points = 0, clusters = 0, splits = 0, row_splits = 0, trims = 0,
-              merges = 0;
+              merges = 0, stacked = 0;
   std::size_t rejected_small = 0, rejected_large = 0, rejected_canopy = 0, rejected_shape = 0;
   double seconds_ground = 0, seconds_objects = 0, seconds_candidates = 0;
 };
