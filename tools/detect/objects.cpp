@@ -367,9 +367,9 @@ void merge_pieces(Context& c) {
     merged = false;
     for (std::size_t a = 0; a < objs.size() && !merged; ++a) {
       for (std::size_t b = a + 1; b < objs.size() && !merged; ++b) {
-        if (apart(objs[a], objs[b])) continue;
         const Footprint& fa = objs[a].fp;
         const Footprint& fb = objs[b].fp;
+        if (apart(objs[a], objs[b])) continue;
         // Rectangles farther apart than the gap cannot touch.
         if ((fa.centre - fb.centre).norm() >
             0.5 * (std::hypot(fa.length, fa.width) + std::hypot(fb.length, fb.width)) + reach)
@@ -419,25 +419,44 @@ void join_stacked(Context& c, std::vector<std::vector<std::uint32_t>>& clusters)
   const double reach = p.merge_gap * p.voxel;
   if (reach <= 0) return;
   struct Info {
+    double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;  // the top view's bounding box
+    bool has_fp = false;
     Footprint fp;
-    double height = 0;
   };
   std::vector<Info> info(clusters.size());
-  for (std::size_t k = 0; k < clusters.size(); ++k) {
-    if (clusters[k].size() < p.min_points) continue;
-    info[k].fp = footprint_of(c, clusters[k]);
-    for (std::uint32_t q : clusters[k]) info[k].height = std::max(info[k].height, double(c.h[q]));
-  }
+  auto bound = [&](Info& in, const std::vector<std::uint32_t>& pts) {
+    for (std::uint32_t q : pts) {
+      in.x0 = std::min(in.x0, c.x[q]);
+      in.x1 = std::max(in.x1, c.x[q]);
+      in.y0 = std::min(in.y0, c.y[q]);
+      in.y1 = std::max(in.y1, c.y[q]);
+    }
+  };
+  auto fp = [&](std::size_t k) -> const Footprint& {
+    if (!info[k].has_fp) {
+      info[k].fp = footprint_of(c, clusters[k]);
+      info[k].has_fp = true;
+    }
+    return info[k].fp;
+  };
+  for (std::size_t k = 0; k < clusters.size(); ++k) bound(info[k], clusters[k]);
+  // Passes over every pair until none joins; a cluster that grew is compared again with the
+  // rest of its pass.
   for (bool joined = true; joined;) {
     joined = false;
-    for (std::size_t a = 0; a < clusters.size() && !joined; ++a) {
+    for (std::size_t a = 0; a < clusters.size(); ++a) {
       if (clusters[a].size() < p.min_points) continue;
-      for (std::size_t b = a + 1; b < clusters.size() && !joined; ++b) {
+      for (std::size_t b = a + 1; b < clusters.size(); ++b) {
         if (clusters[b].size() < p.min_points) continue;
-        const Footprint& fa = info[a].fp;
-        const Footprint& fb = info[b].fp;
-        if ((fa.centre - fb.centre).norm() >
-            0.5 * (std::hypot(fa.length, fa.width) + std::hypot(fb.length, fb.width)) + reach)
+        const Info& ia = info[a];
+        const Info& ib = info[b];
+        if (ia.x0 > ib.x1 + reach || ib.x0 > ia.x1 + reach || ia.y0 > ib.y1 + reach || ib.y0 > ia.y1 + reach)
+          continue;
+        // A cluster beyond the ranges alone (a crown) is not a vehicle's part.
+        const Footprint& fa = fp(a);
+        const Footprint& fb = fp(b);
+        if (fa.length > p.max_length || fa.width > p.max_width || fb.length > p.max_length ||
+            fb.width > p.max_width)
           continue;
         if (!touch_in_plan(c, clusters[a], clusters[b], reach)) continue;
         std::vector<std::uint32_t> both = clusters[a];
@@ -445,21 +464,22 @@ void join_stacked(Context& c, std::vector<std::vector<std::uint32_t>>& clusters)
         const Footprint u = footprint_of(c, both);
         if (u.length > p.max_length || u.width > p.max_width) continue;
         if (u.width > std::max(fa.width, fb.width) + kMergeWiden) continue;
+        // Beside, not over: the smaller cluster's top-view cells that also hold the other's.
         const bool small_a = clusters[a].size() <= clusters[b].size();
-        const auto& sm = small_a ? clusters[a] : clusters[b];
-        const auto& lg = small_a ? clusters[b] : clusters[a];
-        const auto cells = plan_cells(c, lg, reach);
-        const auto own = plan_cells(c, sm, reach);
+        const auto other = plan_cells(c, small_a ? clusters[b] : clusters[a], reach);
+        const auto own = plan_cells(c, small_a ? clusters[a] : clusters[b], reach);
         std::size_t shared = 0;
-        for (const auto& kv : own) shared += cells.count(kv.first);
+        for (const auto& kv : own) shared += other.count(kv.first);
         if (double(shared) > kStackOverlay * double(own.size())) continue;
         clusters[a] = std::move(both);
+        bound(info[a], clusters[b]);
         info[a].fp = u;
-        info[a].height = std::max(info[a].height, info[b].height);
+        info[a].has_fp = true;
         clusters.erase(clusters.begin() + long(b));
         info.erase(info.begin() + long(b));
         ++c.out.stacked;
         joined = true;
+        b = a;  // the grown cluster against the rest again
       }
     }
   }
