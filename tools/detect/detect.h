@@ -27,7 +27,9 @@
 //    A half-voxel split is kept only when its parts hold `min_split_share` of the points
 //    (and, for an object only wider than two narrow vehicles, lie side by side); accepted
 //    objects touching end to end in the top view whose union fits one vehicle are merged
-//    (`merge_gap`: a tractor unit's cab and deck; detect.md §10). An accepted cluster whose
+//    (`merge_gap`: a tractor unit's cab and deck; detect.md §10); before any of this, clusters
+//    that touch in the top view beside each other, in line, are joined (`join_stacked`: a
+//    vehicle's parts at two heights seen from above, detect.md §16). An accepted cluster whose
 //    surface is mostly not planar and holds little planar area (bush groups, crown pieces:
 //    leaves are volumetric scatter, a vehicle is made of panels) is rejected
 //    (`min_planarity`, `min_planar_area`).
