@@ -420,6 +420,7 @@ void join_stacked(Context& c, std::vector<std::vector<std::uint32_t>>& clusters)
   if (reach <= 0) return;
   struct Info {
     double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;  // the top view's bounding box
+    double height = 0;                                        // its highest point above the DTM
     bool has_fp = false;
     Footprint fp;
   };
@@ -430,8 +431,14 @@ void join_stacked(Context& c, std::vector<std::vector<std::uint32_t>>& clusters)
       in.x1 = std::max(in.x1, c.x[q]);
       in.y0 = std::min(in.y0, c.y[q]);
       in.y1 = std::max(in.y1, c.y[q]);
+      in.height = std::max(in.height, double(c.h[q]));
     }
   };
+  // A cluster reaching the band's top voxel layer may go on above it (a crown, a wall, a hedge
+  // under a tree: continues_upward's layer); its height is not a vehicle part's, so it is not
+  // joined (on ahn3_delft_1 four cars were joined to such 4.5 m clusters, detect.md §16).
+  const double top = p.max_height - p.voxel;
+  auto joinable = [&](std::size_t k) { return clusters[k].size() >= p.min_points && info[k].height < top; };
   auto fp = [&](std::size_t k) -> const Footprint& {
     if (!info[k].has_fp) {
       info[k].fp = footprint_of(c, clusters[k]);
@@ -445,9 +452,9 @@ void join_stacked(Context& c, std::vector<std::vector<std::uint32_t>>& clusters)
   for (bool joined = true; joined;) {
     joined = false;
     for (std::size_t a = 0; a < clusters.size(); ++a) {
-      if (clusters[a].size() < p.min_points) continue;
+      if (!joinable(a)) continue;
       for (std::size_t b = a + 1; b < clusters.size(); ++b) {
-        if (clusters[b].size() < p.min_points) continue;
+        if (!joinable(b)) continue;
         const Info& ia = info[a];
         const Info& ib = info[b];
         if (ia.x0 > ib.x1 + reach || ib.x0 > ia.x1 + reach || ia.y0 > ib.y1 + reach || ib.y0 > ia.y1 + reach)
