@@ -5,6 +5,8 @@
 # either level per cover, false alarms, class right (OUT/score.json + CSVs), as mk/scenes.mk's
 # chain answers a candidate below the model level (every candidate at 10-50 points/m²).
 #   bench/detect/classlevel.sh BIN OUT TAG MODELBASE RUN...   (RUN = WORK/d<level>-<cover>-<seed>)
+# (score's closing line counts model-level detections, none here: read score.json's
+# found_any_level, recall_any_level and false_alarms_any_level_per_ha per cover.)
 set -euo pipefail
 bin=$1 out=$2 tag=$3 mb=$4
 shift 4
