@@ -105,6 +105,7 @@ Outputs run(const Params& given, const Inputs& inputs) {
   r.stats.row_splits = found.row_splits;
   r.stats.trims = found.trims;
   r.stats.merges = found.merges;
+  r.stats.stacked = found.stacked;
   r.stats.rejected_small = found.rejected_small;
   r.stats.rejected_large = found.rejected_large;
   r.stats.rejected_canopy = found.rejected_canopy;

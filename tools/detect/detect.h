@@ -27,7 +27,9 @@
 //    A half-voxel split is kept only when its parts hold `min_split_share` of the points
 //    (and, for an object only wider than two narrow vehicles, lie side by side); accepted
 //    objects touching end to end in the top view whose union fits one vehicle are merged
-//    (`merge_gap`: a tractor unit's cab and deck; detect.md §10). An accepted cluster whose
+//    (`merge_gap`: a tractor unit's cab and deck; detect.md §10); before any of this, clusters
+//    that touch in the top view beside each other, in line, are joined (`join_stacked`: a
+//    vehicle's parts at two heights seen from above, detect.md §16). An accepted cluster whose
 //    surface is mostly not planar and holds little planar area (bush groups, crown pieces:
 //    leaves are volumetric scatter, a vehicle is made of panels) is rejected
 //    (`min_planarity`, `min_planar_area`).
@@ -126,6 +128,11 @@ struct Params {
   // a tractor unit's cab cut from its deck by a row split is merged back (detect.md §13);
   // false = row pieces never merged (the rule before).
   bool merge_tall_rows = true;
+  // Clusters that touch in the top view, beside each other (not one over the other), whose
+  // union is in line and fits one vehicle are one object before any split: a vehicle's parts at
+  // different heights whose vertical faces the sensor did not see (a cab beside a deck seen
+  // from above; detect.md §16); false = the rule before.
+  bool join_stacked = true;
   // Candidates.
   double margin = 0.5;  // crop margin around the footprint and above the height (m)
 };
@@ -198,7 +205,7 @@ struct Candidate {
 struct Stats {
   std::size_t points = 0, ground_cells = 0, filled_cells = 0, cells = 0;
   std::size_t ground_points = 0, band_points = 0, clusters = 0, splits = 0, row_splits = 0, trims = 0,
-              merges = 0;
+              merges = 0, stacked = 0;
   std::size_t rejected_small = 0, rejected_large = 0, rejected_canopy = 0, rejected_shape = 0;
   double seconds_ground = 0, seconds_objects = 0, seconds_candidates = 0;
 };

@@ -101,6 +101,12 @@ void bind(common::Tool& tool, detect::Params& p, Cli& cli) {
            "that rises above --row-max-height (a tractor unit's cab cut from its deck by a row "
            "split); false = pieces of a row split never merged, the rule before, "
            "docs/decisions/detect.md §13");
+  tool.add("--join-stacked", &p.join_stacked,
+           "true or false: clusters that touch in the top view, beside each other (not one over "
+           "the other), whose union is in line and fits one vehicle are one object before any "
+           "split (a vehicle's parts at different heights whose vertical faces the sensor did not "
+           "see: a cab beside a deck from above); false = the rule before, "
+           "docs/decisions/detect.md §16");
   tool.add_flag("--no-classes", &cli.no_classes, "do not write classes.ply");
   tool.app().add_option("--trajectory", cli.trajectory,
                         "sensor trajectory (formats/README.md, Trajectory) in the tile's frame: a "
@@ -165,11 +171,11 @@ std::string summary(const detect::Result& r) {
       "density %.1f points/m² (DTM cell %.2f m, voxel %.2f m, min planarity %.2f, rows %s); ground %zu of "
       "%zu cells "
       "(%.2f s); %zu "
-      "object points in %zu clusters, %zu splits (%zu rows, %zu trims), %zu merges, "
+      "object points in %zu clusters (%zu stacked joined), %zu splits (%zu rows, %zu trims), %zu merges, "
       "rejected %zu small %zu large %zu canopy bottoms %zu not planar (%.2f s); %zu candidates (%.2f s)",
       r.density.rule, r.density.cell, r.density.voxel, r.density.min_planarity,
       r.density.split_rows ? "split" : "kept", s.ground_cells, s.cells, s.seconds_ground, s.band_points,
-      s.clusters, s.splits, s.row_splits, s.trims, s.merges, s.rejected_small, s.rejected_large,
+      s.clusters, s.stacked, s.splits, s.row_splits, s.trims, s.merges, s.rejected_small, s.rejected_large,
       s.rejected_canopy, s.rejected_shape, s.seconds_objects, r.candidates.size(), s.seconds_candidates);
   return buf;
 }

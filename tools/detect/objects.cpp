@@ -21,6 +21,9 @@ using formats::format_number;
 constexpr int kMaxSplitDepth = 6;
 // Pieces merged (merge_pieces) make a union at most this much wider than the wider piece (m).
 constexpr double kMergeWiden = 0.3;
+// Clusters stacked in height (join_stacked) share at most this share of the smaller one's
+// top-view cells: they meet along a line, one is not over the other.
+constexpr double kStackOverlay = 0.25;
 
 struct Context {
   const Params& p;
@@ -32,8 +35,9 @@ struct Context {
   // 2-D voxel columns (i, j at `voxel`, packed) holding a point just above the band: a
   // cluster reaching the band's top under them is the bottom of something taller (a crown).
   std::unordered_map<std::uint64_t, char> above;
-  int in_row = 0;   // > 0 while examining the pieces of a row split (rows.h)
-  int in_trim = 0;  // > 0 while examining the pieces of a trim (rows.h)
+  int in_row = 0;          // > 0 while examining the pieces of a row split (rows.h)
+  int in_trim = 0;         // > 0 while examining the pieces of a trim (rows.h)
+  std::size_t origin = 0;  // the cluster being examined (find_objects' order)
 };
 
 std::uint64_t column_key(double x, double y, double v) {
@@ -306,6 +310,7 @@ void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
   o.points = std::move(pts);
   o.row_piece = c.in_row > 0;
   o.trim_piece = c.in_trim > 0;
+  o.origins = {c.origin};
   c.out.accepted.push_back(std::move(o));
 }
 
@@ -345,16 +350,26 @@ void merge_pieces(Context& c) {
   auto tall = [&](const Object& o) {
     return p.merge_tall_rows && p.row_max_height > 0 && o.height > p.row_max_height;
   };
+  // With join_stacked the row and trim rules keep apart only pieces of one cluster: a cluster
+  // apart from it in 3-D (a cab over a deck's end whose back wall the sensor did not see) was
+  // not before them (detect.md §16).
+  auto decided = [&](const Object& a, const Object& b) {
+    if (!p.join_stacked) return true;
+    for (std::size_t k : a.origins)
+      if (std::find(b.origins.begin(), b.origins.end(), k) != b.origins.end()) return true;
+    return false;
+  };
   auto apart = [&](const Object& a, const Object& b) {
-    return a.trim_piece || b.trim_piece || ((a.row_piece || b.row_piece) && !tall(a) && !tall(b));
+    return decided(a, b) &&
+           (a.trim_piece || b.trim_piece || ((a.row_piece || b.row_piece) && !tall(a) && !tall(b)));
   };
   for (bool merged = true; merged;) {
     merged = false;
     for (std::size_t a = 0; a < objs.size() && !merged; ++a) {
       for (std::size_t b = a + 1; b < objs.size() && !merged; ++b) {
-        if (apart(objs[a], objs[b])) continue;
         const Footprint& fa = objs[a].fp;
         const Footprint& fb = objs[b].fp;
+        if (apart(objs[a], objs[b])) continue;
         // Rectangles farther apart than the gap cannot touch.
         if ((fa.centre - fb.centre).norm() >
             0.5 * (std::hypot(fa.length, fa.width) + std::hypot(fb.length, fb.width)) + reach)
@@ -373,9 +388,105 @@ void merge_pieces(Context& c) {
         objs[a].height = std::max(objs[a].height, objs[b].height);
         objs[a].row_piece = objs[a].row_piece || objs[b].row_piece;
         objs[a].trim_piece = objs[a].trim_piece || objs[b].trim_piece;
+        objs[a].origins.insert(objs[a].origins.end(), objs[b].origins.begin(), objs[b].origins.end());
         objs.erase(objs.begin() + long(b));
         ++c.out.merges;
         merged = true;
+      }
+    }
+  }
+}
+
+// Cells of `cell` in the top view holding points of `pts`.
+std::unordered_map<std::uint64_t, char> plan_cells(const Context& c, const std::vector<std::uint32_t>& pts,
+                                                   double cell) {
+  std::unordered_map<std::uint64_t, char> cells;
+  for (std::uint32_t q : pts) cells.emplace(column_key(c.x[q], c.y[q], cell), 1);
+  return cells;
+}
+
+// Clusters stacked in height (detect.md §16): seen from above, a vehicle's vertical faces (a
+// cab's back wall, the sides of an earthmover's cab) return next to nothing, so its parts at
+// different heights (a cab roof beside a deck, a cab top between the bonnet and the rear) are
+// clusters of their own in (x, y, height) that touch only in the top view. Two clusters are
+// joined before they are examined when their points come within `reach` of each other in the
+// top view, they lie beside each other rather than one over the other (at most
+// kStackOverlay of the smaller one's top-view cells also hold points of the other: a contact
+// line, not a crown or a branch over a car), and their union is in line (no wider than the
+// wider one + kMergeWiden) and fits the vehicle ranges. Repeated until no pair joins.
+void join_stacked(Context& c, std::vector<std::vector<std::uint32_t>>& clusters) {
+  const Params& p = c.p;
+  const double reach = p.merge_gap * p.voxel;
+  if (reach <= 0) return;
+  struct Info {
+    double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;  // the top view's bounding box
+    double height = 0;                                        // its highest point above the DTM
+    bool has_fp = false;
+    Footprint fp;
+  };
+  std::vector<Info> info(clusters.size());
+  auto bound = [&](Info& in, const std::vector<std::uint32_t>& pts) {
+    for (std::uint32_t q : pts) {
+      in.x0 = std::min(in.x0, c.x[q]);
+      in.x1 = std::max(in.x1, c.x[q]);
+      in.y0 = std::min(in.y0, c.y[q]);
+      in.y1 = std::max(in.y1, c.y[q]);
+      in.height = std::max(in.height, double(c.h[q]));
+    }
+  };
+  // A cluster reaching the band's top voxel layer may go on above it (a crown, a wall, a hedge
+  // under a tree: continues_upward's layer); its height is not a vehicle part's, so it is not
+  // joined (on ahn3_delft_1 four cars were joined to such 4.5 m clusters, detect.md §16).
+  const double top = p.max_height - p.voxel;
+  auto joinable = [&](std::size_t k) { return clusters[k].size() >= p.min_points && info[k].height < top; };
+  auto fp = [&](std::size_t k) -> const Footprint& {
+    if (!info[k].has_fp) {
+      info[k].fp = footprint_of(c, clusters[k]);
+      info[k].has_fp = true;
+    }
+    return info[k].fp;
+  };
+  for (std::size_t k = 0; k < clusters.size(); ++k) bound(info[k], clusters[k]);
+  // Passes over every pair until none joins; a cluster that grew is compared again with the
+  // rest of its pass.
+  for (bool joined = true; joined;) {
+    joined = false;
+    for (std::size_t a = 0; a < clusters.size(); ++a) {
+      if (!joinable(a)) continue;
+      for (std::size_t b = a + 1; b < clusters.size(); ++b) {
+        if (!joinable(b)) continue;
+        const Info& ia = info[a];
+        const Info& ib = info[b];
+        if (ia.x0 > ib.x1 + reach || ib.x0 > ia.x1 + reach || ia.y0 > ib.y1 + reach || ib.y0 > ia.y1 + reach)
+          continue;
+        // A cluster beyond the ranges alone (a crown) is not a vehicle's part.
+        const Footprint& fa = fp(a);
+        const Footprint& fb = fp(b);
+        if (fa.length > p.max_length || fa.width > p.max_width || fb.length > p.max_length ||
+            fb.width > p.max_width)
+          continue;
+        if (!touch_in_plan(c, clusters[a], clusters[b], reach)) continue;
+        std::vector<std::uint32_t> both = clusters[a];
+        both.insert(both.end(), clusters[b].begin(), clusters[b].end());
+        const Footprint u = footprint_of(c, both);
+        if (u.length > p.max_length || u.width > p.max_width) continue;
+        if (u.width > std::max(fa.width, fb.width) + kMergeWiden) continue;
+        // Beside, not over: the smaller cluster's top-view cells that also hold the other's.
+        const bool small_a = clusters[a].size() <= clusters[b].size();
+        const auto other = plan_cells(c, small_a ? clusters[b] : clusters[a], reach);
+        const auto own = plan_cells(c, small_a ? clusters[a] : clusters[b], reach);
+        std::size_t shared = 0;
+        for (const auto& kv : own) shared += other.count(kv.first);
+        if (double(shared) > kStackOverlay * double(own.size())) continue;
+        clusters[a] = std::move(both);
+        bound(info[a], clusters[b]);
+        info[a].fp = u;
+        info[a].has_fp = true;
+        clusters.erase(clusters.begin() + long(b));
+        info.erase(info.begin() + long(b));
+        ++c.out.stacked;
+        joined = true;
+        b = a;  // the grown cluster against the rest again
       }
     }
   }
@@ -404,7 +515,11 @@ Objects find_objects(const LocalFrame& l, const std::vector<float>& height, cons
   try {
     auto clusters = cluster_points(band, l.x, l.y, hz, params.voxel, params.clustering);
     out.clusters = clusters.size();
-    for (auto& cl : clusters) examine(ctx, std::move(cl), 0);
+    if (params.join_stacked) join_stacked(ctx, clusters);
+    for (std::size_t k = 0; k < clusters.size(); ++k) {
+      ctx.origin = k;
+      examine(ctx, std::move(clusters[k]), 0);
+    }
     merge_pieces(ctx);
   } catch (const VoxelOverflow& e) {
     throw DataError(name, "the points between --min-object-height and --max-height span " +

@@ -27,12 +27,15 @@ struct Object {
   Shape shape;
   bool row_piece = false;   // a piece of a row split or a trim (rows.h): merged only with a tall piece
   bool trim_piece = false;  // a piece of a trim (rows.h): never merged with another
+  // The clusters (find_objects' order) the object's points came from: the row and trim rules
+  // keep apart only pieces of one cluster (with join_stacked; detect.md §16).
+  std::vector<std::size_t> origins;
 };
 
 // The objects that pass the vehicle tests, in the order found, and the counts of the way.
 struct Objects {
   std::vector<Object> accepted;
-  std::size_t band_points = 0, clusters = 0, splits = 0, row_splits = 0, trims = 0, merges = 0;
+  std::size_t band_points = 0, clusters = 0, splits = 0, row_splits = 0, trims = 0, merges = 0, stacked = 0;
   std::size_t rejected_small = 0, rejected_large = 0, rejected_canopy = 0;
 };
 
