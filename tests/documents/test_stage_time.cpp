@@ -1,4 +1,4 @@
-// documents/stage_time.h: the .time files scripts/stage.sh writes (GNU time's "%e %M %U %S"),
+// documents/stage_time.h: the .time files tools/stagerun writes (GNU time's "%e %M %U %S"),
 // and the older two-column files; a malformed file is an error naming it (issue 25: a negative
 // time was summed and "abc def" / "nan inf" silently dropped).
 #include <catch2/catch.hpp>

@@ -40,7 +40,7 @@ constexpr double kModelDensity = common::kModelLevelDensity;
 struct Verdict {
   std::string name;       // file, as given
   bool present = true;    // false: there is no such file (a class-level candidate has no verdict.json)
-  bool failed = false;    // an empty file: the candidate's chain failed (stage.sh --record-failure)
+  bool failed = false;    // an empty file: the candidate's chain failed (stagerun --record-failure)
   std::string candidate;  // the points verify checked ("candidate"), as it was given them
   std::string level;      // "level" when given ("class" for classify's answers)
   std::string model;      // "" = none

@@ -180,9 +180,9 @@ bool plain_name(const std::string& n) {
          n.find('\0') == std::string::npos;
 }
 
-// A name the chain (mk/scenes.mk: stage.sh, fitvox, cocone, ncut, gmatch, verify, baseline)
+// A name the chain (mk/scenes.mk: stagerun, fitvox, cocone, ncut, gmatch, verify, baseline)
 // writes in a candidate's directory: <stage>.<pcd|ply|json|log|time>, optionally + ".tmp"
-// (stage.sh's .time.tmp, AtomicOutput's .<stem>.tmp<pid>-<n>.<ext>).
+// (stagerun's .time.tmp, AtomicOutput's .<stem>.tmp<pid>-<n>.<ext>).
 bool chain_file_name(std::string n) {
   if (n.size() > 4 && n.compare(n.size() - 4, 4, ".tmp") == 0) n.resize(n.size() - 4);
   for (const char* ext : {".pcd", ".ply", ".json", ".log", ".time"}) {

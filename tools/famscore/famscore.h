@@ -5,14 +5,14 @@
 // The runs manifest has one trial per line: <verdict.json> <class> <instance> <cover> <noise>
 // (the test vehicle is family:<class>:<instance>; '#' starts a comment). The answered class is
 // the verdict's "class" (the best-scoring hypothesis's class, accepted or not); "none" when the
-// verdict has no class or is empty (a stage failed on the trial: stage.sh --record-failure). The right
+// verdict has no class or is empty (a stage failed on the trial: stagerun --record-failure). The right
 // nearest instance is the modelbase entry of the true class whose generated length, width and height are
 // nearest (Euclidean) to the test vehicle's.
 //
 // Methods side by side (docs/decisions/families.md §10): beside verify's answer, the class of
 // gmatch's rank-1 model (match.json) and of the PCL baseline's rank-1 model per method
 // (baseline-vfh.json, baseline-fpfh.json), all in the verdict's directory, with each method's
-// time from the stages' .time files (scripts/stage.sh: wall seconds, peak KiB).
+// time from the stages' .time files (tools/stagerun: wall seconds, peak KiB).
 #pragma once
 
 #include <cstddef>
@@ -57,7 +57,7 @@ struct Trial {
   std::string answered_class;  // "none" when the verdict names no class
   std::string nearest, expected_nearest;
   bool accepted = false;        // the verdict's model passed verify's threshold
-  bool failed = false;          // a stage failed (empty verdict, stage.sh --record-failure)
+  bool failed = false;          // a stage failed (empty verdict, stagerun --record-failure)
   std::vector<Answer> answers;  // per methods(), when read with them
 };
 

@@ -18,7 +18,7 @@ struct BaselineSection {
 // Reads each trial's {baseline.json, baseline.json.time, match.json, verdict.json} in the
 // directory the manifest names, in the grid's order (objects x scenes x noises).
 // Trials without baseline.json are left out (and counted in the text); an empty baseline.json
-// (a failed run recorded by scripts/stage.sh --record-failure) counts as wrong for both methods.
+// (a failed run recorded by stagerun --record-failure) counts as wrong for both methods.
 BaselineSection baseline_section(const documents::ExperimentManifest& manifest);
 
 }  // namespace canopy::report

@@ -72,7 +72,7 @@ report::Case read_case(const documents::ManifestTrial& t) {
   c.times["gmatch"] = documents::read_stage_time(dir + "/match.json");
   c.times["verify"] = documents::read_stage_time(dir + "/verdict.json");
   c.areas = report::read_areas(dir + "/areas.json");
-  // verify's answer: absent = not run; empty = verify failed (scripts/stage.sh
+  // verify's answer: absent = not run; empty = verify failed (tools/stagerun
   // --record-failure), counted as a failed trial (documents/stage_outcome.h).
   const documents::StageVerdict v = documents::read_stage_verdict(dir + "/verdict.json");
   if (v.outcome == documents::StageOutcome::failed) c.verdict_status = report::VerdictStatus::failed;
@@ -90,7 +90,7 @@ report::Ablation read_ablation(const documents::ManifestAblation& spec) {
   a.change = spec.change;
   for (const auto& t : spec.trials) {
     const std::string key = t.object + "/" + t.scene + "/" + std::to_string(t.noise_mm);
-    // An empty match.json records a stage that failed in this variant (scripts/stage.sh
+    // An empty match.json records a stage that failed in this variant (tools/stagerun
     // --record-failure): the trial counts as not recognised (rank 0).
     const std::string text = common::read_file(t.path);
     int rank = 0;

@@ -15,7 +15,7 @@
 
 namespace canopy::report {
 
-// Wall time, peak memory and CPU of one stage run (scripts/stage.sh's .time files,
+// Wall time, peak memory and CPU of one stage run (tools/stagerun's .time files,
 // documents::read_stage_time; a malformed one is an error naming it); the thesis's results table
 // (formats::parse_thesis_csv); the one number formatter of the report's tables and Markdown
 // (formats::format_number).
@@ -40,7 +40,7 @@ struct AreaRow {
 };
 
 // verify's verdict.json of one trial: absent (verify not run), empty (verify failed; recorded by
-// scripts/stage.sh --record-failure) or read.
+// stagerun --record-failure) or read.
 enum class VerdictStatus { missing, failed, read };
 
 // One trial: an object seen in a scene at a noise level, matched against the modelbase.
@@ -251,7 +251,7 @@ struct SceneRun {
 };
 
 // Wall time, CPU and peak memory of one stage summed over the scene experiment, from the .time
-// files of scripts/stage.sh: rangetrace = <tile>/scan.pcd (each rendering once, per hectare of
+// files of tools/stagerun: rangetrace = <tile>/scan.pcd (each rendering once, per hectare of
 // rendered tiles), addnoise = <run>/scan.pcd, detect = <run>/detect, plan = <run>/cands.mk,
 // fitvox … verify = <run>/cands/<id>/{samples.pcd, mesh.ply, segments.json, match.json,
 // verdict.json}, collect = <run>/detections.json, topview = <run>/scored.png; per hectare of

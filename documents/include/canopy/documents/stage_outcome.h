@@ -1,5 +1,5 @@
-// What a stage left behind in its output file (scripts/stage.sh): no file (the stage did not
-// run), an empty file (the stage failed: stage.sh --record-failure leaves an empty output so
+// What a stage left behind in its output file (tools/stagerun): no file (the stage did not
+// run), an empty file (the stage failed: stagerun --record-failure leaves an empty output so
 // that make goes on), else the document the stage wrote. The one place that reads this rule;
 // every reader of a stage's output that may have failed asks here first.
 #pragma once

@@ -1,4 +1,4 @@
-// The .time file scripts/stage.sh writes beside every artifact it runs a stage for (GNU time's
+// The .time file tools/stagerun writes beside every artifact it runs a stage for (GNU time's
 // "%e %M %U %S"): "<wall seconds> <peak memory KiB> <user CPU seconds> <system CPU seconds>",
 // e.g. out/sedan/circle/noise-8/samples.pcd.time holds "1.52 48212 1.40 0.08". Files written
 // before the CPU columns hold the first two numbers only; they are read, without CPU.
