@@ -463,7 +463,8 @@ void time_row(const Numbers& n, const std::string& label, const std::string& too
 
 std::string times_markdown(const Numbers& n) {
   std::ostringstream md;
-  md << "## Time per stage\n\nWall time on this machine (the stage runner `tools/stagerun` around every run; with "
+  md << "## Time per stage\n\nWall time on this machine (the stage runner `tools/stagerun` around every run; "
+        "with "
         "`-j2` two runs share the 2 cores, and wall time includes waiting for the CPU) and CPU time (user + "
         "system, which the load does not change), beside the thesis's Table A.1 (2002 hardware).\n\n"
      << "| stage | tool | runs | total (h:mm:ss) | CPU (h:mm:ss) | mean (s) | peak memory (MB) | thesis runs "

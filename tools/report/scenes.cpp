@@ -525,7 +525,8 @@ void baselines(std::ostringstream& md, const SceneScore& score, const std::vecto
 
 void times_table(std::ostringstream& md, const std::vector<SceneStageTime>& times) {
   md << "### Time per hectare and peak memory per stage\n\n"
-        "Wall time summed over the stage's runs (the stage runner's `.time` files, tools/stagerun; on a shared machine "
+        "Wall time summed over the stage's runs (the stage runner's `.time` files, tools/stagerun; on a "
+        "shared machine "
         "wall time includes waiting for the CPU) and their CPU time (user + system, which the load does not "
         "change), per hectare of rendered tiles (rangetrace) or of runs (every other stage); peak memory of "
         "the largest run. `scenes/times.csv`.\n\n"
