@@ -23,29 +23,14 @@ covers=${COVERS:-"light medium dense"}
 variants=${VARIANTS:-"on: off:--max-notch=0,--drawbar-width=0 notch:--min-notch=0.05"}
 mb_args=()
 [ -z "${MODELBASE:-}" ] || mb_args=(--modelbase "$MODELBASE" --model-classes "${CLASSES:-$src/share/models/classes.csv}")
-declare -A trees=([light]=100 [medium]=350 [dense]=700) hide=([light]=0 [medium]=1 [dense]=2)
+# The scene experiment's recipes, written by the one copy outside make (bench/detect/recipes.sh).
+bash "$src/bench/detect/recipes.sh" "$out/recipes" "$seeds"
 tiles=()
 for c in $covers; do
   for s in $seeds; do
     d=$out/tiles/$c-$s
     mkdir -p "$d"
-    k=$(printf '%s' "clutter/$c/$s" | cksum | awk '{ print 1 + $1 % 3 }')
-    unseen=$(echo "trailer 1 rock 1|caravan 1 tent 1|pipes 1 barriers 1" | cut -d'|' -f"$k")
-    n=$(printf '%s' "vehicles/$c/$s" | cksum | awk '{ print 3 + $1 % 6 }')
-    cat >"$d/recipe.scene" <<EOF
-# scene experiment tile (mk/scenes.mk): cover $c, seed $s
-extent = 30m
-terrain = rolling 1m 25m
-trees = ${trees[$c]}
-hide = ${hide[$c]}
-bushes = 300
-vehicles = random $n from earthmover,obj1,sedan,semi,tank
-clutter = boulder 2 container 1 logs 1 $unseen
-flight_lines = 2
-headings = 0deg 90deg
-looks = 75deg/0deg 75deg/180deg
-spacing = 40mm
-EOF
+    cp "$out/recipes/$c-$s.scene" "$d/recipe.scene"
     echo "$d $(printf '%s' "scenes/$c/$s" | cksum | awk '{ print $1 }')"
     tiles+=("$d")
   done

@@ -7,6 +7,7 @@
 #   DIR/sensor-<L>/<cover>-<seed>.scene     the sensor ladder's als_qL1 at L = 10, 25, 50 pulses/m²
 #                                           (mk/density.mk's pulse_rate and speed for L0 = 26.5)
 #   bench/detect/recipes.sh DIR "101 102 103"
+# (bench/classify/outline.sh takes its tiles' recipes from here too.)
 # Keep in step with mk/scenes.mk and mk/density.mk (checked: rendered with pieces.sh's render
 # seeds, the sensor tiles of seeds 21-23 hold 19/18/16 vehicles at 24.99 pulses/m², and with
 # detect's option off they score what the stop-47 `make density` run scored, tile set for tile set).
