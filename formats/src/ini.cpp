@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "canopy/common/error.h"
+#include "canopy/common/printable.h"
 
 namespace canopy::formats {
 namespace {
@@ -16,22 +17,6 @@ std::string trim(const std::string& s) {
   const auto b = s.find_first_not_of(kBlanks);
   if (b == std::string::npos) return "";
   return s.substr(b, s.find_last_not_of(kBlanks) - b + 1);
-}
-
-// A file name for a message: control bytes as \xNN.
-std::string printable(const std::string& s) {
-  std::string out;
-  for (const char c : s) {
-    const auto u = static_cast<unsigned char>(c);
-    if (u < 0x20 || u == 0x7f) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\x%02x", u);
-      out += buf;
-    } else {
-      out += c;
-    }
-  }
-  return out;
 }
 
 std::string listed(const std::vector<std::string>& names) {
@@ -134,7 +119,7 @@ const IniEntry* IniFile::find(const std::string& section, const std::string& key
 }
 
 void IniFile::fail(int line, const std::string& problem) const {
-  throw common::DataError(printable(file),
+  throw common::DataError(common::printable(file),
                           line > 0 ? "line " + std::to_string(line) + ": " + problem : problem);
 }
 
