@@ -1,5 +1,9 @@
 #include "canopy/common/error.h"
 
+#include <cstdio>
+
+#include "canopy/common/printable.h"
+
 namespace canopy::common {
 
 DataError::DataError(const std::string& file, const std::string& cause)
@@ -8,6 +12,21 @@ DataError::DataError(const std::string& file, const std::string& cause)
 std::string display_name(const std::string& path, bool output) {
   if (path == "-") return output ? "<stdout>" : "<stdin>";
   return path;
+}
+
+std::string printable(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u == 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", u);
+      out += buf;
+    } else {
+      out += c;
+    }
+  }
+  return out;
 }
 
 }  // namespace canopy::common

@@ -355,19 +355,4 @@ std::vector<std::string> check_user_include(const std::string& dir, const std::s
   return checker.run(dir + "/" + file);
 }
 
-std::string printable(const std::string& s) {
-  std::string out;
-  for (const char c : s) {
-    const auto u = static_cast<unsigned char>(c);
-    if (u < 0x20 || u == 0x7f) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\x%02x", u);
-      out += buf;
-    } else {
-      out += c;
-    }
-  }
-  return out;
-}
-
 }  // namespace canopy::sim

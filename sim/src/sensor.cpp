@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <sstream>
 #include <sys/stat.h>
 
 #include "canopy/common/atomic_file.h"
@@ -13,6 +12,7 @@
 #include "canopy/common/math.h"
 #include "canopy/common/rng.h"
 #include "canopy/common/units.h"
+#include "canopy/formats/ini.h"
 
 namespace canopy::sim {
 
@@ -186,34 +186,15 @@ void check_sensor(const Sensor& s) {
 Sensor parse_sensor(const std::string& text, const std::string& file, const std::string& name) {
   Sensor s;
   s.name = name;
-  std::istringstream in(text);
-  std::string line;
-  int n = 0;
-  std::map<std::string, int> given;
-  auto fail = [&](const std::string& why) {
-    throw common::DataError(file, "line " + std::to_string(n) + ": " + why);
-  };
-  while (std::getline(in, line)) {
-    ++n;
-    for (char c : line) {
-      const auto u = static_cast<unsigned char>(c);
-      if ((u < 0x20 && u != '\t' && u != '\r') || u == 0x7f) fail("control byte (a preset is text)");
-    }
-    const auto hash = line.find('#');
-    if (hash != std::string::npos) line.resize(hash);
-    std::istringstream words(line);
-    std::vector<std::string> w;
-    for (std::string x; words >> x;) w.push_back(x);
-    if (w.empty()) continue;
-    if (w.size() < 3 || w[1] != "=") fail("expected 'key = value'");
-    const std::string key = w[0];
-    if (!is_sensor_key(key)) fail("unknown sensor key '" + key + "'");
-    const auto [it, first] = given.emplace(key, n);
-    if (!first)
-      fail("'" + key + "' is given twice, on lines " + std::to_string(it->second) + " and " + std::to_string(n));
+  formats::IniPolicy policy;  // '#' comments (anywhere), no sections, each key once
+  policy.comments = "#";
+  policy.kind = "a preset";
+  const formats::IniFile ini = formats::parse_ini(text, file, policy);
+  for (const formats::IniEntry& e : ini.entries) {
+    if (!is_sensor_key(e.key)) ini.fail(e.line, "unknown sensor key '" + e.key + "'");
     try {
-      apply_sensor_key(&s, key, std::vector<std::string>(w.begin() + 2, w.end()));
-    } catch (const UsageError& e) { fail(e.what()); }
+      apply_sensor_key(&s, e.key, formats::ini_words(e.value));
+    } catch (const UsageError& err) { ini.fail(e.line, err.what()); }
   }
   try {
     check_sensor(s);

@@ -960,6 +960,16 @@ TEST_CASE(
   CHECK(cal.model.bias == 1);
   CHECK(cal.model.slope == 2);
   CHECK(cal.none_class.slope == 1.5);
+  {  // The same file with a UTF-8 BOM and CRLF line ends reads the same (formats/ini.h).
+    std::string crlf = "\xEF\xBB\xBF";
+    for (const char* c = kCalibrationIni; *c; ++c)
+      crlf += *c == '\n' ? std::string("\r\n") : std::string(1, *c);
+    const collect::Calibration dos = collect::parse_calibration(crlf, "cal.ini");
+    CHECK(dos.model.slope == 2);
+    CHECK(dos.cls.bias == 2);
+    CHECK(dos.none.bias == -0.5);
+    CHECK(dos.none_class.bias == 0.3);
+  }
   CHECK(collect::calibrated(cal.model, 0.9) == Approx(0.99547881).epsilon(1e-7));
   CHECK(collect::calibrated(cal.none, 0.6) == Approx(0.42622561).epsilon(1e-7));
   CHECK(collect::calibrated(cal.none_class, 0.25) == Approx(0.20621089).epsilon(1e-7));
@@ -1039,10 +1049,12 @@ TEST_CASE("collect --calibration: the file on the command line; a bad one is nam
   // Bad files: exit 1, the file and the line named, the output untouched.
   fs::remove(dir / "d.json");
   const std::vector<std::pair<std::string, std::string>> bad{
-      {"model-bias = 1\nmodel-sloop = 2\n", "line 2: unknown key \"model-sloop\""},
+      {"model-bias = 1\nmodel-sloop = 2\n", "line 2: unknown key 'model-sloop' (the keys: model-bias, "},
       {"model-bias = one\n", "line 1: model-bias = one is not a decimal number"},
-      {"model-bias = 1\nmodel-bias = 2\n", "line 2: model-bias is given twice"},
-      {"model-bias 1\n", "line 1: not `key = value`"},
+      {"model-bias = 1\nmodel-bias = 2\n", "line 2: 'model-bias' is given twice, on lines 1 and 2"},
+      {"model-bias 1\n", "line 1: expected 'key = value', got 'model-bias 1'"},
+      {"model-bias =\n", "line 1: key 'model-bias' has no value"},
+      {"[model]\nbias = 1\n", "line 1: section [model], but an INI file has no sections"},
       {"model-bias = 0\nmodel-slope = 1\n", "has no class-bias"},
       {std::string(kCalibrationIni)
            .replace(std::string(kCalibrationIni).find("none-slope = 0.5"), 16, "none-slope = 0"),

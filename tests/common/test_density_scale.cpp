@@ -7,11 +7,12 @@
 #include <fstream>
 #include <limits>
 #include <map>
-#include <sstream>
 #include <string>
 
+#include "canopy/common/atomic_file.h"
 #include "canopy/common/density_scale.h"
 #include "canopy/common/units.h"
+#include "canopy/formats/ini.h"
 
 using canopy::common::density_scale;
 using canopy::common::density_scale_options;
@@ -19,23 +20,12 @@ using canopy::common::DensityScale;
 
 namespace {
 
-// key -> value of a share/params ini file ("key = value", '#' or ';' comments).
+// key -> value of a share/params ini file (formats/ini.h, as CLI11's --config reads it).
 std::map<std::string, std::string> ini(const std::string& name) {
-  std::ifstream in(std::string(CANOPY_SOURCE_DIR) + "/share/params/" + name);
-  REQUIRE(in);
+  const std::string path = std::string(CANOPY_SOURCE_DIR) + "/share/params/" + name;
   std::map<std::string, std::string> kv;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#' || line[0] == ';') continue;
-    const auto eq = line.find('=');
-    if (eq == std::string::npos) continue;
-    auto trim = [](std::string s) {
-      s.erase(0, s.find_first_not_of(" \t"));
-      s.erase(s.find_last_not_of(" \t") + 1);
-      return s;
-    };
-    kv[trim(line.substr(0, eq))] = trim(line.substr(eq + 1));
-  }
+  for (const auto& e : canopy::formats::parse_ini(canopy::common::read_file(path), path, {}).entries)
+    kv[e.key] = e.value;
   return kv;
 }
 

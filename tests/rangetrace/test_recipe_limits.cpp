@@ -231,6 +231,14 @@ TEST_CASE("recipes: control bytes are refused and never echoed raw") {
   CHECK_THAT(parse_error("extent = 10m\x7f\n"), Catch::Contains("control byte 0x7f"));
   // Tabs and CRLF line ends are text.
   CHECK(parse_error("extent =\t10m\r\ntrees = 0\r\n").empty());
+  // formats/ini.h (docs/decisions/ini.md): a UTF-8 BOM is skipped; a CR inside a line is a
+  // control byte; ';' is no comment in a recipe.
+  CHECK(parse_error("\xEF\xBB\xBF"
+                    "extent = 10m\ntrees = 0\n")
+            .empty());
+  CHECK_THAT(parse_error("extent = 10m\rtrees = 0\n"),
+             Catch::Contains("line 1: control byte 0x0d in column 13"));
+  CHECK_THAT(parse_error("extent = 10m ; x\n"), Catch::Contains("line 1: "));
   // A file name with control bytes is shown escaped.
   const std::string msg = parse_error("bogus = 1\n", std::string("r\x01\n.scene"));
   CHECK_THAT(msg, Catch::StartsWith("r\\x01\\x0a.scene: line 1: unknown key 'bogus'"));

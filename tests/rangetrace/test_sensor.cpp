@@ -110,6 +110,15 @@ TEST_CASE("sensor presets: every preset parses; keys are bounded; errors name fi
                                                           Catch::Contains("unknown sensor key 'bogus'"));
   CHECK_THAT(sensor_error("pulse_rate = 10\n"), Catch::Contains("line 1") && Catch::Contains("pulse_rate"));
   CHECK_THAT(sensor_error("speed = 60\nspeed = 61\n"), Catch::Contains("given twice"));
+  // formats/ini.h (docs/decisions/ini.md): '=' needs no blanks around it (before: an error); BOM
+  // and CRLF read as text; ';' is no comment in a preset.
+  CHECK(parse_sensor("speed=61\n", "x.ini", "x").speed == 61);
+  CHECK(parse_sensor("\xEF\xBB\xBF"
+                     "speed = 62 # m/s\r\n",
+                     "x.ini", "x")
+            .speed == 62);
+  CHECK_THAT(sensor_error("speed = 60 ; m/s\n"), Catch::Contains("x.ini: line 1: "));
+  CHECK_THAT(sensor_error("speed =\n"), Catch::Contains("x.ini: line 1: key 'speed' has no value"));
   CHECK_THAT(sensor_error("scan_angle = 50deg\n"), Catch::Contains("oscillating"));
   CHECK_THAT(sensor_error("max_returns = 16\n"), Catch::Contains("max_returns"));
   CHECK_THAT(sensor_error("divergence = 0x10\n"), Catch::Contains("not a decimal number"));

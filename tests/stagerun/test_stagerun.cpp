@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "canopy/common/atomic_file.h"
+#include "canopy/common/error.h"
 #include "stagerun/stagerun.h"
 
 namespace sr = canopy::stagerun;
@@ -159,17 +161,43 @@ TEST_CASE("stagerun: the log's last lines") {
 
 TEST_CASE("stagerun: share/resources.ini") {
   const std::string ini =
-      "# comment\n[default]\ncpus = 1\nmem = 2G\ntime = 10\n\n[ rangetrace ]\n; a comment\ncpus=2\n"
-      "time = 01:00:00 \n[fitvox]\nmem =\n";
-  CHECK(sr::ini_value(ini, "default", "mem") == "2G");
-  CHECK(sr::ini_value(ini, "rangetrace", "cpus") == "2");
-  CHECK(sr::ini_value(ini, "rangetrace", "time") == "01:00:00");
-  CHECK(sr::ini_value(ini, "rangetrace", "mem").empty());
-  CHECK(sr::ini_value(ini, "fitvox", "mem").empty());
-  // the section: the first command word with a "[name]" line of its own (exactly)
-  CHECK(sr::resource_section(ini, {"xvfb-run", "-a", "build/bin/fitvox"}) == "fitvox");
-  CHECK(sr::resource_section(ini, {"build/bin/rangetrace"}) == "default");  // "[ rangetrace ]" is no exact line
-  CHECK(sr::resource_section(ini, {"build/bin/score"}) == "default");
+      "# comment\r\n[default]\ncpus = 1\nmem = 2G\ntime = 10\n\n[ rangetrace ]\n; a comment\ncpus=2\n"
+      "time = 01:00:00 \n[fitvox]\nmem = 4G # more\n";
+  auto res = [&](const std::vector<std::string>& command) {
+    const sr::Resources r = sr::slurm_resources(ini, "r.ini", command);
+    return r.section + " " + r.cpus + " " + r.mem + " " + r.time;
+  };
+  // the section: the first command word whose base name is a [section]; keys it lacks from [default]
+  CHECK(res({"xvfb-run", "-a", "build/bin/fitvox"}) == "fitvox 1 4G 10");
+  CHECK(res({"build/bin/rangetrace/", "-i", "x"}) == "rangetrace 2 2G 01:00:00");
+  CHECK(res({"build/bin/score"}) == "default 1 2G 10");
+  CHECK(res({}) == "default 1 2G 10");
+  // The shipped file: every tool's values as before the one reader (docs/decisions/ini.md).
+  const std::string shipped =
+      canopy::common::read_file(std::string(CANOPY_SOURCE_DIR) + "/share/resources.ini");
+  auto shipped_res = [&](const char* tool) {
+    const sr::Resources r = sr::slurm_resources(shipped, "resources.ini", {std::string("build/bin/") + tool});
+    return r.section + " " + r.cpus + " " + r.mem + " " + r.time;
+  };
+  CHECK(shipped_res("rangetrace") == "rangetrace 2 2G 00:30:00");
+  CHECK(shipped_res("fitvox") == "fitvox 1 2G 00:10:00");
+  CHECK(shipped_res("figures") == "figures 1 2G 00:10:00");
+  CHECK(shipped_res("ncut") == "default 1 1G 00:10:00");
+  // Errors name the file and the line.
+  auto error = [](const std::string& text) {
+    try {
+      sr::slurm_resources(text, "r.ini", {"fitvox"});
+    } catch (const canopy::common::DataError& e) { return std::string(e.what()); }
+    return std::string();
+  };
+  CHECK(error("[default]\ncpus = 1\nmem = 1G\n") == "r.ini: no 'time' for [default] or [default]");
+  CHECK(error("[default]\ncpus = 1\nmem = 1G\ntime = 1\n[fitvox]\nmem =\n") ==
+        "r.ini: line 6: key 'mem' has no value");
+  CHECK(error("[default]\ncpus = 1\ncpus = 2\n") ==
+        "r.ini: line 3: 'cpus' is given twice, on lines 2 and 3 (a key may appear once)");
+  CHECK(error("[default]\ngpus = 1\n") == "r.ini: line 2: unknown key 'gpus' (the keys: cpus, mem, time)");
+  CHECK(error("cpus = 1\n[default]\n") == "r.ini: line 1: 'cpus' before any [section]");
+  CHECK(error("[default]\ncpus\n") == "r.ini: line 2: expected 'key = value', got 'cpus'");
 }
 
 TEST_CASE("stagerun: glibc's huge pages") {

@@ -16,6 +16,7 @@
 #include "canopy/common/math.h"
 #include "canopy/documents/candidates.h"
 #include "canopy/documents/detections.h"
+#include "canopy/formats/ini.h"
 #include "canopy/formats/provenance.h"
 #include "canopy/documents/stage_outcome.h"
 
@@ -422,41 +423,23 @@ Calibration parse_calibration(const std::string& text, const std::string& name) 
                                       {"none-slope", &cal.none.slope},
                                       {"none-class-bias", &cal.none_class.bias},
                                       {"none-class-slope", &cal.none_class.slope}};
+  formats::IniPolicy policy;  // '#' and ';' comments, no sections, each key once
+  policy.keys.assign(std::begin(kCalibrationKeys), std::end(kCalibrationKeys));
+  const formats::IniFile file = formats::parse_ini(text, name, policy);
   std::set<std::string> seen;
-  std::size_t line_no = 0, pos = 0;
-  while (pos <= text.size()) {
-    const std::size_t end = std::min(text.find('\n', pos), text.size());
-    std::string line = text.substr(pos, end - pos);
-    pos = end + 1;
-    ++line_no;
-    const std::string where = "line " + std::to_string(line_no) + ": ";
-    line = line.substr(0, line.find_first_of(";#"));
-    auto trim = [](std::string t) {
-      const auto a = t.find_first_not_of(" \t\r");
-      if (a == std::string::npos) return std::string();
-      return t.substr(a, t.find_last_not_of(" \t\r") - a + 1);
-    };
-    line = trim(line);
-    if (line.empty()) continue;
-    const std::size_t eq = line.find('=');
-    if (eq == std::string::npos) throw common::DataError(name, where + "not `key = value`: " + line);
-    const std::string key = trim(line.substr(0, eq)), value = trim(line.substr(eq + 1));
-    const auto it = slot.find(key);
-    if (it == slot.end()) {
-      std::string keys;
-      for (const char* k : kCalibrationKeys) keys += std::string(keys.empty() ? "" : ", ") + k;
-      throw common::DataError(name, where + "unknown key \"" + key + "\" (the keys: " + keys + ")");
-    }
-    if (!seen.insert(key).second) throw common::DataError(name, where + key + " is given twice");
+  for (const formats::IniEntry& e : file.entries) {
+    const std::string& key = e.key;
+    const std::string& value = e.value;
+    seen.insert(key);
     if (!std::regex_match(value, std::regex("[-+]?([0-9]+\\.?[0-9]*|\\.[0-9]+)([eE][-+]?[0-9]+)?")))
-      throw common::DataError(name, where + key + " = " + value + " is not a decimal number");
+      file.fail(e.line, key + " = " + value + " is not a decimal number");
     const double x = std::stod(value);
     if (!std::isfinite(x) || std::fabs(x) > 1e3)
-      throw common::DataError(name, where + key + " = " + value + " is out of range (|value| <= 1000)");
+      file.fail(e.line, key + " = " + value + " is out of range (|value| <= 1000)");
     if (key.size() > 6 && key.compare(key.size() - 6, 6, "-slope") == 0 && !(x > 0))
-      throw common::DataError(name, where + key + " = " + value +
-                                        " must be > 0 (a calibration never reorders one level's answers)");
-    *it->second = x;
+      file.fail(e.line,
+                key + " = " + value + " must be > 0 (a calibration never reorders one level's answers)");
+    *slot.at(key) = x;
   }
   for (const char* k : kCalibrationKeys) {
     if (!seen.count(k)) throw common::DataError(name, std::string("has no ") + k + " (every key is needed)");

@@ -89,10 +89,10 @@ struct Calibration {
                      // confidence, as before issue 29's §16: the ablation)
   PlattMap model, cls, none, none_class;
 };
-// The calibration file (formats/README.md "Confidence calibration"): `key = value` lines (';'
-// or '#' starts a comment), every key of kCalibrationKeys exactly once, values decimal numbers,
-// slopes > 0 (a calibration never reorders one level's answers). DataError naming the file
-// (and the line) otherwise.
+// The calibration file (formats/README.md "Confidence calibration"; read by formats/ini.h,
+// docs/decisions/ini.md): `key = value` lines (';' or '#' starts a comment), every key of
+// kCalibrationKeys exactly once, values decimal numbers, slopes > 0 (a calibration never
+// reorders one level's answers). DataError naming the file (and the line) otherwise.
 Calibration parse_calibration(const std::string& text, const std::string& name);
 // The keys of the calibration file, in the order they are read.
 inline constexpr const char* kCalibrationKeys[] = {"model-bias",      "model-slope",     "class-bias",

@@ -3,8 +3,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <map>
-#include <sstream>
 
 #include <sys/stat.h>
 
@@ -13,6 +11,7 @@
 #include "canopy/common/math.h"
 #include "canopy/common/rng.h"
 #include "canopy/common/units.h"
+#include "canopy/formats/ini.h"
 #include "canopy/sim/sandbox.h"
 #include "rangetrace/rangetrace.h"
 #include "rangetrace/tile.h"
@@ -83,12 +82,6 @@ std::vector<View> dodecahedron_views() {
 }
 
 namespace {
-
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r");
-  if (b == std::string::npos) return "";
-  return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
-}
 
 // Throws the DataError "<name>: line <n>: <why>" of a recipe line (control bytes escaped).
 struct LineError {
@@ -199,44 +192,18 @@ void apply_key(SceneRecipe* scene, RecipeKind* kind, const std::string& key,
 SceneRecipe parse_scene(const std::string& text, const std::string& name) {
   SceneRecipe scene;
   scene.name = name;
-  std::istringstream in(text);
-  std::string line;
+  formats::IniPolicy policy;  // '#' comments (anywhere), no sections, keys once but the repeatable
+  policy.comments = "#";
+  policy.repeatable = is_repeatable_key;
+  policy.kind = "a recipe";
   LineError fail{name, 0};
   RecipeKind kind;
-  std::map<std::string, int> given;  // keys given once: their line
-  while (std::getline(in, line)) {
-    ++fail.line;
-    for (std::size_t c = 0; c < line.size(); ++c) {
-      const auto u = static_cast<unsigned char>(line[c]);
-      if ((u < 0x20 && u != '\t' && u != '\r') || u == 0x7f) {
-        char byte[8];
-        std::snprintf(byte, sizeof byte, "0x%02x", u);
-        fail("control byte " + std::string(byte) + " in column " + std::to_string(c + 1) +
-             " (a recipe is text)");
-      }
-    }
-    const auto hash = line.find('#');
-    if (hash != std::string::npos) line.resize(hash);
-    line = trim(line);
-    if (line.empty()) continue;
-    const auto eq = line.find('=');
-    if (eq == std::string::npos) fail("expected 'key = value', got '" + line + "'");
-    const std::string key = trim(line.substr(0, eq));
-    std::istringstream value(trim(line.substr(eq + 1)));
-    std::vector<std::string> words;
-    for (std::string w; value >> w;) words.push_back(w);
-    if (words.empty()) fail("key '" + key + "' has no value");
-    if (!is_repeatable_key(key)) {
-      const auto [it, first] = given.emplace(key, fail.line);
-      if (!first) {
-        fail("'" + key + "' is given twice, on lines " + std::to_string(it->second) + " and " +
-             std::to_string(fail.line) + " (a key may appear once)");
-      }
-    }
+  for (const formats::IniEntry& e : formats::parse_ini(text, name, policy).entries) {
+    fail.line = e.line;
     try {
-      apply_key(&scene, &kind, key, words, fail);
-    } catch (const common::UsageError& e) { fail(e.what()); } catch (const std::logic_error&) {
-      fail("malformed value in '" + line + "'");
+      apply_key(&scene, &kind, e.key, formats::ini_words(e.value), fail);
+    } catch (const common::UsageError& err) { fail(err.what()); } catch (const std::logic_error&) {
+      fail("malformed value in '" + e.key + " = " + e.value + "'");
     }
   }
   if (scene.tile) {

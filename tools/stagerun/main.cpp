@@ -50,6 +50,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
+#include <exception>
 #include <string>
 #include <vector>
 
@@ -237,16 +238,13 @@ std::vector<std::string> slurm_command(const std::string& timing, const std::vec
   const char* env = std::getenv("CANOPY_RESOURCES");
   const std::string resources = env && *env ? env : CANOPY_SHARE_DIR "/resources.ini";
   if (access(resources.c_str(), R_OK) != 0) fail(resources + ": cannot read the resources file");
-  const std::string text = read_text(resources);
-  const std::string section = sr::resource_section(text, command);
+  sr::Resources r;
+  try {
+    r = sr::slurm_resources(read_text(resources), resources, command);
+  } catch (const std::exception& e) { fail(e.what()); }
+  const std::string& section = r.section;
   if (!on_path("srun")) fail("srun not found (Debian package slurm-client)");
-  std::vector<std::string> values;
-  for (const char* key : {"cpus", "mem", "time"}) {
-    std::string v = sr::ini_value(text, section, key);
-    if (v.empty()) v = sr::ini_value(text, "default", key);
-    if (v.empty()) fail(resources + ": no '" + key + "' for [" + section + "] or [default]");
-    values.push_back(v);
-  }
+  const std::vector<std::string> values = {r.cpus, r.mem, r.time};
   char self[4096];
   const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
   if (n <= 0) fail(std::string("cannot find this program's own path: ") + std::strerror(errno));

@@ -4,11 +4,15 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cinttypes>
 #include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <utility>
+
+#include "canopy/formats/ini.h"
 
 namespace canopy::stagerun {
 namespace {
@@ -270,50 +274,34 @@ std::string indented_tail(std::string_view text, int count) {
   return out;
 }
 
-std::string ini_value(std::string_view text, std::string_view section, std::string_view key) {
-  std::string current;
-  std::size_t at = 0;
-  while (at < text.size()) {
-    std::size_t nl = text.find('\n', at);
-    if (nl == std::string_view::npos) nl = text.size();
-    const std::string_view line = text.substr(at, nl - at);
-    at = nl + 1;
-    const std::string_view lead = trim(line, " \t");
-    if (!lead.empty() && (lead[0] == '#' || lead[0] == ';')) continue;
-    if (!lead.empty() && lead[0] == '[') {
-      current.clear();
-      for (char c : line) {
-        if (c != '[' && c != ']' && c != ' ' && c != '\t') current += c;
-      }
-      continue;
-    }
-    if (current != section) continue;
-    const auto eq = line.find('=');
-    std::string k;
-    for (char c : line.substr(0, eq)) {
-      if (c != ' ' && c != '\t') k += c;
-    }
-    if (k == key) return std::string(trim(eq == std::string_view::npos ? line : line.substr(eq + 1), " \t"));
+Resources slurm_resources(const std::string& text, const std::string& file,
+                          const std::vector<std::string>& command) {
+  formats::IniPolicy policy;  // '#' and ';' comments, [tool] sections, each key once per section
+  policy.sections = true;
+  policy.keys = {"cpus", "mem", "time"};
+  const formats::IniFile ini = formats::parse_ini(text, file, policy);
+  for (const formats::IniEntry& e : ini.entries) {
+    if (e.section.empty()) ini.fail(e.line, "'" + e.key + "' before any [section]");
   }
-  return std::string();
-}
-
-std::string resource_section(std::string_view text, const std::vector<std::string>& command) {
+  Resources r;
+  r.section = "default";
   for (const auto& word : command) {
     std::string_view name = word;
     while (name.size() > 1 && name.back() == '/') name.remove_suffix(1);
     const auto slash = name.rfind('/');
     if (slash != std::string_view::npos && name.size() > 1) name.remove_prefix(slash + 1);
-    const std::string header = "[" + std::string(name) + "]";
-    std::size_t at = 0;
-    while (at <= text.size()) {
-      std::size_t nl = text.find('\n', at);
-      if (nl == std::string_view::npos) nl = text.size();
-      if (text.substr(at, nl - at) == header) return std::string(name);
-      at = nl + 1;
+    if (std::find(ini.sections.begin(), ini.sections.end(), name) != ini.sections.end()) {
+      r.section = std::string(name);
+      break;
     }
   }
-  return "default";
+  for (auto [key, value] : {std::pair{"cpus", &r.cpus}, {"mem", &r.mem}, {"time", &r.time}}) {
+    const formats::IniEntry* e = ini.find(r.section, key);
+    if (e == nullptr) e = ini.find("default", key);
+    if (e == nullptr) ini.fail(0, std::string("no '") + key + "' for [" + r.section + "] or [default]");
+    *value = e->value;
+  }
+  return r;
 }
 
 std::string hugepage_tunables(const char* current) {

@@ -92,11 +92,15 @@ std::string done_line(std::string_view count, std::string_view artifact, std::st
 // newline.
 std::string indented_tail(std::string_view text, int count);
 
-// share/resources.ini: the value of KEY in SECTION ('#' and ';' start comments, blanks around
-// names and values ignored), "" when SECTION has none.
-std::string ini_value(std::string_view text, std::string_view section, std::string_view key);
-// The section of a command: the first word whose base name has a "[name]" line, else "default".
-std::string resource_section(std::string_view text, const std::vector<std::string>& command);
+// share/resources.ini (formats/ini.h, docs/decisions/ini.md): the Slurm resources of COMMAND.
+// Its section is the first command word whose base name is a [section] of the file, else
+// [default]; each of cpus, mem, time from that section, else from [default]. DataError naming
+// the file (and the line) on a malformed file, an unknown key or a key found in neither.
+struct Resources {
+  std::string section, cpus, mem, time;
+};
+Resources slurm_resources(const std::string& text, const std::string& file,
+                          const std::vector<std::string>& command);
 
 // GLIBC_TUNABLES for the command: glibc's transparent huge pages added (glibc.malloc.hugetlb=1)
 // to CURRENT (null: unset), unless CURRENT already names hugetlb. Returns CURRENT unchanged then.

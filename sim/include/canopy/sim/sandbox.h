@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "canopy/common/printable.h"
+
 namespace canopy::sim {
 
 enum class SandboxMode { kAuto, kBwrap, kOff };
@@ -47,8 +49,7 @@ struct Command {
 Command povray_command(const std::string& povray, const std::vector<std::string>& povray_args,
                        const std::string& workdir, const std::vector<std::string>& readable, bool user_code);
 
-// Text from a user file (a name, a token) for a message: control bytes as \xNN, so no message
-// echoes them raw.
-std::string printable(const std::string& s);
+// Text from a user file (a name, a token) for a message: control bytes as \xNN (common/printable.h).
+using common::printable;
 
 }  // namespace canopy::sim
