@@ -963,6 +963,73 @@ TEST_CASE("classify: --bridge joins nothing beside the car, above it, too low or
   CHECK(a.features.length == Approx(4.6).margin(0.15));
 }
 
+namespace {
+
+// A semi-tractor unit seen straight down, 6.6 x 2.5 m: the cab (x in [1.0, 3.3]) 3.6 m high, the
+// deck behind it (fenders and fifth wheel) 1.2 m high; the cab's back and the deck's step are
+// vertical faces, which no pulse from above returns. The frame's origin lies on the deck.
+double unit_top(double x, double y) {
+  if (std::abs(x) > 3.3 || std::abs(y) > 1.25) return -1;
+  return x >= 1.0 ? 3.6 : 1.2;
+}
+
+classify::Params stacked(bool on) {
+  classify::Params p;
+  p.join_stacked = on;
+  p.min_rectangularity = kRectangularity;
+  p.min_plateau = 0;  // classify-sim.ini's (a tractor unit's cab is a minor plateau)
+  return p;
+}
+
+}  // namespace
+
+TEST_CASE("classify: --join-stacked: a tractor unit seen straight down is one object, cab and deck") {
+  // At 25 and 50 points/m² the link is 0.5 and 0.35 m: the 2.4 m step is more than three links,
+  // so the cab and the deck are two clusters that touch only in the top view.
+  for (const double density : {25.0, 50.0}) {
+    for (const std::uint64_t seed : {41u, 42u, 43u}) {
+      const Sampled s = sample(unit_top, 3.3, 1.25, 0, density, seed);
+      INFO(density << " points/m2, seed " << seed);
+      const classify::Answer off = classify::run(stacked(false), {s.cloud, "unit.pcd", {}});
+      INFO("off: " << off.reason << " " << off.detail);
+      CHECK(off.features.object_points < 0.8 * static_cast<double>(s.object));
+      CHECK(off.features.length < 4.6);
+      CHECK(off.cls.empty());
+      const classify::Answer on = classify::run(stacked(true), {s.cloud, "unit.pcd", {}});
+      INFO("on: " << on.reason << " " << on.detail);
+      CHECK(on.features.object_points + 2 >= s.object);  // all but a stray point or two
+      CHECK(on.features.object_points <= s.object);
+      CHECK(on.features.length == Approx(6.6).margin(0.2));
+      CHECK(on.features.height == Approx(3.6).margin(0.1));
+      CHECK(on.cls == "semi-tractor");
+    }
+  }
+}
+
+TEST_CASE("classify: --join-stacked joins the deck, not a crown over the cab nor branches beside it") {
+  for (const std::uint64_t seed : {44u, 45u}) {
+    const Sampled unit = sample(unit_top, 3.3, 1.25, 0, 25, seed);
+    INFO("seed " << seed);
+    // A crown's bottom over the cab, 5.4-6.5 m high (more than three links above it, so apart in
+    // the clustering; over it: it covers the cab's cells in the top view).
+    Sampled over = unit;
+    scatter(over, 120, 0.6, 3.6, -1.4, 1.4, 5.4, 6.5, seed + 10);
+    // Branches hanging beside the deck, 3.2-3.8 m high, touching it in the top view across its
+    // side (not in line: the union would be 1.2 m wider).
+    Sampled beside = unit;
+    scatter(beside, 40, -2.5, -0.5, 1.3, 2.5, 3.2, 3.8, seed + 20);
+    for (const Sampled* s : {&over, &beside}) {
+      const classify::Answer on = classify::run(stacked(true), {s->cloud, "unit.pcd", {}});
+      INFO("on: " << on.reason << " " << on.detail);
+      CHECK(on.features.object_points + 2 >= unit.object);  // the unit, cab and deck
+      CHECK(on.features.object_points <= unit.object);      // and nothing else
+      CHECK(on.features.width == Approx(2.5).margin(0.15));
+      CHECK(classify::run(stacked(false), {s->cloud, "unit.pcd", {}}).features.object_points <
+            0.8 * static_cast<double>(unit.object));
+    }
+  }
+}
+
 TEST_CASE("classify: class table and parameters") {
   REQUIRE(classify::class_ranges().size() == 12);
   CHECK(classify::group_of("sedan") == "car");

@@ -88,6 +88,24 @@ struct Params {
   // car into cabin, bonnet and boot once the link is shorter than the glass).
   double bridge = 0;
   double bridge_length = 6.0;
+  // Parts stacked in height (classify.md §25): seen from above a vertical face returns nothing,
+  // so a semi-tractor's cab (3.6 m) and its deck (1.2 m), an earthmover's cab top and its body are
+  // clusters that touch only in the top view (a step of more than 3 links). true: a cluster that
+  // meets the object within the link in plan, lies beside it (at most 25% of the smaller one's
+  // top-view cells shared) and in line with it (the union at most 0.3 m wider across the
+  // candidate's long axis) joins it, as detect's --join-stacked joins clusters (detect.md §16).
+  // false: the object is one cluster (before; Params and classify.ini).
+  bool join_stacked = false;
+  // Echo widths (classify.md §25): the realistic sensor records each echo's width; a level hard
+  // surface returns the pulse's own width, foliage spread in range inside the footprint a wider
+  // one. With echo widths in the candidate and this > 0: an object whose median echo is more than
+  // this many times the open ground's single returns' is vegetation_like; one at or under it is
+  // hard, and ground_through does not refuse it (the ground under a hard top is seen beside its
+  // parts' edges, not through it; with echo_late, late_returns does not either: a hard top under a
+  // crown returns late because the crown took the pulse first). 0: off (before; Params and
+  // classify.ini: the real tiles carry no echo widths).
+  double max_echo_widening = 0;
+  bool echo_late = false;
   double link_min = 0.25;         // object clustering: the linking distance is at least this (m)
   std::size_t min_points = 20;    // fewer object points: too_sparse
   double min_density = 4.0;       // fewer object points per m² of its rectangle: too_sparse
@@ -178,6 +196,15 @@ struct Params {
   // Params, classify.ini and classify-sim.ini: on the sensor tiles a bush's sparse layer is all
   // edge, and its ground returns were set aside too).
   bool ground_through_edges = false;
+  // Ground seen through the top, not beside it (classify.md §25): ground_through counts a ground
+  // return only when the object points 0.5 m or more above it enclose it in plan: within
+  // max(0.5 m, 2.5 spacings) horizontally they are at least 3 and leave no angular gap of 3/8 of
+  // a turn or more. Seen from above, an opaque top with openings (an earthmover's arms, a
+  // semi-trailer's frame, a deck's gaps) returns the ground beside the edge of a part: the object
+  // above the return lies on one side of it; the ground under a crown or a bush is seen through
+  // gaps in foliage that surrounds it. Needs no return numbers. false: every ground return under
+  // an object point counts (before; Params and classify.ini).
+  bool ground_through_enclosed = false;
   // Modelbase entries with a class (--modelbase) are classes too: each entry's L W H widened by
   // this share either way is one more class range, of the entry's class (classify.md §12).
   bool entry_classes = true;
@@ -244,6 +271,9 @@ struct Features {
   std::optional<double> below_share_any, ground_through_any;
   // With ground_through_edges (§23): the ground returns ground_through set aside as edge splits.
   std::optional<std::size_t> ground_edge_splits;
+  // With ground_through_enclosed (§25): the ground returns ground_through set aside as beside an
+  // edge of the object in plan.
+  std::optional<std::size_t> ground_beside_edges;
   double below_share_cells = 0;     // the same per cell (for comparison): occupied cells with a point
   double ground_through_cells = 0;  // >= 0.5 m under their top; cells holding a ground return
   std::size_t interior_cells = 0;
@@ -251,6 +281,9 @@ struct Features {
   // fill and ground_through over every pass, as before (only when the crop has > 1 pass).
   std::size_t passes = 1, object_passes = 1;
   std::optional<double> fill_all_passes, ground_through_all_passes;
+  // The object's median echo width over the open ground's single returns' (classify.md §25; the
+  // realistic sensor's echo_width; unset without it).
+  std::optional<double> echo_widening;
   std::optional<double> late_returns;   // share of object points with return_number > 1 (with
                                         // late_returns_inside: split inside the object, §22)
   std::optional<double> multi_returns;  // share with number_of_returns > 1

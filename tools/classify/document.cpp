@@ -49,12 +49,14 @@ std::vector<ClassFeature> features_of(const Features& f) {
                                 number("ground_through_cells", f.ground_through_cells),
                                 count("interior_cells", f.interior_cells),
                                 optional("late_returns", f.late_returns),
+                                optional("echo_widening", f.echo_widening),
                                 optional("multi_returns", f.multi_returns)};
   // Only when the crop holds several flight passes (classify.md §14): a crop without them gets
   // the document it got before.
   if (f.below_share_any) out.push_back(optional("below_share_any", f.below_share_any));
   if (f.ground_through_any) out.push_back(optional("ground_through_any", f.ground_through_any));
   if (f.ground_edge_splits) out.push_back(count("ground_edge_splits", *f.ground_edge_splits));
+  if (f.ground_beside_edges) out.push_back(count("ground_beside_edges", *f.ground_beside_edges));
   if (f.passes > 1) {
     out.push_back(count("passes", f.passes));
     out.push_back(count("object_passes", f.object_passes));
