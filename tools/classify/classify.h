@@ -92,8 +92,9 @@ struct Params {
   // so a semi-tractor's cab (3.6 m) and its deck (1.2 m), an earthmover's cab top and its body are
   // clusters that touch only in the top view (a step of more than 3 links). true: a cluster that
   // meets the object within the link in plan, lies beside it (at most 25% of the smaller one's
-  // top-view cells shared) and in line with it (the union at most 0.3 m wider across the
-  // candidate's long axis) joins it, as detect's --join-stacked joins clusters (detect.md §16).
+  // top-view cells shared), in line with it (the union at most 0.3 m wider across the
+  // candidate's long axis) and is a part (at least 10% of the object's points) joins it, as
+  // detect's --join-stacked joins clusters (detect.md §16).
   // false: the object is one cluster (before; Params and classify.ini).
   bool join_stacked = false;
   // Echo widths (classify.md §25): the realistic sensor records each echo's width; a level hard

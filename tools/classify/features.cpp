@@ -507,9 +507,14 @@ namespace {
 // classify.md §25 (object_of with `join_stacked`): joins to the object (`in`) each cluster of
 // `label` that meets it within `link` in the top view, beside it (top-view cells of `link`: at most
 // kStackOverlay of the smaller one's cells hold points of the other) and in line (across x the
-// union at most kStackInLine wider than the wider one), until none joins.
+// union at most kStackInLine wider than the wider one) and holds at least kStackPart of the
+// object's points, until none joins.
 constexpr double kStackOverlay = 0.25;  // detect.md §16's kStackOverlay
 constexpr double kStackInLine = 0.3;    // detect.md §10's in-line test (m)
+// A part is a surface the sensor sampled: at least this share of the object's points (a cab top
+// over an earthmover's body holds some 15-25%, a semi-tractor's deck 30-60%); a tuft of grass, a
+// twig or a few stray returns at the edge do not join.
+constexpr double kStackPart = 0.1;
 
 void join_beside(const std::vector<Vector3d>& pts, const std::vector<std::size_t>& label, double link,
                  std::vector<char>& in) {
@@ -530,7 +535,10 @@ void join_beside(const std::vector<Vector3d>& pts, const std::vector<std::size_t
     for (std::size_t i = 0; i < pts.size(); ++i) {
       if (!in[i]) others[label[i]].push_back(i);
     }
+    std::size_t object_size = 0;
+    for (char x : in) object_size += x != 0;
     for (const auto& [l, members] : others) {
+      if (static_cast<double>(members.size()) < kStackPart * static_cast<double>(object_size)) continue;
       bool touch = false;
       std::unordered_set<std::uint64_t> own;
       double w0 = kInf, w1 = -kInf;

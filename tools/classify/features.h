@@ -68,8 +68,9 @@ Candidate read_candidate(const formats::PointCloud& cloud, const std::string& na
 // crop's ground density the bridge compares its gap with. With `join_stacked` (classify.md §25)
 // first every cluster that meets the object in the top view (within `link`) but is apart from it
 // in height, lies beside it rather than over or under it (at most 25% of the smaller one's top-view
-// cells hold points of the other) and in line with it (the union no wider across the candidate
-// frame's x axis than the wider of the two + 0.3 m) joins it, until none does: seen from above a
+// cells hold points of the other), in line with it (the union no wider across the candidate
+// frame's x axis than the wider of the two + 0.3 m) and holding at least 10% of the object's
+// points joins it, until none does: seen from above a
 // vertical face returns nothing, so a cab and its deck, a cab top and its body touch only in plan.
 std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double link, double crop_area,
                                    double bridge = 0, double bridge_length = 6.0, bool join_stacked = false);
