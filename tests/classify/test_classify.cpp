@@ -427,8 +427,8 @@ TEST_CASE("classify: --max-echo-widening: a hard top's split pulses are not poro
     const formats::PointCloud car = with_echoes(glazed_car(800 + k, false), 0.99, 1.01, 820 + k);
     const classify::Answer off = classify::run(echoes(0), {car, "car.pcd", {}});
     const classify::Answer on = classify::run(echoes(1.05), {car, "car.pcd", {}});
-    INFO("survey " << k << ": off " << off.reason << " " << off.detail << "; on " << on.cls << on.reason << " "
-                   << on.detail);
+    INFO("survey " << k << ": off " << off.reason << " " << off.detail << "; on " << on.cls << on.reason
+                   << " " << on.detail);
     CHECK(off.features.ground_through > 0.08);
     CHECK(off.reason == "vegetation_like");
     REQUIRE(on.features.echo_widening);

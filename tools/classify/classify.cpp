@@ -134,9 +134,10 @@ bool vegetation(Answer& a, const Params& p) {
     const char* what;
     double value, threshold;
   };
-  std::vector<Cue> cues = {{"%.0f%% of its interior points lie 0.5 m or more under another of its points "
-                            "(vehicle <= %.0f%%)",
-                            f.below_share, p.max_below_share}};
+  std::vector<Cue> cues = {
+      {"%.0f%% of its interior points lie 0.5 m or more under another of its points "
+       "(vehicle <= %.0f%%)",
+       f.below_share, p.max_below_share}};
   if (!hard) {
     cues.push_back({"ground returns under it: %.0f%% of its interior returns (vehicle <= %.0f%%)",
                     f.ground_through, p.max_ground_through});
@@ -383,8 +384,8 @@ void choose(Answer& a, const Params& p, double sigma, const std::vector<TableRan
   auto cue = [](double value, double threshold, bool waived) {
     return 1 - past(waived ? std::min(value, threshold) : value, threshold);
   };
-  double shape = (1 - past(f.below_share, p.max_below_share)) *
-                 cue(f.ground_through, p.max_ground_through, hard);
+  double shape =
+      (1 - past(f.below_share, p.max_below_share)) * cue(f.ground_through, p.max_ground_through, hard);
   if (f.fill) shape *= 1 - past(p.min_fill, std::max(*f.fill, 1e-6));
   if (f.late_returns) shape *= cue(*f.late_returns, p.max_late_returns, hard && p.echo_late);
   const double group = 0.5 + 0.5 * (1 - std::exp(-0.5 * a.class_margin * a.class_margin));

@@ -197,15 +197,6 @@ struct Params {
   // Params, classify.ini and classify-sim.ini: on the sensor tiles a bush's sparse layer is all
   // edge, and its ground returns were set aside too).
   bool ground_through_edges = false;
-  // Ground seen through the top, not beside it (classify.md §25): ground_through counts a ground
-  // return only when the object points 0.5 m or more above it enclose it in plan: within
-  // max(0.5 m, 2.5 spacings) horizontally they are at least 3 and leave no angular gap of 3/8 of
-  // a turn or more. Seen from above, an opaque top with openings (an earthmover's arms, a
-  // semi-trailer's frame, a deck's gaps) returns the ground beside the edge of a part: the object
-  // above the return lies on one side of it; the ground under a crown or a bush is seen through
-  // gaps in foliage that surrounds it. Needs no return numbers. false: every ground return under
-  // an object point counts (before; Params and classify.ini).
-  bool ground_through_enclosed = false;
   // Modelbase entries with a class (--modelbase) are classes too: each entry's L W H widened by
   // this share either way is one more class range, of the entry's class (classify.md §12).
   bool entry_classes = true;
@@ -272,9 +263,6 @@ struct Features {
   std::optional<double> below_share_any, ground_through_any;
   // With ground_through_edges (§23): the ground returns ground_through set aside as edge splits.
   std::optional<std::size_t> ground_edge_splits;
-  // With ground_through_enclosed (§25): the ground returns ground_through set aside as beside an
-  // edge of the object in plan.
-  std::optional<std::size_t> ground_beside_edges;
   double below_share_cells = 0;     // the same per cell (for comparison): occupied cells with a point
   double ground_through_cells = 0;  // >= 0.5 m under their top; cells holding a ground return
   std::size_t interior_cells = 0;

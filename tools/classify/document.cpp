@@ -56,7 +56,6 @@ std::vector<ClassFeature> features_of(const Features& f) {
   if (f.below_share_any) out.push_back(optional("below_share_any", f.below_share_any));
   if (f.ground_through_any) out.push_back(optional("ground_through_any", f.ground_through_any));
   if (f.ground_edge_splits) out.push_back(count("ground_edge_splits", *f.ground_edge_splits));
-  if (f.ground_beside_edges) out.push_back(count("ground_beside_edges", *f.ground_beside_edges));
   if (f.passes > 1) {
     out.push_back(count("passes", f.passes));
     out.push_back(count("object_passes", f.object_passes));

@@ -134,10 +134,6 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
            "ground_through does not count a ground return whose pulse's earlier returns are all "
            "object points on the edge of their layer (a footprint split by an edge; false: every "
            "ground return)");
-  tool.add("--ground-through-enclosed", &p.ground_through_enclosed,
-           "ground_through counts a ground return only when the object's points 0.5 m or more above it "
-           "surround it in plan (the ground beside a part's edge, as an open frame seen from above "
-           "shows it, does not count; false: every ground return under an object point)");
   tool.add("--pass-share", &p.pass_share, "a pass saw the object when it holds this share of its points");
   tool.add("--entry-classes", &p.entry_classes,
            "the --modelbase entries with a class are class ranges too (their size +- --entry-tolerance)");

@@ -175,32 +175,7 @@ void penetration_cues(const Candidate& c, const std::vector<std::size_t>& object
     }
   }
   const std::vector<bool> split = edge_splits(c, object, q, fp, f.spacing);
-  // Params::ground_through_enclosed (§25): whether the object points 0.5 m or more above a ground
-  // return at (a, b, z) enclose it in plan (at least 3 within `around`, no angular gap of 3/8 of a
-  // turn or more).
-  const double around = std::max(0.5, 2.5 * f.spacing);
-  const std::int64_t around_cells = static_cast<std::int64_t>(std::ceil(around / cell));
-  auto enclosed = [&](double a, double b, double z) {
-    std::vector<double> angles;
-    const std::int64_t ca = cell_of(a, cell), cb = cell_of(b, cell);
-    for (std::int64_t da = -around_cells; da <= around_cells; ++da) {
-      for (std::int64_t db = -around_cells; db <= around_cells; ++db) {
-        const auto it = grid.find(cell_key(ca + da, cb + db));
-        if (it == grid.end()) continue;
-        for (std::size_t j : it->second) {
-          const double dx = q[j].x() - a, dy = q[j].y() - b;
-          const double h = std::hypot(dx, dy);
-          if (h > 1e-9 && h <= around && q[j].z() >= z + 0.5) angles.push_back(std::atan2(dy, dx));
-        }
-      }
-    }
-    if (angles.size() < 3) return false;
-    std::sort(angles.begin(), angles.end());
-    double gap = angles.front() + 2 * common::kPi - angles.back();
-    for (std::size_t m = 1; m < angles.size(); ++m) gap = std::max(gap, angles[m] - angles[m - 1]);
-    return gap < 0.75 * common::kPi;
-  };
-  std::size_t under_all = 0, edges = 0, beside = 0;
+  std::size_t under_all = 0, edges = 0;
   for (std::size_t i = 0; i < c.points.size(); ++i) {
     const Vector3d& p = c.points[i];
     if (p.z() >= fp.ground_cut || !(counted[i] || all)) continue;
@@ -209,10 +184,6 @@ void penetration_cues(const Candidate& c, const std::vector<std::size_t>& object
     if (interior(a, b) && highest(a, b, rg) >= p.z() + 0.5) {
       if (split[i]) {
         edges += counted[i];
-        continue;
-      }
-      if (fp.ground_through_enclosed && !enclosed(a, b, p.z())) {
-        beside += counted[i];
         continue;
       }
       under_any += counted[i];
@@ -229,7 +200,6 @@ void penetration_cues(const Candidate& c, const std::vector<std::size_t>& object
   f.ground_through = share(under);
   if (all) f.ground_through_all_passes = share(under_all);
   if (fp.ground_through_edges && !c.time.empty() && !c.return_number.empty()) f.ground_edge_splits = edges;
-  if (fp.ground_through_enclosed) f.ground_beside_edges = beside;
   if (fp.sight_lines) {
     f.below_share_any = inner ? static_cast<double>(below_any) / static_cast<double>(inner) : 0;
     f.ground_through_any = share(under_any);
