@@ -13,7 +13,6 @@
 #include <numeric>
 #include <tuple>
 #include <unordered_map>
-#include <unordered_set>
 
 #include "canopy/common/error.h"
 #include "canopy/common/math.h"
@@ -502,79 +501,6 @@ std::vector<int> passes_of(const std::vector<double>& source, const std::vector<
   return pass;
 }
 
-namespace {
-
-// classify.md §25 (object_of with `join_stacked`): joins to the object (`in`) each cluster of
-// `label` that meets it within `link` in the top view, beside it (top-view cells of `link`: at most
-// kStackOverlay of the smaller one's cells hold points of the other) and in line (across x the
-// union at most kStackInLine wider than the wider one) and holds at least kStackPart of the
-// object's points, until none joins.
-constexpr double kStackOverlay = 0.25;  // detect.md §16's kStackOverlay
-constexpr double kStackInLine = 0.3;    // detect.md §10's in-line test (m)
-// A part is a surface the sensor sampled: at least this share of the object's points (a cab top
-// over an earthmover's body holds some 15-25%, a semi-tractor's deck 30-60%); a tuft of grass, a
-// twig or a few stray returns at the edge do not join.
-constexpr double kStackPart = 0.1;
-
-void join_beside(const std::vector<Vector3d>& pts, const std::vector<std::size_t>& label, double link,
-                 std::vector<char>& in) {
-  auto key2 = [&](double x, double y) { return cell_key(cell_of(x, link), cell_of(y, link), 0); };
-  for (bool joined = true; joined;) {
-    joined = false;
-    std::unordered_map<std::uint64_t, std::vector<std::size_t>> grid;  // the object's points
-    std::unordered_set<std::uint64_t> cells;
-    double ow0 = kInf, ow1 = -kInf;
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-      if (!in[i]) continue;
-      grid[key2(pts[i].x(), pts[i].y())].push_back(i);
-      cells.insert(key2(pts[i].x(), pts[i].y()));
-      ow0 = std::min(ow0, pts[i].y());
-      ow1 = std::max(ow1, pts[i].y());
-    }
-    std::map<std::size_t, std::vector<std::size_t>> others;  // by root: a fixed order
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-      if (!in[i]) others[label[i]].push_back(i);
-    }
-    std::size_t object_size = 0;
-    for (char x : in) object_size += x != 0;
-    for (const auto& [l, members] : others) {
-      if (static_cast<double>(members.size()) < kStackPart * static_cast<double>(object_size)) continue;
-      bool touch = false;
-      std::unordered_set<std::uint64_t> own;
-      double w0 = kInf, w1 = -kInf;
-      for (std::size_t i : members) {
-        own.insert(key2(pts[i].x(), pts[i].y()));
-        w0 = std::min(w0, pts[i].y());
-        w1 = std::max(w1, pts[i].y());
-        const std::int64_t cx = cell_of(pts[i].x(), link), cy = cell_of(pts[i].y(), link);
-        for (std::int64_t dx = -1; dx <= 1 && !touch; ++dx) {
-          for (std::int64_t dy = -1; dy <= 1 && !touch; ++dy) {
-            const auto it = grid.find(cell_key(cx + dx, cy + dy, 0));
-            if (it == grid.end()) continue;
-            for (std::size_t j : it->second) {
-              if (std::hypot(pts[j].x() - pts[i].x(), pts[j].y() - pts[i].y()) <= link) {
-                touch = true;
-                break;
-              }
-            }
-          }
-        }
-      }
-      if (!touch) continue;
-      std::size_t shared = 0;
-      for (std::uint64_t k : own) shared += cells.count(k);
-      if (static_cast<double>(shared) > kStackOverlay * static_cast<double>(std::min(own.size(), cells.size())))
-        continue;  // over or under the object: a crown, a branch, a bush over it
-      if (std::max(w1, ow1) - std::min(w0, ow0) > std::max(w1 - w0, ow1 - ow0) + kStackInLine) continue;
-      for (std::size_t i : members) in[i] = 1;
-      joined = true;
-      break;
-    }
-  }
-}
-
-}  // namespace
-
 std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double link, double crop_area,
                                    double bridge, double bridge_length, bool join_stacked) {
   std::vector<std::size_t> above;
@@ -633,29 +559,6 @@ std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double
     if (in[i]) object.push_back(above[i]);
   }
   return object;
-}
-
-// The echo widening (classify.md §25): the median echo width of the object's returns over the
-// median of the crop's open-ground returns that were the only return of their pulse (the pulse's
-// own width on a level hard surface: the reference needs no sensor constant). At least
-// kEchoReference of those and 3 object returns with a known width, else unknown.
-constexpr std::size_t kEchoReference = 10;
-
-void echo_cue(const Candidate& c, const std::vector<std::size_t>& object, const Params& fp, Features& f) {
-  if (c.echo_width.empty()) return;
-  std::vector<double> ground, own;
-  for (std::size_t i = 0; i < c.points.size(); ++i) {
-    const double w = c.echo_width[i];
-    if (!std::isfinite(w) || w <= 0 || c.points[i].z() >= fp.ground_cut) continue;
-    if (!c.number_of_returns.empty() && c.number_of_returns[i] != 1) continue;
-    ground.push_back(w);
-  }
-  for (std::size_t i : object) {
-    const double w = c.echo_width[i];
-    if (std::isfinite(w) && w > 0) own.push_back(w);
-  }
-  if (ground.size() < kEchoReference || own.size() < 3) return;
-  f.echo_widening = quantile(own, 0.5) / quantile(ground, 0.5);
 }
 
 Features measure(const Candidate& c, const Params& fp) {

@@ -78,6 +78,12 @@ std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double
 // classify.md §21 (object_of with `bridge`): joins to the object (`in`, per point of `pts`; the
 // clusters of `label` rooted at `best`) the clusters its own no-return gaps split off; `ground`
 // the crop's ground returns (top view), `ground_density` per m² of the crop.
+// classify.md §25 (object_of with `join_stacked`): joins to the object (`in`, per point of `pts`)
+// each cluster of `label` that meets it within `link` in the top view, beside it, in line with it
+// and holding at least 10% of its points, until none joins.
+void join_beside(const std::vector<Eigen::Vector3d>& pts, const std::vector<std::size_t>& label, double link,
+                 std::vector<char>& in);
+
 void bridge_gaps(const std::vector<Eigen::Vector3d>& pts, const std::vector<std::size_t>& label,
                  std::size_t best, const std::vector<Eigen::Vector2d>& ground, double ground_density,
                  double link, double bridge, double bridge_length, std::vector<char>& in);
@@ -108,6 +114,11 @@ void penetration_cues(const Candidate& c, const std::vector<std::size_t>& object
                       const std::vector<char>& counted, bool all, const std::vector<Eigen::Vector3d>& q,
                       double u0, double vm, const Eigen::Vector2d& u, const Eigen::Vector2d& v, Features& f,
                       const Params& fp);
+
+// classify.md §25: f.echo_widening, the median echo width (c.echo_width) of the object's points
+// over the median of the crop's ground points (below fp.ground_cut) that were the only return of
+// their pulse; unset without echo widths, with fewer than 10 such ground returns or 3 object points.
+void echo_cue(const Candidate& c, const std::vector<std::size_t>& object, const Params& fp, Features& f);
 
 // Every measurement of Features (classify.h).
 Features measure(const Candidate& c, const Params& params);
