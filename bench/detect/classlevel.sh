@@ -5,6 +5,8 @@
 # either level per cover, false alarms, class right (OUT/score.json + CSVs), as mk/scenes.mk's
 # chain answers a candidate below the model level (every candidate at 10-50 points/m²).
 #   bench/detect/classlevel.sh BIN OUT TAG MODELBASE RUN...   (RUN = WORK/d<level>-<cover>-<seed>)
+# CLASSIFY_INI (default share/params/classify-sim.ini) and CLASSIFY_ARGS (options after it) change
+# classify's parameters (docs/decisions/classify.md §25).
 # (score's closing line counts model-level detections, none here: read score.json's
 # found_any_level, recall_any_level and false_alarms_any_level_per_ha per cover.)
 set -euo pipefail
@@ -19,7 +21,9 @@ for run in "$@"; do
     id=$(basename "$pcd" .pcd)
     mkdir -p "$c/$id"
     if [ -s "$c/$id/class.json" ] && [ "$c/$id/class.json" -nt "$c/index.json" ]; then continue; fi
-    nice "$bin/classify" -q --config "$src/share/params/classify-sim.ini" -i "$pcd" --index "$c/index.json" \
+    # shellcheck disable=SC2086
+    nice "$bin/classify" -q --config "${CLASSIFY_INI:-$src/share/params/classify-sim.ini}" ${CLASSIFY_ARGS:-} \
+      -i "$pcd" --index "$c/index.json" \
       --modelbase "$mb" --model-classes "$src/share/models/classes.csv" -o "$c/$id/class.json"
   done
   b=$(basename "$run")

@@ -397,6 +397,79 @@ TEST_CASE("classify: ground through edges: a glazed car's split pulses are not p
   CHECK(a.reason == "vegetation_like");
 }
 
+namespace {
+
+// The realistic sensor's echo widths (classify.md §25) added to a cloud: the ground's returns and
+// a hard object's are the 4 ns pulse's own 0.60 m (FWHM in range; ± 1%); the object's returns
+// (z >= 0.3 m) are 0.60 m x U(lo, hi): foliage spread in range inside the footprint widens them.
+formats::PointCloud with_echoes(formats::PointCloud c, double lo, double hi, std::uint64_t seed) {
+  common::Rng rng(seed);
+  const auto& z = c.col("z");
+  std::vector<double> w(c.size());
+  for (std::size_t i = 0; i < c.size(); ++i)
+    w[i] = z[i] < 0.3 ? 0.60 * (1 + 0.01 * rng.normal()) : 0.60 * rng.uniform(lo, hi);
+  c.add("echo_width", formats::kFloat32) = w;
+  return c;
+}
+
+classify::Params echoes(double widening) {
+  classify::Params p;
+  p.max_ground_through = 0.08;  // classify-sim.ini's
+  p.max_echo_widening = widening;
+  return p;
+}
+
+}  // namespace
+
+TEST_CASE("classify: --max-echo-widening: a hard top's split pulses are not porosity; a crown stays porous") {
+  for (std::uint64_t k = 0; k < 4; ++k) {
+    // The glazed car of the test above: ground returns under its windows' frames, hard echoes.
+    const formats::PointCloud car = with_echoes(glazed_car(800 + k, false), 0.99, 1.01, 820 + k);
+    const classify::Answer off = classify::run(echoes(0), {car, "car.pcd", {}});
+    const classify::Answer on = classify::run(echoes(1.05), {car, "car.pcd", {}});
+    INFO("survey " << k << ": off " << off.reason << " " << off.detail << "; on " << on.cls << on.reason
+                   << " " << on.detail);
+    CHECK(off.features.ground_through > 0.08);
+    CHECK(off.reason == "vegetation_like");
+    REQUIRE(on.features.echo_widening);
+    CHECK(*on.features.echo_widening == Approx(1.0).margin(0.02));
+    CHECK(on.features.ground_through == off.features.ground_through);  // recorded, not refusing
+    CHECK(on.reason.empty());
+    CHECK(on.group == "car");
+    // A crown (1-3 returns through it, 40% of its pulses to the ground) with foliage's wide
+    // echoes: vegetation_like with the rule, on its echoes.
+    const formats::PointCloud tree = with_echoes(crown(25, 830 + k, true), 1.15, 1.6, 840 + k);
+    const classify::Answer t = classify::run(echoes(1.05), {tree, "crown.pcd", {}});
+    INFO("crown " << t.reason << " " << t.detail);
+    REQUIRE(t.features.echo_widening);
+    CHECK(*t.features.echo_widening > 1.2);
+    CHECK(t.reason == "vegetation_like");
+  }
+  // Without echo widths the rule is inert: the glazed car stays refused.
+  const formats::PointCloud car = glazed_car(800, false);
+  const classify::Answer a = classify::run(echoes(1.05), {car, "car.pcd", {}});
+  CHECK(!a.features.echo_widening);
+  CHECK(a.reason == "vegetation_like");
+}
+
+TEST_CASE("classify: --max-echo-widening: a clipped hedge shaped like a car is vegetation on its echoes") {
+  // A solid-looking top (the sedan of car_top sampled from above: no ground under it, smooth)
+  // whose echoes are foliage's: every other cue passes it as a car.
+  for (std::uint64_t k = 0; k < 3; ++k) {
+    const Sampled s = sample(car_top, 2.3, 0.9, 0, 25, 850 + k);
+    const formats::PointCloud hedge = with_echoes(s.cloud, 1.2, 1.5, 860 + k);
+    const classify::Answer off = classify::run(echoes(0), {hedge, "hedge.pcd", {}});
+    const classify::Answer on = classify::run(echoes(1.05), {hedge, "hedge.pcd", {}});
+    INFO("off " << off.cls << off.reason << "; on " << on.reason << " " << on.detail);
+    CHECK(off.group == "car");
+    CHECK(on.reason == "vegetation_like");
+    CHECK(on.detail.find("wide echoes") != std::string::npos);
+    // The same top with a hard surface's echoes stays a car.
+    const formats::PointCloud body = with_echoes(s.cloud, 0.99, 1.01, 870 + k);
+    CHECK(classify::run(echoes(1.05), {body, "car.pcd", {}}).group == "car");
+  }
+}
+
 TEST_CASE("classify: --min-plateau refuses a solid object without a roof") {
   const Sampled s = sample(ridge_top, 2.25, 0.9, 10 * kDeg, 25, 14);
   classify::Params off;
@@ -961,6 +1034,73 @@ TEST_CASE("classify: --bridge joins nothing beside the car, above it, too low or
   const classify::Answer a = classify::run(bridged(1.0), {two.cloud, "two.pcd", {}});
   CHECK(a.features.object_points == first);
   CHECK(a.features.length == Approx(4.6).margin(0.15));
+}
+
+namespace {
+
+// A semi-tractor unit seen straight down, 6.6 x 2.5 m: the cab (x in [1.0, 3.3]) 3.6 m high, the
+// deck behind it (fenders and fifth wheel) 1.2 m high; the cab's back and the deck's step are
+// vertical faces, which no pulse from above returns. The frame's origin lies on the deck.
+double unit_top(double x, double y) {
+  if (std::abs(x) > 3.3 || std::abs(y) > 1.25) return -1;
+  return x >= 1.0 ? 3.6 : 1.2;
+}
+
+classify::Params stacked(bool on) {
+  classify::Params p;
+  p.join_stacked = on;
+  p.min_rectangularity = kRectangularity;
+  p.min_plateau = 0;  // classify-sim.ini's (a tractor unit's cab is a minor plateau)
+  return p;
+}
+
+}  // namespace
+
+TEST_CASE("classify: --join-stacked: a tractor unit seen straight down is one object, cab and deck") {
+  // At 25 and 50 points/m² the link is 0.5 and 0.35 m: the 2.4 m step is more than three links,
+  // so the cab and the deck are two clusters that touch only in the top view.
+  for (const double density : {25.0, 50.0}) {
+    for (const std::uint64_t seed : {41u, 42u, 43u}) {
+      const Sampled s = sample(unit_top, 3.3, 1.25, 0, density, seed);
+      INFO(density << " points/m2, seed " << seed);
+      const classify::Answer off = classify::run(stacked(false), {s.cloud, "unit.pcd", {}});
+      INFO("off: " << off.reason << " " << off.detail);
+      CHECK(off.features.object_points < 0.8 * static_cast<double>(s.object));
+      CHECK(off.features.length < 4.6);
+      CHECK(off.cls.empty());
+      const classify::Answer on = classify::run(stacked(true), {s.cloud, "unit.pcd", {}});
+      INFO("on: " << on.reason << " " << on.detail);
+      CHECK(on.features.object_points + 2 >= s.object);  // all but a stray point or two
+      CHECK(on.features.object_points <= s.object);
+      CHECK(on.features.length == Approx(6.6).margin(0.2));
+      CHECK(on.features.height == Approx(3.6).margin(0.1));
+      CHECK(on.cls == "semi-tractor");
+    }
+  }
+}
+
+TEST_CASE("classify: --join-stacked joins the deck, not a crown over the cab nor branches beside it") {
+  for (const std::uint64_t seed : {44u, 45u}) {
+    const Sampled unit = sample(unit_top, 3.3, 1.25, 0, 25, seed);
+    INFO("seed " << seed);
+    // A crown's bottom over the cab, 5.4-6.5 m high (more than three links above it, so apart in
+    // the clustering; over it: it covers the cab's cells in the top view).
+    Sampled over = unit;
+    scatter(over, 120, 0.6, 3.6, -1.4, 1.4, 5.4, 6.5, seed + 10);
+    // Branches hanging beside the deck, 3.2-3.8 m high, touching it in the top view across its
+    // side (not in line: the union would be 1.2 m wider).
+    Sampled beside = unit;
+    scatter(beside, 40, -2.5, -0.5, 1.3, 2.5, 3.2, 3.8, seed + 20);
+    for (const Sampled* s : {&over, &beside}) {
+      const classify::Answer on = classify::run(stacked(true), {s->cloud, "unit.pcd", {}});
+      INFO("on: " << on.reason << " " << on.detail);
+      CHECK(on.features.object_points + 2 >= unit.object);  // the unit, cab and deck
+      CHECK(on.features.object_points <= unit.object);      // and nothing else
+      CHECK(on.features.width == Approx(2.5).margin(0.15));
+      CHECK(classify::run(stacked(false), {s->cloud, "unit.pcd", {}}).features.object_points <
+            0.8 * static_cast<double>(unit.object));
+    }
+  }
 }
 
 TEST_CASE("classify: class table and parameters") {

@@ -1,8 +1,13 @@
 // classify's object: gap bridging (classify.md §21, --bridge), joining the clusters that a
-// vehicle's own no-return gaps (windscreen, rear window) split off it.
+// vehicle's own no-return gaps (windscreen, rear window) split off it; parts stacked in height
+// (classify.md §25, --join-stacked).
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <limits>
+#include <map>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "classify/features.h"
 
@@ -11,7 +16,83 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
+std::uint64_t key2d(std::int64_t x, std::int64_t y) {
+  constexpr std::int64_t kBias = 1 << 30;  // cells within ±2^30: crops are a few tens of metres
+  return (static_cast<std::uint64_t>(x + kBias) << 32) | static_cast<std::uint64_t>(y + kBias);
+}
+
+std::int64_t cell_of(double v, double size) { return static_cast<std::int64_t>(std::floor(v / size)); }
+
+// classify.md §25 (object_of with `join_stacked`): joins to the object (`in`) each cluster of
+// `label` that meets it within `link` in the top view, beside it (top-view cells of `link`: at most
+// kStackOverlay of the smaller one's cells hold points of the other) and in line (across x the
+// union at most kStackInLine wider than the wider one) and holds at least kStackPart of the
+// object's points, until none joins.
+constexpr double kStackOverlay = 0.25;  // detect.md §16's kStackOverlay
+constexpr double kStackInLine = 0.3;    // detect.md §10's in-line test (m)
+// A part is a surface the sensor sampled: at least this share of the object's points (a cab top
+// over an earthmover's body holds some 15-25%, a semi-tractor's deck 30-60%); a tuft of grass, a
+// twig or a few stray returns at the edge do not join.
+constexpr double kStackPart = 0.1;
+
 }  // namespace
+
+void join_beside(const std::vector<Eigen::Vector3d>& pts, const std::vector<std::size_t>& label, double link,
+                 std::vector<char>& in) {
+  auto key2 = [&](double x, double y) { return key2d(cell_of(x, link), cell_of(y, link)); };
+  for (bool joined = true; joined;) {
+    joined = false;
+    std::unordered_map<std::uint64_t, std::vector<std::size_t>> grid;  // the object's points
+    std::unordered_set<std::uint64_t> cells;
+    double ow0 = kInf, ow1 = -kInf;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      if (!in[i]) continue;
+      grid[key2(pts[i].x(), pts[i].y())].push_back(i);
+      cells.insert(key2(pts[i].x(), pts[i].y()));
+      ow0 = std::min(ow0, pts[i].y());
+      ow1 = std::max(ow1, pts[i].y());
+    }
+    std::map<std::size_t, std::vector<std::size_t>> others;  // by root: a fixed order
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      if (!in[i]) others[label[i]].push_back(i);
+    }
+    std::size_t object_size = 0;
+    for (char x : in) object_size += x != 0;
+    for (const auto& [l, members] : others) {
+      if (static_cast<double>(members.size()) < kStackPart * static_cast<double>(object_size)) continue;
+      bool touch = false;
+      std::unordered_set<std::uint64_t> own;
+      double w0 = kInf, w1 = -kInf;
+      for (std::size_t i : members) {
+        own.insert(key2(pts[i].x(), pts[i].y()));
+        w0 = std::min(w0, pts[i].y());
+        w1 = std::max(w1, pts[i].y());
+        const std::int64_t cx = cell_of(pts[i].x(), link), cy = cell_of(pts[i].y(), link);
+        for (std::int64_t dx = -1; dx <= 1 && !touch; ++dx) {
+          for (std::int64_t dy = -1; dy <= 1 && !touch; ++dy) {
+            const auto it = grid.find(key2d(cx + dx, cy + dy));
+            if (it == grid.end()) continue;
+            for (std::size_t j : it->second) {
+              if (std::hypot(pts[j].x() - pts[i].x(), pts[j].y() - pts[i].y()) <= link) {
+                touch = true;
+                break;
+              }
+            }
+          }
+        }
+      }
+      if (!touch) continue;
+      std::size_t shared = 0;
+      for (std::uint64_t k : own) shared += cells.count(k);
+      if (static_cast<double>(shared) > kStackOverlay * static_cast<double>(std::min(own.size(), cells.size())))
+        continue;  // over or under the object: a crown, a branch, a bush over it
+      if (std::max(w1, ow1) - std::min(w0, ow0) > std::max(w1 - w0, ow1 - ow0) + kStackInLine) continue;
+      for (std::size_t i : members) in[i] = 1;
+      joined = true;
+      break;
+    }
+  }
+}
 
 // classify.md §21: joins to the object (`in`, the clusters of `label` rooted at `best`) the
 // clusters that a vehicle's own gaps split off it. A windscreen or rear window returns nothing

@@ -114,18 +114,35 @@ bool sparse(Answer& a, const Params& p) {
   return false;
 }
 
+// Echo widths known and the cue on (classify.md §25): whether the object's echoes are a hard
+// surface's.
+bool hard_echoes(const Features& f, const Params& p) {
+  return p.max_echo_widening > 0 && f.echo_widening && *f.echo_widening <= p.max_echo_widening;
+}
+
 bool vegetation(Answer& a, const Params& p) {
   const Features& f = a.features;
+  if (p.max_echo_widening > 0 && f.echo_widening && *f.echo_widening > p.max_echo_widening) {
+    refuse(a, "vegetation_like",
+           fmt("wide echoes: its median echo is %.0f%% of the open ground's (a hard surface <= %.0f%%)",
+               100 * *f.echo_widening, 100 * p.max_echo_widening),
+           past(*f.echo_widening, p.max_echo_widening));
+    return true;
+  }
+  const bool hard = hard_echoes(f, p);
   struct Cue {
     const char* what;
     double value, threshold;
   };
-  std::vector<Cue> cues = {{"%.0f%% of its interior points lie 0.5 m or more under another of its points "
-                            "(vehicle <= %.0f%%)",
-                            f.below_share, p.max_below_share},
-                           {"ground returns under it: %.0f%% of its interior returns (vehicle <= %.0f%%)",
-                            f.ground_through, p.max_ground_through}};
-  if (f.late_returns) {
+  std::vector<Cue> cues = {
+      {"%.0f%% of its interior points lie 0.5 m or more under another of its points "
+       "(vehicle <= %.0f%%)",
+       f.below_share, p.max_below_share}};
+  if (!hard) {
+    cues.push_back({"ground returns under it: %.0f%% of its interior returns (vehicle <= %.0f%%)",
+                    f.ground_through, p.max_ground_through});
+  }
+  if (f.late_returns && !(hard && p.echo_late)) {
     cues.push_back({p.late_returns_inside
                         ? "%.0f%% later returns split inside it (return_number > 1 under earlier "
                           "returns at or below its top; vehicle <= %.0f%%)"
@@ -362,10 +379,15 @@ void choose(Answer& a, const Params& p, double sigma, const std::vector<TableRan
   a.class_margin = std::isfinite(other) ? other - best.distance : 0;
   // Confidence: the size fit, how clearly another group is excluded, how far the vegetation
   // cues stay below their thresholds (each 0.5 at its threshold).
+  // A hard object's waived cues (classify.md §25) count at most at their threshold.
+  const bool hard = hard_echoes(f, p);
+  auto cue = [](double value, double threshold, bool waived) {
+    return 1 - past(waived ? std::min(value, threshold) : value, threshold);
+  };
   double shape =
-      (1 - past(f.below_share, p.max_below_share)) * (1 - past(f.ground_through, p.max_ground_through));
+      (1 - past(f.below_share, p.max_below_share)) * cue(f.ground_through, p.max_ground_through, hard);
   if (f.fill) shape *= 1 - past(p.min_fill, std::max(*f.fill, 1e-6));
-  if (f.late_returns) shape *= 1 - past(*f.late_returns, p.max_late_returns);
+  if (f.late_returns) shape *= cue(*f.late_returns, p.max_late_returns, hard && p.echo_late);
   const double group = 0.5 + 0.5 * (1 - std::exp(-0.5 * a.class_margin * a.class_margin));
   a.confidence = std::clamp(a.class_score * group * shape, 0.0, 1.0);
 }
@@ -469,6 +491,8 @@ void validate(const Params& p) {
   need(p.max_ground_through > 0 && p.max_ground_through <= 1, "--max-ground-through must be in (0, 1]");
   need(p.min_fill >= 0 && p.min_fill <= 10, "--min-fill must be in [0, 10]");
   need(p.max_late_returns > 0 && p.max_late_returns <= 1, "--max-late-returns must be in (0, 1]");
+  need(p.max_echo_widening == 0 || (p.max_echo_widening >= 1 && p.max_echo_widening <= 10),
+       "--max-echo-widening must be 0 (off) or in [1, 10]");
   need(p.min_plateau >= 0 && p.min_plateau <= 1, "--min-plateau must be in [0, 1]");
   need(p.plateau_split > 0 && p.plateau_split < 1, "--plateau-split must be in (0, 1)");
   need(p.tail_split > 0 && p.tail_split < 1.5, "--tail-split must be in (0, 1.5)");

@@ -88,6 +88,25 @@ struct Params {
   // car into cabin, bonnet and boot once the link is shorter than the glass).
   double bridge = 0;
   double bridge_length = 6.0;
+  // Parts stacked in height (classify.md §25): seen from above a vertical face returns nothing,
+  // so a semi-tractor's cab (3.6 m) and its deck (1.2 m), an earthmover's cab top and its body are
+  // clusters that touch only in the top view (a step of more than 3 links). true: a cluster that
+  // meets the object within the link in plan, lies beside it (at most 25% of the smaller one's
+  // top-view cells shared), in line with it (the union at most 0.3 m wider across the
+  // candidate's long axis) and is a part (at least 10% of the object's points) joins it, as
+  // detect's --join-stacked joins clusters (detect.md §16).
+  // false: the object is one cluster (before; Params and classify.ini).
+  bool join_stacked = false;
+  // Echo widths (classify.md §25): the realistic sensor records each echo's width; a level hard
+  // surface returns the pulse's own width, foliage spread in range inside the footprint a wider
+  // one. With echo widths in the candidate and this > 0: an object whose median echo is more than
+  // this many times the open ground's single returns' is vegetation_like; one at or under it is
+  // hard, and ground_through does not refuse it (the ground under a hard top is seen beside its
+  // parts' edges, not through it; with echo_late, late_returns does not either: a hard top under a
+  // crown returns late because the crown took the pulse first). 0: off (before; Params and
+  // classify.ini: the real tiles carry no echo widths).
+  double max_echo_widening = 0;
+  bool echo_late = false;
   double link_min = 0.25;         // object clustering: the linking distance is at least this (m)
   std::size_t min_points = 20;    // fewer object points: too_sparse
   double min_density = 4.0;       // fewer object points per m² of its rectangle: too_sparse
@@ -251,6 +270,9 @@ struct Features {
   // fill and ground_through over every pass, as before (only when the crop has > 1 pass).
   std::size_t passes = 1, object_passes = 1;
   std::optional<double> fill_all_passes, ground_through_all_passes;
+  // The object's median echo width over the open ground's single returns' (classify.md §25; the
+  // realistic sensor's echo_width; unset without it).
+  std::optional<double> echo_widening;
   std::optional<double> late_returns;   // share of object points with return_number > 1 (with
                                         // late_returns_inside: split inside the object, §22)
   std::optional<double> multi_returns;  // share with number_of_returns > 1

@@ -49,6 +49,7 @@ std::vector<ClassFeature> features_of(const Features& f) {
                                 number("ground_through_cells", f.ground_through_cells),
                                 count("interior_cells", f.interior_cells),
                                 optional("late_returns", f.late_returns),
+                                optional("echo_widening", f.echo_widening),
                                 optional("multi_returns", f.multi_returns)};
   // Only when the crop holds several flight passes (classify.md §14): a crop without them gets
   // the document it got before.

@@ -447,6 +447,8 @@ Candidate read_candidate(const formats::PointCloud& cloud, const std::string& na
       if (d.allFinite() && d.norm() > 1e-6) c.view[i] = d.normalized();
     }
   }
+  // Echo widths (the realistic sensor's waveform FWHM; LAS Extra Bytes `echo_width`).
+  if (cloud.has("echo_width")) c.echo_width = cloud.col("echo_width");
   // Flight passes when the file says which (LAS point_source_id, gps_time).
   static const std::vector<double> none;
   const auto& source = cloud.has("point_source_id") ? cloud.col("point_source_id") : none;
@@ -500,7 +502,7 @@ std::vector<int> passes_of(const std::vector<double>& source, const std::vector<
 }
 
 std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double link, double crop_area,
-                                   double bridge, double bridge_length) {
+                                   double bridge, double bridge_length, bool join_stacked) {
   std::vector<std::size_t> above;
   std::vector<Vector3d> pts;
   for (std::size_t i = 0; i < c.points.size(); ++i) {
@@ -543,6 +545,7 @@ std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double
   }
   std::vector<char> in(pts.size(), 0);
   for (std::size_t i = 0; i < pts.size(); ++i) in[i] = label[i] == best;
+  if (join_stacked) join_beside(pts, label, link, in);
   if (bridge > 0) {
     std::vector<Vector2d> ground;
     for (const Vector3d& p : c.points) {
@@ -570,7 +573,7 @@ Features measure(const Candidate& c, const Params& fp) {
   for (const Vector3d& p : c.points) f.ground_points += p.z() < fp.ground_cut;
   const double link = std::clamp(fp.link_factor * f.crop_spacing, fp.link_min, 1.5);
   const std::vector<std::size_t> object =
-      object_of(c, fp.ground_cut, link, crop_area, fp.bridge, fp.bridge_length);
+      object_of(c, fp.ground_cut, link, crop_area, fp.bridge, fp.bridge_length, fp.join_stacked);
   f.object_points = object.size();
   if (object.size() < 3) return f;
 
@@ -672,6 +675,7 @@ Features measure(const Candidate& c, const Params& fp) {
   column_cues(c, counted, q, r, u, v, f, fp);
   penetration_cues(c, object, counted, several, q, r.u0, 0.5 * (r.v0 + r.v1), u, v, f, fp);
 
+  echo_cue(c, object, fp, f);
   if (!c.return_number.empty()) {
     std::size_t late = 0, multi = 0, known = 0;
     const std::vector<bool> inside = split_inside(c, object, fp);

@@ -22,6 +22,9 @@ struct Candidate {
   std::vector<double> source, time;
   // Unit direction from each point toward the sensor that saw it (sensor_x/y/z), empty = unknown.
   std::vector<Eigen::Vector3d> view;
+  // Per point: the width (FWHM, m) of its echo in the waveform (the realistic sensor's
+  // `echo_width`), empty = unknown (NaN: unknown for that point).
+  std::vector<double> echo_width;
   // Pass index per point, 0 .. passes - 1 (empty = one pass, unknown): points of one flight line
   // (point_source_id) flown in one stretch of time (gps_time gaps of more than kPassGap s split
   // a line: a crop is crossed in well under a second; lines are minutes apart).
@@ -62,13 +65,25 @@ Candidate read_candidate(const formats::PointCloud& cloud, const std::string& na
 // frame's long axis; + `link`), whose top is no higher than
 // the object's and at least half as high, nearest first, while the object stays at most
 // `bridge_length` long; `crop_area` (m², the crop's top-view box, at least 1e-6) gives the
-// crop's ground density the bridge compares its gap with.
+// crop's ground density the bridge compares its gap with. With `join_stacked` (classify.md §25)
+// first every cluster that meets the object in the top view (within `link`) but is apart from it
+// in height, lies beside it rather than over or under it (at most 25% of the smaller one's top-view
+// cells hold points of the other), in line with it (the union no wider across the candidate
+// frame's x axis than the wider of the two + 0.3 m) and holding at least 10% of the object's
+// points joins it, until none does: seen from above a
+// vertical face returns nothing, so a cab and its deck, a cab top and its body touch only in plan.
 std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double link, double crop_area,
-                                   double bridge = 0, double bridge_length = 6.0);
+                                   double bridge = 0, double bridge_length = 6.0, bool join_stacked = false);
 
 // classify.md §21 (object_of with `bridge`): joins to the object (`in`, per point of `pts`; the
 // clusters of `label` rooted at `best`) the clusters its own no-return gaps split off; `ground`
 // the crop's ground returns (top view), `ground_density` per m² of the crop.
+// classify.md §25 (object_of with `join_stacked`): joins to the object (`in`, per point of `pts`)
+// each cluster of `label` that meets it within `link` in the top view, beside it, in line with it
+// and holding at least 10% of its points, until none joins.
+void join_beside(const std::vector<Eigen::Vector3d>& pts, const std::vector<std::size_t>& label, double link,
+                 std::vector<char>& in);
+
 void bridge_gaps(const std::vector<Eigen::Vector3d>& pts, const std::vector<std::size_t>& label,
                  std::size_t best, const std::vector<Eigen::Vector2d>& ground, double ground_density,
                  double link, double bridge, double bridge_length, std::vector<char>& in);
@@ -99,6 +114,11 @@ void penetration_cues(const Candidate& c, const std::vector<std::size_t>& object
                       const std::vector<char>& counted, bool all, const std::vector<Eigen::Vector3d>& q,
                       double u0, double vm, const Eigen::Vector2d& u, const Eigen::Vector2d& v, Features& f,
                       const Params& fp);
+
+// classify.md §25: f.echo_widening, the median echo width (c.echo_width) of the object's points
+// over the median of the crop's ground points (below fp.ground_cut) that were the only return of
+// their pulse; unset without echo widths, with fewer than 10 such ground returns or 3 object points.
+void echo_cue(const Candidate& c, const std::vector<std::size_t>& object, const Params& fp, Features& f);
 
 // Every measurement of Features (classify.h).
 Features measure(const Candidate& c, const Params& params);

@@ -55,6 +55,15 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
                   "width, at most this far in the top view (a windscreen's gap; 0: off)");
   tool.add_length("--bridge-length", &p.bridge_length,
                   "--bridge joins only while the object stays this short");
+  tool.add("--max-echo-widening", &p.max_echo_widening,
+           "with echo_width in the candidate: an object whose median echo is wider than this many times "
+           "the open ground's is vegetation_like, one at or under it is hard and ground_through does not "
+           "refuse it (0: off)");
+  tool.add("--echo-late", &p.echo_late,
+           "with --max-echo-widening: late_returns does not refuse a hard object either");
+  tool.add("--join-stacked", &p.join_stacked,
+           "join to the object the clusters that meet it in the top view beside it and in line with it "
+           "(parts at two heights whose step the nadir view did not sample; false: one cluster)");
   tool.add("--min-points", &p.min_points, "fewer object points: too_sparse");
   tool.add("--min-density", &p.min_density, "fewer object points per m^2 of its rectangle: too_sparse");
   tool.add("--edge-factor", &p.edge_factor, "size correction: length and width + this x the point spacing");

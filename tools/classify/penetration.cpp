@@ -1,6 +1,6 @@
 // classify's penetration cues (docs/decisions/classify.md §5, §14, §20): below_share and
 // ground_through, point by point, and with Params::sight_lines only the points whose line of sight
-// passes through the object.
+// passes through the object; the echo widening (§25).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "canopy/common/math.h"
+#include "canopy/common/stats.h"
 #include "classify/features.h"
 
 namespace canopy::classify {
@@ -91,7 +92,37 @@ std::vector<bool> edge_splits(const Candidate& c, const std::vector<std::size_t>
   return split;
 }
 
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return common::sorted_quantile(v, 0.5);
+}
+
 }  // namespace
+
+// The echo widening (classify.md §25): the median echo width of the object's returns over the
+// median of the crop's open-ground returns that were the only return of their pulse (the pulse's
+// own width on a level hard surface: the reference needs no sensor constant). At least
+// kEchoReference of those and 3 object returns with a known width, else unknown.
+namespace {
+constexpr std::size_t kEchoReference = 10;
+}  // namespace
+
+void echo_cue(const Candidate& c, const std::vector<std::size_t>& object, const Params& fp, Features& f) {
+  if (c.echo_width.empty()) return;
+  std::vector<double> ground, own;
+  for (std::size_t i = 0; i < c.points.size(); ++i) {
+    const double w = c.echo_width[i];
+    if (!std::isfinite(w) || w <= 0 || c.points[i].z() >= fp.ground_cut) continue;
+    if (!c.number_of_returns.empty() && c.number_of_returns[i] != 1) continue;
+    ground.push_back(w);
+  }
+  for (std::size_t i : object) {
+    const double w = c.echo_width[i];
+    if (std::isfinite(w) && w > 0) own.push_back(w);
+  }
+  if (ground.size() < kEchoReference || own.size() < 3) return;
+  f.echo_widening = median(own) / median(ground);
+}
 
 void penetration_cues(const Candidate& c, const std::vector<std::size_t>& object,
                       const std::vector<char>& counted, bool all, const std::vector<Vector3d>& q, double u0,
