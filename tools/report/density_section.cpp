@@ -95,7 +95,8 @@ void ablation_table(std::ostringstream& md, const std::vector<DensityLevel>& sen
   if (with.empty()) return;
   md << "\n**classify's ablation on the sensor ladder** (the same candidates classified with `"
      << with.front()->ablation_config
-     << "`, collected and scored like canopy's; docs/decisions/classify.md §23): found at either level of "
+     << "`, collected and scored like canopy's; the file's header says which defaults it turns off: "
+        "docs/decisions/classify.md §23 and §25): found at either level of "
         "each cover's vehicles, class right of the found and false alarms per ha (all covers), each with "
         "its count and 95% interval.\n\n";
   md << "| level | measure | canopy | ablation |\n|---|---|---|---|\n";
