@@ -104,7 +104,13 @@ opts_text_real_tile = $(call opts_line,timeout,$(REAL_TIMEOUT))$(call opts_line,
   opts_line,crs,$(CRS))$(call opts_line,calibration,$(real_calibration))
 opts_text_real = $(call opts_line,classify,$(REAL_CLASSIFY))$(opts_text_real_tile)
 opts_text_real-sim = $(call opts_line,classify,$(REAL_CLASSIFY_SIM))$(opts_text_real_tile)
-$(if $(opts_thesis),$(call opts_kinds,$(OUT),real real-sim))
+# Written only by a make that can run the real tiles, never by the sub-makes of `all`
+# (sub_make_goals, Makefile.experiments), which may have other values: the open set's `make
+# scenes` gives COLLECT_CALIBRATION on its command line (OPENSET_COLLECT_CALIBRATION, empty by
+# default), so after `make all COLLECT_CALIBRATION=<ini>` it wrote these files back without the
+# calibration, and `make -q all` was not clean (experiment-graph.md §6, "Two writers").
+opts_real_goals := $(filter-out $(sub_make_goals),$(opts_thesis))
+$(if $(opts_real_goals),$(call opts_kinds,$(OUT),real real-sim))
 
 # real_rule(name, previous, out, classify.ini): one tile's run into out/<name> (time-boxed,
 # timed) and, for a labelled tile, its score; GNU time's "Command exited with non-zero status"
