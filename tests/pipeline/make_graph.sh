@@ -356,6 +356,11 @@ fake_run "$sr" "S_$(printf '%s' "$sr" | tr '/.-' '___')" 48
 # changes: a real run (its stages no-ops, STAGE=true, whose artifacts get their times below).
 "${sc[@]}" scenes STAGE=true KEEP=1 >"$tmp/scenes.log" 2>&1 || fail "make scenes did not write the recipe: $(tail -3 "$tmp/scenes.log")"
 at $((now - 51)) "$st/recipe.scene"
+# The scene recipe outside the graph (mk/scene-recipe.mk on its own, bench/detect/recipes.sh) is
+# the one `make scenes` wrote, byte for byte.
+make --no-print-directory -f mk/scene-recipe.mk SCENE_RECIPES="$tmp/recipes" SCENE_SEEDS=1 SCENE_COVERS=light ||
+  fail "make -f mk/scene-recipe.mk failed"
+cmp "$tmp/recipes/light-1.scene" "$st/recipe.scene" || fail "mk/scene-recipe.mk's recipe differs from make scenes': $(diff "$tmp/recipes/light-1.scene" "$st/recipe.scene")"
 at $((now - 30)) "$sd/tiles.txt"
 : >"$tmp/res/scenes/score.json"; at $((now - 29)) "$tmp/res/scenes/score.json"
 for k in detect plan classify models collect score; do
