@@ -23,14 +23,14 @@ $(eval $(call tool_rule,baseline))
 # parameters. baseline_models_rule(modelbase dir, its surfaces) (scenes.mk, families.mk).
 baseline_models = $(1)/baseline-models.bin
 define baseline_models_rule
-$(call baseline_models,$(1)): $(sort $(2) $(wildcard $(1)/*.pcd)) $(call tool,baseline) $(P)/baseline.ini
+$(call baseline_models,$(1)): $(sort $(2) $(wildcard $(1)/*.pcd)) $(call tool,baseline) $(P)/baseline.ini $(opts.params)
 	@$(STAGE) $$@ -- $(BIN)/baseline --config $(P)/baseline.ini --prepare --modelbase $(1) -o $$@
 endef
 $(eval $(call baseline_models_rule,$(OUT)/modelbase,$(VERIFY_SURFACES)))
 
 define baseline_rule
 $(OUT)/$(1)/$(2)/noise-$(3)/baseline.json: $(OUT)/$(1)/$(2)/noise-$(3)/samples.pcd $(VERIFY_SURFACES) \
-    $(call baseline_models,$(OUT)/modelbase) $(call tool,baseline) $(P)/baseline.ini
+    $(call baseline_models,$(OUT)/modelbase) $(call tool,baseline) $(P)/baseline.ini $(opts.params)
 	@$(STAGE) --record-failure $$@ -- $(BIN)/baseline --config $(P)/baseline.ini -i $$< \
 	  --modelbase $(OUT)/modelbase --model-cache $(call baseline_models,$(OUT)/modelbase) -o $$@
 endef

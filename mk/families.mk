@@ -78,6 +78,11 @@ fam_heading = $(shell echo $$(( $(call seed,families/heading/$(1)) % 360 )))deg
 # The test scenes and the runs manifest are written at parse time when they changed
 # (text_prereq, Makefile.experiments).
 $(if $(dry_run),,$(shell mkdir -p $(FAM_DIR)/scenes))
+# The renders' options (FAM_RENDER) and verify's (FAM_TOPK), as prerequisites (the options files,
+# Makefile.experiments; the parameters' directory P is the thesis graph's opts.params).
+opts_text_families-render = $(call opts_line,render,$(FAM_RENDER))
+opts_text_families-verify = $(call opts_line,top-k,$(FAM_TOPK))
+$(call opts_kinds,$(OUT),families-render families-verify)
 
 # The test scenes: one recipe per cover level.
 define fam_scene_text
@@ -98,18 +103,19 @@ endef
 define fam_chain
 .SECONDARY: $(1)/noise-$(2)/scan.pcd $(if $(5),$(1)/scan.pcd)
 $(call noisy_rule,$(1)/scan.pcd,$(1)/noise-$(2)/scan.pcd,$(2),$(3)/$(2),$(4),$(if $(5), && rm -f $$<))
-$(1)/noise-$(2)/samples.pcd: $(1)/noise-$(2)/scan.pcd $(call tool,fitvox) $(P)/fitvox.ini
+$(1)/noise-$(2)/samples.pcd: $(1)/noise-$(2)/scan.pcd $(call tool,fitvox) $(P)/fitvox.ini $(opts.params)
 	@$(STAGE) $(4) $$@ -- $(BIN)/fitvox --config $(P)/fitvox.ini --pcd-encoding $(PCD_ENCODING) -i $$< -o $$@ && rm -f $$<
-$(1)/noise-$(2)/mesh.ply: $(1)/noise-$(2)/samples.pcd $(call tool,cocone) $(P)/cocone.ini
+$(1)/noise-$(2)/mesh.ply: $(1)/noise-$(2)/samples.pcd $(call tool,cocone) $(P)/cocone.ini $(opts.params)
 	@$(STAGE) $(4) $$@ -- $(BIN)/cocone --config $(P)/cocone.ini -i $$< -o $$@
-$(1)/noise-$(2)/segments.json: $(1)/noise-$(2)/mesh.ply $(call tool,ncut) $(P)/ncut.ini
+$(1)/noise-$(2)/segments.json: $(1)/noise-$(2)/mesh.ply $(call tool,ncut) $(P)/ncut.ini $(opts.params)
 	@$(STAGE) $(4) $$@ -- $(BIN)/ncut --config $(P)/ncut.ini --seed $$(call seed,$(3)/$(2)) -i $$< \
 	  -o $$@ --colored $(1)/noise-$(2)/segments.ply
 endef
 
 # fam_train_rule(class, n): the render and chain of one generated instance.
 define fam_train_rule
-$(FAM_DIR)/train/$(1)-$(2)/scan.pcd: $(call tool,rangetrace) $(P)/rangetrace.ini share/scenes/unoccluded.scene
+$(FAM_DIR)/train/$(1)-$(2)/scan.pcd: $(call tool,rangetrace) $(P)/rangetrace.ini share/scenes/unoccluded.scene \
+    $(opts.params) $(opts.families-render)
 	@$(STAGE) $$@ -- $(BIN)/rangetrace --config $(P)/rangetrace.ini $(FAM_RENDER) --model family:$(1):$(2) \
 	  --scene unoccluded --seed $$(call seed,families/train/$(1)-$(2)) --threads 2 -o $$@
 $(call fam_chain,$(FAM_DIR)/train/$(1)-$(2),0,families/train/$(1)-$(2),,drop)
@@ -150,7 +156,8 @@ fam_inst = $(lastword $(subst :, ,$(1)))
 
 # fam_test_rule(class, n, cover): the render; fam_trial_rule(class, n, cover, noise): the trial.
 define fam_test_rule
-$(FAM_DIR)/test/$(1)-$(2)/$(3)/scan.pcd: $(FAM_DIR)/scenes/$(3).scene $(call tool,rangetrace) $(P)/rangetrace.ini
+$(FAM_DIR)/test/$(1)-$(2)/$(3)/scan.pcd: $(FAM_DIR)/scenes/$(3).scene $(call tool,rangetrace) $(P)/rangetrace.ini \
+    $(opts.params) $(opts.families-render)
 	@$(STAGE) $$@ -- $(BIN)/rangetrace --config $(P)/rangetrace.ini $(FAM_RENDER) --model family:$(1):$(2) \
 	  --scene $$< --heading $$(call fam_heading,$(1)-$(2)/$(3)) --seed $$(call seed,families/test/$(1)-$(2)/$(3)) \
 	  --threads 2 -o $$@
@@ -158,17 +165,17 @@ endef
 # fam_baseline_rule(trial dir, method): the PCL baseline, one process per method (its own time).
 define fam_baseline_rule
 $(1)/baseline-$(2).json: $(1)/samples.pcd $(FAM_MODELBASE) $(call baseline_models,$(FAM_MB)) $(call tool,baseline) \
-    $(P)/baseline.ini
+    $(P)/baseline.ini $(opts.params)
 	@$(STAGE) --record-failure $$@ -- $(BIN)/baseline --config $(P)/baseline.ini --methods $(2) -i $$< \
 	  --modelbase $(FAM_MB) --model-cache $(call baseline_models,$(FAM_MB)) -o $$@
 endef
 define fam_trial_rule
 $(call fam_chain,$(FAM_DIR)/test/$(1)-$(2)/$(3),$(4),families/test/$(1)-$(2)/$(3),--record-failure,)
 $(FAM_DIR)/test/$(1)-$(2)/$(3)/noise-$(4)/match.json: $(FAM_DIR)/test/$(1)-$(2)/$(3)/noise-$(4)/segments.json \
-    $(FAM_MODELBASE) $(call tool,gmatch) $(P)/gmatch.ini
+    $(FAM_MODELBASE) $(call tool,gmatch) $(P)/gmatch.ini $(opts.params)
 	@$(STAGE) --record-failure $$@ -- $(BIN)/gmatch --config $(P)/gmatch.ini -i $$< --modelbase $(FAM_MB) -o $$@
 $(FAM_DIR)/test/$(1)-$(2)/$(3)/noise-$(4)/verdict.json: $(FAM_DIR)/test/$(1)-$(2)/$(3)/noise-$(4)/match.json \
-    $(FAM_MODELBASE) $(call tool,verify) $(P)/verify.ini
+    $(FAM_MODELBASE) $(call tool,verify) $(P)/verify.ini $(opts.params) $(opts.families-verify)
 	@$(STAGE) --record-failure $$@ -- $(BIN)/verify --config $(P)/verify.ini -k $(FAM_TOPK) -i $$< \
 	  --points $(FAM_DIR)/test/$(1)-$(2)/$(3)/noise-$(4)/samples.pcd \
 	  --segments $(FAM_DIR)/test/$(1)-$(2)/$(3)/noise-$(4)/segments.json --modelbase $(FAM_MB) -o $$@

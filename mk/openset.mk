@@ -109,6 +109,9 @@ ifneq ($(filter openset-crops,$(MAKECMDGOALS)),)
 # makefile, brought up to date (render, detect, plan) before the goal, so only this make reads
 # them. The modelbase and classes.csv are made by the parent first.
 $(if $(dry_run),,$(shell mkdir -p $(OPENSET_CROP_RUNS) $(OPENSET_CROP_RES)))
+# The tile workflow's options files (mk/scenes.mk), the crops' own.
+tile_classify := $(SCENE_CLASSIFY)
+$(call tile_opts_kinds,$(OPENSET_CROP_DIR))
 # openset_crop_rule(run, name, seed, mesh): the recipe and the render.
 define openset_crop_rule
 $(1)/recipe.scene: $(call text_prereq,$(1)/recipe.scene,$(call openset_crop_recipe,$(2),$(3),$(4)))

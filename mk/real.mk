@@ -93,11 +93,31 @@ real_progress = { [ -z "$$$$CANOPY_PROGRESS" ] || { CANOPY_PLANNING=1 $$(REAL_SU
   "$(BIN)/stagerun $(3)/$(2)/score.json -- $(BIN)/score";) } | scripts/progress.sh $(1) "$$$$CANOPY_PROGRESS" \
   "$$$$CANOPY_PROGRESS-$(notdir $(3))-$(2)" >/dev/null; }
 
+# The options a tile's run depends on (the options files, Makefile.experiments): the time box,
+# classify's parameters and the tile workflow's options as its sub-make reads them (the same
+# defaults, but COLLECT_CALIBRATION: the workflow's own default is none, so only a value given on
+# the command line or in the environment reaches it). The sub-make then re-runs what they change.
+real_calibration = $(if $(filter command% environment%,$(origin COLLECT_CALIBRATION)),$(COLLECT_CALIBRATION))
+opts_text_real_tile = $(call opts_line,timeout,$(REAL_TIMEOUT))$(call opts_line,model-density,$(TILE_MODEL_DENSITY))$(call \
+  opts_line,density-scale,$(TILE_DENSITY_SCALE))$(call opts_line,raster,$(TOP_RASTER))$(call \
+  opts_line,fitvox,$(TILE_FITVOX))$(call opts_line,parameters,$(P))$(call opts_line,model-classes,$(MODEL_CLASSES))$(call \
+  opts_line,crs,$(CRS))$(call opts_line,calibration,$(real_calibration))
+opts_text_real = $(call opts_line,classify,$(REAL_CLASSIFY))$(opts_text_real_tile)
+opts_text_real-sim = $(call opts_line,classify,$(REAL_CLASSIFY_SIM))$(opts_text_real_tile)
+# Written only by a make that can run the real tiles, never by the sub-makes of `all`
+# (sub_make_goals, Makefile.experiments), which may have other values: the open set's `make
+# scenes` gives COLLECT_CALIBRATION on its command line (OPENSET_COLLECT_CALIBRATION, empty by
+# default), so after `make all COLLECT_CALIBRATION=<ini>` it wrote these files back without the
+# calibration, and `make -q all` was not clean (experiment-graph.md §6, "Two writers").
+opts_real_goals := $(filter-out $(sub_make_goals),$(opts_thesis))
+$(if $(opts_real_goals),$(call opts_kinds,$(OUT),real real-sim))
+
 # real_rule(name, previous, out, classify.ini): one tile's run into out/<name> (time-boxed,
 # timed) and, for a labelled tile, its score; GNU time's "Command exited with non-zero status"
 # line is dropped from tile.time.
 define real_rule
 $(3)/$(1)/tile.time: $(call real_file,$(1)) $(REAL_DEPS) $(4) $(wildcard $(REAL_SHARE)/$(1).truth.json) \
+    $(if $(filter $(REAL_SIM_OUT),$(3)),$(opts.real-sim),$(opts.real)) \
     | $(if $(2),$(3)/$(2)/tile.time)
 	$$(real_plus)@mkdir -p $(3)/$(1) && rm -f $$@ $(3)/$(1)/score.json && s=0; \
 	  $(call real_progress,add,$(1),$(3),$(4)); \

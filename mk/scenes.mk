@@ -98,6 +98,26 @@ SCENE_CLASSIFY_ABLATION ?=
 SCENE_COLLECT_ABLATION ?=
 $(foreach f,$(TILE_CLASSIFY) $(SCENE_CLASSIFY) $(SCENE_CLASSIFY_ABLATION),$(if $(wildcard $(f))$(filter $(OUT)/%,$(f)),,$(error classify's parameters: $(f) does not exist)))
 
+# The tile workflow's options as prerequisites (the options files, Makefile.experiments): one
+# text per stage kind, its file under the set of runs' directory (the tile's OUT, SCENE_DIR, the
+# open set's crops), written by tile_opts_kinds(DIR) in each of those makes. The model chain
+# (fitvox | cocone | ncut | gmatch | verify) is one kind: a change of any of its options re-runs
+# fitvox, and so the rest. tile_classify is classify's parameters in that make (TILE_CLASSIFY
+# or SCENE_CLASSIFY); opts_text_topview is the make's own (TOP_RASTER for `make tile`,
+# SCENE_TOPVIEW_SIZE for the scene experiment's pictures).
+opts_text_detect = $(call opts_line,config,$(call scene_config,detect))
+opts_text_plan = $(call opts_line,model-density,$(TILE_MODEL_DENSITY))$(call opts_line,density-scale,$(TILE_DENSITY_SCALE))
+opts_text_classify = $(call opts_line,parameters,$(tile_classify))$(call opts_line,model-classes,$(MODEL_CLASSES))
+opts_text_classify-ablation = $(call opts_line,parameters,$(SCENE_CLASSIFY_ABLATION))$(call \
+  opts_line,model-classes,$(MODEL_CLASSES))
+opts_text_models = $(call opts_line,fitvox,$(TILE_FITVOX))$(call opts_line,parameters,$(P))$(call \
+  opts_line,density-scale,$(TILE_DENSITY_SCALE))
+opts_text_collect = $(call opts_line,calibration,$(COLLECT_CALIBRATION))$(call opts_line,crs,$(CRS))
+opts_text_collect-ablation = $(call opts_line,options,$(SCENE_COLLECT_ABLATION))$(call \
+  opts_line,calibration,$(COLLECT_CALIBRATION))
+tile_opts_kinds = $(call opts_kinds,$(1),detect plan classify models collect$(if $(value opts_text_topview), topview)$(if \
+  $(SCENE_CLASSIFY_ABLATION), classify-ablation)$(if $(SCENE_COLLECT_ABLATION), collect-ablation))
+
 # read_plan(FILE): a generated candidate plan. A real run includes it, so make remakes it first
 # (detect, the plan) and re-reads the makefiles; a dry run (-n, -q, -t) reads it as it is and
 # never remakes it, so `make -q` answers without detecting (a stale plan still makes -q answer
@@ -108,9 +128,9 @@ read_plan = $(if $(dry_run),$(if $(wildcard $(1)),$(eval $(file <$(1)))),$(eval 
 # classification (classes.ply: a hard link to detect's, where the filesystem has them; touched,
 # since the link has the time detect wrote it, just before index.json).
 define tile_rules
-$(2)/cands/index.json: $(3) $(call tool,detect) $(wildcard $(P)/detect.ini)
+$(2)/cands/index.json: $(3) $(call tool,detect) $(wildcard $(P)/detect.ini) $(opts.detect)
 	@$(STAGE) $(2)/detect -- $(BIN)/detect $(call scene_config,detect) $(5) -i $(3) -o $(2)/cands
-$(2)/cands.mk: $(2)/cands/index.json $(call tool,collect)
+$(2)/cands.mk: $(2)/cands/index.json $(call tool,collect) $(opts.plan)
 	@$(STAGE) $$@ -- $(BIN)/collect -i $(2)/cands/index.json --plan $$@ --plan-key $(1) \
 	  --model-density $(TILE_MODEL_DENSITY)$(if $(filter 0,$(TILE_DENSITY_SCALE)), --no-density-scale)
 	@[ -z "$$$$CANOPY_PROGRESS" ] || scripts/progress.sh extend "$$$$CANOPY_PROGRESS" $$@ $$(TILE_CAND_KINDS)
@@ -130,7 +150,7 @@ TILE_CAND_KINDS := classify:cand/class.json fitvox:cand/samples.pcd cocone:cand/
 # classify.md §12).
 define class_rule
 $(1)/cands/$(2)/$(or $(5),class.json): $(1)/cands/index.json $(call tool,classify) $(3) \
-    $(wildcard $(4)/*.json $(4)/*.pcd $(4)/*.class) $(MODEL_CLASSES)
+    $(wildcard $(4)/*.json $(4)/*.pcd $(4)/*.class) $(MODEL_CLASSES) $(if $(5),$(opts.classify-ablation),$(opts.classify))
 	@$(STAGE) $$@ -- $(BIN)/classify --config $(3) -i $(1)/cands/$(2).pcd \
 	  --index $(1)/cands/index.json --modelbase $(4) --model-classes $(MODEL_CLASSES) -o $$@
 endef
@@ -152,17 +172,19 @@ endef
 # answers from the ablation's files; collect --class-name). SCENE_CLASSIFY_ABLATION below.
 class_ablation_rules = $(foreach c,$($(2)_CANDS),$(eval $(call class_rule,$(1),$(c),$(4),$(3),class-ablation.json)))$(eval \
   $(call collect_variant_rule,$(1),$(2),$(3),class-ablation,class-ablation.json,verdict.json,--class-name \
-  class-ablation.json$(collect_calibration),,$(COLLECT_CALIBRATION)))
+  class-ablation.json$(collect_calibration),,$(COLLECT_CALIBRATION) $(opts.collect)))
 # collect_ablation_rules(DIR, KEY, MODELBASE, OPTIONS): the run's detections collected with
 # OPTIONS (detections-collect-ablation.json). SCENE_COLLECT_ABLATION below.
-collect_ablation_rules = $(eval $(call collect_variant_rule,$(1),$(2),$(3),collect-ablation,class.json,verdict.json,,$(4)$(collect_calibration),$(COLLECT_CALIBRATION)))
+collect_ablation_rules = $(eval $(call collect_variant_rule,$(1),$(2),$(3),collect-ablation,class.json,verdict.json,,$(4)$(collect_calibration),$(COLLECT_CALIBRATION) \
+  $(opts.collect-ablation)))
 # variant_score_rule(VARIANT, DIR, MANIFEST, RUNS, RES, CLASSES): the score of every run's
 # detections-VARIANT.json as RES/VARIANT/score.json, over DIR/tiles-VARIANT.txt (the score's tile
 # list MANIFEST with each run's detections.json so renamed), CLASSES the model classes (score
 # names a missing file itself: a prerequisite only when it exists).
 define variant_score_rule
 $(2)/tiles-$(1).txt: $(call text_prereq,$(2)/tiles-$(1).txt,$(subst /detections.json ,/detections-$(1).json ,$(3)))
-$(5)/$(1)/score.json: $(2)/tiles-$(1).txt $(addsuffix /detections-$(1).json,$(4)) $(call tool,score) $(wildcard $(6))
+$(5)/$(1)/score.json: $(2)/tiles-$(1).txt $(addsuffix /detections-$(1).json,$(4)) $(call tool,score) $(wildcard $(6)) \
+    $(opts.score)
 	@$(STAGE) $$@ -- $(BIN)/score --tiles $(2)/tiles-$(1).txt --model-classes $(6) -o $$@ --csv $(5)/$(1)/
 endef
 # is_model(KEY, ID): non-empty when the plan sends the candidate through the model chain (an
@@ -186,18 +208,19 @@ cand_scale = $(if $($(1)_$(2)_$(3)), $($(1)_$(2)_$(3)))
 # tile target's TRAJECTORY=), verify takes the sensor directions from that trajectory and
 # re-runs when it changes; no other key sets it, so the scene experiment's rules are unchanged.
 define cand_rule
-$(1)/cands/$(2)/samples.pcd: $(1)/cands/index.json $(call tool,fitvox) $(TILE_FITVOX)
+$(1)/cands/$(2)/samples.pcd: $(1)/cands/index.json $(call tool,fitvox) $(TILE_FITVOX) $(opts.models)
 	@$(STAGE) --record-failure $$@ -- $(BIN)/fitvox --config $(TILE_FITVOX)$(call cand_scale,$(3),FITVOX,$(2)) \
 	  --pcd-encoding $(PCD_ENCODING) -i $(1)/cands/$(2).pcd -o $$@
-$(1)/cands/$(2)/mesh.ply: $(1)/cands/$(2)/samples.pcd $(call tool,cocone) $(P)/cocone.ini
+$(1)/cands/$(2)/mesh.ply: $(1)/cands/$(2)/samples.pcd $(call tool,cocone) $(P)/cocone.ini $(opts.models)
 	@$(STAGE) --record-failure $$@ -- $(BIN)/cocone --config $(P)/cocone.ini$(call cand_scale,$(3),COCONE,$(2)) -i $$< -o $$@
-$(1)/cands/$(2)/segments.json: $(1)/cands/$(2)/mesh.ply $(call tool,ncut) $(P)/ncut.ini
+$(1)/cands/$(2)/segments.json: $(1)/cands/$(2)/mesh.ply $(call tool,ncut) $(P)/ncut.ini $(opts.models)
 	@$(STAGE) --record-failure $$@ -- $(BIN)/ncut --config $(P)/ncut.ini$(call cand_scale,$(3),NCUT,$(2)) \
 	  --seed $$(call seed,$(5)/$(2)) -i $$< -o $$@ --colored $(1)/cands/$(2)/segments.ply
-$(1)/cands/$(2)/match.json: $(1)/cands/$(2)/segments.json $(wildcard $(4)/*.json) $(call tool,gmatch) $(P)/gmatch.ini
+$(1)/cands/$(2)/match.json: $(1)/cands/$(2)/segments.json $(wildcard $(4)/*.json) $(call tool,gmatch) $(P)/gmatch.ini \
+    $(opts.models)
 	@$(STAGE) --record-failure $$@ -- $(BIN)/gmatch --config $(P)/gmatch.ini -i $$< --modelbase $(4) -o $$@
 $(1)/cands/$(2)/verdict.json: $(1)/cands/$(2)/match.json $(1)/cands/$(2)/samples.pcd \
-    $(wildcard $(4)/*.json $(4)/*.pcd) $(call tool,verify) $(wildcard $(P)/verify.ini) $($(3)_TRAJECTORY)
+    $(wildcard $(4)/*.json $(4)/*.pcd) $(call tool,verify) $(wildcard $(P)/verify.ini) $($(3)_TRAJECTORY) $(opts.models)
 	@$(STAGE) --record-failure $$@ -- $(BIN)/verify $(call scene_config,verify) -i $$< \
 	  --points $(1)/cands/$(2)/samples.pcd --segments $(1)/cands/$(2)/segments.json \
 	  --modelbase $(4) --transform $($(3)_TRANSFORM_$(2))$(if $($(3)_TRAJECTORY), --trajectory $($(3)_TRAJECTORY)) -o $$@
@@ -213,16 +236,17 @@ endef
 TOP_RASTER ?= 1
 define tile_collect
 $(2)/detections.json: $(2)/cands.mk $(foreach c,$($(1)_CANDS),$(2)/cands/$(c)/class.json) \
-    $(foreach c,$(call model_cands,$(1)),$(2)/cands/$(c)/verdict.json) $(call tool,collect) $(COLLECT_CALIBRATION)
+    $(foreach c,$(call model_cands,$(1)),$(2)/cands/$(c)/verdict.json) $(call tool,collect) $(COLLECT_CALIBRATION) \
+    $(opts.collect)
 	@$(STAGE) $$@ -- $(BIN)/collect -i $(2)/cands/index.json -o $$@ --geojson $(2)/detections.geojson \
 	  --modelbase $(3) $(if $(CRS),--crs $(CRS))$(collect_calibration)
 ifeq ($(1)$(if $(filter 0,$(TOP_RASTER)),,1),TILE1)
 $(2)/top.raster: $(4) $(call tool,topview)
 	@$(STAGE) $$@ -- $(BIN)/topview -i $(4) --raster-out $$@
-$(2)/top.png: $(2)/detections.json $(2)/top.raster $(call tool,topview)
+$(2)/top.png: $(2)/detections.json $(2)/top.raster $(call tool,topview) $(opts.topview)
 	@$(STAGE) $$@ -- $(BIN)/topview --raster $(2)/top.raster --detections $(2)/detections.json -o $$@
 else
-$(2)/top.png: $(2)/detections.json $(4) $(call tool,topview)
+$(2)/top.png: $(2)/detections.json $(4) $(call tool,topview) $(opts.topview)
 	@$(STAGE) $$@ -- $(BIN)/topview -i $(4) --detections $(2)/detections.json -o $$@
 endif
 endef
@@ -243,6 +267,9 @@ $(if $(CRS),$(if $(shell printf '%s' '$(CRS)' | grep -xE 'EPSG:[0-9]{1,6}'),,$(e
 $(if $(TRAJECTORY),$(if $(filter 1,$(words $(TRAJECTORY))),,$(error tile: TRAJECTORY=$(TRAJECTORY) must name one file)))
 $(if $(TRAJECTORY),$(if $(wildcard $(TRAJECTORY)),,$(error tile: TRAJECTORY=$(TRAJECTORY) does not exist)))
 TILE_TRAJECTORY := $(TRAJECTORY)
+tile_classify := $(TILE_CLASSIFY)
+opts_text_topview = $(call opts_line,raster,$(TOP_RASTER))
+$(call tile_opts_kinds,$(TILE_OUT))
 $(eval $(call tile_rules,TILE,$(TILE_OUT),$(TILE),$(TILE_MB)))
 $(call read_plan,$(TILE_OUT)/cands.mk)
 $(call cand_rules,$(TILE_OUT),TILE,$(TILE_MB),$(notdir $(TILE)),$(TILE_CLASSIFY))
@@ -301,51 +328,12 @@ endif
 SCENE_SEEDS ?= 1 2 3 4 5 6 7 8
 SCENE_COVERS ?= light medium dense
 SCENE_NOISES ?= 0 8 32
-SCENE_EXTENT ?= 30m
-SCENE_MODELS ?= earthmover,obj1,sedan,semi,tank
-# Cover knobs per level: random trees per hectare and trees planted beside each vehicle.
-SCENE_TREES_light ?= 100
-SCENE_HIDE_light ?= 0
-SCENE_TREES_medium ?= 350
-SCENE_HIDE_medium ?= 1
-SCENE_TREES_dense ?= 700
-SCENE_HIDE_dense ?= 2
-# Pixel spacing (docs/decisions/scene-experiment.md, "Operating point"): 40 mm with the tile
-# fitvox setting (share/params/fitvox-tile.ini).
-SCENE_SPACING ?= 40mm
-# Sensor mode (docs/decisions/sensor.md; docs/decisions/density-ladder.md, "The ladder on the
-# realistic sensor"): SCENE_SENSOR=<preset of share/sensors/> renders every tile with that
-# sensor (pulses with a footprint, multiple returns, the preset's flight lines along the
-# recipe's headings) instead of the four image looks at SCENE_SPACING; SCENE_SENSOR_KEYS=
-# "KEY=VALUE ..." become the recipe's `sensor.KEY = VALUE` lines. rangetrace then writes the
-# trajectory <tile>/scan.traj beside the scan, and detect derives each point's direction toward
-# the sensor from it (--trajectory), so the candidates carry sensor_x/y/z as an image-mode scan's
-# do (classify's sight lines, fitvox's normals, verify). Empty (the default): the recipes and
-# rules of image mode, byte for byte.
-SCENE_SENSOR ?=
-SCENE_SENSOR_KEYS ?=
-ifneq ($(SCENE_SENSOR),)
-$(if $(filter 1,$(words $(SCENE_SENSOR))),,$(error SCENE_SENSOR=$(SCENE_SENSOR) must name one preset of share/sensors/))
-$(if $(wildcard share/sensors/$(SCENE_SENSOR).ini),,$(error SCENE_SENSOR=$(SCENE_SENSOR): no share/sensors/$(SCENE_SENSOR).ini))
-$(foreach k,$(SCENE_SENSOR_KEYS),$(if $(shell printf '%s' '$(k)' | grep -xE '[a-z_]+=[^=]+'),,$(error \
-  SCENE_SENSOR_KEYS: $(k) is not KEY=VALUE)))
-else
-$(if $(strip $(SCENE_SENSOR_KEYS)),$(error SCENE_SENSOR_KEYS=$(SCENE_SENSOR_KEYS) needs SCENE_SENSOR))
-endif
-# Clutter per tile (issue 29, "unseen clutter"; docs/decisions/scene-experiment.md): the kinds
-# verify's and classify's thresholds were fitted on, then two of the six unseen kinds, by tile
-# (cksum of clutter/<cover>/<seed> mod 3: trailer + rock, caravan + tent, pipes + barriers; all
-# six in one 30 m tile of 3 - 8 vehicles leave no room). SCENE_CLUTTER="boulder 2 container 1
-# logs 1" is the ablation value: the seen kinds alone, the recipe before issue 29.
-SCENE_CLUTTER ?= boulder 2 container 1 logs 1 $(call scene_unseen,$(1)/$(2))
-scene_unseen = $(subst _, ,$(word $(shell . scripts/cksum.sh --mod 3 --add 1 'clutter/$(1)'),\
-  trailer_1_rock_1 caravan_1_tent_1 pipes_1_barriers_1))
-# Vehicles per tile: SCENE_VEHICLES, else 3 - 8 from the seed.
-SCENE_VEHICLES ?=
+# The recipe's variables (SCENE_EXTENT, SCENE_MODELS, the cover knobs, SCENE_SPACING, SCENE_SENSOR,
+# SCENE_CLUTTER, SCENE_VEHICLES) and scene_recipe(cover, seed): mk/scene-recipe.mk.
+include mk/scene-recipe.mk
 # The pictures per cover level show the first SCENE_PICTURE_COLS tiles at every noise level.
 SCENE_PICTURE_COLS ?= 4
 SCENE_TOPVIEW_SIZE ?= 512
-scene_vehicles = $(or $(SCENE_VEHICLES),$(shell . scripts/cksum.sh --mod 6 --add 3 'vehicles/$(1)'))
 SCENE_DIR := $(OUT)/scenes
 SCENE_RES := $(RES)/scenes
 SCENE_SCORE := $(SCENE_RES)/score.json
@@ -410,33 +398,17 @@ else
 # ---- read only by `make scenes` ----------------------------------------------------------
 SCENE_MB := $(OUT)/modelbase
 TILE_CAND_KINDS += $(foreach m,$(SCENE_BASELINE),baseline:cand/baseline-$(m).json)
+# The options files of the tile workflow's stages (above) and of the score and the pictures.
+tile_classify := $(SCENE_CLASSIFY)
+opts_text_topview = $(call opts_line,size,$(SCENE_TOPVIEW_SIZE))
+opts_text_score = $(call opts_line,model-classes,$(SCENE_MODEL_CLASSES))
+$(call tile_opts_kinds,$(SCENE_DIR))
+$(call opts_kinds,$(SCENE_DIR),score)
 
 # The recipes and the score's manifests are written at parse time when they changed
 # (text_prereq, Makefile.experiments).
 
-# The recipe of one tile (cover, seed).
-define scene_recipe
-# scene experiment tile (mk/scenes.mk): cover $(1), seed $(2)
-extent = $(SCENE_EXTENT)
-terrain = rolling 1m 25m
-trees = $(SCENE_TREES_$(1))
-hide = $(SCENE_HIDE_$(1))
-bushes = 300
-vehicles = random $(call scene_vehicles,$(1)/$(2)) from $(SCENE_MODELS)
-clutter = $(SCENE_CLUTTER)
-$(if $(SCENE_SENSOR),$(scene_sensor_lines),$(scene_image_lines))
-endef
-# The render's lines: the four image looks at SCENE_SPACING, or the sensor (SCENE_SENSOR).
-define scene_image_lines
-flight_lines = 2
-headings = 0deg 90deg
-looks = 75deg/0deg 75deg/180deg
-spacing = $(SCENE_SPACING)
-endef
-define scene_sensor_lines
-headings = 0deg 90deg
-sensor = $(SCENE_SENSOR)$(subst $(space)$(nl),$(nl),$(foreach k,$(SCENE_SENSOR_KEYS),$(nl)sensor.$(subst =, = ,$(k))))
-endef
+# The recipe of one tile (cover, seed): scene_recipe (mk/scene-recipe.mk).
 $(if $(dry_run),,$(shell mkdir -p $(SCENE_TILES) $(SCENE_RES) $(dir $(SCENE_BL_SCORES) $(SCENE_ABL_SCORE))))
 
 # scene_tile_rule(cover, seed): the recipe and the render.
@@ -481,7 +453,8 @@ $(SCENE_DIR)/tiles.txt: $(call text_prereq,$(SCENE_DIR)/tiles.txt,$(scene_manife
 # prerequisite only when it exists: the open set's (mk/openset.mk) is written by the parent make,
 # which a dry run does not do, and score names a missing file itself.
 SCENE_MODEL_CLASSES ?= share/models/classes.csv
-$(SCENE_SCORE): $(SCENE_DIR)/tiles.txt $(addsuffix /detections.json,$(SCENE_RUNS)) $(call tool,score) $(wildcard $(SCENE_MODEL_CLASSES))
+$(SCENE_SCORE): $(SCENE_DIR)/tiles.txt $(addsuffix /detections.json,$(SCENE_RUNS)) $(call tool,score) $(wildcard $(SCENE_MODEL_CLASSES)) \
+    $(opts.score)
 	@$(STAGE) $@ -- $(BIN)/score --tiles $(SCENE_DIR)/tiles.txt --model-classes $(SCENE_MODEL_CLASSES) -o $@ \
 	  --csv $(SCENE_RES)/$(scene_scan_prune)
 # The baseline (SCENE_BASELINE): per candidate and method a verdict from the candidate's
@@ -490,7 +463,7 @@ $(SCENE_SCORE): $(SCENE_DIR)/tiles.txt $(addsuffix /detections.json,$(SCENE_RUNS
 # over a manifest of the same tiles.
 define scene_baseline_cand_rule
 $(1)/cands/$(2)/baseline-$(3).json: $(1)/cands/$(2)/samples.pcd $(VERIFY_SURFACES) $(call baseline_models,$(SCENE_MB)) \
-    $(call tool,baseline) $(P)/baseline.ini
+    $(call tool,baseline) $(P)/baseline.ini $(opts.params)
 	@$(STAGE) --record-failure $$@ -- $(BIN)/baseline --config $(P)/baseline.ini --verdict $(3) -i $$< \
 	  --modelbase $(SCENE_MB) --model-cache $(call baseline_models,$(SCENE_MB)) -o $$@
 endef
@@ -532,7 +505,7 @@ endif
 # the score does): both are deleted after it unless KEEP=1 (.SECONDARY: not remade while what
 # was made from them is current).
 define scene_picture_rule
-$(1)/scored.png: $(SCENE_SCORE) $(1)/scan.pcd $(call tool,topview)
+$(1)/scored.png: $(SCENE_SCORE) $(1)/scan.pcd $(call tool,topview) $(opts.topview)
 	@$(STAGE) $$@ -- $(BIN)/topview -i $(1)/scan.pcd --detections $(1)/detections.json --size $(SCENE_TOPVIEW_SIZE) \
 	  --truth $(patsubst %/,%,$(dir $(1)))/truth.json --score $(SCENE_SCORE) -o $$@$(call scene_prune,$(1))
 endef

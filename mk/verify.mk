@@ -14,7 +14,7 @@ verify-modelbase: $(MODELBASE) $(VERIFY_SURFACES)
 
 define verify_rule
 $(OUT)/$(1)/$(2)/noise-$(3)/verdict.json: $(OUT)/$(1)/$(2)/noise-$(3)/match.json \
-    $(OUT)/$(1)/$(2)/noise-$(3)/samples.pcd $(MODELBASE) $(VERIFY_SURFACES) $(call tool,verify) $(P)/verify.ini
+    $(OUT)/$(1)/$(2)/noise-$(3)/samples.pcd $(MODELBASE) $(VERIFY_SURFACES) $(call tool,verify) $(P)/verify.ini $(opts.params)
 	@$(STAGE) $$@ -- $(BIN)/verify --config $(P)/verify.ini -i $$< \
 	  --points $(OUT)/$(1)/$(2)/noise-$(3)/samples.pcd --segments $(OUT)/$(1)/$(2)/noise-$(3)/segments.json \
 	  --modelbase $(OUT)/modelbase -o $$@
@@ -26,7 +26,8 @@ verdicts: $(VERDICTS)
 # The band modelbase (share/scenes/band.scene: the trials' 75-degree elevation all around).
 # rangetrace knows circle/flyby/unoccluded by name; the band recipe is given as a file.
 define band_scene_rule
-$(OUT)/$(1)/band/scan.pcd: $(call tool,rangetrace) $(P)/rangetrace.ini share/models/$(1).inc share/scenes/band.scene
+$(OUT)/$(1)/band/scan.pcd: $(call tool,rangetrace) $(P)/rangetrace.ini share/models/$(1).inc share/scenes/band.scene \
+    $(opts.params)
 	@$(STAGE) $$@ -- $(BIN)/rangetrace --config $(P)/rangetrace.ini --model $(1) --scene share/scenes/band.scene \
 	  --seed $$(call seed,$(1)/band) --threads 2 -o $$@
 endef

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # classify's outline gates on simulated development tiles (docs/decisions/classify.md §16): the
-# scene experiment's recipe (mk/scenes.mk scene_recipe, the same clutter rule and seed keys) for
+# scene experiment's recipe (mk/scene-recipe.mk, the same clutter rule and seed keys) for
 # development seeds only, rendered, detected, then classify (classify-sim.ini, as the scene
 # experiment runs it) on every candidate with each variant, and bench/classify/outline.py to
 # count vehicles and clutter kinds answered as vehicles.

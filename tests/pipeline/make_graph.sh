@@ -6,6 +6,9 @@
 # no stage (content stamps); a tool whose bytes change re-plans its stage and what follows.
 # Runs on a copy of the source tree (its mtimes are changed) with a fake CMake that "builds"
 # a tool by writing $tmp/content/<tool> (default: a fixed text) to the binary.
+# Options as prerequisites: a changed option variable (COLLECT_CALIBRATION, TILE_DENSITY_SCALE,
+# TOP_RASTER, CRS, P) re-plans exactly the stages whose command it changes; the same command again
+# plans nothing (on a fake scene run and a fake `make tile`).
 set -u
 src=$1
 fail() { echo "FAIL: $*" >&2; exit 1; }
@@ -292,6 +295,151 @@ real=$(grep "^real " "$tmp/out/experiment.txt")
 [ "$(echo "$real" | head -2)" = "real forest_lareunion $tmp/out/real/forest_lareunion
 real ign_lidarhd_870000_6618000 $tmp/out/real/ign_lidarhd_870000_6618000 share/real/ign_lidarhd_870000_6618000.truth.json" ] ||
   fail "the manifest's real tiles: $real"
+# The manifest follows the experiment's shape: with the real tiles in it, the report (made
+# without them) is stale for `make -q all` (REAL_TILES=0). Back to REAL_TILES=0's manifest, with
+# its old time: the tree is complete again for the checks below. (Left with the real tiles, the
+# options checks' `make scenes` wrote it back without them, newer than the report, and their
+# last `make -q all` failed: the s50 failure, docs/decisions/experiment-graph.md §6.)
+"${mk[@]}" -q all && fail "make -q all is clean although the manifest names real tiles the report was not made with"
+"${mk[@]}" PROGRESS=0 "$tmp/out/experiment.txt" >/dev/null 2>&1 || fail "the manifest without real tiles not written"
+grep -q "^real " "$tmp/out/experiment.txt" && fail "REAL_TILES=0 again: the manifest still names real tiles"
+at $((now - 59)) "$tmp/out/experiment.txt"
+"${mk[@]}" -q all || fail "make -q all not clean after the manifest was written back without the real tiles"
+
+# Options as prerequisites (docs/decisions/experiment-graph.md §6): a variable that changes a
+# stage's command re-runs that stage and what follows through its kind's options file
+# (<dir>/.opts/<kind>.txt), and nothing else; the same command again plans nothing. On the scene
+# experiment's rules (`make scenes`) over one complete fake run with one model-level candidate,
+# and on the `tile` workflow over one fake tile.
+# The options makes below (their own scene run, tile and dry runs of `all` with other values)
+# leave every file of the thesis slice as it is: same files, same times (the progress count's
+# state aside).
+thesis_files() {
+  find "$tmp/out" "$tmp/res" \( -path "$tmp/out/scenes" -o -path "$tmp/res/scenes" \) -prune -o -type f ! -name '.progress*' -printf '%p %T@\n' |
+    sort
+}
+thesis_before=$(thesis_files)
+# The real tiles' options are written only by a make that can run them: no `make scenes` (a
+# sub-make of `all`, which may be given other values: the open set's COLLECT_CALIBRATION) writes
+# them, not even when they are missing (put back at the end).
+mv "$tmp/out/.opts/real.txt" "$tmp/real.txt.keep" || fail "no options file of the real tiles after the runs of all"
+for t in detect classify collect score topview; do
+  "$tmp/cmake" --build "$tmp/build" --target "$t" || fail "the fake cmake failed"
+  sha256sum <"$tmp/build/bin/$t" | cut -d' ' -f1 >"$tmp/build/stamps/$t.sha"
+  scripts/tool-deps.sh "$tmp/build" "$t" "$tmp/build/deps/$t.mk" || fail "tool-deps.sh $t failed"
+  at $((now - 90)) "$tmp/build/bin/$t"; at $((now - 89)) "$tmp/build/deps/$t.mk"; at $((now - 88)) "$tmp/build/stamps/$t.sha"
+done
+rm -f "$tmp/cmake.calls"
+# fake_run DIR KEY FIRST: a complete run DIR (detect's candidates, the plan with one model-level
+# candidate c0001, its class answer and model chain, the detections), times from now - FIRST on.
+fake_run() {
+  local d=$1 key=$2 i=$3 f
+  mkdir -p "$d/cands/c0001"
+  printf '%s\n' "${key}_CANDS := c0001" "${key}_TRANSFORM_c0001 := 1,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1" \
+    "${key}_LEVEL_c0001 := model" "${key}_FITVOX_c0001 := --voxel-size 0.2" >"$d/cands.mk"
+  for f in "$d/cands/index.json" "$d/cands/c0001.pcd" "$d/cands.mk" "$d/cands/c0001/class.json" \
+           "$d/cands/c0001/samples.pcd" "$d/cands/c0001/mesh.ply" "$d/cands/c0001/segments.json" \
+           "$d/cands/c0001/segments.ply" "$d/cands/c0001/match.json" "$d/cands/c0001/verdict.json" \
+           "$d/detections.json" "$d/detections.geojson"; do
+    [ -e "$f" ] || : >"$f"; at $((now - i)) "$f"; i=$((i - 1))
+  done
+}
+sd="$tmp/out/scenes"
+st="$sd/light/tile-1"
+sr="$st/noise-0"
+sc=("${mk[@]}" PROGRESS=0 SCENE_SEEDS=1 SCENE_COVERS=light SCENE_NOISES=0 SCENE_BASELINE= SCENE_SIZE_ONLY=0 SCENE_PICTURES=0)
+mkdir -p "$sr" "$tmp/res/scenes"
+for f in "$st/scan.pcd" "$st/truth.json" "$sr/scan.pcd"; do : >"$f"; done
+at $((now - 50)) "$st/scan.pcd" "$st/truth.json"; at $((now - 49)) "$sr/scan.pcd"
+fake_run "$sr" "S_$(printf '%s' "$sr" | tr '/.-' '___')" 48
+# The recipe, the score's tile list and the options files are written by make when their text
+# changes: a real run (its stages no-ops, STAGE=true, whose artifacts get their times below).
+"${sc[@]}" scenes STAGE=true KEEP=1 >"$tmp/scenes.log" 2>&1 || fail "make scenes did not write the recipe: $(tail -3 "$tmp/scenes.log")"
+at $((now - 51)) "$st/recipe.scene"
+# The scene recipe outside the graph (mk/scene-recipe.mk on its own, bench/detect/recipes.sh) is
+# the one `make scenes` wrote, byte for byte.
+make --no-print-directory -f mk/scene-recipe.mk SCENE_RECIPES="$tmp/recipes" SCENE_SEEDS=1 SCENE_COVERS=light ||
+  fail "make -f mk/scene-recipe.mk failed"
+cmp "$tmp/recipes/light-1.scene" "$st/recipe.scene" || fail "mk/scene-recipe.mk's recipe differs from make scenes': $(diff "$tmp/recipes/light-1.scene" "$st/recipe.scene")"
+at $((now - 30)) "$sd/tiles.txt"
+: >"$tmp/res/scenes/score.json"; at $((now - 29)) "$tmp/res/scenes/score.json"
+for k in detect plan classify models collect score; do
+  [ "$(stat -c %Y "$sd/.opts/$k.txt" 2>/dev/null)" = 0 ] ||
+    fail "the options file of $k was not written with the time 0 on a tree made before it: $(ls -l "$sd/.opts/" 2>&1)"
+done
+grep -qx "calibration = $tmp/params/calibration.ini" "$sd/.opts/collect.txt" ||
+  fail "the collect options file does not hold the calibration: $(cat "$sd/.opts/collect.txt")"
+"${sc[@]}" -q scenes || fail "make -q scenes is not clean on a complete run: $("${sc[@]}" -n scenes 2>&1 | head -5)"
+# COLLECT_CALIBRATION emptied (the ablation): collect and the score, not detect, the plan,
+# classify, the model chain nor the render; a dry run writes nothing.
+plan=$("${sc[@]}" -n scenes COLLECT_CALIBRATION= 2>&1)
+plans "bin/collect -i $sr/cands/index.json -o $sr/detections.json" || fail "COLLECT_CALIBRATION= does not re-plan collect: $plan"
+plans "bin/score " || fail "COLLECT_CALIBRATION= does not re-plan the score"
+for t in rangetrace addnoise detect classify fitvox cocone ncut gmatch verify "collect -i $sr/cands/index.json --plan"; do
+  if plans "bin/$t "; then fail "COLLECT_CALIBRATION= re-plans $t"; fi
+done
+[ "$(echo "$plan" | stages)" -eq 2 ] || fail "COLLECT_CALIBRATION= plans $(echo "$plan" | stages) stages, not 2"
+"${sc[@]}" -q scenes COLLECT_CALIBRATION= && fail "make -q scenes COLLECT_CALIBRATION= is clean"
+[ "$(stat -c %Y "$sd/.opts/collect.txt")" = 0 ] || fail "a dry run rewrote the collect options file"
+# A real run writes the new text (here a run whose goal is the options file: the stages are
+# fakes), then collect and the score run (their artifacts touched); the same command again plans
+# nothing, and reading the makefiles again does not rewrite the file.
+"${sc[@]}" scenes STAGE=true KEEP=1 COLLECT_CALIBRATION= >/dev/null 2>&1 || fail "make did not write the options file"
+grep -qx "calibration =" "$sd/.opts/collect.txt" || fail "the options file: $(cat "$sd/.opts/collect.txt")"
+written=$(stat -c %Y "$sd/.opts/collect.txt")
+[ "$written" -gt 0 ] || fail "the changed options file kept the time 0"
+touch "$sr/detections.json" "$tmp/res/scenes/score.json"
+plan=$("${sc[@]}" -n scenes COLLECT_CALIBRATION= 2>&1)
+[ "$(echo "$plan" | stages)" -eq 0 ] || fail "the same COLLECT_CALIBRATION= again plans stages: $(echo "$plan" | grep stagerun)"
+"${sc[@]}" -q scenes COLLECT_CALIBRATION= || fail "make -q scenes COLLECT_CALIBRATION= is not clean after its run"
+sleep 1
+"${sc[@]}" scenes STAGE=true KEEP=1 COLLECT_CALIBRATION= >/dev/null 2>&1 || fail "make failed"
+[ "$(stat -c %Y "$sd/.opts/collect.txt")" = "$written" ] || fail "an unchanged options text was rewritten"
+# ... and back to the default: collect and the score again.
+plan=$("${sc[@]}" -n scenes 2>&1)
+[ "$(echo "$plan" | stages)" -eq 2 ] && plans "bin/collect -i $sr/cands/index.json -o" && plans "bin/score " ||
+  fail "COLLECT_CALIBRATION back to its default does not re-plan collect and the score: $(echo "$plan" | grep stagerun)"
+# TILE_DENSITY_SCALE=0 (the density rule's ablation): the plan, the model chain, collect and the
+# score; not detect nor classify.
+plan=$("${sc[@]}" -n scenes COLLECT_CALIBRATION= TILE_DENSITY_SCALE=0 2>&1)
+for t in "collect -i $sr/cands/index.json --plan" fitvox cocone ncut gmatch verify "collect -i $sr/cands/index.json -o" score; do
+  plans "bin/$t " || fail "TILE_DENSITY_SCALE=0 does not re-plan $t: $(echo "$plan" | grep stagerun)"
+done
+for t in rangetrace detect classify; do
+  if plans "bin/$t "; then fail "TILE_DENSITY_SCALE=0 re-plans $t"; fi
+done
+# Not tracked: how and where stages run, and what is kept (LAUNCH, KEEP, PROGRESS).
+"${sc[@]}" -q scenes COLLECT_CALIBRATION= LAUNCH=slurm KEEP=1 PROGRESS=1 ||
+  fail "LAUNCH, KEEP or PROGRESS made the scene run stale"
+# The tile workflow (`make tile`, its own options files under OUT): TOP_RASTER=0 re-plans the
+# picture alone; CRS the detections and the picture.
+td="$tmp/tile"
+: >"$tmp/tile.pcd"; at $((now - 60)) "$tmp/tile.pcd"
+fake_run "$td" TILE 58
+for f in classes.ply top.raster top.png; do : >"$td/$f"; at $((now - 40)) "$td/$f"; done
+tl=("${mk[@]}" PROGRESS=0 tile TILE="$tmp/tile.pcd" MODELBASE="$tmp/out/modelbase" OUT="$td")
+"${tl[@]}" STAGE=true >"$tmp/tile.log" 2>&1 || fail "make tile did not write its options files: $(tail -3 "$tmp/tile.log")"
+[ "$(stat -c %Y "$td/.opts/topview.txt")" = 0 ] || fail "make tile wrote no options file for topview"
+[ ! -e "$td/.opts/params.txt" ] || fail "make tile wrote the thesis graph's options into the tile's directory"
+"${tl[@]}" -q || fail "make -q tile is not clean on a complete tile: $("${tl[@]}" -n 2>&1 | head -5)"
+plan=$("${tl[@]}" -n TOP_RASTER=0 2>&1)
+[ "$(echo "$plan" | stages)" -eq 1 ] && plans "bin/topview -i $tmp/tile.pcd --detections" ||
+  fail "TOP_RASTER=0 does not plan the picture alone: $(echo "$plan" | grep stagerun)"
+plan=$("${tl[@]}" -n CRS=EPSG:32633 2>&1)
+[ "$(echo "$plan" | stages)" -eq 2 ] && plans "bin/collect .*--crs EPSG:32633" ||
+  fail "CRS does not plan collect and the picture alone: $(echo "$plan" | grep stagerun)"
+# The thesis graph: another parameter directory (P, the same files, older) re-plans its stages.
+cp -rp "$tmp/params" "$tmp/params2"
+plan=$("${mk[@]}" -n all P="$tmp/params2" 2>&1)
+for t in rangetrace fitvox cocone ncut gmatch verify report; do
+  plans "bin/$t " || fail "P=<another directory> does not re-plan $t"
+done
+rm -rf "$tmp/params2"
+[ ! -e "$tmp/out/.opts/real.txt" ] || fail "a make of another goal wrote the real tiles' options: $(cat "$tmp/out/.opts/real.txt")"
+mv "$tmp/real.txt.keep" "$tmp/out/.opts/real.txt"
+[ "$(thesis_files)" = "$thesis_before" ] ||
+  fail "the options checks changed the thesis slice's files: $(diff <(echo "$thesis_before") <(thesis_files) | head -5)"
+"${mk[@]}" -q all || fail "make -q all not clean after the options checks"
 
 at $((now - 10)) "$tmp/params/ncut.ini"
 plan=$("${mk[@]}" -n all 2>&1)
