@@ -16,13 +16,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-std::uint64_t key2d(std::int64_t x, std::int64_t y) {
-  constexpr std::int64_t kBias = 1 << 30;  // cells within ±2^30: crops are a few tens of metres
-  return (static_cast<std::uint64_t>(x + kBias) << 32) | static_cast<std::uint64_t>(y + kBias);
-}
-
-std::int64_t cell_of(double v, double size) { return static_cast<std::int64_t>(std::floor(v / size)); }
-
 // classify.md §25 (object_of with `join_stacked`): joins to the object (`in`) each cluster of
 // `label` that meets it within `link` in the top view, beside it (top-view cells of `link`: at most
 // kStackOverlay of the smaller one's cells hold points of the other) and in line (across x the
@@ -39,7 +32,7 @@ constexpr double kStackPart = 0.1;
 
 void join_beside(const std::vector<Eigen::Vector3d>& pts, const std::vector<std::size_t>& label, double link,
                  std::vector<char>& in) {
-  auto key2 = [&](double x, double y) { return key2d(cell_of(x, link), cell_of(y, link)); };
+  auto key2 = [&](double x, double y) { return cell_key(cell_of(x, link), cell_of(y, link)); };
   for (bool joined = true; joined;) {
     joined = false;
     std::unordered_map<std::uint64_t, std::vector<std::size_t>> grid;  // the object's points
@@ -47,8 +40,9 @@ void join_beside(const std::vector<Eigen::Vector3d>& pts, const std::vector<std:
     double ow0 = kInf, ow1 = -kInf;
     for (std::size_t i = 0; i < pts.size(); ++i) {
       if (!in[i]) continue;
-      grid[key2(pts[i].x(), pts[i].y())].push_back(i);
-      cells.insert(key2(pts[i].x(), pts[i].y()));
+      const std::uint64_t k = key2(pts[i].x(), pts[i].y());
+      grid[k].push_back(i);
+      cells.insert(k);
       ow0 = std::min(ow0, pts[i].y());
       ow1 = std::max(ow1, pts[i].y());
     }
@@ -70,7 +64,7 @@ void join_beside(const std::vector<Eigen::Vector3d>& pts, const std::vector<std:
         const std::int64_t cx = cell_of(pts[i].x(), link), cy = cell_of(pts[i].y(), link);
         for (std::int64_t dx = -1; dx <= 1 && !touch; ++dx) {
           for (std::int64_t dy = -1; dy <= 1 && !touch; ++dy) {
-            const auto it = grid.find(key2d(cx + dx, cy + dy));
+            const auto it = grid.find(cell_key(cx + dx, cy + dy));
             if (it == grid.end()) continue;
             for (std::size_t j : it->second) {
               if (std::hypot(pts[j].x() - pts[i].x(), pts[j].y() - pts[i].y()) <= link) {

@@ -50,8 +50,6 @@ std::uint64_t cell_key(std::int64_t x, std::int64_t y, std::int64_t z) {
          static_cast<std::uint64_t>(z + kBias);
 }
 
-std::int64_t cell_of(double v, double size) { return static_cast<std::int64_t>(std::floor(v / size)); }
-
 // Single-linkage clusters of `points` at distance `link` (3-D); label per point.
 std::vector<std::size_t> clusters(const std::vector<Vector3d>& points, double link) {
   std::unordered_map<std::uint64_t, std::vector<std::size_t>> grid;

@@ -4,6 +4,8 @@
 
 #include <Eigen/Core>
 
+#include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -11,6 +13,14 @@
 #include "classify/classify.h"
 
 namespace canopy::classify {
+
+// Grid cells of `size` along one axis, and a top-view cell's hash key (cells within ±2^30: crops
+// are a few tens of metres); shared by the object's clustering, its joins and the penetration cues.
+inline std::int64_t cell_of(double v, double size) { return static_cast<std::int64_t>(std::floor(v / size)); }
+inline std::uint64_t cell_key(std::int64_t x, std::int64_t y) {
+  constexpr std::int64_t kBias = std::int64_t{1} << 30;
+  return (static_cast<std::uint64_t>(x + kBias) << 32) | static_cast<std::uint64_t>(y + kBias);
+}
 
 // The fields classify reads: x y z, and return numbers when present (else empty vectors); the
 // flight pass of each point when the file says which (point_source_id and/or gps_time, LAS).

@@ -20,13 +20,6 @@ using Eigen::Vector3d;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-std::uint64_t cell_key(std::int64_t x, std::int64_t y) {
-  constexpr std::int64_t kBias = 1 << 30;  // cells within ±2^30: crops are a few tens of metres
-  return (static_cast<std::uint64_t>(x + kBias) << 32) | static_cast<std::uint64_t>(y + kBias);
-}
-
-std::int64_t cell_of(double v, double size) { return static_cast<std::int64_t>(std::floor(v / size)); }
-
 // Per crop point: whether it is a later return split off by the object's edge
 // (Params::ground_through_edges, classify.md §23): every earlier return of its pulse (same
 // point_source_id, gps_time, number_of_returns; returns 1 .. k - 1 all present) is an object point
