@@ -8,7 +8,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <regex>
-#include <set>
 #include <stdexcept>
 
 #include "canopy/common/density_scale.h"
@@ -426,11 +425,9 @@ Calibration parse_calibration(const std::string& text, const std::string& name) 
   formats::IniPolicy policy;  // '#' and ';' comments, no sections, each key once
   policy.keys.assign(std::begin(kCalibrationKeys), std::end(kCalibrationKeys));
   const formats::IniFile file = formats::parse_ini(text, name, policy);
-  std::set<std::string> seen;
   for (const formats::IniEntry& e : file.entries) {
     const std::string& key = e.key;
     const std::string& value = e.value;
-    seen.insert(key);
     if (!std::regex_match(value, std::regex("[-+]?([0-9]+\\.?[0-9]*|\\.[0-9]+)([eE][-+]?[0-9]+)?")))
       file.fail(e.line, key + " = " + value + " is not a decimal number");
     const double x = std::stod(value);
@@ -442,7 +439,8 @@ Calibration parse_calibration(const std::string& text, const std::string& name) 
     *slot.at(key) = x;
   }
   for (const char* k : kCalibrationKeys) {
-    if (!seen.count(k)) throw common::DataError(name, std::string("has no ") + k + " (every key is needed)");
+    if (file.find("", k) == nullptr)
+      throw common::DataError(name, std::string("has no ") + k + " (every key is needed)");
   }
   return cal;
 }
