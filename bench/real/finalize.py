@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Write the scene-truth file (canopy.scene_truth v1, the conventions of docs/decisions/real-tiles.md) from
-measure.py output and the hand decisions {"_source": ..., "<tag>": {visibility, model, note}}; canopy_cover is
-measured (cells more than 0.5 m above H and above 2.3 m), and an unset visibility is clear below 0.15, partial
-below 0.7, else occluded. Coordinates are said to be RD New: edit "coordinates" for another CRS.
+measure.py output and the hand decisions {"_source": ...[, "_labelled_by": ..., "_method": ...],
+"<tag>": {visibility, model, note}}; canopy_cover is measured (cells more than 0.5 m above H and above 2.3 m), and an
+unset visibility is clear below 0.15, partial below 0.7, else occluded. Coordinates are said to be RD New: edit
+"coordinates" for another CRS.
   LABEL_WORK=DIR /usr/bin/python3 bench/real/finalize.py NAME MEAS.json DECISIONS.json SCENE OUT.truth.json"""
 import os, sys; sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from labtools import *  # noqa: F401,F403
@@ -44,7 +45,8 @@ for o in M:
                     visibility=vis, points=o["points"], note=dd.get("note", "")))
 xmin, ymin, xmax, ymax = float(x.min()), float(y.min()), float(x.max()), float(y.max())
 T = {"format": "canopy.scene_truth", "version": 1,
-     "provenance": {"labelled_by": "hand, canopy session 2026-12-05 (stop 47)", "method": "docs/decisions/real-tiles.md (\"A development tile from another survey (stop 47)\")",
+     "provenance": {"labelled_by": D.get("_labelled_by", "hand, canopy session 2026-12-05 (stop 47)"),
+                    "method": D.get("_method", "docs/decisions/real-tiles.md (\"A development tile from another survey (stop 47)\")"),
                     "source": D.get("_source", ""),
                     "decoding": "canopy pcd2ply (LAZ -> PLY), read with numpy"},
      "scene": scene, "extent": [round(xmax - xmin, 3), round(ymax - ymin, 3)], "origin": [round(xmin, 3), round(ymin, 3)],

@@ -20,3 +20,8 @@ for q, g, t in [(ax[0], grid_max(x, y, hag, x0, y0, w, h, 0.25), "highest point 
         q.plot(fp[:, 0], fp[:, 1], "m--", lw=1.2); q.text(u["pose"]["x"], u["pose"]["y"], u["id"], color="m", fontsize=9)
 plt.suptitle(f"{T['scene']}: {len(T['vehicles'])} vehicles (p partial, o occluded, no letter clear), {len(T['uncertain'])} uncertain")
 plt.tight_layout(); plt.savefig(out, dpi=60)
+try:  # a 64-colour palette: a third of the size, for pictures kept in the repository
+    from PIL import Image
+    Image.open(out).convert("RGB").quantize(64).save(out, optimize=True)
+except ImportError:
+    pass

@@ -2,7 +2,10 @@
 """Measure hand-placed vehicles: per seed {tag, x, y, heading[, hl, hw, cut, lo, tol, kind]} the points with HAG in
 [lo 0.3, cut 2.4] inside the oriented search box (half length hl 3.0, half width hw 1.25) give the minimum-area
 rectangle (heading held within +-tol 10 deg of the seed), H = 98th percentile of HAG, the ground z under the
-centre, the points, the multi-return share. kind "unc" marks an uncertain object.
+centre, the points, the multi-return share. kind "unc" marks an uncertain object. "hole": true (dropouts: a car whose
+roof and body returned almost nothing) fits the rectangle to the hole in the ground returns instead: the 0.2 m cells of
+the search box with no point below HAG 0.25, opened with a 3 x 3 window (drops the single empty cells of the ground's
+sampling), largest connected piece, plus the object's returns; H and points are still those of the returns.
   LABEL_WORK=DIR /usr/bin/python3 bench/real/measure.py NAME SEEDS.json OUT.json"""
 import os, sys; sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from labtools import *  # noqa: F401,F403
@@ -15,6 +18,18 @@ def measure(d, dtm_z, e):
     u = (x - cx) * c + (y - cy) * s; v = -(x - cx) * s + (y - cy) * c
     m = (np.abs(u) <= hl) & (np.abs(v) <= hw) & (hag >= lo) & (hag <= cut)
     X, Y, H = x[m], y[m], hag[m]
+    if e.get("hole"):
+        g = (np.abs(u) <= hl) & (np.abs(v) <= hw) & (hag < 0.25)
+        cell = 0.2; nu, nv = int(2 * hl / cell) + 1, int(2 * hw / cell) + 1
+        occ = np.zeros((nv, nu), bool)
+        occ[((v[g] + hw) / cell).astype(int), ((u[g] + hl) / cell).astype(int)] = True
+        hole = ndimage.binary_opening(~occ, structure=np.ones((3, 3)))
+        lab, n = ndimage.label(hole)
+        if n:
+            k = 1 + int(np.argmax(ndimage.sum(hole, lab, range(1, n + 1))))
+            iv, iu = np.nonzero(lab == k)
+            hu = -hl + (iu + 0.5) * cell; hv = -hw + (iv + 0.5) * cell
+            X = np.r_[X, cx + hu * c - hv * s]; Y = np.r_[Y, cy + hu * s + hv * c]
     # rectangle: heading held within tol of the given one (scan 0.5 deg)
     tol = e.get("tol", 10)
     best = None

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Contact sheet: per object a 12 m top view (with its footprint if given) and side views along and across.
   LABEL_WORK=DIR /usr/bin/python3 bench/real/sheet.py NAME OBJECTS.json OUT.png
-OBJECTS.json: a list of {x, y[, heading][, footprint][, band][, tag]} (e.g. measure.py output)."""
+OBJECTS.json: a list of {x, y[, heading][, footprint][, band][, tag]} (e.g. measure.py output). LABEL_DPI (default 45)
+sets the picture's resolution."""
 import os, sys; sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from labtools import *  # noqa: F401,F403
 import json
@@ -38,4 +39,4 @@ for row, o in zip(axes, objs):
         q.scatter(A[sel & ~M], H[sel & ~M], s=3, c="k"); q.scatter(A[sel & M], H[sel & M], s=3, c="r")
         q.set_xlim(-R, R); q.set_ylim(-0.3, 3.5); q.set_aspect("equal"); q.grid(True, alpha=0.4)
         q.set_title(f"{lab_} (band ±{band} m) n={sel.sum()}", fontsize=9)
-plt.tight_layout(); plt.savefig(out, dpi=45)
+plt.tight_layout(); plt.savefig(out, dpi=int(os.environ.get("LABEL_DPI", 45)))
