@@ -311,6 +311,84 @@ TEST_CASE("classify: late returns inside: a car under a crown is not porous, a c
   CHECK(*a.features.late_returns == *b.features.late_returns);
 }
 
+// The sedan of car_top under one crown (classify.md §26): the pulses whose axis passes within
+// `radius` of the crown's centre (over the car's middle) met the crown first, above the crop, and
+// returned a second return of two on the car or the ground; the others returned one, on the car or
+// the ground. With `radius` past the crop every pulse met the crown first: a closed stand. One
+// gps_time per pulse.
+formats::PointCloud car_under_one_crown(std::uint64_t seed, double radius) {
+  Sampled s = sample(car_top, 2.3, 0.9, 0.0, 25, seed);
+  const auto& x0 = s.cloud.col("x");
+  const auto& y0 = s.cloud.col("y");
+  const auto& z0 = s.cloud.col("z");
+  std::vector<double> x, y, z, rn, nr, t;
+  for (std::size_t i = 0; i < x0.size(); ++i) {
+    const bool shaded = std::hypot(x0[i], y0[i]) < radius;
+    x.push_back(x0[i]), y.push_back(y0[i]), z.push_back(z0[i]), rn.push_back(shaded ? 2 : 1),
+        nr.push_back(shaded ? 2 : 1), t.push_back(1e-5 * static_cast<double>(i));
+  }
+  return pulse_cloud(x, y, z, rn, nr, &t);
+}
+
+TEST_CASE(
+    "classify: --late-shadow: a car under one crown is not porous; in a closed stand it stays refused") {
+  classify::Params every, shadow;
+  shadow.late_shadow = true;
+  for (std::uint64_t k = 0; k < 4; ++k) {
+    // One crown of radius 2 m over the car's middle: about three quarters of the car's points
+    // and under half of the ground around it are shaded.
+    const formats::PointCloud car = car_under_one_crown(800 + k, 2.0);
+    const classify::Answer a_every = classify::run(every, {car, "car.pcd", {}});
+    const classify::Answer a_shadow = classify::run(shadow, {car, "car.pcd", {}});
+    INFO("survey " << k << ": " << a_every.reason << " " << a_every.detail << " -> " << a_shadow.cls
+                   << a_shadow.reason << " " << a_shadow.detail);
+    REQUIRE(a_every.features.late_returns);
+    REQUIRE(a_shadow.features.late_returns);
+    REQUIRE(a_shadow.features.ring_shadowed);
+    REQUIRE(a_shadow.features.late_shadowed);
+    CHECK(*a_every.features.late_returns > 0.6);
+    CHECK(a_every.reason == "vegetation_like");
+    CHECK(!a_every.features.late_shadowed);  // measured only with the rule (or §22's)
+    // The shaded share of the ground around it, and the car's shadowed returns weighed by it.
+    CHECK(*a_shadow.features.ring_shadowed > 0.2);
+    CHECK(*a_shadow.features.ring_shadowed < 0.5);
+    CHECK(*a_shadow.features.late_shadowed == Approx(*a_every.features.late_returns));
+    CHECK(*a_shadow.features.late_returns ==
+          Approx(*a_every.features.late_returns * *a_shadow.features.ring_shadowed));
+    CHECK(*a_shadow.features.late_returns < 0.4);
+    CHECK(a_shadow.group == "car");
+
+    // The same car in a closed stand (every pulse met the canopy first): the ground around it is
+    // as shaded as it is, its shadowed returns keep their weight and it stays refused.
+    const formats::PointCloud stand = car_under_one_crown(800 + k, 10.0);
+    const classify::Answer s_shadow = classify::run(shadow, {stand, "stand.pcd", {}});
+    INFO("stand " << s_shadow.reason << " " << s_shadow.detail);
+    REQUIRE(s_shadow.features.ring_shadowed);
+    REQUIRE(s_shadow.features.late_returns);
+    CHECK(*s_shadow.features.ring_shadowed == 1.0);
+    CHECK(*s_shadow.features.late_returns == 1.0);
+    CHECK(s_shadow.reason == "vegetation_like");
+
+    // A crown split inside itself (returns 1 .. k - 1 in the crop) keeps its late returns.
+    const formats::PointCloud tree = crown(25, 13 + k, true);
+    const classify::Answer t_every = classify::run(every, {tree, "crown.pcd", {}});
+    const classify::Answer t_shadow = classify::run(shadow, {tree, "crown.pcd", {}});
+    REQUIRE(t_shadow.features.late_returns);
+    CHECK(*t_shadow.features.late_returns == Approx(*t_every.features.late_returns));
+    CHECK(t_shadow.reason == "vegetation_like");
+  }
+  // Without gps_time the pulses are unknown: every later return counts, as before.
+  const formats::PointCloud timed = car_under_one_crown(800, 2.0);
+  formats::PointCloud untimed =
+      pulse_cloud(timed.col("x"), timed.col("y"), timed.col("z"), timed.col("return_number"),
+                  timed.col("number_of_returns"), nullptr);
+  const classify::Answer a = classify::run(shadow, {untimed, "car.pcd", {}});
+  const classify::Answer b = classify::run(every, {untimed, "car.pcd", {}});
+  REQUIRE(a.features.late_returns);
+  CHECK(*a.features.late_returns == *b.features.late_returns);
+  CHECK(a.reason == "vegetation_like");
+}
+
 // The sedan of car_top as the realistic sensor sees it from above (classify.md §23), one
 // gps_time per pulse: the windscreen and rear window (glass_car_top's bands) return nothing and
 // let the pulse through to the ground; a pulse whose axis is over the glass within `footprint`

@@ -143,7 +143,9 @@ bool vegetation(Answer& a, const Params& p) {
                     f.ground_through, p.max_ground_through});
   }
   if (f.late_returns && !(hard && p.echo_late)) {
-    cues.push_back({p.late_returns_inside
+    cues.push_back({p.late_shadow ? "%.0f%% later returns, those shadowed from above weighed by the shade "
+                                    "around it (vehicle <= %.0f%%)"
+                    : p.late_returns_inside
                         ? "%.0f%% later returns split inside it (return_number > 1 under earlier "
                           "returns at or below its top; vehicle <= %.0f%%)"
                         : "%.0f%% later returns (return_number > 1; vehicle <= %.0f%%)",

@@ -186,6 +186,16 @@ struct Params {
   // ends 0.5 m over the object), is not evidence of porosity. Points without gps_time count as
   // before. false: every return_number > 1 counts (before).
   bool late_returns_inside = false;
+  // Late returns weighed by the shade around the object (classify.md §26): a later return whose
+  // pulse met something first above the object's top or outside the crop (shadowed, §22) counts
+  // for late_returns by the share of the crop's ground returns around the object (outside its
+  // rectangle) that are later returns themselves: a layer that shades the object and its
+  // surroundings alike (a closed stand) leaves the returns their full weight; one that shades the
+  // object but not the open ground beside it (a single crown over a car) takes it away. A return
+  // split inside the object counts 1; without gps_time, or with fewer than 10 ground returns of
+  // known return number around the object, every later return counts 1 (before). false: every
+  // return_number > 1 counts (before; Params, classify.ini and classify-sim.ini).
+  bool late_shadow = false;
   // Edge splits under the object (classify.md §23): ground_through does not count a ground
   // return that is a later return of a pulse whose every earlier return (same point_source_id,
   // gps_time and number_of_returns; returns 1 .. k - 1 all present) is an object point on the
@@ -273,8 +283,18 @@ struct Features {
   // The object's median echo width over the open ground's single returns' (classify.md §25; the
   // realistic sensor's echo_width; unset without it).
   std::optional<double> echo_widening;
-  std::optional<double> late_returns;   // share of object points with return_number > 1 (with
-                                        // late_returns_inside: split inside the object, §22)
+  std::optional<double> late_returns;  // share of object points with return_number > 1 (with
+                                       // late_returns_inside: split inside the object, §22;
+                                       // with late_shadow: weighed by ring_shadowed, §26)
+  // The crop's ground returns outside the object's rectangle with known return numbers (the
+  // passes that saw the object) and the share of them that are later returns (§26: the shade
+  // around the object; unset under 10 such returns or without return numbers).
+  std::size_t ring_returns = 0;
+  std::optional<double> ring_shadowed;
+  // The object's later returns whose pulse met something first above its top or outside the
+  // crop, as a share of its points of known return number (with late_returns_inside or
+  // late_shadow and gps_time; §22, §26).
+  std::optional<double> late_shadowed;
   std::optional<double> multi_returns;  // share with number_of_returns > 1
 };
 

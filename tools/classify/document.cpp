@@ -55,6 +55,11 @@ std::vector<ClassFeature> features_of(const Features& f) {
   // the document it got before.
   if (f.below_share_any) out.push_back(optional("below_share_any", f.below_share_any));
   if (f.ground_through_any) out.push_back(optional("ground_through_any", f.ground_through_any));
+  if (f.late_shadowed) {
+    out.push_back(optional("late_shadowed", f.late_shadowed));
+    out.push_back(count("ring_returns", f.ring_returns));
+    out.push_back(optional("ring_shadowed", f.ring_shadowed));
+  }
   if (f.ground_edge_splits) out.push_back(count("ground_edge_splits", *f.ground_edge_splits));
   if (f.passes > 1) {
     out.push_back(count("passes", f.passes));

@@ -383,31 +383,6 @@ void column_cues(const Candidate& c, const std::vector<char>& counted, const std
   f.ground_through_cells = inner ? static_cast<double>(through) / static_cast<double>(inner) : 0;
 }
 
-// Per crop point: whether a later return counts for late_returns (Params::late_returns_inside,
-// classify.md §22). Every point counts without the option, without gps_time or for a point
-// whose time is unknown; with them a later return counts only when each earlier return of its
-// pulse (same point_source_id, gps_time, number_of_returns) is in the crop at or below the
-// object's top.
-std::vector<bool> split_inside(const Candidate& c, const std::vector<std::size_t>& object, const Params& fp) {
-  std::vector<bool> inside(c.points.size(), true);
-  if (!fp.late_returns_inside || c.time.empty() || c.return_number.empty() || object.empty()) return inside;
-  double top = -std::numeric_limits<double>::infinity();
-  for (std::size_t i : object) top = std::max(top, c.points[i].z());
-  const Pulses pulses(c);
-  for (std::size_t i : object) {
-    const int k = c.return_number[i];
-    if (k <= 1 || !pulses.known(i)) continue;
-    // Earlier returns 1 .. k - 1 found at or below the top.
-    std::vector<bool> found(static_cast<std::size_t>(k), false);
-    for (std::size_t j : pulses.of(i)) {
-      const int r = c.return_number[j];
-      if (r >= 1 && r < k && c.points[j].z() <= top) found[static_cast<std::size_t>(r)] = true;
-    }
-    inside[i] = std::all_of(found.begin() + 1, found.end(), [](bool b) { return b; });
-  }
-  return inside;
-}
-
 }  // namespace
 
 Candidate read_candidate(const formats::PointCloud& cloud, const std::string& name) {
@@ -674,20 +649,7 @@ Features measure(const Candidate& c, const Params& fp) {
   penetration_cues(c, object, counted, several, q, r.u0, 0.5 * (r.v0 + r.v1), u, v, f, fp);
 
   echo_cue(c, object, fp, f);
-  if (!c.return_number.empty()) {
-    std::size_t late = 0, multi = 0, known = 0;
-    const std::vector<bool> inside = split_inside(c, object, fp);
-    for (std::size_t i : object) {
-      if (c.return_number[i] == 0 || c.number_of_returns[i] == 0) continue;
-      ++known;
-      late += c.return_number[i] > 1 && inside[i];
-      multi += c.number_of_returns[i] > 1;
-    }
-    if (known > 0) {
-      f.late_returns = static_cast<double>(late) / static_cast<double>(known);
-      f.multi_returns = static_cast<double>(multi) / static_cast<double>(known);
-    }
-  }
+  late_cues(c, object, counted, u, v, r.u0, r.u1, r.v0, r.v1, fp, f);
   return f;
 }
 

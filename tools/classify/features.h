@@ -130,6 +130,14 @@ void penetration_cues(const Candidate& c, const std::vector<std::size_t>& object
 // their pulse; unset without echo widths, with fewer than 10 such ground returns or 3 object points.
 void echo_cue(const Candidate& c, const std::vector<std::size_t>& object, const Params& fp, Features& f);
 
+// classify.md §5, §22, §26: f.late_returns and f.multi_returns of the object's points (with return
+// numbers), f.ring_returns and f.ring_shadowed (the crop's ground returns outside the rectangle
+// u0..u1 along u, v0..v1 along v that `counted` marks, and their later-return share) and, with
+// fp.late_returns_inside or fp.late_shadow, f.late_shadowed.
+void late_cues(const Candidate& c, const std::vector<std::size_t>& object, const std::vector<char>& counted,
+               const Eigen::Vector2d& u, const Eigen::Vector2d& v, double u0, double u1, double v0, double v1,
+               const Params& fp, Features& f);
+
 // Every measurement of Features (classify.h).
 Features measure(const Candidate& c, const Params& params);
 

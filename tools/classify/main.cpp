@@ -130,6 +130,10 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
            "late_returns counts a later return only when every earlier return of its pulse "
            "(point_source_id, gps_time) is in the crop at or below the object's top (false: every "
            "return_number > 1)");
+  tool.add("--late-shadow", &p.late_shadow,
+           "late_returns weighs a later return whose pulse met something first above the object or "
+           "outside the crop by the share of the ground around the object that is shadowed too "
+           "(later returns; false: every return_number > 1 counts)");
   tool.add("--ground-through-edges", &p.ground_through_edges,
            "ground_through does not count a ground return whose pulse's earlier returns are all "
            "object points on the edge of their layer (a footprint split by an edge; false: every "

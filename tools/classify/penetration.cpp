@@ -1,6 +1,6 @@
 // classify's penetration cues (docs/decisions/classify.md §5, §14, §20): below_share and
 // ground_through, point by point, and with Params::sight_lines only the points whose line of sight
-// passes through the object; the echo widening (§25).
+// passes through the object; the echo widening (§25); late returns (§5, §22, §26).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -88,6 +88,33 @@ std::vector<bool> edge_splits(const Candidate& c, const std::vector<std::size_t>
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return common::sorted_quantile(v, 0.5);
+}
+
+// Per crop point: whether a later return counts for late_returns (Params::late_returns_inside,
+// classify.md §22). Every point counts without the option, without gps_time or for a point
+// whose time is unknown; with them a later return counts only when each earlier return of its
+// pulse (same point_source_id, gps_time, number_of_returns) is in the crop at or below the
+// object's top.
+std::vector<bool> split_inside(const Candidate& c, const std::vector<std::size_t>& object, const Params& fp) {
+  std::vector<bool> inside(c.points.size(), true);
+  if (!(fp.late_returns_inside || fp.late_shadow) || c.time.empty() || c.return_number.empty() ||
+      object.empty())
+    return inside;
+  double top = -std::numeric_limits<double>::infinity();
+  for (std::size_t i : object) top = std::max(top, c.points[i].z());
+  const Pulses pulses(c);
+  for (std::size_t i : object) {
+    const int k = c.return_number[i];
+    if (k <= 1 || !pulses.known(i)) continue;
+    // Earlier returns 1 .. k - 1 found at or below the top.
+    std::vector<bool> found(static_cast<std::size_t>(k), false);
+    for (std::size_t j : pulses.of(i)) {
+      const int r = c.return_number[j];
+      if (r >= 1 && r < k && c.points[j].z() <= top) found[static_cast<std::size_t>(r)] = true;
+    }
+    inside[i] = std::all_of(found.begin() + 1, found.end(), [](bool b) { return b; });
+  }
+  return inside;
 }
 
 }  // namespace
@@ -227,6 +254,49 @@ void penetration_cues(const Candidate& c, const std::vector<std::size_t>& object
   if (fp.sight_lines) {
     f.below_share_any = inner ? static_cast<double>(below_any) / static_cast<double>(inner) : 0;
     f.ground_through_any = share(under_any);
+  }
+}
+
+// classify.md §5, §22, §26: late_returns, multi_returns, and the shade around the object.
+void late_cues(const Candidate& c, const std::vector<std::size_t>& object, const std::vector<char>& counted,
+               const Vector2d& u, const Vector2d& v, double u0, double u1, double v0, double v1,
+               const Params& fp, Features& f) {
+  // The shade around the object (classify.md §26): the same ground returns' later-return share.
+  if (!c.return_number.empty()) {
+    std::size_t known = 0, later = 0;
+    for (std::size_t i = 0; i < c.points.size(); ++i) {
+      const Vector3d& p = c.points[i];
+      if (p.z() >= fp.ground_cut || !counted[i] || c.return_number[i] == 0 || c.number_of_returns[i] == 0)
+        continue;
+      const Vector2d xy(p.x(), p.y());
+      const double a = xy.dot(u), b = xy.dot(v);
+      if (a >= u0 && a <= u1 && b >= v0 && b <= v1) continue;
+      ++known;
+      later += c.return_number[i] > 1;
+    }
+    f.ring_returns = known;
+    if (known >= 10) f.ring_shadowed = static_cast<double>(later) / static_cast<double>(known);
+  }
+  if (!c.return_number.empty()) {
+    std::size_t late = 0, shadowed = 0, multi = 0, known = 0;
+    const std::vector<bool> inside = split_inside(c, object, fp);
+    for (std::size_t i : object) {
+      if (c.return_number[i] == 0 || c.number_of_returns[i] == 0) continue;
+      ++known;
+      late += c.return_number[i] > 1 && inside[i];
+      shadowed += c.return_number[i] > 1 && !inside[i];
+      multi += c.number_of_returns[i] > 1;
+    }
+    if (known > 0) {
+      // Shadowed returns: none with late_returns_inside (§22), weighed by the shade around the
+      // object with late_shadow (§26; full weight when the shade is unknown).
+      const double weight = fp.late_shadow ? f.ring_shadowed.value_or(1.0) : 0.0;
+      const double n = static_cast<double>(known);
+      f.late_returns = (static_cast<double>(late) + weight * static_cast<double>(shadowed)) / n;
+      f.multi_returns = static_cast<double>(multi) / n;
+      if ((fp.late_returns_inside || fp.late_shadow) && !c.time.empty())
+        f.late_shadowed = static_cast<double>(shadowed) / n;
+    }
   }
 }
 
