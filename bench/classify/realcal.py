@@ -6,7 +6,8 @@
   realcal.py OUT_REAL LABELS TILE [TILE ...] --figures
 
 OUT_REAL/<tile>/cands/index.json and cands/<id>/class.json (a `real-tiles` run), LABELS/<tile>.truth.json
-(share/real; a tile without one has no vehicles: a forest plot). A candidate is a **vehicle**
+(share/real, or bench/real/labels for the AHN4 development tiles; a tile without one has no
+vehicles: a forest plot). A candidate is a **vehicle**
 when its centre lies within 1.5 m (score's match radius) of a labelled vehicle's centre,
 **mixed** when it lies within 1 m of a labelled footprint or 1.5 m of an uncertain object
 otherwise (merged rows, parts: neither set), else **other**. Prints, per cue, the quantiles

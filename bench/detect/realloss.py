@@ -5,7 +5,8 @@
   realloss.py RUN LABELS TILE [--visibility clear|partial|occluded|all] [--list]
 
 RUN/<tile>/ is a bench/detect/real.sh tile directory (cands/index.json, cands/<id>/class.json,
-detections.json, score.json); LABELS/<tile>.truth.json the labels (share/real). A real tile has
+detections.json, score.json); LABELS/<tile>.truth.json the labels (share/real, or
+bench/real/labels for the AHN4 development tiles). A real tile has
 no per-point truth, so what a candidate holds is measured in the top view: the share of the
 label's footprint (its rectangle of returns, sampled on a 0.1 m grid) inside the candidate's
 object rectangle (centre, length, width, heading of index.json). Each vehicle gets one fate, the
