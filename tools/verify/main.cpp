@@ -56,6 +56,10 @@ void bind(cm::Tool& tool, vf::Params& p, Cli& cli) {
   tool.add_length("--inlier-distance", &p.inlier_distance,
                   "point-to-plane distance counted as on the model surface");
   tool.add_length("--inlier-radius", &p.inlier_radius, "and within this of the nearest model sample");
+  tool.add("--seen-spacing", &p.seen_spacing,
+           "free space: a model sample counts as seen with a candidate point within max(--inlier-radius, "
+           "this x the candidate's point spacing) (the median nearest-neighbour distance of its points "
+           "above --min-height); 0 = --inlier-radius alone, the test before");
   tool.add("--facing", &p.facing, "model surface counts for a view when normal . sensor >= this");
   tool.add_length("--ray-cell", &p.ray_cell, "cell of the per-view depth buffers");
   tool.add_length("--occlusion-margin", &p.occlusion_margin,
@@ -235,7 +239,9 @@ int main(int argc, char** argv) {
         std::remove_if(parameters.begin(), parameters.end(),
                        [&](const auto& kv) {
                          // --no-box: the verdict of before the null hypothesis existed.
+                         // --seen-spacing 0: the verdict of before the option existed.
                          return ((kv.first == "box-margin" || kv.first == "no-box") && !p.box) ||
+                                (kv.first == "seen-spacing" && p.seen_spacing == 0) ||
                                 (kv.first == "free-space" && !p.free_space_through) ||
                                 (kv.first == "sensor-direction" && cli.sensor_direction == "auto") ||
                                 (kv.first == "trajectory" && cli.trajectory.empty()) ||

@@ -142,6 +142,8 @@ void validate(const Params& p) {
         "--occlusion-margin >= 0");
   }
   if (!(p.facing > 0 && p.facing <= 1)) throw common::UsageError("--facing must be in (0, 1]");
+  if (!(p.seen_spacing >= 0 && p.seen_spacing <= 10))
+    throw common::UsageError("--seen-spacing must be in [0, 10]");
   if (p.icp_iterations < 0 || p.icp_iterations > kMaxIcpIterations) {
     throw common::UsageError("--icp-iterations must be in [0, " + std::to_string(kMaxIcpIterations) + "]");
   }
@@ -193,6 +195,25 @@ Surface surface_from_cloud(const formats::PointCloud& cloud, const std::string& 
 
 // ---- scoring ----------------------------------------------------------------------------
 
+double sample_spacing(const std::vector<Vector3d>& points) {
+  if (points.size() < 2) return 0;
+  common::SerialFlann<pcl::PointXYZ> tree;
+  tree.setInputCloud(to_pcl(points));
+  std::vector<int> idx(2);
+  std::vector<float> d2(2);
+  std::vector<double> nn;
+  nn.reserve(points.size());
+  for (const auto& q : points) {
+    const pcl::PointXYZ s(static_cast<float>(q.x()), static_cast<float>(q.y()), static_cast<float>(q.z()));
+    if (tree.nearestKSearch(s, 2, idx, d2) < 2) continue;
+    nn.push_back(std::sqrt(static_cast<double>(d2[1])));
+  }
+  if (nn.empty()) return 0;
+  const auto mid = nn.begin() + static_cast<std::ptrdiff_t>(nn.size() / 2);
+  std::nth_element(nn.begin(), mid, nn.end());
+  return *mid;
+}
+
 struct Scorer::Impl {
   common::SerialFlann<pcl::PointXYZ> all;  // every candidate point (the "seen" test)
   struct View {
@@ -229,6 +250,7 @@ Scorer::Scorer(const Candidate& c, const Params& p) : c_(c), p_(p), impl_(std::m
     if (!known && views_.size() < 512) views_.push_back(s);
   }
   impl_->all.setInputCloud(to_pcl(c.points));
+  seen_radius_ = std::max(p.inlier_radius, p.seen_spacing * sample_spacing(above_));
   for (const auto& s : views_) {
     Impl::View v;
     v.s = s;
@@ -289,7 +311,7 @@ Check Scorer::score(const Surface& model, const Isometry3d& pose) const {
     ++r.expected;
     pcl::PointXYZ s(static_cast<float>(m.x()), static_cast<float>(m.y()), static_cast<float>(m.z()));
     bool seen = false;
-    if (impl_->all.nearestKSearch(s, 1, idx, d2) >= 1 && d2[0] <= p_.inlier_radius * p_.inlier_radius) {
+    if (impl_->all.nearestKSearch(s, 1, idx, d2) >= 1 && d2[0] <= seen_radius_ * seen_radius_) {
       seen = std::abs(n.dot(c_.points[idx[0]] - m)) <= p_.inlier_distance;
     }
     if (!seen) ++violations;

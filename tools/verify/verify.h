@@ -34,10 +34,20 @@ namespace canopy::verify {
 inline constexpr int kMaxIcpIterations = 500;
 
 struct Params {
-  int top_k = 3;                   // gmatch hypotheses checked (rank 1..k)
-  double min_height = 0.3;         // candidate points below this z are ground (m; cocone's cut)
-  double inlier_distance = 0.1;    // point-to-plane distance counted as "on the surface" (m)
-  double inlier_radius = 0.25;     // and at most this far from the nearest model sample (m)
+  int top_k = 3;                 // gmatch hypotheses checked (rank 1..k)
+  double min_height = 0.3;       // candidate points below this z are ground (m; cocone's cut)
+  double inlier_distance = 0.1;  // point-to-plane distance counted as "on the surface" (m)
+  double inlier_radius = 0.25;   // and at most this far from the nearest model sample (m)
+  // The free-space test's "seen" (a candidate point on an expected-visible model sample) looks
+  // within max(inlier_radius, seen_spacing x s) of the model sample, s = the candidate's own
+  // point spacing (median nearest-neighbour distance of its points above min_height,
+  // sample_spacing): a candidate sampled more coarsely than inlier_radius (the density rule's
+  // fitvox voxels of 250-350 mm at 50-100 object points/m²) leaves model surface between its
+  // samples that no point is near, which is not free space (docs/decisions/verify.md §17).
+  // 0 = off: inlier_radius alone, the test before (the default until the report carries the
+  // rule's ablation, verify.md §17). The explained test (candidate point -> model sample,
+  // 128 mm) is not touched.
+  double seen_spacing = 0.0;
   double facing = 0.5;             // model surface counts for a view when n.s >= this
   double ray_cell = 0.2;           // cell of the per-view depth buffers (m)
   double occlusion_margin = 0.15;  // a scan point this much nearer the sensor hides (m)
@@ -123,6 +133,8 @@ class Scorer {
   Check score(const Surface& model, const Eigen::Isometry3d& pose) const;
   std::size_t views() const { return views_.size(); }
   std::size_t above_ground() const { return above_.size(); }
+  // The radius of the free-space test's "seen" (Params::seen_spacing) for this candidate (m).
+  double seen_radius() const { return seen_radius_; }
   const std::vector<Eigen::Vector3d>& above_points() const { return above_; }
 
  private:
@@ -131,8 +143,13 @@ class Scorer {
   Params p_;
   std::vector<Eigen::Vector3d> above_;
   std::vector<Eigen::Vector3d> views_;
+  double seen_radius_ = 0;
   std::shared_ptr<Impl> impl_;
 };
+
+// The point spacing of a point set: the median distance from each point to its nearest other
+// point (m); 0 with fewer than two points.
+double sample_spacing(const std::vector<Eigen::Vector3d>& points);
 
 // The null hypothesis's surface and start pose: a box over the candidate's points above the
 // ground cut, its axes their horizontal principal axes, its extent their 1st-99th percentiles
