@@ -500,7 +500,8 @@ std::vector<int> passes_of(const std::vector<double>& source, const std::vector<
 }
 
 std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double link, double crop_area,
-                                   double bridge, double bridge_length, bool join_stacked) {
+                                   double bridge, double bridge_length, bool join_stacked,
+                                   double bridge_min_share, std::vector<Shadow>* shadows) {
   std::vector<std::size_t> above;
   std::vector<Vector3d> pts;
   for (std::size_t i = 0; i < c.points.size(); ++i) {
@@ -550,7 +551,7 @@ std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double
       if (p.z() < ground_cut) ground.emplace_back(p.x(), p.y());
     }
     const double density = static_cast<double>(ground.size()) / crop_area;
-    bridge_gaps(pts, label, best, ground, density, link, bridge, bridge_length, in);
+    bridge_gaps(pts, label, best, ground, density, link, bridge, bridge_length, in, bridge_min_share, shadows);
   }
   std::vector<std::size_t> object;
   for (std::size_t i = 0; i < pts.size(); ++i) {
@@ -570,8 +571,10 @@ Features measure(const Candidate& c, const Params& fp) {
   f.crop_spacing = std::sqrt(crop_area / static_cast<double>(c.points.size()));
   for (const Vector3d& p : c.points) f.ground_points += p.z() < fp.ground_cut;
   const double link = std::clamp(fp.link_factor * f.crop_spacing, fp.link_min, 1.5);
+  std::vector<Shadow> shadows;  // the strips --bridge crossed (classify.md §27)
   const std::vector<std::size_t> object =
-      object_of(c, fp.ground_cut, link, crop_area, fp.bridge, fp.bridge_length, fp.join_stacked);
+      object_of(c, fp.ground_cut, link, crop_area, fp.bridge, fp.bridge_length, fp.join_stacked,
+                fp.bridge_min_share, &shadows);
   f.object_points = object.size();
   if (object.size() < 3) return f;
 
@@ -647,12 +650,28 @@ Features measure(const Candidate& c, const Params& fp) {
     outside += out && counted[i];
   }
   const double open = crop_area - f.length_measured * f.width_measured;
+  // With bridge_fill (classify.md §27) the rectangle's shadows (the no-return strips --bridge
+  // crossed: glass, dark paint) are left out of the area the object's points are counted on.
+  // With fill_empty_cells, instead, any cell of the rectangle that holds no return at all.
+  if (fp.fill_empty_cells) {
+    std::vector<Vector2d> uv;
+    uv.reserve(c.points.size());
+    for (const Vector3d& p : c.points) uv.emplace_back(p.head<2>().dot(u) - r.u0, p.head<2>().dot(v) - r.v0);
+    f.shadow_area = empty_area(uv, r.u1 - r.u0, r.v1 - r.v0, 2 * f.crop_spacing);
+  } else {
+    f.shadow_area = shadow_area(shadows, u, v, r.u0, r.u1, r.v0, r.v1);
+  }
+  const bool off_shadows = (fp.bridge_fill || fp.fill_empty_cells) && f.shadow_area > 0;
+  const double rectangle = f.length_measured * f.width_measured;
+  const double solid =
+      off_shadows ? f.density * rectangle / std::max(rectangle - f.shadow_area, 1e-6) : f.density;
   if (open > 1.0 && outside >= 10) {
     f.ground_density = static_cast<double>(outside) / open;
-    f.fill = f.density / *f.ground_density;
+    f.fill = solid / *f.ground_density;
+    if (off_shadows) f.fill_rectangle = f.density / *f.ground_density;
   }
   if (several && open > 1.0 && outside_all >= 10) {
-    f.fill_all_passes = f.density / (static_cast<double>(outside_all) / open);
+    f.fill_all_passes = solid / (static_cast<double>(outside_all) / open);
   }
 
   std::vector<double> heights;
