@@ -228,4 +228,21 @@ double shadow_area(const std::vector<Shadow>& shadows, const Eigen::Vector2d& u,
   return sum * du * dv;
 }
 
+double solid_density(const Candidate& c, const std::vector<Shadow>& shadows, const Params& fp,
+                     const Eigen::Vector2d& u, const Eigen::Vector2d& v, double u0, double u1, double v0,
+                     double v1, Features& f) {
+  if (fp.fill_empty_cells) {
+    std::vector<Eigen::Vector2d> uv;
+    uv.reserve(c.points.size());
+    for (const Eigen::Vector3d& p : c.points)
+      uv.emplace_back(p.head<2>().dot(u) - u0, p.head<2>().dot(v) - v0);
+    f.shadow_area = empty_area(uv, u1 - u0, v1 - v0, 2 * f.crop_spacing);
+  } else {
+    f.shadow_area = shadow_area(shadows, u, v, u0, u1, v0, v1);
+  }
+  if (!(fp.bridge_fill || fp.fill_empty_cells) || f.shadow_area <= 0) return f.density;
+  const double rectangle = f.length_measured * f.width_measured;
+  return f.density * rectangle / std::max(rectangle - f.shadow_area, 1e-6);
+}
+
 }  // namespace canopy::classify

@@ -93,6 +93,7 @@ struct Params {
   // (not even the ground: a vehicle's glass; a crown lets the ground through); false: on the whole
   // rectangle (before). bridge_min_share > 0: a cluster joins only when it holds at least this share
   // of the object's points (a bonnet, not a few stray returns in line with the car; 0: any, before).
+  // Off here and in classify-sim.ini; classify.ini: bridge 1 m, bridge_fill true, min share 0.1.
   bool bridge_fill = false;
   double bridge_min_share = 0;
   // fill_empty_cells true (classify.md §27): `fill` leaves out of any object's rectangle the cells

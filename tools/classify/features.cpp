@@ -650,25 +650,12 @@ Features measure(const Candidate& c, const Params& fp) {
     outside += out && counted[i];
   }
   const double open = crop_area - f.length_measured * f.width_measured;
-  // With bridge_fill (classify.md §27) the rectangle's shadows (the no-return strips --bridge
-  // crossed: glass, dark paint) are left out of the area the object's points are counted on.
-  // With fill_empty_cells, instead, any cell of the rectangle that holds no return at all.
-  if (fp.fill_empty_cells) {
-    std::vector<Vector2d> uv;
-    uv.reserve(c.points.size());
-    for (const Vector3d& p : c.points) uv.emplace_back(p.head<2>().dot(u) - r.u0, p.head<2>().dot(v) - r.v0);
-    f.shadow_area = empty_area(uv, r.u1 - r.u0, r.v1 - r.v0, 2 * f.crop_spacing);
-  } else {
-    f.shadow_area = shadow_area(shadows, u, v, r.u0, r.u1, r.v0, r.v1);
-  }
-  const bool off_shadows = (fp.bridge_fill || fp.fill_empty_cells) && f.shadow_area > 0;
-  const double rectangle = f.length_measured * f.width_measured;
-  const double solid =
-      off_shadows ? f.density * rectangle / std::max(rectangle - f.shadow_area, 1e-6) : f.density;
+  // classify.md §27: with bridge_fill or fill_empty_cells, fill leaves out the rectangle's shadows.
+  const double solid = solid_density(c, shadows, fp, u, v, r.u0, r.u1, r.v0, r.v1, f);
   if (open > 1.0 && outside >= 10) {
     f.ground_density = static_cast<double>(outside) / open;
     f.fill = solid / *f.ground_density;
-    if (off_shadows) f.fill_rectangle = f.density / *f.ground_density;
+    if (solid != f.density) f.fill_rectangle = f.density / *f.ground_density;
   }
   if (several && open > 1.0 && outside_all >= 10) {
     f.fill_all_passes = solid / (static_cast<double>(outside_all) / open);

@@ -118,6 +118,13 @@ void bridge_gaps(const std::vector<Eigen::Vector3d>& pts, const std::vector<std:
 // (coordinates along and across it) in cells of at least `cell` (as many whole cells as fit each
 // side) that hold none of `points` (every return of the crop, in those coordinates).
 double empty_area(const std::vector<Eigen::Vector2d>& points, double length, double width, double cell);
+// classify.md §27: the object's points per m² of its rectangle (long axis `u`, across `v`, extents
+// [u0, u1] x [v0, v1]) as fill counts them: f.density, or with fp.fill_empty_cells less the empty
+// cells (empty_area over every point of `c`, cells of 2 x f.crop_spacing), else with fp.bridge_fill
+// less the `shadows`; sets f.shadow_area (the cells' or the shadows' area, used or not).
+double solid_density(const Candidate& c, const std::vector<Shadow>& shadows, const Params& fp,
+                     const Eigen::Vector2d& u, const Eigen::Vector2d& v, double u0, double u1, double v0,
+                     double v1, Features& f);
 double shadow_area(const std::vector<Shadow>& shadows, const Eigen::Vector2d& u, const Eigen::Vector2d& v,
                    double u0, double u1, double v0, double v1, double step = 0.02);
 // --bridge: a gap between two clusters whose ground returns reach this share of the crop's ground
