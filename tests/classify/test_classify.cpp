@@ -8,6 +8,7 @@
 #include <cmath>
 #include <fstream>
 #include <functional>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <tuple>
@@ -1116,6 +1117,232 @@ TEST_CASE("classify: --bridge joins nothing beside the car, above it, too low or
 
 namespace {
 
+// glass_car_top with dark paint: each pulse over the body returns with probability `share`,
+// else nothing at all (not even the ground under it), as the glass.
+Top dark_car(double share, std::uint64_t seed) {
+  auto rng = std::make_shared<common::Rng>(seed);
+  return [rng, share](double x, double y) {
+    const double h = glass_car_top(x, y);
+    return h > 0 && rng->uniform(0, 1) >= share ? kNoReturn : h;
+  };
+}
+
+classify::Params bridge_filled(bool fill, double min_share = 0) {
+  classify::Params p = bridged(1.0);
+  p.bridge_fill = fill;
+  p.bridge_min_share = min_share;
+  return p;
+}
+
+}  // namespace
+
+TEST_CASE("classify: shadow_area counts the rectangle under each shadow by its empty share") {
+  const Eigen::Vector2d ux(1, 0), vy(0, 1);
+  // A 4 x 2 m rectangle (x in [-2, 2], y in [-1, 1]); a 1 m strip across it, fully empty: 2 m².
+  std::vector<classify::Shadow> one{{0.5, 1.5, -1.5, 1.5, 1.0}};
+  CHECK(classify::shadow_area(one, ux, vy, -2, 2, -1, 1) == Approx(2.0).epsilon(0.02));
+  // Half empty (half its expected returns came back): 1 m².
+  one[0].empty = 0.5;
+  CHECK(classify::shadow_area(one, ux, vy, -2, 2, -1, 1) == Approx(1.0).epsilon(0.02));
+  // Only the part inside the rectangle counts: a strip from x = 1.5 to 3 covers 0.5 x 2 of it.
+  const std::vector<classify::Shadow> out{{1.5, 3.0, -1.0, 1.0, 1.0}};
+  CHECK(classify::shadow_area(out, ux, vy, -2, 2, -1, 1) == Approx(1.0).epsilon(0.02));
+  // Two overlapping strips count their overlap once (the larger empty share): [0, 1] x [-1, 1] at 1
+  // and [0.5, 1.5] x [-1, 1] at 0.5: 2 + 0.5 x 2 x 0.5 = 2.5 m².
+  const std::vector<classify::Shadow> two{{0.0, 1.0, -1.0, 1.0, 1.0}, {0.5, 1.5, -1.0, 1.0, 0.5}};
+  CHECK(classify::shadow_area(two, ux, vy, -2, 2, -1, 1) == Approx(2.5).epsilon(0.02));
+  // The rectangle turned 90° (u along y, v along -x): it spans x in [-1, 1] and y in [-2, 2]; the
+  // strip x in [0.5, 1.5], y in [-1.5, 1.5] covers x in [0.5, 1], y in [-1.5, 1.5]: 1.5 m².
+  const std::vector<classify::Shadow> turned{{0.5, 1.5, -1.5, 1.5, 1.0}};
+  CHECK(classify::shadow_area(turned, vy, Eigen::Vector2d(-1, 0), -2, 2, -1, 1) == Approx(1.5).epsilon(0.02));
+  CHECK(classify::shadow_area({}, ux, vy, -2, 2, -1, 1) == 0);
+}
+
+TEST_CASE("classify: empty_area counts the rectangle's cells that hold no return") {
+  // A 4 x 2 m rectangle in cells of 0.5 m (8 x 4): one point in each cell but the 3 x 4 cells of
+  // x in [1.5, 3): 12 cells of 0.25 m² = 3 m² empty.
+  std::vector<Eigen::Vector2d> pts;
+  for (int i = 0; i < 8; ++i)
+    for (int j = 0; j < 4; ++j)
+      if (i < 3 || i > 5) pts.emplace_back(0.25 + 0.5 * i, 0.25 + 0.5 * j);
+  CHECK(classify::empty_area(pts, 4, 2, 0.5) == Approx(3.0));
+  // Cells of at least 0.6 m: 6 x 3 cells of 0.667 m. The points nearest the band are at x = 1.25
+  // and 3.25, so the cells x in [1.33, 2.67) hold none (2 x 3 cells of 0.444 m²): 2.67 m².
+  CHECK(classify::empty_area(pts, 4, 2, 0.6) == Approx(6 * (4.0 / 6) * (2.0 / 3)));
+  // Points outside the rectangle fill nothing.
+  CHECK(classify::empty_area({{-1, 1}, {5, 1}}, 4, 2, 0.5) == Approx(8.0));
+}
+
+TEST_CASE("classify: --bridge records the strip it crossed and how much of it returned nothing") {
+  // Hand-built: a cabin of 11 x 7 points (x in [-1, 1], y in [-0.6, 0.6], 1.4 m high), a bonnet of
+  // 4 x 7 points (x in [1.8, 2.4], 0.9 m) and 0.2 m-spaced ground over x in [-3, 3], y in [-1.5, 1.5]
+  // except under the car and the gap (x in (1, 1.8)), where `gap` ground returns lie.
+  for (const std::size_t gap : {std::size_t{0}, std::size_t{2}}) {
+    std::vector<Eigen::Vector3d> pts;
+    std::vector<std::size_t> label;
+    for (int i = 0; i <= 10; ++i)
+      for (int j = 0; j <= 6; ++j) {
+        pts.emplace_back(-1 + 0.2 * i, -0.6 + 0.2 * j, 1.4);
+        label.push_back(0);
+      }
+    const std::size_t cabin = pts.size();
+    for (int i = 0; i <= 3; ++i)
+      for (int j = 0; j <= 6; ++j) {
+        pts.emplace_back(1.8 + 0.2 * i, -0.6 + 0.2 * j, 0.9);
+        label.push_back(cabin);
+      }
+    std::vector<Eigen::Vector2d> ground;
+    for (int i = 0; i <= 30; ++i)
+      for (int j = 0; j <= 15; ++j) {
+        const double x = -3 + 0.2 * i, y = -1.5 + 0.2 * j;
+        if (x > -1.1 && x < 2.5 && std::abs(y) < 0.7) continue;
+        ground.emplace_back(x, y);
+      }
+    for (std::size_t k = 0; k < gap; ++k) ground.emplace_back(1.3 + 0.2 * static_cast<double>(k), 0.1);
+    const double density = 25;  // the crop's ground returns per m², as given
+    std::vector<char> in(pts.size(), 0);
+    for (std::size_t i = 0; i < cabin; ++i) in[i] = 1;
+    std::vector<classify::Shadow> shadows;
+    classify::bridge_gaps(pts, label, 0, ground, density, 0.3, 1.0, 6.0, in, 0, &shadows);
+    INFO(gap << " ground returns in the gap");
+    CHECK(std::count(in.begin(), in.end(), 1) == static_cast<std::ptrdiff_t>(pts.size()));
+    REQUIRE(shadows.size() == 1);
+    CHECK(shadows[0].x0 == Approx(1.0));
+    CHECK(shadows[0].x1 == Approx(1.8));
+    CHECK(shadows[0].y0 == Approx(-0.6));
+    CHECK(shadows[0].y1 == Approx(0.6));
+    // 0.8 x 1.2 m at 25 per m²: 24 returns expected; `gap` came back.
+    CHECK(shadows[0].empty == Approx(1 - static_cast<double>(gap) / 24));
+    // A piece under `min_share` of the object's points (28 of 77 = 0.36) does not join.
+    std::vector<char> alone(pts.size(), 0);
+    for (std::size_t i = 0; i < cabin; ++i) alone[i] = 1;
+    std::vector<classify::Shadow> none;
+    classify::bridge_gaps(pts, label, 0, ground, density, 0.3, 1.0, 6.0, alone, 0.4, &none);
+    CHECK(std::count(alone.begin(), alone.end(), 1) == static_cast<std::ptrdiff_t>(cabin));
+    CHECK(none.empty());
+  }
+}
+
+TEST_CASE("classify: --bridge-fill leaves the glass the bridge crossed out of fill, not a porous body") {
+  // A dark sedan: 70% of the pulses over its body return, none over the glass (2.34 m² of its
+  // 4.6 x 1.8 m rectangle: 0.8 + 0.5 m across its 1.8 m). Over the whole rectangle fill is about
+  // 0.7 x (8.28 - 2.34) / 8.28 = 0.50 < 0.55 (vegetation_like, bridge-fill false: the ablation);
+  // off the shadows about 0.70: a car. At 50 and 100 points/m² (link 0.35 and 0.25 m).
+  for (const double density : {50.0, 100.0}) {
+    INFO(density << " points/m2");
+    const Sampled s = sample(dark_car(0.7, 41), 2.3, 0.9, 0, density, 42);
+    const classify::Answer off = classify::run(bridge_filled(false), {s.cloud, "dark.pcd", {}});
+    INFO("off: " << off.reason << " " << off.detail);
+    CHECK(off.features.object_points == s.object);
+    REQUIRE(off.features.fill);
+    // (About 200 body points: their Poisson noise alone is 7% of fill, so two of it as margins.)
+    CHECK(*off.features.fill == Approx(0.50).margin(0.08));
+    CHECK(off.reason == "vegetation_like");
+    CHECK(off.features.shadow_area == Approx(2.34).margin(0.25));  // measured, not used
+    CHECK_FALSE(off.features.fill_rectangle);
+    const classify::Answer on = classify::run(bridge_filled(true), {s.cloud, "dark.pcd", {}});
+    INFO("on: " << on.reason << " " << on.detail);
+    CHECK(on.features.object_points == s.object);
+    REQUIRE(on.features.fill);
+    REQUIRE(on.features.fill_rectangle);
+    CHECK(*on.features.fill_rectangle == Approx(*off.features.fill));
+    CHECK(*on.features.fill == Approx(0.70).margin(0.1));
+    // The same points on the rectangle less the shadow.
+    const double rect = on.features.length_measured * on.features.width_measured;
+    CHECK(*on.features.fill == Approx(*off.features.fill * rect / (rect - on.features.shadow_area)));
+    CHECK(*on.features.fill >= 0.55);
+    CHECK(on.group == "car");
+    // A body that returns 40% of its pulses is porous off the shadows too: vegetation_like.
+    const Sampled porous = sample(dark_car(0.4, 43), 2.3, 0.9, 0, density, 44);
+    const classify::Answer p = classify::run(bridge_filled(true), {porous.cloud, "porous.pcd", {}});
+    INFO("porous: " << p.reason << " " << p.detail);
+    REQUIRE(p.features.fill);
+    CHECK(*p.features.fill == Approx(0.40).margin(0.08));
+    CHECK(p.reason == "vegetation_like");
+    CHECK_THAT(p.detail, Catch::Contains("m^2 of shadow"));
+  }
+  // --fill-empty-cells: the rectangle's cells (2 x the crop's spacing, 0.3 m at 50 points/m²) with
+  // no return at all: the cells wholly over the glass (a cell across the glass's edge holds a point
+  // of the roof or the bonnet), so less than the 2.34 m² of glass, and a few of the dark body's
+  // cells that are empty by chance.
+  for (const double density : {50.0, 100.0}) {
+    INFO(density << " points/m2, empty cells");
+    const Sampled s = sample(dark_car(0.7, 41), 2.3, 0.9, 0, density, 42);
+    classify::Params cells = bridge_filled(false);
+    cells.fill_empty_cells = true;
+    const classify::Answer on = classify::run(cells, {s.cloud, "dark.pcd", {}});
+    INFO("on: " << on.reason << " " << on.detail);
+    REQUIRE(on.features.fill);
+    CHECK(on.features.shadow_area > 1.0);
+    CHECK(on.features.shadow_area < 2.6);
+    REQUIRE(on.features.fill_rectangle);
+    const double rect = on.features.length_measured * on.features.width_measured;
+    CHECK(*on.features.fill == Approx(*on.features.fill_rectangle * rect / (rect - on.features.shadow_area)));
+    CHECK(*on.features.fill >= 0.55);
+    CHECK(on.group == "car");
+    const Sampled porous = sample(dark_car(0.4, 43), 2.3, 0.9, 0, density, 44);
+    const classify::Answer p = classify::run(cells, {porous.cloud, "porous.pcd", {}});
+    INFO("porous: " << p.reason << " " << p.detail);
+    CHECK(p.reason == "vegetation_like");
+  }
+  // A crown's gaps return the ground: no cell of its rectangle is empty, fill as before.
+  {
+    classify::Params cells;
+    cells.fill_empty_cells = true;
+    const formats::PointCloud tree = crown(25, 13);
+    const classify::Answer a = classify::run(cells, {tree, "crown.pcd", {}});
+    const classify::Answer b = classify::run(classify::Params{}, {tree, "crown.pcd", {}});
+    REQUIRE(a.features.fill);
+    CHECK(a.features.shadow_area < 0.05 * a.features.length_measured * a.features.width_measured);
+    CHECK(*a.features.fill == Approx(*b.features.fill).epsilon(0.06));
+    CHECK(a.reason == "vegetation_like");
+  }
+  // Without --bridge nothing was crossed: the option changes nothing (the cabin alone, too_small).
+  const Sampled s = sample(dark_car(0.7, 41), 2.3, 0.9, 0, 50, 42);
+  classify::Params p = bridge_filled(true);
+  p.bridge = 0;
+  const classify::Answer a = classify::run(p, {s.cloud, "dark.pcd", {}});
+  CHECK(a.features.shadow_area == 0);
+  CHECK(a.reason == "too_small");
+}
+
+TEST_CASE("classify: --bridge-min-share keeps a few stray returns of the bonnet out of the object") {
+  // The glass sedan at 100 points/m² whose bonnet returned 4 points only (x in [1.8, 1.92], one
+  // 0.12 m square, 0.9 m past the cabin; the rest of it dark: nothing, not even the ground): with
+  // any share they join (the object 4.22 m, from the boot's end at -2.3 to 1.92); at 0.1 of the
+  // object's points they do not (3.2 m, the boot to the cabin's front at 0.9), as a 4-point piece
+  // of its own bonnet lengthened a simulated sedan under a crown into a vegetation_like answer
+  // (classify.md §21).
+  Sampled s = sample(glass_car_top, 2.3, 0.9, 0, 100, 45);
+  formats::PointCloud kept;
+  std::vector<double> x, y, z;
+  const auto& sx = s.cloud.col("x");
+  const auto& sy = s.cloud.col("y");
+  const auto& sz = s.cloud.col("z");
+  std::size_t object = 0;
+  for (std::size_t i = 0; i < sx.size(); ++i) {
+    if (sx[i] >= 1.7 && sx[i] <= 2.3 && std::abs(sy[i]) <= 0.9)
+      continue;  // the bonnet and the ground under it
+    x.push_back(sx[i]), y.push_back(sy[i]), z.push_back(sz[i]);
+    object += sz[i] >= 0.3;
+  }
+  for (const auto& [px, py] : {std::pair{1.8, 0.0}, {1.92, 0.0}, {1.8, 0.12}, {1.92, 0.12}}) {
+    x.push_back(px), y.push_back(py), z.push_back(0.95);
+  }
+  kept.resize(x.size());
+  kept.add("x") = x;
+  kept.add("y") = y;
+  kept.add("z") = z;
+  const classify::Answer any = classify::run(bridge_filled(false, 0), {kept, "stray.pcd", {}});
+  CHECK(any.features.object_points == object + 4);
+  CHECK(any.features.length_measured == Approx(4.22).margin(0.1));
+  const classify::Answer part = classify::run(bridge_filled(false, 0.1), {kept, "stray.pcd", {}});
+  CHECK(part.features.object_points == object);
+  CHECK(part.features.length_measured == Approx(3.2).margin(0.1));
+}
+
+namespace {
+
 // A semi-tractor unit seen straight down, 6.6 x 2.5 m: the cab (x in [1.0, 3.3]) 3.6 m high, the
 // deck behind it (fenders and fifth wheel) 1.2 m high; the cab's back and the deck's step are
 // vertical faces, which no pulse from above returns. The frame's origin lies on the deck.
@@ -1200,6 +1427,9 @@ TEST_CASE("classify: class table and parameters") {
   p.bridge = -0.1;
   CHECK_THROWS_WITH(classify::validate(p), Catch::Contains("--bridge"));
   p = classify::Params{};
+  p.bridge_min_share = 1.5;
+  CHECK_THROWS_WITH(classify::validate(p), Catch::Contains("--bridge-min-share"));
+  p = classify::Params{};
   p.max_below_share = 0;
   CHECK_THROWS_WITH(classify::validate(p), Catch::Contains("--max-below-share"));
   p = classify::Params{};
@@ -1276,7 +1506,8 @@ TEST_CASE("classify: the binary writes a class-level verdict; same input, same b
   const Json w = Json::parse(slurp(dir / "t.json"));
   CHECK(w["pose_tile"]["heading_deg"].get<double>() == Approx(ht).margin(1e-9));
 
-  // share/params/classify.ini holds the defaults: the same answer with it.
+  // share/params/classify.ini holds the defaults (classify.md §27: its bridge rule, measured, is
+  // off there as in Params until the report carries its ablation): the same answer with it.
   REQUIRE(test::sh(kBin + args + " --config " + std::string(CANOPY_SOURCE_DIR) +
                        "/share/params/classify.ini -o " + (dir / "ini.json").string(),
                    dir / "err", &err) == 0);

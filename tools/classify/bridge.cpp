@@ -99,10 +99,14 @@ void join_beside(const std::vector<Eigen::Vector3d>& pts, const std::vector<std:
 // a crown above), its nearest point is within `bridge` of the object's in the top view, the
 // strip between them along x (across: where both extend) holds fewer than kGapGround of the
 // ground returns the crop's ground density would put there, and the joined object is at most
-// `bridge_length` long. Nearest cluster first, until none joins.
+// `bridge_length` long. Nearest cluster first, until none joins. With `min_share` (classify.md
+// §27) a cluster also needs at least that share of the object's points: a bonnet or boot is a
+// part the sensor sampled, a few stray returns in line with the car are not. Each strip crossed
+// goes to `shadows` with the share of it that returned nothing.
 void bridge_gaps(const std::vector<Eigen::Vector3d>& pts, const std::vector<std::size_t>& label,
                  std::size_t best, const std::vector<Eigen::Vector2d>& ground, double ground_density,
-                 double link, double bridge, double bridge_length, std::vector<char>& in) {
+                 double link, double bridge, double bridge_length, std::vector<char>& in, double min_share,
+                 std::vector<Shadow>* shadows) {
   struct Piece {
     double x0 = kInf, x1 = -kInf, y0 = kInf, y1 = -kInf, top = -kInf;
     std::vector<std::size_t> members;
@@ -133,7 +137,9 @@ void bridge_gaps(const std::vector<Eigen::Vector3d>& pts, const std::vector<std:
       const bool within = q.y0 >= object.y0 - link && q.y1 <= object.y1 + link;
       const bool level = q.top <= object.top && q.top >= 0.5 * object.top;
       const bool short_enough = std::max(q.x1, object.x1) - std::min(q.x0, object.x0) <= bridge_length;
-      if (!within || !level || !short_enough) continue;
+      const bool part =
+          static_cast<double>(q.members.size()) >= min_share * static_cast<double>(object.members.size());
+      if (!within || !level || !short_enough || !part) continue;
       if (q.x0 - object.x1 > bridge || object.x0 - q.x1 > bridge) continue;
       double gap2 = kInf;
       for (std::size_t i : q.members) {
@@ -158,6 +164,22 @@ void bridge_gaps(const std::vector<Eigen::Vector3d>& pts, const std::vector<std:
     if (pick_gap2 == kInf) break;
     joined[pick] = 1;
     const Piece& q = pieces[pick];
+    if (shadows) {
+      Shadow sh;
+      sh.x0 = q.x0 > object.x1 ? object.x1 : q.x1;
+      sh.x1 = q.x0 > object.x1 ? q.x0 : object.x0;
+      sh.y0 = std::max(q.y0, object.y0);
+      sh.y1 = std::min(q.y1, object.y1);
+      const double area = (sh.x1 - sh.x0) * (sh.y1 - sh.y0);
+      if (sh.x1 > sh.x0 && sh.y1 > sh.y0 && ground_density > 0) {
+        auto inside = [&](double x, double y) { return x > sh.x0 && x < sh.x1 && y > sh.y0 && y < sh.y1; };
+        std::size_t seen = 0;  // every return in it: the ground, and any cluster's points
+        for (const Eigen::Vector2d& g : ground) seen += inside(g.x(), g.y());
+        for (const Eigen::Vector3d& p : pts) seen += inside(p.x(), p.y());
+        sh.empty = std::clamp(1 - static_cast<double>(seen) / (ground_density * area), 0.0, 1.0);
+        shadows->push_back(sh);
+      }
+    }
     object.x0 = std::min(object.x0, q.x0);
     object.x1 = std::max(object.x1, q.x1);
     object.y0 = std::min(object.y0, q.y0);
@@ -165,6 +187,62 @@ void bridge_gaps(const std::vector<Eigen::Vector3d>& pts, const std::vector<std:
     object.members.insert(object.members.end(), q.members.begin(), q.members.end());
     for (std::size_t i : q.members) in[i] = 1;
   }
+}
+
+double empty_area(const std::vector<Eigen::Vector2d>& points, double length, double width, double cell) {
+  if (length <= 0 || width <= 0 || cell <= 0) return 0;
+  const auto nu = static_cast<std::size_t>(std::max(1.0, std::floor(length / cell)));
+  const auto nv = static_cast<std::size_t>(std::max(1.0, std::floor(width / cell)));
+  const double du = length / static_cast<double>(nu), dv = width / static_cast<double>(nv);
+  std::vector<char> held(nu * nv, 0);
+  for (const Eigen::Vector2d& p : points) {
+    if (p.x() < 0 || p.x() > length || p.y() < 0 || p.y() > width) continue;
+    const std::size_t i = std::min(nu - 1, static_cast<std::size_t>(p.x() / du));
+    const std::size_t j = std::min(nv - 1, static_cast<std::size_t>(p.y() / dv));
+    held[i * nv + j] = 1;
+  }
+  std::size_t empty = 0;
+  for (char h : held) empty += h == 0;
+  return static_cast<double>(empty) * du * dv;
+}
+
+double shadow_area(const std::vector<Shadow>& shadows, const Eigen::Vector2d& u, const Eigen::Vector2d& v,
+                   double u0, double u1, double v0, double v1, double step) {
+  if (shadows.empty() || u1 <= u0 || v1 <= v0) return 0;
+  const auto nu = static_cast<std::size_t>(std::ceil((u1 - u0) / step));
+  const auto nv = static_cast<std::size_t>(std::ceil((v1 - v0) / step));
+  const double du = (u1 - u0) / static_cast<double>(nu), dv = (v1 - v0) / static_cast<double>(nv);
+  double sum = 0;
+  for (std::size_t i = 0; i < nu; ++i) {
+    for (std::size_t j = 0; j < nv; ++j) {
+      // The cell's centre, back into the candidate frame.
+      const Eigen::Vector2d p =
+          (u0 + (static_cast<double>(i) + 0.5) * du) * u + (v0 + (static_cast<double>(j) + 0.5) * dv) * v;
+      double empty = 0;
+      for (const Shadow& s : shadows) {
+        if (p.x() > s.x0 && p.x() < s.x1 && p.y() > s.y0 && p.y() < s.y1) empty = std::max(empty, s.empty);
+      }
+      sum += empty;
+    }
+  }
+  return sum * du * dv;
+}
+
+double solid_density(const Candidate& c, const std::vector<Shadow>& shadows, const Params& fp,
+                     const Eigen::Vector2d& u, const Eigen::Vector2d& v, double u0, double u1, double v0,
+                     double v1, Features& f) {
+  if (fp.fill_empty_cells) {
+    std::vector<Eigen::Vector2d> uv;
+    uv.reserve(c.points.size());
+    for (const Eigen::Vector3d& p : c.points)
+      uv.emplace_back(p.head<2>().dot(u) - u0, p.head<2>().dot(v) - v0);
+    f.shadow_area = empty_area(uv, u1 - u0, v1 - v0, 2 * f.crop_spacing);
+  } else {
+    f.shadow_area = shadow_area(shadows, u, v, u0, u1, v0, v1);
+  }
+  if (!(fp.bridge_fill || fp.fill_empty_cells) || f.shadow_area <= 0) return f.density;
+  const double rectangle = f.length_measured * f.width_measured;
+  return f.density * rectangle / std::max(rectangle - f.shadow_area, 1e-6);
 }
 
 }  // namespace canopy::classify

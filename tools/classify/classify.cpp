@@ -153,10 +153,14 @@ bool vegetation(Answer& a, const Params& p) {
   }
   // Fill is good when high: its cue is the inverse ratio (threshold / value > 1 when below).
   if (f.fill && *f.fill < p.min_fill) {
+    // With bridge_fill the rectangle less the shadows --bridge crossed (classify.md §27).
+    const bool off_shadows = (p.bridge_fill || p.fill_empty_cells) && f.shadow_area > 0;
+    const std::string shadows = off_shadows ? fmt(" less %.2f m^2 of shadow", f.shadow_area) : std::string();
     refuse(a, "vegetation_like",
-           fmt("porous or patchy: %.0f%% of the open ground's points per m^2 on its rectangle (%.1f of %.1f; "
-               "a solid top >= %.0f%%)",
-               100 * *f.fill, f.density, *f.ground_density, 100 * p.min_fill),
+           fmt("porous or patchy: %.0f%% of the open ground's points per m^2 on its rectangle", 100 * *f.fill) +
+               shadows +
+               fmt(" (%.1f of %.1f; a solid top >= %.0f%%)",
+                   off_shadows ? *f.fill * *f.ground_density : f.density, *f.ground_density, 100 * p.min_fill),
            past(p.min_fill, std::max(*f.fill, 1e-6)));
     return true;
   }
@@ -480,6 +484,7 @@ void validate(const Params& p) {
   need(p.link_min > 0 && p.link_min <= 1.5, "--link-min must be in (0, 1.5 m]");
   need(p.bridge >= 0 && p.bridge <= 3, "--bridge must be in [0, 3 m]");
   need(p.bridge_length > 0 && p.bridge_length <= 20, "--bridge-length must be in (0, 20 m]");
+  need(p.bridge_min_share >= 0 && p.bridge_min_share <= 1, "--bridge-min-share must be in [0, 1]");
   need(p.min_points >= 3, "--min-points must be at least 3");
   need(p.min_density >= 0 && std::isfinite(p.min_density), "--min-density must be >= 0");
   need(p.edge_factor >= 0 && p.edge_factor <= 5, "--edge-factor must be in [0, 5]");

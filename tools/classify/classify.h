@@ -88,6 +88,20 @@ struct Params {
   // car into cabin, bonnet and boot once the link is shorter than the glass).
   double bridge = 0;
   double bridge_length = 6.0;
+  // What --bridge crossed (classify.md §27). bridge_fill true: `fill` counts the object's points on
+  // its rectangle less the strips the bridge crossed, each by the share of it that returned nothing
+  // (not even the ground: a vehicle's glass; a crown lets the ground through); false: on the whole
+  // rectangle (before). bridge_min_share > 0: a cluster joins only when it holds at least this share
+  // of the object's points (a bonnet, not a few stray returns in line with the car; 0: any, before).
+  // Off here, in classify.ini and classify-sim.ini; the rule measured in §27: bridge 1 m,
+  // bridge_fill true, min share 0.1.
+  bool bridge_fill = false;
+  double bridge_min_share = 0;
+  // fill_empty_cells true (classify.md §27): `fill` leaves out of any object's rectangle the cells
+  // (2 x the crop's spacing; at least that, fitted to the rectangle) that hold no return at all,
+  // neither the object's nor the ground's nor any other (glass, dark paint; a crown's gaps return
+  // the ground); it replaces bridge_fill's strips. false: as bridge_fill says (before).
+  bool fill_empty_cells = false;
   // Parts stacked in height (classify.md §25): seen from above a vertical face returns nothing,
   // so a semi-tractor's cab (3.6 m) and its deck (1.2 m), an earthmover's cab top and its body are
   // clusters that touch only in the top view (a step of more than 3 links). true: a cluster that
@@ -233,9 +247,13 @@ struct Features {
   double density = 0;                    // object points per m² of its rectangle
   double spacing = 0;                    // 1 / sqrt(density)
   std::optional<double> ground_density;  // ground returns per m² of the crop outside the rectangle
-  std::optional<double> fill;            // density / ground_density
-  double heading_pca = 0;                // rad, the principal axis (for comparison only)
-  double heading_hull = 0;               // rad, the minimum-area rectangle before refinement
+  std::optional<double> fill;            // density / ground_density (with bridge_fill: off the shadows)
+  // The area (m²) of the rectangle in the strips --bridge crossed, by their empty share (§27), and
+  // with bridge_fill leaving it out, the fill over the whole rectangle (as without it).
+  double shadow_area = 0;
+  std::optional<double> fill_rectangle;
+  double heading_pca = 0;      // rad, the principal axis (for comparison only)
+  double heading_hull = 0;     // rad, the minimum-area rectangle before refinement
   double heading_refined = 0;  // rad, the hull's axis refined by two parallel side lines (for comparison)
   double heading = 0;          // rad, the long axis used (the minimum-area rectangle's), in (-pi/2, pi/2]
   Eigen::Vector2d centre = Eigen::Vector2d::Zero();  // rectangle centre (candidate frame)

@@ -475,7 +475,8 @@ std::vector<int> passes_of(const std::vector<double>& source, const std::vector<
 }
 
 std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double link, double crop_area,
-                                   double bridge, double bridge_length, bool join_stacked) {
+                                   double bridge, double bridge_length, bool join_stacked,
+                                   double bridge_min_share, std::vector<Shadow>* shadows) {
   std::vector<std::size_t> above;
   std::vector<Vector3d> pts;
   for (std::size_t i = 0; i < c.points.size(); ++i) {
@@ -525,7 +526,7 @@ std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double
       if (p.z() < ground_cut) ground.emplace_back(p.x(), p.y());
     }
     const double density = static_cast<double>(ground.size()) / crop_area;
-    bridge_gaps(pts, label, best, ground, density, link, bridge, bridge_length, in);
+    bridge_gaps(pts, label, best, ground, density, link, bridge, bridge_length, in, bridge_min_share, shadows);
   }
   std::vector<std::size_t> object;
   for (std::size_t i = 0; i < pts.size(); ++i) {
@@ -545,8 +546,10 @@ Features measure(const Candidate& c, const Params& fp) {
   f.crop_spacing = std::sqrt(crop_area / static_cast<double>(c.points.size()));
   for (const Vector3d& p : c.points) f.ground_points += p.z() < fp.ground_cut;
   const double link = std::clamp(fp.link_factor * f.crop_spacing, fp.link_min, 1.5);
+  std::vector<Shadow> shadows;  // the strips --bridge crossed (classify.md §27)
   const std::vector<std::size_t> object =
-      object_of(c, fp.ground_cut, link, crop_area, fp.bridge, fp.bridge_length, fp.join_stacked);
+      object_of(c, fp.ground_cut, link, crop_area, fp.bridge, fp.bridge_length, fp.join_stacked,
+                fp.bridge_min_share, &shadows);
   f.object_points = object.size();
   if (object.size() < 3) return f;
 
@@ -622,12 +625,15 @@ Features measure(const Candidate& c, const Params& fp) {
     outside += out && counted[i];
   }
   const double open = crop_area - f.length_measured * f.width_measured;
+  // classify.md §27: with bridge_fill or fill_empty_cells, fill leaves out the rectangle's shadows.
+  const double solid = solid_density(c, shadows, fp, u, v, r.u0, r.u1, r.v0, r.v1, f);
   if (open > 1.0 && outside >= 10) {
     f.ground_density = static_cast<double>(outside) / open;
-    f.fill = f.density / *f.ground_density;
+    f.fill = solid / *f.ground_density;
+    if (solid != f.density) f.fill_rectangle = f.density / *f.ground_density;
   }
   if (several && open > 1.0 && outside_all >= 10) {
-    f.fill_all_passes = f.density / (static_cast<double>(outside_all) / open);
+    f.fill_all_passes = solid / (static_cast<double>(outside_all) / open);
   }
 
   std::vector<double> heights;

@@ -82,8 +82,20 @@ Candidate read_candidate(const formats::PointCloud& cloud, const std::string& na
 // frame's x axis than the wider of the two + 0.3 m) and holding at least 10% of the object's
 // points joins it, until none does: seen from above a
 // vertical face returns nothing, so a cab and its deck, a cab top and its body touch only in plan.
+// A strip --bridge crossed (classify.md §27): x between the facing ends of the object and the
+// joined cluster, y where both extend (candidate frame, top view), and `empty`, the share of it
+// that returned nothing: 1 - its returns (ground and any other above-ground point in it) over
+// what the crop's ground density puts there, in [0, 1].
+struct Shadow {
+  double x0 = 0, x1 = 0, y0 = 0, y1 = 0, empty = 0;
+};
+
+// With `bridge_min_share` > 0 (classify.md §27) a cluster joins across a gap only when it holds
+// at least that share of the object's points (as the object stands); with `shadows` the strips the
+// bridge crossed are appended to it.
 std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double link, double crop_area,
-                                   double bridge = 0, double bridge_length = 6.0, bool join_stacked = false);
+                                   double bridge = 0, double bridge_length = 6.0, bool join_stacked = false,
+                                   double bridge_min_share = 0, std::vector<Shadow>* shadows = nullptr);
 
 // classify.md §21 (object_of with `bridge`): joins to the object (`in`, per point of `pts`; the
 // clusters of `label` rooted at `best`) the clusters its own no-return gaps split off; `ground`
@@ -94,9 +106,27 @@ std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double
 void join_beside(const std::vector<Eigen::Vector3d>& pts, const std::vector<std::size_t>& label, double link,
                  std::vector<char>& in);
 
+// `min_share` and `shadows` as object_of's bridge_min_share and shadows.
 void bridge_gaps(const std::vector<Eigen::Vector3d>& pts, const std::vector<std::size_t>& label,
                  std::size_t best, const std::vector<Eigen::Vector2d>& ground, double ground_density,
-                 double link, double bridge, double bridge_length, std::vector<char>& in);
+                 double link, double bridge, double bridge_length, std::vector<char>& in,
+                 double min_share = 0, std::vector<Shadow>* shadows = nullptr);
+// classify.md §27: the area (m²) of the object's rectangle (its long axis along `u`, across `v`;
+// extents [u0, u1] x [v0, v1] in those coordinates) that the shadows cover, each counted by its
+// empty share (where shadows overlap, the largest), sampled on a grid of `step`.
+// classify.md §27 (fill_empty_cells): the area (m²) of the rectangle [0, length] x [0, width]
+// (coordinates along and across it) in cells of at least `cell` (as many whole cells as fit each
+// side) that hold none of `points` (every return of the crop, in those coordinates).
+double empty_area(const std::vector<Eigen::Vector2d>& points, double length, double width, double cell);
+// classify.md §27: the object's points per m² of its rectangle (long axis `u`, across `v`, extents
+// [u0, u1] x [v0, v1]) as fill counts them: f.density, or with fp.fill_empty_cells less the empty
+// cells (empty_area over every point of `c`, cells of 2 x f.crop_spacing), else with fp.bridge_fill
+// less the `shadows`; sets f.shadow_area (the cells' or the shadows' area, used or not).
+double solid_density(const Candidate& c, const std::vector<Shadow>& shadows, const Params& fp,
+                     const Eigen::Vector2d& u, const Eigen::Vector2d& v, double u0, double u1, double v0,
+                     double v1, Features& f);
+double shadow_area(const std::vector<Shadow>& shadows, const Eigen::Vector2d& u, const Eigen::Vector2d& v,
+                   double u0, double u1, double v0, double v1, double step = 0.02);
 // --bridge: a gap between two clusters whose ground returns reach this share of the crop's ground
 // density is open ground between two objects, not a vehicle's shadow.
 constexpr double kGapGround = 0.25;

@@ -55,6 +55,14 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
                   "width, at most this far in the top view (a windscreen's gap; 0: off)");
   tool.add_length("--bridge-length", &p.bridge_length,
                   "--bridge joins only while the object stays this short");
+  tool.add("--bridge-fill", &p.bridge_fill,
+           "fill leaves out of the rectangle the strips --bridge crossed, by the share of each that "
+           "returned nothing (a vehicle's glass; false: the whole rectangle)");
+  tool.add("--fill-empty-cells", &p.fill_empty_cells,
+           "fill leaves out of any object's rectangle the cells (2 x the crop's spacing) that hold no return "
+           "at all, not even the ground's (glass; instead of --bridge-fill's strips)");
+  tool.add("--bridge-min-share", &p.bridge_min_share,
+           "--bridge joins only a cluster holding at least this share of the object's points (0: any)");
   tool.add("--max-echo-widening", &p.max_echo_widening,
            "with echo_width in the candidate: an object whose median echo is wider than this many times "
            "the open ground's is vegetation_like, one at or under it is hard and ground_through does not "
