@@ -250,7 +250,9 @@ Scorer::Scorer(const Candidate& c, const Params& p) : c_(c), p_(p), impl_(std::m
     if (!known && views_.size() < 512) views_.push_back(s);
   }
   impl_->all.setInputCloud(to_pcl(c.points));
-  seen_radius_ = std::max(p.inlier_radius, p.seen_spacing * sample_spacing(above_));
+  // The candidate's spacing only when --seen-spacing reads it (a k-d tree and a search per point).
+  seen_radius_ = p.seen_spacing > 0 ? std::max(p.inlier_radius, p.seen_spacing * sample_spacing(above_))
+                                    : p.inlier_radius;
   for (const auto& s : views_) {
     Impl::View v;
     v.s = s;
