@@ -51,11 +51,11 @@ std::vector<ClassFeature> features_of(const Features& f) {
                                 optional("late_returns", f.late_returns),
                                 optional("echo_widening", f.echo_widening),
                                 optional("multi_returns", f.multi_returns)};
-  // Only when the crop holds several flight passes (classify.md §14): a crop without them gets
-  // the document it got before.
   // Only when --bridge crossed a strip inside the rectangle (classify.md §27).
   if (f.shadow_area > 0) out.push_back(number("shadow_area", f.shadow_area));
   if (f.fill_rectangle) out.push_back(optional("fill_rectangle", f.fill_rectangle));
+  // Only when the crop holds several flight passes (classify.md §14): a crop without them gets
+  // the document it got before.
   if (f.below_share_any) out.push_back(optional("below_share_any", f.below_share_any));
   if (f.ground_through_any) out.push_back(optional("ground_through_any", f.ground_through_any));
   if (f.late_shadowed) {

@@ -68,6 +68,14 @@ class Pulses {
 // Errors name the file: x y z missing, a non-finite coordinate.
 Candidate read_candidate(const formats::PointCloud& cloud, const std::string& name);
 
+// A strip --bridge crossed (classify.md §27): x between the facing ends of the object and the
+// joined cluster, y where both extend (candidate frame, top view), and `empty`, the share of it
+// that returned nothing: 1 - its returns (ground and any other above-ground point in it) over
+// what the crop's ground density puts there, in [0, 1].
+struct Shadow {
+  double x0 = 0, x1 = 0, y0 = 0, y1 = 0, empty = 0;
+};
+
 // Indices of the object's points: the above-ground points (z >= ground_cut) clustered at
 // distance `link`; the largest cluster whose top-view box (padded by `link`) holds the origin,
 // else the largest. With `bridge` > 0 (classify.md §21) other clusters join it across gaps of up
@@ -82,14 +90,6 @@ Candidate read_candidate(const formats::PointCloud& cloud, const std::string& na
 // frame's x axis than the wider of the two + 0.3 m) and holding at least 10% of the object's
 // points joins it, until none does: seen from above a
 // vertical face returns nothing, so a cab and its deck, a cab top and its body touch only in plan.
-// A strip --bridge crossed (classify.md §27): x between the facing ends of the object and the
-// joined cluster, y where both extend (candidate frame, top view), and `empty`, the share of it
-// that returned nothing: 1 - its returns (ground and any other above-ground point in it) over
-// what the crop's ground density puts there, in [0, 1].
-struct Shadow {
-  double x0 = 0, x1 = 0, y0 = 0, y1 = 0, empty = 0;
-};
-
 // With `bridge_min_share` > 0 (classify.md §27) a cluster joins across a gap only when it holds
 // at least that share of the object's points (as the object stands); with `shadows` the strips the
 // bridge crossed are appended to it.
@@ -97,23 +97,20 @@ std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double
                                    double bridge = 0, double bridge_length = 6.0, bool join_stacked = false,
                                    double bridge_min_share = 0, std::vector<Shadow>* shadows = nullptr);
 
-// classify.md §21 (object_of with `bridge`): joins to the object (`in`, per point of `pts`; the
-// clusters of `label` rooted at `best`) the clusters its own no-return gaps split off; `ground`
-// the crop's ground returns (top view), `ground_density` per m² of the crop.
 // classify.md §25 (object_of with `join_stacked`): joins to the object (`in`, per point of `pts`)
 // each cluster of `label` that meets it within `link` in the top view, beside it, in line with it
 // and holding at least 10% of its points, until none joins.
 void join_beside(const std::vector<Eigen::Vector3d>& pts, const std::vector<std::size_t>& label, double link,
                  std::vector<char>& in);
 
-// `min_share` and `shadows` as object_of's bridge_min_share and shadows.
+// classify.md §21 (object_of with `bridge`): joins to the object (`in`, per point of `pts`; the
+// clusters of `label` rooted at `best`) the clusters its own no-return gaps split off; `ground`
+// the crop's ground returns (top view), `ground_density` per m² of the crop. `min_share` and
+// `shadows` as object_of's bridge_min_share and shadows.
 void bridge_gaps(const std::vector<Eigen::Vector3d>& pts, const std::vector<std::size_t>& label,
                  std::size_t best, const std::vector<Eigen::Vector2d>& ground, double ground_density,
                  double link, double bridge, double bridge_length, std::vector<char>& in,
                  double min_share = 0, std::vector<Shadow>* shadows = nullptr);
-// classify.md §27: the area (m²) of the object's rectangle (its long axis along `u`, across `v`;
-// extents [u0, u1] x [v0, v1] in those coordinates) that the shadows cover, each counted by its
-// empty share (where shadows overlap, the largest), sampled on a grid of `step`.
 // classify.md §27 (fill_empty_cells): the area (m²) of the rectangle [0, length] x [0, width]
 // (coordinates along and across it) in cells of at least `cell` (as many whole cells as fit each
 // side) that hold none of `points` (every return of the crop, in those coordinates).
@@ -125,6 +122,9 @@ double empty_area(const std::vector<Eigen::Vector2d>& points, double length, dou
 double solid_density(const Candidate& c, const std::vector<Shadow>& shadows, const Params& fp,
                      const Eigen::Vector2d& u, const Eigen::Vector2d& v, double u0, double u1, double v0,
                      double v1, Features& f);
+// classify.md §27: the area (m²) of the object's rectangle (its long axis along `u`, across `v`;
+// extents [u0, u1] x [v0, v1] in those coordinates) that the shadows cover, each counted by its
+// empty share (where shadows overlap, the largest), sampled on a grid of `step`.
 double shadow_area(const std::vector<Shadow>& shadows, const Eigen::Vector2d& u, const Eigen::Vector2d& v,
                    double u0, double u1, double v0, double v1, double step = 0.02);
 // --bridge: a gap between two clusters whose ground returns reach this share of the crop's ground
@@ -161,9 +161,9 @@ void penetration_cues(const Candidate& c, const std::vector<std::size_t>& object
 void echo_cue(const Candidate& c, const std::vector<std::size_t>& object, const Params& fp, Features& f);
 
 // classify.md §5, §22, §26: f.late_returns and f.multi_returns of the object's points (with return
-// numbers), f.ring_returns and f.ring_shadowed (the crop's ground returns outside the rectangle
-// u0..u1 along u, v0..v1 along v that `counted` marks, and their later-return share) and, with
-// fp.late_returns_inside or fp.late_shadow, f.late_shadowed.
+// numbers) and, with fp.late_returns_inside or fp.late_shadow, f.late_shadowed, f.ring_returns and
+// f.ring_shadowed (the crop's ground returns outside the rectangle u0..u1 along u, v0..v1 along v
+// that `counted` marks, and their later-return share).
 void late_cues(const Candidate& c, const std::vector<std::size_t>& object, const std::vector<char>& counted,
                const Eigen::Vector2d& u, const Eigen::Vector2d& v, double u0, double u1, double v0, double v1,
                const Params& fp, Features& f);

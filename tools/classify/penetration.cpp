@@ -261,8 +261,10 @@ void penetration_cues(const Candidate& c, const std::vector<std::size_t>& object
 void late_cues(const Candidate& c, const std::vector<std::size_t>& object, const std::vector<char>& counted,
                const Vector2d& u, const Vector2d& v, double u0, double u1, double v0, double v1,
                const Params& fp, Features& f) {
-  // The shade around the object (classify.md §26): the same ground returns' later-return share.
-  if (!c.return_number.empty()) {
+  if (c.return_number.empty()) return;
+  // The shade around the object (classify.md §26): the same ground returns' later-return share;
+  // read by late_shadow and written beside late_shadowed, so measured only with one of the options.
+  if (fp.late_returns_inside || fp.late_shadow) {
     std::size_t known = 0, later = 0;
     for (std::size_t i = 0; i < c.points.size(); ++i) {
       const Vector3d& p = c.points[i];
@@ -277,27 +279,24 @@ void late_cues(const Candidate& c, const std::vector<std::size_t>& object, const
     f.ring_returns = known;
     if (known >= 10) f.ring_shadowed = static_cast<double>(later) / static_cast<double>(known);
   }
-  if (!c.return_number.empty()) {
-    std::size_t late = 0, shadowed = 0, multi = 0, known = 0;
-    const std::vector<bool> inside = split_inside(c, object, fp);
-    for (std::size_t i : object) {
-      if (c.return_number[i] == 0 || c.number_of_returns[i] == 0) continue;
-      ++known;
-      late += c.return_number[i] > 1 && inside[i];
-      shadowed += c.return_number[i] > 1 && !inside[i];
-      multi += c.number_of_returns[i] > 1;
-    }
-    if (known > 0) {
-      // Shadowed returns: none with late_returns_inside (§22), weighed by the shade around the
-      // object with late_shadow (§26; full weight when the shade is unknown).
-      const double weight = fp.late_shadow ? f.ring_shadowed.value_or(1.0) : 0.0;
-      const double n = static_cast<double>(known);
-      f.late_returns = (static_cast<double>(late) + weight * static_cast<double>(shadowed)) / n;
-      f.multi_returns = static_cast<double>(multi) / n;
-      if ((fp.late_returns_inside || fp.late_shadow) && !c.time.empty())
-        f.late_shadowed = static_cast<double>(shadowed) / n;
-    }
+  std::size_t late = 0, shadowed = 0, multi = 0, known = 0;
+  const std::vector<bool> inside = split_inside(c, object, fp);
+  for (std::size_t i : object) {
+    if (c.return_number[i] == 0 || c.number_of_returns[i] == 0) continue;
+    ++known;
+    late += c.return_number[i] > 1 && inside[i];
+    shadowed += c.return_number[i] > 1 && !inside[i];
+    multi += c.number_of_returns[i] > 1;
   }
+  if (known == 0) return;
+  // Shadowed returns: none with late_returns_inside (§22), weighed by the shade around the
+  // object with late_shadow (§26; full weight when the shade is unknown).
+  const double weight = fp.late_shadow ? f.ring_shadowed.value_or(1.0) : 0.0;
+  const double n = static_cast<double>(known);
+  f.late_returns = (static_cast<double>(late) + weight * static_cast<double>(shadowed)) / n;
+  f.multi_returns = static_cast<double>(multi) / n;
+  if ((fp.late_returns_inside || fp.late_shadow) && !c.time.empty())
+    f.late_shadowed = static_cast<double>(shadowed) / n;
 }
 
 }  // namespace canopy::classify
