@@ -44,6 +44,8 @@ density_pairs := $(shell awk -v k='$(DENSITY_K)' -v levels='$(strip $(DENSITY_LE
     if (i > 1 && d[i] + 0 <= d[i - 1] + 0) { print "ERROR DENSITY_LEVELS=" levels ": the levels must rise"; exit } \
     mm = int(1000 * sqrt(k / d[i]) + 0.5); out = out sprintf("%s:%d:%.3f ", d[i], mm, mm / 1000) } print out }')
 $(if $(filter ERROR,$(firstword $(density_pairs))),$(error $(wordlist 2,$(words $(density_pairs)),$(density_pairs))))
+$(if $(DENSITY_CLASSIFY_ABLATION),$(if $(wildcard $(DENSITY_CLASSIFY_ABLATION)),,$(error \
+  DENSITY_CLASSIFY_ABLATION=$(DENSITY_CLASSIFY_ABLATION) does not exist)))
 endif
 # The ladder on the realistic sensor (docs/decisions/density-ladder.md, "The ladder on the
 # realistic sensor"): the same tiles rendered in sensor mode (mk/scenes.mk SCENE_SENSOR) with
@@ -57,11 +59,26 @@ endif
 DENSITY_SENSOR ?= als_qL1
 DENSITY_SENSOR_LEVELS ?= 10 25 50
 DENSITY_SENSOR_L0 ?= 26.5
+# classify's ablation on every level of the pixel ladder (SCENE_CLASSIFY_ABLATION of its `make
+# scenes`, as on the sensor levels below; the report's "classify's ablation on the density
+# ladder"): classify-sim.ini with the roughness threshold's floor before classify.md §28 (0.1 m).
+# Empty: none.
+DENSITY_CLASSIFY_ABLATION ?= bench/density/classify-sim-floor-100.ini
 # classify's ablation on every sensor level (SCENE_CLASSIFY_ABLATION of its `make scenes`: the same
 # candidates classified a second time, collected and scored as <level>/class-ablation/score.json;
 # the report's "classify's ablation on the sensor ladder"): classify-sim.ini before classify.md §23
 # (max-late-returns 0.35; the sensor tiles are the only ones with return numbers). Empty: none.
 DENSITY_SENSOR_CLASSIFY_ABLATION ?= bench/density/classify-sim-late-0.35.ini
+# verify's ablation on every level of both ladders (SCENE_VERIFY_ABLATION of its `make scenes`: the
+# model-level candidates verified a second time with these options, collected and scored as
+# <level>/verify-ablation/score.json; the report's "verify's ablation on the density ladder"):
+# --seen-spacing=0, the free-space test before docs/decisions/verify.md §17 (the seen radius
+# inlier-radius alone, not the candidate's own sample spacing). Options as --name=value; empty:
+# none.
+DENSITY_VERIFY_ABLATION ?= --seen-spacing=0
+$(if $(filter-out --%,$(DENSITY_VERIFY_ABLATION)),$(error DENSITY_VERIFY_ABLATION=$(DENSITY_VERIFY_ABLATION): \
+  verify's options, each as --name=value))
+density_verify_change = $(subst $(space),+,$(strip $(DENSITY_VERIFY_ABLATION)))
 # LEVEL:PULSE_RATE:SPEED per level, or ERROR <why> (the preset's keys read from its file).
 ifneq ($(DENSITY_SENSOR),)
 ifneq ($(filter 1,$(DENSITY_LADDER))$(filter density density-sensor,$(MAKECMDGOALS)),)
@@ -93,23 +110,31 @@ density_m = $(word 3,$(subst :, ,$(filter $(1):%,$(density_pairs))))
 DENSITY_SCORES := $(foreach d,$(DENSITY_LEVELS),$(DENSITY_RES)/d$(d)/score.json)
 
 # The records of the experiment's manifest (Makefile.experiments): level, spacing (m), score;
-# the sensor ladder's: level, preset, score [, classify's ablation: its parameter file and score].
+# the sensor ladder's: level, preset, score [, classify's ablation: its parameter file and score];
+# after each level, verify's ablation: the ladder (pixel or the preset), level, options, score.
+density_verify_record = $(if $(DENSITY_VERIFY_ABLATION),$(call ml,density-verify $(1) $(2) $(density_verify_change) \
+  $(DENSITY_RES)/$(3)/verify-ablation/score.json))
 EXPERIMENT_DENSITY := $(if $(filter 1,$(DENSITY_LADDER)),$(foreach d,$(DENSITY_LEVELS),$(call ml,density $(d) \
-  $(call density_m,$(d)) $(DENSITY_RES)/d$(d)/score.json))$(if $(DENSITY_SENSOR),$(foreach d,$(DENSITY_SENSOR_LEVELS),$(call \
+  $(call density_m,$(d)) $(DENSITY_RES)/d$(d)/score.json$(if $(DENSITY_CLASSIFY_ABLATION), $(DENSITY_CLASSIFY_ABLATION) \
+  $(DENSITY_RES)/d$(d)/class-ablation/score.json))$(call density_verify_record,pixel,$(d),d$(d)))$(if \
+  $(DENSITY_SENSOR),$(foreach d,$(DENSITY_SENSOR_LEVELS),$(call \
   ml,density-sensor $(d) $(DENSITY_SENSOR) $(DENSITY_RES)/$(DENSITY_SENSOR)-$(d)/score.json$(if \
   $(DENSITY_SENSOR_CLASSIFY_ABLATION), $(DENSITY_SENSOR_CLASSIFY_ABLATION) \
-  $(DENSITY_RES)/$(DENSITY_SENSOR)-$(d)/class-ablation/score.json)))))
+  $(DENSITY_RES)/$(DENSITY_SENSOR)-$(d)/class-ablation/score.json))$(call \
+  density_verify_record,$(DENSITY_SENSOR),$(d),$(DENSITY_SENSOR)-$(d)))))
 
 ifeq ($(filter scenes,$(MAKECMDGOALS)),)
 # density_args(LEVEL): the level's `make scenes`: its own directories and spacing, noise 0, the
-# scores only (no pictures, no PCL baseline, no size-only ablation).
+# scores only (no pictures, no PCL baseline, no size-only ablation), verify's ablation and, on
+# the pixel ladder, classify's.
 # density_args(LEVEL[, RUNG, RENDER]): the same for rung RUNG (default d<LEVEL>) rendered with the
 # scene variables RENDER (default the level's spacing): the sensor ladder's levels.
 density_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROGRESS=0 \
   SCENE_DIR=$(DENSITY_DIR)/$(or $(2),d$(1)) SCENE_RES=$(DENSITY_RES)/$(or $(2),d$(1)) \
   $(or $(3),SCENE_SPACING=$(call density_mm,$(1))mm) \
   SCENE_SEEDS="$(DENSITY_SEEDS)" SCENE_COVERS="$(DENSITY_COVERS)" SCENE_MODELS=$(DENSITY_MODELS) SCENE_NOISES=0 SCENE_BASELINE= \
-  SCENE_SIZE_ONLY=0 SCENE_PICTURES=0
+  SCENE_SIZE_ONLY=0 SCENE_PICTURES=0$(if $(DENSITY_VERIFY_ABLATION), SCENE_VERIFY_ABLATION='$(DENSITY_VERIFY_ABLATION)')$(if \
+  $(2),,$(if $(DENSITY_CLASSIFY_ABLATION), SCENE_CLASSIFY_ABLATION=$(DENSITY_CLASSIFY_ABLATION)))
 # density_sensor_args(LEVEL): a level of the sensor ladder.
 density_sensor_args = $(call density_args,$(1),$(DENSITY_SENSOR)-$(1),SCENE_SENSOR=$(DENSITY_SENSOR) \
   SCENE_SENSOR_KEYS="pulse_rate=$(call density_sensor_rate,$(1)) speed=$(call density_sensor_speed,$(1))" \

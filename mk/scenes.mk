@@ -96,6 +96,12 @@ SCENE_CLASSIFY_ABLATION ?=
 # as $(SCENE_RES)/collect-ablation/score.json. Empty, the default, leaves it out; the open set
 # sets it (mk/openset.mk: --contradicted-below=0 --refused-below=0, the model answer first).
 SCENE_COLLECT_ABLATION ?=
+# SCENE_VERIFY_ABLATION=<verify options, each as --name=value>: verify run a second time on every
+# candidate that reached the model chain, with these options after its parameters
+# (cands/<id>/verdict-ablation.json), collected from those verdicts and the same class answers
+# and scored beside canopy's as $(SCENE_RES)/verify-ablation/score.json. Empty, the default,
+# leaves it out; the density ladder sets it (mk/density.mk DENSITY_VERIFY_ABLATION).
+SCENE_VERIFY_ABLATION ?=
 $(foreach f,$(TILE_CLASSIFY) $(SCENE_CLASSIFY) $(SCENE_CLASSIFY_ABLATION),$(if $(wildcard $(f))$(filter $(OUT)/%,$(f)),,$(error classify's parameters: $(f) does not exist)))
 
 # The tile workflow's options as prerequisites (the options files, Makefile.experiments): one
@@ -115,8 +121,10 @@ opts_text_models = $(call opts_line,fitvox,$(TILE_FITVOX))$(call opts_line,param
 opts_text_collect = $(call opts_line,calibration,$(COLLECT_CALIBRATION))$(call opts_line,crs,$(CRS))
 opts_text_collect-ablation = $(call opts_line,options,$(SCENE_COLLECT_ABLATION))$(call \
   opts_line,calibration,$(COLLECT_CALIBRATION))
+opts_text_verify-ablation = $(call opts_line,options,$(SCENE_VERIFY_ABLATION))
 tile_opts_kinds = $(call opts_kinds,$(1),detect plan classify models collect$(if $(value opts_text_topview), topview)$(if \
-  $(SCENE_CLASSIFY_ABLATION), classify-ablation)$(if $(SCENE_COLLECT_ABLATION), collect-ablation))
+  $(SCENE_CLASSIFY_ABLATION), classify-ablation)$(if $(SCENE_COLLECT_ABLATION), collect-ablation)$(if \
+  $(SCENE_VERIFY_ABLATION), verify-ablation))
 
 # read_plan(FILE): a generated candidate plan. A real run includes it, so make remakes it first
 # (detect, the plan) and re-reads the makefiles; a dry run (-n, -q, -t) reads it as it is and
@@ -177,6 +185,13 @@ class_ablation_rules = $(foreach c,$($(2)_CANDS),$(eval $(call class_rule,$(1),$
 # OPTIONS (detections-collect-ablation.json). SCENE_COLLECT_ABLATION below.
 collect_ablation_rules = $(eval $(call collect_variant_rule,$(1),$(2),$(3),collect-ablation,class.json,verdict.json,,$(4)$(collect_calibration),$(COLLECT_CALIBRATION) \
   $(opts.collect-ablation)))
+# verify_ablation_rules(DIR, KEY, MODELBASE, OPTIONS): verify's ablation on every model-level
+# candidate of a run (cands/<id>/verdict-ablation.json, with OPTIONS) and the run's detections
+# with it (detections-verify-ablation.json: the same class answers, those verdicts; collect
+# --verdict-name). SCENE_VERIFY_ABLATION below.
+verify_ablation_rules = $(foreach c,$(call model_cands,$(2)),$(eval $(call verify_rule,$(1),$(c),$(2),$(3),verdict-ablation.json,$(4))))$(eval \
+  $(call collect_variant_rule,$(1),$(2),$(3),verify-ablation,class.json,verdict-ablation.json,--verdict-name \
+  verdict-ablation.json$(collect_calibration),,$(COLLECT_CALIBRATION) $(opts.collect)))
 # variant_score_rule(VARIANT, DIR, MANIFEST, RUNS, RES, CLASSES): the score of every run's
 # detections-VARIANT.json as RES/VARIANT/score.json, over DIR/tiles-VARIANT.txt (the score's tile
 # list MANIFEST with each run's detections.json so renamed), CLASSES the model classes (score
@@ -219,9 +234,16 @@ $(1)/cands/$(2)/segments.json: $(1)/cands/$(2)/mesh.ply $(call tool,ncut) $(P)/n
 $(1)/cands/$(2)/match.json: $(1)/cands/$(2)/segments.json $(wildcard $(4)/*.json) $(call tool,gmatch) $(P)/gmatch.ini \
     $(opts.models)
 	@$(STAGE) --record-failure $$@ -- $(BIN)/gmatch --config $(P)/gmatch.ini -i $$< --modelbase $(4) -o $$@
-$(1)/cands/$(2)/verdict.json: $(1)/cands/$(2)/match.json $(1)/cands/$(2)/samples.pcd \
-    $(wildcard $(4)/*.json $(4)/*.pcd) $(call tool,verify) $(wildcard $(P)/verify.ini) $($(3)_TRAJECTORY) $(opts.models)
-	@$(STAGE) --record-failure $$@ -- $(BIN)/verify $(call scene_config,verify) -i $$< \
+$(call verify_rule,$(1),$(2),$(3),$(4),verdict.json)
+endef
+# verify_rule(DIR, ID, KEY, MODELBASE, NAME[, OPTIONS]): verify on one model-level candidate's
+# match into cands/<id>/NAME, with OPTIONS after its parameters (SCENE_VERIFY_ABLATION's
+# verdict-ablation.json, which also depends on those options' file).
+define verify_rule
+$(1)/cands/$(2)/$(5): $(1)/cands/$(2)/match.json $(1)/cands/$(2)/samples.pcd \
+    $(wildcard $(4)/*.json $(4)/*.pcd) $(call tool,verify) $(wildcard $(P)/verify.ini) $($(3)_TRAJECTORY) $(opts.models)$(if \
+    $(6), $(opts.verify-ablation))
+	@$(STAGE) --record-failure $$@ -- $(BIN)/verify $(call scene_config,verify)$(if $(6), $(6)) -i $$< \
 	  --points $(1)/cands/$(2)/samples.pcd --segments $(1)/cands/$(2)/segments.json \
 	  --modelbase $(4) --transform $($(3)_TRANSFORM_$(2))$(if $($(3)_TRAJECTORY), --trajectory $($(3)_TRAJECTORY)) -o $$@
 endef
@@ -359,7 +381,8 @@ SCENE_SIZE_ONLY ?= 1
 $(if $(filter-out 0 1,$(SCENE_SIZE_ONLY)),$(error SCENE_SIZE_ONLY=$(SCENE_SIZE_ONLY): must be 0 or 1))
 SCENE_BL_SCORES := $(foreach m,$(SCENE_BASELINE) $(if $(filter 1,$(SCENE_SIZE_ONLY)),size),$(SCENE_RES)/baseline-$(m)/score.json)
 SCENE_ABL_SCORE := $(if $(SCENE_CLASSIFY_ABLATION),$(SCENE_RES)/class-ablation/score.json) \
-  $(if $(SCENE_COLLECT_ABLATION),$(SCENE_RES)/collect-ablation/score.json)
+  $(if $(SCENE_COLLECT_ABLATION),$(SCENE_RES)/collect-ablation/score.json) \
+  $(if $(SCENE_VERIFY_ABLATION),$(SCENE_RES)/verify-ablation/score.json)
 
 .PHONY: scenes
 # The report's "Scene experiment" section: the score, and the stages' .time files found through
@@ -498,6 +521,14 @@ endif
 ifneq ($(SCENE_COLLECT_ABLATION),)
 $(foreach r,$(SCENE_RUNS),$(call collect_ablation_rules,$(r),$(call scene_key,$(r)),$(SCENE_MB),$(SCENE_COLLECT_ABLATION)))
 $(eval $(call scene_variant_score_rule,collect-ablation))
+endif
+# verify's ablation (SCENE_VERIFY_ABLATION): per model-level candidate and run, then one score.
+ifneq ($(SCENE_VERIFY_ABLATION),)
+TILE_CAND_KINDS += verify:cand/verdict-ablation.json
+$(foreach r,$(SCENE_RUNS),$(call verify_ablation_rules,$(r),$(call scene_key,$(r)),$(SCENE_MB),$(SCENE_VERIFY_ABLATION)))
+$(foreach r,$(SCENE_RUNS),$(foreach c,$(call model_cands,$(call scene_key,$(r))),\
+  $(eval $(r)/cands/$(c)/verdict-ablation.json: $(MODELBASE) $(VERIFY_SURFACES))))
+$(eval $(call scene_variant_score_rule,verify-ablation))
 endif
 # Per run: the tile from above with truth and detections coloured by the score's outcome
 # (right green, wrong model orange, false alarm magenta, missed yellow, found truth white).

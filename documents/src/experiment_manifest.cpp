@@ -112,12 +112,33 @@ struct Parser {
       expect(w, 3, 4, "real NAME DIR [TRUTH]");
       if (!real_names.insert(word(w[1], "real tile")).second) fail("a second real tile " + w[1]);
       m.real.push_back({w[1], w[2], w.size() == 4 ? w[3] : ""});
+    } else if (kind == "real-ablation") {
+      expect(w, 4, 4, "real-ablation NAME DIR CONFIG");
+      if (m.real.empty() || m.real.back().name != w[1])
+        fail("real-ablation " + w[1] + " does not follow its tile's real record");
+      if (!m.real.back().ablation_dir.empty()) fail("a second real-ablation " + w[1]);
+      m.real.back().ablation_dir = w[2];
+      m.real.back().ablation_config = w[3];
+    } else if (kind == "density-verify") {
+      expect(w, 5, 5, "density-verify LADDER LEVEL CHANGE SCORE");
+      const std::string ladder = word(w[1], "ladder");
+      std::vector<ManifestDensity>& rungs = ladder == "pixel" ? m.density : m.density_sensor;
+      const double level = positive(w[2], "density level");
+      if (rungs.empty() || rungs.back().level != level || (ladder != "pixel" && rungs.back().sensor != ladder))
+        fail("density-verify " + ladder + " " + w[2] + " does not follow its rung's record");
+      if (!rungs.back().verify_score.empty()) fail("a second density-verify " + ladder + " " + w[2]);
+      std::string change = w[3];
+      std::replace(change.begin(), change.end(), '+', ' ');
+      rungs.back().verify_change = change;
+      rungs.back().verify_score = w[4];
     } else if (kind == "density") {
-      expect(w, 4, 4, "density LEVEL SPACING SCORE");
+      expect(w, 4, 6, "density LEVEL SPACING SCORE [ABLATION_CONFIG ABLATION_SCORE]");
+      if (w.size() == 5) fail("density: an ablation needs its parameter file and its score.json");
       const double level = positive(w[1], "density level"), spacing = positive(w[2], "pixel spacing");
       if (!m.density.empty() && level <= m.density.back().level)
         fail("density level " + w[1] + " does not rise above the one before it");
-      m.density.push_back({level, spacing, w[3], "", "", ""});
+      m.density.push_back(
+          {level, spacing, w[3], "", w.size() == 6 ? w[4] : "", w.size() == 6 ? w[5] : "", "", ""});
     } else if (kind == "density-sensor") {
       expect(w, 4, 6, "density-sensor LEVEL PRESET SCORE [ABLATION_CONFIG ABLATION_SCORE]");
       if (w.size() == 5) fail("density-sensor: an ablation needs its parameter file and its score.json");
@@ -128,10 +149,12 @@ struct Parser {
       if (!m.density_sensor.empty() && preset != m.density_sensor.back().sensor)
         fail("density-sensor preset " + preset + " is not the one before it (" +
              m.density_sensor.back().sensor + "): one sensor ladder");
-      m.density_sensor.push_back({level, 0, w[3], preset, w.size() == 6 ? w[4] : "", w.size() == 6 ? w[5] : ""});
+      m.density_sensor.push_back(
+          {level, 0, w[3], preset, w.size() == 6 ? w[4] : "", w.size() == 6 ? w[5] : "", "", ""});
     } else {
       fail("unknown record '" + kind +
-           "' (trial, model, render, ablation, ablation-trial, figure, real, density, density-sensor)");
+           "' (trial, model, render, ablation, ablation-trial, figure, real, real-ablation, density, "
+           "density-sensor, density-verify)");
     }
   }
 
@@ -213,13 +236,28 @@ std::string write_experiment_manifest(const ExperimentManifest& m) {
     }
   }
   for (const auto& f : m.figures) out << "figure " << f << '\n';
-  for (const auto& r : m.real)
+  for (const auto& r : m.real) {
     out << "real " << r.name << ' ' << r.dir << (r.truth.empty() ? "" : " " + r.truth) << '\n';
-  for (const auto& d : m.density)
-    out << "density " << std::setprecision(10) << d.level << ' ' << d.spacing << ' ' << d.score << '\n';
-  for (const auto& d : m.density_sensor)
-    out << "density-sensor " << std::setprecision(10) << d.level << ' ' << d.sensor << ' ' << d.score
+    if (!r.ablation_dir.empty())
+      out << "real-ablation " << r.name << ' ' << r.ablation_dir << ' ' << r.ablation_config << '\n';
+  }
+  const auto verify = [&out](const std::string& ladder, const ManifestDensity& d) {
+    if (d.verify_score.empty()) return;
+    std::string change = d.verify_change;
+    std::replace(change.begin(), change.end(), ' ', '+');
+    out << "density-verify " << ladder << ' ' << d.level << ' ' << change << ' ' << d.verify_score << '\n';
+  };
+  out << std::setprecision(10);
+  for (const auto& d : m.density) {
+    out << "density " << d.level << ' ' << d.spacing << ' ' << d.score
         << (d.ablation_score.empty() ? "" : " " + d.ablation_config + " " + d.ablation_score) << '\n';
+    verify("pixel", d);
+  }
+  for (const auto& d : m.density_sensor) {
+    out << "density-sensor " << d.level << ' ' << d.sensor << ' ' << d.score
+        << (d.ablation_score.empty() ? "" : " " + d.ablation_config + " " + d.ablation_score) << '\n';
+    verify(d.sensor, d);
+  }
   return out.str();
 }
 

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -1506,15 +1507,18 @@ TEST_CASE("classify: the binary writes a class-level verdict; same input, same b
   const Json w = Json::parse(slurp(dir / "t.json"));
   CHECK(w["pose_tile"]["heading_deg"].get<double>() == Approx(ht).margin(1e-9));
 
-  // share/params/classify.ini holds the defaults (classify.md §27: its bridge rule, measured, is
-  // off there as in Params until the report carries its ablation): the same answer with it.
+  // share/params/classify.ini holds the defaults but for the gap bridge (classify.md §27: on
+  // there, off in Params): the same answer as the defaults with the bridge's three options.
   REQUIRE(test::sh(kBin + args + " --config " + std::string(CANOPY_SOURCE_DIR) +
                        "/share/params/classify.ini -o " + (dir / "ini.json").string(),
                    dir / "err", &err) == 0);
-  Json with_ini = Json::parse(slurp(dir / "ini.json")), without = v;
+  REQUIRE(test::sh(kBin + args + " --bridge 1m --bridge-fill true --bridge-min-share 0.1 -o " +
+                       (dir / "bridge.json").string(),
+                   dir / "err", &err) == 0);
+  Json with_ini = Json::parse(slurp(dir / "ini.json")), bridged = Json::parse(slurp(dir / "bridge.json"));
   with_ini.erase("provenance");
-  without.erase("provenance");
-  CHECK(with_ini == without);
+  bridged.erase("provenance");
+  CHECK(with_ini == bridged);
 
   // A none answer says why, with no pose and no size.
   formats::PointCloud five;
@@ -2099,4 +2103,42 @@ TEST_CASE("classify: sight lines: a wheel loader's overhanging parts are solid, 
   CHECK(on.features.below_share == off.features.below_share);
   CHECK(on.features.ground_through == off.features.ground_through);
   CHECK(on.reason == off.reason);
+}
+
+namespace {
+
+// An ini file's "key = value" lines (comments and blank lines left out; blanks around '=' trimmed).
+std::map<std::string, std::string> ini_keys(const std::string& path) {
+  std::ifstream in(path);
+  REQUIRE(in.good());
+  std::map<std::string, std::string> keys;
+  const auto trim = [](std::string s) {
+    s.erase(0, s.find_first_not_of(" \t\r"));
+    s.erase(s.find_last_not_of(" \t\r") + 1);
+    return s;
+  };
+  for (std::string line; std::getline(in, line);) {
+    line = trim(line);
+    if (line.empty() || line[0] == '#' || line[0] == ';') continue;
+    const auto eq = line.find('=');
+    REQUIRE(eq != std::string::npos);
+    keys[trim(line.substr(0, eq))] = trim(line.substr(eq + 1));
+  }
+  return keys;
+}
+
+}  // namespace
+
+TEST_CASE("the real tiles' classify ablation is classify.ini with the gap bridge off and nothing else") {
+  // share/real/classify-bridge-0.ini (mk/real.mk REAL_CLASSIFY_ABLATION; classify.md §27) must
+  // follow classify.ini: a key changed in one and not the other would make the report's ablation
+  // measure two changes.
+  const std::string src = CANOPY_SOURCE_DIR;
+  auto defaults = ini_keys(src + "/share/params/classify.ini");
+  auto ablation = ini_keys(src + "/share/real/classify-bridge-0.ini");
+  CHECK(defaults.at("bridge") == "1m");
+  CHECK(ablation.at("bridge") == "0");
+  for (auto* keys : {&defaults, &ablation})
+    for (const char* k : {"bridge", "bridge-fill", "bridge-min-share"}) keys->erase(k);
+  CHECK(defaults == ablation);
 }

@@ -33,9 +33,13 @@ const char* kManifest =
     "figure pictures/tank-circle.png\n"
     "real forest_lareunion out/real/forest_lareunion\n"
     "real urban_1 out/real/urban_1 share/real/urban_1.truth.json\n"
-    "density 10 0.667 res/density/d10/score.json\n"
+    "real-ablation urban_1 out/real-ablation/urban_1 bench/real/no-bridge.ini\n"
+    "density 10 0.667 res/density/d10/score.json bench/density/floor.ini "
+    "res/density/d10/class-ablation/score.json\n"
     "density 25.5 0.418 res/density/d25.5/score.json\n"
+    "density-verify pixel 25.5 --seen-spacing=0 res/density/d25.5/verify-ablation/score.json\n"
     "density-sensor 10 als_qL1 res/density/als_qL1-10/score.json\n"
+    "density-verify als_qL1 10 --seen-spacing=0+--top-k=5 res/density/als_qL1-10/verify-ablation/score.json\n"
     "density-sensor 25 als_qL1 res/density/als_qL1-25/score.json bench/density/late.ini "
     "res/density/als_qL1-25/class-ablation/score.json\n";
 
@@ -110,6 +114,25 @@ TEST_CASE("experiment manifest: every record read, the grid in order of first ap
   REQUIRE(again.density_sensor.size() == 2);
   CHECK(again.density_sensor[1].sensor == "als_qL1");
   CHECK(again.density_sensor[1].ablation_score == "res/density/als_qL1-25/class-ablation/score.json");
+  // verify's ablation on a rung of each ladder (blanks restored), none on the others; classify's on
+  // a real tile.
+  CHECK(m.density[0].verify_score.empty());
+  CHECK(m.density[0].ablation_config == "bench/density/floor.ini");
+  CHECK(m.density[0].ablation_score == "res/density/d10/class-ablation/score.json");
+  CHECK(m.density[1].ablation_score.empty());
+  CHECK(again.density[0].ablation_config == "bench/density/floor.ini");
+  CHECK(m.density[1].verify_change == "--seen-spacing=0");
+  CHECK(m.density[1].verify_score == "res/density/d25.5/verify-ablation/score.json");
+  CHECK(m.density_sensor[0].verify_change == "--seen-spacing=0 --top-k=5");
+  CHECK(m.density_sensor[0].verify_score == "res/density/als_qL1-10/verify-ablation/score.json");
+  CHECK(m.density_sensor[1].verify_score.empty());
+  CHECK(again.density[1].verify_score == m.density[1].verify_score);
+  CHECK(again.density_sensor[0].verify_change == "--seen-spacing=0 --top-k=5");
+  CHECK(m.real[0].ablation_dir.empty());
+  CHECK(m.real[1].ablation_dir == "out/real-ablation/urban_1");
+  CHECK(m.real[1].ablation_config == "bench/real/no-bridge.ini");
+  CHECK(again.real[1].ablation_dir == "out/real-ablation/urban_1");
+  CHECK(documents::write_experiment_manifest(again) == documents::write_experiment_manifest(m));
 }
 
 TEST_CASE("experiment manifest: malformed records and grids are refused naming the line") {
@@ -144,7 +167,11 @@ TEST_CASE("experiment manifest: malformed records and grids are refused naming t
   CHECK(refusal(t + "figure\n").find("line 2: expected 'figure PATH'") != std::string::npos);
   CHECK(refusal(t + "real a d\nreal a e\n").find("line 3: a second real tile a") != std::string::npos);
   CHECK(refusal(t + "real a d t x\n").find("line 2: expected 'real NAME DIR [TRUTH]'") != std::string::npos);
-  CHECK(refusal(t + "density 10 0.5\n").find("line 2: expected 'density LEVEL SPACING SCORE'") !=
+  CHECK(refusal(t + "density 10 0.5\n")
+            .find("line 2: expected 'density LEVEL SPACING SCORE [ABLATION_CONFIG ABLATION_SCORE]'") !=
+        std::string::npos);
+  CHECK(refusal(t + "density 10 0.5 s a.ini\n").find("line 2: density: an ablation needs") != std::string::npos);
+  CHECK(refusal(t + "density 10 0.5 s a.ini b c\n").find("line 2: expected 'density LEVEL") !=
         std::string::npos);
   CHECK(refusal(t + "density ten 0.5 s\n").find("line 2: density level 'ten' is not a number") !=
         std::string::npos);
@@ -164,6 +191,21 @@ TEST_CASE("experiment manifest: malformed records and grids are refused naming t
   CHECK(refusal(t + "density-sensor 10 als_qL1 s\ndensity-sensor 25 uav s\n")
             .find("line 3: density-sensor preset uav is not the one before it (als_qL1)") != std::string::npos);
   CHECK(refusal(t + "density-sensor 10 a/b s\n").find("line 2:") != std::string::npos);
+  CHECK(refusal(t + "real a d\nreal-ablation a e\n").find("line 3: expected 'real-ablation NAME DIR CONFIG'") !=
+        std::string::npos);
+  CHECK(refusal(t + "real a d\nreal-ablation b e c.ini\n").find("line 3: real-ablation b does not follow") !=
+        std::string::npos);
+  CHECK(refusal(t + "real a d\nreal-ablation a e c.ini\nreal-ablation a e c.ini\n")
+            .find("line 4: a second real-ablation a") != std::string::npos);
+  CHECK(refusal(t + "density 10 0.5 s\ndensity-verify pixel 10 --x=0\n")
+            .find("line 3: expected 'density-verify LADDER LEVEL CHANGE SCORE'") != std::string::npos);
+  CHECK(refusal(t + "density 10 0.5 s\ndensity-verify pixel 25 --x=0 v\n")
+            .find("line 3: density-verify pixel 25 does not follow its rung's record") != std::string::npos);
+  CHECK(refusal(t + "density 10 0.5 s\ndensity-verify als_qL1 10 --x=0 v\n")
+            .find("line 3: density-verify als_qL1 10 does not follow") != std::string::npos);
+  CHECK(refusal(t + "density 10 0.5 s\ndensity-verify pixel 10 --x=0 v\ndensity-verify pixel 10 --x=0 v\n")
+            .find("line 4: a second density-verify pixel 10") != std::string::npos);
+  CHECK(refusal(t + "density 10 0.5 s\ndensity-verify pixel 10 --x=0 v\n").empty());
   // The two ladders rise each on its own.
   CHECK(refusal(t + "density 50 0.3 s\ndensity-sensor 10 als_qL1 s\n").empty());
   CHECK(refusal(t).empty());

@@ -257,3 +257,77 @@ TEST_CASE(
   // Without sensor levels the section is the pixel ladder's alone.
   CHECK(report::density_markdown(levels, {}).find("realistic sensor") == std::string::npos);
 }
+
+TEST_CASE("density ladder: verify's ablation beside canopy on the rungs with a model-level answer") {
+  const fs::path root = fs::path(CANOPY_TEST_TMP) / "report-density-verify";
+  fs::remove_all(root);
+  // An "all" row with model-level answers: `detections` of them, `identified` right (interval
+  // ±0.1 around the share), and the found / class right / false alarms of row_counts.
+  auto rows = [](double recall, int detections, int identified, int fp) {
+    std::string r = row_counts("all", recall, 0.9, 1, 8, fp, 0);
+    r.pop_back();
+    const double share = detections > 0 ? static_cast<double>(identified) / detections : 0;
+    return r + R"(, "detections": )" + std::to_string(detections) + R"(, "identified": )" +
+           std::to_string(identified) + R"(, "identification": )" + num(share) +
+           R"(, "identification_lo": )" + num(share - 0.1) + R"(, "identification_hi": 1})";
+  };
+  // Pixel 25: no model answer in either (left out); pixel 100: 9 answers -> 11 with the rule;
+  // sensor 50: 2 of 3 right with the rule, 1 of 1 in the ablation.
+  level(root, "d25", 25, 16, rows(0.7, 0, 0, 0));
+  level(root, "v25", 25, 16, rows(0.7, 0, 0, 0));
+  level(root, "d100", 99, 80, rows(0.9, 11, 11, 0));
+  level(root, "v100", 99, 80, rows(0.9, 9, 9, 0));
+  level(root, "s50", 55, 40, rows(0.8, 3, 2, 1));
+  level(root, "w50", 55, 40, rows(0.7, 1, 1, 0));
+  std::vector<documents::ManifestDensity> pixel = {{25, 0.422, (root / "res/d25/score.json").string(), ""},
+                                                   {100, 0.211, (root / "res/d100/score.json").string(), ""},
+                                                   {200, 0.149, (root / "res/d200/score.json").string(), ""}};
+  std::vector<documents::ManifestDensity> sensor = {
+      {50, 0, (root / "res/s50/score.json").string(), "als_qL1"}};
+  // Without the ablation's records: no table.
+  CHECK(report::density_markdown(report::read_density_levels(pixel), {}, report::read_density_levels(sensor))
+            .find("verify's ablation") == std::string::npos);
+  pixel[0].verify_change = pixel[1].verify_change = pixel[2].verify_change = "--seen-spacing=0";
+  pixel[0].verify_score = (root / "res/v25/score.json").string();
+  pixel[1].verify_score = (root / "res/v100/score.json").string();
+  pixel[2].verify_score = (root / "res/v200/score.json").string();  // not run
+  sensor[0].verify_change = "--seen-spacing=0";
+  sensor[0].verify_score = (root / "res/w50/score.json").string();
+  const auto levels = report::read_density_levels(pixel);
+  const auto sens = report::read_density_levels(sensor);
+  CHECK(levels[0].verify_scored);
+  CHECK(levels[1].verify_scored);
+  CHECK(!levels[2].verify_scored);
+  CHECK(levels[1].verify_change == "--seen-spacing=0");
+  const std::string md = report::density_markdown(levels, {}, sens);
+  CHECK(md.find("**verify's ablation on the density ladder** (the same model-level candidates verified again "
+                "with `--seen-spacing=0`") != std::string::npos);
+  CHECK(md.find(
+            "| pixel | 100 | model answers, identified | 11/11 = 100.0% [90.0, 100.0] | 9/9 = 100.0% [90.0, "
+            "100.0] |") != std::string::npos);
+  CHECK(md.find(
+            "| pixel | 100 | found (all covers) | 9/10 = 90.0% [80.0, 95.0] | 9/10 = 90.0% [80.0, 95.0] |") !=
+        std::string::npos);
+  CHECK(
+      md.find("| als_qL1 | 50 | model answers, identified | 2/3 = 66.7% [56.7, 100.0] | 1/1 = 100.0% [90.0, "
+              "100.0] |") != std::string::npos);
+  CHECK(
+      md.find(
+          "| als_qL1 | 50 | found (all covers) | 8/10 = 80.0% [70.0, 85.0] | 7/10 = 70.0% [60.0, 75.0] |") !=
+      std::string::npos);
+  CHECK(md.find("| als_qL1 | 50 | false alarms/ha (all) | 1 = 1.0 [0.0, 3.0] | 0 = 1.0 [0.0, 3.0] |") !=
+        std::string::npos);
+  CHECK(md.find("| pixel | 25 |") == std::string::npos);   // no model answer in either
+  CHECK(md.find("| pixel | 200 |") == std::string::npos);  // not run
+  CHECK(md.find("classify's ablation") == std::string::npos);
+
+  // classify's ablation on a pixel rung (the density record's ablation): its own table.
+  pixel[1].ablation_config = "bench/density/classify-sim-floor-100.ini";
+  pixel[1].ablation_score = (root / "res/s50/score.json").string();
+  const std::string mc = report::density_markdown(report::read_density_levels(pixel), {}, sens);
+  CHECK(mc.find("**classify's ablation on the density ladder** (the same candidates classified with "
+                "`bench/density/classify-sim-floor-100.ini`") != std::string::npos);
+  CHECK(mc.find("| 100 | class right (all) | 8/9 = 90.0% [80.0, 100.0] | 8/8 = 90.0% [80.0, 100.0] |") !=
+        std::string::npos);
+  CHECK(mc.find("classify's ablation on the sensor ladder") == std::string::npos);
+}

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <string>
 
+#include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "report/real_section.h"
 #include "support/cli.h"
@@ -239,4 +240,44 @@ TEST_CASE("real tiles: documents that do not add up are refused naming the file"
     "detections": [{"candidate": "c1", "level": "part"}]})");
   CHECK_THROWS_WITH(report::read_real_tile({"plotB", (root / "plotB").string(), ""}),
                     Catch::Contains("detections[0].level must be model or class, not \"part\""));
+}
+
+TEST_CASE("real tiles: classify's ablation beside canopy, per tile and over the labelled tiles") {
+  const fs::path root = fs::path(CANOPY_TEST_TMP) / "report-real" / "ablation";
+  fs::remove_all(root);
+  const fs::path labels = root / "labels";
+  town(root / "real", labels);
+  town(root / "abl", labels);
+  plots(root / "real");
+  plots(root / "abl");
+  fs::remove_all(root / "abl" / "plotB");  // the ablation not run there
+  // The ablation misses vehicle 6 (clear): its c06 becomes a false alarm far from everything.
+  const fs::path score = root / "abl" / "townA" / "score.json";
+  std::string text = common::read_file(score.string());
+  const std::string hit =
+      R"("candidate": "c06", "x": 0, "y": 0, "outcome": "right", "instance": 6, "true_model": "car")";
+  REQUIRE(text.find(hit) != std::string::npos);
+  text.replace(text.find(hit), hit.size(),
+               R"("candidate": "c06", "x": 700, "y": 700, "outcome": "false_alarm")");
+  write(score, text);
+  const std::string truth = (labels / "townA.truth.json").string();
+  std::vector<report::RealTile> tiles, abl;
+  for (const char* dir : {"real", "abl"}) {
+    auto& to = std::string(dir) == "real" ? tiles : abl;
+    to.push_back(report::read_real_tile({"plotA", (root / dir / "plotA").string(), ""}));
+    to.push_back(report::read_real_tile({"plotB", (root / dir / "plotB").string(), ""}));
+    to.push_back(report::read_real_tile({"townA", (root / dir / "townA").string(), truth}));
+  }
+  CHECK(report::real_ablation_markdown(tiles, {}, "x.ini").empty());
+  const std::string md = report::real_ablation_markdown(tiles, abl, "share/real/classify-bridge-0.ini");
+  INFO(md);
+  CHECK(has(md, "### classify's ablation on the real tiles"));
+  CHECK(has(md, "parameters `share/real/classify-bridge-0.ini`"));
+  CHECK(has(md, "| plotA (no vehicles) | false alarms | 2 = 8.0/ha [1.0, 28.9] | 2 = 8.0/ha [1.0, 28.9] |"));
+  CHECK(has(md, "| plotB | run | finished | not run |"));
+  CHECK(has(md, "| townA | recall, clear | 6/8 = 75.0% [40.9, 92.9] | 5/8 = 62.5% [30.6, 86.3] |"));
+  CHECK(has(md, "| townA | recall, all | 8/10 = 80.0% [49.0, 94.3] | 7/10 = 70.0% [39.7, 89.2] |"));
+  CHECK(has(md, "| townA | precision | 8/9 = 88.9% [56.5, 98.0] | 7/9 = 77.8% [45.3, 93.7] |"));
+  CHECK(has(md, "| townA | class right | 7/8 = 87.5% [52.9, 97.8] | 6/7 = 85.7% [48.7, 97.4] |"));
+  CHECK(!has(md, "all scored"));  // one labelled tile
 }

@@ -85,18 +85,18 @@ std::string false_alarm_cell(const ScoreRow* r) {
          score_ci(*r, "false_alarms_any_level_per_ha", "%.1f", "%.1f", 1);
 }
 
-// classify's ablation beside canopy on the sensor ladder's levels where it has run (a changed
-// default keeps its ablation in the report): found at either level per cover, class right and
-// false alarms (all covers).
-void ablation_table(std::ostringstream& md, const std::vector<DensityLevel>& sensor) {
+// classify's ablation beside canopy on a ladder's levels where it has run (a changed default
+// keeps its ablation in the report): found at either level per cover, class right and false
+// alarms (all covers). `ladder`: "the density ladder" or "the sensor ladder".
+void ablation_table(std::ostringstream& md, const std::vector<DensityLevel>& rungs, const std::string& ladder) {
   std::vector<const DensityLevel*> with;
-  for (const DensityLevel& s : sensor)
+  for (const DensityLevel& s : rungs)
     if (s.scored && s.ablation_scored) with.push_back(&s);
   if (with.empty()) return;
-  md << "\n**classify's ablation on the sensor ladder** (the same candidates classified with `"
+  md << "\n**classify's ablation on " << ladder << "** (the same candidates classified with `"
      << with.front()->ablation_config
-     << "`, collected and scored like canopy's; the file's header says which defaults it turns off: "
-        "docs/decisions/classify.md §23 and §25): found at either level of "
+     << "`, collected and scored like canopy's; the file's header says which defaults it turns off, "
+        "docs/decisions/classify.md why): found at either level of "
         "each cover's vehicles, class right of the found and false alarms per ha (all covers), each with "
         "its count and 95% interval.\n\n";
   md << "| level | measure | canopy | ablation |\n|---|---|---|---|\n";
@@ -121,6 +121,45 @@ void ablation_table(std::ostringstream& md, const std::vector<DensityLevel>& sen
   }
 }
 
+// verify's ablation beside canopy on the rungs of both ladders where it has run and either has a
+// model-level answer (the option acts on the model chain only): the model answers (identified of
+// them), found at either level and class right (all covers), false alarms per ha.
+void verify_ablation_table(std::ostringstream& md, const std::vector<DensityLevel>& levels,
+                           const std::vector<DensityLevel>& sensor) {
+  std::vector<const DensityLevel*> with;
+  const auto answers = [](const documents::SceneScore& s) {
+    const ScoreRow* r = cover_row(s, "all");
+    const auto d = r == nullptr ? std::nullopt : score_number(*r, "detections");
+    return d.value_or(0);
+  };
+  for (const auto* ladder : {&levels, &sensor})
+    for (const DensityLevel& l : *ladder)
+      if (l.scored && l.verify_scored && (answers(l.score) > 0 || answers(l.verify_ablation) > 0))
+        with.push_back(&l);
+  if (with.empty()) return;
+  md << "\n**verify's ablation on the density ladder** (the same model-level candidates verified again with `"
+     << with.front()->verify_change
+     << "` after verify's parameters, collected with the same class answers and scored like canopy's: "
+        "docs/decisions/verify.md §17); the rungs where either has a model-level answer. Model answers: "
+        "identified of the model-level answers; found at either level, class right of the found and false "
+        "alarms per ha over all covers; each with its count and 95% interval.\n\n";
+  md << "| ladder | level | measure | canopy | ablation |\n|---|---|---|---|---|\n";
+  for (const DensityLevel* l : with) {
+    const std::string head = "| " + (l->sensor.empty() ? std::string("pixel") : l->sensor) + " | " +
+                             format_number("%g", l->level) + " | ";
+    const ScoreRow* c = row_of(*l, "all");
+    const ScoreRow* b = cover_row(l->verify_ablation, "all");
+    md << head << "model answers, identified | " << rate_cell(c, "identification", "identified", "detections")
+       << " | " << rate_cell(b, "identification", "identified", "detections") << " |\n";
+    md << head << "found (all covers) | " << rate_cell(c, "recall_any_level", "found_any_level", "true")
+       << " | " << rate_cell(b, "recall_any_level", "found_any_level", "true") << " |\n";
+    md << head << "class right (all) | "
+       << rate_cell(c, "class_accuracy_any_level", "class_right_any_level", "found_any_level") << " | "
+       << rate_cell(b, "class_accuracy_any_level", "class_right_any_level", "found_any_level") << " |\n";
+    md << head << "false alarms/ha (all) | " << false_alarm_cell(c) << " | " << false_alarm_cell(b) << " |\n";
+  }
+}
+
 }  // namespace
 
 std::vector<DensityLevel> read_density_levels(const std::vector<documents::ManifestDensity>& levels) {
@@ -135,6 +174,11 @@ std::vector<DensityLevel> read_density_levels(const std::vector<documents::Manif
     if (!m.ablation_score.empty() && exists(m.ablation_score)) {
       l.ablation = documents::read_scene_score_file(m.ablation_score);
       l.ablation_scored = true;
+    }
+    l.verify_change = m.verify_change;
+    if (!m.verify_score.empty() && exists(m.verify_score)) {
+      l.verify_ablation = documents::read_scene_score_file(m.verify_score);
+      l.verify_scored = true;
     }
     if (exists(m.score)) {
       l.score = documents::read_scene_score_file(m.score);
@@ -372,10 +416,12 @@ std::string density_markdown(const std::vector<DensityLevel>& levels, const std:
         "every found vehicle. CPU: every stage of the level (rendering included) per hectare of tile.\n\n";
   level_table(md, levels, false);
   detail_tables(md, levels, "pts/m²");
+  ablation_table(md, levels, "the density ladder");
   for (const std::string& f : figures) md << "\n![density ladder](" << f << ")\n";
   if (!figures.empty())
     md << "\n(One line per cover level; the levels at equal spacing; the bars are the 95% intervals, also in "
           "the table and in ladder.csv.)\n";
+  verify_ablation_table(md, levels, sensor);
   if (sensor.empty()) return md.str();
   const std::string preset = sensor.front().sensor;
   md << "\n### The ladder on the realistic sensor (" << preset << ")\n\n"
@@ -389,7 +435,7 @@ std::string density_markdown(const std::vector<DensityLevel>& levels, const std:
         "toward the sensor from the flight's trajectory. Columns as above.\n\n";
   level_table(md, sensor, true);
   detail_tables(md, sensor, "pulses/m²");
-  ablation_table(md, sensor);
+  ablation_table(md, sensor, "the sensor ladder");
   // Side by side where both ladders have the nominal density.
   std::vector<std::pair<const DensityLevel*, const DensityLevel*>> both;
   for (const DensityLevel& s : sensor)

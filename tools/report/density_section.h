@@ -37,11 +37,16 @@ struct DensityLevel {
   // (score's matches: right or wrong = found).
   std::map<std::string, int> by_reason;
   std::map<std::string, std::pair<int, int>> model_found;
-  // classify's ablation on the same candidates (the manifest's density-sensor ablation): its
-  // parameter file, and its score when it has run.
+  // classify's ablation on the same candidates (the manifest's density or density-sensor
+  // ablation): its parameter file, and its score when it has run.
   std::string ablation_config;
   bool ablation_scored = false;
   documents::SceneScore ablation;
+  // verify's ablation on the same model-level candidates (the manifest's density-verify): its
+  // options, and its score when it has run.
+  std::string verify_change;
+  bool verify_scored = false;
+  documents::SceneScore verify_ablation;
 };
 
 // Reads each level's score.json and its runs' index.json and .time files (a missing score is a
@@ -66,7 +71,9 @@ std::vector<DensityTarget> density_targets(const std::vector<DensityLevel>& leve
 // With `sensor` (the sensor ladder's levels, read the same way), a second part "The ladder on the
 // realistic sensor (<preset>)": its own table (measured pulses and returns per m² in place of the
 // spacing), per model, the candidates' fate and where each capability begins, and the two ladders
-// side by side at the nominal densities both have.
+// side by side at the nominal densities both have. Where verify's ablation has run on a rung of
+// either ladder, a table "verify's ablation on the density ladder" beside canopy's (the rungs
+// where either has a model-level answer).
 std::string density_markdown(const std::vector<DensityLevel>& levels, const std::vector<std::string>& figures,
                              const std::vector<DensityLevel>& sensor = {});
 std::string density_csv(const std::vector<DensityLevel>& levels, const std::string& part = "all");

@@ -166,9 +166,17 @@ std::string scenes_section(const std::string& tile_score, const std::string& sce
 std::string real_section(const std::vector<documents::ManifestRealTile>& real, int timeout_s) {
   common::log::Phase real_phase("real tiles");
   std::vector<report::RealTile> tiles;
-  for (const auto& r : real) tiles.push_back(report::read_real_tile({r.name, r.dir, r.truth}));
+  std::vector<report::RealTile> ablation;  // classify's ablation, beside the tiles that have one
+  std::string ablation_config;
+  for (const auto& r : real) {
+    tiles.push_back(report::read_real_tile({r.name, r.dir, r.truth}));
+    if (r.ablation_dir.empty()) continue;
+    ablation.push_back(report::read_real_tile({r.name, r.ablation_dir, r.truth}));
+    ablation_config = r.ablation_config;
+  }
   real_phase.done(std::to_string(tiles.size()) + " tiles");
-  return "\n" + report::real_markdown(tiles, timeout_s);
+  return "\n" + report::real_markdown(tiles, timeout_s) +
+         report::real_ablation_markdown(tiles, ablation, ablation_config);
 }
 
 // The density ladder's section (the manifest's `density` records); its table as ladder.csv in the

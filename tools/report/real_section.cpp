@@ -424,7 +424,88 @@ void time_table(std::ostringstream& md, const std::vector<RealTile>& tiles, doub
   md << "\n";
 }
 
+// One tile's run as the ablation table shows it: "" when it finished (and, labelled, was scored),
+// else what happened.
+std::string run_state(const RealTile& t) {
+  if (!t.ran) return "not run";
+  if (!t.finished) return t.error.empty() ? "not finished" : "failed";
+  if (t.labelled && !t.scored) return "not scored";
+  return "";
+}
+
+void add_counts(RealTile& to, const RealTile& t) {
+  const auto add = [](Count& a, const Count& c) {
+    a.k += c.k;
+    a.n += c.n;
+  };
+  add(to.recall_clear, t.recall_clear);
+  add(to.recall_all, t.recall_all);
+  add(to.precision, t.precision);
+  add(to.class_right, t.class_right);
+  to.found += t.found;
+  to.area_ha += t.area_ha;
+}
+
+// A plot's false alarms: "n = x per ha [lo, hi]" (exact Poisson).
+std::string alarms(const RealTile& t) {
+  if (t.area_ha <= 0) return std::to_string(t.found);
+  const common::Interval p = common::poisson_exact(t.found);
+  return std::to_string(t.found) + " = " + format_number("%.1f", t.found / t.area_ha) + "/ha [" +
+         format_number("%.1f", p.lo / t.area_ha) + ", " + format_number("%.1f", p.hi / t.area_ha) + "]";
+}
+
 }  // namespace
+
+std::string real_ablation_markdown(const std::vector<RealTile>& tiles, const std::vector<RealTile>& ablation,
+                                   const std::string& config) {
+  if (ablation.empty()) return "";
+  std::ostringstream md;
+  md << "### classify's ablation on the real tiles\n\n"
+        "The same tiles through the same workflow with classify's parameters `"
+     << config
+     << "` (the file's header says which default it turns off; mk/real.mk REAL_CLASSIFY_ABLATION), run "
+        "after canopy's, scored the same way: recall over the clear and over all labelled vehicles, "
+        "precision and class right on the urban tiles (Wilson 95%), false alarms on the plots without "
+        "vehicles (exact Poisson 95%).\n\n"
+        "| tile | measure | canopy | ablation |\n|---|---|---|---|\n";
+  RealTile sum_c, sum_a;
+  int both = 0;
+  for (const RealTile& a : ablation) {
+    const auto c =
+        std::find_if(tiles.begin(), tiles.end(), [&](const RealTile& t) { return t.name == a.name; });
+    if (c == tiles.end()) continue;
+    const std::string sc = run_state(*c), sa = run_state(a);
+    if (!sc.empty() || !sa.empty()) {
+      md << "| " << a.name << " | run | " << (sc.empty() ? "finished" : sc) << " | "
+         << (sa.empty() ? "finished" : sa) << " |\n";
+      continue;
+    }
+    if (!a.labelled) {
+      md << "| " << a.name << " (no vehicles) | false alarms | " << alarms(*c) << " | " << alarms(a) << " |\n";
+      continue;
+    }
+    md << "| " << a.name << " | recall, clear | " << rate(c->recall_clear) << " | " << rate(a.recall_clear)
+       << " |\n"
+       << "| " << a.name << " | recall, all | " << rate(c->recall_all) << " | " << rate(a.recall_all) << " |\n"
+       << "| " << a.name << " | precision | " << rate(c->precision) << " | " << rate(a.precision) << " |\n"
+       << "| " << a.name << " | class right | " << rate(c->class_right) << " | " << rate(a.class_right)
+       << " |\n";
+    add_counts(sum_c, *c);
+    add_counts(sum_a, a);
+    ++both;
+  }
+  if (both > 1) {
+    md << "| **all scored** | recall, clear | " << rate(sum_c.recall_clear) << " | "
+       << rate(sum_a.recall_clear) << " |\n"
+       << "| **all scored** | recall, all | " << rate(sum_c.recall_all) << " | " << rate(sum_a.recall_all)
+       << " |\n"
+       << "| **all scored** | precision | " << rate(sum_c.precision) << " | " << rate(sum_a.precision) << " |\n"
+       << "| **all scored** | class right | " << rate(sum_c.class_right) << " | " << rate(sum_a.class_right)
+       << " |\n";
+  }
+  md << "\n";
+  return md.str();
+}
 
 std::string real_markdown(const std::vector<RealTile>& tiles, int timeout_s, double target_s) {
   std::ostringstream md;

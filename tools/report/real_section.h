@@ -73,4 +73,11 @@ RealTile read_real_tile(const RealTileFiles& files);
 // `target_s`. `timeout_s`: the time box of a tile (mk/real.mk REAL_TIMEOUT), 0 unknown.
 std::string real_markdown(const std::vector<RealTile>& tiles, int timeout_s, double target_s = 60);
 
+// classify's ablation on the real tiles (mk/real.mk REAL_CLASSIFY_ABLATION: the workflow run again
+// with the parameter file `config`): per tile with an ablation run (matched to `tiles` by name),
+// canopy's figures beside the ablation's — recall (clear, all), precision and class right on the
+// labelled tiles (and over all of them), false alarms on the plots; "" when `ablation` is empty.
+std::string real_ablation_markdown(const std::vector<RealTile>& tiles, const std::vector<RealTile>& ablation,
+                                   const std::string& config);
+
 }  // namespace canopy::report

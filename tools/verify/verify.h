@@ -44,10 +44,10 @@ struct Params {
   // sample_spacing): a candidate sampled more coarsely than inlier_radius (the density rule's
   // fitvox voxels of 250-350 mm at 50-100 object points/m²) leaves model surface between its
   // samples that no point is near, which is not free space (docs/decisions/verify.md §17).
-  // 0 = off: inlier_radius alone, the test before (the default until the report carries the
-  // rule's ablation, verify.md §17). The explained test (candidate point -> model sample,
-  // 128 mm) is not touched.
-  double seen_spacing = 0.0;
+  // 0 = off: inlier_radius alone, the test before (the ablation, beside the rule on the density
+  // ladder: mk/density.mk DENSITY_VERIFY_ABLATION). The explained test (candidate point -> model
+  // sample, 128 mm) is not touched.
+  double seen_spacing = 1.0;
   double facing = 0.5;             // model surface counts for a view when n.s >= this
   double ray_cell = 0.2;           // cell of the per-view depth buffers (m)
   double occlusion_margin = 0.15;  // a scan point this much nearer the sensor hides (m)

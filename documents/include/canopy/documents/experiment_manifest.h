@@ -17,9 +17,15 @@
 //                                             results directory), in the report's order
 //   real NAME DIR [TRUTH]                     a real tile's workflow directory (mk/real.mk) and
 //                                             its hand labels when it has any
-//   density LEVEL SPACING SCORE               a rung of the density ladder (mk/density.mk):
+//   real-ablation NAME DIR CONFIG             the same tile's workflow run again with classify's
+//                                             parameters CONFIG (an ablation: mk/real.mk
+//                                             REAL_CLASSIFY_ABLATION) into DIR; after its real
+//   density LEVEL SPACING SCORE [ABLATION_CONFIG ABLATION_SCORE]
+//                                             a rung of the density ladder (mk/density.mk):
 //                                             its nominal points/m² (a positive number), the
-//                                             renderer's pixel spacing in m, its score.json
+//                                             renderer's pixel spacing in m, its score.json;
+//                                             and, when classify's ablation runs on the rung,
+//                                             the ablation's parameter file and its score.json
 //   density-sensor LEVEL PRESET SCORE [ABLATION_CONFIG ABLATION_SCORE]
 //                                             a rung of the ladder on the realistic sensor
 //                                             (mk/density.mk): its nominal pulses/m² (a
@@ -28,6 +34,11 @@
 //                                             every such record), its score.json; and, when
 //                                             classify's ablation runs on the rung, the
 //                                             ablation's parameter file and its score.json
+//   density-verify LADDER LEVEL CHANGE SCORE  verify's ablation on a rung (after the rung's
+//                                             record): LADDER `pixel` (a density record) or the
+//                                             sensor preset (density-sensor), the rung's level,
+//                                             verify's options ('+' for each blank), the
+//                                             ablation's score.json
 //
 // The trials are a full grid: every (object, scene, noise) of the trial lines exactly once
 // (objects, scenes and noises in the order they first appear), and every ablation has a trial
@@ -54,6 +65,9 @@ struct ManifestAblation {
 
 struct ManifestRealTile {
   std::string name, dir, truth;  // truth "" = no labels (no vehicles on the tile)
+  // the tile run again with other classify parameters (real-ablation): its directory and the
+  // parameter file ("" = none)
+  std::string ablation_dir{}, ablation_config{};
 };
 
 struct ManifestDensity {
@@ -61,8 +75,10 @@ struct ManifestDensity {
   double spacing = 0;  // pixel spacing, m (0 for a sensor rung)
   std::string score;   // canopy.scene_score of the rung's tiles
   std::string sensor;  // the sensor preset of a density-sensor rung; "" for the pixel ladder
-  // classify's ablation on a density-sensor rung: its parameter file and score.json ("" = none)
+  // classify's ablation on the rung: its parameter file and score.json ("" = none)
   std::string ablation_config{}, ablation_score{};
+  // verify's ablation on the rung (density-verify): its options (blanks restored) and score.json
+  std::string verify_change{}, verify_score{};
 };
 
 struct ExperimentManifest {
