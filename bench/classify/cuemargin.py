@@ -10,8 +10,9 @@ writes them). Per candidate it prints what it is (the vehicle it holds >= 80% of
 vehicle's part, 10-80%: `piece`; no vehicle >= 10%: the nearest clutter kind within 1.5 m of its
 centre, else `veg`), classify's answer, and each vegetation cue as value / threshold (> 1
 refuses): fill (threshold / value), below_share, ground_through, late_returns, roughness (the
-plane roughness against max(0.1, max-roughness x spacing)). The thresholds are read from the
-verdict's provenance (its parameters). Without --all only vehicles and candidates answered
+plane roughness against max(roughness-floor, max-roughness x spacing); the floor is 0.1 m in
+verdicts from before the option, classify.md §28). The thresholds are read from the verdict's
+provenance (its parameters). Without --all only vehicles and candidates answered
 vegetation_like or not_vehicle_shape, and every class answer on no vehicle, are printed.
 Truth is read only here.
 """
@@ -20,6 +21,14 @@ import argparse, json, math, os, sys
 here = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(here, "..", "detect"))
 from pieces import held_by  # noqa: E402
+
+
+def length(text):
+    """A length as classify's provenance gives it: 100mm, 10cm, 0.1m, 0.1 (m)."""
+    for unit, scale in (("mm", 1e-3), ("cm", 1e-2), ("m", 1.0)):
+        if text.endswith(unit):
+            return float(text[: -len(unit)]) * scale
+    return float(text)
 
 
 def cues(v):
@@ -32,7 +41,8 @@ def cues(v):
     if f.get("late_returns") is not None:
         out["late"] = f["late_returns"] / float(p["max-late-returns"])
     sp = (v.get("measured") or {}).get("spacing") or f.get("crop_spacing") or 0.2
-    out["rough"] = f.get("top_roughness", 0) / max(0.1, float(p["max-roughness"]) * sp)
+    floor = length(p.get("roughness-floor", "0.1"))
+    out["rough"] = f.get("top_roughness", 0) / max(floor, float(p["max-roughness"]) * sp)
     return out, f
 
 

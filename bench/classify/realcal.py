@@ -126,7 +126,7 @@ def veg_reason(r, p):
         return worst
     line = p.get("roughness", "plane") == "line"
     key, rel = ("top_roughness_line", "top_roughness_line_rel") if line else ("top_roughness", "top_roughness_rel")
-    if r[rel] is not None and r[key] > max(0.1, p["max-roughness"] * r["spacing"]):
+    if r[rel] is not None and r[key] > max(p.get("roughness-floor", 0.1), p["max-roughness"] * r["spacing"]):
         return key
     if p.get("min-plateau", 0) > 0 and r["plateau_share"] < p["min-plateau"]:
         return "no roof (plateau_share)"

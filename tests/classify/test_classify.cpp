@@ -1842,6 +1842,8 @@ TEST_CASE("classify: bad input files exit 1 naming the file; usage errors exit 2
     CHECK(err.find("--index") != std::string::npos);
     CHECK(test::sh(kBin + in + out + " --candidate c0001", dir / "err", &err) == 2);
     CHECK(test::sh(kBin + in + out + " --threads 2", dir / "err", &err) == 2);
+    CHECK(test::sh(kBin + in + out + " --roughness-floor 2m", dir / "err", &err) == 2);
+    CHECK(err.find("--roughness-floor") != std::string::npos);
     CHECK_FALSE(test::exists(dir / "v.json"));
   }
 }
@@ -1930,6 +1932,70 @@ TEST_CASE("classify: roughness along lines: a car's panels and steps are smooth,
     }
   }
   CHECK(refused >= 1);
+}
+
+namespace {
+
+// A tracked vehicle, 6.6 x 3.2 m: a hull at 1.5 m and a turret at 2.3 m over its middle (3.2 x
+// 2.2 m), both rough with the parts on them (hatches, boxes, tools, a turret's edges): clumps of
+// 0.5 x 0.5 m up to 0.55 m higher (a hash of the clump's index, fixed, not drawn).
+double rough_deck_top(double x, double y) {
+  if (std::abs(x) > 3.3 || std::abs(y) > 1.6) return -1;
+  const double base = std::abs(x) < 1.6 && std::abs(y) < 1.1 ? 2.3 : 1.5;
+  const auto i = static_cast<std::uint64_t>(std::floor(x / 0.5) + 64);
+  const auto j = static_cast<std::uint64_t>(std::floor(y / 0.5) + 64);
+  const std::uint64_t h = common::mix64(i * 1000003 + j + 17);
+  return base + 0.55 * static_cast<double>(h % 1001) / 1000;
+}
+
+}  // namespace
+
+TEST_CASE("classify: --roughness-floor: at 100 points/m² a rough deck between 0.10 and 0.13 m") {
+  // At 100 points/m² the spacing is 0.1 m: the cells are on their 0.3 m floor and the threshold
+  // max(roughness_floor, max_roughness x spacing) on the floor (classify.md §28). The deck's median
+  // plane residual lies between the floors 0.10 m (Params, before: refused) and 0.13 m (the cells'
+  // floor with classify-sim.ini's 0.65: 0.65 x 0.3 m / 1.5; a vehicle).
+  classify::Params before;
+  before.max_roughness = 0.65;
+  REQUIRE(before.roughness_floor == 0.1);
+  classify::Params cell = before;
+  cell.roughness_floor = 0.13;
+  for (std::uint64_t k = 0; k < 4; ++k) {
+    const Sampled s = sample(rough_deck_top, 3.3, 1.6, static_cast<double>(k) * 25 * kDeg, 100, 530 + k);
+    const classify::Answer a = classify::run(before, {s.cloud, "deck.pcd", {}});
+    const classify::Answer b = classify::run(cell, {s.cloud, "deck.pcd", {}});
+    const auto& f = a.features;
+    INFO("draw " << k << ": roughness " << f.top_roughness << " (" << f.top_cells << " cells), spacing "
+                 << f.spacing << " -> " << a.cls << a.reason << " " << a.detail << " / " << b.cls << b.reason
+                 << " " << b.detail);
+    CHECK(f.spacing < 0.1 / before.max_roughness);  // the floor binds
+    CHECK(f.top_cells >= 100);
+    CHECK(f.top_roughness > 0.1);
+    CHECK(f.top_roughness < 0.13);
+    CHECK(b.features.top_roughness == f.top_roughness);  // measured the same, judged apart
+    CHECK(a.cls.empty());
+    CHECK(a.reason == "vegetation_like");
+    CHECK(a.detail.find("the top is rough") != std::string::npos);
+    CHECK(a.detail.find("vehicle <= 100 mm") != std::string::npos);
+    CHECK(b.group == "tracked");
+    // The floor, not the measurement, decides: a floor just under the deck's roughness refuses it.
+    classify::Params under = before;
+    under.roughness_floor = f.top_roughness - 0.005;
+    CHECK(classify::run(under, {s.cloud, "deck.pcd", {}}).reason == "vegetation_like");
+  }
+  // Through the binary: the option (and so its ini key) reaches the threshold.
+  const fs::path dir = test::fresh_dir("classify", "roughness-floor");
+  formats::write_pcd(sample(rough_deck_top, 3.3, 1.6, 0, 100, 530).cloud, (dir / "deck.pcd").string());
+  std::string err;
+  const std::string args = " --max-roughness 0.65 -i " + (dir / "deck.pcd").string() + " -o ";
+  REQUIRE(test::sh(kBin + args + (dir / "a.json").string(), dir / "err", &err) == 0);
+  const std::string floor = " --roughness-floor 130mm";
+  REQUIRE(test::sh(kBin + args + (dir / "b.json").string() + floor, dir / "err", &err) == 0);
+  const Json a = Json::parse(slurp(dir / "a.json")), b = Json::parse(slurp(dir / "b.json"));
+  CHECK(a["reason"] == "vegetation_like");
+  CHECK(a["provenance"]["parameters"]["roughness-floor"] == "100mm");
+  CHECK(b["group"] == "tracked");
+  CHECK(b["provenance"]["parameters"]["roughness-floor"] == "130mm");
 }
 
 namespace {
@@ -2140,5 +2206,18 @@ TEST_CASE("the real tiles' classify ablation is classify.ini with the gap bridge
   CHECK(ablation.at("bridge") == "0");
   for (auto* keys : {&defaults, &ablation})
     for (const char* k : {"bridge", "bridge-fill", "bridge-min-share"}) keys->erase(k);
+  CHECK(defaults == ablation);
+}
+
+TEST_CASE("the pixel ladder's classify ablation is classify-sim.ini with the roughness floor of before") {
+  // bench/density/classify-sim-floor-100.ini (mk/density.mk DENSITY_CLASSIFY_ABLATION;
+  // classify.md §28) must follow classify-sim.ini but for the floor.
+  const std::string src = CANOPY_SOURCE_DIR;
+  auto defaults = ini_keys(src + "/share/params/classify-sim.ini");
+  auto ablation = ini_keys(src + "/bench/density/classify-sim-floor-100.ini");
+  CHECK(defaults.at("roughness-floor") == "120mm");
+  CHECK(ablation.at("roughness-floor") == "100mm");
+  defaults.erase("roughness-floor");
+  ablation.erase("roughness-floor");
   CHECK(defaults == ablation);
 }

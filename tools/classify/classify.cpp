@@ -175,8 +175,8 @@ bool vegetation(Answer& a, const Params& p) {
     return true;
   }
   // The cells' size grows with the spacing and so does a sampled panel's apparent roughness
-  // (its cell tops come from fewer points): the threshold scales with it, over a 0.1 m floor.
-  const double rough = std::max(0.1, p.max_roughness * f.spacing);
+  // (its cell tops come from fewer points): the threshold scales with it, over a floor (§5, §28).
+  const double rough = std::max(p.roughness_floor, p.max_roughness * f.spacing);
   const bool line = p.roughness == Params::Roughness::kLine;
   const double value = line ? f.top_roughness_line : f.top_roughness;
   const std::size_t cells = line ? f.top_cells_line : f.top_cells;
@@ -494,6 +494,7 @@ void validate(const Params& p) {
   need(p.size_gate > 0 && p.size_gate <= 100, "--size-gate must be in (0, 100]");
   need(p.plateau_drop >= 0 && p.plateau_drop <= 5, "--plateau-drop must be in [0, 5 m]");
   need(p.max_roughness > 0 && p.max_roughness <= 100, "--max-roughness must be in (0, 100]");
+  need(p.roughness_floor >= 0 && p.roughness_floor <= 1, "--roughness-floor must be in [0, 1 m]");
   need(p.max_below_share > 0 && p.max_below_share <= 1, "--max-below-share must be in (0, 1]");
   need(p.max_ground_through > 0 && p.max_ground_through <= 1, "--max-ground-through must be in (0, 1]");
   need(p.min_fill >= 0 && p.min_fill <= 10, "--min-fill must be in [0, 10]");

@@ -143,7 +143,9 @@ struct Params {
   enum class Roughness { kPlane, kLine };
   Roughness roughness = Roughness::kPlane;
   double max_roughness = 0.45;      // rougher top (median local residual) than this x the spacing,
-                                    // and than 0.1 m: vegetation_like (0.20 fitted for kLine, §19)
+                                    // and than roughness_floor: vegetation_like (0.20 for kLine, §19)
+  double roughness_floor = 0.1;     // the threshold's floor (m; §5). The cells' own floor (0.3 m =
+                                    // 1.5 spacings) gives max_roughness x 0.2 m (0.13 m at 0.65; §28)
   double max_below_share = 0.25;    // more interior object points under another one: vegetation_like
   double max_ground_through = 0.2;  // more interior ground returns under the object: vegetation_like
   double min_fill = 0.55;           // fewer points per m² of its rectangle than this x the open

@@ -87,7 +87,10 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
       ->check(CLI::IsMember({"line", "plane"}));
   tool.add("--max-roughness", &p.max_roughness,
            "rougher top (median residual of a cell's top, --roughness) than this x the spacing (and "
-           "0.1 m): vegetation_like");
+           "--roughness-floor): vegetation_like");
+  tool.add_length("--roughness-floor", &p.roughness_floor,
+                  "the --max-roughness threshold is at least this (the cells' own floor of 0.3 m = 1.5 "
+                  "spacings gives --max-roughness x 0.2 m; docs/decisions/classify.md §28)");
   tool.add("--max-below-share", &p.max_below_share,
            "more interior object points with an object point 0.5 m above them: vegetation_like");
   tool.add("--max-ground-through", &p.max_ground_through,
