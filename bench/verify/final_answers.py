@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""final_answers.py MANIFEST:MATCHES... --json OUT: every final answer of scene runs with what it is
+"""final_answers.py MANIFEST:MATCHES... --json OUT [--verdict-name verdict.json]: every final answer of scene runs with what it is
 (docs/decisions/verify.md §18). Standard library only.
 
 Rows as bench/collect/calibrate.py's (score's judgement), plus for the rejections: the verify
@@ -10,6 +10,9 @@ import csv, json, math, os, sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from tile_candidates import truth_of  # noqa: E402
+
+
+VERDICT = "verdict.json"  # --verdict-name: the name collect read (collect --verdict-name)
 
 
 def load(run, radius=1.5):
@@ -57,7 +60,7 @@ def load(run, radius=1.5):
 
 
 def features(run_dir, cid):
-    p = os.path.join(run_dir, "cands", cid, "verdict.json")
+    p = os.path.join(run_dir, "cands", cid, VERDICT)
     if not os.path.isfile(p) or os.path.getsize(p) == 0:
         return {}
     v = json.load(open(p))
@@ -75,6 +78,10 @@ def features(run_dir, cid):
 if __name__ == "__main__":
     args = sys.argv[1:]
     out = None
+    if "--verdict-name" in args:
+        i = args.index("--verdict-name")
+        VERDICT = args[i + 1]
+        del args[i:i + 2]
     if "--json" in args:
         i = args.index("--json")
         out = args[i + 1]
