@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""tile_candidates.py MANIFEST OUTDIR [--verify BIN] [-- VERIFY-ARGS...]: verify's answers on the
+"""tile_candidates.py MANIFEST OUTDIR [--verify BIN | --reuse] [-- VERIFY-ARGS...]: verify's answers on the
 model-level candidates of scene tiles, with what each candidate truly is (docs/decisions/verify.md
 §14, §15). Standard library only.
 
@@ -15,7 +15,13 @@ one CSV row per candidate goes to stdout:
 
 truth = "vehicle" when the candidate's centre (index.json) lies in a true vehicle's footprint
 (else within 1.5 m of its centre), the clutter kind when in a clutter object's box (else its
-centre within 1.5 m), else "none"; truth_model = the vehicle's model."""
+centre within 1.5 m), else "none"; truth_model = the vehicle's model.
+
+--reuse reads each candidate's own cands/<id>/verdict.json instead of running verify again (no
+VERIFY-ARGS, OUTDIR unused): its hypotheses' and box's scores are what a re-run with only other
+decision options (--box-margin, --accept, the confidences) would give, so the score columns are the
+same (checked on 24 candidates, verify.md §18); answer and confidence are then the run's own. The
+run must have been verified with the parameters wanted (e.g. make's P= with seen-spacing = 1)."""
 import csv, json, math, os, subprocess, sys
 
 
@@ -68,6 +74,11 @@ def main():
         extra = args[args.index("--") + 1:]
         args = args[:args.index("--")]
     verify = "build/bin/verify"
+    reuse = "--reuse" in args
+    if reuse:
+        args.remove("--reuse")
+        if extra:
+            sys.exit("tile_candidates.py: --reuse takes no VERIFY-ARGS (the run's verdicts are read as they are)")
     if "--verify" in args:
         i = args.index("--verify")
         verify = args[i + 1]
@@ -84,14 +95,15 @@ def main():
         run = os.path.dirname(det)
         truth = json.load(open(truth_path))
         index = json.load(open(os.path.join(run, "cands", "index.json")))
-        os.makedirs(os.path.join(outdir, str(n)), exist_ok=True)
+        if not reuse:
+            os.makedirs(os.path.join(outdir, str(n)), exist_ok=True)
         for c in index["candidates"]:
             cd = os.path.join(run, "cands", c["id"])
             old = os.path.join(cd, "verdict.json")
             if not os.path.isfile(os.path.join(cd, "match.json")) or not os.path.isfile(old) \
                     or os.path.getsize(old) == 0:
                 continue
-            out = os.path.join(outdir, str(n), c["id"] + ".json")
+            out = old if reuse else os.path.join(outdir, str(n), c["id"] + ".json")
             if not os.path.isfile(out):
                 ov = json.load(open(old))
                 cmd = [verify, "--config", "share/params/verify.ini", "-i", os.path.join(cd, "match.json"),
