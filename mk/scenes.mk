@@ -462,9 +462,15 @@ $(foreach r,$(SCENE_RUNS),$(call read_plan,$(r)/cands.mk))
 # never a path with $(OUT) in it: the same experiment in another directory gives the same bytes.
 $(foreach r,$(SCENE_RUNS),$(call cand_rules,$(r),$(call scene_key,$(r)),$(SCENE_MB),$(patsubst $(SCENE_DIR)/%,scenes/%,$(r)),$(SCENE_CLASSIFY)))
 $(foreach r,$(SCENE_RUNS),$(eval $(call tile_collect,$(call scene_key,$(r)),$(r),$(SCENE_MB),$(r)/scan.pcd)))
-# The experiment's modelbase is built here (graphs; surfaces when mk/verify.mk is read).
+# The experiment's modelbase is built here (graphs; surfaces when mk/verify.mk is read). classify
+# reads its entries' classes too (class_rule lists them by $(wildcard), which is empty before
+# they exist: a `make scenes` on a fresh OUT classified without them, s53), so with the thesis
+# modelbase every candidate's class.json waits for its graphs and surfaces.
 $(foreach r,$(SCENE_RUNS),$(foreach c,$(call model_cands,$(call scene_key,$(r))),\
   $(eval $(r)/cands/$(c)/match.json $(r)/cands/$(c)/verdict.json: $(MODELBASE) $(VERIFY_SURFACES))))
+$(if $(filter $(OUT)/modelbase,$(SCENE_MB)),$(foreach r,$(SCENE_RUNS),$(foreach c,$($(call scene_key,$(r))_CANDS),\
+  $(eval $(r)/cands/$(c)/class.json$(if $(SCENE_CLASSIFY_ABLATION), $(r)/cands/$(c)/class-ablation.json): $(MODELBASE) \
+  $(VERIFY_SURFACES)))))
 # The score's tile list (documents/tile_list.h): detections truth noise cover, one line per run
 # (cover, seed, noise: the order of SCENE_RUNS), from the cover levels themselves.
 scene_line = $(SCENE_DIR)/$(1)/tile-$(2)/noise-$(3)/detections.json $(SCENE_DIR)/$(1)/tile-$(2)/truth.json $(3) $(1)

@@ -2193,31 +2193,35 @@ std::map<std::string, std::string> ini_keys(const std::string& path) {
   return keys;
 }
 
-}  // namespace
-
-TEST_CASE("the real tiles' classify ablation is classify.ini with the gap bridge off and nothing else") {
-  // share/real/classify-bridge-0.ini (mk/real.mk REAL_CLASSIFY_ABLATION; classify.md §27) must
-  // follow classify.ini: a key changed in one and not the other would make the report's ablation
-  // measure two changes.
+// An ablation's parameter file (SRC-relative) against the defaults it changes: each key of
+// `changed` holds its (default, ablation) value in the two files ("" = absent), every other key
+// is the same in both — a key changed in one file and not the other would make the report's
+// ablation measure two changes.
+void check_ablation_ini(const std::string& defaults_file, const std::string& ablation_file,
+                        const std::map<std::string, std::pair<std::string, std::string>>& changed) {
   const std::string src = CANOPY_SOURCE_DIR;
-  auto defaults = ini_keys(src + "/share/params/classify.ini");
-  auto ablation = ini_keys(src + "/share/real/classify-bridge-0.ini");
-  CHECK(defaults.at("bridge") == "1m");
-  CHECK(ablation.at("bridge") == "0");
-  for (auto* keys : {&defaults, &ablation})
-    for (const char* k : {"bridge", "bridge-fill", "bridge-min-share"}) keys->erase(k);
+  auto defaults = ini_keys(src + "/" + defaults_file), ablation = ini_keys(src + "/" + ablation_file);
+  for (const auto& [key, values] : changed) {
+    INFO(key);
+    CHECK((defaults.count(key) ? defaults.at(key) : "") == values.first);
+    CHECK((ablation.count(key) ? ablation.at(key) : "") == values.second);
+    defaults.erase(key);
+    ablation.erase(key);
+  }
   CHECK(defaults == ablation);
 }
 
+}  // namespace
+
+TEST_CASE("the real tiles' classify ablation is classify.ini with the gap bridge off and nothing else") {
+  // mk/real.mk REAL_CLASSIFY_ABLATION; classify.md §27.
+  check_ablation_ini(
+      "share/params/classify.ini", "share/real/classify-bridge-0.ini",
+      {{"bridge", {"1m", "0"}}, {"bridge-fill", {"true", ""}}, {"bridge-min-share", {"0.1", ""}}});
+}
+
 TEST_CASE("the pixel ladder's classify ablation is classify-sim.ini with the roughness floor of before") {
-  // bench/density/classify-sim-floor-100.ini (mk/density.mk DENSITY_CLASSIFY_ABLATION;
-  // classify.md §28) must follow classify-sim.ini but for the floor.
-  const std::string src = CANOPY_SOURCE_DIR;
-  auto defaults = ini_keys(src + "/share/params/classify-sim.ini");
-  auto ablation = ini_keys(src + "/bench/density/classify-sim-floor-100.ini");
-  CHECK(defaults.at("roughness-floor") == "120mm");
-  CHECK(ablation.at("roughness-floor") == "100mm");
-  defaults.erase("roughness-floor");
-  ablation.erase("roughness-floor");
-  CHECK(defaults == ablation);
+  // mk/density.mk DENSITY_CLASSIFY_ABLATION; classify.md §28.
+  check_ablation_ini("share/params/classify-sim.ini", "bench/density/classify-sim-floor-100.ini",
+                     {{"roughness-floor", {"120mm", "100mm"}}});
 }

@@ -262,6 +262,26 @@ std::string state(const RealTile& t, int timeout_s) {
   return "";
 }
 
+// A labelled tile's counts added to `sum` (the "all scored" rows).
+void add_tile(RealTile& sum, const RealTile& t) {
+  const auto add = [](Count& to, const Count& c) {
+    to.k += c.k;
+    to.n += c.n;
+  };
+  sum.vehicles += t.vehicles;
+  sum.clear += t.clear;
+  sum.uncertain += t.uncertain;
+  sum.found += t.found;
+  sum.tp += t.tp;
+  sum.fp += t.fp;
+  sum.fp_on_uncertain += t.fp_on_uncertain;
+  add(sum.recall_all, t.recall_all);
+  add(sum.recall_clear, t.recall_clear);
+  add(sum.precision, t.precision);
+  add(sum.class_right, t.class_right);
+  sum.matched_without_group += t.matched_without_group;
+}
+
 void tiles_table(std::ostringstream& md, const std::vector<RealTile>& tiles, int timeout_s) {
   md << "| tile | source | area (ha) | density (pts/m²) | points | candidates | detections (model / class "
         "level) | "
@@ -364,22 +384,7 @@ void urban_table(std::ostringstream& md, const std::vector<RealTile>& tiles) {
        << (t.matched_without_group > 0 ? " (" + std::to_string(t.matched_without_group) + " without a group)"
                                        : "")
        << " |\n";
-    const auto add = [](Count& to, const Count& c) {
-      to.k += c.k;
-      to.n += c.n;
-    };
-    sum.vehicles += t.vehicles;
-    sum.clear += t.clear;
-    sum.uncertain += t.uncertain;
-    sum.found += t.found;
-    sum.tp += t.tp;
-    sum.fp += t.fp;
-    sum.fp_on_uncertain += t.fp_on_uncertain;
-    add(sum.recall_all, t.recall_all);
-    add(sum.recall_clear, t.recall_clear);
-    add(sum.precision, t.precision);
-    add(sum.class_right, t.class_right);
-    sum.matched_without_group += t.matched_without_group;
+    add_tile(sum, t);
     ++n;
   }
   if (n > 1) {
@@ -433,19 +438,6 @@ std::string run_state(const RealTile& t) {
   return "";
 }
 
-void add_counts(RealTile& to, const RealTile& t) {
-  const auto add = [](Count& a, const Count& c) {
-    a.k += c.k;
-    a.n += c.n;
-  };
-  add(to.recall_clear, t.recall_clear);
-  add(to.recall_all, t.recall_all);
-  add(to.precision, t.precision);
-  add(to.class_right, t.class_right);
-  to.found += t.found;
-  to.area_ha += t.area_ha;
-}
-
 // A plot's false alarms: "n = x per ha [lo, hi]" (exact Poisson).
 std::string alarms(const RealTile& t) {
   if (t.area_ha <= 0) return std::to_string(t.found);
@@ -490,8 +482,8 @@ std::string real_ablation_markdown(const std::vector<RealTile>& tiles, const std
        << "| " << a.name << " | precision | " << rate(c->precision) << " | " << rate(a.precision) << " |\n"
        << "| " << a.name << " | class right | " << rate(c->class_right) << " | " << rate(a.class_right)
        << " |\n";
-    add_counts(sum_c, *c);
-    add_counts(sum_a, a);
+    add_tile(sum_c, *c);
+    add_tile(sum_a, a);
     ++both;
   }
   if (both > 1) {
