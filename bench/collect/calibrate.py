@@ -39,9 +39,9 @@ LEVEL = {"model": "model", "class": "class", "none": "none", "none-class": "none
 MIN_EACH, MIN_ANSWERS = 10, 20
 
 
-def load(run, radius):
-    manifest, matches = run.split(":")
-    tiles = [line.split() for line in open(manifest) if line.strip()]
+def read_matches(matches):
+    """score's matches.csv: right[(tile, candidate)] for every answer judged, and the missed
+    vehicles' positions per tile."""
     right, missed = {}, {}
     for r in csv.DictReader(open(matches)):
         t = int(r["tile"])
@@ -49,6 +49,21 @@ def load(run, radius):
             missed.setdefault(t, []).append((float(r["x"]), float(r["y"])))
         else:
             right[(t, r["candidate"])] = r["outcome"] == "right"
+    return right, missed
+
+
+def rejected_source(x):
+    """A rejected candidate's map: "none" (the model chain's none, or no class answer) or
+    "none-class" (classify refused it)."""
+    chain = x.get("model_chain")
+    classified = x["verdict"].endswith("class.json") or chain is not None
+    return "none" if (not classified or chain == "none") else "none-class"
+
+
+def load(run, radius):
+    manifest, matches = run.split(":")
+    tiles = [line.split() for line in open(manifest) if line.strip()]
+    right, missed = read_matches(matches)
     rows = []
     for t, (det, truth, _noise, _cover) in enumerate(tiles):
         d = __import__("json").load(open(det))
@@ -59,9 +74,7 @@ def load(run, radius):
         for x in d["rejected"]:
             if x.get("confidence") is None:
                 continue
-            chain = x.get("model_chain")
-            classified = x["verdict"].endswith("class.json") or chain is not None
-            source = "none" if (not classified or chain == "none") else "none-class"
+            source = rejected_source(x)
             px, py = x["position"]["x"], x["position"]["y"]
             costs = any(math.hypot(vx - px, vy - py) <= radius for vx, vy in missed.get(t, []))
             rows.append(dict(render=truth, source=source, p=x["confidence"], right=not costs))
@@ -145,9 +158,9 @@ def write_ini(path, maps, header):
     os.replace(tmp, path)
 
 
-def table(scored, title):
-    """scored: (level, stated, right) per answer."""
-    print(f"\n{title}\n| level | stated | answers | right | mean stated | within ±10 |\n|---|---|---|---|---|---|")
+def table(scored, title, header="| level | stated | answers | right | mean stated | within ±10 |\n|---|---|---|---|---|---|"):
+    """scored: (level, stated, right) per answer; returns the bins of >= 20 answers outside ±10."""
+    print(f"\n{title}\n{header}")
     fails = 0
     for level in ("model", "class", "none"):
         for b in range(10):
@@ -162,7 +175,8 @@ def table(scored, title):
             fails += within == "**no**"
             print(f"| {level} | {lo:.1f}–{hi:.1f} | {n} | {k} = {100 * k / n:.1f}% [{100 * w[0]:.1f}, {100 * w[1]:.1f}] "
                   f"| {100 * m:.1f}% | {within} |")
-    print(f"bins of >= 20 answers outside ±10 points: {fails}")
+    print(f"\nbins of >= 20 answers outside ±10 points: {fails}")
+    return fails
 
 
 def scored_with(rows, maps):

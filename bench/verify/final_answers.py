@@ -6,10 +6,15 @@ Rows as bench/collect/calibrate.py's (score's judgement), plus for the rejection
 verdict's features (best score, margin over the next model, score - box) when the model chain
 answered none, classify's reason, the truth at the candidate (tile_candidates.truth_of), the
 candidate's density, cover, noise and seed. Written as JSON lines for the fits."""
-import csv, json, math, os, sys
+import json, math, os, sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from tile_candidates import truth_of  # noqa: E402
+import importlib.util  # noqa: E402
+_spec = importlib.util.spec_from_file_location(
+    "collect_calibrate", os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "collect", "calibrate.py"))
+cal = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(cal)
 
 
 VERDICT = "verdict.json"  # --verdict-name: the name collect read (collect --verdict-name)
@@ -18,13 +23,7 @@ VERDICT = "verdict.json"  # --verdict-name: the name collect read (collect --ver
 def load(run, radius=1.5):
     manifest, matches = run.split(":")
     tiles = [line.split() for line in open(manifest) if line.strip()]
-    right, missed = {}, {}
-    for r in csv.DictReader(open(matches)):
-        t = int(r["tile"])
-        if r["outcome"] == "missed":
-            missed.setdefault(t, []).append((float(r["x"]), float(r["y"])))
-        else:
-            right[(t, r["candidate"])] = r["outcome"] == "right"
+    right, missed = cal.read_matches(matches)
     rows = []
     for t, (det, truth_path, noise, cover) in enumerate(tiles):
         d = json.load(open(det))
@@ -43,9 +42,7 @@ def load(run, radius=1.5):
         for x in d["rejected"]:
             if x.get("confidence") is None:
                 continue
-            chain = x.get("model_chain")
-            classified = x["verdict"].endswith("class.json") or chain is not None
-            source = "none" if (not classified or chain == "none") else "none-class"
+            source = cal.rejected_source(x)
             px, py = x["position"]["x"], x["position"]["y"]
             near = [math.hypot(vx - px, vy - py) for vx, vy in missed.get(t, [])]
             kind, tmodel = truth_of(truth, px, py)

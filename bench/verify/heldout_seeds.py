@@ -48,23 +48,9 @@ def platt_bias(ps, rights):
 
 
 def table(scored, title):
-    print(f"\n{title}\n\n| answer | stated | answers | right [Wilson 95%] | mean stated | within ±10 (≥ 20) |\n|---|---|---:|---|---:|---|")
-    fails = 0
-    for level in ("model", "class", "none"):
-        for b in range(10):
-            lo, hi = b / 10, (b + 1) / 10
-            xs = [(p, ok) for lv, p, ok in scored if lv == level and lo <= p and (p < hi or (b == 9 and p <= 1))]
-            if not xs:
-                continue
-            n, k = len(xs), sum(ok for _, ok in xs)
-            m = sum(p for p, _ in xs) / n
-            w = wilson(k, n)
-            within = "–" if n < 20 else ("yes" if abs(k / n - m) <= 0.10 else "**no**")
-            fails += within == "**no**"
-            print(f"| {level} | {lo:.1f}–{hi:.1f} | {n} | {k} = {100 * k / n:.1f}% [{100 * w[0]:.1f}, {100 * w[1]:.1f}] "
-                  f"| {100 * m:.1f}% | {within} |")
-    print(f"\nbins of >= 20 answers outside ±10 points: {fails}")
-    return fails
+    """collect's reliability table (bench/collect/calibrate.py), with this script's header."""
+    return cal.table(scored, title, "\n| answer | stated | answers | right [Wilson 95%] | mean stated | "
+                     "within ±10 (≥ 20) |\n|---|---|---:|---|---:|---|")
 
 
 def main():
