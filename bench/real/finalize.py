@@ -2,8 +2,8 @@
 """Write the scene-truth file (canopy.scene_truth v1, the conventions of docs/decisions/real-tiles.md) from
 measure.py output and the hand decisions {"_source": ...[, "_labelled_by": ..., "_method": ...],
 "<tag>": {visibility, model, note}}; canopy_cover is measured (cells more than 0.5 m above H and above 2.3 m), and an
-unset visibility is clear below 0.15, partial below 0.7, else occluded. Coordinates are said to be RD New: edit
-"coordinates" for another CRS.
+unset visibility is clear below 0.15, partial below 0.7, else occluded. Coordinates are said to be RD New unless the
+decisions give "_coordinates" (the sentence to write instead).
   LABEL_WORK=DIR /usr/bin/python3 bench/real/finalize.py NAME MEAS.json DECISIONS.json SCENE OUT.truth.json"""
 import os, sys; sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from labtools import *  # noqa: F401,F403
@@ -50,7 +50,7 @@ T = {"format": "canopy.scene_truth", "version": 1,
                     "source": D.get("_source", ""),
                     "decoding": "canopy pcd2ply (LAZ -> PLY), read with numpy"},
      "scene": scene, "extent": [round(xmax - xmin, 3), round(ymax - ymin, 3)], "origin": [round(xmin, 3), round(ymin, 3)],
-     "coordinates": "pose x y and footprints in the file's coordinates (RD New, EPSG:28992, metres, as in the LAS); z = ground height under the centre; heading in degrees counter-clockwise from +x along the long axis, in [0, 180): front and back are not known",
+     "coordinates": D.get("_coordinates", "pose x y and footprints in the file's coordinates (RD New, EPSG:28992, metres, as in the LAS); z = ground height under the centre; heading in degrees counter-clockwise from +x along the long axis, in [0, 180): front and back are not known"),
      "vehicles": veh, "uncertain": unc}
 json.dump(T, open(out, "w"), indent=1)
 from collections import Counter

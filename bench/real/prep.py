@@ -7,6 +7,9 @@ import os, sys; sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from labtools import *  # noqa: F401,F403
 name = sys.argv[1]
 a = read_ply(os.path.join(WORK, f"raw/{name}.ply"))
+if "red" not in a.dtype.names:  # point formats without colour (LAS 1.4 format 6): black
+    from numpy.lib import recfunctions as rfn
+    a = rfn.append_fields(a, ["red", "green", "blue"], [np.zeros(len(a), "<u2")] * 3, usemask=False)
 x, y, z = a["x"], a["y"], a["z"]
 dtm = pmf_ground(x, y, z)
 hag = z - dtm(x, y)
