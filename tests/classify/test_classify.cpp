@@ -1742,6 +1742,24 @@ TEST_CASE("classify: --entry-profile: a van entry's range is no class for a jeep
   INFO(car.detail);
   CHECK(car.cls == "car");
   CHECK(car.entry == "uaz");
+  // A class's envelope (--class-envelope) stands for its entries' profiles as well: with a second
+  // van of the microbus's shape, 5% larger, the vans' box holds the jeep's size but neither
+  // profile is the jeep's: still refused.
+  {
+    classify::Params env = p;
+    env.class_envelope = 0.05;
+    classify::ModelEntry van2 = van;
+    van2.name = "microbus-long";
+    van2.size = {4.56, 2.09, 2.06};
+    in.modelbase = {van, van2};
+    const classify::Answer both = classify::run(env, in);
+    INFO(both.detail);
+    CHECK(both.cls.empty());
+    CHECK(both.reason == "not_vehicle_shape");
+    // Without --entry-profile the envelope (or an entry) answers van.
+    env.entry_profile = 0;
+    CHECK(classify::run(env, in).cls == "van");
+  }
   // Unmeasured (no profile): its range stays a class.
   in.modelbase = {{"microbus", "van", {4.34, 1.99, 1.96}, std::nullopt}};
   CHECK(classify::run(p, in).cls == "van");
