@@ -45,8 +45,13 @@ OPENSET_SCORE := $(OPENSET_RES)/score.json
 OPENSET_CLASSES_ONLY ?= 1
 $(if $(filter-out 0 1,$(OPENSET_CLASSES_ONLY)),$(error OPENSET_CLASSES_ONLY=$(OPENSET_CLASSES_ONLY): must be 0 or 1))
 OPENSET_CLASSIFY_BASE ?= $(P)/classify-sim.ini
-# The ablation's parameters are the base's own (it does not set modelbase-classes-only: every family).
-OPENSET_CLASSIFY_ABLATION := $(if $(filter 1,$(OPENSET_CLASSES_ONLY)),$(OPENSET_CLASSIFY_BASE))
+# classify's class envelopes (the end of this file; docs/decisions/open-set.md, eighth round): a
+# class with two or more modelbase entries is also the box of their sizes x [1 - M, 1 + M]; 0: off
+# (classify refuses a value outside [0, 1], naming --class-envelope).
+OPENSET_CLASS_ENVELOPE ?= 0.05
+# The ablation's parameters are the base's own (it sets neither modelbase-classes-only nor
+# class-envelope: every family, no envelope), run when either is on.
+OPENSET_CLASSIFY_ABLATION := $(if $(filter 1,$(OPENSET_CLASSES_ONLY))$(filter-out 0 0.0 .0,$(OPENSET_CLASS_ENVELOPE)),$(OPENSET_CLASSIFY_BASE))
 # collect's ablation: the model answer first, whatever its confidence (collect's
 # --contradicted-below and --refused-below, docs/decisions/open-set.md "Sixth round" and "Seventh
 # round"); OPENSET_COLLECT_ABLATION= leaves it out. (Quoted where it is passed to the sub-makes:
@@ -230,7 +235,9 @@ endif
 # tracked-apc for a modelbase of cars, vans, trucks, buses and a tank) is never answered.
 # OPENSET_CLASSES_ONLY=0 is the ablation (every family); with 1 the ablation also runs beside it
 # on the same candidates (OPENSET_CLASSIFY_ABLATION = the base's parameters: classify a second
-# time, collect, score) and the report shows both. The open set's classify.ini is written when
+# time, collect, score) and the report shows both. The class envelopes (OPENSET_CLASS_ENVELOPE,
+# 0.05; 0: off) are off in that ablation too: it is the open set's classify before the fourth and
+# the eighth rounds. The open set's classify.ini is written when
 # its text changes (at parse time, like the recipes; a dry run writes nothing and plans classify
 # again).
 # (OPENSET_CLASSES_ONLY, OPENSET_CLASSIFY_ABLATION: near the top.)
@@ -239,6 +246,9 @@ define openset_classify_text
 $(file <$(OPENSET_CLASSIFY_BASE))
 # The open set (mk/openset.mk): only the modelbase's classes (OPENSET_CLASSES_ONLY).
 modelbase-classes-only = $(OPENSET_CLASSES_ONLY)
+# A class with two or more modelbase entries is also the box of their sizes +- this share
+# (OPENSET_CLASS_ENVELOPE; docs/decisions/open-set.md, eighth round).
+class-envelope = $(OPENSET_CLASS_ENVELOPE)
 endef
 ifneq ($(wildcard $(OPENSET_DIR))$(dry_run),)
 $(OPENSET_CLASSIFY): $(call text_prereq,$(OPENSET_CLASSIFY),$(openset_classify_text))

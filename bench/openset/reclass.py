@@ -13,7 +13,9 @@ all vehicles (bench/rates.py's Wilson intervals), then every wrong class answer 
 
 The open set: `--modelbase OUT/openset/modelbase --score-classes OUT/openset/classes.csv
 --classes-only --set tiles=OUT/openset/tiles/tiles.txt --set crops=OUT/openset/crops/tiles.txt`
-(mk/openset.mk's classify.ini: classify-sim.ini + `modelbase-classes-only = 1`); the ladder:
+(mk/openset.mk's classify.ini: classify-sim.ini + `modelbase-classes-only = 1` + `class-envelope =
+0.05`, OPENSET_CLASS_ENVELOPE's default; a variant `off=--class-envelope=0` is the open set before
+the eighth round of docs/decisions/open-set.md); the ladder:
 `--modelbase OUT/modelbase --score-classes share/models/classes.csv --set
 d25=OUT/density/d25/tiles.txt` (classify-sim.ini). classify's parameters: SRC/share/params/
 classify-sim.ini (+ the open set's line), then the variant's options. Writes only under DEST
@@ -84,7 +86,9 @@ def main():
         f.write(open(f'{SRC}/share/params/classify-sim.ini').read())
         if a.classes_only:
             f.write('# The open set (mk/openset.mk): only the modelbase\'s classes (OPENSET_CLASSES_ONLY).\n'
-                    'modelbase-classes-only = 1\n')
+                    'modelbase-classes-only = 1\n'
+                    '# and the class envelopes (OPENSET_CLASS_ENVELOPE).\n'
+                    'class-envelope = 0.05\n')
     truth_class = {r['model']: r['class'] for r in csv.DictReader(open(a.score_classes))}
     for variant in a.variants:
         name, args = variant.split('=', 1)

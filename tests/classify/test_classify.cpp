@@ -1742,6 +1742,24 @@ TEST_CASE("classify: --entry-profile: a van entry's range is no class for a jeep
   INFO(car.detail);
   CHECK(car.cls == "car");
   CHECK(car.entry == "uaz");
+  // A class's envelope (--class-envelope) stands for its entries' profiles as well: with a second
+  // van of the microbus's shape, 5% larger, the vans' box holds the jeep's size but neither
+  // profile is the jeep's: still refused.
+  {
+    classify::Params env = p;
+    env.class_envelope = 0.05;
+    classify::ModelEntry van2 = van;
+    van2.name = "microbus-long";
+    van2.size = {4.56, 2.09, 2.06};
+    in.modelbase = {van, van2};
+    const classify::Answer both = classify::run(env, in);
+    INFO(both.detail);
+    CHECK(both.cls.empty());
+    CHECK(both.reason == "not_vehicle_shape");
+    // Without --entry-profile the envelope (or an entry) answers van.
+    env.entry_profile = 0;
+    CHECK(classify::run(env, in).cls == "van");
+  }
   // Unmeasured (no profile): its range stays a class.
   in.modelbase = {{"microbus", "van", {4.34, 1.99, 1.96}, std::nullopt}};
   CHECK(classify::run(p, in).cls == "van");
@@ -1749,6 +1767,91 @@ TEST_CASE("classify: --entry-profile: a van entry's range is no class for a jeep
   p.entry_profile = 0;
   in.modelbase = {van};
   CHECK(classify::run(p, in).cls == "van");
+}
+
+// A lorry l x w m, h high: a cab over its front 1.6 m at 0.75 of h, a 0.4 m slope up to the
+// cargo box over the rest.
+Top lorry_top(double l, double w, double h) {
+  return [=](double x, double y) {
+    if (std::abs(x) > l / 2 || std::abs(y) > w / 2) return -1.0;
+    if (x > l / 2 - 1.6) return 0.75 * h;
+    if (x > l / 2 - 2) return h - 0.25 * h * (x - (l / 2 - 2)) / 0.4;
+    return h;
+  };
+}
+
+TEST_CASE(
+    "classify: --class-envelope: a class's entries' envelope holds a truck that no one entry's range does") {
+  // The open set's modelbase has three trucks (ch_man_5t, ch_man_10t, om_truck_example; here
+  // rounded): a lorry as long as the longest and as wide as the widest fits neither its entries'
+  // +-5% ranges nor the box-truck family (2.55 m wide at most), but the box of the three.
+  classify::Params p;
+  p.modelbase_classes_only = true;
+  const std::vector<classify::ModelEntry> trucks = {{"man-5t", "truck", {7.5, 2.45, 3.25}, std::nullopt},
+                                                    {"man-10t", "truck", {9.7, 2.45, 3.25}, std::nullopt},
+                                                    {"box-truck", "truck", {8.4, 2.9, 3.4}, std::nullopt},
+                                                    {"hatch", "car", {4.0, 1.75, 1.5}, std::nullopt}};
+  const Sampled lorry = sample(lorry_top(10.2, 3.0, 3.3), 5.1, 1.5, 15 * kDeg, 400, 61);
+  classify::Inputs in{lorry.cloud, "lorry.pcd", trucks};
+  const classify::Answer without = classify::run(p, in);
+  INFO(without.detail);
+  CHECK(without.cls.empty());
+  CHECK(without.reason == "not_vehicle_shape");
+  CHECK(without.refused_on == "size");
+  p.class_envelope = 0.05;
+  const classify::Answer with = classify::run(p, in);
+  INFO(with.detail);
+  CHECK(with.cls == "truck");
+  CHECK(with.group == "truck");
+  CHECK(with.entry.empty());
+  CHECK(with.detail.find("the envelope of the modelbase's 3 truck entries") != std::string::npos);
+  // The table: one envelope, for the class with two or more entries (not the car's one), the
+  // entries' box x [0.95, 1.05].
+  std::vector<classify::TableRange> envelopes;
+  for (const classify::TableRange& k : classify::class_table(p, trucks)) {
+    if (k.envelope > 0) envelopes.push_back(k);
+  }
+  REQUIRE(envelopes.size() == 1);
+  CHECK(envelopes[0].name == "truck");
+  CHECK(envelopes[0].envelope == 3);
+  CHECK(envelopes[0].length[0] == Approx(7.5 * 0.95));
+  CHECK(envelopes[0].length[1] == Approx(9.7 * 1.05));
+  CHECK(envelopes[0].width[1] == Approx(2.9 * 1.05));
+  CHECK(envelopes[0].height[0] == Approx(3.25 * 0.95));
+  // A lorry 30% longer than the longest truck is beyond the envelope too: refused.
+  in.cloud = sample(lorry_top(12.6, 2.9, 3.3), 6.3, 1.45, 15 * kDeg, 400, 62).cloud;
+  const classify::Answer longer = classify::run(p, in);
+  INFO(longer.detail);
+  CHECK(longer.cls.empty());
+  // A shipping container (6.06 x 2.44 x 2.59 m, a flat box) stays refused: a flat box is no truck
+  // entry's (none is one) and shorter than the box-truck family.
+  in.cloud = sample([](double x, double y) { return box_top(x, y, 6.06, 2.44, 2.59); }, 3.03, 1.22, 30 * kDeg,
+                    400, 63)
+                 .cloud;
+  const classify::Answer container = classify::run(p, in);
+  INFO(container.detail);
+  CHECK(container.cls.empty());
+  CHECK(container.reason == "not_vehicle_shape");
+  // A tent-sized flat box (4.43 x 2.29 x 1.67 m) between two van entries, one of them a flat box
+  // (the UAZ bus) and one not (the microbus): no single entry's range holds its size, and the
+  // envelope is no flat box's since not every entry is one: refused (the development tiles' tent).
+  classify::Params vans = p;
+  vans.entry_profile = 0.2;
+  const std::vector<classify::ModelEntry> two_vans = {
+      {"uaz-bus", "van", {4.5, 2.2, 2.21}, classify::ModelEntry::Profile{1.0, 0.95, 1.0, 1.0}},
+      {"microbus", "van", {4.34, 1.99, 1.96}, classify::ModelEntry::Profile{0.89, 0.79, 0.97, 1.0}}};
+  in.modelbase = two_vans;
+  in.cloud = sample([](double x, double y) { return box_top(x, y, 4.43, 2.29, 1.67); }, 2.215, 1.145,
+                    30 * kDeg, 400, 64)
+                 .cloud;
+  const classify::Answer tent = classify::run(vans, in);
+  INFO(tent.detail);
+  CHECK(tent.cls.empty());
+  CHECK(tent.reason == "not_vehicle_shape");
+  // The option's range.
+  classify::Params bad;
+  bad.class_envelope = 1.5;
+  CHECK_THROWS_AS(classify::validate(bad), common::UsageError);
 }
 
 TEST_CASE("classify: --model-classes gives entries without a .class file their class") {

@@ -133,7 +133,9 @@ TEST_CASE("open set: the classify ablation is its own subsection with the crops'
   const documents::SceneScore crops = crops_score({"car"}, 4, 0, 5, 2, 9, 5);
   documents::SceneScore tiles;
   const std::string md = report::openset_ablation_markdown(tiles, "abl/score.json", &crops, "abl/crops.json");
-  CHECK(md.find("### Ablation: every classify family (`OPENSET_CLASSES_ONLY=0`)") != std::string::npos);
+  CHECK(md.find("### Ablation: every classify family, no class envelope (`OPENSET_CLASSES_ONLY=0 "
+                "OPENSET_CLASS_ENVELOPE=0`)") != std::string::npos);
+  CHECK(md.find("`classify --class-envelope 0.05`, eighth round") != std::string::npos);
   CHECK(md.find("(abl/score.json, abl/crops.json)") != std::string::npos);
   CHECK(
       md.find("| car | 10 | 9 (4 + 5) | 9/10 = 90.0% [59.6, 98.2] | 5/9 = 55.6% [26.7, 81.1] | 5/10 = 50.0% "

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 
 #include "canopy/common/error.h"
 #include "classify/features.h"
@@ -61,6 +62,8 @@ Fit fit(const TableRange& k, const Features& f, double sigma, const Params& p) {
 
 // A class range's name in a sentence: the class, and the modelbase entry it came from.
 std::string label(const TableRange& k) {
+  if (k.envelope > 0)
+    return k.name + " (the envelope of " + std::to_string(k.envelope) + " modelbase entries)";
   return k.entry.empty() ? k.name : k.name + " (modelbase entry " + k.entry + ")";
 }
 
@@ -310,10 +313,17 @@ void outline(Answer& a, const Params& p) {
 // How far the top's profile lies from a modelbase entry's own (classify.md §18): the largest
 // absolute difference of the plateau share and the two end levels; 0 for a family's range or an
 // unmeasured entry.
+// A class's envelope: the least such difference over its entries' profiles (0 when none was measured).
 double profile_difference(const TableRange& k, const Features& f) {
-  if (!k.profile) return 0;
-  const std::array<double, 3>& e = *k.profile;
-  return std::max({std::abs(f.plateau_share - e[0]), std::abs(f.end_low - e[1]), std::abs(f.end_high - e[2])});
+  auto from = [&](const std::array<double, 3>& e) {
+    return std::max({std::abs(f.plateau_share - e[0]), std::abs(f.end_low - e[1]), std::abs(f.end_high - e[2])});
+  };
+  if (k.envelope > 0) {
+    double d = k.profiles.empty() ? 0 : kInf;
+    for (const std::array<double, 3>& e : k.profiles) d = std::min(d, from(e));
+    return d;
+  }
+  return k.profile ? from(*k.profile) : 0;
 }
 
 // Among the classes the size fits, the best: smallest distance, then most central; profile
@@ -351,7 +361,13 @@ void choose(Answer& a, const Params& p, double sigma, const std::vector<TableRan
                   fmt("%.2f x %.2f m is no box-truck or bus (", f.width, f.height) + nearest + ")"
             : fmt("%.2f x %.2f x %.2f m fits no class's ranges (", f.length, f.width, f.height) + nearest +
                   fmt("; gate %.1f)", p.size_gate);
-    if (aside && aside->distance <= p.size_gate) {
+    if (aside && aside->distance <= p.size_gate && aside->cls->envelope > 0) {
+      why +=
+          "; the envelope of the modelbase's " + std::to_string(aside->cls->envelope) + " " + aside->cls->name +
+          fmt(" entries fits its size (%.1f sigma) but none of their profiles", aside->distance) +
+          fmt(": plateau %.0f%% of the length, ends at %.0f%% and ", 100 * f.plateau_share, 100 * f.end_low) +
+          fmt("%.0f%% of H (tolerance %.0f%%)", 100 * f.end_high, 100 * p.entry_profile);
+    } else if (aside && aside->distance <= p.size_gate) {
       const std::array<double, 3>& e = *aside->cls->profile;
       why +=
           "; modelbase entry " + aside->cls->entry +
@@ -369,7 +385,13 @@ void choose(Answer& a, const Params& p, double sigma, const std::vector<TableRan
   a.cls = best.cls->name;
   a.group = best.cls->group;
   a.entry = best.cls->entry;
-  if (!a.entry.empty()) {
+  if (best.cls->envelope > 0) {
+    const TableRange& k = *best.cls;
+    a.detail = "its size fits the envelope of the modelbase's " + std::to_string(k.envelope) + " " + k.name +
+               fmt(" entries (%.2f-%.2f x %.2f-%.2f", k.length[0], k.length[1], k.width[0], k.width[1]) +
+               fmt(" x %.2f-%.2f m, +-%.0f%%)", k.height[0], k.height[1], 100 * p.class_envelope) +
+               fmt(" at %.1f sigma", best.distance);
+  } else if (!a.entry.empty()) {
     const TableRange& k = *best.cls;
     a.detail =
         "its size fits modelbase entry " + k.entry +
@@ -443,7 +465,7 @@ std::vector<TableRange> class_table(const Params& p, const std::vector<ModelEntr
                        [&](const ModelEntry& e) { return e.cls == family.name || e.cls == family.group; });
   };
   for (const ClassRange& family : class_ranges()) {
-    if (named(family)) table.push_back({family, "", false, std::nullopt});
+    if (named(family)) table.push_back({family, "", false, std::nullopt, 0, {}});
   }
   if (!p.entry_classes) return table;
   const double t = p.entry_tolerance;
@@ -472,6 +494,49 @@ std::vector<TableRange> class_table(const Params& p, const std::vector<ModelEntr
     }
     table.push_back(std::move(k));
   }
+  if (p.class_envelope <= 0) return table;
+  // A class's envelope (--class-envelope): its entries' smallest box, widened; the entries' own
+  // ranges stay. Classes in their order of first entry.
+  std::vector<std::string> order;
+  std::map<std::string, std::vector<const TableRange*>> of;
+  for (const TableRange& k : table) {
+    if (k.entry.empty()) continue;
+    if (of[k.name].empty()) order.push_back(k.name);
+    of[k.name].push_back(&k);
+  }
+  std::vector<TableRange> envelopes;
+  const double m = p.class_envelope;
+  for (const std::string& cls : order) {
+    const std::vector<const TableRange*>& ks = of[cls];
+    if (ks.size() < 2) continue;
+    TableRange k;
+    for (const ClassRange& family : class_ranges()) {
+      if (family.name == cls) static_cast<ClassRange&>(k) = family;  // its profile expectations
+    }
+    k.name = cls;
+    k.group = ks.front()->group;
+    k.hull_length = {0, 0};
+    k.envelope = ks.size();
+    // The entries' own sizes (the middles of their ranges) and profiles.
+    std::array<std::array<double, 2>, 3> box{{{kInf, -kInf}, {kInf, -kInf}, {kInf, -kInf}}};
+    // A flat box (a container, a tent, a shed) only when every entry is one: the envelope must not
+    // join one entry's flat top to another's size.
+    k.flat_box = true;
+    for (const TableRange* e : ks) {
+      const std::array<double, 3> size{0.5 * (e->length[0] + e->length[1]), 0.5 * (e->width[0] + e->width[1]),
+                                       0.5 * (e->height[0] + e->height[1])};
+      for (int i = 0; i < 3; ++i) box[i] = {std::min(box[i][0], size[i]), std::max(box[i][1], size[i])};
+      if (e->profile) k.profiles.push_back(*e->profile);
+      k.flat_box = k.flat_box && e->flat_box;
+      k.open_end = k.open_end || e->open_end;
+    }
+    if (k.profiles.size() < ks.size()) k.profiles.clear();  // an unmeasured entry: no profile to match
+    k.length = {box[0][0] * (1 - m), box[0][1] * (1 + m)};
+    k.width = {box[1][0] * (1 - m), box[1][1] * (1 + m)};
+    k.height = {box[2][0] * (1 - m), box[2][1] * (1 + m)};
+    envelopes.push_back(std::move(k));
+  }
+  table.insert(table.end(), envelopes.begin(), envelopes.end());
   return table;
 }
 
@@ -510,6 +575,7 @@ void validate(const Params& p) {
   need(p.model_density > 0 && std::isfinite(p.model_density), "--model-density must be > 0");
   need(p.entry_tolerance >= 0 && p.entry_tolerance <= 0.5, "--entry-tolerance must be in [0, 0.5]");
   need(p.entry_profile >= 0 && p.entry_profile <= 1, "--entry-profile must be in [0, 1]");
+  need(p.class_envelope >= 0 && p.class_envelope <= 1, "--class-envelope must be in [0, 1]");
   need(p.pass_share > 0 && p.pass_share <= 0.5, "--pass-share must be in (0, 0.5]");
   need(p.min_end_fill >= 0 && p.min_end_fill <= 1, "--min-end-fill must be in [0, 1]");
   need(p.min_notch >= 0 && p.min_notch <= 1, "--min-notch must be in [0, 1]");

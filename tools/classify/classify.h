@@ -67,6 +67,10 @@ struct TableRange : ClassRange {
   // An entry's own top profile, measured on its surface as on a candidate: plateau share, lower
   // and higher end level (share of H); none for a family or an unmeasured entry.
   std::optional<std::array<double, 3>> profile;
+  // A class's envelope (--class-envelope): the number of its entries it spans (0: not one), and
+  // their measured profiles (the envelope stands for a top within entry_profile of any of them).
+  std::size_t envelope = 0;
+  std::vector<std::array<double, 3>> profiles;
 };
 
 // The twelve families, in families.cpp's order, with their groups:
@@ -237,6 +241,12 @@ struct Params {
   // classes (a modelbase of cars, vans and trucks is never answered wheel-loader). false: every
   // family (before).
   bool modelbase_classes_only = false;
+  // A class's envelope (docs/decisions/open-set.md, eighth round): for each class with at least
+  // two entries, one more range: the smallest box holding their L W H, widened by this share
+  // either way (lo x (1 - share), hi x (1 + share)); its profile expectations are the family's of
+  // that name (none for a group name), and with entry_profile it is no class for a top whose
+  // profile differs by more than that from every one of its entries' own. 0: off (before).
+  double class_envelope = 0;
 };
 
 // Throws common::UsageError naming the option of the first value out of range.

@@ -160,6 +160,9 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
   tool.add("--modelbase-classes-only", &p.modelbase_classes_only,
            "with --modelbase entries that have a class, a family's range is a class only if its name or "
            "group is one of theirs (docs/decisions/open-set.md)");
+  tool.add("--class-envelope", &p.class_envelope,
+           "for each class with two or more --modelbase entries, one more class range: the smallest box "
+           "holding their L W H, x [1 - this, 1 + this] (docs/decisions/open-set.md; 0: off)");
 }
 
 // Modelbase entries that carry a class (<model>.class, else `classes`): their surfaces'

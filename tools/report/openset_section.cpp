@@ -210,11 +210,13 @@ std::string ablation_markdown(const std::string& heading, const std::string& wha
 std::string openset_ablation_markdown(const documents::SceneScore& tiles, const std::string& tiles_path,
                                       const documents::SceneScore* crops, const std::string& crops_path) {
   return ablation_markdown(
-      "Ablation: every classify family (`OPENSET_CLASSES_ONLY=0`)",
+      "Ablation: every classify family, no class envelope (`OPENSET_CLASSES_ONLY=0 "
+      "OPENSET_CLASS_ENVELOPE=0`)",
       "The open set's default answers only the classes of the modelbase's entries (`classify "
-      "--modelbase-classes-only`, docs/decisions/open-set.md); this is the same tiles, candidates and "
-      "model chain with classify's every family instead (the simulated tiles' parameters alone), run "
-      "beside it on every candidate and scored the same way",
+      "--modelbase-classes-only`, docs/decisions/open-set.md, fourth round), and a class with two or more "
+      "entries is also the box of their sizes +-5% (`classify --class-envelope 0.05`, eighth round); this "
+      "is the same tiles, candidates and model chain with classify's every family and no envelope instead "
+      "(the simulated tiles' parameters alone), run beside it on every candidate and scored the same way",
       tiles, tiles_path, crops, crops_path);
 }
 

@@ -45,9 +45,10 @@ std::string openset_markdown(const documents::SceneScore& score, const std::stri
                              const documents::SceneScore* crops = nullptr, const std::string& crops_path = "",
                              const OpensetDistances& distances = {}, const std::string& distances_path = "");
 
-// The ablation of the open set's classify default (OPENSET_CLASSES_ONLY=0: every family, without
-// --modelbase-classes-only) on the same candidates and model chain, as a subsection: the tiles'
-// table (`tiles`) and the crops' (`crops`, may be null) in the same form as the section's.
+// The ablation of the open set's classify defaults (OPENSET_CLASSES_ONLY=0
+// OPENSET_CLASS_ENVELOPE=0: every family, without --modelbase-classes-only and --class-envelope)
+// on the same candidates and model chain, as a subsection: the tiles' table (`tiles`) and the
+// crops' (`crops`, may be null) in the same form as the section's.
 std::string openset_ablation_markdown(const documents::SceneScore& tiles, const std::string& tiles_path,
                                       const documents::SceneScore* crops = nullptr,
                                       const std::string& crops_path = "");
