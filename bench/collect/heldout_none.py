@@ -72,6 +72,10 @@ def main(argv):
     dens = [index_density(os.path.dirname(l[0])) for l in lines]
     seed_of = [int(l[1].split("tile-")[1].split("/")[0]) for l in lines]
     cal_maps = cal.read_ini(cal_ini)
+    if any(cal_maps[k][:2] != cal_maps["none"][:2] for k in ("none-dense", "none-coarse")):
+        # final_answers.py's rows know one none source: the level's own p is recovered through it.
+        sys.exit(f"heldout_none.py: {cal_ini} splits verify's none by density; the answers must have been "
+                 "collected with one none map (a file of before the split, or --coarse-none-below 0): give that file")
 
     fin = [json.loads(l) for l in open(answers)]
     for r in fin:
