@@ -125,15 +125,15 @@ EXPERIMENT_DENSITY := $(if $(filter 1,$(DENSITY_LADDER)),$(foreach d,$(DENSITY_L
 
 ifeq ($(filter scenes,$(MAKECMDGOALS)),)
 # density_args(LEVEL): the level's `make scenes`: its own directories and spacing, noise 0, the
-# scores only (no pictures, no PCL baseline, no size-only ablation), verify's ablation and, on
-# the pixel ladder, classify's.
+# scores only (no pictures, no PCL baseline, no size-only nor collect ablation), verify's
+# ablation and, on the pixel ladder, classify's.
 # density_args(LEVEL[, RUNG, RENDER]): the same for rung RUNG (default d<LEVEL>) rendered with the
 # scene variables RENDER (default the level's spacing): the sensor ladder's levels.
 density_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROGRESS=0 \
   SCENE_DIR=$(DENSITY_DIR)/$(or $(2),d$(1)) SCENE_RES=$(DENSITY_RES)/$(or $(2),d$(1)) \
   $(or $(3),SCENE_SPACING=$(call density_mm,$(1))mm) \
   SCENE_SEEDS="$(DENSITY_SEEDS)" SCENE_COVERS="$(DENSITY_COVERS)" SCENE_MODELS=$(DENSITY_MODELS) SCENE_NOISES=0 SCENE_BASELINE= \
-  SCENE_SIZE_ONLY=0 SCENE_PICTURES=0$(if $(DENSITY_VERIFY_ABLATION), SCENE_VERIFY_ABLATION='$(DENSITY_VERIFY_ABLATION)')$(if \
+  SCENE_SIZE_ONLY=0 SCENE_PICTURES=0 SCENE_COLLECT_ABLATION=$(if $(DENSITY_VERIFY_ABLATION), SCENE_VERIFY_ABLATION='$(DENSITY_VERIFY_ABLATION)')$(if \
   $(2),,$(if $(DENSITY_CLASSIFY_ABLATION), SCENE_CLASSIFY_ABLATION=$(DENSITY_CLASSIFY_ABLATION)))
 # density_sensor_args(LEVEL): a level of the sensor ladder.
 density_sensor_args = $(call density_args,$(1),$(DENSITY_SENSOR)-$(1),SCENE_SENSOR=$(DENSITY_SENSOR) \

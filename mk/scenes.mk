@@ -93,9 +93,13 @@ collect_calibration = $(if $(COLLECT_CALIBRATION), --calibration $(COLLECT_CALIB
 SCENE_CLASSIFY_ABLATION ?=
 # SCENE_COLLECT_ABLATION=<collect options, each as --name=value>: collect run a second time on
 # every run with these options, from the same verdicts and class answers, scored beside canopy's
-# as $(SCENE_RES)/collect-ablation/score.json. Empty, the default, leaves it out; the open set
-# sets it (mk/openset.mk: --contradicted-below=0 --refused-below=0, the model answer first).
-SCENE_COLLECT_ABLATION ?=
+# as $(SCENE_RES)/collect-ablation/score.json. With a calibration the default is
+# --coarse-none-below=0 (docs/decisions/verify.md §19: one none map for every verify none, the
+# statement before the density split), whose reliability table the report shows beside canopy's
+# (report --tile-collect-ablation); without one, empty (the split states nothing then). Empty
+# leaves it out; the open set sets it (mk/openset.mk: --contradicted-below=0 --refused-below=0,
+# the model answer first), the density ladder empties it (mk/density.mk).
+SCENE_COLLECT_ABLATION ?= $(if $(COLLECT_CALIBRATION),--coarse-none-below=0)
 # SCENE_VERIFY_ABLATION=<verify options, each as --name=value>: verify run a second time on every
 # candidate that reached the model chain, with these options after its parameters
 # (cands/<id>/verdict-ablation.json), collected from those verdicts and the same class answers
@@ -391,8 +395,9 @@ SCENE_ABL_SCORE := $(if $(SCENE_CLASSIFY_ABLATION),$(SCENE_RES)/class-ablation/s
 SCENE_EXPERIMENT ?= 1
 $(if $(filter-out 0 1,$(SCENE_EXPERIMENT)),$(error SCENE_EXPERIMENT=$(SCENE_EXPERIMENT): must be 0 or 1))
 ifeq ($(SCENE_EXPERIMENT),1)
-$(RES)/report.md: $(SCENE_SCORE) $(SCENE_BL_SCORES)
-REPORT_ARGS += --tile-score $(SCENE_SCORE)
+$(RES)/report.md: $(SCENE_SCORE) $(SCENE_BL_SCORES) $(if $(SCENE_COLLECT_ABLATION),$(SCENE_RES)/collect-ablation/score.json)
+REPORT_ARGS += --tile-score $(SCENE_SCORE)$(if $(SCENE_COLLECT_ABLATION), --tile-collect-ablation \
+  $(SCENE_RES)/collect-ablation/score.json)
 endif
 ifeq ($(filter scenes,$(MAKECMDGOALS)),)
 # ---- read by every other make (all, report, tools, ...) ----------------------------------
@@ -415,8 +420,9 @@ SCENE_TOOLS := rangetrace addnoise detect classify fitvox cocone ncut gmatch ver
 $(SCENE_SCORE): $(scenes_force) $(foreach t,$(SCENE_TOOLS),$(call tool,$(t))) $(MODELBASE) $(VERIFY_SURFACES) \
   $(if $(SCENE_BASELINE),$(filter $(call baseline_models,$(OUT)/modelbase),$(call baseline_models,$(SCENE_MB))))
 	+@$(MAKE) --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROGRESS=0
-# The baseline's scores are made by the same sub-make (no recipe of their own here).
-$(SCENE_BL_SCORES): $(SCENE_SCORE)
+# The baseline's scores and collect's ablation's are made by the same sub-make (no recipe of their
+# own here).
+$(SCENE_BL_SCORES) $(if $(SCENE_COLLECT_ABLATION),$(SCENE_RES)/collect-ablation/score.json): $(SCENE_SCORE)
 else
 # ---- read only by `make scenes` ----------------------------------------------------------
 SCENE_MB := $(OUT)/modelbase

@@ -2,7 +2,7 @@
 """calibrate.py: the calibration of the confidence a final answer states (collect --calibration,
 share/params/calibration.ini; docs/decisions/verify.md §16). Standard library only.
 
-  calibrate.py RUN... [--fit] [--write INI] [--calibration INI] [--radius 1.5]
+  calibrate.py RUN... [--fit] [--write INI] [--calibration INI] [--radius 1.5] [--coarse-none-below 370]
 
 Each RUN is MANIFEST:MATCHES, a scene experiment's score inputs and outputs: the score's tile
 list (out/scenes/tiles.txt: detections truth noise cover per line, read from the working
@@ -11,13 +11,18 @@ line of the manifest). The detections.json files must have been written WITHOUT 
 (collect's own levels' confidences), as the fit maps those.
 
 Every final answer is one row: its source (model: verify's model answer; class: classify's
-class answer; none: verify's none where both levels rejected or classify did not answer; none-class:
-classify's none where the model chain did not run or failed), the confidence it stated, and
+class answer; verify's none where both levels rejected or classify did not answer: none-dense on
+a candidate of at least --coarse-none-below object points per m² (its cands/index.json beside the
+detections, as collect reads it; default 370, collect's: verify.md §19) or of unknown density,
+none-coarse below it (with --coarse-none-below 0 both are none, as collect's ablation states
+them); none-class: classify's none where the model chain did not run or failed), the confidence
+it stated, and
 whether it was right, as score's reliability table judges it (tools/score/intervals.cpp): a
 detection is right when its outcome is "right"; a rejection is right unless a true vehicle that
 no detection found (a "missed" row of matches.csv) lies within RADIUS of the candidate's centre.
 
-The map per source: p' = logistic(bias + slope logit(p)) (Platt scaling; targets smoothed as
+The map per source (none: fitted on all of verify's nones, the map of collect --coarse-none-below
+0): p' = logistic(bias + slope logit(p)) (Platt scaling; targets smoothed as
 Platt's (N+ + 1)/(N+ + 2) and 1/(N- + 2), which keeps a source with no wrong answer finite).
 Both bias and slope are fitted when the source has at least MIN_EACH right and MIN_EACH wrong
 answers; else the bias alone (slope 1: the level's ranking and spread kept, its level moved) when
@@ -34,8 +39,11 @@ import csv, math, os, sys
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 from rates import wilson  # noqa: E402
 
-SOURCES = ("model", "class", "none", "none-class")
-LEVEL = {"model": "model", "class": "class", "none": "none", "none-class": "none"}
+SOURCES = ("model", "class", "none", "none-class", "none-dense", "none-coarse")
+LEVEL = {"model": "model", "class": "class", "none": "none", "none-class": "none", "none-dense": "none",
+         "none-coarse": "none"}
+VERIFY_NONE = ("none", "none-dense", "none-coarse")  # the rows the none map is fitted on
+COARSE_NONE_BELOW = 370.0  # collect --coarse-none-below (common/density_scale.h kDenseDensity)
 MIN_EACH, MIN_ANSWERS = 10, 20
 
 
@@ -60,6 +68,21 @@ def rejected_source(x):
     return "none" if (not classified or chain == "none") else "none-class"
 
 
+def index_density(det):
+    """Object density per candidate id (documents::Candidate::object_density) of the index beside
+    a run's detections (<run>/cands/index.json); {} when there is none."""
+    path = os.path.join(os.path.dirname(det), "cands", "index.json")
+    if not os.path.isfile(path):
+        return {}
+    out = {}
+    for c in __import__("json").load(open(path))["candidates"]:
+        if c.get("density") is not None:
+            out[c["id"]] = c["density"]
+        elif c.get("object_points") is not None and c["length"] * c["width"] > 0:
+            out[c["id"]] = c["object_points"] / (c["length"] * c["width"])
+    return out
+
+
 def load(run, radius):
     manifest, matches = run.split(":")
     tiles = [line.split() for line in open(manifest) if line.strip()]
@@ -67,6 +90,7 @@ def load(run, radius):
     rows = []
     for t, (det, truth, _noise, _cover) in enumerate(tiles):
         d = __import__("json").load(open(det))
+        dens = index_density(det)
         for x in d["detections"]:
             if x.get("confidence") is None:
                 continue
@@ -75,6 +99,8 @@ def load(run, radius):
             if x.get("confidence") is None:
                 continue
             source = rejected_source(x)
+            if source == "none" and COARSE_NONE_BELOW > 0:
+                source = "none-coarse" if dens.get(x["candidate"], math.inf) < COARSE_NONE_BELOW else "none-dense"
             px, py = x["position"]["x"], x["position"]["y"]
             costs = any(math.hypot(vx - px, vy - py) <= radius for vx, vy in missed.get(t, []))
             rows.append(dict(render=truth, source=source, p=x["confidence"], right=not costs))
@@ -135,7 +161,8 @@ def fit_platt(rows):
 
 
 def fit(rows):
-    return {s: fit_platt([r for r in rows if r["source"] == s]) for s in SOURCES}
+    return {s: fit_platt([r for r in rows if r["source"] == s or (s == "none" and r["source"] in VERIFY_NONE)])
+            for s in SOURCES}
 
 
 def read_ini(path):
@@ -145,6 +172,10 @@ def read_ini(path):
         if line:
             k, x = (s.strip() for s in line.split("="))
             v[k] = float(x)
+    # (a file of before verify.md §19 has no density maps: its none map, as collect used it)
+    for s in ("none-dense", "none-coarse"):
+        v.setdefault(f"{s}-bias", v["none-bias"])
+        v.setdefault(f"{s}-slope", v["none-slope"])
     return {s: (v[f"{s}-bias"], v[f"{s}-slope"], path) for s in SOURCES}
 
 
@@ -188,13 +219,16 @@ def main(argv):
     i = 0
     while i < len(argv):
         a = argv[i]
-        if a in ("--radius", "--write", "--calibration"):
+        if a in ("--radius", "--write", "--calibration", "--coarse-none-below"):
             if i + 1 >= len(argv):
                 sys.exit(f"calibrate.py: {a} needs a value")
             v = argv[i + 1]
             i += 2
             if a == "--radius":
                 radius = float(v)
+            elif a == "--coarse-none-below":
+                global COARSE_NONE_BELOW
+                COARSE_NONE_BELOW = float(v)
             elif a == "--write":
                 write, do_fit = v, True
             else:

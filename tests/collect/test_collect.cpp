@@ -4,8 +4,10 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "canopy/common/math.h"
@@ -946,14 +948,17 @@ const char* const kCalibrationIni =
     "class-bias = 2   # comment\nclass-slope = 1\n"
     "none-bias = -0.5\nnone-slope = 0.5\n"
     "\n"
-    "none-class-bias = 0.3\nnone-class-slope = 1.5\n";
+    "none-class-bias = 0.3\nnone-class-slope = 1.5\n"
+    "none-dense-bias = 1\nnone-dense-slope = 1.2\n"
+    "none-coarse-bias = -1\nnone-coarse-slope = 0.8\n";
 
 }  // namespace
 
 TEST_CASE(
     "collect --calibration: each level's stated confidence through its own Platt map, answers unchanged") {
   // p' = logistic(bias + slope ln(p / (1 - p))), by hand: model (1, 2) at 0.9: logistic(1 + 2 ln 9) =
-  // 0.99547881; none (-0.5, 0.5) at 0.6: 0.42622561; none-class (0.3, 1.5) at 0.25: 0.20621089;
+  // 0.99547881; none (-0.5, 0.5) at 0.6: 0.42622561; none-dense (1, 1.2) at 0.6: logistic(1 + 1.2 ln 1.5)
+  // = 0.81556110; none-class (0.3, 1.5) at 0.25: 0.20621089;
   // class (2, 1) at 0.7: 0.94517884.
   const collect::Calibration cal = collect::parse_calibration(kCalibrationIni, "cal.ini");
   CHECK(cal.name == "cal.ini");
@@ -972,6 +977,7 @@ TEST_CASE(
   }
   CHECK(collect::calibrated(cal.model, 0.9) == Approx(0.99547881).epsilon(1e-7));
   CHECK(collect::calibrated(cal.none, 0.6) == Approx(0.42622561).epsilon(1e-7));
+  CHECK(collect::calibrated(cal.none_dense, 0.6) == Approx(0.81556110).epsilon(1e-7));
   CHECK(collect::calibrated(cal.none_class, 0.25) == Approx(0.20621089).epsilon(1e-7));
   CHECK(collect::calibrated(cal.cls, 0.7) == Approx(0.94517884).epsilon(1e-7));
   CHECK(collect::calibrated(collect::PlattMap{}, 0.123) == 0.123);  // the identity is exact
@@ -990,7 +996,8 @@ TEST_CASE(
   in.answers = {
       // c1: verify's model answer (classify's class beside it is not the answer).
       {answer("c1", "", "sedan", "car", 0.9), answer("c1", "class", "", "car", 0.4)},
-      // c2: both levels said none: verify's none confidence through the none map.
+      // c2: both levels said none: verify's none confidence through the none-dense map (its density
+      // is unknown: not one of the density rule's coarse candidates).
       {answer("c2", "", "", "", 0.6), answer("c2", "class", "", "", 0.999, "not_vehicle_shape")},
       // c3: the model chain did not run; classify's none through the none-class map.
       {collect::absent_verdict("c3/verdict.json"), answer("c3", "class", "", "", 0.25, "not_vehicle_shape")},
@@ -1007,7 +1014,7 @@ TEST_CASE(
   CHECK(after["detections"][1]["candidate"] == "c4");
   CHECK(after["detections"][1]["confidence"].get<double>() == Approx(0.94517884).epsilon(1e-7));
   CHECK(after["rejected"][0]["candidate"] == "c2");
-  CHECK(after["rejected"][0]["confidence"].get<double>() == Approx(0.42622561).epsilon(1e-7));
+  CHECK(after["rejected"][0]["confidence"].get<double>() == Approx(0.81556110).epsilon(1e-7));
   CHECK(after["rejected"][1]["candidate"] == "c3");
   CHECK(after["rejected"][1]["confidence"].get<double>() == Approx(0.20621089).epsilon(1e-7));
   // Without a calibration (the ablation): each level's own confidence, as before.
@@ -1040,7 +1047,7 @@ TEST_CASE("collect --calibration: the file on the command line; a bad one is nam
   const Json d = read_json(dir / "d.json");
   CHECK(d["detections"][0]["confidence"].get<double>() == Approx(0.99547881).epsilon(1e-7));  // sedan 0.9
   CHECK(d["rejected"][0]["confidence"].get<double>() ==
-        Approx(1 / (1 + std::exp(0.5 - 0.5 * std::log(0.7 / 0.3)))).epsilon(1e-9));  // none 0.7
+        Approx(1 / (1 + std::exp(-1 - 1.2 * std::log(0.7 / 0.3)))).epsilon(1e-9));  // none-dense 0.7
   CHECK(d["provenance"]["inputs"].back() == ini.string());
   CHECK(without_confidences(d)["detections"] == without_confidences(plain)["detections"]);
   // The shipped calibration parses.
@@ -1072,4 +1079,118 @@ TEST_CASE("collect --calibration: the file on the command line; a bad one is nam
   CHECK(test::sh(cmd + " --size-only --modelbase " + dir.string() + " --calibration " + ini.string(),
                  dir / "err.txt", &err) == 2);
   CHECK_THAT(err, Catch::Contains("--calibration"));
+}
+
+TEST_CASE("collect --calibration: verify's none states its map by the candidate's density (verify.md §19)") {
+  // By hand, verify's none at 0.9 (logit ln 9 = 2.19722): none-coarse (-1, 0.8): logistic(0.75778) =
+  // 0.68087; none-dense (1, 1.2): logistic(3.63667) = 0.97434; none (-0.5, 0.5), the one map of
+  // the ablation: logistic(0.59861) = 0.64534.
+  const collect::Calibration cal = collect::parse_calibration(kCalibrationIni, "cal.ini");
+  CHECK(cal.none_coarse.bias == -1);
+  CHECK(cal.none_coarse.slope == 0.8);
+  CHECK(cal.none_dense.bias == 1);
+  CHECK(cal.none_dense.slope == 1.2);
+  const double coarse = 0.6808715, dense = 0.9743361, unsplit = 0.6453388;
+  collect::Inputs in;
+  in.index.name = "idx.json";
+  // Object densities: 120 and 369.9 (coarse: below the density rule's 370), 370 and 2800 (not),
+  // c5 unknown (an older index: not coarse), c6 at 120 answered by classify's none alone.
+  const std::vector<std::pair<const char*, std::optional<double>>> dens{
+      {"c1", 120.0}, {"c2", 369.9}, {"c3", 370.0}, {"c4", 2800.0}, {"c5", std::nullopt}, {"c6", 120.0}};
+  for (const auto& [id, d] : dens) {
+    collect::Candidate c;
+    c.id = id;
+    c.transform = {1, 0, 0, E, 0, 1, 0, N, 0, 0, 1, 0, 0, 0, 0, 1};
+    c.density = d;
+    in.index.candidates.push_back(c);
+  }
+  in.provenance = {"collect", "9.9", {}, {"idx.json"}};
+  in.answers = {
+      // c1, c3: both levels none; c2, c4, c5: verify's none, classify did not answer.
+      {answer("c1", "", "", "", 0.9), answer("c1", "class", "", "", 0.999, "too_small")},
+      {answer("c2", "", "", "", 0.9), collect::absent_verdict("c2/class.json")},
+      {answer("c3", "", "", "", 0.9), answer("c3", "class", "", "", 0.999, "not_vehicle_shape")},
+      {answer("c4", "", "", "", 0.9), collect::absent_verdict("c4/class.json")},
+      {answer("c5", "", "", "", 0.9), collect::absent_verdict("c5/class.json")},
+      // c6: the model chain did not run: classify's none, the none-class map whatever the density.
+      {collect::absent_verdict("c6/verdict.json"), answer("c6", "class", "", "", 0.25, "not_vehicle_shape")}};
+  collect::Params p;
+  CHECK(p.coarse_none_below == 370);  // the density rule's dense end, common::kDenseDensity
+  p.calibration = cal;
+  auto stated = [&] {
+    const Json d = Json::parse(collect::run(p, in).detections);
+    REQUIRE(d["rejected"].size() == 6);
+    std::vector<double> out;
+    for (const auto& r : d["rejected"]) out.push_back(r["confidence"].get<double>());
+    return out;
+  };
+  const std::vector<double> split = stated();
+  CHECK(split[0] == Approx(coarse).epsilon(1e-6));
+  CHECK(split[1] == Approx(coarse).epsilon(1e-6));
+  CHECK(split[2] == Approx(dense).epsilon(1e-6));
+  CHECK(split[3] == Approx(dense).epsilon(1e-6));
+  CHECK(split[4] == Approx(dense).epsilon(1e-6));
+  CHECK(split[5] == Approx(0.20621089).epsilon(1e-7));
+  // The ablation (--coarse-none-below 0): every verify none through the one none map, as before
+  // §19; classify's none unchanged.
+  p.coarse_none_below = 0;
+  const std::vector<double> off = stated();
+  for (int i = 0; i < 5; ++i) CHECK(off[i] == Approx(unsplit).epsilon(1e-6));
+  CHECK(off[5] == split[5]);
+  // Another line moves the split with it (an unknown density stays dense).
+  p.coarse_none_below = 3000;
+  const std::vector<double> high = stated();
+  for (int i = 0; i < 4; ++i) CHECK(high[i] == Approx(coarse).epsilon(1e-6));
+  CHECK(high[4] == Approx(dense).epsilon(1e-6));
+  // Without a calibration the split changes nothing: verify's own 0.9.
+  p.calibration = collect::Calibration{};
+  p.coarse_none_below = 370;
+  for (int i = 0; i < 5; ++i) CHECK(stated()[i] == 0.9);
+  // Only the confidences differ between the split and the ablation.
+  p.calibration = cal;
+  const Json a = Json::parse(collect::run(p, in).detections);
+  p.coarse_none_below = 0;
+  CHECK(without_confidences(a) == without_confidences(Json::parse(collect::run(p, in).detections)));
+}
+
+TEST_CASE("collect --coarse-none-below on the command line; a calibration file without the density maps") {
+  // The tile of tile(): c0002 is verify's none at 0.7 on a candidate 3 m x 2 m; with 600 object
+  // points it has 100 points/m² (coarse), with 3000 points 500 (dense).
+  const fs::path dir = tile("coarse-none");
+  const fs::path cands = dir / "cands";
+  Json index = read_json(cands / "index.json");
+  const fs::path ini = dir / "cal.ini";
+  write(ini, kCalibrationIni);
+  const double l = std::log(0.7 / 0.3);
+  const double coarse = 1 / (1 + std::exp(1 - 0.8 * l)), dense = 1 / (1 + std::exp(-1 - 1.2 * l)),
+               unsplit = 1 / (1 + std::exp(0.5 - 0.5 * l));
+  const std::string cmd = bin() + " -i " + (cands / "index.json").string() + " -o " +
+                          (dir / "d.json").string() + " --calibration " + ini.string();
+  std::string err;
+  for (const auto& [points, expected, option] :
+       std::vector<std::tuple<int, double, std::string>>{{600, coarse, ""},
+                                                         {3000, dense, ""},
+                                                         {600, unsplit, " --coarse-none-below 0"},
+                                                         {3000, unsplit, " --coarse-none-below=0"},
+                                                         {3000, coarse, " --coarse-none-below 600"}}) {
+    index["candidates"][1]["object_points"] = points;
+    write(cands / "index.json", index.dump());
+    REQUIRE(test::sh(cmd + option, dir / "err.txt", &err) == 0);
+    const Json d = read_json(dir / "d.json");
+    CHECK(d["rejected"][0]["candidate"] == "c0002");
+    CHECK(d["rejected"][0]["confidence"].get<double>() == Approx(expected).epsilon(1e-9));
+  }
+  // Usage: a negative or non-numeric line is exit 2, naming the option.
+  for (const char* bad : {" --coarse-none-below -1", " --coarse-none-below x"}) {
+    CHECK(test::sh(cmd + bad, dir / "err.txt", &err) == 2);
+    CHECK_THAT(err, Catch::Contains("--coarse-none-below"));
+  }
+  // A calibration file of before §19 (the eight keys, no density maps) is refused by name.
+  std::string old = kCalibrationIni;
+  old = old.substr(0, old.find("none-dense-bias"));
+  write(ini, old);
+  fs::remove(dir / "d.json");
+  CHECK(test::sh(cmd, dir / "err.txt", &err) == 1);
+  CHECK_THAT(err, Catch::Contains(ini.string() + ": ") && Catch::Contains("has no none-dense-bias"));
+  CHECK_FALSE(fs::exists(dir / "d.json"));
 }

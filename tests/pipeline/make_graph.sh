@@ -347,7 +347,9 @@ fake_run() {
 sd="$tmp/out/scenes"
 st="$sd/light/tile-1"
 sr="$st/noise-0"
-sc=("${mk[@]}" PROGRESS=0 SCENE_SEEDS=1 SCENE_COVERS=light SCENE_NOISES=0 SCENE_BASELINE= SCENE_SIZE_ONLY=0 SCENE_PICTURES=0)
+# (sc: without collect's ablation, which a calibration brings by default: checked on its own below.)
+sa=("${mk[@]}" PROGRESS=0 SCENE_SEEDS=1 SCENE_COVERS=light SCENE_NOISES=0 SCENE_BASELINE= SCENE_SIZE_ONLY=0 SCENE_PICTURES=0)
+sc=("${sa[@]}" SCENE_COLLECT_ABLATION=)
 mkdir -p "$sr" "$tmp/res/scenes"
 for f in "$st/scan.pcd" "$st/truth.json" "$sr/scan.pcd"; do : >"$f"; done
 at $((now - 50)) "$st/scan.pcd" "$st/truth.json"; at $((now - 49)) "$sr/scan.pcd"
@@ -370,6 +372,21 @@ done
 grep -qx "calibration = $tmp/params/calibration.ini" "$sd/.opts/collect.txt" ||
   fail "the collect options file does not hold the calibration: $(cat "$sd/.opts/collect.txt")"
 "${sc[@]}" -q scenes || fail "make -q scenes is not clean on a complete run: $("${sc[@]}" -n scenes 2>&1 | head -5)"
+# collect's ablation by default (SCENE_COLLECT_ABLATION: --coarse-none-below=0 with a calibration;
+# verify.md §19): on a complete run it plans one more collect, from the same verdicts, and its
+# score; nothing upstream of collect, nor canopy's collect. Without a calibration there is none.
+plan=$("${sa[@]}" -n scenes 2>&1)
+plans "bin/collect -i $sr/cands/index.json .*-o $sr/detections-collect-ablation.json .*--coarse-none-below=0 --calibration" ||
+  fail "the default does not plan collect's ablation: $(echo "$plan" | grep stagerun)"
+plans "bin/score --tiles $sd/tiles-collect-ablation.txt" || fail "the default does not plan the ablation's score"
+for t in rangetrace addnoise detect classify fitvox cocone ncut gmatch verify "collect -i $sr/cands/index.json --plan" \
+  "collect -i $sr/cands/index.json -o $sr/detections.json"; do
+  if plans "bin/$t "; then fail "collect's ablation re-plans $t"; fi
+done
+[ "$(echo "$plan" | stages)" -eq 2 ] || fail "collect's ablation plans $(echo "$plan" | stages) stages, not 2"
+"${sa[@]}" -q scenes && fail "make -q scenes is clean without collect's ablation"
+plan=$("${sa[@]}" -n scenes COLLECT_CALIBRATION= 2>&1)
+if plans "collect-ablation"; then fail "without a calibration collect's ablation is planned"; fi
 # COLLECT_CALIBRATION emptied (the ablation): collect and the score, not detect, the plan,
 # classify, the model chain nor the render; a dry run writes nothing.
 plan=$("${sc[@]}" -n scenes COLLECT_CALIBRATION= 2>&1)

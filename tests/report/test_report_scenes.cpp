@@ -215,3 +215,54 @@ TEST_CASE("scene section: score's intervals and distinct counts beside each rate
   CHECK(md.find("| class | 0.5–0.6 | 4 | 2 = 50.0% [10.0, 90.0] | 55.0% | – (< 20) |") != std::string::npos);
   CHECK(md.find("| class | 0.4–0.5 |") == std::string::npos);
 }
+
+TEST_CASE("scene section: collect's ablation's reliability beside canopy's (verify.md §19)") {
+  // A score of two runs with `none` bins; the ablation states the nones otherwise.
+  auto score_of = [](const std::string& runs_dir, const std::string& none_rows) {
+    return documents::read_scene_score(R"({
+    "format": "canopy.scene_score", "version": 1,
+    "params": {"match_radius_m": 1.5, "cover_bins": [0, 1], "flip_threshold_deg": 90},
+    "tiles": [
+      {"detections": ")" + runs_dir + R"(/noise-0/detections.json", "cover": "light", "noise_mm": 0, "area_ha": 0.09},
+      {"detections": ")" + runs_dir + R"(/noise-8/detections.json", "cover": "light", "noise_mm": 8, "area_ha": 0.09}],
+    "summary": [], "pr": [], "models": [], "cover_bins": [],
+    "reliability": [)" + none_rows + R"(],
+    "matches": []})",
+                                       "score.json");
+  };
+  const documents::SceneScore canopy =
+      score_of("out/scenes/light/tile-1",
+               R"({"level": "none", "confidence_lo": 0.3, "confidence_hi": 0.4, "answers": 5, "right": 2,
+          "mean_confidence": 0.35, "rate": 0.4, "rate_lo": 0.1, "rate_hi": 0.8},
+         {"level": "none", "confidence_lo": 0.9, "confidence_hi": 1.0, "answers": 40, "right": 39,
+          "mean_confidence": 0.99, "rate": 0.975, "rate_lo": 0.87, "rate_hi": 0.99})");
+  const documents::SceneScore ablation =
+      score_of("out/scenes/light/tile-1",
+               R"({"level": "none", "confidence_lo": 0.8, "confidence_hi": 0.9, "answers": 25, "right": 16,
+          "mean_confidence": 0.87, "rate": 0.64, "rate_lo": 0.45, "rate_hi": 0.8},
+         {"level": "none", "confidence_lo": 0.9, "confidence_hi": 1.0, "answers": 20, "right": 20,
+          "mean_confidence": 0.95, "rate": 1.0, "rate_lo": 0.84, "rate_hi": 1.0})");
+  const std::string md =
+      report::scene_markdown(canopy, {}, "scenes", &ablation, "res/collect-ablation/score.json");
+  const auto at = [&](const std::string& s) { return md.find(s); };
+  REQUIRE(at("| none | 0.9–1.0 | 40 | 39 = 97.5% [87.0, 99.0] | 99.0% | yes |") != std::string::npos);
+  REQUIRE(at("`collect --coarse-none-below 0`") != std::string::npos);
+  // The ablation's rows follow its paragraph: 64% right at 87% stated is off by 23 points.
+  CHECK(at("| none | 0.8–0.9 | 25 | 16 = 64.0% [45.0, 80.0] | 87.0% | **no** |") >
+        at("`collect --coarse-none-below 0`"));
+  CHECK(at("| none | 0.9–1.0 | 20 | 20 = 100.0% [84.0, 100.0] | 95.0% | yes |") != std::string::npos);
+  CHECK(at("Bins of at least 20 answers outside ±10 points: canopy 0, the ablation 1.") != std::string::npos);
+  // Without the ablation: canopy's table alone.
+  const std::string alone = report::scene_markdown(canopy, {}, "scenes");
+  CHECK(alone.find("coarse-none-below") == std::string::npos);
+  CHECK(alone.find("| none | 0.3–0.4 | 5 | 2 = 40.0% [10.0, 80.0] | 35.0% | – (< 20) |") != std::string::npos);
+  // An ablation of other runs (a stale file) is named, not shown.
+  const documents::SceneScore stale =
+      score_of("out/scenes/light/tile-2",
+               R"({"level": "none", "confidence_lo": 0.8, "confidence_hi": 0.9, "answers": 25, "right": 16,
+          "mean_confidence": 0.87, "rate": 0.64, "rate_lo": 0.45, "rate_hi": 0.8})");
+  const std::string ms =
+      report::scene_markdown(canopy, {}, "scenes", &stale, "res/collect-ablation/score.json");
+  CHECK(ms.find("(res/collect-ablation/score.json scores other runs than canopy's") != std::string::npos);
+  CHECK(ms.find("| none | 0.8–0.9 |") == std::string::npos);
+}

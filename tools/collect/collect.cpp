@@ -256,9 +256,14 @@ documents::DetectionRecord detection_of(const Candidate& c, const Verdict& v, co
 // The rejection of a candidate no level answered: classify's reason when it answered, else
 // the model chain's none or failure.
 documents::RejectionRecord rejection_of(const Candidate& c, const Answers& a, const Calibration& calibration,
-                                        std::string& reason) {
+                                        double coarse_none_below, std::string& reason) {
   const Verdict& k = a.cls;
   const Verdict& v = a.model;
+  // verify's none: its map by the candidate's object density (Params::coarse_none_below; 0: the
+  // one none map of before the split).
+  const PlattMap& none_map = !(coarse_none_below > 0)                      ? calibration.none
+                             : c.density && *c.density < coarse_none_below ? calibration.none_coarse
+                                                                           : calibration.none_dense;
   const bool classified = k.present && !k.failed;
   const bool failed = v.present ? v.failed : k.failed;
   reason = classified ? (k.reason.empty() ? "none" : k.reason) : (failed ? "failed" : "none");
@@ -280,7 +285,7 @@ documents::RejectionRecord rejection_of(const Candidate& c, const Answers& a, co
     // 88% of the time on development tiles. Calibrated for the rejections of both levels
     // (verify.md §16: verify's fit counts a vehicle classify then finds as "a vehicle is there").
     if (k.cls.empty() && v.present && !v.failed && v.model.empty())
-      r.confidence = calibrated(calibration.none, v.confidence);
+      r.confidence = calibrated(none_map, v.confidence);
     r.density = k.density ? k.density : c.density;
     r.has_density_needed = k.density_class || k.density_model;
     r.density_class = k.density_class;
@@ -292,7 +297,7 @@ documents::RejectionRecord rejection_of(const Candidate& c, const Answers& a, co
     r.detail = reason != "failed" ? "the model chain found no model of the modelbase"
                : v.present        ? "a stage of the model chain failed (see the candidate's .log files)"
                                   : "classify failed (see the candidate's class.json.log)";
-    if (!(reason == "failed" || !v.present)) r.confidence = calibrated(calibration.none, v.confidence);
+    if (!(reason == "failed" || !v.present)) r.confidence = calibrated(none_map, v.confidence);
     r.density = c.density;
     r.verdict = v.present ? v.name : k.name;
   }
@@ -421,7 +426,11 @@ Calibration parse_calibration(const std::string& text, const std::string& name) 
                                       {"none-bias", &cal.none.bias},
                                       {"none-slope", &cal.none.slope},
                                       {"none-class-bias", &cal.none_class.bias},
-                                      {"none-class-slope", &cal.none_class.slope}};
+                                      {"none-class-slope", &cal.none_class.slope},
+                                      {"none-dense-bias", &cal.none_dense.bias},
+                                      {"none-dense-slope", &cal.none_dense.slope},
+                                      {"none-coarse-bias", &cal.none_coarse.bias},
+                                      {"none-coarse-slope", &cal.none_coarse.slope}};
   formats::IniPolicy policy;  // '#' and ';' comments, no sections, each key once
   policy.keys.assign(std::begin(kCalibrationKeys), std::end(kCalibrationKeys));
   const formats::IniFile file = formats::parse_ini(text, name, policy);
@@ -565,8 +574,8 @@ Outputs collect(const Index& index, const std::vector<Answers>& answers, const P
       doc.detections.push_back(detection_of(c, *found, place(c, *found, params), map));
       continue;
     }
-    doc.rejected.push_back(
-        rejection_of(c, answers[i], params.size_only ? Calibration{} : params.calibration, reasons[i]));
+    doc.rejected.push_back(rejection_of(c, answers[i], params.size_only ? Calibration{} : params.calibration,
+                                        params.coarse_none_below, reasons[i]));
     if (set_aside) {
       documents::RejectionRecord& r = doc.rejected.back();
       r.model_chain = "set_aside";

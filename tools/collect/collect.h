@@ -80,14 +80,18 @@ struct ModelBox {
 // §16): p' = logistic(bias + slope * logit(p)) (Platt scaling) of the confidence the answering
 // level gave, per source: verify's model answer, classify's class answer, verify's none where
 // both levels rejected (or classify did not answer), classify's none where the model chain did
-// not run. The identity (bias 0, slope 1) states the level's own confidence.
+// not run. The identity (bias 0, slope 1) states the level's own confidence. verify's none
+// has a map by the candidate's object density (verify.md §19): `none_coarse` below
+// Params::coarse_none_below (the density rule's coarse candidates), `none_dense` at or above it
+// (and for an unknown density); `none`, the one map of every verify none (§16), is used only
+// with the split off (coarse_none_below 0: the ablation).
 struct PlattMap {
   double bias = 0, slope = 1;
 };
 struct Calibration {
   std::string name;  // the file it was read from; "" = none (every answer states its level's own
                      // confidence, as before issue 29's §16: the ablation)
-  PlattMap model, cls, none, none_class;
+  PlattMap model, cls, none, none_class, none_dense, none_coarse;
 };
 // The calibration file (formats/README.md "Confidence calibration"; read by formats/ini.h,
 // docs/decisions/ini.md): `key = value` lines (';' or '#' starts a comment), every key of
@@ -95,9 +99,10 @@ struct Calibration {
 // reorders one level's answers). DataError naming the file (and the line) otherwise.
 Calibration parse_calibration(const std::string& text, const std::string& name);
 // The keys of the calibration file, in the order they are read.
-inline constexpr const char* kCalibrationKeys[] = {"model-bias",      "model-slope",     "class-bias",
-                                                   "class-slope",     "none-bias",       "none-slope",
-                                                   "none-class-bias", "none-class-slope"};
+inline constexpr const char* kCalibrationKeys[] = {
+    "model-bias",      "model-slope",      "class-bias",       "class-slope",
+    "none-bias",       "none-slope",       "none-class-bias",  "none-class-slope",
+    "none-dense-bias", "none-dense-slope", "none-coarse-bias", "none-coarse-slope"};
 // logistic(bias + slope * logit(p)), p clamped to [1e-9, 1 - 1e-9]; p itself for the identity.
 double calibrated(const PlattMap& map, double p);
 
@@ -131,6 +136,14 @@ struct Params {
   // The stated confidences of the final answers (never which answer is given: applied after
   // every decision above). Empty name: none. Not applied to --size-only's answers.
   Calibration calibration;
+  // verify's none of a candidate whose object density (the index's, as the density rule reads
+  // it) is below this states calibration.none_coarse, any other verify none calibration.none_dense
+  // (docs/decisions/verify.md §19: on development tiles 27 of the 28 wrong verify nones were
+  // such candidates). The density rule's dense end (common/density_scale.h kDenseDensity, 370
+  // points/m²): the candidates whose model chain ran at a coarser scale. A candidate of unknown
+  // density (an older index) is not coarse. 0 = off: every verify none through calibration.none
+  // (the ablation; as before §19).
+  double coarse_none_below = common::kDenseDensity;
 };
 
 // Whether classify's class answer k contradicts verify's model answer v: v names a model of a

@@ -61,6 +61,7 @@ struct Options {
   double size_gate = 0.25;
   double contradicted_below = 0.5;
   double refused_below = 0.8;
+  double coarse_none_below = common::kDenseDensity;
 };
 
 void bind(common::Tool& tool, Options& o) {
@@ -109,6 +110,11 @@ void bind(common::Tool& tool, Options& o) {
            "file of the Platt maps that calibrate the confidence each final answer states, per level "
            "(share/params/calibration.ini; docs/decisions/verify.md §16); \"\" (the default) = "
            "each level's own confidence as it stated it");
+  tool.add("--coarse-none-below", &o.coarse_none_below,
+           "--calibration: verify's none of a candidate whose object density (points/m², the "
+           "index's) is below this states the file's none-coarse map, the others its none-dense map "
+           "(default 370, the density rule's dense end; docs/decisions/verify.md §19); 0 = off: "
+           "every verify none through the none map (the ablation, as before §19)");
   tool.add("--size-gate", &o.size_gate,
            "--size-only: the largest relative difference of length, width or height from the "
            "nearest model's that is still that model");
@@ -242,6 +248,9 @@ int main(int argc, char** argv) {
     if (!(o.refused_below >= 0 && o.refused_below <= 1))
       throw common::UsageError("--refused-below must be in [0, 1]");
     p.refused_below = o.refused_below;
+    if (!(o.coarse_none_below >= 0) || !std::isfinite(o.coarse_none_below))
+      throw common::UsageError("--coarse-none-below must be a number >= 0 (points/m²)");
+    p.coarse_none_below = o.coarse_none_below;
     if (!o.calibration.empty()) {
       if (o.size_only) throw common::UsageError("--calibration is canopy's levels': not with --size-only");
       p.calibration = collect::parse_calibration(common::read_file(o.calibration), o.calibration);

@@ -151,12 +151,17 @@ std::string families_section(const std::string& families) {
 }
 
 // The scene experiment's section (--tile-score); its times.csv goes beside score.json.
-std::string scenes_section(const std::string& tile_score, const std::string& scene_dir,
-                           const std::string& results, common::OutputSet& outputs) {
+std::string scenes_section(const std::string& tile_score, const std::string& collect_ablation,
+                           const std::string& scene_dir, const std::string& results,
+                           common::OutputSet& outputs) {
   common::log::Phase scenes_phase("scenes");
   const documents::SceneScore score = documents::read_scene_score_file(tile_score);
   const auto times = report::scene_times(report::scene_runs(score));
-  const std::string markdown = "\n" + report::scene_markdown(score, times, relative_to(scene_dir, results));
+  const std::optional<documents::SceneScore> ablation =
+      collect_ablation.empty() ? std::nullopt
+                               : std::optional(documents::read_scene_score_file(collect_ablation));
+  const std::string markdown = "\n" + report::scene_markdown(score, times, relative_to(scene_dir, results),
+                                                             ablation ? &*ablation : nullptr, collect_ablation);
   outputs.set(scene_dir + "/times.csv", report::scene_times_csv(times));
   scenes_phase.done(std::to_string(report::scene_runs(score).size()) + " runs");
   return markdown;
@@ -210,7 +215,7 @@ std::string density_section(const std::vector<documents::ManifestDensity>& densi
 struct Sources {
   std::string manifest, results = "results";
   std::string thesis;  // default: <share>/thesis/results.csv
-  std::string openset_collect_ablation, openset_crops_collect_ablation;
+  std::string openset_collect_ablation, openset_crops_collect_ablation, tile_collect_ablation;
   std::string tile_score, families, disk, openset, openset_crops, openset_distances, openset_ablation,
       openset_crops_ablation;
   int real_timeout = 0;
@@ -228,6 +233,9 @@ void bind(common::Tool& tool, Sources& src, report::Params& p) {
       "--tile-score", &src.tile_score,
       "the scene experiment's score.json (canopy.scene_score v1): adds its section to report.md and writes "
       "times.csv beside it; its stages' .time files are found through its tiles");
+  tool.add("--tile-collect-ablation", &src.tile_collect_ablation,
+           "the scene experiment's collect ablation's score.json (mk/scenes.mk SCENE_COLLECT_ABLATION: "
+           "collect --coarse-none-below 0, one none map): its reliability table beside canopy's");
   tool.add("--families", &src.families,
            "the families protocol's results directory (confusion.csv, accuracy.csv from famscore; "
            "mk/families.mk): adds the \"Vehicle families\" section to report.md");
@@ -284,6 +292,8 @@ int main(int argc, char** argv) {
     if (!src.tile_score.empty()) outputs.add(scene_dir + "/times.csv", "--tile-score");
     if (src.thesis.empty()) src.thesis = common::share_dir() + "/thesis/results.csv";
     if (src.real_timeout < 0) throw common::UsageError("--real-timeout: must be >= 0 s");
+    if (src.tile_score.empty() && !src.tile_collect_ablation.empty())
+      throw common::UsageError("--tile-collect-ablation needs --tile-score");
     if (src.openset.empty() && !src.openset_ablation.empty())
       throw common::UsageError("--openset-ablation needs --openset");
     if (src.openset_ablation.empty() && !src.openset_crops_ablation.empty())
@@ -305,7 +315,8 @@ int main(int argc, char** argv) {
     }
     std::string markdown = r.markdown + bl.markdown;
     if (!src.families.empty()) markdown += families_section(src.families);
-    if (!src.tile_score.empty()) markdown += scenes_section(src.tile_score, scene_dir, results, outputs);
+    if (!src.tile_score.empty())
+      markdown += scenes_section(src.tile_score, src.tile_collect_ablation, scene_dir, results, outputs);
     if (!manifest.real.empty()) markdown += real_section(manifest.real, src.real_timeout);
     if (!manifest.density.empty() || !manifest.density_sensor.empty())
       markdown += density_section(manifest.density, manifest.density_sensor, results, outputs);

@@ -273,9 +273,14 @@ std::vector<SceneRun> scene_runs(const documents::SceneScore& score);
 
 // The report's "Scene experiment" section (Markdown) and the times as CSV
 // (stage,runs,seconds,area_ha,seconds_per_ha,peak_mb,cpu_seconds,cpu_runs). figures_dir: the scene figures'
-// directory relative to report.md ("scenes").
+// directory relative to report.md ("scenes"). collect_ablation: the score of collect's ablation
+// (mk/scenes.mk SCENE_COLLECT_ABLATION, `collect --coarse-none-below 0`; read from
+// collect_ablation_path), whose reliability table is shown beside canopy's when it scores
+// exactly canopy's runs (else a note names the stale file).
 std::string scene_markdown(const documents::SceneScore& score, const std::vector<SceneStageTime>& times,
-                           const std::string& figures_dir);
+                           const std::string& figures_dir,
+                           const documents::SceneScore* collect_ablation = nullptr,
+                           const std::string& collect_ablation_path = "");
 std::string scene_times_csv(const std::vector<SceneStageTime>& times);
 
 // "k/n = r% [lo, hi]": the rate with Wilson's 95% interval at `units` independent units

@@ -489,29 +489,61 @@ void pr_table(std::ostringstream& md, const SceneScore& score) {
   }
 }
 
-void reliability_table(std::ostringstream& md, const SceneScore& score) {
-  if (score.reliability.empty()) return;  // a score written before the table
-  md << "### Reliability on the tiles (issue 29)\n\n"
-        "Answers by the confidence they state and the share that was right (model level: the true model; "
-        "class level: a class naming the truth; a false alarm is wrong; `none`: right unless a true vehicle "
-        "that no detection found lies within the match radius of the rejected candidate's centre), from "
-        "`scenes/reliability.csv`. The issue's target: within ±10 points of the stated confidence in every "
-        "bin of at least 20 answers (judged on the mean stated confidence of the bin).\n\n"
-        "| level | confidence | answers | right | mean stated | within ±10 points |\n"
+// The rows of a score's reliability table; returns the bins of >= 20 answers outside ±10 points.
+int reliability_rows(std::ostringstream& md, const SceneScore& score) {
+  md << "| level | confidence | answers | right | mean stated | within ±10 points |\n"
         "|---|---|---|---|---|---|\n";
+  int off = 0;
   for (const ScoreRow& r : score.reliability) {
     const ScoreValue& n = score_field(r, "answers");
     if (!n.is_number() || n.as_number() <= 0) continue;
     const ScoreValue &rate_v = score_field(r, "rate"), &mean = score_field(r, "mean_confidence");
     std::string within = "– (< 20)";
-    if (n.as_number() >= 20 && rate_v.is_number() && mean.is_number())
+    if (n.as_number() >= 20 && rate_v.is_number() && mean.is_number()) {
       within = std::fabs(rate_v.as_number() - mean.as_number()) <= 0.1 ? "yes" : "**no**";
+      off += within == "**no**";
+    }
     md << "| " << score_text(score_field(r, "level")) << " | " << num(score_field(r, "confidence_lo"), "%.1f")
        << "–" << num(score_field(r, "confidence_hi"), "%.1f") << " | " << score_text(n) << " | "
        << score_text(score_field(r, "right")) << " = " << rate_ci(r, "rate") << " | " << rate(mean) << " | "
        << within << " |\n";
   }
   md << "\n";
+  return off;
+}
+
+void reliability_table(std::ostringstream& md, const SceneScore& score, const SceneScore* collect_ablation,
+                       const std::string& collect_ablation_path) {
+  if (score.reliability.empty()) return;  // a score written before the table
+  md << "### Reliability on the tiles (issue 29)\n\n"
+        "Answers by the confidence they state and the share that was right (model level: the true model; "
+        "class level: a class naming the truth; a false alarm is wrong; `none`: right unless a true vehicle "
+        "that no detection found lies within the match radius of the rejected candidate's centre), from "
+        "`scenes/reliability.csv`. The issue's target: within ±10 points of the stated confidence in every "
+        "bin of at least 20 answers (judged on the mean stated confidence of the bin).\n\n";
+  const int off = reliability_rows(md, score);
+  if (!collect_ablation) return;
+  std::vector<std::string> want, got;
+  for (const auto& r : scene_runs(score)) want.push_back(r.dir);
+  for (const auto& r : scene_runs(*collect_ablation)) got.push_back(r.dir);
+  if (got != want) {
+    md << "(" << collect_ablation_path << " scores other runs than canopy's: a stale collect ablation, not "
+       << "shown.)\n\n";
+    return;
+  }
+  md << "Collect's ablation, the same verdicts and class answers collected with one `none` map for every "
+        "verify none (`collect --coarse-none-below 0`, mk/scenes.mk `SCENE_COLLECT_ABLATION`: the "
+        "statement before docs/decisions/verify.md §19; by default verify's none of a candidate under 370 "
+        "object points/m², the density rule's coarse candidates, states its own map), scored the same way "
+        "(`scenes/collect-ablation/reliability.csv`). Which answer is given is the same; only the stated "
+        "confidences of the nones differ.\n\n";
+  if (collect_ablation->reliability.empty()) {
+    md << "(" << collect_ablation_path << " has no reliability table.)\n\n";
+    return;
+  }
+  const int ablation_off = reliability_rows(md, *collect_ablation);
+  md << "Bins of at least 20 answers outside ±10 points: canopy " << off << ", the ablation " << ablation_off
+     << ".\n\n";
 }
 
 void baselines(std::ostringstream& md, const SceneScore& score, const std::vector<SceneStageTime>& times) {
@@ -556,7 +588,8 @@ void pictures(std::ostringstream& md, const std::vector<std::string>& covers, co
 }  // namespace
 
 std::string scene_markdown(const SceneScore& score, const std::vector<SceneStageTime>& times,
-                           const std::string& fig) {
+                           const std::string& fig, const SceneScore* collect_ablation,
+                           const std::string& collect_ablation_path) {
   std::ostringstream md;
   const std::vector<ScoreRow>& summary = score.summary;
   std::vector<std::string> covers;
@@ -577,7 +610,7 @@ std::string scene_markdown(const SceneScore& score, const std::vector<SceneStage
   models_table(md, score);
   cover_table(md, score, fig);
   pr_table(md, score);
-  reliability_table(md, score);
+  reliability_table(md, score, collect_ablation, collect_ablation_path);
   md << clutter_markdown(score);
   baselines(md, score, times);
   times_table(md, times);
