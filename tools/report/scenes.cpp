@@ -68,6 +68,17 @@ struct BaselineScore {
   SceneScore score;
 };
 
+// Whether two scores are of the same runs (the same run directories in the same order): a score
+// beside canopy's is shown only then; otherwise it is stale (a run over other tiles).
+bool same_runs(const SceneScore& a, const SceneScore& b) {
+  const auto dirs = [](const SceneScore& s) {
+    std::vector<std::string> d;
+    for (const auto& r : scene_runs(s)) d.push_back(r.dir);
+    return d;
+  };
+  return dirs(a) == dirs(b);
+}
+
 // The baseline's scores beside canopy's: <dir>/baseline-<method>/score.json, where <dir> is
 // where `score` wrote canopy's CSVs (the score's --csv parameter: results/scenes/). Only scores
 // of exactly canopy's runs are shown; others (a stale run over other tiles) are named in
@@ -80,16 +91,12 @@ std::vector<BaselineScore> baseline_scores(const SceneScore& score, std::vector<
   }
   if (csv.empty()) return out;
   const std::filesystem::path dir = std::filesystem::path(csv).parent_path();
-  std::vector<std::string> want;
-  for (const auto& r : scene_runs(score)) want.push_back(r.dir);
   for (const char* m : kBaselineMethods) {
     const std::string path = (dir / ("baseline-" + std::string(m)) / "score.json").string();
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec)) continue;
     BaselineScore b{m, path, documents::read_scene_score_file(path)};
-    std::vector<std::string> got;
-    for (const auto& r : scene_runs(b.score)) got.push_back(r.dir);
-    if (got != want) {
+    if (!same_runs(b.score, score)) {
       stale.push_back(path);
       continue;
     }
@@ -500,8 +507,9 @@ int reliability_rows(std::ostringstream& md, const SceneScore& score) {
     const ScoreValue &rate_v = score_field(r, "rate"), &mean = score_field(r, "mean_confidence");
     std::string within = "– (< 20)";
     if (n.as_number() >= 20 && rate_v.is_number() && mean.is_number()) {
-      within = std::fabs(rate_v.as_number() - mean.as_number()) <= 0.1 ? "yes" : "**no**";
-      off += within == "**no**";
+      const bool ok = std::fabs(rate_v.as_number() - mean.as_number()) <= 0.1;
+      within = ok ? "yes" : "**no**";
+      off += !ok;
     }
     md << "| " << score_text(score_field(r, "level")) << " | " << num(score_field(r, "confidence_lo"), "%.1f")
        << "–" << num(score_field(r, "confidence_hi"), "%.1f") << " | " << score_text(n) << " | "
@@ -523,10 +531,7 @@ void reliability_table(std::ostringstream& md, const SceneScore& score, const Sc
         "bin of at least 20 answers (judged on the mean stated confidence of the bin).\n\n";
   const int off = reliability_rows(md, score);
   if (!collect_ablation) return;
-  std::vector<std::string> want, got;
-  for (const auto& r : scene_runs(score)) want.push_back(r.dir);
-  for (const auto& r : scene_runs(*collect_ablation)) got.push_back(r.dir);
-  if (got != want) {
+  if (!same_runs(*collect_ablation, score)) {
     md << "(" << collect_ablation_path << " scores other runs than canopy's: a stale collect ablation, not "
        << "shown.)\n\n";
     return;
