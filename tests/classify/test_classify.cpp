@@ -2428,3 +2428,9 @@ TEST_CASE("the pixel ladder's classify ablation is classify-sim.ini with the rou
   check_ablation_ini("share/params/classify-sim.ini", "bench/density/classify-sim-floor-100.ini",
                      {{"roughness-floor", {"120mm", "100mm"}}});
 }
+
+TEST_CASE("the ladders' second classify ablation is classify-sim.ini with the shoulder gate off") {
+  // mk/density.mk DENSITY_CLASSIFY_ABLATION_2; classify.md §30.
+  check_ablation_ini("share/params/classify-sim.ini", "bench/density/classify-sim-shoulder-0.ini",
+                     {{"min-shoulder", {"0.58", "0"}}});
+}
