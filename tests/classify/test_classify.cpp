@@ -847,7 +847,8 @@ double heap_top(double x, double y) {
   return std::max(0.05, 1.45 * std::min({1.0, (0.925 - std::abs(y)) / 0.625, (2.3 - std::abs(x)) / 0.9}));
 }
 
-TEST_CASE("classify: shoulder: a car's and a van's sides stand full height, a log stack's, tent's or heap's do not") {
+TEST_CASE(
+    "classify: shoulder: a car's and a van's sides stand full height, a stack's, tent's or heap's do not") {
   // Sampled at 10, 25 and 100 points/m², 4 draws each (classify-sim.ini's roughness floor, 0.12 m,
   // as the ladder runs). In the outer 30% of the half-width over the middle of the length: the
   // car's roof edge (|y| 0.63-0.7 m) reaches 1.45 of 1.45 m, the van's roof its full height; the
@@ -876,8 +877,8 @@ TEST_CASE("classify: shoulder: a car's and a van's sides stand full height, a lo
       REQUIRE(tent.features.shoulder);
       REQUIRE(heap.features.shoulder);
       INFO("car " << *car.features.shoulder << ", van " << *van.features.shoulder << ", logs "
-                  << *logs.features.shoulder << ", tent " << *tent.features.shoulder
-                  << ", heap " << *heap.features.shoulder);
+                  << *logs.features.shoulder << ", tent " << *tent.features.shoulder << ", heap "
+                  << *heap.features.shoulder);
       CHECK(*car.features.shoulder > 0.9);
       CHECK(*van.features.shoulder > 0.95);
       CHECK(*logs.features.shoulder > 0.4);

@@ -87,7 +87,8 @@ void outline_cues(const std::vector<Eigen::Vector3d>& q, Features& f) {
   // The shoulder (§30): the body's height at its sides, in the middle of its length.
   std::vector<double> side;
   for (const Eigen::Vector3d& p : q) {
-    if (p.x() >= 0.2 * L && p.x() <= 0.8 * L && std::abs(p.y()) > kShoulderBand * W / 2) side.push_back(p.z());
+    if (p.x() >= 0.2 * L && p.x() <= 0.8 * L && std::abs(p.y()) > kShoulderBand * W / 2)
+      side.push_back(p.z());
   }
   f.shoulder.reset();
   if (side.size() >= kShoulderPoints) {
