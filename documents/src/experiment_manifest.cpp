@@ -259,8 +259,8 @@ std::string write_experiment_manifest(const ExperimentManifest& m) {
   };
   const auto classify2 = [&out](const std::string& ladder, const ManifestDensity& d) {
     if (d.ablation2_score.empty()) return;
-    out << "density-classify " << ladder << ' ' << d.level << ' ' << d.ablation2_config << ' ' << d.ablation2_score
-        << '\n';
+    out << "density-classify " << ladder << ' ' << d.level << ' ' << d.ablation2_config << ' '
+        << d.ablation2_score << '\n';
   };
   out << std::setprecision(10);
   for (const auto& d : m.density) {

@@ -43,7 +43,8 @@ const char* kManifest =
     "density-verify als_qL1 10 --seen-spacing=0+--top-k=5 res/density/als_qL1-10/verify-ablation/score.json\n"
     "density-sensor 25 als_qL1 res/density/als_qL1-25/score.json bench/density/late.ini "
     "res/density/als_qL1-25/class-ablation/score.json\n"
-    "density-classify als_qL1 25 bench/density/shoulder.ini res/density/als_qL1-25/class-ablation-2/score.json\n";
+    "density-classify als_qL1 25 bench/density/shoulder.ini "
+    "res/density/als_qL1-25/class-ablation-2/score.json\n";
 
 std::string refusal(const std::string& text) {
   try {
@@ -222,8 +223,9 @@ TEST_CASE("experiment manifest: malformed records and grids are refused naming t
             .find("line 3: density-classify pixel 25 does not follow its rung's record") != std::string::npos);
   CHECK(refusal(t + "density 10 0.5 s\ndensity-classify als_qL1 10 c.ini v\n")
             .find("line 3: density-classify als_qL1 10 does not follow") != std::string::npos);
-  CHECK(refusal(t + "density 10 0.5 s\ndensity-classify pixel 10 c.ini v\ndensity-classify pixel 10 c.ini v\n")
-            .find("line 4: a second density-classify pixel 10") != std::string::npos);
+  CHECK(
+      refusal(t + "density 10 0.5 s\ndensity-classify pixel 10 c.ini v\ndensity-classify pixel 10 c.ini v\n")
+          .find("line 4: a second density-classify pixel 10") != std::string::npos);
   CHECK(refusal(t + "density 10 0.5 s\ndensity-verify pixel 10 --x=0 v\n").empty());
   // The two ladders rise each on its own.
   CHECK(refusal(t + "density 50 0.3 s\ndensity-sensor 10 als_qL1 s\n").empty());

@@ -343,8 +343,9 @@ TEST_CASE("density ladder: verify's ablation beside canopy on the rungs with a m
   CHECK(!l2[0].ablation2_scored);
   const std::string m2 = report::density_markdown(l2, {}, sens);
   const auto first = m2.find("**classify's ablation on the density ladder**");
-  const auto second = m2.find("**classify's second ablation on the density ladder** (the same candidates "
-                              "classified with `bench/density/classify-sim-shoulder-0.ini`");
+  const auto second = m2.find(
+      "**classify's second ablation on the density ladder** (the same candidates "
+      "classified with `bench/density/classify-sim-shoulder-0.ini`");
   REQUIRE(first != std::string::npos);
   REQUIRE(second != std::string::npos);
   CHECK(first < second);

@@ -90,7 +90,9 @@ std::string false_alarm_cell(const ScoreRow* r) {
 // class right and false alarms (all covers). `ladder`: "the density ladder" or "the sensor ladder".
 void ablation_table(std::ostringstream& md, const std::vector<DensityLevel>& rungs, const std::string& ladder,
                     bool second = false) {
-  const auto scored = [second](const DensityLevel& s) { return second ? s.ablation2_scored : s.ablation_scored; };
+  const auto scored = [second](const DensityLevel& s) {
+    return second ? s.ablation2_scored : s.ablation_scored;
+  };
   const auto abl = [second](const DensityLevel& s) -> const documents::SceneScore& {
     return second ? s.ablation2 : s.ablation;
   };
