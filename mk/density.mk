@@ -46,6 +46,8 @@ density_pairs := $(shell awk -v k='$(DENSITY_K)' -v levels='$(strip $(DENSITY_LE
 $(if $(filter ERROR,$(firstword $(density_pairs))),$(error $(wordlist 2,$(words $(density_pairs)),$(density_pairs))))
 $(if $(DENSITY_CLASSIFY_ABLATION),$(if $(wildcard $(DENSITY_CLASSIFY_ABLATION)),,$(error \
   DENSITY_CLASSIFY_ABLATION=$(DENSITY_CLASSIFY_ABLATION) does not exist)))
+$(if $(DENSITY_CLASSIFY_ABLATION_2),$(if $(wildcard $(DENSITY_CLASSIFY_ABLATION_2)),,$(error \
+  DENSITY_CLASSIFY_ABLATION_2=$(DENSITY_CLASSIFY_ABLATION_2) does not exist)))
 endif
 # The ladder on the realistic sensor (docs/decisions/density-ladder.md, "The ladder on the
 # realistic sensor"): the same tiles rendered in sensor mode (mk/scenes.mk SCENE_SENSOR) with
@@ -64,6 +66,13 @@ DENSITY_SENSOR_L0 ?= 26.5
 # ladder"): classify-sim.ini with the roughness threshold's floor before classify.md §28 (0.1 m).
 # Empty: none.
 DENSITY_CLASSIFY_ABLATION ?= bench/density/classify-sim-floor-100.ini
+# classify's second ablation on every level of both ladders (SCENE_CLASSIFY_ABLATION_2 of its `make
+# scenes`; the manifest's density-classify records; the report's "classify's second ablation on the
+# density ladder" and "... on the sensor ladder"): classify-sim.ini with the shoulder gate off
+# (min-shoulder 0, before classify.md §30). Empty: none. The sensor ladder's may differ
+# (DENSITY_SENSOR_CLASSIFY_ABLATION_2, by default the same file).
+DENSITY_CLASSIFY_ABLATION_2 ?= bench/density/classify-sim-shoulder-0.ini
+DENSITY_SENSOR_CLASSIFY_ABLATION_2 ?= $(DENSITY_CLASSIFY_ABLATION_2)
 # classify's ablation on every sensor level (SCENE_CLASSIFY_ABLATION of its `make scenes`: the same
 # candidates classified a second time, collected and scored as <level>/class-ablation/score.json;
 # the report's "classify's ablation on the sensor ladder"): classify-sim.ini before classify.md §23
@@ -86,6 +95,8 @@ $(if $(filter 1,$(words $(DENSITY_SENSOR))),,$(error DENSITY_SENSOR=$(DENSITY_SE
 $(if $(wildcard share/sensors/$(DENSITY_SENSOR).ini),,$(error DENSITY_SENSOR=$(DENSITY_SENSOR): no share/sensors/$(DENSITY_SENSOR).ini))
 $(if $(DENSITY_SENSOR_CLASSIFY_ABLATION),$(if $(wildcard $(DENSITY_SENSOR_CLASSIFY_ABLATION)),,$(error \
   DENSITY_SENSOR_CLASSIFY_ABLATION=$(DENSITY_SENSOR_CLASSIFY_ABLATION) does not exist)))
+$(if $(DENSITY_SENSOR_CLASSIFY_ABLATION_2),$(if $(wildcard $(DENSITY_SENSOR_CLASSIFY_ABLATION_2)),,$(error \
+  DENSITY_SENSOR_CLASSIFY_ABLATION_2=$(DENSITY_SENSOR_CLASSIFY_ABLATION_2) does not exist)))
 density_sensor_keys := $(shell awk -v l0='$(DENSITY_SENSOR_L0)' -v levels='$(strip $(DENSITY_SENSOR_LEVELS))' \
   -v f='share/sensors/$(DENSITY_SENSOR).ini' 'BEGIN { \
   if (l0 !~ /^[0-9]+(\.[0-9]+)?$$/ || l0 + 0 <= 0) { print "ERROR DENSITY_SENSOR_L0=" l0 " must be a positive number"; exit } \
@@ -114,14 +125,17 @@ DENSITY_SCORES := $(foreach d,$(DENSITY_LEVELS),$(DENSITY_RES)/d$(d)/score.json)
 # after each level, verify's ablation: the ladder (pixel or the preset), level, options, score.
 density_verify_record = $(if $(DENSITY_VERIFY_ABLATION),$(call ml,density-verify $(1) $(2) $(density_verify_change) \
   $(DENSITY_RES)/$(3)/verify-ablation/score.json))
+# density_classify_record(LADDER, LEVEL, RUNG, INI): classify's second ablation on a rung.
+density_classify_record = $(if $(4),$(call ml,density-classify $(1) $(2) $(4) $(DENSITY_RES)/$(3)/class-ablation-2/score.json))
 EXPERIMENT_DENSITY := $(if $(filter 1,$(DENSITY_LADDER)),$(foreach d,$(DENSITY_LEVELS),$(call ml,density $(d) \
   $(call density_m,$(d)) $(DENSITY_RES)/d$(d)/score.json$(if $(DENSITY_CLASSIFY_ABLATION), $(DENSITY_CLASSIFY_ABLATION) \
-  $(DENSITY_RES)/d$(d)/class-ablation/score.json))$(call density_verify_record,pixel,$(d),d$(d)))$(if \
+  $(DENSITY_RES)/d$(d)/class-ablation/score.json))$(call density_verify_record,pixel,$(d),d$(d))$(call \
+  density_classify_record,pixel,$(d),d$(d),$(DENSITY_CLASSIFY_ABLATION_2)))$(if \
   $(DENSITY_SENSOR),$(foreach d,$(DENSITY_SENSOR_LEVELS),$(call \
   ml,density-sensor $(d) $(DENSITY_SENSOR) $(DENSITY_RES)/$(DENSITY_SENSOR)-$(d)/score.json$(if \
   $(DENSITY_SENSOR_CLASSIFY_ABLATION), $(DENSITY_SENSOR_CLASSIFY_ABLATION) \
   $(DENSITY_RES)/$(DENSITY_SENSOR)-$(d)/class-ablation/score.json))$(call \
-  density_verify_record,$(DENSITY_SENSOR),$(d),$(DENSITY_SENSOR)-$(d)))))
+  density_verify_record,$(DENSITY_SENSOR),$(d),$(DENSITY_SENSOR)-$(d))$(call density_classify_record,$(DENSITY_SENSOR),$(d),$(DENSITY_SENSOR)-$(d),$(DENSITY_SENSOR_CLASSIFY_ABLATION_2)))))
 
 ifeq ($(filter scenes,$(MAKECMDGOALS)),)
 # density_args(LEVEL): the level's `make scenes`: its own directories and spacing, noise 0, the
@@ -134,11 +148,13 @@ density_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROG
   $(or $(3),SCENE_SPACING=$(call density_mm,$(1))mm) \
   SCENE_SEEDS="$(DENSITY_SEEDS)" SCENE_COVERS="$(DENSITY_COVERS)" SCENE_MODELS=$(DENSITY_MODELS) SCENE_NOISES=0 SCENE_BASELINE= \
   SCENE_SIZE_ONLY=0 SCENE_PICTURES=0 SCENE_COLLECT_ABLATION=$(if $(DENSITY_VERIFY_ABLATION), SCENE_VERIFY_ABLATION='$(DENSITY_VERIFY_ABLATION)')$(if \
-  $(2),,$(if $(DENSITY_CLASSIFY_ABLATION), SCENE_CLASSIFY_ABLATION=$(DENSITY_CLASSIFY_ABLATION)))
+  $(2),,$(if $(DENSITY_CLASSIFY_ABLATION), SCENE_CLASSIFY_ABLATION=$(DENSITY_CLASSIFY_ABLATION))$(if \
+  $(DENSITY_CLASSIFY_ABLATION_2), SCENE_CLASSIFY_ABLATION_2=$(DENSITY_CLASSIFY_ABLATION_2)))
 # density_sensor_args(LEVEL): a level of the sensor ladder.
 density_sensor_args = $(call density_args,$(1),$(DENSITY_SENSOR)-$(1),SCENE_SENSOR=$(DENSITY_SENSOR) \
   SCENE_SENSOR_KEYS="pulse_rate=$(call density_sensor_rate,$(1)) speed=$(call density_sensor_speed,$(1))" \
-  $(if $(DENSITY_SENSOR_CLASSIFY_ABLATION),SCENE_CLASSIFY_ABLATION=$(DENSITY_SENSOR_CLASSIFY_ABLATION)))
+  $(if $(DENSITY_SENSOR_CLASSIFY_ABLATION),SCENE_CLASSIFY_ABLATION=$(DENSITY_SENSOR_CLASSIFY_ABLATION))$(if \
+  $(DENSITY_SENSOR_CLASSIFY_ABLATION_2), SCENE_CLASSIFY_ABLATION_2=$(DENSITY_SENSOR_CLASSIFY_ABLATION_2)))
 # As for the scene experiment: under -q each level's sub-make is asked (`make -q`, which renders
 # nothing), only when the ladder is on (the question builds the tools it needs, and a make
 # without the ladder must not); otherwise the step always runs and make compares score.json's

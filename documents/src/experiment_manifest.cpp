@@ -131,6 +131,16 @@ struct Parser {
       std::replace(change.begin(), change.end(), '+', ' ');
       rungs.back().verify_change = change;
       rungs.back().verify_score = w[4];
+    } else if (kind == "density-classify") {
+      expect(w, 5, 5, "density-classify LADDER LEVEL CONFIG SCORE");
+      const std::string ladder = word(w[1], "ladder");
+      std::vector<ManifestDensity>& rungs = ladder == "pixel" ? m.density : m.density_sensor;
+      const double level = positive(w[2], "density level");
+      if (rungs.empty() || rungs.back().level != level || (ladder != "pixel" && rungs.back().sensor != ladder))
+        fail("density-classify " + ladder + " " + w[2] + " does not follow its rung's record");
+      if (!rungs.back().ablation2_score.empty()) fail("a second density-classify " + ladder + " " + w[2]);
+      rungs.back().ablation2_config = w[3];
+      rungs.back().ablation2_score = w[4];
     } else if (kind == "density") {
       expect(w, 4, 6, "density LEVEL SPACING SCORE [ABLATION_CONFIG ABLATION_SCORE]");
       if (w.size() == 5) fail("density: an ablation needs its parameter file and its score.json");
@@ -154,7 +164,7 @@ struct Parser {
     } else {
       fail("unknown record '" + kind +
            "' (trial, model, render, ablation, ablation-trial, figure, real, real-ablation, density, "
-           "density-sensor, density-verify)");
+           "density-sensor, density-verify, density-classify)");
     }
   }
 
@@ -247,16 +257,23 @@ std::string write_experiment_manifest(const ExperimentManifest& m) {
     std::replace(change.begin(), change.end(), ' ', '+');
     out << "density-verify " << ladder << ' ' << d.level << ' ' << change << ' ' << d.verify_score << '\n';
   };
+  const auto classify2 = [&out](const std::string& ladder, const ManifestDensity& d) {
+    if (d.ablation2_score.empty()) return;
+    out << "density-classify " << ladder << ' ' << d.level << ' ' << d.ablation2_config << ' '
+        << d.ablation2_score << '\n';
+  };
   out << std::setprecision(10);
   for (const auto& d : m.density) {
     out << "density " << d.level << ' ' << d.spacing << ' ' << d.score
         << (d.ablation_score.empty() ? "" : " " + d.ablation_config + " " + d.ablation_score) << '\n';
     verify("pixel", d);
+    classify2("pixel", d);
   }
   for (const auto& d : m.density_sensor) {
     out << "density-sensor " << d.level << ' ' << d.sensor << ' ' << d.score
         << (d.ablation_score.empty() ? "" : " " + d.ablation_config + " " + d.ablation_score) << '\n';
     verify(d.sensor, d);
+    classify2(d.sensor, d);
   }
   return out.str();
 }

@@ -38,10 +38,13 @@ const char* kManifest =
     "res/density/d10/class-ablation/score.json\n"
     "density 25.5 0.418 res/density/d25.5/score.json\n"
     "density-verify pixel 25.5 --seen-spacing=0 res/density/d25.5/verify-ablation/score.json\n"
+    "density-classify pixel 25.5 bench/density/shoulder.ini res/density/d25.5/class-ablation-2/score.json\n"
     "density-sensor 10 als_qL1 res/density/als_qL1-10/score.json\n"
     "density-verify als_qL1 10 --seen-spacing=0+--top-k=5 res/density/als_qL1-10/verify-ablation/score.json\n"
     "density-sensor 25 als_qL1 res/density/als_qL1-25/score.json bench/density/late.ini "
-    "res/density/als_qL1-25/class-ablation/score.json\n";
+    "res/density/als_qL1-25/class-ablation/score.json\n"
+    "density-classify als_qL1 25 bench/density/shoulder.ini "
+    "res/density/als_qL1-25/class-ablation-2/score.json\n";
 
 std::string refusal(const std::string& text) {
   try {
@@ -126,6 +129,15 @@ TEST_CASE("experiment manifest: every record read, the grid in order of first ap
   CHECK(m.density_sensor[0].verify_change == "--seen-spacing=0 --top-k=5");
   CHECK(m.density_sensor[0].verify_score == "res/density/als_qL1-10/verify-ablation/score.json");
   CHECK(m.density_sensor[1].verify_score.empty());
+  // classify's second ablation (density-classify), after its rung's record.
+  CHECK(m.density[0].ablation2_score.empty());
+  CHECK(m.density[1].ablation2_config == "bench/density/shoulder.ini");
+  CHECK(m.density[1].ablation2_score == "res/density/d25.5/class-ablation-2/score.json");
+  CHECK(m.density_sensor[0].ablation2_score.empty());
+  CHECK(m.density_sensor[1].ablation2_config == "bench/density/shoulder.ini");
+  CHECK(m.density_sensor[1].ablation2_score == "res/density/als_qL1-25/class-ablation-2/score.json");
+  CHECK(again.density[1].ablation2_score == m.density[1].ablation2_score);
+  CHECK(again.density_sensor[1].ablation2_config == "bench/density/shoulder.ini");
   CHECK(again.density[1].verify_score == m.density[1].verify_score);
   CHECK(again.density_sensor[0].verify_change == "--seen-spacing=0 --top-k=5");
   CHECK(m.real[0].ablation_dir.empty());
@@ -205,6 +217,15 @@ TEST_CASE("experiment manifest: malformed records and grids are refused naming t
             .find("line 3: density-verify als_qL1 10 does not follow") != std::string::npos);
   CHECK(refusal(t + "density 10 0.5 s\ndensity-verify pixel 10 --x=0 v\ndensity-verify pixel 10 --x=0 v\n")
             .find("line 4: a second density-verify pixel 10") != std::string::npos);
+  CHECK(refusal(t + "density 10 0.5 s\ndensity-classify pixel 10 c.ini\n")
+            .find("line 3: expected 'density-classify LADDER LEVEL CONFIG SCORE'") != std::string::npos);
+  CHECK(refusal(t + "density 10 0.5 s\ndensity-classify pixel 25 c.ini v\n")
+            .find("line 3: density-classify pixel 25 does not follow its rung's record") != std::string::npos);
+  CHECK(refusal(t + "density 10 0.5 s\ndensity-classify als_qL1 10 c.ini v\n")
+            .find("line 3: density-classify als_qL1 10 does not follow") != std::string::npos);
+  CHECK(
+      refusal(t + "density 10 0.5 s\ndensity-classify pixel 10 c.ini v\ndensity-classify pixel 10 c.ini v\n")
+          .find("line 4: a second density-classify pixel 10") != std::string::npos);
   CHECK(refusal(t + "density 10 0.5 s\ndensity-verify pixel 10 --x=0 v\n").empty());
   // The two ladders rise each on its own.
   CHECK(refusal(t + "density 50 0.3 s\ndensity-sensor 10 als_qL1 s\n").empty());

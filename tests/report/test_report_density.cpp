@@ -330,4 +330,28 @@ TEST_CASE("density ladder: verify's ablation beside canopy on the rungs with a m
   CHECK(mc.find("| 100 | class right (all) | 8/9 = 90.0% [80.0, 100.0] | 8/8 = 90.0% [80.0, 100.0] |") !=
         std::string::npos);
   CHECK(mc.find("classify's ablation on the sensor ladder") == std::string::npos);
+  CHECK(mc.find("classify's second ablation") == std::string::npos);
+
+  // classify's second ablation on the same rung (density-classify): a table of its own, after the
+  // first's, with its own file and numbers; the first's table unchanged.
+  pixel[1].ablation2_config = "bench/density/classify-sim-shoulder-0.ini";
+  pixel[1].ablation2_score = (root / "res/s50/score.json").string();
+  pixel[0].ablation2_config = "bench/density/classify-sim-shoulder-0.ini";
+  pixel[0].ablation2_score = (root / "res/missing/score.json").string();  // not run: no row
+  const std::vector<report::DensityLevel> l2 = report::read_density_levels(pixel);
+  CHECK(l2[1].ablation2_scored);
+  CHECK(!l2[0].ablation2_scored);
+  const std::string m2 = report::density_markdown(l2, {}, sens);
+  const auto first = m2.find("**classify's ablation on the density ladder**");
+  const auto second = m2.find(
+      "**classify's second ablation on the density ladder** (the same candidates "
+      "classified with `bench/density/classify-sim-shoulder-0.ini`");
+  REQUIRE(first != std::string::npos);
+  REQUIRE(second != std::string::npos);
+  CHECK(first < second);
+  const std::string tail = m2.substr(second);
+  CHECK(tail.find("| 100 | class right (all) | 8/9 = 90.0% [80.0, 100.0] | 8/8 = 90.0% [80.0, 100.0] |") !=
+        std::string::npos);
+  CHECK(tail.find("| 25 |") == std::string::npos);
+  CHECK(m2.substr(0, second) == mc.substr(0, second));
 }

@@ -301,6 +301,14 @@ void outline(Answer& a, const Params& p) {
             "of its height; a car's bonnet or boot >= %.0f%%)",
             100 * f.rectangularity, 100 * p.min_rectangularity, 100 * f.notch, 100 * p.rectangularity_notch);
     strength = past(p.min_rectangularity, std::max(f.rectangularity, 1e-6));
+  } else if (p.min_shoulder > 0 && (a.group == "car" || a.group == "van") && f.shoulder &&
+             *f.shoulder < p.min_shoulder) {
+    why = fmt("a body narrowing upward: the outer %.0f%% of its width reaches %.0f%% of its height in the "
+              "middle "
+              "of its length (a stack of logs or pipes, a tent; a ",
+              100 * (1 - kShoulderBand), 100 * *f.shoulder) +
+          a.group + fmt("'s sides >= %.0f%%)", 100 * p.min_shoulder);
+    strength = past(p.min_shoulder, std::max(*f.shoulder, 1e-6));
   } else if (p.max_notch > 0 && (a.group == "tracked" || a.group == "van" || a.group == "bus") &&
              f.notch > p.max_notch) {
     why = fmt("a step %.0f%% of its height deep under its profile's upper hull", 100 * f.notch) + " (a " +
@@ -583,6 +591,7 @@ void validate(const Params& p) {
   need(p.drawbar_width >= 0 && p.drawbar_width <= 1, "--drawbar-width must be in [0, 1]");
   need(p.drawbar_level >= 0 && p.drawbar_level <= 1, "--drawbar-level must be in [0, 1]");
   need(p.min_rectangularity >= 0 && p.min_rectangularity <= 1, "--min-rectangularity must be in [0, 1]");
+  need(p.min_shoulder >= 0 && p.min_shoulder <= 1, "--min-shoulder must be in [0, 1]");
   need(p.rectangularity_notch >= 0 && p.rectangularity_notch <= 1,
        "--rectangularity-notch must be in [0, 1]");
 }

@@ -175,6 +175,10 @@ struct Params {
   // outline alone).
   double min_rectangularity = 0;
   double rectangularity_notch = 0.08;
+  // A car- or van-group answer whose shoulder (Features::shoulder) is under min_shoulder (a body
+  // that narrows upward: a log or pipe stack, a ridge or dome tent) is not_vehicle_shape
+  // (classify.md §30; 0: off).
+  double min_shoulder = 0;
   double plateau_split = 0.6;    // plateau share between a minor and a long plateau
   double tail_split = 0.75;      // higher end's level (share of H) between dropping and staying up
   double profile_penalty = 1.5;  // added to a class's size distance when the profile contradicts it
@@ -288,6 +292,12 @@ struct Features {
   // rock) pi/4 = 0.785. The hull ignores holes inside the outline (glass, dark paint).
   double rectangularity = 0;
   double tip_width = 0, tip_level = 0;
+  // The shoulder (classify.md §30): over the middle three fifths of the length, the 0.9 quantile
+  // of the heights of the points in the outer kShoulderBand of the half-width on either side, over
+  // H. A car's or van's body is full width up to its shoulder (door tops, roof edge, mirrors:
+  // 0.6-1.0); a stack of logs or pipes, a ridge tent or a dome narrows upward (0.4-0.55). Unset
+  // under kShoulderPoints such points.
+  std::optional<double> shoulder;
   double top_roughness = 0;   // median |interior cell top - the plane of its 3 x 3 cells' tops| (m)
   std::size_t top_cells = 0;  // interior cells with enough neighbours for it
   // Median over the interior cells of the smallest |top - the line through its nearest occupied

@@ -38,6 +38,7 @@ std::vector<ClassFeature> features_of(const Features& f) {
                                 count("dents", f.dents),
                                 number("tip_width", f.tip_width),
                                 number("tip_level", f.tip_level),
+                                optional("shoulder", f.shoulder),
                                 number("top_roughness", f.top_roughness),
                                 count("top_cells", f.top_cells),
                                 number("top_roughness_line", f.top_roughness_line),

@@ -133,10 +133,14 @@ constexpr double kGapGround = 0.25;
 
 // The outline cues (classify.md §16) of the object's points `q` in its rectangle's frame (x along
 // the long axis from 0 to length_measured, y across from its middle, z the height): notch,
-// dents, tip_width, tip_level. Needs f's measured size and spacing.
+// dents, tip_width, tip_level, shoulder (§30). Needs f's measured size and spacing.
 void outline_cues(const std::vector<Eigen::Vector3d>& q, Features& f);
 // A dent: a run of the profile at least this far (share of H) under its upper hull.
 constexpr double kDentDepth = 0.05;
+// The shoulder's band: |y| beyond this share of the half-width, over x in [0.2 L, 0.8 L]; and the
+// least number of points in it for a shoulder (classify.md §30).
+constexpr double kShoulderBand = 0.7;
+constexpr std::size_t kShoulderPoints = 4;
 
 // Points under the object inside its footprint, point by point (a crown lets pulses through
 // and holds returns at every depth; a roof holds none under it). Interior = at least `inset`

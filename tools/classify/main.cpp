@@ -119,6 +119,10 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
            "a car-group answer whose top view's convex hull fills less than this share of its minimum-area "
            "rectangle (an oval outline: a rock; an ellipse 0.785) and a notch under --rectangularity-notch: "
            "not_vehicle_shape (0: off)");
+  tool.add("--min-shoulder", &p.min_shoulder,
+           "a car- or van-group answer whose sides, in the middle of its length, reach less than this share "
+           "of its height (a body narrowing upward: a stack of logs or pipes, a tent): not_vehicle_shape "
+           "(0: off; classify.md §30)");
   tool.add("--rectangularity-notch", &p.rectangularity_notch,
            "see --min-rectangularity: only an answer whose top's profile lies within this (share of H) of "
            "its upper hull is refused (a stepped car is kept; 1: the outline alone)");

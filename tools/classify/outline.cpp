@@ -8,6 +8,8 @@
 
 #include "classify/features.h"
 
+#include "canopy/common/stats.h"
+
 namespace canopy::classify {
 
 void outline_cues(const std::vector<Eigen::Vector3d>& q, Features& f) {
@@ -82,6 +84,17 @@ void outline_cues(const std::vector<Eigen::Vector3d>& q, Features& f) {
   const auto& narrow = a.first < b.first || (a.first == b.first && a.second <= b.second) ? a : b;
   f.tip_width = narrow.first;
   f.tip_level = narrow.second;
+  // The shoulder (§30): the body's height at its sides, in the middle of its length.
+  std::vector<double> side;
+  for (const Eigen::Vector3d& p : q) {
+    if (p.x() >= 0.2 * L && p.x() <= 0.8 * L && std::abs(p.y()) > kShoulderBand * W / 2)
+      side.push_back(p.z());
+  }
+  f.shoulder.reset();
+  if (side.size() >= kShoulderPoints) {
+    std::sort(side.begin(), side.end());
+    f.shoulder = common::sorted_quantile(side, 0.9) / H;
+  }
 }
 
 }  // namespace canopy::classify

@@ -85,16 +85,24 @@ std::string false_alarm_cell(const ScoreRow* r) {
          score_ci(*r, "false_alarms_any_level_per_ha", "%.1f", "%.1f", 1);
 }
 
-// classify's ablation beside canopy on a ladder's levels where it has run (a changed default
-// keeps its ablation in the report): found at either level per cover, class right and false
-// alarms (all covers). `ladder`: "the density ladder" or "the sensor ladder".
-void ablation_table(std::ostringstream& md, const std::vector<DensityLevel>& rungs, const std::string& ladder) {
+// classify's ablation (`second`: its second ablation) beside canopy on a ladder's levels where it
+// has run (a changed default keeps its ablation in the report): found at either level per cover,
+// class right and false alarms (all covers). `ladder`: "the density ladder" or "the sensor ladder".
+void ablation_table(std::ostringstream& md, const std::vector<DensityLevel>& rungs, const std::string& ladder,
+                    bool second = false) {
+  const auto scored = [second](const DensityLevel& s) {
+    return second ? s.ablation2_scored : s.ablation_scored;
+  };
+  const auto abl = [second](const DensityLevel& s) -> const documents::SceneScore& {
+    return second ? s.ablation2 : s.ablation;
+  };
   std::vector<const DensityLevel*> with;
   for (const DensityLevel& s : rungs)
-    if (s.scored && s.ablation_scored) with.push_back(&s);
+    if (s.scored && scored(s)) with.push_back(&s);
   if (with.empty()) return;
-  md << "\n**classify's ablation on " << ladder << "** (the same candidates classified with `"
-     << with.front()->ablation_config
+  md << "\n**classify's " << (second ? "second ablation" : "ablation") << " on " << ladder
+     << "** (the same candidates classified with `"
+     << (second ? with.front()->ablation2_config : with.front()->ablation_config)
      << "`, collected and scored like canopy's; the file's header says which defaults it turns off, "
         "docs/decisions/classify.md why): found at either level of "
         "each cover's vehicles, class right of the found and false alarms per ha (all covers), each with "
@@ -104,7 +112,7 @@ void ablation_table(std::ostringstream& md, const std::vector<DensityLevel>& run
     const std::string lv = format_number("%g", s->level);
     for (const char* cover : {"light", "medium", "dense"}) {
       const ScoreRow* c = row_of(*s, cover);
-      const ScoreRow* b = cover_row(s->ablation, cover);
+      const ScoreRow* b = cover_row(abl(*s), cover);
       if (c == nullptr && b == nullptr) continue;
       md << "| " << lv << " | recall, " << cover << " | "
          << rate_cell(c, "recall_any_level", "found_any_level", "true") << " | "
@@ -113,11 +121,11 @@ void ablation_table(std::ostringstream& md, const std::vector<DensityLevel>& run
     md << "| " << lv << " | class right (all) | "
        << rate_cell(row_of(*s, "all"), "class_accuracy_any_level", "class_right_any_level", "found_any_level")
        << " | "
-       << rate_cell(cover_row(s->ablation, "all"), "class_accuracy_any_level", "class_right_any_level",
+       << rate_cell(cover_row(abl(*s), "all"), "class_accuracy_any_level", "class_right_any_level",
                     "found_any_level")
        << " |\n";
     md << "| " << lv << " | false alarms/ha (all) | " << false_alarm_cell(row_of(*s, "all")) << " | "
-       << false_alarm_cell(cover_row(s->ablation, "all")) << " |\n";
+       << false_alarm_cell(cover_row(abl(*s), "all")) << " |\n";
   }
 }
 
@@ -174,6 +182,11 @@ std::vector<DensityLevel> read_density_levels(const std::vector<documents::Manif
     if (!m.ablation_score.empty() && exists(m.ablation_score)) {
       l.ablation = documents::read_scene_score_file(m.ablation_score);
       l.ablation_scored = true;
+    }
+    l.ablation2_config = m.ablation2_config;
+    if (!m.ablation2_score.empty() && exists(m.ablation2_score)) {
+      l.ablation2 = documents::read_scene_score_file(m.ablation2_score);
+      l.ablation2_scored = true;
     }
     l.verify_change = m.verify_change;
     if (!m.verify_score.empty() && exists(m.verify_score)) {
@@ -417,6 +430,7 @@ std::string density_markdown(const std::vector<DensityLevel>& levels, const std:
   level_table(md, levels, false);
   detail_tables(md, levels, "pts/m²");
   ablation_table(md, levels, "the density ladder");
+  ablation_table(md, levels, "the density ladder", true);
   for (const std::string& f : figures) md << "\n![density ladder](" << f << ")\n";
   if (!figures.empty())
     md << "\n(One line per cover level; the levels at equal spacing; the bars are the 95% intervals, also in "
@@ -436,6 +450,7 @@ std::string density_markdown(const std::vector<DensityLevel>& levels, const std:
   level_table(md, sensor, true);
   detail_tables(md, sensor, "pulses/m²");
   ablation_table(md, sensor, "the sensor ladder");
+  ablation_table(md, sensor, "the sensor ladder", true);
   // Side by side where both ladders have the nominal density.
   std::vector<std::pair<const DensityLevel*, const DensityLevel*>> both;
   for (const DensityLevel& s : sensor)

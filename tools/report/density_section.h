@@ -47,6 +47,11 @@ struct DensityLevel {
   std::string verify_change;
   bool verify_scored = false;
   documents::SceneScore verify_ablation;
+  // classify's second ablation on the same candidates (the manifest's density-classify): its
+  // parameter file, and its score when it has run.
+  std::string ablation2_config;
+  bool ablation2_scored = false;
+  documents::SceneScore ablation2;
 };
 
 // Reads each level's score.json and its runs' index.json and .time files (a missing score is a

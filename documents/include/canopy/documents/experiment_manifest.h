@@ -39,6 +39,11 @@
 //                                             sensor preset (density-sensor), the rung's level,
 //                                             verify's options ('+' for each blank), the
 //                                             ablation's score.json
+//   density-classify LADDER LEVEL CONFIG SCORE
+//                                             classify's second ablation on a rung (after the
+//                                             rung's record, before or after its density-verify):
+//                                             LADDER and LEVEL as for density-verify, the
+//                                             ablation's parameter file and its score.json
 //
 // The trials are a full grid: every (object, scene, noise) of the trial lines exactly once
 // (objects, scenes and noises in the order they first appear), and every ablation has a trial
@@ -79,6 +84,8 @@ struct ManifestDensity {
   std::string ablation_config{}, ablation_score{};
   // verify's ablation on the rung (density-verify): its options (blanks restored) and score.json
   std::string verify_change{}, verify_score{};
+  // classify's second ablation on the rung (density-classify): its parameter file and score.json
+  std::string ablation2_config{}, ablation2_score{};
 };
 
 struct ExperimentManifest {
