@@ -1475,6 +1475,17 @@ TEST_CASE("classify: the binary writes a class-level verdict; same input, same b
   REQUIRE(test::sh(kBin + args + " -o " + (dir / "b.json").string(), dir / "err", &err) == 0);
   CHECK(slurp(dir / "a.json") == slurp(dir / "b.json"));
 
+  // --fill-tile-ground (classify.md §30) reads the tile's open-ground density from the index: without
+  // --index a usage error (2), from an index without density.ground an error naming it (1), no output.
+  CHECK(test::sh(kBin + " -i " + (dir / "c0001.pcd").string() + " --fill-tile-ground true -o " +
+                     (dir / "g.json").string(),
+                 dir / "err", &err) == 2);
+  CHECK_THAT(err, Catch::Contains("--fill-tile-ground needs --index"));
+  CHECK(test::sh(kBin + args + " --fill-tile-ground true -o " + (dir / "g.json").string(), dir / "err", &err) == 1);
+  CHECK_THAT(err, Catch::Contains("index.json"));
+  CHECK_THAT(err, Catch::Contains("density.ground"));
+  CHECK_FALSE(fs::exists(dir / "g.json"));
+
   const Json v = Json::parse(slurp(dir / "a.json"));
   CHECK(v["format"] == "canopy.verdict");
   CHECK(v["level"] == "class");
@@ -2327,4 +2338,65 @@ TEST_CASE("the pixel ladder's classify ablation is classify-sim.ini with the rou
   // mk/density.mk DENSITY_CLASSIFY_ABLATION; classify.md §28.
   check_ablation_ini("share/params/classify-sim.ini", "bench/density/classify-sim-floor-100.ini",
                      {{"roughness-floor", {"120mm", "100mm"}}});
+}
+
+TEST_CASE("classify: --fill-tile-ground measures fill against the tile's open ground where the crop has none") {
+  // Under closed canopy the crop holds no ground around the object, so fill (its points per m²
+  // over the open ground's around it) is unmeasured and cannot refuse a porous crown (classify.md
+  // §30). A car whose top returns 90% of the pulses and a crown-like top returning 40%, 4.6 x 1.8 m
+  // at 20 points/m² (the crown's 8 points/m² well above min-density's 4), the ground around them
+  // returning nothing.
+  const double density = 20;
+  auto hidden = [](double share, std::uint64_t seed) -> Top {
+    auto rng = std::make_shared<common::Rng>(seed);
+    return [rng, share](double x, double y) {
+      const double h = car_top(x, y);
+      if (h < 0) return kNoReturn;  // the ground around it: no return
+      return rng->uniform(0, 1) < share ? h : kNoReturn;
+    };
+  };
+  classify::Params on;
+  on.fill_tile_ground = true;
+  for (const std::uint64_t seed : {51u, 52u, 53u}) {
+    INFO("seed " << seed);
+    const Sampled car = sample(hidden(0.9, seed), 2.3, 0.9, 0, density, seed + 100);
+    const Sampled crown = sample(hidden(0.4, seed), 2.3, 0.9, 0, density, seed + 200);
+    // Off (Params' default, the ablation): fill unmeasured, the porous top is answered a car.
+    const classify::Answer off = classify::run(classify::Params{}, {crown.cloud, "crown.pcd", {}, density});
+    INFO("off: " << off.reason << " " << off.detail);
+    CHECK_FALSE(off.features.fill);
+    CHECK_FALSE(off.features.fill_from_tile);
+    CHECK(off.group == "car");
+    // On, with the tile's open ground at the sampling density: the crown's fill is about 0.4.
+    const classify::Answer porous = classify::run(on, {crown.cloud, "crown.pcd", {}, density});
+    INFO("on: " << porous.reason << " " << porous.detail);
+    REQUIRE(porous.features.fill);
+    CHECK(porous.features.fill_from_tile);
+    CHECK(*porous.features.ground_density == Approx(density));
+    CHECK(*porous.features.fill == Approx(0.40).margin(0.12));
+    CHECK(porous.reason == "vegetation_like");
+    CHECK_THAT(porous.detail, Catch::Contains("the tile's open ground"));
+    // The car's top is solid against the same reference: about 0.9, answered a car.
+    const classify::Answer solid = classify::run(on, {car.cloud, "car.pcd", {}, density});
+    INFO("car: " << solid.reason << " " << solid.detail);
+    REQUIRE(solid.features.fill);
+    CHECK(*solid.features.fill == Approx(0.90).margin(0.2));
+    CHECK(solid.group == "car");
+    // Without the tile's density (no --index) nothing changes.
+    const classify::Answer unknown = classify::run(on, {crown.cloud, "crown.pcd", {}, std::nullopt});
+    CHECK_FALSE(unknown.features.fill);
+    CHECK(unknown.group == "car");
+  }
+  // Where the crop has open ground, fill is the crop's whatever the tile says: the same answer and
+  // features as off.
+  const Sampled open = sample(car_top, 2.3, 0.9, 0, density, 61);
+  const classify::Answer a = classify::run(classify::Params{}, {open.cloud, "open.pcd", {}, 3.0});
+  const classify::Answer b = classify::run(on, {open.cloud, "open.pcd", {}, 3.0});
+  REQUIRE(a.features.fill);
+  REQUIRE(b.features.fill);
+  CHECK_FALSE(b.features.fill_from_tile);
+  CHECK(*b.features.fill == Approx(*a.features.fill));
+  CHECK(*b.features.ground_density == Approx(*a.features.ground_density));
+  CHECK(b.group == a.group);
+  CHECK(b.cls == a.cls);
 }
