@@ -1475,16 +1475,31 @@ TEST_CASE("classify: the binary writes a class-level verdict; same input, same b
   REQUIRE(test::sh(kBin + args + " -o " + (dir / "b.json").string(), dir / "err", &err) == 0);
   CHECK(slurp(dir / "a.json") == slurp(dir / "b.json"));
 
-  // --fill-tile-ground (classify.md §30) reads the tile's open-ground density from the index: without
-  // --index a usage error (2), from an index without density.ground an error naming it (1), no output.
+  // --fill-tile-ground (classify.md §30) reads the tile's open-ground density from the index:
+  // without --index a usage error (2); an index without it (absent or null: too little open ground
+  // in the tile) leaves fill as the crop measures it (here the crop has open ground: the same
+  // answer); density.ground not a number > 0 is an error naming the index (1), no output.
   CHECK(test::sh(kBin + " -i " + (dir / "c0001.pcd").string() + " --fill-tile-ground true -o " +
                      (dir / "g.json").string(),
                  dir / "err", &err) == 2);
   CHECK_THAT(err, Catch::Contains("--fill-tile-ground needs --index"));
-  CHECK(test::sh(kBin + args + " --fill-tile-ground true -o " + (dir / "g.json").string(), dir / "err", &err) == 1);
-  CHECK_THAT(err, Catch::Contains("index.json"));
+  REQUIRE(test::sh(kBin + args + " --fill-tile-ground true -o " + (dir / "g.json").string(), dir / "err", &err) ==
+          0);
+  {
+    Json g = Json::parse(slurp(dir / "g.json")), plain = Json::parse(slurp(dir / "a.json"));
+    g.erase("provenance");
+    plain.erase("provenance");
+    CHECK(g == plain);
+  }
+  Json bad = index;
+  bad["density"] = Json{{"ground", -1.0}};
+  std::ofstream(dir / "bad-index.json") << bad.dump();
+  CHECK(test::sh(kBin + " -i " + (dir / "c0001.pcd").string() + " --index " + (dir / "bad-index.json").string() +
+                     " --fill-tile-ground true -o " + (dir / "h.json").string(),
+                 dir / "err", &err) == 1);
+  CHECK_THAT(err, Catch::Contains("bad-index.json"));
   CHECK_THAT(err, Catch::Contains("density.ground"));
-  CHECK_FALSE(fs::exists(dir / "g.json"));
+  CHECK_FALSE(fs::exists(dir / "h.json"));
 
   const Json v = Json::parse(slurp(dir / "a.json"));
   CHECK(v["format"] == "canopy.verdict");
@@ -1519,11 +1534,12 @@ TEST_CASE("classify: the binary writes a class-level verdict; same input, same b
   CHECK(w["pose_tile"]["heading_deg"].get<double>() == Approx(ht).margin(1e-9));
 
   // share/params/classify.ini holds the defaults but for the gap bridge (classify.md §27: on
-  // there, off in Params): the same answer as the defaults with the bridge's three options.
+  // there, off in Params) and fill-tile-ground (§30): the same answer as the defaults with those
+  // four options.
   REQUIRE(test::sh(kBin + args + " --config " + std::string(CANOPY_SOURCE_DIR) +
                        "/share/params/classify.ini -o " + (dir / "ini.json").string(),
                    dir / "err", &err) == 0);
-  REQUIRE(test::sh(kBin + args + " --bridge 1m --bridge-fill true --bridge-min-share 0.1 -o " +
+  REQUIRE(test::sh(kBin + args + " --bridge 1m --bridge-fill true --bridge-min-share 0.1 --fill-tile-ground true -o " +
                        (dir / "bridge.json").string(),
                    dir / "err", &err) == 0);
   Json with_ini = Json::parse(slurp(dir / "ini.json")), bridged = Json::parse(slurp(dir / "bridge.json"));
@@ -2332,6 +2348,12 @@ TEST_CASE("the real tiles' classify ablation is classify.ini with the gap bridge
   check_ablation_ini(
       "share/params/classify.ini", "share/real/classify-bridge-0.ini",
       {{"bridge", {"1m", "0"}}, {"bridge-fill", {"true", ""}}, {"bridge-min-share", {"0.1", ""}}});
+}
+
+TEST_CASE("the real tiles' fill-tile-ground ablation is classify.ini with that key false and nothing else") {
+  // mk/real.mk REAL_CLASSIFY_ABLATION=share/real/classify-tile-ground-0.ini; classify.md §30.
+  check_ablation_ini("share/params/classify.ini", "share/real/classify-tile-ground-0.ini",
+                     {{"fill-tile-ground", {"true", "false"}}});
 }
 
 TEST_CASE("the pixel ladder's classify ablation is classify-sim.ini with the roughness floor of before") {

@@ -145,14 +145,13 @@ Eigen::Isometry3d index_transform(const std::string& text, const std::string& na
   } catch (const std::invalid_argument& e) { throw common::DataError(name, e.what()); }
 }
 
-double index_ground_density(const std::string& text, const std::string& name) {
+std::optional<double> index_ground_density(const std::string& text, const std::string& name) {
   const documents::Candidates index = documents::read_candidates(text, name);
   const nlohmann::ordered_json& d = index.density;
-  if (!d.is_object() || !d.contains("ground") || !d["ground"].is_number() || !(d["ground"].get<double>() > 0) ||
-      !std::isfinite(d["ground"].get<double>()))
-    throw common::DataError(name,
-                            "has no density.ground (the tile's open-ground density, points/m^2 > 0) for "
-                            "--fill-tile-ground: an index from an older detect?");
+  // null or absent: detect found too little open ground in the tile to measure it (closed canopy).
+  if (!d.is_object() || !d.contains("ground") || d["ground"].is_null()) return std::nullopt;
+  if (!d["ground"].is_number() || !std::isfinite(d["ground"].get<double>()) || !(d["ground"].get<double>() > 0))
+    throw common::DataError(name, "density.ground must be a number > 0 (points/m^2) or null");
   return d["ground"].get<double>();
 }
 
