@@ -1478,13 +1478,13 @@ TEST_CASE("classify: the binary writes a class-level verdict; same input, same b
   // --fill-tile-ground (classify.md §30) reads the tile's open-ground density from the index:
   // without --index a usage error (2); an index without it (absent or null: too little open ground
   // in the tile) leaves fill as the crop measures it (here the crop has open ground: the same
-  // answer); density.ground not a number > 0 is an error naming the index (1), no output.
+  // answer); density.ground negative is an error naming the index (1), no output.
   CHECK(test::sh(kBin + " -i " + (dir / "c0001.pcd").string() + " --fill-tile-ground true -o " +
                      (dir / "g.json").string(),
                  dir / "err", &err) == 2);
   CHECK_THAT(err, Catch::Contains("--fill-tile-ground needs --index"));
-  REQUIRE(test::sh(kBin + args + " --fill-tile-ground true -o " + (dir / "g.json").string(), dir / "err", &err) ==
-          0);
+  REQUIRE(test::sh(kBin + args + " --fill-tile-ground true -o " + (dir / "g.json").string(), dir / "err",
+                   &err) == 0);
   {
     Json g = Json::parse(slurp(dir / "g.json")), plain = Json::parse(slurp(dir / "a.json"));
     g.erase("provenance");
@@ -1498,7 +1498,7 @@ TEST_CASE("classify: the binary writes a class-level verdict; same input, same b
                      " --fill-tile-ground true -o " + (dir / "h.json").string(),
                  dir / "err", &err) == 1);
   CHECK_THAT(err, Catch::Contains("bad-index.json"));
-  CHECK_THAT(err, Catch::Contains("density.ground"));
+  CHECK_THAT(err, Catch::Contains("density.ground must be >= 0"));
   CHECK_FALSE(fs::exists(dir / "h.json"));
 
   const Json v = Json::parse(slurp(dir / "a.json"));
@@ -1539,7 +1539,8 @@ TEST_CASE("classify: the binary writes a class-level verdict; same input, same b
   REQUIRE(test::sh(kBin + args + " --config " + std::string(CANOPY_SOURCE_DIR) +
                        "/share/params/classify.ini -o " + (dir / "ini.json").string(),
                    dir / "err", &err) == 0);
-  REQUIRE(test::sh(kBin + args + " --bridge 1m --bridge-fill true --bridge-min-share 0.1 --fill-tile-ground true -o " +
+  REQUIRE(test::sh(kBin + args +
+                       " --bridge 1m --bridge-fill true --bridge-min-share 0.1 --fill-tile-ground true -o " +
                        (dir / "bridge.json").string(),
                    dir / "err", &err) == 0);
   Json with_ini = Json::parse(slurp(dir / "ini.json")), bridged = Json::parse(slurp(dir / "bridge.json"));
@@ -2362,7 +2363,8 @@ TEST_CASE("the pixel ladder's classify ablation is classify-sim.ini with the rou
                      {{"roughness-floor", {"120mm", "100mm"}}});
 }
 
-TEST_CASE("classify: --fill-tile-ground measures fill against the tile's open ground where the crop has none") {
+TEST_CASE(
+    "classify: --fill-tile-ground measures fill against the tile's open ground where the crop has none") {
   // Under closed canopy the crop holds no ground around the object, so fill (its points per m²
   // over the open ground's around it) is unmeasured and cannot refuse a porous crown (classify.md
   // §30). A car whose top returns 90% of the pulses and a crown-like top returning 40%, 4.6 x 1.8 m

@@ -160,9 +160,10 @@ bool vegetation(Answer& a, const Params& p) {
     const bool off_shadows = (p.bridge_fill || p.fill_empty_cells) && f.shadow_area > 0;
     const std::string shadows = off_shadows ? fmt(" less %.2f m^2 of shadow", f.shadow_area) : std::string();
     refuse(a, "vegetation_like",
-           fmt(f.fill_from_tile ? "porous or patchy: %.0f%% of the tile's open ground's points per m^2 on its "
-                                  "rectangle (no open ground around it)"
-                                : "porous or patchy: %.0f%% of the open ground's points per m^2 on its rectangle",
+           fmt(f.fill_from_tile
+                   ? "porous or patchy: %.0f%% of the tile's open ground's points per m^2 on its "
+                     "rectangle (no open ground around it)"
+                   : "porous or patchy: %.0f%% of the open ground's points per m^2 on its rectangle",
                100 * *f.fill) +
                shadows +
                fmt(" (%.1f of %.1f; a solid top >= %.0f%%)",

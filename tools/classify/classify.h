@@ -406,8 +406,8 @@ std::string serialize(const Answer& answer, const Params& params, const Document
 Eigen::Isometry3d index_transform(const std::string& text, const std::string& name, const std::string& id);
 
 // The tile's open-ground density from detect's index (its "density" object's "ground", points/m²);
-// none when it is null or absent (detect saw too little open ground in the tile: closed canopy).
-// Throws common::DataError naming the file when it is there but not a number > 0.
+// none when it is null, absent or 0 (detect saw too little open ground in the tile: closed canopy).
+// Throws common::DataError naming the file when it is there but not a number >= 0.
 std::optional<double> index_ground_density(const std::string& text, const std::string& name);
 // "r00,r01,r02,t0,...[,0,0,0,1]": 12 or 16 numbers, row-major, rigid. UsageError otherwise.
 Eigen::Isometry3d parse_transform(const std::string& text);

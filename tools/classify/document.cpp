@@ -146,13 +146,8 @@ Eigen::Isometry3d index_transform(const std::string& text, const std::string& na
 }
 
 std::optional<double> index_ground_density(const std::string& text, const std::string& name) {
-  const documents::Candidates index = documents::read_candidates(text, name);
-  const nlohmann::ordered_json& d = index.density;
-  // null or absent: detect found too little open ground in the tile to measure it (closed canopy).
-  if (!d.is_object() || !d.contains("ground") || d["ground"].is_null()) return std::nullopt;
-  if (!d["ground"].is_number() || !std::isfinite(d["ground"].get<double>()) || !(d["ground"].get<double>() > 0))
-    throw common::DataError(name, "density.ground must be a number > 0 (points/m^2) or null");
-  return d["ground"].get<double>();
+  // read_candidates refuses a density.ground that is not a number >= 0 or null, naming the file.
+  return documents::read_candidates(text, name).density_ground();
 }
 
 Eigen::Isometry3d parse_transform(const std::string& text) {
