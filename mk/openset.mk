@@ -51,7 +51,12 @@ OPENSET_CLASSIFY_BASE ?= $(P)/classify-sim.ini
 OPENSET_CLASS_ENVELOPE ?= 0.05
 # The ablation's parameters are the base's own (it sets neither modelbase-classes-only nor
 # class-envelope: every family, no envelope), run when either is on.
-OPENSET_CLASSIFY_ABLATION := $(if $(filter 1,$(OPENSET_CLASSES_ONLY))$(filter-out 0 0.0 .0,$(OPENSET_CLASS_ENVELOPE)),$(OPENSET_CLASSIFY_BASE))
+openset_envelope_on := $(filter-out 0 0.0 .0 0.00,$(OPENSET_CLASS_ENVELOPE))
+OPENSET_CLASSIFY_ABLATION := $(if $(filter 1,$(OPENSET_CLASSES_ONLY))$(openset_envelope_on),$(OPENSET_CLASSIFY_BASE))
+# The second ablation, the class envelope alone off (the modelbase's classes only kept:
+# class-envelope = 0), run when both are on (with one of them off the first ablation is already
+# the other alone): its parameters are written beside the open set's (the end of this file).
+OPENSET_CLASSIFY_ABLATION_2 := $(if $(and $(filter 1,$(OPENSET_CLASSES_ONLY)),$(openset_envelope_on)),$(OPENSET_DIR)/classify-envelope-0.ini)
 # collect's ablation: the model answer first, whatever its confidence (collect's
 # --contradicted-below and --refused-below, docs/decisions/open-set.md "Sixth round" and "Seventh
 # round"); OPENSET_COLLECT_ABLATION= leaves it out. (Quoted where it is passed to the sub-makes:
@@ -138,15 +143,14 @@ $(foreach r,$(OPENSET_CROP_RUNS),$(eval $(call tile_collect,$(call scene_key,$(r
 openset_crop_manifest = $(subst $(nl)$(space),$(nl),$(foreach r,$(OPENSET_TEST),$(foreach s,$(OPENSET_SEEDS),$(call \
   ml,$(call openset_crop_run,$(r),$(s))/detections.json $(call openset_crop_run,$(r),$(s))/truth.json 0 $(call openset_class,$(r))))))
 $(OPENSET_CROP_DIR)/tiles.txt: $(call text_prereq,$(OPENSET_CROP_DIR)/tiles.txt,$(openset_crop_manifest))
-# classify's ablation (SCENE_CLASSIFY_ABLATION, given by the parent: OPENSET_CLASSIFY_ABLATION) on
-# every crop, scored like the crops (after openset_crop_manifest: text_prereq reads it here).
-ifneq ($(SCENE_CLASSIFY_ABLATION),)
-TILE_CAND_KINDS += classify:cand/class-ablation.json
-$(foreach r,$(OPENSET_CROP_RUNS),$(call class_ablation_rules,$(r),$(call scene_key,$(r)),$(OPENSET_MB),$(SCENE_CLASSIFY_ABLATION)))
-OPENSET_CROP_ABL_SCORE := $(OPENSET_CROP_RES)/class-ablation/score.json
-$(if $(dry_run),,$(shell mkdir -p $(dir $(OPENSET_CROP_ABL_SCORE))))
-$(eval $(call variant_score_rule,class-ablation,$(OPENSET_CROP_DIR),$(openset_crop_manifest),$(OPENSET_CROP_RUNS),$(OPENSET_CROP_RES),$(OPENSET_DIR)/classes.csv))
-endif
+# classify's ablations (SCENE_CLASSIFY_ABLATION and SCENE_CLASSIFY_ABLATION_2, given by the parent:
+# OPENSET_CLASSIFY_ABLATION, OPENSET_CLASSIFY_ABLATION_2) on every crop, scored like the crops
+# (after openset_crop_manifest: text_prereq reads it here).
+TILE_CAND_KINDS += $(foreach v,$(SCENE_CLASS_ABLATIONS),classify:cand/$(v).json)
+OPENSET_CROP_ABL_SCORE := $(foreach v,$(SCENE_CLASS_ABLATIONS),$(OPENSET_CROP_RES)/$(v)/score.json)
+$(if $(dry_run)$(if $(OPENSET_CROP_ABL_SCORE),,1),,$(shell mkdir -p $(dir $(OPENSET_CROP_ABL_SCORE))))
+$(foreach v,$(SCENE_CLASS_ABLATIONS),$(foreach r,$(OPENSET_CROP_RUNS),$(call class_ablation_rules,$(r),$(call \
+  scene_key,$(r)),$(OPENSET_MB),$(scene_class_ini.$(v)),$(v)))$(eval $(call variant_score_rule,$(v),$(OPENSET_CROP_DIR),$(openset_crop_manifest),$(OPENSET_CROP_RUNS),$(OPENSET_CROP_RES),$(OPENSET_DIR)/classes.csv)))
 # collect's ablation (SCENE_COLLECT_ABLATION, given by the parent: OPENSET_COLLECT_ABLATION) on
 # every crop, scored like the crops.
 ifneq ($(SCENE_COLLECT_ABLATION),)
@@ -183,9 +187,11 @@ openset_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROG
   SCENE_MODELS=$(openset_models) SCENE_MODEL_CLASSES=$(OPENSET_DIR)/classes.csv \
   SCENE_SEEDS="$(OPENSET_SEEDS)" SCENE_COVERS="$(OPENSET_COVERS)" SCENE_NOISES=0 SCENE_BASELINE= \
   SCENE_SIZE_ONLY=0 SCENE_PICTURES=0 SCENE_CLASSIFY=$(OPENSET_CLASSIFY) SCENE_CLASSIFY_ABLATION=$(OPENSET_CLASSIFY_ABLATION) \
+  SCENE_CLASSIFY_ABLATION_2=$(OPENSET_CLASSIFY_ABLATION_2) \
   SCENE_COLLECT_ABLATION='$(OPENSET_COLLECT_ABLATION)' COLLECT_CALIBRATION=$(OPENSET_COLLECT_CALIBRATION)
 openset_crop_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) openset-crops PROGRESS=0 \
   SCENE_CLASSIFY=$(OPENSET_CLASSIFY) SCENE_CLASSIFY_ABLATION=$(OPENSET_CLASSIFY_ABLATION) \
+  SCENE_CLASSIFY_ABLATION_2=$(OPENSET_CLASSIFY_ABLATION_2) \
   SCENE_COLLECT_ABLATION='$(OPENSET_COLLECT_ABLATION)' COLLECT_CALIBRATION=$(OPENSET_COLLECT_CALIBRATION)
 ifneq ($(findstring q,$(make_letters))$(OPENSET),q1)
 openset_force := FORCE
@@ -210,20 +216,25 @@ $(OPENSET_CROP_SCORE): $(openset_force) $(OPENSET_SCORE) $(OPENSET_MB)/.built $(
 openset_abl_scores = $(if $(1),$(OPENSET_RES)/$(2)/score.json $(if $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_RES)/$(2)/score.json))
 openset_abl_order = $(if $(word 1,$(1)),$(eval $(word 1,$(1)): $(OPENSET_SCORE)))$(if \
   $(word 2,$(1)),$(eval $(word 2,$(1)): $(OPENSET_CROP_SCORE)))
-# classify's ablation (OPENSET_CLASSIFY_ABLATION) and collect's (OPENSET_COLLECT_ABLATION).
+# classify's ablations (OPENSET_CLASSIFY_ABLATION: both off; OPENSET_CLASSIFY_ABLATION_2: the
+# envelope alone off) and collect's (OPENSET_COLLECT_ABLATION).
 OPENSET_ABL_SCORES := $(call openset_abl_scores,$(OPENSET_CLASSIFY_ABLATION),class-ablation)
+OPENSET_ABL2_SCORES := $(call openset_abl_scores,$(OPENSET_CLASSIFY_ABLATION_2),class-ablation-2)
 OPENSET_COLLECT_ABL_SCORES := $(call openset_abl_scores,$(OPENSET_COLLECT_ABLATION),collect-ablation)
 $(call openset_abl_order,$(OPENSET_ABL_SCORES))
+$(call openset_abl_order,$(OPENSET_ABL2_SCORES))
 $(call openset_abl_order,$(OPENSET_COLLECT_ABL_SCORES))
 .PHONY: openset
 openset: $(OPENSET_SCORE) $(if $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_SCORE)) $(OPENSET_ABL_SCORES) \
-  $(OPENSET_COLLECT_ABL_SCORES)
+  $(OPENSET_ABL2_SCORES) $(OPENSET_COLLECT_ABL_SCORES)
 ifeq ($(OPENSET),1)
 $(RES)/report.md: $(OPENSET_SCORE) $(if $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_SCORE)) $(OPENSET_DISTANCES) \
-  $(OPENSET_ABL_SCORES) $(OPENSET_COLLECT_ABL_SCORES)
+  $(OPENSET_ABL_SCORES) $(OPENSET_ABL2_SCORES) $(OPENSET_COLLECT_ABL_SCORES)
 REPORT_ARGS += --openset $(OPENSET_SCORE) --openset-distances $(OPENSET_DISTANCES)$(if $(filter 1,$(OPENSET_CROPS)), \
   --openset-crops $(OPENSET_CROP_SCORE))$(if $(OPENSET_CLASSIFY_ABLATION), --openset-ablation $(word 1,$(OPENSET_ABL_SCORES))$(if \
-  $(filter 1,$(OPENSET_CROPS)), --openset-crops-ablation $(word 2,$(OPENSET_ABL_SCORES))))$(if $(OPENSET_COLLECT_ABLATION), \
+  $(filter 1,$(OPENSET_CROPS)), --openset-crops-ablation $(word 2,$(OPENSET_ABL_SCORES))))$(if $(OPENSET_CLASSIFY_ABLATION_2), \
+  --openset-envelope-ablation $(word 1,$(OPENSET_ABL2_SCORES))$(if $(filter 1,$(OPENSET_CROPS)), \
+  --openset-crops-envelope-ablation $(word 2,$(OPENSET_ABL2_SCORES))))$(if $(OPENSET_COLLECT_ABLATION), \
   --openset-collect-ablation $(word 1,$(OPENSET_COLLECT_ABL_SCORES))$(if $(filter 1,$(OPENSET_CROPS)), \
   --openset-crops-collect-ablation $(word 2,$(OPENSET_COLLECT_ABL_SCORES))))
 endif
@@ -237,19 +248,24 @@ endif
 # on the same candidates (OPENSET_CLASSIFY_ABLATION = the base's parameters: classify a second
 # time, collect, score) and the report shows both. The class envelopes (OPENSET_CLASS_ENVELOPE,
 # 0.05; 0: off) are off in that ablation too: it is the open set's classify before the fourth and
-# the eighth rounds. The open set's classify.ini is written when
-# its text changes (at parse time, like the recipes; a dry run writes nothing and plans classify
-# again).
-# (OPENSET_CLASSES_ONLY, OPENSET_CLASSIFY_ABLATION: near the top.)
+# the eighth rounds. With both on, a second ablation beside it has the envelope alone off
+# (OPENSET_CLASSIFY_ABLATION_2 = classify-envelope-0.ini: the open set's parameters with
+# class-envelope = 0; docs/decisions/open-set.md, "ninth round"). The open set's classify.ini and
+# that one are written when their text changes (at parse time, like the recipes; a dry run writes
+# nothing and plans classify again).
+# (OPENSET_CLASSES_ONLY, OPENSET_CLASSIFY_ABLATION[_2]: near the top.)
 OPENSET_CLASSIFY := $(OPENSET_DIR)/classify.ini
+# openset_classify_text(ENVELOPE): the open set's parameters with class-envelope = ENVELOPE.
 define openset_classify_text
 $(file <$(OPENSET_CLASSIFY_BASE))
 # The open set (mk/openset.mk): only the modelbase's classes (OPENSET_CLASSES_ONLY).
 modelbase-classes-only = $(OPENSET_CLASSES_ONLY)
 # A class with two or more modelbase entries is also the box of their sizes +- this share
 # (OPENSET_CLASS_ENVELOPE; docs/decisions/open-set.md, eighth round).
-class-envelope = $(OPENSET_CLASS_ENVELOPE)
+class-envelope = $(1)
 endef
 ifneq ($(wildcard $(OPENSET_DIR))$(dry_run),)
-$(OPENSET_CLASSIFY): $(call text_prereq,$(OPENSET_CLASSIFY),$(openset_classify_text))
+$(OPENSET_CLASSIFY): $(call text_prereq,$(OPENSET_CLASSIFY),$(call openset_classify_text,$(OPENSET_CLASS_ENVELOPE)))
+$(if $(OPENSET_CLASSIFY_ABLATION_2),$(eval $(OPENSET_CLASSIFY_ABLATION_2): $(call \
+  text_prereq,$(OPENSET_CLASSIFY_ABLATION_2),$(call openset_classify_text,0))))
 endif

@@ -91,6 +91,17 @@ collect_calibration = $(if $(COLLECT_CALIBRATION), --calibration $(COLLECT_CALIB
 # report shows a changed default beside its ablation). Empty, the default, leaves it out; the
 # open set sets it (mk/openset.mk: every family, without --modelbase-classes-only).
 SCENE_CLASSIFY_ABLATION ?=
+# SCENE_CLASSIFY_ABLATION_2=<ini>: a second classify ablation beside the first, the same way, as
+# the variant class-ablation-2 (cands/<id>/class-ablation-2.json, detections-class-ablation-2.json,
+# $(SCENE_RES)/class-ablation-2/score.json): two defaults changed together keep both the joint
+# ablation and one of them alone. Empty, the default, leaves it out; the open set sets it
+# (mk/openset.mk: the class envelope alone off).
+SCENE_CLASSIFY_ABLATION_2 ?=
+# The classify ablations asked for, by variant (class-ablation, class-ablation-2), and each
+# variant's parameters.
+scene_class_ini.class-ablation = $(SCENE_CLASSIFY_ABLATION)
+scene_class_ini.class-ablation-2 = $(SCENE_CLASSIFY_ABLATION_2)
+SCENE_CLASS_ABLATIONS = $(foreach v,class-ablation class-ablation-2,$(if $(scene_class_ini.$(v)),$(v)))
 # SCENE_COLLECT_ABLATION=<collect options, each as --name=value>: collect run a second time on
 # every run with these options, from the same verdicts and class answers, scored beside canopy's
 # as $(SCENE_RES)/collect-ablation/score.json. With a calibration the default is
@@ -106,7 +117,7 @@ SCENE_COLLECT_ABLATION ?= $(if $(COLLECT_CALIBRATION),--coarse-none-below=0)
 # and scored beside canopy's as $(SCENE_RES)/verify-ablation/score.json. Empty, the default,
 # leaves it out; the density ladder sets it (mk/density.mk DENSITY_VERIFY_ABLATION).
 SCENE_VERIFY_ABLATION ?=
-$(foreach f,$(TILE_CLASSIFY) $(SCENE_CLASSIFY) $(SCENE_CLASSIFY_ABLATION),$(if $(wildcard $(f))$(filter $(OUT)/%,$(f)),,$(error classify's parameters: $(f) does not exist)))
+$(foreach f,$(TILE_CLASSIFY) $(SCENE_CLASSIFY) $(SCENE_CLASSIFY_ABLATION) $(SCENE_CLASSIFY_ABLATION_2),$(if $(wildcard $(f))$(filter $(OUT)/%,$(f)),,$(error classify's parameters: $(f) does not exist)))
 
 # The tile workflow's options as prerequisites (the options files, Makefile.experiments): one
 # text per stage kind, its file under the set of runs' directory (the tile's OUT, SCENE_DIR, the
@@ -120,14 +131,16 @@ opts_text_plan = $(call opts_line,model-density,$(TILE_MODEL_DENSITY))$(call opt
 opts_text_classify = $(call opts_line,parameters,$(tile_classify))$(call opts_line,model-classes,$(MODEL_CLASSES))
 opts_text_classify-ablation = $(call opts_line,parameters,$(SCENE_CLASSIFY_ABLATION))$(call \
   opts_line,model-classes,$(MODEL_CLASSES))
+opts_text_classify-ablation-2 = $(call opts_line,parameters,$(SCENE_CLASSIFY_ABLATION_2))$(call \
+  opts_line,model-classes,$(MODEL_CLASSES))
 opts_text_models = $(call opts_line,fitvox,$(TILE_FITVOX))$(call opts_line,parameters,$(P))$(call \
   opts_line,density-scale,$(TILE_DENSITY_SCALE))
 opts_text_collect = $(call opts_line,calibration,$(COLLECT_CALIBRATION))$(call opts_line,crs,$(CRS))
 opts_text_collect-ablation = $(call opts_line,options,$(SCENE_COLLECT_ABLATION))$(call \
   opts_line,calibration,$(COLLECT_CALIBRATION))
 opts_text_verify-ablation = $(call opts_line,options,$(SCENE_VERIFY_ABLATION))
-tile_opts_kinds = $(call opts_kinds,$(1),detect plan classify models collect$(if $(value opts_text_topview), topview)$(if \
-  $(SCENE_CLASSIFY_ABLATION), classify-ablation)$(if $(SCENE_COLLECT_ABLATION), collect-ablation)$(if \
+tile_opts_kinds = $(call opts_kinds,$(1),detect plan classify models collect$(if $(value opts_text_topview), topview)$(patsubst \
+  class-%, classify-%,$(SCENE_CLASS_ABLATIONS))$(if $(SCENE_COLLECT_ABLATION), collect-ablation)$(if \
   $(SCENE_VERIFY_ABLATION), verify-ablation))
 
 # read_plan(FILE): a generated candidate plan. A real run includes it, so make remakes it first
@@ -157,12 +170,13 @@ TILE_CAND_KINDS := classify:cand/class.json fitvox:cand/samples.pcd cocone:cand/
 
 # class_rule(DIR, ID, INI, MODELBASE[, NAME]): classify with the parameters INI on one candidate
 # (every candidate; exit 1 only on a bad file: too sparse is an answer, so no --record-failure)
-# into cands/<id>/NAME (class.json). The modelbase's entries with a class (<model>.class, or
+# into cands/<id>/NAME (class.json; an ablation's class-ablation[-2].json, whose options file is
+# classify-ablation[-2]). The modelbase's entries with a class (<model>.class, or
 # MODEL_CLASSES for the thesis models) are class ranges beside the families' (docs/decisions/
 # classify.md §12).
 define class_rule
 $(1)/cands/$(2)/$(or $(5),class.json): $(1)/cands/index.json $(call tool,classify) $(3) \
-    $(wildcard $(4)/*.json $(4)/*.pcd $(4)/*.class) $(MODEL_CLASSES) $(if $(5),$(opts.classify-ablation),$(opts.classify))
+    $(wildcard $(4)/*.json $(4)/*.pcd $(4)/*.class) $(MODEL_CLASSES) $(if $(5),$(opts.classify-$(patsubst class-%.json,%,$(5))),$(opts.classify))
 	@$(STAGE) $$@ -- $(BIN)/classify --config $(3) -i $(1)/cands/$(2).pcd \
 	  --index $(1)/cands/index.json --modelbase $(4) --model-classes $(MODEL_CLASSES) -o $$@
 endef
@@ -178,13 +192,14 @@ $(1)/detections-$(strip $(4)).json: $(1)/cands.mk $(foreach c,$($(2)_CANDS),$(1)
     $(if $(strip $(6)),$(foreach c,$(call model_cands,$(2)),$(1)/cands/$(c)/$(strip $(6)))) $(9) $(call tool,collect)
 	@$(STAGE) $$@ -- $(BIN)/collect -i $(1)/cands/index.json $(7) -o $$@ --modelbase $(3) $(8)
 endef
-# class_ablation_rules(DIR, KEY, MODELBASE, INI): classify's ablation on every candidate of a run
-# (cands/<id>/class-ablation.json, with the parameters INI) and the run's detections with it
-# (detections-class-ablation.json: the model chain's verdicts as in detections.json, the class
-# answers from the ablation's files; collect --class-name). SCENE_CLASSIFY_ABLATION below.
-class_ablation_rules = $(foreach c,$($(2)_CANDS),$(eval $(call class_rule,$(1),$(c),$(4),$(3),class-ablation.json)))$(eval \
-  $(call collect_variant_rule,$(1),$(2),$(3),class-ablation,class-ablation.json,verdict.json,--class-name \
-  class-ablation.json$(collect_calibration),,$(COLLECT_CALIBRATION) $(opts.collect)))
+# class_ablation_rules(DIR, KEY, MODELBASE, INI[, VARIANT]): classify's ablation VARIANT
+# (class-ablation, the default, or class-ablation-2) on every candidate of a run
+# (cands/<id>/VARIANT.json, with the parameters INI) and the run's detections with it
+# (detections-VARIANT.json: the model chain's verdicts as in detections.json, the class answers
+# from the ablation's files; collect --class-name). SCENE_CLASSIFY_ABLATION[_2] below.
+class_ablation_rules = $(foreach c,$($(2)_CANDS),$(eval $(call class_rule,$(1),$(c),$(4),$(3),$(or $(5),class-ablation).json)))$(eval \
+  $(call collect_variant_rule,$(1),$(2),$(3),$(or $(5),class-ablation),$(or $(5),class-ablation).json,verdict.json,--class-name \
+  $(or $(5),class-ablation).json$(collect_calibration),,$(COLLECT_CALIBRATION) $(opts.collect)))
 # collect_ablation_rules(DIR, KEY, MODELBASE, OPTIONS): the run's detections collected with
 # OPTIONS (detections-collect-ablation.json). SCENE_COLLECT_ABLATION below.
 collect_ablation_rules = $(eval $(call collect_variant_rule,$(1),$(2),$(3),collect-ablation,class.json,verdict.json,,$(4)$(collect_calibration),$(COLLECT_CALIBRATION) \
@@ -384,7 +399,7 @@ $(if $(filter-out vfh fpfh,$(SCENE_BASELINE)),$(error SCENE_BASELINE=$(SCENE_BAS
 SCENE_SIZE_ONLY ?= 1
 $(if $(filter-out 0 1,$(SCENE_SIZE_ONLY)),$(error SCENE_SIZE_ONLY=$(SCENE_SIZE_ONLY): must be 0 or 1))
 SCENE_BL_SCORES := $(foreach m,$(SCENE_BASELINE) $(if $(filter 1,$(SCENE_SIZE_ONLY)),size),$(SCENE_RES)/baseline-$(m)/score.json)
-SCENE_ABL_SCORE := $(if $(SCENE_CLASSIFY_ABLATION),$(SCENE_RES)/class-ablation/score.json) \
+SCENE_ABL_SCORE := $(foreach v,$(SCENE_CLASS_ABLATIONS),$(SCENE_RES)/$(v)/score.json) \
   $(if $(SCENE_COLLECT_ABLATION),$(SCENE_RES)/collect-ablation/score.json) \
   $(if $(SCENE_VERIFY_ABLATION),$(SCENE_RES)/verify-ablation/score.json)
 
@@ -475,7 +490,7 @@ $(foreach r,$(SCENE_RUNS),$(eval $(call tile_collect,$(call scene_key,$(r)),$(r)
 $(foreach r,$(SCENE_RUNS),$(foreach c,$(call model_cands,$(call scene_key,$(r))),\
   $(eval $(r)/cands/$(c)/match.json $(r)/cands/$(c)/verdict.json: $(MODELBASE) $(VERIFY_SURFACES))))
 $(if $(filter $(OUT)/modelbase,$(SCENE_MB)),$(foreach r,$(SCENE_RUNS),$(foreach c,$($(call scene_key,$(r))_CANDS),\
-  $(eval $(r)/cands/$(c)/class.json$(if $(SCENE_CLASSIFY_ABLATION), $(r)/cands/$(c)/class-ablation.json): $(MODELBASE) \
+  $(eval $(r)/cands/$(c)/class.json$(foreach v,$(SCENE_CLASS_ABLATIONS), $(r)/cands/$(c)/$(v).json): $(MODELBASE) \
   $(VERIFY_SURFACES)))))
 # The score's tile list (documents/tile_list.h): detections truth noise cover, one line per run
 # (cover, seed, noise: the order of SCENE_RUNS), from the cover levels themselves.
@@ -505,7 +520,7 @@ endef
 # The models' side of another SCENE_MB than the thesis modelbase's (mk/baseline.mk).
 $(if $(SCENE_BASELINE),$(if $(filter-out $(OUT)/modelbase,$(SCENE_MB)),$(eval $(call baseline_models_rule,$(SCENE_MB),$(VERIFY_SURFACES)))))
 # scene_variant_score_rule(VARIANT): the score of every run's detections-VARIANT.json
-# (baseline-<method>, baseline-size, class-ablation) as $(SCENE_RES)/VARIANT/score.json.
+# (baseline-<method>, baseline-size, class-ablation[-2], ...) as $(SCENE_RES)/VARIANT/score.json.
 scene_variant_score_rule = $(call variant_score_rule,$(1),$(SCENE_DIR),$(scene_manifest),$(SCENE_RUNS),$(SCENE_RES),$(SCENE_MODEL_CLASSES))
 $(foreach m,$(SCENE_BASELINE),$(foreach r,$(SCENE_RUNS),$(foreach c,$(call model_cands,$(call scene_key,$(r))),\
   $(eval $(call scene_baseline_cand_rule,$(r),$(c),$(m))))))
@@ -523,12 +538,11 @@ $(foreach r,$(SCENE_RUNS),$(eval $(call collect_variant_rule,$(r),$(call scene_k
   class.json,,--size-only,,$(wildcard $(VERIFY_SURFACES)))))
 $(eval $(call scene_variant_score_rule,baseline-size))
 endif
-# classify's ablation (SCENE_CLASSIFY_ABLATION): per run, then one score.
-ifneq ($(SCENE_CLASSIFY_ABLATION),)
-TILE_CAND_KINDS += classify:cand/class-ablation.json
-$(foreach r,$(SCENE_RUNS),$(call class_ablation_rules,$(r),$(call scene_key,$(r)),$(SCENE_MB),$(SCENE_CLASSIFY_ABLATION)))
-$(eval $(call scene_variant_score_rule,class-ablation))
-endif
+# classify's ablations (SCENE_CLASSIFY_ABLATION, SCENE_CLASSIFY_ABLATION_2): per run, then one
+# score each.
+TILE_CAND_KINDS += $(foreach v,$(SCENE_CLASS_ABLATIONS),classify:cand/$(v).json)
+$(foreach v,$(SCENE_CLASS_ABLATIONS),$(foreach r,$(SCENE_RUNS),$(call class_ablation_rules,$(r),$(call \
+  scene_key,$(r)),$(SCENE_MB),$(scene_class_ini.$(v)),$(v)))$(eval $(call scene_variant_score_rule,$(v))))
 # collect's ablation (SCENE_COLLECT_ABLATION): per run, then one score.
 ifneq ($(SCENE_COLLECT_ABLATION),)
 $(foreach r,$(SCENE_RUNS),$(call collect_ablation_rules,$(r),$(call scene_key,$(r)),$(SCENE_MB),$(SCENE_COLLECT_ABLATION)))

@@ -205,7 +205,9 @@ case "$mode" in
             if ((c[i] in only) && keys[j] !~ /^classify:/) continue
             name = keys[j]; sub(/^[^:]*:cand\//, "", name)
             s = earlier(dir "/cands/" c[i] "/" name)
-            sum += s >= 0 ? s : estimate(keys[j]); cnt++
+            # (a kind writes each digit as #: classify:cand/class-ablation-#.json)
+            k = keys[j]; gsub(/[0-9]/, "#", k)
+            sum += s >= 0 ? s : estimate(k); cnt++
           }
           # (rewritten in place, under the lock, as stagerun does)
           printf "%d %d %.3f %.3f %s\n", st[1], st[2] + cnt, st[3], st[4] + sprintf("%.3f", sum), st[5] > state

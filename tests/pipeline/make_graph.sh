@@ -372,6 +372,22 @@ done
 grep -qx "calibration = $tmp/params/calibration.ini" "$sd/.opts/collect.txt" ||
   fail "the collect options file does not hold the calibration: $(cat "$sd/.opts/collect.txt")"
 "${sc[@]}" -q scenes || fail "make -q scenes is not clean on a complete run: $("${sc[@]}" -n scenes 2>&1 | head -5)"
+# A second classify ablation (SCENE_CLASSIFY_ABLATION_2; the open set's class envelope alone off,
+# mk/openset.mk): on a complete run it plans classify once more on the candidate
+# (class-ablation-2.json, with those parameters), its collect and its score, and nothing else (not
+# the first ablation's variant); a dry run writes no options file for it.
+plan=$("${sc[@]}" -n scenes SCENE_CLASSIFY_ABLATION_2="$tmp/params/classify.ini" 2>&1)
+plans "bin/classify --config $tmp/params/classify.ini -i $sr/cands/c0001.pcd .*-o $sr/cands/c0001/class-ablation-2.json" ||
+  fail "SCENE_CLASSIFY_ABLATION_2 does not plan classify with its parameters: $(echo "$plan" | grep stagerun)"
+plans "bin/collect -i $sr/cands/index.json --class-name class-ablation-2.json .*-o $sr/detections-class-ablation-2.json" ||
+  fail "SCENE_CLASSIFY_ABLATION_2 does not plan its collect"
+plans "bin/score --tiles $sd/tiles-class-ablation-2.txt .*-o $tmp/res/scenes/class-ablation-2/score.json" ||
+  fail "SCENE_CLASSIFY_ABLATION_2 does not plan its score"
+if plans "class-ablation\.json"; then fail "SCENE_CLASSIFY_ABLATION_2 plans the first ablation's variant"; fi
+[ "$(echo "$plan" | stages)" -eq 3 ] || fail "SCENE_CLASSIFY_ABLATION_2 plans $(echo "$plan" | stages) stages, not 3"
+[ ! -e "$sd/.opts/classify-ablation-2.txt" ] || fail "a dry run wrote the second ablation's options file"
+"${sc[@]}" -q scenes SCENE_CLASSIFY_ABLATION_2="$tmp/params/classify.ini" &&
+  fail "make -q scenes is clean without the second classify ablation"
 # collect's ablation by default (SCENE_COLLECT_ABLATION: --coarse-none-below=0 with a calibration;
 # verify.md §19): on a complete run it plans one more collect, from the same verdicts, and its
 # score; nothing upstream of collect, nor canopy's collect. Without a calibration there is none.

@@ -2,12 +2,19 @@
 // instance's nearest modelbase entry, and instance accuracy over a hand-made score's matches.
 #include <catch2/catch.hpp>
 
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "canopy/common/error.h"
+#include "canopy/documents/experiment_manifest.h"
+#include "canopy/documents/match_result.h"
+#include "canopy/documents/segment_graph.h"
 #include "canopy/documents/scene_score.h"
 #include "report/openset_section.h"
+#include "support/cli.h"
 
 using namespace canopy;
 
@@ -32,8 +39,8 @@ documents::ScoreMatch match(const std::string& truth, const std::string& outcome
 }
 
 // A crops' score of 10 crops with one summary row per cover label in `covers` (the same counts).
-documents::SceneScore crops_score(const std::vector<std::string>& covers, int tp, int fp, int class_tp,
-                                  int class_fp, int found, int right) {
+std::string crops_score_json(const std::vector<std::string>& covers, int tp, int fp, int class_tp,
+                             int class_fp, int found, int right) {
   std::string rows;
   for (const std::string& c : covers)
     rows += std::string(rows.empty() ? "" : ",") + R"({"cover": ")" + c +
@@ -41,13 +48,16 @@ documents::SceneScore crops_score(const std::vector<std::string>& covers, int tp
             std::to_string(fp) + R"(, "class_tp": )" + std::to_string(class_tp) + R"(, "class_fp": )" +
             std::to_string(class_fp) + R"(, "found_any_level": )" + std::to_string(found) +
             R"(, "class_right_any_level": )" + std::to_string(right) + "}";
-  return documents::read_scene_score(
-      R"({"format": "canopy.scene_score", "version": 1,
+  return R"({"format": "canopy.scene_score", "version": 1,
     "params": {"match_radius_m": 1.5, "cover_bins": [0, 1], "flip_threshold_deg": 90},
     "tiles": [{"detections": "c/d.json", "cover": "car", "noise_mm": 0, "area_ha": 0.04}],
     "summary": [)" +
-          rows + R"(], "pr": [], "models": [], "cover_bins": [], "reliability": [], "matches": []})",
-      "crops.json");
+         rows + R"(], "pr": [], "models": [], "cover_bins": [], "reliability": [], "matches": []})";
+}
+documents::SceneScore crops_score(const std::vector<std::string>& covers, int tp, int fp, int class_tp,
+                                  int class_fp, int found, int right) {
+  return documents::read_scene_score(crops_score_json(covers, tp, fp, class_tp, class_fp, found, right),
+                                     "crops.json");
 }
 
 }  // namespace
@@ -161,4 +171,120 @@ TEST_CASE("open set: collect's ablation (the model answer first) is its own subs
         std::string::npos);
   const std::string tiles_only = report::openset_collect_ablation_markdown(tiles, "cabl/score.json");
   CHECK(tiles_only.find("single-vehicle crops") == std::string::npos);
+}
+
+TEST_CASE("open set: the envelope's own ablation is a subsection of its own") {
+  // 10 cars, 7 found (3 + 4), 7 of them the right class. Wilson: 7/10 [39.7, 89.2], 7/7 [64.6,
+  // 100.0], 7/10 [39.7, 89.2], 0/7 [0.0, 35.4].
+  const documents::SceneScore crops = crops_score({"car"}, 3, 0, 4, 0, 7, 7);
+  documents::SceneScore tiles;
+  const std::string md =
+      report::openset_envelope_ablation_markdown(tiles, "env/score.json", &crops, "env/crops.json");
+  CHECK(md.find("### Ablation: no class envelope, the modelbase's classes only kept "
+                "(`OPENSET_CLASS_ENVELOPE=0`)") != std::string::npos);
+  CHECK(md.find("`classify --class-envelope 0`") != std::string::npos);
+  CHECK(md.find("every classify family") == std::string::npos);
+  CHECK(md.find("(env/score.json, env/crops.json)") != std::string::npos);
+  CHECK(md.find(
+            "| car | 10 | 7 (3 + 4) | 7/10 = 70.0% [39.7, 89.2] | 7/7 = 100.0% [64.6, 100.0] | 7/10 = 70.0% "
+            "[39.7, 89.2] | 0/7 = 0.0% [0.0, 35.4] | 0 |") != std::string::npos);
+  const std::string tiles_only = report::openset_envelope_ablation_markdown(tiles, "env/score.json");
+  CHECK(tiles_only.find("single-vehicle crops") == std::string::npos);
+  CHECK(tiles_only.find("| cover | tiles | vehicles |") != std::string::npos);
+}
+
+TEST_CASE("report --openset with both classify ablations: canopy, the joint ablation, the envelope alone") {
+  namespace fs = std::filesystem;
+  const fs::path dir = test::fresh_dir("report", "openset-ablations");
+  // Hand-made scores of 10 car crops each (tiles and crops alike): canopy 9/10 found and right;
+  // the joint ablation 8 found, 5 right; the envelope alone off 7 found, 7 right.
+  const std::vector<std::pair<std::string, std::string>> scores = {
+      {"canopy", crops_score_json({"car"}, 5, 0, 4, 0, 9, 9)},
+      {"both-off", crops_score_json({"car"}, 4, 1, 4, 0, 8, 5)},
+      {"envelope-off", crops_score_json({"car"}, 3, 0, 4, 0, 7, 7)}};
+  for (const auto& [name, json] : scores) {
+    test::write_file(dir / name / "score.json", json);
+    test::write_file(dir / name / "crops" / "score.json", json);
+  }
+  // The report's manifest: one thesis trial (the report needs one), its match and segments.
+  const fs::path trial = dir / "out" / "sedan" / "circle" / "noise-0";
+  fs::create_directories(trial);
+  documents::MatchResult m;
+  m.error_form = "bounded";
+  documents::ModelScore top;
+  top.model = "sedan";
+  top.rank = 1;
+  top.score = 0.8;
+  m.models.push_back(top);
+  documents::write_match_result(m, (trial / "match.json").string());
+  documents::write_segment_graph(documents::SegmentGraph{}, (trial / "segments.json").string());
+  documents::ExperimentManifest manifest;
+  manifest.trials.push_back({"sedan", "circle", 0, trial.string()});
+  std::ofstream(dir / "experiment.txt") << documents::write_experiment_manifest(manifest);
+  const auto path = [&](const std::string& name, bool crops) {
+    return (dir / name / (crops ? "crops/score.json" : "score.json")).string();
+  };
+  const std::string report = std::string(CANOPY_BIN_DIR) + "/report --manifest " +
+                             (dir / "experiment.txt").string() + " --openset " + path("canopy", false) +
+                             " --openset-crops " + path("canopy", true);
+  const std::string both =
+      " --openset-ablation " + path("both-off", false) + " --openset-crops-ablation " + path("both-off", true);
+  const std::string envelope = " --openset-envelope-ablation " + path("envelope-off", false) +
+                               " --openset-crops-envelope-ablation " + path("envelope-off", true);
+  const auto read = [](const fs::path& p) {
+    std::ifstream f(p);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+  };
+  std::string err;
+  fs::create_directories(dir / "res");
+  REQUIRE(test::sh(report + both + envelope + " --results " + (dir / "res").string(), dir / "err1.txt",
+                   &err) == 0);
+  const std::string md = read(dir / "res" / "report.md");
+  const auto section = md.find("## Open set: unseen vehicles");
+  const auto joint = md.find("### Ablation: every classify family, no class envelope");
+  const auto alone = md.find("### Ablation: no class envelope, the modelbase's classes only kept");
+  REQUIRE(section != std::string::npos);
+  REQUIRE(joint != std::string::npos);
+  REQUIRE(alone != std::string::npos);
+  // In that order, each with its own crops' rows (9/10 right; 5/10; 7/10).
+  CHECK(section < joint);
+  CHECK(joint < alone);
+  CHECK(md.find("| car | 10 | 9 (5 + 4) | 9/10 = 90.0%") > section);
+  CHECK(md.find("| car | 10 | 9 (5 + 4) | 9/10 = 90.0%") < joint);
+  const auto joint_row = md.find("| car | 10 | 8 (4 + 4) | 8/10 = 80.0% [49.0, 94.3] | 5/8 = 62.5%", joint);
+  CHECK(joint_row != std::string::npos);
+  CHECK(joint_row < alone);
+  CHECK(md.find("| car | 10 | 7 (3 + 4) | 7/10 = 70.0% [39.7, 89.2] | 7/7 = 100.0%", alone) !=
+        std::string::npos);
+  CHECK(md.find("(" + path("envelope-off", false) + ", " + path("envelope-off", true) + ")") !=
+        std::string::npos);
+  // Without the envelope's ablation: the same report up to that subsection (here the last), and no
+  // such heading.
+  fs::create_directories(dir / "res-joint");
+  REQUIRE(test::sh(report + both + " --results " + (dir / "res-joint").string(), dir / "err2.txt", &err) == 0);
+  const std::string joint_only = read(dir / "res-joint" / "report.md");
+  CHECK(joint_only.find("the modelbase's classes only kept") == std::string::npos);
+  CHECK(joint_only.size() < md.size());
+  CHECK(md.substr(0, joint_only.size()) == joint_only);
+  // The crops' file needs the tiles' (usage, exit 2), the ablation needs --openset; no report then.
+  for (const std::string& bad :
+       {report + " --openset-crops-envelope-ablation " + path("envelope-off", true),
+        std::string(CANOPY_BIN_DIR) + "/report --manifest " + (dir / "experiment.txt").string() +
+            " --openset-envelope-ablation " + path("envelope-off", false)}) {
+    fs::remove_all(dir / "res-bad");
+    fs::create_directories(dir / "res-bad");
+    CHECK(test::sh(bad + " --results " + (dir / "res-bad").string(), dir / "err3.txt", &err) == 2);
+    CHECK(err.find("envelope-ablation needs --openset") != std::string::npos);
+    CHECK_FALSE(fs::exists(dir / "res-bad" / "report.md"));
+  }
+  // A damaged score of the envelope's ablation: exit 1 naming the file, no report.
+  test::write_file(dir / "envelope-off" / "crops" / "score.json", "{\"format\": \"canopy.scene_score\"");
+  fs::remove_all(dir / "res-bad");
+  fs::create_directories(dir / "res-bad");
+  CHECK(test::sh(report + both + envelope + " --results " + (dir / "res-bad").string(), dir / "err4.txt",
+                 &err) == 1);
+  CHECK(err.find(path("envelope-off", true)) != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "res-bad" / "report.md"));
 }

@@ -216,6 +216,7 @@ struct Sources {
   std::string manifest, results = "results";
   std::string thesis;  // default: <share>/thesis/results.csv
   std::string openset_collect_ablation, openset_crops_collect_ablation, tile_collect_ablation;
+  std::string openset_envelope_ablation, openset_crops_envelope_ablation;
   std::string tile_score, families, disk, openset, openset_crops, openset_distances, openset_ablation,
       openset_crops_ablation;
   int real_timeout = 0;
@@ -252,6 +253,12 @@ void bind(common::Tool& tool, Sources& src, report::Params& p) {
            "of the open set's beside the default");
   tool.add("--openset-crops-ablation", &src.openset_crops_ablation,
            "the same ablation's score.json on the single-vehicle crops (with --openset-ablation)");
+  tool.add("--openset-envelope-ablation", &src.openset_envelope_ablation,
+           "the open set's second classify ablation's score.json (mk/openset.mk: the class envelope alone "
+           "off, classify --class-envelope 0 with the modelbase's classes only): a subsection of the open "
+           "set's beside the default and --openset-ablation");
+  tool.add("--openset-crops-envelope-ablation", &src.openset_crops_envelope_ablation,
+           "the same ablation's score.json on the single-vehicle crops (with --openset-envelope-ablation)");
   tool.add("--openset-collect-ablation", &src.openset_collect_ablation,
            "the open set's collect ablation's score.json (mk/openset.mk: the model answer first, "
            "collect --contradicted-below 0 --refused-below 0): a subsection of the open set's beside the "
@@ -298,6 +305,10 @@ int main(int argc, char** argv) {
       throw common::UsageError("--openset-ablation needs --openset");
     if (src.openset_ablation.empty() && !src.openset_crops_ablation.empty())
       throw common::UsageError("--openset-crops-ablation needs --openset-ablation");
+    if (src.openset.empty() && !src.openset_envelope_ablation.empty())
+      throw common::UsageError("--openset-envelope-ablation needs --openset");
+    if (src.openset_envelope_ablation.empty() && !src.openset_crops_envelope_ablation.empty())
+      throw common::UsageError("--openset-crops-envelope-ablation needs --openset-envelope-ablation");
     if (src.openset.empty() && !src.openset_collect_ablation.empty())
       throw common::UsageError("--openset-collect-ablation needs --openset");
     if (src.openset_collect_ablation.empty() && !src.openset_crops_collect_ablation.empty())
@@ -339,6 +350,15 @@ int main(int argc, char** argv) {
         markdown += report::openset_ablation_markdown(documents::read_scene_score_file(src.openset_ablation),
                                                       src.openset_ablation, crops_abl ? &*crops_abl : nullptr,
                                                       src.openset_crops_ablation);
+      }
+      if (!src.openset_envelope_ablation.empty()) {
+        const std::optional<documents::SceneScore> crops_abl =
+            src.openset_crops_envelope_ablation.empty()
+                ? std::nullopt
+                : std::optional(documents::read_scene_score_file(src.openset_crops_envelope_ablation));
+        markdown += report::openset_envelope_ablation_markdown(
+            documents::read_scene_score_file(src.openset_envelope_ablation), src.openset_envelope_ablation,
+            crops_abl ? &*crops_abl : nullptr, src.openset_crops_envelope_ablation);
       }
       if (!src.openset_collect_ablation.empty()) {
         const std::optional<documents::SceneScore> crops_abl =

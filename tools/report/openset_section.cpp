@@ -220,6 +220,19 @@ std::string openset_ablation_markdown(const documents::SceneScore& tiles, const 
       tiles, tiles_path, crops, crops_path);
 }
 
+std::string openset_envelope_ablation_markdown(const documents::SceneScore& tiles,
+                                               const std::string& tiles_path,
+                                               const documents::SceneScore* crops,
+                                               const std::string& crops_path) {
+  return ablation_markdown(
+      "Ablation: no class envelope, the modelbase's classes only kept (`OPENSET_CLASS_ENVELOPE=0`)",
+      "The envelope alone: the open set's classify as shipped (`--modelbase-classes-only`) with no class "
+      "envelope (`classify --class-envelope 0`, docs/decisions/open-set.md, eighth round), run beside the "
+      "default and the ablation above on every candidate, with the same model chain, and scored the same "
+      "way; against the default, what the envelope changes",
+      tiles, tiles_path, crops, crops_path);
+}
+
 std::string openset_collect_ablation_markdown(const documents::SceneScore& tiles,
                                               const std::string& tiles_path, const documents::SceneScore* crops,
                                               const std::string& crops_path) {

@@ -52,6 +52,14 @@ std::string openset_markdown(const documents::SceneScore& score, const std::stri
 std::string openset_ablation_markdown(const documents::SceneScore& tiles, const std::string& tiles_path,
                                       const documents::SceneScore* crops = nullptr,
                                       const std::string& crops_path = "");
+// The ablation of the class envelope alone (OPENSET_CLASSIFY_ABLATION_2: the open set's
+// parameters with class-envelope = 0, --modelbase-classes-only kept) on the same candidates and
+// model chain, in the same form: beside the default and the joint ablation above, what the
+// envelope alone changes.
+std::string openset_envelope_ablation_markdown(const documents::SceneScore& tiles,
+                                               const std::string& tiles_path,
+                                               const documents::SceneScore* crops = nullptr,
+                                               const std::string& crops_path = "");
 // The ablation of collect's defaults (--contradicted-below 0 --refused-below 0: verify's model
 // answer first, whatever its confidence) on the same verdicts and class answers, in the same form.
 std::string openset_collect_ablation_markdown(const documents::SceneScore& tiles, const std::string& tiles_path,
