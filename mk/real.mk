@@ -41,7 +41,9 @@
 # $(OUT)/real-ablation/<tile>/ (same files, same time box; after canopy's tiles, one tile at a
 # time), part of `all` with the real tiles, and the report's "Real tiles" shows it beside
 # canopy's. Default share/real/classify-bridge-0.ini: classify.ini without the gap bridge and its
-# fill (classify.md §21, §27). Empty: none.
+# fill (classify.md §21, §27) and with fill unmeasured where the crop has no open ground
+# (fill-tile-ground = false, §31): both defaults changed since, jointly (one real-tile ablation).
+# share/real/classify-tile-ground-0.ini: §31 alone. Empty: none.
 REAL_TILES ?= 1
 REAL_CLASSIFY_ABLATION ?= share/real/classify-bridge-0.ini
 REAL_ABLATION ?= 0

@@ -77,6 +77,10 @@ Candidates read_members(const Json& j, int version) {
   if (const Json* dens = optional(j, "density")) {
     object(*dens, "density");
     if (const Json* all = optional(*dens, "all")) finite_number(*all, "density.all");
+    if (const Json* ground = optional(*dens, "ground")) {
+      if (finite_number(*ground, "density.ground") < 0)
+        throw Malformed("density.ground must be >= 0 or null");
+    }
     d.density = *dens;
   }
   if (const Json* m = optional(j, "margin")) {
@@ -114,6 +118,13 @@ std::optional<double> Candidates::density_all() const {
   const auto all = density.find("all");
   if (all == density.end() || !all->is_number() || !(all->get<double>() > 0)) return std::nullopt;
   return all->get<double>();
+}
+
+std::optional<double> Candidates::density_ground() const {
+  if (!density.is_object()) return std::nullopt;
+  const auto ground = density.find("ground");
+  if (ground == density.end() || !ground->is_number() || !(ground->get<double>() > 0)) return std::nullopt;
+  return ground->get<double>();
 }
 
 const Candidate* Candidates::find(const std::string& id) const {

@@ -1576,6 +1576,32 @@ TEST_CASE("classify: the binary writes a class-level verdict; same input, same b
   REQUIRE(test::sh(kBin + args + " -o " + (dir / "b.json").string(), dir / "err", &err) == 0);
   CHECK(slurp(dir / "a.json") == slurp(dir / "b.json"));
 
+  // --fill-tile-ground (classify.md §31) reads the tile's open-ground density from the index:
+  // without --index a usage error (2); an index without it (absent or null: too little open ground
+  // in the tile) leaves fill as the crop measures it (here the crop has open ground: the same
+  // answer); density.ground negative is an error naming the index (1), no output.
+  CHECK(test::sh(kBin + " -i " + (dir / "c0001.pcd").string() + " --fill-tile-ground true -o " +
+                     (dir / "g.json").string(),
+                 dir / "err", &err) == 2);
+  CHECK_THAT(err, Catch::Contains("--fill-tile-ground needs --index"));
+  REQUIRE(test::sh(kBin + args + " --fill-tile-ground true -o " + (dir / "g.json").string(), dir / "err",
+                   &err) == 0);
+  {
+    Json g = Json::parse(slurp(dir / "g.json")), plain = Json::parse(slurp(dir / "a.json"));
+    g.erase("provenance");
+    plain.erase("provenance");
+    CHECK(g == plain);
+  }
+  Json bad = index;
+  bad["density"] = Json{{"ground", -1.0}};
+  std::ofstream(dir / "bad-index.json") << bad.dump();
+  CHECK(test::sh(kBin + " -i " + (dir / "c0001.pcd").string() + " --index " + (dir / "bad-index.json").string() +
+                     " --fill-tile-ground true -o " + (dir / "h.json").string(),
+                 dir / "err", &err) == 1);
+  CHECK_THAT(err, Catch::Contains("bad-index.json"));
+  CHECK_THAT(err, Catch::Contains("density.ground must be >= 0"));
+  CHECK_FALSE(fs::exists(dir / "h.json"));
+
   const Json v = Json::parse(slurp(dir / "a.json"));
   CHECK(v["format"] == "canopy.verdict");
   CHECK(v["level"] == "class");
@@ -1609,11 +1635,13 @@ TEST_CASE("classify: the binary writes a class-level verdict; same input, same b
   CHECK(w["pose_tile"]["heading_deg"].get<double>() == Approx(ht).margin(1e-9));
 
   // share/params/classify.ini holds the defaults but for the gap bridge (classify.md §27: on
-  // there, off in Params): the same answer as the defaults with the bridge's three options.
+  // there, off in Params) and fill-tile-ground (§31): the same answer as the defaults with those
+  // four options.
   REQUIRE(test::sh(kBin + args + " --config " + std::string(CANOPY_SOURCE_DIR) +
                        "/share/params/classify.ini -o " + (dir / "ini.json").string(),
                    dir / "err", &err) == 0);
-  REQUIRE(test::sh(kBin + args + " --bridge 1m --bridge-fill true --bridge-min-share 0.1 -o " +
+  REQUIRE(test::sh(kBin + args +
+                       " --bridge 1m --bridge-fill true --bridge-min-share 0.1 --fill-tile-ground true -o " +
                        (dir / "bridge.json").string(),
                    dir / "err", &err) == 0);
   Json with_ini = Json::parse(slurp(dir / "ini.json")), bridged = Json::parse(slurp(dir / "bridge.json"));
@@ -2417,11 +2445,19 @@ void check_ablation_ini(const std::string& defaults_file, const std::string& abl
 
 }  // namespace
 
-TEST_CASE("the real tiles' classify ablation is classify.ini with the gap bridge off and nothing else") {
-  // mk/real.mk REAL_CLASSIFY_ABLATION; classify.md §27.
-  check_ablation_ini(
-      "share/params/classify.ini", "share/real/classify-bridge-0.ini",
-      {{"bridge", {"1m", "0"}}, {"bridge-fill", {"true", ""}}, {"bridge-min-share", {"0.1", ""}}});
+TEST_CASE("the real tiles' classify ablation is classify.ini with the gap bridge and the tile's ground off") {
+  // mk/real.mk REAL_CLASSIFY_ABLATION; classify.md §27 and §31.
+  check_ablation_ini("share/params/classify.ini", "share/real/classify-bridge-0.ini",
+                     {{"bridge", {"1m", "0"}},
+                      {"bridge-fill", {"true", ""}},
+                      {"bridge-min-share", {"0.1", ""}},
+                      {"fill-tile-ground", {"true", "false"}}});
+}
+
+TEST_CASE("the real tiles' fill-tile-ground ablation is classify.ini with that key false and nothing else") {
+  // mk/real.mk REAL_CLASSIFY_ABLATION=share/real/classify-tile-ground-0.ini; classify.md §31.
+  check_ablation_ini("share/params/classify.ini", "share/real/classify-tile-ground-0.ini",
+                     {{"fill-tile-ground", {"true", "false"}}});
 }
 
 TEST_CASE("the pixel ladder's classify ablation is classify-sim.ini with the roughness floor of before") {
@@ -2434,4 +2470,66 @@ TEST_CASE("the ladders' second classify ablation is classify-sim.ini with the sh
   // mk/density.mk DENSITY_CLASSIFY_ABLATION_2; classify.md §30.
   check_ablation_ini("share/params/classify-sim.ini", "bench/density/classify-sim-shoulder-0.ini",
                      {{"min-shoulder", {"0.58", "0"}}});
+}
+
+TEST_CASE(
+    "classify: --fill-tile-ground measures fill against the tile's open ground where the crop has none") {
+  // Under closed canopy the crop holds no ground around the object, so fill (its points per m²
+  // over the open ground's around it) is unmeasured and cannot refuse a porous crown (classify.md
+  // §31). A car whose top returns 90% of the pulses and a crown-like top returning 40%, 4.6 x 1.8 m
+  // at 20 points/m² (the crown's 8 points/m² well above min-density's 4), the ground around them
+  // returning nothing.
+  const double density = 20;
+  auto hidden = [](double share, std::uint64_t seed) -> Top {
+    auto rng = std::make_shared<common::Rng>(seed);
+    return [rng, share](double x, double y) {
+      const double h = car_top(x, y);
+      if (h < 0) return kNoReturn;  // the ground around it: no return
+      return rng->uniform(0, 1) < share ? h : kNoReturn;
+    };
+  };
+  classify::Params on;
+  on.fill_tile_ground = true;
+  for (const std::uint64_t seed : {51u, 52u, 53u}) {
+    INFO("seed " << seed);
+    const Sampled car = sample(hidden(0.9, seed), 2.3, 0.9, 0, density, seed + 100);
+    const Sampled crown = sample(hidden(0.4, seed), 2.3, 0.9, 0, density, seed + 200);
+    // Off (Params' default, the ablation): fill unmeasured, the porous top is answered a car.
+    const classify::Answer off = classify::run(classify::Params{}, {crown.cloud, "crown.pcd", {}, density});
+    INFO("off: " << off.reason << " " << off.detail);
+    CHECK_FALSE(off.features.fill);
+    CHECK_FALSE(off.features.fill_from_tile);
+    CHECK(off.group == "car");
+    // On, with the tile's open ground at the sampling density: the crown's fill is about 0.4.
+    const classify::Answer porous = classify::run(on, {crown.cloud, "crown.pcd", {}, density});
+    INFO("on: " << porous.reason << " " << porous.detail);
+    REQUIRE(porous.features.fill);
+    CHECK(porous.features.fill_from_tile);
+    CHECK(*porous.features.ground_density == Approx(density));
+    CHECK(*porous.features.fill == Approx(0.40).margin(0.12));
+    CHECK(porous.reason == "vegetation_like");
+    CHECK_THAT(porous.detail, Catch::Contains("the tile's open ground"));
+    // The car's top is solid against the same reference: about 0.9, answered a car.
+    const classify::Answer solid = classify::run(on, {car.cloud, "car.pcd", {}, density});
+    INFO("car: " << solid.reason << " " << solid.detail);
+    REQUIRE(solid.features.fill);
+    CHECK(*solid.features.fill == Approx(0.90).margin(0.2));
+    CHECK(solid.group == "car");
+    // Without the tile's density (no --index) nothing changes.
+    const classify::Answer unknown = classify::run(on, {crown.cloud, "crown.pcd", {}, std::nullopt});
+    CHECK_FALSE(unknown.features.fill);
+    CHECK(unknown.group == "car");
+  }
+  // Where the crop has open ground, fill is the crop's whatever the tile says: the same answer and
+  // features as off.
+  const Sampled open = sample(car_top, 2.3, 0.9, 0, density, 61);
+  const classify::Answer a = classify::run(classify::Params{}, {open.cloud, "open.pcd", {}, 3.0});
+  const classify::Answer b = classify::run(on, {open.cloud, "open.pcd", {}, 3.0});
+  REQUIRE(a.features.fill);
+  REQUIRE(b.features.fill);
+  CHECK_FALSE(b.features.fill_from_tile);
+  CHECK(*b.features.fill == Approx(*a.features.fill));
+  CHECK(*b.features.ground_density == Approx(*a.features.ground_density));
+  CHECK(b.group == a.group);
+  CHECK(b.cls == a.cls);
 }

@@ -184,6 +184,7 @@ TEST_CASE("candidates: a hand-written index reads to its values and writes back 
   CHECK(d.ground->cells == 400);
   CHECK(d.ground->ground_points == 8611);
   CHECK(d.density_all() == 98.5);
+  CHECK_FALSE(d.density_ground());  // null: too little open ground in the tile
   REQUIRE(d.candidates.size() == 2);
   const documents::Candidate& c = d.candidates[0];
   CHECK(c.id == "c0001");
@@ -245,6 +246,14 @@ TEST_CASE("candidates: refusals name the file and the problem") {
   skew["candidates"][0]["transform"][0][0] = 0.7;
   mirror["candidates"][1]["transform"][0][0] = -1.0;
   count["tile_points"] = 9.5;
+  Json ground = good, text_ground = good, open = good;
+  ground["density"]["ground"] = -1.0;
+  text_ground["density"]["ground"] = "8";
+  open["density"]["ground"] = 8.5;
+  CHECK_THAT(refusal(ground), Catch::Contains("density.ground must be >= 0 or null"));
+  CHECK_THAT(refusal(text_ground), Catch::Contains("density.ground must be a finite number"));
+  CHECK(refusal(open).empty());
+  CHECK(documents::read_candidates(open.dump(), "index.json").density_ground() == 8.5);
   CHECK_THAT(refusal(other), Catch::Contains("canopy.detections"));
   CHECK_THAT(refusal(version), Catch::Contains("version 3"));
   CHECK_THAT(refusal(no_list), Catch::Contains("missing \"candidates\""));

@@ -160,7 +160,11 @@ bool vegetation(Answer& a, const Params& p) {
     const bool off_shadows = (p.bridge_fill || p.fill_empty_cells) && f.shadow_area > 0;
     const std::string shadows = off_shadows ? fmt(" less %.2f m^2 of shadow", f.shadow_area) : std::string();
     refuse(a, "vegetation_like",
-           fmt("porous or patchy: %.0f%% of the open ground's points per m^2 on its rectangle", 100 * *f.fill) +
+           fmt(f.fill_from_tile
+                   ? "porous or patchy: %.0f%% of the tile's open ground's points per m^2 on its "
+                     "rectangle (no open ground around it)"
+                   : "porous or patchy: %.0f%% of the open ground's points per m^2 on its rectangle",
+               100 * *f.fill) +
                shadows +
                fmt(" (%.1f of %.1f; a solid top >= %.0f%%)",
                    off_shadows ? *f.fill * *f.ground_density : f.density, *f.ground_density, 100 * p.min_fill),
@@ -598,7 +602,9 @@ void validate(const Params& p) {
 
 Outputs run(const Params& p, const Inputs& in) {
   Answer a;
-  a.features = measure(read_candidate(in.cloud, in.name), p);
+  Candidate c = read_candidate(in.cloud, in.name);
+  c.tile_ground_density = in.tile_ground_density;
+  a.features = measure(c, p);
   a.measured = a.features.object_points >= 3;
   if (sparse(a, p)) return a;
   const double s = a.features.spacing;

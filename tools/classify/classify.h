@@ -106,6 +106,12 @@ struct Params {
   // neither the object's nor the ground's nor any other (glass, dark paint; a crown's gaps return
   // the ground); it replaces bridge_fill's strips. false: as bridge_fill says (before).
   bool fill_empty_cells = false;
+  // fill_tile_ground true (classify.md §31): when the crop leaves `fill` unmeasured (under 10 ground
+  // returns or 1 m² of it outside the rectangle: a candidate under closed canopy or in a crowd),
+  // `fill` is measured against the tile's open-ground density instead (detect's index
+  // density.ground: points per 1 m cell holding only ground; Candidate::tile_ground_density).
+  // false: unmeasured, the cue passes (before).
+  bool fill_tile_ground = false;
   // Parts stacked in height (classify.md §25): seen from above a vertical face returns nothing,
   // so a semi-tractor's cab (3.6 m) and its deck (1.2 m), an earthmover's cab top and its body are
   // clusters that touch only in the top view (a step of more than 3 links). true: a cluster that
@@ -264,6 +270,8 @@ struct Features {
   double spacing = 0;                    // 1 / sqrt(density)
   std::optional<double> ground_density;  // ground returns per m² of the crop outside the rectangle
   std::optional<double> fill;            // density / ground_density (with bridge_fill: off the shadows)
+  // fill_tile_ground (§31): ground_density and fill are the tile's, the crop having left them unmeasured.
+  bool fill_from_tile = false;
   // The area (m²) of the rectangle in the strips --bridge crossed, by their empty share (§27), and
   // with bridge_fill leaving it out, the fill over the whole rectangle (as without it).
   double shadow_area = 0;
@@ -381,6 +389,9 @@ struct Inputs {
   formats::PointCloud cloud;          // the candidate PCD (local frame)
   std::string name;                   // its path, for errors
   std::vector<ModelEntry> modelbase;  // entries with a class (--modelbase), or none
+  // The tile's open-ground density (detect's index density.ground, points/m²), for
+  // Params::fill_tile_ground; none without --index.
+  std::optional<double> tile_ground_density = std::nullopt;
 };
 
 using Outputs = Answer;
@@ -403,6 +414,11 @@ std::string serialize(const Answer& answer, const Params& params, const Document
 // A candidate's transform from detect's index (canopy.candidates v1 or v2): the entry whose id is
 // `id`. Errors name the file.
 Eigen::Isometry3d index_transform(const std::string& text, const std::string& name, const std::string& id);
+
+// The tile's open-ground density from detect's index (its "density" object's "ground", points/m²);
+// none when it is null, absent or 0 (detect saw too little open ground in the tile: closed canopy).
+// Throws common::DataError naming the file when it is there but not a number >= 0.
+std::optional<double> index_ground_density(const std::string& text, const std::string& name);
 // "r00,r01,r02,t0,...[,0,0,0,1]": 12 or 16 numbers, row-major, rigid. UsageError otherwise.
 Eigen::Isometry3d parse_transform(const std::string& text);
 

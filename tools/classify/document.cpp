@@ -55,6 +55,8 @@ std::vector<ClassFeature> features_of(const Features& f) {
   // Only when --bridge crossed a strip inside the rectangle (classify.md §27).
   if (f.shadow_area > 0) out.push_back(number("shadow_area", f.shadow_area));
   if (f.fill_rectangle) out.push_back(optional("fill_rectangle", f.fill_rectangle));
+  // Only when fill is the tile's (--fill-tile-ground, classify.md §31): 1.
+  if (f.fill_from_tile) out.push_back(count("fill_from_tile", 1));
   // Only when the crop holds several flight passes (classify.md §14): a crop without them gets
   // the document it got before.
   if (f.below_share_any) out.push_back(optional("below_share_any", f.below_share_any));
@@ -142,6 +144,11 @@ Eigen::Isometry3d index_transform(const std::string& text, const std::string& na
   try {
     return rigid(std::vector<double>(c->transform.begin(), c->transform.end()), "transform of " + id);
   } catch (const std::invalid_argument& e) { throw common::DataError(name, e.what()); }
+}
+
+std::optional<double> index_ground_density(const std::string& text, const std::string& name) {
+  // read_candidates refuses a density.ground that is not a number >= 0 or null, naming the file.
+  return documents::read_candidates(text, name).density_ground();
 }
 
 Eigen::Isometry3d parse_transform(const std::string& text) {

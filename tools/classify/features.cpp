@@ -629,6 +629,12 @@ Features measure(const Candidate& c, const Params& fp) {
   const double solid = solid_density(c, shadows, fp, u, v, r.u0, r.u1, r.v0, r.v1, f);
   if (open > 1.0 && outside >= 10) {
     f.ground_density = static_cast<double>(outside) / open;
+  } else if (fp.fill_tile_ground && c.tile_ground_density && *c.tile_ground_density > 0) {
+    // classify.md §31: no open ground around it in the crop (closed canopy): the tile's.
+    f.ground_density = *c.tile_ground_density;
+    f.fill_from_tile = true;
+  }
+  if (f.ground_density) {
     f.fill = solid / *f.ground_density;
     if (solid != f.density) f.fill_rectangle = f.density / *f.ground_density;
   }

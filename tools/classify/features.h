@@ -40,6 +40,9 @@ struct Candidate {
   // a line: a crop is crossed in well under a second; lines are minutes apart).
   std::vector<int> pass;
   std::size_t passes = 1;
+  // The tile's open-ground density (points/m², detect's index density.ground), the reference of
+  // `fill` where the crop has too little open ground (Params::fill_tile_ground); none: unknown.
+  std::optional<double> tile_ground_density;
 };
 constexpr double kPassGap = 10;  // s
 

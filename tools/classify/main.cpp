@@ -61,6 +61,11 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
   tool.add("--fill-empty-cells", &p.fill_empty_cells,
            "fill leaves out of any object's rectangle the cells (2 x the crop's spacing) that hold no return "
            "at all, not even the ground's (glass; instead of --bridge-fill's strips)");
+  tool.add(
+      "--fill-tile-ground", &p.fill_tile_ground,
+      "where the crop has too little open ground to measure fill (closed canopy), measure it against "
+      "the tile's open-ground density (--index's density.ground; none there, or false: fill unmeasured, no "
+      "refusal)");
   tool.add("--bridge-min-share", &p.bridge_min_share,
            "--bridge joins only a cluster holding at least this share of the object's points (0: any)");
   tool.add("--max-echo-widening", &p.max_echo_widening,
@@ -254,7 +259,11 @@ int main(int argc, char** argv) {
         if (cli.in == "-") throw cm::UsageError("--index with stdin input needs --candidate");
         id = fs::path(cli.in).stem().string();
       }
-      to_tile = cl::index_transform(cm::read_file(cli.index), cli.index, id);
+      const std::string text = cm::read_file(cli.index);
+      to_tile = cl::index_transform(text, cli.index, id);
+      if (p.fill_tile_ground) in.tile_ground_density = cl::index_ground_density(text, cli.index);
+    } else if (p.fill_tile_ground) {
+      throw cm::UsageError("--fill-tile-ground needs --index (the tile's open-ground density)");
     }
     std::vector<cl::ModelEntry> entries;
     if (!cli.model_classes.empty() && cli.modelbase.empty())

@@ -86,6 +86,9 @@ struct Candidates {
   std::string written_by() const;
   // density.all when it is a number > 0.
   std::optional<double> density_all() const;
+  // density.ground (points per open-ground 1 m cell) when it is a number > 0; none when null or
+  // absent (detect saw too little open ground in the tile) or 0.
+  std::optional<double> density_ground() const;
   // The candidate of that id, nullptr when none.
   const Candidate* find(const std::string& id) const;
 };
