@@ -65,6 +65,17 @@ struct Parser {
     if (std::find(order.begin(), order.end(), x) == order.end()) order.push_back(x);
   }
 
+  // The rung a density-verify or density-classify record `w` (KIND LADDER LEVEL ...) follows: the
+  // last record of its ladder (`pixel`: density; a preset: density-sensor), at its level.
+  ManifestDensity& rung_of(const std::vector<std::string>& w) {
+    const std::string ladder = word(w[1], "ladder");
+    std::vector<ManifestDensity>& rungs = ladder == "pixel" ? m.density : m.density_sensor;
+    const double level = positive(w[2], "density level");
+    if (rungs.empty() || rungs.back().level != level || (ladder != "pixel" && rungs.back().sensor != ladder))
+      fail(w[0] + " " + ladder + " " + w[2] + " does not follow its rung's record");
+    return rungs.back();
+  }
+
   ManifestTrial trial(const std::vector<std::string>& w, std::size_t at) const {
     return {word(w[at], "object"), word(w[at + 1], "scene"), noise(w[at + 2]), w[at + 3]};
   }
@@ -121,26 +132,18 @@ struct Parser {
       m.real.back().ablation_config = w[3];
     } else if (kind == "density-verify") {
       expect(w, 5, 5, "density-verify LADDER LEVEL CHANGE SCORE");
-      const std::string ladder = word(w[1], "ladder");
-      std::vector<ManifestDensity>& rungs = ladder == "pixel" ? m.density : m.density_sensor;
-      const double level = positive(w[2], "density level");
-      if (rungs.empty() || rungs.back().level != level || (ladder != "pixel" && rungs.back().sensor != ladder))
-        fail("density-verify " + ladder + " " + w[2] + " does not follow its rung's record");
-      if (!rungs.back().verify_score.empty()) fail("a second density-verify " + ladder + " " + w[2]);
+      ManifestDensity& rung = rung_of(w);
+      if (!rung.verify_score.empty()) fail("a second density-verify " + w[1] + " " + w[2]);
       std::string change = w[3];
       std::replace(change.begin(), change.end(), '+', ' ');
-      rungs.back().verify_change = change;
-      rungs.back().verify_score = w[4];
+      rung.verify_change = change;
+      rung.verify_score = w[4];
     } else if (kind == "density-classify") {
       expect(w, 5, 5, "density-classify LADDER LEVEL CONFIG SCORE");
-      const std::string ladder = word(w[1], "ladder");
-      std::vector<ManifestDensity>& rungs = ladder == "pixel" ? m.density : m.density_sensor;
-      const double level = positive(w[2], "density level");
-      if (rungs.empty() || rungs.back().level != level || (ladder != "pixel" && rungs.back().sensor != ladder))
-        fail("density-classify " + ladder + " " + w[2] + " does not follow its rung's record");
-      if (!rungs.back().ablation2_score.empty()) fail("a second density-classify " + ladder + " " + w[2]);
-      rungs.back().ablation2_config = w[3];
-      rungs.back().ablation2_score = w[4];
+      ManifestDensity& rung = rung_of(w);
+      if (!rung.ablation2_score.empty()) fail("a second density-classify " + w[1] + " " + w[2]);
+      rung.ablation2_config = w[3];
+      rung.ablation2_score = w[4];
     } else if (kind == "density") {
       expect(w, 4, 6, "density LEVEL SPACING SCORE [ABLATION_CONFIG ABLATION_SCORE]");
       if (w.size() == 5) fail("density: an ablation needs its parameter file and its score.json");
