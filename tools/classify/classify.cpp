@@ -308,8 +308,7 @@ void outline(Answer& a, const Params& p) {
   } else if (p.min_shoulder > 0 && (a.group == "car" || a.group == "van") && f.shoulder &&
              *f.shoulder < p.min_shoulder) {
     why = fmt("a body narrowing upward: the outer %.0f%% of its width reaches %.0f%% of its height in the "
-              "middle "
-              "of its length (a stack of logs or pipes, a tent; a ",
+              "middle of its length (a stack of logs or pipes, a tent; a ",
               100 * (1 - kShoulderBand), 100 * *f.shoulder) +
           a.group + fmt("'s sides >= %.0f%%)", 100 * p.min_shoulder);
     strength = past(p.min_shoulder, std::max(*f.shoulder, 1e-6));
