@@ -150,6 +150,21 @@ std::string families_section(const std::string& families) {
                                                               common::read_file(accuracy), accuracy));
 }
 
+// The score.json an option names, or none when the option is empty.
+std::optional<documents::SceneScore> optional_score(const std::string& path) {
+  if (path.empty()) return std::nullopt;
+  return documents::read_scene_score_file(path);
+}
+
+// An open-set ablation's subsection (`markdown`: report's openset_*ablation_markdown) from its
+// tiles' score.json and, when given, its crops'.
+std::string openset_ablation_section(std::string (*markdown)(const documents::SceneScore&, const std::string&,
+                                                             const documents::SceneScore*, const std::string&),
+                                     const std::string& tiles, const std::string& crops) {
+  const std::optional<documents::SceneScore> c = optional_score(crops);
+  return markdown(documents::read_scene_score_file(tiles), tiles, c ? &*c : nullptr, crops);
+}
+
 // The scene experiment's section (--tile-score); its times.csv goes beside score.json.
 std::string scenes_section(const std::string& tile_score, const std::string& collect_ablation,
                            const std::string& scene_dir, const std::string& results,
@@ -157,9 +172,7 @@ std::string scenes_section(const std::string& tile_score, const std::string& col
   common::log::Phase scenes_phase("scenes");
   const documents::SceneScore score = documents::read_scene_score_file(tile_score);
   const auto times = report::scene_times(report::scene_runs(score));
-  const std::optional<documents::SceneScore> ablation =
-      collect_ablation.empty() ? std::nullopt
-                               : std::optional(documents::read_scene_score_file(collect_ablation));
+  const std::optional<documents::SceneScore> ablation = optional_score(collect_ablation);
   const std::string markdown = "\n" + report::scene_markdown(score, times, relative_to(scene_dir, results),
                                                              ablation ? &*ablation : nullptr, collect_ablation);
   outputs.set(scene_dir + "/times.csv", report::scene_times_csv(times));
@@ -332,9 +345,7 @@ int main(int argc, char** argv) {
     if (!manifest.density.empty() || !manifest.density_sensor.empty())
       markdown += density_section(manifest.density, manifest.density_sensor, results, outputs);
     if (!src.openset.empty()) {
-      const std::optional<documents::SceneScore> crops =
-          src.openset_crops.empty() ? std::nullopt
-                                    : std::optional(documents::read_scene_score_file(src.openset_crops));
+      const std::optional<documents::SceneScore> crops = optional_score(src.openset_crops);
       const report::OpensetDistances distances =
           src.openset_distances.empty() ? report::OpensetDistances{}
                                         : report::parse_openset_distances(
@@ -342,33 +353,16 @@ int main(int argc, char** argv) {
       markdown += report::openset_markdown(documents::read_scene_score_file(src.openset), src.openset,
                                            crops ? &*crops : nullptr, src.openset_crops, distances,
                                            src.openset_distances);
-      if (!src.openset_ablation.empty()) {
-        const std::optional<documents::SceneScore> crops_abl =
-            src.openset_crops_ablation.empty()
-                ? std::nullopt
-                : std::optional(documents::read_scene_score_file(src.openset_crops_ablation));
-        markdown += report::openset_ablation_markdown(documents::read_scene_score_file(src.openset_ablation),
-                                                      src.openset_ablation, crops_abl ? &*crops_abl : nullptr,
-                                                      src.openset_crops_ablation);
-      }
-      if (!src.openset_envelope_ablation.empty()) {
-        const std::optional<documents::SceneScore> crops_abl =
-            src.openset_crops_envelope_ablation.empty()
-                ? std::nullopt
-                : std::optional(documents::read_scene_score_file(src.openset_crops_envelope_ablation));
-        markdown += report::openset_envelope_ablation_markdown(
-            documents::read_scene_score_file(src.openset_envelope_ablation), src.openset_envelope_ablation,
-            crops_abl ? &*crops_abl : nullptr, src.openset_crops_envelope_ablation);
-      }
-      if (!src.openset_collect_ablation.empty()) {
-        const std::optional<documents::SceneScore> crops_abl =
-            src.openset_crops_collect_ablation.empty()
-                ? std::nullopt
-                : std::optional(documents::read_scene_score_file(src.openset_crops_collect_ablation));
-        markdown += report::openset_collect_ablation_markdown(
-            documents::read_scene_score_file(src.openset_collect_ablation), src.openset_collect_ablation,
-            crops_abl ? &*crops_abl : nullptr, src.openset_crops_collect_ablation);
-      }
+      if (!src.openset_ablation.empty())
+        markdown += openset_ablation_section(report::openset_ablation_markdown, src.openset_ablation,
+                                             src.openset_crops_ablation);
+      if (!src.openset_envelope_ablation.empty())
+        markdown +=
+            openset_ablation_section(report::openset_envelope_ablation_markdown,
+                                     src.openset_envelope_ablation, src.openset_crops_envelope_ablation);
+      if (!src.openset_collect_ablation.empty())
+        markdown += openset_ablation_section(report::openset_collect_ablation_markdown,
+                                             src.openset_collect_ablation, src.openset_crops_collect_ablation);
     }
     if (!src.disk.empty())
       markdown += report::disk_markdown(report::disk_parts(src.disk, manifest.objects), src.disk);
