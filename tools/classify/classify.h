@@ -42,6 +42,7 @@
 #include <vector>
 
 #include "canopy/common/density_scale.h"
+#include "canopy/documents/candidates.h"
 #include "canopy/formats/point_cloud.h"
 #include "canopy/formats/provenance.h"
 
@@ -411,14 +412,11 @@ struct Document {
 };
 std::string serialize(const Answer& answer, const Params& params, const Document& doc);
 
-// A candidate's transform from detect's index (canopy.candidates v1 or v2): the entry whose id is
-// `id`. Errors name the file.
-Eigen::Isometry3d index_transform(const std::string& text, const std::string& name, const std::string& id);
-
-// The tile's open-ground density from detect's index (its "density" object's "ground", points/m²);
-// none when it is null, absent or 0 (detect saw too little open ground in the tile: closed canopy).
-// Throws common::DataError naming the file when it is there but not a number >= 0.
-std::optional<double> index_ground_density(const std::string& text, const std::string& name);
+// A candidate's transform from detect's index (canopy.candidates v1 or v2, read from the file
+// `name`): the entry whose id is `id`. Errors name the file. (The tile's open-ground density for
+// Params::fill_tile_ground is the same index's Candidates::density_ground(): read once.)
+Eigen::Isometry3d index_transform(const documents::Candidates& index, const std::string& name,
+                                  const std::string& id);
 // "r00,r01,r02,t0,...[,0,0,0,1]": 12 or 16 numbers, row-major, rigid. UsageError otherwise.
 Eigen::Isometry3d parse_transform(const std::string& text);
 

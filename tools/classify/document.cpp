@@ -137,18 +137,13 @@ std::string serialize(const Answer& a, const Params& p, const Document& doc) {
   return documents::serialize_class_verdict(v);
 }
 
-Eigen::Isometry3d index_transform(const std::string& text, const std::string& name, const std::string& id) {
-  const documents::Candidates index = documents::read_candidates(text, name);
+Eigen::Isometry3d index_transform(const documents::Candidates& index, const std::string& name,
+                                  const std::string& id) {
   const documents::Candidate* c = index.find(id);
   if (!c) throw common::DataError(name, "has no candidate \"" + id + "\"");
   try {
     return rigid(std::vector<double>(c->transform.begin(), c->transform.end()), "transform of " + id);
   } catch (const std::invalid_argument& e) { throw common::DataError(name, e.what()); }
-}
-
-std::optional<double> index_ground_density(const std::string& text, const std::string& name) {
-  // read_candidates refuses a density.ground that is not a number >= 0 or null, naming the file.
-  return documents::read_candidates(text, name).density_ground();
 }
 
 Eigen::Isometry3d parse_transform(const std::string& text) {

@@ -13,6 +13,7 @@
 #include "canopy/common/cli.h"
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
+#include "canopy/documents/candidates.h"
 #include "canopy/documents/model_classes.h"
 #include "canopy/documents/modelbase.h"
 #include "canopy/formats/points_io.h"
@@ -259,9 +260,11 @@ int main(int argc, char** argv) {
         if (cli.in == "-") throw cm::UsageError("--index with stdin input needs --candidate");
         id = fs::path(cli.in).stem().string();
       }
-      const std::string text = cm::read_file(cli.index);
-      to_tile = cl::index_transform(text, cli.index, id);
-      if (p.fill_tile_ground) in.tile_ground_density = cl::index_ground_density(text, cli.index);
+      // (read_candidates refuses a density.ground that is not a number >= 0 or null, naming the file)
+      const canopy::documents::Candidates index =
+          canopy::documents::read_candidates(cm::read_file(cli.index), cli.index);
+      to_tile = cl::index_transform(index, cli.index, id);
+      if (p.fill_tile_ground) in.tile_ground_density = index.density_ground();
     } else if (p.fill_tile_ground) {
       throw cm::UsageError("--fill-tile-ground needs --index (the tile's open-ground density)");
     }
