@@ -149,8 +149,7 @@ $(OPENSET_CROP_DIR)/tiles.txt: $(call text_prereq,$(OPENSET_CROP_DIR)/tiles.txt,
 TILE_CAND_KINDS += $(foreach v,$(SCENE_CLASS_ABLATIONS),classify:cand/$(v).json)
 OPENSET_CROP_ABL_SCORE := $(foreach v,$(SCENE_CLASS_ABLATIONS),$(OPENSET_CROP_RES)/$(v)/score.json)
 $(if $(dry_run)$(if $(OPENSET_CROP_ABL_SCORE),,1),,$(shell mkdir -p $(dir $(OPENSET_CROP_ABL_SCORE))))
-$(foreach v,$(SCENE_CLASS_ABLATIONS),$(foreach r,$(OPENSET_CROP_RUNS),$(call class_ablation_rules,$(r),$(call \
-  scene_key,$(r)),$(OPENSET_MB),$(scene_class_ini.$(v)),$(v)))$(eval $(call variant_score_rule,$(v),$(OPENSET_CROP_DIR),$(openset_crop_manifest),$(OPENSET_CROP_RUNS),$(OPENSET_CROP_RES),$(OPENSET_DIR)/classes.csv)))
+$(call class_ablations,$(OPENSET_CROP_RUNS),$(OPENSET_MB),$(OPENSET_CROP_DIR),$(openset_crop_manifest),$(OPENSET_CROP_RES),$(OPENSET_DIR)/classes.csv)
 # collect's ablation (SCENE_COLLECT_ABLATION, given by the parent: OPENSET_COLLECT_ABLATION) on
 # every crop, scored like the crops.
 ifneq ($(SCENE_COLLECT_ABLATION),)

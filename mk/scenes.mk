@@ -200,6 +200,11 @@ endef
 class_ablation_rules = $(foreach c,$($(2)_CANDS),$(eval $(call class_rule,$(1),$(c),$(4),$(3),$(or $(5),class-ablation).json)))$(eval \
   $(call collect_variant_rule,$(1),$(2),$(3),$(or $(5),class-ablation),$(or $(5),class-ablation).json,verdict.json,--class-name \
   $(or $(5),class-ablation).json$(collect_calibration),,$(COLLECT_CALIBRATION) $(opts.collect)))
+# class_ablations(RUNS, MODELBASE, SET_DIR, MANIFEST, SET_RES, CLASSES): every classify ablation asked
+# for (SCENE_CLASS_ABLATIONS) on every run of RUNS, then each one's score of the set (variant_score_rule):
+# the scene experiment's runs below, the open set's crops (mk/openset.mk).
+class_ablations = $(foreach v,$(SCENE_CLASS_ABLATIONS),$(foreach r,$(1),$(call class_ablation_rules,$(r),$(call \
+  scene_key,$(r)),$(2),$(scene_class_ini.$(v)),$(v)))$(eval $(call variant_score_rule,$(v),$(3),$(4),$(1),$(5),$(6))))
 # collect_ablation_rules(DIR, KEY, MODELBASE, OPTIONS): the run's detections collected with
 # OPTIONS (detections-collect-ablation.json). SCENE_COLLECT_ABLATION below.
 collect_ablation_rules = $(eval $(call collect_variant_rule,$(1),$(2),$(3),collect-ablation,class.json,verdict.json,,$(4)$(collect_calibration),$(COLLECT_CALIBRATION) \
@@ -541,8 +546,7 @@ endif
 # classify's ablations (SCENE_CLASSIFY_ABLATION, SCENE_CLASSIFY_ABLATION_2): per run, then one
 # score each.
 TILE_CAND_KINDS += $(foreach v,$(SCENE_CLASS_ABLATIONS),classify:cand/$(v).json)
-$(foreach v,$(SCENE_CLASS_ABLATIONS),$(foreach r,$(SCENE_RUNS),$(call class_ablation_rules,$(r),$(call \
-  scene_key,$(r)),$(SCENE_MB),$(scene_class_ini.$(v)),$(v)))$(eval $(call scene_variant_score_rule,$(v))))
+$(call class_ablations,$(SCENE_RUNS),$(SCENE_MB),$(SCENE_DIR),$(scene_manifest),$(SCENE_RES),$(SCENE_MODEL_CLASSES))
 # collect's ablation (SCENE_COLLECT_ABLATION): per run, then one score.
 ifneq ($(SCENE_COLLECT_ABLATION),)
 $(foreach r,$(SCENE_RUNS),$(call collect_ablation_rules,$(r),$(call scene_key,$(r)),$(SCENE_MB),$(SCENE_COLLECT_ABLATION)))
