@@ -5,7 +5,8 @@
 # scripts/cksum.sh, the five models) per cover and seed, written as
 #   DIR/<cover>-<seed>.scene                the image looks (pieces.sh sets the level's spacing)
 #   DIR/sensor-<L>/<cover>-<seed>.scene     the sensor ladder's als_qL1 at L = 10, 25, 50 pulses/m²
-#                                           (mk/density.mk's pulse_rate and speed for L0 = 26.5)
+#                                           (pulse_rate and speed: mk/density.mk's own
+#                                           density_sensor_keys, read from make, not copied)
 #   bench/detect/recipes.sh DIR "101 102 103"
 # (bench/classify/outline.sh takes its tiles' recipes from here too.)
 # The recipes are make's own (mk/scene-recipe.mk writes them, the one copy, which `make scenes`
@@ -23,7 +24,11 @@ recipes() {
   make --no-print-directory -C "$src" -f mk/scene-recipe.mk SCENE_COVERS="light medium dense" SCENE_SEEDS="$seeds" "$@"
 }
 recipes SCENE_RECIPES="$out"
-for lv in 10:307148:97.67 25:485643:61.77 50:686803:43.68; do
+# LEVEL:PULSE_RATE:SPEED per level, as mk/density.mk computes them (DENSITY_SENSOR_L0, the preset).
+keys=$(make --no-print-directory -s -C "$src" -f Makefile.experiments PROGRESS=0 DENSITY_SENSOR_LEVELS="10 25 50" \
+  --eval 'canopy-sensor-keys: ; @echo $(density_sensor_keys)' canopy-sensor-keys)
+[ -n "$keys" ] || { echo "recipes.sh: mk/density.mk gave no sensor keys" >&2; exit 1; }
+for lv in $keys; do
   IFS=: read -r l r v <<<"$lv"
   recipes SCENE_RECIPES="$out/sensor-$l" SCENE_SENSOR=als_qL1 SCENE_SENSOR_KEYS="pulse_rate=$r speed=$v"
 done
