@@ -25,6 +25,7 @@ recipes() {
 }
 recipes SCENE_RECIPES="$out"
 # LEVEL:PULSE_RATE:SPEED per level, as mk/density.mk computes them (DENSITY_SENSOR_L0, the preset).
+# shellcheck disable=SC2016  # $(density_sensor_keys) is make's, not the shell's
 keys=$(make --no-print-directory -s -C "$src" -f Makefile.experiments PROGRESS=0 DENSITY_SENSOR_LEVELS="10 25 50" \
   --eval 'canopy-sensor-keys: ; @echo $(density_sensor_keys)' canopy-sensor-keys)
 [ -n "$keys" ] || { echo "recipes.sh: mk/density.mk gave no sensor keys" >&2; exit 1; }
