@@ -438,9 +438,9 @@ $(RES)/report.md: $(SCENE_SCORE) $(SCENE_BL_SCORES) $(if $(SCENE_COLLECT_ABLATIO
   $(SCENES_CLASS_ABL_SCORES)
 # (each classify ablation's score and parameter file: --tile-classify-ablation[-2] and its -config)
 REPORT_ARGS += --tile-score $(SCENE_SCORE)$(if $(SCENE_COLLECT_ABLATION), --tile-collect-ablation \
-  $(SCENE_RES)/collect-ablation/score.json)$(foreach v,$(SCENES_CLASS_ABLATIONS), --tile-$(patsubst \
+  $(SCENE_RES)/collect-ablation/score.json)$(if $(SCENES_CLASS_ABLATIONS), $(foreach v,$(SCENES_CLASS_ABLATIONS),--tile-$(patsubst \
   class-%,classify-%,$(v)) $(SCENE_RES)/$(v)/score.json --tile-$(patsubst class-%,classify-%,$(v))-config \
-  $(scenes_class_ini.$(v)))
+  $(scenes_class_ini.$(v))))
 $(foreach f,$(SCENES_CLASSIFY_ABLATION) $(SCENES_CLASSIFY_ABLATION_2),$(if $(wildcard $(f)),,$(error \
   SCENES_CLASSIFY_ABLATION[_2]: $(f) does not exist)))
 endif
