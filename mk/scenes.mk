@@ -407,6 +407,25 @@ SCENE_BL_SCORES := $(foreach m,$(SCENE_BASELINE) $(if $(filter 1,$(SCENE_SIZE_ON
 SCENE_ABL_SCORE := $(foreach v,$(SCENE_CLASS_ABLATIONS),$(SCENE_RES)/$(v)/score.json) \
   $(if $(SCENE_COLLECT_ABLATION),$(SCENE_RES)/collect-ablation/score.json) \
   $(if $(SCENE_VERIFY_ABLATION),$(SCENE_RES)/verify-ablation/score.json)
+# The scene experiment's own classify ablations (issues 27 and 29; docs/decisions/scene-experiment.md,
+# "Stop 56"): `all` runs the experiment's `make scenes` with SCENE_CLASSIFY_ABLATION =
+# SCENES_CLASSIFY_ABLATION and SCENE_CLASSIFY_ABLATION_2 = SCENES_CLASSIFY_ABLATION_2 (the hooks
+# above), so each default classify-sim.ini changed keeps its ablation in the report (report
+# --tile-classify-ablation[-2], "classify's ablations on the scene experiment"): the roughness
+# threshold's floor before docs/decisions/classify.md §28 (100mm) and the shoulder gate off (min-shoulder
+# 0, before §30), the density ladder's two files (mk/density.mk; tests/classify checks each differs
+# from classify-sim.ini in its own key only). Empty: none (SCENES_CLASSIFY_ABLATION=
+# SCENES_CLASSIFY_ABLATION_2= plans no ablation stage). A `make scenes` of one's own takes
+# SCENE_CLASSIFY_ABLATION[_2] as given (empty unless set), as the density ladder's and the open
+# set's do.
+SCENES_CLASSIFY_ABLATION ?= bench/density/classify-sim-floor-100.ini
+SCENES_CLASSIFY_ABLATION_2 ?= bench/density/classify-sim-shoulder-0.ini
+scenes_class_ini.class-ablation = $(SCENES_CLASSIFY_ABLATION)
+scenes_class_ini.class-ablation-2 = $(SCENES_CLASSIFY_ABLATION_2)
+SCENES_CLASS_ABLATIONS = $(foreach v,class-ablation class-ablation-2,$(if $(scenes_class_ini.$(v)),$(v)))
+# (the scene experiment's sub-make's arguments: its classify ablations, empty or not)
+scenes_args = SCENE_CLASSIFY_ABLATION=$(SCENES_CLASSIFY_ABLATION) SCENE_CLASSIFY_ABLATION_2=$(SCENES_CLASSIFY_ABLATION_2)
+SCENES_CLASS_ABL_SCORES = $(foreach v,$(SCENES_CLASS_ABLATIONS),$(SCENE_RES)/$(v)/score.json)
 
 .PHONY: scenes
 # The report's "Scene experiment" section: the score, and the stages' .time files found through
@@ -415,9 +434,15 @@ SCENE_ABL_SCORE := $(foreach v,$(SCENE_CLASS_ABLATIONS),$(SCENE_RES)/$(v)/score.
 SCENE_EXPERIMENT ?= 1
 $(if $(filter-out 0 1,$(SCENE_EXPERIMENT)),$(error SCENE_EXPERIMENT=$(SCENE_EXPERIMENT): must be 0 or 1))
 ifeq ($(SCENE_EXPERIMENT),1)
-$(RES)/report.md: $(SCENE_SCORE) $(SCENE_BL_SCORES) $(if $(SCENE_COLLECT_ABLATION),$(SCENE_RES)/collect-ablation/score.json)
+$(RES)/report.md: $(SCENE_SCORE) $(SCENE_BL_SCORES) $(if $(SCENE_COLLECT_ABLATION),$(SCENE_RES)/collect-ablation/score.json) \
+  $(SCENES_CLASS_ABL_SCORES)
+# (each classify ablation's score and parameter file: --tile-classify-ablation[-2] and its -config)
 REPORT_ARGS += --tile-score $(SCENE_SCORE)$(if $(SCENE_COLLECT_ABLATION), --tile-collect-ablation \
-  $(SCENE_RES)/collect-ablation/score.json)
+  $(SCENE_RES)/collect-ablation/score.json)$(if $(SCENES_CLASS_ABLATIONS), $(foreach v,$(SCENES_CLASS_ABLATIONS),--tile-$(patsubst \
+  class-%,classify-%,$(v)) $(SCENE_RES)/$(v)/score.json --tile-$(patsubst class-%,classify-%,$(v))-config \
+  $(scenes_class_ini.$(v))))
+$(foreach f,$(SCENES_CLASSIFY_ABLATION) $(SCENES_CLASSIFY_ABLATION_2),$(if $(wildcard $(f)),,$(error \
+  SCENES_CLASSIFY_ABLATION[_2]: $(f) does not exist)))
 endif
 ifeq ($(filter scenes,$(MAKECMDGOALS)),)
 # ---- read by every other make (all, report, tools, ...) ----------------------------------
@@ -430,7 +455,7 @@ ifneq ($(findstring q,$(make_letters))$(filter 0,$(SCENE_EXPERIMENT)),q)
 scenes_force := FORCE
 else
 scenes_force := $(if $(shell $(MAKE) -q --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes \
-  $(MAKEOVERRIDES) >/dev/null 2>&1 || echo stale),FORCE)
+  $(MAKEOVERRIDES) $(scenes_args) >/dev/null 2>&1 || echo stale),FORCE)
 endif
 # What the sub-make shares with this make is built here first (the tools, the modelbase from
 # the thesis trials), so the two never build one artifact at the same time.
@@ -439,10 +464,10 @@ SCENE_TOOLS := rangetrace addnoise detect classify fitvox cocone ncut gmatch ver
 # (The baseline's models' side too, when SCENE_MB is the thesis modelbase, whose rule this make has.)
 $(SCENE_SCORE): $(scenes_force) $(foreach t,$(SCENE_TOOLS),$(call tool,$(t))) $(MODELBASE) $(VERIFY_SURFACES) \
   $(if $(SCENE_BASELINE),$(filter $(call baseline_models,$(OUT)/modelbase),$(call baseline_models,$(SCENE_MB))))
-	+@$(MAKE) --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROGRESS=0
-# The baseline's scores and collect's ablation's are made by the same sub-make (no recipe of their
-# own here).
-$(SCENE_BL_SCORES) $(if $(SCENE_COLLECT_ABLATION),$(SCENE_RES)/collect-ablation/score.json): $(SCENE_SCORE)
+	+@$(MAKE) --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROGRESS=0 $(scenes_args)
+# The baseline's scores and the ablations' are made by the same sub-make (no recipe of their own
+# here).
+$(SCENE_BL_SCORES) $(if $(SCENE_COLLECT_ABLATION),$(SCENE_RES)/collect-ablation/score.json) $(SCENES_CLASS_ABL_SCORES): $(SCENE_SCORE)
 else
 # ---- read only by `make scenes` ----------------------------------------------------------
 SCENE_MB := $(OUT)/modelbase

@@ -2460,14 +2460,18 @@ TEST_CASE("the real tiles' fill-tile-ground ablation is classify.ini with that k
                      {{"fill-tile-ground", {"true", "false"}}});
 }
 
-TEST_CASE("the pixel ladder's classify ablation is classify-sim.ini with the roughness floor of before") {
-  // mk/density.mk DENSITY_CLASSIFY_ABLATION; classify.md §28.
+TEST_CASE(
+    "the pixel ladder's and the scene experiment's classify ablation is classify-sim.ini with the roughness "
+    "floor of before") {
+  // mk/density.mk DENSITY_CLASSIFY_ABLATION, mk/scenes.mk SCENES_CLASSIFY_ABLATION; classify.md §28.
   check_ablation_ini("share/params/classify-sim.ini", "bench/density/classify-sim-floor-100.ini",
                      {{"roughness-floor", {"120mm", "100mm"}}});
 }
 
-TEST_CASE("the ladders' second classify ablation is classify-sim.ini with the shoulder gate off") {
-  // mk/density.mk DENSITY_CLASSIFY_ABLATION_2; classify.md §30.
+TEST_CASE(
+    "the ladders' and the scene experiment's second classify ablation is classify-sim.ini with the shoulder "
+    "gate off") {
+  // mk/density.mk DENSITY_CLASSIFY_ABLATION_2, mk/scenes.mk SCENES_CLASSIFY_ABLATION_2; classify.md §30.
   check_ablation_ini("share/params/classify-sim.ini", "bench/density/classify-sim-shoulder-0.ini",
                      {{"min-shoulder", {"0.58", "0"}}});
 }

@@ -17,6 +17,9 @@ tree="$tmp/src"
 mkdir -p "$tree"
 (cd "$src" && cp -a Makefile.experiments CMakeLists.txt common formats documents tools scripts share mk "$tree/") ||
   fail "cannot copy the source tree"
+# (the scene experiment's classify ablations' parameter files, mk/scenes.mk SCENES_CLASSIFY_ABLATION[_2])
+mkdir -p "$tree/bench/density" && cp -a "$src"/bench/density/classify-sim-*.ini "$tree/bench/density/" ||
+  fail "cannot copy bench/density's parameter files"
 cd "$tree" || exit 1
 # The fake build also leaves the records CMake's Makefile generator keeps, which
 # scripts/tool-deps.sh reads (checked against the real build at the end): per target a
@@ -388,6 +391,35 @@ if plans "class-ablation\.json"; then fail "SCENE_CLASSIFY_ABLATION_2 plans the 
 [ ! -e "$sd/.opts/classify-ablation-2.txt" ] || fail "a dry run wrote the second ablation's options file"
 "${sc[@]}" -q scenes SCENE_CLASSIFY_ABLATION_2="$tmp/params/classify.ini" &&
   fail "make -q scenes is clean without the second classify ablation"
+# The scene experiment's own classify ablations (mk/scenes.mk SCENES_CLASSIFY_ABLATION[_2]: by
+# default the roughness floor's and the shoulder's files; scene-experiment.md "Stop 56"): on the
+# complete run `make -n all` plans, in the experiment's `make scenes`, classify twice more on the
+# candidate (each with its file), each ablation's collect and score: 6 stages more than with both
+# emptied, which plans none of them; the report is given both scores and their files.
+se=("${sc[@]}" SCENE_EXPERIMENT=1 DENSITY_LADDER=0 OPENSET=0)
+floor=bench/density/classify-sim-floor-100.ini shoulder=bench/density/classify-sim-shoulder-0.ini
+plan=$("${se[@]}" -n all 2>&1)
+plans "bin/classify --config $floor -i $sr/cands/c0001.pcd .*-o $sr/cands/c0001/class-ablation.json" ||
+  fail "make -n all does not plan the scene experiment's floor ablation: $(echo "$plan" | grep stagerun)"
+plans "bin/classify --config $shoulder -i $sr/cands/c0001.pcd .*-o $sr/cands/c0001/class-ablation-2.json" ||
+  fail "make -n all does not plan the scene experiment's shoulder ablation"
+for v in class-ablation class-ablation-2; do
+  plans "bin/collect -i $sr/cands/index.json --class-name $v.json .*-o $sr/detections-$v.json" ||
+    fail "make -n all does not plan $v's collect"
+  plans "bin/score --tiles $sd/tiles-$v.txt .*-o $tmp/res/scenes/$v/score.json" || fail "make -n all does not plan $v's score"
+done
+abl_stages() { grep "^$tmp/build/bin/stagerun " | grep -v " -- $tmp/build/bin/report " | grep -c "class-ablation" || true; }
+[ "$(echo "$plan" | abl_stages)" -eq 6 ] || fail "make -n all plans $(echo "$plan" | abl_stages) ablation stages, not 6"
+plans "bin/report .*--tile-classify-ablation $tmp/res/scenes/class-ablation/score.json --tile-classify-ablation-config $floor --tile-classify-ablation-2 $tmp/res/scenes/class-ablation-2/score.json --tile-classify-ablation-2-config $shoulder" ||
+  fail "the report is not given the scene experiment's classify ablations: $(echo "$plan" | grep bin/report)"
+with=$(echo "$plan" | stages)
+plan=$("${se[@]}" -n all SCENES_CLASSIFY_ABLATION= SCENES_CLASSIFY_ABLATION_2= 2>&1)
+if plans "class-ablation"; then fail "SCENES_CLASSIFY_ABLATION= SCENES_CLASSIFY_ABLATION_2= still plan an ablation"; fi
+plans "bin/report " || fail "make -n all plans no report"
+[ $((with - $(echo "$plan" | stages))) -eq 6 ] ||
+  fail "the ablations add $((with - $(echo "$plan" | stages))) stages to make -n all, not 6"
+[ ! -e "$sd/.opts/classify-ablation.txt" ] && [ ! -e "$tmp/out/.opts/scene-report.txt" ] ||
+  fail "a dry run of all wrote an options file of the ablations"
 # collect's ablation by default (SCENE_COLLECT_ABLATION: --coarse-none-below=0 with a calibration;
 # verify.md §19): on a complete run it plans one more collect, from the same verdicts, and its
 # score; nothing upstream of collect, nor canopy's collect. Without a calibration there is none.

@@ -329,6 +329,10 @@ TEST_CASE("density ladder: verify's ablation beside canopy on the rungs with a m
                 "`bench/density/classify-sim-floor-100.ini`") != std::string::npos);
   CHECK(mc.find("| 100 | class right (all) | 8/9 = 90.0% [80.0, 100.0] | 8/8 = 90.0% [80.0, 100.0] |") !=
         std::string::npos);
+  // The wrong class of the found: found - class right, 1 - class right's rate, its interval turned
+  // over (score_cells.h class_ablation_table, shared with the scene experiment's).
+  CHECK(mc.find("| 100 | wrong class (all) | 1/9 = 10.0% [0.0, 20.0] | 0/8 = 10.0% [0.0, 20.0] |") !=
+        std::string::npos);
   CHECK(mc.find("classify's ablation on the sensor ladder") == std::string::npos);
   CHECK(mc.find("classify's second ablation") == std::string::npos);
 

@@ -6,8 +6,12 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
+#include "canopy/documents/experiment_manifest.h"
+#include "canopy/documents/match_result.h"
 #include "canopy/documents/scene_score.h"
+#include "canopy/documents/segment_graph.h"
 #include "report/report.h"
 #include "support/cli.h"
 
@@ -265,4 +269,209 @@ TEST_CASE("scene section: collect's ablation's reliability beside canopy's (veri
       report::scene_markdown(canopy, {}, "scenes", &stale, "res/collect-ablation/score.json");
   CHECK(ms.find("(res/collect-ablation/score.json scores other runs than canopy's") != std::string::npos);
   CHECK(ms.find("| none | 0.8–0.9 |") == std::string::npos);
+}
+
+namespace {
+
+// A summary row of a hand-made score: cover, noise ("all" or a level), true vehicles, found at
+// either level (recall with its interval), class right of the found (with its interval), false
+// alarms (fp + class_fp) and their rate per ha (with its interval).
+struct Row {
+  std::string cover, noise;
+  int truth, found;
+  double recall, recall_lo, recall_hi;
+  int right;
+  double acc, acc_lo, acc_hi;
+  int fp, class_fp;
+  double fa, fa_lo, fa_hi;
+};
+
+std::string row_json(const Row& r) {
+  const auto q = [](const std::string& v) { return v == "all" ? "\"all\"" : v; };
+  std::ostringstream s;
+  s << R"({"cover": ")" << r.cover << R"(", "noise_mm": )" << q(r.noise) << R"(, "true": )" << r.truth
+    << R"(, "found_any_level": )" << r.found << R"(, "recall_any_level": )" << r.recall
+    << R"(, "recall_any_level_lo": )" << r.recall_lo << R"(, "recall_any_level_hi": )" << r.recall_hi
+    << R"(, "class_right_any_level": )" << r.right << R"(, "class_accuracy_any_level": )" << r.acc
+    << R"(, "class_accuracy_any_level_lo": )" << r.acc_lo << R"(, "class_accuracy_any_level_hi": )"
+    << r.acc_hi << R"(, "fp": )" << r.fp << R"(, "class_fp": )" << r.class_fp
+    << R"(, "false_alarms_any_level_per_ha": )" << r.fa << R"(, "false_alarms_any_level_per_ha_lo": )"
+    << r.fa_lo << R"(, "false_alarms_any_level_per_ha_hi": )" << r.fa_hi << "}";
+  return s.str();
+}
+
+// A score of the runs light/tile-1 at noise 0 and 8 (or `tile` for a stale one) with `rows`.
+std::string ablation_score_json(const std::vector<Row>& rows, const std::string& tile = "tile-1") {
+  std::string summary;
+  for (const Row& r : rows) summary += (summary.empty() ? "" : ",\n") + row_json(r);
+  return R"({"format": "canopy.scene_score", "version": 1,
+    "params": {"match_radius_m": 1.5, "cover_bins": [0, 1], "flip_threshold_deg": 90},
+    "tiles": [
+      {"detections": "out/scenes/light/)" +
+         tile + R"(/noise-0/detections.json", "cover": "light", "noise_mm": 0, "area_ha": 0.09},
+      {"detections": "out/scenes/light/)" +
+         tile + R"(/noise-8/detections.json", "cover": "light", "noise_mm": 8, "area_ha": 0.09}],
+    "summary": [)" +
+         summary + R"(], "pr": [], "models": [], "cover_bins": [], "matches": []})";
+}
+
+// Canopy: 18 of 20 found, 15 of them the right class, 3 false alarms; the floor's ablation 16
+// found, 14 right, 5 false alarms; per noise level 0 / 8 the halves.
+const std::vector<Row> kCanopy = {
+    {"light", "all", 20, 18, 0.9, 0.7, 0.97, 15, 0.8333, 0.6, 0.95, 1, 2, 16.6667, 3.4, 48.7},
+    {"all", "all", 20, 18, 0.9, 0.7, 0.97, 15, 0.8333, 0.6, 0.95, 1, 2, 16.6667, 3.4, 48.7},
+    {"light", "0", 10, 10, 1.0, 0.72, 1.0, 9, 0.9, 0.6, 0.98, 0, 1, 11.1111, 0.3, 61.9},
+    {"all", "0", 10, 10, 1.0, 0.72, 1.0, 9, 0.9, 0.6, 0.98, 0, 1, 11.1111, 0.3, 61.9},
+    {"light", "8", 10, 8, 0.8, 0.49, 0.94, 6, 0.75, 0.41, 0.93, 1, 1, 22.2222, 2.7, 80.3},
+    {"all", "8", 10, 8, 0.8, 0.49, 0.94, 6, 0.75, 0.41, 0.93, 1, 1, 22.2222, 2.7, 80.3}};
+const std::vector<Row> kFloor = {
+    {"light", "all", 20, 16, 0.8, 0.58, 0.92, 14, 0.875, 0.64, 0.97, 2, 3, 27.7778, 9.0, 64.8},
+    {"all", "all", 20, 16, 0.8, 0.58, 0.92, 14, 0.875, 0.64, 0.97, 2, 3, 27.7778, 9.0, 64.8},
+    {"light", "0", 10, 9, 0.9, 0.6, 0.98, 8, 0.8889, 0.57, 0.98, 1, 1, 22.2222, 2.7, 80.3},
+    {"all", "0", 10, 9, 0.9, 0.6, 0.98, 8, 0.8889, 0.57, 0.98, 1, 1, 22.2222, 2.7, 80.3},
+    {"light", "8", 10, 7, 0.7, 0.4, 0.89, 6, 0.8571, 0.49, 0.97, 1, 2, 33.3333, 6.9, 97.4},
+    {"all", "8", 10, 7, 0.7, 0.4, 0.89, 6, 0.8571, 0.49, 0.97, 1, 2, 33.3333, 6.9, 97.4}};
+
+}  // namespace
+
+TEST_CASE(
+    "scene section: classify's ablations beside canopy, per noise level and over all; not run without them") {
+  const documents::SceneScore canopy =
+      documents::read_scene_score(ablation_score_json(kCanopy), "score.json");
+  const documents::SceneScore floor = documents::read_scene_score(ablation_score_json(kFloor), "floor.json");
+  const std::vector<report::SceneClassifyAblation> one = {
+      {"bench/density/classify-sim-floor-100.ini", "res/scenes/class-ablation/score.json", &floor},
+      {"", "", nullptr}};
+  const std::string md = report::scene_markdown(canopy, {}, "scenes", nullptr, "", one);
+  const auto at = [&](const std::string& s, std::size_t from = 0) { return md.find(s, from); };
+  const auto section = at("### classify's ablations on the scene experiment");
+  REQUIRE(section != std::string::npos);
+  const auto first =
+      at("**classify's ablation**, the candidates classified with "
+         "`bench/density/classify-sim-floor-100.ini` (res/scenes/class-ablation/score.json):");
+  REQUIRE(first != std::string::npos);
+  CHECK(section < first);
+  // Per noise level (0, 8), then over all: found of the light cover's vehicles, class right and the
+  // wrong class of the found (18 - 15 = 3 of 18; 1 - 0.8333 with the interval turned over), false
+  // alarms (fp + class_fp) per ha; each with its count and score's interval.
+  const std::vector<std::string> rows = {
+      "| noise (mm) | measure | canopy | ablation |",
+      "| 0 | recall, light | 10/10 = 100.0% [72.0, 100.0] | 9/10 = 90.0% [60.0, 98.0] |",
+      "| 0 | class right (all) | 9/10 = 90.0% [60.0, 98.0] | 8/9 = 88.9% [57.0, 98.0] |",
+      "| 0 | wrong class (all) | 1/10 = 10.0% [2.0, 40.0] | 1/9 = 11.1% [2.0, 43.0] |",
+      "| 0 | false alarms/ha (all) | 1 = 11.1 [0.3, 61.9] | 2 = 22.2 [2.7, 80.3] |",
+      "| 8 | recall, light | 8/10 = 80.0% [49.0, 94.0] | 7/10 = 70.0% [40.0, 89.0] |",
+      "| all | recall, light | 18/20 = 90.0% [70.0, 97.0] | 16/20 = 80.0% [58.0, 92.0] |",
+      "| all | class right (all) | 15/18 = 83.3% [60.0, 95.0] | 14/16 = 87.5% [64.0, 97.0] |",
+      "| all | wrong class (all) | 3/18 = 16.7% [5.0, 40.0] | 2/16 = 12.5% [3.0, 36.0] |",
+      "| all | false alarms/ha (all) | 3 = 16.7 [3.4, 48.7] | 5 = 27.8 [9.0, 64.8] |"};
+  std::size_t last = first;
+  for (const std::string& r : rows) {
+    INFO(r);
+    const auto p = at(r + "\n", first);
+    REQUIRE(p != std::string::npos);
+    CHECK(p > last);
+    last = p;
+  }
+  // No medium or dense rows where neither score has them.
+  CHECK(at("recall, medium") == std::string::npos);
+  // The second ablation was not given: said not to have run, no second table.
+  CHECK(at("**classify's second ablation**: not run (mk/scenes.mk `SCENES_CLASSIFY_ABLATION_2` empty") > last);
+  CHECK(md.find("| noise (mm) | measure |", first + 1) == md.rfind("| noise (mm) | measure |"));
+
+  // Both not given: the subsection says neither ran, and has no table.
+  const std::string none = report::scene_markdown(canopy, {}, "scenes");
+  CHECK(none.find("**classify's ablation**: not run (mk/scenes.mk `SCENES_CLASSIFY_ABLATION` empty; report "
+                  "--tile-classify-ablation not given).") != std::string::npos);
+  CHECK(none.find("**classify's second ablation**: not run") != std::string::npos);
+  CHECK(none.find("| noise (mm) | measure | canopy | ablation |") == std::string::npos);
+
+  // A stale ablation (other runs than canopy's) is named, not shown; the shoulder's as the second.
+  const documents::SceneScore stale =
+      documents::read_scene_score(ablation_score_json(kFloor, "tile-2"), "stale.json");
+  const std::vector<report::SceneClassifyAblation> two = {
+      {"bench/density/classify-sim-floor-100.ini", "res/scenes/class-ablation/score.json", &stale},
+      {"bench/density/classify-sim-shoulder-0.ini", "res/scenes/class-ablation-2/score.json", &floor}};
+  const std::string ms = report::scene_markdown(canopy, {}, "scenes", nullptr, "", two);
+  CHECK(ms.find("**classify's ablation** (`bench/density/classify-sim-floor-100.ini`): "
+                "res/scenes/class-ablation/score.json scores other runs than canopy's: a stale ablation, not "
+                "shown.") != std::string::npos);
+  CHECK(ms.find("**classify's second ablation**, the candidates classified with "
+                "`bench/density/classify-sim-shoulder-0.ini`") != std::string::npos);
+  CHECK(ms.find("| all | false alarms/ha (all) | 3 = 16.7 [3.4, 48.7] | 5 = 27.8 [9.0, 64.8] |") !=
+        std::string::npos);
+
+  // One noise level: the rows over all only (no rung repeating them).
+  const std::vector<Row> single = {kCanopy[0], kCanopy[1], kCanopy[2], kCanopy[3]};
+  const documents::SceneScore s1 = documents::read_scene_score(ablation_score_json(single), "s1.json");
+  const std::vector<report::SceneClassifyAblation> own = {{"a.ini", "a/score.json", &s1}};
+  const std::string m1 = report::scene_markdown(s1, {}, "scenes", nullptr, "", own);
+  CHECK(m1.find("| all | recall, light | 18/20 = 90.0% [70.0, 97.0] | 18/20 = 90.0% [70.0, 97.0] |") !=
+        std::string::npos);
+  CHECK(m1.find("| 0 | recall, light") == std::string::npos);
+}
+
+TEST_CASE(
+    "report --tile-classify-ablation[-2] with their -config: the subsection; each needs its pair and "
+    "--tile-score") {
+  const fs::path dir = test::fresh_dir("report", "scene-classify-ablations");
+  test::write_file(dir / "res" / "scenes" / "score.json", ablation_score_json(kCanopy));
+  test::write_file(dir / "res" / "scenes" / "class-ablation" / "score.json", ablation_score_json(kFloor));
+  // The report's manifest: one thesis trial (the report needs one), its match and segments.
+  const fs::path trial = dir / "out" / "sedan" / "circle" / "noise-0";
+  fs::create_directories(trial);
+  documents::MatchResult m;
+  m.error_form = "bounded";
+  documents::ModelScore top;
+  top.model = "sedan";
+  top.rank = 1;
+  top.score = 0.8;
+  m.models.push_back(top);
+  documents::write_match_result(m, (trial / "match.json").string());
+  documents::write_segment_graph(documents::SegmentGraph{}, (trial / "segments.json").string());
+  documents::ExperimentManifest manifest;
+  manifest.trials.push_back({"sedan", "circle", 0, trial.string()});
+  test::write_file(dir / "experiment.txt", documents::write_experiment_manifest(manifest));
+  const std::string abl = (dir / "res" / "scenes" / "class-ablation" / "score.json").string();
+  const std::string report = std::string(CANOPY_BIN_DIR) + "/report --manifest " +
+                             (dir / "experiment.txt").string() + " --results " + (dir / "res").string();
+  const std::string scene = " --tile-score " + (dir / "res" / "scenes" / "score.json").string();
+  const std::string first = " --tile-classify-ablation " + abl + " --tile-classify-ablation-config floor.ini";
+  const auto read = [](const fs::path& p) {
+    std::ifstream f(p);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+  };
+  std::string err;
+  REQUIRE(test::sh(report + scene + first, dir / "err1.txt", &err) == 0);
+  const std::string md = read(dir / "res" / "report.md");
+  CHECK(md.find("**classify's ablation**, the candidates classified with `floor.ini` (" + abl + "):") !=
+        std::string::npos);
+  CHECK(md.find("| all | false alarms/ha (all) | 3 = 16.7 [3.4, 48.7] | 5 = 27.8 [9.0, 64.8] |") !=
+        std::string::npos);
+  CHECK(md.find("**classify's second ablation**: not run") != std::string::npos);
+  // Without the files: both said not to have run.
+  REQUIRE(test::sh(report + scene, dir / "err2.txt", &err) == 0);
+  const std::string none = read(dir / "res" / "report.md");
+  CHECK(none.find("**classify's ablation**: not run") != std::string::npos);
+  CHECK(none.find("| noise (mm) | measure | canopy | ablation |") == std::string::npos);
+  // Usage (exit 2, no report): a score without its parameter file, a parameter file without its
+  // score, an ablation without --tile-score.
+  for (const auto& [bad, says] : std::vector<std::pair<std::string, std::string>>{
+           {scene + " --tile-classify-ablation " + abl,
+            "--tile-classify-ablation and --tile-classify-ablation-config go together"},
+           {scene + " --tile-classify-ablation-2-config shoulder.ini",
+            "--tile-classify-ablation-2 and --tile-classify-ablation-2-config go together"},
+           {first, "--tile-classify-ablation needs --tile-score"}}) {
+    fs::remove(dir / "res" / "report.md");
+    CHECK(test::sh(report + bad, dir / "err3.txt", &err) == 2);
+    CHECK(err.find(says) != std::string::npos);
+    CHECK_FALSE(fs::exists(dir / "res" / "report.md"));
+  }
+  // A damaged ablation score: exit 1 naming it, no report.
+  test::write_file(abl, "{\"format\": \"canopy.scene_score\"");
+  CHECK(test::sh(report + scene + first, dir / "err4.txt", &err) == 1);
+  CHECK(err.find(abl) != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "res" / "report.md"));
 }

@@ -53,41 +53,19 @@ std::string show(const ScoreRow& r, const Metric& m) {
                                 : score_ci(r, m.key, "%.1f", "%.1f", 1);
 }
 
-// Counts behind a rate: "k/n".
-std::string counts(const ScoreRow& r, const char* k, const char* n) {
-  const auto a = score_number(r, k), b = score_number(r, n);
-  return a && b ? format_number("%.0f", *a) + "/" + format_number("%.0f", *b) : "–";
-}
-
-// A rate's cell: "k/n = x% [lo, hi]".
-std::string rate_cell(const ScoreRow* r, const char* key, const char* k, const char* n) {
-  if (r == nullptr) return "–";
-  return counts(*r, k, n) + " = " + score_ci(*r, key, "%.1f%%", "%.1f", 100);
-}
-
 // A score's summary row of `cover` (light, medium, dense or all); nullptr when it has none.
 const ScoreRow* cover_row(const documents::SceneScore& score, const std::string& cover) {
-  for (const ScoreRow* r : cover_rows(score))
-    if (label(*r) == cover) return r;
-  return nullptr;
+  return summary_row(score, cover);
 }
 
 const ScoreRow* row_of(const DensityLevel& l, const std::string& cover) {
   return l.scored ? cover_row(l.score, cover) : nullptr;
 }
 
-// False alarms per ha of a score row with their count: model-level false alarms (fp) + class
-// answers on no vehicle (class_fp).
-std::string false_alarm_cell(const ScoreRow* r) {
-  if (r == nullptr) return "–";
-  const auto a = score_number(*r, "fp"), b = score_number(*r, "class_fp");
-  return (a && b ? format_number("%.0f", *a + *b) + " = " : std::string()) +
-         score_ci(*r, "false_alarms_any_level_per_ha", "%.1f", "%.1f", 1);
-}
-
 // classify's ablation (`second`: its second ablation) beside canopy on a ladder's levels where it
 // has run (a changed default keeps its ablation in the report): found at either level per cover,
-// class right and false alarms (all covers). `ladder`: "the density ladder" or "the sensor ladder".
+// class right, the wrong class and false alarms (all covers; score_cells.h class_ablation_table).
+// `ladder`: "the density ladder" or "the sensor ladder".
 void ablation_table(std::ostringstream& md, const std::vector<DensityLevel>& rungs, const std::string& ladder,
                     bool second = false) {
   const auto scored = [second](const DensityLevel& s) {
@@ -105,28 +83,11 @@ void ablation_table(std::ostringstream& md, const std::vector<DensityLevel>& run
      << (second ? with.front()->ablation2_config : with.front()->ablation_config)
      << "`, collected and scored like canopy's; the file's header says which defaults it turns off, "
         "docs/decisions/classify.md why): found at either level of "
-        "each cover's vehicles, class right of the found and false alarms per ha (all covers), each with "
-        "its count and 95% interval.\n\n";
-  md << "| level | measure | canopy | ablation |\n|---|---|---|---|\n";
-  for (const DensityLevel* s : with) {
-    const std::string lv = format_number("%g", s->level);
-    for (const char* cover : {"light", "medium", "dense"}) {
-      const ScoreRow* c = row_of(*s, cover);
-      const ScoreRow* b = cover_row(abl(*s), cover);
-      if (c == nullptr && b == nullptr) continue;
-      md << "| " << lv << " | recall, " << cover << " | "
-         << rate_cell(c, "recall_any_level", "found_any_level", "true") << " | "
-         << rate_cell(b, "recall_any_level", "found_any_level", "true") << " |\n";
-    }
-    md << "| " << lv << " | class right (all) | "
-       << rate_cell(row_of(*s, "all"), "class_accuracy_any_level", "class_right_any_level", "found_any_level")
-       << " | "
-       << rate_cell(cover_row(abl(*s), "all"), "class_accuracy_any_level", "class_right_any_level",
-                    "found_any_level")
-       << " |\n";
-    md << "| " << lv << " | false alarms/ha (all) | " << false_alarm_cell(row_of(*s, "all")) << " | "
-       << false_alarm_cell(cover_row(abl(*s), "all")) << " |\n";
-  }
+        "each cover's vehicles, class right and the wrong class of the found and false alarms per ha (all "
+        "covers), each with its count and 95% interval.\n\n";
+  std::vector<AblationRung> table;
+  for (const DensityLevel* s : with) table.push_back({format_number("%g", s->level), &s->score, &abl(*s)});
+  md << class_ablation_table("level", table);
 }
 
 // verify's ablation beside canopy on the rungs of both ladders where it has run and either has a

@@ -165,16 +165,29 @@ std::string openset_ablation_section(std::string (*markdown)(const documents::Sc
   return markdown(documents::read_scene_score_file(tiles), tiles, c ? &*c : nullptr, crops);
 }
 
+// A classify ablation of the scene experiment (--tile-classify-ablation[-2] and its -config).
+struct ClassifyAblationArgs {
+  std::string score, config;
+};
+
 // The scene experiment's section (--tile-score); its times.csv goes beside score.json.
 std::string scenes_section(const std::string& tile_score, const std::string& collect_ablation,
+                           const std::vector<ClassifyAblationArgs>& classify_ablations,
                            const std::string& scene_dir, const std::string& results,
                            common::OutputSet& outputs) {
   common::log::Phase scenes_phase("scenes");
   const documents::SceneScore score = documents::read_scene_score_file(tile_score);
   const auto times = report::scene_times(report::scene_runs(score));
   const std::optional<documents::SceneScore> ablation = optional_score(collect_ablation);
-  const std::string markdown = "\n" + report::scene_markdown(score, times, relative_to(scene_dir, results),
-                                                             ablation ? &*ablation : nullptr, collect_ablation);
+  std::vector<std::optional<documents::SceneScore>> classify_scores;
+  for (const auto& a : classify_ablations) classify_scores.push_back(optional_score(a.score));
+  std::vector<report::SceneClassifyAblation> classify;
+  for (std::size_t i = 0; i < classify_ablations.size(); ++i)
+    classify.push_back({classify_ablations[i].config, classify_ablations[i].score,
+                        classify_scores[i] ? &*classify_scores[i] : nullptr});
+  const std::string markdown =
+      "\n" + report::scene_markdown(score, times, relative_to(scene_dir, results),
+                                    ablation ? &*ablation : nullptr, collect_ablation, classify);
   outputs.set(scene_dir + "/times.csv", report::scene_times_csv(times));
   scenes_phase.done(std::to_string(report::scene_runs(score).size()) + " runs");
   return markdown;
@@ -229,6 +242,7 @@ struct Sources {
   std::string manifest, results = "results";
   std::string thesis;  // default: <share>/thesis/results.csv
   std::string openset_collect_ablation, openset_crops_collect_ablation, tile_collect_ablation;
+  std::vector<ClassifyAblationArgs> tile_classify_ablations = std::vector<ClassifyAblationArgs>(2);
   std::string openset_envelope_ablation, openset_crops_envelope_ablation;
   std::string tile_score, families, disk, openset, openset_crops, openset_distances, openset_ablation,
       openset_crops_ablation;
@@ -250,6 +264,19 @@ void bind(common::Tool& tool, Sources& src, report::Params& p) {
   tool.add("--tile-collect-ablation", &src.tile_collect_ablation,
            "the scene experiment's collect ablation's score.json (mk/scenes.mk SCENE_COLLECT_ABLATION: "
            "collect --coarse-none-below 0, one none map): its reliability table beside canopy's");
+  for (std::size_t i = 0; i < src.tile_classify_ablations.size(); ++i) {
+    const std::string opt = i == 0 ? "--tile-classify-ablation" : "--tile-classify-ablation-2";
+    const std::string var = i == 0 ? "SCENES_CLASSIFY_ABLATION" : "SCENES_CLASSIFY_ABLATION_2";
+    tool.add(
+        opt, &src.tile_classify_ablations[i].score,
+        "the scene experiment's " + std::string(i == 0 ? "" : "second ") +
+            "classify ablation's score.json (mk/scenes.mk " + var +
+            ": the same candidates classified with another parameter file): a subsection beside canopy's "
+            "(with " +
+            opt + "-config)");
+    tool.add(opt + "-config", &src.tile_classify_ablations[i].config,
+             "the parameter file that ablation classified with (named in the subsection; with " + opt + ")");
+  }
   tool.add("--families", &src.families,
            "the families protocol's results directory (confusion.csv, accuracy.csv from famscore; "
            "mk/families.mk): adds the \"Vehicle families\" section to report.md");
@@ -314,6 +341,13 @@ int main(int argc, char** argv) {
     if (src.real_timeout < 0) throw common::UsageError("--real-timeout: must be >= 0 s");
     if (src.tile_score.empty() && !src.tile_collect_ablation.empty())
       throw common::UsageError("--tile-collect-ablation needs --tile-score");
+    for (std::size_t i = 0; i < src.tile_classify_ablations.size(); ++i) {
+      const std::string opt = i == 0 ? "--tile-classify-ablation" : "--tile-classify-ablation-2";
+      const ClassifyAblationArgs& a = src.tile_classify_ablations[i];
+      if (src.tile_score.empty() && !a.score.empty()) throw common::UsageError(opt + " needs --tile-score");
+      if (a.score.empty() != a.config.empty())
+        throw common::UsageError(opt + " and " + opt + "-config go together");
+    }
     if (src.openset.empty() && !src.openset_ablation.empty())
       throw common::UsageError("--openset-ablation needs --openset");
     if (src.openset_ablation.empty() && !src.openset_crops_ablation.empty())
@@ -340,7 +374,8 @@ int main(int argc, char** argv) {
     std::string markdown = r.markdown + bl.markdown;
     if (!src.families.empty()) markdown += families_section(src.families);
     if (!src.tile_score.empty())
-      markdown += scenes_section(src.tile_score, src.tile_collect_ablation, scene_dir, results, outputs);
+      markdown += scenes_section(src.tile_score, src.tile_collect_ablation, src.tile_classify_ablations,
+                                 scene_dir, results, outputs);
     if (!manifest.real.empty()) markdown += real_section(manifest.real, src.real_timeout);
     if (!manifest.density.empty() || !manifest.density_sensor.empty())
       markdown += density_section(manifest.density, manifest.density_sensor, results, outputs);

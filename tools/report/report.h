@@ -277,10 +277,21 @@ std::vector<SceneRun> scene_runs(const documents::SceneScore& score);
 // (mk/scenes.mk SCENE_COLLECT_ABLATION, `collect --coarse-none-below 0`; read from
 // collect_ablation_path), whose reliability table is shown beside canopy's when it scores
 // exactly canopy's runs (else a note names the stale file).
+// classify_ablations: the scene experiment's classify ablations in their order (mk/scenes.mk
+// SCENES_CLASSIFY_ABLATION, SCENES_CLASSIFY_ABLATION_2; report --tile-classify-ablation[-2]), each
+// shown beside canopy in the subsection "classify's ablations on the scene experiment" when it
+// scores exactly canopy's runs (else a note names the stale file); one without a score is said
+// not to have run.
+struct SceneClassifyAblation {
+  std::string config;                            // the parameter file it classified with ("" when not run)
+  std::string path;                              // its score.json
+  const documents::SceneScore* score = nullptr;  // null: not run
+};
 std::string scene_markdown(const documents::SceneScore& score, const std::vector<SceneStageTime>& times,
                            const std::string& figures_dir,
                            const documents::SceneScore* collect_ablation = nullptr,
-                           const std::string& collect_ablation_path = "");
+                           const std::string& collect_ablation_path = "",
+                           const std::vector<SceneClassifyAblation>& classify_ablations = {});
 std::string scene_times_csv(const std::vector<SceneStageTime>& times);
 
 // "k/n = r% [lo, hi]": the rate with Wilson's 95% interval at `units` independent units

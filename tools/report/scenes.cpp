@@ -551,6 +551,46 @@ void reliability_table(std::ostringstream& md, const SceneScore& score, const Sc
      << ".\n\n";
 }
 
+// classify's ablations beside canopy (classify_ablations: the first, the second), per noise level
+// when there are several, then over all of them (score_cells.h class_ablation_table).
+void classify_ablations_table(std::ostringstream& md, const SceneScore& score,
+                              const std::vector<SceneClassifyAblation>& ablations) {
+  md << "### classify's ablations on the scene experiment\n\n"
+        "Each default of the simulated tiles' classify parameters (`share/params/classify-sim.ini`) that "
+        "changed keeps its ablation: the same candidates classified again with the ablation's parameter "
+        "file (its header says which default it turns off, docs/decisions/classify.md why), collected with "
+        "the same verdicts of the model chain and scored like canopy's (mk/scenes.mk "
+        "`SCENES_CLASSIFY_ABLATION`, `SCENES_CLASSIFY_ABLATION_2`). Found at either level of each cover's "
+        "vehicles, class right and the wrong class of the found and false alarms per ha (all covers), each "
+        "with its count and score's 95% interval.\n\n";
+  std::vector<std::string> noises;
+  for (const ScoreRow& r : score.summary) {
+    const std::string n = score_text(score_field(r, "noise_mm"));
+    if (score_text(score_field(r, "cover")) == "all" && n != "all") noises.push_back(n);
+  }
+  if (noises.size() < 2) noises.clear();  // one noise level: its rows are the "all" rows
+  noises.push_back("all");
+  const char* names[] = {"classify's ablation", "classify's second ablation"};
+  for (std::size_t i = 0; i < std::max<std::size_t>(ablations.size(), 2); ++i) {
+    const std::string name = i < 2 ? names[i] : "classify's ablation " + std::to_string(i + 1);
+    const SceneClassifyAblation* a = i < ablations.size() ? &ablations[i] : nullptr;
+    if (a == nullptr || a->score == nullptr) {
+      md << "**" << name << "**: not run (mk/scenes.mk `SCENES_CLASSIFY_ABLATION" << (i == 0 ? "" : "_2")
+         << "` empty; report --tile-classify-ablation" << (i == 0 ? "" : "-2") << " not given).\n\n";
+      continue;
+    }
+    if (!same_runs(*a->score, score)) {
+      md << "**" << name << "** (`" << a->config << "`): " << a->path
+         << " scores other runs than canopy's: a stale ablation, not shown.\n\n";
+      continue;
+    }
+    md << "**" << name << "**, the candidates classified with `" << a->config << "` (" << a->path << "):\n\n";
+    std::vector<AblationRung> rungs;
+    for (const std::string& n : noises) rungs.push_back({n, &score, a->score, n});
+    md << class_ablation_table("noise (mm)", rungs) << "\n";
+  }
+}
+
 void baselines(std::ostringstream& md, const SceneScore& score, const std::vector<SceneStageTime>& times) {
   std::vector<std::string> stale;
   const auto bl = baseline_scores(score, stale);
@@ -594,7 +634,8 @@ void pictures(std::ostringstream& md, const std::vector<std::string>& covers, co
 
 std::string scene_markdown(const SceneScore& score, const std::vector<SceneStageTime>& times,
                            const std::string& fig, const SceneScore* collect_ablation,
-                           const std::string& collect_ablation_path) {
+                           const std::string& collect_ablation_path,
+                           const std::vector<SceneClassifyAblation>& classify_ablations) {
   std::ostringstream md;
   const std::vector<ScoreRow>& summary = score.summary;
   std::vector<std::string> covers;
@@ -616,6 +657,7 @@ std::string scene_markdown(const SceneScore& score, const std::vector<SceneStage
   cover_table(md, score, fig);
   pr_table(md, score);
   reliability_table(md, score, collect_ablation, collect_ablation_path);
+  classify_ablations_table(md, score, classify_ablations);
   md << clutter_markdown(score);
   baselines(md, score, times);
   times_table(md, times);

@@ -57,4 +57,77 @@ std::vector<const ScoreRow*> cover_rows(const documents::SceneScore& s) {
   return rows;
 }
 
+const ScoreRow* summary_row(const documents::SceneScore& score, const std::string& cover,
+                            const std::string& noise) {
+  for (const ScoreRow& r : score.summary) {
+    const ScoreValue &c = score_field(r, "cover"), &n = score_field(r, "noise_mm");
+    if (c.kind == ScoreValue::Kind::text && c.text == cover && score_text(n) == noise) return &r;
+  }
+  return nullptr;
+}
+
+std::string counts(const ScoreRow& r, const char* k, const char* n) {
+  const auto a = score_number(r, k), b = score_number(r, n);
+  return a && b ? format_number("%.0f", *a) + "/" + format_number("%.0f", *b) : "–";
+}
+
+std::string rate_cell(const ScoreRow* r, const char* key, const char* k, const char* n) {
+  if (r == nullptr) return "–";
+  return counts(*r, k, n) + " = " + score_ci(*r, key, "%.1f%%", "%.1f", 100);
+}
+
+namespace {
+
+// The found whose class is wrong: found - class right of found, 1 - class right's rate and its
+// interval turned over.
+std::string wrong_class_cell(const ScoreRow* r) {
+  if (r == nullptr) return "–";
+  const auto found = score_number(*r, "found_any_level"), right = score_number(*r, "class_right_any_level"),
+             v = score_number(*r, "class_accuracy_any_level"),
+             lo = score_number(*r, "class_accuracy_any_level_lo"),
+             hi = score_number(*r, "class_accuracy_any_level_hi");
+  std::string out = found && right
+                        ? format_number("%.0f", *found - *right) + "/" + format_number("%.0f", *found)
+                        : std::string("–");
+  if (!v) return out + " = –";
+  out += " = " + format_number("%.1f%%", 100 * (1 - *v));
+  if (lo && hi)
+    out += " [" + format_number("%.1f", 100 * (1 - *hi)) + ", " + format_number("%.1f", 100 * (1 - *lo)) + "]";
+  return out;
+}
+
+}  // namespace
+
+std::string false_alarm_cell(const ScoreRow* r) {
+  if (r == nullptr) return "–";
+  const auto a = score_number(*r, "fp"), b = score_number(*r, "class_fp");
+  return (a && b ? format_number("%.0f", *a + *b) + " = " : std::string()) +
+         score_ci(*r, "false_alarms_any_level_per_ha", "%.1f", "%.1f", 1);
+}
+
+std::string class_ablation_table(const std::string& rung, const std::vector<AblationRung>& rungs) {
+  std::string md = "| " + rung + " | measure | canopy | ablation |\n|---|---|---|---|\n";
+  const auto row = [](const documents::SceneScore* s, const std::string& cover, const std::string& noise) {
+    return s == nullptr ? nullptr : summary_row(*s, cover, noise);
+  };
+  for (const AblationRung& g : rungs) {
+    const std::string head = "| " + g.label + " | ";
+    for (const char* cover : {"light", "medium", "dense"}) {
+      const ScoreRow* c = row(g.canopy, cover, g.noise);
+      const ScoreRow* b = row(g.ablation, cover, g.noise);
+      if (c == nullptr && b == nullptr) continue;
+      md += head + "recall, " + cover + " | " + rate_cell(c, "recall_any_level", "found_any_level", "true") +
+            " | " + rate_cell(b, "recall_any_level", "found_any_level", "true") + " |\n";
+    }
+    const ScoreRow* c = row(g.canopy, "all", g.noise);
+    const ScoreRow* b = row(g.ablation, "all", g.noise);
+    md += head + "class right (all) | " +
+          rate_cell(c, "class_accuracy_any_level", "class_right_any_level", "found_any_level") + " | " +
+          rate_cell(b, "class_accuracy_any_level", "class_right_any_level", "found_any_level") + " |\n";
+    md += head + "wrong class (all) | " + wrong_class_cell(c) + " | " + wrong_class_cell(b) + " |\n";
+    md += head + "false alarms/ha (all) | " + false_alarm_cell(c) + " | " + false_alarm_cell(b) + " |\n";
+  }
+  return md;
+}
+
 }  // namespace canopy::report

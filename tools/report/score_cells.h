@@ -27,5 +27,33 @@ std::string score_ci(const documents::ScoreRow& row, const std::string& key, con
 // The summary rows over every noise level ("noise_mm" "all"): the covers in the score's order,
 // then the row of every cover ("cover" "all").
 std::vector<const documents::ScoreRow*> cover_rows(const documents::SceneScore& score);
+// The summary row of cover label `cover` (a level, or "all") at noise `noise` ("all", or a level as
+// score_text writes it: "0", "8"); nullptr when the score has none.
+const documents::ScoreRow* summary_row(const documents::SceneScore& score, const std::string& cover,
+                                       const std::string& noise = "all");
+
+// Counts behind a rate: "k/n" of the cells k and n ("–" when either is not a number).
+std::string counts(const documents::ScoreRow& r, const char* k, const char* n);
+// A rate's cell: "k/n = x% [lo, hi]" (the rate `key` with score's interval); "–" for no row.
+std::string rate_cell(const documents::ScoreRow* r, const char* key, const char* k, const char* n);
+// False alarms per ha of a score row with their count: model-level false alarms (fp) + class
+// answers on no vehicle (class_fp), "n = x [lo, hi]"; "–" for no row.
+std::string false_alarm_cell(const documents::ScoreRow* r);
+
+// One rung of a table of an ablation beside canopy: its label (a density level, a noise level),
+// canopy's score and the ablation's on the same candidates, and the noise level of their summary
+// rows to read ("all": over every noise level).
+struct AblationRung {
+  std::string label;
+  const documents::SceneScore* canopy = nullptr;
+  const documents::SceneScore* ablation = nullptr;
+  std::string noise = "all";
+};
+// The table of a classify ablation beside canopy (the density ladder's, the scene experiment's),
+// `rung` its first column's title: per rung, found at either level of each cover's vehicles
+// (light, medium, dense, those either score has), then over all covers class right and the wrong
+// class of the found, and false alarms per ha; each "k/n = rate [lo, hi]" with score's 95%
+// interval (a false alarm count before its rate per ha).
+std::string class_ablation_table(const std::string& rung, const std::vector<AblationRung>& rungs);
 
 }  // namespace canopy::report
