@@ -2,8 +2,13 @@
 // Markdown only renders these; test_report.cpp checks a few rendered rows).
 #include <catch2/catch.hpp>
 
+#include <filesystem>
+#include <fstream>
+
 #include "canopy/common/error.h"
+#include "canopy/formats/pcd.h"
 #include "report/report.h"
+#include "support/cli.h"
 #include "trials.h"
 
 using namespace canopy;
@@ -189,4 +194,34 @@ TEST_CASE("report parameters out of range name their option") {
   p = {};
   p.spurious_share = 1.5;
   CHECK_THROWS_WITH(report::validate(p), Catch::Contains("--spurious-share"));
+}
+
+TEST_CASE("numbers: a rendering's images from its scan, or from its stage log once the scan is gone") {
+  const auto dir = test::fresh_dir("report", "render_views");
+  const std::string scan = (dir / "scan.pcd").string();
+  // No scan, no log: nothing says how many.
+  CHECK(report::render_views(scan) == 0);
+  // The scan: 1 + its largest view_idx (views 0..11 of a 12-view circle, in any order).
+  formats::PointCloud c;
+  c.resize(30);
+  for (const char* f : {"x", "y", "z"}) c.add(f, formats::kFloat32);
+  auto& view = c.add("view_idx", formats::kInt32);
+  for (std::size_t i = 0; i < c.size(); ++i) view[i] = static_cast<double>((7 * i) % 12);
+  formats::write_pcd(c, scan);
+  std::ofstream(scan + ".log") << "rangetrace: render: 3 views x 2 passes\n"
+                                  "rangetrace: wrote 30 points (tank, circle, 3 views) to "
+                               << scan << "\n";
+  CHECK(report::render_views(scan) == 12);  // the scan wins while it is there
+  // The scan deleted after its last reader (KEEP=0): the count rangetrace wrote in its log.
+  std::filesystem::remove(scan);
+  CHECK(report::render_views(scan) == 3);
+  // A log without the line (an older or a failed render): 0, as without a log.
+  std::ofstream(scan + ".log") << "rangetrace: render: 12 views x 2 passes, 512x512 pixels\n";
+  CHECK(report::render_views(scan) == 0);
+  // A scan without view_idx: 0.
+  formats::PointCloud plain;
+  plain.resize(3);
+  for (const char* f : {"x", "y", "z"}) plain.add(f, formats::kFloat32);
+  formats::write_pcd(plain, scan);
+  CHECK(report::render_views(scan) == 0);
 }

@@ -14,7 +14,6 @@
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
 #include "canopy/common/share.h"
-#include "canopy/formats/pcd.h"
 #include "canopy/documents/experiment_manifest.h"
 #include "canopy/documents/scene_score.h"
 #include "canopy/documents/stage_outcome.h"
@@ -44,16 +43,6 @@ std::string parent_dir(const std::string& path) {
 // `path` as seen from directory `from` (the report's links to the scene figures).
 std::string relative_to(const std::string& path, const std::string& from) {
   return std::filesystem::path(path).lexically_proximate(from).generic_string();
-}
-
-// Number of views of a rendering: 1 + the largest view_idx of its scan.
-int count_views(const std::string& scan) {
-  if (!exists(scan)) return 0;
-  const formats::PointCloud c = formats::read_pcd(scan);
-  if (!c.has("view_idx")) return 0;
-  double m = -1;
-  for (double v : c.col("view_idx")) m = std::max(m, v);
-  return static_cast<int>(m) + 1;
 }
 
 // One trial's artifacts, in the directory the manifest names (its stages' outputs by name).
@@ -133,7 +122,7 @@ report::Inputs read_inputs(const documents::ExperimentManifest& m, const std::st
   for (const auto& a : m.ablations) in.ablations.push_back(read_ablation(a));
   for (const auto& s : in.scenes) {
     const auto r = m.renders.find(in.objects.front() + "/" + s);
-    in.render_views[s] = r == m.renders.end() ? 0 : count_views(r->second);
+    in.render_views[s] = r == m.renders.end() ? 0 : report::render_views(r->second);
   }
   in.figures = m.figures;
   return in;

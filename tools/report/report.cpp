@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <regex>
 #include <sstream>
 
 #include <sys/stat.h>
@@ -11,6 +12,7 @@
 #include "canopy/common/stats.h"
 #include "canopy/documents/areas.h"
 #include "canopy/formats/labels.h"
+#include "canopy/formats/pcd.h"
 
 namespace canopy::report {
 namespace {
@@ -349,6 +351,27 @@ Numbers compute(const Inputs& in, const Params& p) {
   n.verify = summarize_verify(in);
   count_times(in, n);
   return n;
+}
+
+int render_views(const std::string& scan) {
+  struct stat st {};
+  if (::stat(scan.c_str(), &st) == 0) {
+    const formats::PointCloud c = formats::read_pcd(scan);
+    if (!c.has("view_idx")) return 0;
+    double m = -1;
+    for (double v : c.col("view_idx")) m = std::max(m, v);
+    return static_cast<int>(m) + 1;
+  }
+  const std::string log = scan + ".log";
+  if (::stat(log.c_str(), &st) != 0) return 0;
+  static const std::regex wrote(R"(rangetrace: wrote \d+ points \([^()]*, (\d+) views\))");
+  std::istringstream in(common::read_file(log));
+  int views = 0;
+  for (std::string line; std::getline(in, line);) {
+    std::smatch m;
+    if (std::regex_search(line, m, wrote)) views = std::stoi(m[1].str());
+  }
+  return views;
 }
 
 Outputs run(const Params& p, const Inputs& in) { return render(in, p, compute(in, p)); }

@@ -222,6 +222,12 @@ struct Numbers {
 
 Numbers compute(const Inputs& in, const Params& p);
 
+// The images of one rendering (the time table's "(N images)"): the scan's highest view_idx + 1;
+// when the scan is gone (a scan is deleted after its last reader unless KEEP=1, so a report made
+// again later finds none), the view count rangetrace wrote in the scan's stage log
+// ("rangetrace: wrote N points (model, scene, V views) to ..."); 0 when neither says.
+int render_views(const std::string& scan);
+
 struct Outputs {
   std::string markdown;
   std::string cases_csv, scores_csv, times_csv;
