@@ -13,6 +13,7 @@
 #include "canopy/documents/match_result.h"
 #include "canopy/documents/segment_graph.h"
 #include "family_tables.h"
+#include "one_trial.h"
 #include "report/families_section.h"
 #include "support/cli.h"
 
@@ -111,44 +112,26 @@ TEST_CASE("families section: malformed or inconsistent tables are DataErrors nam
 TEST_CASE("report --families adds the section; without it the report has none; a missing table is exit 1") {
   namespace fs = std::filesystem;
   const fs::path dir = test::fresh_dir("report", "families-cli");
-  const fs::path trial = dir / "out" / "sedan" / "circle" / "noise-0";
-  fs::create_directories(trial);
-  documents::MatchResult m;
-  m.error_form = "bounded";
-  documents::ModelScore s;
-  s.model = "sedan";
-  s.rank = 1;
-  s.score = 0.8;
-  m.models.push_back(s);
-  documents::write_match_result(m, (trial / "match.json").string());
-  documents::write_segment_graph(documents::SegmentGraph{}, (trial / "segments.json").string());
+  documents::ExperimentManifest manifest = report::testing::one_trial_manifest(dir);
   fs::create_directories(dir / "families");
   for (const char* d : {"with", "without", "missing"}) fs::create_directories(dir / d);
   std::ofstream(dir / "families" / "confusion.csv") << kConfusion;
   std::ofstream(dir / "families" / "accuracy.csv") << kAccuracy;
-  documents::ExperimentManifest manifest;
-  manifest.trials.push_back({"sedan", "circle", 0, trial.string()});
   manifest.figures = {"figures/grid-circle.png", "figures/scores.png", "pictures/sedan.png"};
   std::ofstream(dir / "experiment.txt") << documents::write_experiment_manifest(manifest);
   const std::string report =
       std::string(CANOPY_BIN_DIR) + "/report --manifest " + (dir / "experiment.txt").string() + " --results ";
-  auto read = [](const fs::path& p) {
-    std::ifstream f(p);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
-  };
   std::string err;
   REQUIRE(test::sh(report + (dir / "with").string() + " --families " + (dir / "families").string(),
                    dir / "err1.txt", &err) == 0);
-  const std::string with = read(dir / "with" / "report.md");
+  const std::string with = test::read_text(dir / "with" / "report.md");
   CHECK(with.find("**Class accuracy: 9/12 = 75.0% [46.8, 91.1]**") != std::string::npos);
   CHECK(with.find("| suv | 1 | **2** | 0 | 1 |") != std::string::npos);
   // The report links the manifest's figures, and no other.
   CHECK(with.find("pictures/sedan.png") != std::string::npos);
   CHECK(with.find("tank-circle") == std::string::npos);
   REQUIRE(test::sh(report + (dir / "without").string(), dir / "err2.txt", &err) == 0);
-  const std::string without = read(dir / "without" / "report.md");
+  const std::string without = test::read_text(dir / "without" / "report.md");
   CHECK(without.find("Vehicle families") == std::string::npos);
   // The report without the section is the report with it, up to the section.
   CHECK(with.substr(0, without.size()) == without);

@@ -13,6 +13,7 @@
 #include "canopy/documents/match_result.h"
 #include "canopy/documents/segment_graph.h"
 #include "canopy/documents/scene_score.h"
+#include "one_trial.h"
 #include "report/openset_section.h"
 #include "support/cli.h"
 
@@ -206,20 +207,7 @@ TEST_CASE("report --openset with both classify ablations: canopy, the joint abla
     test::write_file(dir / name / "score.json", json);
     test::write_file(dir / name / "crops" / "score.json", json);
   }
-  // The report's manifest: one thesis trial (the report needs one), its match and segments.
-  const fs::path trial = dir / "out" / "sedan" / "circle" / "noise-0";
-  fs::create_directories(trial);
-  documents::MatchResult m;
-  m.error_form = "bounded";
-  documents::ModelScore top;
-  top.model = "sedan";
-  top.rank = 1;
-  top.score = 0.8;
-  m.models.push_back(top);
-  documents::write_match_result(m, (trial / "match.json").string());
-  documents::write_segment_graph(documents::SegmentGraph{}, (trial / "segments.json").string());
-  documents::ExperimentManifest manifest;
-  manifest.trials.push_back({"sedan", "circle", 0, trial.string()});
+  const documents::ExperimentManifest manifest = report::testing::one_trial_manifest(dir);
   std::ofstream(dir / "experiment.txt") << documents::write_experiment_manifest(manifest);
   const auto path = [&](const std::string& name, bool crops) {
     return (dir / name / (crops ? "crops/score.json" : "score.json")).string();
@@ -231,17 +219,11 @@ TEST_CASE("report --openset with both classify ablations: canopy, the joint abla
       " --openset-ablation " + path("both-off", false) + " --openset-crops-ablation " + path("both-off", true);
   const std::string envelope = " --openset-envelope-ablation " + path("envelope-off", false) +
                                " --openset-crops-envelope-ablation " + path("envelope-off", true);
-  const auto read = [](const fs::path& p) {
-    std::ifstream f(p);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
-  };
   std::string err;
   fs::create_directories(dir / "res");
   REQUIRE(test::sh(report + both + envelope + " --results " + (dir / "res").string(), dir / "err1.txt",
                    &err) == 0);
-  const std::string md = read(dir / "res" / "report.md");
+  const std::string md = test::read_text(dir / "res" / "report.md");
   const auto section = md.find("## Open set: unseen vehicles");
   const auto joint = md.find("### Ablation: every classify family, no class envelope");
   const auto alone = md.find("### Ablation: no class envelope, the modelbase's classes only kept");
@@ -264,7 +246,7 @@ TEST_CASE("report --openset with both classify ablations: canopy, the joint abla
   // such heading.
   fs::create_directories(dir / "res-joint");
   REQUIRE(test::sh(report + both + " --results " + (dir / "res-joint").string(), dir / "err2.txt", &err) == 0);
-  const std::string joint_only = read(dir / "res-joint" / "report.md");
+  const std::string joint_only = test::read_text(dir / "res-joint" / "report.md");
   CHECK(joint_only.find("the modelbase's classes only kept") == std::string::npos);
   CHECK(joint_only.size() < md.size());
   CHECK(md.substr(0, joint_only.size()) == joint_only);

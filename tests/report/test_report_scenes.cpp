@@ -12,6 +12,7 @@
 #include "canopy/documents/match_result.h"
 #include "canopy/documents/scene_score.h"
 #include "canopy/documents/segment_graph.h"
+#include "one_trial.h"
 #include "report/report.h"
 #include "support/cli.h"
 
@@ -417,35 +418,16 @@ TEST_CASE(
   const fs::path dir = test::fresh_dir("report", "scene-classify-ablations");
   test::write_file(dir / "res" / "scenes" / "score.json", ablation_score_json(kCanopy));
   test::write_file(dir / "res" / "scenes" / "class-ablation" / "score.json", ablation_score_json(kFloor));
-  // The report's manifest: one thesis trial (the report needs one), its match and segments.
-  const fs::path trial = dir / "out" / "sedan" / "circle" / "noise-0";
-  fs::create_directories(trial);
-  documents::MatchResult m;
-  m.error_form = "bounded";
-  documents::ModelScore top;
-  top.model = "sedan";
-  top.rank = 1;
-  top.score = 0.8;
-  m.models.push_back(top);
-  documents::write_match_result(m, (trial / "match.json").string());
-  documents::write_segment_graph(documents::SegmentGraph{}, (trial / "segments.json").string());
-  documents::ExperimentManifest manifest;
-  manifest.trials.push_back({"sedan", "circle", 0, trial.string()});
+  const documents::ExperimentManifest manifest = report::testing::one_trial_manifest(dir);
   test::write_file(dir / "experiment.txt", documents::write_experiment_manifest(manifest));
   const std::string abl = (dir / "res" / "scenes" / "class-ablation" / "score.json").string();
   const std::string report = std::string(CANOPY_BIN_DIR) + "/report --manifest " +
                              (dir / "experiment.txt").string() + " --results " + (dir / "res").string();
   const std::string scene = " --tile-score " + (dir / "res" / "scenes" / "score.json").string();
   const std::string first = " --tile-classify-ablation " + abl + " --tile-classify-ablation-config floor.ini";
-  const auto read = [](const fs::path& p) {
-    std::ifstream f(p);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
-  };
   std::string err;
   REQUIRE(test::sh(report + scene + first, dir / "err1.txt", &err) == 0);
-  const std::string md = read(dir / "res" / "report.md");
+  const std::string md = test::read_text(dir / "res" / "report.md");
   CHECK(md.find("**classify's ablation**, the candidates classified with `floor.ini` (" + abl + "):") !=
         std::string::npos);
   CHECK(md.find("| all | false alarms/ha (all) | 3 = 16.7 [3.4, 48.7] | 5 = 27.8 [9.0, 64.8] |") !=
@@ -453,7 +435,7 @@ TEST_CASE(
   CHECK(md.find("**classify's second ablation**: not run") != std::string::npos);
   // Without the files: both said not to have run.
   REQUIRE(test::sh(report + scene, dir / "err2.txt", &err) == 0);
-  const std::string none = read(dir / "res" / "report.md");
+  const std::string none = test::read_text(dir / "res" / "report.md");
   CHECK(none.find("**classify's ablation**: not run") != std::string::npos);
   CHECK(none.find("| noise (mm) | measure | canopy | ablation |") == std::string::npos);
   // Usage (exit 2, no report): a score without its parameter file, a parameter file without its
