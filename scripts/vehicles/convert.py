@@ -14,7 +14,9 @@ transform of each mesh is one row of transforms.csv:
                                     parts are joined with '|'; a part written FILE@x;y;z is
                                     placed translated by (x, y, z) in the file's own units and
                                     axes, before scale/up/yaw: how a source's wheel mesh is put
-                                    at each spindle position of a chassis)
+                                    at each spindle position of a chassis); FILE@x;y;z;rx first
+                                    turns the part by rx degrees about its x axis (a wheel mesh
+                                    whose axle is its own z axis, as URDF's rpy="-pi/2 0 0")
   scale                             multiplies the file's coordinates (after COLLADA's
                                     <unit meter>) to give metres
   up                                the file's up axis: z, y (right-handed y up: (x,y,z) ->
@@ -354,8 +356,8 @@ def convert(row, mirror):
     for part in row["path"].split("|"):
         path, _, at = part.partition("@")
         offset = [float(t) for t in at.split(";")] if at else [0.0, 0.0, 0.0]
-        if len(offset) != 3:
-            raise ValueError("%s: part %r: the offset after @ must be x;y;z" % (row["name"], part))
+        if len(offset) not in (3, 4):
+            raise ValueError("%s: part %r: the offset after @ must be x;y;z or x;y;z;rx" % (row["name"], part))
         ext = path.rsplit(".", 1)[1].lower()
         data = git_show(mirror, row["repo"], row["commit"], path)
         if ext == "gltf":
@@ -364,6 +366,9 @@ def convert(row, mirror):
                                                          (folder + "/" if folder else "") + uri))
         else:
             v, f = READERS[ext](data)
+        if len(offset) == 4:
+            c, s = math.cos(math.radians(offset[3])), math.sin(math.radians(offset[3]))
+            v = [(x, c * y - s * z, s * y + c * z) for x, y, z in v]
         b = len(verts)
         verts += [(x + offset[0], y + offset[1], z + offset[2]) for x, y, z in v]
         faces += [(a + b, c + b, d + b) for a, c, d in f]
