@@ -14,7 +14,12 @@ transform of each mesh is one row of transforms.csv:
                                     parts are joined with '|'; a part written FILE@x;y;z is
                                     placed translated by (x, y, z) in the file's own units and
                                     axes, before scale/up/yaw: how a source's wheel mesh is put
-                                    at each spindle position of a chassis)
+                                    at each spindle position of a chassis); FILE@x;y;z;rx first
+                                    turns the part by rx degrees about its x axis (a wheel mesh
+                                    whose axle is its own z axis, as URDF's rpy="-pi/2 0 0"), and
+                                    FILE@x;y;z;rx;ry then by ry degrees about its y axis (a track
+                                    shoe laid on its belt, scripts/vehicles/track_belt.py); both
+                                    right-handed, before the translation
   scale                             multiplies the file's coordinates (after COLLADA's
                                     <unit meter>) to give metres
   up                                the file's up axis: z, y (right-handed y up: (x,y,z) ->
@@ -349,21 +354,34 @@ def ply_bytes(verts, faces, comments):
     return bytes(out)
 
 
+def read_part(row, mirror, path, ext):
+    data = git_show(mirror, row["repo"], row["commit"], path)
+    if ext == "gltf":
+        folder = os.path.dirname(path)
+        return read_gltf(data, lambda uri: git_show(mirror, row["repo"], row["commit"],
+                                                     (folder + "/" if folder else "") + uri))
+    return READERS[ext](data)
+
+
 def convert(row, mirror):
-    verts, faces = [], []
+    verts, faces, cache = [], [], {}
     for part in row["path"].split("|"):
         path, _, at = part.partition("@")
         offset = [float(t) for t in at.split(";")] if at else [0.0, 0.0, 0.0]
-        if len(offset) != 3:
-            raise ValueError("%s: part %r: the offset after @ must be x;y;z" % (row["name"], part))
+        if len(offset) not in (3, 4, 5):
+            raise ValueError("%s: part %r: the offset after @ must be x;y;z, x;y;z;rx or x;y;z;rx;ry"
+                             % (row["name"], part))
         ext = path.rsplit(".", 1)[1].lower()
-        data = git_show(mirror, row["repo"], row["commit"], path)
-        if ext == "gltf":
-            folder = os.path.dirname(path)
-            v, f = read_gltf(data, lambda uri: git_show(mirror, row["repo"], row["commit"],
-                                                         (folder + "/" if folder else "") + uri))
+        if path in cache:
+            v, f = cache[path]
         else:
-            v, f = READERS[ext](data)
+            v, f = cache[path] = read_part(row, mirror, path, ext)
+        if len(offset) >= 4:
+            c, s = math.cos(math.radians(offset[3])), math.sin(math.radians(offset[3]))
+            v = [(x, c * y - s * z, s * y + c * z) for x, y, z in v]
+        if len(offset) == 5:
+            c, s = math.cos(math.radians(offset[4])), math.sin(math.radians(offset[4]))
+            v = [(c * x + s * z, y, -s * x + c * z) for x, y, z in v]
         b = len(verts)
         verts += [(x + offset[0], y + offset[1], z + offset[2]) for x, y, z in v]
         faces += [(a + b, c + b, d + b) for a, c, d in f]
