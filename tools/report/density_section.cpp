@@ -53,13 +53,8 @@ std::string show(const ScoreRow& r, const Metric& m) {
                                 : score_ci(r, m.key, "%.1f", "%.1f", 1);
 }
 
-// A score's summary row of `cover` (light, medium, dense or all); nullptr when it has none.
-const ScoreRow* cover_row(const documents::SceneScore& score, const std::string& cover) {
-  return summary_row(score, cover);
-}
-
 const ScoreRow* row_of(const DensityLevel& l, const std::string& cover) {
-  return l.scored ? cover_row(l.score, cover) : nullptr;
+  return l.scored ? summary_row(l.score, cover) : nullptr;
 }
 
 // classify's ablation (`second`: its second ablation) beside canopy on a ladder's levels where it
@@ -97,7 +92,7 @@ void verify_ablation_table(std::ostringstream& md, const std::vector<DensityLeve
                            const std::vector<DensityLevel>& sensor) {
   std::vector<const DensityLevel*> with;
   const auto answers = [](const documents::SceneScore& s) {
-    const ScoreRow* r = cover_row(s, "all");
+    const ScoreRow* r = summary_row(s, "all");
     const auto d = r == nullptr ? std::nullopt : score_number(*r, "detections");
     return d.value_or(0);
   };
@@ -117,7 +112,7 @@ void verify_ablation_table(std::ostringstream& md, const std::vector<DensityLeve
     const std::string head = "| " + (l->sensor.empty() ? std::string("pixel") : l->sensor) + " | " +
                              format_number("%g", l->level) + " | ";
     const ScoreRow* c = row_of(*l, "all");
-    const ScoreRow* b = cover_row(l->verify_ablation, "all");
+    const ScoreRow* b = summary_row(l->verify_ablation, "all");
     md << head << "model answers, identified | " << rate_cell(c, "identification", "identified", "detections")
        << " | " << rate_cell(b, "identification", "identified", "detections") << " |\n";
     md << head << "found (all covers) | " << rate_cell(c, "recall_any_level", "found_any_level", "true")
@@ -127,6 +122,13 @@ void verify_ablation_table(std::ostringstream& md, const std::vector<DensityLeve
        << rate_cell(b, "class_accuracy_any_level", "class_right_any_level", "found_any_level") << " |\n";
     md << head << "false alarms/ha (all) | " << false_alarm_cell(c) << " | " << false_alarm_cell(b) << " |\n";
   }
+}
+
+// An ablation's score.json into `score` when the manifest names one and it has run; false when not.
+bool read_ablation_score(const std::string& path, documents::SceneScore& score) {
+  if (path.empty() || !exists(path)) return false;
+  score = documents::read_scene_score_file(path);
+  return true;
 }
 
 }  // namespace
@@ -140,20 +142,11 @@ std::vector<DensityLevel> read_density_levels(const std::vector<documents::Manif
     l.sensor = m.sensor;
     l.score_path = m.score;
     l.ablation_config = m.ablation_config;
-    if (!m.ablation_score.empty() && exists(m.ablation_score)) {
-      l.ablation = documents::read_scene_score_file(m.ablation_score);
-      l.ablation_scored = true;
-    }
+    l.ablation_scored = read_ablation_score(m.ablation_score, l.ablation);
     l.ablation2_config = m.ablation2_config;
-    if (!m.ablation2_score.empty() && exists(m.ablation2_score)) {
-      l.ablation2 = documents::read_scene_score_file(m.ablation2_score);
-      l.ablation2_scored = true;
-    }
+    l.ablation2_scored = read_ablation_score(m.ablation2_score, l.ablation2);
     l.verify_change = m.verify_change;
-    if (!m.verify_score.empty() && exists(m.verify_score)) {
-      l.verify_ablation = documents::read_scene_score_file(m.verify_score);
-      l.verify_scored = true;
-    }
+    l.verify_scored = read_ablation_score(m.verify_score, l.verify_ablation);
     if (exists(m.score)) {
       l.score = documents::read_scene_score_file(m.score);
       l.scored = true;

@@ -158,6 +158,16 @@ std::string openset_ablation_section(std::string (*markdown)(const documents::Sc
 struct ClassifyAblationArgs {
   std::string score, config;
 };
+// The option of the scene experiment's i-th classify ablation (0: the first, 1: the second).
+std::string classify_ablation_option(std::size_t i) {
+  return i == 0 ? "--tile-classify-ablation" : "--tile-classify-ablation-2";
+}
+
+// An option given without the one it builds on: a usage error naming both.
+void needs(const std::string& given, const std::string& given_option, const std::string& base,
+           const std::string& base_option) {
+  if (base.empty() && !given.empty()) throw common::UsageError(given_option + " needs " + base_option);
+}
 
 // The scene experiment's section (--tile-score); its times.csv goes beside score.json.
 std::string scenes_section(const std::string& tile_score, const std::string& collect_ablation,
@@ -254,7 +264,7 @@ void bind(common::Tool& tool, Sources& src, report::Params& p) {
            "the scene experiment's collect ablation's score.json (mk/scenes.mk SCENE_COLLECT_ABLATION: "
            "collect --coarse-none-below 0, one none map): its reliability table beside canopy's");
   for (std::size_t i = 0; i < src.tile_classify_ablations.size(); ++i) {
-    const std::string opt = i == 0 ? "--tile-classify-ablation" : "--tile-classify-ablation-2";
+    const std::string opt = classify_ablation_option(i);
     const std::string var = i == 0 ? "SCENES_CLASSIFY_ABLATION" : "SCENES_CLASSIFY_ABLATION_2";
     tool.add(
         opt, &src.tile_classify_ablations[i].score,
@@ -328,27 +338,22 @@ int main(int argc, char** argv) {
     if (!src.tile_score.empty()) outputs.add(scene_dir + "/times.csv", "--tile-score");
     if (src.thesis.empty()) src.thesis = common::share_dir() + "/thesis/results.csv";
     if (src.real_timeout < 0) throw common::UsageError("--real-timeout: must be >= 0 s");
-    if (src.tile_score.empty() && !src.tile_collect_ablation.empty())
-      throw common::UsageError("--tile-collect-ablation needs --tile-score");
+    needs(src.tile_collect_ablation, "--tile-collect-ablation", src.tile_score, "--tile-score");
     for (std::size_t i = 0; i < src.tile_classify_ablations.size(); ++i) {
-      const std::string opt = i == 0 ? "--tile-classify-ablation" : "--tile-classify-ablation-2";
+      const std::string opt = classify_ablation_option(i);
       const ClassifyAblationArgs& a = src.tile_classify_ablations[i];
-      if (src.tile_score.empty() && !a.score.empty()) throw common::UsageError(opt + " needs --tile-score");
+      needs(a.score, opt, src.tile_score, "--tile-score");
       if (a.score.empty() != a.config.empty())
         throw common::UsageError(opt + " and " + opt + "-config go together");
     }
-    if (src.openset.empty() && !src.openset_ablation.empty())
-      throw common::UsageError("--openset-ablation needs --openset");
-    if (src.openset_ablation.empty() && !src.openset_crops_ablation.empty())
-      throw common::UsageError("--openset-crops-ablation needs --openset-ablation");
-    if (src.openset.empty() && !src.openset_envelope_ablation.empty())
-      throw common::UsageError("--openset-envelope-ablation needs --openset");
-    if (src.openset_envelope_ablation.empty() && !src.openset_crops_envelope_ablation.empty())
-      throw common::UsageError("--openset-crops-envelope-ablation needs --openset-envelope-ablation");
-    if (src.openset.empty() && !src.openset_collect_ablation.empty())
-      throw common::UsageError("--openset-collect-ablation needs --openset");
-    if (src.openset_collect_ablation.empty() && !src.openset_crops_collect_ablation.empty())
-      throw common::UsageError("--openset-crops-collect-ablation needs --openset-collect-ablation");
+    needs(src.openset_ablation, "--openset-ablation", src.openset, "--openset");
+    needs(src.openset_crops_ablation, "--openset-crops-ablation", src.openset_ablation, "--openset-ablation");
+    needs(src.openset_envelope_ablation, "--openset-envelope-ablation", src.openset, "--openset");
+    needs(src.openset_crops_envelope_ablation, "--openset-crops-envelope-ablation",
+          src.openset_envelope_ablation, "--openset-envelope-ablation");
+    needs(src.openset_collect_ablation, "--openset-collect-ablation", src.openset, "--openset");
+    needs(src.openset_crops_collect_ablation, "--openset-crops-collect-ablation",
+          src.openset_collect_ablation, "--openset-collect-ablation");
     common::log::Phase phase("read");
     const documents::ExperimentManifest manifest = documents::read_experiment_manifest(src.manifest);
     const report::Inputs in = read_inputs(manifest, src.thesis);
