@@ -25,18 +25,19 @@ translated.
 import argparse
 import json
 import math
+import os
 import re
-import subprocess
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from convert import git_show  # noqa: E402  (the same mirror layout as the converter's)
 
 REPO = "projectchrono/chrono"
 BASE = "data/vehicle/"
 
 
 def show(mirror, commit, path):
-    gitdir = mirror + "/" + REPO.replace("/", "+") + "/repo"
-    text = subprocess.run(["git", "--git-dir", gitdir, "show", commit + ":" + BASE + path],
-                          check=True, capture_output=True, text=True).stdout
+    text = git_show(mirror, REPO, commit, BASE + path).decode()
     text = re.sub(r"//[^\n]*", "", text)   # Chrono's JSON files carry // comments
     return json.loads(text)
 
