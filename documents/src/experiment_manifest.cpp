@@ -76,6 +76,11 @@ struct Parser {
     return rungs.back();
   }
 
+  // A density or density-sensor record's optional classify ablation (its words 4 and 5).
+  static ManifestRungAblation classify_ablation(const std::vector<std::string>& w) {
+    return w.size() == 6 ? ManifestRungAblation{w[4], w[5]} : ManifestRungAblation{};
+  }
+
   ManifestTrial trial(const std::vector<std::string>& w, std::size_t at) const {
     return {word(w[at], "object"), word(w[at + 1], "scene"), noise(w[at + 2]), w[at + 3]};
   }
@@ -133,25 +138,22 @@ struct Parser {
     } else if (kind == "density-verify") {
       expect(w, 5, 5, "density-verify LADDER LEVEL CHANGE SCORE");
       ManifestDensity& rung = rung_of(w);
-      if (!rung.verify_score.empty()) fail("a second density-verify " + w[1] + " " + w[2]);
+      if (!rung.verify.score.empty()) fail("a second density-verify " + w[1] + " " + w[2]);
       std::string change = w[3];
       std::replace(change.begin(), change.end(), '+', ' ');
-      rung.verify_change = change;
-      rung.verify_score = w[4];
+      rung.verify = {change, w[4]};
     } else if (kind == "density-classify") {
       expect(w, 5, 5, "density-classify LADDER LEVEL CONFIG SCORE");
       ManifestDensity& rung = rung_of(w);
-      if (!rung.ablation2_score.empty()) fail("a second density-classify " + w[1] + " " + w[2]);
-      rung.ablation2_config = w[3];
-      rung.ablation2_score = w[4];
+      if (!rung.classify2.score.empty()) fail("a second density-classify " + w[1] + " " + w[2]);
+      rung.classify2 = {w[3], w[4]};
     } else if (kind == "density") {
       expect(w, 4, 6, "density LEVEL SPACING SCORE [ABLATION_CONFIG ABLATION_SCORE]");
       if (w.size() == 5) fail("density: an ablation needs its parameter file and its score.json");
       const double level = positive(w[1], "density level"), spacing = positive(w[2], "pixel spacing");
       if (!m.density.empty() && level <= m.density.back().level)
         fail("density level " + w[1] + " does not rise above the one before it");
-      m.density.push_back(
-          {level, spacing, w[3], "", w.size() == 6 ? w[4] : "", w.size() == 6 ? w[5] : "", "", ""});
+      m.density.push_back({level, spacing, w[3], "", classify_ablation(w)});
     } else if (kind == "density-sensor") {
       expect(w, 4, 6, "density-sensor LEVEL PRESET SCORE [ABLATION_CONFIG ABLATION_SCORE]");
       if (w.size() == 5) fail("density-sensor: an ablation needs its parameter file and its score.json");
@@ -162,8 +164,7 @@ struct Parser {
       if (!m.density_sensor.empty() && preset != m.density_sensor.back().sensor)
         fail("density-sensor preset " + preset + " is not the one before it (" +
              m.density_sensor.back().sensor + "): one sensor ladder");
-      m.density_sensor.push_back(
-          {level, 0, w[3], preset, w.size() == 6 ? w[4] : "", w.size() == 6 ? w[5] : "", "", ""});
+      m.density_sensor.push_back({level, 0, w[3], preset, classify_ablation(w)});
     } else {
       fail("unknown record '" + kind +
            "' (trial, model, render, ablation, ablation-trial, figure, real, real-ablation, density, "
@@ -255,26 +256,26 @@ std::string write_experiment_manifest(const ExperimentManifest& m) {
       out << "real-ablation " << r.name << ' ' << r.ablation_dir << ' ' << r.ablation_config << '\n';
   }
   const auto verify = [&out](const std::string& ladder, const ManifestDensity& d) {
-    if (d.verify_score.empty()) return;
-    std::string change = d.verify_change;
+    if (d.verify.score.empty()) return;
+    std::string change = d.verify.change;
     std::replace(change.begin(), change.end(), ' ', '+');
-    out << "density-verify " << ladder << ' ' << d.level << ' ' << change << ' ' << d.verify_score << '\n';
+    out << "density-verify " << ladder << ' ' << d.level << ' ' << change << ' ' << d.verify.score << '\n';
   };
   const auto classify2 = [&out](const std::string& ladder, const ManifestDensity& d) {
-    if (d.ablation2_score.empty()) return;
-    out << "density-classify " << ladder << ' ' << d.level << ' ' << d.ablation2_config << ' '
-        << d.ablation2_score << '\n';
+    if (d.classify2.score.empty()) return;
+    out << "density-classify " << ladder << ' ' << d.level << ' ' << d.classify2.change << ' ' << d.classify2.score
+        << '\n';
   };
   out << std::setprecision(10);
   for (const auto& d : m.density) {
     out << "density " << d.level << ' ' << d.spacing << ' ' << d.score
-        << (d.ablation_score.empty() ? "" : " " + d.ablation_config + " " + d.ablation_score) << '\n';
+        << (d.classify.score.empty() ? "" : " " + d.classify.change + " " + d.classify.score) << '\n';
     verify("pixel", d);
     classify2("pixel", d);
   }
   for (const auto& d : m.density_sensor) {
     out << "density-sensor " << d.level << ' ' << d.sensor << ' ' << d.score
-        << (d.ablation_score.empty() ? "" : " " + d.ablation_config + " " + d.ablation_score) << '\n';
+        << (d.classify.score.empty() ? "" : " " + d.classify.change + " " + d.classify.score) << '\n';
     verify(d.sensor, d);
     classify2(d.sensor, d);
   }

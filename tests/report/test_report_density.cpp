@@ -234,14 +234,14 @@ TEST_CASE(
   // classify's ablation on 25 (scored) and 50 (named, not run): a table for 25 alone, canopy beside
   // the ablation per cover, class right and false alarms with their counts.
   level(root, "a25", 28, 20, rows(0.7, 0.4, 0.9, 2.5, 7, 1, 1));
-  sm[1].ablation_config = "bench/density/classify-sim-late-0.35.ini";
-  sm[1].ablation_score = (root / "res/a25/score.json").string();
-  sm[2].ablation_config = sm[1].ablation_config;
-  sm[2].ablation_score = (root / "res/a50/score.json").string();  // not run
+  sm[1].classify.change = "bench/density/classify-sim-late-0.35.ini";
+  sm[1].classify.score = (root / "res/a25/score.json").string();
+  sm[2].classify.change = sm[1].classify.change;
+  sm[2].classify.score = (root / "res/a50/score.json").string();  // not run
   const auto with = report::read_density_levels(sm);
-  CHECK(!with[0].ablation_scored);
-  CHECK(with[1].ablation_scored);
-  CHECK(!with[2].ablation_scored);
+  CHECK(!with[0].classify.scored);
+  CHECK(with[1].classify.scored);
+  CHECK(!with[2].classify.scored);
   const std::string ma = report::density_markdown(levels, {}, with);
   CHECK(ma.find("**classify's ablation on the sensor ladder** (the same candidates classified with "
                 "`bench/density/classify-sim-late-0.35.ini`") != std::string::npos);
@@ -287,18 +287,18 @@ TEST_CASE("density ladder: verify's ablation beside canopy on the rungs with a m
   // Without the ablation's records: no table.
   CHECK(report::density_markdown(report::read_density_levels(pixel), {}, report::read_density_levels(sensor))
             .find("verify's ablation") == std::string::npos);
-  pixel[0].verify_change = pixel[1].verify_change = pixel[2].verify_change = "--seen-spacing=0";
-  pixel[0].verify_score = (root / "res/v25/score.json").string();
-  pixel[1].verify_score = (root / "res/v100/score.json").string();
-  pixel[2].verify_score = (root / "res/v200/score.json").string();  // not run
-  sensor[0].verify_change = "--seen-spacing=0";
-  sensor[0].verify_score = (root / "res/w50/score.json").string();
+  pixel[0].verify.change = pixel[1].verify.change = pixel[2].verify.change = "--seen-spacing=0";
+  pixel[0].verify.score = (root / "res/v25/score.json").string();
+  pixel[1].verify.score = (root / "res/v100/score.json").string();
+  pixel[2].verify.score = (root / "res/v200/score.json").string();  // not run
+  sensor[0].verify.change = "--seen-spacing=0";
+  sensor[0].verify.score = (root / "res/w50/score.json").string();
   const auto levels = report::read_density_levels(pixel);
   const auto sens = report::read_density_levels(sensor);
-  CHECK(levels[0].verify_scored);
-  CHECK(levels[1].verify_scored);
-  CHECK(!levels[2].verify_scored);
-  CHECK(levels[1].verify_change == "--seen-spacing=0");
+  CHECK(levels[0].verify.scored);
+  CHECK(levels[1].verify.scored);
+  CHECK(!levels[2].verify.scored);
+  CHECK(levels[1].verify.change == "--seen-spacing=0");
   const std::string md = report::density_markdown(levels, {}, sens);
   CHECK(md.find("**verify's ablation on the density ladder** (the same model-level candidates verified again "
                 "with `--seen-spacing=0`") != std::string::npos);
@@ -322,8 +322,8 @@ TEST_CASE("density ladder: verify's ablation beside canopy on the rungs with a m
   CHECK(md.find("classify's ablation") == std::string::npos);
 
   // classify's ablation on a pixel rung (the density record's ablation): its own table.
-  pixel[1].ablation_config = "bench/density/classify-sim-floor-100.ini";
-  pixel[1].ablation_score = (root / "res/s50/score.json").string();
+  pixel[1].classify.change = "bench/density/classify-sim-floor-100.ini";
+  pixel[1].classify.score = (root / "res/s50/score.json").string();
   const std::string mc = report::density_markdown(report::read_density_levels(pixel), {}, sens);
   CHECK(mc.find("**classify's ablation on the density ladder** (the same candidates classified with "
                 "`bench/density/classify-sim-floor-100.ini`") != std::string::npos);
@@ -338,13 +338,13 @@ TEST_CASE("density ladder: verify's ablation beside canopy on the rungs with a m
 
   // classify's second ablation on the same rung (density-classify): a table of its own, after the
   // first's, with its own file and numbers; the first's table unchanged.
-  pixel[1].ablation2_config = "bench/density/classify-sim-shoulder-0.ini";
-  pixel[1].ablation2_score = (root / "res/s50/score.json").string();
-  pixel[0].ablation2_config = "bench/density/classify-sim-shoulder-0.ini";
-  pixel[0].ablation2_score = (root / "res/missing/score.json").string();  // not run: no row
+  pixel[1].classify2.change = "bench/density/classify-sim-shoulder-0.ini";
+  pixel[1].classify2.score = (root / "res/s50/score.json").string();
+  pixel[0].classify2.change = "bench/density/classify-sim-shoulder-0.ini";
+  pixel[0].classify2.score = (root / "res/missing/score.json").string();  // not run: no row
   const std::vector<report::DensityLevel> l2 = report::read_density_levels(pixel);
-  CHECK(l2[1].ablation2_scored);
-  CHECK(!l2[0].ablation2_scored);
+  CHECK(l2[1].classify2.scored);
+  CHECK(!l2[0].classify2.scored);
   const std::string m2 = report::density_markdown(l2, {}, sens);
   const auto first = m2.find("**classify's ablation on the density ladder**");
   const auto second = m2.find(

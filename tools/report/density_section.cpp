@@ -63,25 +63,22 @@ const ScoreRow* row_of(const DensityLevel& l, const std::string& cover) {
 // `ladder`: "the density ladder" or "the sensor ladder".
 void ablation_table(std::ostringstream& md, const std::vector<DensityLevel>& rungs, const std::string& ladder,
                     bool second = false) {
-  const auto scored = [second](const DensityLevel& s) {
-    return second ? s.ablation2_scored : s.ablation_scored;
-  };
-  const auto abl = [second](const DensityLevel& s) -> const documents::SceneScore& {
-    return second ? s.ablation2 : s.ablation;
+  const auto abl = [second](const DensityLevel& s) -> const DensityLevel::Ablation& {
+    return second ? s.classify2 : s.classify;
   };
   std::vector<const DensityLevel*> with;
   for (const DensityLevel& s : rungs)
-    if (s.scored && scored(s)) with.push_back(&s);
+    if (s.scored && abl(s).scored) with.push_back(&s);
   if (with.empty()) return;
   md << "\n**classify's " << (second ? "second ablation" : "ablation") << " on " << ladder
      << "** (the same candidates classified with `"
-     << (second ? with.front()->ablation2_config : with.front()->ablation_config)
+     << abl(*with.front()).change
      << "`, collected and scored like canopy's; the file's header says which defaults it turns off, "
         "docs/decisions/classify.md why): found at either level of "
         "each cover's vehicles, class right and the wrong class of the found and false alarms per ha (all "
         "covers), each with its count and 95% interval.\n\n";
   std::vector<AblationRung> table;
-  for (const DensityLevel* s : with) table.push_back({format_number("%g", s->level), &s->score, &abl(*s)});
+  for (const DensityLevel* s : with) table.push_back({format_number("%g", s->level), &s->score, &abl(*s).score});
   md << class_ablation_table("level", table);
 }
 
@@ -98,11 +95,11 @@ void verify_ablation_table(std::ostringstream& md, const std::vector<DensityLeve
   };
   for (const auto* ladder : {&levels, &sensor})
     for (const DensityLevel& l : *ladder)
-      if (l.scored && l.verify_scored && (answers(l.score) > 0 || answers(l.verify_ablation) > 0))
+      if (l.scored && l.verify.scored && (answers(l.score) > 0 || answers(l.verify.score) > 0))
         with.push_back(&l);
   if (with.empty()) return;
   md << "\n**verify's ablation on the density ladder** (the same model-level candidates verified again with `"
-     << with.front()->verify_change
+     << with.front()->verify.change
      << "` after verify's parameters, collected with the same class answers and scored like canopy's: "
         "docs/decisions/verify.md §17); the rungs where either has a model-level answer. Model answers: "
         "identified of the model-level answers; found at either level, class right of the found and false "
@@ -112,7 +109,7 @@ void verify_ablation_table(std::ostringstream& md, const std::vector<DensityLeve
     const std::string head = "| " + (l->sensor.empty() ? std::string("pixel") : l->sensor) + " | " +
                              format_number("%g", l->level) + " | ";
     const ScoreRow* c = row_of(*l, "all");
-    const ScoreRow* b = summary_row(l->verify_ablation, "all");
+    const ScoreRow* b = summary_row(l->verify.score, "all");
     md << head << "model answers, identified | " << rate_cell(c, "identification", "identified", "detections")
        << " | " << rate_cell(b, "identification", "identified", "detections") << " |\n";
     md << head << "found (all covers) | " << rate_cell(c, "recall_any_level", "found_any_level", "true")
@@ -124,11 +121,14 @@ void verify_ablation_table(std::ostringstream& md, const std::vector<DensityLeve
   }
 }
 
-// An ablation's score.json into `score` when the manifest names one and it has run; false when not.
-bool read_ablation_score(const std::string& path, documents::SceneScore& score) {
-  if (path.empty() || !exists(path)) return false;
-  score = documents::read_scene_score_file(path);
-  return true;
+// A rung's ablation as the manifest names it, with its score when it has run.
+DensityLevel::Ablation read_ablation(const documents::ManifestRungAblation& m) {
+  DensityLevel::Ablation a{m.change, false, {}};
+  if (!m.score.empty() && exists(m.score)) {
+    a.score = documents::read_scene_score_file(m.score);
+    a.scored = true;
+  }
+  return a;
 }
 
 }  // namespace
@@ -141,12 +141,9 @@ std::vector<DensityLevel> read_density_levels(const std::vector<documents::Manif
     l.spacing = m.spacing;
     l.sensor = m.sensor;
     l.score_path = m.score;
-    l.ablation_config = m.ablation_config;
-    l.ablation_scored = read_ablation_score(m.ablation_score, l.ablation);
-    l.ablation2_config = m.ablation2_config;
-    l.ablation2_scored = read_ablation_score(m.ablation2_score, l.ablation2);
-    l.verify_change = m.verify_change;
-    l.verify_scored = read_ablation_score(m.verify_score, l.verify_ablation);
+    l.classify = read_ablation(m.classify);
+    l.verify = read_ablation(m.verify);
+    l.classify2 = read_ablation(m.classify2);
     if (exists(m.score)) {
       l.score = documents::read_scene_score_file(m.score);
       l.scored = true;

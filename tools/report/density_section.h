@@ -37,21 +37,16 @@ struct DensityLevel {
   // (score's matches: right or wrong = found).
   std::map<std::string, int> by_reason;
   std::map<std::string, std::pair<int, int>> model_found;
-  // classify's ablation on the same candidates (the manifest's density or density-sensor
-  // ablation): its parameter file, and its score when it has run.
-  std::string ablation_config;
-  bool ablation_scored = false;
-  documents::SceneScore ablation;
-  // verify's ablation on the same model-level candidates (the manifest's density-verify): its
-  // options, and its score when it has run.
-  std::string verify_change;
-  bool verify_scored = false;
-  documents::SceneScore verify_ablation;
-  // classify's second ablation on the same candidates (the manifest's density-classify): its
-  // parameter file, and its score when it has run.
-  std::string ablation2_config;
-  bool ablation2_scored = false;
-  documents::SceneScore ablation2;
+  // The rung's ablations on the same candidates (documents::ManifestRungAblation): what each
+  // changes, and its score when it has run.
+  struct Ablation {
+    std::string change;  // classify: its parameter file; verify: its options
+    bool scored = false;
+    documents::SceneScore score;
+  };
+  Ablation classify;   // the manifest's density or density-sensor ablation
+  Ablation verify;     // density-verify, on the model-level candidates
+  Ablation classify2;  // density-classify, classify's second ablation
 };
 
 // Reads each level's score.json and its runs' index.json and .time files (a missing score is a

@@ -75,17 +75,20 @@ struct ManifestRealTile {
   std::string ablation_dir{}, ablation_config{};
 };
 
+// One ablation of a density rung: what it changes (classify's parameter file, or verify's
+// options with blanks restored) and its score.json; both "" = none.
+struct ManifestRungAblation {
+  std::string change{}, score{};
+};
+
 struct ManifestDensity {
   double level = 0;    // nominal points per m² (a sensor rung: pulses per m²)
   double spacing = 0;  // pixel spacing, m (0 for a sensor rung)
   std::string score;   // canopy.scene_score of the rung's tiles
   std::string sensor;  // the sensor preset of a density-sensor rung; "" for the pixel ladder
-  // classify's ablation on the rung: its parameter file and score.json ("" = none)
-  std::string ablation_config{}, ablation_score{};
-  // verify's ablation on the rung (density-verify): its options (blanks restored) and score.json
-  std::string verify_change{}, verify_score{};
-  // classify's second ablation on the rung (density-classify): its parameter file and score.json
-  std::string ablation2_config{}, ablation2_score{};
+  ManifestRungAblation classify{};   // classify's ablation (the density record's last two words)
+  ManifestRungAblation verify{};     // verify's ablation (density-verify)
+  ManifestRungAblation classify2{};  // classify's second ablation (density-classify)
 };
 
 struct ExperimentManifest {
