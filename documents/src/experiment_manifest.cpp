@@ -263,8 +263,8 @@ std::string write_experiment_manifest(const ExperimentManifest& m) {
   };
   const auto classify2 = [&out](const std::string& ladder, const ManifestDensity& d) {
     if (d.classify2.score.empty()) return;
-    out << "density-classify " << ladder << ' ' << d.level << ' ' << d.classify2.change << ' ' << d.classify2.score
-        << '\n';
+    out << "density-classify " << ladder << ' ' << d.level << ' ' << d.classify2.change << ' '
+        << d.classify2.score << '\n';
   };
   out << std::setprecision(10);
   for (const auto& d : m.density) {

@@ -71,14 +71,14 @@ void ablation_table(std::ostringstream& md, const std::vector<DensityLevel>& run
     if (s.scored && abl(s).scored) with.push_back(&s);
   if (with.empty()) return;
   md << "\n**classify's " << (second ? "second ablation" : "ablation") << " on " << ladder
-     << "** (the same candidates classified with `"
-     << abl(*with.front()).change
+     << "** (the same candidates classified with `" << abl(*with.front()).change
      << "`, collected and scored like canopy's; the file's header says which defaults it turns off, "
         "docs/decisions/classify.md why): found at either level of "
         "each cover's vehicles, class right and the wrong class of the found and false alarms per ha (all "
         "covers), each with its count and 95% interval.\n\n";
   std::vector<AblationRung> table;
-  for (const DensityLevel* s : with) table.push_back({format_number("%g", s->level), &s->score, &abl(*s).score});
+  for (const DensityLevel* s : with)
+    table.push_back({format_number("%g", s->level), &s->score, &abl(*s).score});
   md << class_ablation_table("level", table);
 }
 

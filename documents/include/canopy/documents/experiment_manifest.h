@@ -82,10 +82,10 @@ struct ManifestRungAblation {
 };
 
 struct ManifestDensity {
-  double level = 0;    // nominal points per m² (a sensor rung: pulses per m²)
-  double spacing = 0;  // pixel spacing, m (0 for a sensor rung)
-  std::string score;   // canopy.scene_score of the rung's tiles
-  std::string sensor;  // the sensor preset of a density-sensor rung; "" for the pixel ladder
+  double level = 0;                  // nominal points per m² (a sensor rung: pulses per m²)
+  double spacing = 0;                // pixel spacing, m (0 for a sensor rung)
+  std::string score;                 // canopy.scene_score of the rung's tiles
+  std::string sensor;                // the sensor preset of a density-sensor rung; "" for the pixel ladder
   ManifestRungAblation classify{};   // classify's ablation (the density record's last two words)
   ManifestRungAblation verify{};     // verify's ablation (density-verify)
   ManifestRungAblation classify2{};  // classify's second ablation (density-classify)
