@@ -113,6 +113,17 @@ struct Params {
   // density.ground: points per 1 m cell holding only ground; Candidate::tile_ground_density).
   // false: unmeasured, the cue passes (before).
   bool fill_tile_ground = false;
+  // Cutting a low part off beyond open ground (classify.md §33; 0 = off, before): after the
+  // clustering (and --join-stacked, --bridge), the object's points are split along the candidate
+  // frame's x axis (detect's long axis) at every run of at least the crop's spacing that holds
+  // none of them and whose strip (across: where both sides extend) returned the ground as densely
+  // as the open ground around the object (open ground between two objects, not a windscreen's
+  // shadow, §21). From the piece holding the most points outward, a piece
+  // beyond such a gap whose top is at most this share of the kept part's top (a neighbour's
+  // bonnet or boot, a low wall, a hedge beside a car) is dropped with everything beyond it; a
+  // higher one stays and the walk goes on past it. Measured at 0.75 on the real development tiles
+  // and not adopted (off in Params, classify.ini and classify-sim.ini).
+  double cut_low_parts = 0;
   // Parts stacked in height (classify.md §25): seen from above a vertical face returns nothing,
   // so a semi-tractor's cab (3.6 m) and its deck (1.2 m), an earthmover's cab top and its body are
   // clusters that touch only in the top view (a step of more than 3 links). true: a cluster that
@@ -276,6 +287,8 @@ struct Features {
   // The area (m²) of the rectangle in the strips --bridge crossed, by their empty share (§27), and
   // with bridge_fill leaving it out, the fill over the whole rectangle (as without it).
   double shadow_area = 0;
+  // Object points dropped by cut_low_parts (classify.md §33; 0: none or off).
+  std::size_t low_cut_points = 0;
   std::optional<double> fill_rectangle;
   double heading_pca = 0;      // rad, the principal axis (for comparison only)
   double heading_hull = 0;     // rad, the minimum-area rectangle before refinement

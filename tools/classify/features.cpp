@@ -476,7 +476,8 @@ std::vector<int> passes_of(const std::vector<double>& source, const std::vector<
 
 std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double link, double crop_area,
                                    double bridge, double bridge_length, bool join_stacked,
-                                   double bridge_min_share, std::vector<Shadow>* shadows) {
+                                   double bridge_min_share, std::vector<Shadow>* shadows, double cut_low,
+                                   std::size_t* low_cut) {
   std::vector<std::size_t> above;
   std::vector<Vector3d> pts;
   for (std::size_t i = 0; i < c.points.size(); ++i) {
@@ -520,13 +521,31 @@ std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double
   std::vector<char> in(pts.size(), 0);
   for (std::size_t i = 0; i < pts.size(); ++i) in[i] = label[i] == best;
   if (join_stacked) join_beside(pts, label, link, in);
-  if (bridge > 0) {
-    std::vector<Vector2d> ground;
+  std::vector<Vector2d> ground;
+  if (bridge > 0 || cut_low > 0) {
     for (const Vector3d& p : c.points) {
       if (p.z() < ground_cut) ground.emplace_back(p.x(), p.y());
     }
-    const double density = static_cast<double>(ground.size()) / crop_area;
+  }
+  const double density = static_cast<double>(ground.size()) / crop_area;
+  if (bridge > 0)
     bridge_gaps(pts, label, best, ground, density, link, bridge, bridge_length, in, bridge_min_share, shadows);
+  if (cut_low > 0) {
+    // The open ground's density: the crop's ground returns outside the object's box (candidate
+    // frame) over the crop's area outside it, as fill's reference (§5); none under 10 returns or 1 m².
+    Extents b;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      if (in[i]) b.add(pts[i].x(), pts[i].y());
+    }
+    std::size_t outside = 0;
+    for (const Vector2d& g : ground) outside += g.x() < b.u0 || g.x() > b.u1 || g.y() < b.v0 || g.y() > b.v1;
+    const double open = crop_area - b.length() * b.width();
+    if (open > 1.0 && outside >= 10) {
+      const double spacing = std::sqrt(crop_area / static_cast<double>(c.points.size()));
+      const std::size_t dropped =
+          cut_low_parts(pts, ground, static_cast<double>(outside) / open, spacing, cut_low, in, shadows);
+      if (low_cut) *low_cut = dropped;
+    }
   }
   std::vector<std::size_t> object;
   for (std::size_t i = 0; i < pts.size(); ++i) {
@@ -549,7 +568,7 @@ Features measure(const Candidate& c, const Params& fp) {
   std::vector<Shadow> shadows;  // the strips --bridge crossed (classify.md §27)
   const std::vector<std::size_t> object =
       object_of(c, fp.ground_cut, link, crop_area, fp.bridge, fp.bridge_length, fp.join_stacked,
-                fp.bridge_min_share, &shadows);
+                fp.bridge_min_share, &shadows, fp.cut_low_parts, &f.low_cut_points);
   f.object_points = object.size();
   if (object.size() < 3) return f;
 

@@ -95,10 +95,15 @@ struct Shadow {
 // vertical face returns nothing, so a cab and its deck, a cab top and its body touch only in plan.
 // With `bridge_min_share` > 0 (classify.md §27) a cluster joins across a gap only when it holds
 // at least that share of the object's points (as the object stands); with `shadows` the strips the
-// bridge crossed are appended to it.
+// bridge crossed are appended to it. With `cut_low` > 0 (classify.md §33) last a part beyond open
+// ground along x whose top is at most that share of the rest's is cut off (cut_low_parts, gaps of at
+// least the crop's spacing, against the open ground's density: the crop's ground returns outside
+// the object's box over the crop's area outside it; no cut without 10 of them on 1 m²); `low_cut`
+// gets the number of points dropped.
 std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double link, double crop_area,
                                    double bridge = 0, double bridge_length = 6.0, bool join_stacked = false,
-                                   double bridge_min_share = 0, std::vector<Shadow>* shadows = nullptr);
+                                   double bridge_min_share = 0, std::vector<Shadow>* shadows = nullptr,
+                                   double cut_low = 0, std::size_t* low_cut = nullptr);
 
 // classify.md §25 (object_of with `join_stacked`): joins to the object (`in`, per point of `pts`)
 // each cluster of `label` that meets it within `link` in the top view, beside it, in line with it
@@ -114,6 +119,15 @@ void bridge_gaps(const std::vector<Eigen::Vector3d>& pts, const std::vector<std:
                  std::size_t best, const std::vector<Eigen::Vector2d>& ground, double ground_density,
                  double link, double bridge, double bridge_length, std::vector<char>& in,
                  double min_share = 0, std::vector<Shadow>* shadows = nullptr);
+// classify.md §33 (object_of with `cut_low`): splits the object (`in`, per point of `pts`) along x
+// at runs of at least `min_gap` without its points whose strip returned the ground as the open
+// ground does (at least `ground_density`, per m², x the strip's area; `ground` the crop's ground
+// returns, top view); from the piece holding the most points outward, drops the first piece on each side
+// whose top is at most `share` of the kept part's top and everything beyond it, and the `shadows`
+// beyond. Returns the number of points dropped.
+std::size_t cut_low_parts(const std::vector<Eigen::Vector3d>& pts, const std::vector<Eigen::Vector2d>& ground,
+                          double ground_density, double min_gap, double share, std::vector<char>& in,
+                          std::vector<Shadow>* shadows = nullptr);
 // classify.md §27 (fill_empty_cells): the area (m²) of the rectangle [0, length] x [0, width]
 // (coordinates along and across it) in cells of at least `cell` (as many whole cells as fit each
 // side) that hold none of `points` (every return of the crop, in those coordinates).

@@ -67,6 +67,10 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
       "where the crop has too little open ground to measure fill (closed canopy), measure it against "
       "the tile's open-ground density (--index's density.ground; none there, or false: fill unmeasured, no "
       "refusal)");
+  tool.add("--cut-low-parts", &p.cut_low_parts,
+           "drop from the object a part beyond a gap along its long axis where the ground came back (open "
+           "ground, not a vehicle's glass) whose top is at most this share of the rest's top (a neighbour's "
+           "bonnet, a low wall, a hedge; 0: off)");
   tool.add("--bridge-min-share", &p.bridge_min_share,
            "--bridge joins only a cluster holding at least this share of the object's points (0: any)");
   tool.add("--max-echo-widening", &p.max_echo_widening,
@@ -243,6 +247,8 @@ int main(int argc, char** argv) {
   return tool.run(argc, argv, [&] {
     p.roughness = cli.roughness == "plane" ? cl::Params::Roughness::kPlane : cl::Params::Roughness::kLine;
     cl::validate(p);
+    if (!(p.cut_low_parts >= 0 && p.cut_low_parts <= 1))
+      throw cm::UsageError("--cut-low-parts must be in [0, 1]");
     if (!cli.index.empty() && !cli.transform.empty()) {
       throw cm::UsageError("--index and --transform both give the pose: use one");
     }
