@@ -1991,6 +1991,73 @@ TEST_CASE("classify: --entry-profile: a van entry's range is no class for a jeep
   CHECK(classify::run(p, in).cls == "van");
 }
 
+// The open set's gz_suv as converted (5.02 x 2.60 x 2.16 m, the Gazebo model's scale): a bonnet
+// 1.35 m high over its front 1.0 m, a windscreen rising over 0.4 m to the roof over the rest.
+double wide_suv_top(double x, double y) {
+  if (std::abs(x) > 2.51 || std::abs(y) > 1.30) return -1;
+  if (x > 1.51) return 1.35;
+  if (x > 1.11) return 2.16 - 0.81 * (x - 1.11) / 0.4;
+  return 2.16;
+}
+
+// A tracked APC of the M113's size (5.41 x 2.70 x 2.64 m): a glacis rising from 1.5 m over its
+// front 1.3 m to a flat hull roof (no flat box: its lower end at about 70% of H).
+double apc_top(double x, double y) {
+  if (std::abs(x) > 2.705 || std::abs(y) > 1.35) return -1;
+  if (x > 1.405) return 2.64 - 1.14 * (x - 1.405) / 1.3;
+  return 2.64;
+}
+
+TEST_CASE("classify: --family-entries: a class the modelbase shows by one entry is that entry, not its family") {
+  // The open set (open-set.md, eleventh round): with one tracked APC in the modelbase (the M113),
+  // --modelbase-classes-only kept the whole tracked-apc family (from 2.70 m wide and 1.90 m high),
+  // and a 2.6 m wide SUV lay nearer it than the envelope of the car entries: answered tracked-apc.
+  classify::Params p;
+  p.modelbase_classes_only = true;
+  p.class_envelope = 0.05;
+  p.entry_profile = 0.2;
+  const std::vector<classify::ModelEntry> mb = {{"patrol", "car", {5.33, 2.34, 1.88}, std::nullopt},
+                                                {"hatchback", "car", {3.98, 1.90, 1.55}, std::nullopt},
+                                                {"prius", "car", {4.63, 1.84, 1.50}, std::nullopt},
+                                                {"sedan", "car", {3.87, 1.63, 1.29}, std::nullopt},
+                                                {"m113", "tracked-apc", {5.41, 2.70, 2.64}, std::nullopt}};
+  const Sampled suv = sample(wide_suv_top, 2.51, 1.30, 20 * kDeg, 400, 71);
+  classify::Inputs in{suv.cloud, "suv.pcd", mb};
+  // Before (1: one entry keeps its family): the family's range answers, no entry named.
+  const classify::Answer before = classify::run(p, in);
+  INFO(before.detail);
+  CHECK(before.cls == "tracked-apc");
+  CHECK(before.entry.empty());
+  // Two entries needed: the tracked-apc family is no class; the M113's own range (2.51 m high at
+  // least) is farther than the cars' envelope: car.
+  p.family_entries = 2;
+  const classify::Answer after = classify::run(p, in);
+  INFO(after.detail);
+  CHECK(after.cls == "car");
+  CHECK(after.detail.find("the envelope of the modelbase's 4 car entries") != std::string::npos);
+  // The class table: the car families stay (four entries name their group), the tracked-apc
+  // family goes, the M113 entry's range stays.
+  std::vector<std::string> families, entries;
+  for (const classify::TableRange& k : classify::class_table(p, mb)) {
+    if (k.envelope > 0) continue;
+    (k.entry.empty() ? families : entries).push_back(k.name);
+  }
+  CHECK(families == std::vector<std::string>{"sedan", "hatchback", "suv", "pickup"});
+  CHECK(std::count(entries.begin(), entries.end(), "tracked-apc") == 1);
+  // An APC of the entry's own size is still answered, by the entry.
+  in.cloud = sample(apc_top, 2.705, 1.35, 35 * kDeg, 400, 72).cloud;
+  const classify::Answer apc = classify::run(p, in);
+  INFO(apc.detail);
+  CHECK(apc.cls == "tracked-apc");
+  CHECK(apc.entry == "m113");
+  // Without --modelbase-classes-only the option changes nothing: every family.
+  p.modelbase_classes_only = false;
+  CHECK(classify::class_table(p, mb).size() == classify::class_ranges().size() + mb.size() + 1);
+  // Out of range: a usage error naming the option.
+  p.family_entries = 0;
+  CHECK_THROWS_WITH(classify::validate(p), Catch::Contains("--family-entries"));
+}
+
 // A lorry l x w m, h high: a cab over its front 1.6 m at 0.75 of h, a 0.4 m slope up to the
 // cargo box over the rest.
 Top lorry_top(double l, double w, double h) {

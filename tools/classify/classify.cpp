@@ -470,10 +470,14 @@ std::string entry_group(const std::string& cls) {
 
 std::vector<TableRange> class_table(const Params& p, const std::vector<ModelEntry>& entries) {
   std::vector<TableRange> table;
+  // With --modelbase-classes-only a family is kept when --family-entries entries (or more) name it
+  // by its name or its group: with fewer, the class is its entries' own ranges.
   auto named = [&](const ClassRange& family) {
     if (!p.modelbase_classes_only || entries.empty()) return true;
-    return std::any_of(entries.begin(), entries.end(),
-                       [&](const ModelEntry& e) { return e.cls == family.name || e.cls == family.group; });
+    const auto n = std::count_if(entries.begin(), entries.end(), [&](const ModelEntry& e) {
+      return e.cls == family.name || e.cls == family.group;
+    });
+    return n > 0 && static_cast<std::size_t>(n) >= p.family_entries;
   };
   for (const ClassRange& family : class_ranges()) {
     if (named(family)) table.push_back({family, "", false, std::nullopt, 0, {}});
@@ -587,6 +591,7 @@ void validate(const Params& p) {
   need(p.entry_tolerance >= 0 && p.entry_tolerance <= 0.5, "--entry-tolerance must be in [0, 0.5]");
   need(p.entry_profile >= 0 && p.entry_profile <= 1, "--entry-profile must be in [0, 1]");
   need(p.class_envelope >= 0 && p.class_envelope <= 1, "--class-envelope must be in [0, 1]");
+  need(p.family_entries >= 1 && p.family_entries <= 100, "--family-entries must be in [1, 100]");
   need(p.pass_share > 0 && p.pass_share <= 0.5, "--pass-share must be in (0, 0.5]");
   need(p.min_end_fill >= 0 && p.min_end_fill <= 1, "--min-end-fill must be in [0, 1]");
   need(p.min_notch >= 0 && p.min_notch <= 1, "--min-notch must be in [0, 1]");

@@ -263,6 +263,12 @@ struct Params {
   // classes (a modelbase of cars, vans and trucks is never answered wheel-loader). false: every
   // family (before).
   bool modelbase_classes_only = false;
+  // With modelbase_classes_only, a family is a class range only when at least this many entries
+  // name it (its name or its group; docs/decisions/open-set.md, eleventh round): a class the
+  // modelbase shows by one instance is that entry's range (and profile), not its family's whole
+  // range (the tracked-apc family's 2.70 m width floor and 1.90 m height held a 2.6 m wide SUV
+  // beside one 2.64 m high M113). 1: one entry keeps its family (before; Params, classify.ini).
+  std::size_t family_entries = 1;
   // A class's envelope (docs/decisions/open-set.md, eighth round): for each class with at least
   // two entries, one more range: the smallest box holding their L W H, widened by this share
   // either way (lo x (1 - share), hi x (1 + share)); its profile expectations are the family's of

@@ -174,6 +174,9 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
   tool.add("--modelbase-classes-only", &p.modelbase_classes_only,
            "with --modelbase entries that have a class, a family's range is a class only if its name or "
            "group is one of theirs (docs/decisions/open-set.md)");
+  tool.add("--family-entries", &p.family_entries,
+           "with --modelbase-classes-only, a family's range is a class only when at least this many "
+           "entries name it (its name or group; 1: one entry keeps its family)");
   tool.add("--class-envelope", &p.class_envelope,
            "for each class with two or more --modelbase entries, one more class range: the smallest box "
            "holding their L W H, x [1 - this, 1 + this] (docs/decisions/open-set.md; 0: off)");
