@@ -49,6 +49,11 @@ OPENSET_CLASSIFY_BASE ?= $(P)/classify-sim.ini
 # class with two or more modelbase entries is also the box of their sizes x [1 - M, 1 + M]; 0: off
 # (classify refuses a value outside [0, 1], naming --class-envelope).
 OPENSET_CLASS_ENVELOPE ?= 0.05
+# With the modelbase's classes only, a family is a class only when this many modelbase entries
+# (or more) name it (classify --family-entries; docs/decisions/open-set.md, eleventh round): a
+# class the modelbase shows by one entry (the M113's tracked-apc, the bus, the tank) is that
+# entry's range, not its family's. 1: one entry keeps its family (the ablation, before).
+OPENSET_FAMILY_ENTRIES ?= 2
 # The ablation's parameters are the base's own (it sets neither modelbase-classes-only nor
 # class-envelope: every family, no envelope), run when either is on.
 openset_envelope_on := $(filter-out 0 0.0 .0 0.00,$(OPENSET_CLASS_ENVELOPE))
@@ -262,6 +267,8 @@ modelbase-classes-only = $(OPENSET_CLASSES_ONLY)
 # A class with two or more modelbase entries is also the box of their sizes +- this share
 # (OPENSET_CLASS_ENVELOPE; docs/decisions/open-set.md, eighth round).
 class-envelope = $(1)
+# A family is a class only when this many entries name it (OPENSET_FAMILY_ENTRIES; eleventh round).
+family-entries = $(OPENSET_FAMILY_ENTRIES)
 endef
 ifneq ($(wildcard $(OPENSET_DIR))$(dry_run),)
 $(OPENSET_CLASSIFY): $(call text_prereq,$(OPENSET_CLASSIFY),$(call openset_classify_text,$(OPENSET_CLASS_ENVELOPE)))

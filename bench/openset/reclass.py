@@ -14,8 +14,9 @@ all vehicles (bench/rates.py's Wilson intervals), then every wrong class answer 
 The open set: `--modelbase OUT/openset/modelbase --score-classes OUT/openset/classes.csv
 --classes-only --set tiles=OUT/openset/tiles/tiles.txt --set crops=OUT/openset/crops/tiles.txt`
 (mk/openset.mk's classify.ini: classify-sim.ini + `modelbase-classes-only = 1` + `class-envelope =
-0.05`, OPENSET_CLASS_ENVELOPE's default; a variant `off=--class-envelope=0` is the open set before
-the eighth round of docs/decisions/open-set.md); the ladder:
+0.05`, OPENSET_CLASS_ENVELOPE's default, + `family-entries = 2`, OPENSET_FAMILY_ENTRIES's; a
+variant `off=--class-envelope=0` is the open set before the eighth round of
+docs/decisions/open-set.md, `one=--family-entries=1` before the eleventh); the ladder:
 `--modelbase OUT/modelbase --score-classes share/models/classes.csv --set
 d25=OUT/density/d25/tiles.txt` (classify-sim.ini). classify's parameters: SRC/share/params/
 classify-sim.ini (+ the open set's line), then the variant's options. Writes only under DEST
@@ -88,7 +89,9 @@ def main():
             f.write('# The open set (mk/openset.mk): only the modelbase\'s classes (OPENSET_CLASSES_ONLY).\n'
                     'modelbase-classes-only = 1\n'
                     '# and the class envelopes (OPENSET_CLASS_ENVELOPE).\n'
-                    'class-envelope = 0.05\n')
+                    'class-envelope = 0.05\n'
+                    '# A family is a class only when two entries name it (OPENSET_FAMILY_ENTRIES).\n'
+                    'family-entries = 2\n')
     truth_class = {r['model']: r['class'] for r in csv.DictReader(open(a.score_classes))}
     for variant in a.variants:
         name, args = variant.split('=', 1)
