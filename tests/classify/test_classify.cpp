@@ -2008,7 +2008,8 @@ double apc_top(double x, double y) {
   return 2.64;
 }
 
-TEST_CASE("classify: --family-entries: a class the modelbase shows by one entry is that entry, not its family") {
+TEST_CASE(
+    "classify: --family-entries: a class the modelbase shows by one entry is that entry, not its family") {
   // The open set (open-set.md, eleventh round): with one tracked APC in the modelbase (the M113),
   // --modelbase-classes-only kept the whole tracked-apc family (from 2.70 m wide and 1.90 m high),
   // and a 2.6 m wide SUV lay nearer it than the envelope of the car entries: answered tracked-apc.
