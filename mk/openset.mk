@@ -62,6 +62,9 @@ OPENSET_CLASSIFY_ABLATION := $(if $(filter 1,$(OPENSET_CLASSES_ONLY))$(openset_e
 # class-envelope = 0), run when both are on (with one of them off the first ablation is already
 # the other alone): its parameters are written beside the open set's (the end of this file).
 OPENSET_CLASSIFY_ABLATION_2 := $(if $(and $(filter 1,$(OPENSET_CLASSES_ONLY)),$(openset_envelope_on)),$(OPENSET_DIR)/classify-envelope-0.ini)
+# The third ablation, one entry keeps its family alone (family-entries = 1, the rest the open
+# set's), run when the modelbase's classes only are on and OPENSET_FAMILY_ENTRIES is not 1.
+OPENSET_CLASSIFY_ABLATION_3 := $(if $(and $(filter 1,$(OPENSET_CLASSES_ONLY)),$(filter-out 1,$(OPENSET_FAMILY_ENTRIES))),$(OPENSET_DIR)/classify-family-entries-1.ini)
 # collect's ablation: the model answer first, whatever its confidence (collect's
 # --contradicted-below and --refused-below, docs/decisions/open-set.md "Sixth round" and "Seventh
 # round"); OPENSET_COLLECT_ABLATION= leaves it out. (Quoted where it is passed to the sub-makes:
@@ -191,11 +194,11 @@ openset_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROG
   SCENE_MODELS=$(openset_models) SCENE_MODEL_CLASSES=$(OPENSET_DIR)/classes.csv \
   SCENE_SEEDS="$(OPENSET_SEEDS)" SCENE_COVERS="$(OPENSET_COVERS)" SCENE_NOISES=0 SCENE_BASELINE= \
   SCENE_SIZE_ONLY=0 SCENE_PICTURES=0 SCENE_CLASSIFY=$(OPENSET_CLASSIFY) SCENE_CLASSIFY_ABLATION=$(OPENSET_CLASSIFY_ABLATION) \
-  SCENE_CLASSIFY_ABLATION_2=$(OPENSET_CLASSIFY_ABLATION_2) \
+  SCENE_CLASSIFY_ABLATION_2=$(OPENSET_CLASSIFY_ABLATION_2) SCENE_CLASSIFY_ABLATION_3=$(OPENSET_CLASSIFY_ABLATION_3) \
   SCENE_COLLECT_ABLATION='$(OPENSET_COLLECT_ABLATION)' COLLECT_CALIBRATION=$(OPENSET_COLLECT_CALIBRATION)
 openset_crop_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) openset-crops PROGRESS=0 \
   SCENE_CLASSIFY=$(OPENSET_CLASSIFY) SCENE_CLASSIFY_ABLATION=$(OPENSET_CLASSIFY_ABLATION) \
-  SCENE_CLASSIFY_ABLATION_2=$(OPENSET_CLASSIFY_ABLATION_2) \
+  SCENE_CLASSIFY_ABLATION_2=$(OPENSET_CLASSIFY_ABLATION_2) SCENE_CLASSIFY_ABLATION_3=$(OPENSET_CLASSIFY_ABLATION_3) \
   SCENE_COLLECT_ABLATION='$(OPENSET_COLLECT_ABLATION)' COLLECT_CALIBRATION=$(OPENSET_COLLECT_CALIBRATION)
 ifneq ($(findstring q,$(make_letters))$(OPENSET),q1)
 openset_force := FORCE
@@ -220,25 +223,30 @@ $(OPENSET_CROP_SCORE): $(openset_force) $(OPENSET_SCORE) $(OPENSET_MB)/.built $(
 openset_abl_scores = $(if $(1),$(OPENSET_RES)/$(2)/score.json $(if $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_RES)/$(2)/score.json))
 openset_abl_order = $(if $(word 1,$(1)),$(eval $(word 1,$(1)): $(OPENSET_SCORE)))$(if \
   $(word 2,$(1)),$(eval $(word 2,$(1)): $(OPENSET_CROP_SCORE)))
-# classify's ablations (OPENSET_CLASSIFY_ABLATION: both off; OPENSET_CLASSIFY_ABLATION_2: the
-# envelope alone off) and collect's (OPENSET_COLLECT_ABLATION).
+# classify's ablations (OPENSET_CLASSIFY_ABLATION: all off; OPENSET_CLASSIFY_ABLATION_2: the
+# envelope alone off; OPENSET_CLASSIFY_ABLATION_3: family-entries alone 1) and collect's
+# (OPENSET_COLLECT_ABLATION).
 OPENSET_ABL_SCORES := $(call openset_abl_scores,$(OPENSET_CLASSIFY_ABLATION),class-ablation)
 OPENSET_ABL2_SCORES := $(call openset_abl_scores,$(OPENSET_CLASSIFY_ABLATION_2),class-ablation-2)
+OPENSET_ABL3_SCORES := $(call openset_abl_scores,$(OPENSET_CLASSIFY_ABLATION_3),class-ablation-3)
 OPENSET_COLLECT_ABL_SCORES := $(call openset_abl_scores,$(OPENSET_COLLECT_ABLATION),collect-ablation)
 $(call openset_abl_order,$(OPENSET_ABL_SCORES))
 $(call openset_abl_order,$(OPENSET_ABL2_SCORES))
+$(call openset_abl_order,$(OPENSET_ABL3_SCORES))
 $(call openset_abl_order,$(OPENSET_COLLECT_ABL_SCORES))
 .PHONY: openset
 openset: $(OPENSET_SCORE) $(if $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_SCORE)) $(OPENSET_ABL_SCORES) \
-  $(OPENSET_ABL2_SCORES) $(OPENSET_COLLECT_ABL_SCORES)
+  $(OPENSET_ABL2_SCORES) $(OPENSET_ABL3_SCORES) $(OPENSET_COLLECT_ABL_SCORES)
 ifeq ($(OPENSET),1)
 $(RES)/report.md: $(OPENSET_SCORE) $(if $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_SCORE)) $(OPENSET_DISTANCES) \
-  $(OPENSET_ABL_SCORES) $(OPENSET_ABL2_SCORES) $(OPENSET_COLLECT_ABL_SCORES)
+  $(OPENSET_ABL_SCORES) $(OPENSET_ABL2_SCORES) $(OPENSET_ABL3_SCORES) $(OPENSET_COLLECT_ABL_SCORES)
 REPORT_ARGS += --openset $(OPENSET_SCORE) --openset-distances $(OPENSET_DISTANCES)$(if $(filter 1,$(OPENSET_CROPS)), \
   --openset-crops $(OPENSET_CROP_SCORE))$(if $(OPENSET_CLASSIFY_ABLATION), --openset-ablation $(word 1,$(OPENSET_ABL_SCORES))$(if \
   $(filter 1,$(OPENSET_CROPS)), --openset-crops-ablation $(word 2,$(OPENSET_ABL_SCORES))))$(if $(OPENSET_CLASSIFY_ABLATION_2), \
   --openset-envelope-ablation $(word 1,$(OPENSET_ABL2_SCORES))$(if $(filter 1,$(OPENSET_CROPS)), \
-  --openset-crops-envelope-ablation $(word 2,$(OPENSET_ABL2_SCORES))))$(if $(OPENSET_COLLECT_ABLATION), \
+  --openset-crops-envelope-ablation $(word 2,$(OPENSET_ABL2_SCORES))))$(if $(OPENSET_CLASSIFY_ABLATION_3), \
+  --openset-family-ablation $(word 1,$(OPENSET_ABL3_SCORES))$(if $(filter 1,$(OPENSET_CROPS)), \
+  --openset-crops-family-ablation $(word 2,$(OPENSET_ABL3_SCORES))))$(if $(OPENSET_COLLECT_ABLATION), \
   --openset-collect-ablation $(word 1,$(OPENSET_COLLECT_ABL_SCORES))$(if $(filter 1,$(OPENSET_CROPS)), \
   --openset-crops-collect-ablation $(word 2,$(OPENSET_COLLECT_ABL_SCORES))))
 endif
@@ -254,12 +262,14 @@ endif
 # 0.05; 0: off) are off in that ablation too: it is the open set's classify before the fourth and
 # the eighth rounds. With both on, a second ablation beside it has the envelope alone off
 # (OPENSET_CLASSIFY_ABLATION_2 = classify-envelope-0.ini: the open set's parameters with
-# class-envelope = 0; docs/decisions/open-set.md, "ninth round"). The open set's classify.ini and
-# that one are written when their text changes (at parse time, like the recipes; a dry run writes
+# class-envelope = 0; docs/decisions/open-set.md, "ninth round"); with OPENSET_FAMILY_ENTRIES not 1
+# a third has it alone 1 (OPENSET_CLASSIFY_ABLATION_3 = classify-family-entries-1.ini; "eleventh
+# round"). The open set's classify.ini and those are written when their text changes (at parse time, like the recipes; a dry run writes
 # nothing and plans classify again).
-# (OPENSET_CLASSES_ONLY, OPENSET_CLASSIFY_ABLATION[_2]: near the top.)
+# (OPENSET_CLASSES_ONLY, OPENSET_CLASSIFY_ABLATION[_2|_3]: near the top.)
 OPENSET_CLASSIFY := $(OPENSET_DIR)/classify.ini
-# openset_classify_text(ENVELOPE): the open set's parameters with class-envelope = ENVELOPE.
+# openset_classify_text(ENVELOPE, FAMILY_ENTRIES): the open set's parameters with class-envelope =
+# ENVELOPE and family-entries = FAMILY_ENTRIES.
 define openset_classify_text
 $(file <$(OPENSET_CLASSIFY_BASE))
 # The open set (mk/openset.mk): only the modelbase's classes (OPENSET_CLASSES_ONLY).
@@ -268,10 +278,13 @@ modelbase-classes-only = $(OPENSET_CLASSES_ONLY)
 # (OPENSET_CLASS_ENVELOPE; docs/decisions/open-set.md, eighth round).
 class-envelope = $(1)
 # A family is a class only when this many entries name it (OPENSET_FAMILY_ENTRIES; eleventh round).
-family-entries = $(OPENSET_FAMILY_ENTRIES)
+family-entries = $(2)
 endef
 ifneq ($(wildcard $(OPENSET_DIR))$(dry_run),)
-$(OPENSET_CLASSIFY): $(call text_prereq,$(OPENSET_CLASSIFY),$(call openset_classify_text,$(OPENSET_CLASS_ENVELOPE)))
+$(OPENSET_CLASSIFY): $(call text_prereq,$(OPENSET_CLASSIFY),$(call \
+  openset_classify_text,$(OPENSET_CLASS_ENVELOPE),$(OPENSET_FAMILY_ENTRIES)))
 $(if $(OPENSET_CLASSIFY_ABLATION_2),$(eval $(OPENSET_CLASSIFY_ABLATION_2): $(call \
-  text_prereq,$(OPENSET_CLASSIFY_ABLATION_2),$(call openset_classify_text,0))))
+  text_prereq,$(OPENSET_CLASSIFY_ABLATION_2),$(call openset_classify_text,0,$(OPENSET_FAMILY_ENTRIES)))))
+$(if $(OPENSET_CLASSIFY_ABLATION_3),$(eval $(OPENSET_CLASSIFY_ABLATION_3): $(call \
+  text_prereq,$(OPENSET_CLASSIFY_ABLATION_3),$(call openset_classify_text,$(OPENSET_CLASS_ENVELOPE),1))))
 endif

@@ -391,6 +391,19 @@ if plans "class-ablation\.json"; then fail "SCENE_CLASSIFY_ABLATION_2 plans the 
 [ ! -e "$sd/.opts/classify-ablation-2.txt" ] || fail "a dry run wrote the second ablation's options file"
 "${sc[@]}" -q scenes SCENE_CLASSIFY_ABLATION_2="$tmp/params/classify.ini" &&
   fail "make -q scenes is clean without the second classify ablation"
+# A third (SCENE_CLASSIFY_ABLATION_3; the open set's family-entries alone 1): the same three stages,
+# as the variant class-ablation-3, and neither of the others'.
+plan=$("${sc[@]}" -n scenes SCENE_CLASSIFY_ABLATION_3="$tmp/params/classify.ini" 2>&1)
+plans "bin/classify --config $tmp/params/classify.ini -i $sr/cands/c0001.pcd .*-o $sr/cands/c0001/class-ablation-3.json" ||
+  fail "SCENE_CLASSIFY_ABLATION_3 does not plan classify with its parameters: $(echo "$plan" | grep stagerun)"
+plans "bin/collect -i $sr/cands/index.json --class-name class-ablation-3.json .*-o $sr/detections-class-ablation-3.json" ||
+  fail "SCENE_CLASSIFY_ABLATION_3 does not plan its collect"
+plans "bin/score --tiles $sd/tiles-class-ablation-3.txt .*-o $tmp/res/scenes/class-ablation-3/score.json" ||
+  fail "SCENE_CLASSIFY_ABLATION_3 does not plan its score"
+if plans "class-ablation\.json" || plans "class-ablation-2\.json"; then
+  fail "SCENE_CLASSIFY_ABLATION_3 plans another ablation's variant"
+fi
+[ "$(echo "$plan" | stages)" -eq 3 ] || fail "SCENE_CLASSIFY_ABLATION_3 plans $(echo "$plan" | stages) stages, not 3"
 # The scene experiment's own classify ablations (mk/scenes.mk SCENES_CLASSIFY_ABLATION[_2]: by
 # default the roughness floor's and the shoulder's files; scene-experiment.md "Stop 56"): on the
 # complete run `make -n all` plans, in the experiment's `make scenes`, classify twice more on the

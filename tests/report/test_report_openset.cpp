@@ -270,3 +270,61 @@ TEST_CASE("report --openset with both classify ablations: canopy, the joint abla
   CHECK(err.find(path("envelope-off", true)) != std::string::npos);
   CHECK_FALSE(fs::exists(dir / "res-bad" / "report.md"));
 }
+
+TEST_CASE("report --openset with the family-entries ablation: a subsection after the envelope's") {
+  namespace fs = std::filesystem;
+  const fs::path dir = test::fresh_dir("report", "openset-family-ablation");
+  // Hand-made scores of 10 car crops each: canopy 9/10 found and right; the envelope alone off 7
+  // found, 7 right; one entry keeping its family 8 found (4 + 4), 6 right. Wilson: 8/10 [49.0,
+  // 94.3], 6/8 [40.9, 92.9].
+  const std::vector<std::pair<std::string, std::string>> scores = {
+      {"canopy", crops_score_json({"car"}, 5, 0, 4, 0, 9, 9)},
+      {"envelope-off", crops_score_json({"car"}, 3, 0, 4, 0, 7, 7)},
+      {"family-1", crops_score_json({"car"}, 4, 0, 4, 0, 8, 6)}};
+  for (const auto& [name, json] : scores) {
+    test::write_file(dir / name / "score.json", json);
+    test::write_file(dir / name / "crops" / "score.json", json);
+  }
+  const documents::ExperimentManifest manifest = report::testing::one_trial_manifest(dir);
+  std::ofstream(dir / "experiment.txt") << documents::write_experiment_manifest(manifest);
+  const auto path = [&](const std::string& name, bool crops) {
+    return (dir / name / (crops ? "crops/score.json" : "score.json")).string();
+  };
+  const std::string report = std::string(CANOPY_BIN_DIR) + "/report --manifest " +
+                             (dir / "experiment.txt").string() + " --openset " + path("canopy", false) +
+                             " --openset-crops " + path("canopy", true);
+  const std::string envelope = " --openset-envelope-ablation " + path("envelope-off", false) +
+                               " --openset-crops-envelope-ablation " + path("envelope-off", true);
+  const std::string family = " --openset-family-ablation " + path("family-1", false) +
+                             " --openset-crops-family-ablation " + path("family-1", true);
+  std::string err;
+  fs::create_directories(dir / "res");
+  REQUIRE(test::sh(report + envelope + family + " --results " + (dir / "res").string(), dir / "err1.txt",
+                   &err) == 0);
+  const std::string md = test::read_text(dir / "res" / "report.md");
+  const auto alone = md.find("### Ablation: no class envelope, the modelbase's classes only kept");
+  const auto fam = md.find("### Ablation: one entry keeps its family (`OPENSET_FAMILY_ENTRIES=1`)");
+  REQUIRE(alone != std::string::npos);
+  REQUIRE(fam != std::string::npos);
+  CHECK(alone < fam);
+  CHECK(md.find("`classify --family-entries 2`", fam) != std::string::npos);
+  // Its own rows after its heading and not before it: the tiles' (found 8 = 4 + 4, class right
+  // 6 of 8) and the crops' (with Wilson's intervals; wrong class 2/8).
+  CHECK(md.find("| car | 10 | 10 | 8 (4 + 4) |") > fam);
+  const std::string row =
+      "| car | 10 | 8 (4 + 4) | 8/10 = 80.0% [49.0, 94.3] | 6/8 = 75.0% [40.9, 92.9] | 6/10 = 60.0% [31.3, "
+      "83.2] | 2/8 = 25.0% [7.1, 59.1] | 0 |";
+  CHECK(md.find(row) > fam);
+  CHECK(md.find("(" + path("family-1", false) + ", " + path("family-1", true) + ")") != std::string::npos);
+  // The crops' file needs the tiles', the ablation needs --openset: usage, exit 2, no report.
+  for (const std::string& bad :
+       {report + " --openset-crops-family-ablation " + path("family-1", true),
+        std::string(CANOPY_BIN_DIR) + "/report --manifest " + (dir / "experiment.txt").string() +
+            " --openset-family-ablation " + path("family-1", false)}) {
+    fs::remove_all(dir / "res-bad");
+    fs::create_directories(dir / "res-bad");
+    CHECK(test::sh(bad + " --results " + (dir / "res-bad").string(), dir / "err2.txt", &err) == 2);
+    CHECK(err.find("family-ablation needs --openset") != std::string::npos);
+    CHECK_FALSE(fs::exists(dir / "res-bad" / "report.md"));
+  }
+}

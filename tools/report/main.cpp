@@ -243,6 +243,7 @@ struct Sources {
   std::string openset_collect_ablation, openset_crops_collect_ablation, tile_collect_ablation;
   std::vector<ClassifyAblationArgs> tile_classify_ablations = std::vector<ClassifyAblationArgs>(2);
   std::string openset_envelope_ablation, openset_crops_envelope_ablation;
+  std::string openset_family_ablation, openset_crops_family_ablation;
   std::string tile_score, families, disk, openset, openset_crops, openset_distances, openset_ablation,
       openset_crops_ablation;
   int real_timeout = 0;
@@ -298,6 +299,12 @@ void bind(common::Tool& tool, Sources& src, report::Params& p) {
            "set's beside the default and --openset-ablation");
   tool.add("--openset-crops-envelope-ablation", &src.openset_crops_envelope_ablation,
            "the same ablation's score.json on the single-vehicle crops (with --openset-envelope-ablation)");
+  tool.add("--openset-family-ablation", &src.openset_family_ablation,
+           "the open set's third classify ablation's score.json (mk/openset.mk: one entry keeps its family "
+           "alone, classify --family-entries 1 with the open set's other parameters): a subsection of the "
+           "open set's beside the default");
+  tool.add("--openset-crops-family-ablation", &src.openset_crops_family_ablation,
+           "the same ablation's score.json on the single-vehicle crops (with --openset-family-ablation)");
   tool.add("--openset-collect-ablation", &src.openset_collect_ablation,
            "the open set's collect ablation's score.json (mk/openset.mk: the model answer first, "
            "collect --contradicted-below 0 --refused-below 0): a subsection of the open set's beside the "
@@ -351,6 +358,9 @@ int main(int argc, char** argv) {
     needs(src.openset_envelope_ablation, "--openset-envelope-ablation", src.openset, "--openset");
     needs(src.openset_crops_envelope_ablation, "--openset-crops-envelope-ablation",
           src.openset_envelope_ablation, "--openset-envelope-ablation");
+    needs(src.openset_family_ablation, "--openset-family-ablation", src.openset, "--openset");
+    needs(src.openset_crops_family_ablation, "--openset-crops-family-ablation", src.openset_family_ablation,
+          "--openset-family-ablation");
     needs(src.openset_collect_ablation, "--openset-collect-ablation", src.openset, "--openset");
     needs(src.openset_crops_collect_ablation, "--openset-crops-collect-ablation",
           src.openset_collect_ablation, "--openset-collect-ablation");
@@ -389,6 +399,9 @@ int main(int argc, char** argv) {
         markdown +=
             openset_ablation_section(report::openset_envelope_ablation_markdown,
                                      src.openset_envelope_ablation, src.openset_crops_envelope_ablation);
+      if (!src.openset_family_ablation.empty())
+        markdown += openset_ablation_section(report::openset_family_ablation_markdown,
+                                             src.openset_family_ablation, src.openset_crops_family_ablation);
       if (!src.openset_collect_ablation.empty())
         markdown += openset_ablation_section(report::openset_collect_ablation_markdown,
                                              src.openset_collect_ablation, src.openset_crops_collect_ablation);

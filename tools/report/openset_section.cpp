@@ -233,6 +233,19 @@ std::string openset_envelope_ablation_markdown(const documents::SceneScore& tile
       tiles, tiles_path, crops, crops_path);
 }
 
+std::string openset_family_ablation_markdown(const documents::SceneScore& tiles, const std::string& tiles_path,
+                                             const documents::SceneScore* crops, const std::string& crops_path) {
+  return ablation_markdown(
+      "Ablation: one entry keeps its family (`OPENSET_FAMILY_ENTRIES=1`)",
+      "With the modelbase's classes only, a classify family counts as a class only when two or more "
+      "modelbase entries name it (`classify --family-entries 2`, docs/decisions/open-set.md, eleventh "
+      "round): a class shown by one entry (the tracked APC, the bus, the tank) is that entry's own range. "
+      "This is the same tiles, candidates and model chain with `--family-entries 1` (one entry keeps its "
+      "family's whole range, as before) and the open set's other parameters, run beside the default on "
+      "every candidate and scored the same way",
+      tiles, tiles_path, crops, crops_path);
+}
+
 std::string openset_collect_ablation_markdown(const documents::SceneScore& tiles,
                                               const std::string& tiles_path, const documents::SceneScore* crops,
                                               const std::string& crops_path) {

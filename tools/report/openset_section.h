@@ -60,6 +60,12 @@ std::string openset_envelope_ablation_markdown(const documents::SceneScore& tile
                                                const std::string& tiles_path,
                                                const documents::SceneScore* crops = nullptr,
                                                const std::string& crops_path = "");
+// The ablation of --family-entries alone (OPENSET_CLASSIFY_ABLATION_3: the open set's parameters
+// with family-entries = 1: a class one modelbase entry names keeps its whole family's range) on
+// the same candidates and model chain, in the same form: what the eleventh round changes.
+std::string openset_family_ablation_markdown(const documents::SceneScore& tiles, const std::string& tiles_path,
+                                             const documents::SceneScore* crops = nullptr,
+                                             const std::string& crops_path = "");
 // The ablation of collect's defaults (--contradicted-below 0 --refused-below 0: verify's model
 // answer first, whatever its confidence) on the same verdicts and class answers, in the same form.
 std::string openset_collect_ablation_markdown(const documents::SceneScore& tiles, const std::string& tiles_path,
