@@ -8,7 +8,8 @@
 #   --modelbase DIR --model-classes share/models/classes.csv to classify and --modelbase to collect,
 #   as `make tile` and bench/detect/real.sh do; INI=classify.ini to use; TRUTH_DIR=DIR of
 #   <tile>.truth.json, default share/real; JOBS=2 classify processes; DIFF=1 then lists the
-#   candidates whose answer differs from the first variant's)
+#   candidates whose answer differs from the first variant's; DETECT_ARGS="--opt value ..." extra
+#   detect arguments, default none)
 # Development tiles only while developing (ahn3_delft_1, forest_bcts_1 from the shared data);
 # the held-out tiles once (docs/decisions/real-tiles.md: the split).
 set -euo pipefail
@@ -29,7 +30,8 @@ for laz in "$@"; do
   t=$(basename "$laz" .laz)
   tiles+=("$t")
   mkdir -p "$out/cands"
-  [ -s "$out/cands/$t/index.json" ] || "$bin/detect" -q -i "$laz" -o "$out/cands/$t"
+  # shellcheck disable=SC2086  # DETECT_ARGS: words
+  [ -s "$out/cands/$t/index.json" ] || "$bin/detect" -q ${DETECT_ARGS:-} -i "$laz" -o "$out/cands/$t"
 done
 names=()
 for v in $variants; do

@@ -1538,6 +1538,96 @@ TEST_CASE(
 
 namespace {
 
+// detect's field `object` (detect --object-field) on a sampled crop: 1 where `own` says the point
+// is the candidate's object, else 0.
+formats::PointCloud with_object_field(formats::PointCloud cloud, const std::function<bool(double, double, double)>& own) {
+  const auto& x = cloud.col("x");
+  const auto& y = cloud.col("y");
+  const auto& z = cloud.col("z");
+  std::vector<double> o(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) o[i] = own(x[i], y[i], z[i]) ? 1 : 0;
+  cloud.add("object", formats::kUint8) = o;
+  return cloud;
+}
+
+classify::Params detect_object(bool on, double bridge) {
+  classify::Params p;
+  p.detect_object = on;
+  p.bridge = bridge;
+  p.bridge_min_share = bridge > 0 ? 0.1 : 0;
+  return p;
+}
+
+}  // namespace
+
+TEST_CASE("classify: --detect-object keeps the car alone where the link joins a low box detect gave to another") {
+  // car_and_low_box at 8 and 10 points/m² (§33's scene: the link crosses the 0.4 m gap in most
+  // scenes): detect's trim (detect.md §12) made the box an object of its own, so the car's crop
+  // marks the box 0. Off, the object is car and box (> 5.5 m); on, exactly the car's points, with
+  // and without the gap bridge; the box's points are counted as context.
+  std::size_t joined = 0;
+  for (const double density : {8.0, 10.0}) {
+    for (std::uint64_t seed = 61; seed < 81; ++seed) {
+      const Sampled s = sample(car_and_low_box(0.8, false), 3.9, 0.9, 0, density, seed);
+      const formats::PointCloud crop =
+          with_object_field(s.cloud, [](double x, double, double z) { return z >= 0.3 && x < 2.5; });
+      std::size_t car = 0;
+      const auto& x = crop.col("x");
+      const auto& z = crop.col("z");
+      for (std::size_t i = 0; i < x.size(); ++i) car += z[i] >= 0.3 && x[i] < 2.5;
+      INFO(density << " points/m2, seed " << seed << ": car " << car << " of " << s.object);
+      REQUIRE(car < s.object);
+      const classify::Answer off = classify::run(detect_object(false, 1.0), {crop, "obj.pcd", {}});
+      CHECK(off.features.context_points == 0);
+      if (off.features.object_points == s.object) {
+        ++joined;
+        CHECK(off.features.length_measured > 5.5);
+      }
+      for (const double bridge : {0.0, 1.0}) {
+        INFO("bridge " << bridge);
+        const classify::Answer on = classify::run(detect_object(true, bridge), {crop, "obj.pcd", {}});
+        CHECK(on.features.object_points == car);
+        CHECK(on.features.context_points == s.object - car);
+        CHECK(on.features.length_measured > 3.9);  // the 4.6 m car's points at 8-10 points/m²
+        CHECK(on.features.length_measured < 4.7);
+      }
+      // The same crop without the field: the option changes nothing.
+      const classify::Answer none = classify::run(detect_object(true, 1.0), {s.cloud, "obj.pcd", {}});
+      CHECK(none.features.object_points == off.features.object_points);
+      CHECK(none.features.context_points == 0);
+    }
+  }
+  CHECK(joined >= 30);  // of 40: the rule has something to do
+}
+
+TEST_CASE("classify: --detect-object leaves the gap bridge its work on the vehicle's own points") {
+  // glass_car_top: the windscreen returned nothing, and detect's object is the whole car (its
+  // voxel joined the bonnet), so every car point is 1. At 25 and 50 points/m² the link does not
+  // cross the 0.8 m windscreen gap: with the option and the bridge the object is still the whole
+  // car (the rule removes the 0s before the clustering, so the bridge sees the car's own pieces);
+  // without the bridge it is the cabin and boot only.
+  for (const double density : {25.0, 50.0}) {
+    INFO(density << " points/m2");
+    const Sampled glass = sample(glass_car_top, 2.3, 0.9, 0, density, 64);
+    const formats::PointCloud crop = with_object_field(glass.cloud, [](double, double, double z) { return z >= 0.3; });
+    const classify::Answer on = classify::run(detect_object(true, 1.0), {crop, "glass.pcd", {}});
+    CHECK(on.features.object_points == glass.object);
+    CHECK(on.features.context_points == 0);
+    const classify::Answer unbridged = classify::run(detect_object(true, 0), {crop, "glass.pcd", {}});
+    CHECK(unbridged.features.object_points < glass.object);
+  }
+}
+
+TEST_CASE("classify: a crop whose object field is not 0 or 1 is refused, naming the file") {
+  const Sampled s = sample(car_top, 2.3, 0.9, 0, 25, 7);
+  formats::PointCloud crop = with_object_field(s.cloud, [](double, double, double z) { return z >= 0.3; });
+  crop.col("object")[3] = 2;
+  CHECK_THROWS_WITH(classify::run(detect_object(true, 1.0), {crop, "bad.pcd", {}}),
+                    Catch::Contains("bad.pcd") && Catch::Contains("object"));
+}
+
+namespace {
+
 // A semi-tractor unit seen straight down, 6.6 x 2.5 m: the cab (x in [1.0, 3.3]) 3.6 m high, the
 // deck behind it (fenders and fifth wheel) 1.2 m high; the cab's back and the deck's step are
 // vertical faces, which no pulse from above returns. The frame's origin lies on the deck.

@@ -221,3 +221,61 @@ TEST_CASE("a car with a low planter at its end: the planter is trimmed off (dete
       CHECK((c.length > 6.2 || std::hypot(c.to_tile(0, 3) - 1.25, c.to_tile(1, 3)) > 0.5));
   }
 }
+
+TEST_CASE("--object-field: the car's crop marks the planter beyond the trim 0, the car's own points 1") {
+  // The planter scene above with a 2.5 m margin, so that the car's crop holds the planter: the
+  // field `object` is 1 exactly on the car's object (object_points of them), 0 on the planter's
+  // points (an object of its own after the trim) and on the ground. Off: no field, the same crop.
+  const std::vector<Car> cars = {{0, 0, 0}};
+  const std::vector<Box> planter = {{2.6, 4.6, -0.75, 0.75, 0.8}};
+  for (unsigned seed : {31u, 32u, 33u}) {
+    INFO("seed " << seed);
+    const formats::PointCloud tile = airborne(cars, planter, -8, 10, -7, 7, 11, seed);
+    detect::Params p = split("auto");
+    p.margin = 2.5;
+    const detect::Result off = detect::run(p, {&tile, "planter"});
+    p.object_field = true;
+    const detect::Result on = detect::run(p, {&tile, "planter"});
+    REQUIRE(on.stats.trims == 1);
+    REQUIRE(on.candidates.size() == off.candidates.size());
+    bool seen_car = false;
+    for (std::size_t k = 0; k < on.candidates.size(); ++k) {
+      const detect::Candidate& c = on.candidates[k];
+      const formats::PointCloud& crop = c.cloud;
+      REQUIRE_FALSE(off.candidates[k].cloud.has("object"));
+      REQUIRE(crop.has("object"));
+      REQUIRE(crop.size() == off.candidates[k].cloud.size());
+      CHECK(crop.col("x") == off.candidates[k].cloud.col("x"));
+      const auto& o = crop.col("object");
+      std::size_t ones = 0;
+      for (double v : o) {
+        CHECK((v == 0 || v == 1));
+        ones += v == 1;
+      }
+      CHECK(ones == c.object_points);
+      if (std::hypot(c.to_tile(0, 3), c.to_tile(1, 3)) > 0.4) continue;
+      seen_car = true;
+      // The crop's points back in the tile: the planter's top beyond the car's reach, the cabin's roof.
+      std::size_t planter_pts = 0, planter_ones = 0, roof = 0, roof_ones = 0;
+      for (std::size_t i = 0; i < crop.size(); ++i) {
+        const Eigen::Vector4d t = c.to_tile * Eigen::Vector4d(crop.col("x")[i], crop.col("y")[i], crop.col("z")[i], 1);
+        const double h = t.z() - 100;
+        if (t.x() > 3.0 && t.x() < 4.6 && std::abs(t.y()) < 0.75 && h > 0.6) {
+          ++planter_pts;
+          planter_ones += o[i] == 1;
+        }
+        if (std::abs(t.x()) < 1.0 && std::abs(t.y()) < 0.6 && h > 1.3) {
+          ++roof;
+          roof_ones += o[i] == 1;
+        }
+        if (h < 0.2) CHECK(o[i] == 0);  // the ground
+      }
+      INFO("planter " << planter_ones << " of " << planter_pts << ", roof " << roof_ones << " of " << roof);
+      CHECK(planter_pts >= 10);
+      CHECK(planter_ones == 0);
+      CHECK(roof >= 10);
+      CHECK(roof_ones == roof);
+    }
+    CHECK(seen_car);
+  }
+}

@@ -422,6 +422,17 @@ Candidate read_candidate(const formats::PointCloud& cloud, const std::string& na
   }
   // Echo widths (the realistic sensor's waveform FWHM; LAS Extra Bytes `echo_width`).
   if (cloud.has("echo_width")) c.echo_width = cloud.col("echo_width");
+  // detect's own object (detect --object-field): 1 its points, 0 the context; anything else an error.
+  if (cloud.has("object")) {
+    const auto& o = cloud.col("object");
+    c.detect_object.resize(cloud.size());
+    for (std::size_t i = 0; i < cloud.size(); ++i) {
+      if (o[i] != 0 && o[i] != 1)
+        throw common::DataError(name, "point " + std::to_string(i) + " has object " + std::to_string(o[i]) +
+                                          " (detect's field: 0 or 1)");
+      c.detect_object[i] = static_cast<std::uint8_t>(o[i]);
+    }
+  }
   // Flight passes when the file says which (LAS point_source_id, gps_time).
   static const std::vector<double> none;
   const auto& source = cloud.has("point_source_id") ? cloud.col("point_source_id") : none;
@@ -477,15 +488,23 @@ std::vector<int> passes_of(const std::vector<double>& source, const std::vector<
 std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double link, double crop_area,
                                    double bridge, double bridge_length, bool join_stacked,
                                    double bridge_min_share, std::vector<Shadow>* shadows, double cut_low,
-                                   std::size_t* low_cut) {
+                                   std::size_t* low_cut, bool detect_object, std::size_t* context) {
   std::vector<std::size_t> above;
   std::vector<Vector3d> pts;
+  // §34: detect's context above the ground cut (another object, clutter) is none of the object's.
+  const bool own_only = detect_object && !c.detect_object.empty();
+  std::size_t left_out = 0;
   for (std::size_t i = 0; i < c.points.size(); ++i) {
     if (c.points[i].z() >= ground_cut) {
+      if (own_only && c.detect_object[i] == 0) {
+        ++left_out;
+        continue;
+      }
       above.push_back(i);
       pts.push_back(c.points[i]);
     }
   }
+  if (context) *context = left_out;
   if (pts.empty()) return {};
   // Vertical faces are sampled little from above (none at nadir): a roof over a bonnet, a box
   // over a cab are joined through their step only if the link reaches it, so heights count a
@@ -568,7 +587,8 @@ Features measure(const Candidate& c, const Params& fp) {
   std::vector<Shadow> shadows;  // the strips --bridge crossed (classify.md §27)
   const std::vector<std::size_t> object =
       object_of(c, fp.ground_cut, link, crop_area, fp.bridge, fp.bridge_length, fp.join_stacked,
-                fp.bridge_min_share, &shadows, fp.cut_low_parts, &f.low_cut_points);
+                fp.bridge_min_share, &shadows, fp.cut_low_parts, &f.low_cut_points, fp.detect_object,
+                &f.context_points);
   f.object_points = object.size();
   if (object.size() < 3) return f;
 

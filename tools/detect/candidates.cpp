@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <numeric>
 #include <utility>
@@ -204,6 +205,14 @@ Placed place_candidates(const formats::PointCloud& tile, const LocalFrame& l, co
     std::vector<Vector3d> local;
     const std::vector<std::size_t> rows = crop_rows(l, g, cells, f, c, params, &local);
     c.cloud = crop_cloud(tile, rows, local, f.R);
+    if (params.object_field) {
+      // 1: a row of the object (o.points, rows of the tile, as the crop's rows); 0: the context.
+      std::vector<std::uint32_t> own = o.points;
+      std::sort(own.begin(), own.end());
+      auto& mark = c.cloud.add(kObjectField, formats::kUint8);  // replaces a tile's own `object`
+      for (std::size_t m = 0; m < rows.size(); ++m)
+        mark[m] = std::binary_search(own.begin(), own.end(), static_cast<std::uint32_t>(rows[m])) ? 1 : 0;
+    }
     pending.push_back(std::move(pd));
   }
   std::sort(pending.begin(), pending.end(), [](const Pending& a, const Pending& b) {

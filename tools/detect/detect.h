@@ -135,6 +135,11 @@ struct Params {
   bool join_stacked = true;
   // Candidates.
   double margin = 0.5;  // crop margin around the footprint and above the height (m)
+  // Each crop gets the field `object` (uint8, kObjectField): 1 for the points of the candidate's
+  // own object (its cluster after every split, trim and merge), 0 for the rest of the crop (ground,
+  // grass, other objects and clutter); classify's --detect-object keeps its object to the 1s
+  // (detect.md §17); false = no such field, the crops before.
+  bool object_field = false;
 };
 
 // Throws common::UsageError naming the option (--cell, ...) of the first bad value: cell > 0,
@@ -148,6 +153,8 @@ void validate(const Params& params);
 // The tile's ground-truth fields (rangetrace's tiles): never copied into a crop, so no later
 // stage can read them by accident (issue 30); candtruth reads them from the tile.
 inline const char* const kTruthFields[] = {"label", "instance"};
+// The crop's field marking the candidate's own object (Params::object_field).
+inline const char* const kObjectField = "object";
 
 // Classes of the classification output.
 enum Class : std::uint8_t { kClassGround = 1, kClassOther = 2, kClassCandidate = 3 };

@@ -107,6 +107,11 @@ void bind(common::Tool& tool, detect::Params& p, Cli& cli) {
            "split (a vehicle's parts at different heights whose vertical faces the sensor did not "
            "see: a cab beside a deck from above); false = the rule before, "
            "docs/decisions/detect.md §16");
+  tool.add("--object-field", &p.object_field,
+           "true or false: every candidate crop gets the field `object` (uint8), 1 for the points of "
+           "the candidate's own object (after the row split, trim and merges), 0 for the rest of the "
+           "crop (ground, other objects); classify --detect-object reads it; false = the crops "
+           "before, docs/decisions/detect.md §17");
   tool.add_flag("--no-classes", &cli.no_classes, "do not write classes.ply");
   tool.app().add_option("--trajectory", cli.trajectory,
                         "sensor trajectory (formats/README.md, Trajectory) in the tile's frame: a "
