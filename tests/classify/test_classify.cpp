@@ -1538,14 +1538,14 @@ TEST_CASE(
 
 namespace {
 
-// detect's field `object` (detect --object-field) on a sampled crop: 1 where `own` says the point
-// is the candidate's object, else 0.
-formats::PointCloud with_object_field(formats::PointCloud cloud, const std::function<bool(double, double, double)>& own) {
+// detect's field `object` (detect --object-field) on a sampled crop: what `mark` says per point
+// (1 the candidate's object, 2 another object's, 0 the rest).
+formats::PointCloud with_object_field(formats::PointCloud cloud, const std::function<int(double, double, double)>& mark) {
   const auto& x = cloud.col("x");
   const auto& y = cloud.col("y");
   const auto& z = cloud.col("z");
   std::vector<double> o(x.size());
-  for (std::size_t i = 0; i < x.size(); ++i) o[i] = own(x[i], y[i], z[i]) ? 1 : 0;
+  for (std::size_t i = 0; i < x.size(); ++i) o[i] = mark(x[i], y[i], z[i]);
   cloud.add("object", formats::kUint8) = o;
   return cloud;
 }
@@ -1563,14 +1563,14 @@ classify::Params detect_object(bool on, double bridge) {
 TEST_CASE("classify: --detect-object keeps the car alone where the link joins a low box detect gave to another") {
   // car_and_low_box at 8 and 10 points/m² (§33's scene: the link crosses the 0.4 m gap in most
   // scenes): detect's trim (detect.md §12) made the box an object of its own, so the car's crop
-  // marks the box 0. Off, the object is car and box (> 5.5 m); on, exactly the car's points, with
+  // marks the box 2 (the ground 0). Off, the object is car and box (> 5.5 m); on, exactly the car's points, with
   // and without the gap bridge; the box's points are counted as context.
   std::size_t joined = 0;
   for (const double density : {8.0, 10.0}) {
     for (std::uint64_t seed = 61; seed < 81; ++seed) {
       const Sampled s = sample(car_and_low_box(0.8, false), 3.9, 0.9, 0, density, seed);
       const formats::PointCloud crop =
-          with_object_field(s.cloud, [](double x, double, double z) { return z >= 0.3 && x < 2.5; });
+          with_object_field(s.cloud, [](double x, double, double z) { return z < 0.3 ? 0 : x < 2.5 ? 1 : 2; });
       std::size_t car = 0;
       const auto& x = crop.col("x");
       const auto& z = crop.col("z");
@@ -1609,7 +1609,7 @@ TEST_CASE("classify: --detect-object leaves the gap bridge its work on the vehic
   for (const double density : {25.0, 50.0}) {
     INFO(density << " points/m2");
     const Sampled glass = sample(glass_car_top, 2.3, 0.9, 0, density, 64);
-    const formats::PointCloud crop = with_object_field(glass.cloud, [](double, double, double z) { return z >= 0.3; });
+    const formats::PointCloud crop = with_object_field(glass.cloud, [](double, double, double z) { return z >= 0.3 ? 1 : 0; });
     const classify::Answer on = classify::run(detect_object(true, 1.0), {crop, "glass.pcd", {}});
     CHECK(on.features.object_points == glass.object);
     CHECK(on.features.context_points == 0);
@@ -1618,10 +1618,10 @@ TEST_CASE("classify: --detect-object leaves the gap bridge its work on the vehic
   }
 }
 
-TEST_CASE("classify: a crop whose object field is not 0 or 1 is refused, naming the file") {
+TEST_CASE("classify: a crop whose object field is not 0, 1 or 2 is refused, naming the file") {
   const Sampled s = sample(car_top, 2.3, 0.9, 0, 25, 7);
-  formats::PointCloud crop = with_object_field(s.cloud, [](double, double, double z) { return z >= 0.3; });
-  crop.col("object")[3] = 2;
+  formats::PointCloud crop = with_object_field(s.cloud, [](double, double, double z) { return z >= 0.3 ? 1 : 0; });
+  crop.col("object")[3] = 3;
   CHECK_THROWS_WITH(classify::run(detect_object(true, 1.0), {crop, "bad.pcd", {}}),
                     Catch::Contains("bad.pcd") && Catch::Contains("object"));
 }

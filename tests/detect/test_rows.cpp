@@ -222,10 +222,11 @@ TEST_CASE("a car with a low planter at its end: the planter is trimmed off (dete
   }
 }
 
-TEST_CASE("--object-field: the car's crop marks the planter beyond the trim 0, the car's own points 1") {
+TEST_CASE("--object-field: the car's crop marks the planter beyond the trim 2, the car's own points 1") {
   // The planter scene above with a 2.5 m margin, so that the car's crop holds the planter: the
-  // field `object` is 1 exactly on the car's object (object_points of them), 0 on the planter's
-  // points (an object of its own after the trim) and on the ground. Off: no field, the same crop.
+  // field `object` is 1 exactly on the car's object (object_points of them), 2 on the planter's
+  // points (a piece of its own after the trim, too small to be a candidate) and 0 on the ground.
+  // Off: no field, the same crop.
   const std::vector<Car> cars = {{0, 0, 0}};
   const std::vector<Box> planter = {{2.6, 4.6, -0.75, 0.75, 0.8}};
   for (unsigned seed : {31u, 32u, 33u}) {
@@ -249,20 +250,21 @@ TEST_CASE("--object-field: the car's crop marks the planter beyond the trim 0, t
       const auto& o = crop.col("object");
       std::size_t ones = 0;
       for (double v : o) {
-        CHECK((v == 0 || v == 1));
+        CHECK((v == 0 || v == 1 || v == 2));
         ones += v == 1;
       }
       CHECK(ones == c.object_points);
       if (std::hypot(c.to_tile(0, 3), c.to_tile(1, 3)) > 0.4) continue;
       seen_car = true;
       // The crop's points back in the tile: the planter's top beyond the car's reach, the cabin's roof.
-      std::size_t planter_pts = 0, planter_ones = 0, roof = 0, roof_ones = 0;
+      std::size_t planter_pts = 0, planter_ones = 0, planter_twos = 0, roof = 0, roof_ones = 0;
       for (std::size_t i = 0; i < crop.size(); ++i) {
         const Eigen::Vector4d t = c.to_tile * Eigen::Vector4d(crop.col("x")[i], crop.col("y")[i], crop.col("z")[i], 1);
         const double h = t.z() - 100;
         if (t.x() > 3.0 && t.x() < 4.6 && std::abs(t.y()) < 0.75 && h > 0.6) {
           ++planter_pts;
           planter_ones += o[i] == 1;
+          planter_twos += o[i] == 2;
         }
         if (std::abs(t.x()) < 1.0 && std::abs(t.y()) < 0.6 && h > 1.3) {
           ++roof;
@@ -273,6 +275,7 @@ TEST_CASE("--object-field: the car's crop marks the planter beyond the trim 0, t
       INFO("planter " << planter_ones << " of " << planter_pts << ", roof " << roof_ones << " of " << roof);
       CHECK(planter_pts >= 10);
       CHECK(planter_ones == 0);
+      CHECK(planter_twos == planter_pts);
       CHECK(roof >= 10);
       CHECK(roof_ones == roof);
     }

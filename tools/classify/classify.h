@@ -125,11 +125,11 @@ struct Params {
   // and not adopted (off in Params, classify.ini and classify-sim.ini).
   double cut_low_parts = 0;
   // detect's object (classify.md §34): with a crop carrying detect's field `object` (detect
-  // --object-field), points above the ground cut that detect gave to something else (0) are left
-  // out of the object before the clustering, so the link cannot re-join across a gap what
-  // detect's row split and trim separated (a neighbour's bonnet, a planter, a low hedge); the
-  // clustering, --join-stacked and --bridge then work on detect's object alone. A crop without
-  // the field: as off. false = the rule before.
+  // --object-field), points above the ground cut that detect gave to another object or piece (2)
+  // are left out of the object before the clustering, so the link cannot re-join across a gap
+  // what detect's row split and trim separated (a neighbour's bonnet, a planter, a low hedge); the
+  // clustering, --join-stacked and --bridge then work on the rest. A crop without the field: as
+  // off. false = the rule before.
   bool detect_object = false;
   // Parts stacked in height (classify.md §25): seen from above a vertical face returns nothing,
   // so a semi-tractor's cab (3.6 m) and its deck (1.2 m), an earthmover's cab top and its body are
@@ -302,7 +302,7 @@ struct Features {
   double shadow_area = 0;
   // Object points dropped by cut_low_parts (classify.md §33; 0: none or off).
   std::size_t low_cut_points = 0;
-  // Points above the ground cut left out as detect's context (--detect-object, §34; 0: none or off).
+  // Points above the ground cut left out as another detect object's (--detect-object, §34; 0: none or off).
   std::size_t context_points = 0;
   std::optional<double> fill_rectangle;
   double heading_pca = 0;      // rad, the principal axis (for comparison only)

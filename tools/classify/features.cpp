@@ -422,14 +422,15 @@ Candidate read_candidate(const formats::PointCloud& cloud, const std::string& na
   }
   // Echo widths (the realistic sensor's waveform FWHM; LAS Extra Bytes `echo_width`).
   if (cloud.has("echo_width")) c.echo_width = cloud.col("echo_width");
-  // detect's own object (detect --object-field): 1 its points, 0 the context; anything else an error.
+  // detect's own object (detect --object-field): 1 its points, 2 another object's, 0 the rest;
+  // anything else an error.
   if (cloud.has("object")) {
     const auto& o = cloud.col("object");
     c.detect_object.resize(cloud.size());
     for (std::size_t i = 0; i < cloud.size(); ++i) {
-      if (o[i] != 0 && o[i] != 1)
+      if (o[i] != 0 && o[i] != 1 && o[i] != 2)
         throw common::DataError(name, "point " + std::to_string(i) + " has object " + std::to_string(o[i]) +
-                                          " (detect's field: 0 or 1)");
+                                          " (detect's field: 0, 1 or 2)");
       c.detect_object[i] = static_cast<std::uint8_t>(o[i]);
     }
   }
@@ -491,12 +492,12 @@ std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double
                                    std::size_t* low_cut, bool detect_object, std::size_t* context) {
   std::vector<std::size_t> above;
   std::vector<Vector3d> pts;
-  // §34: detect's context above the ground cut (another object, clutter) is none of the object's.
+  // §34: what detect gave to another object or piece (2) is none of this object's.
   const bool own_only = detect_object && !c.detect_object.empty();
   std::size_t left_out = 0;
   for (std::size_t i = 0; i < c.points.size(); ++i) {
     if (c.points[i].z() >= ground_cut) {
-      if (own_only && c.detect_object[i] == 0) {
+      if (own_only && c.detect_object[i] == 2) {
         ++left_out;
         continue;
       }

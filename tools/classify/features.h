@@ -36,7 +36,8 @@ struct Candidate {
   // `echo_width`), empty = unknown (NaN: unknown for that point).
   std::vector<double> echo_width;
   // Per point: detect's field `object` (detect --object-field), 1 = the candidate's own object,
-  // 0 = context (ground, other objects); empty = the crop has no such field.
+  // 2 = a point detect gave to another object or piece, 0 = the rest (ground, points detect
+  // dropped); empty = the crop has no such field.
   std::vector<std::uint8_t> detect_object;
   // Pass index per point, 0 .. passes - 1 (empty = one pass, unknown): points of one flight line
   // (point_source_id) flown in one stretch of time (gps_time gaps of more than kPassGap s split
@@ -103,8 +104,8 @@ struct Shadow {
 // least the crop's spacing, against the open ground's density: the crop's ground returns outside
 // the object's box over the crop's area outside it; no cut without 10 of them on 1 m²); `low_cut`
 // gets the number of points dropped. With `detect_object` (classify.md §34) and c.detect_object
-// known, the above-ground points detect marked 0 are left out before the clustering (`context`
-// gets their number): the object is built from detect's object alone.
+// known, the above-ground points detect gave to another object or piece (2) are left out before
+// the clustering (`context` gets their number).
 std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double link, double crop_area,
                                    double bridge = 0, double bridge_length = 6.0, bool join_stacked = false,
                                    double bridge_min_share = 0, std::vector<Shadow>* shadows = nullptr,

@@ -74,8 +74,8 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
   tool.add("--detect-object", &p.detect_object,
            "true or false: with a candidate crop that carries detect's field `object` (detect "
            "--object-field), leave out of the object every point above the ground cut that detect gave "
-           "to something else (0: a neighbour's bonnet, a planter, a hedge), before the clustering; a "
-           "crop without the field: as false");
+           "to another object or piece (2: a neighbour's bonnet, a planter, a hedge), before the "
+           "clustering; a crop without the field: as false");
   tool.add("--bridge-min-share", &p.bridge_min_share,
            "--bridge joins only a cluster holding at least this share of the object's points (0: any)");
   tool.add("--max-echo-widening", &p.max_echo_widening,

@@ -189,7 +189,8 @@ formats::PointCloud crop_cloud(const formats::PointCloud& tile, const std::vecto
 }  // namespace
 
 Placed place_candidates(const formats::PointCloud& tile, const LocalFrame& l, const Ground& g,
-                        const std::vector<Object>& objects, const Params& params) {
+                        const std::vector<Object>& objects, const Params& params,
+                        const std::vector<std::int32_t>& examined) {
   const CellPoints cells = bucket_by_cell(g.cell_of, g.cells());
   struct Pending {
     Candidate c;
@@ -206,12 +207,22 @@ Placed place_candidates(const formats::PointCloud& tile, const LocalFrame& l, co
     const std::vector<std::size_t> rows = crop_rows(l, g, cells, f, c, params, &local);
     c.cloud = crop_cloud(tile, rows, local, f.R);
     if (params.object_field) {
-      // 1: a row of the object (o.points, rows of the tile, as the crop's rows); 0: the context.
+      // 1: a row of the object (o.points, rows of the tile, as the crop's rows); 2: a row last
+      // examined outside the object's lineage (given to something else); 0: the rest.
       std::vector<std::uint32_t> own = o.points;
       std::sort(own.begin(), own.end());
       auto& mark = c.cloud.add(kObjectField, formats::kUint8);  // replaces a tile's own `object`
-      for (std::size_t m = 0; m < rows.size(); ++m)
-        mark[m] = std::binary_search(own.begin(), own.end(), static_cast<std::uint32_t>(rows[m])) ? 1 : 0;
+      for (std::size_t m = 0; m < rows.size(); ++m) {
+        const auto q = static_cast<std::uint32_t>(rows[m]);
+        if (std::binary_search(own.begin(), own.end(), q)) {
+          mark[m] = kObjectOwn;
+        } else if (q < examined.size() && examined[q] >= 0 &&
+                   std::find(o.lineage.begin(), o.lineage.end(), examined[q]) == o.lineage.end()) {
+          mark[m] = kObjectOther;
+        } else {
+          mark[m] = kObjectContext;
+        }
+      }
     }
     pending.push_back(std::move(pd));
   }

@@ -136,8 +136,9 @@ struct Params {
   // Candidates.
   double margin = 0.5;  // crop margin around the footprint and above the height (m)
   // Each crop gets the field `object` (uint8, kObjectField): 1 for the points of the candidate's
-  // own object (its cluster after every split, trim and merge), 0 for the rest of the crop (ground,
-  // grass, other objects and clutter); classify's --detect-object keeps its object to the 1s
+  // own object (its cluster after every split, trim and merge), 2 for points detect gave to
+  // something else (another object or piece), 0 for the rest of the crop (ground, grass, points
+  // dropped from its own cluster); classify's --detect-object leaves the 2s out of its object
   // (detect.md §17); false = no such field, the crops before.
   bool object_field = false;
 };
@@ -153,8 +154,12 @@ void validate(const Params& params);
 // The tile's ground-truth fields (rangetrace's tiles): never copied into a crop, so no later
 // stage can read them by accident (issue 30); candtruth reads them from the tile.
 inline const char* const kTruthFields[] = {"label", "instance"};
-// The crop's field marking the candidate's own object (Params::object_field).
+// The crop's field marking the candidate's own object (Params::object_field): 1 its points, 2
+// points detect gave to something else (another object, a piece a row split or trim cut off,
+// accepted or not), 0 the rest (ground, grass, points above the band, what detect dropped from
+// this object's own cluster).
 inline const char* const kObjectField = "object";
+constexpr std::uint8_t kObjectContext = 0, kObjectOwn = 1, kObjectOther = 2;
 
 // Classes of the classification output.
 enum Class : std::uint8_t { kClassGround = 1, kClassOther = 2, kClassCandidate = 3 };

@@ -109,9 +109,9 @@ void bind(common::Tool& tool, detect::Params& p, Cli& cli) {
            "docs/decisions/detect.md §16");
   tool.add("--object-field", &p.object_field,
            "true or false: every candidate crop gets the field `object` (uint8), 1 for the points of "
-           "the candidate's own object (after the row split, trim and merges), 0 for the rest of the "
-           "crop (ground, other objects); classify --detect-object reads it; false = the crops "
-           "before, docs/decisions/detect.md §17");
+           "the candidate's own object (after the row split, trim and merges), 2 for points detect "
+           "gave to another object or piece, 0 for the rest (ground, grass); classify "
+           "--detect-object reads it; false = the crops before, docs/decisions/detect.md §17");
   tool.add_flag("--no-classes", &cli.no_classes, "do not write classes.ply");
   tool.app().add_option("--trajectory", cli.trajectory,
                         "sensor trajectory (formats/README.md, Trajectory) in the tile's frame: a "

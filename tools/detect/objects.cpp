@@ -38,6 +38,8 @@ struct Context {
   int in_row = 0;          // > 0 while examining the pieces of a row split (rows.h)
   int in_trim = 0;         // > 0 while examining the pieces of a trim (rows.h)
   std::size_t origin = 0;  // the cluster being examined (find_objects' order)
+  std::vector<std::int32_t> lineage;  // the examinations under way, outermost first
+  std::int32_t examinations = 0;      // examinations numbered so far
 };
 
 std::uint64_t column_key(double x, double y, double v) {
@@ -195,6 +197,14 @@ double valley_cut(const Context& c, const std::vector<std::uint32_t>& pts, const
 
 void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
   const Params& p = c.p;
+  // This examination's number on its points and on the lineage while it lasts (Objects::examined).
+  const std::int32_t id = c.examinations++;
+  for (std::uint32_t q : pts) c.out.examined[q] = id;
+  c.lineage.push_back(id);
+  struct Pop {
+    std::vector<std::int32_t>& s;
+    ~Pop() { s.pop_back(); }
+  } pop{c.lineage};
   if (pts.size() < p.min_points) {
     ++c.out.rejected_small;
     return;
@@ -234,6 +244,10 @@ void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
     ++(row.trimmed ? c.out.trims : c.out.row_splits);
     ++c.in_row;
     c.in_trim += row.trimmed;
+    // The rest is cut off from the pieces whether examined or not: an examination of its own
+    // (Objects::examined), which its parts' examinations below renumber.
+    const std::int32_t rest = c.examinations++;
+    for (std::uint32_t q : row.rest) c.out.examined[q] = rest;
     for (auto& piece : row.pieces) examine(c, std::move(piece), depth + 1);
     if (row.rest.size() >= p.min_points) {
       for (auto& part : cluster_points(row.rest, c.x, c.y, c.z, p.voxel, Clustering::kGrid))
@@ -311,6 +325,7 @@ void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
   o.row_piece = c.in_row > 0;
   o.trim_piece = c.in_trim > 0;
   o.origins = {c.origin};
+  o.lineage = c.lineage;
   c.out.accepted.push_back(std::move(o));
 }
 
@@ -389,6 +404,7 @@ void merge_pieces(Context& c) {
         objs[a].row_piece = objs[a].row_piece || objs[b].row_piece;
         objs[a].trim_piece = objs[a].trim_piece || objs[b].trim_piece;
         objs[a].origins.insert(objs[a].origins.end(), objs[b].origins.begin(), objs[b].origins.end());
+        objs[a].lineage.insert(objs[a].lineage.end(), objs[b].lineage.begin(), objs[b].lineage.end());
         objs.erase(objs.begin() + long(b));
         ++c.out.merges;
         merged = true;
@@ -504,9 +520,10 @@ Objects find_objects(const LocalFrame& l, const std::vector<float>& height, cons
   }
   Objects out;
   out.band_points = band.size();
+  out.examined.assign(n, -1);
   std::vector<double> hz(n);  // clustering in (x, y, height): the band is a flat slab
   for (std::size_t i = 0; i < n; ++i) hz[i] = height[i];
-  Context ctx{params, l.x, l.y, hz, height, out, {}};
+  Context ctx{params, l.x, l.y, hz, height, out, {}, 0, 0, 0, {}, 0};
   for (std::size_t i = 0; i < n; ++i) {
     if (height[i] > params.max_height && height[i] <= params.max_height + 2 * params.voxel) {
       ctx.above.emplace(column_key(l.x[i], l.y[i], params.voxel), 1);

@@ -30,6 +30,9 @@ struct Object {
   // The clusters (find_objects' order) the object's points came from: the row and trim rules
   // keep apart only pieces of one cluster (with join_stacked; detect.md §16).
   std::vector<std::size_t> origins;
+  // The examinations (Objects::examined) the object came out of: its own and every one above it
+  // (the cluster, then the pieces it was split or trimmed into); merged objects: both lists.
+  std::vector<std::int32_t> lineage;
 };
 
 // The objects that pass the vehicle tests, in the order found, and the counts of the way.
@@ -37,6 +40,11 @@ struct Objects {
   std::vector<Object> accepted;
   std::size_t band_points = 0, clusters = 0, splits = 0, row_splits = 0, trims = 0, merges = 0, stacked = 0;
   std::size_t rejected_small = 0, rejected_large = 0, rejected_canopy = 0;
+  // Per tile point: the last examination (every cluster, piece or part examined gets a number,
+  // in order) whose points held it, -1 for none (not in the band). A point whose examination is
+  // not in an object's lineage was given by detect to something else (another object, a piece a
+  // split or trim cut off, accepted or not): the crops' field `object` (detect.md §17).
+  std::vector<std::int32_t> examined;
 };
 
 // `height`: every point's height above the DTM (Ground::height). Throws common::DataError
