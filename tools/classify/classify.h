@@ -131,6 +131,10 @@ struct Params {
   // clustering, --join-stacked and --bridge then work on the rest. A crop without the field: as
   // off. false = the rule before.
   bool detect_object = false;
+  // With detect_object: only the 2s outside the top-view box (candidate frame) of detect's own
+  // object (its 1s) are left out; inside it they stay (§34's second reading: detect's pieces of the
+  // vehicle itself, a split that cut a car).
+  bool detect_object_box = false;
   // Parts stacked in height (classify.md §25): seen from above a vertical face returns nothing,
   // so a semi-tractor's cab (3.6 m) and its deck (1.2 m), an earthmover's cab top and its body are
   // clusters that touch only in the top view (a step of more than 3 links). true: a cluster that

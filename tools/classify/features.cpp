@@ -489,15 +489,25 @@ std::vector<int> passes_of(const std::vector<double>& source, const std::vector<
 std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double link, double crop_area,
                                    double bridge, double bridge_length, bool join_stacked,
                                    double bridge_min_share, std::vector<Shadow>* shadows, double cut_low,
-                                   std::size_t* low_cut, bool detect_object, std::size_t* context) {
+                                   std::size_t* low_cut, bool detect_object, std::size_t* context,
+                                   bool detect_object_box) {
   std::vector<std::size_t> above;
   std::vector<Vector3d> pts;
   // §34: what detect gave to another object or piece (2) is none of this object's.
   const bool own_only = detect_object && !c.detect_object.empty();
   std::size_t left_out = 0;
+  Extents own;  // the top-view box of detect's object (detect_object_box)
+  if (own_only && detect_object_box) {
+    for (std::size_t i = 0; i < c.points.size(); ++i) {
+      if (c.detect_object[i] == 1) own.add(c.points[i].x(), c.points[i].y());
+    }
+  }
+  auto outside = [&](const Vector3d& p) {
+    return !detect_object_box || p.x() < own.u0 || p.x() > own.u1 || p.y() < own.v0 || p.y() > own.v1;
+  };
   for (std::size_t i = 0; i < c.points.size(); ++i) {
     if (c.points[i].z() >= ground_cut) {
-      if (own_only && c.detect_object[i] == 2) {
+      if (own_only && c.detect_object[i] == 2 && outside(c.points[i])) {
         ++left_out;
         continue;
       }
@@ -589,7 +599,7 @@ Features measure(const Candidate& c, const Params& fp) {
   const std::vector<std::size_t> object =
       object_of(c, fp.ground_cut, link, crop_area, fp.bridge, fp.bridge_length, fp.join_stacked,
                 fp.bridge_min_share, &shadows, fp.cut_low_parts, &f.low_cut_points, fp.detect_object,
-                &f.context_points);
+                &f.context_points, fp.detect_object_box);
   f.object_points = object.size();
   if (object.size() < 3) return f;
 

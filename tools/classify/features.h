@@ -105,12 +105,14 @@ struct Shadow {
 // the object's box over the crop's area outside it; no cut without 10 of them on 1 m²); `low_cut`
 // gets the number of points dropped. With `detect_object` (classify.md §34) and c.detect_object
 // known, the above-ground points detect gave to another object or piece (2) are left out before
-// the clustering (`context` gets their number).
+// the clustering (`context` gets their number); with `detect_object_box` only those outside the
+// top-view box of the 1s.
 std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double link, double crop_area,
                                    double bridge = 0, double bridge_length = 6.0, bool join_stacked = false,
                                    double bridge_min_share = 0, std::vector<Shadow>* shadows = nullptr,
                                    double cut_low = 0, std::size_t* low_cut = nullptr,
-                                   bool detect_object = false, std::size_t* context = nullptr);
+                                   bool detect_object = false, std::size_t* context = nullptr,
+                                   bool detect_object_box = false);
 
 // classify.md §25 (object_of with `join_stacked`): joins to the object (`in`, per point of `pts`)
 // each cluster of `label` that meets it within `link` in the top view, beside it, in line with it

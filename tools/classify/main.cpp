@@ -76,6 +76,9 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
            "--object-field), leave out of the object every point above the ground cut that detect gave "
            "to another object or piece (2: a neighbour's bonnet, a planter, a hedge), before the "
            "clustering; a crop without the field: as false");
+  tool.add("--detect-object-box", &p.detect_object_box,
+           "true or false: --detect-object leaves out only the 2s outside the top-view box of detect's "
+           "own object (its 1s); those inside it stay");
   tool.add("--bridge-min-share", &p.bridge_min_share,
            "--bridge joins only a cluster holding at least this share of the object's points (0: any)");
   tool.add("--max-echo-widening", &p.max_echo_widening,
