@@ -1540,7 +1540,8 @@ namespace {
 
 // detect's field `object` (detect --object-field) on a sampled crop: what `mark` says per point
 // (1 the candidate's object, 2 another object's, 0 the rest).
-formats::PointCloud with_object_field(formats::PointCloud cloud, const std::function<int(double, double, double)>& mark) {
+formats::PointCloud with_object_field(formats::PointCloud cloud,
+                                      const std::function<int(double, double, double)>& mark) {
   const auto& x = cloud.col("x");
   const auto& y = cloud.col("y");
   const auto& z = cloud.col("z");
@@ -1550,9 +1551,10 @@ formats::PointCloud with_object_field(formats::PointCloud cloud, const std::func
   return cloud;
 }
 
-classify::Params detect_object(bool on, double bridge) {
+classify::Params detect_object(bool on, double bridge, bool box = false) {
   classify::Params p;
   p.detect_object = on;
+  p.detect_object_box = box;
   p.bridge = bridge;
   p.bridge_min_share = bridge > 0 ? 0.1 : 0;
   return p;
@@ -1560,17 +1562,19 @@ classify::Params detect_object(bool on, double bridge) {
 
 }  // namespace
 
-TEST_CASE("classify: --detect-object keeps the car alone where the link joins a low box detect gave to another") {
+TEST_CASE(
+    "classify: --detect-object keeps the car alone where the link joins a low box detect gave to another") {
   // car_and_low_box at 8 and 10 points/m² (§33's scene: the link crosses the 0.4 m gap in most
   // scenes): detect's trim (detect.md §12) made the box an object of its own, so the car's crop
-  // marks the box 2 (the ground 0). Off, the object is car and box (> 5.5 m); on, exactly the car's points, with
-  // and without the gap bridge; the box's points are counted as context.
+  // marks the box 2 (the ground 0). Off, the object is car and box (> 5.5 m); on, exactly the car's points,
+  // with and without the gap bridge; the box's points are counted as context.
   std::size_t joined = 0;
   for (const double density : {8.0, 10.0}) {
     for (std::uint64_t seed = 61; seed < 81; ++seed) {
       const Sampled s = sample(car_and_low_box(0.8, false), 3.9, 0.9, 0, density, seed);
-      const formats::PointCloud crop =
-          with_object_field(s.cloud, [](double x, double, double z) { return z < 0.3 ? 0 : x < 2.5 ? 1 : 2; });
+      const formats::PointCloud crop = with_object_field(s.cloud, [](double x, double, double z) {
+        return z < 0.3 ? 0 : x < 2.5 ? 1 : 2;
+      });
       std::size_t car = 0;
       const auto& x = crop.col("x");
       const auto& z = crop.col("z");
@@ -1591,6 +1595,17 @@ TEST_CASE("classify: --detect-object keeps the car alone where the link joins a 
         CHECK(on.features.length_measured > 3.9);  // the 4.6 m car's points at 8-10 points/m²
         CHECK(on.features.length_measured < 4.7);
       }
+      // --detect-object-box: the box lies beyond the car's own box, so it is left out too; 2s inside
+      // the car's box stay (here the car's middle, |x| < 1.8 m and |y| < 0.4 m, as if detect had given it
+      // to another piece).
+      const classify::Answer box = classify::run(detect_object(true, 1.0, true), {crop, "obj.pcd", {}});
+      CHECK(box.features.object_points == car);
+      const formats::PointCloud strip = with_object_field(s.cloud, [](double x, double y, double z) {
+        return z < 0.3 ? 0 : x < 2.5 && (std::abs(y) >= 0.4 || std::abs(x) >= 1.8) ? 1 : 2;
+      });
+      const classify::Answer inside = classify::run(detect_object(true, 1.0, true), {strip, "obj.pcd", {}});
+      CHECK(inside.features.object_points == car);
+      CHECK(inside.features.context_points == s.object - car);
       // The same crop without the field: the option changes nothing.
       const classify::Answer none = classify::run(detect_object(true, 1.0), {s.cloud, "obj.pcd", {}});
       CHECK(none.features.object_points == off.features.object_points);
@@ -1609,7 +1624,8 @@ TEST_CASE("classify: --detect-object leaves the gap bridge its work on the vehic
   for (const double density : {25.0, 50.0}) {
     INFO(density << " points/m2");
     const Sampled glass = sample(glass_car_top, 2.3, 0.9, 0, density, 64);
-    const formats::PointCloud crop = with_object_field(glass.cloud, [](double, double, double z) { return z >= 0.3 ? 1 : 0; });
+    const formats::PointCloud crop =
+        with_object_field(glass.cloud, [](double, double, double z) { return z >= 0.3 ? 1 : 0; });
     const classify::Answer on = classify::run(detect_object(true, 1.0), {crop, "glass.pcd", {}});
     CHECK(on.features.object_points == glass.object);
     CHECK(on.features.context_points == 0);
@@ -1620,7 +1636,8 @@ TEST_CASE("classify: --detect-object leaves the gap bridge its work on the vehic
 
 TEST_CASE("classify: a crop whose object field is not 0, 1 or 2 is refused, naming the file") {
   const Sampled s = sample(car_top, 2.3, 0.9, 0, 25, 7);
-  formats::PointCloud crop = with_object_field(s.cloud, [](double, double, double z) { return z >= 0.3 ? 1 : 0; });
+  formats::PointCloud crop =
+      with_object_field(s.cloud, [](double, double, double z) { return z >= 0.3 ? 1 : 0; });
   crop.col("object")[3] = 3;
   CHECK_THROWS_WITH(classify::run(detect_object(true, 1.0), {crop, "bad.pcd", {}}),
                     Catch::Contains("bad.pcd") && Catch::Contains("object"));

@@ -259,7 +259,8 @@ TEST_CASE("--object-field: the car's crop marks the planter beyond the trim 2, t
       // The crop's points back in the tile: the planter's top beyond the car's reach, the cabin's roof.
       std::size_t planter_pts = 0, planter_ones = 0, planter_twos = 0, roof = 0, roof_ones = 0;
       for (std::size_t i = 0; i < crop.size(); ++i) {
-        const Eigen::Vector4d t = c.to_tile * Eigen::Vector4d(crop.col("x")[i], crop.col("y")[i], crop.col("z")[i], 1);
+        const Eigen::Vector4d t =
+            c.to_tile * Eigen::Vector4d(crop.col("x")[i], crop.col("y")[i], crop.col("z")[i], 1);
         const double h = t.z() - 100;
         if (t.x() > 3.0 && t.x() < 4.6 && std::abs(t.y()) < 0.75 && h > 0.6) {
           ++planter_pts;

@@ -35,9 +35,9 @@ struct Context {
   // 2-D voxel columns (i, j at `voxel`, packed) holding a point just above the band: a
   // cluster reaching the band's top under them is the bottom of something taller (a crown).
   std::unordered_map<std::uint64_t, char> above;
-  int in_row = 0;          // > 0 while examining the pieces of a row split (rows.h)
-  int in_trim = 0;         // > 0 while examining the pieces of a trim (rows.h)
-  std::size_t origin = 0;  // the cluster being examined (find_objects' order)
+  int in_row = 0;                     // > 0 while examining the pieces of a row split (rows.h)
+  int in_trim = 0;                    // > 0 while examining the pieces of a trim (rows.h)
+  std::size_t origin = 0;             // the cluster being examined (find_objects' order)
   std::vector<std::int32_t> lineage;  // the examinations under way, outermost first
   std::int32_t examinations = 0;      // examinations numbered so far
 };
