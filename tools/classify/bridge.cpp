@@ -1,6 +1,7 @@
 // classify's object: gap bridging (classify.md §21, --bridge), joining the clusters that a
 // vehicle's own no-return gaps (windscreen, rear window) split off it; parts stacked in height
-// (classify.md §25, --join-stacked).
+// (classify.md §25, --join-stacked); detect's object as a boundary (classify.md §34,
+// --detect-object).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -9,6 +10,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "canopy/common/error.h"
 #include "classify/features.h"
 
 namespace canopy::classify {
@@ -334,6 +336,38 @@ double solid_density(const Candidate& c, const std::vector<Shadow>& shadows, con
   if (!(fp.bridge_fill || fp.fill_empty_cells) || f.shadow_area <= 0) return f.density;
   const double rectangle = f.length_measured * f.width_measured;
   return f.density * rectangle / std::max(rectangle - f.shadow_area, 1e-6);
+}
+
+std::vector<std::uint8_t> read_object_field(const formats::PointCloud& cloud, const std::string& name) {
+  if (!cloud.has("object")) return {};
+  const auto& o = cloud.col("object");
+  std::vector<std::uint8_t> out(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    if (o[i] != 0 && o[i] != 1 && o[i] != 2)
+      throw common::DataError(name, "point " + std::to_string(i) + " has object " + std::to_string(o[i]) +
+                                        " (detect's field: 0, 1 or 2)");
+    out[i] = static_cast<std::uint8_t>(o[i]);
+  }
+  return out;
+}
+
+std::vector<char> detect_others(const Candidate& c, bool box) {
+  std::vector<char> other(c.points.size(), 0);
+  if (c.detect_object.empty()) return other;
+  double x0 = kInf, x1 = -kInf, y0 = kInf, y1 = -kInf;  // the 1s' top-view box
+  for (std::size_t i = 0; i < c.points.size(); ++i) {
+    if (c.detect_object[i] != 1) continue;
+    x0 = std::min(x0, c.points[i].x());
+    x1 = std::max(x1, c.points[i].x());
+    y0 = std::min(y0, c.points[i].y());
+    y1 = std::max(y1, c.points[i].y());
+  }
+  for (std::size_t i = 0; i < c.points.size(); ++i) {
+    const Eigen::Vector3d& p = c.points[i];
+    const bool outside = !box || p.x() < x0 || p.x() > x1 || p.y() < y0 || p.y() > y1;
+    other[i] = c.detect_object[i] == 2 && outside;
+  }
+  return other;
 }
 
 }  // namespace canopy::classify

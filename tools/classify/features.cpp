@@ -422,18 +422,7 @@ Candidate read_candidate(const formats::PointCloud& cloud, const std::string& na
   }
   // Echo widths (the realistic sensor's waveform FWHM; LAS Extra Bytes `echo_width`).
   if (cloud.has("echo_width")) c.echo_width = cloud.col("echo_width");
-  // detect's own object (detect --object-field): 1 its points, 2 another object's, 0 the rest;
-  // anything else an error.
-  if (cloud.has("object")) {
-    const auto& o = cloud.col("object");
-    c.detect_object.resize(cloud.size());
-    for (std::size_t i = 0; i < cloud.size(); ++i) {
-      if (o[i] != 0 && o[i] != 1 && o[i] != 2)
-        throw common::DataError(name, "point " + std::to_string(i) + " has object " + std::to_string(o[i]) +
-                                          " (detect's field: 0, 1 or 2)");
-      c.detect_object[i] = static_cast<std::uint8_t>(o[i]);
-    }
-  }
+  c.detect_object = read_object_field(cloud, name);  // detect --object-field, classify.md §34
   // Flight passes when the file says which (LAS point_source_id, gps_time).
   static const std::vector<double> none;
   const auto& source = cloud.has("point_source_id") ? cloud.col("point_source_id") : none;
@@ -494,20 +483,12 @@ std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double
   std::vector<std::size_t> above;
   std::vector<Vector3d> pts;
   // §34: what detect gave to another object or piece (2) is none of this object's.
-  const bool own_only = detect_object && !c.detect_object.empty();
+  const std::vector<char> other =
+      detect_object ? detect_others(c, detect_object_box) : std::vector<char>(c.points.size(), 0);
   std::size_t left_out = 0;
-  Extents own;  // the top-view box of detect's object (detect_object_box)
-  if (own_only && detect_object_box) {
-    for (std::size_t i = 0; i < c.points.size(); ++i) {
-      if (c.detect_object[i] == 1) own.add(c.points[i].x(), c.points[i].y());
-    }
-  }
-  auto outside = [&](const Vector3d& p) {
-    return !detect_object_box || p.x() < own.u0 || p.x() > own.u1 || p.y() < own.v0 || p.y() > own.v1;
-  };
   for (std::size_t i = 0; i < c.points.size(); ++i) {
     if (c.points[i].z() >= ground_cut) {
-      if (own_only && c.detect_object[i] == 2 && outside(c.points[i])) {
+      if (other[i]) {
         ++left_out;
         continue;
       }

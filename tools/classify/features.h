@@ -137,6 +137,13 @@ void bridge_gaps(const std::vector<Eigen::Vector3d>& pts, const std::vector<std:
 std::size_t cut_low_parts(const std::vector<Eigen::Vector3d>& pts, const std::vector<Eigen::Vector2d>& ground,
                           double ground_density, double min_gap, double share, std::vector<char>& in,
                           std::vector<Shadow>* shadows = nullptr);
+// classify.md §34: detect's field `object` of the crop (0, 1 or 2 per point; empty without the
+// field); throws common::DataError naming `name` on another value.
+std::vector<std::uint8_t> read_object_field(const formats::PointCloud& cloud, const std::string& name);
+// classify.md §34 (object_of with `detect_object`): per point of `c`, 1 where detect gave it to
+// another object or piece (2), with `box` only outside the top-view box of detect's object (its
+// 1s); all 0 when the crop has no field.
+std::vector<char> detect_others(const Candidate& c, bool box);
 // classify.md §27 (fill_empty_cells): the area (m²) of the rectangle [0, length] x [0, width]
 // (coordinates along and across it) in cells of at least `cell` (as many whole cells as fit each
 // side) that hold none of `points` (every return of the crop, in those coordinates).
