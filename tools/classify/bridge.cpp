@@ -1,6 +1,6 @@
 // classify's object: gap bridging (classify.md §21, --bridge), joining the clusters that a
 // vehicle's own no-return gaps (windscreen, rear window) split off it; parts stacked in height
-// (classify.md §25, --join-stacked); detect's object as a boundary (classify.md §34,
+// (classify.md §25, --join-stacked); detect's object as a boundary (classify.md §35,
 // --detect-object).
 #include <algorithm>
 #include <cmath>

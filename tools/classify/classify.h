@@ -124,7 +124,7 @@ struct Params {
   // higher one stays and the walk goes on past it. Measured at 0.75 on the real development tiles
   // and not adopted (off in Params, classify.ini and classify-sim.ini).
   double cut_low_parts = 0;
-  // detect's object (classify.md §34): with a crop carrying detect's field `object` (detect
+  // detect's object (classify.md §35): with a crop carrying detect's field `object` (detect
   // --object-field), points above the ground cut that detect gave to another object or piece (2)
   // are left out of the object before the clustering, so the link cannot re-join across a gap
   // what detect's row split and trim separated (a neighbour's bonnet, a planter, a low hedge); the
@@ -132,7 +132,7 @@ struct Params {
   // off. false = the rule before.
   bool detect_object = false;
   // With detect_object: only the 2s outside the top-view box (candidate frame) of detect's own
-  // object (its 1s) are left out; inside it they stay (§34's second reading: detect's pieces of the
+  // object (its 1s) are left out; inside it they stay (§35's second reading: detect's pieces of the
   // vehicle itself, a split that cut a car).
   bool detect_object_box = false;
   // Parts stacked in height (classify.md §25): seen from above a vertical face returns nothing,
@@ -306,7 +306,7 @@ struct Features {
   double shadow_area = 0;
   // Object points dropped by cut_low_parts (classify.md §33; 0: none or off).
   std::size_t low_cut_points = 0;
-  // Points above the ground cut left out as another detect object's (--detect-object, §34; 0: none or off).
+  // Points above the ground cut left out as another detect object's (--detect-object, §35; 0: none or off).
   std::size_t context_points = 0;
   std::optional<double> fill_rectangle;
   double heading_pca = 0;      // rad, the principal axis (for comparison only)

@@ -422,7 +422,7 @@ Candidate read_candidate(const formats::PointCloud& cloud, const std::string& na
   }
   // Echo widths (the realistic sensor's waveform FWHM; LAS Extra Bytes `echo_width`).
   if (cloud.has("echo_width")) c.echo_width = cloud.col("echo_width");
-  c.detect_object = read_object_field(cloud, name);  // detect --object-field, classify.md §34
+  c.detect_object = read_object_field(cloud, name);  // detect --object-field, classify.md §35
   // Flight passes when the file says which (LAS point_source_id, gps_time).
   static const std::vector<double> none;
   const auto& source = cloud.has("point_source_id") ? cloud.col("point_source_id") : none;
@@ -482,7 +482,7 @@ std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double
                                    bool detect_object_box) {
   std::vector<std::size_t> above;
   std::vector<Vector3d> pts;
-  // §34: what detect gave to another object or piece (2) is none of this object's.
+  // §35: what detect gave to another object or piece (2) is none of this object's.
   const std::vector<char> other =
       detect_object ? detect_others(c, detect_object_box) : std::vector<char>(c.points.size(), 0);
   std::size_t left_out = 0;

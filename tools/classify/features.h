@@ -103,7 +103,7 @@ struct Shadow {
 // ground along x whose top is at most that share of the rest's is cut off (cut_low_parts, gaps of at
 // least the crop's spacing, against the open ground's density: the crop's ground returns outside
 // the object's box over the crop's area outside it; no cut without 10 of them on 1 m²); `low_cut`
-// gets the number of points dropped. With `detect_object` (classify.md §34) and c.detect_object
+// gets the number of points dropped. With `detect_object` (classify.md §35) and c.detect_object
 // known, the above-ground points detect gave to another object or piece (2) are left out before
 // the clustering (`context` gets their number); with `detect_object_box` only those outside the
 // top-view box of the 1s.
@@ -137,10 +137,10 @@ void bridge_gaps(const std::vector<Eigen::Vector3d>& pts, const std::vector<std:
 std::size_t cut_low_parts(const std::vector<Eigen::Vector3d>& pts, const std::vector<Eigen::Vector2d>& ground,
                           double ground_density, double min_gap, double share, std::vector<char>& in,
                           std::vector<Shadow>* shadows = nullptr);
-// classify.md §34: detect's field `object` of the crop (0, 1 or 2 per point; empty without the
+// classify.md §35: detect's field `object` of the crop (0, 1 or 2 per point; empty without the
 // field); throws common::DataError naming `name` on another value.
 std::vector<std::uint8_t> read_object_field(const formats::PointCloud& cloud, const std::string& name);
-// classify.md §34 (object_of with `detect_object`): per point of `c`, 1 where detect gave it to
+// classify.md §35 (object_of with `detect_object`): per point of `c`, 1 where detect gave it to
 // another object or piece (2), with `box` only outside the top-view box of detect's object (its
 // 1s); all 0 when the crop has no field.
 std::vector<char> detect_others(const Candidate& c, bool box);
