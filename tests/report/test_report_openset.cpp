@@ -61,6 +61,30 @@ documents::SceneScore crops_score(const std::vector<std::string>& covers, int tp
                                      "crops.json");
 }
 
+// A report run over hand-made open-set scores: each (name, score.json text) written as
+// dir/name/score.json (the tiles') and dir/name/crops/score.json, and a one-trial manifest.
+struct OpensetRun {
+  std::filesystem::path dir;
+  std::string path(const std::string& name, bool crops) const {
+    return (dir / name / (crops ? "crops/score.json" : "score.json")).string();
+  }
+  // report --manifest ... --openset and --openset-crops of the score named "canopy".
+  std::string command() const {
+    return std::string(CANOPY_BIN_DIR) + "/report --manifest " + (dir / "experiment.txt").string() +
+           " --openset " + path("canopy", false) + " --openset-crops " + path("canopy", true);
+  }
+};
+OpensetRun openset_run(const std::string& name, const std::vector<std::pair<std::string, std::string>>& scores) {
+  const OpensetRun run{test::fresh_dir("report", name)};
+  for (const auto& [n, json] : scores) {
+    test::write_file(run.dir / n / "score.json", json);
+    test::write_file(run.dir / n / "crops" / "score.json", json);
+  }
+  std::ofstream(run.dir / "experiment.txt")
+      << documents::write_experiment_manifest(report::testing::one_trial_manifest(run.dir));
+  return run;
+}
+
 }  // namespace
 
 TEST_CASE("open set: distances.csv gives each test instance's nearest modelbase entry") {
@@ -196,25 +220,15 @@ TEST_CASE("open set: the envelope's own ablation is a subsection of its own") {
 
 TEST_CASE("report --openset with both classify ablations: canopy, the joint ablation, the envelope alone") {
   namespace fs = std::filesystem;
-  const fs::path dir = test::fresh_dir("report", "openset-ablations");
   // Hand-made scores of 10 car crops each (tiles and crops alike): canopy 9/10 found and right;
   // the joint ablation 8 found, 5 right; the envelope alone off 7 found, 7 right.
-  const std::vector<std::pair<std::string, std::string>> scores = {
-      {"canopy", crops_score_json({"car"}, 5, 0, 4, 0, 9, 9)},
-      {"both-off", crops_score_json({"car"}, 4, 1, 4, 0, 8, 5)},
-      {"envelope-off", crops_score_json({"car"}, 3, 0, 4, 0, 7, 7)}};
-  for (const auto& [name, json] : scores) {
-    test::write_file(dir / name / "score.json", json);
-    test::write_file(dir / name / "crops" / "score.json", json);
-  }
-  const documents::ExperimentManifest manifest = report::testing::one_trial_manifest(dir);
-  std::ofstream(dir / "experiment.txt") << documents::write_experiment_manifest(manifest);
-  const auto path = [&](const std::string& name, bool crops) {
-    return (dir / name / (crops ? "crops/score.json" : "score.json")).string();
-  };
-  const std::string report = std::string(CANOPY_BIN_DIR) + "/report --manifest " +
-                             (dir / "experiment.txt").string() + " --openset " + path("canopy", false) +
-                             " --openset-crops " + path("canopy", true);
+  const OpensetRun run =
+      openset_run("openset-ablations", {{"canopy", crops_score_json({"car"}, 5, 0, 4, 0, 9, 9)},
+                                        {"both-off", crops_score_json({"car"}, 4, 1, 4, 0, 8, 5)},
+                                        {"envelope-off", crops_score_json({"car"}, 3, 0, 4, 0, 7, 7)}});
+  const fs::path& dir = run.dir;
+  const auto path = [&](const std::string& name, bool crops) { return run.path(name, crops); };
+  const std::string report = run.command();
   const std::string both =
       " --openset-ablation " + path("both-off", false) + " --openset-crops-ablation " + path("both-off", true);
   const std::string envelope = " --openset-envelope-ablation " + path("envelope-off", false) +
@@ -273,26 +287,16 @@ TEST_CASE("report --openset with both classify ablations: canopy, the joint abla
 
 TEST_CASE("report --openset with the family-entries ablation: a subsection after the envelope's") {
   namespace fs = std::filesystem;
-  const fs::path dir = test::fresh_dir("report", "openset-family-ablation");
   // Hand-made scores of 10 car crops each: canopy 9/10 found and right; the envelope alone off 7
   // found, 7 right; one entry keeping its family 8 found (4 + 4), 6 right. Wilson: 8/10 [49.0,
   // 94.3], 6/8 [40.9, 92.9].
-  const std::vector<std::pair<std::string, std::string>> scores = {
-      {"canopy", crops_score_json({"car"}, 5, 0, 4, 0, 9, 9)},
-      {"envelope-off", crops_score_json({"car"}, 3, 0, 4, 0, 7, 7)},
-      {"family-1", crops_score_json({"car"}, 4, 0, 4, 0, 8, 6)}};
-  for (const auto& [name, json] : scores) {
-    test::write_file(dir / name / "score.json", json);
-    test::write_file(dir / name / "crops" / "score.json", json);
-  }
-  const documents::ExperimentManifest manifest = report::testing::one_trial_manifest(dir);
-  std::ofstream(dir / "experiment.txt") << documents::write_experiment_manifest(manifest);
-  const auto path = [&](const std::string& name, bool crops) {
-    return (dir / name / (crops ? "crops/score.json" : "score.json")).string();
-  };
-  const std::string report = std::string(CANOPY_BIN_DIR) + "/report --manifest " +
-                             (dir / "experiment.txt").string() + " --openset " + path("canopy", false) +
-                             " --openset-crops " + path("canopy", true);
+  const OpensetRun run =
+      openset_run("openset-family-ablation", {{"canopy", crops_score_json({"car"}, 5, 0, 4, 0, 9, 9)},
+                                              {"envelope-off", crops_score_json({"car"}, 3, 0, 4, 0, 7, 7)},
+                                              {"family-1", crops_score_json({"car"}, 4, 0, 4, 0, 8, 6)}});
+  const fs::path& dir = run.dir;
+  const auto path = [&](const std::string& name, bool crops) { return run.path(name, crops); };
+  const std::string report = run.command();
   const std::string envelope = " --openset-envelope-ablation " + path("envelope-off", false) +
                                " --openset-crops-envelope-ablation " + path("envelope-off", true);
   const std::string family = " --openset-family-ablation " + path("family-1", false) +
