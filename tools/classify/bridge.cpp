@@ -354,18 +354,13 @@ std::vector<std::uint8_t> read_object_field(const formats::PointCloud& cloud, co
 std::vector<char> detect_others(const Candidate& c, bool box) {
   std::vector<char> other(c.points.size(), 0);
   if (c.detect_object.empty()) return other;
-  double x0 = kInf, x1 = -kInf, y0 = kInf, y1 = -kInf;  // the 1s' top-view box
+  Extents own;  // the 1s' top-view box
   for (std::size_t i = 0; i < c.points.size(); ++i) {
-    if (c.detect_object[i] != 1) continue;
-    x0 = std::min(x0, c.points[i].x());
-    x1 = std::max(x1, c.points[i].x());
-    y0 = std::min(y0, c.points[i].y());
-    y1 = std::max(y1, c.points[i].y());
+    if (c.detect_object[i] == 1) own.add(c.points[i].x(), c.points[i].y());
   }
   for (std::size_t i = 0; i < c.points.size(); ++i) {
     const Eigen::Vector3d& p = c.points[i];
-    const bool outside = !box || p.x() < x0 || p.x() > x1 || p.y() < y0 || p.y() > y1;
-    other[i] = c.detect_object[i] == 2 && outside;
+    other[i] = c.detect_object[i] == 2 && (!box || own.outside(p.x(), p.y()));
   }
   return other;
 }

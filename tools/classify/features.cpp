@@ -122,18 +122,6 @@ double fold_axis(double a) {
   return a;
 }
 
-struct Extents {
-  double u0 = kInf, u1 = -kInf, v0 = kInf, v1 = -kInf;
-  double length() const { return u1 - u0; }
-  double width() const { return v1 - v0; }
-  void add(double u, double v) {
-    u0 = std::min(u0, u);
-    u1 = std::max(u1, u);
-    v0 = std::min(v0, v);
-    v1 = std::max(v1, v);
-  }
-};
-
 Extents extents(const std::vector<Vector2d>& p, double axis) {
   const Vector2d u(std::cos(axis), std::sin(axis)), v(-std::sin(axis), std::cos(axis));
   Extents e;
@@ -483,12 +471,11 @@ std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double
   std::vector<std::size_t> above;
   std::vector<Vector3d> pts;
   // §35: what detect gave to another object or piece (2) is none of this object's.
-  const std::vector<char> other =
-      detect_object ? detect_others(c, detect_object_box) : std::vector<char>(c.points.size(), 0);
+  const std::vector<char> other = detect_object ? detect_others(c, detect_object_box) : std::vector<char>();
   std::size_t left_out = 0;
   for (std::size_t i = 0; i < c.points.size(); ++i) {
     if (c.points[i].z() >= ground_cut) {
-      if (other[i]) {
+      if (!other.empty() && other[i]) {
         ++left_out;
         continue;
       }
@@ -549,7 +536,7 @@ std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double
       if (in[i]) b.add(pts[i].x(), pts[i].y());
     }
     std::size_t outside = 0;
-    for (const Vector2d& g : ground) outside += g.x() < b.u0 || g.x() > b.u1 || g.y() < b.v0 || g.y() > b.v1;
+    for (const Vector2d& g : ground) outside += b.outside(g.x(), g.y());
     const double open = crop_area - b.length() * b.width();
     if (open > 1.0 && outside >= 10) {
       const double spacing = std::sqrt(crop_area / static_cast<double>(c.points.size()));

@@ -4,8 +4,10 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -79,6 +81,21 @@ Candidate read_candidate(const formats::PointCloud& cloud, const std::string& na
 // joined cluster, y where both extend (candidate frame, top view), and `empty`, the share of it
 // that returned nothing: 1 - its returns (ground and any other above-ground point in it) over
 // what the crop's ground density puts there, in [0, 1].
+// A top-view box grown point by point (u along, v across; empty: infinite bounds).
+struct Extents {
+  double u0 = std::numeric_limits<double>::infinity(), u1 = -std::numeric_limits<double>::infinity();
+  double v0 = std::numeric_limits<double>::infinity(), v1 = -std::numeric_limits<double>::infinity();
+  double length() const { return u1 - u0; }
+  double width() const { return v1 - v0; }
+  void add(double u, double v) {
+    u0 = std::min(u0, u);
+    u1 = std::max(u1, u);
+    v0 = std::min(v0, v);
+    v1 = std::max(v1, v);
+  }
+  bool outside(double u, double v) const { return u < u0 || u > u1 || v < v0 || v > v1; }
+};
+
 struct Shadow {
   double x0 = 0, x1 = 0, y0 = 0, y1 = 0, empty = 0;
 };

@@ -258,8 +258,6 @@ int main(int argc, char** argv) {
   return tool.run(argc, argv, [&] {
     p.roughness = cli.roughness == "plane" ? cl::Params::Roughness::kPlane : cl::Params::Roughness::kLine;
     cl::validate(p);
-    if (!(p.cut_low_parts >= 0 && p.cut_low_parts <= 1))
-      throw cm::UsageError("--cut-low-parts must be in [0, 1]");
     if (!cli.index.empty() && !cli.transform.empty()) {
       throw cm::UsageError("--index and --transform both give the pose: use one");
     }
