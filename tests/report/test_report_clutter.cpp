@@ -48,6 +48,10 @@ TEST_CASE("clutter section: false alarms by kind, seen and unseen kinds marked, 
   CHECK(md.find("| all | none | terrain, vegetation | – | 1 (1 + 0) | 5.6 [0.1, 31.0] | – |") !=
         std::string::npos);
   CHECK(report::clutter_kind_seen("logs"));
+  CHECK(report::clutter_kind_mark("vehicle") == "a true vehicle, off its centre");
+  CHECK(report::clutter_kind_mark("none") == "terrain, vegetation");
+  CHECK(report::clutter_kind_mark("rock") == "**unseen**");
+  CHECK(report::clutter_kind_mark("shed") == "seen");
   CHECK_FALSE(report::clutter_kind_seen("rock"));
   // In the scene section, after the reliability table's place.
   CHECK(report::scene_markdown(score, {}, "scenes").find("### False alarms by clutter kind") !=

@@ -135,6 +135,46 @@ TEST_CASE("density ladder: levels, measured density, CPU per ha and where each t
         std::string::npos);
 }
 
+TEST_CASE("density ladder: what the false alarms fell on, per level, from score's clutter table") {
+  const fs::path root = fs::path(CANOPY_TEST_TMP) / "report-density-clutter";
+  fs::remove_all(root);
+  level(root, "d10", 9.8, 7.9, row("all", 0.5, 0.9, 12, 3));
+  level(root, "d50", 48, 39, row("all", 0.95, 0.9, 4, 0.5));
+  auto levels = report::read_density_levels({{10, 0.667, (root / "res/d10/score.json").string(), ""},
+                                             {50, 0.298, (root / "res/d50/score.json").string(), ""}});
+  REQUIRE(levels.size() == 2);
+  // No clutter table in the scores (written before it): no such table.
+  CHECK(report::density_markdown(levels, {}).find("What the false alarms fell on") == std::string::npos);
+  // Level 10: rock 2, a true vehicle 1, terrain 0 (and a light-cover row, not counted); level 50:
+  // a caravan 1 and terrain 1, no rock row (no rock in its truths).
+  auto clutter = [](const std::string& rows) {
+    return documents::read_scene_score(
+               R"({"format": "canopy.scene_score", "version": 1, "params": {"match_radius_m": 1.5}, "tiles": [],
+        "summary": [], "pr": [], "models": [], "cover_bins": [], "matches": [], "clutter": [)" +
+                   rows + "]}",
+               "score.json")
+        .clutter;
+  };
+  auto r = [](const char* cover, const char* kind, int fa) {
+    return std::string(R"({"cover": ")") + cover + R"(", "kind": ")" + kind + R"(", "false_alarms": )" +
+           std::to_string(fa) + "}";
+  };
+  levels[0].score.clutter = clutter(r("all", "rock", 2) + "," + r("all", "vehicle", 1) + "," +
+                                    r("all", "none", 0) + "," + r("light", "rock", 5));
+  levels[1].score.clutter = clutter(r("all", "caravan", 1) + "," + r("all", "none", 1));
+  const std::string md = report::density_markdown(levels, {});
+  const auto at = md.find("**What the false alarms fell on**");
+  REQUIRE(at != std::string::npos);
+  CHECK(at > md.find("**What became of the candidates**"));
+  // The kinds in score's order across the levels: clutter kinds, then the vehicles, then none.
+  const std::string table = md.substr(at);
+  CHECK(table.find("| fell on | 10 | 50 |\n|---|---|---|\n"
+                   "| rock (**unseen**) | 2 | – |\n"
+                   "| caravan (**unseen**) | – | 1 |\n"
+                   "| vehicle (a true vehicle, off its centre) | 1 | – |\n"
+                   "| none (terrain, vegetation) | 0 | 1 |\n") != std::string::npos);
+}
+
 namespace {
 
 // A summary row with the counts of the side-by-side table: class right and false alarms (fp

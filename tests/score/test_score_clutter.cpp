@@ -2,7 +2,9 @@
 // detections on it, on terrain and on a vehicle, against the hand-computed table.
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <string>
+#include <utility>
 
 #include "canopy/documents/scene_score.h"
 #include "score/clutter.h"
@@ -177,4 +179,47 @@ TEST_CASE("clutter: tiles without clutter in their truth give the none row alone
   t["clutter"][1]["box"].erase("size");
   CHECK_THROWS_WITH(score::parse_truth(t.dump(), "truth.json"),
                     Catch::Contains("truth.json") && Catch::Contains("clutter[1].box"));
+}
+
+TEST_CASE(
+    "clutter: a false alarm inside a true vehicle's footprint is put on the vehicle, before any clutter") {
+  // The sedan at (10, 10) heading 30 gets its footprint: 4.6 x 1.8 m. A detection 2.0 m ahead of
+  // its centre along its axis (beyond the 1.5 m match radius, inside the 2.3 m half-length), a
+  // second answer on its centre (the first took the match), and one 2.5 m ahead (outside).
+  Json t = Json::parse(truth_text());
+  const double h = 30 * 3.14159265358979 / 180, c = std::cos(h), s = std::sin(h);
+  Json corners = Json::array();
+  for (auto [a, b] : {std::pair{2.3, 0.9}, {-2.3, 0.9}, {-2.3, -0.9}, {2.3, -0.9}})
+    corners.push_back({E + 10 + a * c - b * s, N + 10 + a * s + b * c});
+  t["vehicles"][0]["footprint"] = corners;
+  // A tent whose box overlaps the sedan's front: the vehicle comes first.
+  t["clutter"][3] = clutter("tent", 10 + 2.0 * c, 10 + 2.0 * s, 1, 1, 0);
+  score::Tile tile;
+  tile.truth = score::parse_truth(t.dump(), "truth.json");
+  REQUIRE(tile.truth.vehicles[0].footprint.size() == 4);
+  CHECK(score::vehicle_at(tile.truth, E + 10 + 2.0 * c, N + 10 + 2.0 * s) == 0);
+  CHECK(score::vehicle_at(tile.truth, E + 10 + 2.5 * c, N + 10 + 2.5 * s) == -1);
+  CHECK(score::vehicle_at(tile.truth, E + 10 - 1.0 * s, N + 10 + 1.0 * c) == -1);  // 1.0 m to its side
+  CHECK(score::vehicle_at(tile.truth, E + 10 - 0.8 * s, N + 10 + 0.8 * c) == 0);
+
+  const Json dets = Json::array({det("c1", "sedan", 10, 10), det("c2", "sedan", 10, 10),
+                                 det("c3", "sedan", 10 + 2.0 * c, 10 + 2.0 * s),
+                                 det("c4", "sedan", 10 + 2.5 * c, 10 + 2.5 * s), det("c5", "obj1", 2, 12)});
+  tile.detections = score::parse_detections(
+      Json{{"format", "canopy.detections"}, {"version", 2}, {"candidates", 5}, {"none", 0}, {"detections", dets}}
+          .dump(),
+      "detections.json");
+  const Json doc = Json::parse(documents::write_scene_score(score::score({tile}, score::Params{}), {}));
+  const Json& table = doc["clutter"];
+  // One cover ("all"): boulder, caravan, rock, tent, vehicle, none.
+  REQUIRE(table.size() == 6);
+  CHECK(table[4]["kind"] == "vehicle");
+  CHECK(table[5]["kind"] == "none");
+  const Json& vehicle = row(table, "all", "vehicle");
+  CHECK(vehicle["false_alarms"] == 2);  // the second answer and the one 2.0 m ahead
+  CHECK(vehicle["objects"] == 1);
+  CHECK(vehicle["answered"] == 1);
+  CHECK(row(table, "all", "tent")["false_alarms"] == 1);  // 2.5 m ahead: outside the sedan, 0.5 m from the tent
+  CHECK(row(table, "all", "none")["false_alarms"] == 1);  // the terrain
+  CHECK(doc["summary"][0]["fp"] == 4);
 }

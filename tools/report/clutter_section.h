@@ -13,6 +13,10 @@ namespace canopy::report {
 // (docs/decisions/scene-experiment.md "Unseen clutter").
 bool clutter_kind_seen(const std::string& kind);
 
+// What a kind of the table is: "seen", "**unseen**", "a true vehicle, off its centre" (score's
+// `vehicle` row) or "terrain, vegetation" (`none`).
+std::string clutter_kind_mark(const std::string& kind);
+
 // The Markdown subsection; "" when the score has no clutter table (a score written before it).
 std::string clutter_markdown(const documents::SceneScore& score);
 

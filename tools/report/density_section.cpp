@@ -10,6 +10,7 @@
 #include "canopy/documents/candidates.h"
 #include "canopy/documents/detections.h"
 #include "canopy/documents/scene_truth.h"
+#include "report/clutter_section.h"
 #include "report/report.h"
 #include "report/score_cells.h"
 
@@ -321,7 +322,7 @@ void detail_tables(std::ostringstream& md, const std::vector<DensityLevel>& leve
   }
   if (!ran.empty()) {
     // One row per key, one column per level that ran; cell(level, key) the entry's text.
-    auto table = [&](const char* first, const std::set<std::string>& keys, auto cell) {
+    auto table = [&](const char* first, const auto& keys, auto cell) {
       md << "| " << first << " |";
       for (const DensityLevel* l : ran) md << " " << format_number("%g", l->level) << " |";
       md << "\n|---|";
@@ -348,6 +349,33 @@ void detail_tables(std::ostringstream& md, const std::vector<DensityLevel>& leve
       const auto it = l.by_reason.find(r);
       return std::to_string(it == l.by_reason.end() ? 0 : it->second);
     });
+    // score's clutter table, all covers: the kinds in the order score gives them (clutter kinds
+    // by name, then the true vehicles and none), over every level that ran.
+    std::vector<std::string> kinds;
+    for (const DensityLevel* l : ran)
+      for (const ScoreRow& r : l->score.clutter)
+        if (label(r) == "all" &&
+            std::find(kinds.begin(), kinds.end(), score_field(r, "kind").text) == kinds.end())
+          kinds.push_back(score_field(r, "kind").text);
+    const auto rank = [](const std::string& k) { return k == "none" ? 2 : k == "vehicle" ? 1 : 0; };
+    std::stable_sort(kinds.begin(), kinds.end(),
+                     [&](const std::string& a, const std::string& b) { return rank(a) < rank(b); });
+    if (!kinds.empty()) {
+      md << "\n**What the false alarms fell on** (score's clutter table, every cover level: a false alarm "
+            "is put on the true vehicle whose footprint holds it — an answer on a part, a merge or a "
+            "fragment beyond the match radius of its centre, or a second answer —, else on the clutter "
+            "object whose box holds it or whose centre lies within the match radius, else on terrain or "
+            "vegetation; model + class level):\n\n";
+      std::vector<std::string> rows;
+      for (const std::string& k : kinds) rows.push_back(k + " (" + clutter_kind_mark(k) + ")");
+      table("fell on", rows, [&](const DensityLevel& l, const std::string& row) {
+        const std::string kind = row.substr(0, row.find(" ("));
+        for (const ScoreRow& r : l.score.clutter)
+          if (label(r) == "all" && score_field(r, "kind").text == kind)
+            return score_text(score_field(r, "false_alarms"));
+        return std::string("–");
+      });
+    }
   }
   md << "\n**Where each capability begins** (issue 27's targets): the lowest level from which the "
         "target is met at that level and every level above it — by the point estimate, and by the "

@@ -42,25 +42,56 @@ int clutter_at(const Truth& truth, double x, double y, double radius) {
   return best;
 }
 
+int vehicle_at(const Truth& truth, double x, double y) {
+  int best = -1;
+  double best_dist = 0;
+  for (std::size_t k = 0; k < truth.vehicles.size(); ++k) {
+    const TrueVehicle& v = truth.vehicles[k];
+    const auto& f = v.footprint;
+    if (f.size() < 3) continue;
+    bool inside = false;  // crossing number: edges that straddle y, crossed right of x
+    for (std::size_t i = 0, j = f.size() - 1; i < f.size(); j = i++) {
+      if ((f[i][1] > y) != (f[j][1] > y) &&
+          x < f[j][0] + (f[i][0] - f[j][0]) * (y - f[j][1]) / (f[i][1] - f[j][1]))
+        inside = !inside;
+    }
+    if (!inside) continue;
+    const double dist = std::hypot(x - v.x, y - v.y);
+    if (best < 0 || dist < best_dist) {
+      best = static_cast<int>(k);
+      best_dist = dist;
+    }
+  }
+  return best;
+}
+
 std::vector<ScoreRow> clutter_table(const std::vector<Tile>& tiles, const std::vector<TileMatch>& matches,
                                     double radius) {
   // Per tile: each clutter object's false alarms by level; the false alarms on no object.
   struct TileCounts {
-    std::vector<std::array<int, 2>> per_object;  // model level, class level
+    std::vector<std::array<int, 2>> per_object;   // model level, class level
+    std::vector<std::array<int, 2>> per_vehicle;  // likewise, on the true vehicles
     std::array<int, 2> none{0, 0};
   };
   std::vector<TileCounts> counts(tiles.size());
   std::set<std::string> kinds;
   std::vector<std::string> covers{"all"};
+  bool footprints = false;  // a "vehicle" row only where a truth outlines its vehicles
   for (std::size_t i = 0; i < tiles.size(); ++i) {
     const Truth& truth = tiles[i].truth;
     for (const auto& c : truth.clutter) kinds.insert(c.kind);
     if (!tiles[i].cover.empty() && std::find(covers.begin(), covers.end(), tiles[i].cover) == covers.end())
       covers.push_back(tiles[i].cover);
+    for (const auto& v : truth.vehicles) footprints = footprints || !v.footprint.empty();
     counts[i].per_object.assign(truth.clutter.size(), {0, 0});
+    counts[i].per_vehicle.assign(truth.vehicles.size(), {0, 0});
     auto put = [&](const std::vector<Detection>& ds, const LevelMatch& m, int level) {
       for (std::size_t d = 0; d < ds.size(); ++d) {
         if (m.truth_of[d] >= 0) continue;
+        if (const int v = vehicle_at(truth, ds[d].x, ds[d].y); v >= 0) {
+          counts[i].per_vehicle[v][level]++;
+          continue;
+        }
         const int k = clutter_at(truth, ds[d].x, ds[d].y, radius);
         (k >= 0 ? counts[i].per_object[k] : counts[i].none)[level]++;
       }
@@ -69,6 +100,7 @@ std::vector<ScoreRow> clutter_table(const std::vector<Tile>& tiles, const std::v
     put(tiles[i].detections.class_detections, matches[i].cls, 1);
   }
   std::vector<std::string> rows_kinds(kinds.begin(), kinds.end());
+  if (footprints) rows_kinds.push_back("vehicle");
   rows_kinds.push_back("none");
   std::vector<ScoreRow> rows;
   for (const std::string& cover : covers) {
@@ -98,15 +130,21 @@ std::vector<ScoreRow> clutter_table(const std::vector<Tile>& tiles, const std::v
             per[r].class_level += counts[i].none[1];
             continue;
           }
-          for (std::size_t k = 0; k < truth.clutter.size(); ++k) {
-            if (truth.clutter[k].kind != kind) continue;
-            const auto& n = counts[i].per_object[k];
+          // One object of the kind: its false alarms by level.
+          auto object = [&](const std::array<int, 2>& n) {
             per[r].objects++;
             if (i == renders[r].front()) distinct++;
             per[r].model_level += n[0];
             per[r].class_level += n[1];
             per[r].answered += n[0] + n[1] > 0 ? 1 : 0;
+          };
+          if (kind == "vehicle") {
+            for (std::size_t k = 0; k < truth.vehicles.size(); ++k)
+              if (!truth.vehicles[k].footprint.empty()) object(counts[i].per_vehicle[k]);
+            continue;
           }
+          for (std::size_t k = 0; k < truth.clutter.size(); ++k)
+            if (truth.clutter[k].kind == kind) object(counts[i].per_object[k]);
         }
         per[r].false_alarms = per[r].model_level + per[r].class_level;
         all.false_alarms += per[r].false_alarms;

@@ -15,9 +15,16 @@ namespace canopy::score {
 // `radius`; -1 when none (terrain or vegetation).
 int clutter_at(const Truth& truth, double x, double y, double radius);
 
+// The true vehicle of `truth` whose footprint seen from above holds (x, y) (the nearest centre
+// among several), -1 when none does or no vehicle has a footprint. A false alarm there is an
+// answer on a vehicle beyond the match radius of its centre (a part, a merge, a fragment) or a
+// second answer on one; it is put on the vehicle before any clutter object.
+int vehicle_at(const Truth& truth, double x, double y);
+
 // Per cover label ("all", then each label of the tiles) and per clutter kind of the truths (in
-// name order), then "none": the false alarms (detections matched to no vehicle, model and class
-// level) put on objects of that kind (clutter_at), the objects present (per run and per distinct
+// name order), then "vehicle" (when a truth's vehicle has a footprint) and "none": the false
+// alarms (detections matched to no vehicle, model and class level) put on objects of that kind
+// (vehicle_at, then clutter_at), the objects present (per run and per distinct
 // render), false alarms per hectare with its 95% interval, and the share of the objects that drew
 // at least one false alarm ("answered" as a vehicle) with its interval (add_interval: the hull of
 // the bootstrap over renders and the exact Poisson / Wilson interval at the effective count).

@@ -59,7 +59,7 @@ Truth parse_truth(const std::string& text_, const std::string& name) {
       if (!x.pose->heading) throw Malformed(w + ".pose: missing \"heading\"");
       if (!x.canopy_cover) throw Malformed(w + ": missing \"canopy_cover\"");
       t.vehicles.push_back(TrueVehicle{static_cast<int>(x.instance), x.model, x.pose->x, x.pose->y,
-                                       *x.pose->z, *x.pose->heading, *x.canopy_cover, x.cls});
+                                       *x.pose->z, *x.pose->heading, *x.canopy_cover, x.cls, x.footprint});
     }
     for (const documents::TrueClutter& c : doc.clutter)
       t.clutter.push_back(TrueClutter{c.kind, c.x, c.y, c.length, c.width, c.heading});

@@ -15,6 +15,7 @@
 // "identified" there means the detection's group or class names the truth's model or class.
 #pragma once
 
+#include <array>
 #include <limits>
 #include <map>
 #include <string>
@@ -32,6 +33,9 @@ struct TrueVehicle {
   double heading = 0;          // degrees
   double cover = 0;            // measured canopy cover over its footprint, [0, 1]
   std::string cls;             // the truth's "class" (procedural families), "" = none
+  // Its outline seen from above (tile coordinates, 3 to 64 corners); empty when the truth has
+  // none (hand labels may omit it).
+  std::vector<std::array<double, 2>> footprint;
 };
 
 // A clutter object of a rendered tile: its kind and its box seen from above (centre, length
