@@ -1004,6 +1004,103 @@ TEST_CASE("classify: rectangularity: an ellipsoid rock is oval, a car's rounded 
   CHECK(classify::run(off, {sample(rock_top, 2.1, 0.95, 0.3, 25, 90).cloud, "r.pcd", {}}).group == "car");
 }
 
+// An object's top sampled in rows, as a scanner's pattern lays them (classify.md §37): rows
+// across x every `spacing`, points along each row every `spacing` (1 / spacing² points/m²), over
+// its box + a 0.5 m margin (ground, z = 0, outside it), the object turned by `heading` under
+// them; a point where `drop` holds (in the object's frame) returned nothing (a crown hid it, or
+// the pattern left it out).
+formats::PointCloud rows(const Top& top, double half_l, double half_w, double spacing,
+                         const std::function<bool(double, double)>& drop, double heading = 0) {
+  std::vector<double> x, y, z;
+  const double reach = std::hypot(half_l + 0.5, half_w + 0.5);
+  const double ch = std::cos(heading), sn = std::sin(heading);
+  for (double px = -reach; px <= reach; px += spacing) {
+    for (double py = -reach; py <= reach; py += spacing) {
+      const double ox = ch * px + sn * py, oy = -sn * px + ch * py;  // into the object's frame
+      if (std::abs(ox) > half_l + 0.5 || std::abs(oy) > half_w + 0.5) continue;
+      const double h = top(ox, oy);
+      if (h > 0 && drop(ox, oy)) continue;
+      x.push_back(px);
+      y.push_back(py);
+      z.push_back(std::max(h, 0.0));
+    }
+  }
+  formats::PointCloud c;
+  c.resize(x.size());
+  c.add("x") = x;
+  c.add("y") = y;
+  c.add("z") = z;
+  return c;
+}
+
+TEST_CASE("classify: --rectangularity-sampled: a rock's unsampled strip is no step, a car's bonnet is") {
+  // The rock of rock_top (an ellipsoid 4.2 x 1.9 x 1.5 m, oval from above) in rows 0.2 m apart
+  // (25 points/m²) whose three rows at x = 0.4-0.8 m kept only their flanks (|y| > 0.6 m, under
+  // 0.62 of H): the profile bin holding them lost its top, so over every bin the rock "steps" far
+  // past rectangularity_notch and the oval-outline gate lets it through as a car (the simulated
+  // rocks answered hatchback, §37). Over the bins sampled across the width it has no step.
+  classify::Params gate;
+  gate.min_rectangularity = kRectangularity;
+  gate.roughness_floor = 0.3;  // not the subject: the strip's exact edge roughens the rows' top
+  classify::Params sampled = gate;
+  sampled.rectangularity_sampled = true;
+  const formats::PointCloud rock = rows(
+      rock_top, 2.1, 0.95, 0.2, [](double x, double y) { return x > 0.3 && x < 0.9 && std::abs(y) < 0.6; },
+      0.3);
+  const classify::Answer rock_gate = classify::run(gate, {rock, "rock.pcd", {}});
+  INFO("rock: rectangularity " << rock_gate.features.rectangularity << " notch " << rock_gate.features.notch
+                               << " sampled " << rock_gate.features.notch_sampled << " " << rock_gate.cls
+                               << " " << rock_gate.detail);
+  CHECK(rock_gate.features.rectangularity < kRectangularity);
+  CHECK(rock_gate.features.notch > 0.2);
+  CHECK(rock_gate.features.notch_sampled < 0.03);
+  CHECK(rock_gate.group == "car");  // the false alarm
+  const classify::Answer rock_sampled = classify::run(sampled, {rock, "rock.pcd", {}});
+  CHECK(rock_sampled.cls.empty());
+  CHECK(rock_sampled.reason == "not_vehicle_shape");
+  CHECK(rock_sampled.detail.find("over its bins sampled across the width") != std::string::npos);
+  CHECK(rock_sampled.detail.find("fits " + rock_gate.cls) != std::string::npos);
+  // The whole rock (no strip left out): no step either way, refused with or without the option.
+  const formats::PointCloud whole = rows(
+      rock_top, 2.1, 0.95, 0.2, [](double, double) { return false; }, 0.3);
+  const classify::Answer whole_gate = classify::run(gate, {whole, "rock.pcd", {}});
+  CHECK(whole_gate.features.notch < 0.08);
+  CHECK(whole_gate.features.notch_sampled == Approx(whole_gate.features.notch).margin(1e-9));
+  CHECK(whole_gate.cls.empty());
+  CHECK(classify::run(sampled, {whole, "rock.pcd", {}}).cls.empty());
+  // An oval car (car_top inside the ellipse 4.6 x 1.8 m, 0.45-0.5 m from roof to bonnet and boot)
+  // in the same rows, turned 0.4 rad under them (its step then 0.09 of H over the bins, near the
+  // gate's 0.08), whole and with the same strip of its cabin's roof left out to its flanks: its
+  // bonnet and boot are bins sampled across the width like the rest, so the step is kept and so
+  // is the car.
+  const Top oval_car = [](double x, double y) {
+    return (x / 2.3) * (x / 2.3) + (y / 0.9) * (y / 0.9) <= 1 ? car_top(x, y) : -1;
+  };
+  for (const bool strip : {false, true}) {
+    const formats::PointCloud car = rows(
+        oval_car, 2.3, 0.9, 0.2,
+        [strip](double x, double y) { return strip && x > 0.3 && x < 0.9 && std::abs(y) < 0.6; }, 0.4);
+    const classify::Answer car_gate = classify::run(gate, {car, "car.pcd", {}});
+    INFO("oval car, strip " << strip << ": rectangularity " << car_gate.features.rectangularity << " notch "
+                            << car_gate.features.notch << " sampled " << car_gate.features.notch_sampled
+                            << " " << car_gate.cls << " " << car_gate.detail);
+    CHECK(car_gate.group == "car");
+    CHECK(car_gate.features.rectangularity < kRectangularity);
+    CHECK(car_gate.features.notch_sampled > gate.rectangularity_notch);
+    CHECK(car_gate.features.notch_sampled == Approx(car_gate.features.notch).margin(0.01));
+    CHECK(classify::run(sampled, {car, "car.pcd", {}}).cls == car_gate.cls);
+  }
+  // And the random sampler's car at 25 and 100 points/m²: kept.
+  for (const double density : {25.0, 100.0}) {
+    const Sampled car = sample(oval_car, 2.3, 0.9, 0.4, density, 93);
+    const classify::Answer car_gate = classify::run(gate, {car.cloud, "car.pcd", {}});
+    INFO(density << " points/m2: notch " << car_gate.features.notch << " sampled "
+                 << car_gate.features.notch_sampled);
+    CHECK(car_gate.group == "car");
+    CHECK(classify::run(sampled, {car.cloud, "car.pcd", {}}).cls == car_gate.cls);
+  }
+}
+
 TEST_CASE("classify: sizes outside every family") {
   SECTION("a 0.5 m box is too small") {
     const Sampled s =
@@ -2742,6 +2839,12 @@ TEST_CASE(
   // mk/density.mk DENSITY_CLASSIFY_ABLATION_2, mk/scenes.mk SCENES_CLASSIFY_ABLATION_2; classify.md §30.
   check_ablation_ini("share/params/classify-sim.ini", "bench/density/classify-sim-shoulder-0.ini",
                      {{"min-shoulder", {"0.58", "0"}}});
+}
+
+TEST_CASE("the rectangularity gate's sampled-step ablation is classify-sim.ini with that key false") {
+  // bench/density/classify-sim-sampled-0.ini (a density ladder's classify ablation); classify.md §37.
+  check_ablation_ini("share/params/classify-sim.ini", "bench/density/classify-sim-sampled-0.ini",
+                     {{"rectangularity-sampled", {"true", "false"}}});
 }
 
 TEST_CASE(

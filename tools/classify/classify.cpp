@@ -298,12 +298,15 @@ void outline(Answer& a, const Params& p) {
             100 * f.notch, 100 * p.min_notch);
     strength = past(p.min_notch, std::max(f.notch, 1e-6));
   } else if (p.min_rectangularity > 0 && a.group == "car" && f.rectangularity < p.min_rectangularity &&
-             f.notch < p.rectangularity_notch) {
+             (p.rectangularity_sampled ? f.notch_sampled : f.notch) < p.rectangularity_notch) {
+    const double step = p.rectangularity_sampled ? f.notch_sampled : f.notch;
     why =
         fmt("an oval outline: its top view's convex hull fills %.0f%% of its minimum-area rectangle (an "
             "ellipse 79%%; a car's rounded rectangle >= %.0f%%) and no step under its profile's hull (%.0f%% "
-            "of its height; a car's bonnet or boot >= %.0f%%)",
-            100 * f.rectangularity, 100 * p.min_rectangularity, 100 * f.notch, 100 * p.rectangularity_notch);
+            "of its height",
+            100 * f.rectangularity, 100 * p.min_rectangularity, 100 * step) +
+        (p.rectangularity_sampled ? " over its bins sampled across the width" : "") +
+        fmt("; a car's bonnet or boot >= %.0f%%)", 100 * p.rectangularity_notch);
     strength = past(p.min_rectangularity, std::max(f.rectangularity, 1e-6));
   } else if (p.min_shoulder > 0 && (a.group == "car" || a.group == "van") && f.shoulder &&
              *f.shoulder < p.min_shoulder) {

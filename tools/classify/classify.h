@@ -204,6 +204,9 @@ struct Params {
   // outline alone).
   double min_rectangularity = 0;
   double rectangularity_notch = 0.08;
+  // The rectangularity gate weighs Features::notch_sampled instead of notch: a step only where the
+  // lower bin is sampled like the profile's others (classify.md §37; false: notch, before).
+  bool rectangularity_sampled = false;
   // A car- or van-group answer whose shoulder (Features::shoulder) is under min_shoulder (a body
   // that narrows upward: a log or pipe stack, a ridge or dome tent) is not_vehicle_shape
   // (classify.md §30; 0: off).
@@ -327,6 +330,9 @@ struct Features {
   // number of runs at least kDentDepth deep, and the narrower end's outermost slice: its width
   // (share of W) and its highest point (share of H).
   double notch = 0;
+  // The notch over the bins sampled across the width only (kSampledShare of the median count;
+  // classify.md §37): a bin with less than one row of samples may have lost its top, not stepped.
+  double notch_sampled = 0;
   std::size_t dents = 0;
   // The top view's convex hull area over its minimum-area rectangle's, both grown by half the
   // spacing (classify.md §17): a rectangle with rounded corners (a vehicle) near 1, an ellipse (a

@@ -34,6 +34,7 @@ std::vector<ClassFeature> features_of(const Features& f) {
                                 number("end_high", f.end_high),
                                 number("end_fill", f.end_fill),
                                 number("notch", f.notch),
+                                number("notch_sampled", f.notch_sampled),
                                 number("rectangularity", f.rectangularity),
                                 count("dents", f.dents),
                                 number("tip_width", f.tip_width),

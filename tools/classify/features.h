@@ -187,6 +187,9 @@ constexpr double kGapGround = 0.25;
 void outline_cues(const std::vector<Eigen::Vector3d>& q, Features& f);
 // A dent: a run of the profile at least this far (share of H) under its upper hull.
 constexpr double kDentDepth = 0.05;
+// The sampled notch's bins (classify.md §37): those holding at least this share of the filled
+// bins' median count (under it: less than one row of samples across the width).
+constexpr double kSampledShare = 0.5;
 // The shoulder's band: |y| beyond this share of the half-width, over x in [0.2 L, 0.8 L]; and the
 // least number of points in it for a shoulder (classify.md §30).
 constexpr double kShoulderBand = 0.7;

@@ -144,6 +144,10 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
   tool.add("--rectangularity-notch", &p.rectangularity_notch,
            "see --min-rectangularity: only an answer whose top's profile lies within this (share of H) of "
            "its upper hull is refused (a stepped car is kept; 1: the outline alone)");
+  tool.add("--rectangularity-sampled", &p.rectangularity_sampled,
+           "see --min-rectangularity: the step is measured over the profile's bins holding at least half "
+           "the median bin's points (a bin with less than one row of samples across may have lost its "
+           "top; classify.md §37; false: every bin)");
   tool.add("--plateau-split", &p.plateau_split, "plateau share between a minor and a long roof");
   tool.add("--tail-split", &p.tail_split,
            "higher end's level (share of H) between dropping and staying at the roof");

@@ -12,27 +12,12 @@
 
 namespace canopy::classify {
 
-void outline_cues(const std::vector<Eigen::Vector3d>& q, Features& f) {
-  const double H = std::max(f.height_measured, 1e-6);
-  const double L = f.length_measured, W = std::max(f.width_measured, 1e-6);
-  // The profile: the highest point of each bin along the long axis (bins of the plateau's
-  // size, max(0.25 m, spacing): about one sample per bin and row across the width).
-  const double bin = std::max(0.25, f.spacing);
-  const auto bins = static_cast<std::size_t>(std::max(1.0, std::ceil(L / bin)));
-  std::vector<double> top(bins, -std::numeric_limits<double>::infinity());
-  for (const Eigen::Vector3d& p : q) {
-    const auto b = std::min(bins - 1, static_cast<std::size_t>(std::max(0.0, p.x() / bin)));
-    top[b] = std::max(top[b], p.z());
-  }
-  std::vector<double> x, z;  // the filled bins: centre, top
-  for (std::size_t b = 0; b < bins; ++b) {
-    if (std::isfinite(top[b])) {
-      x.push_back((static_cast<double>(b) + 0.5) * bin);
-      z.push_back(top[b]);
-    }
-  }
-  // Upper convex hull of the profile (monotone chain). A convex outline (a box, an ellipsoid,
-  // a rounded caravan roof) lies on it; a bonnet or boot below the cabin lies under it.
+namespace {
+
+// Each profile bin's depth under the profile's upper convex hull (monotone chain), share of H. A
+// convex outline (a box, an ellipsoid, a rounded caravan roof) lies on the hull; a bonnet or boot
+// below the cabin lies under it.
+std::vector<double> depth_under_hull(const std::vector<double>& x, const std::vector<double>& z, double H) {
   std::vector<std::size_t> hull;
   for (std::size_t i = 0; i < x.size(); ++i) {
     while (hull.size() >= 2) {
@@ -43,7 +28,7 @@ void outline_cues(const std::vector<Eigen::Vector3d>& q, Features& f) {
     }
     hull.push_back(i);
   }
-  std::vector<double> depth(x.size(), 0);  // under the hull, share of H
+  std::vector<double> depth(x.size(), 0);
   for (std::size_t k = 0; k + 1 < hull.size(); ++k) {
     const std::size_t a = hull[k], b = hull[k + 1];
     for (std::size_t i = a + 1; i < b; ++i) {
@@ -51,6 +36,35 @@ void outline_cues(const std::vector<Eigen::Vector3d>& q, Features& f) {
       depth[i] = (z[a] + t * (z[b] - z[a]) - z[i]) / H;
     }
   }
+  return depth;
+}
+
+}  // namespace
+
+void outline_cues(const std::vector<Eigen::Vector3d>& q, Features& f) {
+  const double H = std::max(f.height_measured, 1e-6);
+  const double L = f.length_measured, W = std::max(f.width_measured, 1e-6);
+  // The profile: the highest point of each bin along the long axis (bins of the plateau's
+  // size, max(0.25 m, spacing): about one sample per bin and row across the width).
+  const double bin = std::max(0.25, f.spacing);
+  const auto bins = static_cast<std::size_t>(std::max(1.0, std::ceil(L / bin)));
+  std::vector<double> top(bins, -std::numeric_limits<double>::infinity());
+  std::vector<std::size_t> count(bins, 0);
+  for (const Eigen::Vector3d& p : q) {
+    const auto b = std::min(bins - 1, static_cast<std::size_t>(std::max(0.0, p.x() / bin)));
+    top[b] = std::max(top[b], p.z());
+    ++count[b];
+  }
+  std::vector<double> x, z;    // the filled bins: centre, top
+  std::vector<std::size_t> n;  // and their points
+  for (std::size_t b = 0; b < bins; ++b) {
+    if (std::isfinite(top[b])) {
+      x.push_back((static_cast<double>(b) + 0.5) * bin);
+      z.push_back(top[b]);
+      n.push_back(count[b]);
+    }
+  }
+  const std::vector<double> depth = depth_under_hull(x, z, H);
   // The notch: the deepest bin. (Sustained over two neighbouring bins, as first written, it lost
   // 4 of the 29 clear development cars answered as cars: at 8 points/m² a real bonnet is one or
   // two bins below the chord, its windscreen unsampled; classify.md §16.)
@@ -62,6 +76,26 @@ void outline_cues(const std::vector<Eigen::Vector3d>& q, Features& f) {
     const bool deep = d >= kDentDepth;
     f.dents += deep && !in_dent;
     in_dent = deep;
+  }
+  // The sampled notch (§37): the same, over the profile of the bins holding at least
+  // kSampledShare of the filled bins' median count. Rows of samples cross every bin at least once
+  // (bins >= the spacing), so a bin under half the median holds less than one row across the
+  // width: its highest sample need not be its top (the rows beat against the bins, or a crown hid
+  // part of it), and a rock's or tent's smooth top shows a "step" there. A bonnet or boot is a
+  // bin sampled like its neighbours, only lower.
+  {
+    std::vector<double> m(n.begin(), n.end());
+    std::sort(m.begin(), m.end());
+    const double median = m.empty() ? 0 : common::sorted_quantile(m, 0.5);
+    std::vector<double> xs, zs;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      if (static_cast<double>(n[i]) >= kSampledShare * median) {
+        xs.push_back(x[i]);
+        zs.push_back(z[i]);
+      }
+    }
+    f.notch_sampled = 0;
+    for (const double d : depth_under_hull(xs, zs, H)) f.notch_sampled = std::max(f.notch_sampled, d);
   }
   // The tips: the outermost max(0.4 m, 1.5 x spacing) of each end (at most a quarter of the
   // length). Width = the points' extent across (+ one spacing: the samples lie inside the
