@@ -2841,12 +2841,6 @@ TEST_CASE(
                      {{"min-shoulder", {"0.58", "0"}}});
 }
 
-TEST_CASE("the rectangularity gate's sampled-step ablation is classify-sim.ini with that key false") {
-  // bench/density/classify-sim-sampled-0.ini (a density ladder's classify ablation); classify.md §37.
-  check_ablation_ini("share/params/classify-sim.ini", "bench/density/classify-sim-sampled-0.ini",
-                     {{"rectangularity-sampled", {"true", "false"}}});
-}
-
 TEST_CASE(
     "classify: --fill-tile-ground measures fill against the tile's open ground where the crop has none") {
   // Under closed canopy the crop holds no ground around the object, so fill (its points per m²
