@@ -1636,7 +1636,7 @@ TEST_CASE(
 namespace {
 
 // detect's field `object` (detect --object-field) on a sampled crop: what `mark` says per point
-// (1 the candidate's object, 2 another object's, 0 the rest).
+// (1 the candidate's object, 2 another object's, 3 a trim's leftover, 0 the rest).
 formats::PointCloud with_object_field(formats::PointCloud cloud,
                                       const std::function<int(double, double, double)>& mark) {
   const auto& x = cloud.col("x");
@@ -1731,11 +1731,75 @@ TEST_CASE("classify: --detect-object leaves the gap bridge its work on the vehic
   }
 }
 
-TEST_CASE("classify: a crop whose object field is not 0, 1 or 2 is refused, naming the file") {
+TEST_CASE(
+    "classify: --detect-trim leaves out exactly the trim's leftover (3), detect's other pieces (2) stay") {
+  // car_and_low_box at 8 and 10 points/m² (as above): detect's trim (detect.md §12, §18) cut the
+  // box off the car, so the car's crop marks it 3; the car's boot (x < -1.8 m) is marked 2, as if
+  // detect had split it off as a piece of its own. Off, the object is car and box (> 5.5 m) where
+  // the link joins them; --detect-trim leaves out the box alone: exactly the car's points, the
+  // boot with them (4.6 m), with and without the gap bridge; --detect-object leaves out the boot
+  // too. A crop whose field has no 3 (detect before §18): the option changes nothing.
+  std::size_t joined = 0;
+  for (const double density : {8.0, 10.0}) {
+    for (std::uint64_t seed = 61; seed < 81; ++seed) {
+      const Sampled s = sample(car_and_low_box(0.8, false), 3.9, 0.9, 0, density, seed);
+      const formats::PointCloud crop = with_object_field(s.cloud, [](double x, double, double z) {
+        return z < 0.3 ? 0 : x >= 2.5 ? 3 : x < -1.8 ? 2 : 1;
+      });
+      std::size_t car = 0, boot = 0;
+      const auto& x = crop.col("x");
+      const auto& z = crop.col("z");
+      for (std::size_t i = 0; i < x.size(); ++i) {
+        car += z[i] >= 0.3 && x[i] < 2.5;
+        boot += z[i] >= 0.3 && x[i] < -1.8;
+      }
+      INFO(density << " points/m2, seed " << seed << ": car " << car << " (boot " << boot << ") of "
+                   << s.object);
+      REQUIRE(car < s.object);
+      REQUIRE(boot > 0);
+      classify::Params off = detect_object(false, 1.0);
+      const classify::Answer a = classify::run(off, {crop, "trim.pcd", {}});
+      CHECK(a.features.context_points == 0);
+      if (a.features.object_points == s.object) {
+        ++joined;
+        CHECK(a.features.length_measured > 5.5);
+      }
+      double length = 0;
+      for (const double bridge : {0.0, 1.0}) {
+        INFO("bridge " << bridge);
+        classify::Params p = detect_object(false, bridge);
+        p.detect_trim = true;
+        const classify::Answer on = classify::run(p, {crop, "trim.pcd", {}});
+        CHECK(on.features.object_points == car);
+        CHECK(on.features.context_points == s.object - car);
+        CHECK(on.features.length_measured > 3.9);  // the 4.6 m car's points at 8-10 points/m²
+        CHECK(on.features.length_measured < 4.7);
+        length = on.features.length_measured;
+      }
+      // --detect-object: the 3s are 2s too, and the boot goes with them.
+      const classify::Answer both = classify::run(detect_object(true, 1.0), {crop, "trim.pcd", {}});
+      CHECK(both.features.object_points <= car - boot);
+      CHECK(both.features.context_points == s.object - car + boot);
+      CHECK(both.features.length_measured < length - 0.1);
+      // detect's field before §18: the box 2, no 3; --detect-trim as off.
+      const formats::PointCloud old = with_object_field(s.cloud, [](double x, double, double z) {
+        return z < 0.3 ? 0 : x >= 2.5 ? 2 : 1;
+      });
+      classify::Params p = off;
+      p.detect_trim = true;
+      const classify::Answer none = classify::run(p, {old, "trim.pcd", {}});
+      CHECK(none.features.object_points == a.features.object_points);
+      CHECK(none.features.context_points == 0);
+    }
+  }
+  CHECK(joined >= 30);  // of 40: the rule has something to do
+}
+
+TEST_CASE("classify: a crop whose object field is not 0, 1, 2 or 3 is refused, naming the file") {
   const Sampled s = sample(car_top, 2.3, 0.9, 0, 25, 7);
   formats::PointCloud crop =
       with_object_field(s.cloud, [](double, double, double z) { return z >= 0.3 ? 1 : 0; });
-  crop.col("object")[3] = 3;
+  crop.col("object")[3] = 4;
   CHECK_THROWS_WITH(classify::run(detect_object(true, 1.0), {crop, "bad.pcd", {}}),
                     Catch::Contains("bad.pcd") && Catch::Contains("object"));
 }

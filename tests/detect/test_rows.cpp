@@ -222,11 +222,11 @@ TEST_CASE("a car with a low planter at its end: the planter is trimmed off (dete
   }
 }
 
-TEST_CASE("--object-field: the car's crop marks the planter beyond the trim 2, the car's own points 1") {
+TEST_CASE("--object-field: the car's crop marks the planter beyond the trim 3, the car's own points 1") {
   // The planter scene above with a 2.5 m margin, so that the car's crop holds the planter: the
-  // field `object` is 1 exactly on the car's object (object_points of them), 2 on the planter's
-  // points (a piece of its own after the trim, too small to be a candidate) and 0 on the ground.
-  // Off: no field, the same crop.
+  // field `object` is 1 exactly on the car's object (object_points of them), 3 on the planter's
+  // points (the trim's leftover, a piece of its own after the trim, too small to be a candidate;
+  // before detect.md §18 they were 2) and 0 on the ground. Off: no field, the same crop.
   const std::vector<Car> cars = {{0, 0, 0}};
   const std::vector<Box> planter = {{2.6, 4.6, -0.75, 0.75, 0.8}};
   for (unsigned seed : {31u, 32u, 33u}) {
@@ -250,14 +250,14 @@ TEST_CASE("--object-field: the car's crop marks the planter beyond the trim 2, t
       const auto& o = crop.col("object");
       std::size_t ones = 0;
       for (double v : o) {
-        CHECK((v == 0 || v == 1 || v == 2));
+        CHECK((v == 0 || v == 1 || v == 2 || v == 3));
         ones += v == 1;
       }
       CHECK(ones == c.object_points);
       if (std::hypot(c.to_tile(0, 3), c.to_tile(1, 3)) > 0.4) continue;
       seen_car = true;
       // The crop's points back in the tile: the planter's top beyond the car's reach, the cabin's roof.
-      std::size_t planter_pts = 0, planter_ones = 0, planter_twos = 0, roof = 0, roof_ones = 0;
+      std::size_t planter_pts = 0, planter_ones = 0, planter_threes = 0, roof = 0, roof_ones = 0;
       for (std::size_t i = 0; i < crop.size(); ++i) {
         const Eigen::Vector4d t =
             c.to_tile * Eigen::Vector4d(crop.col("x")[i], crop.col("y")[i], crop.col("z")[i], 1);
@@ -265,7 +265,7 @@ TEST_CASE("--object-field: the car's crop marks the planter beyond the trim 2, t
         if (t.x() > 3.0 && t.x() < 4.6 && std::abs(t.y()) < 0.75 && h > 0.6) {
           ++planter_pts;
           planter_ones += o[i] == 1;
-          planter_twos += o[i] == 2;
+          planter_threes += o[i] == 3;
         }
         if (std::abs(t.x()) < 1.0 && std::abs(t.y()) < 0.6 && h > 1.3) {
           ++roof;
@@ -276,10 +276,83 @@ TEST_CASE("--object-field: the car's crop marks the planter beyond the trim 2, t
       INFO("planter " << planter_ones << " of " << planter_pts << ", roof " << roof_ones << " of " << roof);
       CHECK(planter_pts >= 10);
       CHECK(planter_ones == 0);
-      CHECK(planter_twos == planter_pts);
+      CHECK(planter_threes == planter_pts);
       CHECK(roof >= 10);
       CHECK(roof_ones == roof);
     }
     CHECK(seen_car);
+  }
+}
+
+TEST_CASE("--object-field: 3 marks exactly what the trim cut off the car, another car's points stay 2") {
+  // A car-sized box (4.4 x 1.8 x 1.5 m) with a low box (3.0 x 0.6 m, 0.7 m high) 0.5 m beside its
+  // long side, and a second car-sized box 1.5 m beyond its other side, at 11 points/m²: the
+  // voxel (~0.57 m) joins the first box and the low box into one object 2.9 m wide (detect.md §9
+  // looks at it; under 3 m, so the half-voxel split of two vehicles side by side does not), whose
+  // roof band holds one roof: §12's trim cuts the low box off (beyond kTrimSide of the roof, below
+  // the band). The second box is a cluster and candidate of its own.
+  // With a 2.5 m margin the first car's crop holds all three: 1 on its own object, 3 on the low
+  // box's points and nowhere else, 2 on the second car's, 0 on the ground; the second car's crop,
+  // whose object no trim cut, has no 3. With row_trim 0 (no trim) no crop has a 3.
+  const std::vector<Box> boxes = {
+      {-2.2, 2.2, -0.9, 0.9, 1.5}, {-1.5, 1.5, 1.4, 2.0, 0.7}, {-2.2, 2.2, -4.2, -2.4, 1.5}};
+  for (unsigned seed : {41u, 42u, 43u}) {
+    INFO("seed " << seed);
+    const formats::PointCloud tile = airborne({}, boxes, -8, 10, -9, 7, 11, seed);
+    detect::Params p = split("auto");
+    p.margin = 2.5;
+    p.object_field = true;
+    const detect::Result r = detect::run(p, {&tile, "beside"});
+    REQUIRE(r.density.split_rows);
+    REQUIRE(r.stats.trims == 1);
+    REQUIRE(candidates_near(r, 0, 0, 0.4) == 1);
+    REQUIRE(candidates_near(r, 0, -3.3, 0.4) == 1);
+    for (const detect::Candidate& c : r.candidates) {
+      const formats::PointCloud& crop = c.cloud;
+      const auto& o = crop.col("object");
+      const bool first = std::hypot(c.to_tile(0, 3), c.to_tile(1, 3)) <= 0.4;
+      const bool second = std::hypot(c.to_tile(0, 3), c.to_tile(1, 3) + 3.3) <= 0.4;
+      INFO("candidate " << c.id << " at " << c.to_tile(0, 3) << ", " << c.to_tile(1, 3));
+      std::size_t low = 0, low_threes = 0, threes = 0, other = 0, other_twos = 0, roof = 0, roof_ones = 0;
+      for (std::size_t i = 0; i < crop.size(); ++i) {
+        const Eigen::Vector4d t =
+            c.to_tile * Eigen::Vector4d(crop.col("x")[i], crop.col("y")[i], crop.col("z")[i], 1);
+        const double h = t.z() - 100;
+        threes += o[i] == 3;
+        if (h < 0.2) CHECK(o[i] == 0);  // the ground
+        if (std::abs(t.x()) < 1.5 && t.y() > 1.4 && t.y() < 2.0 && h > 0.5) {
+          ++low;
+          low_threes += o[i] == 3;
+        }
+        if (std::abs(t.x()) < 2.2 && std::abs(t.y()) < 0.9 && h > 1.3) {
+          ++roof;
+          roof_ones += o[i] == 1;
+        }
+        if (std::abs(t.x()) < 2.2 && t.y() > -4.2 && t.y() < -2.4 && h > 1.3) {
+          ++other;
+          other_twos += o[i] == 2;
+        }
+      }
+      INFO("low box " << low_threes << " of " << low << ", 3s " << threes << ", second car " << other_twos
+                      << " of " << other << ", roof " << roof_ones << " of " << roof);
+      if (first) {
+        CHECK(low >= 10);
+        CHECK(low_threes == low);
+        CHECK(threes == low);  // nothing but the low box is 3
+        CHECK(other >= 5);
+        CHECK(other_twos == other);
+        CHECK(roof >= 10);
+        CHECK(roof_ones == roof);
+      } else {
+        CHECK(threes == 0);
+      }
+      if (second) CHECK(roof >= 5);  // the second car's crop reaches the first car
+    }
+    // Without the trim the low box is the car's: no 3 anywhere.
+    p.row_trim = 0;
+    const detect::Result untrimmed = detect::run(p, {&tile, "beside"});
+    CHECK(untrimmed.stats.trims == 0);
+    for (const detect::Candidate& c : untrimmed.candidates)
+      for (double v : c.cloud.col("object")) CHECK(v != 3);
   }
 }

@@ -1,7 +1,7 @@
 // classify's object: gap bridging (classify.md §21, --bridge), joining the clusters that a
 // vehicle's own no-return gaps (windscreen, rear window) split off it; parts stacked in height
 // (classify.md §25, --join-stacked); detect's object as a boundary (classify.md §35,
-// --detect-object).
+// --detect-object) and detect's trim as one (§36, --detect-trim).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -343,15 +343,15 @@ std::vector<std::uint8_t> read_object_field(const formats::PointCloud& cloud, co
   const auto& o = cloud.col("object");
   std::vector<std::uint8_t> out(cloud.size());
   for (std::size_t i = 0; i < cloud.size(); ++i) {
-    if (o[i] != 0 && o[i] != 1 && o[i] != 2)
+    if (o[i] != 0 && o[i] != 1 && o[i] != 2 && o[i] != 3)
       throw common::DataError(name, "point " + std::to_string(i) + " has object " + std::to_string(o[i]) +
-                                        " (detect's field: 0, 1 or 2)");
+                                        " (detect's field: 0, 1, 2 or 3)");
     out[i] = static_cast<std::uint8_t>(o[i]);
   }
   return out;
 }
 
-std::vector<char> detect_others(const Candidate& c, bool box) {
+std::vector<char> detect_others(const Candidate& c, bool others, bool box, bool trimmed) {
   std::vector<char> other(c.points.size(), 0);
   if (c.detect_object.empty()) return other;
   Extents own;  // the 1s' top-view box
@@ -360,7 +360,8 @@ std::vector<char> detect_others(const Candidate& c, bool box) {
   }
   for (std::size_t i = 0; i < c.points.size(); ++i) {
     const Eigen::Vector3d& p = c.points[i];
-    other[i] = c.detect_object[i] == 2 && (!box || own.outside(p.x(), p.y()));
+    const std::uint8_t v = c.detect_object[i];
+    other[i] = (others && (v == 2 || v == 3) && (!box || own.outside(p.x(), p.y()))) || (trimmed && v == 3);
   }
   return other;
 }

@@ -135,6 +135,12 @@ struct Params {
   // object (its 1s) are left out; inside it they stay (§35's second reading: detect's pieces of the
   // vehicle itself, a split that cut a car).
   bool detect_object_box = false;
+  // detect's trim as the boundary (classify.md §36): with a crop carrying detect's field `object`,
+  // the points above the ground cut that detect's trim to one roof cut off this candidate's
+  // object (3: the trim's leftover, the low thing beside the vehicle; detect.md §12, §18) are left
+  // out of the object before the clustering, and nothing else (detect's row splits, other pieces
+  // and objects, 2, stay). A crop without the field or without 3s: as off. false = the rule before.
+  bool detect_trim = false;
   // Parts stacked in height (classify.md §25): seen from above a vertical face returns nothing,
   // so a semi-tractor's cab (3.6 m) and its deck (1.2 m), an earthmover's cab top and its body are
   // clusters that touch only in the top view (a step of more than 3 links). true: a cluster that
@@ -309,7 +315,8 @@ struct Features {
   double shadow_area = 0;
   // Object points dropped by cut_low_parts (classify.md §33; 0: none or off).
   std::size_t low_cut_points = 0;
-  // Points above the ground cut left out as another detect object's (--detect-object, §35; 0: none or off).
+  // Points above the ground cut left out as another detect object's or as a detect trim's leftover
+  // (--detect-object §35, --detect-trim §36; 0: none or off).
   std::size_t context_points = 0;
   std::optional<double> fill_rectangle;
   double heading_pca = 0;      // rad, the principal axis (for comparison only)

@@ -59,7 +59,7 @@ std::vector<ClassFeature> features_of(const Features& f) {
   // Only when fill is the tile's (--fill-tile-ground, classify.md §31): 1.
   if (f.fill_from_tile) out.push_back(count("fill_from_tile", 1));
   if (f.low_cut_points > 0) out.push_back(count("low_cut_points", f.low_cut_points));
-  // Only with --detect-object on a crop with detect's field (classify.md §35).
+  // Only with --detect-object or --detect-trim on a crop with detect's field (classify.md §35, §36).
   if (f.context_points > 0) out.push_back(count("context_points", f.context_points));
   // Only when the crop holds several flight passes (classify.md §14): a crop without them gets
   // the document it got before.

@@ -467,11 +467,14 @@ std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double
                                    double bridge, double bridge_length, bool join_stacked,
                                    double bridge_min_share, std::vector<Shadow>* shadows, double cut_low,
                                    std::size_t* low_cut, bool detect_object, std::size_t* context,
-                                   bool detect_object_box) {
+                                   bool detect_object_box, bool detect_trim) {
   std::vector<std::size_t> above;
   std::vector<Vector3d> pts;
-  // §35: what detect gave to another object or piece (2) is none of this object's.
-  const std::vector<char> other = detect_object ? detect_others(c, detect_object_box) : std::vector<char>();
+  // §35: what detect gave to another object or piece (2, 3) is none of this object's; §36: what
+  // detect's trim cut off it (3).
+  const std::vector<char> other = detect_object || detect_trim
+                                      ? detect_others(c, detect_object, detect_object_box, detect_trim)
+                                      : std::vector<char>();
   std::size_t left_out = 0;
   for (std::size_t i = 0; i < c.points.size(); ++i) {
     if (c.points[i].z() >= ground_cut) {
@@ -567,7 +570,7 @@ Features measure(const Candidate& c, const Params& fp) {
   const std::vector<std::size_t> object =
       object_of(c, fp.ground_cut, link, crop_area, fp.bridge, fp.bridge_length, fp.join_stacked,
                 fp.bridge_min_share, &shadows, fp.cut_low_parts, &f.low_cut_points, fp.detect_object,
-                &f.context_points, fp.detect_object_box);
+                &f.context_points, fp.detect_object_box, fp.detect_trim);
   f.object_points = object.size();
   if (object.size() < 3) return f;
 

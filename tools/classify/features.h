@@ -38,8 +38,9 @@ struct Candidate {
   // `echo_width`), empty = unknown (NaN: unknown for that point).
   std::vector<double> echo_width;
   // Per point: detect's field `object` (detect --object-field), 1 = the candidate's own object,
-  // 2 = a point detect gave to another object or piece, 0 = the rest (ground, points detect
-  // dropped); empty = the crop has no such field.
+  // 2 = a point detect gave to another object or piece, 3 = one of those that detect's trim cut
+  // off this object (its leftover), 0 = the rest (ground, points detect dropped); empty = the
+  // crop has no such field.
   std::vector<std::uint8_t> detect_object;
   // Pass index per point, 0 .. passes - 1 (empty = one pass, unknown): points of one flight line
   // (point_source_id) flown in one stretch of time (gps_time gaps of more than kPassGap s split
@@ -123,13 +124,14 @@ struct Shadow {
 // gets the number of points dropped. With `detect_object` (classify.md §35) and c.detect_object
 // known, the above-ground points detect gave to another object or piece (2) are left out before
 // the clustering (`context` gets their number); with `detect_object_box` only those outside the
-// top-view box of the 1s.
+// top-view box of the 1s. With `detect_trim` (classify.md §36) the trim's leftover (3) is left out
+// likewise (and with `detect_object` it is among the points left out: a 3 is a kind of 2).
 std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double link, double crop_area,
                                    double bridge = 0, double bridge_length = 6.0, bool join_stacked = false,
                                    double bridge_min_share = 0, std::vector<Shadow>* shadows = nullptr,
                                    double cut_low = 0, std::size_t* low_cut = nullptr,
                                    bool detect_object = false, std::size_t* context = nullptr,
-                                   bool detect_object_box = false);
+                                   bool detect_object_box = false, bool detect_trim = false);
 
 // classify.md §25 (object_of with `join_stacked`): joins to the object (`in`, per point of `pts`)
 // each cluster of `label` that meets it within `link` in the top view, beside it, in line with it
@@ -154,13 +156,14 @@ void bridge_gaps(const std::vector<Eigen::Vector3d>& pts, const std::vector<std:
 std::size_t cut_low_parts(const std::vector<Eigen::Vector3d>& pts, const std::vector<Eigen::Vector2d>& ground,
                           double ground_density, double min_gap, double share, std::vector<char>& in,
                           std::vector<Shadow>* shadows = nullptr);
-// classify.md §35: detect's field `object` of the crop (0, 1 or 2 per point; empty without the
-// field); throws common::DataError naming `name` on another value.
+// classify.md §35, §36: detect's field `object` of the crop (0, 1, 2 or 3 per point; empty without
+// the field); throws common::DataError naming `name` on another value.
 std::vector<std::uint8_t> read_object_field(const formats::PointCloud& cloud, const std::string& name);
-// classify.md §35 (object_of with `detect_object`): per point of `c`, 1 where detect gave it to
-// another object or piece (2), with `box` only outside the top-view box of detect's object (its
-// 1s); all 0 when the crop has no field.
-std::vector<char> detect_others(const Candidate& c, bool box);
+// classify.md §35, §36 (object_of with `detect_object`, `detect_trim`): per point of `c`, 1 where
+// with `others` detect gave it to another object or piece (2 or 3; with `box` only outside the
+// top-view box of detect's object, its 1s) or with `trimmed` detect's trim cut it off the object
+// (3); all 0 when the crop has no field.
+std::vector<char> detect_others(const Candidate& c, bool others, bool box, bool trimmed = false);
 // classify.md §27 (fill_empty_cells): the area (m²) of the rectangle [0, length] x [0, width]
 // (coordinates along and across it) in cells of at least `cell` (as many whole cells as fit each
 // side) that hold none of `points` (every return of the crop, in those coordinates).

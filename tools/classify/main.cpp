@@ -79,6 +79,12 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
   tool.add("--detect-object-box", &p.detect_object_box,
            "true or false: --detect-object leaves out only the 2s outside the top-view box of detect's "
            "own object (its 1s); those inside it stay");
+  tool.add("--detect-trim", &p.detect_trim,
+           "true or false: with a candidate crop that carries detect's field `object` (detect "
+           "--object-field), leave out of the object every point above the ground cut that detect's trim "
+           "to one roof cut off the candidate's object (3: the trim's leftover, the low thing beside the "
+           "vehicle), before the clustering; detect's other pieces (2) stay; a crop without the field: as "
+           "false");
   tool.add("--bridge-min-share", &p.bridge_min_share,
            "--bridge joins only a cluster holding at least this share of the object's points (0: any)");
   tool.add("--max-echo-widening", &p.max_echo_widening,

@@ -190,7 +190,7 @@ formats::PointCloud crop_cloud(const formats::PointCloud& tile, const std::vecto
 
 Placed place_candidates(const formats::PointCloud& tile, const LocalFrame& l, const Ground& g,
                         const std::vector<Object>& objects, const Params& params,
-                        const std::vector<std::int32_t>& examined) {
+                        const std::vector<std::int32_t>& examined, const std::vector<TrimRest>& trims) {
   const CellPoints cells = bucket_by_cell(g.cell_of, g.cells());
   struct Pending {
     Candidate c;
@@ -208,17 +208,26 @@ Placed place_candidates(const formats::PointCloud& tile, const LocalFrame& l, co
     c.cloud = crop_cloud(tile, rows, local, f.R);
     if (params.object_field) {
       // 1: a row of the object (o.points, rows of the tile, as the crop's rows); 2: a row last
-      // examined outside the object's lineage (given to something else); 0: the rest.
+      // examined outside the object's lineage (given to something else), 3 when that examination
+      // is the leftover of a trim whose vehicle piece the object came out of; 0: the rest.
       std::vector<std::uint32_t> own = o.points;
       std::sort(own.begin(), own.end());
+      auto in_lineage = [&](std::int32_t e) {
+        return std::find(o.lineage.begin(), o.lineage.end(), e) != o.lineage.end();
+      };
+      std::vector<TrimRest> cut;  // the trims that cut this object
+      for (const TrimRest& t : trims)
+        if (in_lineage(t.piece)) cut.push_back(t);
       auto& mark = c.cloud.add(kObjectField, formats::kUint8);  // replaces a tile's own `object`
       for (std::size_t m = 0; m < rows.size(); ++m) {
         const auto q = static_cast<std::uint32_t>(rows[m]);
         if (std::binary_search(own.begin(), own.end(), q)) {
           mark[m] = kObjectOwn;
-        } else if (q < examined.size() && examined[q] >= 0 &&
-                   std::find(o.lineage.begin(), o.lineage.end(), examined[q]) == o.lineage.end()) {
-          mark[m] = kObjectOther;
+        } else if (q < examined.size() && examined[q] >= 0 && !in_lineage(examined[q])) {
+          const std::int32_t e = examined[q];
+          mark[m] = std::any_of(cut.begin(), cut.end(), [e](const TrimRest& t) { return t.holds(e); })
+                        ? kObjectTrimmed
+                        : kObjectOther;
         } else {
           mark[m] = kObjectContext;
         }

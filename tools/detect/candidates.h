@@ -19,10 +19,12 @@ struct Placed {
   std::vector<Candidate> candidates;
 };
 
-// `examined` (Objects::examined, per tile point) marks with params.object_field the crop's
-// points of other objects 2 (detect.md §17); empty: every point not the object's is 0.
+// `examined` and `trims` (Objects::examined and trim_rests) mark with params.object_field the crop's
+// points of other objects 2 (detect.md §17), those a trim cut off the object 3 (detect.md §18);
+// `examined` empty: every point not the object's is 0.
 Placed place_candidates(const formats::PointCloud& tile, const LocalFrame& l, const Ground& g,
                         const std::vector<Object>& objects, const Params& params,
-                        const std::vector<std::int32_t>& examined = {});
+                        const std::vector<std::int32_t>& examined = {},
+                        const std::vector<TrimRest>& trims = {});
 
 }  // namespace canopy::detect

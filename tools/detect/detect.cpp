@@ -113,7 +113,7 @@ Outputs run(const Params& given, const Inputs& inputs) {
   r.stats.seconds_objects = seconds_since(t0);
 
   t0 = std::chrono::steady_clock::now();
-  Placed placed = place_candidates(tile, l, g, shaped.kept, params, found.examined);
+  Placed placed = place_candidates(tile, l, g, shaped.kept, params, found.examined, found.trim_rests);
   r.stats.seconds_candidates = seconds_since(t0);
 
   r.height = std::move(g.height);

@@ -137,9 +137,11 @@ struct Params {
   double margin = 0.5;  // crop margin around the footprint and above the height (m)
   // Each crop gets the field `object` (uint8, kObjectField): 1 for the points of the candidate's
   // own object (its cluster after every split, trim and merge), 2 for points detect gave to
-  // something else (another object or piece), 0 for the rest of the crop (ground, grass, points
-  // dropped from its own cluster); classify's --detect-object leaves the 2s out of its object
-  // (detect.md §17); false = no such field, the crops before.
+  // something else (another object or piece), 3 for those of them that a trim to one roof cut
+  // off this object (its leftover, detect.md §12, §18), 0 for the rest of the crop (ground,
+  // grass, points dropped from its own cluster); classify's --detect-object leaves the 2s and 3s
+  // out of its object, --detect-trim the 3s (detect.md §17, §18); false = no such field, the
+  // crops before, and detect keeps no record of its examinations.
   bool object_field = false;
 };
 
@@ -156,10 +158,11 @@ void validate(const Params& params);
 inline const char* const kTruthFields[] = {"label", "instance"};
 // The crop's field marking the candidate's own object (Params::object_field): 1 its points, 2
 // points detect gave to something else (another object, a piece a row split or trim cut off,
-// accepted or not), 0 the rest (ground, grass, points above the band, what detect dropped from
-// this object's own cluster).
+// accepted or not), 3 of those the points a trim to one roof cut off this object (the trim's
+// leftover: the low thing beside the vehicle, whatever became of it), 0 the rest (ground, grass,
+// points above the band, what detect dropped from this object's own cluster).
 inline const char* const kObjectField = "object";
-constexpr std::uint8_t kObjectContext = 0, kObjectOwn = 1, kObjectOther = 2;
+constexpr std::uint8_t kObjectContext = 0, kObjectOwn = 1, kObjectOther = 2, kObjectTrimmed = 3;
 
 // Classes of the classification output.
 enum Class : std::uint8_t { kClassGround = 1, kClassOther = 2, kClassCandidate = 3 };

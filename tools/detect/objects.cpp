@@ -197,14 +197,21 @@ double valley_cut(const Context& c, const std::vector<std::uint32_t>& pts, const
 
 void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
   const Params& p = c.p;
-  // This examination's number on its points and on the lineage while it lasts (Objects::examined).
-  const std::int32_t id = c.examinations++;
-  for (std::uint32_t q : pts) c.out.examined[q] = id;
-  c.lineage.push_back(id);
+  // With object_field: this examination's number on its points and on the lineage while it lasts
+  // (Objects::examined).
+  const bool numbered = p.object_field;
+  if (numbered) {
+    const std::int32_t id = c.examinations++;
+    for (std::uint32_t q : pts) c.out.examined[q] = id;
+    c.lineage.push_back(id);
+  }
   struct Pop {
     std::vector<std::int32_t>& s;
-    ~Pop() { s.pop_back(); }
-  } pop{c.lineage};
+    bool on;
+    ~Pop() {
+      if (on) s.pop_back();
+    }
+  } pop{c.lineage, numbered};
   if (pts.size() < p.min_points) {
     ++c.out.rejected_small;
     return;
@@ -244,17 +251,25 @@ void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
     ++(row.trimmed ? c.out.trims : c.out.row_splits);
     ++c.in_row;
     c.in_trim += row.trimmed;
-    // The rest is cut off from the pieces whether examined or not: an examination of its own
-    // (Objects::examined), which its parts' examinations below renumber.
-    const std::int32_t rest = c.examinations++;
-    for (std::uint32_t q : row.rest) c.out.examined[q] = rest;
+    // With object_field the rest is cut off from the pieces whether examined or not: an
+    // examination of its own (Objects::examined), which its parts' examinations below renumber;
+    // a trim's (one piece: the vehicle) is recorded as its leftover (Objects::trim_rests).
+    TrimRest marks;
+    if (numbered) {
+      marks.rest = c.examinations++;
+      for (std::uint32_t q : row.rest) c.out.examined[q] = marks.rest;
+      marks.piece = c.examinations;
+    }
     for (auto& piece : row.pieces) examine(c, std::move(piece), depth + 1);
+    marks.rest_parts_begin = c.examinations;
     if (row.rest.size() >= p.min_points) {
       for (auto& part : cluster_points(row.rest, c.x, c.y, c.z, p.voxel, Clustering::kGrid))
         examine(c, std::move(part), depth + 1);
     } else if (!row.rest.empty()) {
       ++c.out.rejected_small;
     }
+    marks.rest_parts_end = c.examinations;
+    if (numbered && row.trimmed) c.out.trim_rests.push_back(marks);
     --c.in_row;
     c.in_trim -= row.trimmed;
   };
@@ -325,7 +340,7 @@ void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
   o.row_piece = c.in_row > 0;
   o.trim_piece = c.in_trim > 0;
   o.origins = {c.origin};
-  o.lineage = c.lineage;
+  o.lineage = c.lineage;  // empty without object_field
   c.out.accepted.push_back(std::move(o));
 }
 
@@ -520,7 +535,7 @@ Objects find_objects(const LocalFrame& l, const std::vector<float>& height, cons
   }
   Objects out;
   out.band_points = band.size();
-  out.examined.assign(n, -1);
+  if (params.object_field) out.examined.assign(n, -1);
   std::vector<double> hz(n);  // clustering in (x, y, height): the band is a flat slab
   for (std::size_t i = 0; i < n; ++i) hz[i] = height[i];
   Context ctx{params, l.x, l.y, hz, height, out, {}, 0, 0, 0, {}, 0};

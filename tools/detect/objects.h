@@ -35,16 +35,27 @@ struct Object {
   std::vector<std::int32_t> lineage;
 };
 
+// One trim to a roof (detect.md §12, §18): the examination of the vehicle's piece and those its
+// leftover (the parts cut off it) last held its points in: the rest's own number, then its parts'
+// (rest_parts_begin up to rest_parts_end, numbered after the piece's).
+struct TrimRest {
+  std::int32_t piece = -1, rest = -1, rest_parts_begin = 0, rest_parts_end = 0;
+  bool holds(std::int32_t e) const { return e == rest || (e >= rest_parts_begin && e < rest_parts_end); }
+};
+
 // The objects that pass the vehicle tests, in the order found, and the counts of the way.
 struct Objects {
   std::vector<Object> accepted;
   std::size_t band_points = 0, clusters = 0, splits = 0, row_splits = 0, trims = 0, merges = 0, stacked = 0;
   std::size_t rejected_small = 0, rejected_large = 0, rejected_canopy = 0;
-  // Per tile point: the last examination (every cluster, piece or part examined gets a number,
-  // in order) whose points held it, -1 for none (not in the band). A point whose examination is
-  // not in an object's lineage was given by detect to something else (another object, a piece a
-  // split or trim cut off, accepted or not): the crops' field `object` (detect.md §17).
+  // Only with Params::object_field (else empty, and no object's lineage is kept): per tile point
+  // the last examination (every cluster, piece or part examined gets a number, in order) whose
+  // points held it, -1 for none (not in the band). A point whose examination is not in an
+  // object's lineage was given by detect to something else (another object, a piece a split or
+  // trim cut off, accepted or not): the crops' field `object` (detect.md §17); one a trim cut off
+  // the object (`trim_rests`) is its trim's leftover (detect.md §18).
   std::vector<std::int32_t> examined;
+  std::vector<TrimRest> trim_rests;  // every trim made, with Params::object_field
 };
 
 // `height`: every point's height above the DTM (Ground::height). Throws common::DataError
