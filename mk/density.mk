@@ -48,6 +48,8 @@ $(if $(DENSITY_CLASSIFY_ABLATION),$(if $(wildcard $(DENSITY_CLASSIFY_ABLATION)),
   DENSITY_CLASSIFY_ABLATION=$(DENSITY_CLASSIFY_ABLATION) does not exist)))
 $(if $(DENSITY_CLASSIFY_ABLATION_2),$(if $(wildcard $(DENSITY_CLASSIFY_ABLATION_2)),,$(error \
   DENSITY_CLASSIFY_ABLATION_2=$(DENSITY_CLASSIFY_ABLATION_2) does not exist)))
+$(if $(DENSITY_CLASSIFY_ABLATION_3),$(if $(wildcard $(DENSITY_CLASSIFY_ABLATION_3)),,$(error \
+  DENSITY_CLASSIFY_ABLATION_3=$(DENSITY_CLASSIFY_ABLATION_3) does not exist)))
 endif
 # The ladder on the realistic sensor (docs/decisions/density-ladder.md, "The ladder on the
 # realistic sensor"): the same tiles rendered in sensor mode (mk/scenes.mk SCENE_SENSOR) with
@@ -73,6 +75,13 @@ DENSITY_CLASSIFY_ABLATION ?= bench/density/classify-sim-floor-100.ini
 # (DENSITY_SENSOR_CLASSIFY_ABLATION_2, by default the same file).
 DENSITY_CLASSIFY_ABLATION_2 ?= bench/density/classify-sim-shoulder-0.ini
 DENSITY_SENSOR_CLASSIFY_ABLATION_2 ?= $(DENSITY_CLASSIFY_ABLATION_2)
+# classify's third ablation on every level of both ladders, the same way (SCENE_CLASSIFY_ABLATION_3,
+# class-ablation-3; a second density-classify record per rung; the report's "classify's third
+# ablation on ..."): classify-sim.ini with the oval-outline gate's step over every profile bin
+# (rectangularity-sampled false, before classify.md §37). Empty: none. The sensor ladder's may
+# differ (DENSITY_SENSOR_CLASSIFY_ABLATION_3, by default the same file).
+DENSITY_CLASSIFY_ABLATION_3 ?= bench/density/classify-sim-sampled-0.ini
+DENSITY_SENSOR_CLASSIFY_ABLATION_3 ?= $(DENSITY_CLASSIFY_ABLATION_3)
 # classify's ablation on every sensor level (SCENE_CLASSIFY_ABLATION of its `make scenes`: the same
 # candidates classified a second time, collected and scored as <level>/class-ablation/score.json;
 # the report's "classify's ablation on the sensor ladder"): classify-sim.ini before classify.md §23
@@ -97,6 +106,8 @@ $(if $(DENSITY_SENSOR_CLASSIFY_ABLATION),$(if $(wildcard $(DENSITY_SENSOR_CLASSI
   DENSITY_SENSOR_CLASSIFY_ABLATION=$(DENSITY_SENSOR_CLASSIFY_ABLATION) does not exist)))
 $(if $(DENSITY_SENSOR_CLASSIFY_ABLATION_2),$(if $(wildcard $(DENSITY_SENSOR_CLASSIFY_ABLATION_2)),,$(error \
   DENSITY_SENSOR_CLASSIFY_ABLATION_2=$(DENSITY_SENSOR_CLASSIFY_ABLATION_2) does not exist)))
+$(if $(DENSITY_SENSOR_CLASSIFY_ABLATION_3),$(if $(wildcard $(DENSITY_SENSOR_CLASSIFY_ABLATION_3)),,$(error \
+  DENSITY_SENSOR_CLASSIFY_ABLATION_3=$(DENSITY_SENSOR_CLASSIFY_ABLATION_3) does not exist)))
 density_sensor_keys := $(shell awk -v l0='$(DENSITY_SENSOR_L0)' -v levels='$(strip $(DENSITY_SENSOR_LEVELS))' \
   -v f='share/sensors/$(DENSITY_SENSOR).ini' 'BEGIN { \
   if (l0 !~ /^[0-9]+(\.[0-9]+)?$$/ || l0 + 0 <= 0) { print "ERROR DENSITY_SENSOR_L0=" l0 " must be a positive number"; exit } \
@@ -125,17 +136,20 @@ DENSITY_SCORES := $(foreach d,$(DENSITY_LEVELS),$(DENSITY_RES)/d$(d)/score.json)
 # after each level, verify's ablation: the ladder (pixel or the preset), level, options, score.
 density_verify_record = $(if $(DENSITY_VERIFY_ABLATION),$(call ml,density-verify $(1) $(2) $(density_verify_change) \
   $(DENSITY_RES)/$(3)/verify-ablation/score.json))
-# density_classify_record(LADDER, LEVEL, RUNG, INI): classify's second ablation on a rung.
-density_classify_record = $(if $(4),$(call ml,density-classify $(1) $(2) $(4) $(DENSITY_RES)/$(3)/class-ablation-2/score.json))
+# density_classify_record(LADDER, LEVEL, RUNG, INI[, N]): classify's second (N 2, the default) or
+# third (N 3) ablation on a rung.
+density_classify_record = $(if $(4),$(call ml,density-classify $(1) $(2) $(4) $(DENSITY_RES)/$(3)/class-ablation-$(or $(5),2)/score.json))
 EXPERIMENT_DENSITY := $(if $(filter 1,$(DENSITY_LADDER)),$(foreach d,$(DENSITY_LEVELS),$(call ml,density $(d) \
   $(call density_m,$(d)) $(DENSITY_RES)/d$(d)/score.json$(if $(DENSITY_CLASSIFY_ABLATION), $(DENSITY_CLASSIFY_ABLATION) \
   $(DENSITY_RES)/d$(d)/class-ablation/score.json))$(call density_verify_record,pixel,$(d),d$(d))$(call \
-  density_classify_record,pixel,$(d),d$(d),$(DENSITY_CLASSIFY_ABLATION_2)))$(if \
+  density_classify_record,pixel,$(d),d$(d),$(DENSITY_CLASSIFY_ABLATION_2))$(call \
+  density_classify_record,pixel,$(d),d$(d),$(DENSITY_CLASSIFY_ABLATION_3),3))$(if \
   $(DENSITY_SENSOR),$(foreach d,$(DENSITY_SENSOR_LEVELS),$(call \
   ml,density-sensor $(d) $(DENSITY_SENSOR) $(DENSITY_RES)/$(DENSITY_SENSOR)-$(d)/score.json$(if \
   $(DENSITY_SENSOR_CLASSIFY_ABLATION), $(DENSITY_SENSOR_CLASSIFY_ABLATION) \
   $(DENSITY_RES)/$(DENSITY_SENSOR)-$(d)/class-ablation/score.json))$(call \
-  density_verify_record,$(DENSITY_SENSOR),$(d),$(DENSITY_SENSOR)-$(d))$(call density_classify_record,$(DENSITY_SENSOR),$(d),$(DENSITY_SENSOR)-$(d),$(DENSITY_SENSOR_CLASSIFY_ABLATION_2)))))
+  density_verify_record,$(DENSITY_SENSOR),$(d),$(DENSITY_SENSOR)-$(d))$(call density_classify_record,$(DENSITY_SENSOR),$(d),$(DENSITY_SENSOR)-$(d),$(DENSITY_SENSOR_CLASSIFY_ABLATION_2))$(call \
+  density_classify_record,$(DENSITY_SENSOR),$(d),$(DENSITY_SENSOR)-$(d),$(DENSITY_SENSOR_CLASSIFY_ABLATION_3),3))))
 
 ifeq ($(filter scenes,$(MAKECMDGOALS)),)
 # density_args(LEVEL): the level's `make scenes`: its own directories and spacing, noise 0, the
@@ -149,12 +163,14 @@ density_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROG
   SCENE_SEEDS="$(DENSITY_SEEDS)" SCENE_COVERS="$(DENSITY_COVERS)" SCENE_MODELS=$(DENSITY_MODELS) SCENE_NOISES=0 SCENE_BASELINE= \
   SCENE_SIZE_ONLY=0 SCENE_PICTURES=0 SCENE_COLLECT_ABLATION=$(if $(DENSITY_VERIFY_ABLATION), SCENE_VERIFY_ABLATION='$(DENSITY_VERIFY_ABLATION)')$(if \
   $(2),,$(if $(DENSITY_CLASSIFY_ABLATION), SCENE_CLASSIFY_ABLATION=$(DENSITY_CLASSIFY_ABLATION))$(if \
-  $(DENSITY_CLASSIFY_ABLATION_2), SCENE_CLASSIFY_ABLATION_2=$(DENSITY_CLASSIFY_ABLATION_2)))
+  $(DENSITY_CLASSIFY_ABLATION_2), SCENE_CLASSIFY_ABLATION_2=$(DENSITY_CLASSIFY_ABLATION_2))$(if \
+  $(DENSITY_CLASSIFY_ABLATION_3), SCENE_CLASSIFY_ABLATION_3=$(DENSITY_CLASSIFY_ABLATION_3)))
 # density_sensor_args(LEVEL): a level of the sensor ladder.
 density_sensor_args = $(call density_args,$(1),$(DENSITY_SENSOR)-$(1),SCENE_SENSOR=$(DENSITY_SENSOR) \
   SCENE_SENSOR_KEYS="pulse_rate=$(call density_sensor_rate,$(1)) speed=$(call density_sensor_speed,$(1))" \
   $(if $(DENSITY_SENSOR_CLASSIFY_ABLATION),SCENE_CLASSIFY_ABLATION=$(DENSITY_SENSOR_CLASSIFY_ABLATION))$(if \
-  $(DENSITY_SENSOR_CLASSIFY_ABLATION_2), SCENE_CLASSIFY_ABLATION_2=$(DENSITY_SENSOR_CLASSIFY_ABLATION_2)))
+  $(DENSITY_SENSOR_CLASSIFY_ABLATION_2), SCENE_CLASSIFY_ABLATION_2=$(DENSITY_SENSOR_CLASSIFY_ABLATION_2))$(if \
+  $(DENSITY_SENSOR_CLASSIFY_ABLATION_3), SCENE_CLASSIFY_ABLATION_3=$(DENSITY_SENSOR_CLASSIFY_ABLATION_3)))
 # As for the scene experiment: under -q each level's sub-make is asked (`make -q`, which renders
 # nothing), only when the ladder is on (the question builds the tools it needs, and a make
 # without the ladder must not); otherwise the step always runs and make compares score.json's

@@ -145,8 +145,8 @@ struct Parser {
     } else if (kind == "density-classify") {
       expect(w, 5, 5, "density-classify LADDER LEVEL CONFIG SCORE");
       ManifestDensity& rung = rung_of(w);
-      if (!rung.classify2.score.empty()) fail("a second density-classify " + w[1] + " " + w[2]);
-      rung.classify2 = {w[3], w[4]};
+      if (rung.classify_more.size() == 2) fail("a third density-classify " + w[1] + " " + w[2]);
+      rung.classify_more.push_back({w[3], w[4]});
     } else if (kind == "density") {
       expect(w, 4, 6, "density LEVEL SPACING SCORE [ABLATION_CONFIG ABLATION_SCORE]");
       if (w.size() == 5) fail("density: an ablation needs its parameter file and its score.json");
@@ -261,23 +261,22 @@ std::string write_experiment_manifest(const ExperimentManifest& m) {
     std::replace(change.begin(), change.end(), ' ', '+');
     out << "density-verify " << ladder << ' ' << d.level << ' ' << change << ' ' << d.verify.score << '\n';
   };
-  const auto classify2 = [&out](const std::string& ladder, const ManifestDensity& d) {
-    if (d.classify2.score.empty()) return;
-    out << "density-classify " << ladder << ' ' << d.level << ' ' << d.classify2.change << ' '
-        << d.classify2.score << '\n';
+  const auto classify_more = [&out](const std::string& ladder, const ManifestDensity& d) {
+    for (const ManifestRungAblation& a : d.classify_more)
+      out << "density-classify " << ladder << ' ' << d.level << ' ' << a.change << ' ' << a.score << '\n';
   };
   out << std::setprecision(10);
   for (const auto& d : m.density) {
     out << "density " << d.level << ' ' << d.spacing << ' ' << d.score
         << (d.classify.score.empty() ? "" : " " + d.classify.change + " " + d.classify.score) << '\n';
     verify("pixel", d);
-    classify2("pixel", d);
+    classify_more("pixel", d);
   }
   for (const auto& d : m.density_sensor) {
     out << "density-sensor " << d.level << ' ' << d.sensor << ' ' << d.score
         << (d.classify.score.empty() ? "" : " " + d.classify.change + " " + d.classify.score) << '\n';
     verify(d.sensor, d);
-    classify2(d.sensor, d);
+    classify_more(d.sensor, d);
   }
   return out.str();
 }

@@ -2905,6 +2905,12 @@ TEST_CASE(
                      {{"min-shoulder", {"0.58", "0"}}});
 }
 
+TEST_CASE("the ladders' third classify ablation is classify-sim.ini with the sampled step off") {
+  // mk/density.mk DENSITY_CLASSIFY_ABLATION_3 and DENSITY_SENSOR_CLASSIFY_ABLATION_3; classify.md §37.
+  check_ablation_ini("share/params/classify-sim.ini", "bench/density/classify-sim-sampled-0.ini",
+                     {{"rectangularity-sampled", {"true", "false"}}});
+}
+
 TEST_CASE(
     "classify: --fill-tile-ground measures fill against the tile's open ground where the crop has none") {
   // Under closed canopy the crop holds no ground around the object, so fill (its points per m²

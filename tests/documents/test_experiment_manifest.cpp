@@ -39,6 +39,7 @@ const char* kManifest =
     "density 25.5 0.418 res/density/d25.5/score.json\n"
     "density-verify pixel 25.5 --seen-spacing=0 res/density/d25.5/verify-ablation/score.json\n"
     "density-classify pixel 25.5 bench/density/shoulder.ini res/density/d25.5/class-ablation-2/score.json\n"
+    "density-classify pixel 25.5 bench/density/sampled.ini res/density/d25.5/class-ablation-3/score.json\n"
     "density-sensor 10 als_qL1 res/density/als_qL1-10/score.json\n"
     "density-verify als_qL1 10 --seen-spacing=0+--top-k=5 res/density/als_qL1-10/verify-ablation/score.json\n"
     "density-sensor 25 als_qL1 res/density/als_qL1-25/score.json bench/density/late.ini "
@@ -129,15 +130,20 @@ TEST_CASE("experiment manifest: every record read, the grid in order of first ap
   CHECK(m.density_sensor[0].verify.change == "--seen-spacing=0 --top-k=5");
   CHECK(m.density_sensor[0].verify.score == "res/density/als_qL1-10/verify-ablation/score.json");
   CHECK(m.density_sensor[1].verify.score.empty());
-  // classify's second ablation (density-classify), after its rung's record.
-  CHECK(m.density[0].classify2.score.empty());
-  CHECK(m.density[1].classify2.change == "bench/density/shoulder.ini");
-  CHECK(m.density[1].classify2.score == "res/density/d25.5/class-ablation-2/score.json");
-  CHECK(m.density_sensor[0].classify2.score.empty());
-  CHECK(m.density_sensor[1].classify2.change == "bench/density/shoulder.ini");
-  CHECK(m.density_sensor[1].classify2.score == "res/density/als_qL1-25/class-ablation-2/score.json");
-  CHECK(again.density[1].classify2.score == m.density[1].classify2.score);
-  CHECK(again.density_sensor[1].classify2.change == "bench/density/shoulder.ini");
+  // classify's second and third ablations (density-classify), after their rung's record, in order.
+  CHECK(m.density[0].classify_more.empty());
+  REQUIRE(m.density[1].classify_more.size() == 2);
+  CHECK(m.density[1].classify_more[0].change == "bench/density/shoulder.ini");
+  CHECK(m.density[1].classify_more[0].score == "res/density/d25.5/class-ablation-2/score.json");
+  CHECK(m.density[1].classify_more[1].change == "bench/density/sampled.ini");
+  CHECK(m.density[1].classify_more[1].score == "res/density/d25.5/class-ablation-3/score.json");
+  CHECK(m.density_sensor[0].classify_more.empty());
+  REQUIRE(m.density_sensor[1].classify_more.size() == 1);
+  CHECK(m.density_sensor[1].classify_more[0].change == "bench/density/shoulder.ini");
+  CHECK(m.density_sensor[1].classify_more[0].score == "res/density/als_qL1-25/class-ablation-2/score.json");
+  REQUIRE(again.density[1].classify_more.size() == 2);
+  CHECK(again.density[1].classify_more[1].score == m.density[1].classify_more[1].score);
+  CHECK(again.density_sensor[1].classify_more[0].change == "bench/density/shoulder.ini");
   CHECK(again.density[1].verify.score == m.density[1].verify.score);
   CHECK(again.density_sensor[0].verify.change == "--seen-spacing=0 --top-k=5");
   CHECK(m.real[0].ablation_dir.empty());
@@ -224,8 +230,11 @@ TEST_CASE("experiment manifest: malformed records and grids are refused naming t
   CHECK(refusal(t + "density 10 0.5 s\ndensity-classify als_qL1 10 c.ini v\n")
             .find("line 3: density-classify als_qL1 10 does not follow") != std::string::npos);
   CHECK(
-      refusal(t + "density 10 0.5 s\ndensity-classify pixel 10 c.ini v\ndensity-classify pixel 10 c.ini v\n")
-          .find("line 4: a second density-classify pixel 10") != std::string::npos);
+      refusal(t + "density 10 0.5 s\ndensity-classify pixel 10 c.ini v\ndensity-classify pixel 10 d.ini w\n")
+          .empty());
+  CHECK(refusal(t + "density 10 0.5 s\ndensity-classify pixel 10 c.ini v\ndensity-classify pixel 10 d.ini w\n"
+                    "density-classify pixel 10 e.ini x\n")
+            .find("line 5: a third density-classify pixel 10") != std::string::npos);
   CHECK(refusal(t + "density 10 0.5 s\ndensity-verify pixel 10 --x=0 v\n").empty());
   // The two ladders rise each on its own.
   CHECK(refusal(t + "density 50 0.3 s\ndensity-sensor 10 als_qL1 s\n").empty());

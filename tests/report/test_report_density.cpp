@@ -378,13 +378,14 @@ TEST_CASE("density ladder: verify's ablation beside canopy on the rungs with a m
 
   // classify's second ablation on the same rung (density-classify): a table of its own, after the
   // first's, with its own file and numbers; the first's table unchanged.
-  pixel[1].classify2.change = "bench/density/classify-sim-shoulder-0.ini";
-  pixel[1].classify2.score = (root / "res/s50/score.json").string();
-  pixel[0].classify2.change = "bench/density/classify-sim-shoulder-0.ini";
-  pixel[0].classify2.score = (root / "res/missing/score.json").string();  // not run: no row
+  pixel[1].classify_more = {
+      {"bench/density/classify-sim-shoulder-0.ini", (root / "res/s50/score.json").string()}};
+  // not run: no row
+  pixel[0].classify_more = {
+      {"bench/density/classify-sim-shoulder-0.ini", (root / "res/missing/score.json").string()}};
   const std::vector<report::DensityLevel> l2 = report::read_density_levels(pixel);
-  CHECK(l2[1].classify2.scored);
-  CHECK(!l2[0].classify2.scored);
+  CHECK(l2[1].classify_more.at(0).scored);
+  CHECK(!l2[0].classify_more.at(0).scored);
   const std::string m2 = report::density_markdown(l2, {}, sens);
   const auto first = m2.find("**classify's ablation on the density ladder**");
   const auto second = m2.find(
@@ -398,4 +399,20 @@ TEST_CASE("density ladder: verify's ablation beside canopy on the rungs with a m
         std::string::npos);
   CHECK(tail.find("| 25 |") == std::string::npos);
   CHECK(m2.substr(0, second) == mc.substr(0, second));
+  CHECK(m2.find("classify's third ablation") == std::string::npos);
+
+  // A third ablation on the same rung (a second density-classify record): its own table after the
+  // second's, the tables before it unchanged.
+  pixel[1].classify_more.push_back(
+      {"bench/density/classify-sim-sampled-0.ini", (root / "res/s50/score.json").string()});
+  const std::vector<report::DensityLevel> l3 = report::read_density_levels(pixel);
+  REQUIRE(l3[1].classify_more.size() == 2);
+  CHECK(l3[1].classify_more[1].scored);
+  const std::string m3 = report::density_markdown(l3, {}, sens);
+  const auto third = m3.find(
+      "**classify's third ablation on the density ladder** (the same candidates classified with "
+      "`bench/density/classify-sim-sampled-0.ini`");
+  REQUIRE(third != std::string::npos);
+  CHECK(third > m3.find("**classify's second ablation on the density ladder**"));
+  CHECK(m3.substr(0, third) == m2.substr(0, third));
 }

@@ -58,21 +58,26 @@ const ScoreRow* row_of(const DensityLevel& l, const std::string& cover) {
   return l.scored ? summary_row(l.score, cover) : nullptr;
 }
 
-// classify's ablation (`second`: its second ablation) beside canopy on a ladder's levels where it
-// has run (a changed default keeps its ablation in the report): found at either level per cover,
-// class right, the wrong class and false alarms (all covers; score_cells.h class_ablation_table).
-// `ladder`: "the density ladder" or "the sensor ladder".
+// classify's ablation (`more` k >= 0: its (k + 2)-th, the rung's classify_more[k]) beside canopy on a
+// ladder's levels where it has run (a changed default keeps its ablation in the report): found at
+// either level per cover, class right, the wrong class and false alarms (all covers; score_cells.h
+// class_ablation_table). `ladder`: "the density ladder" or "the sensor ladder".
 void ablation_table(std::ostringstream& md, const std::vector<DensityLevel>& rungs, const std::string& ladder,
-                    bool second = false) {
-  const auto abl = [second](const DensityLevel& s) -> const DensityLevel::Ablation& {
-    return second ? s.classify2 : s.classify;
+                    int more = -1) {
+  static const DensityLevel::Ablation none{};
+  const auto abl = [more](const DensityLevel& s) -> const DensityLevel::Ablation& {
+    if (more < 0) return s.classify;
+    return static_cast<std::size_t>(more) < s.classify_more.size() ? s.classify_more[more] : none;
   };
   std::vector<const DensityLevel*> with;
   for (const DensityLevel& s : rungs)
     if (s.scored && abl(s).scored) with.push_back(&s);
   if (with.empty()) return;
-  md << "\n**classify's " << (second ? "second ablation" : "ablation") << " on " << ladder
-     << "** (the same candidates classified with `" << abl(*with.front()).change
+  md << "\n**classify's "
+     << (more < 0    ? "ablation"
+         : more == 0 ? "second ablation"
+                     : "third ablation")
+     << " on " << ladder << "** (the same candidates classified with `" << abl(*with.front()).change
      << "`, collected and scored like canopy's; the file's header says which defaults it turns off, "
         "docs/decisions/classify.md why): found at either level of "
         "each cover's vehicles, class right and the wrong class of the found and false alarms per ha (all "
@@ -144,7 +149,7 @@ std::vector<DensityLevel> read_density_levels(const std::vector<documents::Manif
     l.score_path = m.score;
     l.classify = read_ablation(m.classify);
     l.verify = read_ablation(m.verify);
-    l.classify2 = read_ablation(m.classify2);
+    for (const auto& a : m.classify_more) l.classify_more.push_back(read_ablation(a));
     if (exists(m.score)) {
       l.score = documents::read_scene_score_file(m.score);
       l.scored = true;
@@ -409,7 +414,8 @@ std::string density_markdown(const std::vector<DensityLevel>& levels, const std:
   level_table(md, levels, false);
   detail_tables(md, levels, "pts/m²");
   ablation_table(md, levels, "the density ladder");
-  ablation_table(md, levels, "the density ladder", true);
+  ablation_table(md, levels, "the density ladder", 0);
+  ablation_table(md, levels, "the density ladder", 1);
   for (const std::string& f : figures) md << "\n![density ladder](" << f << ")\n";
   if (!figures.empty())
     md << "\n(One line per cover level; the levels at equal spacing; the bars are the 95% intervals, also in "
@@ -429,7 +435,8 @@ std::string density_markdown(const std::vector<DensityLevel>& levels, const std:
   level_table(md, sensor, true);
   detail_tables(md, sensor, "pulses/m²");
   ablation_table(md, sensor, "the sensor ladder");
-  ablation_table(md, sensor, "the sensor ladder", true);
+  ablation_table(md, sensor, "the sensor ladder", 0);
+  ablation_table(md, sensor, "the sensor ladder", 1);
   // Side by side where both ladders have the nominal density.
   std::vector<std::pair<const DensityLevel*, const DensityLevel*>> both;
   for (const DensityLevel& s : sensor)

@@ -44,9 +44,9 @@ struct DensityLevel {
     bool scored = false;
     documents::SceneScore score;
   };
-  Ablation classify;   // the manifest's density or density-sensor ablation
-  Ablation verify;     // density-verify, on the model-level candidates
-  Ablation classify2;  // density-classify, classify's second ablation
+  Ablation classify;                    // the manifest's density or density-sensor ablation
+  Ablation verify;                      // density-verify, on the model-level candidates
+  std::vector<Ablation> classify_more;  // density-classify: classify's second and third ablations
 };
 
 // Reads each level's score.json and its runs' index.json and .time files (a missing score is a

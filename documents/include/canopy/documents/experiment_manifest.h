@@ -82,13 +82,15 @@ struct ManifestRungAblation {
 };
 
 struct ManifestDensity {
-  double level = 0;                  // nominal points per m² (a sensor rung: pulses per m²)
-  double spacing = 0;                // pixel spacing, m (0 for a sensor rung)
-  std::string score;                 // canopy.scene_score of the rung's tiles
-  std::string sensor;                // the sensor preset of a density-sensor rung; "" for the pixel ladder
-  ManifestRungAblation classify{};   // classify's ablation (the density record's last two words)
-  ManifestRungAblation verify{};     // verify's ablation (density-verify)
-  ManifestRungAblation classify2{};  // classify's second ablation (density-classify)
+  double level = 0;                 // nominal points per m² (a sensor rung: pulses per m²)
+  double spacing = 0;               // pixel spacing, m (0 for a sensor rung)
+  std::string score;                // canopy.scene_score of the rung's tiles
+  std::string sensor;               // the sensor preset of a density-sensor rung; "" for the pixel ladder
+  ManifestRungAblation classify{};  // classify's ablation (the density record's last two words)
+  ManifestRungAblation verify{};    // verify's ablation (density-verify)
+  // classify's second and third ablations (density-classify records, in their order; at most
+  // two: mk/scenes.mk's SCENE_CLASSIFY_ABLATION_2 and _3).
+  std::vector<ManifestRungAblation> classify_more{};
 };
 
 struct ExperimentManifest {
