@@ -463,17 +463,15 @@ std::vector<int> passes_of(const std::vector<double>& source, const std::vector<
   return pass;
 }
 
-std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double link, double crop_area,
-                                   double bridge, double bridge_length, bool join_stacked,
-                                   double bridge_min_share, std::vector<Shadow>* shadows, double cut_low,
-                                   std::size_t* low_cut, bool detect_object, std::size_t* context,
-                                   bool detect_object_box, bool detect_trim) {
+std::vector<std::size_t> object_of(const Candidate& c, const Params& fp, double link, double crop_area,
+                                   std::vector<Shadow>* shadows, std::size_t* low_cut, std::size_t* context) {
+  const double ground_cut = fp.ground_cut, bridge = fp.bridge, cut_low = fp.cut_low_parts;
   std::vector<std::size_t> above;
   std::vector<Vector3d> pts;
   // §35: what detect gave to another object or piece (2, 3) is none of this object's; §36: what
   // detect's trim cut off it (3).
-  const std::vector<char> other = detect_object || detect_trim
-                                      ? detect_others(c, detect_object, detect_object_box, detect_trim)
+  const std::vector<char> other = fp.detect_object || fp.detect_trim
+                                      ? detect_others(c, fp.detect_object, fp.detect_object_box, fp.detect_trim)
                                       : std::vector<char>();
   std::size_t left_out = 0;
   for (std::size_t i = 0; i < c.points.size(); ++i) {
@@ -521,7 +519,7 @@ std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double
   }
   std::vector<char> in(pts.size(), 0);
   for (std::size_t i = 0; i < pts.size(); ++i) in[i] = label[i] == best;
-  if (join_stacked) join_beside(pts, label, link, in);
+  if (fp.join_stacked) join_beside(pts, label, link, in);
   std::vector<Vector2d> ground;
   if (bridge > 0 || cut_low > 0) {
     for (const Vector3d& p : c.points) {
@@ -530,7 +528,8 @@ std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double
   }
   const double density = static_cast<double>(ground.size()) / crop_area;
   if (bridge > 0)
-    bridge_gaps(pts, label, best, ground, density, link, bridge, bridge_length, in, bridge_min_share, shadows);
+    bridge_gaps(pts, label, best, ground, density, link, bridge, fp.bridge_length, in, fp.bridge_min_share,
+                shadows);
   if (cut_low > 0) {
     // The open ground's density: the crop's ground returns outside the object's box (candidate
     // frame) over the crop's area outside it, as fill's reference (§5); none under 10 returns or 1 m².
@@ -568,9 +567,7 @@ Features measure(const Candidate& c, const Params& fp) {
   const double link = std::clamp(fp.link_factor * f.crop_spacing, fp.link_min, 1.5);
   std::vector<Shadow> shadows;  // the strips --bridge crossed (classify.md §27)
   const std::vector<std::size_t> object =
-      object_of(c, fp.ground_cut, link, crop_area, fp.bridge, fp.bridge_length, fp.join_stacked,
-                fp.bridge_min_share, &shadows, fp.cut_low_parts, &f.low_cut_points, fp.detect_object,
-                &f.context_points, fp.detect_object_box, fp.detect_trim);
+      object_of(c, fp, link, crop_area, &shadows, &f.low_cut_points, &f.context_points);
   f.object_points = object.size();
   if (object.size() < 3) return f;
 

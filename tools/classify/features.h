@@ -101,7 +101,9 @@ struct Shadow {
   double x0 = 0, x1 = 0, y0 = 0, y1 = 0, empty = 0;
 };
 
-// Indices of the object's points: the above-ground points (z >= ground_cut) clustered at
+// Indices of the object's points, with the options of `fp` (Params' ground_cut, bridge,
+// bridge_length, join_stacked, bridge_min_share, cut_low_parts, detect_object, detect_object_box,
+// detect_trim; the rest unused): the above-ground points (z >= ground_cut) clustered at
 // distance `link`; the largest cluster whose top-view box (padded by `link`) holds the origin,
 // else the largest. With `bridge` > 0 (classify.md §21) other clusters join it across gaps of up
 // to `bridge` in the top view: a cluster inside the object's extent across x (the candidate
@@ -117,7 +119,7 @@ struct Shadow {
 // vertical face returns nothing, so a cab and its deck, a cab top and its body touch only in plan.
 // With `bridge_min_share` > 0 (classify.md §27) a cluster joins across a gap only when it holds
 // at least that share of the object's points (as the object stands); with `shadows` the strips the
-// bridge crossed are appended to it. With `cut_low` > 0 (classify.md §33) last a part beyond open
+// bridge crossed are appended to it. With `cut_low_parts` > 0 (classify.md §33) last a part beyond open
 // ground along x whose top is at most that share of the rest's is cut off (cut_low_parts, gaps of at
 // least the crop's spacing, against the open ground's density: the crop's ground returns outside
 // the object's box over the crop's area outside it; no cut without 10 of them on 1 m²); `low_cut`
@@ -126,12 +128,9 @@ struct Shadow {
 // the clustering (`context` gets their number); with `detect_object_box` only those outside the
 // top-view box of the 1s. With `detect_trim` (classify.md §36) the trim's leftover (3) is left out
 // likewise (and with `detect_object` it is among the points left out: a 3 is a kind of 2).
-std::vector<std::size_t> object_of(const Candidate& c, double ground_cut, double link, double crop_area,
-                                   double bridge = 0, double bridge_length = 6.0, bool join_stacked = false,
-                                   double bridge_min_share = 0, std::vector<Shadow>* shadows = nullptr,
-                                   double cut_low = 0, std::size_t* low_cut = nullptr,
-                                   bool detect_object = false, std::size_t* context = nullptr,
-                                   bool detect_object_box = false, bool detect_trim = false);
+std::vector<std::size_t> object_of(const Candidate& c, const Params& fp, double link, double crop_area,
+                                   std::vector<Shadow>* shadows = nullptr, std::size_t* low_cut = nullptr,
+                                   std::size_t* context = nullptr);
 
 // classify.md §25 (object_of with `join_stacked`): joins to the object (`in`, per point of `pts`)
 // each cluster of `label` that meets it within `link` in the top view, beside it, in line with it
