@@ -283,6 +283,7 @@ void outline(Answer& a, const Params& p) {
   if (a.cls.empty()) return;
   std::string why;
   double strength = 0;
+  const double step = p.rectangularity_sampled ? f.notch_sampled : f.notch;  // the oval gate's (§37)
   if (p.drawbar_width > 0 && p.drawbar_level > 0 && f.tip_width < p.drawbar_width &&
       f.tip_level < p.drawbar_level) {
     why =
@@ -298,8 +299,7 @@ void outline(Answer& a, const Params& p) {
             100 * f.notch, 100 * p.min_notch);
     strength = past(p.min_notch, std::max(f.notch, 1e-6));
   } else if (p.min_rectangularity > 0 && a.group == "car" && f.rectangularity < p.min_rectangularity &&
-             (p.rectangularity_sampled ? f.notch_sampled : f.notch) < p.rectangularity_notch) {
-    const double step = p.rectangularity_sampled ? f.notch_sampled : f.notch;
+             step < p.rectangularity_notch) {
     why =
         fmt("an oval outline: its top view's convex hull fills %.0f%% of its minimum-area rectangle (an "
             "ellipse 79%%; a car's rounded rectangle >= %.0f%%) and no step under its profile's hull (%.0f%% "
