@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <iterator>
 #include <set>
 #include <sstream>
 
@@ -73,10 +74,11 @@ void ablation_table(std::ostringstream& md, const std::vector<DensityLevel>& run
   for (const DensityLevel& s : rungs)
     if (s.scored && abl(s).scored) with.push_back(&s);
   if (with.empty()) return;
+  static const char* const nth[] = {"second", "third", "fourth", "fifth", "sixth"};
   md << "\n**classify's "
-     << (more < 0    ? "ablation"
-         : more == 0 ? "second ablation"
-                     : "third ablation")
+     << (more < 0                                          ? std::string("ablation")
+         : static_cast<std::size_t>(more) < std::size(nth) ? std::string(nth[more]) + " ablation"
+                                                           : "ablation " + std::to_string(more + 2))
      << " on " << ladder << "** (the same candidates classified with `" << abl(*with.front()).change
      << "`, collected and scored like canopy's; the file's header says which defaults it turns off, "
         "docs/decisions/classify.md why): found at either level of "
@@ -326,15 +328,17 @@ void detail_tables(std::ostringstream& md, const std::vector<DensityLevel>& leve
     for (const auto& [r, n] : l.by_reason) reasons.insert(r);
   }
   if (!ran.empty()) {
-    // One row per key, one column per level that ran; cell(level, key) the entry's text.
-    auto table = [&](const char* first, const auto& keys, auto cell) {
+    // One row per key, one column per level that ran; cell(level, key) the entry's text, name(key)
+    // the row's label.
+    const auto as_is = [](const std::string& k) { return k; };
+    auto table = [&](const char* first, const auto& keys, auto cell, auto name) {
       md << "| " << first << " |";
       for (const DensityLevel* l : ran) md << " " << format_number("%g", l->level) << " |";
       md << "\n|---|";
       for (std::size_t i = 0; i < ran.size(); ++i) md << "---|";
       md << "\n";
       for (const std::string& k : keys) {
-        md << "| " << k << " |";
+        md << "| " << name(k) << " |";
         for (const DensityLevel* l : ran) md << " " << cell(*l, k) << " |";
         md << "\n";
       }
@@ -342,18 +346,24 @@ void detail_tables(std::ostringstream& md, const std::vector<DensityLevel>& leve
     md << "\n**Found at either level, per model** (found / true, every cover level; the columns are the "
           "levels in "
        << unit << "):\n\n";
-    table("model", models, [](const DensityLevel& l, const std::string& m) {
-      const auto it = l.model_found.find(m);
-      return it == l.model_found.end()
-                 ? std::string("–")
-                 : std::to_string(it->second.first) + "/" + std::to_string(it->second.second);
-    });
+    table(
+        "model", models,
+        [](const DensityLevel& l, const std::string& m) {
+          const auto it = l.model_found.find(m);
+          return it == l.model_found.end()
+                     ? std::string("–")
+                     : std::to_string(it->second.first) + "/" + std::to_string(it->second.second);
+        },
+        as_is);
     md << "\n**What became of the candidates** (detections.json's reasons summed over the level's tiles; "
           "\"found\": answered as a vehicle):\n\n";
-    table("reason", reasons, [](const DensityLevel& l, const std::string& r) {
-      const auto it = l.by_reason.find(r);
-      return std::to_string(it == l.by_reason.end() ? 0 : it->second);
-    });
+    table(
+        "reason", reasons,
+        [](const DensityLevel& l, const std::string& r) {
+          const auto it = l.by_reason.find(r);
+          return std::to_string(it == l.by_reason.end() ? 0 : it->second);
+        },
+        as_is);
     // score's clutter table, all covers: the kinds in the order score gives them (clutter kinds
     // by name, then the true vehicles and none), over every level that ran.
     std::vector<std::string> kinds;
@@ -371,15 +381,15 @@ void detail_tables(std::ostringstream& md, const std::vector<DensityLevel>& leve
             "fragment beyond the match radius of its centre, or a second answer —, else on the clutter "
             "object whose box holds it or whose centre lies within the match radius, else on terrain or "
             "vegetation; model + class level):\n\n";
-      std::vector<std::string> rows;
-      for (const std::string& k : kinds) rows.push_back(k + " (" + clutter_kind_mark(k) + ")");
-      table("fell on", rows, [&](const DensityLevel& l, const std::string& row) {
-        const std::string kind = row.substr(0, row.find(" ("));
-        for (const ScoreRow& r : l.score.clutter)
-          if (label(r) == "all" && score_field(r, "kind").text == kind)
-            return score_text(score_field(r, "false_alarms"));
-        return std::string("–");
-      });
+      table(
+          "fell on", kinds,
+          [&](const DensityLevel& l, const std::string& kind) {
+            for (const ScoreRow& r : l.score.clutter)
+              if (label(r) == "all" && score_field(r, "kind").text == kind)
+                return score_text(score_field(r, "false_alarms"));
+            return std::string("–");
+          },
+          [](const std::string& kind) { return kind + " (" + clutter_kind_mark(kind) + ")"; });
     }
   }
   md << "\n**Where each capability begins** (issue 27's targets): the lowest level from which the "
