@@ -41,16 +41,18 @@
 # $(OUT)/real-ablation/<tile>/ (same files, same time box; after canopy's tiles, one tile at a
 # time), part of `all` with the real tiles, and the report's "Real tiles" shows it beside
 # canopy's. Default share/real/classify-bridge-0.ini: classify.ini without the gap bridge and its
-# fill (classify.md §21, §27) and with fill unmeasured where the crop has no open ground
-# (fill-tile-ground = false, §31): both defaults changed since, jointly (one real-tile ablation).
-# share/real/classify-tile-ground-0.ini: §31 alone. Empty: none.
+# fill (classify.md §21, §27). REAL_CLASSIFY_ABLATION_2=<ini>: a second, the same way, into
+# $(OUT)/real-ablation-2/<tile>/ after the first; default share/real/classify-tile-ground-0.ini:
+# fill unmeasured where the crop has no open ground (fill-tile-ground = false, §31). Each changed
+# default of classify.ini has its own (until stop 59 the first turned off both). Empty: none.
 REAL_TILES ?= 1
 REAL_CLASSIFY_ABLATION ?= share/real/classify-bridge-0.ini
+REAL_CLASSIFY_ABLATION_2 ?= share/real/classify-tile-ground-0.ini
 REAL_ABLATION ?= 0
 $(if $(filter-out 0 1,$(REAL_ABLATION)),$(error REAL_ABLATION=$(REAL_ABLATION): must be 0 or 1))
 REAL_CLASSIFY ?= $(P)/classify.ini
 REAL_CLASSIFY_SIM ?= $(P)/classify-sim.ini
-$(foreach f,$(REAL_CLASSIFY) $(REAL_CLASSIFY_SIM) $(REAL_CLASSIFY_ABLATION),$(if $(wildcard $(f)),,$(error REAL_CLASSIFY: $(f) does not exist)))
+$(foreach f,$(REAL_CLASSIFY) $(REAL_CLASSIFY_SIM) $(REAL_CLASSIFY_ABLATION) $(REAL_CLASSIFY_ABLATION_2),$(if $(wildcard $(f)),,$(error REAL_CLASSIFY: $(f) does not exist)))
 $(if $(filter-out 0 1,$(REAL_TILES)),$(error REAL_TILES=$(REAL_TILES): must be 0 or 1))
 REAL_URBAN ?= ign_lidarhd_870000_6618000 ahn3_delft_2 ign_stbarth_100m
 REAL_FOREST ?= forest_lareunion
@@ -66,6 +68,7 @@ REAL_SHARE := share/real
 REAL_OUT := $(OUT)/real
 REAL_SIM_OUT := $(OUT)/real-sim
 REAL_ABL_OUT := $(OUT)/real-ablation
+REAL_ABL2_OUT := $(OUT)/real-ablation-2
 
 # real_file(name): the tile's file; the REAL_DATA plots from that directory (or its laz/).
 real_file = $(if $(filter $(1),$(REAL_URBAN) $(REAL_FOREST)),$(REAL_SHARE)/$(1).laz,$(firstword \
@@ -116,20 +119,23 @@ opts_text_real_tile = $(call opts_line,timeout,$(REAL_TIMEOUT))$(call opts_line,
 opts_text_real = $(call opts_line,classify,$(REAL_CLASSIFY))$(opts_text_real_tile)
 opts_text_real-sim = $(call opts_line,classify,$(REAL_CLASSIFY_SIM))$(opts_text_real_tile)
 opts_text_real-ablation = $(call opts_line,classify,$(REAL_CLASSIFY_ABLATION))$(opts_text_real_tile)
+opts_text_real-ablation-2 = $(call opts_line,classify,$(REAL_CLASSIFY_ABLATION_2))$(opts_text_real_tile)
 # Written only by a make that can run the real tiles, never by the sub-makes of `all`
 # (sub_make_goals, Makefile.experiments), which may have other values: the open set's `make
 # scenes` gives COLLECT_CALIBRATION on its command line (OPENSET_COLLECT_CALIBRATION, empty by
 # default), so after `make all COLLECT_CALIBRATION=<ini>` it wrote these files back without the
 # calibration, and `make -q all` was not clean (experiment-graph.md §6, "Two writers").
 opts_real_goals := $(filter-out $(sub_make_goals),$(opts_thesis))
-$(if $(opts_real_goals),$(call opts_kinds,$(OUT),real real-sim$(if $(REAL_CLASSIFY_ABLATION), real-ablation)))
+$(if $(opts_real_goals),$(call opts_kinds,$(OUT),real real-sim$(if $(REAL_CLASSIFY_ABLATION), \
+  real-ablation)$(if $(REAL_CLASSIFY_ABLATION_2), real-ablation-2)))
 
 # real_rule(name, previous, out, classify.ini): one tile's run into out/<name> (time-boxed,
 # timed) after the run `previous` (its tile.time, or none) and, for a labelled tile, its score;
 # GNU time's "Command exited with non-zero status" line is dropped from tile.time.
 define real_rule
 $(3)/$(1)/tile.time: $(call real_file,$(1)) $(REAL_DEPS) $(4) $(wildcard $(REAL_SHARE)/$(1).truth.json) \
-    $(if $(filter $(REAL_SIM_OUT),$(3)),$(opts.real-sim),$(if $(filter $(REAL_ABL_OUT),$(3)),$(opts.real-ablation),$(opts.real))) \
+    $(if $(filter $(REAL_SIM_OUT),$(3)),$(opts.real-sim),$(if $(filter $(REAL_ABL_OUT),$(3)),$(opts.real-ablation),$(if \
+      $(filter $(REAL_ABL2_OUT),$(3)),$(opts.real-ablation-2),$(opts.real)))) \
     | $(2)
 	$$(real_plus)@mkdir -p $(3)/$(1) && rm -f $$@ $(3)/$(1)/score.json && s=0; \
 	  $(call real_progress,add,$(1),$(3),$(4)); \
@@ -153,14 +159,18 @@ real_chain = $(eval real_last := $(3))$(foreach t,$(REAL_NAMES),$(eval $(call \
 REAL_RUNS := $(foreach t,$(REAL_NAMES),$(REAL_OUT)/$(t)/tile.time)
 REAL_SIM_RUNS := $(foreach t,$(REAL_NAMES),$(REAL_SIM_OUT)/$(t)/tile.time)
 REAL_ABL_RUNS := $(if $(REAL_CLASSIFY_ABLATION),$(foreach t,$(REAL_NAMES),$(REAL_ABL_OUT)/$(t)/tile.time))
+REAL_ABL2_RUNS := $(if $(REAL_CLASSIFY_ABLATION_2),$(foreach t,$(REAL_NAMES),$(REAL_ABL2_OUT)/$(t)/tile.time))
 $(call real_chain,$(REAL_OUT),$(REAL_CLASSIFY),)
 $(call real_chain,$(REAL_SIM_OUT),$(REAL_CLASSIFY_SIM),)
-# (classify's ablation after canopy's last tile: the tiles' wall times stay their own.)
+# (classify's ablations after canopy's last tile, the second after the first: the tiles' wall
+# times stay their own.)
 $(if $(REAL_CLASSIFY_ABLATION),$(call real_chain,$(REAL_ABL_OUT),$(REAL_CLASSIFY_ABLATION),$(lastword $(REAL_RUNS))))
+$(if $(REAL_CLASSIFY_ABLATION_2),$(call real_chain,$(REAL_ABL2_OUT),$(REAL_CLASSIFY_ABLATION_2),$(lastword \
+  $(REAL_RUNS) $(REAL_ABL_RUNS))))
 .PHONY: real-tiles real-tiles-sim real-tiles-ablation
 real-tiles: $(REAL_RUNS)
 real-tiles-sim: $(REAL_SIM_RUNS)
-real-tiles-ablation: $(REAL_ABL_RUNS)
+real-tiles-ablation: $(REAL_ABL_RUNS) $(REAL_ABL2_RUNS)
 
 # The report's "Real tiles" section: the tiles in order, the labels' directory, the time box.
 ifeq ($(REAL_TILES),1)
@@ -168,11 +178,12 @@ all: real-tiles real-tiles-ablation
 ifeq ($(REAL_ABLATION),1)
 all: real-tiles-sim
 endif
-$(RES)/report.md: $(REAL_RUNS) $(REAL_ABL_RUNS)
+$(RES)/report.md: $(REAL_RUNS) $(REAL_ABL_RUNS) $(REAL_ABL2_RUNS)
 # The tiles are records of the experiment's manifest (Makefile.experiments), in order, each
-# with its hand labels when it has any and classify's ablation when it runs.
+# with its hand labels when it has any and classify's ablations when they run (in order).
 EXPERIMENT_REAL := $(foreach t,$(REAL_NAMES),$(call ml,$(strip real $(t) $(REAL_OUT)/$(t) $(wildcard \
   $(REAL_SHARE)/$(t).truth.json)))$(if $(REAL_CLASSIFY_ABLATION),$(call ml,real-ablation $(t) $(REAL_ABL_OUT)/$(t) \
-  $(REAL_CLASSIFY_ABLATION))))
+  $(REAL_CLASSIFY_ABLATION)))$(if $(REAL_CLASSIFY_ABLATION_2),$(call ml,real-ablation $(t) $(REAL_ABL2_OUT)/$(t) \
+  $(REAL_CLASSIFY_ABLATION_2))))
 REPORT_ARGS += --real-timeout $(REAL_TIMEOUT)
 endif

@@ -132,9 +132,10 @@ struct Parser {
       expect(w, 4, 4, "real-ablation NAME DIR CONFIG");
       if (m.real.empty() || m.real.back().name != w[1])
         fail("real-ablation " + w[1] + " does not follow its tile's real record");
-      if (!m.real.back().ablation_dir.empty()) fail("a second real-ablation " + w[1]);
-      m.real.back().ablation_dir = w[2];
-      m.real.back().ablation_config = w[3];
+      for (const ManifestRealAblation& a : m.real.back().ablations)
+        if (a.dir == w[2] || a.config == w[3])
+          fail("a second real-ablation " + w[1] + " with " + a.dir + " " + a.config);
+      m.real.back().ablations.push_back({w[2], w[3]});
     } else if (kind == "density-verify") {
       expect(w, 5, 5, "density-verify LADDER LEVEL CHANGE SCORE");
       ManifestDensity& rung = rung_of(w);
@@ -252,8 +253,8 @@ std::string write_experiment_manifest(const ExperimentManifest& m) {
   for (const auto& f : m.figures) out << "figure " << f << '\n';
   for (const auto& r : m.real) {
     out << "real " << r.name << ' ' << r.dir << (r.truth.empty() ? "" : " " + r.truth) << '\n';
-    if (!r.ablation_dir.empty())
-      out << "real-ablation " << r.name << ' ' << r.ablation_dir << ' ' << r.ablation_config << '\n';
+    for (const ManifestRealAblation& a : r.ablations)
+      out << "real-ablation " << r.name << ' ' << a.dir << ' ' << a.config << '\n';
   }
   const auto verify = [&out](const std::string& ladder, const ManifestDensity& d) {
     if (d.verify.score.empty()) return;

@@ -2874,17 +2874,15 @@ void check_ablation_ini(const std::string& defaults_file, const std::string& abl
 
 }  // namespace
 
-TEST_CASE("the real tiles' classify ablation is classify.ini with the gap bridge and the tile's ground off") {
-  // mk/real.mk REAL_CLASSIFY_ABLATION; classify.md §27 and §31.
-  check_ablation_ini("share/params/classify.ini", "share/real/classify-bridge-0.ini",
-                     {{"bridge", {"1m", "0"}},
-                      {"bridge-fill", {"true", ""}},
-                      {"bridge-min-share", {"0.1", ""}},
-                      {"fill-tile-ground", {"true", "false"}}});
+TEST_CASE("the real tiles' classify ablation is classify.ini with the gap bridge off and nothing else") {
+  // mk/real.mk REAL_CLASSIFY_ABLATION; classify.md §27.
+  check_ablation_ini(
+      "share/params/classify.ini", "share/real/classify-bridge-0.ini",
+      {{"bridge", {"1m", "0"}}, {"bridge-fill", {"true", ""}}, {"bridge-min-share", {"0.1", ""}}});
 }
 
 TEST_CASE("the real tiles' fill-tile-ground ablation is classify.ini with that key false and nothing else") {
-  // mk/real.mk REAL_CLASSIFY_ABLATION=share/real/classify-tile-ground-0.ini; classify.md §31.
+  // mk/real.mk REAL_CLASSIFY_ABLATION_2 (share/real/classify-tile-ground-0.ini); classify.md §31.
   check_ablation_ini("share/params/classify.ini", "share/real/classify-tile-ground-0.ini",
                      {{"fill-tile-ground", {"true", "false"}}});
 }

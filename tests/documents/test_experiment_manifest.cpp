@@ -34,6 +34,7 @@ const char* kManifest =
     "real forest_lareunion out/real/forest_lareunion\n"
     "real urban_1 out/real/urban_1 share/real/urban_1.truth.json\n"
     "real-ablation urban_1 out/real-ablation/urban_1 bench/real/no-bridge.ini\n"
+    "real-ablation urban_1 out/real-ablation-2/urban_1 bench/real/no-ground.ini\n"
     "density 10 0.667 res/density/d10/score.json bench/density/floor.ini "
     "res/density/d10/class-ablation/score.json\n"
     "density 25.5 0.418 res/density/d25.5/score.json\n"
@@ -146,10 +147,15 @@ TEST_CASE("experiment manifest: every record read, the grid in order of first ap
   CHECK(again.density_sensor[1].classify_more[0].change == "bench/density/shoulder.ini");
   CHECK(again.density[1].verify.score == m.density[1].verify.score);
   CHECK(again.density_sensor[0].verify.change == "--seen-spacing=0 --top-k=5");
-  CHECK(m.real[0].ablation_dir.empty());
-  CHECK(m.real[1].ablation_dir == "out/real-ablation/urban_1");
-  CHECK(m.real[1].ablation_config == "bench/real/no-bridge.ini");
-  CHECK(again.real[1].ablation_dir == "out/real-ablation/urban_1");
+  // classify's ablations of a real tile, in the manifest's order.
+  CHECK(m.real[0].ablations.empty());
+  REQUIRE(m.real[1].ablations.size() == 2);
+  CHECK(m.real[1].ablations[0].dir == "out/real-ablation/urban_1");
+  CHECK(m.real[1].ablations[0].config == "bench/real/no-bridge.ini");
+  CHECK(m.real[1].ablations[1].dir == "out/real-ablation-2/urban_1");
+  CHECK(m.real[1].ablations[1].config == "bench/real/no-ground.ini");
+  REQUIRE(again.real[1].ablations.size() == 2);
+  CHECK(again.real[1].ablations[1].dir == "out/real-ablation-2/urban_1");
   CHECK(documents::write_experiment_manifest(again) == documents::write_experiment_manifest(m));
 }
 
@@ -215,6 +221,11 @@ TEST_CASE("experiment manifest: malformed records and grids are refused naming t
         std::string::npos);
   CHECK(refusal(t + "real a d\nreal-ablation a e c.ini\nreal-ablation a e c.ini\n")
             .find("line 4: a second real-ablation a") != std::string::npos);
+  // A second ablation of the same tile in the first's directory, or with its parameters, is refused.
+  CHECK(refusal(t + "real a d\nreal-ablation a e c.ini\nreal-ablation a e b.ini\n")
+            .find("line 4: a second real-ablation a with e c.ini") != std::string::npos);
+  CHECK(refusal(t + "real a d\nreal-ablation a e c.ini\nreal-ablation a f c.ini\n")
+            .find("line 4: a second real-ablation a with e c.ini") != std::string::npos);
   CHECK(refusal(t + "density 10 0.5 s\ndensity-verify pixel 10 --x=0\n")
             .find("line 3: expected 'density-verify LADDER LEVEL CHANGE SCORE'") != std::string::npos);
   CHECK(refusal(t + "density 10 0.5 s\ndensity-verify pixel 25 --x=0 v\n")

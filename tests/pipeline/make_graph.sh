@@ -298,6 +298,17 @@ real=$(grep "^real " "$tmp/out/experiment.txt")
 [ "$(echo "$real" | head -2)" = "real forest_lareunion $tmp/out/real/forest_lareunion
 real ign_lidarhd_870000_6618000 $tmp/out/real/ign_lidarhd_870000_6618000 share/real/ign_lidarhd_870000_6618000.truth.json" ] ||
   fail "the manifest's real tiles: $real"
+# Each tile's classify ablations follow it, in order, each in its own directory (mk/real.mk
+# REAL_CLASSIFY_ABLATION and _2), and `all` runs both.
+abl=$(grep "^real-ablation forest_lareunion " "$tmp/out/experiment.txt")
+[ "$abl" = "real-ablation forest_lareunion $tmp/out/real-ablation/forest_lareunion share/real/classify-bridge-0.ini
+real-ablation forest_lareunion $tmp/out/real-ablation-2/forest_lareunion share/real/classify-tile-ground-0.ini" ] ||
+  fail "the manifest's real-tile ablations: $abl"
+for a in "real-ablation share/real/classify-bridge-0.ini" "real-ablation-2 share/real/classify-tile-ground-0.ini"; do
+  set -- $a
+  echo "$plan" | grep -q "OUT=$tmp/out/$1/forest_lareunion TILE_CLASSIFY=$2 " ||
+    fail "make -n all does not run classify's ablation $2 into $1"
+done
 # The manifest follows the experiment's shape: with the real tiles in it, the report (made
 # without them) is stale for `make -q all` (REAL_TILES=0). Back to REAL_TILES=0's manifest, with
 # its old time: the tree is complete again for the checks below. (Left with the real tiles, the

@@ -280,4 +280,12 @@ TEST_CASE("real tiles: classify's ablation beside canopy, per tile and over the 
   CHECK(has(md, "| townA | precision | 8/9 = 88.9% [56.5, 98.0] | 7/9 = 77.8% [45.3, 93.7] |"));
   CHECK(has(md, "| townA | class right | 7/8 = 87.5% [52.9, 97.8] | 6/7 = 85.7% [48.7, 97.4] |"));
   CHECK(!has(md, "all scored"));  // one labelled tile
+  CHECK(!has(md, "REAL_CLASSIFY_ABLATION_2"));
+  // The second ablation names itself and its make variable; its rows are the same.
+  const std::string md2 =
+      report::real_ablation_markdown(tiles, abl, "share/real/classify-tile-ground-0.ini", 1);
+  CHECK(has(md2, "### classify's second ablation on the real tiles"));
+  CHECK(has(md2, "parameters `share/real/classify-tile-ground-0.ini`"));
+  CHECK(has(md2, "mk/real.mk REAL_CLASSIFY_ABLATION_2)"));
+  CHECK(has(md2, "| townA | recall, clear | 6/8 = 75.0% [40.9, 92.9] | 5/8 = 62.5% [30.6, 86.3] |"));
 }

@@ -196,17 +196,24 @@ std::string scenes_section(const std::string& tile_score, const std::string& col
 std::string real_section(const std::vector<documents::ManifestRealTile>& real, int timeout_s) {
   common::log::Phase real_phase("real tiles");
   std::vector<report::RealTile> tiles;
-  std::vector<report::RealTile> ablation;  // classify's ablation, beside the tiles that have one
-  std::string ablation_config;
+  // classify's k-th ablation (k = 0, 1, …), beside the tiles that have one, and its parameters
+  std::vector<std::vector<report::RealTile>> ablations;
+  std::vector<std::string> configs;
   for (const auto& r : real) {
     tiles.push_back(report::read_real_tile({r.name, r.dir, r.truth}));
-    if (r.ablation_dir.empty()) continue;
-    ablation.push_back(report::read_real_tile({r.name, r.ablation_dir, r.truth}));
-    ablation_config = r.ablation_config;
+    for (std::size_t k = 0; k < r.ablations.size(); ++k) {
+      if (ablations.size() <= k) {
+        ablations.emplace_back();
+        configs.push_back(r.ablations[k].config);
+      }
+      ablations[k].push_back(report::read_real_tile({r.name, r.ablations[k].dir, r.truth}));
+    }
   }
   real_phase.done(std::to_string(tiles.size()) + " tiles");
-  return "\n" + report::real_markdown(tiles, timeout_s) +
-         report::real_ablation_markdown(tiles, ablation, ablation_config);
+  std::string md = "\n" + report::real_markdown(tiles, timeout_s);
+  for (std::size_t k = 0; k < ablations.size(); ++k)
+    md += report::real_ablation_markdown(tiles, ablations[k], configs[k], static_cast<int>(k));
+  return md;
 }
 
 // The density ladder's section (the manifest's `density` records); its table as ladder.csv in the

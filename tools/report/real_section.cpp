@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <iterator>
 #include <set>
 #include <sstream>
 
@@ -449,13 +450,20 @@ std::string alarms(const RealTile& t) {
 }  // namespace
 
 std::string real_ablation_markdown(const std::vector<RealTile>& tiles, const std::vector<RealTile>& ablation,
-                                   const std::string& config) {
+                                   const std::string& config, int index) {
   if (ablation.empty()) return "";
+  static const char* const nth[] = {"second", "third", "fourth", "fifth"};
+  const std::string which = index <= 0 ? std::string("ablation")
+                            : static_cast<std::size_t>(index) <= std::size(nth)
+                                ? std::string(nth[index - 1]) + " ablation"
+                                : "ablation " + std::to_string(index + 1);
   std::ostringstream md;
-  md << "### classify's ablation on the real tiles\n\n"
+  md << "### classify's " << which
+     << " on the real tiles\n\n"
         "The same tiles through the same workflow with classify's parameters `"
-     << config
-     << "` (the file's header says which default it turns off; mk/real.mk REAL_CLASSIFY_ABLATION), run "
+     << config << "` (the file's header says which default it turns off; mk/real.mk REAL_CLASSIFY_ABLATION"
+     << (index > 0 ? "_" + std::to_string(index + 1) : std::string())
+     << "), run "
         "after canopy's, scored the same way: recall over the clear and over all labelled vehicles, "
         "precision and class right on the urban tiles (Wilson 95%), false alarms on the plots without "
         "vehicles (exact Poisson 95%).\n\n"

@@ -74,10 +74,11 @@ RealTile read_real_tile(const RealTileFiles& files);
 std::string real_markdown(const std::vector<RealTile>& tiles, int timeout_s, double target_s = 60);
 
 // classify's ablation on the real tiles (mk/real.mk REAL_CLASSIFY_ABLATION: the workflow run again
-// with the parameter file `config`): per tile with an ablation run (matched to `tiles` by name),
-// canopy's figures beside the ablation's — recall (clear, all), precision and class right on the
-// labelled tiles (and over all of them), false alarms on the plots; "" when `ablation` is empty.
+// with the parameter file `config`; `index` k > 0: its (k + 1)-th, REAL_CLASSIFY_ABLATION_<k + 1>):
+// per tile with an ablation run (matched to `tiles` by name), canopy's figures beside the
+// ablation's — recall (clear, all), precision and class right on the labelled tiles (and over all
+// of them), false alarms on the plots; "" when `ablation` is empty.
 std::string real_ablation_markdown(const std::vector<RealTile>& tiles, const std::vector<RealTile>& ablation,
-                                   const std::string& config);
+                                   const std::string& config, int index = 0);
 
 }  // namespace canopy::report

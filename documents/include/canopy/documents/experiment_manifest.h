@@ -19,7 +19,9 @@
 //                                             its hand labels when it has any
 //   real-ablation NAME DIR CONFIG             the same tile's workflow run again with classify's
 //                                             parameters CONFIG (an ablation: mk/real.mk
-//                                             REAL_CLASSIFY_ABLATION) into DIR; after its real
+//                                             REAL_CLASSIFY_ABLATION, a second record
+//                                             REAL_CLASSIFY_ABLATION_2, …: in that order, each
+//                                             in its own DIR) into DIR; after its real
 //   density LEVEL SPACING SCORE [ABLATION_CONFIG ABLATION_SCORE]
 //                                             a rung of the density ladder (mk/density.mk):
 //                                             its nominal points/m² (a positive number), the
@@ -68,11 +70,15 @@ struct ManifestAblation {
   std::vector<ManifestTrial> trials;  // in the manifest's order
 };
 
+// A real tile run again with other classify parameters (real-ablation): its directory and the
+// parameter file.
+struct ManifestRealAblation {
+  std::string dir, config;
+};
+
 struct ManifestRealTile {
-  std::string name, dir, truth;  // truth "" = no labels (no vehicles on the tile)
-  // the tile run again with other classify parameters (real-ablation): its directory and the
-  // parameter file ("" = none)
-  std::string ablation_dir{}, ablation_config{};
+  std::string name, dir, truth;                   // truth "" = no labels (no vehicles on the tile)
+  std::vector<ManifestRealAblation> ablations{};  // classify's ablations, in the manifest's order
 };
 
 // One ablation of a density rung: what it changes (classify's parameter file, or verify's
