@@ -19,7 +19,10 @@ transform of each mesh is one row of transforms.csv:
                                     whose axle is its own z axis, as URDF's rpy="-pi/2 0 0"), and
                                     FILE@x;y;z;rx;ry then by ry degrees about its y axis (a track
                                     shoe laid on its belt, scripts/vehicles/track_belt.py); both
-                                    right-handed, before the translation
+                                    right-handed, before the translation;
+                                    FILE@x;y;z;rx;ry;s first scales the part
+                                    by s (a wheel model of unit diameter, as
+                                    jMonkeyEngine's vehicles are modelled)
   scale                             multiplies the file's coordinates (after COLLADA's
                                     <unit meter>) to give metres
   up                                the file's up axis: z, y (right-handed y up: (x,y,z) ->
@@ -279,7 +282,232 @@ def read_gltf_doc(doc, buffers):
     return verts, faces
 
 
-READERS = {"obj": read_obj, "stl": read_stl, "dae": read_dae, "glb": read_glb, "gltf": read_gltf}
+# jMonkeyEngine BinaryExporter (.j3o): class table (field aliases and type codes), location
+# table (object id -> offset), then per object: class alias, data length, fields (alias, value).
+INT, INT_1D, FLOAT, FLOAT_1D, BYTE, BYTE_1D, SHORT, SHORT_1D = 10, 11, 20, 21, 0, 1, 50, 51
+DOUBLE, LONG, BOOLEAN, BOOLEAN_1D, STRING, STRING_1D = 30, 40, 60, 61, 70, 71
+SAVABLE, SAVABLE_1D, SAVABLE_AL = 90, 91, 100
+SAVABLE_MAP, STRING_SAVABLE_MAP, INT_SAVABLE_MAP = 105, 106, 107
+FLOATBUFFER_AL, BYTEBUFFER_AL = 110, 111
+FLOATBUFFER, INTBUFFER, BYTEBUFFER, SHORTBUFFER = 120, 121, 122, 123
+NULL, DEFAULT = -1, -2
+
+
+def read_j3o(data):
+    p = 0
+
+    def i32():
+        nonlocal p
+        v = struct.unpack_from(">i", data, p)[0]
+        p += 4
+        return v
+    if data[:4] != b"JME3":
+        raise ValueError("not a j3o file (no JME3 signature)")
+    p = 4
+    version = i32()
+    nclasses = i32()
+    alias_size = int(math.log(nclasses, 256)) + 1 if nclasses > 0 else 1
+    classes = {}
+    for _ in range(nclasses):
+        alias = data[p:p + alias_size]
+        p += alias_size
+        if version >= 1:
+            nh = data[p]
+            p += 1 + 4 * nh
+        name = data[p + 4:p + 4 + i32()].decode()
+        p += len(name)
+        fields = {}
+        for _ in range(i32()):
+            fa, ft = data[p], data[p + 1]
+            p += 2
+            n = i32()
+            fields[fa] = (ft, data[p:p + n].decode())
+            p += n
+        classes[alias] = (name, fields)
+    locs = {}
+    for _ in range(i32()):
+        k = i32()
+        locs[k] = i32()
+    i32()
+    root = i32()
+    body = data[p:]
+    cache = {}
+
+    def obj(oid):
+        if oid in cache:
+            return cache[oid]
+        loc = locs[oid]
+        cname, fields = classes[body[loc:loc + alias_size]]
+        length = struct.unpack_from(">i", body, loc + alias_size)[0]
+        q = loc + alias_size + 4
+        end = q + length
+        out = {"@class": cname}
+
+        def rint():
+            nonlocal q
+            n = body[q]
+            if n in (0xFF, 0xFE):
+                q += 1
+                return NULL if n == 0xFF else DEFAULT
+            v = int.from_bytes(body[q + 1:q + 1 + n], "big", signed=False) if n else 0
+            q += 1 + n
+            if n == 4 and v >= 1 << 31:
+                v -= 1 << 32
+            return v
+
+        def raw(fmt):
+            nonlocal q
+            v = struct.unpack_from(">" + fmt, body, q)[0]
+            q += struct.calcsize(fmt)
+            return v
+
+        def rstr():
+            nonlocal q
+            n = rint()
+            if n == NULL:
+                return None
+            s = body[q:q + n].decode("utf-8", "replace")
+            q += n
+            return s
+
+        def rarr(f):
+            n = rint()
+            return None if n == NULL else [f() for _ in range(n)]
+
+        def rsav():
+            k = rint()
+            return None if k == NULL else ("@ref", k)
+
+        def rbuf(fmt):
+            nonlocal q
+            n = rint()
+            if n == NULL:
+                return None
+            sz = struct.calcsize(fmt)
+            v = list(struct.unpack_from("<%d%s" % (n, fmt), body, q))  # buffers: little-endian
+            q += n * sz
+            return v
+        while q < end:
+            ft, fname = fields[body[q]]
+            q += 1
+            if ft == INT or ft == LONG:
+                v = rint()
+            elif ft == INT_1D:
+                v = rarr(rint)
+            elif ft == FLOAT:
+                v = raw("f")
+            elif ft == FLOAT_1D:
+                v = rarr(lambda: raw("f"))
+            elif ft == DOUBLE:
+                v = raw("d")
+            elif ft == BYTE:
+                v = raw("b")
+            elif ft == BYTE_1D:
+                v = rarr(lambda: raw("b"))
+            elif ft == SHORT:
+                v = raw("h")
+            elif ft == SHORT_1D:
+                v = rarr(lambda: raw("h"))
+            elif ft == BOOLEAN:
+                v = raw("?")
+            elif ft == BOOLEAN_1D:
+                v = rarr(lambda: raw("?"))
+            elif ft == STRING:
+                v = rstr()
+            elif ft == STRING_1D:
+                v = rarr(rstr)
+            elif ft == SAVABLE:
+                v = rsav()
+            elif ft in (SAVABLE_1D, SAVABLE_AL):
+                v = rarr(rsav)
+            elif ft in (SAVABLE_MAP, STRING_SAVABLE_MAP, INT_SAVABLE_MAP):
+                # size, then the keys' array and the values' array
+                v = None if rint() == NULL else (
+                    rarr({SAVABLE_MAP: rsav, STRING_SAVABLE_MAP: rstr, INT_SAVABLE_MAP: rint}[ft]), rarr(rsav))
+            elif ft == FLOATBUFFER:
+                v = rbuf("f")
+            elif ft == INTBUFFER:
+                v = rbuf("i")
+            elif ft == SHORTBUFFER:
+                v = rbuf("h")
+            elif ft == BYTEBUFFER:
+                v = rbuf("b")
+            elif ft == FLOATBUFFER_AL:
+                v = rarr(lambda: rbuf("f"))
+            elif ft == BYTEBUFFER_AL:
+                v = rarr(lambda: rbuf("b"))
+            else:
+                raise ValueError("j3o: field %s of %s has type %d, not read" % (fname, cname, ft))
+            out[fname] = v
+        cache[oid] = out
+        return out
+    return obj, root
+
+
+def read_j3o_mesh(data):
+    """Triangles of every Geometry under the root Node, local transforms (scale, rotation,
+    translation) applied down the tree; positions from the 'Position' buffer, indices from
+    'Index' (or consecutive)."""
+    obj, root = read_j3o(data)
+
+    def get(ref):
+        return obj(ref[1]) if ref else None
+
+    def vec(ref, default):
+        o = get(ref)
+        return default if o is None else [o.get("x", 0.0), o.get("y", 0.0), o.get("z", 0.0)]
+
+    def local(o):
+        t = get(o.get("transform"))
+        if t is None:
+            return [1.0, 1.0, 1.0], (0.0, 0.0, 0.0, 1.0), [0.0, 0.0, 0.0]
+        r = get(t.get("rot"))
+        q = (0.0, 0.0, 0.0, 1.0) if r is None else (r.get("x", 0.0), r.get("y", 0.0), r.get("z", 0.0), r.get("w", 1.0))
+        return vec(t.get("scale"), [1.0, 1.0, 1.0]), q, vec(t.get("translation"), [0.0, 0.0, 0.0])
+
+    def mat(s, q, t):
+        x, y, z, w = q
+        r = [[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+             [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+             [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]]
+        return [[r[i][0] * s[0], r[i][1] * s[1], r[i][2] * s[2], t[i]] for i in range(3)] + [[0, 0, 0, 1]]
+
+    def mul(a, b):
+        return [[sum(a[i][k] * b[k][j] for k in range(4)) for j in range(4)] for i in range(4)]
+
+    verts, faces = [], []
+
+    def walk(o, m):
+        m = mul(m, mat(*local(o)))
+        if o["@class"].endswith("Geometry"):
+            mesh = get(o.get("mesh"))
+            if mesh.get("mode", "Triangles") != "Triangles":
+                raise ValueError("j3o: mesh mode %s, not read" % mesh.get("mode"))
+            keys, vals = mesh["buffers"]
+            bufs = {}
+            for v in vals:
+                vb = get(v)
+                data_ = next(vb[k] for k in vb if k.startswith("data"))
+                bufs[vb["buffer_type"]] = (vb.get("components", 1), data_)
+            c, pos = bufs["Position"]
+            if c != 3:
+                raise ValueError("j3o: positions of %d components" % c)
+            idx = bufs["Index"][1] if "Index" in bufs else list(range(len(pos) // 3))
+            idx = [i & 0xFFFF if i < 0 and len(pos) // 3 <= 0x10000 else i for i in idx]
+            b = len(verts)
+            for k in range(0, len(pos), 3):
+                px, py, pz = pos[k:k + 3]
+                verts.append(tuple(m[r][0] * px + m[r][1] * py + m[r][2] * pz + m[r][3] for r in range(3)))
+            for k in range(0, len(idx) - 2, 3):
+                faces.append((b + idx[k], b + idx[k + 1], b + idx[k + 2]))
+        for ch in o.get("children") or []:
+            walk(get(ch), m)
+    walk(obj(root), [[1.0 if i == j else 0.0 for j in range(4)] for i in range(4)])
+    return verts, faces
+
+
+READERS = {"obj": read_obj, "stl": read_stl, "dae": read_dae, "glb": read_glb, "gltf": read_gltf,
+           "j3o": read_j3o_mesh}
 
 
 # ---------------------------------------------------------------- transform, decimate, write
@@ -368,18 +596,20 @@ def convert(row, mirror):
     for part in row["path"].split("|"):
         path, _, at = part.partition("@")
         offset = [float(t) for t in at.split(";")] if at else [0.0, 0.0, 0.0]
-        if len(offset) not in (3, 4, 5):
-            raise ValueError("%s: part %r: the offset after @ must be x;y;z, x;y;z;rx or x;y;z;rx;ry"
-                             % (row["name"], part))
+        if len(offset) not in (3, 4, 5, 6):
+            raise ValueError("%s: part %r: the offset after @ must be x;y;z, x;y;z;rx, x;y;z;rx;ry or "
+                             "x;y;z;rx;ry;s" % (row["name"], part))
         ext = path.rsplit(".", 1)[1].lower()
         if path in cache:
             v, f = cache[path]
         else:
             v, f = cache[path] = read_part(row, mirror, path, ext)
+        if len(offset) == 6:
+            v = [(x * offset[5], y * offset[5], z * offset[5]) for x, y, z in v]
         if len(offset) >= 4:
             c, s = math.cos(math.radians(offset[3])), math.sin(math.radians(offset[3]))
             v = [(x, c * y - s * z, s * y + c * z) for x, y, z in v]
-        if len(offset) == 5:
+        if len(offset) >= 5:
             c, s = math.cos(math.radians(offset[4])), math.sin(math.radians(offset[4]))
             v = [(c * x + s * z, y, -s * x + c * z) for x, y, z in v]
         b = len(verts)

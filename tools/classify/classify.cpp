@@ -315,6 +315,12 @@ void outline(Answer& a, const Params& p) {
               100 * (1 - kShoulderBand), 100 * *f.shoulder) +
           a.group + fmt("'s sides >= %.0f%%)", 100 * p.min_shoulder);
     strength = past(p.min_shoulder, std::max(*f.shoulder, 1e-6));
+  } else if (p.max_rim > 0 && (a.group == "car" || a.group == "van") && f.rim && *f.rim > p.max_rim) {
+    why = fmt("an open top: in the middle of its length the outer %.0f%% of its width stands %.0f%% of its "
+              "height above its centre on both sides (a flatbed's side boards, an open box's walls; a ",
+              100 * (1 - kShoulderBand), 100 * *f.rim) +
+          a.group + fmt("'s roof is highest across its middle: <= %.0f%%)", 100 * p.max_rim);
+    strength = past(*f.rim, p.max_rim);
   } else if (p.max_notch > 0 && (a.group == "tracked" || a.group == "van" || a.group == "bus") &&
              f.notch > p.max_notch) {
     why = fmt("a step %.0f%% of its height deep under its profile's upper hull", 100 * f.notch) + " (a " +
@@ -604,6 +610,7 @@ void validate(const Params& p) {
   need(p.drawbar_level >= 0 && p.drawbar_level <= 1, "--drawbar-level must be in [0, 1]");
   need(p.min_rectangularity >= 0 && p.min_rectangularity <= 1, "--min-rectangularity must be in [0, 1]");
   need(p.min_shoulder >= 0 && p.min_shoulder <= 1, "--min-shoulder must be in [0, 1]");
+  need(p.max_rim >= 0 && p.max_rim <= 1, "--max-rim must be in [0, 1]");
   need(p.rectangularity_notch >= 0 && p.rectangularity_notch <= 1,
        "--rectangularity-notch must be in [0, 1]");
 }

@@ -217,6 +217,10 @@ struct Params {
   // that narrows upward: a log or pipe stack, a ridge or dome tent) is not_vehicle_shape
   // (classify.md §30; 0: off).
   double min_shoulder = 0;
+  // A car- or van-group answer whose rim (Features::rim) is over max_rim (an open top: a flatbed's
+  // side boards, an open box's walls above its floor; a car's or van's roof is highest across its
+  // middle) is not_vehicle_shape (classify.md §38; 0: off, before; Params and classify.ini).
+  double max_rim = 0;
   double plateau_split = 0.6;    // plateau share between a minor and a long plateau
   double tail_split = 0.75;      // higher end's level (share of H) between dropping and staying up
   double profile_penalty = 1.5;  // added to a class's size distance when the profile contradicts it
@@ -352,6 +356,14 @@ struct Features {
   // 0.6-1.0); a stack of logs or pipes, a ridge tent or a dome narrows upward (0.4-0.55). Unset
   // under kShoulderPoints such points.
   std::optional<double> shoulder;
+  // The rim (classify.md §38): over the same middle three fifths, the 0.9 quantile of the heights in
+  // the shoulder's band (the outer 30% of the half-width) on the lower of its two sides less that of
+  // the centre band (the inner 30%: |y| < kRimCentre x W / 2), over H. A car's or van's roof is
+  // highest across its middle (<= 0; an SUV's roof rails ~0.03); a flatbed's side boards or an open
+  // box's walls stand above its floor on both sides (> 0; something higher on one side only, a cab's
+  // corner or a neighbour, is no rim). Unset under kShoulderPoints points on either side or in the
+  // centre band.
+  std::optional<double> rim;
   double top_roughness = 0;   // median |interior cell top - the plane of its 3 x 3 cells' tops| (m)
   std::size_t top_cells = 0;  // interior cells with enough neighbours for it
   // Median over the interior cells of the smallest |top - the line through its nearest occupied

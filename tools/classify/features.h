@@ -185,7 +185,7 @@ constexpr double kGapGround = 0.25;
 
 // The outline cues (classify.md §16) of the object's points `q` in its rectangle's frame (x along
 // the long axis from 0 to length_measured, y across from its middle, z the height): notch,
-// dents, tip_width, tip_level, shoulder (§30). Needs f's measured size and spacing.
+// dents, tip_width, tip_level, shoulder (§30), rim (§38). Needs f's measured size and spacing.
 void outline_cues(const std::vector<Eigen::Vector3d>& q, Features& f);
 // A dent: a run of the profile at least this far (share of H) under its upper hull.
 constexpr double kDentDepth = 0.05;
@@ -196,6 +196,10 @@ constexpr double kSampledShare = 0.5;
 // least number of points in it for a shoulder (classify.md §30).
 constexpr double kShoulderBand = 0.7;
 constexpr std::size_t kShoulderPoints = 4;
+// The rim's centre band (classify.md §38): |y| under this share of the half-width (the inner 30%,
+// the shoulder band's mirror), over the same length; kShoulderPoints in it and on each side of the
+// shoulder's band, or no rim.
+constexpr double kRimCentre = 1 - kShoulderBand;
 
 // Points under the object inside its footprint, point by point (a crown lets pulses through
 // and holds returns at every depth; a roof holds none under it). Interior = at least `inset`

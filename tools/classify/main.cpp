@@ -147,6 +147,10 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
            "a car- or van-group answer whose sides, in the middle of its length, reach less than this share "
            "of its height (a body narrowing upward: a stack of logs or pipes, a tent): not_vehicle_shape "
            "(0: off; classify.md §30)");
+  tool.add("--max-rim", &p.max_rim,
+           "a car- or van-group answer whose sides, in the middle of its length, stand more than this share "
+           "of its height above its centre (an open top: a flatbed's side boards, an open box's walls; a "
+           "car's or van's roof is highest across its middle): not_vehicle_shape (0: off; classify.md §38)");
   tool.add("--rectangularity-notch", &p.rectangularity_notch,
            "see --min-rectangularity: only an answer whose top's profile lies within this (share of H) of "
            "its upper hull is refused (a stepped car is kept; 1: the outline alone)");

@@ -119,15 +119,26 @@ void outline_cues(const std::vector<Eigen::Vector3d>& q, Features& f) {
   f.tip_width = narrow.first;
   f.tip_level = narrow.second;
   // The shoulder (§30): the body's height at its sides, in the middle of its length.
-  std::vector<double> side;
+  // The rim (§38): each side of that band against the centre band (a roof's middle, a deck's floor).
+  std::vector<double> side, left, right, centre;
   for (const Eigen::Vector3d& p : q) {
-    if (p.x() >= 0.2 * L && p.x() <= 0.8 * L && std::abs(p.y()) > kShoulderBand * W / 2)
+    if (p.x() < 0.2 * L || p.x() > 0.8 * L) continue;
+    if (std::abs(p.y()) > kShoulderBand * W / 2) {
       side.push_back(p.z());
+      (p.y() > 0 ? left : right).push_back(p.z());
+    }
+    if (std::abs(p.y()) < kRimCentre * W / 2) centre.push_back(p.z());
   }
   f.shoulder.reset();
+  f.rim.reset();
   if (side.size() >= kShoulderPoints) {
     std::sort(side.begin(), side.end());
     f.shoulder = common::sorted_quantile(side, 0.9) / H;
+  }
+  if (left.size() >= kShoulderPoints && right.size() >= kShoulderPoints && centre.size() >= kShoulderPoints) {
+    for (auto* v : {&left, &right, &centre}) std::sort(v->begin(), v->end());
+    const double lower = std::min(common::sorted_quantile(left, 0.9), common::sorted_quantile(right, 0.9));
+    f.rim = (lower - common::sorted_quantile(centre, 0.9)) / H;
   }
 }
 
