@@ -50,6 +50,8 @@ $(if $(DENSITY_CLASSIFY_ABLATION_2),$(if $(wildcard $(DENSITY_CLASSIFY_ABLATION_
   DENSITY_CLASSIFY_ABLATION_2=$(DENSITY_CLASSIFY_ABLATION_2) does not exist)))
 $(if $(DENSITY_CLASSIFY_ABLATION_3),$(if $(wildcard $(DENSITY_CLASSIFY_ABLATION_3)),,$(error \
   DENSITY_CLASSIFY_ABLATION_3=$(DENSITY_CLASSIFY_ABLATION_3) does not exist)))
+$(if $(DENSITY_CLASSIFY_ABLATION_4),$(if $(wildcard $(DENSITY_CLASSIFY_ABLATION_4)),,$(error \
+  DENSITY_CLASSIFY_ABLATION_4=$(DENSITY_CLASSIFY_ABLATION_4) does not exist)))
 endif
 # The ladder on the realistic sensor (docs/decisions/density-ladder.md, "The ladder on the
 # realistic sensor"): the same tiles rendered in sensor mode (mk/scenes.mk SCENE_SENSOR) with
@@ -82,6 +84,13 @@ DENSITY_SENSOR_CLASSIFY_ABLATION_2 ?= $(DENSITY_CLASSIFY_ABLATION_2)
 # differ (DENSITY_SENSOR_CLASSIFY_ABLATION_3, by default the same file).
 DENSITY_CLASSIFY_ABLATION_3 ?= bench/density/classify-sim-sampled-0.ini
 DENSITY_SENSOR_CLASSIFY_ABLATION_3 ?= $(DENSITY_CLASSIFY_ABLATION_3)
+# classify's fourth ablation on every level of both ladders, the same way (SCENE_CLASSIFY_ABLATION_4,
+# class-ablation-4; a third density-classify record per rung; the report's "classify's fourth
+# ablation on ..."): classify-sim.ini without the open-top gate (max-rim 0, before classify.md
+# §38). Empty: none. The sensor ladder's may differ (DENSITY_SENSOR_CLASSIFY_ABLATION_4, by
+# default the same file).
+DENSITY_CLASSIFY_ABLATION_4 ?= bench/density/classify-sim-rim-0.ini
+DENSITY_SENSOR_CLASSIFY_ABLATION_4 ?= $(DENSITY_CLASSIFY_ABLATION_4)
 # classify's ablation on every sensor level (SCENE_CLASSIFY_ABLATION of its `make scenes`: the same
 # candidates classified a second time, collected and scored as <level>/class-ablation/score.json;
 # the report's "classify's ablation on the sensor ladder"): classify-sim.ini before classify.md §23
@@ -108,6 +117,8 @@ $(if $(DENSITY_SENSOR_CLASSIFY_ABLATION_2),$(if $(wildcard $(DENSITY_SENSOR_CLAS
   DENSITY_SENSOR_CLASSIFY_ABLATION_2=$(DENSITY_SENSOR_CLASSIFY_ABLATION_2) does not exist)))
 $(if $(DENSITY_SENSOR_CLASSIFY_ABLATION_3),$(if $(wildcard $(DENSITY_SENSOR_CLASSIFY_ABLATION_3)),,$(error \
   DENSITY_SENSOR_CLASSIFY_ABLATION_3=$(DENSITY_SENSOR_CLASSIFY_ABLATION_3) does not exist)))
+$(if $(DENSITY_SENSOR_CLASSIFY_ABLATION_4),$(if $(wildcard $(DENSITY_SENSOR_CLASSIFY_ABLATION_4)),,$(error \
+  DENSITY_SENSOR_CLASSIFY_ABLATION_4=$(DENSITY_SENSOR_CLASSIFY_ABLATION_4) does not exist)))
 density_sensor_keys := $(shell awk -v l0='$(DENSITY_SENSOR_L0)' -v levels='$(strip $(DENSITY_SENSOR_LEVELS))' \
   -v f='share/sensors/$(DENSITY_SENSOR).ini' 'BEGIN { \
   if (l0 !~ /^[0-9]+(\.[0-9]+)?$$/ || l0 + 0 <= 0) { print "ERROR DENSITY_SENSOR_L0=" l0 " must be a positive number"; exit } \
@@ -136,20 +147,22 @@ DENSITY_SCORES := $(foreach d,$(DENSITY_LEVELS),$(DENSITY_RES)/d$(d)/score.json)
 # after each level, verify's ablation: the ladder (pixel or the preset), level, options, score.
 density_verify_record = $(if $(DENSITY_VERIFY_ABLATION),$(call ml,density-verify $(1) $(2) $(density_verify_change) \
   $(DENSITY_RES)/$(3)/verify-ablation/score.json))
-# density_classify_record(LADDER, LEVEL, RUNG, INI[, N]): classify's second (N 2, the default) or
-# third (N 3) ablation on a rung.
+# density_classify_record(LADDER, LEVEL, RUNG, INI[, N]): classify's second (N 2, the default),
+# third (N 3) or fourth (N 4) ablation on a rung.
 density_classify_record = $(if $(4),$(call ml,density-classify $(1) $(2) $(4) $(DENSITY_RES)/$(3)/class-ablation-$(or $(5),2)/score.json))
 EXPERIMENT_DENSITY := $(if $(filter 1,$(DENSITY_LADDER)),$(foreach d,$(DENSITY_LEVELS),$(call ml,density $(d) \
   $(call density_m,$(d)) $(DENSITY_RES)/d$(d)/score.json$(if $(DENSITY_CLASSIFY_ABLATION), $(DENSITY_CLASSIFY_ABLATION) \
   $(DENSITY_RES)/d$(d)/class-ablation/score.json))$(call density_verify_record,pixel,$(d),d$(d))$(call \
   density_classify_record,pixel,$(d),d$(d),$(DENSITY_CLASSIFY_ABLATION_2))$(call \
-  density_classify_record,pixel,$(d),d$(d),$(DENSITY_CLASSIFY_ABLATION_3),3))$(if \
+  density_classify_record,pixel,$(d),d$(d),$(DENSITY_CLASSIFY_ABLATION_3),3)$(call \
+  density_classify_record,pixel,$(d),d$(d),$(DENSITY_CLASSIFY_ABLATION_4),4))$(if \
   $(DENSITY_SENSOR),$(foreach d,$(DENSITY_SENSOR_LEVELS),$(call \
   ml,density-sensor $(d) $(DENSITY_SENSOR) $(DENSITY_RES)/$(DENSITY_SENSOR)-$(d)/score.json$(if \
   $(DENSITY_SENSOR_CLASSIFY_ABLATION), $(DENSITY_SENSOR_CLASSIFY_ABLATION) \
   $(DENSITY_RES)/$(DENSITY_SENSOR)-$(d)/class-ablation/score.json))$(call \
   density_verify_record,$(DENSITY_SENSOR),$(d),$(DENSITY_SENSOR)-$(d))$(call density_classify_record,$(DENSITY_SENSOR),$(d),$(DENSITY_SENSOR)-$(d),$(DENSITY_SENSOR_CLASSIFY_ABLATION_2))$(call \
-  density_classify_record,$(DENSITY_SENSOR),$(d),$(DENSITY_SENSOR)-$(d),$(DENSITY_SENSOR_CLASSIFY_ABLATION_3),3))))
+  density_classify_record,$(DENSITY_SENSOR),$(d),$(DENSITY_SENSOR)-$(d),$(DENSITY_SENSOR_CLASSIFY_ABLATION_3),3)$(call \
+  density_classify_record,$(DENSITY_SENSOR),$(d),$(DENSITY_SENSOR)-$(d),$(DENSITY_SENSOR_CLASSIFY_ABLATION_4),4))))
 
 ifeq ($(filter scenes,$(MAKECMDGOALS)),)
 # density_args(LEVEL): the level's `make scenes`: its own directories and spacing, noise 0, the
@@ -164,13 +177,15 @@ density_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROG
   SCENE_SIZE_ONLY=0 SCENE_PICTURES=0 SCENE_COLLECT_ABLATION=$(if $(DENSITY_VERIFY_ABLATION), SCENE_VERIFY_ABLATION='$(DENSITY_VERIFY_ABLATION)')$(if \
   $(2),,$(if $(DENSITY_CLASSIFY_ABLATION), SCENE_CLASSIFY_ABLATION=$(DENSITY_CLASSIFY_ABLATION))$(if \
   $(DENSITY_CLASSIFY_ABLATION_2), SCENE_CLASSIFY_ABLATION_2=$(DENSITY_CLASSIFY_ABLATION_2))$(if \
-  $(DENSITY_CLASSIFY_ABLATION_3), SCENE_CLASSIFY_ABLATION_3=$(DENSITY_CLASSIFY_ABLATION_3)))
+  $(DENSITY_CLASSIFY_ABLATION_3), SCENE_CLASSIFY_ABLATION_3=$(DENSITY_CLASSIFY_ABLATION_3))$(if \
+  $(DENSITY_CLASSIFY_ABLATION_4), SCENE_CLASSIFY_ABLATION_4=$(DENSITY_CLASSIFY_ABLATION_4)))
 # density_sensor_args(LEVEL): a level of the sensor ladder.
 density_sensor_args = $(call density_args,$(1),$(DENSITY_SENSOR)-$(1),SCENE_SENSOR=$(DENSITY_SENSOR) \
   SCENE_SENSOR_KEYS="pulse_rate=$(call density_sensor_rate,$(1)) speed=$(call density_sensor_speed,$(1))" \
   $(if $(DENSITY_SENSOR_CLASSIFY_ABLATION),SCENE_CLASSIFY_ABLATION=$(DENSITY_SENSOR_CLASSIFY_ABLATION))$(if \
   $(DENSITY_SENSOR_CLASSIFY_ABLATION_2), SCENE_CLASSIFY_ABLATION_2=$(DENSITY_SENSOR_CLASSIFY_ABLATION_2))$(if \
-  $(DENSITY_SENSOR_CLASSIFY_ABLATION_3), SCENE_CLASSIFY_ABLATION_3=$(DENSITY_SENSOR_CLASSIFY_ABLATION_3)))
+  $(DENSITY_SENSOR_CLASSIFY_ABLATION_3), SCENE_CLASSIFY_ABLATION_3=$(DENSITY_SENSOR_CLASSIFY_ABLATION_3))$(if \
+  $(DENSITY_SENSOR_CLASSIFY_ABLATION_4), SCENE_CLASSIFY_ABLATION_4=$(DENSITY_SENSOR_CLASSIFY_ABLATION_4)))
 # As for the scene experiment: under -q each level's sub-make is asked (`make -q`, which renders
 # nothing), only when the ladder is on (the question builds the tools it needs, and a make
 # without the ladder must not); otherwise the step always runs and make compares score.json's

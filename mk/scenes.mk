@@ -101,12 +101,17 @@ SCENE_CLASSIFY_ABLATION_2 ?=
 # the default, leaves it out; the open set sets it (mk/openset.mk: one entry keeps its family,
 # classify --family-entries 1).
 SCENE_CLASSIFY_ABLATION_3 ?=
-# The classify ablations asked for, by variant (class-ablation, class-ablation-2,
-# class-ablation-3), and each variant's parameters.
+# SCENE_CLASSIFY_ABLATION_4=<ini>: a fourth, the same way, as the variant class-ablation-4. Empty,
+# the default, leaves it out; the density ladder sets it (mk/density.mk).
+SCENE_CLASSIFY_ABLATION_4 ?=
+# The classify ablations asked for, by variant (class-ablation, class-ablation-2 to -4), and each
+# variant's parameters.
 scene_class_ini.class-ablation = $(SCENE_CLASSIFY_ABLATION)
 scene_class_ini.class-ablation-2 = $(SCENE_CLASSIFY_ABLATION_2)
 scene_class_ini.class-ablation-3 = $(SCENE_CLASSIFY_ABLATION_3)
-SCENE_CLASS_ABLATIONS = $(foreach v,class-ablation class-ablation-2 class-ablation-3,$(if $(scene_class_ini.$(v)),$(v)))
+scene_class_ini.class-ablation-4 = $(SCENE_CLASSIFY_ABLATION_4)
+SCENE_CLASS_ABLATIONS = $(foreach v,class-ablation class-ablation-2 class-ablation-3 class-ablation-4,$(if \
+  $(scene_class_ini.$(v)),$(v)))
 # SCENE_COLLECT_ABLATION=<collect options, each as --name=value>: collect run a second time on
 # every run with these options, from the same verdicts and class answers, scored beside canopy's
 # as $(SCENE_RES)/collect-ablation/score.json. With a calibration the default is
@@ -122,7 +127,7 @@ SCENE_COLLECT_ABLATION ?= $(if $(COLLECT_CALIBRATION),--coarse-none-below=0)
 # and scored beside canopy's as $(SCENE_RES)/verify-ablation/score.json. Empty, the default,
 # leaves it out; the density ladder sets it (mk/density.mk DENSITY_VERIFY_ABLATION).
 SCENE_VERIFY_ABLATION ?=
-$(foreach f,$(TILE_CLASSIFY) $(SCENE_CLASSIFY) $(SCENE_CLASSIFY_ABLATION) $(SCENE_CLASSIFY_ABLATION_2) $(SCENE_CLASSIFY_ABLATION_3),$(if $(wildcard $(f))$(filter $(OUT)/%,$(f)),,$(error classify's parameters: $(f) does not exist)))
+$(foreach f,$(TILE_CLASSIFY) $(SCENE_CLASSIFY) $(SCENE_CLASSIFY_ABLATION) $(SCENE_CLASSIFY_ABLATION_2) $(SCENE_CLASSIFY_ABLATION_3) $(SCENE_CLASSIFY_ABLATION_4),$(if $(wildcard $(f))$(filter $(OUT)/%,$(f)),,$(error classify's parameters: $(f) does not exist)))
 
 # The tile workflow's options as prerequisites (the options files, Makefile.experiments): one
 # text per stage kind, its file under the set of runs' directory (the tile's OUT, SCENE_DIR, the
@@ -139,6 +144,8 @@ opts_text_classify-ablation = $(call opts_line,parameters,$(SCENE_CLASSIFY_ABLAT
 opts_text_classify-ablation-2 = $(call opts_line,parameters,$(SCENE_CLASSIFY_ABLATION_2))$(call \
   opts_line,model-classes,$(MODEL_CLASSES))
 opts_text_classify-ablation-3 = $(call opts_line,parameters,$(SCENE_CLASSIFY_ABLATION_3))$(call \
+  opts_line,model-classes,$(MODEL_CLASSES))
+opts_text_classify-ablation-4 = $(call opts_line,parameters,$(SCENE_CLASSIFY_ABLATION_4))$(call \
   opts_line,model-classes,$(MODEL_CLASSES))
 opts_text_models = $(call opts_line,fitvox,$(TILE_FITVOX))$(call opts_line,parameters,$(P))$(call \
   opts_line,density-scale,$(TILE_DENSITY_SCALE))
@@ -200,10 +207,10 @@ $(1)/detections-$(strip $(4)).json: $(1)/cands.mk $(foreach c,$($(2)_CANDS),$(1)
 	@$(STAGE) $$@ -- $(BIN)/collect -i $(1)/cands/index.json $(7) -o $$@ --modelbase $(3) $(8)
 endef
 # class_ablation_rules(DIR, KEY, MODELBASE, INI[, VARIANT]): classify's ablation VARIANT
-# (class-ablation, the default, class-ablation-2 or class-ablation-3) on every candidate of a run
+# (class-ablation, the default, or class-ablation-2 to -4) on every candidate of a run
 # (cands/<id>/VARIANT.json, with the parameters INI) and the run's detections with it
 # (detections-VARIANT.json: the model chain's verdicts as in detections.json, the class answers
-# from the ablation's files; collect --class-name). SCENE_CLASSIFY_ABLATION[_2|_3] below.
+# from the ablation's files; collect --class-name). SCENE_CLASSIFY_ABLATION[_2|_3|_4] below.
 class_ablation_rules = $(foreach c,$($(2)_CANDS),$(eval $(call class_rule,$(1),$(c),$(4),$(3),$(or $(5),class-ablation).json)))$(eval \
   $(call collect_variant_rule,$(1),$(2),$(3),$(or $(5),class-ablation),$(or $(5),class-ablation).json,verdict.json,--class-name \
   $(or $(5),class-ablation).json$(collect_calibration),,$(COLLECT_CALIBRATION) $(opts.collect)))
@@ -575,7 +582,7 @@ $(foreach r,$(SCENE_RUNS),$(eval $(call collect_variant_rule,$(r),$(call scene_k
   class.json,,--size-only,,$(wildcard $(VERIFY_SURFACES)))))
 $(eval $(call scene_variant_score_rule,baseline-size))
 endif
-# classify's ablations (SCENE_CLASSIFY_ABLATION[_2|_3]): per run, then one score each.
+# classify's ablations (SCENE_CLASSIFY_ABLATION[_2|_3|_4]): per run, then one score each.
 TILE_CAND_KINDS += $(foreach v,$(SCENE_CLASS_ABLATIONS),classify:cand/$(v).json)
 $(call class_ablations,$(SCENE_RUNS),$(SCENE_MB),$(SCENE_DIR),$(scene_manifest),$(SCENE_RES),$(SCENE_MODEL_CLASSES))
 # collect's ablation (SCENE_COLLECT_ABLATION): per run, then one score.

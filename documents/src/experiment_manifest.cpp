@@ -146,7 +146,8 @@ struct Parser {
     } else if (kind == "density-classify") {
       expect(w, 5, 5, "density-classify LADDER LEVEL CONFIG SCORE");
       ManifestDensity& rung = rung_of(w);
-      if (rung.classify_more.size() == 2) fail("a third density-classify " + w[1] + " " + w[2]);
+      if (rung.classify_more.size() == 3)
+        fail("a fifth classify ablation: density-classify " + w[1] + " " + w[2]);
       rung.classify_more.push_back({w[3], w[4]});
     } else if (kind == "density") {
       expect(w, 4, 6, "density LEVEL SPACING SCORE [ABLATION_CONFIG ABLATION_SCORE]");

@@ -3013,6 +3013,12 @@ TEST_CASE("the ladders' third classify ablation is classify-sim.ini with the sam
                      {{"rectangularity-sampled", {"true", "false"}}});
 }
 
+TEST_CASE("the ladders' fourth classify ablation is classify-sim.ini with the open-top gate off") {
+  // mk/density.mk DENSITY_CLASSIFY_ABLATION_4 and DENSITY_SENSOR_CLASSIFY_ABLATION_4; classify.md §38.
+  check_ablation_ini("share/params/classify-sim.ini", "bench/density/classify-sim-rim-0.ini",
+                     {{"max-rim", {"0.05", "0"}}});
+}
+
 TEST_CASE(
     "classify: --fill-tile-ground measures fill against the tile's open ground where the crop has none") {
   // Under closed canopy the crop holds no ground around the object, so fill (its points per m²

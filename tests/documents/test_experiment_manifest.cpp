@@ -243,9 +243,12 @@ TEST_CASE("experiment manifest: malformed records and grids are refused naming t
   CHECK(
       refusal(t + "density 10 0.5 s\ndensity-classify pixel 10 c.ini v\ndensity-classify pixel 10 d.ini w\n")
           .empty());
-  CHECK(refusal(t + "density 10 0.5 s\ndensity-classify pixel 10 c.ini v\ndensity-classify pixel 10 d.ini w\n"
-                    "density-classify pixel 10 e.ini x\n")
-            .find("line 5: a third density-classify pixel 10") != std::string::npos);
+  const std::string three =
+      "density 10 0.5 s\ndensity-classify pixel 10 c.ini v\ndensity-classify pixel 10 d.ini w\n"
+      "density-classify pixel 10 e.ini x\n";
+  CHECK(refusal(t + three).empty());
+  CHECK(refusal(t + three + "density-classify pixel 10 f.ini y\n")
+            .find("line 6: a fifth classify ablation: density-classify pixel 10") != std::string::npos);
   CHECK(refusal(t + "density 10 0.5 s\ndensity-verify pixel 10 --x=0 v\n").empty());
   // The two ladders rise each on its own.
   CHECK(refusal(t + "density 50 0.3 s\ndensity-sensor 10 als_qL1 s\n").empty());

@@ -415,6 +415,16 @@ if plans "class-ablation\.json" || plans "class-ablation-2\.json"; then
   fail "SCENE_CLASSIFY_ABLATION_3 plans another ablation's variant"
 fi
 [ "$(echo "$plan" | stages)" -eq 3 ] || fail "SCENE_CLASSIFY_ABLATION_3 plans $(echo "$plan" | stages) stages, not 3"
+# A fourth (SCENE_CLASSIFY_ABLATION_4; the ladders' open-top gate off), the same way.
+plan=$("${sc[@]}" -n scenes SCENE_CLASSIFY_ABLATION_4="$tmp/params/classify.ini" 2>&1)
+plans "bin/classify --config $tmp/params/classify.ini -i $sr/cands/c0001.pcd .*-o $sr/cands/c0001/class-ablation-4.json" ||
+  fail "SCENE_CLASSIFY_ABLATION_4 does not plan classify with its parameters: $(echo "$plan" | grep stagerun)"
+plans "bin/score --tiles $sd/tiles-class-ablation-4.txt .*-o $tmp/res/scenes/class-ablation-4/score.json" ||
+  fail "SCENE_CLASSIFY_ABLATION_4 does not plan its score"
+if plans "class-ablation\.json" || plans "class-ablation-[23]\.json"; then
+  fail "SCENE_CLASSIFY_ABLATION_4 plans another ablation's variant"
+fi
+[ "$(echo "$plan" | stages)" -eq 3 ] || fail "SCENE_CLASSIFY_ABLATION_4 plans $(echo "$plan" | stages) stages, not 3"
 # The scene experiment's own classify ablations (mk/scenes.mk SCENES_CLASSIFY_ABLATION[_2]: by
 # default the roughness floor's and the shoulder's files; scene-experiment.md "Stop 56"): on the
 # complete run `make -n all` plans, in the experiment's `make scenes`, classify twice more on the

@@ -415,4 +415,18 @@ TEST_CASE("density ladder: verify's ablation beside canopy on the rungs with a m
   REQUIRE(third != std::string::npos);
   CHECK(third > m3.find("**classify's second ablation on the density ladder**"));
   CHECK(m3.substr(0, third) == m2.substr(0, third));
+  CHECK(m3.find("classify's fourth ablation") == std::string::npos);
+
+  // A fourth (a third density-classify record): its own table after the third's.
+  pixel[1].classify_more.push_back(
+      {"bench/density/classify-sim-rim-0.ini", (root / "res/s50/score.json").string()});
+  const std::vector<report::DensityLevel> l4 = report::read_density_levels(pixel);
+  REQUIRE(l4[1].classify_more.size() == 3);
+  const std::string m4 = report::density_markdown(l4, {}, sens);
+  const auto fourth = m4.find(
+      "**classify's fourth ablation on the density ladder** (the same candidates classified with "
+      "`bench/density/classify-sim-rim-0.ini`");
+  REQUIRE(fourth != std::string::npos);
+  CHECK(fourth > m4.find("**classify's third ablation on the density ladder**"));
+  CHECK(m4.substr(0, fourth) == m3.substr(0, fourth));
 }

@@ -424,8 +424,7 @@ std::string density_markdown(const std::vector<DensityLevel>& levels, const std:
   level_table(md, levels, false);
   detail_tables(md, levels, "pts/m²");
   ablation_table(md, levels, "the density ladder");
-  ablation_table(md, levels, "the density ladder", 0);
-  ablation_table(md, levels, "the density ladder", 1);
+  for (int k = 0; k < 3; ++k) ablation_table(md, levels, "the density ladder", k);
   for (const std::string& f : figures) md << "\n![density ladder](" << f << ")\n";
   if (!figures.empty())
     md << "\n(One line per cover level; the levels at equal spacing; the bars are the 95% intervals, also in "
@@ -445,8 +444,7 @@ std::string density_markdown(const std::vector<DensityLevel>& levels, const std:
   level_table(md, sensor, true);
   detail_tables(md, sensor, "pulses/m²");
   ablation_table(md, sensor, "the sensor ladder");
-  ablation_table(md, sensor, "the sensor ladder", 0);
-  ablation_table(md, sensor, "the sensor ladder", 1);
+  for (int k = 0; k < 3; ++k) ablation_table(md, sensor, "the sensor ladder", k);
   // Side by side where both ladders have the nominal density.
   std::vector<std::pair<const DensityLevel*, const DensityLevel*>> both;
   for (const DensityLevel& s : sensor)

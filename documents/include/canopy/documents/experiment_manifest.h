@@ -42,7 +42,8 @@
 //                                             verify's options ('+' for each blank), the
 //                                             ablation's score.json
 //   density-classify LADDER LEVEL CONFIG SCORE
-//                                             classify's second ablation on a rung (after the
+//                                             classify's second (third, fourth) ablation on a
+//                                             rung, up to three records in that order (after the
 //                                             rung's record, before or after its density-verify):
 //                                             LADDER and LEVEL as for density-verify, the
 //                                             ablation's parameter file and its score.json
@@ -94,8 +95,8 @@ struct ManifestDensity {
   std::string sensor;               // the sensor preset of a density-sensor rung; "" for the pixel ladder
   ManifestRungAblation classify{};  // classify's ablation (the density record's last two words)
   ManifestRungAblation verify{};    // verify's ablation (density-verify)
-  // classify's second and third ablations (density-classify records, in their order; at most
-  // two: mk/scenes.mk's SCENE_CLASSIFY_ABLATION_2 and _3).
+  // classify's second to fourth ablations (density-classify records, in their order; at most
+  // three: mk/scenes.mk's SCENE_CLASSIFY_ABLATION_2, _3 and _4).
   std::vector<ManifestRungAblation> classify_more{};
 };
 
