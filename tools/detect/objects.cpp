@@ -202,7 +202,8 @@ double valley_cut(const Context& c, const std::vector<std::uint32_t>& pts, const
 // Cut position along `axis` (the object's long axis) at a gap between two bodies end to end;
 // NaN if none. A gap is a run of slabs (0.05-0.2 m, as valley_cut's) holding none of the object's
 // points, at least `min_run` long, over which a point of the tile under min_object_height lies
-// within the object's extent across the axis: the sensor saw the ground between the two. A run
+// in the middle half of the object's extent across the axis: the sensor saw the ground between
+// the two (beside one body it sees the ground all along it, under its middle never). A run
 // over one body's top (scan lines, a windscreen that returned nothing) hides the ground under it;
 // a slab holding a few points is a narrow part of one body (a wheel loader's articulation, a
 // drawbar), not a gap. The longest run wins, then the one nearest the middle.
@@ -225,12 +226,14 @@ double end_gap_cut(const Context& c, const std::vector<std::uint32_t>& pts, cons
   std::vector<double> slab(std::size_t(nb), 0.0);
   for (std::size_t n = 0; n < pts.size(); ++n)
     slab[std::size_t(std::min(nb - 1, int((s[n] - smin) / bin)))] += 1;
-  // True when a ground point lies over [s0, s1] x [tmin, tmax].
+  // True when a ground point lies over [s0, s1] in the middle half of the object's width: beside
+  // one body the ground is seen along all of it, under the middle of its width only between two.
+  const double t0 = 0.75 * tmin + 0.25 * tmax, t1 = 0.25 * tmin + 0.75 * tmax;
   auto ground_in = [&](double s0, double s1) {
     const double v = c.p.voxel;
     Eigen::AlignedBox2d box;
     for (double a : {s0, s1})
-      for (double b : {tmin, tmax}) box.extend(axis * a + across * b);
+      for (double b : {t0, t1}) box.extend(axis * a + across * b);
     for (double gx = std::floor(box.min().x() / v) * v; gx <= box.max().x() + 1e-9; gx += v)
       for (double gy = std::floor(box.min().y() / v) * v; gy <= box.max().y() + 1e-9; gy += v) {
         const auto it = c.ground.find(column_key(gx + 0.5 * v, gy + 0.5 * v, v));
@@ -238,7 +241,7 @@ double end_gap_cut(const Context& c, const std::vector<std::uint32_t>& pts, cons
         for (std::uint32_t q : it->second) {
           const Vector2d g(c.x[q], c.y[q]);
           const double gs = g.dot(axis), gt = g.dot(across);
-          if (gs >= s0 && gs <= s1 && gt >= tmin && gt <= tmax) return true;
+          if (gs >= s0 && gs <= s1 && gt >= t0 && gt <= t1) return true;
         }
       }
     return false;
