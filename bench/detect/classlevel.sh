@@ -10,6 +10,7 @@
 # (score's closing line counts model-level detections, none here: read score.json's
 # found_any_level, recall_any_level and false_alarms_any_level_per_ha per cover.)
 set -euo pipefail
+shopt -s nullglob  # a tile with no candidate (dense cover at 10 points/m²) has no crop to classify
 bin=$1 out=$2 tag=$3 mb=$4
 shift 4
 src=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)

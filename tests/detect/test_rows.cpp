@@ -356,3 +356,80 @@ TEST_CASE("--object-field: 3 marks exactly what the trim cut off the car, anothe
       for (double v : c.cloud.col("object")) CHECK(v != 3);
   }
 }
+
+namespace {
+
+// Seen from above at `density` (ground at z = 100, Gaussian noise of 2 cm in height): with `gap`,
+// an 8 x 2.8 m body 1.6 m high (x in [-4, 4], y in [-1.4, 1.4]) and a 1.5 x 2 m bush as high
+// 0.19 m beyond its end (x in [4.19, 5.69]), the ground seen between them; without, one 9.69 m
+// body whose top returned nothing over x in [4, 4.19] (a windscreen, a dark panel), so nothing
+// under that strip is seen either.
+formats::PointCloud end_to_end(bool gap, double density, unsigned seed) {
+  std::mt19937 rng(seed);
+  const double x0 = -10, x1 = 12, y0 = -8, y1 = 8;
+  std::uniform_real_distribution<double> ux(x0, x1), uy(y0, y1);
+  std::normal_distribution<double> noise(0.0, 0.02);
+  const auto n = std::size_t(density * (x1 - x0) * (y1 - y0));
+  formats::PointCloud c;
+  auto& x = c.add("x", formats::kFloat64);
+  auto& y = c.add("y", formats::kFloat64);
+  auto& z = c.add("z", formats::kFloat64);
+  std::vector<double> px, py, pz;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double a = ux(rng), b = uy(rng);
+    const bool strip = a >= 4 && a < 4.19;
+    if (!gap && strip && std::abs(b) <= 1.4) continue;  // the hole: no return
+    const bool body = (a >= -4 && a < 4 && std::abs(b) <= 1.4) ||
+                      (a >= 4.19 && a <= 5.69 && std::abs(b) <= (gap ? 1.0 : 1.4));
+    px.push_back(a);
+    py.push_back(b);
+    pz.push_back(100 + (body ? 1.6 : 0) + noise(rng));
+  }
+  c.resize(px.size());
+  for (std::size_t i = 0; i < px.size(); ++i) {
+    x[i] = px[i];
+    y[i] = py[i];
+    z[i] = pz[i];
+  }
+  return c;
+}
+
+}  // namespace
+
+TEST_CASE(
+    "--end-gap: a vehicle and a bush at its end with the ground seen between them are cut apart; a hole over "
+    "one body's top is not (detect.md §19)") {
+  // 200 points/m²: the rule's voxel (0.2 m) joins body and bush across the 0.19 m gap into one
+  // 9.69 m object; 0.05 m slabs, so the gap holds at least two empty slabs (0.1 m = half a voxel).
+  for (unsigned seed : {41u, 42u, 43u}) {
+    INFO("seed " << seed);
+    const formats::PointCloud gap = end_to_end(true, 200, seed);
+    detect::Params rule = split("auto");
+    rule.end_gap = 0.5;
+    const detect::Result r = detect::run(rule, {&gap, "gap"});
+    // The 8 m vehicle alone, centred on it.
+    REQUIRE(candidates_near(r, 0, 0, 0.3) == 1);
+    for (const auto& c : r.candidates) {
+      if (std::hypot(c.to_tile(0, 3), c.to_tile(1, 3)) > 0.3) continue;
+      CHECK(c.length > 7.8);
+      CHECK(c.length < 8.2);
+    }
+    // Without the cut (the default, the rule before) one 9.69 m candidate holds both.
+    const detect::Result old = detect::run(split("auto"), {&gap, "gap"});
+    CHECK(candidates_near(old, 0, 0, 0.3) == 0);
+    REQUIRE(candidates_near(old, 0.85, 0, 0.3) == 1);
+    for (const auto& c : old.candidates)
+      if (std::hypot(c.to_tile(0, 3) - 0.85, c.to_tile(1, 3)) <= 0.3) CHECK(c.length > 9.5);
+
+    // The same empty run with nothing seen under it: one body, not cut.
+    const formats::PointCloud hole = end_to_end(false, 200, seed);
+    const detect::Result h = detect::run(rule, {&hole, "hole"});
+    REQUIRE(candidates_near(h, 0.85, 0, 0.3) == 1);
+    for (const auto& c : h.candidates)
+      if (std::hypot(c.to_tile(0, 3) - 0.85, c.to_tile(1, 3)) <= 0.3) CHECK(c.length > 9.5);
+    CHECK(candidates_near(h, 0, 0, 0.3) == 0);
+  }
+  detect::Params bad;
+  bad.end_gap = -1;
+  CHECK_THROWS_WITH(detect::validate(bad), Catch::Contains("--end-gap"));
+}

@@ -59,6 +59,7 @@ void validate(const Params& p) {
   need(p.row_trim >= 0 && p.row_trim <= 10, "--row-trim must be in [0, 10] (0: off)");
   need(p.merge_gap >= 0 && p.merge_gap <= 5, "--merge-gap must be in [0, 5] voxels");
   need(p.side_gap >= 0 && p.side_gap <= 5, "--side-gap must be in [0, 5] voxels (0: off)");
+  need(p.end_gap >= 0 && p.end_gap <= 5, "--end-gap must be in [0, 5] voxels (0: off)");
   need(p.min_split_share >= 0 && p.min_split_share <= 1, "--min-split-share must be in [0, 1]");
   need(p.min_ground_share > 0 && p.min_ground_share <= 1, "--min-ground-share must be in (0, 1]");
 }

@@ -123,6 +123,12 @@ struct Params {
   // two vehicles side by side (detect.md §14); 0 = any empty slab, the rule before and the
   // default: 0.5 kept a tank whole but added a false alarm on forest_bcts_1 (not adopted).
   double side_gap = 0.0;
+  // An object that would be accepted whole is cut across its long axis at a run of empty slabs
+  // at least this many clustering voxels long in which the ground is seen (a tile point under
+  // min_object_height between the object's sides): two bodies end to end that the voxel joined
+  // (a vehicle and a bush at its end), not a sampling hole over one body's top, which hides the
+  // ground under it (detect.md §19); 0 = no such cut, the rule before and the default.
+  double end_gap = 0.0;
   // Pieces of a row split are never merged (the row rule decided them), except with a piece
   // that rises above row_max_height: the row rule does not decide for taller vehicles (§11), and
   // a tractor unit's cab cut from its deck by a row split is merged back (detect.md §13);
@@ -150,7 +156,7 @@ struct Params {
 // ground_tolerance > 0, voxel in [1 mm, 100 m], min_object_height >= 0, 0 <= min <= max of length, width and
 // height, max_height > min_object_height, margin >= 0, min_points >= 3, min_planarity in
 // [0, 1], planar_radius >= 0.2 m, planar_ratio in (0, 1), min_planar_area >= 0,
-// min_ground_share in (0, 1], min_split_share in [0, 1], merge_gap in [0, 5], row_trim in [0, 10].
+// min_ground_share in (0, 1], min_split_share in [0, 1], merge_gap in [0, 5], row_trim in [0, 10], end_gap in [0, 5].
 void validate(const Params& params);
 
 // The tile's ground-truth fields (rangetrace's tiles): never copied into a crop, so no later

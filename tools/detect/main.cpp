@@ -96,6 +96,11 @@ void bind(common::Tool& tool, detect::Params& p, Cli& cli) {
            "width at an empty slab only when the empty run is at least this wide (narrower: the "
            "spaces between scan lines over one wide body, a tank; 0.5 = one point spacing); 0 = any "
            "empty slab, the default (0.5 is not adopted: docs/decisions/detect.md §14)");
+  tool.add("--end-gap", &p.end_gap,
+           "clustering voxels: an object otherwise accepted whole is cut across its long axis at a "
+           "run of empty slabs at least this long in which the ground is seen (a vehicle and a bush "
+           "at its end that the voxel joined; a sampling hole over one body's top hides the ground); "
+           "0 = no such cut, the rule before and the default, docs/decisions/detect.md §19");
   tool.add("--merge-tall-rows", &p.merge_tall_rows,
            "true or false: a piece of a row split is merged end to end (--merge-gap) with a piece "
            "that rises above --row-max-height (a tractor unit's cab cut from its deck by a row "

@@ -6,6 +6,8 @@
 #include <unordered_map>
 #include <utility>
 
+#include <Eigen/Geometry>
+
 #include "canopy/common/error.h"
 #include "canopy/formats/csv_table.h"
 #include "detect/clustering.h"
@@ -35,6 +37,8 @@ struct Context {
   // 2-D voxel columns (i, j at `voxel`, packed) holding a point just above the band: a
   // cluster reaching the band's top under them is the bottom of something taller (a crown).
   std::unordered_map<std::uint64_t, char> above;
+  // With end_gap: the tile's points under min_object_height (ground, grass) by voxel column.
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> ground;
   int in_row = 0;                     // > 0 while examining the pieces of a row split (rows.h)
   int in_trim = 0;                    // > 0 while examining the pieces of a trim (rows.h)
   std::size_t origin = 0;             // the cluster being examined (find_objects' order)
@@ -195,6 +199,77 @@ double valley_cut(const Context& c, const std::vector<std::uint32_t>& pts, const
   return cut;
 }
 
+// Cut position along `axis` (the object's long axis) at a gap between two bodies end to end;
+// NaN if none. A gap is a run of slabs (0.05-0.2 m, as valley_cut's) holding none of the object's
+// points, at least `min_run` long, over which a point of the tile under min_object_height lies
+// in the middle half of the object's extent across the axis: the sensor saw the ground between
+// the two (beside one body it sees the ground all along it, under its middle never). A run
+// over one body's top (scan lines, a windscreen that returned nothing) hides the ground under it;
+// a slab holding a few points is a narrow part of one body (a wheel loader's articulation, a
+// drawbar), not a gap. The longest run wins, then the one nearest the middle.
+double end_gap_cut(const Context& c, const std::vector<std::uint32_t>& pts, const Vector2d& axis,
+                   double min_run) {
+  const Vector2d across(-axis.y(), axis.x());
+  double smin = 1e300, smax = -1e300, tmin = 1e300, tmax = -1e300;
+  std::vector<double> s(pts.size());
+  for (std::size_t n = 0; n < pts.size(); ++n) {
+    const Vector2d q(c.x[pts[n]], c.y[pts[n]]);
+    s[n] = q.dot(axis);
+    smin = std::min(smin, s[n]);
+    smax = std::max(smax, s[n]);
+    tmin = std::min(tmin, q.dot(across));
+    tmax = std::max(tmax, q.dot(across));
+  }
+  double bin = 0.05;
+  while (bin < 0.2 && double(pts.size()) * bin / std::max(1e-9, smax - smin) < 20) bin *= 2;
+  const int nb = std::max(1, int(std::ceil((smax - smin) / bin)));
+  std::vector<double> slab(std::size_t(nb), 0.0);
+  for (std::size_t n = 0; n < pts.size(); ++n)
+    slab[std::size_t(std::min(nb - 1, int((s[n] - smin) / bin)))] += 1;
+  // True when a ground point lies over [s0, s1] in the middle half of the object's width: beside
+  // one body the ground is seen along all of it, under the middle of its width only between two.
+  const double t0 = 0.75 * tmin + 0.25 * tmax, t1 = 0.25 * tmin + 0.75 * tmax;
+  auto ground_in = [&](double s0, double s1) {
+    const double v = c.p.voxel;
+    Eigen::AlignedBox2d box;
+    for (double a : {s0, s1})
+      for (double b : {t0, t1}) box.extend(axis * a + across * b);
+    for (double gx = std::floor(box.min().x() / v) * v; gx <= box.max().x() + 1e-9; gx += v)
+      for (double gy = std::floor(box.min().y() / v) * v; gy <= box.max().y() + 1e-9; gy += v) {
+        const auto it = c.ground.find(column_key(gx + 0.5 * v, gy + 0.5 * v, v));
+        if (it == c.ground.end()) continue;
+        for (std::uint32_t q : it->second) {
+          const Vector2d g(c.x[q], c.y[q]);
+          const double gs = g.dot(axis), gt = g.dot(across);
+          if (gs >= s0 && gs <= s1 && gt >= t0 && gt <= t1) return true;
+        }
+      }
+    return false;
+  };
+  double best_run = 0, best_off = 1e300, cut = std::numeric_limits<double>::quiet_NaN();
+  const double mid = 0.5 * (smin + smax);
+  for (int b = 0; b < nb;) {
+    int e = b;
+    while (e < nb && slab[std::size_t(e)] <= 0.0) ++e;
+    if (e == b) {
+      ++b;
+      continue;
+    }
+    const double s0 = smin + b * bin, s1 = smin + e * bin, run = s1 - s0;
+    // Inside the object only: a run at either end is no gap between two bodies.
+    if (b > 0 && e < nb && run >= min_run - 1e-9 && ground_in(s0, s1)) {
+      const double centre = 0.5 * (s0 + s1), off = std::abs(centre - mid);
+      if (run > best_run + 1e-9 || (std::abs(run - best_run) <= 1e-9 && off < best_off)) {
+        best_run = run;
+        best_off = off;
+        cut = centre;
+      }
+    }
+    b = e;
+  }
+  return cut;
+}
+
 void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
   const Params& p = c.p;
   // With object_field: this examination's number on its points and on the lineage while it lasts
@@ -327,6 +402,18 @@ void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
     // it is at most a quarter beyond the ranges.
     if (o.fp.length > 1.25 * p.max_length || o.fp.width > 1.25 * p.max_width) {
       ++c.out.rejected_large;
+      return;
+    }
+  }
+  // Accepted whole, but two bodies end to end with the ground seen between them (detect.md §19).
+  if (p.end_gap > 0 && depth < kMaxSplitDepth) {
+    const double cut = end_gap_cut(c, pts, o.fp.axis, p.end_gap * p.voxel);
+    if (!std::isnan(cut)) {
+      std::vector<std::uint32_t> lo, hi;
+      for (std::uint32_t q : pts) (Vector2d(c.x[q], c.y[q]).dot(o.fp.axis) < cut ? lo : hi).push_back(q);
+      ++c.out.splits;
+      examine(c, std::move(lo), depth + 1);
+      examine(c, std::move(hi), depth + 1);
       return;
     }
   }
@@ -538,11 +625,16 @@ Objects find_objects(const LocalFrame& l, const std::vector<float>& height, cons
   if (params.object_field) out.examined.assign(n, -1);
   std::vector<double> hz(n);  // clustering in (x, y, height): the band is a flat slab
   for (std::size_t i = 0; i < n; ++i) hz[i] = height[i];
-  Context ctx{params, l.x, l.y, hz, height, out, {}, 0, 0, 0, {}, 0};
+  Context ctx{params, l.x, l.y, hz, height, out, {}, {}, 0, 0, 0, {}, 0};
   for (std::size_t i = 0; i < n; ++i) {
     if (height[i] > params.max_height && height[i] <= params.max_height + 2 * params.voxel) {
       ctx.above.emplace(column_key(l.x[i], l.y[i], params.voxel), 1);
     }
+  }
+  if (params.end_gap > 0) {
+    for (std::size_t i = 0; i < n; ++i)
+      if (height[i] < params.min_object_height)
+        ctx.ground[column_key(l.x[i], l.y[i], params.voxel)].push_back(std::uint32_t(i));
   }
   try {
     auto clusters = cluster_points(band, l.x, l.y, hz, params.voxel, params.clustering);
