@@ -44,14 +44,8 @@ density_pairs := $(shell awk -v k='$(DENSITY_K)' -v levels='$(strip $(DENSITY_LE
     if (i > 1 && d[i] + 0 <= d[i - 1] + 0) { print "ERROR DENSITY_LEVELS=" levels ": the levels must rise"; exit } \
     mm = int(1000 * sqrt(k / d[i]) + 0.5); out = out sprintf("%s:%d:%.3f ", d[i], mm, mm / 1000) } print out }')
 $(if $(filter ERROR,$(firstword $(density_pairs))),$(error $(wordlist 2,$(words $(density_pairs)),$(density_pairs))))
-$(if $(DENSITY_CLASSIFY_ABLATION),$(if $(wildcard $(DENSITY_CLASSIFY_ABLATION)),,$(error \
-  DENSITY_CLASSIFY_ABLATION=$(DENSITY_CLASSIFY_ABLATION) does not exist)))
-$(if $(DENSITY_CLASSIFY_ABLATION_2),$(if $(wildcard $(DENSITY_CLASSIFY_ABLATION_2)),,$(error \
-  DENSITY_CLASSIFY_ABLATION_2=$(DENSITY_CLASSIFY_ABLATION_2) does not exist)))
-$(if $(DENSITY_CLASSIFY_ABLATION_3),$(if $(wildcard $(DENSITY_CLASSIFY_ABLATION_3)),,$(error \
-  DENSITY_CLASSIFY_ABLATION_3=$(DENSITY_CLASSIFY_ABLATION_3) does not exist)))
-$(if $(DENSITY_CLASSIFY_ABLATION_4),$(if $(wildcard $(DENSITY_CLASSIFY_ABLATION_4)),,$(error \
-  DENSITY_CLASSIFY_ABLATION_4=$(DENSITY_CLASSIFY_ABLATION_4) does not exist)))
+$(foreach f,$(filter-out -,$(DENSITY_CLASSIFY_ABLATIONS)),$(if $(wildcard $(f)),,$(error \
+  DENSITY_CLASSIFY_ABLATIONS: $(f) does not exist)))
 endif
 # The ladder on the realistic sensor (docs/decisions/density-ladder.md, "The ladder on the
 # realistic sensor"): the same tiles rendered in sensor mode (mk/scenes.mk SCENE_SENSOR) with
@@ -65,37 +59,22 @@ endif
 DENSITY_SENSOR ?= als_qL1
 DENSITY_SENSOR_LEVELS ?= 10 25 50
 DENSITY_SENSOR_L0 ?= 26.5
-# classify's ablation on every level of the pixel ladder (SCENE_CLASSIFY_ABLATION of its `make
-# scenes`, as on the sensor levels below; the report's "classify's ablation on the density
-# ladder"): classify-sim.ini with the roughness threshold's floor before classify.md §28 (0.1 m).
+# classify's ablations on every level of the pixel ladder (SCENE_CLASSIFY_ABLATIONS of its `make
+# scenes`: the K-th entry is the variant class-ablation (K = 1) or class-ablation-K, "-" leaves its
+# place empty). The first is the rung's own (the manifest's density record; the report's
+# "classify's ablation on the density ladder"), each later one a density-classify record (the
+# report's "classify's second ablation ...", third, ...). Each is classify-sim.ini with one
+# default before its change: the roughness threshold's floor (0.1 m, before classify.md §28), the
+# shoulder gate off (min-shoulder 0, before §30), the oval-outline gate's step over every profile
+# bin (rectangularity-sampled false, before §37), no open-top gate (max-rim 0, before §38).
 # Empty: none.
-DENSITY_CLASSIFY_ABLATION ?= bench/density/classify-sim-floor-100.ini
-# classify's second ablation on every level of both ladders (SCENE_CLASSIFY_ABLATION_2 of its `make
-# scenes`; the manifest's density-classify records; the report's "classify's second ablation on the
-# density ladder" and "... on the sensor ladder"): classify-sim.ini with the shoulder gate off
-# (min-shoulder 0, before classify.md §30). Empty: none. The sensor ladder's may differ
-# (DENSITY_SENSOR_CLASSIFY_ABLATION_2, by default the same file).
-DENSITY_CLASSIFY_ABLATION_2 ?= bench/density/classify-sim-shoulder-0.ini
-DENSITY_SENSOR_CLASSIFY_ABLATION_2 ?= $(DENSITY_CLASSIFY_ABLATION_2)
-# classify's third ablation on every level of both ladders, the same way (SCENE_CLASSIFY_ABLATION_3,
-# class-ablation-3; a second density-classify record per rung; the report's "classify's third
-# ablation on ..."): classify-sim.ini with the oval-outline gate's step over every profile bin
-# (rectangularity-sampled false, before classify.md §37). Empty: none. The sensor ladder's may
-# differ (DENSITY_SENSOR_CLASSIFY_ABLATION_3, by default the same file).
-DENSITY_CLASSIFY_ABLATION_3 ?= bench/density/classify-sim-sampled-0.ini
-DENSITY_SENSOR_CLASSIFY_ABLATION_3 ?= $(DENSITY_CLASSIFY_ABLATION_3)
-# classify's fourth ablation on every level of both ladders, the same way (SCENE_CLASSIFY_ABLATION_4,
-# class-ablation-4; a third density-classify record per rung; the report's "classify's fourth
-# ablation on ..."): classify-sim.ini without the open-top gate (max-rim 0, before classify.md
-# §38). Empty: none. The sensor ladder's may differ (DENSITY_SENSOR_CLASSIFY_ABLATION_4, by
-# default the same file).
-DENSITY_CLASSIFY_ABLATION_4 ?= bench/density/classify-sim-rim-0.ini
-DENSITY_SENSOR_CLASSIFY_ABLATION_4 ?= $(DENSITY_CLASSIFY_ABLATION_4)
-# classify's ablation on every sensor level (SCENE_CLASSIFY_ABLATION of its `make scenes`: the same
-# candidates classified a second time, collected and scored as <level>/class-ablation/score.json;
-# the report's "classify's ablation on the sensor ladder"): classify-sim.ini before classify.md §23
-# (max-late-returns 0.35; the sensor tiles are the only ones with return numbers). Empty: none.
-DENSITY_SENSOR_CLASSIFY_ABLATION ?= bench/density/classify-sim-late-0.35.ini
+DENSITY_CLASSIFY_ABLATIONS ?= bench/density/classify-sim-floor-100.ini bench/density/classify-sim-shoulder-0.ini \
+  bench/density/classify-sim-sampled-0.ini bench/density/classify-sim-rim-0.ini
+# The same on every sensor level: its first is classify-sim.ini before classify.md §23
+# (max-late-returns 0.35; the sensor tiles are the only ones with return numbers), the rest by
+# default the pixel ladder's.
+DENSITY_SENSOR_CLASSIFY_ABLATIONS ?= bench/density/classify-sim-late-0.35.ini $(wordlist 2,$(words \
+  $(DENSITY_CLASSIFY_ABLATIONS)),$(DENSITY_CLASSIFY_ABLATIONS))
 # verify's ablation on every level of both ladders (SCENE_VERIFY_ABLATION of its `make scenes`: the
 # model-level candidates verified a second time with these options, collected and scored as
 # <level>/verify-ablation/score.json; the report's "verify's ablation on the density ladder"):
@@ -111,14 +90,8 @@ ifneq ($(DENSITY_SENSOR),)
 ifneq ($(filter 1,$(DENSITY_LADDER))$(filter density density-sensor,$(MAKECMDGOALS)),)
 $(if $(filter 1,$(words $(DENSITY_SENSOR))),,$(error DENSITY_SENSOR=$(DENSITY_SENSOR) must name one preset of share/sensors/))
 $(if $(wildcard share/sensors/$(DENSITY_SENSOR).ini),,$(error DENSITY_SENSOR=$(DENSITY_SENSOR): no share/sensors/$(DENSITY_SENSOR).ini))
-$(if $(DENSITY_SENSOR_CLASSIFY_ABLATION),$(if $(wildcard $(DENSITY_SENSOR_CLASSIFY_ABLATION)),,$(error \
-  DENSITY_SENSOR_CLASSIFY_ABLATION=$(DENSITY_SENSOR_CLASSIFY_ABLATION) does not exist)))
-$(if $(DENSITY_SENSOR_CLASSIFY_ABLATION_2),$(if $(wildcard $(DENSITY_SENSOR_CLASSIFY_ABLATION_2)),,$(error \
-  DENSITY_SENSOR_CLASSIFY_ABLATION_2=$(DENSITY_SENSOR_CLASSIFY_ABLATION_2) does not exist)))
-$(if $(DENSITY_SENSOR_CLASSIFY_ABLATION_3),$(if $(wildcard $(DENSITY_SENSOR_CLASSIFY_ABLATION_3)),,$(error \
-  DENSITY_SENSOR_CLASSIFY_ABLATION_3=$(DENSITY_SENSOR_CLASSIFY_ABLATION_3) does not exist)))
-$(if $(DENSITY_SENSOR_CLASSIFY_ABLATION_4),$(if $(wildcard $(DENSITY_SENSOR_CLASSIFY_ABLATION_4)),,$(error \
-  DENSITY_SENSOR_CLASSIFY_ABLATION_4=$(DENSITY_SENSOR_CLASSIFY_ABLATION_4) does not exist)))
+$(foreach f,$(filter-out -,$(DENSITY_SENSOR_CLASSIFY_ABLATIONS)),$(if $(wildcard $(f)),,$(error \
+  DENSITY_SENSOR_CLASSIFY_ABLATIONS: $(f) does not exist)))
 density_sensor_keys := $(shell awk -v l0='$(DENSITY_SENSOR_L0)' -v levels='$(strip $(DENSITY_SENSOR_LEVELS))' \
   -v f='share/sensors/$(DENSITY_SENSOR).ini' 'BEGIN { \
   if (l0 !~ /^[0-9]+(\.[0-9]+)?$$/ || l0 + 0 <= 0) { print "ERROR DENSITY_SENSOR_L0=" l0 " must be a positive number"; exit } \
@@ -147,22 +120,21 @@ DENSITY_SCORES := $(foreach d,$(DENSITY_LEVELS),$(DENSITY_RES)/d$(d)/score.json)
 # after each level, verify's ablation: the ladder (pixel or the preset), level, options, score.
 density_verify_record = $(if $(DENSITY_VERIFY_ABLATION),$(call ml,density-verify $(1) $(2) $(density_verify_change) \
   $(DENSITY_RES)/$(3)/verify-ablation/score.json))
-# density_classify_record(LADDER, LEVEL, RUNG, INI[, N]): classify's second (N 2, the default),
-# third (N 3) or fourth (N 4) ablation on a rung.
-density_classify_record = $(if $(4),$(call ml,density-classify $(1) $(2) $(4) $(DENSITY_RES)/$(3)/class-ablation-$(or $(5),2)/score.json))
+# density_first(LIST, RUNG): the rung's own classify ablation, LIST's first entry (the density or
+# density-sensor record's last two words: its parameter file and score), none for "-".
+density_first = $(if $(filter-out -,$(firstword $(1))), $(firstword $(1)) $(DENSITY_RES)/$(2)/class-ablation/score.json)
+# density_classify_records(LADDER, LEVEL, RUNG, LIST): LIST's later entries, classify's second,
+# third, ... ablation on a rung, one density-classify record each.
+density_classify_records = $(foreach k,$(filter-out 1,$(call list_places,$(4))),$(call ml,density-classify $(1) $(2) \
+  $(word $(k),$(4)) $(DENSITY_RES)/$(3)/$(call class_variant,$(k))/score.json))
 EXPERIMENT_DENSITY := $(if $(filter 1,$(DENSITY_LADDER)),$(foreach d,$(DENSITY_LEVELS),$(call ml,density $(d) \
-  $(call density_m,$(d)) $(DENSITY_RES)/d$(d)/score.json$(if $(DENSITY_CLASSIFY_ABLATION), $(DENSITY_CLASSIFY_ABLATION) \
-  $(DENSITY_RES)/d$(d)/class-ablation/score.json))$(call density_verify_record,pixel,$(d),d$(d))$(call \
-  density_classify_record,pixel,$(d),d$(d),$(DENSITY_CLASSIFY_ABLATION_2))$(call \
-  density_classify_record,pixel,$(d),d$(d),$(DENSITY_CLASSIFY_ABLATION_3),3)$(call \
-  density_classify_record,pixel,$(d),d$(d),$(DENSITY_CLASSIFY_ABLATION_4),4))$(if \
+  $(call density_m,$(d)) $(DENSITY_RES)/d$(d)/score.json$(call density_first,$(DENSITY_CLASSIFY_ABLATIONS),d$(d)))$(call \
+  density_verify_record,pixel,$(d),d$(d))$(call density_classify_records,pixel,$(d),d$(d),$(DENSITY_CLASSIFY_ABLATIONS)))$(if \
   $(DENSITY_SENSOR),$(foreach d,$(DENSITY_SENSOR_LEVELS),$(call \
-  ml,density-sensor $(d) $(DENSITY_SENSOR) $(DENSITY_RES)/$(DENSITY_SENSOR)-$(d)/score.json$(if \
-  $(DENSITY_SENSOR_CLASSIFY_ABLATION), $(DENSITY_SENSOR_CLASSIFY_ABLATION) \
-  $(DENSITY_RES)/$(DENSITY_SENSOR)-$(d)/class-ablation/score.json))$(call \
-  density_verify_record,$(DENSITY_SENSOR),$(d),$(DENSITY_SENSOR)-$(d))$(call density_classify_record,$(DENSITY_SENSOR),$(d),$(DENSITY_SENSOR)-$(d),$(DENSITY_SENSOR_CLASSIFY_ABLATION_2))$(call \
-  density_classify_record,$(DENSITY_SENSOR),$(d),$(DENSITY_SENSOR)-$(d),$(DENSITY_SENSOR_CLASSIFY_ABLATION_3),3)$(call \
-  density_classify_record,$(DENSITY_SENSOR),$(d),$(DENSITY_SENSOR)-$(d),$(DENSITY_SENSOR_CLASSIFY_ABLATION_4),4))))
+  ml,density-sensor $(d) $(DENSITY_SENSOR) $(DENSITY_RES)/$(DENSITY_SENSOR)-$(d)/score.json$(call \
+  density_first,$(DENSITY_SENSOR_CLASSIFY_ABLATIONS),$(DENSITY_SENSOR)-$(d)))$(call \
+  density_verify_record,$(DENSITY_SENSOR),$(d),$(DENSITY_SENSOR)-$(d))$(call \
+  density_classify_records,$(DENSITY_SENSOR),$(d),$(DENSITY_SENSOR)-$(d),$(DENSITY_SENSOR_CLASSIFY_ABLATIONS)))))
 
 ifeq ($(filter scenes,$(MAKECMDGOALS)),)
 # density_args(LEVEL): the level's `make scenes`: its own directories and spacing, noise 0, the
@@ -175,17 +147,13 @@ density_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROG
   $(or $(3),SCENE_SPACING=$(call density_mm,$(1))mm) \
   SCENE_SEEDS="$(DENSITY_SEEDS)" SCENE_COVERS="$(DENSITY_COVERS)" SCENE_MODELS=$(DENSITY_MODELS) SCENE_NOISES=0 SCENE_BASELINE= \
   SCENE_SIZE_ONLY=0 SCENE_PICTURES=0 SCENE_COLLECT_ABLATION=$(if $(DENSITY_VERIFY_ABLATION), SCENE_VERIFY_ABLATION='$(DENSITY_VERIFY_ABLATION)')$(if \
-  $(2),,$(if $(DENSITY_CLASSIFY_ABLATION), SCENE_CLASSIFY_ABLATION=$(DENSITY_CLASSIFY_ABLATION))$(if \
-  $(DENSITY_CLASSIFY_ABLATION_2), SCENE_CLASSIFY_ABLATION_2=$(DENSITY_CLASSIFY_ABLATION_2))$(if \
-  $(DENSITY_CLASSIFY_ABLATION_3), SCENE_CLASSIFY_ABLATION_3=$(DENSITY_CLASSIFY_ABLATION_3))$(if \
-  $(DENSITY_CLASSIFY_ABLATION_4), SCENE_CLASSIFY_ABLATION_4=$(DENSITY_CLASSIFY_ABLATION_4)))
+  $(2),,$(call density_class_arg,$(DENSITY_CLASSIFY_ABLATIONS)))
+# density_class_arg(LIST): a level's classify ablations (none: no argument).
+density_class_arg = $(if $(strip $(1)), SCENE_CLASSIFY_ABLATIONS='$(strip $(1))')
 # density_sensor_args(LEVEL): a level of the sensor ladder.
 density_sensor_args = $(call density_args,$(1),$(DENSITY_SENSOR)-$(1),SCENE_SENSOR=$(DENSITY_SENSOR) \
   SCENE_SENSOR_KEYS="pulse_rate=$(call density_sensor_rate,$(1)) speed=$(call density_sensor_speed,$(1))" \
-  $(if $(DENSITY_SENSOR_CLASSIFY_ABLATION),SCENE_CLASSIFY_ABLATION=$(DENSITY_SENSOR_CLASSIFY_ABLATION))$(if \
-  $(DENSITY_SENSOR_CLASSIFY_ABLATION_2), SCENE_CLASSIFY_ABLATION_2=$(DENSITY_SENSOR_CLASSIFY_ABLATION_2))$(if \
-  $(DENSITY_SENSOR_CLASSIFY_ABLATION_3), SCENE_CLASSIFY_ABLATION_3=$(DENSITY_SENSOR_CLASSIFY_ABLATION_3))$(if \
-  $(DENSITY_SENSOR_CLASSIFY_ABLATION_4), SCENE_CLASSIFY_ABLATION_4=$(DENSITY_SENSOR_CLASSIFY_ABLATION_4)))
+  $(call density_class_arg,$(DENSITY_SENSOR_CLASSIFY_ABLATIONS)))
 # As for the scene experiment: under -q each level's sub-make is asked (`make -q`, which renders
 # nothing), only when the ladder is on (the question builds the tools it needs, and a make
 # without the ladder must not); otherwise the step always runs and make compares score.json's

@@ -36,23 +36,35 @@
 # thresholds fitted on simulated tiles (REAL_CLASSIFY_SIM, default share/params/classify-sim.ini)
 # into $(OUT)/real-sim/<tile>/ (same files, same time box); REAL_ABLATION=1 makes `all` run it too.
 #
-# classify's ablation (a changed default keeps its ablation in the report): REAL_CLASSIFY_ABLATION=
-# <ini> runs every tile's workflow again with those classify parameters into
-# $(OUT)/real-ablation/<tile>/ (same files, same time box; after canopy's tiles, one tile at a
-# time), part of `all` with the real tiles, and the report's "Real tiles" shows it beside
-# canopy's. Default share/real/classify-bridge-0.ini: classify.ini without the gap bridge and its
-# fill (classify.md §21, §27). REAL_CLASSIFY_ABLATION_2=<ini>: a second, the same way, into
-# $(OUT)/real-ablation-2/<tile>/ after the first; default share/real/classify-tile-ground-0.ini:
-# fill unmeasured where the crop has no open ground (fill-tile-ground = false, §31). Each changed
-# default of classify.ini has its own (until stop 59 the first turned off both). Empty: none.
+# classify's ablations (a changed default keeps its ablation in the report): REAL_CLASSIFY_ABLATIONS=
+# <ini> ... runs every tile's workflow again with each of those classify parameters, the K-th
+# into $(OUT)/real-ablation/<tile>/ (K = 1) or $(OUT)/real-ablation-K/<tile>/ (same files, same
+# time box; after canopy's tiles and the ablations before it, one tile at a time; "-" leaves its
+# place empty), part of `all` with the real tiles, and the report's "Real tiles" shows each
+# beside canopy's. Default: classify.ini without the gap bridge and its fill
+# (share/real/classify-bridge-0.ini; classify.md §21, §27), then with unmeasured filled where the
+# crop has no open ground (share/real/classify-tile-ground-0.ini: fill-tile-ground = false,
+# §31). Each changed default of classify.ini has its own (until stop 59 the first turned off
+# both). Empty: none. REAL_CLASSIFY_ABLATION and REAL_CLASSIFY_ABLATION_2, when set (the
+# command lines of tests/pipeline/progress_count.sh and the decision records), set the list's
+# first and second place (empty: none there).
 REAL_TILES ?= 1
-REAL_CLASSIFY_ABLATION ?= share/real/classify-bridge-0.ini
-REAL_CLASSIFY_ABLATION_2 ?= share/real/classify-tile-ground-0.ini
+REAL_CLASSIFY_ABLATIONS ?= share/real/classify-bridge-0.ini share/real/classify-tile-ground-0.ini
+# real_named(K): the name of place K (REAL_CLASSIFY_ABLATION, REAL_CLASSIFY_ABLATION_2, ...);
+# real_abl_list: the list with each place so named and set taken from it ("-" when empty).
+real_named = REAL_CLASSIFY_ABLATION$(if $(filter-out 1,$(1)),_$(1))
+real_abl_list := $(foreach k,$(call list_numbers,$(REAL_CLASSIFY_ABLATIONS)),$(if $(filter-out \
+  undefined,$(origin $(call real_named,$(k)))),$(or $($(call real_named,$(k))),-),$(word $(k),$(REAL_CLASSIFY_ABLATIONS))))
+# real_variant(K): the ablation at place K (real-ablation, real-ablation-2, ...: its directory
+# under $(OUT) and its options kind); real_abl_ini(K): its parameters.
+real_variant = real-ablation$(if $(filter-out 1,$(1)),-$(1))
+real_abl_ini = $(word $(1),$(real_abl_list))
+REAL_ABL_PLACES := $(call list_places,$(real_abl_list))
 REAL_ABLATION ?= 0
 $(if $(filter-out 0 1,$(REAL_ABLATION)),$(error REAL_ABLATION=$(REAL_ABLATION): must be 0 or 1))
 REAL_CLASSIFY ?= $(P)/classify.ini
 REAL_CLASSIFY_SIM ?= $(P)/classify-sim.ini
-$(foreach f,$(REAL_CLASSIFY) $(REAL_CLASSIFY_SIM) $(REAL_CLASSIFY_ABLATION) $(REAL_CLASSIFY_ABLATION_2),$(if $(wildcard $(f)),,$(error REAL_CLASSIFY: $(f) does not exist)))
+$(foreach f,$(REAL_CLASSIFY) $(REAL_CLASSIFY_SIM) $(filter-out -,$(real_abl_list)),$(if $(wildcard $(f)),,$(error REAL_CLASSIFY: $(f) does not exist)))
 $(if $(filter-out 0 1,$(REAL_TILES)),$(error REAL_TILES=$(REAL_TILES): must be 0 or 1))
 REAL_URBAN ?= ign_lidarhd_870000_6618000 ahn3_delft_2 ign_stbarth_100m
 REAL_FOREST ?= forest_lareunion
@@ -67,8 +79,6 @@ $(if $(shell printf '%s' '$(REAL_TIMEOUT)' | grep -xE '[1-9][0-9]{0,5}'),,$(erro
 REAL_SHARE := share/real
 REAL_OUT := $(OUT)/real
 REAL_SIM_OUT := $(OUT)/real-sim
-REAL_ABL_OUT := $(OUT)/real-ablation
-REAL_ABL2_OUT := $(OUT)/real-ablation-2
 
 # real_file(name): the tile's file; the REAL_DATA plots from that directory (or its laz/).
 real_file = $(if $(filter $(1),$(REAL_URBAN) $(REAL_FOREST)),$(REAL_SHARE)/$(1).laz,$(firstword \
@@ -118,24 +128,23 @@ opts_text_real_tile = $(call opts_line,timeout,$(REAL_TIMEOUT))$(call opts_line,
   opts_line,crs,$(CRS))$(call opts_line,calibration,$(real_calibration))
 opts_text_real = $(call opts_line,classify,$(REAL_CLASSIFY))$(opts_text_real_tile)
 opts_text_real-sim = $(call opts_line,classify,$(REAL_CLASSIFY_SIM))$(opts_text_real_tile)
-opts_text_real-ablation = $(call opts_line,classify,$(REAL_CLASSIFY_ABLATION))$(opts_text_real_tile)
-opts_text_real-ablation-2 = $(call opts_line,classify,$(REAL_CLASSIFY_ABLATION_2))$(opts_text_real_tile)
+$(foreach k,$(REAL_ABL_PLACES),$(eval opts_text_$(call real_variant,$(k)) = $$(call \
+  opts_line,classify,$(call real_abl_ini,$(k)))$$(opts_text_real_tile)))
 # Written only by a make that can run the real tiles, never by the sub-makes of `all`
 # (sub_make_goals, Makefile.experiments), which may have other values: the open set's `make
 # scenes` gives COLLECT_CALIBRATION on its command line (OPENSET_COLLECT_CALIBRATION, empty by
 # default), so after `make all COLLECT_CALIBRATION=<ini>` it wrote these files back without the
 # calibration, and `make -q all` was not clean (experiment-graph.md §6, "Two writers").
 opts_real_goals := $(filter-out $(sub_make_goals),$(opts_thesis))
-$(if $(opts_real_goals),$(call opts_kinds,$(OUT),real real-sim$(if $(REAL_CLASSIFY_ABLATION), \
-  real-ablation)$(if $(REAL_CLASSIFY_ABLATION_2), real-ablation-2)))
+$(if $(opts_real_goals),$(call opts_kinds,$(OUT),real real-sim $(foreach k,$(REAL_ABL_PLACES),$(call \
+  real_variant,$(k)))))
 
 # real_rule(name, previous, out, classify.ini): one tile's run into out/<name> (time-boxed,
 # timed) after the run `previous` (its tile.time, or none) and, for a labelled tile, its score;
 # GNU time's "Command exited with non-zero status" line is dropped from tile.time.
 define real_rule
 $(3)/$(1)/tile.time: $(call real_file,$(1)) $(REAL_DEPS) $(4) $(wildcard $(REAL_SHARE)/$(1).truth.json) \
-    $(if $(filter $(REAL_SIM_OUT),$(3)),$(opts.real-sim),$(if $(filter $(REAL_ABL_OUT),$(3)),$(opts.real-ablation),$(if \
-      $(filter $(REAL_ABL2_OUT),$(3)),$(opts.real-ablation-2),$(opts.real)))) \
+    $(opts.$(notdir $(3))) \
     | $(2)
 	$$(real_plus)@mkdir -p $(3)/$(1) && rm -f $$@ $(3)/$(1)/score.json && s=0; \
 	  $(call real_progress,add,$(1),$(3),$(4)); \
@@ -158,19 +167,19 @@ real_chain = $(eval real_last := $(3))$(foreach t,$(REAL_NAMES),$(eval $(call \
   real_rule,$(t),$(real_last),$(1),$(2)))$(eval real_last := $(1)/$(t)/tile.time))
 REAL_RUNS := $(foreach t,$(REAL_NAMES),$(REAL_OUT)/$(t)/tile.time)
 REAL_SIM_RUNS := $(foreach t,$(REAL_NAMES),$(REAL_SIM_OUT)/$(t)/tile.time)
-REAL_ABL_RUNS := $(if $(REAL_CLASSIFY_ABLATION),$(foreach t,$(REAL_NAMES),$(REAL_ABL_OUT)/$(t)/tile.time))
-REAL_ABL2_RUNS := $(if $(REAL_CLASSIFY_ABLATION_2),$(foreach t,$(REAL_NAMES),$(REAL_ABL2_OUT)/$(t)/tile.time))
+REAL_ABL_RUNS := $(foreach k,$(REAL_ABL_PLACES),$(foreach t,$(REAL_NAMES),$(OUT)/$(call real_variant,$(k))/$(t)/tile.time))
 $(call real_chain,$(REAL_OUT),$(REAL_CLASSIFY),)
 $(call real_chain,$(REAL_SIM_OUT),$(REAL_CLASSIFY_SIM),)
-# (classify's ablations after canopy's last tile, the second after the first: the tiles' wall
+# (classify's ablations after canopy's last tile, each after the one before: the tiles' wall
 # times stay their own.)
-$(if $(REAL_CLASSIFY_ABLATION),$(call real_chain,$(REAL_ABL_OUT),$(REAL_CLASSIFY_ABLATION),$(lastword $(REAL_RUNS))))
-$(if $(REAL_CLASSIFY_ABLATION_2),$(call real_chain,$(REAL_ABL2_OUT),$(REAL_CLASSIFY_ABLATION_2),$(lastword \
-  $(REAL_RUNS) $(REAL_ABL_RUNS))))
+real_abl_last := $(lastword $(REAL_RUNS))
+$(foreach k,$(REAL_ABL_PLACES),$(call real_chain,$(OUT)/$(call real_variant,$(k)),$(call \
+  real_abl_ini,$(k)),$(real_abl_last))$(eval real_abl_last := $(OUT)/$(call real_variant,$(k))/$(lastword \
+  $(REAL_NAMES))/tile.time))
 .PHONY: real-tiles real-tiles-sim real-tiles-ablation
 real-tiles: $(REAL_RUNS)
 real-tiles-sim: $(REAL_SIM_RUNS)
-real-tiles-ablation: $(REAL_ABL_RUNS) $(REAL_ABL2_RUNS)
+real-tiles-ablation: $(REAL_ABL_RUNS)
 
 # The report's "Real tiles" section: the tiles in order, the labels' directory, the time box.
 ifeq ($(REAL_TILES),1)
@@ -178,12 +187,11 @@ all: real-tiles real-tiles-ablation
 ifeq ($(REAL_ABLATION),1)
 all: real-tiles-sim
 endif
-$(RES)/report.md: $(REAL_RUNS) $(REAL_ABL_RUNS) $(REAL_ABL2_RUNS)
+$(RES)/report.md: $(REAL_RUNS) $(REAL_ABL_RUNS)
 # The tiles are records of the experiment's manifest (Makefile.experiments), in order, each
 # with its hand labels when it has any and classify's ablations when they run (in order).
 EXPERIMENT_REAL := $(foreach t,$(REAL_NAMES),$(call ml,$(strip real $(t) $(REAL_OUT)/$(t) $(wildcard \
-  $(REAL_SHARE)/$(t).truth.json)))$(if $(REAL_CLASSIFY_ABLATION),$(call ml,real-ablation $(t) $(REAL_ABL_OUT)/$(t) \
-  $(REAL_CLASSIFY_ABLATION)))$(if $(REAL_CLASSIFY_ABLATION_2),$(call ml,real-ablation $(t) $(REAL_ABL2_OUT)/$(t) \
-  $(REAL_CLASSIFY_ABLATION_2))))
+  $(REAL_SHARE)/$(t).truth.json)))$(foreach k,$(REAL_ABL_PLACES),$(call ml,real-ablation $(t) $(OUT)/$(call \
+  real_variant,$(k))/$(t) $(call real_abl_ini,$(k)))))
 REPORT_ARGS += --real-timeout $(REAL_TIMEOUT)
 endif

@@ -146,8 +146,10 @@ struct Parser {
     } else if (kind == "density-classify") {
       expect(w, 5, 5, "density-classify LADDER LEVEL CONFIG SCORE");
       ManifestDensity& rung = rung_of(w);
-      if (rung.classify_more.size() == 3)
-        fail("a fifth classify ablation: density-classify " + w[1] + " " + w[2]);
+      // As many as the rung ran (mk/density.mk's lists), but each score once: a repeated one is
+      // the same record written twice, not another ablation.
+      for (const ManifestRungAblation& a : rung.classify_more)
+        if (a.score == w[4]) fail("density-classify " + w[1] + " " + w[2] + ": " + w[4] + " a second time");
       rung.classify_more.push_back({w[3], w[4]});
     } else if (kind == "density") {
       expect(w, 4, 6, "density LEVEL SPACING SCORE [ABLATION_CONFIG ABLATION_SCORE]");

@@ -247,8 +247,20 @@ TEST_CASE("experiment manifest: malformed records and grids are refused naming t
       "density 10 0.5 s\ndensity-classify pixel 10 c.ini v\ndensity-classify pixel 10 d.ini w\n"
       "density-classify pixel 10 e.ini x\n";
   CHECK(refusal(t + three).empty());
-  CHECK(refusal(t + three + "density-classify pixel 10 f.ini y\n")
-            .find("line 6: a fifth classify ablation: density-classify pixel 10") != std::string::npos);
+  // As many as the rung ran (no count limit, mk/density.mk's lists): a fourth is read, in order;
+  // one score twice on a rung is the same record written twice.
+  const std::string four = three + "density-classify pixel 10 f.ini y\n";
+  CHECK(refusal(t + four).empty());
+  {
+    const documents::ExperimentManifest m4 = documents::parse_experiment_manifest(t + four, "experiment.txt");
+    REQUIRE(m4.density.size() == 1);
+    REQUIRE(m4.density[0].classify_more.size() == 4);
+    CHECK(m4.density[0].classify_more[0].change == "c.ini");
+    CHECK(m4.density[0].classify_more[3].change == "f.ini");
+    CHECK(m4.density[0].classify_more[3].score == "y");
+  }
+  CHECK(refusal(t + three + "density-classify pixel 10 f.ini w\n")
+            .find("line 6: density-classify pixel 10: w a second time") != std::string::npos);
   CHECK(refusal(t + "density 10 0.5 s\ndensity-verify pixel 10 --x=0 v\n").empty());
   // The two ladders rise each on its own.
   CHECK(refusal(t + "density 50 0.3 s\ndensity-sensor 10 als_qL1 s\n").empty());

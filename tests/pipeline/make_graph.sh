@@ -299,7 +299,7 @@ real=$(grep "^real " "$tmp/out/experiment.txt")
 real ign_lidarhd_870000_6618000 $tmp/out/real/ign_lidarhd_870000_6618000 share/real/ign_lidarhd_870000_6618000.truth.json" ] ||
   fail "the manifest's real tiles: $real"
 # Each tile's classify ablations follow it, in order, each in its own directory (mk/real.mk
-# REAL_CLASSIFY_ABLATION and _2), and `all` runs both.
+# REAL_CLASSIFY_ABLATIONS: two by default), and `all` runs both.
 abl=$(grep "^real-ablation forest_lareunion " "$tmp/out/experiment.txt")
 [ "$abl" = "real-ablation forest_lareunion $tmp/out/real-ablation/forest_lareunion share/real/classify-bridge-0.ini
 real-ablation forest_lareunion $tmp/out/real-ablation-2/forest_lareunion share/real/classify-tile-ground-0.ini" ] ||
@@ -308,6 +308,14 @@ for a in "real-ablation share/real/classify-bridge-0.ini" "real-ablation-2 share
   set -- $a
   echo "$plan" | grep -q "OUT=$tmp/out/$1/forest_lareunion TILE_CLASSIFY=$2 " ||
     fail "make -n all does not run classify's ablation $2 into $1"
+done
+# The list's places by name (REAL_CLASSIFY_ABLATION_2=, tests/pipeline/progress_count.sh): the
+# second emptied, the first alone runs; a list of one entry, the same.
+for args in "REAL_CLASSIFY_ABLATION_2=" "REAL_CLASSIFY_ABLATIONS=share/real/classify-bridge-0.ini"; do
+  plan=$("${mk[@]}" REAL_TILES=1 -n all $args 2>&1)
+  echo "$plan" | grep -q "OUT=$tmp/out/real-ablation/forest_lareunion TILE_CLASSIFY=share/real/classify-bridge-0.ini " ||
+    fail "$args: make -n all does not run classify's first ablation"
+  if echo "$plan" | grep -q "real-ablation-2"; then fail "$args: make -n all still runs the second"; fi
 done
 # The manifest follows the experiment's shape: with the real tiles in it, the report (made
 # without them) is stale for `make -q all` (REAL_TILES=0). Back to REAL_TILES=0's manifest, with
@@ -386,45 +394,51 @@ done
 grep -qx "calibration = $tmp/params/calibration.ini" "$sd/.opts/collect.txt" ||
   fail "the collect options file does not hold the calibration: $(cat "$sd/.opts/collect.txt")"
 "${sc[@]}" -q scenes || fail "make -q scenes is not clean on a complete run: $("${sc[@]}" -n scenes 2>&1 | head -5)"
-# A second classify ablation (SCENE_CLASSIFY_ABLATION_2; the open set's class envelope alone off,
-# mk/openset.mk): on a complete run it plans classify once more on the candidate
-# (class-ablation-2.json, with those parameters), its collect and its score, and nothing else (not
-# the first ablation's variant); a dry run writes no options file for it.
-plan=$("${sc[@]}" -n scenes SCENE_CLASSIFY_ABLATION_2="$tmp/params/classify.ini" 2>&1)
+# classify's ablations (mk/scenes.mk SCENE_CLASSIFY_ABLATIONS, the K-th entry the variant
+# class-ablation[-K], "-" an empty place). A list of two: on a complete run it plans classify twice
+# more on the candidate (class-ablation.json with the first file, class-ablation-2.json with the
+# second), each one's collect and score, and nothing else; a dry run writes no options file for them.
+sim=$tmp/params/classify-sim.ini
+plan=$("${sc[@]}" -n scenes SCENE_CLASSIFY_ABLATIONS="$sim $tmp/params/classify.ini" 2>&1)
+plans "bin/classify --config $sim -i $sr/cands/c0001.pcd .*-o $sr/cands/c0001/class-ablation.json" ||
+  fail "a list of two does not plan classify with its first file: $(echo "$plan" | grep stagerun)"
 plans "bin/classify --config $tmp/params/classify.ini -i $sr/cands/c0001.pcd .*-o $sr/cands/c0001/class-ablation-2.json" ||
-  fail "SCENE_CLASSIFY_ABLATION_2 does not plan classify with its parameters: $(echo "$plan" | grep stagerun)"
-plans "bin/collect -i $sr/cands/index.json --class-name class-ablation-2.json .*-o $sr/detections-class-ablation-2.json" ||
-  fail "SCENE_CLASSIFY_ABLATION_2 does not plan its collect"
-plans "bin/score --tiles $sd/tiles-class-ablation-2.txt .*-o $tmp/res/scenes/class-ablation-2/score.json" ||
-  fail "SCENE_CLASSIFY_ABLATION_2 does not plan its score"
-if plans "class-ablation\.json"; then fail "SCENE_CLASSIFY_ABLATION_2 plans the first ablation's variant"; fi
-[ "$(echo "$plan" | stages)" -eq 3 ] || fail "SCENE_CLASSIFY_ABLATION_2 plans $(echo "$plan" | stages) stages, not 3"
+  fail "a list of two does not plan classify with its second file as class-ablation-2"
+for v in class-ablation class-ablation-2; do
+  plans "bin/collect -i $sr/cands/index.json --class-name $v.json .*-o $sr/detections-$v.json" ||
+    fail "a list of two does not plan $v's collect"
+  plans "bin/score --tiles $sd/tiles-$v.txt .*-o $tmp/res/scenes/$v/score.json" || fail "a list of two does not plan $v's score"
+done
+if plans "class-ablation-3"; then fail "a list of two plans a third variant"; fi
+[ "$(echo "$plan" | stages)" -eq 6 ] || fail "a list of two plans $(echo "$plan" | stages) stages, not 6"
 [ ! -e "$sd/.opts/classify-ablation-2.txt" ] || fail "a dry run wrote the second ablation's options file"
-"${sc[@]}" -q scenes SCENE_CLASSIFY_ABLATION_2="$tmp/params/classify.ini" &&
+"${sc[@]}" -q scenes SCENE_CLASSIFY_ABLATIONS="- $tmp/params/classify.ini" &&
   fail "make -q scenes is clean without the second classify ablation"
-# A third (SCENE_CLASSIFY_ABLATION_3; the open set's family-entries alone 1): the same three stages,
-# as the variant class-ablation-3, and neither of the others'.
-plan=$("${sc[@]}" -n scenes SCENE_CLASSIFY_ABLATION_3="$tmp/params/classify.ini" 2>&1)
+# An empty place keeps the later ones' names: "- - - FILE" is class-ablation-4 alone (the ladders'
+# open-top gate off), the same three stages, and none of the others'.
+plan=$("${sc[@]}" -n scenes SCENE_CLASSIFY_ABLATIONS="- - - $tmp/params/classify.ini" 2>&1)
+plans "bin/classify --config $tmp/params/classify.ini -i $sr/cands/c0001.pcd .*-o $sr/cands/c0001/class-ablation-4.json" ||
+  fail "\"- - - FILE\" does not plan classify as class-ablation-4: $(echo "$plan" | grep stagerun)"
+plans "bin/score --tiles $sd/tiles-class-ablation-4.txt .*-o $tmp/res/scenes/class-ablation-4/score.json" ||
+  fail "\"- - - FILE\" does not plan class-ablation-4's score"
+if plans "class-ablation\.json" || plans "class-ablation-[23]\.json"; then
+  fail "\"- - - FILE\" plans another ablation's variant"
+fi
+[ "$(echo "$plan" | stages)" -eq 3 ] || fail "\"- - - FILE\" plans $(echo "$plan" | stages) stages, not 3"
+# The first three places by name, as mk/openset.mk gives them (SCENE_CLASSIFY_ABLATION_3 with
+# _2 empty: the family entries alone 1 without the envelope): class-ablation-3, the same three
+# stages; not together with the list.
+plan=$("${sc[@]}" -n scenes SCENE_CLASSIFY_ABLATION_2= SCENE_CLASSIFY_ABLATION_3="$tmp/params/classify.ini" 2>&1)
 plans "bin/classify --config $tmp/params/classify.ini -i $sr/cands/c0001.pcd .*-o $sr/cands/c0001/class-ablation-3.json" ||
   fail "SCENE_CLASSIFY_ABLATION_3 does not plan classify with its parameters: $(echo "$plan" | grep stagerun)"
 plans "bin/collect -i $sr/cands/index.json --class-name class-ablation-3.json .*-o $sr/detections-class-ablation-3.json" ||
   fail "SCENE_CLASSIFY_ABLATION_3 does not plan its collect"
-plans "bin/score --tiles $sd/tiles-class-ablation-3.txt .*-o $tmp/res/scenes/class-ablation-3/score.json" ||
-  fail "SCENE_CLASSIFY_ABLATION_3 does not plan its score"
 if plans "class-ablation\.json" || plans "class-ablation-2\.json"; then
   fail "SCENE_CLASSIFY_ABLATION_3 plans another ablation's variant"
 fi
 [ "$(echo "$plan" | stages)" -eq 3 ] || fail "SCENE_CLASSIFY_ABLATION_3 plans $(echo "$plan" | stages) stages, not 3"
-# A fourth (SCENE_CLASSIFY_ABLATION_4; the ladders' open-top gate off), the same way.
-plan=$("${sc[@]}" -n scenes SCENE_CLASSIFY_ABLATION_4="$tmp/params/classify.ini" 2>&1)
-plans "bin/classify --config $tmp/params/classify.ini -i $sr/cands/c0001.pcd .*-o $sr/cands/c0001/class-ablation-4.json" ||
-  fail "SCENE_CLASSIFY_ABLATION_4 does not plan classify with its parameters: $(echo "$plan" | grep stagerun)"
-plans "bin/score --tiles $sd/tiles-class-ablation-4.txt .*-o $tmp/res/scenes/class-ablation-4/score.json" ||
-  fail "SCENE_CLASSIFY_ABLATION_4 does not plan its score"
-if plans "class-ablation\.json" || plans "class-ablation-[23]\.json"; then
-  fail "SCENE_CLASSIFY_ABLATION_4 plans another ablation's variant"
-fi
-[ "$(echo "$plan" | stages)" -eq 3 ] || fail "SCENE_CLASSIFY_ABLATION_4 plans $(echo "$plan" | stages) stages, not 3"
+"${sc[@]}" -n scenes SCENE_CLASSIFY_ABLATION_3="$sim" SCENE_CLASSIFY_ABLATIONS="$sim" >/dev/null 2>&1 &&
+  fail "SCENE_CLASSIFY_ABLATIONS and SCENE_CLASSIFY_ABLATION_3 together are not refused"
 # The scene experiment's own classify ablations (mk/scenes.mk SCENES_CLASSIFY_ABLATION[_2]: by
 # default the roughness floor's and the shoulder's files; scene-experiment.md "Stop 56"): on the
 # complete run `make -n all` plans, in the experiment's `make scenes`, classify twice more on the

@@ -90,6 +90,15 @@ void ablation_table(std::ostringstream& md, const std::vector<DensityLevel>& run
   md << class_ablation_table("level", table);
 }
 
+// Every classify ablation's table on a ladder: the rungs' own, then each of their classify_more in
+// order (as many as the rung with the most has).
+void ablation_tables(std::ostringstream& md, const std::vector<DensityLevel>& rungs, const std::string& ladder) {
+  ablation_table(md, rungs, ladder);
+  std::size_t more = 0;
+  for (const DensityLevel& s : rungs) more = std::max(more, s.classify_more.size());
+  for (std::size_t k = 0; k < more; ++k) ablation_table(md, rungs, ladder, static_cast<int>(k));
+}
+
 // verify's ablation beside canopy on the rungs of both ladders where it has run and either has a
 // model-level answer (the option acts on the model chain only): the model answers (identified of
 // them), found at either level and class right (all covers), false alarms per ha.
@@ -423,8 +432,7 @@ std::string density_markdown(const std::vector<DensityLevel>& levels, const std:
         "every found vehicle. CPU: every stage of the level (rendering included) per hectare of tile.\n\n";
   level_table(md, levels, false);
   detail_tables(md, levels, "pts/m²");
-  ablation_table(md, levels, "the density ladder");
-  for (int k = 0; k < 3; ++k) ablation_table(md, levels, "the density ladder", k);
+  ablation_tables(md, levels, "the density ladder");
   for (const std::string& f : figures) md << "\n![density ladder](" << f << ")\n";
   if (!figures.empty())
     md << "\n(One line per cover level; the levels at equal spacing; the bars are the 95% intervals, also in "
@@ -443,8 +451,7 @@ std::string density_markdown(const std::vector<DensityLevel>& levels, const std:
         "toward the sensor from the flight's trajectory. Columns as above.\n\n";
   level_table(md, sensor, true);
   detail_tables(md, sensor, "pulses/m²");
-  ablation_table(md, sensor, "the sensor ladder");
-  for (int k = 0; k < 3; ++k) ablation_table(md, sensor, "the sensor ladder", k);
+  ablation_tables(md, sensor, "the sensor ladder");
   // Side by side where both ladders have the nominal density.
   std::vector<std::pair<const DensityLevel*, const DensityLevel*>> both;
   for (const DensityLevel& s : sensor)

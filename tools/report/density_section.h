@@ -46,7 +46,7 @@ struct DensityLevel {
   };
   Ablation classify;                    // the manifest's density or density-sensor ablation
   Ablation verify;                      // density-verify, on the model-level candidates
-  std::vector<Ablation> classify_more;  // density-classify: classify's second to fourth ablations
+  std::vector<Ablation> classify_more;  // density-classify: classify's second, third, ... ablations
 };
 
 // Reads each level's score.json and its runs' index.json and .time files (a missing score is a

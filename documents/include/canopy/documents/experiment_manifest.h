@@ -19,9 +19,9 @@
 //                                             its hand labels when it has any
 //   real-ablation NAME DIR CONFIG             the same tile's workflow run again with classify's
 //                                             parameters CONFIG (an ablation: mk/real.mk
-//                                             REAL_CLASSIFY_ABLATION, a second record
-//                                             REAL_CLASSIFY_ABLATION_2, …: in that order, each
-//                                             in its own DIR) into DIR; after its real
+//                                             REAL_CLASSIFY_ABLATIONS: one record per entry,
+//                                             in the list's order, each in its own DIR)
+//                                             into DIR; after its real
 //   density LEVEL SPACING SCORE [ABLATION_CONFIG ABLATION_SCORE]
 //                                             a rung of the density ladder (mk/density.mk):
 //                                             its nominal points/m² (a positive number), the
@@ -42,11 +42,12 @@
 //                                             verify's options ('+' for each blank), the
 //                                             ablation's score.json
 //   density-classify LADDER LEVEL CONFIG SCORE
-//                                             classify's second (third, fourth) ablation on a
-//                                             rung, up to three records in that order (after the
-//                                             rung's record, before or after its density-verify):
-//                                             LADDER and LEVEL as for density-verify, the
-//                                             ablation's parameter file and its score.json
+//                                             classify's second (third, ...) ablation on a
+//                                             rung, one record each in that order (after the
+//                                             rung's record, before or after its density-verify;
+//                                             no score twice on a rung): LADDER and LEVEL as for
+//                                             density-verify, the ablation's parameter file and
+//                                             its score.json
 //
 // The trials are a full grid: every (object, scene, noise) of the trial lines exactly once
 // (objects, scenes and noises in the order they first appear), and every ablation has a trial
@@ -95,8 +96,8 @@ struct ManifestDensity {
   std::string sensor;               // the sensor preset of a density-sensor rung; "" for the pixel ladder
   ManifestRungAblation classify{};  // classify's ablation (the density record's last two words)
   ManifestRungAblation verify{};    // verify's ablation (density-verify)
-  // classify's second to fourth ablations (density-classify records, in their order; at most
-  // three: mk/scenes.mk's SCENE_CLASSIFY_ABLATION_2, _3 and _4).
+  // classify's second, third, ... ablations (density-classify records, in their order: the
+  // entries after the first of mk/density.mk's DENSITY_[SENSOR_]CLASSIFY_ABLATIONS).
   std::vector<ManifestRungAblation> classify_more{};
 };
 
