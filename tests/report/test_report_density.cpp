@@ -7,6 +7,7 @@
 
 #include "canopy/documents/experiment_manifest.h"
 #include "report/density_section.h"
+#include "report/score_cells.h"
 #include "support/cli.h"
 
 using namespace canopy;
@@ -429,4 +430,13 @@ TEST_CASE("density ladder: verify's ablation beside canopy on the rungs with a m
   REQUIRE(fourth != std::string::npos);
   CHECK(fourth > m4.find("**classify's third ablation on the density ladder**"));
   CHECK(m4.substr(0, fourth) == m3.substr(0, fourth));
+}
+
+TEST_CASE("an ablation's name by its place: the density ladder's, the real tiles' and the scenes' one word") {
+  CHECK(report::ablation_name(1) == "ablation");
+  CHECK(report::ablation_name(0) == "ablation");
+  CHECK(report::ablation_name(2) == "second ablation");
+  CHECK(report::ablation_name(4) == "fourth ablation");
+  CHECK(report::ablation_name(6) == "sixth ablation");
+  CHECK(report::ablation_name(7) == "ablation 7");
 }

@@ -74,12 +74,8 @@ void ablation_table(std::ostringstream& md, const std::vector<DensityLevel>& run
   for (const DensityLevel& s : rungs)
     if (s.scored && abl(s).scored) with.push_back(&s);
   if (with.empty()) return;
-  static const char* const nth[] = {"second", "third", "fourth", "fifth", "sixth"};
-  md << "\n**classify's "
-     << (more < 0                                          ? std::string("ablation")
-         : static_cast<std::size_t>(more) < std::size(nth) ? std::string(nth[more]) + " ablation"
-                                                           : "ablation " + std::to_string(more + 2))
-     << " on " << ladder << "** (the same candidates classified with `" << abl(*with.front()).change
+  md << "\n**classify's " << ablation_name(more < 0 ? 1 : more + 2) << " on " << ladder
+     << "** (the same candidates classified with `" << abl(*with.front()).change
      << "`, collected and scored like canopy's; the file's header says which defaults it turns off, "
         "docs/decisions/classify.md why): found at either level of "
         "each cover's vehicles, class right and the wrong class of the found and false alarms per ha (all "

@@ -21,6 +21,7 @@
 #include "canopy/formats/csv_table.h"
 #include "canopy/formats/json_document.h"
 #include "report/report.h"
+#include "report/score_cells.h"
 
 namespace canopy::report {
 namespace {
@@ -452,11 +453,7 @@ std::string alarms(const RealTile& t) {
 std::string real_ablation_markdown(const std::vector<RealTile>& tiles, const std::vector<RealTile>& ablation,
                                    const std::string& config, int index) {
   if (ablation.empty()) return "";
-  static const char* const nth[] = {"second", "third", "fourth", "fifth"};
-  const std::string which = index <= 0 ? std::string("ablation")
-                            : static_cast<std::size_t>(index) <= std::size(nth)
-                                ? std::string(nth[index - 1]) + " ablation"
-                                : "ablation " + std::to_string(index + 1);
+  const std::string which = ablation_name(index <= 0 ? 1 : index + 1);
   std::ostringstream md;
   md << "### classify's " << which
      << " on the real tiles\n\n"

@@ -570,9 +570,8 @@ void classify_ablations_table(std::ostringstream& md, const SceneScore& score,
   }
   if (noises.size() < 2) noises.clear();  // one noise level: its rows are the "all" rows
   noises.push_back("all");
-  const char* names[] = {"classify's ablation", "classify's second ablation"};
   for (std::size_t i = 0; i < std::max<std::size_t>(ablations.size(), 2); ++i) {
-    const std::string name = i < 2 ? names[i] : "classify's ablation " + std::to_string(i + 1);
+    const std::string name = "classify's " + ablation_name(static_cast<int>(i) + 1);
     const SceneClassifyAblation* a = i < ablations.size() ? &ablations[i] : nullptr;
     if (a == nullptr || a->score == nullptr) {
       md << "**" << name << "**: not run (mk/scenes.mk `SCENES_CLASSIFY_ABLATION" << (i == 0 ? "" : "_2")

@@ -1,5 +1,7 @@
 #include "report/score_cells.h"
 
+#include <iterator>
+
 #include "report/report.h"
 
 namespace canopy::report {
@@ -103,6 +105,13 @@ std::string false_alarm_cell(const ScoreRow* r) {
   const auto a = score_number(*r, "fp"), b = score_number(*r, "class_fp");
   return (a && b ? format_number("%.0f", *a + *b) + " = " : std::string()) +
          score_ci(*r, "false_alarms_any_level_per_ha", "%.1f", "%.1f", 1);
+}
+
+std::string ablation_name(int n) {
+  static const char* const nth[] = {"second", "third", "fourth", "fifth", "sixth"};
+  if (n <= 1) return "ablation";
+  if (static_cast<std::size_t>(n - 2) < std::size(nth)) return std::string(nth[n - 2]) + " ablation";
+  return "ablation " + std::to_string(n);
 }
 
 std::string class_ablation_table(const std::string& rung, const std::vector<AblationRung>& rungs) {

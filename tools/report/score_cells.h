@@ -56,4 +56,9 @@ struct AblationRung {
 // interval (a false alarm count before its rate per ha).
 std::string class_ablation_table(const std::string& rung, const std::vector<AblationRung>& rungs);
 
+// An ablation's name by its place `n` among the ablations of one stage (1: the first): "ablation",
+// "second ablation" to "sixth ablation", then "ablation 7", ... The density ladder's classify
+// ablations (the rung's own, then its classify_more), the real tiles' and the scene experiment's.
+std::string ablation_name(int n);
+
 }  // namespace canopy::report
