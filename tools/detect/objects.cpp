@@ -134,6 +134,34 @@ bool side_by_side(const Context& c, const std::vector<std::vector<std::uint32_t>
   return true;
 }
 
+// The object's points along `axis` in slabs: their extent [smin, smax], the slabs' width (0.05 m,
+// widened up to 0.2 m until a slab holds 20 points on average), each slab's points and its
+// highest point's height above the ground. valley_cut's and end_gap_cut's profile.
+struct SlabProfile {
+  double smin = 1e300, smax = -1e300, bin = 0.05;
+  std::vector<double> count, top;
+};
+SlabProfile slab_profile(const Context& c, const std::vector<std::uint32_t>& pts, const Vector2d& axis) {
+  SlabProfile prof;
+  std::vector<double> s(pts.size());
+  for (std::size_t n = 0; n < pts.size(); ++n) {
+    s[n] = Vector2d(c.x[pts[n]], c.y[pts[n]]).dot(axis);
+    prof.smin = std::min(prof.smin, s[n]);
+    prof.smax = std::max(prof.smax, s[n]);
+  }
+  while (prof.bin < 0.2 && double(pts.size()) * prof.bin / std::max(1e-9, prof.smax - prof.smin) < 20)
+    prof.bin *= 2;
+  const int nb = std::max(1, int(std::ceil((prof.smax - prof.smin) / prof.bin)));
+  prof.count.assign(std::size_t(nb), 0.0);
+  prof.top.assign(std::size_t(nb), 0.0);
+  for (std::size_t n = 0; n < pts.size(); ++n) {
+    const int b = std::min(nb - 1, int((s[n] - prof.smin) / prof.bin));
+    prof.count[std::size_t(b)] += 1;
+    prof.top[std::size_t(b)] = std::max(prof.top[std::size_t(b)], double(c.h[pts[n]]));
+  }
+  return prof;
+}
+
 // Cut position across `axis` at a clear valley, leaving at least `min_side` on each side; NaN
 // if none. A valley is an empty gap (a slab holding at most 35% of the median slab's points)
 // or a drop of the top surface between two higher parts (the highest
@@ -141,23 +169,11 @@ bool side_by_side(const Context& c, const std::vector<std::vector<std::uint32_t>
 // side): two car roofs side by side. The deepest valley wins, then the one nearest the middle.
 double valley_cut(const Context& c, const std::vector<std::uint32_t>& pts, const Vector2d& axis,
                   double min_side, double min_gap) {
-  double smin = 1e300, smax = -1e300;
-  std::vector<double> s(pts.size());
-  for (std::size_t n = 0; n < pts.size(); ++n) {
-    s[n] = Vector2d(c.x[pts[n]], c.y[pts[n]]).dot(axis);
-    smin = std::min(smin, s[n]);
-    smax = std::max(smax, s[n]);
-  }
-  // Bins of 0.05 m, widened (up to 0.2 m) until they hold 20 points on average.
-  double bin = 0.05;
-  while (bin < 0.2 && double(pts.size()) * bin / std::max(1e-9, smax - smin) < 20) bin *= 2;
-  const int nb = std::max(1, int(std::ceil((smax - smin) / bin)));
-  std::vector<double> slab(std::size_t(nb), 0.0), top(std::size_t(nb), 0.0);
-  for (std::size_t n = 0; n < pts.size(); ++n) {
-    const int b = std::min(nb - 1, int((s[n] - smin) / bin));
-    slab[std::size_t(b)] += 1;
-    top[std::size_t(b)] = std::max(top[std::size_t(b)], double(c.h[pts[n]]));
-  }
+  const SlabProfile prof = slab_profile(c, pts, axis);
+  const double smin = prof.smin, smax = prof.smax, bin = prof.bin;
+  const std::vector<double>& slab = prof.count;
+  const std::vector<double>& top = prof.top;
+  const int nb = int(slab.size());
   std::vector<double> sorted = slab;
   std::nth_element(sorted.begin(), sorted.begin() + long(sorted.size() / 2), sorted.end());
   const double median = sorted[sorted.size() / 2];
@@ -200,7 +216,7 @@ double valley_cut(const Context& c, const std::vector<std::uint32_t>& pts, const
 }
 
 // Cut position along `axis` (the object's long axis) at a gap between two bodies end to end;
-// NaN if none. A gap is a run of slabs (0.05-0.2 m, as valley_cut's) holding none of the object's
+// NaN if none. A gap is a run of slabs (slab_profile, as valley_cut's) holding none of the object's
 // points, at least `min_run` long, over which a point of the tile under min_object_height lies
 // in the middle half of the object's extent across the axis: the sensor saw the ground between
 // the two (beside one body it sees the ground all along it, under its middle never). A run
@@ -210,22 +226,16 @@ double valley_cut(const Context& c, const std::vector<std::uint32_t>& pts, const
 double end_gap_cut(const Context& c, const std::vector<std::uint32_t>& pts, const Vector2d& axis,
                    double min_run) {
   const Vector2d across(-axis.y(), axis.x());
-  double smin = 1e300, smax = -1e300, tmin = 1e300, tmax = -1e300;
-  std::vector<double> s(pts.size());
-  for (std::size_t n = 0; n < pts.size(); ++n) {
-    const Vector2d q(c.x[pts[n]], c.y[pts[n]]);
-    s[n] = q.dot(axis);
-    smin = std::min(smin, s[n]);
-    smax = std::max(smax, s[n]);
-    tmin = std::min(tmin, q.dot(across));
-    tmax = std::max(tmax, q.dot(across));
+  const SlabProfile prof = slab_profile(c, pts, axis);
+  const double smin = prof.smin, smax = prof.smax, bin = prof.bin;
+  const std::vector<double>& slab = prof.count;
+  const int nb = int(slab.size());
+  double tmin = 1e300, tmax = -1e300;
+  for (std::uint32_t q : pts) {
+    const double t = Vector2d(c.x[q], c.y[q]).dot(across);
+    tmin = std::min(tmin, t);
+    tmax = std::max(tmax, t);
   }
-  double bin = 0.05;
-  while (bin < 0.2 && double(pts.size()) * bin / std::max(1e-9, smax - smin) < 20) bin *= 2;
-  const int nb = std::max(1, int(std::ceil((smax - smin) / bin)));
-  std::vector<double> slab(std::size_t(nb), 0.0);
-  for (std::size_t n = 0; n < pts.size(); ++n)
-    slab[std::size_t(std::min(nb - 1, int((s[n] - smin) / bin)))] += 1;
   // True when a ground point lies over [s0, s1] in the middle half of the object's width: beside
   // one body the ground is seen along all of it, under the middle of its width only between two.
   const double t0 = 0.75 * tmin + 0.25 * tmax, t1 = 0.25 * tmin + 0.75 * tmax;
