@@ -421,7 +421,8 @@ SCENE_ABL_SCORE := $(foreach v,$(SCENE_CLASS_ABLATIONS),$(SCENE_RES)/$(v)/score.
   $(if $(SCENE_VERIFY_ABLATION),$(SCENE_RES)/verify-ablation/score.json)
 # The scene experiment's own classify ablations (issues 27 and 29; docs/decisions/scene-experiment.md,
 # "Stop 56"): `all` runs the experiment's `make scenes` with SCENE_CLASSIFY_ABLATIONS =
-# SCENES_CLASSIFY_ABLATION SCENES_CLASSIFY_ABLATION_2 (the hook above; an empty one "-"), so each default classify-sim.ini changed keeps its ablation in the report (report
+# SCENES_CLASSIFY_ABLATION SCENES_CLASSIFY_ABLATION_2 (the hook above; an empty one "-"), so each
+# default classify-sim.ini changed keeps its ablation in the report (report
 # --tile-classify-ablation[-2], "classify's ablations on the scene experiment"): the roughness
 # threshold's floor before docs/decisions/classify.md §28 (100mm) and the shoulder gate off (min-shoulder
 # 0, before §30), the density ladder's two files (mk/density.mk; tests/classify checks each differs
