@@ -68,7 +68,9 @@ OPENSET_CLASSIFY_ABLATION_3 := $(if $(and $(filter 1,$(OPENSET_CLASSES_ONLY)),$(
 # collect's ablation: the model answer first, whatever its confidence (collect's
 # --contradicted-below and --refused-below, docs/decisions/open-set.md "Sixth round" and "Seventh
 # round"); OPENSET_COLLECT_ABLATION= leaves it out. (Quoted where it is passed to the sub-makes:
-# two options.)
+# two options.) Since the thirteenth round a class answer contradicts only from another group
+# (collect --contradiction-level group); OPENSET_COLLECT_ABLATION=--contradiction-level=class scores
+# the rule before it instead (the report's heading still names the model answer first).
 OPENSET_COLLECT_ABLATION ?= --contradicted-below=0 --refused-below=0
 # NAME:CLASS:FILE:SPLIT of every library mesh (catalogue.csv joined with split.csv; one shell,
 # only where the open set is read: every parse pays for its shells, docs/decisions/cost.md).

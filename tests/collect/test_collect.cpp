@@ -12,6 +12,7 @@
 
 #include "canopy/common/math.h"
 #include "canopy/formats/pcd.h"
+#include "classify/classify.h"
 #include "collect/collect.h"
 #include "support/cli.h"
 
@@ -620,6 +621,104 @@ TEST_CASE(
   CHECK(read_json(dir / "d.json")["detections"][0]["model"] == "sedan");
   CHECK(test::sh(cmd + " --contradicted-below 1.5", dir / "err.txt", &err) == 2);
   CHECK_THAT(err, Catch::Contains("--contradicted-below must be in [0, 1]"));
+}
+
+TEST_CASE(
+    "collect --contradiction-level: a class answer contradicts a doubtful model answer only from another "
+    "group") {
+  const fs::path dir = tile("contradiction_level");
+  const fs::path cands = dir / "cands";
+  // c0001: verify's model answer of a class at confidence 0.3 (below --contradicted-below 0.5).
+  auto model_answer = [&](const char* model, const char* cls) {
+    Json v = verdict((cands / "c0001" / "samples.pcd").string(), model, 0.3, flat(0, 0, 0, 0),
+                     flat(30, E + 10.25, N + 10.125, 100.5));
+    v["class"] = cls;
+    v["nearest_instance"] = model;
+    v["class_score"] = 0.5;
+    v["class_margin"] = 0.1;
+    write(cands / "c0001" / "verdict.json", v.dump());
+  };
+  // classify's class answer (group nullptr: a class.json without one).
+  auto class_said = [&](const char* cls, const char* group) {
+    write(cands / "c0001" / "class.json",
+          class_answer(cands, "c0001", cls, group, nullptr, 900, flat(0, 0, 0, 0)).dump());
+  };
+  const std::string cmd = bin() + " -i " + (cands / "index.json").string() + " -o " +
+                          (dir / "d.json").string() + " --class-name class.json";
+  std::string err;
+  auto first = [&](const std::string& options) {
+    REQUIRE(test::sh(cmd + options, dir / "err.txt", &err) == 0);
+    const Json d = read_json(dir / "d.json");
+    for (const auto& x : d["detections"]) {
+      if (x["candidate"] == "c0001")
+        return x["level"].get<std::string>() + " " + x["class"].get<std::string>();
+    }
+    return std::string("none");
+  };
+  // The unseen Ford Ranger's case (open-set.md, twelfth round): verify names the modelbase's
+  // pickup, classify the car entries' envelope. A pickup is of classify's car group: its answer
+  // does not exclude the pickup, and the model answer stands; the sixth round's rule (class) set
+  // it aside.
+  model_answer("pickup__gz_pickup", "pickup");
+  class_said("car", "car");
+  CHECK(first("") == "model pickup");
+  CHECK(first(" --contradiction-level group") == "model pickup");
+  CHECK(first(" --contradiction-level class") == "class car");
+  CHECK(first(" --contradicted-below 0 --contradiction-level class") == "model pickup");  // off
+  class_said("suv", nullptr);  // no group in the class.json: its class's group (car)
+  CHECK(first("") == "model pickup");
+  CHECK(first(" --contradiction-level class") == "class suv");
+  // Another group still contradicts: a van, a bus, a tracked APC, a class of a group of its own.
+  class_said("van", "van");
+  CHECK(first("") == "class van");
+  class_said("bus", "bus");
+  CHECK(first("") == "class bus");
+  class_said("tracked-apc", "tracked");
+  CHECK(first("") == "class tracked-apc");
+  class_said("tractor", "tractor");
+  CHECK(first("") == "class tractor");
+  // The sixth round's own cases are kept: a van model against a car answer gives way at either level.
+  model_answer("van__ch_uaz_bus", "van");
+  class_said("car", "car");
+  CHECK(first("") == "class car");
+  CHECK(first(" --contradiction-level class") == "class car");
+  class_said("suv", "car");
+  CHECK(first("") == "class suv");
+  // A tracked APC model answer stands against classify's tank (both tracked), not against a car.
+  model_answer("tracked-apc__ch_m113", "tracked-apc");
+  class_said("tank", "tracked");
+  CHECK(first("") == "model tracked-apc");
+  CHECK(first(" --contradiction-level class") == "class tank");
+  class_said("car", "car");
+  CHECK(first("") == "class car");
+  // A model class that is a group's name (the modelbase's "truck") agrees with its members at
+  // either level; a class of its own agrees only with itself.
+  model_answer("truck__ch_man_5t", "truck");
+  class_said("box-truck", "truck");
+  CHECK(first("") == "model truck");
+  CHECK(first(" --contradiction-level class") == "model truck");
+  model_answer("tractor__oat_tractor", "tractor");
+  class_said("wheel-loader", "machine");
+  CHECK(first("") == "class wheel-loader");
+  // A confident model answer is never contradicted, whatever the level.
+  Json v = read_json(cands / "c0001" / "verdict.json");
+  v["confidence"] = 0.7;
+  write(cands / "c0001" / "verdict.json", v.dump());
+  CHECK(first("") == "model tractor");
+  CHECK(test::sh(cmd + " --contradiction-level family", dir / "err.txt", &err) == 2);
+  CHECK_THAT(err, Catch::Contains("--contradiction-level must be group or class, not \"family\""));
+}
+
+TEST_CASE("collect's class groups are classify's (class_ranges(), entry_group)") {
+  for (const classify::ClassRange& k : classify::class_ranges()) {
+    CHECK(collect::class_group(k.name) == classify::entry_group(k.name));
+    CHECK(collect::class_group(k.group) == classify::entry_group(k.group));
+  }
+  for (const char* other : {"car", "truck", "tractor", "forklift", "boat"})
+    CHECK(collect::class_group(other) == classify::entry_group(other));
+  CHECK(collect::class_group("pickup") == "car");
+  CHECK(collect::class_group("tank") == "tracked");
+  CHECK(collect::class_group("tractor") == "tractor");
 }
 
 TEST_CASE("collect --refused-below: a doubtful model answer gives way to classify's refusal on the shape") {

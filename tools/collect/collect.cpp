@@ -495,9 +495,20 @@ Matrix size_only_pose(const Matrix& rect, const ModelBox& b) {
   return multiply(rect, m);
 }
 
-bool model_contradicted(const Verdict& v, const Verdict& k) {
+std::string class_group(const std::string& cls) {
+  static const std::map<std::string, std::string> group{
+      {"sedan", "car"},           {"hatchback", "car"}, {"suv", "car"},
+      {"pickup", "car"},          {"van", "van"},       {"box-truck", "truck"},
+      {"semi-tractor", "truck"},  {"bus", "bus"},       {"wheeled-apc", "machine"},
+      {"tracked-apc", "tracked"}, {"tank", "tracked"},  {"wheel-loader", "machine"}};
+  const auto g = group.find(cls);
+  return g == group.end() ? cls : g->second;
+}
+
+bool model_contradicted(const Verdict& v, const Verdict& k, bool by_group) {
   if (v.model.empty() || v.cls.empty() || k.cls.empty()) return false;
-  return k.cls != v.cls && k.group != v.cls;
+  if (k.cls == v.cls || k.group == v.cls) return false;
+  return !by_group || class_group(v.cls) != (k.group.empty() ? class_group(k.cls) : k.group);
 }
 
 bool refused_by_shape(const Verdict& v, const Verdict& k) {
@@ -556,7 +567,8 @@ Outputs collect(const Index& index, const std::vector<Answers>& answers, const P
         }
       }
     } else if (v.present && !v.failed && !v.model.empty() && !set_aside &&
-               !(classified && v.confidence < params.contradicted_below && model_contradicted(v, k))) {
+               !(classified && v.confidence < params.contradicted_below &&
+                 model_contradicted(v, k, params.contradicted_by_group))) {
       found = &v;
       ++out.model_level;
     } else if (classified) {

@@ -60,6 +60,7 @@ struct Options {
   bool size_only = false, no_density_scale = false;
   double size_gate = 0.25;
   double contradicted_below = 0.5;
+  std::string contradiction_level = "group";
   double refused_below = 0.8;
   double coarse_none_below = common::kDenseDensity;
 };
@@ -101,6 +102,12 @@ void bind(common::Tool& tool, Options& o) {
            "a model answer whose confidence is below this, and whose class classify's class "
            "answer contradicts (neither its class nor its group), gives way to classify's "
            "answer (0 = off: the model answer first)");
+  tool.add("--contradiction-level", &o.contradiction_level,
+           "--contradicted-below: group (default) = classify's answer contradicts only when its "
+           "group differs from the model class's group in classify's taxonomy (a pickup model "
+           "stands against a car answer: classify states the group); class = when its class and "
+           "group both differ from the model's class (as before; docs/decisions/open-set.md "
+           "\"Thirteenth round\")");
   tool.add("--refused-below", &o.refused_below,
            "a model answer whose confidence is below this gives way to classify's none when "
            "classify refused the candidate on its shape or surface (a flat box, an oval, no roof, "
@@ -245,6 +252,10 @@ int main(int argc, char** argv) {
     if (!(o.contradicted_below >= 0 && o.contradicted_below <= 1))
       throw common::UsageError("--contradicted-below must be in [0, 1]");
     p.contradicted_below = o.contradicted_below;
+    if (o.contradiction_level != "group" && o.contradiction_level != "class")
+      throw common::UsageError("--contradiction-level must be group or class, not \"" +
+                               o.contradiction_level + "\"");
+    p.contradicted_by_group = o.contradiction_level == "group";
     if (!(o.refused_below >= 0 && o.refused_below <= 1))
       throw common::UsageError("--refused-below must be in [0, 1]");
     p.refused_below = o.refused_below;
