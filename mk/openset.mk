@@ -65,13 +65,24 @@ OPENSET_CLASSIFY_ABLATION_2 := $(if $(and $(filter 1,$(OPENSET_CLASSES_ONLY)),$(
 # The third ablation, one entry keeps its family alone (family-entries = 1, the rest the open
 # set's), run when the modelbase's classes only are on and OPENSET_FAMILY_ENTRIES is not 1.
 OPENSET_CLASSIFY_ABLATION_3 := $(if $(and $(filter 1,$(OPENSET_CLASSES_ONLY)),$(filter-out 1,$(OPENSET_FAMILY_ENTRIES))),$(OPENSET_DIR)/classify-family-entries-1.ini)
-# collect's ablation: the model answer first, whatever its confidence (collect's
+# collect's ablations, a list (the sub-makes' SCENE_COLLECT_ABLATIONS, mk/scenes.mk: an entry is
+# collect's options joined by commas, "-" an empty place; the K-th the variant collect-ablation or
+# collect-ablation-K), each a subsection of the report named by what it turns off: the first, the
+# model answer first, whatever its confidence (--contradicted-below=0 --refused-below=0: collect's
 # --contradicted-below and --refused-below, docs/decisions/open-set.md "Sixth round" and "Seventh
-# round"); OPENSET_COLLECT_ABLATION= leaves it out. (Quoted where it is passed to the sub-makes:
-# two options.) Since the thirteenth round a class answer contradicts only from another group
-# (collect --contradiction-level group); OPENSET_COLLECT_ABLATION=--contradiction-level=class scores
-# the rule before it instead (the report's heading still names the model answer first).
+# round"); the second, the contradiction by class (--contradiction-level=class: the default before
+# the thirteenth round, "Thirteenth round"). OPENSET_COLLECT_ABLATION and OPENSET_COLLECT_ABLATION_2
+# are the two places by name (collect's options separated by spaces; empty leaves one out, the
+# other keeping its place); OPENSET_COLLECT_ABLATIONS (given alone) replaces them, empty: none.
 OPENSET_COLLECT_ABLATION ?= --contradicted-below=0 --refused-below=0
+OPENSET_COLLECT_ABLATION_2 ?= --contradiction-level=class
+openset_collect_entry = $(or $(subst $(space),$(comma),$(strip $(1))),-)
+OPENSET_COLLECT_ABLATIONS ?= $(if $(strip $(OPENSET_COLLECT_ABLATION_2)),$(call \
+  openset_collect_entry,$(OPENSET_COLLECT_ABLATION)) $(call openset_collect_entry,$(OPENSET_COLLECT_ABLATION_2)),$(subst \
+  $(space),$(comma),$(strip $(OPENSET_COLLECT_ABLATION))))
+$(if $(and $(filter command line environment override,$(origin OPENSET_COLLECT_ABLATIONS)),$(filter command line \
+  environment override,$(origin OPENSET_COLLECT_ABLATION) $(origin OPENSET_COLLECT_ABLATION_2))),$(error \
+  OPENSET_COLLECT_ABLATIONS and OPENSET_COLLECT_ABLATION[_2] given together: give the list alone))
 # NAME:CLASS:FILE:SPLIT of every library mesh (catalogue.csv joined with split.csv; one shell,
 # only where the open set is read: every parse pays for its shells, docs/decisions/cost.md).
 ifneq ($(filter 1,$(OPENSET))$(filter openset openset-crops,$(MAKECMDGOALS)),)
@@ -160,14 +171,11 @@ TILE_CAND_KINDS += $(foreach v,$(SCENE_CLASS_ABLATIONS),classify:cand/$(v).json)
 OPENSET_CROP_ABL_SCORE := $(foreach v,$(SCENE_CLASS_ABLATIONS),$(OPENSET_CROP_RES)/$(v)/score.json)
 $(if $(dry_run)$(if $(OPENSET_CROP_ABL_SCORE),,1),,$(shell mkdir -p $(dir $(OPENSET_CROP_ABL_SCORE))))
 $(call class_ablations,$(OPENSET_CROP_RUNS),$(OPENSET_MB),$(OPENSET_CROP_DIR),$(openset_crop_manifest),$(OPENSET_CROP_RES),$(OPENSET_DIR)/classes.csv)
-# collect's ablation (SCENE_COLLECT_ABLATION, given by the parent: OPENSET_COLLECT_ABLATION) on
+# collect's ablations (SCENE_COLLECT_ABLATIONS, given by the parent: OPENSET_COLLECT_ABLATIONS) on
 # every crop, scored like the crops.
-ifneq ($(SCENE_COLLECT_ABLATION),)
-$(foreach r,$(OPENSET_CROP_RUNS),$(call collect_ablation_rules,$(r),$(call scene_key,$(r)),$(OPENSET_MB),$(SCENE_COLLECT_ABLATION)))
-OPENSET_CROP_COLLECT_ABL_SCORE := $(OPENSET_CROP_RES)/collect-ablation/score.json
-$(if $(dry_run),,$(shell mkdir -p $(dir $(OPENSET_CROP_COLLECT_ABL_SCORE))))
-$(eval $(call variant_score_rule,collect-ablation,$(OPENSET_CROP_DIR),$(openset_crop_manifest),$(OPENSET_CROP_RUNS),$(OPENSET_CROP_RES),$(OPENSET_DIR)/classes.csv))
-endif
+OPENSET_CROP_COLLECT_ABL_SCORE := $(foreach v,$(SCENE_COLLECT_VARIANTS),$(OPENSET_CROP_RES)/$(v)/score.json)
+$(if $(dry_run)$(if $(OPENSET_CROP_COLLECT_ABL_SCORE),,1),,$(shell mkdir -p $(dir $(OPENSET_CROP_COLLECT_ABL_SCORE))))
+$(call collect_ablations,$(OPENSET_CROP_RUNS),$(OPENSET_MB),$(OPENSET_CROP_DIR),$(openset_crop_manifest),$(OPENSET_CROP_RES),$(OPENSET_DIR)/classes.csv)
 # The scans (≈ 40 MB each) are deleted once the score is made (KEEP=1 keeps them).
 .SECONDARY: $(addsuffix /scan.pcd,$(OPENSET_CROP_RUNS))
 $(OPENSET_CROP_SCORE): $(OPENSET_CROP_DIR)/tiles.txt $(addsuffix /detections.json,$(OPENSET_CROP_RUNS)) $(call tool,score) \
@@ -197,11 +205,13 @@ openset_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROG
   SCENE_SEEDS="$(OPENSET_SEEDS)" SCENE_COVERS="$(OPENSET_COVERS)" SCENE_NOISES=0 SCENE_BASELINE= \
   SCENE_SIZE_ONLY=0 SCENE_PICTURES=0 SCENE_CLASSIFY=$(OPENSET_CLASSIFY) SCENE_CLASSIFY_ABLATION=$(OPENSET_CLASSIFY_ABLATION) \
   SCENE_CLASSIFY_ABLATION_2=$(OPENSET_CLASSIFY_ABLATION_2) SCENE_CLASSIFY_ABLATION_3=$(OPENSET_CLASSIFY_ABLATION_3) \
-  SCENE_COLLECT_ABLATION='$(OPENSET_COLLECT_ABLATION)' COLLECT_CALIBRATION=$(OPENSET_COLLECT_CALIBRATION)
+  SCENE_COLLECT_ABLATION= SCENE_COLLECT_ABLATIONS='$(OPENSET_COLLECT_ABLATIONS)' \
+  COLLECT_CALIBRATION=$(OPENSET_COLLECT_CALIBRATION)
 openset_crop_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) openset-crops PROGRESS=0 \
   SCENE_CLASSIFY=$(OPENSET_CLASSIFY) SCENE_CLASSIFY_ABLATION=$(OPENSET_CLASSIFY_ABLATION) \
   SCENE_CLASSIFY_ABLATION_2=$(OPENSET_CLASSIFY_ABLATION_2) SCENE_CLASSIFY_ABLATION_3=$(OPENSET_CLASSIFY_ABLATION_3) \
-  SCENE_COLLECT_ABLATION='$(OPENSET_COLLECT_ABLATION)' COLLECT_CALIBRATION=$(OPENSET_COLLECT_CALIBRATION)
+  SCENE_COLLECT_ABLATION= SCENE_COLLECT_ABLATIONS='$(OPENSET_COLLECT_ABLATIONS)' \
+  COLLECT_CALIBRATION=$(OPENSET_COLLECT_CALIBRATION)
 ifneq ($(findstring q,$(make_letters))$(OPENSET),q1)
 openset_force := FORCE
 else
@@ -227,19 +237,21 @@ openset_abl_order = $(if $(word 1,$(1)),$(eval $(word 1,$(1)): $(OPENSET_SCORE))
   $(word 2,$(1)),$(eval $(word 2,$(1)): $(OPENSET_CROP_SCORE)))
 # classify's ablations (OPENSET_CLASSIFY_ABLATION: all off; OPENSET_CLASSIFY_ABLATION_2: the
 # envelope alone off; OPENSET_CLASSIFY_ABLATION_3: family-entries alone 1) and collect's
-# (OPENSET_COLLECT_ABLATION).
+# (OPENSET_COLLECT_ABLATIONS: each variant's, openset_collect_variants).
 OPENSET_ABL_SCORES := $(call openset_abl_scores,$(OPENSET_CLASSIFY_ABLATION),class-ablation)
 OPENSET_ABL2_SCORES := $(call openset_abl_scores,$(OPENSET_CLASSIFY_ABLATION_2),class-ablation-2)
 OPENSET_ABL3_SCORES := $(call openset_abl_scores,$(OPENSET_CLASSIFY_ABLATION_3),class-ablation-3)
-OPENSET_COLLECT_ABL_SCORES := $(call openset_abl_scores,$(OPENSET_COLLECT_ABLATION),collect-ablation)
+openset_collect_variants := $(foreach k,$(call list_places,$(OPENSET_COLLECT_ABLATIONS)),$(call collect_variant,$(k)))
+OPENSET_COLLECT_ABL_SCORES := $(foreach v,$(openset_collect_variants),$(call openset_abl_scores,1,$(v)))
 $(call openset_abl_order,$(OPENSET_ABL_SCORES))
 $(call openset_abl_order,$(OPENSET_ABL2_SCORES))
 $(call openset_abl_order,$(OPENSET_ABL3_SCORES))
-$(call openset_abl_order,$(OPENSET_COLLECT_ABL_SCORES))
+$(foreach v,$(openset_collect_variants),$(call openset_abl_order,$(call openset_abl_scores,1,$(v))))
 .PHONY: openset
 openset: $(OPENSET_SCORE) $(if $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_SCORE)) $(OPENSET_ABL_SCORES) \
   $(OPENSET_ABL2_SCORES) $(OPENSET_ABL3_SCORES) $(OPENSET_COLLECT_ABL_SCORES)
 ifeq ($(OPENSET),1)
+# (collect's ablations: each one's score.json, its options as the list's entry, its crops' score.json)
 $(RES)/report.md: $(OPENSET_SCORE) $(if $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_SCORE)) $(OPENSET_DISTANCES) \
   $(OPENSET_ABL_SCORES) $(OPENSET_ABL2_SCORES) $(OPENSET_ABL3_SCORES) $(OPENSET_COLLECT_ABL_SCORES)
 REPORT_ARGS += --openset $(OPENSET_SCORE) --openset-distances $(OPENSET_DISTANCES)$(if $(filter 1,$(OPENSET_CROPS)), \
@@ -248,9 +260,10 @@ REPORT_ARGS += --openset $(OPENSET_SCORE) --openset-distances $(OPENSET_DISTANCE
   --openset-envelope-ablation $(word 1,$(OPENSET_ABL2_SCORES))$(if $(filter 1,$(OPENSET_CROPS)), \
   --openset-crops-envelope-ablation $(word 2,$(OPENSET_ABL2_SCORES))))$(if $(OPENSET_CLASSIFY_ABLATION_3), \
   --openset-family-ablation $(word 1,$(OPENSET_ABL3_SCORES))$(if $(filter 1,$(OPENSET_CROPS)), \
-  --openset-crops-family-ablation $(word 2,$(OPENSET_ABL3_SCORES))))$(if $(OPENSET_COLLECT_ABLATION), \
-  --openset-collect-ablation $(word 1,$(OPENSET_COLLECT_ABL_SCORES))$(if $(filter 1,$(OPENSET_CROPS)), \
-  --openset-crops-collect-ablation $(word 2,$(OPENSET_COLLECT_ABL_SCORES))))
+  --openset-crops-family-ablation $(word 2,$(OPENSET_ABL3_SCORES))))$(foreach k,$(call \
+  list_places,$(OPENSET_COLLECT_ABLATIONS)), --openset-collect-ablation $(OPENSET_RES)/$(call \
+  collect_variant,$(k))/score.json --openset-collect-ablation-options=$(word $(k),$(OPENSET_COLLECT_ABLATIONS))$(if \
+  $(filter 1,$(OPENSET_CROPS)), --openset-crops-collect-ablation $(OPENSET_CROP_RES)/$(call collect_variant,$(k))/score.json))
 endif
 endif
 

@@ -115,15 +115,35 @@ class_variant = class-ablation$(if $(filter-out 1,$(1)),-$(1))
 SCENE_CLASS_ABLATIONS := $(foreach k,$(call list_places,$(scene_class_list)),$(call class_variant,$(k)))
 $(foreach k,$(call list_places,$(scene_class_list)),$(eval \
   scene_class_ini.$(call class_variant,$(k)) := $(word $(k),$(scene_class_list))))
-# SCENE_COLLECT_ABLATION=<collect options, each as --name=value>: collect run a second time on
-# every run with these options, from the same verdicts and class answers, scored beside canopy's
-# as $(SCENE_RES)/collect-ablation/score.json. With a calibration the default is
+# SCENE_COLLECT_ABLATIONS=<entry> ...: collect run again on every run with each entry's options,
+# from the same verdicts and class answers, scored beside canopy's. An entry is collect's options
+# joined by commas, each as --name=value (`--contradicted-below=0,--refused-below=0`: a value holds
+# no comma or space; bench/openset/recollect.py writes them the same way). The list's K-th entry is
+# the variant collect-ablation (K = 1) or collect-ablation-K (detections-collect-ablation-K.json,
+# $(SCENE_RES)/collect-ablation-K/score.json, the options kind collect-ablation-K); an entry "-"
+# leaves its place empty (the later ones keep their names). The open set gives the list
+# (mk/openset.mk OPENSET_COLLECT_ABLATIONS: the model answer first, the contradiction by class).
+# SCENE_COLLECT_ABLATION=<collect options, separated by spaces>: the list's first place by name,
+# the list when it is not given (the scene experiment's): with a calibration the default is
 # --coarse-none-below=0 (docs/decisions/verify.md §19: one none map for every verify none, the
 # statement before the density split), whose reliability table the report shows beside canopy's
-# (report --tile-collect-ablation); without one, empty (the split states nothing then). Empty
-# leaves it out; the open set sets it (mk/openset.mk: --contradicted-below=0 --refused-below=0,
-# the model answer first), the density ladder empties it (mk/density.mk).
+# (report --tile-collect-ablation, the first place alone); without one, empty (the split states
+# nothing then). Empty leaves it out; the density ladder empties it (mk/density.mk). Not given
+# (not empty) together with SCENE_COLLECT_ABLATIONS.
 SCENE_COLLECT_ABLATION ?= $(if $(COLLECT_CALIBRATION),--coarse-none-below=0)
+comma := ,
+SCENE_COLLECT_ABLATIONS ?= $(subst $(space),$(comma),$(strip $(SCENE_COLLECT_ABLATION)))
+$(if $(and $(filter command line environment override,$(origin SCENE_COLLECT_ABLATIONS)),$(filter command line \
+  environment override,$(origin SCENE_COLLECT_ABLATION)),$(strip $(SCENE_COLLECT_ABLATION))),$(error \
+  SCENE_COLLECT_ABLATIONS and SCENE_COLLECT_ABLATION given together: give the list alone))
+# collect_variant(K): the collect ablation at place K (collect-ablation, collect-ablation-2, ...).
+# The collect ablations asked for, by variant, and each one's options (scene_collect_opts.VARIANT,
+# separated by spaces).
+collect_variant = collect-ablation$(if $(filter-out 1,$(1)),-$(1))
+scene_collect_list := $(SCENE_COLLECT_ABLATIONS)
+SCENE_COLLECT_VARIANTS := $(foreach k,$(call list_places,$(scene_collect_list)),$(call collect_variant,$(k)))
+$(foreach k,$(call list_places,$(scene_collect_list)),$(eval scene_collect_opts.$(call collect_variant,$(k)) := $(subst \
+  $(comma),$(space),$(word $(k),$(scene_collect_list)))))
 # SCENE_VERIFY_ABLATION=<verify options, each as --name=value>: verify run a second time on every
 # candidate that reached the model chain, with these options after its parameters
 # (cands/<id>/verdict-ablation.json), collected from those verdicts and the same class answers
@@ -148,11 +168,12 @@ $(foreach v,$(SCENE_CLASS_ABLATIONS),$(eval opts_text_$(patsubst class-%,classif
 opts_text_models = $(call opts_line,fitvox,$(TILE_FITVOX))$(call opts_line,parameters,$(P))$(call \
   opts_line,density-scale,$(TILE_DENSITY_SCALE))
 opts_text_collect = $(call opts_line,calibration,$(COLLECT_CALIBRATION))$(call opts_line,crs,$(CRS))
-opts_text_collect-ablation = $(call opts_line,options,$(SCENE_COLLECT_ABLATION))$(call \
-  opts_line,calibration,$(COLLECT_CALIBRATION))
+# (each collect ablation's: opts_text_collect-ablation, opts_text_collect-ablation-2, ...)
+$(foreach v,$(SCENE_COLLECT_VARIANTS),$(eval opts_text_$(v) = $$(call opts_line,options,$(scene_collect_opts.$(v)))$$(call \
+  opts_line,calibration,$$(COLLECT_CALIBRATION))))
 opts_text_verify-ablation = $(call opts_line,options,$(SCENE_VERIFY_ABLATION))
 tile_opts_kinds = $(call opts_kinds,$(1),detect plan classify models collect$(if $(value opts_text_topview), topview)$(patsubst \
-  class-%, classify-%,$(SCENE_CLASS_ABLATIONS))$(if $(SCENE_COLLECT_ABLATION), collect-ablation)$(if \
+  class-%, classify-%,$(SCENE_CLASS_ABLATIONS))$(foreach v,$(SCENE_COLLECT_VARIANTS), $(v))$(if \
   $(SCENE_VERIFY_ABLATION), verify-ablation))
 
 # read_plan(FILE): a generated candidate plan. A real run includes it, so make remakes it first
@@ -217,10 +238,16 @@ class_ablation_rules = $(foreach c,$($(2)_CANDS),$(eval $(call class_rule,$(1),$
 # the scene experiment's runs below, the open set's crops (mk/openset.mk).
 class_ablations = $(foreach v,$(SCENE_CLASS_ABLATIONS),$(foreach r,$(1),$(call class_ablation_rules,$(r),$(call \
   scene_key,$(r)),$(2),$(scene_class_ini.$(v)),$(v)))$(eval $(call variant_score_rule,$(v),$(3),$(4),$(1),$(5),$(6))))
-# collect_ablation_rules(DIR, KEY, MODELBASE, OPTIONS): the run's detections collected with
-# OPTIONS (detections-collect-ablation.json). SCENE_COLLECT_ABLATION below.
-collect_ablation_rules = $(eval $(call collect_variant_rule,$(1),$(2),$(3),collect-ablation,class.json,verdict.json,,$(4)$(collect_calibration),$(COLLECT_CALIBRATION) \
-  $(opts.collect-ablation)))
+# collect_ablation_rules(DIR, KEY, MODELBASE, OPTIONS[, VARIANT]): the run's detections collected
+# with OPTIONS (separated by spaces) as detections-VARIANT.json (collect-ablation, the default, or
+# collect-ablation-K). SCENE_COLLECT_ABLATIONS above; collect_ablations below.
+collect_ablation_rules = $(eval $(call collect_variant_rule,$(1),$(2),$(3),$(or $(5),collect-ablation),class.json,verdict.json,,$(4)$(collect_calibration),$(COLLECT_CALIBRATION) \
+  $(opts.$(or $(5),collect-ablation))))
+# collect_ablations(RUNS, MODELBASE, SET_DIR, MANIFEST, SET_RES, CLASSES): every collect ablation
+# asked for (SCENE_COLLECT_VARIANTS) on every run of RUNS, then each one's score of the set
+# (variant_score_rule): the scene experiment's runs below, the open set's crops (mk/openset.mk).
+collect_ablations = $(foreach v,$(SCENE_COLLECT_VARIANTS),$(foreach r,$(1),$(call collect_ablation_rules,$(r),$(call \
+  scene_key,$(r)),$(2),$(scene_collect_opts.$(v)),$(v)))$(eval $(call variant_score_rule,$(v),$(3),$(4),$(1),$(5),$(6))))
 # verify_ablation_rules(DIR, KEY, MODELBASE, OPTIONS): verify's ablation on every model-level
 # candidate of a run (cands/<id>/verdict-ablation.json, with OPTIONS) and the run's detections
 # with it (detections-verify-ablation.json: the same class answers, those verdicts; collect
@@ -417,7 +444,7 @@ SCENE_SIZE_ONLY ?= 1
 $(if $(filter-out 0 1,$(SCENE_SIZE_ONLY)),$(error SCENE_SIZE_ONLY=$(SCENE_SIZE_ONLY): must be 0 or 1))
 SCENE_BL_SCORES := $(foreach m,$(SCENE_BASELINE) $(if $(filter 1,$(SCENE_SIZE_ONLY)),size),$(SCENE_RES)/baseline-$(m)/score.json)
 SCENE_ABL_SCORE := $(foreach v,$(SCENE_CLASS_ABLATIONS),$(SCENE_RES)/$(v)/score.json) \
-  $(if $(SCENE_COLLECT_ABLATION),$(SCENE_RES)/collect-ablation/score.json) \
+  $(foreach v,$(SCENE_COLLECT_VARIANTS),$(SCENE_RES)/$(v)/score.json) \
   $(if $(SCENE_VERIFY_ABLATION),$(SCENE_RES)/verify-ablation/score.json)
 # The scene experiment's own classify ablations (issues 27 and 29; docs/decisions/scene-experiment.md,
 # "Stop 56"): `all` runs the experiment's `make scenes` with SCENE_CLASSIFY_ABLATIONS =
@@ -447,10 +474,10 @@ SCENES_CLASS_ABL_SCORES = $(foreach v,$(SCENES_CLASS_ABLATIONS),$(SCENE_RES)/$(v
 SCENE_EXPERIMENT ?= 1
 $(if $(filter-out 0 1,$(SCENE_EXPERIMENT)),$(error SCENE_EXPERIMENT=$(SCENE_EXPERIMENT): must be 0 or 1))
 ifeq ($(SCENE_EXPERIMENT),1)
-$(RES)/report.md: $(SCENE_SCORE) $(SCENE_BL_SCORES) $(if $(SCENE_COLLECT_ABLATION),$(SCENE_RES)/collect-ablation/score.json) \
+$(RES)/report.md: $(SCENE_SCORE) $(SCENE_BL_SCORES) $(if $(filter collect-ablation,$(SCENE_COLLECT_VARIANTS)),$(SCENE_RES)/collect-ablation/score.json) \
   $(SCENES_CLASS_ABL_SCORES)
 # (each classify ablation's score and parameter file: --tile-classify-ablation[-2] and its -config)
-REPORT_ARGS += --tile-score $(SCENE_SCORE)$(if $(SCENE_COLLECT_ABLATION), --tile-collect-ablation \
+REPORT_ARGS += --tile-score $(SCENE_SCORE)$(if $(filter collect-ablation,$(SCENE_COLLECT_VARIANTS)), --tile-collect-ablation \
   $(SCENE_RES)/collect-ablation/score.json)$(if $(SCENES_CLASS_ABLATIONS), $(foreach v,$(SCENES_CLASS_ABLATIONS),--tile-$(patsubst \
   class-%,classify-%,$(v)) $(SCENE_RES)/$(v)/score.json --tile-$(patsubst class-%,classify-%,$(v))-config \
   $(scenes_class_ini.$(v))))
@@ -480,7 +507,7 @@ $(SCENE_SCORE): $(scenes_force) $(foreach t,$(SCENE_TOOLS),$(call tool,$(t))) $(
 	+@$(MAKE) --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROGRESS=0 $(scenes_args)
 # The baseline's scores and the ablations' are made by the same sub-make (no recipe of their own
 # here).
-$(SCENE_BL_SCORES) $(if $(SCENE_COLLECT_ABLATION),$(SCENE_RES)/collect-ablation/score.json) $(SCENES_CLASS_ABL_SCORES): $(SCENE_SCORE)
+$(SCENE_BL_SCORES) $(if $(filter collect-ablation,$(SCENE_COLLECT_VARIANTS)),$(SCENE_RES)/collect-ablation/score.json) $(SCENES_CLASS_ABL_SCORES): $(SCENE_SCORE)
 else
 # ---- read only by `make scenes` ----------------------------------------------------------
 SCENE_MB := $(OUT)/modelbase
@@ -584,11 +611,8 @@ endif
 # classify's ablations (SCENE_CLASSIFY_ABLATIONS): per run, then one score each.
 TILE_CAND_KINDS += $(foreach v,$(SCENE_CLASS_ABLATIONS),classify:cand/$(v).json)
 $(call class_ablations,$(SCENE_RUNS),$(SCENE_MB),$(SCENE_DIR),$(scene_manifest),$(SCENE_RES),$(SCENE_MODEL_CLASSES))
-# collect's ablation (SCENE_COLLECT_ABLATION): per run, then one score.
-ifneq ($(SCENE_COLLECT_ABLATION),)
-$(foreach r,$(SCENE_RUNS),$(call collect_ablation_rules,$(r),$(call scene_key,$(r)),$(SCENE_MB),$(SCENE_COLLECT_ABLATION)))
-$(eval $(call scene_variant_score_rule,collect-ablation))
-endif
+# collect's ablations (SCENE_COLLECT_ABLATIONS): per run, then one score each.
+$(call collect_ablations,$(SCENE_RUNS),$(SCENE_MB),$(SCENE_DIR),$(scene_manifest),$(SCENE_RES),$(SCENE_MODEL_CLASSES))
 # verify's ablation (SCENE_VERIFY_ABLATION): per model-level candidate and run, then one score.
 ifneq ($(SCENE_VERIFY_ABLATION),)
 TILE_CAND_KINDS += verify:cand/verdict-ablation.json

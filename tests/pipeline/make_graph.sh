@@ -483,6 +483,41 @@ done
 "${sa[@]}" -q scenes && fail "make -q scenes is clean without collect's ablation"
 plan=$("${sa[@]}" -n scenes COLLECT_CALIBRATION= 2>&1)
 if plans "collect-ablation"; then fail "without a calibration collect's ablation is planned"; fi
+# collect's ablations as a list (mk/scenes.mk SCENE_COLLECT_ABLATIONS: an entry is collect's
+# options joined by commas, the K-th the variant collect-ablation[-K], "-" an empty place; the
+# open set's two): a list of two plans two collects from the same verdicts, each with its own
+# options, and their scores, and nothing else; not together with SCENE_COLLECT_ABLATION.
+plan=$("${sa[@]}" -n scenes SCENE_COLLECT_ABLATIONS="--contradicted-below=0,--refused-below=0 --contradiction-level=class" 2>&1)
+plans "bin/collect -i $sr/cands/index.json .*-o $sr/detections-collect-ablation.json --modelbase [^ ]* --contradicted-below=0 --refused-below=0 --calibration" ||
+  fail "a list of two collect ablations does not plan the first with its options: $(echo "$plan" | grep stagerun)"
+plans "bin/collect -i $sr/cands/index.json .*-o $sr/detections-collect-ablation-2.json --modelbase [^ ]* --contradiction-level=class --calibration" ||
+  fail "a list of two collect ablations does not plan the second as collect-ablation-2"
+for v in collect-ablation collect-ablation-2; do
+  plans "bin/score --tiles $sd/tiles-$v.txt .*-o $tmp/res/scenes/$v/score.json" || fail "a list of two does not plan $v's score"
+done
+if plans "coarse-none-below"; then fail "a list of collect ablations still plans SCENE_COLLECT_ABLATION's default"; fi
+[ "$(echo "$plan" | stages)" -eq 4 ] || fail "a list of two collect ablations plans $(echo "$plan" | stages) stages, not 4"
+plan=$("${sa[@]}" -n scenes SCENE_COLLECT_ABLATIONS="- --contradiction-level=class" 2>&1)
+plans "bin/collect .*-o $sr/detections-collect-ablation-2.json .*--contradiction-level=class" ||
+  fail "\"- OPTIONS\" does not plan collect-ablation-2"
+if plans "detections-collect-ablation\.json"; then fail "\"- OPTIONS\" plans collect-ablation"; fi
+[ "$(echo "$plan" | stages)" -eq 2 ] || fail "\"- OPTIONS\" plans $(echo "$plan" | stages) stages, not 2"
+"${sa[@]}" -n scenes SCENE_COLLECT_ABLATION=--coarse-none-below=0 SCENE_COLLECT_ABLATIONS=--contradiction-level=class \
+  >/dev/null 2>&1 && fail "SCENE_COLLECT_ABLATIONS and SCENE_COLLECT_ABLATION together are not refused"
+# The open set's default (mk/openset.mk OPENSET_COLLECT_ABLATIONS): its sub-makes are given both
+# entries, the report both scores each with its options, and the tiles' sub-make plans both scores.
+plan=$("${sa[@]}" -n all OPENSET=1 OPENSET_SEEDS=1 OPENSET_COVERS=light OPENSET_CROPS=0 2>&1)
+echo "$plan" | grep -q "make .* scenes .*SCENE_COLLECT_ABLATION= SCENE_COLLECT_ABLATIONS='--contradicted-below=0,--refused-below=0 --contradiction-level=class'" ||
+  fail "the open set's sub-make is not given its two collect ablations: $(echo "$plan" | grep "SCENE_COLLECT" | head -3)"
+plans "bin/report .*--openset-collect-ablation $tmp/res/openset/collect-ablation/score.json --openset-collect-ablation-options=--contradicted-below=0,--refused-below=0 .*--openset-collect-ablation $tmp/res/openset/collect-ablation-2/score.json --openset-collect-ablation-options=--contradiction-level=class" ||
+  fail "the report is not given the open set's two collect ablations: $(echo "$plan" | grep bin/report)"
+for v in collect-ablation collect-ablation-2; do
+  plans "bin/score --tiles $tmp/out/openset/tiles/tiles-$v.txt .*-o $tmp/res/openset/$v/score.json" ||
+    fail "the open set's default does not plan $v's score"
+done
+plan=$("${sa[@]}" -n all OPENSET=1 OPENSET_SEEDS=1 OPENSET_COVERS=light OPENSET_CROPS=0 OPENSET_COLLECT_ABLATION_2= 2>&1)
+if plans "collect-ablation-2"; then fail "OPENSET_COLLECT_ABLATION_2= still plans collect-ablation-2"; fi
+plans "bin/score --tiles $tmp/out/openset/tiles/tiles-collect-ablation.txt" || fail "OPENSET_COLLECT_ABLATION_2= drops the first"
 # COLLECT_CALIBRATION emptied (the ablation): collect and the score, not detect, the plan,
 # classify, the model chain nor the render; a dry run writes nothing.
 plan=$("${sc[@]}" -n scenes COLLECT_CALIBRATION= 2>&1)

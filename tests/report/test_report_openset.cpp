@@ -198,6 +198,48 @@ TEST_CASE("open set: collect's ablation (the model answer first) is its own subs
   CHECK(tiles_only.find("single-vehicle crops") == std::string::npos);
 }
 
+TEST_CASE("open set: each collect ablation is headed by what its options turn off") {
+  const documents::SceneScore crops = crops_score({"car"}, 4, 0, 5, 2, 9, 5);
+  documents::SceneScore tiles;
+  const std::string first_heading =
+      "### Ablation: the model answer first (`collect --contradicted-below 0 --refused-below 0`)";
+  const std::string class_heading =
+      "### Ablation: the sixth round's contradiction by class (`collect --contradiction-level class`)";
+  // The list's first entry (commas, as mk/openset.mk passes it) is the section without options,
+  // byte for byte; in either order, or separated by spaces, the same.
+  const std::string none =
+      report::openset_collect_ablation_markdown(tiles, "c1/score.json", &crops, "c1/crops.json");
+  for (const char* o : {"--contradicted-below=0,--refused-below=0", "--refused-below=0,--contradicted-below=0",
+                        "--contradicted-below=0 --refused-below=0"})
+    CHECK(report::openset_collect_ablation_markdown(tiles, "c1/score.json", &crops, "c1/crops.json", o) == none);
+  // The second: the contradiction by class, pointing to the thirteenth round, with its own paths.
+  const std::string second = report::openset_collect_ablation_markdown(
+      tiles, "c2/score.json", &crops, "c2/crops.json", "--contradiction-level=class");
+  CHECK(second.find(class_heading) != std::string::npos);
+  CHECK(second.find(first_heading) == std::string::npos);
+  CHECK(second.find("`collect --contradiction-level group`, docs/decisions/open-set.md, thirteenth round") !=
+        std::string::npos);
+  CHECK(second.find("(c2/score.json, c2/crops.json)") != std::string::npos);
+  CHECK(second.find("| car | 10 | 9 (4 + 5) | 9/10 = 90.0% [59.6, 98.2] | 5/9 = 55.6% [26.7, 81.1] |") !=
+        std::string::npos);
+  // Two sections, one per ablation, as main writes them in the list's order.
+  const std::string both = none + second;
+  CHECK(both.find(first_heading) < both.find(class_heading));
+  // Any other options: the heading names them as collect takes them.
+  const std::string other = report::openset_collect_ablation_markdown(tiles, "c3/score.json", nullptr, "",
+                                                                      "--contradicted-below=0.3");
+  CHECK(other.find("### Ablation: collect's options `collect --contradicted-below 0.3`") != std::string::npos);
+  CHECK(other.find("model answer first") == std::string::npos);
+  // Options text that is not collect options (a value not joined by "=") is a usage error naming
+  // the flag.
+  CHECK(report::collect_ablation_options("--a=1,--b=2 --c") ==
+        std::vector<std::string>{"--a", "1", "--b", "2", "--c"});
+  CHECK_THROWS_AS(report::collect_ablation_options("--a=1,class"), common::UsageError);
+  CHECK_THROWS_AS(report::collect_ablation_options("--contradiction-level class"), common::UsageError);
+  CHECK_THROWS_WITH(report::collect_ablation_options("--a=1,class"),
+                    Catch::Contains("--openset-collect-ablation-options: \"class\""));
+}
+
 TEST_CASE("open set: the envelope's own ablation is a subsection of its own") {
   // 10 cars, 7 found (3 + 4), 7 of them the right class. Wilson: 7/10 [39.7, 89.2], 7/7 [64.6,
   // 100.0], 7/10 [39.7, 89.2], 0/7 [0.0, 35.4].

@@ -154,6 +154,15 @@ std::string openset_ablation_section(std::string (*markdown)(const documents::Sc
   return markdown(documents::read_scene_score_file(tiles), tiles, c ? &*c : nullptr, crops);
 }
 
+// An open-set collect ablation's subsection from its tiles' score.json, its crops' when given and
+// its options (report's openset_collect_ablation_markdown).
+std::string openset_collect_ablation_section(const std::string& tiles, const std::string& crops,
+                                             const std::string& options) {
+  const std::optional<documents::SceneScore> c = optional_score(crops);
+  return report::openset_collect_ablation_markdown(documents::read_scene_score_file(tiles), tiles,
+                                                   c ? &*c : nullptr, crops, options);
+}
+
 // A classify ablation of the scene experiment (--tile-classify-ablation[-2] and its -config).
 struct ClassifyAblationArgs {
   std::string score, config;
@@ -247,7 +256,10 @@ std::string density_section(const std::vector<documents::ManifestDensity>& densi
 struct Sources {
   std::string manifest, results = "results";
   std::string thesis;  // default: <share>/thesis/results.csv
-  std::string openset_collect_ablation, openset_crops_collect_ablation, tile_collect_ablation;
+  std::string tile_collect_ablation;
+  // the open set's collect ablations in order: each one's score.json, options and crops' score.json
+  std::vector<std::string> openset_collect_ablations, openset_collect_ablation_options,
+      openset_crops_collect_ablations;
   std::vector<ClassifyAblationArgs> tile_classify_ablations = std::vector<ClassifyAblationArgs>(2);
   std::string openset_envelope_ablation, openset_crops_envelope_ablation;
   std::string openset_family_ablation, openset_crops_family_ablation;
@@ -255,6 +267,27 @@ struct Sources {
       openset_crops_ablation;
   int real_timeout = 0;
 };
+
+// The open set's collect ablations' options: each needs --openset; the crops' and the options,
+// when given, one per ablation (the options may be left out for a single one); every options
+// text is collect options.
+void check_collect_ablations(const Sources& src) {
+  const std::size_t n = src.openset_collect_ablations.size();
+  if (n > 0 && src.openset.empty()) throw common::UsageError("--openset-collect-ablation needs --openset");
+  if (n == 0 && !src.openset_crops_collect_ablations.empty())
+    throw common::UsageError("--openset-crops-collect-ablation needs --openset-collect-ablation");
+  if (n == 0 && !src.openset_collect_ablation_options.empty())
+    throw common::UsageError("--openset-collect-ablation-options needs --openset-collect-ablation");
+  const auto count = [&](const std::vector<std::string>& v, const std::string& option, bool optional_one) {
+    if (v.empty() && (optional_one ? n <= 1 : true)) return;
+    if (v.size() != n)
+      throw common::UsageError(option + " given " + std::to_string(v.size()) +
+                               " times: one per --openset-collect-ablation (" + std::to_string(n) + ")");
+  };
+  count(src.openset_crops_collect_ablations, "--openset-crops-collect-ablation", false);
+  count(src.openset_collect_ablation_options, "--openset-collect-ablation-options", true);
+  for (const std::string& o : src.openset_collect_ablation_options) report::collect_ablation_options(o);
+}
 
 void bind(common::Tool& tool, Sources& src, report::Params& p) {
   tool.add("--manifest", &src.manifest,
@@ -312,12 +345,22 @@ void bind(common::Tool& tool, Sources& src, report::Params& p) {
            "open set's beside the default");
   tool.add("--openset-crops-family-ablation", &src.openset_crops_family_ablation,
            "the same ablation's score.json on the single-vehicle crops (with --openset-family-ablation)");
-  tool.add("--openset-collect-ablation", &src.openset_collect_ablation,
-           "the open set's collect ablation's score.json (mk/openset.mk: the model answer first, "
-           "collect --contradicted-below 0 --refused-below 0): a subsection of the open set's beside the "
-           "default");
-  tool.add("--openset-crops-collect-ablation", &src.openset_crops_collect_ablation,
-           "the same ablation's score.json on the single-vehicle crops (with --openset-collect-ablation)");
+  tool.add("--openset-collect-ablation", &src.openset_collect_ablations,
+           "an open-set collect ablation's score.json (mk/openset.mk OPENSET_COLLECT_ABLATIONS: the same "
+           "verdicts and class answers collected with other options): a subsection of the open set's beside "
+           "the default, named by what --openset-collect-ablation-options turn off; repeated, one subsection "
+           "each in order")
+      ->allow_extra_args(false);
+  tool.add("--openset-collect-ablation-options", &src.openset_collect_ablation_options,
+           "the collect options of each --openset-collect-ablation, in the same order (the list's entry: "
+           "--name=value options joined by commas, given as --openset-collect-ablation-options=ENTRY); "
+           "without it a single --openset-collect-ablation is the model answer first "
+           "(--contradicted-below=0,--refused-below=0)")
+      ->allow_extra_args(false);
+  tool.add("--openset-crops-collect-ablation", &src.openset_crops_collect_ablations,
+           "the same ablation's score.json on the single-vehicle crops: none, or one per "
+           "--openset-collect-ablation in the same order")
+      ->allow_extra_args(false);
   tool.add("--openset-distances", &src.openset_distances,
            "the vehicle library's distances.csv (scripts/vehicles/distance.py): the open set's nearest "
            "modelbase instances and instance accuracy");
@@ -368,9 +411,7 @@ int main(int argc, char** argv) {
     needs(src.openset_family_ablation, "--openset-family-ablation", src.openset, "--openset");
     needs(src.openset_crops_family_ablation, "--openset-crops-family-ablation", src.openset_family_ablation,
           "--openset-family-ablation");
-    needs(src.openset_collect_ablation, "--openset-collect-ablation", src.openset, "--openset");
-    needs(src.openset_crops_collect_ablation, "--openset-crops-collect-ablation",
-          src.openset_collect_ablation, "--openset-collect-ablation");
+    check_collect_ablations(src);
     common::log::Phase phase("read");
     const documents::ExperimentManifest manifest = documents::read_experiment_manifest(src.manifest);
     const report::Inputs in = read_inputs(manifest, src.thesis);
@@ -409,9 +450,11 @@ int main(int argc, char** argv) {
       if (!src.openset_family_ablation.empty())
         markdown += openset_ablation_section(report::openset_family_ablation_markdown,
                                              src.openset_family_ablation, src.openset_crops_family_ablation);
-      if (!src.openset_collect_ablation.empty())
-        markdown += openset_ablation_section(report::openset_collect_ablation_markdown,
-                                             src.openset_collect_ablation, src.openset_crops_collect_ablation);
+      for (std::size_t k = 0; k < src.openset_collect_ablations.size(); ++k)
+        markdown += openset_collect_ablation_section(
+            src.openset_collect_ablations[k],
+            src.openset_crops_collect_ablations.empty() ? "" : src.openset_crops_collect_ablations[k],
+            src.openset_collect_ablation_options.empty() ? "" : src.openset_collect_ablation_options[k]);
     }
     if (!src.disk.empty())
       markdown += report::disk_markdown(report::disk_parts(src.disk, manifest.objects), src.disk);

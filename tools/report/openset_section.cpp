@@ -3,6 +3,7 @@
 #include <cstdlib>
 #include <map>
 #include <sstream>
+#include <vector>
 
 #include "canopy/common/error.h"
 #include "canopy/common/units.h"
@@ -246,18 +247,61 @@ std::string openset_family_ablation_markdown(const documents::SceneScore& tiles,
       tiles, tiles_path, crops, crops_path);
 }
 
+std::vector<std::string> collect_ablation_options(const std::string& options) {
+  std::vector<std::string> words;
+  std::string word;
+  const auto flush = [&] {
+    if (word.empty()) return;
+    if (word.rfind("--", 0) != 0 || word.size() < 3)
+      throw common::UsageError("--openset-collect-ablation-options: \"" + word +
+                               "\" is not a collect option (--name or --name=value)");
+    const std::size_t eq = word.find('=');
+    words.push_back(word.substr(0, eq));
+    if (eq != std::string::npos) words.push_back(word.substr(eq + 1));
+    word.clear();
+  };
+  for (const char c : options) {
+    if (c == ',' || c == ' ' || c == '\t' || c == '\n')
+      flush();
+    else
+      word += c;
+  }
+  flush();
+  return words;
+}
+
 std::string openset_collect_ablation_markdown(const documents::SceneScore& tiles,
                                               const std::string& tiles_path, const documents::SceneScore* crops,
-                                              const std::string& crops_path) {
-  return ablation_markdown(
-      "Ablation: the model answer first (`collect --contradicted-below 0 --refused-below 0`)",
-      "By default a model answer of verify's with a confidence below 0.5 whose class classify's class "
-      "answer contradicts gives way to classify's answer (`collect --contradicted-below`, "
-      "docs/decisions/open-set.md, sixth round), and one below 0.8 that classify refused on its shape or "
-      "surface gives way to that refusal (`collect --refused-below`, seventh round); this is the same "
-      "verdicts and class answers collected with the model answer always first, as before, and scored "
-      "the same way",
-      tiles, tiles_path, crops, crops_path);
+                                              const std::string& crops_path, const std::string& options) {
+  const std::vector<std::string> words = collect_ablation_options(options);
+  std::string shown;  // the options as collect takes them on its command line
+  for (const std::string& w : words) shown += " " + w;
+  const std::vector<std::string> model_first = {"--contradicted-below", "0", "--refused-below", "0"};
+  const std::vector<std::string> model_first_swapped = {"--refused-below", "0", "--contradicted-below", "0"};
+  if (words.empty() || words == model_first || words == model_first_swapped)
+    return ablation_markdown(
+        "Ablation: the model answer first (`collect --contradicted-below 0 --refused-below 0`)",
+        "By default a model answer of verify's with a confidence below 0.5 whose class classify's class "
+        "answer contradicts gives way to classify's answer (`collect --contradicted-below`, "
+        "docs/decisions/open-set.md, sixth round), and one below 0.8 that classify refused on its shape or "
+        "surface gives way to that refusal (`collect --refused-below`, seventh round); this is the same "
+        "verdicts and class answers collected with the model answer always first, as before, and scored "
+        "the same way",
+        tiles, tiles_path, crops, crops_path);
+  if (words == std::vector<std::string>{"--contradiction-level", "class"})
+    return ablation_markdown(
+        "Ablation: the sixth round's contradiction by class (`collect --contradiction-level class`)",
+        "By default classify's class answer contradicts a doubtful model answer of verify's (below "
+        "`collect --contradicted-below`) only when the two classes lie in different groups (`collect "
+        "--contradiction-level group`, docs/decisions/open-set.md, thirteenth round): verify's pickup for "
+        "a car that classify answers `car`, or a tank for a tracked APC, stands. This is the same verdicts "
+        "and class answers collected with any other class contradicting, as from the sixth round until "
+        "the thirteenth, and scored the same way",
+        tiles, tiles_path, crops, crops_path);
+  return ablation_markdown("Ablation: collect's options `collect" + shown + "`",
+                           "The same verdicts and class answers collected with `collect" + shown +
+                               "` (mk/openset.mk `OPENSET_COLLECT_ABLATIONS`) and scored the same way",
+                           tiles, tiles_path, crops, crops_path);
 }
 
 }  // namespace canopy::report

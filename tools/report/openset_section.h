@@ -66,10 +66,18 @@ std::string openset_envelope_ablation_markdown(const documents::SceneScore& tile
 std::string openset_family_ablation_markdown(const documents::SceneScore& tiles, const std::string& tiles_path,
                                              const documents::SceneScore* crops = nullptr,
                                              const std::string& crops_path = "");
-// The ablation of collect's defaults (--contradicted-below 0 --refused-below 0: verify's model
-// answer first, whatever its confidence) on the same verdicts and class answers, in the same form.
+// collect's options of an open-set collect ablation (an entry of mk/openset.mk
+// OPENSET_COLLECT_ABLATIONS: --name=value options separated by commas or spaces) as collect's
+// command line words ("--contradicted-below", "0", ...). Throws common::UsageError naming
+// --openset-collect-ablation-options for a word that is not an option.
+std::vector<std::string> collect_ablation_options(const std::string& options);
+// An ablation of collect's defaults on the same verdicts and class answers, in the same form, its
+// heading and paragraph from what its options turn off: none or --contradicted-below=0
+// --refused-below=0, verify's model answer first, whatever its confidence; --contradiction-level=class,
+// the contradiction by class before the thirteenth round; any other, its options.
 std::string openset_collect_ablation_markdown(const documents::SceneScore& tiles, const std::string& tiles_path,
                                               const documents::SceneScore* crops = nullptr,
-                                              const std::string& crops_path = "");
+                                              const std::string& crops_path = "",
+                                              const std::string& options = "");
 
 }  // namespace canopy::report
