@@ -221,6 +221,10 @@ struct Params {
   // side boards, an open box's walls above its floor; a car's or van's roof is highest across its
   // middle) is not_vehicle_shape (classify.md §38; 0: off, before; Params and classify.ini).
   double max_rim = 0;
+  // A top whose bed (Features::bed) is at least min_bed (an open bed behind a cab) is no car- or
+  // van-group class but a pickup: those classes are left out of its choice, as a flat box leaves
+  // all but the box-truck and the bus (classify.md §39; 0: off, before).
+  double min_bed = 0;
   double plateau_split = 0.6;    // plateau share between a minor and a long plateau
   double tail_split = 0.75;      // higher end's level (share of H) between dropping and staying up
   double profile_penalty = 1.5;  // added to a class's size distance when the profile contradicts it
@@ -364,6 +368,17 @@ struct Features {
   // corner or a neighbour, is no rim). Unset under kShoulderPoints points on either side or in the
   // centre band.
   std::optional<double> rim;
+  // The bed (classify.md §39): at each end, over kBedFrom to kBedTo of the length from it, in the
+  // rim's bands: walls = the lower side's 0.9 quantile of its points' heights over the higher of the
+  // two centre points on either side of each along the length (a bed's walls over its floor; a
+  // bonnet's or windscreen's slope, as high at the sides as in the middle, never stands over those),
+  // under = H less the higher side's 0.9 quantile of its heights (the walls under the cab's roof);
+  // the smaller of the two over H, at the end where it is larger. A pickup's open bed behind its
+  // cab: both > 0 (its walls 0.3-0.5 m over its floor, 0.5-0.7 m under its roof); a car's or van's
+  // end is a bonnet, boot or roof as high in its middle as at its sides (walls <= 0), a flatbed's
+  // boards are its top (under = 0). Unset under kShoulderPoints centre points, or side points with
+  // centre points on both sides of them, at both ends.
+  std::optional<double> bed;
   double top_roughness = 0;   // median |interior cell top - the plane of its 3 x 3 cells' tops| (m)
   std::size_t top_cells = 0;  // interior cells with enough neighbours for it
   // Median over the interior cells of the smallest |top - the line through its nearest occupied

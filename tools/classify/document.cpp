@@ -41,6 +41,7 @@ std::vector<ClassFeature> features_of(const Features& f) {
                                 number("tip_level", f.tip_level),
                                 optional("shoulder", f.shoulder),
                                 optional("rim", f.rim),
+                                optional("bed", f.bed),
                                 number("top_roughness", f.top_roughness),
                                 count("top_cells", f.top_cells),
                                 number("top_roughness_line", f.top_roughness_line),

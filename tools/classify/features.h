@@ -185,7 +185,7 @@ constexpr double kGapGround = 0.25;
 
 // The outline cues (classify.md §16) of the object's points `q` in its rectangle's frame (x along
 // the long axis from 0 to length_measured, y across from its middle, z the height): notch,
-// dents, tip_width, tip_level, shoulder (§30), rim (§38). Needs f's measured size and spacing.
+// dents, tip_width, tip_level, shoulder (§30), rim (§38), bed (§39). Needs f's measured size and spacing.
 void outline_cues(const std::vector<Eigen::Vector3d>& q, Features& f);
 // A dent: a run of the profile at least this far (share of H) under its upper hull.
 constexpr double kDentDepth = 0.05;
@@ -200,6 +200,10 @@ constexpr std::size_t kShoulderPoints = 4;
 // the shoulder band's mirror), over the same length; kShoulderPoints in it and on each side of the
 // shoulder's band, or no rim.
 constexpr double kRimCentre = 1 - kShoulderBand;
+// The bed's window at each end (classify.md §39): from kBedFrom to kBedTo of the length from that
+// end (a pickup's bed is its rear 0.3-0.6 of the length; its tailgate lies before kBedFrom).
+constexpr double kBedFrom = 0.05;
+constexpr double kBedTo = 0.27;
 
 // Points under the object inside its footprint, point by point (a crown lets pulses through
 // and holds returns at every depth; a roof holds none under it). Interior = at least `inset`

@@ -151,6 +151,10 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
            "a car- or van-group answer whose sides, in the middle of its length, stand more than this share "
            "of its height above its centre (an open top: a flatbed's side boards, an open box's walls; a "
            "car's or van's roof is highest across its middle): not_vehicle_shape (0: off; classify.md §38)");
+  tool.add("--min-bed", &p.min_bed,
+           "a top whose bed is at least this share of its height (at an end, its sides stand over its "
+           "centre and under its top: a pickup's open bed behind its cab) is answered no car- or van-group "
+           "class but a pickup (0: off; classify.md §39)");
   tool.add("--rectangularity-notch", &p.rectangularity_notch,
            "see --min-rectangularity: only an answer whose top's profile lies within this (share of H) of "
            "its upper hull is refused (a stepped car is kept; 1: the outline alone)");
