@@ -3174,6 +3174,12 @@ TEST_CASE("the ladders' fourth classify ablation is classify-sim.ini with the op
                      {{"max-rim", {"0.05", "0"}}});
 }
 
+TEST_CASE("the bed's ablation is classify-sim.ini with the bed off") {
+  // classify.md §39: the open set's and the ladders' ablation of --min-bed (its hook the lead's).
+  check_ablation_ini("share/params/classify-sim.ini", "bench/density/classify-sim-bed-0.ini",
+                     {{"min-bed", {"0.1", "0"}}});
+}
+
 TEST_CASE(
     "classify: --fill-tile-ground measures fill against the tile's open ground where the crop has none") {
   // Under closed canopy the crop holds no ground around the object, so fill (its points per m²
