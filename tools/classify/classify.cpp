@@ -594,7 +594,6 @@ void validate(const Params& p) {
   need(p.bridge >= 0 && p.bridge <= 3, "--bridge must be in [0, 3 m]");
   need(p.bridge_length > 0 && p.bridge_length <= 20, "--bridge-length must be in (0, 20 m]");
   need(p.bridge_min_share >= 0 && p.bridge_min_share <= 1, "--bridge-min-share must be in [0, 1]");
-  need(p.cut_low_parts >= 0 && p.cut_low_parts <= 1, "--cut-low-parts must be in [0, 1]");
   need(p.min_points >= 3, "--min-points must be at least 3");
   need(p.min_density >= 0 && std::isfinite(p.min_density), "--min-density must be >= 0");
   need(p.edge_factor >= 0 && p.edge_factor <= 5, "--edge-factor must be in [0, 5]");

@@ -67,24 +67,6 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
       "where the crop has too little open ground to measure fill (closed canopy), measure it against "
       "the tile's open-ground density (--index's density.ground; none there, or false: fill unmeasured, no "
       "refusal)");
-  tool.add("--cut-low-parts", &p.cut_low_parts,
-           "drop from the object a part beyond a gap along its long axis where the ground came back (open "
-           "ground, not a vehicle's glass) whose top is at most this share of the rest's top (a neighbour's "
-           "bonnet, a low wall, a hedge; 0: off)");
-  tool.add("--detect-object", &p.detect_object,
-           "true or false: with a candidate crop that carries detect's field `object` (detect "
-           "--object-field), leave out of the object every point above the ground cut that detect gave "
-           "to another object or piece (2: a neighbour's bonnet, a planter, a hedge), before the "
-           "clustering; a crop without the field: as false");
-  tool.add("--detect-object-box", &p.detect_object_box,
-           "true or false: --detect-object leaves out only the 2s outside the top-view box of detect's "
-           "own object (its 1s); those inside it stay");
-  tool.add("--detect-trim", &p.detect_trim,
-           "true or false: with a candidate crop that carries detect's field `object` (detect "
-           "--object-field), leave out of the object every point above the ground cut that detect's trim "
-           "to one roof cut off the candidate's object (3: the trim's leftover, the low thing beside the "
-           "vehicle), before the clustering; detect's other pieces (2) stay; a crop without the field: as "
-           "false");
   tool.add("--bridge-min-share", &p.bridge_min_share,
            "--bridge joins only a cluster holding at least this share of the object's points (0: any)");
   tool.add("--max-echo-widening", &p.max_echo_widening,
