@@ -349,9 +349,9 @@ double profile_difference(const TableRange& k, const Features& f) {
 // The bed's sentence (§39): why the car and van groups' classes other than the pickup were left out.
 std::string bed_reason(const Features& f, const Params& p) {
   return fmt(
-      "an open bed behind a cab: at an end its sides stand above its centre and under its top by %.0f%% "
-      "of its height or more (a pickup; a car's or van's end is as high in its middle as at its "
-      "sides: >= %.0f%% is no car or van but a pickup)",
+      "an open bed behind a cab: at an end its sides stand %.0f%% of its height or more above its "
+      "centre and below its top (a pickup's bed walls; a car's or van's end is as high in its middle "
+      "as at its sides: from %.0f%% no car or van but a pickup)",
       100 * *f.bed, 100 * p.min_bed);
 }
 
