@@ -1013,6 +1013,161 @@ TEST_CASE(
   CHECK(sparse_rims >= 1);
 }
 
+// A double-cab pickup the size of the open set's unseen Ford Ranger (5.27 x 2.09 x 1.81 m), 5.3 m
+// long: a bonnet at 1.1 m over its front 1.3 m, a windscreen up to a cab roof 1.81 m high (its edges
+// 1.5 m), mirrors (1.2 m high) beside the windscreen's foot standing out to 2.09 m, and behind the
+// cab an open bed 1.7 m long: floor 0.85 m, front wall, side walls (0.1 m wide) and tailgate 1.25 m.
+double ranger_top(double x, double y) {
+  if (std::abs(x) > 2.65 || std::abs(y) > 1.045) return -1;
+  if (std::abs(y) > 0.93) return x > 0.9 && x < 1.25 ? 1.2 : -1;  // the mirrors
+  if (x > 1.35) return 1.1;
+  if (x > 0.85) return 1.81 - 0.71 * (x - 0.85) / 0.5;
+  if (x > -0.9) return std::abs(y) < 0.8 ? 1.81 : 1.5;
+  return std::abs(y) > 0.83 || x > -1.0 || x < -2.55 ? 1.25 : 0.85;
+}
+
+// An SUV, 4.7 x 1.9 m: a bonnet at 1.05 m over its front 0.9 m, a windscreen up to a 1.75 m roof
+// to the tail (its edges 1.45 m, the tailgate's top sloping to 1.6 m), roof rails 0.05 m over it at
+// |y| = 0.6-0.65 m (families.cpp's).
+double suv_top(double x, double y) {
+  if (std::abs(x) > 2.35 || std::abs(y) > 0.95) return -1;
+  if (x > 1.45) return 1.05;
+  if (x > 0.85) return 1.75 - 0.7 * (x - 0.85) / 0.6;
+  if (x < -2.25) return 1.6;
+  if (std::abs(y) > 0.8) return 1.45;
+  return std::abs(y) > 0.6 && std::abs(y) < 0.65 && x > -2.0 && x < 0.7 ? 1.8 : 1.75;
+}
+
+// A cab-chassis with a flat tray (a flatbed), 5.3 x 1.9 m: pickup_top's front and cab, behind it a
+// flat deck at 1.0 m over the full width, no sides.
+double tray_top(double x, double y) {
+  if (std::abs(x) > 2.65 || std::abs(y) > 0.95) return -1;
+  return x > 0 ? pickup_top(x, y) : 1.0;
+}
+
+TEST_CASE(
+    "classify: bed: a pickup's open bed behind its cab; no car's, SUV's, van's, tray's or flatbed's end") {
+  // Sampled at 25, 100 and 400 points/m² (the open set's tiles and crops: 700-2 700), 4 draws each.
+  // At each end over 0.05-0.27 of the length: the pickups' bed walls stand over their floors by 0.35 m
+  // (pickup_top, H 1.8 m: 0.19) and 0.40 m (ranger_top, H 1.81 m: 0.22), under their cab roofs by 0.70 and
+  // 0.56 m; the car's boot and bonnet, the SUV's roof and bonnet (its rails are in the middle of its length),
+  // the van's roof and bonnet, the tray's deck are as high in the middle as at the sides (<= 0); the
+  // flatbed's boards are its top (under = 0) and reach into an end's window by 0.3 m only.
+  // classify-sim.ini's gates (a pickup's cab is a short plateau: min-plateau 0).
+  classify::Params sim;
+  sim.roughness_floor = 0.12;
+  sim.min_plateau = 0;
+  sim.min_rectangularity = kRectangularity;
+  sim.rectangularity_sampled = true;
+  sim.min_shoulder = 0.58;
+  sim.max_rim = 0.05;
+  sim.entry_profile = 0.2;
+  classify::Params on = sim;
+  on.min_bed = 0.1;
+  // The open set's table (open-set.md, eleventh and twelfth rounds): the modelbase's classes only,
+  // the envelope of its four car entries (which keep the car group's families, the pickup's among
+  // them), a van envelope, one pickup entry (gz_pickup, 2.47 m wide with its mirrors: no envelope).
+  classify::Params open = sim;
+  open.modelbase_classes_only = true;
+  open.class_envelope = 0.05;
+  open.family_entries = 2;
+  const std::vector<classify::ModelEntry> mb = {{"patrol", "car", {5.33, 2.34, 1.88}, std::nullopt},
+                                                {"hatchback", "car", {3.98, 1.90, 1.55}, std::nullopt},
+                                                {"prius", "car", {4.63, 1.84, 1.50}, std::nullopt},
+                                                {"sedan", "car", {3.87, 1.63, 1.29}, std::nullopt},
+                                                {"uaz-bus", "van", {4.5, 2.2, 2.21}, std::nullopt},
+                                                {"microbus", "van", {4.34, 1.99, 1.96}, std::nullopt},
+                                                {"gz_pickup", "pickup", {5.67, 2.47, 1.87}, std::nullopt}};
+  classify::Params open_on = open;
+  open_on.min_bed = 0.1;
+  int pickups = 0, open_pickups = 0, unset = 0, sparse_beds = 0;
+  for (const double density : {25.0, 100.0, 400.0}) {
+    for (std::uint64_t k = 0; k < 4; ++k) {
+      const double heading = (25.0 + 43.0 * static_cast<double>(k)) * kDeg;
+      const std::uint64_t seed = 110 + k;
+      INFO(density << " points/m2, draw " << k);
+      using Case = std::tuple<const char*, Top, double, double, bool>;
+      for (const auto& [name, top, hl, hw, pickup] :
+           {Case{"pickup", pickup_top, 2.65, 0.95, true}, Case{"ranger", ranger_top, 2.65, 1.045, true},
+            Case{"car", car_top, 2.3, 0.9, false}, Case{"suv", suv_top, 2.35, 0.95, false},
+            Case{"van", van_top, 2.75, 1.0, false}, Case{"tray", tray_top, 2.65, 0.95, false},
+            Case{"flatbed", boarded_deck_top, 2.6, 1.0, false}}) {
+        const formats::PointCloud cloud = sample(top, hl, hw, heading, density, seed).cloud;
+        const classify::Answer off = classify::run(sim, {cloud, "o.pcd", {}});
+        INFO(name << ": " << off.cls << " " << off.reason << " " << off.detail);
+        // Unset only at 25 points/m² (under 4 side points with centre points on both sides of them
+        // along the length).
+        CHECK((off.features.bed || density < 50));
+        unset += !off.features.bed;
+        if (off.features.bed && pickup) {
+          INFO("bed " << *off.features.bed);
+          // At 25 points/m² a side holds about 5 points in the window, 1-2 of them on a wall's top
+          // (0.07-0.1 m wide): its 0.9 quantile may lie between the floor's level and the wall's.
+          CHECK(*off.features.bed > (density < 50 ? 0.05 : 0.14));
+          CHECK(*off.features.bed < 0.26);
+          sparse_beds += density < 50 && *off.features.bed >= on.min_bed;
+        } else if (off.features.bed) {
+          INFO("bed " << *off.features.bed);
+          CHECK(*off.features.bed < 0.05);
+        }
+        // The cue on: a bed leaves out every car- and van-group class but the pickup; nothing else
+        // changes.
+        const classify::Answer a = classify::run(on, {cloud, "o.pcd", {}});
+        INFO("on: " << a.cls << " " << a.reason << " " << a.detail);
+        if (pickup && (off.group == "car" || off.group == "van")) {
+          CHECK(a.cls == "pickup");
+          pickups += off.cls != "pickup";
+        } else {
+          CHECK(a.cls == off.cls);
+          CHECK(a.reason == off.reason);
+          CHECK(a.detail == off.detail);
+        }
+        // The open set's table: a pickup whose size lies in the cars' envelope is answered car
+        // without the cue, the pickup entry's class with it.
+        const classify::Answer o = classify::run(open, {cloud, "o.pcd", mb});
+        const classify::Answer oa = classify::run(open_on, {cloud, "o.pcd", mb});
+        INFO("open set: " << o.cls << " " << o.detail << "; on: " << oa.cls << " " << oa.reason << " "
+                          << oa.detail);
+        if (pickup && (o.group == "car" || o.group == "van")) {
+          CHECK(oa.cls == "pickup");
+          if (o.cls != "pickup") {
+            CHECK(oa.detail.find("an open bed behind a cab") != std::string::npos);
+            ++open_pickups;
+          }
+        } else {
+          CHECK(oa.cls == o.cls);
+          CHECK(oa.reason == o.reason);
+        }
+      }
+    }
+  }
+  // The families' table answers them pickup already (their size and profile: a cab in the middle, a
+  // low tail), as the open set's does where the mirrors are not sampled; at 400 points/m² the
+  // Ranger's mirrors make it 2.07 m wide, outside the pickup family's 2.05 m and inside the cars'
+  // envelope: car without the cue (as the open set's Ranger on 6 of its 7 tiles), pickup with it.
+  INFO("pickups the cue moved: families " << pickups << ", open set " << open_pickups << "; beds unset "
+                                          << unset << ", at 25 points/m2 over 0.1 " << sparse_beds);
+  CHECK(open_pickups >= 4);
+  CHECK(unset <= 4);
+  CHECK(sparse_beds >= 5);
+  // With no pickup in the table (a modelbase of two SUVs: the suv family, the entries, their
+  // envelope) a bed leaves the car and van classes out: refused on its shape, naming the bed.
+  const std::vector<classify::ModelEntry> no_pickup = {{"x5", "suv", {4.9, 2.0, 1.75}, std::nullopt},
+                                                       {"rav4", "suv", {4.6, 1.85, 1.7}, std::nullopt}};
+  const formats::PointCloud ranger = sample(ranger_top, 2.65, 1.045, 30 * kDeg, 100, 120).cloud;
+  const classify::Answer off = classify::run(open, {ranger, "r.pcd", no_pickup});
+  const classify::Answer refused = classify::run(open_on, {ranger, "r.pcd", no_pickup});
+  INFO(off.cls << " " << off.detail << "; on: " << refused.reason << " " << refused.detail);
+  CHECK(off.group == "car");
+  CHECK(refused.cls.empty());
+  CHECK(refused.reason == "not_vehicle_shape");
+  CHECK(refused.refused_on == "shape");
+  CHECK(refused.detail.find("an open bed behind a cab") != std::string::npos);
+  // Out of range: a usage error naming the option.
+  on.min_bed = 1.5;
+  CHECK_THROWS_WITH(classify::validate(on), Catch::Contains("--min-bed"));
+}
+
 // The sedan's top (car_top) inside a plan outline with rounded corners of radius 0.35 m: a
 // car's top view, a rectangle whose corners are cut by (4 - pi) r² each (rectangularity 0.99).
 double rounded_car_top(double x, double y) {
@@ -1634,270 +1789,6 @@ TEST_CASE("classify: --bridge-min-share keeps a few stray returns of the bonnet 
   const classify::Answer part = classify::run(bridge_filled(false, 0.1), {kept, "stray.pcd", {}});
   CHECK(part.features.object_points == object);
   CHECK(part.features.length_measured == Approx(3.2).margin(0.1));
-}
-
-namespace {
-
-// The sedan of car_top (x in [-2.3, 2.3]) and, beyond 0.4 m of open ground in front of its bumper,
-// a low box (a neighbour's boot, a low wall, a hedge) 0.8 m high over x in [2.7, 3.9], as wide as
-// the car; `glass` the sedan of glass_car_top instead (its windscreen returned nothing).
-Top car_and_low_box(double box_height, bool glass) {
-  return [box_height, glass](double x, double y) {
-    if (x >= 2.7 && x <= 3.9 && std::abs(y) <= 0.9) return box_height;
-    return glass ? glass_car_top(x, y) : car_top(x, y);
-  };
-}
-
-classify::Params cut_low(double share, double bridge = 0) {
-  classify::Params p;
-  p.cut_low_parts = share;
-  p.bridge = bridge;
-  p.bridge_min_share = bridge > 0 ? 0.1 : 0;
-  return p;
-}
-
-}  // namespace
-
-TEST_CASE("classify: --cut-low-parts ends the object at the open ground before a low box beyond the car") {
-  // At 8 and 10 points/m² (ahn3_delft_1's density) the link, 2.5 x 0.35 m and 2.5 x 0.32 m,
-  // mostly crosses the 0.4 m gap (at least 30 of 40 scenes): off (the ablation), the object is
-  // then car and box, 6.2 m. On, the box's top at 0.8 / 1.45 = 0.55 of the car's (at most 0.75)
-  // is cut off where the gap's strip returned at least the open ground's density: the object then
-  // ends at the gap, 4.6 m, exactly the car's points. The gap's ground is sampled as the open
-  // ground is, and the strip (from the last point of one side to the first of the other) is wider
-  // than the gap, so its count is under the open ground's more often than not: the rule cuts in
-  // 6 of these 36 joined scenes (classify.md §33: one reason it was not adopted). Asserted: every
-  // cut is exactly the box, it cuts at least 3 times, and not every time.
-  std::size_t cuts = 0, scenes = 0;
-  for (const double density : {8.0, 10.0}) {
-    for (std::uint64_t seed = 61; seed < 81; ++seed) {
-      const Sampled s = sample(car_and_low_box(0.8, false), 3.9, 0.9, 0, density, seed);
-      std::size_t car = 0;
-      const auto& x = s.cloud.col("x");
-      const auto& z = s.cloud.col("z");
-      for (std::size_t i = 0; i < x.size(); ++i) car += z[i] >= 0.3 && x[i] < 2.5;
-      INFO(density << " points/m2, seed " << seed << ": car " << car << " of " << s.object);
-      REQUIRE(car < s.object);
-      const classify::Answer off = classify::run(cut_low(0), {s.cloud, "low.pcd", {}});
-      CHECK(off.features.low_cut_points == 0);
-      if (off.features.object_points != s.object) {  // the sampled gap wider than the link
-        CHECK(off.features.object_points == car);
-        continue;
-      }
-      CHECK(off.features.length_measured > 5.5);
-      ++scenes;
-      // With the gap bridge (classify.ini's) the same: it runs first and joins nothing here.
-      for (const double bridge : {0.0, 1.0}) {
-        INFO("bridge " << bridge);
-        const classify::Answer on = classify::run(cut_low(0.75, bridge), {s.cloud, "low.pcd", {}});
-        if (on.features.low_cut_points == 0) {
-          CHECK(on.features.object_points == s.object);
-          continue;
-        }
-        CHECK(on.features.object_points == car);
-        CHECK(on.features.low_cut_points == s.object - car);
-        CHECK(on.features.length_measured == Approx(4.6).margin(0.3));
-        cuts += bridge == 0;
-      }
-    }
-  }
-  CHECK(scenes >= 30);
-  INFO("cuts " << cuts << " of " << scenes);
-  CHECK(cuts >= 3);
-  CHECK(cuts < scenes);
-}
-
-TEST_CASE(
-    "classify: --cut-low-parts keeps a bonnet beyond the glass and a car-high part beyond open ground") {
-  for (const double density : {10.0, 25.0, 50.0}) {
-    INFO(density << " points/m2");
-    // The windscreen returned nothing, not even the ground (classify.md §21): the bonnet beyond it
-    // (0.95 of 1.45 m) is the car's own; with the bridge at 50 points/m² the object is the whole car.
-    const Sampled glass = sample(glass_car_top, 2.3, 0.9, 0, density, 64);
-    const classify::Answer off = classify::run(cut_low(0, 1.0), {glass.cloud, "glass.pcd", {}});
-    const classify::Answer on = classify::run(cut_low(0.75, 1.0), {glass.cloud, "glass.pcd", {}});
-    CHECK(on.features.object_points == off.features.object_points);
-    CHECK(on.features.object_points == glass.object);
-    CHECK(on.features.low_cut_points == 0);
-    if (density > 10) continue;  // at 25 points/m² the link (0.5 m) no longer reaches across the gap
-    // A part as high as the car's roof beyond the same open ground (another car, detect's job) is
-    // not "low": it stays.
-    const Sampled high = sample(car_and_low_box(1.4, false), 3.9, 0.9, 0, density, 65);
-    const classify::Answer both = classify::run(cut_low(0.75), {high.cloud, "high.pcd", {}});
-    CHECK(both.features.object_points == high.object);
-    CHECK(both.features.low_cut_points == 0);
-  }
-}
-
-namespace {
-
-// detect's field `object` (detect --object-field) on a sampled crop: what `mark` says per point
-// (1 the candidate's object, 2 another object's, 3 a trim's leftover, 0 the rest).
-formats::PointCloud with_object_field(formats::PointCloud cloud,
-                                      const std::function<int(double, double, double)>& mark) {
-  const auto& x = cloud.col("x");
-  const auto& y = cloud.col("y");
-  const auto& z = cloud.col("z");
-  std::vector<double> o(x.size());
-  for (std::size_t i = 0; i < x.size(); ++i) o[i] = mark(x[i], y[i], z[i]);
-  cloud.add("object", formats::kUint8) = o;
-  return cloud;
-}
-
-classify::Params detect_object(bool on, double bridge, bool box = false) {
-  classify::Params p;
-  p.detect_object = on;
-  p.detect_object_box = box;
-  p.bridge = bridge;
-  p.bridge_min_share = bridge > 0 ? 0.1 : 0;
-  return p;
-}
-
-}  // namespace
-
-TEST_CASE(
-    "classify: --detect-object keeps the car alone where the link joins a low box detect gave to another") {
-  // car_and_low_box at 8 and 10 points/m² (§33's scene: the link crosses the 0.4 m gap in most
-  // scenes): detect's trim (detect.md §12) made the box an object of its own, so the car's crop
-  // marks the box 2 (the ground 0). Off, the object is car and box (> 5.5 m); on, exactly the car's points,
-  // with and without the gap bridge; the box's points are counted as context.
-  std::size_t joined = 0;
-  for (const double density : {8.0, 10.0}) {
-    for (std::uint64_t seed = 61; seed < 81; ++seed) {
-      const Sampled s = sample(car_and_low_box(0.8, false), 3.9, 0.9, 0, density, seed);
-      const formats::PointCloud crop = with_object_field(s.cloud, [](double x, double, double z) {
-        return z < 0.3 ? 0 : x < 2.5 ? 1 : 2;
-      });
-      std::size_t car = 0;
-      const auto& x = crop.col("x");
-      const auto& z = crop.col("z");
-      for (std::size_t i = 0; i < x.size(); ++i) car += z[i] >= 0.3 && x[i] < 2.5;
-      INFO(density << " points/m2, seed " << seed << ": car " << car << " of " << s.object);
-      REQUIRE(car < s.object);
-      const classify::Answer off = classify::run(detect_object(false, 1.0), {crop, "obj.pcd", {}});
-      CHECK(off.features.context_points == 0);
-      if (off.features.object_points == s.object) {
-        ++joined;
-        CHECK(off.features.length_measured > 5.5);
-      }
-      for (const double bridge : {0.0, 1.0}) {
-        INFO("bridge " << bridge);
-        const classify::Answer on = classify::run(detect_object(true, bridge), {crop, "obj.pcd", {}});
-        CHECK(on.features.object_points == car);
-        CHECK(on.features.context_points == s.object - car);
-        CHECK(on.features.length_measured > 3.9);  // the 4.6 m car's points at 8-10 points/m²
-        CHECK(on.features.length_measured < 4.7);
-      }
-      // --detect-object-box: the box lies beyond the car's own box, so it is left out too; 2s inside
-      // the car's box stay (here the car's middle, |x| < 1.8 m and |y| < 0.4 m, as if detect had given it
-      // to another piece).
-      const classify::Answer box = classify::run(detect_object(true, 1.0, true), {crop, "obj.pcd", {}});
-      CHECK(box.features.object_points == car);
-      const formats::PointCloud strip = with_object_field(s.cloud, [](double x, double y, double z) {
-        return z < 0.3 ? 0 : x < 2.5 && (std::abs(y) >= 0.4 || std::abs(x) >= 1.8) ? 1 : 2;
-      });
-      const classify::Answer inside = classify::run(detect_object(true, 1.0, true), {strip, "obj.pcd", {}});
-      CHECK(inside.features.object_points == car);
-      CHECK(inside.features.context_points == s.object - car);
-      // The same crop without the field: the option changes nothing.
-      const classify::Answer none = classify::run(detect_object(true, 1.0), {s.cloud, "obj.pcd", {}});
-      CHECK(none.features.object_points == off.features.object_points);
-      CHECK(none.features.context_points == 0);
-    }
-  }
-  CHECK(joined >= 30);  // of 40: the rule has something to do
-}
-
-TEST_CASE("classify: --detect-object leaves the gap bridge its work on the vehicle's own points") {
-  // glass_car_top: the windscreen returned nothing, and detect's object is the whole car (its
-  // voxel joined the bonnet), so every car point is 1. At 25 and 50 points/m² the link does not
-  // cross the 0.8 m windscreen gap: with the option and the bridge the object is still the whole
-  // car (the rule removes the 0s before the clustering, so the bridge sees the car's own pieces);
-  // without the bridge it is the cabin and boot only.
-  for (const double density : {25.0, 50.0}) {
-    INFO(density << " points/m2");
-    const Sampled glass = sample(glass_car_top, 2.3, 0.9, 0, density, 64);
-    const formats::PointCloud crop =
-        with_object_field(glass.cloud, [](double, double, double z) { return z >= 0.3 ? 1 : 0; });
-    const classify::Answer on = classify::run(detect_object(true, 1.0), {crop, "glass.pcd", {}});
-    CHECK(on.features.object_points == glass.object);
-    CHECK(on.features.context_points == 0);
-    const classify::Answer unbridged = classify::run(detect_object(true, 0), {crop, "glass.pcd", {}});
-    CHECK(unbridged.features.object_points < glass.object);
-  }
-}
-
-TEST_CASE(
-    "classify: --detect-trim leaves out exactly the trim's leftover (3), detect's other pieces (2) stay") {
-  // car_and_low_box at 8 and 10 points/m² (as above): detect's trim (detect.md §12, §18) cut the
-  // box off the car, so the car's crop marks it 3; the car's boot (x < -1.8 m) is marked 2, as if
-  // detect had split it off as a piece of its own. Off, the object is car and box (> 5.5 m) where
-  // the link joins them; --detect-trim leaves out the box alone: exactly the car's points, the
-  // boot with them (4.6 m), with and without the gap bridge; --detect-object leaves out the boot
-  // too. A crop whose field has no 3 (detect before §18): the option changes nothing.
-  std::size_t joined = 0;
-  for (const double density : {8.0, 10.0}) {
-    for (std::uint64_t seed = 61; seed < 81; ++seed) {
-      const Sampled s = sample(car_and_low_box(0.8, false), 3.9, 0.9, 0, density, seed);
-      const formats::PointCloud crop = with_object_field(s.cloud, [](double x, double, double z) {
-        return z < 0.3 ? 0 : x >= 2.5 ? 3 : x < -1.8 ? 2 : 1;
-      });
-      std::size_t car = 0, boot = 0;
-      const auto& x = crop.col("x");
-      const auto& z = crop.col("z");
-      for (std::size_t i = 0; i < x.size(); ++i) {
-        car += z[i] >= 0.3 && x[i] < 2.5;
-        boot += z[i] >= 0.3 && x[i] < -1.8;
-      }
-      INFO(density << " points/m2, seed " << seed << ": car " << car << " (boot " << boot << ") of "
-                   << s.object);
-      REQUIRE(car < s.object);
-      REQUIRE(boot > 0);
-      classify::Params off = detect_object(false, 1.0);
-      const classify::Answer a = classify::run(off, {crop, "trim.pcd", {}});
-      CHECK(a.features.context_points == 0);
-      if (a.features.object_points == s.object) {
-        ++joined;
-        CHECK(a.features.length_measured > 5.5);
-      }
-      double length = 0;
-      for (const double bridge : {0.0, 1.0}) {
-        INFO("bridge " << bridge);
-        classify::Params p = detect_object(false, bridge);
-        p.detect_trim = true;
-        const classify::Answer on = classify::run(p, {crop, "trim.pcd", {}});
-        CHECK(on.features.object_points == car);
-        CHECK(on.features.context_points == s.object - car);
-        CHECK(on.features.length_measured > 3.9);  // the 4.6 m car's points at 8-10 points/m²
-        CHECK(on.features.length_measured < 4.7);
-        length = on.features.length_measured;
-      }
-      // --detect-object: the 3s are 2s too, and the boot goes with them.
-      const classify::Answer both = classify::run(detect_object(true, 1.0), {crop, "trim.pcd", {}});
-      CHECK(both.features.object_points <= car - boot);
-      CHECK(both.features.context_points == s.object - car + boot);
-      CHECK(both.features.length_measured < length - 0.1);
-      // detect's field before §18: the box 2, no 3; --detect-trim as off.
-      const formats::PointCloud old = with_object_field(s.cloud, [](double x, double, double z) {
-        return z < 0.3 ? 0 : x >= 2.5 ? 2 : 1;
-      });
-      classify::Params p = off;
-      p.detect_trim = true;
-      const classify::Answer none = classify::run(p, {old, "trim.pcd", {}});
-      CHECK(none.features.object_points == a.features.object_points);
-      CHECK(none.features.context_points == 0);
-    }
-  }
-  CHECK(joined >= 30);  // of 40: the rule has something to do
-}
-
-TEST_CASE("classify: a crop whose object field is not 0, 1, 2 or 3 is refused, naming the file") {
-  const Sampled s = sample(car_top, 2.3, 0.9, 0, 25, 7);
-  formats::PointCloud crop =
-      with_object_field(s.cloud, [](double, double, double z) { return z >= 0.3 ? 1 : 0; });
-  crop.col("object")[3] = 4;
-  CHECK_THROWS_WITH(classify::run(detect_object(true, 1.0), {crop, "bad.pcd", {}}),
-                    Catch::Contains("bad.pcd") && Catch::Contains("object"));
 }
 
 namespace {
@@ -3017,6 +2908,12 @@ TEST_CASE("the ladders' fourth classify ablation is classify-sim.ini with the op
   // mk/density.mk DENSITY_CLASSIFY_ABLATION_4 and DENSITY_SENSOR_CLASSIFY_ABLATION_4; classify.md §38.
   check_ablation_ini("share/params/classify-sim.ini", "bench/density/classify-sim-rim-0.ini",
                      {{"max-rim", {"0.05", "0"}}});
+}
+
+TEST_CASE("the bed's ablation is classify-sim.ini with the bed off") {
+  // classify.md §39: the open set's and the ladders' ablation of --min-bed (its hook the lead's).
+  check_ablation_ini("share/params/classify-sim.ini", "bench/density/classify-sim-bed-0.ini",
+                     {{"min-bed", {"0.1", "0"}}});
 }
 
 TEST_CASE(

@@ -1,7 +1,6 @@
 // classify's object: gap bridging (classify.md §21, --bridge), joining the clusters that a
 // vehicle's own no-return gaps (windscreen, rear window) split off it; parts stacked in height
-// (classify.md §25, --join-stacked); detect's object as a boundary (classify.md §35,
-// --detect-object) and detect's trim as one (§36, --detect-trim).
+// (classify.md §25, --join-stacked).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -191,97 +190,6 @@ void bridge_gaps(const std::vector<Eigen::Vector3d>& pts, const std::vector<std:
   }
 }
 
-// classify.md §33: split the object (`in`) along x at every run of at least `min_gap` holding
-// none of its points whose strip (x across the run, y where the two sides next to it extend, less
-// min_gap / 2 at each side) returned the ground as densely as the open ground does (at least
-// `ground_density` x its area: open ground between two objects; a vehicle's glass returns nothing
-// or, on real tiles, some of the ground under its edges and its interior, §21, §33); from the
-// piece holding the most points outward,
-// drop the first piece on each side whose top is at most `share` of the kept part's top, and all
-// beyond it. Returns the number of points dropped; `shadows` beyond the cut are dropped too.
-std::size_t cut_low_parts(const std::vector<Eigen::Vector3d>& pts, const std::vector<Eigen::Vector2d>& ground,
-                          double ground_density, double min_gap, double share, std::vector<char>& in,
-                          std::vector<Shadow>* shadows) {
-  std::vector<std::size_t> order;
-  for (std::size_t i = 0; i < pts.size(); ++i) {
-    if (in[i]) order.push_back(i);
-  }
-  if (order.size() < 2 || share <= 0) return 0;
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return pts[a].x() < pts[b].x(); });
-  struct Piece {
-    std::size_t begin = 0, end = 0;  // in `order`
-    double x0 = kInf, x1 = -kInf, y0 = kInf, y1 = -kInf, top = -kInf;
-  };
-  std::vector<Piece> pieces;
-  for (std::size_t k = 0; k < order.size(); ++k) {
-    const Eigen::Vector3d& p = pts[order[k]];
-    if (pieces.empty() || p.x() - pieces.back().x1 >= min_gap) {
-      pieces.emplace_back();
-      pieces.back().begin = k;
-    }
-    Piece& q = pieces.back();
-    q.end = k + 1;
-    q.x0 = std::min(q.x0, p.x());
-    q.x1 = std::max(q.x1, p.x());
-    q.y0 = std::min(q.y0, p.y());
-    q.y1 = std::max(q.y1, p.y());
-    q.top = std::max(q.top, p.z());
-  }
-  // A gap that did not return the ground is the object's own (glass, dark paint): no cut there.
-  std::vector<Piece> parts{pieces.front()};
-  for (std::size_t k = 1; k < pieces.size(); ++k) {
-    const Piece& a = pieces[k - 1];
-    const Piece& b = pieces[k];
-    // Across: where both sides extend, less half the gap's minimum (the spacing) at each side; a
-    // return there may be the ground beside the object under its sampled edge.
-    const double sx0 = a.x1, sx1 = b.x0, sy0 = std::max(a.y0, b.y0) + 0.5 * min_gap,
-                 sy1 = std::min(a.y1, b.y1) - 0.5 * min_gap;
-    bool open = false;
-    std::size_t seen = 0;
-    if (sy1 > sy0 && ground_density > 0) {
-      for (const Eigen::Vector2d& g : ground)
-        seen += g.x() > sx0 && g.x() < sx1 && g.y() > sy0 && g.y() < sy1;
-      open = seen > 0 && static_cast<double>(seen) >= ground_density * (sx1 - sx0) * (sy1 - sy0);
-    }
-    if (open) {
-      parts.push_back(b);
-      continue;
-    }
-    Piece& q = parts.back();
-    q.end = b.end;
-    q.x1 = b.x1;
-    q.y0 = std::min(q.y0, b.y0);
-    q.y1 = std::max(q.y1, b.y1);
-    q.top = std::max(q.top, b.top);
-  }
-  if (parts.size() < 2) return 0;
-  std::size_t main = 0;
-  for (std::size_t k = 1; k < parts.size(); ++k) {
-    if (parts[k].end - parts[k].begin > parts[main].end - parts[main].begin) main = k;
-  }
-  double top = parts[main].top;
-  std::size_t first = main, last = main;  // the kept parts
-  while (last + 1 < parts.size() && parts[last + 1].top > share * top) top = std::max(top, parts[++last].top);
-  while (first > 0 && parts[first - 1].top > share * top) top = std::max(top, parts[--first].top);
-  // The right side again: the left walk may have raised the kept top.
-  while (last + 1 < parts.size() && parts[last + 1].top > share * top) top = std::max(top, parts[++last].top);
-  std::size_t dropped = 0;
-  for (std::size_t k = 0; k < order.size(); ++k) {
-    if (k < parts[first].begin || k >= parts[last].end) {
-      in[order[k]] = 0;
-      ++dropped;
-    }
-  }
-  if (shadows && dropped > 0) {
-    const double x0 = parts[first].x0, x1 = parts[last].x1;
-    shadows->erase(std::remove_if(shadows->begin(), shadows->end(),
-                                  [&](const Shadow& s) { return s.x1 <= x0 || s.x0 >= x1; }),
-                   shadows->end());
-  }
-  return dropped;
-}
-
 double empty_area(const std::vector<Eigen::Vector2d>& points, double length, double width, double cell) {
   if (length <= 0 || width <= 0 || cell <= 0) return 0;
   const auto nu = static_cast<std::size_t>(std::max(1.0, std::floor(length / cell)));
@@ -336,34 +244,6 @@ double solid_density(const Candidate& c, const std::vector<Shadow>& shadows, con
   if (!(fp.bridge_fill || fp.fill_empty_cells) || f.shadow_area <= 0) return f.density;
   const double rectangle = f.length_measured * f.width_measured;
   return f.density * rectangle / std::max(rectangle - f.shadow_area, 1e-6);
-}
-
-std::vector<std::uint8_t> read_object_field(const formats::PointCloud& cloud, const std::string& name) {
-  if (!cloud.has("object")) return {};
-  const auto& o = cloud.col("object");
-  std::vector<std::uint8_t> out(cloud.size());
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
-    if (o[i] != 0 && o[i] != 1 && o[i] != 2 && o[i] != 3)
-      throw common::DataError(name, "point " + std::to_string(i) + " has object " + std::to_string(o[i]) +
-                                        " (detect's field: 0, 1, 2 or 3)");
-    out[i] = static_cast<std::uint8_t>(o[i]);
-  }
-  return out;
-}
-
-std::vector<char> detect_others(const Candidate& c, bool others, bool box, bool trimmed) {
-  std::vector<char> other(c.points.size(), 0);
-  if (c.detect_object.empty()) return other;
-  Extents own;  // the 1s' top-view box
-  for (std::size_t i = 0; i < c.points.size(); ++i) {
-    if (c.detect_object[i] == 1) own.add(c.points[i].x(), c.points[i].y());
-  }
-  for (std::size_t i = 0; i < c.points.size(); ++i) {
-    const Eigen::Vector3d& p = c.points[i];
-    const std::uint8_t v = c.detect_object[i];
-    other[i] = (others && (v == 2 || v == 3) && (!box || own.outside(p.x(), p.y()))) || (trimmed && v == 3);
-  }
-  return other;
 }
 
 }  // namespace canopy::classify

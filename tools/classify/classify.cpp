@@ -346,6 +346,15 @@ double profile_difference(const TableRange& k, const Features& f) {
   return k.profile ? from(*k.profile) : 0;
 }
 
+// The bed's sentence (§39): why the car and van groups' classes other than the pickup were left out.
+std::string bed_reason(const Features& f, const Params& p) {
+  return fmt(
+      "an open bed behind a cab: at an end its sides stand %.0f%% of its height or more above its "
+      "centre and below its top (a pickup's bed walls; a car's or van's end is as high in its middle "
+      "as at its sides: from %.0f%% no car or van but a pickup)",
+      100 * *f.bed, 100 * p.min_bed);
+}
+
 // Among the classes the size fits, the best: smallest distance, then most central; profile
 // cues move the overlapping pairs (docs/decisions/classify.md §4).
 void choose(Answer& a, const Params& p, double sigma, const std::vector<TableRange>& table) {
@@ -353,12 +362,19 @@ void choose(Answer& a, const Params& p, double sigma, const std::vector<TableRan
   // A flat box over the whole length (container, log stack, shed): only a box-truck or a bus
   // has such a top; every other family drops to a bonnet, glacis, bucket or chassis.
   const bool box = f.plateau_share >= p.box_plateau && f.end_low >= p.box_ends;
+  // An open bed behind a cab (§39): of the car and van groups only a pickup has one.
+  const bool bed = p.min_bed > 0 && f.bed && *f.bed >= p.min_bed;
+  bool bed_took = false;  // and it left out a class its size fits
   std::vector<Fit> fits;
   // The nearest entry set aside because its own profile is not this top's (--entry-profile).
   std::optional<Fit> aside;
   for (const TableRange& k : table) {
     if (box && !k.flat_box) continue;
     const Fit x = fit(k, f, sigma, p);
+    if (bed && (k.group == "car" || k.group == "van") && k.name != "pickup") {
+      bed_took = bed_took || x.distance <= p.size_gate;
+      continue;
+    }
     if (p.entry_profile > 0 && profile_difference(k, f) > p.entry_profile) {
       if (!aside || x.distance < aside->distance) aside = x;
       continue;
@@ -381,6 +397,7 @@ void choose(Answer& a, const Params& p, double sigma, const std::vector<TableRan
                   fmt("%.2f x %.2f m is no box-truck or bus (", f.width, f.height) + nearest + ")"
             : fmt("%.2f x %.2f x %.2f m fits no class's ranges (", f.length, f.width, f.height) + nearest +
                   fmt("; gate %.1f)", p.size_gate);
+    if (bed_took) why = bed_reason(f, p) + ": " + why;
     if (aside && aside->distance <= p.size_gate && aside->cls->envelope > 0) {
       why +=
           "; the envelope of the modelbase's " + std::to_string(aside->cls->envelope) + " " + aside->cls->name +
@@ -396,9 +413,11 @@ void choose(Answer& a, const Params& p, double sigma, const std::vector<TableRan
           fmt("%.0f%% of H against its %.0f%%, ", 100 * f.end_high, 100 * e[0]) +
           fmt("%.0f%% and %.0f%% (", 100 * e[1], 100 * e[2]) + fmt("tolerance %.0f%%)", 100 * p.entry_profile);
     }
-    // A flat box is refused on its shape (its top leaves only the box-truck and the bus), any
-    // other top on its size alone (no class's ranges hold it).
-    refuse(a, "not_vehicle_shape", why, best ? past(best->distance, p.size_gate) : 1.0, box ? "shape" : "size");
+    // A flat box is refused on its shape (its top leaves only the box-truck and the bus), as is a
+    // bed that left out a class its size fits; any other top on its size alone (no class's ranges
+    // hold it).
+    refuse(a, "not_vehicle_shape", why, best ? past(best->distance, p.size_gate) : 1.0,
+           box || bed_took ? "shape" : "size");
     return;
   }
   const Fit& best = fits.front();
@@ -419,6 +438,7 @@ void choose(Answer& a, const Params& p, double sigma, const std::vector<TableRan
             0.5 * (k.width[0] + k.width[1]), 0.5 * (k.height[0] + k.height[1]), 100 * p.entry_tolerance) +
         fmt(" at %.1f sigma", best.distance);
   }
+  if (bed_took) a.detail = bed_reason(f, p) + (a.detail.empty() ? "" : "; " + a.detail);
   a.class_score = std::exp(-0.5 * best.distance * best.distance);
   double other = kInf;
   for (const Fit& x : fits) {
@@ -574,7 +594,6 @@ void validate(const Params& p) {
   need(p.bridge >= 0 && p.bridge <= 3, "--bridge must be in [0, 3 m]");
   need(p.bridge_length > 0 && p.bridge_length <= 20, "--bridge-length must be in (0, 20 m]");
   need(p.bridge_min_share >= 0 && p.bridge_min_share <= 1, "--bridge-min-share must be in [0, 1]");
-  need(p.cut_low_parts >= 0 && p.cut_low_parts <= 1, "--cut-low-parts must be in [0, 1]");
   need(p.min_points >= 3, "--min-points must be at least 3");
   need(p.min_density >= 0 && std::isfinite(p.min_density), "--min-density must be >= 0");
   need(p.edge_factor >= 0 && p.edge_factor <= 5, "--edge-factor must be in [0, 5]");
@@ -611,6 +630,7 @@ void validate(const Params& p) {
   need(p.min_rectangularity >= 0 && p.min_rectangularity <= 1, "--min-rectangularity must be in [0, 1]");
   need(p.min_shoulder >= 0 && p.min_shoulder <= 1, "--min-shoulder must be in [0, 1]");
   need(p.max_rim >= 0 && p.max_rim <= 1, "--max-rim must be in [0, 1]");
+  need(p.min_bed >= 0 && p.min_bed <= 1, "--min-bed must be in [0, 1]");
   need(p.rectangularity_notch >= 0 && p.rectangularity_notch <= 1,
        "--rectangularity-notch must be in [0, 1]");
 }

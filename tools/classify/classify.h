@@ -113,34 +113,6 @@ struct Params {
   // density.ground: points per 1 m cell holding only ground; Candidate::tile_ground_density).
   // false: unmeasured, the cue passes (before).
   bool fill_tile_ground = false;
-  // Cutting a low part off beyond open ground (classify.md §33; 0 = off, before): after the
-  // clustering (and --join-stacked, --bridge), the object's points are split along the candidate
-  // frame's x axis (detect's long axis) at every run of at least the crop's spacing that holds
-  // none of them and whose strip (across: where both sides extend) returned the ground as densely
-  // as the open ground around the object (open ground between two objects, not a windscreen's
-  // shadow, §21). From the piece holding the most points outward, a piece
-  // beyond such a gap whose top is at most this share of the kept part's top (a neighbour's
-  // bonnet or boot, a low wall, a hedge beside a car) is dropped with everything beyond it; a
-  // higher one stays and the walk goes on past it. Measured at 0.75 on the real development tiles
-  // and not adopted (off in Params, classify.ini and classify-sim.ini).
-  double cut_low_parts = 0;
-  // detect's object (classify.md §35): with a crop carrying detect's field `object` (detect
-  // --object-field), points above the ground cut that detect gave to another object or piece (2)
-  // are left out of the object before the clustering, so the link cannot re-join across a gap
-  // what detect's row split and trim separated (a neighbour's bonnet, a planter, a low hedge); the
-  // clustering, --join-stacked and --bridge then work on the rest. A crop without the field: as
-  // off. false = the rule before.
-  bool detect_object = false;
-  // With detect_object: only the 2s outside the top-view box (candidate frame) of detect's own
-  // object (its 1s) are left out; inside it they stay (§35's second reading: detect's pieces of the
-  // vehicle itself, a split that cut a car).
-  bool detect_object_box = false;
-  // detect's trim as the boundary (classify.md §36): with a crop carrying detect's field `object`,
-  // the points above the ground cut that detect's trim to one roof cut off this candidate's
-  // object (3: the trim's leftover, the low thing beside the vehicle; detect.md §12, §18) are left
-  // out of the object before the clustering, and nothing else (detect's row splits, other pieces
-  // and objects, 2, stay). A crop without the field or without 3s: as off. false = the rule before.
-  bool detect_trim = false;
   // Parts stacked in height (classify.md §25): seen from above a vertical face returns nothing,
   // so a semi-tractor's cab (3.6 m) and its deck (1.2 m), an earthmover's cab top and its body are
   // clusters that touch only in the top view (a step of more than 3 links). true: a cluster that
@@ -221,6 +193,10 @@ struct Params {
   // side boards, an open box's walls above its floor; a car's or van's roof is highest across its
   // middle) is not_vehicle_shape (classify.md §38; 0: off, before; Params and classify.ini).
   double max_rim = 0;
+  // A top whose bed (Features::bed) is at least min_bed (an open bed behind a cab) is no car- or
+  // van-group class but a pickup: those classes are left out of its choice, as a flat box leaves
+  // all but the box-truck and the bus (classify.md §39; 0: off, before).
+  double min_bed = 0;
   double plateau_split = 0.6;    // plateau share between a minor and a long plateau
   double tail_split = 0.75;      // higher end's level (share of H) between dropping and staying up
   double profile_penalty = 1.5;  // added to a class's size distance when the profile contradicts it
@@ -317,11 +293,6 @@ struct Features {
   // The area (m²) of the rectangle in the strips --bridge crossed, by their empty share (§27), and
   // with bridge_fill leaving it out, the fill over the whole rectangle (as without it).
   double shadow_area = 0;
-  // Object points dropped by cut_low_parts (classify.md §33; 0: none or off).
-  std::size_t low_cut_points = 0;
-  // Points above the ground cut left out as another detect object's or as a detect trim's leftover
-  // (--detect-object §35, --detect-trim §36; 0: none or off).
-  std::size_t context_points = 0;
   std::optional<double> fill_rectangle;
   double heading_pca = 0;      // rad, the principal axis (for comparison only)
   double heading_hull = 0;     // rad, the minimum-area rectangle before refinement
@@ -364,6 +335,17 @@ struct Features {
   // corner or a neighbour, is no rim). Unset under kShoulderPoints points on either side or in the
   // centre band.
   std::optional<double> rim;
+  // The bed (classify.md §39): at each end, over kBedFrom to kBedTo of the length from it, in the
+  // rim's bands: walls = the lower side's 0.9 quantile of its points' heights over the higher of the
+  // two centre points on either side of each along the length (a bed's walls over its floor; a
+  // bonnet's or windscreen's slope, as high at the sides as in the middle, never stands over those),
+  // under = H less the higher side's 0.9 quantile of its heights (the walls under the cab's roof);
+  // the smaller of the two over H, at the end where it is larger. A pickup's open bed behind its
+  // cab: both > 0 (its walls 0.3-0.5 m over its floor, 0.5-0.7 m under its roof); a car's or van's
+  // end is a bonnet, boot or roof as high in its middle as at its sides (walls <= 0), a flatbed's
+  // boards are its top (under = 0). Unset under kShoulderPoints centre points, or side points with
+  // centre points on both sides of them, at both ends.
+  std::optional<double> bed;
   double top_roughness = 0;   // median |interior cell top - the plane of its 3 x 3 cells' tops| (m)
   std::size_t top_cells = 0;  // interior cells with enough neighbours for it
   // Median over the interior cells of the smallest |top - the line through its nearest occupied

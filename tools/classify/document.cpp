@@ -41,6 +41,7 @@ std::vector<ClassFeature> features_of(const Features& f) {
                                 number("tip_level", f.tip_level),
                                 optional("shoulder", f.shoulder),
                                 optional("rim", f.rim),
+                                optional("bed", f.bed),
                                 number("top_roughness", f.top_roughness),
                                 count("top_cells", f.top_cells),
                                 number("top_roughness_line", f.top_roughness_line),
@@ -59,9 +60,6 @@ std::vector<ClassFeature> features_of(const Features& f) {
   if (f.fill_rectangle) out.push_back(optional("fill_rectangle", f.fill_rectangle));
   // Only when fill is the tile's (--fill-tile-ground, classify.md §31): 1.
   if (f.fill_from_tile) out.push_back(count("fill_from_tile", 1));
-  if (f.low_cut_points > 0) out.push_back(count("low_cut_points", f.low_cut_points));
-  // Only with --detect-object or --detect-trim on a crop with detect's field (classify.md §35, §36).
-  if (f.context_points > 0) out.push_back(count("context_points", f.context_points));
   // Only when the crop holds several flight passes (classify.md §14): a crop without them gets
   // the document it got before.
   if (f.below_share_any) out.push_back(optional("below_share_any", f.below_share_any));

@@ -410,7 +410,6 @@ Candidate read_candidate(const formats::PointCloud& cloud, const std::string& na
   }
   // Echo widths (the realistic sensor's waveform FWHM; LAS Extra Bytes `echo_width`).
   if (cloud.has("echo_width")) c.echo_width = cloud.col("echo_width");
-  c.detect_object = read_object_field(cloud, name);  // detect --object-field, classify.md §35
   // Flight passes when the file says which (LAS point_source_id, gps_time).
   static const std::vector<double> none;
   const auto& source = cloud.has("point_source_id") ? cloud.col("point_source_id") : none;
@@ -464,27 +463,16 @@ std::vector<int> passes_of(const std::vector<double>& source, const std::vector<
 }
 
 std::vector<std::size_t> object_of(const Candidate& c, const Params& fp, double link, double crop_area,
-                                   std::vector<Shadow>* shadows, std::size_t* low_cut, std::size_t* context) {
-  const double ground_cut = fp.ground_cut, bridge = fp.bridge, cut_low = fp.cut_low_parts;
+                                   std::vector<Shadow>* shadows) {
+  const double ground_cut = fp.ground_cut, bridge = fp.bridge;
   std::vector<std::size_t> above;
   std::vector<Vector3d> pts;
-  // §35: what detect gave to another object or piece (2, 3) is none of this object's; §36: what
-  // detect's trim cut off it (3).
-  const std::vector<char> other = fp.detect_object || fp.detect_trim
-                                      ? detect_others(c, fp.detect_object, fp.detect_object_box, fp.detect_trim)
-                                      : std::vector<char>();
-  std::size_t left_out = 0;
   for (std::size_t i = 0; i < c.points.size(); ++i) {
     if (c.points[i].z() >= ground_cut) {
-      if (!other.empty() && other[i]) {
-        ++left_out;
-        continue;
-      }
       above.push_back(i);
       pts.push_back(c.points[i]);
     }
   }
-  if (context) *context = left_out;
   if (pts.empty()) return {};
   // Vertical faces are sampled little from above (none at nadir): a roof over a bonnet, a box
   // over a cab are joined through their step only if the link reaches it, so heights count a
@@ -521,7 +509,7 @@ std::vector<std::size_t> object_of(const Candidate& c, const Params& fp, double 
   for (std::size_t i = 0; i < pts.size(); ++i) in[i] = label[i] == best;
   if (fp.join_stacked) join_beside(pts, label, link, in);
   std::vector<Vector2d> ground;
-  if (bridge > 0 || cut_low > 0) {
+  if (bridge > 0) {
     for (const Vector3d& p : c.points) {
       if (p.z() < ground_cut) ground.emplace_back(p.x(), p.y());
     }
@@ -530,23 +518,6 @@ std::vector<std::size_t> object_of(const Candidate& c, const Params& fp, double 
   if (bridge > 0)
     bridge_gaps(pts, label, best, ground, density, link, bridge, fp.bridge_length, in, fp.bridge_min_share,
                 shadows);
-  if (cut_low > 0) {
-    // The open ground's density: the crop's ground returns outside the object's box (candidate
-    // frame) over the crop's area outside it, as fill's reference (§5); none under 10 returns or 1 m².
-    Extents b;
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-      if (in[i]) b.add(pts[i].x(), pts[i].y());
-    }
-    std::size_t outside = 0;
-    for (const Vector2d& g : ground) outside += b.outside(g.x(), g.y());
-    const double open = crop_area - b.length() * b.width();
-    if (open > 1.0 && outside >= 10) {
-      const double spacing = std::sqrt(crop_area / static_cast<double>(c.points.size()));
-      const std::size_t dropped =
-          cut_low_parts(pts, ground, static_cast<double>(outside) / open, spacing, cut_low, in, shadows);
-      if (low_cut) *low_cut = dropped;
-    }
-  }
   std::vector<std::size_t> object;
   for (std::size_t i = 0; i < pts.size(); ++i) {
     if (in[i]) object.push_back(above[i]);
@@ -566,8 +537,7 @@ Features measure(const Candidate& c, const Params& fp) {
   for (const Vector3d& p : c.points) f.ground_points += p.z() < fp.ground_cut;
   const double link = std::clamp(fp.link_factor * f.crop_spacing, fp.link_min, 1.5);
   std::vector<Shadow> shadows;  // the strips --bridge crossed (classify.md §27)
-  const std::vector<std::size_t> object =
-      object_of(c, fp, link, crop_area, &shadows, &f.low_cut_points, &f.context_points);
+  const std::vector<std::size_t> object = object_of(c, fp, link, crop_area, &shadows);
   f.object_points = object.size();
   if (object.size() < 3) return f;
 

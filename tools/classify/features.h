@@ -37,11 +37,6 @@ struct Candidate {
   // Per point: the width (FWHM, m) of its echo in the waveform (the realistic sensor's
   // `echo_width`), empty = unknown (NaN: unknown for that point).
   std::vector<double> echo_width;
-  // Per point: detect's field `object` (detect --object-field), 1 = the candidate's own object,
-  // 2 = a point detect gave to another object or piece, 3 = one of those that detect's trim cut
-  // off this object (its leftover), 0 = the rest (ground, points detect dropped); empty = the
-  // crop has no such field.
-  std::vector<std::uint8_t> detect_object;
   // Pass index per point, 0 .. passes - 1 (empty = one pass, unknown): points of one flight line
   // (point_source_id) flown in one stretch of time (gps_time gaps of more than kPassGap s split
   // a line: a crop is crossed in well under a second; lines are minutes apart).
@@ -102,9 +97,8 @@ struct Shadow {
 };
 
 // Indices of the object's points, with the options of `fp` (Params' ground_cut, bridge,
-// bridge_length, join_stacked, bridge_min_share, cut_low_parts, detect_object, detect_object_box,
-// detect_trim; the rest unused): the above-ground points (z >= ground_cut) clustered at
-// distance `link`; the largest cluster whose top-view box (padded by `link`) holds the origin,
+// bridge_length, join_stacked, bridge_min_share; the rest unused): the above-ground points (z >= ground_cut)
+// clustered at distance `link`; the largest cluster whose top-view box (padded by `link`) holds the origin,
 // else the largest. With `bridge` > 0 (classify.md §21) other clusters join it across gaps of up
 // to `bridge` in the top view: a cluster inside the object's extent across x (the candidate
 // frame's long axis; + `link`), whose top is no higher than
@@ -119,18 +113,9 @@ struct Shadow {
 // vertical face returns nothing, so a cab and its deck, a cab top and its body touch only in plan.
 // With `bridge_min_share` > 0 (classify.md §27) a cluster joins across a gap only when it holds
 // at least that share of the object's points (as the object stands); with `shadows` the strips the
-// bridge crossed are appended to it. With `cut_low_parts` > 0 (classify.md §33) last a part beyond open
-// ground along x whose top is at most that share of the rest's is cut off (cut_low_parts, gaps of at
-// least the crop's spacing, against the open ground's density: the crop's ground returns outside
-// the object's box over the crop's area outside it; no cut without 10 of them on 1 m²); `low_cut`
-// gets the number of points dropped. With `detect_object` (classify.md §35) and c.detect_object
-// known, the above-ground points detect gave to another object or piece (2) are left out before
-// the clustering (`context` gets their number); with `detect_object_box` only those outside the
-// top-view box of the 1s. With `detect_trim` (classify.md §36) the trim's leftover (3) is left out
-// likewise (and with `detect_object` it is among the points left out: a 3 is a kind of 2).
+// bridge crossed are appended to it.
 std::vector<std::size_t> object_of(const Candidate& c, const Params& fp, double link, double crop_area,
-                                   std::vector<Shadow>* shadows = nullptr, std::size_t* low_cut = nullptr,
-                                   std::size_t* context = nullptr);
+                                   std::vector<Shadow>* shadows = nullptr);
 
 // classify.md §25 (object_of with `join_stacked`): joins to the object (`in`, per point of `pts`)
 // each cluster of `label` that meets it within `link` in the top view, beside it, in line with it
@@ -146,23 +131,6 @@ void bridge_gaps(const std::vector<Eigen::Vector3d>& pts, const std::vector<std:
                  std::size_t best, const std::vector<Eigen::Vector2d>& ground, double ground_density,
                  double link, double bridge, double bridge_length, std::vector<char>& in,
                  double min_share = 0, std::vector<Shadow>* shadows = nullptr);
-// classify.md §33 (object_of with `cut_low`): splits the object (`in`, per point of `pts`) along x
-// at runs of at least `min_gap` without its points whose strip returned the ground as the open
-// ground does (at least `ground_density`, per m², x the strip's area; `ground` the crop's ground
-// returns, top view); from the piece holding the most points outward, drops the first piece on each side
-// whose top is at most `share` of the kept part's top and everything beyond it, and the `shadows`
-// beyond. Returns the number of points dropped.
-std::size_t cut_low_parts(const std::vector<Eigen::Vector3d>& pts, const std::vector<Eigen::Vector2d>& ground,
-                          double ground_density, double min_gap, double share, std::vector<char>& in,
-                          std::vector<Shadow>* shadows = nullptr);
-// classify.md §35, §36: detect's field `object` of the crop (0, 1, 2 or 3 per point; empty without
-// the field); throws common::DataError naming `name` on another value.
-std::vector<std::uint8_t> read_object_field(const formats::PointCloud& cloud, const std::string& name);
-// classify.md §35, §36 (object_of with `detect_object`, `detect_trim`): per point of `c`, 1 where
-// with `others` detect gave it to another object or piece (2 or 3; with `box` only outside the
-// top-view box of detect's object, its 1s) or with `trimmed` detect's trim cut it off the object
-// (3); all 0 when the crop has no field.
-std::vector<char> detect_others(const Candidate& c, bool others, bool box, bool trimmed = false);
 // classify.md §27 (fill_empty_cells): the area (m²) of the rectangle [0, length] x [0, width]
 // (coordinates along and across it) in cells of at least `cell` (as many whole cells as fit each
 // side) that hold none of `points` (every return of the crop, in those coordinates).
@@ -185,7 +153,7 @@ constexpr double kGapGround = 0.25;
 
 // The outline cues (classify.md §16) of the object's points `q` in its rectangle's frame (x along
 // the long axis from 0 to length_measured, y across from its middle, z the height): notch,
-// dents, tip_width, tip_level, shoulder (§30), rim (§38). Needs f's measured size and spacing.
+// dents, tip_width, tip_level, shoulder (§30), rim (§38), bed (§39). Needs f's measured size and spacing.
 void outline_cues(const std::vector<Eigen::Vector3d>& q, Features& f);
 // A dent: a run of the profile at least this far (share of H) under its upper hull.
 constexpr double kDentDepth = 0.05;
@@ -200,6 +168,10 @@ constexpr std::size_t kShoulderPoints = 4;
 // the shoulder band's mirror), over the same length; kShoulderPoints in it and on each side of the
 // shoulder's band, or no rim.
 constexpr double kRimCentre = 1 - kShoulderBand;
+// The bed's window at each end (classify.md §39): from kBedFrom to kBedTo of the length from that
+// end (a pickup's bed is its rear 0.3-0.6 of the length; its tailgate lies before kBedFrom).
+constexpr double kBedFrom = 0.05;
+constexpr double kBedTo = 0.27;
 
 // Points under the object inside its footprint, point by point (a crown lets pulses through
 // and holds returns at every depth; a roof holds none under it). Interior = at least `inset`

@@ -67,24 +67,6 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
       "where the crop has too little open ground to measure fill (closed canopy), measure it against "
       "the tile's open-ground density (--index's density.ground; none there, or false: fill unmeasured, no "
       "refusal)");
-  tool.add("--cut-low-parts", &p.cut_low_parts,
-           "drop from the object a part beyond a gap along its long axis where the ground came back (open "
-           "ground, not a vehicle's glass) whose top is at most this share of the rest's top (a neighbour's "
-           "bonnet, a low wall, a hedge; 0: off)");
-  tool.add("--detect-object", &p.detect_object,
-           "true or false: with a candidate crop that carries detect's field `object` (detect "
-           "--object-field), leave out of the object every point above the ground cut that detect gave "
-           "to another object or piece (2: a neighbour's bonnet, a planter, a hedge), before the "
-           "clustering; a crop without the field: as false");
-  tool.add("--detect-object-box", &p.detect_object_box,
-           "true or false: --detect-object leaves out only the 2s outside the top-view box of detect's "
-           "own object (its 1s); those inside it stay");
-  tool.add("--detect-trim", &p.detect_trim,
-           "true or false: with a candidate crop that carries detect's field `object` (detect "
-           "--object-field), leave out of the object every point above the ground cut that detect's trim "
-           "to one roof cut off the candidate's object (3: the trim's leftover, the low thing beside the "
-           "vehicle), before the clustering; detect's other pieces (2) stay; a crop without the field: as "
-           "false");
   tool.add("--bridge-min-share", &p.bridge_min_share,
            "--bridge joins only a cluster holding at least this share of the object's points (0: any)");
   tool.add("--max-echo-widening", &p.max_echo_widening,
@@ -151,6 +133,10 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
            "a car- or van-group answer whose sides, in the middle of its length, stand more than this share "
            "of its height above its centre (an open top: a flatbed's side boards, an open box's walls; a "
            "car's or van's roof is highest across its middle): not_vehicle_shape (0: off; classify.md §38)");
+  tool.add("--min-bed", &p.min_bed,
+           "a top whose bed is at least this share of its height (at an end, its sides stand over its "
+           "centre and under its top: a pickup's open bed behind its cab) is answered no car- or van-group "
+           "class but a pickup (0: off; classify.md §39)");
   tool.add("--rectangularity-notch", &p.rectangularity_notch,
            "see --min-rectangularity: only an answer whose top's profile lies within this (share of H) of "
            "its upper hull is refused (a stepped car is kept; 1: the outline alone)");

@@ -1,8 +1,9 @@
 // classify's outline cues (docs/decisions/classify.md §16): the top's height profile along the
 // long axis, its concavities (notch, dents), and the shape of its narrowest end (tip_width,
-// tip_level).
+// tip_level); across the width, the shoulder (§30), the rim (§38) and a pickup's bed (§39).
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <vector>
 
@@ -139,6 +140,50 @@ void outline_cues(const std::vector<Eigen::Vector3d>& q, Features& f) {
     for (auto* v : {&left, &right, &centre}) std::sort(v->begin(), v->end());
     const double lower = std::min(common::sorted_quantile(left, 0.9), common::sorted_quantile(right, 0.9));
     f.rim = (lower - common::sorted_quantile(centre, 0.9)) / H;
+  }
+  // The bed (§39): at each end, over [kBedFrom L, kBedTo L] from it, the same bands. A side point
+  // stands over the centre by its height less the higher of the two centre points on either side
+  // of it along the length (a bonnet's or windscreen's slope under a side point lies between them:
+  // it never stands over them; a bed's floor does not slope); walls = the lower side's 0.9 quantile
+  // of that (a bed's walls over its floor), under = H less the higher side's 0.9 quantile of its
+  // heights (the walls under the cab's roof); bed = the smaller of the two over H, at the end where
+  // it is larger.
+  f.bed.reset();
+  for (const bool far : {false, true}) {
+    std::vector<Eigen::Vector2d> c;  // the centre band's (along, height), sorted
+    std::vector<Eigen::Vector2d> sides[2];
+    for (const Eigen::Vector3d& p : q) {
+      const double from_end = far ? L - p.x() : p.x();
+      if (from_end < kBedFrom * L || from_end > kBedTo * L) continue;
+      if (std::abs(p.y()) > kShoulderBand * W / 2) sides[p.y() > 0].emplace_back(p.x(), p.z());
+      if (std::abs(p.y()) < kRimCentre * W / 2) c.emplace_back(p.x(), p.z());
+    }
+    if (c.size() < kShoulderPoints) continue;
+    std::sort(c.begin(), c.end(),
+              [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() < b.x(); });
+    double walls = std::numeric_limits<double>::infinity(), top = -walls;
+    bool measured = true;
+    for (const std::vector<Eigen::Vector2d>& side : sides) {
+      std::vector<double> over, z;
+      for (const Eigen::Vector2d& p : side) {
+        z.push_back(p.y());
+        const auto hi = std::lower_bound(c.begin(), c.end(), p.x(),
+                                         [](const Eigen::Vector2d& a, double x) { return a.x() < x; });
+        if (hi == c.end() || hi == c.begin()) continue;  // no centre point beyond it on one side
+        over.push_back(p.y() - std::max(hi->y(), std::prev(hi)->y()));
+      }
+      if (over.size() < kShoulderPoints) {
+        measured = false;
+        break;
+      }
+      std::sort(over.begin(), over.end());
+      std::sort(z.begin(), z.end());
+      walls = std::min(walls, common::sorted_quantile(over, 0.9));
+      top = std::max(top, common::sorted_quantile(z, 0.9));
+    }
+    if (!measured) continue;
+    const double bed = std::min(walls, H - top) / H;
+    if (!f.bed || bed > *f.bed) f.bed = bed;
   }
 }
 
