@@ -66,10 +66,10 @@ DENSITY_SENSOR_L0 ?= 26.5
 # report's "classify's second ablation ...", third, ...). Each is classify-sim.ini with one
 # default before its change: the roughness threshold's floor (0.1 m, before classify.md §28), the
 # shoulder gate off (min-shoulder 0, before §30), the oval-outline gate's step over every profile
-# bin (rectangularity-sampled false, before §37), no open-top gate (max-rim 0, before §38).
-# Empty: none.
+# bin (rectangularity-sampled false, before §37), no open-top gate (max-rim 0, before §38), no
+# pickup bed cue (min-bed 0, before §39). Empty: none.
 DENSITY_CLASSIFY_ABLATIONS ?= bench/density/classify-sim-floor-100.ini bench/density/classify-sim-shoulder-0.ini \
-  bench/density/classify-sim-sampled-0.ini bench/density/classify-sim-rim-0.ini
+  bench/density/classify-sim-sampled-0.ini bench/density/classify-sim-rim-0.ini bench/density/classify-sim-bed-0.ini
 # The same on every sensor level: its first is classify-sim.ini before classify.md §23
 # (max-late-returns 0.35; the sensor tiles are the only ones with return numbers), the rest by
 # default the pixel ladder's.

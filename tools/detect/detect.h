@@ -145,9 +145,9 @@ struct Params {
   // own object (its cluster after every split, trim and merge), 2 for points detect gave to
   // something else (another object or piece), 3 for those of them that a trim to one roof cut
   // off this object (its leftover, detect.md §12, §18), 0 for the rest of the crop (ground,
-  // grass, points dropped from its own cluster); classify's --detect-object leaves the 2s and 3s
-  // out of its object, --detect-trim the 3s (detect.md §17, §18); false = no such field, the
-  // crops before, and detect keeps no record of its examinations.
+  // grass, points dropped from its own cluster), for inspection (classify's readers of it were
+  // removed, classify.md §40; detect.md §17, §18); false = no such field, the crops before, and
+  // detect keeps no record of its examinations.
   bool object_field = false;
 };
 

@@ -116,8 +116,8 @@ void bind(common::Tool& tool, detect::Params& p, Cli& cli) {
            "true or false: every candidate crop gets the field `object` (uint8), 1 for the points of "
            "the candidate's own object (after the row split, trim and merges), 2 for points detect "
            "gave to another object or piece, 3 for those a trim to one roof cut off the candidate's "
-           "object (the trim's leftover), 0 for the rest (ground, grass); classify --detect-object "
-           "and --detect-trim read it; false = the crops before, docs/decisions/detect.md §17, §18");
+           "object (the trim's leftover), 0 for the rest (ground, grass), for inspection; false = "
+           "the crops before, docs/decisions/detect.md §17, §18");
   tool.add_flag("--no-classes", &cli.no_classes, "do not write classes.ply");
   tool.app().add_option("--trajectory", cli.trajectory,
                         "sensor trajectory (formats/README.md, Trajectory) in the tile's frame: a "
