@@ -65,6 +65,17 @@ OPENSET_CLASSIFY_ABLATION_2 := $(if $(and $(filter 1,$(OPENSET_CLASSES_ONLY)),$(
 # The third ablation, one entry keeps its family alone (family-entries = 1, the rest the open
 # set's), run when the modelbase's classes only are on and OPENSET_FAMILY_ENTRIES is not 1.
 OPENSET_CLASSIFY_ABLATION_3 := $(if $(and $(filter 1,$(OPENSET_CLASSES_ONLY)),$(filter-out 1,$(OPENSET_FAMILY_ENTRIES))),$(OPENSET_DIR)/classify-family-entries-1.ini)
+# The fourth ablation, the pickup's bed cue alone off (docs/decisions/classify.md §39: min-bed = 0,
+# the rest the open set's), run when the base turns it on (its `min-bed = V` line, V not 0: that
+# line becomes `min-bed = 0`, since an INI key may not be given twice) and OPENSET_BED_ABLATION is 1.
+OPENSET_BED_ABLATION ?= 1
+openset_bed_line := $(shell grep -m1 '^min-bed *=' $(OPENSET_CLASSIFY_BASE) 2>/dev/null)
+OPENSET_CLASSIFY_ABLATION_4 := $(if $(and $(filter 1,$(OPENSET_BED_ABLATION)),$(filter-out 0 0.0 .0 0.00,$(lastword \
+  $(openset_bed_line)))),$(OPENSET_DIR)/classify-bed-0.ini)
+# The four as the sub-makes' SCENE_CLASSIFY_ABLATIONS (mk/scenes.mk: the K-th the variant
+# class-ablation[-K], "-" an empty place).
+openset_classify_ablations = $(or $(OPENSET_CLASSIFY_ABLATION),-) $(or $(OPENSET_CLASSIFY_ABLATION_2),-) \
+  $(or $(OPENSET_CLASSIFY_ABLATION_3),-) $(or $(OPENSET_CLASSIFY_ABLATION_4),-)
 # collect's ablations, a list (the sub-makes' SCENE_COLLECT_ABLATIONS, mk/scenes.mk: an entry is
 # collect's options joined by commas, "-" an empty place; the K-th the variant collect-ablation or
 # collect-ablation-K), each a subsection of the report named by what it turns off: the first, the
@@ -164,8 +175,8 @@ $(foreach r,$(OPENSET_CROP_RUNS),$(eval $(call tile_collect,$(call scene_key,$(r
 openset_crop_manifest = $(subst $(nl)$(space),$(nl),$(foreach r,$(OPENSET_TEST),$(foreach s,$(OPENSET_SEEDS),$(call \
   ml,$(call openset_crop_run,$(r),$(s))/detections.json $(call openset_crop_run,$(r),$(s))/truth.json 0 $(call openset_class,$(r))))))
 $(OPENSET_CROP_DIR)/tiles.txt: $(call text_prereq,$(OPENSET_CROP_DIR)/tiles.txt,$(openset_crop_manifest))
-# classify's ablations (SCENE_CLASSIFY_ABLATION and SCENE_CLASSIFY_ABLATION_2, given by the parent:
-# OPENSET_CLASSIFY_ABLATION, OPENSET_CLASSIFY_ABLATION_2) on every crop, scored like the crops
+# classify's ablations (SCENE_CLASSIFY_ABLATIONS, given by the parent: openset_classify_ablations)
+# on every crop, scored like the crops
 # (after openset_crop_manifest: text_prereq reads it here).
 TILE_CAND_KINDS += $(foreach v,$(SCENE_CLASS_ABLATIONS),classify:cand/$(v).json)
 OPENSET_CROP_ABL_SCORE := $(foreach v,$(SCENE_CLASS_ABLATIONS),$(OPENSET_CROP_RES)/$(v)/score.json)
@@ -203,13 +214,13 @@ openset_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROG
   SCENE_DIR=$(OPENSET_DIR)/tiles SCENE_RES=$(OPENSET_RES) SCENE_MB=$(OPENSET_MB) \
   SCENE_MODELS=$(openset_models) SCENE_MODEL_CLASSES=$(OPENSET_DIR)/classes.csv \
   SCENE_SEEDS="$(OPENSET_SEEDS)" SCENE_COVERS="$(OPENSET_COVERS)" SCENE_NOISES=0 SCENE_BASELINE= \
-  SCENE_SIZE_ONLY=0 SCENE_PICTURES=0 SCENE_CLASSIFY=$(OPENSET_CLASSIFY) SCENE_CLASSIFY_ABLATION=$(OPENSET_CLASSIFY_ABLATION) \
-  SCENE_CLASSIFY_ABLATION_2=$(OPENSET_CLASSIFY_ABLATION_2) SCENE_CLASSIFY_ABLATION_3=$(OPENSET_CLASSIFY_ABLATION_3) \
+  SCENE_SIZE_ONLY=0 SCENE_PICTURES=0 SCENE_CLASSIFY=$(OPENSET_CLASSIFY) SCENE_CLASSIFY_ABLATION= \
+  SCENE_CLASSIFY_ABLATION_2= SCENE_CLASSIFY_ABLATION_3= SCENE_CLASSIFY_ABLATIONS='$(openset_classify_ablations)' \
   SCENE_COLLECT_ABLATION= SCENE_COLLECT_ABLATIONS='$(OPENSET_COLLECT_ABLATIONS)' \
   COLLECT_CALIBRATION=$(OPENSET_COLLECT_CALIBRATION)
 openset_crop_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) openset-crops PROGRESS=0 \
-  SCENE_CLASSIFY=$(OPENSET_CLASSIFY) SCENE_CLASSIFY_ABLATION=$(OPENSET_CLASSIFY_ABLATION) \
-  SCENE_CLASSIFY_ABLATION_2=$(OPENSET_CLASSIFY_ABLATION_2) SCENE_CLASSIFY_ABLATION_3=$(OPENSET_CLASSIFY_ABLATION_3) \
+  SCENE_CLASSIFY=$(OPENSET_CLASSIFY) SCENE_CLASSIFY_ABLATION= \
+  SCENE_CLASSIFY_ABLATION_2= SCENE_CLASSIFY_ABLATION_3= SCENE_CLASSIFY_ABLATIONS='$(openset_classify_ablations)' \
   SCENE_COLLECT_ABLATION= SCENE_COLLECT_ABLATIONS='$(OPENSET_COLLECT_ABLATIONS)' \
   COLLECT_CALIBRATION=$(OPENSET_COLLECT_CALIBRATION)
 ifneq ($(findstring q,$(make_letters))$(OPENSET),q1)
@@ -236,31 +247,36 @@ openset_abl_scores = $(if $(1),$(OPENSET_RES)/$(2)/score.json $(if $(filter 1,$(
 openset_abl_order = $(if $(word 1,$(1)),$(eval $(word 1,$(1)): $(OPENSET_SCORE)))$(if \
   $(word 2,$(1)),$(eval $(word 2,$(1)): $(OPENSET_CROP_SCORE)))
 # classify's ablations (OPENSET_CLASSIFY_ABLATION: all off; OPENSET_CLASSIFY_ABLATION_2: the
-# envelope alone off; OPENSET_CLASSIFY_ABLATION_3: family-entries alone 1) and collect's
+# envelope alone off; OPENSET_CLASSIFY_ABLATION_3: family-entries alone 1; OPENSET_CLASSIFY_ABLATION_4:
+# the bed alone off) and collect's
 # (OPENSET_COLLECT_ABLATIONS: each variant's, openset_collect_variants).
 OPENSET_ABL_SCORES := $(call openset_abl_scores,$(OPENSET_CLASSIFY_ABLATION),class-ablation)
 OPENSET_ABL2_SCORES := $(call openset_abl_scores,$(OPENSET_CLASSIFY_ABLATION_2),class-ablation-2)
 OPENSET_ABL3_SCORES := $(call openset_abl_scores,$(OPENSET_CLASSIFY_ABLATION_3),class-ablation-3)
+OPENSET_ABL4_SCORES := $(call openset_abl_scores,$(OPENSET_CLASSIFY_ABLATION_4),class-ablation-4)
 openset_collect_variants := $(foreach k,$(call list_places,$(OPENSET_COLLECT_ABLATIONS)),$(call collect_variant,$(k)))
 OPENSET_COLLECT_ABL_SCORES := $(foreach v,$(openset_collect_variants),$(call openset_abl_scores,1,$(v)))
 $(call openset_abl_order,$(OPENSET_ABL_SCORES))
 $(call openset_abl_order,$(OPENSET_ABL2_SCORES))
 $(call openset_abl_order,$(OPENSET_ABL3_SCORES))
+$(call openset_abl_order,$(OPENSET_ABL4_SCORES))
 $(foreach v,$(openset_collect_variants),$(call openset_abl_order,$(call openset_abl_scores,1,$(v))))
 .PHONY: openset
 openset: $(OPENSET_SCORE) $(if $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_SCORE)) $(OPENSET_ABL_SCORES) \
-  $(OPENSET_ABL2_SCORES) $(OPENSET_ABL3_SCORES) $(OPENSET_COLLECT_ABL_SCORES)
+  $(OPENSET_ABL2_SCORES) $(OPENSET_ABL3_SCORES) $(OPENSET_ABL4_SCORES) $(OPENSET_COLLECT_ABL_SCORES)
 ifeq ($(OPENSET),1)
 # (collect's ablations: each one's score.json, its options as the list's entry, its crops' score.json)
 $(RES)/report.md: $(OPENSET_SCORE) $(if $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_SCORE)) $(OPENSET_DISTANCES) \
-  $(OPENSET_ABL_SCORES) $(OPENSET_ABL2_SCORES) $(OPENSET_ABL3_SCORES) $(OPENSET_COLLECT_ABL_SCORES)
+  $(OPENSET_ABL_SCORES) $(OPENSET_ABL2_SCORES) $(OPENSET_ABL3_SCORES) $(OPENSET_ABL4_SCORES) $(OPENSET_COLLECT_ABL_SCORES)
 REPORT_ARGS += --openset $(OPENSET_SCORE) --openset-distances $(OPENSET_DISTANCES)$(if $(filter 1,$(OPENSET_CROPS)), \
   --openset-crops $(OPENSET_CROP_SCORE))$(if $(OPENSET_CLASSIFY_ABLATION), --openset-ablation $(word 1,$(OPENSET_ABL_SCORES))$(if \
   $(filter 1,$(OPENSET_CROPS)), --openset-crops-ablation $(word 2,$(OPENSET_ABL_SCORES))))$(if $(OPENSET_CLASSIFY_ABLATION_2), \
   --openset-envelope-ablation $(word 1,$(OPENSET_ABL2_SCORES))$(if $(filter 1,$(OPENSET_CROPS)), \
   --openset-crops-envelope-ablation $(word 2,$(OPENSET_ABL2_SCORES))))$(if $(OPENSET_CLASSIFY_ABLATION_3), \
   --openset-family-ablation $(word 1,$(OPENSET_ABL3_SCORES))$(if $(filter 1,$(OPENSET_CROPS)), \
-  --openset-crops-family-ablation $(word 2,$(OPENSET_ABL3_SCORES))))$(foreach k,$(call \
+  --openset-crops-family-ablation $(word 2,$(OPENSET_ABL3_SCORES))))$(if $(OPENSET_CLASSIFY_ABLATION_4), \
+  --openset-bed-ablation $(word 1,$(OPENSET_ABL4_SCORES))$(if $(filter 1,$(OPENSET_CROPS)), \
+  --openset-crops-bed-ablation $(word 2,$(OPENSET_ABL4_SCORES))))$(foreach k,$(call \
   list_places,$(OPENSET_COLLECT_ABLATIONS)), --openset-collect-ablation $(OPENSET_RES)/$(call \
   collect_variant,$(k))/score.json --openset-collect-ablation-options=$(word $(k),$(OPENSET_COLLECT_ABLATIONS))$(if \
   $(filter 1,$(OPENSET_CROPS)), --openset-crops-collect-ablation $(OPENSET_CROP_RES)/$(call collect_variant,$(k))/score.json))
@@ -279,9 +295,10 @@ endif
 # (OPENSET_CLASSIFY_ABLATION_2 = classify-envelope-0.ini: the open set's parameters with
 # class-envelope = 0; docs/decisions/open-set.md, "ninth round"); with OPENSET_FAMILY_ENTRIES not 1
 # a third has it alone 1 (OPENSET_CLASSIFY_ABLATION_3 = classify-family-entries-1.ini; "eleventh
-# round"). The open set's classify.ini and those are written when their text changes (at parse time, like the recipes; a dry run writes
+# round"); a fourth has the pickup's bed cue alone off (OPENSET_CLASSIFY_ABLATION_4 =
+# classify-bed-0.ini: its min-bed line 0; classify.md §39). The open set's classify.ini and those are written when their text changes (at parse time, like the recipes; a dry run writes
 # nothing and plans classify again).
-# (OPENSET_CLASSES_ONLY, OPENSET_CLASSIFY_ABLATION[_2|_3]: near the top.)
+# (OPENSET_CLASSES_ONLY, OPENSET_CLASSIFY_ABLATION[_2|_3|_4]: near the top.)
 OPENSET_CLASSIFY := $(OPENSET_DIR)/classify.ini
 # openset_classify_text(ENVELOPE, FAMILY_ENTRIES): the open set's parameters with class-envelope =
 # ENVELOPE and family-entries = FAMILY_ENTRIES.
@@ -302,4 +319,6 @@ $(if $(OPENSET_CLASSIFY_ABLATION_2),$(eval $(OPENSET_CLASSIFY_ABLATION_2): $(cal
   text_prereq,$(OPENSET_CLASSIFY_ABLATION_2),$(call openset_classify_text,0,$(OPENSET_FAMILY_ENTRIES)))))
 $(if $(OPENSET_CLASSIFY_ABLATION_3),$(eval $(OPENSET_CLASSIFY_ABLATION_3): $(call \
   text_prereq,$(OPENSET_CLASSIFY_ABLATION_3),$(call openset_classify_text,$(OPENSET_CLASS_ENVELOPE),1))))
+$(if $(OPENSET_CLASSIFY_ABLATION_4),$(eval $(OPENSET_CLASSIFY_ABLATION_4): $(call text_prereq,$(OPENSET_CLASSIFY_ABLATION_4),$(subst \
+  $(nl)$(openset_bed_line)$(nl),$(nl)min-bed = 0$(nl),$(call openset_classify_text,$(OPENSET_CLASS_ENVELOPE),$(OPENSET_FAMILY_ENTRIES))))))
 endif

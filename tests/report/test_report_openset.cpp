@@ -374,3 +374,47 @@ TEST_CASE("report --openset with the family-entries ablation: a subsection after
     CHECK_FALSE(fs::exists(dir / "res-bad" / "report.md"));
   }
 }
+
+TEST_CASE("report --openset with the bed ablation: a subsection after the family-entries one") {
+  namespace fs = std::filesystem;
+  // Hand-made scores of 10 pickup crops each: canopy 9/10 found and right; one entry keeping its
+  // family 8 found, 8 right; the bed cue off 10 found (0 + 10), 3 right: Wilson 3/10 [10.8, 60.3],
+  // wrong class 7/10 [39.7, 89.2].
+  const OpensetRun run =
+      openset_run("openset-bed-ablation", {{"canopy", crops_score_json({"pickup"}, 5, 0, 4, 0, 9, 9)},
+                                           {"family-1", crops_score_json({"pickup"}, 4, 0, 4, 0, 8, 8)},
+                                           {"bed-0", crops_score_json({"pickup"}, 0, 0, 10, 0, 10, 3)}});
+  const fs::path& dir = run.dir;
+  const auto path = [&](const std::string& name, bool crops) { return run.path(name, crops); };
+  const std::string report = run.command();
+  const std::string family = " --openset-family-ablation " + path("family-1", false) +
+                             " --openset-crops-family-ablation " + path("family-1", true);
+  const std::string bed = " --openset-bed-ablation " + path("bed-0", false) +
+                          " --openset-crops-bed-ablation " + path("bed-0", true);
+  std::string err;
+  fs::create_directories(dir / "res");
+  REQUIRE(test::sh(report + bed + family + " --results " + (dir / "res").string(), dir / "err1.txt", &err) == 0);
+  const std::string md = test::read_text(dir / "res" / "report.md");
+  const auto fam = md.find("### Ablation: one entry keeps its family (`OPENSET_FAMILY_ENTRIES=1`)");
+  const auto b = md.find("### Ablation: no pickup bed cue (`classify --min-bed 0`)");
+  REQUIRE(fam != std::string::npos);
+  REQUIRE(b != std::string::npos);
+  CHECK(fam < b);  // in the open set's order, whatever the command line's
+  CHECK(md.find("`classify --min-bed 0.1`, docs/decisions/classify.md §39", b) != std::string::npos);
+  const std::string row =
+      "| pickup | 10 | 10 (0 + 10) | 10/10 = 100.0% [72.2, 100.0] | 3/10 = 30.0% [10.8, 60.3] | 3/10 = 30.0% "
+      "[10.8, 60.3] | 7/10 = 70.0% [39.7, 89.2] | 0 |";
+  CHECK(md.find(row) > b);
+  CHECK(md.find("(" + path("bed-0", false) + ", " + path("bed-0", true) + ")") != std::string::npos);
+  // The crops' file needs the tiles', the ablation needs --openset: usage, exit 2, no report.
+  for (const std::string& bad :
+       {report + " --openset-crops-bed-ablation " + path("bed-0", true),
+        std::string(CANOPY_BIN_DIR) + "/report --manifest " + (dir / "experiment.txt").string() +
+            " --openset-bed-ablation " + path("bed-0", false)}) {
+    fs::remove_all(dir / "res-bad");
+    fs::create_directories(dir / "res-bad");
+    CHECK(test::sh(bad + " --results " + (dir / "res-bad").string(), dir / "err2.txt", &err) == 2);
+    CHECK(err.find("bed-ablation needs --openset") != std::string::npos);
+    CHECK_FALSE(fs::exists(dir / "res-bad" / "report.md"));
+  }
+}

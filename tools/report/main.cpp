@@ -263,6 +263,7 @@ struct Sources {
   std::vector<ClassifyAblationArgs> tile_classify_ablations = std::vector<ClassifyAblationArgs>(2);
   std::string openset_envelope_ablation, openset_crops_envelope_ablation;
   std::string openset_family_ablation, openset_crops_family_ablation;
+  std::string openset_bed_ablation, openset_crops_bed_ablation;
   std::string tile_score, families, disk, openset, openset_crops, openset_distances, openset_ablation,
       openset_crops_ablation;
   int real_timeout = 0;
@@ -345,6 +346,12 @@ void bind(common::Tool& tool, Sources& src, report::Params& p) {
            "open set's beside the default");
   tool.add("--openset-crops-family-ablation", &src.openset_crops_family_ablation,
            "the same ablation's score.json on the single-vehicle crops (with --openset-family-ablation)");
+  tool.add("--openset-bed-ablation", &src.openset_bed_ablation,
+           "the open set's fourth classify ablation's score.json (mk/openset.mk: the pickup's bed cue alone "
+           "off, classify --min-bed 0 with the open set's other parameters): a subsection of the open set's "
+           "beside the default");
+  tool.add("--openset-crops-bed-ablation", &src.openset_crops_bed_ablation,
+           "the same ablation's score.json on the single-vehicle crops (with --openset-bed-ablation)");
   tool.add("--openset-collect-ablation", &src.openset_collect_ablations,
            "an open-set collect ablation's score.json (mk/openset.mk OPENSET_COLLECT_ABLATIONS: the same "
            "verdicts and class answers collected with other options): a subsection of the open set's beside "
@@ -411,6 +418,9 @@ int main(int argc, char** argv) {
     needs(src.openset_family_ablation, "--openset-family-ablation", src.openset, "--openset");
     needs(src.openset_crops_family_ablation, "--openset-crops-family-ablation", src.openset_family_ablation,
           "--openset-family-ablation");
+    needs(src.openset_bed_ablation, "--openset-bed-ablation", src.openset, "--openset");
+    needs(src.openset_crops_bed_ablation, "--openset-crops-bed-ablation", src.openset_bed_ablation,
+          "--openset-bed-ablation");
     check_collect_ablations(src);
     common::log::Phase phase("read");
     const documents::ExperimentManifest manifest = documents::read_experiment_manifest(src.manifest);
@@ -450,6 +460,9 @@ int main(int argc, char** argv) {
       if (!src.openset_family_ablation.empty())
         markdown += openset_ablation_section(report::openset_family_ablation_markdown,
                                              src.openset_family_ablation, src.openset_crops_family_ablation);
+      if (!src.openset_bed_ablation.empty())
+        markdown += openset_ablation_section(report::openset_bed_ablation_markdown, src.openset_bed_ablation,
+                                             src.openset_crops_bed_ablation);
       for (std::size_t k = 0; k < src.openset_collect_ablations.size(); ++k)
         markdown += openset_collect_ablation_section(
             src.openset_collect_ablations[k],

@@ -247,6 +247,17 @@ std::string openset_family_ablation_markdown(const documents::SceneScore& tiles,
       tiles, tiles_path, crops, crops_path);
 }
 
+std::string openset_bed_ablation_markdown(const documents::SceneScore& tiles, const std::string& tiles_path,
+                                          const documents::SceneScore* crops, const std::string& crops_path) {
+  return ablation_markdown(
+      "Ablation: no pickup bed cue (`classify --min-bed 0`)",
+      "A car- or van-group answer whose top shows a pickup's bed at one end (its walls over its floor and "
+      "under the cab's roof: `classify --min-bed 0.1`, docs/decisions/classify.md §39) can only be "
+      "`pickup`; this is the same tiles, candidates and model chain with the cue off (`--min-bed 0`) and "
+      "the open set's other parameters, run beside the default on every candidate and scored the same way",
+      tiles, tiles_path, crops, crops_path);
+}
+
 std::vector<std::string> collect_ablation_options(const std::string& options) {
   std::vector<std::string> words;
   std::string word;

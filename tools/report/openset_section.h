@@ -66,6 +66,12 @@ std::string openset_envelope_ablation_markdown(const documents::SceneScore& tile
 std::string openset_family_ablation_markdown(const documents::SceneScore& tiles, const std::string& tiles_path,
                                              const documents::SceneScore* crops = nullptr,
                                              const std::string& crops_path = "");
+// The ablation of the pickup's bed cue alone (OPENSET_CLASSIFY_ABLATION_4: the open set's parameters
+// with min-bed = 0) on the same candidates and model chain, in the same form: what classify.md §39
+// changes.
+std::string openset_bed_ablation_markdown(const documents::SceneScore& tiles, const std::string& tiles_path,
+                                          const documents::SceneScore* crops = nullptr,
+                                          const std::string& crops_path = "");
 // collect's options of an open-set collect ablation (an entry of mk/openset.mk
 // OPENSET_COLLECT_ABLATIONS: --name=value options separated by commas or spaces) as collect's
 // command line words ("--contradicted-below", "0", ...). Throws common::UsageError naming
