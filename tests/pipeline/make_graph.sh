@@ -519,14 +519,14 @@ done
 # classify.md §39): the sub-make gets the four as its list, the report the fourth's score;
 # OPENSET_BED_ABLATION=0 leaves the fourth out and the other three in their places.
 ob=$tmp/out/openset
-echo "$plan" | grep -q "make .* scenes .*SCENE_CLASSIFY_ABLATIONS='share/params/classify-sim.ini $ob/classify-envelope-0.ini $ob/classify-family-entries-1.ini $ob/classify-bed-0.ini'" ||
+echo "$plan" | grep -q "make .* scenes .*SCENE_CLASSIFY_ABLATIONS='$tmp/params/classify-sim.ini $ob/classify-envelope-0.ini $ob/classify-family-entries-1.ini $ob/classify-bed-0.ini'" ||
   fail "the open set's sub-make is not given its four classify ablations: $(echo "$plan" | grep -o "SCENE_CLASSIFY_ABLATIONS='[^']*'" | head -1)"
 plans "bin/report .*--openset-family-ablation $tmp/res/openset/class-ablation-3/score.json .*--openset-bed-ablation $tmp/res/openset/class-ablation-4/score.json" ||
   fail "the report is not given the open set's bed ablation: $(echo "$plan" | grep bin/report)"
 plans "bin/score --tiles $tmp/out/openset/tiles/tiles-class-ablation-4.txt .*-o $tmp/res/openset/class-ablation-4/score.json" ||
   fail "the open set's default does not plan the bed ablation's score"
 plan=$("${sa[@]}" -n all OPENSET=1 OPENSET_SEEDS=1 OPENSET_COVERS=light OPENSET_CROPS=0 OPENSET_BED_ABLATION=0 2>&1)
-echo "$plan" | grep -q "SCENE_CLASSIFY_ABLATIONS='share/params/classify-sim.ini $ob/classify-envelope-0.ini $ob/classify-family-entries-1.ini -'" ||
+echo "$plan" | grep -q "SCENE_CLASSIFY_ABLATIONS='$tmp/params/classify-sim.ini $ob/classify-envelope-0.ini $ob/classify-family-entries-1.ini -'" ||
   fail "OPENSET_BED_ABLATION=0 does not leave the fourth place empty: $(echo "$plan" | grep -o "SCENE_CLASSIFY_ABLATIONS='[^']*'" | head -1)"
 if plans "openset/.*class-ablation-4\|bed-ablation"; then fail "OPENSET_BED_ABLATION=0 still plans the bed ablation"; fi
 plan=$("${sa[@]}" -n all OPENSET=1 OPENSET_SEEDS=1 OPENSET_COVERS=light OPENSET_CROPS=0 OPENSET_COLLECT_ABLATION_2= 2>&1)
