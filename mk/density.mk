@@ -36,7 +36,7 @@ DENSITY_RES := $(RES)/density
 # as SCENE_DETECT; share/params/detect-ladder.ini is `end-gap = 1` (docs/decisions/detect.md §19).
 # The higher rungs, the scene experiment and the real tiles keep detect's defaults (end-gap 0:
 # detect.md §19's two false alarms on the real development tiles). Empty: detect's defaults.
-DENSITY_DETECT ?=
+DENSITY_DETECT ?= share/params/detect-ladder.ini
 DENSITY_CLASS_MAX ?= 50
 # detect's ablations on the class-level rungs, in the list form of classify's
 # (experiment-graph.md §8): the K-th entry, a detect parameter file, is the variant detect-ablation
