@@ -65,8 +65,8 @@ struct Parser {
     if (std::find(order.begin(), order.end(), x) == order.end()) order.push_back(x);
   }
 
-  // The rung a density-verify, density-classify or density-detect record `w` (KIND LADDER LEVEL ...) follows: the
-  // last record of its ladder (`pixel`: density; a preset: density-sensor), at its level.
+  // The rung a density-verify, density-classify or density-detect record `w` (KIND LADDER LEVEL ...) follows:
+  // the last record of its ladder (`pixel`: density; a preset: density-sensor), at its level.
   ManifestDensity& rung_of(const std::vector<std::string>& w) {
     const std::string ladder = word(w[1], "ladder");
     std::vector<ManifestDensity>& rungs = ladder == "pixel" ? m.density : m.density_sensor;

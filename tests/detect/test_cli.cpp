@@ -529,9 +529,10 @@ TEST_CASE("detect --config: the density ladder's parameters (end-gap 1) and thei
   const auto end_gap = [&](const std::string& config, const std::string& name) {
     std::string err;
     const fs::path out = dir / name;
-    const int rc = test::sh(kBin + "/detect --no-classes" + (config.empty() ? "" : " --config " + q(src + "/" + config)) +
-                                " -i " + q(dir / "tile.pcd") + " -o " + q(out),
-                            dir / (name + ".err"), &err);
+    const int rc =
+        test::sh(kBin + "/detect --no-classes" + (config.empty() ? "" : " --config " + q(src + "/" + config)) +
+                     " -i " + q(dir / "tile.pcd") + " -o " + q(out),
+                 dir / (name + ".err"), &err);
     INFO(err);
     REQUIRE(rc == 0);
     return read_json(out / "index.json")["provenance"]["parameters"]["end-gap"].get<std::string>();

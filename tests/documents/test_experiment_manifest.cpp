@@ -48,7 +48,8 @@ const char* kManifest =
     "res/density/als_qL1-25/class-ablation/score.json\n"
     "density-classify als_qL1 25 bench/density/shoulder.ini "
     "res/density/als_qL1-25/class-ablation-2/score.json\n"
-    "density-detect als_qL1 25 bench/density/end-gap-0.ini res/density/als_qL1-25/detect-ablation/score.json\n"
+    "density-detect als_qL1 25 bench/density/end-gap-0.ini "
+    "res/density/als_qL1-25/detect-ablation/score.json\n"
     "density-detect als_qL1 25 bench/density/other.ini res/density/als_qL1-25/detect-ablation-2/score.json\n";
 
 std::string refusal(const std::string& text) {
@@ -265,7 +266,8 @@ TEST_CASE("experiment manifest: malformed records and grids are refused naming t
             .find("line 3: density-detect pixel 25 does not follow its rung's record") != std::string::npos);
   CHECK(refusal(t + "density 10 0.5 s\ndensity-detect pixel 10 d.ini v\ndensity-detect pixel 10 e.ini v\n")
             .find("line 4: density-detect pixel 10: v a second time") != std::string::npos);
-  CHECK(refusal(t + "density 10 0.5 s\ndensity-detect pixel 10 d.ini v\ndensity-detect pixel 10 e.ini w\n").empty());
+  CHECK(refusal(t + "density 10 0.5 s\ndensity-detect pixel 10 d.ini v\ndensity-detect pixel 10 e.ini w\n")
+            .empty());
   const std::string three =
       "density 10 0.5 s\ndensity-classify pixel 10 c.ini v\ndensity-classify pixel 10 d.ini w\n"
       "density-classify pixel 10 e.ini x\n";

@@ -507,12 +507,16 @@ plan=$("${dl[@]}" -n density DENSITY_DETECT_ABLATIONS= DENSITY_DETECT= 2>&1)
 if plans "detect-ablation" || plans "bin/detect --config"; then fail "DENSITY_DETECT_ABLATIONS= DENSITY_DETECT= still plan a detect ablation or parameters"; fi
 "${dl[@]}" -n density DENSITY_DETECT_ABLATIONS=bench/density/none.ini >/dev/null 2>&1 &&
   fail "a missing detect ablation file is not refused"
+[ ! -e "$tmp/out/.opts/real.txt" ] || fail "make -n density wrote the real tiles' options"
 "${dl[@]}" DENSITY_LADDER=1 "$tmp/out/experiment.txt" >/dev/null 2>&1 || fail "the manifest with the density ladder not written"
 [ "$(grep "^density-detect " "$tmp/out/experiment.txt")" = "density-detect pixel 10 bench/density/detect-end-gap-0.ini $tmp/res/density/d10/detect-ablation/score.json
 density-detect pixel 25 bench/density/detect-end-gap-0.ini $tmp/res/density/d25/detect-ablation/score.json" ] ||
   fail "the manifest's density-detect records: $(grep "^density" "$tmp/out/experiment.txt")"
 "${mk[@]}" PROGRESS=0 "$tmp/out/experiment.txt" >/dev/null 2>&1 || fail "the manifest without the ladder not written"
 grep -q "^density" "$tmp/out/experiment.txt" && fail "DENSITY_LADDER=0 again: the manifest still names the ladder"
+# (the manifest's makes write the real tiles' options too, as `all` does; the runs' own is kept aside
+# until the check below that no other goal writes it)
+rm -f "$tmp/out/.opts/real.txt"
 at $((now - 59)) "$tmp/out/experiment.txt"
 # collect's ablation by default (SCENE_COLLECT_ABLATION: --coarse-none-below=0 with a calibration;
 # verify.md §19): on a complete run it plans one more collect, from the same verdicts, and its

@@ -453,7 +453,8 @@ TEST_CASE("density ladder: detect's ablations on the class-level rungs, one tabl
   std::vector<documents::ManifestDensity> pixel = {{10, 0.667, (root / "res/d10/score.json").string(), ""},
                                                    {25, 0.422, (root / "res/d25/score.json").string(), ""},
                                                    {100, 0.211, (root / "res/d100/score.json").string(), ""}};
-  std::vector<documents::ManifestDensity> sensor = {{25, 0, (root / "res/s25/score.json").string(), "als_qL1"}};
+  std::vector<documents::ManifestDensity> sensor = {
+      {25, 0, (root / "res/s25/score.json").string(), "als_qL1"}};
   // Without density-detect records: no detect table.
   CHECK(report::density_markdown(report::read_density_levels(pixel), {}, report::read_density_levels(sensor))
             .find("ablation on the density ladder** (the rung's whole chain") == std::string::npos);
@@ -469,8 +470,9 @@ TEST_CASE("density ladder: detect's ablations on the class-level rungs, one tabl
   CHECK(levels[0].detect[0].change == eg0);
   CHECK(levels[2].detect.empty());
   const std::string md = report::density_markdown(levels, {}, sens);
-  const auto head = md.find("**detect's ablation on the density ladder** (the rung's whole chain run again — detect with `" +
-                            eg0 + "`");
+  const auto head = md.find(
+      "**detect's ablation on the density ladder** (the rung's whole chain run again — detect with `" + eg0 +
+      "`");
   REQUIRE(head != std::string::npos);
   // After classify's table, before the sensor ladder's part.
   CHECK(md.find("**classify's ablation on the density ladder**") < head);
@@ -489,8 +491,9 @@ TEST_CASE("density ladder: detect's ablations on the class-level rungs, one tabl
   CHECK(table.find("| 25 | class right (all) | 6/7 = 90.0% [80.0, 100.0] | 5/6 = 90.0% [80.0, 100.0] |") !=
         std::string::npos);
   CHECK(table.find("| 100 |") == std::string::npos);  // a model-level rung: no detect ablation
-  CHECK(md.find("**detect's ablation on the sensor ladder** (the rung's whole chain run again — detect with `" + eg0 +
-                "`") > sensor_part);
+  CHECK(
+      md.find("**detect's ablation on the sensor ladder** (the rung's whole chain run again — detect with `" +
+              eg0 + "`") > sensor_part);
   CHECK(md.find("| 25 | false alarms/ha (all) | 1 = 0.5 [0.0, 2.5] | 2 = 1.5 [0.0, 3.5] |", sensor_part) !=
         std::string::npos);
   CHECK(md.find("detect's second ablation") == std::string::npos);
@@ -502,8 +505,9 @@ TEST_CASE("density ladder: detect's ablations on the class-level rungs, one tabl
   const auto l2 = report::read_density_levels(pixel);
   CHECK(!l2[0].detect[1].scored);
   const std::string m2 = report::density_markdown(l2, {}, sens);
-  const auto second = m2.find("**detect's second ablation on the density ladder** (the rung's whole chain run again — "
-                              "detect with `bench/density/detect-other.ini`");
+  const auto second = m2.find(
+      "**detect's second ablation on the density ladder** (the rung's whole chain run again — "
+      "detect with `bench/density/detect-other.ini`");
   REQUIRE(second != std::string::npos);
   CHECK(m2.find("**detect's ablation on the density ladder**") < second);
   const std::string t2 = m2.substr(second, m2.find("### The ladder on the realistic sensor") - second);

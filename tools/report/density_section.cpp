@@ -98,8 +98,8 @@ void ablation_tables(std::ostringstream& md, const std::vector<DensityLevel>& ru
 // detect's k-th ablation (k >= 0) beside canopy on a ladder's rungs where it has run (the
 // class-level rungs, mk/density.mk DENSITY_CLASS_MAX): the rung's whole chain again with another
 // detect parameter file, so other candidates; the columns of classify's ablations.
-void detect_ablation_table(std::ostringstream& md, const std::vector<DensityLevel>& rungs, const std::string& ladder,
-                           std::size_t k) {
+void detect_ablation_table(std::ostringstream& md, const std::vector<DensityLevel>& rungs,
+                           const std::string& ladder, std::size_t k) {
   std::vector<const DensityLevel*> with;
   for (const DensityLevel& s : rungs)
     if (s.scored && k < s.detect.size() && s.detect[k].scored) with.push_back(&s);
@@ -112,12 +112,14 @@ void detect_ablation_table(std::ostringstream& md, const std::vector<DensityLeve
         "right and the wrong class of the found and false alarms per ha (all covers), each with its count "
         "and 95% interval.\n\n";
   std::vector<AblationRung> table;
-  for (const DensityLevel* s : with) table.push_back({format_number("%g", s->level), &s->score, &s->detect[k].score});
+  for (const DensityLevel* s : with)
+    table.push_back({format_number("%g", s->level), &s->score, &s->detect[k].score});
   md << class_ablation_table("level", table);
 }
 
 // Every detect ablation's table on a ladder, in their order.
-void detect_ablation_tables(std::ostringstream& md, const std::vector<DensityLevel>& rungs, const std::string& ladder) {
+void detect_ablation_tables(std::ostringstream& md, const std::vector<DensityLevel>& rungs,
+                            const std::string& ladder) {
   std::size_t n = 0;
   for (const DensityLevel& s : rungs) n = std::max(n, s.detect.size());
   for (std::size_t k = 0; k < n; ++k) detect_ablation_table(md, rungs, ladder, k);
