@@ -9,6 +9,8 @@
 # with the pixel spacing that gives that density:
 #   out/density/d<LEVEL>/<cover>/tile-<seed>/...            the scene experiment's layout
 #   results/density/d<LEVEL>/score.json (+ CSV tables)      score of the level's tiles
+#   out/density/d<LEVEL>/detect-ablation[-K]/..., results/density/d<LEVEL>/detect-ablation[-K]/score.json
+#                                                           detect's ablations on the class-level rungs
 # The render's seed is the tile's place (scenes/<cover>/<seed>), not its spacing: every level
 # shows the same scenes (terrain, trees, vehicles, poses), sampled more or less densely.
 # The report's "Density ladder" section reads the levels (the manifest's `density` records),
