@@ -9,6 +9,8 @@
 # with the pixel spacing that gives that density:
 #   out/density/d<LEVEL>/<cover>/tile-<seed>/...            the scene experiment's layout
 #   results/density/d<LEVEL>/score.json (+ CSV tables)      score of the level's tiles
+#   out/density/d<LEVEL>/detect-ablation[-K]/..., results/density/d<LEVEL>/detect-ablation[-K]/score.json
+#                                                           detect's ablations on the class-level rungs
 # The render's seed is the tile's place (scenes/<cover>/<seed>), not its spacing: every level
 # shows the same scenes (terrain, trees, vehicles, poses), sampled more or less densely.
 # The report's "Density ladder" section reads the levels (the manifest's `density` records),
@@ -29,23 +31,50 @@ DENSITY_K ?= 4.45
 DENSITY_MODELS ?= $(SCENE_MODELS)
 DENSITY_DIR := $(OUT)/density
 DENSITY_RES := $(RES)/density
-# LEVEL:SPACING_MM:SPACING_M per level, or ERROR <why>: one shell for the checks (whole levels
-# 1-99999, rising: the manifest's order; whole seeds of up to 9 digits; DENSITY_K a number; no
-# {m,n} in the patterns: Debian's mawk has none) and the spacings, and
+# detect's parameters on the class-level rungs of both ladders (density-ladder.md, "detect's end-gap
+# on the class-level rungs", stop 61): the rungs whose nominal density is at most DENSITY_CLASS_MAX
+# points (pulses) per m² (50, TILE_MODEL_DENSITY's value: the rungs 10, 25, 50, whose candidates
+# are answered by classify alone but for a few at 50). DENSITY_DETECT is given to their `make scenes`
+# as SCENE_DETECT; share/params/detect-ladder.ini is `end-gap = 1` (docs/decisions/detect.md §19).
+# The higher rungs, the scene experiment and the real tiles keep detect's defaults (end-gap 0:
+# detect.md §19's two false alarms on the real development tiles). Empty: detect's defaults.
+DENSITY_DETECT ?= share/params/detect-ladder.ini
+DENSITY_CLASS_MAX ?= 50
+# detect's ablations on the class-level rungs, in the list form of classify's
+# (experiment-graph.md §8): the K-th entry, a detect parameter file, is the variant detect-ablation
+# (K = 1) or detect-ablation-K, "-" leaves its place empty. A detect ablation changes the
+# candidates, so it is the rung's whole chain once more (render, detect with the entry's file,
+# classify, the model chain where a candidate reaches it, collect, score; no ablation of its own):
+# a `make scenes` of its own into out/density/<rung>/<variant>/ and
+# results/density/<rung>/<variant>/score.json, one density-detect record each (the report's
+# "detect's ablation on the density ladder"). The first is detect's default before stop 61
+# (end-gap 0). Empty: none.
+DENSITY_DETECT_ABLATIONS ?= bench/density/detect-end-gap-0.ini
+DENSITY_SENSOR_DETECT_ABLATIONS ?= $(DENSITY_DETECT_ABLATIONS)
+# detect_variant(K): the detect ablation at place K (detect-ablation, detect-ablation-2, ...).
+detect_variant = detect-ablation$(if $(filter-out 1,$(1)),-$(1))
+# LEVEL:SPACING_MM:SPACING_M:CLASS per level (CLASS 1 on a class-level rung: LEVEL <=
+# DENSITY_CLASS_MAX, below), or ERROR <why>: one shell for the checks (whole levels
+# 1-99999, rising: the manifest's order; whole seeds of up to 9 digits; DENSITY_K and
+# DENSITY_CLASS_MAX numbers; no {m,n} in the patterns: Debian's mawk has none) and the spacings, and
 # only where the ladder is read (every parse pays for its shells: docs/decisions/cost.md).
 ifneq ($(filter 1,$(DENSITY_LADDER))$(filter density,$(MAKECMDGOALS)),)
 density_pairs := $(shell awk -v k='$(DENSITY_K)' -v levels='$(strip $(DENSITY_LEVELS))' \
-  -v seeds='$(strip $(DENSITY_SEEDS))' 'BEGIN { \
+  -v seeds='$(strip $(DENSITY_SEEDS))' -v cmax='$(DENSITY_CLASS_MAX)' 'BEGIN { \
   if (k !~ /^[0-9]+(\.[0-9]+)?$$/) { print "ERROR DENSITY_K=" k " must be a number"; exit } \
+  if (cmax !~ /^[0-9]+(\.[0-9]+)?$$/) { print "ERROR DENSITY_CLASS_MAX=" cmax " must be a number"; exit } \
   m = split(seeds, s, " "); for (i = 1; i <= m; i++) if (s[i] !~ /^[0-9]+$$/ || length(s[i]) > 9) { \
     print "ERROR DENSITY_SEEDS: " s[i] " is not a whole number"; exit } \
   n = split(levels, d, " "); for (i = 1; i <= n; i++) { \
     if (d[i] !~ /^[1-9][0-9]*$$/ || length(d[i]) > 5) { print "ERROR DENSITY_LEVELS: " d[i] " is not a whole number of points/m² from 1 to 99999"; exit } \
     if (i > 1 && d[i] + 0 <= d[i - 1] + 0) { print "ERROR DENSITY_LEVELS=" levels ": the levels must rise"; exit } \
-    mm = int(1000 * sqrt(k / d[i]) + 0.5); out = out sprintf("%s:%d:%.3f ", d[i], mm, mm / 1000) } print out }')
+    mm = int(1000 * sqrt(k / d[i]) + 0.5); out = out sprintf("%s:%d:%.3f:%d ", d[i], mm, mm / 1000, d[i] + 0 <= cmax + 0) } \
+  print out }')
 $(if $(filter ERROR,$(firstword $(density_pairs))),$(error $(wordlist 2,$(words $(density_pairs)),$(density_pairs))))
 $(foreach f,$(filter-out -,$(DENSITY_CLASSIFY_ABLATIONS)),$(if $(wildcard $(f)),,$(error \
   DENSITY_CLASSIFY_ABLATIONS: $(f) does not exist)))
+$(foreach f,$(DENSITY_DETECT) $(filter-out -,$(DENSITY_DETECT_ABLATIONS)),$(if $(wildcard $(f)),,$(error \
+  DENSITY_DETECT or DENSITY_DETECT_ABLATIONS: $(f) does not exist)))
 endif
 # The ladder on the realistic sensor (docs/decisions/density-ladder.md, "The ladder on the
 # realistic sensor"): the same tiles rendered in sensor mode (mk/scenes.mk SCENE_SENSOR) with
@@ -85,16 +114,20 @@ DENSITY_VERIFY_ABLATION ?= --seen-spacing=0
 $(if $(filter-out --%,$(DENSITY_VERIFY_ABLATION)),$(error DENSITY_VERIFY_ABLATION=$(DENSITY_VERIFY_ABLATION): \
   verify's options, each as --name=value))
 density_verify_change = $(subst $(space),+,$(strip $(DENSITY_VERIFY_ABLATION)))
-# LEVEL:PULSE_RATE:SPEED per level, or ERROR <why> (the preset's keys read from its file).
+# LEVEL:PULSE_RATE:SPEED:CLASS per level, or ERROR <why> (the preset's keys read from its file;
+# CLASS as the pixel ladder's).
 ifneq ($(DENSITY_SENSOR),)
 ifneq ($(filter 1,$(DENSITY_LADDER))$(filter density density-sensor,$(MAKECMDGOALS)),)
 $(if $(filter 1,$(words $(DENSITY_SENSOR))),,$(error DENSITY_SENSOR=$(DENSITY_SENSOR) must name one preset of share/sensors/))
 $(if $(wildcard share/sensors/$(DENSITY_SENSOR).ini),,$(error DENSITY_SENSOR=$(DENSITY_SENSOR): no share/sensors/$(DENSITY_SENSOR).ini))
 $(foreach f,$(filter-out -,$(DENSITY_SENSOR_CLASSIFY_ABLATIONS)),$(if $(wildcard $(f)),,$(error \
   DENSITY_SENSOR_CLASSIFY_ABLATIONS: $(f) does not exist)))
-density_sensor_keys := $(shell awk -v l0='$(DENSITY_SENSOR_L0)' -v levels='$(strip $(DENSITY_SENSOR_LEVELS))' \
+$(foreach f,$(filter-out -,$(DENSITY_SENSOR_DETECT_ABLATIONS)),$(if $(wildcard $(f)),,$(error \
+  DENSITY_SENSOR_DETECT_ABLATIONS: $(f) does not exist)))
+density_sensor_keys := $(shell awk -v l0='$(DENSITY_SENSOR_L0)' -v levels='$(strip $(DENSITY_SENSOR_LEVELS))' -v cmax='$(DENSITY_CLASS_MAX)' \
   -v f='share/sensors/$(DENSITY_SENSOR).ini' 'BEGIN { \
   if (l0 !~ /^[0-9]+(\.[0-9]+)?$$/ || l0 + 0 <= 0) { print "ERROR DENSITY_SENSOR_L0=" l0 " must be a positive number"; exit } \
+  if (cmax !~ /^[0-9]+(\.[0-9]+)?$$/) { print "ERROR DENSITY_CLASS_MAX=" cmax " must be a number"; exit } \
   while ((getline line < f) > 0) { sub(/#.*/, "", line); gsub(/[ \t]/, "", line); \
     if (line ~ /^pulse_rate=/) pr = substr(line, 12) + 0; if (line ~ /^speed=/) sp = substr(line, 7) + 0 } \
   if (!(pr > 0) || !(sp > 0)) { print "ERROR " f " gives no pulse_rate and speed"; exit } \
@@ -104,7 +137,7 @@ density_sensor_keys := $(shell awk -v l0='$(DENSITY_SENSOR_L0)' -v levels='$(str
     g = sqrt(d[i] / l0); r = int(pr * g + 0.5); v = sprintf("%.2f", sp / g); \
     if (r < 1000 || r > 5000000 || v + 0 < 1 || v + 0 > 150) { print "ERROR DENSITY_SENSOR_LEVELS: " d[i] " needs pulse_rate " r \
       " and speed " v ", beyond the sensor keys bounds (share/sensors/README.md)"; exit } \
-    out = out sprintf("%s:%d:%s ", d[i], r, v) } print out }')
+    out = out sprintf("%s:%d:%s:%d ", d[i], r, v, d[i] + 0 <= cmax + 0) } print out }')
 $(if $(filter ERROR,$(firstword $(density_sensor_keys))),$(error $(wordlist 2,$(words $(density_sensor_keys)),$(density_sensor_keys))))
 endif
 endif
@@ -114,6 +147,14 @@ DENSITY_SENSOR_SCORES := $(if $(DENSITY_SENSOR),$(foreach d,$(DENSITY_SENSOR_LEV
 density_mm = $(word 2,$(subst :, ,$(filter $(1):%,$(density_pairs))))
 density_m = $(word 3,$(subst :, ,$(filter $(1):%,$(density_pairs))))
 DENSITY_SCORES := $(foreach d,$(DENSITY_LEVELS),$(DENSITY_RES)/d$(d)/score.json)
+# The class-level rungs of each ladder (DENSITY_CLASS_MAX) and their detect ablations' scores.
+density_class_levels := $(foreach p,$(density_pairs),$(if $(filter 1,$(word 4,$(subst :, ,$(p)))),$(firstword $(subst :, ,$(p)))))
+density_sensor_class_levels := $(foreach p,$(density_sensor_keys),$(if $(filter 1,$(word 4,$(subst :, ,$(p)))),$(firstword \
+  $(subst :, ,$(p)))))
+DENSITY_DETECT_SCORES := $(foreach d,$(density_class_levels),$(foreach k,$(call list_places,$(DENSITY_DETECT_ABLATIONS)),$(DENSITY_RES)/d$(d)/$(call \
+  detect_variant,$(k))/score.json))
+DENSITY_SENSOR_DETECT_SCORES := $(if $(DENSITY_SENSOR),$(foreach d,$(density_sensor_class_levels),$(foreach k,$(call \
+  list_places,$(DENSITY_SENSOR_DETECT_ABLATIONS)),$(DENSITY_RES)/$(DENSITY_SENSOR)-$(d)/$(call detect_variant,$(k))/score.json)))
 
 # The records of the experiment's manifest (Makefile.experiments): level, spacing (m), score;
 # the sensor ladder's: level, preset, score [, classify's ablation: its parameter file and score];
@@ -127,14 +168,20 @@ density_first = $(if $(filter-out -,$(firstword $(1))), $(firstword $(1)) $(DENS
 # third, ... ablation on a rung, one density-classify record each.
 density_classify_records = $(foreach k,$(filter-out 1,$(call list_places,$(4))),$(call ml,density-classify $(1) $(2) \
   $(word $(k),$(4)) $(DENSITY_RES)/$(3)/$(call class_variant,$(k))/score.json))
+# density_detect_records(LADDER, LEVEL, RUNG, LIST): on a class-level rung, detect's ablations
+# (LIST's entries), one density-detect record each.
+density_detect_records = $(if $(filter $(2),$(if $(filter pixel,$(1)),$(density_class_levels),$(density_sensor_class_levels))),$(foreach \
+  k,$(call list_places,$(4)),$(call ml,density-detect $(1) $(2) $(word $(k),$(4)) $(DENSITY_RES)/$(3)/$(call detect_variant,$(k))/score.json)))
 EXPERIMENT_DENSITY := $(if $(filter 1,$(DENSITY_LADDER)),$(foreach d,$(DENSITY_LEVELS),$(call ml,density $(d) \
   $(call density_m,$(d)) $(DENSITY_RES)/d$(d)/score.json$(call density_first,$(DENSITY_CLASSIFY_ABLATIONS),d$(d)))$(call \
-  density_verify_record,pixel,$(d),d$(d))$(call density_classify_records,pixel,$(d),d$(d),$(DENSITY_CLASSIFY_ABLATIONS)))$(if \
+  density_verify_record,pixel,$(d),d$(d))$(call density_classify_records,pixel,$(d),d$(d),$(DENSITY_CLASSIFY_ABLATIONS))$(call \
+  density_detect_records,pixel,$(d),d$(d),$(DENSITY_DETECT_ABLATIONS)))$(if \
   $(DENSITY_SENSOR),$(foreach d,$(DENSITY_SENSOR_LEVELS),$(call \
   ml,density-sensor $(d) $(DENSITY_SENSOR) $(DENSITY_RES)/$(DENSITY_SENSOR)-$(d)/score.json$(call \
   density_first,$(DENSITY_SENSOR_CLASSIFY_ABLATIONS),$(DENSITY_SENSOR)-$(d)))$(call \
   density_verify_record,$(DENSITY_SENSOR),$(d),$(DENSITY_SENSOR)-$(d))$(call \
-  density_classify_records,$(DENSITY_SENSOR),$(d),$(DENSITY_SENSOR)-$(d),$(DENSITY_SENSOR_CLASSIFY_ABLATIONS)))))
+  density_classify_records,$(DENSITY_SENSOR),$(d),$(DENSITY_SENSOR)-$(d),$(DENSITY_SENSOR_CLASSIFY_ABLATIONS))$(call \
+  density_detect_records,$(DENSITY_SENSOR),$(d),$(DENSITY_SENSOR)-$(d),$(DENSITY_SENSOR_DETECT_ABLATIONS)))))
 
 ifeq ($(filter scenes,$(MAKECMDGOALS)),)
 # density_args(LEVEL): the level's `make scenes`: its own directories and spacing, noise 0, the
@@ -142,18 +189,33 @@ ifeq ($(filter scenes,$(MAKECMDGOALS)),)
 # ablation and, on the pixel ladder, classify's.
 # density_args(LEVEL[, RUNG, RENDER]): the same for rung RUNG (default d<LEVEL>) rendered with the
 # scene variables RENDER (default the level's spacing): the sensor ladder's levels.
-density_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROGRESS=0 \
+# density_base(LEVEL, RUNG, RENDER): the `make scenes` of rung RUNG (default d<LEVEL>; its
+# directories out/density/RUNG, results/density/RUNG) rendered with the scene variables RENDER
+# (default the level's spacing), noise 0, the scores only, no ablation.
+density_base = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROGRESS=0 \
   SCENE_DIR=$(DENSITY_DIR)/$(or $(2),d$(1)) SCENE_RES=$(DENSITY_RES)/$(or $(2),d$(1)) \
   $(or $(3),SCENE_SPACING=$(call density_mm,$(1))mm) \
   SCENE_SEEDS="$(DENSITY_SEEDS)" SCENE_COVERS="$(DENSITY_COVERS)" SCENE_MODELS=$(DENSITY_MODELS) SCENE_NOISES=0 SCENE_BASELINE= \
-  SCENE_SIZE_ONLY=0 SCENE_PICTURES=0 SCENE_COLLECT_ABLATION=$(if $(DENSITY_VERIFY_ABLATION), SCENE_VERIFY_ABLATION='$(DENSITY_VERIFY_ABLATION)')$(if \
+  SCENE_SIZE_ONLY=0 SCENE_PICTURES=0 SCENE_COLLECT_ABLATION=
+# density_detect_arg(LEVEL, CLASS LEVELS, FILE): detect's parameters FILE on a class-level rung.
+density_detect_arg = $(if $(filter $(1),$(2)), SCENE_DETECT=$(3))
+density_args = $(call density_base,$(1),$(2),$(3))$(if $(2),,$(call density_detect_arg,$(1),$(density_class_levels),$(DENSITY_DETECT)))$(if \
+  $(DENSITY_VERIFY_ABLATION), SCENE_VERIFY_ABLATION='$(DENSITY_VERIFY_ABLATION)')$(if \
   $(2),,$(call density_class_arg,$(DENSITY_CLASSIFY_ABLATIONS)))
 # density_class_arg(LIST): a level's classify ablations (none: no argument).
 density_class_arg = $(if $(strip $(1)), SCENE_CLASSIFY_ABLATIONS='$(strip $(1))')
 # density_sensor_args(LEVEL): a level of the sensor ladder.
-density_sensor_args = $(call density_args,$(1),$(DENSITY_SENSOR)-$(1),SCENE_SENSOR=$(DENSITY_SENSOR) \
-  SCENE_SENSOR_KEYS="pulse_rate=$(call density_sensor_rate,$(1)) speed=$(call density_sensor_speed,$(1))" \
-  $(call density_class_arg,$(DENSITY_SENSOR_CLASSIFY_ABLATIONS)))
+density_sensor_render = SCENE_SENSOR=$(DENSITY_SENSOR) \
+  SCENE_SENSOR_KEYS="pulse_rate=$(call density_sensor_rate,$(1)) speed=$(call density_sensor_speed,$(1))"
+density_sensor_args = $(call density_args,$(1),$(DENSITY_SENSOR)-$(1),$(call density_sensor_render,$(1)) \
+  $(call density_class_arg,$(DENSITY_SENSOR_CLASSIFY_ABLATIONS))$(call \
+  density_detect_arg,$(1),$(density_sensor_class_levels),$(DENSITY_DETECT)))
+# density_detect_args(LEVEL, K) and density_sensor_detect_args(LEVEL, K): detect's K-th ablation
+# on a class-level rung of either ladder (DENSITY_[SENSOR_]DETECT_ABLATIONS).
+density_detect_args = $(call density_base,$(1),d$(1)/$(call detect_variant,$(2))) SCENE_DETECT=$(word \
+  $(2),$(DENSITY_DETECT_ABLATIONS))
+density_sensor_detect_args = $(call density_base,$(1),$(DENSITY_SENSOR)-$(1)/$(call detect_variant,$(2)),$(call \
+  density_sensor_render,$(1))) SCENE_DETECT=$(word $(2),$(DENSITY_SENSOR_DETECT_ABLATIONS))
 # As for the scene experiment: under -q each level's sub-make is asked (`make -q`, which renders
 # nothing), only when the ladder is on (the question builds the tools it needs, and a make
 # without the ladder must not); otherwise the step always runs and make compares score.json's
@@ -176,11 +238,21 @@ $(DENSITY_RES)/$(DENSITY_SENSOR)-$(1)/score.json: $(call density_force,$(1),$(ca
 	+@$(MAKE) $(call density_sensor_args,$(1))
 endef
 $(if $(DENSITY_SENSOR),$(foreach d,$(DENSITY_SENSOR_LEVELS),$(eval $(call density_sensor_rule,$(d)))))
+# density_detect_rule(LADDER RUNG, LEVEL, K, ARGS): detect's K-th ablation on a class-level rung.
+define density_detect_rule
+$(DENSITY_RES)/$(1)/$(call detect_variant,$(3))/score.json: $(call density_force,$(2),$(4)) \
+    $(foreach t,$(DENSITY_TOOLS),$(call tool,$(t))) $(MODELBASE) $(VERIFY_SURFACES)
+	+@$(MAKE) $(4)
+endef
+$(foreach d,$(density_class_levels),$(foreach k,$(call list_places,$(DENSITY_DETECT_ABLATIONS)),$(eval $(call \
+  density_detect_rule,d$(d),$(d),$(k),$(call density_detect_args,$(d),$(k))))))
+$(if $(DENSITY_SENSOR),$(foreach d,$(density_sensor_class_levels),$(foreach k,$(call list_places,$(DENSITY_SENSOR_DETECT_ABLATIONS)),$(eval \
+  $(call density_detect_rule,$(DENSITY_SENSOR)-$(d),$(d),$(k),$(call density_sensor_detect_args,$(d),$(k)))))))
 .PHONY: density density-sensor
-density: $(DENSITY_SCORES) $(DENSITY_SENSOR_SCORES)
-density-sensor: $(DENSITY_SENSOR_SCORES)
+density: $(DENSITY_SCORES) $(DENSITY_SENSOR_SCORES) $(DENSITY_DETECT_SCORES) $(DENSITY_SENSOR_DETECT_SCORES)
+density-sensor: $(DENSITY_SENSOR_SCORES) $(DENSITY_SENSOR_DETECT_SCORES)
 ifeq ($(DENSITY_LADDER),1)
-$(RES)/report.md: $(DENSITY_SCORES) $(DENSITY_SENSOR_SCORES)
+$(RES)/report.md: $(DENSITY_SCORES) $(DENSITY_SENSOR_SCORES) $(DENSITY_DETECT_SCORES) $(DENSITY_SENSOR_DETECT_SCORES)
 # The report writes the ladder's tables (ladder.csv, ladder-rates.csv, ladder-errors.csv); the
 # pictures draw two of them, one panel per metric, one line per cover level.
 $(DENSITY_RES)/ladder-rates.png: $(RES)/report.md $(call tool,figures)

@@ -36,8 +36,16 @@
 # The tools of this file, unless another fragment already has their build rule.
 scene_tool_has_rule = $(or $(filter $(1),$(TOOLS)),$(and $(filter verify,$(1)),$(filter mk/verify.mk,$(MAKEFILE_LIST))))
 $(foreach t,detect classify verify collect score topview,$(if $(call scene_tool_has_rule,$(t)),,$(eval $(call tool_rule,$(t)))))
-# (detect has no parameter file yet: share/params/detect.ini is used as soon as it exists;
-# verify's is share/params/verify.ini, the thesis protocol's, through the same scene_config.)
+# detect's parameters: $(P)/detect.ini when it exists (none today: detect's own defaults) for a
+# user's tile, the real tiles and the open set's crops (TILE_DETECT); the scene experiment's runs
+# take SCENE_DETECT (default the same), which the density ladder sets on its class-level rungs
+# (mk/density.mk DENSITY_DETECT: share/params/detect-ladder.ini) and to each of its detect
+# ablations. tile_detect is the one the make's runs take. (verify's parameters are
+# share/params/verify.ini, the thesis protocol's, through scene_config.)
+TILE_DETECT ?= $(wildcard $(P)/detect.ini)
+SCENE_DETECT ?= $(TILE_DETECT)
+$(foreach f,$(TILE_DETECT) $(SCENE_DETECT),$(if $(wildcard $(f)),,$(error detect's parameters: $(f) does not exist)))
+tile_detect = $(TILE_DETECT)
 # fitvox on candidates: airborne tiles are sparser than the thesis's renderings
 # (share/params/fitvox-tile.ini says how the setting was chosen).
 TILE_FITVOX ?= $(P)/fitvox-tile.ini
@@ -159,7 +167,7 @@ $(foreach f,$(TILE_CLASSIFY) $(SCENE_CLASSIFY) $(filter-out -,$(scene_class_list
 # fitvox, and so the rest. tile_classify is classify's parameters in that make (TILE_CLASSIFY
 # or SCENE_CLASSIFY); opts_text_topview is the make's own (TOP_RASTER for `make tile`,
 # SCENE_TOPVIEW_SIZE for the scene experiment's pictures).
-opts_text_detect = $(call opts_line,config,$(call scene_config,detect))
+opts_text_detect = $(call opts_line,config,$(if $(tile_detect),--config $(tile_detect)))
 opts_text_plan = $(call opts_line,model-density,$(TILE_MODEL_DENSITY))$(call opts_line,density-scale,$(TILE_DENSITY_SCALE))
 opts_text_classify = $(call opts_line,parameters,$(tile_classify))$(call opts_line,model-classes,$(MODEL_CLASSES))
 # (each classify ablation's: opts_text_classify-ablation, opts_text_classify-ablation-2, ...)
@@ -186,8 +194,8 @@ read_plan = $(if $(dry_run),$(if $(wildcard $(1)),$(eval $(file <$(1)))),$(eval 
 # classification (classes.ply: a hard link to detect's, where the filesystem has them; touched,
 # since the link has the time detect wrote it, just before index.json).
 define tile_rules
-$(2)/cands/index.json: $(3) $(call tool,detect) $(wildcard $(P)/detect.ini) $(opts.detect)
-	@$(STAGE) $(2)/detect -- $(BIN)/detect $(call scene_config,detect) $(5) -i $(3) -o $(2)/cands
+$(2)/cands/index.json: $(3) $(call tool,detect) $(tile_detect) $(opts.detect)
+	@$(STAGE) $(2)/detect -- $(BIN)/detect$(if $(tile_detect), --config $(tile_detect)) $(5) -i $(3) -o $(2)/cands
 $(2)/cands.mk: $(2)/cands/index.json $(call tool,collect) $(opts.plan)
 	@$(STAGE) $$@ -- $(BIN)/collect -i $(2)/cands/index.json --plan $$@ --plan-key $(1) \
 	  --model-density $(TILE_MODEL_DENSITY)$(if $(filter 0,$(TILE_DENSITY_SCALE)), --no-density-scale)
@@ -514,6 +522,7 @@ SCENE_MB := $(OUT)/modelbase
 TILE_CAND_KINDS += $(foreach m,$(SCENE_BASELINE),baseline:cand/baseline-$(m).json)
 # The options files of the tile workflow's stages (above) and of the score and the pictures.
 tile_classify := $(SCENE_CLASSIFY)
+tile_detect := $(SCENE_DETECT)
 opts_text_topview = $(call opts_line,size,$(SCENE_TOPVIEW_SIZE))
 opts_text_score = $(call opts_line,model-classes,$(SCENE_MODEL_CLASSES))
 $(call tile_opts_kinds,$(SCENE_DIR))

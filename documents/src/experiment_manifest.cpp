@@ -65,8 +65,8 @@ struct Parser {
     if (std::find(order.begin(), order.end(), x) == order.end()) order.push_back(x);
   }
 
-  // The rung a density-verify or density-classify record `w` (KIND LADDER LEVEL ...) follows: the
-  // last record of its ladder (`pixel`: density; a preset: density-sensor), at its level.
+  // The rung a density-verify, density-classify or density-detect record `w` (KIND LADDER LEVEL ...) follows:
+  // the last record of its ladder (`pixel`: density; a preset: density-sensor), at its level.
   ManifestDensity& rung_of(const std::vector<std::string>& w) {
     const std::string ladder = word(w[1], "ladder");
     std::vector<ManifestDensity>& rungs = ladder == "pixel" ? m.density : m.density_sensor;
@@ -151,6 +151,12 @@ struct Parser {
       for (const ManifestRungAblation& a : rung.classify_more)
         if (a.score == w[4]) fail("density-classify " + w[1] + " " + w[2] + ": " + w[4] + " a second time");
       rung.classify_more.push_back({w[3], w[4]});
+    } else if (kind == "density-detect") {
+      expect(w, 5, 5, "density-detect LADDER LEVEL CONFIG SCORE");
+      ManifestDensity& rung = rung_of(w);
+      for (const ManifestRungAblation& a : rung.detect)
+        if (a.score == w[4]) fail("density-detect " + w[1] + " " + w[2] + ": " + w[4] + " a second time");
+      rung.detect.push_back({w[3], w[4]});
     } else if (kind == "density") {
       expect(w, 4, 6, "density LEVEL SPACING SCORE [ABLATION_CONFIG ABLATION_SCORE]");
       if (w.size() == 5) fail("density: an ablation needs its parameter file and its score.json");
@@ -172,7 +178,7 @@ struct Parser {
     } else {
       fail("unknown record '" + kind +
            "' (trial, model, render, ablation, ablation-trial, figure, real, real-ablation, density, "
-           "density-sensor, density-verify, density-classify)");
+           "density-sensor, density-verify, density-classify, density-detect)");
     }
   }
 
@@ -268,6 +274,8 @@ std::string write_experiment_manifest(const ExperimentManifest& m) {
   const auto classify_more = [&out](const std::string& ladder, const ManifestDensity& d) {
     for (const ManifestRungAblation& a : d.classify_more)
       out << "density-classify " << ladder << ' ' << d.level << ' ' << a.change << ' ' << a.score << '\n';
+    for (const ManifestRungAblation& a : d.detect)
+      out << "density-detect " << ladder << ' ' << d.level << ' ' << a.change << ' ' << a.score << '\n';
   };
   out << std::setprecision(10);
   for (const auto& d : m.density) {

@@ -518,3 +518,26 @@ TEST_CASE("detect --trajectory: the candidates of a tile without sensor columns 
                  dir / "err3.txt", &err) != 0);
   CHECK(err.find("gps_time") != std::string::npos);
 }
+
+TEST_CASE("detect --config: the density ladder's parameters (end-gap 1) and their ablation (end-gap 0)") {
+  // mk/density.mk gives the class-level rungs share/params/detect-ladder.ini and their detect
+  // ablation bench/density/detect-end-gap-0.ini: each reaches detect's parameters (the index's
+  // provenance), and detect's default is the ablation's value.
+  const fs::path dir = test::fresh_dir("detect", "cli_ladder_config");
+  formats::write_pcd(detect_test::make_tile(small_scene()), (dir / "tile.pcd").string());
+  const std::string src = CANOPY_SOURCE_DIR;
+  const auto end_gap = [&](const std::string& config, const std::string& name) {
+    std::string err;
+    const fs::path out = dir / name;
+    const int rc =
+        test::sh(kBin + "/detect --no-classes" + (config.empty() ? "" : " --config " + q(src + "/" + config)) +
+                     " -i " + q(dir / "tile.pcd") + " -o " + q(out),
+                 dir / (name + ".err"), &err);
+    INFO(err);
+    REQUIRE(rc == 0);
+    return read_json(out / "index.json")["provenance"]["parameters"]["end-gap"].get<std::string>();
+  };
+  CHECK(end_gap("share/params/detect-ladder.ini", "ladder") == "1");
+  CHECK(end_gap("bench/density/detect-end-gap-0.ini", "ablation") == "0");
+  CHECK(end_gap("", "default") == "0");
+}

@@ -41,12 +41,16 @@ const char* kManifest =
     "density-verify pixel 25.5 --seen-spacing=0 res/density/d25.5/verify-ablation/score.json\n"
     "density-classify pixel 25.5 bench/density/shoulder.ini res/density/d25.5/class-ablation-2/score.json\n"
     "density-classify pixel 25.5 bench/density/sampled.ini res/density/d25.5/class-ablation-3/score.json\n"
+    "density-detect pixel 25.5 bench/density/end-gap-0.ini res/density/d25.5/detect-ablation/score.json\n"
     "density-sensor 10 als_qL1 res/density/als_qL1-10/score.json\n"
     "density-verify als_qL1 10 --seen-spacing=0+--top-k=5 res/density/als_qL1-10/verify-ablation/score.json\n"
     "density-sensor 25 als_qL1 res/density/als_qL1-25/score.json bench/density/late.ini "
     "res/density/als_qL1-25/class-ablation/score.json\n"
     "density-classify als_qL1 25 bench/density/shoulder.ini "
-    "res/density/als_qL1-25/class-ablation-2/score.json\n";
+    "res/density/als_qL1-25/class-ablation-2/score.json\n"
+    "density-detect als_qL1 25 bench/density/end-gap-0.ini "
+    "res/density/als_qL1-25/detect-ablation/score.json\n"
+    "density-detect als_qL1 25 bench/density/other.ini res/density/als_qL1-25/detect-ablation-2/score.json\n";
 
 std::string refusal(const std::string& text) {
   try {
@@ -145,6 +149,19 @@ TEST_CASE("experiment manifest: every record read, the grid in order of first ap
   REQUIRE(again.density[1].classify_more.size() == 2);
   CHECK(again.density[1].classify_more[1].score == m.density[1].classify_more[1].score);
   CHECK(again.density_sensor[1].classify_more[0].change == "bench/density/shoulder.ini");
+  // detect's ablations (density-detect), after their rung's record, in order.
+  CHECK(m.density[0].detect.empty());
+  REQUIRE(m.density[1].detect.size() == 1);
+  CHECK(m.density[1].detect[0].change == "bench/density/end-gap-0.ini");
+  CHECK(m.density[1].detect[0].score == "res/density/d25.5/detect-ablation/score.json");
+  CHECK(m.density[1].classify_more.size() == 2);  // not taken for classify's
+  CHECK(m.density_sensor[0].detect.empty());
+  REQUIRE(m.density_sensor[1].detect.size() == 2);
+  CHECK(m.density_sensor[1].detect[1].change == "bench/density/other.ini");
+  CHECK(m.density_sensor[1].detect[1].score == "res/density/als_qL1-25/detect-ablation-2/score.json");
+  REQUIRE(again.density_sensor[1].detect.size() == 2);
+  CHECK(again.density_sensor[1].detect[0].score == m.density_sensor[1].detect[0].score);
+  CHECK(again.density[1].detect[0].change == "bench/density/end-gap-0.ini");
   CHECK(again.density[1].verify.score == m.density[1].verify.score);
   CHECK(again.density_sensor[0].verify.change == "--seen-spacing=0 --top-k=5");
   // classify's ablations of a real tile, in the manifest's order.
@@ -243,6 +260,14 @@ TEST_CASE("experiment manifest: malformed records and grids are refused naming t
   CHECK(
       refusal(t + "density 10 0.5 s\ndensity-classify pixel 10 c.ini v\ndensity-classify pixel 10 d.ini w\n")
           .empty());
+  CHECK(refusal(t + "density 10 0.5 s\ndensity-detect pixel 10 d.ini\n")
+            .find("line 3: expected 'density-detect LADDER LEVEL CONFIG SCORE'") != std::string::npos);
+  CHECK(refusal(t + "density 10 0.5 s\ndensity-detect pixel 25 d.ini v\n")
+            .find("line 3: density-detect pixel 25 does not follow its rung's record") != std::string::npos);
+  CHECK(refusal(t + "density 10 0.5 s\ndensity-detect pixel 10 d.ini v\ndensity-detect pixel 10 e.ini v\n")
+            .find("line 4: density-detect pixel 10: v a second time") != std::string::npos);
+  CHECK(refusal(t + "density 10 0.5 s\ndensity-detect pixel 10 d.ini v\ndensity-detect pixel 10 e.ini w\n")
+            .empty());
   const std::string three =
       "density 10 0.5 s\ndensity-classify pixel 10 c.ini v\ndensity-classify pixel 10 d.ini w\n"
       "density-classify pixel 10 e.ini x\n";

@@ -17,8 +17,9 @@ tree="$tmp/src"
 mkdir -p "$tree"
 (cd "$src" && cp -a Makefile.experiments CMakeLists.txt common formats documents tools scripts share mk "$tree/") ||
   fail "cannot copy the source tree"
-# (the scene experiment's classify ablations' parameter files, mk/scenes.mk SCENES_CLASSIFY_ABLATION[_2])
-mkdir -p "$tree/bench/density" && cp -a "$src"/bench/density/classify-sim-*.ini "$tree/bench/density/" ||
+# (the scene experiment's classify ablations' parameter files, mk/scenes.mk SCENES_CLASSIFY_ABLATION[_2],
+# and the density ladder's detect ablation's, mk/density.mk DENSITY_DETECT_ABLATIONS)
+mkdir -p "$tree/bench/density" && cp -a "$src"/bench/density/classify-sim-*.ini "$src"/bench/density/detect-*.ini "$tree/bench/density/" ||
   fail "cannot copy bench/density's parameter files"
 cd "$tree" || exit 1
 # The fake build also leaves the records CMake's Makefile generator keeps, which
@@ -468,6 +469,55 @@ plans "bin/report " || fail "make -n all plans no report"
   fail "the ablations add $((with - $(echo "$plan" | stages))) stages to make -n all, not 6"
 [ ! -e "$sd/.opts/classify-ablation.txt" ] && [ ! -e "$tmp/out/.opts/scene-report.txt" ] ||
   fail "a dry run of all wrote an options file of the ablations"
+# The density ladder's detect (mk/density.mk DENSITY_DETECT, DENSITY_DETECT_ABLATIONS;
+# density-ladder.md, stop 61): the class-level rungs (at most DENSITY_CLASS_MAX = 50 points/m²)
+# detect with share/params/detect-ladder.ini (end-gap = 1); each of them runs its chain a second
+# time, rendered alike, into <rung>/detect-ablation with bench/density/detect-end-gap-0.ini
+# (end-gap = 0); a model-level rung (100) takes detect's defaults and has no detect ablation; the
+# manifest names the ablations (density-detect), the class-level rungs' only.
+[ "$(grep -v '^#' share/params/detect-ladder.ini)" = "end-gap = 1" ] ||
+  fail "share/params/detect-ladder.ini is not end-gap = 1 alone: $(grep -v '^#' share/params/detect-ladder.ini)"
+[ "$(grep -v '^#' bench/density/detect-end-gap-0.ini)" = "end-gap = 0" ] ||
+  fail "bench/density/detect-end-gap-0.ini is not end-gap = 0 alone"
+dl=("${mk[@]}" PROGRESS=0 DENSITY_LEVELS="10 25 100" DENSITY_SEEDS=1 DENSITY_COVERS=light DENSITY_SENSOR=
+    DENSITY_VERIFY_ABLATION= DENSITY_CLASSIFY_ABLATIONS=)
+plan=$("${dl[@]}" -n density 2>&1)
+dd="$tmp/out/density"
+for l in 10 25; do
+  plans "bin/detect --config share/params/detect-ladder.ini .*-i $dd/d$l/light/tile-1/noise-0/scan.pcd -o $dd/d$l/light/tile-1/noise-0/cands" ||
+    fail "the class-level rung $l does not detect with detect-ladder.ini: $(echo "$plan" | grep "bin/detect" | head -3)"
+  plans "bin/detect --config bench/density/detect-end-gap-0.ini .*-i $dd/d$l/detect-ablation/light/tile-1/noise-0/scan.pcd -o $dd/d$l/detect-ablation/light/tile-1/noise-0/cands" ||
+    fail "the class-level rung $l has no detect ablation with end-gap 0"
+  plans "bin/rangetrace .*-o $dd/d$l/detect-ablation/light/tile-1/scan.pcd" || fail "the rung $l's detect ablation renders no tile"
+  plans "bin/score --tiles $dd/d$l/detect-ablation/tiles.txt .*-o $tmp/res/density/d$l/detect-ablation/score.json" ||
+    fail "the rung $l's detect ablation is not scored"
+  if plans "bin/classify .*$dd/d$l/detect-ablation/.*class-ablation"; then fail "the detect ablation runs classify's ablation"; fi
+done
+plans "bin/detect --no-classes -i $dd/d100/light/tile-1/noise-0/scan.pcd" ||
+  fail "the model-level rung 100 does not detect with detect's defaults: $(echo "$plan" | grep "bin/detect" | grep d100)"
+if plans "d100/detect-ablation"; then fail "the model-level rung 100 has a detect ablation"; fi
+[ "$(echo "$plan" | grep "^$tmp/build/bin/stagerun " | grep -c "bin/detect ")" -eq 5 ] ||
+  fail "make -n density plans $(echo "$plan" | grep "^$tmp/build/bin/stagerun " | grep -c "bin/detect ") detects, not 5"
+plan=$("${dl[@]}" -n density DENSITY_DETECT_ABLATIONS="- bench/density/detect-end-gap-0.ini" DENSITY_CLASS_MAX=10 2>&1)
+plans "bin/detect --config bench/density/detect-end-gap-0.ini .*-o $dd/d10/detect-ablation-2/light/tile-1/noise-0/cands" ||
+  fail "\"- FILE\" does not plan detect-ablation-2"
+if plans "detect-ablation/" || plans "d25/detect-ablation"; then fail "\"- FILE\" or DENSITY_CLASS_MAX=10 plans another detect ablation"; fi
+plans "bin/detect --no-classes -i $dd/d25/light/tile-1/noise-0/scan.pcd" || fail "DENSITY_CLASS_MAX=10 still gives 25 detect-ladder.ini"
+plan=$("${dl[@]}" -n density DENSITY_DETECT_ABLATIONS= DENSITY_DETECT= 2>&1)
+if plans "detect-ablation" || plans "bin/detect --config"; then fail "DENSITY_DETECT_ABLATIONS= DENSITY_DETECT= still plan a detect ablation or parameters"; fi
+"${dl[@]}" -n density DENSITY_DETECT_ABLATIONS=bench/density/none.ini >/dev/null 2>&1 &&
+  fail "a missing detect ablation file is not refused"
+[ ! -e "$tmp/out/.opts/real.txt" ] || fail "make -n density wrote the real tiles' options"
+"${dl[@]}" DENSITY_LADDER=1 "$tmp/out/experiment.txt" >/dev/null 2>&1 || fail "the manifest with the density ladder not written"
+[ "$(grep "^density-detect " "$tmp/out/experiment.txt")" = "density-detect pixel 10 bench/density/detect-end-gap-0.ini $tmp/res/density/d10/detect-ablation/score.json
+density-detect pixel 25 bench/density/detect-end-gap-0.ini $tmp/res/density/d25/detect-ablation/score.json" ] ||
+  fail "the manifest's density-detect records: $(grep "^density" "$tmp/out/experiment.txt")"
+"${mk[@]}" PROGRESS=0 "$tmp/out/experiment.txt" >/dev/null 2>&1 || fail "the manifest without the ladder not written"
+grep -q "^density" "$tmp/out/experiment.txt" && fail "DENSITY_LADDER=0 again: the manifest still names the ladder"
+# (the manifest's makes write the real tiles' options too, as `all` does; the runs' own is kept aside
+# until the check below that no other goal writes it)
+rm -f "$tmp/out/.opts/real.txt"
+at $((now - 59)) "$tmp/out/experiment.txt"
 # collect's ablation by default (SCENE_COLLECT_ABLATION: --coarse-none-below=0 with a calibration;
 # verify.md §19): on a complete run it plans one more collect, from the same verdicts, and its
 # score; nothing upstream of collect, nor canopy's collect. Without a calibration there is none.

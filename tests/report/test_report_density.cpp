@@ -432,6 +432,91 @@ TEST_CASE("density ladder: verify's ablation beside canopy on the rungs with a m
   CHECK(m4.substr(0, fourth) == m3.substr(0, fourth));
 }
 
+TEST_CASE("density ladder: detect's ablations on the class-level rungs, one table each, after classify's") {
+  const fs::path root = fs::path(CANOPY_TEST_TMP) / "report-density-detect";
+  fs::remove_all(root);
+  auto rows = [](double light, double medium, double cls, double fa, int right, int fp, int cfp) {
+    return row_counts("light", light, cls, fa, right, fp, cfp) + "," +
+           row_counts("medium", medium, cls, fa, right, fp, cfp) + "," +
+           row_counts("all", (light + medium) / 2, cls, fa, right, fp, cfp);
+  };
+  // canopy (end-gap 1) at 10, 25 and 100; detect's ablation (end-gap 0) on 10 and 25 only (the
+  // class-level rungs): 10 finds one light vehicle fewer, 25 two, each with a false alarm more.
+  level(root, "d10", 10, 6, rows(0.6, 0.3, 0.9, 2, 4, 0, 2));
+  level(root, "d25", 25, 16, rows(0.8, 0.6, 0.9, 1, 6, 0, 1));
+  level(root, "d100", 99, 80, rows(0.9, 0.8, 0.95, 0, 9, 0, 0));
+  level(root, "e10", 10, 6, rows(0.5, 0.3, 0.9, 3, 4, 0, 3));
+  level(root, "e25", 25, 16, rows(0.6, 0.6, 0.9, 2, 5, 0, 2));
+  level(root, "c25", 25, 16, rows(0.7, 0.6, 0.9, 1, 5, 0, 1));
+  level(root, "s25", 28, 20, rows(0.9, 0.7, 0.95, 0.5, 8, 0, 1));
+  level(root, "f25", 28, 20, rows(0.8, 0.7, 0.95, 1.5, 7, 1, 1));
+  std::vector<documents::ManifestDensity> pixel = {{10, 0.667, (root / "res/d10/score.json").string(), ""},
+                                                   {25, 0.422, (root / "res/d25/score.json").string(), ""},
+                                                   {100, 0.211, (root / "res/d100/score.json").string(), ""}};
+  std::vector<documents::ManifestDensity> sensor = {
+      {25, 0, (root / "res/s25/score.json").string(), "als_qL1"}};
+  // Without density-detect records: no detect table.
+  CHECK(report::density_markdown(report::read_density_levels(pixel), {}, report::read_density_levels(sensor))
+            .find("ablation on the density ladder** (the rung's whole chain") == std::string::npos);
+  const std::string eg0 = "bench/density/detect-end-gap-0.ini";
+  pixel[0].detect = {{eg0, (root / "res/e10/score.json").string()}};
+  pixel[1].detect = {{eg0, (root / "res/e25/score.json").string()}};
+  pixel[1].classify = {"bench/density/classify-sim-floor-100.ini", (root / "res/c25/score.json").string()};
+  sensor[0].detect = {{eg0, (root / "res/f25/score.json").string()}};
+  const auto levels = report::read_density_levels(pixel);
+  const auto sens = report::read_density_levels(sensor);
+  REQUIRE(levels[0].detect.size() == 1);
+  CHECK(levels[0].detect[0].scored);
+  CHECK(levels[0].detect[0].change == eg0);
+  CHECK(levels[2].detect.empty());
+  const std::string md = report::density_markdown(levels, {}, sens);
+  const auto head = md.find(
+      "**detect's ablation on the density ladder** (the rung's whole chain run again — detect with `" + eg0 +
+      "`");
+  REQUIRE(head != std::string::npos);
+  // After classify's table, before the sensor ladder's part.
+  CHECK(md.find("**classify's ablation on the density ladder**") < head);
+  const auto sensor_part = md.find("### The ladder on the realistic sensor");
+  REQUIRE(sensor_part != std::string::npos);
+  CHECK(head < sensor_part);
+  const std::string table = md.substr(head, sensor_part - head);
+  CHECK(table.find("| 10 | recall, light | 6/10 = 60.0% [50.0, 65.0] | 5/10 = 50.0% [40.0, 55.0] |") !=
+        std::string::npos);
+  CHECK(table.find("| 25 | recall, light | 8/10 = 80.0% [70.0, 85.0] | 6/10 = 60.0% [50.0, 65.0] |") !=
+        std::string::npos);
+  CHECK(table.find("| 25 | recall, medium | 6/10 = 60.0% [50.0, 65.0] | 6/10 = 60.0% [50.0, 65.0] |") !=
+        std::string::npos);
+  CHECK(table.find("| 10 | false alarms/ha (all) | 2 = 2.0 [0.0, 4.0] | 3 = 3.0 [0.0, 5.0] |") !=
+        std::string::npos);
+  CHECK(table.find("| 25 | class right (all) | 6/7 = 90.0% [80.0, 100.0] | 5/6 = 90.0% [80.0, 100.0] |") !=
+        std::string::npos);
+  CHECK(table.find("| 100 |") == std::string::npos);  // a model-level rung: no detect ablation
+  CHECK(
+      md.find("**detect's ablation on the sensor ladder** (the rung's whole chain run again — detect with `" +
+              eg0 + "`") > sensor_part);
+  CHECK(md.find("| 25 | false alarms/ha (all) | 1 = 0.5 [0.0, 2.5] | 2 = 1.5 [0.0, 3.5] |", sensor_part) !=
+        std::string::npos);
+  CHECK(md.find("detect's second ablation") == std::string::npos);
+
+  // A second entry (density-detect's second record) on 25 alone, and one named but not run on 10:
+  // its own table after the first's, with 25's row only; the first table unchanged.
+  pixel[1].detect.push_back({"bench/density/detect-other.ini", (root / "res/e10/score.json").string()});
+  pixel[0].detect.push_back({"bench/density/detect-other.ini", (root / "res/missing/score.json").string()});
+  const auto l2 = report::read_density_levels(pixel);
+  CHECK(!l2[0].detect[1].scored);
+  const std::string m2 = report::density_markdown(l2, {}, sens);
+  const auto second = m2.find(
+      "**detect's second ablation on the density ladder** (the rung's whole chain run again — "
+      "detect with `bench/density/detect-other.ini`");
+  REQUIRE(second != std::string::npos);
+  CHECK(m2.find("**detect's ablation on the density ladder**") < second);
+  const std::string t2 = m2.substr(second, m2.find("### The ladder on the realistic sensor") - second);
+  CHECK(t2.find("| 25 | recall, light | 8/10 = 80.0% [70.0, 85.0] | 5/10 = 50.0% [40.0, 55.0] |") !=
+        std::string::npos);
+  CHECK(t2.find("| 10 |") == std::string::npos);
+  CHECK(m2.substr(0, second) == md.substr(0, second));
+}
+
 TEST_CASE("an ablation's name by its place: the density ladder's, the real tiles' and the scenes' one word") {
   CHECK(report::ablation_name(1) == "ablation");
   CHECK(report::ablation_name(0) == "ablation");

@@ -95,6 +95,36 @@ void ablation_tables(std::ostringstream& md, const std::vector<DensityLevel>& ru
   for (std::size_t k = 0; k < more; ++k) ablation_table(md, rungs, ladder, static_cast<int>(k));
 }
 
+// detect's k-th ablation (k >= 0) beside canopy on a ladder's rungs where it has run (the
+// class-level rungs, mk/density.mk DENSITY_CLASS_MAX): the rung's whole chain again with another
+// detect parameter file, so other candidates; the columns of classify's ablations.
+void detect_ablation_table(std::ostringstream& md, const std::vector<DensityLevel>& rungs,
+                           const std::string& ladder, std::size_t k) {
+  std::vector<const DensityLevel*> with;
+  for (const DensityLevel& s : rungs)
+    if (s.scored && k < s.detect.size() && s.detect[k].scored) with.push_back(&s);
+  if (with.empty()) return;
+  md << "\n**detect's " << ablation_name(static_cast<int>(k) + 1) << " on " << ladder
+     << "** (the rung's whole chain run again — detect with `" << with.front()->detect[k].change
+     << "`, then classify, the model chain where a candidate reaches it, collect and score like canopy's — "
+        "on the class-level rungs; the file's header says which of detect's parameters it turns off, "
+        "docs/decisions/density-ladder.md why): found at either level of each cover's vehicles, class "
+        "right and the wrong class of the found and false alarms per ha (all covers), each with its count "
+        "and 95% interval.\n\n";
+  std::vector<AblationRung> table;
+  for (const DensityLevel* s : with)
+    table.push_back({format_number("%g", s->level), &s->score, &s->detect[k].score});
+  md << class_ablation_table("level", table);
+}
+
+// Every detect ablation's table on a ladder, in their order.
+void detect_ablation_tables(std::ostringstream& md, const std::vector<DensityLevel>& rungs,
+                            const std::string& ladder) {
+  std::size_t n = 0;
+  for (const DensityLevel& s : rungs) n = std::max(n, s.detect.size());
+  for (std::size_t k = 0; k < n; ++k) detect_ablation_table(md, rungs, ladder, k);
+}
+
 // verify's ablation beside canopy on the rungs of both ladders where it has run and either has a
 // model-level answer (the option acts on the model chain only): the model answers (identified of
 // them), found at either level and class right (all covers), false alarms per ha.
@@ -157,6 +187,7 @@ std::vector<DensityLevel> read_density_levels(const std::vector<documents::Manif
     l.classify = read_ablation(m.classify);
     l.verify = read_ablation(m.verify);
     for (const auto& a : m.classify_more) l.classify_more.push_back(read_ablation(a));
+    for (const auto& a : m.detect) l.detect.push_back(read_ablation(a));
     if (exists(m.score)) {
       l.score = documents::read_scene_score_file(m.score);
       l.scored = true;
@@ -429,6 +460,7 @@ std::string density_markdown(const std::vector<DensityLevel>& levels, const std:
   level_table(md, levels, false);
   detail_tables(md, levels, "pts/m²");
   ablation_tables(md, levels, "the density ladder");
+  detect_ablation_tables(md, levels, "the density ladder");
   for (const std::string& f : figures) md << "\n![density ladder](" << f << ")\n";
   if (!figures.empty())
     md << "\n(One line per cover level; the levels at equal spacing; the bars are the 95% intervals, also in "
@@ -448,6 +480,7 @@ std::string density_markdown(const std::vector<DensityLevel>& levels, const std:
   level_table(md, sensor, true);
   detail_tables(md, sensor, "pulses/m²");
   ablation_tables(md, sensor, "the sensor ladder");
+  detect_ablation_tables(md, sensor, "the sensor ladder");
   // Side by side where both ladders have the nominal density.
   std::vector<std::pair<const DensityLevel*, const DensityLevel*>> both;
   for (const DensityLevel& s : sensor)

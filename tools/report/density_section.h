@@ -47,6 +47,7 @@ struct DensityLevel {
   Ablation classify;                    // the manifest's density or density-sensor ablation
   Ablation verify;                      // density-verify, on the model-level candidates
   std::vector<Ablation> classify_more;  // density-classify: classify's second, third, ... ablations
+  std::vector<Ablation> detect;         // density-detect: detect's ablations (the rung's chain again)
 };
 
 // Reads each level's score.json and its runs' index.json and .time files (a missing score is a
@@ -73,7 +74,9 @@ std::vector<DensityTarget> density_targets(const std::vector<DensityLevel>& leve
 // spacing), per model, the candidates' fate and where each capability begins, and the two ladders
 // side by side at the nominal densities both have. Where verify's ablation has run on a rung of
 // either ladder, a table "verify's ablation on the density ladder" beside canopy's (the rungs
-// where either has a model-level answer).
+// where either has a model-level answer). Where detect's ablations have run (the class-level
+// rungs), a table "detect's ablation on the density ladder" (the sensor ladder's: "... on the
+// sensor ladder"; the second: "detect's second ablation ...") with classify's ablations' columns.
 std::string density_markdown(const std::vector<DensityLevel>& levels, const std::vector<std::string>& figures,
                              const std::vector<DensityLevel>& sensor = {});
 std::string density_csv(const std::vector<DensityLevel>& levels, const std::string& part = "all");

@@ -48,6 +48,12 @@
 //                                             no score twice on a rung): LADDER and LEVEL as for
 //                                             density-verify, the ablation's parameter file and
 //                                             its score.json
+//   density-detect LADDER LEVEL CONFIG SCORE  detect's first (second, ...) ablation on a rung,
+//                                             one record each in that order (after the rung's
+//                                             record, among its other ablations' records; no
+//                                             score twice on a rung): LADDER and LEVEL as for
+//                                             density-verify, detect's parameter file and the
+//                                             score.json of the rung's chain run again with it
 //
 // The trials are a full grid: every (object, scene, noise) of the trial lines exactly once
 // (objects, scenes and noises in the order they first appear), and every ablation has a trial
@@ -83,8 +89,8 @@ struct ManifestRealTile {
   std::vector<ManifestRealAblation> ablations{};  // classify's ablations, in the manifest's order
 };
 
-// One ablation of a density rung: what it changes (classify's parameter file, or verify's
-// options with blanks restored) and its score.json; both "" = none.
+// One ablation of a density rung: what it changes (classify's or detect's parameter file, or
+// verify's options with blanks restored) and its score.json; both "" = none.
 struct ManifestRungAblation {
   std::string change{}, score{};
 };
@@ -99,6 +105,9 @@ struct ManifestDensity {
   // classify's second, third, ... ablations (density-classify records, in their order: the
   // entries after the first of mk/density.mk's DENSITY_[SENSOR_]CLASSIFY_ABLATIONS).
   std::vector<ManifestRungAblation> classify_more{};
+  // detect's ablations (density-detect records, in their order: mk/density.mk's
+  // DENSITY_[SENSOR_]DETECT_ABLATIONS on the class-level rungs), each the rung's whole chain again.
+  std::vector<ManifestRungAblation> detect{};
 };
 
 struct ExperimentManifest {
