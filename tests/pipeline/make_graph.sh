@@ -521,14 +521,17 @@ done
 ob=$tmp/out/openset
 echo "$plan" | grep -q "make .* scenes .*SCENE_CLASSIFY_ABLATIONS='$tmp/params/classify-sim.ini $ob/classify-envelope-0.ini $ob/classify-family-entries-1.ini $ob/classify-bed-0.ini'" ||
   fail "the open set's sub-make is not given its four classify ablations: $(echo "$plan" | grep -o "SCENE_CLASSIFY_ABLATIONS='[^']*'" | head -1)"
-plans "bin/report .*--openset-family-ablation $tmp/res/openset/class-ablation-3/score.json .*--openset-bed-ablation $tmp/res/openset/class-ablation-4/score.json" ||
-  fail "the report is not given the open set's bed ablation: $(echo "$plan" | grep bin/report)"
+# The report: the four by name (report --openset-classify-ablation NAME=SCORE), in the places' order.
+plans "bin/report .*--openset-classify-ablation every-family=$tmp/res/openset/class-ablation/score.json --openset-classify-ablation no-envelope=$tmp/res/openset/class-ablation-2/score.json --openset-classify-ablation family-entries-1=$tmp/res/openset/class-ablation-3/score.json --openset-classify-ablation no-bed=$tmp/res/openset/class-ablation-4/score.json --openset-collect-ablation" ||
+  fail "the report is not given the open set's four classify ablations by name: $(echo "$plan" | grep bin/report)"
 plans "bin/score --tiles $tmp/out/openset/tiles/tiles-class-ablation-4.txt .*-o $tmp/res/openset/class-ablation-4/score.json" ||
   fail "the open set's default does not plan the bed ablation's score"
 plan=$("${sa[@]}" -n all OPENSET=1 OPENSET_SEEDS=1 OPENSET_COVERS=light OPENSET_CROPS=0 OPENSET_BED_ABLATION=0 2>&1)
 echo "$plan" | grep -q "SCENE_CLASSIFY_ABLATIONS='$tmp/params/classify-sim.ini $ob/classify-envelope-0.ini $ob/classify-family-entries-1.ini -'" ||
   fail "OPENSET_BED_ABLATION=0 does not leave the fourth place empty: $(echo "$plan" | grep -o "SCENE_CLASSIFY_ABLATIONS='[^']*'" | head -1)"
-if plans "openset/.*class-ablation-4\|bed-ablation"; then fail "OPENSET_BED_ABLATION=0 still plans the bed ablation"; fi
+if plans "openset/.*class-ablation-4\|no-bed="; then fail "OPENSET_BED_ABLATION=0 still plans the bed ablation"; fi
+plans "bin/report .*--openset-classify-ablation family-entries-1=$tmp/res/openset/class-ablation-3/score.json --openset-collect-ablation" ||
+  fail "OPENSET_BED_ABLATION=0 does not give the report the other three: $(echo "$plan" | grep bin/report)"
 plan=$("${sa[@]}" -n all OPENSET=1 OPENSET_SEEDS=1 OPENSET_COVERS=light OPENSET_CROPS=0 OPENSET_COLLECT_ABLATION_2= 2>&1)
 if plans "collect-ablation-2"; then fail "OPENSET_COLLECT_ABLATION_2= still plans collect-ablation-2"; fi
 plans "bin/score --tiles $tmp/out/openset/tiles/tiles-collect-ablation.txt" || fail "OPENSET_COLLECT_ABLATION_2= drops the first"
