@@ -69,9 +69,10 @@ OPENSET_CLASSIFY_ABLATION_3 := $(if $(and $(filter 1,$(OPENSET_CLASSES_ONLY)),$(
 # the rest the open set's), run when the base turns it on (its `min-bed = V` line, V not 0: that
 # line becomes `min-bed = 0`, since an INI key may not be given twice) and OPENSET_BED_ABLATION is 1.
 OPENSET_BED_ABLATION ?= 1
-openset_bed_line := $(shell grep -m1 '^min-bed *=' $(OPENSET_CLASSIFY_BASE) 2>/dev/null)
+# (ini_value, Makefile.experiments: the base's `min-bed = V`, read without a shell.)
+openset_bed_value := $(call ini_value,$(file <$(OPENSET_CLASSIFY_BASE)),min-bed)
 OPENSET_CLASSIFY_ABLATION_4 := $(if $(and $(filter 1,$(OPENSET_BED_ABLATION)),$(filter-out 0 0.0 .0 0.00,$(lastword \
-  $(openset_bed_line)))),$(OPENSET_DIR)/classify-bed-0.ini)
+  $(openset_bed_value)))),$(OPENSET_DIR)/classify-bed-0.ini)
 # The four as the sub-makes' SCENE_CLASSIFY_ABLATIONS (mk/scenes.mk: the K-th the variant
 # class-ablation[-K], "-" an empty place), each place with its name in the report (report
 # --openset-classify-ablation NAME=SCORE picks its heading by the name; docs/decisions/
@@ -267,10 +268,10 @@ ifeq ($(OPENSET),1)
 $(RES)/report.md: $(OPENSET_SCORE) $(if $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_SCORE)) $(OPENSET_DISTANCES) \
   $(OPENSET_CLASS_ABL_SCORES) $(OPENSET_COLLECT_ABL_SCORES)
 REPORT_ARGS += --openset $(OPENSET_SCORE) --openset-distances $(OPENSET_DISTANCES)$(if $(filter 1,$(OPENSET_CROPS)), \
-  --openset-crops $(OPENSET_CROP_SCORE))$(foreach k,$(openset_class_places), --openset-classify-ablation $(word \
-  $(k),$(openset_classify_names))=$(OPENSET_RES)/$(call class_variant,$(k))/score.json$(if $(filter 1,$(OPENSET_CROPS)), \
-  --openset-crops-classify-ablation $(word $(k),$(openset_classify_names))=$(OPENSET_CROP_RES)/$(call \
-  class_variant,$(k))/score.json))$(foreach k,$(call \
+  --openset-crops $(OPENSET_CROP_SCORE))$(if $(openset_class_places), $(strip $(foreach k,$(openset_class_places), \
+  --openset-classify-ablation $(word $(k),$(openset_classify_names))=$(OPENSET_RES)/$(call \
+  class_variant,$(k))/score.json$(if $(filter 1,$(OPENSET_CROPS)), --openset-crops-classify-ablation $(word \
+  $(k),$(openset_classify_names))=$(OPENSET_CROP_RES)/$(call class_variant,$(k))/score.json))))$(foreach k,$(call \
   list_places,$(OPENSET_COLLECT_ABLATIONS)), --openset-collect-ablation $(OPENSET_RES)/$(call \
   collect_variant,$(k))/score.json --openset-collect-ablation-options=$(word $(k),$(OPENSET_COLLECT_ABLATIONS))$(if \
   $(filter 1,$(OPENSET_CROPS)), --openset-crops-collect-ablation $(OPENSET_CROP_RES)/$(call collect_variant,$(k))/score.json))
@@ -313,6 +314,6 @@ $(if $(OPENSET_CLASSIFY_ABLATION_2),$(eval $(OPENSET_CLASSIFY_ABLATION_2): $(cal
   text_prereq,$(OPENSET_CLASSIFY_ABLATION_2),$(call openset_classify_text,0,$(OPENSET_FAMILY_ENTRIES)))))
 $(if $(OPENSET_CLASSIFY_ABLATION_3),$(eval $(OPENSET_CLASSIFY_ABLATION_3): $(call \
   text_prereq,$(OPENSET_CLASSIFY_ABLATION_3),$(call openset_classify_text,$(OPENSET_CLASS_ENVELOPE),1))))
-$(if $(OPENSET_CLASSIFY_ABLATION_4),$(eval $(OPENSET_CLASSIFY_ABLATION_4): $(call text_prereq,$(OPENSET_CLASSIFY_ABLATION_4),$(subst \
-  $(nl)$(openset_bed_line)$(nl),$(nl)min-bed = 0$(nl),$(call openset_classify_text,$(OPENSET_CLASS_ENVELOPE),$(OPENSET_FAMILY_ENTRIES))))))
+$(if $(OPENSET_CLASSIFY_ABLATION_4),$(eval $(OPENSET_CLASSIFY_ABLATION_4): $(call text_prereq,$(OPENSET_CLASSIFY_ABLATION_4),$(call \
+  ini_set,$(call openset_classify_text,$(OPENSET_CLASS_ENVELOPE),$(OPENSET_FAMILY_ENTRIES)),min-bed,0))))
 endif

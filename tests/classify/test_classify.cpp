@@ -2883,40 +2883,6 @@ TEST_CASE("the real tiles' fill-tile-ground ablation is classify.ini with that k
 }
 
 TEST_CASE(
-    "the pixel ladder's and the scene experiment's classify ablation is classify-sim.ini with the roughness "
-    "floor of before") {
-  // mk/density.mk DENSITY_CLASSIFY_ABLATION, mk/scenes.mk SCENES_CLASSIFY_ABLATION; classify.md §28.
-  check_ablation_ini("share/params/classify-sim.ini", "bench/density/classify-sim-floor-100.ini",
-                     {{"roughness-floor", {"120mm", "100mm"}}});
-}
-
-TEST_CASE(
-    "the ladders' and the scene experiment's second classify ablation is classify-sim.ini with the shoulder "
-    "gate off") {
-  // mk/density.mk DENSITY_CLASSIFY_ABLATION_2, mk/scenes.mk SCENES_CLASSIFY_ABLATION_2; classify.md §30.
-  check_ablation_ini("share/params/classify-sim.ini", "bench/density/classify-sim-shoulder-0.ini",
-                     {{"min-shoulder", {"0.58", "0"}}});
-}
-
-TEST_CASE("the ladders' third classify ablation is classify-sim.ini with the sampled step off") {
-  // mk/density.mk DENSITY_CLASSIFY_ABLATION_3 and DENSITY_SENSOR_CLASSIFY_ABLATION_3; classify.md §37.
-  check_ablation_ini("share/params/classify-sim.ini", "bench/density/classify-sim-sampled-0.ini",
-                     {{"rectangularity-sampled", {"true", "false"}}});
-}
-
-TEST_CASE("the ladders' fourth classify ablation is classify-sim.ini with the open-top gate off") {
-  // mk/density.mk DENSITY_CLASSIFY_ABLATION_4 and DENSITY_SENSOR_CLASSIFY_ABLATION_4; classify.md §38.
-  check_ablation_ini("share/params/classify-sim.ini", "bench/density/classify-sim-rim-0.ini",
-                     {{"max-rim", {"0.05", "0"}}});
-}
-
-TEST_CASE("the bed's ablation is classify-sim.ini with the bed off") {
-  // classify.md §39: the open set's and the ladders' ablation of --min-bed (its hook the lead's).
-  check_ablation_ini("share/params/classify-sim.ini", "bench/density/classify-sim-bed-0.ini",
-                     {{"min-bed", {"0.1", "0"}}});
-}
-
-TEST_CASE(
     "classify: --fill-tile-ground measures fill against the tile's open ground where the crop has none") {
   // Under closed canopy the crop holds no ground around the object, so fill (its points per m²
   // over the open ground's around it) is unmeasured and cannot refuse a porous crown (classify.md

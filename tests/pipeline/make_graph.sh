@@ -468,7 +468,23 @@ fi
 # candidate (each with its file), each ablation's collect and score: 6 stages more than with both
 # emptied, which plans none of them; the report is given both scores and their files.
 se=("${sc[@]}" SCENE_EXPERIMENT=1 DENSITY_LADDER=0 OPENSET=0)
-floor=bench/density/classify-sim-floor-100.ini shoulder=bench/density/classify-sim-shoulder-0.ini
+floor=$tmp/out/params/classify-sim-floor-100.ini shoulder=$tmp/out/params/classify-sim-shoulder-0.ini
+# classify-sim.ini's ablations are written by make (Makefile.experiments CLASSIFY_SIM_VARIANTS,
+# by the makes above): the test's own classify-sim.ini with a first comment line and one key's
+# line changed, nothing else; a base without that key's line is an error naming it.
+for v in floor-100:roughness-floor:100mm shoulder-0:min-shoulder:0 sampled-0:rectangularity-sampled:false \
+  rim-0:max-rim:0 bed-0:min-bed:0; do
+  IFS=: read -r n key value <<<"$v"
+  f=$tmp/out/params/classify-sim-$n.ini
+  old=$(grep "^$key = " "$tmp/params/classify-sim.ini")
+  [ "$(diff "$tmp/params/classify-sim.ini" "$f" | grep '^[<>]')" = "> # $tmp/params/classify-sim.ini with $key = $value (written by make: do not edit).
+< $old
+> $key = $value" ] || fail "$f is not classify-sim.ini with $key = $value alone: $(diff "$tmp/params/classify-sim.ini" "$f" 2>&1 | head -8)"
+done
+mkdir -p "$tmp/params-nobed" && cp -a "$tmp/params/." "$tmp/params-nobed/" &&
+  sed -i '/^min-bed = /d' "$tmp/params-nobed/classify-sim.ini" || fail "cannot copy the parameters"
+if out=$("${se[@]}" -n all P="$tmp/params-nobed" 2>&1); then fail "a classify-sim.ini without min-bed is not refused"; fi
+echo "$out" | grep -q 'ini_set: no line "min-bed = <one word>"' || fail "a classify-sim.ini without min-bed: $(echo "$out" | tail -2)"
 plan=$("${se[@]}" -n all 2>&1)
 plans "bin/classify --config $floor -i $sr/cands/c0001.pcd .*-o $sr/cands/c0001/class-ablation.json" ||
   fail "make -n all does not plan the scene experiment's floor ablation: $(echo "$plan" | grep stagerun)"
