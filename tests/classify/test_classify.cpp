@@ -20,6 +20,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/math.h"
 #include "canopy/common/rng.h"
+#include "canopy/common/vehicle_classes.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/documents/verdict.h"
 #include "classify/classify.h"
@@ -1860,6 +1861,12 @@ TEST_CASE("classify: --join-stacked joins the deck, not a crown over the cab nor
 
 TEST_CASE("classify: class table and parameters") {
   REQUIRE(classify::class_ranges().size() == 12);
+  // The ranges are the taxonomy's families (common/vehicle_classes.h), in its order, with its groups.
+  REQUIRE(common::vehicle_classes().size() == 12);
+  for (std::size_t i = 0; i < 12; ++i) {
+    CHECK(classify::class_ranges()[i].name == common::vehicle_classes()[i].name);
+    CHECK(classify::class_ranges()[i].group == common::vehicle_classes()[i].group);
+  }
   CHECK(classify::group_of("sedan") == "car");
   CHECK(classify::group_of("pickup") == "car");
   CHECK(classify::group_of("semi-tractor") == "truck");
