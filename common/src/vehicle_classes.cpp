@@ -4,10 +4,10 @@ namespace canopy::common {
 
 const std::vector<VehicleClass>& vehicle_classes() {
   static const std::vector<VehicleClass> k = {
-      {"sedan", "car"},          {"hatchback", "car"},      {"suv", "car"},    {"pickup", "car"},
-      {"van", "van"},            {"box-truck", "truck"},    {"semi-tractor", "truck"},
-      {"bus", "bus"},            {"wheeled-apc", "machine"}, {"tracked-apc", "tracked"},
-      {"tank", "tracked"},       {"wheel-loader", "machine"},
+      {"sedan", "car"},           {"hatchback", "car"}, {"suv", "car"},
+      {"pickup", "car"},          {"van", "van"},       {"box-truck", "truck"},
+      {"semi-tractor", "truck"},  {"bus", "bus"},       {"wheeled-apc", "machine"},
+      {"tracked-apc", "tracked"}, {"tank", "tracked"},  {"wheel-loader", "machine"},
   };
   return k;
 }

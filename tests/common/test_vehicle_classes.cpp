@@ -19,8 +19,8 @@ TEST_CASE("vehicle taxonomy: the twelve families in families.cpp's order, each w
   CHECK(names == std::vector<std::string>{"sedan", "hatchback", "suv", "pickup", "van", "box-truck",
                                           "semi-tractor", "bus", "wheeled-apc", "tracked-apc", "tank",
                                           "wheel-loader"});
-  CHECK(groups == std::vector<std::string>{"car", "car", "car", "car", "van", "truck", "truck", "bus", "machine",
-                                           "tracked", "tracked", "machine"});
+  CHECK(groups == std::vector<std::string>{"car", "car", "car", "car", "van", "truck", "truck", "bus",
+                                           "machine", "tracked", "tracked", "machine"});
   // Six groups; no family is named like another family's group but its own (van, bus).
   const std::set<std::string> group_set(groups.begin(), groups.end());
   CHECK(group_set == std::set<std::string>{"car", "van", "truck", "bus", "machine", "tracked"});
@@ -37,7 +37,8 @@ TEST_CASE("vehicle taxonomy: a family's group, a group's own name, any other nam
   CHECK(common::family_group("tractor").empty());
   CHECK(common::class_group("pickup") == "car");
   CHECK(common::class_group("tracked-apc") == "tracked");
-  for (const char* g : {"car", "van", "truck", "bus", "machine", "tracked"}) CHECK(common::class_group(g) == g);
+  for (const char* g : {"car", "van", "truck", "bus", "machine", "tracked"})
+    CHECK(common::class_group(g) == g);
   // A modelbase's class of its own is its own group (collect: it agrees only with itself).
   CHECK(common::class_group("tractor") == "tractor");
   CHECK(common::class_group("forklift") == "forklift");

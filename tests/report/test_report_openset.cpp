@@ -172,7 +172,8 @@ TEST_CASE("open set: each classify ablation's name picks its subsection's headin
   };
   const Expected expected[] = {
       {"every-family",
-       "### Ablation: every classify family, no class envelope (`OPENSET_CLASSES_ONLY=0 OPENSET_CLASS_ENVELOPE=0`)",
+       "### Ablation: every classify family, no class envelope (`OPENSET_CLASSES_ONLY=0 "
+       "OPENSET_CLASS_ENVELOPE=0`)",
        "`classify --class-envelope 0.05`, eighth round"},
       {"no-envelope",
        "### Ablation: no class envelope, the modelbase's classes only kept (`OPENSET_CLASS_ENVELOPE=0`)",
@@ -356,7 +357,8 @@ TEST_CASE("report --openset-classify-ablation: one subsection per NAME=SCORE in 
   CHECK(tiles.find("The single-vehicle crops, the same ablation", bed) == std::string::npos);
   // Usage errors (exit 2, no report): the crops' score without its tiles', the ablation without
   // --openset, a name no ablation has, an argument that is not NAME=SCORE, a name given twice.
-  const std::string bare = std::string(CANOPY_BIN_DIR) + "/report --manifest " + (dir / "experiment.txt").string();
+  const std::string bare =
+      std::string(CANOPY_BIN_DIR) + "/report --manifest " + (dir / "experiment.txt").string();
   const std::string family = " --openset-classify-ablation family-entries-1=" + path("family-1", false);
   const std::pair<std::string, std::string> bad[] = {
       {report + " --openset-crops-classify-ablation no-bed=" + path("bed-0", true),

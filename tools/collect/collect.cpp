@@ -499,8 +499,7 @@ Matrix size_only_pose(const Matrix& rect, const ModelBox& b) {
 bool model_contradicted(const Verdict& v, const Verdict& k, bool by_group) {
   if (v.model.empty() || v.cls.empty() || k.cls.empty()) return false;
   if (k.cls == v.cls || k.group == v.cls) return false;
-  return !by_group ||
-         common::class_group(v.cls) != (k.group.empty() ? common::class_group(k.cls) : k.group);
+  return !by_group || common::class_group(v.cls) != (k.group.empty() ? common::class_group(k.cls) : k.group);
 }
 
 bool refused_by_shape(const Verdict& v, const Verdict& k) {

@@ -154,8 +154,8 @@ struct NamedAblation {
 // An open-set classify ablation's subsection from its tiles' score.json and, when given, its crops'.
 std::string openset_classify_ablation_section(const NamedAblation& a) {
   const std::optional<documents::SceneScore> c = optional_score(a.crops);
-  return report::openset_classify_ablation_markdown(a.name, documents::read_scene_score_file(a.tiles), a.tiles,
-                                                    c ? &*c : nullptr, a.crops);
+  return report::openset_classify_ablation_markdown(a.name, documents::read_scene_score_file(a.tiles),
+                                                    a.tiles, c ? &*c : nullptr, a.crops);
 }
 
 // An open-set collect ablation's subsection from its tiles' score.json, its crops' when given and
@@ -373,7 +373,8 @@ void bind(common::Tool& tool, Sources& src, report::Params& p) {
   tool.add("--openset-crops", &src.openset_crops,
            "the open set's single-vehicle crops' score.json (mk/openset.mk): a subsection of the open set's");
   std::string names;
-  for (const std::string& n : report::openset_classify_ablation_names()) names += (names.empty() ? "" : ", ") + n;
+  for (const std::string& n : report::openset_classify_ablation_names())
+    names += (names.empty() ? "" : ", ") + n;
   tool.add("--openset-classify-ablation", &src.openset_classify_ablations,
            "an open-set classify ablation as NAME=SCORE: its score.json (mk/openset.mk "
            "OPENSET_CLASSIFY_ABLATION[_2|_3|_4]: the same candidates classified with other parameters) and "

@@ -258,14 +258,15 @@ const std::vector<std::string>& openset_classify_ablation_names() {
 }
 
 std::string openset_classify_ablation_markdown(const std::string& name, const documents::SceneScore& tiles,
-                                               const std::string& tiles_path, const documents::SceneScore* crops,
+                                               const std::string& tiles_path,
+                                               const documents::SceneScore* crops,
                                                const std::string& crops_path) {
   for (const ClassifyAblationText& a : kClassifyAblations)
     if (name == a.name) return ablation_markdown(a.heading, a.what, tiles, tiles_path, crops, crops_path);
   std::string names;
   for (const std::string& n : openset_classify_ablation_names()) names += (names.empty() ? "" : ", ") + n;
-  throw common::UsageError("--openset-classify-ablation: no ablation named \"" + name + "\" (the names: " +
-                           names + ")");
+  throw common::UsageError("--openset-classify-ablation: no ablation named \"" + name +
+                           "\" (the names: " + names + ")");
 }
 
 std::vector<std::string> collect_ablation_options(const std::string& options) {
