@@ -71,7 +71,7 @@ density_pairs := $(shell awk -v k='$(DENSITY_K)' -v levels='$(strip $(DENSITY_LE
     mm = int(1000 * sqrt(k / d[i]) + 0.5); out = out sprintf("%s:%d:%.3f:%d ", d[i], mm, mm / 1000, d[i] + 0 <= cmax + 0) } \
   print out }')
 $(if $(filter ERROR,$(firstword $(density_pairs))),$(error $(wordlist 2,$(words $(density_pairs)),$(density_pairs))))
-$(foreach f,$(filter-out -,$(DENSITY_CLASSIFY_ABLATIONS)),$(if $(wildcard $(f)),,$(error \
+$(foreach f,$(filter-out - $(classify_sim_files),$(DENSITY_CLASSIFY_ABLATIONS)),$(if $(wildcard $(f)),,$(error \
   DENSITY_CLASSIFY_ABLATIONS: $(f) does not exist)))
 $(foreach f,$(DENSITY_DETECT) $(filter-out -,$(DENSITY_DETECT_ABLATIONS)),$(if $(wildcard $(f)),,$(error \
   DENSITY_DETECT or DENSITY_DETECT_ABLATIONS: $(f) does not exist)))
@@ -97,8 +97,8 @@ DENSITY_SENSOR_L0 ?= 26.5
 # shoulder gate off (min-shoulder 0, before §30), the oval-outline gate's step over every profile
 # bin (rectangularity-sampled false, before §37), no open-top gate (max-rim 0, before §38), no
 # pickup bed cue (min-bed 0, before §39). Empty: none.
-DENSITY_CLASSIFY_ABLATIONS ?= bench/density/classify-sim-floor-100.ini bench/density/classify-sim-shoulder-0.ini \
-  bench/density/classify-sim-sampled-0.ini bench/density/classify-sim-rim-0.ini bench/density/classify-sim-bed-0.ini
+# The five files are written by make (Makefile.experiments CLASSIFY_SIM_VARIANTS).
+DENSITY_CLASSIFY_ABLATIONS ?= $(foreach n,floor-100 shoulder-0 sampled-0 rim-0 bed-0,$(call classify_sim_variant,$(n)))
 # The same on every sensor level: its first is classify-sim.ini before classify.md §23
 # (max-late-returns 0.35; the sensor tiles are the only ones with return numbers), the rest by
 # default the pixel ladder's.
@@ -120,7 +120,7 @@ ifneq ($(DENSITY_SENSOR),)
 ifneq ($(filter 1,$(DENSITY_LADDER))$(filter density density-sensor,$(MAKECMDGOALS)),)
 $(if $(filter 1,$(words $(DENSITY_SENSOR))),,$(error DENSITY_SENSOR=$(DENSITY_SENSOR) must name one preset of share/sensors/))
 $(if $(wildcard share/sensors/$(DENSITY_SENSOR).ini),,$(error DENSITY_SENSOR=$(DENSITY_SENSOR): no share/sensors/$(DENSITY_SENSOR).ini))
-$(foreach f,$(filter-out -,$(DENSITY_SENSOR_CLASSIFY_ABLATIONS)),$(if $(wildcard $(f)),,$(error \
+$(foreach f,$(filter-out - $(classify_sim_files),$(DENSITY_SENSOR_CLASSIFY_ABLATIONS)),$(if $(wildcard $(f)),,$(error \
   DENSITY_SENSOR_CLASSIFY_ABLATIONS: $(f) does not exist)))
 $(foreach f,$(filter-out -,$(DENSITY_SENSOR_DETECT_ABLATIONS)),$(if $(wildcard $(f)),,$(error \
   DENSITY_SENSOR_DETECT_ABLATIONS: $(f) does not exist)))

@@ -69,13 +69,17 @@ OPENSET_CLASSIFY_ABLATION_3 := $(if $(and $(filter 1,$(OPENSET_CLASSES_ONLY)),$(
 # the rest the open set's), run when the base turns it on (its `min-bed = V` line, V not 0: that
 # line becomes `min-bed = 0`, since an INI key may not be given twice) and OPENSET_BED_ABLATION is 1.
 OPENSET_BED_ABLATION ?= 1
-openset_bed_line := $(shell grep -m1 '^min-bed *=' $(OPENSET_CLASSIFY_BASE) 2>/dev/null)
+# (ini_value, Makefile.experiments: the base's `min-bed = V`, read without a shell.)
+openset_bed_value := $(call ini_value,$(file <$(OPENSET_CLASSIFY_BASE)),min-bed)
 OPENSET_CLASSIFY_ABLATION_4 := $(if $(and $(filter 1,$(OPENSET_BED_ABLATION)),$(filter-out 0 0.0 .0 0.00,$(lastword \
-  $(openset_bed_line)))),$(OPENSET_DIR)/classify-bed-0.ini)
+  $(openset_bed_value)))),$(OPENSET_DIR)/classify-bed-0.ini)
 # The four as the sub-makes' SCENE_CLASSIFY_ABLATIONS (mk/scenes.mk: the K-th the variant
-# class-ablation[-K], "-" an empty place).
+# class-ablation[-K], "-" an empty place), each place with its name in the report (report
+# --openset-classify-ablation NAME=SCORE picks its heading by the name; docs/decisions/
+# experiment-graph.md §10): a fifth place needs its name here and its text in the report.
 openset_classify_ablations = $(or $(OPENSET_CLASSIFY_ABLATION),-) $(or $(OPENSET_CLASSIFY_ABLATION_2),-) \
   $(or $(OPENSET_CLASSIFY_ABLATION_3),-) $(or $(OPENSET_CLASSIFY_ABLATION_4),-)
+openset_classify_names := every-family no-envelope family-entries-1 no-bed
 # collect's ablations, a list (the sub-makes' SCENE_COLLECT_ABLATIONS, mk/scenes.mk: an entry is
 # collect's options joined by commas, "-" an empty place; the K-th the variant collect-ablation or
 # collect-ablation-K), each a subsection of the report named by what it turns off: the first, the
@@ -246,37 +250,28 @@ $(OPENSET_CROP_SCORE): $(openset_force) $(OPENSET_SCORE) $(OPENSET_MB)/.built $(
 openset_abl_scores = $(if $(1),$(OPENSET_RES)/$(2)/score.json $(if $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_RES)/$(2)/score.json))
 openset_abl_order = $(if $(word 1,$(1)),$(eval $(word 1,$(1)): $(OPENSET_SCORE)))$(if \
   $(word 2,$(1)),$(eval $(word 2,$(1)): $(OPENSET_CROP_SCORE)))
-# classify's ablations (OPENSET_CLASSIFY_ABLATION: all off; OPENSET_CLASSIFY_ABLATION_2: the
-# envelope alone off; OPENSET_CLASSIFY_ABLATION_3: family-entries alone 1; OPENSET_CLASSIFY_ABLATION_4:
-# the bed alone off) and collect's
-# (OPENSET_COLLECT_ABLATIONS: each variant's, openset_collect_variants).
-OPENSET_ABL_SCORES := $(call openset_abl_scores,$(OPENSET_CLASSIFY_ABLATION),class-ablation)
-OPENSET_ABL2_SCORES := $(call openset_abl_scores,$(OPENSET_CLASSIFY_ABLATION_2),class-ablation-2)
-OPENSET_ABL3_SCORES := $(call openset_abl_scores,$(OPENSET_CLASSIFY_ABLATION_3),class-ablation-3)
-OPENSET_ABL4_SCORES := $(call openset_abl_scores,$(OPENSET_CLASSIFY_ABLATION_4),class-ablation-4)
+# classify's ablations (openset_classify_ablations: each place's variant, openset_class_variants)
+# and collect's (OPENSET_COLLECT_ABLATIONS: each variant's, openset_collect_variants).
+openset_class_places := $(call list_places,$(openset_classify_ablations))
+openset_class_variants := $(foreach k,$(openset_class_places),$(call class_variant,$(k)))
 openset_collect_variants := $(foreach k,$(call list_places,$(OPENSET_COLLECT_ABLATIONS)),$(call collect_variant,$(k)))
+OPENSET_CLASS_ABL_SCORES := $(foreach v,$(openset_class_variants),$(call openset_abl_scores,1,$(v)))
 OPENSET_COLLECT_ABL_SCORES := $(foreach v,$(openset_collect_variants),$(call openset_abl_scores,1,$(v)))
-$(call openset_abl_order,$(OPENSET_ABL_SCORES))
-$(call openset_abl_order,$(OPENSET_ABL2_SCORES))
-$(call openset_abl_order,$(OPENSET_ABL3_SCORES))
-$(call openset_abl_order,$(OPENSET_ABL4_SCORES))
-$(foreach v,$(openset_collect_variants),$(call openset_abl_order,$(call openset_abl_scores,1,$(v))))
+$(foreach v,$(openset_class_variants) $(openset_collect_variants),$(call openset_abl_order,$(call \
+  openset_abl_scores,1,$(v))))
 .PHONY: openset
-openset: $(OPENSET_SCORE) $(if $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_SCORE)) $(OPENSET_ABL_SCORES) \
-  $(OPENSET_ABL2_SCORES) $(OPENSET_ABL3_SCORES) $(OPENSET_ABL4_SCORES) $(OPENSET_COLLECT_ABL_SCORES)
+openset: $(OPENSET_SCORE) $(if $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_SCORE)) $(OPENSET_CLASS_ABL_SCORES) \
+  $(OPENSET_COLLECT_ABL_SCORES)
 ifeq ($(OPENSET),1)
-# (collect's ablations: each one's score.json, its options as the list's entry, its crops' score.json)
+# classify's ablations: each place's name and score.json, its crops' (report --openset[-crops]-classify-ablation
+# NAME=SCORE); collect's: each one's score.json, its options as the list's entry, its crops' score.json.
 $(RES)/report.md: $(OPENSET_SCORE) $(if $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_SCORE)) $(OPENSET_DISTANCES) \
-  $(OPENSET_ABL_SCORES) $(OPENSET_ABL2_SCORES) $(OPENSET_ABL3_SCORES) $(OPENSET_ABL4_SCORES) $(OPENSET_COLLECT_ABL_SCORES)
+  $(OPENSET_CLASS_ABL_SCORES) $(OPENSET_COLLECT_ABL_SCORES)
 REPORT_ARGS += --openset $(OPENSET_SCORE) --openset-distances $(OPENSET_DISTANCES)$(if $(filter 1,$(OPENSET_CROPS)), \
-  --openset-crops $(OPENSET_CROP_SCORE))$(if $(OPENSET_CLASSIFY_ABLATION), --openset-ablation $(word 1,$(OPENSET_ABL_SCORES))$(if \
-  $(filter 1,$(OPENSET_CROPS)), --openset-crops-ablation $(word 2,$(OPENSET_ABL_SCORES))))$(if $(OPENSET_CLASSIFY_ABLATION_2), \
-  --openset-envelope-ablation $(word 1,$(OPENSET_ABL2_SCORES))$(if $(filter 1,$(OPENSET_CROPS)), \
-  --openset-crops-envelope-ablation $(word 2,$(OPENSET_ABL2_SCORES))))$(if $(OPENSET_CLASSIFY_ABLATION_3), \
-  --openset-family-ablation $(word 1,$(OPENSET_ABL3_SCORES))$(if $(filter 1,$(OPENSET_CROPS)), \
-  --openset-crops-family-ablation $(word 2,$(OPENSET_ABL3_SCORES))))$(if $(OPENSET_CLASSIFY_ABLATION_4), \
-  --openset-bed-ablation $(word 1,$(OPENSET_ABL4_SCORES))$(if $(filter 1,$(OPENSET_CROPS)), \
-  --openset-crops-bed-ablation $(word 2,$(OPENSET_ABL4_SCORES))))$(foreach k,$(call \
+  --openset-crops $(OPENSET_CROP_SCORE))$(if $(openset_class_places), $(strip $(foreach k,$(openset_class_places), \
+  --openset-classify-ablation $(word $(k),$(openset_classify_names))=$(OPENSET_RES)/$(call \
+  class_variant,$(k))/score.json$(if $(filter 1,$(OPENSET_CROPS)), --openset-crops-classify-ablation $(word \
+  $(k),$(openset_classify_names))=$(OPENSET_CROP_RES)/$(call class_variant,$(k))/score.json))))$(foreach k,$(call \
   list_places,$(OPENSET_COLLECT_ABLATIONS)), --openset-collect-ablation $(OPENSET_RES)/$(call \
   collect_variant,$(k))/score.json --openset-collect-ablation-options=$(word $(k),$(OPENSET_COLLECT_ABLATIONS))$(if \
   $(filter 1,$(OPENSET_CROPS)), --openset-crops-collect-ablation $(OPENSET_CROP_RES)/$(call collect_variant,$(k))/score.json))
@@ -319,6 +314,6 @@ $(if $(OPENSET_CLASSIFY_ABLATION_2),$(eval $(OPENSET_CLASSIFY_ABLATION_2): $(cal
   text_prereq,$(OPENSET_CLASSIFY_ABLATION_2),$(call openset_classify_text,0,$(OPENSET_FAMILY_ENTRIES)))))
 $(if $(OPENSET_CLASSIFY_ABLATION_3),$(eval $(OPENSET_CLASSIFY_ABLATION_3): $(call \
   text_prereq,$(OPENSET_CLASSIFY_ABLATION_3),$(call openset_classify_text,$(OPENSET_CLASS_ENVELOPE),1))))
-$(if $(OPENSET_CLASSIFY_ABLATION_4),$(eval $(OPENSET_CLASSIFY_ABLATION_4): $(call text_prereq,$(OPENSET_CLASSIFY_ABLATION_4),$(subst \
-  $(nl)$(openset_bed_line)$(nl),$(nl)min-bed = 0$(nl),$(call openset_classify_text,$(OPENSET_CLASS_ENVELOPE),$(OPENSET_FAMILY_ENTRIES))))))
+$(if $(OPENSET_CLASSIFY_ABLATION_4),$(eval $(OPENSET_CLASSIFY_ABLATION_4): $(call text_prereq,$(OPENSET_CLASSIFY_ABLATION_4),$(call \
+  ini_set,$(call openset_classify_text,$(OPENSET_CLASS_ENVELOPE),$(OPENSET_FAMILY_ENTRIES)),min-bed,0))))
 endif

@@ -460,14 +460,14 @@ SCENE_ABL_SCORE := $(foreach v,$(SCENE_CLASS_ABLATIONS),$(SCENE_RES)/$(v)/score.
 # default classify-sim.ini changed keeps its ablation in the report (report
 # --tile-classify-ablation[-2], "classify's ablations on the scene experiment"): the roughness
 # threshold's floor before docs/decisions/classify.md §28 (100mm) and the shoulder gate off (min-shoulder
-# 0, before §30), the density ladder's two files (mk/density.mk; tests/classify checks each differs
-# from classify-sim.ini in its own key only). Empty: none (SCENES_CLASSIFY_ABLATION=
+# 0, before §30), the density ladder's two files (classify-sim.ini with that key changed alone,
+# written by make: Makefile.experiments CLASSIFY_SIM_VARIANTS). Empty: none (SCENES_CLASSIFY_ABLATION=
 # SCENES_CLASSIFY_ABLATION_2= plans no ablation stage). Two names, not a list: the report takes
 # these two (--tile-classify-ablation[-2]) and names them. A `make scenes` of one's own takes
 # SCENE_CLASSIFY_ABLATIONS as given (empty unless set), as the density ladder's and the open
 # set's do.
-SCENES_CLASSIFY_ABLATION ?= bench/density/classify-sim-floor-100.ini
-SCENES_CLASSIFY_ABLATION_2 ?= bench/density/classify-sim-shoulder-0.ini
+SCENES_CLASSIFY_ABLATION ?= $(call classify_sim_variant,floor-100)
+SCENES_CLASSIFY_ABLATION_2 ?= $(call classify_sim_variant,shoulder-0)
 scenes_class_ini.class-ablation = $(SCENES_CLASSIFY_ABLATION)
 scenes_class_ini.class-ablation-2 = $(SCENES_CLASSIFY_ABLATION_2)
 SCENES_CLASS_ABLATIONS = $(foreach v,class-ablation class-ablation-2,$(if $(scenes_class_ini.$(v)),$(v)))
@@ -489,7 +489,8 @@ REPORT_ARGS += --tile-score $(SCENE_SCORE)$(if $(filter collect-ablation,$(SCENE
   $(SCENE_RES)/collect-ablation/score.json)$(if $(SCENES_CLASS_ABLATIONS), $(foreach v,$(SCENES_CLASS_ABLATIONS),--tile-$(patsubst \
   class-%,classify-%,$(v)) $(SCENE_RES)/$(v)/score.json --tile-$(patsubst class-%,classify-%,$(v))-config \
   $(scenes_class_ini.$(v))))
-$(foreach f,$(SCENES_CLASSIFY_ABLATION) $(SCENES_CLASSIFY_ABLATION_2),$(if $(wildcard $(f)),,$(error \
+$(foreach f,$(filter-out $(classify_sim_files),$(SCENES_CLASSIFY_ABLATION) $(SCENES_CLASSIFY_ABLATION_2)),$(if $(wildcard \
+  $(f)),,$(error \
   SCENES_CLASSIFY_ABLATION[_2]: $(f) does not exist)))
 endif
 ifeq ($(filter scenes,$(MAKECMDGOALS)),)

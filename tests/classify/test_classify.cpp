@@ -20,6 +20,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/math.h"
 #include "canopy/common/rng.h"
+#include "canopy/common/vehicle_classes.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/documents/verdict.h"
 #include "classify/classify.h"
@@ -1860,6 +1861,12 @@ TEST_CASE("classify: --join-stacked joins the deck, not a crown over the cab nor
 
 TEST_CASE("classify: class table and parameters") {
   REQUIRE(classify::class_ranges().size() == 12);
+  // The ranges are the taxonomy's families (common/vehicle_classes.h), in its order, with its groups.
+  REQUIRE(common::vehicle_classes().size() == 12);
+  for (std::size_t i = 0; i < 12; ++i) {
+    CHECK(classify::class_ranges()[i].name == common::vehicle_classes()[i].name);
+    CHECK(classify::class_ranges()[i].group == common::vehicle_classes()[i].group);
+  }
   CHECK(classify::group_of("sedan") == "car");
   CHECK(classify::group_of("pickup") == "car");
   CHECK(classify::group_of("semi-tractor") == "truck");
@@ -2880,40 +2887,6 @@ TEST_CASE("the real tiles' fill-tile-ground ablation is classify.ini with that k
   // mk/real.mk REAL_CLASSIFY_ABLATION_2 (share/real/classify-tile-ground-0.ini); classify.md §31.
   check_ablation_ini("share/params/classify.ini", "share/real/classify-tile-ground-0.ini",
                      {{"fill-tile-ground", {"true", "false"}}});
-}
-
-TEST_CASE(
-    "the pixel ladder's and the scene experiment's classify ablation is classify-sim.ini with the roughness "
-    "floor of before") {
-  // mk/density.mk DENSITY_CLASSIFY_ABLATION, mk/scenes.mk SCENES_CLASSIFY_ABLATION; classify.md §28.
-  check_ablation_ini("share/params/classify-sim.ini", "bench/density/classify-sim-floor-100.ini",
-                     {{"roughness-floor", {"120mm", "100mm"}}});
-}
-
-TEST_CASE(
-    "the ladders' and the scene experiment's second classify ablation is classify-sim.ini with the shoulder "
-    "gate off") {
-  // mk/density.mk DENSITY_CLASSIFY_ABLATION_2, mk/scenes.mk SCENES_CLASSIFY_ABLATION_2; classify.md §30.
-  check_ablation_ini("share/params/classify-sim.ini", "bench/density/classify-sim-shoulder-0.ini",
-                     {{"min-shoulder", {"0.58", "0"}}});
-}
-
-TEST_CASE("the ladders' third classify ablation is classify-sim.ini with the sampled step off") {
-  // mk/density.mk DENSITY_CLASSIFY_ABLATION_3 and DENSITY_SENSOR_CLASSIFY_ABLATION_3; classify.md §37.
-  check_ablation_ini("share/params/classify-sim.ini", "bench/density/classify-sim-sampled-0.ini",
-                     {{"rectangularity-sampled", {"true", "false"}}});
-}
-
-TEST_CASE("the ladders' fourth classify ablation is classify-sim.ini with the open-top gate off") {
-  // mk/density.mk DENSITY_CLASSIFY_ABLATION_4 and DENSITY_SENSOR_CLASSIFY_ABLATION_4; classify.md §38.
-  check_ablation_ini("share/params/classify-sim.ini", "bench/density/classify-sim-rim-0.ini",
-                     {{"max-rim", {"0.05", "0"}}});
-}
-
-TEST_CASE("the bed's ablation is classify-sim.ini with the bed off") {
-  // classify.md §39: the open set's and the ladders' ablation of --min-bed (its hook the lead's).
-  check_ablation_ini("share/params/classify-sim.ini", "bench/density/classify-sim-bed-0.ini",
-                     {{"min-bed", {"0.1", "0"}}});
 }
 
 TEST_CASE(

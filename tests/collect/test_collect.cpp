@@ -12,7 +12,6 @@
 
 #include "canopy/common/math.h"
 #include "canopy/formats/pcd.h"
-#include "classify/classify.h"
 #include "collect/collect.h"
 #include "support/cli.h"
 
@@ -707,18 +706,6 @@ TEST_CASE(
   CHECK(first("") == "model tractor");
   CHECK(test::sh(cmd + " --contradiction-level family", dir / "err.txt", &err) == 2);
   CHECK_THAT(err, Catch::Contains("--contradiction-level must be group or class, not \"family\""));
-}
-
-TEST_CASE("collect's class groups are classify's (class_ranges(), entry_group)") {
-  for (const classify::ClassRange& k : classify::class_ranges()) {
-    CHECK(collect::class_group(k.name) == classify::entry_group(k.name));
-    CHECK(collect::class_group(k.group) == classify::entry_group(k.group));
-  }
-  for (const char* other : {"car", "truck", "tractor", "forklift", "boat"})
-    CHECK(collect::class_group(other) == classify::entry_group(other));
-  CHECK(collect::class_group("pickup") == "car");
-  CHECK(collect::class_group("tank") == "tracked");
-  CHECK(collect::class_group("tractor") == "tractor");
 }
 
 TEST_CASE("collect --refused-below: a doubtful model answer gives way to classify's refusal on the shape") {

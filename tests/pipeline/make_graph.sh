@@ -395,37 +395,60 @@ done
 grep -qx "calibration = $tmp/params/calibration.ini" "$sd/.opts/collect.txt" ||
   fail "the collect options file does not hold the calibration: $(cat "$sd/.opts/collect.txt")"
 "${sc[@]}" -q scenes || fail "make -q scenes is not clean on a complete run: $("${sc[@]}" -n scenes 2>&1 | head -5)"
+# plans_list KIND VAR LIST: `make -n scenes VAR=LIST` on the complete run (KIND class: the
+# classify ablations, sc; KIND collect: collect's, sa) plans, for each entry E of LIST at place K
+# that is not "-", the variant V = KIND-ablation (K = 1) or KIND-ablation-K: for class, classify
+# with the file E on the candidate (cands/c0001/V.json) and its collect (--class-name V.json); for
+# collect, collect with the options E (joined by commas in the list, spaces on collect's command
+# line) from the same verdicts; then V's score. No variant at another place (1 to 4), and nothing
+# else (3 stages per class entry, 2 per collect entry). Leaves the plan in $plan.
+plans_list() {
+  local kind=$1 var=$2 list=$3 k=0 n=0 per=2 e v
+  if [ "$kind" = class ]; then
+    per=3
+    plan=$("${sc[@]}" -n scenes "$var=$list" 2>&1)
+  else
+    plan=$("${sa[@]}" -n scenes "$var=$list" 2>&1)
+  fi
+  local planned=" "
+  for e in $list; do
+    k=$((k + 1))
+    [ "$e" = - ] && continue
+    v=$kind-ablation$([ $k -eq 1 ] || echo "-$k")
+    planned+="$v "
+    n=$((n + 1))
+    if [ "$kind" = class ]; then
+      plans "bin/classify --config $e -i $sr/cands/c0001.pcd .*-o $sr/cands/c0001/$v.json" ||
+        fail "$var=\"$list\" does not plan classify with $e as $v: $(echo "$plan" | grep stagerun)"
+      plans "bin/collect -i $sr/cands/index.json --class-name $v.json .*-o $sr/detections-$v.json" ||
+        fail "$var=\"$list\" does not plan $v's collect"
+    else
+      plans "bin/collect -i $sr/cands/index.json .*-o $sr/detections-$v.json --modelbase [^ ]* ${e//,/ } --calibration" ||
+        fail "$var=\"$list\" does not plan collect with ${e//,/ } as $v: $(echo "$plan" | grep stagerun)"
+    fi
+    plans "bin/score --tiles $sd/tiles-$v.txt .*-o $tmp/res/scenes/$v/score.json" ||
+      fail "$var=\"$list\" does not plan $v's score"
+  done
+  for k in 1 2 3 4; do
+    v=$kind-ablation$([ $k -eq 1 ] || echo "-$k")
+    [[ "$planned" == *" $v "* ]] && continue
+    if plans "$v\.json"; then fail "$var=\"$list\" plans $v, a place it leaves empty"; fi
+  done
+  [ "$(echo "$plan" | stages)" -eq $((per * n)) ] ||
+    fail "$var=\"$list\" plans $(echo "$plan" | stages) stages, not $((per * n))"
+}
 # classify's ablations (mk/scenes.mk SCENE_CLASSIFY_ABLATIONS, the K-th entry the variant
 # class-ablation[-K], "-" an empty place). A list of two: on a complete run it plans classify twice
 # more on the candidate (class-ablation.json with the first file, class-ablation-2.json with the
 # second), each one's collect and score, and nothing else; a dry run writes no options file for them.
 sim=$tmp/params/classify-sim.ini
-plan=$("${sc[@]}" -n scenes SCENE_CLASSIFY_ABLATIONS="$sim $tmp/params/classify.ini" 2>&1)
-plans "bin/classify --config $sim -i $sr/cands/c0001.pcd .*-o $sr/cands/c0001/class-ablation.json" ||
-  fail "a list of two does not plan classify with its first file: $(echo "$plan" | grep stagerun)"
-plans "bin/classify --config $tmp/params/classify.ini -i $sr/cands/c0001.pcd .*-o $sr/cands/c0001/class-ablation-2.json" ||
-  fail "a list of two does not plan classify with its second file as class-ablation-2"
-for v in class-ablation class-ablation-2; do
-  plans "bin/collect -i $sr/cands/index.json --class-name $v.json .*-o $sr/detections-$v.json" ||
-    fail "a list of two does not plan $v's collect"
-  plans "bin/score --tiles $sd/tiles-$v.txt .*-o $tmp/res/scenes/$v/score.json" || fail "a list of two does not plan $v's score"
-done
-if plans "class-ablation-3"; then fail "a list of two plans a third variant"; fi
-[ "$(echo "$plan" | stages)" -eq 6 ] || fail "a list of two plans $(echo "$plan" | stages) stages, not 6"
+plans_list class SCENE_CLASSIFY_ABLATIONS "$sim $tmp/params/classify.ini"
 [ ! -e "$sd/.opts/classify-ablation-2.txt" ] || fail "a dry run wrote the second ablation's options file"
 "${sc[@]}" -q scenes SCENE_CLASSIFY_ABLATIONS="- $tmp/params/classify.ini" &&
   fail "make -q scenes is clean without the second classify ablation"
 # An empty place keeps the later ones' names: "- - - FILE" is class-ablation-4 alone (the ladders'
 # open-top gate off), the same three stages, and none of the others'.
-plan=$("${sc[@]}" -n scenes SCENE_CLASSIFY_ABLATIONS="- - - $tmp/params/classify.ini" 2>&1)
-plans "bin/classify --config $tmp/params/classify.ini -i $sr/cands/c0001.pcd .*-o $sr/cands/c0001/class-ablation-4.json" ||
-  fail "\"- - - FILE\" does not plan classify as class-ablation-4: $(echo "$plan" | grep stagerun)"
-plans "bin/score --tiles $sd/tiles-class-ablation-4.txt .*-o $tmp/res/scenes/class-ablation-4/score.json" ||
-  fail "\"- - - FILE\" does not plan class-ablation-4's score"
-if plans "class-ablation\.json" || plans "class-ablation-[23]\.json"; then
-  fail "\"- - - FILE\" plans another ablation's variant"
-fi
-[ "$(echo "$plan" | stages)" -eq 3 ] || fail "\"- - - FILE\" plans $(echo "$plan" | stages) stages, not 3"
+plans_list class SCENE_CLASSIFY_ABLATIONS "- - - $tmp/params/classify.ini"
 # The first three places by name, as mk/openset.mk gives them (SCENE_CLASSIFY_ABLATION_3 with
 # _2 empty: the family entries alone 1 without the envelope): class-ablation-3, the same three
 # stages; not together with the list.
@@ -446,7 +469,23 @@ fi
 # candidate (each with its file), each ablation's collect and score: 6 stages more than with both
 # emptied, which plans none of them; the report is given both scores and their files.
 se=("${sc[@]}" SCENE_EXPERIMENT=1 DENSITY_LADDER=0 OPENSET=0)
-floor=bench/density/classify-sim-floor-100.ini shoulder=bench/density/classify-sim-shoulder-0.ini
+floor=$tmp/out/params/classify-sim-floor-100.ini shoulder=$tmp/out/params/classify-sim-shoulder-0.ini
+# classify-sim.ini's ablations are written by make (Makefile.experiments CLASSIFY_SIM_VARIANTS,
+# by the makes above): the test's own classify-sim.ini with a first comment line and one key's
+# line changed, nothing else; a base without that key's line is an error naming it.
+for v in floor-100:roughness-floor:100mm shoulder-0:min-shoulder:0 sampled-0:rectangularity-sampled:false \
+  rim-0:max-rim:0 bed-0:min-bed:0; do
+  IFS=: read -r n key value <<<"$v"
+  f=$tmp/out/params/classify-sim-$n.ini
+  old=$(grep "^$key = " "$tmp/params/classify-sim.ini")
+  [ "$(diff "$tmp/params/classify-sim.ini" "$f" | grep '^[<>]')" = "> # $tmp/params/classify-sim.ini with $key = $value (written by make: do not edit).
+< $old
+> $key = $value" ] || fail "$f is not classify-sim.ini with $key = $value alone: $(diff "$tmp/params/classify-sim.ini" "$f" 2>&1 | head -8)"
+done
+mkdir -p "$tmp/params-nobed" && cp -a "$tmp/params/." "$tmp/params-nobed/" &&
+  sed -i '/^min-bed = /d' "$tmp/params-nobed/classify-sim.ini" || fail "cannot copy the parameters"
+if out=$("${se[@]}" -n all P="$tmp/params-nobed" 2>&1); then fail "a classify-sim.ini without min-bed is not refused"; fi
+echo "$out" | grep -q 'ini_set: no line "min-bed = <one word>"' || fail "a classify-sim.ini without min-bed: $(echo "$out" | tail -2)"
 plan=$("${se[@]}" -n all 2>&1)
 plans "bin/classify --config $floor -i $sr/cands/c0001.pcd .*-o $sr/cands/c0001/class-ablation.json" ||
   fail "make -n all does not plan the scene experiment's floor ablation: $(echo "$plan" | grep stagerun)"
@@ -537,21 +576,9 @@ if plans "collect-ablation"; then fail "without a calibration collect's ablation
 # options joined by commas, the K-th the variant collect-ablation[-K], "-" an empty place; the
 # open set's two): a list of two plans two collects from the same verdicts, each with its own
 # options, and their scores, and nothing else; not together with SCENE_COLLECT_ABLATION.
-plan=$("${sa[@]}" -n scenes SCENE_COLLECT_ABLATIONS="--contradicted-below=0,--refused-below=0 --contradiction-level=class" 2>&1)
-plans "bin/collect -i $sr/cands/index.json .*-o $sr/detections-collect-ablation.json --modelbase [^ ]* --contradicted-below=0 --refused-below=0 --calibration" ||
-  fail "a list of two collect ablations does not plan the first with its options: $(echo "$plan" | grep stagerun)"
-plans "bin/collect -i $sr/cands/index.json .*-o $sr/detections-collect-ablation-2.json --modelbase [^ ]* --contradiction-level=class --calibration" ||
-  fail "a list of two collect ablations does not plan the second as collect-ablation-2"
-for v in collect-ablation collect-ablation-2; do
-  plans "bin/score --tiles $sd/tiles-$v.txt .*-o $tmp/res/scenes/$v/score.json" || fail "a list of two does not plan $v's score"
-done
+plans_list collect SCENE_COLLECT_ABLATIONS "--contradicted-below=0,--refused-below=0 --contradiction-level=class"
 if plans "coarse-none-below"; then fail "a list of collect ablations still plans SCENE_COLLECT_ABLATION's default"; fi
-[ "$(echo "$plan" | stages)" -eq 4 ] || fail "a list of two collect ablations plans $(echo "$plan" | stages) stages, not 4"
-plan=$("${sa[@]}" -n scenes SCENE_COLLECT_ABLATIONS="- --contradiction-level=class" 2>&1)
-plans "bin/collect .*-o $sr/detections-collect-ablation-2.json .*--contradiction-level=class" ||
-  fail "\"- OPTIONS\" does not plan collect-ablation-2"
-if plans "detections-collect-ablation\.json"; then fail "\"- OPTIONS\" plans collect-ablation"; fi
-[ "$(echo "$plan" | stages)" -eq 2 ] || fail "\"- OPTIONS\" plans $(echo "$plan" | stages) stages, not 2"
+plans_list collect SCENE_COLLECT_ABLATIONS "- --contradiction-level=class"
 "${sa[@]}" -n scenes SCENE_COLLECT_ABLATION=--coarse-none-below=0 SCENE_COLLECT_ABLATIONS=--contradiction-level=class \
   >/dev/null 2>&1 && fail "SCENE_COLLECT_ABLATIONS and SCENE_COLLECT_ABLATION together are not refused"
 # The open set's default (mk/openset.mk OPENSET_COLLECT_ABLATIONS): its sub-makes are given both
@@ -571,14 +598,17 @@ done
 ob=$tmp/out/openset
 echo "$plan" | grep -q "make .* scenes .*SCENE_CLASSIFY_ABLATIONS='$tmp/params/classify-sim.ini $ob/classify-envelope-0.ini $ob/classify-family-entries-1.ini $ob/classify-bed-0.ini'" ||
   fail "the open set's sub-make is not given its four classify ablations: $(echo "$plan" | grep -o "SCENE_CLASSIFY_ABLATIONS='[^']*'" | head -1)"
-plans "bin/report .*--openset-family-ablation $tmp/res/openset/class-ablation-3/score.json .*--openset-bed-ablation $tmp/res/openset/class-ablation-4/score.json" ||
-  fail "the report is not given the open set's bed ablation: $(echo "$plan" | grep bin/report)"
+# The report: the four by name (report --openset-classify-ablation NAME=SCORE), in the places' order.
+plans "bin/report .*--openset-classify-ablation every-family=$tmp/res/openset/class-ablation/score.json --openset-classify-ablation no-envelope=$tmp/res/openset/class-ablation-2/score.json --openset-classify-ablation family-entries-1=$tmp/res/openset/class-ablation-3/score.json --openset-classify-ablation no-bed=$tmp/res/openset/class-ablation-4/score.json --openset-collect-ablation" ||
+  fail "the report is not given the open set's four classify ablations by name: $(echo "$plan" | grep bin/report)"
 plans "bin/score --tiles $tmp/out/openset/tiles/tiles-class-ablation-4.txt .*-o $tmp/res/openset/class-ablation-4/score.json" ||
   fail "the open set's default does not plan the bed ablation's score"
 plan=$("${sa[@]}" -n all OPENSET=1 OPENSET_SEEDS=1 OPENSET_COVERS=light OPENSET_CROPS=0 OPENSET_BED_ABLATION=0 2>&1)
 echo "$plan" | grep -q "SCENE_CLASSIFY_ABLATIONS='$tmp/params/classify-sim.ini $ob/classify-envelope-0.ini $ob/classify-family-entries-1.ini -'" ||
   fail "OPENSET_BED_ABLATION=0 does not leave the fourth place empty: $(echo "$plan" | grep -o "SCENE_CLASSIFY_ABLATIONS='[^']*'" | head -1)"
-if plans "openset/.*class-ablation-4\|bed-ablation"; then fail "OPENSET_BED_ABLATION=0 still plans the bed ablation"; fi
+if plans "openset/.*class-ablation-4\|no-bed="; then fail "OPENSET_BED_ABLATION=0 still plans the bed ablation"; fi
+plans "bin/report .*--openset-classify-ablation family-entries-1=$tmp/res/openset/class-ablation-3/score.json --openset-collect-ablation" ||
+  fail "OPENSET_BED_ABLATION=0 does not give the report the other three: $(echo "$plan" | grep bin/report)"
 plan=$("${sa[@]}" -n all OPENSET=1 OPENSET_SEEDS=1 OPENSET_COVERS=light OPENSET_CROPS=0 OPENSET_COLLECT_ABLATION_2= 2>&1)
 if plans "collect-ablation-2"; then fail "OPENSET_COLLECT_ABLATION_2= still plans collect-ablation-2"; fi
 plans "bin/score --tiles $tmp/out/openset/tiles/tiles-collect-ablation.txt" || fail "OPENSET_COLLECT_ABLATION_2= drops the first"

@@ -162,23 +162,55 @@ TEST_CASE("open set: the crops' table gives Wilson intervals on the counts, one 
   CHECK(md.find("Instance accuracy") == std::string::npos);
 }
 
-TEST_CASE("open set: the classify ablation is its own subsection with the crops' counts") {
-  // The ablation's crops: 10 cars, 9 found (4 + 5), 5 of them the right class. Wilson: 9/10
-  // [59.6, 98.2], 5/9 [26.7, 81.1], 5/10 [23.7, 76.3], 4/9 [18.9, 73.3].
+TEST_CASE("open set: each classify ablation's name picks its subsection's heading and paragraph") {
+  // The names in the open set's order (mk/openset.mk openset_classify_names).
+  CHECK(report::openset_classify_ablation_names() ==
+        std::vector<std::string>{"every-family", "no-envelope", "family-entries-1", "no-bed"});
+  // Each name: its heading, a phrase of its paragraph, and no other name's heading.
+  struct Expected {
+    const char *name, *heading, *phrase;
+  };
+  const Expected expected[] = {
+      {"every-family",
+       "### Ablation: every classify family, no class envelope (`OPENSET_CLASSES_ONLY=0 "
+       "OPENSET_CLASS_ENVELOPE=0`)",
+       "`classify --class-envelope 0.05`, eighth round"},
+      {"no-envelope",
+       "### Ablation: no class envelope, the modelbase's classes only kept (`OPENSET_CLASS_ENVELOPE=0`)",
+       "no class envelope (`classify --class-envelope 0`"},
+      {"family-entries-1", "### Ablation: one entry keeps its family (`OPENSET_FAMILY_ENTRIES=1`)",
+       "`classify --family-entries 2`, docs/decisions/open-set.md, eleventh round"},
+      {"no-bed", "### Ablation: no pickup bed cue (`classify --min-bed 0`)",
+       "`classify --min-bed 0.1`, docs/decisions/classify.md §39"},
+  };
+  // The crops: 10 cars, 9 found (4 + 5), 5 of them the right class. Wilson: 9/10 [59.6, 98.2], 5/9
+  // [26.7, 81.1], 5/10 [23.7, 76.3], 4/9 [18.9, 73.3].
   const documents::SceneScore crops = crops_score({"car"}, 4, 0, 5, 2, 9, 5);
   documents::SceneScore tiles;
-  const std::string md = report::openset_ablation_markdown(tiles, "abl/score.json", &crops, "abl/crops.json");
-  CHECK(md.find("### Ablation: every classify family, no class envelope (`OPENSET_CLASSES_ONLY=0 "
-                "OPENSET_CLASS_ENVELOPE=0`)") != std::string::npos);
-  CHECK(md.find("`classify --class-envelope 0.05`, eighth round") != std::string::npos);
-  CHECK(md.find("(abl/score.json, abl/crops.json)") != std::string::npos);
-  CHECK(
-      md.find("| car | 10 | 9 (4 + 5) | 9/10 = 90.0% [59.6, 98.2] | 5/9 = 55.6% [26.7, 81.1] | 5/10 = 50.0% "
-              "[23.7, 76.3] | 4/9 = 44.4% [18.9, 73.3] | 2 |") != std::string::npos);
-  // Without the crops: the tiles' table alone.
-  const std::string tiles_only = report::openset_ablation_markdown(tiles, "abl/score.json");
-  CHECK(tiles_only.find("single-vehicle crops") == std::string::npos);
-  CHECK(tiles_only.find("| cover | tiles | vehicles |") != std::string::npos);
+  for (const Expected& e : expected) {
+    CAPTURE(e.name);
+    const std::string md =
+        report::openset_classify_ablation_markdown(e.name, tiles, "abl/score.json", &crops, "abl/crops.json");
+    CHECK(md.rfind(std::string("\n") + e.heading + "\n\n", 0) == 0);
+    CHECK(md.find(e.phrase) != std::string::npos);
+    for (const Expected& other : expected)
+      if (&other != &e) CHECK(md.find(other.heading) == std::string::npos);
+    CHECK(md.find("(abl/score.json, abl/crops.json)") != std::string::npos);
+    CHECK(md.find("| car | 10 | 9 (4 + 5) | 9/10 = 90.0% [59.6, 98.2] | 5/9 = 55.6% [26.7, 81.1] | 5/10 = "
+                  "50.0% [23.7, 76.3] | 4/9 = 44.4% [18.9, 73.3] | 2 |") != std::string::npos);
+    // Without the crops: the tiles' table alone, the same heading.
+    const std::string tiles_only = report::openset_classify_ablation_markdown(e.name, tiles, "abl/score.json");
+    CHECK(tiles_only.find(e.heading) != std::string::npos);
+    CHECK(tiles_only.find("single-vehicle crops") == std::string::npos);
+    CHECK(tiles_only.find("| cover | tiles | vehicles |") != std::string::npos);
+    CHECK(tiles_only.find("(abl/score.json).") != std::string::npos);
+  }
+  // Any other name: a usage error naming the option and the names.
+  CHECK_THROWS_AS(report::openset_classify_ablation_markdown("envelope", tiles, "abl/score.json"),
+                  common::UsageError);
+  CHECK_THROWS_WITH(report::openset_classify_ablation_markdown("envelope", tiles, "abl/score.json"),
+                    Catch::Contains("--openset-classify-ablation: no ablation named \"envelope\"") &&
+                        Catch::Contains("every-family, no-envelope, family-entries-1, no-bed"));
 }
 
 TEST_CASE("open set: collect's ablation (the model answer first) is its own subsection") {
@@ -240,181 +272,122 @@ TEST_CASE("open set: each collect ablation is headed by what its options turn of
                     Catch::Contains("--openset-collect-ablation-options: \"class\""));
 }
 
-TEST_CASE("open set: the envelope's own ablation is a subsection of its own") {
-  // 10 cars, 7 found (3 + 4), 7 of them the right class. Wilson: 7/10 [39.7, 89.2], 7/7 [64.6,
-  // 100.0], 7/10 [39.7, 89.2], 0/7 [0.0, 35.4].
-  const documents::SceneScore crops = crops_score({"car"}, 3, 0, 4, 0, 7, 7);
-  documents::SceneScore tiles;
-  const std::string md =
-      report::openset_envelope_ablation_markdown(tiles, "env/score.json", &crops, "env/crops.json");
-  CHECK(md.find("### Ablation: no class envelope, the modelbase's classes only kept "
-                "(`OPENSET_CLASS_ENVELOPE=0`)") != std::string::npos);
-  CHECK(md.find("`classify --class-envelope 0`") != std::string::npos);
-  CHECK(md.find("every classify family") == std::string::npos);
-  CHECK(md.find("(env/score.json, env/crops.json)") != std::string::npos);
-  CHECK(md.find(
-            "| car | 10 | 7 (3 + 4) | 7/10 = 70.0% [39.7, 89.2] | 7/7 = 100.0% [64.6, 100.0] | 7/10 = 70.0% "
-            "[39.7, 89.2] | 0/7 = 0.0% [0.0, 35.4] | 0 |") != std::string::npos);
-  const std::string tiles_only = report::openset_envelope_ablation_markdown(tiles, "env/score.json");
-  CHECK(tiles_only.find("single-vehicle crops") == std::string::npos);
-  CHECK(tiles_only.find("| cover | tiles | vehicles |") != std::string::npos);
-}
-
-TEST_CASE("report --openset with both classify ablations: canopy, the joint ablation, the envelope alone") {
+TEST_CASE("report --openset-classify-ablation: one subsection per NAME=SCORE in the order given") {
   namespace fs = std::filesystem;
-  // Hand-made scores of 10 car crops each (tiles and crops alike): canopy 9/10 found and right;
-  // the joint ablation 8 found, 5 right; the envelope alone off 7 found, 7 right.
+  // Hand-made scores of 10 car crops each (tiles and crops alike), one per ablation with its own
+  // counts: canopy 9 found, 9 right; every-family 8 found (4 + 4), 5 right; no-envelope 7 found
+  // (3 + 4), 7 right; family-entries-1 8 found (4 + 4), 6 right; no-bed 10 found (0 + 10), 3 right.
   const OpensetRun run =
-      openset_run("openset-ablations", {{"canopy", crops_score_json({"car"}, 5, 0, 4, 0, 9, 9)},
-                                        {"both-off", crops_score_json({"car"}, 4, 1, 4, 0, 8, 5)},
-                                        {"envelope-off", crops_score_json({"car"}, 3, 0, 4, 0, 7, 7)}});
+      openset_run("openset-classify-ablations", {{"canopy", crops_score_json({"car"}, 5, 0, 4, 0, 9, 9)},
+                                                 {"all-off", crops_score_json({"car"}, 4, 1, 4, 0, 8, 5)},
+                                                 {"envelope-off", crops_score_json({"car"}, 3, 0, 4, 0, 7, 7)},
+                                                 {"family-1", crops_score_json({"car"}, 4, 0, 4, 0, 8, 6)},
+                                                 {"bed-0", crops_score_json({"car"}, 0, 0, 10, 0, 10, 3)}});
   const fs::path& dir = run.dir;
   const auto path = [&](const std::string& name, bool crops) { return run.path(name, crops); };
+  // Each ablation: its name, its scores' directory, its heading and its crops' row (Wilson's
+  // intervals: 8/10 [49.0, 94.3], 5/8 [30.6, 86.3], 7/10 [39.7, 89.2], 7/7 [64.6, 100.0], 6/8
+  // [40.9, 92.9], 10/10 [72.2, 100.0], 3/10 [10.8, 60.3]), in the order the command line gives
+  // them (not the open set's: no-bed before family-entries-1).
+  struct Ablation {
+    std::string name, dir, heading, row;
+  };
+  const std::vector<Ablation> ablations = {
+      {"every-family", "all-off", "### Ablation: every classify family, no class envelope",
+       "| car | 10 | 8 (4 + 4) | 8/10 = 80.0% [49.0, 94.3] | 5/8 = 62.5% [30.6, 86.3] |"},
+      {"no-envelope", "envelope-off", "### Ablation: no class envelope, the modelbase's classes only kept",
+       "| car | 10 | 7 (3 + 4) | 7/10 = 70.0% [39.7, 89.2] | 7/7 = 100.0% [64.6, 100.0] |"},
+      {"no-bed", "bed-0", "### Ablation: no pickup bed cue (`classify --min-bed 0`)",
+       "| car | 10 | 10 (0 + 10) | 10/10 = 100.0% [72.2, 100.0] | 3/10 = 30.0% [10.8, 60.3] | 3/10 = 30.0% "
+       "[10.8, 60.3] | 7/10 = 70.0% [39.7, 89.2] | 0 |"},
+      {"family-entries-1", "family-1", "### Ablation: one entry keeps its family (`OPENSET_FAMILY_ENTRIES=1`)",
+       "| car | 10 | 8 (4 + 4) | 8/10 = 80.0% [49.0, 94.3] | 6/8 = 75.0% [40.9, 92.9] | 6/10 = 60.0% [31.3, "
+       "83.2] | 2/8 = 25.0% [7.1, 59.1] | 0 |"},
+  };
+  const auto option = [&](const Ablation& a) {
+    return " --openset-classify-ablation " + a.name + "=" + path(a.dir, false) +
+           " --openset-crops-classify-ablation " + a.name + "=" + path(a.dir, true);
+  };
   const std::string report = run.command();
-  const std::string both =
-      " --openset-ablation " + path("both-off", false) + " --openset-crops-ablation " + path("both-off", true);
-  const std::string envelope = " --openset-envelope-ablation " + path("envelope-off", false) +
-                               " --openset-crops-envelope-ablation " + path("envelope-off", true);
-  std::string err;
+  std::string all, first_three, err;
+  for (std::size_t i = 0; i < ablations.size(); ++i) {
+    all += option(ablations[i]);
+    if (i + 1 < ablations.size()) first_three += option(ablations[i]);
+  }
   fs::create_directories(dir / "res");
-  REQUIRE(test::sh(report + both + envelope + " --results " + (dir / "res").string(), dir / "err1.txt",
-                   &err) == 0);
+  REQUIRE(test::sh(report + all + " --results " + (dir / "res").string(), dir / "err1.txt", &err) == 0);
   const std::string md = test::read_text(dir / "res" / "report.md");
   const auto section = md.find("## Open set: unseen vehicles");
-  const auto joint = md.find("### Ablation: every classify family, no class envelope");
-  const auto alone = md.find("### Ablation: no class envelope, the modelbase's classes only kept");
   REQUIRE(section != std::string::npos);
-  REQUIRE(joint != std::string::npos);
-  REQUIRE(alone != std::string::npos);
-  // In that order, each with its own crops' rows (9/10 right; 5/10; 7/10).
-  CHECK(section < joint);
-  CHECK(joint < alone);
-  CHECK(md.find("| car | 10 | 9 (5 + 4) | 9/10 = 90.0%") > section);
-  CHECK(md.find("| car | 10 | 9 (5 + 4) | 9/10 = 90.0%") < joint);
-  const auto joint_row = md.find("| car | 10 | 8 (4 + 4) | 8/10 = 80.0% [49.0, 94.3] | 5/8 = 62.5%", joint);
-  CHECK(joint_row != std::string::npos);
-  CHECK(joint_row < alone);
-  CHECK(md.find("| car | 10 | 7 (3 + 4) | 7/10 = 70.0% [39.7, 89.2] | 7/7 = 100.0%", alone) !=
-        std::string::npos);
-  CHECK(md.find("(" + path("envelope-off", false) + ", " + path("envelope-off", true) + ")") !=
-        std::string::npos);
-  // Without the envelope's ablation: the same report up to that subsection (here the last), and no
-  // such heading.
-  fs::create_directories(dir / "res-joint");
-  REQUIRE(test::sh(report + both + " --results " + (dir / "res-joint").string(), dir / "err2.txt", &err) == 0);
-  const std::string joint_only = test::read_text(dir / "res-joint" / "report.md");
-  CHECK(joint_only.find("the modelbase's classes only kept") == std::string::npos);
-  CHECK(joint_only.size() < md.size());
-  CHECK(md.substr(0, joint_only.size()) == joint_only);
-  // The crops' file needs the tiles' (usage, exit 2), the ablation needs --openset; no report then.
-  for (const std::string& bad :
-       {report + " --openset-crops-envelope-ablation " + path("envelope-off", true),
-        std::string(CANOPY_BIN_DIR) + "/report --manifest " + (dir / "experiment.txt").string() +
-            " --openset-envelope-ablation " + path("envelope-off", false)}) {
+  // canopy's own crops' row before the first ablation.
+  const auto canopy_row = md.find("| car | 10 | 9 (5 + 4) | 9/10 = 90.0%");
+  CHECK(canopy_row > section);
+  std::size_t before = canopy_row;
+  for (std::size_t i = 0; i < ablations.size(); ++i) {
+    const Ablation& a = ablations[i];
+    CAPTURE(a.name);
+    const auto heading = md.find(a.heading);
+    REQUIRE(heading != std::string::npos);
+    CHECK(heading > before);  // after the one before it
+    // Its own crops' row between its heading and the next one, and its paths.
+    const auto next = i + 1 < ablations.size() ? md.find(ablations[i + 1].heading) : md.size();
+    const auto row = md.find(a.row, heading);
+    CHECK(row != std::string::npos);
+    CHECK(row < next);
+    CHECK(md.find("(" + path(a.dir, false) + ", " + path(a.dir, true) + ")", heading) < next);
+    before = heading;
+  }
+  // Without the last one: the same report up to its subsection (here the last), and no such heading.
+  fs::create_directories(dir / "res-three");
+  REQUIRE(test::sh(report + first_three + " --results " + (dir / "res-three").string(), dir / "err2.txt",
+                   &err) == 0);
+  const std::string three = test::read_text(dir / "res-three" / "report.md");
+  CHECK(three.find(ablations.back().heading) == std::string::npos);
+  CHECK(three.size() < md.size());
+  CHECK(md.substr(0, three.size()) == three);
+  // Without its crops' score: the tiles' table alone for that one.
+  fs::create_directories(dir / "res-tiles");
+  REQUIRE(test::sh(report + " --openset-classify-ablation no-bed=" + path("bed-0", false) + " --results " +
+                       (dir / "res-tiles").string(),
+                   dir / "err3.txt", &err) == 0);
+  const std::string tiles = test::read_text(dir / "res-tiles" / "report.md");
+  const auto bed = tiles.find("### Ablation: no pickup bed cue");
+  REQUIRE(bed != std::string::npos);
+  CHECK(tiles.find("| car | 10 | 10 | 10 (0 + 10) |", bed) != std::string::npos);
+  CHECK(tiles.find("The single-vehicle crops, the same ablation", bed) == std::string::npos);
+  // Usage errors (exit 2, no report): the crops' score without its tiles', the ablation without
+  // --openset, a name no ablation has, an argument that is not NAME=SCORE, a name given twice.
+  const std::string bare =
+      std::string(CANOPY_BIN_DIR) + "/report --manifest " + (dir / "experiment.txt").string();
+  const std::string family = " --openset-classify-ablation family-entries-1=" + path("family-1", false);
+  const std::pair<std::string, std::string> bad[] = {
+      {report + " --openset-crops-classify-ablation no-bed=" + path("bed-0", true),
+       "--openset-crops-classify-ablation no-bed needs --openset-classify-ablation no-bed"},
+      {report + family + " --openset-crops-classify-ablation no-bed=" + path("bed-0", true),
+       "--openset-crops-classify-ablation no-bed needs --openset-classify-ablation no-bed"},
+      {bare + family, "--openset-classify-ablation needs --openset"},
+      {report + " --openset-classify-ablation bed=" + path("bed-0", false),
+       "--openset-classify-ablation: no ablation named \"bed\""},
+      {report + " --openset-classify-ablation " + path("bed-0", false), "is not NAME=SCORE"},
+      {report + " --openset-classify-ablation no-bed=", "is not NAME=SCORE"},
+      {report + family + family, "--openset-classify-ablation: family-entries-1 given twice"},
+      {report + family + " --openset-crops-classify-ablation family-entries-1=" + path("family-1", true) +
+           " --openset-crops-classify-ablation family-entries-1=" + path("family-1", true),
+       "--openset-crops-classify-ablation: family-entries-1 given twice"},
+  };
+  for (const auto& [command, message] : bad) {
+    CAPTURE(command);
     fs::remove_all(dir / "res-bad");
     fs::create_directories(dir / "res-bad");
-    CHECK(test::sh(bad + " --results " + (dir / "res-bad").string(), dir / "err3.txt", &err) == 2);
-    CHECK(err.find("envelope-ablation needs --openset") != std::string::npos);
+    CHECK(test::sh(command + " --results " + (dir / "res-bad").string(), dir / "err4.txt", &err) == 2);
+    CHECK(err.find(message) != std::string::npos);
     CHECK_FALSE(fs::exists(dir / "res-bad" / "report.md"));
   }
-  // A damaged score of the envelope's ablation: exit 1 naming the file, no report.
+  // A damaged score of one ablation's crops: exit 1 naming the file, no report.
   test::write_file(dir / "envelope-off" / "crops" / "score.json", "{\"format\": \"canopy.scene_score\"");
   fs::remove_all(dir / "res-bad");
   fs::create_directories(dir / "res-bad");
-  CHECK(test::sh(report + both + envelope + " --results " + (dir / "res-bad").string(), dir / "err4.txt",
-                 &err) == 1);
+  CHECK(test::sh(report + all + " --results " + (dir / "res-bad").string(), dir / "err5.txt", &err) == 1);
   CHECK(err.find(path("envelope-off", true)) != std::string::npos);
   CHECK_FALSE(fs::exists(dir / "res-bad" / "report.md"));
-}
-
-TEST_CASE("report --openset with the family-entries ablation: a subsection after the envelope's") {
-  namespace fs = std::filesystem;
-  // Hand-made scores of 10 car crops each: canopy 9/10 found and right; the envelope alone off 7
-  // found, 7 right; one entry keeping its family 8 found (4 + 4), 6 right. Wilson: 8/10 [49.0,
-  // 94.3], 6/8 [40.9, 92.9].
-  const OpensetRun run =
-      openset_run("openset-family-ablation", {{"canopy", crops_score_json({"car"}, 5, 0, 4, 0, 9, 9)},
-                                              {"envelope-off", crops_score_json({"car"}, 3, 0, 4, 0, 7, 7)},
-                                              {"family-1", crops_score_json({"car"}, 4, 0, 4, 0, 8, 6)}});
-  const fs::path& dir = run.dir;
-  const auto path = [&](const std::string& name, bool crops) { return run.path(name, crops); };
-  const std::string report = run.command();
-  const std::string envelope = " --openset-envelope-ablation " + path("envelope-off", false) +
-                               " --openset-crops-envelope-ablation " + path("envelope-off", true);
-  const std::string family = " --openset-family-ablation " + path("family-1", false) +
-                             " --openset-crops-family-ablation " + path("family-1", true);
-  std::string err;
-  fs::create_directories(dir / "res");
-  REQUIRE(test::sh(report + envelope + family + " --results " + (dir / "res").string(), dir / "err1.txt",
-                   &err) == 0);
-  const std::string md = test::read_text(dir / "res" / "report.md");
-  const auto alone = md.find("### Ablation: no class envelope, the modelbase's classes only kept");
-  const auto fam = md.find("### Ablation: one entry keeps its family (`OPENSET_FAMILY_ENTRIES=1`)");
-  REQUIRE(alone != std::string::npos);
-  REQUIRE(fam != std::string::npos);
-  CHECK(alone < fam);
-  CHECK(md.find("`classify --family-entries 2`", fam) != std::string::npos);
-  // Its own rows after its heading and not before it: the tiles' (found 8 = 4 + 4, class right
-  // 6 of 8) and the crops' (with Wilson's intervals; wrong class 2/8).
-  CHECK(md.find("| car | 10 | 10 | 8 (4 + 4) |") > fam);
-  const std::string row =
-      "| car | 10 | 8 (4 + 4) | 8/10 = 80.0% [49.0, 94.3] | 6/8 = 75.0% [40.9, 92.9] | 6/10 = 60.0% [31.3, "
-      "83.2] | 2/8 = 25.0% [7.1, 59.1] | 0 |";
-  CHECK(md.find(row) > fam);
-  CHECK(md.find("(" + path("family-1", false) + ", " + path("family-1", true) + ")") != std::string::npos);
-  // The crops' file needs the tiles', the ablation needs --openset: usage, exit 2, no report.
-  for (const std::string& bad :
-       {report + " --openset-crops-family-ablation " + path("family-1", true),
-        std::string(CANOPY_BIN_DIR) + "/report --manifest " + (dir / "experiment.txt").string() +
-            " --openset-family-ablation " + path("family-1", false)}) {
-    fs::remove_all(dir / "res-bad");
-    fs::create_directories(dir / "res-bad");
-    CHECK(test::sh(bad + " --results " + (dir / "res-bad").string(), dir / "err2.txt", &err) == 2);
-    CHECK(err.find("family-ablation needs --openset") != std::string::npos);
-    CHECK_FALSE(fs::exists(dir / "res-bad" / "report.md"));
-  }
-}
-
-TEST_CASE("report --openset with the bed ablation: a subsection after the family-entries one") {
-  namespace fs = std::filesystem;
-  // Hand-made scores of 10 pickup crops each: canopy 9/10 found and right; one entry keeping its
-  // family 8 found, 8 right; the bed cue off 10 found (0 + 10), 3 right: Wilson 3/10 [10.8, 60.3],
-  // wrong class 7/10 [39.7, 89.2].
-  const OpensetRun run =
-      openset_run("openset-bed-ablation", {{"canopy", crops_score_json({"pickup"}, 5, 0, 4, 0, 9, 9)},
-                                           {"family-1", crops_score_json({"pickup"}, 4, 0, 4, 0, 8, 8)},
-                                           {"bed-0", crops_score_json({"pickup"}, 0, 0, 10, 0, 10, 3)}});
-  const fs::path& dir = run.dir;
-  const auto path = [&](const std::string& name, bool crops) { return run.path(name, crops); };
-  const std::string report = run.command();
-  const std::string family = " --openset-family-ablation " + path("family-1", false) +
-                             " --openset-crops-family-ablation " + path("family-1", true);
-  const std::string bed = " --openset-bed-ablation " + path("bed-0", false) +
-                          " --openset-crops-bed-ablation " + path("bed-0", true);
-  std::string err;
-  fs::create_directories(dir / "res");
-  REQUIRE(test::sh(report + bed + family + " --results " + (dir / "res").string(), dir / "err1.txt", &err) == 0);
-  const std::string md = test::read_text(dir / "res" / "report.md");
-  const auto fam = md.find("### Ablation: one entry keeps its family (`OPENSET_FAMILY_ENTRIES=1`)");
-  const auto b = md.find("### Ablation: no pickup bed cue (`classify --min-bed 0`)");
-  REQUIRE(fam != std::string::npos);
-  REQUIRE(b != std::string::npos);
-  CHECK(fam < b);  // in the open set's order, whatever the command line's
-  CHECK(md.find("`classify --min-bed 0.1`, docs/decisions/classify.md §39", b) != std::string::npos);
-  const std::string row =
-      "| pickup | 10 | 10 (0 + 10) | 10/10 = 100.0% [72.2, 100.0] | 3/10 = 30.0% [10.8, 60.3] | 3/10 = 30.0% "
-      "[10.8, 60.3] | 7/10 = 70.0% [39.7, 89.2] | 0 |";
-  CHECK(md.find(row) > b);
-  CHECK(md.find("(" + path("bed-0", false) + ", " + path("bed-0", true) + ")") != std::string::npos);
-  // The crops' file needs the tiles', the ablation needs --openset: usage, exit 2, no report.
-  for (const std::string& bad :
-       {report + " --openset-crops-bed-ablation " + path("bed-0", true),
-        std::string(CANOPY_BIN_DIR) + "/report --manifest " + (dir / "experiment.txt").string() +
-            " --openset-bed-ablation " + path("bed-0", false)}) {
-    fs::remove_all(dir / "res-bad");
-    fs::create_directories(dir / "res-bad");
-    CHECK(test::sh(bad + " --results " + (dir / "res-bad").string(), dir / "err2.txt", &err) == 2);
-    CHECK(err.find("bed-ablation needs --openset") != std::string::npos);
-    CHECK_FALSE(fs::exists(dir / "res-bad" / "report.md"));
-  }
 }

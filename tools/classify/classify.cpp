@@ -8,6 +8,7 @@
 #include <map>
 
 #include "canopy/common/error.h"
+#include "canopy/common/vehicle_classes.h"
 #include "classify/features.h"
 
 namespace canopy::classify {
@@ -463,39 +464,32 @@ void choose(Answer& a, const Params& p, double sigma, const std::vector<TableRan
 }  // namespace
 
 const std::vector<ClassRange>& class_ranges() {
-  // Length, width, height (m): tools/rangetrace/families.cpp, docs/decisions/families.md §2.
-  static const std::vector<ClassRange> k = {
-      {"sedan", "car", {4.40, 5.10}, {1.72, 1.90}, {1.38, 1.50}, 0, -1},
-      {"hatchback", "car", {3.55, 4.40}, {1.62, 1.80}, {1.42, 1.56}, 0, +1},
-      {"suv", "car", {4.40, 5.30}, {1.80, 2.05}, {1.65, 1.95}, 0, +1},
-      {"pickup", "car", {5.00, 5.90}, {1.80, 2.05}, {1.75, 2.00}, -1, -1},
-      {"van", "van", {4.90, 6.00}, {1.90, 2.06}, {1.95, 2.75}, +1, +1},
-      {"box-truck", "truck", {7.00, 10.00}, {2.30, 2.55}, {3.00, 3.90}, +1, 0, true},
-      {"semi-tractor", "truck", {5.80, 7.50}, {2.45, 2.55}, {3.00, 4.00}, -1, 0},
-      {"bus", "bus", {10.50, 13.50}, {2.50, 2.55}, {2.90, 3.40}, +1, 0, true},
-      {"wheeled-apc", "machine", {6.40, 8.00}, {2.50, 3.00}, {2.30, 2.90}, 0, 0},
-      {"tracked-apc", "tracked", {4.90, 7.00}, {2.70, 3.30}, {1.90, 2.70}, 0, 0},
-      {"tank", "tracked", {8.70, 11.40}, {3.40, 3.80}, {2.20, 3.00}, 0, 0, false, {6.50, 8.00}},
-      {"wheel-loader", "machine", {6.80, 9.00}, {2.50, 3.20}, {3.00, 3.70}, -1, 0},
-  };
+  // Length, width, height (m): tools/rangetrace/families.cpp, docs/decisions/families.md §2. Each
+  // family's group is the taxonomy's (common/vehicle_classes.h, which collect reads too).
+  static const std::vector<ClassRange> k = [] {
+    std::vector<ClassRange> v = {
+        {"sedan", {}, {4.40, 5.10}, {1.72, 1.90}, {1.38, 1.50}, 0, -1},
+        {"hatchback", {}, {3.55, 4.40}, {1.62, 1.80}, {1.42, 1.56}, 0, +1},
+        {"suv", {}, {4.40, 5.30}, {1.80, 2.05}, {1.65, 1.95}, 0, +1},
+        {"pickup", {}, {5.00, 5.90}, {1.80, 2.05}, {1.75, 2.00}, -1, -1},
+        {"van", {}, {4.90, 6.00}, {1.90, 2.06}, {1.95, 2.75}, +1, +1},
+        {"box-truck", {}, {7.00, 10.00}, {2.30, 2.55}, {3.00, 3.90}, +1, 0, true},
+        {"semi-tractor", {}, {5.80, 7.50}, {2.45, 2.55}, {3.00, 4.00}, -1, 0},
+        {"bus", {}, {10.50, 13.50}, {2.50, 2.55}, {2.90, 3.40}, +1, 0, true},
+        {"wheeled-apc", {}, {6.40, 8.00}, {2.50, 3.00}, {2.30, 2.90}, 0, 0},
+        {"tracked-apc", {}, {4.90, 7.00}, {2.70, 3.30}, {1.90, 2.70}, 0, 0},
+        {"tank", {}, {8.70, 11.40}, {3.40, 3.80}, {2.20, 3.00}, 0, 0, false, {6.50, 8.00}},
+        {"wheel-loader", {}, {6.80, 9.00}, {2.50, 3.20}, {3.00, 3.70}, -1, 0},
+    };
+    for (ClassRange& r : v) r.group = common::family_group(r.name);
+    return v;
+  }();
   return k;
 }
 
-std::string group_of(const std::string& cls) {
-  for (const ClassRange& k : class_ranges()) {
-    if (cls == k.name) return k.group;
-  }
-  return "";
-}
+std::string group_of(const std::string& cls) { return common::family_group(cls); }
 
-std::string entry_group(const std::string& cls) {
-  const std::string g = group_of(cls);
-  if (!g.empty()) return g;
-  for (const ClassRange& k : class_ranges()) {
-    if (cls == k.group) return k.group;
-  }
-  return cls;
-}
+std::string entry_group(const std::string& cls) { return common::class_group(cls); }
 
 std::vector<TableRange> class_table(const Params& p, const std::vector<ModelEntry>& entries) {
   std::vector<TableRange> table;

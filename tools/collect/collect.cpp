@@ -13,6 +13,7 @@
 #include "canopy/common/density_scale.h"
 #include "canopy/common/error.h"
 #include "canopy/common/math.h"
+#include "canopy/common/vehicle_classes.h"
 #include "canopy/documents/candidates.h"
 #include "canopy/documents/detections.h"
 #include "canopy/formats/ini.h"
@@ -495,20 +496,10 @@ Matrix size_only_pose(const Matrix& rect, const ModelBox& b) {
   return multiply(rect, m);
 }
 
-std::string class_group(const std::string& cls) {
-  static const std::map<std::string, std::string> group{
-      {"sedan", "car"},           {"hatchback", "car"}, {"suv", "car"},
-      {"pickup", "car"},          {"van", "van"},       {"box-truck", "truck"},
-      {"semi-tractor", "truck"},  {"bus", "bus"},       {"wheeled-apc", "machine"},
-      {"tracked-apc", "tracked"}, {"tank", "tracked"},  {"wheel-loader", "machine"}};
-  const auto g = group.find(cls);
-  return g == group.end() ? cls : g->second;
-}
-
 bool model_contradicted(const Verdict& v, const Verdict& k, bool by_group) {
   if (v.model.empty() || v.cls.empty() || k.cls.empty()) return false;
   if (k.cls == v.cls || k.group == v.cls) return false;
-  return !by_group || class_group(v.cls) != (k.group.empty() ? class_group(k.cls) : k.group);
+  return !by_group || common::class_group(v.cls) != (k.group.empty() ? common::class_group(k.cls) : k.group);
 }
 
 bool refused_by_shape(const Verdict& v, const Verdict& k) {

@@ -126,7 +126,7 @@ struct Params {
   // (the model answer always first, as before). docs/decisions/open-set.md "Sixth round".
   double contradicted_below = 0.5;
   // At what level classify's class answer must differ to contradict (docs/decisions/open-set.md
-  // "Thirteenth round"): by default its group (classify's taxonomy, class_group) must differ from
+  // "Thirteenth round"): by default its group (the taxonomy's, common/vehicle_classes.h) must differ from
   // the model class's group, since classify's answer states only the group (its confidence's
   // margin is over the other groups; within a group its classes' size ranges overlap and it
   // picks the nearest); false = the sixth round's rule, a class and group that both differ from
@@ -153,15 +153,10 @@ struct Params {
   double coarse_none_below = common::kDenseDensity;
 };
 
-// The group of a vehicle class in classify's taxonomy (tools/classify class_ranges(),
-// docs/decisions/families.md): sedan, hatchback, suv, pickup -> car; box-truck, semi-tractor ->
-// truck; wheeled-apc, wheel-loader -> machine; tracked-apc, tank -> tracked; van -> van; bus ->
-// bus; any other name (a group's own name, a modelbase's class of its own) is its own group
-// (classify's entry_group; tests/collect checks the two agree).
-std::string class_group(const std::string& cls);
 // Whether classify's class answer k contradicts verify's model answer v: v names a model of a
 // known class, k names a class, and neither k's class nor its group is v's class; by_group: nor
-// is k's group (or, without one, its class's) v's class's group (class_group).
+// is k's group (or, without one, its class's) v's class's group (the taxonomy's,
+// common/vehicle_classes.h class_group: a family's group, any other name its own).
 bool model_contradicted(const Verdict& v, const Verdict& k, bool by_group = true);
 // Whether classify's answer k refuses, on the candidate's shape or surface (refused_on "shape"
 // or "surface"), verify's model answer v: v names a model and k names no class.

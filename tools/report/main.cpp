@@ -145,13 +145,17 @@ std::optional<documents::SceneScore> optional_score(const std::string& path) {
   return documents::read_scene_score_file(path);
 }
 
-// An open-set ablation's subsection (`markdown`: report's openset_*ablation_markdown) from its
-// tiles' score.json and, when given, its crops'.
-std::string openset_ablation_section(std::string (*markdown)(const documents::SceneScore&, const std::string&,
-                                                             const documents::SceneScore*, const std::string&),
-                                     const std::string& tiles, const std::string& crops) {
-  const std::optional<documents::SceneScore> c = optional_score(crops);
-  return markdown(documents::read_scene_score_file(tiles), tiles, c ? &*c : nullptr, crops);
+// An open-set classify ablation: its name (report's openset_classify_ablation_names), its tiles'
+// score.json and its crops' ("" when not given).
+struct NamedAblation {
+  std::string name, tiles, crops;
+};
+
+// An open-set classify ablation's subsection from its tiles' score.json and, when given, its crops'.
+std::string openset_classify_ablation_section(const NamedAblation& a) {
+  const std::optional<documents::SceneScore> c = optional_score(a.crops);
+  return report::openset_classify_ablation_markdown(a.name, documents::read_scene_score_file(a.tiles),
+                                                    a.tiles, c ? &*c : nullptr, a.crops);
 }
 
 // An open-set collect ablation's subsection from its tiles' score.json, its crops' when given and
@@ -261,11 +265,9 @@ struct Sources {
   std::vector<std::string> openset_collect_ablations, openset_collect_ablation_options,
       openset_crops_collect_ablations;
   std::vector<ClassifyAblationArgs> tile_classify_ablations = std::vector<ClassifyAblationArgs>(2);
-  std::string openset_envelope_ablation, openset_crops_envelope_ablation;
-  std::string openset_family_ablation, openset_crops_family_ablation;
-  std::string openset_bed_ablation, openset_crops_bed_ablation;
-  std::string tile_score, families, disk, openset, openset_crops, openset_distances, openset_ablation,
-      openset_crops_ablation;
+  // the open set's classify ablations in order, each NAME=SCORE, and their crops' (NAME=SCORE)
+  std::vector<std::string> openset_classify_ablations, openset_crops_classify_ablations;
+  std::string tile_score, families, disk, openset, openset_crops, openset_distances;
   int real_timeout = 0;
 };
 
@@ -288,6 +290,47 @@ void check_collect_ablations(const Sources& src) {
   count(src.openset_crops_collect_ablations, "--openset-crops-collect-ablation", false);
   count(src.openset_collect_ablation_options, "--openset-collect-ablation-options", true);
   for (const std::string& o : src.openset_collect_ablation_options) report::collect_ablation_options(o);
+}
+
+// NAME=SCORE of `option` split at its first "=": a usage error naming the option when either side
+// is empty or the name is not an ablation's.
+std::pair<std::string, std::string> named_score(const std::string& arg, const std::string& option) {
+  const std::size_t eq = arg.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == arg.size())
+    throw common::UsageError(option + ": \"" + arg + "\" is not NAME=SCORE");
+  const std::string name = arg.substr(0, eq);
+  const auto& names = report::openset_classify_ablation_names();
+  if (std::find(names.begin(), names.end(), name) == names.end()) {
+    std::string known;
+    for (const std::string& n : names) known += (known.empty() ? "" : ", ") + n;
+    throw common::UsageError(option + ": no ablation named \"" + name + "\" (the names: " + known + ")");
+  }
+  return {name, arg.substr(eq + 1)};
+}
+
+// The open set's classify ablations in the order given, each with its crops' score when given:
+// each needs --openset, a name once, and a crops' score only for a name given to the tiles.
+std::vector<NamedAblation> classify_ablations(const Sources& src) {
+  if (!src.openset_classify_ablations.empty() && src.openset.empty())
+    throw common::UsageError("--openset-classify-ablation needs --openset");
+  std::vector<NamedAblation> out;
+  for (const std::string& arg : src.openset_classify_ablations) {
+    const auto [name, score] = named_score(arg, "--openset-classify-ablation");
+    for (const NamedAblation& a : out)
+      if (a.name == name) throw common::UsageError("--openset-classify-ablation: " + name + " given twice");
+    out.push_back({name, score, ""});
+  }
+  for (const std::string& arg : src.openset_crops_classify_ablations) {
+    const auto [name, score] = named_score(arg, "--openset-crops-classify-ablation");
+    const auto a = std::find_if(out.begin(), out.end(), [&](const NamedAblation& x) { return x.name == name; });
+    if (a == out.end())
+      throw common::UsageError("--openset-crops-classify-ablation " + name +
+                               " needs --openset-classify-ablation " + name);
+    if (!a->crops.empty())
+      throw common::UsageError("--openset-crops-classify-ablation: " + name + " given twice");
+    a->crops = score;
+  }
+  return out;
 }
 
 void bind(common::Tool& tool, Sources& src, report::Params& p) {
@@ -329,29 +372,19 @@ void bind(common::Tool& tool, Sources& src, report::Params& p) {
            "vehicles\"");
   tool.add("--openset-crops", &src.openset_crops,
            "the open set's single-vehicle crops' score.json (mk/openset.mk): a subsection of the open set's");
-  tool.add("--openset-ablation", &src.openset_ablation,
-           "the open set's classify ablation's score.json (mk/openset.mk: every family): a subsection "
-           "of the open set's beside the default");
-  tool.add("--openset-crops-ablation", &src.openset_crops_ablation,
-           "the same ablation's score.json on the single-vehicle crops (with --openset-ablation)");
-  tool.add("--openset-envelope-ablation", &src.openset_envelope_ablation,
-           "the open set's second classify ablation's score.json (mk/openset.mk: the class envelope alone "
-           "off, classify --class-envelope 0 with the modelbase's classes only): a subsection of the open "
-           "set's beside the default and --openset-ablation");
-  tool.add("--openset-crops-envelope-ablation", &src.openset_crops_envelope_ablation,
-           "the same ablation's score.json on the single-vehicle crops (with --openset-envelope-ablation)");
-  tool.add("--openset-family-ablation", &src.openset_family_ablation,
-           "the open set's third classify ablation's score.json (mk/openset.mk: one entry keeps its family "
-           "alone, classify --family-entries 1 with the open set's other parameters): a subsection of the "
-           "open set's beside the default");
-  tool.add("--openset-crops-family-ablation", &src.openset_crops_family_ablation,
-           "the same ablation's score.json on the single-vehicle crops (with --openset-family-ablation)");
-  tool.add("--openset-bed-ablation", &src.openset_bed_ablation,
-           "the open set's fourth classify ablation's score.json (mk/openset.mk: the pickup's bed cue alone "
-           "off, classify --min-bed 0 with the open set's other parameters): a subsection of the open set's "
-           "beside the default");
-  tool.add("--openset-crops-bed-ablation", &src.openset_crops_bed_ablation,
-           "the same ablation's score.json on the single-vehicle crops (with --openset-bed-ablation)");
+  std::string names;
+  for (const std::string& n : report::openset_classify_ablation_names())
+    names += (names.empty() ? "" : ", ") + n;
+  tool.add("--openset-classify-ablation", &src.openset_classify_ablations,
+           "an open-set classify ablation as NAME=SCORE: its score.json (mk/openset.mk "
+           "OPENSET_CLASSIFY_ABLATION[_2|_3|_4]: the same candidates classified with other parameters) and "
+           "its name, which picks the subsection's heading (" +
+               names + "); repeated, one subsection each beside the default, in the order given")
+      ->allow_extra_args(false);
+  tool.add("--openset-crops-classify-ablation", &src.openset_crops_classify_ablations,
+           "the same ablation's score.json on the single-vehicle crops, as NAME=SCORE (NAME one of "
+           "--openset-classify-ablation's); repeated, at most one per name")
+      ->allow_extra_args(false);
   tool.add("--openset-collect-ablation", &src.openset_collect_ablations,
            "an open-set collect ablation's score.json (mk/openset.mk OPENSET_COLLECT_ABLATIONS: the same "
            "verdicts and class answers collected with other options): a subsection of the open set's beside "
@@ -410,17 +443,7 @@ int main(int argc, char** argv) {
       if (a.score.empty() != a.config.empty())
         throw common::UsageError(opt + " and " + opt + "-config go together");
     }
-    needs(src.openset_ablation, "--openset-ablation", src.openset, "--openset");
-    needs(src.openset_crops_ablation, "--openset-crops-ablation", src.openset_ablation, "--openset-ablation");
-    needs(src.openset_envelope_ablation, "--openset-envelope-ablation", src.openset, "--openset");
-    needs(src.openset_crops_envelope_ablation, "--openset-crops-envelope-ablation",
-          src.openset_envelope_ablation, "--openset-envelope-ablation");
-    needs(src.openset_family_ablation, "--openset-family-ablation", src.openset, "--openset");
-    needs(src.openset_crops_family_ablation, "--openset-crops-family-ablation", src.openset_family_ablation,
-          "--openset-family-ablation");
-    needs(src.openset_bed_ablation, "--openset-bed-ablation", src.openset, "--openset");
-    needs(src.openset_crops_bed_ablation, "--openset-crops-bed-ablation", src.openset_bed_ablation,
-          "--openset-bed-ablation");
+    const std::vector<NamedAblation> openset_classify = classify_ablations(src);
     check_collect_ablations(src);
     common::log::Phase phase("read");
     const documents::ExperimentManifest manifest = documents::read_experiment_manifest(src.manifest);
@@ -450,19 +473,7 @@ int main(int argc, char** argv) {
       markdown += report::openset_markdown(documents::read_scene_score_file(src.openset), src.openset,
                                            crops ? &*crops : nullptr, src.openset_crops, distances,
                                            src.openset_distances);
-      if (!src.openset_ablation.empty())
-        markdown += openset_ablation_section(report::openset_ablation_markdown, src.openset_ablation,
-                                             src.openset_crops_ablation);
-      if (!src.openset_envelope_ablation.empty())
-        markdown +=
-            openset_ablation_section(report::openset_envelope_ablation_markdown,
-                                     src.openset_envelope_ablation, src.openset_crops_envelope_ablation);
-      if (!src.openset_family_ablation.empty())
-        markdown += openset_ablation_section(report::openset_family_ablation_markdown,
-                                             src.openset_family_ablation, src.openset_crops_family_ablation);
-      if (!src.openset_bed_ablation.empty())
-        markdown += openset_ablation_section(report::openset_bed_ablation_markdown, src.openset_bed_ablation,
-                                             src.openset_crops_bed_ablation);
+      for (const NamedAblation& a : openset_classify) markdown += openset_classify_ablation_section(a);
       for (std::size_t k = 0; k < src.openset_collect_ablations.size(); ++k)
         markdown += openset_collect_ablation_section(
             src.openset_collect_ablations[k],

@@ -208,54 +208,65 @@ std::string ablation_markdown(const std::string& heading, const std::string& wha
 
 }  // namespace
 
-std::string openset_ablation_markdown(const documents::SceneScore& tiles, const std::string& tiles_path,
-                                      const documents::SceneScore* crops, const std::string& crops_path) {
-  return ablation_markdown(
-      "Ablation: every classify family, no class envelope (`OPENSET_CLASSES_ONLY=0 "
-      "OPENSET_CLASS_ENVELOPE=0`)",
-      "The open set's default answers only the classes of the modelbase's entries (`classify "
-      "--modelbase-classes-only`, docs/decisions/open-set.md, fourth round), and a class with two or more "
-      "entries is also the box of their sizes +-5% (`classify --class-envelope 0.05`, eighth round); this "
-      "is the same tiles, candidates and model chain with classify's every family and no envelope instead "
-      "(the simulated tiles' parameters alone), run beside it on every candidate and scored the same way",
-      tiles, tiles_path, crops, crops_path);
+namespace {
+
+// One classify ablation of the open set: its name (--openset-classify-ablation NAME=SCORE), heading
+// and paragraph.
+struct ClassifyAblationText {
+  const char* name;
+  const char* heading;
+  const char* what;
+};
+const ClassifyAblationText kClassifyAblations[] = {
+    {"every-family",
+     "Ablation: every classify family, no class envelope (`OPENSET_CLASSES_ONLY=0 "
+     "OPENSET_CLASS_ENVELOPE=0`)",
+     "The open set's default answers only the classes of the modelbase's entries (`classify "
+     "--modelbase-classes-only`, docs/decisions/open-set.md, fourth round), and a class with two or more "
+     "entries is also the box of their sizes +-5% (`classify --class-envelope 0.05`, eighth round); this "
+     "is the same tiles, candidates and model chain with classify's every family and no envelope instead "
+     "(the simulated tiles' parameters alone), run beside it on every candidate and scored the same way"},
+    {"no-envelope",
+     "Ablation: no class envelope, the modelbase's classes only kept (`OPENSET_CLASS_ENVELOPE=0`)",
+     "The envelope alone: the open set's classify as shipped (`--modelbase-classes-only`) with no class "
+     "envelope (`classify --class-envelope 0`, docs/decisions/open-set.md, eighth round), run beside the "
+     "default and the ablation above on every candidate, with the same model chain, and scored the same "
+     "way; against the default, what the envelope changes"},
+    {"family-entries-1", "Ablation: one entry keeps its family (`OPENSET_FAMILY_ENTRIES=1`)",
+     "With the modelbase's classes only, a classify family counts as a class only when two or more "
+     "modelbase entries name it (`classify --family-entries 2`, docs/decisions/open-set.md, eleventh "
+     "round): a class shown by one entry (the tracked APC, the bus, the tank) is that entry's own range. "
+     "This is the same tiles, candidates and model chain with `--family-entries 1` (one entry keeps its "
+     "family's whole range, as before) and the open set's other parameters, run beside the default on "
+     "every candidate and scored the same way"},
+    {"no-bed", "Ablation: no pickup bed cue (`classify --min-bed 0`)",
+     "A car- or van-group answer whose top shows a pickup's bed at one end (its walls over its floor and "
+     "under the cab's roof: `classify --min-bed 0.1`, docs/decisions/classify.md §39) can only be "
+     "`pickup`; this is the same tiles, candidates and model chain with the cue off (`--min-bed 0`) and "
+     "the open set's other parameters, run beside the default on every candidate and scored the same way"},
+};
+
+}  // namespace
+
+const std::vector<std::string>& openset_classify_ablation_names() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> v;
+    for (const ClassifyAblationText& a : kClassifyAblations) v.push_back(a.name);
+    return v;
+  }();
+  return names;
 }
 
-std::string openset_envelope_ablation_markdown(const documents::SceneScore& tiles,
+std::string openset_classify_ablation_markdown(const std::string& name, const documents::SceneScore& tiles,
                                                const std::string& tiles_path,
                                                const documents::SceneScore* crops,
                                                const std::string& crops_path) {
-  return ablation_markdown(
-      "Ablation: no class envelope, the modelbase's classes only kept (`OPENSET_CLASS_ENVELOPE=0`)",
-      "The envelope alone: the open set's classify as shipped (`--modelbase-classes-only`) with no class "
-      "envelope (`classify --class-envelope 0`, docs/decisions/open-set.md, eighth round), run beside the "
-      "default and the ablation above on every candidate, with the same model chain, and scored the same "
-      "way; against the default, what the envelope changes",
-      tiles, tiles_path, crops, crops_path);
-}
-
-std::string openset_family_ablation_markdown(const documents::SceneScore& tiles, const std::string& tiles_path,
-                                             const documents::SceneScore* crops, const std::string& crops_path) {
-  return ablation_markdown(
-      "Ablation: one entry keeps its family (`OPENSET_FAMILY_ENTRIES=1`)",
-      "With the modelbase's classes only, a classify family counts as a class only when two or more "
-      "modelbase entries name it (`classify --family-entries 2`, docs/decisions/open-set.md, eleventh "
-      "round): a class shown by one entry (the tracked APC, the bus, the tank) is that entry's own range. "
-      "This is the same tiles, candidates and model chain with `--family-entries 1` (one entry keeps its "
-      "family's whole range, as before) and the open set's other parameters, run beside the default on "
-      "every candidate and scored the same way",
-      tiles, tiles_path, crops, crops_path);
-}
-
-std::string openset_bed_ablation_markdown(const documents::SceneScore& tiles, const std::string& tiles_path,
-                                          const documents::SceneScore* crops, const std::string& crops_path) {
-  return ablation_markdown(
-      "Ablation: no pickup bed cue (`classify --min-bed 0`)",
-      "A car- or van-group answer whose top shows a pickup's bed at one end (its walls over its floor and "
-      "under the cab's roof: `classify --min-bed 0.1`, docs/decisions/classify.md §39) can only be "
-      "`pickup`; this is the same tiles, candidates and model chain with the cue off (`--min-bed 0`) and "
-      "the open set's other parameters, run beside the default on every candidate and scored the same way",
-      tiles, tiles_path, crops, crops_path);
+  for (const ClassifyAblationText& a : kClassifyAblations)
+    if (name == a.name) return ablation_markdown(a.heading, a.what, tiles, tiles_path, crops, crops_path);
+  std::string names;
+  for (const std::string& n : openset_classify_ablation_names()) names += (names.empty() ? "" : ", ") + n;
+  throw common::UsageError("--openset-classify-ablation: no ablation named \"" + name +
+                           "\" (the names: " + names + ")");
 }
 
 std::vector<std::string> collect_ablation_options(const std::string& options) {

@@ -45,33 +45,25 @@ std::string openset_markdown(const documents::SceneScore& score, const std::stri
                              const documents::SceneScore* crops = nullptr, const std::string& crops_path = "",
                              const OpensetDistances& distances = {}, const std::string& distances_path = "");
 
-// The ablation of the open set's classify defaults (OPENSET_CLASSES_ONLY=0
-// OPENSET_CLASS_ENVELOPE=0: every family, without --modelbase-classes-only and --class-envelope)
-// on the same candidates and model chain, as a subsection: the tiles' table (`tiles`) and the
-// crops' (`crops`, may be null) in the same form as the section's.
-std::string openset_ablation_markdown(const documents::SceneScore& tiles, const std::string& tiles_path,
-                                      const documents::SceneScore* crops = nullptr,
-                                      const std::string& crops_path = "");
-// The ablation of the class envelope alone (OPENSET_CLASSIFY_ABLATION_2: the open set's
-// parameters with class-envelope = 0, --modelbase-classes-only kept) on the same candidates and
-// model chain, in the same form: beside the default and the joint ablation above, what the
-// envelope alone changes.
-std::string openset_envelope_ablation_markdown(const documents::SceneScore& tiles,
+// The open set's classify ablations (mk/openset.mk OPENSET_CLASSIFY_ABLATION[_2|_3|_4]: the same
+// candidates and model chain classified with other parameters), each known by its name, which
+// picks its heading and paragraph:
+//   every-family      OPENSET_CLASSES_ONLY=0 OPENSET_CLASS_ENVELOPE=0: every family, without
+//                     --modelbase-classes-only and --class-envelope (the base's parameters alone);
+//   no-envelope       the class envelope alone off (class-envelope = 0, --modelbase-classes-only
+//                     kept): what the envelope alone changes;
+//   family-entries-1  family-entries = 1 (a class one modelbase entry names keeps its whole
+//                     family's range): what the eleventh round changes;
+//   no-bed            the pickup's bed cue alone off (min-bed = 0): what classify.md §39 changes.
+// The names in that order (report's help, the tests).
+const std::vector<std::string>& openset_classify_ablation_names();
+// The ablation named `name` as a subsection: the tiles' table (`tiles`) and the crops' (`crops`,
+// may be null) in the same form as the section's. Throws common::UsageError naming
+// --openset-classify-ablation and the names for any other name.
+std::string openset_classify_ablation_markdown(const std::string& name, const documents::SceneScore& tiles,
                                                const std::string& tiles_path,
                                                const documents::SceneScore* crops = nullptr,
                                                const std::string& crops_path = "");
-// The ablation of --family-entries alone (OPENSET_CLASSIFY_ABLATION_3: the open set's parameters
-// with family-entries = 1: a class one modelbase entry names keeps its whole family's range) on
-// the same candidates and model chain, in the same form: what the eleventh round changes.
-std::string openset_family_ablation_markdown(const documents::SceneScore& tiles, const std::string& tiles_path,
-                                             const documents::SceneScore* crops = nullptr,
-                                             const std::string& crops_path = "");
-// The ablation of the pickup's bed cue alone (OPENSET_CLASSIFY_ABLATION_4: the open set's parameters
-// with min-bed = 0) on the same candidates and model chain, in the same form: what classify.md §39
-// changes.
-std::string openset_bed_ablation_markdown(const documents::SceneScore& tiles, const std::string& tiles_path,
-                                          const documents::SceneScore* crops = nullptr,
-                                          const std::string& crops_path = "");
 // collect's options of an open-set collect ablation (an entry of mk/openset.mk
 // OPENSET_COLLECT_ABLATIONS: --name=value options separated by commas or spaces) as collect's
 // command line words ("--contradicted-below", "0", ...). Throws common::UsageError naming
