@@ -188,6 +188,13 @@ std::string row_counts(const std::string& cover, double recall, double cls, doub
          R"(, "class_fp": )" + std::to_string(class_fp) + "}";
 }
 
+// Light, medium and all rows of one level (all: the mean of light's and medium's recall).
+std::string rows(double light, double medium, double cls, double fa, int right, int fp, int cfp) {
+  return row_counts("light", light, cls, fa, right, fp, cfp) + "," +
+         row_counts("medium", medium, cls, fa, right, fp, cfp) + "," +
+         row_counts("all", (light + medium) / 2, cls, fa, right, fp, cfp);
+}
+
 // A sensor tile's truth.json beside the level's run (rangetrace's measured density).
 void sensor_truth(const fs::path& root, const std::string& name, double pulses, double returns) {
   test::write_file(root / "out" / name / "light" / "tile-1" / "truth.json",
@@ -204,11 +211,6 @@ TEST_CASE(
   const fs::path root = fs::path(CANOPY_TEST_TMP) / "report-density-sensor";
   fs::remove_all(root);
   // Pixel ladder 10 and 25; sensor ladder 10, 25 and 50 (als_qL1).
-  auto rows = [](double light, double medium, double cls, double fa, int right, int fp, int cfp) {
-    return row_counts("light", light, cls, fa, right, fp, cfp) + "," +
-           row_counts("medium", medium, cls, fa, right, fp, cfp) + "," +
-           row_counts("all", (light + medium) / 2, cls, fa, right, fp, cfp);
-  };
   level(root, "d10", 10, 6, rows(0.6, 0.3, 0.9, 2, 4, 0, 2));
   level(root, "d25", 25, 16, rows(0.8, 0.6, 0.9, 1, 6, 0, 1));
   level(root, "s10", 12, 9, rows(0.5, 0.2, 0.8, 3, 3, 1, 2));
@@ -435,11 +437,6 @@ TEST_CASE("density ladder: verify's ablation beside canopy on the rungs with a m
 TEST_CASE("density ladder: detect's ablations on the class-level rungs, one table each, after classify's") {
   const fs::path root = fs::path(CANOPY_TEST_TMP) / "report-density-detect";
   fs::remove_all(root);
-  auto rows = [](double light, double medium, double cls, double fa, int right, int fp, int cfp) {
-    return row_counts("light", light, cls, fa, right, fp, cfp) + "," +
-           row_counts("medium", medium, cls, fa, right, fp, cfp) + "," +
-           row_counts("all", (light + medium) / 2, cls, fa, right, fp, cfp);
-  };
   // canopy (end-gap 1) at 10, 25 and 100; detect's ablation (end-gap 0) on 10 and 25 only (the
   // class-level rungs): 10 finds one light vehicle fewer, 25 two, each with a false alarm more.
   level(root, "d10", 10, 6, rows(0.6, 0.3, 0.9, 2, 4, 0, 2));
