@@ -143,20 +143,18 @@ struct Parser {
       std::string change = w[3];
       std::replace(change.begin(), change.end(), '+', ' ');
       rung.verify = {change, w[4]};
-    } else if (kind == "density-classify") {
-      expect(w, 5, 5, "density-classify LADDER LEVEL CONFIG SCORE");
+    } else if (kind == "density-classify" || kind == "density-detect") {
+      const bool classify = kind == "density-classify";
+      expect(w, 5, 5,
+             classify ? "density-classify LADDER LEVEL CONFIG SCORE"
+                      : "density-detect LADDER LEVEL CONFIG SCORE");
       ManifestDensity& rung = rung_of(w);
+      std::vector<ManifestRungAblation>& list = classify ? rung.classify_more : rung.detect;
       // As many as the rung ran (mk/density.mk's lists), but each score once: a repeated one is
       // the same record written twice, not another ablation.
-      for (const ManifestRungAblation& a : rung.classify_more)
-        if (a.score == w[4]) fail("density-classify " + w[1] + " " + w[2] + ": " + w[4] + " a second time");
-      rung.classify_more.push_back({w[3], w[4]});
-    } else if (kind == "density-detect") {
-      expect(w, 5, 5, "density-detect LADDER LEVEL CONFIG SCORE");
-      ManifestDensity& rung = rung_of(w);
-      for (const ManifestRungAblation& a : rung.detect)
-        if (a.score == w[4]) fail("density-detect " + w[1] + " " + w[2] + ": " + w[4] + " a second time");
-      rung.detect.push_back({w[3], w[4]});
+      for (const ManifestRungAblation& a : list)
+        if (a.score == w[4]) fail(kind + " " + w[1] + " " + w[2] + ": " + w[4] + " a second time");
+      list.push_back({w[3], w[4]});
     } else if (kind == "density") {
       expect(w, 4, 6, "density LEVEL SPACING SCORE [ABLATION_CONFIG ABLATION_SCORE]");
       if (w.size() == 5) fail("density: an ablation needs its parameter file and its score.json");
@@ -271,7 +269,7 @@ std::string write_experiment_manifest(const ExperimentManifest& m) {
     std::replace(change.begin(), change.end(), ' ', '+');
     out << "density-verify " << ladder << ' ' << d.level << ' ' << change << ' ' << d.verify.score << '\n';
   };
-  const auto classify_more = [&out](const std::string& ladder, const ManifestDensity& d) {
+  const auto rung_ablations = [&out](const std::string& ladder, const ManifestDensity& d) {
     for (const ManifestRungAblation& a : d.classify_more)
       out << "density-classify " << ladder << ' ' << d.level << ' ' << a.change << ' ' << a.score << '\n';
     for (const ManifestRungAblation& a : d.detect)
@@ -282,13 +280,13 @@ std::string write_experiment_manifest(const ExperimentManifest& m) {
     out << "density " << d.level << ' ' << d.spacing << ' ' << d.score
         << (d.classify.score.empty() ? "" : " " + d.classify.change + " " + d.classify.score) << '\n';
     verify("pixel", d);
-    classify_more("pixel", d);
+    rung_ablations("pixel", d);
   }
   for (const auto& d : m.density_sensor) {
     out << "density-sensor " << d.level << ' ' << d.sensor << ' ' << d.score
         << (d.classify.score.empty() ? "" : " " + d.classify.change + " " + d.classify.score) << '\n';
     verify(d.sensor, d);
-    classify_more(d.sensor, d);
+    rung_ablations(d.sensor, d);
   }
   return out.str();
 }
