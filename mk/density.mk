@@ -43,8 +43,9 @@ DENSITY_CLASS_MAX ?= 50
 # detect's ablations on the class-level rungs, in the list form of classify's
 # (experiment-graph.md §8): the K-th entry, a detect parameter file, is the variant detect-ablation
 # (K = 1) or detect-ablation-K, "-" leaves its place empty. A detect ablation changes the
-# candidates, so it is the rung's whole chain once more (render, detect with the entry's file,
-# classify, the model chain where a candidate reaches it, collect, score; no ablation of its own):
+# candidates, so it is the rung's whole chain once more on the rung's renders (detect with the
+# entry's file, classify, the model chain where a candidate reaches it, collect, score; no ablation
+# of its own):
 # a `make scenes` of its own into out/density/<rung>/<variant>/ and
 # results/density/<rung>/<variant>/score.json, one density-detect record each (the report's
 # "detect's ablation on the density ladder"). The first is detect's default before stop 61
@@ -53,6 +54,20 @@ DENSITY_DETECT_ABLATIONS ?= bench/density/detect-end-gap-0.ini
 DENSITY_SENSOR_DETECT_ABLATIONS ?= $(DENSITY_DETECT_ABLATIONS)
 # detect_variant(K): the detect ablation at place K (detect-ablation, detect-ablation-2, ...).
 detect_variant = detect-ablation$(if $(filter-out 1,$(1)),-$(1))
+# A detect ablation renders nothing: its chain reads the canopy rung's tiles (SCENE_TILE_DIR,
+# mk/scenes.mk). The rung's make keeps its renders (SCENE_KEEP_TILE_SCANS=1) and the ablations run
+# after it, one after another; the last deletes them. (Until stop 62 each ablation rendered its
+# own copy of every tile: 54 renders, ~7 CPU-min of the tree; docs/decisions/cost.md §29.)
+# density_detect_keep(LEVEL, CLASS LEVELS, LIST): SCENE_KEEP_TILE_SCANS=1 on a class-level rung
+# with detect ablations.
+density_detect_keep = $(if $(and $(filter $(1),$(2)),$(call list_places,$(3))), SCENE_KEEP_TILE_SCANS=1)
+# density_detect_prev(K, LIST): the place of the detect ablation before place K in LIST (none: empty).
+density_detect_prev = $(lastword $(filter $(filter-out $(1),$(wordlist 1,$(1),$(call list_numbers,$(2)))),$(call \
+  list_places,$(2))))
+# density_detect_tiles(RUNG, K, LIST): the K-th ablation's share of RUNG's renders: read them, and
+# keep them unless it is the last ablation.
+density_detect_tiles = SCENE_TILE_DIR=$(DENSITY_DIR)/$(1)$(if $(filter-out $(lastword $(call list_places,$(3))),$(2)), \
+  SCENE_KEEP_TILE_SCANS=1)
 # LEVEL:SPACING_MM:SPACING_M:CLASS per level (CLASS 1 on a class-level rung: LEVEL <=
 # DENSITY_CLASS_MAX, below), or ERROR <why>: one shell for the checks (whole levels
 # 1-99999, rising: the manifest's order; whole seeds of up to 9 digits; DENSITY_K and
@@ -199,7 +214,8 @@ density_base = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROG
   SCENE_SIZE_ONLY=0 SCENE_PICTURES=0 SCENE_COLLECT_ABLATION=
 # density_detect_arg(LEVEL, CLASS LEVELS, FILE): detect's parameters FILE on a class-level rung.
 density_detect_arg = $(if $(filter $(1),$(2)), SCENE_DETECT=$(3))
-density_args = $(call density_base,$(1),$(2),$(3))$(if $(2),,$(call density_detect_arg,$(1),$(density_class_levels),$(DENSITY_DETECT)))$(if \
+density_args = $(call density_base,$(1),$(2),$(3))$(if $(2),,$(call density_detect_arg,$(1),$(density_class_levels),$(DENSITY_DETECT))$(call \
+  density_detect_keep,$(1),$(density_class_levels),$(DENSITY_DETECT_ABLATIONS)))$(if \
   $(DENSITY_VERIFY_ABLATION), SCENE_VERIFY_ABLATION='$(DENSITY_VERIFY_ABLATION)')$(if \
   $(2),,$(call density_class_arg,$(DENSITY_CLASSIFY_ABLATIONS)))
 # density_class_arg(LIST): a level's classify ablations (none: no argument).
@@ -209,13 +225,15 @@ density_sensor_render = SCENE_SENSOR=$(DENSITY_SENSOR) \
   SCENE_SENSOR_KEYS="pulse_rate=$(call density_sensor_rate,$(1)) speed=$(call density_sensor_speed,$(1))"
 density_sensor_args = $(call density_args,$(1),$(DENSITY_SENSOR)-$(1),$(call density_sensor_render,$(1)) \
   $(call density_class_arg,$(DENSITY_SENSOR_CLASSIFY_ABLATIONS))$(call \
-  density_detect_arg,$(1),$(density_sensor_class_levels),$(DENSITY_DETECT)))
+  density_detect_arg,$(1),$(density_sensor_class_levels),$(DENSITY_DETECT))$(call \
+  density_detect_keep,$(1),$(density_sensor_class_levels),$(DENSITY_SENSOR_DETECT_ABLATIONS)))
 # density_detect_args(LEVEL, K) and density_sensor_detect_args(LEVEL, K): detect's K-th ablation
 # on a class-level rung of either ladder (DENSITY_[SENSOR_]DETECT_ABLATIONS).
 density_detect_args = $(call density_base,$(1),d$(1)/$(call detect_variant,$(2))) SCENE_DETECT=$(word \
-  $(2),$(DENSITY_DETECT_ABLATIONS))
+  $(2),$(DENSITY_DETECT_ABLATIONS)) $(call density_detect_tiles,d$(1),$(2),$(DENSITY_DETECT_ABLATIONS))
 density_sensor_detect_args = $(call density_base,$(1),$(DENSITY_SENSOR)-$(1)/$(call detect_variant,$(2)),$(call \
-  density_sensor_render,$(1))) SCENE_DETECT=$(word $(2),$(DENSITY_SENSOR_DETECT_ABLATIONS))
+  density_sensor_render,$(1))) SCENE_DETECT=$(word $(2),$(DENSITY_SENSOR_DETECT_ABLATIONS)) $(call \
+  density_detect_tiles,$(DENSITY_SENSOR)-$(1),$(2),$(DENSITY_SENSOR_DETECT_ABLATIONS))
 # As for the scene experiment: under -q each level's sub-make is asked (`make -q`, which renders
 # nothing), only when the ladder is on (the question builds the tools it needs, and a make
 # without the ladder must not); otherwise the step always runs and make compares score.json's
@@ -238,16 +256,18 @@ $(DENSITY_RES)/$(DENSITY_SENSOR)-$(1)/score.json: $(call density_force,$(1),$(ca
 	+@$(MAKE) $(call density_sensor_args,$(1))
 endef
 $(if $(DENSITY_SENSOR),$(foreach d,$(DENSITY_SENSOR_LEVELS),$(eval $(call density_sensor_rule,$(d)))))
-# density_detect_rule(LADDER RUNG, LEVEL, K, ARGS): detect's K-th ablation on a class-level rung.
+# density_detect_rule(LADDER RUNG, LEVEL, K, ARGS, LIST): detect's K-th ablation on a class-level
+# rung, after the rung itself and the ablation before it (density_detect_tiles: they share its renders).
 define density_detect_rule
 $(DENSITY_RES)/$(1)/$(call detect_variant,$(3))/score.json: $(call density_force,$(2),$(4)) \
-    $(foreach t,$(DENSITY_TOOLS),$(call tool,$(t))) $(MODELBASE) $(VERIFY_SURFACES)
+    $(foreach t,$(DENSITY_TOOLS),$(call tool,$(t))) $(MODELBASE) $(VERIFY_SURFACES) $(DENSITY_RES)/$(1)/score.json$(if \
+    $(call density_detect_prev,$(3),$(5)), $(DENSITY_RES)/$(1)/$(call detect_variant,$(call density_detect_prev,$(3),$(5)))/score.json)
 	+@$(MAKE) $(4)
 endef
 $(foreach d,$(density_class_levels),$(foreach k,$(call list_places,$(DENSITY_DETECT_ABLATIONS)),$(eval $(call \
-  density_detect_rule,d$(d),$(d),$(k),$(call density_detect_args,$(d),$(k))))))
+  density_detect_rule,d$(d),$(d),$(k),$(call density_detect_args,$(d),$(k)),$(DENSITY_DETECT_ABLATIONS)))))
 $(if $(DENSITY_SENSOR),$(foreach d,$(density_sensor_class_levels),$(foreach k,$(call list_places,$(DENSITY_SENSOR_DETECT_ABLATIONS)),$(eval \
-  $(call density_detect_rule,$(DENSITY_SENSOR)-$(d),$(d),$(k),$(call density_sensor_detect_args,$(d),$(k)))))))
+  $(call density_detect_rule,$(DENSITY_SENSOR)-$(d),$(d),$(k),$(call density_sensor_detect_args,$(d),$(k)),$(DENSITY_SENSOR_DETECT_ABLATIONS))))))
 .PHONY: density density-sensor
 density: $(DENSITY_SCORES) $(DENSITY_SENSOR_SCORES) $(DENSITY_DETECT_SCORES) $(DENSITY_SENSOR_DETECT_SCORES)
 density-sensor: $(DENSITY_SENSOR_SCORES) $(DENSITY_SENSOR_DETECT_SCORES)

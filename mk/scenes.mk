@@ -430,8 +430,15 @@ SCENE_TOPVIEW_SIZE ?= 512
 SCENE_DIR := $(OUT)/scenes
 SCENE_RES := $(RES)/scenes
 SCENE_SCORE := $(SCENE_RES)/score.json
-SCENE_TILES := $(foreach c,$(SCENE_COVERS),$(foreach s,$(SCENE_SEEDS),$(SCENE_DIR)/$(c)/tile-$(s)))
-SCENE_RUNS := $(foreach t,$(SCENE_TILES),$(foreach n,$(SCENE_NOISES),$(t)/noise-$(n)))
+# SCENE_TILE_DIR: where the tiles are rendered (recipe.scene, scan.pcd, truth.json, scan.traj), by
+# default SCENE_DIR itself. Another make's SCENE_DIR shares its renders: the density ladder's
+# detect ablations run their chain on the canopy rung's tiles (mk/density.mk; the same recipe and
+# seed render the same bytes, so a render made here or there is the same file).
+SCENE_TILE_DIR ?= $(SCENE_DIR)
+SCENE_TILES := $(foreach c,$(SCENE_COVERS),$(foreach s,$(SCENE_SEEDS),$(SCENE_TILE_DIR)/$(c)/tile-$(s)))
+SCENE_RUNS := $(foreach c,$(SCENE_COVERS),$(foreach s,$(SCENE_SEEDS),$(foreach n,$(SCENE_NOISES),$(SCENE_DIR)/$(c)/tile-$(s)/noise-$(n))))
+# scene_tile_of(RUN): the tile directory a run's scan comes from.
+scene_tile_of = $(patsubst $(SCENE_DIR)/%,$(SCENE_TILE_DIR)/%,$(patsubst %/,%,$(dir $(1))))
 # (A make variable name: every / - . of the path becomes _; an OUT under mktemp has a dot.)
 scene_key = S_$(subst .,_,$(subst -,_,$(subst /,_,$(1))))
 # The PCL baseline beside canopy (issue 17; docs/decisions/baseline.md §4): each method of
@@ -537,24 +544,24 @@ $(if $(dry_run),,$(shell mkdir -p $(SCENE_TILES) $(SCENE_RES) $(dir $(SCENE_BL_S
 
 # scene_tile_rule(cover, seed): the recipe and the render.
 define scene_tile_rule
-$(SCENE_DIR)/$(1)/tile-$(2)/recipe.scene: $(call text_prereq,$(SCENE_DIR)/$(1)/tile-$(2)/recipe.scene,$(call scene_recipe,$(1),$(2)))
-$(SCENE_DIR)/$(1)/tile-$(2)/scan.pcd: $(SCENE_DIR)/$(1)/tile-$(2)/recipe.scene $(call tool,rangetrace)
+$(SCENE_TILE_DIR)/$(1)/tile-$(2)/recipe.scene: $(call text_prereq,$(SCENE_TILE_DIR)/$(1)/tile-$(2)/recipe.scene,$(call scene_recipe,$(1),$(2)))
+$(SCENE_TILE_DIR)/$(1)/tile-$(2)/scan.pcd: $(SCENE_TILE_DIR)/$(1)/tile-$(2)/recipe.scene $(call tool,rangetrace)
 	@$(STAGE) $$@ -- $(BIN)/rangetrace --scene $$< --seed $$(call seed,scenes/$(1)/$(2)) --threads 2 \
-	  -o $$@ --truth $(SCENE_DIR)/$(1)/tile-$(2)/truth.json
-$(SCENE_DIR)/$(1)/tile-$(2)/truth.json: $(SCENE_DIR)/$(1)/tile-$(2)/scan.pcd
-$(if $(SCENE_SENSOR),$(SCENE_DIR)/$(1)/tile-$(2)/scan.traj: $(SCENE_DIR)/$(1)/tile-$(2)/scan.pcd)
+	  -o $$@ --truth $(SCENE_TILE_DIR)/$(1)/tile-$(2)/truth.json
+$(SCENE_TILE_DIR)/$(1)/tile-$(2)/truth.json: $(SCENE_TILE_DIR)/$(1)/tile-$(2)/scan.pcd
+$(if $(SCENE_SENSOR),$(SCENE_TILE_DIR)/$(1)/tile-$(2)/scan.traj: $(SCENE_TILE_DIR)/$(1)/tile-$(2)/scan.pcd)
 endef
 
 # scene_noise_rule(cover, seed, noise): the noisy scan.
 define scene_noise_rule
-$(call noisy_rule,$(SCENE_DIR)/$(1)/tile-$(2)/scan.pcd,$(SCENE_DIR)/$(1)/tile-$(2)/noise-$(3)/scan.pcd,$(3),scenes/$(1)/$(2)/$(3))
+$(call noisy_rule,$(SCENE_TILE_DIR)/$(1)/tile-$(2)/scan.pcd,$(SCENE_DIR)/$(1)/tile-$(2)/noise-$(3)/scan.pcd,$(3),scenes/$(1)/$(2)/$(3))
 endef
 
 $(foreach c,$(SCENE_COVERS),$(foreach s,$(SCENE_SEEDS),$(eval $(call scene_tile_rule,$(c),$(s)))))
 $(foreach c,$(SCENE_COVERS),$(foreach s,$(SCENE_SEEDS),$(foreach n,$(SCENE_NOISES),$(eval $(call scene_noise_rule,$(c),$(s),$(n))))))
 # detect writes no classes.ply for the experiment's runs (nothing reads it; KEEP=1 keeps it).
 # With a sensor, detect takes the directions toward the sensor from the tile's trajectory.
-scene_traj = $(patsubst %/,%,$(dir $(1)))/scan.traj
+scene_traj = $(call scene_tile_of,$(1))/scan.traj
 $(foreach r,$(SCENE_RUNS),$(eval $(call tile_rules,$(call scene_key,$(r)),$(r),$(r)/scan.pcd,$(SCENE_MB),$(if $(keep),,--no-classes)$(if \
   $(SCENE_SENSOR), --trajectory $(call scene_traj,$(r))))))
 $(if $(SCENE_SENSOR),$(foreach r,$(SCENE_RUNS),$(eval $(r)/cands/index.json: $(call scene_traj,$(r)))))
@@ -574,7 +581,7 @@ $(if $(filter $(OUT)/modelbase,$(SCENE_MB)),$(foreach r,$(SCENE_RUNS),$(foreach 
   $(VERIFY_SURFACES)))))
 # The score's tile list (documents/tile_list.h): detections truth noise cover, one line per run
 # (cover, seed, noise: the order of SCENE_RUNS), from the cover levels themselves.
-scene_line = $(SCENE_DIR)/$(1)/tile-$(2)/noise-$(3)/detections.json $(SCENE_DIR)/$(1)/tile-$(2)/truth.json $(3) $(1)
+scene_line = $(SCENE_DIR)/$(1)/tile-$(2)/noise-$(3)/detections.json $(SCENE_TILE_DIR)/$(1)/tile-$(2)/truth.json $(3) $(1)
 scene_manifest = $(subst $(nl)$(space),$(nl),$(foreach c,$(SCENE_COVERS),$(foreach s,$(SCENE_SEEDS),$(foreach \
   n,$(SCENE_NOISES),$(call ml,$(call scene_line,$(c),$(s),$(n)))))))
 $(SCENE_DIR)/tiles.txt: $(call text_prereq,$(SCENE_DIR)/tiles.txt,$(scene_manifest))
@@ -639,9 +646,9 @@ endif
 define scene_picture_rule
 $(1)/scored.png: $(SCENE_SCORE) $(1)/scan.pcd $(call tool,topview) $(opts.topview)
 	@$(STAGE) $$@ -- $(BIN)/topview -i $(1)/scan.pcd --detections $(1)/detections.json --size $(SCENE_TOPVIEW_SIZE) \
-	  --truth $(patsubst %/,%,$(dir $(1)))/truth.json --score $(SCENE_SCORE) -o $$@$(call scene_prune,$(1))
+	  --truth $(call scene_tile_of,$(1))/truth.json --score $(SCENE_SCORE) -o $$@$(call scene_prune,$(1))
 endef
-scene_prune = $(if $(keep),, && rm -f $(1)/scan.pcd $(patsubst %/,%,$(dir $(1)))/scan.pcd)
+scene_prune = $(if $(keep),, && rm -f $(1)/scan.pcd $(call scene_tile_of,$(1))/scan.pcd)
 .SECONDARY: $(addsuffix /scan.pcd,$(SCENE_TILES) $(SCENE_RUNS))
 # (topview finds the run's tile in the score by its detections path, as tiles.txt gives it)
 $(foreach r,$(SCENE_RUNS),$(eval $(call scene_picture_rule,$(r))))
@@ -668,9 +675,12 @@ $(SCENE_RES)/noise.png: $(SCENE_SCORE) $(call tool,figures)
 # SCENE_PICTURES=0: the scores only (the density ladder and the open set, mk/density.mk,
 # mk/openset.mk). Then detect is the scans' last reader, and they are deleted once the score is
 # made, unless KEEP=1 (.SECONDARY above: not remade while what was made from them is current).
+# SCENE_KEEP_TILE_SCANS=1 keeps the tiles' renders (the runs' scans still go): another make reads
+# them after this one (SCENE_TILE_DIR; the density ladder's detect ablations) and deletes them.
 SCENE_PICTURES ?= 1
-scene_scan_prune = $(if $(or $(keep),$(filter-out 0,$(SCENE_PICTURES))),, && rm -f $(addsuffix /scan.pcd,$(SCENE_TILES) \
-  $(SCENE_RUNS)))
+SCENE_KEEP_TILE_SCANS ?= 0
+scene_scan_prune = $(if $(or $(keep),$(filter-out 0,$(SCENE_PICTURES))),, && rm -f $(addsuffix /scan.pcd,$(if \
+  $(filter 1,$(SCENE_KEEP_TILE_SCANS)),,$(SCENE_TILES)) $(SCENE_RUNS)))
 scenes: $(SCENE_SCORE) $(SCENE_BL_SCORES) $(SCENE_ABL_SCORE) $(if $(filter 1,$(SCENE_PICTURES)),$(addsuffix /scored.png,$(SCENE_RUNS)) \
     $(foreach c,$(SCENE_COVERS),$(SCENE_RES)/top-$(c).png) $(SCENE_RES)/cover.png $(SCENE_RES)/noise.png)
 endif

@@ -527,7 +527,15 @@ for l in 10 25; do
     fail "the class-level rung $l does not detect with detect-ladder.ini: $(echo "$plan" | grep "bin/detect" | head -3)"
   plans "bin/detect --config bench/density/detect-end-gap-0.ini .*-i $dd/d$l/detect-ablation/light/tile-1/noise-0/scan.pcd -o $dd/d$l/detect-ablation/light/tile-1/noise-0/cands" ||
     fail "the class-level rung $l has no detect ablation with end-gap 0"
-  plans "bin/rangetrace .*-o $dd/d$l/detect-ablation/light/tile-1/scan.pcd" || fail "the rung $l's detect ablation renders no tile"
+  # (stop 62: the ablation renders nothing of its own; it links the rung's render, which the rung's
+  # make keeps and the last ablation deletes once scored)
+  if plans "bin/rangetrace .*-o $dd/d$l/detect-ablation/"; then fail "the rung $l's detect ablation renders a tile of its own"; fi
+  echo "$plan" | grep -q "ln $dd/d$l/light/tile-1/scan.pcd $dd/d$l/detect-ablation/light/tile-1/noise-0/scan.pcd" ||
+    fail "the rung $l's detect ablation does not read the rung's render"
+  echo "$plan" | grep -qx "  --csv $tmp/res/density/d$l/ && rm -f $dd/d$l/light/tile-1/noise-0/scan.pcd" ||
+    fail "the rung $l does not keep its render for its detect ablation: $(echo "$plan" | grep -- "--csv $tmp/res/density/d$l/ ")"
+  echo "$plan" | grep -qx "  --csv $tmp/res/density/d$l/detect-ablation/ && rm -f $dd/d$l/light/tile-1/scan.pcd $dd/d$l/detect-ablation/light/tile-1/noise-0/scan.pcd" ||
+    fail "the rung $l's detect ablation does not delete the render once scored"
   plans "bin/score --tiles $dd/d$l/detect-ablation/tiles.txt .*-o $tmp/res/density/d$l/detect-ablation/score.json" ||
     fail "the rung $l's detect ablation is not scored"
   if plans "bin/classify .*$dd/d$l/detect-ablation/.*class-ablation"; then fail "the detect ablation runs classify's ablation"; fi
@@ -535,6 +543,8 @@ done
 plans "bin/detect --no-classes -i $dd/d100/light/tile-1/noise-0/scan.pcd" ||
   fail "the model-level rung 100 does not detect with detect's defaults: $(echo "$plan" | grep "bin/detect" | grep d100)"
 if plans "d100/detect-ablation"; then fail "the model-level rung 100 has a detect ablation"; fi
+echo "$plan" | grep -qx "  --csv $tmp/res/density/d100/ && rm -f $dd/d100/light/tile-1/scan.pcd $dd/d100/light/tile-1/noise-0/scan.pcd" ||
+  fail "the model-level rung 100 keeps its render"
 [ "$(echo "$plan" | grep "^$tmp/build/bin/stagerun " | grep -c "bin/detect ")" -eq 5 ] ||
   fail "make -n density plans $(echo "$plan" | grep "^$tmp/build/bin/stagerun " | grep -c "bin/detect ") detects, not 5"
 plan=$("${dl[@]}" -n density DENSITY_DETECT_ABLATIONS="- bench/density/detect-end-gap-0.ini" DENSITY_CLASS_MAX=10 2>&1)
@@ -542,6 +552,18 @@ plans "bin/detect --config bench/density/detect-end-gap-0.ini .*-o $dd/d10/detec
   fail "\"- FILE\" does not plan detect-ablation-2"
 if plans "detect-ablation/" || plans "d25/detect-ablation"; then fail "\"- FILE\" or DENSITY_CLASS_MAX=10 plans another detect ablation"; fi
 plans "bin/detect --no-classes -i $dd/d25/light/tile-1/noise-0/scan.pcd" || fail "DENSITY_CLASS_MAX=10 still gives 25 detect-ladder.ini"
+# Two ablations: each after the rung and the one before it; the first keeps the render, the last
+# deletes it.
+# (asked for the second ablation's score alone: it brings the rung and the first ablation first)
+plan=$("${dl[@]}" -n "$tmp/res/density/d10/detect-ablation-2/score.json" DENSITY_LADDER=1 DENSITY_LEVELS=10 \
+  DENSITY_DETECT_ABLATIONS="bench/density/detect-end-gap-0.ini bench/density/detect-end-gap-0.ini" 2>&1)
+order=$(echo "$plan" | grep -- "--csv $tmp/res/density/d10/" | awk '{print $2}' | sed "s#^$tmp/res/density/d10/##; s#/\$##" | tr '\n' ' ')
+[ "$order" = " detect-ablation detect-ablation-2 " ] ||
+  fail "the rung and its two detect ablations are not scored in order: '$order' $(echo "$plan" | grep -v "^ " | cut -c1-160 | tail -5)"
+echo "$plan" | grep -qx "  --csv $tmp/res/density/d10/detect-ablation/ && rm -f $dd/d10/detect-ablation/light/tile-1/noise-0/scan.pcd" ||
+  fail "the first of two detect ablations deletes the rung's render"
+echo "$plan" | grep -qx "  --csv $tmp/res/density/d10/detect-ablation-2/ && rm -f $dd/d10/light/tile-1/scan.pcd $dd/d10/detect-ablation-2/light/tile-1/noise-0/scan.pcd" ||
+  fail "the last of two detect ablations does not delete the rung's render"
 plan=$("${dl[@]}" -n density DENSITY_DETECT_ABLATIONS= DENSITY_DETECT= 2>&1)
 if plans "detect-ablation" || plans "bin/detect --config"; then fail "DENSITY_DETECT_ABLATIONS= DENSITY_DETECT= still plan a detect ablation or parameters"; fi
 "${dl[@]}" -n density DENSITY_DETECT_ABLATIONS=bench/density/none.ini >/dev/null 2>&1 &&
