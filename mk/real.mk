@@ -42,14 +42,30 @@
 # time box; after canopy's tiles and the ablations before it, one tile at a time; "-" leaves its
 # place empty), part of `all` with the real tiles, and the report's "Real tiles" shows each
 # beside canopy's. Default: classify.ini without the gap bridge and its fill
-# (share/real/classify-bridge-0.ini; classify.md §21, §27), then with unmeasured filled where the
-# crop has no open ground (share/real/classify-tile-ground-0.ini: fill-tile-ground = false,
-# §31). Each changed default of classify.ini has its own (until stop 59 the first turned off
-# both). Empty: none. REAL_CLASSIFY_ABLATION and REAL_CLASSIFY_ABLATION_2, when set (the
-# command lines of tests/pipeline/progress_count.sh and the decision records), set the list's
-# first and second place (empty: none there).
+# ($(OUT)/params/classify-bridge-0.ini: bridge = 0, bridge-fill = 0, bridge-min-share = 0, the
+# options' own defaults, written as classify echoes them; classify.md §21, §27), then with
+# unmeasured filled where the crop has no open ground ($(OUT)/params/classify-tile-ground-0.ini:
+# fill-tile-ground = false, §31). Each changed default of classify.ini has its own (until stop 59
+# the first turned off both). Empty: none. REAL_CLASSIFY_ABLATION and REAL_CLASSIFY_ABLATION_2,
+# when set (the command lines of tests/pipeline/progress_count.sh and the decision records), set
+# the list's first and second place (empty: none there).
+#
+# The two default files are written by make, as classify-sim.ini's (Makefile.experiments
+# CLASSIFY_SIM_VARIANTS, ini_variants): REAL_CLASSIFY_VARIANTS NAME:KEY:VALUE[:KEY:VALUE...] is
+# $(OUT)/params/classify-NAME.ini (real_classify_variant(NAME)), $(P)/classify.ini with those keys
+# set, at parse time when their text changes, by every make of the experiment's goals
+# (docs/decisions/experiment-graph.md §12; until stop 62 committed copies in share/real/).
 REAL_TILES ?= 1
-REAL_CLASSIFY_ABLATIONS ?= share/real/classify-bridge-0.ini share/real/classify-tile-ground-0.ini
+REAL_CLASSIFY_VARIANTS := bridge-0:bridge:0:bridge-fill:0:bridge-min-share:0 \
+  tile-ground-0:fill-tile-ground:false
+real_classify_variant = $(OUT)/params/classify-$(1).ini
+# (the two files: the list's existence check leaves them out, make writes them)
+real_classify_files = $(foreach v,$(REAL_CLASSIFY_VARIANTS),$(call real_classify_variant,$(word 1,$(subst :, ,$(v)))))
+ifneq ($(and $(opts_thesis),$(wildcard $(P)/classify.ini)),)
+$(if $(dry_run)$(wildcard $(OUT)/params/.),,$(shell mkdir -p $(OUT)/params))
+$(call ini_variants,$(P)/classify.ini,real_classify_variant,$(REAL_CLASSIFY_VARIANTS))
+endif
+REAL_CLASSIFY_ABLATIONS ?= $(call real_classify_variant,bridge-0) $(call real_classify_variant,tile-ground-0)
 # real_named(K): the name of place K (REAL_CLASSIFY_ABLATION, REAL_CLASSIFY_ABLATION_2, ...);
 # real_abl_list: the list with each place so named and set taken from it ("-" when empty).
 real_named = REAL_CLASSIFY_ABLATION$(if $(filter-out 1,$(1)),_$(1))
@@ -64,7 +80,7 @@ REAL_ABLATION ?= 0
 $(if $(filter-out 0 1,$(REAL_ABLATION)),$(error REAL_ABLATION=$(REAL_ABLATION): must be 0 or 1))
 REAL_CLASSIFY ?= $(P)/classify.ini
 REAL_CLASSIFY_SIM ?= $(P)/classify-sim.ini
-$(foreach f,$(REAL_CLASSIFY) $(REAL_CLASSIFY_SIM) $(filter-out -,$(real_abl_list)),$(if $(wildcard $(f)),,$(error REAL_CLASSIFY: $(f) does not exist)))
+$(foreach f,$(REAL_CLASSIFY) $(REAL_CLASSIFY_SIM) $(filter-out - $(real_classify_files),$(real_abl_list)),$(if $(wildcard $(f)),,$(error REAL_CLASSIFY: $(f) does not exist)))
 $(if $(filter-out 0 1,$(REAL_TILES)),$(error REAL_TILES=$(REAL_TILES): must be 0 or 1))
 REAL_URBAN ?= ign_lidarhd_870000_6618000 ahn3_delft_2 ign_stbarth_100m
 REAL_FOREST ?= forest_lareunion

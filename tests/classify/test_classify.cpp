@@ -8,7 +8,6 @@
 #include <cmath>
 #include <fstream>
 #include <functional>
-#include <map>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -2832,61 +2831,6 @@ TEST_CASE("classify: sight lines: a wheel loader's overhanging parts are solid, 
   CHECK(on.features.below_share == off.features.below_share);
   CHECK(on.features.ground_through == off.features.ground_through);
   CHECK(on.reason == off.reason);
-}
-
-namespace {
-
-// An ini file's "key = value" lines (comments and blank lines left out; blanks around '=' trimmed).
-std::map<std::string, std::string> ini_keys(const std::string& path) {
-  std::ifstream in(path);
-  REQUIRE(in.good());
-  std::map<std::string, std::string> keys;
-  const auto trim = [](std::string s) {
-    s.erase(0, s.find_first_not_of(" \t\r"));
-    s.erase(s.find_last_not_of(" \t\r") + 1);
-    return s;
-  };
-  for (std::string line; std::getline(in, line);) {
-    line = trim(line);
-    if (line.empty() || line[0] == '#' || line[0] == ';') continue;
-    const auto eq = line.find('=');
-    REQUIRE(eq != std::string::npos);
-    keys[trim(line.substr(0, eq))] = trim(line.substr(eq + 1));
-  }
-  return keys;
-}
-
-// An ablation's parameter file (SRC-relative) against the defaults it changes: each key of
-// `changed` holds its (default, ablation) value in the two files ("" = absent), every other key
-// is the same in both — a key changed in one file and not the other would make the report's
-// ablation measure two changes.
-void check_ablation_ini(const std::string& defaults_file, const std::string& ablation_file,
-                        const std::map<std::string, std::pair<std::string, std::string>>& changed) {
-  const std::string src = CANOPY_SOURCE_DIR;
-  auto defaults = ini_keys(src + "/" + defaults_file), ablation = ini_keys(src + "/" + ablation_file);
-  for (const auto& [key, values] : changed) {
-    INFO(key);
-    CHECK((defaults.count(key) ? defaults.at(key) : "") == values.first);
-    CHECK((ablation.count(key) ? ablation.at(key) : "") == values.second);
-    defaults.erase(key);
-    ablation.erase(key);
-  }
-  CHECK(defaults == ablation);
-}
-
-}  // namespace
-
-TEST_CASE("the real tiles' classify ablation is classify.ini with the gap bridge off and nothing else") {
-  // mk/real.mk REAL_CLASSIFY_ABLATION; classify.md §27.
-  check_ablation_ini(
-      "share/params/classify.ini", "share/real/classify-bridge-0.ini",
-      {{"bridge", {"1m", "0"}}, {"bridge-fill", {"true", ""}}, {"bridge-min-share", {"0.1", ""}}});
-}
-
-TEST_CASE("the real tiles' fill-tile-ground ablation is classify.ini with that key false and nothing else") {
-  // mk/real.mk REAL_CLASSIFY_ABLATION_2 (share/real/classify-tile-ground-0.ini); classify.md §31.
-  check_ablation_ini("share/params/classify.ini", "share/real/classify-tile-ground-0.ini",
-                     {{"fill-tile-ground", {"true", "false"}}});
 }
 
 TEST_CASE(

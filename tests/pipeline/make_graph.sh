@@ -301,20 +301,34 @@ real ign_lidarhd_870000_6618000 $tmp/out/real/ign_lidarhd_870000_6618000 share/r
   fail "the manifest's real tiles: $real"
 # Each tile's classify ablations follow it, in order, each in its own directory (mk/real.mk
 # REAL_CLASSIFY_ABLATIONS: two by default), and `all` runs both.
+bridge0=$tmp/out/params/classify-bridge-0.ini ground0=$tmp/out/params/classify-tile-ground-0.ini
 abl=$(grep "^real-ablation forest_lareunion " "$tmp/out/experiment.txt")
-[ "$abl" = "real-ablation forest_lareunion $tmp/out/real-ablation/forest_lareunion share/real/classify-bridge-0.ini
-real-ablation forest_lareunion $tmp/out/real-ablation-2/forest_lareunion share/real/classify-tile-ground-0.ini" ] ||
+[ "$abl" = "real-ablation forest_lareunion $tmp/out/real-ablation/forest_lareunion $bridge0
+real-ablation forest_lareunion $tmp/out/real-ablation-2/forest_lareunion $ground0" ] ||
   fail "the manifest's real-tile ablations: $abl"
-for a in "real-ablation share/real/classify-bridge-0.ini" "real-ablation-2 share/real/classify-tile-ground-0.ini"; do
+# The two files are written by make (mk/real.mk REAL_CLASSIFY_VARIANTS): the test's own
+# classify.ini with a first comment line and the ablation's keys' lines changed, nothing else.
+c=$tmp/params/classify.ini
+[ "$(diff "$c" "$bridge0" | grep '^[<>]')" = "> # $c with bridge = 0; bridge-fill = 0; bridge-min-share = 0 (written by make: do not edit).
+< $(grep '^bridge = ' "$c")
+< $(grep '^bridge-fill = ' "$c")
+< $(grep '^bridge-min-share = ' "$c")
+> bridge = 0
+> bridge-fill = 0
+> bridge-min-share = 0" ] || fail "$bridge0 is not classify.ini with the bridge's keys alone: $(diff "$c" "$bridge0" 2>&1 | head -12)"
+[ "$(diff "$c" "$ground0" | grep '^[<>]')" = "> # $c with fill-tile-ground = false (written by make: do not edit).
+< $(grep '^fill-tile-ground = ' "$c")
+> fill-tile-ground = false" ] || fail "$ground0 is not classify.ini with fill-tile-ground = false alone: $(diff "$c" "$ground0" 2>&1 | head -8)"
+for a in "real-ablation $bridge0" "real-ablation-2 $ground0"; do
   set -- $a
   echo "$plan" | grep -q "OUT=$tmp/out/$1/forest_lareunion TILE_CLASSIFY=$2 " ||
     fail "make -n all does not run classify's ablation $2 into $1"
 done
 # The list's places by name (REAL_CLASSIFY_ABLATION_2=, tests/pipeline/progress_count.sh): the
 # second emptied, the first alone runs; a list of one entry, the same.
-for args in "REAL_CLASSIFY_ABLATION_2=" "REAL_CLASSIFY_ABLATIONS=share/real/classify-bridge-0.ini"; do
+for args in "REAL_CLASSIFY_ABLATION_2=" "REAL_CLASSIFY_ABLATIONS=$bridge0"; do
   plan=$("${mk[@]}" REAL_TILES=1 -n all $args 2>&1)
-  echo "$plan" | grep -q "OUT=$tmp/out/real-ablation/forest_lareunion TILE_CLASSIFY=share/real/classify-bridge-0.ini " ||
+  echo "$plan" | grep -q "OUT=$tmp/out/real-ablation/forest_lareunion TILE_CLASSIFY=$bridge0 " ||
     fail "$args: make -n all does not run classify's first ablation"
   if echo "$plan" | grep -q "real-ablation-2"; then fail "$args: make -n all still runs the second"; fi
 done

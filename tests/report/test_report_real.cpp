@@ -269,10 +269,10 @@ TEST_CASE("real tiles: classify's ablation beside canopy, per tile and over the 
     to.push_back(report::read_real_tile({"townA", (root / dir / "townA").string(), truth}));
   }
   CHECK(report::real_ablation_markdown(tiles, {}, "x.ini").empty());
-  const std::string md = report::real_ablation_markdown(tiles, abl, "share/real/classify-bridge-0.ini");
+  const std::string md = report::real_ablation_markdown(tiles, abl, "out/params/classify-bridge-0.ini");
   INFO(md);
   CHECK(has(md, "### classify's ablation on the real tiles"));
-  CHECK(has(md, "parameters `share/real/classify-bridge-0.ini`"));
+  CHECK(has(md, "parameters `out/params/classify-bridge-0.ini`"));
   CHECK(has(md, "| plotA (no vehicles) | false alarms | 2 = 8.0/ha [1.0, 28.9] | 2 = 8.0/ha [1.0, 28.9] |"));
   CHECK(has(md, "| plotB | run | finished | not run |"));
   CHECK(has(md, "| townA | recall, clear | 6/8 = 75.0% [40.9, 92.9] | 5/8 = 62.5% [30.6, 86.3] |"));
@@ -283,9 +283,9 @@ TEST_CASE("real tiles: classify's ablation beside canopy, per tile and over the 
   CHECK(!has(md, "REAL_CLASSIFY_ABLATION_2"));
   // The second ablation names itself and its make variable; its rows are the same.
   const std::string md2 =
-      report::real_ablation_markdown(tiles, abl, "share/real/classify-tile-ground-0.ini", 1);
+      report::real_ablation_markdown(tiles, abl, "out/params/classify-tile-ground-0.ini", 1);
   CHECK(has(md2, "### classify's second ablation on the real tiles"));
-  CHECK(has(md2, "parameters `share/real/classify-tile-ground-0.ini`"));
+  CHECK(has(md2, "parameters `out/params/classify-tile-ground-0.ini`"));
   CHECK(has(md2, "mk/real.mk REAL_CLASSIFY_ABLATION_2)"));
   CHECK(has(md2, "| townA | recall, clear | 6/8 = 75.0% [40.9, 92.9] | 5/8 = 62.5% [30.6, 86.3] |"));
 }
