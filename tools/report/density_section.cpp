@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <iterator>
 #include <set>
 #include <sstream>
@@ -59,70 +60,65 @@ const ScoreRow* row_of(const DensityLevel& l, const std::string& cover) {
   return l.scored ? summary_row(l.score, cover) : nullptr;
 }
 
-// classify's ablation (`more` k >= 0: its (k + 2)-th, the rung's classify_more[k]) beside canopy on a
-// ladder's levels where it has run (a changed default keeps its ablation in the report): found at
-// either level per cover, class right, the wrong class and false alarms (all covers; score_cells.h
-// class_ablation_table). `ladder`: "the density ladder" or "the sensor ladder".
+// What an ablation's table says around its parameter file: the tool whose ablation it is, how the
+// rungs were run again (up to the file) and what followed (after it, to the record that says why).
+struct AblationText {
+  const char* tool;
+  const char* how;
+  const char* then;
+};
+const AblationText kClassifyText{
+    "classify", "the same candidates classified with ",
+    ", collected and scored like canopy's; the file's header says which defaults it turns off, "
+    "docs/decisions/classify.md why"};
+const AblationText kDetectText{
+    "detect", "the rung's whole chain run again — detect with ",
+    ", then classify, the model chain where a candidate reaches it, collect and score like canopy's — "
+    "on the class-level rungs; the file's header says which of detect's parameters it turns off, "
+    "docs/decisions/density-ladder.md why"};
+
+// A tool's `place`-th ablation (1: its first) beside canopy on a ladder's rungs where it has run (a
+// changed default keeps its ablation in the report): found at either level per cover, class right,
+// the wrong class and false alarms (all covers; score_cells.h class_ablation_table). `of`: the
+// ablation on a rung (nullptr: none there); `ladder`: "the density ladder" or "the sensor ladder".
 void ablation_table(std::ostringstream& md, const std::vector<DensityLevel>& rungs, const std::string& ladder,
-                    int more = -1) {
-  static const DensityLevel::Ablation none{};
-  const auto abl = [more](const DensityLevel& s) -> const DensityLevel::Ablation& {
-    if (more < 0) return s.classify;
-    return static_cast<std::size_t>(more) < s.classify_more.size() ? s.classify_more[more] : none;
-  };
-  std::vector<const DensityLevel*> with;
+                    const AblationText& text, int place,
+                    const std::function<const DensityLevel::Ablation*(const DensityLevel&)>& of) {
+  std::vector<std::pair<const DensityLevel*, const DensityLevel::Ablation*>> with;
   for (const DensityLevel& s : rungs)
-    if (s.scored && abl(s).scored) with.push_back(&s);
+    if (const DensityLevel::Ablation* a = of(s); s.scored && a && a->scored) with.emplace_back(&s, a);
   if (with.empty()) return;
-  md << "\n**classify's " << ablation_name(more < 0 ? 1 : more + 2) << " on " << ladder
-     << "** (the same candidates classified with `" << abl(*with.front()).change
-     << "`, collected and scored like canopy's; the file's header says which defaults it turns off, "
-        "docs/decisions/classify.md why): found at either level of "
-        "each cover's vehicles, class right and the wrong class of the found and false alarms per ha (all "
-        "covers), each with its count and 95% interval.\n\n";
+  md << "\n**" << text.tool << "'s " << ablation_name(place) << " on " << ladder << "** (" << text.how << "`"
+     << with.front().second->change << "`" << text.then
+     << "): found at either level of each cover's vehicles, class right and the wrong class of the found "
+        "and false alarms per ha (all covers), each with its count and 95% interval.\n\n";
   std::vector<AblationRung> table;
-  for (const DensityLevel* s : with)
-    table.push_back({format_number("%g", s->level), &s->score, &abl(*s).score});
+  for (const auto& [s, a] : with) table.push_back({format_number("%g", s->level), &s->score, &a->score});
   md << class_ablation_table("level", table);
 }
 
 // Every classify ablation's table on a ladder: the rungs' own, then each of their classify_more in
 // order (as many as the rung with the most has).
 void ablation_tables(std::ostringstream& md, const std::vector<DensityLevel>& rungs, const std::string& ladder) {
-  ablation_table(md, rungs, ladder);
+  ablation_table(md, rungs, ladder, kClassifyText, 1, [](const DensityLevel& s) { return &s.classify; });
   std::size_t more = 0;
   for (const DensityLevel& s : rungs) more = std::max(more, s.classify_more.size());
-  for (std::size_t k = 0; k < more; ++k) ablation_table(md, rungs, ladder, static_cast<int>(k));
+  for (std::size_t k = 0; k < more; ++k)
+    ablation_table(md, rungs, ladder, kClassifyText, static_cast<int>(k) + 2, [k](const DensityLevel& s) {
+      return k < s.classify_more.size() ? &s.classify_more[k] : nullptr;
+    });
 }
 
-// detect's k-th ablation (k >= 0) beside canopy on a ladder's rungs where it has run (the
-// class-level rungs, mk/density.mk DENSITY_CLASS_MAX): the rung's whole chain again with another
+// Every detect ablation's table on a ladder, in their order: the k-th where it has run (the
+// class-level rungs, mk/density.mk DENSITY_CLASS_MAX), the rung's whole chain again with another
 // detect parameter file, so other candidates; the columns of classify's ablations.
-void detect_ablation_table(std::ostringstream& md, const std::vector<DensityLevel>& rungs,
-                           const std::string& ladder, std::size_t k) {
-  std::vector<const DensityLevel*> with;
-  for (const DensityLevel& s : rungs)
-    if (s.scored && k < s.detect.size() && s.detect[k].scored) with.push_back(&s);
-  if (with.empty()) return;
-  md << "\n**detect's " << ablation_name(static_cast<int>(k) + 1) << " on " << ladder
-     << "** (the rung's whole chain run again — detect with `" << with.front()->detect[k].change
-     << "`, then classify, the model chain where a candidate reaches it, collect and score like canopy's — "
-        "on the class-level rungs; the file's header says which of detect's parameters it turns off, "
-        "docs/decisions/density-ladder.md why): found at either level of each cover's vehicles, class "
-        "right and the wrong class of the found and false alarms per ha (all covers), each with its count "
-        "and 95% interval.\n\n";
-  std::vector<AblationRung> table;
-  for (const DensityLevel* s : with)
-    table.push_back({format_number("%g", s->level), &s->score, &s->detect[k].score});
-  md << class_ablation_table("level", table);
-}
-
-// Every detect ablation's table on a ladder, in their order.
 void detect_ablation_tables(std::ostringstream& md, const std::vector<DensityLevel>& rungs,
                             const std::string& ladder) {
   std::size_t n = 0;
   for (const DensityLevel& s : rungs) n = std::max(n, s.detect.size());
-  for (std::size_t k = 0; k < n; ++k) detect_ablation_table(md, rungs, ladder, k);
+  for (std::size_t k = 0; k < n; ++k)
+    ablation_table(md, rungs, ladder, kDetectText, static_cast<int>(k) + 1,
+                   [k](const DensityLevel& s) { return k < s.detect.size() ? &s.detect[k] : nullptr; });
 }
 
 // verify's ablation beside canopy on the rungs of both ladders where it has run and either has a
