@@ -1866,12 +1866,6 @@ TEST_CASE("classify: class table and parameters") {
     CHECK(classify::class_ranges()[i].name == common::vehicle_classes()[i].name);
     CHECK(classify::class_ranges()[i].group == common::vehicle_classes()[i].group);
   }
-  CHECK(classify::group_of("sedan") == "car");
-  CHECK(classify::group_of("pickup") == "car");
-  CHECK(classify::group_of("semi-tractor") == "truck");
-  CHECK(classify::group_of("tank") == "tracked");
-  CHECK(classify::group_of("wheel-loader") == "machine");
-  CHECK(classify::group_of("boat").empty());
   classify::Params p;
   CHECK_NOTHROW(classify::validate(p));
   p.min_points = 2;
@@ -2100,9 +2094,6 @@ TEST_CASE("classify: a modelbase entry's size is a class range of its class") {
   const classify::Answer fam = classify::run(p, in);
   CHECK(fam.cls == "sedan");
   CHECK(fam.group == "car");
-  CHECK(classify::entry_group("tank") == "tracked");
-  CHECK(classify::entry_group("van") == "van");
-  CHECK(classify::entry_group("forklift") == "forklift");
 }
 
 TEST_CASE("classify: --modelbase-classes-only answers only the modelbase's classes") {

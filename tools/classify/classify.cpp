@@ -487,10 +487,6 @@ const std::vector<ClassRange>& class_ranges() {
   return k;
 }
 
-std::string group_of(const std::string& cls) { return common::family_group(cls); }
-
-std::string entry_group(const std::string& cls) { return common::class_group(cls); }
-
 std::vector<TableRange> class_table(const Params& p, const std::vector<ModelEntry>& entries) {
   std::vector<TableRange> table;
   // With --modelbase-classes-only a family is kept when --family-entries entries (or more) name it
@@ -514,7 +510,7 @@ std::vector<TableRange> class_table(const Params& p, const std::vector<ModelEntr
         static_cast<ClassRange&>(k) = family;  // its profile expectations and flat-box flag
     }
     k.name = e.cls;
-    k.group = entry_group(e.cls);
+    k.group = common::class_group(e.cls);  // a family's group, a group's own name, else the class
     k.length = {e.size[0] * (1 - t), e.size[0] * (1 + t)};
     k.width = {e.size[1] * (1 - t), e.size[1] * (1 + t)};
     k.height = {e.size[2] * (1 - t), e.size[2] * (1 + t)};

@@ -78,8 +78,6 @@ struct TableRange : ClassRange {
 // car = sedan, hatchback, suv, pickup; van = van; truck = box-truck, semi-tractor; bus = bus;
 // tracked = tracked-apc, tank; machine = wheel-loader, wheeled-apc.
 const std::vector<ClassRange>& class_ranges();
-// The group of a class name ("" when the name is not a family).
-std::string group_of(const std::string& cls);
 
 struct Params {
   double ground_cut = 0.3;   // points below this height are ground or grass (m; detect's band)
@@ -416,9 +414,6 @@ struct ModelEntry {
   std::optional<Profile> profile;
 };
 
-// The group of a modelbase entry's class: a family's group (group_of), a group's own name
-// (car, van, truck, bus, tracked, machine), else the class itself.
-std::string entry_group(const std::string& cls);
 // The class table run() decides among: the families, then (params.entry_classes) one range per
 // entry: L W H x [1 - entry_tolerance, 1 + entry_tolerance], with the entry's own profile as its
 // expectations (plateau and tail against plateau_split / tail_split; a flat box when its top is
