@@ -2653,6 +2653,105 @@ TEST_CASE("classify: --roughness-floor: at 100 points/m² a rough deck between 0
 
 namespace {
 
+// A box truck, 7.6 x 2.4 m, its flat roof at 3.0 m, with an aerial ladder on it (classify.md §43):
+// two rails 0.15 m wide at |y| in [0.35, 0.5] and rungs 0.06 m wide every 0.3 m between them, 0.45 m
+// over the roof, along x in [-3.2, 2.6]; a turntable (1.2 x 1.2 m, 0.4 m over the roof) at its
+// front end. Every part solid (one return per pulse, nothing under it).
+double ladder_truck_top(double x, double y) {
+  if (std::abs(x) > 3.8 || std::abs(y) > 1.2) return -1;
+  const double roof = 3.0;
+  if (x >= 2.6 && x <= 3.8 && std::abs(y) <= 0.6) return roof + 0.4;
+  if (x < -3.2 || x > 2.6) return roof;
+  const double ay = std::abs(y);
+  if (ay >= 0.35 && ay <= 0.5) return roof + 0.45;
+  if (ay < 0.35 && std::fmod(x + 3.2, 0.3) < 0.06) return roof + 0.45;
+  return roof;
+}
+
+// A solid bush-like blob of a car's size, 3.6 x 1.8 m: clumps of foliage 0.45 m across, their tops
+// 1.4 m +- 0.8 m (a hash of the clump's index, fixed, not drawn). One return per pulse, nothing
+// under it: only the roughness tells it from a vehicle.
+double rough_blob_top(double x, double y) {
+  if (std::abs(x) > 1.8 || std::abs(y) > 0.9) return -1;
+  const auto i = static_cast<std::uint64_t>(std::floor(x / 0.45) + 64);
+  const auto j = static_cast<std::uint64_t>(std::floor(y / 0.45) + 64);
+  const std::uint64_t h = common::mix64(i * 1000003 + j + 43);
+  return 1.4 + 1.6 * (static_cast<double>(h % 1001) / 1000 - 0.5);
+}
+
+}  // namespace
+
+TEST_CASE("classify: --max-roughness-line: a ladder on a truck's roof is equipment, a rough crown stays vegetation") {
+  // At 100 points/m² (cells on their 0.3 m floor) the ladder puts the roof's cells at two levels
+  // 0.5 m apart: no 3 x 3 plane fits them (the plane's median residual is past the 0.12 m floor of
+  // classify-sim.ini), but along the ladder every rail and every strip of roof runs on, so along
+  // lines the top is smooth. The crown's clumps are rough along every line. Both solid: only the
+  // roughness tells them apart.
+  classify::Params before;  // classify-sim.ini's plane roughness
+  before.max_roughness = 0.65;
+  before.roughness_floor = 0.12;
+  REQUIRE(before.max_roughness_line == 0);
+  classify::Params lines = before;
+  lines.max_roughness_line = 0.2;
+  std::size_t crowns_rough = 0;
+  for (std::uint64_t k = 0; k < 4; ++k) {
+    const double heading = static_cast<double>(k) * 25 * kDeg;
+    const Sampled truck = sample(ladder_truck_top, 3.8, 1.2, heading, 100, 4300 + k);
+    const Sampled tree = sample(rough_blob_top, 1.8, 0.9, heading, 100, 4300 + k);
+    const classify::Answer a = classify::run(before, {truck.cloud, "truck.pcd", {}});
+    const classify::Answer b = classify::run(lines, {truck.cloud, "truck.pcd", {}});
+    const auto& f = a.features;
+    INFO("draw " << k << ": truck plane " << f.top_roughness << " line " << f.top_roughness_line << " ("
+                 << f.top_cells << " cells) spacing " << f.spacing << " -> " << a.cls << a.reason << " " << a.detail
+                 << " / " << b.cls << b.reason << " " << b.detail);
+    CHECK(f.spacing < 0.12 / before.max_roughness);  // the floor binds
+    CHECK(f.top_cells >= 30);
+    CHECK(f.top_roughness > 0.12);       // rough against the plane ...
+    CHECK(f.top_roughness_line < 0.05);  // ... smooth along lines
+    CHECK(b.features.top_roughness == f.top_roughness);
+    // Before: refused by the plane's roughness alone.
+    CHECK(a.cls.empty());
+    CHECK(a.reason == "vegetation_like");
+    CHECK(a.detail.find("the top is rough") != std::string::npos);
+    // With the lines: a truck.
+    CHECK(b.reason.empty());
+    CHECK(b.group == "truck");
+    // The crown: with the porosity cues out of reach (it is solid), rough along lines too.
+    classify::Params tree_lines = lines;
+    tree_lines.max_below_share = 1;
+    const classify::Answer t = classify::run(tree_lines, {tree.cloud, "tree.pcd", {}});
+    const auto& tf = t.features;
+    INFO("crown plane " << tf.top_roughness << " line " << tf.top_roughness_line << " -> " << t.cls << t.reason
+                        << " " << t.detail);
+    CHECK(tf.top_roughness > 0.12);
+    CHECK(tf.top_roughness_line > 0.2 * 0.2);  // past the line's threshold at the cells' floor
+    CHECK(t.cls.empty());
+    CHECK(t.reason == "vegetation_like");
+    CHECK(t.detail.find("the top is rough") != std::string::npos);
+    CHECK(t.detail.find("from the line through its neighbours") != std::string::npos);
+    crowns_rough += t.reason == "vegetation_like";
+  }
+  CHECK(crowns_rough == 4);
+  // Through the binary: the option (and so its ini key) reaches the rule; a bad value is a usage error.
+  const fs::path dir = test::fresh_dir("classify", "roughness-line");
+  formats::write_pcd(sample(ladder_truck_top, 3.8, 1.2, 0, 100, 4300).cloud, (dir / "truck.pcd").string());
+  std::string err;
+  const std::string args =
+      " --max-roughness 0.65 --roughness-floor 120mm -i " + (dir / "truck.pcd").string() + " -o ";
+  REQUIRE(test::sh(kBin + args + (dir / "a.json").string(), dir / "err", &err) == 0);
+  REQUIRE(test::sh(kBin + args + (dir / "b.json").string() + " --max-roughness-line 0.2", dir / "err", &err) == 0);
+  const Json ja = Json::parse(slurp(dir / "a.json")), jb = Json::parse(slurp(dir / "b.json"));
+  CHECK(ja["reason"] == "vegetation_like");
+  CHECK(ja["provenance"]["parameters"]["max-roughness-line"] == "0");
+  CHECK(jb["group"] == "truck");
+  CHECK(jb["provenance"]["parameters"]["max-roughness-line"] == "0.2");
+  CHECK(test::sh(kBin + args + (dir / "c.json").string() + " --max-roughness-line -1", dir / "err", &err) == 2);
+  CHECK(err.find("--max-roughness-line") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "c.json"));
+}
+
+namespace {
+
 // An axis-aligned box of a hand-made shape (x along, y across, z up; metres).
 struct Box {
   double x0, x1, y0, y1, z0, z1;

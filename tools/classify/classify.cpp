@@ -189,12 +189,22 @@ bool vegetation(Answer& a, const Params& p) {
   const double value = line ? f.top_roughness_line : f.top_roughness;
   const std::size_t cells = line ? f.top_cells_line : f.top_cells;
   if (cells >= 3 && value > rough) {
+    // A top rough against the plane but smooth along lines (equipment on a roof, §43) is kept.
+    const bool lines_too = !line && p.max_roughness_line > 0 && f.top_cells_line >= 3;
+    // Its threshold follows the cells (max(0.3 m, 1.5 spacings)): it stops falling where they stop
+    // at 0.3 m, at max_roughness_line x 0.2 m.
+    const double rough_line = p.max_roughness_line * std::max(f.spacing, 0.2);
+    if (lines_too && f.top_roughness_line <= rough_line) return false;
     refuse(a, "vegetation_like",
            fmt(line ? "the top is rough: %.0f mm from the line through its neighbours along the smoothest "
                       "direction (median; vehicle <= %.0f mm)"
                     : "the top is rough: %.0f mm from the local plane of its neighbours (median; vehicle <= "
                       "%.0f mm)",
-               1e3 * value, 1e3 * rough),
+               1e3 * value, 1e3 * rough) +
+               (lines_too ? fmt(", and %.0f mm from the line through its neighbours along the smoothest "
+                                "direction (vehicle <= %.0f mm)",
+                                1e3 * f.top_roughness_line, 1e3 * rough_line)
+                          : std::string()),
            past(value, rough));
     return true;
   }
@@ -594,6 +604,7 @@ void validate(const Params& p) {
   need(p.plateau_drop >= 0 && p.plateau_drop <= 5, "--plateau-drop must be in [0, 5 m]");
   need(p.max_roughness > 0 && p.max_roughness <= 100, "--max-roughness must be in (0, 100]");
   need(p.roughness_floor >= 0 && p.roughness_floor <= 1, "--roughness-floor must be in [0, 1 m]");
+  need(p.max_roughness_line >= 0 && p.max_roughness_line <= 100, "--max-roughness-line must be 0 (off) or in (0, 100]");
   need(p.max_below_share > 0 && p.max_below_share <= 1, "--max-below-share must be in (0, 1]");
   need(p.max_ground_through > 0 && p.max_ground_through <= 1, "--max-ground-through must be in (0, 1]");
   need(p.min_fill >= 0 && p.min_fill <= 10, "--min-fill must be in [0, 10]");

@@ -155,6 +155,13 @@ struct Params {
                                     // and than roughness_floor: vegetation_like (0.20 for kLine, §19)
   double roughness_floor = 0.1;     // the threshold's floor (m; §5). The cells' own floor (0.3 m =
                                     // 1.5 spacings) gives max_roughness x 0.2 m (0.13 m at 0.65; §28)
+  // Equipment on a top (classify.md §43): with kPlane, a top over the plane's threshold is refused
+  // only when it is rough along lines too, its line roughness (top_roughness_line) over
+  // max_roughness_line x max(the spacing, 0.2 m) (the cells' own floor, 0.3 m = 1.5 x 0.2 m; no
+  // roughness_floor: a sampled panel is smooth along lines): a ladder, a rack or boxes on a roof
+  // put cells at two levels, which no plane fits, but each part runs on along some line; a
+  // crown is rough along every line. 0: off (the plane alone, as before).
+  double max_roughness_line = 0;
   double max_below_share = 0.25;    // more interior object points under another one: vegetation_like
   double max_ground_through = 0.2;  // more interior ground returns under the object: vegetation_like
   double min_fill = 0.55;           // fewer points per m² of its rectangle than this x the open

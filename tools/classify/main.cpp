@@ -97,6 +97,10 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
   tool.add_length("--roughness-floor", &p.roughness_floor,
                   "the --max-roughness threshold is at least this (the cells' own floor of 0.3 m = 1.5 "
                   "spacings gives --max-roughness x 0.2 m; docs/decisions/classify.md §28)");
+  tool.add("--max-roughness-line", &p.max_roughness_line,
+           "with --roughness plane, a top over its threshold is refused only when its roughness along lines "
+           "is over this x the spacing (at least 0.2 m: the cells' floor) too: equipment on a roof "
+           "(docs/decisions/classify.md §43; 0: off)");
   tool.add("--max-below-share", &p.max_below_share,
            "more interior object points with an object point 0.5 m above them: vegetation_like");
   tool.add("--max-ground-through", &p.max_ground_through,
