@@ -2681,11 +2681,11 @@ double rough_blob_top(double x, double y) {
 
 }  // namespace
 
-TEST_CASE("classify: --max-roughness-line: a ladder on a truck's roof is equipment, a rough crown stays vegetation") {
+TEST_CASE("classify: --max-roughness-line: a ladder on a roof is equipment, a rough blob is not") {
   // At 100 points/m² (cells on their 0.3 m floor) the ladder puts the roof's cells at two levels
-  // 0.5 m apart: no 3 x 3 plane fits them (the plane's median residual is past the 0.12 m floor of
+  // 0.45 m apart: no 3 x 3 plane fits them (the plane's median residual is past the 0.12 m floor of
   // classify-sim.ini), but along the ladder every rail and every strip of roof runs on, so along
-  // lines the top is smooth. The crown's clumps are rough along every line. Both solid: only the
+  // lines the top is smooth. The blob's clumps are rough along every line. Both solid: only the
   // roughness tells them apart.
   classify::Params before;  // classify-sim.ini's plane roughness
   before.max_roughness = 0.65;
@@ -2693,7 +2693,7 @@ TEST_CASE("classify: --max-roughness-line: a ladder on a truck's roof is equipme
   REQUIRE(before.max_roughness_line == 0);
   classify::Params lines = before;
   lines.max_roughness_line = 0.2;
-  std::size_t crowns_rough = 0;
+  std::size_t blobs_rough = 0;
   for (std::uint64_t k = 0; k < 4; ++k) {
     const double heading = static_cast<double>(k) * 25 * kDeg;
     const Sampled truck = sample(ladder_truck_top, 3.8, 1.2, heading, 100, 4300 + k);
@@ -2702,8 +2702,8 @@ TEST_CASE("classify: --max-roughness-line: a ladder on a truck's roof is equipme
     const classify::Answer b = classify::run(lines, {truck.cloud, "truck.pcd", {}});
     const auto& f = a.features;
     INFO("draw " << k << ": truck plane " << f.top_roughness << " line " << f.top_roughness_line << " ("
-                 << f.top_cells << " cells) spacing " << f.spacing << " -> " << a.cls << a.reason << " " << a.detail
-                 << " / " << b.cls << b.reason << " " << b.detail);
+                 << f.top_cells << " cells) spacing " << f.spacing << " -> " << a.cls << a.reason << " "
+                 << a.detail << " / " << b.cls << b.reason << " " << b.detail);
     CHECK(f.spacing < 0.12 / before.max_roughness);  // the floor binds
     CHECK(f.top_cells >= 30);
     CHECK(f.top_roughness > 0.12);       // rough against the plane ...
@@ -2716,22 +2716,22 @@ TEST_CASE("classify: --max-roughness-line: a ladder on a truck's roof is equipme
     // With the lines: a truck.
     CHECK(b.reason.empty());
     CHECK(b.group == "truck");
-    // The crown: with the porosity cues out of reach (it is solid), rough along lines too.
+    // The blob: with below_share out of reach (it is solid), rough along lines too.
     classify::Params tree_lines = lines;
     tree_lines.max_below_share = 1;
     const classify::Answer t = classify::run(tree_lines, {tree.cloud, "tree.pcd", {}});
     const auto& tf = t.features;
-    INFO("crown plane " << tf.top_roughness << " line " << tf.top_roughness_line << " -> " << t.cls << t.reason
-                        << " " << t.detail);
+    INFO("crown plane " << tf.top_roughness << " line " << tf.top_roughness_line << " -> " << t.cls
+                        << t.reason << " " << t.detail);
     CHECK(tf.top_roughness > 0.12);
     CHECK(tf.top_roughness_line > 0.2 * 0.2);  // past the line's threshold at the cells' floor
     CHECK(t.cls.empty());
     CHECK(t.reason == "vegetation_like");
     CHECK(t.detail.find("the top is rough") != std::string::npos);
     CHECK(t.detail.find("from the line through its neighbours") != std::string::npos);
-    crowns_rough += t.reason == "vegetation_like";
+    blobs_rough += t.reason == "vegetation_like";
   }
-  CHECK(crowns_rough == 4);
+  CHECK(blobs_rough == 4);
   // Through the binary: the option (and so its ini key) reaches the rule; a bad value is a usage error.
   const fs::path dir = test::fresh_dir("classify", "roughness-line");
   formats::write_pcd(sample(ladder_truck_top, 3.8, 1.2, 0, 100, 4300).cloud, (dir / "truck.pcd").string());
@@ -2739,7 +2739,8 @@ TEST_CASE("classify: --max-roughness-line: a ladder on a truck's roof is equipme
   const std::string args =
       " --max-roughness 0.65 --roughness-floor 120mm -i " + (dir / "truck.pcd").string() + " -o ";
   REQUIRE(test::sh(kBin + args + (dir / "a.json").string(), dir / "err", &err) == 0);
-  REQUIRE(test::sh(kBin + args + (dir / "b.json").string() + " --max-roughness-line 0.2", dir / "err", &err) == 0);
+  REQUIRE(test::sh(kBin + args + (dir / "b.json").string() + " --max-roughness-line 0.2", dir / "err", &err) ==
+          0);
   const Json ja = Json::parse(slurp(dir / "a.json")), jb = Json::parse(slurp(dir / "b.json"));
   CHECK(ja["reason"] == "vegetation_like");
   CHECK(ja["provenance"]["parameters"]["max-roughness-line"] == "0");

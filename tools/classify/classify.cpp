@@ -604,7 +604,8 @@ void validate(const Params& p) {
   need(p.plateau_drop >= 0 && p.plateau_drop <= 5, "--plateau-drop must be in [0, 5 m]");
   need(p.max_roughness > 0 && p.max_roughness <= 100, "--max-roughness must be in (0, 100]");
   need(p.roughness_floor >= 0 && p.roughness_floor <= 1, "--roughness-floor must be in [0, 1 m]");
-  need(p.max_roughness_line >= 0 && p.max_roughness_line <= 100, "--max-roughness-line must be 0 (off) or in (0, 100]");
+  need(p.max_roughness_line >= 0 && p.max_roughness_line <= 100,
+       "--max-roughness-line must be 0 (off) or in (0, 100]");
   need(p.max_below_share > 0 && p.max_below_share <= 1, "--max-below-share must be in (0, 1]");
   need(p.max_ground_through > 0 && p.max_ground_through <= 1, "--max-ground-through must be in (0, 1]");
   need(p.min_fill >= 0 && p.min_fill <= 10, "--min-fill must be in [0, 10]");

@@ -151,10 +151,10 @@ struct Params {
   // (precision 78.9% -> 62.7%), so it is an option, not the default (§19, "held-out").
   enum class Roughness { kPlane, kLine };
   Roughness roughness = Roughness::kPlane;
-  double max_roughness = 0.45;      // rougher top (median local residual) than this x the spacing,
-                                    // and than roughness_floor: vegetation_like (0.20 for kLine, §19)
-  double roughness_floor = 0.1;     // the threshold's floor (m; §5). The cells' own floor (0.3 m =
-                                    // 1.5 spacings) gives max_roughness x 0.2 m (0.13 m at 0.65; §28)
+  double max_roughness = 0.45;   // rougher top (median local residual) than this x the spacing,
+                                 // and than roughness_floor: vegetation_like (0.20 for kLine, §19)
+  double roughness_floor = 0.1;  // the threshold's floor (m; §5). The cells' own floor (0.3 m =
+                                 // 1.5 spacings) gives max_roughness x 0.2 m (0.13 m at 0.65; §28)
   // Equipment on a top (classify.md §43): with kPlane, a top over the plane's threshold is refused
   // only when it is rough along lines too, its line roughness (top_roughness_line) over
   // max_roughness_line x max(the spacing, 0.2 m) (the cells' own floor, 0.3 m = 1.5 x 0.2 m; no
