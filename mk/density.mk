@@ -112,13 +112,14 @@ DENSITY_SENSOR_L0 ?= 26.5
 # shoulder gate off (min-shoulder 0, before §30), the oval-outline gate's step over every profile
 # bin (rectangularity-sampled false, before §37), no open-top gate (max-rim 0, before §38), no
 # pickup bed cue (min-bed 0, before §39). Empty: none.
-# The five files are written by make (Makefile.experiments CLASSIFY_SIM_VARIANTS).
+# The five files (and the sensor ladder's echo-late-0, below) are written by make (Makefile.experiments CLASSIFY_SIM_VARIANTS).
 DENSITY_CLASSIFY_ABLATIONS ?= $(foreach n,floor-100 shoulder-0 sampled-0 rim-0 bed-0,$(call classify_sim_variant,$(n)))
 # The same on every sensor level: its first is classify-sim.ini before classify.md §23
-# (max-late-returns 0.35; the sensor tiles are the only ones with return numbers), the rest by
-# default the pixel ladder's.
+# (max-late-returns 0.35; the sensor tiles are the only ones with return numbers), then by
+# default the pixel ladder's others, then late returns not waived for hard objects (echo-late
+# false, before §44; the sensor tiles are the only ones with echo widths, so not on the pixel ladder).
 DENSITY_SENSOR_CLASSIFY_ABLATIONS ?= bench/density/classify-sim-late-0.35.ini $(wordlist 2,$(words \
-  $(DENSITY_CLASSIFY_ABLATIONS)),$(DENSITY_CLASSIFY_ABLATIONS))
+  $(DENSITY_CLASSIFY_ABLATIONS)),$(DENSITY_CLASSIFY_ABLATIONS)) $(call classify_sim_variant,echo-late-0)
 # verify's ablation on every level of both ladders (SCENE_VERIFY_ABLATION of its `make scenes`: the
 # model-level candidates verified a second time with these options, collected and scored as
 # <level>/verify-ablation/score.json; the report's "verify's ablation on the density ladder"):

@@ -30,6 +30,6 @@ keys=$(make --no-print-directory -s -C "$src" -f Makefile.experiments PROGRESS=0
   --eval 'canopy-sensor-keys: ; @echo $(density_sensor_keys)' canopy-sensor-keys)
 [ -n "$keys" ] || { echo "recipes.sh: mk/density.mk gave no sensor keys" >&2; exit 1; }
 for lv in $keys; do
-  IFS=: read -r l r v <<<"$lv"
+  IFS=: read -r l r v _ <<<"$lv"  # LEVEL:PULSE_RATE:SPEED:CLASS (mk/density.mk)
   recipes SCENE_RECIPES="$out/sensor-$l" SCENE_SENSOR=als_qL1 SCENE_SENSOR_KEYS="pulse_rate=$r speed=$v"
 done

@@ -816,6 +816,120 @@ TEST_CASE("classify: outline: a trailer's drawbar is refused; each gate switches
         "sedan");
 }
 
+// A box trailer 6.2 x 2.2 m, 2.5 m high, its front sloping down over 0.9 m (a V-nose: the step
+// under the profile's hull stays under a van's 0.5 of H), and an A-frame drawbar 1.2 m long, 0.8 m
+// wide and 0.6 m high: the narrower end is about 0.35-0.45 of W, wider than drawbar_width's 0.3 (the
+// sensor ladder's trailer under a crown measured 0.41; classify.md §44), and 0.24 of H.
+double wide_drawbar_trailer_top(double x, double y) {
+  if (x < -3.1 || x > 3.1) return -1;
+  if (x < 1.0) return std::abs(y) <= 1.1 ? 2.5 : -1;
+  if (x < 1.9) return std::abs(y) <= 1.1 ? 2.5 - 1.9 * (x - 1.0) / 0.9 : -1;
+  return std::abs(y) <= 0.4 ? 0.6 : -1;
+}
+
+// A top sampled from above (sample()) under a crown over the object: every pulse that reached the
+// object met the crown first, above the crop, so each object point is the second return of two (the
+// first absent); the ground around it is open (single returns: the echo widths' reference).
+// `shaded` false: single returns everywhere (in the open). One gps_time per pulse; hard echoes (the
+// pulse's own width, ± 1%).
+formats::PointCloud hard_top(const Sampled& s, bool shaded, std::uint64_t seed) {
+  const auto& x = s.cloud.col("x");
+  const auto& z = s.cloud.col("z");
+  std::vector<double> rn(x.size(), 1), nr(x.size(), 1), t(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    t[i] = 1e-5 * static_cast<double>(i);
+    if (shaded && z[i] > 0.3) rn[i] = nr[i] = 2;
+  }
+  return with_echoes(pulse_cloud(x, s.cloud.col("y"), s.cloud.col("z"), rn, nr, &t), 0.99, 1.01, seed);
+}
+
+TEST_CASE(
+    "classify: --echo-late-drawbar, --echo-late-widening: under a crown a trailer is held to the wider "
+    "drawbar and "
+    "pipes to a hard surface's echoes; a car is not refused") {
+  // classify-sim.ini's surface and outline values, with the late-return cue waived for hard objects.
+  classify::Params late;
+  late.max_ground_through = 0.08;
+  late.max_late_returns = 0.40;
+  late.max_echo_widening = 1.05;
+  late.rectangularity_sampled = true;  // the step only where the profile is sampled (§37)
+  classify::Params waived = late;
+  waived.echo_late = true;
+  classify::Params strict = waived;
+  strict.echo_late_drawbar = 0.5;
+  strict.echo_late_widening = 1.01;
+  for (std::uint64_t k = 0; k < 4; ++k) {
+    const formats::PointCloud trailer =
+        hard_top(sample(wide_drawbar_trailer_top, 3.1, 1.1, 15 * kDeg, 50, 900 + k), true, 910 + k);
+    const formats::PointCloud car = hard_top(sample(car_top, 2.3, 0.9, 15 * kDeg, 25, 920 + k), true, 930 + k);
+    const classify::Answer t_late = classify::run(late, {trailer, "trailer.pcd", {}});
+    const classify::Answer t_waived = classify::run(waived, {trailer, "trailer.pcd", {}});
+    const classify::Answer t_strict = classify::run(strict, {trailer, "trailer.pcd", {}});
+    INFO("survey " << k << ": trailer " << t_late.reason << " -> waived " << t_waived.cls << t_waived.reason
+                   << " " << t_waived.detail << " -> strict " << t_strict.reason << " " << t_strict.detail);
+    // Every point a later return: the late cue refuses both (before --echo-late).
+    REQUIRE(t_late.features.late_returns);
+    CHECK(*t_late.features.late_returns > 0.9);
+    CHECK(t_late.reason == "vegetation_like");
+    REQUIRE(t_late.features.echo_widening);
+    CHECK(*t_late.features.echo_widening <= 1.05);
+    // Its drawbar end is wider than drawbar_width and low.
+    CHECK(t_waived.features.tip_width > 0.3);
+    CHECK(t_waived.features.tip_width < 0.5);
+    CHECK(t_waived.features.tip_level < 0.4);
+    // --echo-late alone: the cue waived, the ordinary drawbar gate passes it: a vehicle answer.
+    CHECK(!t_waived.cls.empty());
+    // With the wider drawbar for waived objects: refused on its outline.
+    CHECK(t_strict.cls.empty());
+    CHECK(t_strict.reason == "not_vehicle_shape");
+    CHECK(t_strict.detail.find("a drawbar") != std::string::npos);
+    CHECK(t_strict.detail.find("late returns waived") != std::string::npos);
+    // The car under the same crown: refused before, a car with the cue waived, strict or not.
+    const classify::Answer c_late = classify::run(late, {car, "car.pcd", {}});
+    const classify::Answer c_strict = classify::run(strict, {car, "car.pcd", {}});
+    INFO("car " << c_late.reason << " -> strict " << c_strict.cls << c_strict.reason << " " << c_strict.detail);
+    CHECK(c_late.reason == "vegetation_like");
+    CHECK(c_strict.group == "car");
+    // The trailer in the open (single returns: nothing waived) keeps the ordinary drawbar gate.
+    const formats::PointCloud open =
+        hard_top(sample(wide_drawbar_trailer_top, 3.1, 1.1, 15 * kDeg, 50, 900 + k), false, 910 + k);
+    const classify::Answer o_waived = classify::run(waived, {open, "trailer.pcd", {}});
+    const classify::Answer o_strict = classify::run(strict, {open, "trailer.pcd", {}});
+    CHECK(o_strict.cls == o_waived.cls);
+    CHECK(o_strict.reason == o_waived.reason);
+    CHECK(o_strict.detail.find("late returns waived") == std::string::npos);
+  }
+  // A car-shaped top under the crown whose echoes are 1.2-2% wider than the ground's (pipes or logs:
+  // curved surfaces spread the range inside the footprint; the sensor ladder's whole vehicles stay
+  // under 1.01): hard by max-echo-widening, so --echo-late alone waives its late returns; with
+  // --echo-late-widening 1.01 the late cue refuses it. The car (1.00) keeps its answer (above).
+  for (std::uint64_t k = 0; k < 3; ++k) {
+    const Sampled top = sample(car_top, 2.3, 0.9, 15 * kDeg, 25, 940 + k);
+    formats::PointCloud pipes = hard_top(top, true, 950 + k);
+    common::Rng rng(960 + k);
+    auto& w = pipes.col("echo_width");
+    const auto& z = pipes.col("z");
+    for (std::size_t i = 0; i < w.size(); ++i)
+      if (z[i] > 0.3) w[i] = 0.60 * rng.uniform(1.012, 1.02);
+    const classify::Answer p_waived = classify::run(waived, {pipes, "pipes.pcd", {}});
+    const classify::Answer p_strict = classify::run(strict, {pipes, "pipes.pcd", {}});
+    INFO("pipes " << p_waived.cls << p_waived.reason << " -> strict " << p_strict.reason << " "
+                  << p_strict.detail);
+    REQUIRE(p_strict.features.echo_widening);
+    CHECK(*p_strict.features.echo_widening > 1.01);
+    CHECK(*p_strict.features.echo_widening < 1.05);
+    CHECK(p_waived.group == "car");
+    CHECK(p_strict.reason == "vegetation_like");
+    CHECK(p_strict.detail.find("later returns") != std::string::npos);
+  }
+  // Without echo widths nothing is waived: the option is inert and the late cue refuses.
+  const Sampled s = sample(wide_drawbar_trailer_top, 3.1, 1.1, 15 * kDeg, 50, 900);
+  formats::PointCloud bare = hard_top(s, true, 910);
+  bare = pulse_cloud(bare.col("x"), bare.col("y"), bare.col("z"), bare.col("return_number"),
+                     bare.col("number_of_returns"), nullptr);
+  CHECK(classify::run(strict, {bare, "trailer.pcd", {}}).reason == "vegetation_like");
+}
+
 // A stack of logs 4 m long, radius 0.18 m, in rows of 5, 4, 3 and 2, each log shifted along
 // by up to 0.15 m (the simulator's clutter; 4.3 x 1.8 m, 1.3 m high): the top across is the
 // highest log under each point.

@@ -124,6 +124,18 @@ bool hard_echoes(const Features& f, const Params& p) {
   return p.max_echo_widening > 0 && f.echo_widening && *f.echo_widening <= p.max_echo_widening;
 }
 
+// With echo_late (classify.md §25, §44): whether the object's echoes waive late_returns (hard, and
+// at most echo_late_widening when it is set).
+bool late_waivable(const Features& f, const Params& p) {
+  return p.echo_late && hard_echoes(f, p) &&
+         (p.echo_late_widening <= 0 || *f.echo_widening <= p.echo_late_widening);
+}
+
+// Whether late_returns would refuse the object and its echoes waived the cue.
+bool late_waived(const Features& f, const Params& p) {
+  return late_waivable(f, p) && f.late_returns && *f.late_returns > p.max_late_returns;
+}
+
 bool vegetation(Answer& a, const Params& p) {
   const Features& f = a.features;
   if (p.max_echo_widening > 0 && f.echo_widening && *f.echo_widening > p.max_echo_widening) {
@@ -146,7 +158,7 @@ bool vegetation(Answer& a, const Params& p) {
     cues.push_back({"ground returns under it: %.0f%% of its interior returns (vehicle <= %.0f%%)",
                     f.ground_through, p.max_ground_through});
   }
-  if (f.late_returns && !(hard && p.echo_late)) {
+  if (f.late_returns && !late_waivable(f, p)) {
     cues.push_back({p.late_shadow ? "%.0f%% later returns, those shadowed from above weighed by the shade "
                                     "around it (vehicle <= %.0f%%)"
                     : p.late_returns_inside
@@ -295,13 +307,15 @@ void outline(Answer& a, const Params& p) {
   std::string why;
   double strength = 0;
   const double step = p.rectangularity_sampled ? f.notch_sampled : f.notch;  // the oval gate's (§37)
-  if (p.drawbar_width > 0 && p.drawbar_level > 0 && f.tip_width < p.drawbar_width &&
-      f.tip_level < p.drawbar_level) {
-    why =
-        fmt("a drawbar: its narrower end is %.0f%% of its width and %.0f%% of its height (a trailer or "
-            "caravan without its tractor; a vehicle's end >= %.0f%% wide or >= %.0f%% high)",
-            100 * f.tip_width, 100 * f.tip_level, 100 * p.drawbar_width, 100 * p.drawbar_level);
-    strength = std::min(past(p.drawbar_width, std::max(f.tip_width, 1e-6)),
+  // A hard object under a crown whose late returns were waived: the wider drawbar (§44).
+  const bool waived = late_waived(f, p) && p.echo_late_drawbar > p.drawbar_width;
+  const double drawbar_width = waived ? p.echo_late_drawbar : p.drawbar_width;
+  if (drawbar_width > 0 && p.drawbar_level > 0 && f.tip_width < drawbar_width && f.tip_level < p.drawbar_level) {
+    why = fmt("a drawbar: its narrower end is %.0f%% of its width and %.0f%% of its height (a trailer or "
+              "caravan without its tractor; a vehicle's end >= %.0f%% wide or >= %.0f%% high",
+              100 * f.tip_width, 100 * f.tip_level, 100 * drawbar_width, 100 * p.drawbar_level) +
+          (waived ? "; its late returns waived on hard echoes)" : ")");
+    strength = std::min(past(drawbar_width, std::max(f.tip_width, 1e-6)),
                         past(p.drawbar_level, std::max(f.tip_level, 1e-6)));
   } else if (p.min_notch > 0 && a.group == "car" && f.notch < p.min_notch) {
     why =
@@ -466,7 +480,7 @@ void choose(Answer& a, const Params& p, double sigma, const std::vector<TableRan
   double shape =
       (1 - past(f.below_share, p.max_below_share)) * cue(f.ground_through, p.max_ground_through, hard);
   if (f.fill) shape *= 1 - past(p.min_fill, std::max(*f.fill, 1e-6));
-  if (f.late_returns) shape *= cue(*f.late_returns, p.max_late_returns, hard && p.echo_late);
+  if (f.late_returns) shape *= cue(*f.late_returns, p.max_late_returns, late_waivable(f, p));
   const double group = 0.5 + 0.5 * (1 - std::exp(-0.5 * a.class_margin * a.class_margin));
   a.confidence = std::clamp(a.class_score * group * shape, 0.0, 1.0);
 }
@@ -628,6 +642,8 @@ void validate(const Params& p) {
   need(p.min_notch >= 0 && p.min_notch <= 1, "--min-notch must be in [0, 1]");
   need(p.max_notch >= 0 && p.max_notch <= 1, "--max-notch must be in [0, 1]");
   need(p.drawbar_width >= 0 && p.drawbar_width <= 1, "--drawbar-width must be in [0, 1]");
+  need(p.echo_late_drawbar >= 0 && p.echo_late_drawbar <= 1, "--echo-late-drawbar must be in [0, 1]");
+  need(p.echo_late_widening >= 0, "--echo-late-widening must be >= 0");
   need(p.drawbar_level >= 0 && p.drawbar_level <= 1, "--drawbar-level must be in [0, 1]");
   need(p.min_rectangularity >= 0 && p.min_rectangularity <= 1, "--min-rectangularity must be in [0, 1]");
   need(p.min_shoulder >= 0 && p.min_shoulder <= 1, "--min-shoulder must be in [0, 1]");

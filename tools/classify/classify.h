@@ -130,6 +130,17 @@ struct Params {
   // classify.ini: the real tiles carry no echo widths).
   double max_echo_widening = 0;
   bool echo_late = false;
+  // With echo_late, a hard object whose late_returns exceeds max_late_returns (the cue waived: under
+  // a crown) is held to the drawbar gate at this end width (share of W) instead of drawbar_width
+  // when it is larger (classify.md §44): with the late cue gone, the outline is all that stands
+  // between a vehicle and a trailer under a crown, and a drawbar seen from above through a crown
+  // measures wider than in the open. 0: drawbar_width as for any object (Params, classify.ini).
+  double echo_late_drawbar = 0;
+  // With echo_late, late_returns is waived only for an object whose echo_widening is at most this
+  // (classify.md §44: the whole vehicles' largest on the sensor ladder was 1.008, pipes and logs
+  // under crowns 1.01-1.03): a late-dominated object must be hard beyond doubt. 0: every hard
+  // object (max_echo_widening), as before.
+  double echo_late_widening = 0;
   double link_min = 0.25;         // object clustering: the linking distance is at least this (m)
   std::size_t min_points = 20;    // fewer object points: too_sparse
   double min_density = 4.0;       // fewer object points per m² of its rectangle: too_sparse

@@ -75,6 +75,13 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
            "refuse it (0: off)");
   tool.add("--echo-late", &p.echo_late,
            "with --max-echo-widening: late_returns does not refuse a hard object either");
+  tool.add("--echo-late-drawbar", &p.echo_late_drawbar,
+           "with --echo-late: a hard object whose late_returns the cue waived is a drawbar (trailer) "
+           "when its narrower end is narrower than this share of the width (if above --drawbar-width) "
+           "and lower than --drawbar-level x the height (0: --drawbar-width)");
+  tool.add("--echo-late-widening", &p.echo_late_widening,
+           "with --echo-late: late_returns is waived only for an object whose median echo is at most "
+           "this many times the open ground's (0: every hard object, --max-echo-widening)");
   tool.add("--join-stacked", &p.join_stacked,
            "join to the object the clusters that meet it in the top view beside it and in line with it "
            "(parts at two heights whose step the nadir view did not sample; false: one cluster)");
