@@ -437,6 +437,12 @@ SCENE_SCORE := $(SCENE_RES)/score.json
 SCENE_TILE_DIR ?= $(SCENE_DIR)
 SCENE_TILES := $(foreach c,$(SCENE_COVERS),$(foreach s,$(SCENE_SEEDS),$(SCENE_TILE_DIR)/$(c)/tile-$(s)))
 SCENE_RUNS := $(foreach c,$(SCENE_COVERS),$(foreach s,$(SCENE_SEEDS),$(foreach n,$(SCENE_NOISES),$(SCENE_DIR)/$(c)/tile-$(s)/noise-$(n))))
+# A dry run of a make that shares another's renders plans none of them: that make, run before it,
+# plans them (the progress count, tests/pipeline/progress_count.sh). Run for real, it renders a
+# shared tile only when the other's render is gone and this make needs it again (the density
+# ladder's detect ablation with a changed detect file after the rung was scored): then the stage
+# extends the count.
+scene_shared_dry = $(and $(dry_run),$(filter-out $(SCENE_DIR),$(SCENE_TILE_DIR)))
 # scene_tile_of(RUN): the tile directory a run's scan comes from.
 scene_tile_of = $(patsubst $(SCENE_DIR)/%,$(SCENE_TILE_DIR)/%,$(patsubst %/,%,$(dir $(1))))
 # (A make variable name: every / - . of the path becomes _; an OUT under mktemp has a dot.)
@@ -546,8 +552,8 @@ $(if $(dry_run),,$(shell mkdir -p $(SCENE_TILES) $(SCENE_RES) $(dir $(SCENE_BL_S
 define scene_tile_rule
 $(SCENE_TILE_DIR)/$(1)/tile-$(2)/recipe.scene: $(call text_prereq,$(SCENE_TILE_DIR)/$(1)/tile-$(2)/recipe.scene,$(call scene_recipe,$(1),$(2)))
 $(SCENE_TILE_DIR)/$(1)/tile-$(2)/scan.pcd: $(SCENE_TILE_DIR)/$(1)/tile-$(2)/recipe.scene $(call tool,rangetrace)
-	@$(STAGE) $$@ -- $(BIN)/rangetrace --scene $$< --seed $$(call seed,scenes/$(1)/$(2)) --threads 2 \
-	  -o $$@ --truth $(SCENE_TILE_DIR)/$(1)/tile-$(2)/truth.json
+	@$(if $(scene_shared_dry),: the render of $$@ is planned by its own make,$(STAGE) $$@ -- $(BIN)/rangetrace --scene $$< --seed \
+	  $$(call seed,scenes/$(1)/$(2)) --threads 2 -o $$@ --truth $(SCENE_TILE_DIR)/$(1)/tile-$(2)/truth.json)
 $(SCENE_TILE_DIR)/$(1)/tile-$(2)/truth.json: $(SCENE_TILE_DIR)/$(1)/tile-$(2)/scan.pcd
 $(if $(SCENE_SENSOR),$(SCENE_TILE_DIR)/$(1)/tile-$(2)/scan.traj: $(SCENE_TILE_DIR)/$(1)/tile-$(2)/scan.pcd)
 endef

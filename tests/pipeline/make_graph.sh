@@ -544,6 +544,9 @@ for l in 10 25; do
   # (stop 62: the ablation renders nothing of its own; it links the rung's render, which the rung's
   # make keeps and the last ablation deletes once scored)
   if plans "bin/rangetrace .*-o $dd/d$l/detect-ablation/"; then fail "the rung $l's detect ablation renders a tile of its own"; fi
+  # (nor does its dry run plan the rung's render again: the rung's make plans it, once)
+  [ "$(echo "$plan" | grep "^$tmp/build/bin/stagerun " | grep -c "bin/rangetrace .*-o $dd/d$l/light/tile-1/scan.pcd")" -eq 1 ] ||
+    fail "the rung $l's render is not planned once"
   echo "$plan" | grep -q "ln $dd/d$l/light/tile-1/scan.pcd $dd/d$l/detect-ablation/light/tile-1/noise-0/scan.pcd" ||
     fail "the rung $l's detect ablation does not read the rung's render"
   echo "$plan" | grep -qx "  --csv $tmp/res/density/d$l/ && rm -f $dd/d$l/light/tile-1/noise-0/scan.pcd" ||
