@@ -261,8 +261,8 @@ $(if $(DENSITY_SENSOR),$(foreach d,$(DENSITY_SENSOR_LEVELS),$(eval $(call densit
 # rung, after the rung itself and the ablation before it (density_detect_tiles: they share its renders).
 define density_detect_rule
 $(DENSITY_RES)/$(1)/$(call detect_variant,$(3))/score.json: $(call density_force,$(2),$(4)) \
-    $(foreach t,$(DENSITY_TOOLS),$(call tool,$(t))) $(MODELBASE) $(VERIFY_SURFACES) $(DENSITY_RES)/$(1)/score.json$(if \
-    $(call density_detect_prev,$(3),$(5)), $(DENSITY_RES)/$(1)/$(call detect_variant,$(call density_detect_prev,$(3),$(5)))/score.json)
+    $(foreach t,$(DENSITY_TOOLS),$(call tool,$(t))) $(MODELBASE) $(VERIFY_SURFACES) $(DENSITY_RES)/$(1)/score.json$(foreach \
+    p,$(call density_detect_prev,$(3),$(5)), $(DENSITY_RES)/$(1)/$(call detect_variant,$(p))/score.json)
 	+@$(MAKE) $(4)
 endef
 $(foreach d,$(density_class_levels),$(foreach k,$(call list_places,$(DENSITY_DETECT_ABLATIONS)),$(eval $(call \

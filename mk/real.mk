@@ -60,9 +60,8 @@ REAL_CLASSIFY_VARIANTS := bridge-0:bridge:0:bridge-fill:0:bridge-min-share:0 \
   tile-ground-0:fill-tile-ground:false
 real_classify_variant = $(OUT)/params/classify-$(1).ini
 # (the two files: the list's existence check leaves them out, make writes them)
-real_classify_files = $(foreach v,$(REAL_CLASSIFY_VARIANTS),$(call real_classify_variant,$(word 1,$(subst :, ,$(v)))))
+real_classify_files = $(call ini_variant_files,real_classify_variant,$(REAL_CLASSIFY_VARIANTS))
 ifneq ($(and $(opts_thesis),$(wildcard $(P)/classify.ini)),)
-$(if $(dry_run)$(wildcard $(OUT)/params/.),,$(shell mkdir -p $(OUT)/params))
 $(call ini_variants,$(P)/classify.ini,real_classify_variant,$(REAL_CLASSIFY_VARIANTS))
 endif
 REAL_CLASSIFY_ABLATIONS ?= $(call real_classify_variant,bridge-0) $(call real_classify_variant,tile-ground-0)
