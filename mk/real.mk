@@ -45,26 +45,29 @@
 # ($(OUT)/params/classify-bridge-0.ini: bridge = 0, bridge-fill = 0, bridge-min-share = 0, the
 # options' own defaults, written as classify echoes them; classify.md §21, §27), then with
 # unmeasured filled where the crop has no open ground ($(OUT)/params/classify-tile-ground-0.ini:
-# fill-tile-ground = false, §31). Each changed default of classify.ini has its own (until stop 59
-# the first turned off both). Empty: none. REAL_CLASSIFY_ABLATION and REAL_CLASSIFY_ABLATION_2,
-# when set (the command lines of tests/pipeline/progress_count.sh and the decision records), set
-# the list's first and second place (empty: none there).
+# fill-tile-ground = false, §31), then with the tile's first returns not standing in for its
+# open ground ($(OUT)/params/classify-tile-first-0.ini: fill-tile-first = false, §46). Each changed
+# default of classify.ini has its own (until stop 59 the first turned off both). Empty: none.
+# REAL_CLASSIFY_ABLATION, REAL_CLASSIFY_ABLATION_2, ..., when set (the command lines of
+# tests/pipeline/progress_count.sh and the decision records), set the list's first, second, ...
+# place (empty: none there).
 #
-# The two default files are written by make, as classify-sim.ini's (Makefile.experiments
+# The three default files are written by make, as classify-sim.ini's (Makefile.experiments
 # CLASSIFY_SIM_VARIANTS, ini_variants): REAL_CLASSIFY_VARIANTS NAME:KEY:VALUE[:KEY:VALUE...] is
 # $(OUT)/params/classify-NAME.ini (real_classify_variant(NAME)), $(P)/classify.ini with those keys
 # set, at parse time when their text changes, by every make of the experiment's goals
 # (docs/decisions/experiment-graph.md §12; until stop 62 committed copies in share/real/).
 REAL_TILES ?= 1
 REAL_CLASSIFY_VARIANTS := bridge-0:bridge:0:bridge-fill:0:bridge-min-share:0 \
-  tile-ground-0:fill-tile-ground:false
+  tile-ground-0:fill-tile-ground:false tile-first-0:fill-tile-first:false
 real_classify_variant = $(OUT)/params/classify-$(1).ini
-# (the two files: the list's existence check leaves them out, make writes them)
+# (the three files: the list's existence check leaves them out, make writes them)
 real_classify_files = $(call ini_variant_files,real_classify_variant,$(REAL_CLASSIFY_VARIANTS))
 ifneq ($(and $(opts_thesis),$(wildcard $(P)/classify.ini)),)
 $(call ini_variants,$(P)/classify.ini,real_classify_variant,$(REAL_CLASSIFY_VARIANTS))
 endif
-REAL_CLASSIFY_ABLATIONS ?= $(call real_classify_variant,bridge-0) $(call real_classify_variant,tile-ground-0)
+REAL_CLASSIFY_ABLATIONS ?= $(call real_classify_variant,bridge-0) $(call real_classify_variant,tile-ground-0) \
+  $(call real_classify_variant,tile-first-0)
 # real_named(K): the name of place K (REAL_CLASSIFY_ABLATION, REAL_CLASSIFY_ABLATION_2, ...);
 # real_abl_list: the list with each place so named and set taken from it ("-" when empty).
 real_named = REAL_CLASSIFY_ABLATION$(if $(filter-out 1,$(1)),_$(1))

@@ -81,6 +81,9 @@ Candidates read_members(const Json& j, int version) {
       if (finite_number(*ground, "density.ground") < 0)
         throw Malformed("density.ground must be >= 0 or null");
     }
+    if (const Json* first = optional(*dens, "first")) {
+      if (finite_number(*first, "density.first") < 0) throw Malformed("density.first must be >= 0 or null");
+    }
     d.density = *dens;
   }
   if (const Json* m = optional(j, "margin")) {
@@ -125,6 +128,13 @@ std::optional<double> Candidates::density_ground() const {
   const auto ground = density.find("ground");
   if (ground == density.end() || !ground->is_number() || !(ground->get<double>() > 0)) return std::nullopt;
   return ground->get<double>();
+}
+
+std::optional<double> Candidates::density_first() const {
+  if (!density.is_object()) return std::nullopt;
+  const auto first = density.find("first");
+  if (first == density.end() || !first->is_number() || !(first->get<double>() > 0)) return std::nullopt;
+  return first->get<double>();
 }
 
 const Candidate* Candidates::find(const std::string& id) const {

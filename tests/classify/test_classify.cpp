@@ -3099,3 +3099,81 @@ TEST_CASE(
   CHECK(b.group == a.group);
   CHECK(b.cls == a.cls);
 }
+
+TEST_CASE(
+    "classify: --fill-tile-first measures fill against the tile's first returns where it has no open "
+    "ground") {
+  // A plot under closed canopy: detect finds no open ground in the whole tile (density.ground null)
+  // and the crop none around the object, so even --fill-tile-ground leaves fill unmeasured and a
+  // porous crown passes (classify.md §46). Open ground returns one point per pulse, and so does a
+  // pulse's first return anywhere: the tile's first-return density (density.first) stands in. A
+  // crown-like top returning 40% of 20 pulses/m², the ground around it returning nothing.
+  const fs::path dir = test::fresh_dir("classify", "tile-first");
+  const double density = 20;
+  auto rng = std::make_shared<common::Rng>(71);
+  const Top crown_top = [rng](double x, double y) {
+    const double h = car_top(x, y);
+    if (h < 0) return kNoReturn;
+    return rng->uniform(0, 1) < 0.4 ? h : kNoReturn;
+  };
+  const Sampled crown = sample(crown_top, 2.3, 0.9, 0, density, 171);
+  formats::write_pcd(crown.cloud, (dir / "c0001.pcd").string());
+  auto index = [](const Json& dens) {
+    return Json{
+        {"format", "canopy.candidates"},
+        {"version", 1},
+        {"density", dens},
+        {"candidates",
+         Json::array({Json{
+             {"id", "c0001"},
+             {"transform", Json::array({Json::array({1.0, 0.0, 0.0, 0.0}), Json::array({0.0, 1.0, 0.0, 0.0}),
+                                        Json::array({0.0, 0.0, 1.0, 0.0}), Json::array({0.0, 0.0, 0.0, 1.0})})},
+             {"length", 4.6},
+             {"width", 1.8}}})}};
+  };
+  std::ofstream(dir / "closed.json") << index(Json{{"all", 30.0}, {"ground", nullptr}, {"first", density}}).dump();
+  std::ofstream(dir / "open.json")
+      << index(Json{{"all", 30.0}, {"ground", 2 * density}, {"first", density}}).dump();
+  std::ofstream(dir / "none.json") << index(Json{{"all", 30.0}, {"ground", nullptr}, {"first", nullptr}}).dump();
+  std::ofstream(dir / "bad.json") << index(Json{{"all", 30.0}, {"ground", nullptr}, {"first", -1.0}}).dump();
+  std::string err;
+  auto answer = [&](const std::string& idx, const std::string& opts, const std::string& name) {
+    REQUIRE(test::sh(kBin + " -i " + (dir / "c0001.pcd").string() + " --index " + (dir / idx).string() +
+                         opts + " -o " + (dir / name).string(),
+                     dir / "err", &err) == 0);
+    return Json::parse(slurp(dir / name));
+  };
+  // --fill-tile-ground alone: no reference anywhere, fill unmeasured, the crown answered a car.
+  const Json ground = answer("closed.json", " --fill-tile-ground true", "g.json");
+  CHECK(ground["features"]["fill"].is_null());
+  CHECK(ground["group"] == "car");
+  // With --fill-tile-first: fill against the tile's 20 first returns per m², about 0.4: refused.
+  const Json first = answer("closed.json", " --fill-tile-ground true --fill-tile-first true", "f.json");
+  INFO(first.dump());
+  REQUIRE(first["features"]["fill"].is_number());
+  CHECK(first["features"]["fill"].get<double>() == Approx(0.40).margin(0.12));
+  CHECK(first["features"]["ground_density"].get<double>() == Approx(density));
+  CHECK(first["features"]["fill_from_tile"] == 1);
+  CHECK(first["features"]["fill_from_first"] == 1);
+  CHECK(first["reason"] == "vegetation_like");
+  CHECK_THAT(first["detail"].get<std::string>(), Catch::Contains("the tile's first returns"));
+  // Without --fill-tile-ground (its ablation turns both off): as --fill-tile-ground false.
+  const Json alone = answer("closed.json", " --fill-tile-first true", "a.json");
+  CHECK(alone["features"]["fill"].is_null());
+  CHECK(alone["group"] == "car");
+  // Where the tile has open ground, that is the reference (40 per m²: fill about 0.2), not the first returns.
+  const Json open = answer("open.json", " --fill-tile-ground true --fill-tile-first true", "o.json");
+  REQUIRE(open["features"]["fill"].is_number());
+  CHECK(open["features"]["ground_density"].get<double>() == Approx(2 * density));
+  CHECK_FALSE(open["features"].contains("fill_from_first"));
+  // No return numbers in the tile (density.first null): unmeasured, as before.
+  const Json none = answer("none.json", " --fill-tile-ground true --fill-tile-first true", "n.json");
+  CHECK(none["features"]["fill"].is_null());
+  // density.first negative: an error naming the index, no output.
+  CHECK(test::sh(kBin + " -i " + (dir / "c0001.pcd").string() + " --index " + (dir / "bad.json").string() +
+                     " --fill-tile-ground true --fill-tile-first true -o " + (dir / "b.json").string(),
+                 dir / "err", &err) == 1);
+  CHECK_THAT(err, Catch::Contains("bad.json"));
+  CHECK_THAT(err, Catch::Contains("density.first must be >= 0"));
+  CHECK_FALSE(fs::exists(dir / "b.json"));
+}

@@ -300,13 +300,15 @@ real=$(grep "^real " "$tmp/out/experiment.txt")
 real ign_lidarhd_870000_6618000 $tmp/out/real/ign_lidarhd_870000_6618000 share/real/ign_lidarhd_870000_6618000.truth.json" ] ||
   fail "the manifest's real tiles: $real"
 # Each tile's classify ablations follow it, in order, each in its own directory (mk/real.mk
-# REAL_CLASSIFY_ABLATIONS: two by default), and `all` runs both.
+# REAL_CLASSIFY_ABLATIONS: three by default), and `all` runs them.
 bridge0=$tmp/out/params/classify-bridge-0.ini ground0=$tmp/out/params/classify-tile-ground-0.ini
+first0=$tmp/out/params/classify-tile-first-0.ini
 abl=$(grep "^real-ablation forest_lareunion " "$tmp/out/experiment.txt")
 [ "$abl" = "real-ablation forest_lareunion $tmp/out/real-ablation/forest_lareunion $bridge0
-real-ablation forest_lareunion $tmp/out/real-ablation-2/forest_lareunion $ground0" ] ||
+real-ablation forest_lareunion $tmp/out/real-ablation-2/forest_lareunion $ground0
+real-ablation forest_lareunion $tmp/out/real-ablation-3/forest_lareunion $first0" ] ||
   fail "the manifest's real-tile ablations: $abl"
-# The two files are written by make (mk/real.mk REAL_CLASSIFY_VARIANTS): the test's own
+# The three files are written by make (mk/real.mk REAL_CLASSIFY_VARIANTS): the test's own
 # classify.ini with a first comment line and the ablation's keys' lines changed, nothing else.
 c=$tmp/params/classify.ini
 [ "$(diff "$c" "$bridge0" | grep '^[<>]')" = "> # $c with bridge = 0; bridge-fill = 0; bridge-min-share = 0 (written by make: do not edit).
@@ -319,13 +321,16 @@ c=$tmp/params/classify.ini
 [ "$(diff "$c" "$ground0" | grep '^[<>]')" = "> # $c with fill-tile-ground = false (written by make: do not edit).
 < $(grep '^fill-tile-ground = ' "$c")
 > fill-tile-ground = false" ] || fail "$ground0 is not classify.ini with fill-tile-ground = false alone: $(diff "$c" "$ground0" 2>&1 | head -8)"
-for a in "real-ablation $bridge0" "real-ablation-2 $ground0"; do
+[ "$(diff "$c" "$first0" | grep '^[<>]')" = "> # $c with fill-tile-first = false (written by make: do not edit).
+< $(grep '^fill-tile-first = ' "$c")
+> fill-tile-first = false" ] || fail "$first0 is not classify.ini with fill-tile-first = false alone: $(diff "$c" "$first0" 2>&1 | head -8)"
+for a in "real-ablation $bridge0" "real-ablation-2 $ground0" "real-ablation-3 $first0"; do
   set -- $a
   echo "$plan" | grep -q "OUT=$tmp/out/$1/forest_lareunion TILE_CLASSIFY=$2 " ||
     fail "make -n all does not run classify's ablation $2 into $1"
 done
 # The list's places by name (REAL_CLASSIFY_ABLATION_2=, tests/pipeline/progress_count.sh): the
-# second emptied, the first alone runs; a list of one entry, the same.
+# second emptied, the first and third run but not it; a list of one entry, the first alone.
 for args in "REAL_CLASSIFY_ABLATION_2=" "REAL_CLASSIFY_ABLATIONS=$bridge0"; do
   plan=$("${mk[@]}" REAL_TILES=1 -n all $args 2>&1)
   echo "$plan" | grep -q "OUT=$tmp/out/real-ablation/forest_lareunion TILE_CLASSIFY=$bridge0 " ||

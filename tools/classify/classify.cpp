@@ -173,7 +173,9 @@ bool vegetation(Answer& a, const Params& p) {
     const bool off_shadows = (p.bridge_fill || p.fill_empty_cells) && f.shadow_area > 0;
     const std::string shadows = off_shadows ? fmt(" less %.2f m^2 of shadow", f.shadow_area) : std::string();
     refuse(a, "vegetation_like",
-           fmt(f.fill_from_tile
+           fmt(f.fill_from_first ? "porous or patchy: %.0f%% of the tile's first returns per m^2 on its "
+                                   "rectangle (no open ground around it or in the tile)"
+               : f.fill_from_tile
                    ? "porous or patchy: %.0f%% of the tile's open ground's points per m^2 on its "
                      "rectangle (no open ground around it)"
                    : "porous or patchy: %.0f%% of the open ground's points per m^2 on its rectangle",
@@ -657,6 +659,7 @@ Outputs run(const Params& p, const Inputs& in) {
   Answer a;
   Candidate c = read_candidate(in.cloud, in.name);
   c.tile_ground_density = in.tile_ground_density;
+  c.tile_ground_from_first = in.tile_ground_from_first;
   a.features = measure(c, p);
   a.measured = a.features.object_points >= 3;
   if (sparse(a, p)) return a;

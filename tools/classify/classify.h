@@ -111,6 +111,11 @@ struct Params {
   // density.ground: points per 1 m cell holding only ground; Candidate::tile_ground_density).
   // false: unmeasured, the cue passes (before).
   bool fill_tile_ground = false;
+  // fill_tile_first true (classify.md §46): with fill_tile_ground, where the tile has no open-ground
+  // density either (density.ground null: a plot under closed canopy), `fill` is measured against
+  // the tile's first-return density (density.first: one first return per pulse, as open ground
+  // returns one per pulse). false, or fill_tile_ground false: unmeasured there (before).
+  bool fill_tile_first = false;
   // Parts stacked in height (classify.md §25): seen from above a vertical face returns nothing,
   // so a semi-tractor's cab (3.6 m) and its deck (1.2 m), an earthmover's cab top and its body are
   // clusters that touch only in the top view (a step of more than 3 links). true: a cluster that
@@ -306,6 +311,8 @@ struct Features {
   std::optional<double> fill;            // density / ground_density (with bridge_fill: off the shadows)
   // fill_tile_ground (§31): ground_density and fill are the tile's, the crop having left them unmeasured.
   bool fill_from_tile = false;
+  // fill_tile_first (§46): that reference was the tile's first-return density.
+  bool fill_from_first = false;
   // The area (m²) of the rectangle in the strips --bridge crossed, by their empty share (§27), and
   // with bridge_fill leaving it out, the fill over the whole rectangle (as without it).
   double shadow_area = 0;
@@ -445,6 +452,8 @@ struct Inputs {
   // The tile's open-ground density (detect's index density.ground, points/m²), for
   // Params::fill_tile_ground; none without --index.
   std::optional<double> tile_ground_density = std::nullopt;
+  // tile_ground_density is the tile's first-return density (Params::fill_tile_first).
+  bool tile_ground_from_first = false;
 };
 
 using Outputs = Answer;

@@ -60,6 +60,8 @@ std::vector<ClassFeature> features_of(const Features& f) {
   if (f.fill_rectangle) out.push_back(optional("fill_rectangle", f.fill_rectangle));
   // Only when fill is the tile's (--fill-tile-ground, classify.md §31): 1.
   if (f.fill_from_tile) out.push_back(count("fill_from_tile", 1));
+  // Only when that reference was the tile's first returns (--fill-tile-first, classify.md §46): 1.
+  if (f.fill_from_first) out.push_back(count("fill_from_first", 1));
   // Only when the crop holds several flight passes (classify.md §14): a crop without them gets
   // the document it got before.
   if (f.below_share_any) out.push_back(optional("below_share_any", f.below_share_any));

@@ -621,6 +621,7 @@ Features measure(const Candidate& c, const Params& fp) {
     // classify.md §31: no open ground around it in the crop (closed canopy): the tile's.
     f.ground_density = *c.tile_ground_density;
     f.fill_from_tile = true;
+    f.fill_from_first = c.tile_ground_from_first;
   }
   if (f.ground_density) {
     f.fill = solid / *f.ground_density;

@@ -45,6 +45,8 @@ struct Candidate {
   // The tile's open-ground density (points/m², detect's index density.ground), the reference of
   // `fill` where the crop has too little open ground (Params::fill_tile_ground); none: unknown.
   std::optional<double> tile_ground_density;
+  // It is the tile's first-return density (density.first; Params::fill_tile_first).
+  bool tile_ground_from_first = false;
 };
 constexpr double kPassGap = 10;  // s
 

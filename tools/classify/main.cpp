@@ -67,6 +67,10 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
       "where the crop has too little open ground to measure fill (closed canopy), measure it against "
       "the tile's open-ground density (--index's density.ground; none there, or false: fill unmeasured, no "
       "refusal)");
+  tool.add("--fill-tile-first", &p.fill_tile_first,
+           "with --fill-tile-ground, where the tile has no open-ground density either (closed canopy), "
+           "measure fill against its first-return density (--index's density.first: one per pulse; false: "
+           "fill unmeasured there)");
   tool.add("--bridge-min-share", &p.bridge_min_share,
            "--bridge joins only a cluster holding at least this share of the object's points (0: any)");
   tool.add("--max-echo-widening", &p.max_echo_widening,
@@ -291,6 +295,10 @@ int main(int argc, char** argv) {
           canopy::documents::read_candidates(cm::read_file(cli.index), cli.index);
       to_tile = cl::index_transform(index, cli.index, id);
       if (p.fill_tile_ground) in.tile_ground_density = index.density_ground();
+      if (p.fill_tile_ground && p.fill_tile_first && !in.tile_ground_density) {
+        in.tile_ground_density = index.density_first();
+        in.tile_ground_from_first = in.tile_ground_density.has_value();
+      }
     } else if (p.fill_tile_ground) {
       throw cm::UsageError("--fill-tile-ground needs --index (the tile's open-ground density)");
     }

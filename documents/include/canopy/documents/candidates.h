@@ -89,6 +89,9 @@ struct Candidates {
   // density.ground (points per open-ground 1 m cell) when it is a number > 0; none when null or
   // absent (detect saw too little open ground in the tile) or 0.
   std::optional<double> density_ground() const;
+  // density.first (first returns per occupied 1 m cell: about one per pulse) when it is a number
+  // > 0; none when null (no return numbers in the tile) or absent or 0.
+  std::optional<double> density_first() const;
   // The candidate of that id, nullptr when none.
   const Candidate* find(const std::string& id) const;
 };
