@@ -107,10 +107,10 @@ def crop_share(tile_dir, cand, cls, inst):
     w_all = [across(j) for j in veh]; w_in = [across(j) for j in veh if j in hit]
     z_all = [s[j]['z'] for j in veh]; z_in = [s[j]['z'] for j in veh if j in hit]
     # where the missing points went: another candidate's crop?
-    miss = set(j for j in veh if j not in hit); other = {}
+    lost = set(j for j in veh if j not in hit); other = {}
     cdir = os.path.join(tile_dir, 'noise-0', 'cands')
     for fn in sorted(os.listdir(cdir)):
-        if not fn.endswith('.pcd') or fn == cand + '.pcd' or not miss: continue
+        if not fn.endswith('.pcd') or fn == cand + '.pcd' or not lost: continue
         oc = os.path.join(cdir, fn[:-4], 'class.json')
         if not os.path.exists(oc): continue
         Mo = json.load(open(oc))['transform']['matrix']
@@ -121,15 +121,15 @@ def crop_share(tile_dir, cand, cls, inst):
             for gx in (-1, 0, 1):
                 for gy in (-1, 0, 1):
                     for j in grid.get((round(x * 20) + gx, round(y * 20) + gy), []):
-                        if j in miss and (s[j]['x']-x)**2 + (s[j]['y']-y)**2 + (s[j]['z']-z)**2 < 1e-4:
-                            other[fn[:-4]] = other.get(fn[:-4], 0) + 1
+                        if j in lost and (s[j]['x']-x)**2 + (s[j]['y']-y)**2 + (s[j]['z']-z)**2 < 1e-4:
+                            other.setdefault(fn[:-4], set()).add(j)
     rng = lambda v: (max(v) - min(v)) if v else 0
     # the missing points with foliage (label 2) above them within 1 m in plan: hidden under a crown
     fol = [q for q in s if q['label'] == 2]
-    under = sum(1 for j in miss if any(f['z'] > s[j]['z'] and (f['x'] - s[j]['x'])**2 + (f['y'] - s[j]['y'])**2 < 1.0 for f in fol))
+    under = sum(1 for j in lost if any(f['z'] > s[j]['z'] and (f['x'] - s[j]['x'])**2 + (f['y'] - s[j]['y'])**2 < 1.0 for f in fol))
     return 'in crop %d/%d (missing under foliage %d); scan L %.2f W %.2f Hmax %.2f; crop-held L %.2f W %.2f Hmax %.2f; missing in %s' % (
         len(a_in), len(veh), under, rng(a_all), rng(w_all), max(z_all) if z_all else 0, rng(a_in), rng(w_in), max(z_in) if z_in else 0,
-        ','.join('%s:%d' % kv for kv in other.items()) or '-')
+        ','.join('%s:%d' % (k, len(v)) for k, v in other.items()) or '-')
 
 out_dir, res_dir = sys.argv[1], sys.argv[2]
 tiles = [l.split() for l in open(os.path.join(out_dir, 'tiles.txt'))]
