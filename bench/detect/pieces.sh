@@ -12,6 +12,8 @@
 # (its density is its sensor keys: the level names the directory only) and detect gets the
 # trajectory rangetrace wrote beside the scan (--trajectory), as the ladder's runs do.
 # Seeds 1-8, 21-23 and 31-34 are experiments' seeds: do not develop on them.
+# Each run runs detect again (it is timed) and replaces cands-TAG/ whole: what bench/detect/
+# classlevel.sh wrote inside it (class.json) goes with it; use a new TAG to keep both.
 set -euo pipefail
 build=${1:-build} work=${2:-/tmp/detect-pieces} levels=${3:-25 100} seeds=${4:-101 102} covers=${5:-light}
 src=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
