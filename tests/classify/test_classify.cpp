@@ -2105,15 +2105,16 @@ TEST_CASE("classify: the binary writes a class-level verdict; same input, same b
   CHECK(w["pose_tile"]["heading_deg"].get<double>() == Approx(ht).margin(1e-9));
 
   // share/params/classify.ini holds the defaults but for the gap bridge (classify.md §27: on
-  // there, off in Params) and fill-tile-ground (§31): the same answer as the defaults with those
-  // four options.
+  // there, off in Params), fill-tile-ground (§31) and fill-tile-first (§46): the same answer as the
+  // defaults with those five options.
   REQUIRE(test::sh(kBin + args + " --config " + std::string(CANOPY_SOURCE_DIR) +
                        "/share/params/classify.ini -o " + (dir / "ini.json").string(),
                    dir / "err", &err) == 0);
-  REQUIRE(test::sh(kBin + args +
-                       " --bridge 1m --bridge-fill true --bridge-min-share 0.1 --fill-tile-ground true -o " +
-                       (dir / "bridge.json").string(),
-                   dir / "err", &err) == 0);
+  REQUIRE(
+      test::sh(
+          kBin + args + " --bridge 1m --bridge-fill true --bridge-min-share 0.1 --fill-tile-ground true --fill-tile-first true -o " +
+              (dir / "bridge.json").string(),
+          dir / "err", &err) == 0);
   Json with_ini = Json::parse(slurp(dir / "ini.json")), bridged = Json::parse(slurp(dir / "bridge.json"));
   with_ini.erase("provenance");
   bridged.erase("provenance");
@@ -3169,6 +3170,23 @@ TEST_CASE(
   // No return numbers in the tile (density.first null): unmeasured, as before.
   const Json none = answer("none.json", " --fill-tile-ground true --fill-tile-first true", "n.json");
   CHECK(none["features"]["fill"].is_null());
+  // A crop with open ground around the object keeps its own reference whatever the tile has: a
+  // car sampled with its ground, the tile's ground null and first returns 5 per m² (the crop's 20).
+  const Sampled car = sample(car_top, 2.3, 0.9, 0, density, 172);
+  formats::write_pcd(car.cloud, (dir / "c0002.pcd").string());
+  Json own = index(Json{{"all", 30.0}, {"ground", nullptr}, {"first", 5.0}});
+  own["candidates"][0]["id"] = "c0002";
+  std::ofstream(dir / "own.json") << own.dump();
+  REQUIRE(test::sh(kBin + " -i " + (dir / "c0002.pcd").string() + " --index " + (dir / "own.json").string() +
+                       " --fill-tile-ground true --fill-tile-first true -o " +
+                       (dir / "own-answer.json").string(),
+                   dir / "err", &err) == 0);
+  const Json crop = Json::parse(slurp(dir / "own-answer.json"));
+  REQUIRE(crop["features"]["fill"].is_number());
+  CHECK(crop["features"]["ground_density"].get<double>() == Approx(density).margin(0.2 * density));
+  CHECK_FALSE(crop["features"].contains("fill_from_tile"));
+  CHECK_FALSE(crop["features"].contains("fill_from_first"));
+  CHECK(crop["group"] == "car");
   // density.first negative: an error naming the index, no output.
   CHECK(test::sh(kBin + " -i " + (dir / "c0001.pcd").string() + " --index " + (dir / "bad.json").string() +
                      " --fill-tile-ground true --fill-tile-first true -o " + (dir / "b.json").string(),

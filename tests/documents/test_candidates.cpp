@@ -255,15 +255,17 @@ TEST_CASE("candidates: refusals name the file and the problem") {
   CHECK(refusal(open).empty());
   CHECK(documents::read_candidates(open.dump(), "index.json").density_ground() == 8.5);
   // density.first likewise (classify --fill-tile-first): a number >= 0 or null; 0 or null is none.
-  Json first = good, text_first = good, null_first = good;
+  Json first = good, text_first = good, null_first = good, zero_first = good;
   first["density"]["first"] = -0.5;
   text_first["density"]["first"] = "9";
   null_first["density"]["first"] = nullptr;
+  zero_first["density"]["first"] = 0.0;
   open["density"]["first"] = 9.25;
   CHECK_THAT(refusal(first), Catch::Contains("density.first must be >= 0 or null"));
   CHECK_THAT(refusal(text_first), Catch::Contains("density.first must be a finite number"));
   CHECK(refusal(null_first).empty());
   CHECK_FALSE(documents::read_candidates(null_first.dump(), "index.json").density_first());
+  CHECK_FALSE(documents::read_candidates(zero_first.dump(), "index.json").density_first());
   CHECK(documents::read_candidates(open.dump(), "index.json").density_first() == 9.25);
   CHECK_THAT(refusal(other), Catch::Contains("canopy.detections"));
   CHECK_THAT(refusal(version), Catch::Contains("version 3"));

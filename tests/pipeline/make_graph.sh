@@ -337,6 +337,9 @@ for args in "REAL_CLASSIFY_ABLATION_2=" "REAL_CLASSIFY_ABLATIONS=$bridge0"; do
     fail "$args: make -n all does not run classify's first ablation"
   if echo "$plan" | grep -q "real-ablation-2"; then fail "$args: make -n all still runs the second"; fi
 done
+plan=$("${mk[@]}" REAL_TILES=1 -n all REAL_CLASSIFY_ABLATION_2= 2>&1)
+echo "$plan" | grep -q "OUT=$tmp/out/real-ablation-3/forest_lareunion TILE_CLASSIFY=$first0 " ||
+  fail "REAL_CLASSIFY_ABLATION_2=: make -n all does not run the third ablation"
 # The manifest follows the experiment's shape: with the real tiles in it, the report (made
 # without them) is stale for `make -q all` (REAL_TILES=0). Back to REAL_TILES=0's manifest, with
 # its old time: the tree is complete again for the checks below. (Left with the real tiles, the

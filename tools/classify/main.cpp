@@ -65,8 +65,8 @@ void bind(cm::Tool& tool, cl::Params& p, Cli& cli) {
   tool.add(
       "--fill-tile-ground", &p.fill_tile_ground,
       "where the crop has too little open ground to measure fill (closed canopy), measure it against "
-      "the tile's open-ground density (--index's density.ground; none there, or false: fill unmeasured, no "
-      "refusal)");
+      "the tile's open-ground density (--index's density.ground; none there (unless --fill-tile-first), or "
+      "false: fill unmeasured, no refusal)");
   tool.add("--fill-tile-first", &p.fill_tile_first,
            "with --fill-tile-ground, where the tile has no open-ground density either (closed canopy), "
            "measure fill against its first-return density (--index's density.first: one per pulse; false: "
