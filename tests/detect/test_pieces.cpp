@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 #include <utility>
@@ -410,6 +411,110 @@ TEST_CASE("seen straight down, a car against something that reaches the band's t
       REQUIRE(car.size() == 1);
       CHECK(car[0]->length == Approx(4.5).margin(0.3));
       CHECK(car[0]->height == Approx(1.5).margin(0.1));
+    }
+  }
+}
+
+namespace {
+
+// A tile of the points (x, y, height above the flat ground at z = 50).
+formats::PointCloud cloud_of(const std::vector<std::array<double, 3>>& pts) {
+  formats::PointCloud c;
+  auto& x = c.add("x", formats::kFloat64);
+  auto& y = c.add("y", formats::kFloat64);
+  auto& z = c.add("z", formats::kFloat64);
+  c.resize(pts.size());
+  for (std::size_t k = 0; k < pts.size(); ++k) {
+    x[k] = pts[k][0];
+    y[k] = pts[k][1];
+    z[k] = 50 + pts[k][2];
+  }
+  return c;
+}
+
+// A 4.6 x 1.8 m car, 1.5 m high, along x from -2.3 to 2.3, whose end x > 0.8 lies under a crown
+// (8 m over x in [0.8, 5], y in [-2, 2]): from above the sensor sees the car's open part and,
+// through the crown, only a few returns of its end (10 on its last 0.6 m, 0.9 m from the rest,
+// a gap no return reached) and of the ground beyond it (x > 2.8). `ground_in_gap` puts returns
+// of the ground in that gap instead (a separate low body then, not the car's hidden part);
+// `crown` false leaves the crown out (the end open to the sensor, yet unsampled).
+formats::PointCloud car_under_crown(double density, unsigned seed, bool ground_in_gap, bool crown) {
+  // The open scene: ground everywhere, the car's open part; under the crown nothing (added below).
+  formats::PointCloud open = from_above({{-2.3, 0.8, -0.9, 0.9, 1.5}}, -12, 12, -10, 10, density, seed);
+  std::vector<std::array<double, 3>> keep;
+  const auto& ox = open.col("x");
+  const auto& oy = open.col("y");
+  const auto& oz = open.col("z");
+  std::mt19937 rng(seed + 1000);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (std::size_t i = 0; i < open.size(); ++i) {
+    const double px = ox[i], py = oy[i];
+    const bool under = px > 0.8 && px < 5 && std::abs(py) < 2;
+    if (under) {
+      if (crown) keep.push_back({px, py, 8.0 + 0.5 * unit(rng)});  // the crown's top
+      // The ground under the crown, seen through it where no car is (a fifth of it).
+      const bool car = px < 2.3 && std::abs(py) < 0.9;
+      const bool gap = px > 0.8 && px < 1.7 && std::abs(py) < 0.9;
+      if (!car && unit(rng) < 0.2) keep.push_back({px, py, 0.0});
+      if (gap && ground_in_gap && unit(rng) < 0.5) keep.push_back({px, py, 0.0});
+    } else {
+      keep.push_back({px, py, oz[i] - 50});
+    }
+  }
+  // The car's end through the crown: 10 returns on its roof, x in [1.7, 2.3].
+  for (int k = 0; k < 10; ++k) keep.push_back({1.7 + 0.6 * unit(rng), -0.8 + 1.6 * unit(rng), 1.5});
+  return cloud_of(keep);
+}
+
+}  // namespace
+
+TEST_CASE("a car's end under a crown, a few returns apart from the rest, is merged with --merge-fragments") {
+  for (const unsigned seed : {101u, 102u, 103u}) {
+    INFO("seed " << seed);
+    const formats::PointCloud tile = car_under_crown(25, seed, false, true);
+    // Off (the default): the end's 10 returns are a cluster too small alone, dropped; the car is
+    // its open part, 3.1 m.
+    const detect::Result before = detect::run(detect::Params{}, {&tile, "car"});
+    auto car = near(before, -0.75, 0.0, 0.5);
+    REQUIRE(car.size() == 1);
+    CHECK(car[0]->length == Approx(3.1).margin(0.3));
+    CHECK(before.stats.fragments == 0);
+    // On, within --merge-gap only: the end is 0.9 m away, farther than half a voxel: not merged.
+    detect::Params near_only;
+    near_only.merge_fragments = true;
+    const detect::Result within = detect::run(near_only, {&tile, "car"});
+    car = near(within, -0.75, 0.0, 0.5);
+    REQUIRE(car.size() == 1);
+    CHECK(car[0]->length == Approx(3.1).margin(0.3));
+    // On, with a hidden gap up to 2 m: the car is whole, 4.6 m.
+    detect::Params p = near_only;
+    p.merge_fragments_gap = 2.0;
+    const detect::Result after = detect::run(p, {&tile, "car"});
+    car = near(after, 0.0, 0.0, 0.5);
+    REQUIRE(car.size() == 1);
+    CHECK(car[0]->length == Approx(4.6).margin(0.3));
+    CHECK(after.stats.fragments == 1);
+    // Beside the car, not over it: also with --merge-fragments-beside.
+    p.merge_fragments_beside = true;
+    CHECK(detect::run(p, {&tile, "car"}).stats.fragments == 1);
+  }
+}
+
+TEST_CASE("a few returns beyond a car with the ground seen between, or under no crown, stay apart") {
+  detect::Params p;
+  p.merge_fragments = true;
+  p.merge_fragments_gap = 2.0;
+  for (const unsigned seed : {101u, 102u, 103u}) {
+    INFO("seed " << seed);
+    for (const bool ground_in_gap : {true, false}) {
+      const bool crown = ground_in_gap;  // the ground seen in the gap; or no crown over it
+      INFO("ground in the gap " << ground_in_gap << ", crown " << crown);
+      const formats::PointCloud tile = car_under_crown(25, seed, ground_in_gap, crown);
+      const detect::Result r = detect::run(p, {&tile, "car"});
+      CHECK(r.stats.fragments == 0);
+      const auto car = near(r, -0.75, 0.0, 0.5);
+      REQUIRE(car.size() == 1);
+      CHECK(car[0]->length == Approx(3.1).margin(0.3));
     }
   }
 }

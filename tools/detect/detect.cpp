@@ -60,6 +60,8 @@ void validate(const Params& p) {
   need(p.merge_gap >= 0 && p.merge_gap <= 5, "--merge-gap must be in [0, 5] voxels");
   need(p.side_gap >= 0 && p.side_gap <= 5, "--side-gap must be in [0, 5] voxels (0: off)");
   need(p.end_gap >= 0 && p.end_gap <= 5, "--end-gap must be in [0, 5] voxels (0: off)");
+  need(p.merge_fragments_gap >= 0 && p.merge_fragments_gap <= 10,
+       "--merge-fragments-gap must be in [0, 10] m (0: within --merge-gap only)");
   need(p.min_split_share >= 0 && p.min_split_share <= 1, "--min-split-share must be in [0, 1]");
   need(p.min_ground_share > 0 && p.min_ground_share <= 1, "--min-ground-share must be in (0, 1]");
 }
@@ -107,6 +109,7 @@ Outputs run(const Params& given, const Inputs& inputs) {
   r.stats.trims = found.trims;
   r.stats.merges = found.merges;
   r.stats.stacked = found.stacked;
+  r.stats.fragments = found.fragments;
   r.stats.rejected_small = found.rejected_small;
   r.stats.rejected_large = found.rejected_large;
   r.stats.rejected_canopy = found.rejected_canopy;

@@ -139,6 +139,22 @@ struct Params {
   // different heights whose vertical faces the sensor did not see (a cab beside a deck seen
   // from above; detect.md §16); false = the rule before.
   bool join_stacked = true;
+  // A cluster of the clustering too small to be an object (fewer than min_points, or shorter,
+  // narrower or lower than the vehicle ranges) that lies under a crown (most of its points have a
+  // tile point over them, higher than the object's top by a clustering voxel) is part of the
+  // accepted object it touches in the top view (within merge_gap voxels) when their union stays in
+  // line (no wider than the object + 0.3 m) and fits the vehicle ranges: the part of a vehicle
+  // hidden under a crown returns few, sparse points, which the voxel leaves unconnected to the
+  // rest (detect.md §24); false = such fragments dropped, the rule before and the default.
+  bool merge_fragments = false;
+  // With merge_fragments: a fragment farther than merge_gap voxels from the object, but at most
+  // this far (m), is merged when the gap between them is hidden: a crown over all of it and no
+  // ground seen in it (between two parts of one vehicle its body hides the ground); 0 = only
+  // fragments within merge_gap (detect.md §24).
+  double merge_fragments_gap = 0.0;
+  // With merge_fragments: only a fragment beside the object (at most a quarter of its top-view
+  // cells also hold the object's points, join_stacked's test), not over it (detect.md §24).
+  bool merge_fragments_beside = false;
   // Candidates.
   double margin = 0.5;  // crop margin around the footprint and above the height (m)
   // Each crop gets the field `object` (uint8, kObjectField): 1 for the points of the candidate's
@@ -226,7 +242,7 @@ struct Candidate {
 struct Stats {
   std::size_t points = 0, ground_cells = 0, filled_cells = 0, cells = 0;
   std::size_t ground_points = 0, band_points = 0, clusters = 0, splits = 0, row_splits = 0, trims = 0,
-              merges = 0, stacked = 0;
+              merges = 0, stacked = 0, fragments = 0;
   std::size_t rejected_small = 0, rejected_large = 0, rejected_canopy = 0, rejected_shape = 0;
   double seconds_ground = 0, seconds_objects = 0, seconds_candidates = 0;
 };

@@ -112,6 +112,20 @@ void bind(common::Tool& tool, detect::Params& p, Cli& cli) {
            "split (a vehicle's parts at different heights whose vertical faces the sensor did not "
            "see: a cab beside a deck from above); false = the rule before, "
            "docs/decisions/detect.md §16");
+  tool.add("--merge-fragments", &p.merge_fragments,
+           "true or false: a cluster too small to be an object that lies under a crown (a tile point "
+           "over most of its points, a voxel above the object's top) is merged into the accepted "
+           "object it touches in the top view (--merge-gap) when the union stays in line and fits "
+           "one vehicle (the sparse returns of a vehicle's part hidden under a crown); false = such "
+           "clusters dropped, the rule before and the default, docs/decisions/detect.md §24");
+  tool.add_length(
+      "--merge-fragments-gap", &p.merge_fragments_gap,
+      "with --merge-fragments: a fragment farther from the object than --merge-gap, but at most "
+      "this far, is merged when the gap is hidden (a crown over all of it, no ground seen in it); "
+      "0 = only within --merge-gap, docs/decisions/detect.md §24");
+  tool.add("--merge-fragments-beside", &p.merge_fragments_beside,
+           "true or false: with --merge-fragments, only a fragment beside the object (at most a "
+           "quarter of its top-view cells shared with it), not over it, docs/decisions/detect.md §24");
   tool.add("--object-field", &p.object_field,
            "true or false: every candidate crop gets the field `object` (uint8), 1 for the points of "
            "the candidate's own object (after the row split, trim and merges), 2 for points detect "
@@ -176,18 +190,21 @@ void warn_las_units(const std::string& in, const std::string& name) {
 // The detect phase's INFO line.
 std::string summary(const detect::Result& r) {
   const detect::Stats& s = r.stats;
-  char buf[600];
+  // Clusters merged by --merge-fragments (never with it off).
+  const std::string frag = s.fragments > 0 ? " (" + std::to_string(s.fragments) + " fragments)" : "";
+  char buf[700];
   std::snprintf(
       buf, sizeof buf,
       "density %.1f points/m² (DTM cell %.2f m, voxel %.2f m, min planarity %.2f, rows %s); ground %zu of "
       "%zu cells "
       "(%.2f s); %zu "
-      "object points in %zu clusters (%zu stacked joined), %zu splits (%zu rows, %zu trims), %zu merges, "
+      "object points in %zu clusters (%zu stacked joined), %zu splits (%zu rows, %zu trims), %zu merges%s, "
       "rejected %zu small %zu large %zu canopy bottoms %zu not planar (%.2f s); %zu candidates (%.2f s)",
       r.density.rule, r.density.cell, r.density.voxel, r.density.min_planarity,
       r.density.split_rows ? "split" : "kept", s.ground_cells, s.cells, s.seconds_ground, s.band_points,
-      s.clusters, s.stacked, s.splits, s.row_splits, s.trims, s.merges, s.rejected_small, s.rejected_large,
-      s.rejected_canopy, s.rejected_shape, s.seconds_objects, r.candidates.size(), s.seconds_candidates);
+      s.clusters, s.stacked, s.splits, s.row_splits, s.trims, s.merges, frag.c_str(), s.rejected_small,
+      s.rejected_large, s.rejected_canopy, s.rejected_shape, s.seconds_objects, r.candidates.size(),
+      s.seconds_candidates);
   return buf;
 }
 

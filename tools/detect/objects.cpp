@@ -11,6 +11,7 @@
 #include "canopy/common/error.h"
 #include "canopy/formats/csv_table.h"
 #include "detect/clustering.h"
+#include "detect/fragments.h"
 #include "detect/rows.h"
 
 namespace canopy::detect {
@@ -44,6 +45,8 @@ struct Context {
   std::size_t origin = 0;             // the cluster being examined (find_objects' order)
   std::vector<std::int32_t> lineage;  // the examinations under way, outermost first
   std::int32_t examinations = 0;      // examinations numbered so far
+  // With merge_fragments: the clusters of the clustering rejected as too small (fragments.h).
+  std::vector<Fragment> fragments;
 };
 
 std::uint64_t column_key(double x, double y, double v) {
@@ -297,8 +300,14 @@ void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
       if (on) s.pop_back();
     }
   } pop{c.lineage, numbered};
+  // A cluster of the clustering too small alone: kept aside for merge_fragments.
+  auto fragment = [&] {
+    if (p.merge_fragments && depth == 0 && !pts.empty())
+      c.fragments.push_back({pts, numbered ? c.lineage.back() : -1});
+  };
   if (pts.size() < p.min_points) {
     ++c.out.rejected_small;
+    fragment();
     return;
   }
   Object o;
@@ -306,6 +315,7 @@ void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
   for (std::uint32_t q : pts) o.height = std::max(o.height, double(c.h[q]));
   if (o.fp.length < p.min_length || o.fp.width < p.min_width || o.height < p.min_height) {
     ++c.out.rejected_small;
+    fragment();
     return;
   }
   if (continues_upward(c, pts)) {
@@ -635,7 +645,7 @@ Objects find_objects(const LocalFrame& l, const std::vector<float>& height, cons
   if (params.object_field) out.examined.assign(n, -1);
   std::vector<double> hz(n);  // clustering in (x, y, height): the band is a flat slab
   for (std::size_t i = 0; i < n; ++i) hz[i] = height[i];
-  Context ctx{params, l.x, l.y, hz, height, out, {}, {}, 0, 0, 0, {}, 0};
+  Context ctx{params, l.x, l.y, hz, height, out, {}, {}, 0, 0, 0, {}, 0, {}};
   for (std::size_t i = 0; i < n; ++i) {
     if (height[i] > params.max_height && height[i] <= params.max_height + 2 * params.voxel) {
       ctx.above.emplace(column_key(l.x[i], l.y[i], params.voxel), 1);
@@ -655,6 +665,7 @@ Objects find_objects(const LocalFrame& l, const std::vector<float>& height, cons
       examine(ctx, std::move(clusters[k]), 0);
     }
     merge_pieces(ctx);
+    out.fragments = merge_fragments(l.x, l.y, height, params, ctx.fragments, out.accepted);
   } catch (const VoxelOverflow& e) {
     throw DataError(name, "the points between --min-object-height and --max-height span " +
                               format_number("%.6g", e.extent) + " m, more than " +

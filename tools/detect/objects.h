@@ -47,6 +47,7 @@ struct TrimRest {
 struct Objects {
   std::vector<Object> accepted;
   std::size_t band_points = 0, clusters = 0, splits = 0, row_splits = 0, trims = 0, merges = 0, stacked = 0;
+  std::size_t fragments = 0;  // clusters too small alone merged into an object (merge_fragments)
   std::size_t rejected_small = 0, rejected_large = 0, rejected_canopy = 0;
   // Only with Params::object_field (else empty, and no object's lineage is kept): per tile point
   // the last examination (every cluster, piece or part examined gets a number, in order) whose

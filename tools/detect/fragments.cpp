@@ -1,0 +1,203 @@
+#include "detect/fragments.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+#include <utility>
+
+#include <Eigen/Core>
+
+#include "detect/footprint.h"
+
+namespace canopy::detect {
+namespace {
+
+using Eigen::Vector2d;
+
+// As objects.cpp's: a merge makes a union at most this much wider than the object (m); a fragment
+// beside an object shares at most this share of its top-view cells with it (join_stacked's test).
+constexpr double kMergeWiden = 0.3;
+constexpr double kStackOverlay = 0.25;
+
+struct Tile {
+  const std::vector<double>& x;
+  const std::vector<double>& y;
+  const std::vector<float>& h;  // height above the DTM
+};
+
+std::uint64_t column_key(double x, double y, double v) {
+  const auto i = std::int64_t(std::floor(x / v)) + (std::int64_t(1) << 30);
+  const auto j = std::int64_t(std::floor(y / v)) + (std::int64_t(1) << 30);
+  return (std::uint64_t(i) << 32) | std::uint64_t(j);
+}
+
+Footprint footprint_of(const Tile& c, const std::vector<std::uint32_t>& pts) {
+  std::vector<Vector2d> xy(pts.size());
+  for (std::size_t n = 0; n < pts.size(); ++n) xy[n] = Vector2d(c.x[pts[n]], c.y[pts[n]]);
+  return min_area_rectangle(xy);
+}
+
+// True when a point of `a` lies within `reach` of one of `b` horizontally.
+bool touch_in_plan(const Tile& c, const std::vector<std::uint32_t>& a, const std::vector<std::uint32_t>& b,
+                   double reach) {
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells;
+  for (std::uint32_t q : b) cells[column_key(c.x[q], c.y[q], reach)].push_back(q);
+  for (std::uint32_t q : a)
+    for (int di = -1; di <= 1; ++di)
+      for (int dj = -1; dj <= 1; ++dj) {
+        const auto it = cells.find(column_key(c.x[q] + di * reach, c.y[q] + dj * reach, reach));
+        if (it == cells.end()) continue;
+        for (std::uint32_t r : it->second)
+          if (std::hypot(c.x[q] - c.x[r], c.y[q] - c.y[r]) <= reach) return true;
+      }
+  return false;
+}
+
+// Cells of `cell` in the top view holding points of `pts`.
+std::unordered_map<std::uint64_t, char> plan_cells(const Tile& c, const std::vector<std::uint32_t>& pts,
+                                                   double cell) {
+  std::unordered_map<std::uint64_t, char> cells;
+  for (std::uint32_t q : pts) cells.emplace(column_key(c.x[q], c.y[q], cell), 1);
+  return cells;
+}
+
+}  // namespace
+
+// Fragments under a crown (detect.md §24): the part of a vehicle that a crown hides returns few
+// points, sparse and scattered by the gaps in the foliage, and the clustering leaves them apart
+// from the rest of it in clusters too small to be objects (an end of a sedan, the cab of a
+// semi-tractor or of an earthmover in 1-30 points at 25-50 points/m²). A fragment is merged into
+// an accepted object when at least half of its points have a tile point over them (in their voxel
+// column or the eight around it) higher than the union's top by a voxel (a crown, not the
+// vehicle's own higher part), it comes within merge_gap voxels of the object in the top view (or,
+// with merge_fragments_gap, at most that far when the gap between them is hidden: a crown over
+// all of it and no ground seen in it), the union stays in line (no wider than the object +
+// kMergeWiden) and fits the vehicle ranges, and (with merge_fragments_beside) it lies beside the
+// object, not over it. Repeated until none merges (a fragment that reaches the object only through another
+// one merges after it); the first object found takes it.
+std::size_t merge_fragments(const std::vector<double>& x, const std::vector<double>& y,
+                            const std::vector<float>& height, const Params& p,
+                            const std::vector<Fragment>& fragments, std::vector<Object>& objs) {
+  const double reach = std::max(p.merge_gap, 0.0) * p.voxel, v = p.voxel;
+  if (!p.merge_fragments || reach <= 0 || fragments.empty()) return 0;
+  const Tile c{x, y, height};
+  // The highest tile point of each voxel column (above the DTM, whatever its height) and, for the
+  // hidden gap, the points under min_object_height (the ground) by voxel column.
+  std::unordered_map<std::uint64_t, float> column_top;
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> ground;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const std::uint64_t key = column_key(x[i], y[i], v);
+    float& top = column_top.emplace(key, height[i]).first->second;
+    top = std::max(top, height[i]);
+    if (p.merge_fragments_gap > 0 && height[i] < p.min_object_height) ground[key].push_back(std::uint32_t(i));
+  }
+  std::size_t count = 0;
+  auto covered = [&](const std::vector<std::uint32_t>& pts, double top) {
+    std::size_t under = 0;
+    for (std::uint32_t q : pts) {
+      bool hit = false;
+      for (int di = -1; di <= 1 && !hit; ++di)
+        for (int dj = -1; dj <= 1 && !hit; ++dj) {
+          const auto it = column_top.find(column_key(c.x[q] + di * v, c.y[q] + dj * v, v));
+          hit = it != column_top.end() && double(it->second) > top + v;
+        }
+      under += hit;
+    }
+    return under * 2 >= pts.size();
+  };
+  // True when the tile's highest point in the voxel columns around (x, y) is above `top` + a voxel.
+  auto crown_over = [&](double x, double y, double top) {
+    for (int di = -1; di <= 1; ++di)
+      for (int dj = -1; dj <= 1; ++dj) {
+        const auto it = column_top.find(column_key(x + di * v, y + dj * v, v));
+        if (it != column_top.end() && double(it->second) > top + v) return true;
+      }
+    return false;
+  };
+  // The closest pair in the top view (a fragment's point, the object's point) and their distance.
+  auto closest = [&](const std::vector<std::uint32_t>& a, const std::vector<std::uint32_t>& b) {
+    std::pair<std::uint32_t, std::uint32_t> best{0, 0};
+    double d = 1e300;
+    for (std::uint32_t q : a)
+      for (std::uint32_t r : b) {
+        const double e = std::hypot(c.x[q] - c.x[r], c.y[q] - c.y[r]);
+        if (e < d) {
+          d = e;
+          best = {q, r};
+        }
+      }
+    return std::make_pair(best, d);
+  };
+  // A gap no one saw into: every step of a voxel/4 along the segment from q to r has a crown
+  // over it, and no tile point under min_object_height (the ground) lies within half a voxel of it
+  // between its ends. Between two parts of one vehicle the body hides the ground; between a vehicle
+  // and a separate body the sensor sees it where no crown hides it.
+  auto hidden_gap = [&](std::uint32_t q, std::uint32_t r, double top) {
+    const Vector2d a(c.x[q], c.y[q]), b(c.x[r], c.y[r]);
+    const double len = (b - a).norm();
+    const int steps = std::max(1, int(std::ceil(len / (0.25 * v))));
+    for (int k = 0; k <= steps; ++k) {
+      const Vector2d m = a + (b - a) * (double(k) / steps);
+      if (!crown_over(m.x(), m.y(), top)) return false;
+      for (int di = -1; di <= 1; ++di)
+        for (int dj = -1; dj <= 1; ++dj) {
+          const auto it = ground.find(column_key(m.x() + di * v, m.y() + dj * v, v));
+          if (it == ground.end()) continue;
+          for (std::uint32_t g : it->second) {
+            const Vector2d gp(c.x[g], c.y[g]);
+            const double t = (gp - a).dot(b - a) / std::max(1e-12, len * len);
+            if (t > 0 && t < 1 && (gp - m).norm() < 0.5 * v) return false;
+          }
+        }
+    }
+    return true;
+  };
+  std::vector<char> used(fragments.size(), 0);
+  for (bool merged = true; merged;) {
+    merged = false;
+    for (std::size_t f = 0; f < fragments.size(); ++f) {
+      if (used[f]) continue;
+      const auto& frag = fragments[f].points;
+      const Footprint ff = footprint_of(c, frag);
+      double ftop = 0;
+      for (std::uint32_t q : frag) ftop = std::max(ftop, double(c.h[q]));
+      for (auto& o : objs) {
+        const double far = p.merge_fragments_gap > 0 ? std::max(reach, p.merge_fragments_gap) : reach;
+        if ((o.fp.centre - ff.centre).norm() >
+            0.5 * (std::hypot(o.fp.length, o.fp.width) + std::hypot(ff.length, ff.width)) + far)
+          continue;
+        const double top = std::max(o.height, ftop);
+        if (!touch_in_plan(c, frag, o.points, reach)) {
+          if (far <= reach) continue;
+          const auto [pair, d] = closest(frag, o.points);
+          if (d > far || !hidden_gap(pair.first, pair.second, top)) continue;
+        }
+        std::vector<std::uint32_t> both = o.points;
+        both.insert(both.end(), frag.begin(), frag.end());
+        const Footprint u = footprint_of(c, both);
+        if (u.length > p.max_length || u.width > p.max_width || u.width > o.fp.width + kMergeWiden) continue;
+        if (!covered(frag, top)) continue;
+        // Beside the object, not over it (join_stacked's test): a crown's low bottom over a
+        // container or a caravan shares their top-view cells; a hidden end or cab does not.
+        if (p.merge_fragments_beside) {
+          const auto own = plan_cells(c, frag, reach), other = plan_cells(c, o.points, reach);
+          std::size_t shared = 0;
+          for (const auto& kv : own) shared += other.count(kv.first);
+          if (double(shared) > kStackOverlay * double(own.size())) continue;
+        }
+        std::sort(both.begin(), both.end());
+        o.points = std::move(both);
+        o.fp = u;
+        o.height = std::max(o.height, ftop);
+        if (fragments[f].examination >= 0) o.lineage.push_back(fragments[f].examination);
+        used[f] = 1;
+        ++count;
+        merged = true;
+        break;
+      }
+    }
+  }
+  return count;
+}
+
+}  // namespace canopy::detect
