@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 
 #include "detect/footprint.h"
+#include "detect/plan.h"
 
 namespace canopy::detect {
 namespace {
@@ -25,40 +26,10 @@ struct Tile {
   const std::vector<float>& h;  // height above the DTM
 };
 
-std::uint64_t column_key(double x, double y, double v) {
-  const auto i = std::int64_t(std::floor(x / v)) + (std::int64_t(1) << 30);
-  const auto j = std::int64_t(std::floor(y / v)) + (std::int64_t(1) << 30);
-  return (std::uint64_t(i) << 32) | std::uint64_t(j);
-}
-
 Footprint footprint_of(const Tile& c, const std::vector<std::uint32_t>& pts) {
   std::vector<Vector2d> xy(pts.size());
   for (std::size_t n = 0; n < pts.size(); ++n) xy[n] = Vector2d(c.x[pts[n]], c.y[pts[n]]);
   return min_area_rectangle(xy);
-}
-
-// True when a point of `a` lies within `reach` of one of `b` horizontally.
-bool touch_in_plan(const Tile& c, const std::vector<std::uint32_t>& a, const std::vector<std::uint32_t>& b,
-                   double reach) {
-  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells;
-  for (std::uint32_t q : b) cells[column_key(c.x[q], c.y[q], reach)].push_back(q);
-  for (std::uint32_t q : a)
-    for (int di = -1; di <= 1; ++di)
-      for (int dj = -1; dj <= 1; ++dj) {
-        const auto it = cells.find(column_key(c.x[q] + di * reach, c.y[q] + dj * reach, reach));
-        if (it == cells.end()) continue;
-        for (std::uint32_t r : it->second)
-          if (std::hypot(c.x[q] - c.x[r], c.y[q] - c.y[r]) <= reach) return true;
-      }
-  return false;
-}
-
-// Cells of `cell` in the top view holding points of `pts`.
-std::unordered_map<std::uint64_t, char> plan_cells(const Tile& c, const std::vector<std::uint32_t>& pts,
-                                                   double cell) {
-  std::unordered_map<std::uint64_t, char> cells;
-  for (std::uint32_t q : pts) cells.emplace(column_key(c.x[q], c.y[q], cell), 1);
-  return cells;
 }
 
 }  // namespace
@@ -167,7 +138,7 @@ std::size_t merge_fragments(const std::vector<double>& x, const std::vector<doub
             0.5 * (std::hypot(o.fp.length, o.fp.width) + std::hypot(ff.length, ff.width)) + far)
           continue;
         const double top = std::max(o.height, ftop);
-        if (!touch_in_plan(c, frag, o.points, reach)) {
+        if (!touch_in_plan(c.x, c.y, frag, o.points, reach)) {
           if (far <= reach) continue;
           const auto [pair, d] = closest(frag, o.points);
           if (d > far || !hidden_gap(pair.first, pair.second, top)) continue;
@@ -180,7 +151,7 @@ std::size_t merge_fragments(const std::vector<double>& x, const std::vector<doub
         // Beside the object, not over it (join_stacked's test): a crown's low bottom over a
         // container or a caravan shares their top-view cells; a hidden end or cab does not.
         if (p.merge_fragments_beside) {
-          const auto own = plan_cells(c, frag, reach), other = plan_cells(c, o.points, reach);
+          const auto own = plan_cells(c.x, c.y, frag, reach), other = plan_cells(c.x, c.y, o.points, reach);
           std::size_t shared = 0;
           for (const auto& kv : own) shared += other.count(kv.first);
           if (double(shared) > kStackOverlay * double(own.size())) continue;

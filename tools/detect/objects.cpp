@@ -12,6 +12,7 @@
 #include "canopy/formats/csv_table.h"
 #include "detect/clustering.h"
 #include "detect/fragments.h"
+#include "detect/plan.h"
 #include "detect/rows.h"
 
 namespace canopy::detect {
@@ -48,12 +49,6 @@ struct Context {
   // With merge_fragments: the clusters of the clustering rejected as too small (fragments.h).
   std::vector<Fragment> fragments;
 };
-
-std::uint64_t column_key(double x, double y, double v) {
-  const auto i = std::int64_t(std::floor(x / v)) + (std::int64_t(1) << 30);
-  const auto j = std::int64_t(std::floor(y / v)) + (std::int64_t(1) << 30);
-  return (std::uint64_t(i) << 32) | std::uint64_t(j);
-}
 
 // True when most of the cluster's points in the band's top voxel layer have points right
 // above the band over them (within one voxel column): a crown or building cut by the band.
@@ -451,23 +446,6 @@ void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
   c.out.accepted.push_back(std::move(o));
 }
 
-// True when a point of `a` lies within `reach` of one of `b` horizontally (a hash of b's points
-// in cells of `reach`).
-bool touch_in_plan(const Context& c, const std::vector<std::uint32_t>& a, const std::vector<std::uint32_t>& b,
-                   double reach) {
-  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells;
-  for (std::uint32_t q : b) cells[column_key(c.x[q], c.y[q], reach)].push_back(q);
-  for (std::uint32_t q : a)
-    for (int di = -1; di <= 1; ++di)
-      for (int dj = -1; dj <= 1; ++dj) {
-        const auto it = cells.find(column_key(c.x[q] + di * reach, c.y[q] + dj * reach, reach));
-        if (it == cells.end()) continue;
-        for (std::uint32_t r : it->second)
-          if (std::hypot(c.x[q] - c.x[r], c.y[q] - c.y[r]) <= reach) return true;
-      }
-  return false;
-}
-
 // Pieces of one vehicle (detect.md §10): the cab and the low deck of a tractor unit are apart in
 // 3-D (its back wall returned little) but touch in the top view. Two accepted objects are merged
 // when, in the top view, their points come within `merge_gap` voxels of each other, they lie end
@@ -518,7 +496,7 @@ void merge_pieces(Context& c) {
         if (u.width > std::max(fa.width, fb.width) + kMergeWiden) continue;
         if (overlap_half(span_along(c, objs[a].points, u.axis), span_along(c, objs[b].points, u.axis)))
           continue;
-        if (!touch_in_plan(c, objs[a].points, objs[b].points, reach)) continue;
+        if (!touch_in_plan(c.x, c.y, objs[a].points, objs[b].points, reach)) continue;
         std::sort(both.begin(), both.end());
         objs[a].points = std::move(both);
         objs[a].fp = u;
@@ -533,14 +511,6 @@ void merge_pieces(Context& c) {
       }
     }
   }
-}
-
-// Cells of `cell` in the top view holding points of `pts`.
-std::unordered_map<std::uint64_t, char> plan_cells(const Context& c, const std::vector<std::uint32_t>& pts,
-                                                   double cell) {
-  std::unordered_map<std::uint64_t, char> cells;
-  for (std::uint32_t q : pts) cells.emplace(column_key(c.x[q], c.y[q], cell), 1);
-  return cells;
 }
 
 // Clusters stacked in height (detect.md §16): seen from above, a vehicle's vertical faces (a
@@ -603,7 +573,7 @@ void join_stacked(Context& c, std::vector<std::vector<std::uint32_t>>& clusters)
         if (fa.length > p.max_length || fa.width > p.max_width || fb.length > p.max_length ||
             fb.width > p.max_width)
           continue;
-        if (!touch_in_plan(c, clusters[a], clusters[b], reach)) continue;
+        if (!touch_in_plan(c.x, c.y, clusters[a], clusters[b], reach)) continue;
         std::vector<std::uint32_t> both = clusters[a];
         both.insert(both.end(), clusters[b].begin(), clusters[b].end());
         const Footprint u = footprint_of(c, both);
@@ -611,8 +581,8 @@ void join_stacked(Context& c, std::vector<std::vector<std::uint32_t>>& clusters)
         if (u.width > std::max(fa.width, fb.width) + kMergeWiden) continue;
         // Beside, not over: the smaller cluster's top-view cells that also hold the other's.
         const bool small_a = clusters[a].size() <= clusters[b].size();
-        const auto other = plan_cells(c, small_a ? clusters[b] : clusters[a], reach);
-        const auto own = plan_cells(c, small_a ? clusters[a] : clusters[b], reach);
+        const auto other = plan_cells(c.x, c.y, small_a ? clusters[b] : clusters[a], reach);
+        const auto own = plan_cells(c.x, c.y, small_a ? clusters[a] : clusters[b], reach);
         std::size_t shared = 0;
         for (const auto& kv : own) shared += other.count(kv.first);
         if (double(shared) > kStackOverlay * double(own.size())) continue;

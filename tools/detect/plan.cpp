@@ -1,0 +1,35 @@
+#include "detect/plan.h"
+
+#include <cmath>
+
+namespace canopy::detect {
+
+std::uint64_t column_key(double x, double y, double v) {
+  const auto i = std::int64_t(std::floor(x / v)) + (std::int64_t(1) << 30);
+  const auto j = std::int64_t(std::floor(y / v)) + (std::int64_t(1) << 30);
+  return (std::uint64_t(i) << 32) | std::uint64_t(j);
+}
+
+bool touch_in_plan(const std::vector<double>& x, const std::vector<double>& y,
+                   const std::vector<std::uint32_t>& a, const std::vector<std::uint32_t>& b, double reach) {
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells;
+  for (std::uint32_t q : b) cells[column_key(x[q], y[q], reach)].push_back(q);
+  for (std::uint32_t q : a)
+    for (int di = -1; di <= 1; ++di)
+      for (int dj = -1; dj <= 1; ++dj) {
+        const auto it = cells.find(column_key(x[q] + di * reach, y[q] + dj * reach, reach));
+        if (it == cells.end()) continue;
+        for (std::uint32_t r : it->second)
+          if (std::hypot(x[q] - x[r], y[q] - y[r]) <= reach) return true;
+      }
+  return false;
+}
+
+std::unordered_map<std::uint64_t, char> plan_cells(const std::vector<double>& x, const std::vector<double>& y,
+                                                   const std::vector<std::uint32_t>& pts, double cell) {
+  std::unordered_map<std::uint64_t, char> cells;
+  for (std::uint32_t q : pts) cells.emplace(column_key(x[q], y[q], cell), 1);
+  return cells;
+}
+
+}  // namespace canopy::detect

@@ -1,0 +1,22 @@
+#pragma once
+// Top-view helpers of detect's object steps (objects.cpp, fragments.cpp): points addressed by
+// index into the tile's x and y (local frame, m).
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+namespace canopy::detect {
+
+// The key of the top-view cell of side v holding (x, y).
+std::uint64_t column_key(double x, double y, double v);
+
+// True when a point of `a` lies within `reach` of one of `b` horizontally (a hash of b's points in
+// cells of `reach`).
+bool touch_in_plan(const std::vector<double>& x, const std::vector<double>& y,
+                   const std::vector<std::uint32_t>& a, const std::vector<std::uint32_t>& b, double reach);
+
+// Cells of `cell` in the top view holding points of `pts`.
+std::unordered_map<std::uint64_t, char> plan_cells(const std::vector<double>& x, const std::vector<double>& y,
+                                                   const std::vector<std::uint32_t>& pts, double cell);
+
+}  // namespace canopy::detect
