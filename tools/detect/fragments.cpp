@@ -15,22 +15,11 @@ namespace {
 
 using Eigen::Vector2d;
 
-// As objects.cpp's: a merge makes a union at most this much wider than the object (m); a fragment
-// beside an object shares at most this share of its top-view cells with it (join_stacked's test).
-constexpr double kMergeWiden = 0.3;
-constexpr double kStackOverlay = 0.25;
-
 struct Tile {
   const std::vector<double>& x;
   const std::vector<double>& y;
   const std::vector<float>& h;  // height above the DTM
 };
-
-Footprint footprint_of(const Tile& c, const std::vector<std::uint32_t>& pts) {
-  std::vector<Vector2d> xy(pts.size());
-  for (std::size_t n = 0; n < pts.size(); ++n) xy[n] = Vector2d(c.x[pts[n]], c.y[pts[n]]);
-  return min_area_rectangle(xy);
-}
 
 }  // namespace
 
@@ -129,7 +118,7 @@ std::size_t merge_fragments(const std::vector<double>& x, const std::vector<doub
     for (std::size_t f = 0; f < fragments.size(); ++f) {
       if (used[f]) continue;
       const auto& frag = fragments[f].points;
-      const Footprint ff = footprint_of(c, frag);
+      const Footprint ff = plan_footprint(c.x, c.y, frag);
       double ftop = 0;
       for (std::uint32_t q : frag) ftop = std::max(ftop, double(c.h[q]));
       for (auto& o : objs) {
@@ -145,7 +134,7 @@ std::size_t merge_fragments(const std::vector<double>& x, const std::vector<doub
         }
         std::vector<std::uint32_t> both = o.points;
         both.insert(both.end(), frag.begin(), frag.end());
-        const Footprint u = footprint_of(c, both);
+        const Footprint u = plan_footprint(c.x, c.y, both);
         if (u.length > p.max_length || u.width > p.max_width || u.width > o.fp.width + kMergeWiden) continue;
         if (!covered(frag, top)) continue;
         // Beside the object, not over it (join_stacked's test): a crown's low bottom over a

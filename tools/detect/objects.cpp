@@ -23,11 +23,6 @@ using Eigen::Vector2d;
 using formats::format_number;
 
 constexpr int kMaxSplitDepth = 6;
-// Pieces merged (merge_pieces) make a union at most this much wider than the wider piece (m).
-constexpr double kMergeWiden = 0.3;
-// Clusters stacked in height (join_stacked) share at most this share of the smaller one's
-// top-view cells: they meet along a line, one is not over the other.
-constexpr double kStackOverlay = 0.25;
 
 struct Context {
   const Params& p;
@@ -65,12 +60,6 @@ bool continues_upward(const Context& c, const std::vector<std::uint32_t>& pts) {
     under += hit;
   }
   return in_top >= 10 && under * 2 >= in_top;
-}
-
-Footprint footprint_of(const Context& c, const std::vector<std::uint32_t>& pts) {
-  std::vector<Vector2d> xy(pts.size());
-  for (std::size_t n = 0; n < pts.size(); ++n) xy[n] = Vector2d(c.x[pts[n]], c.y[pts[n]]);
-  return min_area_rectangle(xy);
 }
 
 // Finer voxel (half the edge): parts of `pts` that only touch come apart. Returns the parts
@@ -306,7 +295,7 @@ void examine(Context& c, std::vector<std::uint32_t> pts, int depth) {
     return;
   }
   Object o;
-  o.fp = footprint_of(c, pts);
+  o.fp = plan_footprint(c.x, c.y, pts);
   for (std::uint32_t q : pts) o.height = std::max(o.height, double(c.h[q]));
   if (o.fp.length < p.min_length || o.fp.width < p.min_width || o.height < p.min_height) {
     ++c.out.rejected_small;
@@ -491,7 +480,7 @@ void merge_pieces(Context& c) {
           continue;
         std::vector<std::uint32_t> both = objs[a].points;
         both.insert(both.end(), objs[b].points.begin(), objs[b].points.end());
-        const Footprint u = footprint_of(c, both);
+        const Footprint u = plan_footprint(c.x, c.y, both);
         if (u.length > p.max_length || u.width > p.max_width) continue;
         if (u.width > std::max(fa.width, fb.width) + kMergeWiden) continue;
         if (overlap_half(span_along(c, objs[a].points, u.axis), span_along(c, objs[b].points, u.axis)))
@@ -549,7 +538,7 @@ void join_stacked(Context& c, std::vector<std::vector<std::uint32_t>>& clusters)
   auto joinable = [&](std::size_t k) { return clusters[k].size() >= p.min_points && info[k].height < top; };
   auto fp = [&](std::size_t k) -> const Footprint& {
     if (!info[k].has_fp) {
-      info[k].fp = footprint_of(c, clusters[k]);
+      info[k].fp = plan_footprint(c.x, c.y, clusters[k]);
       info[k].has_fp = true;
     }
     return info[k].fp;
@@ -576,7 +565,7 @@ void join_stacked(Context& c, std::vector<std::vector<std::uint32_t>>& clusters)
         if (!touch_in_plan(c.x, c.y, clusters[a], clusters[b], reach)) continue;
         std::vector<std::uint32_t> both = clusters[a];
         both.insert(both.end(), clusters[b].begin(), clusters[b].end());
-        const Footprint u = footprint_of(c, both);
+        const Footprint u = plan_footprint(c.x, c.y, both);
         if (u.length > p.max_length || u.width > p.max_width) continue;
         if (u.width > std::max(fa.width, fb.width) + kMergeWiden) continue;
         // Beside, not over: the smaller cluster's top-view cells that also hold the other's.

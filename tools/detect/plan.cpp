@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <Eigen/Core>
+
 namespace canopy::detect {
 
 std::uint64_t column_key(double x, double y, double v) {
@@ -30,6 +32,13 @@ std::unordered_map<std::uint64_t, char> plan_cells(const std::vector<double>& x,
   std::unordered_map<std::uint64_t, char> cells;
   for (std::uint32_t q : pts) cells.emplace(column_key(x[q], y[q], cell), 1);
   return cells;
+}
+
+Footprint plan_footprint(const std::vector<double>& x, const std::vector<double>& y,
+                         const std::vector<std::uint32_t>& pts) {
+  std::vector<Eigen::Vector2d> xy(pts.size());
+  for (std::size_t n = 0; n < pts.size(); ++n) xy[n] = Eigen::Vector2d(x[pts[n]], y[pts[n]]);
+  return min_area_rectangle(xy);
 }
 
 }  // namespace canopy::detect

@@ -5,7 +5,16 @@
 #include <unordered_map>
 #include <vector>
 
+#include "detect/footprint.h"
+
 namespace canopy::detect {
+
+// Pieces merged (merge_pieces, merge_fragments) make a union at most this much wider than the wider
+// piece (m).
+inline constexpr double kMergeWiden = 0.3;
+// Clusters stacked in height (join_stacked; merge_fragments' beside test) share at most this share
+// of the smaller one's top-view cells: they meet along a line, one is not over the other.
+inline constexpr double kStackOverlay = 0.25;
 
 // The key of the top-view cell of side v holding (x, y).
 std::uint64_t column_key(double x, double y, double v);
@@ -18,5 +27,9 @@ bool touch_in_plan(const std::vector<double>& x, const std::vector<double>& y,
 // Cells of `cell` in the top view holding points of `pts`.
 std::unordered_map<std::uint64_t, char> plan_cells(const std::vector<double>& x, const std::vector<double>& y,
                                                    const std::vector<std::uint32_t>& pts, double cell);
+
+// The minimum-area rectangle of the points `pts` in the top view.
+Footprint plan_footprint(const std::vector<double>& x, const std::vector<double>& y,
+                         const std::vector<std::uint32_t>& pts);
 
 }  // namespace canopy::detect
