@@ -52,19 +52,6 @@ std::size_t merge_fragments(const std::vector<double>& x, const std::vector<doub
     if (p.merge_fragments_gap > 0 && height[i] < p.min_object_height) ground[key].push_back(std::uint32_t(i));
   }
   std::size_t count = 0;
-  auto covered = [&](const std::vector<std::uint32_t>& pts, double top) {
-    std::size_t under = 0;
-    for (std::uint32_t q : pts) {
-      bool hit = false;
-      for (int di = -1; di <= 1 && !hit; ++di)
-        for (int dj = -1; dj <= 1 && !hit; ++dj) {
-          const auto it = column_top.find(column_key(c.x[q] + di * v, c.y[q] + dj * v, v));
-          hit = it != column_top.end() && double(it->second) > top + v;
-        }
-      under += hit;
-    }
-    return under * 2 >= pts.size();
-  };
   // True when the tile's highest point in the voxel columns around (x, y) is above `top` + a voxel.
   auto crown_over = [&](double x, double y, double top) {
     for (int di = -1; di <= 1; ++di)
@@ -73,6 +60,12 @@ std::size_t merge_fragments(const std::vector<double>& x, const std::vector<doub
         if (it != column_top.end() && double(it->second) > top + v) return true;
       }
     return false;
+  };
+  // True when at least half of `pts` have a crown over them.
+  auto covered = [&](const std::vector<std::uint32_t>& pts, double top) {
+    std::size_t under = 0;
+    for (std::uint32_t q : pts) under += crown_over(c.x[q], c.y[q], top);
+    return under * 2 >= pts.size();
   };
   // The closest pair in the top view (a fragment's point, the object's point) and their distance.
   auto closest = [&](const std::vector<std::uint32_t>& a, const std::vector<std::uint32_t>& b) {
@@ -139,12 +132,7 @@ std::size_t merge_fragments(const std::vector<double>& x, const std::vector<doub
         if (!covered(frag, top)) continue;
         // Beside the object, not over it (join_stacked's test): a crown's low bottom over a
         // container or a caravan shares their top-view cells; a hidden end or cab does not.
-        if (p.merge_fragments_beside) {
-          const auto own = plan_cells(c.x, c.y, frag, reach), other = plan_cells(c.x, c.y, o.points, reach);
-          std::size_t shared = 0;
-          for (const auto& kv : own) shared += other.count(kv.first);
-          if (double(shared) > kStackOverlay * double(own.size())) continue;
-        }
+        if (p.merge_fragments_beside && over_in_plan(c.x, c.y, frag, o.points, reach)) continue;
         std::sort(both.begin(), both.end());
         o.points = std::move(both);
         o.fp = u;

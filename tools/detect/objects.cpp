@@ -570,11 +570,9 @@ void join_stacked(Context& c, std::vector<std::vector<std::uint32_t>>& clusters)
         if (u.width > std::max(fa.width, fb.width) + kMergeWiden) continue;
         // Beside, not over: the smaller cluster's top-view cells that also hold the other's.
         const bool small_a = clusters[a].size() <= clusters[b].size();
-        const auto other = plan_cells(c.x, c.y, small_a ? clusters[b] : clusters[a], reach);
-        const auto own = plan_cells(c.x, c.y, small_a ? clusters[a] : clusters[b], reach);
-        std::size_t shared = 0;
-        for (const auto& kv : own) shared += other.count(kv.first);
-        if (double(shared) > kStackOverlay * double(own.size())) continue;
+        if (over_in_plan(c.x, c.y, small_a ? clusters[a] : clusters[b], small_a ? clusters[b] : clusters[a],
+                         reach))
+          continue;
         clusters[a] = std::move(both);
         bound(info[a], clusters[b]);
         info[a].fp = u;

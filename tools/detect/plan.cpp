@@ -1,6 +1,8 @@
 #include "detect/plan.h"
 
 #include <cmath>
+#include <unordered_map>
+#include <unordered_set>
 
 #include <Eigen/Core>
 
@@ -27,11 +29,14 @@ bool touch_in_plan(const std::vector<double>& x, const std::vector<double>& y,
   return false;
 }
 
-std::unordered_map<std::uint64_t, char> plan_cells(const std::vector<double>& x, const std::vector<double>& y,
-                                                   const std::vector<std::uint32_t>& pts, double cell) {
-  std::unordered_map<std::uint64_t, char> cells;
-  for (std::uint32_t q : pts) cells.emplace(column_key(x[q], y[q], cell), 1);
-  return cells;
+bool over_in_plan(const std::vector<double>& x, const std::vector<double>& y,
+                  const std::vector<std::uint32_t>& own, const std::vector<std::uint32_t>& other, double cell) {
+  std::unordered_set<std::uint64_t> own_cells, other_cells;
+  for (std::uint32_t q : own) own_cells.insert(column_key(x[q], y[q], cell));
+  for (std::uint32_t q : other) other_cells.insert(column_key(x[q], y[q], cell));
+  std::size_t shared = 0;
+  for (std::uint64_t k : own_cells) shared += other_cells.count(k);
+  return double(shared) > kStackOverlay * double(own_cells.size());
 }
 
 Footprint plan_footprint(const std::vector<double>& x, const std::vector<double>& y,

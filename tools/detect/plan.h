@@ -2,7 +2,6 @@
 // Top-view helpers of detect's object steps (objects.cpp, fragments.cpp): points addressed by
 // index into the tile's x and y (local frame, m).
 #include <cstdint>
-#include <unordered_map>
 #include <vector>
 
 #include "detect/footprint.h"
@@ -24,9 +23,10 @@ std::uint64_t column_key(double x, double y, double v);
 bool touch_in_plan(const std::vector<double>& x, const std::vector<double>& y,
                    const std::vector<std::uint32_t>& a, const std::vector<std::uint32_t>& b, double reach);
 
-// Cells of `cell` in the top view holding points of `pts`.
-std::unordered_map<std::uint64_t, char> plan_cells(const std::vector<double>& x, const std::vector<double>& y,
-                                                   const std::vector<std::uint32_t>& pts, double cell);
+// True when more than kStackOverlay of the top-view cells (of side `cell`) holding points of `own`
+// also hold points of `other`: `own` lies over `other`, not beside it (join_stacked's test).
+bool over_in_plan(const std::vector<double>& x, const std::vector<double>& y,
+                  const std::vector<std::uint32_t>& own, const std::vector<std::uint32_t>& other, double cell);
 
 // The minimum-area rectangle of the points `pts` in the top view.
 Footprint plan_footprint(const std::vector<double>& x, const std::vector<double>& y,
