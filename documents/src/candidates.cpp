@@ -77,12 +77,11 @@ Candidates read_members(const Json& j, int version) {
   if (const Json* dens = optional(j, "density")) {
     object(*dens, "density");
     if (const Json* all = optional(*dens, "all")) finite_number(*all, "density.all");
-    if (const Json* ground = optional(*dens, "ground")) {
-      if (finite_number(*ground, "density.ground") < 0)
-        throw Malformed("density.ground must be >= 0 or null");
-    }
-    if (const Json* first = optional(*dens, "first")) {
-      if (finite_number(*first, "density.first") < 0) throw Malformed("density.first must be >= 0 or null");
+    for (const char* key : {"ground", "first"}) {
+      const std::string name = std::string("density.") + key;
+      if (const Json* v = optional(*dens, key)) {
+        if (finite_number(*v, name) < 0) throw Malformed(name + " must be >= 0 or null");
+      }
     }
     d.density = *dens;
   }
@@ -116,26 +115,23 @@ std::optional<double> Candidate::object_density() const {
   return std::nullopt;
 }
 
-std::optional<double> Candidates::density_all() const {
+namespace {
+
+// density.KEY when it is a number > 0; none when density is not an object, or KEY is absent, null or 0.
+std::optional<double> positive_density(const Json& density, const char* key) {
   if (!density.is_object()) return std::nullopt;
-  const auto all = density.find("all");
-  if (all == density.end() || !all->is_number() || !(all->get<double>() > 0)) return std::nullopt;
-  return all->get<double>();
+  const auto it = density.find(key);
+  if (it == density.end() || !it->is_number() || !(it->get<double>() > 0)) return std::nullopt;
+  return it->get<double>();
 }
 
-std::optional<double> Candidates::density_ground() const {
-  if (!density.is_object()) return std::nullopt;
-  const auto ground = density.find("ground");
-  if (ground == density.end() || !ground->is_number() || !(ground->get<double>() > 0)) return std::nullopt;
-  return ground->get<double>();
-}
+}  // namespace
 
-std::optional<double> Candidates::density_first() const {
-  if (!density.is_object()) return std::nullopt;
-  const auto first = density.find("first");
-  if (first == density.end() || !first->is_number() || !(first->get<double>() > 0)) return std::nullopt;
-  return first->get<double>();
-}
+std::optional<double> Candidates::density_all() const { return positive_density(density, "all"); }
+
+std::optional<double> Candidates::density_ground() const { return positive_density(density, "ground"); }
+
+std::optional<double> Candidates::density_first() const { return positive_density(density, "first"); }
 
 const Candidate* Candidates::find(const std::string& id) const {
   for (const Candidate& c : candidates) {
