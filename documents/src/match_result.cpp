@@ -28,9 +28,23 @@ double match_margin(const MatchResult& r) {
   return by_rank[0]->score - by_rank[1]->score;
 }
 
+double match_entropy(const std::vector<double>& scores) {
+  if (scores.empty()) return 0;
+  double total = 0;
+  for (double s : scores) total += std::max(0.0, s);
+  if (!(total > 0)) return std::log2(static_cast<double>(scores.size()));
+  double h = 0;
+  for (double s : scores) {
+    const double q = std::max(0.0, s) / total;
+    if (q > 0) h -= q * std::log2(q);
+  }
+  return std::max(0.0, h);
+}
+
 std::string serialize_match_result(const MatchResult& r) {
   Json models = Json::array();
-  for (const auto& m : r.models) {
+  for (std::size_t k = 0; k < r.models.size(); ++k) {
+    const ModelScore& m = r.models[k];
     Json pairs = Json::array();
     for (const auto& p : m.pairs) {
       Json pj{{"object_segment", p.object_segment},
@@ -39,15 +53,27 @@ std::string serialize_match_result(const MatchResult& r) {
       if (p.model_segment >= 0) pj["model_segment"] = p.model_segment;
       pairs.push_back(pj);
     }
-    models.push_back(Json{{"model", m.model},
-                          {"score", finite_for_writing(m.score, "score")},
-                          {"rank", m.rank},
-                          {"error_unary", finite_for_writing(m.error_unary, "error_unary")},
-                          {"error_orientation", finite_for_writing(m.error_orientation, "error_orientation")},
-                          {"error_distance", finite_for_writing(m.error_distance, "error_distance")},
-                          {"error_coverage", finite_for_writing(m.error_coverage, "error_coverage")},
-                          {"error_total", finite_for_writing(m.error_total, "error_total")},
-                          {"pairs", pairs}});
+    Json entry{{"model", m.model},
+               {"score", finite_for_writing(m.score, "score")},
+               {"rank", m.rank},
+               {"error_unary", finite_for_writing(m.error_unary, "error_unary")},
+               {"error_orientation", finite_for_writing(m.error_orientation, "error_orientation")},
+               {"error_distance", finite_for_writing(m.error_distance, "error_distance")},
+               {"error_coverage", finite_for_writing(m.error_coverage, "error_coverage")},
+               {"error_total", finite_for_writing(m.error_total, "error_total")},
+               {"pairs", pairs}};
+    // Only when set: gmatch's files stay byte-identical to those written before the key existed.
+    if (m.pose) {
+      Json pose = Json::array();
+      for (const double v : *m.pose) pose.push_back(finite_for_writing(v, "pose"));
+      try {
+        members::check_rigid(*m.pose, "models[" + std::to_string(k) + "].pose");
+      } catch (const std::exception& e) {
+        throw common::Error(std::string("match result: refusing to write ") + e.what());
+      }
+      entry["pose"] = pose;
+    }
+    models.push_back(entry);
   }
   const double margin = match_margin(r);
   Json j{{"format", kMatchResultFormat},
@@ -93,6 +119,9 @@ MatchResult parse_match_result(const std::string& text, const std::string& name)
         sp.unary_error = formats::json_number_at(p, "unary_error", pw);
         s.pairs.push_back(sp);
       }
+      // Optional (baseline --hypotheses); files without it are gmatch's and those before it.
+      if (m.contains("pose") && !m.at("pose").is_null())
+        s.pose = members::rigid_matrix(m.at("pose"), w + "pose");
       r.models.push_back(std::move(s));
     }
     // "margin" is derived from the scores (match_margin); files before it was added lack it.

@@ -55,6 +55,8 @@ TEST_CASE("gmatch ranks the true model first, byte-identical on reruns", "[gmatc
   REQUIRE(sh(base + " --threads 2 -o " + (dir / "b.json").string(), dir / "err", &err) == 0);
   const auto a = canopy::common::read_file((dir / "a.json").string());
   REQUIRE(a == canopy::common::read_file((dir / "b.json").string()));
+  // gmatch sets no pose: no "pose" key (the match result's optional key, baseline --hypotheses').
+  CHECK(a.find("\"pose\"") == std::string::npos);
 
   const auto result = canopy::documents::read_match_result((dir / "a.json").string());
   REQUIRE(result.models.size() == 3);

@@ -17,7 +17,7 @@ report::Case make_trial(const std::string& object, const std::string& scene, int
   c.scene = scene;
   c.noise_mm = noise;
   const std::string second = gmatch_first == object ? "other" : object;
-  c.match.models = {{gmatch_first, 0.9, 1, 0, 0, 0, 0, 0, {}}, {second, 0.4, 2, 0, 0, 0, 0, 0, {}}};
+  c.match.models = {{gmatch_first, 0.9, 1, 0, 0, 0, 0, 0, {}, {}}, {second, 0.4, 2, 0, 0, 0, 0, 0, {}, {}}};
   return c;
 }
 

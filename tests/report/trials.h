@@ -24,8 +24,13 @@ inline Case trial(const std::string& object, const std::string& scene, int noise
   c.object = object;
   c.scene = scene;
   c.noise_mm = noise;
-  documents::ModelScore right{object, rank == 1 ? 0.9 : 0.4, rank, 0, 0, 0, 0, 0, {}};
-  documents::ModelScore wrong{"other", rank == 1 ? 0.4 : 0.9, rank == 1 ? 2 : 1, 0, 0, 0, 0, 0, {}};
+  documents::ModelScore right, wrong;  // error terms 0, no pairs
+  right.model = object;
+  right.score = rank == 1 ? 0.9 : 0.4;
+  right.rank = rank;
+  wrong.model = "other";
+  wrong.score = rank == 1 ? 0.4 : 0.9;
+  wrong.rank = rank == 1 ? 2 : 1;
   c.match.models = rank == 1 ? std::vector<documents::ModelScore>{right, wrong}
                              : std::vector<documents::ModelScore>{wrong, right};
   c.match.entropy = 0.5;

@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <array>
 #include <filesystem>
 #include <string>
 
@@ -571,4 +572,70 @@ TEST_CASE("sensor directions from what LAS has (issue 26): columns unchanged, de
   CHECK(err.find(early.string() + ": GPS time 5 s is outside the trajectory's span [0, 2]") !=
         std::string::npos);
   CHECK(!fs::exists(c.dir / "x.json"));
+}
+
+TEST_CASE("a match result with poses and no pairs (baseline --hypotheses) is checked without --segments",
+          "[verify][cli]") {
+  const Case c("hypotheses");
+  const Isometry3d T = pose(1.0, 2.0, -1.0);  // where Case put the pickup
+  doc::MatchResult h;
+  h.provenance = {"baseline", "0", {}, {}};
+  h.object = c.points.string();  // baseline records the points it registered to
+  h.error_form = "fpfh";
+  for (const std::string name : {"pickup", "flatbed"}) {
+    doc::ModelScore m;
+    m.model = name;
+    m.rank = static_cast<int>(h.models.size()) + 1;
+    m.score = 0.6 - 0.2 * static_cast<double>(h.models.size());
+    h.models.push_back(m);
+  }
+  std::array<double, 16> a{};
+  for (int k = 0; k < 16; ++k) a[static_cast<std::size_t>(k)] = T.matrix()(k / 4, k % 4);
+  h.models[0].pose = a;
+  const fs::path hyp = c.dir / "hypotheses.json";
+  doc::write_match_result(h, hyp.string());
+  REQUIRE(canopy::common::read_file(hyp.string()).find("\"pose\"") != std::string::npos);
+  const std::string base =
+      kBin + " -i " + hyp.string() + " --points " + c.points.string() + " --modelbase " + c.mb.string();
+  std::string err;
+  REQUIRE(sh(base + " -o " + (c.dir / "v.json").string(), c.dir / "err", &err) == 0);
+  const doc::Verdict v = doc::read_verdict((c.dir / "v.json").string());
+  REQUIRE(v.model == "pickup");
+  REQUIRE(v.chosen == 0);
+  CHECK(v.hypotheses[0].start.rfind("pose", 0) == 0);  // the given pose (or its flip) won
+  CHECK(v.hypotheses[0].pose.translation[0] == Approx(2.0).margin(1e-3));
+  CHECK(v.hypotheses[0].pose.translation[1] == Approx(-1.0).margin(1e-3));
+  CHECK(fm::euler_degrees(v.hypotheses[0].pose)[0] == Approx(1.0 * 180 / canopy::common::kPi).margin(0.1));
+  // The record names what was read: no segment graph.
+  CHECK(v.provenance.inputs == std::vector<std::string>{hyp.string(), c.points.string(), c.mb.string()});
+  for (const auto& kv : v.provenance.parameters) CHECK(kv.first != "segments");
+  // Its "object" names other points that are there: refused, naming both.
+  doc::MatchResult other = h;
+  other.object = c.segments.string();
+  doc::write_match_result(other, (c.dir / "other.json").string());
+  REQUIRE(sh(kBin + " -i " + (c.dir / "other.json").string() + " --points " + c.points.string() +
+                 " --modelbase " + c.mb.string() + " -o " + (c.dir / "x.json").string(),
+             c.dir / "err", &err) == 1);
+  CHECK(err.find("was made from " + c.segments.string() + ", not from " + c.points.string()) !=
+        std::string::npos);
+  // gmatch's match (pairs) without --segments: a usage error.
+  REQUIRE(sh(kBin + " -i " + c.match.string() + " --points " + c.points.string() + " --modelbase " +
+                 c.mb.string() + " -o " + (c.dir / "x.json").string(),
+             c.dir / "err", &err) == 2);
+  CHECK(err.find("--segments is needed") != std::string::npos);
+  CHECK(!fs::exists(c.dir / "x.json"));
+}
+
+TEST_CASE("gmatch's match results carry no pose: verify checks them as before", "[verify][cli]") {
+  // The Case's match is written as gmatch writes one (pairs, no pose): no "pose" key, and the
+  // verdict is the pairs/axes one the other tests check.
+  const Case c("no-pose");
+  const std::string text = canopy::common::read_file(c.match.string());
+  CHECK(text.find("pose") == std::string::npos);
+  for (const auto& m : doc::read_match_result(c.match.string()).models) CHECK_FALSE(m.pose.has_value());
+  std::string err;
+  REQUIRE(sh(c.cmd(c.dir / "v.json"), c.dir / "err", &err) == 0);
+  const doc::Verdict v = doc::read_verdict((c.dir / "v.json").string());
+  for (const auto& h : v.hypotheses) CHECK(h.start.rfind("pose", 0) == std::string::npos);
+  CHECK(v.provenance.inputs.size() == 4);  // the segments are read and recorded
 }

@@ -1,8 +1,9 @@
 // verify's logic on synthetic vehicles with known poses: recovery to 1 mm / 0.1 degree, the
 // 180-degree flip rejected, another model's points scoring below their own model, clutter
-// answered none.
+// answered none; a match result's own pose (baseline --hypotheses) as the start.
 #include <catch2/catch.hpp>
 
+#include <array>
 #include <cmath>
 
 #include "canopy/common/math.h"
@@ -340,4 +341,102 @@ TEST_CASE("--seen-spacing is checked", "[verify][seen]") {
   CHECK_THROWS_AS(vf::validate(p), canopy::common::UsageError);
   p.seen_spacing = 0;
   CHECK_NOTHROW(vf::validate(p));
+}
+
+namespace {
+
+// A pose as a match result carries it (baseline --hypotheses): row-major 4 x 4, model -> candidate.
+std::array<double, 16> row_major(const Isometry3d& T) {
+  std::array<double, 16> a{};
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) a[static_cast<std::size_t>(4 * r + c)] = T.matrix()(r, c);
+  }
+  return a;
+}
+
+// FPFH-style hypotheses: the ranking without segment pairs, the first model with `given`.
+doc::MatchResult posed_match(const Isometry3d& given) {
+  auto m = match({"pickup", "flatbed"}, {graph(pickup()), graph(flatbed())}, false);
+  for (auto& e : m.models) e.pairs.clear();
+  m.models[0].pose = row_major(given);
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("a match result's pose is the start: the true pose, without pairs, is answered at the truth",
+          "[verify]") {
+  const World w;
+  const Isometry3d T = pose(0.7, 1.2, -0.4);
+  const auto cand = candidate(sample(pickup(), 0.1, 0.05), pickup(), T);
+  const doc::SegmentGraph object;  // no graph: the match has no pairs
+  const auto m = posed_match(T);
+  SECTION("without ICP the given pose is scored as it is, and wins") {
+    vf::Params p;
+    p.icp_iterations = 0;
+    const doc::Verdict v = vf::run(p, {&cand, &object, &m, &w.models});
+    REQUIRE(v.model == "pickup");
+    const auto& h = v.hypotheses.at(0);
+    CHECK(h.start == "pose");
+    CHECK_FALSE(h.flipped);
+    const Isometry3d P = fm::to_isometry(h.pose);
+    CHECK((P.matrix() - T.matrix()).norm() < 1e-12);
+    CHECK(h.explained > 0.9);
+    CHECK(h.flip_score < h.score - 0.2);  // its 180-degree flip was tried and lost
+  }
+  SECTION("with ICP (the defaults): the answer and its pose, to 1 mm and 0.1 degree") {
+    const doc::Verdict v = vf::run(vf::Params{}, {&cand, &object, &m, &w.models});
+    REQUIRE(v.model == "pickup");
+    const Isometry3d P = fm::to_isometry(v.hypotheses.at(0).pose);
+    CHECK((P.translation() - T.translation()).norm() < 1e-3);
+    CHECK(angle_deg(P, T) < 0.1);
+    CHECK(v.hypotheses.at(1).score < v.hypotheses.at(0).score - 0.3);  // flatbed, no pose: axes only
+    CHECK(v.hypotheses.at(1).start.rfind("axes", 0) == 0);
+  }
+}
+
+TEST_CASE("a given pose turned round is set right by its flip; --no-flip does not try it", "[verify]") {
+  const World w;
+  const Isometry3d T = pose(-1.1, 0.4, 0.9);
+  const auto cand = candidate(sample(pickup(), 0.1, 0.05), pickup(), T);
+  const doc::SegmentGraph object;
+  // The truth turned by 180 degrees about the vertical through the posed model's centre.
+  Vector3d centre = Vector3d::Zero();
+  for (const auto& q : w.models[0].surface.points) centre += q;
+  centre /= static_cast<double>(w.models[0].surface.points.size());
+  const Isometry3d F = Eigen::Translation3d(T * centre) *
+                       Eigen::AngleAxisd(canopy::common::kPi, Vector3d::UnitZ()) *
+                       Eigen::Translation3d(-(T * centre)) * T;
+  const auto m = posed_match(F);
+  vf::Params p;
+  p.icp_iterations = 0;
+  const doc::Verdict v = vf::run(p, {&cand, &object, &m, &w.models});
+  REQUIRE(v.model == "pickup");
+  CHECK(v.hypotheses[0].start == "pose-flipped");
+  CHECK(v.hypotheses[0].flipped);
+  CHECK((fm::to_isometry(v.hypotheses[0].pose).matrix() - T.matrix()).norm() < 1e-9);
+  p.flip = false;
+  const doc::Verdict nf = vf::run(p, {&cand, &object, &m, &w.models});
+  // Without the flip the given pose (turned round) loses to the principal axes' start.
+  CHECK(nf.hypotheses[0].start == "axes");
+  CHECK(nf.hypotheses[0].flip_score == 0);  // no flip was scored
+}
+
+TEST_CASE("a given pose far off: the principal-axis start still recovers the model", "[verify]") {
+  const World w;
+  const Isometry3d T = pose(2.2, -0.6, 0.3);
+  const auto cand = candidate(sample(pickup(), 0.1, 0.05), pickup(), T);
+  const doc::SegmentGraph object;
+  // 40 m away and turned: no candidate point within ICP's reach of the posed model.
+  const auto m = posed_match(pose(0.5, 30, -25));
+  const doc::Verdict v = vf::run(vf::Params{}, {&cand, &object, &m, &w.models});
+  REQUIRE(v.model == "pickup");
+  const auto& h = v.hypotheses.at(0);
+  CHECK(h.start.rfind("axes", 0) == 0);
+  const Isometry3d P = fm::to_isometry(h.pose);
+  CHECK((P.translation() - T.translation()).norm() < 1e-3);
+  CHECK(angle_deg(P, T) < 0.1);
+  // The far pose itself, scored where it is, explains nothing.
+  const vf::Scorer scorer(cand, vf::Params{});
+  CHECK(scorer.score(w.models[0].surface, pose(0.5, 30, -25)).explained == 0);
 }

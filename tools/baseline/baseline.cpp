@@ -520,6 +520,32 @@ documents::Verdict to_verdict(const Ranking& ranking, double accept, const std::
   return v;
 }
 
+documents::MatchResult to_match_result(const Ranking& ranking, const std::string& candidate,
+                                       const formats::Provenance& provenance) {
+  documents::MatchResult r;
+  r.provenance = provenance;
+  r.object = candidate;
+  r.error_form = ranking.method;
+  std::vector<double> scores;
+  for (const auto& e : ranking.models) {
+    documents::ModelScore m;
+    m.model = e.model;
+    m.score = e.score;
+    m.rank = e.rank;
+    if (e.posed) {
+      std::array<double, 16> pose{};
+      for (int row = 0; row < 4; ++row) {
+        for (int col = 0; col < 4; ++col) pose[static_cast<std::size_t>(row * 4 + col)] = e.pose(row, col);
+      }
+      m.pose = pose;
+    }
+    scores.push_back(e.score);
+    r.models.push_back(std::move(m));
+  }
+  r.entropy = documents::match_entropy(scores);
+  return r;
+}
+
 std::string serialize(const Result& result, const std::string& object,
                       const std::vector<std::pair<std::string, std::string>>& parameters,
                       const std::vector<std::string>& inputs) {

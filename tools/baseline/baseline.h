@@ -24,6 +24,7 @@
 #include <utility>
 #include <vector>
 
+#include "canopy/documents/match_result.h"
 #include "canopy/formats/point_cloud.h"
 #include "canopy/documents/verdict.h"
 
@@ -154,5 +155,14 @@ std::string serialize(const Result& result, const std::string& object,
 // computed (0).
 documents::Verdict to_verdict(const Ranking& ranking, double accept, const std::string& candidate,
                               const formats::Provenance& provenance);
+
+// One method's ranking as a canopy.match_result (`baseline --hypotheses`, issue 29: "FPFH poses
+// scored by verify"), the document verify reads: every model in the ranking's order (rank 1 =
+// the model to_verdict answers), score = the method's score, the error terms 0, no segment
+// pairs, and pose = the method's pose (model -> candidate, the frame of verify's poses) when it
+// found one (fpfh: RANSAC converged), else none. object = the candidate's points as given;
+// error_form = the method's name; entropy = documents::match_entropy of the scores.
+documents::MatchResult to_match_result(const Ranking& ranking, const std::string& candidate,
+                                       const formats::Provenance& provenance);
 
 }  // namespace canopy::baseline

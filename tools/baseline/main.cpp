@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
                 "PCL-descriptor recogniser beside canopy: VFH nearest view and FPFH + RANSAC + "
                 "ICP fitness. Writes a canopy.baseline JSON ranking every model per method.");
   bl::Params p;
-  std::string in = "-", out = "-", modelbase, methods = "both", verdict, cache;
+  std::string in = "-", out = "-", modelbase, methods = "both", verdict, cache, hypotheses;
   int seed = 1;
   bool prepare = false;
   tool.add_input(&in, "candidate points PCD with normals (e.g. fitvox's samples)");
@@ -41,6 +41,10 @@ int main(int argc, char** argv) {
            "instead of the ranking: run this one method and write its answer as a canopy.verdict "
            "(the best model, or none below --accept-<method>), for collect and score")
       ->check(CLI::IsMember({"vfh", "fpfh"}));
+  tool.add("--hypotheses", &hypotheses,
+           "with --verdict fpfh: also write the FPFH ranking of every model, each with its RANSAC(+ICP) "
+           "pose (model -> candidate) when RANSAC converged, to this file as a canopy.match_result, "
+           "for verify to check (issue 29: FPFH poses scored by verify)");
   tool.add("--accept-vfh", &p.accept_vfh,
            "--verdict vfh: smallest VFH score (1 - L1 distance / 2) of an answer");
   tool.add("--accept-fpfh", &p.accept_fpfh, "--verdict fpfh: smallest FPFH fitness of an answer");
@@ -56,6 +60,9 @@ int main(int argc, char** argv) {
   return tool.run(argc, argv, [&] {
     p.seed = static_cast<unsigned>(seed);
     bl::validate(p);
+    if (!hypotheses.empty() && verdict != "fpfh") {
+      throw cm::UsageError("--hypotheses needs --verdict fpfh (the poses are the FPFH method's)");
+    }
     if (prepare) {
       if (!cache.empty() || !verdict.empty())
         throw cm::UsageError("--prepare with --model-cache or --verdict");
@@ -64,6 +71,13 @@ int main(int argc, char** argv) {
       cm::write_file_atomic(out, bl::prepare_file(modelbase, p, &n));
       phase.done(std::to_string(n) + " models");
       return;
+    }
+    // With --hypotheses: the verdict and the hypotheses are written together at the end, or
+    // neither (both checked now, before the work; one file named twice is a usage error).
+    cm::OutputSet outputs;
+    if (!hypotheses.empty()) {
+      outputs.add(out, "-o");
+      outputs.add(hypotheses, "--hypotheses");
     }
     cm::log::Phase read("read");
     const bl::Cloud candidate =
@@ -80,10 +94,13 @@ int main(int argc, char** argv) {
               " models" + (cache.empty() ? "" : " (prepared)"));
     // The cache changes how, not what: it stays out of the outputs' parameter record.
     auto parameters = tool.parameters();
-    parameters.erase(
-        std::remove_if(parameters.begin(), parameters.end(),
-                       [](const auto& kv) { return kv.first == "model-cache" || kv.first == "prepare"; }),
-        parameters.end());
+    parameters.erase(std::remove_if(parameters.begin(), parameters.end(),
+                                    [](const auto& kv) {
+                                      // --hypotheses is a further output: the verdict's record stays as before.
+                                      return kv.first == "model-cache" || kv.first == "prepare" ||
+                                             kv.first == "hypotheses";
+                                    }),
+                     parameters.end());
 
     if (!verdict.empty() && methods != "both" && methods != verdict) {
       throw cm::UsageError("--verdict " + verdict + " with --methods " + methods +
@@ -96,8 +113,16 @@ int main(int argc, char** argv) {
     } else {
       const double accept = verdict == "vfh" ? p.accept_vfh : p.accept_fpfh;
       const canopy::formats::Provenance prov{"baseline", CANOPY_VERSION, parameters, {in, modelbase}};
-      cm::write_file_atomic(
-          out, canopy::documents::serialize_verdict(bl::to_verdict(r.methods.front(), accept, in, prov)));
+      std::string answer =
+          canopy::documents::serialize_verdict(bl::to_verdict(r.methods.front(), accept, in, prov));
+      if (hypotheses.empty()) {
+        cm::write_file_atomic(out, std::move(answer));
+      } else {
+        outputs.set(out, std::move(answer));
+        outputs.set(hypotheses, canopy::documents::serialize_match_result(
+                                    bl::to_match_result(r.methods.front(), in, prov)));
+        outputs.commit();
+      }
     }
     for (const auto& m : r.methods) {
       char line[256];

@@ -441,18 +441,7 @@ documents::ModelScore match_model(const SegmentGraph& object, const Model& model
   return ms;
 }
 
-double entropy(const std::vector<double>& scores) {
-  if (scores.empty()) return 0;
-  double total = 0;
-  for (double s : scores) total += std::max(0.0, s);
-  if (!(total > 0)) return std::log2(static_cast<double>(scores.size()));
-  double h = 0;
-  for (double s : scores) {
-    const double q = std::max(0.0, s) / total;
-    if (q > 0) h -= q * std::log2(q);
-  }
-  return std::max(0.0, h);
-}
+double entropy(const std::vector<double>& scores) { return documents::match_entropy(scores); }
 
 Outputs run(const Params& params, const Inputs& in) {
   validate(params);

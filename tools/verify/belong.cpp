@@ -157,6 +157,17 @@ void check_inputs_belong(const BelongInputs& in) {
   const std::string match_name = common::display_name(in.match_path);
   const std::string graph_name = common::display_name(in.segments_path);
   const std::string points_name = common::display_name(in.points_path);
+  if (in.segments == nullptr) {
+    // A match result without pairs (baseline --hypotheses) names the points it was made from.
+    if (in.points_path == "-" || in.match->object == in.points_path) return;
+    for (const auto& p : resolutions(in.match->object, in.match_path)) {
+      if (regular_file(p) && !same_document(p, in.points_path)) {
+        throw DataError(match_name, "was made from " + in.match->object + ", not from " + points_name +
+                                        " (--points): give the points its poses are in");
+      }
+    }
+    return;
+  }
   // 1. The match names the segment graph it was made from ("object").
   if (in.segments_path != "-" && in.match->object != in.segments_path) {
     bool found = false, same = false;

@@ -37,13 +37,15 @@ struct Cli {
 };
 
 void bind(cm::Tool& tool, vf::Params& p, Cli& cli) {
-  tool.add_input(&cli.in, "gmatch match result JSON");
+  tool.add_input(&cli.in, "match result JSON (gmatch's, or baseline --hypotheses')");
   tool.add_output(&cli.out, "verdict JSON");
   tool.add("--points", &cli.points,
            "candidate points PCD with normals and sensor directions "
            "(fitvox samples)")
       ->required();
-  tool.add("--segments", &cli.segments, "candidate segment graph JSON (the one gmatch matched)")->required();
+  tool.add("--segments", &cli.segments,
+           "candidate segment graph JSON (the one gmatch matched); not needed for a match result "
+           "without segment pairs (baseline --hypotheses': each model's start is its pose)");
   tool.add("--modelbase", &cli.modelbase,
            "directory of <model>.json graphs, <model>.pcd surfaces and "
            "optional <model>.class classes")
@@ -142,7 +144,18 @@ Loaded read_inputs(const Cli& cli, const vf::Params& p, const std::optional<Eige
   Loaded in;
   in.match = doc::read_match_result(cli.in);
   if (in.match.models.empty()) throw cm::DataError(cm::display_name(cli.in), "match result ranks no model");
-  in.graph = doc::read_segment_graph(cli.segments);
+  if (!cli.segments.empty()) {
+    in.graph = doc::read_segment_graph(cli.segments);
+  } else {
+    // Without the graph the pairs name nothing: only a match result without pairs (baseline
+    // --hypotheses') is checked without it.
+    for (const auto& m : in.match.models) {
+      if (!m.pairs.empty()) {
+        throw cm::UsageError("--segments is needed: " + cm::display_name(cli.in) + " pairs " + m.model +
+                             " with segments of the candidate's graph (a gmatch match result)");
+      }
+    }
+  }
   const fm::PointCloud cloud = fm::read_pcd(cli.points);
   // Sensor directions (issue 26): the columns when present (the simulator's path, unchanged),
   // else derived from what the points carry.
@@ -224,7 +237,8 @@ int main(int argc, char** argv) {
 
     cm::log::Phase read("read");
     const Loaded in = read_inputs(cli, p, to_tile);
-    vf::check_inputs_belong({&in.match, cli.in, &in.graph, cli.segments, &in.candidate, cli.points});
+    vf::check_inputs_belong({&in.match, cli.in, cli.segments.empty() ? nullptr : &in.graph, cli.segments,
+                             &in.candidate, cli.points});
     read.done(std::to_string(in.candidate.points.size()) + " candidate points, " +
               std::to_string(in.models.size()) + " hypotheses");
 
@@ -240,7 +254,9 @@ int main(int argc, char** argv) {
                        [&](const auto& kv) {
                          // --no-box: the verdict of before the null hypothesis existed.
                          // --seen-spacing 0: the verdict of before the option existed.
-                         return ((kv.first == "box-margin" || kv.first == "no-box") && !p.box) ||
+                         // No --segments (a match result without pairs): nothing to record.
+                         return (kv.first == "segments" && cli.segments.empty()) ||
+                                ((kv.first == "box-margin" || kv.first == "no-box") && !p.box) ||
                                 (kv.first == "seen-spacing" && p.seen_spacing == 0) ||
                                 (kv.first == "free-space" && !p.free_space_through) ||
                                 (kv.first == "sensor-direction" && cli.sensor_direction == "auto") ||
@@ -249,6 +265,7 @@ int main(int argc, char** argv) {
                        }),
         parameters.end());
     std::vector<std::string> inputs{cli.in, cli.points, cli.segments, cli.modelbase};
+    if (cli.segments.empty()) inputs.erase(inputs.begin() + 2);
     if (!cli.trajectory.empty()) inputs.push_back(cli.trajectory);
     v.provenance = {"verify", CANOPY_VERSION, parameters, inputs};
     v.candidate = cli.points;

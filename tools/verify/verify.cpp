@@ -7,6 +7,7 @@
 #include <pcl/registration/transformation_estimation_point_to_plane_lls.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <map>
@@ -491,8 +492,18 @@ const Model& loaded_model(const Inputs& in, const std::string& name) {
   return *model;
 }
 
-// One gmatch hypothesis: every start (the matched pairs' pose when there is one, the principal
-// axes') and, with Params::flip, its 180-degree flip, refined by ICP and scored; the best.
+// A match result's pose (row-major 4 x 4, model -> candidate; the reader checked it is rigid).
+Isometry3d given_pose(const std::array<double, 16>& m) {
+  Eigen::Matrix4d M;
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) M(r, c) = m[static_cast<std::size_t>(4 * r + c)];
+  }
+  return Isometry3d(M);
+}
+
+// One hypothesis: every start (the match result's pose when it gives one, else the matched
+// pairs' pose when there is one; the principal axes') and, with Params::flip, its 180-degree
+// flip, refined by ICP and scored; the best.
 documents::Hypothesis check_hypothesis(const Inputs& in, const documents::ModelScore& ms, const Model& model,
                                        const Scorer& scorer, const Params& p) {
   const auto& above = scorer.above_points();
@@ -503,7 +514,13 @@ documents::Hypothesis check_hypothesis(const Inputs& in, const documents::ModelS
   };
   std::vector<Start> starts;
   Isometry3d pp;
-  if (pose_from_pairs(*in.segments, model.graph, ms.pairs, &pp)) starts.push_back({"pairs", pp});
+  if (ms.pose) {
+    // The match result's own pose (baseline --hypotheses: the FPFH registration's) instead of
+    // the pairs' (issue 29, "FPFH poses scored by verify").
+    starts.push_back({"pose", given_pose(*ms.pose)});
+  } else if (pose_from_pairs(*in.segments, model.graph, ms.pairs, &pp)) {
+    starts.push_back({"pairs", pp});
+  }
   starts.push_back({"axes", pose_from_axes(above.empty() ? in.candidate->points : above, model.surface.points)});
   documents::Hypothesis best;
   best.model = ms.model;

@@ -1,6 +1,7 @@
 // verify: checks gmatch's top hypotheses against the candidate's points (the thesis's future
 // work 5, issue 15). For each of the top-k models: a rigid pose from the matched segment pairs
-// (heading + translation; the 180-degree flip and a principal-axis start tried explicitly),
+// (heading + translation; the 180-degree flip and a principal-axis start tried explicitly) or,
+// when the match result gives the model a pose (baseline --hypotheses), that pose instead,
 // refined by PCL point-to-plane ICP (6 DOF, so slopes give pitch/roll); then a two-sided score:
 //   explained  = share of the candidate's points (above the ground cut) lying on the posed
 //                model's surface (point-to-plane distance <= inlier distance);
@@ -190,6 +191,8 @@ void check_mesh_on_points(const std::vector<Eigen::Vector3d>& mesh, const std::s
 struct BelongInputs {
   const documents::MatchResult* match = nullptr;
   std::string match_path;  // as given ("-" = stdin)
+  // Null for a match result without pairs read without --segments (baseline --hypotheses):
+  // then only its "object" is checked, against the points (the file its poses are in).
   const documents::SegmentGraph* segments = nullptr;
   std::string segments_path;
   const Candidate* candidate = nullptr;
@@ -204,7 +207,7 @@ void check_inputs_belong(const BelongInputs& in);
 
 struct Inputs {
   const Candidate* candidate = nullptr;
-  const documents::SegmentGraph* segments = nullptr;
+  const documents::SegmentGraph* segments = nullptr;  // an empty graph when the match has no pairs
   const documents::MatchResult* match = nullptr;
   const std::vector<Model>* models = nullptr;  // at least the top-k hypotheses' models
   const Eigen::Isometry3d* to_tile = nullptr;  // candidate frame -> tile frame; null = none

@@ -27,8 +27,8 @@ struct Hypothesis {
   std::string model;
   int gmatch_rank = 0;
   double gmatch_score = 0;
-  bool flipped = false;             // the accepted start was the 180-degree flip of the pairs' pose
-  std::string start;                // "pairs", "pairs-flipped", "axes", "axes-flipped"
+  bool flipped = false;             // the accepted start was the 180-degree flip of its start pose
+  std::string start;                // "pairs", "pose", "axes", each also "...-flipped"
   Pose pose;                        // model frame -> candidate frame
   std::optional<Pose> pose_tile;    // model frame -> tile frame, when a transform was given
   double fit_rms = 0;               // m, point-to-plane, over the explained points
