@@ -539,7 +539,7 @@ plans "bin/collect -i $sr/cands/index.json --verdict-name verdict-ablation.json 
   fail "make -n all does not plan the scene experiment's verify ablation's collect: $(echo "$plan" | grep verify-ablation | head -3)"
 plans "bin/score --tiles $sd/tiles-verify-ablation.txt .*-o $tmp/res/scenes/verify-ablation/score.json" ||
   fail "make -n all does not plan the verify ablation's score"
-plans "bin/report .*--tile-verify-ablation $tmp/res/scenes/verify-ablation/score.json --tile-verify-ablation-options=--top-k=1000" ||
+plans "bin/report .*--tile-verify-ablation $tmp/res/scenes/verify-ablation/score.json --tile-verify-ablation-options='--top-k=1000'" ||
   fail "the report is not given the scene experiment's verify ablation: $(echo "$plan" | grep bin/report)"
 with=$(echo "$plan" | stages)
 plan=$("${se[@]}" -n all SCENES_VERIFY_ABLATION= 2>&1)
