@@ -484,8 +484,18 @@ SCENES_CLASSIFY_ABLATION_2 ?= $(call classify_sim_variant,shoulder-0)
 scenes_class_ini.class-ablation = $(SCENES_CLASSIFY_ABLATION)
 scenes_class_ini.class-ablation-2 = $(SCENES_CLASSIFY_ABLATION_2)
 SCENES_CLASS_ABLATIONS = $(foreach v,class-ablation class-ablation-2,$(if $(scenes_class_ini.$(v)),$(v)))
-# (the scene experiment's sub-make's arguments: its classify ablations, empty or not)
-scenes_args = SCENE_CLASSIFY_ABLATIONS='$(or $(SCENES_CLASSIFY_ABLATION),-) $(or $(SCENES_CLASSIFY_ABLATION_2),-)'
+# The scene experiment's verify ablation (issue 29, "what each stage adds": verify over every
+# model without gmatch's ranking; docs/decisions/scene-experiment.md, "What gmatch adds"): `all`
+# runs the experiment's `make scenes` with SCENE_VERIFY_ABLATION = SCENES_VERIFY_ABLATION, verify
+# again on every model-level candidate with these options after its parameters. --top-k=1000:
+# every model gmatch lists (verify takes at most the models ranked), so gmatch's ranking chooses
+# nothing and its segment pairs still give the start poses. The report shows it beside the
+# baseline's methods (report --tile-verify-ablation). Empty: none.
+SCENES_VERIFY_ABLATION ?= --top-k=1000
+# (the scene experiment's sub-make's arguments: its classify and verify ablations, empty or not)
+scenes_args = SCENE_CLASSIFY_ABLATIONS='$(or $(SCENES_CLASSIFY_ABLATION),-) $(or $(SCENES_CLASSIFY_ABLATION_2),-)' \
+  SCENE_VERIFY_ABLATION='$(SCENES_VERIFY_ABLATION)'
+SCENES_VERIFY_ABL_SCORE = $(if $(SCENES_VERIFY_ABLATION),$(SCENE_RES)/verify-ablation/score.json)
 SCENES_CLASS_ABL_SCORES = $(foreach v,$(SCENES_CLASS_ABLATIONS),$(SCENE_RES)/$(v)/score.json)
 
 .PHONY: scenes
@@ -496,12 +506,13 @@ SCENE_EXPERIMENT ?= 1
 $(if $(filter-out 0 1,$(SCENE_EXPERIMENT)),$(error SCENE_EXPERIMENT=$(SCENE_EXPERIMENT): must be 0 or 1))
 ifeq ($(SCENE_EXPERIMENT),1)
 $(RES)/report.md: $(SCENE_SCORE) $(SCENE_BL_SCORES) $(if $(filter collect-ablation,$(SCENE_COLLECT_VARIANTS)),$(SCENE_RES)/collect-ablation/score.json) \
-  $(SCENES_CLASS_ABL_SCORES)
+  $(SCENES_CLASS_ABL_SCORES) $(SCENES_VERIFY_ABL_SCORE)
 # (each classify ablation's score and parameter file: --tile-classify-ablation[-2] and its -config)
 REPORT_ARGS += --tile-score $(SCENE_SCORE)$(if $(filter collect-ablation,$(SCENE_COLLECT_VARIANTS)), --tile-collect-ablation \
   $(SCENE_RES)/collect-ablation/score.json)$(if $(SCENES_CLASS_ABLATIONS), $(foreach v,$(SCENES_CLASS_ABLATIONS),--tile-$(patsubst \
   class-%,classify-%,$(v)) $(SCENE_RES)/$(v)/score.json --tile-$(patsubst class-%,classify-%,$(v))-config \
-  $(scenes_class_ini.$(v))))
+  $(scenes_class_ini.$(v))))$(if $(SCENES_VERIFY_ABLATION), --tile-verify-ablation $(SCENES_VERIFY_ABL_SCORE) \
+  --tile-verify-ablation-options='$(SCENES_VERIFY_ABLATION)')
 $(foreach f,$(filter-out $(classify_sim_files),$(SCENES_CLASSIFY_ABLATION) $(SCENES_CLASSIFY_ABLATION_2)),$(if $(wildcard \
   $(f)),,$(error \
   SCENES_CLASSIFY_ABLATION[_2]: $(f) does not exist)))
@@ -529,7 +540,8 @@ $(SCENE_SCORE): $(scenes_force) $(foreach t,$(SCENE_TOOLS),$(call tool,$(t))) $(
 	+@$(MAKE) --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROGRESS=0 $(scenes_args)
 # The baseline's scores and the ablations' are made by the same sub-make (no recipe of their own
 # here).
-$(SCENE_BL_SCORES) $(if $(filter collect-ablation,$(SCENE_COLLECT_VARIANTS)),$(SCENE_RES)/collect-ablation/score.json) $(SCENES_CLASS_ABL_SCORES): $(SCENE_SCORE)
+$(SCENE_BL_SCORES) $(if $(filter collect-ablation,$(SCENE_COLLECT_VARIANTS)),$(SCENE_RES)/collect-ablation/score.json) $(SCENES_CLASS_ABL_SCORES) \
+  $(SCENES_VERIFY_ABL_SCORE): $(SCENE_SCORE)
 else
 # ---- read only by `make scenes` ----------------------------------------------------------
 SCENE_MB := $(OUT)/modelbase

@@ -45,6 +45,8 @@ void level(const fs::path& root, const std::string& name, double all, double gro
                        num(all) + R"(, "ground": )" + num(ground) + R"(, "first": null}, "candidates": []})");
   test::write_file(run / "detect.time", "4 1000 2 1\n");
   test::write_file(run / "cands.mk.time", "1 1000 0.5 0.5\n");
+  // verify's ablation on a candidate (DENSITY_VERIFY_ABLATION): not canopy's cost, not in the CPU
+  test::write_file(run / "cands" / "c0001" / "verdict-ablation.json.time", "7 1000 6 1\n");
   test::write_file(root / "res" / name / "score.json",
                    R"({"format": "canopy.scene_score", "version": 1, "params": {"match_radius_m": 1.5},
       "tiles": [{"detections": ")" +
@@ -84,7 +86,7 @@ TEST_CASE("density ladder: levels, measured density, CPU per ha and where each t
   CHECK(levels[1].density_all == Approx(48));
   CHECK(levels[1].density_ground == Approx(39));
   CHECK(levels[1].density_runs == 1);
-  CHECK(levels[1].cpu_seconds == Approx(4));  // detect 3 + plan 1
+  CHECK(levels[1].cpu_seconds == Approx(4));  // detect 3 + plan 1 (not the verify ablation's 7)
   CHECK(levels[1].area_ha == Approx(0.09));
   CHECK(levels[1].by_reason.at("found") == 2);
   CHECK(levels[1].by_reason.at("too_sparse") == 1);

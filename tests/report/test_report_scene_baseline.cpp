@@ -126,6 +126,77 @@ TEST_CASE("scene section: the baseline's scores beside canopy's, the goal, time 
   CHECK(report::scene_markdown(score, times, "scenes").find("PCL baseline") == std::string::npos);
 }
 
+TEST_CASE("scene section: verify over every model beside canopy, what gmatch adds and its cost per model",
+          "[report][baseline]") {
+  // The scene experiment's verify ablation (mk/scenes.mk SCENES_VERIFY_ABLATION, --top-k=1000): a row
+  // of its own beside the baseline's methods, left out of issue 17's goal, compared with canopy in a
+  // sentence (issue 29); with the CPU per candidate of gmatch, verify and the ablation's verify and
+  // the number of models gmatch ranked (a candidate's match.json), the cost at 100 and 1 000 models.
+  const fs::path root = canopy::test::fresh_dir("report", "scene-verify-all");
+  const fs::path res = root / "results" / "scenes";
+  const std::string run0 = (root / "out/scenes/light/tile-1/noise-0").string();
+  const std::string run1 = (root / "out/scenes/light/tile-1/noise-8").string();
+  const documents::SceneScore score =
+      documents::read_scene_score(score_text(res, run0, run1, 0.8, 1.0, 0.9, 1.5), "score.json");
+  // recognition 0.9 > canopy's 0.8: still no baseline (no "best baseline" sentence without one)
+  const documents::SceneScore all = documents::read_scene_score(
+      score_text(res, run0, run1, 0.9, 1.0, 0.7, 2.0), "verify-ablation/score.json");
+  documents::MatchResult m;
+  m.error_form = "bounded";
+  for (const char* name : {"earthmover", "obj1", "sedan", "semi", "tank"}) {
+    documents::ModelScore ms;
+    ms.model = name;
+    ms.rank = static_cast<int>(m.models.size()) + 1;
+    ms.score = 0.9 - 0.1 * ms.rank;
+    m.models.push_back(ms);
+  }
+  fs::create_directories(fs::path(run0) / "cands" / "c0002");
+  documents::write_match_result(m, (fs::path(run0) / "cands" / "c0002" / "match.json").string());
+  auto cpu = [](const std::string& name, int runs, double wall, double cpu_s) {
+    report::SceneStageTime t = stage_time(name, runs, wall);
+    t.cpu_runs = runs;
+    t.cpu_seconds = cpu_s;
+    return t;
+  };
+  const std::vector<report::SceneStageTime> times = {
+      cpu("fitvox", 10, 2.0, 2.0), cpu("cocone", 10, 3.0, 3.0), cpu("ncut", 10, 1.0, 1.0),
+      cpu("gmatch", 10, 0.5, 0.5), cpu("verify", 10, 3.0, 3.0), cpu("verify-ablation", 10, 5.0, 5.0)};
+  const report::SceneVerifyAblation ablation{"--top-k=1000",
+                                             (res / "verify-ablation" / "score.json").string(), &all};
+  const std::string md = report::scene_markdown(score, times, "scenes", nullptr, "", {}, ablation);
+  INFO(md);
+  CHECK(md.find(
+            "| all | all | 10 | verify, every model (ablation) | 9 | 70.0% | 90.0% | 50.0% | 90.0% | 0.25 | "
+            "2.0 |") != std::string::npos);
+  CHECK(md.find("best baseline") == std::string::npos);
+  CHECK(
+      md.find("What gmatch adds (issue 29): verify over every model (verify again with `--top-k=1000` after "
+              "its parameters") != std::string::npos);
+  CHECK(md.find("recognition over all runs 90.0% against canopy's 80.0% (-10.0 points for canopy), precision "
+                "70.0% against 90.0%.") != std::string::npos);
+  // gmatch 0.05 s over 5 models = 0.01 s a model; verify 0.3 s; over every model 0.5 s = 0.1 s a
+  // model: 100 models 100 x 0.01 + 0.3 = 1.3 s against 10 s, 1 000 models 10.3 s against 100 s.
+  CHECK(md.find("over the modelbase's 5 models: gmatch 0.050 s (0.0100 s a model), verify 0.300 s on "
+                "gmatch's top-k, 0.500 s over every model (0.100 s a model)") != std::string::npos);
+  CHECK(md.find("at 100 models 1.3 s against 10.0 s, at 1 000 models 10.3 s against 100.0 s") !=
+        std::string::npos);
+  // Time per candidate: fitvox + cocone + ncut + gmatch (0.65 s) + the ablation's verify 0.5 s.
+  CHECK(
+      md.find("; verify, every model (ablation) 1.15 s (fitvox + cocone + ncut + gmatch + 0.50 s verify, 10 "
+              "runs)") != std::string::npos);
+  // Of other runs than canopy's: named, not shown.
+  const documents::SceneScore other = documents::read_scene_score(
+      score_text(res, run0, run0 + "x", 0.9, 1.0, 0.7, 2.0), "verify-ablation/score.json");
+  const std::string md2 =
+      report::scene_markdown(score, times, "scenes", nullptr, "", {},
+                             {"--top-k=1000", (res / "verify-ablation" / "score.json").string(), &other});
+  CHECK(md2.find("verify, every model (ablation)") == std::string::npos);
+  CHECK(md2.find("verify-ablation/score.json scores other runs than canopy's") != std::string::npos);
+  // Not run: no row, no sentence.
+  const std::string md3 = report::scene_markdown(score, times, "scenes");
+  CHECK(md3.find("What gmatch adds") == std::string::npos);
+}
+
 TEST_CASE("scene times: the baseline's per-candidate runs, only when it ran", "[report][baseline]") {
   const fs::path root = canopy::test::fresh_dir("report", "scene-baseline-times");
   const fs::path run = root / "light" / "tile-1" / "noise-0";

@@ -239,7 +239,9 @@ std::vector<DensityLevel> read_density_levels(const std::vector<documents::Manif
       l.density_runs = n_all;
       if (n_all > 0) l.density_all = all / n_all;
       if (n_ground > 0) l.density_ground = ground / n_ground;
-      for (const SceneStageTime& t : scene_times(runs)) l.cpu_seconds += t.cpu_seconds;
+      // canopy's stages (the verify ablations' runs, verdict-ablation.json, are not canopy's cost)
+      for (const SceneStageTime& t : scene_times(runs))
+        if (t.stage.rfind("verify-", 0) != 0) l.cpu_seconds += t.cpu_seconds;
       for (const SceneRun& r : runs) l.area_ha += r.area_ha;
     }
     out.push_back(std::move(l));

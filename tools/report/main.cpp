@@ -185,6 +185,7 @@ void needs(const std::string& given, const std::string& given_option, const std:
 // The scene experiment's section (--tile-score); its times.csv goes beside score.json.
 std::string scenes_section(const std::string& tile_score, const std::string& collect_ablation,
                            const std::vector<ClassifyAblationArgs>& classify_ablations,
+                           const std::string& verify_ablation, const std::string& verify_ablation_options,
                            const std::string& scene_dir, const std::string& results,
                            common::OutputSet& outputs) {
   common::log::Phase scenes_phase("scenes");
@@ -197,9 +198,12 @@ std::string scenes_section(const std::string& tile_score, const std::string& col
   for (std::size_t i = 0; i < classify_ablations.size(); ++i)
     classify.push_back({classify_ablations[i].config, classify_ablations[i].score,
                         classify_scores[i] ? &*classify_scores[i] : nullptr});
+  const std::optional<documents::SceneScore> verify_all = optional_score(verify_ablation);
   const std::string markdown =
-      "\n" + report::scene_markdown(score, times, relative_to(scene_dir, results),
-                                    ablation ? &*ablation : nullptr, collect_ablation, classify);
+      "\n" +
+      report::scene_markdown(score, times, relative_to(scene_dir, results), ablation ? &*ablation : nullptr,
+                             collect_ablation, classify,
+                             {verify_ablation_options, verify_ablation, verify_all ? &*verify_all : nullptr});
   outputs.set(scene_dir + "/times.csv", report::scene_times_csv(times));
   scenes_phase.done(std::to_string(report::scene_runs(score).size()) + " runs");
   return markdown;
@@ -261,6 +265,7 @@ struct Sources {
   std::string manifest, results = "results";
   std::string thesis;  // default: <share>/thesis/results.csv
   std::string tile_collect_ablation;
+  std::string tile_verify_ablation, tile_verify_ablation_options;
   // the open set's collect ablations in order: each one's score.json, options and crops' score.json
   std::vector<std::string> openset_collect_ablations, openset_collect_ablation_options,
       openset_crops_collect_ablations;
@@ -348,6 +353,13 @@ void bind(common::Tool& tool, Sources& src, report::Params& p) {
   tool.add("--tile-collect-ablation", &src.tile_collect_ablation,
            "the scene experiment's collect ablation's score.json (mk/scenes.mk SCENE_COLLECT_ABLATION: "
            "collect --coarse-none-below 0, one none map): its reliability table beside canopy's");
+  tool.add(
+      "--tile-verify-ablation", &src.tile_verify_ablation,
+      "the scene experiment's verify ablation's score.json (mk/scenes.mk SCENES_VERIFY_ABLATION, "
+      "--top-k=1000: verify over every model, no gmatch ranking): a row beside the baseline's methods and "
+      "what gmatch adds (with --tile-verify-ablation-options)");
+  tool.add("--tile-verify-ablation-options", &src.tile_verify_ablation_options,
+           "the verify options that ablation ran with (shown in the report)");
   for (std::size_t i = 0; i < src.tile_classify_ablations.size(); ++i) {
     const std::string opt = classify_ablation_option(i);
     const std::string var = i == 0 ? "SCENES_CLASSIFY_ABLATION" : "SCENES_CLASSIFY_ABLATION_2";
@@ -436,6 +448,9 @@ int main(int argc, char** argv) {
     if (src.thesis.empty()) src.thesis = common::share_dir() + "/thesis/results.csv";
     if (src.real_timeout < 0) throw common::UsageError("--real-timeout: must be >= 0 s");
     needs(src.tile_collect_ablation, "--tile-collect-ablation", src.tile_score, "--tile-score");
+    needs(src.tile_verify_ablation, "--tile-verify-ablation", src.tile_score, "--tile-score");
+    if (src.tile_verify_ablation.empty() != src.tile_verify_ablation_options.empty())
+      throw common::UsageError("--tile-verify-ablation and --tile-verify-ablation-options go together");
     for (std::size_t i = 0; i < src.tile_classify_ablations.size(); ++i) {
       const std::string opt = classify_ablation_option(i);
       const ClassifyAblationArgs& a = src.tile_classify_ablations[i];
@@ -460,7 +475,8 @@ int main(int argc, char** argv) {
     if (!src.families.empty()) markdown += families_section(src.families);
     if (!src.tile_score.empty())
       markdown += scenes_section(src.tile_score, src.tile_collect_ablation, src.tile_classify_ablations,
-                                 scene_dir, results, outputs);
+                                 src.tile_verify_ablation, src.tile_verify_ablation_options, scene_dir,
+                                 results, outputs);
     if (!manifest.real.empty()) markdown += real_section(manifest.real, src.real_timeout);
     if (!manifest.density.empty() || !manifest.density_sensor.empty())
       markdown += density_section(manifest.density, manifest.density_sensor, results, outputs);

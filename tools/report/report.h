@@ -293,11 +293,19 @@ struct SceneClassifyAblation {
   std::string path;                              // its score.json
   const documents::SceneScore* score = nullptr;  // null: not run
 };
+// The scene experiment's verify ablation (issue 29, "what each stage adds": verify over every model,
+// mk/scenes.mk SCENES_VERIFY_ABLATION = --top-k=1000): shown with the baseline's methods.
+struct SceneVerifyAblation {
+  std::string options;                           // verify's options it ran with
+  std::string path;                              // its score.json
+  const documents::SceneScore* score = nullptr;  // null: not run
+};
 std::string scene_markdown(const documents::SceneScore& score, const std::vector<SceneStageTime>& times,
                            const std::string& figures_dir,
                            const documents::SceneScore* collect_ablation = nullptr,
                            const std::string& collect_ablation_path = "",
-                           const std::vector<SceneClassifyAblation>& classify_ablations = {});
+                           const std::vector<SceneClassifyAblation>& classify_ablations = {},
+                           const SceneVerifyAblation& verify_ablation = {});
 std::string scene_times_csv(const std::vector<SceneStageTime>& times);
 
 // "k/n = r% [lo, hi]": the rate with Wilson's 95% interval at `units` independent units

@@ -11,6 +11,7 @@
 
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
+#include "canopy/documents/match_result.h"
 #include "canopy/documents/scene_score.h"
 #include "canopy/documents/stage_time.h"
 #include "report/clutter_section.h"
@@ -60,7 +61,14 @@ bool same_value(const ScoreValue& a, const ScoreValue& b) {
 }
 
 // The PCL baseline's methods (issue 17; mk/scenes.mk SCENE_BASELINE), in the tables' order.
-const char* const kBaselineMethods[] = {"vfh", "fpfh", "size"};
+// (fpfh-verify: the FPFH poses scored by verify, an ablation of canopy's gmatch, issue 29; its
+// score lives beside the methods' as baseline-fpfh-verify/.)
+const char* const kBaselineMethods[] = {"vfh", "fpfh", "size", "fpfh-verify"};
+
+// Methods that are ablations of canopy rather than baselines (issue 29): left out of issue 17's goal.
+bool canopy_ablation(const std::string& method) {
+  return method == "size" || method == "verify-all" || method == "fpfh-verify";
+}
 
 struct BaselineScore {
   std::string method;
@@ -83,13 +91,27 @@ bool same_runs(const SceneScore& a, const SceneScore& b) {
 // where `score` wrote canopy's CSVs (the score's --csv parameter: results/scenes/). Only scores
 // of exactly canopy's runs are shown; others (a stale run over other tiles) are named in
 // `stale`.
-std::vector<BaselineScore> baseline_scores(const SceneScore& score, std::vector<std::string>& stale) {
+std::vector<BaselineScore> baseline_scores(const SceneScore& score, std::vector<std::string>& stale,
+                                           const SceneVerifyAblation& verify_all) {
   std::vector<BaselineScore> out;
+  // verify over every model (the scene experiment's verify ablation, --tile-verify-ablation), after
+  // the baseline's methods below.
+  const auto add_verify_all = [&] {
+    if (verify_all.score == nullptr) return;
+    if (!same_runs(*verify_all.score, score)) {
+      stale.push_back(verify_all.path);
+      return;
+    }
+    out.push_back({"verify-all", verify_all.path, *verify_all.score});
+  };
   std::string csv;
   for (const auto& [k, v] : score.parameters) {
     if (k == "csv") csv = v;
   }
-  if (csv.empty()) return out;
+  if (csv.empty()) {
+    add_verify_all();
+    return out;
+  }
   const std::filesystem::path dir = std::filesystem::path(csv).parent_path();
   for (const char* m : kBaselineMethods) {
     const std::string path = (dir / ("baseline-" + std::string(m)) / "score.json").string();
@@ -102,6 +124,7 @@ std::vector<BaselineScore> baseline_scores(const SceneScore& score, std::vector<
     }
     out.push_back(std::move(b));
   }
+  add_verify_all();
   return out;
 }
 
@@ -194,7 +217,7 @@ void baseline_goal(std::ostringstream& md, const SceneScore& score, const std::v
   double best = -1;
   std::string best_method;
   for (const auto& b : bl) {
-    if (b.method == "size") continue;  // an ablation of canopy, not a baseline (below)
+    if (canopy_ablation(b.method)) continue;  // an ablation of canopy, not a baseline (below)
     const ScoreValue& r = score_field(same_row(b.score.summary, all_key, "cover", "noise_mm"), "recognition");
     if (r.is_number() && r.as_number() > best) {
       best = r.as_number();
@@ -224,6 +247,92 @@ void baseline_goal(std::ostringstream& md, const SceneScore& score, const std::v
   }
 }
 
+// Mean CPU (user + system) of a stage's runs with CPU columns; runs = how many.
+double stage_cpu(const std::vector<SceneStageTime>& times, const std::string& stage, int& runs) {
+  for (const auto& t : times) {
+    if (t.stage == stage) {
+      runs = t.cpu_runs;
+      return t.cpu_runs > 0 ? t.cpu_seconds / t.cpu_runs : 0;
+    }
+  }
+  runs = 0;
+  return 0;
+}
+
+// How many models gmatch ranked: the models of the first candidate's match.json of the runs (every
+// candidate is matched against the whole modelbase); 0 when none is found.
+std::size_t ranked_models(const SceneScore& score) {
+  for (const SceneRun& r : scene_runs(score)) {
+    std::error_code ec;
+    std::vector<std::filesystem::path> cands;
+    for (const auto& e : std::filesystem::directory_iterator(r.dir + "/cands", ec)) cands.push_back(e.path());
+    std::sort(cands.begin(), cands.end());
+    for (const auto& c : cands) {
+      const std::filesystem::path m = c / "match.json";
+      if (std::filesystem::is_regular_file(m, ec))
+        return documents::read_match_result(m.string()).models.size();
+    }
+  }
+  return 0;
+}
+
+// What gmatch adds (issue 29): canopy against verify over every model (no gmatch ranking) and
+// against verify on FPFH's ranking and poses, and what the ranking saves as the modelbase grows.
+void gmatch_goal(std::ostringstream& md, const SceneScore& score, const std::vector<BaselineScore>& bl,
+                 const std::vector<SceneStageTime>& times, const std::string& verify_options) {
+  const ScoreRow all_key = {{"cover", "all"}, {"noise_mm", "all"}};
+  const ScoreRow& canopy_all = same_row(score.summary, all_key, "cover", "noise_mm");
+  const ScoreValue& c_rec = score_field(canopy_all, "recognition");
+  bool any = false;
+  for (const auto& b : bl) {
+    if (b.method != "verify-all" && b.method != "fpfh-verify") continue;
+    const ScoreRow& r = same_row(b.score.summary, all_key, "cover", "noise_mm");
+    const ScoreValue& r_rec = score_field(r, "recognition");
+    if (!c_rec.is_number() || !r_rec.is_number()) continue;
+    if (!any) md << "What gmatch adds (issue 29): ";
+    md << (any ? "; " : "")
+       << (b.method == "verify-all"
+               ? "verify over every model (verify again with `" + verify_options +
+                     "` after its parameters: every model gmatch lists is checked, so gmatch's ranking "
+                     "chooses nothing; its segment pairs still give the start poses)"
+               : std::string(
+                     "verify on the FPFH baseline's ranking and poses instead of gmatch's (its top-k of "
+                     "FPFH's list, each from FPFH's pose)"))
+       << ", recognition over all runs " << rate_ci(r, "recognition") << " against canopy's "
+       << rate_ci(canopy_all, "recognition") << " ("
+       << format_number("%+.1f", 100 * (c_rec.as_number() - r_rec.as_number()))
+       << " points for canopy), precision " << rate_ci(r, "precision") << " against "
+       << rate_ci(canopy_all, "precision");
+    any = true;
+  }
+  if (!any) return;
+  md << ". Where the intervals overlap, this experiment does not show that gmatch's ranking does better "
+        "than checking every model with verify.";
+  int g = 0, v = 0, va = 0;
+  const double gmatch = stage_cpu(times, "gmatch", g), verify = stage_cpu(times, "verify", v),
+               verify_all = stage_cpu(times, "verify-ablation", va);
+  const std::size_t m = ranked_models(score);
+  if (g > 0 && va > 0 && m > 0 && verify_all > 0) {
+    // per model: gmatch's ranking, and verify's check of one hypothesis (over every model)
+    const double per_g = gmatch / static_cast<double>(m), per_v = verify_all / static_cast<double>(m);
+    const auto at = [&](double n) {
+      return format_number("%.1f", n * per_g + verify) + " s against " + format_number("%.1f", n * per_v) +
+             " s";
+    };
+    md << " Cost, the CPU per candidate measured here over the modelbase's " << m << " models: gmatch "
+       << format_number("%.3f", gmatch) << " s (" << format_number("%.4f", per_g) << " s a model), verify "
+       << format_number("%.3f", verify) << " s on gmatch's top-k, " << format_number("%.3f", verify_all)
+       << " s over every model (" << format_number("%.3f", per_v)
+       << " s a model); so with N models canopy's gmatch and verify would cost about N × "
+       << format_number("%.4f", per_g) << " s + " << format_number("%.2f", verify)
+       << " s a candidate against N × " << format_number("%.3f", per_v)
+       << " s for verify over every model: at 100 models " << at(100) << ", at 1 000 models " << at(1000)
+       << " (linear in N; gmatch's per-model cost is its graph match, verify's an ICP and the free-space "
+          "test per hypothesis).";
+  }
+  md << "\n\n";
+}
+
 void baseline_times(std::ostringstream& md, const std::vector<BaselineScore>& bl,
                     const std::vector<SceneStageTime>& times) {
   // Time per candidate: mean wall time of each stage's runs (.time files).
@@ -235,7 +344,27 @@ void baseline_times(std::ostringstream& md, const std::vector<BaselineScore>& bl
   for (const char* s : {"fitvox", "cocone", "ncut", "gmatch", "verify"}) canopy_s += stage_mean(times, s, n);
   md << "canopy " << format_number("%.2f", canopy_s) << " s (fitvox " << format_number("%.2f", fitvox_s)
      << " + cocone + ncut + gmatch + verify)";
+  int g = 0;
+  double chain_s = 0;  // fitvox + cocone + ncut + gmatch: what verify over every model reads
+  for (const char* s : {"fitvox", "cocone", "ncut", "gmatch"}) chain_s += stage_mean(times, s, g);
   for (const auto& b : bl) {
+    if (b.method == "verify-all") {
+      const double s = stage_mean(times, "verify-ablation", n);
+      if (n == 0) continue;
+      md << "; " << method_label(b.method) << " " << format_number("%.2f", chain_s + s)
+         << " s (fitvox + cocone + ncut + gmatch + " << format_number("%.2f", s) << " s verify, " << n
+         << " runs)";
+      continue;
+    }
+    if (b.method == "fpfh-verify") {
+      int f = 0;
+      const double s = stage_mean(times, "verify-fpfh", n), fp = stage_mean(times, "baseline-fpfh", f);
+      if (n == 0 || f == 0) continue;
+      md << "; " << method_label(b.method) << " " << format_number("%.2f", fitvox_s + fp + s)
+         << " s (fitvox + " << format_number("%.2f", fp) << " s FPFH + " << format_number("%.2f", s)
+         << " s verify, " << n << " runs)";
+      continue;
+    }
     const double s = stage_mean(times, "baseline-" + b.method, n);
     if (n == 0) continue;
     md << "; " << method_label(b.method) << " " << format_number("%.2f", fitvox_s + s) << " s (fitvox + "
@@ -245,7 +374,7 @@ void baseline_times(std::ostringstream& md, const std::vector<BaselineScore>& bl
 }
 
 std::string baseline_markdown(const SceneScore& score, const std::vector<BaselineScore>& bl,
-                              const std::vector<SceneStageTime>& times) {
+                              const std::vector<SceneStageTime>& times, const std::string& verify_options) {
   std::ostringstream md;
   md << "### canopy beside the PCL baseline (issue 17)\n\n"
         "The same candidates (detect's, each one's fitvox `samples.pcd`), the same modelbase and the same "
@@ -263,6 +392,7 @@ std::string baseline_markdown(const SceneScore& score, const std::vector<Baselin
   baseline_rows(md, score, bl);
   baseline_recognition(md, score, bl);
   baseline_goal(md, score, bl);
+  gmatch_goal(md, score, bl, times, verify_options);
   baseline_times(md, bl, times);
   return md.str();
 }
@@ -289,10 +419,13 @@ std::vector<SceneStageTime> scene_times(const std::vector<SceneRun>& runs) {
       {"gmatch", "match.json"},
       {"verify", "verdict.json"},
       {"baseline-vfh", "baseline-vfh.json"},
-      {"baseline-fpfh", "baseline-fpfh.json"}};
+      {"baseline-fpfh", "baseline-fpfh.json"},
+      {"verify-ablation", "verdict-ablation.json"},
+      {"verify-fpfh", "verdict-fpfh.json"}};
   std::vector<SceneStageTime> out;
-  for (const char* s : {"rangetrace", "addnoise", "detect", "plan", "classify", "fitvox", "cocone", "ncut",
-                        "gmatch", "verify", "collect", "topview", "baseline-vfh", "baseline-fpfh"}) {
+  for (const char* s :
+       {"rangetrace", "addnoise", "detect", "plan", "classify", "fitvox", "cocone", "ncut", "gmatch",
+        "verify", "collect", "topview", "baseline-vfh", "baseline-fpfh", "verify-ablation", "verify-fpfh"}) {
     SceneStageTime t;
     t.stage = s;
     out.push_back(t);
@@ -341,10 +474,13 @@ std::vector<SceneStageTime> scene_times(const std::vector<SceneRun>& runs) {
     }
   }
   for (auto& t : out) t.per_ha = t.area_ha > 0 ? t.seconds / t.area_ha : 0;
-  // The baseline's stages only when it ran (SCENE_BASELINE).
-  out.erase(std::remove_if(
-                out.begin(), out.end(),
-                [](const SceneStageTime& t) { return t.stage.rfind("baseline-", 0) == 0 && t.runs == 0; }),
+  // The baseline's and the verify ablations' stages only when they ran (SCENE_BASELINE,
+  // SCENE_VERIFY_ABLATION, the FPFH poses' verify).
+  out.erase(std::remove_if(out.begin(), out.end(),
+                           [](const SceneStageTime& t) {
+                             return (t.stage.rfind("baseline-", 0) == 0 || t.stage.rfind("verify-", 0) == 0) &&
+                                    t.runs == 0;
+                           }),
             out.end());
   return out;
 }
@@ -590,10 +726,11 @@ void classify_ablations_table(std::ostringstream& md, const SceneScore& score,
   }
 }
 
-void baselines(std::ostringstream& md, const SceneScore& score, const std::vector<SceneStageTime>& times) {
+void baselines(std::ostringstream& md, const SceneScore& score, const std::vector<SceneStageTime>& times,
+               const SceneVerifyAblation& verify_ablation) {
   std::vector<std::string> stale;
-  const auto bl = baseline_scores(score, stale);
-  if (!bl.empty()) md << baseline_markdown(score, bl, times);
+  const auto bl = baseline_scores(score, stale, verify_ablation);
+  if (!bl.empty()) md << baseline_markdown(score, bl, times, verify_ablation.options);
   for (const auto& p : stale) {
     md << "(" << p << " scores other runs than canopy's: a stale baseline run, not shown.)\n\n";
   }
@@ -634,7 +771,8 @@ void pictures(std::ostringstream& md, const std::vector<std::string>& covers, co
 std::string scene_markdown(const SceneScore& score, const std::vector<SceneStageTime>& times,
                            const std::string& fig, const SceneScore* collect_ablation,
                            const std::string& collect_ablation_path,
-                           const std::vector<SceneClassifyAblation>& classify_ablations) {
+                           const std::vector<SceneClassifyAblation>& classify_ablations,
+                           const SceneVerifyAblation& verify_ablation) {
   std::ostringstream md;
   const std::vector<ScoreRow>& summary = score.summary;
   std::vector<std::string> covers;
@@ -658,7 +796,7 @@ std::string scene_markdown(const SceneScore& score, const std::vector<SceneStage
   reliability_table(md, score, collect_ablation, collect_ablation_path);
   classify_ablations_table(md, score, classify_ablations);
   md << clutter_markdown(score);
-  baselines(md, score, times);
+  baselines(md, score, times, verify_ablation);
   times_table(md, times);
   pictures(md, covers, fig);
   return md.str();
