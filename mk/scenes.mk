@@ -455,6 +455,16 @@ scene_key = S_$(subst .,_,$(subst -,_,$(subst /,_,$(1))))
 # beside canopy's. SCENE_BASELINE= (empty) leaves the baseline out.
 SCENE_BASELINE ?= vfh fpfh
 $(if $(filter-out vfh fpfh,$(SCENE_BASELINE)),$(error SCENE_BASELINE=$(SCENE_BASELINE): methods are vfh and fpfh))
+# FPFH poses scored by verify (issue 29, "what each stage adds"; docs/decisions/baseline.md §8,
+# scene-experiment.md "What gmatch adds"): with fpfh in SCENE_BASELINE, its stage also writes its
+# ranking of every model with each one's pose (`baseline --hypotheses`: cands/<id>/hypotheses-fpfh.json,
+# no extra FPFH run), verify checks that list as it checks gmatch's (its parameters: top-k of FPFH's
+# ranking, each from FPFH's pose and the principal axes; cands/<id>/verdict-fpfh.json), and collect
+# and score make results/scenes/baseline-fpfh-verify/ (the report's row "FPFH poses, verify").
+# SCENE_FPFH_VERIFY=0 leaves it out.
+SCENE_FPFH_VERIFY ?= 1
+$(if $(filter-out 0 1,$(SCENE_FPFH_VERIFY)),$(error SCENE_FPFH_VERIFY=$(SCENE_FPFH_VERIFY): must be 0 or 1))
+scene_fpfh_verify = $(if $(filter fpfh,$(SCENE_BASELINE)),$(filter 1,$(SCENE_FPFH_VERIFY)))
 # The size-only ablation (issue 29, "what each stage adds"; docs/decisions/scene-experiment.md):
 # no model chain at all: each candidate classify answers with a class becomes a detection of
 # the modelbase model nearest to classify's length, width and height (`collect --size-only`),
@@ -463,7 +473,8 @@ $(if $(filter-out vfh fpfh,$(SCENE_BASELINE)),$(error SCENE_BASELINE=$(SCENE_BAS
 # leaves it out.
 SCENE_SIZE_ONLY ?= 1
 $(if $(filter-out 0 1,$(SCENE_SIZE_ONLY)),$(error SCENE_SIZE_ONLY=$(SCENE_SIZE_ONLY): must be 0 or 1))
-SCENE_BL_SCORES := $(foreach m,$(SCENE_BASELINE) $(if $(filter 1,$(SCENE_SIZE_ONLY)),size),$(SCENE_RES)/baseline-$(m)/score.json)
+SCENE_BL_SCORES := $(foreach m,$(SCENE_BASELINE) $(if $(filter 1,$(SCENE_SIZE_ONLY)),size)$(if \
+  $(scene_fpfh_verify), fpfh-verify),$(SCENE_RES)/baseline-$(m)/score.json)
 SCENE_ABL_SCORE := $(foreach v,$(SCENE_CLASS_ABLATIONS),$(SCENE_RES)/$(v)/score.json) \
   $(foreach v,$(SCENE_COLLECT_VARIANTS),$(SCENE_RES)/$(v)/score.json) \
   $(if $(SCENE_VERIFY_ABLATION),$(SCENE_RES)/verify-ablation/score.json)
@@ -616,11 +627,25 @@ $(SCENE_SCORE): $(SCENE_DIR)/tiles.txt $(addsuffix /detections.json,$(SCENE_RUNS
 # samples (a failed fitvox leaves an empty samples.pcd, so the baseline fails too and collect
 # counts the candidate as failed, as for canopy), per run collect, then one score per method
 # over a manifest of the same tiles.
+# (With SCENE_FPFH_VERIFY the fpfh stage writes hypotheses-fpfh.json too: both files are its
+# targets, grouped, so either one missing runs it.)
+scene_bl_hyp = $(if $(filter fpfh,$(3)),$(if $(scene_fpfh_verify),$(1)/cands/$(2)/hypotheses-fpfh.json))
 define scene_baseline_cand_rule
-$(1)/cands/$(2)/baseline-$(3).json: $(1)/cands/$(2)/samples.pcd $(VERIFY_SURFACES) $(call baseline_models,$(SCENE_MB)) \
-    $(call tool,baseline) $(P)/baseline.ini $(opts.params)
-	@$(STAGE) --record-failure $$@ -- $(BIN)/baseline --config $(P)/baseline.ini --verdict $(3) -i $$< \
-	  --modelbase $(SCENE_MB) --model-cache $(call baseline_models,$(SCENE_MB)) -o $$@
+$(1)/cands/$(2)/baseline-$(3).json$(if $(scene_bl_hyp), $(scene_bl_hyp) &:,:) $(1)/cands/$(2)/samples.pcd $(VERIFY_SURFACES) \
+    $(call baseline_models,$(SCENE_MB)) $(call tool,baseline) $(P)/baseline.ini $(opts.params)
+	@$(STAGE) --record-failure $(1)/cands/$(2)/baseline-$(3).json -- $(BIN)/baseline --config $(P)/baseline.ini \
+	  --verdict $(3) -i $(1)/cands/$(2)/samples.pcd --modelbase $(SCENE_MB) --model-cache $(call \
+	  baseline_models,$(SCENE_MB)) -o $(1)/cands/$(2)/baseline-$(3).json$(if $(scene_bl_hyp), --hypotheses $(scene_bl_hyp))
+endef
+# scene_fpfh_verify_rule(DIR, ID, KEY): the FPFH ranking and poses (written beside the fpfh
+# verdict, by its stage) checked by verify with its parameters into cands/<id>/verdict-fpfh.json
+# (no --segments: the list has no segment pairs).
+define scene_fpfh_verify_rule
+$(1)/cands/$(2)/verdict-fpfh.json: $(1)/cands/$(2)/hypotheses-fpfh.json $(1)/cands/$(2)/samples.pcd \
+    $(wildcard $(SCENE_MB)/*.json $(SCENE_MB)/*.pcd) $(MODELBASE) $(VERIFY_SURFACES) $(call tool,verify) \
+    $(wildcard $(P)/verify.ini) $(opts.models)
+	@$(STAGE) --record-failure $$@ -- $(BIN)/verify $(call scene_config,verify) -i $$< \
+	  --points $(1)/cands/$(2)/samples.pcd --modelbase $(SCENE_MB) --transform $($(3)_TRANSFORM_$(2)) -o $$@
 endef
 # The models' side of another SCENE_MB than the thesis modelbase's (mk/baseline.mk).
 $(if $(SCENE_BASELINE),$(if $(filter-out $(OUT)/modelbase,$(SCENE_MB)),$(eval $(call baseline_models_rule,$(SCENE_MB),$(VERIFY_SURFACES)))))
@@ -635,6 +660,16 @@ $(foreach m,$(SCENE_BASELINE),$(foreach r,$(SCENE_RUNS),$(foreach c,$(call model
 $(foreach m,$(SCENE_BASELINE),$(foreach r,$(SCENE_RUNS),$(eval $(call collect_variant_rule,$(r),$(call scene_key,$(r)),$(SCENE_MB),\
   baseline-$(m),class.json,baseline-$(m).json,--verdict-name baseline-$(m).json --refused-below=0))))
 $(foreach m,$(SCENE_BASELINE),$(eval $(call scene_variant_score_rule,baseline-$(m))))
+# FPFH poses scored by verify (SCENE_FPFH_VERIFY): per model-level candidate, per run, one score.
+ifneq ($(scene_fpfh_verify),)
+TILE_CAND_KINDS += verify:cand/verdict-fpfh.json
+$(foreach r,$(SCENE_RUNS),$(foreach c,$(call model_cands,$(call scene_key,$(r))),\
+  $(eval $(call scene_fpfh_verify_rule,$(r),$(c),$(call scene_key,$(r))))))
+$(foreach r,$(SCENE_RUNS),$(eval $(call collect_variant_rule,$(r),$(call scene_key,$(r)),$(SCENE_MB),\
+  baseline-fpfh-verify,class.json,verdict-fpfh.json,--verdict-name verdict-fpfh.json$(collect_calibration),,\
+  $(COLLECT_CALIBRATION) $(opts.collect))))
+$(eval $(call scene_variant_score_rule,baseline-fpfh-verify))
+endif
 # The size-only ablation: per run, collect from classify's measurements alone; scored as above.
 # (The surfaces as $(wildcard): the parent make builds them before this sub-make, and a dry run
 # of it must not plan their thesis stages a second time: the progress count.)

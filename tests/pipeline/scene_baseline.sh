@@ -98,8 +98,37 @@ jq -e '[.provenance.inputs[] | select(endswith("verdict.json"))] | length == 0' 
 [ "$(jq -c '[.tiles[] | .truth]' "$s")" = "$(jq -c '[.tiles[] | .truth]' "$tmp/res/scenes/score.json")" ] \
   || fail "size only scores other tiles"
 echo "size: $measured measured, $found detections: $(jq -c '.summary[0] | {tp, fp, fn, identified}' "$s")"
+# FPFH poses scored by verify (issue 29; mk/scenes.mk SCENE_FPFH_VERIFY, on by default): every
+# model-level candidate with an fpfh verdict also has FPFH's ranking of both models with their poses
+# (hypotheses-fpfh.json: rank 1 = the verdict's model where it named one) and verify's verdict on it
+# (verdict-fpfh.json, no segment graph read), collected and scored over the same runs.
+s="$tmp/res/scenes/baseline-fpfh-verify/score.json"
+[ -s "$s" ] || fail "no $s"
+[ "$(jq -c '[.tiles[] | .truth, .cover, .noise_mm]' "$s")" = \
+  "$(jq -c '[.tiles[] | .truth, .cover, .noise_mm]' "$tmp/res/scenes/score.json")" ] || fail "fpfh-verify scores other tiles"
+[ "$(jq -r '.tiles[0].detections' "$s")" = "$run/detections-baseline-fpfh-verify.json" ] || fail "fpfh-verify: wrong detections file"
+checked=0
+for id in $ids; do
+  v="$run/cands/$id/baseline-fpfh.json"
+  [ -s "$v" ] || continue
+  h="$run/cands/$id/hypotheses-fpfh.json"
+  jq -e '.format == "canopy.match_result" and (.models | length) == 2 and ([.models[].model] | sort) == ["sedan", "tank"]' \
+    "$h" >/dev/null || fail "$h is not FPFH's ranking of both models: $(head -c 300 "$h")"
+  m=$(jq -r '.model // ""' "$v")
+  [ -z "$m" ] || [ "$(jq -r '.models[0].model' "$h")" = "$m" ] || fail "$h: rank 1 is not the fpfh verdict's $m"
+  f="$run/cands/$id/verdict-fpfh.json"
+  jq -e '.format == "canopy.verdict" and .provenance.tool == "verify"
+      and ([.provenance.inputs[] | select(endswith("segments.json"))] | length == 0)' "$f" >/dev/null \
+    || fail "$f is not verify's verdict without a segment graph"
+  checked=$((checked + 1))
+done
+[ "$checked" -ge 1 ] || fail "no candidate had FPFH's poses checked by verify"
+echo "fpfh-verify: $checked candidates: $(jq -c '.summary[0] | {tp, fp, fn, identified}' "$s")"
 # Up to date afterwards (the baseline manifests are written only when they change).
 "${mk[@]}" -q scenes >"$tmp/q.log" 2>&1 || fail "make -q scenes after a run exits $? (want 0): $(tail -3 "$tmp/q.log")"
+# SCENE_FPFH_VERIFY=0 leaves the FPFH poses' verify out (and the fpfh stage's --hypotheses).
+"${mk[@]}" -n scenes SCENE_FPFH_VERIFY=0 >"$tmp/n0.log" 2>&1 || fail "make -n scenes SCENE_FPFH_VERIFY=0 failed"
+if grep -q 'fpfh-verify\|verdict-fpfh\|--hypotheses' "$tmp/n0.log"; then fail "SCENE_FPFH_VERIFY=0 still plans it"; fi
 # SCENE_BASELINE= leaves it out: no baseline rule is planned.
 "${mk[@]}" -n scenes SCENE_BASELINE= SCENE_SIZE_ONLY=0 >"$tmp/n.log" 2>&1 || fail "make -n scenes SCENE_BASELINE= failed"
 if grep -q 'baseline' "$tmp/n.log"; then fail "SCENE_BASELINE= still plans the baseline: $(grep baseline "$tmp/n.log" | head -2)"; fi
