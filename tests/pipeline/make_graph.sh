@@ -532,11 +532,14 @@ plans "bin/report " || fail "make -n all plans no report"
   fail "a dry run of all wrote an options file of the ablations"
 # The scene experiment's verify ablation (mk/scenes.mk SCENES_VERIFY_ABLATION, by default
 # --top-k=1000: verify over every model, no gmatch ranking; scene-experiment.md "What gmatch
-# adds"): `make -n all` plans, in the experiment's `make scenes`, the run's collect of those
-# verdicts and their score, and gives the report the score and the options; emptied, none of it.
+# adds"): `make -n all` plans, in the experiment's `make scenes`, verify with those options on the
+# model-level candidate, the run's collect of those verdicts and their score, and gives the report
+# the score and the options; emptied, none of it.
 plan=$("${se[@]}" -n all 2>&1)
 plans "bin/collect -i $sr/cands/index.json --verdict-name verdict-ablation.json .*-o $sr/detections-verify-ablation.json" ||
   fail "make -n all does not plan the scene experiment's verify ablation's collect: $(echo "$plan" | grep verify-ablation | head -3)"
+plans "bin/verify --config [^ ]*verify.ini --top-k=1000 -i $sr/cands/c0001/match.json .*-o $sr/cands/c0001/verdict-ablation.json" ||
+  fail "make -n all does not plan verify over every model on the model-level candidate: $(echo "$plan" | grep "bin/verify" | head -3)"
 plans "bin/score --tiles $sd/tiles-verify-ablation.txt .*-o $tmp/res/scenes/verify-ablation/score.json" ||
   fail "make -n all does not plan the verify ablation's score"
 plans "bin/report .*--tile-verify-ablation $tmp/res/scenes/verify-ablation/score.json --tile-verify-ablation-options='--top-k=1000'" ||
@@ -544,8 +547,8 @@ plans "bin/report .*--tile-verify-ablation $tmp/res/scenes/verify-ablation/score
 with=$(echo "$plan" | stages)
 plan=$("${se[@]}" -n all SCENES_VERIFY_ABLATION= 2>&1)
 if plans "verify-ablation"; then fail "SCENES_VERIFY_ABLATION= still plans the verify ablation"; fi
-[ $((with - $(echo "$plan" | stages))) -eq 2 ] ||
-  fail "the verify ablation adds $((with - $(echo "$plan" | stages))) stages to make -n all on a run without model-level candidates, not 2 (its collect and score)"
+[ $((with - $(echo "$plan" | stages))) -eq 3 ] ||
+  fail "the verify ablation adds $((with - $(echo "$plan" | stages))) stages to make -n all, not 3 (verify on the model-level c0001, the run's collect, the score)"
 # The density ladder's detect (mk/density.mk DENSITY_DETECT, DENSITY_DETECT_ABLATIONS;
 # density-ladder.md, stop 61): the class-level rungs (at most DENSITY_CLASS_MAX = 50 points/m²)
 # detect with share/params/detect-ladder.ini (end-gap = 1); each of them runs its chain a second
