@@ -135,11 +135,14 @@ const ScoreRow& same_row(const std::vector<ScoreRow>& table, const ScoreRow& row
   return no_row;
 }
 
-double stage_mean(const std::vector<SceneStageTime>& times, const std::string& stage, int& runs) {
+// Mean wall time of a stage's runs (cpu: its CPU, user + system, over the runs with CPU columns);
+// runs = how many.
+double stage_mean(const std::vector<SceneStageTime>& times, const std::string& stage, int& runs,
+                  bool cpu = false) {
   for (const auto& t : times) {
     if (t.stage == stage) {
-      runs = t.runs;
-      return t.runs > 0 ? t.seconds / t.runs : 0;
+      runs = cpu ? t.cpu_runs : t.runs;
+      return runs > 0 ? (cpu ? t.cpu_seconds : t.seconds) / runs : 0;
     }
   }
   runs = 0;
@@ -241,18 +244,6 @@ void baseline_goal(std::ostringstream& md, const SceneScore& score, const std::v
   }
 }
 
-// Mean CPU (user + system) of a stage's runs with CPU columns; runs = how many.
-double stage_cpu(const std::vector<SceneStageTime>& times, const std::string& stage, int& runs) {
-  for (const auto& t : times) {
-    if (t.stage == stage) {
-      runs = t.cpu_runs;
-      return t.cpu_runs > 0 ? t.cpu_seconds / t.cpu_runs : 0;
-    }
-  }
-  runs = 0;
-  return 0;
-}
-
 // How many models gmatch ranked: the models of the first candidate's match.json of the runs (every
 // candidate is matched against the whole modelbase); 0 when none is found.
 std::size_t ranked_models(const SceneScore& score) {
@@ -303,8 +294,8 @@ void gmatch_goal(std::ostringstream& md, const SceneScore& score, const std::vec
   md << ". Where the intervals overlap, this experiment does not show that gmatch's ranking does better "
         "than checking every model with verify.";
   int g = 0, v = 0, va = 0;
-  const double gmatch = stage_cpu(times, "gmatch", g), verify = stage_cpu(times, "verify", v),
-               verify_all = stage_cpu(times, "verify-ablation", va);
+  const double gmatch = stage_mean(times, "gmatch", g, true), verify = stage_mean(times, "verify", v, true),
+               verify_all = stage_mean(times, "verify-ablation", va, true);
   const std::size_t m = ranked_models(score);
   if (g > 0 && va > 0 && m > 0 && verify_all > 0) {
     // per model: gmatch's ranking, and verify's check of one hypothesis (over every model)
