@@ -627,24 +627,30 @@ $(SCENE_SCORE): $(SCENE_DIR)/tiles.txt $(addsuffix /detections.json,$(SCENE_RUNS
 # samples (a failed fitvox leaves an empty samples.pcd, so the baseline fails too and collect
 # counts the candidate as failed, as for canopy), per run collect, then one score per method
 # over a manifest of the same tiles.
-# (With SCENE_FPFH_VERIFY the fpfh stage writes hypotheses-fpfh.json too: both files are its
-# targets, grouped, so either one missing runs it.)
+# (With SCENE_FPFH_VERIFY the fpfh stage writes hypotheses-fpfh.json too. It is not a target of
+# its own: make 4.3's grouped targets break `make -n` planning (a dry run after the stage's
+# prerequisites changed plans the readers of one target only: no verify-fpfh, so the progress
+# count misses them; as ncut's segments.ply, Makefile.experiments), so its reader depends on
+# baseline-fpfh.json. The old file goes first: a failed stage (--record-failure: an empty
+# baseline-fpfh.json) leaves none, and verify then fails on it as the candidate's chain failed,
+# never reading the poses of an earlier run.)
 scene_bl_hyp = $(if $(filter fpfh,$(3)),$(if $(scene_fpfh_verify),$(1)/cands/$(2)/hypotheses-fpfh.json))
 define scene_baseline_cand_rule
-$(1)/cands/$(2)/baseline-$(3).json$(if $(scene_bl_hyp), $(scene_bl_hyp) &:,:) $(1)/cands/$(2)/samples.pcd $(VERIFY_SURFACES) \
+$(1)/cands/$(2)/baseline-$(3).json: $(1)/cands/$(2)/samples.pcd $(VERIFY_SURFACES) \
     $(call baseline_models,$(SCENE_MB)) $(call tool,baseline) $(P)/baseline.ini $(opts.params)
-	@$(STAGE) --record-failure $(1)/cands/$(2)/baseline-$(3).json -- $(BIN)/baseline --config $(P)/baseline.ini \
+	$(if $(scene_bl_hyp),@rm -f $(scene_bl_hyp))
+	@$(STAGE) --record-failure $$@ -- $(BIN)/baseline --config $(P)/baseline.ini \
 	  --verdict $(3) -i $(1)/cands/$(2)/samples.pcd --modelbase $(SCENE_MB) --model-cache $(call \
-	  baseline_models,$(SCENE_MB)) -o $(1)/cands/$(2)/baseline-$(3).json$(if $(scene_bl_hyp), --hypotheses $(scene_bl_hyp))
+	  baseline_models,$(SCENE_MB)) -o $$@$(if $(scene_bl_hyp), --hypotheses $(scene_bl_hyp))
 endef
 # scene_fpfh_verify_rule(DIR, ID, KEY): the FPFH ranking and poses (written beside the fpfh
 # verdict, by its stage) checked by verify with its parameters into cands/<id>/verdict-fpfh.json
 # (no --segments: the list has no segment pairs).
 define scene_fpfh_verify_rule
-$(1)/cands/$(2)/verdict-fpfh.json: $(1)/cands/$(2)/hypotheses-fpfh.json $(1)/cands/$(2)/samples.pcd \
+$(1)/cands/$(2)/verdict-fpfh.json: $(1)/cands/$(2)/baseline-fpfh.json $(1)/cands/$(2)/samples.pcd \
     $(wildcard $(SCENE_MB)/*.json $(SCENE_MB)/*.pcd) $(MODELBASE) $(VERIFY_SURFACES) $(call tool,verify) \
     $(wildcard $(P)/verify.ini) $(opts.models)
-	@$(STAGE) --record-failure $$@ -- $(BIN)/verify $(call scene_config,verify) -i $$< \
+	@$(STAGE) --record-failure $$@ -- $(BIN)/verify $(call scene_config,verify) -i $(1)/cands/$(2)/hypotheses-fpfh.json \
 	  --points $(1)/cands/$(2)/samples.pcd --modelbase $(SCENE_MB) --transform $($(3)_TRANSFORM_$(2)) -o $$@
 endef
 # The models' side of another SCENE_MB than the thesis modelbase's (mk/baseline.mk).

@@ -126,10 +126,38 @@ done
 echo "fpfh-verify: $checked candidates: $(jq -c '.summary[0] | {tp, fp, fn, identified}' "$s")"
 # Up to date afterwards (the baseline manifests are written only when they change).
 "${mk[@]}" -q scenes >"$tmp/q.log" 2>&1 || fail "make -q scenes after a run exits $? (want 0): $(tail -3 "$tmp/q.log")"
+# A changed prerequisite of the baseline's stage (here its parameters' file): the dry run plans the
+# fpfh stage and verify on its poses again for every candidate that has them (the progress count
+# is this plan; make 4.3's grouped targets planned the readers of one of the stage's files only).
+touch -r "$tmp/params/baseline.ini" "$tmp/ini.ref" && touch "$tmp/params/baseline.ini"
+"${mk[@]}" -n scenes >"$tmp/nb.log" 2>&1 || fail "make -n scenes after baseline.ini changed failed"
+touch -r "$tmp/ini.ref" "$tmp/params/baseline.ini"
+replanned=0
+for id in $ids; do
+  [ -s "$run/cands/$id/hypotheses-fpfh.json" ] || continue
+  grep -q "bin/baseline .*-o $run/cands/$id/baseline-fpfh.json --hypotheses" "$tmp/nb.log" ||
+    fail "a changed baseline.ini does not re-plan $id's fpfh stage"
+  grep -q "bin/verify .*-i $run/cands/$id/hypotheses-fpfh.json .*-o $run/cands/$id/verdict-fpfh.json" "$tmp/nb.log" ||
+    fail "a changed baseline.ini re-plans $id's fpfh stage but not verify on its poses: $(grep "$id" "$tmp/nb.log" | head -5)"
+  replanned=$((replanned + 1))
+done
+[ "$replanned" -ge 1 ] || fail "no candidate with FPFH's poses to re-plan"
+# A failed fpfh stage (an empty samples.pcd, as a failed fitvox leaves it): baseline-fpfh.json is
+# the empty failure marker, the poses of the run before are gone (verify never reads them), verify's
+# verdict on them is empty too (a failed candidate for collect), and make is up to date afterwards.
+for id in $ids; do [ -s "$run/cands/$id/hypotheses-fpfh.json" ] && { bad=$id; break; }; done
+: >"$run/cands/$bad/samples.pcd"
+"${mk[@]}" scenes SCENE_PICTURES=0 >"$tmp/fail.log" 2>&1 || fail "make scenes after a failed fitvox failed: $(tail -5 "$tmp/fail.log")"
+c="$run/cands/$bad"
+[ -e "$c/baseline-fpfh.json" ] && [ ! -s "$c/baseline-fpfh.json" ] || fail "$bad: the failed fpfh stage left no empty marker"
+[ ! -e "$c/hypotheses-fpfh.json" ] || fail "$bad: the failed fpfh stage left the poses of the run before"
+[ -e "$c/verdict-fpfh.json" ] && [ ! -s "$c/verdict-fpfh.json" ] || fail "$bad: verify on no poses left no empty verdict"
+"${mk[@]}" -q scenes SCENE_PICTURES=0 >"$tmp/q2.log" 2>&1 ||
+  fail "make -q scenes after a failed fpfh stage exits $? (want 0: nothing to redo): $(tail -3 "$tmp/q2.log")"
 # SCENE_FPFH_VERIFY=0 leaves the FPFH poses' verify out (and the fpfh stage's --hypotheses).
-"${mk[@]}" -n scenes SCENE_FPFH_VERIFY=0 >"$tmp/n0.log" 2>&1 || fail "make -n scenes SCENE_FPFH_VERIFY=0 failed"
+"${mk[@]}" -nB scenes SCENE_FPFH_VERIFY=0 >"$tmp/n0.log" 2>&1 || fail "make -n scenes SCENE_FPFH_VERIFY=0 failed"
 if grep -q 'fpfh-verify\|verdict-fpfh\|--hypotheses' "$tmp/n0.log"; then fail "SCENE_FPFH_VERIFY=0 still plans it"; fi
 # SCENE_BASELINE= leaves it out: no baseline rule is planned.
-"${mk[@]}" -n scenes SCENE_BASELINE= SCENE_SIZE_ONLY=0 >"$tmp/n.log" 2>&1 || fail "make -n scenes SCENE_BASELINE= failed"
+"${mk[@]}" -nB scenes SCENE_BASELINE= SCENE_SIZE_ONLY=0 >"$tmp/n.log" 2>&1 || fail "make -n scenes SCENE_BASELINE= failed"
 if grep -q 'baseline' "$tmp/n.log"; then fail "SCENE_BASELINE= still plans the baseline: $(grep baseline "$tmp/n.log" | head -2)"; fi
 echo "ok: the baseline in the scene experiment"
