@@ -245,7 +245,8 @@ void baseline_goal(std::ostringstream& md, const SceneScore& score, const std::v
 }
 
 // How many models gmatch ranked: the models of the first candidate's match.json of the runs (every
-// candidate is matched against the whole modelbase); 0 when none is found.
+// candidate is matched against the whole modelbase); 0 when none is found. An empty match.json is
+// a failed gmatch (stagerun --record-failure's marker), not a ranking: the next one is read.
 std::size_t ranked_models(const SceneScore& score) {
   for (const SceneRun& r : scene_runs(score)) {
     std::error_code ec;
@@ -254,7 +255,7 @@ std::size_t ranked_models(const SceneScore& score) {
     std::sort(cands.begin(), cands.end());
     for (const auto& c : cands) {
       const std::filesystem::path m = c / "match.json";
-      if (std::filesystem::is_regular_file(m, ec))
+      if (std::filesystem::is_regular_file(m, ec) && std::filesystem::file_size(m, ec) > 0 && !ec)
         return documents::read_match_result(m.string()).models.size();
     }
   }
@@ -297,7 +298,7 @@ void gmatch_goal(std::ostringstream& md, const SceneScore& score, const std::vec
   const double gmatch = stage_mean(times, "gmatch", g, true), verify = stage_mean(times, "verify", v, true),
                verify_all = stage_mean(times, "verify-ablation", va, true);
   const std::size_t m = ranked_models(score);
-  if (g > 0 && va > 0 && m > 0 && verify_all > 0) {
+  if (g > 0 && v > 0 && va > 0 && m > 0 && verify_all > 0) {
     // per model: gmatch's ranking, and verify's check of one hypothesis (over every model)
     const double per_g = gmatch / static_cast<double>(m), per_v = verify_all / static_cast<double>(m);
     const auto at = [&](double n) {
