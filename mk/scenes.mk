@@ -564,6 +564,10 @@ opts_text_topview = $(call opts_line,size,$(SCENE_TOPVIEW_SIZE))
 opts_text_score = $(call opts_line,model-classes,$(SCENE_MODEL_CLASSES))
 $(call tile_opts_kinds,$(SCENE_DIR))
 $(call opts_kinds,$(SCENE_DIR),score)
+# Whether the fpfh stage writes FPFH's ranking and poses too (SCENE_FPFH_VERIFY): turned on over
+# runs made without them, the stage runs again (its verdict alone would leave verify no poses).
+opts_text_baseline-fpfh = $(call opts_line,hypotheses,$(scene_fpfh_verify))
+$(if $(filter fpfh,$(SCENE_BASELINE)),$(call opts_kinds,$(SCENE_DIR),baseline-fpfh))
 
 # The recipes and the score's manifests are written at parse time when they changed
 # (text_prereq, Makefile.experiments).
@@ -631,14 +635,16 @@ $(SCENE_SCORE): $(SCENE_DIR)/tiles.txt $(addsuffix /detections.json,$(SCENE_RUNS
 # its own: make 4.3's grouped targets break `make -n` planning (a dry run after the stage's
 # prerequisites changed plans the readers of one target only: no verify-fpfh, so the progress
 # count misses them; as ncut's segments.ply, Makefile.experiments), so its reader depends on
-# baseline-fpfh.json. The old file goes first: a failed stage (--record-failure: an empty
-# baseline-fpfh.json) leaves none, and verify then fails on it as the candidate's chain failed,
-# never reading the poses of an earlier run.)
+# baseline-fpfh.json, and SCENE_FPFH_VERIFY is the stage's option (opts.baseline-fpfh). The old
+# file goes first: a failed stage (--record-failure: an empty baseline-fpfh.json) leaves none, and
+# verify then fails on it as the candidate's chain failed, never reading the poses of an earlier
+# run.)
 scene_bl_hyp = $(if $(filter fpfh,$(3)),$(if $(scene_fpfh_verify),$(1)/cands/$(2)/hypotheses-fpfh.json))
 define scene_baseline_cand_rule
 $(1)/cands/$(2)/baseline-$(3).json: $(1)/cands/$(2)/samples.pcd $(VERIFY_SURFACES) \
-    $(call baseline_models,$(SCENE_MB)) $(call tool,baseline) $(P)/baseline.ini $(opts.params)
-	$(if $(scene_bl_hyp),@rm -f $(scene_bl_hyp))
+    $(call baseline_models,$(SCENE_MB)) $(call tool,baseline) $(P)/baseline.ini $(opts.params)$(if \
+    $(filter fpfh,$(3)), $(opts.baseline-fpfh))
+	$(if $(filter fpfh,$(3)),@rm -f $(1)/cands/$(2)/hypotheses-fpfh.json)
 	@$(STAGE) --record-failure $$@ -- $(BIN)/baseline --config $(P)/baseline.ini \
 	  --verdict $(3) -i $(1)/cands/$(2)/samples.pcd --modelbase $(SCENE_MB) --model-cache $(call \
 	  baseline_models,$(SCENE_MB)) -o $$@$(if $(scene_bl_hyp), --hypotheses $(scene_bl_hyp))

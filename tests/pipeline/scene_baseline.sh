@@ -157,6 +157,16 @@ c="$run/cands/$bad"
 # SCENE_FPFH_VERIFY=0 leaves the FPFH poses' verify out (and the fpfh stage's --hypotheses).
 "${mk[@]}" -nB scenes SCENE_FPFH_VERIFY=0 >"$tmp/n0.log" 2>&1 || fail "make -n scenes SCENE_FPFH_VERIFY=0 failed"
 if grep -q 'fpfh-verify\|verdict-fpfh\|--hypotheses' "$tmp/n0.log"; then fail "SCENE_FPFH_VERIFY=0 still plans it"; fi
+# Turned on over runs made without it: the fpfh stage runs again with --hypotheses (its options
+# file), then verify on the poses.
+"${mk[@]}" scenes SCENE_PICTURES=0 SCENE_FPFH_VERIFY=0 >"$tmp/off.log" 2>&1 || fail "make scenes SCENE_FPFH_VERIFY=0 failed: $(tail -3 "$tmp/off.log")"
+"${mk[@]}" -n scenes SCENE_PICTURES=0 >"$tmp/on.log" 2>&1 || fail "make -n scenes failed"
+for id in $ids; do
+  [ -s "$run/cands/$id/baseline-fpfh.json" ] || continue
+  [ ! -e "$run/cands/$id/hypotheses-fpfh.json" ] || fail "$id: SCENE_FPFH_VERIFY=0 kept the poses of the run before"
+  grep -q "bin/verify .*-i $run/cands/$id/hypotheses-fpfh.json .*-o $run/cands/$id/verdict-fpfh.json" "$tmp/on.log" ||
+    fail "SCENE_FPFH_VERIFY turned on over runs without it does not plan $id's fpfh stage and verify: $(grep "$id/" "$tmp/on.log" | head -3)"
+done
 # SCENE_BASELINE= leaves it out: no baseline rule is planned.
 "${mk[@]}" -nB scenes SCENE_BASELINE= SCENE_SIZE_ONLY=0 >"$tmp/n.log" 2>&1 || fail "make -n scenes SCENE_BASELINE= failed"
 if grep -q 'baseline' "$tmp/n.log"; then fail "SCENE_BASELINE= still plans the baseline: $(grep baseline "$tmp/n.log" | head -2)"; fi
