@@ -204,7 +204,8 @@ TEST_CASE("scene section: verify over every model beside canopy, what gmatch add
   CHECK(mf.find("best baseline") == std::string::npos);
   CHECK(mf.find("What gmatch adds (issue 29): verify on the FPFH baseline's ranking and poses instead of "
                 "gmatch's (its top-k of FPFH's "
-                "list, each from FPFH's pose), recognition over all runs 60.0% against canopy's 80.0% (+20.0 "
+                "list, each from FPFH's pose, its flip and the principal axes), recognition over all runs "
+                "60.0% against canopy's 80.0% (+20.0 "
                 "points for canopy), precision 80.0% against 90.0%; verify over every model") !=
         std::string::npos);
   // fitvox 0.2 + FPFH 0.6 + verify 0.4

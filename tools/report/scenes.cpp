@@ -283,7 +283,7 @@ void gmatch_goal(std::ostringstream& md, const SceneScore& score, const std::vec
                      "chooses nothing; its segment pairs still give the start poses)"
                : std::string(
                      "verify on the FPFH baseline's ranking and poses instead of gmatch's (its top-k of "
-                     "FPFH's list, each from FPFH's pose)"))
+                     "FPFH's list, each from FPFH's pose, its flip and the principal axes)"))
        << ", recognition over all runs " << rate_ci(r, "recognition") << " against canopy's "
        << rate_ci(canopy_all, "recognition") << " ("
        << format_number("%+.1f", 100 * (c_rec.as_number() - r_rec.as_number()))
