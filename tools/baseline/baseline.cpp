@@ -532,13 +532,7 @@ documents::MatchResult to_match_result(const Ranking& ranking, const std::string
     m.model = e.model;
     m.score = e.score;
     m.rank = e.rank;
-    if (e.posed) {
-      std::array<double, 16> pose{};
-      for (int row = 0; row < 4; ++row) {
-        for (int col = 0; col < 4; ++col) pose[static_cast<std::size_t>(row * 4 + col)] = e.pose(row, col);
-      }
-      m.pose = pose;
-    }
+    if (e.posed) m.pose = formats::to_row_major(e.pose);
     scores.push_back(e.score);
     r.models.push_back(std::move(m));
   }
@@ -563,13 +557,7 @@ std::string serialize(const Result& result, const std::string& object,
       x.fitness = e.fitness;
       x.candidate_share = e.candidate_share;
       x.model_share = e.model_share;
-      if (e.posed) {
-        std::array<double, 16> pose{};
-        for (int row = 0; row < 4; ++row) {
-          for (int col = 0; col < 4; ++col) pose[static_cast<std::size_t>(row * 4 + col)] = e.pose(row, col);
-        }
-        x.pose = pose;
-      }
+      if (e.posed) x.pose = formats::to_row_major(e.pose);
       method.models.push_back(std::move(x));
     }
     doc.methods.push_back(std::move(method));

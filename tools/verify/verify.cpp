@@ -492,15 +492,6 @@ const Model& loaded_model(const Inputs& in, const std::string& name) {
   return *model;
 }
 
-// A match result's pose (row-major 4 x 4, model -> candidate; the reader checked it is rigid).
-Isometry3d given_pose(const std::array<double, 16>& m) {
-  Eigen::Matrix4d M;
-  for (int r = 0; r < 4; ++r) {
-    for (int c = 0; c < 4; ++c) M(r, c) = m[static_cast<std::size_t>(4 * r + c)];
-  }
-  return Isometry3d(M);
-}
-
 // One hypothesis: every start (the match result's pose when it gives one, else the matched
 // pairs' pose when there is one; the principal axes') and, with Params::flip, its 180-degree
 // flip, refined by ICP and scored; the best.
@@ -517,7 +508,7 @@ documents::Hypothesis check_hypothesis(const Inputs& in, const documents::ModelS
   if (ms.pose) {
     // The match result's own pose (baseline --hypotheses: the FPFH registration's) instead of
     // the pairs' (issue 29, "FPFH poses scored by verify").
-    starts.push_back({"pose", given_pose(*ms.pose)});
+    starts.push_back({"pose", formats::to_isometry(*ms.pose)});  // the reader checked it is rigid
   } else if (pose_from_pairs(*in.segments, model.graph, ms.pairs, &pp)) {
     starts.push_back({"pairs", pp});
   }

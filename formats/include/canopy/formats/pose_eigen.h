@@ -1,6 +1,9 @@
-// The documents' poses (formats::Pose: row-major rotation + translation) <-> Eigen: the one
-// conversion verify (its ICP poses) and baseline (its registration matrices) write with.
+// The documents' poses (formats::Pose: row-major rotation + translation; a row-major 4 x 4 array)
+// <-> Eigen: the one conversion verify (its ICP poses, a match result's given poses) and baseline
+// (its registration matrices) write and read with.
 #pragma once
+
+#include <array>
 
 #include <Eigen/Geometry>
 
@@ -27,6 +30,24 @@ inline Eigen::Isometry3d to_isometry(const Pose& p) {
     t.translation()(r) = p.translation[r];
   }
   return t;
+}
+
+// A 4 x 4 matrix as the documents' row-major arrays (a baseline ranking's and a match result's
+// "pose") and back.
+inline std::array<double, 16> to_row_major(const Eigen::Matrix4d& m) {
+  std::array<double, 16> a{};
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) a[static_cast<std::size_t>(4 * r + c)] = m(r, c);
+  }
+  return a;
+}
+
+inline Eigen::Isometry3d to_isometry(const std::array<double, 16>& a) {
+  Eigen::Matrix4d m;
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) m(r, c) = a[static_cast<std::size_t>(4 * r + c)];
+  }
+  return Eigen::Isometry3d(m);
 }
 
 }  // namespace canopy::formats
