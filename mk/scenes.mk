@@ -473,8 +473,10 @@ scene_fpfh_verify = $(if $(filter fpfh,$(SCENE_BASELINE)),$(filter 1,$(SCENE_FPF
 # leaves it out.
 SCENE_SIZE_ONLY ?= 1
 $(if $(filter-out 0 1,$(SCENE_SIZE_ONLY)),$(error SCENE_SIZE_ONLY=$(SCENE_SIZE_ONLY): must be 0 or 1))
-SCENE_BL_SCORES := $(foreach m,$(SCENE_BASELINE) $(if $(filter 1,$(SCENE_SIZE_ONLY)),size)$(if \
-  $(scene_fpfh_verify), fpfh-verify),$(SCENE_RES)/baseline-$(m)/score.json)
+# (the methods beside canopy: the report reads only theirs, report --tile-baselines)
+scene_bl_methods := $(strip $(SCENE_BASELINE) $(if $(filter 1,$(SCENE_SIZE_ONLY)),size)$(if \
+  $(scene_fpfh_verify), fpfh-verify))
+SCENE_BL_SCORES := $(foreach m,$(scene_bl_methods),$(SCENE_RES)/baseline-$(m)/score.json)
 SCENE_ABL_SCORE := $(foreach v,$(SCENE_CLASS_ABLATIONS),$(SCENE_RES)/$(v)/score.json) \
   $(foreach v,$(SCENE_COLLECT_VARIANTS),$(SCENE_RES)/$(v)/score.json) \
   $(if $(SCENE_VERIFY_ABLATION),$(SCENE_RES)/verify-ablation/score.json)
@@ -519,7 +521,7 @@ ifeq ($(SCENE_EXPERIMENT),1)
 $(RES)/report.md: $(SCENE_SCORE) $(SCENE_BL_SCORES) $(if $(filter collect-ablation,$(SCENE_COLLECT_VARIANTS)),$(SCENE_RES)/collect-ablation/score.json) \
   $(SCENES_CLASS_ABL_SCORES) $(SCENES_VERIFY_ABL_SCORE)
 # (each classify ablation's score and parameter file: --tile-classify-ablation[-2] and its -config)
-REPORT_ARGS += --tile-score $(SCENE_SCORE)$(if $(filter collect-ablation,$(SCENE_COLLECT_VARIANTS)), --tile-collect-ablation \
+REPORT_ARGS += --tile-score $(SCENE_SCORE) --tile-baselines=$(or $(subst $(space),$(comma),$(scene_bl_methods)),none)$(if $(filter collect-ablation,$(SCENE_COLLECT_VARIANTS)), --tile-collect-ablation \
   $(SCENE_RES)/collect-ablation/score.json)$(if $(SCENES_CLASS_ABLATIONS), $(foreach v,$(SCENES_CLASS_ABLATIONS),--tile-$(patsubst \
   class-%,classify-%,$(v)) $(SCENE_RES)/$(v)/score.json --tile-$(patsubst class-%,classify-%,$(v))-config \
   $(scenes_class_ini.$(v))))$(if $(SCENES_VERIFY_ABLATION), --tile-verify-ablation $(SCENES_VERIFY_ABL_SCORE) \

@@ -549,6 +549,12 @@ plan=$("${se[@]}" -n all SCENES_VERIFY_ABLATION= 2>&1)
 if plans "verify-ablation"; then fail "SCENES_VERIFY_ABLATION= still plans the verify ablation"; fi
 [ $((with - $(echo "$plan" | stages))) -eq 3 ] ||
   fail "the verify ablation adds $((with - $(echo "$plan" | stages))) stages to make -n all, not 3 (verify on the model-level c0001, the run's collect, the score)"
+# The report reads only the baseline's methods that run (report --tile-baselines; mk/scenes.mk
+# scene_bl_methods), so a method turned off is not shown from its old score: here vfh alone (no
+# fpfh, so no FPFH poses verified; no size-only row).
+plan=$("${se[@]}" -n all SCENE_BASELINE=vfh SCENE_SIZE_ONLY=0 2>&1)
+plans "bin/report .*--tile-baselines=vfh " ||
+  fail "the report is not told the baseline's methods that ran: $(echo "$plan" | grep -o -- '--tile-baselines=[^ ]*')"
 # The density ladder's detect (mk/density.mk DENSITY_DETECT, DENSITY_DETECT_ABLATIONS;
 # density-ladder.md, stop 61): the class-level rungs (at most DENSITY_CLASS_MAX = 50 points/m²)
 # detect with share/params/detect-ladder.ini (end-gap = 1); each of them runs its chain a second

@@ -112,6 +112,18 @@ TEST_CASE("scene section: the baseline's scores beside canopy's, the goal, time 
   CHECK(ms.find("canopy 80.0%, best baseline FPFH 77.0%: +3.0 points, **not met**") != std::string::npos);
   CHECK(ms.find("What the model chain adds (issue 29): recognition over all runs, canopy 80.0% against size "
                 "only 85.0% (-5.0 points); precision 90.0% against 60.0%.") != std::string::npos);
+  // Told which methods ran (report --tile-baselines; mk/scenes.mk), the report reads only theirs:
+  // a method turned off is not shown from the score it left, even of canopy's own runs.
+  const std::vector<std::string> fpfh_only = {"fpfh"}, none;
+  const std::string mf = report::scene_markdown(score, times, "scenes", nullptr, "", {}, {}, &fpfh_only);
+  CHECK(mf.find("| all | all | 10 | FPFH | 9 | 95.0% |") != std::string::npos);
+  CHECK(mf.find("| VFH |") == std::string::npos);
+  CHECK(mf.find("size only (ablation) |") == std::string::npos);
+  CHECK(mf.find("canopy 80.0%, best baseline FPFH 77.0%") != std::string::npos);
+  CHECK(report::scene_markdown(score, times, "scenes", nullptr, "", {}, {}, &none).find("PCL baseline") ==
+        std::string::npos);
+  CHECK(report::is_scene_baseline_method("fpfh-verify"));
+  CHECK(!report::is_scene_baseline_method("verify-all"));
   fs::remove_all(res / "baseline-size");
 
   // A baseline score of other runs (a stale experiment) is named, not shown.
@@ -126,12 +138,15 @@ TEST_CASE("scene section: the baseline's scores beside canopy's, the goal, time 
   CHECK(report::scene_markdown(score, times, "scenes").find("PCL baseline") == std::string::npos);
 }
 
-TEST_CASE("scene section: verify over every model beside canopy, what gmatch adds and its cost per model",
+TEST_CASE("scene section: verify with another top-k beside canopy, what gmatch adds and its cost per model",
           "[report][baseline]") {
-  // The scene experiment's verify ablation (mk/scenes.mk SCENES_VERIFY_ABLATION, --top-k=1000): a row
-  // of its own beside the baseline's methods, left out of issue 17's goal, compared with canopy in a
-  // sentence (issue 29); with the CPU per candidate of gmatch, verify and the ablation's verify and
-  // the number of models gmatch ranked (a candidate's match.json), the cost at 100 and 1 000 models.
+  // The scene experiment's verify ablation (mk/scenes.mk SCENES_VERIFY_ABLATION: verify again with
+  // another top-k): a row of its own beside the baseline's methods, named by its options, left out
+  // of issue 17's goal, compared with canopy in a sentence (issue 29); with the CPU per candidate of
+  // gmatch, verify and the ablation's verify, the number of models gmatch ranked (a candidate's
+  // match.json) and the hypotheses each verify checked (its verdicts), the cost at 100 and 1 000
+  // models. Both ways round: canopy on gmatch's top 3 against every model (the ablation when top-k
+  // was 3), and canopy on every model against gmatch's top 3 (top-k = 5 on five models).
   const fs::path root = canopy::test::fresh_dir("report", "scene-verify-all");
   const fs::path res = root / "results" / "scenes";
   const std::string run0 = (root / "out/scenes/light/tile-1/noise-0").string();
@@ -152,16 +167,20 @@ TEST_CASE("scene section: verify over every model beside canopy, what gmatch add
   }
   fs::create_directories(fs::path(run0) / "cands" / "c0002");
   documents::write_match_result(m, (fs::path(run0) / "cands" / "c0002" / "match.json").string());
-  // canopy's verify checked gmatch's top 3 of them (its verdict's hypotheses: k)
-  documents::Verdict verdict;
-  verdict.candidate = "samples.pcd";
-  for (int i = 0; i < 3; ++i) {
-    documents::Hypothesis h;
-    h.model = m.models[static_cast<std::size_t>(i)].model;
-    h.gmatch_rank = i + 1;
-    verdict.hypotheses.push_back(h);
-  }
-  documents::write_verdict(verdict, (fs::path(run0) / "cands" / "c0002" / "verdict.json").string());
+  // a verdict that checked gmatch's top k (its hypotheses)
+  const auto verdict_of = [&](int k, const char* name) {
+    documents::Verdict verdict;
+    verdict.candidate = "samples.pcd";
+    for (int i = 0; i < k; ++i) {
+      documents::Hypothesis h;
+      h.model = m.models[static_cast<std::size_t>(i)].model;
+      h.gmatch_rank = i + 1;
+      verdict.hypotheses.push_back(h);
+    }
+    documents::write_verdict(verdict, (fs::path(run0) / "cands" / "c0002" / name).string());
+  };
+  verdict_of(3, "verdict.json");
+  verdict_of(5, "verdict-ablation.json");
   // c0001's gmatch failed (stagerun --record-failure: an empty match.json): not read as a ranking
   write(fs::path(run0) / "cands" / "c0001" / "match.json", "");
   auto cpu = [](const std::string& name, int runs, double wall, double cpu_s) {
@@ -177,31 +196,62 @@ TEST_CASE("scene section: verify over every model beside canopy, what gmatch add
                                              (res / "verify-ablation" / "score.json").string(), &all};
   const std::string md = report::scene_markdown(score, times, "scenes", nullptr, "", {}, ablation);
   INFO(md);
-  CHECK(md.find(
-            "| all | all | 10 | verify, every model (ablation) | 9 | 70.0% | 90.0% | 50.0% | 90.0% | 0.25 | "
-            "2.0 |") != std::string::npos);
+  CHECK(md.find("| all | all | 10 | verify `--top-k=1000` (ablation) | 9 | 70.0% | 90.0% | 50.0% | 90.0% | "
+                "0.25 | 2.0 |") != std::string::npos);
   CHECK(md.find("best baseline") == std::string::npos);
   CHECK(
-      md.find("What gmatch adds (issue 29): verify over every model (verify again with `--top-k=1000` after "
-              "its parameters") != std::string::npos);
-  CHECK(md.find("recognition over all runs 90.0% against canopy's 80.0% (-10.0 points for canopy), precision "
-                "70.0% against 90.0%.") != std::string::npos);
+      md.find("What gmatch adds (issue 29): canopy's verify checks gmatch's top 3 of the 5 models; verify "
+              "again with `--top-k=1000` after its parameters checks every one of the 5 models: recognition "
+              "over all runs 90.0% against canopy's 80.0% (-10.0 points for canopy), precision 70.0% against "
+              "90.0%.") != std::string::npos);
   // gmatch 0.05 s over 5 models = 0.01 s a model; verify 0.3 s on 3 hypotheses, 0.5 s on 5: one
-  // hypothesis more (0.5 - 0.3) / 2 = 0.1 s. 100 models: 100 x 0.01 + 0.3 = 1.3 s against 0.3 + 97 x
+  // hypothesis (0.5 - 0.3) / 2 = 0.1 s. 100 models: 100 x 0.01 + 0.3 = 1.3 s against 0.3 + 97 x
   // 0.1 = 10 s; 1 000: 10.3 s against 0.3 + 997 x 0.1 = 100 s.
   CHECK(
-      md.find("over the modelbase's 5 models: gmatch 0.050 s (0.0100 s a model, at most), verify 0.300 s on "
-              "gmatch's top 3, 0.500 s over every model (0.100 s a hypothesis more)") != std::string::npos);
-  CHECK(md.find("against 0.30 s + (N − 3) × 0.100 s for verify over every model: at 100 models 1.3 s against "
-                "10.0 s, at 1 000 models 10.3 s against 100.0 s") != std::string::npos);
+      md.find("gmatch 0.050 s (0.0100 s a model, at most), verify 0.300 s on gmatch's top 3 of the 5 models, "
+              "0.500 s on every one of the 5 models (0.100 s a hypothesis); with N models canopy (top-k = 3) "
+              "would cost about N × 0.0100 s + 0.30 s a candidate against 0.30 s + (N − 3) × 0.100 s for "
+              "verify over every model: at 100 models 1.3 s against 10.0 s, at 1 000 models 10.3 s against "
+              "100.0 s") != std::string::npos);
+  CHECK(md.find("saves nothing") == std::string::npos);
   // Time per candidate: fitvox + cocone + ncut + gmatch (0.65 s) + the ablation's verify 0.5 s.
+  CHECK(md.find("; verify `--top-k=1000` (ablation) 1.15 s (fitvox + cocone + ncut + gmatch + 0.50 s verify, "
+                "10 runs)") != std::string::npos);
+
+  // The other way round: canopy checks every model (top-k 5 of 5; 0.5 s), the ablation gmatch's top
+  // 3 (0.3 s): the same 0.1 s a hypothesis; 100 models: 1 + 0.5 = 1.5 s against 0.5 + 95 x 0.1 = 10 s.
+  verdict_of(5, "verdict.json");
+  verdict_of(3, "verdict-ablation.json");
+  const std::vector<report::SceneStageTime> times5 = {
+      cpu("fitvox", 10, 2.0, 2.0), cpu("cocone", 10, 3.0, 3.0), cpu("ncut", 10, 1.0, 1.0),
+      cpu("gmatch", 10, 0.5, 0.5), cpu("verify", 10, 5.0, 5.0), cpu("verify-ablation", 10, 3.0, 3.0)};
+  const std::string m5 =
+      report::scene_markdown(score, times5, "scenes", nullptr, "", {}, {"--top-k=3", ablation.path, &all});
+  INFO(m5);
+  CHECK(m5.find("| all | all | 10 | verify `--top-k=3` (ablation) | 9 | 70.0% |") != std::string::npos);
   CHECK(
-      md.find("; verify, every model (ablation) 1.15 s (fitvox + cocone + ncut + gmatch + 0.50 s verify, 10 "
-              "runs)") != std::string::npos);
+      m5.find("What gmatch adds (issue 29): canopy's verify checks every one of the 5 models (its ranking "
+              "chooses nothing here; its segment pairs give the start poses); verify again with `--top-k=3` "
+              "after its parameters checks gmatch's top 3 of the 5 models: recognition over all runs 90.0% "
+              "against canopy's 80.0%") != std::string::npos);
+  CHECK(m5.find(
+            "verify 0.500 s on every one of the 5 models, 0.300 s on gmatch's top 3 of the 5 models (0.100 s "
+            "a hypothesis); canopy checks every model here, so the ranking saves nothing yet; with N models "
+            "canopy (top-k = 5) would cost about N × 0.0100 s + 0.50 s a candidate against 0.50 s + (N − 5) "
+            "× 0.100 s for verify over every model: at 100 models 1.5 s against 10.0 s, at 1 000 models "
+            "10.5 s against 100.0 s") != std::string::npos);
+  // The run with more hypotheses cheaper (noise in the times): no cost stated.
+  const std::vector<report::SceneStageTime> odd = {cpu("gmatch", 10, 0.5, 0.5), cpu("verify", 10, 3.0, 3.0),
+                                                   cpu("verify-ablation", 10, 5.0, 5.0)};
+  CHECK(report::scene_markdown(score, odd, "scenes", nullptr, "", {}, {"--top-k=3", ablation.path, &all})
+            .find(" Cost, the CPU") == std::string::npos);
+  verdict_of(3, "verdict.json");
+  verdict_of(5, "verdict-ablation.json");
+
   // FPFH's poses scored by verify (mk/scenes.mk SCENE_FPFH_VERIFY: results/scenes/baseline-fpfh-verify/):
-  // a row of its own, an ablation left out of the baseline goal, the first clause of "What gmatch
-  // adds" (the methods' order, verify over every model's after it), its time per candidate: fitvox +
-  // the FPFH stage + its verify.
+  // a row of its own, an ablation left out of the baseline goal, a clause of "What gmatch adds" (the
+  // methods' order, the verify ablation's after it), its time per candidate: fitvox + the FPFH stage
+  // + its verify.
   write(res / "baseline-fpfh-verify" / "score.json", score_text(res, run0, run1, 0.6, 0.7, 0.8, 3.0));
   std::vector<report::SceneStageTime> times_f = times;
   times_f.push_back(cpu("baseline-fpfh", 10, 6.0, 6.0));
@@ -214,12 +264,12 @@ TEST_CASE("scene section: verify over every model beside canopy, what gmatch add
   CHECK(mf.find("| all | all | 10 | FPFH |") == std::string::npos);
   // the FPFH stage alone is a baseline only with its own score: still no "best baseline"
   CHECK(mf.find("best baseline") == std::string::npos);
-  CHECK(mf.find("What gmatch adds (issue 29): verify on the FPFH baseline's ranking and poses instead of "
-                "gmatch's (its top-k of FPFH's "
-                "list, each from FPFH's pose, its flip and the principal axes), recognition over all runs "
-                "60.0% against canopy's 80.0% (+20.0 "
-                "points for canopy), precision 80.0% against 90.0%; verify over every model") !=
-        std::string::npos);
+  CHECK(mf.find(
+            "What gmatch adds (issue 29): canopy's verify checks gmatch's top 3 of the 5 models; verify on "
+            "the FPFH baseline's ranking and poses instead of gmatch's (its top-k of FPFH's list, each from "
+            "FPFH's pose, its flip and the principal axes): recognition over all runs 60.0% against "
+            "canopy's 80.0% (+20.0 points for canopy), precision 80.0% against 90.0%; verify again with "
+            "`--top-k=1000`") != std::string::npos);
   // fitvox 0.2 + FPFH 0.6 + verify 0.4
   CHECK(mf.find("; FPFH poses, verify (ablation) 1.20 s (fitvox + 0.60 s FPFH + 0.40 s verify, 10 runs)") !=
         std::string::npos);
@@ -230,7 +280,7 @@ TEST_CASE("scene section: verify over every model beside canopy, what gmatch add
   const std::string md2 =
       report::scene_markdown(score, times, "scenes", nullptr, "", {},
                              {"--top-k=1000", (res / "verify-ablation" / "score.json").string(), &other});
-  CHECK(md2.find("verify, every model (ablation)") == std::string::npos);
+  CHECK(md2.find("`--top-k=1000` (ablation)") == std::string::npos);
   CHECK(md2.find("verify-ablation/score.json scores other runs than canopy's") != std::string::npos);
   // Not run: no row, no sentence.
   const std::string md3 = report::scene_markdown(score, times, "scenes");

@@ -439,13 +439,17 @@ TEST_CASE(
   CHECK(none.find("**classify's ablation**: not run") != std::string::npos);
   CHECK(none.find("| noise (mm) | measure | canopy | ablation |") == std::string::npos);
   // Usage (exit 2, no report): a score without its parameter file, a parameter file without its
-  // score, an ablation without --tile-score.
+  // score, an ablation without --tile-score; an unknown baseline method, none with others, the
+  // baseline's methods without --tile-score.
   for (const auto& [bad, says] : std::vector<std::pair<std::string, std::string>>{
            {scene + " --tile-classify-ablation " + abl,
             "--tile-classify-ablation and --tile-classify-ablation-config go together"},
            {scene + " --tile-classify-ablation-2-config shoulder.ini",
             "--tile-classify-ablation-2 and --tile-classify-ablation-2-config go together"},
-           {first, "--tile-classify-ablation needs --tile-score"}}) {
+           {first, "--tile-classify-ablation needs --tile-score"},
+           {scene + " --tile-baselines=vfh,surf", "--tile-baselines: unknown method 'surf'"},
+           {scene + " --tile-baselines=none,fpfh", "--tile-baselines: none with other methods"},
+           {" --tile-baselines=vfh", "--tile-baselines needs --tile-score"}}) {
     fs::remove(dir / "res" / "report.md");
     CHECK(test::sh(report + bad, dir / "err3.txt", &err) == 2);
     CHECK(err.find(says) != std::string::npos);

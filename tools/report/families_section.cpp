@@ -19,7 +19,6 @@ std::string method_label(const std::string& m) {
   if (m == "vfh") return "VFH";
   if (m == "fpfh") return "FPFH";
   if (m == "size") return "size only (ablation)";
-  if (m == "verify-all") return "verify, every model (ablation)";
   if (m == "fpfh-verify") return "FPFH poses, verify (ablation)";
   return m;
 }

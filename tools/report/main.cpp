@@ -186,8 +186,8 @@ void needs(const std::string& given, const std::string& given_option, const std:
 std::string scenes_section(const std::string& tile_score, const std::string& collect_ablation,
                            const std::vector<ClassifyAblationArgs>& classify_ablations,
                            const std::string& verify_ablation, const std::string& verify_ablation_options,
-                           const std::string& scene_dir, const std::string& results,
-                           common::OutputSet& outputs) {
+                           const std::vector<std::string>* baselines, const std::string& scene_dir,
+                           const std::string& results, common::OutputSet& outputs) {
   common::log::Phase scenes_phase("scenes");
   const documents::SceneScore score = documents::read_scene_score_file(tile_score);
   const auto times = report::scene_times(report::scene_runs(score));
@@ -200,10 +200,10 @@ std::string scenes_section(const std::string& tile_score, const std::string& col
                         classify_scores[i] ? &*classify_scores[i] : nullptr});
   const std::optional<documents::SceneScore> verify_all = optional_score(verify_ablation);
   const std::string markdown =
-      "\n" +
-      report::scene_markdown(score, times, relative_to(scene_dir, results), ablation ? &*ablation : nullptr,
-                             collect_ablation, classify,
-                             {verify_ablation_options, verify_ablation, verify_all ? &*verify_all : nullptr});
+      "\n" + report::scene_markdown(
+                 score, times, relative_to(scene_dir, results), ablation ? &*ablation : nullptr,
+                 collect_ablation, classify,
+                 {verify_ablation_options, verify_ablation, verify_all ? &*verify_all : nullptr}, baselines);
   outputs.set(scene_dir + "/times.csv", report::scene_times_csv(times));
   scenes_phase.done(std::to_string(report::scene_runs(score).size()) + " runs");
   return markdown;
@@ -266,6 +266,8 @@ struct Sources {
   std::string thesis;  // default: <share>/thesis/results.csv
   std::string tile_collect_ablation;
   std::string tile_verify_ablation, tile_verify_ablation_options;
+  std::vector<std::string> tile_baselines;  // --tile-baselines (tile_baselines_given: it was given)
+  bool tile_baselines_given = false;
   // the open set's collect ablations in order: each one's score.json, options and crops' score.json
   std::vector<std::string> openset_collect_ablations, openset_collect_ablation_options,
       openset_crops_collect_ablations;
@@ -360,6 +362,13 @@ void bind(common::Tool& tool, Sources& src, report::Params& p) {
       "what gmatch adds (with --tile-verify-ablation-options)");
   tool.add("--tile-verify-ablation-options", &src.tile_verify_ablation_options,
            "the verify options that ablation ran with (shown in the report)");
+  tool.add("--tile-baselines", &src.tile_baselines,
+           "the scene experiment's baseline methods that ran, comma-separated (vfh, fpfh, size, fpfh-verify; "
+           "`none`: none; mk/scenes.mk): only their scores beside canopy's are read; without it every "
+           "method whose results/scenes/baseline-<method>/score.json is there")
+      ->delimiter(',')
+      ->allow_extra_args(false)
+      ->each([&src](const std::string&) { src.tile_baselines_given = true; });
   for (std::size_t i = 0; i < src.tile_classify_ablations.size(); ++i) {
     const std::string opt = classify_ablation_option(i);
     const std::string var = i == 0 ? "SCENES_CLASSIFY_ABLATION" : "SCENES_CLASSIFY_ABLATION_2";
@@ -451,6 +460,15 @@ int main(int argc, char** argv) {
     needs(src.tile_verify_ablation, "--tile-verify-ablation", src.tile_score, "--tile-score");
     if (src.tile_verify_ablation.empty() != src.tile_verify_ablation_options.empty())
       throw common::UsageError("--tile-verify-ablation and --tile-verify-ablation-options go together");
+    needs(src.tile_baselines_given ? "given" : "", "--tile-baselines", src.tile_score, "--tile-score");
+    for (const std::string& m : src.tile_baselines) {
+      if (m != "none" && !report::is_scene_baseline_method(m))
+        throw common::UsageError("--tile-baselines: unknown method '" + m +
+                                 "' (vfh, fpfh, size, fpfh-verify or none)");
+      if (m == "none" && src.tile_baselines.size() > 1)
+        throw common::UsageError("--tile-baselines: none with other methods");
+    }
+    if (src.tile_baselines == std::vector<std::string>{"none"}) src.tile_baselines.clear();
     for (std::size_t i = 0; i < src.tile_classify_ablations.size(); ++i) {
       const std::string opt = classify_ablation_option(i);
       const ClassifyAblationArgs& a = src.tile_classify_ablations[i];
@@ -475,8 +493,9 @@ int main(int argc, char** argv) {
     if (!src.families.empty()) markdown += families_section(src.families);
     if (!src.tile_score.empty())
       markdown += scenes_section(src.tile_score, src.tile_collect_ablation, src.tile_classify_ablations,
-                                 src.tile_verify_ablation, src.tile_verify_ablation_options, scene_dir,
-                                 results, outputs);
+                                 src.tile_verify_ablation, src.tile_verify_ablation_options,
+                                 src.tile_baselines_given ? &src.tile_baselines : nullptr, scene_dir, results,
+                                 outputs);
     if (!manifest.real.empty()) markdown += real_section(manifest.real, src.real_timeout);
     if (!manifest.density.empty() || !manifest.density_sensor.empty())
       markdown += density_section(manifest.density, manifest.density_sensor, results, outputs);

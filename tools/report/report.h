@@ -295,6 +295,9 @@ struct SceneClassifyAblation {
 };
 // The scene experiment's verify ablation (issue 29, "what each stage adds": verify over every model,
 // mk/scenes.mk SCENES_VERIFY_ABLATION = --top-k=1000): shown with the baseline's methods.
+// baselines: the baseline methods that ran (vfh, fpfh, size, fpfh-verify; mk/scenes.mk, report
+// --tile-baselines): only their <csv dir>/baseline-<method>/score.json are read, so a method turned
+// off is not shown from its old score; null: every method whose score.json is there (by hand).
 struct SceneVerifyAblation {
   std::string options;                           // verify's options it ran with
   std::string path;                              // its score.json
@@ -305,8 +308,11 @@ std::string scene_markdown(const documents::SceneScore& score, const std::vector
                            const documents::SceneScore* collect_ablation = nullptr,
                            const std::string& collect_ablation_path = "",
                            const std::vector<SceneClassifyAblation>& classify_ablations = {},
-                           const SceneVerifyAblation& verify_ablation = {});
+                           const SceneVerifyAblation& verify_ablation = {},
+                           const std::vector<std::string>* baselines = nullptr);
 std::string scene_times_csv(const std::vector<SceneStageTime>& times);
+// Whether `method` names one of the scene experiment's baseline methods (scene_markdown's baselines).
+bool is_scene_baseline_method(const std::string& method);
 
 // "k/n = r% [lo, hi]": the rate with Wilson's 95% interval at `units` independent units
 // (common::wilson_effective; units = n when every trial is its own sample, fewer where trials

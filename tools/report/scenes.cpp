@@ -62,13 +62,14 @@ const char* const kBaselineMethods[] = {"vfh", "fpfh", "size", "fpfh-verify"};
 
 // Methods that are ablations of canopy rather than baselines (issue 29): left out of issue 17's goal.
 bool canopy_ablation(const std::string& method) {
-  return method == "size" || method == "verify-all" || method == "fpfh-verify";
+  return method == "size" || method == "verify-ablation" || method == "fpfh-verify";
 }
 
 struct BaselineScore {
   std::string method;
   std::string path;
   SceneScore score;
+  std::string label;  // the tables' name of the row
 };
 
 // Whether two scores are of the same runs (the same run directories in the same order): a score
@@ -85,9 +86,10 @@ bool same_runs(const SceneScore& a, const SceneScore& b) {
 // The baseline's scores beside canopy's: <dir>/baseline-<method>/score.json, where <dir> is
 // where `score` wrote canopy's CSVs (the score's --csv parameter: results/scenes/). Only scores
 // of exactly canopy's runs are shown; others (a stale run over other tiles) are named in
-// `stale`.
+// `stale`. methods: those that ran (null: every one with a score.json).
 std::vector<BaselineScore> baseline_scores(const SceneScore& score, std::vector<std::string>& stale,
-                                           const SceneVerifyAblation& verify_all) {
+                                           const SceneVerifyAblation& verify_ablation,
+                                           const std::vector<std::string>* methods) {
   std::vector<BaselineScore> out;
   std::string csv;
   for (const auto& [k, v] : score.parameters) {
@@ -96,10 +98,11 @@ std::vector<BaselineScore> baseline_scores(const SceneScore& score, std::vector<
   if (!csv.empty()) {
     const std::filesystem::path dir = std::filesystem::path(csv).parent_path();
     for (const char* m : kBaselineMethods) {
+      if (methods != nullptr && std::find(methods->begin(), methods->end(), m) == methods->end()) continue;
       const std::string path = (dir / ("baseline-" + std::string(m)) / "score.json").string();
       std::error_code ec;
       if (!std::filesystem::is_regular_file(path, ec)) continue;
-      BaselineScore b{m, path, documents::read_scene_score_file(path)};
+      BaselineScore b{m, path, documents::read_scene_score_file(path), method_label(m)};
       if (!same_runs(b.score, score)) {
         stale.push_back(path);
         continue;
@@ -107,13 +110,14 @@ std::vector<BaselineScore> baseline_scores(const SceneScore& score, std::vector<
       out.push_back(std::move(b));
     }
   }
-  // verify over every model (the scene experiment's verify ablation, --tile-verify-ablation), after
-  // the baseline's methods.
-  if (verify_all.score != nullptr) {
-    if (same_runs(*verify_all.score, score))
-      out.push_back({"verify-all", verify_all.path, *verify_all.score});
+  // verify again with other options (the scene experiment's verify ablation, --tile-verify-ablation:
+  // another top-k), after the baseline's methods.
+  if (verify_ablation.score != nullptr) {
+    if (same_runs(*verify_ablation.score, score))
+      out.push_back({"verify-ablation", verify_ablation.path, *verify_ablation.score,
+                     "verify `" + verify_ablation.options + "` (ablation)"});
     else
-      stale.push_back(verify_all.path);
+      stale.push_back(verify_ablation.path);
   }
   return out;
 }
@@ -163,8 +167,7 @@ void baseline_rows(std::ostringstream& md, const SceneScore& score, const std::v
     };
     row("canopy", s, true);
     for (const auto& b : bl) {
-      row(method_label(b.method), same_row(b.score.summary, s, "cover", "noise_mm"),
-          b.method != "vfh" && b.method != "size");
+      row(b.label, same_row(b.score.summary, s, "cover", "noise_mm"), b.method != "vfh" && b.method != "size");
     }
   }
   md << "\n";
@@ -174,7 +177,7 @@ void baseline_recognition(std::ostringstream& md, const SceneScore& score,
                           const std::vector<BaselineScore>& bl) {
   md << "Recognition (right model within the match radius / true vehicles) per model and per measured canopy "
         "cover bin:\n\n| model | cover | true | canopy";
-  for (const auto& b : bl) md << " | " << method_label(b.method);
+  for (const auto& b : bl) md << " | " << b.label;
   md << " |\n|---|---|---|---";
   for (std::size_t i = 0; i < bl.size(); ++i) md << "|---";
   md << "|\n";
@@ -186,7 +189,7 @@ void baseline_recognition(std::ostringstream& md, const SceneScore& score,
     md << " |\n";
   }
   md << "\n| canopy cover | noise (mm) | true | canopy";
-  for (const auto& b : bl) md << " | " << method_label(b.method);
+  for (const auto& b : bl) md << " | " << b.label;
   md << " |\n|---|---|---|---";
   for (std::size_t i = 0; i < bl.size(); ++i) md << "|---";
   md << "|\n";
@@ -214,7 +217,7 @@ void baseline_goal(std::ostringstream& md, const SceneScore& score, const std::v
     const ScoreValue& r = score_field(same_row(b.score.summary, all_key, "cover", "noise_mm"), "recognition");
     if (r.is_number() && r.as_number() > best) {
       best = r.as_number();
-      best_method = method_label(b.method);
+      best_method = b.label;
     }
   }
   if (c_rec.is_number() && best >= 0) {
@@ -240,51 +243,70 @@ void baseline_goal(std::ostringstream& md, const SceneScore& score, const std::v
   }
 }
 
-// How many models gmatch ranked (m) and how many of them canopy's verify checked (k): the first
-// candidate of the runs with a match.json (not a failed gmatch's empty one) and its verdict.json
-// (every candidate is matched against the whole modelbase); {0, 0} when none is found.
-std::pair<std::size_t, std::size_t> ranked_models(const SceneScore& score) {
+// How many models gmatch ranked (m), how many of them canopy's verify checked (k) and how many the
+// verify ablation checked (k_ablation; 0 without its verdict): the first candidate of the runs with a
+// match.json (not a failed gmatch's empty one) and its verdict.json (every candidate is matched
+// against the whole modelbase, and verify checks min(top-k, m)); zeros when none is found.
+struct RankedModels {
+  std::size_t m = 0, k = 0, k_ablation = 0;
+};
+RankedModels ranked_models(const SceneScore& score) {
   for (const SceneRun& r : scene_runs(score)) {
     std::error_code ec;
     std::vector<std::filesystem::path> cands;
     for (const auto& e : std::filesystem::directory_iterator(r.dir + "/cands", ec)) cands.push_back(e.path());
     std::sort(cands.begin(), cands.end());
     for (const auto& c : cands) {
-      const std::filesystem::path m = c / "match.json", v = c / "verdict.json";
+      const std::filesystem::path m = c / "match.json", v = c / "verdict.json",
+                                  a = c / "verdict-ablation.json";
       const auto filled = [&](const std::filesystem::path& p) {
         return std::filesystem::is_regular_file(p, ec) && std::filesystem::file_size(p, ec) > 0 && !ec;
       };
       if (filled(m) && filled(v))
         return {documents::read_match_result(m.string()).models.size(),
-                documents::read_verdict(v.string()).hypotheses.size()};
+                documents::read_verdict(v.string()).hypotheses.size(),
+                filled(a) ? documents::read_verdict(a.string()).hypotheses.size() : 0};
     }
   }
-  return {0, 0};
+  return {};
 }
 
-// What gmatch adds (issue 29): canopy against verify over every model (no gmatch ranking) and
-// against verify on FPFH's ranking and poses, and what the ranking saves as the modelbase grows.
+// Which of the m models gmatch ranked a verify run with k hypotheses checked.
+std::string checked(std::size_t k, std::size_t m) {
+  return (k >= m ? "every one" : "gmatch's top " + std::to_string(k)) + " of the " + std::to_string(m) +
+         " models";
+}
+
+// What gmatch adds (issue 29): canopy against verify with another top-k (the verify ablation: the
+// ranking's share in the answer) and against verify on FPFH's ranking and poses (no gmatch at all),
+// and what the ranking saves as the modelbase grows.
 void gmatch_goal(std::ostringstream& md, const SceneScore& score, const std::vector<BaselineScore>& bl,
                  const std::vector<SceneStageTime>& times, const std::string& verify_options) {
   const ScoreRow all_key = {{"cover", "all"}, {"noise_mm", "all"}};
   const ScoreRow& canopy_all = same_row(score.summary, all_key, "cover", "noise_mm");
   const ScoreValue& c_rec = score_field(canopy_all, "recognition");
+  const RankedModels rm = ranked_models(score);
   bool any = false;
   for (const auto& b : bl) {
-    if (b.method != "verify-all" && b.method != "fpfh-verify") continue;
+    if (b.method != "verify-ablation" && b.method != "fpfh-verify") continue;
     const ScoreRow& r = same_row(b.score.summary, all_key, "cover", "noise_mm");
     const ScoreValue& r_rec = score_field(r, "recognition");
     if (!c_rec.is_number() || !r_rec.is_number()) continue;
-    if (!any) md << "What gmatch adds (issue 29): ";
+    if (!any) {
+      md << "What gmatch adds (issue 29): ";
+      if (rm.m > 0 && rm.k > 0)
+        md << "canopy's verify checks " << checked(rm.k, rm.m)
+           << (rm.k >= rm.m ? " (its ranking chooses nothing here; its segment pairs give the start poses)" : "")
+           << "; ";
+    }
     md << (any ? "; " : "")
-       << (b.method == "verify-all"
-               ? "verify over every model (verify again with `" + verify_options +
-                     "` after its parameters: every model gmatch lists is checked, so gmatch's ranking "
-                     "chooses nothing; its segment pairs still give the start poses)"
+       << (b.method == "verify-ablation"
+               ? "verify again with `" + verify_options + "` after its parameters" +
+                     (rm.m > 0 && rm.k_ablation > 0 ? " checks " + checked(rm.k_ablation, rm.m) : std::string())
                : std::string(
                      "verify on the FPFH baseline's ranking and poses instead of gmatch's (its top-k of "
                      "FPFH's list, each from FPFH's pose, its flip and the principal axes)"))
-       << ", recognition over all runs " << rate_ci(r, "recognition") << " against canopy's "
+       << ": recognition over all runs " << rate_ci(r, "recognition") << " against canopy's "
        << rate_ci(canopy_all, "recognition") << " ("
        << format_number("%+.1f", 100 * (c_rec.as_number() - r_rec.as_number()))
        << " points for canopy), precision " << rate_ci(r, "precision") << " against "
@@ -292,29 +314,32 @@ void gmatch_goal(std::ostringstream& md, const SceneScore& score, const std::vec
     any = true;
   }
   if (!any) return;
-  md << ". Where the intervals overlap, this experiment does not show that gmatch's ranking does better "
-        "than checking every model with verify.";
+  md << ". Where the intervals overlap, this experiment does not show a difference.";
   int g = 0, v = 0, va = 0;
   const double gmatch = stage_mean(times, "gmatch", g, true), verify = stage_mean(times, "verify", v, true),
-               verify_all = stage_mean(times, "verify-ablation", va, true);
-  const auto [m, k] = ranked_models(score);
-  if (g > 0 && v > 0 && va > 0 && m > k && k > 0 && verify_all > verify) {
+               verify_abl = stage_mean(times, "verify-ablation", va, true);
+  const std::size_t m = rm.m, k = rm.k, ka = rm.k_ablation;
+  // One more hypothesis costs the two runs' difference over the difference of their hypotheses
+  // (reading the points and the scorer once a candidate stay out of it); measured only when the run
+  // with more hypotheses cost more.
+  const bool measured = g > 0 && v > 0 && va > 0 && m > 0 && k > 0 && ka > 0 && ka != k &&
+                        (ka > k) == (verify_abl > verify) && verify_abl != verify;
+  if (measured) {
     // gmatch: its CPU over the m models it ranked, a model's share an upper bound of its per-model
-    // cost (a fixed part per candidate counted in it); verify: one more hypothesis costs the two
-    // runs' difference over the m - k hypotheses more (reading the points and the scorer once a
-    // candidate stay out of it).
+    // cost (a fixed part per candidate counted in it).
     const double per_g = gmatch / static_cast<double>(m),
-                 per_v = (verify_all - verify) / static_cast<double>(m - k);
+                 per_v = (verify_abl - verify) / (static_cast<double>(ka) - static_cast<double>(k));
     const auto at = [&](double n) {
       return format_number("%.1f", n * per_g + verify) + " s against " +
              format_number("%.1f", verify + (n - static_cast<double>(k)) * per_v) + " s";
     };
-    md << " Cost, the CPU per candidate measured here over the modelbase's " << m << " models: gmatch "
-       << format_number("%.3f", gmatch) << " s (" << format_number("%.4f", per_g)
-       << " s a model, at most), verify " << format_number("%.3f", verify) << " s on gmatch's top " << k
-       << ", " << format_number("%.3f", verify_all) << " s over every model (" << format_number("%.3f", per_v)
-       << " s a hypothesis more); so with N models canopy's gmatch and verify would cost about N × "
-       << format_number("%.4f", per_g) << " s + " << format_number("%.2f", verify) << " s a candidate against "
+    md << " Cost, the CPU per candidate measured here: gmatch " << format_number("%.3f", gmatch) << " s ("
+       << format_number("%.4f", per_g) << " s a model, at most), verify " << format_number("%.3f", verify)
+       << " s on " << checked(k, m) << ", " << format_number("%.3f", verify_abl) << " s on " << checked(ka, m)
+       << " (" << format_number("%.3f", per_v) << " s a hypothesis)"
+       << (k >= m ? "; canopy checks every model here, so the ranking saves nothing yet" : "")
+       << "; with N models canopy (top-k = " << k << ") would cost about N × " << format_number("%.4f", per_g)
+       << " s + " << format_number("%.2f", verify) << " s a candidate against "
        << format_number("%.2f", verify) << " s + (N − " << k << ") × " << format_number("%.3f", per_v)
        << " s for verify over every model: at 100 models " << at(100) << ", at 1 000 models " << at(1000)
        << " (linear in N; gmatch's per-model cost is its graph match, verify's an ICP and the free-space "
@@ -336,10 +361,10 @@ void baseline_times(std::ostringstream& md, const std::vector<BaselineScore>& bl
   md << "canopy " << format_number("%.2f", canopy_s) << " s (fitvox " << format_number("%.2f", fitvox_s)
      << " + cocone + ncut + gmatch + verify)";
   for (const auto& b : bl) {
-    if (b.method == "verify-all") {
+    if (b.method == "verify-ablation") {
       const double s = stage_mean(times, "verify-ablation", n);
       if (n == 0) continue;
-      md << "; " << method_label(b.method) << " " << format_number("%.2f", chain_s + s)
+      md << "; " << b.label << " " << format_number("%.2f", chain_s + s)
          << " s (fitvox + cocone + ncut + gmatch + " << format_number("%.2f", s) << " s verify, " << n
          << " runs)";
       continue;
@@ -348,14 +373,14 @@ void baseline_times(std::ostringstream& md, const std::vector<BaselineScore>& bl
       int f = 0;
       const double s = stage_mean(times, "verify-fpfh", n), fp = stage_mean(times, "baseline-fpfh", f);
       if (n == 0 || f == 0) continue;
-      md << "; " << method_label(b.method) << " " << format_number("%.2f", fitvox_s + fp + s)
-         << " s (fitvox + " << format_number("%.2f", fp) << " s FPFH + " << format_number("%.2f", s)
-         << " s verify, " << n << " runs)";
+      md << "; " << b.label << " " << format_number("%.2f", fitvox_s + fp + s) << " s (fitvox + "
+         << format_number("%.2f", fp) << " s FPFH + " << format_number("%.2f", s) << " s verify, " << n
+         << " runs)";
       continue;
     }
     const double s = stage_mean(times, "baseline-" + b.method, n);
     if (n == 0) continue;
-    md << "; " << method_label(b.method) << " " << format_number("%.2f", fitvox_s + s) << " s (fitvox + "
+    md << "; " << b.label << " " << format_number("%.2f", fitvox_s + s) << " s (fitvox + "
        << format_number("%.2f", s) << " s baseline, " << n << " runs)";
   }
   md << ".\n\n";
@@ -613,9 +638,9 @@ void classify_ablations_table(std::ostringstream& md, const SceneScore& score,
 }
 
 void baselines(std::ostringstream& md, const SceneScore& score, const std::vector<SceneStageTime>& times,
-               const SceneVerifyAblation& verify_ablation) {
+               const SceneVerifyAblation& verify_ablation, const std::vector<std::string>* methods) {
   std::vector<std::string> stale;
-  const auto bl = baseline_scores(score, stale, verify_ablation);
+  const auto bl = baseline_scores(score, stale, verify_ablation, methods);
   if (!bl.empty()) md << baseline_markdown(score, bl, times, verify_ablation.options);
   for (const auto& p : stale) {
     md << "(" << p << " scores other runs than canopy's: a stale baseline run, not shown.)\n\n";
@@ -654,11 +679,17 @@ void pictures(std::ostringstream& md, const std::vector<std::string>& covers, co
 
 }  // namespace
 
+bool is_scene_baseline_method(const std::string& method) {
+  return std::find(std::begin(kBaselineMethods), std::end(kBaselineMethods), method) !=
+         std::end(kBaselineMethods);
+}
+
 std::string scene_markdown(const SceneScore& score, const std::vector<SceneStageTime>& times,
                            const std::string& fig, const SceneScore* collect_ablation,
                            const std::string& collect_ablation_path,
                            const std::vector<SceneClassifyAblation>& classify_ablations,
-                           const SceneVerifyAblation& verify_ablation) {
+                           const SceneVerifyAblation& verify_ablation,
+                           const std::vector<std::string>* baseline_methods) {
   std::ostringstream md;
   const std::vector<ScoreRow>& summary = score.summary;
   std::vector<std::string> covers;
@@ -682,7 +713,7 @@ std::string scene_markdown(const SceneScore& score, const std::vector<SceneStage
   reliability_table(md, score, collect_ablation, collect_ablation_path);
   classify_ablations_table(md, score, classify_ablations);
   md << clutter_markdown(score);
-  baselines(md, score, times, verify_ablation);
+  baselines(md, score, times, verify_ablation, baseline_methods);
   times_table(md, times);
   pictures(md, covers, fig);
   return md.str();
