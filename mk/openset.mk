@@ -206,6 +206,15 @@ ifeq ($(OPENSET),1)
 $(if $(dry_run),,$(shell mkdir -p $(OPENSET_DIR) $(OPENSET_RES)))
 $(OPENSET_DIR)/classes.csv: $(call text_prereq,$(OPENSET_DIR)/classes.csv,$(subst $(nl)$(space),$(nl),$(openset_classes)))
 endif
+# verify's ablation on the open set's tiles (SCENE_VERIFY_ABLATION of its `make scenes`: verify again
+# on every model-level candidate with these options after its parameters; collect and score of
+# those verdicts: OPENSET_RES/verify-ablation/; the report's subsection "Ablation: verify's options").
+# --max-tilt=180: no upright bound, verify before stop 65 (docs/decisions/verify.md §21), whose
+# upright test acts on model answers to unseen clutter. Empty: none.
+OPENSET_VERIFY_ABLATION ?= --max-tilt=180
+$(if $(filter-out --%,$(OPENSET_VERIFY_ABLATION)),$(error OPENSET_VERIFY_ABLATION=$(OPENSET_VERIFY_ABLATION): \
+  verify's options, each as --name=value))
+OPENSET_VERIFY_ABL_SCORE = $(if $(strip $(OPENSET_VERIFY_ABLATION)),$(OPENSET_RES)/verify-ablation/score.json)
 # The stated confidences: each level's own (docs/decisions/verify.md §16: the calibration fitted on
 # the scene experiment's development tiles overstates for unseen vehicles: none 0.9-1.0 right 26
 # of 41 times at 96.5% on the open set's tiles). OPENSET_COLLECT_CALIBRATION=<ini> applies one.
@@ -221,7 +230,7 @@ openset_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) scenes PROG
   SCENE_SIZE_ONLY=0 SCENE_PICTURES=0 SCENE_CLASSIFY=$(OPENSET_CLASSIFY) SCENE_CLASSIFY_ABLATION= \
   SCENE_CLASSIFY_ABLATION_2= SCENE_CLASSIFY_ABLATION_3= SCENE_CLASSIFY_ABLATIONS='$(openset_classify_ablations)' \
   SCENE_COLLECT_ABLATION= SCENE_COLLECT_ABLATIONS='$(OPENSET_COLLECT_ABLATIONS)' \
-  COLLECT_CALIBRATION=$(OPENSET_COLLECT_CALIBRATION)
+  COLLECT_CALIBRATION=$(OPENSET_COLLECT_CALIBRATION) SCENE_VERIFY_ABLATION='$(OPENSET_VERIFY_ABLATION)'
 openset_crop_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) openset-crops PROGRESS=0 \
   SCENE_CLASSIFY=$(OPENSET_CLASSIFY) SCENE_CLASSIFY_ABLATION= \
   SCENE_CLASSIFY_ABLATION_2= SCENE_CLASSIFY_ABLATION_3= SCENE_CLASSIFY_ABLATIONS='$(openset_classify_ablations)' \
@@ -259,15 +268,17 @@ OPENSET_CLASS_ABL_SCORES := $(foreach v,$(openset_class_variants),$(call openset
 OPENSET_COLLECT_ABL_SCORES := $(foreach v,$(openset_collect_variants),$(call openset_abl_scores,1,$(v)))
 $(foreach v,$(openset_class_variants) $(openset_collect_variants),$(call openset_abl_order,$(call \
   openset_abl_scores,1,$(v))))
+$(if $(OPENSET_VERIFY_ABL_SCORE),$(eval $(OPENSET_VERIFY_ABL_SCORE): $(OPENSET_SCORE)))
 .PHONY: openset
 openset: $(OPENSET_SCORE) $(if $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_SCORE)) $(OPENSET_CLASS_ABL_SCORES) \
-  $(OPENSET_COLLECT_ABL_SCORES)
+  $(OPENSET_COLLECT_ABL_SCORES) $(OPENSET_VERIFY_ABL_SCORE)
 ifeq ($(OPENSET),1)
 # classify's ablations: each place's name and score.json, its crops' (report --openset[-crops]-classify-ablation
 # NAME=SCORE); collect's: each one's score.json, its options as the list's entry, its crops' score.json.
 $(RES)/report.md: $(OPENSET_SCORE) $(if $(filter 1,$(OPENSET_CROPS)),$(OPENSET_CROP_SCORE)) $(OPENSET_DISTANCES) \
-  $(OPENSET_CLASS_ABL_SCORES) $(OPENSET_COLLECT_ABL_SCORES)
-REPORT_ARGS += --openset $(OPENSET_SCORE) --openset-distances $(OPENSET_DISTANCES)$(if $(filter 1,$(OPENSET_CROPS)), \
+  $(OPENSET_CLASS_ABL_SCORES) $(OPENSET_COLLECT_ABL_SCORES) $(OPENSET_VERIFY_ABL_SCORE)
+REPORT_ARGS += --openset $(OPENSET_SCORE)$(if $(OPENSET_VERIFY_ABL_SCORE), --openset-verify-ablation \
+  $(OPENSET_VERIFY_ABL_SCORE) --openset-verify-ablation-options='$(strip $(OPENSET_VERIFY_ABLATION))') --openset-distances $(OPENSET_DISTANCES)$(if $(filter 1,$(OPENSET_CROPS)), \
   --openset-crops $(OPENSET_CROP_SCORE))$(if $(openset_class_places), $(strip $(foreach k,$(openset_class_places), \
   --openset-classify-ablation $(word $(k),$(openset_classify_names))=$(OPENSET_RES)/$(call \
   class_variant,$(k))/score.json$(if $(filter 1,$(OPENSET_CROPS)), --openset-crops-classify-ablation $(word \

@@ -165,6 +165,7 @@ Json hypothesis_json(const Hypothesis& h, bool has_classes) {
          {"free_space_violation", finite(h.free_space_violation, "free_space_violation")},
          {"score", finite(h.score, "score")},
          {"flip_score", finite(h.flip_score, "flip_score")}};
+  if (h.tilted) j["tilted"] = true;
   if (has_classes) j["class"] = h.vehicle_class.empty() ? Json(nullptr) : Json(h.vehicle_class);
   return j;
 }
@@ -184,6 +185,7 @@ Hypothesis hypothesis_from(const Json& j, const std::string& w) {
   h.free_space_violation = number_at(j, "free_space_violation", w);
   h.score = number_at(j, "score", w);
   h.flip_score = number_at(j, "flip_score", w);
+  if (j.contains("tilted")) h.tilted = bool_at(j, "tilted", w);
   if (j.contains("class")) h.vehicle_class = name_at(j, "class", w, true);
   return h;
 }

@@ -531,18 +531,18 @@ plans "bin/report " || fail "make -n all plans no report"
 [ ! -e "$sd/.opts/classify-ablation.txt" ] && [ ! -e "$tmp/out/.opts/scene-report.txt" ] ||
   fail "a dry run of all wrote an options file of the ablations"
 # The scene experiment's verify ablation (mk/scenes.mk SCENES_VERIFY_ABLATION, by default
-# --top-k=1000: verify over every model, no gmatch ranking; scene-experiment.md "What gmatch
+# --top-k=3: verify on gmatch's top 3, the default before stop 65; scene-experiment.md "What gmatch
 # adds"): `make -n all` plans, in the experiment's `make scenes`, verify with those options on the
 # model-level candidate, the run's collect of those verdicts and their score, and gives the report
 # the score and the options; emptied, none of it.
 plan=$("${se[@]}" -n all 2>&1)
 plans "bin/collect -i $sr/cands/index.json --verdict-name verdict-ablation.json .*-o $sr/detections-verify-ablation.json" ||
   fail "make -n all does not plan the scene experiment's verify ablation's collect: $(echo "$plan" | grep verify-ablation | head -3)"
-plans "bin/verify --config [^ ]*verify.ini --top-k=1000 -i $sr/cands/c0001/match.json .*-o $sr/cands/c0001/verdict-ablation.json" ||
-  fail "make -n all does not plan verify over every model on the model-level candidate: $(echo "$plan" | grep "bin/verify" | head -3)"
+plans "bin/verify --config [^ ]*verify.ini --top-k=3 -i $sr/cands/c0001/match.json .*-o $sr/cands/c0001/verdict-ablation.json" ||
+  fail "make -n all does not plan the verify ablation on the model-level candidate: $(echo "$plan" | grep "bin/verify" | head -3)"
 plans "bin/score --tiles $sd/tiles-verify-ablation.txt .*-o $tmp/res/scenes/verify-ablation/score.json" ||
   fail "make -n all does not plan the verify ablation's score"
-plans "bin/report .*--tile-verify-ablation $tmp/res/scenes/verify-ablation/score.json --tile-verify-ablation-options='--top-k=1000'" ||
+plans "bin/report .*--tile-verify-ablation $tmp/res/scenes/verify-ablation/score.json --tile-verify-ablation-options='--top-k=3'" ||
   fail "the report is not given the scene experiment's verify ablation: $(echo "$plan" | grep bin/report)"
 with=$(echo "$plan" | stages)
 plan=$("${se[@]}" -n all SCENES_VERIFY_ABLATION= 2>&1)
@@ -664,6 +664,17 @@ for v in collect-ablation collect-ablation-2; do
   plans "bin/score --tiles $tmp/out/openset/tiles/tiles-$v.txt .*-o $tmp/res/openset/$v/score.json" ||
     fail "the open set's default does not plan $v's score"
 done
+# Its verify ablation (mk/openset.mk OPENSET_VERIFY_ABLATION, --max-tilt=180: no upright bound,
+# verify.md §21): the tiles' sub-make is given it, the report its score and options; emptied, neither.
+echo "$plan" | grep -q "make .* scenes .*SCENE_DIR=$tmp/out/openset/tiles .*SCENE_VERIFY_ABLATION='--max-tilt=180'" ||
+  fail "the open set's sub-make is not given its verify ablation: $(echo "$plan" | grep -o "SCENE_VERIFY_ABLATION='[^']*'" | head -1)"
+plans "bin/report .*--openset-verify-ablation $tmp/res/openset/verify-ablation/score.json --openset-verify-ablation-options='--max-tilt=180'" ||
+  fail "the report is not given the open set's verify ablation: $(echo "$plan" | grep bin/report)"
+plan=$("${sa[@]}" -n all OPENSET=1 OPENSET_SEEDS=1 OPENSET_COVERS=light OPENSET_CROPS=0 OPENSET_VERIFY_ABLATION= 2>&1)
+if plans "openset-verify-ablation"; then fail "OPENSET_VERIFY_ABLATION= still gives the report a verify ablation"; fi
+echo "$plan" | grep -q "make .* scenes .*SCENE_DIR=$tmp/out/openset/tiles .*SCENE_VERIFY_ABLATION=''" ||
+  fail "OPENSET_VERIFY_ABLATION= still gives the sub-make one: $(echo "$plan" | grep -o "SCENE_VERIFY_ABLATION='[^']*'" | head -1)"
+plan=$("${sa[@]}" -n all OPENSET=1 OPENSET_SEEDS=1 OPENSET_COVERS=light OPENSET_CROPS=0 2>&1)
 # Its classify ablations, the fourth the bed cue alone off (mk/openset.mk OPENSET_CLASSIFY_ABLATION_4,
 # classify.md §39): the sub-make gets the four as its list, the report the fourth's score;
 # OPENSET_BED_ABLATION=0 leaves the fourth out and the other three in their places.

@@ -391,3 +391,19 @@ TEST_CASE("report --openset-classify-ablation: one subsection per NAME=SCORE in 
   CHECK(err.find(path("envelope-off", true)) != std::string::npos);
   CHECK_FALSE(fs::exists(dir / "res-bad" / "report.md"));
 }
+
+TEST_CASE("open set: verify's ablation (no upright bound) is its own subsection, the tiles only") {
+  // A tiles' score with one cover row (the crops' helper's document: 10 vehicles, 9 found).
+  const documents::SceneScore tiles = crops_score({"light"}, 4, 1, 5, 2, 9, 5);
+  const std::string md = report::openset_verify_ablation_markdown(tiles, "vabl/score.json", "--max-tilt=180");
+  CHECK(md.find("### Ablation: no upright bound (`verify --max-tilt=180`)") != std::string::npos);
+  CHECK(md.find("more than 40° from the tile's") != std::string::npos);
+  CHECK(md.find("(vabl/score.json).") != std::string::npos);
+  CHECK(md.find("| cover | tiles | vehicles | found (model + class) |") != std::string::npos);
+  CHECK(md.find("| light | ") != std::string::npos);
+  CHECK(md.find("single-vehicle crops") == std::string::npos);
+  // Any other options: the heading names them.
+  const std::string other = report::openset_verify_ablation_markdown(tiles, "v2/score.json", "--top-k=3");
+  CHECK(other.find("### Ablation: verify's options `--top-k=3`") != std::string::npos);
+  CHECK(other.find("upright") == std::string::npos);
+}

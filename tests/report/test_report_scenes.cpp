@@ -449,7 +449,9 @@ TEST_CASE(
            {first, "--tile-classify-ablation needs --tile-score"},
            {scene + " --tile-baselines=vfh,surf", "--tile-baselines: unknown method 'surf'"},
            {scene + " --tile-baselines=none,fpfh", "--tile-baselines: none with other methods"},
-           {" --tile-baselines=vfh", "--tile-baselines needs --tile-score"}}) {
+           {" --tile-baselines=vfh", "--tile-baselines needs --tile-score"},
+           {" --openset-verify-ablation v.json --openset-verify-ablation-options=--max-tilt=180",
+            "--openset-verify-ablation needs --openset"}}) {
     fs::remove(dir / "res" / "report.md");
     CHECK(test::sh(report + bad, dir / "err3.txt", &err) == 2);
     CHECK(err.find(says) != std::string::npos);

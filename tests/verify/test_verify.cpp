@@ -440,3 +440,66 @@ TEST_CASE("a given pose far off: the principal-axis start still recovers the mod
   const vf::Scorer scorer(cand, vf::Params{});
   CHECK(scorer.score(w.models[0].surface, pose(0.5, 30, -25)).explained == 0);
 }
+
+TEST_CASE("a pose leaning beyond --max-tilt from the tile's vertical scores 0 and is marked tilted",
+          "[verify][tilt]") {
+  // The candidate is an upright pickup in its own frame; the frame's transform to the tile leans
+  // it by `lean` about x, so every pose verify finds (upright in the candidate's frame) leans by
+  // that much in the tile: a vehicle on its side, on its nose, upside down, which no parked
+  // vehicle is (docs/decisions/verify.md §21).
+  const World w;
+  const Isometry3d T = pose(0.7, 1.2, -0.4);
+  const auto cand = candidate(sample(pickup(), 0.1, 0.05), pickup(), T);
+  const doc::SegmentGraph object;
+  const auto m = posed_match(T);
+  const auto to_tile = [](double lean_deg) {
+    Isometry3d L = Isometry3d::Identity();
+    L.linear() = Eigen::AngleAxisd(lean_deg * canopy::common::kPi / 180, Vector3d::UnitX()).toRotationMatrix();
+    return L;
+  };
+  vf::Params p;  // max-tilt 40 degrees
+  REQUIRE(p.max_tilt_deg == 40);
+  SECTION("leaning 30 degrees (within the bound): answered, nothing tilted") {
+    const Isometry3d L = to_tile(30);
+    const doc::Verdict v = vf::run(p, {&cand, &object, &m, &w.models, &L});
+    REQUIRE(v.model == "pickup");
+    for (const auto& h : v.hypotheses) CHECK_FALSE(h.tilted);
+    const double lean =
+        std::acos(fm::to_isometry(*v.hypotheses[0].pose_tile).linear()(2, 2)) * 180 / canopy::common::kPi;
+    CHECK(std::abs(lean - 30) < 0.1);
+  }
+  SECTION("on its side (90 degrees): every hypothesis tilted, score 0, its measures kept; none") {
+    const Isometry3d L = to_tile(90);
+    const doc::Verdict v = vf::run(p, {&cand, &object, &m, &w.models, &L});
+    CHECK(v.model.empty());
+    for (const auto& h : v.hypotheses) {
+      CHECK(h.tilted);
+      CHECK(h.score == 0);
+    }
+    CHECK(v.hypotheses[0].explained > 0.9);  // the pose fits; it is not a vehicle's
+    // Written only when true, and read back.
+    doc::Verdict named = v;
+    named.candidate = "samples.pcd";
+    const std::string text = doc::serialize_verdict(named);
+    CHECK(text.find("\"tilted\": true") != std::string::npos);
+    CHECK(doc::parse_verdict(text, "v.json").hypotheses[0].tilted);
+    // No bound (180, the ablation): the same pose answered.
+    p.max_tilt_deg = 180;
+    const doc::Verdict free = vf::run(p, {&cand, &object, &m, &w.models, &L});
+    CHECK(free.model == "pickup");
+    CHECK(doc::serialize_verdict(free).find("tilted") == std::string::npos);
+  }
+  SECTION("no transform: the candidate's frame is the reference (upright here)") {
+    const doc::Verdict v = vf::run(p, {&cand, &object, &m, &w.models});
+    CHECK(v.model == "pickup");
+    CHECK_FALSE(v.hypotheses[0].tilted);
+  }
+  SECTION("--max-tilt is checked") {
+    for (const double bad : {0.0, -5.0, 181.0}) {
+      p.max_tilt_deg = bad;
+      CHECK_THROWS_AS(vf::validate(p), canopy::common::UsageError);
+    }
+    p.max_tilt_deg = 180;
+    CHECK_NOTHROW(vf::validate(p));
+  }
+}

@@ -266,6 +266,7 @@ struct Sources {
   std::string thesis;  // default: <share>/thesis/results.csv
   std::string tile_collect_ablation;
   std::string tile_verify_ablation, tile_verify_ablation_options;
+  std::string openset_verify_ablation, openset_verify_ablation_options;
   std::vector<std::string> tile_baselines;  // --tile-baselines (tile_baselines_given: it was given)
   bool tile_baselines_given = false;
   // the open set's collect ablations in order: each one's score.json, options and crops' score.json
@@ -355,11 +356,11 @@ void bind(common::Tool& tool, Sources& src, report::Params& p) {
   tool.add("--tile-collect-ablation", &src.tile_collect_ablation,
            "the scene experiment's collect ablation's score.json (mk/scenes.mk SCENE_COLLECT_ABLATION: "
            "collect --coarse-none-below 0, one none map): its reliability table beside canopy's");
-  tool.add(
-      "--tile-verify-ablation", &src.tile_verify_ablation,
-      "the scene experiment's verify ablation's score.json (mk/scenes.mk SCENES_VERIFY_ABLATION, "
-      "--top-k=1000: verify over every model, no gmatch ranking): a row beside the baseline's methods and "
-      "what gmatch adds (with --tile-verify-ablation-options)");
+  tool.add("--tile-verify-ablation", &src.tile_verify_ablation,
+           "the scene experiment's verify ablation's score.json (mk/scenes.mk SCENES_VERIFY_ABLATION, "
+           "--top-k=3: verify on gmatch's top 3, the default before stop 65): a row beside the baseline's "
+           "methods and "
+           "what gmatch adds (with --tile-verify-ablation-options)");
   tool.add("--tile-verify-ablation-options", &src.tile_verify_ablation_options,
            "the verify options that ablation ran with (shown in the report)");
   tool.add("--tile-baselines", &src.tile_baselines,
@@ -422,6 +423,12 @@ void bind(common::Tool& tool, Sources& src, report::Params& p) {
            "the same ablation's score.json on the single-vehicle crops: none, or one per "
            "--openset-collect-ablation in the same order")
       ->allow_extra_args(false);
+  tool.add("--openset-verify-ablation", &src.openset_verify_ablation,
+           "the open set's verify ablation's score.json (mk/openset.mk OPENSET_VERIFY_ABLATION: the tiles' "
+           "model-level candidates verified again with other options): a subsection of the open set's "
+           "(with --openset-verify-ablation-options)");
+  tool.add("--openset-verify-ablation-options", &src.openset_verify_ablation_options,
+           "the verify options that ablation ran with, as --name=value words (its subsection's heading)");
   tool.add("--openset-distances", &src.openset_distances,
            "the vehicle library's distances.csv (scripts/vehicles/distance.py): the open set's nearest "
            "modelbase instances and instance accuracy");
@@ -476,6 +483,9 @@ int main(int argc, char** argv) {
       if (a.score.empty() != a.config.empty())
         throw common::UsageError(opt + " and " + opt + "-config go together");
     }
+    needs(src.openset_verify_ablation, "--openset-verify-ablation", src.openset, "--openset");
+    if (src.openset_verify_ablation.empty() != src.openset_verify_ablation_options.empty())
+      throw common::UsageError("--openset-verify-ablation and --openset-verify-ablation-options go together");
     const std::vector<NamedAblation> openset_classify = classify_ablations(src);
     check_collect_ablations(src);
     common::log::Phase phase("read");
@@ -514,6 +524,10 @@ int main(int argc, char** argv) {
             src.openset_collect_ablations[k],
             src.openset_crops_collect_ablations.empty() ? "" : src.openset_crops_collect_ablations[k],
             src.openset_collect_ablation_options.empty() ? "" : src.openset_collect_ablation_options[k]);
+      if (!src.openset_verify_ablation.empty())
+        markdown += report::openset_verify_ablation_markdown(
+            documents::read_scene_score_file(src.openset_verify_ablation), src.openset_verify_ablation,
+            src.openset_verify_ablation_options);
     }
     if (!src.disk.empty())
       markdown += report::disk_markdown(report::disk_parts(src.disk, manifest.objects), src.disk);

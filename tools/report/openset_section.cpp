@@ -326,4 +326,22 @@ std::string openset_collect_ablation_markdown(const documents::SceneScore& tiles
                            tiles, tiles_path, crops, crops_path);
 }
 
+std::string openset_verify_ablation_markdown(const documents::SceneScore& tiles,
+                                             const std::string& tiles_path, const std::string& options) {
+  if (options == "--max-tilt=180")
+    return ablation_markdown(
+        "Ablation: no upright bound (`verify --max-tilt=180`)",
+        "By default verify scores 0 a hypothesis that no start poses upright: a model whose vertical leans "
+        "more than 40° from the tile's (on its side, on its nose, upside down; `verify --max-tilt`, "
+        "docs/decisions/verify.md §21). This is the same model-level candidates verified again without the "
+        "bound, as before, collected and scored the same way (the tiles only)",
+        tiles, tiles_path, nullptr, "");
+  return ablation_markdown(
+      "Ablation: verify's options `" + options + "`",
+      "The same model-level candidates verified again with `" + options +
+          "` after verify's parameters (mk/openset.mk `OPENSET_VERIFY_ABLATION`), collected "
+          "and scored the same way (the tiles only)",
+      tiles, tiles_path, nullptr, "");
+}
+
 }  // namespace canopy::report

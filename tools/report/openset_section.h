@@ -77,5 +77,10 @@ std::string openset_collect_ablation_markdown(const documents::SceneScore& tiles
                                               const documents::SceneScore* crops = nullptr,
                                               const std::string& crops_path = "",
                                               const std::string& options = "");
+// An ablation of verify's defaults on the open set's tiles (mk/openset.mk OPENSET_VERIFY_ABLATION:
+// verify again on every model-level candidate with `options` after its parameters, collected and
+// scored the same way), in the same form; --max-tilt=180 is verify without its upright bound.
+std::string openset_verify_ablation_markdown(const documents::SceneScore& tiles,
+                                             const std::string& tiles_path, const std::string& options);
 
 }  // namespace canopy::report

@@ -276,6 +276,14 @@ std::vector<SceneStageTime> scene_times(const std::vector<SceneRun>& runs);
 
 // The runs named by a score document's "tiles" (dir = directory of each "detections").
 std::vector<SceneRun> scene_runs(const documents::SceneScore& score);
+// How many models gmatch ranked (m), how many of them canopy's verify checked (k) and how many the
+// verify ablation checked (k_ablation; 0 without its verdict): the first candidate of the runs with a
+// match.json (not a failed gmatch's empty one) and its verdict.json (every candidate is matched
+// against the whole modelbase, and verify checks min(top-k, m)); zeros when none is found.
+struct SceneRankedModels {
+  std::size_t m = 0, k = 0, k_ablation = 0;
+};
+SceneRankedModels scene_ranked_models(const documents::SceneScore& score);
 
 // The report's "Scene experiment" section (Markdown) and the times as CSV
 // (stage,runs,seconds,area_ha,seconds_per_ha,peak_mb,cpu_seconds,cpu_runs). figures_dir: the scene figures'
@@ -311,6 +319,8 @@ std::string scene_markdown(const documents::SceneScore& score, const std::vector
                            const SceneVerifyAblation& verify_ablation = {},
                            const std::vector<std::string>* baselines = nullptr);
 std::string scene_times_csv(const std::vector<SceneStageTime>& times);
+// The subsection "Time per hectare and peak memory per stage" of the scene section.
+std::string scene_times_markdown(const std::vector<SceneStageTime>& times);
 // Whether `method` names one of the scene experiment's baseline methods (scene_markdown's baselines).
 bool is_scene_baseline_method(const std::string& method);
 

@@ -1,5 +1,6 @@
 // The scene experiment's runs and the time, CPU and peak memory of its stages from the stage
-// runner's .time files (report.h: scene_runs, scene_times, scene_times_csv).
+// runner's .time files, and how many models its verify runs checked (report.h: scene_runs,
+// scene_times, scene_times_csv, scene_ranked_models).
 #include <algorithm>
 #include <filesystem>
 #include <set>
@@ -8,8 +9,10 @@
 #include <vector>
 
 #include "canopy/common/error.h"
+#include "canopy/documents/match_result.h"
 #include "canopy/documents/scene_score.h"
 #include "canopy/documents/stage_time.h"
+#include "canopy/documents/verdict.h"
 #include "report/report.h"
 
 namespace canopy::report {
@@ -112,6 +115,52 @@ std::string scene_times_csv(const std::vector<SceneStageTime>& times) {
         << t.cpu_runs << "\n";
   }
   return csv.str();
+}
+
+SceneRankedModels scene_ranked_models(const SceneScore& score) {
+  for (const SceneRun& r : scene_runs(score)) {
+    std::error_code ec;
+    std::vector<std::filesystem::path> cands;
+    for (const auto& e : std::filesystem::directory_iterator(r.dir + "/cands", ec)) cands.push_back(e.path());
+    std::sort(cands.begin(), cands.end());
+    for (const auto& c : cands) {
+      const std::filesystem::path m = c / "match.json", v = c / "verdict.json",
+                                  a = c / "verdict-ablation.json";
+      const auto filled = [&](const std::filesystem::path& p) {
+        return std::filesystem::is_regular_file(p, ec) && std::filesystem::file_size(p, ec) > 0 && !ec;
+      };
+      if (filled(m) && filled(v))
+        return {documents::read_match_result(m.string()).models.size(),
+                documents::read_verdict(v.string()).hypotheses.size(),
+                filled(a) ? documents::read_verdict(a.string()).hypotheses.size() : 0};
+    }
+  }
+  return {};
+}
+
+std::string scene_times_markdown(const std::vector<SceneStageTime>& times) {
+  std::ostringstream md;
+  md << "### Time per hectare and peak memory per stage\n\n"
+        "Wall time summed over the stage's runs (the stage runner's `.time` files, tools/stagerun; on a "
+        "shared machine "
+        "wall time includes waiting for the CPU) and their CPU time (user + system, which the load does not "
+        "change), per hectare of rendered tiles (rangetrace) or of runs (every other stage); peak memory of "
+        "the largest run. `scenes/times.csv`.\n\n"
+        "| stage | runs | wall s | CPU s | s per ha | peak MB |\n|---|---|---|---|---|---|\n";
+  double total = 0, cpu = 0;
+  int runs = 0, cpu_runs = 0;
+  for (const auto& t : times) {
+    md << "| " << t.stage << " | " << t.runs << " | " << format_number("%.1f", t.seconds) << " | "
+       << cpu_cell(format_number("%.1f", t.cpu_seconds), t.cpu_runs, t.runs) << " | "
+       << format_number("%.1f", t.per_ha) << " | " << format_number("%.0f", t.peak_mb) << " |\n";
+    total += t.seconds;
+    cpu += t.cpu_seconds;
+    runs += t.runs;
+    cpu_runs += t.cpu_runs;
+  }
+  md << "| **all** | | **" << format_number("%.1f", total) << "** | **"
+     << cpu_cell(format_number("%.1f", cpu), cpu_runs, runs) << "** | | |\n\n";
+  return md.str();
 }
 
 }  // namespace canopy::report

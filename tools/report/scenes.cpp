@@ -243,34 +243,6 @@ void baseline_goal(std::ostringstream& md, const SceneScore& score, const std::v
   }
 }
 
-// How many models gmatch ranked (m), how many of them canopy's verify checked (k) and how many the
-// verify ablation checked (k_ablation; 0 without its verdict): the first candidate of the runs with a
-// match.json (not a failed gmatch's empty one) and its verdict.json (every candidate is matched
-// against the whole modelbase, and verify checks min(top-k, m)); zeros when none is found.
-struct RankedModels {
-  std::size_t m = 0, k = 0, k_ablation = 0;
-};
-RankedModels ranked_models(const SceneScore& score) {
-  for (const SceneRun& r : scene_runs(score)) {
-    std::error_code ec;
-    std::vector<std::filesystem::path> cands;
-    for (const auto& e : std::filesystem::directory_iterator(r.dir + "/cands", ec)) cands.push_back(e.path());
-    std::sort(cands.begin(), cands.end());
-    for (const auto& c : cands) {
-      const std::filesystem::path m = c / "match.json", v = c / "verdict.json",
-                                  a = c / "verdict-ablation.json";
-      const auto filled = [&](const std::filesystem::path& p) {
-        return std::filesystem::is_regular_file(p, ec) && std::filesystem::file_size(p, ec) > 0 && !ec;
-      };
-      if (filled(m) && filled(v))
-        return {documents::read_match_result(m.string()).models.size(),
-                documents::read_verdict(v.string()).hypotheses.size(),
-                filled(a) ? documents::read_verdict(a.string()).hypotheses.size() : 0};
-    }
-  }
-  return {};
-}
-
 // Which of the m models gmatch ranked a verify run with k hypotheses checked.
 std::string checked(std::size_t k, std::size_t m) {
   return (k >= m ? "every one" : "gmatch's top " + std::to_string(k)) + " of the " + std::to_string(m) +
@@ -285,7 +257,7 @@ void gmatch_goal(std::ostringstream& md, const SceneScore& score, const std::vec
   const ScoreRow all_key = {{"cover", "all"}, {"noise_mm", "all"}};
   const ScoreRow& canopy_all = same_row(score.summary, all_key, "cover", "noise_mm");
   const ScoreValue& c_rec = score_field(canopy_all, "recognition");
-  const RankedModels rm = ranked_models(score);
+  const SceneRankedModels rm = scene_ranked_models(score);
   bool any = false;
   for (const auto& b : bl) {
     if (b.method != "verify-ablation" && b.method != "fpfh-verify") continue;
@@ -647,29 +619,6 @@ void baselines(std::ostringstream& md, const SceneScore& score, const std::vecto
   }
 }
 
-void times_table(std::ostringstream& md, const std::vector<SceneStageTime>& times) {
-  md << "### Time per hectare and peak memory per stage\n\n"
-        "Wall time summed over the stage's runs (the stage runner's `.time` files, tools/stagerun; on a "
-        "shared machine "
-        "wall time includes waiting for the CPU) and their CPU time (user + system, which the load does not "
-        "change), per hectare of rendered tiles (rangetrace) or of runs (every other stage); peak memory of "
-        "the largest run. `scenes/times.csv`.\n\n"
-        "| stage | runs | wall s | CPU s | s per ha | peak MB |\n|---|---|---|---|---|---|\n";
-  double total = 0, cpu = 0;
-  int runs = 0, cpu_runs = 0;
-  for (const auto& t : times) {
-    md << "| " << t.stage << " | " << t.runs << " | " << format_number("%.1f", t.seconds) << " | "
-       << cpu_cell(format_number("%.1f", t.cpu_seconds), t.cpu_runs, t.runs) << " | "
-       << format_number("%.1f", t.per_ha) << " | " << format_number("%.0f", t.peak_mb) << " |\n";
-    total += t.seconds;
-    cpu += t.cpu_seconds;
-    runs += t.runs;
-    cpu_runs += t.cpu_runs;
-  }
-  md << "| **all** | | **" << format_number("%.1f", total) << "** | **"
-     << cpu_cell(format_number("%.1f", cpu), cpu_runs, runs) << "** | | |\n\n";
-}
-
 void pictures(std::ostringstream& md, const std::vector<std::string>& covers, const std::string& fig) {
   md << "### The tiles from above\n\n"
         "Per cover level: rows = noise levels, columns = the first tiles; outlines: right model green, wrong "
@@ -714,7 +663,7 @@ std::string scene_markdown(const SceneScore& score, const std::vector<SceneStage
   classify_ablations_table(md, score, classify_ablations);
   md << clutter_markdown(score);
   baselines(md, score, times, verify_ablation, baseline_methods);
-  times_table(md, times);
+  md << scene_times_markdown(times);
   pictures(md, covers, fig);
   return md.str();
 }

@@ -150,6 +150,8 @@ void validate(const Params& p) {
   }
   if (p.icp_points < 6) throw common::UsageError("--icp-points must be >= 6");
   if (!(p.accept >= 0 && p.accept <= 1)) throw common::UsageError("--accept must be in [0, 1]");
+  if (!(p.max_tilt_deg > 0 && p.max_tilt_deg <= 180))
+    throw common::UsageError("--max-tilt must be in (0, 180]");
   if (!(p.box_margin >= -1 && p.box_margin <= 1)) throw common::UsageError("--box-margin must be in [-1, 1]");
   if (!std::isfinite(p.min_height) || !std::isfinite(p.conf_bias) || !std::isfinite(p.conf_score) ||
       !std::isfinite(p.conf_margin) || !std::isfinite(p.conf_box) || !std::isfinite(p.none_bias) ||
@@ -492,9 +494,17 @@ const Model& loaded_model(const Inputs& in, const std::string& name) {
   return *model;
 }
 
+// How far (degrees) a pose's model vertical leans from the tile's vertical (to_tile: candidate ->
+// tile; null: the candidate's frame is the reference).
+double tilt_deg(const Isometry3d& pose, const Isometry3d* to_tile) {
+  const Matrix3d r = to_tile != nullptr ? Matrix3d(to_tile->linear() * pose.linear()) : Matrix3d(pose.linear());
+  return std::acos(std::clamp(r(2, 2), -1.0, 1.0)) * 180.0 / M_PI;
+}
+
 // One hypothesis: every start (the match result's pose when it gives one, else the matched
 // pairs' pose when there is one; the principal axes') and, with Params::flip, its 180-degree
-// flip, refined by ICP and scored; the best.
+// flip, refined by ICP and scored; the best of the upright ones (Params::max_tilt_deg). With no
+// upright one, the best of all, marked tilted, with score 0.
 documents::Hypothesis check_hypothesis(const Inputs& in, const documents::ModelScore& ms, const Model& model,
                                        const Scorer& scorer, const Params& p) {
   const auto& above = scorer.above_points();
@@ -517,7 +527,7 @@ documents::Hypothesis check_hypothesis(const Inputs& in, const documents::ModelS
   best.model = ms.model;
   best.gmatch_rank = ms.rank;
   best.gmatch_score = ms.score;
-  bool have = false;
+  bool have = false, upright = false;
   for (const auto& s : starts) {
     const int variants = p.flip ? 2 : 1;
     Check checks[2];
@@ -527,8 +537,12 @@ documents::Hypothesis check_hypothesis(const Inputs& in, const documents::ModelS
     }
     for (int f = 0; f < variants; ++f) {
       const Check& c = checks[f];
-      if (have && !(c.score > best.score)) continue;
+      const bool up = tilt_deg(c.pose, in.to_tile) <= p.max_tilt_deg;
+      // an upright pose before any tilted one, then the better score
+      if (have && (upright && !up)) continue;
+      if (have && up == upright && !(c.score > best.score)) continue;
       have = true;
+      upright = up;
       best.start = s.name + (f ? "-flipped" : "");
       best.flipped = f == 1;
       best.pose = formats::to_pose(c.pose);
@@ -538,6 +552,10 @@ documents::Hypothesis check_hypothesis(const Inputs& in, const documents::ModelS
       best.score = c.score;
       best.flip_score = variants == 2 ? checks[1 - f].score : 0;
     }
+  }
+  if (have && !upright) {
+    best.tilted = true;
+    best.score = 0;
   }
   best.vehicle_class = model.vehicle_class;
   return best;

@@ -36,6 +36,8 @@ struct Hypothesis {
   double free_space_violation = 0;  // share of the expected-visible model surface not seen
   double score = 0;                 // explained * (1 - free_space_violation)
   double flip_score = 0;            // best score among the starts flipped against the chosen one
+  bool tilted = false;              // no start posed it upright (verify --max-tilt): score 0; written
+                                    // only when true
   std::string vehicle_class;        // the model's class ("" = none; written only with has_classes)
 };
 
