@@ -458,7 +458,7 @@ TEST_CASE("a pose leaning beyond --max-tilt from the tile's vertical scores 0 an
     return L;
   };
   vf::Params p;  // max-tilt 40 degrees
-  REQUIRE(p.max_tilt_deg == 40);
+  REQUIRE(std::abs(p.max_tilt - 40 * canopy::common::kPi / 180) < 1e-12);
   SECTION("leaning 30 degrees (within the bound): answered, nothing tilted") {
     const Isometry3d L = to_tile(30);
     const doc::Verdict v = vf::run(p, {&cand, &object, &m, &w.models, &L});
@@ -484,7 +484,7 @@ TEST_CASE("a pose leaning beyond --max-tilt from the tile's vertical scores 0 an
     CHECK(text.find("\"tilted\": true") != std::string::npos);
     CHECK(doc::parse_verdict(text, "v.json").hypotheses[0].tilted);
     // No bound (180, the ablation): the same pose answered.
-    p.max_tilt_deg = 180;
+    p.max_tilt = canopy::common::kPi;
     const doc::Verdict free = vf::run(p, {&cand, &object, &m, &w.models, &L});
     CHECK(free.model == "pickup");
     CHECK(doc::serialize_verdict(free).find("tilted") == std::string::npos);
@@ -495,11 +495,11 @@ TEST_CASE("a pose leaning beyond --max-tilt from the tile's vertical scores 0 an
     CHECK_FALSE(v.hypotheses[0].tilted);
   }
   SECTION("--max-tilt is checked") {
-    for (const double bad : {0.0, -5.0, 181.0}) {
-      p.max_tilt_deg = bad;
+    for (const double bad_deg : {0.0, -5.0, 181.0}) {
+      p.max_tilt = bad_deg * canopy::common::kPi / 180;
       CHECK_THROWS_AS(vf::validate(p), canopy::common::UsageError);
     }
-    p.max_tilt_deg = 180;
+    p.max_tilt = 180 * (canopy::common::kPi / 180);  // as --max-tilt=180 gives it
     CHECK_NOTHROW(vf::validate(p));
   }
 }

@@ -86,9 +86,9 @@ void bind(cm::Tool& tool, vf::Params& p, Cli& cli) {
   tool.add("--icp-points", &p.icp_points, "candidate points ICP uses at most (even stride)");
   tool.add_flag("--no-flip", &cli.no_flip, "do not try the 180-degree flip of each start")
       ->default_str("false");
-  tool.add("--max-tilt", &p.max_tilt_deg,
-           "degrees a posed model's vertical may lean from the tile's vertical (a parked vehicle stands "
-           "upright); a hypothesis posed only beyond it scores 0 (180: no bound)");
+  tool.add_angle("--max-tilt", &p.max_tilt,
+                 "how far a posed model's vertical may lean from the tile's vertical (a parked vehicle "
+                 "stands upright); a hypothesis posed only beyond it scores 0 (180deg: no bound)");
   tool.add("--accept", &p.accept, "answer none when the best score is below this");
   tool.add("--box-margin", &p.box_margin,
            "answer a model only when its score beats the null hypothesis's (a plain box of the "

@@ -150,8 +150,8 @@ void validate(const Params& p) {
   }
   if (p.icp_points < 6) throw common::UsageError("--icp-points must be >= 6");
   if (!(p.accept >= 0 && p.accept <= 1)) throw common::UsageError("--accept must be in [0, 1]");
-  if (!(p.max_tilt_deg > 0 && p.max_tilt_deg <= 180))
-    throw common::UsageError("--max-tilt must be in (0, 180]");
+  if (!(p.max_tilt > 0 && p.max_tilt <= common::kPi + 1e-12))
+    throw common::UsageError("--max-tilt must be in (0, 180] degrees");
   if (!(p.box_margin >= -1 && p.box_margin <= 1)) throw common::UsageError("--box-margin must be in [-1, 1]");
   if (!std::isfinite(p.min_height) || !std::isfinite(p.conf_bias) || !std::isfinite(p.conf_score) ||
       !std::isfinite(p.conf_margin) || !std::isfinite(p.conf_box) || !std::isfinite(p.none_bias) ||
@@ -494,16 +494,16 @@ const Model& loaded_model(const Inputs& in, const std::string& name) {
   return *model;
 }
 
-// How far (degrees) a pose's model vertical leans from the tile's vertical (to_tile: candidate ->
+// How far (radians) a pose's model vertical leans from the tile's vertical (to_tile: candidate ->
 // tile; null: the candidate's frame is the reference).
-double tilt_deg(const Isometry3d& pose, const Isometry3d* to_tile) {
+double tilt(const Isometry3d& pose, const Isometry3d* to_tile) {
   const Matrix3d r = to_tile != nullptr ? Matrix3d(to_tile->linear() * pose.linear()) : Matrix3d(pose.linear());
-  return std::acos(std::clamp(r(2, 2), -1.0, 1.0)) * 180.0 / M_PI;
+  return std::acos(std::clamp(r(2, 2), -1.0, 1.0));
 }
 
 // One hypothesis: every start (the match result's pose when it gives one, else the matched
 // pairs' pose when there is one; the principal axes') and, with Params::flip, its 180-degree
-// flip, refined by ICP and scored; the best of the upright ones (Params::max_tilt_deg). With no
+// flip, refined by ICP and scored; the best of the upright ones (Params::max_tilt). With no
 // upright one, the best of all, marked tilted, with score 0.
 documents::Hypothesis check_hypothesis(const Inputs& in, const documents::ModelScore& ms, const Model& model,
                                        const Scorer& scorer, const Params& p) {
@@ -537,7 +537,7 @@ documents::Hypothesis check_hypothesis(const Inputs& in, const documents::ModelS
     }
     for (int f = 0; f < variants; ++f) {
       const Check& c = checks[f];
-      const bool up = tilt_deg(c.pose, in.to_tile) <= p.max_tilt_deg;
+      const bool up = tilt(c.pose, in.to_tile) <= p.max_tilt;
       // an upright pose before any tilted one, then the better score
       if (have && (upright && !up)) continue;
       if (have && up == upright && !(c.score > best.score)) continue;

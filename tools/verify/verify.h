@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "canopy/common/math.h"
 #include "canopy/documents/match_result.h"
 #include "canopy/formats/point_cloud.h"
 #include "canopy/documents/segment_graph.h"
@@ -65,9 +66,9 @@ struct Params {
   // A parked vehicle stands upright: a pose whose model vertical leans more than this from the
   // tile's vertical (the candidate's without a transform) is not a vehicle's (on its side, on its
   // nose, upside down); a hypothesis no start of which poses upright scores 0 and is marked
-  // tilted (docs/decisions/verify.md §21). 180: no bound.
-  double max_tilt_deg = 40;
-  double accept = 0.556;  // answer "none" when the best score is below this
+  // tilted (docs/decisions/verify.md §21). 180 degrees: no bound.
+  double max_tilt = 40 * common::kPi / 180;  // radians
+  double accept = 0.556;                     // answer "none" when the best score is below this
   // The null hypothesis (docs/decisions/verify.md §14): a plain box of the candidate's own
   // extent (top and four sides down to the ground), posed by its principal axes, refined by
   // ICP and scored like a model. The best model is answered only when its score beats the
