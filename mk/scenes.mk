@@ -307,15 +307,19 @@ $(1)/cands/$(2)/match.json: $(1)/cands/$(2)/segments.json $(wildcard $(4)/*.json
 	@$(STAGE) --record-failure $$@ -- $(BIN)/gmatch --config $(P)/gmatch.ini -i $$< --modelbase $(4) -o $$@
 $(call verify_rule,$(1),$(2),$(3),$(4),verdict.json)
 endef
-# verify_rule(DIR, ID, KEY, MODELBASE, NAME[, OPTIONS]): verify on one model-level candidate's
-# match into cands/<id>/NAME, with OPTIONS after its parameters (SCENE_VERIFY_ABLATION's
-# verdict-ablation.json, which also depends on those options' file).
+# verify_rule(DIR, ID, KEY, MODELBASE, NAME[, OPTIONS[, FPFH]]): verify on one model-level
+# candidate into cands/<id>/NAME, with OPTIONS after its parameters (SCENE_VERIFY_ABLATION's
+# verdict-ablation.json, which also depends on those options' file). The hypotheses are gmatch's
+# (match.json, with the segment graph for its pairs) or, with FPFH non-empty, the fpfh baseline's
+# ranking and poses (hypotheses-fpfh.json, which its stage writes beside baseline-fpfh.json: the
+# rule depends on that; no segment graph: the list has no pairs).
 define verify_rule
-$(1)/cands/$(2)/$(5): $(1)/cands/$(2)/match.json $(1)/cands/$(2)/samples.pcd \
+$(1)/cands/$(2)/$(5): $(1)/cands/$(2)/$(if $(7),baseline-fpfh.json,match.json) $(1)/cands/$(2)/samples.pcd \
     $(wildcard $(4)/*.json $(4)/*.pcd) $(call tool,verify) $(wildcard $(P)/verify.ini) $($(3)_TRAJECTORY) $(opts.models)$(if \
-    $(6), $(opts.verify-ablation))
-	@$(STAGE) --record-failure $$@ -- $(BIN)/verify $(call scene_config,verify)$(if $(6), $(6)) -i $$< \
-	  --points $(1)/cands/$(2)/samples.pcd --segments $(1)/cands/$(2)/segments.json \
+    $(6), $(opts.verify-ablation))$(if $(7), $(MODELBASE) $(VERIFY_SURFACES))
+	@$(STAGE) --record-failure $$@ -- $(BIN)/verify $(call scene_config,verify)$(if $(6), $(6)) \
+	  -i $(1)/cands/$(2)/$(if $(7),hypotheses-fpfh.json,match.json) --points $(1)/cands/$(2)/samples.pcd$(if \
+	  $(7),, --segments $(1)/cands/$(2)/segments.json) \
 	  --modelbase $(4) --transform $($(3)_TRANSFORM_$(2))$(if $($(3)_TRAJECTORY), --trajectory $($(3)_TRAJECTORY)) -o $$@
 endef
 
@@ -652,16 +656,6 @@ $(1)/cands/$(2)/baseline-$(3).json: $(1)/cands/$(2)/samples.pcd $(VERIFY_SURFACE
 	  --verdict $(3) -i $(1)/cands/$(2)/samples.pcd --modelbase $(SCENE_MB) --model-cache $(call \
 	  baseline_models,$(SCENE_MB)) -o $$@$(if $(scene_bl_hyp), --hypotheses $(scene_bl_hyp))
 endef
-# scene_fpfh_verify_rule(DIR, ID, KEY): the FPFH ranking and poses (written beside the fpfh
-# verdict, by its stage) checked by verify with its parameters into cands/<id>/verdict-fpfh.json
-# (no --segments: the list has no segment pairs).
-define scene_fpfh_verify_rule
-$(1)/cands/$(2)/verdict-fpfh.json: $(1)/cands/$(2)/baseline-fpfh.json $(1)/cands/$(2)/samples.pcd \
-    $(wildcard $(SCENE_MB)/*.json $(SCENE_MB)/*.pcd) $(MODELBASE) $(VERIFY_SURFACES) $(call tool,verify) \
-    $(wildcard $(P)/verify.ini) $(opts.models)
-	@$(STAGE) --record-failure $$@ -- $(BIN)/verify $(call scene_config,verify) -i $(1)/cands/$(2)/hypotheses-fpfh.json \
-	  --points $(1)/cands/$(2)/samples.pcd --modelbase $(SCENE_MB) --transform $($(3)_TRANSFORM_$(2)) -o $$@
-endef
 # The models' side of another SCENE_MB than the thesis modelbase's (mk/baseline.mk).
 $(if $(SCENE_BASELINE),$(if $(filter-out $(OUT)/modelbase,$(SCENE_MB)),$(eval $(call baseline_models_rule,$(SCENE_MB),$(VERIFY_SURFACES)))))
 # scene_variant_score_rule(VARIANT): the score of every run's detections-VARIANT.json
@@ -675,11 +669,12 @@ $(foreach m,$(SCENE_BASELINE),$(foreach r,$(SCENE_RUNS),$(foreach c,$(call model
 $(foreach m,$(SCENE_BASELINE),$(foreach r,$(SCENE_RUNS),$(eval $(call collect_variant_rule,$(r),$(call scene_key,$(r)),$(SCENE_MB),\
   baseline-$(m),class.json,baseline-$(m).json,--verdict-name baseline-$(m).json --refused-below=0))))
 $(foreach m,$(SCENE_BASELINE),$(eval $(call scene_variant_score_rule,baseline-$(m))))
-# FPFH poses scored by verify (SCENE_FPFH_VERIFY): per model-level candidate, per run, one score.
+# FPFH poses scored by verify (SCENE_FPFH_VERIFY): per model-level candidate (verify_rule on the
+# fpfh stage's hypotheses-fpfh.json into cands/<id>/verdict-fpfh.json), per run, one score.
 ifneq ($(scene_fpfh_verify),)
 TILE_CAND_KINDS += verify:cand/verdict-fpfh.json
 $(foreach r,$(SCENE_RUNS),$(foreach c,$(call model_cands,$(call scene_key,$(r))),\
-  $(eval $(call scene_fpfh_verify_rule,$(r),$(c),$(call scene_key,$(r))))))
+  $(eval $(call verify_rule,$(r),$(c),$(call scene_key,$(r)),$(SCENE_MB),verdict-fpfh.json,,fpfh))))
 $(foreach r,$(SCENE_RUNS),$(eval $(call collect_variant_rule,$(r),$(call scene_key,$(r)),$(SCENE_MB),\
   baseline-fpfh-verify,class.json,verdict-fpfh.json,--verdict-name verdict-fpfh.json$(collect_calibration),,\
   $(COLLECT_CALIBRATION) $(opts.collect))))

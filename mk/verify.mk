@@ -12,14 +12,15 @@ $(OUT)/modelbase/%.pcd: $(OUT)/%/unoccluded/noise-0/samples.pcd
 .PHONY: verify-modelbase verdicts band-modelbase
 verify-modelbase: $(MODELBASE) $(VERIFY_SURFACES)
 
-define verify_rule
+# thesis_verify_rule(OBJECT, SCENE, NOISE): verify on one thesis trial's match.
+define thesis_verify_rule
 $(OUT)/$(1)/$(2)/noise-$(3)/verdict.json: $(OUT)/$(1)/$(2)/noise-$(3)/match.json \
     $(OUT)/$(1)/$(2)/noise-$(3)/samples.pcd $(MODELBASE) $(VERIFY_SURFACES) $(call tool,verify) $(P)/verify.ini $(opts.params)
 	@$(STAGE) $$@ -- $(BIN)/verify --config $(P)/verify.ini -i $$< \
 	  --points $(OUT)/$(1)/$(2)/noise-$(3)/samples.pcd --segments $(OUT)/$(1)/$(2)/noise-$(3)/segments.json \
 	  --modelbase $(OUT)/modelbase -o $$@
 endef
-$(foreach o,$(OBJECTS),$(foreach s,$(SCENES),$(foreach n,$(NOISES),$(eval $(call verify_rule,$(o),$(s),$(n))))))
+$(foreach o,$(OBJECTS),$(foreach s,$(SCENES),$(foreach n,$(NOISES),$(eval $(call thesis_verify_rule,$(o),$(s),$(n))))))
 VERDICTS := $(addsuffix /verdict.json,$(CASES))
 verdicts: $(VERDICTS)
 
