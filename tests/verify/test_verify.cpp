@@ -489,6 +489,40 @@ TEST_CASE("a pose leaning beyond --max-tilt from the tile's vertical scores 0 an
     CHECK(free.model == "pickup");
     CHECK(doc::serialize_verdict(free).find("tilted") == std::string::npos);
   }
+  SECTION("on its side with --accept 0 and no box (every best answered): a tilted one still is not") {
+    const Isometry3d L = to_tile(90);
+    p.accept = 0;
+    p.box = false;
+    const doc::Verdict v = vf::run(p, {&cand, &object, &m, &w.models, &L});
+    REQUIRE(v.hypotheses.at(0).tilted);
+    CHECK(v.model.empty());
+    CHECK(v.chosen == -1);
+    // upright (no transform), the same options answer it
+    CHECK(vf::run(p, {&cand, &object, &m, &w.models}).model == "pickup");
+  }
+  SECTION("an upright start beats a better-fitting tilted one of the same hypothesis") {
+    // The tile leans the candidate's frame 60 degrees: the principal-axis start (the true pose in the
+    // candidate's frame) fits but leans 60 degrees in the tile; the given pose is the same pose
+    // stood upright in the tile, a poor fit. No ICP, no flip: each start scored as it is.
+    const Isometry3d L = to_tile(60);
+    Isometry3d up = T;
+    up.linear() = L.linear().transpose() * T.linear();
+    const auto mu = posed_match(up);
+    p.icp_iterations = 0;
+    p.flip = false;
+    const doc::Verdict v = vf::run(p, {&cand, &object, &mu, &w.models, &L});
+    const auto& h = v.hypotheses.at(0);
+    CHECK(h.start == "pose");
+    CHECK_FALSE(h.tilted);
+    // without the bound the better fit wins: the principal axes', leaning 60 degrees
+    p.max_tilt = canopy::common::kPi;
+    const doc::Verdict vfree = vf::run(p, {&cand, &object, &mu, &w.models, &L});
+    const auto& free = vfree.hypotheses.at(0);
+    INFO("upright " << h.score << ", tilted " << free.score);
+    CHECK(free.start == "axes");
+    CHECK_FALSE(free.tilted);
+    CHECK(free.score > h.score + 0.2);
+  }
   SECTION("no transform: the candidate's frame is the reference (upright here)") {
     const doc::Verdict v = vf::run(p, {&cand, &object, &m, &w.models});
     CHECK(v.model == "pickup");

@@ -588,7 +588,9 @@ void decide(documents::Verdict* verdict, const Params& p) {
     const double s = v.hypotheses[chosen].score;
     const double over_box = v.box ? s - v.box->score : 0;
     const bool beats_box = !v.box || over_box >= p.box_margin;
-    if (s >= p.accept && beats_box) {
+    // A tilted hypothesis (no upright start, Params::max_tilt) is never the answer, even where
+    // its score 0 passes an --accept of 0.
+    if (s >= p.accept && beats_box && !v.hypotheses[chosen].tilted) {
       v.chosen = chosen;
       v.model = v.hypotheses[chosen].model;
       v.confidence =
