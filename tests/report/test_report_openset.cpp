@@ -397,7 +397,7 @@ TEST_CASE("open set: verify's ablation (no upright bound) is its own subsection,
   const documents::SceneScore tiles = crops_score({"light"}, 4, 1, 5, 2, 9, 5);
   const std::string md = report::openset_verify_ablation_markdown(tiles, "vabl/score.json", "--max-tilt=180");
   CHECK(md.find("### Ablation: no upright bound (`verify --max-tilt=180`)") != std::string::npos);
-  CHECK(md.find("more than 40° from the tile's") != std::string::npos);
+  CHECK(md.find("more than `verify --max-tilt` (40° in share/params/verify.ini)") != std::string::npos);
   CHECK(md.find("(vabl/score.json).") != std::string::npos);
   CHECK(md.find("| cover | tiles | vehicles | found (model + class) |") != std::string::npos);
   CHECK(md.find("| light | ") != std::string::npos);

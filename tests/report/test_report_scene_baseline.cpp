@@ -245,6 +245,13 @@ TEST_CASE("scene section: verify with another top-k beside canopy, what gmatch a
                                                    cpu("verify-ablation", 10, 5.0, 5.0)};
   CHECK(report::scene_markdown(score, odd, "scenes", nullptr, "", {}, {"--top-k=3", ablation.path, &all})
             .find(" Cost, the CPU") == std::string::npos);
+  // An ablation that checked as many hypotheses as canopy (another option than top-k): its row, but
+  // nothing in "What gmatch adds".
+  verdict_of(5, "verdict-ablation.json");
+  const std::string same_k = report::scene_markdown(score, times5, "scenes", nullptr, "", {},
+                                                    {"--max-tilt=180", ablation.path, &all});
+  CHECK(same_k.find("| all | all | 10 | verify `--max-tilt=180` (ablation) |") != std::string::npos);
+  CHECK(same_k.find("What gmatch adds") == std::string::npos);
   verdict_of(3, "verdict.json");
   verdict_of(5, "verdict-ablation.json");
 

@@ -489,6 +489,24 @@ TEST_CASE("a pose leaning beyond --max-tilt from the tile's vertical scores 0 an
     CHECK(free.model == "pickup");
     CHECK(doc::serialize_verdict(free).find("tilted") == std::string::npos);
   }
+  SECTION("on its side, with classes: no class and no nearest instance from a pose ruled out") {
+    const Isometry3d L = to_tile(90);
+    std::vector<vf::Model> classed = w.models;
+    classed[0].vehicle_class = "pickup-truck";
+    classed[1].vehicle_class = "truck";
+    const doc::Verdict v = vf::run(p, {&cand, &object, &m, &classed, &L});
+    REQUIRE(v.has_classes);
+    CHECK(v.model.empty());
+    CHECK(v.vehicle_class.empty());
+    CHECK(v.nearest_instance.empty());
+    // the same none confidence as for any best score of 0 (the tilted ones' scores)
+    CHECK(v.confidence > 0);
+    CHECK(v.confidence < 1);
+    // upright, the class is the answer's
+    const doc::Verdict up = vf::run(p, {&cand, &object, &m, &classed});
+    CHECK(up.vehicle_class == "pickup-truck");
+    CHECK(up.nearest_instance == "pickup");
+  }
   SECTION("on its side with --accept 0 and no box (every best answered): a tilted one still is not") {
     const Isometry3d L = to_tile(90);
     p.accept = 0;

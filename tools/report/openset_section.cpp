@@ -332,9 +332,9 @@ std::string openset_verify_ablation_markdown(const documents::SceneScore& tiles,
     return ablation_markdown(
         "Ablation: no upright bound (`verify --max-tilt=180`)",
         "By default verify scores 0 a hypothesis that no start poses upright: a model whose vertical leans "
-        "more than 40° from the tile's (on its side, on its nose, upside down; `verify --max-tilt`, "
-        "docs/decisions/verify.md §21). This is the same model-level candidates verified again without the "
-        "bound, as before, collected and scored the same way (the tiles only)",
+        "more than `verify --max-tilt` (40° in share/params/verify.ini) from the tile's (on its side, on its "
+        "nose, upside down; docs/decisions/verify.md §21). This is the same model-level candidates verified "
+        "again without the bound, as before, collected and scored the same way (the tiles only)",
         tiles, tiles_path, nullptr, "");
   return ablation_markdown(
       "Ablation: verify's options `" + options + "`",

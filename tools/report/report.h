@@ -301,8 +301,9 @@ struct SceneClassifyAblation {
   std::string path;                              // its score.json
   const documents::SceneScore* score = nullptr;  // null: not run
 };
-// The scene experiment's verify ablation (issue 29, "what each stage adds": verify over every model,
-// mk/scenes.mk SCENES_VERIFY_ABLATION = --top-k=1000): shown with the baseline's methods.
+// The scene experiment's verify ablation (issue 29, "what each stage adds": what gmatch's ranking adds,
+// mk/scenes.mk SCENES_VERIFY_ABLATION = --top-k=3 against verify's top-k 5): shown with the baseline's
+// methods, and in "What gmatch adds" when it checked another number of hypotheses than canopy.
 // baselines: the baseline methods that ran (vfh, fpfh, size, fpfh-verify; mk/scenes.mk, report
 // --tile-baselines): only their <csv dir>/baseline-<method>/score.json are read, so a method turned
 // off is not shown from its old score; null: every method whose score.json is there (by hand).

@@ -261,6 +261,8 @@ void gmatch_goal(std::ostringstream& md, const SceneScore& score, const std::vec
   bool any = false;
   for (const auto& b : bl) {
     if (b.method != "verify-ablation" && b.method != "fpfh-verify") continue;
+    // a verify ablation that checked as many hypotheses as canopy is about something else
+    if (b.method == "verify-ablation" && rm.k > 0 && rm.k == rm.k_ablation) continue;
     const ScoreRow& r = same_row(b.score.summary, all_key, "cover", "noise_mm");
     const ScoreValue& r_rec = score_field(r, "recognition");
     if (!c_rec.is_number() || !r_rec.is_number()) continue;

@@ -565,13 +565,22 @@ documents::Hypothesis check_hypothesis(const Inputs& in, const documents::ModelS
 // the score passes Params::accept, else none.
 void decide(documents::Verdict* verdict, const Params& p) {
   documents::Verdict& v = *verdict;
+  // The best upright hypothesis: a tilted one (no upright start, Params::max_tilt) is neither the
+  // answer, even where its score 0 passes an --accept of 0, nor the class and nearest instance.
   int chosen = -1;
   for (int i = 0; i < static_cast<int>(v.hypotheses.size()); ++i) {
+    if (v.hypotheses[i].tilted) continue;
     if (chosen < 0 || v.hypotheses[i].score > v.hypotheses[chosen].score) chosen = i;
   }
   double second = 0;
   for (int i = 0; i < static_cast<int>(v.hypotheses.size()); ++i) {
     if (i != chosen) second = std::max(second, v.hypotheses[i].score);
+  }
+  if (chosen < 0 && !v.hypotheses.empty()) {
+    // Every hypothesis tilted: none, stated as for a best score of 0 (no class).
+    const double over_box = v.box ? -v.box->score : 0;
+    v.confidence = 1 - logistic(p.none_bias + p.none_box * over_box);
+    return;
   }
   if (v.has_classes && chosen >= 0) {
     const auto& h = v.hypotheses[chosen];
@@ -588,9 +597,7 @@ void decide(documents::Verdict* verdict, const Params& p) {
     const double s = v.hypotheses[chosen].score;
     const double over_box = v.box ? s - v.box->score : 0;
     const bool beats_box = !v.box || over_box >= p.box_margin;
-    // A tilted hypothesis (no upright start, Params::max_tilt) is never the answer, even where
-    // its score 0 passes an --accept of 0.
-    if (s >= p.accept && beats_box && !v.hypotheses[chosen].tilted) {
+    if (s >= p.accept && beats_box) {
       v.chosen = chosen;
       v.model = v.hypotheses[chosen].model;
       v.confidence =
