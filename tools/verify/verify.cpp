@@ -576,12 +576,6 @@ void decide(documents::Verdict* verdict, const Params& p) {
   for (int i = 0; i < static_cast<int>(v.hypotheses.size()); ++i) {
     if (i != chosen) second = std::max(second, v.hypotheses[i].score);
   }
-  if (chosen < 0 && !v.hypotheses.empty()) {
-    // Every hypothesis tilted: none, stated as for a best score of 0 (no class).
-    const double over_box = v.box ? -v.box->score : 0;
-    v.confidence = 1 - logistic(p.none_bias + p.none_box * over_box);
-    return;
-  }
   if (v.has_classes && chosen >= 0) {
     const auto& h = v.hypotheses[chosen];
     v.vehicle_class = h.vehicle_class;
@@ -593,11 +587,12 @@ void decide(documents::Verdict* verdict, const Params& p) {
     }
     v.class_margin = h.score - other;
   }
-  if (chosen >= 0) {
-    const double s = v.hypotheses[chosen].score;
+  if (!v.hypotheses.empty()) {
+    // (every hypothesis tilted: none, stated as for a best score of 0, the tilted ones' scores)
+    const double s = chosen >= 0 ? v.hypotheses[chosen].score : 0;
     const double over_box = v.box ? s - v.box->score : 0;
     const bool beats_box = !v.box || over_box >= p.box_margin;
-    if (s >= p.accept && beats_box) {
+    if (chosen >= 0 && s >= p.accept && beats_box) {
       v.chosen = chosen;
       v.model = v.hypotheses[chosen].model;
       v.confidence =
