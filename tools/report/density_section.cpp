@@ -241,7 +241,7 @@ std::vector<DensityLevel> read_density_levels(const std::vector<documents::Manif
       if (n_ground > 0) l.density_ground = ground / n_ground;
       // canopy's stages (the verify ablations' runs, verdict-ablation.json, are not canopy's cost)
       for (const SceneStageTime& t : scene_times(runs))
-        if (t.stage.rfind("verify-", 0) != 0) l.cpu_seconds += t.cpu_seconds;
+        if (canopy_stage(t.stage)) l.cpu_seconds += t.cpu_seconds;
       for (const SceneRun& r : runs) l.area_ha += r.area_ha;
     }
     out.push_back(std::move(l));

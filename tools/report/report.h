@@ -273,6 +273,9 @@ struct SceneStageTime {
   double cpu_seconds = 0;  // summed user + system CPU of those runs
 };
 std::vector<SceneStageTime> scene_times(const std::vector<SceneRun>& runs);
+// Whether a scene stage is canopy's own (not the baseline's, "baseline-*", nor a verify ablation's
+// run, "verify-*"): the others are listed only when they ran and are not canopy's cost.
+bool canopy_stage(const std::string& stage);
 
 // The runs named by a score document's "tiles" (dir = directory of each "detections").
 std::vector<SceneRun> scene_runs(const documents::SceneScore& score);
@@ -304,14 +307,14 @@ struct SceneClassifyAblation {
 // The scene experiment's verify ablation (issue 29, "what each stage adds": what gmatch's ranking adds,
 // mk/scenes.mk SCENES_VERIFY_ABLATION = --top-k=3 against verify's top-k 5): shown with the baseline's
 // methods, and in "What gmatch adds" when it checked another number of hypotheses than canopy.
-// baselines: the baseline methods that ran (vfh, fpfh, size, fpfh-verify; mk/scenes.mk, report
-// --tile-baselines): only their <csv dir>/baseline-<method>/score.json are read, so a method turned
-// off is not shown from its old score; null: every method whose score.json is there (by hand).
 struct SceneVerifyAblation {
   std::string options;                           // verify's options it ran with
   std::string path;                              // its score.json
   const documents::SceneScore* score = nullptr;  // null: not run
 };
+// baselines: the baseline methods that ran (vfh, fpfh, size, fpfh-verify; mk/scenes.mk, report
+// --tile-baselines): only their <csv dir>/baseline-<method>/score.json are read, so a method turned
+// off is not shown from its old score; null: every method whose score.json is there (by hand).
 std::string scene_markdown(const documents::SceneScore& score, const std::vector<SceneStageTime>& times,
                            const std::string& figures_dir,
                            const documents::SceneScore* collect_ablation = nullptr,

@@ -97,12 +97,13 @@ std::vector<SceneStageTime> scene_times(const std::vector<SceneRun>& runs) {
   // The baseline's and the verify ablations' stages only when they ran (SCENE_BASELINE,
   // SCENE_VERIFY_ABLATION, the FPFH poses' verify).
   out.erase(std::remove_if(out.begin(), out.end(),
-                           [](const SceneStageTime& t) {
-                             return (t.stage.rfind("baseline-", 0) == 0 || t.stage.rfind("verify-", 0) == 0) &&
-                                    t.runs == 0;
-                           }),
+                           [](const SceneStageTime& t) { return !canopy_stage(t.stage) && t.runs == 0; }),
             out.end());
   return out;
+}
+
+bool canopy_stage(const std::string& stage) {
+  return stage.rfind("baseline-", 0) != 0 && stage.rfind("verify-", 0) != 0;
 }
 
 std::string scene_times_csv(const std::vector<SceneStageTime>& times) {
