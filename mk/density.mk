@@ -127,8 +127,7 @@ DENSITY_SENSOR_CLASSIFY_ABLATIONS ?= bench/density/classify-sim-late-0.35.ini $(
 # inlier-radius alone, not the candidate's own sample spacing). Options as --name=value; empty:
 # none.
 DENSITY_VERIFY_ABLATION ?= --seen-spacing=0
-$(if $(filter-out --%,$(DENSITY_VERIFY_ABLATION)),$(error DENSITY_VERIFY_ABLATION=$(DENSITY_VERIFY_ABLATION): \
-  verify's options, each as --name=value))
+$(call verify_options_check,DENSITY_VERIFY_ABLATION)
 density_verify_change = $(subst $(space),+,$(strip $(DENSITY_VERIFY_ABLATION)))
 # LEVEL:PULSE_RATE:SPEED:CLASS per level, or ERROR <why> (the preset's keys read from its file;
 # CLASS as the pixel ladder's).

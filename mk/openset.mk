@@ -212,8 +212,7 @@ endif
 # --max-tilt=180: no upright bound, verify before stop 65 (docs/decisions/verify.md §21), whose
 # upright test acts on model answers to unseen clutter. Empty: none.
 OPENSET_VERIFY_ABLATION ?= --max-tilt=180
-$(if $(filter-out --%,$(OPENSET_VERIFY_ABLATION)),$(error OPENSET_VERIFY_ABLATION=$(OPENSET_VERIFY_ABLATION): \
-  verify's options, each as --name=value))
+$(call verify_options_check,OPENSET_VERIFY_ABLATION)
 OPENSET_VERIFY_ABL_SCORE = $(if $(strip $(OPENSET_VERIFY_ABLATION)),$(OPENSET_RES)/verify-ablation/score.json)
 # The stated confidences: each level's own (docs/decisions/verify.md §16: the calibration fitted on
 # the scene experiment's development tiles overstates for unseen vehicles: none 0.9-1.0 right 26

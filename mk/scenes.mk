@@ -158,6 +158,9 @@ $(foreach k,$(call list_places,$(scene_collect_list)),$(eval scene_collect_opts.
 # and scored beside canopy's as $(SCENE_RES)/verify-ablation/score.json. Empty, the default,
 # leaves it out; the density ladder sets it (mk/density.mk DENSITY_VERIFY_ABLATION).
 SCENE_VERIFY_ABLATION ?=
+# verify_options_check(VARIABLE): an error naming VARIABLE unless its value is verify's options, each
+# as --name=value (the scene experiment's, the density ladder's and the open set's verify ablations).
+verify_options_check = $(if $(filter-out --%,$($(1))),$(error $(1)=$($(1)): verify's options, each as --name=value))
 $(foreach f,$(TILE_CLASSIFY) $(SCENE_CLASSIFY) $(filter-out -,$(scene_class_list)),$(if $(wildcard $(f))$(filter $(OUT)/%,$(f)),,$(error classify's parameters: $(f) does not exist)))
 
 # The tile workflow's options as prerequisites (the options files, Makefile.experiments): one
