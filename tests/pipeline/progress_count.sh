@@ -95,9 +95,13 @@ grep -q "^real  broken: the workflow failed" "$tmp/make.out" || fail "the broken
 counts "$tmp/make.out" "$planned"
 # ign again under a 1 s time box (a changed tile): stopped early, what it left undone leaves M
 # (the tile starts first, so its stages join M before the first line).
-touch "$tmp/real/ign_lidarhd_870000_6618000.laz"
+# A re-run tile starts from scratch (mk/real.mk: tile.time is a whole run's), so nothing of the
+# run before is left in its directory.
+touch "$tmp/real/ign_lidarhd_870000_6618000.laz" "$tmp/out/real/ign_lidarhd_870000_6618000/stale"
 "${mk[@]}" all -j2 REAL_TIMEOUT=1 REAL_CLASSIFY_ABLATION_2= REAL_CLASSIFY_ABLATION_3= >"$tmp/make2.out" 2>&1 || fail "make all REAL_TIMEOUT=1 failed: $(tail -5 "$tmp/make2.out")"
 grep '^real  ' "$tmp/make2.out"
+[ ! -e "$tmp/out/real/ign_lidarhd_870000_6618000/stale" ] || fail "a re-run real tile kept its directory's old files"
+[ -s "$tmp/out/real/ign_lidarhd_870000_6618000/tile.time" ] || fail "the stopped tile has no tile.time"
 counts "$tmp/make2.out"
 
 # A planning dry run that fails (here: the tools' build) says so instead of counting too few.

@@ -411,7 +411,8 @@ void time_table(std::ostringstream& md, const std::vector<RealTile>& tiles, doub
         "it includes waiting for the CPU) and CPU (user + system), against the target of "
      << format_number("%g", target_s)
      << " s wall per tile; beside them the CPU summed over the tile's stage `.time` files (a stage that "
-        "failed writes none; more than the run's CPU when the last run redid only part of the tile).\n\n"
+        "failed writes none; the rest of the run's CPU is make's). A tile runs from scratch whenever it "
+        "re-runs, so these are a whole run's times.\n\n"
         "| tile | wall s | CPU s | stages' CPU s (files) | wall ≤ "
      << format_number("%g", target_s) << " s |\n|---|---|---|---|---|\n";
   for (const RealTile& t : tiles) {
