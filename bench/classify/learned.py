@@ -454,6 +454,7 @@ def main():
     ap.add_argument("--lam", type=float, default=1.0)
     ap.add_argument("--quick", action="store_true", help="no nested (honest) thresholds")
     ap.add_argument("--drop", default="", help="comma-separated feature columns left out (e.g. L,W,H)")
+    ap.add_argument("--keep", default="", help="comma-separated feature columns, the only ones used")
     a = ap.parse_args()
     sims = a.sim or ["pix=/work/dev63/pix25/run/out/density", "fam=/work/dev64/fam/out/density"]
     rows, vehicles = [], []
@@ -463,6 +464,8 @@ def main():
         rows += r
         vehicles += v
     a.dropped = [c for c in a.drop.split(",") if c]
+    if a.keep:
+        a.dropped += sorted(set(columns(rows)) - set(a.keep.split(",")))
     names = columns(rows, a.dropped)
     X = raw_matrix(rows, names)
     y = np.array([r["label"] == "vehicle" for r in rows], dtype=float)
@@ -625,7 +628,7 @@ def transfer(a, rows, X, y, names, base, scores, vehicles_sim):
     run, truth = a.real
     rr, vv = load_real(run, truth)
     Xr = raw_matrix(rr, names)
-    extra = sorted({k for r in rr for k in r["feats"]} - set(names))
+    extra = sorted({k for r in rr for k in r["feats"]} - set(names) - set(a.dropped))
     yr = np.array([r["label"] == "vehicle" for r in rr], dtype=float)
     br = np.array([r["answered"] for r in rr])
     print("\n== Transfer: trained on every simulated candidate, tested on the real development tiles "
