@@ -44,7 +44,10 @@ candidates on no vehicle) with exact Poisson 95% intervals.
 Prints: the data's counts; per learner the matched and honest points; the honest point per level,
 per cover and per clutter kind; the features that carry the decision (logistic coefficients,
 boosted gains); single-feature vetoes and rescues on the baseline; with --real the transfer from
-all simulated data to the real development tiles and leave-one-real-tile-out.
+all simulated data to the real development tiles (per tile; also behind classify's size and density
+gates), each feature's own AUC on simulated and on real candidates, and (without --quick)
+leave-one-real-tile-out. --drop / --keep choose the feature columns (docs: no size, surface only).
+Deterministic (no random draws): the same inputs print the same figures.
 """
 import argparse, collections, json, math, os, sys
 
@@ -523,9 +526,10 @@ def main():
                 continue
             gained = sum(1 for r, x, b in zip(rows, ans, base) if x and not b and r["label"] == "vehicle")
             lost = sum(1 for r, x, b in zip(rows, ans, base) if b and not x and r["label"] == "vehicle")
-            newfa = collections.Counter(r["label"] for r, x, b in zip(rows, ans, base) if x and not b and r["label"] != "vehicle")
-            gone = collections.Counter(r["label"] for r, x, b in zip(rows, ans, base) if b and not x and r["label"] != "vehicle")
-            rescued = collections.Counter(r["reason"] for r, x, b in zip(rows, ans, base) if x and not b and r["label"] == "vehicle")
+            trio = list(zip(rows, ans, base))
+            newfa = collections.Counter(r["label"] for r, x, b in trio if x and not b and r["label"] != "vehicle")
+            gone = collections.Counter(r["label"] for r, x, b in trio if b and not x and r["label"] != "vehicle")
+            rescued = collections.Counter(r["reason"] for r, x, b in trio if x and not b and r["label"] == "vehicle")
             print(f"{name} vs classify: vehicle candidates gained {gained} (refused by classify as {dict(rescued)}), "
                   f"lost {lost}; false alarms new {dict(newfa)}, removed {dict(gone)}")
 
@@ -651,6 +655,9 @@ def transfer(a, rows, X, y, names, base, scores, vehicles_sim):
         # too_large stay refused): it replaces the shape and surface gates alone
         gate = np.array([r["reason"] not in ("too_small", "too_sparse", "too_large") for r in rr])
         answers[f"{kind} (sim threshold, past the size/density gates)"] = list((s >= t) & gate)
+        # beside classify: the learned decision as a veto on its answers, or a rescue of its refusals
+        answers[f"classify.ini and {kind} (a veto)"] = list((s >= t) & br)
+        answers[f"classify.ini or {kind} (a rescue)"] = list((s >= t) | br)
         pos, neg = s[yr == 1], s[yr == 0]
         auc = (np.sum(pos[:, None] > neg[None, :]) + 0.5 * np.sum(pos[:, None] == neg[None, :])) / (len(pos) * len(neg))
         pos, neg = s_sim[y == 1], s_sim[y == 0]
@@ -664,7 +671,8 @@ def transfer(a, rows, X, y, names, base, scores, vehicles_sim):
         kf = sum(1 for r, x, fo in zip(rr, ans, forest) if x and fo and r["label"] != "vehicle")
         print(f"| {name} | {rate(fc, nc)} | {rate(f, n)} | {fa(k - kf)} | {fa(kf)} |")
     vv2 = [dict(v, level=v["level"]) for v in vv]
-    table("Per real tile", rr, vv2, {k: v for k, v in answers.items() if "after" not in k}, "level")
+    table("Per real tile", rr, vv2, {k: v for k, v in answers.items() if "after" not in k and "classify.ini " not in k},
+          "level")
 
     # why: each feature's own ranking of vehicle against not, on simulated and on real candidates
     print("\nOne feature alone: AUC of vehicle against not (oriented as on the simulated candidates; "
