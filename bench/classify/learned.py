@@ -54,7 +54,7 @@ import argparse, collections, json, math, os, sys
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from rates import rate, wilson  # noqa: E402
+from rates import poisson_exact, rate, wilson  # noqa: E402
 
 HELD_OUT = ("ign_lidarhd_870000_6618000", "ahn3_delft_2", "ign_stbarth_100m", "forest_lareunion")
 LOGS = {"crop_points", "ground_points", "object_points", "interior_points", "top_cells", "top_cells_line",
@@ -336,28 +336,8 @@ class Boost:
 
 
 # ----------------------------------------------------------------------------------- evaluation
-def poisson_ci(k, a=0.05):
-    """Exact (Garwood) 95% interval of a Poisson count k, by bisection on the CDF."""
-    def cdf(k, lam):
-        t = s = math.exp(-lam)
-        for i in range(1, k + 1):
-            t *= lam / i
-            s += t
-        return s
-
-    def solve(f, lo, hi):
-        for _ in range(100):
-            m = (lo + hi) / 2
-            lo, hi = (m, hi) if f(m) else (lo, m)
-        return (lo + hi) / 2
-
-    lo = 0.0 if k == 0 else solve(lambda L: 1 - cdf(k - 1, L) < a / 2, 0, k + 10 * math.sqrt(k) + 10)
-    hi = solve(lambda L: cdf(k, L) > a / 2, 0, k + 10 * math.sqrt(k) + 10)
-    return lo, hi
-
-
 def fa(k):
-    lo, hi = poisson_ci(k)
+    lo, hi = poisson_exact(k)
     return f"{k} [{lo:.1f}, {hi:.1f}]"
 
 

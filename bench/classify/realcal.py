@@ -25,7 +25,7 @@ Run the cue tables on development tiles only (docs/decisions/real-tiles.md: the 
 import argparse, json, math, os, subprocess, sys
 from concurrent.futures import ThreadPoolExecutor
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from rates import rate
+from rates import poisson_exact, rate
 
 CUES = ["fill", "ground_through", "below_share", "top_roughness_rel", "top_roughness_line_rel", "late_returns",
         "plateau_share"]
@@ -131,24 +131,6 @@ def veg_reason(r, p):
     if p.get("min-plateau", 0) > 0 and r["plateau_share"] < p["min-plateau"]:
         return "no roof (plateau_share)"
     return ""
-
-
-def poisson_exact(k):
-    """95% exact (Garwood) interval of a Poisson count, by bisection on the cumulative sums."""
-    def cdf(k, m):
-        t = s = math.exp(-m)
-        for i in range(1, k + 1):
-            t *= m / i
-            s += t
-        return s
-    def solve(f, lo, hi):
-        for _ in range(200):
-            mid = (lo + hi) / 2
-            lo, hi = (mid, hi) if f(mid) else (lo, mid)
-        return (lo + hi) / 2
-    lo = 0.0 if k == 0 else solve(lambda m: 1 - cdf(k - 1, m) < 0.025, 0, 10 * k + 10)
-    hi = solve(lambda m: cdf(k, m) > 0.025, 0, 10 * k + 20)
-    return lo, hi
 
 
 def run_classify(binary, out, tile, ini, work):
