@@ -407,3 +407,36 @@ TEST_CASE("open set: verify's ablation (no upright bound) is its own subsection,
   CHECK(other.find("### Ablation: verify's options `--top-k=3`") != std::string::npos);
   CHECK(other.find("upright") == std::string::npos);
 }
+
+TEST_CASE(
+    "open set: the tiles' reliability table, each bin of >= 20 answers judged; none for a score without "
+    "one") {
+  // Tiles: model answers never right (no test instance is in the modelbase), 22 nones all right at a
+  // stated 0.83 (under-confident by 17 points: outside ±10), 21 class answers at 0.95, 20 right.
+  const documents::SceneScore tiles = documents::read_scene_score(
+      R"({"format": "canopy.scene_score", "version": 1,
+    "params": {"match_radius_m": 1.5, "cover_bins": [0, 1], "flip_threshold_deg": 90},
+    "tiles": [{"detections": "t/d.json", "cover": "light", "noise_mm": 0, "area_ha": 0.09}],
+    "summary": [], "pr": [], "models": [], "cover_bins": [],
+    "reliability": [
+      {"level": "model", "confidence_lo": 0.2, "confidence_hi": 0.3, "answers": 3, "right": 0,
+       "mean_confidence": 0.25, "rate": 0, "rate_lo": 0, "rate_hi": 0.56},
+      {"level": "class", "confidence_lo": 0.9, "confidence_hi": 1, "answers": 21, "right": 20,
+       "mean_confidence": 0.95, "rate": 0.952, "rate_lo": 0.773, "rate_hi": 0.992},
+      {"level": "none", "confidence_lo": 0.7, "confidence_hi": 0.8, "answers": 0, "right": 0,
+       "mean_confidence": null, "rate": null, "rate_lo": null, "rate_hi": null},
+      {"level": "none", "confidence_lo": 0.8, "confidence_hi": 0.9, "answers": 22, "right": 22,
+       "mean_confidence": 0.83, "rate": 1, "rate_lo": 0.851, "rate_hi": 1}],
+    "matches": []})",
+      "score.json");
+  const documents::SceneScore crops = crops_score({"car", "all"}, 5, 1, 3, 0, 8, 6);  // no reliability rows
+  const std::string md = report::openset_markdown(tiles, "score.json", &crops, "crops.json");
+  CHECK(md.find("**Reliability** of the tiles' answers") != std::string::npos);
+  CHECK(md.find("| model | 0.2–0.3 | 3 | 0 = 0.0% [0.0, 56.0] | 25.0% | – (< 20) |") != std::string::npos);
+  CHECK(md.find("| class | 0.9–1.0 | 21 | 20 = 95.2% [77.3, 99.2] | 95.0% | yes |") != std::string::npos);
+  CHECK(md.find("| none | 0.8–0.9 | 22 | 22 = 100.0% [85.1, 100.0] | 83.0% | **no** |") != std::string::npos);
+  CHECK(md.find("| none | 0.7–0.8 |") == std::string::npos);  // an empty bin is not shown
+  CHECK(md.find("Bins of at least 20 answers outside ±10 points: 1.") != std::string::npos);
+  // The crops' score has no reliability rows: no table of theirs.
+  CHECK(md.find("**Reliability** of the crops' answers") == std::string::npos);
+}

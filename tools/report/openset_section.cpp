@@ -149,6 +149,24 @@ InstanceTally openset_instance_tally(const documents::SceneScore& score, const O
   return t;
 }
 
+namespace {
+
+// The open set's reliability table (score's reliability.csv of `which` answers), when the score has one.
+void reliability(std::ostringstream& md, const documents::SceneScore& score, const std::string& which) {
+  if (score.reliability.empty()) return;  // a score written before the table
+  md << "\n**Reliability** of " << which
+     << " answers (issue 29: within ±10 points of the stated confidence in every bin of at least 20 "
+        "answers), judged as the scene experiment's table judges them: a model answer is right only when "
+        "it names the true model, which no answer can here (every test instance is outside the "
+        "modelbase), so its rows show what confidence verify states for an instance it has never seen; a "
+        "class answer is right when its class is the vehicle's; a `none` unless a vehicle that no "
+        "detection found lies within the match radius of its candidate.\n\n";
+  const int off = reliability_rows(md, score);
+  md << "Bins of at least 20 answers outside ±10 points: " << off << ".\n";
+}
+
+}  // namespace
+
 std::string openset_markdown(const documents::SceneScore& score, const std::string& score_path,
                              const documents::SceneScore* crops, const std::string& crops_path,
                              const OpensetDistances& distances, const std::string& distances_path) {
@@ -172,6 +190,7 @@ std::string openset_markdown(const documents::SceneScore& score, const std::stri
           "scripts/vehicles/distance.py, "
        << distances_path << ").\n";
   instance_table(md, score, distances);
+  reliability(md, score, "the tiles'");
   if (crops != nullptr) {
     md << "\n### Single-vehicle crops of the unseen test instances\n\n"
        << "Each test instance alone in an open 20 m tile (flat ground, no trees, bushes or clutter; the "
@@ -186,6 +205,7 @@ std::string openset_markdown(const documents::SceneScore& score, const std::stri
     crops_table(md, *crops);
     if (!distances.empty()) md << "\n" << instance_line(*crops, distances);
     instance_table(md, *crops, distances);
+    reliability(md, *crops, "the crops'");
   }
   return md.str();
 }

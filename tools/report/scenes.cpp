@@ -517,30 +517,6 @@ void pr_table(std::ostringstream& md, const SceneScore& score) {
   }
 }
 
-// The rows of a score's reliability table; returns the bins of >= 20 answers outside ±10 points.
-int reliability_rows(std::ostringstream& md, const SceneScore& score) {
-  md << "| level | confidence | answers | right | mean stated | within ±10 points |\n"
-        "|---|---|---|---|---|---|\n";
-  int off = 0;
-  for (const ScoreRow& r : score.reliability) {
-    const ScoreValue& n = score_field(r, "answers");
-    if (!n.is_number() || n.as_number() <= 0) continue;
-    const ScoreValue &rate_v = score_field(r, "rate"), &mean = score_field(r, "mean_confidence");
-    std::string within = "– (< 20)";
-    if (n.as_number() >= 20 && rate_v.is_number() && mean.is_number()) {
-      const bool ok = std::fabs(rate_v.as_number() - mean.as_number()) <= 0.1;
-      within = ok ? "yes" : "**no**";
-      off += !ok;
-    }
-    md << "| " << score_text(score_field(r, "level")) << " | " << num(score_field(r, "confidence_lo"), "%.1f")
-       << "–" << num(score_field(r, "confidence_hi"), "%.1f") << " | " << score_text(n) << " | "
-       << score_text(score_field(r, "right")) << " = " << rate_ci(r, "rate") << " | " << rate(mean) << " | "
-       << within << " |\n";
-  }
-  md << "\n";
-  return off;
-}
-
 void reliability_table(std::ostringstream& md, const SceneScore& score, const SceneScore* collect_ablation,
                        const std::string& collect_ablation_path) {
   if (score.reliability.empty()) return;  // a score written before the table

@@ -1,6 +1,8 @@
 #include "report/score_cells.h"
 
+#include <cmath>
 #include <iterator>
+#include <sstream>
 
 #include "report/report.h"
 
@@ -137,6 +139,30 @@ std::string class_ablation_table(const std::string& rung, const std::vector<Abla
     md += head + "false alarms/ha (all) | " + false_alarm_cell(c) + " | " + false_alarm_cell(b) + " |\n";
   }
   return md;
+}
+
+int reliability_rows(std::ostringstream& md, const documents::SceneScore& score) {
+  md << "| level | confidence | answers | right | mean stated | within ±10 points |\n"
+        "|---|---|---|---|---|---|\n";
+  int off = 0;
+  for (const ScoreRow& r : score.reliability) {
+    const ScoreValue& n = score_field(r, "answers");
+    if (!n.is_number() || n.as_number() <= 0) continue;
+    const auto rate = score_number(r, "rate"), mean = score_number(r, "mean_confidence");
+    std::string within = "– (< 20)";
+    if (n.as_number() >= 20 && rate && mean) {
+      const bool ok = std::fabs(*rate - *mean) <= 0.1;
+      within = ok ? "yes" : "**no**";
+      off += !ok;
+    }
+    const auto lo = score_number(r, "confidence_lo"), hi = score_number(r, "confidence_hi");
+    md << "| " << score_text(score_field(r, "level")) << " | " << (lo ? format_number("%.1f", *lo) : "–")
+       << "–" << (hi ? format_number("%.1f", *hi) : "–") << " | " << score_text(n) << " | "
+       << score_text(score_field(r, "right")) << " = " << score_ci(r, "rate", "%.1f%%", "%.1f", 100) << " | "
+       << (mean ? format_number("%.1f%%", 100 * *mean) : "–") << " | " << within << " |\n";
+  }
+  md << "\n";
+  return off;
 }
 
 }  // namespace canopy::report

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,12 @@ std::vector<const documents::ScoreRow*> cover_rows(const documents::SceneScore& 
 // score_text writes it: "0", "8"); nullptr when the score has none.
 const documents::ScoreRow* summary_row(const documents::SceneScore& score, const std::string& cover,
                                        const std::string& noise = "all");
+
+// The rows of a score's reliability table (score's reliability.csv: level, confidence bin, answers,
+// right with its 95% interval, mean stated confidence), the bins with answers only, each judged
+// against the target when it holds >= 20 answers (right within ±10 points of the mean
+// stated confidence); returns the number of such bins outside ±10 points.
+int reliability_rows(std::ostringstream& md, const documents::SceneScore& score);
 
 // Counts behind a rate: "k/n" of the cells k and n ("–" when either is not a number).
 std::string counts(const documents::ScoreRow& r, const char* k, const char* n);
