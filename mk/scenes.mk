@@ -328,6 +328,10 @@ endef
 
 # tile_collect(KEY, DIR, MODELBASE, SCAN): every class.json and model-level verdict ->
 # detections.json + GeoJSON, and the top-view picture of the tile with the detections' footprints.
+# For the `tile` target (KEY TILE, a user's tile) collect's one-line summary and its warning
+# (what the data supports), which the stage runner keeps in detections.json.log, are shown too,
+# each line starting with the tile's output directory: the user reads what happened without
+# opening the log (the scene experiment's tiles leave them in their logs).
 # For the `tile` target (KEY TILE) the picture comes from the tile's height raster (top.raster:
 # topview --raster-out, which needs only the tile, so it runs beside the candidates' chains),
 # drawn with the footprints once the detections are in: the same picture as from the tile,
@@ -339,7 +343,8 @@ $(2)/detections.json: $(2)/cands.mk $(foreach c,$($(1)_CANDS),$(2)/cands/$(c)/cl
     $(foreach c,$(call model_cands,$(1)),$(2)/cands/$(c)/verdict.json) $(call tool,collect) $(COLLECT_CALIBRATION) \
     $(opts.collect)
 	@$(STAGE) $$@ -- $(BIN)/collect -i $(2)/cands/index.json -o $$@ --geojson $(2)/detections.geojson \
-	  --modelbase $(3) $(if $(CRS),--crs $(CRS))$(collect_calibration)
+	  --modelbase $(3) $(if $(CRS),--crs $(CRS))$(collect_calibration)$(if $(filter TILE,$(1)), \
+	  && sed -n 's|^collect: |$(2): |p' $$@.log)
 ifeq ($(1)$(if $(filter 0,$(TOP_RASTER)),,1),TILE1)
 $(2)/top.raster: $(4) $(call tool,topview)
 	@$(STAGE) $$@ -- $(BIN)/topview -i $(4) --raster-out $$@
