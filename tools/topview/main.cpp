@@ -101,7 +101,8 @@ int main(int argc, char** argv) {
     common::write_file_atomic(out, topview::encode_png(img, png == "fast"));
     common::log::info(std::to_string(img.width) + " x " + std::to_string(img.height) + " pixels (map " +
                       std::to_string(img.map_width) + " x " + std::to_string(img.map_height) + "), " +
-                      std::to_string(img.pixel * 1000).substr(0, 6) + " mm a pixel, " +
+                      std::to_string(img.data_pixel * 1000).substr(0, 6) + " mm a data pixel drawn " +
+                      std::to_string(img.zoom) + " x " + std::to_string(img.zoom) + ", " +
                       std::to_string(img.density).substr(0, 6) + " points/m2, " +
                       std::to_string(footprints.shapes.size()) + " footprints");
   });
