@@ -498,6 +498,13 @@ TEST_CASE("topview CLI: outcome colours from a score, missed vehicles in yellow,
                  dir / "err.txt", &err) == 1);
   CHECK_THAT(err, Catch::Contains("bad.json"));
   CHECK_FALSE(test::exists(dir / "bad.png"));
+  // No --detections: a usage error that says what to give; --help says it is required.
+  CHECK(test::sh(bin + " -q -i " + (dir / "scan.pcd").string() + " -o " + (dir / "nodet.png").string(),
+                 dir / "err.txt", &err) == 2);
+  CHECK_THAT(err, Catch::Contains("--detections is required (collect's detections.json"));
+  CHECK_FALSE(test::exists(dir / "nodet.png"));
+  REQUIRE(test::sh(bin + " --help >" + (dir / "help.txt").string(), dir / "err.txt", &err) == 0);
+  CHECK_THAT(slurp(dir / "help.txt"), Catch::Contains("required (a picture draws a tile's detections)"));
   // Beyond the bound, or both --size and --pixel: a usage error, nothing written.
   CHECK(test::sh(bin + args + " --size 8192 -o " + (dir / "big.png").string(), dir / "err.txt", &err) == 2);
   CHECK_THAT(err, Catch::Contains("beyond the bound"));
