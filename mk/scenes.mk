@@ -328,6 +328,10 @@ endef
 
 # tile_collect(KEY, DIR, MODELBASE, SCAN): every class.json and model-level verdict ->
 # detections.json + GeoJSON, and the top-view picture of the tile with the detections' footprints.
+# For the `tile` target (KEY TILE, a user's tile) collect's one-line summary and its warning
+# (what the data supports), which the stage runner keeps in detections.json.log, are shown too,
+# each line starting with the tile's output directory: the user reads what happened without
+# opening the log (the scene experiment's tiles leave them in their logs).
 # For the `tile` target (KEY TILE) the picture comes from the tile's height raster (top.raster:
 # topview --raster-out, which needs only the tile, so it runs beside the candidates' chains),
 # drawn with the footprints once the detections are in: the same picture as from the tile,
@@ -339,7 +343,8 @@ $(2)/detections.json: $(2)/cands.mk $(foreach c,$($(1)_CANDS),$(2)/cands/$(c)/cl
     $(foreach c,$(call model_cands,$(1)),$(2)/cands/$(c)/verdict.json) $(call tool,collect) $(COLLECT_CALIBRATION) \
     $(opts.collect)
 	@$(STAGE) $$@ -- $(BIN)/collect -i $(2)/cands/index.json -o $$@ --geojson $(2)/detections.geojson \
-	  --modelbase $(3) $(if $(CRS),--crs $(CRS))$(collect_calibration)
+	  --modelbase $(3) $(if $(CRS),--crs $(CRS))$(collect_calibration)$(if $(filter TILE,$(1)), \
+	  && sed -n 's|^collect: |$(2): |p' $$@.log)
 ifeq ($(1)$(if $(filter 0,$(TOP_RASTER)),,1),TILE1)
 $(2)/top.raster: $(4) $(call tool,topview)
 	@$(STAGE) $$@ -- $(BIN)/topview -i $(4) --raster-out $$@
@@ -353,7 +358,7 @@ endef
 
 .PHONY: tile
 ifneq ($(filter tile,$(MAKECMDGOALS)),)
-$(if $(TILE),,$(error tile: give TILE=<the tile: .las, .pcd or .ply with x y z>))
+$(if $(TILE),,$(error tile: give TILE=<the tile: .las, .laz, .pcd or .ply with x y z>))
 $(if $(wildcard $(TILE)),,$(error tile: TILE=$(TILE) does not exist))
 TILE_OUT := $(patsubst %/,%,$(OUT))
 TILE_MB := $(patsubst %/,%,$(MODELBASE))
@@ -379,16 +384,18 @@ endif
 
 # A directory of tiles (a survey campaign):
 #   make -f Makefile.experiments tiles TILES=dir/ MODELBASE=out/modelbase OUT=batch/ -j8 [LAUNCH=slurm]
-# runs the `tile` workflow on every dir/*.las and dir/*.pcd into batch/<name>/ (name = the file
+# runs the `tile` workflow on every dir/*.las, dir/*.laz and dir/*.pcd into batch/<name>/ (name = the file
 # name without its extension), one sub-make per tile sharing make's job slots, so tiles and
 # their candidates run in parallel; LAUNCH, CRS and the other variables pass through. A tile's
 # trajectory is TRAJECTORY= when given (one file for the whole flight), else dir/<name>.traj
 # when there is one (what rangetrace writes beside a sensor tile).
 .PHONY: tiles
 ifneq ($(filter tiles,$(MAKECMDGOALS)),)
-$(if $(TILES),,$(error tiles: give TILES=<directory of .las/.pcd tiles>))
-TILES_FILES := $(sort $(wildcard $(patsubst %/,%,$(TILES))/*.las $(patsubst %/,%,$(TILES))/*.pcd))
-$(if $(TILES_FILES),,$(error tiles: TILES=$(TILES) holds no .las or .pcd file))
+$(if $(TILES),,$(error tiles: give TILES=<directory of .las/.laz/.pcd tiles>))
+# (LAZ is read wherever LAS is, docs/decisions/laz.md; before stop 66 a directory of .laz tiles
+# held "no .las or .pcd file".)
+TILES_FILES := $(sort $(foreach x,las laz pcd,$(wildcard $(patsubst %/,%,$(TILES))/*.$(x))))
+$(if $(TILES_FILES),,$(error tiles: TILES=$(TILES) holds no .las, .laz or .pcd file))
 $(if $(filter-out $(words $(TILES_FILES)),$(words $(sort $(basename $(notdir $(TILES_FILES)))))),\
   $(error tiles: two tiles in $(TILES) have the same name without extension))
 TILES_OUT := $(patsubst %/,%,$(OUT))

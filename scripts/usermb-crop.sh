@@ -6,11 +6,13 @@
 # gets no option (its render is the one verify-modelbase would make); otherwise each crop side
 # it overflows becomes the mesh's extent + 1 m, rounded up to whole metres (CROP_LENGTH, e.g.
 # 14m, replaces the length's choice), and the image grows (--size) when the box's diagonal +
-# 2 m no longer fits size x spacing. Prints the options on one line (possibly empty).
+# 2 m no longer fits size x spacing. Prints the options on one line (possibly empty). A mesh
+# whose render would need more than rangetrace's 8192 pixels a side (a mesh in mm or cm read as
+# metres) is refused, exit 2, with the hint MESH_UNITS.
 set -euo pipefail
 size=$1 ini=$2 crop_length=${3:-}
 read -r L W H <"$size"
-awk -v L="$L" -v W="$W" -v H="$H" -v over="$crop_length" '
+awk -v L="$L" -v W="$W" -v H="$H" -v over="$crop_length" -v file="$size" '
   function metres(v,   n) {  # "10m", "4000mm", "250cm" or a bare number (m)
     gsub(/[ \t"]/, "", v); n = v + 0
     if (v ~ /mm$/) return n / 1000; if (v ~ /cm$/) return n / 100; return n
@@ -31,6 +33,10 @@ awk -v L="$L" -v W="$W" -v H="$H" -v over="$crop_length" '
     if (nw != cw) opts = opts " --crop-width " nw "m"
     if (nh != ch) opts = opts " --crop-height " nh "m"
     need = up((sqrt(nl * nl + nw * nw + nh * nh) + 2) / sp)
+    if (need > 8192) {  # rangetrace renders at most 8192 pixels a side: a mesh in mm or cm read as m
+      printf "usermb-crop.sh: %s: the mesh measures %s x %s x %s m as read (MESH_UNITS, MESH_UP): its render at %g mm a pixel needs %d pixels a side, over the 8192 rangetrace draws; a mesh in millimetres or centimetres needs MESH_UNITS=mm or MESH_UNITS=cm\n", file, L, W, H, sp * 1000, need > "/dev/stderr"
+      exit 2
+    }
     if (need > sz) opts = opts " --size " need
     sub(/^ /, "", opts); print opts
   }' "$ini"

@@ -89,6 +89,38 @@ double named(const std::string& option, F&& f) {
   } catch (const UsageError& e) { throw UsageError(option + ": " + e.what()); }
 }
 
+// A --config problem in words that name the file and what is wrong with it (CLI11 says "INI
+// was not able to parse KEY" and "FILE was not readable (missing?)"); "" for other errors.
+std::string config_message(const CLI::App& app, const CLI::ParseError& e) {
+  const std::string what = e.what();
+  if (dynamic_cast<const CLI::FileError*>(&e) != nullptr) {
+    const std::string tail = " was not readable (missing?)";
+    if (what.size() <= tail.size() || what.compare(what.size() - tail.size(), tail.size(), tail) != 0)
+      return "";
+    const std::string file = what.substr(0, what.size() - tail.size());
+    struct stat st {};
+    if (stat(file.c_str(), &st) != 0) return "--config " + file + ": no such file";
+    if (S_ISDIR(st.st_mode)) return "--config " + file + ": is a directory, not an INI file";
+    return "--config " + file + ": not a regular file";
+  }
+  if (dynamic_cast<const CLI::ConfigError*>(&e) == nullptr) return "";
+  const CLI::Option* config = app.get_config_ptr();
+  std::string files;
+  if (config != nullptr) {
+    for (const auto& f : config->results()) files += (files.empty() ? "" : ", ") + f;
+  }
+  const std::string lead = "INI was not able to parse ";
+  if (what.compare(0, lead.size(), lead) != 0) return "--config " + files + ": " + what;
+  const std::string key = what.substr(lead.size());
+  std::vector<std::string> names;
+  for (const CLI::Option* opt : app.get_options()) {
+    for (const auto& l : opt->get_lnames()) names.push_back("--" + l);
+  }
+  const std::string close = closest_option("--" + key, names);
+  return "--config " + files + ": unknown key '" + key + "' (the keys are the long option names" +
+         (close.empty() ? std::string(")") : "; did you mean " + close.substr(2) + "?)");
+}
+
 }  // namespace
 
 namespace detail {
@@ -270,7 +302,8 @@ int Tool::run(int argc, char** argv, const std::function<void()>& body) {
                 << "Run '" << name_ << " --help' for the options.\n";
       return 2;
     }
-    std::cerr << name_ << ": error: " << e.what() << "\n"
+    const std::string config = config_message(app_, e);
+    std::cerr << name_ << ": error: " << (config.empty() ? std::string(e.what()) : config) << "\n"
               << "Run '" << name_ << " --help' for the options.\n";
     return 2;
   } catch (const Error& e) {

@@ -20,6 +20,9 @@ Json open_json_document(const std::string& text, const std::string& name, const 
   // canopy documents nest 5 levels; nlohmann copies values recursively (ordered_json's
   // objects copy their values when they grow), so a 60 KB file of nested brackets would
   // overflow the stack. Refuse deep nesting before parsing.
+  if (text.find_first_not_of(" \t\r\n") == std::string::npos)
+    throw DataError(
+        name, text.empty() ? "empty file (not a JSON document)" : "only white space (not a JSON document)");
   constexpr int kMaxDepth = 64;
   int depth = 0;
   bool in_string = false;

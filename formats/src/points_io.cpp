@@ -67,7 +67,7 @@ bool is_pcd(const std::string& b) {
 
 // What a file that is no point cloud canopy reads appears to be, for the error message.
 std::string what_else(const std::string& b) {
-  if (b.empty()) return "empty file";
+  if (b.empty()) return "an empty file";
   const std::size_t p = b.find_first_not_of(" \t\r\n");
   if (p != std::string::npos && (b[p] == '{' || b[p] == '[')) {
     const std::size_t f = b.find("\"format\"");
@@ -143,6 +143,10 @@ PointCloud parse_points(const std::string& bytes, const std::string& name, const
     return std::move(m.vertices);
   }
   if (is_pcd(bytes)) return parse_pcd(bytes, name);
+  if (bytes.empty()) {
+    throw DataError(name, "empty file (no points; " + (tool.empty() ? std::string("canopy") : tool) +
+                              " reads PCD, PLY point sets and LAS)");
+  }
   throw DataError(name, "this is " + what_else(bytes) + ": no PCD, PLY or LAS signature (the file starts '" +
                             quote_start(bytes) + "'); " + (tool.empty() ? std::string("canopy") : tool) +
                             " reads PCD, PLY point sets and LAS");

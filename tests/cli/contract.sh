@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # CLI contract of one canopy tool binary ($1): --help and --version exit 0 with output,
 # no arguments (stdin = /dev/null) exits 2, an unknown option exits 2, a config file with an
-# unknown key exits 2; usage errors print "<tool>: error:" on stderr.
+# unknown key exits 2 naming the file and the key, a directory as the config file exits 2 saying
+# so; usage errors print "<tool>: error:" on stderr.
 set -u
 bin=$1
 name=$(basename "$bin")
@@ -22,4 +23,12 @@ grep -q "$name: error:" "$tmp/err" || fail "usage error message lacks '$name: er
 printf 'no_such_key_xyz = 1\n' >"$tmp/bad.ini"
 "$bin" --config "$tmp/bad.ini" </dev/null >"$tmp/out" 2>"$tmp/err"; rc=$?
 [ $rc -eq 2 ] || fail "unknown config key exited $rc, want 2"
+if grep -q -- "--config" "$tmp/help"; then  # (stagerun, no tool of the wrapper, has none)
+  grep -qF "$name: error: --config $tmp/bad.ini: unknown key 'no_such_key_xyz'" "$tmp/err" \
+    || fail "unknown config key: the message names not the file and the key: $(head -1 "$tmp/err")"
+  "$bin" --config "$tmp" </dev/null >"$tmp/out" 2>"$tmp/err"; rc=$?
+  [ $rc -eq 2 ] || fail "a directory as --config exited $rc, want 2"
+  grep -qF "$name: error: --config $tmp: is a directory" "$tmp/err" \
+    || fail "a directory as --config: the message does not say so: $(head -1 "$tmp/err")"
+fi
 echo "ok [$name]"

@@ -809,9 +809,9 @@ TEST_CASE(
   CHECK_THAT(w,
              Catch::Contains("2 of 3 candidates rejected as too_sparse (median object density 3 points/m², "
                              "class level needs 4, model level 370)"));
-  CHECK_THAT(
-      w, Catch::Contains("tile density 28 points/m²: below the 370 points/m² that model-level recognition "
-                         "needs; class-level answers only"));
+  CHECK_THAT(w, Catch::Contains(
+                    "open-ground density 28 points/m²: below the 370 points/m² that model-level recognition "
+                    "needs; class-level answers only"));
   CHECK_THAT(w, Catch::EndsWith("see docs/decisions/classify.md"));
   CHECK_THAT(err, Catch::Contains("collect: warning: 2 of 3 candidates rejected as too_sparse"));
   // Neither a verdict nor a class answer: named, nothing written.
@@ -830,10 +830,17 @@ TEST_CASE(
   REQUIRE(test::sh(bin() + " -i " + (cands / "index.json").string() + " -o " + (dir / "d.json").string(),
                    dir / "err.txt", &err) == 0);
   const std::string dense = read_json(dir / "d.json")["warning"];
-  CHECK_THAT(dense,
-             Catch::Contains("tile density 900 points/m²: dense enough for model-level recognition, but "
-                             "no candidate has a model-chain verdict"));
+  CHECK_THAT(dense, Catch::Contains(
+                        "open-ground density 900 points/m²: dense enough for model-level recognition, but "
+                        "no candidate has a model-chain verdict"));
   CHECK_THAT(dense, !Catch::Contains("below the 370"));
+  // An index without the open ground's density: all returns', said so.
+  index["density"] = Json{{"all", 31.0}, {"ground", nullptr}};
+  write(cands / "index.json", index.dump());
+  REQUIRE(test::sh(bin() + " -i " + (cands / "index.json").string() + " -o " + (dir / "d.json").string(),
+                   dir / "err.txt", &err) == 0);
+  CHECK_THAT(read_json(dir / "d.json")["warning"].get<std::string>(),
+             Catch::Contains("tile density 31 points/m² (all returns): below the 370 points/m²"));
 }
 
 TEST_CASE("collect --plan: each candidate's level from its object density") {

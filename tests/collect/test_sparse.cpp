@@ -148,14 +148,15 @@ TEST_CASE("a sparse tile: detect by its density, class-level answers, the reason
   CHECK(d["by_reason"] == Json{{"not_vehicle_shape", 1}});
   CHECK(d["density"] == index["density"]);
   REQUIRE(d["warning"].is_string());
-  CHECK_THAT(d["warning"].get<std::string>(),
-             Catch::Contains("tile density 25 points/m²: below the 50 points/m² that model-level recognition "
-                             "needs; class-level answers only") &&
-                 Catch::Contains("docs/decisions/classify.md"));
+  CHECK_THAT(
+      d["warning"].get<std::string>(),
+      Catch::Contains("open-ground density 25 points/m²: below the 50 points/m² that model-level recognition "
+                      "needs; class-level answers only") &&
+          Catch::Contains("docs/decisions/classify.md"));
   // The summary and the warning on stderr.
   CHECK_THAT(err, Catch::Contains("3 candidates: 2 vehicles found (0 model level, 2 class level); rejected: "
                                   "not_vehicle_shape 1"));
-  CHECK_THAT(err, Catch::Contains("warning: tile density 25 points/m²"));
+  CHECK_THAT(err, Catch::Contains("warning: open-ground density 25 points/m²"));
   REQUIRE(d["detections"].size() == 2);
   for (const Json& det : d["detections"]) {
     CHECK(det["level"] == "class");

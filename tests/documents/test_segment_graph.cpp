@@ -99,6 +99,10 @@ TEST_CASE("segment graph: JSON round-trip, skipped vertex lists, version and for
   v2.replace(v2.find("\"version\": 1"), 12, "\"version\": 2");
   CHECK_THROWS_WITH(parse_segment_graph(v2, "g.json"), Contains("version 2 is not supported"));
   CHECK_THROWS_AS(parse_segment_graph("{", "bad.json"), DataError);
+  // An empty file says so (it said "not valid JSON: parse error at line 1, column 1: ...
+  // unexpected end of input"), as the point readers' "empty file (not a PCD file)" do.
+  CHECK_THROWS_WITH(parse_segment_graph("", "e.json"), "e.json: empty file (not a JSON document)");
+  CHECK_THROWS_WITH(parse_segment_graph(" \n", "w.json"), "w.json: only white space (not a JSON document)");
 }
 
 TEST_CASE("JSON: numbers out of range, wrong integer types, and dangling or self edges are errors") {

@@ -89,7 +89,8 @@ TEST_CASE("read_points names what a file is when it is no point cloud", "[points
   CHECK(contains(error_of("{\"format\": \"canopy.segment_graph\", \"version\": 1}", "s.pcd"),
                  "s.pcd: this is a JSON document (canopy.segment_graph)"));
   CHECK(contains(error_of("\x89PNG\r\n\x1a\n....", "i.pcd"), "i.pcd: this is a PNG image"));
-  CHECK(contains(error_of("", "e.pcd"), "e.pcd: this is empty file"));
+  CHECK(contains(error_of("", "e.pcd"),
+                 "e.pcd: empty file (no points; fitvox reads PCD, PLY point sets and LAS)"));
   CHECK(contains(error_of("\x1f\x8b\x08\x00", "z.pcd"), "gzip"));
   CHECK(contains(error_of("# A markdown title\n\nSome text\n", "README.md"),
                  "README.md: this is not a point cloud canopy reads"));
@@ -115,6 +116,7 @@ TEST_CASE("describe_content names a file for readers that expect something else"
   CHECK(describe_content("{\"format\": \"canopy.match_result\"}") == "a JSON document (canopy.match_result)");
   CHECK(describe_content(std::string("\0\0\0", 3)) == "not a point cloud, mesh or document canopy reads");
   CHECK(describe_content("solid cube\nfacet normal 0 0 1\n") == "an STL mesh?");
+  CHECK(describe_content("") == "an empty file");
 }
 
 TEST_CASE("write_points chooses the format by extension; others are usage errors", "[points_io]") {

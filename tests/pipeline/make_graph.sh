@@ -753,6 +753,16 @@ plan=$("${tl[@]}" -n TOP_RASTER=0 2>&1)
 plan=$("${tl[@]}" -n CRS=EPSG:32633 2>&1)
 [ "$(echo "$plan" | stages)" -eq 2 ] && plans "bin/collect .*--crs EPSG:32633" ||
   fail "CRS does not plan collect and the picture alone: $(echo "$plan" | grep stagerun)"
+# `make tiles`: every .las, .laz and .pcd of the directory becomes a `tile` run (a directory of
+# .laz tiles held "no .las or .pcd file" before stop 66).
+mkdir -p "$tmp/tiles" && : >"$tmp/tiles/x.laz" && : >"$tmp/tiles/y.pcd" && : >"$tmp/tiles/z.las"
+plan=$("${mk[@]}" -n PROGRESS=0 tiles TILES="$tmp/tiles/" MODELBASE="$tmp/out/modelbase" OUT="$tmp/batch/" 2>&1)
+for f in x.laz y.pcd z.las; do
+  echo "$plan" | grep -q "tile TILE=$tmp/tiles/$f OUT=$tmp/batch/${f%.*} " ||
+    fail "make tiles does not run the tile $f: $(echo "$plan" | grep -m3 'tile TILE=\|tiles:')"
+done
+[ ! -e "$tmp/batch" ] || fail "make -n tiles wrote $tmp/batch"
+rm -r "$tmp/tiles"
 # The thesis graph: another parameter directory (P, the same files, older) re-plans its stages.
 cp -rp "$tmp/params" "$tmp/params2"
 plan=$("${mk[@]}" -n all P="$tmp/params2" 2>&1)

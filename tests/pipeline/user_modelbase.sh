@@ -9,7 +9,8 @@
 # make runs nothing and `make -q` exits 0; touching one mesh re-runs that entry only, to the
 # same bytes; a classes.csv edit re-writes that .class only; a mesh without a class gets no
 # .class (with a warning); a removed mesh's entry is removed; a bad mesh name, an empty or
-# missing MESHES and a missing MODELBASE stop make with exit 2 and a message naming the problem.
+# missing MESHES and a missing MODELBASE stop make with exit 2 and a message naming the problem;
+# a mesh in millimetres without MESH_UNITS=mm is refused with that hint.
 set -uo pipefail
 src=$1 bin=$2
 fail() { echo "FAIL: $*" >&2; exit 1; }
@@ -64,6 +65,13 @@ printf 'v 0 0 0\nv 4000 1500 2000\nv 0 1500 0\nf 1 2 3\n' >"$tmp/tri.obj"  # y u
   || fail "the bus's options: $("${crop[@]}" "$tmp/bus.txt" "$tmp/params/rangetrace.ini")"
 [ "$("${crop[@]}" "$work/car__hatch/size.txt" "$tmp/params/rangetrace.ini" 16m)" = "--crop-length 16m --size 633" ] \
   || fail "MESH_CROP_LENGTH=16m: $("${crop[@]}" "$work/car__hatch/size.txt" "$tmp/params/rangetrace.ini" 16m)"
+# A mesh in millimetres read as metres (no MESH_UNITS=mm): refused with the hint, exit 2, not
+# rangetrace's "need 8 <= --size <= 8192" on a 173 252-pixel image.
+printf '4366.9280 1956.6940 2018.0900\n' >"$tmp/mm.txt"
+"${crop[@]}" "$tmp/mm.txt" "$tmp/params/rangetrace.ini" >"$tmp/mm.out" 2>"$tmp/mm.err"; rc=$?
+[ $rc -eq 2 ] && [ ! -s "$tmp/mm.out" ] || fail "a 4367 m mesh: usermb-crop.sh exits $rc, prints '$(cat "$tmp/mm.out")'"
+grep -q "$tmp/mm.txt: the mesh measures 4366.9280 x 1956.6940 x 2018.0900 m .*MESH_UNITS=mm" "$tmp/mm.err" \
+  || fail "a 4367 m mesh: no MESH_UNITS hint: $(cat "$tmp/mm.err")"
 
 # gmatch and verify read it: an entry's own samples and segments are recognised as that entry.
 d=$work/car__hatch/noise-0

@@ -42,17 +42,22 @@ Params small() {
 TEST_CASE("stage: validate names the options of sizes out of range") {
   Params p;
   CHECK_NOTHROW(validate(p));
+  // Each message names the one option at fault (and the size given), not every bound at once
+  // ("need 8 <= --size <= 8192, --spacing > 0 and crop sizes > 0" was the answer to all).
   for (int size : {7, 8193}) {
     p.size = size;
-    CHECK_THROWS_WITH(validate(p), Catch::Contains("--size"));
+    CHECK_THROWS_WITH(validate(p), "--size must be in [8, 8192] pixels (given " + std::to_string(size) + ")");
   }
   p.size = 8;
   CHECK_NOTHROW(validate(p));
   p.spacing = 0;
-  CHECK_THROWS_WITH(validate(p), Catch::Contains("--spacing"));
+  CHECK_THROWS_WITH(validate(p), "--spacing must be > 0");
   p.spacing = 0.03;
   p.crop_height = -1;
-  CHECK_THROWS_WITH(validate(p), Catch::Contains("crop sizes"));
+  CHECK_THROWS_WITH(validate(p), "--crop-height must be > 0");
+  p.crop_height = 4;
+  p.crop_width = 0;
+  CHECK_THROWS_WITH(validate(p), "--crop-width must be > 0");
 }
 
 TEST_CASE("stage: load_inputs refuses what cannot be rendered, naming the option") {

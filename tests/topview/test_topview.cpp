@@ -9,6 +9,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "canopy/common/error.h"
 #include "canopy/formats/pcd.h"
@@ -151,6 +153,25 @@ TEST_CASE("render: a 1.5 m box on flat ground reads 1.5 m, the ground 0, whateve
     CHECK(px(img, 4, 4).second > px(img, 6, 6).second);
     CHECK(px(img, 4, 4).first < px(img, 6, 6).first);
   }
+}
+
+TEST_CASE("legend: the pixel it states is the data pixel (one height value), not the zoomed map pixel") {
+  // 400 points a m²: 0.07 m data pixels drawn 7 x 7 (0.01 m map pixels, as above). The legend
+  // said "pixel 0.010 m", a resolution the heights do not have (a real plot at 13.5 points/m²:
+  // "pixel 0.076 m" for 0.38 m cells).
+  const topview::Image img = topview::render(scan(1.5, 0, 0), {}, {});
+  REQUIRE(img.zoom == 7);
+  const std::vector<std::string> text = topview::legend_text({}, img);
+  CHECK(std::count(text.begin(), text.end(), "pixel 0.070 m") == 1);
+  CHECK(std::count(text.begin(), text.end(), "pixel 0.010 m") == 0);
+  CHECK(std::count(text.begin(), text.end(), "400.0 points/m2") == 1);
+  // A given --pixel is what the legend states, whatever the zoom.
+  topview::Params p;
+  p.pixel = 0.25;
+  const topview::Image given = topview::render(scan(1.5, 0, 0), {}, p);
+  REQUIRE(given.zoom > 1);
+  const std::vector<std::string> t2 = topview::legend_text({}, given);
+  CHECK(std::count(t2.begin(), t2.end(), "pixel 0.25 m") == 1);
 }
 
 TEST_CASE("render: on a 10% slope the ground still reads about 0 and the box about 1.5 m") {
@@ -477,6 +498,13 @@ TEST_CASE("topview CLI: outcome colours from a score, missed vehicles in yellow,
                  dir / "err.txt", &err) == 1);
   CHECK_THAT(err, Catch::Contains("bad.json"));
   CHECK_FALSE(test::exists(dir / "bad.png"));
+  // No --detections: a usage error that says what to give; --help says it is required.
+  CHECK(test::sh(bin + " -q -i " + (dir / "scan.pcd").string() + " -o " + (dir / "nodet.png").string(),
+                 dir / "err.txt", &err) == 2);
+  CHECK_THAT(err, Catch::Contains("--detections is required (collect's detections.json"));
+  CHECK_FALSE(test::exists(dir / "nodet.png"));
+  REQUIRE(test::sh(bin + " --help >" + (dir / "help.txt").string(), dir / "err.txt", &err) == 0);
+  CHECK_THAT(slurp(dir / "help.txt"), Catch::Contains("required (a picture draws a tile's detections)"));
   // Beyond the bound, or both --size and --pixel: a usage error, nothing written.
   CHECK(test::sh(bin + args + " --size 8192 -o " + (dir / "big.png").string(), dir / "err.txt", &err) == 2);
   CHECK_THAT(err, Catch::Contains("beyond the bound"));

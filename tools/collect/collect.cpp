@@ -323,7 +323,14 @@ std::string warning_of(const Index& index, const std::vector<Answers>& answers, 
   const int n = static_cast<int>(index.candidates.size());
   if (n == 0) return "";
   const auto td = tile_density(index);
-  const std::string tile = td ? "tile density " + fmt_density(*td) + " points/m²" : "";
+  // Which density it is: the open ground's (detect's "ground", what its density rule reads), else
+  // all returns'; the picture's legend states all returns' (15.7 on ahn3_delft_1, whose open
+  // ground has 11: "tile density 11" beside it read as a contradiction).
+  const bool ground = td && index.density.is_object() && index.density.contains("ground") &&
+                      index.density["ground"].is_number();
+  const std::string tile = !td      ? ""
+                           : ground ? "open-ground density " + fmt_density(*td) + " points/m²"
+                                    : "tile density " + fmt_density(*td) + " points/m² (all returns)";
   // Densities and thresholds of the candidates classify answered.
   std::vector<double> dens;
   std::optional<double> need_class, need_model;

@@ -3,6 +3,8 @@
 #include "rangetrace/stage.h"
 
 #include <cstdio>
+#include <string>
+#include <utility>
 
 #include "canopy/common/error.h"
 
@@ -65,9 +67,14 @@ Outputs vehicle_output(const Request& request, const Inputs& in, const Params& p
 }  // namespace
 
 void validate(const Params& p) {
-  if (p.size < 8 || p.size > 8192 || !(p.spacing > 0) || !(p.crop_length > 0) || !(p.crop_width > 0) ||
-      !(p.crop_height > 0)) {
-    throw common::UsageError("need 8 <= --size <= 8192, --spacing > 0 and crop sizes > 0");
+  if (p.size < 8 || p.size > 8192) {
+    throw common::UsageError("--size must be in [8, 8192] pixels (given " + std::to_string(p.size) + ")");
+  }
+  for (const auto& [name, v] : {std::pair{"--spacing", p.spacing},
+                                {"--crop-length", p.crop_length},
+                                {"--crop-width", p.crop_width},
+                                {"--crop-height", p.crop_height}}) {
+    if (!(v > 0)) throw common::UsageError(std::string(name) + " must be > 0");
   }
 }
 

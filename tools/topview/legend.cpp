@@ -80,7 +80,9 @@ std::vector<Line> layout(const Footprints& fp, const Image* img) {
   l.push_back({Row::bar, ""});
   l.push_back({Row::text, img ? fixed(img->bar_metres, img->bar_metres < 1 ? 2 : 0) + " m" : ""});
   l.push_back({Row::gap, ""});
-  l.push_back({Row::text, img ? "pixel " + fixed(img->pixel, img->pixel < 0.1 ? 3 : 2) + " m" : ""});
+  // The data pixel (one height value; --pixel sets it), not the map pixel it is drawn zoomed to:
+  // "pixel 0.076 m" on a plot whose heights are 0.38 m cells read as a resolution it does not have.
+  l.push_back({Row::text, img ? "pixel " + fixed(img->data_pixel, img->data_pixel < 0.1 ? 3 : 2) + " m" : ""});
   l.push_back({Row::text, img ? fixed(img->density, 1) + " points/m2" : ""});
   l.push_back({Row::swatch, "no point", Kind::truth});  // drawn as kNoData
   return l;
@@ -152,6 +154,14 @@ void draw_text(Image& img, int col, int row, const std::string& text, int scale,
       }
     }
   }
+}
+
+std::vector<std::string> legend_text(const Footprints& footprints, const Image& img) {
+  std::vector<std::string> out;
+  for (const Line& l : layout(footprints, &img)) {
+    if (l.row == Row::text) out.push_back(l.text);
+  }
+  return out;
 }
 
 Panel legend_size(const Footprints& footprints, int scale) {

@@ -36,7 +36,10 @@ int main(int argc, char** argv) {
       "--raster-out", &raster_out,
       "write the tile's height raster (formats/README.md, \"Height raster\") to this file instead of a "
       "picture: -i and --pixel / --size only");
-  tool.add("--detections", &src.detections, "detections.json (canopy.detections v1 or v2)");
+  tool.add(
+      "--detections", &src.detections,
+      "detections.json (canopy.detections v1 or v2); required (a picture draws a tile's detections), but "
+      "with --raster-out");
   tool.add("--index", &src.index,
            "candidates index.json (canopy.candidates): the rejected candidates' footprints; default: the "
            "one the detections name");
@@ -82,7 +85,9 @@ int main(int argc, char** argv) {
     if (from_raster && !(in.empty() || in == "-")) throw common::UsageError("give -i or --raster, not both");
     if ((!from_raster && (in.empty() || in == "-")) || out.empty() || out == "-")
       throw common::UsageError("-i (or --raster) and -o must name files");
-    if (src.detections.empty()) throw common::UsageError("--detections is required");
+    if (src.detections.empty())
+      throw common::UsageError(
+          "--detections is required (collect's detections.json; a tile's heights alone: --raster-out)");
     p.legend = !no_legend;
     topview::validate(p);
     if (!src.score.empty() && src.truth.empty()) throw common::UsageError("--score needs --truth");
@@ -101,7 +106,8 @@ int main(int argc, char** argv) {
     common::write_file_atomic(out, topview::encode_png(img, png == "fast"));
     common::log::info(std::to_string(img.width) + " x " + std::to_string(img.height) + " pixels (map " +
                       std::to_string(img.map_width) + " x " + std::to_string(img.map_height) + "), " +
-                      std::to_string(img.pixel * 1000).substr(0, 6) + " mm a pixel, " +
+                      std::to_string(img.data_pixel * 1000).substr(0, 6) + " mm a data pixel drawn " +
+                      std::to_string(img.zoom) + " x " + std::to_string(img.zoom) + ", " +
                       std::to_string(img.density).substr(0, 6) + " points/m2, " +
                       std::to_string(footprints.shapes.size()) + " footprints");
   });

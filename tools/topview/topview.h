@@ -161,6 +161,9 @@ formats::HeightRaster raster(const formats::PointCloud& scan, const Params& para
 Image render(const formats::HeightRaster& raster, const Footprints& footprints, const Params& params);
 
 // The legend (drawn by render into the panel right of the map); exposed for the tests.
+// Its text lines, top to bottom, as drawn into IMG's panel: "pixel ..." is the data pixel (one
+// height value, --pixel), not the map pixel it is zoomed to.
+std::vector<std::string> legend_text(const Footprints& footprints, const Image& img);
 bool glyph_ink(char c, int col, int row);  // the 5 x 7 font (9 rows with descenders): ink at (col, row)?
 inline constexpr int kGlyphWidth = 5, kGlyphHeight = 9;
 
