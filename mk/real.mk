@@ -13,8 +13,8 @@
 #                                  format of the stages' .time files, tools/stagerun)
 # and the report's "Real tiles" section reads them (the experiment manifest's `real` records).
 #
-# Tiles: four urban tiles with hand labels (138 vehicles) and one forest plot without vehicles
-# (forest_lareunion, 0.25 ha: every vehicle answer there is a false alarm). REAL_DATA=<dir>
+# Tiles: urban tiles with hand labels and forest plots without vehicles (forest_lareunion, 0.25 ha,
+# and since stop 66 23 more, 6.36 ha: every vehicle answer there is a false alarm). REAL_DATA=<dir>
 # (default: none) adds the GPL-3 forest plot forest_bcts_1 (≈ 5 ha, not committed) from
 # <dir>/forest_bcts_1.laz or <dir>/laz/forest_bcts_1.laz.
 #
@@ -87,7 +87,10 @@ REAL_CLASSIFY_SIM ?= $(P)/classify-sim.ini
 $(foreach f,$(REAL_CLASSIFY) $(REAL_CLASSIFY_SIM) $(filter-out - $(real_classify_files),$(real_abl_list)),$(if $(wildcard $(f)),,$(error REAL_CLASSIFY: $(f) does not exist)))
 $(if $(filter-out 0 1,$(REAL_TILES)),$(error REAL_TILES=$(REAL_TILES): must be 0 or 1))
 REAL_URBAN ?= ign_lidarhd_870000_6618000 ahn3_delft_2 ign_stbarth_100m
-REAL_FOREST ?= forest_lareunion
+# The plots without vehicles: forest_lareunion, then (stop 66; real-tiles.md "More forest plots for
+# the false-alarm target") an IGN LiDAR HD plot at 92 points/m² and 22 NEON plots at 4-8.
+REAL_FOREST ?= forest_lareunion forest_ign_loiret_crop2 forest_neon_osbs_003 forest_neon_osbs_006 \
+  $(foreach n,043 044 045 046 047 048 049 050 051 052 053 054 055 056 057 058 059 060 061 062,forest_neon_teak_$(n))
 REAL_DATA ?=
 REAL_DATA_FOREST ?= forest_bcts_1
 # ahn3_delft_1 (3.5 MB, over the repository's 2 MiB file bound) is labelled in share/real but
@@ -106,7 +109,7 @@ real_file = $(if $(filter $(1),$(REAL_URBAN) $(REAL_FOREST)),$(REAL_SHARE)/$(1).
 REAL_EXTRA := $(if $(strip $(REAL_DATA)),$(REAL_DATA_FOREST) $(REAL_DATA_URBAN))
 $(foreach t,$(REAL_EXTRA),$(if $(wildcard $(call real_file,$(t))),,$(error \
   REAL_DATA=$(REAL_DATA): no $(t).laz there nor in its laz/)))
-# Smallest first (the forest plot, then the urban tiles by points).
+# The forest plots first, then the urban tiles by points.
 REAL_NAMES := $(REAL_FOREST) $(REAL_URBAN) $(REAL_EXTRA)
 
 # What a tile's run depends on: the tools of the workflow (built here first, so the tiles'

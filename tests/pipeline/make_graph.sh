@@ -296,8 +296,10 @@ grep -q "^trial sedan unoccluded 0 $tmp/out/sedan/unoccluded/noise-0\$" "$tmp/ou
   fail "the manifest does not name the trial: $(head -3 "$tmp/out/experiment.txt")"
 "${mk[@]}" REAL_TILES=1 PROGRESS=0 "$tmp/out/experiment.txt" >/dev/null 2>&1 || fail "the manifest with real tiles not written"
 real=$(grep "^real " "$tmp/out/experiment.txt")
-[ "$(echo "$real" | head -2)" = "real forest_lareunion $tmp/out/real/forest_lareunion
-real ign_lidarhd_870000_6618000 $tmp/out/real/ign_lidarhd_870000_6618000 share/real/ign_lidarhd_870000_6618000.truth.json" ] ||
+# The forest plots first (24 since stop 66, no labels), then the urban tiles, each with its labels.
+[ "$(echo "$real" | head -1)" = "real forest_lareunion $tmp/out/real/forest_lareunion" ] &&
+  [ "$(echo "$real" | sed -n 25p)" = "real ign_lidarhd_870000_6618000 $tmp/out/real/ign_lidarhd_870000_6618000 share/real/ign_lidarhd_870000_6618000.truth.json" ] &&
+  [ "$(echo "$real" | grep -c '^real forest_[^ ]* [^ ]*$')" -eq 24 ] ||
   fail "the manifest's real tiles: $real"
 # Each tile's classify ablations follow it, in order, each in its own directory (mk/real.mk
 # REAL_CLASSIFY_ABLATIONS: three by default), and `all` runs them.

@@ -77,7 +77,7 @@ void town(const fs::path& root, const fs::path& labels) {
 
 // plotA (v2): 2 class-level detections on 0.25 ha (detect's grid: 10 000 cells of 0.5 m), no
 // density in the index (measured: 59 712 points / 2 500 m²); plotB (v1): 0 found, 3 none and
-// 4 failed, 0.25 ha.
+// 4 failed, 0.25 ha, 8 points per m² (measured: under the forest table's dense band of 10).
 void plots(const fs::path& root) {
   write(root / "plotA" / "detections.json", R"({"format": "canopy.detections", "version": 2, "candidates": 10,
     "found": 2, "by_level": {"model": 0, "class": 2},
@@ -91,7 +91,7 @@ void plots(const fs::path& root) {
   write(root / "plotB" / "detections.json", R"({"format": "canopy.detections", "version": 1, "candidates": 7,
     "found": 0, "none": 3, "failed": 4, "detections": [], "rejected": []})");
   write(root / "plotB" / "cands" / "index.json", R"({"format": "canopy.candidates", "version": 1,
-    "tile": "plotB.laz", "tile_points": 30000, "ground": {"cell": 0.5, "cells": 10000}, "candidates": []})");
+    "tile": "plotB.laz", "tile_points": 20000, "ground": {"cell": 0.5, "cells": 10000}, "candidates": []})");
   write(root / "plotB" / "tile.time", "75 100000 70 2\n");
 }
 
@@ -189,11 +189,16 @@ TEST_CASE("real tiles: plots without vehicles, exact Poisson per hectare; v1, st
   const std::string md = report::real_markdown(tiles, 180);
   INFO(md);
   // 2 on 0.25 ha: 8 per ha, Garwood [0.2422, 7.2247] / 0.25.
-  CHECK(has(md, "| plotA | 0.25 | 2 | 8.0 | [1.0, 28.9] |"));
+  CHECK(has(md, "| plotA | 23.9 | 0.25 | 2 | 8.0 | [1.0, 28.9] |"));
   // 0 on 0.25 ha: [0, 3.6889] / 0.25.
-  CHECK(has(md, "| plotB | 0.25 | 0 | 0.0 | [0.0, 14.8] |"));
-  // Both: 2 on 0.5 ha.
-  CHECK(has(md, "| **all plots** | 0.50 | 2 | 4.0 | [0.5, 14.4] |"));
+  CHECK(has(md, "| plotB | 8.0 | 0.25 | 0 | 0.0 | [0.0, 14.8] |"));
+  // Both: 2 on 0.5 ha; by density band, plotA alone at 10 points/m² or more, plotB alone under.
+  CHECK(has(md, "| **all plots** | | 0.50 | 2 | 4.0 | [0.5, 14.4] |"));
+  CHECK(has(md, "| plots at 10 pts/m² or more | | 0.25 | 2 | 8.0 | [1.0, 28.9] |"));
+  CHECK(has(md, "| plots under 10 pts/m² | | 0.25 | 0 | 0.0 | [0.0, 14.8] |"));
+  CHECK(has(md,
+            "With 2 false alarms on 0.50 ha the 95% interval reaches 14.4 per ha over all plots, and 28.9 "
+            "per ha over the 0.25 ha at 10 pts/m² or more."));
   CHECK(has(md, "exact Poisson (Garwood) 95% interval"));
   CHECK(
       has(md,
@@ -201,7 +206,7 @@ TEST_CASE("real tiles: plots without vehicles, exact Poisson per hectare; v1, st
           "class: van 1 | failed 1, too_sparse 5, vegetation_like 2 | most candidates are too sparse |"));
   CHECK(has(
       md,
-      "| plotB (no vehicles) | – | 0.25 | 12.0 (measured) | 30000 | 7 | 0 (0 / 0) | – | failed 4, none 3 |"));
+      "| plotB (no vehicles) | – | 0.25 | 8.0 (measured) | 20000 | 7 | 0 (0 / 0) | – | failed 4, none 3 |"));
   CHECK(has(md, "**not finished** within the time box of 180 s"));
   CHECK(has(md, "| townB | 0 (0) | 0 | not finished |"));
   CHECK(has(md, "| gone (no vehicles) | – | – | – | – | not run |"));
@@ -212,7 +217,7 @@ TEST_CASE("real tiles: plots without vehicles, exact Poisson per hectare; v1, st
       md,
       "| closed (no vehicles) | – | – | – | – | **failed**: `detect: error: closed.laz: found ground in only "
       "18.0% / of the cells` |"));
-  CHECK(has(md, "| closed | – | failed | | |"));
+  CHECK(has(md, "| closed | – | – | failed | | |"));
   CHECK(has(md, "| closed | 3.2 (failed) | 2.0 | 0.0 (0) | **no** |"));
   CHECK(has(md, "Plots without vehicles: plotA, plotB, gone (not run), closed (failed)."));
 }
