@@ -17,6 +17,9 @@ classes.csv, are read from the working directory).
   bench/collect/accept.py --bin build/bin --dest DIR --real TILE_DIR...
       TILE_DIR: a real tile's `make tile` directory (detections.json, cands/, score.json when it
       has truth); prints per tile the detections, true positives, false alarms per T
+  bench/collect/accept.py --dest DIR --rule NAME[:dense]...
+      the seventeenth round's rule on the sets written under DEST (":dense": a set at 25 points/m²
+      or more, whose targets count; docs/decisions/open-set.md)
 """
 import argparse
 import csv
@@ -148,13 +151,62 @@ def main():
     ap.add_argument('--dest', required=True)
     ap.add_argument('--t', default='0,0.1,0.2,0.3,0.5')
     ap.add_argument('--real', nargs='*', default=[])
+    ap.add_argument('--rule', nargs='*', default=[])
     ap.add_argument('sets', nargs='*')
     a = ap.parse_args()
     a.t = [float(x) if '.' in x else int(x) for x in a.t.split(',')]
-    if a.real:
+    if a.rule:
+        rule_main(a)
+    elif a.real:
         real_main(a)
     else:
         sets_main(a)
+
+
+def rule_main(a):
+    """The seventeenth round's rule (docs/decisions/open-set.md), stated before the table: over the
+    sets already written under DEST (NAME or NAME:dense for a set at 25 points/m² or more)."""
+    sets = [s.split(':') for s in a.rule]
+    ts = [t for t in a.t if t > 0]
+    base = {n: summary(f'{a.dest}/{n}/t0') for n, *_ in sets}
+    qualified = []
+    for t in ts:
+        now = {n: summary(f'{a.dest}/{n}/t{t}') for n, *_ in sets}
+        ok, lost_all, bad_all, notes = True, 0, 0, []
+        for n, *flag in sets:
+            b, c = base[n]['all'], now[n]['all']
+            lost = b['right'] - c['right']
+            bad = (b['wrong'] + b['fa']) - (c['wrong'] + c['fa'])
+            lost_all, bad_all = lost_all + lost, bad_all + bad
+            if lost > b['right'] / 100:
+                ok = False
+                notes.append(f'(a) {n} loses {lost} right of {b["right"]}')
+            if not flag:
+                continue
+            for cover in sorted(base[n]):
+                if cover == 'all':
+                    continue
+                b, c = base[n][cover], now[n][cover]
+                checks = [('class right >= 85%', lambda s: s['found'] and s['right'] / s['found'] >= 0.85),
+                          ('FA <= 1/ha', lambda s: s['fa'] / s['area'] <= 1)]
+                if cover in ('light', 'medium'):
+                    need = 0.90 if cover == 'light' else 0.75
+                    checks.append((f'recall >= {need:.0%}', lambda s, need=need: s['found'] / s['n'] >= need))
+                if n.startswith('openset'):
+                    checks += [('wrong <= 5% of vehicles', lambda s: s['wrong'] / s['n'] <= 0.05),
+                               ('class right >= 90%', lambda s: s['found'] and s['right'] / s['found'] >= 0.90)]
+                for what, f in checks:
+                    if f(b) and not f(c):
+                        ok = False
+                        notes.append(f'(c) {n} {cover}: {what} met at T=0, missed at T={t}')
+        if not (bad_all >= 2 and bad_all >= 2 * lost_all):
+            ok = False
+            notes.append(f'(b) removes {bad_all} bad, {lost_all} right')
+        print(f'T={t}: removes {bad_all} bad (wrong class or false alarm) and {lost_all} right answers over '
+              f'the sets: {"QUALIFIES" if ok else "does not qualify"}' + ''.join(f'\n    {x}' for x in notes))
+        if ok:
+            qualified.append(t)
+    print(f'adopt: T = {max(qualified)}' if qualified else 'adopt: none (the option stays off)')
 
 
 if __name__ == '__main__':

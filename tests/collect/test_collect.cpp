@@ -1288,7 +1288,8 @@ TEST_CASE("collect --coarse-none-below on the command line; a calibration file w
   CHECK_FALSE(fs::exists(dir / "d.json"));
 }
 
-TEST_CASE("collect --class-accept: a class answer stating less is rejected as low_confidence; model answers stay") {
+TEST_CASE(
+    "collect --class-accept: a class answer stating less is rejected as low_confidence; model answers stay") {
   const fs::path dir = tile("class_accept");
   const fs::path cands = dir / "cands";
   // c0001: verify's model answer sedan at 0.05 (a model answer: never judged by --class-accept).
@@ -1315,14 +1316,16 @@ TEST_CASE("collect --class-accept: a class answer stating less is rejected as lo
   auto answers = [](const Json& d) {
     std::map<std::string, std::string> a;
     for (const auto& x : d["detections"])
-      a[x["candidate"]] = x["level"].get<std::string>() + " " + (x["model"].is_null() ? x["class"] : x["model"]).get<std::string>();
+      a[x["candidate"]] = x["level"].get<std::string>() + " " +
+                          (x["model"].is_null() ? x["class"] : x["model"]).get<std::string>();
     for (const auto& x : d["rejected"]) a[x["candidate"]] = x["reason"];
     return a;
   };
   using Answers = std::map<std::string, std::string>;
   // Off (the default, and 0 given): every class answer a detection, whatever it states.
   const Json off = run("");
-  CHECK(answers(off) == Answers{{"c0001", "model sedan"}, {"c0002", "class hatchback"}, {"c0003", "class van"}});
+  CHECK(answers(off) ==
+        Answers{{"c0001", "model sedan"}, {"c0002", "class hatchback"}, {"c0003", "class van"}});
   CHECK(off["detections"][1]["confidence"] == 0.05);
   CHECK(off["provenance"]["parameters"]["class-accept"] == "0");
   CHECK(run(" --class-accept 0") == off);
@@ -1334,12 +1337,14 @@ TEST_CASE("collect --class-accept: a class answer stating less is rejected as lo
   CHECK(d["by_reason"] == Json{{"low_confidence", 1}});
   CHECK(d["none"] == 1);
   CHECK(d["warning"].is_null());  // 1 of 3
-  CHECK_THAT(err, Catch::Contains("2 vehicles found (1 model level, 1 class level); rejected: low_confidence 1"));
+  CHECK_THAT(err,
+             Catch::Contains("2 vehicles found (1 model level, 1 class level); rejected: low_confidence 1"));
   REQUIRE(d["rejected"].size() == 1);
   const Json& r = d["rejected"][0];
   CHECK(r["candidate"] == "c0002");
   CHECK(r["detail"] ==
-        "classify's class answer hatchback (car) states confidence 0.050, below collect --class-accept 0.1: not a "
+        "classify's class answer hatchback (car) states confidence 0.050, below collect --class-accept 0.1: "
+        "not a "
         "detection");
   CHECK(r["confidence"].is_null());  // its confidence was in the class, not in a none
   CHECK(r["model_chain"] == "none");
@@ -1349,9 +1354,11 @@ TEST_CASE("collect --class-accept: a class answer stating less is rejected as lo
   // 0.5 is not below 0.5; just above it, the van goes too, and most candidates are rejected so.
   CHECK(answers(run(" --class-accept 0.5"))["c0003"] == "class van");
   const Json most = run(" --class-accept 0.51");
-  CHECK(answers(most) == Answers{{"c0001", "model sedan"}, {"c0002", "low_confidence"}, {"c0003", "low_confidence"}});
+  CHECK(answers(most) ==
+        Answers{{"c0001", "model sedan"}, {"c0002", "low_confidence"}, {"c0003", "low_confidence"}});
   CHECK(most["rejected"][1]["detail"] ==
-        "classify's class answer van states confidence 0.500, below collect --class-accept 0.51: not a detection");
+        "classify's class answer van states confidence 0.500, below collect --class-accept 0.51: not a "
+        "detection");
   CHECK(most["rejected"][1]["model_chain"].is_null());  // the model chain did not run
   CHECK(most["warning"] ==
         "2 of 3 candidates rejected as low_confidence: their class answers state a confidence below collect "
@@ -1361,7 +1368,8 @@ TEST_CASE("collect --class-accept: a class answer stating less is rejected as lo
   write(ini, kCalibrationIni);
   const Json cal = run(" --class-accept 0.1 --calibration " + ini.string());
   CHECK(answers(cal)["c0002"] == "class hatchback");
-  CHECK(cal["detections"][1]["confidence"].get<double>() == Approx(0.28004).epsilon(1e-4));
+  CHECK(cal["detections"][1]["confidence"].get<double>() ==
+        Approx(1 / (1 + std::exp(-2 - std::log(0.05 / 0.95)))).epsilon(1e-9));
   const Json cal3 = run(" --class-accept 0.3 --calibration " + ini.string());
   CHECK(answers(cal3)["c0002"] == "low_confidence");
   CHECK_THAT(cal3["rejected"][0]["detail"].get<std::string>(),
@@ -1371,6 +1379,9 @@ TEST_CASE("collect --class-accept: a class answer stating less is rejected as lo
   Json v = verdict((cands / "c0002" / "samples.pcd").string(), "van__bus", 0.3, flat(0, 0, 0, 0),
                    flat(30, E + 10.25, N + 10.125, 100.5));
   v["class"] = "van";
+  v["nearest_instance"] = "van__bus";
+  v["class_score"] = 0.5;
+  v["class_margin"] = 0.1;
   write(cands / "c0002" / "verdict.json", v.dump());
   CHECK(answers(run(""))["c0002"] == "class hatchback");
   const Json aside = run(" --class-accept 0.1");
@@ -1392,7 +1403,7 @@ TEST_CASE("collect --class-accept: a class answer stating less is rejected as lo
   CHECK_THAT(err, Catch::Contains("--class-accept must be in [0, 1]"));
   CHECK(test::sh(cmd + " --class-accept 1", dir / "err.txt", &err) == 0);
   // Not with the size-only ablation (none of classify's decisions).
-  CHECK(test::sh(cmd + " --size-only --modelbase " + dir.string() + " --class-accept 0.1", dir / "err.txt", &err) ==
-        2);
+  CHECK(test::sh(cmd + " --size-only --modelbase " + dir.string() + " --class-accept 0.1", dir / "err.txt",
+                 &err) == 2);
   CHECK_THAT(err, Catch::Contains("--class-accept is canopy's class level's: not with --size-only"));
 }

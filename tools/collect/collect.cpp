@@ -604,9 +604,11 @@ Outputs collect(const Index& index, const std::vector<Answers>& answers, const P
       reasons[i] = kLowConfidence;
       r.reason = reasons[i];
       char conf[64];
-      std::snprintf(conf, sizeof conf, "%.3f, below collect --class-accept %g", class_stated, params.class_accept);
-      r.detail = "classify's class answer " + k.cls + (k.group.empty() || k.group == k.cls ? "" : " (" + k.group + ")") +
-                 " states confidence " + conf + ": not a detection";
+      std::snprintf(conf, sizeof conf, "%.3f, below collect --class-accept %g", class_stated,
+                    params.class_accept);
+      r.detail = "classify's class answer " + k.cls +
+                 (k.group.empty() || k.group == k.cls ? "" : " (" + k.group + ")") + " states confidence " +
+                 conf + ": not a detection";
       // A model answer it contradicted (--contradicted-below) was set aside for it.
       if (v.present && !v.failed && !v.model.empty()) {
         r.model_chain = "set_aside";
