@@ -1287,3 +1287,123 @@ TEST_CASE("collect --coarse-none-below on the command line; a calibration file w
   CHECK_THAT(err, Catch::Contains(ini.string() + ": ") && Catch::Contains("has no none-dense-bias"));
   CHECK_FALSE(fs::exists(dir / "d.json"));
 }
+
+TEST_CASE(
+    "collect --class-accept: a class answer stating less is rejected as low_confidence; model answers stay") {
+  const fs::path dir = tile("class_accept");
+  const fs::path cands = dir / "cands";
+  // c0001: verify's model answer sedan at 0.05 (a model answer: never judged by --class-accept).
+  write(cands / "c0001" / "verdict.json", verdict((cands / "c0001" / "samples.pcd").string(), "sedan", 0.05,
+                                                  flat(0, 0, 0, 0), flat(30, E + 10.25, N + 10.125, 100.5))
+                                              .dump());
+  // c0002: the model chain said none; classify a hatchback (group car) at 0.05.
+  // c0003: no model chain (a class-level candidate); classify a van at 0.5.
+  auto class_at = [&](const std::string& id, const char* cls, const char* group, double confidence) {
+    Json k = class_answer(cands, id, cls, group, nullptr, 30, flat(90, 1, 0.5, 0));
+    k["confidence"] = confidence;
+    write(cands / id / "class.json", k.dump());
+  };
+  class_at("c0002", "hatchback", "car", 0.05);
+  fs::remove(cands / "c0003" / "verdict.json");
+  class_at("c0003", "van", "van", 0.5);
+  const std::string cmd = bin() + " -i " + (cands / "index.json").string() + " -o " + (dir / "d.json").string();
+  std::string err;
+  auto run = [&](const std::string& options) {
+    REQUIRE(test::sh(cmd + options, dir / "err.txt", &err) == 0);
+    return read_json(dir / "d.json");
+  };
+  // What became of each candidate: "model sedan", "class hatchback", or the rejection's reason.
+  auto answers = [](const Json& d) {
+    std::map<std::string, std::string> a;
+    for (const auto& x : d["detections"])
+      a[x["candidate"]] = x["level"].get<std::string>() + " " +
+                          (x["model"].is_null() ? x["class"] : x["model"]).get<std::string>();
+    for (const auto& x : d["rejected"]) a[x["candidate"]] = x["reason"];
+    return a;
+  };
+  using Answers = std::map<std::string, std::string>;
+  // Off (the default, and 0 given): every class answer a detection, whatever it states.
+  const Json off = run("");
+  CHECK(answers(off) ==
+        Answers{{"c0001", "model sedan"}, {"c0002", "class hatchback"}, {"c0003", "class van"}});
+  CHECK(off["detections"][1]["confidence"] == 0.05);
+  CHECK(off["provenance"]["parameters"]["class-accept"] == "0");
+  CHECK(run(" --class-accept 0") == off);
+  // 0.1: the 0.05 class answer is rejected; the 0.5 one and the 0.05 model answer stay.
+  const Json d = run(" --class-accept 0.1");
+  CHECK(answers(d) == Answers{{"c0001", "model sedan"}, {"c0002", "low_confidence"}, {"c0003", "class van"}});
+  CHECK(d["found"] == 2);
+  CHECK(d["by_level"] == Json{{"model", 1}, {"class", 1}});
+  CHECK(d["by_reason"] == Json{{"low_confidence", 1}});
+  CHECK(d["none"] == 1);
+  CHECK(d["warning"].is_null());  // 1 of 3
+  CHECK_THAT(err,
+             Catch::Contains("2 vehicles found (1 model level, 1 class level); rejected: low_confidence 1"));
+  REQUIRE(d["rejected"].size() == 1);
+  const Json& r = d["rejected"][0];
+  CHECK(r["candidate"] == "c0002");
+  CHECK(r["detail"] ==
+        "classify's class answer hatchback (car) states confidence 0.050, below collect --class-accept 0.1: "
+        "not a "
+        "detection");
+  CHECK(r["confidence"].is_null());  // its confidence was in the class, not in a none
+  CHECK(r["model_chain"] == "none");
+  CHECK(r["density"] == 30.0);
+  CHECK(r["verdict"] == (cands / "c0002" / "class.json").string());
+  CHECK(r["position"]["x"].get<double>() == Approx(E + 5));
+  // 0.5 is not below 0.5; just above it, the van goes too, and most candidates are rejected so.
+  CHECK(answers(run(" --class-accept 0.5"))["c0003"] == "class van");
+  const Json most = run(" --class-accept 0.51");
+  CHECK(answers(most) ==
+        Answers{{"c0001", "model sedan"}, {"c0002", "low_confidence"}, {"c0003", "low_confidence"}});
+  CHECK(most["rejected"][1]["detail"] ==
+        "classify's class answer van states confidence 0.500, below collect --class-accept 0.51: not a "
+        "detection");
+  CHECK(most["rejected"][1]["model_chain"].is_null());  // the model chain did not run
+  CHECK(most["warning"] ==
+        "2 of 3 candidates rejected as low_confidence: their class answers state a confidence below collect "
+        "--class-accept; see docs/decisions/classify.md");
+  // The stated confidence is the calibrated one: class (2, 1) at 0.05 = logistic(2 + ln(0.05 / 0.95)) = 0.2800.
+  const fs::path ini = dir / "cal.ini";
+  write(ini, kCalibrationIni);
+  const Json cal = run(" --class-accept 0.1 --calibration " + ini.string());
+  CHECK(answers(cal)["c0002"] == "class hatchback");
+  CHECK(cal["detections"][1]["confidence"].get<double>() ==
+        Approx(1 / (1 + std::exp(-2 - std::log(0.05 / 0.95)))).epsilon(1e-9));
+  const Json cal3 = run(" --class-accept 0.3 --calibration " + ini.string());
+  CHECK(answers(cal3)["c0002"] == "low_confidence");
+  CHECK_THAT(cal3["rejected"][0]["detail"].get<std::string>(),
+             Catch::Contains("states confidence 0.280, below collect --class-accept 0.3"));
+  // A class answer that set aside a doubtful model answer (--contradicted-below) and states too
+  // little: neither is a detection, and the rejection says what was set aside.
+  Json v = verdict((cands / "c0002" / "samples.pcd").string(), "van__bus", 0.3, flat(0, 0, 0, 0),
+                   flat(30, E + 10.25, N + 10.125, 100.5));
+  v["class"] = "van";
+  v["nearest_instance"] = "van__bus";
+  v["class_score"] = 0.5;
+  v["class_margin"] = 0.1;
+  write(cands / "c0002" / "verdict.json", v.dump());
+  CHECK(answers(run(""))["c0002"] == "class hatchback");
+  const Json aside = run(" --class-accept 0.1");
+  CHECK(answers(aside)["c0002"] == "low_confidence");
+  CHECK(aside["rejected"][0]["model_chain"] == "set_aside");
+  CHECK_THAT(aside["rejected"][0]["detail"].get<std::string>(),
+             Catch::EndsWith("not a detection; the model chain's van__bus (confidence 0.30) set aside for it "
+                             "(collect --contradicted-below)"));
+  // The INI key of --config.
+  write(dir / "collect.ini", "class-accept = 0.1\n");
+  CHECK(answers(run(" --config " + (dir / "collect.ini").string()))["c0002"] == "low_confidence");
+  // The range: [0, 1]; a usage error (exit 2) outside, nothing written.
+  fs::remove(dir / "d.json");
+  for (const char* bad : {"1.5", "-0.1", "nan"}) {
+    CHECK(test::sh(cmd + " --class-accept " + bad, dir / "err.txt", &err) == 2);
+    CHECK_FALSE(fs::exists(dir / "d.json"));
+  }
+  CHECK(test::sh(cmd + " --class-accept 1.5", dir / "err.txt", &err) == 2);
+  CHECK_THAT(err, Catch::Contains("--class-accept must be in [0, 1]"));
+  CHECK(test::sh(cmd + " --class-accept 1", dir / "err.txt", &err) == 0);
+  // Not with the size-only ablation (none of classify's decisions).
+  CHECK(test::sh(cmd + " --size-only --modelbase " + dir.string() + " --class-accept 0.1", dir / "err.txt",
+                 &err) == 2);
+  CHECK_THAT(err, Catch::Contains("--class-accept is canopy's class level's: not with --size-only"));
+}

@@ -365,6 +365,8 @@ std::string warning_of(const Index& index, const std::vector<Answers>& answers, 
       s += ": a stage of the model chain failed; see cands/<id>/*.log";
     } else if (top == "none") {
       s += ": the model chain found no model of the modelbase in them";
+    } else if (top == kLowConfidence) {
+      s += ": their class answers state a confidence below collect --class-accept";
     } else if (top == "vegetation_like") {
       s += ": most candidates look like vegetation (porous, rough, pulses through them)";
     } else {
@@ -540,6 +542,9 @@ Outputs collect(const Index& index, const std::vector<Answers>& answers, const P
     // verify's doubtful model answer set aside for classify's refusal on the shape (--refused-below).
     const bool set_aside = !params.size_only && v.present && !v.failed && k.present && !k.failed &&
                            v.confidence < params.refused_below && refused_by_shape(v, k);
+    // classify's class answer stating less than --class-accept: never a detection.
+    const double class_stated = classified ? calibrated(params.calibration.cls, k.confidence) : 0;
+    const bool below_accept = !params.size_only && classified && class_stated < params.class_accept;
     if (params.size_only) {
       if (k.present && !k.failed && k.measured_size && k.measured_centre && k.measured_heading &&
           !params.boxes.empty()) {
@@ -569,7 +574,7 @@ Outputs collect(const Index& index, const std::vector<Answers>& answers, const P
                  model_contradicted(v, k, params.contradicted_by_group))) {
       found = &v;
       ++out.model_level;
-    } else if (classified) {
+    } else if (classified && !below_accept) {
       found = &k;
       ++out.class_level;
     }
@@ -593,6 +598,25 @@ Outputs collect(const Index& index, const std::vector<Answers>& answers, const P
       std::snprintf(conf, sizeof conf, "%.2f", v.confidence);
       r.detail = (r.detail ? *r.detail + "; " : std::string()) + "the model chain's " + v.model +
                  " (confidence " + conf + ") set aside for it (collect --refused-below)";
+    }
+    if (below_accept) {
+      documents::RejectionRecord& r = doc.rejected.back();
+      reasons[i] = kLowConfidence;
+      r.reason = reasons[i];
+      char conf[64];
+      std::snprintf(conf, sizeof conf, "%.3f, below collect --class-accept %g", class_stated,
+                    params.class_accept);
+      r.detail = "classify's class answer " + k.cls +
+                 (k.group.empty() || k.group == k.cls ? "" : " (" + k.group + ")") + " states confidence " +
+                 conf + ": not a detection";
+      // A model answer it contradicted (--contradicted-below) was set aside for it.
+      if (v.present && !v.failed && !v.model.empty()) {
+        r.model_chain = "set_aside";
+        char mconf[32];
+        std::snprintf(mconf, sizeof mconf, "%.2f", v.confidence);
+        *r.detail += "; the model chain's " + v.model + " (confidence " + mconf +
+                     ") set aside for it (collect --contradicted-below)";
+      }
     }
     ++out.by_reason[reasons[i]];
     // v1's counts: a failed model chain with no class answer, else a "none" (someone looked).

@@ -151,7 +151,17 @@ struct Params {
   // density (an older index) is not coarse. 0 = off: every verify none through calibration.none
   // (the ablation; as before §19).
   double coarse_none_below = common::kDenseDensity;
+  // A class-level answer (classify's class, a detection only when no model answer is given)
+  // whose stated confidence (the one collect writes: through calibration.cls when a calibration
+  // is given) is below `class_accept` is not a detection: the candidate is rejected with reason
+  // kLowConfidence, its detail naming the class, its confidence and the threshold (issues 27,
+  // 29; docs/decisions/open-set.md "Seventeenth round"). Model answers are untouched. 0 = off
+  // (every class answer a detection, as before). In [0, 1]; not applied to --size-only.
+  double class_accept = 0;
 };
+
+// The rejection reason of a class answer below Params::class_accept.
+inline constexpr const char* kLowConfidence = "low_confidence";
 
 // Whether classify's class answer k contradicts verify's model answer v: v names a model of a
 // known class, k names a class, and neither k's class nor its group is v's class; by_group: nor

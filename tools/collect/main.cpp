@@ -63,6 +63,7 @@ struct Options {
   std::string contradiction_level = "group";
   double refused_below = 0.8;
   double coarse_none_below = common::kDenseDensity;
+  double class_accept = 0;
 };
 
 void bind(common::Tool& tool, Options& o) {
@@ -122,6 +123,11 @@ void bind(common::Tool& tool, Options& o) {
            "index's) is below this states the file's none-coarse map, the others its none-dense map "
            "(default 370, the density rule's dense end; docs/decisions/verify.md §19); 0 = off: "
            "every verify none through the none map (the ablation, as before §19)");
+  tool.add("--class-accept", &o.class_accept,
+           "a class-level answer (classify's class, where no model answer is given) whose stated "
+           "confidence (after --calibration) is below this is not a detection: the candidate is "
+           "rejected as low_confidence (0 = off: every class answer a detection; "
+           "docs/decisions/open-set.md \"Seventeenth round\")");
   tool.add("--size-gate", &o.size_gate,
            "--size-only: the largest relative difference of length, width or height from the "
            "nearest model's that is still that model");
@@ -262,6 +268,11 @@ int main(int argc, char** argv) {
     if (!(o.coarse_none_below >= 0) || !std::isfinite(o.coarse_none_below))
       throw common::UsageError("--coarse-none-below must be a number >= 0 (points/m²)");
     p.coarse_none_below = o.coarse_none_below;
+    if (!(o.class_accept >= 0 && o.class_accept <= 1))
+      throw common::UsageError("--class-accept must be in [0, 1]");
+    if (o.size_only && o.class_accept > 0)
+      throw common::UsageError("--class-accept is canopy's class level's: not with --size-only");
+    p.class_accept = o.class_accept;
     if (!o.calibration.empty()) {
       if (o.size_only) throw common::UsageError("--calibration is canopy's levels': not with --size-only");
       p.calibration = collect::parse_calibration(common::read_file(o.calibration), o.calibration);
