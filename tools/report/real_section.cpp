@@ -370,9 +370,9 @@ void forest_table(std::ostringstream& md, const std::vector<RealTile>& tiles) {
     md << "No plot without vehicles finished.\n\n";
     return;
   }
-  md << "With " << alarms << " false alarms on " << format_number("%.2f", area)
-     << " ha the 95% interval reaches " << format_number("%.1f", common::poisson_exact(alarms).hi / area)
-     << " per ha over all plots";
+  md << "With " << alarms << (alarms == 1 ? " false alarm on " : " false alarms on ")
+     << format_number("%.2f", area) << " ha the 95% interval reaches "
+     << format_number("%.1f", common::poisson_exact(alarms).hi / area) << " per ha over all plots";
   if (dense_area > 0 && sparse_area > 0)
     md << ", and " << format_number("%.1f", common::poisson_exact(dense_alarms).hi / dense_area)
        << " per ha over the " << format_number("%.2f", dense_area) << " ha at " << band
