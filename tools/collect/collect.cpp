@@ -516,6 +516,20 @@ bool refused_by_shape(const Verdict& v, const Verdict& k) {
   return k.refused_on == "shape" || k.refused_on == "surface";
 }
 
+namespace {
+
+// A rejection whose candidate's model answer `v` was set aside for classify's answer (collect's
+// `option`): marked so, and its detail says which model at what confidence.
+void set_aside_note(documents::RejectionRecord& r, const Verdict& v, const char* option) {
+  r.model_chain = "set_aside";
+  char conf[32];
+  std::snprintf(conf, sizeof conf, "%.2f", v.confidence);
+  r.detail = (r.detail ? *r.detail + "; " : std::string()) + "the model chain's " + v.model +
+             " (confidence " + conf + ") set aside for it (collect " + option + ")";
+}
+
+}  // namespace
+
 Outputs collect(const Index& index, const std::vector<Answers>& answers, const Params& params,
                 const formats::Provenance& provenance) {
   if (answers.size() != index.candidates.size())
@@ -591,14 +605,7 @@ Outputs collect(const Index& index, const std::vector<Answers>& answers, const P
     }
     doc.rejected.push_back(rejection_of(c, answers[i], params.size_only ? Calibration{} : params.calibration,
                                         params.coarse_none_below, reasons[i]));
-    if (set_aside) {
-      documents::RejectionRecord& r = doc.rejected.back();
-      r.model_chain = "set_aside";
-      char conf[32];
-      std::snprintf(conf, sizeof conf, "%.2f", v.confidence);
-      r.detail = (r.detail ? *r.detail + "; " : std::string()) + "the model chain's " + v.model +
-                 " (confidence " + conf + ") set aside for it (collect --refused-below)";
-    }
+    if (set_aside) set_aside_note(doc.rejected.back(), v, "--refused-below");
     if (below_accept) {
       documents::RejectionRecord& r = doc.rejected.back();
       reasons[i] = kLowConfidence;
@@ -610,13 +617,7 @@ Outputs collect(const Index& index, const std::vector<Answers>& answers, const P
                  (k.group.empty() || k.group == k.cls ? "" : " (" + k.group + ")") + " states confidence " +
                  conf + ": not a detection";
       // A model answer it contradicted (--contradicted-below) was set aside for it.
-      if (v.present && !v.failed && !v.model.empty()) {
-        r.model_chain = "set_aside";
-        char mconf[32];
-        std::snprintf(mconf, sizeof mconf, "%.2f", v.confidence);
-        *r.detail += "; the model chain's " + v.model + " (confidence " + mconf +
-                     ") set aside for it (collect --contradicted-below)";
-      }
+      if (v.present && !v.failed && !v.model.empty()) set_aside_note(r, v, "--contradicted-below");
     }
     ++out.by_reason[reasons[i]];
     // v1's counts: a failed model chain with no class answer, else a "none" (someone looked).
