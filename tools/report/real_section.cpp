@@ -315,12 +315,14 @@ void tiles_table(std::ostringstream& md, const std::vector<RealTile>& tiles, int
 // work with; below it (older or sparser surveys) a plot without false alarms says less.
 constexpr double kForestDenseBand = 10;
 
-// False alarms on `area` ha: "| label | | area | n | per ha | [lo, hi] |".
-void forest_total(std::ostringstream& md, const std::string& label, double area, int alarms) {
+// A row of the forest table: `alarms` false alarms on `area` ha, "| label | density | area | n |
+// per ha | [lo, hi] |" (a plot's, its density given; a total's, the density empty).
+void forest_row(std::ostringstream& md, const std::string& label, const std::string& density, double area,
+                int alarms) {
   const common::Interval p = common::poisson_exact(alarms);
-  md << "| " << label << " | | " << format_number("%.2f", area) << " | " << alarms << " | "
-     << format_number("%.1f", alarms / area) << " | [" << format_number("%.1f", p.lo / area) << ", "
-     << format_number("%.1f", p.hi / area) << "] |\n";
+  md << "| " << label << " |" << (density.empty() ? "" : " " + density) << " | "
+     << format_number("%.2f", area) << " | " << alarms << " | " << format_number("%.1f", alarms / area)
+     << " | [" << format_number("%.1f", p.lo / area) << ", " << format_number("%.1f", p.hi / area) << "] |\n";
 }
 
 void forest_table(std::ostringstream& md, const std::vector<RealTile>& tiles) {
@@ -343,11 +345,7 @@ void forest_table(std::ostringstream& md, const std::vector<RealTile>& tiles) {
          << (t.ran ? (t.error.empty() ? "not finished" : "failed") : "not run") << " | | |\n";
       continue;
     }
-    const common::Interval p = common::poisson_exact(t.found);
-    md << "| " << t.name << " | " << density << " | " << format_number("%.2f", t.area_ha) << " | " << t.found
-       << " | " << format_number("%.1f", t.found / t.area_ha) << " | ["
-       << format_number("%.1f", p.lo / t.area_ha) << ", " << format_number("%.1f", p.hi / t.area_ha)
-       << "] |\n";
+    forest_row(md, t.name, density, t.area_ha, t.found);
     area += t.area_ha;
     alarms += t.found;
     ++plots;
@@ -360,10 +358,10 @@ void forest_table(std::ostringstream& md, const std::vector<RealTile>& tiles) {
     }
   }
   const std::string band = format_number("%g", kForestDenseBand) + " pts/m²";
-  if (plots > 1) forest_total(md, "**all plots**", area, alarms);
+  if (plots > 1) forest_row(md, "**all plots**", "", area, alarms);
   if (dense_area > 0 && sparse_area > 0) {
-    forest_total(md, "plots at " + band + " or more", dense_area, dense_alarms);
-    forest_total(md, "plots under " + band, sparse_area, sparse_alarms);
+    forest_row(md, "plots at " + band + " or more", "", dense_area, dense_alarms);
+    forest_row(md, "plots under " + band, "", sparse_area, sparse_alarms);
   }
   md << "\n";
   if (plots == 0) {
