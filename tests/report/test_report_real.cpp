@@ -294,3 +294,22 @@ TEST_CASE("real tiles: classify's ablation beside canopy, per tile and over the 
   CHECK(has(md2, "mk/real.mk REAL_CLASSIFY_ABLATION_2)"));
   CHECK(has(md2, "| townA | recall, clear | 6/8 = 75.0% [40.9, 92.9] | 5/8 = 62.5% [30.6, 86.3] |"));
 }
+
+TEST_CASE("real tiles: every tile committed in share/real has its source and licence in the table") {
+  // A tile added to share/real/ without a source would show "–" in the report's source column
+  // (stop 66's 23 forest plots did until stop 67).
+  int tiles = 0;
+  for (const auto& entry : fs::directory_iterator(fs::path(CANOPY_SOURCE_DIR) / "share" / "real")) {
+    if (entry.path().extension() != ".laz") continue;
+    const std::string name = entry.path().stem().string();
+    INFO(name);
+    const std::string source = report::real_tile_source(name);
+    CHECK(source != "–");
+    CHECK(has(source, "("));  // the licence, in parentheses
+    ++tiles;
+  }
+  CHECK(tiles >= 27);
+  CHECK(report::real_tile_source("forest_neon_teak_043") == "NEON AOP 2018, Teakettle (CC0)");
+  CHECK(report::real_tile_source("forest_ign_loiret_crop2") == "IGN LiDAR HD, Loiret forest (Etalab 2.0)");
+  CHECK(report::real_tile_source("somewhere_else") == "–");
+}

@@ -35,16 +35,6 @@ bool exists(const std::string& path) {
   return fs::is_regular_file(path, ec);
 }
 
-// The tiles' sources (share/real/README.md), by name.
-std::string source(const std::string& name) {
-  if (name.rfind("ahn3_", 0) == 0) return "AHN3 2014, Delft (CC0)";
-  if (name == "ign_stbarth_100m") return "IGN, Saint-Barthélemy (Etalab 2.0)";
-  if (name.rfind("ign_lidarhd", 0) == 0) return "IGN LiDAR HD (Etalab 2.0)";
-  if (name == "forest_lareunion") return "IGN, La Réunion forest (Etalab 2.0)";
-  if (name == "forest_bcts_1") return "lasR example, BC conifer forest (GPL-3, REAL_DATA)";
-  return "–";
-}
-
 // The detections document: counts, levels, classes, reasons, warning; the group of each
 // detection by candidate id (for the class accuracy).
 void read_detections(const std::string& path, RealTile& t, std::map<std::string, std::string>& group) {
@@ -197,6 +187,18 @@ void read_score(const std::string& path, RealTile& t, const std::map<int, bool>&
 
 }  // namespace
 
+std::string real_tile_source(const std::string& name) {
+  if (name.rfind("ahn3_", 0) == 0) return "AHN3 2014, Delft (CC0)";
+  if (name == "ign_stbarth_100m") return "IGN, Saint-Barthélemy (Etalab 2.0)";
+  if (name.rfind("ign_lidarhd", 0) == 0) return "IGN LiDAR HD (Etalab 2.0)";
+  if (name == "forest_lareunion") return "IGN, La Réunion forest (Etalab 2.0)";
+  if (name.rfind("forest_ign_loiret", 0) == 0) return "IGN LiDAR HD, Loiret forest (Etalab 2.0)";
+  if (name.rfind("forest_neon_teak_", 0) == 0) return "NEON AOP 2018, Teakettle (CC0)";
+  if (name.rfind("forest_neon_osbs_", 0) == 0) return "NEON AOP 2018, Ordway-Swisher (CC0)";
+  if (name == "forest_bcts_1") return "lasR example, BC conifer forest (GPL-3, REAL_DATA)";
+  return "–";
+}
+
 RealTile read_real_tile(const RealTileFiles& f) {
   RealTile t;
   t.name = f.name;
@@ -289,7 +291,7 @@ void tiles_table(std::ostringstream& md, const std::vector<RealTile>& tiles, int
         "level) | "
         "detections by class | rejected by reason | warning |\n|---|---|---|---|---|---|---|---|---|---|\n";
   for (const RealTile& t : tiles) {
-    md << "| " << t.name << (t.labelled ? "" : " (no vehicles)") << " | " << source(t.name) << " | "
+    md << "| " << t.name << (t.labelled ? "" : " (no vehicles)") << " | " << real_tile_source(t.name) << " | "
        << (t.area_ha > 0 ? format_number("%.2f", t.area_ha) : "–") << " | "
        << (t.density > 0 ? format_number("%.1f", t.density) + (t.density_from == "index" ? "" : " (measured)")
                          : "–")

@@ -63,6 +63,10 @@ struct RealTile {
   int matched_without_group = 0;   // matched detections with no group (model level, no class)
 };
 
+// A real tile's source and licence for the report's table (share/real/README.md), by the tile's
+// name; "–" for a name it does not know.
+std::string real_tile_source(const std::string& name);
+
 // Reads one tile's artifacts (a missing file is a tile not run / not finished / not scored; a
 // malformed one throws common::DataError naming it).
 RealTile read_real_tile(const RealTileFiles& files);
