@@ -809,9 +809,10 @@ TEST_CASE(
   CHECK_THAT(w,
              Catch::Contains("2 of 3 candidates rejected as too_sparse (median object density 3 points/m², "
                              "class level needs 4, model level 370)"));
+  // Most candidates are too sparse even for a class: "at most", not the promise "only".
   CHECK_THAT(w, Catch::Contains(
                     "open-ground density 28 points/m²: below the 370 points/m² that model-level recognition "
-                    "needs; class-level answers only"));
+                    "needs; class-level answers at most"));
   CHECK_THAT(w, Catch::EndsWith("see docs/decisions/classify.md"));
   CHECK_THAT(err, Catch::Contains("collect: warning: 2 of 3 candidates rejected as too_sparse"));
   // Neither a verdict nor a class answer: named, nothing written.
@@ -1406,4 +1407,28 @@ TEST_CASE(
   CHECK(test::sh(cmd + " --size-only --modelbase " + dir.string() + " --class-accept 0.1", dir / "err.txt",
                  &err) == 2);
   CHECK_THAT(err, Catch::Contains("--class-accept is canopy's class level's: not with --size-only"));
+}
+
+TEST_CASE("collect v2: a tile of one candidate, too sparse: the warning's count is singular") {
+  const fs::path dir = tile("one_sparse");
+  const fs::path cands = dir / "cands";
+  Json index = read_json(cands / "index.json");
+  index["density"] = Json{{"all", 5.0}, {"ground", 3.0}, {"first", nullptr}};
+  index["candidates"] = Json::array({index["candidates"][0]});
+  write(cands / "index.json", index.dump());
+  fs::remove_all(cands / "c0002");
+  fs::remove_all(cands / "c0003");
+  fs::remove(cands / "c0001" / "verdict.json");
+  write(cands / "c0001" / "class.json",
+        class_answer(cands, "c0001", nullptr, nullptr, "too_sparse", 2.0, nullptr).dump());
+  std::string err;
+  REQUIRE(test::sh(bin() + " -i " + (cands / "index.json").string() + " -o " + (dir / "d.json").string(),
+                   dir / "err.txt", &err) == 0);
+  const Json d = read_json(dir / "d.json");
+  CHECK(d["candidates"] == 1);
+  const std::string w = d["warning"];
+  CHECK_THAT(w,
+             Catch::StartsWith("1 of 1 candidate rejected as too_sparse (median object density 2 points/m²"));
+  CHECK_THAT(w, Catch::Contains("open-ground density 3 points/m²: below the 370 points/m² that model-level "
+                                "recognition needs; class-level answers at most"));
 }

@@ -347,8 +347,10 @@ std::string warning_of(const Index& index, const std::vector<Answers>& answers, 
   for (const auto& [r, k] : out.by_reason) {
     if (k > top_n) top = r, top_n = k;
   }
+  const bool mostly_sparse = 2 * top_n > n && top == "too_sparse";
   if (2 * top_n > n) {
-    std::string s = std::to_string(top_n) + " of " + std::to_string(n) + " candidates rejected as " + top;
+    std::string s = std::to_string(top_n) + " of " + std::to_string(n) +
+                    (n == 1 ? " candidate" : " candidates") + " rejected as " + top;
     if (top == "too_sparse") {
       std::sort(dens.begin(), dens.end());
       if (!dens.empty()) {
@@ -387,8 +389,10 @@ std::string warning_of(const Index& index, const std::vector<Answers>& answers, 
                       "verdict; class-level answers only");
     } else {
       parts.push_back((tile.empty() ? std::string("the objects' density") : tile) + ": below the " +
-                      fmt_density(need) +
-                      " points/m² that model-level recognition needs; class-level answers only");
+                      fmt_density(need) + " points/m² that model-level recognition needs; " +
+                      // Most candidates too sparse even for a class (said above): "only" would
+                      // promise class answers the tile mostly cannot give.
+                      (mostly_sparse ? "class-level answers at most" : "class-level answers only"));
     }
   }
   if (parts.empty()) return "";
