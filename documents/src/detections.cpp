@@ -281,12 +281,18 @@ std::string serialize_detections_geojson(const DetectionsRecord& r) {
   return geo.dump(1) + "\n";
 }
 
-std::optional<double> open_ground_density(const nlohmann::ordered_json& d) {
-  if (!d.is_object()) return std::nullopt;
+const char* open_ground_density_key(const nlohmann::ordered_json& d) {
+  if (!d.is_object()) return nullptr;
   for (const char* key : {"ground", "all"}) {
-    if (d.contains(key) && d[key].is_number()) return d[key].get<double>();
+    if (d.contains(key) && d[key].is_number()) return key;
   }
-  return std::nullopt;
+  return nullptr;
+}
+
+std::optional<double> open_ground_density(const nlohmann::ordered_json& d) {
+  const char* key = open_ground_density_key(d);
+  if (key == nullptr) return std::nullopt;
+  return d[key].get<double>();
 }
 
 }  // namespace canopy::documents

@@ -148,6 +148,12 @@ TEST_CASE("detections writer: a hand-placed detection is read back by the one re
   CHECK(ring.size() == 5);
   CHECK(ring[0] == ring[4]);
   CHECK(documents::open_ground_density(r.density) == 100.0);
+  CHECK(std::string(documents::open_ground_density_key(r.density)) == "ground");
+  // Without the open ground's density: all returns', named as such; neither: none.
+  CHECK(std::string(documents::open_ground_density_key(Json{{"all", 31.0}, {"ground", nullptr}})) == "all");
+  CHECK(documents::open_ground_density(Json{{"all", 31.0}, {"ground", nullptr}}) == 31.0);
+  CHECK(documents::open_ground_density_key(Json{{"first", 3.0}}) == nullptr);
+  CHECK_FALSE(documents::open_ground_density(Json::array()).has_value());
   r.detections[0].footprint[1][0] = std::nan("");
   CHECK_THROWS_WITH(documents::serialize_detections(r),
                     Catch::Contains("collect: refusing to write a non-finite number"));

@@ -326,8 +326,8 @@ std::string warning_of(const Index& index, const std::vector<Answers>& answers, 
   // Which density it is: the open ground's (detect's "ground", what its density rule reads), else
   // all returns'; the picture's legend states all returns' (15.7 on ahn3_delft_1, whose open
   // ground has 11: "tile density 11" beside it read as a contradiction).
-  const bool ground = td && index.density.is_object() && index.density.contains("ground") &&
-                      index.density["ground"].is_number();
+  const char* key = documents::open_ground_density_key(index.density);
+  const bool ground = key != nullptr && std::string(key) == "ground";
   const std::string tile = !td      ? ""
                            : ground ? "open-ground density " + fmt_density(*td) + " points/m²"
                                     : "tile density " + fmt_density(*td) + " points/m² (all returns)";

@@ -123,5 +123,8 @@ std::string serialize_detections_geojson(const DetectionsRecord& record);
 
 // The tile's density for messages: the density object's "ground" when a number, else "all".
 std::optional<double> open_ground_density(const nlohmann::ordered_json& density);
+// Which of the density object's keys open_ground_density reads ("ground" or "all"; nullptr for
+// none), for a message that names the density it states.
+const char* open_ground_density_key(const nlohmann::ordered_json& density);
 
 }  // namespace canopy::documents
