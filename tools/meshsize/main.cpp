@@ -61,7 +61,7 @@ struct Upright {
 
 // Samples the surface (16 points per voxel face area, a fixed xorshift stream: the same mesh
 // gives the same answer) into voxels of 1/100 of the largest extent, and scores the best mirror
-// plane z = c for c within 5% of the height of mid-height.
+// plane z = c, c within 2.5% of the height of mid-height (quarter-voxel steps).
 Upright upright(const fm::TriangleMesh& mesh, const std::vector<Eigen::Vector3d>& v) {
   Upright u;
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
@@ -131,14 +131,14 @@ std::string fixed(double x, int digits) {
 std::string up_problem(const std::string& up, const Upright& u, const Upright& other) {
   const std::string alt = up == "z" ? "y" : "z";
   std::string what = "read with --up " + up + " (make: MESH_UP=" + up + "), the vehicle ";
-  if (u.on_side) {
-    what += "looks as if lying on its side: it is mirror-symmetric about a horizontal plane (symmetry " +
-            fixed(u.symmetry, 2) + ", >= " + fixed(kSideSymmetry, 2) +
-            "; upright vehicles score 0.21-0.68, vehicles on their side 0.95-1.00)";
-  } else {
+  if (u.on_end) {  // the extent is the surer sign (on its end, a bus is 0.84 front-back symmetric)
     what += "looks as if standing on its end: its height " + fixed(u.size.z(), 2) +
             " m is its largest extent (length " + fixed(u.size.x(), 2) + " m, width " + fixed(u.size.y(), 2) +
             " m)";
+  } else {
+    what += "looks as if lying on its side: it is mirror-symmetric about a horizontal plane (symmetry " +
+            fixed(u.symmetry, 2) + ", >= " + fixed(kSideSymmetry, 2) +
+            "; upright vehicles score 0.21-0.68, vehicles on their side 0.95-1.00)";
   }
   if (other.ok()) {
     what += "; with --up " + alt + " (MESH_UP=" + alt + ") it stands upright";
@@ -194,7 +194,8 @@ int main(int argc, char** argv) {
         const Upright other = upright(mesh, render_frame(mesh, scale, up == "z" ? "y" : "z", input));
         const std::string problem = up_problem(up, u, other);
         if (up_check == "refuse") {
-          throw cm::DataError(input, problem + ". If it is upright as it is: MESH_UP_CHECK=warn (--up-check warn)");
+          throw cm::DataError(input,
+                              problem + ". If it is upright as it is: MESH_UP_CHECK=warn (--up-check warn)");
         }
         cm::log::warn(cm::display_name(input) + ": " + problem +
                       ". If it is upright as it is: --up-check off (make: MESH_UP_CHECK=off) silences this");
