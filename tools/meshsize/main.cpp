@@ -3,16 +3,17 @@
 // does). Prints one line "length width height" (x, y and z extents); make's user-modelbase
 // (mk/usermb.mk) chooses each entry's crop box from it.
 //
-// The up check (--up-check; docs/decisions/user-modelbase.md, stop 67): a y-up mesh read as z up
-// (or a z-up one read with --up y) lies on its side, or stands on its nose, and its extent does
-// not tell (4.37 x 1.96 x 2.02 m against 4.37 x 2.02 x 1.96). Vehicles are mirror-symmetric
+// The up check (--up-check; docs/decisions/user-modelbase.md §8, stop 67): a y-up mesh read as
+// z up (or a z-up one read with --up y) lies on its side, or stands on its nose, and its extent
+// does not tell (4.37 x 1.96 x 2.02 m against 4.37 x 2.02 x 1.96). Vehicles are mirror-symmetric
 // left to right, never top to bottom (wheels or tracks below, a roof above), so a mesh whose
 // best mirror plane is horizontal lies on its side: the share of its surface voxels (a grid of
 // 1/100 of its largest extent) whose mirror image about a horizontal plane near mid-height is
 // occupied (within one voxel) is 0.21-0.68 for the 23 library vehicles upright and 0.95-1.00 on
 // their side (0.15-0.57 and 0.94-1.00 for 5 Chrono bodies outside the library, 0.19-0.45 and
-// 0.99-1.00 for the thesis's 5 models); >= 0.85 is "on its side". A vehicle whose height is its largest
-// extent stands on its end (upright: height <= 0.65 of the length). Neither changes the size line.
+// 0.99-1.00 for the thesis's 5 models); >= 0.85 is "on its side". A vehicle whose height is its
+// largest extent stands on its end (upright, the height is <= 0.65 of the larger horizontal
+// extent). Neither changes the size line.
 #include <Eigen/Geometry>
 
 #include <algorithm>
