@@ -3,7 +3,7 @@
 # user-modelbase, so other makes pay nothing.
 #
 #   make -f Makefile.experiments user-modelbase MESHES=DIR MODELBASE=DIR -j2
-#        [MESH_UNITS=mm|cm|m] [MESH_UP=y|z] [MESH_CROP_LENGTH=14m]
+#        [MESH_UNITS=mm|cm|m] [MESH_UP=y|z] [MESH_CROP_LENGTH=14m] [MESH_UP_CHECK=refuse|warn|off]
 #
 # Every mesh DIR/<name>.obj|.ply|.stl (names: words of [A-Za-z0-9_.-]) becomes the entry
 #   MODELBASE/<name>.json    the segment graph gmatch matches
@@ -18,7 +18,12 @@
 # `unoccluded` views and share/params/rangetrace.ini, MESH_UNITS/MESH_UP (default m, z up);
 # the crop box and image are rangetrace.ini's unless the mesh (measured by meshsize) overflows
 # them (scripts/usermb-crop.sh; MESH_CROP_LENGTH fixes the length for every mesh); then the
-# 0 mm link, fitvox, cocone, ncut, as fam_chain (mk/families.mk) runs them. Work directory:
+# 0 mm link, fitvox, cocone, ncut, as fam_chain (mk/families.mk) runs them. meshsize also checks
+# that the mesh stands upright as read (`--up-check`; user-modelbase.md, stop 67): a mesh that
+# looks on its side (a y-up mesh read as z up, or the reverse) or on its end stops its entry
+# before the render, with the MESH_UP to give (MESH_UP_CHECK=refuse, the default); =warn renders
+# it anyway and prints meshsize's warning, =off skips the check. The check changes no size.txt.
+# Work directory:
 #   MODELBASE/.work/<name>/{import.txt, size.txt, noise-0/{samples.pcd, mesh.ply,
 #                           segments.json, segments.ply}} and every stage's .log and .time
 # The two scans (scan.pcd, noise-0/scan.pcd, 15-80 MB each) are deleted once read (.SECONDARY,
@@ -32,6 +37,9 @@ MESHES ?=
 MESH_UNITS ?= m
 MESH_UP ?= z
 MESH_CROP_LENGTH ?=
+MESH_UP_CHECK ?= refuse
+$(if $(filter-out refuse warn off,$(MESH_UP_CHECK)),$(error user-modelbase: MESH_UP_CHECK=$(MESH_UP_CHECK): must be refuse, warn or off))
+$(if $(filter 1,$(words $(MESH_UP_CHECK))),,$(error user-modelbase: MESH_UP_CHECK needs one value))
 $(if $(filter-out mm cm m,$(MESH_UNITS)),$(error user-modelbase: MESH_UNITS=$(MESH_UNITS): must be mm, cm or m))
 $(if $(filter-out y z,$(MESH_UP)),$(error user-modelbase: MESH_UP=$(MESH_UP): must be y or z))
 $(if $(filter 2,$(words $(MESH_UNITS) $(MESH_UP))),,$(error user-modelbase: MESH_UNITS and MESH_UP need one value each))
@@ -71,7 +79,8 @@ umb_link = ln -f $(1) $(2) 2>/dev/null || cp $(1) $(2)
 define umb_rule
 $(UMB_WORK)/$(1)/import.txt:
 $(UMB_WORK)/$(1)/size.txt: $(2) $(UMB_WORK)/$(1)/import.txt $(3) $(call tool,meshsize)
-	@$(STAGE) $$@ -- $(BIN)/meshsize --units $(MESH_UNITS) --up $(MESH_UP) -i $(2) -o $$@
+	@$(STAGE) $$@ -- $(BIN)/meshsize --units $(MESH_UNITS) --up $(MESH_UP) --up-check $(MESH_UP_CHECK) \
+	  -i $(2) -o $$@$(if $(filter warn,$(MESH_UP_CHECK)), && { grep -h '^meshsize: warning:' $$@.log >&2 || true; })
 $(UMB_WORK)/$(1)/scan.pcd: $(2) $(UMB_WORK)/$(1)/size.txt $(UMB_WORK)/$(1)/import.txt $(3) $(call tool,rangetrace) \
     $(P)/rangetrace.ini share/scenes/unoccluded.scene scripts/usermb-crop.sh
 	@crop=$$$$(scripts/usermb-crop.sh $(UMB_WORK)/$(1)/size.txt $(P)/rangetrace.ini $(MESH_CROP_LENGTH)) && \
