@@ -7,7 +7,10 @@
 #   (GNU make's word for a file that failed while it remade the included plan), with and without
 #   -j, on a first run and again; `make -q` then answers 1; the same tile made whole then runs
 #   (the plan left by the failure is remade) and `make -q` answers 0;
-# - `make tiles` on a directory holding the cut tile: detect's message, no "No rule".
+# - `make tiles` on a directory holding no tile: make's own message alone, without the progress
+#   count's "the planning dry run (make -n) failed" before it; on a directory holding the cut
+#   tile: detect's message, no "No rule";
+# - a planning dry run that fails on something else (the tools' build) still says so.
 set -uo pipefail
 src=$1 bin=$2
 fail() { echo "FAIL: $*" >&2; exit 1; }
@@ -68,14 +71,24 @@ grep -qx "TILE_CANDS :=" "$tmp/out-pcd/cands.mk" || fail "the plan was not remad
   || fail "make -q tile after the run exits $?, want 0"
 echo "ok: after a cut PCD, the whole one runs and is then up to date"
 
-# make tiles on a directory holding the cut tile: the same.
-mkdir -p "$tmp/bad"
+# make tiles: an empty directory (make's message alone), one with the cut tile.
+mkdir -p "$tmp/none" "$tmp/bad"
+"${mk[@]}" tiles TILES="$tmp/none" MODELBASE="$tmp/mb" OUT="$tmp/out-none/" >"$tmp/none.log" 2>&1
+rc=$?
+[ $rc -eq 2 ] || fail "make tiles on an empty directory exits $rc, want 2"
+[ "$(wc -l <"$tmp/none.log")" -eq 1 ] && grep -q "tiles: TILES=$tmp/none holds no .las, .laz or .pcd file" "$tmp/none.log" \
+  || fail "make tiles on an empty directory does not say so alone: $(cat "$tmp/none.log")"
 cp "$tmp/cut.laz" "$tmp/bad/"
 "${mk[@]}" -j2 tiles TILES="$tmp/bad" MODELBASE="$tmp/mb" OUT="$tmp/out-bad/" >"$tmp/bad.log" 2>&1
 rc=$?
 [ $rc -eq 2 ] || fail "make tiles on a cut tile exits $rc, want 2"
 grep -q "detect: error: $tmp/bad/cut.laz: " "$tmp/bad.log" || fail "make tiles: no detect message: $(tail -3 "$tmp/bad.log")"
-! grep -q "No rule to make target" "$tmp/bad.log" || fail "make tiles: $(grep -m1 'No rule' "$tmp/bad.log")"
-echo "ok: make tiles on a cut tile"
+! grep -q "No rule to make target\|planning dry run" "$tmp/bad.log" || fail "make tiles: $(grep -m1 'No rule\|planning' "$tmp/bad.log")"
+echo "ok: make tiles on an empty directory and on a cut tile"
 
+# A planning dry run that fails on the tools' build still says so, naming its log.
+"${mk[@]}" tile TILE="$tmp/flat.pcd" MODELBASE="$tmp/mb" OUT="$tmp/out-cmake/" CMAKE=false >"$tmp/cmake.log" 2>&1 \
+  && fail "make tile with CMAKE=false succeeded"
+grep -q "^progress: the planning dry run (make -n) failed with status 2; .*(its errors: $tmp/out-cmake/.progress-plan.log)" \
+  "$tmp/cmake.log" || fail "a failing planning dry run was not reported: $(head -3 "$tmp/cmake.log")"
 echo "ok: tile errors"
