@@ -192,6 +192,16 @@ tile_opts_kinds = $(call opts_kinds,$(1),detect plan classify models collect$(if
 # never remakes it, so `make -q` answers without detecting (a stale plan still makes -q answer
 # 1: detections.json depends on it) and `make -n` shows the candidates known so far.
 read_plan = $(if $(dry_run),$(if $(wildcard $(1)),$(eval $(file <$(1)))),$(eval -include $(1)))
+# read_tile_plan(FILE): read_plan for the tile workflow (`make tile`, one tile; `make tiles` and
+# the real tiles run it per tile): a real run includes the plan with `include`, so a detect or a
+# plan step that fails stops make there, with the tool's own error and make's "Error" line. With
+# -include make went on to the goals and GNU make (4.3) then reported the file that had failed as
+# "No rule to make target '<OUT>/cands/index.json', needed by '<OUT>/cands.mk'" below the real
+# error (hardening.md, stop 67). A plan not there yet is first made empty and dated 1970, older
+# than any index.json (so always remade): `include` of a missing file whose remake fails also
+# says "<OUT>/cands.mk: No such file or directory". The experiment's tiles keep read_plan.
+read_tile_plan = $(if $(dry_run),$(call read_plan,$(1)),$(if $(wildcard $(1)),,$(shell mkdir -p $(dir $(1)) && \
+  touch -d @86400 $(1)))$(eval include $(1)))
 
 # tile_rules(KEY, DIR, SCAN, MODELBASE[, DETECT OPTIONS]): detect, the plan and the
 # classification (classes.ply: a hard link to detect's, where the filesystem has them; touched,
@@ -376,7 +386,7 @@ tile_classify := $(TILE_CLASSIFY)
 opts_text_topview = $(call opts_line,raster,$(TOP_RASTER))
 $(call tile_opts_kinds,$(TILE_OUT))
 $(eval $(call tile_rules,TILE,$(TILE_OUT),$(TILE),$(TILE_MB)))
-$(call read_plan,$(TILE_OUT)/cands.mk)
+$(call read_tile_plan,$(TILE_OUT)/cands.mk)
 $(call cand_rules,$(TILE_OUT),TILE,$(TILE_MB),$(notdir $(TILE)),$(TILE_CLASSIFY))
 $(eval $(call tile_collect,TILE,$(TILE_OUT),$(TILE_MB),$(TILE)))
 tile: $(TILE_OUT)/detections.json $(TILE_OUT)/classes.ply $(TILE_OUT)/top.png

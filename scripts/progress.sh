@@ -5,7 +5,8 @@
 #                                (stagerun lines) and estimates their wall seconds, then
 #                                writes STATE ("N M D E T0": stages done, stages known, estimated
 #                                seconds done, estimated seconds known, start time) and
-#                                STATE-est (the estimate of each kind of stage). Prints M.
+#                                STATE-est (the estimate of each kind of stage). Prints M, and
+#                                when the dry run failed a note on a second line (below).
 #   progress.sh extend STATE PLAN KEY...
 #                                detect has revealed a tile's candidates: PLAN is the candidate
 #                                plan `collect --plan` just wrote (<key>_CANDS := c0001 ...), KEY
@@ -34,7 +35,11 @@
 # N should a stage run that no plan counted. A stage line is one whose first command is the
 # stage runner, .../stagerun (tools/stagerun; Makefile.experiments' $(STAGE)) or its wrapper
 # scripts/stage.sh, also after a test (`[ ... ] || build/bin/stagerun ...`). A line
-# "progress-plan-failed STATUS" (Makefile.experiments: the dry run failed) is reported on stderr.
+# "progress-plan-failed STATUS [LOG]" (Makefile.experiments: the dry run failed, its errors in
+# LOG) gives the note "progress: the planning dry run ... failed ..." on plan's second output
+# line, which Makefile.experiments prints on stderr once its own makefiles have been read: when
+# they stop make first (a user's error such as `make tiles TILES=<no tiles>`, which the dry run
+# met too), make's own message stands alone (until stop 67 the note came first).
 #
 # Estimates come from the stages' own history: a stage whose artifact has a .time file from an
 # earlier run is estimated at that run's wall time; any other at the mean of its kind over the
@@ -112,7 +117,7 @@ case "$mode" in
     awk -v mode="$mode" -v state="$state" -v mark="$mark" -v now="$(date +%s.%N)" "$kind_awk"'
       /^built / { print > "/dev/stderr"; next }
       /^progress-plan-failed / {
-        print "progress: the planning dry run (make -n) failed with status " $2 "; the total counts only the stages it showed before that (make -n shows why)" > "/dev/stderr"
+        failed = "progress: the planning dry run (make -n) failed with status " $2 "; the total counts only the stages it showed before that (" ($3 != "" ? "its errors: " $3 : "make -n shows why") ")"
         next
       }
       # .../stagerun (or scripts/stage.sh) [--launch slurm] [--record-failure] ARTIFACT --
@@ -171,6 +176,7 @@ case "$mode" in
           system("mv -f \"" state ".tmp\" \"" state "\"")
         }
         print m
+        if (failed != "") print failed
       }'
     ;;
   extend)

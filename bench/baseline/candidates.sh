@@ -25,7 +25,7 @@ for f in "$@"; do
   for st in "cocone --config share/params/cocone.ini -i $f -o $tmp/mesh.ply" \
             "ncut --config share/params/ncut.ini --seed 1 -i $tmp/mesh.ply -o $tmp/seg.json" \
             "gmatch --config share/params/gmatch.ini -i $tmp/seg.json --modelbase $mb -o $tmp/match.json" \
-            "verify -i $tmp/match.json --points $f --segments $tmp/seg.json --modelbase $mb -o $tmp/verdict.json"; do
+            "verify --config share/params/verify.ini -i $tmp/match.json --points $f --segments $tmp/seg.json --modelbase $mb -o $tmp/verdict.json"; do
     # shellcheck disable=SC2086
     read -r s _ < <(cpu $b/$st) || { canopy=; break; }
     canopy=$(echo "$canopy + $s" | bc)

@@ -259,3 +259,39 @@ TEST_CASE("LAS sensor columns (gps_time, scan_angle, point_source_id) are carrie
   }
   CHECK(matched == samples.size());
 }
+
+TEST_CASE("the INFO line gives the RMS bound's range least first; at 6 points it is --max-rms", "[cli]") {
+  // Until stop 67 the line gave the bound at the most and at the fewest points: with
+  // --min-points 6 (fitvox-tile.ini) "RMS bound 43.54-8.00 mm", a range that read reversed.
+  const fs::path d = tmp_dir();
+  const std::string bin = std::string(CANOPY_BIN_DIR) + "/fitvox";
+  const fs::path scan = d / "bound_scan.pcd", out = d / "bound.pcd", err = d / "bound.err";
+  formats::write_pcd(scene_cloud(0.004), scan.string());
+  auto bound = [&](const std::string& options) {
+    REQUIRE(sh(bin + " " + options + " -i " + scan.string() + " -o " + out.string() + " 2> " + err.string()) ==
+            0);
+    const std::string log = slurp(err);
+    const auto at = log.find("RMS bound ");
+    REQUIRE(at != std::string::npos);
+    return log.substr(at, log.find('\n', at) - at);
+  };
+  double lo = 0, hi = 0;
+  int k_min = 0, k_max = 0;
+  const std::string six = bound("--min-points 6");
+  INFO(six);
+  REQUIRE(std::sscanf(six.c_str(), "RMS bound %lf-%lf mm over voxels of %d-%d points", &lo, &hi, &k_min,
+                      &k_max) == 4);
+  CHECK(lo == 8.00);  // --max-rms: a biquadratic fits 6 points exactly
+  CHECK(hi > lo);
+  CHECK(k_min == 6);
+  CHECK(k_max > 100);  // 20000 points per m² in 128 mm voxels
+  CHECK(six.find("6 points exactly") != std::string::npos);
+  const std::string thesis = bound("--min-points 32");
+  INFO(thesis);
+  REQUIRE(std::sscanf(thesis.c_str(), "RMS bound %lf-%lf mm over voxels of %d-", &lo, &hi, &k_min) == 3);
+  CHECK(lo < hi);
+  CHECK(k_min == 32);
+  CHECK(thesis.find("exactly") == std::string::npos);
+  // no noise term (--noise 0): one value, --max-rms
+  CHECK(bound("--noise 0 --max-rms 5mm").rfind("RMS bound 5.00 mm,", 0) == 0);
+}

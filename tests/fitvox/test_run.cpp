@@ -286,6 +286,26 @@ TEST_CASE("adaptive RMS bound follows the noise; the fixed thesis bound does not
   }
 }
 
+TEST_CASE("the RMS bound's range over the point counts: --max-rms at 6 points, a peak, then down",
+          "[run][adaptive]") {
+  fitvox::Params p;
+  const double sigma = 0.01;
+  // 6 points: a biquadratic fits them exactly, no noise term
+  CHECK(fitvox::rms_bound(p, sigma, 6) == p.max_rms);
+  const auto [least6, greatest6] = fitvox::rms_bound_range(p, sigma, 6, 400);
+  CHECK(least6 == p.max_rms);
+  CHECK(greatest6 > fitvox::rms_bound(p, sigma, 400));  // the peak lies inside the range
+  CHECK(greatest6 == Approx(fitvox::rms_bound(p, sigma, 24)).epsilon(0.01));
+  // from 32 points (the thesis's min-points) the bound only falls
+  const auto [least32, greatest32] = fitvox::rms_bound_range(p, sigma, 32, 400);
+  CHECK(least32 == fitvox::rms_bound(p, sigma, 400));
+  CHECK(greatest32 == fitvox::rms_bound(p, sigma, 32));
+  // no noise: --max-rms throughout
+  const auto [least0, greatest0] = fitvox::rms_bound_range(p, 0, 6, 400);
+  CHECK(least0 == p.max_rms);
+  CHECK(greatest0 == p.max_rms);
+}
+
 TEST_CASE("resampling: the voxel's nearest point or centroid, on the fitted surface", "[run][resample]") {
   common::Rng rng(24);
   fitvox::Scan scan;

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <tuple>
 #include <utility>
 
 #include "canopy/common/error.h"
@@ -184,6 +185,17 @@ double rms_bound(const Params& params, double sigma, std::size_t k) {
   const double dof = static_cast<double>(k - 6);
   const double t = dof / static_cast<double>(k) * (1 + params.noise_margin * std::sqrt(2 / dof));
   return std::sqrt(params.max_rms * params.max_rms + sigma * sigma * t);
+}
+
+std::pair<double, double> rms_bound_range(const Params& params, double sigma, std::size_t k_min,
+                                          std::size_t k_max) {
+  double least = rms_bound(params, sigma, k_min), greatest = least;
+  for (std::size_t k = k_min + 1; k <= k_max; ++k) {
+    const double b = rms_bound(params, sigma, k);
+    least = std::min(least, b);
+    greatest = std::max(greatest, b);
+  }
+  return {least, greatest};
 }
 
 namespace {
@@ -533,6 +545,9 @@ Outputs run(const Params& params, const Inputs& scan) {
   }
   result.stats.rms_bound_at_max_points = rms_bound(params, sigma, largest);
   result.stats.rms_bound_at_min_points = rms_bound(params, sigma, static_cast<std::size_t>(params.min_points));
+  result.stats.max_points = largest;
+  std::tie(result.stats.rms_bound_least, result.stats.rms_bound_greatest) =
+      rms_bound_range(params, sigma, static_cast<std::size_t>(params.min_points), largest);
   result.samples.reserve(result.stats.kept);
   for (const Sample& s : all) {
     if (s.fit.verdict == Verdict::kKept) result.samples.push_back(s);

@@ -16,6 +16,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "canopy/formats/point_cloud.h"
@@ -112,6 +113,12 @@ struct Stats {
   double support = 0;                  // resampling support radius used (m); 0 = no resampling
   double rms_bound_at_max_points = 0;  // RMS bound for the most populated voxel (m)
   double rms_bound_at_min_points = 0;  // RMS bound for a voxel of min_points points (m)
+  // The least and greatest RMS bound over the point counts min_points..the most populated
+  // voxel's (m). Not monotone in k: --max-rms at 6 points (a biquadratic fits 6 points exactly,
+  // no noise term), rising to a peak (near 24 points at --noise-margin 3), then falling toward
+  // sqrt(max_rms² + sigma²).
+  double rms_bound_least = 0, rms_bound_greatest = 0;
+  std::size_t max_points = 0;  // points of the most populated voxel (at least min_points)
 };
 
 struct Result {
@@ -131,6 +138,9 @@ Outputs run(const Params& params, const Inputs& inputs);
 
 // RMS bound for a voxel of k points at noise level sigma (see Params).
 double rms_bound(const Params& params, double sigma, std::size_t k);
+// The least and greatest rms_bound over k = k_min..k_max (k_min <= k_max).
+std::pair<double, double> rms_bound_range(const Params& params, double sigma, std::size_t k_min,
+                                          std::size_t k_max);
 
 // Conversions from / to the on-disk contract (formats/README.md "Scan" and "Samples").
 // scan_from_cloud: requires x y z (DataError naming `name`); sensor_* all or none (missing ->

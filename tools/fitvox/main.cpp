@@ -15,12 +15,23 @@ using namespace canopy;
 
 namespace {
 
-// The fit phase's INFO line: voxel verdicts, noise level and bounds.
+// The fit phase's INFO line: voxel verdicts, noise level and bounds. The RMS bound is given as
+// its least and greatest value over the voxels' point counts (min-points to the most populated
+// voxel's), in that order: it is not monotone in the count (fitvox.h Stats::rms_bound_least), and
+// until stop 67 the line gave the bound at the most and at the fewest points, which read as a
+// reversed range with --min-points 6 ("43.54-8.00 mm"; docs/decisions/hardening.md).
 std::string summary(const fitvox::Params& p, const fitvox::Stats& s) {
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "sigma %s %.2f mm, RMS bound %.2f-%.2f mm, resampling support %.1f mm",
-                p.noise < 0 ? "estimated" : "given", s.sigma * 1e3, s.rms_bound_at_max_points * 1e3,
-                s.rms_bound_at_min_points * 1e3, s.support * 1e3);
+  char bound[200];
+  if (s.rms_bound_greatest - s.rms_bound_least < 0.005e-3) {
+    std::snprintf(bound, sizeof bound, "RMS bound %.2f mm", s.rms_bound_greatest * 1e3);
+  } else {
+    std::snprintf(bound, sizeof bound, "RMS bound %.2f-%.2f mm over voxels of %d-%zu points%s",
+                  s.rms_bound_least * 1e3, s.rms_bound_greatest * 1e3, p.min_points, s.max_points,
+                  p.min_points == 6 ? " (--max-rms at 6 points: a biquadratic fits 6 points exactly)" : "");
+  }
+  char buf[400];
+  std::snprintf(buf, sizeof buf, "sigma %s %.2f mm, %s, resampling support %.1f mm",
+                p.noise < 0 ? "estimated" : "given", s.sigma * 1e3, bound, s.support * 1e3);
   return "kept " + std::to_string(s.kept) + " of " + std::to_string(s.voxels) + " voxels (too few points " +
          std::to_string(s.too_few) + ", undetermined " + std::to_string(s.degenerate) + ", too rough " +
          std::to_string(s.too_rough) + ", plane fallback " + std::to_string(s.plane_fallback) + ", merged " +

@@ -36,7 +36,10 @@ namespace canopy::verify {
 inline constexpr int kMaxIcpIterations = 500;
 
 struct Params {
-  int top_k = 3;                 // gmatch hypotheses checked (rank 1..k)
+  // gmatch hypotheses checked (rank 1..k): 5 since stop 65 (docs/decisions/verify.md §21), the
+  // value of share/params/verify.ini; the built-in default stayed 3 until stop 67, so the shell,
+  // which names no --config, checked fewer than make (docs/decisions/hardening.md).
+  int top_k = 5;
   double min_height = 0.3;       // candidate points below this z are ground (m; cocone's cut)
   double inlier_distance = 0.1;  // point-to-plane distance counted as "on the surface" (m)
   double inlier_radius = 0.25;   // and at most this far from the nearest model sample (m)

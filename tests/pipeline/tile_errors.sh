@@ -1,0 +1,94 @@
+#!/usr/bin/env bash
+# A user's mistakes in the tile workflow end with the real error alone (docs/decisions/
+# hardening.md, stop 67):
+# - `make tile` on a truncated LAZ (a cut copy of share/real/ign_lidarhd_870000_6618000.laz) or a
+#   truncated PCD: detect's message naming the file and make's "Error" line for the detect step,
+#   exit 2, and no "No rule to make target '<OUT>/cands/index.json', needed by '<OUT>/cands.mk'"
+#   (GNU make's word for a file that failed while it remade the included plan), with and without
+#   -j, on a first run and again; `make -q` then answers 1; the same tile made whole then runs
+#   (the plan left by the failure is remade) and `make -q` answers 0;
+# - `make tiles` on a directory holding no tile: make's own message alone, without the progress
+#   count's "the planning dry run (make -n) failed" before it; on a directory holding the cut
+#   tile: detect's message, no "No rule";
+# - a planning dry run that fails on something else (the tools' build) still says so.
+set -uo pipefail
+src=$1 bin=$2
+fail() { echo "FAIL: $*" >&2; exit 1; }
+for t in detect collect topview stagerun; do
+  [ -x "$bin/$t" ] || fail "$bin/$t is not built"
+done
+laz=$src/share/real/ign_lidarhd_870000_6618000.laz
+[ -f "$laz" ] || fail "$laz missing"
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+
+# A build directory of links to the tested binaries (no cmake run, no dependency install).
+mkdir -p "$tmp/build/bin" && touch "$tmp/build/CMakeCache.txt" "$tmp/build/.deps-stamp"
+for t in "$bin"/*; do ln -s "$t" "$tmp/build/bin/"; done
+mk=(make -C "$src" --no-print-directory -f Makefile.experiments BUILD="$tmp/build" CMAKE=true)
+# A modelbase directory (the workflow requires a <model>.json; detect fails before any reads it).
+mkdir -p "$tmp/mb" && echo '{}' >"$tmp/mb/m.json"
+
+# refused LOG TILE: the run failed in detect, saying so once, as it should.
+refused() {
+  local log=$1 tile=$2
+  grep -q "detect: error: $tile: " "$log" || fail "$log: no detect message naming $tile: $(tail -3 "$log")"
+  ! grep -q "No rule to make target" "$log" || fail "$log: $(grep -m1 'No rule' "$log")"
+  ! grep -q "No such file or directory" "$log" || fail "$log: $(grep -m1 'No such file' "$log")"
+  tail -1 "$log" | grep -qE "^make: \*\*\* \[[^]]*: $tmp/out[^]]*/cands/index.json\] Error 1$" \
+    || fail "$log: the last line is not make's Error line of detect: $(tail -1 "$log")"
+}
+
+head -c 300000 "$laz" >"$tmp/cut.laz"
+for j in -j2 ""; do
+  for run in first again; do
+    "${mk[@]}" $j tile TILE="$tmp/cut.laz" MODELBASE="$tmp/mb" OUT="$tmp/out-laz$j/" >"$tmp/laz.log" 2>&1
+    rc=$?
+    [ $rc -eq 2 ] || fail "make tile $j on a cut LAZ ($run run) exits $rc, want 2: $(tail -3 "$tmp/laz.log")"
+    refused "$tmp/laz.log" "$tmp/cut.laz"
+  done
+done
+echo "ok: a cut LAZ ends with detect's message and make's Error line"
+
+# A cut PCD, then the same file whole: the plan the failure left is remade.
+awk 'BEGIN { n = 3600; print "VERSION 0.7\nFIELDS x y z\nSIZE 8 8 8\nTYPE F F F\nCOUNT 1 1 1\nWIDTH " n \
+  "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " n "\nDATA ascii"
+  for (i = 0; i < 60; i++) for (j = 0; j < 60; j++) printf "%.2f %.2f 100\n", 500000 + i / 2, 5400000 + j / 2 }' \
+  >"$tmp/flat.pcd"
+head -c 2000 "$tmp/flat.pcd" >"$tmp/tile.pcd"
+"${mk[@]}" -j2 tile TILE="$tmp/tile.pcd" MODELBASE="$tmp/mb" OUT="$tmp/out-pcd/" >"$tmp/pcd.log" 2>&1
+rc=$?
+[ $rc -eq 2 ] || fail "make tile on a cut PCD exits $rc, want 2: $(tail -3 "$tmp/pcd.log")"
+refused "$tmp/pcd.log" "$tmp/tile.pcd"
+"${mk[@]}" -q tile TILE="$tmp/tile.pcd" MODELBASE="$tmp/mb" OUT="$tmp/out-pcd/" >/dev/null 2>&1
+rc=$?
+[ $rc -eq 1 ] || fail "make -q tile after a failed detect exits $rc, want 1"
+cp "$tmp/flat.pcd" "$tmp/tile.pcd"
+"${mk[@]}" -j2 tile TILE="$tmp/tile.pcd" MODELBASE="$tmp/mb" OUT="$tmp/out-pcd/" >"$tmp/pcd2.log" 2>&1 \
+  || fail "make tile on the whole tile after a failed one failed: $(tail -3 "$tmp/pcd2.log")"
+grep -qx "TILE_CANDS :=" "$tmp/out-pcd/cands.mk" || fail "the plan was not remade: $(cat "$tmp/out-pcd/cands.mk")"
+[ "$(jq '.candidates' "$tmp/out-pcd/detections.json")" = 0 ] || fail "a flat tile has candidates"
+"${mk[@]}" -q tile TILE="$tmp/tile.pcd" MODELBASE="$tmp/mb" OUT="$tmp/out-pcd/" >/dev/null 2>&1 \
+  || fail "make -q tile after the run exits $?, want 0"
+echo "ok: after a cut PCD, the whole one runs and is then up to date"
+
+# make tiles: an empty directory (make's message alone), one with the cut tile.
+mkdir -p "$tmp/none" "$tmp/bad"
+"${mk[@]}" tiles TILES="$tmp/none" MODELBASE="$tmp/mb" OUT="$tmp/out-none/" >"$tmp/none.log" 2>&1
+rc=$?
+[ $rc -eq 2 ] || fail "make tiles on an empty directory exits $rc, want 2"
+[ "$(wc -l <"$tmp/none.log")" -eq 1 ] && grep -q "tiles: TILES=$tmp/none holds no .las, .laz or .pcd file" "$tmp/none.log" \
+  || fail "make tiles on an empty directory does not say so alone: $(cat "$tmp/none.log")"
+cp "$tmp/cut.laz" "$tmp/bad/"
+"${mk[@]}" -j2 tiles TILES="$tmp/bad" MODELBASE="$tmp/mb" OUT="$tmp/out-bad/" >"$tmp/bad.log" 2>&1
+rc=$?
+[ $rc -eq 2 ] || fail "make tiles on a cut tile exits $rc, want 2"
+grep -q "detect: error: $tmp/bad/cut.laz: " "$tmp/bad.log" || fail "make tiles: no detect message: $(tail -3 "$tmp/bad.log")"
+! grep -q "No rule to make target\|planning dry run" "$tmp/bad.log" || fail "make tiles: $(grep -m1 'No rule\|planning' "$tmp/bad.log")"
+echo "ok: make tiles on an empty directory and on a cut tile"
+
+# A planning dry run that fails on the tools' build still says so, naming its log.
+"${mk[@]}" tile TILE="$tmp/flat.pcd" MODELBASE="$tmp/mb" OUT="$tmp/out-cmake/" CMAKE=false >"$tmp/cmake.log" 2>&1 \
+  && fail "make tile with CMAKE=false succeeded"
+grep -q "^progress: the planning dry run (make -n) failed with status 2; .*(its errors: $tmp/out-cmake/.progress-plan.log)" \
+  "$tmp/cmake.log" || fail "a failing planning dry run was not reported: $(head -3 "$tmp/cmake.log")"
+echo "ok: tile errors"
