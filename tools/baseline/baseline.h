@@ -36,16 +36,16 @@ inline constexpr int kMaxIcpIterations = 500;
 inline constexpr int kMaxViews = 64;
 
 struct Params {
-  double min_height = 0.3;        // candidate points below this z are ground (m; cocone's cut)
-  double voxel = 0.2;             // downsampling leaf before the local descriptors (m)
-  double normal_radius = 0.4;     // PCL normal estimation radius of the downsampled clouds (m)
-  double feature_radius = 0.75;   // FPFH radius (m)
-  double inlier = 0.25;           // RANSAC inlier / fitness distance (m)
-  int ransac_iterations = 4000;   // RANSAC iterations per model
-  int icp_iterations = 30;        // ICP iterations per model (0 = none)
-  int views = 8;                  // VFH model views on the ring (plus the whole surface)
-  double view_elevation = 1.309;  // elevation of the ring (rad; 75 deg, the trials' sensor)
-  unsigned seed = 1;              // RANSAC's random draws
+  double min_height = 0.3;       // candidate points below this z are ground (m; cocone's cut)
+  double voxel = 0.2;            // downsampling leaf before the local descriptors (m)
+  double normal_radius = 0.4;    // PCL normal estimation radius of the downsampled clouds (m)
+  double feature_radius = 0.75;  // FPFH radius (m)
+  double inlier = 0.25;          // RANSAC inlier / fitness distance (m)
+  int ransac_iterations = 4000;  // RANSAC iterations per model
+  int icp_iterations = 30;       // ICP iterations per model (0 = none)
+  int views = 8;                 // VFH model views on the ring (plus the whole surface)
+  double view_elevation = 75 * 0.017453292519943295;  // the ring's elevation (rad; 75 deg)
+  unsigned seed = 1;                                  // RANSAC's random draws
   // The "none" rule of a verdict (--verdict): the method's best model is the answer when its
   // score reaches this, else none. Fixed on development tiles (docs/decisions/baseline.md §4).
   double accept_vfh = 0.68;
