@@ -27,7 +27,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     wkt_at = n;
   }
   if (wkt_at < left) {
-    h.vlrs.push_back({(data[0] & 2) ? "liblas" : "LASF_Projection", 2112, std::string(rest + wkt_at, left - wkt_at)});
+    h.vlrs.push_back(
+        {(data[0] & 2) ? "liblas" : "LASF_Projection", 2112, std::string(rest + wkt_at, left - wkt_at)});
   }
   const f::LasCrs c = f::las_crs(h);
   if (c.epsg < 0 || c.epsg > 999999) __builtin_trap();

@@ -1,7 +1,8 @@
-// Writes the seed corpora of the fuzz targets: <out>/pcd, <out>/ply, <out>/json, <out>/laz, <out>/las_crs. Valid
-// files in every encoding our writers produce, and the malformed cases of issue 12 (huge counts,
-// overflowing headers, NUL bytes, ...), built here rather than committed as binaries; for LAZ
-// (which canopy does not write) the small LAZ test files and damaged copies of them.
+// Writes the seed corpora of the fuzz targets: <out>/pcd, <out>/ply, <out>/json, <out>/laz,
+// <out>/las_crs. Valid files in every encoding our writers produce, and the malformed cases of
+// issue 12 (huge counts, overflowing headers, NUL bytes, ...), built here rather than committed
+// as binaries; for LAZ (which canopy does not write) the small LAZ test files and damaged copies
+// of them; for fuzz_las_crs the CRS records of the LAS test files and cut copies.
 // Usage: make_seeds <out dir>
 #include <sys/stat.h>
 
@@ -237,7 +238,8 @@ void las_crs_seeds() {
     put("las_crs", std::string(name) + ".crs", seed);
     put("las_crs", std::string(name) + "-cut.crs", seed.substr(0, seed.size() * 2 / 3));
   }
-  const std::string wkt2 = "PROJCRS[\"RGF93 / Lambert-93\",BASEGEOGCRS[\"RGF93\",ID[\"EPSG\",4171]],ID[\"EPSG\",2154]]";
+  const std::string wkt2 =
+      "PROJCRS[\"RGF93 / Lambert-93\",BASEGEOGCRS[\"RGF93\",ID[\"EPSG\",4171]],ID[\"EPSG\",2154]]";
   put("las_crs", "wkt2.crs", std::string("\1\xff\xff", 3) + wkt2);
   put("las_crs", "bound.crs",
       std::string("\1\xff\xff", 3) + "BOUNDCRS[SOURCECRS[" + wkt2 + "],TARGETCRS[GEOGCRS[\"WGS 84\"]]]");

@@ -258,15 +258,15 @@ std::string serialize_detections(const DetectionsRecord& r) {
            {"crs", text_or_null(r.crs)}};
   if (!r.crs_from.empty()) doc["crs_from"] = r.crs_from;
   doc.update(Json{{"candidates", r.candidates},
-           {"found", r.found},
-           {"none", r.none},
-           {"failed", r.failed},
-           {"by_level", Json{{"model", r.model_level}, {"class", r.class_level}}},
-           {"by_reason", by_reason},
-           {"density", r.density.is_object() ? r.density : Json(nullptr)},
-           {"warning", text_or_null(r.warning)},
-           {"detections", dets},
-           {"rejected", rejected}});
+                  {"found", r.found},
+                  {"none", r.none},
+                  {"failed", r.failed},
+                  {"by_level", Json{{"model", r.model_level}, {"class", r.class_level}}},
+                  {"by_reason", by_reason},
+                  {"density", r.density.is_object() ? r.density : Json(nullptr)},
+                  {"warning", text_or_null(r.warning)},
+                  {"detections", dets},
+                  {"rejected", rejected}});
   return doc.dump(1) + "\n";
 }
 

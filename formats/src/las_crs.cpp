@@ -53,7 +53,8 @@ class WktParser {
     if (depth >= kMaxDepth) fail("nested deeper than " + std::to_string(kMaxDepth) + " levels");
     space();
     Node n;
-    while (i_ < t_.size() && word_char(t_[i_])) n.key += static_cast<char>(std::toupper(static_cast<unsigned char>(t_[i_++])));
+    while (i_ < t_.size() && word_char(t_[i_]))
+      n.key += static_cast<char>(std::toupper(static_cast<unsigned char>(t_[i_++])));
     if (n.key.empty() || !std::isalpha(static_cast<unsigned char>(n.key[0]))) fail("a keyword expected");
     if (n.key.size() > kMaxKeyword) fail("a keyword over " + std::to_string(kMaxKeyword) + " characters");
     space();
@@ -101,8 +102,8 @@ class WktParser {
     }
     // A bare word or number, or a nested node (a word followed by a bracket).
     const std::size_t start = i_;
-    while (i_ < t_.size() && t_[i_] != ',' && t_[i_] != '[' && t_[i_] != '(' && t_[i_] != ']' && t_[i_] != ')' &&
-           t_[i_] != '"')
+    while (i_ < t_.size() && t_[i_] != ',' && t_[i_] != '[' && t_[i_] != '(' && t_[i_] != ']' &&
+           t_[i_] != ')' && t_[i_] != '"')
       ++i_;
     if (i_ < t_.size() && (t_[i_] == '[' || t_[i_] == '(')) {
       i_ = start;
@@ -166,22 +167,26 @@ EpsgCode crs_code(const Node& n, const std::string& path, int depth) {
       break;
     }
     EpsgCode own = authority(n, path);
-    if (own.code == 0) own.problem = "the WKT's " + path + n.key + " names no EPSG code (nor its horizontal part)";
+    if (own.code == 0)
+      own.problem = "the WKT's " + path + n.key + " names no EPSG code (nor its horizontal part)";
     return own;
   }
   if (n.key == "BOUNDCRS" && depth < 2) {
     for (const Node& c : n.children) {
-      if (c.key == "SOURCECRS" && !c.children.empty()) return crs_code(c.children[0], path + "BOUNDCRS's SOURCECRS's ", depth + 1);
+      if (c.key == "SOURCECRS" && !c.children.empty())
+        return crs_code(c.children[0], path + "BOUNDCRS's SOURCECRS's ", depth + 1);
     }
   }
-  return EpsgCode{0, "", "the WKT's outermost node is " + n.key + ", not a projected, geographic or compound CRS"};
+  return EpsgCode{0, "",
+                  "the WKT's outermost node is " + n.key + ", not a projected, geographic or compound CRS"};
 }
 
 }  // namespace
 
 EpsgCode epsg_from_geokeys(const std::string& payload) {
   const std::size_t len = payload.size();
-  if (len < 8) return EpsgCode{0, "", "GeoKey directory of " + std::to_string(len) + " bytes (its header has 8)"};
+  if (len < 8)
+    return EpsgCode{0, "", "GeoKey directory of " + std::to_string(len) + " bytes (its header has 8)"};
   const auto* d = reinterpret_cast<const unsigned char*>(payload.data());
   const std::size_t keys = u16(d + 6);
   if ((len - 8) / 8 < keys) {
@@ -203,7 +208,8 @@ EpsgCode epsg_from_geokeys(const std::string& payload) {
     }
   }
   auto code_of = [](long v, const char* key) -> EpsgCode {
-    if (v >= 1 && v <= 32766) return EpsgCode{static_cast<int>(v), std::string(key) + " " + std::to_string(v), ""};
+    if (v >= 1 && v <= 32766)
+      return EpsgCode{static_cast<int>(v), std::string(key) + " " + std::to_string(v), ""};
     return EpsgCode{0, "",
                     std::string(key) + " is " + std::to_string(v) +
                         (v == 32767 ? " (user-defined): no EPSG code" : " (not an EPSG code)")};
@@ -240,7 +246,8 @@ LasCrs las_crs(const LasHeaderBlock& header) {
   std::vector<Read> reads;
   const bool wkt_first = (header.global_encoding & 16) != 0;
   auto add_keys = [&] {
-    if (keys != nullptr) reads.push_back({epsg_from_geokeys(keys->payload), "LASF_Projection 34735 (GeoTIFF keys)"});
+    if (keys != nullptr)
+      reads.push_back({epsg_from_geokeys(keys->payload), "LASF_Projection 34735 (GeoTIFF keys)"});
   };
   auto add_wkt = [&] {
     if (wkt != nullptr) reads.push_back({epsg_from_wkt(wkt->payload), wkt->user_id + " 2112 (OGC WKT)"});
@@ -263,9 +270,11 @@ LasCrs las_crs(const LasHeaderBlock& header) {
       out.epsg = r.code.code;
       out.from = r.record + ": " + r.code.from;
     } else if (r.code.code != out.epsg) {
-      out.note = "its " + out.from.substr(0, out.from.find(':')) + " gives EPSG:" + std::to_string(out.epsg) + ", its " +
-                 r.record + " EPSG:" + std::to_string(r.code.code) + "; the first taken (" +
-                 (wkt_first ? "the global encoding's WKT bit is set" : "the global encoding's WKT bit is clear") + ")";
+      out.note =
+          "its " + out.from.substr(0, out.from.find(':')) + " gives EPSG:" + std::to_string(out.epsg) +
+          ", its " + r.record + " EPSG:" + std::to_string(r.code.code) + "; the first taken (" +
+          (wkt_first ? "the global encoding's WKT bit is set" : "the global encoding's WKT bit is clear") +
+          ")";
     }
   }
   if (out.epsg == 0) out.note = problems;

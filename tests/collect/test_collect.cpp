@@ -265,8 +265,9 @@ TEST_CASE("collect: the tile's CRS from the index when --crs is not given; --crs
   CHECK(d["crs_from"] == "--crs");
   CHECK(g["crs"]["properties"]["name"] == "urn:ogc:def:crs:EPSG::25832");
   CHECK(g["crs_from"] == "--crs");
-  CHECK(err.find("--crs EPSG:25832 given: used, though the tile's file records EPSG:2154 (LASF_Projection 2112 "
-                 "(OGC WKT): PROJCS AUTHORITY EPSG 2154)") != std::string::npos);
+  CHECK(
+      err.find("--crs EPSG:25832 given: used, though the tile's file records EPSG:2154 (LASF_Projection 2112 "
+               "(OGC WKT): PROJCS AUTHORITY EPSG 2154)") != std::string::npos);
 
   // An index without a CRS: null, no crs_from, no GeoJSON member (as before this change).
   write(index, plain);

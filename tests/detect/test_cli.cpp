@@ -334,7 +334,8 @@ TEST_CASE("detect: LAS tiles") {
     test::write_file((dir / "wkt.las").string(), las_test::with_vlr(las, "LASF_Projection", 2112, wkt));
     test::write_file((dir / "keys.las").string(),
                      las_test::with_vlr(las, "LASF_Projection", 34735, las_test::geokeys({{3072, 28992}})));
-    test::write_file((dir / "bad.las").string(), las_test::with_vlr(las, "LASF_Projection", 2112, wkt.substr(0, 40)));
+    test::write_file((dir / "bad.las").string(),
+                     las_test::with_vlr(las, "LASF_Projection", 2112, wkt.substr(0, 40)));
     formats::write_pcd(box_tile(), (dir / "box.pcd").string());
     auto index_of = [&](const std::string& tile) {
       REQUIRE(test::sh(kBin + "/detect --no-classes -i " + q(dir / tile) + " -o " + q(dir / (tile + ".out")),

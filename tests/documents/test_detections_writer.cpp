@@ -164,8 +164,9 @@ TEST_CASE("detections writer: crs_from follows crs when given, in both files; ab
   CHECK(text.find(" \"crs\": \"EPSG:2154\",\n \"crs_from\": \"tile: LASF_Projection 2112 (OGC WKT): PROJCS "
                   "AUTHORITY EPSG 2154\",\n \"candidates\": 0,") != std::string::npos);
   const std::string geo = documents::serialize_detections_geojson(r);
-  CHECK(geo.find("   \"name\": \"urn:ogc:def:crs:EPSG::2154\"\n  }\n },\n \"crs_from\": \"tile: LASF_Projection "
-                 "2112 (OGC WKT): PROJCS AUTHORITY EPSG 2154\",\n \"features\": []") != std::string::npos);
+  CHECK(geo.find(
+            "   \"name\": \"urn:ogc:def:crs:EPSG::2154\"\n  }\n },\n \"crs_from\": \"tile: LASF_Projection "
+            "2112 (OGC WKT): PROJCS AUTHORITY EPSG 2154\",\n \"features\": []") != std::string::npos);
   r.crs_from.clear();
   CHECK(documents::serialize_detections(r).find("crs_from") == std::string::npos);
   CHECK(documents::serialize_detections_geojson(r).find("crs_from") == std::string::npos);

@@ -82,7 +82,8 @@ TEST_CASE("LAS CRS: the WKT's outermost EPSG authority, never a nested one", "[l
     c = epsg_from_wkt(R"(COMPD_CS["x",PROJCS["UTM_10N",UNIT["m",1]],VERT_CS["v",AUTHORITY["EPSG","5703"]]])");
     CHECK(c.code == 0);
     CHECK_THAT(c.problem, Catch::Contains("COMPD_CS names no EPSG code"));
-    CHECK(epsg_from_wkt(R"(BOUNDCRS[SOURCECRS[PROJCRS["p",ID["EPSG",2056]]],TARGETCRS[GEOGCRS["w"]]])").code == 2056);
+    CHECK(epsg_from_wkt(R"(BOUNDCRS[SOURCECRS[PROJCRS["p",ID["EPSG",2056]]],TARGETCRS[GEOGCRS["w"]]])").code ==
+          2056);
   }
   SECTION("no EPSG code at the top: none, with the reason") {
     // autzen_trim.las: a PROJCS whose only EPSG authority is its unit's (9002).
@@ -99,8 +100,8 @@ TEST_CASE("LAS CRS: the WKT's outermost EPSG authority, never a nested one", "[l
   SECTION("not well-formed: none, never a throw") {
     for (const std::string& bad :
          {kLambert93.substr(0, kLambert93.size() - 1), kLambert93.substr(0, 200), std::string(),
-          std::string("PROJCS"), std::string("PROJCS[\"x\""), std::string("[\"x\"]"), kLambert93 + " PROJCS[]",
-          std::string("PROJCS[\"x\",,]"), std::string(100, '[')}) {
+          std::string("PROJCS"), std::string("PROJCS[\"x\""), std::string("[\"x\"]"),
+          kLambert93 + " PROJCS[]", std::string("PROJCS[\"x\",,]"), std::string(100, '[')}) {
       c = epsg_from_wkt(bad);
       CHECK(c.code == 0);
       CHECK_THAT(c.problem, Catch::StartsWith("the WKT is not well-formed (byte "));
@@ -150,8 +151,8 @@ TEST_CASE("LAS CRS: files written here with a GeoKey directory, a WKT, both, non
     CHECK(c.note.empty());
   }
   SECTION("a GeoKey directory") {
-    const LasCrs c = crs_of_file(with_vlr(las, "LASF_Projection", 34735, geokeys({{1024, 1}, {3072, 25832}})),
-                                 "keys.las");
+    const LasCrs c =
+        crs_of_file(with_vlr(las, "LASF_Projection", 34735, geokeys({{1024, 1}, {3072, 25832}})), "keys.las");
     CHECK(c.code() == "EPSG:25832");
     CHECK(c.from == "LASF_Projection 34735 (GeoTIFF keys): ProjectedCSTypeGeoKey 25832");
     CHECK(c.note.empty());
@@ -163,8 +164,8 @@ TEST_CASE("LAS CRS: files written here with a GeoKey directory, a WKT, both, non
     CHECK(c.from == "LASF_Projection 2112 (OGC WKT): PROJCS AUTHORITY EPSG 2154");
   }
   SECTION("both, disagreeing: the global encoding's WKT bit says which, and a note says so") {
-    const std::string both =
-        with_vlr(with_vlr(las, "LASF_Projection", 34735, geokeys({{3072, 25832}})), "LASF_Projection", 2112, kLambert93);
+    const std::string both = with_vlr(with_vlr(las, "LASF_Projection", 34735, geokeys({{3072, 25832}})),
+                                      "LASF_Projection", 2112, kLambert93);
     LasCrs c = crs_of_file(both, "both.las");  // canopy's writer sets the WKT bit
     CHECK(c.code() == "EPSG:2154");
     CHECK(c.note ==
@@ -183,9 +184,10 @@ TEST_CASE("LAS CRS: files written here with a GeoKey directory, a WKT, both, non
     CHECK(c.from == "liblas 2112 (OGC WKT): PROJCS AUTHORITY EPSG 2154");
   }
   SECTION("only malformed records: none, one line of note, the file still reads") {
-    const LasCrs c = crs_of_file(with_vlr(with_vlr(las, "LASF_Projection", 34735, std::string("\1\0\1\0\0\0\7\0", 8)),
-                                          "LASF_Projection", 2112, kLambert93.substr(0, 300)),
-                                 "bad.las");
+    const LasCrs c =
+        crs_of_file(with_vlr(with_vlr(las, "LASF_Projection", 34735, std::string("\1\0\1\0\0\0\7\0", 8)),
+                             "LASF_Projection", 2112, kLambert93.substr(0, 300)),
+                    "bad.las");
     CHECK(c.epsg == 0);
     CHECK(c.note ==
           "LASF_Projection 2112 (OGC WKT): the WKT is not well-formed (byte 300: GEOGCS not closed (cut "
@@ -250,7 +252,8 @@ TEST_CASE("LAS CRS: the shared development tiles, when present", "[las][crs]") {
   // before its VERT_CS (byte 555): none, and the note says why.
   const LasCrs leica = crs("las14_pf6_classes_over_31.laz");
   CHECK(leica.epsg == 0);
-  CHECK(leica.note ==
-        "LASF_Projection 2112 (OGC WKT): the WKT is not well-formed (byte 555: text after the outermost node)");
+  CHECK(
+      leica.note ==
+      "LASF_Projection 2112 (OGC WKT): the WKT is not well-formed (byte 555: text after the outermost node)");
   CHECK(crs("ahn3_delft_1.laz").epsg == 0);
 }

@@ -249,8 +249,8 @@ int main(int argc, char** argv) {
     collect::Inputs in;
     in.index = collect::parse_index(common::read_file(o.in), o.in);
     if (!p.crs.empty() && !in.index.crs.empty() && p.crs != in.index.crs) {
-      common::log::warn("--crs " + p.crs + " given: used, though the tile's file records " + in.index.crs + " (" +
-                        in.index.crs_from + ")");
+      common::log::warn("--crs " + p.crs + " given: used, though the tile's file records " + in.index.crs +
+                        " (" + in.index.crs_from + ")");
     }
     in.provenance = {"collect", CANOPY_VERSION, tool.parameters(), {o.in}};
     if (o.class_name.find('/') != std::string::npos)

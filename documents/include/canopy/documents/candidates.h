@@ -102,10 +102,10 @@ struct Candidates {
 
 // Reads `text`, the contents of file `name`. Throws common::DataError naming `name`: not JSON,
 // another format, a version other than 1 or 2, a version 2 index with "truth" or "instances"
-// members (ground truth belongs to candtruth's file), a "crs" that is not "EPSG:<1-6 digits>", a margin that is not a finite number >= 0, "candidates"
-// missing or not an array, a candidate without a plain unique id, a transform that is not a rigid 4 x 4 (4
-// rows of 4 numbers, or 16 numbers), length or width missing, not finite or negative, any other member of a
-// wrong type
+// members (ground truth belongs to candtruth's file), a "crs" that is not "EPSG:<1-6 digits>", a margin that
+// is not a finite number >= 0, "candidates" missing or not an array, a candidate without a plain unique id, a
+// transform that is not a rigid 4 x 4 (4 rows of 4 numbers, or 16 numbers), length or width missing, not
+// finite or negative, any other member of a wrong type
 // ("candidates[2].heading must be a finite number").
 Candidates read_candidates(const std::string& text, const std::string& name);
 // The file at `path` (common::read_file), then read_candidates.

@@ -13,8 +13,8 @@ namespace canopy::formats {
 
 // A code read from one record, or why none was.
 struct EpsgCode {
-  int code = 0;         // 1 .. 999999; 0 = none
-  std::string from;     // where in the record, e.g. "ProjectedCSTypeGeoKey 2154", "PROJCS AUTHORITY EPSG 2154"
+  int code = 0;      // 1 .. 999999; 0 = none
+  std::string from;  // where in the record, e.g. "ProjectedCSTypeGeoKey 2154", "PROJCS AUTHORITY EPSG 2154"
   std::string problem;  // why no code, one line ("" when a code was read)
 };
 
@@ -36,7 +36,7 @@ EpsgCode epsg_from_wkt(const std::string& wkt);
 
 // What a file's CRS records say.
 struct LasCrs {
-  int epsg = 0;      // 0 = none read
+  int epsg = 0;  // 0 = none read
   std::string from;  // the record and the place, e.g. "LASF_Projection 2112 (OGC WKT): PROJCS AUTHORITY EPSG 2154"
   // One line when the file records a CRS but gave no code, or when its GeoTIFF keys and WKT
   // give different codes (which one was taken and why); "" otherwise.
