@@ -1,18 +1,21 @@
-// Writes the seed corpora of the fuzz targets: <out>/pcd, <out>/ply, <out>/json, <out>/laz. Valid
-// files in every encoding our writers produce, and the malformed cases of issue 12 (huge counts,
-// overflowing headers, NUL bytes, ...), built here rather than committed as binaries; for LAZ
-// (which canopy does not write) the small LAZ test files and damaged copies of them.
+// Writes the seed corpora of the fuzz targets: <out>/pcd, <out>/ply, <out>/json, <out>/laz,
+// <out>/las_crs. Valid files in every encoding our writers produce, and the malformed cases of
+// issue 12 (huge counts, overflowing headers, NUL bytes, ...), built here rather than committed
+// as binaries; for LAZ (which canopy does not write) the small LAZ test files and damaged copies
+// of them; for fuzz_las_crs the CRS records of the LAS test files and cut copies.
 // Usage: make_seeds <out dir>
 #include <sys/stat.h>
 
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <exception>
 #include <fstream>
 #include <sstream>
 #include <string>
 
 #include "canopy/documents/match_result.h"
+#include "canopy/formats/las.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/ply.h"
 #include "canopy/documents/segment_graph.h"
@@ -203,6 +206,45 @@ void laz_seeds() {
 
 }  // namespace
 
+// fuzz_las_crs's input (its header comment) from a LAS file's CRS records.
+std::string crs_seed(const f::LasHeaderBlock& h) {
+  std::string keys, wkt;
+  bool has_keys = false, liblas = false;
+  for (const f::LasVlr& v : h.vlrs) {
+    if (v.record_id == 34735 && !has_keys) {
+      keys = v.payload;
+      has_keys = true;
+    }
+    if (v.record_id == 2112 && wkt.empty()) {
+      wkt = v.payload;
+      liblas = v.user_id == "liblas";
+    }
+  }
+  const std::uint16_t len = has_keys ? static_cast<std::uint16_t>(keys.size()) : 0xffff;
+  std::string out(1, static_cast<char>(((h.global_encoding & 16) ? 1 : 0) | (liblas ? 2 : 0)));
+  out.append(reinterpret_cast<const char*>(&len), 2);
+  return out + keys + wkt;
+}
+
+// The CRS records (GeoTIFF keys, WKT 1, compound WKT) of tests/las/data, and copies cut short.
+void las_crs_seeds() {
+  const std::string dir = std::string(CANOPY_SOURCE_DIR) + "/tests/las/data/";
+  for (const char* name : {"perm-1.2_0.las", "test1_4.las", "simple.copc.laz", "bad_vlr_count.las"}) {
+    f::LasHeaderBlock h;
+    try {
+      h = f::read_las_header_block(dir + name);
+    } catch (const std::exception&) { continue; }
+    const std::string seed = crs_seed(h);
+    put("las_crs", std::string(name) + ".crs", seed);
+    put("las_crs", std::string(name) + "-cut.crs", seed.substr(0, seed.size() * 2 / 3));
+  }
+  const std::string wkt2 =
+      "PROJCRS[\"RGF93 / Lambert-93\",BASEGEOGCRS[\"RGF93\",ID[\"EPSG\",4171]],ID[\"EPSG\",2154]]";
+  put("las_crs", "wkt2.crs", std::string("\1\xff\xff", 3) + wkt2);
+  put("las_crs", "bound.crs",
+      std::string("\1\xff\xff", 3) + "BOUNDCRS[SOURCECRS[" + wkt2 + "],TARGETCRS[GEOGCRS[\"WGS 84\"]]]");
+}
+
 int main(int argc, char** argv) {
   if (argc != 2) {
     std::fprintf(stderr, "usage: make_seeds <out dir>\n");
@@ -214,5 +256,6 @@ int main(int argc, char** argv) {
   ply_seeds();
   json_seeds();
   laz_seeds();
+  las_crs_seeds();
   return 0;
 }

@@ -60,6 +60,11 @@ Candidates read_members(const Json& j, int version) {
   d.provenance = j.contains("provenance") ? j["provenance"] : Json();
   if (const Json* t = optional(j, "tile")) d.tile = text(*t, "tile");
   d.tile_points = optional_count(j, "tile_points", "");
+  if (const Json* c = optional(j, "crs")) {
+    d.crs = text(*c, "crs");
+    if (!std::regex_match(d.crs, std::regex("EPSG:[0-9]{1,6}"))) throw Malformed("crs must be EPSG:<code>");
+  }
+  if (const Json* f = optional(j, "crs_from")) d.crs_from = text(*f, "crs_from");
   if (const Json* o = optional(j, "origin")) d.origin = point3(*o, "origin");
   if (const Json* c = optional(j, "classes")) d.classes = text(*c, "classes");
   if (const Json* g = optional(j, "ground")) {
@@ -186,14 +191,19 @@ std::string write_candidates(const Candidates& d, const formats::Provenance& pro
          {"version", kCandidatesVersion},
          {"provenance", formats::provenance_json(prov)},
          {"tile", d.tile},
-         {"tile_points", need(d.tile_points, "tile_points")},
-         {"origin", Json::array({finite(origin[0]), finite(origin[1]), finite(origin[2])})},
-         {"classes", d.classes.empty() ? Json(nullptr) : Json(d.classes)},
-         {"ground", Json{{"cell", g.cell},
-                         {"cells", g.cells},
-                         {"ground_cells", g.ground_cells},
-                         {"filled_cells", g.filled_cells},
-                         {"ground_points", g.ground_points}}}};
+         {"tile_points", need(d.tile_points, "tile_points")}};
+  // Only when the tile records a CRS: an index of a tile without one is as before.
+  if (!d.crs.empty()) {
+    j["crs"] = d.crs;
+    j["crs_from"] = d.crs_from;
+  }
+  j["origin"] = Json::array({finite(origin[0]), finite(origin[1]), finite(origin[2])});
+  j["classes"] = d.classes.empty() ? Json(nullptr) : Json(d.classes);
+  j["ground"] = Json{{"cell", g.cell},
+                     {"cells", g.cells},
+                     {"ground_cells", g.ground_cells},
+                     {"filled_cells", g.filled_cells},
+                     {"ground_points", g.ground_points}};
   j["density"] = d.density;
   j["margin"] = finite(need(d.margin, "margin"));
   Json cands = Json::array();

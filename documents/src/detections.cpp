@@ -255,17 +255,18 @@ std::string serialize_detections(const DetectionsRecord& r) {
            {"provenance", formats::provenance_json(r.provenance)},
            {"index", r.index},
            {"tile", r.tile},
-           {"crs", text_or_null(r.crs)},
-           {"candidates", r.candidates},
-           {"found", r.found},
-           {"none", r.none},
-           {"failed", r.failed},
-           {"by_level", Json{{"model", r.model_level}, {"class", r.class_level}}},
-           {"by_reason", by_reason},
-           {"density", r.density.is_object() ? r.density : Json(nullptr)},
-           {"warning", text_or_null(r.warning)},
-           {"detections", dets},
-           {"rejected", rejected}};
+           {"crs", text_or_null(r.crs)}};
+  if (!r.crs_from.empty()) doc["crs_from"] = r.crs_from;
+  doc.update(Json{{"candidates", r.candidates},
+                  {"found", r.found},
+                  {"none", r.none},
+                  {"failed", r.failed},
+                  {"by_level", Json{{"model", r.model_level}, {"class", r.class_level}}},
+                  {"by_reason", by_reason},
+                  {"density", r.density.is_object() ? r.density : Json(nullptr)},
+                  {"warning", text_or_null(r.warning)},
+                  {"detections", dets},
+                  {"rejected", rejected}});
   return doc.dump(1) + "\n";
 }
 
@@ -276,6 +277,7 @@ std::string serialize_detections_geojson(const DetectionsRecord& r) {
   if (r.crs.rfind("EPSG:", 0) == 0) {
     // The GeoJSON 2008 "crs" member (RFC 7946 dropped it; GDAL/QGIS still read it).
     geo["crs"] = Json{{"type", "name"}, {"properties", {{"name", "urn:ogc:def:crs:EPSG::" + r.crs.substr(5)}}}};
+    if (!r.crs_from.empty()) geo["crs_from"] = r.crs_from;
   }
   geo["features"] = features;
   return geo.dump(1) + "\n";

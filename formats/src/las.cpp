@@ -757,6 +757,7 @@ LasHeaderBlock read_las_header_block(const std::string& path, std::size_t max_by
   out.major = b[24];
   out.minor = h.minor;
   out.point_format = h.format;
+  out.global_encoding = get<std::uint16_t>(b + 6);
   for_each_vlr(b, available, h, path, [&](const unsigned char* v, std::size_t len) {
     LasVlr vlr;
     const char* user = reinterpret_cast<const char*>(v + 2);

@@ -237,6 +237,55 @@ TEST_CASE("collect: the GeoJSON parses back, rings are closed and counter-clockw
   CHECK(g2["crs"]["properties"]["name"] == "urn:ogc:def:crs:EPSG::25832");
 }
 
+TEST_CASE("collect: the tile's CRS from the index when --crs is not given; --crs wins; none stays none") {
+  const fs::path dir = tile("tile_crs");
+  const fs::path index = dir / "cands" / "index.json";
+  Json j = read_json(index);
+  const std::string plain = j.dump();
+  j["crs"] = "EPSG:2154";
+  j["crs_from"] = "LASF_Projection 2112 (OGC WKT): PROJCS AUTHORITY EPSG 2154";
+  write(index, j.dump());
+  std::string err;
+  const std::string base = bin() + " -i " + index.string() + " -o " + (dir / "detections.json").string() +
+                           " --geojson " + (dir / "d.geojson").string();
+  REQUIRE(test::sh(base, dir / "err.txt", &err) == 0);
+  Json d = read_json(dir / "detections.json"), g = read_json(dir / "d.geojson");
+  CHECK(d["crs"] == "EPSG:2154");
+  CHECK(d["crs_from"] == "tile: LASF_Projection 2112 (OGC WKT): PROJCS AUTHORITY EPSG 2154");
+  CHECK(g["crs"]["type"] == "name");
+  CHECK(g["crs"]["properties"]["name"] == "urn:ogc:def:crs:EPSG::2154");
+  CHECK(g["crs_from"] == d["crs_from"]);
+  CHECK(err.find("warning") == std::string::npos);
+
+  // An explicit --crs wins over the tile's record; the log says they differ.
+  REQUIRE(test::sh(base + " --crs EPSG:25832", dir / "err.txt", &err) == 0);
+  d = read_json(dir / "detections.json");
+  g = read_json(dir / "d.geojson");
+  CHECK(d["crs"] == "EPSG:25832");
+  CHECK(d["crs_from"] == "--crs");
+  CHECK(g["crs"]["properties"]["name"] == "urn:ogc:def:crs:EPSG::25832");
+  CHECK(g["crs_from"] == "--crs");
+  CHECK(
+      err.find("--crs EPSG:25832 given: used, though the tile's file records EPSG:2154 (LASF_Projection 2112 "
+               "(OGC WKT): PROJCS AUTHORITY EPSG 2154)") != std::string::npos);
+
+  // An index without a CRS: null, no crs_from, no GeoJSON member (as before this change).
+  write(index, plain);
+  REQUIRE(test::sh(base, dir / "err.txt", &err) == 0);
+  d = read_json(dir / "detections.json");
+  g = read_json(dir / "d.geojson");
+  CHECK(d["crs"].is_null());
+  CHECK_FALSE(d.contains("crs_from"));
+  CHECK_FALSE(g.contains("crs"));
+  CHECK_FALSE(g.contains("crs_from"));
+
+  // An index whose crs is not EPSG:<code> is refused, naming the member.
+  j["crs"] = "Lambert-93";
+  write(index, j.dump());
+  CHECK(test::sh(base, dir / "err.txt", &err) == 1);
+  CHECK(err.find("crs must be EPSG:<code>") != std::string::npos);
+}
+
 TEST_CASE("collect: an empty verdict is a failed candidate, counted, not a detection") {
   const fs::path dir = tile("failed");
   write(dir / "cands" / "c0003" / "verdict.json", "");

@@ -13,12 +13,14 @@
 
 #include "canopy/common/math.h"
 #include "canopy/formats/labels.h"
+#include "canopy/formats/las.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/points_io.h"
 #include "canopy/formats/ply.h"
 #include "canopy/formats/trajectory.h"
 #include "support/cli.h"
 #include "fixtures/detect_synth_tile.h"
+#include "las/las_bytes.h"
 
 using namespace canopy;
 namespace fs = std::filesystem;
@@ -323,6 +325,45 @@ TEST_CASE("detect: LAS tiles") {
                    dir / "err.txt", &err) <= 1);
     CHECK(err.find("feet.las: its georeferencing gives the coordinates in foot (0.3048 m) (GeoTIFF key "
                    "ProjLinearUnits = 9002)") != std::string::npos);
+  }
+  SECTION("the CRS the LAS file records goes into the index; a tile without one has no crs member") {
+    const std::string las = formats::serialize_las(box_tile(), "box");
+    const std::string wkt = R"(PROJCS["RGF93 v1 / Lambert-93",GEOGCS["RGF93 v1",AUTHORITY["EPSG","4171"]],)"
+                            R"(UNIT["metre",1,AUTHORITY["EPSG","9001"]],AUTHORITY["EPSG","2154"]])";
+    test::write_file((dir / "none.las").string(), las);
+    test::write_file((dir / "wkt.las").string(), las_test::with_vlr(las, "LASF_Projection", 2112, wkt));
+    test::write_file((dir / "keys.las").string(),
+                     las_test::with_vlr(las, "LASF_Projection", 34735, las_test::geokeys({{3072, 28992}})));
+    test::write_file((dir / "bad.las").string(),
+                     las_test::with_vlr(las, "LASF_Projection", 2112, wkt.substr(0, 40)));
+    formats::write_pcd(box_tile(), (dir / "box.pcd").string());
+    auto index_of = [&](const std::string& tile) {
+      REQUIRE(test::sh(kBin + "/detect --no-classes -i " + q(dir / tile) + " -o " + q(dir / (tile + ".out")),
+                       dir / "err.txt", &err) == 0);
+      return read_json(dir / (tile + ".out") / "index.json");
+    };
+    Json j = index_of("wkt.las");
+    CHECK(j["crs"] == "EPSG:2154");
+    CHECK(j["crs_from"] == "LASF_Projection 2112 (OGC WKT): PROJCS AUTHORITY EPSG 2154");
+    CHECK(j["candidates"].size() == 1);
+    CHECK(err.find("wkt.las: CRS EPSG:2154 (LASF_Projection 2112 (OGC WKT): PROJCS AUTHORITY EPSG 2154)") !=
+          std::string::npos);
+    j = index_of("keys.las");
+    CHECK(j["crs"] == "EPSG:28992");
+    CHECK(j["crs_from"] == "LASF_Projection 34735 (GeoTIFF keys): ProjectedCSTypeGeoKey 28992");
+    for (const char* tile : {"none.las", "box.pcd"}) {
+      j = index_of(tile);
+      CHECK_FALSE(j.contains("crs"));
+      CHECK_FALSE(j.contains("crs_from"));
+      CHECK(err.find("CRS") == std::string::npos);
+    }
+    // A WKT cut short: no CRS, one warning line, the tile detected as the others.
+    j = index_of("bad.las");
+    CHECK_FALSE(j.contains("crs"));
+    CHECK(j["candidates"].size() == 1);
+    CHECK(err.find("bad.las: LASF_Projection 2112 (OGC WKT): the WKT is not well-formed (byte 40: ") !=
+          std::string::npos);
+    CHECK(err.find("no CRS in the index (give collect --crs, make CRS=EPSG:<code>)") != std::string::npos);
   }
 }
 

@@ -201,6 +201,26 @@ TEST_CASE("candidates: a hand-written index reads to its values and writes back 
   CHECK(documents::write_candidates(d, provenance()) == kIndex);
 }
 
+TEST_CASE("candidates: the tile's CRS, written after tile_points only when the tile records one") {
+  documents::Candidates d = documents::read_candidates(kIndex, "index.json");
+  CHECK(d.crs.empty());
+  CHECK(d.crs_from.empty());
+  d.crs = "EPSG:2154";
+  d.crs_from = "LASF_Projection 2112 (OGC WKT): PROJCS AUTHORITY EPSG 2154";
+  const std::string text = documents::write_candidates(d, provenance());
+  const std::string members =
+      " \"tile_points\": 9883,\n \"crs\": \"EPSG:2154\",\n"
+      " \"crs_from\": \"LASF_Projection 2112 (OGC WKT): PROJCS AUTHORITY EPSG 2154\",\n \"origin\": [";
+  CHECK(text.find(members) != std::string::npos);
+  const documents::Candidates back = documents::read_candidates(text, "index.json");
+  CHECK(back.crs == "EPSG:2154");
+  CHECK(back.crs_from == d.crs_from);
+  CHECK(documents::write_candidates(back, provenance()) == text);
+  // Without a CRS: the index as before, byte for byte.
+  d.crs.clear();
+  CHECK(documents::write_candidates(d, provenance()) == kIndex);
+}
+
 TEST_CASE("candidates: a version 1 index reads, its ground truth dropped unread") {
   const documents::Candidates d = documents::read_candidates(version1().dump(1), "old/index.json");
   REQUIRE(d.candidates.size() == 2);
@@ -281,6 +301,11 @@ TEST_CASE("candidates: refusals name the file and the problem") {
   CHECK_THAT(refusal(truth), Catch::Contains("candidates[0].truth: a version 2 index holds no ground truth"));
   CHECK_THAT(refusal(instances), Catch::Contains("instances: a version 2 index holds no ground truth"));
   CHECK_THAT(refusal(margin), Catch::Contains("margin must be >= 0"));
+  Json crs = good;
+  crs["crs"] = "Lambert-93";
+  CHECK_THAT(refusal(crs), Catch::Contains("crs must be EPSG:<code>"));
+  crs["crs"] = 2154;
+  CHECK_THAT(refusal(crs), Catch::Contains("crs"));
   // A version 1 index's truth is not read at all, so not checked either.
   CHECK(refusal(old_truth).empty());
   CHECK_THROWS_AS(documents::read_candidates("{\"format\": \"canopy.candidates\"", "x.json"),

@@ -158,3 +158,25 @@ TEST_CASE("detections writer: a hand-placed detection is read back by the one re
   CHECK_THROWS_WITH(documents::serialize_detections(r),
                     Catch::Contains("collect: refusing to write a non-finite number"));
 }
+
+TEST_CASE("detections writer: crs_from follows crs when given, in both files; absent otherwise") {
+  documents::DetectionsRecord r;
+  r.provenance = {"collect", "9.9", {}, {"idx.json"}};
+  r.index = "idx.json";
+  r.tile = "tile.laz";
+  r.crs = "EPSG:2154";
+  r.crs_from = "tile: LASF_Projection 2112 (OGC WKT): PROJCS AUTHORITY EPSG 2154";
+  const std::string text = documents::serialize_detections(r);
+  CHECK(text.find(" \"crs\": \"EPSG:2154\",\n \"crs_from\": \"tile: LASF_Projection 2112 (OGC WKT): PROJCS "
+                  "AUTHORITY EPSG 2154\",\n \"candidates\": 0,") != std::string::npos);
+  const std::string geo = documents::serialize_detections_geojson(r);
+  CHECK(geo.find(
+            "   \"name\": \"urn:ogc:def:crs:EPSG::2154\"\n  }\n },\n \"crs_from\": \"tile: LASF_Projection "
+            "2112 (OGC WKT): PROJCS AUTHORITY EPSG 2154\",\n \"features\": []") != std::string::npos);
+  r.crs_from.clear();
+  CHECK(documents::serialize_detections(r).find("crs_from") == std::string::npos);
+  CHECK(documents::serialize_detections_geojson(r).find("crs_from") == std::string::npos);
+  r.crs.clear();
+  r.crs_from = "--crs";  // no CRS: no crs member in the GeoJSON, so no crs_from either
+  CHECK(documents::serialize_detections_geojson(r).find("crs") == std::string::npos);
+}

@@ -2,11 +2,15 @@
 // little-endian fields read from / written into those bytes.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <initializer_list>
 #include <sstream>
 #include <string>
+#include <utility>
 
 namespace canopy::las_test {
 
@@ -36,6 +40,39 @@ T get(const std::string& b, std::size_t at) {
 template <typename T>
 void set(std::string* b, std::size_t at, T v) {
   std::memcpy(&(*b)[at], &v, sizeof v);
+}
+
+// `las` (a LAS file's bytes, no EVLRs) with one more VLR at the end of its VLRs: the VLR count
+// and the point data offset moved on, the points unchanged.
+inline std::string with_vlr(std::string las, const std::string& user_id, std::uint16_t record_id,
+                            const std::string& payload) {
+  const auto offset = get<std::uint32_t>(las, 96);
+  std::string v(54, '\0');
+  std::memcpy(&v[2], user_id.data(), std::min<std::size_t>(user_id.size(), 16));
+  set<std::uint16_t>(&v, 18, record_id);
+  set<std::uint16_t>(&v, 20, static_cast<std::uint16_t>(payload.size()));
+  las.insert(offset, v + payload);
+  set<std::uint32_t>(&las, 96, static_cast<std::uint32_t>(offset + v.size() + payload.size()));
+  set<std::uint32_t>(&las, 100, get<std::uint32_t>(las, 100) + 1);
+  return las;
+}
+
+// A GeoTIFF GeoKeyDirectoryTag payload: header 1, 1, 0, key count, then the keys, each
+// {key id, location 0, count 1, value}.
+inline std::string geokeys(std::initializer_list<std::pair<std::uint16_t, std::uint16_t>> keys) {
+  std::string out;
+  auto put = [&](std::uint16_t v) { out.append(reinterpret_cast<const char*>(&v), 2); };
+  put(1);
+  put(1);
+  put(0);
+  put(static_cast<std::uint16_t>(keys.size()));
+  for (const auto& [id, value] : keys) {
+    put(id);
+    put(0);
+    put(1);
+    put(value);
+  }
+  return out;
 }
 
 }  // namespace canopy::las_test

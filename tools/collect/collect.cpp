@@ -54,6 +54,8 @@ Index parse_index(const std::string& text, const std::string& name) {
   Index index;
   index.name = name;
   index.tile = doc.tile;
+  index.crs = doc.crs;
+  index.crs_from = doc.crs_from;
   for (const documents::Candidate& d : doc.candidates) {
     index.candidates.push_back(Candidate{d.id, d.transform, d.length, d.width, d.object_density()});
   }
@@ -636,7 +638,14 @@ Outputs collect(const Index& index, const std::vector<Answers>& answers, const P
   doc.provenance = provenance;
   doc.index = index.name;
   doc.tile = index.tile;
-  doc.crs = params.crs;
+  // --crs wins; else the CRS the tile's file records (detect put it in the index); else none.
+  if (!params.crs.empty()) {
+    doc.crs = params.crs;
+    doc.crs_from = "--crs";
+  } else if (!index.crs.empty()) {
+    doc.crs = index.crs;
+    doc.crs_from = "tile: " + index.crs_from;
+  }
   doc.candidates = index.candidates.size();
   doc.found = out.found;
   doc.none = out.none;

@@ -29,6 +29,8 @@ struct Candidate {
 struct Index {
   std::string name;  // file, as given
   std::string tile;  // the tile detect read, as it recorded it
+  // The tile's CRS as detect read it from the file ("EPSG:<code>") and where; "" when none.
+  std::string crs, crs_from;
   std::vector<Candidate> candidates;
   decltype(documents::Candidates::density) density;  // the index's "density" object (detect.md §7), or null
 };
@@ -107,7 +109,7 @@ inline constexpr const char* kCalibrationKeys[] = {
 double calibrated(const PlattMap& map, double p);
 
 struct Params {
-  std::string crs;                        // "EPSG:<code>" or ""
+  std::string crs;                        // --crs, "EPSG:<code>"; "" = the index's (the tile's), if any
   std::map<std::string, ModelBox> boxes;  // by model name; a model without one uses the candidate footprint
   // The size-only ablation (issue 29; docs/decisions/scene-experiment.md): no model chain and
   // none of classify's decisions; every candidate classify measured (its "measured" rectangle:

@@ -90,7 +90,8 @@ void bind(common::Tool& tool, Options& o) {
   tool.add_output("--geojson", &o.geojson, "also write the detections as a GeoJSON FeatureCollection");
   tool.add("--crs", &o.crs,
            "coordinate reference system of the tile, EPSG:<code>: recorded in detections.json "
-           "and as the GeoJSON \"crs\" member (omitted without it)");
+           "and as the GeoJSON \"crs\" member; without it, the CRS detect read from the tile's "
+           "LAS/LAZ CRS record (the index's \"crs\"), else none (no member)");
   tool.add("--modelbase", &o.modelbase,
            "directory of <model>.pcd surfaces: footprints are the posed model's "
            "top-view box (else the candidate's footprint)");
@@ -247,6 +248,10 @@ int main(int argc, char** argv) {
     if (!o.geojson.empty()) outputs.add(o.geojson, "--geojson");
     collect::Inputs in;
     in.index = collect::parse_index(common::read_file(o.in), o.in);
+    if (!p.crs.empty() && !in.index.crs.empty() && p.crs != in.index.crs) {
+      common::log::warn("--crs " + p.crs + " given: used, though the tile's file records " + in.index.crs +
+                        " (" + in.index.crs_from + ")");
+    }
     in.provenance = {"collect", CANOPY_VERSION, tool.parameters(), {o.in}};
     if (o.class_name.find('/') != std::string::npos)
       throw common::UsageError("--class-name must be a file name");

@@ -6,6 +6,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
 #include "canopy/common/units.h"
+#include "canopy/formats/las_crs.h"
 #include "canopy/formats/points_io.h"
 #include "canopy/formats/provenance.h"
 #include "canopy/formats/sensor_direction.h"
@@ -187,6 +188,18 @@ void warn_las_units(const std::string& in, const std::string& name) {
                     "taken in " + unit->name + ": convert the tile to metres first");
 }
 
+// The CRS the tile's LAS/LAZ file records (index.json's "crs"; collect's GeoJSON carries it),
+// said in one line; a record without an EPSG code, or two that disagree, in one warning.
+formats::LasCrs tile_crs(const std::string& in, const std::string& name) {
+  formats::LasCrs crs = formats::read_las_crs(in);
+  if (crs.epsg > 0) common::log::info(name + ": CRS " + crs.code() + " (" + crs.from + ")");
+  if (!crs.note.empty()) {
+    common::log::warn(name + ": " + crs.note +
+                      (crs.epsg > 0 ? "" : ": no CRS in the index (give collect --crs, make CRS=EPSG:<code>)"));
+  }
+  return crs;
+}
+
 // The detect phase's INFO line.
 std::string summary(const detect::Result& r) {
   const detect::Stats& s = r.stats;
@@ -238,8 +251,11 @@ int main(int argc, char** argv) {
     read.done(std::to_string(tile.size()) + " points");
     if (!cli.trajectory.empty()) add_sensor_directions(&tile, cli.trajectory, name);
     warn_las_units(cli.in, name);
+    const formats::LasCrs crs = tile_crs(cli.in, name);
     common::log::Phase work("detect");
-    const detect::Result r = detect::run(p, {&tile, name});
+    detect::Result r = detect::run(p, {&tile, name});
+    r.crs = crs.code();
+    r.crs_from = crs.from;
     work.done(summary(r));
     const formats::Provenance prov{"detect", CANOPY_VERSION, tool.parameters(), {cli.in}};
     common::log::Phase write("write");

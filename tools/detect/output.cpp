@@ -477,6 +477,8 @@ documents::Candidates index_document(const Result& r, const Params& p, const std
   documents::Candidates d;
   d.tile = tile;
   d.tile_points = static_cast<std::int64_t>(r.stats.points);
+  d.crs = r.crs;
+  d.crs_from = r.crs_from;
   d.origin = {r.origin.x(), r.origin.y(), r.origin.z()};
   d.classes = classes;
   d.ground = documents::GroundGrid{

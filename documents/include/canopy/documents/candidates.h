@@ -70,6 +70,10 @@ struct Candidates {
   nlohmann::ordered_json provenance;  // as written (reading); null when absent
   std::string tile;                   // the tile detect read, as given ("" when absent)
   std::optional<std::int64_t> tile_points;
+  // The tile's CRS as its file records it ("EPSG:<code>", detect reads LAS/LAZ CRS records:
+  // formats/las_crs.h) and where it was read; "" when the file records none (PCD, PLY, a LAS
+  // without a CRS record or without an EPSG code in it): then the index has neither member.
+  std::string crs, crs_from;
   std::optional<std::array<double, 3>> origin;
   std::string classes;  // classes.ply's name, "" for null / absent
   std::optional<GroundGrid> ground;
@@ -98,10 +102,10 @@ struct Candidates {
 
 // Reads `text`, the contents of file `name`. Throws common::DataError naming `name`: not JSON,
 // another format, a version other than 1 or 2, a version 2 index with "truth" or "instances"
-// members (ground truth belongs to candtruth's file), a margin that is not a finite number >= 0, "candidates"
-// missing or not an array, a candidate without a plain unique id, a transform that is not a rigid 4 x 4 (4
-// rows of 4 numbers, or 16 numbers), length or width missing, not finite or negative, any other member of a
-// wrong type
+// members (ground truth belongs to candtruth's file), a "crs" that is not "EPSG:<1-6 digits>", a margin that
+// is not a finite number >= 0, "candidates" missing or not an array, a candidate without a plain unique id, a
+// transform that is not a rigid 4 x 4 (4 rows of 4 numbers, or 16 numbers), length or width missing, not
+// finite or negative, any other member of a wrong type
 // ("candidates[2].heading must be a finite number").
 Candidates read_candidates(const std::string& text, const std::string& name);
 // The file at `path` (common::read_file), then read_candidates.

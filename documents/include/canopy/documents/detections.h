@@ -104,6 +104,9 @@ struct RejectionRecord {
 struct DetectionsRecord {
   formats::Provenance provenance;
   std::string index, tile, crs;  // crs "" = null
+  // Where the CRS came from ("--crs", or "tile: " and the index's crs_from); written after "crs"
+  // (and as the GeoJSON's "crs_from") only when not "": a document without it is as before.
+  std::string crs_from;
   std::size_t candidates = 0;
   int found = 0, none = 0, failed = 0, model_level = 0, class_level = 0;
   std::map<std::string, int> by_reason;
@@ -118,7 +121,8 @@ struct DetectionsRecord {
 // matrix, footprint corner, size, density or ambiguity.
 std::string serialize_detections(const DetectionsRecord& record);
 // The detections as a GeoJSON FeatureCollection: one Feature per detection, its footprint
-// polygon (closed ring) and properties; the 2008 "crs" member when crs is EPSG:<code>.
+// polygon (closed ring) and properties; the 2008 "crs" member when crs is EPSG:<code>, and
+// then "crs_from" (a foreign member, RFC 7946 §6.1) when crs_from is not "".
 std::string serialize_detections_geojson(const DetectionsRecord& record);
 
 // The tile's density for messages: the density object's "ground" when a number, else "all".

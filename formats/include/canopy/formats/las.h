@@ -51,6 +51,7 @@ struct LasVlr {
 // A LAS file's header block: its version, point data format and VLRs.
 struct LasHeaderBlock {
   int major = 0, minor = 0, point_format = 0;  // a LAZ file's without LASzip's compression bits
+  std::uint16_t global_encoding = 0;           // bit 4 (16): the CRS is WKT, not GeoTIFF keys
   std::vector<LasVlr> vlrs;
 };
 

@@ -1,0 +1,41 @@
+// libFuzzer target: the EPSG code of a LAS file's CRS records (formats/las_crs.h) on arbitrary
+// GeoKey directories and WKT texts. Input: a flags byte (bit 0: the global encoding's WKT bit;
+// bit 1: the WKT under libLAS's user id), the GeoKey payload's length (2 bytes, little-endian;
+// 0xffff = no GeoKey record), that payload, then the WKT (empty = no WKT record). A throw, a
+// crash, a sanitizer report, or a result that breaks las_crs's promises (a code of 1 to 6
+// digits with its place, else none; a note of one line) is a finding. Seeds: make_seeds's
+// las_crs/ (the records of tests/las/data and damaged copies).
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+#include "canopy/formats/las.h"
+#include "canopy/formats/las_crs.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  if (size < 3) return 0;
+  namespace f = canopy::formats;
+  f::LasHeaderBlock h;
+  h.global_encoding = (data[0] & 1) ? 16 : 0;
+  const std::size_t keys = std::size_t(data[1]) | std::size_t(data[2]) << 8;
+  const char* rest = reinterpret_cast<const char*>(data + 3);
+  const std::size_t left = size - 3;
+  std::size_t wkt_at = 0;
+  if (keys != 0xffff) {
+    const std::size_t n = keys < left ? keys : left;
+    h.vlrs.push_back({"LASF_Projection", 34735, std::string(rest, n)});
+    wkt_at = n;
+  }
+  if (wkt_at < left) {
+    h.vlrs.push_back(
+        {(data[0] & 2) ? "liblas" : "LASF_Projection", 2112, std::string(rest + wkt_at, left - wkt_at)});
+  }
+  const f::LasCrs c = f::las_crs(h);
+  if (c.epsg < 0 || c.epsg > 999999) __builtin_trap();
+  if ((c.epsg > 0) != !c.from.empty() || (c.epsg > 0) != !c.code().empty()) __builtin_trap();
+  if (c.note.find('\n') != std::string::npos || c.note.size() > 1000) __builtin_trap();
+  // The record parsers alone, on the same bytes.
+  f::epsg_from_wkt(std::string(rest, left));
+  f::epsg_from_geokeys(std::string(rest, left));
+  return 0;
+}

@@ -1,0 +1,259 @@
+// formats/las_crs.h: the EPSG code of a LAS/LAZ file's CRS records (GeoTIFF keys, OGC WKT),
+// checked on records written here, on the LAS test files and on real tiles whose records were
+// read by hand (python3 struct, stop 67: docs/decisions/hardening.md).
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <string>
+
+#include "canopy/formats/las.h"
+#include "canopy/formats/las_crs.h"
+#include "canopy/formats/point_cloud.h"
+#include "las_bytes.h"
+#include "support/cli.h"
+
+using namespace canopy::formats;
+using namespace canopy::las_test;
+namespace fs = std::filesystem;
+
+namespace {
+
+// Lambert-93 as IGN's LiDAR HD tiles write it (WKT 1, shortened: the nodes that matter kept).
+const std::string kLambert93 =
+    R"(PROJCS["RGF93 v1 / Lambert-93",GEOGCS["RGF93 v1",DATUM["Reseau_Geodesique_Francais_1993_v1",)"
+    R"(SPHEROID["GRS 1980",6378137,298.257222101,AUTHORITY["EPSG","7019"]],AUTHORITY["EPSG","6171"]],)"
+    R"(PRIMEM["Greenwich",0,AUTHORITY["EPSG","8901"]],UNIT["degree",0.0174532925199433,AUTHORITY["EPSG","9122"]],)"
+    R"(AUTHORITY["EPSG","4171"]],PROJECTION["Lambert_Conformal_Conic_2SP"],PARAMETER["false_easting",700000],)"
+    R"(UNIT["metre",1,AUTHORITY["EPSG","9001"]],AXIS["Easting",EAST],AXIS["Northing",NORTH],AUTHORITY["EPSG","2154"]])";
+
+// A small tile as canopy writes it (LAS 1.4, point format 6, WKT bit set, no VLR).
+std::string small_las() {
+  PointCloud c;
+  auto& x = c.add("x", kFloat64);
+  auto& y = c.add("y", kFloat64);
+  auto& z = c.add("z", kFloat64);
+  for (int i = 0; i < 10; ++i) {
+    x.push_back(870000 + i);
+    y.push_back(6618000 + 2 * i);
+    z.push_back(100 + 0.1 * i);
+  }
+  c.resize(10);
+  return serialize_las(c, "small");
+}
+
+LasCrs crs_of_file(const std::string& bytes, const std::string& name) {
+  const fs::path dir = canopy::test::fresh_dir("las", "crs");
+  const std::string p = (dir / name).string();
+  canopy::test::write_file(p, bytes);
+  // The file still reads as a point cloud: the records do not get in the reader's way.
+  CHECK(read_las(p).size() == 10);
+  return read_las_crs(p);
+}
+
+}  // namespace
+
+TEST_CASE("LAS CRS: the WKT's outermost EPSG authority, never a nested one", "[las][crs]") {
+  EpsgCode c = epsg_from_wkt(kLambert93);
+  CHECK(c.code == 2154);
+  CHECK(c.from == "PROJCS AUTHORITY EPSG 2154");
+  // Geographic; WKT 2 with a numeric ID; keywords in any case; ( ) brackets; a NUL ends the text.
+  CHECK(epsg_from_wkt(R"(GEOGCS["WGS 84",DATUM["WGS_1984",SPHEROID["WGS 84",6378137,298.257223563]],)"
+                      R"(AUTHORITY["EPSG","4326"]])")
+            .code == 4326);
+  c = epsg_from_wkt(R"(PROJCRS["RGF93 / Lambert-93",BASEGEOGCRS["RGF93",ID["EPSG",4171]],)"
+                    R"(CS[Cartesian,2],LENGTHUNIT["metre",1,ID["EPSG",9001]],ID["EPSG",2154]])");
+  CHECK(c.code == 2154);
+  CHECK(c.from == "PROJCRS ID EPSG 2154");
+  const char lower[] = "projcs(\"x\", authority(\"epsg\", \"32633\"))\0garbage";
+  CHECK(epsg_from_wkt(std::string(lower, sizeof lower - 1)).code == 32633);
+  // A quoted name holding brackets, commas and a doubled quote (WKT 2) does not confuse it.
+  CHECK(epsg_from_wkt(R"(PROJCS["a [b], ""c"" ]",AUTHORITY["EPSG","25832"]])").code == 25832);
+
+  SECTION("compound: the horizontal part's code, else the compound's") {
+    // simple.copc.laz's WKT, shortened: its last AUTHORITY (6360) is the vertical CRS's.
+    const std::string compd = R"w(COMPD_CS["NAD83 / Oregon LCC (m) + NAVD88 height (ftUS)",)w"
+                              R"w(PROJCS["NAD83 / Oregon LCC (m)",GEOGCS["NAD83",AUTHORITY["EPSG","4269"]],)w"
+                              R"w(UNIT["metre",1,AUTHORITY["EPSG","9001"]],AUTHORITY["EPSG","2991"]],)w"
+                              R"w(VERT_CS["NAVD88 height (ftUS)",AUTHORITY["EPSG","6360"]]])w";
+    c = epsg_from_wkt(compd);
+    CHECK(c.code == 2991);
+    CHECK(c.from == "COMPD_CS's PROJCS AUTHORITY EPSG 2991");
+    CHECK(epsg_from_wkt(R"(COMPD_CS["x",PROJCS["p"],VERT_CS["v"],AUTHORITY["EPSG","5698"]])").code == 5698);
+    c = epsg_from_wkt(R"(COMPD_CS["x",PROJCS["UTM_10N",UNIT["m",1]],VERT_CS["v",AUTHORITY["EPSG","5703"]]])");
+    CHECK(c.code == 0);
+    CHECK_THAT(c.problem, Catch::Contains("COMPD_CS names no EPSG code"));
+    CHECK(epsg_from_wkt(R"(BOUNDCRS[SOURCECRS[PROJCRS["p",ID["EPSG",2056]]],TARGETCRS[GEOGCRS["w"]]])").code ==
+          2056);
+  }
+  SECTION("no EPSG code at the top: none, with the reason") {
+    // autzen_trim.las: a PROJCS whose only EPSG authority is its unit's (9002).
+    c = epsg_from_wkt(R"(PROJCS["NAD_1983_HARN_Lambert_Conformal_Conic",GEOGCS["GCS",AUTHORITY["EPSG","4152"]],)"
+                      R"(UNIT["foot",0.3048,AUTHORITY["EPSG","9002"]]])");
+    CHECK(c.code == 0);
+    CHECK(c.problem == "the WKT's PROJCS names no EPSG code");
+    CHECK(epsg_from_wkt(R"(PROJCS["x",AUTHORITY["ESRI","102100"]])").code == 0);
+    CHECK(epsg_from_wkt(R"(PROJCS["x",AUTHORITY["EPSG","1234567"]])").code == 0);  // over 6 digits
+    CHECK(epsg_from_wkt(R"(PROJCS["x",AUTHORITY["EPSG","0"]])").code == 0);
+    CHECK(epsg_from_wkt(R"(VERT_CS["v",AUTHORITY["EPSG","5703"]])").problem ==
+          "the WKT's outermost node is VERT_CS, not a projected, geographic or compound CRS");
+  }
+  SECTION("not well-formed: none, never a throw") {
+    for (const std::string& bad :
+         {kLambert93.substr(0, kLambert93.size() - 1), kLambert93.substr(0, 200), std::string(),
+          std::string("PROJCS"), std::string("PROJCS[\"x\""), std::string("[\"x\"]"),
+          kLambert93 + " PROJCS[]", std::string("PROJCS[\"x\",,]"), std::string(100, '[')}) {
+      c = epsg_from_wkt(bad);
+      CHECK(c.code == 0);
+      CHECK_THAT(c.problem, Catch::StartsWith("the WKT is not well-formed (byte "));
+    }
+    std::string deep;
+    for (int i = 0; i < 40; ++i) deep += "A[";
+    deep += std::string(40, ']');
+    CHECK_THAT(epsg_from_wkt(deep).problem, Catch::Contains("nested deeper than 32 levels"));
+  }
+}
+
+TEST_CASE("LAS CRS: the GeoKey directory's projected, else geographic, EPSG code", "[las][crs]") {
+  EpsgCode c = epsg_from_geokeys(geokeys({{1024, 1}, {3072, 2154}, {3076, 9001}}));
+  CHECK(c.code == 2154);
+  CHECK(c.from == "ProjectedCSTypeGeoKey 2154");
+  CHECK(epsg_from_geokeys(geokeys({{3072, 2154}})).code == 2154);  // forest_chablais3's only key
+  c = epsg_from_geokeys(geokeys({{1024, 2}, {2048, 4326}}));
+  CHECK(c.code == 4326);
+  CHECK(c.from == "GeographicTypeGeoKey 4326");
+  // A projected model whose projection is user-defined: 2048 is only its base, not the CRS.
+  c = epsg_from_geokeys(geokeys({{1024, 1}, {2048, 4269}, {3072, 32767}}));
+  CHECK(c.code == 0);
+  CHECK(c.problem == "ProjectedCSTypeGeoKey is 32767 (user-defined): no EPSG code");
+  CHECK(epsg_from_geokeys(geokeys({{1024, 1}, {2048, 4269}})).code == 0);
+  CHECK(epsg_from_geokeys(geokeys({{1024, 3}})).problem ==
+        "the GeoTIFF keys give a geocentric model (no map coordinates)");
+  CHECK(epsg_from_geokeys(geokeys({})).code == 0);
+  SECTION("cut short or too small: none") {
+    const std::string whole = geokeys({{1024, 1}, {3072, 2154}});
+    c = epsg_from_geokeys(whole.substr(0, whole.size() - 1));
+    CHECK(c.code == 0);
+    CHECK(c.problem == "GeoKey directory says 2 keys but holds 1 (cut short)");
+    CHECK(epsg_from_geokeys("abc").problem == "GeoKey directory of 3 bytes (its header has 8)");
+    // A key whose value is not inline (location 34736) is not read.
+    std::string off = geokeys({{3072, 2154}});
+    set<std::uint16_t>(&off, 10, 34736);
+    CHECK(epsg_from_geokeys(off).code == 0);
+  }
+}
+
+TEST_CASE("LAS CRS: files written here with a GeoKey directory, a WKT, both, none", "[las][crs]") {
+  const std::string las = small_las();
+  SECTION("no record: none, no note") {
+    const LasCrs c = crs_of_file(las, "none.las");
+    CHECK(c.epsg == 0);
+    CHECK(c.code().empty());
+    CHECK(c.note.empty());
+  }
+  SECTION("a GeoKey directory") {
+    const LasCrs c =
+        crs_of_file(with_vlr(las, "LASF_Projection", 34735, geokeys({{1024, 1}, {3072, 25832}})), "keys.las");
+    CHECK(c.code() == "EPSG:25832");
+    CHECK(c.from == "LASF_Projection 34735 (GeoTIFF keys): ProjectedCSTypeGeoKey 25832");
+    CHECK(c.note.empty());
+  }
+  SECTION("a WKT VLR (NUL-terminated, as the writers pad it)") {
+    const LasCrs c =
+        crs_of_file(with_vlr(las, "LASF_Projection", 2112, kLambert93 + std::string(3, '\0')), "wkt.las");
+    CHECK(c.code() == "EPSG:2154");
+    CHECK(c.from == "LASF_Projection 2112 (OGC WKT): PROJCS AUTHORITY EPSG 2154");
+  }
+  SECTION("both, disagreeing: the global encoding's WKT bit says which, and a note says so") {
+    const std::string both = with_vlr(with_vlr(las, "LASF_Projection", 34735, geokeys({{3072, 25832}})),
+                                      "LASF_Projection", 2112, kLambert93);
+    LasCrs c = crs_of_file(both, "both.las");  // canopy's writer sets the WKT bit
+    CHECK(c.code() == "EPSG:2154");
+    CHECK(c.note ==
+          "its LASF_Projection 2112 (OGC WKT) gives EPSG:2154, its LASF_Projection 34735 (GeoTIFF keys) "
+          "EPSG:25832; the first taken (the global encoding's WKT bit is set)");
+    std::string legacy = both;
+    set<std::uint16_t>(&legacy, 6, 0);
+    c = crs_of_file(legacy, "legacy.las");
+    CHECK(c.code() == "EPSG:25832");
+  }
+  SECTION("a bad record beside a good one: the good one's code") {
+    const std::string cut = geokeys({{3072, 25832}}).substr(0, 12);
+    LasCrs c = crs_of_file(with_vlr(with_vlr(las, "LASF_Projection", 34735, cut), "liblas", 2112, kLambert93),
+                           "mixed.las");
+    CHECK(c.code() == "EPSG:2154");
+    CHECK(c.from == "liblas 2112 (OGC WKT): PROJCS AUTHORITY EPSG 2154");
+  }
+  SECTION("only malformed records: none, one line of note, the file still reads") {
+    const LasCrs c =
+        crs_of_file(with_vlr(with_vlr(las, "LASF_Projection", 34735, std::string("\1\0\1\0\0\0\7\0", 8)),
+                             "LASF_Projection", 2112, kLambert93.substr(0, 300)),
+                    "bad.las");
+    CHECK(c.epsg == 0);
+    CHECK(c.note ==
+          "LASF_Projection 2112 (OGC WKT): the WKT is not well-formed (byte 300: GEOGCS not closed (cut "
+          "short?)); LASF_Projection 34735 (GeoTIFF keys): GeoKey directory says 7 keys but holds 0 "
+          "(cut short)");
+    CHECK(c.note.find('\n') == std::string::npos);
+  }
+  SECTION("not LAS, missing, a directory: none") {
+    const fs::path dir = canopy::test::fresh_dir("las", "crs_none");
+    canopy::test::write_file((dir / "t.pcd").string(), "# .PCD v0.7\nFIELDS x\n");
+    CHECK(read_las_crs((dir / "t.pcd").string()).epsg == 0);
+    CHECK(read_las_crs((dir / "missing.las").string()).epsg == 0);
+    CHECK(read_las_crs(dir.string()).epsg == 0);
+    CHECK(read_las_crs("-").epsg == 0);
+  }
+}
+
+TEST_CASE("LAS CRS: the LAS test files and the committed real tiles", "[las][crs]") {
+  // perm-1.2_0.las: GeoKeys 3072 = 26915 and libLAS's WKT copy (NAD83 / UTM zone 15N).
+  LasCrs c = read_las_crs(data("perm-1.2_0.las"));
+  CHECK(c.code() == "EPSG:26915");
+  CHECK(c.from == "LASF_Projection 34735 (GeoTIFF keys): ProjectedCSTypeGeoKey 26915");
+  CHECK(c.note.empty());
+  // test1_4.las: a PROJCS (2903) holding a VERTCS whose AUTHORITY (5703) ends the text.
+  CHECK(read_las_crs(data("test1_4.las")).code() == "EPSG:2903");
+  // simple.copc.laz: COMPD_CS of NAD83 / Oregon LCC (m) (2991) and NAVD88 height (ftUS) (6360).
+  CHECK(read_las_crs(data("simple.copc.laz")).code() == "EPSG:2991");
+  // autzen-like garbage VLRs: no crash, none.
+  CHECK(read_las_crs(data("garbage_nVariableLength.las")).epsg == 0);
+  CHECK(read_las_crs(data("simple.laz")).epsg == 0);
+  // The IGN LiDAR HD tile (LAZ, LAS 1.4 format 8, WKT bit set): its LASF_Projection 2112 WKT is
+  // RGF93 v1 / Lambert-93, AUTHORITY["EPSG","2154"] (read by hand).
+  c = read_las_crs(real("ign_lidarhd_870000_6618000.laz"));
+  CHECK(c.code() == "EPSG:2154");
+  CHECK(c.from == "LASF_Projection 2112 (OGC WKT): PROJCS AUTHORITY EPSG 2154");
+  // The IGN Loiret forest plot (LAS 1.4 format 6): the same Lambert-93 WKT.
+  CHECK(read_las_crs(real("forest_ign_loiret_crop2.laz")).code() == "EPSG:2154");
+  // AHN3 Delft (RD New, EPSG:28992) and NEON: no CRS record in the files.
+  c = read_las_crs(real("ahn3_delft_2.laz"));
+  CHECK(c.epsg == 0);
+  CHECK(c.note.empty());
+  CHECK(read_las_crs(real("forest_neon_teak_043.laz")).epsg == 0);
+}
+
+TEST_CASE("LAS CRS: the shared development tiles, when present", "[las][crs]") {
+  const fs::path laz = fs::path(CANOPY_REAL_DATA) / "laz";
+  if (!fs::exists(laz / "forest_chablais3.laz")) {
+    WARN("no " << laz.string() << ": the shared development tiles' CRS not checked");
+    return;
+  }
+  auto crs = [&](const char* f) { return read_las_crs((laz / f).string()); };
+  // GeoKeys only, one key: 3072 = 2154 (Lambert-93).
+  CHECK(crs("forest_chablais3.laz").code() == "EPSG:2154");
+  // GeoKeys 3072 = 26912 (NAD83 / UTM 12N).
+  CHECK(crs("forest_mixedconifer.laz").code() == "EPSG:26912");
+  // GeoKeys 3072 = 3005 (BC Albers) and a COMPD_CS WKT whose PROJCS says 3005 too.
+  CHECK(crs("forest_bcts_1.laz").code() == "EPSG:3005");
+  CHECK(crs("forest_bcts_1.laz").note.empty());
+  // A WKT 2 PROJCRS with ID["EPSG",2154] (WKT bit set) and GeoKeys 3072 = 2154.
+  CHECK(crs("las14_pf8_extra_bytes.laz").code() == "EPSG:2154");
+  // A Leica COMPD_CS whose PROJCS "UTM_10N" names no code, and which one ']' too many closes
+  // before its VERT_CS (byte 555): none, and the note says why.
+  const LasCrs leica = crs("las14_pf6_classes_over_31.laz");
+  CHECK(leica.epsg == 0);
+  CHECK(
+      leica.note ==
+      "LASF_Projection 2112 (OGC WKT): the WKT is not well-formed (byte 555: text after the outermost node)");
+  CHECK(crs("ahn3_delft_1.laz").epsg == 0);
+}
