@@ -256,6 +256,7 @@ TEST_CASE("collect: the tile's CRS from the index when --crs is not given; --crs
   CHECK(g["crs"]["properties"]["name"] == "urn:ogc:def:crs:EPSG::2154");
   CHECK(g["crs_from"] == d["crs_from"]);
   CHECK(err.find("warning") == std::string::npos);
+  CHECK(err.find("no CRS") == std::string::npos);
 
   // An explicit --crs wins over the tile's record; the log says they differ.
   REQUIRE(test::sh(base + " --crs EPSG:25832", dir / "err.txt", &err) == 0);
@@ -278,6 +279,10 @@ TEST_CASE("collect: the tile's CRS from the index when --crs is not given; --crs
   CHECK_FALSE(d.contains("crs_from"));
   CHECK_FALSE(g.contains("crs"));
   CHECK_FALSE(g.contains("crs_from"));
+  // ... and a note that a GIS would read it as WGS 84 degrees, with the remedy (not with -q).
+  CHECK(err.find("d.geojson: no CRS (no --crs, and the tile's file records no EPSG code): a GIS reads a "
+                 "GeoJSON without one as WGS 84 longitude/latitude; give --crs EPSG:<code>") !=
+        std::string::npos);
 
   // An index whose crs is not EPSG:<code> is refused, naming the member.
   j["crs"] = "Lambert-93";

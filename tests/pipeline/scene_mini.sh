@@ -160,8 +160,11 @@ if [ -f "$las" ]; then
     || fail "make tile on $las failed: $(tail -5 "$tmp/las.log")"
   jq -e '.format == "canopy.detections" and (.detections | type) == "array"' "$tmp/las/detections.json" >/dev/null \
     || fail "tile on the LAS crop: detections.json invalid"
-  jq -e '.type == "FeatureCollection" and (.features | type) == "array" and (has("crs") | not)' \
-    "$tmp/las/detections.geojson" >/dev/null || fail "tile on the LAS crop: GeoJSON invalid"
+  # Its GeoTIFF keys name EPSG:2903 (NAD83(HARN) / New Mexico Central, ftUS): the GeoJSON carries
+  # it without CRS= (since stop 67; before, no crs member).
+  jq -e '.type == "FeatureCollection" and (.features | type) == "array" and
+         .crs.properties.name == "urn:ogc:def:crs:EPSG::2903" and (.crs_from | startswith("tile: "))' \
+    "$tmp/las/detections.geojson" >/dev/null || fail "tile on the LAS crop: GeoJSON invalid (or not EPSG:2903)"
   echo "LAS crop: $(jq '.candidates' "$tmp/las/detections.json") candidates, $(jq '.found' "$tmp/las/detections.json") found"
 fi
 # The scene experiment's dry runs: -n shows the rendering, -q says "not up to date"; neither
