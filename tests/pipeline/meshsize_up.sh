@@ -70,6 +70,25 @@ for m in tank/it_warfare_tank tracked-apc/ch_m113; do
   run track --up-check refuse -i "$lib/$m.ply"
   [ $rc -eq 0 ] && ! grep -q warning "$tmp/track.err" || fail "$m upright: exit $rc, $(cat "$tmp/track.err")"
 done
+# A plain box is top-bottom symmetric read either way: refused, saying the check cannot tell
+# (not "turn the mesh"). A mesh beyond 1000 km (coordinates near 1e155: the check's area sums
+# overflowed before stop 67's review) is refused naming its extent, with no output.
+python3 - "$tmp/box.obj" "$tmp/huge.obj" <<'PY'
+import sys
+v = [(x, y, z) for x in (0, 4) for y in (0, 2) for z in (0, 1.8)]
+q = [(1, 2, 4, 3), (5, 7, 8, 6), (1, 5, 6, 2), (3, 4, 8, 7), (1, 3, 7, 5), (2, 6, 8, 4)]
+with open(sys.argv[1], "w") as o:
+    o.writelines("v %g %g %g\n" % p for p in v)
+    o.writelines("f %d %d %d\nf %d %d %d\n" % (a, b, c, a, c, d) for a, b, c, d in q)
+with open(sys.argv[2], "w") as o:
+    o.write("v 0 0 0\nv 1e155 0 0\nv 0 1e155 0\nv 0 0 1e154\nf 1 2 3\nf 1 2 4\n")
+PY
+run box --up-check refuse -i "$tmp/box.obj"
+[ $rc -eq 1 ] && grep -q "it is as symmetric: a shape like a plain box, whose up axis this check cannot tell" \
+  "$tmp/box.err" || fail "the plain box: exit $rc, $(cat "$tmp/box.err")"
+run huge -i "$tmp/huge.obj"
+[ $rc -eq 1 ] && grep -q "huge.obj: its extent (1e+155 m as read) is beyond 1000 km" "$tmp/huge.err" \
+  && [ ! -s "$tmp/huge.out" ] || fail "the huge mesh: exit $rc, $(cat "$tmp/huge.err")"
 
 # make: the y-up van without MESH_UP=y stops at its meshsize stage, before any render.
 mkdir -p "$tmp/build/bin" "$tmp/meshes" && touch "$tmp/build/CMakeCache.txt" "$tmp/build/.deps-stamp"

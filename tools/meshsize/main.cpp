@@ -39,6 +39,7 @@ namespace cm = canopy::common;
 namespace fm = canopy::formats;
 
 constexpr double kSideSymmetry = 0.85;  // horizontal mirror symmetry at or above: on its side
+constexpr double kMaxSamples = 2e7;     // surface samples of the up check, at most (about 2 s)
 
 // The mesh's vertices in rangetrace's frame: scaled to metres, y up turned to z up.
 std::vector<Eigen::Vector3d> render_frame(const fm::TriangleMesh& mesh, double scale, const std::string& up,
@@ -75,7 +76,7 @@ Upright upright(const fm::TriangleMesh& mesh, const std::vector<Eigen::Vector3d>
   }
   u.size = hi - lo;
   const double cell = u.size.maxCoeff() / 100;
-  if (!(cell > 0)) return u;
+  if (!(cell > 0) || !std::isfinite(cell)) return u;
   u.on_end = u.size.z() > std::max(u.size.x(), u.size.y());
   std::uint64_t state = 0x9E3779B97F4A7C15ull;
   auto uniform = [&state] {
@@ -87,9 +88,20 @@ Upright upright(const fm::TriangleMesh& mesh, const std::vector<Eigen::Vector3d>
   auto key = [](std::int64_t i, std::int64_t j, std::int64_t k) { return (i * 1024 + j) * 1024 + k; };
   std::unordered_set<std::int64_t> occupied;
   std::vector<std::array<std::int64_t, 3>> voxels;
+  // Samples per face: 16 per voxel face area, in cell units (no overflow for huge coordinates);
+  // at most kMaxSamples over the mesh (thinned alike on every face: faces spanning the whole box
+  // would otherwise cost seconds each).
+  auto samples = [&](const std::array<int, 3>& f) {
+    const Eigen::Vector3d ab = (v[f[1]] - v[f[0]]) / cell, ac = (v[f[2]] - v[f[0]]) / cell;
+    return 0.5 * ab.cross(ac).norm() * 16;
+  };
+  double total = 0;
+  for (const auto& f : mesh.faces) total += samples(f);
+  const double thin = total > kMaxSamples ? kMaxSamples / total : 1.0;
   for (const auto& f : mesh.faces) {
     const Eigen::Vector3d a = v[f[0]], b = v[f[1]], c = v[f[2]];
-    const double n = 0.5 * (b - a).cross(c - a).norm() / (cell * cell) * 16;
+    const double n = samples(f) * thin;
+    if (!std::isfinite(n)) continue;
     const long count = static_cast<long>(n) + (uniform() < n - std::floor(n) ? 1 : 0);
     for (long i = 0; i < count; ++i) {
       double s = uniform(), t = uniform();
@@ -144,6 +156,11 @@ std::string up_problem(const std::string& up, const Upright& u, const Upright& o
   }
   if (other.ok()) {
     what += "; with --up " + alt + " (MESH_UP=" + alt + ") it stands upright";
+  } else if (!u.on_end && !other.on_end && u.on_side && other.on_side) {
+    // Mirror-symmetric top to bottom whichever way: a box without wheels or cab (a container)
+    // is; the check cannot tell which way is up.
+    what += "; with --up " + alt + " (MESH_UP=" + alt +
+            ") it is as symmetric: a shape like a plain box, whose up axis this check cannot tell";
   } else {
     what += "; with --up " + alt + " (MESH_UP=" + alt +
             ") it does not stand upright either: turn the mesh so that its up axis is z or y";
@@ -186,6 +203,14 @@ int main(int argc, char** argv) {
       }
     }
     const Eigen::Vector3d size = hi - lo;
+    // Nothing a vehicle in any unit (the user-modelbase check names MESH_UNITS for mm and cm);
+    // also keeps the size line within its buffer.
+    if (!size.allFinite() || size.maxCoeff() > 1e6) {
+      char e[32];
+      std::snprintf(e, sizeof e, "%.3g", size.maxCoeff());
+      throw cm::DataError(input, std::string("its extent (") + e +
+                                     " m as read) is beyond 1000 km: not a vehicle mesh in --units " + units);
+    }
     char line[128];
     std::snprintf(line, sizeof line, "%.4f %.4f %.4f\n", size.x(), size.y(), size.z());
     std::string upright_note;
