@@ -376,7 +376,7 @@ $(if $(filter 1,$(words $(TILE_MB))),,$(error tile: give MODELBASE=<directory of
 $(if $(wildcard $(TILE_MB)/*.json),,$(error tile: MODELBASE=$(TILE_MB) holds no <model>.json graph \
   (make -f Makefile.experiments verify-modelbase builds out/modelbase)))
 $(if $(filter $(TILE_OUT),. .. /),$(error tile: OUT=$(OUT) must name the tile's own output directory))
-$(if $(CRS),$(if $(shell printf '%s' '$(CRS)' | grep -xE 'EPSG:[0-9]{1,6}'),,$(error tile: CRS=$(CRS) must be EPSG:<code>)))
+$(if $(CRS),$(if $(shell printf '%s' '$(CRS)' | grep -xE 'EPSG:[1-9][0-9]{0,5}'),,$(error tile: CRS=$(CRS) must be EPSG:<code>)))
 # TRAJECTORY=<file>: the sensor's path (formats/README.md "Trajectory"; rangetrace writes
 # <scan>.traj beside a sensor tile) for verify's sensor directions (docs/decisions/verify.md §13).
 $(if $(TRAJECTORY),$(if $(filter 1,$(words $(TRAJECTORY))),,$(error tile: TRAJECTORY=$(TRAJECTORY) must name one file)))

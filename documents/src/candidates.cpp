@@ -62,7 +62,8 @@ Candidates read_members(const Json& j, int version) {
   d.tile_points = optional_count(j, "tile_points", "");
   if (const Json* c = optional(j, "crs")) {
     d.crs = text(*c, "crs");
-    if (!std::regex_match(d.crs, std::regex("EPSG:[0-9]{1,6}"))) throw Malformed("crs must be EPSG:<code>");
+    if (!std::regex_match(d.crs, std::regex("EPSG:[1-9][0-9]{0,5}")))
+      throw Malformed("crs must be EPSG:<code>");
   }
   if (const Json* f = optional(j, "crs_from")) d.crs_from = text(*f, "crs_from");
   if (const Json* o = optional(j, "origin")) d.origin = point3(*o, "origin");

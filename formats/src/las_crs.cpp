@@ -128,7 +128,18 @@ bool is_one_of(const std::string& key, std::initializer_list<const char*> keys) 
 }
 
 bool horizontal(const Node& n) {
-  return is_one_of(n.key, {"PROJCS", "PROJCRS", "PROJECTEDCRS", "GEOGCS", "GEOGCRS", "GEOGRAPHICCRS"});
+  if (is_one_of(n.key, {"PROJCS", "PROJCRS", "PROJECTEDCRS", "GEOGCS", "GEOGCRS", "GEOGRAPHICCRS"}))
+    return true;
+  // WKT2-2015's geodetic CRS is geographic when its coordinate system is ellipsoidal (else
+  // geocentric: no map coordinates).
+  if (!is_one_of(n.key, {"GEODCRS", "GEODETICCRS"})) return false;
+  for (const Node& c : n.children) {
+    if (c.key != "CS" || c.values.empty()) continue;
+    std::string type = c.values[0];
+    for (char& ch : type) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    return type == "ellipsoidal";
+  }
+  return false;
 }
 
 // An EPSG code: 1 to 6 digits, > 0.
@@ -208,7 +219,7 @@ EpsgCode epsg_from_geokeys(const std::string& payload) {
     }
   }
   auto code_of = [](long v, const char* key) -> EpsgCode {
-    if (v >= 1 && v <= 32766)
+    if (v >= 1024 && v <= 32766)  // GeoTIFF: 1-1023 obsolete or reserved, 32767 user-defined
       return EpsgCode{static_cast<int>(v), std::string(key) + " " + std::to_string(v), ""};
     return EpsgCode{0, "",
                     std::string(key) + " is " + std::to_string(v) +
@@ -217,8 +228,9 @@ EpsgCode epsg_from_geokeys(const std::string& payload) {
   if (projected >= 0) return code_of(projected, "ProjectedCSTypeGeoKey");
   if (geographic >= 0 && (model == 2 || model < 0)) return code_of(geographic, "GeographicTypeGeoKey");
   return EpsgCode{0, "",
-                  model == 3 ? "the GeoTIFF keys give a geocentric model (no map coordinates)"
-                             : "the GeoTIFF keys hold no ProjectedCSTypeGeoKey or GeographicTypeGeoKey"};
+                  model == 3   ? "the GeoTIFF keys give a geocentric model (no map coordinates)"
+                  : model == 1 ? "the GeoTIFF keys give a projected model without ProjectedCSTypeGeoKey"
+                               : "the GeoTIFF keys hold no ProjectedCSTypeGeoKey or GeographicTypeGeoKey"};
 }
 
 EpsgCode epsg_from_wkt(const std::string& wkt) {
@@ -244,7 +256,8 @@ LasCrs las_crs(const LasHeaderBlock& header) {
     std::string record;
   };
   std::vector<Read> reads;
-  const bool wkt_first = (header.global_encoding & 16) != 0;
+  // The WKT bit of the global encoding is LAS 1.4's (reserved before).
+  const bool wkt_first = header.major == 1 && header.minor >= 4 && (header.global_encoding & 16) != 0;
   auto add_keys = [&] {
     if (keys != nullptr)
       reads.push_back({epsg_from_geokeys(keys->payload), "LASF_Projection 34735 (GeoTIFF keys)"});

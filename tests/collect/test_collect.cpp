@@ -280,7 +280,7 @@ TEST_CASE("collect: the tile's CRS from the index when --crs is not given; --crs
   CHECK_FALSE(g.contains("crs"));
   CHECK_FALSE(g.contains("crs_from"));
   // ... and a note that a GIS would read it as WGS 84 degrees, with the remedy (not with -q).
-  CHECK(err.find("d.geojson: no CRS (no --crs, and the tile's file records no EPSG code): a GIS reads a "
+  CHECK(err.find("d.geojson: no CRS (no --crs, and detect recorded none for the tile): a GIS reads a "
                  "GeoJSON without one as WGS 84 longitude/latitude; give --crs EPSG:<code>") !=
         std::string::npos);
 
@@ -289,6 +289,11 @@ TEST_CASE("collect: the tile's CRS from the index when --crs is not given; --crs
   write(index, j.dump());
   CHECK(test::sh(base, dir / "err.txt", &err) == 1);
   CHECK(err.find("crs must be EPSG:<code>") != std::string::npos);
+  // --crs alike: no code 0, no leading zeros (usage, exit 2).
+  write(index, plain);
+  CHECK(test::sh(base + " --crs EPSG:0", dir / "err.txt", &err) == 2);
+  CHECK(test::sh(base + " --crs EPSG:02154", dir / "err.txt", &err) == 2);
+  CHECK(err.find("--crs must be EPSG:<code>") != std::string::npos);
 }
 
 TEST_CASE("collect: an empty verdict is a failed candidate, counted, not a detection") {

@@ -304,6 +304,11 @@ TEST_CASE("candidates: refusals name the file and the problem") {
   Json crs = good;
   crs["crs"] = "Lambert-93";
   CHECK_THAT(refusal(crs), Catch::Contains("crs must be EPSG:<code>"));
+  // No code 0 and no leading zeros (one spelling per code: the --crs comparison is textual).
+  crs["crs"] = "EPSG:0";
+  CHECK_THAT(refusal(crs), Catch::Contains("crs must be EPSG:<code>"));
+  crs["crs"] = "EPSG:02154";
+  CHECK_THAT(refusal(crs), Catch::Contains("crs must be EPSG:<code>"));
   crs["crs"] = 2154;
   CHECK_THAT(refusal(crs), Catch::Contains("crs"));
   // A version 1 index's truth is not read at all, so not checked either.

@@ -94,6 +94,9 @@ TEST_CASE("LAS CRS: the WKT's outermost EPSG authority, never a nested one", "[l
     CHECK(epsg_from_wkt(R"(PROJCS["x",AUTHORITY["ESRI","102100"]])").code == 0);
     CHECK(epsg_from_wkt(R"(PROJCS["x",AUTHORITY["EPSG","1234567"]])").code == 0);  // over 6 digits
     CHECK(epsg_from_wkt(R"(PROJCS["x",AUTHORITY["EPSG","0"]])").code == 0);
+    // WKT2-2015's geodetic CRS: geographic with an ellipsoidal CS, else (Cartesian) geocentric.
+    CHECK(epsg_from_wkt(R"(GEODCRS["WGS 84",DATUM["w"],CS[ellipsoidal,2],ID["EPSG",4326]])").code == 4326);
+    CHECK(epsg_from_wkt(R"(GEODCRS["WGS 84",DATUM["w"],CS[Cartesian,3],ID["EPSG",4978]])").code == 0);
     CHECK(epsg_from_wkt(R"(VERT_CS["v",AUTHORITY["EPSG","5703"]])").problem ==
           "the WKT's outermost node is VERT_CS, not a projected, geographic or compound CRS");
   }
@@ -129,6 +132,14 @@ TEST_CASE("LAS CRS: the GeoKey directory's projected, else geographic, EPSG code
   CHECK(epsg_from_geokeys(geokeys({{1024, 3}})).problem ==
         "the GeoTIFF keys give a geocentric model (no map coordinates)");
   CHECK(epsg_from_geokeys(geokeys({})).code == 0);
+  // A projected model with only a geographic key: said as such (it said "no ... or
+  // GeographicTypeGeoKey" beside one); GeoTIFF has no CRS code below 1024 (1-1023 obsolete).
+  CHECK(epsg_from_geokeys(geokeys({{1024, 1}, {2048, 4326}})).problem ==
+        "the GeoTIFF keys give a projected model without ProjectedCSTypeGeoKey");
+  c = epsg_from_geokeys(geokeys({{3072, 1}}));
+  CHECK(c.code == 0);
+  CHECK(c.problem == "ProjectedCSTypeGeoKey is 1 (not an EPSG code)");
+  CHECK(epsg_from_geokeys(geokeys({{3072, 1024}})).code == 1024);
   SECTION("cut short or too small: none") {
     const std::string whole = geokeys({{1024, 1}, {3072, 2154}});
     c = epsg_from_geokeys(whole.substr(0, whole.size() - 1));
@@ -175,6 +186,15 @@ TEST_CASE("LAS CRS: files written here with a GeoKey directory, a WKT, both, non
     set<std::uint16_t>(&legacy, 6, 0);
     c = crs_of_file(legacy, "legacy.las");
     CHECK(c.code() == "EPSG:25832");
+    // Before LAS 1.4 the bit is reserved: the GeoTIFF keys come first whatever it says.
+    canopy::formats::LasHeaderBlock h;
+    h.major = 1;
+    h.minor = 3;
+    h.global_encoding = 16;
+    h.vlrs = {{"LASF_Projection", 34735, geokeys({{3072, 25832}})}, {"LASF_Projection", 2112, kLambert93}};
+    CHECK(las_crs(h).code() == "EPSG:25832");
+    h.minor = 4;
+    CHECK(las_crs(h).code() == "EPSG:2154");
   }
   SECTION("a bad record beside a good one: the good one's code") {
     const std::string cut = geokeys({{3072, 25832}}).substr(0, 12);

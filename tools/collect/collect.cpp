@@ -421,7 +421,7 @@ std::string summary_line(const Index& index, const Outputs& out) {
 }  // namespace
 
 void validate(const Params& params) {
-  if (!params.crs.empty() && !std::regex_match(params.crs, std::regex("EPSG:[0-9]{1,6}"))) {
+  if (!params.crs.empty() && !std::regex_match(params.crs, std::regex("EPSG:[1-9][0-9]{0,5}"))) {
     throw common::UsageError("--crs must be EPSG:<code>, e.g. EPSG:32633");
   }
 }

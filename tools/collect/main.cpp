@@ -294,11 +294,10 @@ int main(int argc, char** argv) {
     // RFC 7946 GeoJSON is WGS 84 longitude/latitude: GDAL (so QGIS) reads a file without the
     // 2008 "crs" member so, and would place a tile's metres as degrees.
     if (!o.geojson.empty() && p.crs.empty() && in.index.crs.empty()) {
-      common::log::info(
-          o.geojson +
-          ": no CRS (no --crs, and the tile's file records no EPSG code): a GIS reads a GeoJSON "
-          "without one as WGS 84 longitude/latitude; give --crs EPSG:<code> (make tile: "
-          "CRS=EPSG:<code>)");
+      common::log::info(o.geojson +
+                        ": no CRS (no --crs, and detect recorded none for the tile): a GIS reads a GeoJSON "
+                        "without one as WGS 84 longitude/latitude; give --crs EPSG:<code> (make tile: "
+                        "CRS=EPSG:<code>)");
     }
   });
 }
