@@ -10,14 +10,21 @@
 
 namespace canopy::documents {
 
-std::vector<ModelbaseEntry> list_modelbase(const std::string& dir) {
+void require_modelbase_dir(const std::string& dir, const std::string& holds) {
   namespace fs = std::filesystem;
   using common::DataError;
   std::error_code ec;
   if (!fs::exists(dir, ec)) throw DataError(dir, "modelbase directory does not exist");
   if (!fs::is_directory(dir, ec)) {
-    throw DataError(dir, "modelbase is not a directory (give a directory of <model>.json)");
+    throw DataError(dir, "modelbase is not a directory (give a directory of " + holds + ")");
   }
+}
+
+std::vector<ModelbaseEntry> list_modelbase(const std::string& dir) {
+  namespace fs = std::filesystem;
+  using common::DataError;
+  std::error_code ec;
+  require_modelbase_dir(dir, "<model>.json");
   std::vector<std::pair<std::string, std::string>> files;  // (file name, path)
   fs::directory_iterator it(dir, ec);
   if (ec) throw DataError(dir, "cannot list modelbase directory: " + ec.message());

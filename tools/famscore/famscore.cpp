@@ -131,7 +131,7 @@ std::vector<std::string> method_stages(const std::string& method) {
 std::vector<Entry> read_entries(const std::string& modelbase) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  if (!fs::is_directory(modelbase, ec)) throw DataError(modelbase, "modelbase directory does not exist");
+  documents::require_modelbase_dir(modelbase, "<model>.class files");
   std::vector<fs::path> files;
   for (const auto& f : fs::directory_iterator(modelbase)) {
     if (f.path().extension() == ".class") files.push_back(f.path());
