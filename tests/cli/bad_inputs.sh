@@ -84,6 +84,17 @@ head -c 9000 "$in/good.laz" >"$in/cut-mid-data.laz"
 cp "$in/good.laz" "$in/garbage-data.laz"  # the compressed points overwritten
 head -c 6000 /dev/urandom | dd of="$in/garbage-data.laz" bs=1 seek=2000 conv=notrunc status=none
 
+# OBJ and STL meshes (rangetrace --model, meshsize).
+: >"$in/empty.obj"
+: >"$in/empty.stl"
+mkdir -p "$in/dir.obj"
+printf 'v 1 2\nf 1 2 3\n\x00\xff' >"$in/garbage.obj"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 999999999\n' >"$in/bad-index.obj"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\n' >"$in/no-faces.obj"
+{ head -c 80 /dev/zero; printf '\x00\x28\x6b\xee'; head -c 50 /dev/zero; } >"$in/huge.stl"  # 4e9 triangles
+{ head -c 80 /dev/zero; printf '\x02\x00\x00\x00'; head -c 50 /dev/zero; } >"$in/cut-binary.stl"
+printf 'solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n' >"$in/cut-ascii.stl"
+
 # JSON documents of the wrong kind.
 printf '{"format": "canopy.segment_graph", "version": 1, "segm' >"$in/cut.json"
 printf '\x00\xff\xfe garbage' >"$in/garbage.json"
@@ -303,6 +314,27 @@ mesh_matrix() {
   done
 }
 
+# obj_stl_matrix TOOL OUT-EXT ARGS-BEFORE -- ARGS-AFTER: OBJ and STL meshes.
+obj_stl_matrix() {
+  local tool=$1 ext=$2
+  shift 2
+  local pre=() post=() seen=0 a
+  for a in "$@"; do
+    if [ "$a" = "--" ]; then seen=1; elif [ $seen -eq 0 ]; then pre+=("$a"); else post+=("$a"); fi
+  done
+  local f
+  for f in empty.obj empty.stl; do
+    bad "$tool" "$f" "$in/$f" "$P_EMPTY" "$ext" -- "${pre[@]}" "$in/$f" "${post[@]}"
+  done
+  bad "$tool" "directory" "$in/dir.obj" "$P_DIR" "$ext" -- "${pre[@]}" "$in/dir.obj" "${post[@]}"
+  bad "$tool" "garbage.obj" "$in/garbage.obj" "line 1: malformed vertex" "$ext" -- "${pre[@]}" "$in/garbage.obj" "${post[@]}"
+  bad "$tool" "bad-index.obj" "$in/bad-index.obj" "line 4: face index out of range" "$ext" -- "${pre[@]}" "$in/bad-index.obj" "${post[@]}"
+  bad "$tool" "no-faces.obj" "$in/no-faces.obj" "no faces" "$ext" -- "${pre[@]}" "$in/no-faces.obj" "${post[@]}"
+  for f in huge.stl cut-binary.stl cut-ascii.stl; do
+    bad "$tool" "$f" "$in/$f" "$P_TRUNC" "$ext" -- "${pre[@]}" "$in/$f" "${post[@]}"
+  done
+}
+
 # --- the matrix ---------------------------------------------------------------------------------
 point_cloud_matrix addnoise pcd -o @OUT@ -i --
 point_cloud_matrix fitvox pcd -o @OUT@ -i --
@@ -316,6 +348,8 @@ point_cloud_matrix topview json --raster-out @OUT@ -i --
 mesh_matrix ncut json -o @OUT@ -i --
 mesh_matrix rangetrace pcd -o @OUT@ --scene circle --model --
 mesh_matrix meshsize txt -o @OUT@ -i --
+obj_stl_matrix rangetrace pcd -o @OUT@ --scene circle --model --
+obj_stl_matrix meshsize txt -o @OUT@ -i --
 mesh_matrix figures png mesh -o @OUT@ -i --
 json_matrix gmatch json -o @OUT@ --modelbase "$in/mb" -i --
 json_matrix verify json -o @OUT@ --points "$in/good.pcd" --modelbase "$in/mb" -i --
