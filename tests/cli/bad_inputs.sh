@@ -361,6 +361,9 @@ json_matrix score json -o @OUT@ -t "$in/missing-truth.json" -d --
 json_matrix score json -o @OUT@ -d "$in/detections.json" -t --
 point_cloud_matrix candtruth json -o @OUT@ -i "$in/det/index.json" --tile --
 json_matrix topview png -o @OUT@ -i "$in/good.pcd" --detections --
+# --index and --truth beside detections that reject nothing (the index was not read then).
+json_matrix topview png -o @OUT@ -i "$in/good.las" --detections "$in/detections.json" --index --
+json_matrix topview png -o @OUT@ -i "$in/good.las" --detections "$in/detections.json" --truth --
 json_matrix areas json -o @OUT@ --scan "$in/good.pcd" --samples "$in/good.pcd" --mesh "$in/grid.ply" --segments --
 modelbase_matrix gmatch json -o @OUT@ -i "$in/graph.json" --modelbase --
 modelbase_matrix verify json -o @OUT@ --points "$in/normals.pcd" -i "$in/match.json" --segments "$in/graph.json" --modelbase --
