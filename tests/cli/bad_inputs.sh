@@ -154,7 +154,8 @@ mkdir -p "$in/dir.scene"
 # bad TOOL LABEL NAMED PROBLEM-ERE OUT-EXT -- ARGS...
 #   ARGS may hold @OUT@ (the output: a pre-existing file, which must keep its bytes) and
 #   @OUTDIR@ (an output directory that does not exist and must not appear), @OUTD@ (an existing
-#   output directory holding the pre-existing file, where nothing may appear).
+#   output directory holding the pre-existing file, where nothing may appear), @OUT2@ (a second
+#   output, which must not appear).
 #   NAMED: a string stderr must contain (the input's path); PROBLEM-ERE: an extended regular
 #   expression (case-insensitive) stderr must match once NAMED is taken out of it (so that a
 #   word of the file's name cannot pass for the problem).
@@ -172,6 +173,7 @@ bad() {
     a=${a//@OUT@/$out}
     a=${a//@OUTDIR@/$d/out/newdir}
     a=${a//@OUTD@/$d/out}
+    a=${a//@OUT2@/$d/out/second.$ext}
     args+=("$a")
   done
   (
@@ -369,13 +371,25 @@ modelbase_matrix gmatch json -o @OUT@ -i "$in/graph.json" --modelbase --
 modelbase_matrix verify json -o @OUT@ --points "$in/normals.pcd" -i "$in/match.json" --segments "$in/graph.json" --modelbase --
 modelbase_matrix classify json -o @OUT@ -i "$in/good.pcd" --modelbase --
 modelbase_matrix baseline json -o @OUT@ -i "$in/normals.pcd" --modelbase --
-text_matrix famscore csv --modelbase "$in/mb" --confusion @OUT@ --accuracy "$tmp/unused.csv" -i --
+text_matrix famscore csv --modelbase "$in/mb" --confusion @OUT@ --accuracy @OUT2@ -i --
 text_matrix score json -o @OUT@ --tiles --
 text_matrix verify json -o @OUT@ --points "$in/normals.pcd" -i "$in/match.json" --segments "$in/graph.json" --modelbase "$in/mb" --trajectory --
 bad verify "trajectory: header line only" "$in/header-only.traj" "no header line|time x y z" json -- -o @OUT@ --points "$in/normals.pcd" -i "$in/match.json" --segments "$in/graph.json" --modelbase "$in/mb" --trajectory "$in/header-only.traj"
 bad verify "trajectory: a short row" "$in/short-row.traj" "line 3|column|values|expected" json -- -o @OUT@ --points "$in/normals.pcd" -i "$in/match.json" --segments "$in/graph.json" --modelbase "$in/mb" --trajectory "$in/short-row.traj"
 text_matrix report md --results @OUTD@ --manifest --
 text_matrix classify json -o @OUT@ -i "$in/good.pcd" --modelbase "$in/mb" --model-classes --
+# A JSON file with a NUL byte: the library read it as the end of input ("unexpected end of input").
+bad gmatch "JSON with a NUL byte" "$in/garbage.json" "NUL byte at byte 0" json -- -o @OUT@ --modelbase "$in/mb" -i "$in/garbage.json"
+# A runs manifest naming a class the families do not know: exit 2 naming no file.
+mkdir -p "$in/mb-classes"
+cp "$in/graph.json" "$in/mb-classes/m1.json"
+printf 'sedan\n' >"$in/mb-classes/m1.class"
+printf '%s car 1 light 0\n' "$in/missing-verdict.json" >"$in/runs-unknown-class.txt"
+bad famscore "runs manifest with an unknown class" "$in/runs-unknown-class.txt" "line 1: unknown vehicle class 'car'" csv -- \
+  --modelbase "$in/mb-classes" --confusion @OUT@ --accuracy @OUT2@ -i "$in/runs-unknown-class.txt"
+printf '%s sedan 1 light 0\n' "$in/garbage.json" >"$in/runs-garbage-verdict.txt"
+bad famscore "runs manifest naming a garbage verdict" "$in/garbage.json" "not valid JSON" csv -- \
+  --modelbase "$in/mb-classes" --confusion @OUT@ --accuracy @OUT2@ -i "$in/runs-garbage-verdict.txt"
 # A NUL byte quoted from a line: the message went on only to the NUL ("unknown record '").
 bad report "manifest line with a NUL byte" "$in/garbage.txt" "unknown record '\\\\x00\\\\x01" md -- --results @OUTD@ --manifest "$in/garbage.txt"
 bad classify "model classes line with a NUL byte" "$in/garbage.txt" "got '\\\\x00\\\\x01" json -- -o @OUT@ -i "$in/good.pcd" --modelbase "$in/mb" --model-classes "$in/garbage.txt"

@@ -311,7 +311,16 @@ Outputs run(const Params& params, const Inputs& inputs) {
   const auto runs = documents::parse_family_runs(inputs.runs_text, inputs.runs_name);
   const std::vector<Entry> entries = read_entries(inputs.modelbase);
   std::vector<Trial> trials;
-  for (const auto& r : runs) trials.push_back(read_trial(r, entries, params.with_methods));
+  for (const auto& r : runs) {
+    // A class the families do not know is the manifest's error (it was a usage error, exit 2,
+    // naming no file: "unknown vehicle class 'car' (classes: …)").
+    try {
+      sim::make_family_instance(r.vehicle_class, r.instance);
+    } catch (const common::UsageError& e) {
+      throw DataError(inputs.runs_name, "line " + std::to_string(r.line) + ": " + e.what());
+    }
+    trials.push_back(read_trial(r, entries, params.with_methods));
+  }
   Outputs out;
   out.confusion = confusion_csv(trials, entries);
   out.accuracy = accuracy_csv(trials);
