@@ -16,7 +16,7 @@ src=$2
 shift 2
 only=" $* "
 tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
+[ -n "${BAD_INPUTS_KEEP:-}" ] || trap 'rm -rf "$tmp"' EXIT  # BAD_INPUTS_KEEP=1: keep the inputs
 export LC_ALL=C
 fails=0
 cases=0
@@ -149,6 +149,24 @@ printf 'views = circle 4000000000 75\n' >"$in/huge-views.scene"
 printf 'no_such_key = 1\n' >"$in/unknown-key.scene"
 mkdir -p "$in/dir.scene"
 : >"$in/empty.scene"
+
+# CSV of figures plot.
+printf 'object,scene,noise_mm,score,rank,entropy\n' >"$in/header-only.csv"
+printf 'object,scene,noise_mm,score,rank,entropy\nsedan,circle,abc,0.5,1,0\n' >"$in/bad-number.csv"
+printf 'a,b\n1,2,3\n' >"$in/wrong-header.csv"
+# baseline's model cache (baseline --prepare), then broken copies.
+mkdir -p "$in/mb-surfaces"
+cp "$in/graph.json" "$in/mb-surfaces/m1.json"
+cp "$in/normals.pcd" "$in/mb-surfaces/m1.pcd"
+"$bin/baseline" -q --prepare --modelbase "$in/mb-surfaces" -o "$in/cache.bin" || { echo "FAIL: baseline --prepare"; exit 1; }
+head -c 100 "$in/cache.bin" >"$in/cache-cut-header.bin"
+head -c $(($(stat -c %s "$in/cache.bin") / 2)) "$in/cache.bin" >"$in/cache-cut-body.bin"
+sed 's/^body [0-9]* /body 4000000000000 /' "$in/cache.bin" >"$in/cache-huge-body.bin"
+sed 's/^models 1$/models 4000000000/' "$in/cache.bin" >"$in/cache-huge-models.bin"
+# The experiment's manifest (report) naming a trial whose match.json is garbage.
+mkdir -p "$in/trial1"
+cp "$in/garbage.json" "$in/trial1/match.json"
+printf 'trial sedan circle 0 %s\nmodel sedan %s\n' "$in/trial1" "$in/graph.json" >"$in/manifest-bad-trial.txt"
 
 # --- the check ----------------------------------------------------------------------------------
 # bad TOOL LABEL NAMED PROBLEM-ERE OUT-EXT -- ARGS...
@@ -346,6 +364,7 @@ point_cloud_matrix classify json -o @OUT@ -i --
 point_cloud_matrix baseline json -o @OUT@ --modelbase "$in/mb" -i --
 point_cloud_matrix areas json -o @OUT@ --samples "$in/good.pcd" --mesh "$in/grid.ply" --segments "$in/graph.json" --scan --
 point_cloud_matrix detect txt -o @OUTDIR@ -i --
+point_cloud_matrix verify json -o @OUT@ -i "$in/match.json" --segments "$in/graph.json" --modelbase "$in/mb" --points --
 point_cloud_matrix topview json --raster-out @OUT@ -i --
 mesh_matrix ncut json -o @OUT@ -i --
 mesh_matrix rangetrace pcd -o @OUT@ --scene circle --model --
@@ -358,6 +377,11 @@ json_matrix verify json -o @OUT@ --points "$in/good.pcd" --modelbase "$in/mb" -i
 json_matrix verify json -o @OUT@ --points "$in/good.pcd" --modelbase "$in/mb" -i "$in/match.json" --segments --
 json_matrix classify json -o @OUT@ -i "$in/good.pcd" --index --
 json_matrix collect json -o @OUT@ -i --
+# Not in the matrix (tools/collect/collect.cpp belongs to another helper this stop; hardening.md,
+# stop 68): collect -i <an index with no candidates> --modelbase <missing> (or --verdicts
+# <missing>) exits 0 with detections.json written; the directories are read only per candidate.
+text_matrix collect json -o @OUT@ -i "$in/det/index.json" --calibration --
+bad collect "empty calibration" "$in/empty.txt" "has no model-bias" json -- -o @OUT@ -i "$in/det/index.json" --calibration "$in/empty.txt"
 json_matrix candtruth json -o @OUT@ --tile "$in/good.pcd" -i --
 json_matrix score json -o @OUT@ -t "$in/missing-truth.json" -d --
 json_matrix score json -o @OUT@ -d "$in/detections.json" -t --
@@ -373,6 +397,8 @@ modelbase_matrix classify json -o @OUT@ -i "$in/good.pcd" --modelbase --
 modelbase_matrix baseline json -o @OUT@ -i "$in/normals.pcd" --modelbase --
 text_matrix famscore csv --modelbase "$in/mb" --confusion @OUT@ --accuracy @OUT2@ -i --
 text_matrix score json -o @OUT@ --tiles --
+text_matrix detect txt -o @OUTDIR@ -i "$in/good.las" --trajectory --
+bad detect "trajectory: header line only" "$in/header-only.traj" "no header line|time x y z" txt -- -o @OUTDIR@ -i "$in/good.las" --trajectory "$in/header-only.traj"
 text_matrix verify json -o @OUT@ --points "$in/normals.pcd" -i "$in/match.json" --segments "$in/graph.json" --modelbase "$in/mb" --trajectory --
 bad verify "trajectory: header line only" "$in/header-only.traj" "no header line|time x y z" json -- -o @OUT@ --points "$in/normals.pcd" -i "$in/match.json" --segments "$in/graph.json" --modelbase "$in/mb" --trajectory "$in/header-only.traj"
 bad verify "trajectory: a short row" "$in/short-row.traj" "line 3|column|values|expected" json -- -o @OUT@ --points "$in/normals.pcd" -i "$in/match.json" --segments "$in/graph.json" --modelbase "$in/mb" --trajectory "$in/short-row.traj"
@@ -390,6 +416,20 @@ bad famscore "runs manifest with an unknown class" "$in/runs-unknown-class.txt" 
 printf '%s sedan 1 light 0\n' "$in/garbage.json" >"$in/runs-garbage-verdict.txt"
 bad famscore "runs manifest naming a garbage verdict" "$in/garbage.json" "not valid JSON" csv -- \
   --modelbase "$in/mb-classes" --confusion @OUT@ --accuracy @OUT2@ -i "$in/runs-garbage-verdict.txt"
+for f in missing.csv empty.txt dir.txt header-only.csv bad-number.csv wrong-header.csv; do
+  case $f in
+    missing.csv) p=$P_MISSING ;; empty.txt) p=$P_EMPTY ;; dir.txt) p=$P_DIR ;;
+    header-only.csv) p="no row" ;; bad-number.csv) p="line 2: noise_mm 'abc' is not a number" ;;
+    *) p="header lacks the column 'object'" ;;
+  esac
+  bad figures "plot: $f" "$in/$f" "$p" png -- plot -o @OUT@ -i "$in/$f"
+done
+for f in cache-cut-header.bin cache-cut-body.bin cache-huge-body.bin; do
+  bad baseline "model cache $f" "$in/$f" "$P_TRUNC" json -- -o @OUT@ -i "$in/normals.pcd" --modelbase "$in/mb-surfaces" --model-cache "$in/$f"
+done
+bad baseline "model cache of 4e9 models" "$in/cache-huge-models.bin" "4000000000 models" json -- -o @OUT@ -i "$in/normals.pcd" --modelbase "$in/mb-surfaces" --model-cache "$in/cache-huge-models.bin"
+bad baseline "model cache: garbage" "$in/garbage.txt" "not a canopy.baseline-models file" json -- -o @OUT@ -i "$in/normals.pcd" --modelbase "$in/mb-surfaces" --model-cache "$in/garbage.txt"
+bad report "manifest naming a garbage match.json" "$in/trial1/match.json" "not valid JSON" md -- --results @OUTD@ --manifest "$in/manifest-bad-trial.txt"
 # A NUL byte quoted from a line: the message went on only to the NUL ("unknown record '").
 bad report "manifest line with a NUL byte" "$in/garbage.txt" "unknown record '\\\\x00\\\\x01" md -- --results @OUTD@ --manifest "$in/garbage.txt"
 bad classify "model classes line with a NUL byte" "$in/garbage.txt" "got '\\\\x00\\\\x01" json -- -o @OUT@ -i "$in/good.pcd" --modelbase "$in/mb" --model-classes "$in/garbage.txt"
