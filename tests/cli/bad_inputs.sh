@@ -110,6 +110,10 @@ cp "$in/garbage.json" "$in/mb-bad/m1.json"
 cp "$in/garbage.pcd" "$in/mb-bad/m1.pcd"
 printf 'car\n' >"$in/mb-bad/m1.class"
 
+# Paths that are not plain files: a link to itself, a dangling link.
+ln -s loop "$in/loop"
+ln -s nowhere "$in/dangling.pcd"
+
 # Text inputs (manifests, lists, CSV).
 printf '\x00\x01\xff\xfe garbage\nmore garbage here\n' >"$in/garbage.txt"
 printf 'a b c d e f g h i j\n' >"$in/wrong-columns.txt"
@@ -173,7 +177,7 @@ printf 'trial sedan circle 0 %s\nmodel sedan %s\n' "$in/trial1" "$in/graph.json"
 #   ARGS may hold @OUT@ (the output: a pre-existing file, which must keep its bytes) and
 #   @OUTDIR@ (an output directory that does not exist and must not appear), @OUTD@ (an existing
 #   output directory holding the pre-existing file, where nothing may appear), @OUT2@ (a second
-#   output, which must not appear).
+#   output, which must not appear). The tool's standard input is $stdin_file (default /dev/null).
 #   NAMED: a string stderr must contain (the input's path); PROBLEM-ERE: an extended regular
 #   expression (case-insensitive) stderr must match once NAMED is taken out of it (so that a
 #   word of the file's name cannot pass for the problem).
@@ -197,7 +201,7 @@ bad() {
   (
     ulimit -v "$limit_kb"
     exec timeout 60 "$bin/$tool" "${args[@]}"
-  ) </dev/null >"$d/stdout" 2>"$d/stderr"
+  ) <"${stdin_file:-/dev/null}" >"$d/stdout" 2>"$d/stderr"
   local rc=$? why=""
   if [ $rc -eq 124 ]; then
     why="timed out (60 s)"
@@ -430,6 +434,16 @@ done
 bad baseline "model cache of 4e9 models" "$in/cache-huge-models.bin" "4000000000 models" json -- -o @OUT@ -i "$in/normals.pcd" --modelbase "$in/mb-surfaces" --model-cache "$in/cache-huge-models.bin"
 bad baseline "model cache: garbage" "$in/garbage.txt" "not a canopy.baseline-models file" json -- -o @OUT@ -i "$in/normals.pcd" --modelbase "$in/mb-surfaces" --model-cache "$in/garbage.txt"
 bad report "manifest naming a garbage match.json" "$in/trial1/match.json" "not valid JSON" md -- --results @OUTD@ --manifest "$in/manifest-bad-trial.txt"
+# Standard input, /dev/null, a link loop, a dangling link.
+stdin_file=$in/cut-mid-data.pcd bad fitvox "stdin: a cut PCD" "<stdin>" "$P_TRUNC" pcd -- -o @OUT@ -i -
+stdin_file=$in/cut-mid-header.ply bad ncut "stdin: a PLY cut in its header" "<stdin>" "$P_TRUNC" json -- -o @OUT@ -i -
+stdin_file=$in/garbage.json bad gmatch "stdin: JSON with a NUL byte" "<stdin>" "NUL byte at byte 0" json -- -o @OUT@ --modelbase "$in/mb" -i -
+stdin_file=$in/huge.las bad addnoise "stdin: LAS declaring 4e9 points" "<stdin>" "$P_HUGE" pcd -- -o @OUT@ -i -
+bad fitvox "/dev/null" "/dev/null" "$P_EMPTY" pcd -- -o @OUT@ -i /dev/null
+bad gmatch "/dev/null" "/dev/null" "$P_EMPTY" json -- -o @OUT@ --modelbase "$in/mb" -i /dev/null
+bad fitvox "a link loop" "$in/loop" "too many levels of symbolic links" pcd -- -o @OUT@ -i "$in/loop"
+bad fitvox "a dangling link" "$in/dangling.pcd" "$P_MISSING" pcd -- -o @OUT@ -i "$in/dangling.pcd"
+bad gmatch "modelbase: a link loop" "$in/loop" "too many levels of symbolic links" json -- -o @OUT@ -i "$in/graph.json" --modelbase "$in/loop"
 # A NUL byte quoted from a line: the message went on only to the NUL ("unknown record '").
 bad report "manifest line with a NUL byte" "$in/garbage.txt" "unknown record '\\\\x00\\\\x01" md -- --results @OUTD@ --manifest "$in/garbage.txt"
 bad classify "model classes line with a NUL byte" "$in/garbage.txt" "got '\\\\x00\\\\x01" json -- -o @OUT@ -i "$in/good.pcd" --modelbase "$in/mb" --model-classes "$in/garbage.txt"
