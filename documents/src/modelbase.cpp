@@ -10,14 +10,25 @@
 
 namespace canopy::documents {
 
+void require_modelbase_dir(const std::string& dir, const std::string& holds) {
+  namespace fs = std::filesystem;
+  using common::DataError;
+  std::error_code ec;
+  const fs::file_status st = fs::status(dir, ec);
+  // A link loop or an unreadable parent is not "does not exist" (fs::exists says false for both).
+  if (ec && ec != std::errc::no_such_file_or_directory && ec != std::errc::not_a_directory)
+    throw DataError(dir, "modelbase: " + ec.message());
+  if (!fs::exists(st)) throw DataError(dir, "modelbase directory does not exist");
+  if (!fs::is_directory(st)) {
+    throw DataError(dir, "modelbase is not a directory (give a directory of " + holds + ")");
+  }
+}
+
 std::vector<ModelbaseEntry> list_modelbase(const std::string& dir) {
   namespace fs = std::filesystem;
   using common::DataError;
   std::error_code ec;
-  if (!fs::exists(dir, ec)) throw DataError(dir, "modelbase directory does not exist");
-  if (!fs::is_directory(dir, ec)) {
-    throw DataError(dir, "modelbase is not a directory (give a directory of <model>.json)");
-  }
+  require_modelbase_dir(dir, "<model>.json");
   std::vector<std::pair<std::string, std::string>> files;  // (file name, path)
   fs::directory_iterator it(dir, ec);
   if (ec) throw DataError(dir, "cannot list modelbase directory: " + ec.message());

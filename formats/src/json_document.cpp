@@ -51,6 +51,13 @@ Json open_json_document(const std::string& text, const std::string& name, const 
     const std::string is = detail::sniff(text);
     if (!is.empty() && is != "a JSON document")
       throw DataError(name, "this is " + is + ", not a JSON document");
+    // The JSON library reads a NUL byte as the end of the input ("unexpected end of input" at
+    // column 1 for a binary file): say where the NUL is.
+    const std::size_t nul = text.find('\0');
+    if (nul != std::string::npos) {
+      throw DataError(name, "not valid JSON: a NUL byte at byte " + std::to_string(nul) +
+                                " (a binary file, not a JSON document)");
+    }
     throw DataError(name, "not valid JSON: " + json_library_text(e));
   }
   if (!j.is_object() || !j.contains("format"))

@@ -91,11 +91,23 @@ TriangleMesh parse_stl(const std::string& bytes, const std::string& path) {
   TriangleMesh mesh;
   if (parse_binary_stl(bytes, &mesh)) return mesh;
   if (bytes.compare(0, 5, "solid") != 0) {
-    throw DataError(path, "neither ASCII STL ('solid ...') nor binary STL of consistent size");
+    if (bytes.size() < 84) {
+      throw DataError(path, "neither ASCII STL ('solid ...') nor binary STL (" + std::to_string(bytes.size()) +
+                                " bytes, shorter than a binary STL's 84-byte header)");
+    }
+    std::uint32_t n = 0;
+    std::memcpy(&n, bytes.data() + 80, 4);
+    throw DataError(path, "neither ASCII STL ('solid ...') nor binary STL of consistent size: the header's " +
+                              std::to_string(n) + " triangles need " + std::to_string(84 + 50ull * n) +
+                              " bytes, the file holds " + std::to_string(bytes.size()) +
+                              (bytes.size() < 84 + 50ull * n ? " (truncated?)" : ""));
   }
   std::istringstream in(bytes);
   std::vector<int> poly;
+  bool in_facet = false;
   for (std::string w; in >> w;) {
+    if (w == "facet") in_facet = true;
+    if (w == "endfacet") in_facet = false;
     if (w == "vertex") {
       double x, y, z;
       if (!(in >> x >> y >> z)) throw DataError(path, "malformed 'vertex' line");
@@ -107,10 +119,18 @@ TriangleMesh parse_stl(const std::string& bytes, const std::string& path) {
       poly.clear();
     }
   }
+  // Cut inside a facet (it read as the facets before it, or "mesh has no faces").
+  if (in_facet || !poly.empty()) {
+    throw DataError(path, "ASCII STL truncated: the file ends inside a facet (after " +
+                              std::to_string(mesh.faces.size()) + " complete triangles)");
+  }
   return mesh;
 }
 
 TriangleMesh parse_triangle_mesh(const std::string& bytes, const std::string& name, const std::string& ext) {
+  if (bytes.empty() && (ext == "obj" || ext == "stl")) {
+    throw DataError(name, std::string("empty file (not an ") + (ext == "obj" ? "OBJ" : "STL") + " mesh)");
+  }
   if (ext == "obj") return parse_obj(bytes, name);
   if (ext == "stl") return parse_stl(bytes, name);
   if (ext != "ply") throw common::Error(name + ": not a mesh file extension: '" + ext + "'");

@@ -278,13 +278,19 @@ Header parse_header(const std::string& bytes, const std::string& name) {
   while (true) {
     if (pos >= bytes.size()) throw DataError(name, "PLY header has no end_header (truncated?)");
     std::size_t eol = bytes.find('\n', pos);
-    if (eol == std::string::npos) eol = bytes.size();
+    const bool last = eol == std::string::npos;
+    if (last) eol = bytes.size();
     std::string line = bytes.substr(pos, eol - pos);
     pos = eol + 1;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     std::istringstream ss(line);
     std::string key;
     ss >> key;
+    // The file ends inside a header line: cut there (it read "unknown PLY header line 'elem'").
+    if (last && key != "end_header") {
+      throw DataError(name, "PLY header truncated: the file ends in its line '" + detail::quote(line) +
+                                "', before end_header");
+    }
     if (key.empty() || key == "ply" || key == "obj_info") continue;
     if (key == "end_header") break;
     if (key == "comment") {

@@ -47,6 +47,10 @@ bool is_ply(const std::string& b) { return starts_with(b, "ply\n") || starts_wit
 
 // PCD: after blank and '#' comment lines, the first line starts with one of PCD's header keys.
 bool is_pcd(const std::string& b) {
+  // PCL's own first line: a file cut inside its header is a PCD all the same (parse_pcd then says
+  // what is missing; it was "no PCD, PLY or LAS signature (the file starts '# .PCD v0.7 …')").
+  const std::size_t first = b.find_first_not_of(" \t\r\n");
+  if (first != std::string::npos && b.compare(first, 6, "# .PCD") == 0) return true;
   std::size_t p = 0;
   while (p < b.size()) {
     p = b.find_first_not_of(" \t\r\n", p);

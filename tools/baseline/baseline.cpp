@@ -22,6 +22,7 @@
 #include "baseline/serial_kdtree.h"
 #include "canopy/common/math.h"
 #include "canopy/documents/baseline_ranking.h"
+#include "canopy/documents/modelbase.h"
 #include "canopy/common/error.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/pose_eigen.h"
@@ -398,7 +399,7 @@ std::vector<std::pair<std::string, std::string>> list_modelbase(const std::strin
   namespace fs = std::filesystem;
   using common::DataError;
   std::error_code ec;
-  if (!fs::is_directory(dir, ec)) throw DataError(dir, "modelbase directory does not exist");
+  documents::require_modelbase_dir(dir, "<model>.pcd surfaces");
   std::vector<std::pair<std::string, std::string>> files;
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
     if (entry.path().extension() == ".pcd" && entry.is_regular_file(ec)) {

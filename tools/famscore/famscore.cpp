@@ -131,7 +131,7 @@ std::vector<std::string> method_stages(const std::string& method) {
 std::vector<Entry> read_entries(const std::string& modelbase) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  if (!fs::is_directory(modelbase, ec)) throw DataError(modelbase, "modelbase directory does not exist");
+  documents::require_modelbase_dir(modelbase, "<model>.class files");
   std::vector<fs::path> files;
   for (const auto& f : fs::directory_iterator(modelbase)) {
     if (f.path().extension() == ".class") files.push_back(f.path());
@@ -311,7 +311,16 @@ Outputs run(const Params& params, const Inputs& inputs) {
   const auto runs = documents::parse_family_runs(inputs.runs_text, inputs.runs_name);
   const std::vector<Entry> entries = read_entries(inputs.modelbase);
   std::vector<Trial> trials;
-  for (const auto& r : runs) trials.push_back(read_trial(r, entries, params.with_methods));
+  for (const auto& r : runs) {
+    // A class the families do not know is the manifest's error (it was a usage error, exit 2,
+    // naming no file: "unknown vehicle class 'car' (classes: …)").
+    try {
+      sim::make_family_instance(r.vehicle_class, r.instance);
+    } catch (const common::UsageError& e) {
+      throw DataError(inputs.runs_name, "line " + std::to_string(r.line) + ": " + e.what());
+    }
+    trials.push_back(read_trial(r, entries, params.with_methods));
+  }
   Outputs out;
   out.confusion = confusion_csv(trials, entries);
   out.accuracy = accuracy_csv(trials);

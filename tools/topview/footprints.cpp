@@ -131,7 +131,9 @@ void add_rejected(const Sources& sources, const documents::Detections& d, Footpr
   std::vector<std::pair<std::string, Kind>> wanted;
   for (const documents::Rejection& r : d.rejected)
     wanted.emplace_back(r.candidate, reason_of(r, out.reasons));
-  if (wanted.empty()) return;
+  // An --index given is read (and refused when unreadable) even when nothing was rejected: it was
+  // ignored then, so a missing or malformed file passed with exit 0 (stop 68).
+  if (wanted.empty() && sources.index.empty()) return;
   const std::string path = find_index(sources, d);
   if (path.empty()) {
     out.undrawn = static_cast<int>(wanted.size());

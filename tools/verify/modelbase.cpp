@@ -16,7 +16,7 @@ std::vector<Model> read_models(const std::string& dir, const std::vector<std::st
   namespace fs = std::filesystem;
   using common::DataError;
   std::error_code ec;
-  if (!fs::is_directory(dir, ec)) throw DataError(dir, "modelbase directory does not exist");
+  documents::require_modelbase_dir(dir, "<model>.json graphs and <model>.pcd surfaces");
   std::vector<Model> models;
   for (const auto& name : names) {
     const std::string graph = (fs::path(dir) / (name + ".json")).string();

@@ -15,6 +15,11 @@ struct ModelbaseEntry {
   std::string path;  // <dir>/<name>.json
 };
 
+// Throws common::DataError naming `dir` unless it is a directory: "modelbase directory does not
+// exist", or "modelbase is not a directory (give a directory of <holds>)" for a file or other
+// non-directory. Every reader of a modelbase checks its argument with it.
+void require_modelbase_dir(const std::string& dir, const std::string& holds);
+
 // Every regular file "<model>.json" in `dir`, sorted by file name; other entries are ignored.
 // Throws common::DataError naming the directory: missing, not a directory, cannot be listed,
 // or holding no <model>.json.
