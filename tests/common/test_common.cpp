@@ -25,6 +25,7 @@
 #include "canopy/common/error.h"
 #include "canopy/common/math.h"
 #include "canopy/common/parallel.h"
+#include "canopy/common/printable.h"
 #include "canopy/common/rng.h"
 #include "canopy/common/share.h"
 #include "canopy/common/units.h"
@@ -150,6 +151,16 @@ TEST_CASE("reading a missing file or a directory is a DataError naming it") {
   }
   CHECK_THROWS_AS(read_file(dir + "/missing.pcd"), DataError);
   CHECK_THROWS_AS(AtomicOutput(dir), DataError);
+}
+
+TEST_CASE("control bytes in messages: printable escapes all, a DataError keeps newline and tab") {
+  using canopy::common::printable;
+  const std::string raw = std::string("a\0b\x1b[31m\tc\nd\x7f", 13);
+  CHECK(printable(raw) == "a\\x00b\\x1b[31m\\x09c\\x0ad\\x7f");
+  const DataError e("m.txt", "line 1: unknown record '" + raw + "'");
+  // The whole text survives the NUL (what() was cut there before stop 68).
+  CHECK(std::string(e.what()) == "m.txt: line 1: unknown record 'a\\x00b\\x1b[31m\tc\nd\\x7f'");
+  CHECK(e.cause() == "line 1: unknown record '" + raw + "'");
 }
 
 // ---- outputs that are not plain files (issue 12) --------------------------------------------
