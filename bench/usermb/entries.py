@@ -131,7 +131,19 @@ def main():
     xs = [r[ix[0]] for r in rows]
     ys = [r[ix[1]] for r in rows]
     run([f'{BIN}/fitvox', '--config', f'{P}/fitvox-tile.ini'] + opts('FITVOX') +
-        ['--pcd-encoding', 'binary_compressed', '-i', f'{d}/cand.pcd', '-o', f'{d}/samples.pcd'], cpu)
+        ['--pcd-encoding', 'binary', '-i', f'{d}/cand.pcd', '-o', f'{d}/samples-raw.pcd'], cpu)
+    # The dense entries' samples carry rangetrace's label (1: the vehicle), and verify takes a
+    # labelled surface's label-1 samples as the model; a tile's candidate has no label (fitvox
+    # writes 0). So label 1 for the samples inside the vehicle's true footprint (model frame,
+    # 0.1 m margin) and above the flat ground (z > 0.05 m), 0 for the rest (the ground around).
+    lx, ly = truth['size'][0] / 2 + 0.1, truth['size'][1] / 2 + 0.1
+    header, sfields, sfmt, srows = read_pcd(f'{d}/samples-raw.pcd')
+    sx, sy, sz, sl = (sfields.index(k) for k in ('x', 'y', 'z', 'label'))
+    for r in srows:
+        r[sl] = 1 if abs(r[sx]) <= lx and abs(r[sy]) <= ly and r[sz] > 0.05 else 0
+    write_pcd(f'{d}/samples.pcd', header, sfmt, srows)
+    os.remove(f'{d}/samples-raw.pcd')
+    labelled = sum(r[sl] for r in srows)
     run([f'{BIN}/cocone', '--config', f'{P}/cocone.ini'] + opts('COCONE') + ['-i', f'{d}/samples.pcd', '-o', f'{d}/mesh.ply'],
         cpu)
     run([f'{BIN}/ncut', '--config', f'{P}/ncut.ini'] + opts('NCUT') +
@@ -142,13 +154,13 @@ def main():
             'candidate': c['id'], 'density': c['density'], 'points': len(rows), 'object_points': c.get('object_points'),
             'cand_length': c['length'], 'true_length': truth['size'][0], 'x_extent_model': [min(xs), max(xs)],
             'y_extent_model': [min(ys), max(ys)], 'heading_deg': pose['heading'],
-            'offset_m': math.hypot(c['centre'][0] - pose['x'], c['centre'][1] - pose['y']), 'segments': nseg,
+            'offset_m': math.hypot(c['centre'][0] - pose['x'], c['centre'][1] - pose['y']), 'segments': nseg, 'samples': len(srows), 'samples_label1': labelled,
             'options': opts('FITVOX') + opts('COCONE') + opts('NCUT'), 'cpu_s': cpu, 'wall_s': time.time() - wall0}
     json.dump(info, open(f'{d}/entry.json', 'w'), indent=1)
     os.remove(f'{d}/scan.pcd')
     print(f'{model} s{seed} d{level}: {len(index["candidates"])} cands, {c["id"]} density {c["density"]:.0f}, '
           f'{len(rows)} pts, length {c["length"]:.2f}/{truth["size"][0]:.2f}, x {min(xs):.2f}..{max(xs):.2f}, '
-          f'{nseg} segments, cpu {sum(cpu.values()):.1f}s')
+          f'{nseg} segments, {labelled}/{len(srows)} samples on the vehicle, cpu {sum(cpu.values()):.1f}s')
 
 
 if __name__ == '__main__':

@@ -9,6 +9,10 @@ DENSE (out/modelbase):
                                       not resolved, and that is what a tile candidate shows too)
   OUT/mixed/<model>.{json,pcd}        that render's graph, the dense entry's surface
   OUT/seeds/<model>.s<seed>.{json,pcd} every seed's graph and surface (rematch.py MERGE_MB)
+  OUT/mixseeds/<model>.s<seed>.{json,pcd} every seed's graph, the dense entry's surface
+  OUT/union/<model>.dense.json, <model>.s<seed>.json (+ .pcd each: the dense entry's surface)
+                                      the dense graph beside every seed's graph
+  OUT/unionown/<model>.dense.{json,pcd} (the dense entry), <model>.s<seed>.{json,pcd} (every seed's own)
 Hard links. Prints the choice."""
 import collections
 import glob
@@ -25,7 +29,7 @@ def link(src, dst):
 
 def main():
     ent, dense, out = sys.argv[1:4]
-    for k in ('matched', 'mixed', 'seeds'):
+    for k in ('matched', 'mixed', 'seeds', 'mixseeds', 'union', 'unionown'):
         os.makedirs(f'{out}/{k}', exist_ok=True)
     by_model = collections.defaultdict(list)
     for f in sorted(glob.glob(f'{ent}/*/entry.json')):
@@ -42,9 +46,18 @@ def main():
         link(f"{pick['dir']}/samples.pcd", f'{out}/matched/{model}.pcd')
         link(f"{pick['dir']}/segments.json", f'{out}/mixed/{model}.json')
         link(f'{dense}/{model}.pcd', f'{out}/mixed/{model}.pcd')
+        link(f'{dense}/{model}.json', f'{out}/union/{model}.dense.json')
+        link(f'{dense}/{model}.pcd', f'{out}/union/{model}.dense.pcd')
+        link(f'{dense}/{model}.json', f'{out}/unionown/{model}.dense.json')
+        link(f'{dense}/{model}.pcd', f'{out}/unionown/{model}.dense.pcd')
         for e in es:
+            for k in ('mixseeds', 'union'):
+                link(f"{e['dir']}/segments.json", f"{out}/{k}/{model}.s{e['seed']}.json")
+                link(f'{dense}/{model}.pcd', f"{out}/{k}/{model}.s{e['seed']}.pcd")
             link(f"{e['dir']}/segments.json", f"{out}/seeds/{model}.s{e['seed']}.json")
             link(f"{e['dir']}/samples.pcd", f"{out}/seeds/{model}.s{e['seed']}.pcd")
+            link(f"{e['dir']}/segments.json", f"{out}/unionown/{model}.s{e['seed']}.json")
+            link(f"{e['dir']}/samples.pcd", f"{out}/unionown/{model}.s{e['seed']}.pcd")
         print(f"{model}: seed {pick['seed']} ({pick['points']} points, density {pick['density']:.0f}, {pick['segments']} segments;"
               f" seeds {[(e['seed'], e['points'], e['segments']) for e in es]})")
 

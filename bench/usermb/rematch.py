@@ -15,7 +15,8 @@ tiles.txt into RES/VARIANT/score.json (+ CSVs). class.json is the rung's own (un
 MODEL_DENSITY (optional): re-plan every run with `collect --plan --model-density MODEL_DENSITY`;
 a candidate the rung left at the class level that the new plan sends to the model chain runs
 fitvox | cocone | ncut with the new plan's density-rule options into cands/<id>/lo-*.{pcd,ply,json}
-(the rung's own candidates keep their files). Prints the CPU seconds of gmatch and verify.
+(the rung's own candidates keep their files). Prints (and writes RES/VARIANT/cpu.json) the CPU
+seconds of each tool, as os.times() counts the children.
 MERGE_MB=<dir> (environment): MODELBASE holds several entries per model, named <model>.<tag>;
 each verdict's model (and its hypotheses' models) is renamed <model> before collect, which reads
 MERGE_MB's <model>.pcd for the footprints.
@@ -106,8 +107,8 @@ def main():
     subprocess.run([f'{BIN}/score', '--tiles', f'{level_dir}/tiles-{variant}.txt', '--model-classes',
                     f'{SRC}/share/models/classes.csv', '-o', f'{res}/{variant}/score.json', '--csv', f'{res}/{variant}/'],
                    check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    print(variant, level_dir, 'cpu', {k: round(x, 1) for k, x in CPU.items()}, 'model-level candidates',
-          sum(1 for _ in lines))
+    json.dump({k: round(x, 2) for k, x in CPU.items()}, open(f'{res}/{variant}/cpu.json', 'w'))
+    print(variant, level_dir, 'cpu', {k: round(x, 1) for k, x in CPU.items()}, 'runs', len(lines))
 
 
 if __name__ == '__main__':
