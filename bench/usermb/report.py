@@ -17,9 +17,9 @@ ROWS = [('d50', 'dense'), ('d50', 'matched'), ('d50', 'mixed'), ('d50', 'seeds')
         ('d50', 'dense-md20'), ('d50', 'matched-md20'), ('d50', 'mixed-md20'), ('d50', 'mixseeds-md20'),
         ('d50', 'union-md20'), ('d50', 'unionown-md20'),
         ('d100', 'dense'), ('d100', 'matched'), ('d100', 'mixed'), ('d100', 'seeds'), ('d100', 'mixseeds'),
-        ('d100', 'union'), ('d100', 'unionown'), ('d100', 'mixedB'), ('d100', 'seedsB'), ('d100', 'unionownB'),
+        ('d100', 'union'), ('d100', 'unionown'), ('d100', 'mixedB'), ('d100', 'seedsB'), ('d100', 'unionownB'), ('d100', 'dense-md20'),
         ('d200', 'dense'), ('d200', 'matched'), ('d200', 'mixed'), ('d200', 'seeds'), ('d200', 'mixseeds'),
-        ('d200', 'union'), ('d200', 'unionown'), ('d200', 'mixedB'), ('d200', 'seedsB'), ('d200', 'unionownB')]
+        ('d200', 'union'), ('d200', 'unionown'), ('d200', 'mixedB'), ('d200', 'seedsB'), ('d200', 'unionownB'), ('d200', 'dense-md20')]
 
 
 def right(path, cover):
