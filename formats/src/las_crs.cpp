@@ -338,6 +338,11 @@ EpsgCode epsg_from_wkt(const std::string& wkt) { return read_wkt(wkt).code; }
 
 std::string LasCrs::code() const { return epsg > 0 ? "EPSG:" + std::to_string(epsg) : ""; }
 
+bool is_epsg_code(const std::string& text) {
+  if (text.compare(0, 5, "EPSG:") != 0 || text.size() < 6 || text.size() > 11 || text[5] == '0') return false;
+  return std::all_of(text.begin() + 5, text.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
 LasCrs las_crs(const LasHeaderBlock& header) {
   const LasVlr *keys = nullptr, *wkt = nullptr, *liblas_wkt = nullptr;
   for (const LasVlr& v : header.vlrs) {

@@ -8,7 +8,9 @@
 
 #include <filesystem>
 #include <optional>
+#include <regex>
 #include <string>
+#include <vector>
 
 #include "canopy/formats/las.h"
 #include "canopy/formats/las_crs.h"
@@ -519,4 +521,45 @@ TEST_CASE("LAS CRS: a tile read from a FIFO gets its CRS and unit from the hande
   CHECK(c.code() == "EPSG:2903");
   REQUIRE(c.unit);
   CHECK(c.unit->name == "US survey foot");
+}
+
+TEST_CASE("LAS CRS: is_epsg_code is the pattern EPSG:[1-9][0-9]{0,5}", "[las][crs]") {
+  for (const char* ok : {"EPSG:1", "EPSG:2154", "EPSG:32633", "EPSG:999999", "EPSG:100000"}) {
+    CHECK(is_epsg_code(ok));
+  }
+  for (const char* bad :
+       {"", "EPSG:", "EPSG:0", "EPSG:02154", "EPSG:1234567", "epsg:2154", "EPSG: 2154", "EPSG:2154 ",
+        " EPSG:2154", "EPSG:21a4", "EPSG:-1", "EPSG:+1", "ESRI:102100", "EPSG::2154", "Lambert-93", "EPSG"}) {
+    CHECK_FALSE(is_epsg_code(bad));
+  }
+  // Every string of up to 7 characters after "EPSG:" over 0, 1, 9, a letter and a colon
+  // (97 656), against the regex the index reader and collect --crs used until stop 68.
+  const std::regex pattern("EPSG:[1-9][0-9]{0,5}");
+  const std::string alphabet = "019a:";
+  std::size_t n = 0, matched = 0;
+  for (std::size_t len = 0; len <= 7; ++len) {
+    std::vector<std::size_t> digit(len, 0);
+    for (bool more = true; more;) {
+      std::string s = "EPSG:";
+      for (std::size_t d : digit) s += alphabet[d];
+      const bool want = std::regex_match(s, pattern);
+      if (is_epsg_code(s) != want) FAIL_CHECK(s);
+      ++n;
+      matched += want;
+      more = false;
+      for (std::size_t i = 0; i < len && !more; ++i) {
+        if (++digit[i] < alphabet.size()) {
+          more = true;
+        } else {
+          digit[i] = 0;
+        }
+      }
+    }
+  }
+  CHECK(n == 97656);
+  CHECK(matched == 728);  // 2 first digits, then 3 each: 2 (3^6 - 1) / 2
+  // The codes las_crs writes are of that form.
+  LasCrs c;
+  c.epsg = 2154;
+  CHECK(is_epsg_code(c.code()));
 }

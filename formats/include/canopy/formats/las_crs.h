@@ -88,4 +88,8 @@ LasCrs las_crs(const LasHeaderBlock& header);
 // points_io.h).
 LasCrs read_las_crs(const std::string& path);
 
+// Whether `text` is an EPSG code as canopy writes and accepts one: "EPSG:" and 1 to 6 digits,
+// the first not 0 (the index's "crs", collect --crs, the GeoJSON's "crs" member).
+bool is_epsg_code(const std::string& text);
+
 }  // namespace canopy::formats
