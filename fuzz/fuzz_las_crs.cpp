@@ -3,10 +3,12 @@
 // bit 1: the WKT under libLAS's user id), the GeoKey payload's length (2 bytes, little-endian;
 // 0xffff = no GeoKey record), that payload, then the WKT (empty = no WKT record). A throw, a
 // crash, a sanitizer report, or a result that breaks las_crs's promises (a code of 1 to 6
-// digits with its place, else none; a note of one line) is a finding. Seeds: make_seeds's
-// las_crs/ (the records of tests/las/data and damaged copies).
+// digits with its place, else none; a note of one line; a unit of one line, its metres >= 0)
+// is a finding. Seeds: make_seeds's las_crs/ (the records of tests/las/data and damaged
+// copies).
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "canopy/formats/las.h"
@@ -34,8 +36,19 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (c.epsg < 0 || c.epsg > 999999) __builtin_trap();
   if ((c.epsg > 0) != !c.from.empty() || (c.epsg > 0) != !c.code().empty()) __builtin_trap();
   if (c.note.find('\n') != std::string::npos || c.note.size() > 1000) __builtin_trap();
+  // A unit: a name and a source of one line, metres >= 0 (> 0 from a WKT).
+  auto check_unit = [](const std::optional<f::LinearUnit>& u, bool wkt) {
+    if (!u) return;
+    if (u->name.find('\n') != std::string::npos || u->source.find('\n') != std::string::npos)
+      __builtin_trap();
+    if (u->source.empty() || u->name.size() > 300 || u->source.size() > 300) __builtin_trap();
+    if (!(u->metres >= 0) || (wkt && !(u->metres > 0))) __builtin_trap();
+  };
+  check_unit(c.unit, false);
   // The record parsers alone, on the same bytes.
-  f::epsg_from_wkt(std::string(rest, left));
-  f::epsg_from_geokeys(std::string(rest, left));
+  const f::CrsRecord w = f::read_wkt(std::string(rest, left));
+  check_unit(w.unit, true);
+  if ((w.code.code > 0) != w.code.problem.empty()) __builtin_trap();
+  check_unit(f::read_geokeys(std::string(rest, left)).unit, false);
   return 0;
 }

@@ -6,6 +6,7 @@
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "canopy/formats/json_document.h"
+#include "canopy/formats/las_crs.h"
 #include "members.h"
 
 namespace canopy::documents {
@@ -62,8 +63,7 @@ Candidates read_members(const Json& j, int version) {
   d.tile_points = optional_count(j, "tile_points", "");
   if (const Json* c = optional(j, "crs")) {
     d.crs = text(*c, "crs");
-    if (!std::regex_match(d.crs, std::regex("EPSG:[1-9][0-9]{0,5}")))
-      throw Malformed("crs must be EPSG:<code>");
+    if (!formats::is_epsg_code(d.crs)) throw Malformed("crs must be EPSG:<code>");
   }
   if (const Json* f = optional(j, "crs_from")) d.crs_from = text(*f, "crs_from");
   if (const Json* o = optional(j, "origin")) d.origin = point3(*o, "origin");

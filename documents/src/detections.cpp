@@ -5,6 +5,7 @@
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
 #include "canopy/formats/json_document.h"
+#include "canopy/formats/las_crs.h"
 #include "canopy/formats/provenance.h"
 #include "members.h"
 
@@ -274,7 +275,7 @@ std::string serialize_detections_geojson(const DetectionsRecord& r) {
   Json features = Json::array();
   for (const auto& d : r.detections) features.push_back(feature_json(d));
   Json geo{{"type", "FeatureCollection"}, {"name", "canopy detections"}};
-  if (r.crs.rfind("EPSG:", 0) == 0) {
+  if (formats::is_epsg_code(r.crs)) {
     // The GeoJSON 2008 "crs" member (RFC 7946 dropped it; GDAL/QGIS still read it).
     geo["crs"] = Json{{"type", "name"}, {"properties", {{"name", "urn:ogc:def:crs:EPSG::" + r.crs.substr(5)}}}};
     if (!r.crs_from.empty()) geo["crs_from"] = r.crs_from;

@@ -336,6 +336,39 @@ void read_vlrs(const unsigned char* b, const LasHeader& h, const std::string& na
   });
 }
 
+// The header block of a LAS/LAZ file whose header `h` was read from `b`: the VLRs that lie in
+// b's first `available` bytes (for_each_vlr's checks).
+LasHeaderBlock header_block(const unsigned char* b, std::size_t available, const LasHeader& h,
+                            const std::string& name) {
+  LasHeaderBlock out;
+  out.major = b[24];
+  out.minor = h.minor;
+  out.point_format = h.format;
+  out.global_encoding = get<std::uint16_t>(b + 6);
+  for_each_vlr(b, available, h, name, [&](const unsigned char* v, std::size_t len) {
+    LasVlr vlr;
+    const char* user = reinterpret_cast<const char*>(v + 2);
+    vlr.user_id.assign(user, strnlen(user, 16));
+    vlr.record_id = get<std::uint16_t>(v + 18);
+    vlr.payload.assign(reinterpret_cast<const char*>(v + kVlrHeader), len);
+    out.vlrs.push_back(std::move(vlr));
+  });
+  return out;
+}
+
+// The bytes of the header block read_las_header_block returns: up to the point data, at most
+// max_bytes (the header always whole).
+std::size_t header_block_bytes(const LasHeader& h, std::size_t max_bytes) {
+  return std::min(h.data_offset, std::max(max_bytes, h.header_size));
+}
+
+// The header block of the LAZ file whose first bytes `b` hold its header and VLRs (laz_to_las
+// read them: the checks have been made), as read_las_header_block gives it.
+LasHeaderBlock laz_header_block(const unsigned char* b, std::size_t size, const std::string& name) {
+  const LasHeader h = las::read_header_fields(b, size, name);
+  return header_block(b, header_block_bytes(h, kLasHeaderBlockBytes), h, name);
+}
+
 // Where the reader takes a LAS file's bytes from: a whole file in memory (parse_las) or an open
 // regular file, read in pieces (read_las). Callers ask only for bytes they checked lie within
 // size().
@@ -627,7 +660,7 @@ void reserve_columns(const LasColumns& c, std::size_t n) {
 // min(size, max(kHeader14, point data offset)) bytes (header and VLRs; at least kHeader12),
 // `src` the whole file for the EVLRs and the point records, read `chunk_bytes` at a time.
 PointCloud decode_las(const unsigned char* b, LasSource& src, const std::string& name,
-                      std::size_t chunk_bytes, const FieldSelection& want) {
+                      std::size_t chunk_bytes, const FieldSelection& want, LasHeaderBlock* block) {
   const std::size_t size = static_cast<std::size_t>(src.size());
   const LasHeader h = read_las_header(b, size, name);
   PointCloud cloud;
@@ -635,6 +668,7 @@ PointCloud decode_las(const unsigned char* b, LasSource& src, const std::string&
   std::vector<unsigned char> evlr_payload;
   read_vlrs(b, h, name, &cloud, &extra);
   read_evlrs(b, src, h, name, &extra, &evlr_payload);
+  if (block != nullptr) *block = header_block(b, header_block_bytes(h, kLasHeaderBlockBytes), h, name);
   LasColumns columns = add_las_columns(h.format, h, want, cloud);
   if (extra.data != nullptr) {
     columns.extras = parse_extra_bytes(extra.data, extra.len, kMinRecord[h.format],
@@ -677,29 +711,35 @@ struct FdCloser {
 
 PointCloud parse_las(const std::string& bytes, const std::string& name) { return parse_las(bytes, name, {}); }
 
-PointCloud parse_las(const std::string& bytes, const std::string& name, const FieldSelection& fields) {
+PointCloud parse_las(const std::string& bytes, const std::string& name, const FieldSelection& fields,
+                     LasHeaderBlock* header) {
   const auto* b = reinterpret_cast<const unsigned char*>(bytes.data());
   const std::size_t size = bytes.size();
   if (!is_las(bytes)) throw DataError(name, "not a LAS file (no LASF signature)");
-  if (is_laz(bytes)) return parse_las(laz_to_las(bytes, name), name, fields);  // LAZ: decompressed first
+  if (is_laz(bytes)) {  // LAZ: decompressed first; its own header block (LASzip's VLR too)
+    PointCloud cloud = parse_las(laz_to_las(bytes, name), name, fields);
+    if (header != nullptr) *header = laz_header_block(b, size, name);
+    return cloud;
+  }
   if (size < kHeader12) {
     throw DataError(name, "LAS header truncated: file has " + std::to_string(size) +
                               " bytes, a header needs " + std::to_string(kHeader12));
   }
   MemorySource src(bytes);
-  return decode_las(b, src, name, kLasReadChunk, fields);
+  return decode_las(b, src, name, kLasReadChunk, fields, header);
 }
 
-PointCloud read_las(const std::string& path, const FieldSelection& fields) {
-  return read_las(path, kLasReadChunk, fields);
+PointCloud read_las(const std::string& path, const FieldSelection& fields, LasHeaderBlock* header) {
+  return read_las(path, kLasReadChunk, fields, header);
 }
 
-PointCloud read_las(const std::string& path, std::size_t chunk_bytes, const FieldSelection& fields) {
+PointCloud read_las(const std::string& path, std::size_t chunk_bytes, const FieldSelection& fields,
+                    LasHeaderBlock* header) {
   struct stat st {};
   // Standard input, a FIFO or a device cannot be read twice nor at an offset; a missing file
   // or a directory gets read_file's error.
   if (path == "-" || ::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) {
-    return parse_las(common::read_file(path), path, fields);
+    return parse_las(common::read_file(path), path, fields, header);
   }
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) throw DataError(path, std::string("cannot open: ") + std::strerror(errno));
@@ -719,13 +759,16 @@ PointCloud read_las(const std::string& path, std::size_t chunk_bytes, const Fiel
     // LAZ: decompressed whole, as parse_las does; the compressed bytes are freed before the
     // LAS is decoded.
     const std::string las = laz_to_las(common::read_file(path), path);
+    if (header != nullptr)
+      *header = laz_header_block(reinterpret_cast<const unsigned char*>(head.data()), src.size(), path);
     return parse_las(las, path, fields);
   }
   if (head.size() < kHeader12) {
     throw DataError(path, "LAS header truncated: file has " + std::to_string(src.size()) +
                               " bytes, a header needs " + std::to_string(kHeader12));
   }
-  return decode_las(reinterpret_cast<const unsigned char*>(head.data()), src, path, chunk_bytes, fields);
+  return decode_las(reinterpret_cast<const unsigned char*>(head.data()), src, path, chunk_bytes, fields,
+                    header);
 }
 
 LasHeaderBlock read_las_header_block(const std::string& path, std::size_t max_bytes) {
@@ -746,27 +789,13 @@ LasHeaderBlock read_las_header_block(const std::string& path, std::size_t max_by
   const auto* b = reinterpret_cast<const unsigned char*>(bytes.data());
   const LasHeader h = las::read_header_fields(b, size, path);
   // The VLRs: up to the point data, at most max_bytes (the header is read whole).
-  const std::size_t available = std::min(h.data_offset, std::max(max_bytes, h.header_size));
+  const std::size_t available = header_block_bytes(h, max_bytes);
   if (available > bytes.size()) {
     const std::size_t had = bytes.size();
     bytes.resize(available);
     if (!f.read(bytes.data() + had, std::streamsize(available - had))) throw DataError(path, "read failed");
   }
-  b = reinterpret_cast<const unsigned char*>(bytes.data());
-  LasHeaderBlock out;
-  out.major = b[24];
-  out.minor = h.minor;
-  out.point_format = h.format;
-  out.global_encoding = get<std::uint16_t>(b + 6);
-  for_each_vlr(b, available, h, path, [&](const unsigned char* v, std::size_t len) {
-    LasVlr vlr;
-    const char* user = reinterpret_cast<const char*>(v + 2);
-    vlr.user_id.assign(user, strnlen(user, 16));
-    vlr.record_id = get<std::uint16_t>(v + 18);
-    vlr.payload.assign(reinterpret_cast<const char*>(v + kVlrHeader), len);
-    out.vlrs.push_back(std::move(vlr));
-  });
-  return out;
+  return header_block(reinterpret_cast<const unsigned char*>(bytes.data()), available, h, path);
 }
 
 namespace {

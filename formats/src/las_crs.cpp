@@ -2,19 +2,24 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <vector>
 
 #include "canopy/common/error.h"
+#include "canopy/common/printable.h"
 
 namespace canopy::formats {
 namespace {
 
 constexpr std::uint16_t kGeoKeys = 34735, kWkt = 2112;
 constexpr int kMaxDepth = 32;
-constexpr std::size_t kMaxKeyword = 64;  // WKT's longest is 20 (e.g. PARAMETRICUNIT)
+constexpr std::size_t kMaxKeyword = 64;      // WKT's longest is 20 (e.g. PARAMETRICUNIT)
+constexpr std::size_t kMaxUnitSource = 200;  // a unit node's text in LinearUnit::source, at most
 
 std::uint32_t u16(const unsigned char* p) { return std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8; }
 
@@ -23,6 +28,7 @@ struct Node {
   std::string key;
   std::vector<std::string> values;  // quoted strings (unquoted) and bare words, in order
   std::vector<Node> children;
+  std::size_t begin = 0, end = 0;  // the node's bytes in the text: its keyword to its closing bracket
 };
 
 struct Malformed {
@@ -53,6 +59,7 @@ class WktParser {
     if (depth >= kMaxDepth) fail("nested deeper than " + std::to_string(kMaxDepth) + " levels");
     space();
     Node n;
+    n.begin = i_;
     while (i_ < t_.size() && word_char(t_[i_]))
       n.key += static_cast<char>(std::toupper(static_cast<unsigned char>(t_[i_++])));
     if (n.key.empty() || !std::isalpha(static_cast<unsigned char>(n.key[0]))) fail("a keyword expected");
@@ -62,7 +69,7 @@ class WktParser {
     const char close = t_[i_++] == '[' ? ']' : ')';
     space();
     if (i_ < t_.size() && t_[i_] == close) {
-      ++i_;
+      n.end = ++i_;
       return n;
     }
     for (;;) {
@@ -74,7 +81,7 @@ class WktParser {
         continue;
       }
       if (t_[i_] != close) fail("',' or '" + std::string(1, close) + "' expected in " + n.key);
-      ++i_;
+      n.end = ++i_;
       return n;
     }
   }
@@ -168,46 +175,111 @@ EpsgCode authority(const Node& n, const std::string& path) {
   return EpsgCode{0, "", "the WKT's " + path + n.key + " names no EPSG code"};
 }
 
-EpsgCode crs_code(const Node& n, const std::string& path, int depth) {
-  if (horizontal(n)) return authority(n, path);
+bool projected(const Node& n) { return is_one_of(n.key, {"PROJCS", "PROJCRS", "PROJECTEDCRS"}); }
+
+// A unit node (UNIT["name",factor,...], LENGTHUNIT[...]) as a linear unit; none when its
+// factor is not a number > 0.
+std::optional<LinearUnit> linear_unit(const Node& u, const std::string& text) {
+  if (u.values.size() < 2) return std::nullopt;
+  const std::string& f = u.values[1];
+  char* end = nullptr;
+  const double factor = std::strtod(f.c_str(), &end);
+  if (f.empty() || end != f.c_str() + f.size() || !std::isfinite(factor) || !(factor > 0))
+    return std::nullopt;
+  // One line: whitespace runs as one space, control bytes as \xNN (common::printable), at most
+  // kMaxUnitSource bytes and "..." when cut.
+  auto line = [](const std::string& t, std::size_t from, std::size_t to) {
+    std::string out;
+    std::size_t i = from;
+    for (; i < to && out.size() < kMaxUnitSource; ++i) {
+      const auto c = static_cast<unsigned char>(t[i]);
+      if (!std::isspace(c)) {
+        out += static_cast<char>(c);
+      } else if (out.empty() || out.back() != ' ') {
+        out += ' ';
+      }
+    }
+    bool cut = i < to;
+    out = common::printable(out);
+    if (out.size() > kMaxUnitSource) {
+      out.resize(kMaxUnitSource);
+      cut = true;
+    }
+    return cut ? out + "..." : out;
+  };
+  return LinearUnit{line(u.values[0], 0, u.values[0].size()), factor, "WKT " + line(text, u.begin, u.end)};
+}
+
+// A projected CRS's own linear unit: its UNIT or LENGTHUNIT (WKT 1, and WKT 2's CS-wide unit),
+// else its first AXIS's (WKT 2 may give the unit per axis). Never a nested CRS's.
+std::optional<LinearUnit> own_unit(const Node& n, const std::string& text) {
+  if (!projected(n)) return std::nullopt;
+  auto unit_child = [](const Node& p) -> const Node* {
+    for (const Node& c : p.children) {
+      if (c.key == "UNIT" || c.key == "LENGTHUNIT") return &c;
+    }
+    return nullptr;
+  };
+  const Node* u = unit_child(n);
+  if (u == nullptr) {
+    const auto axis =
+        std::find_if(n.children.begin(), n.children.end(), [](const Node& c) { return c.key == "AXIS"; });
+    if (axis != n.children.end()) u = unit_child(*axis);
+  }
+  return u != nullptr ? linear_unit(*u, text) : std::nullopt;
+}
+
+// The code and the unit of the CRS `n` (the outermost node, or a BOUNDCRS's source): both read
+// from the same horizontal CRS.
+CrsRecord crs_record(const Node& n, const std::string& text, const std::string& path, int depth) {
+  if (horizontal(n)) return {authority(n, path), own_unit(n, text)};
   if (is_one_of(n.key, {"COMPD_CS", "COMPOUNDCRS"})) {
-    for (const Node& c : n.children) {
-      if (!horizontal(c)) continue;
-      EpsgCode h = authority(c, path + n.key + "'s ");
-      if (h.code != 0) return h;
-      break;
+    const auto h = std::find_if(n.children.begin(), n.children.end(), horizontal);
+    std::optional<LinearUnit> unit;
+    if (h != n.children.end()) {
+      EpsgCode code = authority(*h, path + n.key + "'s ");
+      unit = own_unit(*h, text);
+      if (code.code != 0) return {code, unit};
     }
     EpsgCode own = authority(n, path);
     if (own.code == 0)
       own.problem = "the WKT's " + path + n.key + " names no EPSG code (nor its horizontal part)";
-    return own;
+    return {own, unit};
   }
   if (n.key == "BOUNDCRS" && depth < 2) {
     for (const Node& c : n.children) {
       if (c.key == "SOURCECRS" && !c.children.empty())
-        return crs_code(c.children[0], path + "BOUNDCRS's SOURCECRS's ", depth + 1);
+        return crs_record(c.children[0], text, path + "BOUNDCRS's SOURCECRS's ", depth + 1);
     }
   }
-  return EpsgCode{0, "",
-                  "the WKT's outermost node is " + n.key + ", not a projected, geographic or compound CRS"};
+  return {EpsgCode{0, "",
+                   "the WKT's outermost node is " + n.key + ", not a projected, geographic or compound CRS"},
+          std::nullopt};
+}
+
+// A GeoTIFF ProjLinearUnitsGeoKey value as a unit.
+LinearUnit geotiff_unit(std::uint32_t code) {
+  const std::string source = "GeoTIFF key ProjLinearUnits = " + std::to_string(code);
+  switch (code) {
+    case 9001: return LinearUnit{"metre", 1.0, source};
+    case 9002: return LinearUnit{"foot", 0.3048, source};
+    case 9003: return LinearUnit{"US survey foot", 1200.0 / 3937.0, source};
+    default: return LinearUnit{"EPSG unit " + std::to_string(code), 0.0, source};
+  }
 }
 
 }  // namespace
 
-EpsgCode epsg_from_geokeys(const std::string& payload) {
+CrsRecord read_geokeys(const std::string& payload) {
   const std::size_t len = payload.size();
   if (len < 8)
-    return EpsgCode{0, "", "GeoKey directory of " + std::to_string(len) + " bytes (its header has 8)"};
+    return {EpsgCode{0, "", "GeoKey directory of " + std::to_string(len) + " bytes (its header has 8)"},
+            std::nullopt};
   const auto* d = reinterpret_cast<const unsigned char*>(payload.data());
-  const std::size_t keys = u16(d + 6);
-  if ((len - 8) / 8 < keys) {
-    return EpsgCode{0, "",
-                    "GeoKey directory says " + std::to_string(keys) + " keys but holds " +
-                        std::to_string((len - 8) / 8) + " (cut short)"};
-  }
-  // The keys' inline values (location 0, count 1); -1 = absent.
-  long model = -1, projected = -1, geographic = -1;
-  for (std::size_t k = 0; k < keys; ++k) {
+  const std::size_t keys = u16(d + 6), held = (len - 8) / 8;
+  // The keys' inline values (location 0, count 1); -1 = absent. Only the keys the payload holds.
+  long model = -1, projected = -1, geographic = -1, linear = -1;
+  for (std::size_t k = 0; k < std::min(keys, held); ++k) {
     const unsigned char* e = d + 8 + 8 * k;
     if (u16(e + 2) != 0 || u16(e + 4) != 1) continue;
     const long v = u16(e + 6);
@@ -215,8 +287,19 @@ EpsgCode epsg_from_geokeys(const std::string& payload) {
       case 1024: model = v; break;
       case 3072: projected = v; break;
       case 2048: geographic = v; break;
+      case 3076:
+        if (linear < 0) linear = v;
+        break;
       default: break;
     }
+  }
+  CrsRecord out;
+  if (linear >= 0) out.unit = geotiff_unit(static_cast<std::uint32_t>(linear));
+  if (held < keys) {
+    out.code = EpsgCode{0, "",
+                        "GeoKey directory says " + std::to_string(keys) + " keys but holds " +
+                            std::to_string(held) + " (cut short)"};
+    return out;
   }
   auto code_of = [](long v, const char* key) -> EpsgCode {
     if (v >= 1024 && v <= 32766)  // GeoTIFF: 1-1023 obsolete or reserved, 32767 user-defined
@@ -225,23 +308,40 @@ EpsgCode epsg_from_geokeys(const std::string& payload) {
                     std::string(key) + " is " + std::to_string(v) +
                         (v == 32767 ? " (user-defined): no EPSG code" : " (not an EPSG code)")};
   };
-  if (projected >= 0) return code_of(projected, "ProjectedCSTypeGeoKey");
-  if (geographic >= 0 && (model == 2 || model < 0)) return code_of(geographic, "GeographicTypeGeoKey");
-  return EpsgCode{0, "",
-                  model == 3   ? "the GeoTIFF keys give a geocentric model (no map coordinates)"
-                  : model == 1 ? "the GeoTIFF keys give a projected model without ProjectedCSTypeGeoKey"
-                               : "the GeoTIFF keys hold no ProjectedCSTypeGeoKey or GeographicTypeGeoKey"};
+  if (projected >= 0) {
+    out.code = code_of(projected, "ProjectedCSTypeGeoKey");
+  } else if (geographic >= 0 && (model == 2 || model < 0)) {
+    out.code = code_of(geographic, "GeographicTypeGeoKey");
+  } else {
+    out.code =
+        EpsgCode{0, "",
+                 model == 3   ? "the GeoTIFF keys give a geocentric model (no map coordinates)"
+                 : model == 1 ? "the GeoTIFF keys give a projected model without ProjectedCSTypeGeoKey"
+                              : "the GeoTIFF keys hold no ProjectedCSTypeGeoKey or GeographicTypeGeoKey"};
+  }
+  return out;
 }
 
-EpsgCode epsg_from_wkt(const std::string& wkt) {
+EpsgCode epsg_from_geokeys(const std::string& payload) { return read_geokeys(payload).code; }
+
+CrsRecord read_wkt(const std::string& wkt) {
   const std::string text = wkt.substr(0, strnlen(wkt.data(), wkt.size()));
   try {
     const Node root = WktParser(text).root();
-    return crs_code(root, "", 0);
-  } catch (const Malformed& m) { return EpsgCode{0, "", "the WKT is not well-formed (" + m.why + ")"}; }
+    return crs_record(root, text, "", 0);
+  } catch (const Malformed& m) {
+    return {EpsgCode{0, "", "the WKT is not well-formed (" + m.why + ")"}, std::nullopt};
+  }
 }
 
+EpsgCode epsg_from_wkt(const std::string& wkt) { return read_wkt(wkt).code; }
+
 std::string LasCrs::code() const { return epsg > 0 ? "EPSG:" + std::to_string(epsg) : ""; }
+
+bool is_epsg_code(const std::string& text) {
+  if (text.compare(0, 5, "EPSG:") != 0 || text.size() < 6 || text.size() > 11 || text[5] == '0') return false;
+  return std::all_of(text.begin() + 5, text.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
 
 LasCrs las_crs(const LasHeaderBlock& header) {
   const LasVlr *keys = nullptr, *wkt = nullptr, *liblas_wkt = nullptr;
@@ -252,7 +352,7 @@ LasCrs las_crs(const LasHeaderBlock& header) {
   }
   if (wkt == nullptr) wkt = liblas_wkt;
   struct Read {
-    EpsgCode code;
+    CrsRecord read;
     std::string record;
   };
   std::vector<Read> reads;
@@ -260,10 +360,10 @@ LasCrs las_crs(const LasHeaderBlock& header) {
   const bool wkt_first = header.major == 1 && header.minor >= 4 && (header.global_encoding & 16) != 0;
   auto add_keys = [&] {
     if (keys != nullptr)
-      reads.push_back({epsg_from_geokeys(keys->payload), "LASF_Projection 34735 (GeoTIFF keys)"});
+      reads.push_back({read_geokeys(keys->payload), "LASF_Projection 34735 (GeoTIFF keys)"});
   };
   auto add_wkt = [&] {
-    if (wkt != nullptr) reads.push_back({epsg_from_wkt(wkt->payload), wkt->user_id + " 2112 (OGC WKT)"});
+    if (wkt != nullptr) reads.push_back({read_wkt(wkt->payload), wkt->user_id + " 2112 (OGC WKT)"});
   };
   if (wkt_first) {
     add_wkt();
@@ -275,17 +375,19 @@ LasCrs las_crs(const LasHeaderBlock& header) {
   LasCrs out;
   std::string problems;
   for (const Read& r : reads) {
-    if (r.code.code == 0) {
-      problems += (problems.empty() ? "" : "; ") + r.record + ": " + r.code.problem;
+    if (!out.unit) out.unit = r.read.unit;
+    const EpsgCode& code = r.read.code;
+    if (code.code == 0) {
+      problems += (problems.empty() ? "" : "; ") + r.record + ": " + code.problem;
       continue;
     }
     if (out.epsg == 0) {
-      out.epsg = r.code.code;
-      out.from = r.record + ": " + r.code.from;
-    } else if (r.code.code != out.epsg) {
+      out.epsg = code.code;
+      out.from = r.record + ": " + code.from;
+    } else if (code.code != out.epsg) {
       out.note =
           "its " + out.from.substr(0, out.from.find(':')) + " gives EPSG:" + std::to_string(out.epsg) +
-          ", its " + r.record + " EPSG:" + std::to_string(r.code.code) + "; the first taken (" +
+          ", its " + r.record + " EPSG:" + std::to_string(code.code) + "; the first taken (" +
           (wkt_first ? "the global encoding's WKT bit is set" : "the global encoding's WKT bit is clear") +
           ")";
     }
@@ -296,7 +398,7 @@ LasCrs las_crs(const LasHeaderBlock& header) {
 
 LasCrs read_las_crs(const std::string& path) {
   struct stat st {};
-  // Standard input, a FIFO or a device cannot be read again.
+  // Standard input, a FIFO or a device cannot be read again (read_points hands back its block).
   if (path == "-" || ::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return {};
   try {
     return las_crs(read_las_header_block(path));

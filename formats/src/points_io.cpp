@@ -161,6 +161,19 @@ PointCloud read_points(const std::string& path, const std::string& tool) {
 }
 
 PointCloud read_points(const std::string& path, const std::string& tool, const FieldSelection& fields) {
+  return read_points(path, tool, fields, nullptr);
+}
+
+PointCloud read_points(const std::string& path, const std::string& tool, const FieldSelection& fields,
+                       std::optional<LasHeaderBlock>* las_header) {
+  if (las_header != nullptr) las_header->reset();
+  LasHeaderBlock block;
+  LasHeaderBlock* want = las_header != nullptr ? &block : nullptr;
+  // A LAS or LAZ file's cloud, its header block handed back.
+  auto las = [&](PointCloud cloud) {
+    if (las_header != nullptr) *las_header = std::move(block);
+    return cloud;
+  };
   // A regular LAS file is read piece by piece by read_las, not copied whole into memory first.
   // Only a regular file is looked into here: a FIFO's first bytes could not be read again.
   // A regular PCD file is read in chunks by read_pcd (DATA binary: only the selected columns
@@ -172,7 +185,7 @@ PointCloud read_points(const std::string& path, const std::string& tool, const F
     std::string magic(4, '\0');
     if (f.read(magic.data(), 4) && is_las(magic)) {
       f.close();
-      return read_las(path, fields);
+      return las(read_las(path, fields, want));
     }
     if (f.gcount() == 4 && !is_ply(magic)) {
       std::string head(1 << 16, '\0');
@@ -184,7 +197,7 @@ PointCloud read_points(const std::string& path, const std::string& tool, const F
     }
   }
   const std::string bytes = common::read_file(path);
-  if (is_las(bytes)) return parse_las(bytes, path, fields);
+  if (is_las(bytes)) return las(parse_las(bytes, path, fields, want));
   PointCloud cloud = parse_points(bytes, path, tool);
   if (!fields.all()) {
     const std::vector<std::string> names = cloud.names();

@@ -1,5 +1,7 @@
 // The detect binary: output directory, index.json, bad input, and the existing chain on a
 // candidate.
+#include <sys/stat.h>
+
 #include <catch2/catch.hpp>
 
 #include <nlohmann/json.hpp>
@@ -364,6 +366,41 @@ TEST_CASE("detect: LAS tiles") {
     CHECK(err.find("bad.las: LASF_Projection 2112 (OGC WKT): the WKT is not well-formed (byte 40: ") !=
           std::string::npos);
     CHECK(err.find("no CRS in the index (give collect --crs, make CRS=EPSG:<code>)") != std::string::npos);
+  }
+  SECTION("a LAS tile on standard input or from a FIFO: its CRS and its unit all the same") {
+    // Until stop 68 detect read the header again from the path, which "-" and a FIFO cannot
+    // give: no CRS, no feet warning, and nothing said. The reader now hands its header back.
+    const std::string las = formats::serialize_las(box_tile(), "box");
+    const std::string wkt =
+        R"w(PROJCS["NAD83 / California zone 5 (ftUS)",GEOGCS["NAD83",AUTHORITY["EPSG","4269"]],)w"
+        R"w(UNIT["US survey foot",0.3048006096012192,AUTHORITY["EPSG","9003"]],)w"
+        R"w(AUTHORITY["EPSG","2229"]])w";
+    test::write_file((dir / "ft.las").string(), las_test::with_vlr(las, "LASF_Projection", 2112, wkt));
+    REQUIRE(test::sh(kBin + "/detect --no-classes -i - -o " + q(dir / "stdin.out") + " < " + q(dir / "ft.las"),
+                     dir / "err.txt", &err) == 0);
+    Json j = read_json(dir / "stdin.out" / "index.json");
+    CHECK(j["crs"] == "EPSG:2229");
+    CHECK(j["crs_from"] == "LASF_Projection 2112 (OGC WKT): PROJCS AUTHORITY EPSG 2229");
+    CHECK(j["candidates"].size() == 1);
+    CHECK(err.find("<stdin>: CRS EPSG:2229 (LASF_Projection 2112 (OGC WKT): PROJCS AUTHORITY EPSG 2229)") !=
+          std::string::npos);
+    CHECK(
+        err.find("<stdin>: its georeferencing gives the coordinates in US survey foot (0.3048006096 m) (WKT "
+                 "UNIT[\"US survey foot\",0.3048006096012192,AUTHORITY[\"EPSG\",\"9003\"]])") !=
+        std::string::npos);
+    const fs::path fifo = dir / "fifo";
+    test::write_file(
+        (dir / "keys_ft.las").string(),
+        las_test::with_vlr(las, "LASF_Projection", 34735, las_test::geokeys({{3072, 2229}, {3076, 9002}})));
+    REQUIRE(mkfifo(fifo.c_str(), 0600) == 0);
+    REQUIRE(test::sh("{ cat " + q(dir / "keys_ft.las") + " > " + q(fifo) + " & " + kBin +
+                         "/detect --no-classes -i " + q(fifo) + " -o " + q(dir / "fifo.out") + "; }",
+                     dir / "err.txt", &err) == 0);
+    j = read_json(dir / "fifo.out" / "index.json");
+    CHECK(j["crs"] == "EPSG:2229");
+    CHECK(j["crs_from"] == "LASF_Projection 34735 (GeoTIFF keys): ProjectedCSTypeGeoKey 2229");
+    CHECK(err.find("fifo: its georeferencing gives the coordinates in foot (0.3048 m) (GeoTIFF key "
+                   "ProjLinearUnits = 9002)") != std::string::npos);
   }
 }
 

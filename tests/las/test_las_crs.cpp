@@ -1,14 +1,22 @@
-// formats/las_crs.h: the EPSG code of a LAS/LAZ file's CRS records (GeoTIFF keys, OGC WKT),
-// checked on records written here, on the LAS test files and on real tiles whose records were
-// read by hand (python3 struct, stop 67: docs/decisions/hardening.md).
+// formats/las_crs.h: the EPSG code and the linear unit of a LAS/LAZ file's CRS records
+// (GeoTIFF keys, OGC WKT), and the header block the point reader hands back, checked on
+// records written here, on the LAS test files and on real tiles whose records were read by
+// hand (python3 struct, stops 67 and 68: docs/decisions/hardening.md).
+#include <sys/stat.h>
+
 #include <catch2/catch.hpp>
 
 #include <filesystem>
+#include <optional>
+#include <regex>
 #include <string>
+#include <vector>
 
 #include "canopy/formats/las.h"
 #include "canopy/formats/las_crs.h"
+#include "canopy/formats/pcd.h"
 #include "canopy/formats/point_cloud.h"
+#include "canopy/formats/points_io.h"
 #include "las_bytes.h"
 #include "support/cli.h"
 
@@ -276,4 +284,282 @@ TEST_CASE("LAS CRS: the shared development tiles, when present", "[las][crs]") {
       leica.note ==
       "LASF_Projection 2112 (OGC WKT): the WKT is not well-formed (byte 555: text after the outermost node)");
   CHECK(crs("ahn3_delft_1.laz").epsg == 0);
+}
+
+TEST_CASE("LAS CRS: the GeoKey directory's linear unit, from the same walk", "[las][crs]") {
+  CrsRecord r = read_geokeys(geokeys({{1024, 1}, {3072, 2154}, {3076, 9001}}));
+  CHECK(r.code.code == 2154);
+  REQUIRE(r.unit);
+  CHECK(r.unit->name == "metre");
+  CHECK(r.unit->metres == 1.0);
+  CHECK(r.unit->source == "GeoTIFF key ProjLinearUnits = 9001");
+  r = read_geokeys(geokeys({{3076, 9002}, {3072, 2229}}));
+  REQUIRE(r.unit);
+  CHECK(r.unit->name == "foot");
+  CHECK(r.unit->metres == 0.3048);
+  CHECK(r.code.code == 2229);  // keys in any order
+  r = read_geokeys(geokeys({{3076, 9003}}));
+  REQUIRE(r.unit);
+  CHECK(r.unit->name == "US survey foot");
+  CHECK(r.unit->metres == Approx(0.3048006096012192).epsilon(1e-15));
+  CHECK(r.code.code == 0);  // a unit without a CRS code
+  r = read_geokeys(geokeys({{3076, 9036}}));
+  REQUIRE(r.unit);
+  CHECK(r.unit->name == "EPSG unit 9036");
+  CHECK(r.unit->metres == 0);
+  // The first ProjLinearUnitsGeoKey; none without one.
+  CHECK(read_geokeys(geokeys({{3076, 9002}, {3076, 9001}})).unit->name == "foot");
+  CHECK_FALSE(read_geokeys(geokeys({{3072, 2154}})).unit);
+  CHECK_FALSE(read_geokeys("abc").unit);
+  SECTION("not inline: none") {
+    std::string off = geokeys({{3076, 9002}});
+    set<std::uint16_t>(&off, 10, 34736);  // location: another tag
+    CHECK_FALSE(read_geokeys(off).unit);
+    std::string two = geokeys({{3076, 9002}});
+    set<std::uint16_t>(&two, 12, 2);  // count 2 at location 0: not a GeoTIFF key
+    CHECK_FALSE(read_geokeys(two).unit);
+  }
+  SECTION("cut short: the unit of the keys it holds, no code") {
+    const std::string whole = geokeys({{3076, 9002}, {3072, 2229}});
+    r = read_geokeys(whole.substr(0, whole.size() - 1));
+    CHECK(r.code.code == 0);
+    CHECK(r.code.problem == "GeoKey directory says 2 keys but holds 1 (cut short)");
+    REQUIRE(r.unit);
+    CHECK(r.unit->name == "foot");
+  }
+}
+
+TEST_CASE("LAS CRS: the WKT's linear unit is the projected CRS's own", "[las][crs]") {
+  CrsRecord r = read_wkt(kLambert93);
+  CHECK(r.code.code == 2154);
+  REQUIRE(r.unit);
+  CHECK(r.unit->name == "metre");
+  CHECK(r.unit->metres == 1.0);
+  CHECK(r.unit->source == R"(WKT UNIT["metre",1,AUTHORITY["EPSG","9001"]])");
+  SECTION("a PROJCS holding a VERTCS after its own UNIT (test1_4.las): the PROJCS's, not the last") {
+    r = read_wkt(
+        R"w(PROJCS["NAD83(HARN) / New Mexico Central (ftUS)",GEOGCS["NAD83(HARN)",)w"
+        R"w(UNIT["degree",0.0174532925199433,AUTHORITY["EPSG","9122"]],AUTHORITY["EPSG","4152"]],)w"
+        R"w(UNIT["US survey foot",0.3048006096012192,AUTHORITY["EPSG","9003"]],AXIS["X",EAST],)w"
+        R"w(AUTHORITY["EPSG","2903"],VERTCS["NAVD88",UNIT["US survey foot",1.0],AUTHORITY["EPSG","5703"]]])w");
+    CHECK(r.code.code == 2903);
+    REQUIRE(r.unit);
+    CHECK(r.unit->name == "US survey foot");
+    CHECK(r.unit->metres == 0.3048006096012192);
+    CHECK(r.unit->source == R"(WKT UNIT["US survey foot",0.3048006096012192,AUTHORITY["EPSG","9003"]])");
+  }
+  SECTION("compound: the horizontal part's, never the vertical CRS's") {
+    r = read_wkt(R"(COMPD_CS["x",PROJCS["p",UNIT["metre",1],AUTHORITY["EPSG","2991"]],)"
+                 R"(VERT_CS["v",UNIT["US survey foot",0.304800609601219]]])");
+    CHECK(r.code.code == 2991);
+    REQUIRE(r.unit);
+    CHECK(r.unit->name == "metre");
+    // No code in the horizontal part: the compound's code, the horizontal part's unit.
+    r = read_wkt(R"(COMPD_CS["x",PROJCS["p",UNIT["foot",0.3048]],VERT_CS["v"],AUTHORITY["EPSG","5698"]])");
+    CHECK(r.code.code == 5698);
+    REQUIRE(r.unit);
+    CHECK(r.unit->name == "foot");
+    CHECK(r.unit->source == R"(WKT UNIT["foot",0.3048])");
+    r = read_wkt(
+        R"(BOUNDCRS[SOURCECRS[PROJCRS["p",LENGTHUNIT["foot",0.3048],ID["EPSG",2229]]],TARGETCRS[GEOGCRS["w"]]])");
+    CHECK(r.code.code == 2229);
+    REQUIRE(r.unit);
+    CHECK(r.unit->metres == 0.3048);
+  }
+  SECTION("WKT 2: the CS-wide LENGTHUNIT, else the first axis's; the base CRS's never") {
+    r = read_wkt(
+        R"(PROJCRS["p",BASEGEOGCRS["g",ELLIPSOID["e",6378137,298.25,LENGTHUNIT["metre",1]]],)"
+        R"(CS[Cartesian,2],AXIS["x",east],AXIS["y",north],LENGTHUNIT["US survey foot",0.304800609601219],)"
+        R"(ID["EPSG",2227]])");
+    REQUIRE(r.unit);
+    CHECK(r.unit->name == "US survey foot");
+    r = read_wkt(
+        R"(PROJCRS["p",BASEGEOGCRS["g",ANGLEUNIT["degree",0.0174532925199433]],CS[Cartesian,2],)"
+        R"(AXIS["x",east,LENGTHUNIT["foot",0.3048]],AXIS["y",north,LENGTHUNIT["foot",0.3048]],ID["EPSG",2229]])");
+    REQUIRE(r.unit);
+    CHECK(r.unit->name == "foot");
+    CHECK_FALSE(read_wkt(R"(PROJCRS["p",BASEGEOGCRS["g",LENGTHUNIT["metre",1]],ID["EPSG",2154]])").unit);
+  }
+  SECTION("none: geographic, no unit, a factor not a number > 0, not well-formed") {
+    CHECK_FALSE(read_wkt(R"(GEOGCS["WGS 84",UNIT["degree",0.0174532925199433],AUTHORITY["EPSG","4326"]])").unit);
+    CHECK_FALSE(read_wkt(R"(PROJCS["x",AUTHORITY["EPSG","2154"]])").unit);
+    for (const char* f : {"0", "-1", "abc", "0.3048x", "nan", "inf", "\"1\"x"}) {
+      CHECK_FALSE(read_wkt(std::string(R"(PROJCS["x",UNIT["u",)") + f + "]]").unit);
+    }
+    CHECK_FALSE(read_wkt(R"(PROJCS["x",UNIT["u"]])").unit);
+    CHECK_FALSE(read_wkt(kLambert93.substr(0, kLambert93.size() - 1)).unit);
+  }
+  SECTION("the source is one line of at most 200 bytes; so is the name") {
+    r = read_wkt("PROJCS[\"x\",\n  UNIT [ \"US\tfoot\",\n    0.3048 ] ]");
+    REQUIRE(r.unit);
+    CHECK(r.unit->name == "US foot");
+    CHECK(r.unit->source == R"(WKT UNIT [ "US foot", 0.3048 ])");
+    r = read_wkt("PROJCS[\"x\",UNIT[\"a\x01\x1b[31mb\",0.3048]]");  // control bytes escaped
+    REQUIRE(r.unit);
+    CHECK(r.unit->name == "a\\x01\\x1b[31mb");
+    CHECK(r.unit->source == "WKT UNIT[\"a\\x01\\x1b[31mb\",0.3048]");
+    r = read_wkt(R"(PROJCS["x",UNIT[")" + std::string(500, 'f') + R"(",0.3048]])");
+    REQUIRE(r.unit);
+    CHECK(r.unit->name == std::string(200, 'f') + "...");
+    CHECK(r.unit->source.size() == 4 + 200 + 3);
+  }
+}
+
+TEST_CASE("LAS CRS: the unit of a header block follows the records' order", "[las][crs]") {
+  canopy::formats::LasHeaderBlock h;
+  h.major = 1;
+  h.minor = 4;
+  h.global_encoding = 16;
+  h.vlrs = {{"LASF_Projection", 34735, geokeys({{3072, 2229}, {3076, 9002}})},
+            {"LASF_Projection", 2112, kLambert93}};
+  // The WKT bit: the WKT's code and unit.
+  LasCrs c = las_crs(h);
+  CHECK(c.code() == "EPSG:2154");
+  REQUIRE(c.unit);
+  CHECK(c.unit->name == "metre");
+  CHECK(c.unit->source == R"(WKT UNIT["metre",1,AUTHORITY["EPSG","9001"]])");
+  // Without it: the keys'.
+  h.global_encoding = 0;
+  c = las_crs(h);
+  CHECK(c.code() == "EPSG:2229");
+  REQUIRE(c.unit);
+  CHECK(c.unit->name == "foot");
+  // The first record giving no unit: the other's (here the code from the keys, the unit from
+  // the WKT).
+  h.vlrs[0] = {"LASF_Projection", 34735, geokeys({{3072, 2229}})};
+  c = las_crs(h);
+  CHECK(c.code() == "EPSG:2229");
+  REQUIRE(c.unit);
+  CHECK(c.unit->name == "metre");
+  // libLAS's WKT copy serves like LASF_Projection's; another user's 2112 is not read.
+  h.vlrs = {{"liblas", 2112, kLambert93}};
+  CHECK(las_crs(h).unit->name == "metre");
+  h.vlrs = {{"someone", 2112, kLambert93}};
+  CHECK_FALSE(las_crs(h).unit);
+  CHECK(las_crs(h).epsg == 0);
+}
+
+TEST_CASE("LAS CRS: the units of the LAS test files and the committed real tiles", "[las][crs]") {
+  // perm-1.2_0.las: GeoKey 3076 = 9001.
+  LasCrs c = read_las_crs(data("perm-1.2_0.las"));
+  REQUIRE(c.unit);
+  CHECK(c.unit->source == "GeoTIFF key ProjLinearUnits = 9001");
+  // test1_4.las (and 1_4_w_evlr.las/.laz): NAD83(HARN) / New Mexico Central (ftUS), a WKT only;
+  // the last UNIT of its text is its VERTCS's ("US survey foot", 1.0), which detect took until
+  // stop 68 (then no feet warning).
+  for (const char* f : {"test1_4.las", "1_4_w_evlr.las", "1_4_w_evlr.laz"}) {
+    c = read_las_crs(data(f));
+    REQUIRE(c.unit);
+    CHECK(c.unit->name == "US survey foot");
+    CHECK(c.unit->metres == 0.3048006096012192);
+  }
+  // simple.copc.laz: a COMPD_CS whose PROJCS is in metres, its VERT_CS in US survey feet.
+  c = read_las_crs(data("simple.copc.laz"));
+  REQUIRE(c.unit);
+  CHECK(c.unit->name == "metre");
+  CHECK(c.unit->metres == 1.0);
+  CHECK_FALSE(read_las_crs(data("simple.las")).unit);
+  c = read_las_crs(real("ign_lidarhd_870000_6618000.laz"));
+  REQUIRE(c.unit);
+  CHECK(c.unit->source == R"(WKT UNIT["metre",1,AUTHORITY["EPSG","9001"]])");
+  CHECK_FALSE(read_las_crs(real("ahn3_delft_2.laz")).unit);
+}
+
+TEST_CASE("LAS CRS: the header block the point reader hands back is read_las_header_block's", "[las][crs]") {
+  for (const std::string& f :
+       {data("perm-1.2_0.las"), data("test1_4.las"), data("simple.copc.laz"), data("1_4_w_evlr.laz"),
+        data("simple.las"), real("ign_lidarhd_870000_6618000.laz")}) {
+    INFO(f);
+    const LasHeaderBlock want = read_las_header_block(f);
+    auto same = [&](const LasHeaderBlock& h) {
+      CHECK(h.major == want.major);
+      CHECK(h.minor == want.minor);
+      CHECK(h.point_format == want.point_format);
+      CHECK(h.global_encoding == want.global_encoding);
+      REQUIRE(h.vlrs.size() == want.vlrs.size());
+      for (std::size_t i = 0; i < h.vlrs.size(); ++i) {
+        CHECK(h.vlrs[i].user_id == want.vlrs[i].user_id);
+        CHECK(h.vlrs[i].record_id == want.vlrs[i].record_id);
+        CHECK(h.vlrs[i].payload == want.vlrs[i].payload);
+      }
+    };
+    LasHeaderBlock h;
+    const std::size_t n = read_las(f, {}, &h).size();
+    same(h);
+    LasHeaderBlock m;
+    CHECK(parse_las(slurp(f), f, {}, &m).size() == n);
+    same(m);
+    std::optional<LasHeaderBlock> p;
+    CHECK(read_points(f, "test", {}, &p).size() == n);
+    REQUIRE(p);
+    same(*p);
+  }
+  // Not LAS: none (and what a caller had is cleared).
+  const fs::path dir = canopy::test::fresh_dir("las", "crs_handback");
+  canopy::formats::PointCloud c;
+  c.add("x", kFloat32).push_back(1);
+  c.add("y", kFloat32).push_back(2);
+  c.add("z", kFloat32).push_back(3);
+  c.resize(1);
+  write_pcd(c, (dir / "t.pcd").string());
+  std::optional<LasHeaderBlock> p = LasHeaderBlock{};
+  CHECK(read_points((dir / "t.pcd").string(), "test", {}, &p).size() == 1);
+  CHECK_FALSE(p);
+}
+
+TEST_CASE("LAS CRS: a tile read from a FIFO gets its CRS and unit from the handed-back block", "[las][crs]") {
+  const fs::path dir = canopy::test::fresh_dir("las", "crs_fifo");
+  const std::string fifo = (dir / "tile").string();
+  REQUIRE(mkfifo(fifo.c_str(), 0600) == 0);
+  // read_las_crs cannot read it again (the writer would block for ever): none.
+  CHECK(read_las_crs(fifo).epsg == 0);
+  REQUIRE(canopy::test::run("cat '" + data("test1_4.las") + "' > '" + fifo + "' &") == 0);
+  std::optional<LasHeaderBlock> h;
+  CHECK(read_points(fifo, "test", {}, &h).size() > 0);
+  REQUIRE(h);
+  const LasCrs c = las_crs(*h);
+  CHECK(c.code() == "EPSG:2903");
+  REQUIRE(c.unit);
+  CHECK(c.unit->name == "US survey foot");
+}
+
+TEST_CASE("LAS CRS: is_epsg_code is the pattern EPSG:[1-9][0-9]{0,5}", "[las][crs]") {
+  for (const char* ok : {"EPSG:1", "EPSG:2154", "EPSG:32633", "EPSG:999999", "EPSG:100000"}) {
+    CHECK(is_epsg_code(ok));
+  }
+  for (const char* bad :
+       {"", "EPSG:", "EPSG:0", "EPSG:02154", "EPSG:1234567", "epsg:2154", "EPSG: 2154", "EPSG:2154 ",
+        " EPSG:2154", "EPSG:21a4", "EPSG:-1", "EPSG:+1", "ESRI:102100", "EPSG::2154", "Lambert-93", "EPSG"}) {
+    CHECK_FALSE(is_epsg_code(bad));
+  }
+  // Every string of up to 7 characters after "EPSG:" over 0, 1, 9, a letter and a colon
+  // (97 656), against the regex the index reader and collect --crs used until stop 68.
+  const std::regex pattern("EPSG:[1-9][0-9]{0,5}");
+  const std::string alphabet = "019a:";
+  std::size_t n = 0, matched = 0;
+  for (std::size_t len = 0; len <= 7; ++len) {
+    std::vector<std::size_t> digit(len, 0);
+    for (bool more = true; more;) {
+      std::string s = "EPSG:";
+      for (std::size_t d : digit) s += alphabet[d];
+      const bool want = std::regex_match(s, pattern);
+      if (is_epsg_code(s) != want) FAIL_CHECK(s);
+      ++n;
+      matched += want;
+      more = false;
+      for (std::size_t i = 0; i < len && !more; ++i) {
+        if (++digit[i] < alphabet.size()) {
+          more = true;
+        } else {
+          digit[i] = 0;
+        }
+      }
+    }
+  }
+  CHECK(n == 97656);
+  CHECK(matched == 728);  // 2 first digits, then 3 each: 2 (3^6 - 1) / 2
+  // The codes las_crs writes are of that form.
+  LasCrs c;
+  c.epsg = 2154;
+  CHECK(is_epsg_code(c.code()));
 }

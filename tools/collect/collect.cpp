@@ -17,6 +17,7 @@
 #include "canopy/documents/candidates.h"
 #include "canopy/documents/detections.h"
 #include "canopy/formats/ini.h"
+#include "canopy/formats/las_crs.h"
 #include "canopy/formats/provenance.h"
 #include "canopy/documents/stage_outcome.h"
 
@@ -421,7 +422,7 @@ std::string summary_line(const Index& index, const Outputs& out) {
 }  // namespace
 
 void validate(const Params& params) {
-  if (!params.crs.empty() && !std::regex_match(params.crs, std::regex("EPSG:[1-9][0-9]{0,5}"))) {
+  if (!params.crs.empty() && !formats::is_epsg_code(params.crs)) {
     throw common::UsageError("--crs must be EPSG:<code>, e.g. EPSG:32633");
   }
 }

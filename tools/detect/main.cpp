@@ -1,5 +1,6 @@
 // detect: tile (PCD / PLY points / LAS) -> directory of vehicle candidates (index.json + <id>.pcd + classes.ply).
 #include <cstdio>
+#include <optional>
 #include <string>
 
 #include "canopy/common/cli.h"
@@ -12,7 +13,6 @@
 #include "canopy/formats/sensor_direction.h"
 #include "canopy/formats/trajectory.h"
 #include "detect/detect.h"
-#include "detect/las_units.h"
 #include "detect/output.h"
 
 using namespace canopy;
@@ -176,9 +176,8 @@ detect::Clustering clustering_of(const std::string& text) {
 
 // detect's lengths are metres; a LAS tile may declare feet (not converted: the candidates'
 // transforms are rigid, tile units = metres).
-void warn_las_units(const std::string& in, const std::string& name) {
-  if (in == "-") return;
-  const auto unit = detect::las_linear_unit(in);
+void warn_las_units(const formats::LasCrs& crs, const std::string& name) {
+  const auto& unit = crs.unit;
   if (!unit || unit->metres == 1.0) return;
   char f[64];
   std::snprintf(f, sizeof f, "%.10g", unit->metres);
@@ -190,14 +189,12 @@ void warn_las_units(const std::string& in, const std::string& name) {
 
 // The CRS the tile's LAS/LAZ file records (index.json's "crs"; collect's GeoJSON carries it),
 // said in one line; a record without an EPSG code, or two that disagree, in one warning.
-formats::LasCrs tile_crs(const std::string& in, const std::string& name) {
-  formats::LasCrs crs = formats::read_las_crs(in);
+void say_crs(const formats::LasCrs& crs, const std::string& name) {
   if (crs.epsg > 0) common::log::info(name + ": CRS " + crs.code() + " (" + crs.from + ")");
   if (!crs.note.empty()) {
     common::log::warn(name + ": " + crs.note +
                       (crs.epsg > 0 ? "" : ": no CRS in the index (give collect --crs, make CRS=EPSG:<code>)"));
   }
-  return crs;
 }
 
 // The detect phase's INFO line.
@@ -246,12 +243,15 @@ int main(int argc, char** argv) {
     detect::check_output_dir(cli.out, cli.in);  // before the work; again before the swap
     const std::string name = common::display_name(cli.in);
     common::log::Phase read("read");
-    // Tiles are read by magic: PCD, PLY point set, LAS or LAZ.
-    formats::PointCloud tile = formats::read_points(cli.in, "detect");
+    // Tiles are read by magic: PCD, PLY point set, LAS or LAZ; a LAS/LAZ tile's header block
+    // (its CRS records) comes with the points, from standard input or a FIFO too.
+    std::optional<formats::LasHeaderBlock> las_header;
+    formats::PointCloud tile = formats::read_points(cli.in, "detect", formats::FieldSelection{}, &las_header);
     read.done(std::to_string(tile.size()) + " points");
     if (!cli.trajectory.empty()) add_sensor_directions(&tile, cli.trajectory, name);
-    warn_las_units(cli.in, name);
-    const formats::LasCrs crs = tile_crs(cli.in, name);
+    const formats::LasCrs crs = las_header ? formats::las_crs(*las_header) : formats::LasCrs{};
+    warn_las_units(crs, name);
+    say_crs(crs, name);
     common::log::Phase work("detect");
     detect::Result r = detect::run(p, {&tile, name});
     r.crs = crs.code();

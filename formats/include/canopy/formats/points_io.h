@@ -6,8 +6,10 @@
 //   output: .pcd, .ply (point set, no faces), .las (LAS 1.4); "-" = PCD on stdout.
 #pragma once
 
+#include <optional>
 #include <string>
 
+#include "canopy/formats/las.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/point_cloud.h"
 
@@ -26,6 +28,11 @@ PointCloud read_points(const std::string& path, const std::string& tool = "");
 // which are missing). LAS, LAZ and a DATA binary PCD file make only those columns (memory and
 // time of the others saved); other PCD and PLY are read whole and the other columns dropped.
 PointCloud read_points(const std::string& path, const std::string& tool, const FieldSelection& fields);
+// The same; `las_header` (not null) gets the header block of a LAS or LAZ file as the reader
+// read it (read_las's `header`: standard input and FIFOs too), and none for PCD and PLY. A
+// caller that wants the file's CRS records (las_crs.h) need not read the file again.
+PointCloud read_points(const std::string& path, const std::string& tool, const FieldSelection& fields,
+                       std::optional<LasHeaderBlock>* las_header);
 PointCloud parse_points(const std::string& bytes, const std::string& name, const std::string& tool = "");
 
 // What a file's bytes are, for messages of readers that expect something else (e.g. ncut
