@@ -381,9 +381,12 @@ json_matrix verify json -o @OUT@ --points "$in/good.pcd" --modelbase "$in/mb" -i
 json_matrix verify json -o @OUT@ --points "$in/good.pcd" --modelbase "$in/mb" -i "$in/match.json" --segments --
 json_matrix classify json -o @OUT@ -i "$in/good.pcd" --index --
 json_matrix collect json -o @OUT@ -i --
-# Not in the matrix (tools/collect/collect.cpp belongs to another helper this stop; hardening.md,
-# stop 68): collect -i <an index with no candidates> --modelbase <missing> (or --verdicts
-# <missing>) exits 0 with detections.json written; the directories are read only per candidate.
+# An index with no candidates and a missing or wrong --modelbase / --verdicts: the directories
+# were read only per candidate, so collect wrote detections.json with exit 0 (stop 68).
+bad collect "no candidates, modelbase missing" "$in/missing-mb" "does not exist" json -- -o @OUT@ -i "$in/det/index.json" --modelbase "$in/missing-mb"
+bad collect "no candidates, modelbase a file" "$in/good.pcd" "is not a directory" json -- -o @OUT@ -i "$in/det/index.json" --modelbase "$in/good.pcd"
+bad collect "no candidates, verdicts missing" "$in/missing-verdicts" "does not exist" json -- -o @OUT@ -i "$in/det/index.json" --verdicts "$in/missing-verdicts"
+bad collect "no candidates, verdicts a file" "$in/good.pcd" "is not a directory" json -- -o @OUT@ -i "$in/det/index.json" --verdicts "$in/good.pcd"
 text_matrix collect json -o @OUT@ -i "$in/det/index.json" --calibration --
 bad collect "empty calibration" "$in/empty.txt" "has no model-bias" json -- -o @OUT@ -i "$in/det/index.json" --calibration "$in/empty.txt"
 json_matrix candtruth json -o @OUT@ --tile "$in/good.pcd" -i --
