@@ -30,6 +30,6 @@ for laz in "$@"; do
       SCENE_EXPERIMENT=0 FAMILIES=0 REAL_TILES=0 -j"${JOBS:-2}" >"$o/make.log" 2>&1) || s=$?
     truth=$truth_dir/$t.truth.json
     [ ! -f "$truth" ] || [ ! -f "$o/detections.json" ] || "$bin/score" -q -d "$o/detections.json" -t "$truth" -o "$o/score.json"
-    echo "$t $d: exit $s, $(cat "$o/tile.time" | tail -n 1) (wall s, peak KiB, user s, sys s)"
+    echo "$t $d: exit $s, $(tail -n 1 "$o/tile.time") (wall s, peak KiB, user s, sys s)"
   done
 done
