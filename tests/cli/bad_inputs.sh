@@ -243,31 +243,42 @@ P_GARBAGE='control byte|supported|corrupt|signature|not a|unknown|invalid|unexpe
 P_HUGE='truncat|exceed|too (many|large|big)|more than|limit|declares|says|holds|short|bytes|, not a PCD file'
 P_JSON='json|parse|expected|format|must be|not an? |type|missing|unknown|document|depth|nest'
 
+# split_args ARGS-BEFORE -- ARGS-AFTER: into the calling matrix's pre and post arrays (bash's
+# dynamic scope: the caller declares them local).
+split_args() {
+  local seen=0 a
+  for a in "$@"; do
+    if [ "$a" = "--" ]; then seen=1; elif [ $seen -eq 0 ]; then pre+=("$a"); else post+=("$a"); fi
+  done
+}
+
+# try LABEL FILE PROBLEM: one case of the calling matrix (its tool, ext, pre and post), FILE
+# given between pre and post and named in the message.
+try() { bad "$tool" "$1" "$2" "$3" "$ext" -- "${pre[@]}" "$2" "${post[@]}"; }
+
 # point_cloud_matrix TOOL OUT-EXT ARGS-BEFORE-INPUT... -- ARGS-AFTER...: the input's option is
 # the last word before the input path (e.g. -i).
 point_cloud_matrix() {
   local tool=$1 ext=$2
   shift 2
-  local pre=() post=() seen=0 a
-  for a in "$@"; do
-    if [ "$a" = "--" ]; then seen=1; elif [ $seen -eq 0 ]; then pre+=("$a"); else post+=("$a"); fi
-  done
+  local pre=() post=()
+  split_args "$@"
   local f
-  bad "$tool" "missing PCD" "$in/missing.pcd" "$P_MISSING" "$ext" -- "${pre[@]}" "$in/missing.pcd" "${post[@]}"
+  try "missing PCD" "$in/missing.pcd" "$P_MISSING"
   for f in empty.pcd empty.las empty.ply; do
-    bad "$tool" "$f" "$in/$f" "$P_EMPTY" "$ext" -- "${pre[@]}" "$in/$f" "${post[@]}"
+    try "$f" "$in/$f" "$P_EMPTY"
   done
-  bad "$tool" "directory" "$in/dir.pcd" "$P_DIR" "$ext" -- "${pre[@]}" "$in/dir.pcd" "${post[@]}"
+  try "directory" "$in/dir.pcd" "$P_DIR"
   for f in cut-mid-header.pcd cut-after-header.pcd cut-mid-data.pcd ascii-short-row.pcd \
     cut-mid-header.ply cut-after-header.ply cut-mid-data.ply \
     cut-mid-header.las cut-after-header.las cut-mid-data.las cut-mid-data.laz; do
-    bad "$tool" "$f" "$in/$f" "$P_TRUNC" "$ext" -- "${pre[@]}" "$in/$f" "${post[@]}"
+    try "$f" "$in/$f" "$P_TRUNC"
   done
   for f in garbage.pcd garbage.ply garbage.las garbage-data.laz garbage.json; do
-    bad "$tool" "$f" "$in/$f" "$P_GARBAGE" "$ext" -- "${pre[@]}" "$in/$f" "${post[@]}"
+    try "$f" "$in/$f" "$P_GARBAGE"
   done
   for f in huge.pcd huge-ascii.pcd huge-compressed.pcd huge-vertices.ply huge-ascii.ply huge.las; do
-    bad "$tool" "$f" "$in/$f" "$P_HUGE" "$ext" -- "${pre[@]}" "$in/$f" "${post[@]}"
+    try "$f" "$in/$f" "$P_HUGE"
   done
 }
 
@@ -275,16 +286,14 @@ point_cloud_matrix() {
 json_matrix() {
   local tool=$1 ext=$2
   shift 2
-  local pre=() post=() seen=0 a
-  for a in "$@"; do
-    if [ "$a" = "--" ]; then seen=1; elif [ $seen -eq 0 ]; then pre+=("$a"); else post+=("$a"); fi
-  done
+  local pre=() post=()
+  split_args "$@"
   local f
-  bad "$tool" "missing JSON" "$in/missing.json" "$P_MISSING" "$ext" -- "${pre[@]}" "$in/missing.json" "${post[@]}"
-  bad "$tool" "empty JSON" "$in/empty.json" "$P_EMPTY" "$ext" -- "${pre[@]}" "$in/empty.json" "${post[@]}"
-  bad "$tool" "directory" "$in/dir.json" "$P_DIR" "$ext" -- "${pre[@]}" "$in/dir.json" "${post[@]}"
+  try "missing JSON" "$in/missing.json" "$P_MISSING"
+  try "empty JSON" "$in/empty.json" "$P_EMPTY"
+  try "directory" "$in/dir.json" "$P_DIR"
   for f in cut.json garbage.json array.json string.json unknown-format.json wrong-types.json deep.json good.pcd; do
-    bad "$tool" "$f" "$in/$f" "$P_JSON" "$ext" -- "${pre[@]}" "$in/$f" "${post[@]}"
+    try "$f" "$in/$f" "$P_JSON"
   done
 }
 
@@ -292,13 +301,11 @@ json_matrix() {
 modelbase_matrix() {
   local tool=$1 ext=$2
   shift 2
-  local pre=() post=() seen=0 a
-  for a in "$@"; do
-    if [ "$a" = "--" ]; then seen=1; elif [ $seen -eq 0 ]; then pre+=("$a"); else post+=("$a"); fi
-  done
-  bad "$tool" "missing modelbase" "$in/mb-missing" "$P_MISSING" "$ext" -- "${pre[@]}" "$in/mb-missing" "${post[@]}"
-  bad "$tool" "modelbase a file" "$in/good.pcd" 'is not a directory' "$ext" -- "${pre[@]}" "$in/good.pcd" "${post[@]}"
-  bad "$tool" "empty modelbase" "$in/mb-empty" 'no model|empty|holds no|no .*(json|pcd)' "$ext" -- "${pre[@]}" "$in/mb-empty" "${post[@]}"
+  local pre=() post=()
+  split_args "$@"
+  try "missing modelbase" "$in/mb-missing" "$P_MISSING"
+  try "modelbase a file" "$in/good.pcd" 'is not a directory'
+  try "empty modelbase" "$in/mb-empty" 'no model|empty|holds no|no .*(json|pcd)'
   bad "$tool" "modelbase with a garbage model" "$in/mb-bad/m1." "$P_JSON|$P_GARBAGE" "$ext" -- "${pre[@]}" "$in/mb-bad" "${post[@]}"
 }
 
@@ -306,35 +313,31 @@ modelbase_matrix() {
 text_matrix() {
   local tool=$1 ext=$2
   shift 2
-  local pre=() post=() seen=0 a
-  for a in "$@"; do
-    if [ "$a" = "--" ]; then seen=1; elif [ $seen -eq 0 ]; then pre+=("$a"); else post+=("$a"); fi
-  done
-  bad "$tool" "missing text" "$in/missing.txt" "$P_MISSING" "$ext" -- "${pre[@]}" "$in/missing.txt" "${post[@]}"
-  bad "$tool" "directory" "$in/dir.txt" "$P_DIR" "$ext" -- "${pre[@]}" "$in/dir.txt" "${post[@]}"
-  bad "$tool" "garbage text" "$in/garbage.txt" "$P_GARBAGE|line|column|field|expected" "$ext" -- "${pre[@]}" "$in/garbage.txt" "${post[@]}"
+  local pre=() post=()
+  split_args "$@"
+  try "missing text" "$in/missing.txt" "$P_MISSING"
+  try "directory" "$in/dir.txt" "$P_DIR"
+  try "garbage text" "$in/garbage.txt" "$P_GARBAGE|line|column|field|expected"
 }
 
 # mesh_matrix TOOL OUT-EXT ARGS-BEFORE -- ARGS-AFTER: PLY meshes (and what is not one).
 mesh_matrix() {
   local tool=$1 ext=$2
   shift 2
-  local pre=() post=() seen=0 a
-  for a in "$@"; do
-    if [ "$a" = "--" ]; then seen=1; elif [ $seen -eq 0 ]; then pre+=("$a"); else post+=("$a"); fi
-  done
+  local pre=() post=()
+  split_args "$@"
   local f
-  bad "$tool" "missing PLY" "$in/missing.ply" "$P_MISSING" "$ext" -- "${pre[@]}" "$in/missing.ply" "${post[@]}"
-  bad "$tool" "empty PLY" "$in/empty.ply" "$P_EMPTY" "$ext" -- "${pre[@]}" "$in/empty.ply" "${post[@]}"
-  bad "$tool" "directory" "$in/dir.ply" "$P_DIR" "$ext" -- "${pre[@]}" "$in/dir.ply" "${post[@]}"
+  try "missing PLY" "$in/missing.ply" "$P_MISSING"
+  try "empty PLY" "$in/empty.ply" "$P_EMPTY"
+  try "directory" "$in/dir.ply" "$P_DIR"
   for f in cut-mid-header.ply cut-after-header.ply cut-mid-data.ply; do
-    bad "$tool" "$f" "$in/$f" "$P_TRUNC" "$ext" -- "${pre[@]}" "$in/$f" "${post[@]}"
+    try "$f" "$in/$f" "$P_TRUNC"
   done
   for f in garbage.ply pcd-named.ply json-named.ply; do
-    bad "$tool" "$f" "$in/$f" "$P_GARBAGE" "$ext" -- "${pre[@]}" "$in/$f" "${post[@]}"
+    try "$f" "$in/$f" "$P_GARBAGE"
   done
   for f in huge-vertices.ply huge-faces.ply huge-ascii.ply; do
-    bad "$tool" "$f" "$in/$f" "$P_HUGE" "$ext" -- "${pre[@]}" "$in/$f" "${post[@]}"
+    try "$f" "$in/$f" "$P_HUGE"
   done
 }
 
@@ -342,20 +345,18 @@ mesh_matrix() {
 obj_stl_matrix() {
   local tool=$1 ext=$2
   shift 2
-  local pre=() post=() seen=0 a
-  for a in "$@"; do
-    if [ "$a" = "--" ]; then seen=1; elif [ $seen -eq 0 ]; then pre+=("$a"); else post+=("$a"); fi
-  done
+  local pre=() post=()
+  split_args "$@"
   local f
   for f in empty.obj empty.stl; do
-    bad "$tool" "$f" "$in/$f" "$P_EMPTY" "$ext" -- "${pre[@]}" "$in/$f" "${post[@]}"
+    try "$f" "$in/$f" "$P_EMPTY"
   done
-  bad "$tool" "directory" "$in/dir.obj" "$P_DIR" "$ext" -- "${pre[@]}" "$in/dir.obj" "${post[@]}"
-  bad "$tool" "garbage.obj" "$in/garbage.obj" "line 1: malformed vertex" "$ext" -- "${pre[@]}" "$in/garbage.obj" "${post[@]}"
-  bad "$tool" "bad-index.obj" "$in/bad-index.obj" "line 4: face index out of range" "$ext" -- "${pre[@]}" "$in/bad-index.obj" "${post[@]}"
-  bad "$tool" "no-faces.obj" "$in/no-faces.obj" "no faces" "$ext" -- "${pre[@]}" "$in/no-faces.obj" "${post[@]}"
+  try "directory" "$in/dir.obj" "$P_DIR"
+  try "garbage.obj" "$in/garbage.obj" "line 1: malformed vertex"
+  try "bad-index.obj" "$in/bad-index.obj" "line 4: face index out of range"
+  try "no-faces.obj" "$in/no-faces.obj" "no faces"
   for f in huge.stl cut-binary.stl cut-ascii.stl; do
-    bad "$tool" "$f" "$in/$f" "$P_TRUNC" "$ext" -- "${pre[@]}" "$in/$f" "${post[@]}"
+    try "$f" "$in/$f" "$P_TRUNC"
   done
 }
 
