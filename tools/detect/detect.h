@@ -254,9 +254,9 @@ struct Result {
   std::vector<Candidate> candidates;                 // sorted by footprint centre (x, then y)
   Stats stats;
   Density density;
-  // The tile's CRS as its file records it ("EPSG:<code>", formats::read_las_crs) and where it
-  // was read, for the index's "crs" and "crs_from"; "" = none. run() leaves them empty (the
-  // detection does not use them): the caller sets them.
+  // The tile's CRS as its file records it ("EPSG:<code>": formats::las_crs of the header block
+  // read_points hands back) and where it was read, for the index's "crs" and "crs_from"; "" =
+  // none. run() leaves them empty (the detection does not use them): the caller sets them.
   std::string crs, crs_from;
 };
 
