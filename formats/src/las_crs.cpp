@@ -339,8 +339,9 @@ EpsgCode epsg_from_wkt(const std::string& wkt) { return read_wkt(wkt).code; }
 std::string LasCrs::code() const { return epsg > 0 ? "EPSG:" + std::to_string(epsg) : ""; }
 
 bool is_epsg_code(const std::string& text) {
-  if (text.compare(0, 5, "EPSG:") != 0 || text.size() < 6 || text.size() > 11 || text[5] == '0') return false;
-  return std::all_of(text.begin() + 5, text.end(), [](char c) { return c >= '0' && c <= '9'; });
+  // As canopy writes one: epsg_number's digits, without a leading zero.
+  return text.compare(0, 5, "EPSG:") == 0 && text.size() > 5 && text[5] != '0' &&
+         epsg_number(text.substr(5)) > 0;
 }
 
 LasCrs las_crs(const LasHeaderBlock& header) {
