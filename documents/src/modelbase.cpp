@@ -10,18 +10,20 @@
 
 namespace canopy::documents {
 
-void require_modelbase_dir(const std::string& dir, const std::string& holds) {
+void require_input_dir(const std::string& dir, const std::string& what, const std::string& hint) {
   namespace fs = std::filesystem;
   using common::DataError;
   std::error_code ec;
   const fs::file_status st = fs::status(dir, ec);
   // A link loop or an unreadable parent is not "does not exist" (fs::exists says false for both).
   if (ec && ec != std::errc::no_such_file_or_directory && ec != std::errc::not_a_directory)
-    throw DataError(dir, "modelbase: " + ec.message());
-  if (!fs::exists(st)) throw DataError(dir, "modelbase directory does not exist");
-  if (!fs::is_directory(st)) {
-    throw DataError(dir, "modelbase is not a directory (give a directory of " + holds + ")");
-  }
+    throw DataError(dir, what + ": " + ec.message());
+  if (!fs::exists(st)) throw DataError(dir, what + " directory does not exist");
+  if (!fs::is_directory(st)) throw DataError(dir, what + " is not a directory (" + hint + ")");
+}
+
+void require_modelbase_dir(const std::string& dir, const std::string& holds) {
+  require_input_dir(dir, "modelbase", "give a directory of " + holds);
 }
 
 std::vector<ModelbaseEntry> list_modelbase(const std::string& dir) {

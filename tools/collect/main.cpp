@@ -159,17 +159,6 @@ void write_plan(const Options& o) {
                     " points/m²), " + std::to_string(scaled) + " of them with the density rule's scale");
 }
 
-// --verdicts: an existing directory (a link loop or an unreadable parent said as such).
-void require_verdicts_dir(const std::string& dir) {
-  std::error_code ec;
-  const fs::file_status st = fs::status(dir, ec);
-  if (ec && ec != std::errc::no_such_file_or_directory && ec != std::errc::not_a_directory)
-    throw common::DataError(dir, "verdicts: " + ec.message());
-  if (!fs::exists(st)) throw common::DataError(dir, "verdicts directory does not exist");
-  if (!fs::is_directory(st))
-    throw common::DataError(dir, "verdicts is not a directory (give the directory of <id>/verdict.json)");
-}
-
 // Each candidate's answers, <verdicts>/<id>/<name> (verify) and <verdicts>/<id>/<class-name>
 // (classify; default: beside the index), either of which may be missing; the paths read join
 // the inputs.
@@ -270,7 +259,8 @@ int main(int argc, char** argv) {
     // The directories named are checked even when the index lists no candidate (they are read
     // per candidate, so a mistyped path went unnoticed on an empty tile: hardening.md, stop 68).
     if (!o.modelbase.empty()) documents::require_modelbase_dir(o.modelbase, "<model>.pcd surfaces");
-    if (!o.verdicts.empty()) require_verdicts_dir(o.verdicts);
+    if (!o.verdicts.empty())
+      documents::require_input_dir(o.verdicts, "verdicts", "give the directory of <id>/verdict.json");
     in.answers = read_answers(o, in.index, in.provenance.inputs);
     if (o.size_only && o.modelbase.empty()) throw common::UsageError("--size-only needs --modelbase");
     p.size_only = o.size_only;

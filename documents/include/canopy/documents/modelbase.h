@@ -15,9 +15,14 @@ struct ModelbaseEntry {
   std::string path;  // <dir>/<name>.json
 };
 
-// Throws common::DataError naming `dir` unless it is a directory: "modelbase directory does not
-// exist", or "modelbase is not a directory (give a directory of <holds>)" for a file or other
-// non-directory. Every reader of a modelbase checks its argument with it.
+// Throws common::DataError naming `dir` unless it is a directory: "<what> directory does not
+// exist", "<what> is not a directory (<hint>)" for a file or other non-directory, "<what>: <why>"
+// for a link loop or an unreadable parent. For an input directory a tool is given by name (a
+// modelbase; collect's --verdicts).
+void require_input_dir(const std::string& dir, const std::string& what, const std::string& hint);
+
+// require_input_dir(dir, "modelbase", "give a directory of <holds>"). Every reader of a
+// modelbase checks its argument with it.
 void require_modelbase_dir(const std::string& dir, const std::string& holds);
 
 // Every regular file "<model>.json" in `dir`, sorted by file name; other entries are ignored.
