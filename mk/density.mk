@@ -33,8 +33,9 @@ DENSITY_DIR := $(OUT)/density
 DENSITY_RES := $(RES)/density
 # detect's parameters on the class-level rungs of both ladders (density-ladder.md, "detect's end-gap
 # on the class-level rungs", stop 61): the rungs whose nominal density is at most DENSITY_CLASS_MAX
-# points (pulses) per m² (50, TILE_MODEL_DENSITY's value: the rungs 10, 25, 50, whose candidates
-# are answered by classify alone but for a few at 50). DENSITY_DETECT is given to their `make scenes`
+# points (pulses) per m² (50, TILE_MODEL_DENSITY's value from stop 49 to 68: the rungs 10, 25, 50,
+# whose candidates were then answered by classify alone but for a few at 50; with the model level
+# at 20 since stop 69 some of 25's and 50's run the model chain too). DENSITY_DETECT is given to their `make scenes`
 # as SCENE_DETECT; share/params/detect-ladder.ini is `end-gap = 1` (docs/decisions/detect.md §19).
 # The higher rungs, the scene experiment and the real tiles keep detect's defaults (end-gap 0:
 # detect.md §19's two false alarms on the real development tiles). Empty: detect's defaults.
@@ -49,11 +50,26 @@ DENSITY_CLASS_MAX ?= 50
 # a `make scenes` of its own into out/density/<rung>/<variant>/ and
 # results/density/<rung>/<variant>/score.json, one density-detect record each (the report's
 # "detect's ablation on the density ladder"). The first is detect's default before stop 61
-# (end-gap 0). Empty: none.
-DENSITY_DETECT_ABLATIONS ?= bench/density/detect-end-gap-0.ini
+# (end-gap 0). An entry may also be TILE_MODEL_DENSITY=<points/m²>, the model level's ablation:
+# the rung's whole chain again with DENSITY_DETECT and the model level (mk/scenes.mk) at that
+# density, into the variant model-ablation-K (K its place in the list; the report's "the model
+# level's ablation on the density ladder"). The second is the model level before stop 69 (50;
+# docs/decisions/density-scale.md, "The model level at 20 points/m², re-measured"): the
+# class-level rungs are those whose objects measure 20-64 points/m², where the two levels differ.
+# Empty: none.
+DENSITY_DETECT_ABLATIONS ?= bench/density/detect-end-gap-0.ini TILE_MODEL_DENSITY=50
 DENSITY_SENSOR_DETECT_ABLATIONS ?= $(DENSITY_DETECT_ABLATIONS)
-# detect_variant(K): the detect ablation at place K (detect-ablation, detect-ablation-2, ...).
-detect_variant = detect-ablation$(if $(filter-out 1,$(1)),-$(1))
+# detect_variant(K, LIST): the ablation at place K of LIST (detect-ablation, detect-ablation-2, ...;
+# model-ablation-K for a TILE_MODEL_DENSITY=<value> entry).
+detect_variant = $(if $(findstring =,$(word $(1),$(2))),model-ablation-$(1),detect-ablation$(if $(filter-out 1,$(1)),-$(1)))
+# density_detect_set(ENTRY): the sub-make's variables of an entry: detect's parameter file, or
+# DENSITY_DETECT and the model level.
+density_detect_set = $(if $(findstring =,$(1)),SCENE_DETECT=$(DENSITY_DETECT) $(1),SCENE_DETECT=$(1))
+# density_model_check(LIST, NAME): the list's TILE_MODEL_DENSITY=<number> entries well formed;
+# density_files(LIST): its parameter files.
+density_model_check = $(foreach e,$(1),$(if $(findstring =,$(e)),$(if $(shell printf '%s' '$(e)' | grep -xE \
+  'TILE_MODEL_DENSITY=[0-9]+(\.[0-9]+)?'),,$(error $(2): $(e) is neither a parameter file nor TILE_MODEL_DENSITY=<points/m²>))))
+density_files = $(foreach e,$(filter-out -,$(1)),$(if $(findstring =,$(e)),,$(e)))
 # A detect ablation renders nothing: its chain reads the canopy rung's tiles (SCENE_TILE_DIR,
 # mk/scenes.mk). The rung's make keeps its renders (SCENE_KEEP_TILE_SCANS=1) and the ablations run
 # after it, one after another; the last deletes them. (Until stop 62 each ablation rendered its
@@ -88,8 +104,9 @@ density_pairs := $(shell awk -v k='$(DENSITY_K)' -v levels='$(strip $(DENSITY_LE
 $(if $(filter ERROR,$(firstword $(density_pairs))),$(error $(wordlist 2,$(words $(density_pairs)),$(density_pairs))))
 $(foreach f,$(filter-out - $(classify_sim_files),$(DENSITY_CLASSIFY_ABLATIONS)),$(if $(wildcard $(f)),,$(error \
   DENSITY_CLASSIFY_ABLATIONS: $(f) does not exist)))
-$(foreach f,$(DENSITY_DETECT) $(filter-out -,$(DENSITY_DETECT_ABLATIONS)),$(if $(wildcard $(f)),,$(error \
+$(foreach f,$(DENSITY_DETECT) $(call density_files,$(DENSITY_DETECT_ABLATIONS)),$(if $(wildcard $(f)),,$(error \
   DENSITY_DETECT or DENSITY_DETECT_ABLATIONS: $(f) does not exist)))
+$(call density_model_check,$(DENSITY_DETECT_ABLATIONS),DENSITY_DETECT_ABLATIONS)
 endif
 # The ladder on the realistic sensor (docs/decisions/density-ladder.md, "The ladder on the
 # realistic sensor"): the same tiles rendered in sensor mode (mk/scenes.mk SCENE_SENSOR) with
@@ -137,8 +154,9 @@ $(if $(filter 1,$(words $(DENSITY_SENSOR))),,$(error DENSITY_SENSOR=$(DENSITY_SE
 $(if $(wildcard share/sensors/$(DENSITY_SENSOR).ini),,$(error DENSITY_SENSOR=$(DENSITY_SENSOR): no share/sensors/$(DENSITY_SENSOR).ini))
 $(foreach f,$(filter-out - $(classify_sim_files),$(DENSITY_SENSOR_CLASSIFY_ABLATIONS)),$(if $(wildcard $(f)),,$(error \
   DENSITY_SENSOR_CLASSIFY_ABLATIONS: $(f) does not exist)))
-$(foreach f,$(filter-out -,$(DENSITY_SENSOR_DETECT_ABLATIONS)),$(if $(wildcard $(f)),,$(error \
+$(foreach f,$(call density_files,$(DENSITY_SENSOR_DETECT_ABLATIONS)),$(if $(wildcard $(f)),,$(error \
   DENSITY_SENSOR_DETECT_ABLATIONS: $(f) does not exist)))
+$(call density_model_check,$(DENSITY_SENSOR_DETECT_ABLATIONS),DENSITY_SENSOR_DETECT_ABLATIONS)
 density_sensor_keys := $(shell awk -v l0='$(DENSITY_SENSOR_L0)' -v levels='$(strip $(DENSITY_SENSOR_LEVELS))' -v cmax='$(DENSITY_CLASS_MAX)' \
   -v f='share/sensors/$(DENSITY_SENSOR).ini' 'BEGIN { \
   if (l0 !~ /^[0-9]+(\.[0-9]+)?$$/ || l0 + 0 <= 0) { print "ERROR DENSITY_SENSOR_L0=" l0 " must be a positive number"; exit } \
@@ -167,9 +185,9 @@ density_class_levels := $(foreach p,$(density_pairs),$(if $(filter 1,$(word 4,$(
 density_sensor_class_levels := $(foreach p,$(density_sensor_keys),$(if $(filter 1,$(word 4,$(subst :, ,$(p)))),$(firstword \
   $(subst :, ,$(p)))))
 DENSITY_DETECT_SCORES := $(foreach d,$(density_class_levels),$(foreach k,$(call list_places,$(DENSITY_DETECT_ABLATIONS)),$(DENSITY_RES)/d$(d)/$(call \
-  detect_variant,$(k))/score.json))
+  detect_variant,$(k),$(DENSITY_DETECT_ABLATIONS))/score.json))
 DENSITY_SENSOR_DETECT_SCORES := $(if $(DENSITY_SENSOR),$(foreach d,$(density_sensor_class_levels),$(foreach k,$(call \
-  list_places,$(DENSITY_SENSOR_DETECT_ABLATIONS)),$(DENSITY_RES)/$(DENSITY_SENSOR)-$(d)/$(call detect_variant,$(k))/score.json)))
+  list_places,$(DENSITY_SENSOR_DETECT_ABLATIONS)),$(DENSITY_RES)/$(DENSITY_SENSOR)-$(d)/$(call detect_variant,$(k),$(DENSITY_SENSOR_DETECT_ABLATIONS))/score.json)))
 
 # The records of the experiment's manifest (Makefile.experiments): level, spacing (m), score;
 # the sensor ladder's: level, preset, score [, classify's ablation: its parameter file and score];
@@ -186,7 +204,8 @@ density_classify_records = $(foreach k,$(filter-out 1,$(call list_places,$(4))),
 # density_detect_records(LADDER, LEVEL, RUNG, LIST): on a class-level rung, detect's ablations
 # (LIST's entries), one density-detect record each.
 density_detect_records = $(if $(filter $(2),$(if $(filter pixel,$(1)),$(density_class_levels),$(density_sensor_class_levels))),$(foreach \
-  k,$(call list_places,$(4)),$(call ml,density-detect $(1) $(2) $(word $(k),$(4)) $(DENSITY_RES)/$(3)/$(call detect_variant,$(k))/score.json)))
+  k,$(call list_places,$(4)),$(call ml,density-detect $(1) $(2) $(word $(k),$(4)) $(DENSITY_RES)/$(3)/$(call \
+  detect_variant,$(k),$(4))/score.json)))
 EXPERIMENT_DENSITY := $(if $(filter 1,$(DENSITY_LADDER)),$(foreach d,$(DENSITY_LEVELS),$(call ml,density $(d) \
   $(call density_m,$(d)) $(DENSITY_RES)/d$(d)/score.json$(call density_first,$(DENSITY_CLASSIFY_ABLATIONS),d$(d)))$(call \
   density_verify_record,pixel,$(d),d$(d))$(call density_classify_records,pixel,$(d),d$(d),$(DENSITY_CLASSIFY_ABLATIONS))$(call \
@@ -229,10 +248,10 @@ density_sensor_args = $(call density_args,$(1),$(DENSITY_SENSOR)-$(1),$(call den
   density_detect_keep,$(1),$(density_sensor_class_levels),$(DENSITY_SENSOR_DETECT_ABLATIONS)))
 # density_detect_args(LEVEL, K) and density_sensor_detect_args(LEVEL, K): detect's K-th ablation
 # on a class-level rung of either ladder (DENSITY_[SENSOR_]DETECT_ABLATIONS).
-density_detect_args = $(call density_base,$(1),d$(1)/$(call detect_variant,$(2))) SCENE_DETECT=$(word \
-  $(2),$(DENSITY_DETECT_ABLATIONS)) $(call density_detect_tiles,d$(1),$(2),$(DENSITY_DETECT_ABLATIONS))
-density_sensor_detect_args = $(call density_base,$(1),$(DENSITY_SENSOR)-$(1)/$(call detect_variant,$(2)),$(call \
-  density_sensor_render,$(1))) SCENE_DETECT=$(word $(2),$(DENSITY_SENSOR_DETECT_ABLATIONS)) $(call \
+density_detect_args = $(call density_base,$(1),d$(1)/$(call detect_variant,$(2),$(DENSITY_DETECT_ABLATIONS))) $(call \
+  density_detect_set,$(word $(2),$(DENSITY_DETECT_ABLATIONS))) $(call density_detect_tiles,d$(1),$(2),$(DENSITY_DETECT_ABLATIONS))
+density_sensor_detect_args = $(call density_base,$(1),$(DENSITY_SENSOR)-$(1)/$(call detect_variant,$(2),$(DENSITY_SENSOR_DETECT_ABLATIONS)),$(call \
+  density_sensor_render,$(1))) $(call density_detect_set,$(word $(2),$(DENSITY_SENSOR_DETECT_ABLATIONS))) $(call \
   density_detect_tiles,$(DENSITY_SENSOR)-$(1),$(2),$(DENSITY_SENSOR_DETECT_ABLATIONS))
 # As for the scene experiment: under -q each level's sub-make is asked (`make -q`, which renders
 # nothing), only when the ladder is on (the question builds the tools it needs, and a make
@@ -259,9 +278,9 @@ $(if $(DENSITY_SENSOR),$(foreach d,$(DENSITY_SENSOR_LEVELS),$(eval $(call densit
 # density_detect_rule(LADDER RUNG, LEVEL, K, ARGS, LIST): detect's K-th ablation on a class-level
 # rung, after the rung itself and the ablation before it (density_detect_tiles: they share its renders).
 define density_detect_rule
-$(DENSITY_RES)/$(1)/$(call detect_variant,$(3))/score.json: $(call density_force,$(2),$(4)) \
+$(DENSITY_RES)/$(1)/$(call detect_variant,$(3),$(5))/score.json: $(call density_force,$(2),$(4)) \
     $(foreach t,$(DENSITY_TOOLS),$(call tool,$(t))) $(MODELBASE) $(VERIFY_SURFACES) $(DENSITY_RES)/$(1)/score.json$(foreach \
-    p,$(call density_detect_prev,$(3),$(5)), $(DENSITY_RES)/$(1)/$(call detect_variant,$(p))/score.json)
+    p,$(call density_detect_prev,$(3),$(5)), $(DENSITY_RES)/$(1)/$(call detect_variant,$(p),$(5))/score.json)
 	+@$(MAKE) $(4)
 endef
 $(foreach d,$(density_class_levels),$(foreach k,$(call list_places,$(DENSITY_DETECT_ABLATIONS)),$(eval $(call \

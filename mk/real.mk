@@ -49,7 +49,12 @@
 # unmeasured filled where the crop has no open ground ($(OUT)/params/classify-tile-ground-0.ini:
 # fill-tile-ground = false, §31), then with the tile's first returns not standing in for its
 # open ground ($(OUT)/params/classify-tile-first-0.ini: fill-tile-first = false, §46). Each changed
-# default of classify.ini has its own (until stop 59 the first turned off both). Empty: none.
+# default of classify.ini has its own (until stop 59 the first turned off both). An entry may also
+# be TILE_MODEL_DENSITY=<points/m²>, the model level's ablation: classify.ini (REAL_CLASSIFY) and
+# the tile workflow's model level at that density (mk/scenes.mk), into $(OUT)/real-ablation-K/
+# alike (the report's "The model level's ablation on the real tiles"). The fourth is the model
+# level before stop 69 (50; docs/decisions/density-scale.md, "The model level at 20 points/m²,
+# re-measured"). Empty: none.
 # REAL_CLASSIFY_ABLATION, REAL_CLASSIFY_ABLATION_2, ..., when set (the command lines of
 # tests/pipeline/progress_count.sh and the decision records), set the list's first, second, ...
 # place (empty: none there).
@@ -69,22 +74,31 @@ ifneq ($(and $(opts_thesis),$(wildcard $(P)/classify.ini)),)
 $(call ini_variants,$(P)/classify.ini,real_classify_variant,$(REAL_CLASSIFY_VARIANTS))
 endif
 REAL_CLASSIFY_ABLATIONS ?= $(call real_classify_variant,bridge-0) $(call real_classify_variant,tile-ground-0) \
-  $(call real_classify_variant,tile-first-0)
+  $(call real_classify_variant,tile-first-0) TILE_MODEL_DENSITY=50
 # real_named(K): the name of place K (REAL_CLASSIFY_ABLATION, REAL_CLASSIFY_ABLATION_2, ...);
 # real_abl_list: the list with each place so named and set taken from it ("-" when empty).
 real_named = REAL_CLASSIFY_ABLATION$(if $(filter-out 1,$(1)),_$(1))
 real_abl_list := $(foreach k,$(call list_numbers,$(REAL_CLASSIFY_ABLATIONS)),$(if $(filter-out \
   undefined,$(origin $(call real_named,$(k)))),$(or $($(call real_named,$(k))),-),$(word $(k),$(REAL_CLASSIFY_ABLATIONS))))
 # real_variant(K): the ablation at place K (real-ablation, real-ablation-2, ...: its directory
-# under $(OUT) and its options kind); real_abl_ini(K): its parameters.
+# under $(OUT) and its options kind); real_abl_entry(K): the list's entry; real_abl_ini(K): its
+# classify parameters; real_abl_density(K): its model level (TILE_MODEL_DENSITY's, or the entry's
+# TILE_MODEL_DENSITY=<value>).
 real_variant = real-ablation$(if $(filter-out 1,$(1)),-$(1))
-real_abl_ini = $(word $(1),$(real_abl_list))
+real_abl_entry = $(word $(1),$(real_abl_list))
+real_abl_ini = $(if $(findstring =,$(call real_abl_entry,$(1))),$(REAL_CLASSIFY),$(call real_abl_entry,$(1)))
+real_abl_density = $(if $(findstring =,$(call real_abl_entry,$(1))),$(patsubst TILE_MODEL_DENSITY=%,%,$(call \
+  real_abl_entry,$(1))),$(TILE_MODEL_DENSITY))
 REAL_ABL_PLACES := $(call list_places,$(real_abl_list))
 REAL_ABLATION ?= 0
 $(if $(filter-out 0 1,$(REAL_ABLATION)),$(error REAL_ABLATION=$(REAL_ABLATION): must be 0 or 1))
 REAL_CLASSIFY ?= $(P)/classify.ini
 REAL_CLASSIFY_SIM ?= $(P)/classify-sim.ini
-$(foreach f,$(REAL_CLASSIFY) $(REAL_CLASSIFY_SIM) $(filter-out - $(real_classify_files),$(real_abl_list)),$(if $(wildcard $(f)),,$(error REAL_CLASSIFY: $(f) does not exist)))
+$(foreach e,$(real_abl_list),$(if $(findstring =,$(e)),$(if $(shell printf '%s' '$(e)' | grep -xE \
+  'TILE_MODEL_DENSITY=[0-9]+(\.[0-9]+)?'),,$(error REAL_CLASSIFY_ABLATIONS: $(e) is neither a parameter file nor \
+  TILE_MODEL_DENSITY=<points/m²>))))
+$(foreach f,$(REAL_CLASSIFY) $(REAL_CLASSIFY_SIM) $(foreach e,$(filter-out - $(real_classify_files),$(real_abl_list)),$(if \
+  $(findstring =,$(e)),,$(e))),$(if $(wildcard $(f)),,$(error REAL_CLASSIFY: $(f) does not exist)))
 $(if $(filter-out 0 1,$(REAL_TILES)),$(error REAL_TILES=$(REAL_TILES): must be 0 or 1))
 REAL_URBAN ?= ign_lidarhd_870000_6618000 ahn3_delft_2 ign_stbarth_100m
 # The plots without vehicles: forest_lareunion, then (stop 66; real-tiles.md "More forest plots for
@@ -125,17 +139,18 @@ REAL_DEPS = $(foreach t,$(REAL_TOOLS),$(call tool,$(t))) $(wildcard $(STAMPS)/cl
 REAL_SUBMAKE = $(MAKE)
 real_plus := $(if $(dry_run),,+)
 
-# real_args(name, out, classify.ini): the arguments of a tile's sub-make.
+# real_args(name, out, classify.ini, model level): the arguments of a tile's sub-make.
 real_args = --no-print-directory -f $(firstword $(MAKEFILE_LIST)) tile TILE=$(call real_file,$(1)) \
-  MODELBASE=$(OUT)/modelbase OUT=$(2)/$(1) TILE_CLASSIFY=$(3) PROGRESS=0 SCENE_EXPERIMENT=0 FAMILIES=0 REAL_TILES=0
-# real_progress(MODE, name, out, classify.ini): the progress count (scripts/progress.sh, state
+  MODELBASE=$(OUT)/modelbase OUT=$(2)/$(1) TILE_CLASSIFY=$(3) TILE_MODEL_DENSITY=$(4) PROGRESS=0 SCENE_EXPERIMENT=0 \
+  FAMILIES=0 REAL_TILES=0
+# real_progress(MODE, name, out, classify.ini, model level): the progress count (scripts/progress.sh, state
 # $$CANOPY_PROGRESS) takes in (add) the stages a dry run of the tile's sub-make shows, or takes
 # them back (drop) when the sub-make stopped early and they will not run (but for those that ran
 # since the start, failing: $(OUT)/.progress-<real|real-sim>-<name> marks it); the parent's dry run
 # prints the sub-make without running it, so they are not in its plan (issue 31: the tiles'
 # stages ran uncounted, then a tile stopped by its time box left its candidates counted). drop
 # also takes back the score, which the parent's plan counts.
-real_progress = { [ -z "$$$$CANOPY_PROGRESS" ] || { CANOPY_PLANNING=1 $$(REAL_SUBMAKE) -n $(call real_args,$(2),$(3),$(4)) \
+real_progress = { [ -z "$$$$CANOPY_PROGRESS" ] || { CANOPY_PLANNING=1 $$(REAL_SUBMAKE) -n $(call real_args,$(2),$(3),$(4),$(5)) \
   2>/dev/null; $(if $(and $(filter drop,$(1)),$(wildcard $(REAL_SHARE)/$(2).truth.json)),echo \
   "$(BIN)/stagerun $(3)/$(2)/score.json -- $(BIN)/score";) } | scripts/progress.sh $(1) "$$$$CANOPY_PROGRESS" \
   "$$$$CANOPY_PROGRESS-$(notdir $(3))-$(2)" >/dev/null; }
@@ -145,14 +160,15 @@ real_progress = { [ -z "$$$$CANOPY_PROGRESS" ] || { CANOPY_PLANNING=1 $$(REAL_SU
 # defaults, but COLLECT_CALIBRATION: the workflow's own default is none, so only a value given on
 # the command line or in the environment reaches it). The sub-make then re-runs what they change.
 real_calibration = $(if $(filter command% environment%,$(origin COLLECT_CALIBRATION)),$(COLLECT_CALIBRATION))
-opts_text_real_tile = $(call opts_line,timeout,$(REAL_TIMEOUT))$(call opts_line,model-density,$(TILE_MODEL_DENSITY))$(call \
+opts_text_real_tile = $(call real_tile_opts,$(TILE_MODEL_DENSITY))
+real_tile_opts = $(call opts_line,timeout,$(REAL_TIMEOUT))$(call opts_line,model-density,$(1))$(call \
   opts_line,density-scale,$(TILE_DENSITY_SCALE))$(call opts_line,raster,$(TOP_RASTER))$(call \
   opts_line,fitvox,$(TILE_FITVOX))$(call opts_line,parameters,$(P))$(call opts_line,model-classes,$(MODEL_CLASSES))$(call \
   opts_line,crs,$(CRS))$(call opts_line,calibration,$(real_calibration))
 opts_text_real = $(call opts_line,classify,$(REAL_CLASSIFY))$(opts_text_real_tile)
 opts_text_real-sim = $(call opts_line,classify,$(REAL_CLASSIFY_SIM))$(opts_text_real_tile)
 $(foreach k,$(REAL_ABL_PLACES),$(eval opts_text_$(call real_variant,$(k)) = $$(call \
-  opts_line,classify,$(call real_abl_ini,$(k)))$$(opts_text_real_tile)))
+  opts_line,classify,$(call real_abl_ini,$(k)))$$(call real_tile_opts,$(call real_abl_density,$(k)))))
 # Written only by a make that can run the real tiles, never by the sub-makes of `all`
 # (sub_make_goals, Makefile.experiments), which may have other values: the open set's `make
 # scenes` gives COLLECT_CALIBRATION on its command line (OPENSET_COLLECT_CALIBRATION, empty by
@@ -162,7 +178,7 @@ opts_real_goals := $(filter-out $(sub_make_goals),$(opts_thesis))
 $(if $(opts_real_goals),$(call opts_kinds,$(OUT),real real-sim $(foreach k,$(REAL_ABL_PLACES),$(call \
   real_variant,$(k)))))
 
-# real_rule(name, previous, out, classify.ini): one tile's run into out/<name> (time-boxed,
+# real_rule(name, previous, out, classify.ini, model level): one tile's run into out/<name> (time-boxed,
 # timed) after the run `previous` (its tile.time, or none) and, for a labelled tile, its score;
 # GNU time's "Command exited with non-zero status" line is dropped from tile.time.
 define real_rule
@@ -170,10 +186,10 @@ $(3)/$(1)/tile.time: $(call real_file,$(1)) $(REAL_DEPS) $(4) $(wildcard $(REAL_
     $(opts.$(notdir $(3))) \
     | $(2)
 	$$(real_plus)@rm -rf '$(3)/$(1)' && mkdir -p '$(3)/$(1)' && s=0; \
-	  $(call real_progress,add,$(1),$(3),$(4)); \
+	  $(call real_progress,add,$(1),$(3),$(4),$(5)); \
 	  /usr/bin/time -f '%e %M %U %S' -o $$@.tmp timeout $(REAL_TIMEOUT) $$(REAL_SUBMAKE) \
-	    $(call real_args,$(1),$(3),$(4)) || s=$$$$?; \
-	  [ $$$$s -eq 0 ] || $(call real_progress,drop,$(1),$(3),$(4)); \
+	    $(call real_args,$(1),$(3),$(4),$(5)) || s=$$$$?; \
+	  [ $$$$s -eq 0 ] || $(call real_progress,drop,$(1),$(3),$(4),$(5)); \
 	  if [ $$$$s -eq 124 ]; then rm -f $(3)/$(1)/detections.json; \
 	    echo "real  $(1): not finished after $(REAL_TIMEOUT) s (REAL_TIMEOUT), recorded as such"; \
 	  elif [ $$$$s -eq 2 ]; then rm -f $(3)/$(1)/detections.json; \
@@ -185,19 +201,19 @@ $(3)/$(1)/tile.time: $(call real_file,$(1)) $(REAL_DEPS) $(4) $(wildcard $(REAL_
 	  -t $(REAL_SHARE)/$(1).truth.json -o $(3)/$(1)/score.json)
 	@echo "done  $$@ $$$$(cat $$@)"
 endef
-# real_chain(out, classify.ini, first previous): the tiles one after another into out.
+# real_chain(out, classify.ini, first previous, model level): the tiles one after another into out.
 real_chain = $(eval real_last := $(3))$(foreach t,$(REAL_NAMES),$(eval $(call \
-  real_rule,$(t),$(real_last),$(1),$(2)))$(eval real_last := $(1)/$(t)/tile.time))
+  real_rule,$(t),$(real_last),$(1),$(2),$(4)))$(eval real_last := $(1)/$(t)/tile.time))
 REAL_RUNS := $(foreach t,$(REAL_NAMES),$(REAL_OUT)/$(t)/tile.time)
 REAL_SIM_RUNS := $(foreach t,$(REAL_NAMES),$(REAL_SIM_OUT)/$(t)/tile.time)
 REAL_ABL_RUNS := $(foreach k,$(REAL_ABL_PLACES),$(foreach t,$(REAL_NAMES),$(OUT)/$(call real_variant,$(k))/$(t)/tile.time))
-$(call real_chain,$(REAL_OUT),$(REAL_CLASSIFY),)
-$(call real_chain,$(REAL_SIM_OUT),$(REAL_CLASSIFY_SIM),)
+$(call real_chain,$(REAL_OUT),$(REAL_CLASSIFY),,$(TILE_MODEL_DENSITY))
+$(call real_chain,$(REAL_SIM_OUT),$(REAL_CLASSIFY_SIM),,$(TILE_MODEL_DENSITY))
 # (classify's ablations after canopy's last tile, each after the one before: the tiles' wall
 # times stay their own.)
 real_abl_last := $(lastword $(REAL_RUNS))
 $(foreach k,$(REAL_ABL_PLACES),$(call real_chain,$(OUT)/$(call real_variant,$(k)),$(call \
-  real_abl_ini,$(k)),$(real_abl_last))$(eval real_abl_last := $(OUT)/$(call real_variant,$(k))/$(lastword \
+  real_abl_ini,$(k)),$(real_abl_last),$(call real_abl_density,$(k)))$(eval real_abl_last := $(OUT)/$(call real_variant,$(k))/$(lastword \
   $(REAL_NAMES))/tile.time))
 .PHONY: real-tiles real-tiles-sim real-tiles-ablation
 real-tiles: $(REAL_RUNS)
@@ -215,6 +231,6 @@ $(RES)/report.md: $(REAL_RUNS) $(REAL_ABL_RUNS)
 # with its hand labels when it has any and classify's ablations when they run (in order).
 EXPERIMENT_REAL := $(foreach t,$(REAL_NAMES),$(call ml,$(strip real $(t) $(REAL_OUT)/$(t) $(wildcard \
   $(REAL_SHARE)/$(t).truth.json)))$(foreach k,$(REAL_ABL_PLACES),$(call ml,real-ablation $(t) $(OUT)/$(call \
-  real_variant,$(k))/$(t) $(call real_abl_ini,$(k)))))
+  real_variant,$(k))/$(t) $(call real_abl_entry,$(k)))))
 REPORT_ARGS += --real-timeout $(REAL_TIMEOUT)
 endif

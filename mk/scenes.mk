@@ -10,7 +10,7 @@
 # mytile/top.raster, the tile's heights, made beside the candidates) and per candidate
 # mytile/cands/<id>/class.json (classify: the class-level answer, every candidate) and, for the
 # candidates dense enough for model-level recognition (object density >= TILE_MODEL_DENSITY
-# points/m², default 50: docs/decisions/density-scale.md), mytile/cands/<id>/{samples.pcd,
+# points/m², default 20: docs/decisions/density-scale.md), mytile/cands/<id>/{samples.pcd,
 # mesh.ply, segments.json, segments.ply, match.json, verdict.json} (each with its .log and
 # .time). MODELBASE is a directory of <model>.json graphs and <model>.pcd surfaces (`make -f
 # Makefile.experiments verify-modelbase` builds out/modelbase). Every stage runs through
@@ -51,11 +51,13 @@ tile_detect = $(TILE_DETECT)
 TILE_FITVOX ?= $(P)/fitvox-tile.ini
 # The object density (points per m² of a candidate's footprint, detect's index.json) from which
 # a candidate also runs the model chain; below it classify's class-level answer alone
-# (docs/decisions/density-scale.md: with the density rule below, 50; common/density_scale.h
-# kModelLevelDensity). 370 is the value before the rule (fitvox-tile.ini's 6 points per 128 mm
-# voxel, docs/decisions/classify.md §11): the ablation.
-TILE_MODEL_DENSITY ?= 50
-ifneq ($(TILE_MODEL_DENSITY),50)
+# (docs/decisions/density-scale.md: with the density rule below, 20 since stop 69, "The model
+# level at 20 points/m², re-measured"; 50 from stop 49 to 68, the ablation the density ladder's
+# class-level rungs and the real tiles run beside it; common/density_scale.h kModelLevelDensity).
+# 370 is the value before the rule (fitvox-tile.ini's 6 points per 128 mm voxel,
+# docs/decisions/classify.md §11).
+TILE_MODEL_DENSITY ?= 20
+ifneq ($(TILE_MODEL_DENSITY),20)
 $(if $(shell printf '%s' '$(TILE_MODEL_DENSITY)' | grep -xE '[0-9]+(\.[0-9]+)?'),,$(error \
   TILE_MODEL_DENSITY=$(TILE_MODEL_DENSITY) must be a number of points/m²))
 endif

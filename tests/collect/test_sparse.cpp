@@ -124,13 +124,16 @@ TEST_CASE("a sparse tile: detect by its density, class-level answers, the reason
     CHECK(c["density"].get<double>() == Approx(25).epsilon(0.25));
   }
 
-  // classify every candidate (no model chain: 25 points/m² is below the model level's 50).
+  // classify every candidate, with the model level at 50 points/m² (TILE_MODEL_DENSITY's value
+  // before stop 69, its ablation): no model chain, 25 points/m² is below it. (The default, 20,
+  // is checked after.)
   for (const Json& c : index["candidates"]) {
     const std::string id = c["id"];
     fs::create_directories(dir / "cands" / id);
     REQUIRE(test::sh(bin("classify") + " -q --config " + CANOPY_SOURCE_DIR +
-                         "/share/params/classify.ini -i " + (dir / "cands" / (id + ".pcd")).string() +
-                         " --index " + (dir / "cands" / "index.json").string() + " -o " +
+                         "/share/params/classify.ini --model-density 50 -i " +
+                         (dir / "cands" / (id + ".pcd")).string() + " --index " +
+                         (dir / "cands" / "index.json").string() + " -o " +
                          (dir / "cands" / id / "class.json").string(),
                      dir / "err.txt", &err) == 0);
   }
@@ -199,6 +202,35 @@ TEST_CASE("a sparse tile: detect by its density, class-level answers, the reason
   CHECK(s["class_accuracy"] == 1.0);
   CHECK(s["recall_any_level"] == 1.0);
   CHECK(s["class_heading_error_median_deg"].get<double>() < 2);
+
+  // The default model level (20 points/m², classify.ini's and collect's): the tile's 25 reach it.
+  // collect --plan sends every candidate to the model chain; with classify's answers alone,
+  // collect says the tile was dense enough and no candidate has a model-chain verdict.
+  REQUIRE(test::sh(bin("collect") + " --plan " + (dir / "plan.mk").string() + " -i " +
+                       (dir / "cands" / "index.json").string(),
+                   dir / "err.txt", &err) == 0);
+  const std::string plan = test::read_text(dir / "plan.mk");
+  for (const Json& c : index["candidates"])
+    CHECK_THAT(plan, Catch::Contains("TILE_LEVEL_" + c["id"].get<std::string>() + " := model"));
+  for (const Json& c : index["candidates"]) {
+    const std::string id = c["id"];
+    REQUIRE(test::sh(bin("classify") + " -q --config " + CANOPY_SOURCE_DIR +
+                         "/share/params/classify.ini -i " + (dir / "cands" / (id + ".pcd")).string() +
+                         " --index " + (dir / "cands" / "index.json").string() + " -o " +
+                         (dir / "cands" / id / "class.json").string(),
+                     dir / "err.txt", &err) == 0);
+  }
+  REQUIRE(test::sh(bin("collect") + " -i " + (dir / "cands" / "index.json").string() + " -o " +
+                       (dir / "detections20.json").string(),
+                   dir / "err.txt", &err) == 0);
+  const Json d20 = read_json(dir / "detections20.json");
+  CHECK(d20["found"] == 2);
+  CHECK(d20["rejected"][0]["density_needed"]["model"] == 20.0);
+  REQUIRE(d20["warning"].is_string());
+  CHECK_THAT(
+      d20["warning"].get<std::string>(),
+      Catch::Contains("open-ground density 25 points/m²: dense enough for model-level recognition, but no "
+                      "candidate has a model-chain verdict; class-level answers only"));
 }
 
 TEST_CASE("a sparse tile: an explicit --voxel and --min-planarity override the density rule") {

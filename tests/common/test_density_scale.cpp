@@ -111,5 +111,5 @@ TEST_CASE("density rule: the make default of the model level is the header's") {
   CHECK(std::stod(value) == canopy::common::kModelLevelDensity);
   // The rule reaches down to it: a voxel there still holds the dense end's points.
   const DensityScale s = density_scale(canopy::common::kModelLevelDensity);
-  CHECK(s.voxel_mm == 349);  // 128 x sqrt(370 / 50) = 348.2
+  CHECK(s.voxel_mm == 551);  // 128 x sqrt(370 / 20) = 550.55
 }

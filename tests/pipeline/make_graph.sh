@@ -302,13 +302,15 @@ real=$(grep "^real " "$tmp/out/experiment.txt")
   [ "$(echo "$real" | grep -c '^real forest_[^ ]* [^ ]*$')" -eq 24 ] ||
   fail "the manifest's real tiles: $real"
 # Each tile's classify ablations follow it, in order, each in its own directory (mk/real.mk
-# REAL_CLASSIFY_ABLATIONS: three by default), and `all` runs them.
+# REAL_CLASSIFY_ABLATIONS: three by default, then the model level's, TILE_MODEL_DENSITY=50), and
+# `all` runs them.
 bridge0=$tmp/out/params/classify-bridge-0.ini ground0=$tmp/out/params/classify-tile-ground-0.ini
 first0=$tmp/out/params/classify-tile-first-0.ini
 abl=$(grep "^real-ablation forest_lareunion " "$tmp/out/experiment.txt")
 [ "$abl" = "real-ablation forest_lareunion $tmp/out/real-ablation/forest_lareunion $bridge0
 real-ablation forest_lareunion $tmp/out/real-ablation-2/forest_lareunion $ground0
-real-ablation forest_lareunion $tmp/out/real-ablation-3/forest_lareunion $first0" ] ||
+real-ablation forest_lareunion $tmp/out/real-ablation-3/forest_lareunion $first0
+real-ablation forest_lareunion $tmp/out/real-ablation-4/forest_lareunion TILE_MODEL_DENSITY=50" ] ||
   fail "the manifest's real-tile ablations: $abl"
 # The three files are written by make (mk/real.mk REAL_CLASSIFY_VARIANTS): the test's own
 # classify.ini with a first comment line and the ablation's keys' lines changed, nothing else.
@@ -331,6 +333,17 @@ for a in "real-ablation $bridge0" "real-ablation-2 $ground0" "real-ablation-3 $f
   echo "$plan" | grep -q "OUT=$tmp/out/$1/forest_lareunion TILE_CLASSIFY=$2 " ||
     fail "make -n all does not run classify's ablation $2 into $1"
 done
+# canopy's tiles and classify's ablations at the model level's default (mk/scenes.mk
+# TILE_MODEL_DENSITY, 20); the model level's ablation with canopy's classify.ini at 50.
+for a in "real $c 20" "real-ablation $bridge0 20" "real-ablation-4 $c 50"; do
+  set -- $a
+  echo "$plan" | grep -q "OUT=$tmp/out/$1/forest_lareunion TILE_CLASSIFY=$2 TILE_MODEL_DENSITY=$3 " ||
+    fail "make -n all does not run $1 with $2 and the model level $3: $(echo "$plan" | grep -o "OUT=$tmp/out/$1/forest_lareunion [^ ]* [^ ]*" | head -1)"
+done
+"${mk[@]}" REAL_TILES=1 -n all REAL_CLASSIFY_ABLATIONS="TILE_MODEL_DENSITY=abc" >/dev/null 2>&1 &&
+  fail "REAL_CLASSIFY_ABLATIONS: a TILE_MODEL_DENSITY that is no number is not refused"
+"${mk[@]}" REAL_TILES=1 -n all REAL_CLASSIFY_ABLATIONS="DETECT=1" >/dev/null 2>&1 &&
+  fail "REAL_CLASSIFY_ABLATIONS: an assignment other than TILE_MODEL_DENSITY is not refused"
 # The list's places by name (REAL_CLASSIFY_ABLATION_2=, tests/pipeline/progress_count.sh): the
 # second emptied, the first and third run but not it; a list of one entry, the first alone.
 for args in "REAL_CLASSIFY_ABLATION_2=" "REAL_CLASSIFY_ABLATIONS=$bridge0"; do
@@ -567,8 +580,10 @@ plans "bin/report .*--tile-baselines=vfh " ||
   fail "share/params/detect-ladder.ini is not end-gap = 1 alone: $(grep -v '^#' share/params/detect-ladder.ini)"
 [ "$(grep -v '^#' bench/density/detect-end-gap-0.ini)" = "end-gap = 0" ] ||
   fail "bench/density/detect-end-gap-0.ini is not end-gap = 0 alone"
-dl=("${mk[@]}" PROGRESS=0 DENSITY_LEVELS="10 25 100" DENSITY_SEEDS=1 DENSITY_COVERS=light DENSITY_SENSOR=
+dl0=("${mk[@]}" PROGRESS=0 DENSITY_LEVELS="10 25 100" DENSITY_SEEDS=1 DENSITY_COVERS=light DENSITY_SENSOR=
     DENSITY_VERIFY_ABLATION= DENSITY_CLASSIFY_ABLATIONS=)
+# (detect's ablation alone here; the default list's second entry, the model level's, below)
+dl=("${dl0[@]}" DENSITY_DETECT_ABLATIONS=bench/density/detect-end-gap-0.ini)
 plan=$("${dl[@]}" -n density 2>&1)
 dd="$tmp/out/density"
 for l in 10 25; do
@@ -620,11 +635,33 @@ plan=$("${dl[@]}" -n density DENSITY_DETECT_ABLATIONS= DENSITY_DETECT= 2>&1)
 if plans "detect-ablation" || plans "bin/detect --config"; then fail "DENSITY_DETECT_ABLATIONS= DENSITY_DETECT= still plan a detect ablation or parameters"; fi
 "${dl[@]}" -n density DENSITY_DETECT_ABLATIONS=bench/density/none.ini >/dev/null 2>&1 &&
   fail "a missing detect ablation file is not refused"
+# The default list: detect's ablation, then the model level's (TILE_MODEL_DENSITY=50, stop 69;
+# density-scale.md): on each class-level rung the rung's chain again into model-ablation-2 with
+# detect-ladder.ini, the rung's render (the last ablation deletes it) and collect's plan at 50;
+# canopy's own plan at 20; the manifest names both.
+plan=$("${dl0[@]}" -n density 2>&1)
+for l in 10 25; do
+  plans "bin/detect --config share/params/detect-ladder.ini .*-i $dd/d$l/model-ablation-2/light/tile-1/noise-0/scan.pcd -o $dd/d$l/model-ablation-2/light/tile-1/noise-0/cands" ||
+    fail "the class-level rung $l has no model level ablation detecting with detect-ladder.ini"
+  plans "bin/collect .*$dd/d$l/model-ablation-2/light/tile-1/noise-0/cands/index.json .*--model-density 50" ||
+    fail "the rung $l's model level ablation does not plan at 50: $(echo "$plan" | grep "bin/collect .*d$l/model-ablation-2.*--plan" | head -1)"
+  plans "bin/collect .*$dd/d$l/light/tile-1/noise-0/cands/index.json .*--model-density 20" ||
+    fail "the rung $l does not plan at 20"
+  echo "$plan" | grep -qx "  --csv $tmp/res/density/d$l/model-ablation-2/ && rm -f $dd/d$l/light/tile-1/scan.pcd $dd/d$l/model-ablation-2/light/tile-1/noise-0/scan.pcd" ||
+    fail "the rung $l's model level ablation (the last) does not delete the render once scored"
+done
+if plans "d100/model-ablation"; then fail "the model-level rung 100 has a model level ablation"; fi
+"${dl0[@]}" -n density DENSITY_DETECT_ABLATIONS="TILE_MODEL_DENSITY=x" >/dev/null 2>&1 &&
+  fail "DENSITY_DETECT_ABLATIONS: a TILE_MODEL_DENSITY that is no number is not refused"
 [ ! -e "$tmp/out/.opts/real.txt" ] || fail "make -n density wrote the real tiles' options"
 "${dl[@]}" DENSITY_LADDER=1 "$tmp/out/experiment.txt" >/dev/null 2>&1 || fail "the manifest with the density ladder not written"
 [ "$(grep "^density-detect " "$tmp/out/experiment.txt")" = "density-detect pixel 10 bench/density/detect-end-gap-0.ini $tmp/res/density/d10/detect-ablation/score.json
 density-detect pixel 25 bench/density/detect-end-gap-0.ini $tmp/res/density/d25/detect-ablation/score.json" ] ||
   fail "the manifest's density-detect records: $(grep "^density" "$tmp/out/experiment.txt")"
+"${dl0[@]}" DENSITY_LADDER=1 "$tmp/out/experiment.txt" >/dev/null 2>&1 || fail "the manifest with the density ladder (default) not written"
+[ "$(grep "^density-detect pixel 25 " "$tmp/out/experiment.txt")" = "density-detect pixel 25 bench/density/detect-end-gap-0.ini $tmp/res/density/d25/detect-ablation/score.json
+density-detect pixel 25 TILE_MODEL_DENSITY=50 $tmp/res/density/d25/model-ablation-2/score.json" ] ||
+  fail "the manifest's density-detect records (default): $(grep "^density" "$tmp/out/experiment.txt")"
 "${mk[@]}" PROGRESS=0 "$tmp/out/experiment.txt" >/dev/null 2>&1 || fail "the manifest without the ladder not written"
 grep -q "^density" "$tmp/out/experiment.txt" && fail "DENSITY_LADDER=0 again: the manifest still names the ladder"
 # (the manifest's makes write the real tiles' options too, as `all` does; the runs' own is kept aside

@@ -516,6 +516,55 @@ TEST_CASE("density ladder: detect's ablations on the class-level rungs, one tabl
   CHECK(m2.substr(0, second) == md.substr(0, second));
 }
 
+TEST_CASE("density ladder: the model level's ablation, its own table among detect's") {
+  const fs::path root = fs::path(CANOPY_TEST_TMP) / "report-density-model";
+  fs::remove_all(root);
+  // As verify's ablation's rows: `detections` model answers, `identified` of them right.
+  auto rows = [](double recall, int detections, int identified, int fp) {
+    std::string r = row_counts("all", recall, 0.9, 1, 8, fp, 0);
+    r.pop_back();
+    const double share = detections > 0 ? static_cast<double>(identified) / detections : 0;
+    return r + R"(, "detections": )" + std::to_string(detections) + R"(, "identified": )" +
+           std::to_string(identified) + R"(, "identification": )" + num(share) +
+           R"(, "identification_lo": )" + num(share - 0.1) + R"(, "identification_hi": 1})";
+  };
+  // canopy (model level 20) at 25 and 50: 2 and 6 model answers, all right; the ablation (50):
+  // none at 25, 1 at 50; found the same; detect's ablation (end-gap 0) on both as well.
+  level(root, "d25", 25, 16, rows(0.8, 2, 2, 1));
+  level(root, "d50", 50, 35, rows(0.9, 6, 6, 0));
+  level(root, "m25", 25, 16, rows(0.8, 0, 0, 1));
+  level(root, "m50", 50, 35, rows(0.9, 1, 1, 0));
+  level(root, "e25", 25, 16, rows(0.7, 2, 2, 2));
+  level(root, "e50", 50, 35, rows(0.8, 6, 6, 1));
+  std::vector<documents::ManifestDensity> pixel = {{25, 0.422, (root / "res/d25/score.json").string(), ""},
+                                                   {50, 0.298, (root / "res/d50/score.json").string(), ""}};
+  const std::string eg0 = "bench/density/detect-end-gap-0.ini", m50 = "TILE_MODEL_DENSITY=50";
+  pixel[0].detect = {{eg0, (root / "res/e25/score.json").string()},
+                     {m50, (root / "res/m25/score.json").string()}};
+  pixel[1].detect = {{eg0, (root / "res/e50/score.json").string()},
+                     {m50, (root / "res/m50/score.json").string()}};
+  const std::string md = report::density_markdown(report::read_density_levels(pixel), {});
+  INFO(md);
+  const auto detect =
+      md.find("**detect's ablation on the density ladder** (the rung's whole chain run again");
+  const auto model = md.find(
+      "**the model level's ablation on the density ladder** (the rung's whole chain run again with `" + m50 +
+      "`");
+  REQUIRE(detect != std::string::npos);
+  REQUIRE(model != std::string::npos);
+  CHECK(detect < model);
+  // detect's table is still "the" ablation (the model level's is not counted among detect's), and
+  // the model entry has no classify-style table of its own.
+  CHECK(md.find("detect's second ablation") == std::string::npos);
+  CHECK(md.find("with `" + m50 + "`, then classify") == std::string::npos);
+  const std::string table = md.substr(model);
+  CHECK(table.find("| 25 | model answers, identified | 2/2 = 100.0% [90.0, 100.0] | 0/0") != std::string::npos);
+  CHECK(table.find("| 50 | model answers, identified | 6/6 = 100.0% [90.0, 100.0] | 1/1 = 100.0% [90.0, "
+                   "100.0] |") != std::string::npos);
+  CHECK(table.find("| 50 | found (all covers) | ") != std::string::npos);
+  CHECK(table.find("| 25 | false alarms/ha (all) | 1 = ") != std::string::npos);
+}
+
 TEST_CASE("an ablation's name by its place: the density ladder's, the real tiles' and the scenes' one word") {
   CHECK(report::ablation_name(1) == "ablation");
   CHECK(report::ablation_name(0) == "ablation");

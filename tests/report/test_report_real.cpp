@@ -293,6 +293,30 @@ TEST_CASE("real tiles: classify's ablation beside canopy, per tile and over the 
   CHECK(has(md2, "parameters `out/params/classify-tile-ground-0.ini`"));
   CHECK(has(md2, "mk/real.mk REAL_CLASSIFY_ABLATION_2)"));
   CHECK(has(md2, "| townA | recall, clear | 6/8 = 75.0% [40.9, 92.9] | 5/8 = 62.5% [30.6, 86.3] |"));
+
+  // The model level's ablation (an entry TILE_MODEL_DENSITY=<value>): its own heading, no classify
+  // file, and each tile's model-level detections beside the same rows. The ablation's townA has one
+  // of its class answers at the model level instead.
+  const fs::path dets = root / "abl" / "townA" / "detections.json";
+  text = common::read_file(dets.string());
+  const std::string cls = R"("level": "class", "model": null)";
+  REQUIRE(text.find(cls) != std::string::npos);
+  text.replace(text.find(cls), cls.size(), R"("level": "model", "model": "sedan")");
+  write(dets, text);
+  abl.back() = report::read_real_tile({"townA", (root / "abl" / "townA").string(), truth});
+  const std::string md4 = report::real_ablation_markdown(tiles, abl, "TILE_MODEL_DENSITY=50", 3);
+  INFO(md4);
+  CHECK(has(md4, "### The model level's ablation on the real tiles"));
+  CHECK(has(md4, "classify.ini and `TILE_MODEL_DENSITY=50`"));
+  CHECK(has(md4, "mk/real.mk REAL_CLASSIFY_ABLATION_4)"));
+  CHECK(!has(md4, "classify's"));
+  CHECK(has(md4, "| plotA (no vehicles) | model level detections | 0 | 0 |"));
+  CHECK(has(md4, "| plotA (no vehicles) | false alarms | 2 = 8.0/ha [1.0, 28.9] | 2 = 8.0/ha [1.0, 28.9] |"));
+  CHECK(has(md4, "| townA | model level detections | 0 | 1 |"));
+  CHECK(has(md4, "| townA | recall, clear | 6/8 = 75.0% [40.9, 92.9] | 5/8 = 62.5% [30.6, 86.3] |"));
+  CHECK(has(md4, "| **all tiles** | model level detections | 0 | 1 |"));
+  // A classify ablation has no such rows.
+  CHECK(!has(md2, "model level detections"));
 }
 
 TEST_CASE("real tiles: every tile committed in share/real has its source and licence in the table") {

@@ -109,16 +109,68 @@ void ablation_tables(std::ostringstream& md, const std::vector<DensityLevel>& ru
     });
 }
 
+// The rows of a model-level comparison (verify's ablation, the model level's) for one rung: the
+// model answers (identified of them), found at either level and class right (all covers), false
+// alarms per ha; `c` canopy's summary row, `b` the ablation's.
+void model_rows(std::ostringstream& md, const std::string& head, const ScoreRow* c, const ScoreRow* b) {
+  md << head << "model answers, identified | " << rate_cell(c, "identification", "identified", "detections")
+     << " | " << rate_cell(b, "identification", "identified", "detections") << " |\n";
+  md << head << "found (all covers) | " << rate_cell(c, "recall_any_level", "found_any_level", "true")
+     << " | " << rate_cell(b, "recall_any_level", "found_any_level", "true") << " |\n";
+  md << head << "class right (all) | "
+     << rate_cell(c, "class_accuracy_any_level", "class_right_any_level", "found_any_level") << " | "
+     << rate_cell(b, "class_accuracy_any_level", "class_right_any_level", "found_any_level") << " |\n";
+  md << head << "false alarms/ha (all) | " << false_alarm_cell(c) << " | " << false_alarm_cell(b) << " |\n";
+}
+
+// An entry of mk/density.mk's DENSITY_DETECT_ABLATIONS that sets the model level
+// (TILE_MODEL_DENSITY=<value>) rather than naming detect's parameter file.
+bool model_level_change(const std::string& change) { return change.rfind("TILE_MODEL_DENSITY=", 0) == 0; }
+
+// The model level's ablation on a ladder (the k-th entry of the rungs' detect list, a
+// TILE_MODEL_DENSITY=<value>): the rung's whole chain again with the model level at that density,
+// beside canopy on the rungs where it has run.
+void model_level_table(std::ostringstream& md, const std::vector<DensityLevel>& rungs,
+                       const std::string& ladder, std::size_t k) {
+  std::vector<const DensityLevel*> with;
+  for (const DensityLevel& s : rungs)
+    if (s.scored && k < s.detect.size() && s.detect[k].scored) with.push_back(&s);
+  if (with.empty()) return;
+  const std::string& change = with.front()->detect[k].change;
+  md << "\n**the model level's ablation on " << ladder << "** (the rung's whole chain run again with `"
+     << change
+     << "`, the points/m² of object from which a candidate also runs the model chain — canopy's is "
+        "mk/scenes.mk's TILE_MODEL_DENSITY — on the class-level rungs, where candidates measure near either "
+        "level; docs/decisions/density-scale.md why): model answers and identified of them, found at either "
+        "level, class right of the found and false alarms per ha over all covers, each with its count and "
+        "95% interval.\n\n";
+  md << "| level | measure | canopy | ablation |\n|---|---|---|---|\n";
+  for (const DensityLevel* l : with)
+    model_rows(md, "| " + format_number("%g", l->level) + " | ", row_of(*l, "all"),
+               summary_row(l->detect[k].score, "all"));
+}
+
 // Every detect ablation's table on a ladder, in their order: the k-th where it has run (the
 // class-level rungs, mk/density.mk DENSITY_CLASS_MAX), the rung's whole chain again with another
-// detect parameter file, so other candidates; the columns of classify's ablations.
+// detect parameter file, so other candidates; the columns of classify's ablations. An entry that
+// sets the model level instead has its own table (model_level_table); detect's are numbered
+// among themselves.
 void detect_ablation_tables(std::ostringstream& md, const std::vector<DensityLevel>& rungs,
                             const std::string& ladder) {
   std::size_t n = 0;
   for (const DensityLevel& s : rungs) n = std::max(n, s.detect.size());
-  for (std::size_t k = 0; k < n; ++k)
-    ablation_table(md, rungs, ladder, kDetectText, static_cast<int>(k) + 1,
+  int place = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    bool model = false;
+    for (const DensityLevel& s : rungs)
+      if (k < s.detect.size()) model = model_level_change(s.detect[k].change);
+    if (model) {
+      model_level_table(md, rungs, ladder, k);
+      continue;
+    }
+    ablation_table(md, rungs, ladder, kDetectText, ++place,
                    [k](const DensityLevel& s) { return k < s.detect.size() ? &s.detect[k] : nullptr; });
+  }
 }
 
 // verify's ablation beside canopy on the rungs of both ladders where it has run and either has a
@@ -147,16 +199,7 @@ void verify_ablation_table(std::ostringstream& md, const std::vector<DensityLeve
   for (const DensityLevel* l : with) {
     const std::string head = "| " + (l->sensor.empty() ? std::string("pixel") : l->sensor) + " | " +
                              format_number("%g", l->level) + " | ";
-    const ScoreRow* c = row_of(*l, "all");
-    const ScoreRow* b = summary_row(l->verify.score, "all");
-    md << head << "model answers, identified | " << rate_cell(c, "identification", "identified", "detections")
-       << " | " << rate_cell(b, "identification", "identified", "detections") << " |\n";
-    md << head << "found (all covers) | " << rate_cell(c, "recall_any_level", "found_any_level", "true")
-       << " | " << rate_cell(b, "recall_any_level", "found_any_level", "true") << " |\n";
-    md << head << "class right (all) | "
-       << rate_cell(c, "class_accuracy_any_level", "class_right_any_level", "found_any_level") << " | "
-       << rate_cell(b, "class_accuracy_any_level", "class_right_any_level", "found_any_level") << " |\n";
-    md << head << "false alarms/ha (all) | " << false_alarm_cell(c) << " | " << false_alarm_cell(b) << " |\n";
+    model_rows(md, head, row_of(*l, "all"), summary_row(l->verify.score, "all"));
   }
 }
 

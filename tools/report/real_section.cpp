@@ -483,18 +483,37 @@ std::string alarms(const RealTile& t) {
 std::string real_ablation_markdown(const std::vector<RealTile>& tiles, const std::vector<RealTile>& ablation,
                                    const std::string& config, int index) {
   if (ablation.empty()) return "";
-  const std::string which = ablation_name(index <= 0 ? 1 : index + 1);
+  const std::string place =
+      "mk/real.mk REAL_CLASSIFY_ABLATION" + (index > 0 ? "_" + std::to_string(index + 1) : "");
+  // An entry that sets the model level (TILE_MODEL_DENSITY=<value>) rather than classify's file.
+  const bool model_level = config.rfind("TILE_MODEL_DENSITY=", 0) == 0;
   std::ostringstream md;
-  md << "### classify's " << which
-     << " on the real tiles\n\n"
-        "The same tiles through the same workflow with classify's parameters `"
-     << config << "` (the file's header says which default it turns off; mk/real.mk REAL_CLASSIFY_ABLATION"
-     << (index > 0 ? "_" + std::to_string(index + 1) : std::string())
-     << "), run "
-        "after canopy's, scored the same way: recall over the clear and over all labelled vehicles, "
-        "precision and class right on the urban tiles (Wilson 95%), false alarms on the plots without "
-        "vehicles (exact Poisson 95%).\n\n"
-        "| tile | measure | canopy | ablation |\n|---|---|---|---|\n";
+  if (model_level) {
+    md << "### The model level's ablation on the real tiles\n\n"
+          "The same tiles through the same workflow with classify.ini and `"
+       << config
+       << "` (points/m² of object from which a candidate also runs the model chain; canopy's is "
+          "mk/scenes.mk's TILE_MODEL_DENSITY; docs/decisions/density-scale.md; "
+       << place
+       << "), run after canopy's, scored the same way: the detections at the model level, recall over the "
+          "clear and over all labelled vehicles, precision and class right on the urban tiles (Wilson 95%), "
+          "false alarms on the plots without vehicles (exact Poisson 95%).\n\n";
+  } else {
+    md << "### classify's " << ablation_name(index <= 0 ? 1 : index + 1)
+       << " on the real tiles\n\n"
+          "The same tiles through the same workflow with classify's parameters `"
+       << config << "` (the file's header says which default it turns off; " << place
+       << "), run "
+          "after canopy's, scored the same way: recall over the clear and over all labelled vehicles, "
+          "precision and class right on the urban tiles (Wilson 95%), false alarms on the plots without "
+          "vehicles (exact Poisson 95%).\n\n";
+  }
+  md << "| tile | measure | canopy | ablation |\n|---|---|---|---|\n";
+  const auto model_count = [](const RealTile& t) {
+    const auto m = t.by_level.find("model");
+    return m == t.by_level.end() ? 0 : m->second;
+  };
+  int model_c = 0, model_a = 0;
   RealTile sum_c, sum_a;
   int both = 0;
   for (const RealTile& a : ablation) {
@@ -506,6 +525,12 @@ std::string real_ablation_markdown(const std::vector<RealTile>& tiles, const std
       md << "| " << a.name << " | run | " << (sc.empty() ? "finished" : sc) << " | "
          << (sa.empty() ? "finished" : sa) << " |\n";
       continue;
+    }
+    if (model_level) {
+      md << "| " << a.name << (a.labelled ? "" : " (no vehicles)") << " | model level detections | "
+         << model_count(*c) << " | " << model_count(a) << " |\n";
+      model_c += model_count(*c);
+      model_a += model_count(a);
     }
     if (!a.labelled) {
       md << "| " << a.name << " (no vehicles) | false alarms | " << alarms(*c) << " | " << alarms(a) << " |\n";
@@ -530,6 +555,8 @@ std::string real_ablation_markdown(const std::vector<RealTile>& tiles, const std
        << "| **all scored** | class right | " << rate(sum_c.class_right) << " | " << rate(sum_a.class_right)
        << " |\n";
   }
+  if (model_level)
+    md << "| **all tiles** | model level detections | " << model_c << " | " << model_a << " |\n";
   md << "\n";
   return md.str();
 }

@@ -81,7 +81,9 @@ std::string real_markdown(const std::vector<RealTile>& tiles, int timeout_s, dou
 // with the parameter file `config`; `index` k > 0: its (k + 1)-th, REAL_CLASSIFY_ABLATION_<k + 1>):
 // per tile with an ablation run (matched to `tiles` by name), canopy's figures beside the
 // ablation's — recall (clear, all), precision and class right on the labelled tiles (and over all
-// of them), false alarms on the plots; "" when `ablation` is empty.
+// of them), false alarms on the plots; "" when `ablation` is empty. A `config` of the form
+// TILE_MODEL_DENSITY=<value> is the model level's ablation (the workflow with classify.ini and the
+// model level at that density): its own heading, and each tile's model-level detections besides.
 std::string real_ablation_markdown(const std::vector<RealTile>& tiles, const std::vector<RealTile>& ablation,
                                    const std::string& config, int index = 0);
 
