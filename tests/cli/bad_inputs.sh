@@ -390,6 +390,8 @@ bad collect "no candidates, verdicts missing" "$in/missing-verdicts" "does not e
 bad collect "no candidates, verdicts a file" "$in/good.pcd" "is not a directory" json -- -o @OUT@ -i "$in/det/index.json" --verdicts "$in/good.pcd"
 text_matrix collect json -o @OUT@ -i "$in/det/index.json" --calibration --
 bad collect "empty calibration" "$in/empty.txt" "has no model-bias" json -- -o @OUT@ -i "$in/det/index.json" --calibration "$in/empty.txt"
+text_matrix collect json -o @OUT@ -i "$in/det/index.json" --model-classes --
+bad collect "model classes without a header" "$in/empty.txt" "no header line" json -- -o @OUT@ -i "$in/det/index.json" --model-classes "$in/empty.txt"
 json_matrix candtruth json -o @OUT@ --tile "$in/good.pcd" -i --
 json_matrix score json -o @OUT@ -t "$in/missing-truth.json" -d --
 json_matrix score json -o @OUT@ -d "$in/detections.json" -t --

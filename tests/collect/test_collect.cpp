@@ -767,6 +767,127 @@ TEST_CASE(
   CHECK_THAT(err, Catch::Contains("--contradiction-level must be group or class, not \"family\""));
 }
 
+TEST_CASE(
+    "collect --model-classes: a model answer without a class is written with its model's class and group; "
+    "no decision changes") {
+  const fs::path dir = tile("model_classes");
+  const fs::path cands = dir / "cands";
+  // The tile: c0001 verify's sedan (0.9), c0002 none, c0003 verify's tank (0.8), neither
+  // verdict with a class (the thesis modelbase has no <model>.class files).
+  const fs::path csv = dir / "classes.csv";
+  write(csv, "model,class\n# the test's models\nsedan,sedan\nvan__bus,van\n");  // no tank
+  const std::string cmd = bin() + " -i " + (cands / "index.json").string() + " -o " +
+                          (dir / "d.json").string() + " --geojson " + (dir / "d.geojson").string();
+  std::string err;
+  REQUIRE(test::sh(cmd, dir / "err.txt", &err) == 0);
+  const Json plain = read_json(dir / "d.json");
+  REQUIRE(plain["detections"].size() == 2);
+  CHECK_FALSE(plain["detections"][0].contains("class"));  // without the option: as before
+  CHECK_FALSE(plain["detections"][0].contains("group"));
+  REQUIRE(test::sh(cmd + " --model-classes " + csv.string(), dir / "err.txt", &err) == 0);
+  const Json d = read_json(dir / "d.json");
+  REQUIRE(d["detections"].size() == 2);
+  CHECK(d["detections"][0]["model"] == "sedan");
+  CHECK(d["detections"][0]["class"] == "sedan");
+  CHECK(d["detections"][0]["group"] == "car");  // the taxonomy's group of sedan
+  CHECK(d["detections"][1]["model"] == "tank");
+  CHECK_FALSE(d["detections"][1].contains("class"));  // tank is not in the file: none
+  CHECK_FALSE(d["detections"][1].contains("group"));
+  const Json g = read_json(dir / "d.geojson");
+  CHECK(g["features"][0]["properties"]["class"] == "sedan");
+  CHECK(g["features"][0]["properties"]["group"] == "car");
+  CHECK(d["provenance"]["inputs"].back() == csv.string());
+  CHECK(d["provenance"]["parameters"]["model-classes"] == csv.string());
+  // Nothing else in the document changes.
+  Json a = d, b = plain;
+  for (Json* x : {&a, &b}) {
+    x->erase("provenance");
+    for (auto& det : (*x)["detections"]) {
+      det.erase("class");
+      det.erase("group");
+    }
+  }
+  CHECK(a == b);
+  // The shipped file: the thesis models' classes (tank a tank, of the tracked group).
+  const std::string shipped = std::string(CANOPY_SOURCE_DIR) + "/share/models/classes.csv";
+  REQUIRE(test::sh(cmd + " --model-classes " + shipped, dir / "err.txt", &err) == 0);
+  const Json s = read_json(dir / "d.json");
+  CHECK(s["detections"][0]["class"] == "sedan");
+  CHECK(s["detections"][1]["class"] == "tank");
+  CHECK(s["detections"][1]["group"] == "tracked");
+  // A verdict's own class stays, and so does its group (here none: verify writes a class only).
+  Json own = verdict((cands / "c0003" / "samples.pcd").string(), "tank", 0.8, flat(180, 0.5, 0, 0), nullptr);
+  own["class"] = "tracked-apc";
+  own["nearest_instance"] = "tank";
+  own["class_score"] = 0.5;
+  own["class_margin"] = 0.1;
+  write(cands / "c0003" / "verdict.json", own.dump());
+  REQUIRE(test::sh(cmd + " --model-classes " + shipped, dir / "err.txt", &err) == 0);
+  const Json o = read_json(dir / "d.json");
+  CHECK(o["detections"][1]["class"] == "tracked-apc");
+  CHECK_FALSE(o["detections"][1].contains("group"));
+
+  // The decision is unchanged: a doubtful sedan answer (0.1, no class) and classify's box van
+  // (the van group). Without a class nothing contradicts the model answer (--contradicted-below
+  // 0.5 by default); were the file's class given to it before the decision, the van answer would
+  // win. With the option the model answer stands and only its class is written.
+  write(cands / "c0001" / "verdict.json", verdict((cands / "c0001" / "samples.pcd").string(), "sedan", 0.1,
+                                                  flat(0, 0, 0, 0), flat(30, E + 10.25, N + 10.125, 100.5))
+                                              .dump());
+  write(cands / "c0001" / "class.json",
+        class_answer(cands, "c0001", "box-van", "van", nullptr, 900, flat(0, 0, 0, 0)).dump());
+  auto c0001 = [&](const std::string& options) {
+    REQUIRE(test::sh(cmd + options, dir / "err.txt", &err) == 0);
+    const Json x = read_json(dir / "d.json");
+    for (const auto& det : x["detections"]) {
+      if (det["candidate"] == "c0001")
+        return det["level"].get<std::string>() + " " + det.value("class", std::string("-")) + " " +
+               det.value("group", std::string("-")) + " " + x["by_level"].dump();
+    }
+    return std::string("none");
+  };
+  CHECK(c0001("") == R"(model - - {"model":2,"class":0})");
+  CHECK(c0001(" --model-classes " + csv.string()) == R"(model sedan car {"model":2,"class":0})");
+  // With the class in the verdict itself the contradiction applies (the rule, unchanged).
+  Json contradicted = read_json(cands / "c0001" / "verdict.json");
+  contradicted["class"] = "sedan";
+  contradicted["nearest_instance"] = "sedan";
+  contradicted["class_score"] = 0.5;
+  contradicted["class_margin"] = 0.1;
+  write(cands / "c0001" / "verdict.json", contradicted.dump());
+  CHECK(c0001(" --model-classes " + csv.string()) == R"(class box-van van {"model":1,"class":1})");
+  // A refusal on the shape sets the doubtful answer aside with the option as without it.
+  write(cands / "c0001" / "verdict.json", verdict((cands / "c0001" / "samples.pcd").string(), "sedan", 0.1,
+                                                  flat(0, 0, 0, 0), flat(30, E + 10.25, N + 10.125, 100.5))
+                                              .dump());
+  Json refusal = class_answer(cands, "c0001", nullptr, nullptr, "not_vehicle_shape", 900, Json());
+  refusal["refused_on"] = "shape";
+  write(cands / "c0001" / "class.json", refusal.dump());
+  CHECK(c0001("") == "none");
+  CHECK(c0001(" --model-classes " + csv.string()) == "none");
+
+  // A bad file: exit 1 naming it (and the line), nothing written; a missing one is named too.
+  fs::remove(dir / "d.json");
+  for (const auto& [text, message] : std::vector<std::pair<std::string, std::string>>{
+           {"model,class\nsedan\n", "line 2: expected 'model,class', got 'sedan'"},
+           {"model,class\nsedan,Sedan\n", "line 2: class 'Sedan' is not 1-64 characters of [a-z0-9-]"},
+           {"sedan,sedan\n", "line 1: the first line must be the header 'model,class'"},
+           {"model,class\nsedan,sedan\nsedan,car\n", "line 3: model 'sedan' given twice"}}) {
+    write(csv, text);
+    CHECK(test::sh(cmd + " --model-classes " + csv.string(), dir / "err.txt", &err) == 1);
+    CHECK_THAT(err, Catch::Contains(csv.string() + ": " + message));
+    CHECK_FALSE(fs::exists(dir / "d.json"));
+  }
+  CHECK(test::sh(cmd + " --model-classes " + (dir / "nope.csv").string(), dir / "err.txt", &err) == 1);
+  CHECK_THAT(err, Catch::Contains((dir / "nope.csv").string()));
+  CHECK_FALSE(fs::exists(dir / "d.json"));
+  // --plan reads no answers and so no classes (as --calibration): the bad file is not read.
+  REQUIRE(test::sh(bin() + " -q -i " + (cands / "index.json").string() + " --plan " +
+                       (dir / "cands.mk").string() + " --model-classes " + csv.string(),
+                   dir / "err.txt", &err) == 0);
+  CHECK_THAT(read_text(dir / "cands.mk"), Catch::Contains("TILE_CANDS"));
+}
+
 TEST_CASE("collect --refused-below: a doubtful model answer gives way to classify's refusal on the shape") {
   const fs::path dir = tile("refused");
   const fs::path cands = dir / "cands";
@@ -1013,6 +1134,18 @@ TEST_CASE("collect --size-only: the measured size picks the nearest model; no ve
   const std::string inputs = d["provenance"]["inputs"].dump();
   CHECK(inputs.find("verdict.json") == std::string::npos);
   CHECK(inputs.find("long.pcd") != std::string::npos);
+  // --model-classes: a size-only answer names a model, so it is written with the file's class of
+  // that model (and its group) like verify's class-less answers; a model not listed stays without.
+  write(dir / "classes.csv", "model,class\nsmall,hatchback\n");
+  REQUIRE(test::sh(cmd + " --modelbase " + mb.string() + " --model-classes " + (dir / "classes.csv").string(),
+                   dir / "err.txt", &err) == 0);
+  const Json mc = read_json(dir / "d.json");
+  REQUIRE(mc["detections"].size() == 3);
+  CHECK_FALSE(mc["detections"][0].contains("class"));  // long
+  CHECK(mc["detections"][1]["class"] == "hatchback");  // small
+  CHECK(mc["detections"][1]["group"] == "car");
+  CHECK(mc["detections"][2]["class"] == "hatchback");
+  CHECK(mc["detections"][1]["confidence"] == d["detections"][1]["confidence"]);
   // A tighter gate: only c0002's exact size passes; the others are rejected with classify's
   // reason (c0001: it answered a class, so "none").
   REQUIRE(test::sh(cmd + " --modelbase " + mb.string() + " --size-gate 0.02", dir / "err.txt", &err) == 0);

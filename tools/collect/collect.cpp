@@ -607,7 +607,17 @@ Outputs collect(const Index& index, const std::vector<Answers>& answers, const P
       const PlattMap& map = params.size_only ? identity
                             : found == &v    ? params.calibration.model
                                              : params.calibration.cls;
-      doc.detections.push_back(detection_of(c, *found, place(c, *found, params), map));
+      documents::DetectionRecord d = detection_of(c, *found, place(c, *found, params), map);
+      // --model-classes names the class of a model answer without one, after every decision
+      // above: the decisions read the answers as they are, this changes only what is written.
+      if (d.model_level && d.cls.empty() && d.group.empty()) {
+        const auto cls = params.model_classes.find(d.model);
+        if (cls != params.model_classes.end()) {
+          d.cls = cls->second;
+          d.group = common::class_group(d.cls);
+        }
+      }
+      doc.detections.push_back(std::move(d));
       continue;
     }
     doc.rejected.push_back(rejection_of(c, answers[i], params.size_only ? Calibration{} : params.calibration,

@@ -160,6 +160,14 @@ struct Params {
   // 29; docs/decisions/open-set.md "Seventeenth round"). Model answers are untouched. 0 = off
   // (every class answer a detection, as before). In [0, 1]; not applied to --size-only.
   double class_accept = 0;
+  // The classes of models (collect --model-classes, documents::parse_model_classes: e.g.
+  // share/models/classes.csv): a model-level detection whose answer carries no class (verify's
+  // verdict on a modelbase without <model>.class files, --size-only's answers) is written with
+  // its model's class here and that class's group (common::class_group); an answer's own class
+  // and group are written as they are; a model not here stays without. Only what the written
+  // detection names: applied after every decision above, which read the answers as they are
+  // (model_contradicted sees no class where the verdict has none). Empty: none (as before).
+  std::map<std::string, std::string> model_classes;
 };
 
 // The rejection reason of a class answer below Params::class_accept.

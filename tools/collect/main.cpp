@@ -15,6 +15,7 @@
 #include "canopy/common/density_scale.h"
 #include "canopy/common/error.h"
 #include "canopy/common/log.h"
+#include "canopy/documents/model_classes.h"
 #include "canopy/documents/modelbase.h"
 #include "canopy/formats/points_io.h"
 #include "collect/collect.h"
@@ -56,7 +57,7 @@ collect::ModelBox model_box(const std::string& path, bool need_height) {
 // The command line: the index, the outputs, where the verdicts and modelbase are.
 struct Options {
   std::string in, out = "-", plan, key = "TILE", verdicts, name = "verdict.json", class_name = "class.json",
-                  geojson, crs, modelbase, calibration;
+                  geojson, crs, modelbase, calibration, model_classes;
   double model_density = collect::kModelDensity;
   bool size_only = false, no_density_scale = false;
   double size_gate = 0.25;
@@ -130,6 +131,12 @@ void bind(common::Tool& tool, Options& o) {
            "confidence (after --calibration) is below this is not a detection: the candidate is "
            "rejected as low_confidence (0 = off: every class answer a detection; "
            "docs/decisions/open-set.md \"Seventeenth round\")");
+  tool.add("--model-classes", &o.model_classes,
+           "CSV 'model,class' (e.g. share/models/classes.csv): a model-level detection whose answer "
+           "has no class (a modelbase without <model>.class files; --size-only's) is written with its "
+           "model's class and that class's group; an answer's own class stays, a model not in the file "
+           "stays without. Only what is written: every decision (--contradicted-below, "
+           "--refused-below, ...) reads the answers as they are (not read with --plan)");
   tool.add("--size-gate", &o.size_gate,
            "--size-only: the largest relative difference of length, width or height from the "
            "nearest model's that is still that model");
@@ -288,6 +295,10 @@ int main(int argc, char** argv) {
       if (o.size_only) throw common::UsageError("--calibration is canopy's levels': not with --size-only");
       p.calibration = collect::parse_calibration(common::read_file(o.calibration), o.calibration);
       in.provenance.inputs.push_back(o.calibration);
+    }
+    if (!o.model_classes.empty()) {
+      p.model_classes = documents::parse_model_classes(common::read_file(o.model_classes), o.model_classes);
+      in.provenance.inputs.push_back(o.model_classes);
     }
     if (!o.modelbase.empty())
       p.boxes = read_boxes(o.modelbase, in.answers, in.provenance.inputs, o.size_only);
