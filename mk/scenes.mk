@@ -69,7 +69,9 @@ TILE_DENSITY_SCALE ?= 1
 $(if $(filter-out 0 1,$(TILE_DENSITY_SCALE)),$(error TILE_DENSITY_SCALE=$(TILE_DENSITY_SCALE): must be 0 or 1))
 scene_config = $(if $(wildcard $(P)/$(1).ini),--config $(P)/$(1).ini)
 # The classes of the thesis models (their modelbase entries have no <model>.class file): classify
-# takes a modelbase entry with a class as one more class range (classify.md §12).
+# takes a modelbase entry with a class as one more class range (classify.md §12); collect writes
+# a model answer without a class with its model's class and group (stop 69: the real tiles'
+# class right counts it by its group, as a class answer's).
 MODEL_CLASSES ?= share/models/classes.csv
 $(if $(wildcard $(MODEL_CLASSES)),,$(error MODEL_CLASSES=$(MODEL_CLASSES) does not exist))
 # classify's parameters: a user's tile and the real tiles take the defaults (share/params/
@@ -180,7 +182,8 @@ $(foreach v,$(SCENE_CLASS_ABLATIONS),$(eval opts_text_$(patsubst class-%,classif
   opts_line,parameters,$(scene_class_ini.$(v)))$$(call opts_line,model-classes,$$(MODEL_CLASSES))))
 opts_text_models = $(call opts_line,fitvox,$(TILE_FITVOX))$(call opts_line,parameters,$(P))$(call \
   opts_line,density-scale,$(TILE_DENSITY_SCALE))
-opts_text_collect = $(call opts_line,calibration,$(COLLECT_CALIBRATION))$(call opts_line,crs,$(CRS))
+opts_text_collect = $(call opts_line,calibration,$(COLLECT_CALIBRATION))$(call opts_line,crs,$(CRS))$(call \
+  opts_line,model-classes,$(MODEL_CLASSES))
 # (each collect ablation's: opts_text_collect-ablation, opts_text_collect-ablation-2, ...)
 $(foreach v,$(SCENE_COLLECT_VARIANTS),$(eval opts_text_$(v) = $$(call opts_line,options,$(scene_collect_opts.$(v)))$$(call \
   opts_line,calibration,$$(COLLECT_CALIBRATION))))
@@ -245,8 +248,9 @@ endef
 # (VARIANT, CLASS and VERDICT are stripped: a call may break its line before them.)
 define collect_variant_rule
 $(1)/detections-$(strip $(4)).json: $(1)/cands.mk $(foreach c,$($(2)_CANDS),$(1)/cands/$(c)/$(strip $(5))) \
-    $(if $(strip $(6)),$(foreach c,$(call model_cands,$(2)),$(1)/cands/$(c)/$(strip $(6)))) $(9) $(call tool,collect)
-	@$(STAGE) $$@ -- $(BIN)/collect -i $(1)/cands/index.json $(7) -o $$@ --modelbase $(3) $(8)
+    $(if $(strip $(6)),$(foreach c,$(call model_cands,$(2)),$(1)/cands/$(c)/$(strip $(6)))) $(9) $(call tool,collect) \
+    $(MODEL_CLASSES)
+	@$(STAGE) $$@ -- $(BIN)/collect -i $(1)/cands/index.json $(7) --model-classes $(MODEL_CLASSES) -o $$@ --modelbase $(3) $(8)
 endef
 # class_ablation_rules(DIR, KEY, MODELBASE, INI[, VARIANT]): classify's ablation VARIANT
 # (class-ablation, the default, or class-ablation-K) on every candidate of a run
@@ -353,9 +357,9 @@ TOP_RASTER ?= 1
 define tile_collect
 $(2)/detections.json: $(2)/cands.mk $(foreach c,$($(1)_CANDS),$(2)/cands/$(c)/class.json) \
     $(foreach c,$(call model_cands,$(1)),$(2)/cands/$(c)/verdict.json) $(call tool,collect) $(COLLECT_CALIBRATION) \
-    $(opts.collect)
+    $(MODEL_CLASSES) $(opts.collect)
 	@$(STAGE) $$@ -- $(BIN)/collect -i $(2)/cands/index.json -o $$@ --geojson $(2)/detections.geojson \
-	  --modelbase $(3) $(if $(CRS),--crs $(CRS))$(collect_calibration)$(if $(filter TILE,$(1)), \
+	  --modelbase $(3) --model-classes $(MODEL_CLASSES) $(if $(CRS),--crs $(CRS))$(collect_calibration)$(if $(filter TILE,$(1)), \
 	  && sed -n 's|^collect: |$(2): |p' $$@.log)
 ifeq ($(1)$(if $(filter 0,$(TOP_RASTER)),,1),TILE1)
 $(2)/top.raster: $(4) $(call tool,topview)
