@@ -84,6 +84,12 @@ for t in a b; do
   # experiment's closed set (docs/decisions/verify.md §16), not for a user's tile.
   ! grep -q 'calibration\.ini' "$tmp/$t/detections.json" \
     || fail "tile $t: make tile applied a confidence calibration: $(grep -o '[^"]*calibration[.]ini' "$tmp/$t/detections.json" | head -1)"
+  # A model answer names its model's class and group (mk/scenes.mk MODEL_CLASSES, collect
+  # --model-classes; the modelbase has no <model>.class files): sedan car, tank tracked.
+  jq -e '[.detections[] | select(.level == "model")] | all(((.model == "sedan" and .class == "sedan"
+      and .group == "car") or (.model == "tank" and .class == "tank" and .group == "tracked")))' \
+    "$tmp/$t/detections.json" >/dev/null \
+    || fail "tile $t: a model answer without its class and group: $(jq -c '[.detections[] | [.model, .class, .group]]' "$tmp/$t/detections.json")"
   echo "tile $t: $n candidates, $(jq '.found' "$tmp/$t/detections.json") found: $(jq -c '[.detections[] | [.model, .confidence]]' "$tmp/$t/detections.json")"
 done
 
