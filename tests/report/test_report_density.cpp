@@ -190,6 +190,17 @@ std::string row_counts(const std::string& cover, double recall, double cls, doub
          R"(, "class_fp": )" + std::to_string(class_fp) + "}";
 }
 
+// An "all" row with model-level answers: `detections` of them, `identified` right (interval
+// ±0.1 around the share), and the found / class right / false alarms of row_counts.
+std::string model_rows(double recall, int detections, int identified, int fp) {
+  std::string r = row_counts("all", recall, 0.9, 1, 8, fp, 0);
+  r.pop_back();
+  const double share = detections > 0 ? static_cast<double>(identified) / detections : 0;
+  return r + R"(, "detections": )" + std::to_string(detections) + R"(, "identified": )" +
+         std::to_string(identified) + R"(, "identification": )" + num(share) + R"(, "identification_lo": )" +
+         num(share - 0.1) + R"(, "identification_hi": 1})";
+}
+
 // Light, medium and all rows of one level (all: the mean of light's and medium's recall).
 std::string rows(double light, double medium, double cls, double fa, int right, int fp, int cfp) {
   return row_counts("light", light, cls, fa, right, fp, cfp) + "," +
@@ -306,24 +317,14 @@ TEST_CASE(
 TEST_CASE("density ladder: verify's ablation beside canopy on the rungs with a model-level answer") {
   const fs::path root = fs::path(CANOPY_TEST_TMP) / "report-density-verify";
   fs::remove_all(root);
-  // An "all" row with model-level answers: `detections` of them, `identified` right (interval
-  // ±0.1 around the share), and the found / class right / false alarms of row_counts.
-  auto rows = [](double recall, int detections, int identified, int fp) {
-    std::string r = row_counts("all", recall, 0.9, 1, 8, fp, 0);
-    r.pop_back();
-    const double share = detections > 0 ? static_cast<double>(identified) / detections : 0;
-    return r + R"(, "detections": )" + std::to_string(detections) + R"(, "identified": )" +
-           std::to_string(identified) + R"(, "identification": )" + num(share) +
-           R"(, "identification_lo": )" + num(share - 0.1) + R"(, "identification_hi": 1})";
-  };
   // Pixel 25: no model answer in either (left out); pixel 100: 9 answers -> 11 with the rule;
   // sensor 50: 2 of 3 right with the rule, 1 of 1 in the ablation.
-  level(root, "d25", 25, 16, rows(0.7, 0, 0, 0));
-  level(root, "v25", 25, 16, rows(0.7, 0, 0, 0));
-  level(root, "d100", 99, 80, rows(0.9, 11, 11, 0));
-  level(root, "v100", 99, 80, rows(0.9, 9, 9, 0));
-  level(root, "s50", 55, 40, rows(0.8, 3, 2, 1));
-  level(root, "w50", 55, 40, rows(0.7, 1, 1, 0));
+  level(root, "d25", 25, 16, model_rows(0.7, 0, 0, 0));
+  level(root, "v25", 25, 16, model_rows(0.7, 0, 0, 0));
+  level(root, "d100", 99, 80, model_rows(0.9, 11, 11, 0));
+  level(root, "v100", 99, 80, model_rows(0.9, 9, 9, 0));
+  level(root, "s50", 55, 40, model_rows(0.8, 3, 2, 1));
+  level(root, "w50", 55, 40, model_rows(0.7, 1, 1, 0));
   std::vector<documents::ManifestDensity> pixel = {{25, 0.422, (root / "res/d25/score.json").string(), ""},
                                                    {100, 0.211, (root / "res/d100/score.json").string(), ""},
                                                    {200, 0.149, (root / "res/d200/score.json").string(), ""}};
@@ -519,23 +520,14 @@ TEST_CASE("density ladder: detect's ablations on the class-level rungs, one tabl
 TEST_CASE("density ladder: the model level's ablation, its own table among detect's") {
   const fs::path root = fs::path(CANOPY_TEST_TMP) / "report-density-model";
   fs::remove_all(root);
-  // As verify's ablation's rows: `detections` model answers, `identified` of them right.
-  auto rows = [](double recall, int detections, int identified, int fp) {
-    std::string r = row_counts("all", recall, 0.9, 1, 8, fp, 0);
-    r.pop_back();
-    const double share = detections > 0 ? static_cast<double>(identified) / detections : 0;
-    return r + R"(, "detections": )" + std::to_string(detections) + R"(, "identified": )" +
-           std::to_string(identified) + R"(, "identification": )" + num(share) +
-           R"(, "identification_lo": )" + num(share - 0.1) + R"(, "identification_hi": 1})";
-  };
   // canopy (model level 20) at 25 and 50: 2 and 6 model answers, all right; the ablation (50):
   // none at 25, 1 at 50; found the same; detect's ablation (end-gap 0) on both as well.
-  level(root, "d25", 25, 16, rows(0.8, 2, 2, 1));
-  level(root, "d50", 50, 35, rows(0.9, 6, 6, 0));
-  level(root, "m25", 25, 16, rows(0.8, 0, 0, 1));
-  level(root, "m50", 50, 35, rows(0.9, 1, 1, 0));
-  level(root, "e25", 25, 16, rows(0.7, 2, 2, 2));
-  level(root, "e50", 50, 35, rows(0.8, 6, 6, 1));
+  level(root, "d25", 25, 16, model_rows(0.8, 2, 2, 1));
+  level(root, "d50", 50, 35, model_rows(0.9, 6, 6, 0));
+  level(root, "m25", 25, 16, model_rows(0.8, 0, 0, 1));
+  level(root, "m50", 50, 35, model_rows(0.9, 1, 1, 0));
+  level(root, "e25", 25, 16, model_rows(0.7, 2, 2, 2));
+  level(root, "e50", 50, 35, model_rows(0.8, 6, 6, 1));
   std::vector<documents::ManifestDensity> pixel = {{25, 0.422, (root / "res/d25/score.json").string(), ""},
                                                    {50, 0.298, (root / "res/d50/score.json").string(), ""}};
   const std::string eg0 = "bench/density/detect-end-gap-0.ini", m50 = "TILE_MODEL_DENSITY=50";
