@@ -815,7 +815,8 @@ TEST_CASE(
   CHECK(s["detections"][0]["class"] == "sedan");
   CHECK(s["detections"][1]["class"] == "tank");
   CHECK(s["detections"][1]["group"] == "tracked");
-  // A verdict's own class stays, and so does its group (here none: verify writes a class only).
+  // A verdict's own class stays, and gets its group (verify writes a class only), with or
+  // without the option.
   Json own = verdict((cands / "c0003" / "samples.pcd").string(), "tank", 0.8, flat(180, 0.5, 0, 0), nullptr);
   own["class"] = "tracked-apc";
   own["nearest_instance"] = "tank";
@@ -825,7 +826,12 @@ TEST_CASE(
   REQUIRE(test::sh(cmd + " --model-classes " + shipped, dir / "err.txt", &err) == 0);
   const Json o = read_json(dir / "d.json");
   CHECK(o["detections"][1]["class"] == "tracked-apc");
-  CHECK_FALSE(o["detections"][1].contains("group"));
+  CHECK(o["detections"][1]["group"] == "tracked");
+  REQUIRE(test::sh(cmd, dir / "err.txt", &err) == 0);
+  const Json o2 = read_json(dir / "d.json");
+  CHECK(o2["detections"][1]["class"] == "tracked-apc");
+  CHECK(o2["detections"][1]["group"] == "tracked");
+  CHECK_FALSE(o2["detections"][0].contains("group"));  // sedan: no class, so no group
 
   // The decision is unchanged: a doubtful sedan answer (0.1, no class) and classify's box van
   // (the van group). Without a class nothing contradicts the model answer (--contradicted-below

@@ -608,15 +608,14 @@ Outputs collect(const Index& index, const std::vector<Answers>& answers, const P
                             : found == &v    ? params.calibration.model
                                              : params.calibration.cls;
       documents::DetectionRecord d = detection_of(c, *found, place(c, *found, params), map);
-      // --model-classes names the class of a model answer without one, after every decision
-      // above: the decisions read the answers as they are, this changes only what is written.
+      // --model-classes names the class of a model answer without one, and a model answer's
+      // class (its own or the file's) gets its group, after every decision above: the decisions
+      // read the answers as they are, this changes only what is written.
       if (d.model_level && d.cls.empty() && d.group.empty()) {
         const auto cls = params.model_classes.find(d.model);
-        if (cls != params.model_classes.end()) {
-          d.cls = cls->second;
-          d.group = common::class_group(d.cls);
-        }
+        if (cls != params.model_classes.end()) d.cls = cls->second;
       }
+      if (d.model_level && !d.cls.empty() && d.group.empty()) d.group = common::class_group(d.cls);
       doc.detections.push_back(std::move(d));
       continue;
     }

@@ -164,7 +164,8 @@ struct Params {
   // share/models/classes.csv): a model-level detection whose answer carries no class (verify's
   // verdict on a modelbase without <model>.class files, --size-only's answers) is written with
   // its model's class here and that class's group (common::class_group); an answer's own class
-  // and group are written as they are; a model not here stays without. Only what the written
+  // is written as it is, with its group (its own, else the class's: verify writes no group); a
+  // model not here stays without. Only what the written
   // detection names: applied after every decision above, which read the answers as they are
   // (model_contradicted sees no class where the verdict has none). Empty: none (as before).
   std::map<std::string, std::string> model_classes;

@@ -134,8 +134,8 @@ void bind(common::Tool& tool, Options& o) {
   tool.add("--model-classes", &o.model_classes,
            "CSV 'model,class' (e.g. share/models/classes.csv): a model-level detection whose answer "
            "has no class (a modelbase without <model>.class files; --size-only's) is written with its "
-           "model's class and that class's group; an answer's own class stays, a model not in the file "
-           "stays without. Only what is written: every decision (--contradicted-below, "
+           "model's class and that class's group; an answer's own class stays (and gets its group), a "
+           "model not in the file stays without. Only what is written: every decision (--contradicted-below, "
            "--refused-below, ...) reads the answers as they are (not read with --plan)");
   tool.add("--size-gate", &o.size_gate,
            "--size-only: the largest relative difference of length, width or height from the "
