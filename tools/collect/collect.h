@@ -165,9 +165,9 @@ struct Params {
   // verdict on a modelbase without <model>.class files, --size-only's answers) is written with
   // its model's class here and that class's group (common::class_group); an answer's own class
   // is written as it is, with its group (its own, else the class's: verify writes no group); a
-  // model not here stays without. Only what the written
-  // detection names: applied after every decision above, which read the answers as they are
-  // (model_contradicted sees no class where the verdict has none). Empty: none (as before).
+  // model not here stays without. Only what the written detection names: applied after every
+  // decision above, which read the answers as they are (model_contradicted sees no class where
+  // the verdict has none). Empty: none (as before).
   std::map<std::string, std::string> model_classes;
 };
 

@@ -123,10 +123,6 @@ void model_rows(std::ostringstream& md, const std::string& head, const ScoreRow*
   md << head << "false alarms/ha (all) | " << false_alarm_cell(c) << " | " << false_alarm_cell(b) << " |\n";
 }
 
-// An entry of mk/density.mk's DENSITY_DETECT_ABLATIONS that sets the model level
-// (TILE_MODEL_DENSITY=<value>) rather than naming detect's parameter file.
-bool model_level_change(const std::string& change) { return change.rfind("TILE_MODEL_DENSITY=", 0) == 0; }
-
 // The model level's ablation on a ladder (the k-th entry of the rungs' detect list, a
 // TILE_MODEL_DENSITY=<value>): the rung's whole chain again with the model level at that density,
 // beside canopy on the rungs where it has run.
@@ -163,7 +159,7 @@ void detect_ablation_tables(std::ostringstream& md, const std::vector<DensityLev
   for (std::size_t k = 0; k < n; ++k) {
     bool model = false;
     for (const DensityLevel& s : rungs)
-      if (k < s.detect.size()) model = model_level_change(s.detect[k].change);
+      if (k < s.detect.size()) model = model_level_entry(s.detect[k].change);
     if (model) {
       model_level_table(md, rungs, ladder, k);
       continue;

@@ -485,8 +485,7 @@ std::string real_ablation_markdown(const std::vector<RealTile>& tiles, const std
   if (ablation.empty()) return "";
   const std::string place =
       "mk/real.mk REAL_CLASSIFY_ABLATION" + (index > 0 ? "_" + std::to_string(index + 1) : "");
-  // An entry that sets the model level (TILE_MODEL_DENSITY=<value>) rather than classify's file.
-  const bool model_level = config.rfind("TILE_MODEL_DENSITY=", 0) == 0;
+  const bool model_level = model_level_entry(config);
   std::ostringstream md;
   if (model_level) {
     md << "### The model level's ablation on the real tiles\n\n"

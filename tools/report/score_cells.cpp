@@ -116,6 +116,8 @@ std::string ablation_name(int n) {
   return "ablation " + std::to_string(n);
 }
 
+bool model_level_entry(const std::string& entry) { return entry.rfind("TILE_MODEL_DENSITY=", 0) == 0; }
+
 std::string class_ablation_table(const std::string& rung, const std::vector<AblationRung>& rungs) {
   std::string md = "| " + rung + " | measure | canopy | ablation |\n|---|---|---|---|\n";
   const auto row = [](const documents::SceneScore* s, const std::string& cover, const std::string& noise) {

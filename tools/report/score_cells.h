@@ -68,4 +68,9 @@ std::string class_ablation_table(const std::string& rung, const std::vector<Abla
 // ablations (the rung's own, then its classify_more), the real tiles' and the scene experiment's.
 std::string ablation_name(int n);
 
+// Whether an ablation's entry (mk/density.mk's DENSITY_DETECT_ABLATIONS, mk/real.mk's
+// REAL_CLASSIFY_ABLATIONS) sets the model level, TILE_MODEL_DENSITY=<value>, rather than naming a
+// parameter file: the density ladder's and the real tiles' sections give it its own table.
+bool model_level_entry(const std::string& entry);
+
 }  // namespace canopy::report
