@@ -65,11 +65,6 @@ detect_variant = $(if $(findstring =,$(word $(1),$(2))),model-ablation-$(1),dete
 # density_detect_set(ENTRY): the sub-make's variables of an entry: detect's parameter file, or
 # DENSITY_DETECT and the model level.
 density_detect_set = $(if $(findstring =,$(1)),SCENE_DETECT=$(DENSITY_DETECT) $(1),SCENE_DETECT=$(1))
-# density_model_check(LIST, NAME): the list's TILE_MODEL_DENSITY=<number> entries well formed;
-# density_files(LIST): its parameter files.
-density_model_check = $(foreach e,$(1),$(if $(findstring =,$(e)),$(if $(shell printf '%s' '$(e)' | grep -xE \
-  'TILE_MODEL_DENSITY=[0-9]+(\.[0-9]+)?'),,$(error $(2): $(e) is neither a parameter file nor TILE_MODEL_DENSITY=<points/m²>))))
-density_files = $(foreach e,$(filter-out -,$(1)),$(if $(findstring =,$(e)),,$(e)))
 # A detect ablation renders nothing: its chain reads the canopy rung's tiles (SCENE_TILE_DIR,
 # mk/scenes.mk). The rung's make keeps its renders (SCENE_KEEP_TILE_SCANS=1) and the ablations run
 # after it, one after another; the last deletes them. (Until stop 62 each ablation rendered its
@@ -104,9 +99,9 @@ density_pairs := $(shell awk -v k='$(DENSITY_K)' -v levels='$(strip $(DENSITY_LE
 $(if $(filter ERROR,$(firstword $(density_pairs))),$(error $(wordlist 2,$(words $(density_pairs)),$(density_pairs))))
 $(foreach f,$(filter-out - $(classify_sim_files),$(DENSITY_CLASSIFY_ABLATIONS)),$(if $(wildcard $(f)),,$(error \
   DENSITY_CLASSIFY_ABLATIONS: $(f) does not exist)))
-$(foreach f,$(DENSITY_DETECT) $(call density_files,$(DENSITY_DETECT_ABLATIONS)),$(if $(wildcard $(f)),,$(error \
+$(foreach f,$(DENSITY_DETECT) $(call ablation_files,$(DENSITY_DETECT_ABLATIONS)),$(if $(wildcard $(f)),,$(error \
   DENSITY_DETECT or DENSITY_DETECT_ABLATIONS: $(f) does not exist)))
-$(call density_model_check,$(DENSITY_DETECT_ABLATIONS),DENSITY_DETECT_ABLATIONS)
+$(call model_entries_check,$(DENSITY_DETECT_ABLATIONS),DENSITY_DETECT_ABLATIONS)
 endif
 # The ladder on the realistic sensor (docs/decisions/density-ladder.md, "The ladder on the
 # realistic sensor"): the same tiles rendered in sensor mode (mk/scenes.mk SCENE_SENSOR) with
@@ -154,9 +149,9 @@ $(if $(filter 1,$(words $(DENSITY_SENSOR))),,$(error DENSITY_SENSOR=$(DENSITY_SE
 $(if $(wildcard share/sensors/$(DENSITY_SENSOR).ini),,$(error DENSITY_SENSOR=$(DENSITY_SENSOR): no share/sensors/$(DENSITY_SENSOR).ini))
 $(foreach f,$(filter-out - $(classify_sim_files),$(DENSITY_SENSOR_CLASSIFY_ABLATIONS)),$(if $(wildcard $(f)),,$(error \
   DENSITY_SENSOR_CLASSIFY_ABLATIONS: $(f) does not exist)))
-$(foreach f,$(call density_files,$(DENSITY_SENSOR_DETECT_ABLATIONS)),$(if $(wildcard $(f)),,$(error \
+$(foreach f,$(call ablation_files,$(DENSITY_SENSOR_DETECT_ABLATIONS)),$(if $(wildcard $(f)),,$(error \
   DENSITY_SENSOR_DETECT_ABLATIONS: $(f) does not exist)))
-$(call density_model_check,$(DENSITY_SENSOR_DETECT_ABLATIONS),DENSITY_SENSOR_DETECT_ABLATIONS)
+$(call model_entries_check,$(DENSITY_SENSOR_DETECT_ABLATIONS),DENSITY_SENSOR_DETECT_ABLATIONS)
 density_sensor_keys := $(shell awk -v l0='$(DENSITY_SENSOR_L0)' -v levels='$(strip $(DENSITY_SENSOR_LEVELS))' -v cmax='$(DENSITY_CLASS_MAX)' \
   -v f='share/sensors/$(DENSITY_SENSOR).ini' 'BEGIN { \
   if (l0 !~ /^[0-9]+(\.[0-9]+)?$$/ || l0 + 0 <= 0) { print "ERROR DENSITY_SENSOR_L0=" l0 " must be a positive number"; exit } \

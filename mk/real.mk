@@ -94,11 +94,9 @@ REAL_ABLATION ?= 0
 $(if $(filter-out 0 1,$(REAL_ABLATION)),$(error REAL_ABLATION=$(REAL_ABLATION): must be 0 or 1))
 REAL_CLASSIFY ?= $(P)/classify.ini
 REAL_CLASSIFY_SIM ?= $(P)/classify-sim.ini
-$(foreach e,$(real_abl_list),$(if $(findstring =,$(e)),$(if $(shell printf '%s' '$(e)' | grep -xE \
-  'TILE_MODEL_DENSITY=[0-9]+(\.[0-9]+)?'),,$(error REAL_CLASSIFY_ABLATIONS: $(e) is neither a parameter file nor \
-  TILE_MODEL_DENSITY=<points/m²>))))
-$(foreach f,$(REAL_CLASSIFY) $(REAL_CLASSIFY_SIM) $(foreach e,$(filter-out - $(real_classify_files),$(real_abl_list)),$(if \
-  $(findstring =,$(e)),,$(e))),$(if $(wildcard $(f)),,$(error REAL_CLASSIFY: $(f) does not exist)))
+$(call model_entries_check,$(real_abl_list),REAL_CLASSIFY_ABLATIONS)
+$(foreach f,$(REAL_CLASSIFY) $(REAL_CLASSIFY_SIM) $(call ablation_files,$(filter-out $(real_classify_files),$(real_abl_list))),$(if \
+  $(wildcard $(f)),,$(error REAL_CLASSIFY: $(f) does not exist)))
 $(if $(filter-out 0 1,$(REAL_TILES)),$(error REAL_TILES=$(REAL_TILES): must be 0 or 1))
 REAL_URBAN ?= ign_lidarhd_870000_6618000 ahn3_delft_2 ign_stbarth_100m
 # The plots without vehicles: forest_lareunion, then (stop 66; real-tiles.md "More forest plots for

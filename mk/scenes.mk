@@ -61,6 +61,14 @@ ifneq ($(TILE_MODEL_DENSITY),20)
 $(if $(shell printf '%s' '$(TILE_MODEL_DENSITY)' | grep -xE '[0-9]+(\.[0-9]+)?'),,$(error \
   TILE_MODEL_DENSITY=$(TILE_MODEL_DENSITY) must be a number of points/m²))
 endif
+# The model level's ablations (mk/density.mk DENSITY_DETECT_ABLATIONS, mk/real.mk
+# REAL_CLASSIFY_ABLATIONS): model_entries_check(LIST, NAME) refuses an entry with "=" that is not
+# TILE_MODEL_DENSITY=<number>; ablation_files(LIST): the list's parameter files (neither "-" nor
+# such an entry).
+model_entries_check = $(foreach e,$(1),$(if $(findstring =,$(e)),$(if $(shell printf '%s' '$(e)' | grep -xE \
+  'TILE_MODEL_DENSITY=[0-9]+(\.[0-9]+)?'),,$(error $(2): $(e) is neither a parameter file nor \
+  TILE_MODEL_DENSITY=<points/m²>))))
+ablation_files = $(foreach e,$(filter-out -,$(1)),$(if $(findstring =,$(e)),,$(e)))
 # The density rule (docs/decisions/density-scale.md): a model-level candidate below 370
 # points/m² runs fitvox, cocone and ncut with lengths scaled to its density (the plan's
 # <key>_<STAGE>_<id> options); TILE_DENSITY_SCALE=0 runs them all with the parameter files'
