@@ -91,13 +91,13 @@ for e in pickup-0 van-0; do
 done
 
 "${mk[@]}" -j2 families >"$tmp/again.log" 2>&1 || fail "second make families failed"
-if grep -q '^done\|^FAIL' "$tmp/again.log"; then fail "a second make ran stages: $(head -3 "$tmp/again.log")"; fi
+if grep -q '^done\|^FAIL\|^fail  ' "$tmp/again.log"; then fail "a second make ran stages: $(head -3 "$tmp/again.log")"; fi
 # Inside `all` (FAMILIES=1) the tables come from a recursive `make families`: up to date now,
 # `make -q` asks the sub-make and exits 0, and the recursive step runs nothing; after a change
 # to the baseline's parameters -q exits 1 and the step re-runs the baseline and famscore only.
 "${mk[@]}" -q SCENE_EXPERIMENT=0 FAMILIES=1 "$res/confusion.csv" || fail "make -q (FAMILIES=1) after a run exits $?, want 0"
 "${mk[@]}" SCENE_EXPERIMENT=0 FAMILIES=1 "$res/confusion.csv" >"$tmp/rec.log" 2>&1 || fail "recursive families failed: $(tail -3 "$tmp/rec.log")"
-if grep -q '^done\|^FAIL' "$tmp/rec.log"; then fail "the recursive step ran stages: $(head -3 "$tmp/rec.log")"; fi
+if grep -q '^done\|^FAIL\|^fail  ' "$tmp/rec.log"; then fail "the recursive step ran stages: $(head -3 "$tmp/rec.log")"; fi
 echo '; touched by the test' >>"$tmp/params/baseline.ini"
 if "${mk[@]}" -q SCENE_EXPERIMENT=0 FAMILIES=1 "$res/confusion.csv"; then fail "make -q after a parameter change exits 0"; fi
 "${mk[@]}" SCENE_EXPERIMENT=0 FAMILIES=1 "$res/confusion.csv" >"$tmp/rec2.log" 2>&1 || fail "recursive families failed: $(tail -3 "$tmp/rec2.log")"
@@ -129,5 +129,5 @@ rm "$res/confusion.csv"
 for d in "$tmp"/out/families/test/*/light; do [ ! -e "$d/scan.pcd" ] || fail "KEEP=0 left $d/scan.pcd"; done
 "${mk[@]}" -q families KEEP=0 || fail "make -q families not clean after the renders were deleted"
 "${mk[@]}" -j2 families KEEP=0 >"$tmp/prune2.log" 2>&1 || fail "a second make families KEEP=0 failed"
-if grep -q '^done\|^FAIL' "$tmp/prune2.log"; then fail "a second make families KEEP=0 ran stages: $(head -3 "$tmp/prune2.log")"; fi
+if grep -q '^done\|^FAIL\|^fail  ' "$tmp/prune2.log"; then fail "a second make families KEEP=0 ran stages: $(head -3 "$tmp/prune2.log")"; fi
 echo ok

@@ -52,12 +52,12 @@ mk=(make -C "$src" --no-print-directory -f Makefile.experiments BUILD="$tmp/buil
 # (--output-sync), so K is the largest N and each N is shown at most once.
 counts() {
   local log=$1 planned=${2:-} k m0 over early last n m
-  sed -n 's/^\(done\|FAIL\)  \([0-9]*\)\/\([0-9]*\) .*/\2 \3/p' "$log" >"$tmp/nm"
+  sed -n 's/^\(done\|FAIL\|fail\)  \([0-9]*\)\/\([0-9]*\) .*/\2 \3/p' "$log" >"$tmp/nm"
   k=$(wc -l <"$tmp/nm")
   [ "$k" -gt 0 ] || fail "no stage counted in $log"
   [ -n "$planned" ] || k=$(cut -d' ' -f1 "$tmp/nm" | sort -n | tail -1)
-  ! grep -Eq '^(done|FAIL)  [^0-9 ].* [0-9.]+ s +[0-9.]+ cpu' "$log" ||
-    fail "a stage line without N/M: $(grep -E '^(done|FAIL)  [^0-9 ].* [0-9.]+ s +[0-9.]+ cpu' "$log" | head -2)"
+  ! grep -Eq '^(done|FAIL|fail)  [^0-9 ].* [0-9.]+ s +[0-9.]+ cpu' "$log" ||
+    fail "a stage line without N/M: $(grep -E '^(done|FAIL|fail)  [^0-9 ].* [0-9.]+ s +[0-9.]+ cpu' "$log" | head -2)"
   m0=$(awk 'NR == 1 { print $2 }' "$tmp/nm")
   [ -z "$planned" ] || [ "$m0" = "$planned" ] || fail "M at the start is $m0, the dry run planned $planned ($log)"
   over=$(awk '$1 > $2' "$tmp/nm" | head -3 | tr '\n' ' ')
@@ -68,7 +68,7 @@ counts() {
   else
     dup=$(cut -d' ' -f1 "$tmp/nm" | sort -n | uniq -d | head -3)
     # (the lines themselves, to tell a stage counted twice from one line printed twice)
-    [ -z "$dup" ] || fail "an N shown twice ($log): $(for n in $dup; do grep -E "^(done|FAIL)  $n/" "$log"; done)"
+    [ -z "$dup" ] || fail "an N shown twice ($log): $(for n in $dup; do grep -E "^(done|FAIL|fail)  $n/" "$log"; done)"
   fi
   early=$(awk -v k="$k" '$1 == $2 && $1 < k' "$tmp/nm" | head -3 | tr '\n' ' ')
   [ -z "$early" ] || fail "N caught up with M before the last stage (the plan under-counted): $early ($log)"
@@ -89,7 +89,7 @@ for part in /families/ /scenes/light/tile-1/noise-8/cands/ /density/d25/light/ti
   /density/als_qL1-25/light/tile-1/noise-0/cands/ /density/ladder-rates.png /openset/modelbase/.work/ /openset/tiles/light/tile-1/noise-0/cands/ /openset/crops/ \
   /real/forest_lareunion/cands/ /real-ablation-2/forest_lareunion/cands/ \
   /real/ign_lidarhd_870000_6618000/score.json /ablation/; do
-  grep -Eq "^(done|FAIL)  [0-9]+/[0-9]+ .*$part" "$tmp/make.out" || fail "no stage of $part counted"
+  grep -Eq "^(done|FAIL|fail)  [0-9]+/[0-9]+ .*$part" "$tmp/make.out" || fail "no stage of $part counted"
 done
 grep -q "^real  broken: the workflow failed" "$tmp/make.out" || fail "the broken tile was not refused: $(grep '^real' "$tmp/make.out")"
 counts "$tmp/make.out" "$planned"

@@ -96,7 +96,7 @@ done
 # Re-running redoes nothing; a changed gmatch.ini redoes gmatch, verify, collect only.
 "${mk[@]}" -j2 tile TILE="$tmp/a.pcd" MODELBASE="$tmp/mb" OUT="$tmp/a/" CRS=EPSG:32633 >"$tmp/again.log" 2>&1 \
   || fail "second make tile failed"
-if grep -q '^done\|^FAIL' "$tmp/again.log"; then fail "a second make tile ran stages: $(head -3 "$tmp/again.log")"; fi
+if grep -q '^done\|^FAIL\|^fail  ' "$tmp/again.log"; then fail "a second make tile ran stages: $(head -3 "$tmp/again.log")"; fi
 # TRAJECTORY=<file> reaches verify: a dry run shows every verify with --trajectory (the file is
 # newer than the verdicts, so verify is out of date) and nothing before it; the real run then
 # re-runs verify and collect only; a missing file is refused by name before anything runs.
@@ -128,8 +128,8 @@ echo "# changed" >>"$tmp/params/gmatch.ini"
   || fail "make tile after a gmatch.ini change failed"
 grep -q 'match.json' "$tmp/param.log" || fail "gmatch did not re-run after gmatch.ini changed"
 grep -q 'detections.json' "$tmp/param.log" || fail "collect did not re-run after gmatch.ini changed"
-if grep '^done\|^FAIL' "$tmp/param.log" | grep -q 'samples.pcd\|mesh.ply\|segments.json\|/detect '; then
-  fail "stages before gmatch re-ran: $(grep '^done\|^FAIL' "$tmp/param.log" | head -3)"
+if grep '^done\|^FAIL\|^fail  ' "$tmp/param.log" | grep -q 'samples.pcd\|mesh.ply\|segments.json\|/detect '; then
+  fail "stages before gmatch re-ran: $(grep '^done\|^FAIL\|^fail  ' "$tmp/param.log" | head -3)"
 fi
 
 # Score, and the same counts computed here: one vehicle per tile, so a tile's true positive is

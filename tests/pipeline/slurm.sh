@@ -100,7 +100,7 @@ grep -q '^fitvox: ' "$tmp/slurm/out/sedan/unoccluded/noise-8/samples.pcd.log" ||
   fail "samples.pcd.log does not hold fitvox's INFO lines (written by the job)"
 grep -q '^done  [0-9]*/[0-9]* ' "$tmp/slurm.log" || fail "no N/M progress in the Slurm run's lines"
 # Each stage was a job: the controller's log holds one allocation per stage of the plan.
-stages=$(grep -c '^\(done\|FAIL\)  [0-9]*/[0-9]* ' "$tmp/slurm.log")
+stages=$(grep -c '^\(done\|FAIL\|fail\)  [0-9]*/[0-9]* ' "$tmp/slurm.log")
 jobs=$(grep -c 'sched: _slurm_rpc_allocate_resources' "$cluster/log/slurmctld.log")
 [ "$jobs" -ge "$stages" ] || fail "$stages stages but only $jobs Slurm allocations"
 echo "$stages stages ran as $jobs Slurm jobs"

@@ -159,6 +159,25 @@ TEST_CASE("stagerun: the log's last lines") {
   CHECK(sr::indented_tail("", 5).empty());
 }
 
+TEST_CASE("stagerun: a recorded failure's one line") {
+  // the last line that is not blank, control bytes shown as '?', cut at the bound
+  CHECK(sr::last_log_line("a\nfitvox: error: x.pcd: no voxel passed the tests\n\n  \n") ==
+        "fitvox: error: x.pcd: no voxel passed the tests");
+  CHECK(sr::last_log_line("only") == "only");
+  CHECK(sr::last_log_line("x\r\n") == "x?");
+  CHECK(sr::last_log_line("\n\n \t\n").empty());
+  CHECK(sr::last_log_line("").empty());
+  CHECK(sr::last_log_line("a\x1b[31mred\n") == "a?[31mred");
+  CHECK(sr::last_log_line("0123456789", 4) == "0123...");
+  CHECK(
+      sr::recorded_line("3/9 ", "out/c/samples.pcd", "exit 1", "out/c/samples.pcd.log",
+                        "fitvox: error: c.pcd: no voxel passed the tests\n") ==
+      "fail  3/9 out/c/samples.pcd (exit 1; recorded as a failed trial): fitvox: error: c.pcd: no voxel passed "
+      "the tests\n");
+  CHECK(sr::recorded_line("", "a/f", "exit 2", "a/f.log", "\n") ==
+        "fail  a/f (exit 2; recorded as a failed trial): see a/f.log\n");
+}
+
 TEST_CASE("stagerun: share/resources.ini") {
   const std::string ini =
       "# comment\r\n[default]\ncpus = 1\nmem = 2G\ntime = 10\n\n[ rangetrace ]\n; a comment\ncpus=2\n"

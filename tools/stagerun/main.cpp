@@ -16,7 +16,10 @@
 // --record-failure: for ablation variants, where a stage failing is a result (e.g. the thesis's
 // fixed RMS bound keeps no voxel at 32 mm): when the tool itself exits with a status from 1 to
 // 125 (its own error; canopy's tools exit 1 or 2), the failure is logged, ARTIFACT is created
-// empty as an explicit "failed" marker, and the status is 0. Later stages fail on the empty
+// empty as an explicit "failed" marker, the status is 0, and the stage's line is one lower-case
+// "fail  N/M ARTIFACT (exit S; recorded as a failed trial): <the log's last line>" (not make's
+// "FAIL" with the log's tail: an expected outcome, e.g. a too-sparse tile candidate's fitvox,
+// that collect turns into a reason). Later stages fail on the empty
 // input in turn, so the trial's match.json is empty and counts as not recognised. A tool killed
 // by a signal (Ctrl-C, SIGTERM, the OOM killer's SIGKILL, a Slurm time limit), a status of 126
 // or more (could not execute, not found, a signal passed on by a wrapper), or a launch that
@@ -64,11 +67,12 @@ constexpr const char* kUsage =
     "usage: stagerun [--launch local|slurm] [--record-failure] ARTIFACT -- COMMAND...\n"
     "       stagerun --measure TIMEFILE -- COMMAND...\n"
     "Runs one experiment stage: COMMAND's stderr to ARTIFACT.log, its wall time, peak memory and\n"
-    "CPU to ARTIFACT.time (GNU time's \"%e %M %U %S\"), one \"done\" or \"FAIL\" line with the\n"
-    "progress count of $CANOPY_PROGRESS (Makefile.experiments; docs/decisions/cost.md §19).\n"
+    "CPU to ARTIFACT.time (GNU time's \"%e %M %U %S\"), one \"done\", \"FAIL\" or \"fail\" line with\n"
+    "the progress count of $CANOPY_PROGRESS (Makefile.experiments; docs/decisions/cost.md §19).\n"
     "  --launch local|slurm  run COMMAND here (default) or as a Slurm job (srun, with the\n"
     "                        resources of its tool in $CANOPY_RESOURCES)\n"
-    "  --record-failure      the tool's own failure (exit 1-125) is a result: an empty ARTIFACT, status 0\n"
+    "  --record-failure      the tool's own failure (exit 1-125) is a result: an empty ARTIFACT, status 0,\n"
+    "                        one \"fail\" line with the log's last line (not \"FAIL\", which stops make)\n"
     "  --measure TIMEFILE    only run COMMAND and write TIMEFILE as GNU time -o does (the Slurm job)\n"
     "  --help, --version\n";
 
@@ -434,21 +438,23 @@ int main(int argc, char** argv) {
   bool tool_failed = false;
   const std::string why = sr::failure_words(how, rc, &tool_failed);
   const sr::ProgressStep step = count_stage(artifact, kind, previous);
+  if (o.record && tool_failed) {
+    // A result: one lower-case line, never make's FAIL (the empty ARTIFACT is the marker).
+    const int fd = open(artifact.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+    if (fd < 0) {
+      std::printf("FAIL  %s%-58s (%s); last lines of %s:\n", step.count.c_str(), artifact.c_str(), why.c_str(),
+                  log.c_str());
+      std::fputs(sr::indented_tail(read_text(log, 65536), 5).c_str(), stdout);
+      std::fflush(stdout);
+      fail(artifact + ": cannot record the failed trial: " + std::strerror(errno));
+    }
+    close(fd);
+    std::fputs(sr::recorded_line(step.count, artifact, why, log, read_text(log, 65536)).c_str(), stdout);
+    return 0;
+  }
   std::printf("FAIL  %s%-58s (%s); last lines of %s:\n", step.count.c_str(), artifact.c_str(), why.c_str(),
               log.c_str());
   std::fputs(sr::indented_tail(read_text(log, 65536), 5).c_str(), stdout);
-  if (o.record) {
-    if (tool_failed) {
-      const int fd = open(artifact.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
-      if (fd < 0) {
-        std::fflush(stdout);
-        fail(artifact + ": cannot record the failed trial: " + std::strerror(errno));
-      }
-      close(fd);
-      std::printf("      recorded as a failed trial (empty %s)\n", artifact.c_str());
-      return 0;
-    }
-    std::puts("      not recorded as a failed trial: the tool did not exit by itself");
-  }
+  if (o.record) std::puts("      not recorded as a failed trial: the tool did not exit by itself");
   return rc;
 }

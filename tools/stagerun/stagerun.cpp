@@ -274,6 +274,44 @@ std::string indented_tail(std::string_view text, int count) {
   return out;
 }
 
+std::string last_log_line(std::string_view text, std::size_t max) {
+  std::size_t end = text.size();
+  while (end > 0) {
+    std::size_t begin = text.rfind('\n', end - 1);
+    begin = begin == std::string_view::npos ? 0 : begin + 1;
+    std::string_view line = text.substr(begin, end - begin);
+    if (!line.empty() && line.back() == '\n') line.remove_suffix(1);
+    if (line.find_first_not_of(" \t\r") != std::string_view::npos) {
+      std::string out;
+      for (char c : line) {
+        if (out.size() >= max) {
+          out += "...";
+          break;
+        }
+        const auto u = static_cast<unsigned char>(c);
+        out += (u < 0x20 && c != '\t') || u == 0x7f ? '?' : c;
+      }
+      return out;
+    }
+    end = begin == 0 ? 0 : begin - 1;
+  }
+  return std::string();
+}
+
+std::string recorded_line(std::string_view count, std::string_view artifact, std::string_view why,
+                          std::string_view log_name, std::string_view log_text) {
+  const std::string last = last_log_line(log_text);
+  std::string out = "fail  ";
+  out += count;
+  out += artifact;
+  out += " (";
+  out += why;
+  out += "; recorded as a failed trial): ";
+  out += last.empty() ? "see " + std::string(log_name) : last;
+  out += '\n';
+  return out;
+}
+
 Resources slurm_resources(const std::string& text, const std::string& file,
                           const std::vector<std::string>& command) {
   formats::IniPolicy policy;  // '#' and ';' comments, [tool] sections, each key once per section

@@ -92,6 +92,17 @@ std::string done_line(std::string_view count, std::string_view artifact, std::st
 // newline.
 std::string indented_tail(std::string_view text, int count);
 
+// The last line of TEXT that is not blank, control bytes as '?', cut to MAX bytes (with "..."
+// when cut); "" when there is none. The one line a recorded failure shows of its log.
+std::string last_log_line(std::string_view text, std::size_t max = 200);
+
+// The line of a failure recorded as a result (--record-failure; with its newline): "fail  ",
+// the progress count, ARTIFACT, "(WHY; recorded as a failed trial)" and the log's last line
+// (last_log_line), or "see LOG" when the log has none. Lower case, one line: an expected outcome
+// the later stages and collect read, never the "FAIL" that stops make.
+std::string recorded_line(std::string_view count, std::string_view artifact, std::string_view why,
+                          std::string_view log_name, std::string_view log_text);
+
 // share/resources.ini (formats/ini.h, docs/decisions/ini.md): the Slurm resources of COMMAND.
 // Its section is the first command word whose base name is a [section] of the file, else
 // [default]; each of cpus, mem, time from that section, else from [default]. DataError naming
