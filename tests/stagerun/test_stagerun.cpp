@@ -169,11 +169,10 @@ TEST_CASE("stagerun: a recorded failure's one line") {
   CHECK(sr::last_log_line("").empty());
   CHECK(sr::last_log_line("a\x1b[31mred\n") == "a?[31mred");
   CHECK(sr::last_log_line("0123456789", 4) == "0123...");
-  CHECK(
-      sr::recorded_line("3/9 ", "out/c/samples.pcd", "exit 1", "out/c/samples.pcd.log",
-                        "fitvox: error: c.pcd: no voxel passed the tests\n") ==
-      "fail  3/9 out/c/samples.pcd (exit 1; recorded as a failed trial): fitvox: error: c.pcd: no voxel passed "
-      "the tests\n");
+  CHECK(sr::recorded_line("3/9 ", "out/c/samples.pcd", "exit 1", "out/c/samples.pcd.log",
+                          "fitvox: error: c.pcd: no voxel passed the tests\n") ==
+        "fail  3/9 out/c/samples.pcd (exit 1; recorded as a failed trial): fitvox: error: c.pcd: no voxel "
+        "passed the tests\n");
   CHECK(sr::recorded_line("", "a/f", "exit 2", "a/f.log", "\n") ==
         "fail  a/f (exit 2; recorded as a failed trial): see a/f.log\n");
 }

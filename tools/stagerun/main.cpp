@@ -442,8 +442,8 @@ int main(int argc, char** argv) {
     // A result: one lower-case line, never make's FAIL (the empty ARTIFACT is the marker).
     const int fd = open(artifact.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
     if (fd < 0) {
-      std::printf("FAIL  %s%-58s (%s); last lines of %s:\n", step.count.c_str(), artifact.c_str(), why.c_str(),
-                  log.c_str());
+      std::printf("FAIL  %s%-58s (%s); last lines of %s:\n", step.count.c_str(), artifact.c_str(),
+                  why.c_str(), log.c_str());
       std::fputs(sr::indented_tail(read_text(log, 65536), 5).c_str(), stdout);
       std::fflush(stdout);
       fail(artifact + ": cannot record the failed trial: " + std::strerror(errno));
