@@ -182,16 +182,20 @@ $(foreach f,$(TILE_CLASSIFY) $(SCENE_CLASSIFY) $(filter-out -,$(scene_class_list
 # fitvox, and so the rest. tile_classify is classify's parameters in that make (TILE_CLASSIFY
 # or SCENE_CLASSIFY); opts_text_topview is the make's own (TOP_RASTER for `make tile`,
 # SCENE_TOPVIEW_SIZE for the scene experiment's pictures).
-opts_text_detect = $(call opts_line,config,$(if $(tile_detect),--config $(tile_detect)))
+# tile_inputs_detect, tile_inputs_modelbase: the `tile` target's own lines (below; empty for
+# every other make): which tile and modelbase the run read. (gmatch and verify read the modelbase
+# and verify the trajectory through the `tile` target's own kinds, tile-modelbase and
+# tile-trajectory, so that neither re-runs fitvox.)
+opts_text_detect = $(call opts_line,config,$(if $(tile_detect),--config $(tile_detect)))$(tile_inputs_detect)
 opts_text_plan = $(call opts_line,model-density,$(TILE_MODEL_DENSITY))$(call opts_line,density-scale,$(TILE_DENSITY_SCALE))
-opts_text_classify = $(call opts_line,parameters,$(tile_classify))$(call opts_line,model-classes,$(MODEL_CLASSES))
+opts_text_classify = $(call opts_line,parameters,$(tile_classify))$(call opts_line,model-classes,$(MODEL_CLASSES))$(tile_inputs_modelbase)
 # (each classify ablation's: opts_text_classify-ablation, opts_text_classify-ablation-2, ...)
 $(foreach v,$(SCENE_CLASS_ABLATIONS),$(eval opts_text_$(patsubst class-%,classify-%,$(v)) = $$(call \
   opts_line,parameters,$(scene_class_ini.$(v)))$$(call opts_line,model-classes,$$(MODEL_CLASSES))))
 opts_text_models = $(call opts_line,fitvox,$(TILE_FITVOX))$(call opts_line,parameters,$(P))$(call \
   opts_line,density-scale,$(TILE_DENSITY_SCALE))
 opts_text_collect = $(call opts_line,calibration,$(COLLECT_CALIBRATION))$(call opts_line,crs,$(CRS))$(call \
-  opts_line,model-classes,$(MODEL_CLASSES))
+  opts_line,model-classes,$(MODEL_CLASSES))$(tile_inputs_modelbase)
 # (each collect ablation's: opts_text_collect-ablation, opts_text_collect-ablation-2, ...)
 $(foreach v,$(SCENE_COLLECT_VARIANTS),$(eval opts_text_$(v) = $$(call opts_line,options,$(scene_collect_opts.$(v)))$$(call \
   opts_line,calibration,$$(COLLECT_CALIBRATION))))
@@ -330,7 +334,7 @@ $(1)/cands/$(2)/segments.json: $(1)/cands/$(2)/mesh.ply $(call tool,ncut) $(P)/n
 	@$(STAGE) --record-failure $$@ -- $(BIN)/ncut --config $(P)/ncut.ini$(call cand_scale,$(3),NCUT,$(2)) \
 	  --seed $$(call seed,$(5)/$(2)) -i $$< -o $$@ --colored $(1)/cands/$(2)/segments.ply
 $(1)/cands/$(2)/match.json: $(1)/cands/$(2)/segments.json $(wildcard $(4)/*.json) $(call tool,gmatch) $(P)/gmatch.ini \
-    $(opts.models)
+    $(opts.models) $(opts.tile-modelbase)
 	@$(STAGE) --record-failure $$@ -- $(BIN)/gmatch --config $(P)/gmatch.ini -i $$< --modelbase $(4) -o $$@
 $(call verify_rule,$(1),$(2),$(3),$(4),verdict.json)
 endef
@@ -342,7 +346,8 @@ endef
 # rule depends on that; no segment graph: the list has no pairs).
 define verify_rule
 $(1)/cands/$(2)/$(5): $(1)/cands/$(2)/$(if $(7),baseline-fpfh.json,match.json) $(1)/cands/$(2)/samples.pcd \
-    $(wildcard $(4)/*.json $(4)/*.pcd) $(call tool,verify) $(wildcard $(P)/verify.ini) $($(3)_TRAJECTORY) $(opts.models)$(if \
+    $(wildcard $(4)/*.json $(4)/*.pcd) $(call tool,verify) $(wildcard $(P)/verify.ini) $($(3)_TRAJECTORY) $(opts.models) \
+    $(opts.tile-modelbase) $(opts.tile-trajectory)$(if \
     $(6), $(opts.verify-ablation))$(if $(7), $(MODELBASE) $(VERIFY_SURFACES))
 	@$(STAGE) --record-failure $$@ -- $(BIN)/verify $(call scene_config,verify)$(if $(6), $(6)) \
 	  -i $(1)/cands/$(2)/$(if $(7),hypotheses-fpfh.json,match.json) --points $(1)/cands/$(2)/samples.pcd$(if \
@@ -370,35 +375,38 @@ $(2)/detections.json: $(2)/cands.mk $(foreach c,$($(1)_CANDS),$(2)/cands/$(c)/cl
 	  --modelbase $(3) --model-classes $(MODEL_CLASSES) $(if $(CRS),--crs $(CRS))$(collect_calibration)$(if $(filter TILE,$(1)), \
 	  && sed -n 's|^collect: |$(2): |p' $$@.log)
 ifeq ($(1)$(if $(filter 0,$(TOP_RASTER)),,1),TILE1)
-$(2)/top.raster: $(4) $(call tool,topview)
+$(2)/top.raster: $(4) $(call tool,topview) $(opts.detect)
 	@$(STAGE) $$@ -- $(BIN)/topview -i $(4) --raster-out $$@
 $(2)/top.png: $(2)/detections.json $(2)/top.raster $(call tool,topview) $(opts.topview)
 	@$(STAGE) $$@ -- $(BIN)/topview --raster $(2)/top.raster --detections $(2)/detections.json -o $$@
 else
-$(2)/top.png: $(2)/detections.json $(4) $(call tool,topview) $(opts.topview)
+$(2)/top.png: $(2)/detections.json $(4) $(call tool,topview) $(opts.topview) $(opts.detect)
 	@$(STAGE) $$@ -- $(BIN)/topview -i $(4) --detections $(2)/detections.json -o $$@
 endif
 endef
 
 .PHONY: tile
 ifneq ($(filter tile,$(MAKECMDGOALS)),)
-$(if $(TILE),,$(error tile: give TILE=<the tile: .las, .laz, .pcd or .ply with x y z>))
-$(if $(wildcard $(TILE)),,$(error tile: TILE=$(TILE) does not exist))
+# (TILE, OUT, MODELBASE, CRS and TRAJECTORY are checked by mk/tile-args.mk, before the progress
+# count writes anything.)
 TILE_OUT := $(patsubst %/,%,$(OUT))
 TILE_MB := $(patsubst %/,%,$(MODELBASE))
-$(if $(filter 1,$(words $(TILE_MB))),,$(error tile: give MODELBASE=<directory of <model>.json graphs and <model>.pcd surfaces>))
-$(if $(wildcard $(TILE_MB)/*.json),,$(error tile: MODELBASE=$(TILE_MB) holds no <model>.json graph \
-  (make -f Makefile.experiments verify-modelbase builds out/modelbase)))
-$(if $(filter $(TILE_OUT),. .. /),$(error tile: OUT=$(OUT) must name the tile's own output directory))
-$(if $(CRS),$(if $(shell printf '%s' '$(CRS)' | grep -xE 'EPSG:[1-9][0-9]{0,5}'),,$(error tile: CRS=$(CRS) must be EPSG:<code>)))
-# TRAJECTORY=<file>: the sensor's path (formats/README.md "Trajectory"; rangetrace writes
-# <scan>.traj beside a sensor tile) for verify's sensor directions (docs/decisions/verify.md §13).
-$(if $(TRAJECTORY),$(if $(filter 1,$(words $(TRAJECTORY))),,$(error tile: TRAJECTORY=$(TRAJECTORY) must name one file)))
-$(if $(TRAJECTORY),$(if $(wildcard $(TRAJECTORY)),,$(error tile: TRAJECTORY=$(TRAJECTORY) does not exist)))
 TILE_TRAJECTORY := $(TRAJECTORY)
+# Which files the run read, in the options texts (stop 70): a second `make tile` into the same
+# OUT with another TILE (an older file too, or the same name replaced), another MODELBASE, or
+# another TRAJECTORY or none re-runs the stages that read it; before, the prerequisites' times
+# alone decided, and such a run said "Nothing to be done" and kept the first run's results. A
+# file by its real path (links followed), size and modification time; the modelbase by its
+# directory's real path (a change inside it: its files' times, as before).
+file_identity = $(realpath $(1)) $(shell stat -L -c '%s %Y' '$(1)' 2>/dev/null)
+tile_inputs_detect = $(call opts_line,tile,$(call file_identity,$(TILE)))
+tile_inputs_modelbase = $(call opts_line,modelbase,$(realpath $(TILE_MB)))
+opts_text_tile-modelbase = $(tile_inputs_modelbase)
+opts_text_tile-trajectory = $(call opts_line,trajectory,$(if $(TILE_TRAJECTORY),$(call file_identity,$(TILE_TRAJECTORY))))
 tile_classify := $(TILE_CLASSIFY)
 opts_text_topview = $(call opts_line,raster,$(TOP_RASTER))
 $(call tile_opts_kinds,$(TILE_OUT))
+$(call opts_kinds,$(TILE_OUT),tile-modelbase tile-trajectory)
 $(eval $(call tile_rules,TILE,$(TILE_OUT),$(TILE),$(TILE_MB)))
 $(call read_tile_plan,$(TILE_OUT)/cands.mk)
 $(call cand_rules,$(TILE_OUT),TILE,$(TILE_MB),$(notdir $(TILE)),$(TILE_CLASSIFY))
@@ -408,20 +416,17 @@ endif
 
 # A directory of tiles (a survey campaign):
 #   make -f Makefile.experiments tiles TILES=dir/ MODELBASE=out/modelbase OUT=batch/ -j8 [LAUNCH=slurm]
-# runs the `tile` workflow on every dir/*.las, dir/*.laz and dir/*.pcd into batch/<name>/ (name = the file
-# name without its extension), one sub-make per tile sharing make's job slots, so tiles and
-# their candidates run in parallel; LAUNCH, CRS and the other variables pass through. A tile's
-# trajectory is TRAJECTORY= when given (one file for the whole flight), else dir/<name>.traj
-# when there is one (what rangetrace writes beside a sensor tile).
+# runs the `tile` workflow on every dir/*.las, dir/*.laz and dir/*.pcd (the extension in either
+# case) into batch/<name>/ (name = the file name without its extension), one sub-make per tile
+# sharing make's job slots, so tiles and their candidates run in parallel; LAUNCH, CRS and the
+# other variables pass through. A tile's trajectory is TRAJECTORY= when given (one file for the
+# whole flight), else dir/<name>.traj when there is one (what rangetrace writes beside a sensor
+# tile). A tile that fails stops the batch, as make does; `make -k tiles ...` goes on with the
+# others and exits 2 at the end.
 .PHONY: tiles
 ifneq ($(filter tiles,$(MAKECMDGOALS)),)
-$(if $(TILES),,$(error tiles: give TILES=<directory of .las/.laz/.pcd tiles>))
-# (LAZ is read wherever LAS is, docs/decisions/laz.md; before stop 66 a directory of .laz tiles
-# held "no .las or .pcd file".)
-TILES_FILES := $(sort $(foreach x,las laz pcd,$(wildcard $(patsubst %/,%,$(TILES))/*.$(x))))
-$(if $(TILES_FILES),,$(error tiles: TILES=$(TILES) holds no .las, .laz or .pcd file))
-$(if $(filter-out $(words $(TILES_FILES)),$(words $(sort $(basename $(notdir $(TILES_FILES)))))),\
-  $(error tiles: two tiles in $(TILES) have the same name without extension))
+# (TILES, OUT and TILES_FILES, the tiles, by mk/tile-args.mk. LAZ is read wherever LAS is,
+# docs/decisions/laz.md; before stop 66 a directory of .laz tiles held "no .las or .pcd file".)
 TILES_OUT := $(patsubst %/,%,$(OUT))
 define tiles_rule
 .PHONY: tiles-$(basename $(notdir $(1)))

@@ -118,9 +118,12 @@ grep -q 'verdict.json' "$tmp/traj.log" && grep -q 'detections.json' "$tmp/traj.l
   && fail "TRAJECTORY= naming no file was accepted"
 grep -q "TRAJECTORY=$tmp/none.traj does not exist" "$tmp/traj-x.log" || fail "no clear error: $(tail -2 "$tmp/traj-x.log")"
 
-# make -q answers from the plan as it is, without detecting: 0 now, 1 after a parameter change.
-"${mk[@]}" -q tile TILE="$tmp/a.pcd" MODELBASE="$tmp/mb" OUT="$tmp/a/" CRS=EPSG:32633 >"$tmp/q.log" 2>&1 \
-  || fail "make -q tile after a run exits $? (want 0): $(tail -3 "$tmp/q.log")"
+# make -q answers from the plan as it is, without detecting: 0 now, 1 after a parameter change;
+# 1 without the TRAJECTORY the last run had (stop 70: dropping it is a change, verify re-runs).
+"${mk[@]}" -q tile TILE="$tmp/a.pcd" MODELBASE="$tmp/mb" OUT="$tmp/a/" CRS=EPSG:32633 TRAJECTORY="$tmp/a.traj" \
+  >"$tmp/q.log" 2>&1 || fail "make -q tile after a run exits $? (want 0): $(tail -3 "$tmp/q.log")"
+"${mk[@]}" -q tile TILE="$tmp/a.pcd" MODELBASE="$tmp/mb" OUT="$tmp/a/" CRS=EPSG:32633 >"$tmp/q.log" 2>&1
+[ $? -eq 1 ] || fail "make -q tile without the last run's TRAJECTORY does not exit 1"
 echo "# changed" >>"$tmp/params/gmatch.ini"
 "${mk[@]}" -q tile TILE="$tmp/a.pcd" MODELBASE="$tmp/mb" OUT="$tmp/a/" CRS=EPSG:32633 >"$tmp/q.log" 2>&1
 [ $? -eq 1 ] || fail "make -q tile after a gmatch.ini change does not exit 1"

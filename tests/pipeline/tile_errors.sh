@@ -71,6 +71,47 @@ grep -qx "TILE_CANDS :=" "$tmp/out-pcd/cands.mk" || fail "the plan was not remad
   || fail "make -q tile after the run exits $?, want 0"
 echo "ok: after a cut PCD, the whole one runs and is then up to date"
 
+# Another tile into the same OUT, older than the first run's files: detect and what follows run
+# again on it (stop 70: "Nothing to be done" and the first tile's results); the same again: nothing.
+awk 'NR <= 10 { sub(/^WIDTH .*/, "WIDTH 3000"); sub(/^POINTS .*/, "POINTS 3000"); print; next } NR <= 3010' \
+  "$tmp/flat.pcd" >"$tmp/older.pcd"
+touch -d @1000000000 "$tmp/older.pcd"
+"${mk[@]}" -j2 tile TILE="$tmp/older.pcd" MODELBASE="$tmp/mb" OUT="$tmp/out-pcd/" >"$tmp/older.log" 2>&1 \
+  || fail "make tile on another tile into the same OUT failed: $(tail -3 "$tmp/older.log")"
+[ "$(jq -r '.tile' "$tmp/out-pcd/detections.json")" = "$tmp/older.pcd" ] ||
+  fail "an older tile into the same OUT kept the first tile's detections: $(jq -r '.tile' "$tmp/out-pcd/detections.json")"
+grep -q "^done .*out-pcd/detect " "$tmp/older.log" || fail "detect did not run on the other tile: $(head -3 "$tmp/older.log")"
+"${mk[@]}" -q tile TILE="$tmp/older.pcd" MODELBASE="$tmp/mb" OUT="$tmp/out-pcd/" >/dev/null 2>&1 \
+  || fail "make -q tile after the other tile's run exits $?, want 0"
+# Another modelbase: the stages that read it run again (collect), detect does not.
+mkdir -p "$tmp/mb2" && echo '{}' >"$tmp/mb2/m.json" && touch -d @1000000000 "$tmp/mb2/m.json"
+"${mk[@]}" -j2 tile TILE="$tmp/older.pcd" MODELBASE="$tmp/mb2" OUT="$tmp/out-pcd/" >"$tmp/mb2.log" 2>&1 \
+  || fail "make tile with another modelbase failed: $(tail -3 "$tmp/mb2.log")"
+grep -q "^done .*out-pcd/detections.json " "$tmp/mb2.log" || fail "collect did not run with another modelbase: $(cat "$tmp/mb2.log")"
+! grep -q "^done .*out-pcd/detect " "$tmp/mb2.log" || fail "another modelbase re-ran detect"
+echo "ok: another tile or modelbase into the same OUT runs again"
+
+# Arguments refused before anything is written (stop 70: OUT and OUT/.progress* were left behind).
+"${mk[@]}" tile TILE="$tmp/flat.pcd" MODELBASE="$tmp/mb" >"$tmp/noout.log" 2>&1
+rc=$?
+[ $rc -eq 2 ] && grep -q "tile: give OUT=<the output directory>" "$tmp/noout.log" ||
+  fail "make tile without OUT exits $rc: $(tail -2 "$tmp/noout.log")"
+"${mk[@]}" tile TILE="$tmp/flat.pcd" MODELBASE="$tmp/nomb" OUT="$tmp/out-refused" >"$tmp/nomb.log" 2>&1
+rc=$?
+[ $rc -eq 2 ] && grep -q "MODELBASE=$tmp/nomb holds no <model>.json" "$tmp/nomb.log" ||
+  fail "make tile without a modelbase exits $rc: $(tail -2 "$tmp/nomb.log")"
+[ ! -e "$tmp/out-refused" ] || fail "a refused make tile left $tmp/out-refused: $(ls -A "$tmp/out-refused")"
+mkdir -p "$tmp/in dir" && cp "$tmp/flat.pcd" "$tmp/in dir/my tile.pcd"
+"${mk[@]}" tile TILE="$tmp/in dir/my tile.pcd" MODELBASE="$tmp/mb" OUT="$tmp/out-blank" >"$tmp/blank.log" 2>&1
+rc=$?
+[ $rc -eq 2 ] && grep -q "TILE=$tmp/in dir/my tile.pcd holds a blank: make cannot handle file names with spaces" \
+  "$tmp/blank.log" || fail "a tile name with a blank exits $rc: $(tail -2 "$tmp/blank.log")"
+"${mk[@]}" tile TILE="$tmp/flat.pcd" MODELBASE="$tmp/mb" OUT="$tmp/out blank" >"$tmp/blank2.log" 2>&1
+rc=$?
+[ $rc -eq 2 ] && grep -q "OUT=$tmp/out blank holds a blank" "$tmp/blank2.log" && [ ! -e "$tmp/out" ] ||
+  fail "an OUT with a blank exits $rc or made $tmp/out: $(tail -2 "$tmp/blank2.log")"
+echo "ok: make tile's arguments refused before anything is written"
+
 # make tiles: an empty directory (make's message alone), one with the cut tile.
 mkdir -p "$tmp/none" "$tmp/bad"
 "${mk[@]}" tiles TILES="$tmp/none" MODELBASE="$tmp/mb" OUT="$tmp/out-none/" >"$tmp/none.log" 2>&1
@@ -85,6 +126,13 @@ rc=$?
 grep -q "detect: error: $tmp/bad/cut.laz: " "$tmp/bad.log" || fail "make tiles: no detect message: $(tail -3 "$tmp/bad.log")"
 ! grep -q "No rule to make target\|planning dry run" "$tmp/bad.log" || fail "make tiles: $(grep -m1 'No rule\|planning' "$tmp/bad.log")"
 echo "ok: make tiles on an empty directory and on a cut tile"
+
+# make tiles takes an extension in upper case (stop 70: "holds no .las, .laz or .pcd file").
+mkdir -p "$tmp/upper" && cp "$tmp/flat.pcd" "$tmp/upper/PLOT1.PCD"
+"${mk[@]}" -j2 tiles TILES="$tmp/upper" MODELBASE="$tmp/mb" OUT="$tmp/out-upper/" >"$tmp/upper.log" 2>&1 ||
+  fail "make tiles on PLOT1.PCD failed: $(tail -3 "$tmp/upper.log")"
+[ -f "$tmp/out-upper/PLOT1/detections.json" ] || fail "make tiles did not run PLOT1.PCD: $(tail -3 "$tmp/upper.log")"
+echo "ok: make tiles on an upper-case extension"
 
 # A planning dry run that fails on the tools' build still says so, naming its log.
 "${mk[@]}" tile TILE="$tmp/flat.pcd" MODELBASE="$tmp/mb" OUT="$tmp/out-cmake/" CMAKE=false >"$tmp/cmake.log" 2>&1 \
