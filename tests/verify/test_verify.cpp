@@ -208,7 +208,7 @@ TEST_CASE("a modelbase surface: label-1 rows if labelled, else (no field, or 0 e
                       Catch::Contains("flat.pcd") && Catch::Contains("no model surface points") &&
                           Catch::Contains("0 (unknown) everywhere") && Catch::Contains("z > 50mm"));
     CHECK_THROWS_WITH(vf::surface_from_cloud(surface_pcd(ground), "bare.pcd"),
-                      Catch::Contains("bare.pcd") && Catch::Contains("no label column"));
+                      Catch::Contains("bare.pcd") && Catch::Contains("no label field"));
   }
 }
 

@@ -187,9 +187,9 @@ Surface surface_from_cloud(const formats::PointCloud& cloud, const std::string& 
   const auto pts = xyz(cloud, name);
   const auto nrm =
       unit_columns(cloud, "normal", name, "a modelbase surface needs normals, e.g. fitvox's samples");
-  // A label column carries labels when some row is not 0 (unknown): a render's samples
+  // A label field carries labels when some row is not 0 (unknown): a render's samples
   // (rangetrace: 1 target, 2 foliage, 3 ground). fitvox writes 0 on every row of an input without
-  // labels (a tile candidate's points): such a surface is treated as one without the column.
+  // labels (a tile candidate's points): such a surface is treated as one without the field.
   const std::vector<double>* label = cloud.has("label") ? &cloud.col("label") : nullptr;
   const bool labelled = label && std::any_of(label->begin(), label->end(), [](double l) { return l != 0; });
   if (zero_labels != nullptr) *zero_labels = label != nullptr && !labelled;
@@ -212,14 +212,14 @@ Surface surface_from_cloud(const formats::PointCloud& cloud, const std::string& 
     }
     if (held.size() > 8) list += ", ...";
     throw common::DataError(name,
-                            "no model surface points: its label column marks no point as the vehicle "
+                            "no model surface points: its label field marks no point as the vehicle "
                             "(label 1; it holds " +
                                 list + ")");
   }
   if (s.points.empty()) {
     throw common::DataError(
         name, std::string("no model surface points: ") +
-                  (label ? "its label column is 0 (unknown) everywhere" : "it has no label column") +
+                  (label ? "its label field is 0 (unknown) everywhere" : "it has no label field") +
                   ", and no point lies above the ground (z > " + common::format_length(min_z) +
                   "; ground z = 0 in the model's frame)");
   }
