@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include "canopy/common/math.h"
@@ -198,6 +199,49 @@ inline canopy::formats::PointCloud to_cloud(const canopy::verify::Candidate& c, 
   for (int a = 0; a < 3; ++a) {
     auto& col = cloud.add(sen[a]);
     for (std::size_t i = 0; i < c.points.size(); ++i) col[i] = c.sensor[i][a];
+  }
+  return cloud;
+}
+
+// The vehicle's surface `s` on its ground, as fitvox samples a scan of both: `s`'s points first,
+// then ground samples (normal up) every h over 8 x 4 m around the origin outside the boxes'
+// footprints, alternately at z = 0 and z = 0.04 (under verify's 5 cm cut for unlabelled surfaces).
+inline canopy::verify::Surface on_ground(canopy::verify::Surface s, const std::vector<Box>& boxes,
+                                         double h = 0.2) {
+  int k = 0;
+  for (double x = -4 + h / 2; x < 4; x += h) {
+    for (double y = -2 + h / 2; y < 2; y += h) {
+      bool under = false;
+      for (const auto& b : boxes) {
+        if (x > b.lo.x() && x < b.hi.x() && y > b.lo.y() && y < b.hi.y()) under = true;
+      }
+      if (under) continue;
+      s.points.emplace_back(x, y, (k++ % 2) ? 0.04 : 0.0);
+      s.normals.push_back(Vector3d::UnitZ());
+    }
+  }
+  return s;
+}
+
+// A modelbase surface PCD's columns (x y z, normals) from `s`; with `labels`, a U4 label column
+// (one value per point), as fitvox writes it.
+inline canopy::formats::PointCloud surface_pcd(const canopy::verify::Surface& s,
+                                               const std::vector<std::uint32_t>* labels = nullptr) {
+  canopy::formats::PointCloud cloud;
+  cloud.resize(s.points.size());
+  const char* xyz[3] = {"x", "y", "z"};
+  const char* nrm[3] = {"normal_x", "normal_y", "normal_z"};
+  for (int a = 0; a < 3; ++a) {
+    auto& p = cloud.add(xyz[a]);
+    for (std::size_t i = 0; i < s.points.size(); ++i) p[i] = s.points[i][a];
+  }
+  for (int a = 0; a < 3; ++a) {
+    auto& n = cloud.add(nrm[a]);
+    for (std::size_t i = 0; i < s.points.size(); ++i) n[i] = s.normals[i][a];
+  }
+  if (labels != nullptr) {
+    auto& l = cloud.add("label", canopy::formats::kUint32);
+    for (std::size_t i = 0; i < s.points.size(); ++i) l[i] = (*labels)[i];
   }
   return cloud;
 }

@@ -639,3 +639,74 @@ TEST_CASE("gmatch's match results carry no pose: verify checks them as before", 
   for (const auto& h : v.hypotheses) CHECK(h.start.rfind("pose", 0) == std::string::npos);
   CHECK(v.provenance.inputs.size() == 4);  // the segments are read and recorded
 }
+
+TEST_CASE("a modelbase surface whose label field is 0 everywhere verifies as one without the field",
+          "[verify][cli][surface]") {
+  // fitvox writes label 0 on every sample of points without labels (a user's own scan of a
+  // vehicle on its ground, a tile candidate): verify takes such a surface's points above 5 cm,
+  // as for a surface without the field, and says so in one line. A labelled surface (1 on the
+  // vehicle, 3 on the ground) keeps its label-1 rows. All three give the verdict of the Case's
+  // plain surfaces (no ground, no labels) byte for byte.
+  const Case c("zero-labels");
+  std::string err;
+  REQUIRE(sh(c.cmd(c.dir / "ref.json"), c.dir / "err", &err) == 0);
+  const std::string ref = canopy::common::read_file((c.dir / "ref.json").string());
+  const doc::Verdict v = doc::read_verdict((c.dir / "ref.json").string());
+  REQUIRE(v.model == "pickup");
+  REQUIRE(v.chosen == 1);
+  CHECK(fm::euler_degrees(v.hypotheses[1].pose)[0] == Approx(1.0 * 180 / canopy::common::kPi).margin(0.1));
+  CHECK(v.hypotheses[1].pose.translation[0] == Approx(2.0).margin(1e-3));
+  CHECK(v.hypotheses[1].pose.translation[1] == Approx(-1.0).margin(1e-3));
+
+  const std::vector<std::pair<std::string, std::vector<Box>>> entries{{"pickup", pickup()},
+                                                                      {"flatbed", flatbed()}};
+  auto write_surfaces = [&](const std::string& kind) {
+    for (const auto& [name, boxes] : entries) {
+      const canopy::verify::Surface car = sample(boxes, 0.1), scan = on_ground(car, boxes);
+      std::vector<std::uint32_t> labels(scan.points.size(), kind == "labelled" ? 3 : 0);
+      if (kind == "labelled") std::fill_n(labels.begin(), car.points.size(), 1u);
+      fm::write_pcd(surface_pcd(scan, kind == "no field" ? nullptr : &labels),
+                    (c.mb / (name + ".pcd")).string());
+    }
+  };
+  const std::string note = "with a label field of 0 (unknown) only";
+  for (const std::string kind : {"no field", "zeros", "labelled"}) {
+    INFO(kind);
+    write_surfaces(kind);
+    const fs::path out = c.dir / (kind == "no field" ? "none.json" : kind + ".json");
+    REQUIRE(sh(c.cmd(out), c.dir / "err", &err) == 0);
+    CHECK(canopy::common::read_file(out.string()) == ref);
+    const auto at = err.find(note);
+    if (kind == "zeros") {
+      // One line naming both surfaces.
+      REQUIRE(at != std::string::npos);
+      CHECK(err.find(note, at + 1) == std::string::npos);
+      const std::string line =
+          err.substr(err.rfind('\n', at) + 1, err.find('\n', at) - err.rfind('\n', at) - 1);
+      CHECK(line.rfind("verify: 2 modelbase surfaces with a label field of 0", 0) == 0);
+      CHECK(line.find((c.mb / "pickup.pcd").string()) != std::string::npos);
+      CHECK(line.find((c.mb / "flatbed.pcd").string()) != std::string::npos);
+      // -q keeps it quiet, as verify's other information.
+      REQUIRE(sh(c.cmd(c.dir / "q.json") + " -q", c.dir / "err", &err) == 0);
+      CHECK(err.empty());
+    } else {
+      CHECK(at == std::string::npos);
+    }
+  }
+
+  // Labels 0 everywhere and nothing above the ground: an error naming the surface, no output.
+  const canopy::verify::Surface flat = on_ground(canopy::verify::Surface{}, pickup());
+  const std::vector<std::uint32_t> zeros(flat.points.size(), 0);
+  fm::write_pcd(surface_pcd(flat, &zeros), (c.mb / "pickup.pcd").string());
+  REQUIRE(sh(c.cmd(c.dir / "flat.json"), c.dir / "err", &err) == 1);
+  CHECK(err.find((c.mb / "pickup.pcd").string() + ": no model surface points") != std::string::npos);
+  CHECK(err.find("0 (unknown) everywhere") != std::string::npos);
+  CHECK(!fs::exists(c.dir / "flat.json"));
+  // Labelled without label 1 (only ground, 3): an error as before, naming the labels.
+  const std::vector<std::uint32_t> threes(flat.points.size(), 3);
+  fm::write_pcd(surface_pcd(flat, &threes), (c.mb / "pickup.pcd").string());
+  REQUIRE(sh(c.cmd(c.dir / "g.json"), c.dir / "err", &err) == 1);
+  CHECK(err.find((c.mb / "pickup.pcd").string() + ": no model surface points") != std::string::npos);
+  CHECK(err.find("label 1; it holds 3)") != std::string::npos);
+  CHECK(!fs::exists(c.dir / "g.json"));
+}

@@ -152,6 +152,66 @@ TEST_CASE("candidate input checks name the file", "[verify]") {
   CHECK_THROWS_AS(vf::validate(p), canopy::common::UsageError);
 }
 
+TEST_CASE("a modelbase surface: label-1 rows if labelled, else (no field, or 0 everywhere) above the ground",
+          "[verify][surface]") {
+  const vf::Surface car = sample(pickup(), 0.1);  // z >= 0.3 everywhere
+  const vf::Surface scan = on_ground(car, pickup());
+  const std::size_t n = scan.points.size(), nv = car.points.size();
+  REQUIRE(n > nv + 100);
+  auto same = [](const vf::Surface& a, const vf::Surface& b) {
+    return a.points == b.points && a.normals == b.normals;
+  };
+  bool zero = true;
+  SECTION("no label field: the points above 5 cm, as before") {
+    const vf::Surface s = vf::surface_from_cloud(surface_pcd(scan), "plain.pcd", vf::kSurfaceMinZ, &zero);
+    CHECK(same(s, car));
+    CHECK(!zero);
+  }
+  SECTION("a label field of 0 everywhere (fitvox on unlabelled points): the same rows, and said so") {
+    const std::vector<std::uint32_t> zeros(n, 0);
+    const vf::Surface s =
+        vf::surface_from_cloud(surface_pcd(scan, &zeros), "zero.pcd", vf::kSurfaceMinZ, &zero);
+    CHECK(same(s, car));
+    CHECK(zero);
+    // The default cut is 5 cm: the z = 0.04 ground rows stay out, a lower cut takes them.
+    CHECK(vf::surface_from_cloud(surface_pcd(scan, &zeros), "zero.pcd", 0.03).points.size() > nv + 50);
+  }
+  SECTION("labelled (1 and 0/2/3): exactly the label-1 rows, whatever their height") {
+    std::vector<std::uint32_t> labels(n, 3);  // the ground
+    for (std::size_t i = 0; i < nv; ++i) labels[i] = 1;
+    labels[0] = 0;       // a vehicle sample of unknown label: left out although above the ground
+    labels[1] = 2;       // one labelled foliage: left out
+    labels[nv + 4] = 1;  // a ground sample labelled vehicle: kept although at z = 0
+    const vf::Surface s =
+        vf::surface_from_cloud(surface_pcd(scan, &labels), "lab.pcd", vf::kSurfaceMinZ, &zero);
+    CHECK(!zero);
+    REQUIRE(s.points.size() == nv - 1);
+    CHECK(s.points.front() == car.points[2]);
+    CHECK(s.points.back() == scan.points[nv + 4]);
+    CHECK(s.points.back().z() == 0.0);
+    // Labels 1 on the vehicle, 0 elsewhere: the vehicle's rows, as without labels here.
+    std::vector<std::uint32_t> ones(n, 0);
+    for (std::size_t i = 0; i < nv; ++i) ones[i] = 1;
+    CHECK(same(vf::surface_from_cloud(surface_pcd(scan, &ones), "ones.pcd"), car));
+  }
+  SECTION("labelled without label 1: an error naming the file and the labels it holds") {
+    std::vector<std::uint32_t> labels(n, 0);
+    for (std::size_t i = nv; i < n; ++i) labels[i] = 3;
+    CHECK_THROWS_WITH(vf::surface_from_cloud(surface_pcd(scan, &labels), "g.pcd"),
+                      Catch::Contains("g.pcd") && Catch::Contains("no model surface points") &&
+                          Catch::Contains("label 1; it holds 0, 3"));
+  }
+  SECTION("without labels and nothing above the ground: an error naming the file") {
+    const vf::Surface ground = on_ground(vf::Surface{}, pickup());
+    const std::vector<std::uint32_t> zeros(ground.points.size(), 0);
+    CHECK_THROWS_WITH(vf::surface_from_cloud(surface_pcd(ground, &zeros), "flat.pcd"),
+                      Catch::Contains("flat.pcd") && Catch::Contains("no model surface points") &&
+                          Catch::Contains("0 (unknown) everywhere") && Catch::Contains("z > 50mm"));
+    CHECK_THROWS_WITH(vf::surface_from_cloud(surface_pcd(ground), "bare.pcd"),
+                      Catch::Contains("bare.pcd") && Catch::Contains("no label field"));
+  }
+}
+
 TEST_CASE("--free-space through: surface with no return in its cells is not charged, ground seen through is",
           "[verify]") {
   const World w;

@@ -48,7 +48,9 @@ void bind(cm::Tool& tool, vf::Params& p, Cli& cli) {
            "without segment pairs (baseline --hypotheses': each model's start is its pose)");
   tool.add("--modelbase", &cli.modelbase,
            "directory of <model>.json graphs, <model>.pcd surfaces and "
-           "optional <model>.class classes")
+           "optional <model>.class classes; a surface's label-1 points are the model, or, when it "
+           "carries no labels (no label field, or 0 on every point: fitvox on unlabelled points), "
+           "its points above 5 cm")
       ->required();
   tool.add("--transform", &cli.transform,
            "candidate frame -> tile frame, 12 or 16 numbers row-major (detect's index.json "

@@ -10,12 +10,14 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <map>
 #include <unordered_map>
 
 #include "canopy/common/error.h"
 #include "canopy/common/math.h"
 #include "canopy/common/serial_kdtree.h"
+#include "canopy/common/units.h"
 #include "canopy/formats/cloud_eigen.h"
 #include "canopy/formats/pose_eigen.h"
 
@@ -180,19 +182,47 @@ Candidate candidate_from_cloud(const formats::PointCloud& cloud, const std::stri
   return c;
 }
 
-Surface surface_from_cloud(const formats::PointCloud& cloud, const std::string& name, double min_z) {
+Surface surface_from_cloud(const formats::PointCloud& cloud, const std::string& name, double min_z,
+                           bool* zero_labels) {
   const auto pts = xyz(cloud, name);
   const auto nrm =
       unit_columns(cloud, "normal", name, "a modelbase surface needs normals, e.g. fitvox's samples");
+  // A label field carries labels when some row is not 0 (unknown): a render's samples
+  // (rangetrace: 1 target, 2 foliage, 3 ground). fitvox writes 0 on every row of an input without
+  // labels (a tile candidate's points): such a surface is treated as one without the field.
+  const std::vector<double>* label = cloud.has("label") ? &cloud.col("label") : nullptr;
+  const bool labelled = label && std::any_of(label->begin(), label->end(), [](double l) { return l != 0; });
+  if (zero_labels != nullptr) *zero_labels = label != nullptr && !labelled;
   Surface s;
-  const bool labelled = cloud.has("label");
   for (std::size_t i = 0; i < pts.size(); ++i) {
-    const bool keep = labelled ? cloud.col("label")[i] == 1 : pts[i].z() > min_z;
+    const bool keep = labelled ? (*label)[i] == 1 : pts[i].z() > min_z;
     if (!keep) continue;
     s.points.push_back(pts[i]);
     s.normals.push_back(nrm[i]);
   }
-  if (s.points.empty()) throw common::DataError(name, "no model surface points (label 1 or above ground)");
+  if (s.points.empty() && labelled) {
+    std::vector<double> held(label->begin(), label->end());
+    std::sort(held.begin(), held.end());
+    held.erase(std::unique(held.begin(), held.end()), held.end());
+    std::string list;
+    for (std::size_t i = 0; i < held.size() && i < 8; ++i) {
+      char v[32];
+      std::snprintf(v, sizeof v, "%s%.9g", i ? ", " : "", held[i]);
+      list += v;
+    }
+    if (held.size() > 8) list += ", ...";
+    throw common::DataError(name,
+                            "no model surface points: its label field marks no point as the vehicle "
+                            "(label 1; it holds " +
+                                list + ")");
+  }
+  if (s.points.empty()) {
+    throw common::DataError(
+        name, std::string("no model surface points: ") +
+                  (label ? "its label field is 0 (unknown) everywhere" : "it has no label field") +
+                  ", and no point lies above the ground (z > " + common::format_length(min_z) +
+                  "; ground z = 0 in the model's frame)");
+  }
   return s;
 }
 

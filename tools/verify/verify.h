@@ -119,13 +119,21 @@ struct Model {
 // sensor_x/y/z columns, which are then not needed.
 Candidate candidate_from_cloud(const formats::PointCloud& cloud, const std::string& name,
                                const std::vector<Eigen::Vector3d>* sensor = nullptr);
-// Model surface from a samples PCD: normals required; only label 1 (target) rows are kept when
-// a label field exists, else the rows above `min_z`.
-Surface surface_from_cloud(const formats::PointCloud& cloud, const std::string& name, double min_z = 0.05);
+// Model surface from a samples PCD (model frame: ground z = 0); normals required. The rows kept:
+// - a label field with some label other than 0 (a labelled render: rangetrace's 1 target,
+//   2 foliage, 3 ground; formats/labels.h): the label-1 (target) rows;
+// - no label field, or one that is 0 (unknown) on every row, as fitvox writes for an input
+//   without labels (a tile candidate's samples): the rows above `min_z`.
+// No row kept is a DataError naming `name`. `zero_labels`, when given, is set to whether the
+// surface had a label field of 0 only (read_models says so once on stderr).
+inline constexpr double kSurfaceMinZ = 0.05;  // m: the ground cut of a surface without labels
+Surface surface_from_cloud(const formats::PointCloud& cloud, const std::string& name,
+                           double min_z = kSurfaceMinZ, bool* zero_labels = nullptr);
 
 // Reads <dir>/<name>.json and <dir>/<name>.pcd for every name (DataError naming `who` when a
 // model is not in the modelbase, naming the file when a file is malformed), and the class in
 // <dir>/<name>.class when that file exists (one word on one line; DataError otherwise).
+// Surfaces whose label field is 0 everywhere (surface_from_cloud) are named in one info line.
 std::vector<Model> read_models(const std::string& dir, const std::vector<std::string>& names,
                                const std::string& who);
 
