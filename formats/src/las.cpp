@@ -447,15 +447,16 @@ void for_each_evlr(const unsigned char* b, LasSource& src, int minor, std::uint6
   if (evlr_count == 0) return;
   if (evlr_start < min_start || evlr_start > size) {
     throw DataError(name, "EVLR start " + std::to_string(evlr_start) + " is not between " + min_what + " (" +
-                              std::to_string(min_start) + ") and the end of the file (" + std::to_string(size) +
-                              ")");
+                              std::to_string(min_start) + ") and the end of the file (" +
+                              std::to_string(size) + ")");
   }
   std::uint64_t at = evlr_start;
   std::vector<unsigned char> scratch;
   for (std::uint32_t i = 0; i < evlr_count; ++i) {
     if (size - at < kEvlrHeader) {
       throw DataError(name, "LAS header says " + std::to_string(evlr_count) + " EVLRs but EVLR " +
-                                std::to_string(i + 1) + " does not fit in the file (truncated or broken count)");
+                                std::to_string(i + 1) +
+                                " does not fit in the file (truncated or broken count)");
     }
     const unsigned char* v = src.bytes(at, kEvlrHeader, &scratch);
     const std::uint64_t len = get<std::uint64_t>(v + 20);
@@ -507,7 +508,8 @@ class CrsEvlrs {
 // An open std::istream's file, read at offsets (read_las_header_block's EVLRs).
 class StreamSource final : public LasSource {
  public:
-  StreamSource(std::istream& f, std::uint64_t size, const std::string& name) : LasSource(size), f_(f), name_(name) {}
+  StreamSource(std::istream& f, std::uint64_t size, const std::string& name)
+      : LasSource(size), f_(f), name_(name) {}
   const unsigned char* bytes(std::uint64_t at, std::size_t n, std::vector<unsigned char>* scratch) override {
     if (scratch->size() < n) scratch->resize(n);
     f_.clear();
@@ -529,20 +531,20 @@ void read_evlrs(const unsigned char* b, LasSource& src, const LasHeader& h, cons
                 ExtraVlr* extra, std::vector<unsigned char>* payload, CrsEvlrs* crs) {
   const std::uint64_t data_end = h.data_offset + h.n * h.record;
   std::uint32_t index = 0;
-  for_each_evlr(b, src, h.minor, data_end, "the end of the point data", name,
-                [&](std::uint64_t at, const unsigned char* v, std::uint64_t len) {
-                  ++index;
-                  if (has_prefix(v + 2, 16, "LASF_Spec") && get<std::uint16_t>(v + 18) == 4 &&
-                      extra->data == nullptr) {
-                    // parse_extra_bytes reads at most kMaxExtraFields descriptors.
-                    const auto used = static_cast<std::size_t>(
-                        std::min<std::uint64_t>(len, kMaxExtraFields * kExtraDescriptor));
-                    extra->data = src.bytes(at + kEvlrHeader, used, payload);  // *payload is not used again
-                    extra->len = used;
-                  } else if (crs != nullptr) {
-                    crs->add(index, at, v, len);
-                  }
-                });
+  for_each_evlr(
+      b, src, h.minor, data_end, "the end of the point data", name,
+      [&](std::uint64_t at, const unsigned char* v, std::uint64_t len) {
+        ++index;
+        if (has_prefix(v + 2, 16, "LASF_Spec") && get<std::uint16_t>(v + 18) == 4 && extra->data == nullptr) {
+          // parse_extra_bytes reads at most kMaxExtraFields descriptors.
+          const auto used =
+              static_cast<std::size_t>(std::min<std::uint64_t>(len, kMaxExtraFields * kExtraDescriptor));
+          extra->data = src.bytes(at + kEvlrHeader, used, payload);  // *payload is not used again
+          extra->len = used;
+        } else if (crs != nullptr) {
+          crs->add(index, at, v, len);
+        }
+      });
 }
 
 // The columns of a point format (standard fields, then Extra Bytes), packed at their width in
@@ -905,11 +907,10 @@ LasHeaderBlock read_las_header_block(const std::string& path, std::size_t max_by
       min_what = "the end of the point data";
     }
     std::uint32_t index = 0;
-    for_each_evlr(block_bytes, src, h.minor, min_start, min_what, path,
-                  [&](std::uint64_t at, const unsigned char* v, std::uint64_t len) { crs.add(++index, at, v, len); });
-  } catch (const DataError& e) {
-    crs.note = "EVLRs not read: " + e.cause();
-  }
+    for_each_evlr(
+        block_bytes, src, h.minor, min_start, min_what, path,
+        [&](std::uint64_t at, const unsigned char* v, std::uint64_t len) { crs.add(++index, at, v, len); });
+  } catch (const DataError& e) { crs.note = "EVLRs not read: " + e.cause(); }
   out.evlrs = std::move(crs.evlrs);
   out.evlr_note = std::move(crs.note);
   return out;

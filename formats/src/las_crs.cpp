@@ -373,7 +373,8 @@ LasCrs las_crs(const LasHeaderBlock& header) {
         reads.push_back({read_geokeys(keys->payload), kind + "LASF_Projection 34735 (GeoTIFF keys)", evlr});
     };
     auto add_wkt = [&] {
-      if (wkt != nullptr) reads.push_back({read_wkt(wkt->payload), kind + wkt->user_id + " 2112 (OGC WKT)", evlr});
+      if (wkt != nullptr)
+        reads.push_back({read_wkt(wkt->payload), kind + wkt->user_id + " 2112 (OGC WKT)", evlr});
     };
     if (wkt_first) {
       add_wkt();

@@ -616,8 +616,8 @@ std::string error_of_read(const std::string& path) {
 TEST_CASE("LAS CRS: a WKT or GeoKey directory in an EVLR (LAS 1.4 R15 2.6)", "[las][crs][evlr]") {
   const std::string las = small_las();  // 1.4, WKT bit, points at 375, 10 x 30 bytes, no EVLR
   SECTION("the WKT only in an EVLR: its code and unit, each reader's block the same") {
-    const std::string p =
-        write_tile("crs_evlr", "wkt.las", with_evlr(las, "LASF_Projection", 2112, kLambert93 + std::string(2, '\0')));
+    const std::string p = write_tile(
+        "crs_evlr", "wkt.las", with_evlr(las, "LASF_Projection", 2112, kLambert93 + std::string(2, '\0')));
     CHECK(read_las(p).size() == 10);
     const LasHeaderBlock h = blocks_of(p);
     CHECK(h.vlrs.empty());
@@ -648,21 +648,25 @@ TEST_CASE("LAS CRS: a WKT or GeoKey directory in an EVLR (LAS 1.4 R15 2.6)", "[l
   }
   SECTION("a VLR and an EVLR: the VLR's code; another code in the EVLR is noted") {
     const std::string keys = with_vlr(las, "LASF_Projection", 34735, geokeys({{3072, 25832}}));
-    LasCrs c = read_las_crs(write_tile("crs_evlr", "both.las", with_evlr(keys, "LASF_Projection", 2112, kLambert93)));
+    LasCrs c =
+        read_las_crs(write_tile("crs_evlr", "both.las", with_evlr(keys, "LASF_Projection", 2112, kLambert93)));
     CHECK(c.code() == "EPSG:25832");
     CHECK(c.from == "LASF_Projection 34735 (GeoTIFF keys): ProjectedCSTypeGeoKey 25832");
-    CHECK(c.note ==
-          "its LASF_Projection 34735 (GeoTIFF keys) gives EPSG:25832, its EVLR LASF_Projection 2112 (OGC WKT) "
-          "EPSG:2154; the first taken (a VLR before an EVLR)");
+    CHECK(
+        c.note ==
+        "its LASF_Projection 34735 (GeoTIFF keys) gives EPSG:25832, its EVLR LASF_Projection 2112 (OGC WKT) "
+        "EPSG:2154; the first taken (a VLR before an EVLR)");
     // The same code in both: no note.
     const std::string same = with_vlr(las, "LASF_Projection", 2112, kLambert93);
-    c = read_las_crs(write_tile("crs_evlr", "same.las", with_evlr(same, "LASF_Projection", 34735, geokeys({{3072, 2154}}))));
+    c = read_las_crs(write_tile("crs_evlr", "same.las",
+                                with_evlr(same, "LASF_Projection", 34735, geokeys({{3072, 2154}}))));
     CHECK(c.code() == "EPSG:2154");
     CHECK(c.from == "LASF_Projection 2112 (OGC WKT): PROJCS AUTHORITY EPSG 2154");
     CHECK(c.note.empty());
     // A VLR giving no code (a WKT cut short): the EVLR's.
     const std::string cut = with_vlr(las, "LASF_Projection", 2112, kLambert93.substr(0, 300));
-    c = read_las_crs(write_tile("crs_evlr", "cut_vlr.las", with_evlr(cut, "LASF_Projection", 34735, geokeys({{3072, 2154}}))));
+    c = read_las_crs(write_tile("crs_evlr", "cut_vlr.las",
+                                with_evlr(cut, "LASF_Projection", 34735, geokeys({{3072, 2154}}))));
     CHECK(c.code() == "EPSG:2154");
     CHECK(c.from == "EVLR LASF_Projection 34735 (GeoTIFF keys): ProjectedCSTypeGeoKey 2154");
     CHECK(c.note.empty());
@@ -683,15 +687,16 @@ TEST_CASE("LAS CRS: a WKT or GeoKey directory in an EVLR (LAS 1.4 R15 2.6)", "[l
     const LasHeaderBlock h = blocks_of(p);
     CHECK(h.evlrs.empty());
     const std::string note =
-        "EVLR 1 (LASF_Projection 2112) of 1048577 bytes is over the 1048576 canopy reads of a CRS record: not read";
+        "EVLR 1 (LASF_Projection 2112) of 1048577 bytes is over the 1048576 canopy reads of a CRS record: "
+        "not read";
     CHECK(h.evlr_note == note);
     const LasCrs c = las_crs(h);
     CHECK(c.epsg == 0);
     CHECK(c.note == note);
     // A VLR naming a code: that code, no note.
-    const std::string q =
-        write_tile("crs_evlr", "big_vlr.las",
-                   with_evlr(with_vlr(las, "LASF_Projection", 34735, geokeys({{3072, 2154}})), "LASF_Projection", 2112, big));
+    const std::string q = write_tile("crs_evlr", "big_vlr.las",
+                                     with_evlr(with_vlr(las, "LASF_Projection", 34735, geokeys({{3072, 2154}})),
+                                               "LASF_Projection", 2112, big));
     CHECK(read_las_crs(q).code() == "EPSG:2154");
     CHECK(read_las_crs(q).note.empty());
   }
@@ -713,7 +718,8 @@ TEST_CASE("LAS CRS: a WKT or GeoKey directory in an EVLR (LAS 1.4 R15 2.6)", "[l
            "EVLR start " + std::to_string(data_end - 30) + " is not between the end of the point data (" +
                std::to_string(data_end) + ") and the end of the file (" + std::to_string(good.size()) + ")"},
           {"count.las", count,
-           "LAS header says 4000000000 EVLRs but EVLR 2 does not fit in the file (truncated or broken count)"},
+           "LAS header says 4000000000 EVLRs but EVLR 2 does not fit in the file (truncated or broken "
+           "count)"},
       };
       for (const auto& b : bad) {
         INFO(b[0] << (vlr ? " with a VLR" : ""));
@@ -725,10 +731,11 @@ TEST_CASE("LAS CRS: a WKT or GeoKey directory in an EVLR (LAS 1.4 R15 2.6)", "[l
         if (vlr) {
           CHECK(c.code() == "EPSG:25832");
           // The count case walked the first EVLR (the WKT) before the problem: kept, and noted.
-          CHECK(c.note == (b[0] == "count.las" ? "its LASF_Projection 34735 (GeoTIFF keys) gives EPSG:25832, its "
-                                                 "EVLR LASF_Projection 2112 (OGC WKT) EPSG:2154; the first taken "
-                                                 "(a VLR before an EVLR)"
-                                               : ""));
+          CHECK(c.note == (b[0] == "count.las"
+                               ? "its LASF_Projection 34735 (GeoTIFF keys) gives EPSG:25832, its "
+                                 "EVLR LASF_Projection 2112 (OGC WKT) EPSG:2154; the first taken "
+                                 "(a VLR before an EVLR)"
+                               : ""));
         } else if (b[0] == "count.las") {
           CHECK(c.code() == "EPSG:2154");
           CHECK(c.note.empty());
@@ -777,7 +784,8 @@ TEST_CASE("LAS CRS: a WKT EVLR in a LAZ file (1_4_w_evlr.laz) and its LAS twin",
   SECTION("the LAZ's EVLR cut short, or its count too large: the reader's error, a note") {
     const std::string whole = moved(laz);
     const std::string cut = write_tile("crs_evlr_laz", "cut.laz", whole.substr(0, whole.size() - 10));
-    const std::string why = "EVLR 2 of " + std::to_string(kLambert93.size()) + " bytes runs past the end of the file";
+    const std::string why =
+        "EVLR 2 of " + std::to_string(kLambert93.size()) + " bytes runs past the end of the file";
     CHECK(error_of_read(cut) == cut + ": " + why);
     LasCrs c = read_las_crs(cut);
     CHECK(c.epsg == 0);
@@ -785,7 +793,8 @@ TEST_CASE("LAS CRS: a WKT EVLR in a LAZ file (1_4_w_evlr.laz) and its LAS twin",
     std::string b = whole;
     set<std::uint32_t>(&b, 243, 3);
     const std::string three = write_tile("crs_evlr_laz", "three.laz", b);
-    const std::string count = "LAS header says 3 EVLRs but EVLR 3 does not fit in the file (truncated or broken count)";
+    const std::string count =
+        "LAS header says 3 EVLRs but EVLR 3 does not fit in the file (truncated or broken count)";
     CHECK(error_of_read(three) == three + ": " + count);
     c = read_las_crs(three);  // the WKT, walked before the problem
     CHECK(c.code() == "EPSG:2154");
@@ -794,11 +803,12 @@ TEST_CASE("LAS CRS: a WKT EVLR in a LAZ file (1_4_w_evlr.laz) and its LAS twin",
     b = whole;
     set<std::uint64_t>(&b, 235, 100);
     const std::string before = write_tile("crs_evlr_laz", "before.laz", b);
-    CHECK(error_of_read(before) == before + ": EVLR start 100 is not between the point data and the end of the file (" +
-                                       std::to_string(b.size()) + " bytes)");
+    CHECK(error_of_read(before) ==
+          before + ": EVLR start 100 is not between the point data and the end of the file (" +
+              std::to_string(b.size()) + " bytes)");
     CHECK(read_las_crs(before).note == "EVLRs not read: EVLR start 100 is not between the point data (" +
-                                           std::to_string(get<std::uint32_t>(b, 96)) + ") and the end of the file (" +
-                                           std::to_string(b.size()) + ")");
+                                           std::to_string(get<std::uint32_t>(b, 96)) +
+                                           ") and the end of the file (" + std::to_string(b.size()) + ")");
   }
 }
 
