@@ -377,7 +377,8 @@ TEST_CASE("broken LAZ: a clear error naming the file, memory bounded by the file
   REQUIRE(evlr_at + 60 + 16 == evlr.size());
   b = evlr;
   set<std::uint64_t>(&b, 235, 100);
-  CHECK(contains(laz_error(b), "t.laz: EVLR start 100 is not between the point data and the end of the file"));
+  CHECK(
+      contains(laz_error(b), "t.laz: EVLR start 100 is not between the point data and the end of the file"));
   b = evlr;
   set<std::uint64_t>(&b, 235, get<std::uint32_t>(evlr, 96) + 100);  // garbage read as an EVLR header
   CHECK(contains(laz_error(b), "t.laz: EVLR 1 of "));
