@@ -1,6 +1,7 @@
 // libFuzzer target: the LAS reader (and the magic dispatch in front of it) on arbitrary bytes.
 // Any exception other than canopy's DataError, a crash, a sanitizer report or memory beyond
-// -rss_limit_mb is a finding. Seeds: tests/las/data/*.las, *.laz.
+// -rss_limit_mb is a finding; so is a header block whose CRS EVLRs break their bounds. Seeds:
+// tests/las/data/*.las, *.laz.
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -8,6 +9,7 @@
 
 #include "canopy/common/error.h"
 #include "canopy/formats/las.h"
+#include "canopy/formats/las_crs.h"
 #include "canopy/formats/points_io.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -15,7 +17,18 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   // Most inputs should reach the LAS parser: keep the signature when the fuzzer dropped it.
   if (size >= 4 && (data[0] & 1)) bytes.replace(0, 4, "LASF");
   try {
-    const canopy::formats::PointCloud c = canopy::formats::parse_las(bytes, "fuzz.las");
+    // The header block too: its CRS EVLRs are bounded (at most one of each of the three kinds,
+    // each of at most kLasCrsEvlrBytes) and las_crs reads them without a throw.
+    canopy::formats::LasHeaderBlock h;
+    const canopy::formats::PointCloud c = canopy::formats::parse_las(bytes, "fuzz.las", {}, &h);
+    if (h.evlrs.size() > 3 || h.evlr_note.find('\n') != std::string::npos) __builtin_trap();
+    for (const auto& r : h.evlrs) {
+      if (r.payload.size() > canopy::formats::kLasCrsEvlrBytes ||
+          !canopy::formats::is_crs_record(r.user_id, r.record_id))
+        __builtin_trap();
+    }
+    const canopy::formats::LasCrs crs = canopy::formats::las_crs(h);
+    if (crs.epsg < 0 || crs.epsg > 999999 || crs.note.find('\n') != std::string::npos) __builtin_trap();
     // A cloud that parsed must serialize and read back with the same size.
     if (c.size() < 100000) {
       const std::string again = canopy::formats::serialize_las(c, "fuzz-out.las");

@@ -1,7 +1,8 @@
 // libFuzzer target: the EPSG code of a LAS file's CRS records (formats/las_crs.h) on arbitrary
 // GeoKey directories and WKT texts. Input: a flags byte (bit 0: the global encoding's WKT bit;
-// bit 1: the WKT under libLAS's user id), the GeoKey payload's length (2 bytes, little-endian;
-// 0xffff = no GeoKey record), that payload, then the WKT (empty = no WKT record). A throw, a
+// bit 1: the WKT under libLAS's user id; bit 2: the records are EVLRs, not VLRs; bit 3: and a
+// LASF_Projection 34735 VLR of the same payload precedes them), the GeoKey payload's length (2 bytes,
+// little-endian; 0xffff = no GeoKey record), that payload, then the WKT (empty = no WKT record). A throw, a
 // crash, a sanitizer report, or a result that breaks las_crs's promises (a code of 1 to 6
 // digits with its place, else none; a note of one line; a unit of one line, its metres >= 0)
 // is a finding. Seeds: make_seeds's las_crs/ (the records of tests/las/data and damaged
@@ -10,6 +11,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "canopy/formats/las.h"
 #include "canopy/formats/las_crs.h"
@@ -23,13 +25,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const char* rest = reinterpret_cast<const char*>(data + 3);
   const std::size_t left = size - 3;
   std::size_t wkt_at = 0;
+  std::vector<f::LasVlr>& records = (data[0] & 4) ? h.evlrs : h.vlrs;
   if (keys != 0xffff) {
     const std::size_t n = keys < left ? keys : left;
-    h.vlrs.push_back({"LASF_Projection", 34735, std::string(rest, n)});
+    records.push_back({"LASF_Projection", 34735, std::string(rest, n)});
+    if ((data[0] & 12) == 12) h.vlrs.push_back({"LASF_Projection", 34735, std::string(rest, n)});
     wkt_at = n;
   }
   if (wkt_at < left) {
-    h.vlrs.push_back(
+    records.push_back(
         {(data[0] & 2) ? "liblas" : "LASF_Projection", 2112, std::string(rest + wkt_at, left - wkt_at)});
   }
   const f::LasCrs c = f::las_crs(h);

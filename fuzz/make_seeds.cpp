@@ -1,5 +1,5 @@
 // Writes the seed corpora of the fuzz targets: <out>/pcd, <out>/ply, <out>/json, <out>/laz,
-// <out>/las_crs. Valid files in every encoding our writers produce, and the malformed cases of
+// <out>/las, <out>/las_crs. Valid files in every encoding our writers produce, and the malformed cases of
 // issue 12 (huge counts, overflowing headers, NUL bytes, ...), built here rather than committed
 // as binaries; for LAZ (which canopy does not write) the small LAZ test files and damaged copies
 // of them; for fuzz_las_crs the CRS records of the LAS test files and cut copies.
@@ -13,6 +13,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <tuple>
 
 #include "canopy/documents/match_result.h"
 #include "canopy/formats/las.h"
@@ -204,6 +205,36 @@ void laz_seeds() {
   }
 }
 
+// fuzz_las: a LAS 1.4 file (canopy's writer) with CRS EVLRs after its points (a WKT, a GeoKey
+// directory, a record of another user), and copies with a lying EVLR count and length.
+void las_seeds() {
+  std::string las = f::serialize_las(cloud(), "seed.las");
+  const std::string wkt = "PROJCS[\"RGF93 v1 / Lambert-93\",UNIT[\"metre\",1],AUTHORITY[\"EPSG\",\"2154\"]]";
+  const std::string keys("\1\0\1\0\0\0\1\0\0\x0c\0\0\1\0\x6a\x08", 16);  // 3072 = 2154
+  const std::uint64_t first = las.size();
+  std::uint32_t count = 0;
+  for (const auto& [user, id, payload] : {std::tuple<std::string, std::uint16_t, std::string>{"other", 7, "x"},
+                                          {"LASF_Projection", 2112, wkt},
+                                          {"LASF_Projection", 34735, keys}}) {
+    std::string v(60, '\0');
+    std::memcpy(&v[2], user.data(), user.size());
+    std::memcpy(&v[18], &id, 2);
+    const std::uint64_t len = payload.size();
+    std::memcpy(&v[20], &len, 8);
+    las += v + payload;
+    ++count;
+  }
+  std::memcpy(&las[235], &first, 8);
+  std::memcpy(&las[243], &count, 4);
+  put("las", "evlr_crs.las", las);
+  std::string b = las;
+  std::memcpy(&b[243], "\xff\xff\xff\x0f", 4);
+  put("las", "evlr_crs-count.las", b);
+  b = las;
+  std::memcpy(&b[first + 61 + 20], "\0\0\0\x40\0\0\0\0", 8);  // the WKT's length: 1 GiB
+  put("las", "evlr_crs-length.las", b);
+}
+
 }  // namespace
 
 // fuzz_las_crs's input (its header comment) from a LAS file's CRS records.
@@ -241,6 +272,10 @@ void las_crs_seeds() {
   const std::string wkt2 =
       "PROJCRS[\"RGF93 / Lambert-93\",BASEGEOGCRS[\"RGF93\",ID[\"EPSG\",4171]],ID[\"EPSG\",2154]]";
   put("las_crs", "wkt2.crs", std::string("\1\xff\xff", 3) + wkt2);
+  put("las_crs", "evlr.crs", std::string("\5\xff\xff", 3) + wkt2);  // an EVLR
+  put("las_crs", "evlr-vlr.crs",
+      std::string("\x0d\x10\0", 3) + std::string("\1\0\1\0\0\0\1\0\0\x0c\0\0\1\0\xe8\x64", 16) +
+          wkt2);  // a VLR (3072 = 25832) and two EVLRs
   put("las_crs", "bound.crs",
       std::string("\1\xff\xff", 3) + "BOUNDCRS[SOURCECRS[" + wkt2 + "],TARGETCRS[GEOGCRS[\"WGS 84\"]]]");
 }
@@ -256,6 +291,7 @@ int main(int argc, char** argv) {
   ply_seeds();
   json_seeds();
   laz_seeds();
+  las_seeds();
   las_crs_seeds();
   return 0;
 }

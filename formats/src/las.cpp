@@ -19,8 +19,9 @@
 #include "las_header.h"
 #include "canopy/common/atomic_file.h"
 #include "canopy/common/error.h"
-#include "canopy/formats/provenance.h"
+#include "canopy/formats/las_crs.h"
 #include "canopy/formats/laz.h"
+#include "canopy/formats/provenance.h"
 
 namespace canopy::formats {
 namespace {
@@ -363,10 +364,16 @@ std::size_t header_block_bytes(const LasHeader& h, std::size_t max_bytes) {
 }
 
 // The header block of the LAZ file whose first bytes `b` hold its header and VLRs (laz_to_las
-// read them: the checks have been made), as read_las_header_block gives it.
-LasHeaderBlock laz_header_block(const unsigned char* b, std::size_t size, const std::string& name) {
+// read them: the checks have been made), as read_las_header_block gives it; the CRS EVLRs those
+// of `decoded`, the block of the LAS file it decodes to (laz_to_las copies the EVLRs as they
+// are).
+LasHeaderBlock laz_header_block(const unsigned char* b, std::size_t size, const std::string& name,
+                                LasHeaderBlock decoded) {
   const LasHeader h = las::read_header_fields(b, size, name);
-  return header_block(b, header_block_bytes(h, kLasHeaderBlockBytes), h, name);
+  LasHeaderBlock out = header_block(b, header_block_bytes(h, kLasHeaderBlockBytes), h, name);
+  out.evlrs = std::move(decoded.evlrs);
+  out.evlr_note = std::move(decoded.evlr_note);
+  return out;
 }
 
 // Where the reader takes a LAS file's bytes from: a whole file in memory (parse_las) or an open
@@ -424,46 +431,120 @@ class FileSource final : public LasSource {
   const std::string& name_;
 };
 
-// EVLRs (LAS 1.4): after the point data, each within the file. Only Extra Bytes are used: its
-// payload (the part parse_extra_bytes reads) is copied into *payload unless a VLR gave one.
-void read_evlrs(const unsigned char* b, LasSource& src, const LasHeader& h, const std::string& name,
-                ExtraVlr* extra, std::vector<unsigned char>* payload) {
+// Calls visit(at, v, len) for every EVLR (LAS 1.4; v: its 60-byte header at byte `at`, then
+// `len` bytes of payload, not read here) of the file whose header is `b`, in order, each checked
+// to lie in the file: the first at or after `min_start` (`min_what` names that place in the
+// message: the end of the point records; a LAZ file's point data offset, its compressed
+// records' end being unknown before they are decoded), none running past the end. Each
+// failure is a DataError naming the file.
+template <typename Visit>
+void for_each_evlr(const unsigned char* b, LasSource& src, int minor, std::uint64_t min_start,
+                   const std::string& min_what, const std::string& name, Visit visit) {
   const std::uint64_t size = src.size();
-  if (h.minor >= 4) {
-    const std::uint64_t evlr_start = get<std::uint64_t>(b + 235);
-    const std::uint32_t evlr_count = get<std::uint32_t>(b + 243);
-    const std::uint64_t data_end = h.data_offset + h.n * h.record;
-    if (evlr_count > 0) {
-      if (evlr_start < data_end || evlr_start > size) {
-        throw DataError(name, "EVLR start " + std::to_string(evlr_start) +
-                                  " is not between the end of the point data (" + std::to_string(data_end) +
-                                  ") and the end of the file (" + std::to_string(size) + ")");
+  if (minor < 4) return;
+  const std::uint64_t evlr_start = get<std::uint64_t>(b + 235);
+  const std::uint32_t evlr_count = get<std::uint32_t>(b + 243);
+  if (evlr_count == 0) return;
+  if (evlr_start < min_start || evlr_start > size) {
+    throw DataError(name, "EVLR start " + std::to_string(evlr_start) + " is not between " + min_what + " (" +
+                              std::to_string(min_start) + ") and the end of the file (" +
+                              std::to_string(size) + ")");
+  }
+  std::uint64_t at = evlr_start;
+  std::vector<unsigned char> scratch;
+  for (std::uint32_t i = 0; i < evlr_count; ++i) {
+    if (size - at < kEvlrHeader) {
+      throw DataError(name, "LAS header says " + std::to_string(evlr_count) + " EVLRs but EVLR " +
+                                std::to_string(i + 1) +
+                                " does not fit in the file (truncated or broken count)");
+    }
+    const unsigned char* v = src.bytes(at, kEvlrHeader, &scratch);
+    const std::uint64_t len = get<std::uint64_t>(v + 20);
+    if (size - at - kEvlrHeader < len) {
+      throw DataError(name, "EVLR " + std::to_string(i + 1) + " of " + std::to_string(len) +
+                                " bytes runs past the end of the file");
+    }
+    visit(at, v, len);
+    at += kEvlrHeader + len;
+  }
+}
+
+// Keeps the CRS records among the EVLRs for_each_evlr walks (LasHeaderBlock::evlrs and
+// evlr_note): the first of each kind, its payload read when it is at most kLasCrsEvlrBytes.
+class CrsEvlrs {
+ public:
+  explicit CrsEvlrs(LasSource& src) : src_(src) {}
+  void add(std::uint32_t index, std::uint64_t at, const unsigned char* v, std::uint64_t len) {
+    const char* u = reinterpret_cast<const char*>(v + 2);
+    const std::string user(u, strnlen(u, 16));  // as header_block reads a VLR's
+    const auto id = get<std::uint16_t>(v + 18);
+    if (!is_crs_record(user, id)) return;
+    for (const LasVlr& r : evlrs) {
+      if (r.user_id == user && r.record_id == id) return;  // a later one of a kind already kept
+    }
+    if (len > kLasCrsEvlrBytes) {
+      if (note.empty()) {
+        note = "EVLR " + std::to_string(index) + " (" + user + " " + std::to_string(id) + ") of " +
+               std::to_string(len) + " bytes is over the " + std::to_string(kLasCrsEvlrBytes) +
+               " canopy reads of a CRS record: not read";
       }
-      std::uint64_t at = evlr_start;
-      std::vector<unsigned char> scratch;
-      for (std::uint32_t i = 0; i < evlr_count; ++i) {
-        if (size - at < kEvlrHeader) {
-          throw DataError(name, "LAS header says " + std::to_string(evlr_count) + " EVLRs but EVLR " +
-                                    std::to_string(i + 1) +
-                                    " does not fit in the file (truncated or broken count)");
-        }
-        const unsigned char* v = src.bytes(at, kEvlrHeader, &scratch);
-        const std::uint64_t len = get<std::uint64_t>(v + 20);
-        if (size - at - kEvlrHeader < len) {
-          throw DataError(name, "EVLR " + std::to_string(i + 1) + " of " + std::to_string(len) +
-                                    " bytes runs past the end of the file");
-        }
+      return;
+    }
+    LasVlr r;
+    r.user_id = user;
+    r.record_id = id;
+    const auto n = static_cast<std::size_t>(len);
+    std::vector<unsigned char> bytes;
+    r.payload.assign(reinterpret_cast<const char*>(src_.bytes(at + kEvlrHeader, n, &bytes)), n);
+    evlrs.push_back(std::move(r));
+  }
+  std::vector<LasVlr> evlrs;
+  std::string note;
+
+ private:
+  LasSource& src_;
+};
+
+// An open std::istream's file, read at offsets (read_las_header_block's EVLRs).
+class StreamSource final : public LasSource {
+ public:
+  StreamSource(std::istream& f, std::uint64_t size, const std::string& name)
+      : LasSource(size), f_(f), name_(name) {}
+  const unsigned char* bytes(std::uint64_t at, std::size_t n, std::vector<unsigned char>* scratch) override {
+    if (scratch->size() < n) scratch->resize(n);
+    f_.clear();
+    f_.seekg(static_cast<std::streamoff>(at));
+    if (!f_.read(reinterpret_cast<char*>(scratch->data()), static_cast<std::streamsize>(n)))
+      throw DataError(name_, "read failed");
+    return scratch->data();
+  }
+
+ private:
+  std::istream& f_;
+  const std::string& name_;
+};
+
+// EVLRs (LAS 1.4): after the point records, each within the file. Extra Bytes: its payload (the
+// part parse_extra_bytes reads) is copied into *payload unless a VLR gave one. `crs` (not null):
+// also the CRS records.
+void read_evlrs(const unsigned char* b, LasSource& src, const LasHeader& h, const std::string& name,
+                ExtraVlr* extra, std::vector<unsigned char>* payload, CrsEvlrs* crs) {
+  const std::uint64_t data_end = h.data_offset + h.n * h.record;
+  std::uint32_t index = 0;
+  for_each_evlr(
+      b, src, h.minor, data_end, "the end of the point data", name,
+      [&](std::uint64_t at, const unsigned char* v, std::uint64_t len) {
+        ++index;
         if (has_prefix(v + 2, 16, "LASF_Spec") && get<std::uint16_t>(v + 18) == 4 && extra->data == nullptr) {
           // parse_extra_bytes reads at most kMaxExtraFields descriptors.
           const auto used =
               static_cast<std::size_t>(std::min<std::uint64_t>(len, kMaxExtraFields * kExtraDescriptor));
           extra->data = src.bytes(at + kEvlrHeader, used, payload);  // *payload is not used again
           extra->len = used;
+        } else if (crs != nullptr) {
+          crs->add(index, at, v, len);
         }
-        at += kEvlrHeader + len;
-      }
-    }
-  }
+      });
 }
 
 // The columns of a point format (standard fields, then Extra Bytes), packed at their width in
@@ -667,8 +748,13 @@ PointCloud decode_las(const unsigned char* b, LasSource& src, const std::string&
   ExtraVlr extra;
   std::vector<unsigned char> evlr_payload;
   read_vlrs(b, h, name, &cloud, &extra);
-  read_evlrs(b, src, h, name, &extra, &evlr_payload);
-  if (block != nullptr) *block = header_block(b, header_block_bytes(h, kLasHeaderBlockBytes), h, name);
+  CrsEvlrs crs(src);
+  read_evlrs(b, src, h, name, &extra, &evlr_payload, block != nullptr ? &crs : nullptr);
+  if (block != nullptr) {
+    *block = header_block(b, header_block_bytes(h, kLasHeaderBlockBytes), h, name);
+    block->evlrs = std::move(crs.evlrs);
+    block->evlr_note = std::move(crs.note);
+  }
   LasColumns columns = add_las_columns(h.format, h, want, cloud);
   if (extra.data != nullptr) {
     columns.extras = parse_extra_bytes(extra.data, extra.len, kMinRecord[h.format],
@@ -717,8 +803,9 @@ PointCloud parse_las(const std::string& bytes, const std::string& name, const Fi
   const std::size_t size = bytes.size();
   if (!is_las(bytes)) throw DataError(name, "not a LAS file (no LASF signature)");
   if (is_laz(bytes)) {  // LAZ: decompressed first; its own header block (LASzip's VLR too)
-    PointCloud cloud = parse_las(laz_to_las(bytes, name), name, fields);
-    if (header != nullptr) *header = laz_header_block(b, size, name);
+    LasHeaderBlock decoded;
+    PointCloud cloud = parse_las(laz_to_las(bytes, name), name, fields, header != nullptr ? &decoded : nullptr);
+    if (header != nullptr) *header = laz_header_block(b, size, name, std::move(decoded));
     return cloud;
   }
   if (size < kHeader12) {
@@ -759,9 +846,13 @@ PointCloud read_las(const std::string& path, std::size_t chunk_bytes, const Fiel
     // LAZ: decompressed whole, as parse_las does; the compressed bytes are freed before the
     // LAS is decoded.
     const std::string las = laz_to_las(common::read_file(path), path);
-    if (header != nullptr)
-      *header = laz_header_block(reinterpret_cast<const unsigned char*>(head.data()), src.size(), path);
-    return parse_las(las, path, fields);
+    LasHeaderBlock decoded;
+    PointCloud cloud = parse_las(las, path, fields, header != nullptr ? &decoded : nullptr);
+    if (header != nullptr) {
+      *header = laz_header_block(reinterpret_cast<const unsigned char*>(head.data()), src.size(), path,
+                                 std::move(decoded));
+    }
+    return cloud;
   }
   if (head.size() < kHeader12) {
     throw DataError(path, "LAS header truncated: file has " + std::to_string(src.size()) +
@@ -795,7 +886,34 @@ LasHeaderBlock read_las_header_block(const std::string& path, std::size_t max_by
     bytes.resize(available);
     if (!f.read(bytes.data() + had, std::streamsize(available - had))) throw DataError(path, "read failed");
   }
-  return header_block(reinterpret_cast<const unsigned char*>(bytes.data()), available, h, path);
+  const auto* block_bytes = reinterpret_cast<const unsigned char*>(bytes.data());
+  LasHeaderBlock out = header_block(block_bytes, available, h, path);
+  if (h.minor < 4 || get<std::uint32_t>(block_bytes + 243) == 0) return out;
+  // The EVLRs: each header read (60 bytes), the CRS records' payloads (at most
+  // kLasCrsEvlrBytes each). They follow the point records (LAS: where the point count says
+  // they end; LAZ: the compressed records, whose end is known only by decoding them); a
+  // problem is a note (the point reader refuses the file).
+  StreamSource src(f, size, path);
+  CrsEvlrs crs(src);
+  try {
+    std::uint64_t min_start = h.data_offset;
+    std::string min_what = "the point data";
+    if (!laszip_compressed(bytes)) {
+      const std::uint64_t n = las::point_count(block_bytes, h.minor, path);
+      if (n > (size - h.data_offset) / h.record) {
+        throw DataError(path, "the point count " + std::to_string(n) + " does not fit the file");
+      }
+      min_start = h.data_offset + n * h.record;
+      min_what = "the end of the point data";
+    }
+    std::uint32_t index = 0;
+    for_each_evlr(
+        block_bytes, src, h.minor, min_start, min_what, path,
+        [&](std::uint64_t at, const unsigned char* v, std::uint64_t len) { crs.add(++index, at, v, len); });
+  } catch (const DataError& e) { crs.note = "EVLRs not read: " + e.cause(); }
+  out.evlrs = std::move(crs.evlrs);
+  out.evlr_note = std::move(crs.note);
+  return out;
 }
 
 namespace {

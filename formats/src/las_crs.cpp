@@ -344,37 +344,51 @@ bool is_epsg_code(const std::string& text) {
          epsg_number(text.substr(5)) > 0;
 }
 
+bool is_crs_record(const std::string& user_id, std::uint16_t record_id) {
+  return (user_id == "LASF_Projection" && (record_id == kGeoKeys || record_id == kWkt)) ||
+         (user_id == "liblas" && record_id == kWkt);
+}
+
 LasCrs las_crs(const LasHeaderBlock& header) {
-  const LasVlr *keys = nullptr, *wkt = nullptr, *liblas_wkt = nullptr;
-  for (const LasVlr& v : header.vlrs) {
-    if (v.user_id == "LASF_Projection" && v.record_id == kGeoKeys && keys == nullptr) keys = &v;
-    if (v.user_id == "LASF_Projection" && v.record_id == kWkt && wkt == nullptr) wkt = &v;
-    if (v.user_id == "liblas" && v.record_id == kWkt && liblas_wkt == nullptr) liblas_wkt = &v;
-  }
-  if (wkt == nullptr) wkt = liblas_wkt;
   struct Read {
     CrsRecord read;
     std::string record;
+    bool evlr = false;
   };
   std::vector<Read> reads;
   // The WKT bit of the global encoding is LAS 1.4's (reserved before).
   const bool wkt_first = header.major == 1 && header.minor >= 4 && (header.global_encoding & 16) != 0;
-  auto add_keys = [&] {
-    if (keys != nullptr)
-      reads.push_back({read_geokeys(keys->payload), "LASF_Projection 34735 (GeoTIFF keys)"});
+  // The records of one list (the VLRs, then the EVLRs), in the order the WKT bit says.
+  auto add = [&](const std::vector<LasVlr>& records, bool evlr) {
+    const LasVlr *keys = nullptr, *wkt = nullptr, *liblas_wkt = nullptr;
+    for (const LasVlr& v : records) {
+      if (v.user_id == "LASF_Projection" && v.record_id == kGeoKeys && keys == nullptr) keys = &v;
+      if (v.user_id == "LASF_Projection" && v.record_id == kWkt && wkt == nullptr) wkt = &v;
+      if (v.user_id == "liblas" && v.record_id == kWkt && liblas_wkt == nullptr) liblas_wkt = &v;
+    }
+    if (wkt == nullptr) wkt = liblas_wkt;
+    const std::string kind = evlr ? "EVLR " : "";
+    auto add_keys = [&] {
+      if (keys != nullptr)
+        reads.push_back({read_geokeys(keys->payload), kind + "LASF_Projection 34735 (GeoTIFF keys)", evlr});
+    };
+    auto add_wkt = [&] {
+      if (wkt != nullptr)
+        reads.push_back({read_wkt(wkt->payload), kind + wkt->user_id + " 2112 (OGC WKT)", evlr});
+    };
+    if (wkt_first) {
+      add_wkt();
+      add_keys();
+    } else {
+      add_keys();
+      add_wkt();
+    }
   };
-  auto add_wkt = [&] {
-    if (wkt != nullptr) reads.push_back({read_wkt(wkt->payload), wkt->user_id + " 2112 (OGC WKT)"});
-  };
-  if (wkt_first) {
-    add_wkt();
-    add_keys();
-  } else {
-    add_keys();
-    add_wkt();
-  }
+  add(header.vlrs, false);
+  add(header.evlrs, true);
   LasCrs out;
   std::string problems;
+  bool from_evlr = false;
   for (const Read& r : reads) {
     if (!out.unit) out.unit = r.read.unit;
     const EpsgCode& code = r.read.code;
@@ -385,15 +399,20 @@ LasCrs las_crs(const LasHeaderBlock& header) {
     if (out.epsg == 0) {
       out.epsg = code.code;
       out.from = r.record + ": " + code.from;
+      from_evlr = r.evlr;
     } else if (code.code != out.epsg) {
-      out.note =
-          "its " + out.from.substr(0, out.from.find(':')) + " gives EPSG:" + std::to_string(out.epsg) +
-          ", its " + r.record + " EPSG:" + std::to_string(code.code) + "; the first taken (" +
-          (wkt_first ? "the global encoding's WKT bit is set" : "the global encoding's WKT bit is clear") +
-          ")";
+      out.note = "its " + out.from.substr(0, out.from.find(':')) + " gives EPSG:" + std::to_string(out.epsg) +
+                 ", its " + r.record + " EPSG:" + std::to_string(code.code) + "; the first taken (" +
+                 (r.evlr && !from_evlr ? "a VLR before an EVLR"
+                  : wkt_first          ? "the global encoding's WKT bit is set"
+                                       : "the global encoding's WKT bit is clear") +
+                 ")";
     }
   }
-  if (out.epsg == 0) out.note = problems;
+  if (out.epsg == 0) {
+    if (!header.evlr_note.empty()) problems += (problems.empty() ? "" : "; ") + header.evlr_note;
+    out.note = problems;
+  }
   return out;
 }
 

@@ -57,6 +57,22 @@ inline std::string with_vlr(std::string las, const std::string& user_id, std::ui
   return las;
 }
 
+// `las` (a LAS 1.4 file's bytes, LAS or LAZ, whose EVLRs, if any, end the file) with one more
+// EVLR (LAS 1.4 R15 §2.6: a 60-byte header, a 64-bit length) at its end: the EVLR count moved
+// on, the first EVLR's offset set when it had none. `length`: the length the header says, when
+// not the payload's (a lying one).
+inline std::string with_evlr(std::string las, const std::string& user_id, std::uint16_t record_id,
+                             const std::string& payload, std::uint64_t length = ~std::uint64_t(0)) {
+  const auto count = get<std::uint32_t>(las, 243);
+  if (count == 0) set<std::uint64_t>(&las, 235, las.size());
+  set<std::uint32_t>(&las, 243, count + 1);
+  std::string v(60, '\0');
+  std::memcpy(&v[2], user_id.data(), std::min<std::size_t>(user_id.size(), 16));
+  set<std::uint16_t>(&v, 18, record_id);
+  set<std::uint64_t>(&v, 20, length == ~std::uint64_t(0) ? payload.size() : length);
+  return las + v + payload;
+}
+
 // A GeoTIFF GeoKeyDirectoryTag payload: header 1, 1, 0, key count, then the keys, each
 // {key id, location 0, count 1, value}.
 inline std::string geokeys(std::initializer_list<std::pair<std::uint16_t, std::uint16_t>> keys) {

@@ -12,8 +12,10 @@
 #include <string>
 #include <vector>
 
+#include "canopy/common/error.h"
 #include "canopy/formats/las.h"
 #include "canopy/formats/las_crs.h"
+#include "canopy/formats/laz.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/point_cloud.h"
 #include "canopy/formats/points_io.h"
@@ -482,6 +484,9 @@ TEST_CASE("LAS CRS: the header block the point reader hands back is read_las_hea
         CHECK(h.vlrs[i].record_id == want.vlrs[i].record_id);
         CHECK(h.vlrs[i].payload == want.vlrs[i].payload);
       }
+      CHECK(h.evlrs.empty());  // no CRS EVLR in these files (their EVLRs: pylastest 42, copc 1000)
+      CHECK(want.evlrs.empty());
+      CHECK(h.evlr_note == want.evlr_note);
     };
     LasHeaderBlock h;
     const std::size_t n = read_las(f, {}, &h).size();
@@ -562,4 +567,263 @@ TEST_CASE("LAS CRS: is_epsg_code is the pattern EPSG:[1-9][0-9]{0,5}", "[las][cr
   LasCrs c;
   c.epsg = 2154;
   CHECK(is_epsg_code(c.code()));
+}
+
+namespace {
+
+// The header block of a file each way the readers give one: read_las_header_block(path),
+// read_las's and parse_las's (the bytes in memory, as standard input and FIFOs are read) and
+// read_points's; all the same (checked), the first returned.
+LasHeaderBlock blocks_of(const std::string& path) {
+  const LasHeaderBlock want = read_las_header_block(path);
+  std::vector<LasHeaderBlock> got(3);
+  read_las(path, {}, &got[0]);
+  parse_las(slurp(path), path, {}, &got[1]);
+  std::optional<LasHeaderBlock> p;
+  read_points(path, "test", {}, &p);
+  REQUIRE(p);
+  got[2] = *p;
+  for (const LasHeaderBlock& h : got) {
+    CHECK(h.vlrs.size() == want.vlrs.size());
+    REQUIRE(h.evlrs.size() == want.evlrs.size());
+    for (std::size_t i = 0; i < h.evlrs.size(); ++i) {
+      CHECK(h.evlrs[i].user_id == want.evlrs[i].user_id);
+      CHECK(h.evlrs[i].record_id == want.evlrs[i].record_id);
+      CHECK(h.evlrs[i].payload == want.evlrs[i].payload);
+    }
+    CHECK(h.evlr_note == want.evlr_note);
+  }
+  return want;
+}
+
+// `bytes` written to <test tmp>/las/<dir_name>/<name>/<name> (a directory of its own).
+std::string write_tile(const std::string& dir_name, const std::string& name, const std::string& bytes) {
+  const fs::path dir = canopy::test::fresh_dir("las", dir_name + "/" + name);
+  const std::string p = (dir / name).string();
+  canopy::test::write_file(p, bytes);
+  return p;
+}
+
+std::string error_of_read(const std::string& path) {
+  try {
+    read_las(path);
+  } catch (const canopy::common::DataError& e) { return e.what(); }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("LAS CRS: a WKT or GeoKey directory in an EVLR (LAS 1.4 R15 2.6)", "[las][crs][evlr]") {
+  const std::string las = small_las();  // 1.4, WKT bit, points at 375, 10 x 30 bytes, no EVLR
+  SECTION("the WKT only in an EVLR: its code and unit, each reader's block the same") {
+    const std::string p = write_tile(
+        "crs_evlr", "wkt.las", with_evlr(las, "LASF_Projection", 2112, kLambert93 + std::string(2, '\0')));
+    CHECK(read_las(p).size() == 10);
+    const LasHeaderBlock h = blocks_of(p);
+    CHECK(h.vlrs.empty());
+    REQUIRE(h.evlrs.size() == 1);
+    CHECK(h.evlr_note.empty());
+    for (const LasCrs& c : {las_crs(h), read_las_crs(p)}) {
+      CHECK(c.code() == "EPSG:2154");
+      CHECK(c.from == "EVLR LASF_Projection 2112 (OGC WKT): PROJCS AUTHORITY EPSG 2154");
+      CHECK(c.note.empty());
+      REQUIRE(c.unit);
+      CHECK(c.unit->name == "metre");
+      CHECK(c.unit->metres == 1.0);
+    }
+  }
+  SECTION("the GeoKey directory only in an EVLR, in feet; other EVLRs beside it are skipped") {
+    std::string b = with_evlr(las, "pylastest", 42, std::string(16, 'x'));
+    b = with_evlr(b, "someone", 2112, kLambert93);  // not a CRS record las_crs reads
+    b = with_evlr(b, "LASF_Projection", 34735, geokeys({{1024, 1}, {3072, 2229}, {3076, 9002}}));
+    b = with_evlr(b, "LASF_Projection", 34735, geokeys({{3072, 25832}}));  // the first of a kind only
+    const std::string p = write_tile("crs_evlr", "keys.las", b);
+    const LasHeaderBlock h = blocks_of(p);
+    REQUIRE(h.evlrs.size() == 1);
+    const LasCrs c = read_las_crs(p);
+    CHECK(c.code() == "EPSG:2229");
+    CHECK(c.from == "EVLR LASF_Projection 34735 (GeoTIFF keys): ProjectedCSTypeGeoKey 2229");
+    REQUIRE(c.unit);
+    CHECK(c.unit->name == "foot");
+  }
+  SECTION("a VLR and an EVLR: the VLR's code; another code in the EVLR is noted") {
+    const std::string keys = with_vlr(las, "LASF_Projection", 34735, geokeys({{3072, 25832}}));
+    LasCrs c =
+        read_las_crs(write_tile("crs_evlr", "both.las", with_evlr(keys, "LASF_Projection", 2112, kLambert93)));
+    CHECK(c.code() == "EPSG:25832");
+    CHECK(c.from == "LASF_Projection 34735 (GeoTIFF keys): ProjectedCSTypeGeoKey 25832");
+    CHECK(
+        c.note ==
+        "its LASF_Projection 34735 (GeoTIFF keys) gives EPSG:25832, its EVLR LASF_Projection 2112 (OGC WKT) "
+        "EPSG:2154; the first taken (a VLR before an EVLR)");
+    // The same code in both: no note.
+    const std::string same = with_vlr(las, "LASF_Projection", 2112, kLambert93);
+    c = read_las_crs(write_tile("crs_evlr", "same.las",
+                                with_evlr(same, "LASF_Projection", 34735, geokeys({{3072, 2154}}))));
+    CHECK(c.code() == "EPSG:2154");
+    CHECK(c.from == "LASF_Projection 2112 (OGC WKT): PROJCS AUTHORITY EPSG 2154");
+    CHECK(c.note.empty());
+    // A VLR giving no code (a WKT cut short): the EVLR's.
+    const std::string cut = with_vlr(las, "LASF_Projection", 2112, kLambert93.substr(0, 300));
+    c = read_las_crs(write_tile("crs_evlr", "cut_vlr.las",
+                                with_evlr(cut, "LASF_Projection", 34735, geokeys({{3072, 2154}}))));
+    CHECK(c.code() == "EPSG:2154");
+    CHECK(c.from == "EVLR LASF_Projection 34735 (GeoTIFF keys): ProjectedCSTypeGeoKey 2154");
+    CHECK(c.note.empty());
+    // Two EVLRs disagreeing: the WKT bit says which, as for VLRs.
+    std::string two = with_evlr(las, "LASF_Projection", 34735, geokeys({{3072, 25832}}));
+    two = with_evlr(two, "liblas", 2112, kLambert93);
+    c = read_las_crs(write_tile("crs_evlr", "two.las", two));
+    CHECK(c.code() == "EPSG:2154");
+    CHECK(c.note ==
+          "its EVLR liblas 2112 (OGC WKT) gives EPSG:2154, its EVLR LASF_Projection 34735 (GeoTIFF keys) "
+          "EPSG:25832; the first taken (the global encoding's WKT bit is set)");
+  }
+  SECTION("a CRS EVLR over 1 MiB: not read, a note; the points read") {
+    std::string big = kLambert93;
+    big.resize(kLasCrsEvlrBytes + 1, '\0');
+    const std::string p = write_tile("crs_evlr", "big.las", with_evlr(las, "LASF_Projection", 2112, big));
+    CHECK(read_las(p).size() == 10);
+    const LasHeaderBlock h = blocks_of(p);
+    CHECK(h.evlrs.empty());
+    const std::string note =
+        "EVLR 1 (LASF_Projection 2112) of 1048577 bytes is over the 1048576 canopy reads of a CRS record: "
+        "not read";
+    CHECK(h.evlr_note == note);
+    const LasCrs c = las_crs(h);
+    CHECK(c.epsg == 0);
+    CHECK(c.note == note);
+    // A VLR naming a code: that code, no note.
+    const std::string q = write_tile("crs_evlr", "big_vlr.las",
+                                     with_evlr(with_vlr(las, "LASF_Projection", 34735, geokeys({{3072, 2154}})),
+                                               "LASF_Projection", 2112, big));
+    CHECK(read_las_crs(q).code() == "EPSG:2154");
+    CHECK(read_las_crs(q).note.empty());
+  }
+  SECTION("EVLRs not in the file: the point reader's error naming the file; read_las_crs a note") {
+    for (const bool vlr : {false, true}) {
+      // Without, then with a GeoKey VLR naming a code: then the code, no note.
+      const std::string base = vlr ? with_vlr(las, "LASF_Projection", 34735, geokeys({{3072, 25832}})) : las;
+      const std::size_t data_end = get<std::uint32_t>(base, 96) + 10 * 30;
+      const std::string good = with_evlr(base, "LASF_Projection", 2112, kLambert93);
+      std::string inside = good, count = good;
+      set<std::uint64_t>(&inside, 235, data_end - 30);  // inside the last point record
+      set<std::uint32_t>(&count, 243, 4000000000u);
+      const std::vector<std::vector<std::string>> bad = {
+          {"cut.las", good.substr(0, good.size() - 10),
+           "EVLR 1 of " + std::to_string(kLambert93.size()) + " bytes runs past the end of the file"},
+          {"huge.las", with_evlr(base, "LASF_Projection", 2112, kLambert93, std::uint64_t(1) << 62),
+           "EVLR 1 of 4611686018427387904 bytes runs past the end of the file"},
+          {"inside.las", inside,
+           "EVLR start " + std::to_string(data_end - 30) + " is not between the end of the point data (" +
+               std::to_string(data_end) + ") and the end of the file (" + std::to_string(good.size()) + ")"},
+          {"count.las", count,
+           "LAS header says 4000000000 EVLRs but EVLR 2 does not fit in the file (truncated or broken "
+           "count)"},
+      };
+      for (const auto& b : bad) {
+        INFO(b[0] << (vlr ? " with a VLR" : ""));
+        const std::string p = write_tile("crs_evlr_bad", b[0], b[1]);
+        CHECK(error_of_read(p) == p + ": " + b[2]);
+        const LasHeaderBlock h = read_las_header_block(p);
+        CHECK(h.evlr_note == "EVLRs not read: " + b[2]);
+        const LasCrs c = read_las_crs(p);
+        if (vlr) {
+          CHECK(c.code() == "EPSG:25832");
+          // The count case walked the first EVLR (the WKT) before the problem: kept, and noted.
+          CHECK(c.note == (b[0] == "count.las"
+                               ? "its LASF_Projection 34735 (GeoTIFF keys) gives EPSG:25832, its "
+                                 "EVLR LASF_Projection 2112 (OGC WKT) EPSG:2154; the first taken "
+                                 "(a VLR before an EVLR)"
+                               : ""));
+        } else if (b[0] == "count.las") {
+          CHECK(c.code() == "EPSG:2154");
+          CHECK(c.note.empty());
+        } else {
+          CHECK(c.epsg == 0);
+          CHECK(c.note == "EVLRs not read: " + b[2]);
+        }
+      }
+    }
+  }
+}
+
+TEST_CASE("LAS CRS: a WKT EVLR in a LAZ file (1_4_w_evlr.laz) and its LAS twin", "[las][crs][evlr][laz]") {
+  // 1_4_w_evlr.laz/.las (LAS 1.4 format 6, WKT bit): VLRs LASF_Projection 2112 and liblas 2112
+  // (NAD83(HARN) / New Mexico Central (ftUS), EPSG:2903), then one EVLR "pylastest" 42 of 16
+  // bytes ending the file (python3 struct by hand). Here the two VLRs' record ids are made 2111
+  // (no longer CRS records) and Lambert-93's WKT is appended as a second EVLR.
+  auto moved = [](std::string b) {
+    std::size_t pos = get<std::uint16_t>(b, 94);
+    for (std::uint32_t i = 0; i < get<std::uint32_t>(b, 100); ++i) {
+      if (get<std::uint16_t>(b, pos + 18) == 2112) set<std::uint16_t>(&b, pos + 18, 2111);
+      pos += 54 + get<std::uint16_t>(b, pos + 20);
+    }
+    return with_evlr(b, "LASF_Projection", 2112, kLambert93);
+  };
+  const std::string laz = slurp(data("1_4_w_evlr.laz")), las = slurp(data("1_4_w_evlr.las"));
+  REQUIRE(get<std::uint32_t>(laz, 243) == 1);
+  REQUIRE(get<std::uint32_t>(las, 243) == 1);
+  CHECK(read_las_crs(data("1_4_w_evlr.laz")).code() == "EPSG:2903");  // the VLRs', as before
+  const std::string z = write_tile("crs_evlr_laz", "evlr.laz", moved(laz));
+  const std::string s = write_tile("crs_evlr_laz", "evlr.las", moved(las));
+  // The LAZ decodes to the LAS byte for byte (as 1_4_w_evlr.laz does), EVLRs included.
+  CHECK(laz_to_las(slurp(z), z) == slurp(s));
+  for (const std::string& p : {z, s}) {
+    INFO(p);
+    CHECK(read_las(p).size() == 1000);
+    const LasHeaderBlock h = blocks_of(p);
+    REQUIRE(h.evlrs.size() == 1);
+    CHECK(h.evlrs[0].payload == kLambert93);
+    const LasCrs c = read_las_crs(p);
+    CHECK(c.code() == "EPSG:2154");
+    CHECK(c.from == "EVLR LASF_Projection 2112 (OGC WKT): PROJCS AUTHORITY EPSG 2154");
+    REQUIRE(c.unit);
+    CHECK(c.unit->name == "metre");
+  }
+  SECTION("the LAZ's EVLR cut short, or its count too large: the reader's error, a note") {
+    const std::string whole = moved(laz);
+    const std::string cut = write_tile("crs_evlr_laz", "cut.laz", whole.substr(0, whole.size() - 10));
+    const std::string why =
+        "EVLR 2 of " + std::to_string(kLambert93.size()) + " bytes runs past the end of the file";
+    CHECK(error_of_read(cut) == cut + ": " + why);
+    LasCrs c = read_las_crs(cut);
+    CHECK(c.epsg == 0);
+    CHECK(c.note == "EVLRs not read: " + why);
+    std::string b = whole;
+    set<std::uint32_t>(&b, 243, 3);
+    const std::string three = write_tile("crs_evlr_laz", "three.laz", b);
+    const std::string count =
+        "LAS header says 3 EVLRs but EVLR 3 does not fit in the file (truncated or broken count)";
+    CHECK(error_of_read(three) == three + ": " + count);
+    c = read_las_crs(three);  // the WKT, walked before the problem
+    CHECK(c.code() == "EPSG:2154");
+    CHECK(read_las_header_block(three).evlr_note == "EVLRs not read: " + count);
+    // The first EVLR's offset before the point data: the LAZ reader's own message.
+    b = whole;
+    set<std::uint64_t>(&b, 235, 100);
+    const std::string before = write_tile("crs_evlr_laz", "before.laz", b);
+    CHECK(error_of_read(before) ==
+          before + ": EVLR start 100 is not between the point data and the end of the file (" +
+              std::to_string(b.size()) + " bytes)");
+    CHECK(read_las_crs(before).note == "EVLRs not read: EVLR start 100 is not between the point data (" +
+                                           std::to_string(get<std::uint32_t>(b, 96)) +
+                                           ") and the end of the file (" + std::to_string(b.size()) + ")");
+  }
+}
+
+TEST_CASE("LAS CRS: a tile with its CRS in an EVLR, read from a FIFO", "[las][crs][evlr]") {
+  const fs::path dir = canopy::test::fresh_dir("las", "crs_evlr_fifo");
+  const std::string file = (dir / "t.las").string();
+  canopy::test::write_file(file, with_evlr(small_las(), "LASF_Projection", 2112, kLambert93));
+  const std::string fifo = (dir / "tile").string();
+  REQUIRE(mkfifo(fifo.c_str(), 0600) == 0);
+  CHECK(read_las_crs(fifo).epsg == 0);  // not read again
+  REQUIRE(canopy::test::run("cat '" + file + "' > '" + fifo + "' &") == 0);
+  std::optional<LasHeaderBlock> h;
+  CHECK(read_points(fifo, "test", {}, &h).size() == 10);
+  REQUIRE(h);
+  const LasCrs c = las_crs(*h);
+  CHECK(c.code() == "EPSG:2154");
+  CHECK(c.from == "EVLR LASF_Projection 2112 (OGC WKT): PROJCS AUTHORITY EPSG 2154");
 }

@@ -369,6 +369,30 @@ TEST_CASE("broken LAZ: a clear error naming the file, memory bounded by the file
     const std::string e = laz_error(b, "flip.laz");
     if (!e.empty()) CHECK(contains(e, "flip.laz: LAZ chunk 1 of 1 (bytes 341-18203) is corrupt"));
   }
+  // LAS 1.4 EVLRs (1_4_w_evlr.laz: one, "pylastest" 42 of 16 bytes, ending the file): the first's
+  // offset before the point data, inside the compressed records, past the end; its count too
+  // large; its length past the end (stop 70: the CRS EVLRs are read from the same walk).
+  const std::string evlr = slurp(data("1_4_w_evlr.laz"));
+  const std::size_t evlr_at = get<std::uint64_t>(evlr, 235);
+  REQUIRE(evlr_at + 60 + 16 == evlr.size());
+  b = evlr;
+  set<std::uint64_t>(&b, 235, 100);
+  CHECK(
+      contains(laz_error(b), "t.laz: EVLR start 100 is not between the point data and the end of the file"));
+  b = evlr;
+  set<std::uint64_t>(&b, 235, get<std::uint32_t>(evlr, 96) + 100);  // garbage read as an EVLR header
+  CHECK(contains(laz_error(b), "t.laz: EVLR 1 of "));
+  CHECK(contains(laz_error(b), " bytes runs past the end of the file"));
+  b = evlr;
+  set<std::uint64_t>(&b, 235, evlr.size() + 1);
+  CHECK(contains(laz_error(b), "t.laz: EVLR start " + std::to_string(evlr.size() + 1) + " is not between"));
+  b = evlr;
+  set<std::uint32_t>(&b, 243, 2);
+  CHECK(contains(laz_error(b), "t.laz: LAS header says 2 EVLRs but EVLR 2 does not fit in the file"));
+  b = evlr;
+  set<std::uint64_t>(&b, evlr_at + 20, 17);
+  CHECK(contains(laz_error(b), "t.laz: EVLR 1 of 17 bytes runs past the end of the file"));
+
   // A layered (LAS 1.4) chunk whose layer sizes lie.
   const std::string ign = slurp(real("forest_lareunion.laz"));
   const std::size_t ign_data = get<std::uint32_t>(ign, 96);

@@ -32,12 +32,23 @@ struct LasVlr {
   std::string payload;
 };
 
-// A LAS file's header block: its version, point data format and VLRs.
+// A LAS file's header block: its version, point data format and VLRs, and the CRS records
+// among its EVLRs.
 struct LasHeaderBlock {
   int major = 0, minor = 0, point_format = 0;  // a LAZ file's without LASzip's compression bits
   std::uint16_t global_encoding = 0;           // bit 4 (16): the CRS is WKT, not GeoTIFF keys
   std::vector<LasVlr> vlrs;
+  // LAS 1.4's EVLRs (after the point data) that are CRS records (las_crs.h's is_crs_record):
+  // the first of each kind (LASF_Projection 34735, LASF_Projection 2112, liblas 2112) in file
+  // order, each of at most kLasCrsEvlrBytes; no other EVLR is kept.
+  std::vector<LasVlr> evlrs;
+  // One line when a CRS EVLR was not read: one over kLasCrsEvlrBytes ("EVLR 2 (LASF_Projection
+  // 2112) of ... bytes is over ..."), or (read_las_header_block only; the point reader refuses
+  // such a file) EVLRs that do not lie in the file ("EVLRs not read: ..."); "" otherwise.
+  std::string evlr_note;
 };
+// The largest CRS EVLR payload read (a WKT is a few kB; a VLR holds at most 64 KiB).
+inline constexpr std::size_t kLasCrsEvlrBytes = std::size_t(1) << 20;
 
 // Reads a LAS or LAZ file. A regular LAS file is read straight from the file: the header and
 // VLRs, the EVLRs (LAS 1.4; they follow the points), then the point records kLasReadChunk bytes
@@ -51,7 +62,8 @@ struct LasHeaderBlock {
 // columns are made (the file's checks are the same; a field the file lacks is no error).
 // `header` (not null): also the file's header block, what read_las_header_block(path) gives
 // (below), from the bytes already read: standard input and FIFOs too, which cannot be read
-// again; never a failure of its own (the reader has made the same checks).
+// again (their CRS EVLRs too: they are read whole); never a failure of its own (the reader has
+// made the same checks, the EVLRs' too).
 PointCloud read_las(const std::string& path, const FieldSelection& fields = {},
                     LasHeaderBlock* header = nullptr);
 // The same, `chunk_bytes` of point records at a time (at least one record): for tests of the
@@ -62,9 +74,13 @@ inline constexpr std::size_t kLasReadChunk = std::size_t(256) << 10;
 
 // Reads only the header and the VLRs of the LAS or LAZ file `path` (LAZ keeps them
 // uncompressed; the points are not read): at most `max_bytes` of the file (the header always
-// whole); VLRs that end beyond them are not returned. Every failure is a DataError naming the
-// file: not LAS, and every check read_las makes of the header and the VLRs (not those of the
-// point data and EVLRs).
+// whole); VLRs that end beyond them are not returned. Then (LAS 1.4) the EVLRs' headers, and
+// the payloads of the CRS EVLRs (LasHeaderBlock::evlrs; LAZ keeps its EVLRs uncompressed too).
+// Every failure is a DataError naming the file: not LAS, and every check read_las makes of the
+// header and the VLRs (not those of the point data). EVLRs that do not lie in the file (the
+// first's offset inside the point records or past the end, one running past the end, a count
+// the file cannot hold) are no failure: evlr_note says why, and the CRS EVLRs walked before
+// the problem are kept.
 inline constexpr std::size_t kLasHeaderBlockBytes = std::size_t(16) << 20;
 LasHeaderBlock read_las_header_block(const std::string& path, std::size_t max_bytes = kLasHeaderBlockBytes);
 // Parses an in-memory LAS file; `name` is used in error messages. `header`: as read_las's.

@@ -1,11 +1,13 @@
 // The coordinate reference system a LAS/LAZ file records, as an EPSG code: the GeoTIFF
-// GeoKeyDirectoryTag (VLR LASF_Projection 34735) or the OGC WKT (VLR LASF_Projection 2112, or
-// libLAS's copy "liblas" 2112) of LAS 1.4 R15 §2.5. Only the header's VLRs are read (not EVLRs).
-// No database: a code is read only where the file names one. Nothing here throws for a record's
-// content: a malformed record gives no code and a one-line note. The same walk of the records
-// gives the CRS's horizontal linear unit (detect's feet warning). See formats/README.md ("LAS").
+// GeoKeyDirectoryTag (LASF_Projection 34735) or the OGC WKT (LASF_Projection 2112, or libLAS's
+// copy "liblas" 2112) of LAS 1.4 R15 §2.5, each a VLR of the header block or (LAS 1.4, §2.6) an
+// EVLR after the point data; the VLRs first, the EVLRs when the VLRs give no code. No database:
+// a code is read only where the file names one. Nothing here throws for a record's content: a
+// malformed record gives no code and a one-line note. The same walk of the records gives the
+// CRS's horizontal linear unit (detect's feet warning). See formats/README.md ("LAS").
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -63,12 +65,18 @@ CrsRecord read_wkt(const std::string& wkt);
 // read_wkt(wkt).code.
 EpsgCode epsg_from_wkt(const std::string& wkt);
 
+// Whether a (E)VLR is a CRS record las_crs reads: LASF_Projection 34735 or 2112, liblas 2112.
+bool is_crs_record(const std::string& user_id, std::uint16_t record_id);
+
 // What a file's CRS records say.
 struct LasCrs {
   int epsg = 0;  // 0 = none read
-  std::string from;  // the record and the place, e.g. "LASF_Projection 2112 (OGC WKT): PROJCS AUTHORITY EPSG 2154"
-  // One line when the file records a CRS but gave no code, or when its GeoTIFF keys and WKT
-  // give different codes (which one was taken and why); "" otherwise.
+  // The record and the place, e.g. "LASF_Projection 2112 (OGC WKT): PROJCS AUTHORITY EPSG 2154";
+  // an EVLR's record starts "EVLR " ("EVLR LASF_Projection 2112 (OGC WKT): ...").
+  std::string from;
+  // One line when the file records a CRS but gave no code (each record's problem, then the
+  // header block's evlr_note), or when two of its records give different codes (which one was
+  // taken and why); "" otherwise.
   std::string note;
   // The horizontal linear unit the records declare, if any (detect warns of one not metres).
   std::optional<LinearUnit> unit;
@@ -76,16 +84,20 @@ struct LasCrs {
   std::string code() const;
 };
 
-// The CRS of a header block, each record walked once: the WKT first when the global encoding's
-// WKT bit (16) is set (LAS 1.4), the GeoTIFF keys first otherwise; the other record when the
-// first gives no code. The unit likewise: the first record in that order that declares one. No
-// record: none, no note.
+// The CRS of a header block, each record walked once: the VLRs' records, then the EVLRs'
+// (LasHeaderBlock::evlrs); within each, the WKT first when the global encoding's WKT bit (16) is
+// set (LAS 1.4), the GeoTIFF keys first otherwise. The first record that gives a code is taken;
+// a later one giving another code is noted (the reason: a VLR before an EVLR, or the WKT bit).
+// A LAS 1.4 writer should put a CRS in one place only: a VLR is the usual one, and a file whose
+// VLRs name a code keeps it whatever its EVLRs say (files without CRS EVLRs read as before). The
+// unit likewise: the first record in that order that declares one. No record (and no
+// evlr_note): none, no note.
 LasCrs las_crs(const LasHeaderBlock& header);
 
-// read_las_header_block(path), then las_crs; a file that is not LAS (PCD, PLY) or whose header
-// the LAS reader refuses: none, no note (the point reader reports that). Standard input "-", a
-// FIFO or a device cannot be read again: none (read_points hands back the header block it read:
-// points_io.h).
+// read_las_header_block(path) (the VLRs and the CRS EVLRs), then las_crs; a file that is not LAS
+// (PCD, PLY) or whose header the LAS reader refuses: none, no note (the point reader reports
+// that). Standard input "-", a FIFO or a device cannot be read again: none (read_points hands
+// back the header block it read, EVLRs too: points_io.h).
 LasCrs read_las_crs(const std::string& path);
 
 // Whether `text` is an EPSG code as canopy writes and accepts one: "EPSG:" and 1 to 6 digits,

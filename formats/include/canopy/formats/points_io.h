@@ -29,8 +29,9 @@ PointCloud read_points(const std::string& path, const std::string& tool = "");
 // time of the others saved); other PCD and PLY are read whole and the other columns dropped.
 PointCloud read_points(const std::string& path, const std::string& tool, const FieldSelection& fields);
 // The same; `las_header` (not null) gets the header block of a LAS or LAZ file as the reader
-// read it (read_las's `header`: standard input and FIFOs too), and none for PCD and PLY. A
-// caller that wants the file's CRS records (las_crs.h) need not read the file again.
+// read it (read_las's `header`: standard input and FIFOs too, their CRS EVLRs too), and none
+// for PCD and PLY. A caller that wants the file's CRS records (las_crs.h) need not read the
+// file again.
 PointCloud read_points(const std::string& path, const std::string& tool, const FieldSelection& fields,
                        std::optional<LasHeaderBlock>* las_header);
 PointCloud parse_points(const std::string& bytes, const std::string& name, const std::string& tool = "");
