@@ -84,6 +84,26 @@ TEST_CASE("baseline: same inputs and seed, same bytes", "[baseline]") {
   CHECK(a.find("\"format\": \"canopy.baseline\"") != std::string::npos);
 }
 
+TEST_CASE("baseline: a model surface's label field of 0 everywhere carries no labels", "[baseline]") {
+  // Two points below the 5 cm ground cut, three above: labelled (1 on the lower two only) the
+  // model is its label-1 rows; with 0 on every row (fitvox's for unlabelled input) or without
+  // the field, the rows above the cut (stop 70; before, 0 everywhere kept nothing and threw).
+  Cloud raw;
+  raw.points = {{0, 0, 0.0f}, {1, 0, 0.02f}, {0, 0, 1.0f}, {1, 0, 1.0f}, {0, 1, 1.0f}};
+  raw.normals.assign(5, Eigen::Vector3f(0, 0, 1));
+  auto pc = to_cloud(raw);
+  const Cloud plain = bl::model_from_cloud(pc, "m");
+  CHECK(plain.points.size() == 3);
+  pc.add("label", canopy::formats::kUint32) = {0, 0, 0, 0, 0};
+  const Cloud zero = bl::model_from_cloud(pc, "m");
+  REQUIRE(zero.points.size() == 3);
+  for (std::size_t i = 0; i < 3; ++i) CHECK(zero.points[i] == plain.points[i]);
+  pc.col("label") = {3, 3, 1, 1, 1};
+  CHECK(bl::model_from_cloud(pc, "m").points.size() == 3);
+  pc.col("label") = {3, 3, 2, 2, 2};
+  CHECK_THROWS_AS(bl::model_from_cloud(pc, "m"), canopy::common::DataError);
+}
+
 TEST_CASE("baseline: bad inputs and parameters are rejected", "[baseline]") {
   canopy::formats::PointCloud empty;
   CHECK_THROWS_AS(bl::candidate_from_cloud(empty, "e", 0.3), canopy::common::DataError);

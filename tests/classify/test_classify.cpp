@@ -2141,7 +2141,8 @@ TEST_CASE("classify: --modelbase names the nearest entry of the answered class")
   const fs::path dir = test::fresh_dir("classify", "modelbase");
   const fs::path mb = dir / "mb";
   fs::create_directories(mb);
-  auto entry = [&](const std::string& name, const std::string& cls, double l, double w, double h) {
+  auto entry = [&](const std::string& name, const std::string& cls, double l, double w, double h,
+                   double label = 1) {
     std::ofstream(mb / (name + ".json")) << "{}";
     std::ofstream(mb / (name + ".class")) << cls << "\n";
     formats::PointCloud c;
@@ -2149,11 +2150,13 @@ TEST_CASE("classify: --modelbase names the nearest entry of the answered class")
     c.add("x") = {-l / 2, l / 2, 0};
     c.add("y") = {-w / 2, w / 2, 0};
     c.add("z") = {0.3, 0.5, h};
-    c.add("label", formats::kUint32) = {1, 1, 1};
+    c.add("label", formats::kUint32) = {label, label, label};
     formats::write_pcd(c, (mb / (name + ".pcd")).string());
   };
   entry("sedan-1", "sedan", 4.9, 1.85, 1.46);
-  entry("sedan-2", "sedan", 4.6, 1.8, 1.45);
+  // label 0 on every row (fitvox's for an unlabelled scan): read as no labels, all its points
+  // (stop 70; before: "has no vehicle points (label 1)", exit 1)
+  entry("sedan-2", "sedan", 4.6, 1.8, 1.45, 0);
   entry("van-1", "van", 4.6, 1.8, 1.45);     // the nearest in size, but another class
   std::ofstream(mb / "other.json") << "{}";  // no class file: ignored
   formats::write_pcd(sample(car_top, 2.3, 0.9, 0, 25, 22).cloud, (dir / "c.pcd").string());

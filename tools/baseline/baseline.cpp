@@ -24,6 +24,7 @@
 #include "canopy/documents/baseline_ranking.h"
 #include "canopy/documents/modelbase.h"
 #include "canopy/common/error.h"
+#include "canopy/formats/labels.h"
 #include "canopy/formats/pcd.h"
 #include "canopy/formats/pose_eigen.h"
 
@@ -384,7 +385,7 @@ Cloud candidate_from_cloud(const formats::PointCloud& cloud, const std::string& 
 Cloud model_from_cloud(const formats::PointCloud& cloud, const std::string& name) {
   const auto pts = column3(cloud, "", name, false);
   const auto nrm = column3(cloud, "normal", name, true);
-  const bool labelled = cloud.has("label");
+  const bool labelled = formats::carries_labels(cloud);  // (0 everywhere: no labels; verify.md §22)
   Cloud c;
   for (std::size_t i = 0; i < pts.size(); ++i) {
     if (labelled ? cloud.col("label")[i] != 1 : pts[i].z() <= 0.05f) continue;

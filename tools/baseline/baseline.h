@@ -62,7 +62,8 @@ struct Cloud {
 
 // Candidate: every row at or above min_height (no labels are used: they are ground truth).
 Cloud candidate_from_cloud(const formats::PointCloud& cloud, const std::string& name, double min_height);
-// Model surface: label-1 rows when a label field exists, else rows above 5 cm; normals required.
+// Model surface: label-1 rows when a label field carries labels (formats::carries_labels: not 0
+// everywhere), else rows above 5 cm; normals required.
 Cloud model_from_cloud(const formats::PointCloud& cloud, const std::string& name);
 
 struct Model {

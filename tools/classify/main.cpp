@@ -16,6 +16,7 @@
 #include "canopy/documents/candidates.h"
 #include "canopy/documents/model_classes.h"
 #include "canopy/documents/modelbase.h"
+#include "canopy/formats/labels.h"
 #include "canopy/formats/points_io.h"
 #include "classify/classify.h"
 #include "classify/features.h"
@@ -221,7 +222,8 @@ std::vector<cl::ModelEntry> read_modelbase(const std::string& dir,
     const std::string surface = (fs::path(dir) / (e.name + ".pcd")).string();
     const fm::PointCloud pc = fm::read_points(surface, "classify");
     pc.require({"x", "y", "z"}, surface, "is this a modelbase surface?");
-    const std::vector<double>* label = pc.has("label") ? &pc.col("label") : nullptr;
+    // (a label field of 0 everywhere, fitvox's for unlabelled input, carries no labels)
+    const std::vector<double>* label = fm::carries_labels(pc) ? &pc.col("label") : nullptr;
     // Its label-1 points, as a candidate (ground z = 0): their extents and its top's profile.
     cl::Candidate c;
     for (std::size_t i = 0; i < pc.size(); ++i) {

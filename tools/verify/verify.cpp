@@ -19,6 +19,7 @@
 #include "canopy/common/serial_kdtree.h"
 #include "canopy/common/units.h"
 #include "canopy/formats/cloud_eigen.h"
+#include "canopy/formats/labels.h"
 #include "canopy/formats/pose_eigen.h"
 
 namespace canopy::verify {
@@ -191,7 +192,7 @@ Surface surface_from_cloud(const formats::PointCloud& cloud, const std::string& 
   // (rangetrace: 1 target, 2 foliage, 3 ground). fitvox writes 0 on every row of an input without
   // labels (a tile candidate's points): such a surface is treated as one without the field.
   const std::vector<double>* label = cloud.has("label") ? &cloud.col("label") : nullptr;
-  const bool labelled = label && std::any_of(label->begin(), label->end(), [](double l) { return l != 0; });
+  const bool labelled = formats::carries_labels(cloud);
   if (zero_labels != nullptr) *zero_labels = label != nullptr && !labelled;
   Surface s;
   for (std::size_t i = 0; i < pts.size(); ++i) {
