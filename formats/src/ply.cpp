@@ -485,10 +485,61 @@ std::string serialize_ply(const Mesh& mesh, bool ascii) {
   return serialize_ply(mesh, o);
 }
 
+namespace {
+
+// The largest value of the columns `cols` of v, rounded as the writer rounds (-1 when none; NaN
+// skipped), read block by block: a packed column (a LAS file's) is not unpacked.
+double largest(const PointCloud& v, const std::vector<std::size_t>& cols) {
+  double most = -1;
+  std::vector<double> buf(std::min<std::size_t>(4096, v.size()));
+  for (std::size_t c : cols) {
+    for (std::size_t first = 0; first < v.size(); first += buf.size()) {
+      const std::size_t k = std::min(buf.size(), v.size() - first);
+      v.values(c, first, k, buf.data());
+      for (std::size_t i = 0; i < k; ++i) {
+        if (std::nearbyint(buf[i]) > most) most = std::nearbyint(buf[i]);
+      }
+    }
+  }
+  return most;
+}
+
+// A 16-bit colour value as the uchar PLY readers show: its high byte (LAS 1.4 R15: an 8-bit
+// colour is stored times 256; a full-range one times 257: both give back the 8-bit value).
+double high_byte(double x) {
+  if (std::isnan(x)) return 0;
+  return std::floor(std::min(65535.0, std::max(0.0, std::nearbyint(x))) / 256);
+}
+
+}  // namespace
+
 std::string serialize_ply(const Mesh& mesh, const PlyWriteOptions& options) {
   const bool ascii = options.ascii;
   const auto& v = mesh.vertices;
   std::vector<FieldType> types = v.types();
+  // Colours are uchar (MeshLab reads red green blue only as uchar, Open3D divides by 255). When
+  // any red, green or blue value is above 255 (LAS colour: 16 bits) the three are written as
+  // their high byte; alpha is judged alone. 8-bit colours are written as before (formats/README.md
+  // "PLY", docs/decisions/formats.md).
+  std::vector<std::size_t> rgb, alpha;
+  for (std::size_t c = 0; c < types.size(); ++c) {
+    const auto& n = v.names()[c];
+    if (n == "red" || n == "green" || n == "blue") rgb.push_back(c);
+    if (n == "alpha") alpha.push_back(c);
+  }
+  std::vector<char> shift(types.size(), 0);
+  std::vector<std::string> notes;
+  for (const auto* group : {&rgb, &alpha}) {
+    const double most = largest(v, *group);
+    if (most <= 255) continue;
+    std::string names;
+    for (std::size_t c : *group) {
+      shift[c] = 1;
+      names += (names.empty() ? "" : " ") + v.names()[c];
+    }
+    notes.push_back(names + ": 16-bit values (up to " + std::to_string(static_cast<long long>(most)) +
+                    ") written as value / 256 (the high byte)");
+  }
   for (std::size_t c = 0; c < types.size(); ++c) {
     const auto& n = v.names()[c];
     if (n == "red" || n == "green" || n == "blue" || n == "alpha") types[c] = kUint8;
@@ -502,6 +553,7 @@ std::string serialize_ply(const Mesh& mesh, const PlyWriteOptions& options) {
   std::string out = "ply\nformat ";
   out += ascii ? "ascii 1.0\n" : "binary_little_endian 1.0\n";
   for (const auto& c : v.comments) out += "comment " + header_safe_comment(c) + "\n";
+  for (const auto& c : notes) out += "comment " + c + "\n";
   out += "element vertex " + std::to_string(v.size()) + "\n";
   static const std::set<std::string> kKnown = {"x",        "y",   "z",     "normal_x", "normal_y",
                                                "normal_z", "red", "green", "blue",     "alpha"};
@@ -519,7 +571,7 @@ std::string serialize_ply(const Mesh& mesh, const PlyWriteOptions& options) {
     for_each_block(v, [&](std::size_t, std::size_t k, const std::vector<const double*>& col) {
       for (std::size_t i = 0; i < k; ++i) {
         for (std::size_t c = 0; c < nc; ++c) {
-          out += detail::format_value(col[c][i], types[c]);
+          out += detail::format_value(shift[c] ? high_byte(col[c][i]) : col[c][i], types[c]);
           out += c + 1 < nc ? " " : "\n";
         }
       }
@@ -533,7 +585,8 @@ std::string serialize_ply(const Mesh& mesh, const PlyWriteOptions& options) {
     out.reserve(out.size() + v.size() * row + mesh.faces.size() * 13);  // no regrowth of a large file
     for_each_block(v, [&](std::size_t, std::size_t k, const std::vector<const double*>& col) {
       for (std::size_t i = 0; i < k; ++i) {
-        for (std::size_t c = 0; c < nc; ++c) detail::write_scalar(&out, col[c][i], types[c]);
+        for (std::size_t c = 0; c < nc; ++c)
+          detail::write_scalar(&out, shift[c] ? high_byte(col[c][i]) : col[c][i], types[c]);
       }
     });
     for (const auto& f : mesh.faces) {

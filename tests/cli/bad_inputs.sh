@@ -144,6 +144,9 @@ cp "$in/garbage.json" "$in/json-named.ply"
 "$bin/detect" -q -i "$in/good.las" -o "$in/det" || { echo "FAIL: detect on $in/good.las"; exit 1; }
 "$bin/collect" -q -i "$in/det/index.json" -o "$in/detections.json" \
   || { echo "FAIL: collect on the index"; exit 1; }
+# Detections of another tile: their one footprint km away from good.las's points (topview, stop 70).
+printf '{"format":"canopy.detections","version":1,"tile":"other.laz","detections":[{"candidate":"c1",%s}]}\n' \
+  '"footprint":[[10,10],[12,10],[12,11],[10,11]]' >"$in/far-detections.json"
 # Trajectories (formats/README.md, "Trajectory"): header only, a row short.
 printf '# canopy trajectory 1\n' >"$in/header-only.traj"
 printf '# canopy trajectory 1\ntime x y z roll pitch heading\n1 2 3\n' >"$in/short-row.traj"
@@ -400,6 +403,8 @@ json_matrix topview png -o @OUT@ -i "$in/good.pcd" --detections --
 # --index and --truth beside detections that reject nothing (the index was not read then).
 json_matrix topview png -o @OUT@ -i "$in/good.las" --detections "$in/detections.json" --index --
 json_matrix topview png -o @OUT@ -i "$in/good.las" --detections "$in/detections.json" --truth --
+bad topview "detections of another tile" "$in/far-detections.json" "none of its 1 footprints .* lies within 10 m of the points of .*good.las.*another tile\? \(they record the tile other.laz\)" png -- \
+  -o @OUT@ -i "$in/good.las" --detections "$in/far-detections.json"
 json_matrix areas json -o @OUT@ --scan "$in/good.pcd" --samples "$in/good.pcd" --mesh "$in/grid.ply" --segments --
 modelbase_matrix gmatch json -o @OUT@ -i "$in/graph.json" --modelbase --
 modelbase_matrix verify json -o @OUT@ --points "$in/normals.pcd" -i "$in/match.json" --segments "$in/graph.json" --modelbase --

@@ -646,3 +646,65 @@ TEST_CASE("model classes: a class answer on a rendered model is judged by the mo
   CHECK_THROWS_WITH(documents::parse_model_classes("model,class\nsemi\n", "c.csv"),
                     Catch::Contains("expected 'model,class'"));
 }
+
+namespace {
+
+// score's INFO line for detections `dets` (v2) on the two-vehicle tile.
+std::string line_of(Json dets) {
+  Json doc = Json::parse(detections_text(std::move(dets)));
+  doc["version"] = 2;
+  for (auto& d : doc["detections"]) {
+    if (!d.contains("level")) d["level"] = "model";
+  }
+  score::Tile t;
+  t.truth = score::parse_truth(truth_text(), "truth.json");
+  t.detections = score::parse_detections(doc.dump(), "detections.json");
+  return score::summary_line(1, score::score({t}, score::Params{}).summary.at(0));
+}
+
+}  // namespace
+
+TEST_CASE("the one-line summary counts both levels, every rate with its count and interval") {
+  // Class level only (every real tile so far): before stop 70 the line read "0 detections:
+  // precision n/a, recall 0.000" although both vehicles were found. One render: the intervals
+  // are Wilson's (2/2: [0.342, 1]; 1/2: [0.095, 0.905]).
+  CHECK(line_of({class_det("c1", "sedan", "car", 0.9, 10, 10, 30),
+                 class_det("c2", "car", "car", 0.8, 20, 20, 90)}) ==
+        "1 tile, 2 true vehicles, 2 detections (0 model level, 2 class level): recall 2/2 = 1.000 [0.342, "
+        "1.000], "
+        "precision 2/2 = 1.000 [0.342, 1.000], class right 1/2 = 0.500 [0.095, 0.905], model identified 0/0 "
+        "(n/a)");
+  // Both levels: the sedan at the model level (right), the tank at the class level (right), a
+  // class-level false alarm.
+  CHECK(
+      line_of({det("c1", "sedan", 0.9, 10, 10, 30), class_det("c2", "tank", "tracked", 0.6, 20.3, 20, 271),
+               class_det("c3", "sedan", "car", 0.7, 2, 28, 0)}) ==
+      "1 tile, 2 true vehicles, 3 detections (1 model level, 2 class level): recall 2/2 = 1.000 [0.342, "
+      "1.000], "
+      "precision 2/3 = 0.667 [0.208, 0.939], class right 2/2 = 1.000 [0.342, 1.000], model identified 1/1 = "
+      "1.000 [0.207, 1.000]");
+  // Nothing found: the rates without a denominator are n/a.
+  CHECK(line_of(Json::array()) ==
+        "1 tile, 2 true vehicles, 0 detections (0 model level, 0 class level): recall 0/2 = 0.000 [0.000, "
+        "0.658], "
+        "precision 0/0 (n/a), class right 0/0 (n/a), model identified 0/0 (n/a)");
+}
+
+TEST_CASE("score logs the summary line and writes the same JSON") {
+  const auto dir = canopy::test::fresh_dir("score", "summary_line");
+  Json doc = Json::parse(detections_text({class_det("c1", "sedan", "car", 0.9, 10, 10, 30)}));
+  doc["version"] = 2;
+  canopy::test::write_file(dir / "d.json", doc.dump());
+  canopy::test::write_file(dir / "t.json", truth_text());
+  std::string err;
+  REQUIRE(canopy::test::sh(std::string(CANOPY_BIN_DIR) + "/score -d " + (dir / "d.json").string() + " -t " +
+                               (dir / "t.json").string() + " -o " + (dir / "s.json").string(),
+                           dir / "err.txt", &err) == 0);
+  CHECK(
+      err.find("score: 1 tile, 2 true vehicles, 1 detection (0 model level, 1 class level): recall 1/2 = "
+               "0.500 [0.095, 0.905], precision 1/1 = 1.000 [0.207, 1.000], class right 1/1 = 1.000 [0.207, "
+               "1.000], model identified 0/0 (n/a)\n") != std::string::npos);
+  const Json s = Json::parse(canopy::test::read_text(dir / "s.json"));
+  CHECK(s["summary"][0]["class_tp"] == 1);
+  CHECK(s["summary"][0]["recall_any_level"].get<double>() == Approx(0.5));
+}

@@ -773,3 +773,116 @@ TEST_CASE("topview CLI: --raster-out then --raster gives the bytes -i gives; bad
                  dir / "err.txt", &err) == 2);
   CHECK(!fs::exists(dir / "b.png"));
 }
+
+TEST_CASE("check_tile: a document none of whose footprints comes within 10 m of the points is refused") {
+  const std::array<double, 4> box{E, N, E + 10, N + 10};
+  auto fp = [](std::vector<topview::Shape> s) {
+    topview::Footprints f = shapes(std::move(s));
+    f.detections_file = "b/detections.json";
+    f.truth_file = "a/truth.json";
+    f.detections_tile = "b.laz";
+    return f;
+  };
+  // 9.9 m beyond the east edge: within the margin; 10.1 m: beyond.
+  CHECK_NOTHROW(topview::check_tile(fp({{rect(19.9, 1, 22, 2), topview::Kind::cls}}), "a.laz", box));
+  CHECK_THROWS_WITH(
+      topview::check_tile(fp({{rect(20.1, 1, 22, 2), topview::Kind::cls}}), "a.laz", box),
+      "b/detections.json: none of its 1 footprints (detections and rejected candidates) lies within 10 m of "
+      "the "
+      "points of a.laz (x 500000.0 to 500010.0, y 5400000.0 to 5400010.0; the footprints: x 500020.1 to "
+      "500022.0, "
+      "y 5400001.0 to 5400002.0): the detections of another tile? (they record the tile b.laz)");
+  // Below, left, above: beyond too; rejected candidates count with the detections.
+  CHECK_THROWS_AS(topview::check_tile(fp({{rect(1, -20, 2, -10.5), topview::Kind::rejected}}), "a.laz", box),
+                  common::DataError);
+  CHECK_THROWS_AS(topview::check_tile(fp({{rect(-30, 1, -10.2, 2), topview::Kind::model}}), "a.laz", box),
+                  common::DataError);
+  CHECK_THROWS_AS(topview::check_tile(fp({{rect(1, 20.5, 2, 22), topview::Kind::none}}), "a.laz", box),
+                  common::DataError);
+  // A footprint larger than the tile, over it: within.
+  CHECK_NOTHROW(topview::check_tile(fp({{rect(-50, -50, 60, 60), topview::Kind::rejected}}), "a.laz", box));
+  // One within, one far: drawn (a warning), not refused.
+  CHECK_NOTHROW(topview::check_tile(
+      fp({{rect(1, 1, 2, 2), topview::Kind::model}, {rect(3000, 1, 3002, 2), topview::Kind::model}}), "a.laz",
+      box));
+  // The truth is judged apart: true vehicles of another tile name the truth file.
+  CHECK_THROWS_WITH(
+      topview::check_tile(fp({{rect(1, 1, 2, 2), topview::Kind::model},
+                              {rect(5000, 5000, 5002, 5001), topview::Kind::truth},
+                              {rect(5010, 5000, 5012, 5001), topview::Kind::missed}}),
+                          "a.laz", box),
+      Catch::StartsWith("a/truth.json: none of its 2 true vehicles' footprints lies within 10 m") &&
+          Catch::EndsWith("the truth of another tile?"));
+  // No footprint at all: nothing to judge.
+  CHECK_NOTHROW(topview::check_tile(fp({}), "a.laz", box));
+}
+
+TEST_CASE("topview CLI: detections of another tile are refused naming both files, from -i and --raster") {
+  const fs::path dir = test::fresh_dir("topview", "other_tile");
+  formats::write_pcd(scan(), (dir / "scan.pcd").string());
+  // Tile B, 2 km east: its detection and its rejected candidate (from B's index).
+  const Json index{{"format", "canopy.candidates"},
+                   {"version", 1},
+                   {"candidates",
+                    {{{"id", "c2"},
+                      {"transform", {{1, 0, 0, E + 2005}, {0, 1, 0, N + 5}, {0, 0, 1, 0}, {0, 0, 0, 1}}},
+                      {"centre", {E + 2005, N + 5, 0}},
+                      {"length", 4},
+                      {"width", 2},
+                      {"heading", 0}}}}};
+  write_json(dir / "b_index.json", index);
+  const Json far{{"format", "canopy.detections"},
+                 {"version", 2},
+                 {"tile", "b.laz"},
+                 {"index", (dir / "b_index.json").string()},
+                 {"detections",
+                  {{{"candidate", "c1"},
+                    {"level", "class"},
+                    {"class", "sedan"},
+                    {"group", "car"},
+                    {"footprint", footprint(rect(2001, 1, 2003, 2))}}}},
+                 {"rejected", {{{"candidate", "c2"}, {"reason", "too_small"}}}}};
+  write_json(dir / "b_detections.json", far);
+  const std::string bin = std::string(CANOPY_BIN_DIR) + "/topview -q";
+  const std::string d = " --detections " + (dir / "b_detections.json").string();
+  std::string err;
+  // Before stop 70: exit 0 and a 2000 m wide picture at 1.6 m pixels (-i), or a refusal blaming
+  // the raster's pixel size (--raster).
+  CHECK(test::sh(bin + " -i " + (dir / "scan.pcd").string() + d + " -o " + (dir / "m.png").string(),
+                 dir / "err.txt", &err) == 1);
+  CHECK_THAT(err, Catch::Contains("b_detections.json: none of its 2 footprints (detections and rejected "
+                                  "candidates) lies within 10 m of the points of " +
+                                  (dir / "scan.pcd").string()));
+  CHECK_THAT(err, Catch::Contains("the detections of another tile? (they record the tile b.laz)"));
+  CHECK_FALSE(fs::exists(dir / "m.png"));
+  REQUIRE(test::sh(bin + " -i " + (dir / "scan.pcd").string() + " --raster-out " + (dir / "a.raster").string(),
+                   dir / "err.txt", &err) == 0);
+  CHECK(test::sh(bin + " --raster " + (dir / "a.raster").string() + d + " -o " + (dir / "m.png").string(),
+                 dir / "err.txt", &err) == 1);
+  CHECK_THAT(err, Catch::Contains("b_detections.json: none of its 2 footprints") &&
+                      Catch::Contains("of the points of " + (dir / "a.raster").string()) &&
+                      Catch::Contains("the detections of another tile?"));
+  CHECK_FALSE(fs::exists(dir / "m.png"));
+  // Its own detections beside the far one: drawn, with a warning.
+  Json mixed = far;
+  mixed["detections"].push_back({{"candidate", "c3"},
+                                 {"level", "class"},
+                                 {"class", "sedan"},
+                                 {"group", "car"},
+                                 {"footprint", footprint(rect(1, 1, 3, 2))}});
+  write_json(dir / "mixed.json", mixed);
+  CHECK(test::sh(bin + " -i " + (dir / "scan.pcd").string() + " --detections " +
+                     (dir / "mixed.json").string() + " -o " + (dir / "mixed.png").string(),
+                 dir / "err.txt", &err) == 0);
+  CHECK_THAT(err, Catch::Contains("warning: " + (dir / "mixed.json").string() + ": 2 of its 3 footprints"));
+  CHECK(fs::exists(dir / "mixed.png"));
+  // A footprint 5 m beyond the points (a candidate at the tile's edge): no word.
+  Json edge = far;
+  edge.erase("rejected");
+  edge["detections"][0]["footprint"] = footprint(rect(12, 1, 15, 2));
+  write_json(dir / "edge.json", edge);
+  CHECK(test::sh(bin + " -i " + (dir / "scan.pcd").string() + " --detections " +
+                     (dir / "edge.json").string() + " -o " + (dir / "edge.png").string(),
+                 dir / "err.txt", &err) == 0);
+  CHECK(err.empty());
+}

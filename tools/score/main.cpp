@@ -97,21 +97,6 @@ void check_sources(const Options& o) {
     throw common::UsageError("--noise must be >= 0 (mm) or -1");
 }
 
-// The INFO line: the overall summary row.
-std::string summary(std::size_t tiles, const documents::ScoreRow& all) {
-  auto cell = [&](const char* key) {
-    const documents::ScoreValue* v = documents::score_cell(all, key);
-    return v ? *v : documents::ScoreValue();
-  };
-  auto show = [&](const char* key) {
-    const documents::ScoreValue v = cell(key);
-    return v.is_number() ? std::to_string(v.as_number()).substr(0, 5) : std::string("n/a");
-  };
-  return std::to_string(tiles) + " tiles, " + std::to_string(cell("true").integer) + " true vehicles, " +
-         std::to_string(cell("detections").integer) + " detections: precision " + show("precision") +
-         ", recall " + show("recall") + ", identification " + show("identification");
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -153,6 +138,6 @@ int main(int argc, char** argv) {
       for (const char* t : tables) outputs.set(o.csv + t + ".csv", documents::scene_score_csv(result, t));
     }
     outputs.commit();
-    common::log::info(summary(in.tiles.size(), result.summary.at(0)));
+    common::log::info(score::summary_line(in.tiles.size(), result.summary.at(0)));
   });
 }

@@ -141,6 +141,15 @@ double percentile(std::vector<double> values, double p);
 // the writer's).
 documents::SceneScore score(const std::vector<Tile>& tiles, const Params& params);
 
+// The one-line summary score logs (its INFO line) of `tiles` tiles and their overall summary row
+// (`all`, the JSON's summary[0]): both levels, every rate with its count and 95% interval, e.g.
+// "1 tile, 4 true vehicles, 5 detections (0 model level, 5 class level): recall 4/4 = 1.000
+// [0.510, 1.000], precision 4/5 = 0.800 [0.376, 0.964], class right 3/4 = 0.750 [0.301, 0.954],
+// model identified 0/0 (n/a)" (1 tile, 1 detection: singular). Recall, precision and class right are at any
+// level (a vehicle found by the model or the class level; *_any_level in the JSON); "model identified" is the
+// model level's identification (the right model of the model-level finds). n/a: nothing to count.
+std::string summary_line(std::size_t tiles, const documents::ScoreRow& all);
+
 // The tiles of an experiment and who scores them from what (the document's text:
 // documents::write_scene_score(score(inputs.tiles, params), inputs.provenance)).
 struct Inputs {

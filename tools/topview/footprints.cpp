@@ -1,7 +1,10 @@
 // Reading the footprints topview draws from the detections (v1 or v2), truth, score and
 // candidates index documents, each through its documents/ reader; every member topview uses is
 // checked, the error naming the file and the member.
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -170,6 +173,14 @@ void add_detections(const Sources& sources, const Outcomes* outcomes, Footprints
   }
   add_rejected(sources, d, out);
   out.shapes.insert(out.shapes.end(), found.begin(), found.end());
+  out.detections_tile = d.tile;
+}
+
+// "x0 to x1, y y0 to y1" of a box {x0, y0, x1, y1}, to 0.1 m.
+std::string span(const std::array<double, 4>& b) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "x %.1f to %.1f, y %.1f to %.1f", b[0], b[2], b[1], b[3]);
+  return buf;
 }
 
 }  // namespace
@@ -182,7 +193,46 @@ Footprints read_footprints(const Sources& sources, int tile) {
   out.truth = !sources.truth.empty();
   if (out.truth) add_truth(sources.truth, outcomes, out.shapes);
   add_detections(sources, scored ? &outcomes : nullptr, out);
+  out.detections_file = sources.detections;
+  out.truth_file = sources.truth;
   return out;
+}
+
+void check_tile(const Footprints& footprints, const std::string& tile, const std::array<double, 4>& box) {
+  const double m = kTileMargin;
+  for (const bool truth : {false, true}) {
+    std::size_t shapes = 0, within = 0;
+    std::array<double, 4> all{HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    for (const Shape& s : footprints.shapes) {
+      if ((s.kind == Kind::truth || s.kind == Kind::missed) != truth || s.ring.empty()) continue;
+      std::array<double, 4> b{HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+      for (const auto& p : s.ring) {
+        b = {std::min(b[0], p[0]), std::min(b[1], p[1]), std::max(b[2], p[0]), std::max(b[3], p[1])};
+      }
+      all = {std::min(all[0], b[0]), std::min(all[1], b[1]), std::max(all[2], b[2]), std::max(all[3], b[3])};
+      ++shapes;
+      if (b[0] <= box[2] + m && b[2] >= box[0] - m && b[1] <= box[3] + m && b[3] >= box[1] - m) ++within;
+    }
+    if (shapes == 0 || within == shapes) continue;
+    const std::string& file = truth ? footprints.truth_file : footprints.detections_file;
+    const std::string what =
+        truth ? "true vehicles' footprints" : "footprints (detections and rejected candidates)";
+    const std::string recorded = !truth && !footprints.detections_tile.empty()
+                                     ? " (they record the tile " + footprints.detections_tile + ")"
+                                     : "";
+    char margin[32];
+    std::snprintf(margin, sizeof margin, "%g m", m);
+    if (within == 0) {
+      throw common::DataError(
+          file, "none of its " + std::to_string(shapes) + " " + what + " lies within " + margin +
+                    " of the points of " + tile + " (" + span(box) + "; the footprints: " + span(all) +
+                    "): " + (truth ? "the truth" : "the detections") + " of another tile?" + recorded);
+    }
+    common::log::warn(file + ": " + std::to_string(shapes - within) + " of its " + std::to_string(shapes) +
+                      " " + what + " lie more than " + margin + " outside the points of " + tile + " (" +
+                      span(box) + "; the footprints: " + span(all) +
+                      "): drawn, the map widened to hold them" + recorded);
+  }
 }
 
 }  // namespace canopy::topview

@@ -95,12 +95,16 @@ int main(int argc, char** argv) {
     const topview::Footprints footprints = topview::read_footprints(src, p.tile);
     topview::Image img;
     if (from_raster) {
-      img = topview::render(formats::read_height_raster(raster_in), footprints, p);
+      const formats::HeightRaster r = formats::read_height_raster(raster_in);
+      topview::check_tile(footprints, raster_in, {r.box_x0, r.box_y0, r.box_x1, r.box_y1});
+      img = topview::render(r, footprints, p);
     } else {
       // Only the coordinates: a tile's other fields are never made (issue 31).
       const formats::PointCloud scan =
           formats::read_points(in, "topview", formats::FieldSelection::only({"x", "y", "z"}));
       scan.require({"x", "y", "z"}, common::display_name(in), "is this a point cloud?");
+      // Documents of another tile: refused, not drawn as a picture of both at a metre a pixel.
+      if (const auto box = topview::points_box(scan)) topview::check_tile(footprints, in, *box);
       img = topview::render(scan, footprints, p);
     }
     common::write_file_atomic(out, topview::encode_png(img, png == "fast"));

@@ -457,6 +457,18 @@ void validate(const Params& params) {
   if (params.tile < -1) throw common::UsageError("--tile must be >= 0");
 }
 
+std::optional<std::array<double, 4>> points_box(const formats::PointCloud& scan) {
+  const auto& xs = scan.col("x");
+  const auto& ys = scan.col("y");
+  const auto& zs = scan.col("z");
+  Box b;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (finite_point(xs, ys, zs, i)) b.add(xs[i], ys[i]);
+  }
+  if (!(b.x1 >= b.x0 && b.y1 >= b.y0)) return std::nullopt;
+  return std::array<double, 4>{b.x0, b.y0, b.x1, b.y1};
+}
+
 Image render(const formats::PointCloud& scan, const Footprints& footprints, const Params& params) {
   validate(params);
   const Extent e = extent(scan, footprints.shapes);

@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -68,6 +69,8 @@ struct Footprints {
   bool scored = false;                 // detections coloured by the score's outcome
   int undrawn = 0;                     // rejected candidates without a footprint
   std::map<std::string, int> reasons;  // Kind::rejected candidates by reason ("not given" when absent)
+  // The documents as given and the tile the detections record ("" when absent), for check_tile.
+  std::string detections_file, truth_file, detections_tile;
 };
 
 // The image bound: at most kMaxSide pixels along a side and kMaxPixels in all (map and
@@ -134,6 +137,20 @@ struct Sources {
 // string "candidate", a footprint that is not a polygon of 3-64 [x, y] corners, an index
 // without the rejected candidate or without its finite "centre", "length", "width", "heading".
 Footprints read_footprints(const Sources& sources, int tile);
+
+// Metres around the tile's points within which a document's footprints must reach (check_tile).
+inline constexpr double kTileMargin = 10;
+
+// The box {x0, y0, x1, y1} of the finite points of `scan`; nullopt when there is none.
+std::optional<std::array<double, 4>> points_box(const formats::PointCloud& scan);
+
+// Documents of another tile (docs/decisions/topview.md, stop 70): DataError naming the document
+// and `tile` (the -i scan or the --raster, as given) with both extents and the tile the
+// detections record, when the detections (their detections' and rejected candidates'
+// footprints) or the truth (its vehicles') have footprints but none whose box comes within
+// kTileMargin of `box` (the tile's points: points_box, or the raster's box). Some but not all
+// of a document's footprints beyond that: a warning (they are drawn; the map widens to hold them).
+void check_tile(const Footprints& footprints, const std::string& tile, const std::array<double, 4>& box);
 
 // The picture, validate()d first. The data pixel (one height value): --pixel; else the box
 // holding the points and shapes over --size; else from the density d (points per m² over

@@ -5,7 +5,9 @@
 // list lengths are checked against the data before anything is allocated.
 // Writes binary_little_endian (or ascii). Vertex property names are the PointCloud field
 // names, except normals: PointCloud normal_x/normal_y/normal_z <-> PLY nx/ny/nz
-// (MeshLab's names), and colours red/green/blue are uchar.
+// (MeshLab's names), and colours red/green/blue (alpha) are uchar: when any red, green or blue
+// value is above 255 (LAS colour is 16-bit) the three are written as value / 256, floored (the
+// high byte), with a header comment saying so; alpha alike on its own; 8-bit colours as they are.
 #pragma once
 
 #include <array>
