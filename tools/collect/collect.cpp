@@ -61,6 +61,7 @@ Index parse_index(const std::string& text, const std::string& name) {
     index.candidates.push_back(Candidate{d.id, d.transform, d.length, d.width, d.object_density()});
   }
   index.density = doc.density;
+  index.warnings = doc.warnings;
   return index;
 }
 
@@ -121,7 +122,23 @@ Verdict parse_verdict(const std::string& text, const std::string& name) {
 }
 
 Verdict read_verdict(const std::string& path) {
-  return from_stage_verdict(documents::read_stage_verdict(path), path);
+  Verdict v = from_stage_verdict(documents::read_stage_verdict(path), path);
+  if (v.failed) v.failed_log = failed_stage_log(path);
+  return v;
+}
+
+std::string failed_stage_log(const std::string& verdict) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(verdict).parent_path();
+  auto empty_file = [](const fs::path& p) {
+    std::error_code ec;
+    return fs::is_regular_file(p, ec) && fs::file_size(p, ec) == 0 && !ec;
+  };
+  for (const char* artifact : kModelChainArtifacts) {
+    const fs::path p = dir / artifact;
+    if (empty_file(p)) return p.string() + ".log";
+  }
+  return verdict + ".log";
 }
 
 bool names_candidate(const std::string& points, const std::string& id) {
@@ -314,17 +331,87 @@ std::string fmt_density(double d) {
   return buf;
 }
 
+// "1 candidate", "3 candidates" (word: the singular; its plural adds an s).
+std::string counted(long n, const std::string& word) {
+  return std::to_string(n) + " " + word + (n == 1 ? "" : "s");
+}
+
+// The tile's area (ha) from detect's density object: its occupied cells of `cell` m (1 m).
+std::optional<double> tile_hectares(const Index& index) {
+  const auto& d = index.density;
+  if (!d.is_object() || !d.contains("occupied_cells") || !d["occupied_cells"].is_number())
+    return std::nullopt;
+  const double cell = d.contains("cell") && d["cell"].is_number() ? d["cell"].get<double>() : 1.0;
+  return d["occupied_cells"].get<double>() * cell * cell / 1e4;
+}
+
 // The tile's density for messages: open ground's, else all points' (detect.md §7).
 std::optional<double> tile_density(const Index& index) {
   return documents::open_ground_density(index.density);
 }
 
-// One sentence when most candidates were rejected for one reason (with what would help), or
-// when no candidate reached the model level because the data is too sparse for it.
+// A density for the sentences of a tile without candidates: one decimal below 10 (a tile of
+// 0.4 points/m² must not read "0").
+std::string fmt_low_density(double d) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, d < 10 ? "%.1f" : "%.0f", d);
+  return buf;
+}
+
+// Why a tile has no candidate, in one sentence: its area, and its density against what the class
+// level needs (too sparse), else that detect found no object of a vehicle's size.
+std::string no_candidate(const Index& index, const std::optional<double>& td, bool ground) {
+  std::string s = "no candidate on this tile";
+  if (const auto ha = tile_hectares(index)) {
+    char buf[48];
+    std::snprintf(buf, sizeof buf, *ha < 1 ? " of %.2f ha" : " of %.1f ha", *ha);
+    s += buf;
+  }
+  // (a tile in feet: detect read them as metres, and so are its area and density)
+  if (!index.warnings.empty() && td) s += " (its area and density as detect read its coordinates)";
+  if (!td) return s + " (the index states no density: an older detect)";
+  const std::string density = ground ? "open-ground density " + fmt_low_density(*td) + " points/m²"
+                                     : "tile density " + fmt_low_density(*td) + " points/m² (all returns)";
+  if (*td < kClassDensity) {
+    return s + ": its " + density + " is below the " + fmt_density(kClassDensity) +
+           " points/m² the class level needs on an object (classify --min-density): too sparse for "
+           "vehicles to be found; " +
+           (index.warnings.empty() ? "a denser survey is the remedy" : "see detect's warning first");
+  }
+  return s + " (" + density +
+         "): detect found no object of a vehicle's size and height between the ground and the canopy "
+         "(detect's log counts the objects it rejected)";
+}
+
+// The warning on failed model chains: when the chain failed on most (or all) of the candidates it
+// ran on, with the log of the first failed stage of the first such candidate; "" otherwise.
+std::string chain_warning(const Index& index, const std::vector<Answers>& answers, const Outputs& out) {
+  if (out.chain_ran == 0 || 2 * out.chain_failed <= out.chain_ran) return "";
+  std::string example;
+  for (std::size_t i = 0; i < answers.size() && example.empty(); ++i) {
+    const Verdict& v = answers[i].model;
+    if (!v.present || !v.failed) continue;
+    example = index.candidates[i].id + ": " + (v.failed_log.empty() ? v.name + ".log" : v.failed_log);
+  }
+  std::string s = "the model chain failed on ";
+  if (out.chain_failed == out.chain_ran) {
+    s += out.chain_ran == 1 ? std::string("the one candidate")
+                            : "all " + std::to_string(out.chain_ran) + " candidates";
+    s += " it ran on: the model level decided nothing here, the answers are classify's alone";
+  } else {
+    s += std::to_string(out.chain_failed) + " of the " + std::to_string(out.chain_ran) +
+         " candidates it ran on: those are answered by classify alone";
+  }
+  return s + " (the log of the first failed stage of " + example + ")";
+}
+
+// One sentence when most candidates were rejected for one reason (with what would help), when
+// no candidate reached the model level because the data is too sparse for it, when the model
+// chain failed on most candidates it ran on, when the tile has no candidate (why); led by what
+// detect warned about the tile (its index's "warnings": coordinates in feet, ...).
 std::string warning_of(const Index& index, const std::vector<Answers>& answers, const Outputs& out,
                        const std::vector<std::string>& reasons, bool size_only) {
   const int n = static_cast<int>(index.candidates.size());
-  if (n == 0) return "";
   const auto td = tile_density(index);
   // Which density it is: the open ground's (detect's "ground", what its density rule reads), else
   // all returns'; the picture's legend states all returns' (15.7 on ahn3_delft_1, whose open
@@ -334,6 +421,18 @@ std::string warning_of(const Index& index, const std::vector<Answers>& answers, 
   const std::string tile = !td      ? ""
                            : ground ? "open-ground density " + fmt_density(*td) + " points/m²"
                                     : "tile density " + fmt_density(*td) + " points/m² (all returns)";
+  // detect's warnings first: they may explain all that follows (a tile in feet).
+  std::vector<std::string> detect_parts;
+  for (const auto& w : index.warnings) detect_parts.push_back("detect warned: " + w);
+  auto joined = [](const std::vector<std::string>& ps) {
+    std::string w;
+    for (const auto& p : ps) w += (w.empty() ? "" : "; ") + p;
+    return w;
+  };
+  if (n == 0) {
+    detect_parts.push_back(no_candidate(index, td, ground));
+    return joined(detect_parts);
+  }
   // Densities and thresholds of the candidates classify answered.
   std::vector<double> dens;
   std::optional<double> need_class, need_model;
@@ -344,7 +443,10 @@ std::string warning_of(const Index& index, const std::vector<Answers>& answers, 
     if (k.density_class) need_class = k.density_class;
     if (k.density_model) need_model = k.density_model;
   }
+  const std::string chain = chain_warning(index, answers, out);
+  // A chain that could not decide first: the rejections' reasons below are classify's alone.
   std::vector<std::string> parts;
+  if (!chain.empty()) parts.push_back(chain);
   std::string top;
   int top_n = 0;
   for (const auto& [r, k] : out.by_reason) {
@@ -367,7 +469,8 @@ std::string warning_of(const Index& index, const std::vector<Answers>& answers, 
       if (!dens.empty() || need_class) s += ")";
       s += ": the survey is too sparse for these objects; a denser survey is the remedy";
     } else if (top == "failed") {
-      s += ": a stage of the model chain failed; see cands/<id>/*.log";
+      // (the chain's warning above names the log)
+      if (chain.empty()) s += ": a stage of the model chain failed; see cands/<id>/*.log";
     } else if (top == "none") {
       s += ": the model chain found no model of the modelbase in them";
     } else if (top == kLowConfidence) {
@@ -398,16 +501,15 @@ std::string warning_of(const Index& index, const std::vector<Answers>& answers, 
                       (mostly_sparse ? "class-level answers at most" : "class-level answers only"));
     }
   }
-  if (parts.empty()) return "";
-  std::string w;
-  for (const auto& p : parts) w += (w.empty() ? "" : "; ") + p;
-  return w + "; see docs/decisions/classify.md";
+  if (parts.empty()) return joined(detect_parts);
+  detect_parts.insert(detect_parts.end(), parts.begin(), parts.end());
+  return joined(detect_parts) + "; see docs/decisions/classify.md";
 }
 
 std::string summary_line(const Index& index, const Outputs& out) {
-  std::string s = std::to_string(index.candidates.size()) + " candidates: " + std::to_string(out.found) +
-                  " vehicles found (" + std::to_string(out.model_level) + " model level, " +
-                  std::to_string(out.class_level) + " class level)";
+  std::string s = counted(static_cast<long>(index.candidates.size()), "candidate") + ": " +
+                  counted(out.found, "vehicle") + " found (" + std::to_string(out.model_level) +
+                  " model level, " + std::to_string(out.class_level) + " class level)";
   if (!out.by_reason.empty()) {
     s += "; rejected:";
     bool first = true;
@@ -415,6 +517,12 @@ std::string summary_line(const Index& index, const Outputs& out) {
       s += std::string(first ? " " : ", ") + r + " " + std::to_string(k);
       first = false;
     }
+  }
+  // A failed chain is said whatever answered the candidate (a class answer hides it from the
+  // counts above): a tile where the chain could not decide must not read as one where it did.
+  if (out.chain_failed > 0) {
+    s += "; model chain failed on " + std::to_string(out.chain_failed) + " of the " +
+         counted(out.chain_ran, "candidate") + " it ran on";
   }
   return s;
 }
@@ -557,6 +665,10 @@ Outputs collect(const Index& index, const std::vector<Answers>& answers, const P
       throw common::DataError(v.name, "does not exist, nor does " + k.name + ": candidate " + c.id +
                                           " has no answer (run its model chain or classify)");
     }
+    if (v.present) {
+      ++out.chain_ran;
+      out.chain_failed += v.failed ? 1 : 0;
+    }
     const Verdict* found = nullptr;
     Verdict by_size;
     const bool classified = k.present && !k.failed && !k.cls.empty() && (k.pose || k.pose_tile);
@@ -660,6 +772,8 @@ Outputs collect(const Index& index, const std::vector<Answers>& answers, const P
   doc.found = out.found;
   doc.none = out.none;
   doc.failed = out.failed;
+  doc.model_chain_ran = out.chain_ran;
+  doc.model_chain_failed = out.chain_failed;
   doc.model_level = out.model_level;
   doc.class_level = out.class_level;
   doc.by_reason = out.by_reason;
