@@ -299,4 +299,11 @@ std::optional<double> open_ground_density(const nlohmann::ordered_json& d) {
   return d[key].get<double>();
 }
 
+std::optional<double> occupied_hectares(const nlohmann::ordered_json& d) {
+  if (!d.is_object() || !d.contains("occupied_cells") || !d["occupied_cells"].is_number())
+    return std::nullopt;
+  const double cell = d.contains("cell") && d["cell"].is_number() ? d["cell"].get<double>() : 1.0;
+  return d["occupied_cells"].get<double>() * cell * cell / 1e4;
+}
+
 }  // namespace canopy::documents

@@ -134,5 +134,8 @@ std::optional<double> open_ground_density(const nlohmann::ordered_json& density)
 // Which of the density object's keys open_ground_density reads ("ground" or "all"; nullptr for
 // none), for a message that names the density it states.
 const char* open_ground_density_key(const nlohmann::ordered_json& density);
+// The area (ha) of the density object's occupied cells ("occupied_cells" of "cell" m, 1 m when
+// absent); none when it has no such count.
+std::optional<double> occupied_hectares(const nlohmann::ordered_json& density);
 
 }  // namespace canopy::documents
