@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "canopy/common/math.h"
+#include "canopy/documents/detections.h"
 #include "canopy/formats/pcd.h"
 #include "classify/classify.h"
 #include "collect/collect.h"
@@ -1660,6 +1661,10 @@ TEST_CASE("collect: failed model chains are counted and said, whatever answered 
   // What the counts hid, counted apart.
   CHECK(d["model_chain_ran"] == 3);
   CHECK(d["model_chain_failed"] == 3);
+  const documents::Detections back = documents::read_detections_file((dir / "d.json").string());
+  CHECK(back.model_chain_ran == 3);
+  CHECK(back.model_chain_failed == 3);
+  CHECK(back.failed == 0);
   CHECK_THAT(err, Catch::Contains("collect: 3 candidates: 1 vehicle found (0 model level, 1 class level); "
                                   "rejected: not_vehicle_shape 1, vegetation_like 1; model chain failed on 3 "
                                   "of the 3 candidates it ran on\n"));
