@@ -41,7 +41,9 @@ double Phase::seconds() const {
 void Phase::done(const std::string& summary) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.3f", seconds());
-  info(name_ + ": " + summary + " (" + buf + " s)");
+  // A phase named as its tool (detect's "detect", cocone's "cocone", classify's "classify") is
+  // not said twice: "detect: density ..." rather than "detect: detect: density ..." (stop 70).
+  info((name_ == g_tool ? std::string() : name_ + ": ") + summary + " (" + buf + " s)");
 }
 
 Progress::Progress(std::string what, std::size_t total)

@@ -66,6 +66,11 @@ Candidates read_members(const Json& j, int version) {
     if (!formats::is_epsg_code(d.crs)) throw Malformed("crs must be EPSG:<code>");
   }
   if (const Json* f = optional(j, "crs_from")) d.crs_from = text(*f, "crs_from");
+  if (const Json* ws = optional(j, "warnings")) {
+    const Json& a = array(*ws, "warnings");
+    for (std::size_t i = 0; i < a.size(); ++i)
+      d.warnings.push_back(text(a[i], "warnings[" + std::to_string(i) + "]"));
+  }
   if (const Json* o = optional(j, "origin")) d.origin = point3(*o, "origin");
   if (const Json* c = optional(j, "classes")) d.classes = text(*c, "classes");
   if (const Json* g = optional(j, "ground")) {
@@ -198,6 +203,8 @@ std::string write_candidates(const Candidates& d, const formats::Provenance& pro
     j["crs"] = d.crs;
     j["crs_from"] = d.crs_from;
   }
+  // Only when detect warned about the tile: any other index is as before.
+  if (!d.warnings.empty()) j["warnings"] = d.warnings;
   j["origin"] = Json::array({finite(origin[0]), finite(origin[1]), finite(origin[2])});
   j["classes"] = d.classes.empty() ? Json(nullptr) : Json(d.classes);
   j["ground"] = Json{{"cell", g.cell},

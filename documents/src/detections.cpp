@@ -97,6 +97,8 @@ Detections read_members(const Json& j) {
   d.found = optional_count(j, "found");
   d.none = optional_count(j, "none");
   d.failed = optional_count(j, "failed");
+  d.model_chain_ran = optional_count(j, "model_chain_ran");
+  d.model_chain_failed = optional_count(j, "model_chain_failed");
   if (const Json* o = optional(j, "by_level")) d.by_level = counts(*o, "by_level");
   if (const Json* o = optional(j, "by_reason")) d.by_reason = counts(*o, "by_reason");
   if (j.contains("warning")) {
@@ -258,11 +260,10 @@ std::string serialize_detections(const DetectionsRecord& r) {
            {"tile", r.tile},
            {"crs", text_or_null(r.crs)}};
   if (!r.crs_from.empty()) doc["crs_from"] = r.crs_from;
-  doc.update(Json{{"candidates", r.candidates},
-                  {"found", r.found},
-                  {"none", r.none},
-                  {"failed", r.failed},
-                  {"by_level", Json{{"model", r.model_level}, {"class", r.class_level}}},
+  doc.update(Json{{"candidates", r.candidates}, {"found", r.found}, {"none", r.none}, {"failed", r.failed}});
+  if (r.model_chain_ran) doc["model_chain_ran"] = *r.model_chain_ran;
+  if (r.model_chain_failed) doc["model_chain_failed"] = *r.model_chain_failed;
+  doc.update(Json{{"by_level", Json{{"model", r.model_level}, {"class", r.class_level}}},
                   {"by_reason", by_reason},
                   {"density", r.density.is_object() ? r.density : Json(nullptr)},
                   {"warning", text_or_null(r.warning)},
@@ -296,6 +297,13 @@ std::optional<double> open_ground_density(const nlohmann::ordered_json& d) {
   const char* key = open_ground_density_key(d);
   if (key == nullptr) return std::nullopt;
   return d[key].get<double>();
+}
+
+std::optional<double> occupied_hectares(const nlohmann::ordered_json& d) {
+  if (!d.is_object() || !d.contains("occupied_cells") || !d["occupied_cells"].is_number())
+    return std::nullopt;
+  const double cell = d.contains("cell") && d["cell"].is_number() ? d["cell"].get<double>() : 1.0;
+  return d["occupied_cells"].get<double>() * cell * cell / 1e4;
 }
 
 }  // namespace canopy::documents

@@ -11,7 +11,9 @@
 #include <vector>
 
 #include "canopy/common/math.h"
+#include "canopy/documents/detections.h"
 #include "canopy/formats/pcd.h"
+#include "classify/classify.h"
 #include "collect/collect.h"
 #include "support/cli.h"
 
@@ -1629,4 +1631,199 @@ TEST_CASE("collect v2: a tile of one candidate, too sparse: the warning's count 
              Catch::StartsWith("1 of 1 candidate rejected as too_sparse (median object density 2 points/m²"));
   CHECK_THAT(w, Catch::Contains("open-ground density 3 points/m²: below the 370 points/m² that model-level "
                                 "recognition needs; class-level answers at most"));
+}
+
+TEST_CASE("collect: failed model chains are counted and said, whatever answered the candidates (stop 70)") {
+  const fs::path dir = tile("chain_failed");
+  const fs::path cands = dir / "cands";
+  // Every model chain ran and failed (empty verdicts, stagerun --record-failure); classify
+  // answered every candidate: c0001 a hatchback, c0002 and c0003 refused.
+  for (const char* id : {"c0001", "c0002", "c0003"}) write(cands / id / "verdict.json", "");
+  write(cands / "c0001" / "class.json",
+        class_answer(cands, "c0001", "hatchback", "car", nullptr, 900, flat(0, 0, 0, 0)).dump());
+  write(cands / "c0002" / "class.json",
+        class_answer(cands, "c0002", nullptr, nullptr, "not_vehicle_shape", 900, nullptr).dump());
+  write(cands / "c0003" / "class.json",
+        class_answer(cands, "c0003", nullptr, nullptr, "vegetation_like", 900, nullptr).dump());
+  // c0001's chain: fitvox wrote its samples, cocone failed first (its mesh.ply empty), the later
+  // stages failed on it in turn.
+  write(cands / "c0001" / "samples.pcd", "not empty");
+  for (const char* a : {"mesh.ply", "segments.json", "match.json"}) write(cands / "c0001" / a, "");
+  const std::string cmd = bin() + " -i " + (cands / "index.json").string() + " -o " + (dir / "d.json").string();
+  std::string err;
+  REQUIRE(test::sh(cmd, dir / "err.txt", &err) == 0);  // a warning, not an error (real-tiles.md, stop 70)
+  Json d = read_json(dir / "d.json");
+  // The counts keep their meaning: no rejection is for a failed chain (classify answered them).
+  CHECK(d["found"] == 1);
+  CHECK(d["failed"] == 0);
+  CHECK(d["none"] == 2);
+  CHECK(d["by_reason"] == Json{{"not_vehicle_shape", 1}, {"vegetation_like", 1}});
+  // What the counts hid, counted apart.
+  CHECK(d["model_chain_ran"] == 3);
+  CHECK(d["model_chain_failed"] == 3);
+  const documents::Detections back = documents::read_detections_file((dir / "d.json").string());
+  CHECK(back.model_chain_ran == 3);
+  CHECK(back.model_chain_failed == 3);
+  CHECK(back.failed == 0);
+  CHECK_THAT(err, Catch::Contains("collect: 3 candidates: 1 vehicle found (0 model level, 1 class level); "
+                                  "rejected: not_vehicle_shape 1, vegetation_like 1; model chain failed on 3 "
+                                  "of the 3 candidates it ran on\n"));
+  const std::string first_log = (cands / "c0001" / "mesh.ply.log").string();
+  CHECK(d["warning"] ==
+        "the model chain failed on all 3 candidates it ran on: the model level decided "
+        "nothing here, the answers are classify's alone (the log of the first failed stage "
+        "of c0001: " +
+            first_log + "); see docs/decisions/classify.md");
+  CHECK_THAT(err, Catch::Contains("collect: warning: the model chain failed on all 3 candidates"));
+  // Most, not all: c0002's chain found nothing. The example is the first failed candidate; c0003
+  // has no chain artifact beside its verdict: its verdict's own log is named.
+  write(cands / "c0002" / "verdict.json",
+        verdict((cands / "c0002" / "samples.pcd").string(), nullptr, 0.7, nullptr, nullptr).dump());
+  fs::remove_all(cands / "c0001");
+  write(cands / "c0001" / "verdict.json", "");
+  write(cands / "c0001" / "class.json",
+        class_answer(cands, "c0001", "hatchback", "car", nullptr, 900, flat(0, 0, 0, 0)).dump());
+  REQUIRE(test::sh(cmd, dir / "err.txt", &err) == 0);
+  d = read_json(dir / "d.json");
+  CHECK(d["model_chain_ran"] == 3);
+  CHECK(d["model_chain_failed"] == 2);
+  CHECK_THAT(err, Catch::Contains("; model chain failed on 2 of the 3 candidates it ran on\n"));
+  CHECK(d["warning"] ==
+        "the model chain failed on 2 of the 3 candidates it ran on: those are answered by "
+        "classify alone (the log of the first failed stage of c0001: " +
+            (cands / "c0001" / "verdict.json.log").string() + "); see docs/decisions/classify.md");
+  // One of three: counted in the summary, no warning.
+  write(cands / "c0001" / "verdict.json", verdict((cands / "c0001" / "samples.pcd").string(), "sedan", 0.9,
+                                                  flat(0, 0, 0, 0), flat(30, E + 10.25, N + 10.125, 100.5))
+                                              .dump());
+  REQUIRE(test::sh(cmd, dir / "err.txt", &err) == 0);
+  d = read_json(dir / "d.json");
+  CHECK(d["model_chain_failed"] == 1);
+  CHECK(d["warning"].is_null());
+  CHECK_THAT(err, Catch::Contains("; model chain failed on 1 of the 3 candidates it ran on\n"));
+  // None failed: the summary says nothing of it, the counts are there.
+  write(cands / "c0003" / "verdict.json",
+        verdict((cands / "c0003" / "samples.pcd").string(), nullptr, 0.7, nullptr, nullptr).dump());
+  REQUIRE(test::sh(cmd, dir / "err.txt", &err) == 0);
+  d = read_json(dir / "d.json");
+  CHECK(d["model_chain_ran"] == 3);
+  CHECK(d["model_chain_failed"] == 0);
+  CHECK_THAT(err, !Catch::Contains("model chain failed"));
+  // A class-level candidate (no verdict.json) is not one the chain ran on; one candidate: singular.
+  fs::remove(cands / "c0002" / "verdict.json");
+  fs::remove(cands / "c0003" / "verdict.json");
+  write(cands / "c0001" / "verdict.json", "");
+  REQUIRE(test::sh(cmd, dir / "err.txt", &err) == 0);
+  d = read_json(dir / "d.json");
+  CHECK(d["model_chain_ran"] == 1);
+  CHECK(d["model_chain_failed"] == 1);
+  CHECK_THAT(err, Catch::Contains("; model chain failed on 1 of the 1 candidate it ran on\n"));
+  CHECK_THAT(
+      d["warning"].get<std::string>(),
+      Catch::StartsWith("the model chain failed on the one candidate it ran on: the model level decided "
+                        "nothing here"));
+}
+
+TEST_CASE("collect: failed_stage_log names the first empty artifact of the chain, else the verdict's log") {
+  const fs::path dir = test::fresh_dir("collect", "stage_log") / "c0001";
+  const std::string verdict = (dir / "verdict.json").string();
+  write(dir / "verdict.json", "");
+  CHECK(collect::failed_stage_log(verdict) == verdict + ".log");
+  write(dir / "match.json", "");
+  CHECK(collect::failed_stage_log(verdict) == (dir / "match.json.log").string());
+  write(dir / "samples.pcd", "");
+  CHECK(collect::failed_stage_log(verdict) == (dir / "samples.pcd.log").string());
+  write(dir / "samples.pcd", "x");  // fitvox wrote its samples: ncut's, gmatch's, ... is first
+  write(dir / "segments.json", "");
+  CHECK(collect::failed_stage_log(verdict) == (dir / "segments.json.log").string());
+  CHECK(collect::read_verdict(verdict).failed_log == (dir / "segments.json.log").string());
+  CHECK(collect::parse_verdict("", verdict).failed_log.empty());  // not looked for: the verdict's log
+}
+
+TEST_CASE("collect: a tile without candidates says why; detect's warnings are relayed (stop 70)") {
+  const fs::path dir = test::fresh_dir("collect", "no_candidates");
+  const fs::path cands = dir / "cands";
+  Json index{{"format", "canopy.candidates"},
+             {"version", 2},
+             {"tile", "tile.las"},
+             {"density",
+              {{"all", 2.5}, {"ground", 1.5}, {"first", nullptr}, {"cell", 1.0}, {"occupied_cells", 25000}}},
+             {"candidates", Json::array()}};
+  write(cands / "index.json", index.dump());
+  const std::string cmd = bin() + " -i " + (cands / "index.json").string() + " -o " + (dir / "d.json").string();
+  std::string err;
+  REQUIRE(test::sh(cmd, dir / "err.txt", &err) == 0);
+  Json d = read_json(dir / "d.json");
+  CHECK(d["candidates"] == 0);
+  CHECK(d["model_chain_ran"] == 0);
+  const std::string sparse =
+      "no candidate on this tile of 2.5 ha: its open-ground density 1.5 points/m² is below the 4 points/m² "
+      "the class level needs on an object (classify --min-density): too sparse for vehicles to be found; ";
+  CHECK(d["warning"] == sparse + "a denser survey is the remedy");
+  CHECK_THAT(err,
+             Catch::Contains("collect: 0 candidates: 0 vehicles found (0 model level, 0 class level)\n"));
+  CHECK_THAT(err, Catch::Contains("collect: warning: no candidate on this tile of 2.5 ha: its open-ground"));
+  // Dense enough: detect found nothing of a vehicle's size.
+  index["density"]["ground"] = 30.0;
+  index["density"]["occupied_cells"] = 4000;
+  write(cands / "index.json", index.dump());
+  REQUIRE(test::sh(cmd, dir / "err.txt", &err) == 0);
+  CHECK(
+      read_json(dir / "d.json")["warning"] ==
+      "no candidate on this tile of 0.40 ha (open-ground density 30 points/m²): detect found no object of a "
+      "vehicle's size and height between the ground and the canopy (detect's log counts the objects it "
+      "rejected)");
+  // No open-ground density: all returns', said so.
+  index["density"]["ground"] = nullptr;
+  write(cands / "index.json", index.dump());
+  REQUIRE(test::sh(cmd, dir / "err.txt", &err) == 0);
+  CHECK_THAT(read_json(dir / "d.json")["warning"].get<std::string>(),
+             Catch::StartsWith("no candidate on this tile of 0.40 ha: its tile density 2.5 points/m² (all "
+                               "returns) is below the 4 points/m²"));
+  // A tile in feet: detect's warning (in the index) leads, and the remedy points to it.
+  index["density"]["ground"] = 1.5;
+  index["density"]["occupied_cells"] = 25000;
+  const std::string feet =
+      "tile.las: its georeferencing gives the coordinates in foot (0.3048 m) (GeoTIFF key ProjLinearUnits = "
+      "9002); detect reads them as metres, so every length (DTM cell, vehicle ranges) is taken in foot: "
+      "convert the tile to metres first";
+  index["warnings"] = Json::array({feet});
+  write(cands / "index.json", index.dump());
+  REQUIRE(test::sh(cmd, dir / "err.txt", &err) == 0);
+  CHECK(
+      read_json(dir / "d.json")["warning"] ==
+      "detect warned: " + feet +
+          "; no candidate on this tile of 2.5 ha (its area and density as detect read its coordinates): its "
+          "open-ground density 1.5 points/m² is below the 4 points/m² the class level needs on an object "
+          "(classify --min-density): too sparse for vehicles to be found; see detect's warning first");
+  CHECK_THAT(err, Catch::Contains("collect: warning: detect warned: tile.las: its georeferencing"));
+  // An index without detect's density (an older detect) still says there is nothing.
+  index.erase("density");
+  index.erase("warnings");
+  write(cands / "index.json", index.dump());
+  REQUIRE(test::sh(cmd, dir / "err.txt", &err) == 0);
+  CHECK(read_json(dir / "d.json")["warning"] ==
+        "no candidate on this tile (the index states no density: an older detect)");
+  // A tile with candidates whose answers alone would give no warning: detect's is relayed.
+  const fs::path t = tile("detect_warned");
+  Json i3 = read_json(t / "cands" / "index.json");
+  i3["warnings"] =
+      Json::array({"tile.las: LASF_Projection 2112 (OGC WKT): the WKT's PROJCS names no EPSG code"});
+  write(t / "cands" / "index.json", i3.dump());
+  REQUIRE(test::sh(bin() + " -i " + (t / "cands" / "index.json").string() + " -o " + (t / "d.json").string(),
+                   t / "err.txt", &err) == 0);
+  CHECK(read_json(t / "d.json")["warning"] ==
+        "detect warned: tile.las: LASF_Projection 2112 (OGC WKT): the WKT's PROJCS names no EPSG code");
+  // "warnings" must be an array of sentences: named, nothing written.
+  i3["warnings"] = Json::array({1});
+  write(t / "cands" / "index.json", i3.dump());
+  fs::remove(t / "d.json");
+  CHECK(test::sh(bin() + " -i " + (t / "cands" / "index.json").string() + " -o " + (t / "d.json").string(),
+                 t / "err.txt", &err) == 1);
+  CHECK_THAT(err, Catch::Contains("warnings[0]"));
+  CHECK_FALSE(fs::exists(t / "d.json"));
+}
+
+TEST_CASE("collect: the density a tile without candidates is stated against is classify's default") {
+  CHECK(collect::kClassDensity == classify::Params{}.min_density);
 }

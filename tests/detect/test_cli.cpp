@@ -327,6 +327,23 @@ TEST_CASE("detect: LAS tiles") {
                    dir / "err.txt", &err) <= 1);
     CHECK(err.find("feet.las: its georeferencing gives the coordinates in foot (0.3048 m) (GeoTIFF key "
                    "ProjLinearUnits = 9002)") != std::string::npos);
+    // The warning goes into the index too ("warnings"), for collect to relay (stop 70); the
+    // metre tile's index has no such member.
+    REQUIRE(fs::exists(dir / "ft" / "index.json"));
+    const Json warnings = read_json(dir / "ft" / "index.json")["warnings"];
+    REQUIRE(warnings.is_array());
+    bool feet = false;
+    for (const auto& w : warnings) {
+      feet = feet || w.get<std::string>().find(
+                         "feet.las: its georeferencing gives the coordinates in foot "
+                         "(0.3048 m)") != std::string::npos;
+    }
+    CHECK(feet);
+    REQUIRE(fs::exists(dir / "m" / "index.json"));
+    CHECK_FALSE(read_json(dir / "m" / "index.json").contains("warnings"));
+    // The detect phase's line is said once: "detect: density ...", not "detect: detect: density ...".
+    CHECK(err.find("detect: density ") != std::string::npos);
+    CHECK(err.find("detect: detect:") == std::string::npos);
   }
   SECTION("the CRS the LAS file records goes into the index; a tile without one has no crs member") {
     const std::string las = formats::serialize_las(box_tile(), "box");

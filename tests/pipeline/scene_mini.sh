@@ -56,7 +56,8 @@ for t in a b; do
     [ -s "$tmp/$t/$f" ] || fail "tile $t: no $f"
   done
   # What happened is shown, not only logged: collect's one-line summary, led by the tile's directory.
-  grep -qx "$tmp/$t: $(jq '.candidates' "$tmp/$t/detections.json") candidates: $(jq '.found' "$tmp/$t/detections.json") vehicles found .*" \
+  # ("1 candidate: 1 vehicle found" in the singular since stop 70)
+  grep -Eqx "$tmp/$t: $(jq '.candidates' "$tmp/$t/detections.json") candidates?: $(jq '.found' "$tmp/$t/detections.json") vehicles? found .*" \
     "$tmp/$t.log" || fail "make tile $t does not show collect's summary: $(grep -v '^done' "$tmp/$t.log" | tail -3)"
   # top.png from the tile's height raster (cost.md §17) is the picture topview draws from the tile.
   topview -q -i "$tmp/$t.pcd" --detections "$tmp/$t/detections.json" -o "$tmp/$t/direct.png" \

@@ -67,6 +67,11 @@ cp "$tmp/flat.pcd" "$tmp/tile.pcd"
   || fail "make tile on the whole tile after a failed one failed: $(tail -3 "$tmp/pcd2.log")"
 grep -qx "TILE_CANDS :=" "$tmp/out-pcd/cands.mk" || fail "the plan was not remade: $(cat "$tmp/out-pcd/cands.mk")"
 [ "$(jq '.candidates' "$tmp/out-pcd/detections.json")" = 0 ] || fail "a flat tile has candidates"
+# A tile without candidates says why (stop 70: it said nothing), on make's output and in the file.
+grep -q "^$tmp/out-pcd: warning: no candidate on this tile of 0\.[0-9]* ha" "$tmp/pcd2.log" \
+  || fail "no warning for a tile without candidates: $(grep -v '^done' "$tmp/pcd2.log" | tail -3)"
+jq -e '.warning | startswith("no candidate on this tile")' "$tmp/out-pcd/detections.json" >/dev/null \
+  || fail "detections.json has no warning for a tile without candidates"
 "${mk[@]}" -q tile TILE="$tmp/tile.pcd" MODELBASE="$tmp/mb" OUT="$tmp/out-pcd/" >/dev/null 2>&1 \
   || fail "make -q tile after the run exits $?, want 0"
 echo "ok: after a cut PCD, the whole one runs and is then up to date"

@@ -20,6 +20,7 @@
 #include "canopy/formats/las_crs.h"
 #include "canopy/formats/provenance.h"
 #include "canopy/documents/stage_outcome.h"
+#include "collect/messages.h"
 
 namespace canopy::collect {
 namespace {
@@ -61,6 +62,7 @@ Index parse_index(const std::string& text, const std::string& name) {
     index.candidates.push_back(Candidate{d.id, d.transform, d.length, d.width, d.object_density()});
   }
   index.density = doc.density;
+  index.warnings = doc.warnings;
   return index;
 }
 
@@ -121,7 +123,23 @@ Verdict parse_verdict(const std::string& text, const std::string& name) {
 }
 
 Verdict read_verdict(const std::string& path) {
-  return from_stage_verdict(documents::read_stage_verdict(path), path);
+  Verdict v = from_stage_verdict(documents::read_stage_verdict(path), path);
+  if (v.failed) v.failed_log = failed_stage_log(path);
+  return v;
+}
+
+std::string failed_stage_log(const std::string& verdict) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(verdict).parent_path();
+  auto empty_file = [](const fs::path& p) {
+    std::error_code ec;
+    return fs::is_regular_file(p, ec) && fs::file_size(p, ec) == 0 && !ec;
+  };
+  for (const char* artifact : kModelChainArtifacts) {
+    const fs::path p = dir / artifact;
+    if (empty_file(p)) return p.string() + ".log";
+  }
+  return verdict + ".log";
 }
 
 bool names_candidate(const std::string& points, const std::string& id) {
@@ -308,117 +326,6 @@ documents::RejectionRecord rejection_of(const Candidate& c, const Answers& a, co
   return r;
 }
 
-std::string fmt_density(double d) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.0f", d);
-  return buf;
-}
-
-// The tile's density for messages: open ground's, else all points' (detect.md §7).
-std::optional<double> tile_density(const Index& index) {
-  return documents::open_ground_density(index.density);
-}
-
-// One sentence when most candidates were rejected for one reason (with what would help), or
-// when no candidate reached the model level because the data is too sparse for it.
-std::string warning_of(const Index& index, const std::vector<Answers>& answers, const Outputs& out,
-                       const std::vector<std::string>& reasons, bool size_only) {
-  const int n = static_cast<int>(index.candidates.size());
-  if (n == 0) return "";
-  const auto td = tile_density(index);
-  // Which density it is: the open ground's (detect's "ground", what its density rule reads), else
-  // all returns'; the picture's legend states all returns' (15.7 on ahn3_delft_1, whose open
-  // ground has 11: "tile density 11" beside it read as a contradiction).
-  const char* key = documents::open_ground_density_key(index.density);
-  const bool ground = key != nullptr && std::string(key) == "ground";
-  const std::string tile = !td      ? ""
-                           : ground ? "open-ground density " + fmt_density(*td) + " points/m²"
-                                    : "tile density " + fmt_density(*td) + " points/m² (all returns)";
-  // Densities and thresholds of the candidates classify answered.
-  std::vector<double> dens;
-  std::optional<double> need_class, need_model;
-  for (std::size_t i = 0; i < answers.size(); ++i) {
-    const Verdict& k = answers[i].cls;
-    if (!k.present || k.failed) continue;
-    if (reasons[i] == "too_sparse" && k.density) dens.push_back(*k.density);
-    if (k.density_class) need_class = k.density_class;
-    if (k.density_model) need_model = k.density_model;
-  }
-  std::vector<std::string> parts;
-  std::string top;
-  int top_n = 0;
-  for (const auto& [r, k] : out.by_reason) {
-    if (k > top_n) top = r, top_n = k;
-  }
-  const bool mostly_sparse = 2 * top_n > n && top == "too_sparse";
-  if (2 * top_n > n) {
-    std::string s = std::to_string(top_n) + " of " + std::to_string(n) +
-                    (n == 1 ? " candidate" : " candidates") + " rejected as " + top;
-    if (top == "too_sparse") {
-      std::sort(dens.begin(), dens.end());
-      if (!dens.empty()) {
-        const std::size_t h = dens.size() / 2;
-        const double median = dens.size() % 2 ? dens[h] : 0.5 * (dens[h - 1] + dens[h]);
-        s += " (median object density " + fmt_density(median) + " points/m²";
-      }
-      if (need_class)
-        s += std::string(dens.empty() ? " (" : ", ") + "class level needs " + fmt_density(*need_class);
-      if (need_model) s += ", model level " + fmt_density(*need_model);
-      if (!dens.empty() || need_class) s += ")";
-      s += ": the survey is too sparse for these objects; a denser survey is the remedy";
-    } else if (top == "failed") {
-      s += ": a stage of the model chain failed; see cands/<id>/*.log";
-    } else if (top == "none") {
-      s += ": the model chain found no model of the modelbase in them";
-    } else if (top == kLowConfidence) {
-      s += ": their class answers state a confidence below collect --class-accept";
-    } else if (top == "vegetation_like") {
-      s += ": most candidates look like vegetation (porous, rough, pulses through them)";
-    } else {
-      s += " by classify's size and shape gates";
-    }
-    parts.push_back(s);
-  }
-  // No model chain ran (every candidate class level) because the objects are too sparse.
-  int model_runs = 0;
-  for (const auto& a : answers) model_runs += a.model.present ? 1 : 0;
-  // (--size-only reads no verdict on purpose; a tile dense enough whose model chain did not
-  // run is said so, not blamed on its density.)
-  if (model_runs == 0 && !size_only) {
-    const double need = need_model ? *need_model : kModelDensity;
-    if (td && *td >= need) {
-      parts.push_back(tile +
-                      ": dense enough for model-level recognition, but no candidate has a model-chain "
-                      "verdict; class-level answers only");
-    } else {
-      parts.push_back((tile.empty() ? std::string("the objects' density") : tile) + ": below the " +
-                      fmt_density(need) + " points/m² that model-level recognition needs; " +
-                      // Most candidates too sparse even for a class (said above): "only" would
-                      // promise class answers the tile mostly cannot give.
-                      (mostly_sparse ? "class-level answers at most" : "class-level answers only"));
-    }
-  }
-  if (parts.empty()) return "";
-  std::string w;
-  for (const auto& p : parts) w += (w.empty() ? "" : "; ") + p;
-  return w + "; see docs/decisions/classify.md";
-}
-
-std::string summary_line(const Index& index, const Outputs& out) {
-  std::string s = std::to_string(index.candidates.size()) + " candidates: " + std::to_string(out.found) +
-                  " vehicles found (" + std::to_string(out.model_level) + " model level, " +
-                  std::to_string(out.class_level) + " class level)";
-  if (!out.by_reason.empty()) {
-    s += "; rejected:";
-    bool first = true;
-    for (const auto& [r, k] : out.by_reason) {
-      s += std::string(first ? " " : ", ") + r + " " + std::to_string(k);
-      first = false;
-    }
-  }
-  return s;
-}
-
 }  // namespace
 
 void validate(const Params& params) {
@@ -557,6 +464,10 @@ Outputs collect(const Index& index, const std::vector<Answers>& answers, const P
       throw common::DataError(v.name, "does not exist, nor does " + k.name + ": candidate " + c.id +
                                           " has no answer (run its model chain or classify)");
     }
+    if (v.present) {
+      ++out.chain_ran;
+      out.chain_failed += v.failed ? 1 : 0;
+    }
     const Verdict* found = nullptr;
     Verdict by_size;
     const bool classified = k.present && !k.failed && !k.cls.empty() && (k.pose || k.pose_tile);
@@ -660,6 +571,8 @@ Outputs collect(const Index& index, const std::vector<Answers>& answers, const P
   doc.found = out.found;
   doc.none = out.none;
   doc.failed = out.failed;
+  doc.model_chain_ran = out.chain_ran;
+  doc.model_chain_failed = out.chain_failed;
   doc.model_level = out.model_level;
   doc.class_level = out.class_level;
   doc.by_reason = out.by_reason;

@@ -33,21 +33,35 @@ struct Index {
   std::string crs, crs_from;
   std::vector<Candidate> candidates;
   decltype(documents::Candidates::density) density;  // the index's "density" object (detect.md §7), or null
+  std::vector<std::string> warnings;                 // what detect warned about the tile (index "warnings")
 };
 
 // The density of model-level recognition (common/density_scale.h: the lowest object density at
 // which the density rule's chain runs; docs/decisions/density-scale.md).
 constexpr double kModelDensity = common::kModelLevelDensity;
+// The object density (points/m²) below which classify answers too_sparse by default (classify's
+// --min-density, classify::Params::min_density; tests/collect checks they agree): what collect
+// states a tile without candidates against when no class answer says it.
+constexpr double kClassDensity = 4.0;
+
+// The model chain's artifacts beside a candidate's verdict, in the order make runs their stages
+// (mk/scenes.mk cand_rule: fitvox, cocone, ncut, gmatch; verify writes the verdict last). A
+// stage that failed as a result (stagerun --record-failure) leaves its artifact empty, and the
+// later ones fail on it in turn.
+inline constexpr const char* kModelChainArtifacts[] = {"samples.pcd", "mesh.ply", "segments.json",
+                                                       "match.json"};
 
 struct Verdict {
-  std::string name;       // file, as given
-  bool present = true;    // false: there is no such file (a class-level candidate has no verdict.json)
-  bool failed = false;    // an empty file: the candidate's chain failed (stagerun --record-failure)
-  std::string candidate;  // the points verify checked ("candidate"), as it was given them
-  std::string level;      // "level" when given ("class" for classify's answers)
-  std::string model;      // "" = none
-  std::string cls;        // "class", when the verdict has one
-  std::string group;      // "group", when the verdict has one
+  std::string name;        // file, as given
+  bool present = true;     // false: there is no such file (a class-level candidate has no verdict.json)
+  bool failed = false;     // an empty file: the candidate's chain failed (stagerun --record-failure)
+  std::string failed_log;  // failed: the log of the chain's first failed stage (failed_stage_log); ""
+                           // when not looked for (parse_verdict): then the verdict's own <name>.log
+  std::string candidate;   // the points verify checked ("candidate"), as it was given them
+  std::string level;       // "level" when given ("class" for classify's answers)
+  std::string model;       // "" = none
+  std::string cls;         // "class", when the verdict has one
+  std::string group;       // "group", when the verdict has one
   double confidence = 0;
   std::optional<Matrix> pose;       // model -> candidate
   std::optional<Matrix> pose_tile;  // model -> tile
@@ -208,6 +222,11 @@ Verdict parse_verdict(const std::string& text, const std::string& name);
 // The file at `path` (documents::read_stage_verdict): absent (present = false) when there is
 // no such file, else as parse_verdict.
 Verdict read_verdict(const std::string& path);
+// The log of the first failed stage of the model chain whose verdict is `verdict` (a failed one):
+// beside it, the first of kModelChainArtifacts, then the verdict itself, that exists and is
+// empty, with ".log" appended; the verdict's own "<verdict>.log" when none is (another layout).
+// read_verdict sets Verdict::failed_log so.
+std::string failed_stage_log(const std::string& verdict);
 
 // Whether a verdict's "candidate" (the points verify was given) names candidate `id`: its file
 // stem is the id (detect's <id>.pcd) or its directory is named so (<id>/samples.pcd).
@@ -228,6 +247,11 @@ struct Outputs {
   std::string geojson;     // FeatureCollection
   int found = 0, none = 0, failed = 0;
   int model_level = 0, class_level = 0;
+  // The candidates whose model chain ran (a verdict file, empty or not) and of them those whose
+  // chain failed (an empty verdict), whatever answered them in the end (classify's answer hides
+  // a failed chain from found / none / failed): detections.json's "model_chain_ran" and
+  // "model_chain_failed".
+  int chain_ran = 0, chain_failed = 0;
   std::map<std::string, int> by_reason;
   std::string summary;  // one line: the counts by level and by reason
   std::string warning;  // "" or one sentence (most candidates rejected for one reason, ...)

@@ -161,7 +161,9 @@ void write_plan(const Options& o) {
     model += m;
     scaled += m && !o.no_density_scale && c.density && !common::density_scale(*c.density).dense_end();
   }
-  common::log::info(std::to_string(index.candidates.size()) + " candidates planned, " + std::to_string(model) +
+  common::log::info(std::to_string(index.candidates.size()) +
+                    (index.candidates.size() == 1 ? " candidate planned, " : " candidates planned, ") +
+                    std::to_string(model) +
                     " for the model chain (object density >= " + std::to_string(int(o.model_density)) +
                     " points/m²), " + std::to_string(scaled) + " of them with the density rule's scale");
 }

@@ -258,6 +258,10 @@ struct Result {
   // read_points hands back) and where it was read, for the index's "crs" and "crs_from"; "" =
   // none. run() leaves them empty (the detection does not use them): the caller sets them.
   std::string crs, crs_from;
+  // What detect warned about the tile as it read it (the index's "warnings": feet, a CRS record
+  // without an EPSG code, the trajectory's gaps), for collect to relay; run() leaves it empty,
+  // the caller sets it.
+  std::vector<std::string> warnings;
 };
 
 struct Inputs {

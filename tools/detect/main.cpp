@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "canopy/common/cli.h"
 #include "canopy/common/error.h"
@@ -18,6 +19,21 @@
 using namespace canopy;
 
 namespace {
+
+// "1 candidate", "3 candidates".
+std::string candidates_count(std::size_t n) {
+  return std::to_string(n) + (n == 1 ? " candidate" : " candidates");
+}
+
+// The warnings about the tile, logged as they come and kept for the index's "warnings" (collect
+// relays them: a warning only in detect's log went unread, stop 70).
+struct TileWarnings {
+  std::vector<std::string> said;
+  void operator()(const std::string& message) {
+    common::log::warn(message);
+    said.push_back(message);
+  }
+};
 
 // The options beside detect::Params.
 struct Cli {
@@ -144,7 +160,7 @@ void bind(common::Tool& tool, detect::Params& p, Cli& cli) {
 
 // The tile's sensor_x/y/z from the trajectory (--trajectory), unless it has them.
 void add_sensor_directions(formats::PointCloud* tile, const std::string& trajectory_path,
-                           const std::string& name) {
+                           const std::string& name, TileWarnings& warn) {
   formats::SensorDirectionOptions so;
   const formats::Trajectory trajectory = formats::read_trajectory(trajectory_path);
   so.trajectory = &trajectory;
@@ -152,9 +168,9 @@ void add_sensor_directions(formats::PointCloud* tile, const std::string& traject
   const bool columns = tile->has("sensor_x") || tile->has("sensor_y") || tile->has("sensor_z");
   so.source = columns ? formats::SensorSource::kColumns : formats::SensorSource::kTrajectory;
   const formats::SensorDirections sd = formats::sensor_directions(*tile, so, name);
-  for (const auto& w : sd.warnings) common::log::warn(w);
+  for (const auto& w : sd.warnings) warn(w);
   if (sd.used == formats::SensorSource::kColumns) {
-    common::log::warn(name + ": has sensor_x/y/z: --trajectory " + so.trajectory_name + " not used");
+    warn(name + ": has sensor_x/y/z: --trajectory " + so.trajectory_name + " not used");
     return;
   }
   auto& sx = tile->add("sensor_x", formats::kFloat32);
@@ -176,24 +192,24 @@ detect::Clustering clustering_of(const std::string& text) {
 
 // detect's lengths are metres; a LAS tile may declare feet (not converted: the candidates'
 // transforms are rigid, tile units = metres).
-void warn_las_units(const formats::LasCrs& crs, const std::string& name) {
+void warn_las_units(const formats::LasCrs& crs, const std::string& name, TileWarnings& warn) {
   const auto& unit = crs.unit;
   if (!unit || unit->metres == 1.0) return;
   char f[64];
   std::snprintf(f, sizeof f, "%.10g", unit->metres);
-  common::log::warn(name + ": its georeferencing gives the coordinates in " + unit->name +
-                    (unit->metres > 0 ? std::string(" (") + f + " m)" : std::string()) + " (" + unit->source +
-                    "); detect reads them as metres, so every length (DTM cell, vehicle ranges) is " +
-                    "taken in " + unit->name + ": convert the tile to metres first");
+  warn(name + ": its georeferencing gives the coordinates in " + unit->name +
+       (unit->metres > 0 ? std::string(" (") + f + " m)" : std::string()) + " (" + unit->source +
+       "); detect reads them as metres, so every length (DTM cell, vehicle ranges) is taken in " +
+       unit->name + ": convert the tile to metres first");
 }
 
 // The CRS the tile's LAS/LAZ file records (index.json's "crs"; collect's GeoJSON carries it),
 // said in one line; a record without an EPSG code, or two that disagree, in one warning.
-void say_crs(const formats::LasCrs& crs, const std::string& name) {
+void say_crs(const formats::LasCrs& crs, const std::string& name, TileWarnings& warn) {
   if (crs.epsg > 0) common::log::info(name + ": CRS " + crs.code() + " (" + crs.from + ")");
   if (!crs.note.empty()) {
-    common::log::warn(name + ": " + crs.note +
-                      (crs.epsg > 0 ? "" : ": no CRS in the index (give collect --crs, make CRS=EPSG:<code>)"));
+    warn(name + ": " + crs.note +
+         (crs.epsg > 0 ? "" : ": no CRS in the index (give collect --crs, make CRS=EPSG:<code>)"));
   }
 }
 
@@ -209,12 +225,12 @@ std::string summary(const detect::Result& r) {
       "%zu cells "
       "(%.2f s); %zu "
       "object points in %zu clusters (%zu stacked joined), %zu splits (%zu rows, %zu trims), %zu merges%s, "
-      "rejected %zu small %zu large %zu canopy bottoms %zu not planar (%.2f s); %zu candidates (%.2f s)",
+      "rejected %zu small %zu large %zu canopy bottoms %zu not planar (%.2f s); %s (%.2f s)",
       r.density.rule, r.density.cell, r.density.voxel, r.density.min_planarity,
       r.density.split_rows ? "split" : "kept", s.ground_cells, s.cells, s.seconds_ground, s.band_points,
       s.clusters, s.stacked, s.splits, s.row_splits, s.trims, s.merges, frag.c_str(), s.rejected_small,
-      s.rejected_large, s.rejected_canopy, s.rejected_shape, s.seconds_objects, r.candidates.size(),
-      s.seconds_candidates);
+      s.rejected_large, s.rejected_canopy, s.rejected_shape, s.seconds_objects,
+      candidates_count(r.candidates.size()).c_str(), s.seconds_candidates);
   return buf;
 }
 
@@ -248,18 +264,20 @@ int main(int argc, char** argv) {
     std::optional<formats::LasHeaderBlock> las_header;
     formats::PointCloud tile = formats::read_points(cli.in, "detect", formats::FieldSelection{}, &las_header);
     read.done(std::to_string(tile.size()) + " points");
-    if (!cli.trajectory.empty()) add_sensor_directions(&tile, cli.trajectory, name);
+    TileWarnings warnings;
+    if (!cli.trajectory.empty()) add_sensor_directions(&tile, cli.trajectory, name, warnings);
     const formats::LasCrs crs = las_header ? formats::las_crs(*las_header) : formats::LasCrs{};
-    warn_las_units(crs, name);
-    say_crs(crs, name);
+    warn_las_units(crs, name, warnings);
+    say_crs(crs, name, warnings);
     common::log::Phase work("detect");
     detect::Result r = detect::run(p, {&tile, name});
     r.crs = crs.code();
     r.crs_from = crs.from;
+    r.warnings = warnings.said;
     work.done(summary(r));
     const formats::Provenance prov{"detect", CANOPY_VERSION, tool.parameters(), {cli.in}};
     common::log::Phase write("write");
     detect::write_output(cli.out, tile, r, p, prov, cli.in, !cli.no_classes);
-    write.done(std::to_string(r.candidates.size()) + " candidates to " + cli.out);
+    write.done(candidates_count(r.candidates.size()) + " to " + cli.out);
   });
 }

@@ -479,6 +479,7 @@ documents::Candidates index_document(const Result& r, const Params& p, const std
   d.tile_points = static_cast<std::int64_t>(r.stats.points);
   d.crs = r.crs;
   d.crs_from = r.crs_from;
+  d.warnings = r.warnings;
   d.origin = {r.origin.x(), r.origin.y(), r.origin.z()};
   d.classes = classes;
   d.ground = documents::GroundGrid{

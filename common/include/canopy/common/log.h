@@ -19,7 +19,7 @@ void info(const std::string& message);   // shown unless -q
 void debug(const std::string& message);  // shown with -v
 void warn(const std::string& message);   // always shown ("<tool>: warning: ...")
 
-// Times one phase; done() logs "<tool>: <phase>: <summary> (<seconds> s)".
+// Times one phase; done() logs "<tool>: <phase>: <summary> (<seconds> s)" (no "<phase>: " when it is <tool>).
 class Phase {
  public:
   explicit Phase(std::string name);

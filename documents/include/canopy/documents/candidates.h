@@ -74,6 +74,11 @@ struct Candidates {
   // formats/las_crs.h) and where it was read; "" when the file records none (PCD, PLY, a LAS
   // without a CRS record or without an EPSG code in it): then the index has neither member.
   std::string crs, crs_from;
+  // What detect warned about the tile as it read it (its log's warnings, one sentence each, the
+  // tile named: coordinates in feet, a CRS record without an EPSG code, the trajectory's gaps),
+  // so that collect can relay them (stop 70). Written only when there is one: an index of a
+  // tile detect did not warn about is as before.
+  std::vector<std::string> warnings;
   std::optional<std::array<double, 3>> origin;
   std::string classes;  // classes.ply's name, "" for null / absent
   std::optional<GroundGrid> ground;
@@ -102,7 +107,8 @@ struct Candidates {
 
 // Reads `text`, the contents of file `name`. Throws common::DataError naming `name`: not JSON,
 // another format, a version other than 1 or 2, a version 2 index with "truth" or "instances"
-// members (ground truth belongs to candtruth's file), a "crs" that is not "EPSG:<1-6 digits>", a margin that
+// members (ground truth belongs to candtruth's file), a "crs" that is not "EPSG:<1-6 digits>", "warnings"
+// not an array of strings, a margin that
 // is not a finite number >= 0, "candidates" missing or not an array, a candidate without a plain unique id, a
 // transform that is not a rigid 4 x 4 (4 rows of 4 numbers, or 16 numbers), length or width missing, not
 // finite or negative, any other member of a wrong type

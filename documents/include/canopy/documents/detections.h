@@ -48,6 +48,7 @@ struct Detections {
   std::string index;  // the candidates index collect read, as it named it ("" when absent)
   std::string tile;
   std::optional<int> candidates, found, none, failed;             // counts
+  std::optional<int> model_chain_ran, model_chain_failed;         // absent before stop 70
   std::optional<std::map<std::string, int>> by_level, by_reason;  // version 2
   // "warning": absent (nullopt), null (""), or a sentence.
   std::optional<std::string> warning;
@@ -109,6 +110,9 @@ struct DetectionsRecord {
   std::string crs_from;
   std::size_t candidates = 0;
   int found = 0, none = 0, failed = 0, model_level = 0, class_level = 0;
+  // The candidates whose model chain ran and of them those whose chain failed, whatever answered
+  // them (stop 70): written after "failed" when set, not at all otherwise (a document as before).
+  std::optional<int> model_chain_ran, model_chain_failed;
   std::map<std::string, int> by_reason;
   nlohmann::ordered_json density;  // the index's density object, written as is (null otherwise)
   std::string warning;             // "" = null
@@ -130,5 +134,8 @@ std::optional<double> open_ground_density(const nlohmann::ordered_json& density)
 // Which of the density object's keys open_ground_density reads ("ground" or "all"; nullptr for
 // none), for a message that names the density it states.
 const char* open_ground_density_key(const nlohmann::ordered_json& density);
+// The area (ha) of the density object's occupied cells ("occupied_cells" of "cell" m, 1 m when
+// absent); none when it has no such count.
+std::optional<double> occupied_hectares(const nlohmann::ordered_json& density);
 
 }  // namespace canopy::documents
