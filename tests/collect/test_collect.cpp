@@ -181,6 +181,24 @@ TEST_CASE("collect: detections, none counted, poses and footprints at UTM coordi
   const double c30 = std::cos(common::kPi / 6), s30 = std::sin(common::kPi / 6);
   CHECK(s["footprint"][2][0].get<double>() == Approx(E + 10.25 + 2 * c30 - s30).margin(1e-6));
   CHECK(s["footprint"][2][1].get<double>() == Approx(N + 10.125 + 2 * s30 + c30).margin(1e-6));
+  // The same surface built from an unlabelled scan (fitvox writes label 0 on every row): no
+  // labels, every row bounds the model (stop 70; before: "has no vehicle points (label 1)", exit 1).
+  {
+    formats::PointCloud bare;
+    bare.resize(3);
+    bare.add("x") = {-2, 2, 0.5};
+    bare.add("y") = {-1, 1, 0.2};
+    bare.add("z") = {0, 1.4, 0.8};
+    bare.add("label", formats::kUint32) = {0, 0, 0};
+    fs::create_directories(dir / "mb0");
+    formats::write_pcd(bare, (dir / "mb0" / "sedan.pcd").string());
+    const std::string cmd0 = bin() + " -q -i " + (dir / "cands" / "index.json").string() + " -o " +
+                             (dir / "detections0.json").string() + " --modelbase " + (dir / "mb0").string();
+    REQUIRE(test::sh(cmd0, dir / "err0.txt", &err) == 0);
+    const Json s0 = read_json(dir / "detections0.json")["detections"][0];
+    CHECK(s0["footprint_from"] == "model");
+    CHECK(s0["footprint"] == s["footprint"]);
+  }
 
   const Json& t = d["detections"][1];
   CHECK(t["candidate"] == "c0003");

@@ -17,6 +17,7 @@
 #include "canopy/common/log.h"
 #include "canopy/documents/model_classes.h"
 #include "canopy/documents/modelbase.h"
+#include "canopy/formats/labels.h"
 #include "canopy/formats/points_io.h"
 #include "collect/collect.h"
 
@@ -36,7 +37,8 @@ collect::ModelBox model_box(const std::string& path, bool need_height) {
   }
   const auto& x = pc.col("x");
   const auto& y = pc.col("y");
-  const std::vector<double>* label = pc.has("label") ? &pc.col("label") : nullptr;
+  // (a label field of 0 everywhere, fitvox's for unlabelled input, carries no labels: every row)
+  const std::vector<double>* label = formats::carries_labels(pc) ? &pc.col("label") : nullptr;
   const std::vector<double>* z = pc.has("z") ? &pc.col("z") : nullptr;
   collect::ModelBox b{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
                       std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
