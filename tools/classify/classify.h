@@ -146,11 +146,11 @@ struct Params {
   // under crowns 1.01-1.03): a late-dominated object must be hard beyond doubt. 0: every hard
   // object (max_echo_widening), as before.
   double echo_late_widening = 0;
-  double link_min = 0.25;         // object clustering: the linking distance is at least this (m)
-  std::size_t min_points = 20;    // fewer object points: too_sparse
-  double min_density = 4.0;       // fewer object points per m² of its rectangle: too_sparse
-  double edge_factor = 0.15;      // sampling correction: L, W += edge_factor x spacing
-  double height_quantile = 0.98;  // H = this quantile of the object's heights
+  double link_min = 0.25;       // object clustering: the linking distance is at least this (m)
+  std::size_t min_points = 20;  // fewer object points: too_sparse
+  double min_density = common::kClassLevelDensity;  // fewer points per m² of its rectangle: too_sparse
+  double edge_factor = 0.15;                        // sampling correction: L, W += edge_factor x spacing
+  double height_quantile = 0.98;                    // H = this quantile of the object's heights
   // Size gates: a measured dimension may miss a class range by gate x its uncertainty
   // sqrt(size_sigma² + (spacing_sigma x spacing)²).
   double size_sigma = 0.15;

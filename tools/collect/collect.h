@@ -40,9 +40,9 @@ struct Index {
 // which the density rule's chain runs; docs/decisions/density-scale.md).
 constexpr double kModelDensity = common::kModelLevelDensity;
 // The object density (points/m²) below which classify answers too_sparse by default (classify's
-// --min-density, classify::Params::min_density; tests/collect checks they agree): what collect
-// states a tile without candidates against when no class answer says it.
-constexpr double kClassDensity = 4.0;
+// --min-density: common/density_scale.h, as kModelDensity; tests/collect checks they agree): what
+// collect states a tile without candidates against when no class answer says it.
+constexpr double kClassDensity = common::kClassLevelDensity;
 
 // The model chain's artifacts beside a candidate's verdict, in the order make runs their stages
 // (mk/scenes.mk cand_rule: fitvox, cocone, ncut, gmatch; verify writes the verdict last). A

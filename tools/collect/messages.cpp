@@ -135,8 +135,7 @@ std::string warning_of(const Index& index, const std::vector<Answers>& answers, 
   }
   const bool mostly_sparse = 2 * top_n > n && top == "too_sparse";
   if (2 * top_n > n) {
-    std::string s = std::to_string(top_n) + " of " + std::to_string(n) +
-                    (n == 1 ? " candidate" : " candidates") + " rejected as " + top;
+    std::string s = std::to_string(top_n) + " of " + counted(n, "candidate") + " rejected as " + top;
     if (top == "too_sparse") {
       std::sort(dens.begin(), dens.end());
       if (!dens.empty()) {

@@ -39,6 +39,10 @@ constexpr int kDenseDenseRadiusMm = 175;  // ncut.ini dense-radius
 // and no model on 65 clutter or part candidates nor on 54 real ones classify refused); 50 from
 // stop 49 (the chain then named nothing below 50). Before the rule: 370.
 constexpr double kModelLevelDensity = 20;
+// The lowest object density (points per m² of its rectangle) at which classify answers a class
+// (classify's --min-density default; below it too_sparse): what collect states a tile without
+// candidates against when no class answer says it.
+constexpr double kClassLevelDensity = 4.0;
 
 // The chain's length scales for one candidate (lengths in mm, area in m²).
 struct DensityScale {
