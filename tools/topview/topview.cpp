@@ -38,18 +38,25 @@ struct Box {
   }
 };
 
+// The box holding the scan's finite points (empty: x1 < x0 when there is none).
+Box finite_points_box(const formats::PointCloud& scan) {
+  const auto& xs = scan.col("x");
+  const auto& ys = scan.col("y");
+  const auto& zs = scan.col("z");
+  Box b;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (finite_point(xs, ys, zs, i)) b.add(xs[i], ys[i]);
+  }
+  return b;
+}
+
 // The box holding the finite points (`points`) and that box with the shapes (`all`).
 struct Extent {
   Box points, all;
 };
 Extent extent(const formats::PointCloud& scan, const std::vector<Shape>& shapes) {
   Extent e;
-  const auto& xs = scan.col("x");
-  const auto& ys = scan.col("y");
-  const auto& zs = scan.col("z");
-  for (std::size_t i = 0; i < scan.size(); ++i) {
-    if (finite_point(xs, ys, zs, i)) e.points.add(xs[i], ys[i]);
-  }
+  e.points = finite_points_box(scan);
   e.all = e.points;
   for (const Shape& s : shapes) {
     for (const auto& p : s.ring) e.all.add(p[0], p[1]);
@@ -458,13 +465,7 @@ void validate(const Params& params) {
 }
 
 std::optional<std::array<double, 4>> points_box(const formats::PointCloud& scan) {
-  const auto& xs = scan.col("x");
-  const auto& ys = scan.col("y");
-  const auto& zs = scan.col("z");
-  Box b;
-  for (std::size_t i = 0; i < scan.size(); ++i) {
-    if (finite_point(xs, ys, zs, i)) b.add(xs[i], ys[i]);
-  }
+  const Box b = finite_points_box(scan);
   if (!(b.x1 >= b.x0 && b.y1 >= b.y0)) return std::nullopt;
   return std::array<double, 4>{b.x0, b.y0, b.x1, b.y1};
 }
