@@ -140,6 +140,12 @@ Detections read_members(const Json& j) {
         r.position = std::array<double, 2>{finite_number(at(q, "x", pw), pw + ".x"),
                                            finite_number(at(q, "y", pw), pw + ".y")};
       }
+      if (rs[i].contains("density") && !rs[i]["density"].is_null()) {
+        const Json& q = rs[i]["density"];
+        if (!q.is_number() || !(q.get<double>() >= 0))
+          throw Malformed(w + ".density must be a number >= 0 or null, not " + describe(q));
+        r.density = finite_number(q, w + ".density");
+      }
       d.rejected.push_back(std::move(r));
     }
   }

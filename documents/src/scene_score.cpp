@@ -82,7 +82,11 @@ Json match_json(const ScoreMatch& m) {
               {"true_model", or_null(m.true_model)},
               {"cover", or_null(m.cover)},
               {"distance_m", or_null(m.distance_m)},
-              {"heading_error_deg", or_null(m.heading_error_deg)}};
+              {"heading_error_deg", or_null(m.heading_error_deg)},
+              {"fate", or_null(m.fate)},
+              {"fate_candidate", or_null(m.fate_candidate)},
+              {"fate_reason", or_null(m.fate_reason)},
+              {"fate_density", or_null(m.fate_density)}};
 }
 
 Json table_json(const SceneScore& s, const std::string& table) {
@@ -204,6 +208,17 @@ ScoreMatch match_of(const Json& m, const std::string& w, std::size_t tiles) {
   out.cover = optional_number(m, "cover", w);
   out.distance_m = optional_number(m, "distance_m", w);
   out.heading_error_deg = optional_number(m, "heading_error_deg", w);
+  out.fate = optional_text(m, "fate", w);
+  out.fate_candidate = optional_text(m, "fate_candidate", w);
+  out.fate_reason = optional_text(m, "fate_reason", w);
+  out.fate_density = optional_number(m, "fate_density", w);
+  if (out.fate) {
+    if (out.outcome != "missed") throw Malformed(w + ": a \"fate\" on a row that is not missed");
+    if (*out.fate != "no_candidate" && *out.fate != "refused" && *out.fate != "taken" &&
+        *out.fate != "off_centre")
+      throw Malformed(w + ".fate must be no_candidate, refused, taken or off_centre, not \"" + *out.fate +
+                      "\"");
+  }
   if (out.outcome != "missed" && !out.candidate) throw Malformed(w + ": missing \"candidate\"");
   if (out.outcome != "false_alarm" && !out.instance) throw Malformed(w + ": missing \"instance\"");
   return out;

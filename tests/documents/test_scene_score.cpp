@@ -111,7 +111,8 @@ TEST_CASE("scene score: the writer's members, types and order") {
   CHECK(j["matches"][1].dump() ==
         R"({"tile":0,"candidate":"c2","level":"model","model":"sedan","class":null,"confidence":0.4,"x":10.5,)"
         R"("y":10.0,"heading":31.0,"outcome":"false_alarm","instance":null,"true_model":null,"cover":null,)"
-        R"("distance_m":null,"heading_error_deg":null})");
+        R"("distance_m":null,"heading_error_deg":null,"fate":null,"fate_candidate":null,"fate_reason":null,)"
+        R"("fate_density":null})");
   CHECK(j["models"] == Json::array());
 }
 
@@ -124,8 +125,8 @@ TEST_CASE("scene score: CSV tables") {
   CHECK(
       m.substr(0, m.find('\n')) ==
       "tile,candidate,level,model,class,confidence,x,y,heading,outcome,instance,true_model,cover,distance_m,"
-      "heading_error_deg");
-  CHECK(m.find("\n0,,,,,,20,20,90,missed,2,tank,0.75,,\n") != std::string::npos);
+      "heading_error_deg,fate,fate_candidate,fate_reason,fate_density");
+  CHECK(m.find("\n0,,,,,,20,20,90,missed,2,tank,0.75,,,,,,\n") != std::string::npos);
   CHECK_THROWS_WITH(documents::scene_score_csv(s, "other"), Catch::Contains("no table \"other\""));
 }
 

@@ -57,7 +57,8 @@ void level(const fs::path& root, const std::string& name, double all, double gro
       "matches": [{"tile": 0, "candidate": "c1", "x": 1, "y": 1, "outcome": "right", "instance": 1,
                    "true_model": "sedan"},
                   {"tile": 0, "candidate": null, "x": 5, "y": 5, "outcome": "missed", "instance": 2,
-                   "true_model": "tank"},
+                   "true_model": "tank", "fate": "refused", "fate_candidate": "c2", "fate_reason": "too_sparse",
+                   "fate_density": 2.5},
                   {"tile": 0, "candidate": "c3", "x": 9, "y": 9, "outcome": "false_alarm"}]})");
   test::write_file(run / "detections.json", R"({"format": "canopy.detections", "version": 2, "candidates": 4,
       "found": 2, "by_level": {"model": 0, "class": 2}, "by_reason": {"too_sparse": 1, "vegetation_like": 1},
@@ -169,6 +170,14 @@ TEST_CASE("density ladder: what the false alarms fell on, per level, from score'
   const auto at = md.find("**What the false alarms fell on**");
   REQUIRE(at != std::string::npos);
   CHECK(at > md.find("**What became of the candidates**"));
+  // Why the vehicles were missed: score's fate of each missed vehicle, per level.
+  const auto why = md.find("**Why the vehicles were missed**");
+  REQUIRE(why != std::string::npos);
+  CHECK(why > md.find("**What became of the candidates**"));
+  CHECK(why < at);
+  CHECK(md.find("| fate | 10 | 50 |\n|---|---|---|\n| refused: too_sparse | 1 | 1 |\n", why) !=
+        std::string::npos);
+  CHECK(levels[0].missed_by_fate.at("refused: too_sparse") == 1);
   // The kinds in score's order across the levels: clutter kinds, then the vehicles, then none.
   const std::string table = md.substr(at);
   CHECK(table.find("| fell on | 10 | 50 |\n|---|---|---|\n"

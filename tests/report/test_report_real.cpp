@@ -1,8 +1,9 @@
 // The report's "Real tiles" section on hand-made out/real trees: a labelled tile with known
 // matches (recall 8/10 and 6/8 clear, a false alarm on an uncertain object left out of
-// precision 8/9, class 7/8: Wilson intervals), plots without vehicles (2 false alarms on
-// 0.25 ha: exact Poisson interval), a v1 detections document, a tile stopped by its time box
-// and one not run; a document that does not add up is refused naming its file.
+// precision 8/9, class 7/8: Wilson intervals; the two clear vehicles missed, one refused, one
+// without a candidate), plots without vehicles (2 false alarms on 0.25 ha: exact Poisson
+// interval), a v1 detections document, a tile stopped by its time box and one not run; a document that does
+// not add up is refused naming its file.
 #include <catch2/catch.hpp>
 
 #include <filesystem>
@@ -65,8 +66,10 @@ void town(const fs::path& root, const fs::path& labels) {
   }
   rows += R"({"tile": 0, "candidate": "c09", "x": 500.5, "y": 500.2, "outcome": "false_alarm"},
              {"tile": 0, "candidate": "c010", "x": 600, "y": 600, "outcome": "false_alarm"},
-             {"tile": 0, "candidate": null, "x": 70, "y": 0, "outcome": "missed", "instance": 7},
-             {"tile": 0, "candidate": null, "x": 80, "y": 0, "outcome": "missed", "instance": 8})";
+             {"tile": 0, "candidate": null, "x": 70, "y": 0, "outcome": "missed", "instance": 7,
+              "fate": "refused", "fate_candidate": "c12", "fate_reason": "vegetation_like", "fate_density": 14},
+             {"tile": 0, "candidate": null, "x": 80, "y": 0, "outcome": "missed", "instance": 8,
+              "fate": "no_candidate"})";
   write(d / "score.json", R"({"format": "canopy.scene_score", "version": 1, "params": {"match_radius_m": 1.5},
     "tiles": [{"detections": "d", "truth": "t", "area_ha": 0.5, "true": 10, "tp": 8, "fp": 2, "fn": 2}],
     "matches": [)" + rows + "]}");
@@ -147,6 +150,14 @@ TEST_CASE("real tiles: a labelled tile's recall, precision and class with Wilson
             "| townA | – | 0.50 | 15.5 | 77500 | 14 | 10 (0 / 10) | class: hatchback 9, class: van 1 | "
             "none 1, too_sparse 3 | – |"));
   CHECK(has(md, "| townA | 42.5 | 52.8 | 10.5 (2) | yes |"));
+  // Where the two missed (clear) vehicles were lost: score's fates, per tile and over all.
+  CHECK(t.lost_clear.at("refused: vegetation_like") == 1);
+  CHECK(t.lost_all.at("no candidate") == 1);
+  CHECK(has(md, "| fate | townA | all scored |"));
+  CHECK(has(md,
+            "| no candidate | 1 (1) | 1 (1) |\n| refused: vegetation_like | 1 (1) | 1 (1) |\n| **lost** | 2 "
+            "(2) | 2 (2) |"));
+  CHECK(has(md, "median 14.0, quartiles 14.0–14.0, range 14.0–14.0 (1 candidate)"));
   CHECK(has(md, "against the target of 60 s"));
 }
 

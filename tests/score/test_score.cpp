@@ -2,6 +2,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 
@@ -707,4 +708,87 @@ TEST_CASE("score logs the summary line and writes the same JSON") {
   const Json s = Json::parse(canopy::test::read_text(dir / "s.json"));
   CHECK(s["summary"][0]["class_tp"] == 1);
   CHECK(s["summary"][0]["recall_any_level"].get<double>() == Approx(0.5));
+}
+
+TEST_CASE("a missed vehicle's fate: the nearest candidate within reach says why it was missed") {
+  // Five hand-placed vehicles (instance: where): 1 (5, 5) refused twice nearby, the nearer
+  // refusal (vegetation_like, 0.4 m) decides over the farther (too_sparse, 1.2 m); 2 (15, 5) and
+  // 3 (16.2, 5) share one detection at (15.5, 5), which takes 2 (the nearer), so 3 is "taken";
+  // 4 (5, 20) a 12 m long outline with a detection 5 m from its centre but inside the outline:
+  // "off_centre"; 5 (25, 25) a refusal 2.5 m away, beyond the radius and without an outline:
+  // "no_candidate".
+  const auto vehicle = [](int id, double x, double y) {
+    return Json{{"instance", id},
+                {"model", "car"},
+                {"pose", {{"x", E + x}, {"y", N + y}, {"z", 100}, {"heading", 0}, {"pitch", 0}, {"roll", 0}}},
+                {"canopy_cover", 0}};
+  };
+  Json v4 = vehicle(4, 5, 20);
+  v4["footprint"] = Json::array({Json::array({E - 1, N + 18.75}), Json::array({E + 11, N + 18.75}),
+                                 Json::array({E + 11, N + 21.25}), Json::array({E - 1, N + 21.25})});
+  const Json truth{{"format", "canopy.scene_truth"},
+                   {"version", 1},
+                   {"extent", {30, 30}},
+                   {"vehicles", Json::array({vehicle(1, 5, 5), vehicle(2, 15, 5), vehicle(3, 16.2, 5), v4,
+                                             vehicle(5, 25, 25)})}};
+  Json d = Json::parse(
+      detections_text(Json::array({det("c2", "car", 0.9, 15.5, 5, 0), det("c3", "car", 0.8, 10, 20, 0)}), 3));
+  const auto refusal = [](const std::string& id, const std::string& reason, double density, double x, double y) {
+    return Json{{"candidate", id},
+                {"reason", reason},
+                {"confidence", nullptr},
+                {"position", {{"x", E + x}, {"y", N + y}}},
+                {"density", density}};
+  };
+  d["rejected"] =
+      Json::array({refusal("c1", "vegetation_like", 12.5, 5.4, 5), refusal("c4", "too_sparse", 2.5, 6.2, 5),
+                   refusal("c5", "too_small", 30, 25, 27.5)});
+  score::Tile t;
+  t.truth = score::parse_truth(truth.dump(), "truth.json");
+  t.detections = score::parse_detections(d.dump(), "detections.json");
+  CHECK(t.detections.rejected.empty());  // no confidence: not the reliability table's
+  REQUIRE(t.detections.refusals.size() == 3);
+  const Json s = as_json(score::score({t}, score::Params{}));
+  std::map<int, Json> missed;
+  for (const auto& r : s["matches"]) {
+    if (r["outcome"] == "missed") {
+      missed[r["instance"].get<int>()] = r;
+    } else {
+      CHECK(r["fate"].is_null());
+    }
+  }
+  REQUIRE(missed.size() == 4);
+  CHECK(missed.count(2) == 0);  // found by c2
+  CHECK(missed[1]["fate"] == "refused");
+  CHECK(missed[1]["fate_candidate"] == "c1");
+  CHECK(missed[1]["fate_reason"] == "vegetation_like");
+  CHECK(missed[1]["fate_density"].get<double>() == Approx(12.5));
+  CHECK(missed[3]["fate"] == "taken");
+  CHECK(missed[3]["fate_candidate"] == "c2");
+  CHECK(missed[3]["fate_reason"].is_null());
+  CHECK(missed[3]["fate_density"].is_null());
+  CHECK(missed[4]["fate"] == "off_centre");
+  CHECK(missed[4]["fate_candidate"] == "c3");
+  CHECK(missed[5]["fate"] == "no_candidate");
+  CHECK(missed[5]["fate_candidate"].is_null());
+  // With a 3 m radius the refusal beside vehicle 5 reaches it.
+  score::Params wide;
+  wide.match_radius = 3;
+  for (const auto& r : as_json(score::score({t}, wide))["matches"]) {
+    if (r["outcome"] == "missed" && r["instance"] == 5) CHECK(r["fate_reason"] == "too_small");
+  }
+  // The document reads back with the fates; a fate that is not one of the four is refused.
+  const documents::SceneScore back = documents::read_scene_score(s.dump(), "score.json");
+  int fates = 0;
+  for (const auto& m : back.matches) fates += m.fate ? 1 : 0;
+  CHECK(fates == 4);
+  Json bad = s;
+  for (auto& r : bad["matches"])
+    if (r["outcome"] == "missed") r["fate"] = "lost";
+  CHECK_THROWS_WITH(documents::read_scene_score(bad.dump(), "score.json"),
+                    Catch::Contains("score.json") && Catch::Contains("fate must be"));
+  // A negative object density is refused naming the member.
+  d["rejected"][0]["density"] = -1;
+  CHECK_THROWS_WITH(score::parse_detections(d.dump(), "detections.json"),
+                    Catch::Contains("rejected[0].density"));
 }

@@ -255,6 +255,7 @@ std::vector<DensityLevel> read_density_levels(const std::vector<documents::Manif
         auto& [found, all] = l.model_found[*m.true_model];
         ++all;
         if (m.outcome == "right" || m.outcome == "wrong") ++found;
+        if (m.outcome == "missed") l.missed_by_fate[fate_label(m)]++;
       }
       if (!l.sensor.empty()) {
         // The tile's truth.json, beside its runs (<tile>/noise-<mm>/): each tile once.
@@ -393,12 +394,13 @@ void level_table(std::ostringstream& md, const std::vector<DensityLevel>& levels
 // Per model and per reason, one column per level that ran; then where each capability begins.
 void detail_tables(std::ostringstream& md, const std::vector<DensityLevel>& levels, const char* unit) {
   std::vector<const DensityLevel*> ran;
-  std::set<std::string> models, reasons;
+  std::set<std::string> models, reasons, fates;
   for (const DensityLevel& l : levels) {
     if (!l.scored) continue;
     ran.push_back(&l);
     for (const auto& [m, fa] : l.model_found) models.insert(m);
     for (const auto& [r, n] : l.by_reason) reasons.insert(r);
+    for (const auto& [f, n] : l.missed_by_fate) fates.insert(f);
   }
   if (!ran.empty()) {
     // One row per key, one column per level that ran; cell(level, key) the entry's text, name(key)
@@ -437,6 +439,19 @@ void detail_tables(std::ostringstream& md, const std::vector<DensityLevel>& leve
           return std::to_string(it == l.by_reason.end() ? 0 : it->second);
         },
         as_is);
+    if (!fates.empty()) {
+      md << "\n**Why the vehicles were missed** (vehicles found at neither level, by score's fate: the "
+            "candidate nearest the vehicle within the match radius or its outline — none: no candidate; a "
+            "rejection: refused, with its reason; a detection of another vehicle: taken; an unmatched "
+            "detection: off centre; every cover level, each noise level's run counted):\n\n";
+      table(
+          "fate", fates,
+          [](const DensityLevel& l, const std::string& f) {
+            const auto it = l.missed_by_fate.find(f);
+            return std::to_string(it == l.missed_by_fate.end() ? 0 : it->second);
+          },
+          as_is);
+    }
     // score's clutter table, all covers: the kinds in the order score gives them (clutter kinds
     // by name, then the true vehicles and none), over every level that ran.
     std::vector<std::string> kinds;

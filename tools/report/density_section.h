@@ -37,6 +37,9 @@ struct DensityLevel {
   // (score's matches: right or wrong = found).
   std::map<std::string, int> by_reason;
   std::map<std::string, std::pair<int, int>> model_found;
+  // The vehicles missed at both levels by score's fate (report::fate_label; vehicle-runs over the
+  // noise levels, as model_found).
+  std::map<std::string, int> missed_by_fate;
   // The rung's ablations on the same candidates (documents::ManifestRungAblation): what each
   // changes, and its score when it has run.
   struct Ablation {

@@ -144,7 +144,17 @@ void read_score(const std::string& path, RealTile& t, const std::map<int, bool>&
     for (std::size_t i = 0; i < s.matches.size(); ++i) {
       const documents::ScoreMatch& r = s.matches[i];
       const std::string w = "matches[" + std::to_string(i) + "]";
-      if (r.outcome == "missed") continue;
+      if (r.outcome == "missed") {
+        if (!r.instance) throw MalformedField(w + ": missing \"instance\"");
+        const auto c = clear.find(static_cast<int>(*r.instance));
+        if (c == clear.end())
+          throw MalformedField(w + " names vehicle " + std::to_string(*r.instance) + ", not in the labels");
+        const std::string fate = fate_label(r);
+        t.lost_all[fate]++;
+        if (c->second) t.lost_clear[fate]++;
+        if (r.fate_density) t.refused_density.push_back(*r.fate_density);
+        continue;
+      }
       ++detections;
       if (r.outcome == "false_alarm") {
         ++t.fp;
@@ -431,6 +441,68 @@ void urban_table(std::ostringstream& md, const std::vector<RealTile>& tiles) {
   md << "\n";
 }
 
+// Where the labelled vehicles no detection matched were lost (score's fate of each missed
+// vehicle): one row per fate, one column per scored tile ("clear (all)"), and the total.
+void lost_table(std::ostringstream& md, const std::vector<RealTile>& tiles) {
+  std::vector<const RealTile*> scored;
+  std::map<std::string, int> total_clear, total_all;
+  std::vector<double> densities;
+  for (const RealTile& t : tiles) {
+    if (!t.labelled || !t.scored) continue;
+    scored.push_back(&t);
+    for (const auto& [f, n] : t.lost_all) total_all[f] += n;
+    for (const auto& [f, n] : t.lost_clear) total_clear[f] += n;
+    densities.insert(densities.end(), t.refused_density.begin(), t.refused_density.end());
+  }
+  if (scored.empty()) return;
+  md << "### Where the labelled vehicles were lost\n\n"
+        "Every labelled vehicle that no detection matched, by `score`'s fate (formats/README.md \"Scene "
+        "score\"): the candidate whose centre is nearest the vehicle's, within the match radius or inside "
+        "its outline, decides — none: **no candidate** (detect made none there, or only one centred "
+        "elsewhere, e.g. merged into something larger); a rejection: **refused**, with its reason "
+        "(classify's, "
+        "or the model chain's); a detection that matched another vehicle: **taken** (one answer for two "
+        "vehicles); an unmatched detection: **off centre**. Per tile: clear vehicles lost (all lost).\n\n"
+        "| fate |";
+  for (const RealTile* t : scored) md << " " << t->name << " |";
+  md << " all scored |\n|---|";
+  for (std::size_t i = 0; i <= scored.size(); ++i) md << "---|";
+  md << "\n";
+  std::vector<std::string> fates;
+  for (const auto& [f, n] : total_all) fates.push_back(f);
+  std::stable_sort(fates.begin(), fates.end(),
+                   [&](const std::string& a, const std::string& b) { return total_all[a] > total_all[b]; });
+  const auto cell = [](const std::map<std::string, int>& clear, const std::map<std::string, int>& all,
+                       const std::string& f) {
+    const auto c = clear.find(f);
+    const auto a = all.find(f);
+    return std::to_string(c == clear.end() ? 0 : c->second) + " (" +
+           std::to_string(a == all.end() ? 0 : a->second) + ")";
+  };
+  for (const std::string& f : fates) {
+    md << "| " << f << " |";
+    for (const RealTile* t : scored) md << " " << cell(t->lost_clear, t->lost_all, f) << " |";
+    md << " " << cell(total_clear, total_all, f) << " |\n";
+  }
+  const auto sum = [](const std::map<std::string, int>& m) {
+    int n = 0;
+    for (const auto& [f, k] : m) n += k;
+    return n;
+  };
+  md << "| **lost** |";
+  for (const RealTile* t : scored) md << " " << sum(t->lost_clear) << " (" << sum(t->lost_all) << ") |";
+  md << " " << sum(total_clear) << " (" << sum(total_all) << ") |\n\n";
+  if (!densities.empty()) {
+    std::sort(densities.begin(), densities.end());
+    md << "Object density of the refused candidates of lost vehicles (points per m²): median "
+       << format_number("%.1f", common::sorted_quantile(densities, 0.5)) << ", quartiles "
+       << format_number("%.1f", common::sorted_quantile(densities, 0.25)) << "–"
+       << format_number("%.1f", common::sorted_quantile(densities, 0.75)) << ", range "
+       << format_number("%.1f", densities.front()) << "–" << format_number("%.1f", densities.back()) << " ("
+       << densities.size() << (densities.size() == 1 ? " candidate" : " candidates") << ").\n\n";
+  }
+}
+
 void time_table(std::ostringstream& md, const std::vector<RealTile>& tiles, double target_s) {
   md << "### Time per tile\n\n"
         "The whole workflow of a tile (`tile.time`: GNU time around its make, so every stage under it; the "
@@ -592,6 +664,7 @@ std::string real_markdown(const std::vector<RealTile>& tiles, int timeout_s, dou
   tiles_table(md, tiles, timeout_s);
   forest_table(md, tiles);
   urban_table(md, tiles);
+  lost_table(md, tiles);
   time_table(md, tiles, target_s);
   return md.str();
 }

@@ -61,6 +61,11 @@ struct RealTile {
   Count class_right;               // matched detections whose group (car / van …) is the label's, of
                                    // the matched detections that carry a group
   int matched_without_group = 0;   // matched detections with no group (model level, no class)
+  // The labelled vehicles no detection matched, by score's fate ("no candidate", "refused:
+  // <reason>", "taken", "off centre"; "unknown" for a score written before stop 71), over the
+  // clear ones and over all; and the object densities of the refused candidates (all lost).
+  std::map<std::string, int> lost_clear, lost_all;
+  std::vector<double> refused_density;
 };
 
 // A real tile's source and licence for the report's table (share/real/README.md), by the tile's

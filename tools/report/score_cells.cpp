@@ -167,4 +167,12 @@ int reliability_rows(std::ostringstream& md, const documents::SceneScore& score)
   return off;
 }
 
+std::string fate_label(const documents::ScoreMatch& m) {
+  if (!m.fate) return "unknown";
+  if (*m.fate == "refused") return "refused: " + m.fate_reason.value_or("no reason");
+  if (*m.fate == "no_candidate") return "no candidate";
+  if (*m.fate == "off_centre") return "off centre";
+  return *m.fate;
+}
+
 }  // namespace canopy::report

@@ -33,6 +33,11 @@ std::vector<const documents::ScoreRow*> cover_rows(const documents::SceneScore& 
 const documents::ScoreRow* summary_row(const documents::SceneScore& score, const std::string& cover,
                                        const std::string& noise = "all");
 
+// A missed vehicle's fate as the report names it (score's matches, formats/README.md "Scene
+// score"): "no candidate", "refused: <reason>" ("refused: no reason" when it has none), "taken",
+// "off centre"; "unknown" for a row without one (a score written before stop 71).
+std::string fate_label(const documents::ScoreMatch& missed);
+
 // The rows of a score's reliability table (score's reliability.csv: level, confidence bin, answers,
 // right with its 95% interval, mean stated confidence), the bins with answers only, each judged
 // against the issue's target when it holds >= 20 answers (right within ±10 points of the mean

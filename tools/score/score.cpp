@@ -91,6 +91,9 @@ Detections parse_detections(const std::string& text_, const std::string& name) {
     for (const documents::Rejection& r : doc.rejected) {
       if (r.confidence && r.position)
         d.rejected.push_back({r.candidate, *r.confidence, (*r.position)[0], (*r.position)[1]});
+      if (r.position)
+        d.refusals.push_back(
+            {r.candidate, r.reason.value_or(""), r.density, (*r.position)[0], (*r.position)[1]});
     }
     const std::size_t found = d.detections.size() + d.class_detections.size();
     if (d.none + static_cast<int>(found) > d.candidates) {
@@ -144,6 +147,46 @@ TileMatch match_tile(const Detections& det, const Truth& truth, double radius) {
   static_cast<LevelMatch&>(m) = match_greedy(det.detections, truth, radius, {});
   m.cls = match_greedy(det.class_detections, truth, radius, m.detection_of);
   return m;
+}
+
+namespace {
+
+// Whether (x, y) lies inside the polygon (even-odd rule; a point on an edge may fall either way).
+bool inside(const std::vector<std::array<double, 2>>& poly, double x, double y) {
+  bool in = false;
+  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+    const auto& a = poly[i];
+    const auto& b = poly[j];
+    if ((a[1] > y) != (b[1] > y) && x < (b[0] - a[0]) * (y - a[1]) / (b[1] - a[1]) + a[0]) in = !in;
+  }
+  return in;
+}
+
+}  // namespace
+
+MissedFate missed_fate(const Tile& t, const TileMatch& m, std::size_t v, double radius) {
+  const TrueVehicle& tv = t.truth.vehicles[v];
+  // The nearest reaching candidate so far: its distance, id and what it says.
+  double best = std::numeric_limits<double>::infinity();
+  MissedFate fate{"no_candidate", "", "", std::nullopt};
+  const auto consider = [&](const std::string& id, double x, double y, const MissedFate& f) {
+    const double dist = std::hypot(x - tv.x, y - tv.y);
+    if (dist > radius && !(tv.footprint.size() >= 3 && inside(tv.footprint, x, y))) return;
+    if (dist < best || (dist == best && id < fate.candidate)) {
+      best = dist;
+      fate = f;
+    }
+  };
+  const auto detections = [&](const std::vector<Detection>& ds, const LevelMatch& lm) {
+    for (std::size_t d = 0; d < ds.size(); ++d)
+      consider(ds[d].candidate, ds[d].x, ds[d].y,
+               {lm.truth_of[d] >= 0 ? "taken" : "off_centre", ds[d].candidate, "", std::nullopt});
+  };
+  detections(t.detections.detections, m);
+  detections(t.detections.class_detections, m.cls);
+  for (const Refusal& r : t.detections.refusals)
+    consider(r.candidate, r.x, r.y, {"refused", r.candidate, r.reason, r.density});
+  return fate;
 }
 
 bool class_identified(const Detection& det, const TrueVehicle& tv) {
@@ -548,7 +591,8 @@ ScoreMatch detection_row(std::size_t tile, const Detection& det) {
 
 // One row per detection (by falling confidence) and per missed vehicle of tile i (the top-view
 // pictures colour by outcome); returns the tile's true positives.
-int outcome_rows(const Tile& t, const TileMatch& m, std::size_t i, std::vector<ScoreMatch>& rows) {
+int outcome_rows(const Tile& t, const TileMatch& m, std::size_t i, double radius,
+                 std::vector<ScoreMatch>& rows) {
   int tp_i = 0;
   for (int d : m.order) {
     const Detection& det = t.detections.detections[d];
@@ -594,6 +638,11 @@ int outcome_rows(const Tile& t, const TileMatch& m, std::size_t i, std::vector<S
     r.instance = tv.instance;
     r.true_model = tv.model;
     r.cover = tv.cover;
+    const MissedFate f = missed_fate(t, m, v, radius);
+    r.fate = f.fate;
+    if (!f.candidate.empty()) r.fate_candidate = f.candidate;
+    if (!f.reason.empty()) r.fate_reason = f.reason;
+    r.fate_density = f.density;
     rows.push_back(std::move(r));
   }
   return tp_i;
@@ -635,7 +684,8 @@ documents::SceneScore score(const std::vector<Tile>& tiles, const Params& params
   s.params.cover_bins = params.cover_bins;
   s.params.flip_threshold_deg = params.flip_threshold;
   for (std::size_t i = 0; i < tiles.size(); ++i) {
-    s.tiles.push_back(tile_row(tiles[i], outcome_rows(tiles[i], matches[i], i, s.matches), matches[i].cls));
+    s.tiles.push_back(tile_row(
+        tiles[i], outcome_rows(tiles[i], matches[i], i, params.match_radius, s.matches), matches[i].cls));
   }
   s.summary = summaries(tiles, matches, params, g);
   s.pr = pr_curve(tiles, matches);

@@ -18,6 +18,7 @@
 #include <array>
 #include <limits>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -71,6 +72,15 @@ struct Rejection {
   double x = 0, y = 0;  // the candidate's centre, tile coordinates
 };
 
+// A rejected candidate by where it was, why and how dense (every rejection with a position,
+// with a confidence or not): what a missed vehicle's fate reads.
+struct Refusal {
+  std::string candidate;
+  std::string reason;             // "" when the document gives none
+  std::optional<double> density;  // the object's points per m², when collect wrote it
+  double x = 0, y = 0;            // the candidate's centre, tile coordinates
+};
+
 struct Detections {
   std::string name;
   int version = 1;
@@ -79,6 +89,7 @@ struct Detections {
   std::vector<Detection> detections;        // model level
   std::vector<Detection> class_detections;  // class level (v2)
   std::vector<Rejection> rejected;          // those with a confidence and a position
+  std::vector<Refusal> refusals;            // every rejection with a position
 };
 
 // One tile of an experiment: its detections, truth and the experiment's labels.
@@ -123,6 +134,21 @@ struct TileMatch : LevelMatch {
   LevelMatch cls;
 };
 TileMatch match_tile(const Detections& det, const Truth& truth, double radius);
+// Why true vehicle `v` of tile `t`, matched at neither level, was missed: the candidate nearest
+// its centre (horizontal distance; ties: candidate id) among the detections of both levels and
+// the positioned rejections whose centre lies within `radius` of the vehicle's centre or inside
+// its footprint decides —
+//   none                                  "no_candidate" (detect gave none there, or only one
+//                                         centred elsewhere: merged into something larger)
+//   a rejection                           "refused", with its reason and object density
+//   a detection matched to another vehicle "taken" (one answer for two vehicles)
+//   an unmatched detection                "off_centre" (answered, its centre beyond the radius)
+struct MissedFate {
+  std::string fate, candidate, reason;
+  std::optional<double> density;
+};
+MissedFate missed_fate(const Tile& t, const TileMatch& m, std::size_t v, double radius);
+
 // A class-level detection names the true vehicle's kind: its group or class equals the truth's
 // model or class ("car", "van" in hand-labelled tiles; a family class in rendered ones).
 bool class_identified(const Detection& det, const TrueVehicle& truth);

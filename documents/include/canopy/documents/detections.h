@@ -41,6 +41,8 @@ struct Rejection {
   std::optional<double> confidence;   // null or absent: nullopt
   // The candidate's centre in tile coordinates ("position": {"x", "y"}; absent before issue 29).
   std::optional<std::array<double, 2>> position;
+  // The object's density in points per m² ("density"; null or absent: nullopt).
+  std::optional<double> density;
 };
 
 struct Detections {

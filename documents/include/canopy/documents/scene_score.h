@@ -69,6 +69,11 @@ struct ScoreMatch {
   std::optional<std::int64_t> instance;  // the true vehicle (right, wrong, missed)
   std::optional<std::string> true_model;
   std::optional<double> cover, distance_m, heading_error_deg;
+  // A missed vehicle's fate (stop 71; null on other rows and in older scores): "no_candidate",
+  // "refused", "taken" or "off_centre" (formats/README.md "Scene score"), the candidate it
+  // names, a refusal's reason and that candidate's object density (points per m²).
+  std::optional<std::string> fate, fate_candidate, fate_reason;
+  std::optional<double> fate_density;
 };
 
 struct SceneScore {
