@@ -149,46 +149,6 @@ TileMatch match_tile(const Detections& det, const Truth& truth, double radius) {
   return m;
 }
 
-namespace {
-
-// Whether (x, y) lies inside the polygon (even-odd rule; a point on an edge may fall either way).
-bool inside(const std::vector<std::array<double, 2>>& poly, double x, double y) {
-  bool in = false;
-  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
-    const auto& a = poly[i];
-    const auto& b = poly[j];
-    if ((a[1] > y) != (b[1] > y) && x < (b[0] - a[0]) * (y - a[1]) / (b[1] - a[1]) + a[0]) in = !in;
-  }
-  return in;
-}
-
-}  // namespace
-
-MissedFate missed_fate(const Tile& t, const TileMatch& m, std::size_t v, double radius) {
-  const TrueVehicle& tv = t.truth.vehicles[v];
-  // The nearest reaching candidate so far: its distance, id and what it says.
-  double best = std::numeric_limits<double>::infinity();
-  MissedFate fate{"no_candidate", "", "", std::nullopt};
-  const auto consider = [&](const std::string& id, double x, double y, const MissedFate& f) {
-    const double dist = std::hypot(x - tv.x, y - tv.y);
-    if (dist > radius && !(tv.footprint.size() >= 3 && inside(tv.footprint, x, y))) return;
-    if (dist < best || (dist == best && id < fate.candidate)) {
-      best = dist;
-      fate = f;
-    }
-  };
-  const auto detections = [&](const std::vector<Detection>& ds, const LevelMatch& lm) {
-    for (std::size_t d = 0; d < ds.size(); ++d)
-      consider(ds[d].candidate, ds[d].x, ds[d].y,
-               {lm.truth_of[d] >= 0 ? "taken" : "off_centre", ds[d].candidate, "", std::nullopt});
-  };
-  detections(t.detections.detections, m);
-  detections(t.detections.class_detections, m.cls);
-  for (const Refusal& r : t.detections.refusals)
-    consider(r.candidate, r.x, r.y, {"refused", r.candidate, r.reason, r.density});
-  return fate;
-}
-
 bool class_identified(const Detection& det, const TrueVehicle& tv) {
   for (const std::string* a : {&det.cls, &det.group}) {
     if (a->empty()) continue;
@@ -708,42 +668,6 @@ void validate(const Params& params) {
       throw common::UsageError("--cover-bins: edges must rise strictly within [0, 1]");
     }
   }
-}
-
-std::string summary_line(std::size_t tiles, const ScoreRow& all) {
-  auto cell = [&](const std::string& key) {
-    const ScoreValue* v = documents::score_cell(all, key);
-    return v ? *v : ScoreValue();
-  };
-  auto count = [&](const std::string& key) {
-    const ScoreValue v = cell(key);
-    return v.is_number() ? std::llround(v.as_number()) : 0LL;
-  };
-  auto fixed = [](const ScoreValue& v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.3f", v.as_number());
-    return std::string(buf);
-  };
-  // "num/den = rate [lo, hi]", or "num/den (n/a)" when the rate is null (nothing to count).
-  auto rate = [&](const std::string& key, long long num, long long den) {
-    const ScoreValue r = cell(key), lo = cell(key + "_lo"), hi = cell(key + "_hi");
-    std::string out = std::to_string(num) + "/" + std::to_string(den);
-    if (!r.is_number()) return out + " (n/a)";
-    out += " = " + fixed(r);
-    if (lo.is_number() && hi.is_number()) out += " [" + fixed(lo) + ", " + fixed(hi) + "]";
-    return out;
-  };
-  const long long model = count("detections"), cls = count("class_detections"),
-                  found = count("found_any_level");
-  auto plural = [](long long n, const char* word) {
-    return std::to_string(n) + " " + word + (n == 1 ? "" : "s");
-  };
-  return plural(static_cast<long long>(tiles), "tile") + ", " + plural(count("true"), "true vehicle") + ", " +
-         plural(model + cls, "detection") + " (" + std::to_string(model) + " model level, " +
-         std::to_string(cls) + " class level): recall " + rate("recall_any_level", found, count("true")) +
-         ", precision " + rate("precision_any_level", found, model + cls) + ", class right " +
-         rate("class_accuracy_any_level", count("class_right_any_level"), found) + ", model identified " +
-         rate("identification", count("identified"), count("tp"));
 }
 
 }  // namespace canopy::score
