@@ -357,10 +357,7 @@ endef
 
 # tile_collect(KEY, DIR, MODELBASE, SCAN): every class.json and model-level verdict ->
 # detections.json + GeoJSON, and the top-view picture of the tile with the detections' footprints.
-# For the `tile` target (KEY TILE, a user's tile) collect's one-line summary and its warning
-# (what the data supports), which the stage runner keeps in detections.json.log, are shown too,
-# each line starting with the tile's output directory: the user reads what happened without
-# opening the log (the scene experiment's tiles leave them in their logs).
+# (The `tile` target shows collect's one-line summary and warning from detections.json.log: below.)
 # For the `tile` target (KEY TILE) the picture comes from the tile's height raster (top.raster:
 # topview --raster-out, which needs only the tile, so it runs beside the candidates' chains),
 # drawn with the footprints once the detections are in: the same picture as from the tile,
@@ -372,8 +369,7 @@ $(2)/detections.json: $(2)/cands.mk $(foreach c,$($(1)_CANDS),$(2)/cands/$(c)/cl
     $(foreach c,$(call model_cands,$(1)),$(2)/cands/$(c)/verdict.json) $(call tool,collect) $(COLLECT_CALIBRATION) \
     $(MODEL_CLASSES) $(opts.collect)
 	@$(STAGE) $$@ -- $(BIN)/collect -i $(2)/cands/index.json -o $$@ --geojson $(2)/detections.geojson \
-	  --modelbase $(3) --model-classes $(MODEL_CLASSES) $(if $(CRS),--crs $(CRS))$(collect_calibration)$(if $(filter TILE,$(1)), \
-	  && sed -n 's|^collect: |$(2): |p' $$@.log)
+	  --modelbase $(3) --model-classes $(MODEL_CLASSES) $(if $(CRS),--crs $(CRS))$(collect_calibration)
 ifeq ($(1)$(if $(filter 0,$(TOP_RASTER)),,1),TILE1)
 $(2)/top.raster: $(4) $(call tool,topview) $(opts.detect)
 	@$(STAGE) $$@ -- $(BIN)/topview -i $(4) --raster-out $$@
@@ -411,7 +407,28 @@ $(eval $(call tile_rules,TILE,$(TILE_OUT),$(TILE),$(TILE_MB)))
 $(call read_tile_plan,$(TILE_OUT)/cands.mk)
 $(call cand_rules,$(TILE_OUT),TILE,$(TILE_MB),$(notdir $(TILE)),$(TILE_CLASSIFY))
 $(eval $(call tile_collect,TILE,$(TILE_OUT),$(TILE_MB),$(TILE)))
-tile: $(TILE_OUT)/detections.json $(TILE_OUT)/classes.ply $(TILE_OUT)/top.png
+# What the tile holds, every time the goal is made (stop 71: a second `make tile` with nothing to
+# do said only "Nothing to be done for 'tile'"): collect's lines of the run that wrote
+# detections.json — its one-line summary, its warning (what the data supports) and its notes
+# (no CRS, ...) — each led by the tile's output directory, read from detections.json.log, where
+# the stage runner kept them: the user reads what happened without opening the log, and a re-run
+# shows it again without running collect (the scene experiment's tiles leave them in their
+# logs). No recipe under a dry run: `make -q tile` answers 0 when all is up to date.
+tile: $(TILE_OUT)/detections.json $(TILE_OUT)/classes.ply $(TILE_OUT)/top.png$(if $(dry_run),, ; \
+  @[ ! -f $(TILE_OUT)/detections.json.log ] || sed -n 's|^collect: |$(TILE_OUT): |p' $(TILE_OUT)/detections.json.log)
+# TRAJECTORY's format, checked before detect runs (stop 71: a file that is not a trajectory ran
+# detect, classify and every model chain, every verify then failed, and the run ended exit 0):
+# verify --check-trajectory reads it with verify's own reader (formats::read_trajectory), so the
+# check and the use cannot disagree. An order-only prerequisite of the index: it runs first, and
+# a change of the trajectory re-runs verify alone, as before (the tile-trajectory options kind).
+# Not under a dry run (`make -q` would always answer 1).
+ifneq ($(TILE_TRAJECTORY),)
+.PHONY: tile-trajectory-check
+$(TILE_OUT)/cands/index.json: | tile-trajectory-check
+tile-trajectory-check: $(call tool,verify)$(if $(dry_run),, ; @$(BIN)/verify -q --check-trajectory \
+  $(TILE_TRAJECTORY) || { echo "tile: TRAJECTORY=$(TILE_TRAJECTORY) is not a canopy trajectory \
+  (formats/README.md \"Trajectory\"): nothing was run" >&2; exit 1; })
+endif
 endif
 
 # A directory of tiles (a survey campaign):

@@ -427,6 +427,22 @@ TEST_CASE("collect: a verdict must be its candidate's, its model a name (round 3
   v["candidate"] = "c0001.pcd";  // verify run beside the candidates, not from here: only the name tells
   accepted(v);
   accepted(good);
+  // A copy of the tile's directory (cp -a orig tile; stop 71): its verdicts name the original's
+  // points, which have the same bytes as this tile's: taken (before, refused, so a copied tile
+  // could not be re-run with another CRS or TRAJECTORY); the original's with other bytes (another
+  // tile's, of either size): still refused.
+  const fs::path orig = dir / "orig" / "cands";
+  write(orig / "c0001" / "samples.pcd", "x");
+  v["candidate"] = (orig / "c0001" / "samples.pcd").string();
+  accepted(v);
+  write(orig / "c0001.pcd", "x");
+  v["candidate"] = (orig / "c0001.pcd").string();
+  accepted(v);
+  write(orig / "c0001.pcd", "y");
+  refused(v, "which is not candidate c0001 of this tile");
+  write(orig / "c0001" / "samples.pcd", "xy");
+  v["candidate"] = (orig / "c0001" / "samples.pcd").string();
+  refused(v, "which is not candidate c0001 of this tile");
 }
 
 TEST_CASE("collect --plan: candidate ids and transforms as make variables") {

@@ -94,6 +94,30 @@ for t in a b; do
   echo "tile $t: $n candidates, $(jq '.found' "$tmp/$t/detections.json") found: $(jq -c '[.detections[] | [.model, .confidence]]' "$tmp/$t/detections.json")"
 done
 
+# A copy of a tile's directory (cp -a) is updated in place: another CRS re-runs collect alone,
+# a TRAJECTORY verify and collect alone (stop 71: collect refused the copied class answers and
+# verdicts, which name the original's points), with the original's answers; the original stays.
+cp -a "$tmp/a" "$tmp/a-copy"
+"${mk[@]}" -j2 tile TILE="$tmp/a.pcd" MODELBASE="$tmp/mb" OUT="$tmp/a-copy/" CRS=EPSG:32634 >"$tmp/copy.log" 2>&1 \
+  || fail "make tile on a copied tile directory with another CRS failed: $(grep -v '^done' "$tmp/copy.log" | tail -3)"
+[ "$(grep '^done' "$tmp/copy.log" | awk '{ print $2 }' | sed "s|^$tmp/a-copy/||" | sort | tr '\n' ' ')" = \
+  "detections.json top.png " ] || fail "another CRS in a copied tile ran: $(grep '^done' "$tmp/copy.log")"
+jq -e '.crs.properties.name == "urn:ogc:def:crs:EPSG::32634"' "$tmp/a-copy/detections.geojson" >/dev/null \
+  || fail "the copied tile's GeoJSON does not carry the new CRS"
+printf '%s\n' '# canopy trajectory 1' 'time x y z roll pitch heading' '0 500000 5399950 500 0 0 0' \
+  '10 500000 5400050 500 0 0 0' >"$tmp/copy.traj"
+"${mk[@]}" -j2 tile TILE="$tmp/a.pcd" MODELBASE="$tmp/mb" OUT="$tmp/a-copy/" CRS=EPSG:32634 TRAJECTORY="$tmp/copy.traj" \
+  >"$tmp/copy2.log" 2>&1 || fail "make tile on a copied tile with a TRAJECTORY failed: $(grep -v '^done' "$tmp/copy2.log" | tail -3)"
+if grep '^done' "$tmp/copy2.log" | grep -qv 'verdict\.json\|detections\.json\|top\.png'; then
+  fail "a TRAJECTORY in a copied tile ran: $(grep '^done' "$tmp/copy2.log" | grep -v 'verdict\.json\|detections\.json\|top\.png')"
+fi
+answers='[.detections[] | [.candidate, .level, .model, .class]]'
+[ "$(jq -c "$answers" "$tmp/a-copy/detections.json")" = "$(jq -c "$answers" "$tmp/a/detections.json")" ] \
+  || fail "the copied tile answers otherwise: $(jq -c "$answers" "$tmp/a-copy/detections.json")"
+jq -e '.crs.properties.name == "urn:ogc:def:crs:EPSG::32633"' "$tmp/a/detections.geojson" >/dev/null \
+  || fail "the original tile changed with its copy"
+rm -rf "$tmp/a-copy"
+
 # Re-running redoes nothing; a changed gmatch.ini redoes gmatch, verify, collect only.
 "${mk[@]}" -j2 tile TILE="$tmp/a.pcd" MODELBASE="$tmp/mb" OUT="$tmp/a/" CRS=EPSG:32633 >"$tmp/again.log" 2>&1 \
   || fail "second make tile failed"

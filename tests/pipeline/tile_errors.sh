@@ -10,11 +10,16 @@
 # - `make tiles` on a directory holding no tile: make's own message alone, without the progress
 #   count's "the planning dry run (make -n) failed" before it; on a directory holding the cut
 #   tile: detect's message, no "No rule";
-# - a planning dry run that fails on something else (the tools' build) still says so.
+# - a planning dry run that fails on something else (the tools' build) still says so;
+# - TRAJECTORY= naming a file that is not a trajectory is refused before detect runs, naming the
+#   file and the problem (stop 71: detect, classify and every model chain ran, every verify
+#   failed, exit 0); a trajectory runs as before;
+# - a second `make tile` with nothing to do shows collect's summary and warning again, the same
+#   lines (stop 71: "Nothing to be done for 'tile'").
 set -uo pipefail
 src=$1 bin=$2
 fail() { echo "FAIL: $*" >&2; exit 1; }
-for t in detect collect topview stagerun; do
+for t in detect collect topview stagerun verify; do
   [ -x "$bin/$t" ] || fail "$bin/$t is not built"
 done
 laz=$src/share/real/ign_lidarhd_870000_6618000.laz
@@ -72,9 +77,41 @@ grep -q "^$tmp/out-pcd: warning: no candidate on this tile of 0\.[0-9]* ha" "$tm
   || fail "no warning for a tile without candidates: $(grep -v '^done' "$tmp/pcd2.log" | tail -3)"
 jq -e '.warning | startswith("no candidate on this tile")' "$tmp/out-pcd/detections.json" >/dev/null \
   || fail "detections.json has no warning for a tile without candidates"
+# Shown once, after the run's stages; and again, the same lines, by a run with nothing to do.
+grep "^$tmp/out-pcd: " "$tmp/pcd2.log" >"$tmp/said1.txt"
+[ "$(grep -c "^$tmp/out-pcd: 0 candidates: 0 vehicles found (0 model level, 0 class level)$" "$tmp/said1.txt")" = 1 ] \
+  || fail "the summary is not shown once: $(cat "$tmp/said1.txt")"
+"${mk[@]}" -j2 tile TILE="$tmp/tile.pcd" MODELBASE="$tmp/mb" OUT="$tmp/out-pcd/" >"$tmp/pcd3.log" 2>&1 \
+  || fail "make tile again failed: $(tail -3 "$tmp/pcd3.log")"
+! grep -q "^done\|Nothing to be done" "$tmp/pcd3.log" || fail "make tile with nothing to do: $(head -3 "$tmp/pcd3.log")"
+grep -v "^built \|^new " "$tmp/pcd3.log" >"$tmp/said2.txt"
+cmp -s "$tmp/said1.txt" "$tmp/said2.txt" \
+  || fail "a second make tile does not show the first one's summary and warning: $(cat "$tmp/said2.txt")"
 "${mk[@]}" -q tile TILE="$tmp/tile.pcd" MODELBASE="$tmp/mb" OUT="$tmp/out-pcd/" >/dev/null 2>&1 \
   || fail "make -q tile after the run exits $?, want 0"
-echo "ok: after a cut PCD, the whole one runs and is then up to date"
+echo "ok: after a cut PCD, the whole one runs and is then up to date, and a re-run shows its summary again"
+
+# TRAJECTORY= a file that is not a trajectory: refused before detect, naming the file and the
+# problem in verify's own words, exit 2; a trajectory: the run as without the check.
+printf '%s\n' 'time,x,y,z' '0,500000,5400000,300' >"$tmp/notes.csv"
+"${mk[@]}" -j2 tile TILE="$tmp/flat.pcd" MODELBASE="$tmp/mb" OUT="$tmp/out-traj/" TRAJECTORY="$tmp/notes.csv" \
+  >"$tmp/traj.log" 2>&1
+rc=$?
+[ $rc -eq 2 ] || fail "make tile TRAJECTORY=<not a trajectory> exits $rc, want 2: $(tail -3 "$tmp/traj.log")"
+grep -q "^verify: error: $tmp/notes.csv: line 1: " "$tmp/traj.log" \
+  && grep -q "^tile: TRAJECTORY=$tmp/notes.csv is not a canopy trajectory" "$tmp/traj.log" \
+  || fail "no error naming the trajectory and its problem: $(cat "$tmp/traj.log")"
+! grep -q "^done\|^detect: " "$tmp/traj.log" && [ ! -e "$tmp/out-traj/cands" ] \
+  || fail "a stage ran before the trajectory was refused: $(grep -m1 '^done\|^detect: ' "$tmp/traj.log")"
+printf '%s\n' '# canopy trajectory 1' 'time x y z roll pitch heading' '0 500000 5399950 500 0 0 0' \
+  '10 500000 5400050 500 0 0 0' >"$tmp/good.traj"
+"${mk[@]}" -j2 tile TILE="$tmp/flat.pcd" MODELBASE="$tmp/mb" OUT="$tmp/out-traj/" TRAJECTORY="$tmp/good.traj" \
+  >"$tmp/traj2.log" 2>&1 || fail "make tile with a trajectory failed: $(tail -3 "$tmp/traj2.log")"
+[ "$(jq '.candidates' "$tmp/out-traj/detections.json")" = 0 ] || fail "make tile with a trajectory: no detections.json"
+! grep -q "trajectory" "$tmp/traj2.log" || fail "a trajectory said something: $(grep -m1 trajectory "$tmp/traj2.log")"
+"${mk[@]}" -q tile TILE="$tmp/flat.pcd" MODELBASE="$tmp/mb" OUT="$tmp/out-traj/" TRAJECTORY="$tmp/good.traj" \
+  >/dev/null 2>&1 || fail "make -q tile with a trajectory after its run exits $?, want 0"
+echo "ok: a TRAJECTORY that is not a trajectory is refused before detect"
 
 # Another tile into the same OUT, older than the first run's files: detect and what follows run
 # again on it (stop 70: "Nothing to be done" and the first tile's results); the same again: nothing.

@@ -574,6 +574,40 @@ TEST_CASE("sensor directions from what LAS has (issue 26): columns unchanged, de
   CHECK(!fs::exists(c.dir / "x.json"));
 }
 
+TEST_CASE("verify --check-trajectory: the file alone, read as --trajectory reads it (stop 71)",
+          "[verify][cli]") {
+  const fs::path dir = canopy::test::fresh_dir("verify", "checktraj");
+  std::string err;
+  const fs::path good = dir / "good.traj";
+  canopy::common::write_file_atomic(good.string(),
+                                    "# canopy trajectory 1\ntime x y z roll pitch heading\n"
+                                    "307843211.25 -50 0 300 0 0 0\n307843221.5 50 0 300 0 0 0\n");
+  // No --points, no --modelbase, no -i: the trajectory alone, said in one line.
+  REQUIRE(sh(kBin + " --check-trajectory " + good.string(), dir / "err", &err) == 0);
+  CHECK(err == "verify: " + good.string() +
+                   ": a canopy trajectory of 2 samples, time 307843211.25 to 307843221.5 s\n");
+  REQUIRE(sh(kBin + " -q --check-trajectory " + good.string(), dir / "err", &err) == 0);
+  CHECK(err.empty());
+  // Not a trajectory: exit 1, the file, the line and the problem (--trajectory's own words).
+  const fs::path notes = dir / "notes.txt";
+  canopy::common::write_file_atomic(notes.string(), "time x y z\n1 2 3\n");
+  REQUIRE(sh(kBin + " --check-trajectory " + notes.string(), dir / "err", &err) == 1);
+  CHECK_THAT(err, Catch::StartsWith("verify: error: " + notes.string() + ": line 1: "));
+  const fs::path bad = dir / "bad.traj";
+  canopy::common::write_file_atomic(bad.string(),
+                                    "# canopy trajectory 1\ntime x y z roll pitch heading\n"
+                                    "0 -50 0 300 0 0 0\n0 50 0 300 0 0 0\n");
+  REQUIRE(sh(kBin + " --check-trajectory " + bad.string(), dir / "err", &err) == 1);
+  CHECK(err.find(bad.string() + ": line 4: time 0 is not after") != std::string::npos);
+  REQUIRE(sh(kBin + " --check-trajectory " + (dir / "none.traj").string(), dir / "err", &err) == 1);
+  CHECK(err.find((dir / "none.traj").string() + ": cannot open") != std::string::npos);
+  // Without the mode (or with it empty) --points and --modelbase are required, as before.
+  REQUIRE(sh(kBin + " -i " + good.string(), dir / "err", &err) == 2);
+  CHECK(err.find("--points is required") != std::string::npos);
+  REQUIRE(sh(kBin + " --check-trajectory '' -i " + good.string(), dir / "err", &err) == 2);
+  CHECK(err.find("--points is required") != std::string::npos);
+}
+
 TEST_CASE("a match result with poses and no pairs (baseline --hypotheses) is checked without --segments",
           "[verify][cli]") {
   const Case c("hypotheses");

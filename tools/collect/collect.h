@@ -234,7 +234,9 @@ bool names_candidate(const std::string& points, const std::string& id);
 // The verdict belongs to candidate `id` of the index in `index_dir`: DataError naming the
 // verdict file unless names_candidate(); and when those points exist (seen from the working
 // directory), they must be <index_dir>/<id>.pcd or lie in <index_dir>/<id>/ or in the verdict's
-// own directory: another tile's candidate of the same id is refused too. Failed verdicts pass.
+// own directory, or have the same bytes as the file of their name there (a copy of the tile's
+// directory, whose verdicts name the original's points): another tile's candidate of the same id
+// is refused too. Failed verdicts pass.
 void check_verdict_of(const Verdict& verdict, const std::string& id, const std::string& index_dir);
 
 // p = a * b (4 x 4 row-major).

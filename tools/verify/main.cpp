@@ -31,6 +31,7 @@ struct Cli {
   std::string in = "-", out = "-", points, segments, modelbase, transform;
   std::string free_space = "unseen";
   std::string sensor_direction = "auto", trajectory;
+  std::string check_trajectory;       // the mode that checks a trajectory file alone
   double trajectory_tolerance = 1.0;  // s
   bool no_flip = false;
   bool no_box = false;
@@ -39,19 +40,20 @@ struct Cli {
 void bind(cm::Tool& tool, vf::Params& p, Cli& cli) {
   tool.add_input(&cli.in, "match result JSON (gmatch's, or baseline --hypotheses')");
   tool.add_output(&cli.out, "verdict JSON");
-  tool.add("--points", &cli.points,
-           "candidate points PCD with normals and sensor directions "
-           "(fitvox samples)")
-      ->required();
+  CLI::Option* points = tool.add("--points", &cli.points,
+                                 "candidate points PCD with normals and sensor directions "
+                                 "(fitvox samples)")
+                            ->required();
   tool.add("--segments", &cli.segments,
            "candidate segment graph JSON (the one gmatch matched); not needed for a match result "
            "without segment pairs (baseline --hypotheses': each model's start is its pose)");
-  tool.add("--modelbase", &cli.modelbase,
-           "directory of <model>.json graphs, <model>.pcd surfaces and "
-           "optional <model>.class classes; a surface's label-1 points are the model, or, when it "
-           "carries no labels (no label field, or 0 on every point: fitvox on unlabelled points), "
-           "its points above 5 cm")
-      ->required();
+  CLI::Option* modelbase =
+      tool.add("--modelbase", &cli.modelbase,
+               "directory of <model>.json graphs, <model>.pcd surfaces and "
+               "optional <model>.class classes; a surface's label-1 points are the model, or, when it "
+               "carries no labels (no label field, or 0 on every point: fitvox on unlabelled points), "
+               "its points above 5 cm")
+          ->required();
   tool.add("--transform", &cli.transform,
            "candidate frame -> tile frame, 12 or 16 numbers row-major (detect's index.json "
            "transform); adds pose_tile");
@@ -82,6 +84,18 @@ void bind(cm::Tool& tool, vf::Params& p, Cli& cli) {
            "maps the points into it");
   tool.add("--trajectory-tolerance", &cli.trajectory_tolerance,
            "seconds a point's gps_time may lie beyond the trajectory's ends");
+  // (CLI11 runs the options' callbacks in their order, -i's first, and then checks the
+  // required ones: given, this mode needs neither --points nor --modelbase, and reads no -i.)
+  tool.add("--check-trajectory", &cli.check_trajectory,
+           "instead: read this file as --trajectory reads it, say what it holds and exit (1 with "
+           "the line and the problem when it is not a trajectory); needs no other option (make "
+           "tile checks TRAJECTORY= so before detect)")
+      ->each([points, modelbase, &cli](const std::string& file) {
+        if (file.empty()) return;
+        points->required(false);
+        modelbase->required(false);
+        cli.in.clear();  // no -i is read: stdin on a terminal is no error (common::Tool::run)
+      });
   tool.add_length("--icp-coarse", &p.icp_coarse, "ICP correspondence distance, first stage");
   tool.add_length("--icp-fine", &p.icp_fine, "ICP correspondence distance, second stage");
   tool.add("--icp-iterations", &p.icp_iterations, "ICP iterations per stage (0 = no ICP), at most 500");
@@ -215,6 +229,16 @@ std::string summary(const canopy::documents::Verdict& v) {
   return said;
 }
 
+// --check-trajectory: the file read as --trajectory reads it (formats::read_trajectory), its
+// samples and span said.
+void check_trajectory(const std::string& path) {
+  const fm::Trajectory t = fm::read_trajectory(path);
+  char span[96];
+  std::snprintf(span, sizeof span, "time %.15g to %.15g s", t.samples.front().time, t.samples.back().time);
+  cm::log::info(cm::display_name(path) + ": a canopy trajectory of " + std::to_string(t.samples.size()) +
+                (t.samples.size() == 1 ? " sample, " : " samples, ") + span);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -227,6 +251,7 @@ int main(int argc, char** argv) {
   Cli cli;
   bind(tool, p, cli);
   return tool.run(argc, argv, [&] {
+    if (!cli.check_trajectory.empty()) return check_trajectory(cli.check_trajectory);
     p.flip = !cli.no_flip;
     p.box = !cli.no_box;
     p.free_space_through = cli.free_space == "through";
@@ -266,7 +291,8 @@ int main(int argc, char** argv) {
                                 (kv.first == "free-space" && !p.free_space_through) ||
                                 (kv.first == "sensor-direction" && cli.sensor_direction == "auto") ||
                                 (kv.first == "trajectory" && cli.trajectory.empty()) ||
-                                (kv.first == "trajectory-tolerance" && trajectory_default);
+                                (kv.first == "trajectory-tolerance" && trajectory_default) ||
+                                kv.first == "check-trajectory";
                        }),
         parameters.end());
     std::vector<std::string> inputs{cli.in, cli.points, cli.segments, cli.modelbase};
