@@ -122,7 +122,9 @@ TEST_CASE("scene section: the score's numbers, the targets judged on them, the f
                     "recognised": 3, "recall": 0.75, "recognition": 0.75},
                    {"cover_lo": 0.5, "cover_hi": 1, "noise_mm": "all", "true": 0, "detected": 0,
                     "recognised": 0, "recall": null, "recognition": null}],
-    "matches": []})",
+    "matches": [{"tile": 1, "candidate": null, "x": 5, "y": 5, "outcome": "missed", "instance": 2,
+                 "fate": "refused", "fate_candidate": "c7", "fate_reason": "vegetation_like", "fate_density": 80},
+                {"tile": 0, "candidate": null, "x": 9, "y": 9, "outcome": "missed", "instance": 3}]})",
                                                                   "score.json");
   report::SceneStageTime d;
   d.stage = "detect";
@@ -154,6 +156,10 @@ TEST_CASE("scene section: the score's numbers, the targets judged on them, the f
   CHECK(md.find("| tank | all | 4 | 3 | 3 | 75.0% | 100.0% | 75.0% |") != std::string::npos);
   CHECK(md.find("| 0.50–1.00 | all | 0 | 0 | 0 | – | – |") != std::string::npos);
   CHECK(md.find("| 0.600 | 4 | 3 | 1 | 75.0% | 75.0% |") != std::string::npos);
+  // Why the two missed were missed: score's fate (a score without one: unknown), per cover.
+  CHECK(md.find("### Why the vehicles were missed") != std::string::npos);
+  CHECK(md.find("| fate | light | all |\n|---|---|---|\n| refused: vegetation_like | 1 | 1 |\n| unknown | 1 "
+                "| 1 |\n") != std::string::npos);
   CHECK(md.find("| stage | runs | wall s | CPU s | s per ha | peak MB |") != std::string::npos);
   CHECK(md.find("| detect | 2 | 6.0 | – | 33.3 | 500 |") != std::string::npos);  // no CPU columns
   CHECK(md.find("| fitvox | 2 | 1.5 | 1.2 | 33.3 | 500 |") != std::string::npos);

@@ -2,6 +2,7 @@
 // rendering of score.json (whose numbers `score` computed).
 #include <algorithm>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -493,6 +494,38 @@ void cover_table(std::ostringstream& md, const SceneScore& score, const std::str
      << fig << "/noise.png)\n\n";
 }
 
+// Why the vehicles found at neither level were missed (score's fate, report::fate_label), one
+// column per cover level in the score's order, every noise level's run counted.
+void missed_table(std::ostringstream& md, const SceneScore& score, const std::vector<std::string>& covers) {
+  std::map<std::string, std::map<std::string, int>> n;  // fate -> cover -> vehicle-runs
+  for (const documents::ScoreMatch& m : score.matches) {
+    if (m.outcome != "missed") continue;
+    const auto tile = static_cast<std::size_t>(m.tile);
+    n[fate_label(m)][tile < score.tiles.size() ? score.tiles[tile].cover.value_or("–") : "–"]++;
+  }
+  if (n.empty()) return;
+  md << "### Why the vehicles were missed\n\n"
+        "The vehicles found at neither level, by `score`'s fate (formats/README.md \"Scene score\"): the "
+        "candidate nearest the vehicle within the match radius or its outline decides — none: no candidate; "
+        "a rejection: refused, with its reason; a detection of another vehicle: taken; an unmatched "
+        "detection: off centre. Vehicle-runs (each noise level's run counted), per cover level.\n\n| fate |";
+  for (const std::string& c : covers) md << " " << c << " |";
+  md << " all |\n|---|";
+  for (std::size_t i = 0; i <= covers.size(); ++i) md << "---|";
+  md << "\n";
+  for (const auto& [fate, by_cover] : n) {
+    int all = 0;
+    md << "| " << fate << " |";
+    for (const std::string& c : covers) {
+      const auto it = by_cover.find(c);
+      md << " " << (it == by_cover.end() ? 0 : it->second) << " |";
+    }
+    for (const auto& [c, k] : by_cover) all += k;
+    md << " " << all << " |\n";
+  }
+  md << "\n";
+}
+
 void pr_table(std::ostringstream& md, const SceneScore& score) {
   // Precision-recall: at most 12 rows (every k-th threshold and the last); all of it in pr.csv.
   const std::vector<ScoreRow>& pr = score.pr;
@@ -636,6 +669,7 @@ std::string scene_markdown(const SceneScore& score, const std::vector<SceneStage
   targets_table(md, summary, all);
   models_table(md, score);
   cover_table(md, score, fig);
+  missed_table(md, score, covers);
   pr_table(md, score);
   reliability_table(md, score, collect_ablation, collect_ablation_path);
   classify_ablations_table(md, score, classify_ablations);
