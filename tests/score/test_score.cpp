@@ -792,3 +792,34 @@ TEST_CASE("a missed vehicle's fate: the nearest candidate within reach says why 
   CHECK_THROWS_WITH(score::parse_detections(d.dump(), "detections.json"),
                     Catch::Contains("rejected[0].density"));
 }
+
+TEST_CASE("the detections of another tile are refused naming both files") {
+  // The tile of truth_text(): vehicles at (10, 10) and (20, 20) of a 30 m tile. A detection 500 m
+  // away is no detection of it (the box of its vehicles grown by 30 + 10 m reaches 60 m); one at
+  // 55 m, or a rejected candidate inside, is.
+  score::Tile t;
+  t.truth = score::parse_truth(truth_text(), "truth.json");
+  t.detections = score::parse_detections(detections_text(det("c1", "sedan", 0.9, 500, 10, 30)), "far.json");
+  CHECK_THROWS_WITH(score::check_same_tile(t), Catch::Contains("far.json") && Catch::Contains("truth.json") &&
+                                                   Catch::Contains("another tile"));
+  t.detections = score::parse_detections(detections_text(det("c1", "sedan", 0.9, 55, 10, 30)), "near.json");
+  CHECK_NOTHROW(score::check_same_tile(t));
+  Json d = Json::parse(detections_text(det("c1", "sedan", 0.9, 500, 10, 30), 1));
+  d["rejected"] = Json::array(
+      {Json{{"candidate", "c2"}, {"reason", "too_sparse"}, {"position", {{"x", E + 12}, {"y", N + 9}}}}});
+  t.detections = score::parse_detections(d.dump(), "mixed.json");
+  CHECK_NOTHROW(score::check_same_tile(t));
+  // Nothing to compare: no detection and no positioned rejection.
+  t.detections = score::parse_detections(detections_text(Json::array(), 3), "empty.json");
+  CHECK_NOTHROW(score::check_same_tile(t));
+  // The CLI: exit 1, both files named, no output.
+  const auto dir = test::fresh_dir("score", "other-tile");
+  std::ofstream((dir / "truth.json").string()) << truth_text();
+  std::ofstream((dir / "d.json").string()) << detections_text(det("c1", "sedan", 0.9, 500, 10, 30));
+  std::string err;
+  CHECK(test::sh(std::string(CANOPY_BIN_DIR) + "/score -q -d " + (dir / "d.json").string() + " -t " +
+                     (dir / "truth.json").string() + " -o " + (dir / "s.json").string(),
+                 dir / "err.txt", &err) == 1);
+  CHECK_THAT(err, Catch::Contains("d.json") && Catch::Contains("truth.json"));
+  CHECK_FALSE(test::exists(dir / "s.json"));
+}

@@ -45,6 +45,7 @@ score::Tile load(const std::string& detections, const std::string& truth, double
   t.truth = score::parse_truth(common::read_file(truth), truth);
   t.noise_mm = noise;
   t.cover = cover;
+  score::check_same_tile(t);
   return t;
 }
 

@@ -149,6 +149,13 @@ struct MissedFate {
 };
 MissedFate missed_fate(const Tile& t, const TileMatch& m, std::size_t v, double radius);
 
+// Throws common::DataError naming the detections and the truth when the two cannot be of one tile:
+// both hold positions (detections of either level and positioned rejections; true vehicles and
+// clutter) and none of the former lies within the box of the latter grown by the truth's larger
+// extent + 10 m (a detection of the tile lies on the tile, as its vehicles do). Nothing to compare
+// (no position on either side) passes.
+void check_same_tile(const Tile& t);
+
 // A class-level detection names the true vehicle's kind: its group or class equals the truth's
 // model or class ("car", "van" in hand-labelled tiles; a family class in rendered ones).
 bool class_identified(const Detection& det, const TrueVehicle& truth);
