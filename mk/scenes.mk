@@ -49,6 +49,9 @@ tile_detect = $(TILE_DETECT)
 # fitvox on candidates: airborne tiles are sparser than the thesis's renderings
 # (share/params/fitvox-tile.ini says how the setting was chosen).
 TILE_FITVOX ?= $(P)/fitvox-tile.ini
+$(if $(wildcard $(TILE_FITVOX)),,$(error fitvox's parameters: TILE_FITVOX=$(TILE_FITVOX) does not exist))
+# (These parameters' checks here are every goal's; for `make tile` and `make tiles`
+# mk/tile-args.mk checks them first, before the progress count writes OUT: stop 71.)
 # The object density (points per m² of a candidate's footprint, detect's index.json) from which
 # a candidate also runs the model chain; below it classify's class-level answer alone
 # (docs/decisions/density-scale.md: with the density rule below, 20 since stop 69, "The model
@@ -393,10 +396,21 @@ TILE_TRAJECTORY := $(TRAJECTORY)
 # another TRAJECTORY or none re-runs the stages that read it; before, the prerequisites' times
 # alone decided, and such a run said "Nothing to be done" and kept the first run's results. A
 # file by its real path (links followed), size and modification time; the modelbase by its
-# directory's real path (a change inside it: its files' times, as before).
+# directory's real path and, since stop 71 (review F21), its entries: one line "entry = <file>
+# <size> <mtime>" per <model>.json, .pcd and .class file (links followed; one stat for them all),
+# the files gmatch, verify, classify and collect read. Before, a change inside the modelbase was
+# seen only through its files' times as prerequisites: an entry removed (user-modelbase prunes
+# entries) or replaced by an older file (mv, cp -p, tar x) left the tile "up to date", its
+# detections naming a model no longer there. Only the kinds that read the modelbase carry these
+# lines (classify, collect, tile-modelbase: gmatch and verify), so detect and fitvox | cocone |
+# ncut do not re-run. (The scene experiment's tiles have no such lines: their modelbase is the
+# experiment's own, a prerequisite made by the same make.)
 file_identity = $(realpath $(1)) $(shell stat -L -c '%s %Y' '$(1)' 2>/dev/null)
 tile_inputs_detect = $(call opts_line,tile,$(call file_identity,$(TILE)))
-tile_inputs_modelbase = $(call opts_line,modelbase,$(realpath $(TILE_MB)))
+TILE_MB_FILES := $(sort $(notdir $(wildcard $(TILE_MB)/*.json $(TILE_MB)/*.pcd $(TILE_MB)/*.class)))
+TILE_MB_ENTRIES := $(if $(TILE_MB_FILES),$(shell cd '$(TILE_MB)' && stat -L -c '%n/%s/%Y' $(TILE_MB_FILES) 2>/dev/null))
+tile_inputs_modelbase = $(call opts_line,modelbase,$(realpath $(TILE_MB)))$(subst $(nl) ,$(nl),$(foreach \
+  e,$(TILE_MB_ENTRIES),$(call opts_line,entry,$(subst /, ,$(e)))))
 opts_text_tile-modelbase = $(tile_inputs_modelbase)
 opts_text_tile-trajectory = $(call opts_line,trajectory,$(if $(TILE_TRAJECTORY),$(call file_identity,$(TILE_TRAJECTORY))))
 tile_classify := $(TILE_CLASSIFY)

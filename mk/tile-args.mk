@@ -33,6 +33,30 @@ $(if $(TRAJECTORY),$(if $(filter 1,$(words $(TRAJECTORY))),,$(error tile: TRAJEC
 $(if $(TRAJECTORY),$(if $(wildcard $(TRAJECTORY)),,$(error tile: TRAJECTORY=$(TRAJECTORY) does not exist)))
 endif
 
+# The stages' parameters `make tile` and `make tiles` take (stop 71, review F12): TILE_DETECT,
+# TILE_FITVOX, TILE_CLASSIFY and MODEL_CLASSES name files that must exist, TILE_MODEL_DENSITY is
+# a number of points/m². mk/scenes.mk, read after the progress count, gives their defaults and
+# checks them for every goal (the scene experiment reads them too); for these two goals they are
+# checked here as well, when given, so a refused run leaves nothing in OUT (the planning had
+# created OUT/.progress*), and TILE_FITVOX is checked at all (before, a missing one ran detect
+# and the plan, then stopped on make's "No rule to make target '<file>', needed by
+# '<OUT>/cands/c0001/samples.pcd'"). TILE_DETECT may be empty (detect's own defaults); the others
+# may not.
+# tile_param_file(VARIABLE, WHOSE, EMPTY_OK): the check of one parameter file, when the variable
+# is set (its default, from mk/scenes.mk, is the repository's own file).
+tile_param_file = $(if $(filter undefined,$(origin $(1))),,$(call one_word,$(tile_goal): $(1),$($(1)))$(if \
+  $(strip $($(1))),$(if $(wildcard $($(1))),,$(error $(tile_goal): $(1)=$($(1)) does not exist ($(2)))),$(if \
+  $(3),,$(error $(tile_goal): $(1) is empty: give $(2) or leave it out for the default))))
+tile_goal := $(firstword $(filter tile tiles,$(MAKECMDGOALS)))
+ifneq ($(tile_goal),)
+$(call tile_param_file,TILE_DETECT,detect's parameters,empty ok)
+$(call tile_param_file,TILE_FITVOX,fitvox's parameters on the candidates)
+$(call tile_param_file,TILE_CLASSIFY,classify's parameters)
+$(call tile_param_file,MODEL_CLASSES,the thesis models' classes)
+$(if $(filter undefined,$(origin TILE_MODEL_DENSITY)),,$(if $(shell printf '%s' '$(TILE_MODEL_DENSITY)' | grep -xE \
+  '[0-9]+(\.[0-9]+)?'),,$(error $(tile_goal): TILE_MODEL_DENSITY=$(TILE_MODEL_DENSITY) must be a number of points/m²)))
+endif
+
 # `make tiles`: the tiles are the directory's .las, .laz and .pcd files, the extension in either
 # case (PLOT1.LAZ as plot1.laz; before stop 70 only lower case).
 ifneq ($(filter tiles,$(MAKECMDGOALS)),)

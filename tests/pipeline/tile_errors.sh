@@ -15,7 +15,12 @@
 #   file and the problem (stop 71: detect, classify and every model chain ran, every verify
 #   failed, exit 0); a trajectory runs as before;
 # - a second `make tile` with nothing to do shows collect's summary and warning again, the same
-#   lines (stop 71: "Nothing to be done for 'tile'").
+#   lines (stop 71: "Nothing to be done for 'tile'");
+# - an entry added to MODELBASE as an older file, or removed, re-runs the stages that read the
+#   modelbase, not detect (stop 71, review F21: "up to date", answers naming a model gone);
+# - TILE_DETECT, TILE_FITVOX, TILE_CLASSIFY, MODEL_CLASSES naming no file and a TILE_MODEL_DENSITY
+#   that is no number are refused before anything is written (stop 71, review F12: a missing
+#   TILE_FITVOX ran detect, then "No rule to make target"; the others left OUT/.progress*).
 set -uo pipefail
 src=$1 bin=$2
 fail() { echo "FAIL: $*" >&2; exit 1; }
@@ -131,7 +136,30 @@ mkdir -p "$tmp/mb2" && echo '{}' >"$tmp/mb2/m.json" && touch -d @1000000000 "$tm
   || fail "make tile with another modelbase failed: $(tail -3 "$tmp/mb2.log")"
 grep -q "^done .*out-pcd/detections.json " "$tmp/mb2.log" || fail "collect did not run with another modelbase: $(cat "$tmp/mb2.log")"
 ! grep -q "^done .*out-pcd/detect " "$tmp/mb2.log" || fail "another modelbase re-ran detect"
-echo "ok: another tile or modelbase into the same OUT runs again"
+# The same modelbase with an entry added as an older file (cp -p, mv, tar x), then removed again
+# (stop 71, review F21: both left the tile "up to date", its answers naming a model gone): the
+# stages that read the modelbase run again, detect does not; the options texts of the kinds that
+# read it name its entries, the others do not.
+cp -p "$tmp/mb2/m.json" "$tmp/mb2/n.json" && printf 'x\n' >"$tmp/mb2/n.class" && touch -d @1000000000 "$tmp/mb2/n.class"
+for change in added removed; do
+  "${mk[@]}" -q tile TILE="$tmp/older.pcd" MODELBASE="$tmp/mb2" OUT="$tmp/out-pcd/" >/dev/null 2>&1 &&
+    fail "make -q tile exits 0 after an entry was $change in the modelbase"
+  "${mk[@]}" -j2 tile TILE="$tmp/older.pcd" MODELBASE="$tmp/mb2" OUT="$tmp/out-pcd/" >"$tmp/mb3.log" 2>&1 \
+    || fail "make tile after an entry was $change failed: $(tail -3 "$tmp/mb3.log")"
+  grep -q "^done .*out-pcd/detections.json " "$tmp/mb3.log" || fail "collect did not run after an entry was $change: $(cat "$tmp/mb3.log")"
+  ! grep -q "^done .*out-pcd/detect " "$tmp/mb3.log" || fail "an entry $change re-ran detect"
+  "${mk[@]}" -q tile TILE="$tmp/older.pcd" MODELBASE="$tmp/mb2" OUT="$tmp/out-pcd/" >/dev/null 2>&1 \
+    || fail "make -q tile after the run with an entry $change exits $?, want 0"
+  want="entry = m.json 3 1000000000"
+  [ $change = added ] && want="$want|entry = n.class 2 1000000000|entry = n.json 3 1000000000"
+  for k in classify collect tile-modelbase; do
+    [ "$(grep '^entry = ' "$tmp/out-pcd/.opts/$k.txt" | paste -sd'|')" = "$want" ] ||
+      fail "entry $change: .opts/$k.txt: $(cat "$tmp/out-pcd/.opts/$k.txt")"
+  done
+  ! grep -q '^entry' "$tmp/out-pcd/.opts/detect.txt" "$tmp/out-pcd/.opts/models.txt" || fail "detect's or the model chain's options name the entries"
+  rm -f "$tmp/mb2/n.json" "$tmp/mb2/n.class"
+done
+echo "ok: another tile or modelbase into the same OUT runs again, and so does a modelbase that lost or gained an entry"
 
 # Arguments refused before anything is written (stop 70: OUT and OUT/.progress* were left behind).
 "${mk[@]}" tile TILE="$tmp/flat.pcd" MODELBASE="$tmp/mb" >"$tmp/noout.log" 2>&1
@@ -143,6 +171,23 @@ rc=$?
 [ $rc -eq 2 ] && grep -q "MODELBASE=$tmp/nomb holds no <model>.json" "$tmp/nomb.log" ||
   fail "make tile without a modelbase exits $rc: $(tail -2 "$tmp/nomb.log")"
 [ ! -e "$tmp/out-refused" ] || fail "a refused make tile left $tmp/out-refused: $(ls -A "$tmp/out-refused")"
+# The stages' parameters (stop 71, review F12: a missing TILE_FITVOX ran detect and the plan,
+# then stopped on make's "No rule to make target"; the other four left OUT/.progress*).
+for bad in "TILE_DETECT=$tmp/nofile.ini|tile: TILE_DETECT=$tmp/nofile.ini does not exist (detect's parameters)" \
+    "TILE_FITVOX=$tmp/nofile.ini|tile: TILE_FITVOX=$tmp/nofile.ini does not exist (fitvox's parameters" \
+    "TILE_CLASSIFY=$tmp/nofile.ini|tile: TILE_CLASSIFY=$tmp/nofile.ini does not exist (classify's parameters)" \
+    "MODEL_CLASSES=$tmp/nofile.csv|tile: MODEL_CLASSES=$tmp/nofile.csv does not exist" \
+    "TILE_FITVOX=|tile: TILE_FITVOX is empty" \
+    "TILE_MODEL_DENSITY=abc|tile: TILE_MODEL_DENSITY=abc must be a number of points/m²"; do
+  "${mk[@]}" -j2 tile TILE="$tmp/flat.pcd" MODELBASE="$tmp/mb" OUT="$tmp/out-refused" "${bad%%|*}" >"$tmp/param.log" 2>&1
+  rc=$?
+  [ $rc -eq 2 ] && grep -qF "${bad#*|}" "$tmp/param.log" || fail "make tile ${bad%%|*} exits $rc: $(tail -2 "$tmp/param.log")"
+  [ ! -e "$tmp/out-refused" ] || fail "make tile ${bad%%|*} left $tmp/out-refused: $(ls -A "$tmp/out-refused")"
+done
+"${mk[@]}" -j2 tiles TILES="$tmp/none" MODELBASE="$tmp/mb" OUT="$tmp/out-refused" TILE_FITVOX="$tmp/nofile.ini" >"$tmp/param.log" 2>&1
+rc=$?
+[ $rc -eq 2 ] && grep -qF "tiles: TILE_FITVOX=$tmp/nofile.ini does not exist" "$tmp/param.log" && [ ! -e "$tmp/out-refused" ] ||
+  fail "make tiles TILE_FITVOX=<missing> exits $rc: $(tail -2 "$tmp/param.log")"
 mkdir -p "$tmp/in dir" && cp "$tmp/flat.pcd" "$tmp/in dir/my tile.pcd"
 "${mk[@]}" tile TILE="$tmp/in dir/my tile.pcd" MODELBASE="$tmp/mb" OUT="$tmp/out-blank" >"$tmp/blank.log" 2>&1
 rc=$?
