@@ -28,7 +28,10 @@
 #                           segments.json, segments.ply}} and every stage's .log and .time
 # The two scans (scan.pcd, noise-0/scan.pcd, 15-80 MB each) are deleted once read (.SECONDARY,
 # as in families). The entries' .json and .pcd are hard links to the work files (copies where
-# the filesystem has none). import.txt holds the mesh's file, units, up axis and crop length
+# the filesystem has none); the .pcd is placed only once the chain has made the .json's graph
+# (stop 71, review F17: a chain that failed in cocone left MODELBASE/<name>.pcd without its
+# .json, half an entry; an order-only prerequisite, since the .pcd, a link to samples.pcd, is
+# older than the graph). import.txt holds the mesh's file, units, up axis and crop length
 # (written at parse time when it changed): changing one re-renders that entry only; touching a
 # mesh re-runs its entry; a tool or a stage's parameters re-run what they feed.
 .PHONY: user-modelbase
@@ -65,6 +68,21 @@ $(foreach e,$(UMB_LIST),$(if $(call umb_class,$(e)),,$(warning user-modelbase: $
   class (no <class>__ in its name, no row in $(MESHES)/classes.csv): $(UMB)/$(call umb_name,$(e)).class is not written)))
 $(if $(filter meshsize,$(TOOLS)),,$(eval $(call tool_rule,meshsize)))
 
+# The entries this make built before (they have import.txt), and the directory each came from
+# (read here, before the rules below rewrite a changed import.txt); pruning: below.
+# umb_built_from(name): the mesh file an entry was built from (import.txt's first line).
+# umb_dir_key(path): a mesh file's directory by its real path, else as written.
+umb_built_from = $(word 2,$(file <$(UMB_WORK)/$(1)/import.txt))
+umb_dir_key = $(or $(realpath $(patsubst %/,%,$(dir $(1)))),$(patsubst %/,%,$(dir $(1))))
+UMB_HERE := $(or $(realpath $(patsubst %/,%,$(MESHES))),$(patsubst %/,%,$(MESHES)))
+UMB_BUILT := $(patsubst $(UMB_WORK)/%/import.txt,%,$(wildcard $(UMB_WORK)/*/import.txt))
+UMB_NAMES := $(foreach e,$(UMB_LIST),$(call umb_name,$(e)))
+# An entry of this directory's name built from another directory's mesh is rebuilt from this
+# one (import.txt changes): said, since the other directory's entry is replaced.
+$(foreach e,$(UMB_LIST),$(foreach n,$(call umb_name,$(e)),$(if $(filter $(n),$(UMB_BUILT)),$(foreach \
+  o,$(call umb_built_from,$(n)),$(if $(filter $(UMB_HERE),$(call umb_dir_key,$(o))),,$(warning user-modelbase: \
+  $(UMB)/$(n) was built from $(o), another MESHES directory: $(call umb_file,$(e)) replaces it))))))
+
 # The work directories, for import.txt and class.txt: written at parse time when they changed
 # (text_prereq, Makefile.experiments); a dry run writes nothing.
 $(if $(dry_run),,$(shell mkdir -p $(foreach e,$(UMB_LIST),$(UMB_WORK)/$(call umb_name,$(e)))))
@@ -97,7 +115,7 @@ $(UMB_WORK)/$(1)/noise-0/segments.json: $(UMB_WORK)/$(1)/noise-0/mesh.ply $(call
 	  -o $$@ --colored $(UMB_WORK)/$(1)/noise-0/segments.ply
 $(UMB)/$(1).json: $(UMB_WORK)/$(1)/noise-0/segments.json
 	@$(call umb_link,$$<,$(UMB)/.$(1).tmp$$$$$$$$.json) && mv $(UMB)/.$(1).tmp$$$$$$$$.json $$@ && echo "done  $$@"
-$(UMB)/$(1).pcd: $(UMB_WORK)/$(1)/noise-0/samples.pcd
+$(UMB)/$(1).pcd: $(UMB_WORK)/$(1)/noise-0/samples.pcd | $(UMB_WORK)/$(1)/noise-0/segments.json
 	@$(call umb_link,$$<,$(UMB)/.$(1).tmp$$$$$$$$.pcd) && mv $(UMB)/.$(1).tmp$$$$$$$$.pcd $$@ && echo "done  $$@"
 endef
 # umb_class_rule(name, FORCE or nothing as above): its .class, from the class written at parse
@@ -111,7 +129,6 @@ $(foreach e,$(UMB_LIST),$(foreach n,$(call umb_name,$(e)),$(eval $(call umb_rule
   $(call text_prereq,$(UMB_WORK)/$(n)/import.txt,$(call umb_import,$(call umb_file,$(e))))))))
 $(foreach e,$(UMB_LIST),$(foreach n,$(call umb_name,$(e)),$(if $(call umb_class,$(e)),$(eval $(call umb_class_rule,$(n),\
   $(call text_prereq,$(UMB_WORK)/$(n)/class.txt,$(call umb_class,$(e))))))))
-UMB_NAMES := $(foreach e,$(UMB_LIST),$(call umb_name,$(e)))
 # The window (as FAM_MB_WINDOW in mk/families.mk): entry i's render waits for entry
 # i - UMB_WINDOW to be done (an order-only prerequisite), so at most UMB_WINDOW entries'
 # scans (15-80 MB) are on disk at once. Keep it >= the -j count; 0 = no window.
@@ -121,20 +138,28 @@ UMB_WAITS := $(if $(and $(filter-out 0,$(UMB_WINDOW)),$(word $(UMB_WINDOW),$(wor
   $(UMB_NAMES) | awk -v w='$(UMB_WINDOW)' '{ id[NR] = $$0 } NR > w { print $$0 ":" id[NR - w] }'))
 $(foreach p,$(UMB_WAITS),$(eval $(UMB_WORK)/$(firstword $(subst :, ,$(p)))/scan.pcd: | \
   $(UMB_WORK)/$(lastword $(subst :, ,$(p)))/noise-0/segments.json))
-# An entry this make built (MODELBASE/.work/<name>/import.txt) whose mesh has left MESHES is
-# removed (its .json, .pcd, .class and work directory), and so is the .class of an entry that no
-# longer has a class, so the modelbase matches the meshes. Entries not built here are never
-# touched. A dry run removes nothing: it prints what would go (-q: out of date).
-UMB_GONE := $(filter-out $(UMB_NAMES),$(patsubst $(UMB_WORK)/%/import.txt,%,$(wildcard $(UMB_WORK)/*/import.txt)))
-UMB_PRUNE := $(wildcard $(foreach n,$(UMB_GONE),$(UMB_WORK)/$(n) $(UMB)/$(n).json $(UMB)/$(n).pcd $(UMB)/$(n).class) \
-  $(foreach e,$(UMB_LIST),$(if $(call umb_class,$(e)),,$(UMB)/$(call umb_name,$(e)).class $(UMB_WORK)/$(call umb_name,$(e))/class.txt)))
-ifneq ($(UMB_PRUNE),)
+# An entry this make built (MODELBASE/.work/<name>/import.txt) from this MESHES directory whose
+# mesh has left it is removed (its .json, .pcd, .class and work directory), and so is the .class
+# of an entry that no longer has a class, so the modelbase matches the meshes. Entries built from
+# another MESHES directory (import.txt's "mesh" line names the file: its directory, by real path,
+# or as written when it is gone) are kept: several runs with different MESHES, MESH_UNITS and
+# MESH_UP build one modelbase (stop 71, review F8: a second directory's run removed the first's
+# entries, saying "mesh gone from <the second>"). Entries not built here are never touched. A
+# dry run removes nothing: it prints what would go (-q: out of date).
+UMB_GONE := $(foreach n,$(filter-out $(UMB_NAMES),$(UMB_BUILT)),$(if $(filter $(UMB_HERE),$(call \
+  umb_dir_key,$(call umb_built_from,$(n)))),$(n)))
+UMB_GONE_FILES := $(wildcard $(foreach n,$(UMB_GONE),$(UMB_WORK)/$(n) $(UMB)/$(n).json $(UMB)/$(n).pcd $(UMB)/$(n).class))
+UMB_UNCLASSED := $(wildcard $(foreach e,$(UMB_LIST),$(if $(call umb_class,$(e)),,$(UMB)/$(call \
+  umb_name,$(e)).class $(UMB_WORK)/$(call umb_name,$(e))/class.txt)))
+UMB_PRUNE := $(UMB_GONE_FILES) $(UMB_UNCLASSED)
+ifneq ($(strip $(UMB_PRUNE)),)
 ifneq ($(dry_run),)
 user-modelbase: $(UMB_WORK)/.prune
 $(UMB_WORK)/.prune:
-	@echo "user-modelbase: would remove $(UMB_PRUNE)"
+	@echo "user-modelbase: would remove $(strip $(UMB_PRUNE))"
 else
-$(info user-modelbase: removing $(UMB_PRUNE) (mesh gone from $(MESHES) or class dropped))
+$(if $(UMB_GONE_FILES),$(info user-modelbase: removing $(UMB_GONE_FILES) (mesh gone from $(MESHES))))
+$(if $(UMB_UNCLASSED),$(info user-modelbase: removing $(UMB_UNCLASSED) (the mesh has no class any more)))
 $(shell rm -rf $(UMB_PRUNE))
 endif
 endif

@@ -8,7 +8,8 @@
 # 14m, replaces the length's choice), and the image grows (--size) when the box's diagonal +
 # 2 m no longer fits size x spacing. Prints the options on one line (possibly empty). A mesh
 # whose render would need more than rangetrace's 8192 pixels a side (a mesh in mm or cm read as
-# metres) is refused, exit 2, with the hint MESH_UNITS.
+# metres) is refused, exit 2, with the hint MESH_UNITS, and so is one with no side of 0.5 m (a
+# mesh in metres read as mm or cm).
 set -euo pipefail
 size=$1 ini=$2 crop_length=${3:-}
 read -r L W H <"$size"
@@ -24,6 +25,14 @@ awk -v L="$L" -v W="$W" -v H="$H" -v over="$crop_length" -v file="$size" '
     cl = metres(ini["crop-length"]); cw = metres(ini["crop-width"]); ch = metres(ini["crop-height"])
     sp = metres(ini["spacing"]); sz = ini["size"] + 0
     if (cl <= 0 || cw <= 0 || ch <= 0 || sp <= 0 || sz <= 0) { print "usermb-crop.sh: no crop box, size or spacing in the ini" > "/dev/stderr"; exit 2 }
+    # A vehicle under 0.5 m long as read (stop 71, review F17): a mesh in metres given
+    # MESH_UNITS=mm or cm renders a 5 mm object, which the chain takes for bare ground and then
+    # fails on ("all samples are coplanar"); refused before the render, like the other direction.
+    big = L; if (W > big) big = W; if (H > big) big = H
+    if (big < 0.5) {
+      printf "usermb-crop.sh: %s: the mesh measures %s x %s x %s m as read (MESH_UNITS, MESH_UP): no side reaches 0.5 m, too small for a vehicle: a mesh in metres given MESH_UNITS=mm or cm? (metres are the default)\n", file, L, W, H > "/dev/stderr"
+      exit 2
+    }
     opts = ""
     if (over != "") { nl = metres(over); if (nl <= 0) { print "usermb-crop.sh: MESH_CROP_LENGTH=" over " is not a length" > "/dev/stderr"; exit 2 } }
     else nl = (L + 1 > cl) ? up(L + 1) : cl

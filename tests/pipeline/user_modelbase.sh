@@ -10,7 +10,9 @@
 # same bytes; a classes.csv edit re-writes that .class only; a mesh without a class gets no
 # .class (with a warning); a removed mesh's entry is removed; a bad mesh name, an empty or
 # missing MESHES and a missing MODELBASE stop make with exit 2 and a message naming the problem;
-# a mesh in millimetres without MESH_UNITS=mm is refused with that hint.
+# a mesh in millimetres without MESH_UNITS=mm is refused with that hint, and one in metres given
+# MESH_UNITS=mm too; a second MESHES directory into the same MODELBASE keeps the first's entries;
+# an entry whose chain fails after fitvox leaves neither its .json nor its .pcd.
 set -uo pipefail
 src=$1 bin=$2
 fail() { echo "FAIL: $*" >&2; exit 1; }
@@ -123,6 +125,48 @@ rm "$tmp/meshes/truck__pick.ply"
   && [ ! -e "$work/truck__pick" ] || fail "the removed mesh's entry stayed: $(ls "$mb")"
 [ -z "$(ran "$tmp/rm.log")" ] || fail "removing a mesh ran: $(ran "$tmp/rm.log")"
 "${umb[@]}" -q >/dev/null 2>&1 || fail "make -q not clean after the entry was removed"
+
+grep -qF "user-modelbase: removing $work/truck__pick " "$tmp/rm.log" && grep -qF "(mesh gone from $tmp/meshes)" "$tmp/rm.log" \
+  || fail "no message naming the removed entry and its directory: $(cat "$tmp/rm.log")"
+
+# A second MESHES directory into the same MODELBASE (stop 71, review F8: its run removed the first
+# directory's entries, "mesh gone from <the second>"): the first's entry stays; an entry of the
+# second whose mesh leaves it is removed, naming that directory; a mesh of the first's name is
+# said to replace it (a dry run here: nothing renders). Two meshes that fail at meshsize (not
+# meshes) make the second directory's entries without a render.
+mkdir -p "$tmp/meshes2" && printf 'not a mesh\n' >"$tmp/meshes2/bad1.ply" && printf 'not a mesh\n' >"$tmp/meshes2/bad2.ply"
+umb2=("${mk[@]}" user-modelbase MESHES="$tmp/meshes2/" MODELBASE="$mb" MESH_UP=y)
+"${umb2[@]}" -k -j2 >"$tmp/m2.log" 2>&1 && fail "make user-modelbase on two non-meshes succeeded"
+grep -q "meshsize: error: $tmp/meshes2/bad1.ply: not a PLY file" "$tmp/m2.log" || fail "no meshsize error: $(tail -3 "$tmp/m2.log")"
+! grep -q "removing" "$tmp/m2.log" || fail "a second MESHES directory removed entries: $(grep removing "$tmp/m2.log")"
+for x in json pcd class; do [ -s "$mb/car__hatch.$x" ] || fail "a second MESHES directory removed $mb/car__hatch.$x"; done
+rm "$tmp/meshes2/bad2.ply"
+"${umb2[@]}" -k >"$tmp/m2b.log" 2>&1
+grep -qxF "user-modelbase: removing $work/bad2 (mesh gone from $tmp/meshes2/)" "$tmp/m2b.log" && [ ! -e "$work/bad2" ] \
+  && [ -d "$work/bad1" ] && [ -s "$mb/car__hatch.json" ] || fail "the second directory's gone mesh: $(grep -v '^FAIL' "$tmp/m2b.log" | head -3)"
+"${umb[@]}" -q >/dev/null 2>&1 || fail "make -q for the first directory exits $? once a second one has built into MODELBASE"
+cp "$tmp/meshes2/bad1.ply" "$tmp/meshes2/car__hatch.ply"
+"${umb2[@]}" -n >"$tmp/m2c.log" 2>&1
+grep -qF "$mb/car__hatch was built from $tmp/meshes/car__hatch.ply, another MESHES directory: $tmp/meshes2/car__hatch.ply replaces it" \
+  "$tmp/m2c.log" || fail "no warning for a mesh of another directory's entry name: $(head -3 "$tmp/m2c.log")"
+rm -r "$tmp/meshes2" "$work/bad1"
+
+# A mesh in metres given MESH_UNITS=mm (review F17): refused before the render with the hint,
+# exit 2 (before: a 5 mm vehicle rendered as bare ground and cocone failed, "coplanar").
+printf '0.0049 0.0022 0.0015\n' >"$tmp/tiny.txt"
+"${crop[@]}" "$tmp/tiny.txt" "$tmp/params/rangetrace.ini" >"$tmp/tiny.out" 2>"$tmp/tiny.err"; rc=$?
+[ $rc -eq 2 ] && [ ! -s "$tmp/tiny.out" ] || fail "a 5 mm mesh: usermb-crop.sh exits $rc, prints '$(cat "$tmp/tiny.out")'"
+grep -q "$tmp/tiny.txt: the mesh measures 0.0049 x 0.0022 x 0.0015 m as read .*a mesh in metres given MESH_UNITS=mm" \
+  "$tmp/tiny.err" || fail "a 5 mm mesh: no MESH_UNITS hint: $(cat "$tmp/tiny.err")"
+printf '0.6 0.3 0.2\n' >"$tmp/small.txt"
+"${crop[@]}" "$tmp/small.txt" "$tmp/params/rangetrace.ini" >/dev/null 2>&1 || fail "a 0.6 m mesh is refused"
+# An entry whose chain fails after fitvox (a cocone parameter file cocone refuses) leaves no
+# half entry in MODELBASE: its .pcd is placed only with its .json (before: the .pcd alone).
+rm "$mb/car__hatch.json" "$mb/car__hatch.pcd"
+echo 'no-such-key = 1' >>"$tmp/params/cocone.ini"
+"${umb[@]}" -k >"$tmp/half.log" 2>&1 && fail "make user-modelbase with a broken cocone.ini succeeded"
+grep -q "cocone: error: .*unknown key 'no-such-key'" "$tmp/half.log" || fail "cocone did not fail: $(tail -3 "$tmp/half.log")"
+[ ! -e "$mb/car__hatch.pcd" ] && [ ! -e "$mb/car__hatch.json" ] || fail "a failed chain left half an entry: $(ls "$mb")"
 
 # Refusals: make stops at parse time with exit 2 and says why.
 refuse() {  # refuse WHAT PATTERN MAKE-ARGS...: make must exit 2 and print PATTERN
