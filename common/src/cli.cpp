@@ -4,9 +4,11 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <iostream>
 #include <new>
 
@@ -89,6 +91,52 @@ double named(const std::string& option, F&& f) {
   } catch (const UsageError& e) { throw UsageError(option + ": " + e.what()); }
 }
 
+// The line of a --config file that CLI11 could not take as one value of KEY ("sigma"; "" = a
+// [section] line), as "FILE: line N: TEXT: CAUSE"; "" when no line explains it.
+std::string config_line_problem(const std::string& files, const std::string& key) {
+  std::vector<std::pair<int, std::string>> lines;  // (number, text) of KEY's lines or sections
+  std::string file;
+  for (std::size_t start = 0; start <= files.size() && lines.empty();) {
+    const std::size_t comma = files.find(", ", start);
+    file = files.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    std::ifstream in(file);
+    std::string line;
+    for (int n = 1; std::getline(in, line); ++n) {
+      const std::size_t b = line.find_first_not_of(" \t");
+      if (b == std::string::npos) continue;
+      const std::string t = line.substr(b);
+      if (key.empty()) {
+        if (t[0] == '[') lines.emplace_back(n, t);
+        continue;
+      }
+      const std::size_t eq = t.find('=');
+      if (eq == std::string::npos) continue;
+      std::string k = t.substr(0, eq);
+      k.erase(k.find_last_not_of(" \t") + 1);
+      if (k == key || k == "--" + key) lines.emplace_back(n, t);
+    }
+    if (comma == std::string::npos) break;
+    start = comma + 2;
+  }
+  if (lines.empty()) return "";
+  const std::string at =
+      "--config " + file + ": line " + std::to_string(lines[0].first) + ": " + lines[0].second;
+  if (key.empty()) return at + ": sections are not used; give the keys (long option names) without one";
+  if (lines.size() > 1) {
+    return "--config " + file + ": key '" + key + "' given twice (lines " + std::to_string(lines[0].first) +
+           " and " + std::to_string(lines[1].first) + ")";
+  }
+  std::string value = lines[0].second.substr(lines[0].second.find('=') + 1);
+  value.erase(0, value.find_first_not_of(" \t"));
+  if (value.find(';') != std::string::npos) {
+    return at + ": ';' does not start a comment here (comments are lines starting with #)";
+  }
+  if (value.find_first_of(" \t") != std::string::npos) {
+    return at + ": a blank inside the value (one word: e.g. 8mm, not 8 mm)";
+  }
+  return "";
+}
+
 // A --config problem in words that name the file and what is wrong with it (CLI11 says "INI
 // was not able to parse KEY" and "FILE was not readable (missing?)"); "" for other errors.
 std::string config_message(const CLI::App& app, const CLI::ParseError& e) {
@@ -103,15 +151,25 @@ std::string config_message(const CLI::App& app, const CLI::ParseError& e) {
     if (S_ISDIR(st.st_mode)) return "--config " + file + ": is a directory, not an INI file";
     return "--config " + file + ": not a regular file";
   }
-  if (dynamic_cast<const CLI::ConfigError*>(&e) == nullptr) return "";
   const CLI::Option* config = app.get_config_ptr();
   std::string files;
   if (config != nullptr) {
     for (const auto& f : config->results()) files += (files.empty() ? "" : ", ") + f;
   }
+  if (dynamic_cast<const CLI::ArgumentMismatch*>(&e) != nullptr && !files.empty() && what.rfind("--", 0) == 0) {
+    // "--sigma: At Most 1 required but received 2": a config value CLI11 split at blanks or
+    // the key given twice.
+    const std::string key = what.substr(2, what.find(':') - 2);
+    return config_line_problem(files, key);
+  }
+  if (dynamic_cast<const CLI::ConfigError*>(&e) == nullptr) return "";
   const std::string lead = "INI was not able to parse ";
   if (what.compare(0, lead.size(), lead) != 0) return "--config " + files + ": " + what;
   const std::string key = what.substr(lead.size());
+  if (key.find('.') != std::string::npos) {
+    const std::string section = config_line_problem(files, "");
+    if (!section.empty()) return section;
+  }
   std::vector<std::string> names;
   for (const CLI::Option* opt : app.get_options()) {
     for (const auto& l : opt->get_lnames()) names.push_back("--" + l);
@@ -201,22 +259,51 @@ CLI::Option* Tool::add_length(const std::string& flags, double* metres, const st
                               double warn_above) {
   const std::size_t comma = flags.find_last_of(',');
   const std::string name = comma == std::string::npos ? flags : flags.substr(comma + 1);
+  const double usual = *metres;
   auto* opt = app_.add_option_function<std::string>(
       flags,
-      [metres, warn_above, name](const std::string& text) {
-        *metres = named(name, [&] { return parse_length(text); });
-        // Up to 1000 x the bound, where the value read as millimetres would be within it.
-        if (warn_above > 0 && *metres > warn_above && *metres <= 1000 * warn_above) {
-          const bool bare = decimal_prefix(text) == text.size();
-          log::warn(name + " " + text + " is " + format_length(*metres) +
-                    (bare ? " (bare numbers are metres): did you mean " + text + "mm?"
-                          : ", over " + format_length(warn_above) + ": is that intended?"));
-        }
+      [this, metres, warn_above, usual, name](const std::string& text) {
+        *metres = length_value(name, text, usual, warn_above);
       },
       help + " (length: 128mm, 12.8cm, 0.128m; bare = m)");
   opt->default_str(format_length(*metres));
   opt->type_name("LENGTH");
   return opt;
+}
+
+double Tool::length_value(const std::string& name, const std::string& text, double usual, double warn_above) {
+  const double metres = named(name, [&] { return parse_length(text); });
+  const bool bare = decimal_prefix(text) == text.size();
+  if (bare && metres >= 1 && usual < 1) bare_metres_.emplace_back(name, text);
+  // Up to 1000 x the bound, where the value read as millimetres would be within it.
+  if (warn_above > 0 && metres > warn_above && metres <= 1000 * warn_above) {
+    log::warn(name + " " + text + " is " + format_length(metres) +
+              (bare ? " (bare numbers are metres): did you mean " + text + "mm?"
+                    : ", over " + format_length(warn_above) + ": is that intended?"));
+  } else if (bare && usual > 0 && usual < 1 && metres / 1000 >= usual / 10 && metres / 1000 <= usual * 10) {
+    // A default under 1 m, and the number read as millimetres within a decade of it (so read
+    // as metres it is >= 100 x the default): most likely millimetres without the unit.
+    log::warn(name + " " + text + " is " + format_length(metres) +
+              " (bare numbers are metres; the default is " + format_length(usual) + "): did you mean " +
+              text + "mm?");
+  }
+  return metres;
+}
+
+// A usage error that names an option (default under 1 m) given as a bare number of >= 1 m says it was read as
+// metres (ncut --radius 512: "must be in [1mm, 100m]" alone does not say why).
+std::string Tool::with_metres_hint(const std::string& message) const {
+  for (const auto& [name, text] : bare_metres_) {
+    for (std::size_t at = message.find(name); at != std::string::npos; at = message.find(name, at + 1)) {
+      const std::size_t end = at + name.size();
+      const bool whole =
+          end == message.size() || !(std::isalnum(static_cast<unsigned char>(message[end])) != 0 ||
+                                     message[end] == '-' || message[end] == '_');
+      if (whole)
+        return message + " (" + name + " " + text + " was read as " + text + " m: bare numbers are metres)";
+    }
+  }
+  return message;
 }
 
 CLI::Option* Tool::add_angle(const std::string& flags, double* radians, const std::string& help) {
@@ -307,7 +394,7 @@ int Tool::run(int argc, char** argv, const std::function<void()>& body) {
               << "Run '" << name_ << " --help' for the options.\n";
     return 2;
   } catch (const Error& e) {
-    std::cerr << name_ << ": error: " << e.what() << "\n";
+    std::cerr << name_ << ": error: " << with_metres_hint(e.what()) << "\n";
     return 2;  // a malformed value inside an option callback is a usage error
   }
   try {
@@ -322,7 +409,9 @@ int Tool::run(int argc, char** argv, const std::function<void()>& body) {
     body();
     return 0;
   } catch (const Error& e) {
-    std::cerr << name_ << ": error: " << e.what() << "\n";
+    std::cerr << name_
+              << ": error: " << (e.exit_code() == 2 ? with_metres_hint(e.what()) : std::string(e.what()))
+              << "\n";
     return e.exit_code();
   } catch (const std::bad_alloc&) {
     std::cerr << name_ << ": error: out of memory\n";

@@ -177,3 +177,39 @@ TEST_CASE("round 3: the readers' and stages' refusals name the file, exit 1, lea
     CHECK_FALSE(fs::exists(d / "out.ply"));
   }
 }
+
+TEST_CASE("stop 71: --support and --margin bounds, bare-metre warnings, config file lines") {
+  const fs::path d = fresh_dir("cli", "s71_bounds");
+  std::string err;
+  REQUIRE(bash(d, kOnePcd, &err) == 0);
+  CHECK(bash(d, "$B/fitvox -q -i one.pcd --support 1e9 -o a.pcd", &err) == 2);
+  CHECK_THAT(err, Catch::Contains("--support must be 'auto' or in (0, 4] voxel edges (given 1e9)"));
+  CHECK(bash(d, "$B/detect -q -i one.pcd --margin 1000m -o dx", &err) == 2);
+  CHECK_THAT(err, Catch::Contains("--margin must be in [0, 10m] (given 1000m)"));
+  CHECK(bash(d, "$B/detect -q -i one.pcd --margin 1000 -o dx", &err) == 2);
+  CHECK_THAT(err, Catch::Contains("did you mean 1000mm?") &&
+                      Catch::Contains("(--margin 1000 was read as 1000 m: bare numbers are metres)"));
+  CHECK(bash(d, "$B/fitvox -q -i one.pcd --noise nan -o a.pcd", &err) == 2);
+  CHECK_THAT(err, Catch::Contains("--noise: 'nan' is not a length"));
+  bash(d, "$B/fitvox -q -i one.pcd --noise 8 -o a.pcd", &err);
+  CHECK_THAT(err, Catch::Contains("--noise 8 is 8m (bare numbers are metres): did you mean 8mm?"));
+  bash(d, "$B/ncut -q -i x.ply --radius 512 -o a.json", &err);
+  CHECK_THAT(err, Catch::Contains("--radius 512 is 512m") && Catch::Contains("did you mean 512mm?"));
+  // A sensible metre value (1 m, 2x the default) does not warn.
+  bash(d, "$B/ncut -q -i x.ply --radius 1 -o a.json", &err);
+  CHECK_THAT(err, !Catch::Contains("did you mean"));
+  REQUIRE(bash(d,
+               "printf 'sigma = 8 mm\\n' > c1.ini; printf 'sigma=8mm ; c\\n' > c4.ini; "
+               "printf 'sigma=8mm\\nsigma=4mm\\n' > c6.ini; printf '[addnoise]\\nsigma=8mm\\n' > c3.ini",
+               &err) == 0);
+  CHECK(bash(d, "$B/addnoise -q -i one.pcd --config c1.ini -o a.pcd", &err) == 2);
+  CHECK_THAT(err, Catch::Contains("c1.ini: line 1: sigma = 8 mm: a blank inside the value"));
+  CHECK(bash(d, "$B/addnoise -q -i one.pcd --config c4.ini -o a.pcd", &err) == 2);
+  CHECK_THAT(err, Catch::Contains("c4.ini: line 1: sigma=8mm ; c: ';' does not start a comment"));
+  CHECK(bash(d, "$B/addnoise -q -i one.pcd --config c6.ini -o a.pcd", &err) == 2);
+  CHECK_THAT(err, Catch::Contains("c6.ini: key 'sigma' given twice (lines 1 and 2)"));
+  CHECK(bash(d, "$B/addnoise -q -i one.pcd --config c3.ini -o a.pcd", &err) == 2);
+  CHECK_THAT(err, Catch::Contains("c3.ini: line 1: [addnoise]: sections are not used"));
+  CHECK_FALSE(fs::exists(d / "a.pcd"));
+  CHECK_FALSE(fs::exists(d / "dx"));
+}

@@ -53,6 +53,10 @@ namespace canopy::detect {
 
 enum class Clustering { kGrid, kEuclidean };
 
+// The largest --margin: a crop serves one candidate's fits, and each crop's points grow with
+// the margin squared (docs/decisions/hardening.md, stop 71).
+inline constexpr double kMaxMargin = 10.0;
+
 struct Params {
   // Ground.
   double cell = 0.5;              // DTM cell (m), > 0

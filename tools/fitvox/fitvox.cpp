@@ -229,7 +229,8 @@ void validate(const Params& p) {
   need(p.max_rms >= 0 && p.max_rms <= 100, "--max-rms must be in [0, 100m]");
   need(p.noise < 0 || p.noise <= 100, "--noise must be 'auto' or in [0, 100m]");
   need(p.noise_margin >= 0 && p.noise_margin <= 1e6, "--noise-margin must be in [0, 1e6]");
-  need((p.support > 0 || p.support < 0) && std::isfinite(p.support), "need --support auto or > 0");
+  need((p.support > 0 && p.support <= kMaxSupport) || p.support < 0,
+       "--support must be 'auto' or in (0, 4] voxel edges");
   need(p.merge >= 0 && std::isfinite(p.merge), "--merge must be >= 0");
   need(p.threads >= 1, "--threads must be >= 1");
 }

@@ -23,6 +23,10 @@
 
 namespace canopy::fitvox {
 
+// The largest --support in voxel edges: auto is 0.5-1, and the cost per sample grows with its
+// square (docs/decisions/hardening.md, stop 71).
+inline constexpr double kMaxSupport = 4.0;
+
 struct Params {
   double voxel = 0.128;    // voxel edge (m), > 0
   int min_points = 32;     // fewer points in a voxel -> rejected (>= 6)

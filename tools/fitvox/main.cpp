@@ -75,10 +75,16 @@ int main(int argc, char** argv) {
     const formats::PcdWriteOptions pcd = formats::parse_pcd_encoding(pcd_encoding);
     // Decimal only (std::stod read "0x1p0" as 1 and "1e-400" as 0).
     if (support != "auto") p.support = common::parse_decimal(support, "--support ('auto' or a number)");
-    if (support != "auto" && !(p.support > 0)) throw common::UsageError("need --support auto or > 0");
+    // The bound: auto is 0.5-1 voxel edges and the cost grows with its square (docs/decisions/hardening.md).
+    if (support != "auto" && !(p.support > 0 && p.support <= fitvox::kMaxSupport)) {
+      throw common::UsageError("--support must be 'auto' or in (0, 4] voxel edges (given " + support + ")");
+    }
     if (noise != "auto") {
-      p.noise = common::parse_length(noise);
-      if (!(p.noise >= 0)) throw common::UsageError("--noise must be 'auto' or in [0, 100m]");
+      // The same warnings as addnoise --sigma (the same quantity).
+      p.noise = tool.length_value("--noise", noise, 0, 1.0);
+      if (!(p.noise >= 0 && p.noise <= 100)) {
+        throw common::UsageError("--noise must be 'auto' or in [0, 100m] (given " + noise + ")");
+      }
     }
     p.threads = tool.threads();
     fitvox::validate(p);

@@ -74,8 +74,13 @@ class Tool {
   CLI::Option* add_output(const std::string& flags, std::string* path, const std::string& help);
   // A length option: accepts 128mm / 12.8cm / 0.128m / bare metres; stores metres. With
   // warn_above > 0, a value above it (metres) draws a warning ("bare numbers are metres").
+  // Whatever warn_above, a bare number for an option whose default is under 1 m warns when
+  // read as millimetres it would be within a decade of the default (length_value).
   CLI::Option* add_length(const std::string& flags, double* metres, const std::string& help,
                           double warn_above = 0);
+  // TEXT parsed as a length for option NAME (its errors name it), with add_length's warnings
+  // (usual = the option's default in metres, 0 = none); for options parsed by hand.
+  double length_value(const std::string& name, const std::string& text, double usual, double warn_above = 0);
   // An angle option: accepts 10deg / 0.17rad / bare degrees; stores radians.
   CLI::Option* add_angle(const std::string& flags, double* radians, const std::string& help);
   // Any other option, default shown in --help.
@@ -108,7 +113,9 @@ class Tool {
   std::uint64_t seed_ = 1;
   bool uses_stdin_ = false;
   std::string* input_ = nullptr;
-  std::vector<std::pair<std::string, std::string*>> outputs_;  // (option, path)
+  std::vector<std::pair<std::string, std::string*>> outputs_;     // (option, path)
+  std::vector<std::pair<std::string, std::string>> bare_metres_;  // (option, bare number >= 1) given
+  std::string with_metres_hint(const std::string& message) const;
   std::string usage_message(int argc, char** argv) const;
 };
 
