@@ -122,6 +122,15 @@ TEST_CASE("verify answers the right model with its pose, byte-identical on rerun
   REQUIRE(sh(c.cmd(c.dir / "c.json") + " --config " + CANOPY_SOURCE_DIR + "/share/params/verify.ini",
              c.dir / "err", &err) == 0);
   REQUIRE(sh(c.cmd(c.dir / "u.json") + " --transform 1,2,3", c.dir / "err", &err) == 2);
+  // A 4x4 is read row-major: its fourth row must be 0,0,0,1 (a column-major matrix, whose
+  // translation is its fourth row, is refused instead of losing the translation: review F15).
+  REQUIRE(sh(c.cmd(c.dir / "r.json") + " --transform 1,0,0,2,0,1,0,3,0,0,1,4,0,0,0,1", c.dir / "err", &err) ==
+          0);
+  CHECK(sh(c.cmd(c.dir / "col.json") + " --transform 1,0,0,0,0,1,0,0,0,0,1,0,2,3,4,1", c.dir / "err", &err) ==
+        2);
+  CHECK(err.find("fourth row") != std::string::npos);
+  CHECK(err.find("column-major") != std::string::npos);
+  CHECK_FALSE(fs::exists(c.dir / "col.json"));
 }
 
 TEST_CASE("a modelbase with classes: the verdict names the class and the nearest instance", "[verify][cli]") {
@@ -743,4 +752,26 @@ TEST_CASE("a modelbase surface whose label field is 0 everywhere verifies as one
   CHECK(err.find((c.mb / "pickup.pcd").string() + ": no model surface points") != std::string::npos);
   CHECK(err.find("label 1; it holds 3)") != std::string::npos);
   CHECK(!fs::exists(c.dir / "g.json"));
+}
+
+TEST_CASE("verify: without a runner-up the margin over the next model is no evidence (review F10)",
+          "[verify][cli]") {
+  // The pickup first in the match, the flatbed second: with -k 2 the flatbed is scored as the
+  // runner-up; with -k 1 (as with a one-entry modelbase) no other model is. The answer is the
+  // pickup both times; alone it may not be surer than beside a scored runner-up (before stop 71
+  // the whole score counted as its lead over nothing, and -k 1 stated the higher confidence).
+  Case c("no-runner-up");
+  doc::write_match_result(Case::match_of({"pickup", "flatbed"}), c.match.string());
+  std::string err;
+  REQUIRE(sh(c.cmd(c.dir / "k2.json") + " -k 2", c.dir / "err", &err) == 0);
+  REQUIRE(sh(c.cmd(c.dir / "k1.json") + " -k 1", c.dir / "err", &err) == 0);
+  const canopy::documents::Verdict two = canopy::documents::read_verdict((c.dir / "k2.json").string());
+  const canopy::documents::Verdict one = canopy::documents::read_verdict((c.dir / "k1.json").string());
+  REQUIRE(two.hypotheses.size() == 2);
+  REQUIRE(one.hypotheses.size() == 1);
+  CHECK(two.model == "pickup");
+  CHECK(one.model == "pickup");
+  REQUIRE(two.hypotheses[1].score > 0);
+  CHECK(one.hypotheses[0].score == Approx(two.hypotheses[0].score));
+  CHECK(one.confidence < two.confidence);
 }

@@ -140,6 +140,14 @@ Eigen::Isometry3d parse_transform(const std::string& text) {
   if (v.size() != 12 && v.size() != 16) {
     throw cm::UsageError("--transform needs 12 or 16 comma-separated numbers (row-major 3x4 or 4x4)");
   }
+  // A 4x4's fourth row is 0,0,0,1: anything else is no rigid transform written row-major, most
+  // likely a column-major one, whose translation would be dropped here (review F15, stop 71).
+  if (v.size() == 16 && !(v[12] == 0 && v[13] == 0 && v[14] == 0 && v[15] == 1)) {
+    std::ostringstream row;
+    row << v[12] << "," << v[13] << "," << v[14] << "," << v[15];
+    throw cm::UsageError("--transform: the fourth row of a 4x4 must be 0,0,0,1, not " + row.str() +
+                         " (the matrix is read row-major: a column-major one?)");
+  }
   Eigen::Matrix4d M = Eigen::Matrix4d::Identity();
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 4; ++c) M(r, c) = v[4 * r + c];

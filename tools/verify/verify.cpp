@@ -604,8 +604,11 @@ void decide(documents::Verdict* verdict, const Params& p) {
     if (chosen < 0 || v.hypotheses[i].score > v.hypotheses[chosen].score) chosen = i;
   }
   double second = 0;
+  bool runner_up = false;  // another hypothesis was scored (stop 71, review F10)
   for (int i = 0; i < static_cast<int>(v.hypotheses.size()); ++i) {
-    if (i != chosen) second = std::max(second, v.hypotheses[i].score);
+    if (i == chosen) continue;
+    second = std::max(second, v.hypotheses[i].score);
+    runner_up = true;
   }
   if (v.has_classes && chosen >= 0) {
     const auto& h = v.hypotheses[chosen];
@@ -621,16 +624,21 @@ void decide(documents::Verdict* verdict, const Params& p) {
   if (!v.hypotheses.empty()) {
     // (every hypothesis tilted: none, stated as for a best score of 0, the tilted ones' scores)
     const double s = chosen >= 0 ? v.hypotheses[chosen].score : 0;
+    // The margin over the best other model. Without another hypothesis (a one-entry modelbase,
+    // --top-k 1) no runner-up was scored, and the margin term, fitted on modelbases where one was
+    // (verify.md §15-§19), must not count the whole score as a lead over nothing: a sedan was a
+    // one-entry modelbase's pickup at 0.878 (review F10). It is 0 then, as for a tie: nothing
+    // tells the answer from another model.
+    const double margin = runner_up ? s - second : 0;
     const double over_box = v.box ? s - v.box->score : 0;
     const bool beats_box = !v.box || over_box >= p.box_margin;
     if (chosen >= 0 && s >= p.accept && beats_box) {
       v.chosen = chosen;
       v.model = v.hypotheses[chosen].model;
-      v.confidence =
-          logistic(p.conf_bias + p.conf_score * s + p.conf_margin * (s - second) + p.conf_box * over_box);
+      v.confidence = logistic(p.conf_bias + p.conf_score * s + p.conf_margin * margin + p.conf_box * over_box);
     } else {
       v.confidence =
-          1 - logistic(p.none_bias + p.none_score * s + p.none_margin * (s - second) + p.none_box * over_box);
+          1 - logistic(p.none_bias + p.none_score * s + p.none_margin * margin + p.none_box * over_box);
     }
   } else {
     v.confidence = 1;
