@@ -74,6 +74,21 @@ TEST_CASE("post-processed mesh: surviving rows in input order, every field, face
   CHECK(cocone_test::topology(m.faces).vertices == m.vertices.size());
 }
 
+TEST_CASE("Cocone making no triangle at all says so, not that post-processing removed them") {
+  // Five samples spread over 3 m (a sparse candidate's few voxels): no cocone triangle (review F14).
+  fm::PointCloud c;
+  c.add("x") = {0, 3, 0, 3, 1.5};
+  c.add("y") = {0, 0, 3, 3, 1.5};
+  c.add("z") = {1, 1.5, 2, 1.2, 3};
+  c.resize(5);
+  for (const bool post : {true, false}) {
+    cc::Params p;
+    p.postprocess = post;
+    CHECK_THROWS_WITH(cc::run(p, {&c}), Catch::Matchers::Contains("Cocone made no triangle from 5 samples") &&
+                                            !Catch::Matchers::Contains("post-processing"));
+  }
+}
+
 TEST_CASE("a mesh with no face left is an error") {
   const auto c = ball(500, 0.1, 0.0);  // entirely below 300 mm
   CHECK_THROWS_WITH(cc::run(cc::Params{}, {&c}), Catch::Matchers::Contains("no triangle left"));

@@ -56,6 +56,12 @@ Outputs run(const Params& params, const Inputs& inputs) {
     mesh.vertices = samples.select(post.kept);
     mesh.faces = post.faces;
   }
+  if (mesh.faces.empty() && s.faces == 0) {
+    // Cocone itself made none (review F14, stop 71: the message blamed post-processing): too few or
+    // too sparse samples, e.g. fitvox's few voxels on a sparse candidate.
+    throw common::Error("Cocone made no triangle from " + std::to_string(samples.size()) +
+                        " samples: too few or too sparse samples for a surface");
+  }
   if (mesh.faces.empty()) {
     throw common::Error("the mesh has no triangle left (" + std::to_string(s.faces) + " from Cocone" +
                         (params.postprocess

@@ -18,7 +18,7 @@ int main(int argc, char** argv) {
                     "A tile from straight above, north up: the height above ground of the highest "
                     "point per pixel as a colour ramp (0-3 m) shaded by the relief, the candidates "
                     "outlined by outcome (found at model level green, at class level blue, none "
-                    "violet, rejected pink, failed red; with a score right green, wrong model "
+                    "violet, rejected pink, failed red; with a score right green, wrong answer "
                     "orange, false alarm magenta), true vehicles white (missed yellow), and a "
                     "legend with counts, a scale bar in metres and the pixel size.");
   tool.without_threads();

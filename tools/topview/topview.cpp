@@ -451,7 +451,7 @@ Rgb colour_of(Kind kind) {
 const char* label_of(Kind kind) {
   static constexpr const char* labels[kKinds] = {
       "true vehicle", "true, missed", "none (no vehicle)", "rejected (reason)", "failed",
-      "found: class", "found: model", "right model",       "wrong model",       "false alarm"};
+      "found: class", "found: model", "right answer",      "wrong answer",      "false alarm"};
   return labels[static_cast<int>(kind)];
 }
 

@@ -29,8 +29,8 @@ enum class Kind {
   failed,       // a candidate whose chain failed
   cls,          // detected at class level (no model)
   model,        // detected at model level (every v1 detection)
-  right,        // with a score: matched, right model
-  wrong,        // with a score: matched, wrong model
+  right,        // with a score: matched, right (the model, or at the class level the class)
+  wrong,        // with a score: matched, wrong (model, or class at the class level)
   false_alarm,  // with a score: matched nothing
 };
 inline constexpr int kKinds = 10;
