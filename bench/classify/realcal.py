@@ -182,6 +182,33 @@ GROUP = {"sedan": "car", "hatchback": "car", "suv": "car", "pickup": "car", "van
          "tracked-apc": "tracked", "tank": "tracked", "wheel-loader": "machine"}
 
 
+
+def tile_outcome(d, truth):
+    """One urban tile's figures from its run directory d (score.json) and labels: [k, n] pairs of
+    clear recall, all recall, precision (detections on uncertain objects left out) and class right."""
+    t = json.load(open(truth))
+    clear = {v["instance"]: v.get("visibility") == "clear" for v in t["vehicles"]}
+    unc = [(u["pose"]["x"], u["pose"]["y"]) for u in t.get("uncertain", [])]
+    sc = json.load(open(os.path.join(d, "score.json")))
+    radius = sc["params"]["match_radius_m"]
+    matched, tp, dets, fp_unc, cls = set(), 0, 0, 0, [0, 0]
+    for m in sc["matches"]:
+        if m["outcome"] == "missed":
+            continue
+        dets += 1
+        if m["outcome"] == "false_alarm":
+            fp_unc += any(math.hypot(m["x"] - x, m["y"] - y) <= radius for x, y in unc)
+            continue
+        tp += 1
+        matched.add(m["instance"])
+        g = GROUP.get(m.get("class") or "", "")
+        if g:
+            cls[1] += 1
+            cls[0] += g == m["true_model"]
+    nc = sum(clear.values())
+    kc = sum(1 for i in matched if clear[i])
+    return {"clear": [kc, nc], "all": [len(matched), len(clear)], "prec": [tp, dets - fp_unc], "cls": cls}
+
 def figures(out, labels, tiles):
     """The outcome of a run, as the report's "Real tiles" section counts it (tools/report/
     real_section.cpp): from score.json and the labels (urban) or detections.json (plots).
@@ -204,28 +231,8 @@ def figures(out, labels, tiles):
             tot["ha"] += area
             print(f"| {tile} | | | | | {k} on {area:.2f} ha = {k / area:.2f}/ha [{lo / area:.2f}, {hi / area:.2f}] |")
             continue
-        t = json.load(open(truth))
-        clear = {v["instance"]: v.get("visibility") == "clear" for v in t["vehicles"]}
-        unc = [(u["pose"]["x"], u["pose"]["y"]) for u in t.get("uncertain", [])]
-        sc = json.load(open(os.path.join(d, "score.json")))
-        radius = sc["params"]["match_radius_m"]
-        matched, tp, dets, fp_unc, cls = set(), 0, 0, 0, [0, 0]
-        for m in sc["matches"]:
-            if m["outcome"] == "missed":
-                continue
-            dets += 1
-            if m["outcome"] == "false_alarm":
-                fp_unc += any(math.hypot(m["x"] - x, m["y"] - y) <= radius for x, y in unc)
-                continue
-            tp += 1
-            matched.add(m["instance"])
-            g = GROUP.get(m.get("class") or "", "")
-            if g:
-                cls[1] += 1
-                cls[0] += g == m["true_model"]
-        nc = sum(clear.values())
-        kc = sum(1 for i in matched if clear[i])
-        row = {"clear": [kc, nc], "all": [len(matched), len(clear)], "prec": [tp, dets - fp_unc], "cls": cls}
+        row = tile_outcome(d, truth)
+        cls = row["cls"]
         for k, v in row.items():
             tot[k][0] += v[0]
             tot[k][1] += v[1]

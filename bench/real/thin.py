@@ -22,39 +22,13 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, ".."))
 sys.path.insert(0, os.path.join(HERE, "..", "classify"))
 from rates import poisson_exact, rate  # noqa: E402
-from realcal import GROUP  # noqa: E402
+from realcal import tile_outcome  # noqa: E402
 
 REALLOSS = os.path.join(HERE, "..", "detect", "realloss.py")
 
 
 def fnum(name):
     return float(name[1:])
-
-
-def tile_outcome(d, truth):
-    """realcal.py's figures() for one urban tile: clear, all, precision, class right pairs."""
-    t = json.load(open(truth))
-    clear = {v["instance"]: v.get("visibility") == "clear" for v in t["vehicles"]}
-    unc = [(u["pose"]["x"], u["pose"]["y"]) for u in t.get("uncertain", [])]
-    sc = json.load(open(os.path.join(d, "score.json")))
-    radius = sc["params"]["match_radius_m"]
-    matched, tp, dets, fp_unc, cls = set(), 0, 0, 0, [0, 0]
-    for m in sc["matches"]:
-        if m["outcome"] == "missed":
-            continue
-        dets += 1
-        if m["outcome"] == "false_alarm":
-            fp_unc += any(math.hypot(m["x"] - x, m["y"] - y) <= radius for x, y in unc)
-            continue
-        tp += 1
-        matched.add(m["instance"])
-        g = GROUP.get(m.get("class") or "", "")
-        if g:
-            cls[1] += 1
-            cls[0] += g == m["true_model"]
-    nc = sum(clear.values())
-    kc = sum(1 for i in matched if clear[i])
-    return {"clear": [kc, nc], "all": [len(matched), len(clear)], "prec": [tp, dets - fp_unc], "cls": cls}
 
 
 def fates(run, labels, tile):
