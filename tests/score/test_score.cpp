@@ -746,9 +746,12 @@ TEST_CASE("a missed vehicle's fate: the nearest candidate within reach says why 
   score::Tile t;
   t.truth = score::parse_truth(truth.dump(), "truth.json");
   t.detections = score::parse_detections(d.dump(), "detections.json");
-  CHECK(t.detections.rejected.empty());  // no confidence: not the reliability table's
-  REQUIRE(t.detections.refusals.size() == 3);
+  REQUIRE(t.detections.rejected.size() == 3);
+  for (const score::Rejection& r : t.detections.rejected)
+    CHECK_FALSE(r.confidence);  // no confidence: not the reliability table's
   const Json s = as_json(score::score({t}, score::Params{}));
+  for (const auto& row : s["reliability"])
+    if (row["level"] == "none") CHECK(row["answers"] == 0);
   std::map<int, Json> missed;
   for (const auto& r : s["matches"]) {
     if (r["outcome"] == "missed") {

@@ -47,8 +47,8 @@ void validate(const Params& p) {
   need(p.min_width >= 0 && p.max_width >= p.min_width, "need 0 <= --min-width <= --max-width");
   need(p.min_height >= 0 && p.max_height >= p.min_height, "need 0 <= --min-height <= --max-height");
   need(p.max_height > p.min_object_height, "--max-height must exceed --min-object-height");
-  need(p.margin >= 0 && p.margin <= kMaxMargin,
-       "--margin must be in [0, 10m] (given " + common::format_length(p.margin) + ")");
+  need(p.margin >= 0 && p.margin <= kMaxMargin, "--margin must be in [0, " + common::format_length(kMaxMargin) +
+                                                    "] (given " + common::format_length(p.margin) + ")");
   need(p.min_points >= 3, "--min-points must be >= 3");
   need(p.min_planarity >= 0 && p.min_planarity <= 1, "--min-planarity must be in [0, 1] (0 = off)");
   need(p.planar_radius >= 2 * 0.1 && std::isfinite(p.planar_radius), "--planar-radius must be >= 0.2 m");

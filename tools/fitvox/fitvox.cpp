@@ -220,6 +220,12 @@ void check_input(const Scan& scan, const Params& params) {
 
 }  // namespace
 
+std::string support_range() {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "(0, %g]", kMaxSupport);
+  return buf;
+}
+
 void validate(const Params& p) {
   auto need = [](bool ok, const std::string& rule) {
     if (!ok) throw common::UsageError(rule);
@@ -230,7 +236,7 @@ void validate(const Params& p) {
   need(p.noise < 0 || p.noise <= 100, "--noise must be 'auto' or in [0, 100m]");
   need(p.noise_margin >= 0 && p.noise_margin <= 1e6, "--noise-margin must be in [0, 1e6]");
   need((p.support > 0 && p.support <= kMaxSupport) || p.support < 0,
-       "--support must be 'auto' or in (0, 4] voxel edges");
+       "--support must be 'auto' or in " + support_range() + " voxel edges");
   need(p.merge >= 0 && std::isfinite(p.merge), "--merge must be >= 0");
   need(p.threads >= 1, "--threads must be >= 1");
 }

@@ -26,6 +26,8 @@ namespace canopy::fitvox {
 // The largest --support in voxel edges: auto is 0.5-1, and the cost per sample grows with its
 // square (docs/decisions/hardening.md, stop 71).
 inline constexpr double kMaxSupport = 4.0;
+// The range of --support in words, "(0, 4]" (kMaxSupport), for its messages.
+std::string support_range();
 
 struct Params {
   double voxel = 0.128;    // voxel edge (m), > 0

@@ -77,7 +77,8 @@ int main(int argc, char** argv) {
     if (support != "auto") p.support = common::parse_decimal(support, "--support ('auto' or a number)");
     // The bound: auto is 0.5-1 voxel edges and the cost grows with its square (docs/decisions/hardening.md).
     if (support != "auto" && !(p.support > 0 && p.support <= fitvox::kMaxSupport)) {
-      throw common::UsageError("--support must be 'auto' or in (0, 4] voxel edges (given " + support + ")");
+      throw common::UsageError("--support must be 'auto' or in " + fitvox::support_range() +
+                               " voxel edges (given " + support + ")");
     }
     if (noise != "auto") {
       // The same warnings as addnoise --sigma (the same quantity).

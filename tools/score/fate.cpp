@@ -42,7 +42,7 @@ MissedFate missed_fate(const Tile& t, const TileMatch& m, std::size_t v, double 
   };
   detections(t.detections.detections, m);
   detections(t.detections.class_detections, m.cls);
-  for (const Refusal& r : t.detections.refusals)
+  for (const Rejection& r : t.detections.rejected)
     consider(r.candidate, r.x, r.y, {"refused", r.candidate, r.reason, r.density});
   return fate;
 }

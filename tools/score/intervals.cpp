@@ -93,12 +93,13 @@ std::vector<ScoreRow> reliability_table(const std::vector<Tile>& tiles, const st
   for (std::size_t i = 0; i < tiles.size(); ++i) {
     const auto& vehicles = tiles[i].truth.vehicles;
     for (const Rejection& r : tiles[i].detections.rejected) {
+      if (!r.confidence) continue;  // a rejection that states no confidence is not judged
       bool costs = false;
       for (std::size_t t = 0; t < vehicles.size(); ++t) {
         const bool missed = pairing[i].detection_of[t] < 0 && pairing[i].cls.detection_of[t] < 0;
         if (missed && std::hypot(vehicles[t].x - r.x, vehicles[t].y - r.y) <= radius) costs = true;
       }
-      answers.push_back({"none", r.confidence, !costs, i});
+      answers.push_back({"none", *r.confidence, !costs, i});
     }
   }
   std::vector<ScoreRow> rows;

@@ -89,11 +89,9 @@ Detections parse_detections(const std::string& text_, const std::string& name) {
       (e.level == "model" ? d.detections : d.class_detections).push_back(e);
     }
     for (const documents::Rejection& r : doc.rejected) {
-      if (r.confidence && r.position)
-        d.rejected.push_back({r.candidate, *r.confidence, (*r.position)[0], (*r.position)[1]});
       if (r.position)
-        d.refusals.push_back(
-            {r.candidate, r.reason.value_or(""), r.density, (*r.position)[0], (*r.position)[1]});
+        d.rejected.push_back({r.candidate, r.reason.value_or(""), r.confidence, r.density, (*r.position)[0],
+                              (*r.position)[1]});
     }
     const std::size_t found = d.detections.size() + d.class_detections.size();
     if (d.none + static_cast<int>(found) > d.candidates) {

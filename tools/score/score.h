@@ -64,21 +64,15 @@ struct Detection {
   double heading = 0;          // degrees
 };
 
-// A rejected candidate that says where it was and how sure the rejection is (collect writes
-// both since issue 29): the reliability table judges it.
+// A rejected candidate that says where it was (collect writes its position since issue 29):
+// why, how dense and how sure the rejection is. The reliability table judges those with a
+// confidence; a missed vehicle's fate reads them all.
 struct Rejection {
   std::string candidate;
-  double confidence = 0;
-  double x = 0, y = 0;  // the candidate's centre, tile coordinates
-};
-
-// A rejected candidate by where it was, why and how dense (every rejection with a position,
-// with a confidence or not): what a missed vehicle's fate reads.
-struct Refusal {
-  std::string candidate;
-  std::string reason;             // "" when the document gives none
-  std::optional<double> density;  // the object's points per m², when collect wrote it
-  double x = 0, y = 0;            // the candidate's centre, tile coordinates
+  std::string reason;                // "" when the document gives none
+  std::optional<double> confidence;  // null or absent in the document: nullopt
+  std::optional<double> density;     // the object's points per m², when collect wrote it
+  double x = 0, y = 0;               // the candidate's centre, tile coordinates
 };
 
 struct Detections {
@@ -88,8 +82,7 @@ struct Detections {
   int none = 0;                             // of which answered none
   std::vector<Detection> detections;        // model level
   std::vector<Detection> class_detections;  // class level (v2)
-  std::vector<Rejection> rejected;          // those with a confidence and a position
-  std::vector<Refusal> refusals;            // every rejection with a position
+  std::vector<Rejection> rejected;          // every rejection with a position
 };
 
 // One tile of an experiment: its detections, truth and the experiment's labels.

@@ -31,7 +31,7 @@ void check_same_tile(const Tile& t) {
       ++positions;
     }
   }
-  for (const Refusal& r : t.detections.refusals) {
+  for (const Rejection& r : t.detections.rejected) {
     if (near(r.x, r.y)) return;
     ++positions;
   }
