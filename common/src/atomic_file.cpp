@@ -9,6 +9,7 @@
 #include <array>
 #include <atomic>
 #include <cerrno>
+#include <filesystem>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -465,6 +466,18 @@ void OutputSet::commit() {
   HoldSignals hold;
   for (auto& o : outs) o->publish();
   entries_.clear();
+}
+
+bool same_file_contents(const std::string& a, const std::string& b) {
+  std::error_code ec;
+  if (std::filesystem::equivalent(a, b, ec) && !ec) return true;
+  const auto size_a = std::filesystem::file_size(a, ec);
+  if (ec) return false;
+  const auto size_b = std::filesystem::file_size(b, ec);
+  if (ec || size_a != size_b) return false;
+  try {
+    return read_file(a) == read_file(b);
+  } catch (const Error&) { return false; }
 }
 
 std::string read_file(const std::string& path) {

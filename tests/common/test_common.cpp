@@ -139,6 +139,21 @@ TEST_CASE("atomic output appears only on commit and leaves no temporary file") {
   CHECK(count_entries(dir) == 1);
 }
 
+TEST_CASE(
+    "same_file_contents: one file, or two files with the same bytes; never a missing file or a directory") {
+  const std::string dir = make_dir("samebytes");
+  write_file_atomic(dir + "/a", "points");
+  write_file_atomic(dir + "/b", "points");
+  write_file_atomic(dir + "/c", "pointz");
+  write_file_atomic(dir + "/d", "points, longer");
+  CHECK(same_file_contents(dir + "/a", dir + "/a"));
+  CHECK(same_file_contents(dir + "/a", dir + "/b"));
+  CHECK_FALSE(same_file_contents(dir + "/a", dir + "/c"));  // same size, other bytes
+  CHECK_FALSE(same_file_contents(dir + "/a", dir + "/d"));
+  CHECK_FALSE(same_file_contents(dir + "/a", dir + "/missing"));
+  CHECK_FALSE(same_file_contents(dir, dir + "/a"));
+}
+
 TEST_CASE("reading a missing file or a directory is a DataError naming it") {
   const std::string dir = make_dir("readerr");
   try {

@@ -55,15 +55,6 @@ bool regular_file(const fs::path& p) {
   return fs::is_regular_file(p, ec) && !ec;
 }
 
-// The same file, or two files with the same bytes.
-bool same_document(const fs::path& a, const fs::path& b) {
-  std::error_code ec;
-  if (fs::equivalent(a, b, ec) && !ec) return true;
-  try {
-    return common::read_file(a.string()) == common::read_file(b.string());
-  } catch (const common::Error&) { return false; }
-}
-
 }  // namespace
 
 void check_match_names_graph(const documents::MatchResult& match, const std::string& match_name,
@@ -161,7 +152,7 @@ void check_inputs_belong(const BelongInputs& in) {
     // A match result without pairs (baseline --hypotheses) names the points it was made from.
     if (in.points_path == "-" || in.match->object == in.points_path) return;
     for (const auto& p : resolutions(in.match->object, in.match_path)) {
-      if (regular_file(p) && !same_document(p, in.points_path)) {
+      if (regular_file(p) && !common::same_file_contents(p.string(), in.points_path)) {
         throw DataError(match_name, "was made from " + in.match->object + ", not from " + points_name +
                                         " (--points): give the points its poses are in");
       }
@@ -174,7 +165,7 @@ void check_inputs_belong(const BelongInputs& in) {
     for (const auto& p : resolutions(in.match->object, in.match_path)) {
       if (!regular_file(p)) continue;
       found = true;
-      if (same_document(p, in.segments_path)) same = true;
+      if (common::same_file_contents(p.string(), in.segments_path)) same = true;
     }
     if (found && !same) {
       throw DataError(match_name, "was made from the segment graph " + in.match->object + ", not from " +

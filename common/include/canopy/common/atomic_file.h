@@ -121,4 +121,9 @@ void reraise_with_default_action(int sig) noexcept;
 // unreadable).
 std::string read_file(const std::string& path);
 
+// Whether two paths name one file, or two readable files with the same bytes (sizes compared
+// first); false when either cannot be read. What a copied tile directory's documents are checked
+// by (verify's points and segments, collect's verdicts).
+bool same_file_contents(const std::string& a, const std::string& b);
+
 }  // namespace canopy::common
